@@ -1,0 +1,48 @@
+"""The project's exceptions: one base class, errors that keep the failing data.
+
+Every public function raises a subclass of :class:`MorphError` for bad geometry or
+input, and :class:`ValueError` for bad arguments.  The CLI turns a ``MorphError``
+into one line on stderr and exit code 2.
+"""
+
+
+class MorphError(Exception):
+    """Base class of every error this package raises on purpose."""
+
+
+class ParseError(MorphError):
+    """Input (font, glyph, SVG file or path string) could not be read as a shape.
+
+    ``source`` names the input (file path, glyph, path string) the message is about.
+    """
+
+    def __init__(self, message, source=None):
+        super().__init__(message)
+        self.source = source
+
+
+class DegenerateCurveError(MorphError):
+    """A curve piece has no usable tangent (zero length, cusp, NaN coordinates).
+
+    ``piece`` keeps the offending control points.
+    """
+
+    def __init__(self, message, piece=None):
+        super().__init__(message)
+        self.piece = piece
+
+
+class ToleranceNotMetError(MorphError):
+    """An approximation did not reach its tolerance within the allowed splits.
+
+    ``piece`` keeps the input that failed and ``achieved`` the best error reached.
+    """
+
+    def __init__(self, message, piece=None, achieved=None):
+        super().__init__(message)
+        self.piece = piece
+        self.achieved = achieved
+
+
+class TopologyError(MorphError):
+    """Trimming could not assemble closed boundary loops from the convolution curves."""

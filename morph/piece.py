@@ -1,0 +1,344 @@
+"""Rational Bézier pieces as ``(n+1, 3)`` arrays of homogeneous control points.
+
+A piece of degree n is ``P(t) = sum_i B_i^n(t) (w_i x_i, w_i y_i, w_i)`` divided by its
+last coordinate.  Polynomial pieces have all ``w_i = 1``.  One representation holds
+lines, quadratics, cubics, conic arcs (exact circles and ellipses) and the rational
+QAC output (degree 3d-2 or 5d-4), so every algorithm is written once.
+
+Weights are kept positive; the convex hull property then holds for the Cartesian
+control points ``(x_i, y_i)``, which bounding boxes and hull tests rely on.
+"""
+
+import numpy as np
+
+from . import bernstein as bz
+from .errors import DegenerateCurveError
+
+
+# --------------------------------------------------------------------------- build
+
+def from_points(points, weights=None):
+    """Homogeneous piece from Cartesian control points (and optional weights).
+
+    ``points`` has shape (n+1, 2); weights default to 1 (a polynomial piece).
+    """
+    p = np.asarray(points, float).reshape(-1, 2)
+    w = np.ones(len(p)) if weights is None else np.asarray(weights, float)
+    if np.any(w <= 0):
+        raise ValueError("weights must be positive, got %r" % (w,))
+    return np.column_stack([p * w[:, None], w])
+
+
+def line(p0, p1):
+    """Degree-1 piece from p0 to p1."""
+    return from_points([p0, p1])
+
+
+def quadratic(p0, p1, p2):
+    """Polynomial quadratic Bézier."""
+    return from_points([p0, p1, p2])
+
+
+def cubic(p0, p1, p2, p3):
+    """Polynomial cubic Bézier."""
+    return from_points([p0, p1, p2, p3])
+
+
+def ellipse_arc(center, rx, ry, rotation, theta0, dtheta):
+    """Exact elliptical arc as a list of rational quadratic pieces.
+
+    The arc is ``center + R(rotation) (rx cos th, ry sin th)`` for th from theta0 to
+    theta0 + dtheta (radians, dtheta may be negative).  It is cut into pieces of at
+    most 90 degrees; each is the standard conic: middle weight cos(half angle).
+    """
+    if rx <= 0 or ry <= 0:
+        raise ValueError("ellipse radii must be positive, got %r, %r" % (rx, ry))
+    nseg = max(1, int(np.ceil(abs(dtheta) / (np.pi / 2) - 1e-9)))
+    step = dtheta / nseg
+    c, s = np.cos(rotation), np.sin(rotation)
+    rot = np.array([[c, -s], [s, c]])
+    center = np.asarray(center, float)
+    out = []
+    for k in range(nseg):
+        a0 = theta0 + k * step
+        a1 = a0 + step
+        h = step / 2
+        pts_unit = np.array([
+            [np.cos(a0), np.sin(a0)],
+            [np.cos(a0 + h) / np.cos(h), np.sin(a0 + h) / np.cos(h)],
+            [np.cos(a1), np.sin(a1)],
+        ])
+        pts = (pts_unit * [rx, ry]) @ rot.T + center
+        out.append(from_points(pts, [1.0, np.cos(h), 1.0]))
+    return out
+
+
+def circle(center, radius):
+    """Exact counter-clockwise circle: four rational quadratic quarter arcs."""
+    return ellipse_arc(center, radius, radius, 0.0, 0.0, 2 * np.pi)
+
+
+def ellipse(center, rx, ry, rotation=0.0):
+    """Exact counter-clockwise ellipse rotated by ``rotation`` radians."""
+    return ellipse_arc(center, rx, ry, rotation, 0.0, 2 * np.pi)
+
+
+# ------------------------------------------------------------------ basic queries
+
+def degree(piece):
+    return len(piece) - 1
+
+
+def cartesian(piece):
+    """Cartesian control points (x_i, y_i), shape (n+1, 2)."""
+    piece = np.asarray(piece, float)
+    return piece[..., :2] / piece[..., 2:3]
+
+
+def is_polynomial(piece, rtol=1e-12):
+    w = piece[:, 2]
+    return bool(np.all(np.abs(w - w[0]) <= rtol * abs(w[0])))
+
+
+def start(piece):
+    return piece[0, :2] / piece[0, 2]
+
+
+def end(piece):
+    return piece[-1, :2] / piece[-1, 2]
+
+
+def evaluate(piece, t):
+    """Points P(t), shape (len(t), 2); t a scalar or array in [0, 1]."""
+    h = bz.evaluate(piece, np.atleast_1d(t))
+    return h[:, :2] / h[:, 2:3]
+
+
+def derivative(piece, t):
+    """First derivative P'(t) = (X' W - X W') / W^2, shape (len(t), 2)."""
+    t = np.atleast_1d(t)
+    h = bz.evaluate(piece, t)
+    dh = bz.evaluate(bz.derivative(piece), t)
+    w = h[:, 2:3]
+    return (dh[:, :2] * w - h[:, :2] * dh[:, 2:3]) / w ** 2
+
+
+def second_derivative(piece, t):
+    """Second derivative of the rational curve (quotient rule twice)."""
+    t = np.atleast_1d(t)
+    h = bz.evaluate(piece, t)
+    d1 = bz.evaluate(bz.derivative(piece), t)
+    d2 = bz.evaluate(bz.derivative(bz.derivative(piece)), t)
+    w, w1, w2 = h[:, 2:3], d1[:, 2:3], d2[:, 2:3]
+    p = h[:, :2] / w
+    p1 = (d1[:, :2] - p * w1) / w
+    return (d2[:, :2] - 2 * p1 * w1 - p * w2) / w
+
+
+def tangent_numerator(piece):
+    """Bernstein coefficients (shape (m+1, 2)) of a polynomial parallel to P'(t).
+
+    Sec. 3.2: the hodograph direction.  For a polynomial piece this is the hodograph
+    ``n (P_{i+1} - P_i)`` (degree n-1); for a rational one it is ``X' W - X W'``
+    (degree 2n-1 as stored, the leading terms cancel), which differs from P'(t) by
+    the positive factor W^2.  Its direction is the tangent direction everywhere.
+    """
+    if is_polynomial(piece):
+        return bz.derivative(cartesian(piece))
+    d = bz.derivative(piece)
+    return bz.multiply(d[:, :2], piece[:, 2:3]) - bz.multiply(piece[:, :2], d[:, 2:3])
+
+
+def curvature_numerator(piece):
+    """Bernstein coefficients of a polynomial with the sign of x'y'' - x''y' (Def. 3.2).
+
+    Computed as cross(H, H') for the tangent numerator H, which has the sign of the
+    curvature of P because H = W^2 P' up to a positive factor on the tangent line.
+    """
+    h = tangent_numerator(piece)
+    if len(h) == 1:
+        return np.zeros(1)
+    dh = bz.derivative(h)
+    return bz.multiply(h[:, :1], dh[:, 1:2])[:, 0] - bz.multiply(h[:, 1:2], dh[:, :1])[:, 0]
+
+
+# -------------------------------------------------------------------- operations
+
+def split(piece, t):
+    """de Casteljau split of the homogeneous control points at t."""
+    return bz.split(piece, t)
+
+
+def subsegment(piece, t0, t1):
+    """The piece restricted to [t0, t1] (t1 < t0 gives the reversed restriction)."""
+    return bz.subsegment(piece, t0, t1)
+
+
+def elevate(piece, r=1):
+    """Same curve at degree n + r."""
+    return bz.elevate(piece, r)
+
+
+def reverse(piece):
+    """Same curve traversed from end to start."""
+    return np.asarray(piece)[::-1].copy()
+
+
+def normalize_weights(piece):
+    """Scale homogeneous coordinates so that the end weights are 1 (standard form).
+
+    Uses the reparametrisation t -> c t / ((c-1) t + 1), which multiplies w_i by c^i,
+    then a global scale.  The curve and its ends are unchanged.
+    """
+    piece = np.asarray(piece, float)
+    n = len(piece) - 1
+    w0, wn = piece[0, 2], piece[-1, 2]
+    if n == 0:
+        return piece / w0
+    c = (w0 / wn) ** (1.0 / n)
+    out = piece * (c ** np.arange(n + 1))[:, None]
+    return out / out[0, 2]
+
+
+def translate(piece, offset):
+    """The piece moved by offset (exact: X += ox W, Y += oy W)."""
+    piece = np.array(piece, float)
+    piece[:, 0] += offset[0] * piece[:, 2]
+    piece[:, 1] += offset[1] * piece[:, 2]
+    return piece
+
+
+def transform(piece, matrix):
+    """Apply an affine map [[a, b, e], [c, d, f]] (exact on homogeneous points)."""
+    m = np.asarray(matrix, float)
+    piece = np.asarray(piece, float)
+    out = piece.copy()
+    out[:, 0] = m[0, 0] * piece[:, 0] + m[0, 1] * piece[:, 1] + m[0, 2] * piece[:, 2]
+    out[:, 1] = m[1, 0] * piece[:, 0] + m[1, 1] * piece[:, 1] + m[1, 2] * piece[:, 2]
+    return out
+
+
+def bbox(piece):
+    """(xmin, ymin, xmax, ymax) of the Cartesian control points (contains the curve)."""
+    p = cartesian(piece)
+    return np.array([p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()])
+
+
+def length_bound(piece):
+    """Length of the Cartesian control polygon (an upper bound of the arc length)."""
+    return float(np.sum(np.hypot(*np.diff(cartesian(piece), axis=0).T)))
+
+
+def with_endpoints(piece, p0, p1):
+    """The piece with its first/last control point moved to p0/p1 (snapping joins)."""
+    piece = np.array(piece, float)
+    piece[0, :2] = np.asarray(p0) * piece[0, 2]
+    piece[-1, :2] = np.asarray(p1) * piece[-1, 2]
+    return piece
+
+
+def tangent_angle(piece, t):
+    """Angles of the tangent direction at t (atan2 of the tangent numerator)."""
+    d = bz.evaluate(tangent_numerator(piece), np.atleast_1d(t))
+    return np.arctan2(d[:, 1], d[:, 0])
+
+
+def end_tangents(piece, eps=1e-12):
+    """Unit tangent directions at t=0 and t=1, robust where the hodograph vanishes.
+
+    Where the first derivative is zero (repeated control point) the first nonzero
+    control-point difference gives the direction, as for the limit t -> 0.
+    Raises DegenerateCurveError when all control points coincide.
+    """
+    p = cartesian(piece)
+    size = max(np.ptp(p[:, 0]), np.ptp(p[:, 1]), 1e-300)
+    d = np.diff(p, axis=0)
+    norms = np.hypot(d[:, 0], d[:, 1])
+    nz = np.nonzero(norms > eps * max(size, 1.0))[0]
+    if nz.size == 0:
+        raise DegenerateCurveError("zero-length curve piece", piece)
+    t0 = d[nz[0]] / norms[nz[0]]
+    t1 = d[nz[-1]] / norms[nz[-1]]
+    return t0, t1
+
+
+# ------------------------------------------------------------------ loops, areas
+
+def loop_area(pieces, quad_points=24):
+    """Signed area of a closed loop of pieces (Green: 1/2 ∮ x dy - y dx).
+
+    Positive for a counter-clockwise loop.  Polynomial pieces integrate exactly on the
+    control points (the integrand is a Bernstein polynomial whose integral over [0,1]
+    is the mean of its coefficients); rational pieces use Gauss-Legendre quadrature
+    with ``quad_points`` nodes, accurate to ~1e-14 relative for conics and QAC output.
+    """
+    total = 0.0
+    for piece in pieces:
+        total += piece_area_term(piece, quad_points)
+    return total
+
+
+def piece_area_term(piece, quad_points=24):
+    """One piece's contribution 1/2 ∫ (x y' - y x') dt to the enclosed area."""
+    piece = np.asarray(piece, float)
+    if is_polynomial(piece):
+        p = cartesian(piece)
+        d = bz.derivative(p)
+        if len(d) == 1 and len(p) == 1:
+            return 0.0
+        integrand = bz.multiply(p[:, :1], d[:, 1:2])[:, 0] - bz.multiply(p[:, 1:2], d[:, :1])[:, 0]
+        return 0.5 * float(np.mean(integrand))
+    x, wts = np.polynomial.legendre.leggauss(quad_points)
+    t = 0.5 * (x + 1.0)
+    pt = evaluate(piece, t)
+    dp = derivative(piece, t)
+    f = pt[:, 0] * dp[:, 1] - pt[:, 1] * dp[:, 0]
+    return 0.25 * float(np.dot(wts, f))
+
+
+def region_area(loops):
+    """Signed area of a region: outer loops count positive, holes negative."""
+    return sum(loop_area(loop) for loop in loops)
+
+
+def flatten(piece, tol, max_depth=16):
+    """Polyline through the piece within ``tol`` of it, with parameters.
+
+    Returns (points (m, 2), params (m,)).  Recursive halving until the control
+    polygon lies within tol of the chord (a bound on the curve's distance, by the
+    convex hull property), so the polyline is within tol of the curve.
+    """
+    params = _flatten_params(np.asarray(piece, float), 0.0, 1.0, tol, max_depth)
+    params = np.array(params + [1.0])
+    return evaluate(piece, params), params
+
+
+def _flatten_params(piece, t0, t1, tol, depth):
+    p = cartesian(piece)
+    a, b = p[0], p[-1]
+    chord = b - a
+    length = np.hypot(*chord)
+    if length > 0:
+        dist = np.abs(np.cross(np.broadcast_to(chord, p.shape), p - a)) / length
+        along = (p - a) @ chord / length ** 2
+        dist = np.where((along < 0) | (along > 1), np.hypot(*(p - a).T), dist)
+        dist = np.maximum(dist, np.where(along > 1, np.hypot(*(p - b).T), 0))
+    else:
+        dist = np.hypot(*(p - a).T)
+    if depth == 0 or dist.max() <= tol:
+        return [t0]
+    left, right = split(piece, 0.5)
+    tm = 0.5 * (t0 + t1)
+    return (_flatten_params(left, t0, tm, tol, depth - 1)
+            + _flatten_params(right, tm, t1, tol, depth - 1))
+
+
+def flatten_loop(pieces, tol):
+    """Closed polyline (without repeating the first point) of a loop within tol."""
+    pts = [flatten(p, tol)[0][:-1] for p in pieces]
+    return np.concatenate(pts) if pts else np.zeros((0, 2))
+
+
+def sample(piece, n):
+    """n points at uniform parameters (including both ends)."""
+    return evaluate(piece, np.linspace(0.0, 1.0, n))
