@@ -1,0 +1,489 @@
+"""Reading shapes: font glyphs (fontTools pens) and SVG paths (svgpathtools) -> regions.
+
+Every reader returns a region (list of closed loops of pieces, see :mod:`morph.region`)
+normalised by :func:`morph.region.orient_region`: outer loops counter-clockwise,
+holes clockwise, **y axis up**.
+
+- Glyphs are read in font units (y up already).  TrueType quadratics become degree-2
+  pieces (implied on-curve points made explicit), CFF cubics degree-3 pieces; composite
+  glyphs are decomposed.  Orientation uses the nonzero rule.
+- SVG coordinates have y pointing down; readers negate y (the map (x, y) -> (x, -y)),
+  so a region read from SVG is the mirror image of the drawing's user coordinates
+  about the x axis, and looks upright in a y-up frame.  Arcs become exact rational
+  quadratics (:func:`morph.piece.ellipse_arc`).
+
+Every bad input raises :class:`morph.errors.ParseError` naming the input.
+"""
+
+import math
+import os
+import re
+import warnings
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from . import piece as pc
+from .errors import ParseError
+from .region import is_zero_length, orient_region, region_bbox
+
+__all__ = [
+    "Glyph",
+    "cubic_test_font_path",
+    "default_font_path",
+    "glyph_region",
+    "load_font",
+    "load_shape",
+    "svg_region",
+    "validate_path_data",
+]
+
+_FONT_DIR = Path(__file__).resolve().parent / "fonts" / "data"
+
+
+# =========================================================================== fonts
+
+def default_font_path():
+    """Path of the bundled default font (Noto Sans Regular, TrueType, quadratic)."""
+    return str(_FONT_DIR / "NotoSans-Regular.ttf")
+
+
+def cubic_test_font_path():
+    """Path of the bundled CFF (cubic) version of Noto Sans Regular."""
+    return str(_FONT_DIR / "NotoSans-Regular.otf")
+
+
+def load_font(path=None):
+    """The fontTools ``TTFont`` at ``path`` (None: the bundled TrueType font), cached.
+
+    Raises:
+        ParseError: the file is missing or is not a font fontTools can read
+            (``.source`` is the path).
+    """
+    if path is None:
+        path = default_font_path()
+    if hasattr(path, "getGlyphSet"):  # already a TTFont
+        return path
+    return _load_font_cached(os.path.abspath(os.fspath(path)))
+
+
+@lru_cache(maxsize=16)
+def _load_font_cached(path):
+    from fontTools.ttLib import TTFont
+
+    if not os.path.isfile(path):
+        raise ParseError("cannot read font %s: no such file" % path, path)
+    try:
+        font = TTFont(path)
+        font.getGlyphOrder()
+        font["head"]
+    except Exception as exc:  # fontTools raises many types for garbage input
+        raise ParseError("cannot read font %s: %s" % (path, _one_line(exc)), path) from exc
+    font._morph_path = path
+    return font
+
+
+def _font_label(font):
+    path = getattr(font, "_morph_path", None)
+    if path:
+        return os.path.basename(path)
+    try:
+        return font["name"].getDebugName(4) or "font"
+    except Exception:
+        return "font"
+
+
+@dataclass
+class Glyph:
+    """A glyph's outline and metrics, in font units (y up).
+
+    ``region`` is a list of oriented loops; ``advance_width`` and ``lsb`` come from
+    ``hmtx``; ``units_per_em`` from ``head``.
+    """
+
+    name: str
+    region: list = field(repr=False)
+    advance_width: int
+    lsb: int
+    units_per_em: int
+
+
+class _RegionPen:
+    """fontTools pen protocol -> loops of pieces (subclassed from BasePen lazily).
+
+    Contract (BasePen): override ``_moveTo``, ``_lineTo``, ``_curveToOne`` and
+    ``_qCurveToOne``; ``_closePath`` closes the contour with a line when its last
+    point differs from the first; ``_endPath`` (open contour) is accepted only for
+    contours without extent.  BasePen splits TrueType quadratic runs at their implied
+    on-curve points and decomposes components through the glyph set.
+    """
+
+
+def _make_pen_class():
+    from fontTools.pens.basePen import BasePen
+
+    class RegionPen(BasePen):
+        __doc__ = _RegionPen.__doc__
+
+        def __init__(self, glyph_set, label):
+            super().__init__(glyph_set)
+            self.loops = []
+            self.label = label
+            self._pieces = None
+            self._start = None
+
+        def _moveTo(self, pt):
+            if self._pieces:
+                self._finish(closed=False)
+            self._pieces = []
+            self._start = pt
+
+        def _add(self, points):
+            arr = pc.from_points([self._getCurrentPoint()] + list(points))
+            if not is_zero_length(arr):
+                self._pieces.append(arr)
+
+        def _lineTo(self, pt):
+            self._add([pt])
+
+        def _curveToOne(self, pt1, pt2, pt3):
+            self._add([pt1, pt2, pt3])
+
+        def _qCurveToOne(self, pt1, pt2):
+            self._add([pt1, pt2])
+
+        def _closePath(self):
+            self._finish(closed=True)
+
+        def _endPath(self):
+            self._finish(closed=False)
+
+        def _finish(self, closed):
+            pieces, start = self._pieces or [], self._start
+            self._pieces, self._start = None, None
+            if not pieces:
+                return
+            cur = pc.end(pieces[-1])
+            if not np.array_equal(cur, np.asarray(start, float)):
+                if not closed:
+                    raise ParseError("%s has an open contour" % self.label, self.label)
+                pieces.append(pc.line(cur, start))
+            self.loops.append(pieces)
+
+    return RegionPen
+
+
+_PEN_CLASS = None
+
+
+def glyph_region(char_or_name, font=None):
+    """Outline of one glyph as a :class:`Glyph` (region in font units, y up).
+
+    A single character is looked up in the font's cmap; a longer string is taken as
+    a glyph name (``"g"`` is the character, ``"ampersand"`` a glyph name).  ``font``
+    is a path, a ``TTFont``, or None for the bundled TrueType font.
+
+    Raises:
+        ParseError: unreadable font; no glyph for the character or name; a glyph
+            without contours (e.g. space); an open contour.
+    """
+    global _PEN_CLASS
+    font = load_font(font)
+    label = _font_label(font)
+    if not isinstance(char_or_name, str) or not char_or_name:
+        raise ParseError("a glyph is named by a character or a glyph name, got %r"
+                         % (char_or_name,), char_or_name)
+    if len(char_or_name) == 1:
+        name = (font.getBestCmap() or {}).get(ord(char_or_name))
+    else:
+        name = char_or_name if char_or_name in set(font.getGlyphOrder()) else None
+    if name is None:
+        raise ParseError("font %s has no glyph for %r" % (label, char_or_name), char_or_name)
+    if _PEN_CLASS is None:
+        _PEN_CLASS = _make_pen_class()
+    glyph_set = font.getGlyphSet()
+    pen = _PEN_CLASS(glyph_set, "glyph %r of font %s" % (name, label))
+    try:
+        glyph_set[name].draw(pen)
+    except ParseError:
+        raise
+    except Exception as exc:
+        raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, _one_line(exc)),
+                         char_or_name) from exc
+    loops = orient_region(pen.loops, "nonzero")
+    if not loops:
+        raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label),
+                         char_or_name)
+    advance, lsb = font["hmtx"][name]
+    return Glyph(name, loops, advance, lsb, font["head"].unitsPerEm)
+
+
+# =========================================================================== SVG
+
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_NUMBER_RE = re.compile(_NUMBER)
+_FLAG_RE = re.compile(r"[01]")
+_SEP_RE = re.compile(r"[\s,]*")
+_WS_RE = re.compile(r"\s*")
+_ARGS = {"M": "nn", "L": "nn", "T": "nn", "H": "n", "V": "n", "C": "nnnnnn",
+         "S": "nnnn", "Q": "nnnn", "A": "nnnffnn", "Z": ""}
+
+
+def validate_path_data(d):
+    """Check an SVG path ``d`` string against the path grammar (SVG 1.1, 8.3.9).
+
+    svgpathtools accepts some malformed strings silently (``"L 1 x 1"`` reads as a
+    line to (1, 1)), so path data is checked here first: it must start with a moveto,
+    every command needs whole groups of arguments (arcs: flags 0/1), nothing else may
+    appear.
+
+    Raises:
+        ParseError: with the position and a snippet of the offending text.
+    """
+    def fail(pos, why):
+        snippet = d[max(0, pos - 10):pos + 10]
+        raise ParseError("malformed SVG path data at character %d (%s): ...%s..."
+                         % (pos, why, snippet), d)
+
+    pos = _WS_RE.match(d, 0).end()
+    if pos == len(d):
+        return
+    if d[pos] not in "Mm":
+        fail(pos, "path data must start with M or m")
+    while pos < len(d):
+        cmd = d[pos]
+        if cmd.upper() not in _ARGS:
+            fail(pos, "expected a command letter, found %r" % cmd)
+        pos = _WS_RE.match(d, pos + 1).end()
+        pattern = _ARGS[cmd.upper()]
+        if not pattern:
+            continue
+        groups = 0
+        while True:
+            start = pos
+            for k, kind in enumerate(pattern):
+                if k > 0 or groups > 0:
+                    pos = _SEP_RE.match(d, pos).end()
+                m = (_NUMBER_RE if kind == "n" else _FLAG_RE).match(d, pos)
+                if m is None:
+                    if k == 0 and groups > 0:
+                        pos = start
+                        break
+                    fail(pos, "command %s needs %d numbers" % (cmd, len(pattern)))
+                pos = m.end()
+            else:
+                groups += 1
+                continue
+            break
+        pos = _WS_RE.match(d, pos).end()
+
+
+def _segment_pieces(seg):
+    """svgpathtools segment -> list of pieces in the segment's own coordinates."""
+    from svgpathtools import Arc, CubicBezier, Line, QuadraticBezier
+
+    def xy(z):
+        return (z.real, z.imag)
+
+    if isinstance(seg, Line):
+        return [pc.line(xy(seg.start), xy(seg.end))]
+    if isinstance(seg, QuadraticBezier):
+        return [pc.quadratic(*(xy(z) for z in seg.bpoints()))]
+    if isinstance(seg, CubicBezier):
+        return [pc.cubic(*(xy(z) for z in seg.bpoints()))]
+    if isinstance(seg, Arc):
+        rx, ry = abs(seg.radius.real), abs(seg.radius.imag)
+        if not (rx > 0 and ry > 0) or not np.all(np.isfinite([rx, ry])):
+            return [pc.line(xy(seg.start), xy(seg.end))]
+        arcs = pc.ellipse_arc(xy(seg.center), rx, ry, math.radians(seg.rotation),
+                              math.radians(seg.theta), math.radians(seg.delta))
+        # the arc's exact end points (the conic is exact; this removes rounding only)
+        arcs[0] = pc.with_endpoints(arcs[0], xy(seg.start), pc.end(arcs[0]))
+        arcs[-1] = pc.with_endpoints(arcs[-1], pc.start(arcs[-1]), xy(seg.end))
+        return arcs
+    raise ParseError("unsupported SVG segment %r" % (seg,), str(seg))
+
+
+def _path_loops(path, label, close_tol):
+    """Split an svgpathtools Path into closed loops of pieces (SVG coordinates).
+
+    A subpath ends where a segment returns to the subpath's first point (within
+    ``close_tol``) or where the next segment does not start at the current point.
+    An unclosed subpath raises ParseError naming ``label`` and the subpath index.
+    """
+    loops, current, start, current_end, open_ = [], [], None, None, False
+
+    def open_error():
+        return ParseError("%s: subpath %d is open (ends at (%g, %g), starts at (%g, %g))"
+                          % (label, len(loops), current_end.real, current_end.imag,
+                             start.real, start.imag), label)
+
+    for seg in path:
+        s, e = complex(seg.start), complex(seg.end)
+        pieces = [] if not np.isfinite([s.real, s.imag, e.real, e.imag]).all() \
+            else _segment_pieces(seg)
+        if not pieces or not all(np.all(np.isfinite(p)) for p in pieces):
+            raise ParseError("%s: subpath %d has a non-finite coordinate (NaN or inf)"
+                             % (label, len(loops)), label)
+        if open_ and abs(s - current_end) > close_tol:
+            if current:
+                raise open_error()
+            open_ = False  # a subpath of zero length only: drop it
+        if not open_:
+            start, current, open_ = s, [], True
+        current.extend(p for p in pieces if not is_zero_length(p))
+        current_end = e
+        if current and abs(e - start) <= close_tol:
+            loops.append(current)
+            open_ = False
+    if open_ and current:
+        raise open_error()
+    return loops
+
+
+def _fill_rule(element, parents):
+    """fill-rule of an element: its attribute or style, else inherited, else nonzero."""
+    while element is not None:
+        style = element.get("style") or ""
+        m = re.search(r"fill-rule\s*:\s*([a-z]+)", style)
+        value = m.group(1) if m else element.get("fill-rule")
+        if value in ("evenodd", "nonzero"):
+            return value
+        element = parents.get(element)
+    return "nonzero"
+
+
+def _flip_y(pieces):
+    return [pc.transform(p, [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]]) for p in pieces]
+
+
+def svg_region(source, fill_rule=None, close_tol=None):
+    """Region (y up) of an SVG file, an SVG document string or a path ``d`` string.
+
+    ``source`` is a file path (str or Path) of an SVG document, a string starting
+    with ``<`` (an SVG document) or path data (``"M 0 0 L 10 0 ..."``).  For documents
+    every ``path``, ``rect``, ``circle``, ``ellipse``, ``polygon``, ``polyline`` and
+    ``line`` element is read with ``svgpathtools.Document(...).paths()``, which applies
+    the ``transform`` attributes of the element and its groups.  Each element is
+    oriented with its own ``fill-rule`` (attribute or style, inherited from its
+    groups; default nonzero) unless ``fill_rule`` overrides it, and the loops of all
+    elements are concatenated (overlapping elements are not merged).
+
+    Lines, quadratics and cubics become polynomial pieces; elliptical arcs exact
+    rational quadratics.  Zero-length segments are removed.  The y axis is flipped
+    ((x, y) -> (x, -y)) so that the region is y-up.  A subpath must end where it
+    starts (within ``close_tol``, default 1e-9 of the path's size).
+
+    Raises:
+        ParseError: unreadable file or XML; malformed path data; an open subpath
+            (message names the file and subpath index); NaN or inf coordinates; no
+            path with positive area at all.
+    """
+    from svgpathtools import Document, parse_path
+
+    if fill_rule not in (None, "nonzero", "evenodd"):
+        raise ValueError("fill_rule must be None, 'nonzero' or 'evenodd', got %r" % (fill_rule,))
+    items = []  # (label, svgpathtools Path, fill rule)
+    text = os.fspath(source) if isinstance(source, os.PathLike) else source
+    if not isinstance(text, str):
+        raise ParseError("an SVG source is a path or a string, got %r" % (source,), source)
+    is_file = isinstance(source, os.PathLike) or (
+        not text.lstrip().startswith("<") and (text.lower().endswith(".svg") or os.path.exists(text)))
+    if is_file or text.lstrip().startswith("<"):
+        label = text if is_file else "SVG document"
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                if is_file:
+                    if not os.path.isfile(text):
+                        raise ParseError("cannot read SVG file %s: no such file" % text, text)
+                    doc = Document(text)
+                else:
+                    doc = Document.from_svg_string(text)
+                root = doc.tree.getroot() if hasattr(doc.tree, "getroot") else doc.tree
+                for el in root.iter():
+                    if el.tag.split("}")[-1] == "path":
+                        validate_path_data(el.get("d") or "")
+                paths = doc.paths()
+        except ParseError as exc:
+            if exc.source is not None and exc.source != text and is_file:
+                raise ParseError("%s: %s" % (text, exc), text) from exc
+            raise
+        except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
+            raise ParseError("cannot read SVG %s: %s" % (label, _one_line(exc)), text) from exc
+        except Exception as exc:
+            raise ParseError("cannot parse SVG %s: %s" % (label, _one_line(exc)), text) from exc
+        parents = {c: p for p in root.iter() for c in p}
+        for k, path in enumerate(paths):
+            el = getattr(path, "element", None)
+            rule = fill_rule or (_fill_rule(el, parents) if el is not None else "nonzero")
+            items.append(("%s (element %d)" % (label, k) if len(paths) > 1 else label,
+                          path, rule))
+    else:
+        validate_path_data(text)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                path = parse_path(text)
+        except Exception as exc:
+            raise ParseError("malformed SVG path data: %s" % _one_line(exc), text) from exc
+        items.append(("path data %r" % _shorten(text), path, fill_rule or "nonzero"))
+
+    loops = []
+    for label, path, rule in items:
+        if len(path) == 0:
+            continue
+        pts = np.array([[complex(z).real, complex(z).imag] for seg in path
+                        for z in (seg.start, seg.end)])
+        with np.errstate(invalid="ignore"):
+            size = float(np.nanmax(np.abs(pts))) if np.isfinite(pts).any() else 1.0
+        tol = close_tol if close_tol is not None else 1e-9 * max(size, 1.0)
+        raw = _path_loops(path, label, tol)
+        loops.extend(orient_region([_flip_y(loop) for loop in raw], rule))
+    if not items:
+        raise ParseError("SVG %s has no path" % (text if is_file else "document"), text)
+    if not loops:
+        raise ParseError("SVG %s has no closed path with positive area"
+                         % (text if is_file else items[0][0]), text)
+    return loops
+
+
+# =========================================================================== CLI
+
+def load_shape(arg, font=None):
+    """The CLI's shape argument: an SVG file or a glyph of the font.
+
+    An argument ending in ``.svg`` is read with :func:`svg_region` (user units,
+    y flipped up); otherwise it is a single character or a glyph name of ``font``
+    (None: bundled TrueType font), read with :func:`glyph_region` (font units).
+
+    Returns (loops, info) with info keys ``kind`` ("glyph" or "svg"), ``name``
+    (glyph name or file stem), ``source``, ``units_per_em`` (None for SVG) and
+    ``advance`` (glyph advance width; for SVG the region's bounding-box width).
+
+    Raises:
+        ParseError: as :func:`svg_region` and :func:`glyph_region`.
+    """
+    text = os.fspath(arg)
+    if text.lower().endswith(".svg"):
+        loops = svg_region(text)
+        box = region_bbox(loops)
+        return loops, {"kind": "svg", "name": Path(text).stem, "source": text,
+                       "units_per_em": None, "advance": float(box[2] - box[0])}
+    glyph = glyph_region(text, font)
+    return glyph.region, {"kind": "glyph", "name": glyph.name, "source": text,
+                          "units_per_em": glyph.units_per_em,
+                          "advance": glyph.advance_width}
+
+
+# =========================================================================== helpers
+
+def _one_line(exc):
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def _shorten(text, n=40):
+    return text if len(text) <= n else text[:n - 3] + "..."
