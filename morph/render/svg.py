@@ -1,0 +1,131 @@
+"""SVG output: regions -> path data (M/L/Q/C/Z) within a stated tolerance.
+
+Lines and polynomial quadratics/cubics are written exactly (L, Q, C); every other
+piece (rational, or degree > 3) goes through :func:`morph.export.piece_to_cubics`
+with a certified bound.  Coordinates are rounded to a number of decimals chosen from
+``tol``.  The budget: cubic fit <= 0.8 tol; rounding moves each control point by at
+most ``0.5 * 10^-d * sqrt(2) <= 0.2 tol`` and hence the curve by at most that much
+(convex combination), so every written curve is within ``tol`` of the piece on the
+same parameter.  y is negated (region y-up -> SVG y-down).
+"""
+
+import math
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from .. import piece as pc
+from ..export import piece_to_cubics
+from . import frame_bbox, normalize_shapes
+
+__all__ = ["svg_path_data", "write_svg", "svg_document"]
+
+
+def _decimals(tol):
+    return max(0, int(math.ceil(math.log10(0.5 * math.sqrt(2.0) / (0.2 * tol)))))
+
+
+def _fmt(v, d):
+    s = "%.*f" % (d, v)
+    if "." in s:
+        s = s.rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def svg_path_data(loops, tol):
+    """SVG ``d`` string of a region (y flipped to SVG's y-down), within ``tol``.
+
+    One subpath per loop: ``M`` start, then ``L`` (lines), ``Q`` (polynomial
+    quadratics), ``C`` (polynomial cubics, and exported cubics of all other pieces),
+    ``Z``.  Every written curve is within ``tol`` (absolute, region units) of its
+    piece: certified cubic bound plus rounding, see the module docstring.
+
+    Raises:
+        ValueError: tol <= 0.
+        ToleranceNotMetError: from the cubic export.
+    """
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    d = _decimals(tol)
+
+    def pt(p):
+        return "%s %s" % (_fmt(p[0], d), _fmt(-p[1], d))
+
+    parts = []
+    for loop in loops:
+        if not loop:
+            continue
+        parts.append("M" + pt(pc.start(loop[0])))
+        for piece in loop:
+            piece = np.asarray(piece, float)
+            poly = pc.is_polynomial(piece)
+            if poly and len(piece) == 2:
+                parts.append("L" + pt(pc.end(piece)))
+            elif poly and len(piece) == 3:
+                q = pc.cartesian(piece)
+                parts.append("Q" + pt(q[1]) + " " + pt(q[2]))
+            else:
+                for c in piece_to_cubics(piece, 0.8 * tol):
+                    parts.append("C" + " ".join(pt(p) for p in c[1:]))
+        parts.append("Z")
+    return "".join(parts)
+
+
+def _color(c):
+    if c is None:
+        return "none"
+    if isinstance(c, str):
+        return c
+    c = tuple(int(v) for v in c)
+    return "#%02x%02x%02x" % c[:3]
+
+
+def svg_document(shapes, tol=None, margin=0.05, fill="black", stroke=None,
+                 stroke_width=1.0, background=None, size=None, bbox=None):
+    """SVG document text for shapes (see :mod:`morph.render` for the shapes forms).
+
+    ``tol``: absolute tolerance of the path data in region units (None: 1e-5 of the
+    frame's larger side).  ``margin``: fraction of the larger side added around the
+    frame (``bbox`` or the shapes' union box).  ``size``: the longer side of the
+    ``width``/``height`` attributes in px (default 512); ``stroke_width`` is in those
+    px.  ``background``: a colour for a full-frame rectangle, None for none.
+    Paths use ``fill-rule="nonzero"`` (regions are oriented).
+    """
+    items = normalize_shapes(shapes)
+    x0, y0, x1, y1 = frame_bbox(items, bbox, margin)
+    w, h = x1 - x0, y1 - y0
+    side = max(w, h)
+    if tol is None:
+        tol = 1e-5 * side
+    size = 512 if size is None else size
+    px_per_unit = size / side
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
+             '<svg xmlns="http://www.w3.org/2000/svg" version="1.1" '
+             'width="%s" height="%s" viewBox="%s %s %s %s">'
+             % (_fmt(w * px_per_unit, 3), _fmt(h * px_per_unit, 3),
+                _fmt(x0, 9), _fmt(-y1, 9), _fmt(w, 9), _fmt(h, 9))]
+    if background is not None:
+        lines.append('<rect x="%s" y="%s" width="%s" height="%s" fill=%s/>'
+                     % (_fmt(x0, 9), _fmt(-y1, 9), _fmt(w, 9), _fmt(h, 9),
+                        quoteattr(_color(background))))
+    for loops, style in items:
+        f = style.get("fill", fill)
+        s = style.get("stroke", stroke)
+        sw = style.get("stroke_width", stroke_width) / px_per_unit
+        attrs = 'fill=%s fill-rule="nonzero"' % quoteattr(_color(f))
+        if s is not None:
+            attrs += ' stroke=%s stroke-width="%s" stroke-linejoin="round"' % (
+                quoteattr(_color(s)), _fmt(sw, 9))
+        if "opacity" in style:
+            attrs += ' opacity="%s"' % _fmt(style["opacity"], 4)
+        lines.append('<path %s d="%s"/>' % (attrs, svg_path_data(loops, tol)))
+    lines.append("</svg>")
+    return "\n".join(lines) + "\n"
+
+
+def write_svg(path, shapes, **kwargs):
+    """Write :func:`svg_document` ``(shapes, **kwargs)`` to ``path``; returns path."""
+    text = svg_document(shapes, **kwargs)
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return path
