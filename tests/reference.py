@@ -113,7 +113,7 @@ def _tangent_dirs(piece, t):
     return d
 
 
-def solve_parallel(c2, direction, samples=2049, angle_tol=1e-9):
+def solve_parallel(c2, direction, samples=2049, angle_tol=1e-9, _table=None):
     """Parameters s in [0, 1] of C2 whose tangent is parallel to ``direction`` and points
     the same way (cross = 0, dot > 0).  Returns a sorted list (usually one element).
 
@@ -124,24 +124,21 @@ def solve_parallel(c2, direction, samples=2049, angle_tol=1e-9):
     """
     u = np.asarray(direction, float)
     u = u / np.hypot(*u)
-    ss = np.linspace(0.0, 1.0, samples)
-    d2 = _tangent_dirs(c2, ss)
+    if _table is None:
+        _table = _tangent_table(c2, samples)
+    ss, d2 = _table
     ang = np.arctan2(_cross(u, d2), d2 @ u)
 
     def f(s):
         d = _tangent_dirs(c2, [s])[0]
         return _cross(u, d) / np.hypot(*d)
 
-    roots = []
-    for k in range(samples - 1):
-        a0, a1 = ang[k], ang[k + 1]
-        if abs(a0) > np.pi / 2 or abs(a1) > np.pi / 2:
-            continue          # near the opposite direction: cross changes sign there
-        if a0 == 0.0:
-            roots.append(ss[k])
-        elif a0 * a1 < 0:
-            roots.append(brentq(f, ss[k], ss[k + 1], xtol=1e-16, rtol=1e-15, maxiter=200))
-    if ang[-1] == 0.0 and abs(ang[-1]) <= np.pi / 2:
+    a0, a1 = ang[:-1], ang[1:]
+    near = (np.abs(a0) <= np.pi / 2) & (np.abs(a1) <= np.pi / 2)  # not the antiparallel jump
+    roots = [float(ss[k]) for k in np.nonzero(near & (a0 == 0.0))[0]]
+    for k in np.nonzero(near & (a0 * a1 < 0))[0]:
+        roots.append(brentq(f, ss[k], ss[k + 1], xtol=1e-16, rtol=1e-15, maxiter=200))
+    if ang[-1] == 0.0:
         roots.append(1.0)
     # end tolerance: a root just outside [0, 1] by rounding
     if not roots or roots[0] > ss[1]:
@@ -157,6 +154,11 @@ def solve_parallel(c2, direction, samples=2049, angle_tol=1e-9):
     return out
 
 
+def _tangent_table(c2, samples):
+    ss = np.linspace(0.0, 1.0, samples)
+    return ss, _tangent_dirs(c2, ss)
+
+
 def exact_convolution_points(c1, c2, ts, samples=2049, angle_tol=1e-9):
     """Exact convolution points of a compatible pair (Eqs. 2-4, 27), solved numerically.
 
@@ -167,8 +169,9 @@ def exact_convolution_points(c1, c2, ts, samples=2049, angle_tol=1e-9):
     ts = np.atleast_1d(np.asarray(ts, float))
     u = _tangent_dirs(c1, ts)
     s = np.full(len(ts), np.nan)
+    table = _tangent_table(c2, samples)
     for k in range(len(ts)):
-        roots = solve_parallel(c2, u[k], samples, angle_tol)
+        roots = solve_parallel(c2, u[k], samples, angle_tol, table)
         if roots:
             s[k] = roots[0]
     pts = np.full((len(ts), 2), np.nan)
