@@ -29,8 +29,8 @@ from . import bernstein as bz
 from . import piece as pc
 from .errors import ToleranceNotMetError
 
-__all__ = ["cubic_bound", "fit_cubic", "piece_to_cubics", "piece_to_quadratics",
-           "loop_to_cubics"]
+__all__ = ["cubic_bound", "cubic_segments", "fit_cubic", "loop_to_cubics", "piece_to_cubics",
+           "piece_to_quadratics"]
 
 
 def _check(piece):
@@ -124,6 +124,39 @@ def _exact_cubic(piece):
     return bz.to_degree(pc.cartesian(piece), 3)
 
 
+def cubic_segments(piece, tol, max_depth=16):
+    """Cubics within ``tol`` of a piece with their parameter intervals and bounds.
+
+    Returns a list of ``(t0, t1, cubic, bound)``: the (4, 2) cubic C approximates the
+    piece on [t0, t1] with ``max_{u in [0,1]} |R(t0 + u (t1 - t0)) - C(u)| <= bound
+    <= tol`` (certified, :func:`cubic_bound`).  Exact pieces (polynomial, degree <= 3)
+    give one segment with bound 0.  Raises as :func:`piece_to_cubics`.
+    """
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    piece = _check(piece)
+    exact = _exact_cubic(piece)
+    if exact is not None:
+        return [(0.0, 1.0, exact, 0.0)]
+    out = []
+    stack = [(piece, 0.0, 1.0, 0)]
+    while stack:
+        sub, t0, t1, depth = stack.pop()
+        cubic, bound = fit_cubic(sub)
+        if bound <= tol:
+            out.append((t0, t1, cubic, bound))
+            continue
+        if depth >= max_depth:
+            raise ToleranceNotMetError(
+                "cubic export did not reach tol %.3g after %d halvings (bound %.3g)"
+                % (tol, max_depth, bound), piece=piece, achieved=bound)
+        left, right = pc.split(sub, 0.5)
+        tm = 0.5 * (t0 + t1)
+        stack.append((right, tm, t1, depth + 1))
+        stack.append((left, t0, tm, depth + 1))
+    return out
+
+
 def piece_to_cubics(piece, tol, max_depth=16):
     """Polynomial cubics within ``tol`` of a (rational) piece, list of (4, 2) arrays.
 
@@ -140,28 +173,7 @@ def piece_to_cubics(piece, tol, max_depth=16):
             halvings (e.g. tol below floating-point resolution of the coordinates);
             ``.achieved`` holds its bound.
     """
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
-    piece = _check(piece)
-    exact = _exact_cubic(piece)
-    if exact is not None:
-        return [exact]
-    out = []
-    stack = [(piece, 0)]
-    while stack:
-        sub, depth = stack.pop()
-        cubic, bound = fit_cubic(sub)
-        if bound <= tol:
-            out.append(cubic)
-            continue
-        if depth >= max_depth:
-            raise ToleranceNotMetError(
-                "cubic export did not reach tol %.3g after %d halvings (bound %.3g)"
-                % (tol, max_depth, bound), piece=piece, achieved=bound)
-        left, right = pc.split(sub, 0.5)
-        stack.append((right, depth + 1))
-        stack.append((left, depth + 1))
-    return out
+    return [seg[2] for seg in cubic_segments(piece, tol, max_depth)]
 
 
 def loop_to_cubics(loop, tol, max_depth=16):

@@ -1,0 +1,216 @@
+"""Rational Bézier pieces against sampled values, finite differences and exact conics."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from morph import piece as pc
+from morph.errors import DegenerateCurveError
+
+T = np.linspace(0.0, 1.0, 101)
+
+
+@st.composite
+def rational_pieces(draw, max_degree=5):
+    n = draw(st.integers(1, max_degree))
+    pts = draw(arrays(float, (n + 1, 2), elements=st.floats(-5, 5)))
+    w = draw(arrays(float, (n + 1,), elements=st.floats(0.25, 4.0)))
+    return pc.from_points(pts, w)
+
+
+def test_from_points_and_cartesian_round_trip():
+    pts = np.array([[0.0, 0.0], [1.0, 2.0], [3.0, -1.0]])
+    p = pc.from_points(pts, [1.0, 0.5, 2.0])
+    assert np.allclose(pc.cartesian(p), pts)
+    assert not pc.is_polynomial(p)
+    assert pc.is_polynomial(pc.quadratic(*pts))
+    with pytest.raises(ValueError):
+        pc.from_points(pts, [1.0, -1.0, 1.0])
+
+
+def test_cubic_evaluate_matches_formula():
+    p0, p1, p2, p3 = np.array([[0.0, 0.0], [1.0, 3.0], [4.0, 3.0], [5.0, 0.0]])
+    c = pc.cubic(p0, p1, p2, p3)
+    t = T[:, None]
+    expect = (1 - t) ** 3 * p0 + 3 * t * (1 - t) ** 2 * p1 + 3 * t ** 2 * (1 - t) * p2 + t ** 3 * p3
+    assert np.allclose(pc.evaluate(c, T), expect, atol=1e-14)
+    assert np.array_equal(pc.start(c), p0) and np.array_equal(pc.end(c), p3)
+
+
+def test_rational_quadratic_matches_formula():
+    pts = np.array([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    w = np.array([1.0, np.sqrt(0.5), 1.0])
+    p = pc.from_points(pts, w)
+    t = T[:, None]
+    b = np.column_stack([(1 - T) ** 2, 2 * T * (1 - T), T ** 2])
+    expect = (b * w) @ pts / (b @ w)[:, None]
+    assert np.allclose(pc.evaluate(p, T), expect, atol=1e-14)
+    # a quarter circle: every point at distance 1
+    assert np.allclose(np.hypot(*pc.evaluate(p, T).T), 1.0, atol=1e-14)
+
+
+@given(rational_pieces())
+def test_derivative_matches_finite_differences(p):
+    h = 1e-6
+    t = np.linspace(0.02, 0.98, 17)
+    fd = (pc.evaluate(p, t + h) - pc.evaluate(p, t - h)) / (2 * h)
+    scale = 1 + np.abs(fd).max()
+    assert np.allclose(pc.derivative(p, t), fd, atol=1e-4 * scale)
+
+
+@settings(max_examples=40)
+@given(rational_pieces())
+def test_second_derivative_matches_finite_differences(p):
+    h = 1e-4
+    t = np.linspace(0.05, 0.95, 9)
+    fd = (pc.derivative(p, t + h) - pc.derivative(p, t - h)) / (2 * h)
+    scale = 1 + np.abs(fd).max()
+    assert np.allclose(pc.second_derivative(p, t), fd, atol=1e-4 * scale)
+
+
+@given(rational_pieces())
+def test_tangent_numerator_is_parallel_to_derivative(p):
+    t = np.linspace(0.0, 1.0, 13)
+    d = pc.derivative(p, t)
+    from morph import bernstein as bz
+    h = bz.evaluate(pc.tangent_numerator(p), t)
+    cross = d[:, 0] * h[:, 1] - d[:, 1] * h[:, 0]
+    dot = (d * h).sum(axis=1)
+    scale = np.hypot(*d.T) * np.hypot(*h.T) + 1e-12
+    assert np.all(np.abs(cross) <= 1e-8 * scale + 1e-9)
+    assert np.all(dot >= -1e-9 * scale)
+
+
+@given(rational_pieces(), st.floats(0.05, 0.95))
+def test_split_reproduces_curve(p, t):
+    left, right = pc.split(p, t)
+    u = np.linspace(0, 1, 21)
+    assert np.allclose(pc.evaluate(left, u), pc.evaluate(p, t * u), atol=1e-9)
+    assert np.allclose(pc.evaluate(right, u), pc.evaluate(p, t + (1 - t) * u), atol=1e-9)
+    assert np.array_equal(left[-1], right[0])
+
+
+@given(rational_pieces(), st.floats(0.0, 0.4), st.floats(0.6, 1.0))
+def test_subsegment_reproduces_curve(p, t0, t1):
+    u = np.linspace(0, 1, 21)
+    assert np.allclose(pc.evaluate(pc.subsegment(p, t0, t1), u),
+                       pc.evaluate(p, t0 + (t1 - t0) * u), atol=1e-8)
+
+
+@given(rational_pieces(), st.integers(1, 4))
+def test_elevate_same_curve(p, r):
+    e = pc.elevate(p, r)
+    assert len(e) == len(p) + r
+    assert np.allclose(pc.evaluate(e, T), pc.evaluate(p, T), atol=1e-9)
+
+
+@given(rational_pieces())
+def test_reverse(p):
+    assert np.allclose(pc.evaluate(pc.reverse(p), T), pc.evaluate(p, 1 - T), atol=1e-12)
+
+
+@given(rational_pieces())
+def test_normalize_weights_same_curve(p):
+    q = pc.normalize_weights(p)
+    assert np.isclose(q[0, 2], 1.0) and np.isclose(q[-1, 2], 1.0)
+    # same point set, same ends (reparametrised), checked on the ends and the hull
+    assert np.allclose(pc.start(q), pc.start(p)) and np.allclose(pc.end(q), pc.end(p))
+    assert np.allclose(pc.cartesian(q), pc.cartesian(p))
+
+
+@pytest.mark.parametrize("rx, ry, rot, th0, dth", [
+    (1.0, 1.0, 0.0, 0.0, 2 * np.pi),
+    (3.0, 1.5, 0.4, 0.3, 2.5),
+    (2.0, 5.0, -1.0, 1.0, -4.0),
+    (1.0, 0.2, 2.0, -0.5, 0.3),
+])
+def test_ellipse_arc_points_on_ellipse_and_tangent_continuous(rx, ry, rot, th0, dth):
+    center = np.array([1.5, -2.0])
+    arcs = pc.ellipse_arc(center, rx, ry, rot, th0, dth)
+    c, s = np.cos(rot), np.sin(rot)
+    for a in arcs:
+        assert len(a) == 3 and np.all(a[:, 2] > 0)
+        q = (pc.evaluate(a, T) - center) @ np.array([[c, -s], [s, c]])  # rotate back
+        assert np.allclose((q[:, 0] / rx) ** 2 + (q[:, 1] / ry) ** 2, 1.0, atol=1e-13)
+    def on(th):
+        return center + np.array([[c, -s], [s, c]]) @ [rx * np.cos(th), ry * np.sin(th)]
+    assert np.allclose(pc.start(arcs[0]), on(th0), atol=1e-13)
+    assert np.allclose(pc.end(arcs[-1]), on(th0 + dth), atol=1e-13)
+    for a, b in zip(arcs, arcs[1:]):
+        assert np.allclose(pc.end(a), pc.start(b), atol=1e-14)
+        ta = pc.end_tangents(a)[1]
+        tb = pc.end_tangents(b)[0]
+        assert np.allclose(ta, tb, atol=1e-12)
+    # the sweep direction follows the sign of dth
+    area = sum(pc.piece_area_term(a) for a in arcs)
+    e, s0 = pc.end(arcs[-1]), pc.start(arcs[0])
+    assert np.sign(area + 0.5 * (e[0] * s0[1] - e[1] * s0[0])) == np.sign(dth)
+
+
+@pytest.mark.parametrize("r", [1.0, 0.37, 250.0])
+def test_circle_area_exact(r):
+    circle = pc.circle((3.0, -4.0), r)
+    assert abs(pc.loop_area(circle) - np.pi * r * r) <= 1e-12 * np.pi * r * r
+    ell = pc.ellipse((0.0, 0.0), 2 * r, r, 0.7)
+    assert abs(pc.loop_area(ell) - 2 * np.pi * r * r) <= 1e-12 * 2 * np.pi * r * r
+
+
+def test_polygon_area_exact_and_orientation():
+    sq = [pc.line((0, 0), (2, 0)), pc.line((2, 0), (2, 3)), pc.line((2, 3), (0, 3)),
+          pc.line((0, 3), (0, 0))]
+    assert pc.loop_area(sq) == 6.0
+    rev = [pc.reverse(p) for p in reversed(sq)]
+    assert pc.loop_area(rev) == -6.0
+    assert pc.region_area([sq, [pc.translate(p, (0.5, 0.5)) for p in
+                                [pc.line((0, 0), (0, 1)), pc.line((0, 1), (1, 1)),
+                                 pc.line((1, 1), (1, 0)), pc.line((1, 0), (0, 0))]]]) == 5.0
+
+
+@given(rational_pieces())
+def test_transform_is_affine_map_of_points(p):
+    m = np.array([[1.5, -0.3, 2.0], [0.4, 0.8, -1.0]])
+    q = pc.transform(p, m)
+    expect = pc.evaluate(p, T) @ m[:, :2].T + m[:, 2]
+    assert np.allclose(pc.evaluate(q, T), expect, atol=1e-9)
+    assert np.allclose(pc.evaluate(pc.translate(p, (1.0, -2.0)), T),
+                       pc.evaluate(p, T) + [1.0, -2.0], atol=1e-12)
+
+
+@given(rational_pieces())
+def test_bbox_contains_curve(p):
+    box = pc.bbox(p)
+    pts = pc.evaluate(p, T)
+    assert np.all(pts >= box[:2] - 1e-12) and np.all(pts <= box[2:] + 1e-12)
+
+
+@settings(max_examples=30)
+@given(rational_pieces(max_degree=4), st.sampled_from([1e-1, 1e-2, 1e-3]))
+def test_flatten_within_tol(p, tol):
+    pts, params = pc.flatten(p, tol)
+    assert params[0] == 0.0 and params[-1] == 1.0 and np.all(np.diff(params) > 0)
+    # curve points between consecutive params are within tol of the chord
+    for a, b, ta, tb in zip(pts[:-1], pts[1:], params[:-1], params[1:]):
+        q = pc.evaluate(p, np.linspace(ta, tb, 9))
+        d = b - a
+        L2 = d @ d
+        u = np.clip((q - a) @ d / L2, 0, 1) if L2 > 0 else np.zeros(len(q))
+        dist = np.hypot(*(q - (a + u[:, None] * d)).T)
+        assert dist.max() <= tol * (1 + 1e-9) + 1e-12
+
+
+def test_end_tangents_with_repeated_control_point_and_degenerate():
+    c = pc.cubic((0, 0), (0, 0), (1, 1), (2, 0))
+    t0, t1 = pc.end_tangents(c)
+    assert np.allclose(t0, np.array([1, 1]) / np.sqrt(2))
+    assert np.allclose(t1, np.array([1, -1]) / np.sqrt(2))
+    with pytest.raises(DegenerateCurveError):
+        pc.end_tangents(pc.cubic((1, 1), (1, 1), (1, 1), (1, 1)))
+
+
+def test_with_endpoints_moves_only_ends():
+    p = pc.from_points([[0, 0], [1, 1], [2, 0]], [1.0, 2.0, 0.5])
+    q = pc.with_endpoints(p, (0.5, 0.5), (3.0, 1.0))
+    assert np.allclose(pc.start(q), [0.5, 0.5]) and np.allclose(pc.end(q), [3.0, 1.0])
+    assert np.array_equal(q[1], p[1]) and np.array_equal(q[:, 2], p[:, 2])

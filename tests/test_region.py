@@ -1,0 +1,115 @@
+"""Regions: orientation by nesting and fill rule, cleaning, bbox, centroid, point tests."""
+
+import numpy as np
+import pytest
+
+from morph import piece as pc
+from morph.region import (Region, clean_loop, orient_region, point_in_region, region_bbox,
+                          region_centroid, reverse_loop, winding_number)
+
+
+def square(x0, y0, size, ccw=True):
+    pts = [(x0, y0), (x0 + size, y0), (x0 + size, y0 + size), (x0, y0 + size)]
+    loop = [pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)]
+    return loop if ccw else reverse_loop(loop)
+
+
+def areas(loops):
+    return sorted(round(pc.loop_area(l), 9) for l in loops)
+
+
+@pytest.mark.parametrize("dirs", [(True, True, True), (False, False, False),
+                                  (True, False, True), (False, True, False)])
+def test_evenodd_nesting_alternates(dirs):
+    loops = [square(0, 0, 10, dirs[0]), square(2, 2, 6, dirs[1]), square(4, 4, 2, dirs[2])]
+    out = orient_region(loops, "evenodd")
+    assert areas(out) == [-36.0, 4.0, 100.0]
+    assert pc.region_area(out) == pytest.approx(68.0)
+
+
+def test_nonzero_opposite_directions_make_a_hole():
+    out = orient_region([square(0, 0, 10, False), square(2, 2, 6, True)], "nonzero")
+    assert areas(out) == [-36.0, 100.0]
+
+
+def test_nonzero_same_direction_drops_inner_loop():
+    out = orient_region([square(0, 0, 10, False), square(2, 2, 6, False)], "nonzero")
+    assert areas(out) == [100.0]
+    # and under even-odd the same input has a hole
+    assert areas(orient_region([square(0, 0, 10), square(2, 2, 6)], "evenodd")) == [-36.0, 100.0]
+
+
+def test_disjoint_loops_are_all_outer():
+    out = orient_region([square(0, 0, 1, False), square(5, 0, 1, True), square(10, 0, 2, False)])
+    assert areas(out) == [1.0, 1.0, 4.0]
+
+
+def test_circle_hole_in_circle():
+    outer = pc.circle((0, 0), 5.0)
+    inner = pc.circle((1, 0), 2.0)  # same direction: nonzero keeps no hole
+    assert len(orient_region([outer, inner], "nonzero")) == 1
+    out = orient_region([outer, reverse_loop(inner)], "nonzero")
+    assert pc.region_area(out) == pytest.approx(np.pi * 21, rel=1e-12)
+
+
+def test_zero_length_pieces_and_zero_area_loops_dropped():
+    loop = square(0, 0, 2)
+    loop.insert(2, pc.cubic((2, 0), (2, 0), (2, 0), (2, 0)))
+    flat = [pc.line((0, 0), (1, 0)), pc.line((1, 0), (0, 0))]
+    out = orient_region([loop, flat])
+    assert len(out) == 1 and len(out[0]) == 4
+
+
+def test_clean_loop_snaps_joins_exactly():
+    loop = [pc.line((0, 0), (1, 0)), pc.line((1 + 1e-12, 0), (0, 1)),
+            pc.line((0, 1), (0, 1e-12))]
+    out = clean_loop(loop)
+    for a, b in zip(out, out[1:] + out[:1]):
+        assert np.array_equal(pc.end(a), pc.start(b))
+    with pytest.raises(ValueError):
+        clean_loop([pc.line((0, 0), (1, 0)), pc.line((1, 0.5), (0, 0))], tol=1e-6)
+
+
+def test_unknown_fill_rule():
+    with pytest.raises(ValueError):
+        orient_region([square(0, 0, 1)], "odd")
+
+
+def test_region_bbox_is_tight():
+    box = region_bbox([pc.circle((1.0, 2.0), 3.0)])
+    assert np.allclose(box, [-2.0, -1.0, 4.0, 5.0], atol=1e-12)
+    c = pc.cubic((0, 0), (1, 2), (2, 2), (3, 0))  # max y = 1.5 at t = 0.5
+    assert np.allclose(region_bbox([[c, pc.line((3, 0), (0, 0))]]), [0, 0, 3, 1.5])
+
+
+def test_centroid_exact():
+    ring = [square(0, 0, 4), reverse_loop(square(0, 0, 2))]  # L shape
+    assert np.allclose(region_centroid(ring), [(16 * 2 - 4 * 1) / 12] * 2, atol=1e-14)
+    assert np.allclose(region_centroid([pc.ellipse((3.0, -1.0), 2.0, 1.0, 0.5)]), [3.0, -1.0],
+                       atol=1e-12)
+    # half disk: centroid at 4r / (3 pi)
+    half = pc.ellipse_arc((0, 0), 1.0, 1.0, 0.0, 0.0, np.pi) + [pc.line((-1, 0), (1, 0))]
+    assert np.allclose(region_centroid([half]), [0, 4 / (3 * np.pi)], atol=1e-13)
+
+
+def test_winding_number_and_point_in_region():
+    ring = [square(0, 0, 10), reverse_loop(square(3, 3, 4))]
+    pts = np.array([[1, 1], [5, 5], [20, 5], [9.5, 5], [2.5, 5]])
+    assert list(point_in_region(pts, ring, 1e-3)) == [True, False, False, True, True]
+    two = [np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)] * 2
+    assert list(winding_number(np.array([[1.0, 1.0], [3.0, 1.0]]), two)) == [2, 0]
+    cw = [np.array([[0, 0], [0, 2], [2, 2], [2, 0]], float)]
+    assert list(winding_number(np.array([[1.0, 1.0]]), cw)) == [-1]
+
+
+def test_region_class_is_thin():
+    r = Region([square(0, 0, 2, False), square(0.5, 0.5, 1, False)], fill_rule="evenodd")
+    assert len(r) == 2 and r.area == pytest.approx(3.0)
+    assert np.allclose(r.bbox, [0, 0, 2, 2])
+    m = r.translated((1, 1)).scaled(2)
+    assert m.area == pytest.approx(12.0)
+    assert np.allclose(m.bbox, [2, 2, 6, 6])
+    mirrored = r.transformed([[-1, 0, 0], [0, 1, 0]])  # orientation kept
+    assert mirrored.area == pytest.approx(3.0)
+    assert [len(l) for l in r] == [4, 4]
+    assert "Region(2 loops" in repr(r)
