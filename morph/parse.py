@@ -226,7 +226,7 @@ def glyph_region(char_or_name, font=None):
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(_NUMBER)
 _FLAG_RE = re.compile(r"[01]")
-_SEP_RE = re.compile(r"[\s,]*")
+_SEP_RE = re.compile(r"\s*,?\s*")
 _WS_RE = re.compile(r"\s*")
 _ARGS = {"M": "nn", "L": "nn", "T": "nn", "H": "n", "V": "n", "C": "nnnnnn",
          "S": "nnnn", "Q": "nnnn", "A": "nnnffnn", "Z": ""}
@@ -394,6 +394,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
         not text.lstrip().startswith("<") and (text.lower().endswith(".svg") or os.path.exists(text)))
     if is_file or text.lstrip().startswith("<"):
         label = text if is_file else "SVG document"
+        where = text if is_file else "document"
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -403,6 +404,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
                     doc = Document(text)
                 else:
                     doc = Document.from_svg_string(text)
+                doc.strict_transform_parsing = True  # bad transforms raise, not skip
                 root = doc.tree.getroot() if hasattr(doc.tree, "getroot") else doc.tree
                 for el in root.iter():
                     if el.tag.split("}")[-1] == "path":
@@ -413,9 +415,9 @@ def svg_region(source, fill_rule=None, close_tol=None):
                 raise ParseError("%s: %s" % (text, exc), text) from exc
             raise
         except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
-            raise ParseError("cannot read SVG %s: %s" % (label, _one_line(exc)), text) from exc
+            raise ParseError("cannot read SVG %s: %s" % (where, _one_line(exc)), text) from exc
         except Exception as exc:
-            raise ParseError("cannot parse SVG %s: %s" % (label, _one_line(exc)), text) from exc
+            raise ParseError("cannot parse SVG %s: %s" % (where, _one_line(exc)), text) from exc
         parents = {c: p for p in root.iter() for c in p}
         for k, path in enumerate(paths):
             el = getattr(path, "element", None)

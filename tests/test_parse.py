@@ -1,0 +1,249 @@
+"""Parsing glyphs and SVG: areas against shapely, orientation rules, every bad input."""
+
+import math
+import string
+from functools import reduce
+
+import numpy as np
+import pytest
+import shapely
+
+from morph import piece as pc
+from morph.errors import ParseError
+from morph.parse import (cubic_test_font_path, default_font_path, glyph_region, load_font,
+                         load_shape, svg_region, validate_path_data)
+from morph.region import region_bbox
+
+FONTS = {"ttf": default_font_path(), "otf": cubic_test_font_path()}
+SVG_NS = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+def fine_polyline(loop, delta):
+    """Polyline within ``delta`` of a loop of polynomial pieces (uniform parameters).
+
+    A chord over a parameter step h deviates at most max|P''| h^2 / 8 from the curve,
+    and max|P''| <= n (n-1) max_i |P_{i+2} - 2 P_{i+1} + P_i|.
+    """
+    out = []
+    for p in loop:
+        assert pc.is_polynomial(p)
+        c = pc.cartesian(p)
+        n = len(c) - 1
+        if n == 1:
+            out.append(c[:1])
+            continue
+        m2 = n * (n - 1) * np.hypot(*np.diff(c, 2, axis=0).T).max()
+        k = max(2, int(math.ceil(math.sqrt(m2 / (8 * delta)))))
+        out.append(pc.evaluate(p, np.linspace(0, 1, k + 1)[:-1]))
+    return np.concatenate(out)
+
+
+def evenodd_area(loops, delta):
+    """Area of the even-odd fill of the loops by shapely (orientation-independent)."""
+    polys = [shapely.Polygon(fine_polyline(l, delta)) for l in loops]
+    return reduce(lambda a, b: a.symmetric_difference(b), polys).area
+
+
+@pytest.mark.parametrize("font", sorted(FONTS))
+def test_glyph_areas_match_shapely_every_letter(font):
+    """Every glyph A-Z, a-z: exact area (Green) == shapely area of a 1e-4-unit polyline."""
+    path = FONTS[font]
+    for ch in string.ascii_letters:
+        g = glyph_region(ch, path)
+        exact = pc.region_area(g.region)
+        ref = evenodd_area(g.region, 1e-4)
+        assert exact > 0, ch
+        assert abs(exact - ref) <= 1e-6 * ref, (font, ch, exact, ref)
+
+
+@pytest.mark.parametrize("font", sorted(FONTS))
+@pytest.mark.parametrize("ch, holes", [("O", 1), ("B", 2), ("8", 2), ("g", 1), ("o", 1),
+                                       ("e", 1), ("l", 0)])
+def test_orientation_outer_ccw_holes_cw(font, ch, holes):
+    g = glyph_region(ch, FONTS[font])
+    signs = [np.sign(pc.loop_area(l)) for l in g.region]
+    assert signs.count(-1) == holes and signs.count(1) == len(signs) - holes
+    # the biggest loop is the outer one; every hole lies inside an outer loop
+    assert pc.loop_area(max(g.region, key=lambda l: abs(pc.loop_area(l)))) > 0
+    outers = [shapely.Polygon(pc.flatten_loop(l, 0.5)) for l in g.region if pc.loop_area(l) > 0]
+    for l in g.region:
+        if pc.loop_area(l) < 0:
+            probe = shapely.Point(pc.evaluate(l[0], 0.5)[0])
+            assert any(o.contains(probe) for o in outers)
+
+
+def test_glyph_pieces_by_font_kind_and_joins():
+    tt = glyph_region("g", FONTS["ttf"])
+    cff = glyph_region("g", FONTS["otf"])
+    assert {len(p) for l in tt.region for p in l} == {2, 3}  # lines, quadratics
+    assert {len(p) for l in cff.region for p in l} == {2, 4}  # lines, cubics
+    for g in (tt, cff):
+        for loop in g.region:
+            for a, b in zip(loop, loop[1:] + loop[:1]):
+                assert np.array_equal(pc.end(a), pc.start(b))
+    assert (tt.name, tt.advance_width, tt.units_per_em) == ("g", 615, 1000)
+    # the two fonts are the same design: areas agree to the quadratic/cubic conversion
+    assert pc.region_area(tt.region) == pytest.approx(pc.region_area(cff.region), rel=1e-3)
+
+
+def test_glyph_by_name_and_composite():
+    amp = glyph_region("ampersand")
+    assert amp.name == "ampersand"
+    agrave = glyph_region("\u00e0")  # composite: a + grave, decomposed
+    a = glyph_region("a")
+    assert len(agrave.region) == len(a.region) + 1
+    assert pc.region_area(agrave.region) > pc.region_area(a.region)
+
+
+def test_load_font_cached_and_errors(tmp_path):
+    assert load_font() is load_font(default_font_path())
+    with pytest.raises(ParseError, match="no such file") as info:
+        load_font(tmp_path / "missing.ttf")
+    assert "missing.ttf" in str(info.value)
+    bad = tmp_path / "garbage.ttf"
+    bad.write_bytes(b"this is not a font")
+    with pytest.raises(ParseError, match="garbage.ttf"):
+        load_font(bad)
+
+
+def test_missing_and_empty_glyphs():
+    with pytest.raises(ParseError, match=r"has no glyph for '\u4e00'"):
+        glyph_region("\u4e00")
+    with pytest.raises(ParseError, match="no glyph for 'notaglyphname'"):
+        glyph_region("notaglyphname")
+    with pytest.raises(ParseError, match="empty"):
+        glyph_region(" ")
+    with pytest.raises(ParseError):
+        glyph_region("")
+
+
+# --------------------------------------------------------------------------- SVG
+
+def test_svg_rect_with_group_transforms_and_y_flip():
+    svg = ('<svg %s><g transform="translate(10,20)"><g transform="scale(2)">'
+           '<rect x="0" y="0" width="3" height="4"/></g></g></svg>' % SVG_NS)
+    loops = svg_region(svg)
+    assert pc.region_area(loops) == pytest.approx(48.0, rel=1e-14)
+    assert np.allclose(region_bbox(loops), [10, -28, 16, -20])
+
+
+@pytest.mark.parametrize("r", [5.0, 0.25])
+def test_svg_circle_is_exact(r):
+    loops = svg_region('<svg %s><circle cx="3" cy="4" r="%r"/></svg>' % (SVG_NS, r))
+    assert all(len(p) == 3 and not pc.is_polynomial(p) for p in loops[0])
+    assert abs(pc.region_area(loops) - math.pi * r * r) <= 1e-12 * math.pi * r * r
+    pts = pc.evaluate(loops[0][1], np.linspace(0, 1, 50))
+    assert np.allclose(np.hypot(pts[:, 0] - 3, pts[:, 1] + 4), r, atol=1e-12 * max(r, 1))
+
+
+def test_svg_ellipse_under_rotation_and_shear():
+    svg = ('<svg %s><g transform="matrix(2 0.5 0.3 1 5 7)"><ellipse cx="1" cy="2" rx="4" '
+           'ry="1.5" transform="rotate(25)"/></g></svg>' % SVG_NS)
+    det = 2 * 1 - 0.5 * 0.3
+    assert pc.region_area(svg_region(svg)) == pytest.approx(math.pi * 6 * det, rel=1e-12)
+
+
+def test_svg_arc_commands_half_disk():
+    # upper half disk in SVG coordinates (y down): sweep through y < 0
+    loops = svg_region("M -2 0 A 2 2 0 0 1 2 0 Z")
+    assert pc.region_area(loops) == pytest.approx(2 * math.pi, rel=1e-12)
+    assert np.allclose(region_bbox(loops), [-2, 0, 2, 2], atol=1e-12)  # flipped up
+    # rotated elliptical arc, large-arc flag, relative commands
+    loops = svg_region("m 0 0 a 3 1 30 1 0 4 1 z")
+    assert pc.region_area(loops) > 0
+
+
+@pytest.mark.parametrize("rule_attr, expect", [
+    ('fill-rule="evenodd"', 64 - 16),
+    ('style="fill:red;fill-rule:evenodd"', 64 - 16),
+    ('fill-rule="nonzero"', 64),
+    ("", 64),
+])
+def test_svg_fill_rules(rule_attr, expect):
+    d = "M0 0 H8 V8 H0 Z M2 2 H6 V6 H2 Z"  # both subpaths in the same direction
+    loops = svg_region('<svg %s><path %s d="%s"/></svg>' % (SVG_NS, rule_attr, d))
+    assert pc.region_area(loops) == pytest.approx(expect)
+
+
+def test_svg_fill_rule_inherited_and_override():
+    d = "M0 0 H8 V8 H0 Z M2 2 H6 V6 H2 Z"
+    svg = '<svg %s><g fill-rule="evenodd"><path d="%s"/></g></svg>' % (SVG_NS, d)
+    assert pc.region_area(svg_region(svg)) == pytest.approx(48)
+    assert pc.region_area(svg_region(svg, fill_rule="nonzero")) == pytest.approx(64)
+    # opposite directions: a hole under both rules
+    d2 = "M0 0 H8 V8 H0 Z M2 2 V6 H6 V2 Z"
+    assert pc.region_area(svg_region(d2)) == pytest.approx(48)
+    assert pc.region_area(svg_region(d2, fill_rule="evenodd")) == pytest.approx(48)
+
+
+def test_svg_subpaths_sharing_a_start_point_and_zero_length_segments():
+    loops = svg_region("M0 0 L1 0 L1 1 Z M0 0 L-1 0 L-1 -1 Z")
+    assert len(loops) == 2 and pc.region_area(loops) == pytest.approx(1.0)
+    loops = svg_region("M0 0 L0 0 L4 0 L4 0 C4 0 4 0 4 0 L4 4 Z")
+    assert [len(l) for l in loops] == [3]
+
+
+def test_svg_file_and_load_shape(tmp_path):
+    f = tmp_path / "shape.svg"
+    f.write_text('<svg %s><path d="M0 0 H10 V5 H0 Z"/></svg>' % SVG_NS)
+    for src in (f, str(f)):
+        assert pc.region_area(svg_region(src)) == pytest.approx(50)
+    loops, info = load_shape(str(f))
+    assert info["kind"] == "svg" and info["units_per_em"] is None
+    assert info["name"] == "shape" and info["advance"] == pytest.approx(10)
+    loops, info = load_shape("g")
+    assert info["kind"] == "glyph" and info["units_per_em"] == 1000 and info["advance"] == 615
+    loops, info = load_shape("g", cubic_test_font_path())
+    assert {len(p) for l in loops for p in l} == {2, 4}
+
+
+@pytest.mark.parametrize("d", ["M 0 0 L 1 x 1 Z", "L 0 0 1 1 Z", "M 0 0 L 1 Z",
+                               "M 0 0 A 1 1 0 2 1 3 3 Z", "M 0 0 Q 1 1 Z", "M0 0 L 1,,1 Z",
+                               "M 0 0 L nan 1 L 1 1 Z"])
+def test_malformed_path_data(d):
+    with pytest.raises(ParseError, match="malformed"):
+        svg_region(d)
+
+
+def test_valid_path_data_forms():
+    for d in ["M0,0L1,1", "M.5.5l-1e-2.3z", "M0 0 a1 1 0 1 0 2 2", "M0 0 A1 1 0 1120 20",
+              "M0 0 h1 v1 H0 V0 z", "M 0 0 C 1 1 2 2 3 3 S 4 4 5 5 Q 6 6 7 7 T 8 8"]:
+        validate_path_data(d)
+
+
+def test_open_path_names_file_and_subpath(tmp_path):
+    f = tmp_path / "open.svg"
+    f.write_text('<svg %s><path d="M0 0 H10 V5 H0 Z M 20 20 H 30 V 30"/></svg>' % SVG_NS)
+    with pytest.raises(ParseError, match=r"open.svg.*subpath 1 is open"):
+        svg_region(f)
+    with pytest.raises(ParseError, match="subpath 0 is open"):
+        svg_region("M0 0 L 1 0 L 1 1")
+    with pytest.raises(ParseError, match="subpath 0 is open"):
+        svg_region("M0 0 L 1 0 M 5 5 L 6 6 L 5 6 Z")
+
+
+def test_non_finite_coordinates():
+    with pytest.raises(ParseError, match="non-finite"):
+        svg_region("M 0 0 L 1e999 0 L 1 1 Z")
+    with pytest.raises(ParseError, match="transform"):
+        svg_region('<svg %s><path transform="scale(1e999)" d="M0 0 H1 V1 Z"/></svg>' % SVG_NS)
+    with pytest.raises(ParseError, match="transform"):
+        svg_region('<svg %s><path transform="matrix(nan 0 0 1 0 0)" d="M0 0 H1 V1 Z"/></svg>'
+                   % SVG_NS)
+
+
+def test_empty_and_unreadable_svg(tmp_path):
+    with pytest.raises(ParseError, match="no path"):
+        svg_region("<svg %s></svg>" % SVG_NS)
+    with pytest.raises(ParseError, match="no closed path"):
+        svg_region('<svg %s><path d="M0 0 L1 1 L0 0 Z"/></svg>' % SVG_NS)  # zero area
+    with pytest.raises(ParseError, match="no such file"):
+        svg_region(tmp_path / "missing.svg")
+    bad = tmp_path / "bad.svg"
+    bad.write_text("<svg><path d=")
+    with pytest.raises(ParseError, match="bad.svg"):
+        svg_region(bad)
+    with pytest.raises(ParseError, match="no closed path"):
+        svg_region("")
+    with pytest.raises(ParseError):
+        load_shape(str(tmp_path / "missing.svg"))
