@@ -1,0 +1,155 @@
+"""The morph CLI through click's CliRunner: outputs, one-line errors, exit codes."""
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from PIL import Image
+
+import morph
+from morph import cli
+from morph.cli import main
+
+SVG_NS = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+@pytest.fixture
+def runner():
+    return CliRunner()
+
+
+def one_error_line(result):
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("morph: error: ")
+    return lines[0]
+
+
+def test_version(runner):
+    result = runner.invoke(main, ["--version"])
+    assert result.exit_code == 0 and morph.__version__ in result.output
+
+
+def test_help_reads_like_a_manual(runner):
+    result = runner.invoke(main, ["outline", "--help"])
+    assert result.exit_code == 0
+    for word in ("--font", "--tol", "--output", "--force", "--size", "em", "user units",
+                 "Examples"):
+        assert word in result.output
+
+
+def test_outline_png(runner, tmp_path):
+    out = tmp_path / "g.png"
+    result = runner.invoke(main, ["outline", "g", "-o", str(out), "--size", "200"])
+    assert result.exit_code == 0, result.output
+    img = Image.open(out)
+    assert max(img.size) == 200
+    values = np.unique(np.asarray(img.convert("L")))
+    assert values.min() == 0 and values.max() == 255 and len(values) > 8  # anti-aliased
+
+
+def test_outline_svg_with_cubic_font(runner, tmp_path):
+    out = tmp_path / "B.svg"
+    from morph.parse import cubic_test_font_path
+    result = runner.invoke(main, ["outline", "B", "--font", cubic_test_font_path(),
+                                  "-o", str(out), "--tol", "1e-5"])
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    assert "<path" in text and " C" not in text and "C" in text
+
+
+def test_outline_svg_input(runner, tmp_path):
+    src = tmp_path / "ring.svg"
+    src.write_text('<svg %s><path fill-rule="evenodd" d="M -10 0 A 10 10 0 0 1 10 0 '
+                   'A 10 10 0 0 1 -10 0 Z M -4 0 A 4 4 0 0 1 4 0 A 4 4 0 0 1 -4 0 Z"/></svg>'
+                   % SVG_NS)
+    with runner.isolated_filesystem(temp_dir=tmp_path):
+        result = runner.invoke(main, ["outline", str(src), "--size", "64"])
+        assert result.exit_code == 0, result.output
+        img = np.asarray(Image.open("outline-ring.png").convert("L"))
+        assert img.shape == (64, 64)
+        assert img[32, 32] == 255 and img[32, 10] == 0  # hole in the middle, ring filled
+
+
+def test_default_output_name_in_cwd(runner, tmp_path):
+    with runner.isolated_filesystem(temp_dir=tmp_path):
+        result = runner.invoke(main, ["outline", "g", "--size", "32"])
+        assert result.exit_code == 0
+        assert Image.open("outline-g.png").size[1] == 32
+        result = runner.invoke(main, ["outline", "&", "--size", "32"])
+        assert result.exit_code == 0
+        assert Image.open("outline-ampersand.png")
+
+
+def test_missing_glyph_exit_2_one_line(runner, tmp_path):
+    result = runner.invoke(main, ["outline", "\u4e00", "-o", str(tmp_path / "x.png")])
+    assert result.exit_code == 2
+    line = one_error_line(result)
+    assert "no glyph" in line
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_existing_output_not_overwritten(runner, tmp_path):
+    out = tmp_path / "g.png"
+    out.write_bytes(b"keep me")
+    result = runner.invoke(main, ["outline", "g", "-o", str(out)])
+    assert result.exit_code == 2
+    assert "--force" in one_error_line(result)
+    assert out.read_bytes() == b"keep me"
+    result = runner.invoke(main, ["outline", "g", "-o", str(out), "--force", "--size", "32"])
+    assert result.exit_code == 0 and Image.open(out).size[1] == 32
+
+
+@pytest.mark.parametrize("args, words", [
+    (["outline", "g", "-o", "x.jpg"], "suffix"),
+    (["outline", "g", "--tol", "0"], "tol"),
+    (["outline", "g", "--bogus"], "bogus"),
+    (["outline"], "SHAPE"),
+    (["nocommand"], "nocommand"),
+    (["outline", "g", "--font", "/no/such/font.ttf"], "no such file"),
+    (["outline", "missing.svg"], "missing.svg"),
+    (["outline", "g", "-o", "/no/such/dir/g.png"], "does not exist"),
+])
+def test_bad_input_exit_2(runner, tmp_path, args, words):
+    with runner.isolated_filesystem(temp_dir=tmp_path):
+        result = runner.invoke(main, args)
+        assert result.exit_code == 2, result.output
+        assert words in one_error_line(result)
+
+
+def test_bad_svg_file_exit_2(runner, tmp_path):
+    src = tmp_path / "open.svg"
+    src.write_text('<svg %s><path d="M0 0 L 10 0 L 10 10"/></svg>' % SVG_NS)
+    result = runner.invoke(main, ["outline", str(src), "-o", str(tmp_path / "o.png")])
+    assert result.exit_code == 2 and "open" in one_error_line(result)
+
+
+def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
+    def boom(*args, **kwargs):
+        raise RuntimeError("kaboom")
+
+    monkeypatch.setattr(cli, "write_image", boom)
+    result = runner.invoke(main, ["outline", "g", "-o", str(tmp_path / "g.png")])
+    assert result.exit_code == 1
+    line = one_error_line(result)
+    assert "internal error" in line and "kaboom" in line
+    monkeypatch.setenv("MORPH_DEBUG", "1")
+    result = runner.invoke(main, ["outline", "g", "-o", str(tmp_path / "g.png")])
+    assert result.exit_code == 1 and isinstance(result.exception, RuntimeError)
+
+
+def test_shared_options_for_new_commands(runner, tmp_path):
+    """Other commands reuse shape_argument + common_options; check the plumbing."""
+    import click
+
+    @click.command()
+    @cli.shape_argument("shape")
+    @cli.common_options
+    def probe(shape, font, tol, output, force, size):
+        click.echo("%s %s %r %s" % (shape.name, shape.units_per_em, shape.tolerance(tol),
+                                    len(shape.loops)))
+
+    from morph.parse import cubic_test_font_path
+    # --font after the shape still applies: it is eager
+    result = runner.invoke(probe, ["g", "--font", cubic_test_font_path(), "--tol", "0.001"])
+    assert result.exit_code == 0, result.output
+    assert result.output.split() == ["g", "1000", "1.0", "2"]
