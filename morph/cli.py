@@ -4,7 +4,7 @@ Adding a command (for other engineers)::
 
     @main.command()
     @shape_argument("shape")            # a glyph or an .svg file, loaded with --font
-    @common_options(default_suffix=".png")
+    @common_options                     # --font --tol -o/--output --force --size
     def mycommand(shape, font, tol, output, force, size):
         out = resolve_output(output, "mycommand-%s.png" % shape.slug, force)
         write_image(out, [shape.loops], size=size, tol=shape.tolerance(tol))
@@ -35,6 +35,9 @@ EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
 DEFAULT_TOL = 1e-4
 IMAGE_SUFFIXES = (".png", ".svg")
+
+
+_NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 
 class InputError(click.ClickException):
@@ -69,6 +72,9 @@ class MorphGroup(click.Group):
         except click.exceptions.Abort:
             _error_line("aborted")
             code = EXIT_INTERNAL
+        except _NO_ARGS_IS_HELP as exc:  # bare "morph": the manual, not an error
+            click.echo(exc.format_message())
+            code = 0
         except click.ClickException as exc:
             msg = exc.format_message()
             ctx = getattr(exc, "ctx", None)

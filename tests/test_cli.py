@@ -153,3 +153,8 @@ def test_shared_options_for_new_commands(runner, tmp_path):
     result = runner.invoke(probe, ["g", "--font", cubic_test_font_path(), "--tol", "0.001"])
     assert result.exit_code == 0, result.output
     assert result.output.split() == ["g", "1000", "1.0", "2"]
+
+
+def test_bare_morph_shows_the_manual(runner):
+    result = runner.invoke(main, [])
+    assert result.exit_code == 0 and "outline" in result.output
