@@ -111,22 +111,21 @@ class Glyph:
     units_per_em: int
 
 
-class _RegionPen:
-    """fontTools pen protocol -> loops of pieces (subclassed from BasePen lazily).
+_PEN_DOC = """fontTools pen protocol -> loops of pieces (a BasePen subclass, built lazily).
 
     Contract (BasePen): override ``_moveTo``, ``_lineTo``, ``_curveToOne`` and
     ``_qCurveToOne``; ``_closePath`` closes the contour with a line when its last
-    point differs from the first; ``_endPath`` (open contour) is accepted only for
-    contours without extent.  BasePen splits TrueType quadratic runs at their implied
+    point differs from the first; ``_endPath`` (open contour) raises ParseError unless
+    the contour ends where it starts or has no extent.  BasePen splits TrueType quadratic runs at their implied
     on-curve points and decomposes components through the glyph set.
-    """
+"""
 
 
 def _make_pen_class():
     from fontTools.pens.basePen import BasePen
 
     class RegionPen(BasePen):
-        __doc__ = _RegionPen.__doc__
+        __doc__ = _PEN_DOC
 
         def __init__(self, glyph_set, label):
             super().__init__(glyph_set)

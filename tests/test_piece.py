@@ -43,7 +43,6 @@ def test_rational_quadratic_matches_formula():
     pts = np.array([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     w = np.array([1.0, np.sqrt(0.5), 1.0])
     p = pc.from_points(pts, w)
-    t = T[:, None]
     b = np.column_stack([(1 - T) ** 2, 2 * T * (1 - T), T ** 2])
     expect = (b * w) @ pts / (b @ w)[:, None]
     assert np.allclose(pc.evaluate(p, T), expect, atol=1e-14)
