@@ -185,3 +185,19 @@ def to_power(c):
     """Power-basis coefficients (ascending) of a Bernstein polynomial."""
     c = np.asarray(c, float)
     return np.tensordot(_to_power_matrix(len(c) - 1), c, axes=(1, 0))
+
+
+def reduce_exact(c, r=1):
+    """Write a Bernstein polynomial known to be of degree n - r with n - r + 1 coefficients.
+
+    Inverse of :func:`elevate` by least squares (exact when the input really has the
+    lower degree, e.g. X'W - XW' of a rational curve whose top terms cancel).
+    """
+    c = np.asarray(c, float)
+    n = len(c) - 1
+    if r <= 0 or n - r < 0:
+        return c.copy()
+    e = _elevation_matrix(n - r, r)
+    flat = c.reshape(n + 1, -1)
+    low, *_ = np.linalg.lstsq(e, flat, rcond=None)
+    return low.reshape((n - r + 1,) + c.shape[1:])

@@ -15,6 +15,13 @@ from . import bernstein as bz
 from .errors import DegenerateCurveError
 
 
+def cross2(a, b):
+    """z-component of the cross product of 2D vectors (broadcasting)."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
 # --------------------------------------------------------------------------- build
 
 def from_points(points, weights=None):
@@ -140,13 +147,14 @@ def tangent_numerator(piece):
 
     Sec. 3.2: the hodograph direction.  For a polynomial piece this is the hodograph
     ``n (P_{i+1} - P_i)`` (degree n-1); for a rational one it is ``X' W - X W'``
-    (degree 2n-1 as stored, the leading terms cancel), which differs from P'(t) by
+    (degree 2n-2: the leading terms cancel), which differs from P'(t) by
     the positive factor W^2.  Its direction is the tangent direction everywhere.
     """
     if is_polynomial(piece):
         return bz.derivative(cartesian(piece))
     d = bz.derivative(piece)
-    return bz.multiply(d[:, :2], piece[:, 2:3]) - bz.multiply(piece[:, :2], d[:, 2:3])
+    full = bz.multiply(d[:, :2], piece[:, 2:3]) - bz.multiply(piece[:, :2], d[:, 2:3])
+    return bz.reduce_exact(full, 1)  # degree 2n-2: the t^(2n-1) terms cancel
 
 
 def curvature_numerator(piece):
@@ -319,7 +327,7 @@ def _flatten_params(piece, t0, t1, tol, depth):
     chord = b - a
     length = np.hypot(*chord)
     if length > 0:
-        dist = np.abs(np.cross(np.broadcast_to(chord, p.shape), p - a)) / length
+        dist = np.abs(cross2(chord, p - a)) / length
         along = (p - a) @ chord / length ** 2
         dist = np.where((along < 0) | (along > 1), np.hypot(*(p - a).T), dist)
         dist = np.maximum(dist, np.where(along > 1, np.hypot(*(p - b).T), 0))

@@ -1,0 +1,392 @@
+"""Convolution curves of two regions (Sec. 3.3) with the QAC method (Sec. 4.4).
+
+The convolution C1 * C2 is the set of sums C1(t) + C2(s) where the tangents (so the
+normals) point the same way (Def. 1.1, Eqs. 2-4).  Each loop is first turned into its
+Gauss map (:mod:`morph.gauss`); every pair of edges of the two Gauss maps whose angle
+ranges overlap contributes one convolution piece:
+
+- curve + curve: approximated by QAC (:func:`convolve_qac`), normals exact;
+- curve + vertex: the curve translated by the vertex (exact);
+- line + anything: the segment translated by the other edge's point at its angle;
+- vertex + vertex: a single point, dropped.
+
+Direction (Figs. 18-19): a piece made from edge X (traversed as in its loop) and edge
+Y runs along X's own direction when Y is convex (sign > 0) and against it when Y is
+concave, as in polygon convolution (edge + vertex takes the sign of the vertex's
+turn).  This gives convex/convex pairs their inherited direction, reverses
+concave/convex pairs where the concave side has the larger curvature, and reverses
+concave/concave pairs, so every convolution loop is consistently oriented.
+
+Type (Fig. 20): 1 for convex/convex (straight segments count as convex here), 2 for
+convex/concave, 3 for concave/concave or concave/straight pairs and pairs with a
+concave vertex.  Type 3 pieces never reach the Minkowski sum boundary.
+
+Equal angles are resolved by a symbolic perturbation: every angle of the second shape
+is taken as if increased by an infinitesimal epsilon, so a straight edge of A at
+angle theta pairs with the edge of B whose range is (lo, hi] around theta, a straight
+edge of B with A's [lo, hi), and two parallel segments never pair directly.  This
+keeps the pieces of one loop pair chained end to end.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import bernstein as bz
+from . import gauss
+from . import piece as pc
+from .errors import ToleranceNotMetError
+
+ANGLE_EQ = 1e-9      # angles closer than this are equal (radians)
+TINY_SWEEP = 1e-7    # below this common sweep two curves are treated as straight
+
+
+@dataclass
+class ConvPiece:
+    """One oriented piece of a convolution curve.
+
+    piece: (n+1, 3) homogeneous control points, already in travel direction.
+    kind: "qac", "translate", "chord".  type: 1, 2 or 3 (Fig. 20).  bound: a-priori
+    bound on its distance to the exact convolution (0 for exact pieces).
+    source: (loop index in A, edge index, loop index in B, edge index).
+    """
+
+    piece: np.ndarray
+    kind: str
+    type: int
+    bound: float = 0.0
+    source: tuple = field(default_factory=tuple)
+
+
+# ------------------------------------------------------------------------- QAC
+
+def quadratic_approximation(c2):
+    """Q2 of Eq. 38: end points of C2 and the intersection of its end tangents.
+
+    Returns the (3, 2) control points.  Raises ValueError when the end tangents are
+    parallel (C2 straight or turning by pi).
+    """
+    p = pc.cartesian(c2)
+    t0, t1 = pc.end_tangents(c2)
+    q0, q2 = p[0], p[-1]
+    det = pc.cross2(t0, t1)
+    if abs(det) < 1e-14:
+        raise ValueError("end tangents are parallel: no tangent intersection")
+    # q0 + a t0 = q2 - b t1  ->  a t0 + b t1 = q2 - q0   (Eq. 38: tangent intersection)
+    a = pc.cross2(q2 - q0, t1) / det
+    return np.array([q0, q0 + a * t0, q2])
+
+
+def qac_error_bound(c2, q2):
+    """A-priori bound of max_s |C2(s) - Q2(s)| (Eqs. 39-40).
+
+    e(s) = |C2(s) - Q2(s)|^2 = |X2(s) - W2(s) Q2(s)|^2 / W2(s)^2.  The numerator is a
+    Bernstein polynomial; its largest coefficient bounds it (convex hull property),
+    and the smallest weight coefficient bounds W2 from below.  Returns
+    (bound, s_peak) where s_peak is the parameter of the largest coefficient, the
+    place Algorithm 4.1 subdivides.
+    """
+    w = c2[:, 2:3]
+    # X2 - W2 * Q2 as a Bernstein polynomial of degree n + 2
+    num = bz.elevate(c2[:, :2], 2) - bz.multiply(w, q2)
+    sq = bz.multiply(num[:, :1], num[:, :1])[:, 0] + bz.multiply(num[:, 1:], num[:, 1:])[:, 0]
+    wmin = float(np.min(c2[:, 2]))
+    k = int(np.argmax(sq))
+    bound = np.sqrt(max(float(sq[k]), 0.0)) / wmin
+    return bound, k / (len(sq) - 1)
+
+
+def convolve_qac_piece(c1, c2, q2=None):
+    """C1(t) + Q2(s(t)) as one rational Bézier (Sec. 4.4, Eqs. 34-37).
+
+    Q2'(s) = 2((1-s) D0 + s D1) with D0 = Q1 - Q0, D1 = Q2 - Q1 is linear in s, so the
+    parallel condition cross(C1'(t), Q2'(s)) = 0 gives (Eq. 36)
+        s(t) = N(t) / D(t),  N = cross(H1, D0),  D = cross(H1, D0 - D1),
+    with H1 the hodograph direction of C1.  Substituting into Q2 and clearing the
+    denominator D^2:
+        Q2(s(t)) = ((D-N)^2 Q0 + 2 N (D-N) Q1 + N^2 Q2) / D^2,
+    so the result is exact symbolic Bernstein arithmetic: degree 3d-2 for a
+    polynomial C1 of degree d, 5d-4 for a rational one.  The tangent of the result is
+    parallel to C1'(t): normals are exact.  C1 and C2 must have the same tangent
+    angle range (compatible, Sec. 3.2).
+    """
+    q = quadratic_approximation(c2) if q2 is None else q2
+    h1 = pc.tangent_numerator(c1)
+    d0, d1 = q[1] - q[0], q[2] - q[1]
+    num = h1[:, 0] * d0[1] - h1[:, 1] * d0[0]          # Eq. 36 numerator
+    dd = d0 - d1
+    den = h1[:, 0] * dd[1] - h1[:, 1] * dd[0]          # Eq. 36 denominator
+    if np.mean(den) < 0:
+        num, den = -num, -den
+    m0 = bz.multiply(den - num, den - num)
+    m1 = 2.0 * bz.multiply(num, den - num)
+    m2 = bz.multiply(num, num)
+    dsq = m0 + m1 + m2                                  # = D^2
+    qpart = (m0[:, None] * q[0] + m1[:, None] * q[1] + m2[:, None] * q[2])
+    w1 = c1[:, 2]
+    x = bz.multiply(c1[:, :2], dsq[:, None]) + bz.multiply(w1[:, None], qpart)
+    w = bz.multiply(w1, dsq)
+    return np.column_stack([x, w])
+
+
+def _role_cost(c1, c2):
+    """(bound, degree) of QAC with C2 approximated; lower is better."""
+    try:
+        q2 = quadratic_approximation(c2)
+    except ValueError:
+        return (np.inf, np.inf), None
+    bound, _ = qac_error_bound(c2, q2)
+    d = len(c1) - 1
+    deg = 3 * d - 2 if pc.is_polynomial(c1) else 5 * d - 4
+    return (bound, deg), q2
+
+
+def choose_roles(ca, cb):
+    """Pick which piece plays C2 (the one replaced by a quadratic), Sec. 4.4.
+
+    The bound of Eqs. 39-40 depends only on C2, so C2 is the piece with the smaller
+    bound (a polynomial quadratic, e.g. a TrueType segment, gives 0: exact); ties go to
+    the lower output degree.  Returns (swap, q2): swap is True when cb plays C1.
+    """
+    cost_b, qb = _role_cost(ca, cb)   # a = C1, b = C2
+    cost_a, qa = _role_cost(cb, ca)   # b = C1, a = C2
+    if cost_a < cost_b:
+        return True, qa
+    return False, qb
+
+
+def _positive_weights(piece):
+    return bool(np.all(piece[:, 2] > 0))
+
+
+# ---------------------------------------------------------------- edge pairing
+
+def _edge_arrays(edges):
+    lo = np.array([e.lo for e in edges])
+    hi = np.array([e.hi for e in edges])
+    return lo, hi
+
+
+def compatible_pairs(edges_a, edges_b):
+    """Pairs (i, j, lo, hi) of edges whose tangent-angle ranges overlap (Sec. 3.2).
+
+    lo, hi are in A's lifted angles.  Uses the epsilon rule of the module docstring
+    for equal angles; a zero-length overlap (lo == hi) is returned only for straight
+    edges, whose convolution is a translated segment.
+    """
+    alo, ahi = _edge_arrays(edges_a)
+    blo, bhi = _edge_arrays(edges_b)
+    amid = 0.5 * (alo + ahi)
+    bmid = 0.5 * (blo + bhi)
+    k = np.round((amid[:, None] - bmid[None, :]) / gauss.TWO_PI)
+    sblo = blo[None, :] + gauss.TWO_PI * k
+    sbhi = bhi[None, :] + gauss.TWO_PI * k
+    lo = np.maximum(alo[:, None], sblo)
+    hi = np.minimum(ahi[:, None], sbhi)
+    a_line = (ahi - alo == 0.0)[:, None] & np.array([e.kind == "curve" for e in edges_a])[:, None]
+    b_line = (bhi - blo == 0.0)[None, :] & np.array([e.kind == "curve" for e in edges_b])[None, :]
+    proper = (hi - lo > ANGLE_EQ) & ~a_line & ~b_line
+    # straight edge of A at theta: B range (lo, hi]  (B perturbed by +eps)
+    th_a = alo[:, None]
+    a_match = a_line & ~b_line & (th_a - sblo > ANGLE_EQ) & (th_a - sbhi <= ANGLE_EQ)
+    # straight edge of B at theta: A range [lo, hi)
+    th_b = sblo
+    b_match = b_line & ~a_line & (th_b - alo[:, None] >= -ANGLE_EQ) & (ahi[:, None] - th_b > ANGLE_EQ)
+    out = []
+    for mask, kind in ((proper, "proper"), (a_match, "a_line"), (b_match, "b_line")):
+        ii, jj = np.nonzero(mask)
+        for i, j in zip(ii, jj):
+            if kind == "proper":
+                out.append((i, j, lo[i, j], hi[i, j], k[i, j]))
+            elif kind == "a_line":
+                out.append((i, j, alo[i], alo[i], k[i, j]))
+            else:
+                out.append((i, j, sblo[i, j], sblo[i, j], k[i, j]))
+    return out
+
+
+def pair_type(sa, sb):
+    """Fig. 20 type of a pair from the signs of its two edges (+1, 0, -1)."""
+    if (sa < 0 and sb <= 0) or (sb < 0 and sa <= 0):
+        return 3
+    if sa >= 0 and sb >= 0:
+        return 1
+    return 2
+
+
+def _oriented(piece, forward):
+    return piece if forward else pc.reverse(piece)
+
+
+def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30):
+    """Convolution pieces of one compatible pair of edges (A's angles lo..hi).
+
+    ``shift`` is the multiple of 2 pi added to B's angles.  Returns a list of
+    (piece, kind, bound).  Curve + curve pairs go through QAC with subdivision of
+    the angle range where the error of Eq. 40 peaks (Algorithm 4.1) until every
+    bound <= tol; raises ToleranceNotMetError past ``max_depth`` halvings.
+    """
+    sa, sb = ea.sign, eb.sign
+    off = gauss.TWO_PI * shift
+    a_curve = ea.kind == "curve" and ea.sweep != 0.0
+    b_curve = eb.kind == "curve" and eb.sweep != 0.0
+    a_line = ea.kind == "curve" and ea.sweep == 0.0
+    b_line = eb.kind == "curve" and eb.sweep == 0.0
+    if a_line:
+        # segment of A translated by B's point at that angle; direction by B's sign
+        pt = gauss.point_at_angle(eb, lo - off)
+        return [(_oriented(pc.translate(ea.piece, pt), sb > 0), "translate", 0.0)]
+    if b_line:
+        pt = gauss.point_at_angle(ea, lo)
+        return [(_oriented(pc.translate(eb.piece, pt), sa > 0), "translate", 0.0)]
+    if a_curve and not b_curve:
+        sub = gauss.restrict(ea, lo, hi)[0]
+        return [(_oriented(pc.translate(sub, eb.point), sb > 0), "translate", 0.0)]
+    if b_curve and not a_curve:
+        sub = gauss.restrict(eb, lo - off, hi - off)[0]
+        return [(_oriented(pc.translate(sub, ea.point), sa > 0), "translate", 0.0)]
+    if not a_curve and not b_curve:
+        return []
+    return _qac_range(ea, eb, lo, hi, off, tol, max_depth)
+
+
+def _qac_range(ea, eb, lo, hi, off, tol, depth):
+    """Algorithm 4.1 on the angle range [lo, hi]: QAC, split at the peak, recurse."""
+    ca = gauss.restrict(ea, lo, hi)[0]
+    cb = gauss.restrict(eb, lo - off, hi - off)[0]
+    if hi - lo < TINY_SWEEP:
+        return [_chord(ca, cb, ea.sign, eb.sign)]
+    swap, q2 = choose_roles(ca, cb)
+    c1, c2 = (cb, ca) if swap else (ca, cb)
+    s_other = ea.sign if swap else eb.sign
+    bound, s_peak = qac_error_bound(c2, q2) if q2 is not None else (np.inf, 0.5)
+    if bound <= tol:
+        res = convolve_qac_piece(c1, c2, q2)
+        if _positive_weights(res):
+            return [(_oriented(res, s_other > 0), "qac", bound)]
+    if depth == 0:
+        raise ToleranceNotMetError(
+            "QAC did not reach tolerance %g (best %g)" % (tol, bound), piece=c2, achieved=bound)
+    # split the angle range where the error of C2 peaks (Algorithm 4.1)
+    s_peak = min(max(s_peak, 0.2), 0.8)
+    th = float(pc.tangent_angle(c2, s_peak)[0])
+    # express the split angle in A's lifted angles
+    ref = lo if not swap else lo - off
+    th = ref + gauss._wrap(th - ref)
+    if swap:
+        th += off
+    if not (lo < th < hi):
+        th = 0.5 * (lo + hi)
+    left = _qac_range(ea, eb, lo, th, off, tol, depth - 1)
+    right = _qac_range(ea, eb, th, hi, off, tol, depth - 1)
+    # order along the travel direction: increasing angle when sa*sb > 0
+    if ea.sign * eb.sign > 0:
+        return left + right
+    return right + left
+
+
+def _chord(ca, cb, sa, sb):
+    """Nearly straight pair (common sweep < TINY_SWEEP): the chord of the sums."""
+    # pair ends by angle: ca runs from lo to hi if convex, else hi to lo
+    a0, a1 = pc.start(ca), pc.end(ca)
+    b0, b1 = pc.start(cb), pc.end(cb)
+    if sa != sb:
+        b0, b1 = b1, b0
+    seg = pc.line(a0 + b0, a1 + b1)
+    bound = _sagitta(ca) + _sagitta(cb)
+    return (_oriented(seg, sb > 0), "chord", bound)
+
+
+def _sagitta(piece):
+    p = pc.cartesian(piece)
+    chord = p[-1] - p[0]
+    length = np.hypot(*chord)
+    if length == 0:
+        return float(np.hypot(*(p - p[0]).T).max())
+    return float(np.abs(pc.cross2(chord, p - p[0])).max() / length)
+
+
+# ------------------------------------------------------------------ whole loops
+
+def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0)):
+    """All convolution pieces of two loops' Gauss maps, oriented and typed."""
+    out = []
+    for i, j, lo, hi, k in compatible_pairs(edges_a, edges_b):
+        ea, eb = edges_a[i], edges_b[j]
+        typ = pair_type(ea.sign, eb.sign)
+        if typ == 3 and not keep_type3:
+            continue
+        for piece, kind, bound in convolve_edges(ea, eb, lo, hi, k, tol):
+            out.append(ConvPiece(piece, kind, typ, bound, (source[0], i, source[1], j)))
+    return out
+
+
+def convolution(region_a, region_b, tol, keep_type3=True):
+    """Convolution pieces of two regions (lists of loops), Sec. 3.3.
+
+    Each returned piece P has max distance to the exact convolution curve <= tol
+    (a-priori bound of Eqs. 39-40; see :func:`qac_error_bound`); normals are exact
+    except on "chord" pieces (common sweep below 1e-7 rad).  tol is absolute, in
+    input units.  With keep_type3 the pieces form closed, consistently oriented
+    loops (:func:`chain`); without it type-3 pieces (never on the boundary) are
+    dropped early.
+    """
+    if tol <= 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    ga = [gauss.gauss_map(loop) for loop in region_a]
+    gb = [gauss.gauss_map(loop) for loop in region_b]
+    out = []
+    for ia, ea in enumerate(ga):
+        for ib, eb in enumerate(gb):
+            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib)))
+    return out
+
+
+def chain(pieces, tol):
+    """Join oriented pieces end to start into closed loops (lists of arrays).
+
+    Ends closer than ``tol`` are joined and snapped to their mean.  Raises
+    TopologyError if a piece's end has no successor.
+    """
+    from .errors import TopologyError
+
+    pieces = [np.asarray(p, float) for p in pieces]
+    n = len(pieces)
+    if n == 0:
+        return []
+    starts = np.array([pc.start(p) for p in pieces])
+    ends = np.array([pc.end(p) for p in pieces])
+    used = np.zeros(n, bool)
+    loops = []
+    for first in range(n):
+        if used[first]:
+            continue
+        loop = [first]
+        used[first] = True
+        cur = first
+        while True:
+            d = np.hypot(*(starts - ends[cur]).T)
+            d[used] = np.inf
+            if np.hypot(*(starts[first] - ends[cur])) <= tol and (
+                    not np.isfinite(d.min()) or d.min() > np.hypot(*(starts[first] - ends[cur]))):
+                break
+            nxt = int(np.argmin(d))
+            if not np.isfinite(d[nxt]) or d[nxt] > tol:
+                if np.hypot(*(starts[first] - ends[cur])) <= tol:
+                    break
+                raise TopologyError("open convolution chain at %s" % (ends[cur],))
+            loop.append(nxt)
+            used[nxt] = True
+            cur = nxt
+        loops.append(_snap_loop([pieces[i] for i in loop]))
+    return loops
+
+
+def _snap_loop(loop):
+    out = [p.copy() for p in loop]
+    for i in range(len(out)):
+        j = (i + 1) % len(out)
+        m = 0.5 * (pc.end(out[i]) + pc.start(out[j]))
+        out[i] = pc.with_endpoints(out[i], pc.start(out[i]), m)
+        out[j] = pc.with_endpoints(out[j], m, pc.end(out[j]))
+    return out
