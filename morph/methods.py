@@ -1,0 +1,738 @@
+"""The eight ways of approximating one compatible convolution piece (Sec. 4, Sec. 5.2).
+
+Given a *compatible pair* C1(t), C2(s) (:mod:`morph.gauss`): both monotone in tangent
+angle over the same angle range of less than 90 degrees.  The exact convolution piece is
+(C1 * C2)(t) = C1(t) + C2(s(t)) with C2'(s(t)) parallel to C1'(t), pointing the same way
+(Eqs. 2-4, 27).  When C1 and C2 turn the same way, s runs 0 -> 1 as t runs 0 -> 1;
+otherwise (convex against concave) s runs 1 -> 0.
+
+Every method maps a pair to ONE rational Bézier piece (an ``(m+1, 3)`` array of
+homogeneous control points) parametrised by C1's t, and :func:`subdivide`
+(Algorithm 5.1) splits the pair at its mid tangent angle until a measured error is
+within tolerance.  Output degrees (Table 1; d1, d2 the degrees of C1, C2, k the degree
+of the fitted reparametrization s(t)):
+
+- ctc: C1's control points P_i moved by C2(s_i), s_i matching C1's normal at the
+  Greville abscissae i/D (Eqs. 25-27).  Degree max(d1, d2) (C1 elevated to it first);
+  rational iff C1 is.
+- lsc: least-squares Bézier of ``degree`` (default 3) through 16 exact convolution
+  points at uniform t (Eq. 28), end points interpolated.  Polynomial.
+- bic: Bézier of ``degree`` (default 3) interpolating exact convolution points at
+  t = i/degree (Eq. 28).  Polynomial.
+- hic: cubic Hermite with exact end points and end tangents, ds/dt from Eq. 33.
+  Polynomial, degree 3.
+- qac: C1(t) + Q2(s(t)), Q2 the quadratic of Eq. 38 and s(t) of Eq. 36
+  (:func:`morph.convolve.convolve_qac_piece`).  Rational, degree 3 d1 - 2 for
+  polynomial C1, 5 d1 - 4 for rational C1.
+- lrc: C1(t) + C2(s0 + (s1 - s0) t) (Eq. 41).  Degree max(d1, d2) if both are
+  polynomial, else d1 + d2 (rational), or max(d1, d2) when the two denominators are
+  proportional (two circular arcs of equal sweep give a rational quadratic).
+- tmc: unit tangents of both curves at 33 uniform parameters matched by dynamic
+  programming (Eqs. 43-45, Alg. 4.2), a least-squares polynomial s(t) of degree k
+  (``s_degree``, default 2) fitted to the matches, C1(t) + C2(s(t)) composed exactly.
+- src: s_i solving Eq. 27 at 16 uniform t_i, least-squares polynomial s(t) of degree k
+  (Eqs. 47-48, Alg. 4.3), composed the same way.
+  tmc and src: degree max(d1, k d2) if both are polynomial, else d1 + k d2; k drops to
+  1 (LRC's degrees) when the fitted s(t) is a straight line, e.g. on circular arcs.
+
+The paper's Table 1 uses a *linear* s(t) for TMC and SRC (a piecewise linear B-spline
+over N samples, Eq. 48), which gives LRC's degrees: cut into Bézier pieces that is LRC
+on N - 1 uniform sub-pairs.  Here the piecewise refinement is the driver's job, so TMC and SRC fit one polynomial s(t) of degree k >= 2
+per sub-pair instead (``s_degree``; k = 1 would make them identical to LRC).
+
+Composition C2(s(t)) is exact Bernstein arithmetic: with s(t) = sum b_j B_j^k(t),
+B_i^n(s(t)) = C(n, i) s(t)^i (1 - s(t))^(n-i) is a product of Bernstein polynomials of
+degree n k, applied to the homogeneous control points (so rational C2 works as is).
+
+Error measures (Sec. 5.2), both *sampled*, neither is a bound:
+
+- :func:`distance_error` (Eqs. 49-53): one-sided Hausdorff distance from
+  C~2(t) = A(t) - C1(t) to the curve C2, maximised over uniform samples of t and
+  refined around the largest samples.  Zero by construction for LRC, TMC and SRC,
+  whose C~2 runs along C2 itself (their "trace is exact").
+- :func:`normal_error` (Eqs. 54-55): the angle between the tangent lines of C1(t) and
+  of C~2(t) = A(t) - C1(t), in degrees, sampled the same way.  Zero for QAC (its
+  tangent is parallel to C1' by construction, Eq. 56).
+
+Only QAC has an a-priori bound: max_s |C2(s) - Q2(s)| (Eqs. 39-40), used by default
+when QAC runs under the distance measure (``certified=True``).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import bernstein as bz
+from . import piece as pc
+from .convolve import convolve_qac_piece, qac_error_bound, quadratic_approximation
+from .errors import DegenerateCurveError, ToleranceNotMetError
+
+METHODS = ("ctc", "lsc", "bic", "hic", "qac", "lrc", "tmc", "src")
+MEASURES = ("distance", "normal")
+
+LSC_SAMPLES = 16     # exact convolution points per LSC fit
+TMC_SAMPLES = 33     # tangent samples per curve in the TMC dynamic programme
+SRC_SAMPLES = 16     # s_i samples per SRC fit
+S_DEGREE = 2         # degree k of the fitted s(t) in TMC and SRC
+ERROR_SAMPLES = 65   # uniform samples of t per error evaluation (then refined)
+
+
+# =============================================================== matching (Eq. 27)
+
+def turning_sign(piece):
+    """+1 if the tangent of a monotone piece turns counter-clockwise, -1 if clockwise.
+
+    Raises DegenerateCurveError for a straight piece (no turning to match against).
+    """
+    t0, t1 = pc.end_tangents(piece)
+    c = float(pc.cross2(t0, t1))
+    if c == 0.0:
+        if float(np.dot(t0, t1)) > 0:
+            raise DegenerateCurveError("straight piece: tangent does not turn", piece)
+        raise DegenerateCurveError("piece turns by pi: not a compatible piece", piece)
+    return 1 if c > 0 else -1
+
+
+def param_for_direction(piece, directions, sign=None, iterations=10):
+    """Parameters where a monotone piece's tangent points along each direction (Eq. 27).
+
+    ``directions`` has shape (m, 2).  Solves cross(d, H(u)) = 0 for the hodograph
+    direction H of :func:`morph.piece.tangent_numerator`, vectorised: bisection on the
+    sign of sign * cross(d, H(u)), which increases through zero along a piece turning
+    monotonically by less than pi, then safeguarded Newton steps.  Directions outside
+    the piece's angle range give 0 or 1 (the nearer end).
+    """
+    d = np.atleast_2d(np.asarray(directions, float))
+    sgn = turning_sign(piece) if sign is None else sign
+    h = pc.tangent_numerator(piece)
+    dh = bz.derivative(h)
+
+    def g(u):
+        v = bz.evaluate(h, u)
+        return sgn * (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])
+
+    lo = np.zeros(len(d))
+    hi = np.ones(len(d))
+    for _ in range(iterations):                       # bracket to 2^-10
+        mid = 0.5 * (lo + hi)
+        neg = g(mid) < 0
+        lo = np.where(neg, mid, lo)
+        hi = np.where(neg, hi, mid)
+    u = 0.5 * (lo + hi)
+    for _ in range(8):                                # Newton, kept inside the bracket
+        f = g(u)
+        neg = f < 0
+        lo = np.where(neg, u, lo)
+        hi = np.where(neg, hi, u)
+        v = bz.evaluate(dh, u)
+        fp = sgn * (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            un = u - f / fp
+        ok = np.isfinite(un) & (un >= lo) & (un <= hi)
+        u = np.where(ok, un, 0.5 * (lo + hi))
+    return np.clip(u, 0.0, 1.0)
+
+
+def same_direction(c1, c2):
+    """True when s increases with t (C1 and C2 turn the same way)."""
+    return turning_sign(c1) == turning_sign(c2)
+
+
+def match_params(c1, c2, ts):
+    """s(t) of the exact convolution: C2'(s) parallel to C1'(t), same way (Eq. 27).
+
+    For t = 0 and t = 1 the pair's end correspondence is used (s = 0/1, or 1/0 for
+    opposite turning); inside, :func:`param_for_direction` on C1's tangent, which is
+    the same as ``gauss.angle_param(c2, piece.tangent_angle(c1, t))``, vectorised.
+    """
+    ts = np.atleast_1d(np.asarray(ts, float))
+    forward = same_direction(c1, c2)
+    hv = bz.evaluate(pc.tangent_numerator(c1), ts)
+    s = param_for_direction(c2, hv)
+    s = np.where(ts <= 0.0, 0.0 if forward else 1.0, s)
+    return np.where(ts >= 1.0, 1.0 if forward else 0.0, s)
+
+
+def convolution_points(c1, c2, ts):
+    """Exact convolution points C1(t) + C2(s(t)) (Eq. 28) and the s values."""
+    s = match_params(c1, c2, ts)
+    return pc.evaluate(c1, ts) + pc.evaluate(c2, s), s
+
+
+def split_pair(c1, c2):
+    """Split a compatible pair at C1's mid tangent angle (Algorithm 5.1, Line 2).
+
+    The mid angle is halfway between C1's end tangent angles; t_m on C1 and s_m on C2
+    both have that tangent direction, so the two sub-pairs are again compatible.
+    Returns ``((c1a, c2a), (c1b, c2b), t_m, s_m)`` with the a-halves first along t.
+    """
+    a0, a1 = pc.end_tangents(c1)
+    th0 = np.arctan2(a0[1], a0[0])
+    dth = np.arctan2(pc.cross2(a0, a1), np.dot(a0, a1))
+    thm = th0 + 0.5 * dth
+    d = np.array([[np.cos(thm), np.sin(thm)]])
+    tm = float(param_for_direction(c1, d)[0])
+    sm = float(param_for_direction(c2, d)[0])
+    c1a, c1b = pc.split(c1, tm)
+    c2lo, c2hi = pc.split(c2, sm)
+    if same_direction(c1, c2):
+        return (c1a, c2lo), (c1b, c2hi), tm, sm
+    return (c1a, c2hi), (c1b, c2lo), tm, sm
+
+
+# ============================================================ symbolic arithmetic
+
+def _homogeneous_parts(piece):
+    """(X, W) with W of degree 0 for a polynomial piece, else the piece's columns."""
+    piece = np.asarray(piece, float)
+    if pc.is_polynomial(piece):
+        return pc.cartesian(piece), np.ones((1, 1))
+    return piece[:, :2], piece[:, 2:3]
+
+
+def add_pieces(a, b):
+    """The piece a(t) + b(t) of two pieces on the same parameter, exactly.
+
+    Polynomial + polynomial: degree max.  Otherwise X_a W_b + X_b W_a over W_a W_b
+    (degree sum), except when the denominators are proportional (W_b = c W_a), where
+    the sum keeps the common denominator and degree max (two circular arcs of equal
+    sweep: a rational quadratic again).
+    """
+    xa, wa = _homogeneous_parts(a)
+    xb, wb = _homogeneous_parts(b)
+    if len(wa) == 1 and len(wb) == 1:
+        n = max(len(xa), len(xb)) - 1
+        x = bz.to_degree(xa, n) + bz.to_degree(xb, n)
+        return np.column_stack([x, np.ones(n + 1)])
+    if len(wa) > 1 and len(wb) > 1:
+        n = max(len(wa), len(wb)) - 1
+        wae, wbe = bz.to_degree(wa, n), bz.to_degree(wb, n)
+        ratio = wbe[:, 0] / wae[:, 0]
+        if np.all(np.abs(ratio - ratio[0]) <= 1e-13 * abs(ratio[0])):
+            x = bz.to_degree(xa, n) + bz.to_degree(xb, n) / ratio[0]
+            return np.column_stack([x, wae])
+    xab, xba, w = bz.multiply(xa, wb), bz.multiply(xb, wa), bz.multiply(wa, wb)
+    n = max(len(xab), len(xba), len(w)) - 1
+    x = bz.to_degree(xab, n) + bz.to_degree(xba, n)
+    return np.column_stack([x, bz.to_degree(w, n)])
+
+
+def compose(c2, s_coeffs):
+    """C2(s(t)) for a polynomial s(t) in Bernstein form: homogeneous, degree n k.
+
+    B_i^n(s) = C(n,i) s^i (1-s)^(n-i) with s = sum_j b_j B_j^k(t) and
+    1 - s = sum_j (1 - b_j) B_j^k(t); the powers are Bernstein products, so the result
+    is exact: sum_i P_i C(n,i) S^i U^(n-i), P_i the homogeneous control points.
+    """
+    c2 = np.asarray(c2, float)
+    b = np.asarray(s_coeffs, float).reshape(-1, 1)
+    n = len(c2) - 1
+    spow = [np.ones((1, 1))]
+    upow = [np.ones((1, 1))]
+    for _ in range(n):
+        spow.append(bz.multiply(spow[-1], b))
+        upow.append(bz.multiply(upow[-1], 1.0 - b))
+    binom = bz._binomials(n)
+    out = 0.0
+    for i in range(n + 1):
+        out = out + binom[i] * bz.multiply(spow[i], upow[n - i]) * c2[i]
+    return np.asarray(out, float)
+
+
+def reparametrized_sum(c1, c2, s_coeffs):
+    """C1(t) + C2(s(t)) exactly (Sec. 4.4), s(t) a Bernstein polynomial in t."""
+    s = np.asarray(s_coeffs, float)
+    if len(s) == 2 and s[0] == 0.0 and s[1] == 1.0:
+        c2s = np.asarray(c2, float)
+    elif len(s) == 2 and s[0] == 1.0 and s[1] == 0.0:
+        c2s = pc.reverse(c2)
+    else:
+        c2s = compose(c2, s)
+    if pc.is_polynomial(c2s):
+        c2s = np.column_stack([pc.cartesian(c2s), np.ones(len(c2s))])
+    return add_pieces(c1, c2s)
+
+
+def _fit_s(t, s, k, s0, s1):
+    """Least-squares Bernstein polynomial of degree k with s(0)=s0, s(1)=s1.
+
+    Coefficients are clipped to [0, 1] so s(t) stays in C2's domain (convex hull), and a
+    fit within 1e-12 of the straight line is returned as the line itself (degree 1).
+    """
+    if k <= 1:
+        return np.array([s0, s1])
+    basis = bz.basis(k, t)
+    rhs = s - basis[:, 0] * s0 - basis[:, -1] * s1
+    inner, *_ = np.linalg.lstsq(basis[:, 1:-1], rhs, rcond=None)
+    b = np.clip(np.concatenate([[s0], inner, [s1]]), 0.0, 1.0)
+    line = bz.elevate(np.array([s0, s1]), k - 1)
+    if np.max(np.abs(b - line)) <= 1e-12:
+        return np.array([s0, s1])
+    return b
+
+
+def _ends(c1, c2):
+    return (0.0, 1.0) if same_direction(c1, c2) else (1.0, 0.0)
+
+
+# ================================================================ the eight methods
+
+def ctc_piece(c1, c2):
+    """CTC (Sec. 4.1, Eqs. 25-27): C1's control points translated by C2(s_i).
+
+    C1 is first elevated to D = max(d1, d2); the Greville abscissa of control point i of
+    a Bézier is xi_i = i / D, and s_i has C2's tangent parallel to C1'(xi_i).  A rational
+    C1 keeps its weights: (w_i (P_i + C2(s_i)), w_i).  Degree max(d1, d2).
+    """
+    c1 = np.asarray(c1, float)
+    big = max(len(c1), len(c2)) - 1
+    c1e = pc.elevate(c1, big - (len(c1) - 1))
+    xi = np.arange(big + 1) / big                      # Eq. 25 for a single Bézier span
+    s = match_params(c1, c2, xi)                       # Eqs. 26-27
+    return _translate_each(c1e, pc.evaluate(c2, s))
+
+
+def _translate_each(piece, offsets):
+    """Each homogeneous control point moved by its own offset (weights kept)."""
+    out = np.array(piece, float)
+    out[:, :2] += offsets * out[:, 2:3]
+    return out
+
+
+def _bezier_fit(ts, pts, degree):
+    """Polynomial Bézier of a degree with both ends interpolated, least squares inside."""
+    basis = bz.basis(degree, ts)
+    p0, p1 = pts[0], pts[-1]
+    ctrl = np.empty((degree + 1, 2))
+    ctrl[0], ctrl[-1] = p0, p1
+    if degree > 1:
+        rhs = pts - np.outer(basis[:, 0], p0) - np.outer(basis[:, -1], p1)
+        ctrl[1:-1], *_ = np.linalg.lstsq(basis[:, 1:-1], rhs, rcond=None)
+    return np.column_stack([ctrl, np.ones(degree + 1)])
+
+
+def lsc_piece(c1, c2, degree=3, samples=LSC_SAMPLES):
+    """LSC (Sec. 4.2.1, Eq. 28): least-squares Bézier through sampled convolution points.
+
+    ``samples`` exact points C1(t_k) + C2(s_k) at uniform t_k = k / (samples - 1); the
+    end points are interpolated (so consecutive pieces join), the inner control points
+    minimise sum_k |A(t_k) - (C1 * C2)(t_k)|^2.  Polynomial, degree ``degree``.
+    """
+    ts = np.linspace(0.0, 1.0, samples)
+    pts, _ = convolution_points(c1, c2, ts)
+    return _bezier_fit(ts, pts, degree)
+
+
+def bic_piece(c1, c2, degree=3):
+    """BIC (Sec. 4.2.1, Eq. 28): Bézier interpolating convolution points at t = i/degree.
+
+    The Bernstein collocation matrix at distinct nodes is invertible, so the piece is
+    unique.  Polynomial, degree ``degree``.
+    """
+    ts = np.linspace(0.0, 1.0, degree + 1)
+    pts, _ = convolution_points(c1, c2, ts)
+    ctrl = np.linalg.solve(bz.basis(degree, ts), pts)
+    return np.column_stack([ctrl, np.ones(degree + 1)])
+
+
+def convolution_speed(c1, c2, ts, ss):
+    """ds/dt of the exact reparametrization (Eqs. 31-33).
+
+    Differentiating cross(C1'(t), C2'(s(t))) = 0 gives
+    s'(t) = -cross(C1''(t), C2'(s)) / cross(C1'(t), C2''(s)).
+    """
+    d1 = pc.derivative(c1, ts)
+    dd1 = pc.second_derivative(c1, ts)
+    d2 = pc.derivative(c2, ss)
+    dd2 = pc.second_derivative(c2, ss)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -pc.cross2(dd1, d2) / pc.cross2(d1, dd2)
+
+
+def hic_piece(c1, c2):
+    """HIC (Sec. 4.2.2, Eqs. 30-33): cubic Hermite with exact ends and end tangents.
+
+    (C1 * C2)'(t) = C1'(t) + C2'(s) s'(t) with s'(t) of Eq. 33.  Where that is not
+    finite (zero curvature of C2 at an end: s' is infinite) the end tangent falls back
+    to C1's direction with the chord length as magnitude.  Polynomial cubic.
+    """
+    ts = np.array([0.0, 1.0])
+    pts, ss = convolution_points(c1, c2, ts)
+    sp = convolution_speed(c1, c2, ts, ss)
+    tan = pc.derivative(c1, ts) + pc.derivative(c2, ss) * sp[:, None]   # Eq. 30
+    chord = float(np.hypot(*(pts[1] - pts[0])))
+    u0, u1 = pc.end_tangents(c1)
+    for k, u in ((0, u0), (1, u1)):
+        if not np.all(np.isfinite(tan[k])) or np.hypot(*tan[k]) > 1e3 * max(chord, 1e-300):
+            tan[k] = u * chord
+    ctrl = np.array([pts[0], pts[0] + tan[0] / 3, pts[1] - tan[1] / 3, pts[1]])
+    return np.column_stack([ctrl, np.ones(4)])
+
+
+def qac_piece(c1, c2):
+    """QAC (Sec. 4.3, Eqs. 34-38): C1(t) + Q2(s(t)), see :func:`convolve_qac_piece`.
+
+    Degree 3 d1 - 2 for polynomial C1, 5 d1 - 4 for rational C1; normals exact.
+    """
+    return convolve_qac_piece(c1, c2)
+
+
+def lrc_piece(c1, c2):
+    """LRC (Sec. 4.4.1, Eq. 41): C1(t) + C2(s0 + (s1 - s0) t), no fitting at all.
+
+    Trace exact (C~2 runs on C2).  Degree max(d1, d2) for two polynomials, d1 + d2 if
+    either is rational (max(d1, d2) when the denominators are proportional).
+    """
+    s0, s1 = _ends(c1, c2)
+    return reparametrized_sum(c1, c2, np.array([s0, s1]))
+
+
+def tangent_field_matching(c1, c2, samples=TMC_SAMPLES):
+    """Discrete tangent field matching (Cohen et al.; Eqs. 43-45), by dynamic programming.
+
+    Both curves are sampled at ``samples`` uniform parameters; unit tangents T1_i, T2_j.
+    Maximise sum_i <T1_i, T2_j(i)> subject to j(0) = 0, j(N-1) = N-1 and
+    j(i) <= j(i+1) (Eq. 45), in O(N^2): best[i, j] = <T1_i, T2_j> + max_{j' <= j}
+    best[i-1, j'].  C2's samples are taken in matching order (reversed for opposite
+    turning).  Returns (t_i, s_j(i)).
+    """
+    n = samples
+    ts = np.linspace(0.0, 1.0, n)
+    s0, s1 = _ends(c1, c2)
+    ss = np.linspace(s0, s1, n)
+
+    def unit(piece, u):
+        v = bz.evaluate(pc.tangent_numerator(piece), u)
+        return v / np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)[:, None]
+
+    sim = unit(c1, ts) @ unit(c2, ss).T            # <T1_i, T2_j>, Eq. 44
+    best = np.full(n, -np.inf)
+    best[0] = sim[0, 0]                            # j(0) = 0
+    back = np.zeros((n, n), dtype=int)
+    idx = np.arange(n)
+    for i in range(1, n):
+        run = np.maximum.accumulate(best)
+        arg = np.maximum.accumulate(np.where(best == run, idx, 0))
+        back[i] = arg
+        best = sim[i] + run
+    j = np.empty(n, dtype=int)
+    j[-1] = n - 1                                  # j(N-1) = N-1
+    for i in range(n - 1, 0, -1):
+        j[i - 1] = back[i, j[i]]
+    return ts, ss[j]
+
+
+def tmc_piece(c1, c2, s_degree=S_DEGREE, samples=TMC_SAMPLES):
+    """TMC (Sec. 4.4.2, Alg. 4.2): s(t) from tangent field matching, composed exactly.
+
+    The matched pairs of :func:`tangent_field_matching` are fitted by a polynomial s(t)
+    of degree ``s_degree`` (least squares, ends fixed); C1(t) + C2(s(t)) is then exact
+    Bernstein composition.  Trace exact.  Degree: see the module table.
+    """
+    t, s = tangent_field_matching(c1, c2, samples)
+    s0, s1 = _ends(c1, c2)
+    return reparametrized_sum(c1, c2, _fit_s(t, s, s_degree, s0, s1))
+
+
+def src_piece(c1, c2, s_degree=S_DEGREE, samples=SRC_SAMPLES):
+    """SRC (Sec. 4.4.3, Eqs. 47-48, Alg. 4.3): sampled s_i fitted by a polynomial s(t).
+
+    s_i solves Eq. 27 at ``samples`` uniform t_i; s(t) is the least-squares polynomial
+    of degree ``s_degree`` with the ends fixed; C1(t) + C2(s(t)) by exact composition.
+    Trace exact.  Degree: see the module table.
+    """
+    t = np.linspace(0.0, 1.0, samples)
+    s = match_params(c1, c2, t)
+    s0, s1 = _ends(c1, c2)
+    return reparametrized_sum(c1, c2, _fit_s(t, s, s_degree, s0, s1))
+
+
+ONE_PIECE = {
+    "ctc": ctc_piece, "lsc": lsc_piece, "bic": bic_piece, "hic": hic_piece,
+    "qac": qac_piece, "lrc": lrc_piece, "tmc": tmc_piece, "src": src_piece,
+}
+
+
+def output_degree(method, d1, d2, rational1=False, rational2=False, degree=3,
+                  s_degree=S_DEGREE):
+    """Degree of one output piece (Table 1), before any simplification.
+
+    Simplifications can only lower it: LRC/TMC/SRC with proportional denominators
+    (max instead of sum) and TMC/SRC with a fitted s(t) that is linear (k = 1).
+    """
+    rational = rational1 or rational2
+    if method == "ctc":
+        return max(d1, d2)
+    if method in ("lsc", "bic"):
+        return degree
+    if method == "hic":
+        return 3
+    if method == "qac":
+        return 5 * d1 - 4 if rational1 else 3 * d1 - 2
+    k = 1 if method == "lrc" else s_degree
+    if method in ("lrc", "tmc", "src"):
+        return d1 + k * d2 if rational else max(d1, k * d2)
+    raise ValueError("unknown method %r (one of %s)" % (method, ", ".join(METHODS)))
+
+
+# ================================================================ error measures
+
+def _sampled_max(f, n, zooms=2, zoom_samples=17, candidates=2):
+    """max over t in [0, 1] of a vectorised f, sampled at n points then refined.
+
+    The largest ``candidates`` local maxima among the samples are re-sampled at
+    ``zoom_samples`` points on their neighbouring intervals, ``zooms`` times (each zoom
+    narrows the spacing by (zoom_samples - 1) / 2).  A sampled estimate from below,
+    not a bound.  Returns (value, t).
+    """
+    t = np.linspace(0.0, 1.0, n)
+    v = np.asarray(f(t), float)
+    v = np.where(np.isnan(v), np.inf, v)
+    best = int(np.argmax(v))
+    vbest, tbest = float(v[best]), float(t[best])
+    if not np.isfinite(vbest):
+        return vbest, tbest
+    peaks = np.flatnonzero((v[1:-1] >= v[:-2]) & (v[1:-1] >= v[2:])) + 1
+    peaks = peaks[np.argsort(v[peaks])[::-1][:candidates]]
+    centres, half = t[peaks], 1.0 / (n - 1)
+    u = np.linspace(-1.0, 1.0, zoom_samples)
+    for _ in range(zooms):
+        if centres.size == 0:
+            break
+        tt = np.clip(centres[:, None] + half * u[None, :], 0.0, 1.0).ravel()
+        vv = np.asarray(f(tt), float).reshape(len(centres), zoom_samples)
+        k = np.argmax(vv, axis=1)
+        centres = tt.reshape(len(centres), zoom_samples)[np.arange(len(centres)), k]
+        top = int(np.argmax(vv.max(axis=1)))
+        if vv[top].max() > vbest:
+            vbest, tbest = float(vv[top].max()), float(centres[top])
+        half *= 2.0 / (zoom_samples - 1)
+    return vbest, tbest
+
+
+def _jet(piece):
+    """u -> (C(u), C'(u), C''(u)) of a rational piece, derivatives precomputed once."""
+    p0 = np.asarray(piece, float)
+    p1 = bz.derivative(p0)
+    p2 = bz.derivative(p1) if len(p1) > 1 else np.zeros((1, 3))
+
+    def jet(u):
+        h, d1, d2 = bz.evaluate(p0, u), bz.evaluate(p1, u), bz.evaluate(p2, u)
+        w, w1, w2 = h[:, 2:3], d1[:, 2:3], d2[:, 2:3]
+        c = h[:, :2] / w
+        c1 = (d1[:, :2] - c * w1) / w
+        return c, c1, (d2[:, :2] - 2 * c1 * w1 - c * w2) / w
+
+    return jet
+
+
+def distance_to_curve(q, curve, samples=33, newton=4):
+    """Distances of points q (m, 2) to a piece (min over its parameter in [0, 1]).
+
+    Nearest of ``samples`` uniform samples, then Newton steps on (C(u) - q)·C'(u) = 0,
+    clamped to [0, 1]; the smaller of the sampled and the refined distance is kept.
+    ``curve`` may also be the function returned by :func:`_curve_distance`.
+    """
+    dist = curve if callable(curve) else _curve_distance(curve, samples, newton)
+    return dist(q)
+
+
+def _curve_distance(curve, samples=33, newton=4):
+    """q -> distances to the piece, with the piece's samples and derivatives cached."""
+    jet = _jet(curve)
+    us = np.linspace(0.0, 1.0, samples)
+    cs = jet(us)[0]
+
+    def dist(q):
+        q = np.atleast_2d(q)
+        d2 = np.sum((q[:, None, :] - cs[None, :, :]) ** 2, axis=2)
+        i = np.argmin(d2, axis=1)
+        dmin = np.sqrt(d2[np.arange(len(q)), i])
+        u = us[i]
+        for _ in range(newton):
+            p, d1, dd = jet(u)
+            r = p - q
+            gr = np.sum(r * d1, axis=1)
+            hs = np.sum(d1 * d1, axis=1) + np.sum(r * dd, axis=1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = np.where(hs > 0, gr / hs, 0.0)
+            u = np.clip(u - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+        return np.minimum(dmin, np.hypot(*(jet(u)[0] - q).T))
+
+    return dist
+
+
+def distance_error(approx, c1, c2, n=ERROR_SAMPLES):
+    """Distance measure of Sec. 5.2 (Eqs. 49-53), sampled: not a bound.
+
+    C~2(t) = A(t) - C1(t) lies on C2 for the exact convolution (Eq. 50); the error is
+    max_t min_s |C~2(t) - C2(s)|, the one-sided Hausdorff distance from C~2 to the
+    curve C2, taken at n uniform t (and refined near the largest samples, see
+    :func:`_sampled_max`) with the inner minimum by sampling + Newton.  In input units.
+    """
+    dist = _curve_distance(c2)
+
+    def f(t):
+        return dist(pc.evaluate(approx, t) - pc.evaluate(c1, t))
+
+    return _sampled_max(f, n)[0]
+
+
+def normal_error(approx, c1, n=ERROR_SAMPLES):
+    """Normal deviation of Sec. 5.2 (Eqs. 54-55) in degrees, sampled: not a bound.
+
+    delta(t) = <C1'(t), N~2(t)>^2 / (|C1'|^2 |N~2|^2) with N~2 a normal of
+    C~2(t) = A(t) - C1(t); the error is max_t |pi/2 - arccos sqrt(delta(t))|, the angle
+    between the tangent lines of C1 and C~2 (Eq. 55, as in Eq. 46 for TMC), at n
+    uniform t refined near the largest samples.  Where C1' or C~2' vanishes the angle
+    counts as 0.
+    """
+    def f(t):
+        d1 = pc.derivative(c1, t)
+        d2 = pc.derivative(approx, t) - d1
+        return np.degrees(np.arctan2(np.abs(pc.cross2(d1, d2)), np.abs(np.sum(d1 * d2, axis=1))))
+
+    return _sampled_max(f, n)[0]
+
+
+def qac_bound(c2):
+    """A-priori bound of QAC's distance error: max |C2 - Q2| bound of Eqs. 39-40."""
+    return qac_error_bound(c2, quadratic_approximation(c2))[0]
+
+
+# ====================================================================== driver
+
+@dataclass
+class Segment:
+    """One output piece of the driver with the sub-pair it approximates.
+
+    piece: (m+1, 3) homogeneous control points, parametrised like ``c1``.  c1, c2: the
+    compatible sub-pair.  error: the measured (or, for certified QAC, bounded) error.
+    t: the sub-pair's parameter interval on the original C1.
+    """
+
+    piece: np.ndarray
+    c1: np.ndarray
+    c2: np.ndarray
+    error: float
+    t: tuple = field(default=(0.0, 1.0))
+
+
+def _valid(piece):
+    piece = np.asarray(piece, float)
+    return bool(np.all(np.isfinite(piece)) and np.all(piece[:, 2] > 0))
+
+
+def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
+    """Algorithm 5.1: approximate, measure, split at the mid angle until error <= tol.
+
+    ``one_piece(c1, c2) -> piece`` is any method of this module; ``error(piece, c1, c2)
+    -> float`` the error measure (what is measured, and whether it is a bound, is the
+    measure's contract).  A piece with non-positive weights or non-finite entries
+    counts as infinite error.  The pair is split by :func:`split_pair` (C1 at its mid
+    tangent angle, C2 at the matching s) so sub-pairs stay compatible.
+
+    ``memo`` (a dict, optional) caches every visited node by its path; reuse it only
+    for the same (c1, c2, one_piece, error) to sweep tolerances cheaply.
+
+    Returns a list of :class:`Segment` in C1's parameter order.  Raises
+    ToleranceNotMetError (keeping the failing sub-pair's C1 and the error reached)
+    after ``max_depth`` halvings.
+    """
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    memo = {} if memo is None else memo
+    out = []
+    stack = [((), np.asarray(c1, float), np.asarray(c2, float), 0.0, 1.0)]
+    while stack:
+        path, a, b, t0, t1 = stack.pop()
+        node = memo.get(path)
+        if node is None:
+            piece = one_piece(a, b)
+            err = float(error(piece, a, b)) if _valid(piece) else float("inf")
+            node = memo[path] = [piece, err, None]
+        piece, err, children = node
+        if err <= tol:
+            out.append(Segment(piece, a, b, err, (t0, t1)))
+            continue
+        if len(path) >= max_depth:
+            raise ToleranceNotMetError(
+                "error %g above tolerance %g after %d splits" % (err, tol, max_depth),
+                piece=a, achieved=err)
+        if children is None:
+            left, right, tm, _ = split_pair(a, b)
+            children = node[2] = (left, right, tm)
+        left, right, tm = children
+        t_mid = t0 + tm * (t1 - t0)
+        stack.append((path + (1,), right[0], right[1], t_mid, t1))
+        stack.append((path + (0,), left[0], left[1], t0, t_mid))
+    return out
+
+
+def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES, **options):
+    """(one_piece, error) for a method name and measure, as :func:`subdivide` takes them.
+
+    options go to the method (``degree`` for lsc/bic, ``s_degree``/``samples`` for
+    tmc/src, ``samples`` for lsc).  QAC under the distance measure uses its a-priori
+    bound when ``certified`` (else the sampled distance, as the paper does in Sec.
+    5.2.3 for a fair comparison).
+    """
+    key = str(method).lower()
+    if key not in ONE_PIECE:
+        raise ValueError("unknown method %r (one of %s)" % (method, ", ".join(METHODS)))
+    if measure not in MEASURES:
+        raise ValueError("measure must be one of %s, got %r" % (MEASURES, measure))
+    base = ONE_PIECE[key]
+    one_piece = (lambda a, b: base(a, b, **options)) if options else base
+    if measure == "normal":
+        return one_piece, lambda piece, a, b: normal_error(piece, a, n)
+    if key == "qac" and certified:
+        return one_piece, lambda piece, a, b: qac_bound(b)
+    return one_piece, lambda piece, a, b: distance_error(piece, a, b, n)
+
+
+def approximate_segments(c1, c2, method, tol, measure="distance", certified=True,
+                         max_depth=24, memo=None, **options):
+    """Like :func:`approximate` but returns the :class:`Segment` records."""
+    one_piece, error = method_functions(method, measure, certified, **options)
+    return subdivide(c1, c2, one_piece, error, tol, max_depth, memo)
+
+
+def approximate(c1, c2, method, tol, measure="distance", certified=True, max_depth=24,
+                **options):
+    """Approximate the convolution of a compatible pair by one of the eight methods.
+
+    Algorithm 5.1 with ``method`` in ``METHODS`` ("ctc", "lsc", "bic", "hic", "qac",
+    "lrc", "tmc", "src"); returns a list of ``(m+1, 3)`` pieces, in C1's parameter
+    order, each parametrised by its sub-pair's t.
+
+    measure="distance": every piece P has sampled max_t dist(P(t) - C1(t), C2) <= tol
+    (Eqs. 49-53; not a bound, except QAC with ``certified=True``: then
+    max |C2 - Q2| <= tol a priori, Eqs. 39-40, and normals are exact).  tol is
+    absolute, in input units.  LRC, TMC and SRC always measure 0 here (trace exact),
+    so they return one piece: use measure="normal" for them.
+    measure="normal": sampled normal deviation (Eqs. 54-55) <= tol, tol in DEGREES.
+
+    Raises ValueError for an unknown method or measure or tol <= 0,
+    DegenerateCurveError for a straight input, ToleranceNotMetError after
+    ``max_depth`` halvings.
+    """
+    return [seg.piece for seg in approximate_segments(
+        c1, c2, method, tol, measure, certified, max_depth, **options)]
+
+
+def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
+    """Convolution pieces of one compatible curve pair within distance tol, in C1's order.
+
+    The entry point for :mod:`morph.convolve`: ``approximate(c1, c2, method, tol,
+    "distance")``.  For "qac" the tolerance is certified (Eqs. 39-40); for the other
+    methods it is the sampled distance of Eqs. 49-53 (not a bound).  LRC, TMC and SRC
+    measure 0 under this measure (their trace lies on C1 + C2 but they are not
+    normal-exact): they return a single piece per pair.
+    """
+    return approximate(c1, c2, method, tol, "distance", True, max_depth, **options)
+
+
+def control_point_count(pieces):
+    """Control points of the pieces as one C0 chain: sum of degrees + 1 (joints shared)."""
+    return int(sum(len(p) - 1 for p in pieces)) + 1 if pieces else 0
