@@ -159,8 +159,12 @@ def roots(c, lo=0.0, hi=1.0, eps=1e-13):
     for _ in range(3):
         f = evaluate(c / scale, r)
         fp = evaluate(d, r)
-        ok = np.abs(fp) > 1e-300
-        r = np.where(ok, r - np.where(ok, f / np.where(ok, fp, 1.0), 0.0), r)
+        # Newton only where the slope is well above the value's rounding noise;
+        # at (near) double roots the quotient of two tiny numbers is meaningless.
+        ok = np.abs(fp) > 1e-6
+        step = np.where(ok, f / np.where(ok, fp, 1.0), 0.0)
+        better = np.abs(evaluate(c / scale, r - step)) <= np.abs(f)
+        r = np.where(ok & better, r - step, r)
     r = np.clip(np.sort(r), lo, hi)
     if r.size > 1:
         keep = np.concatenate([[True], np.diff(r) > eps * 10])

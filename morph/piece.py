@@ -329,8 +329,8 @@ def _flatten_params(piece, t0, t1, tol, depth):
     if length > 0:
         dist = np.abs(cross2(chord, p - a)) / length
         along = (p - a) @ chord / length ** 2
-        dist = np.where((along < 0) | (along > 1), np.hypot(*(p - a).T), dist)
-        dist = np.maximum(dist, np.where(along > 1, np.hypot(*(p - b).T), 0))
+        dist = np.where(along < 0, np.hypot(*(p - a).T), dist)
+        dist = np.where(along > 1, np.hypot(*(p - b).T), dist)
     else:
         dist = np.hypot(*(p - a).T)
     if depth == 0 or dist.max() <= tol:

@@ -23,7 +23,7 @@ Pipeline, all on the rational pieces (polylines are used only to find where to l
 import numpy as np
 
 from . import piece as pc
-from .convolve import chain, convolution
+from .convolve import convolution
 from .errors import TopologyError
 
 
@@ -212,33 +212,31 @@ def split_parameters(pieces, tol, scale):
     return cuts
 
 
-def cut_pieces(pieces, cuts, min_len):
-    """Cut each piece at its parameters; returns sub-pieces with snapped end points."""
-    out = []
-    for p, cut in zip(pieces, cuts):
-        if not cut:
-            out.append(p)
-            continue
-        cut = sorted(cut, key=lambda c: c[0])
+def cut_pieces(pieces, cuts):
+    """Cut each piece at its parameters.
+
+    Returns (sub-pieces with snapped end points, origin) where origin[k] is
+    (source piece index, t0, t1) of sub-piece k.
+    """
+    out, origin = [], []
+    for src, (p, cut) in enumerate(zip(pieces, cuts)):
         ts = [0.0]
         pts = [pc.start(p)]
-        for t, q in cut:
+        for t, q in sorted(cut, key=lambda c: c[0]):
             if t - ts[-1] < 1e-10:
                 continue
             ts.append(t)
             pts.append(q)
-        if 1.0 - ts[-1] < 1e-10:
+        if len(ts) > 1 and 1.0 - ts[-1] < 1e-10:
             ts.pop()
             pts.pop()
         ts.append(1.0)
         pts.append(pc.end(p))
         for k in range(len(ts) - 1):
-            sub = pc.subsegment(p, ts[k], ts[k + 1])
-            sub = pc.with_endpoints(sub, pts[k], pts[k + 1])
-            if pc.length_bound(sub) < min_len:
-                continue
-            out.append(sub)
-    return out
+            sub = pc.subsegment(p, ts[k], ts[k + 1]) if len(ts) > 2 else p
+            out.append(pc.with_endpoints(sub, pts[k], pts[k + 1]))
+            origin.append((src, ts[k], ts[k + 1]))
+    return out, origin
 
 
 # -------------------------------------------------------------- membership
@@ -263,28 +261,85 @@ def _winding(points, polylines):
     return w
 
 
+class SegmentGrid:
+    """Uniform-grid index of line segments for batched crossing queries."""
+
+    def __init__(self, s0, s1):
+        self.s0, self.s1 = s0, s1
+        lo = np.minimum(s0, s1)
+        hi = np.maximum(s0, s1)
+        self.lo_all, self.hi_all = lo.min(axis=0), hi.max(axis=0)
+        span = max(float((self.hi_all - self.lo_all).max()), 1e-300)
+        seg_len = float(np.median(np.maximum(hi - lo, 0).max(axis=1))) if len(s0) else span
+        self.h = max(2.0 * seg_len, span / 512.0)
+        self.origin = self.lo_all
+        keys, segs = self._cells(lo, hi)
+        order = np.argsort(keys, kind="stable")
+        keys, self.segs = keys[order], segs[order]
+        self.ukeys, self.starts, counts = np.unique(keys, return_index=True, return_counts=True)
+        self.counts = counts
+
+    def _cells(self, lo, hi):
+        c0 = np.floor((lo - self.origin) / self.h).astype(np.int64)
+        c1 = np.floor((hi - self.origin) / self.h).astype(np.int64)
+        nx = c1[:, 0] - c0[:, 0] + 1
+        ny = c1[:, 1] - c0[:, 1] + 1
+        cnt = nx * ny
+        seg = np.repeat(np.arange(len(lo)), cnt)
+        offs = np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        cx = c0[seg, 0] + offs % nx[seg]
+        cy = c0[seg, 1] + offs // nx[seg]
+        return cx * 2_000_003 + cy, seg
+
+    def any_crossing(self, q0, q1):
+        """True if any query segment (q0[i], q1[i]) meets any indexed segment."""
+        lo = np.minimum(q0, q1)
+        hi = np.maximum(q0, q1)
+        near = np.all((hi >= self.lo_all) & (lo <= self.hi_all), axis=1)
+        if not near.any():
+            return False
+        q0, q1, lo, hi = q0[near], q1[near], lo[near], hi[near]
+        keys, qseg = self._cells(lo, hi)
+        pos = np.searchsorted(self.ukeys, keys)
+        pos = np.minimum(pos, len(self.ukeys) - 1)
+        found = self.ukeys[pos] == keys
+        pos, qseg = pos[found], qseg[found]
+        if pos.size == 0:
+            return False
+        cnt = self.counts[pos]
+        qi = np.repeat(qseg, cnt)
+        offs = np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        si = self.segs[np.repeat(self.starts[pos], cnt) + offs]
+        a0, a1 = self.s0[si], self.s1[si]
+        b0, b1 = q0[qi], q1[qi]
+        r = a1 - a0
+        sv = b1 - b0
+        qp = b0 - a0
+        den = pc.cross2(r, sv)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = pc.cross2(qp, sv) / den
+            v = pc.cross2(qp, r) / den
+        return bool(np.any((u >= 0) & (u <= 1) & (v >= 0) & (v <= 1)))
+
+
 class _Membership:
     """Exact set membership x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅, on fine polylines.
 
-    A ∩ (x − B) ≠ ∅ iff the boundaries cross, or a point of a component of x − B is
-    in A, or a point of a component of A is in x − B.  One point per outer loop
-    stands for its component.
+    A ∩ (x − B) ≠ ∅ iff the boundaries cross, or a point of some loop of x − B is in
+    A, or a point of some loop of A is in x − B (one point per loop: a component may
+    meet the other set only through one of its hole loops).
     """
 
     def __init__(self, region_a, region_b, tol):
         self.pa = _loops_polylines(region_a, tol)
         self.pb = _loops_polylines(region_b, tol)
-        self.sa0 = np.concatenate(self.pa)
-        self.sa1 = np.concatenate([np.roll(p, -1, axis=0) for p in self.pa])
+        sa0 = np.concatenate(self.pa)
+        sa1 = np.concatenate([np.roll(p, -1, axis=0) for p in self.pa])
         self.sb0 = np.concatenate(self.pb)
         self.sb1 = np.concatenate([np.roll(p, -1, axis=0) for p in self.pb])
-        self.a_pts = np.array([p[0] for p, l in zip(self.pa, region_a) if pc.loop_area(l) > 0])
-        self.b_pts = np.array([p[0] for p, l in zip(self.pb, region_b) if pc.loop_area(l) > 0])
-        self.a_lo = np.minimum(self.sa0, self.sa1)
-        self.a_hi = np.maximum(self.sa0, self.sa1)
-        self.b_lo = np.minimum(self.sb0, self.sb1)
-        self.b_hi = np.maximum(self.sb0, self.sb1)
-        self.bbox_b = (self.b_lo.min(axis=0), self.b_hi.max(axis=0))
+        self.a_pts = np.array([p[0] for p in self.pa])
+        self.b_pts = np.array([p[0] for p in self.pb])
+        self.grid = SegmentGrid(sa0, sa1)
 
     def __call__(self, points):
         points = np.atleast_2d(points)
@@ -294,111 +349,316 @@ class _Membership:
         for a in self.a_pts:
             inside |= _winding(points - a, self.pb) != 0
         for k in np.flatnonzero(~inside):
-            inside[k] = self._boundaries_cross(points[k])
+            x = points[k]
+            inside[k] = self.grid.any_crossing(x - self.sb0, x - self.sb1)
         return inside
 
-    def _boundaries_cross(self, x):
-        # x - B: segments x - sb; bbox [x - bmax, x - bmin]
-        bmin, bmax = self.bbox_b
-        lo, hi = x - bmax, x - bmin
-        sel_a = np.flatnonzero(np.all((self.a_hi >= lo) & (self.a_lo <= hi), axis=1))
-        if sel_a.size == 0:
-            return False
-        alo, ahi = self.a_lo[sel_a].min(axis=0), self.a_hi[sel_a].max(axis=0)
-        # segments of x - B within A's selected bbox: x - b in [alo, ahi] <=> b in [x-ahi, x-alo]
-        sel_b = np.flatnonzero(np.all((self.b_hi >= x - ahi) & (self.b_lo <= x - alo), axis=1))
-        if sel_b.size == 0:
-            return False
-        a0, a1 = self.sa0[sel_a], self.sa1[sel_a]
-        b0, b1 = x - self.sb0[sel_b], x - self.sb1[sel_b]
-        chunk = max(1, 4_000_000 // max(len(sel_b), 1))
-        for s in range(0, len(a0), chunk):
-            r = (a1[s:s + chunk] - a0[s:s + chunk])[:, None, :]
-            sv = (b1 - b0)[None, :, :]
-            qp = b0[None, :, :] - a0[s:s + chunk][:, None, :]
-            den = pc.cross2(r, sv)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                u = pc.cross2(qp, sv) / den
-                v = pc.cross2(qp, r) / den
-            if np.any((u >= 0) & (u <= 1) & (v >= 0) & (v <= 1)):
-                return True
-        return False
+
+# --------------------------------------------------------------- arrangement
+
+def _cluster_points(points, tol):
+    """Cluster ids of points closer than tol (grid hashing + union-find)."""
+    n = len(points)
+    parent = np.arange(n)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    cells = np.floor(points / tol).astype(np.int64)
+    buckets = {}
+    for i, (cx, cy) in enumerate(cells):
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for j in buckets.get((cx + dx, cy + dy), ()):
+                    if np.hypot(*(points[i] - points[j])) <= tol:
+                        ri, rj = find(i), find(j)
+                        if ri != rj:
+                            parent[ri] = rj
+        buckets.setdefault((cx, cy), []).append(i)
+    roots = np.array([find(i) for i in range(n)])
+    _, ids = np.unique(roots, return_inverse=True)
+    return ids
+
+
+class Arrangement:
+    """Half-edge structure of oriented sub-pieces, faces and winding numbers (Sec. 6).
+
+    Sub-piece k gives half-edges 2k (its own direction) and 2k+1 (reversed).  Faces
+    lie to the left of their half-edges.  The winding number of the face left of a
+    forward half-edge is one more than that of the face on its right; each connected
+    component's outer face gets the winding number of the other components there.
+    """
+
+    def __init__(self, subs, node_tol, origin=None):
+        ends = np.array([[pc.start(p), pc.end(p)] for p in subs]).reshape(-1, 2)
+        node = _cluster_points(ends, node_tol)
+        # merge coincident sub-pieces (same end nodes, same middle) into one edge
+        # whose weight is the sum of their orientations (+1 along, -1 against)
+        mids = np.array([pc.evaluate(p, 0.5)[0] for p in subs])
+        keep, weight, groups = [], [], {}
+        for k in range(len(subs)):
+            u, v = node[2 * k], node[2 * k + 1]
+            key = (min(u, v), max(u, v))
+            found = None
+            for j in groups.get(key, ()):
+                if np.hypot(*(mids[k] - mids[keep[j]])) <= 10 * node_tol:
+                    found = j
+                    break
+            if found is None:
+                groups.setdefault(key, []).append(len(keep))
+                keep.append(k)
+                weight.append(1)
+            else:
+                same = node[2 * keep[found]] == u
+                weight[found] += 1 if same else -1
+        keep = np.array(keep)
+        self.weight = np.array(weight)
+        self.kept = keep
+        subs = [subs[k] for k in keep]
+        node = node.reshape(-1, 2)[keep].reshape(-1)
+        self.subs = subs
+        m = len(subs)
+        ends = ends.reshape(-1, 2, 2)[keep].reshape(-1, 2)
+        self.node_of = node  # half-edge h starts at node_of[h]: 2k -> start, 2k+1 -> end
+        self.nodes = np.zeros((node.max() + 1, 2))
+        self.nodes[node] = ends
+        # direction keys of every half-edge leaving its node
+        t0 = np.array([pc.derivative(p, 0.0)[0] for p in subs])
+        t1 = np.array([pc.derivative(p, 1.0)[0] for p in subs])
+        k0 = np.array([_signed_curvature(p, 0.0) for p in subs])
+        k1 = np.array([_signed_curvature(p, 1.0) for p in subs])
+        dirs = np.empty((2 * m, 2))
+        dirs[0::2] = t0
+        dirs[1::2] = -t1
+        curv = np.empty(2 * m)
+        curv[0::2] = k0
+        curv[1::2] = -k1
+        ang = np.arctan2(dirs[:, 1], dirs[:, 0])
+        self.angle = ang
+        # sort outgoing half-edges around each node counter-clockwise
+        order = np.lexsort((curv, np.round(ang, 11), node))
+        self.ccw_next = np.empty(2 * m, int)
+        self.ccw_prev = np.empty(2 * m, int)
+        bounds = np.flatnonzero(np.diff(node[order])) + 1
+        for grp in np.split(order, bounds):
+            self.ccw_next[grp] = np.roll(grp, -1)
+            self.ccw_prev[grp] = np.roll(grp, 1)
+        self.twin = np.arange(2 * m) ^ 1
+        # face traversal: next(h) = clockwise neighbour of twin(h) at h's end node
+        self.next = self.ccw_prev[self.twin]
+        self.face = -np.ones(2 * m, int)
+        faces = []
+        for h in range(2 * m):
+            if self.face[h] >= 0:
+                continue
+            cyc = []
+            g = h
+            while self.face[g] < 0:
+                self.face[g] = len(faces)
+                cyc.append(g)
+                g = self.next[g]
+            faces.append(cyc)
+        self.faces = faces
+        self.face_area = np.array([self._area(c) for c in faces])
+
+    def half_piece(self, h):
+        p = self.subs[h >> 1]
+        return p if h % 2 == 0 else pc.reverse(p)
+
+    def _area(self, cyc):
+        return sum(pc.piece_area_term(self.half_piece(h), 8) for h in cyc)
+
+    def components(self):
+        """Connected components as arrays of sub-piece indices."""
+        m = len(self.subs)
+        parent = list(range(len(self.nodes)))
+
+        def find(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for k in range(m):
+            a, b = find(self.node_of[2 * k]), find(self.node_of[2 * k + 1])
+            if a != b:
+                parent[a] = b
+        roots = np.array([find(self.node_of[2 * k]) for k in range(m)])
+        return [np.flatnonzero(roots == r) for r in np.unique(roots)]
+
+    def windings(self, flat_tol):
+        """Winding number of every face, by propagation across edges."""
+        nf = len(self.faces)
+        w = np.full(nf, np.iinfo(np.int64).min, dtype=np.int64)
+        comps = self.components()
+        polys = [pc.flatten(p, flat_tol)[0] for p in self.subs]
+        for comp in comps:
+            # base: winding of all other components at one node of this component
+            x = self.nodes[self.node_of[2 * comp[0]]][None, :]
+            others = np.setdiff1d(np.arange(len(self.subs)), comp)
+            base = 0
+            for k in others:
+                if self.weight[k]:
+                    base += self.weight[k] * _open_winding(x, [polys[k]])[0]
+            hs = np.concatenate([2 * comp, 2 * comp + 1])
+            fids = np.unique(self.face[hs])
+            outer = fids[np.argmin(self.face_area[fids])]
+            w[outer] = base
+            stack = [outer]
+            while stack:
+                f = stack.pop()
+                for h in self.faces[f]:
+                    g = self.face[self.twin[h]]
+                    # h forward (even): face(h) = left, w(left) = w(right) + weight
+                    wt = self.weight[h >> 1]
+                    val = w[f] - wt if h % 2 == 0 else w[f] + wt
+                    if w[g] == np.iinfo(np.int64).min:
+                        w[g] = val
+                        stack.append(g)
+        return w
+
+    def sample_point(self, f, eps):
+        """A point just inside face f (left of its longest half-edge's middle)."""
+        best = max(self.faces[f], key=lambda h: pc.length_bound(self.subs[h >> 1]))
+        p = self.half_piece(best)
+        mid = pc.evaluate(p, 0.5)[0]
+        d = pc.derivative(p, 0.5)[0]
+        n = np.array([-d[1], d[0]]) / max(np.hypot(*d), 1e-300)
+        e = min(eps, 0.25 * pc.length_bound(p))
+        return mid + e * n
+
+    def boundary_loops(self, inside):
+        """Closed loops of half-edges with an inside face on the left, outside on the right."""
+        m2 = len(self.face)
+        is_b = np.array([inside[self.face[h]] and not inside[self.face[self.twin[h]]]
+                         for h in range(m2)])
+        used = np.zeros(m2, bool)
+        loops = []
+        for h0 in np.flatnonzero(is_b):
+            if used[h0]:
+                continue
+            loop = []
+            h = h0
+            while not used[h]:
+                used[h] = True
+                loop.append(h)
+                # next boundary half-edge: turn clockwise around the end node
+                g = self.ccw_prev[self.twin[h]]
+                for _ in range(m2):
+                    if is_b[g]:
+                        break
+                    g = self.ccw_prev[g]
+                h = g
+            if h != h0:
+                raise TopologyError("boundary does not close at %s" % (self.nodes[self.node_of[h]],))
+            loops.append(loop)
+        return loops
+
+
+def _signed_curvature(p, t):
+    d1 = pc.derivative(p, t)[0]
+    d2 = pc.second_derivative(p, t)[0]
+    sp = np.hypot(*d1)
+    if sp == 0:
+        return 0.0
+    return float(pc.cross2(d1, d2) / sp ** 3)
+
+
+def _open_winding(points, polylines):
+    """Winding numbers of points w.r.t. a set of open polylines that together close."""
+    w = np.zeros(len(points), int)
+    if not polylines:
+        return w
+    a = np.concatenate([p[:-1] for p in polylines])
+    b = np.concatenate([p[1:] for p in polylines])
+    px = points[:, 0:1]
+    py = points[:, 1:2]
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    cr = (bx - ax) * (py - ay) - (px - ax) * (by - ay)
+    up = (ay <= py) & (by > py) & (cr > 0)
+    down = (ay > py) & (by <= py) & (cr < 0)
+    return w + up.sum(axis=1) - down.sum(axis=1)
 
 
 # ------------------------------------------------------------------ driver
-
-def classify(subpieces, member, eps):
-    """For each sub-piece: +1 keep as is, -1 keep reversed, 0 drop (Sec. 6)."""
-    if not subpieces:
-        return np.zeros(0, int)
-    mids = np.array([pc.evaluate(p, 0.5)[0] for p in subpieces])
-    tans = np.array([pc.derivative(p, 0.5)[0] for p in subpieces])
-    norm = np.hypot(tans[:, 0], tans[:, 1])
-    bad = norm == 0
-    norm[bad] = 1.0
-    left = np.column_stack([-tans[:, 1], tans[:, 0]]) / norm[:, None]
-    lens = np.array([pc.length_bound(p) for p in subpieces])
-    e = np.minimum(eps, 0.25 * lens)[:, None]
-    pts = np.concatenate([mids + e * left, mids - e * left])
-    ins = member(pts)
-    n = len(subpieces)
-    lin, rin = ins[:n], ins[n:]
-    out = np.where(lin & ~rin, 1, np.where(rin & ~lin, -1, 0))
-    out[bad] = 0
-    return out
-
-
-def _dedupe(pieces, tol):
-    keep = []
-    sigs = []
-    for p in pieces:
-        sig = np.concatenate([pc.start(p), pc.evaluate(p, 0.5)[0], pc.end(p)])
-        if any(np.max(np.abs(sig - s)) < tol for s in sigs):
-            continue
-        sigs.append(sig)
-        keep.append(p)
-    return keep
-
 
 def minkowski_sum(region_a, region_b, tol, return_debug=False):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Each output piece lies within ``tol`` of the exact boundary: it is a sub-piece
     of a convolution piece whose a-priori bound (Eqs. 39-40) is <= tol, cut at
-    intersections refined by Newton iteration to ~1e-12.  tol is absolute, in input
-    units.  Outer loops are counter-clockwise, holes clockwise.  Raises
-    TopologyError if the boundary pieces cannot be chained into closed loops.
+    intersections refined by Newton iteration.  tol is absolute, in input units.
+    Outer loops are counter-clockwise, holes clockwise.
+
+    Faces of the arrangement of all convolution pieces get winding numbers by
+    propagation; a face with w > 0 is in the sum, and a bounded face with w <= 0 is
+    tested exactly (x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅), which closes holes of one operand
+    smaller than the other (the weak spot of winding numbers, Sec. 6).  Raises
+    TopologyError if the boundary cannot be assembled into closed loops.
     """
     if tol <= 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
-    conv = convolution(region_a, region_b, tol, keep_type3=False)
+    conv = convolution(region_a, region_b, tol, keep_type3=True)
     pieces = [c.piece for c in conv]
     pts = np.concatenate([pc.cartesian(p) for p in pieces])
     scale = float(np.ptp(pts, axis=0).max())
     flat_tol = min(tol, scale * 1e-4)
     cuts = split_parameters(pieces, flat_tol, scale)
-    subs = cut_pieces(pieces, cuts, min_len=scale * 1e-10)
-    member_tol = scale * 2e-6
-    member = _Membership(region_a, region_b, member_tol)
-    eps = scale * 5e-5
-    cls = classify(subs, member, eps)
-    kept = [s if c > 0 else pc.reverse(s) for s, c in zip(subs, cls) if c != 0]
-    kept = _dedupe(kept, scale * 1e-9)
-    loops = _chain_boundary(kept, scale * 1e-7)
+    subs, origin = cut_pieces(pieces, cuts)
+    arr = Arrangement(subs, scale * 1e-9)
+    origin = [origin[k] for k in arr.kept]
+    w = arr.windings(flat_tol)
+    inside = w > 0
+    unbounded = int(np.argmin(arr.face_area))
+    candidates = [f for f in range(len(arr.faces)) if w[f] <= 0 and f != unbounded]
+    if candidates:
+        member = _Membership(region_a, region_b, scale * 2e-6)
+        pts = np.array([arr.sample_point(f, scale * 2e-5) for f in candidates])
+        inside[candidates] = member(pts)
+    loops_h = arr.boundary_loops(inside)
+    loops = [_assemble(arr, loop, origin, pieces) for loop in loops_h]
+    loops = [l for l in loops if abs(pc.loop_area(l)) > (scale * 1e-9) ** 2]
     if return_debug:
-        return loops, {"convolution": conv, "subpieces": subs, "classes": cls}
+        return loops, {"convolution": conv, "subpieces": subs, "arrangement": arr, "winding": w,
+                       "inside": inside}
     return loops
 
 
-def _chain_boundary(pieces, join_tol):
-    try:
-        loops = chain(pieces, join_tol)
-    except TopologyError:
-        loops = chain(pieces, join_tol * 1e3)
-    return [_merge_collinear(loop) for loop in loops]
+def _assemble(arr, loop, origin, pieces):
+    """Pieces of one boundary loop, merging consecutive runs of one source piece."""
+    out = []
+    run = None  # (source index, t_start, t_end, forward)
+    for h in loop:
+        src, ta, tb = origin[h >> 1]
+        if h % 2:
+            ta, tb = tb, ta
+        if run is not None and run[0] == src and abs(run[2] - ta) < 1e-12:
+            run = (src, run[1], tb)
+        else:
+            if run is not None:
+                out.append(run)
+            run = (src, ta, tb)
+    if run is not None:
+        if out and out[0][0] == run[0] and abs(run[2] - out[0][1]) < 1e-12 and len(out) > 0:
+            first = out.pop(0)
+            run = (run[0], run[1], first[2])
+        out.append(run)
+    result = []
+    for src, ta, tb in out:
+        result.append(pc.subsegment(pieces[src], ta, tb))
+    return _snap_closed(result)
 
 
-def _merge_collinear(loop):
-    return loop
+def _snap_closed(loop):
+    out = [p.copy() for p in loop]
+    for i in range(len(out)):
+        j = (i + 1) % len(out)
+        m = 0.5 * (pc.end(out[i]) + pc.start(out[j]))
+        out[i] = pc.with_endpoints(out[i], pc.start(out[i]), m)
+        out[j] = pc.with_endpoints(out[j], m, pc.end(out[j]))
+    return out
