@@ -1,0 +1,54 @@
+"""Shape transformation by Minkowski sums: frames (1 - a) A ⊕ a B (paper Figs. 6, 36).
+
+Each operand is first moved so that its area centroid is at the origin (the common
+reference point), so the frames stay in place as a runs from 0 to 1: frame 0 is A
+and the last frame is B (the other operand shrinks to the point at its centroid).
+Scaling a region by a > 0 scales its Gauss map's positions but not its angles, so
+one frame is one Minkowski sum of scaled copies.
+"""
+
+import numpy as np
+
+from . import piece as pc
+from .region import region_centroid
+from .trim import minkowski_sum
+
+
+def scale_region(loops, factor):
+    """Region scaled by a positive factor about the origin (exact on control points)."""
+    m = [[factor, 0.0, 0.0], [0.0, factor, 0.0]]
+    return [[pc.transform(p, m) for p in loop] for loop in loops]
+
+
+def translate_region(loops, offset):
+    return [[pc.translate(p, offset) for p in loop] for loop in loops]
+
+
+def centered(loops):
+    """The region moved so that its area centroid is at the origin."""
+    c = np.asarray(region_centroid(loops), float)
+    return translate_region(loops, -c)
+
+
+def morph_frames(region_a, region_b, n, tol, progress=None):
+    """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
+
+    tol is absolute (input units) and applies to every frame as in
+    :func:`morph.trim.minkowski_sum`.  ``progress`` (optional) is called with each
+    frame index as it is done.  Raises ValueError for n < 2.
+    """
+    if n < 2:
+        raise ValueError("need at least 2 frames, got %r" % (n,))
+    a = centered(region_a)
+    b = centered(region_b)
+    frames = []
+    for k, alpha in enumerate(np.linspace(0.0, 1.0, n)):
+        if alpha == 0.0:
+            frames.append(a)
+        elif alpha == 1.0:
+            frames.append(b)
+        else:
+            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol))
+        if progress is not None:
+            progress(k)
+    return frames
