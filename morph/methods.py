@@ -65,10 +65,10 @@ import numpy as np
 from . import bernstein as bz
 from . import piece as pc
 from .convolve import convolve_qac_piece, qac_error_bound, quadratic_approximation
-from .errors import DegenerateCurveError, ToleranceNotMetError
+from .errors import DegenerateCurveError, MorphError, ToleranceNotMetError
 
 METHODS = ("ctc", "lsc", "bic", "hic", "qac", "lrc", "tmc", "src")
-MEASURES = ("distance", "normal")
+MEASURES = ("distance", "normal", "hausdorff")
 
 LSC_SAMPLES = 16     # exact convolution points per LSC fit
 TMC_SAMPLES = 33     # tangent samples per curve in the TMC dynamic programme
@@ -159,11 +159,16 @@ def convolution_points(c1, c2, ts):
     return pc.evaluate(c1, ts) + pc.evaluate(c2, s), s
 
 
-def split_pair(c1, c2):
-    """Split a compatible pair at C1's mid tangent angle (Algorithm 5.1, Line 2).
+def split_pair(c1, c2, balance=0.2):
+    """Split a compatible pair at a common tangent direction (Algorithm 5.1, Line 2).
 
-    The mid angle is halfway between C1's end tangent angles; t_m on C1 and s_m on C2
-    both have that tangent direction, so the two sub-pairs are again compatible.
+    The split direction is C1's mid tangent angle (halfway between its end tangent
+    angles); t_m on C1 and s_m on C2 both have it, so the two sub-pairs are again
+    compatible.  Near an inflection at an end of one curve the tangent angle moves
+    quadratically in the parameter, and a mid-angle split would leave almost all of
+    that curve in one half (the pair then shrinks ever more slowly); so when s_m or
+    t_m falls outside [balance, 1 - balance] it is clamped into that interval and the
+    other curve's parameter is matched to the clamped one's tangent instead.
     Returns ``((c1a, c2a), (c1b, c2b), t_m, s_m)`` with the a-halves first along t.
     """
     a0, a1 = pc.end_tangents(c1)
@@ -173,6 +178,14 @@ def split_pair(c1, c2):
     d = np.array([[np.cos(thm), np.sin(thm)]])
     tm = float(param_for_direction(c1, d)[0])
     sm = float(param_for_direction(c2, d)[0])
+    if not balance <= sm <= 1.0 - balance:
+        sm = min(max(sm, balance), 1.0 - balance)
+        d = bz.evaluate(pc.tangent_numerator(c2), [sm])
+        tm = float(param_for_direction(c1, d)[0])
+    if not balance <= tm <= 1.0 - balance:
+        tm = min(max(tm, balance), 1.0 - balance)
+        d = bz.evaluate(pc.tangent_numerator(c1), [tm])
+        sm = float(param_for_direction(c2, d)[0])
     c1a, c1b = pc.split(c1, tm)
     c2lo, c2hi = pc.split(c2, sm)
     if same_direction(c1, c2):
@@ -578,18 +591,61 @@ def distance_error(approx, c1, c2, n=ERROR_SAMPLES):
     return _sampled_max(f, n)[0]
 
 
-def normal_error(approx, c1, n=ERROR_SAMPLES):
-    """Normal deviation of Sec. 5.2 (Eqs. 54-55) in degrees, sampled: not a bound.
+def hausdorff_error(approx, c1, c2, n=ERROR_SAMPLES, iterations=3):
+    """Distance from the approximation to the exact convolution curve, sampled.
 
-    delta(t) = <C1'(t), N~2(t)>^2 / (|C1'|^2 |N~2|^2) with N~2 a normal of
-    C~2(t) = A(t) - C1(t); the error is max_t |pi/2 - arccos sqrt(delta(t))|, the angle
-    between the tangent lines of C1 and C~2 (Eq. 55, as in Eq. 46 for TMC), at n
-    uniform t refined near the largest samples.  Where C1' or C~2' vanishes the angle
-    counts as 0.
+    max_t min_u |A(t) - (C1 * C2)(u)|: the one-sided Hausdorff distance from the piece
+    A to the exact convolution piece K, at n uniform t refined near the largest
+    samples (not a bound).  The inner minimum: Gauss-Newton steps on
+    (K(u) - q)·K'(u) = 0 from u = t, with K(u) = C1(u) + C2(s(u)) (Eq. 27 solved) and
+    K'(u) = C1'(u) + C2'(s(u)) s'(u) (Eqs. 30, 33), u clamped to [0, 1]; the smaller
+    of |A(t) - K(t)| and the refined distance is kept.  To first order it equals
+    :func:`distance_error` (the normals of C2 at s(u) and of K at u are parallel), but
+    unlike that measure it is not zero for LRC, TMC and SRC: a point C1(t) + C2(s~)
+    with s~ != s(t) lies off the convolution curve.
     """
     def f(t):
+        q = pc.evaluate(approx, t)
+        u = np.asarray(t, float)
+        p, s = convolution_points(c1, c2, u)
+        best = np.hypot(*(p - q).T)
+        for _ in range(iterations):
+            d = pc.derivative(c1, u) + pc.derivative(c2, s) * convolution_speed(c1, c2, u, s)[:, None]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = np.sum((p - q) * d, axis=1) / np.sum(d * d, axis=1)
+            u = np.clip(u - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+            p, s = convolution_points(c1, c2, u)
+            best = np.minimum(best, np.hypot(*(p - q).T))
+        return best
+
+    return _sampled_max(f, n)[0]
+
+
+def normal_error(approx, c1, n=ERROR_SAMPLES, of="difference"):
+    """Normal deviation of Sec. 5.2 (Eqs. 54-55) in degrees, sampled: not a bound.
+
+    of="difference" (the paper's measure): delta(t) = <C1'(t), N~2(t)>^2 /
+    (|C1'|^2 |N~2|^2) with N~2 a normal of C~2(t) = A(t) - C1(t); the error is
+    max_t |pi/2 - arccos sqrt(delta(t))|, the angle between the tangent lines of C1 and
+    C~2 (as Eq. 46 for TMC).  It is ill-conditioned where C~2 is stationary: at an end
+    of a pair where C1 has an inflection, s'(t) = 0 (Eq. 33), the exact C~2' vanishes
+    and any approximation's C~2' there has an arbitrary direction.
+    of="approximation": the angle between the tangent lines of A(t) itself and of
+    C1(t), i.e. the normal error of the convolution curve (the exact one has C1's
+    normal at t).  Never larger than the difference measure when C1' and C~2' point
+    the same way, and well conditioned at inflections.
+
+    Sampled at n uniform t, refined near the largest samples.  Where a tangent
+    vanishes the angle counts as 0.
+    """
+    if of not in ("difference", "approximation"):
+        raise ValueError("of must be 'difference' or 'approximation', got %r" % (of,))
+
+    def f(t):
         d1 = pc.derivative(c1, t)
-        d2 = pc.derivative(approx, t) - d1
+        d2 = pc.derivative(approx, t)
+        if of == "difference":
+            d2 = d2 - d1
         return np.degrees(np.arctan2(np.abs(pc.cross2(d1, d2)), np.abs(np.sum(d1 * d2, axis=1))))
 
     return _sampled_max(f, n)[0]
@@ -628,8 +684,8 @@ def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
 
     ``one_piece(c1, c2) -> piece`` is any method of this module; ``error(piece, c1, c2)
     -> float`` the error measure (what is measured, and whether it is a bound, is the
-    measure's contract).  A piece with non-positive weights or non-finite entries
-    counts as infinite error.  The pair is split by :func:`split_pair` (C1 at its mid
+    measure's contract).  A piece with non-positive weights or non-finite entries, or
+    a method raising ValueError or MorphError on the pair, counts as infinite error.  The pair is split by :func:`split_pair` (C1 at its mid
     tangent angle, C2 at the matching s) so sub-pairs stay compatible.
 
     ``memo`` (a dict, optional) caches every visited node by its path; reuse it only
@@ -648,8 +704,12 @@ def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
         path, a, b, t0, t1 = stack.pop()
         node = memo.get(path)
         if node is None:
-            piece = one_piece(a, b)
-            err = float(error(piece, a, b)) if _valid(piece) else float("inf")
+            try:
+                piece = one_piece(a, b)
+            except (ValueError, MorphError):      # e.g. QAC: parallel end tangents
+                piece = None
+            err = float(error(piece, a, b)) if piece is not None and _valid(piece) \
+                else float("inf")
             node = memo[path] = [piece, err, None]
         piece, err, children = node
         if err <= tol:
@@ -669,13 +729,15 @@ def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
     return out
 
 
-def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES, **options):
+def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES,
+                     normal_of="difference", **options):
     """(one_piece, error) for a method name and measure, as :func:`subdivide` takes them.
 
     options go to the method (``degree`` for lsc/bic, ``s_degree``/``samples`` for
     tmc/src, ``samples`` for lsc).  QAC under the distance measure uses its a-priori
     bound when ``certified`` (else the sampled distance, as the paper does in Sec.
-    5.2.3 for a fair comparison).
+    5.2.3 for a fair comparison).  ``normal_of`` selects the normal measure's curve
+    (see :func:`normal_error`).
     """
     key = str(method).lower()
     if key not in ONE_PIECE:
@@ -685,21 +747,24 @@ def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES
     base = ONE_PIECE[key]
     one_piece = (lambda a, b: base(a, b, **options)) if options else base
     if measure == "normal":
-        return one_piece, lambda piece, a, b: normal_error(piece, a, n)
-    if key == "qac" and certified:
+        return one_piece, lambda piece, a, b: normal_error(piece, a, n, normal_of)
+    if key == "qac" and certified and measure in ("distance", "hausdorff"):
         return one_piece, lambda piece, a, b: qac_bound(b)
+    if measure == "hausdorff":
+        return one_piece, lambda piece, a, b: hausdorff_error(piece, a, b, n)
     return one_piece, lambda piece, a, b: distance_error(piece, a, b, n)
 
 
 def approximate_segments(c1, c2, method, tol, measure="distance", certified=True,
-                         max_depth=24, memo=None, **options):
+                         max_depth=24, memo=None, normal_of="difference", **options):
     """Like :func:`approximate` but returns the :class:`Segment` records."""
-    one_piece, error = method_functions(method, measure, certified, **options)
+    one_piece, error = method_functions(method, measure, certified,
+                                        normal_of=normal_of, **options)
     return subdivide(c1, c2, one_piece, error, tol, max_depth, memo)
 
 
 def approximate(c1, c2, method, tol, measure="distance", certified=True, max_depth=24,
-                **options):
+                normal_of="difference", **options):
     """Approximate the convolution of a compatible pair by one of the eight methods.
 
     Algorithm 5.1 with ``method`` in ``METHODS`` ("ctc", "lsc", "bic", "hic", "qac",
@@ -711,14 +776,17 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
     max |C2 - Q2| <= tol a priori, Eqs. 39-40, and normals are exact).  tol is
     absolute, in input units.  LRC, TMC and SRC always measure 0 here (trace exact),
     so they return one piece: use measure="normal" for them.
-    measure="normal": sampled normal deviation (Eqs. 54-55) <= tol, tol in DEGREES.
+    measure="normal": sampled normal deviation (Eqs. 54-55) <= tol, tol in DEGREES;
+    ``normal_of`` = "difference" (the paper's: tangent of A - C1 against C1's) or
+    "approximation" (tangent of A itself against C1's), see :func:`normal_error`.
+    ``options`` go to the method (``degree``; ``s_degree``, ``samples``).
 
     Raises ValueError for an unknown method or measure or tol <= 0,
     DegenerateCurveError for a straight input, ToleranceNotMetError after
     ``max_depth`` halvings.
     """
     return [seg.piece for seg in approximate_segments(
-        c1, c2, method, tol, measure, certified, max_depth, **options)]
+        c1, c2, method, tol, measure, certified, max_depth, None, normal_of, **options)]
 
 
 def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
