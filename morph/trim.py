@@ -190,17 +190,28 @@ def split_parameters(pieces, tol, scale):
     ends = np.array([[pc.start(p), pc.end(p)] for p in pieces]).reshape(-1, 2)
     seg_lo = np.minimum(p0, p1) - tol
     seg_hi = np.maximum(p0, p1) + tol
+    near_end = 10 * snap
     for e_idx, q in enumerate(ends):
         owner = e_idx // 2
         inside = np.all((q >= seg_lo) & (q <= seg_hi), axis=1)
         cand = np.flatnonzero(inside & (ids != owner))
         if cand.size == 0:
             continue
+        # a piece whose own end is at q meets q there: no cut needed
+        pe = ends.reshape(-1, 2, 2)[ids[cand]]
+        at_end = np.minimum(np.hypot(*(pe[:, 0] - q).T), np.hypot(*(pe[:, 1] - q).T)) <= near_end
+        cand = cand[~at_end]
+        if cand.size == 0:
+            continue
         d = p1[cand] - p0[cand]
         ll = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
         w = np.clip(np.einsum("ij,ij->i", q - p0[cand], d) / ll, 0, 1)
         dist = np.hypot(*(p0[cand] + w[:, None] * d - q).T)
-        for c, ww, dd in zip(cand, w, dist):
+        # closest segment per piece only
+        order = np.lexsort((dist, ids[cand]))
+        first = np.ones(len(order), bool)
+        first[1:] = ids[cand][order][1:] != ids[cand][order][:-1]
+        for c, ww, dd in zip(cand[order][first], w[order][first], dist[order][first]):
             if dd > tol:
                 continue
             b = ids[c]
@@ -622,7 +633,11 @@ def minkowski_sum(region_a, region_b, tol, return_debug=False):
         inside[candidates] = member(pts)
     loops_h = arr.boundary_loops(inside)
     loops = [_assemble(arr, loop, origin, pieces) for loop in loops_h]
-    loops = [l for l in loops if abs(pc.loop_area(l)) > (scale * 1e-9) ** 2]
+    # a loop thinner than tol on average (area < tol * perimeter / 2) is a sliver
+    # between nearly coincident convolution pieces: dropping it moves the boundary
+    # by less than tol
+    loops = [l for l in loops
+             if abs(pc.loop_area(l)) > 0.5 * tol * sum(pc.length_bound(p) for p in l)]
     if return_debug:
         return loops, {"convolution": conv, "subpieces": subs, "arrangement": arr, "winding": w,
                        "inside": inside}
