@@ -40,6 +40,16 @@ DIST_TOLS = (1.0, 0.1, 0.01, 0.001, 0.0001)
 NORMAL_TOLS = (10.0, 5.0, 3.0, 1.0, 0.5)
 DIST_METHODS = ("ctc", "lsc", "bic", "hic", "qac", "qac*", "lsc-b", "bic-b")
 NORMAL_METHODS = ("ctc", "lsc", "bic", "hic", "lrc", "tmc", "src", "lsc-b", "bic-b")
+HAUSDORFF_METHODS = ("lsc", "hic", "qac", "lrc", "tmc", "src")
+# (key, measure of morph.methods, tolerances, methods, tolerance label, heading)
+STUDIES = (
+    ("distance", "distance", DIST_TOLS, DIST_METHODS, "e_d",
+     "Distance measure of the paper (Eqs. 49-53): C~2 = A - C1 against C2"),
+    ("normal", "normal", NORMAL_TOLS, NORMAL_METHODS, "e_n",
+     "Normal deviation of the paper (Eqs. 54-55), degrees: tangent of C~2 against C1's"),
+    ("hausdorff", "hausdorff", DIST_TOLS, HAUSDORFF_METHODS, "e_h",
+     "Not in the paper: distance from A to the exact convolution curve"),
+)
 MIN_SWEEP = 1e-6
 MAX_DEPTH = 30
 MAX_SPLINE = 400
@@ -297,25 +307,26 @@ COLORS = {
 }
 
 
-def plot(results, path, panel=(380, 300)):
-    """Log-log plot per test pair and measure: control points against tolerance."""
+def plot(results, path, panel=(360, 280)):
+    """Log-log plots, one row per test pair and one column per study: control points
+    against tolerance (loosest on the left)."""
     names = list(results)
     pw, ph = panel
-    margin = (64, 30, 20, 44)   # left, top, right, bottom
-    img = Image.new("RGB", (2 * pw, len(names) * ph + 140), "white")
+    ncol = len(STUDIES)
+    margin = (58, 30, 16, 40)   # left, top, right, bottom
+    img = Image.new("RGB", (ncol * pw, len(names) * ph + 120), "white")
     draw = ImageDraw.Draw(img)
     font = ImageFont.load_default(size=12)
     small = ImageFont.load_default(size=10)
-    all_counts = [v for r in results.values() for m in ("distance", "normal")
-                  for col in r[m].values() for v in col if isinstance(v, int)]
+    all_counts = [v for r in results.values() for col in r.values()
+                  for counts in col.values() for v in counts if isinstance(v, int)]
     ymin, ymax = np.log10(max(1, min(all_counts))), np.log10(max(all_counts) * 1.2)
     for row, name in enumerate(names):
-        for col, measure in enumerate(("distance", "normal")):
+        for col, (key, _, tols, _, unit, _) in enumerate(STUDIES):
             x0, y0 = col * pw + margin[0], row * ph + margin[1]
             x1, y1 = (col + 1) * pw - margin[2], (row + 1) * ph - margin[3]
-            tols = DIST_TOLS if measure == "distance" else NORMAL_TOLS
             lx = np.log10(np.array(tols))
-            xa, xb = lx.max(), lx.min()          # loosest tolerance on the left
+            xa, xb = lx.max(), lx.min()
 
             def px(v):
                 return x0 + (xa - v) / (xa - xb) * (x1 - x0)
@@ -329,23 +340,23 @@ def plot(results, path, panel=(380, 300)):
                     v = np.log10(mant * 10.0 ** dec)
                     if ymin <= v <= ymax:
                         draw.line([x0, py(v), x1, py(v)], fill=(225, 225, 225))
-                        draw.text((x0 - 6, py(v)), "%g" % (mant * 10.0 ** dec), fill=(0, 0, 0),
-                                  font=small, anchor="rm")
+                        draw.text((x0 - 6, py(v)), "%g" % (mant * 10.0 ** dec),
+                                  fill=(0, 0, 0), font=small, anchor="rm")
             for tol, v in zip(tols, lx):
                 draw.line([px(v), y1, px(v), y1 + 4], fill=(0, 0, 0))
-                label = ("%g°" % tol) if measure == "normal" else "%g" % tol
+                label = ("%g°" % tol) if unit == "e_n" else "%g" % tol
                 draw.text((px(v), y1 + 6), label, fill=(0, 0, 0), font=small, anchor="mt")
-            title = "%s: %s" % (name, "distance e_d" if measure == "distance"
-                                else "normal e_n (deg)")
-            draw.text((x0, y0 - 16), title, fill=(0, 0, 0), font=font)
-            for m, counts in results[name][measure].items():
-                pts = [(px(v), py(np.log10(c))) for v, c in zip(lx, counts) if isinstance(c, int)]
+            label = name.replace("é", "e")      # the default bitmap font has no é
+            draw.text((x0, y0 - 16), "%s: %s" % (label, unit), fill=(0, 0, 0), font=font)
+            for m, counts in results[name][key].items():
+                pts = [(px(v), py(np.log10(c))) for v, c in zip(lx, counts)
+                       if isinstance(c, int)]
                 color = COLORS[m]
-                dash = m.endswith("-b") or m == "qac*"
+                dashed = m.endswith("-b") or m == "qac*"
                 for a, b in zip(pts[:-1], pts[1:]):
-                    if dash:
-                        for f in np.linspace(0, 1, 9)[::2]:
-                            g = min(f + 1 / 8, 1)
+                    if dashed:
+                        for f in np.linspace(0, 1, 9)[:-1:2]:
+                            g = f + 1 / 8
                             draw.line([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]),
                                        a[0] + g * (b[0] - a[0]), a[1] + g * (b[1] - a[1])],
                                       fill=color, width=2)
@@ -353,12 +364,13 @@ def plot(results, path, panel=(380, 300)):
                         draw.line([a, b], fill=color, width=2)
                 for p in pts:
                     draw.ellipse([p[0] - 2.5, p[1] - 2.5, p[0] + 2.5, p[1] + 2.5], fill=color)
-    ly = len(names) * ph + 10
-    draw.text((10, ly), "control points (log) against tolerance (log, tighter to the right); "
-              "dashed: QAC* (a-priori bound), LSC-B / BIC-B (one B-spline per pair)",
+    ly = len(names) * ph + 8
+    draw.text((10, ly), "control points (log) against tolerance (log, tighter to the right). "
+              "e_d: paper's distance, e_n: paper's normal deviation (deg), e_h: distance to "
+              "the exact convolution. Dashed: QAC* (a-priori bound), LSC-B / BIC-B.",
               fill=(0, 0, 0), font=font)
     for k, m in enumerate(COLORS):
-        x = 10 + (k % 6) * 125
+        x = 10 + (k % 6) * 150
         y = ly + 26 + (k // 6) * 20
         draw.line([x, y + 6, x + 24, y + 6], fill=COLORS[m], width=3)
         draw.text((x + 30, y), m.upper(), fill=(0, 0, 0), font=font)
@@ -384,7 +396,8 @@ def plot_pairs(curves, path, size=360):
                 xy = [(k * size + 15 + (x - lo[0]) * scale, size - 15 - (y - lo[1]) * scale)
                       for x, y in q]
                 draw.line(xy, fill=color, width=width)
-        draw.text((k * size + 10, size + 4), name, fill=(0, 0, 0), font=font)
+        draw.text((k * size + 10, size + 4), name.replace("é", "e") +
+                  " (C1 black, C2 red, LSC convolution blue)", fill=(0, 0, 0), font=font)
     path.parent.mkdir(parents=True, exist_ok=True)
     img.save(path)
 
@@ -395,34 +408,34 @@ def main():
     results = {}
     out = ["# Convolution methods compared (regenerated by `python bench/methods.py`)", "",
            "Number of control points (sum of Bézier piece degrees + 1) needed by "
-           "Algorithm 5.1 for each sampled tolerance. Distance e_d in input units "
-           "(Eqs. 49-53), normal deviation e_n in degrees (Eqs. 54-55). QAC* = QAC with "
-           "its a-priori bound (Eqs. 39-40). LSC-B / BIC-B = one cubic B-spline per "
-           "compatible pair, one control point added at a time (not Algorithm 5.1). "
-           "LRC, TMC, SRC have no distance column (their trace is exact, the distance "
-           "measure is 0); QAC has no normal column (normals exact). Settings: "
-           "LSC/BIC cubic, LSC %d samples; TMC %d tangent samples, SRC %d samples, both "
-           "s(t) of degree %d; errors sampled at %d uniform t per piece, refined near "
-           "the maxima." % (M.LSC_SAMPLES, M.TMC_SAMPLES, M.SRC_SAMPLES, M.S_DEGREE,
-                            M.ERROR_SAMPLES), ""]
+           "Algorithm 5.1 (split at the mid tangent angle) for each sampled tolerance. "
+           "e_d: the paper's distance measure in input units (Eqs. 49-53); e_n: the "
+           "paper's normal deviation in degrees (Eqs. 54-55); e_h: distance from the "
+           "approximation to the exact convolution curve (not in the paper; it gives "
+           "LRC/TMC/SRC a distance column). QAC* = QAC with its a-priori bound (Eqs. "
+           "39-40) instead of the sampled distance. LSC-B / BIC-B = one cubic B-spline "
+           "per compatible pair, one control point added at a time (not Algorithm 5.1). "
+           "LRC, TMC, SRC have no e_d column (their trace is exact, the measure is 0); "
+           "QAC has no e_n column (normals exact). Settings: LSC/BIC cubic Béziers, LSC "
+           "%d samples; TMC %d tangent samples, SRC %d samples, both s(t) of degree %d; "
+           "every error sampled at %d uniform t per piece and refined near the maxima; "
+           "at most %d halvings. \"fail\" = a pair did not reach the tolerance."
+           % (M.LSC_SAMPLES, M.TMC_SAMPLES, M.SRC_SAMPLES, M.S_DEGREE, M.ERROR_SAMPLES,
+              MAX_DEPTH), ""]
     for name, (desc, a, b, closed) in curves.items():
         t0 = time.time()
         pairs = compatible_curve_pairs(a, b, closed)
-        res = {"distance": {}, "normal": {}}
-        for measure, tols, methods in (("distance", DIST_TOLS, DIST_METHODS),
-                                       ("normal", NORMAL_TOLS, NORMAL_METHODS)):
+        res = {}
+        out += ["## %s" % name, "", desc + ". %d compatible curve pairs." % len(pairs), ""]
+        for key, measure, tols, methods, unit, heading in STUDIES:
+            res[key] = {}
             for m in methods:
-                if m.endswith("-b"):
-                    res[measure][m] = sweep_spline(pairs, m, measure, tols)
-                else:
-                    res[measure][m] = sweep_method(pairs, m, measure, tols)
+                sweep = sweep_spline if m.endswith("-b") else sweep_method
+                res[key][m] = sweep(pairs, m, measure, tols)
+            rows = [[res[key][m][i] for m in methods] for i in range(len(tols))]
+            out += [heading + ":", "", markdown_table("", tols, methods, rows, unit).strip(), ""]
         results[name] = res
         dt = time.time() - t0
-        out += ["## %s" % name, "", desc + ". %d compatible curve pairs." % len(pairs), ""]
-        for measure, tols, methods, unit in (("distance", DIST_TOLS, DIST_METHODS, "e_d"),
-                                             ("normal", NORMAL_TOLS, NORMAL_METHODS, "e_n")):
-            rows = [[res[measure][m][i] for m in methods] for i in range(len(tols))]
-            out += [markdown_table("", tols, methods, rows, unit).strip(), ""]
         out += ["(%.1f s)" % dt, ""]
         print("%s: %.1f s" % (name, dt), file=sys.stderr)
     plot(results, ROOT / "gallery" / "methods" / "methods.png")

@@ -128,8 +128,11 @@ def param_for_direction(piece, directions, sign=None, iterations=10):
         fp = sgn * (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])
         with np.errstate(divide="ignore", invalid="ignore"):
             un = u - f / fp
-        ok = np.isfinite(un) & (un >= lo) & (un <= hi)
-        u = np.where(ok, un, 0.5 * (lo + hi))
+        # a step leaving the bracket is clipped to its end (Newton overshoots a root
+        # sitting at a bracket end); bisect only when the clip stops all progress
+        uc = np.clip(un, lo, hi)
+        stalled = ~np.isfinite(un) | ((uc == u) & (un != u))
+        u = np.where(stalled, 0.5 * (lo + hi), uc)
     return np.clip(u, 0.0, 1.0)
 
 
@@ -591,31 +594,61 @@ def distance_error(approx, c1, c2, n=ERROR_SAMPLES):
     return _sampled_max(f, n)[0]
 
 
-def hausdorff_error(approx, c1, c2, n=ERROR_SAMPLES, iterations=3):
+def hausdorff_error(approx, c1, c2, n=ERROR_SAMPLES, samples=65, iterations=10):
     """Distance from the approximation to the exact convolution curve, sampled.
 
-    max_t min_u |A(t) - (C1 * C2)(u)|: the one-sided Hausdorff distance from the piece
-    A to the exact convolution piece K, at n uniform t refined near the largest
-    samples (not a bound).  The inner minimum: Gauss-Newton steps on
-    (K(u) - q)·K'(u) = 0 from u = t, with K(u) = C1(u) + C2(s(u)) (Eq. 27 solved) and
-    K'(u) = C1'(u) + C2'(s(u)) s'(u) (Eqs. 30, 33), u clamped to [0, 1]; the smaller
-    of |A(t) - K(t)| and the refined distance is kept.  To first order it equals
-    :func:`distance_error` (the normals of C2 at s(u) and of K at u are parallel), but
-    unlike that measure it is not zero for LRC, TMC and SRC: a point C1(t) + C2(s~)
-    with s~ != s(t) lies off the convolution curve.
+    max_t min_u |A(t) - K(u)|, K(u) = C1(u) + C2(s(u)) the exact convolution piece
+    (Eq. 27 solved for s): the one-sided Hausdorff distance from A to K, at n uniform
+    t refined near the largest samples (not a bound).  The inner minimum: K sampled at
+    ``samples`` uniform u; the foot point solves g(u) = (K(u) - q)·T1(u) = 0, T1 the
+    unit tangent of C1 (K' is parallel to it, Eq. 30), found by the Illinois method on
+    the sign change next to the nearest sample (no derivative of K: s'(u) is infinite
+    where C2 has an inflection, Eq. 33).  Without a sign change there the nearest
+    sample's distance is used.
+
+    To first order this equals :func:`distance_error` (the normals of C2 at s(u) and
+    of K at u are parallel), but unlike that measure it is not zero for LRC, TMC and
+    SRC: a point C1(t) + C2(s~) with s~ != s(t) lies off the convolution curve.
     """
+    h1 = pc.tangent_numerator(c1)
+
+    def unit_t1(u):
+        v = bz.evaluate(h1, u)
+        return v / np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)[:, None]
+
+    us = np.linspace(0.0, 1.0, samples)
+    ks = convolution_points(c1, c2, us)[0]
+    ts_ = unit_t1(us)
+
     def f(t):
         q = pc.evaluate(approx, t)
-        u = np.asarray(t, float)
-        p, s = convolution_points(c1, c2, u)
-        best = np.hypot(*(p - q).T)
+        m = len(q)
+        diff = ks[None, :, :] - q[:, None, :]
+        dist = np.hypot(diff[..., 0], diff[..., 1])
+        g = np.sum(diff * ts_[None], axis=2)
+        rows = np.arange(m)
+        i = np.argmin(dist, axis=1)
+        # candidates: the nearest sample and K(t) itself (A is parametrised like K)
+        best = np.minimum(dist[rows, i], np.hypot(*(convolution_points(c1, c2, t)[0] - q).T))
+        # bracket: the sign change of g next to the nearest sample, if any
+        left = (i > 0) & (g[rows, np.maximum(i - 1, 0)] * g[rows, i] <= 0)
+        right = (i < samples - 1) & (g[rows, i] * g[rows, np.minimum(i + 1, samples - 1)] <= 0)
+        ok = left | right
+        ja = np.where(left, i - 1, i)
+        jb = np.where(left, i, np.minimum(i + 1, samples - 1))
+        a, b = us[ja], us[jb]
+        ga, gb = g[rows, ja], g[rows, jb]
         for _ in range(iterations):
-            d = pc.derivative(c1, u) + pc.derivative(c2, s) * convolution_speed(c1, c2, u, s)[:, None]
             with np.errstate(divide="ignore", invalid="ignore"):
-                step = np.sum((p - q) * d, axis=1) / np.sum(d * d, axis=1)
-            u = np.clip(u - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
-            p, s = convolution_points(c1, c2, u)
-            best = np.minimum(best, np.hypot(*(p - q).T))
+                c = np.where(gb != ga, b - gb * (b - a) / (gb - ga), 0.5 * (a + b))
+            c = np.where(np.isfinite(c) & (c >= np.minimum(a, b)) & (c <= np.maximum(a, b)),
+                         c, 0.5 * (a + b))
+            kc = convolution_points(c1, c2, c)[0]
+            gc = np.sum((kc - q) * unit_t1(c), axis=1)
+            best = np.where(ok, np.minimum(best, np.hypot(*(kc - q).T)), best)
+            same = gc * gb > 0                      # replace b, halve ga (Illinois)
+            a, ga, b, gb = (np.where(same, a, b), np.where(same, 0.5 * ga, gb),
+                            c, gc)
         return best
 
     return _sampled_max(f, n)[0]
@@ -720,7 +753,12 @@ def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
                 "error %g above tolerance %g after %d splits" % (err, tol, max_depth),
                 piece=a, achieved=err)
         if children is None:
-            left, right, tm, _ = split_pair(a, b)
+            try:
+                left, right, tm, _ = split_pair(a, b)
+            except MorphError as exc:             # a sub-pair too small to turn
+                raise ToleranceNotMetError(
+                    "error %g above tolerance %g, pair cannot be split further (%s)"
+                    % (err, tol, exc), piece=a, achieved=err) from exc
             children = node[2] = (left, right, tm)
         left, right, tm = children
         t_mid = t0 + tm * (t1 - t0)
@@ -792,13 +830,22 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
 def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
     """Convolution pieces of one compatible curve pair within distance tol, in C1's order.
 
-    The entry point for :mod:`morph.convolve`: ``approximate(c1, c2, method, tol,
-    "distance")``.  For "qac" the tolerance is certified (Eqs. 39-40); for the other
-    methods it is the sampled distance of Eqs. 49-53 (not a bound).  LRC, TMC and SRC
-    measure 0 under this measure (their trace lies on C1 + C2 but they are not
-    normal-exact): they return a single piece per pair.
+    The entry point for :mod:`morph.convolve`.  The tolerance is a distance in input
+    units, measured the way that is meaningful for each method:
+
+    - "qac": certified, max |C2 - Q2| <= tol a priori (Eqs. 39-40); normals exact;
+    - "ctc", "lsc", "bic", "hic": the paper's sampled distance (Eqs. 49-53);
+    - "lrc", "tmc", "src": the sampled distance to the exact convolution curve
+      (:func:`hausdorff_error`), since the paper's distance is 0 for them.
+
+    Only QAC's is a bound; the others are sampled.  Pieces are parametrised by their
+    sub-pair's t and run in C1's direction; the first starts at C1(0) + C2(s(0)) and
+    consecutive pieces share end points.  Raises ToleranceNotMetError after
+    ``max_depth`` halvings.
     """
-    return approximate(c1, c2, method, tol, "distance", True, max_depth, **options)
+    key = str(method).lower()
+    measure = "hausdorff" if key in ("lrc", "tmc", "src") else "distance"
+    return approximate(c1, c2, key, tol, measure, True, max_depth, **options)
 
 
 def control_point_count(pieces):
