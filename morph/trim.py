@@ -223,6 +223,53 @@ def split_parameters(pieces, tol, scale):
     return cuts
 
 
+def merge_coincident(pieces, tol):
+    """Merge pieces that trace the same curve (either direction) into one.
+
+    A self-sum A ⊕ A makes every piece twice (edge i with edge j, and j with i),
+    with different parametrisations; intersecting a curve with its own copy is
+    meaningless, so copies become one piece with a weight: the number of copies
+    along it minus those against it.  Returns (pieces, weights).
+    """
+    ends = np.array([[pc.start(p), pc.end(p)] for p in pieces])
+    keep, weights = [], []
+    buckets = {}
+    for k, p in enumerate(pieces):
+        key = tuple(sorted([tuple(np.round(ends[k, 0] / (tol * 100))),
+                            tuple(np.round(ends[k, 1] / (tol * 100)))]))
+        found = None
+        for j in buckets.get(key, ()):
+            q = pieces[keep[j]]
+            if _same_curve(p, q, tol):
+                found = j
+                break
+        if found is None:
+            buckets.setdefault(key, []).append(len(keep))
+            keep.append(k)
+            weights.append(1)
+        else:
+            along = np.hypot(*(ends[k, 0] - ends[keep[found], 0])) <= tol
+            weights[found] += 1 if along else -1
+    return [pieces[k] for k in keep], weights
+
+
+def _same_curve(p, q, tol):
+    """True if p's points at t = 1/4, 1/2, 3/4 lie on q within tol (ends checked by caller)."""
+    sp, ep, sq, eq = pc.start(p), pc.end(p), pc.start(q), pc.end(q)
+    if np.hypot(*(sp - sq)) <= tol and np.hypot(*(ep - eq)) <= tol:
+        rev = False
+    elif np.hypot(*(sp - eq)) <= tol and np.hypot(*(ep - sq)) <= tol:
+        rev = True
+    else:
+        return False
+    for t in (0.25, 0.5, 0.75):
+        x = pc.evaluate(p, t)[0]
+        u = _project(q, x, 1.0 - t if rev else t)
+        if np.hypot(*(pc.evaluate(q, u)[0] - x)) > tol:
+            return False
+    return True
+
+
 def cut_pieces(pieces, cuts):
     """Cut each piece at its parameters.
 
@@ -403,12 +450,13 @@ class Arrangement:
     component's outer face gets the winding number of the other components there.
     """
 
-    def __init__(self, subs, node_tol, origin=None):
+    def __init__(self, subs, node_tol, weights=None):
         ends = np.array([[pc.start(p), pc.end(p)] for p in subs]).reshape(-1, 2)
         node = _cluster_points(ends, node_tol)
         # merge coincident sub-pieces (same end nodes, same middle) into one edge
         # whose weight is the sum of their orientations (+1 along, -1 against)
         mids = np.array([pc.evaluate(p, 0.5)[0] for p in subs])
+        w0 = np.ones(len(subs), int) if weights is None else np.asarray(weights, int)
         keep, weight, groups = [], [], {}
         for k in range(len(subs)):
             u, v = node[2 * k], node[2 * k + 1]
@@ -421,10 +469,10 @@ class Arrangement:
             if found is None:
                 groups.setdefault(key, []).append(len(keep))
                 keep.append(k)
-                weight.append(1)
+                weight.append(w0[k])
             else:
                 same = node[2 * keep[found]] == u
-                weight[found] += 1 if same else -1
+                weight[found] += w0[k] if same else -w0[k]
         keep = np.array(keep)
         self.weight = np.array(weight)
         self.kept = keep
@@ -619,9 +667,11 @@ def minkowski_sum(region_a, region_b, tol, return_debug=False):
     pts = np.concatenate([pc.cartesian(p) for p in pieces])
     scale = float(np.ptp(pts, axis=0).max())
     flat_tol = min(tol, scale * 1e-4)
+    pieces, weights = merge_coincident(pieces, scale * 1e-8)
     cuts = split_parameters(pieces, flat_tol, scale)
     subs, origin = cut_pieces(pieces, cuts)
-    arr = Arrangement(subs, scale * 1e-9)
+    sub_w = [weights[src] for src, _, _ in origin]
+    arr = Arrangement(subs, scale * 1e-9, sub_w)
     origin = [origin[k] for k in arr.kept]
     w = arr.windings(flat_tol)
     inside = w > 0
