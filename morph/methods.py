@@ -37,14 +37,15 @@ of the fitted reparametrization s(t)):
 
 The paper's Table 1 uses a *linear* s(t) for TMC and SRC (a piecewise linear B-spline
 over N samples, Eq. 48), which gives LRC's degrees: cut into Bézier pieces that is LRC
-on N - 1 uniform sub-pairs.  Here the piecewise refinement is the driver's job, so TMC and SRC fit one polynomial s(t) of degree k >= 2
-per sub-pair instead (``s_degree``; k = 1 would make them identical to LRC).
+on N - 1 uniform sub-pairs.  Here the piecewise refinement is the driver's job, so
+TMC and SRC fit one polynomial s(t) of degree k >= 2 per sub-pair instead
+(``s_degree``; k = 1 would make them identical to LRC).
 
 Composition C2(s(t)) is exact Bernstein arithmetic: with s(t) = sum b_j B_j^k(t),
 B_i^n(s(t)) = C(n, i) s(t)^i (1 - s(t))^(n-i) is a product of Bernstein polynomials of
 degree n k, applied to the homogeneous control points (so rational C2 works as is).
 
-Error measures (Sec. 5.2), both *sampled*, neither is a bound:
+Error measures (Sec. 5.2), all *sampled*, none is a bound:
 
 - :func:`distance_error` (Eqs. 49-53): one-sided Hausdorff distance from
   C~2(t) = A(t) - C1(t) to the curve C2, maximised over uniform samples of t and
@@ -52,7 +53,11 @@ Error measures (Sec. 5.2), both *sampled*, neither is a bound:
   whose C~2 runs along C2 itself (their "trace is exact").
 - :func:`normal_error` (Eqs. 54-55): the angle between the tangent lines of C1(t) and
   of C~2(t) = A(t) - C1(t), in degrees, sampled the same way.  Zero for QAC (its
-  tangent is parallel to C1' by construction, Eq. 56).
+  tangent is parallel to C1' by construction, Eq. 56).  ``of="approximation"``
+  measures A's own tangent instead (the normal error of the convolution curve).
+- :func:`hausdorff_error` (not in the paper): one-sided Hausdorff distance from A to
+  the exact convolution curve.  Equal to the distance measure to first order, and
+  meaningful for LRC, TMC and SRC too; :func:`convolve_pair` uses it for them.
 
 Only QAC has an a-priori bound: max_s |C2(s) - Q2(s)| (Eqs. 39-40), used by default
 when QAC runs under the distance measure (``certified=True``).
@@ -718,8 +723,9 @@ def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
     ``one_piece(c1, c2) -> piece`` is any method of this module; ``error(piece, c1, c2)
     -> float`` the error measure (what is measured, and whether it is a bound, is the
     measure's contract).  A piece with non-positive weights or non-finite entries, or
-    a method raising ValueError or MorphError on the pair, counts as infinite error.  The pair is split by :func:`split_pair` (C1 at its mid
-    tangent angle, C2 at the matching s) so sub-pairs stay compatible.
+    a method raising ValueError or MorphError on the pair, counts as infinite error.
+    The pair is split by :func:`split_pair` (C1 at its mid tangent angle, C2 at the
+    matching s) so sub-pairs stay compatible.
 
     ``memo`` (a dict, optional) caches every visited node by its path; reuse it only
     for the same (c1, c2, one_piece, error) to sweep tolerances cheaply.
@@ -814,6 +820,8 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
     max |C2 - Q2| <= tol a priori, Eqs. 39-40, and normals are exact).  tol is
     absolute, in input units.  LRC, TMC and SRC always measure 0 here (trace exact),
     so they return one piece: use measure="normal" for them.
+    measure="hausdorff": sampled distance from P to the exact convolution curve <= tol
+    (:func:`hausdorff_error`, input units; QAC with ``certified`` uses its bound).
     measure="normal": sampled normal deviation (Eqs. 54-55) <= tol, tol in DEGREES;
     ``normal_of`` = "difference" (the paper's: tangent of A - C1 against C1's) or
     "approximation" (tangent of A itself against C1's), see :func:`normal_error`.
@@ -825,6 +833,19 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
     """
     return [seg.piece for seg in approximate_segments(
         c1, c2, method, tol, measure, certified, max_depth, None, normal_of, **options)]
+
+
+def pair_measure(method):
+    """The distance measure :func:`convolve_pair` uses for a method (see there)."""
+    return "hausdorff" if str(method).lower() in ("lrc", "tmc", "src") else "distance"
+
+
+def convolve_pair_segments(c1, c2, tol, method="qac", max_depth=24, **options):
+    """Like :func:`convolve_pair` but returns the :class:`Segment` records (with the
+    error each piece reached: the a-priori bound for QAC, a sampled distance else)."""
+    key = str(method).lower()
+    return approximate_segments(c1, c2, key, tol, pair_measure(key), True, max_depth,
+                                **options)
 
 
 def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
@@ -840,12 +861,11 @@ def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
 
     Only QAC's is a bound; the others are sampled.  Pieces are parametrised by their
     sub-pair's t and run in C1's direction; the first starts at C1(0) + C2(s(0)) and
-    consecutive pieces share end points.  Raises ToleranceNotMetError after
-    ``max_depth`` halvings.
+    consecutive pieces share end points.  Raises ValueError for an unknown method,
+    ToleranceNotMetError after ``max_depth`` halvings.
     """
-    key = str(method).lower()
-    measure = "hausdorff" if key in ("lrc", "tmc", "src") else "distance"
-    return approximate(c1, c2, key, tol, measure, True, max_depth, **options)
+    return [seg.piece for seg in convolve_pair_segments(c1, c2, tol, method, max_depth,
+                                                         **options)]
 
 
 def control_point_count(pieces):

@@ -120,7 +120,8 @@ def test_compose_is_exact_and_of_degree_nk():
 
 
 def test_add_pieces_exact_and_keeps_common_denominator():
-    a, b = pc.ellipse_arc((0, 0), 3, 3, 0, 0, np.pi / 2)[0], pc.ellipse_arc((1, 1), 1, 1, 0, 0, np.pi / 2)[0]
+    a = pc.ellipse_arc((0, 0), 3, 3, 0, 0, np.pi / 2)[0]
+    b = pc.ellipse_arc((1, 1), 1, 1, 0, 0, np.pi / 2)[0]
     s = M.add_pieces(a, b)
     assert len(s) == 3                                # proportional weights: degree 2
     t = np.linspace(0, 1, 11)
