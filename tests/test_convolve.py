@@ -41,6 +41,7 @@ from morph import gauss
 from morph import parse
 from morph import piece as pc
 from morph import trim
+from morph.errors import ToleranceNotMetError
 
 try:
     from tests import reference as R
@@ -334,6 +335,105 @@ def test_convolution_drops_type3_on_request():
 def test_convolution_rejects_bad_tolerance():
     with pytest.raises(ValueError):
         convolve.convolution([pc.circle((0, 0), 1)], [pc.circle((0, 0), 1)], 0.0)
+
+
+def test_tiny_common_sweep_meets_tolerance():
+    """A compatible pair whose common angle range is below TINY_SWEEP (1e-7 rad).
+
+    Two long, nearly straight parabolic arcs (1000 and 667 units, sweep 5e-8 rad):
+    QAC is exact for them (C2 quadratic), but the driver replaces the pair by the chord
+    of the sums, whose own bound (2.1e-5) exceeds tol and whose true error is 1.0e-5.
+    Contract of convolve_edges: every returned bound <= tol, or ToleranceNotMetError.
+    """
+    length, d = 1000.0, 2.5e-8
+    c1 = pc.quadratic((0.0, 0.0), (length / 2, 0.0), (length, length * d))
+    c2 = pc.quadratic((5.0, 5.0), (5.0 + length / 3, 5.0),
+                      (5.0 + 2 * length / 3, 5.0 + 2 * length / 3 * d))
+    ea, eb = _edge(c1), _edge(c2)
+    assert 0 < ea.sweep < 1e-7 and 0 < eb.sweep < 1e-7
+    (_, _, lo, hi, shift), = convolve.compatible_pairs([ea], [eb])
+    # exact convolution points (Eq. 27 solved by the reference) and the output polyline
+    exact, s = R.exact_convolution_points(c1, c2, np.linspace(0.0, 1.0, 21))
+    assert not np.any(np.isnan(s))
+    for tol in (1e-3, 1e-6, 1e-8):
+        try:
+            out = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+        except ToleranceNotMetError:
+            continue
+        bounds = [b for _, _, b in out]
+        poly = np.concatenate([R.bezier_eval(p, np.linspace(0.0, 1.0, 200))[0] for p, _, _ in out])
+        err = R.max_boundary_distance(exact, shapely.LineString(poly))
+        assert max(bounds) <= tol and err <= tol, (tol, [k for _, k, _ in out], bounds, err)
+
+
+# ======================================================= polygons (exact reference)
+
+def _random_simple_polygon(rng, n, r0, r1, centre):
+    while True:
+        ang = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+        r = rng.uniform(r0, r1, n)
+        p = np.column_stack([centre[0] + r * np.cos(ang), centre[1] + r * np.sin(ang)])
+        poly = shapely.Polygon(p)
+        if poly.is_valid and poly.area > 0.05:
+            return p if _shoelace(p) > 0 else p[::-1]
+
+
+def _polygon_region(p):
+    return [[pc.line(p[i], p[(i + 1) % len(p)]) for i in range(len(p))]]
+
+
+def test_random_polygons_exact():
+    """Simple polygons: convolution and sum are exact, the reference is exact
+    (Clipper on integers at 1e-7), and the convolution's winding number is positive
+    exactly on the sum (Guibas-Ramshaw-Stolfi for simple polygons)."""
+    rng = np.random.default_rng(SEED + 5)
+    for k in range(40):
+        a = _random_simple_polygon(rng, int(rng.integers(4, 12)), 1.0, 3.0, (0.0, 0.0))
+        b = _random_simple_polygon(rng, int(rng.integers(3, 9)), 0.5, 2.0, (0.3, -0.2))
+        ra, rb = _polygon_region(a), _polygon_region(b)
+        conv = convolve.convolution(ra, rb, 1e-6)
+        assert {c.kind for c in conv} == {"translate"}
+        pieces = [c.piece for c in conv]
+        _balanced_junctions(pieces, 1e-12)
+        loops = convolve.chain(pieces, 1e-9)
+        ref = R.polyline_minkowski_sum([a], [b], 1e7)
+        polys = [np.array([pc.start(p) for p in loop]) for loop in loops]
+        pts = rng.uniform(-7.0, 7.0, (1500, 2))
+        geo = shapely.points(pts)
+        far = shapely.distance(geo, ref.boundary) > 1e-5
+        inside = shapely.contains(ref, geo)
+        w = R.winding_number(pts, polys)
+        assert np.all(w[far & ~inside] == 0), k
+        assert np.all(w[far & inside] >= 1), k
+        loops_sum = trim.minkowski_sum(ra, rb, 1e-6)
+        # Clipper rounds coordinates to 1e-7: area within perimeter x 1e-7
+        assert pc.region_area(loops_sum) == pytest.approx(ref.area, abs=1e-7 * ref.length), k
+        corners = [np.array([pc.start(p) for p in loop]) for loop in loops_sum]
+        assert R.hausdorff(ref, corners, spacing=0.01) <= 1e-6, k
+
+
+def test_convolution_commutes_and_translates():
+    ra, rb = parse.glyph_region("O").region, parse.glyph_region("M").region
+    size = _size(ra) + _size(rb)
+
+    def signed_area(conv):
+        loops = convolve.chain([c.piece for c in conv], 1e-9 * size)
+        return sum(pc.loop_area(loop) for loop in loops)
+
+    ab = convolve.convolution(ra, rb, 0.1)
+    ba = convolve.convolution(rb, ra, 0.1)
+    assert len(ab) == len(ba)
+    assert signed_area(ab) == pytest.approx(signed_area(ba), rel=1e-12)
+    v = np.array([123.25, -48.5])
+    moved = [[pc.translate(p, v) for p in loop] for loop in ra]
+    ab_v = convolve.convolution(moved, rb, 0.1)
+    assert len(ab_v) == len(ab)
+    for c, cv in zip(ab, ab_v):
+        # same curve moved by v (the parametrisation may differ: exact QAC either way)
+        assert np.allclose(R.bezier_eval(cv.piece, [0.0, 1.0])[0],
+                           R.bezier_eval(c.piece, [0.0, 1.0])[0] + v, atol=1e-9 * size)
+        xv = R.bezier_eval(cv.piece, TS)[0]
+        assert R.point_curve_distance(xv - v, c.piece, 257)[0].max() <= 1e-9 * size
 
 
 # ================================================================= convex shapes

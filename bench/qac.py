@@ -1,0 +1,189 @@
+"""QAC convolution curves and Minkowski sums of glyphs: size and time vs tolerance.
+
+    python bench/qac.py            # about 1 minute; prints the tables, writes bench/qac.md
+
+For each font (bundled Noto Sans: TrueType = quadratic outlines, CFF = cubic
+outlines), each case and each tolerance tol = 1e-1 ... 1e-5 em (x 1000 font units,
+units per em = 1000):
+
+- ``convolution(a, b, tol)`` (Sec. 3.3, QAC with Algorithm 4.1, type-3 pieces kept so
+  the pieces form closed loops): number of pieces, control points, largest degree,
+  largest a-priori bound (Eqs. 39-40), sampled error, time;
+- ``minkowski_sum(a, b, tol)`` (trimmed boundary): pieces, control points, time.
+
+Control points are counted for closed loops of Bézier pieces with shared joints: the
+sum of the piece degrees (a loop of k cubics has 3k).  "sampled err" is the largest
+distance measure of Sec. 5.2 (Eqs. 49-53: point minus C1(t), distance to C2, both
+roles tried) over 60 random points of the QAC pieces, divided by tol: it shows how
+conservative the a-priori bound is.  Times are single runs (perf_counter), fonts
+preloaded.
+
+Cases: a glyph swept by a fixed-orientation elliptic nib (Fig. 5: 'S' + ellipse of
+semi-axes 40 x 12 units rotated by 30 degrees, exact rational conic), and the glyph
+pairs T+M, O+M, S+g.  A last table runs Algorithm 4.1 alone (``convolve_edges``) on
+seeded random cubic-cubic compatible pairs (``tests/reference.random_compatible_pair``,
+sizes 0.5-4 units, sweeps 10-85 degrees): pieces per pair and sampled error / bound.
+"""
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from morph import convolve, gauss, parse, trim  # noqa: E402
+from morph import piece as pc  # noqa: E402
+from tests import reference as R  # noqa: E402
+from tests.test_convolve import pair_error  # noqa: E402
+
+TOLS_EM = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)
+UPM = 1000.0
+NIB = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
+CASES = [("S + nib", "S", None), ("T + M", "T", "M"), ("O + M", "O", "M"), ("S + g", "S", "g")]
+FONTS = [("TrueType", None), ("CFF", parse.cubic_test_font_path())]
+SAMPLES = 60
+
+
+def control_points(pieces):
+    """Control points of closed loops of pieces with shared joints: sum of degrees."""
+    return int(sum(len(p) - 1 for p in pieces))
+
+
+def sampled_error(region_a, region_b, conv, rng):
+    """Largest sampled distance measure over random points of the QAC pieces."""
+    qac = [c for c in conv if c.kind == "qac"]
+    if not qac:
+        return 0.0
+    ga = [gauss.gauss_map(loop) for loop in region_a]
+    gb = [gauss.gauss_map(loop) for loop in region_b]
+    worst = 0.0
+    for w, t in zip(rng.integers(0, len(qac), SAMPLES), rng.uniform(0.0, 1.0, SAMPLES)):
+        c = qac[w]
+        ia, i, ib, j = c.source
+        p, d = R.bezier_eval(c.piece, [t], 1)
+        worst = max(worst, float(pair_error(p, d, ga[ia][i], gb[ib][j])[0]))
+    return worst
+
+
+def run_case(region_a, region_b, tol, rng):
+    t0 = time.perf_counter()
+    conv = convolve.convolution(region_a, region_b, tol, keep_type3=True)
+    t_conv = time.perf_counter() - t0
+    pieces = [c.piece for c in conv]
+    err = sampled_error(region_a, region_b, conv, rng)
+    t0 = time.perf_counter()
+    loops = trim.minkowski_sum(region_a, region_b, tol)
+    t_sum = time.perf_counter() - t0
+    sum_pieces = [p for loop in loops for p in loop]
+    return dict(
+        conv_n=len(pieces), conv_cp=control_points(pieces),
+        conv_deg=max(len(p) - 1 for p in pieces),
+        bound=max(c.bound for c in conv), err=err, t_conv=t_conv,
+        sum_n=len(sum_pieces), sum_cp=control_points(sum_pieces), t_sum=t_sum,
+        n_qac=sum(1 for c in conv if c.kind == "qac"))
+
+
+def random_pairs_table(rng, n_pairs=30, tols=(1e-2, 1e-3, 1e-4, 1e-5, 1e-6)):
+    """Algorithm 4.1 on random cubic-cubic pairs: pieces per pair, error vs bound."""
+    out = ["### Algorithm 4.1 on %d random cubic-cubic pairs per tolerance" % n_pairs, "",
+           "| tol | pieces per pair | ctrl pts per pair | max sampled err / tol "
+           "| median sampled err / bound | time per pair (ms) |",
+           "|---|---|---|---|---|---|"]
+    for tol in tols:
+        n = cps = 0
+        ratios, worst, t_all = [], 0.0, 0.0
+        for _ in range(n_pairs):
+            c1, c2 = R.random_compatible_pair(rng, "cubic-cubic")
+            edges = []
+            for c in (c1, c2):
+                prof = R.tangent_angle_profile(c, 65)
+                edges.append(gauss.Edge("curve", c, pc.start(c), prof[0], prof[-1] - prof[0]))
+            ea, eb = edges
+            (_, _, lo, hi, shift), = convolve.compatible_pairs([ea], [eb])
+            t0 = time.perf_counter()
+            res = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+            t_all += time.perf_counter() - t0
+            n += len(res)
+            cps += control_points([p for p, _, _ in res])
+            for w in rng.integers(0, len(res), 4):
+                piece, _, bound = res[w]
+                p, d = R.bezier_eval(piece, rng.uniform(0, 1, 1), 1)
+                e = float(pair_error(p, d, ea, eb)[0])
+                worst = max(worst, e)
+                ratios.append(e / bound if bound > 0 else 0.0)
+        out.append("| %g | %.1f | %.1f | %.2g | %.2g | %.1f |" % (
+            tol, n / n_pairs, cps / n_pairs, worst / tol, np.median(ratios),
+            1e3 * t_all / n_pairs))
+    return "\n".join(out)
+
+
+def table(font_label, case_label, rows):
+    out = ["### %s, %s" % (case_label, font_label), "",
+           "| tol (em) | tol (units) | conv pieces (QAC) | conv ctrl pts | max deg "
+           "| max bound / tol | sampled err / tol | conv time (s) "
+           "| sum pieces | sum ctrl pts | sum time (s) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for tol_em, r in rows:
+        tol = tol_em * UPM
+        out.append("| %g | %g | %d (%d) | %d | %d | %.2g | %.2g | %.2f | %d | %d | %.2f |" % (
+            tol_em, tol, r["conv_n"], r["n_qac"], r["conv_cp"], r["conv_deg"],
+            r["bound"] / tol, r["err"] / tol, r["t_conv"], r["sum_n"], r["sum_cp"], r["t_sum"]))
+    return "\n".join(out)
+
+
+def main():
+    start = time.perf_counter()
+    rng = np.random.default_rng(1998)
+    sections = []
+    summary = ["| case | font | conv ctrl pts at 1e-1 ... 1e-5 em | sum ctrl pts at 1e-1 ... 1e-5 em "
+               "| total time (s) |", "|---|---|---|---|---|"]
+    for font_label, font in FONTS:
+        parse.load_font(font)
+        for case_label, a, b in CASES:
+            region_a = parse.glyph_region(a, font).region
+            region_b = NIB if b is None else parse.glyph_region(b, font).region
+            rows = []
+            for tol_em in TOLS_EM:
+                rows.append((tol_em, run_case(region_a, region_b, tol_em * UPM, rng)))
+            text = table(font_label, case_label, rows)
+            print(text + "\n", flush=True)
+            sections.append(text)
+            summary.append("| %s | %s | %s | %s | %.1f |" % (
+                case_label, font_label,
+                " / ".join(str(r["conv_cp"]) for _, r in rows),
+                " / ".join(str(r["sum_cp"]) for _, r in rows),
+                sum(r["t_conv"] + r["t_sum"] for _, r in rows)))
+    pairs = random_pairs_table(rng)
+    print(pairs + "\n", flush=True)
+    elapsed = time.perf_counter() - start
+    header = __doc__.strip().splitlines()
+    text = "\n".join([
+        "# " + header[0],
+        "",
+        "\n".join(header[1:]),
+        "",
+        "This run: %.0f s." % elapsed,
+        "",
+        "## Summary",
+        "",
+        "\n".join(summary),
+        "",
+        "## Per case",
+        "",
+        "\n\n".join(sections),
+        "",
+        "## Algorithm 4.1 alone",
+        "",
+        pairs,
+        "",
+    ])
+    (ROOT / "bench" / "qac.md").write_text(text)
+    print("\n".join(summary))
+    print("\nwrote bench/qac.md in %.0f s" % elapsed)
+
+
+if __name__ == "__main__":
+    main()
