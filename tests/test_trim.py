@@ -1,0 +1,193 @@
+"""Minkowski sum boundaries (morph.trim) against independent computations.
+
+Two references, neither using the project's trimming:
+
+- the exact predicate x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅, evaluated by shapely on the
+  operands flattened to 1e-6 em (``Oracle``).  The *straddle* test pushes sample
+  points of our boundary by ±(tol + slack) along its normal: outside must be out of
+  the sum, inside must be in.  That bounds the distance from every sampled output
+  point to the true boundary by tol + slack.  Random points check the rest (nothing
+  missing, holes right);
+- the Clipper polygon Minkowski sum (tests/reference.py) for areas and loop counts.
+"""
+
+import itertools
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import Polygon
+
+from morph import piece as pc
+from morph.parse import glyph_region
+from morph.trim import minkowski_sum
+from tests import reference as R
+
+GLYPHS = "OB8g&@TMSaex"
+UPM = 1000.0
+
+
+def _polygon(region, tol):
+    return R.region_to_shapely(region, tol)
+
+
+class Oracle:
+    """x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ (shapely, inputs flattened to ``flat``)."""
+
+    def __init__(self, a, b, flat):
+        self.pa = _polygon(a, flat)
+        shapely.prepare(self.pa)
+        self.neg_b = shapely.affinity.scale(_polygon(b, flat), -1, -1, origin=(0, 0))
+
+    def __call__(self, points):
+        moved = [shapely.affinity.translate(self.neg_b, x, y) for x, y in points]
+        return shapely.intersects(self.pa, np.array(moved, dtype=object))
+
+
+def _boundary_samples(loops, per_piece=3):
+    pts, normals = [], []
+    for loop in loops:
+        for p in loop:
+            t = (np.arange(per_piece) + 0.5) / per_piece
+            d = pc.derivative(p, t)
+            n = np.column_stack([d[:, 1], -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+            pts.append(pc.evaluate(p, t))
+            normals.append(n)  # outward: right of travel (outer CCW, holes CW)
+    return np.concatenate(pts), np.concatenate(normals)
+
+
+def _inside(loops, points):
+    polys = [pc.flatten_loop(l, 0.01) for l in loops]
+    return R.winding_number(points, polys) != 0
+
+
+def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
+    loops = minkowski_sum(a, b, tol)
+    assert loops, "empty sum"
+    oracle = Oracle(a, b, 1e-3)
+    pts, nrm = _boundary_samples(loops)
+    if len(pts) > max_boundary:
+        pick = rng.choice(len(pts), max_boundary, replace=False)
+        pts, nrm = pts[pick], nrm[pick]
+    d = tol + slack
+    # the true boundary is within d of p iff the circle of radius d around p has
+    # points in and out of the sum (checked at the two normal points and 8 more);
+    # along the normal alone fails legitimately near concave corners
+    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    probes = np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
+                             pts[:, None, :] - d * nrm[:, None, :],
+                             pts[:, None, :] + d * ring[None, :, :]], axis=1)
+    inside = oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
+    assert inside.any(axis=1).all(), "boundary point farther than tol+slack outside"
+    assert (~inside).any(axis=1).all(), "boundary point farther than tol+slack inside"
+    lo = np.min([pc.bbox(p)[:2] for l in loops for p in l], axis=0) - 20
+    hi = np.max([pc.bbox(p)[2:] for l in loops for p in l], axis=0) + 20
+    x = rng.uniform(lo, hi, size=(n_random, 2))
+    ours = _inside(loops, x)
+    truth = oracle(x)
+    # points within slack of our boundary may legitimately disagree
+    assert np.array_equal(ours, truth), "membership differs at %s" % (x[ours != truth][:3],)
+    return loops
+
+
+@pytest.fixture(scope="module")
+def glyphs():
+    return {c: glyph_region(c).region for c in GLYPHS}
+
+
+@pytest.mark.parametrize("a", list(GLYPHS))
+def test_all_ordered_pairs_straddle(glyphs, a):
+    """Every ordered pair of 12 glyphs (holes: O B 8 g & @), tol 1e-3 em."""
+    rng = np.random.default_rng(ord(a))
+    for b in GLYPHS:
+        check_sum(glyphs[a], glyphs[b], 1e-3 * UPM, 1e-5 * UPM + 2e-3, rng, n_random=30,
+                  max_boundary=24)
+
+
+@pytest.mark.parametrize("pair", ["OM", "gB", "8&", "@O", "SS", "TM"])
+def test_fine_tolerance(glyphs, pair):
+    """tol 1e-4 em: straddle and membership tests."""
+    check_sum(glyphs[pair[0]], glyphs[pair[1]], 1e-4 * UPM, 1e-5 * UPM + 2e-3,
+              np.random.default_rng(7))
+
+
+@pytest.mark.parametrize("pair", ["OM", "TM", "Oe"])
+def test_reference_area_and_counts(glyphs, pair):
+    """Area and outer/hole counts vs the Clipper polygon sum (inputs flattened to 0.05)."""
+    a, b = glyphs[pair[0]], glyphs[pair[1]]
+    loops = minkowski_sum(a, b, 1e-4 * UPM)
+    ref = R.polygon_minkowski_sum(a, b, 0.05)
+    area = pc.region_area(loops)
+    assert abs(area - ref.area) / ref.area < 1e-4
+    outer, holes = R.count_outer_and_holes(ref)
+    assert sum(pc.loop_area(l) > 0 for l in loops) == outer
+    assert sum(pc.loop_area(l) < 0 for l in loops) == holes
+
+
+def _ring(r_out, r_in):
+    return [pc.circle([0, 0], r_out), pc.reverse_loop(pc.circle([0, 0], r_in))] if hasattr(pc, "reverse_loop") \
+        else [pc.circle([0, 0], r_out), [pc.reverse(p) for p in pc.circle([0, 0], r_in)[::-1]]]
+
+
+def _square(c, h):
+    x, y = c
+    pts = [(x - h, y - h), (x + h, y - h), (x + h, y + h), (x - h, y + h)]
+    return [[pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)]]
+
+
+def test_small_hole_closes():
+    """Sec. 6 weak spot: an object hole smaller than the other object must close."""
+    ring = _ring(10.0, 3.0)
+    disk = [pc.circle([0, 0], 4.0)]
+    loops = minkowski_sum(ring, disk, 1e-4)
+    assert len(loops) == 1 and pc.loop_area(loops[0]) > 0
+    assert abs(pc.region_area(loops) - np.pi * 14.0 ** 2) < 1e-3
+
+
+def test_large_hole_stays():
+    ring = _ring(10.0, 6.0)
+    disk = [pc.circle([0, 0], 2.0)]
+    loops = minkowski_sum(ring, disk, 1e-5)
+    areas = sorted(pc.loop_area(l) for l in loops)
+    assert len(loops) == 2 and areas[0] < 0 < areas[1]
+    assert abs(areas[0] + np.pi * 4.0 ** 2) < 1e-3
+    assert abs(areas[1] - np.pi * 12.0 ** 2) < 1e-3
+
+
+def test_hole_closed_by_square_not_by_winding():
+    """A ring whose hole is covered by the other operand everywhere, but only just."""
+    ring = _ring(10.0, 2.0)
+    sq = _square((0, 0), 2.5)
+    loops = minkowski_sum(ring, sq, 1e-5)
+    assert len(loops) == 1
+
+
+def test_commutative_and_translation_covariant(glyphs):
+    a, b = glyphs["S"], glyphs["g"]
+    ab = minkowski_sum(a, b, 0.1)
+    ba = minkowski_sum(b, a, 0.1)
+    assert abs(pc.region_area(ab) - pc.region_area(ba)) < 1e-6 * abs(pc.region_area(ab))
+    shift = np.array([123.0, -45.0])
+    moved = [[pc.translate(p, shift) for p in loop] for loop in a]
+    ab2 = minkowski_sum(moved, b, 0.1)
+    assert abs(pc.region_area(ab2) - pc.region_area(ab)) < 1e-6 * abs(pc.region_area(ab))
+    box1 = np.min([pc.bbox(p)[:2] for l in ab for p in l], axis=0)
+    box2 = np.min([pc.bbox(p)[:2] for l in ab2 for p in l], axis=0)
+    assert np.allclose(box2 - box1, shift, atol=1e-6)
+
+
+def test_output_loops_closed_and_simple(glyphs):
+    loops = minkowski_sum(glyphs["&"], glyphs["@"], 0.1)
+    for loop in loops:
+        for p, q in zip(loop, loop[1:] + loop[:1]):
+            assert np.allclose(pc.end(p), pc.start(q), atol=1e-9)
+        poly = Polygon(pc.flatten_loop(loop, 0.05))
+        assert poly.is_valid
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError):
+        minkowski_sum([pc.circle([0, 0], 1)], [], 0.1)
+    with pytest.raises(ValueError):
+        minkowski_sum([pc.circle([0, 0], 1)], [pc.circle([0, 0], 1)], 0.0)
