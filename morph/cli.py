@@ -308,11 +308,21 @@ def _frame_bbox(regions):
     return (boxes[:, 0].min(), boxes[:, 1].min(), boxes[:, 2].max(), boxes[:, 3].max())
 
 
+def method_option(f):
+    from .methods import METHODS
+
+    return click.option(
+        "--method", type=click.Choice(list(METHODS)), default="qac", show_default=True,
+        help="Convolution method of the paper's Sec. 4. qac keeps exact normals and a "
+             "certified error bound; the others measure their error by sampling.")(f)
+
+
 @main.command("sum")
 @shape_argument("a")
 @shape_argument("b")
+@method_option
 @common_options
-def sum_(a, b, font, tol, output, force, size):
+def sum_(a, b, method, font, tol, output, force, size):
     """Minkowski sum A ⊕ B of two shapes, as a PNG or SVG image.
 
     A and B are characters or glyph names of the font, or SVG files.  The result is
@@ -330,7 +340,7 @@ def sum_(a, b, font, tol, output, force, size):
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
     t = a.tolerance(tol)
-    loops = minkowski_sum(a.loops, b.loops, t)
+    loops = minkowski_sum(a.loops, b.loops, t, method=method)
     write_image(out, [loops], size=size, tol=t)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 

@@ -218,7 +218,7 @@ def _oriented(piece, forward):
     return piece if forward else pc.reverse(piece)
 
 
-def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30):
+def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
     """Convolution pieces of one compatible pair of edges (A's angles lo..hi).
 
     ``shift`` is the multiple of 2 pi added to B's angles.  Returns a list of
@@ -247,7 +247,28 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30):
         return [(_oriented(pc.translate(sub, ea.point), sa > 0), "translate", 0.0)]
     if not a_curve and not b_curve:
         return []
+    if method != "qac":
+        return _method_range(ea, eb, lo, hi, off, tol, max_depth, method)
     return _qac_range(ea, eb, lo, hi, off, tol, max_depth)
+
+
+def _method_range(ea, eb, lo, hi, off, tol, depth, method):
+    """Curve + curve pair by one of the other methods of Sec. 4 (morph.methods).
+
+    Algorithm 5.1 on the pair (A's edge is C1); each piece's ``bound`` is the error it
+    reached, sampled (not a bound) for every method but QAC.  Pieces come in A's
+    direction of travel and are reversed, with their order, when B is concave.
+    """
+    from . import methods   # here, not at the top: methods imports this module
+
+    ca = gauss.restrict(ea, lo, hi)[0]
+    cb = gauss.restrict(eb, lo - off, hi - off)[0]
+    if hi - lo < TINY_SWEEP:
+        return [_chord(ca, cb, ea.sign, eb.sign)]
+    segs = methods.convolve_pair_segments(ca, cb, tol, method, max_depth=depth)
+    forward = eb.sign > 0
+    out = [(_oriented(s.piece, forward), method, s.error) for s in segs]
+    return out if forward else out[::-1]
 
 
 def _qac_range(ea, eb, lo, hi, off, tol, depth):
@@ -308,7 +329,7 @@ def _sagitta(piece):
 
 # ------------------------------------------------------------------ whole loops
 
-def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0)):
+def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), method="qac"):
     """All convolution pieces of two loops' Gauss maps, oriented and typed."""
     out = []
     for i, j, lo, hi, k in compatible_pairs(edges_a, edges_b):
@@ -316,12 +337,12 @@ def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0)):
         typ = pair_type(ea.sign, eb.sign)
         if typ == 3 and not keep_type3:
             continue
-        for piece, kind, bound in convolve_edges(ea, eb, lo, hi, k, tol):
+        for piece, kind, bound in convolve_edges(ea, eb, lo, hi, k, tol, method=method):
             out.append(ConvPiece(piece, kind, typ, bound, (source[0], i, source[1], j)))
     return out
 
 
-def convolution(region_a, region_b, tol, keep_type3=True):
+def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
     """Convolution pieces of two regions (lists of loops), Sec. 3.3.
 
     Each returned piece P has max distance to the exact convolution curve <= tol
@@ -338,7 +359,7 @@ def convolution(region_a, region_b, tol, keep_type3=True):
     out = []
     for ia, ea in enumerate(ga):
         for ib, eb in enumerate(gb):
-            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib)))
+            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib), method))
     return out
 
 

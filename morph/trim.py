@@ -644,7 +644,7 @@ def _open_winding(points, polylines):
 
 # ------------------------------------------------------------------ driver
 
-def minkowski_sum(region_a, region_b, tol, return_debug=False):
+def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Each output piece lies within ``tol`` of the exact boundary: it is a sub-piece
@@ -655,14 +655,16 @@ def minkowski_sum(region_a, region_b, tol, return_debug=False):
     Faces of the arrangement of all convolution pieces get winding numbers by
     propagation; a face with w > 0 is in the sum, and a bounded face with w <= 0 is
     tested exactly (x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅), which closes holes of one operand
-    smaller than the other (the weak spot of winding numbers, Sec. 6).  Raises
+    smaller than the other (the weak spot of winding numbers, Sec. 6).  ``method``
+    names the convolution method of Sec. 4 (:data:`morph.methods.METHODS`; only
+    "qac" keeps the a-priori bound and exact normals).  Raises
     TopologyError if the boundary cannot be assembled into closed loops.
     """
     if tol <= 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
-    conv = convolution(region_a, region_b, tol, keep_type3=True)
+    conv = convolution(region_a, region_b, tol, keep_type3=True, method=method)
     pieces = [c.piece for c in conv]
     pts = np.concatenate([pc.cartesian(p) for p in pieces])
     scale = float(np.ptp(pts, axis=0).max())

@@ -1,0 +1,81 @@
+"""morph_frames and the glyph / sum / svg commands."""
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from PIL import Image
+
+from morph import piece as pc
+from morph.cli import main
+from morph.frames import centered, morph_frames, scale_region
+from morph.parse import glyph_region
+from morph.render import render_png
+from tests.imagediff import assert_matches_golden
+
+
+@pytest.fixture(scope="module")
+def tm_frames():
+    return morph_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1)
+
+
+def test_end_frames_are_the_operands(tm_frames):
+    t = centered(glyph_region("T").region)
+    m = centered(glyph_region("M").region)
+    assert abs(pc.region_area(tm_frames[0]) - pc.region_area(t)) < 1e-9
+    assert abs(pc.region_area(tm_frames[-1]) - pc.region_area(m)) < 1e-9
+
+
+def test_frames_obey_brunn_minkowski(tm_frames):
+    """sqrt|(1-a)T ⊕ aM| >= (1-a) sqrt|T| + a sqrt|M| (any compact sets), strict here."""
+    a = np.linspace(0, 1, 5)
+    areas = np.array([pc.region_area(f) for f in tm_frames])
+    bound = (1 - a) * np.sqrt(areas[0]) + a * np.sqrt(areas[-1])
+    assert np.all(np.sqrt(areas[1:-1]) > bound[1:-1] * 1.01)
+
+
+def test_scale_region_exact():
+    r = [pc.circle([1.0, 2.0], 3.0)]
+    assert abs(pc.region_area(scale_region(r, 0.5)) - np.pi * 1.5 ** 2) < 1e-12
+
+
+def test_tm_frame_golden(tm_frames):
+    """Frame 2 of T -> M (the paper's Fig. 6) against a golden image."""
+    lo = np.min([np.min([pc.bbox(p)[:2] for l in f for p in l], axis=0) for f in tm_frames], axis=0)
+    hi = np.max([np.max([pc.bbox(p)[2:] for l in f for p in l], axis=0) for f in tm_frames], axis=0)
+    img = render_png([tm_frames[2]], size=200, bbox=(lo[0], lo[1], hi[0], hi[1]))
+    assert_matches_golden(img, "tm_frame2")
+
+
+def test_glyph_command_writes_frames_and_gif(tmp_path):
+    out = tmp_path / "tm"
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "-o", str(out),
+                                    "--size", "64"])
+    assert res.exit_code == 0, res.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["frame-000.png", "frame-000.svg", "frame-001.png", "frame-001.svg",
+                     "frame-002.png", "frame-002.svg", "morph.gif"]
+    assert Image.open(out / "morph.gif").n_frames == 3
+    # not clobbered without --force
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "-o", str(out)])
+    assert res.exit_code == 2 and "force" in res.output
+
+
+@pytest.mark.parametrize("frames", ["0", "1", "-3"])
+def test_glyph_command_rejects_bad_frame_counts(tmp_path, frames):
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", frames, "-o", str(tmp_path / "x")])
+    assert res.exit_code == 2
+    assert "frames" in res.output
+
+
+def test_sum_command_with_method(tmp_path):
+    for method in ("qac", "lsc"):
+        out = tmp_path / ("om-%s.svg" % method)
+        res = CliRunner().invoke(main, ["sum", "O", "M", "--method", method, "-o", str(out)])
+        assert res.exit_code == 0, res.output
+        assert out.read_text().startswith("<")
+
+
+def test_sum_command_missing_glyph_is_one_line(tmp_path):
+    res = CliRunner().invoke(main, ["sum", "O", "\u4e2d", "-o", str(tmp_path / "x.png")])
+    assert res.exit_code == 2
+    assert len(res.output.strip().splitlines()) == 1
