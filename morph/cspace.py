@@ -1,0 +1,41 @@
+"""Configuration-space obstacles (paper Figs. 4 and 38).
+
+A robot R translating in the plane, placed with its reference point at p, occupies
+p + (R - ref).  It overlaps the obstacle O iff p ∈ O ⊕ (ref - R): the C-space
+obstacle is the Minkowski sum of the obstacle with the robot reflected through its
+reference point.  The reflection x -> 2 ref - x is a rotation by pi, so it keeps the
+orientation of loops (outer CCW, holes CW) and the pieces stay exact.
+"""
+
+import numpy as np
+
+from . import piece as pc
+
+__all__ = ["reflect_region", "place_robot", "cspace_obstacle"]
+
+
+def reflect_region(loops, reference=(0.0, 0.0)):
+    """``reference - R``: the region relative to ``reference``, negated.
+
+    A rotation by pi (keeps orientation: outer loops stay CCW).
+    """
+    rx, ry = map(float, reference)
+    m = np.array([[-1.0, 0.0, rx], [0.0, -1.0, ry]])
+    return [[pc.transform(p, m) for p in loop] for loop in loops]
+
+
+def place_robot(robot, position, reference=(0.0, 0.0)):
+    """The robot translated so that its reference point lies at ``position``."""
+    off = np.asarray(position, float) - np.asarray(reference, float)
+    return [[pc.translate(p, off) for p in loop] for loop in robot]
+
+
+def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac"):
+    """C-space obstacle O ⊕ (−R) of a translating robot about its reference point.
+
+    A position p of the reference point is a collision iff p lies in the returned
+    region (within ``tol``, absolute, in the shapes' units).
+    """
+    from .trim import minkowski_sum
+
+    return minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method)
