@@ -343,3 +343,19 @@ def test_convex_and_concave_corners():
     assert sorted(np.round(np.array(sweeps) / (np.pi / 2)).astype(int)) == [-1, 1, 1, 1, 1, 1]
     assert all(e.sweep == 0.0 for e in edges if e.kind == "curve")
     assert gauss.total_turning(edges) == pytest.approx(TWO_PI)
+
+
+@pytest.mark.parametrize("turn", [1e-3, 1e-6, 1e-9])
+def test_small_corners_are_vertices(turn):
+    # a quadrilateral whose corner at (2, 0) turns by only `turn` radians: the Gauss map
+    # must keep it as a vertex (only turns below angle_tol = 1e-10 are joins)
+    p1 = (2.0 + 2.0 * np.cos(turn), 2.0 * np.sin(turn))
+    pts = [(0.0, 0.0), (2.0, 0.0), p1, (0.0, 3.0)]
+    loop = [pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)]
+    edges = gauss.gauss_map(loop)
+    verts = [e for e in edges if e.kind == "vertex"]
+    assert len(verts) == 4
+    small = min(verts, key=lambda e: abs(e.sweep))
+    assert small.sweep == pytest.approx(turn, rel=1e-6)
+    assert np.allclose(small.point, (2.0, 0.0))
+    assert gauss.total_turning(edges) == pytest.approx(TWO_PI)
