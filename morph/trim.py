@@ -130,7 +130,15 @@ def _newton(pa, pb, ta, tb, iters=12):
 
 
 def _project(piece, point, t_guess, iters=10):
-    """Parameter of the closest point of piece to point, by Newton from t_guess."""
+    """Parameter of the closest point of piece to point, by Newton from t_guess.
+
+    Closed form for polynomial degree-1 pieces.
+    """
+    if len(piece) == 2 and piece[0, 2] == piece[1, 2]:
+        a, b = pc.cartesian(piece)
+        d = b - a
+        dd = d @ d
+        return float(np.clip((point - a) @ d / dd, 0.0, 1.0)) if dd > 0 else 0.0
     t = t_guess
     for _ in range(iters):
         d = pc.evaluate(piece, t)[0] - point
