@@ -1,0 +1,182 @@
+"""Regenerate the gallery: the paper's figures in spirit, as PNG and SVG.
+
+    python gallery/make_gallery.py [--size 900] [--only NAME ...]
+
+Figures (file stems in gallery/):
+  fig01_convex      convex sum: ellipse ⊕ convex blob (Fig. 1)
+  fig02_nonconvex   'C' ⊕ ellipse: convolution curve before trimming (left, all
+                    pieces including type 3 as strokes) and the trimmed sum (right) (Fig. 2)
+  fig37_offsets     'e' offset by exact disks of several radii (Fig. 37)
+  fig38_cspace      C-space obstacle of 'O' for a translating 'v' robot (Figs. 4, 38)
+  fig05_brush       sample text swept by an elliptical nib (Fig. 5)
+  fig06_t_to_m      T -> M morph sequence, (1-a)·T ⊕ a·M (Fig. 6)
+  fig36_bird_butterfly  bird -> butterfly morph sequence (Fig. 36)
+
+Every figure function returns (shapes, tol) for morph.render; tests/test_gallery.py
+diffs some of them against golden images.
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+
+from morph import piece as pc  # noqa: E402
+from morph.frames import centered, morph_frames  # noqa: E402
+from morph.parse import glyph_region, svg_region  # noqa: E402
+from morph.region import region_bbox  # noqa: E402
+from morph.trim import minkowski_sum  # noqa: E402
+
+DATA = HERE.parent / "morph" / "data"
+BLUE, ORANGE, GREY, RED = "#1f5fa8", "#f2c894", "#404040", "#d62728"
+
+
+def moved(loops, dx, dy=0.0):
+    return [[pc.translate(p, (dx, dy)) for p in loop] for loop in loops]
+
+
+def row(regions, gap):
+    """Regions laid out left to right with ``gap`` between their boxes."""
+    out, x = [], 0.0
+    for r in regions:
+        b = region_bbox(r)
+        out.append(moved(r, x - b[0], -0.5 * (b[1] + b[3])))
+        x += (b[2] - b[0]) + gap
+    return out
+
+
+def convex_blob():
+    """A convex closed cubic spline (rounded triangle), counter-clockwise."""
+    pts = [(0, 0), (60, -10), (100, 20), (70, 70), (20, 80), (-20, 40)]
+    p = np.array(pts, float)
+    n = len(p)
+    loop = []
+    for i in range(n):
+        a, b = (p[i - 1] + p[i]) / 2, (p[i] + p[(i + 1) % n]) / 2
+        loop.append(pc.quadratic(a, p[i], b))
+    return [loop]
+
+
+def fig01_convex():
+    a = convex_blob()
+    b = [pc.ellipse((0, 0), 40, 18, 0.5)]
+    s = minkowski_sum(a, b, 0.01)
+    ra, rb, rs = row([a, b, s], 50)
+    return [(ra, {"fill": ORANGE, "stroke": GREY}), (rb, {"fill": ORANGE, "stroke": GREY}),
+            (rs, {"fill": "#9bbbd4", "stroke": BLUE, "stroke_width": 1.5})], 0.01
+
+
+def fig02_nonconvex():
+    from morph.convolve import chain, convolution
+
+    tol = 0.5
+    a = glyph_region("C").region
+    b = [pc.ellipse((0, 0), 170, 40, np.radians(30))]
+    conv = convolution(a, b, tol, keep_type3=True)
+    loops = chain([c.piece for c in conv], 10 * tol)
+    s = minkowski_sum(a, b, tol)
+    box = region_bbox(s)
+    dx = (box[2] - box[0]) * 1.15
+    return [(s, {"fill": "#dde7f0"}),
+            (loops, {"fill": None, "stroke": RED, "stroke_width": 1.6}),
+            (moved(s, dx), {"fill": "#9bbbd4", "stroke": BLUE, "stroke_width": 1.5}),
+            (moved(a, dx), {"fill": GREY})], tol
+
+
+def fig37_offsets():
+    from morph.offset import offset_region
+
+    tol = 0.5
+    a = glyph_region("e").region
+    shapes = []
+    colours = ["#dbe6f1", "#b5cde3", "#8fb3d5", "#6999c7"]
+    for r, c in zip([90, 60, 35, 15], colours):
+        shapes.append((offset_region(a, r, tol), {"fill": c, "stroke": BLUE,
+                                                  "stroke_width": 0.8}))
+    shapes.append((a, {"fill": "black"}))
+    return shapes, tol
+
+
+def fig38_cspace():
+    from morph.cli import cspace_figure
+    from morph.cspace import cspace_obstacle
+    from morph.frames import scale_region
+    from morph.region import region_centroid
+
+    tol = 0.5
+    obstacle = glyph_region("O").region
+    robot = scale_region(glyph_region("v").region, 0.6)
+    ref = region_centroid(robot)
+    cs = cspace_obstacle(obstacle, robot, tol, reference=ref)
+    return cspace_figure(obstacle, robot, cs, tol, samples=7, reference=ref), tol
+
+
+def fig05_brush(text="Hamburgefonstiv"):
+    from morph.fonts.brush import ellipse_nib, region_extent
+    from morph.parse import load_font
+
+    tol = 0.5
+    nib = ellipse_nib(80, 30, 30)
+    nx0, _, nx1, _ = region_extent(nib)
+    font = load_font()
+    x, plain, swept = 0.0, [], []
+    for ch in text:
+        g = glyph_region(ch, font)
+        s = minkowski_sum(g.region, nib, tol)
+        swept.extend(moved(s, x - nx0))
+        plain.extend(moved(g.region, x - nx0, -1250))
+        x += g.advance_width + (nx1 - nx0)
+    return [(plain, {"fill": "#909090"}), (swept, {"fill": "black"})], tol
+
+
+def _sheet(a, b, n, tol, gap):
+    frames = morph_frames(a, b, n, tol)
+    return [(r, {"fill": "black"}) for r in row([centered(f) for f in frames], gap)]
+
+
+def fig06_t_to_m():
+    tol = 0.5
+    return _sheet(glyph_region("T").region, glyph_region("M").region, 6, tol, 120), tol
+
+
+def fig36_bird_butterfly():
+    tol = 0.05
+    return _sheet(svg_region(str(DATA / "bird.svg")), svg_region(str(DATA / "butterfly.svg")),
+                  6, tol, 25), tol
+
+
+FIGURES = [fig01_convex, fig02_nonconvex, fig37_offsets, fig38_cspace, fig05_brush,
+           fig06_t_to_m, fig36_bird_butterfly]
+
+
+def render(fig, size):
+    from morph.render import render_png
+
+    shapes, tol = fig()
+    return render_png(shapes, size=size), shapes, tol
+
+
+def main(argv=None):
+    from morph.render import write_svg
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--size", type=int, default=900)
+    ap.add_argument("--only", nargs="*", default=None)
+    args = ap.parse_args(argv)
+    for fig in FIGURES:
+        if args.only and fig.__name__ not in args.only:
+            continue
+        t0 = time.perf_counter()
+        img, shapes, tol = render(fig, args.size)
+        img.save(str(HERE / (fig.__name__ + ".png")))
+        write_svg(str(HERE / (fig.__name__ + ".svg")), shapes, size=args.size, tol=tol)
+        print("%-22s %.1f s" % (fig.__name__, time.perf_counter() - t0))
+
+
+if __name__ == "__main__":
+    main()
