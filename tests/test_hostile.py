@@ -1,0 +1,306 @@
+"""Hostile input through the CLI: one clear error line and exit 2, or a correct result.
+
+Never a traceback, never a wrong picture.  "Correct" is checked against independent
+references (shapely / Clipper of the flattened operands, exact areas of polygons).
+"""
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from morph import piece as pc
+from morph.cli import main
+from morph.parse import svg_region
+from morph.trim import minkowski_sum
+from tests import reference as R
+
+SVG = '<svg xmlns="http://www.w3.org/2000/svg">%s</svg>'
+
+
+@pytest.fixture
+def runner():
+    return CliRunner()
+
+
+def _svg(tmp_path, name, d, attrs=""):
+    p = tmp_path / name
+    p.write_text(SVG % ('<path %s d="%s"/>' % (attrs, d)))
+    return str(p)
+
+
+def _square_d(x0, y0, s):
+    return "M%r %r L%r %r L%r %r L%r %r Z" % (x0, y0, x0 + s, y0, x0 + s, y0 + s, x0, y0 + s)
+
+
+def error_line(result, code=2):
+    """The one error line of a failed command (exit ``code``), no traceback."""
+    assert result.exit_code == code, (result.exit_code, result.output, result.exception)
+    assert not isinstance(result.exception, Exception) or isinstance(result.exception,
+                                                                     SystemExit)
+    text = (result.stderr or "") + (result.stdout or "")
+    assert "Traceback" not in text
+    lines = [l for l in result.stderr.strip().splitlines() if l.strip()]
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("morph: error: ")
+    assert "internal error" not in lines[0]
+    return lines[0]
+
+
+def ok(result):
+    assert result.exit_code == 0, (result.output, result.exception)
+    assert "Traceback" not in result.output
+    return result
+
+
+# ---------------------------------------------------------------------------- fonts
+
+def test_empty_font_path(runner, tmp_path):
+    """--font '' must say the font path is empty, not that the current folder is a
+    missing file."""
+    line = error_line(runner.invoke(main, ["outline", "A", "--font", "",
+                                           "-o", str(tmp_path / "a.png")]))
+    assert "font" in line
+    assert "no such file" not in line, line
+
+
+def test_nonexistent_font(runner, tmp_path):
+    line = error_line(runner.invoke(main, ["outline", "A", "--font",
+                                           str(tmp_path / "nope.ttf"),
+                                           "-o", str(tmp_path / "a.png")]))
+    assert "nope.ttf" in line
+
+
+def test_font_that_is_not_a_font(runner, tmp_path):
+    f = tmp_path / "fake.ttf"
+    f.write_text("not a font\n")
+    line = error_line(runner.invoke(main, ["outline", "A", "--font", str(f),
+                                           "-o", str(tmp_path / "a.png")]))
+    assert "fake.ttf" in line
+
+
+def test_font_that_is_a_folder(runner, tmp_path):
+    error_line(runner.invoke(main, ["outline", "A", "--font", str(tmp_path),
+                                    "-o", str(tmp_path / "a.png")]))
+
+
+@pytest.mark.parametrize("ch", ["中", "U+1F600", "nosuchglyphname"])
+def test_font_without_the_glyph(runner, tmp_path, ch):
+    line = error_line(runner.invoke(main, ["sum", "A", ch, "-o", str(tmp_path / "s.png")]))
+    assert "glyph" in line
+    assert not (tmp_path / "s.png").exists()
+
+
+@pytest.mark.parametrize("args", [["outline", " "], ["outline", "space"], ["sum", "A", " "],
+                                  ["glyph", " ", "A", "--frames", "3"]])
+def test_glyph_without_contours(runner, tmp_path, args):
+    line = error_line(runner.invoke(main, args + ["-o", str(tmp_path / "out.png")]))
+    assert "empty" in line or "contour" in line
+
+
+# ---------------------------------------------------------------------------- SVG errors
+
+def test_svg_without_anything(runner, tmp_path):
+    p = tmp_path / "none.svg"
+    p.write_text(SVG % "")
+    line = error_line(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.png")]))
+    assert "none.svg" in line
+
+
+def test_svg_with_empty_path(runner, tmp_path):
+    error_line(runner.invoke(main, ["outline", _svg(tmp_path, "e.svg", ""),
+                                    "-o", str(tmp_path / "o.png")]))
+
+
+def test_svg_without_path_but_a_rect_is_drawn(runner, tmp_path):
+    """No <path>, but a <rect>: a correct result (the rect)."""
+    p = tmp_path / "rect.svg"
+    p.write_text(SVG % '<rect x="0" y="0" width="5" height="4"/>')
+    assert abs(pc.region_area(svg_region(str(p))) - 20.0) < 1e-9
+    ok(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.png")]))
+
+
+def test_svg_open_path(runner, tmp_path):
+    line = error_line(runner.invoke(main, ["outline", _svg(tmp_path, "open.svg",
+                                                           "M0 0 L10 0 L10 10"),
+                                           "-o", str(tmp_path / "o.png")]))
+    assert "open" in line
+
+
+@pytest.mark.parametrize("d", ["M0 0 L10 0 L NaN 10 Z", "M0 0 L10 0 L nan 10 Z",
+                               "M0 0 L10 0 L10 1e999 Z", "M0 0 L10 0 L10 inf Z",
+                               "M0 0 C 1 1 NaN 2 10 10 Z"])
+def test_svg_nan_and_inf(runner, tmp_path, d):
+    error_line(runner.invoke(main, ["outline", _svg(tmp_path, "nan.svg", d),
+                                    "-o", str(tmp_path / "o.png")]))
+    assert not (tmp_path / "o.png").exists()
+
+
+def test_missing_svg_file(runner, tmp_path):
+    line = error_line(runner.invoke(main, ["outline", str(tmp_path / "gone.svg"),
+                                           "-o", str(tmp_path / "o.png")]))
+    assert "gone.svg" in line
+
+
+def test_svg_not_xml(runner, tmp_path):
+    p = tmp_path / "bad.svg"
+    p.write_text("<svg><path d='M0 0 L1 0 L1 1 Z'>")
+    error_line(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.png")]))
+
+
+# ---------------------------------------------------------------------------- SVG results
+
+def _sum_area_via_cli(runner, tmp_path, a, b, tol):
+    out = tmp_path / "s.png"
+    ok(runner.invoke(main, ["sum", a, b, "--tol", repr(tol), "-o", str(out)]))
+    assert out.exists()
+    loops = minkowski_sum(svg_region(a), svg_region(b), tol)
+    return pc.region_area(loops), loops
+
+
+def test_huge_coordinates(runner, tmp_path):
+    """A 1e9 square ⊕ a 10-square: (1e9 + 10)^2."""
+    a = _svg(tmp_path, "huge.svg", _square_d(0, 0, 1e9))
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1.0)
+    assert len(loops) == 1
+    assert abs(area - (1e9 + 10) ** 2) <= 1e-9 * (1e9 + 10) ** 2
+
+
+def test_tiny_coordinates(runner, tmp_path):
+    """A 1e-9 square is a square (user units are arbitrary): 1e-9 ⊕ 1e-9 squares =
+    a 2e-9 square; outline and sum work."""
+    a = _svg(tmp_path, "tiny.svg", _square_d(0, 0, 1e-9))
+    b = _svg(tmp_path, "tiny2.svg", _square_d(0, 0, 1e-9))
+    ok(runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o.png")]))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-13)
+    assert abs(area - 4e-18) < 1e-3 * 4e-18
+
+
+def test_duplicated_points(runner, tmp_path):
+    a = _svg(tmp_path, "dup.svg", "M0 0 L0 0 L10 0 L10 0 L10 10 L0 10 L0 10 L0 0 Z")
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
+    assert len(loops) == 1 and abs(area - 400.0) < 1e-6
+
+
+def test_zero_length_curves(runner, tmp_path):
+    a = _svg(tmp_path, "zl.svg", "M0 0 C0 0 0 0 0 0 L10 0 C10 0 10 0 10 0 Q10 10 10 10 "
+                                 "L10 10 Q10 10 10 10 L0 10 Z")
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
+    assert len(loops) == 1 and abs(area - 400.0) < 1e-6
+
+
+def test_zero_length_arc(runner, tmp_path):
+    """SVG spec (F.6.2): an arc whose endpoints coincide is omitted.  svgpathtools
+    asserts on it; morph must not report 'cannot parse SVG ...: AssertionError'."""
+    a = _svg(tmp_path, "zla.svg", "M0 0 L10 0 L10 10 A 3 3 0 0 1 10 10 L0 10 Z")
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
+    assert len(loops) == 1 and abs(area - 400.0) < 1e-6
+
+
+def test_nonconvex_nib(runner, tmp_path):
+    """A non-convex 'nib' is just a shape: correct sum (Clipper reference)."""
+    a = _svg(tmp_path, "c.svg", "M0 0 L10 0 L10 10 L5 3 L0 10 Z")
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 4))
+    area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
+    ref = R.polygon_minkowski_sum(svg_region(a), svg_region(b), 1e-3)
+    assert abs(area - ref.area) < 1e-3 * ref.area
+    assert R.count_outer_and_holes(ref) == (1, 0) and len(loops) == 1
+
+
+def _self_intersecting_check(runner, tmp_path, d, attrs=""):
+    """Either a clear error (exit 2) or the correct sum with a 2-square under the
+    path's fill rule (reference: shapely/Clipper of the polygon, rule applied)."""
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
+
+    a = _svg(tmp_path, "x.svg", d, attrs)
+    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 2))
+    out = tmp_path / "s.png"
+    res = runner.invoke(main, ["sum", a, b, "-o", str(out)])
+    if res.exit_code != 0:
+        error_line(res)
+        return
+    loops = minkowski_sum(svg_region(a), svg_region(b), 1e-4)
+    # the filled shape under the fill rule, from shapely's own polygonization
+    pts = [tuple(map(float, s.split())) for s in d.strip("MZ ").replace("L", ",").split(",")]
+    ring = [(x, -y) for x, y in pts]
+    if "evenodd" in attrs:
+        import shapely
+        filled = shapely.make_valid(Polygon(ring))  # GEOS linework: even-odd faces
+    else:
+        filled = R.region_to_shapely([[pc.line(ring[i], ring[(i + 1) % len(ring)])
+                                       for i in range(len(ring))]], 1e-6)
+    poly_b = Polygon([(0, 0), (2, 0), (2, -2), (0, -2)])
+    parts = getattr(filled, "geoms", [filled])
+    ref = unary_union([R.polyline_minkowski_sum(p, poly_b, 1e4) for p in parts])
+    area = pc.region_area(loops)
+    assert abs(area - ref.area) < 1e-3 * ref.area, (area, ref.area)
+    assert (sum(pc.loop_area(l) > 0 for l in loops),
+            sum(pc.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 1e-6)
+
+
+def test_self_intersecting_bow_tie(runner, tmp_path):
+    """A bow tie (nonzero fill: two triangles of area 25 each)."""
+    _self_intersecting_check(runner, tmp_path, "M0 0 L10 10 L10 0 L0 10 Z")
+
+
+def test_self_intersecting_figure_eight(runner, tmp_path):
+    """Unequal lobes of opposite orientation: nonzero fill fills both lobes."""
+    _self_intersecting_check(runner, tmp_path, "M0 0 L20 20 L20 0 L0 10 Z")
+
+
+def test_self_intersecting_pentagram_nonzero(runner, tmp_path):
+    _self_intersecting_check(runner, tmp_path, "M50 0 L79 90 L2 35 L98 35 L21 90 Z")
+
+
+def test_self_intersecting_pentagram_evenodd(runner, tmp_path):
+    """Even-odd: the centre pentagon is a hole (inradius ~14 > the 2-square)."""
+    _self_intersecting_check(runner, tmp_path, "M50 0 L79 90 L2 35 L98 35 L21 90 Z",
+                             'fill-rule="evenodd"')
+
+
+# ---------------------------------------------------------------------------- usage
+
+@pytest.mark.parametrize("cmd", ["glyph", "svg"])
+@pytest.mark.parametrize("frames", ["0", "-3", "1", "x"])
+def test_bad_frames(runner, tmp_path, cmd, frames):
+    if cmd == "glyph":
+        a, b = "A", "B"
+    else:
+        a = _svg(tmp_path, "a.svg", _square_d(0, 0, 10))
+        b = _svg(tmp_path, "b.svg", _square_d(0, 0, 5))
+    out = tmp_path / "frames"
+    line = error_line(runner.invoke(main, [cmd, a, b, "--frames", frames, "-o", str(out)]))
+    assert "frames" in line
+    assert not out.exists()
+
+
+def test_output_under_a_regular_file(runner, tmp_path):
+    f = tmp_path / "afile"
+    f.write_text("x")
+    error_line(runner.invoke(main, ["sum", "A", "B", "-o", str(f / "x.png")]))
+    error_line(runner.invoke(main, ["outline", "A", "-o", str(f / "sub" / "x.svg")]))
+    error_line(runner.invoke(main, ["glyph", "A", "B", "--frames", "2", "-o", str(f / "dir")]))
+    assert f.read_text() == "x"
+
+
+def test_output_folder_is_a_file(runner, tmp_path):
+    f = tmp_path / "afile"
+    f.write_text("x")
+    error_line(runner.invoke(main, ["glyph", "A", "B", "--frames", "2", "-o", str(f)]))
+    assert f.read_text() == "x"
+
+
+def test_output_bad_suffix_and_missing_folder(runner, tmp_path):
+    error_line(runner.invoke(main, ["sum", "A", "B", "-o", str(tmp_path / "x.jpg")]))
+    error_line(runner.invoke(main, ["sum", "A", "B", "-o", str(tmp_path / "no" / "x.png")]))
+
+
+@pytest.mark.parametrize("tol", ["0", "-1", "nan", "abc"])
+def test_bad_tolerance(runner, tmp_path, tol):
+    error_line(runner.invoke(main, ["sum", "A", "B", "--tol", tol,
+                                    "-o", str(tmp_path / "x.png")]))
+    assert not (tmp_path / "x.png").exists()
