@@ -333,6 +333,16 @@ def test_convolution_of_cubic_glyphs_within_tolerance(tol):
     _check_region_errors(a, b, conv, tol, np.random.default_rng(SEED + 2))
 
 
+@pytest.mark.parametrize("sa, sb, expect", [
+    (1, 1, 1), (1, 0, 1), (0, 1, 1), (0, 0, 1),      # convex / straight
+    (1, -1, 2), (-1, 1, 2),                          # convex / concave
+    (-1, -1, 3), (0, -1, 3), (-1, 0, 3),             # concave / concave or straight
+])
+def test_pair_type_table(sa, sb, expect):
+    # Fig. 20 as stated in the convolve module docstring (curve signs)
+    assert convolve.pair_type(sa, sb) == expect
+
+
 def test_concave_vertex_pairs_are_type3():
     """Fig. 20 / module docstring: any pair with a concave vertex is type 3 (never on
     the boundary).  L-shaped hexagon (one reflex corner) + a disk: the arc translated
