@@ -697,6 +697,37 @@ def test_minkowski_sum_area_and_topology(a, b):
     assert R.count_outer_and_holes(live, 1.0) == (ref_outer, ref_holes)
 
 
+def _spike(apex_deg, length=10.0):
+    """Isosceles triangle whose apex turns by apex_deg degrees (a needle for ~180)."""
+    half = length * np.tan((np.pi - np.radians(apex_deg)) / 2)
+    return _polygon_region(np.array([(0.0, 0.0), (length, -half), (length, half)]))
+
+
+OFFSET_CASES = [
+    ("ttf-O", 60.0),     # hole of 'O' still open (inscribed radius ~ 127)
+    ("cff-O", 0.5),
+    ("cff-O", 20.0),
+    ("needle", 0.5),     # apex turning 179.999 degrees
+]
+
+
+@pytest.mark.parametrize("shape, r", OFFSET_CASES, ids=["%s-r%g" % c for c in OFFSET_CASES])
+def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
+    """shape + disk(r) against shapely's buffer of the flattened shape: same area
+    (1e-5 relative) and the same numbers of outer loops and holes."""
+    if shape == "needle":
+        region = _spike(179.999)
+    else:
+        font = None if shape.startswith("ttf") else parse.cubic_test_font_path()
+        region = parse.glyph_region(shape[-1], font).region
+    loops = trim.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], 1e-3 * r)
+    ref = R.region_to_shapely(region, 1e-4).buffer(r, quad_segs=256)
+    got = R.region_to_shapely(loops, 1e-3 * r) if loops else shapely.Polygon()
+    assert R.count_outer_and_holes(got, 1e-6) == R.count_outer_and_holes(ref, 1e-6), \
+        [pc.loop_area(l) for l in loops]
+    assert pc.region_area(loops) == pytest.approx(ref.area, rel=1e-5)
+
+
 if __name__ == "__main__":
     # regenerate REFERENCE_SUMS (takes several minutes)
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
