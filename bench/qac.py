@@ -1,6 +1,6 @@
 """QAC convolution curves and Minkowski sums of glyphs: size and time vs tolerance.
 
-    python bench/qac.py            # about 1 minute; prints the tables, writes bench/qac.md
+    python bench/qac.py            # 1-2 minutes; prints the tables, writes bench/qac.md
 
 For each font (bundled Noto Sans: TrueType = quadratic outlines, CFF = cubic
 outlines), each case and each tolerance tol = 1e-1 ... 1e-5 em (x 1000 font units,
@@ -25,6 +25,7 @@ seeded random cubic-cubic compatible pairs (``tests/reference.random_compatible_
 sizes 0.5-4 units, sweeps 10-85 degrees): pieces per pair and sampled error / bound.
 """
 
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -45,6 +46,19 @@ NIB = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
 CASES = [("S + nib", "S", None), ("T + M", "T", "M"), ("O + M", "O", "M"), ("S + g", "S", "g")]
 FONTS = [("TrueType", None), ("CFF", parse.cubic_test_font_path())]
 SAMPLES = 60
+
+
+def code_version():
+    """Commit of the code measured, '+dirty' when morph/ has uncommitted changes."""
+    def git(*args):
+        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True,
+                              text=True).stdout.strip()
+    try:
+        rev = git("rev-parse", "--short", "HEAD") or "unknown"
+        dirty = git("status", "--porcelain", "--", "morph")
+    except OSError:
+        return "unknown"
+    return rev + ("+dirty" if dirty else "")
 
 
 def control_points(pieces):
@@ -165,7 +179,7 @@ def main():
         "",
         "\n".join(header[1:]),
         "",
-        "This run: %.0f s." % elapsed,
+        "This run: %.0f s, code at %s." % (elapsed, code_version()),
         "",
         "## Summary",
         "",
