@@ -205,8 +205,14 @@ def compatible_pairs(edges_a, edges_b):
     return out
 
 
-def pair_type(sa, sb):
-    """Fig. 20 type of a pair from the signs of its two edges (+1, 0, -1)."""
+def pair_type(sa, sb, a_vertex=False, b_vertex=False):
+    """Fig. 20 type of a pair from the signs of its two edges (+1, 0, -1).
+
+    Type 3 (never on the boundary): concave/concave or concave/straight pairs, and
+    any pair with a concave vertex.
+    """
+    if (a_vertex and sa < 0) or (b_vertex and sb < 0):
+        return 3
     if (sa < 0 and sb <= 0) or (sb < 0 and sa <= 0):
         return 3
     if sa >= 0 and sb >= 0:
@@ -275,8 +281,28 @@ def _qac_range(ea, eb, lo, hi, off, tol, depth):
     """Algorithm 4.1 on the angle range [lo, hi]: QAC, split at the peak, recurse."""
     ca = gauss.restrict(ea, lo, hi)[0]
     cb = gauss.restrict(eb, lo - off, hi - off)[0]
+    # a sub-piece shorter than tol/2 (e.g. next to a repeated control point, where the
+    # tangent swings through its range within a tiny length) acts as a corner: the
+    # other piece translated by its start is within its length of the exact
+    # convolution, and keeps exact normals (the other piece has the matching normal)
+    # (ends snapped to the exact sums of the angle-matched end points: bound 2 * length)
+    la, lb = pc.length_bound(ca), pc.length_bound(cb)
+    if min(la, lb) <= 0.25 * tol:
+        same = ea.sign == eb.sign
+        if la <= lb:
+            short, long_, s_long = ca, cb, ea.sign
+        else:
+            short, long_, s_long = cb, ca, eb.sign
+        m0 = pc.start(short) if same else pc.end(short)
+        m1 = pc.end(short) if same else pc.start(short)
+        moved = pc.translate(long_, pc.start(short))
+        moved = pc.with_endpoints(moved, pc.start(long_) + m0, pc.end(long_) + m1)
+        return [(_oriented(moved, s_long > 0), "translate", 2.0 * min(la, lb))]
     if hi - lo < TINY_SWEEP:
-        return [_chord(ca, cb, ea.sign, eb.sign)]
+        chord = _chord(ca, cb, ea.sign, eb.sign)
+        if chord[2] <= tol:
+            return [chord]
+        # long, nearly straight pieces: the chord is too far; QAC may still do
     swap, q2 = choose_roles(ca, cb)
     c1, c2 = (cb, ca) if swap else (ca, cb)
     s_other = ea.sign if swap else eb.sign
@@ -334,7 +360,7 @@ def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), metho
     out = []
     for i, j, lo, hi, k in compatible_pairs(edges_a, edges_b):
         ea, eb = edges_a[i], edges_b[j]
-        typ = pair_type(ea.sign, eb.sign)
+        typ = pair_type(ea.sign, eb.sign, ea.kind == "vertex", eb.kind == "vertex")
         if typ == 3 and not keep_type3:
             continue
         for piece, kind, bound in convolve_edges(ea, eb, lo, hi, k, tol, method=method):

@@ -262,8 +262,8 @@ def end_tangents(piece, eps=1e-12):
     size = max(np.ptp(p[:, 0]), np.ptp(p[:, 1]), 1e-300)
     d = np.diff(p, axis=0)
     norms = np.hypot(d[:, 0], d[:, 1])
-    nz = np.nonzero(norms > eps * max(size, 1.0))[0]
-    if nz.size == 0:
+    nz = np.nonzero(norms > eps * size)[0]   # relative: tiny sub-pieces are fine
+    if nz.size == 0 or size <= 1e-300:
         raise DegenerateCurveError("zero-length curve piece", piece)
     t0 = d[nz[0]] / norms[nz[0]]
     t1 = d[nz[-1]] / norms[nz[-1]]

@@ -468,6 +468,8 @@ class Arrangement:
         keep, weight, groups = [], [], {}
         for k in range(len(subs)):
             u, v = node[2 * k], node[2 * k + 1]
+            if u == v and pc.length_bound(subs[k]) <= 1e3 * node_tol:
+                continue  # a zero-length piece (tiny arc) would be a self-loop
             key = (min(u, v), max(u, v))
             found = None
             for j in groups.get(key, ()):
@@ -562,9 +564,17 @@ class Arrangement:
         w = np.full(nf, np.iinfo(np.int64).min, dtype=np.int64)
         comps = self.components()
         polys = [pc.flatten(p, flat_tol)[0] for p in self.subs]
+        # shared ends exactly equal, so the half-open crossing rule counts a ray
+        # through a vertex once
+        for k, poly in enumerate(polys):
+            poly[0] = self.nodes[self.node_of[2 * k]]
+            poly[-1] = self.nodes[self.node_of[2 * k + 1]]
+        span = float(np.ptp(self.nodes, axis=0).max()) if len(self.nodes) > 1 else 1.0
+        nudge = span * 1e-7 * np.array([0.6180339887, 0.3819660113])
         for comp in comps:
-            # base: winding of all other components at one node of this component
-            x = self.nodes[self.node_of[2 * comp[0]]][None, :]
+            # base: winding of all other components at (just off) a node of this one;
+            # other components keep a positive distance, so the nudge stays in the face
+            x = self.nodes[self.node_of[2 * comp[0]]][None, :] + nudge
             others = np.setdiff1d(np.arange(len(self.subs)), comp)
             base = 0
             for k in others:

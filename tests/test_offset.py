@@ -52,8 +52,6 @@ def test_svg_offset_at_distance_r():
     assert len(out) == 1
 
 
-@pytest.mark.xfail(strict=True, reason="core bug in morph.trim: o ⊕ disk(30) loses the "
-                   "hole (radii 20 and 40 keep it; Clipper reference has 1 hole)")
 def test_hole_kept_at_radius_30():
     out = offset_region(glyph_region("o").region, 30.0, 0.2)
     assert len(out) == 2
