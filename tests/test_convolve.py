@@ -256,7 +256,7 @@ def test_quadratic_approximation_is_tangent_intersection():
 # ============================================================ Algorithm 4.1 driver
 
 # (tol, number of pairs): more pairs where they are cheap (1e-6 needs ~100 pieces a pair)
-DRIVER_CASES = [(1e-2, 200), (1e-3, 150), (1e-4, 100), (1e-5, 35), (1e-6, 15)]
+DRIVER_CASES = [(1e-2, 160), (1e-3, 120), (1e-4, 80), (1e-5, 30), (1e-6, 12)]
 DRIVER_SAMPLES = 8
 
 
@@ -720,9 +720,10 @@ def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
     else:
         font = None if shape.startswith("ttf") else parse.cubic_test_font_path()
         region = parse.glyph_region(shape[-1], font).region
-    loops = trim.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], 1e-3 * r)
+    tol = 1e-3 * max(r, 1.0)
+    loops = trim.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
     ref = R.region_to_shapely(region, 1e-4).buffer(r, quad_segs=256)
-    got = R.region_to_shapely(loops, 1e-3 * r) if loops else shapely.Polygon()
+    got = R.region_to_shapely(loops, tol) if loops else shapely.Polygon()
     assert R.count_outer_and_holes(got, 1e-6) == R.count_outer_and_holes(ref, 1e-6), \
         [pc.loop_area(l) for l in loops]
     assert pc.region_area(loops) == pytest.approx(ref.area, rel=1e-5)
