@@ -729,6 +729,20 @@ def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
     assert pc.region_area(loops) == pytest.approx(ref.area, rel=1e-5)
 
 
+@pytest.mark.parametrize("tol", [100.0, 30.0])
+def test_minkowski_sum_within_coarse_tolerance(tol):
+    """A coarse tolerance still bounds the result: 'S' + an elliptic nib (40 x 12
+    units) at tol = 0.1 em and 0.03 em is non-empty and within tol (Hausdorff) of
+    the polygon reference."""
+    region = parse.glyph_region("S").region
+    nib = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
+    loops = trim.minkowski_sum(region, nib, tol)
+    assert loops, "empty Minkowski sum"
+    ref = R.polygon_minkowski_sum(region, nib, 1.0)
+    hd = R.hausdorff(ref, R.region_to_shapely(loops, 0.1), spacing=2.0)
+    assert hd <= tol + 1.0, hd
+
+
 if __name__ == "__main__":
     # regenerate REFERENCE_SUMS (takes several minutes)
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
