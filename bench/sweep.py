@@ -2,7 +2,7 @@
 
     python -m bench.sweep [--fonts ttf,cff] [--set upper|lower|both] [--nibs|--no-nibs]
                           [--pairs|--no-pairs] [--limit N] [--tol EM] [--jobs J]
-                          [--budget SECONDS]
+                          [--budget SECONDS] [--cases ttf:W:nib:ellipse,cff:C:S]
 
 Jobs: every ordered pair A-Z x A-Z (``--set upper``) and/or a-z x a-z (``lower``) in
 the bundled TrueType font (``ttf``) and its CFF version (``cff``,
@@ -258,10 +258,14 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 1)))
     ap.add_argument("--budget", type=float, default=None, help="seconds")
     ap.add_argument("--md", default=str(ROOT / "bench" / "sweep.md"))
+    ap.add_argument("--cases", default=None,
+                    help="only these jobs: font:A:B,... (B may be nib:disk etc.)")
     opt = ap.parse_args(argv)
     fonts = [f.strip() for f in opt.fonts.split(",") if f.strip()]
     sets = ["upper", "lower"] if opt.set == "both" else [opt.set]
     todo = jobs(fonts, sets, opt.pairs, opt.nibs, opt.tol * UPM)
+    if opt.cases:
+        todo = [tuple(c.split(":", 2)) + (opt.tol * UPM,) for c in opt.cases.split(",")]
     if opt.limit is not None:
         todo = todo[:opt.limit]
     t0 = time.time()
