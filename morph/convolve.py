@@ -281,13 +281,15 @@ def _qac_range(ea, eb, lo, hi, off, tol, depth):
     """Algorithm 4.1 on the angle range [lo, hi]: QAC, split at the peak, recurse."""
     ca = gauss.restrict(ea, lo, hi)[0]
     cb = gauss.restrict(eb, lo - off, hi - off)[0]
-    # a sub-piece shorter than tol/2 (e.g. next to a repeated control point, where the
-    # tangent swings through its range within a tiny length) acts as a corner: the
+    # a degenerate sub-piece (1e-7 of the other's length, e.g. next to a repeated
+    # control point, where the tangent swings through its range within a tiny
+    # length), or any sub-piece shorter than tol/2 once the halvings are used up,
+    # acts as a corner: the
     # other piece translated by its start is within its length of the exact
     # convolution, and keeps exact normals (the other piece has the matching normal)
     # (ends snapped to the exact sums of the angle-matched end points: bound 2 * length)
     la, lb = pc.length_bound(ca), pc.length_bound(cb)
-    if min(la, lb) <= 0.25 * tol:
+    if min(la, lb) <= min(0.25 * tol, 1e-7 * max(la, lb)) or (depth == 0 and 2 * min(la, lb) <= tol):
         same = ea.sign == eb.sign
         if la <= lb:
             short, long_, s_long = ca, cb, ea.sign

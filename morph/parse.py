@@ -67,6 +67,10 @@ def load_font(path=None):
         path = default_font_path()
     if hasattr(path, "getGlyphSet"):  # already a TTFont
         return path
+    if not str(os.fspath(path)).strip():
+        raise ParseError("empty font path", path)
+    if os.path.isdir(path):
+        raise ParseError("cannot read font %s: it is a folder" % path, path)
     return _load_font_cached(os.path.abspath(os.fspath(path)))
 
 
@@ -441,7 +445,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
                         for z in (seg.start, seg.end)])
         with np.errstate(invalid="ignore"):
             size = float(np.nanmax(np.abs(pts))) if np.isfinite(pts).any() else 1.0
-        tol = close_tol if close_tol is not None else 1e-9 * max(size, 1.0)
+        tol = close_tol if close_tol is not None else 1e-9 * (size if size > 0 else 1.0)
         raw = _path_loops(path, label, tol)
         loops.extend(orient_region([_flip_y(loop) for loop in raw], rule))
     if not items:
