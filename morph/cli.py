@@ -345,7 +345,7 @@ def sum_(a, b, method, font, tol, output, force, size):
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
-def _morph_command(a, b, frames, tol, output, force, size, duration, kind):
+def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac"):
     from .frames import morph_frames
     from .render import render_png, save_animation, write_svg
 
@@ -354,7 +354,8 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind):
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
     t = a.tolerance(tol)
     with click.progressbar(length=frames, label="frames", file=sys.stderr) as bar:
-        regions = morph_frames(a.loops, b.loops, frames, t, progress=lambda k: bar.update(1))
+        regions = morph_frames(a.loops, b.loops, frames, t, progress=lambda k: bar.update(1),
+                               method=method)
     bbox = _frame_bbox(regions)
     images = []
     for k, region in enumerate(regions):
@@ -382,8 +383,9 @@ def _duration_option(f):
 @shape_argument("b")
 @_frames_option
 @_duration_option
+@method_option
 @common_options
-def glyph(a, b, frames, duration, font, tol, output, force, size):
+def glyph(a, b, frames, duration, method, font, tol, output, force, size):
     """Morph glyph A into glyph B: frames (1-a)·A ⊕ a·B (the paper's Fig. 6).
 
     Each frame is the Minkowski sum of A scaled by 1-a and B scaled by a, both
@@ -397,7 +399,7 @@ def glyph(a, b, frames, duration, font, tol, output, force, size):
       morph glyph T M --frames 10
       morph glyph a g --frames 24 --font MyFont.otf -o ag/
     """
-    _morph_command(a, b, frames, tol, output, force, size, duration, "glyph")
+    _morph_command(a, b, frames, tol, output, force, size, duration, "glyph", method)
 
 
 @main.command()
@@ -405,8 +407,9 @@ def glyph(a, b, frames, duration, font, tol, output, force, size):
 @shape_argument("b")
 @_frames_option
 @_duration_option
+@method_option
 @common_options
-def svg(a, b, frames, duration, font, tol, output, force, size):
+def svg(a, b, frames, duration, method, font, tol, output, force, size):
     """Morph SVG shape A into SVG shape B: frames (1-a)·A ⊕ a·B (Fig. 36).
 
     Like `morph glyph` for SVG files (closed paths; arcs are exact).  --tol is in the
@@ -417,7 +420,7 @@ def svg(a, b, frames, duration, font, tol, output, force, size):
     Example:
       morph svg bird.svg butterfly.svg --frames 12 -o bird2butterfly/
     """
-    _morph_command(a, b, frames, tol, output, force, size, duration, "svg")
+    _morph_command(a, b, frames, tol, output, force, size, duration, "svg", method)
 
 
 # =========================================================================== applications

@@ -427,11 +427,12 @@ def chain(pieces, tol):
             loop.append(nxt)
             used[nxt] = True
             cur = nxt
-        loops.append(_snap_loop([pieces[i] for i in loop]))
+        loops.append(snap_loop([pieces[i] for i in loop]))
     return loops
 
 
-def _snap_loop(loop):
+def snap_loop(loop):
+    """The loop with each join snapped to the mean of the two ends meeting there."""
     out = [p.copy() for p in loop]
     for i in range(len(out)):
         j = (i + 1) % len(out)

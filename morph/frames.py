@@ -30,12 +30,13 @@ def centered(loops):
     return translate_region(loops, -c)
 
 
-def morph_frames(region_a, region_b, n, tol, progress=None):
+def morph_frames(region_a, region_b, n, tol, progress=None, method="qac"):
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
     :func:`morph.trim.minkowski_sum`.  ``progress`` (optional) is called with each
-    frame index as it is done.  Raises ValueError for n < 2.
+    frame index as it is done.  ``method`` is the convolution method (Sec. 4).
+    Raises ValueError for n < 2.
     """
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
@@ -48,7 +49,8 @@ def morph_frames(region_a, region_b, n, tol, progress=None):
         elif alpha == 1.0:
             frames.append(b)
         else:
-            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol))
+            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
+                                       method=method))
         if progress is not None:
             progress(k)
     return frames

@@ -23,7 +23,7 @@ Pipeline, all on the rational pieces (polylines are used only to find where to l
 import numpy as np
 
 from . import piece as pc
-from .convolve import convolution
+from .convolve import convolution, snap_loop
 from .errors import TopologyError
 
 
@@ -313,18 +313,7 @@ def _loops_polylines(region, tol):
 
 def _winding(points, polylines):
     """Winding numbers of points with respect to closed polylines (vectorised)."""
-    w = np.zeros(len(points), int)
-    for poly in polylines:
-        a = poly
-        b = np.roll(poly, -1, axis=0)
-        px = points[:, 0:1]
-        py = points[:, 1:2]
-        ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
-        cr = (bx - ax) * (py - ay) - (px - ax) * (by - ay)
-        up = (ay <= py) & (by > py) & (cr > 0)
-        down = (ay > py) & (by <= py) & (cr < 0)
-        w += up.sum(axis=1) - down.sum(axis=1)
-    return w
+    return _open_winding(points, [np.vstack([p, p[:1]]) for p in polylines])
 
 
 class SegmentGrid:
@@ -736,14 +725,4 @@ def _assemble(arr, loop, origin, pieces):
     result = []
     for src, ta, tb in out:
         result.append(pc.subsegment(pieces[src], ta, tb))
-    return _snap_closed(result)
-
-
-def _snap_closed(loop):
-    out = [p.copy() for p in loop]
-    for i in range(len(out)):
-        j = (i + 1) % len(out)
-        m = 0.5 * (pc.end(out[i]) + pc.start(out[j]))
-        out[i] = pc.with_endpoints(out[i], pc.start(out[i]), m)
-        out[j] = pc.with_endpoints(out[j], m, pc.end(out[j]))
-    return out
+    return snap_loop(result)

