@@ -98,6 +98,8 @@ def evaluate(c, t):
     """Values of a Bernstein polynomial at parameters t: shape (len(t), ...)."""
     c = np.asarray(c, float)
     b = basis(len(c) - 1, t)
+    if c.ndim == 2:
+        return b @ c
     return np.tensordot(b, c, axes=(1, 0))
 
 

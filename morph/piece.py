@@ -9,6 +9,8 @@ Weights are kept positive; the convex hull property then holds for the Cartesian
 control points ``(x_i, y_i)``, which bounding boxes and hull tests rely on.
 """
 
+import functools
+
 import numpy as np
 
 from . import bernstein as bz
@@ -286,6 +288,11 @@ def loop_area(pieces, quad_points=24):
     return total
 
 
+@functools.lru_cache(maxsize=None)
+def _leggauss(n):
+    return np.polynomial.legendre.leggauss(n)
+
+
 def piece_area_term(piece, quad_points=24):
     """One piece's contribution 1/2 ∫ (x y' - y x') dt to the enclosed area."""
     piece = np.asarray(piece, float)
@@ -296,7 +303,7 @@ def piece_area_term(piece, quad_points=24):
             return 0.0
         integrand = bz.multiply(p[:, :1], d[:, 1:2])[:, 0] - bz.multiply(p[:, 1:2], d[:, :1])[:, 0]
         return 0.5 * float(np.mean(integrand))
-    x, wts = np.polynomial.legendre.leggauss(quad_points)
+    x, wts = _leggauss(quad_points)
     t = 0.5 * (x + 1.0)
     pt = evaluate(piece, t)
     dp = derivative(piece, t)

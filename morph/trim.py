@@ -484,10 +484,7 @@ class Arrangement:
         self.nodes = np.zeros((node.max() + 1, 2))
         self.nodes[node] = ends
         # direction keys of every half-edge leaving its node
-        t0 = np.array([pc.derivative(p, 0.0)[0] for p in subs])
-        t1 = np.array([pc.derivative(p, 1.0)[0] for p in subs])
-        k0 = np.array([_signed_curvature(p, 0.0) for p in subs])
-        k1 = np.array([_signed_curvature(p, 1.0) for p in subs])
+        t0, t1, k0, k1 = _end_geometry(subs)
         dirs = np.empty((2 * m, 2))
         dirs[0::2] = t0
         dirs[1::2] = -t1
@@ -520,7 +517,12 @@ class Arrangement:
                 g = self.next[g]
             faces.append(cyc)
         self.faces = faces
-        self.face_area = np.array([self._area(c) for c in faces])
+        # area term of each sub-piece once; the reversed half-edge contributes minus it
+        term = np.array([pc.piece_area_term(p, 8) for p in subs])
+        sign_term = np.empty(2 * m)
+        sign_term[0::2] = term
+        sign_term[1::2] = -term
+        self.face_area = np.array([sign_term[c].sum() for c in faces])
 
     def half_piece(self, h):
         p = self.subs[h >> 1]
@@ -622,6 +624,35 @@ class Arrangement:
                 raise TopologyError("boundary does not close at %s" % (self.nodes[self.node_of[h]],))
             loops.append(loop)
         return loops
+
+
+def _end_geometry(subs):
+    """End derivatives and signed curvatures of all pieces from their control points:
+    P'(0) = n w1/w0 (p1 - p0), kappa(0) = (n-1)/n w0 w2/w1^2 cross(p1-p0, p2-p1)/|p1-p0|^3
+    (and mirrored at t = 1); falls back to evaluation where p1 = p0 (degenerate ends)."""
+    m = len(subs)
+    t0, t1 = np.empty((m, 2)), np.empty((m, 2))
+    k0, k1 = np.zeros(m), np.zeros(m)
+    for k, p in enumerate(subs):
+        n = len(p) - 1
+        w = p[:, 2]
+        c = p[:, :2] / w[:, None]
+        for end, (i0, i1, i2, tt, td, kk, sgn) in enumerate(
+                ((0, 1, 2, 0.0, t0, k0, 1.0), (n, n - 1, n - 2, 1.0, t1, k1, -1.0))):
+            d = c[i1] - c[i0]
+            ln = np.hypot(*d)
+            if ln <= 1e-12 * (1.0 + np.abs(c).max()):
+                td[k] = pc.derivative(p, tt)[0]
+                kk[k] = _signed_curvature(p, tt)
+                continue
+            td[k] = sgn * n * w[i1] / w[i0] * d
+            if n >= 2:
+                e = c[i2] - c[i1]
+                # at t = 1 the formula walks (p_n, p_{n-1}, p_{n-2}) backwards, which
+                # flips the sign of the curvature
+                kk[k] = sgn * ((n - 1) / n * w[i0] * w[i2] / w[i1] ** 2
+                         * float(pc.cross2(d, e)) / ln ** 3)
+    return t0, t1, k0, k1
 
 
 def _signed_curvature(p, t):
