@@ -32,9 +32,9 @@ from PIL import Image, ImageDraw, ImageFont
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from morph import convolve, gauss  # noqa: E402
-from morph import methods as M  # noqa: E402
-from morph import piece as pc  # noqa: E402
+from morph import convolve, gauss  # noqa: E402 - after sys.path gets the repo root
+from morph import methods as M  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 
 DIST_TOLS = (1.0, 0.1, 0.01, 0.001, 0.0001)
 NORMAL_TOLS = (10.0, 5.0, 3.0, 1.0, 0.5)

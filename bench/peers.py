@@ -47,10 +47,10 @@ import shapely
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from morph import parse, trim  # noqa: E402
-from morph import piece as pc  # noqa: E402
-from morph.frames import centered, morph_frames, scale_region  # noqa: E402
-from tests import reference as R  # noqa: E402
+from morph import parse, trim  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.frames import centered, morph_frames, scale_region  # noqa: E402 - after sys.path gets the repo root
+from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
 
 UPM = 1000.0
 TOLS_EM = (1e-2, 1e-3, 1e-4, 1e-5)
@@ -229,20 +229,25 @@ def run_morph(tols, args, log):
         row = dict(case="T->M morph, %d frames" % FRAMES, tol=tol_em, ref=ref_em, repeats=1,
                    t_ours=t_ours, n_ours=sum(ctrl_points(f) for f in inner), e_ours=e_ours,
                    t_cdt=None, n_cdt=None, e_cdt=None)
-        nprod = sum(flat_count(fa, tol / 2) * flat_count(fb, tol / 2) for fa, fb in pairs)
-        if budget.fits(nprod):
-            t = time.perf_counter()
-            geoms = [R.polygon_minkowski_sum(fa, fb, tol) for fa, fb in pairs]
-            budget.record(time.perf_counter() - t, nprod)
-            row.update(t_peer=budget.last[0], peer_rep=1,
-                       n_peer=sum(poly_vertices(g) for g in geoms),
-                       e_peer=max(boundary_hausdorff(R._loops_of(g), r[1], spacing)
-                                  for g, r in zip(geoms, refs)))
-        else:
-            row.update(t_peer=None, n_peer=None, e_peer=None, peer_rep=0)
+        _peer_columns(row, pairs, refs, tol, spacing, budget)
         rows.append(row)
         log(fmt_row(row))
     return rows
+
+
+def _peer_columns(row, pairs, refs, tol, spacing, budget):
+    """Run flatten+Clipper on (a, b) pairs once if the budget allows; fill row's peer columns."""
+    nprod = sum(flat_count(fa, tol / 2) * flat_count(fb, tol / 2) for fa, fb in pairs)
+    if not budget.fits(nprod):
+        row.update(t_peer=None, n_peer=None, e_peer=None, peer_rep=0)
+        return
+    t = time.perf_counter()
+    geoms = [R.polygon_minkowski_sum(fa, fb, tol) for fa, fb in pairs]
+    budget.record(time.perf_counter() - t, nprod)
+    row.update(t_peer=budget.last[0], peer_rep=1,
+               n_peer=sum(poly_vertices(g) for g in geoms),
+               e_peer=max(boundary_hausdorff(R._loops_of(g), r[1], spacing)
+                          for g, r in zip(geoms, refs)))
 
 
 def run_az(tols, args, log):
@@ -265,17 +270,7 @@ def run_az(tols, args, log):
         row = dict(case="A-Z ⊕ nib (26 sums)", tol=tol_em, ref=ref_em, repeats=1,
                    t_ours=t_ours, n_ours=sum(ctrl_points(o) for o in outs), e_ours=e_ours,
                    t_cdt=None, n_cdt=None, e_cdt=None)
-        nprod = sum(flat_count(g, tol / 2) * flat_count(NIB, tol / 2) for g in regions)
-        if budget.fits(nprod):
-            t = time.perf_counter()
-            geoms = [R.polygon_minkowski_sum(g, NIB, tol) for g in regions]
-            budget.record(time.perf_counter() - t, nprod)
-            row.update(t_peer=budget.last[0], peer_rep=1,
-                       n_peer=sum(poly_vertices(g) for g in geoms),
-                       e_peer=max(boundary_hausdorff(R._loops_of(g), r[1], spacing)
-                                  for g, r in zip(geoms, refs)))
-        else:
-            row.update(t_peer=None, n_peer=None, e_peer=None, peer_rep=0)
+        _peer_columns(row, [(g, NIB) for g in regions], refs, tol, spacing, budget)
         rows.append(row)
         log(fmt_row(row))
     return rows

@@ -35,10 +35,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from morph import convolve, gauss, parse, trim  # noqa: E402
-from morph import piece as pc  # noqa: E402
-from tests import reference as R  # noqa: E402
-from tests.test_convolve import pair_error  # noqa: E402
+from morph import convolve, gauss, parse, trim  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
+from tests.test_convolve import pair_error  # noqa: E402 - after sys.path gets the repo root
 
 TOLS_EM = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)
 UPM = 1000.0
