@@ -1,4 +1,8 @@
-"""Brush fonts: written glyph = glyph ⊕ nib (Hausdorff <= 1 font unit vs Clipper)."""
+"""Brush fonts: written glyph = glyph ⊕ nib (Hausdorff <= 1 font unit vs Clipper).
+
+A-Z, a-z of both bundled fonts are checked the same way by ``python -m bench.brush``
+(bench/brush.md); here a few glyphs, kept cheap.
+"""
 
 import numpy as np
 import pytest
@@ -10,13 +14,13 @@ from PIL import Image, ImageDraw, ImageFont
 from morph import piece as pc
 from morph.cli import main
 from morph.errors import MorphError
-from morph.fonts.brush import (brush_font, check_convex_nib, ellipse_nib, parse_glyph_spec,
-                               region_extent)
+from morph.fonts.brush import (brush_font, check_convex_nib, composite_plan, ellipse_nib,
+                               parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region
 from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
 
 NIB = (80.0, 30.0, 30.0)
-CHARS = "oTg"
+CHARS = "oTgSWe"
 
 
 @pytest.fixture(scope="module", params=["ttf", "otf"])
@@ -30,15 +34,85 @@ def brushed(request, tmp_path_factory):
     return src, out
 
 
-def test_outlines_equal_glyph_plus_nib(brushed):
-    src, out = brushed
+def _shifted_nib():
     nib = ellipse_nib(*NIB)
     shift = -region_extent(nib)[0]
-    nib = [[pc.translate(p, (shift, 0.0)) for p in nib[0]]]
+    return [[pc.translate(p, (shift, 0.0)) for p in nib[0]]]
+
+
+def _assert_sum(src, out, ch_or_name):
+    got = glyph_region(ch_or_name, font=str(out)).region
+    ref = polygon_minkowski_sum(glyph_region(ch_or_name, font=src).region, _shifted_nib(),
+                                0.25)
+    assert hausdorff(region_to_shapely(got, 0.05), ref, 0.5) <= 1.0, ch_or_name
+
+
+def test_outlines_equal_glyph_plus_nib(brushed):
+    src, out = brushed
     for ch in CHARS:
-        got = glyph_region(ch, font=str(out)).region
-        ref = polygon_minkowski_sum(glyph_region(ch, font=src).region, nib, 0.25)
-        assert hausdorff(region_to_shapely(got, 0.05), ref, 0.5) <= 1.0, ch
+        _assert_sum(src, out, ch)
+
+
+def _bounds(font, name):
+    from fontTools.pens.boundsPen import BoundsPen
+
+    pen = BoundsPen(font.getGlyphSet())
+    font.getGlyphSet()[name].draw(pen)
+    return pen.bounds
+
+
+def test_composites_follow_swept_components(brushed):
+    """TrueType oacute = o + acute: o swept, oacute grows like o, acute stays centred.
+
+    CFF has no composites (the bundled .otf has no seac either): its accented letters
+    are plain outlines and stay as they are when their base letter is swept.
+    """
+    src, out = brushed
+    a, b = TTFont(str(src)), TTFont(str(out))
+    if "glyf" not in a:
+        for name in ("oacute", "eacute"):
+            assert b["hmtx"][name] == a["hmtx"][name]
+            assert _bounds(b, name) == _bounds(a, name)
+        return
+    x0, _, x1, _ = region_extent(ellipse_nib(*NIB))
+    assert composite_plan(a, ["o"]) == (["ograve", "oacute", "ocircumflex", "otilde",
+                                          "odieresis"], [])
+    for name in ("ograve", "oacute", "ocircumflex", "otilde", "odieresis"):
+        g = b["glyf"][name]
+        assert g.isComposite()
+        assert b["hmtx"][name][0] == b["hmtx"]["o"][0] == round(a["hmtx"][name][0] + x1 - x0)
+        assert b["hmtx"][name][1] == _bounds(b, name)[0]
+        mark = [c for c in g.components if c.glyphName != "o"][0]
+        old = [c for c in a["glyf"][name].components if c.glyphName == mark.glyphName][0]
+        assert (mark.x - old.x, mark.y - old.y) == (round((x1 - x0) / 2), 0)
+        # the mark keeps its place over the (widened) o: centres agree as before
+        (ox0, _, ox1, _), (px0, _, px1, _) = _bounds(a, "o"), _bounds(b, "o")
+        assert abs((px0 + px1) / 2 - (ox0 + ox1) / 2 - mark.x + old.x) <= 1
+        assert _bounds(b, name)[2] <= b["hmtx"][name][0]  # ink inside the advance
+    # unrelated composites and the accents themselves are untouched
+    for name in ("Eacute", "acute"):
+        assert b["hmtx"][name] == a["hmtx"][name]
+    # Pillow: "oó" in the new font, no ink clipped at the right edge of the advance
+    fnt = ImageFont.truetype(str(out), 100)
+    adv = fnt.getlength("ó")
+    img = Image.new("L", (int(adv) + 40, 160), 255)
+    ImageDraw.Draw(img).text((20, 20), "ó", font=fnt, fill=0)
+    ink = np.nonzero(np.asarray(img).min(axis=0) < 128)[0]
+    assert ink[0] >= 20 and ink[-1] <= 20 + adv
+
+
+def test_chosen_composite_is_decomposed_and_swept(tmp_path):
+    """A chosen composite becomes glyph ⊕ nib of its decomposed outline (accent too)."""
+    src, out = default_font_path(), tmp_path / "c.ttf"
+    stats = brush_font(src, out, ellipse_nib(*NIB), ["eacute", "Y"], tol=0.5,
+                       composites="sweep")
+    assert (stats["glyphs"], stats["followed"], stats["decomposed"]) == (2, 0, 1)
+    b = TTFont(str(out))
+    for name in ("eacute", "Yacute"):  # chosen / decomposed because Y was swept
+        assert not b["glyf"][name].isComposite()
+        _assert_sum(src, out, name)
+    with pytest.raises(MorphError, match="composites"):
+        brush_font(src, "unused.ttf", ellipse_nib(*NIB), ["Y"], composites="keep")
 
 
 def test_metrics_names_and_directions(brushed):

@@ -86,31 +86,25 @@ def _reverse_loop(loop):
     return [pc.reverse(p) for p in reversed(loop)]
 
 
-def _draw_quadratic(pen, loops, tol):
-    from ..export import piece_to_quadratics
+def _draw(pen, loops, tol, quadratic):
+    """Draw loops (ours: outer counter-clockwise) as polynomial contours on a pen.
 
+    TrueType (``quadratic``): quadratics, outer contours clockwise (loops reversed);
+    CFF: cubics, outer contours counter-clockwise, as ours.  Lines stay lines.
+    """
+    from ..export import piece_to_cubics, piece_to_quadratics
+
+    convert = piece_to_quadratics if quadratic else piece_to_cubics
     for loop in loops:
-        loop = _reverse_loop(loop)  # TrueType: outer contours clockwise
+        if quadratic:
+            loop = _reverse_loop(loop)
         segs = []
         for p in loop:
             if pc.degree(p) == 1 and pc.is_polynomial(p):
                 segs.append(pc.cartesian(p))
             else:
-                segs.extend(np.asarray(q, float) for q in piece_to_quadratics(p, tol))
-        _emit(pen, segs, quadratic=True)
-
-
-def _draw_cubic(pen, loops, tol):
-    from ..export import piece_to_cubics
-
-    for loop in loops:  # CFF: outer contours counter-clockwise, as ours
-        segs = []
-        for p in loop:
-            if pc.degree(p) == 1 and pc.is_polynomial(p):
-                segs.append(pc.cartesian(p))
-            else:
-                segs.extend(np.asarray(c, float) for c in piece_to_cubics(p, tol))
-        _emit(pen, segs, quadratic=False)
+                segs.extend(np.asarray(q, float) for q in convert(p, tol))
+        _emit(pen, segs, quadratic)
 
 
 def _emit(pen, segs, quadratic):
@@ -129,6 +123,113 @@ def _emit(pen, segs, quadratic):
         else:
             pen.curveTo(*pts)
     pen.closePath()
+
+
+class _TrueTypeOutlines:
+    """Writes glyph outlines into the ``glyf`` table (quadratic contours)."""
+
+    quadratic = True
+
+    def __init__(self, font):
+        self.glyf = font["glyf"]
+        self.glyph_set = font.getGlyphSet()
+
+    def pen(self, advance):
+        from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+        return TTGlyphPen(self.glyph_set)
+
+    def store(self, name, pen, drawn):
+        """Store the pen's glyph; return the new left side bearing."""
+        g = pen.glyph()
+        self.glyf[name] = g
+        g.recalcBounds(self.glyf)
+        return g.xMin if drawn else 0
+
+
+class _CFFOutlines:
+    """Writes glyph outlines into the ``CFF `` table (Type 2 charstrings, cubic)."""
+
+    quadratic = False
+
+    def __init__(self, font):
+        self.cff = font["CFF "].cff
+        top = self.cff.topDictIndex[0]
+        self.char_strings = top.CharStrings
+        self.private = top.Private
+        self.nominal = getattr(self.private, "nominalWidthX", 0) or 0
+
+    def pen(self, advance):
+        from fontTools.pens.t2CharStringPen import T2CharStringPen
+
+        return T2CharStringPen(advance - self.nominal, None)
+
+    def store(self, name, pen, drawn):
+        """Store the pen's charstring; return the new left side bearing."""
+        cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
+        self.char_strings[name] = cs
+        bounds = cs.calcBounds(self.char_strings) if drawn else None
+        return int(np.floor(bounds[0])) if bounds else 0
+
+
+def _rigid(component):
+    """True for a TrueType component placed by an offset only (no 2x2, no anchor points)."""
+    return not hasattr(component, "transform") and getattr(component, "firstPt", None) is None
+
+
+def composite_plan(font, swept, composites="follow"):
+    """Which TrueType composite glyphs depend on the swept glyphs, and how.
+
+    Returns ``(follow, sweep)``: glyph names not in ``swept`` whose components include
+    a swept glyph, directly or through other such composites, in dependency order.
+    ``follow``: composites that stay composites (see :func:`brush_font`); ``sweep``:
+    composites to decompose and sweep themselves -- those with a scaled, rotated or
+    flipped component or one placed by anchor points (the swept component's outline
+    cannot simply be reused there: (M g) ⊕ nib is not M (g ⊕ nib), and the point
+    numbers changed), and all of them with ``composites="sweep"``.  CFF fonts have no
+    composites (seac accents are not looked at): both lists are empty.
+    """
+    if composites not in ("follow", "sweep"):
+        raise MorphError("composites must be 'follow' or 'sweep', got %r" % (composites,))
+    if "glyf" not in font:
+        return [], []
+    glyf = font["glyf"]
+    comps = {n: glyf[n].components for n in font.getGlyphOrder() if glyf[n].isComposite()}
+    moved = set(swept)
+    follow, sweep = [], []
+    changed = True
+    while changed:  # discovery order is a dependency order
+        changed = False
+        for n, components in comps.items():
+            if n not in moved and any(c.glyphName in moved for c in components):
+                moved.add(n)
+                changed = True
+                rigid = composites == "follow" and all(map(_rigid, components))
+                (follow if rigid else sweep).append(n)
+    return follow, sweep
+
+
+def _follow_composites(font, follow, moved, offset, nib_w):
+    """Adjust composites that keep their components (TrueType only).
+
+    Each composite grows by the nib's width like its swept components, and every
+    component that was not swept (an accent over a swept base) moves by ``offset``,
+    the translation of the nib's centre in the swept glyphs: where the centre of its
+    own swept version would be, so it stays centred over its base.
+    """
+    if not follow:
+        return
+    glyf, hmtx = font["glyf"], font["hmtx"]
+    dx, dy = (int(round(v)) for v in offset)
+    for n in follow:
+        g = glyf[n]
+        for c in g.components:
+            if c.glyphName not in moved:
+                c.x += dx
+                c.y += dy
+        g.recalcBounds(glyf)
+        adv, _ = hmtx[n]
+        hmtx[n] = (int(round(adv + nib_w)), int(getattr(g, "xMin", 0)))
 
 
 def _rename(font, family):
@@ -160,18 +261,25 @@ def _rename(font, family):
 
 
 def brush_font(font_path, out_path, nib_region, glyphs, tol=0.5, family_name=None,
-               progress=None, method="qac"):
+               progress=None, method="qac", composites="follow"):
     """Write a copy of the font with each chosen glyph replaced by glyph ⊕ nib.
 
     ``font_path``: a TrueType (glyf) or CFF OpenType font (None: the bundled font).
     ``nib_region``: a convex region in font units (e.g. :func:`ellipse_nib`).
-    ``glyphs``: characters or glyph names.  ``tol``: total outline tolerance in font
-    units (half for the sum, half for the curve conversion).  ``family_name``:
-    the new family name (default: "<family> Brush").  ``progress(name)`` is called
-    after each glyph.  Returns a dict of statistics (glyphs, contours, segments).
+    ``glyphs``: characters or glyph names; a chosen composite glyph is decomposed and
+    swept as a whole.  ``tol``: total outline tolerance in font units (half for the
+    sum, half for the curve conversion).  ``family_name``: the new family name
+    (default: "<family> Brush").  ``progress(name)`` is called after each chosen
+    glyph.  ``composites``: what happens to TrueType composites that are not chosen
+    but use a swept glyph (e.g. eacute = e + acute when e is swept): "follow" (they
+    stay composites, grow by the nib width and their unswept components move with
+    the nib's centre, see :func:`composite_plan`) or "sweep" (decomposed and swept
+    too).  Returns a dict of statistics: glyphs (chosen, swept), contours, segments,
+    followed and decomposed (composites not chosen).
 
     Raises:
-        MorphError: non-convex nib, variable font, a glyph missing from the font.
+        MorphError: non-convex nib, variable font, a glyph missing from the font, a
+            sum that fails (the message names the glyph).
     """
     from fontTools.ttLib import TTFont
 
@@ -185,8 +293,11 @@ def brush_font(font_path, out_path, nib_region, glyphs, tol=0.5, family_name=Non
     if "fvar" in font:
         raise MorphError("variable fonts are not supported: instantiate one style first "
                          "(fontTools.varLib.instancer)")
-    is_tt = "glyf" in font
-    if not is_tt and "CFF " not in font:
+    if "glyf" in font:
+        outlines = _TrueTypeOutlines(font)
+    elif "CFF " in font:
+        outlines = _CFFOutlines(font)
+    else:
         raise MorphError("font %s has neither TrueType (glyf) nor CFF outlines" % font_path)
     nx0, ny0, nx1, ny1 = region_extent(nib_region)
     nib_w = nx1 - nx0
@@ -196,61 +307,45 @@ def brush_font(font_path, out_path, nib_region, glyphs, tol=0.5, family_name=Non
         n = _glyph_name(font, item)
         if n not in names:
             names.append(n)
+    follow, extra = composite_plan(font, names, composites)
     if family_name is None:
         family_name = "%s Brush" % (font["name"].getDebugName(1) or "Morph")
 
     # read all source outlines before anything is changed
     sources = {}
-    for n in names:
+    for n in names + extra:
         try:
             sources[n] = (glyph_region(n, font=font).region if len(n) > 1
                           else _region_by_name(font, n))
         except MorphError:
             sources[n] = []  # empty glyph (space): metrics only
     half = tol / 2.0
-    stats = {"glyphs": 0, "contours": 0, "segments": 0}
+    stats = {"glyphs": 0, "contours": 0, "segments": 0, "followed": len(follow),
+             "decomposed": len(extra)}
     hmtx = font["hmtx"]
-    if is_tt:
-        from fontTools.pens.ttGlyphPen import TTGlyphPen
-
-        glyf = font["glyf"]
-        glyph_set = font.getGlyphSet()
-    else:
-        from fontTools.pens.t2CharStringPen import T2CharStringPen
-
-        cff = font["CFF "].cff
-        top = cff.topDictIndex[0]
-        char_strings = top.CharStrings
-        private = top.Private
-        nominal = getattr(private, "nominalWidthX", 0) or 0
-    for n in names:
+    for n in names + extra:
         adv, lsb = hmtx[n]
         region = sources[n]
         new_adv = int(round(adv + nib_w))
         loops = []
         if region:
-            loops = minkowski_sum(region, nib_region, half, method=method)
+            try:
+                loops = minkowski_sum(region, nib_region, half, method=method)
+            except MorphError as exc:
+                raise type(exc)("glyph %r: %s" % (n, exc)) from exc
             loops = [[pc.translate(p, (shift, 0.0)) for p in loop] for loop in loops]
-        if is_tt:
-            pen = TTGlyphPen(glyph_set)
-            _draw_quadratic(pen, loops, half)
-            g = pen.glyph()
-            glyf[n] = g
-            g.recalcBounds(glyf)
-            new_lsb = g.xMin if loops else 0
-        else:
-            pen = T2CharStringPen(new_adv - nominal, None)
-            _draw_cubic(pen, loops, half)
-            cs = pen.getCharString(private=private, globalSubrs=cff.GlobalSubrs)
-            char_strings[n] = cs
-            bounds = cs.calcBounds(char_strings) if loops else None
-            new_lsb = int(np.floor(bounds[0])) if bounds else 0
-        hmtx[n] = (new_adv, int(new_lsb))
+        pen = outlines.pen(new_adv)
+        _draw(pen, loops, half, outlines.quadratic)
+        hmtx[n] = (new_adv, int(outlines.store(n, pen, bool(loops))))
+        if n in extra:
+            continue
         stats["glyphs"] += 1
         stats["contours"] += len(loops)
         stats["segments"] += sum(map(len, loops))
         if progress is not None:
             progress(n)
+    centre = (shift + (nx0 + nx1) / 2.0, (ny0 + ny1) / 2.0)
+    _follow_composites(font, follow, set(names + extra + follow), centre, nib_w)
     for tag in ("hdmx", "LTSH", "VDMX"):
         if tag in font:
             del font[tag]
