@@ -32,8 +32,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
@@ -110,9 +108,25 @@ def run_font(key, chars, nib_spec, tol, ref_tol, workdir):
             "size": out.stat().st_size}
 
 
+def code_version():
+    """'commit abc1234' of the measured tree, '+ uncommitted changes in morph/' if so."""
+    import subprocess
+
+    def git(*args):
+        return subprocess.run(["git", "-C", str(ROOT)] + list(args), capture_output=True,
+                              text=True).stdout.strip()
+
+    head = git("rev-parse", "--short", "HEAD")
+    if not head:
+        return "unknown commit"
+    dirty = git("status", "--porcelain", "--", "morph")
+    return "commit %s%s" % (head, " + uncommitted changes in morph/" if dirty else "")
+
+
 def markdown(results, opt, chars):
     md = ["# Brush-swept fonts (bench/brush.py)", "",
-          "Command: `python -m bench.brush%s`" % opt.argline, "",
+          "Command: `python -m bench.brush%s` (code: %s)" % (opt.argline, code_version()),
+          "",
           "Nib: exact ellipse %g x %g font units rotated %g degrees (the default of "
           "`morph brush`); outline tolerance %g font units; %d glyphs (%s) per font; "
           "upm 1000.  Reference: Clipper sum of the source glyph and the nib flattened "

@@ -12,8 +12,20 @@ Metrics: the outline is shifted right by the nib's left extent (so it starts no
 further left of the origin than the original glyph did) and the advance width grows
 by the nib's width.  Contours are written clockwise-outside for TrueType and
 counter-clockwise-outside for CFF.  The result is a trimmed boundary: no overlapping
-contours are left.  Composite glyphs built from swept glyphs follow their
-components; their advance widths are not changed unless they are chosen too.
+contours are left.
+
+Composite glyphs (TrueType; e.g. eacute = e + acute).  A chosen composite is
+decomposed and swept as a whole (it becomes a simple glyph, accent brushed too).  A
+composite that is not chosen but uses a swept glyph keeps its components (the default
+``composites="follow"``): its advance width grows by the nib's width like the swept
+base's, and each component that was not swept (the accent) moves by the translation
+of the nib's centre, (nib width / 2, nib centre y), i.e. to where the centre of its own
+swept version would be, so it stays centred over the widened base.  Composites with a
+scaled / flipped component or one placed by anchor points cannot follow (the swept
+outline would be transformed with its nib, or the point numbers changed): they are
+decomposed and swept; ``composites="sweep"`` does that for all of them.  CFF fonts
+have no composites; seac accented glyphs are not handled (they would follow the
+base without metric changes).  GPOS mark anchors are not moved.
 """
 
 import re
