@@ -10,7 +10,7 @@ brushed with ``morph.fonts.brush.brush_font`` in one call (the default nib of
 ``morph brush``: exact ellipse 80 x 30 font units rotated 30 degrees; total outline
 tolerance ``--tol`` font units), and the wall time of that call is reported
 (perf_counter, one run, single process; it includes reading the source outlines and
-saving the font).
+saving the font), with its CPU time (process_time: less sensitive to other load).
 
 Then every written glyph is read back from the saved font (``morph.parse.glyph_region``:
 the quadratics / cubics actually stored, on integer coordinates) and compared with an
@@ -27,6 +27,7 @@ Writes the summary and a per-glyph table to bench/brush.md.
 """
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -63,7 +64,7 @@ def run_font(key, chars, nib_spec, tol, ref_tol, workdir):
     while True:
         todo = [c for c in chars if c not in raised]
         done = []
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         try:
             stats = brush_font(src, out, nib, todo, tol=tol, family_name="Bench Brush",
                                progress=done.append)
@@ -71,7 +72,7 @@ def run_font(key, chars, nib_spec, tol, ref_tol, workdir):
             raised[todo[len(done)]] = "%s: %s" % (type(exc).__name__, exc)
             print("%s %s raised: %s" % (key, todo[len(done)], exc), flush=True)
             continue
-        seconds = time.perf_counter() - t0
+        seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
         break
     x0, _, x1, _ = region_extent(nib)
     nib_shifted = [[pc.translate(p, (-x0, 0.0)) for p in nib[0]]]
@@ -99,7 +100,8 @@ def run_font(key, chars, nib_spec, tol, ref_tol, workdir):
                                "  FAIL " + note if fail else ""), flush=True)
     check_seconds = time.perf_counter() - t1
     errs = [r["err"] for r in rows if r["err"] is not None]
-    return {"font": key, "src": Path(src).name, "seconds": seconds, "stats": stats,
+    return {"font": key, "src": Path(src).name, "seconds": seconds, "cpu": cpu,
+            "stats": stats,
             "rows": rows, "worst": max(errs) if errs else float("nan"),
             "worst_char": max((r for r in rows if r["err"] is not None),
                               key=lambda r: r["err"])["char"] if errs else "-",
@@ -134,19 +136,21 @@ def markdown(results, opt, chars):
           "advance width = original + nib width."
           % (opt.nib[0], opt.nib[1], opt.nib[2], opt.tol, len(chars), opt.glyphs,
              opt.ref_tol, LIMIT), "",
-          "| font | glyphs | brush time (s) | s / glyph | contours | segments | "
-          "worst Hausdorff (units) | failures | check time (s) |",
-          "|---|---|---|---|---|---|---|---|---|"]
+          "| font | glyphs | brush wall time (s) | brush CPU time (s) | CPU s / glyph | "
+          "contours | segments | worst Hausdorff (units) | failures | check time (s) |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
-        md.append("| %s (%s) | %d | %.1f | %.2f | %d | %d | %.3f (%s) | %d | %.1f |" % (
-            r["font"], r["src"], r["stats"]["glyphs"], r["seconds"],
-            r["seconds"] / max(1, r["stats"]["glyphs"]), r["stats"]["contours"],
+        md.append("| %s (%s) | %d | %.1f | %.1f | %.2f | %d | %d | %.3f (%s) | %d | %.1f |"
+                  % (r["font"], r["src"], r["stats"]["glyphs"], r["seconds"], r["cpu"],
+                     r["cpu"] / max(1, r["stats"]["glyphs"]), r["stats"]["contours"],
             r["stats"]["segments"], r["worst"], r["worst_char"], len(r["failures"]),
             r["check_seconds"]))
     md += ["", "Brush time: one `brush_font` call, single process, including reading the "
            "source outlines and saving the font; the check (read back + reference sum + "
-           "Hausdorff) is not included.  A glyph whose sum raises stops `brush_font`; it "
-           "is then counted as a failure and the font is brushed again without it (the "
+           "Hausdorff) is not included.  Wall time depends on what else the machine runs "
+           "(load average %s at the end of the run, %d CPUs); CPU time much less."
+           % (", ".join("%.1f" % v for v in os.getloadavg()), os.cpu_count() or 1)
+           + "  A glyph whose sum raises stops `brush_font`; it is then counted as a failure and the font is brushed again without it (the "
            "time is that of the last, complete call)."]
     for r in results:
         if r["raised"]:
@@ -190,9 +194,9 @@ def main(argv=None):
         for key in [k.strip() for k in opt.fonts.split(",") if k.strip()]:
             results.append(run_font(key, chars, opt.nib, opt.tol, opt.ref_tol, tmp))
     for r in results:
-        print("%s: %d glyphs brushed in %.1f s; worst Hausdorff %.3f units (%s); "
-              "%d failures" % (r["font"], r["stats"]["glyphs"], r["seconds"], r["worst"],
-                               r["worst_char"], len(r["failures"])))
+        print("%s: %d glyphs brushed in %.1f s (CPU %.1f s); worst Hausdorff %.3f units "
+              "(%s); %d failures" % (r["font"], r["stats"]["glyphs"], r["seconds"], r["cpu"],
+                                     r["worst"], r["worst_char"], len(r["failures"])))
     if not opt.no_write:
         Path(opt.md).write_text(markdown(results, opt, chars))
         print("wrote %s" % opt.md)
