@@ -150,8 +150,9 @@ def markdown(results, opt, chars):
            "Hausdorff) is not included.  Wall time depends on what else the machine runs "
            "(load average %s at the end of the run, %d CPUs); CPU time much less."
            % (", ".join("%.1f" % v for v in os.getloadavg()), os.cpu_count() or 1)
-           + "  A glyph whose sum raises stops `brush_font`; it is then counted as a failure and the font is brushed again without it (the "
-           "time is that of the last, complete call)."]
+           + "  A glyph whose sum raises stops `brush_font`; it is then counted as a "
+           "failure and the font is brushed again without it (the time is that of the "
+           "last, complete call)."]
     for r in results:
         if r["raised"]:
             md.append("%s: brushed without %s (raised)." % (r["font"], ", ".join(r["raised"])))
