@@ -41,7 +41,7 @@ printed too), and (fit) a power law n = c e**-p fitted to the measured Clipper
 Runs whose predicted time exceeds --budget seconds (the Clipper peer grows ~N*M with
 the vertex counts; the prediction scales the previous tolerance's time by the square
 of the vertex ratio) are skipped and say so.  Times: median of --repeats runs
-(default 5) for the single sums (Clipper: 1 run when the previous tolerance took > 2 s),
+(default 5) for the single sums (Clipper: 1 run when predicted to take > 2 s),
 1 run for the morph and A-Z; perf_counter, font loading and measuring excluded.
 """
 
@@ -128,11 +128,12 @@ class Budget:
         self.limit = limit
         self.last = None  # (time, flattened vertex product)
 
-    def fits(self, nprod):
-        if self.last is None:
-            return True
+    def predict(self, nprod):
         t, n = self.last
-        return t * (nprod / max(n, 1)) ** GROWTH <= self.limit
+        return t * (nprod / max(n, 1)) ** GROWTH
+
+    def fits(self, nprod):
+        return self.last is None or self.predict(nprod) <= self.limit
 
     def record(self, t, nprod):
         self.last = (t, nprod)
@@ -163,7 +164,7 @@ def run_pairs(name, pairs, tols, args, log, repeats, per_piece=16, morph_fn=None
                    e_ours=err_curves(outs, oracles, per_piece), outs=outs)
         nprod = sum(flat_count(a, tol / 2) * flat_count(b, tol / 2) for a, b in pairs)
         if budget.fits(nprod):
-            rep = repeats if (budget.last is None or budget.last[0] < 2.0) else 1
+            rep = repeats if (budget.last is None or budget.predict(nprod) < 2.0) else 1
             t_peer, geoms = timed(lambda: [R.polygon_minkowski_sum(a, b, tol) for a, b in pairs],
                                   rep)
             budget.record(t_peer, nprod)
