@@ -35,7 +35,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import MorphError
 
-__all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font",
+__all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent"]
 
 
