@@ -154,11 +154,15 @@ def run_pairs(name, pairs, tols, args, log, repeats, per_piece=16, morph_fn=None
     budget = Budget(args.budget)
     for tol_em in tols:
         tol = tol_em * UPM
-        if morph_fn is None:
-            t_ours, outs = timed(lambda: [trim.minkowski_sum(a, b, tol) for a, b in pairs],
-                                 repeats)
-        else:
-            t_ours, outs = timed(lambda: morph_fn(tol), repeats)
+        try:
+            if morph_fn is None:
+                t_ours, outs = timed(lambda: [trim.minkowski_sum(a, b, tol) for a, b in pairs],
+                                     repeats)
+            else:
+                t_ours, outs = timed(lambda: morph_fn(tol), repeats)
+        except Exception as exc:  # a core failure is a result: report it, go on
+            log("  %s at %g em: morph FAILED: %s: %s" % (name, tol_em, type(exc).__name__, exc))
+            continue
         row = dict(case=name, tol=tol_em, repeats=repeats, t_ours=t_ours,
                    n_ours=sum(ctrl_points(o) for o in outs),
                    e_ours=err_curves(outs, oracles, per_piece), outs=outs)
