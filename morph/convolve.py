@@ -77,23 +77,199 @@ def quadratic_approximation(c2):
     return np.array([q0, q0 + a * t0, q2])
 
 
-def qac_error_bound(c2, q2):
-    """A-priori bound of max_s |C2(s) - Q2(s)| (Eqs. 39-40).
+def _product_scatter(m, n):
+    """Matrix S with S @ outer(a, b).ravel() = Bernstein product of degrees m and n."""
+    key = (m, n)
+    s = _SCATTER.get(key)
+    if s is None:
+        w = bz._product_matrix(m, n)
+        i, j = np.meshgrid(np.arange(m + 1), np.arange(n + 1), indexing="ij")
+        s = np.zeros((m + n + 1, (m + 1) * (n + 1)))
+        s[(i + j).ravel(), np.arange((m + 1) * (n + 1))] = w.ravel()
+        _SCATTER[key] = s
+    return s
 
-    e(s) = |C2(s) - Q2(s)|^2 = |X2(s) - W2(s) Q2(s)|^2 / W2(s)^2.  The numerator is a
-    Bernstein polynomial; its largest coefficient bounds it (convex hull property),
-    and the smallest weight coefficient bounds W2 from below.  Returns
-    (bound, s_peak) where s_peak is the parameter of the largest coefficient, the
+
+_SCATTER = {}
+_SPLIT_HALF = {}
+
+
+def _mul(a, b):
+    """Bernstein product (as :func:`morph.bernstein.multiply`) as one matrix product.
+
+    a, b: (m+1,) or (m+1, d) and (n+1,) or (n+1, d) (one of them may be 1-D).
+    """
+    m, n = len(a) - 1, len(b) - 1
+    s = _product_scatter(m, n)
+    if a.ndim == 1 and b.ndim == 1:
+        return s @ np.outer(a, b).ravel()
+    a2 = a if a.ndim == 2 else a[:, None]
+    b2 = b if b.ndim == 2 else b[:, None]
+    return s @ (a2[:, None, :] * b2[None, :, :]).reshape((m + 1) * (n + 1), -1)
+
+
+def _halves(c):
+    """Coefficients of c on [0, 1/2] and [1/2, 1] (de Casteljau at 1/2, as matrices)."""
+    n = len(c) - 1
+    mats = _SPLIT_HALF.get(n)
+    if mats is None:
+        mats = bz.split(np.eye(n + 1), 0.5)
+        _SPLIT_HALF[n] = mats
+    return mats[0] @ c, mats[1] @ c
+
+
+def _ratio_bound(a, b, halvings=1):
+    """Upper bound of max a(s) / b(s) on [0, 1] for Bernstein a, b of one degree, b > 0.
+
+    sum a_i B_i / sum b_i B_i <= max_i a_i / b_i when every b_i > 0 (mediant
+    inequality, the convex hull property with weights); the bound is taken on each
+    of 2**halvings equal sub-intervals (de Casteljau), which tightens it.  Returns
+    (bound, s) with s the parameter of the largest ratio, or (inf, 0.5) when a
+    coefficient of b is not positive.
+    """
+    parts = [(a, b, 0.0, 1.0)]
+    for _ in range(halvings):
+        nxt = []
+        for pa, pb, s0, s1 in parts:
+            (la, ra), (lb, rb) = _halves(pa), _halves(pb)
+            sm = 0.5 * (s0 + s1)
+            nxt += [(la, lb, s0, sm), (ra, rb, sm, s1)]
+        parts = nxt
+    best, s_best = -np.inf, 0.5
+    for pa, pb, s0, s1 in parts:
+        if not np.all(pb > 0):
+            return np.inf, 0.5
+        r = pa / pb
+        k = int(np.argmax(r))
+        if r[k] > best:
+            best, s_best = float(r[k]), s0 + (s1 - s0) * k / (len(r) - 1)
+    return best, s_best
+
+
+def _sq_norm(g):
+    """|g|^2 of a planar Bernstein polynomial g (shape (m+1, 2)), degree 2m."""
+    return _mul(g[:, 0], g[:, 0]) + _mul(g[:, 1], g[:, 1])
+
+
+def qac_parametric_bound(c2, q2):
+    """A-priori bound of max_s |C2(s) - Q2(s)| at equal parameters (Eqs. 39-40).
+
+    e(s)^2 = |X2(s) - W2(s) Q2(s)|^2 / W2(s)^2: both are Bernstein polynomials, and
+    the largest ratio of their coefficients (degree-matched, on the two halves of
+    [0, 1]) bounds e^2 (:func:`_ratio_bound`; this is at least as tight as dividing
+    the largest numerator coefficient by the smallest weight coefficient, the
+    paper's Eq. 40).  Returns (bound, s_peak) with s_peak the parameter of C2 where
+    the bound peaks.  Loose for cubic C2 (it measures the parametrisations' mismatch
+    too, O(h^2) on a piece of size h); :func:`qac_error_bound` is the geometric one.
+    """
+    origin = c2[0, :2] / c2[0, 2]
+    w = c2[:, 2]
+    x = c2[:, :2] - w[:, None] * origin
+    num = bz.elevate(x, 2) - _mul(w, q2 - origin)
+    sq = _sq_norm(num)
+    den = bz.to_degree(_mul(w, w), len(sq) - 1)
+    r, s = _ratio_bound(sq, den)
+    return float(np.sqrt(max(r, 0.0))), s
+
+
+REPARAM_DEGREE = 4   # degree of the parameter map r(s) of :func:`qac_error_bound`
+_FIT_S = 0.5 - 0.5 * np.cos(np.pi * (np.arange(9) + 0.5) / 9)   # Chebyshev nodes
+
+
+def _compose(c, r):
+    """Bernstein coefficients of c(r(s)) (c: (n+1, d), r: (k+1,) with values in [0,1])."""
+    n = len(c) - 1
+    if n == 0:
+        return np.repeat(c, len(r), axis=0)
+    u = 1.0 - r
+    pr, pu = [None, r], [None, u]
+    for _ in range(2, n + 1):
+        pr.append(_mul(pr[-1], r))
+        pu.append(_mul(pu[-1], u))
+    binom = bz._binomials(n)
+    rows = [binom[0] * pu[n]]
+    rows += [binom[i] * _mul(pr[i], pu[n - i]) for i in range(1, n)]
+    rows.append(binom[n] * pr[n])
+    return np.column_stack(rows) @ c
+
+
+def _foot_params(c2, pts, sig, iters=6):
+    """Parameters of C2 nearest to pts by Newton on (C2 - p) . C2' = 0 from sig."""
+    d1 = bz.derivative(c2)
+    d2 = bz.derivative(d1) if len(d1) > 1 else np.zeros((1, 3))
+    for _ in range(iters):
+        v, v1, v2 = bz.evaluate(c2, sig), bz.evaluate(d1, sig), bz.evaluate(d2, sig)
+        w, w1, w2 = v[:, 2:], v1[:, 2:], v2[:, 2:]
+        p = v[:, :2] / w
+        d = (v1[:, :2] - w1 * p) / w
+        dd = (v2[:, :2] - 2.0 * w1 * d - w2 * p) / w
+        diff = p - pts
+        f = np.sum(diff * d, axis=1)
+        fp = np.sum(d * d, axis=1) + np.sum(diff * dd, axis=1)
+        ok = fp > 0
+        sig = np.clip(sig - np.where(ok, f / np.where(ok, fp, 1.0), 0.0), 0.0, 1.0)
+    return sig
+
+
+def qac_error_bound(c2, q2, tol=None):
+    """Certified bound of the distance from the quadratic Q2 to the curve C2 (Sec. 4.4).
+
+    A QAC piece is C1(t) + Q2(s(t)) (exact normals), so its distance measure
+    (Eqs. 49-53: the point minus C1(t), distance to the curve C2) is at most
+    max_s dist(Q2(s), C2) <= max_s |Q2(s) - C2(r(s))| for *any* map r of [0, 1]
+    into [0, 1].  Eq. 40 takes r(s) = s, which also counts the mismatch of the two
+    parametrisations (O(h^2) on a piece of size h, against O(h^4) for the geometric
+    distance): ~400x too much on small cubic pieces.  Here r is a polynomial of
+    degree REPARAM_DEGREE with r(0) = 0, r(1) = 1, fitted by least squares to the
+    nearest-point parameters of C2 at a few points of Q2, its Bernstein coefficients
+    clamped to [0, 1] (so r(s) stays in [0, 1]).  The fit is only a choice of r; the
+    bound is certified for the r chosen: C2(r(s)) = X(s) / W(s) is an exact rational
+    Bernstein composition, |X - W Q2|^2 and W^2 are Bernstein polynomials, and the
+    largest ratio of their coefficients on the two halves of [0, 1] bounds the
+    squared distance (:func:`_ratio_bound`).  The result is the smaller of this and
+    :func:`qac_parametric_bound` (both are upper bounds); when ``tol`` is given and
+    the parametric bound already meets it, that one is returned without the fit.
+
+    Returns (bound, s_peak): s_peak is C2's parameter where the bound peaks, the
     place Algorithm 4.1 subdivides.
     """
-    w = c2[:, 2:3]
-    # X2 - W2 * Q2 as a Bernstein polynomial of degree n + 2
-    num = bz.elevate(c2[:, :2], 2) - bz.multiply(w, q2)
-    sq = bz.multiply(num[:, :1], num[:, :1])[:, 0] + bz.multiply(num[:, 1:], num[:, 1:])[:, 0]
-    wmin = float(np.min(c2[:, 2]))
-    k = int(np.argmax(sq))
-    bound = np.sqrt(max(float(sq[k]), 0.0)) / wmin
-    return bound, k / (len(sq) - 1)
+    par, s_par = qac_parametric_bound(c2, q2)
+    if (tol is not None and par <= tol) or par <= 0.0 or not np.isfinite(par):
+        return par, s_par
+    return _reparam_bound(c2, q2, par, s_par)
+
+
+def _reparam_bound(c2, q2, par, s_par):
+    """The reparametrised bound of :func:`qac_error_bound`, or (par, s_par) if larger."""
+    origin = c2[0, :2] / c2[0, 2]
+    c = c2.copy()
+    c[:, :2] -= c[:, 2:3] * origin
+    q = q2 - origin
+    k = REPARAM_DEGREE
+    try:
+        sig = _foot_params(c, bz.evaluate(q, _FIT_S), _FIT_S.copy())
+    except FloatingPointError:
+        return par, s_par
+    basis = bz.basis(k, _FIT_S)
+    coef = np.linalg.lstsq(basis[:, 1:k], sig - basis[:, k], rcond=None)[0]
+    if not np.all(np.isfinite(coef)):
+        return par, s_par
+    r = np.concatenate([[0.0], np.clip(coef, 0.0, 1.0), [1.0]])
+    cr = _compose(c, r)
+    x, w = cr[:, :2], cr[:, 2]
+    if np.ptp(w) <= 1e-14 * abs(w[0]):           # polynomial C2: W constant
+        g = x / w[0] - bz.to_degree(q, len(x) - 1)
+        a = _sq_norm(g)
+        b = np.ones(len(a))
+    else:
+        g = bz.elevate(x, 2) - _mul(w, q)
+        a = _sq_norm(g)
+        b = bz.to_degree(_mul(w, w), len(a) - 1)
+    ratio, s = _ratio_bound(a, b)
+    bound = float(np.sqrt(max(ratio, 0.0)))
+    if not bound < par:
+        return par, s_par
+    return bound, float(bz.evaluate(r, [s])[0])
 
 
 def convolve_qac_piece(c1, c2, q2=None):
@@ -129,30 +305,47 @@ def convolve_qac_piece(c1, c2, q2=None):
     return np.column_stack([x, w])
 
 
-def _role_cost(c1, c2):
-    """(bound, degree) of QAC with C2 approximated; lower is better."""
-    try:
-        q2 = quadratic_approximation(c2)
-    except ValueError:
-        return (np.inf, np.inf), None
-    bound, _ = qac_error_bound(c2, q2)
+def _out_degree(c1):
     d = len(c1) - 1
-    deg = 3 * d - 2 if pc.is_polynomial(c1) else 5 * d - 4
-    return (bound, deg), q2
+    return 3 * d - 2 if pc.is_polynomial(c1) else 5 * d - 4
 
 
-def choose_roles(ca, cb):
+def _roles(ca, cb, tol=None):
+    """Role choice of :func:`choose_roles`, with the chosen bound and its peak.
+
+    Returns (swap, q2, bound, s_peak); q2 is None (bound inf) when neither piece has
+    a tangent intersection.  With ``tol``, the cheap parametric bound decides when
+    one role meets tol with it; otherwise both roles get the geometric bound.
+    """
+    cand = []
+    for swap, c1, c2 in ((False, ca, cb), (True, cb, ca)):
+        try:
+            q2 = quadratic_approximation(c2)
+        except ValueError:
+            continue
+        bound, s = qac_parametric_bound(c2, q2)
+        cand.append([bound, _out_degree(c1), swap, q2, s, c2])
+    if not cand:
+        return False, None, np.inf, 0.5
+    if tol is None or min(c[0] for c in cand) > tol:
+        for c in cand:
+            if 0.0 < c[0] < np.inf:
+                c[0], c[4] = _reparam_bound(c[5], c[3], c[0], c[4])
+    # smaller bound first, then the lower output degree; swap=False on a tie
+    best = min(cand, key=lambda c: (c[0], c[1], c[2]))
+    return best[2], best[3], best[0], best[4]
+
+
+def choose_roles(ca, cb, tol=None):
     """Pick which piece plays C2 (the one replaced by a quadratic), Sec. 4.4.
 
-    The bound of Eqs. 39-40 depends only on C2, so C2 is the piece with the smaller
-    bound (a polynomial quadratic, e.g. a TrueType segment, gives 0: exact); ties go to
-    the lower output degree.  Returns (swap, q2): swap is True when cb plays C1.
+    The bound (:func:`qac_error_bound`) depends only on C2, so C2 is the piece with
+    the smaller bound (a polynomial quadratic, e.g. a TrueType segment, gives 0:
+    exact); ties go to the lower output degree.  Returns (swap, q2): swap is True
+    when cb plays C1.
     """
-    cost_b, qb = _role_cost(ca, cb)   # a = C1, b = C2
-    cost_a, qa = _role_cost(cb, ca)   # b = C1, a = C2
-    if cost_a < cost_b:
-        return True, qa
-    return False, qb
+    swap, q2, _, _ = _roles(ca, cb, tol)
+    return swap, q2
 
 
 def _positive_weights(piece):
@@ -305,10 +498,9 @@ def _qac_range(ea, eb, lo, hi, off, tol, depth):
         if chord[2] <= tol:
             return [chord]
         # long, nearly straight pieces: the chord is too far; QAC may still do
-    swap, q2 = choose_roles(ca, cb)
+    swap, q2, bound, s_peak = _roles(ca, cb, tol)
     c1, c2 = (cb, ca) if swap else (ca, cb)
     s_other = ea.sign if swap else eb.sign
-    bound, s_peak = qac_error_bound(c2, q2) if q2 is not None else (np.inf, 0.5)
     if bound <= tol:
         res = convolve_qac_piece(c1, c2, q2)
         if _positive_weights(res):
