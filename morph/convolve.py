@@ -549,10 +549,17 @@ def _sagitta(piece):
 
 # ------------------------------------------------------------------ whole loops
 
-def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), method="qac"):
-    """All convolution pieces of two loops' Gauss maps, oriented and typed."""
+def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), method="qac",
+                   pairs=None):
+    """All convolution pieces of two loops' Gauss maps, oriented and typed.
+
+    ``pairs``: the result of ``compatible_pairs(edges_a, edges_b)`` if known (it
+    depends on the angles only).
+    """
     out = []
-    for i, j, lo, hi, k in compatible_pairs(edges_a, edges_b):
+    if pairs is None:
+        pairs = compatible_pairs(edges_a, edges_b)
+    for i, j, lo, hi, k in pairs:
         ea, eb = edges_a[i], edges_b[j]
         typ = pair_type(ea.sign, eb.sign, ea.kind == "vertex", eb.kind == "vertex")
         if typ == 3 and not keep_type3:
@@ -574,13 +581,70 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
     """
     if tol <= 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
-    ga = [gauss.gauss_map(loop) for loop in region_a]
-    gb = [gauss.gauss_map(loop) for loop in region_b]
+    ga = _gauss_maps(region_a)
+    gb = _gauss_maps(region_b)
+    cache = getattr(region_a, "pair_cache", None)
+    if cache is None or cache is not getattr(region_b, "pair_cache", None):
+        cache = None
     out = []
     for ia, ea in enumerate(ga):
         for ib, eb in enumerate(gb):
-            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib), method))
+            pairs = None
+            if cache is not None:
+                key = (id(region_a.base), id(region_b.base), ia, ib)
+                pairs = cache.get(key)
+                if pairs is None:
+                    pairs = cache[key] = compatible_pairs(ea, eb)
+            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib), method, pairs))
     return out
+
+
+# ------------------------------------------------- Gauss maps shared by scaled copies
+
+class GaussRegion(list):
+    """A region (list of loops) that carries its loops' Gauss maps.
+
+    Made by :func:`scaled_gauss_region`; :func:`convolution` uses ``gauss_maps``
+    instead of recomputing them, and ``compatible_pairs`` results from
+    ``pair_cache`` (a dict shared by the operands) keyed by the unscaled maps
+    ``base``.  Everything else sees a plain list of loops.
+    """
+
+    def __init__(self, loops, gauss_maps, base, pair_cache):
+        super().__init__(loops)
+        self.gauss_maps = gauss_maps
+        self.base = base
+        self.pair_cache = pair_cache
+
+
+def _gauss_maps(region):
+    maps = getattr(region, "gauss_maps", None)
+    if maps is not None:
+        return maps
+    return [gauss.gauss_map(loop) for loop in region]
+
+
+def scale_edges(edges, factor):
+    """The Gauss map of a loop scaled by factor > 0 about the origin: the same angles,
+    scaled positions (scaling does not turn tangents)."""
+    if not factor > 0:
+        raise ValueError("scale factor must be positive, got %r" % (factor,))
+    m = [[factor, 0.0, 0.0], [0.0, factor, 0.0]]
+    return [gauss.Edge(e.kind, None if e.piece is None else pc.transform(e.piece, m),
+                       factor * np.asarray(e.point, float), e.theta, e.sweep) for e in edges]
+
+
+def scaled_gauss_region(loops, base, factor, pair_cache):
+    """``loops`` (already scaled by ``factor``) as a :class:`GaussRegion` whose Gauss
+    maps are ``base`` (the unscaled loops' Gauss maps, computed once) scaled.
+
+    Tangent angles do not change under scaling, so the Gauss maps and the
+    compatible pairs of two such regions (``pair_cache``, a dict shared by both
+    operands across calls) are computed once for all scale factors; the pieces of
+    Algorithm 4.1, which depend on tol relative to the sizes, are not cached.
+    """
+    return GaussRegion(loops, [scale_edges(edges, factor) for edges in base], base,
+                       pair_cache)
 
 
 def chain(pieces, tol):

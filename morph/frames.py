@@ -9,6 +9,7 @@ one frame is one Minkowski sum of scaled copies.
 
 import numpy as np
 
+from . import convolve, gauss
 from . import piece as pc
 from .region import region_centroid
 from .trim import minkowski_sum
@@ -30,18 +31,32 @@ def centered(loops):
     return translate_region(loops, -c)
 
 
-def morph_frames(region_a, region_b, n, tol, progress=None, method="qac"):
+def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True):
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
     :func:`morph.trim.minkowski_sum`.  ``progress`` (optional) is called with each
     frame index as it is done.  ``method`` is the convolution method (Sec. 4).
-    Raises ValueError for n < 2.
+    With ``cache`` the Gauss maps of A and B and their compatible pairs, which do not
+    depend on the scale factors, are computed once for all frames
+    (:func:`morph.convolve.scaled_gauss_region`).  Raises ValueError for n < 2.
     """
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
     a = centered(region_a)
     b = centered(region_b)
+    if cache and n > 2:
+        ga = [gauss.gauss_map(loop) for loop in a]
+        gb = [gauss.gauss_map(loop) for loop in b]
+        pairs = {}
+
+        def operands(alpha):
+            return (convolve.scaled_gauss_region(scale_region(a, 1.0 - alpha), ga, 1.0 - alpha,
+                                                 pairs),
+                    convolve.scaled_gauss_region(scale_region(b, alpha), gb, alpha, pairs))
+    else:
+        def operands(alpha):
+            return scale_region(a, 1.0 - alpha), scale_region(b, alpha)
     frames = []
     for k, alpha in enumerate(np.linspace(0.0, 1.0, n)):
         if alpha == 0.0:
@@ -49,8 +64,7 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac"):
         elif alpha == 1.0:
             frames.append(b)
         else:
-            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
-                                       method=method))
+            frames.append(minkowski_sum(*operands(alpha), tol, method=method))
         if progress is not None:
             progress(k)
     return frames

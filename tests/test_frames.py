@@ -79,3 +79,23 @@ def test_sum_command_missing_glyph_is_one_line(tmp_path):
     res = CliRunner().invoke(main, ["sum", "O", "\u4e2d", "-o", str(tmp_path / "x.png")])
     assert res.exit_code == 2
     assert len(res.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("a, b, cff", [("T", "M", False), ("S", "g", True)])
+def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
+    """morph_frames computes the Gauss maps and compatible pairs once (cache=True):
+    the frames are those of independent sums, to rounding (1e-12 of the size)."""
+    from morph.parse import cubic_test_font_path
+    font = cubic_test_font_path() if cff else None
+    ra, rb = glyph_region(a, font).region, glyph_region(b, font).region
+    plain = morph_frames(ra, rb, 4, 1.0, cache=False)
+    cached = morph_frames(ra, rb, 4, 1.0, cache=True)
+    pts = np.concatenate([pc.cartesian(p) for f in plain for loop in f for p in loop])
+    size = float(np.ptp(pts, axis=0).max())
+    assert len(plain) == len(cached)
+    for f0, f1 in zip(plain, cached):
+        assert [len(loop) for loop in f0] == [len(loop) for loop in f1]
+        for p, q in zip([p for loop in f0 for p in loop], [q for loop in f1 for q in loop]):
+            assert p.shape == q.shape
+            assert np.abs(pc.cartesian(p) - pc.cartesian(q)).max() <= 1e-12 * size
+            assert np.allclose(p[:, 2] / p[0, 2], q[:, 2] / q[0, 2], rtol=1e-12, atol=0.0)
