@@ -23,6 +23,13 @@ semi-axes 40 x 12 units rotated by 30 degrees, exact rational conic), and the gl
 pairs T+M, O+M, S+g.  A last table runs Algorithm 4.1 alone (``convolve_edges``) on
 seeded random cubic-cubic compatible pairs (``tests/reference.random_compatible_pair``,
 sizes 0.5-4 units, sweeps 10-85 degrees): pieces per pair and sampled error / bound.
+
+Bound ratios: the a-priori bound of Eq. 40 as the paper writes it (max_s |C2(s) -
+Q2(s)| at equal parameters: largest coefficient of |X2 - W2 Q2|^2 over the smallest
+weight coefficient) against ``qac_error_bound`` (Q2 against C2 reparametrised,
+certified the same way) and the sampled distance from Q2 to the curve C2, on the
+random pairs (all kinds with a non-quadratic C2, halved 0-4 times) and on the
+curve-curve pairs of the glyph cases (CFF), halved 0-4 times in angle.
 """
 
 import subprocess
@@ -134,6 +141,74 @@ def random_pairs_table(rng, n_pairs=30, tols=(1e-2, 1e-3, 1e-4, 1e-5, 1e-6)):
     return "\n".join(out)
 
 
+def eq40_bound(c2, q2):
+    """Eq. 40 as written: same-parameter bound, smallest weight coefficient."""
+    from morph import bernstein as bz
+    num = bz.elevate(c2[:, :2], 2) - bz.multiply(c2[:, 2:3], q2)
+    sq = bz.multiply(num[:, :1], num[:, :1])[:, 0] + bz.multiply(num[:, 1:], num[:, 1:])[:, 0]
+    return float(np.sqrt(max(float(sq.max()), 0.0)) / np.min(c2[:, 2]))
+
+
+def _ratio_row(label, c2s):
+    old, new, geo = [], [], []
+    for c2 in c2s:
+        try:
+            q2 = convolve.quadratic_approximation(c2)
+        except ValueError:
+            continue
+        b = convolve.qac_error_bound(c2, q2)[0]
+        if b <= 1e-12 * max(1.0, np.abs(pc.cartesian(c2)).max()):
+            continue                       # an exact quadratic C2
+        qp = R.bezier_eval(np.column_stack([q2, np.ones(3)]), np.linspace(0, 1, 41))[0]
+        old.append(eq40_bound(c2, q2))
+        new.append(b)
+        geo.append(R.point_curve_distance(qp, c2, samples=513)[0].max())
+    old, new, geo = map(np.array, (old, new, geo))
+    return "| %s | %d | %.3g | %.3g | %.3g | %.3g | %.3g |" % (
+        label, len(old), np.median(old / new), np.min(old / new), np.max(old / new),
+        np.median(new / geo), np.max(new / geo))
+
+
+def _halvings(c, k):
+    ts = np.linspace(0.0, 1.0, 2 ** k + 1)
+    return [pc.subsegment(c, a, b) for a, b in zip(ts[:-1], ts[1:])]
+
+
+def bound_ratio_table(rng, glyph_cases):
+    """Eq. 40 as written / qac_error_bound, and qac_error_bound / sampled distance."""
+    out = ["| C2 pieces | n | Eq. 40 / new: median | min | max "
+           "| new / sampled distance: median | max |", "|---|---|---|---|---|---|---|"]
+    pairs = []
+    for kind in ("cubic-cubic", "conic-cubic", "conic-quad", "cubic-conic"):
+        for _ in range(25):
+            if kind == "cubic-conic":
+                c2, _ = R.random_compatible_pair(rng, "conic-cubic")
+            else:
+                _, c2 = R.random_compatible_pair(rng, kind)
+            pairs.append(c2)
+    for k in (0, 2, 4):
+        out.append(_ratio_row("random pairs, halved %d times" % k,
+                              [s for c in pairs for s in _halvings(c, k)]))
+    for label, region_a, region_b in glyph_cases:
+        c2s = []
+        for la in region_a:
+            for lb in region_b:
+                ea_, eb_ = gauss.gauss_map(la), gauss.gauss_map(lb)
+                for i, j, lo, hi, shift in convolve.compatible_pairs(ea_, eb_):
+                    ea, eb = ea_[i], eb_[j]
+                    if ea.kind != "curve" or eb.kind != "curve" or hi - lo < 1e-6:
+                        continue
+                    if ea.sweep == 0.0 or eb.sweep == 0.0:
+                        continue
+                    off = gauss.TWO_PI * shift
+                    c2s.append(gauss.restrict(ea, lo, hi)[0])
+                    c2s.append(gauss.restrict(eb, lo - off, hi - off)[0])
+        for k in (0, 2, 4):
+            out.append(_ratio_row("%s, halved %d times" % (label, k),
+                                  [s for c in c2s for s in _halvings(c, k)]))
+    return "\n".join(out)
+
+
 def table(font_label, case_label, rows):
     out = ["### %s, %s" % (case_label, font_label), "",
            "| tol (em) | tol (units) | conv pieces (QAC) | conv ctrl pts | max deg "
@@ -172,6 +247,12 @@ def main():
                 sum(r["t_conv"] + r["t_sum"] for _, r in rows)))
     pairs = random_pairs_table(rng)
     print(pairs + "\n", flush=True)
+    cff = parse.cubic_test_font_path()
+    ratios = bound_ratio_table(np.random.default_rng(7), [
+        ("%s (CFF)" % lab, parse.glyph_region(a, cff).region,
+         NIB if b is None else parse.glyph_region(b, cff).region)
+        for lab, a, b in CASES if lab != "T + M"])
+    print(ratios + "\n", flush=True)
     elapsed = time.perf_counter() - start
     header = __doc__.strip().splitlines()
     text = "\n".join([
@@ -192,6 +273,10 @@ def main():
         "## Algorithm 4.1 alone",
         "",
         pairs,
+        "",
+        "## Bound ratios",
+        "",
+        ratios,
         "",
     ])
     (ROOT / "bench" / "qac.md").write_text(text)
