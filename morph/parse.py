@@ -15,6 +15,7 @@ holes clockwise, **y axis up**.
 Every bad input raises :class:`morph.errors.ParseError` naming the input.
 """
 
+import contextlib
 import math
 import os
 import re
@@ -284,6 +285,32 @@ def validate_path_data(d):
         pos = _WS_RE.match(d, pos).end()
 
 
+@contextlib.contextmanager
+def _omit_closed_arcs():
+    """SVG 1.1 F.6.2: an arc whose end point equals its start point is omitted.
+
+    svgpathtools asserts on such an arc in ``Arc.__init__``; while parsing, its
+    parser builds a zero-length line there instead (dropped later with the other
+    zero-length segments).
+    """
+    import svgpathtools.path as svp
+
+    arc = svp.Arc
+
+    class OmittedIfClosed(arc):
+        def __new__(cls, start, *args, **kwargs):
+            end = args[4] if len(args) > 4 else kwargs.get("end")
+            if start == end:
+                return svp.Line(start, end)
+            return super().__new__(cls)
+
+    svp.Arc = OmittedIfClosed
+    try:
+        yield
+    finally:
+        svp.Arc = arc
+
+
 def _segment_pieces(seg):
     """svgpathtools segment -> list of pieces in the segment's own coordinates."""
     from svgpathtools import Arc, CubicBezier, Line, QuadraticBezier
@@ -399,7 +426,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
         label = text if is_file else "SVG document"
         where = text if is_file else "document"
         try:
-            with warnings.catch_warnings():
+            with warnings.catch_warnings(), _omit_closed_arcs():
                 warnings.simplefilter("ignore")
                 if is_file:
                     if not os.path.isfile(text):
@@ -430,7 +457,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
     else:
         validate_path_data(text)
         try:
-            with warnings.catch_warnings():
+            with warnings.catch_warnings(), _omit_closed_arcs():
                 warnings.simplefilter("ignore")
                 path = parse_path(text)
         except Exception as exc:

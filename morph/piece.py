@@ -304,11 +304,31 @@ def piece_area_term(piece, quad_points=24):
         integrand = bz.multiply(p[:, :1], d[:, 1:2])[:, 0] - bz.multiply(p[:, 1:2], d[:, :1])[:, 0]
         return 0.5 * float(np.mean(integrand))
     x, wts = _leggauss(quad_points)
-    t = 0.5 * (x + 1.0)
-    pt = evaluate(piece, t)
-    dp = derivative(piece, t)
-    f = pt[:, 0] * dp[:, 1] - pt[:, 1] * dp[:, 0]
-    return 0.25 * float(np.dot(wts, f))
+
+    def gauss(t0, t1):
+        t = t0 + (t1 - t0) * 0.5 * (x + 1.0)
+        pt = evaluate(piece, t)
+        dp = derivative(piece, t)
+        f = pt[:, 0] * dp[:, 1] - pt[:, 1] * dp[:, 0]
+        return 0.25 * (t1 - t0) * float(np.dot(wts, f))
+
+    if quad_points < 16:
+        return gauss(0.0, 1.0)
+    # adaptive: halve until both halves agree with the whole (rational pieces with
+    # very uneven weights, e.g. sums with thin ellipses, need it)
+    c = cartesian(piece)
+    eps = 1e-13 * max(float(np.ptp(c, axis=0).max()) ** 2, 1e-300)
+    total = 0.0
+    stack = [(0.0, 1.0, gauss(0.0, 1.0), 0)]
+    while stack:
+        t0, t1, whole, depth = stack.pop()
+        tm = 0.5 * (t0 + t1)
+        left, right = gauss(t0, tm), gauss(tm, t1)
+        if abs(left + right - whole) <= eps or depth >= 30:
+            total += left + right
+        else:
+            stack += [(t0, tm, left, depth + 1), (tm, t1, right, depth + 1)]
+    return total
 
 
 def region_area(loops):
@@ -319,33 +339,60 @@ def region_area(loops):
 def flatten(piece, tol, max_depth=16):
     """Polyline through the piece within ``tol`` of it, with parameters.
 
-    Returns (points (m, 2), params (m,)).  Recursive halving until the control
-    polygon lies within tol of the chord (a bound on the curve's distance, by the
-    convex hull property), so the polyline is within tol of the curve.
+    Returns (points (m, 2), params (m,)).  Halving until the control polygon of
+    each part lies within tol of its chord (a bound on the curve's distance, by the
+    convex hull property), so the polyline is within tol of the curve.  All parts
+    of one level are tested and split together (vectorised de Casteljau).
     """
-    params = _flatten_params(np.asarray(piece, float), 0.0, 1.0, tol, max_depth)
-    params = np.array(params + [1.0])
+    piece = np.asarray(piece, float)
+    parts = piece[None]
+    t0 = np.zeros(1)
+    width = 1.0
+    done_t = []
+    for depth in range(max_depth + 1):
+        flat = _flat_enough(parts, tol) if depth < max_depth else np.ones(len(parts), bool)
+        done_t.append(t0[flat])
+        if flat.all():
+            break
+        parts, t0 = parts[~flat], t0[~flat]
+        left, right = _split_half(parts)
+        width *= 0.5
+        parts = np.concatenate([left, right])
+        t0 = np.concatenate([t0, t0 + width])
+    params = np.sort(np.concatenate(done_t + [[1.0]]))
     return evaluate(piece, params), params
 
 
-def _flatten_params(piece, t0, t1, tol, depth):
-    p = cartesian(piece)
-    a, b = p[0], p[-1]
+def _flat_enough(parts, tol):
+    """For a stack (m, n+1, 3) of pieces: control polygon within tol of the chord."""
+    p = parts[..., :2] / parts[..., 2:]
+    a, b = p[:, :1], p[:, -1:]
     chord = b - a
-    length = np.hypot(*chord)
-    if length > 0:
-        dist = np.abs(cross2(chord, p - a)) / length
-        along = (p - a) @ chord / length ** 2
-        dist = np.where(along < 0, np.hypot(*(p - a).T), dist)
-        dist = np.where(along > 1, np.hypot(*(p - b).T), dist)
-    else:
-        dist = np.hypot(*(p - a).T)
-    if depth == 0 or dist.max() <= tol:
-        return [t0]
-    left, right = split(piece, 0.5)
-    tm = 0.5 * (t0 + t1)
-    return (_flatten_params(left, t0, tm, tol, depth - 1)
-            + _flatten_params(right, tm, t1, tol, depth - 1))
+    length = np.hypot(chord[..., 0], chord[..., 1])
+    rel = p - a
+    safe = np.where(length > 0, length, 1.0)
+    dist = np.abs(chord[..., 0] * rel[..., 1] - chord[..., 1] * rel[..., 0]) / safe
+    along = (rel[..., 0] * chord[..., 0] + rel[..., 1] * chord[..., 1]) / safe ** 2
+    to_a = np.hypot(rel[..., 0], rel[..., 1])
+    to_b = np.hypot(*np.moveaxis(p - b, -1, 0))
+    dist = np.where((along < 0) | (length == 0), to_a, dist)
+    dist = np.where((along > 1) & (length > 0), to_b, dist)
+    return dist.max(axis=1) <= tol
+
+
+def _split_half(parts):
+    """de Casteljau at t = 1/2 of a stack (m, n+1, 3) of pieces."""
+    n = parts.shape[1] - 1
+    left = np.empty_like(parts)
+    right = np.empty_like(parts)
+    work = parts
+    left[:, 0] = work[:, 0]
+    right[:, n] = work[:, n]
+    for r in range(1, n + 1):
+        work = 0.5 * (work[:, :-1] + work[:, 1:])
+        left[:, r] = work[:, 0]
+        right[:, n - r] = work[:, -1]
+    return left, right
 
 
 def flatten_loop(pieces, tol):

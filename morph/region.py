@@ -160,9 +160,10 @@ def orient_region(loops, fill_rule="nonzero"):
     - ``"evenodd"``: filled iff the winding is odd; L is outer when ``w`` is even
       and a hole otherwise.
 
-    The loops must not cross each other (nested or disjoint; fonts without
-    overlaps, simple SVG paths); crossing loops need a boolean union first.
-    Returns a new list of loops.  Raises ValueError for an unknown fill rule.
+    Loops that cross or touch themselves or each other (overlapping font contours,
+    self-intersecting SVG paths) are cut at their intersections and filled by the
+    rule instead (:func:`morph.trim.fill_region`).  Returns a new list of loops.
+    Raises ValueError for an unknown fill rule.
     """
     if fill_rule not in FILL_RULES:
         raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
@@ -175,6 +176,10 @@ def orient_region(loops, fill_rule="nonzero"):
     keep = [i for i, a in enumerate(areas) if abs(a) > 1e-12 * scale * scale]
     cleaned = [cleaned[i] for i in keep]
     areas = [areas[i] for i in keep]
+    if _loops_cross(cleaned, scale):
+        from .trim import fill_region
+
+        return fill_region(cleaned, fill_rule)
     if len(cleaned) == 1:
         loop = cleaned[0]
         return [loop if areas[0] > 0 else reverse_loop(loop)]
@@ -205,6 +210,13 @@ def orient_region(loops, fill_rule="nonzero"):
         ccw = areas[i] > 0
         out.append(loop if ccw == is_outer else reverse_loop(loop))
     return out
+
+
+def _loops_cross(loops, scale):
+    """True if the loops' polylines (within 1e-5 of the size) cross properly."""
+    from .trim import polylines_cross
+
+    return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
 
 
 # ------------------------------------------------------------------ measures

@@ -1,23 +1,29 @@
 """Trimming convolution curves to the Minkowski sum boundary (Secs. 3.3.1 and 6).
 
-Pipeline, all on the rational pieces (polylines are used only to find where to look):
+Pipeline, all on the rational pieces (polylines are used only to find where to look
+and to count windings):
 
-1. Convolution pieces of types 1 and 2 (type 3 never reaches the boundary, rules
-   1-2); see :mod:`morph.convolve`.
+1. Convolution pieces of all types, type 3 kept so the pieces close into loops
+   (:mod:`morph.convolve`); exact copies merged into one piece with a weight.
 2. Intersections: every pair of pieces (and every piece with itself, which finds the
-   local self-intersection loops of rule 3 near cusps) is intersected on flattened
-   polylines; each crossing is refined by Newton iteration on the exact rational
-   pieces (the paper's way, Fig. 33).  End points of one piece lying on another
-   (T-junctions, overlapping collinear pieces) are projected onto it.
-3. Pieces are cut at those parameters and stay rational Béziers.
-4. Each sub-piece is classified by membership of two points just left and right of
-   its middle: it belongs to the boundary iff exactly one side lies in A ⊕ B.
-   Membership is decided exactly as x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ (not by winding
-   numbers, which misclassify holes smaller than the other operand, Sec. 6), on
-   polylines within ``membership_tol`` of the input boundaries.
-5. Boundary sub-pieces are oriented with the sum on their left, duplicates of
-   coincident pieces removed, and chained into loops: outer loops counter-clockwise,
-   holes clockwise.
+   local self-intersection loops of rule 3 near cusps) is searched on flattened
+   polylines, crossings and near misses alike; each is refined by Newton iteration
+   on the exact rational pieces (the paper's way, Fig. 33) inside its segments'
+   parameter box.  Where two pieces fold back at a shared end (a cusp), the ends are
+   searched again 64 times finer.  End points of one piece lying on another
+   (T-junctions) are projected onto it.
+3. Pieces are cut at those parameters and stay rational Béziers; sub-pieces shorter
+   than tol / 10 are contracted to a node.
+4. The winding number just left and right of the middle of every sub-piece is
+   counted directly (ray crossings with fine polylines of all sub-pieces); a side
+   is in the sum if its winding is positive.  A side with winding <= 0 next to a
+   filled side is decided exactly, x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ (winding numbers
+   miss holes of one operand that the other fills, Sec. 6), once per face.
+5. Sub-pieces with the sum on exactly one side are chained into loops, with the sum
+   on their left: outer loops counter-clockwise, holes clockwise.
+
+:func:`fill_region` uses steps 2-5 to fill self-intersecting or overlapping loops by
+the nonzero or even-odd rule.
 """
 
 import numpy as np
@@ -67,20 +73,16 @@ def _segment_pairs(p0, p1, ids, same_piece_ok):
     key = cx * 1_000_003 + cy
     order = np.argsort(key, kind="stable")
     key, seg = key[order], seg[order]
+    # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
     bounds = np.flatnonzero(np.diff(key)) + 1
-    starts = np.concatenate([[0], bounds])
-    ends = np.concatenate([bounds, [len(key)]])
-    pairs = []
-    for s, e in zip(starts, ends):
-        if e - s < 2:
-            continue
-        members = seg[s:e]
-        a, b = np.triu_indices(len(members), 1)
-        pairs.append(np.stack([members[a], members[b]], axis=1))
-    if not pairs:
+    ends = np.repeat(np.concatenate([bounds, [len(key)]]),
+                     np.diff(np.concatenate([[0], bounds, [len(key)]])))
+    cnt = ends - np.arange(len(key)) - 1
+    if cnt.sum() == 0:
         return np.zeros((0, 2), np.int64)
-    pairs = np.concatenate(pairs)
-    pairs = np.sort(pairs, axis=1)
+    first = np.repeat(np.arange(len(key)), cnt)
+    second = first + 1 + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    pairs = np.sort(np.stack([seg[first], seg[second]], axis=1), axis=1)
     pairs = np.unique(pairs, axis=0)
     i, j = pairs[:, 0], pairs[:, 1]
     keep = np.all(lo[i] <= hi[j] + 1e-12 * span.max(), axis=1) & np.all(lo[j] <= hi[i] + 1e-12 * span.max(), axis=1)
@@ -103,8 +105,123 @@ def _crossings(p0, p1, pairs):
     return np.flatnonzero(hit), np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
 
 
-def _newton(pa, pb, ta, tb, iters=12):
-    """Refine P_a(ta) = P_b(tb) by Newton iteration on the exact pieces (Fig. 33)."""
+def _candidates(p0, p1, pairs, reach):
+    """Newton starts for segment pairs: proper crossings, and near misses closer
+    than ``reach`` (closest points).  Returns (pair index, u, v, is_crossing)."""
+    if not len(pairs):
+        z = np.zeros(0)
+        return z.astype(int), z, z, z.astype(bool)
+    k, u, v = _crossings(p0, p1, pairs)
+    miss = np.ones(len(pairs), bool)
+    miss[k] = False
+    m = np.flatnonzero(miss)
+    i, j = pairs[m, 0], pairs[m, 1]
+    # closest points of two non-crossing segments: one end of one to the other
+    best = np.full(len(m), np.inf)
+    bu, bv = np.zeros(len(m)), np.zeros(len(m))
+    for q, s0, s1, q_is_i, qt in ((p0[i], p0[j], p1[j], True, 0.0), (p1[i], p0[j], p1[j], True, 1.0),
+                                  (p0[j], p0[i], p1[i], False, 0.0), (p1[j], p0[i], p1[i], False, 1.0)):
+        d = s1 - s0
+        ll = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+        w = np.clip(np.einsum("ij,ij->i", q - s0, d) / ll, 0.0, 1.0)
+        dist = np.hypot(*(s0 + w[:, None] * d - q).T)
+        better = dist < best
+        best = np.where(better, dist, best)
+        bu = np.where(better, qt if q_is_i else w, bu)
+        bv = np.where(better, w if q_is_i else qt, bv)
+    near = best <= reach
+    return (np.concatenate([k, m[near]]), np.concatenate([u, bu[near]]),
+            np.concatenate([v, bv[near]]),
+            np.concatenate([np.ones(len(k), bool), np.zeros(int(near.sum()), bool)]))
+
+
+def polylines_cross(pieces, tol):
+    """True if the pieces' polylines (within tol) cross at interior points of both
+    segments: a cheap test for pieces that cross each other or themselves."""
+    if not pieces:
+        return False
+    p0, p1, ids, _, _ = _flatten_all(pieces, tol)
+    pairs = _segment_pairs(p0, p1, ids, True)
+    if not len(pairs):
+        return False
+    k, u, v = _crossings(p0, p1, pairs)
+    return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
+
+
+def _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
+    """Pairs of pieces meeting end to end whose polylines turn back there (the end
+    segments make an angle over 90 degrees): (a, ta_end, b, tb_end, box) with box
+    the parameter ranges of the two end segments, doubled."""
+    first = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
+    last = np.flatnonzero(np.r_[ids[1:] != ids[:-1], True])
+    segs = {}
+    for f, l in zip(first, last):
+        segs[(ids[f], 0)] = (f, p1[f] - p0[f], 0.0)   # leaves the start
+        segs[(ids[l], 1)] = (l, p0[l] - p1[l], 1.0)   # leaves the end
+    keys = list(segs)
+    ends = np.array([pc.start(pieces[k]) if e == 0 else pc.end(pieces[k]) for k, e in keys])
+    cluster = _cluster_points(ends, 10 * snap)
+    out = []
+    for c in np.unique(cluster):
+        members = [keys[m] for m in np.flatnonzero(cluster == c)]
+        for x in range(len(members)):
+            for y in range(x + 1, len(members)):
+                (a, ea), (b, eb) = members[x], members[y]
+                if a == b:
+                    continue
+                sa, da, _ = segs[(a, ea)]
+                sb, db, _ = segs[(b, eb)]
+                # both segments leave the shared point: folded if they point alike
+                if da @ db <= 0:
+                    continue
+                wa, wb = t1[sa] - t0[sa], t1[sb] - t0[sb]
+                out.append((a, float(ea), b, float(eb),
+                            (t0[sa] - wa, t1[sa] + wa, t0[sb] - wb, t1[sb] + wb)))
+    return out
+
+
+def _trivial(a, b, ta, tb, end_eps):
+    """A meeting that is no crossing to cut at: end meets end, or a piece meets
+    itself at the same parameter."""
+    if (ta < end_eps or ta > 1 - end_eps) and (tb < end_eps or tb > 1 - end_eps):
+        return True
+    return a == b and abs(ta - tb) < 1e-7
+
+
+def _roots_in_box(pa, pb, box, tol, max_roots=64):
+    """Solutions of P_a(ta) = P_b(tb) in box (parameter ranges), from crossings of
+    the two restricted pieces flattened 64 times finer than tol, each refined by
+    Newton in its segments' range.  Returns [(ta, tb, err)]."""
+    a0, a1 = max(box[0], 0.0), min(box[1], 1.0)
+    b0, b1 = max(box[2], 0.0), min(box[3], 1.0)
+    qa, ua = pc.flatten(pc.subsegment(pa, a0, a1), tol / 64)
+    qb, ub = pc.flatten(pc.subsegment(pb, b0, b1), tol / 64)
+    ta, tb = a0 + (a1 - a0) * ua, b0 + (b1 - b0) * ub
+    i, j = np.meshgrid(np.arange(len(qa) - 1), np.arange(len(qb) - 1), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    p0 = np.concatenate([qa[:-1], qb[:-1]])
+    p1 = np.concatenate([qa[1:], qb[1:]])
+    pairs = np.column_stack([i, j + len(qa) - 1])
+    k, u, v = _crossings(p0, p1, pairs)
+    out = []
+    for kk, uu, vv in list(zip(k, u, v))[:max_roots]:
+        si, sj = i[kk], j[kk]
+        box_k = (ta[si], ta[si + 1], tb[sj], tb[sj + 1])
+        wa, wb = box_k[1] - box_k[0], box_k[3] - box_k[2]
+        (ra, rb), err = _newton(pa, pb, box_k[0] + uu * wa, box_k[2] + vv * wb,
+                                box=(box_k[0] - wa, box_k[1] + wa, box_k[2] - wb, box_k[3] + wb))
+        out.append((ra, rb, err))
+    return out
+
+
+def _newton(pa, pb, ta, tb, iters=12, box=(0.0, 1.0, 0.0, 1.0)):
+    """Refine P_a(ta) = P_b(tb) by Newton iteration on the exact pieces (Fig. 33).
+
+    The iteration stays in ``box`` = (ta_lo, ta_hi, tb_lo, tb_hi) (clamped to
+    [0, 1]), so a crossing seen on two polyline segments is not traded for another
+    crossing of the same pieces nearby (e.g. their shared end)."""
+    a_lo, a_hi = max(box[0], 0.0), min(box[1], 1.0)
+    b_lo, b_hi = max(box[2], 0.0), min(box[3], 1.0)
     best = (ta, tb)
     fa = pc.evaluate(pa, ta)[0] - pc.evaluate(pb, tb)[0]
     best_err = np.hypot(*fa)
@@ -117,9 +234,9 @@ def _newton(pa, pb, ta, tb, iters=12):
             break
         step = np.linalg.solve(jac, fa)
         ta, tb = ta - step[0], tb - step[1]
-        if not (-1e-9 <= ta <= 1 + 1e-9 and -1e-9 <= tb <= 1 + 1e-9):
+        if not (a_lo - 1e-9 <= ta <= a_hi + 1e-9 and b_lo - 1e-9 <= tb <= b_hi + 1e-9):
             break
-        ta, tb = min(max(ta, 0.0), 1.0), min(max(tb, 0.0), 1.0)
+        ta, tb = min(max(ta, a_lo), a_hi), min(max(tb, b_lo), b_hi)
         fa = pc.evaluate(pa, ta)[0] - pc.evaluate(pb, tb)[0]
         err = np.hypot(*fa)
         if err < best_err:
@@ -163,37 +280,65 @@ def split_parameters(pieces, tol, scale):
     if not pieces:
         return cuts
     p0, p1, ids, t0, t1 = _flatten_all(pieces, tol)
-    pairs = _segment_pairs(p0, p1, ids, True)
+    # each polyline is within tol of its piece, so two pieces that meet have
+    # segments within 2 tol of each other there: boxes padded by tol find them all
+    pairs = _segment_pairs(np.minimum(p0, p1) - tol, np.maximum(p0, p1) + tol, ids, True)
     if len(pairs):
         # drop pairs of neighbouring segments of one piece (they share an end)
         same = ids[pairs[:, 0]] == ids[pairs[:, 1]]
         adjacent = same & (np.abs(pairs[:, 0] - pairs[:, 1]) <= 1)
         pairs = pairs[~adjacent]
-    k, u, v = _crossings(p0, p1, pairs) if len(pairs) else ([], [], [])
+    k, u, v, crossing = _candidates(p0, p1, pairs, 2.0 * tol)
     end_eps = 1e-9
     snap = scale * 1e-9
-    for kk, uu, vv in zip(k, u, v):
+    seen = set()
+    for kk, uu, vv, cr in zip(k, u, v, crossing):
         i, j = pairs[kk]
         a, b = ids[i], ids[j]
         ta = t0[i] + uu * (t1[i] - t0[i])
         tb = t0[j] + vv * (t1[j] - t0[j])
-        (ta, tb), err = _newton(pieces[a], pieces[b], ta, tb)
-        if err > max(tol, snap):
-            continue  # polyline artefact: the exact curves do not meet here
-        pt = 0.5 * (pc.evaluate(pieces[a], ta)[0] + pc.evaluate(pieces[b], tb)[0])
-        a_end = ta < end_eps or ta > 1 - end_eps
-        b_end = tb < end_eps or tb > 1 - end_eps
-        if a_end and b_end:
-            if a != b:
-                # ends meeting ends: already joints, but record for snapping
-                pass
-            continue
-        if a == b and abs(ta - tb) < 1e-7:
-            continue
-        if not a_end:
-            cuts[a].append((ta, pt))
-        if not b_end:
-            cuts[b].append((tb, pt))
+        wa, wb = t1[i] - t0[i], t1[j] - t0[j]
+        box = (t0[i] - wa, t1[i] + wa, t0[j] - wb, t1[j] + wb)
+        # a polyline crossing may be an exact near-touch within tol (cut and snap
+        # both there); a near miss of the polylines counts only if Newton converges
+        limit = max(tol, snap) if cr else max(10 * snap, 1e-6 * tol)
+        (ra, rb), err = _newton(pieces[a], pieces[b], ta, tb, box=box)
+        roots = [(ra, rb, err)]
+        seen_at = p0[i] + uu * (p1[i] - p0[i])
+        if _trivial(a, b, ra, rb, end_eps) and \
+                np.hypot(*(pc.evaluate(pieces[a], ra)[0] - seen_at)) > 100 * snap:
+            # Newton fell into the shared end (or the diagonal of a self-pair) from
+            # a crossing seen elsewhere: isolate the roots in the box by subdivision
+            roots = [r for r in _roots_in_box(pieces[a], pieces[b], box, tol)]
+        for ra, rb, err in roots:
+            if err > limit:
+                continue
+            key = (a, b, round(ra * 1e9), round(rb * 1e9))
+            if key in seen:
+                continue
+            seen.add(key)
+            if _trivial(a, b, ra, rb, end_eps):
+                continue
+            pt = 0.5 * (pc.evaluate(pieces[a], ra)[0] + pc.evaluate(pieces[b], rb)[0])
+            if not (ra < end_eps or ra > 1 - end_eps):
+                cuts[a].append((ra, pt))
+            if not (rb < end_eps or rb > 1 - end_eps):
+                cuts[b].append((rb, pt))
+    # folded joints (cusps where one piece ends and another starts, rule 3): the
+    # polylines only touch at the shared end, but the pieces may cross close by
+    for a, ta_end, b, tb_end, box in _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
+        for ra, rb, err in _roots_in_box(pieces[a], pieces[b], box, tol):
+            if err > max(10 * snap, 1e-6 * tol) or _trivial(a, b, ra, rb, end_eps):
+                continue
+            key = (a, b, round(ra * 1e9), round(rb * 1e9))
+            if key in seen:
+                continue
+            seen.add(key)
+            pt = 0.5 * (pc.evaluate(pieces[a], ra)[0] + pc.evaluate(pieces[b], rb)[0])
+            if not (ra < end_eps or ra > 1 - end_eps):
+                cuts[a].append((ra, pt))
+            if not (rb < end_eps or rb > 1 - end_eps):
+                cuts[b].append((rb, pt))
     # T-junctions: an end point of one piece lying on another piece's interior
     ends = np.array([[pc.start(p), pc.end(p)] for p in pieces]).reshape(-1, 2)
     seg_lo = np.minimum(p0, p1) - tol
@@ -438,6 +583,31 @@ def _cluster_points(points, tol):
     return ids
 
 
+def _contract(node, subs, length):
+    """Node ids with the two ends of every sub-piece shorter than ``length`` merged.
+
+    Sub-pieces far below the tolerance (between nearly coincident crossings near
+    cusps and thin nib ends) have no reliable direction or sides; contracting them
+    moves the boundary by less than their length.
+    """
+    if length <= 0:
+        return node
+    _, node = np.unique(node, return_inverse=True)
+    parent = np.arange(node.max() + 1)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for k, p in enumerate(subs):
+        if pc.length_bound(p) < length:
+            ra, rb = find(node[2 * k]), find(node[2 * k + 1])
+            parent[ra] = rb
+    return np.unique([find(i) for i in node], return_inverse=True)[1]
+
+
 class Arrangement:
     """Half-edge structure of oriented sub-pieces, faces and winding numbers (Sec. 6).
 
@@ -447,9 +617,9 @@ class Arrangement:
     component's outer face gets the winding number of the other components there.
     """
 
-    def __init__(self, subs, node_tol, weights=None):
+    def __init__(self, subs, node_tol, weights=None, contract=0.0):
         ends = np.array([[pc.start(p), pc.end(p)] for p in subs]).reshape(-1, 2)
-        node = _cluster_points(ends, node_tol)
+        node = _contract(_cluster_points(ends, node_tol), subs, contract)
         # merge coincident sub-pieces (same end nodes, same middle) into one edge
         # whose weight is the sum of their orientations (+1 along, -1 against)
         mids = np.array([pc.evaluate(p, 0.5)[0] for p in subs])
@@ -457,12 +627,14 @@ class Arrangement:
         keep, weight, groups = [], [], {}
         for k in range(len(subs)):
             u, v = node[2 * k], node[2 * k + 1]
-            if u == v and pc.length_bound(subs[k]) <= 1e3 * node_tol:
+            if u == v and pc.length_bound(subs[k]) <= max(1e3 * node_tol, 10 * contract):
+                # a closed sub-piece shorter than 10 contract encloses less than a
+                # disk of diameter 5 contract: a loop below the tolerance
                 continue  # a zero-length piece (tiny arc) would be a self-loop
             key = (min(u, v), max(u, v))
             found = None
             for j in groups.get(key, ()):
-                if np.hypot(*(mids[k] - mids[keep[j]])) <= 10 * node_tol:
+                if np.hypot(*(mids[k] - mids[keep[j]])) <= max(10 * node_tol, contract):
                     found = j
                     break
             if found is None:
@@ -531,63 +703,6 @@ class Arrangement:
     def _area(self, cyc):
         return sum(pc.piece_area_term(self.half_piece(h), 8) for h in cyc)
 
-    def components(self):
-        """Connected components as arrays of sub-piece indices."""
-        m = len(self.subs)
-        parent = list(range(len(self.nodes)))
-
-        def find(i):
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        for k in range(m):
-            a, b = find(self.node_of[2 * k]), find(self.node_of[2 * k + 1])
-            if a != b:
-                parent[a] = b
-        roots = np.array([find(self.node_of[2 * k]) for k in range(m)])
-        return [np.flatnonzero(roots == r) for r in np.unique(roots)]
-
-    def windings(self, flat_tol):
-        """Winding number of every face, by propagation across edges."""
-        nf = len(self.faces)
-        w = np.full(nf, np.iinfo(np.int64).min, dtype=np.int64)
-        comps = self.components()
-        polys = [pc.flatten(p, flat_tol)[0] for p in self.subs]
-        # shared ends exactly equal, so the half-open crossing rule counts a ray
-        # through a vertex once
-        for k, poly in enumerate(polys):
-            poly[0] = self.nodes[self.node_of[2 * k]]
-            poly[-1] = self.nodes[self.node_of[2 * k + 1]]
-        span = float(np.ptp(self.nodes, axis=0).max()) if len(self.nodes) > 1 else 1.0
-        nudge = span * 1e-7 * np.array([0.6180339887, 0.3819660113])
-        for comp in comps:
-            # base: winding of all other components at (just off) a node of this one;
-            # other components keep a positive distance, so the nudge stays in the face
-            x = self.nodes[self.node_of[2 * comp[0]]][None, :] + nudge
-            others = np.setdiff1d(np.arange(len(self.subs)), comp)
-            base = 0
-            for k in others:
-                if self.weight[k]:
-                    base += self.weight[k] * _open_winding(x, [polys[k]])[0]
-            hs = np.concatenate([2 * comp, 2 * comp + 1])
-            fids = np.unique(self.face[hs])
-            outer = fids[np.argmin(self.face_area[fids])]
-            w[outer] = base
-            stack = [outer]
-            while stack:
-                f = stack.pop()
-                for h in self.faces[f]:
-                    g = self.face[self.twin[h]]
-                    # h forward (even): face(h) = left, w(left) = w(right) + weight
-                    wt = self.weight[h >> 1]
-                    val = w[f] - wt if h % 2 == 0 else w[f] + wt
-                    if w[g] == np.iinfo(np.int64).min:
-                        w[g] = val
-                        stack.append(g)
-        return w
-
     def sample_point(self, f, eps):
         """A point just inside face f (left of its longest half-edge's middle)."""
         best = max(self.faces[f], key=lambda h: pc.length_bound(self.subs[h >> 1]))
@@ -599,10 +714,12 @@ class Arrangement:
         return mid + e * n
 
     def boundary_loops(self, inside):
-        """Closed loops of half-edges with an inside face on the left, outside on the right."""
+        """Closed loops of half-edges with the sum on their left and not on their right.
+
+        ``inside[h]`` says whether the side left of half-edge h is in the sum.
+        """
         m2 = len(self.face)
-        is_b = np.array([inside[self.face[h]] and not inside[self.face[self.twin[h]]]
-                         for h in range(m2)])
+        is_b = inside & ~inside[self.twin]
         used = np.zeros(m2, bool)
         loops = []
         for h0 in np.flatnonzero(is_b):
@@ -610,20 +727,88 @@ class Arrangement:
                 continue
             loop = []
             h = h0
-            while not used[h]:
+            while True:
                 used[h] = True
                 loop.append(h)
-                # next boundary half-edge: turn clockwise around the end node
+                # next: the first unused boundary half-edge clockwise from h's twin
+                # around the end node (h0 itself closes the loop)
                 g = self.ccw_prev[self.twin[h]]
                 for _ in range(m2):
-                    if is_b[g]:
+                    if is_b[g] and (not used[g] or g == h0):
                         break
                     g = self.ccw_prev[g]
+                else:
+                    raise TopologyError("boundary does not close at %s"
+                                        % (self.nodes[self.node_of[self.twin[h]]],))
+                if g == h0:
+                    break
                 h = g
-            if h != h0:
-                raise TopologyError("boundary does not close at %s" % (self.nodes[self.node_of[h]],))
             loops.append(loop)
         return loops
+
+
+def side_windings(arr, flat_tol, delta):
+    """Winding number of the convolution just left of every half-edge (Sec. 6).
+
+    For each sub-piece, the points mid ± delta·normal at its middle are tested
+    against polylines of all sub-pieces (within ``flat_tol``, the middle a vertex of
+    its own polyline, ends snapped to their nodes), weighted by the number of
+    coincident copies.  Returns an array indexed by half-edge (2k: left of sub-piece
+    k, 2k + 1: its right).
+    """
+    polys, mids, normals = [], [], []
+    for k, p in enumerate(arr.subs):
+        left, right = pc.split(p, 0.5)
+        pl = pc.flatten(left, flat_tol)[0]
+        pr = pc.flatten(right, flat_tol)[0]
+        pl[0] = arr.nodes[arr.node_of[2 * k]]
+        pr[-1] = arr.nodes[arr.node_of[2 * k + 1]]
+        pr[0] = pl[-1]
+        polys.append(np.vstack([pl, pr[1:]]))
+        d = pc.derivative(p, 0.5)[0]
+        mids.append(pl[-1])
+        normals.append(np.array([-d[1], d[0]]) / max(np.hypot(*d), 1e-300))
+    mids, normals = np.array(mids), np.array(normals)
+    seg_w = np.concatenate([np.full(len(q) - 1, wt) for q, wt in zip(polys, arr.weight)])
+    a = np.concatenate([q[:-1] for q in polys])
+    b = np.concatenate([q[1:] for q in polys])
+    pts = np.empty((2 * len(mids), 2))
+    pts[0::2] = mids + delta * normals
+    pts[1::2] = mids - delta * normals
+    return ray_winding(pts, a, b, seg_w)
+
+
+def ray_winding(points, a, b, weight, strips=256):
+    """Weighted winding numbers of points w.r.t. segments a -> b whose union closes.
+
+    Crossing rule on the ray to +x (half-open in y, so a ray through a shared vertex
+    counts once).  Segments are bucketed into horizontal strips, so each point only
+    meets the segments that span its height.
+    """
+    out = np.zeros(len(points), np.int64)
+    if not len(points) or not len(a):
+        return out
+    ylo = np.minimum(a[:, 1], b[:, 1])
+    yhi = np.maximum(a[:, 1], b[:, 1])
+    y0, y1 = float(ylo.min()), float(yhi.max())
+    h = max((y1 - y0) / strips, 1e-300)
+    s_lo = np.clip(((ylo - y0) / h).astype(np.int64), 0, strips - 1)
+    s_hi = np.clip(((yhi - y0) / h).astype(np.int64), 0, strips - 1)
+    p_s = np.clip(np.floor((points[:, 1] - y0) / h).astype(np.int64), -1, strips)
+    for s in np.unique(p_s):
+        if s < 0 or s >= strips:
+            continue
+        pi = np.flatnonzero(p_s == s)
+        si = np.flatnonzero((s_lo <= s) & (s_hi >= s))
+        if not len(si):
+            continue
+        px, py = points[pi, 0:1], points[pi, 1:2]
+        ax, ay, bx, by = a[si, 0], a[si, 1], b[si, 0], b[si, 1]
+        cr = (bx - ax) * (py - ay) - (px - ax) * (by - ay)
+        up = (ay <= py) & (by > py) & (cr > 0)
+        down = (ay > py) & (by <= py) & (cr < 0)
+        out[pi] = (up.astype(np.int64) - down) @ weight[si].astype(np.int64)
+    return out
 
 
 def _end_geometry(subs):
@@ -686,8 +871,10 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Each output piece lies within ``tol`` of the exact boundary: it is a sub-piece
-    of a convolution piece whose a-priori bound (Eqs. 39-40) is <= tol, cut at
-    intersections refined by Newton iteration.  tol is absolute, in input units.
+    of a convolution piece whose a-priori bound (Eqs. 39-40) is <= 0.9 tol, cut at
+    intersections refined by Newton iteration; sub-pieces shorter than 0.1 tol
+    (between near-coincident crossings) are contracted to a point, which moves
+    the ends of their neighbours by less than that.  tol is absolute, in input units.
     Outer loops are counter-clockwise, holes clockwise.
 
     Faces of the arrangement of all convolution pieces get winding numbers by
@@ -702,36 +889,99 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
         raise ValueError("tol must be positive, got %r" % (tol,))
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
-    conv = convolution(region_a, region_b, tol, keep_type3=True, method=method)
+    # 0.9 tol for the convolution, 0.1 tol for snapping the arrangement's nodes
+    conv = convolution(region_a, region_b, 0.9 * tol, keep_type3=True, method=method)
     pieces = [c.piece for c in conv]
-    pts = np.concatenate([pc.cartesian(p) for p in pieces])
-    scale = float(np.ptp(pts, axis=0).max())
-    flat_tol = min(tol, scale * 1e-4)
+    scale = _scale(pieces)
     pieces, weights = merge_coincident(pieces, scale * 1e-8)
+    arr, origin, w = _arrange(pieces, weights, min(tol, scale * 1e-4), scale, 0.1 * tol)
+    inside = w > 0
+    # a side with w <= 0 next to an inside side may still be in the sum (a hole of
+    # one operand smaller than the other): decide it exactly, once per face
+    unbounded = int(np.argmin(arr.face_area))
+    doubt = np.flatnonzero(~inside & inside[arr.twin] & (arr.face != unbounded))
+    faces = np.unique(arr.face[doubt])
+    if len(faces):
+        member = _Membership(region_a, region_b, scale * 2e-6)
+        pts = np.array([arr.sample_point(f, scale * 2e-5) for f in faces])
+        closed = faces[member(pts)]
+        inside[doubt[np.isin(arr.face[doubt], closed)]] = True
+    loops = [_assemble(arr, loop, origin, pieces) for loop in arr.boundary_loops(inside)]
+    loops = _drop_slivers(loops, tol)
+    if return_debug:
+        return loops, {"convolution": conv, "arrangement": arr, "winding": w, "inside": inside}
+    return loops
+
+
+def fill_region(loops, fill_rule="nonzero"):
+    """The region filled by closed loops that may cross themselves and each other.
+
+    SVG and font fill semantics: a point is filled when the winding number of all
+    loops there is nonzero (``"nonzero"``) or odd (``"evenodd"``).  The loops are
+    cut at their intersections (refined on the exact pieces) and the filled set's
+    boundary is assembled from the sub-pieces, which stay rational Béziers: outer
+    loops counter-clockwise, holes clockwise.
+    """
+    pieces = [np.asarray(p, float) for loop in loops for p in loop]
+    if not pieces:
+        return []
+    scale = _scale(pieces)
+    arr, origin, w = _arrange(pieces, [1] * len(pieces), scale * 1e-4, scale, 0.0)
+    inside = (w != 0) if fill_rule == "nonzero" else (w % 2 == 1)
+    return [_assemble(arr, loop, origin, pieces) for loop in arr.boundary_loops(inside)]
+
+
+def _scale(pieces):
+    pts = np.concatenate([pc.cartesian(p) for p in pieces])
+    return max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+
+def _arrange(pieces, weights, flat_tol, scale, contract):
+    """Pieces cut at their crossings, their arrangement, and side winding numbers.
+
+    Returns (arrangement, origin of each kept sub-piece, winding left of each
+    half-edge).  Winding numbers are sampled on each side of each sub-piece
+    directly, not propagated across faces (which near-tangent pieces can make
+    inconsistent); sub-pieces shorter than ``contract`` are contracted.
+    """
     cuts = split_parameters(pieces, flat_tol, scale)
     subs, origin = cut_pieces(pieces, cuts)
     sub_w = [weights[src] for src, _, _ in origin]
-    arr = Arrangement(subs, scale * 1e-9, sub_w)
+    arr = Arrangement(subs, scale * 1e-9, sub_w, contract=contract)
     origin = [origin[k] for k in arr.kept]
-    w = arr.windings(flat_tol)
-    inside = w > 0
-    unbounded = int(np.argmin(arr.face_area))
-    candidates = [f for f in range(len(arr.faces)) if w[f] <= 0 and f != unbounded]
-    if candidates:
-        member = _Membership(region_a, region_b, scale * 2e-6)
-        pts = np.array([arr.sample_point(f, scale * 2e-5) for f in candidates])
-        inside[candidates] = member(pts)
-    loops_h = arr.boundary_loops(inside)
-    loops = [_assemble(arr, loop, origin, pieces) for loop in loops_h]
-    # a loop thinner than tol on average (area < tol * perimeter / 2) is a sliver
-    # between nearly coincident convolution pieces: dropping it moves the boundary
-    # by less than tol
-    loops = [l for l in loops
-             if abs(pc.loop_area(l)) > 0.5 * tol * sum(pc.length_bound(p) for p in l)]
-    if return_debug:
-        return loops, {"convolution": conv, "subpieces": subs, "arrangement": arr, "winding": w,
-                       "inside": inside}
-    return loops
+    w = side_windings(arr, min(flat_tol, scale * 1e-6), scale * 1e-8)
+    return arr, origin, w
+
+
+def _drop_slivers(loops, tol):
+    """Loops thinner than tol on average (area < tol * perimeter / 2) that are also
+    tiny or lie within tol of the other loops: slivers between nearly coincident
+    convolution pieces.  Dropping them moves the boundary by less than tol."""
+    polys = [pc.flatten_loop(l, tol / 4) for l in loops]
+    keep = []
+    for k, (loop, poly) in enumerate(zip(loops, polys)):
+        perimeter = sum(pc.length_bound(p) for p in loop)
+        if abs(pc.loop_area(loop)) > 0.5 * tol * perimeter:
+            keep.append(loop)
+            continue
+        if float(np.ptp(poly, axis=0).max()) <= tol:
+            continue
+        others = [q for j, q in enumerate(polys) if j != k and len(q) >= 2]
+        if others:
+            a = np.concatenate(others)
+            b = np.concatenate([np.roll(q, -1, axis=0) for q in others])
+            far = max(np.min(_point_segment_dist(x, a, b)) for x in poly)
+            if far <= tol:
+                continue
+        keep.append(loop)
+    return keep
+
+
+def _point_segment_dist(x, a, b):
+    d = b - a
+    ll = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    u = np.clip(np.einsum("ij,ij->i", x - a, d) / ll, 0.0, 1.0)
+    return np.hypot(*(a + u[:, None] * d - x).T)
 
 
 def _assemble(arr, loop, origin, pieces):

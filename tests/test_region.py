@@ -113,3 +113,41 @@ def test_region_class_is_thin():
     assert mirrored.area == pytest.approx(3.0)
     assert [len(l) for l in r] == [4, 4]
     assert "Region(2 loops" in repr(r)
+
+
+# ------------------------------------------------------------- fill rules
+
+def _square(x, y, s):
+    pts = [(x, y), (x + s, y), (x + s, y + s), (x, y + s)]
+    return [pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)]
+
+
+def test_fill_region_overlapping_squares():
+    """Two overlapping squares (same direction): nonzero is the union (one loop),
+    even-odd the union minus the overlap (the lens becomes a hole: two loops that
+    touch at the crossings, or one figure; area 100 + 100 - 2 * 25)."""
+    from morph.trim import fill_region
+
+    loops = [_square(0, 0, 10), _square(5, 5, 10)]
+    union = fill_region(loops, "nonzero")
+    assert len(union) == 1 and abs(pc.region_area(union) - 175.0) < 1e-9
+    xor = fill_region(loops, "evenodd")
+    assert abs(pc.region_area(xor) - 150.0) < 1e-9
+    # orient_region routes crossing loops to fill_region
+    assert abs(pc.region_area(orient_region(loops, "nonzero")) - 175.0) < 1e-9
+
+
+def test_fill_region_figure_eight_and_opposite_squares():
+    from morph.trim import fill_region
+
+    eight = [[pc.line((0, 0), (20, 20)), pc.line((20, 20), (20, 0)),
+              pc.line((20, 0), (0, 10)), pc.line((0, 10), (0, 0))]]
+    out = fill_region(eight, "nonzero")
+    # both lobes filled, each counter-clockwise
+    assert len(out) == 2 and all(pc.loop_area(l) > 0 for l in out)
+    # a square and an opposite-direction square inside crossing it: nonzero keeps
+    # only where the windings do not cancel
+    outer = _square(0, 0, 10)
+    inner = [pc.reverse(p) for p in reversed(_square(5, 2, 10))]
+    out = fill_region([outer, inner], "nonzero")
+    assert abs(pc.region_area(out) - (100 + 100 - 2 * 40)) < 1e-9
