@@ -150,14 +150,14 @@ def polylines_cross(pieces, tol):
 
 def _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
     """Pairs of pieces meeting end to end whose polylines turn back there (the end
-    segments make an angle over 90 degrees): (a, ta_end, b, tb_end, box) with box
-    the parameter ranges of the two end segments, doubled."""
+    segments make an angle under 90 degrees): (a, b, box) with box the parameter
+    ranges of the two end segments, widened by their width on each side."""
     first = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
     last = np.flatnonzero(np.r_[ids[1:] != ids[:-1], True])
     segs = {}
     for f, l in zip(first, last):
-        segs[(ids[f], 0)] = (f, p1[f] - p0[f], 0.0)   # leaves the start
-        segs[(ids[l], 1)] = (l, p0[l] - p1[l], 1.0)   # leaves the end
+        segs[(ids[f], 0)] = (f, p1[f] - p0[f])   # leaves the start
+        segs[(ids[l], 1)] = (l, p0[l] - p1[l])   # leaves the end
     keys = list(segs)
     ends = np.array([pc.start(pieces[k]) if e == 0 else pc.end(pieces[k]) for k, e in keys])
     cluster = _cluster_points(ends, 10 * snap)
@@ -169,14 +169,13 @@ def _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
                 (a, ea), (b, eb) = members[x], members[y]
                 if a == b:
                     continue
-                sa, da, _ = segs[(a, ea)]
-                sb, db, _ = segs[(b, eb)]
+                sa, da = segs[(a, ea)]
+                sb, db = segs[(b, eb)]
                 # both segments leave the shared point: folded if they point alike
                 if da @ db <= 0:
                     continue
                 wa, wb = t1[sa] - t0[sa], t1[sb] - t0[sb]
-                out.append((a, float(ea), b, float(eb),
-                            (t0[sa] - wa, t1[sa] + wa, t0[sb] - wb, t1[sb] + wb)))
+                out.append((a, b, (t0[sa] - wa, t1[sa] + wa, t0[sb] - wb, t1[sb] + wb)))
     return out
 
 
@@ -292,6 +291,19 @@ def split_parameters(pieces, tol, scale):
     end_eps = 1e-9
     snap = scale * 1e-9
     seen = set()
+
+    def record(a, b, roots, limit):
+        """Cut pieces a and b at each new, non-trivial root with error <= limit."""
+        for ra, rb, err in roots:
+            key = (a, b, round(ra * 1e9), round(rb * 1e9))
+            if err > limit or key in seen or _trivial(a, b, ra, rb, end_eps):
+                continue
+            seen.add(key)
+            pt = 0.5 * (pc.evaluate(pieces[a], ra)[0] + pc.evaluate(pieces[b], rb)[0])
+            for piece_id, t in ((a, ra), (b, rb)):
+                if end_eps <= t <= 1 - end_eps:
+                    cuts[piece_id].append((t, pt))
+
     for kk, uu, vv, cr in zip(k, u, v, crossing):
         i, j = pairs[kk]
         a, b = ids[i], ids[j]
@@ -299,46 +311,21 @@ def split_parameters(pieces, tol, scale):
         tb = t0[j] + vv * (t1[j] - t0[j])
         wa, wb = t1[i] - t0[i], t1[j] - t0[j]
         box = (t0[i] - wa, t1[i] + wa, t0[j] - wb, t1[j] + wb)
-        # a polyline crossing may be an exact near-touch within tol (cut and snap
-        # both there); a near miss of the polylines counts only if Newton converges
-        limit = max(tol, snap) if cr else max(10 * snap, 1e-6 * tol)
         (ra, rb), err = _newton(pieces[a], pieces[b], ta, tb, box=box)
         roots = [(ra, rb, err)]
         seen_at = p0[i] + uu * (p1[i] - p0[i])
         if _trivial(a, b, ra, rb, end_eps) and \
                 np.hypot(*(pc.evaluate(pieces[a], ra)[0] - seen_at)) > 100 * snap:
             # Newton fell into the shared end (or the diagonal of a self-pair) from
-            # a crossing seen elsewhere: isolate the roots in the box by subdivision
-            roots = [r for r in _roots_in_box(pieces[a], pieces[b], box, tol)]
-        for ra, rb, err in roots:
-            if err > limit:
-                continue
-            key = (a, b, round(ra * 1e9), round(rb * 1e9))
-            if key in seen:
-                continue
-            seen.add(key)
-            if _trivial(a, b, ra, rb, end_eps):
-                continue
-            pt = 0.5 * (pc.evaluate(pieces[a], ra)[0] + pc.evaluate(pieces[b], rb)[0])
-            if not (ra < end_eps or ra > 1 - end_eps):
-                cuts[a].append((ra, pt))
-            if not (rb < end_eps or rb > 1 - end_eps):
-                cuts[b].append((rb, pt))
+            # a crossing seen elsewhere: search the box finely
+            roots = _roots_in_box(pieces[a], pieces[b], box, tol)
+        # a polyline crossing may be an exact near-touch within tol (cut and snap
+        # both there); a near miss of the polylines counts only if Newton converges
+        record(a, b, roots, max(tol, snap) if cr else max(10 * snap, 1e-6 * tol))
     # folded joints (cusps where one piece ends and another starts, rule 3): the
     # polylines only touch at the shared end, but the pieces may cross close by
-    for a, ta_end, b, tb_end, box in _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
-        for ra, rb, err in _roots_in_box(pieces[a], pieces[b], box, tol):
-            if err > max(10 * snap, 1e-6 * tol) or _trivial(a, b, ra, rb, end_eps):
-                continue
-            key = (a, b, round(ra * 1e9), round(rb * 1e9))
-            if key in seen:
-                continue
-            seen.add(key)
-            pt = 0.5 * (pc.evaluate(pieces[a], ra)[0] + pc.evaluate(pieces[b], rb)[0])
-            if not (ra < end_eps or ra > 1 - end_eps):
-                cuts[a].append((ra, pt))
-            if not (rb < end_eps or rb > 1 - end_eps):
-                cuts[b].append((rb, pt))
+    for a, b, box in _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
+        record(a, b, _roots_in_box(pieces[a], pieces[b], box, tol), max(10 * snap, 1e-6 * tol))
     # T-junctions: an end point of one piece lying on another piece's interior
     ends = np.array([[pc.start(p), pc.end(p)] for p in pieces]).reshape(-1, 2)
     seg_lo = np.minimum(p0, p1) - tol
