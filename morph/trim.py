@@ -270,10 +270,13 @@ def _project(piece, point, t_guess, iters=10):
 
 # ------------------------------------------------------------- arrangement
 
-def split_parameters(pieces, tol, scale):
+def split_parameters(pieces, tol, scale, junction=0.0):
     """Parameters where each piece must be cut: intersections and T-junctions.
 
-    Returns a list (per piece) of lists of (t, point) with refined points.
+    ``tol`` is the flattening tolerance of the search; an end point of one piece
+    closer than ``junction`` (at least 1e-3 tol) to another piece's interior cuts
+    it there (a T-junction).  Returns a list (per piece) of lists of (t, point)
+    with refined points.
     """
     cuts = [[] for _ in pieces]
     if not pieces:
@@ -356,7 +359,7 @@ def split_parameters(pieces, tol, scale):
                 continue
             b = ids[c]
             tb = _project(pieces[b], q, t0[c] + ww * (t1[c] - t0[c]))
-            if np.hypot(*(pc.evaluate(pieces[b], tb)[0] - q)) > max(snap * 10, tol * 1e-3):
+            if np.hypot(*(pc.evaluate(pieces[b], tb)[0] - q)) > max(snap * 10, tol * 1e-3, junction):
                 continue
             if end_eps < tb < 1 - end_eps:
                 cuts[b].append((tb, q.copy()))
@@ -724,10 +727,13 @@ class Arrangement:
     def _balanced(self, is_b, tiny):
         """Boundary flags with every node entered as often as left.
 
-        Near-coincident sub-pieces shorter than ``tiny`` (a sliver below the
-        tolerance) can be classified inconsistently; a tiny half-edge from a node
-        left too often to a node entered too often is dropped from the boundary, and
-        one from a node entered too often to a node left too often is added.
+        Near-coincident sub-pieces (slivers far thinner than the tolerance) can be
+        classified inconsistently.  A half-edge shorter than ``tiny`` from a node
+        left too often to a node entered too often is dropped from the boundary
+        (one of two near-coincident paths), one from a node entered too often to a
+        node left too often is added; then boundary half-edges shorter than
+        5 tiny that no loop can pass (nothing arrives at their start or leaves
+        their end) are pruned.
         """
         is_b = is_b.copy()
         tail = self.node_of
@@ -749,7 +755,16 @@ class Arrangement:
             is_b[h] = not is_b[h]
             excess[tail[h]] += step
             excess[head[h]] -= step
-        return is_b
+        # a short boundary half-edge that starts where no boundary arrives or ends
+        # where none leaves cannot be on any loop (a sliver's side): prune it
+        short = np.array([pc.length_bound(p) <= 5 * tiny for p in self.subs]).repeat(2)
+        while True:
+            n_in = np.bincount(head[is_b], minlength=len(self.nodes))
+            n_out = np.bincount(tail[is_b], minlength=len(self.nodes))
+            dead = is_b & short & ((n_in[tail] == 0) | (n_out[head] == 0))
+            if not dead.any():
+                return is_b
+            is_b &= ~dead
 
     def boundary_loops(self, inside, tiny=0.0):
         """Closed loops of half-edges with the sum on their left and not on their right.
@@ -947,7 +962,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
                         for f in faces])
         closed = faces[member(pts)]
         inside[doubt[np.isin(arr.face[doubt], closed)]] = True
-    loops = [_assemble(arr, loop, origin, pieces) for loop in arr.boundary_loops(inside, tol)]
+    loops = [_assemble(arr, loop, origin, pieces)
+             for loop in arr.boundary_loops(inside, 2 * tol)]
     loops = _drop_slivers(loops, tol)
     if return_debug:
         return loops, {"convolution": conv, "arrangement": arr, "winding": w, "inside": inside}
@@ -985,12 +1001,14 @@ def _arrange(pieces, weights, flat_tol, scale, contract):
     directly, not propagated across faces (which near-tangent pieces can make
     inconsistent); sub-pieces shorter than ``contract`` are contracted.
     """
-    cuts = split_parameters(pieces, flat_tol, scale)
+    cuts = split_parameters(pieces, flat_tol, scale, junction=contract)
     subs, origin = cut_pieces(pieces, cuts)
     sub_w = [weights[src] for src, _, _ in origin]
     arr = Arrangement(subs, scale * 1e-9, sub_w, contract=contract)
     origin = [origin[k] for k in arr.kept]
-    w = side_windings(arr, min(flat_tol, scale * 1e-6), scale * 1e-8)
+    # polylines fine enough to resolve slivers of sub-pieces just above `contract`
+    fine = min(flat_tol, scale * 1e-6, 0.01 * contract if contract > 0 else np.inf)
+    w = side_windings(arr, fine, min(scale * 1e-8, 0.5 * fine))
     return arr, origin, w
 
 

@@ -216,6 +216,18 @@ def test_folded_joint_crossing_is_cut():
             assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area, (ch, tol)
 
 
+def test_sliver_triangle_at_concave_corner():
+    """W ⊕ ellipse at tol 0.01: two convolution pieces cross 1e-5 from the tiny
+    type-3 arc joining them, leaving a sliver triangle whose sides cannot be told
+    apart (was 'boundary does not close'); the boundary must close and match Clipper."""
+    nib = [pc.ellipse((0.0, 0.0), 40.0, 15.0, np.radians(30.0))]
+    a = glyph_region("W").region
+    loops = minkowski_sum(a, nib, 0.01)
+    ref = R.polygon_minkowski_sum(a, nib, 0.5)
+    assert len(loops) == 1
+    assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area
+
+
 def test_thin_ellipse_sum_area_is_exact():
     """A 2 x 106 ellipse ⊕ a polygon (found by hypothesis): the output's rational
     pieces have very uneven weights; their exact area must match the polygon area
