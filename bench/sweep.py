@@ -96,7 +96,7 @@ def check(font, a_name, b_name, tol, seed=0):
     from morph import piece as pc
     from morph.trim import minkowski_sum
     from tests import reference as R
-    from tests.test_trim import Oracle, _boundary_samples, _inside
+    from tests.test_trim import Oracle, _boundary_samples, _inside, straddle
 
     a, b = shape(font, a_name), shape(font, b_name)
     res = {"font": font, "a": a_name, "b": b_name, "fail": [], "error": 0.0}
@@ -130,12 +130,7 @@ def check(font, a_name, b_name, tol, seed=0):
     if len(pts) > 40:
         pick = rng.choice(len(pts), 40, replace=False)
         pts, nrm = pts[pick], nrm[pick]
-    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
-    ring8 = np.column_stack([np.cos(ang), np.sin(ang)])
-    probes = np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
-                             pts[:, None, :] - d * nrm[:, None, :],
-                             pts[:, None, :] + d * ring8[None, :, :]], axis=1)
-    inside = oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
+    inside = straddle(oracle, pts, nrm, d)
     bad_out = ~inside.any(axis=1)
     bad_in = inside.all(axis=1)
     if bad_out.any():

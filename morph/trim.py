@@ -693,10 +693,11 @@ class Arrangement:
     def _area(self, cyc):
         return sum(pc.piece_area_term(self.half_piece(h), 8) for h in cyc)
 
-    def sample_point(self, f, depth, flat_tol):
-        """A point inside face f, as deep as ``depth`` from every edge if possible.
+    def sample_point(self, hs, depth, flat_tol):
+        """A point left of half-edges hs (of one face), as deep as ``depth`` from
+        every edge if possible.
 
-        Candidates lie left of the longest half-edges of f at 1/4, 1/2, 3/4, at
+        Candidates lie left of the longest four of hs at 1/4, 1/2, 3/4, at
         distances 4, 2, 1.5, 1, 1/2, 1/4, 1/16 x depth; the first whose distance to
         all sub-pieces' polylines (within flat_tol) is at least 0.9 x its offset is
         taken.  A probe deeper than the convolution's error is on the same side of
@@ -707,7 +708,7 @@ class Arrangement:
             self._segs = (flat_tol, np.concatenate([q[:-1] for q in polys]),
                           np.concatenate([q[1:] for q in polys]))
         _, a, b = self._segs
-        hs = sorted(self.faces[f], key=lambda h: -pc.length_bound(self.subs[h >> 1]))[:4]
+        hs = sorted(hs, key=lambda h: -pc.length_bound(self.subs[h >> 1]))[:4]
         fallback = None
         for scale in (4.0, 2.0, 1.5, 1.0, 0.5, 0.25, 0.0625):
             off = scale * depth
@@ -955,13 +956,21 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     # one operand smaller than the other): decide it exactly, once per face
     unbounded = int(np.argmin(arr.face_area))
     doubt = np.flatnonzero(~inside & inside[arr.twin] & (arr.face != unbounded))
-    faces = np.unique(arr.face[doubt])
-    if len(faces):
+    if len(doubt):
+        # one probe per face whose half-edges agree on the winding number; one per
+        # half-edge in a face that mixes windings (near-tangent pieces can make the
+        # angular order, and so the face traversal, inconsistent)
+        groups = []
+        for f in np.unique(arr.face[doubt]):
+            hs = doubt[arr.face[doubt] == f]
+            if len(np.unique(w[arr.faces[f]])) == 1:
+                groups.append(hs)
+            else:
+                groups.extend([h] for h in hs)
         member = _Membership(region_a, region_b, scale * 2e-6)
-        pts = np.array([arr.sample_point(f, tol, min(0.1 * tol, scale * 1e-4))
-                        for f in faces])
-        closed = faces[member(pts)]
-        inside[doubt[np.isin(arr.face[doubt], closed)]] = True
+        pts = np.array([arr.sample_point(g, tol, min(0.1 * tol, scale * 1e-4)) for g in groups])
+        for g, closed in zip(groups, member(pts)):
+            inside[g] = closed
     loops = [_assemble(arr, loop, origin, pieces)
              for loop in arr.boundary_loops(inside, 2 * tol)]
     loops = _drop_slivers(loops, tol)

@@ -338,6 +338,9 @@ SWEEP_REGRESSIONS = [
     # second sweep: holes filled by a too-shallow membership probe (the QAC error
     # now comes close to tol), slivers between near-coincident sub-pieces
     "cff:o:nib:disk", "cff:b:nib:disk", "cff:K:nib:disk", "cff:c:nib:ellipse",
+    # third: a hole's 33-degree tip fooled the 8-direction straddle probe (the check
+    # now probes 24 directions)
+    "ttf:h:j",
 ]
 
 

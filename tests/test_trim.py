@@ -61,6 +61,22 @@ def _inside(loops, points):
     return R.winding_number(points, polys) != 0
 
 
+def straddle(oracle, pts, nrm, d, n_ring=24):
+    """Membership of probes around each boundary point: (len(pts), 2 + n_ring).
+
+    The true boundary is within d of p iff the disk of radius d around p has points
+    in and out of the sum; probed at the two normal points and n_ring points of the
+    circle (along the normal alone fails legitimately near concave corners; 24
+    directions see wedges down to 15 degrees, e.g. a hole's sharp tip).
+    """
+    ang = np.linspace(0, 2 * np.pi, n_ring, endpoint=False)
+    ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    probes = np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
+                             pts[:, None, :] - d * nrm[:, None, :],
+                             pts[:, None, :] + d * ring[None, :, :]], axis=1)
+    return oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
+
+
 def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
     loops = minkowski_sum(a, b, tol)
     assert loops, "empty sum"
@@ -69,16 +85,7 @@ def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
     if len(pts) > max_boundary:
         pick = rng.choice(len(pts), max_boundary, replace=False)
         pts, nrm = pts[pick], nrm[pick]
-    d = tol + slack
-    # the true boundary is within d of p iff the circle of radius d around p has
-    # points in and out of the sum (checked at the two normal points and 8 more);
-    # along the normal alone fails legitimately near concave corners
-    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
-    ring = np.column_stack([np.cos(ang), np.sin(ang)])
-    probes = np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
-                             pts[:, None, :] - d * nrm[:, None, :],
-                             pts[:, None, :] + d * ring[None, :, :]], axis=1)
-    inside = oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
+    inside = straddle(oracle, pts, nrm, tol + slack)
     assert inside.any(axis=1).all(), "boundary point farther than tol+slack outside"
     assert (~inside).any(axis=1).all(), "boundary point farther than tol+slack inside"
     lo = np.min([pc.bbox(p)[:2] for l in loops for p in l], axis=0) - 20
