@@ -257,3 +257,16 @@ def test_thin_ellipse_sum_area_is_exact():
 
 def test_ellipse_area_exact():
     assert abs(pc.region_area([pc.ellipse([3.0, -2.0], 1.0, 53.0, 0.3)]) - np.pi * 53.0) < 1e-9
+
+
+def test_coarse_tolerance_keeps_thin_loops():
+    """At tol 0.1 em the whole S ⊕ nib is thinner than tol on average; the sliver
+    rule dropped it (empty result).  Only loops that are tiny or hug other loops
+    may be dropped."""
+    nib = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
+    a = glyph_region("S").region
+    loops = minkowski_sum(a, nib, 100.0)
+    ref = R.polygon_minkowski_sum(a, nib, 0.5)
+    assert len(loops) == 1
+    # within tol everywhere, so the area within tol * perimeter
+    assert abs(pc.region_area(loops) - ref.area) <= 100.0 * ref.length
