@@ -270,13 +270,14 @@ def _project(piece, point, t_guess, iters=10):
 
 # ------------------------------------------------------------- arrangement
 
-def split_parameters(pieces, tol, scale, junction=0.0):
+def split_parameters(pieces, tol, scale, junction=0.0, folded_only=False):
     """Parameters where each piece must be cut: intersections and T-junctions.
 
     ``tol`` is the flattening tolerance of the search; an end point of one piece
     closer than ``junction`` (at least 1e-3 tol) to another piece's interior cuts
-    it there (a T-junction).  Returns a list (per piece) of lists of (t, point)
-    with refined points.
+    it there (a T-junction).  ``folded_only``: only the fine search where two
+    pieces leave a shared end side by side.  Returns a list (per piece) of lists
+    of (t, point) with refined points.
     """
     cuts = [[] for _ in pieces]
     if not pieces:
@@ -284,7 +285,8 @@ def split_parameters(pieces, tol, scale, junction=0.0):
     p0, p1, ids, t0, t1 = _flatten_all(pieces, tol)
     # each polyline is within tol of its piece, so two pieces that meet have
     # segments within 2 tol of each other there: boxes padded by tol find them all
-    pairs = _segment_pairs(np.minimum(p0, p1) - tol, np.maximum(p0, p1) + tol, ids, True)
+    pairs = np.zeros((0, 2), np.int64) if folded_only else \
+        _segment_pairs(np.minimum(p0, p1) - tol, np.maximum(p0, p1) + tol, ids, True)
     if len(pairs):
         # drop pairs of neighbouring segments of one piece (they share an end)
         same = ids[pairs[:, 0]] == ids[pairs[:, 1]]
@@ -329,6 +331,8 @@ def split_parameters(pieces, tol, scale, junction=0.0):
     # polylines only touch at the shared end, but the pieces may cross close by
     for a, b, box in _folded_joints(pieces, ids, t0, t1, p0, p1, snap):
         record(a, b, _roots_in_box(pieces[a], pieces[b], box, tol), max(10 * snap, 1e-6 * tol))
+    if folded_only:
+        return cuts
     # T-junctions: an end point of one piece lying on another piece's interior
     ends = np.array([[pc.start(p), pc.end(p)] for p in pieces]).reshape(-1, 2)
     seg_lo = np.minimum(p0, p1) - tol
@@ -573,6 +577,21 @@ def _cluster_points(points, tol):
     return ids
 
 
+def _near_copy(p, q, mid_p, mid_q, dist):
+    """True if p (whose ends are q's ends) runs within dist of q: its points at
+    1/4, 1/2, 3/4 are that close to q (parametrisations may differ)."""
+    if np.hypot(*(mid_p - mid_q)) <= dist:
+        return True
+    for t in (0.5, 0.25, 0.75):
+        x = pc.evaluate(p, t)[0]
+        u = _project(q, x, t)
+        if np.hypot(*(pc.evaluate(q, u)[0] - x)) > dist:
+            u = _project(q, x, 1.0 - t)
+            if np.hypot(*(pc.evaluate(q, u)[0] - x)) > dist:
+                return False
+    return True
+
+
 def _contract(node, subs, length):
     """Node ids with the two ends of every sub-piece shorter than ``length`` merged.
 
@@ -624,7 +643,8 @@ class Arrangement:
             key = (min(u, v), max(u, v))
             found = None
             for j in groups.get(key, ()):
-                if np.hypot(*(mids[k] - mids[keep[j]])) <= max(10 * node_tol, contract):
+                if _near_copy(subs[k], subs[keep[j]], mids[k], mids[keep[j]],
+                              max(10 * node_tol, contract)):
                     found = j
                     break
             if found is None:
@@ -756,6 +776,16 @@ class Arrangement:
             is_b[h] = not is_b[h]
             excess[tail[h]] += step
             excess[head[h]] -= step
+        # two near-coincident paths of several short sub-pieces: drop the path of
+        # short boundary half-edges from a node left too often to one entered too often
+        for u in np.flatnonzero(excess > 0):
+            while excess[u] > 0:
+                path = self._short_path(u, is_b & short, excess < 0)
+                if path is None:
+                    break
+                is_b[path] = False
+                excess[u] -= 1
+                excess[head[path[-1]]] += 1
         # a short boundary half-edge that starts where no boundary arrives or ends
         # where none leaves cannot be on any loop (a sliver's side): prune it
         short = np.array([pc.length_bound(p) <= 5 * tiny for p in self.subs]).repeat(2)
@@ -766,6 +796,32 @@ class Arrangement:
             if not dead.any():
                 return is_b
             is_b &= ~dead
+
+    def _short_path(self, u, allowed, goal, max_edges=8):
+        """Half-edges of a shortest path (breadth first, at most max_edges) from
+        node u along allowed half-edges to a node where goal holds, or None."""
+        came = {u: None}
+        frontier = [u]
+        out_of = {}
+        for h in np.flatnonzero(allowed):
+            out_of.setdefault(self.node_of[h], []).append(h)
+        for _ in range(max_edges):
+            nxt = []
+            for v in frontier:
+                for h in out_of.get(v, ()):
+                    x = self.node_of[self.twin[h]]
+                    if x in came:
+                        continue
+                    came[x] = h
+                    if goal[x]:
+                        path = []
+                        while x != u:
+                            path.append(came[x])
+                            x = self.node_of[came[x]]
+                        return path[::-1]
+                    nxt.append(x)
+            frontier = nxt
+        return None
 
     def boundary_loops(self, inside, tiny=0.0):
         """Closed loops of half-edges with the sum on their left and not on their right.
@@ -1012,6 +1068,13 @@ def _arrange(pieces, weights, flat_tol, scale, contract):
     """
     cuts = split_parameters(pieces, flat_tol, scale, junction=contract)
     subs, origin = cut_pieces(pieces, cuts)
+    # a second pass on the sub-pieces finds crossings close to the new nodes (two
+    # sub-pieces leaving a node side by side and crossing just after it)
+    cuts = split_parameters(subs, flat_tol, scale, junction=contract, folded_only=True)
+    if any(cuts):
+        subs, second = cut_pieces(subs, cuts)
+        origin = [(origin[k][0], origin[k][1] + (origin[k][2] - origin[k][1]) * u0,
+                   origin[k][1] + (origin[k][2] - origin[k][1]) * u1) for k, u0, u1 in second]
     sub_w = [weights[src] for src, _, _ in origin]
     arr = Arrangement(subs, scale * 1e-9, sub_w, contract=contract)
     origin = [origin[k] for k in arr.kept]
