@@ -553,8 +553,13 @@ def _parse_nib(spec):
 @click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=0.5,
               show_default=True,
               help="Outline tolerance in font units (sum and curve conversion together).")
+@click.option("--composites", type=click.Choice(["follow", "sweep"]), default="follow",
+              show_default=True,
+              help="Composite glyphs using a swept glyph but not chosen (e.g. eacute when e "
+                   "is swept): follow (stay composites, widened by the nib) or sweep "
+                   "(decomposed and swept too).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, force):
+def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composites, force):
     """Sweep the glyphs of FONT with a fixed calligraphic nib (Fig. 5).
 
     Every chosen glyph is replaced by glyph ⊕ nib (the nib keeps its orientation),
@@ -591,7 +596,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, force):
     t0 = time.perf_counter()
     with click.progressbar(length=len(items), label="glyphs", file=sys.stderr) as bar:
         stats = brush_font(src, out, nib_region, items, tol=tol, family_name=family,
-                           progress=lambda name: bar.update(1))
+                           progress=lambda name: bar.update(1), composites=composites)
     seconds = time.perf_counter() - t0
     _font_sample(out, sample, png)
     click.echo("wrote %s (%d glyphs, %d contours, %.1f s) and sample %s"

@@ -176,3 +176,18 @@ def test_cli_brush(tmp_path):
                                   "--nib-svg", str(nib)])
     assert r.exit_code == 2
     assert "not convex" in r.output
+
+
+def test_cli_brush_composites(tmp_path):
+    """--composites sweep decomposes eacute and sweeps it (a simple glyph in the
+    output); follow keeps it a composite (TrueType)."""
+    for mode, composite in (("follow", True), ("sweep", False)):
+        out = tmp_path / (mode + ".ttf")
+        r = CliRunner().invoke(main, ["brush", "-o", str(out), "--glyphs", "e",
+                                      "--composites", mode, "--sample", "e"])
+        assert r.exit_code == 0, r.output
+        f = TTFont(str(out))
+        name = f.getBestCmap()[ord("é")]
+        assert f["glyf"][name].isComposite() == composite, mode
+    r = CliRunner().invoke(main, ["brush", "-o", str(tmp_path / "x.ttf"), "--composites", "no"])
+    assert r.exit_code == 2
