@@ -363,6 +363,41 @@ def flatten(piece, tol, max_depth=16):
     return evaluate(piece, params), params
 
 
+def flatten_many(pieces, tol, max_depth=16):
+    """:func:`flatten` of many pieces at once: pieces of one degree are subdivided
+    together.  Returns a list of (points, params), one per piece."""
+    out = [None] * len(pieces)
+    by_degree = {}
+    for k, p in enumerate(pieces):
+        by_degree.setdefault(len(p), []).append(k)
+    for ks in by_degree.values():
+        stack = np.array([np.asarray(pieces[k], float) for k in ks])
+        parts, owner = stack, np.arange(len(ks))
+        t0, width = np.zeros(len(ks)), 1.0
+        done_owner, done_t = [], []
+        for depth in range(max_depth + 1):
+            flat = _flat_enough(parts, tol) if depth < max_depth else np.ones(len(parts), bool)
+            done_owner.append(owner[flat])
+            done_t.append(t0[flat])
+            if flat.all():
+                break
+            parts, owner, t0 = parts[~flat], owner[~flat], t0[~flat]
+            left, right = _split_half(parts)
+            width *= 0.5
+            parts = np.concatenate([left, right])
+            owner = np.concatenate([owner, owner])
+            t0 = np.concatenate([t0, t0 + width])
+        owner = np.concatenate(done_owner)
+        ts = np.concatenate(done_t)
+        order = np.lexsort((ts, owner))
+        owner, ts = owner[order], ts[order]
+        bounds = np.searchsorted(owner, np.arange(len(ks) + 1))
+        for i, k in enumerate(ks):
+            params = np.append(ts[bounds[i]:bounds[i + 1]], 1.0)
+            out[k] = (evaluate(stack[i], params), params)
+    return out
+
+
 def _flat_enough(parts, tol):
     """For a stack (m, n+1, 3) of pieces: control polygon within tol of the chord."""
     p = parts[..., :2] / parts[..., 2:]

@@ -38,8 +38,7 @@ from .errors import TopologyError
 def _flatten_all(pieces, tol):
     """Segments of all pieces: arrays p0 (N,2), p1 (N,2), piece id, t0, t1."""
     p0s, p1s, ids, t0s, t1s = [], [], [], [], []
-    for k, p in enumerate(pieces):
-        pts, ts = pc.flatten(p, tol)
+    for k, (pts, ts) in enumerate(pc.flatten_many(pieces, tol)):
         if len(pts) < 2:
             continue
         p0s.append(pts[:-1])
@@ -724,7 +723,7 @@ class Arrangement:
         the exact boundary as of ours.
         """
         if getattr(self, "_segs", None) is None or self._segs[0] != flat_tol:
-            polys = [pc.flatten(p, flat_tol)[0] for p in self.subs]
+            polys = [q for q, _ in pc.flatten_many(self.subs, flat_tol)]
             self._segs = (flat_tol, np.concatenate([q[:-1] for q in polys]),
                           np.concatenate([q[1:] for q in polys]))
         _, a, b = self._segs
@@ -869,10 +868,10 @@ def side_windings(arr, flat_tol, delta):
     k, 2k + 1: its right).
     """
     polys, mids, normals = [], [], []
+    halves = [h for p in arr.subs for h in pc.split(p, 0.5)]
+    flat = pc.flatten_many(halves, flat_tol)
     for k, p in enumerate(arr.subs):
-        left, right = pc.split(p, 0.5)
-        pl = pc.flatten(left, flat_tol)[0]
-        pr = pc.flatten(right, flat_tol)[0]
+        pl, pr = flat[2 * k][0], flat[2 * k + 1][0]
         pl[0] = arr.nodes[arr.node_of[2 * k]]
         pr[-1] = arr.nodes[arr.node_of[2 * k + 1]]
         pr[0] = pl[-1]

@@ -213,3 +213,15 @@ def test_with_endpoints_moves_only_ends():
     q = pc.with_endpoints(p, (0.5, 0.5), (3.0, 1.0))
     assert np.allclose(pc.start(q), [0.5, 0.5]) and np.allclose(pc.end(q), [3.0, 1.0])
     assert np.array_equal(q[1], p[1]) and np.array_equal(q[:, 2], p[:, 2])
+
+
+def test_flatten_many_equals_flatten():
+    """The batched flattening gives each piece exactly what flatten gives it."""
+    pieces = (pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3)
+              + [pc.cubic((0, 0), (1, 3), (2, -3), (3, 0)), pc.line((0, 0), (5, 1)),
+                 pc.quadratic((0, 0), (1, 2), (2, 0)), pc.cubic((0, 0), (2, 1), (1, 1), (3, 0))])
+    for tol in (1e-1, 1e-3):
+        for p, (q, t) in zip(pieces, pc.flatten_many(pieces, tol)):
+            q2, t2 = pc.flatten(p, tol)
+            assert np.array_equal(t, t2)
+            assert np.allclose(q, q2, atol=1e-12)
