@@ -190,3 +190,13 @@ def test_animations(tmp_path):
         save_animation(frames, tmp_path / "a.mp4")
     with pytest.raises(ValueError):
         frames_to_gif([], tmp_path / "c.gif")
+
+
+def test_png_fill_none_like_svg():
+    """fill "none" (as in SVG) paints nothing; a stroke still shows."""
+    from morph.render import render_png
+    sq = [[pc.line(a, b) for a, b in zip([(0, 0), (1, 0), (1, 1), (0, 1)],
+                                          [(1, 0), (1, 1), (0, 1), (0, 0)])]]
+    img = np.asarray(render_png([(sq, {"fill": "none", "stroke": "black"})], size=64))
+    assert img[32, 32].min() == 255     # centre: nothing painted (white background)
+    assert img.min() == 0               # the outline is drawn

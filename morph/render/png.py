@@ -20,8 +20,8 @@ __all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "covera
 
 
 def _rgba(color, opacity=1.0):
-    if color is None:
-        return None
+    if color is None or (isinstance(color, str) and color.strip().lower() == "none"):
+        return None  # SVG's "none": no paint
     if isinstance(color, str):
         c = ImageColor.getrgb(color)
     else:
