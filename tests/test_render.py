@@ -199,4 +199,4 @@ def test_png_fill_none_like_svg():
                                           [(1, 0), (1, 1), (0, 1), (0, 0)])]]
     img = np.asarray(render_png([(sq, {"fill": "none", "stroke": "black"})], size=64))
     assert img[32, 32].min() == 255     # centre: nothing painted (white background)
-    assert img.min() == 0               # the outline is drawn
+    assert img.min() < 128              # the outline is drawn (anti-aliased)
