@@ -378,13 +378,16 @@ def _duration_option(f):
                         show_default=True, help="Milliseconds per frame of the GIF.")(f)
 
 
+def _morph_options(f):
+    """Arguments A B and the options shared by `morph glyph` and `morph svg`."""
+    for deco in reversed([shape_argument("a"), shape_argument("b"), _frames_option,
+                          _duration_option, method_option, common_options]):
+        f = deco(f)
+    return f
+
+
 @main.command()
-@shape_argument("a")
-@shape_argument("b")
-@_frames_option
-@_duration_option
-@method_option
-@common_options
+@_morph_options
 def glyph(a, b, frames, duration, method, font, tol, output, force, size):
     """Morph glyph A into glyph B: frames (1-a)·A ⊕ a·B (the paper's Fig. 6).
 
@@ -403,12 +406,7 @@ def glyph(a, b, frames, duration, method, font, tol, output, force, size):
 
 
 @main.command()
-@shape_argument("a")
-@shape_argument("b")
-@_frames_option
-@_duration_option
-@method_option
-@common_options
+@_morph_options
 def svg(a, b, frames, duration, method, font, tol, output, force, size):
     """Morph SVG shape A into SVG shape B: frames (1-a)·A ⊕ a·B (Fig. 36).
 
