@@ -103,7 +103,7 @@ def fig37_offsets():
 
 
 def fig38_cspace():
-    from morph.cli import cspace_figure
+    from morph.cli.apps import cspace_figure
     from morph.cspace import cspace_obstacle
     from morph.frames import scale_region
     from morph.region import region_centroid

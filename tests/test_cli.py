@@ -127,7 +127,7 @@ def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("kaboom")
 
-    monkeypatch.setattr(cli, "write_image", boom)
+    monkeypatch.setattr(cli.shapes, "write_image", boom)
     result = runner.invoke(main, ["outline", "g", "-o", str(tmp_path / "g.png")])
     assert result.exit_code == 1
     line = one_error_line(result)

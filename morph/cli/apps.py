@@ -1,0 +1,105 @@
+"""Applications of sums: offsets and C-space obstacles."""
+
+import click
+import numpy as np
+
+from . import main
+from .options import InputError, common_options, resolve_output, shape_argument, write_image
+from .shapes import _frame_bbox
+
+
+def _length_in_units(shape, value):
+    """A length given in em for glyphs (x units per em) or user units for SVG."""
+    return shape.tolerance(value)
+
+
+@main.command()
+@shape_argument("shape")
+@click.option("--radius", "-r", type=float, required=True,
+              help="Offset radius: in em for glyphs (0.05 = 50 units at 1000 units "
+                   "per em), in user units for SVG. Must be >= 0.")
+@common_options
+def offset(shape, radius, font, tol, output, force, size):
+    """Offset a shape outward by an exact disk: SHAPE ⊕ disk(RADIUS) (Fig. 37).
+
+    The disk is an exact rational circle, so the boundary is the QAC convolution
+    with a circle trimmed to the boundary, within --tol of the exact offset curve.
+    Holes shrink and close.  Negative radii (insets) are not supported: exit 2.
+    The picture shows the offset region in grey with the original shape on top.
+
+    \b
+    Examples:
+      morph offset o --radius 0.04 -o o-offset.png
+      morph offset drawing.svg --radius 5 -o grown.svg
+    """
+    from ..offset import offset_region
+
+    if radius < 0:
+        raise InputError("negative --radius %g: insets are not supported, only "
+                         "outward offsets (radius >= 0)" % radius)
+    out = resolve_output(output, "offset-%s.png" % shape.slug, force)
+    t = shape.tolerance(tol)
+    loops = offset_region(shape.loops, _length_in_units(shape, radius), t)
+    write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.loops, {"fill": "black"})],
+                size=size, tol=t)
+    click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
+
+
+def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0)):
+    """Shapes for a C-space picture: C-space region (light), obstacle (dark), robot
+    outlines placed at ``samples`` points spread along the C-space boundary, and a
+    dot at each reference point."""
+    from .. import piece as pc
+    from ..cspace import place_robot
+
+    shapes = [(cspace, {"fill": "#f2c894", "stroke": "#b3541e", "stroke_width": 1.5}),
+              (obstacle, {"fill": "#404040"})]
+    outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop))) if cspace else []
+    if outer and samples > 0:
+        poly = np.vstack([pc.flatten_loop(outer, tol)])
+        seg = np.hypot(*np.diff(np.vstack([poly, poly[:1]]), axis=0).T)
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        box = _frame_bbox([cspace])
+        dot = 0.012 * max(box[2] - box[0], box[3] - box[1])
+        for s in np.arange(samples) * cum[-1] / samples:
+            i = min(np.searchsorted(cum, s, side="right") - 1, len(poly) - 1)
+            p = poly[i]
+            shapes.append((place_robot(robot, p, reference),
+                           {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}))
+            shapes.append(([pc.circle(p, dot)], {"fill": "#1f5fa8"}))
+    return shapes
+
+
+@main.command()
+@shape_argument("obstacle")
+@shape_argument("robot")
+@click.option("--samples", type=click.IntRange(min=0, max=200), default=8,
+              show_default=True, help="Robot copies drawn along the C-space boundary.")
+@click.option("--reference", type=click.Choice(["centroid", "origin"]), default="centroid",
+              show_default=True,
+              help="The robot's reference point: its area centroid or its origin.")
+@common_options
+def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
+    """C-space obstacle of a translating ROBOT: OBSTACLE ⊕ (−ROBOT) (Figs. 4, 38).
+
+    The robot's reference point is its area centroid (--reference centroid) or
+    its origin (glyph origin, SVG user-space origin after the y flip).  The robot, with its reference point at p, overlaps
+    the obstacle exactly when p lies in the C-space region.  The picture shows the
+    C-space region (orange), the obstacle (dark grey) and the robot outline placed
+    at SAMPLES points along the C-space boundary (touching the obstacle).
+
+    \b
+    Examples:
+      morph cspace O v -o cspace.png
+      morph cspace room.svg robot.svg --samples 12
+    """
+    from ..cspace import cspace_obstacle
+    from ..region import region_centroid
+
+    out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
+    t = obstacle.tolerance(tol)
+    ref = region_centroid(robot.loops) if reference == "centroid" else (0.0, 0.0)
+    loops = cspace_obstacle(obstacle.loops, robot.loops, t, reference=ref)
+    write_image(out, cspace_figure(obstacle.loops, robot.loops, loops, t, samples, ref),
+                size=size, tol=t)
+    click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))

@@ -1,0 +1,173 @@
+"""Shared vocabulary of the commands: shape arguments, options, output paths."""
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import click
+
+EXIT_BAD_INPUT = 2
+EXIT_INTERNAL = 1
+DEFAULT_TOL = 1e-4
+IMAGE_SUFFIXES = (".png", ".svg")
+
+
+class InputError(click.ClickException):
+    """Bad input found by a command (e.g. an output that exists): one line, exit 2."""
+
+    exit_code = EXIT_BAD_INPUT
+
+
+# =========================================================================== shapes
+
+@dataclass
+class Shape:
+    """A loaded shape argument: its region and where it came from.
+
+    ``info`` is the dict of :func:`morph.parse.load_shape` (kind, name, source,
+    units_per_em, advance).
+    """
+
+    arg: str
+    loops: list = field(repr=False)
+    info: dict
+
+    @property
+    def name(self):
+        return self.info["name"]
+
+    @property
+    def slug(self):
+        """File-name-safe name (glyph name or SVG file stem)."""
+        return re.sub(r"[^A-Za-z0-9._-]+", "_", self.name) or "shape"
+
+    @property
+    def units_per_em(self):
+        return self.info.get("units_per_em")
+
+    def tolerance(self, tol):
+        """--tol in the shape's units: em -> font units for glyphs, as is for SVG."""
+        upm = self.units_per_em
+        return tol * upm if upm else tol
+
+
+class ShapeParam(click.ParamType):
+    """Click type: a glyph character/name or an .svg path -> :class:`Shape`.
+
+    Loads with the ``--font`` value (``--font`` is eager, so it is known first).
+    Parse errors propagate as MorphError (one clean line, exit 2).
+    """
+
+    name = "SHAPE"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, Shape):
+            return value
+        from ..parse import load_shape
+
+        font = ctx.params.get("font") if ctx is not None else None
+        loops, info = load_shape(value, font)
+        return Shape(value, loops, info)
+
+
+SHAPE = ShapeParam()
+
+
+def shape_argument(name="shape", **kwargs):
+    """Decorator: a positional shape argument converted to a :class:`Shape`."""
+    return click.argument(name, type=SHAPE, metavar=name.upper(), **kwargs)
+
+
+# =========================================================================== options
+
+def font_option(f):
+    return click.option(
+        "--font", type=click.Path(dir_okay=False), default=None, is_eager=True,
+        help="Font file (TrueType/OpenType) for glyph shapes. Default: the bundled "
+             "Noto Sans Regular (TrueType).")(f)
+
+
+def tol_option(f):
+    return click.option(
+        "--tol", type=click.FloatRange(min=0.0, min_open=True), default=DEFAULT_TOL,
+        show_default=True,
+        help="Absolute geometric tolerance of curve output: in em for glyphs "
+             "(1e-4 em = 0.1 unit at 1000 units per em), in user units for SVG.")(f)
+
+
+def output_option(f):
+    return click.option(
+        "-o", "--output", type=click.Path(dir_okay=True), default=None,
+        help="Output file; the format follows the suffix (.png or .svg). For frame "
+             "sequences, a folder. Default: a name derived from the command and "
+             "shape in the current directory.")(f)
+
+
+def force_option(f):
+    return click.option("--force", is_flag=True, default=False,
+                        help="Overwrite an existing output file.")(f)
+
+
+def size_option(f):
+    return click.option("--size", type=click.IntRange(min=8, max=16384), default=512,
+                        show_default=True,
+                        help="Longer side of the image in pixels.")(f)
+
+
+def common_options(f):
+    """--font, --tol, -o/--output, --force, --size: the shared vocabulary."""
+    for deco in (size_option, force_option, output_option, tol_option, font_option):
+        f = deco(f)
+    return f
+
+
+# =========================================================================== output
+
+def resolve_output(output, default_name, force, suffixes=IMAGE_SUFFIXES):
+    """Checked output path: allowed suffix, parent folder exists, no overwrite.
+
+    Raises InputError (exit 2) otherwise.
+    """
+    path = Path(output) if output is not None else Path.cwd() / default_name
+    if path.suffix.lower() not in suffixes:
+        raise InputError("cannot tell the output format of %s: use a %s suffix"
+                               % (path, " or ".join(suffixes)))
+    if path.is_dir():
+        raise InputError("output %s is a folder, expected a file" % path)
+    if not path.parent.is_dir():
+        raise InputError("output folder %s does not exist" % path.parent)
+    if path.exists() and not force:
+        raise InputError("output %s exists; use --force to overwrite it" % path)
+    return path
+
+
+def resolve_output_dir(output, default_name, force):
+    """Checked output folder for frame sequences (created if missing).
+
+    An existing non-empty folder needs ``force``.  Raises InputError.
+    """
+    path = Path(output) if output is not None else Path.cwd() / default_name
+    if path.exists() and not path.is_dir():
+        raise InputError("output %s exists and is not a folder" % path)
+    if path.is_dir() and any(path.iterdir()) and not force:
+        raise InputError("output folder %s is not empty; use --force to write "
+                               "into it" % path)
+    if not path.parent.is_dir():
+        raise InputError("output folder %s does not exist" % path.parent)
+    path.mkdir(exist_ok=True)
+    return path
+
+
+def write_image(path, shapes, size=512, tol=None, **style):
+    """Write shapes to ``path`` as PNG or SVG by suffix (``tol`` in shape units)."""
+    from ..render import write_png, write_svg
+
+    path = Path(path)
+    try:
+        if path.suffix.lower() == ".svg":
+            write_svg(str(path), shapes, size=size, tol=tol, **style)
+        else:
+            write_png(str(path), shapes, size=size, **style)
+    except OSError as exc:
+        raise click.FileError(str(path), hint=exc.strerror or str(exc)) from exc
+    return path
