@@ -1,0 +1,494 @@
+"""Calligraphic fonts from skeletons (paper Fig. 5): every skeleton glyph ⊕ a nib.
+
+A skeleton UFO (e.g. a single-line font: every contour an open centre line) is read
+with ufoLib2 (:mod:`morph.parse.ufo`); each glyph's paths are stroked with a convex
+nib held at a fixed angle by :func:`morph.stroke.stroke_paths` (open path ⊕ nib: both
+sides convolved with the nib plus the nib's own boundary as caps; a closed path is
+stroked, not filled) and the rational pieces of the result are written as cubics with
+:func:`morph.export.piece_to_cubics` (certified bound).  The output is a copy of the
+source UFO with the outlines replaced (kerning, groups, features, lib kept), saved as
+``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: ufo2ft converts the
+cubics to quadratics with cu2qu).
+
+Tolerance budget (``tol``, font units): the stroke within ``tol / 2``
+(``stroke_paths``), the cubics within ``tol / 2`` of the stroke's pieces for ``.ufo``
+and ``.otf`` (``tol / 4`` for ``.ttf``, whose cu2qu conversion gets the last
+``tol / 4``; cu2qu's check is certified up to rounding, see
+:func:`morph.export.piece_to_quadratics`).  Coordinates are written to the UFO with 3
+decimals (<= 0.0007 units more); compiling rounds them to integers (<= 0.71 units).
+
+Metrics.  The stroke of a skeleton point p is p + nib, so a glyph grows by the nib's
+extent on both sides.  Side bearings are kept: the outline is shifted right by the
+nib's left extent (``-xmin``) and the advance grows by the nib's width.  Zero-width
+glyphs (combining marks) keep advance 0 and are shifted by ``-xmax`` instead, so a
+mark drawn after its base lands where it did on the skeleton.  Anchors and vertical
+glyph guidelines move with the outline; anchors also by the nib's centre (the centre
+of the stroke of the anchor point).  Vertical font metrics are kept, except that
+the OS/2 win ascent / descent grow to cover the new glyphs (no clipping).  PostScript
+hinting values of the skeleton (blue zones, stems) are dropped: they described
+hairlines.
+
+Composites stay composites: a component is kept when the stroke commutes with its
+transformation M (M (g ⊕ N) = M g ⊕ N, i.e. M N = N: a translation, or a 180-degree
+rotation with a centrally symmetric nib); its base glyph is stroked once, and the
+component offset corrected for the two glyphs' shifts (o' = o + s_composite -
+M s_base).  Scaled, flipped or rotated components (fractions, superiors, mirrored
+punctuation) are decomposed and stroked inside the composite, because scaling the
+stroked base would scale the nib too.
+
+Which glyphs.  ``glyphs`` (None: all) are stroked, with the base glyphs of their kept
+components, and the composites not chosen that use only stroked glyphs through kept
+components (e.g. eacute when e and acutecomb are) follow for free.  Every other glyph
+keeps its skeleton in a ``.ufo`` output; in a compiled font it is left empty (an open
+skeleton cannot be filled), its advance kept.
+"""
+
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import piece as pc
+from ..errors import MorphError
+
+__all__ = ["stroke_ufo", "stroke_glyph_region", "region_to_contours", "nib_is_symmetric",
+           "move_feature_anchors", "DEFAULT_NIB"]
+
+# the default broad nib: 90 x 20 units at upm 1000, long axis at 30 degrees
+DEFAULT_NIB = (90.0, 20.0, 30.0)
+
+_DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
+              "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
+              "postscriptBlueFuzz", "postscriptBlueShift", "postscriptBlueScale",
+              "postscriptForceBold", "openTypeNameUniqueID", "postscriptUniqueID",
+              "postscriptFullName", "openTypeNameCompatibleFullName", "macintoshFONDName",
+              "openTypeNameWWSFamilyName", "openTypeNameWWSSubfamilyName")
+
+
+def _default_stroker():
+    from ..stroke import stroke_paths
+
+    return stroke_paths
+
+
+def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
+    """True when the nib is centrally symmetric about the origin (N = -N).
+
+    Checked on the support function h(u) = max_{x in N} x.u: h(u) = h(-u) for
+    ``directions`` unit vectors within ``rel`` times the nib's size, on the nib's
+    boundary flattened within that tolerance (a sampled check).  An ellipse from
+    :func:`morph.fonts.brush.ellipse_nib` is symmetric.
+    """
+    from ..fonts.brush import region_extent
+
+    x0, y0, x1, y1 = region_extent(nib_region)
+    size = max(x1 - x0, y1 - y0)
+    eps = rel * size
+    pts = np.concatenate([pc.flatten(p, eps)[0] for loop in nib_region for p in loop])
+    ang = np.linspace(0.0, np.pi, directions, endpoint=False)
+    u = np.column_stack([np.cos(ang), np.sin(ang)])
+    d = pts @ u.T
+    return bool(np.all(np.abs(d.max(axis=0) + d.min(axis=0)) <= 4 * eps))
+
+
+def stroke_glyph_region(paths, nib_region, tol, stroker=None):
+    """Region of the union of ``paths`` ⊕ nib (empty list for no paths), within tol.
+
+    Raises:
+        MorphError: as the stroker (:func:`morph.stroke.stroke_paths`).
+    """
+    if not paths:
+        return []
+    stroker = stroker or _default_stroker()
+    return stroker(paths, nib_region, tol)
+
+
+def region_to_contours(loops, tol, offset=(0.0, 0.0), decimals=3):
+    """Loops of pieces -> contours of polynomial segments for a segment pen.
+
+    Each contour is a list of ``(k, 2)`` arrays (k = 2: a line, k = 4: a cubic), joined
+    end to start and closed; degree-1 polynomial pieces stay lines, every other piece
+    becomes cubics within ``tol`` (:func:`morph.export.piece_to_cubics`, certified).
+    Points are translated by ``offset`` and rounded to ``decimals``.
+    """
+    from ..export import piece_to_cubics
+
+    off = np.asarray(offset, float)
+    contours = []
+    for loop in loops:
+        segs = []
+        for p in loop:
+            if pc.degree(p) == 1 and pc.is_polynomial(p):
+                segs.append(pc.cartesian(p))
+            else:
+                segs.extend(np.asarray(c, float) for c in piece_to_cubics(p, tol))
+        segs = [np.round(s + off, decimals) for s in segs]
+        # rounding may make a segment zero-length; joins stay exact (shared points)
+        segs = [s for s in segs if not np.all(s == s[0])]
+        if segs:
+            contours.append(segs)
+    return contours
+
+
+def _draw_contours(glyph, contours):
+    """Draw closed contours of segments on a ufoLib2 glyph (the segment pen merges
+    the closing point with the start)."""
+    pen = glyph.getPen()
+    for segs in contours:
+        pen.moveTo(tuple(map(float, segs[0][0])))
+        for s in segs:
+            pts = [tuple(map(float, q)) for q in s[1:]]
+            if len(s) == 2:
+                pen.lineTo(pts[0])
+            else:
+                pen.curveTo(*pts)
+        pen.closePath()
+
+
+def _keep_component(component, symmetric):
+    m = tuple(float(v) for v in tuple(component.transformation)[:4])
+    return m == (1.0, 0.0, 0.0, 1.0) or (symmetric and m == (-1.0, 0.0, 0.0, -1.0))
+
+
+def _plan(font, chosen, symmetric):
+    """(stroked, followed): names whose outlines are rebuilt, in a dependency-free
+    order, and the composites that follow without being chosen."""
+    stroked = []
+    seen = set()
+    todo = list(chosen)
+    while todo:
+        n = todo.pop(0)
+        if n in seen:
+            continue
+        if n not in font:
+            raise MorphError("component base glyph %r is missing from the UFO" % n)
+        seen.add(n)
+        stroked.append(n)
+        for c in font[n].components:
+            if _keep_component(c, symmetric) and c.baseGlyph not in seen:
+                todo.append(c.baseGlyph)
+    followed = []
+    changed = True
+    while changed:
+        changed = False
+        for g in font:
+            if g.name in seen or g.contours or not g.components:
+                continue
+            if all(_keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
+                seen.add(g.name)
+                followed.append(g.name)
+                changed = True
+    return stroked, followed
+
+
+def _rename(info, family):
+    import re
+
+    style = info.styleName or "Regular"
+    ps = re.sub(r"[^A-Za-z0-9-]", "", family.replace(" ", "")) + "-" + \
+        re.sub(r"[^A-Za-z0-9]", "", style)
+    info.familyName = family
+    if info.styleMapFamilyName:
+        info.styleMapFamilyName = family
+    if info.openTypeNamePreferredFamilyName:
+        info.openTypeNamePreferredFamilyName = family
+    info.postscriptFontName = ps
+    for key in _DROP_INFO:
+        if getattr(info, key, None) is not None:
+            setattr(info, key, None)
+
+
+def _glyph_job(args):
+    """Stroke one glyph's paths; top-level so that a process pool can run it."""
+    name, paths, nib_region, tol, stroker = args
+    t0 = time.perf_counter()
+    try:
+        region = stroke_glyph_region(paths, nib_region, tol, stroker)
+    except MorphError as exc:
+        raise type(exc)("glyph %r: %s" % (name, exc)) from exc
+    return name, region, time.perf_counter() - t0
+
+
+def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
+               progress=None, stroker=None, overwrite=False, jobs=1):
+    """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
+
+    ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
+    ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
+    ``.otf`` or ``.ttf`` (compiled with ufo2ft from that copy).  ``nib_region``:
+    a convex region in font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the
+    pen point at its origin.  ``glyphs``: characters or glyph names (None: every
+    glyph).  ``tol``: outline tolerance in font units before integer rounding (see
+    the module docstring for the budget).  ``family_name``: default "<family>
+    Stroke".  ``progress(name)`` is called after each stroked glyph.  ``stroker``:
+    a function ``(paths, nib_region, tol) -> region`` (default
+    :func:`morph.stroke.stroke_paths`).  ``overwrite``: replace an existing output.
+    ``jobs``: worker processes for the strokes (1: in this process).
+
+    Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
+    (composites kept without being chosen), ``decomposed`` (components decomposed
+    because of a transformation), ``emptied`` (glyphs left empty in a compiled
+    font), ``contours``, ``points`` (on- and off-curve points written),
+    ``stroke_seconds`` (sum over glyphs), ``seconds`` (wall, whole call), ``font``
+    (the stroked ``ufoLib2.Font``) and ``regions`` (name -> stroked region in the
+    glyph's output coordinates, components not included).
+
+    Raises:
+        ParseError: unreadable UFO, a glyph the UFO lacks, a bad contour.
+        MorphError: non-convex nib, a stroke that fails (the message names the
+            glyph), an output that exists without ``overwrite``, ufo2ft failing.
+        ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
+    """
+    import ufoLib2
+
+    from ..fonts.brush import check_convex_nib, region_extent
+    from ..parse.ufo import component_paths, glyph_names_for, glyph_paths, load_ufo
+
+    t_start = time.perf_counter()
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    out_path = Path(out_path)
+    kind = out_path.suffix.lower()
+    if kind not in (".ufo", ".otf", ".ttf"):
+        raise ValueError("output must end in .ufo, .otf or .ttf, got %s" % out_path)
+    if out_path.exists() and not overwrite:
+        raise MorphError("%s exists (pass overwrite=True to replace it)" % out_path)
+    check_convex_nib(nib_region)
+    font = _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
+    symmetric = nib_is_symmetric(nib_region)
+    chosen = [g.name for g in font] if glyphs is None else glyph_names_for(font, glyphs)
+    stroked, followed = _plan(font, chosen, symmetric)
+
+    # integer shifts and advance growth: outlines, anchors, component offsets and
+    # feature anchors stay on the same integer grid
+    nx0, ny0, nx1, ny1 = region_extent(nib_region)
+    grow = int(round(nx1 - nx0))
+    centre = (int(round((nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
+    shifts = {}
+    for n in stroked + followed:
+        shifts[n] = int(round(-nx0)) - (grow if font[n].width == 0 else 0)
+
+    # the work: paths of every stroked glyph (own contours + decomposed components)
+    sum_tol = tol / 2.0
+    cubic_tol = tol / 4.0 if kind == ".ttf" else tol / 2.0
+    work, decomposed = [], 0
+    for n in stroked:
+        g = font[n]
+        paths = glyph_paths(g)
+        for c in g.components:
+            if not _keep_component(c, symmetric):
+                paths.extend(component_paths(font, c))
+                decomposed += 1
+        work.append((n, paths, nib_region, sum_tol, stroker))
+    regions, stroke_seconds = {}, 0.0
+    for name, region, secs in _run(work, jobs):
+        regions[name] = region
+        stroke_seconds += secs
+        if progress is not None:
+            progress(name)
+
+    stats = {"glyphs": len(stroked), "followed": len(followed), "decomposed": decomposed,
+             "emptied": 0, "contours": 0, "points": 0}
+    out_regions = {}
+    for n in stroked + followed:
+        g = font[n]
+        s = shifts[n]
+        if n in regions:
+            contours = region_to_contours(regions[n], cubic_tol, offset=(s, 0.0))
+            g.clearContours()
+            _draw_contours(g, contours)
+            stats["contours"] += len(contours)
+            stats["points"] += sum(len(q) - 1 for segs in contours for q in segs)
+            out_regions[n] = [[pc.translate(p, (s, 0.0)) for p in loop] for loop in regions[n]]
+        kept = []
+        for c in g.components:
+            if not _keep_component(c, symmetric):
+                continue  # decomposed into the stroke above
+            xx, xy, yx, yy, dx, dy = tuple(c.transformation)
+            sb = shifts[c.baseGlyph]
+            c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
+            kept.append(c)
+        g.components[:] = kept
+        for a in g.anchors:
+            a.x += s + centre[0]
+            a.y += centre[1]
+        for gl in g.guidelines:
+            if gl.x is not None and gl.y is None:
+                gl.x += s
+        if g.width:
+            g.width = g.width + grow
+    done = set(stroked) | set(followed)
+    if kind != ".ufo":
+        for g in font:
+            if g.name not in done and (g.contours or g.components):
+                g.clearContours()
+                g.clearComponents()
+                stats["emptied"] += 1
+
+    if "anchor" in (font.features.text or ""):
+        font.features.text = move_feature_anchors(
+            font.features.text, font.keys(),
+            lambda n: (shifts[n] + centre[0], centre[1]) if n in shifts else None)
+    _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    _grow_win_metrics(font, out_regions, ny0, ny1)
+    stats["stroke_seconds"] = stroke_seconds
+    _save(font, out_path, kind, tol, overwrite)
+    stats["seconds"] = time.perf_counter() - t_start
+    stats["font"] = font
+    stats["regions"] = out_regions
+    return stats
+
+
+def move_feature_anchors(text, glyph_names, offset_of):
+    """Feature-file text with its explicit anchors moved like their glyphs' anchors.
+
+    ``offset_of(glyph_name)`` gives the ``(dx, dy)`` by which that glyph's anchors
+    moved (None: unchanged).  Every ``<anchor x y>`` of a mark class definition
+    (``markClass``), a mark-to-base / ligature / mark-to-mark or cursive statement is
+    moved by the offset of the statement's glyphs (the marks of a ``markClass``, the
+    bases of a ``pos base`` ...); only the numbers are rewritten, the rest of the text
+    (comments, layout) is kept.  Anchors in included files are not moved.
+
+    Raises:
+        MorphError: the text does not parse (fontTools.feaLib), or one statement's
+            glyphs moved by different offsets.
+    """
+    import io
+    import re
+
+    from fontTools.feaLib import ast
+    from fontTools.feaLib.parser import Parser
+
+    try:
+        doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
+    except Exception as exc:  # feaLib's FeatureLibError and include errors
+        raise MorphError("cannot parse the features: %s" % " ".join(str(exc).split())) from exc
+
+    moves = []  # (anchor, offset)
+
+    def add(anchor, glyph_set):
+        if anchor is None or anchor.x is None:
+            return
+        offs = {offset_of(g) for g in glyph_set} - {None}
+        if len(offs) > 1:
+            raise MorphError("anchor at line %d: its glyphs %s moved by different offsets"
+                             % (anchor.location.line, ", ".join(sorted(glyph_set))))
+        if offs:
+            moves.append((anchor, offs.pop()))
+
+    def walk(statements):
+        for st in statements:
+            if isinstance(st, ast.MarkClassDefinition):
+                add(st.anchor, st.glyphSet())
+            elif isinstance(st, ast.MarkBasePosStatement):
+                for anchor, _ in st.marks:
+                    add(anchor, st.base.glyphSet())
+            elif isinstance(st, ast.MarkMarkPosStatement):
+                for anchor, _ in st.marks:
+                    add(anchor, st.baseMarks.glyphSet())
+            elif isinstance(st, ast.MarkLigPosStatement):
+                for component in st.marks:
+                    for anchor, _ in component:
+                        add(anchor, st.ligatures.glyphSet())
+            elif isinstance(st, ast.CursivePosStatement):
+                add(st.entryAnchor, st.glyphclass.glyphSet())
+                add(st.exitAnchor, st.glyphclass.glyphSet())
+            if hasattr(st, "statements"):
+                walk(st.statements)
+
+    walk(doc.statements)
+    lines = text.split("\n")
+    number = r"(-?\d+(?:\.\d+)?)"
+    pattern = re.compile(r"anchor\s+" + number + r"\s+" + number)
+    # later positions first, so earlier columns stay valid
+    for anchor, (dx, dy) in sorted(moves, key=lambda m: (m[0].location.line,
+                                                        m[0].location.column), reverse=True):
+        loc = anchor.location
+        if loc.file != "<features>":
+            continue
+        line = lines[loc.line - 1]
+        m = pattern.match(line, loc.column - 1)
+        if m is None:
+            raise MorphError("cannot find the anchor of line %d in the features" % loc.line)
+        new = "anchor %s %s" % (_fea_number(anchor.x + dx), _fea_number(anchor.y + dy))
+        lines[loc.line - 1] = line[:m.start()] + new + line[m.end():]
+    return "\n".join(lines)
+
+
+def _fea_number(v):
+    return str(int(round(v)))
+
+
+def _copy_font(font):
+    """A full in-memory copy of a ufoLib2 font (the source is never modified)."""
+    import copy
+
+    font.unlazify()
+    return copy.deepcopy(font)
+
+
+def _run(work, jobs):
+    if jobs is None or jobs <= 1 or len(work) < 2:
+        for item in work:
+            yield _glyph_job(item)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=int(jobs)) as pool:
+        yield from pool.map(_glyph_job, work, chunksize=max(1, len(work) // (8 * jobs)))
+
+
+def _grow_win_metrics(font, regions, ny0, ny1):
+    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping)."""
+    from ..region import region_bbox
+
+    top, bottom = None, None
+    for loops in regions.values():
+        if loops:
+            b = region_bbox(loops)
+            top = b[3] if top is None else max(top, b[3])
+            bottom = b[1] if bottom is None else min(bottom, b[1])
+    if top is None:
+        return
+    info = font.info
+    if info.openTypeOS2WinAscent is not None:
+        info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
+    if info.openTypeOS2WinDescent is not None:
+        info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-bottom)))
+
+
+def _save(font, out_path, kind, tol, overwrite):
+    """Save the UFO or compile it with ufo2ft; written to a temporary name first."""
+    out_path = Path(out_path)
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp_dir = tempfile.mkdtemp(prefix=".morph-stroke-", dir=str(out_path.parent))
+    tmp = Path(tmp_dir) / out_path.name
+    try:
+        if kind == ".ufo":
+            font.save(str(tmp), overwrite=True)
+        else:
+            import ufo2ft
+
+            try:
+                if kind == ".otf":
+                    otf = ufo2ft.compileOTF(font)
+                else:
+                    upm = font.info.unitsPerEm or 1000
+                    otf = ufo2ft.compileTTF(font, cubicConversionError=(tol / 4.0) / upm)
+            except Exception as exc:
+                raise MorphError("ufo2ft could not compile %s: %s"
+                                 % (out_path.name, " ".join(str(exc).split()))) from exc
+            otf.save(str(tmp))
+        if out_path.exists():
+            if not overwrite:
+                raise MorphError("%s exists" % out_path)
+            if out_path.is_dir():
+                shutil.rmtree(out_path)
+            else:
+                out_path.unlink()
+        os.replace(str(tmp), str(out_path))
+    finally:
+        shutil.rmtree(tmp_dir, ignore_errors=True)

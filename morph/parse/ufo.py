@@ -1,0 +1,218 @@
+"""Reading skeleton glyphs from UFO sources (ufoLib2) -> paths of pieces.
+
+A *skeleton* is a pen's centre line: open contours are native to UFO (a contour whose
+first point has type ``move``), closed ones are allowed too.  A glyph's contours
+become a list of paths ``(pieces, closed)`` in font units (y up): ``pieces`` is a list
+of polynomial pieces (:func:`morph.piece.line`, :func:`~morph.piece.quadratic`,
+:func:`~morph.piece.cubic`; TrueType quadratic runs split at their implied on-curve
+points, cubic runs with more than two off-curves split as fontTools does) joined end
+to start; ``closed`` says whether the last piece returns to the first one's start (a
+closing line is added when a closed contour's last point differs from its first).
+
+Zero-length pieces are dropped; a contour of one point, or one whose pieces all have
+zero length (a dot drawn as a single pen touch), becomes ``([line(p, p)], False)``: a
+zero-length open path, whose stroke is the nib itself.
+
+Components are *not* decomposed here (:func:`glyph_paths` reads contours only);
+:func:`component_paths` decomposes a component with its transformation when a caller
+needs that.  Every bad input raises :class:`morph.errors.ParseError` naming it.
+"""
+
+import os
+
+import numpy as np
+
+from .. import piece as pc
+from ..errors import ParseError
+
+__all__ = ["load_ufo", "glyph_paths", "component_paths", "contour_paths", "transform_paths",
+           "glyph_names_for"]
+
+
+def load_ufo(path, lazy=True):
+    """The ``ufoLib2.Font`` at ``path`` (a ``.ufo`` folder); ``lazy``: glyphs read on
+    first access (ufoLib2's lazy loading) instead of all at once.
+
+    Raises:
+        ParseError: missing path, not a folder, or not a UFO ufoLib2 can read.
+    """
+    import ufoLib2
+
+    text = os.fspath(path)
+    if not os.path.exists(text):
+        raise ParseError("cannot read UFO %s: no such folder" % text, text)
+    if not os.path.isdir(text):
+        raise ParseError("cannot read UFO %s: it is not a folder" % text, text)
+    try:
+        return ufoLib2.Font.open(text, lazy=lazy)
+    except Exception as exc:  # fontTools.ufoLib raises several types for bad input
+        raise ParseError("cannot read UFO %s: %s" % (text, _one_line(exc)), text) from exc
+
+
+_PEN_CLASS = None
+
+
+def _make_pen_class():
+    from fontTools.pens.basePen import BasePen
+
+    class SkeletonPen(BasePen):
+        """Segment pen -> list of ``(pieces, closed)`` paths (font units, y up).
+
+        Contract (BasePen): ``_moveTo``, ``_lineTo``, ``_curveToOne`` and
+        ``_qCurveToOne`` are overridden; BasePen splits quadratic runs at implied
+        on-curve points and long cubic runs.  ``_closePath`` adds a closing line when
+        the last point differs from the first; ``_endPath`` keeps the path open.
+        Components are refused (draw contours only).
+        """
+
+        def __init__(self, label):
+            super().__init__(None)
+            self.paths = []
+            self.label = label
+            self._pieces = None
+            self._start = None
+
+        def _moveTo(self, pt):
+            if self._pieces is not None:
+                self._finish(closed=False)
+            self._pieces = []
+            self._start = pt
+
+        def _add(self, points):
+            self._pieces.append(pc.from_points([self._getCurrentPoint()] + list(points)))
+
+        def _lineTo(self, pt):
+            self._add([pt])
+
+        def _curveToOne(self, pt1, pt2, pt3):
+            self._add([pt1, pt2, pt3])
+
+        def _qCurveToOne(self, pt1, pt2):
+            self._add([pt1, pt2])
+
+        def _closePath(self):
+            self._finish(closed=True)
+
+        def _endPath(self):
+            self._finish(closed=False)
+
+        def addComponent(self, glyphName, transformation):
+            raise ParseError("%s: components are read by component_paths" % self.label,
+                             self.label)
+
+        def _finish(self, closed):
+            pieces, start = self._pieces, self._start
+            self._pieces, self._start = None, None
+            if pieces is None:
+                return
+            start = np.asarray(start, float)
+            if not np.all(np.isfinite(start)):
+                raise ParseError("%s has a non-finite point" % self.label, self.label)
+            if closed and pieces and not np.array_equal(pc.end(pieces[-1]), start):
+                pieces.append(pc.line(pc.end(pieces[-1]), start))
+            kept = [p for p in pieces if not _zero_length(p)]
+            if not kept:  # a single point or a dot of zero-length segments
+                self.paths.append(([pc.line(start, start)], False))
+                return
+            self.paths.append((kept, bool(closed)))
+
+    return SkeletonPen
+
+
+def _zero_length(piece):
+    pts = pc.cartesian(piece)
+    return bool(np.all(pts == pts[0]))
+
+
+def contour_paths(contours, label="contours"):
+    """Paths ``(pieces, closed)`` of an iterable of ufoLib2 contours (see module doc).
+
+    Raises:
+        ParseError: a contour fontTools cannot draw (bad point types, a contour that
+            ends with off-curve points while open) or a non-finite coordinate.
+    """
+    global _PEN_CLASS
+    if _PEN_CLASS is None:
+        _PEN_CLASS = _make_pen_class()
+    pen = _PEN_CLASS(label)
+    for contour in contours:
+        try:
+            contour.draw(pen)
+        except ParseError:
+            raise
+        except Exception as exc:
+            raise ParseError("%s: cannot read a contour: %s" % (label, _one_line(exc)),
+                             label) from exc
+    return pen.paths
+
+
+def glyph_paths(glyph):
+    """Paths ``(pieces, closed)`` of a ufoLib2 glyph's own contours (components not
+    included), in font units.  Raises ParseError as :func:`contour_paths`."""
+    return contour_paths(glyph.contours, "glyph %r" % glyph.name)
+
+
+def transform_paths(paths, transformation):
+    """Paths mapped by an affine ``(xx, xy, yx, yy, dx, dy)`` transformation (fontTools
+    order: x' = xx x + yx y + dx, y' = xy x + yy y + dy)."""
+    xx, xy, yx, yy, dx, dy = (float(v) for v in transformation)
+    mat = np.array([[xx, yx, dx], [xy, yy, dy]])
+    out = []
+    for pieces, closed in paths:
+        moved = []
+        for p in pieces:
+            pts = pc.cartesian(p)
+            q = pts @ mat[:, :2].T + mat[:, 2]
+            moved.append(pc.from_points(q, p[:, 2]))
+        out.append((moved, closed))
+    return out
+
+
+def component_paths(font, component, _depth=0):
+    """Paths of a component, decomposed recursively and placed by its transformation.
+
+    Raises:
+        ParseError: the base glyph is missing, or components nest deeper than 32
+            (a cycle).
+    """
+    if _depth > 32:
+        raise ParseError("components nest deeper than 32 levels at %r (a cycle?)"
+                         % component.baseGlyph, component.baseGlyph)
+    if component.baseGlyph not in font:
+        raise ParseError("component base glyph %r is missing" % component.baseGlyph,
+                         component.baseGlyph)
+    base = font[component.baseGlyph]
+    paths = glyph_paths(base)
+    for sub in base.components:
+        paths.extend(component_paths(font, sub, _depth + 1))
+    return transform_paths(paths, tuple(component.transformation))
+
+
+def glyph_names_for(font, items):
+    """Glyph names of a UFO for a list of characters (looked up by unicode) and glyph
+    names, in order, without repeats.  A one-character item that is also a glyph name
+    but has no unicode mapping is taken as the name.
+
+    Raises:
+        ParseError: an item names no glyph of the font.
+    """
+    cmap = {}
+    for g in font:
+        for u in g.unicodes:
+            cmap.setdefault(u, g.name)
+    out = []
+    for item in items:
+        name = None
+        if len(item) == 1:
+            name = cmap.get(ord(item))
+        if name is None and item in font:
+            name = item
+        if name is None:
+            raise ParseError("the UFO has no glyph for %r" % item, item)
+        if name not in out:
+            out.append(name)
+    return out
+
+
+def _one_line(exc):
+    return " ".join(str(exc).split()) or type(exc).__name__
