@@ -2,26 +2,50 @@
 
 SVG path data and font outlines hold polynomial cubics (CFF, SVG) or quadratics
 (TrueType); the pipeline's pieces are rational.  Each rational piece R = X / W is
-replaced by cubics C fitted on the *same parameter* and the error
+covered by few cubics C, fitted by kurbo's curve fitter (``kurbopy.fit_to_bezpath``:
+end points and end tangents of the piece, signed area and x-moment matched, the
+classic approach of R. Levien's "fitting cubic Béziers" work), and every cubic is
+then *certified* against the exact piece, never only sampled:
 
-    |R(t) - C(t)| = |X(t) - W(t) C(t)| / W(t)
+**The certificate.**  For a cubic C fitted to R on the parameter interval [a, b] a
+reparametrisation is chosen: an increasing polynomial bijection
+``phi: [0, 1] -> [a, b]`` of degree m (least-squares fit to the closest-point feet
+of C on R, Bernstein coefficients strictly increasing, so phi' > 0).  R o phi is
+again a rational Bézier curve X~ / W~ (degree n m, weights positive), and the error
 
-is bounded without sampling: E = X - W C is a Bernstein polynomial of degree n + 3,
-and so are ``|E|^2 = E_x^2 + E_y^2`` and ``W^2`` (degree 2n + 6 after elevation,
-coefficients e_k and v_k, v_k > 0 for positive weights).  If ``b^2 v_k - e_k >= 0``
-for every k then ``b^2 W^2 - |E|^2 >= 0`` on [0, 1] (a non-negative combination of
-the non-negative Bernstein basis), i.e.
+    |R(phi(s)) - C(s)| = |X~(s) - W~(s) C(s)| / W~(s)
 
-    max_t |R(t) - C(t)| <= b = sqrt(max_k e_k / v_k)              (cubic_bound)
+is bounded without sampling: E = X~ - W~ C is a Bernstein polynomial, and so are
+``|E|^2 = E_x^2 + E_y^2`` and ``W~^2`` (coefficients e_k and v_k > 0).  If
+``b^2 v_k - e_k >= 0`` for every k then ``b^2 W~^2 - |E|^2 >= 0`` on [0, 1] (a
+non-negative combination of the non-negative Bernstein basis), i.e.
+
+    max_{s in [0,1]} |R(phi(s)) - C(s)| <= b = sqrt(max_k e_k / v_k)     (cubic_bound)
 
 The coefficients are first subdivided (de Casteljau, 2^refine panels, default 8) and
 the worst panel taken: the same certificate, tighter because Bernstein coefficients
-converge to the polynomial under subdivision.  (It is never worse than
-``sqrt(max_k e_k) / min_i w_i``.)
+converge to the polynomial under subdivision.
 
-The parametric distance bounds the Hausdorff distance between the curves.  Pieces are
-halved at t = 0.5 until the bound is <= tol.
+**What is bounded.**  A bound b of the parametric distance under the monotone
+reparametrisation phi bounds the Fréchet distance between C and R restricted to
+[a, b], hence the Hausdorff distance: every point of C is within b of R([a, b]) and
+every point of R([a, b]) is within b of C.  With phi = identity on [a, b] (no
+reparametrisation: :func:`cubic_bound` without ``reparam``) it is the plain
+same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in the
+coefficient products), the bound is rigorous.
+
+**Search.**  Per piece, segments are chosen greedily from t = 0: the longest
+parameter interval whose certified bound is <= tol is looked for with a few fits
+(error predicted from the previous fits as ~ h^p), so a 90° arc of radius 2 takes 1
+/ 2 / 3 / 6 cubics at tol 1e-3 / 1e-4 / 1e-6 / 1e-8 (kurbo's own halving: 1 / 2 / 4 /
+8).  Where kurbo finds no cubic, or its cubic does not certify, the same-parameter
+fit of :func:`fit_cubic` (Hermite / least squares) is tried, and the interval
+shrinks until one certifies.
 """
+
+import math
+from collections import namedtuple
+from functools import lru_cache
 
 import numpy as np
 
@@ -29,8 +53,43 @@ from . import bernstein as bz
 from . import piece as pc
 from .errors import ToleranceNotMetError
 
-__all__ = ["cubic_bound", "cubic_segments", "fit_cubic", "loop_to_cubics", "piece_to_cubics",
-           "piece_to_quadratics"]
+__all__ = ["SUM_SHARE", "Segment", "cubic_bound", "cubic_segments", "fit_cubic",
+           "loop_to_cubics", "piece_to_cubics", "piece_to_quadratics", "split_tolerance"]
+
+#: Share of a user's tolerance given to the geometry (sum, offset, morph frame); the
+#: rest goes to the export (cubic fit and coordinate rounding).  See split_tolerance.
+SUM_SHARE = 0.5
+
+
+def split_tolerance(tol, share=SUM_SHARE):
+    """Split a total tolerance into ``(geometry_tol, export_tol)``, summing to ``tol``.
+
+    The one place where the error budget of a written file is divided: a command
+    that computes a shape within ``geometry_tol`` of the exact result (Hausdorff
+    distance, e.g. :func:`morph.trim.minkowski_sum`) and writes it with an exporter
+    bounded by ``export_tol`` (Fréchet, hence Hausdorff, distance between the written
+    curves and the computed pieces, e.g. :func:`morph.render.write_svg`, the font
+    writers) produces a file within ``tol`` of the exact result by the triangle
+    inequality of the Hausdorff distance.
+
+    Raises:
+        ValueError: tol not positive and finite, or share not in (0, 1).
+    """
+    tol = float(tol)
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    if not 0.0 < share < 1.0:
+        raise ValueError("share must be in (0, 1), got %r" % (share,))
+    geometry = share * tol
+    return geometry, tol - geometry
+
+
+#: One certified cubic of a piece: ``cubic`` (4, 2) approximates the piece on
+#: [t0, t1] with ``max_s |R(phi(s)) - C(s)| <= bound`` for the continuous increasing
+#: phi: [0, 1] -> [t0, t1] given by ``reparam``, a tuple of panels ``(s0, s1,
+#: coefficients)`` (phi on [s0, s1] is the polynomial with these Bernstein
+#: coefficients in (s - s0) / (s1 - s0)); see :func:`cubic_bound`.
+Segment = namedtuple("Segment", "t0 t1 cubic bound reparam")
 
 
 def _check(piece):
@@ -38,83 +97,359 @@ def _check(piece):
     if piece.ndim != 2 or piece.shape[1] != 3 or len(piece) < 2:
         raise ValueError("a piece is an (n+1, 3) array with n >= 1, got shape %r"
                          % (piece.shape,))
+    if not np.all(np.isfinite(piece)):
+        raise ValueError("export needs finite control points, got %r" % (piece,))
     if np.any(piece[:, 2] <= 0):
         raise ValueError("export needs positive weights, got %r" % (piece[:, 2],))
     return piece
 
 
+# ------------------------------------------------------------------ the certificate
+
+def compose(c, phi):
+    """Bernstein coefficients of ``c(phi(s))``: degree n m for c of degree n, phi of m.
+
+    de Casteljau's recursion with the polynomial phi in place of the parameter,
+    ``b_i^r = (1 - phi) b_i^{r-1} + phi b_{i+1}^{r-1}`` (products by
+    :func:`bernstein.multiply`); trailing axes of ``c`` are carried.  With phi's
+    coefficients in [0, 1] every product has non-negative factors, so positive
+    weights stay positive.
+    """
+    c = np.asarray(c, float)
+    phi = np.asarray(phi, float)
+    if len(phi) == 2 and phi[0] == 0.0 and phi[1] == 1.0:
+        return c.copy()
+    shape = (-1,) + (1,) * c.ndim
+    p1 = phi.reshape(shape)
+    p0 = 1.0 - p1
+    b = c[None]                       # axis 0: coefficients of the polynomial entries
+    while b.shape[1] > 1:
+        b = bz.multiply(p0, b[:, :-1]) + bz.multiply(p1, b[:, 1:])
+    return b[:, 0]
+
+
 def _error_poly(piece, cubic):
     """Bernstein coefficients of E = X - W C, shape (n + 4, 2)."""
-    n = len(piece) - 1
     x = bz.elevate(piece[:, :2], 3)
     wc = bz.multiply(piece[:, 2:3], np.asarray(cubic, float))
-    return x - wc, n
+    return x - wc
+
+
+def _square(c):
+    """Bernstein coefficients of c^2 (degree 2n) for a scalar Bernstein polynomial c."""
+    n = len(c) - 1
+    b = bz._binomials(n)
+    return np.convolve(b * c, b * c) / bz._binomials(2 * n)
+
+
+@lru_cache(maxsize=None)
+def _panel_matrix(n, refine):
+    """Stacked de Casteljau subdivision matrices of degree n onto 2^refine equal panels:
+    shape (2^refine, n + 1, n + 1), panel k's coefficients = M[k] @ c."""
+    k = 2 ** refine
+    eye = np.eye(n + 1)
+    return np.stack([bz.subsegment(eye, i / k, (i + 1) / k) for i in range(k)])
 
 
 def _bound_from_error(e, w, refine=3):
     """sqrt of the smallest b2 with b2 W^2 - |E|^2 >= 0 coefficient-wise on 2^refine panels."""
-    e2 = bz.multiply(e[:, :1], e[:, :1])[:, 0] + bz.multiply(e[:, 1:2], e[:, 1:2])[:, 0]
-    w2 = bz.to_degree(bz.multiply(w, w), len(e2) - 1)
-    both = np.column_stack([e2, w2])
-    panels = [both]
-    for _ in range(refine):
-        panels = [half for p in panels for half in bz.split(p, 0.5)]
-    worst = max(float(np.max(p[:, 0] / p[:, 1])) for p in panels)
-    return float(np.sqrt(max(worst, 0.0)))
+    e2 = _square(e[:, 0]) + _square(e[:, 1])
+    w2 = bz.to_degree(_square(w[:, 0]), len(e2) - 1)
+    if refine > 0:
+        m = _panel_matrix(len(e2) - 1, refine)
+        e2, w2 = m @ e2, m @ w2
+    return float(np.sqrt(max(float(np.max(e2 / w2)), 0.0)))
 
 
-def cubic_bound(piece, cubic, refine=3):
-    """Certified bound on max_{t in [0,1]} |R(t) - C(t)| for a piece R and cubic C.
+def _normalized_reparam(phi, t0, t1):
+    """phi on [t0, t1] as increasing coefficients on [0, 1] (checked)."""
+    phi = np.asarray(phi, float)
+    u = (phi - t0) / (t1 - t0)
+    if abs(u[0]) > 1e-12 or abs(u[-1] - 1.0) > 1e-12 or np.any(np.diff(u) <= 0):
+        raise ValueError("a reparametrisation needs increasing Bernstein coefficients")
+    u[0], u[-1] = 0.0, 1.0
+    return np.clip(u, 0.0, 1.0)
 
-    ``cubic`` is a (4, 2) array of Cartesian control points compared on the same
-    parameter t.  Returns ``sqrt(max coefficient of |X - W C|^2) / min weight``,
-    which is >= the true maximum (convex hull property of Bernstein polynomials).
-    Exact arithmetic aside, the only error is floating-point rounding in the
-    coefficient products (relative ~1e-15 of the coordinates).
+
+def _panels(reparam):
+    """A reparam argument as a list of (s0, s1, phi) panels (checked contiguous)."""
+    if isinstance(reparam, np.ndarray) or (len(reparam) and np.isscalar(reparam[0])):
+        return [(0.0, 1.0, np.asarray(reparam, float))]
+    panels = [(float(a), float(b), np.asarray(f, float)) for a, b, f in reparam]
+    ok = panels[0][0] == 0.0 and panels[-1][1] == 1.0 and all(
+        p[1] == q[0] and p[2][-1] == q[2][0] and p[0] < p[1]
+        for p, q in zip(panels, panels[1:] + [(1.0, 2.0, panels[-1][2][-1:])]))
+    if not ok:
+        raise ValueError("reparam panels must cover [0, 1] and join continuously")
+    return panels
+
+
+def cubic_bound(piece, cubic, reparam=None, refine=3):
+    """Certified bound on the distance between a piece R and a cubic C.
+
+    Without ``reparam``: ``max_{t in [0,1]} |R(t) - C(t)|`` (same parameter).  With
+    ``reparam``: ``max_{s in [0,1]} |R(phi(s)) - C(s)|`` for the continuous increasing
+    phi it describes, which bounds the Fréchet and Hausdorff distances between C
+    and R on [phi(0), phi(1)].  ``reparam`` is either the Bernstein coefficients of
+    one increasing polynomial phi (values in [0, 1]) or, as in :class:`Segment`, a
+    sequence of panels ``(s0, s1, coefficients)``: phi on [s0, s1] is the polynomial
+    in (s - s0) / (s1 - s0).  ``cubic`` is a (4, 2) array of Cartesian control
+    points.  The bound is the Bernstein-coefficient certificate of the module
+    docstring (never below the true maximum, rounding aside), the largest over the
+    panels.
+
+    Raises:
+        ValueError: bad piece (shape, weights) or a reparam that is not increasing.
     """
     piece = _check(piece)
-    e, _ = _error_poly(piece, cubic)
-    return _bound_from_error(e, piece[:, 2:3], refine)
+    cubic = np.asarray(cubic, float)
+    if reparam is None:
+        return _bound_from_error(_error_poly(piece, cubic), piece[:, 2:3], refine)
+    worst = 0.0
+    for s0, s1, phi in _panels(reparam):
+        t0, t1 = float(phi[0]), float(phi[-1])
+        if not 0.0 <= t0 < t1 <= 1.0:
+            raise ValueError("reparam must map [0, 1] into [0, 1] increasingly")
+        sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
+        comp = compose(sub, _normalized_reparam(phi, t0, t1))
+        c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
+        worst = max(worst, _bound_from_error(_error_poly(comp, c), comp[:, 2:3], refine))
+    return worst
 
+
+# ------------------------------------------------------------------ fitting
 
 def fit_cubic(piece):
-    """Cubic with the piece's end points and end tangent directions; (cubic, bound).
+    """Same-parameter cubic with the piece's end points and tangents; (cubic, bound).
 
-    Two candidates are built and the one with the smaller :func:`cubic_bound` is
-    returned: the Hermite cubic (end derivatives matched: P1 = P0 + R'(0)/3,
-    P2 = P3 - R'(1)/3, error O(h^4) under subdivision) and the cubic whose two handle
-    lengths minimise the sum of squared Bernstein coefficients of E = X - W C (a 2x2
-    least-squares problem, kept only if both lengths are positive so the tangent
-    directions are preserved).
+    Two candidates are built and the one with the smaller :func:`cubic_bound`
+    (same parameter, no reparametrisation) is returned: the Hermite cubic (end
+    derivatives matched: P1 = P0 + R'(0)/3, P2 = P3 - R'(1)/3, error O(h^4) under
+    subdivision) and the cubic whose two handle lengths minimise the sum of squared
+    Bernstein coefficients of E = X - W C (a 2x2 least-squares problem, kept only if
+    both lengths are positive so the tangent directions are preserved).  This is the
+    fallback of :func:`cubic_segments` where kurbo's fit does not certify (e.g. near
+    a zero derivative, where the parametrisations of R and a fitted cubic differ
+    too much for a polynomial reparametrisation).
     """
     piece = _check(piece)
     p = pc.cartesian(piece)
     p0, p3 = p[0], p[-1]
     d = pc.derivative(piece, np.array([0.0, 1.0]))
     hermite = np.array([p0, p0 + d[0] / 3.0, p3 - d[1] / 3.0, p3])
-    e_h, _ = _error_poly(piece, hermite)
-    best = (hermite, _bound_from_error(e_h, piece[:, 2:3]))
+    best = (hermite, _bound_from_error(_error_poly(piece, hermite), piece[:, 2:3]))
 
     n0, n1 = np.hypot(*d[0]), np.hypot(*d[1])
     if n0 > 0 and n1 > 0:
         t0, t1 = d[0] / n0, d[1] / n1
-        base = np.array([p0, p0, p3, p3])
-        e0, _ = _error_poly(piece, base)
+        e0 = _error_poly(piece, np.array([p0, p0, p3, p3]))
         # E(alpha, beta) = e0 - alpha W B1 t0 + beta W B2 t1 (B_i cubic Bernstein basis)
         wb1 = bz.multiply(piece[:, 2:3], np.array([[0.0], [1.0], [0.0], [0.0]]))
         wb2 = bz.multiply(piece[:, 2:3], np.array([[0.0], [0.0], [1.0], [0.0]]))
-        a_col = (-wb1 * t0).ravel()
-        b_col = (wb2 * t1).ravel()
-        mat = np.column_stack([a_col, b_col])
+        mat = np.column_stack([(-wb1 * t0).ravel(), (wb2 * t1).ravel()])
         sol, *_ = np.linalg.lstsq(mat, -e0.ravel(), rcond=None)
         alpha, beta = sol
         if alpha > 0 and beta > 0 and np.all(np.isfinite(sol)):
             cand = np.array([p0, p0 + alpha * t0, p3 - beta * t1, p3])
-            e_c, _ = _error_poly(piece, cand)
-            bound = _bound_from_error(e_c, piece[:, 2:3])
+            bound = _bound_from_error(_error_poly(piece, cand), piece[:, 2:3])
             if bound < best[1]:
                 best = (cand, bound)
     return best
+
+
+class _KurboSource:
+    """A sub-piece as kurbo's ``ParamCurveFit`` source (u in [0, 1] -> R(a + u (b - a))).
+
+    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
+    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None).  The
+    sub-piece is held in the power basis and evaluated by Horner's rule in plain
+    floats (kurbo calls back ~40 times per fit).  Where the derivative vanishes the
+    tangent is the first non-zero higher derivative of the tangent numerator
+    X'W - XW', signed by ``sign`` (the one-sided limit kurbo asks for).
+    """
+
+    def __init__(self, sub):
+        import kurbopy
+
+        self._point, self._vec = kurbopy.Point, kurbopy.Vec2
+        power = bz.to_power(sub)
+        self._c = [[float(v) for v in power[:, k]] for k in range(3)]
+        self._d = [[k * c[k] for k in range(1, len(c))] or [0.0] for c in self._c]
+        h = pc.tangent_numerator(sub)
+        self._h = []
+        hp = bz.to_power(h)
+        while len(hp) and len(self._h) < 4:
+            self._h.append([[float(v) for v in hp[:, k]] for k in range(2)])
+            hp = hp[1:] * np.arange(1, len(hp))[:, None]
+        p = pc.cartesian(sub)
+        self._tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+
+    @staticmethod
+    def _horner(c, t):
+        v = 0.0
+        for x in reversed(c):
+            v = v * t + x
+        return v
+
+    def _eval(self, t):
+        hx = self._horner
+        X, Y, W = hx(self._c[0], t), hx(self._c[1], t), hx(self._c[2], t)
+        dX, dY, dW = hx(self._d[0], t), hx(self._d[1], t), hx(self._d[2], t)
+        x, y = X / W, Y / W
+        return x, y, (dX - x * dW) / W, (dY - y * dW) / W
+
+    def sample_pt_deriv(self, t):
+        x, y, dx, dy = self._eval(t)
+        return self._point(x, y), self._vec(dx, dy)
+
+    def sample_pt_tangent(self, t, sign):
+        x, y, dx, dy = self._eval(t)
+        if math.hypot(dx, dy) <= self._tiny:
+            for k, (cx, cy) in enumerate(self._h[1:], start=1):
+                s = sign ** k
+                dx, dy = s * self._horner(cx, t), s * self._horner(cy, t)
+                if math.hypot(dx, dy) > self._tiny:
+                    break
+        return self._point(x, y), self._vec(dx, dy)
+
+    def break_cusp(self, t0, t1):
+        return None
+
+
+def _kurbo_cubic(sub, tol):
+    """kurbo's best single cubic for the whole sub-piece, (4, 2) array, or None.
+
+    The accuracy handed to kurbo is loose (half the chord, at least tol) so that it
+    returns its best candidate; whether the cubic is good enough is decided by the
+    certificate, not by kurbo's sampled error.
+    """
+    import kurbopy
+
+    p = pc.cartesian(sub)
+    chord = math.hypot(*(p[-1] - p[0]))
+    accuracy = max(tol, 0.5 * chord)
+    try:
+        path = kurbopy.fit_to_bezpath(_KurboSource(sub), accuracy)
+    except BaseException as exc:  # pyo3 turns panics in callbacks into PanicException
+        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+            raise
+        return None
+    segs = list(path.segments())
+    if len(segs) != 1:
+        return None
+    c = segs[0]
+    pts = [c.p0, c.p1, c.p2, c.p3] if hasattr(c, "p3") else None
+    if pts is None:
+        return None
+    out = np.array([[q.x, q.y] for q in pts], float)
+    out[0], out[-1] = p[0], p[-1]
+    return out if np.all(np.isfinite(out)) else None
+
+
+_NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
+_DENSE = np.linspace(0.0, 1.0, 33)
+
+
+def _feet(sub, points, iters=5):
+    """Parameters u in [0, 1] of the closest points of ``sub`` to ``points``.
+
+    Start at the nearest of 33 samples, then Newton on (R(u) - p) . R'(u) = 0 with
+    the rational derivatives from the homogeneous ones (quotient rule).
+    """
+    n = len(sub) - 1
+    d1h = bz.derivative(sub)
+    d2h = bz.derivative(d1h) if n >= 2 else np.zeros((1, 3))
+    dense = pc.evaluate(sub, _DENSE)
+    u = _DENSE[np.argmin(((points[:, None] - dense[None]) ** 2).sum(-1), axis=1)]
+    for _ in range(iters):
+        h = bz.basis(n, u) @ sub
+        h1 = bz.basis(n - 1, u) @ d1h
+        h2 = bz.basis(max(n - 2, 0), u) @ d2h
+        w, w1, w2 = h[:, 2:3], h1[:, 2:3], h2[:, 2:3]
+        p = h[:, :2] / w
+        p1 = (h1[:, :2] - p * w1) / w
+        p2 = (h2[:, :2] - 2.0 * p1 * w1 - p * w2) / w
+        r = p - points
+        f = (r * p1).sum(1)
+        fp = (p1 * p1).sum(1) + (r * p2).sum(1)
+        ok = fp > 0
+        u = np.clip(u - np.where(ok, f / np.where(ok, fp, 1.0), 0.0), 0.0, 1.0)
+    return u, np.hypot(*pc.derivative(sub, u).T)
+
+
+def _reparam_for(sub, cubic, tol):
+    """phi: [0,1] -> [0,1] matching C(s) to its closest points R(phi(s)).
+
+    Returns ``(phi, normal)``: phi's increasing Bernstein coefficients, of the lowest
+    degree in 1, 3, 5, 7, 9 whose tangential mismatch |phi(s_j) - u_j| |R'(u_j)| at
+    24 Chebyshev nodes is below tol / 5 (else the best increasing one), and the
+    largest foot distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).
+    """
+    pts = bz.evaluate(cubic, _NODES)
+    u, speed = _feet(sub, pts)
+    normal = float(np.max(np.hypot(*(pc.evaluate(sub, u) - pts).T)))
+    best = (float(np.max(np.abs(_NODES - u) * speed)), np.array([0.0, 1.0]))
+    if best[0] > 0.2 * tol:
+        for m in (3, 5, 7, 9):
+            basis = bz.basis(m, _NODES)
+            coef, *_ = np.linalg.lstsq(basis[:, 1:-1], u - basis[:, -1], rcond=None)
+            phi = np.concatenate([[0.0], coef, [1.0]])
+            if not np.all(np.diff(phi) > 0):
+                continue
+            miss = float(np.max(np.abs(basis @ phi - u) * speed))
+            if miss < best[0]:
+                best = (miss, phi)
+            if miss <= 0.2 * tol:
+                break
+    return best[1], normal
+
+
+def _certify(sub, cubic, tol, depth=3):
+    """Certified bound of a cubic against a sub-piece: (bound, panels).
+
+    ``panels`` is a list of ``(s0, s1, phi)``: on s in [s0, s1] the reparametrisation
+    is the polynomial with Bernstein coefficients phi (in the local variable
+    (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]); together they form one
+    continuous increasing phi.  One panel is tried first; when its bound exceeds tol
+    although the cubic is within tol of the curve at the nodes (the parametrisations
+    differ more than a polynomial of degree 9 follows: rational straight pieces,
+    zero end derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
+    sub-piece at the foot of C(1/2), and each half certified alone, ``depth`` times.
+    """
+    phi, normal = _reparam_for(sub, cubic, tol)
+    comp = compose(sub, phi)
+    bound = _bound_from_error(_error_poly(comp, cubic), comp[:, 2:3])
+    single = (bound, [(0.0, 1.0, phi)])
+    if bound <= tol or depth <= 0 or normal > 0.95 * tol:
+        return single
+    um = float(_feet(sub, bz.evaluate(cubic, [0.5]))[0][0])
+    if not 0.0 < um < 1.0:
+        return single
+    halves = bz.split(cubic, 0.5)
+    subs = pc.split(sub, um)
+    (b0, p0), (b1, p1) = (_certify(s, c, tol, depth - 1) for s, c in zip(subs, halves))
+    if max(b0, b1) >= bound:
+        return single
+    panels = [(0.5 * a, 0.5 * b, um * f) for a, b, f in p0] + \
+        [(0.5 + 0.5 * a, 0.5 + 0.5 * b, um + (1.0 - um) * f) for a, b, f in p1]
+    return max(b0, b1), panels
+
+
+def _fit_range(piece, t0, t1, tol, ends):
+    """Best certified cubic for piece on [t0, t1]: (cubic, bound, panels)."""
+    sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
+    cands = []
+    cubic = _kurbo_cubic(sub, tol)
+    if cubic is not None:
+        cubic[0], cubic[-1] = ends
+        cands.append((cubic,) + _certify(sub, cubic, tol))
+    if not cands or cands[0][1] > tol:
+        cubic, _ = fit_cubic(sub)
+        cubic[0], cubic[-1] = ends
+        bound = _bound_from_error(_error_poly(sub, cubic), sub[:, 2:3])
+        cands.append((cubic, bound, [(0.0, 1.0, np.array([0.0, 1.0]))]))
+    cubic, bound, panels = min(cands, key=lambda c: c[1])
+    return cubic, bound, tuple((a, b, t0 + (t1 - t0) * f) for a, b, f in panels)
 
 
 def _exact_cubic(piece):
@@ -125,55 +460,113 @@ def _exact_cubic(piece):
 
 
 def cubic_segments(piece, tol, max_depth=16):
-    """Cubics within ``tol`` of a piece with their parameter intervals and bounds.
+    """Certified cubics covering a piece: a list of :class:`Segment`.
 
-    Returns a list of ``(t0, t1, cubic, bound)``: the (4, 2) cubic C approximates the
-    piece on [t0, t1] with ``max_{u in [0,1]} |R(t0 + u (t1 - t0)) - C(u)| <= bound
-    <= tol`` (certified, :func:`cubic_bound`).  Exact pieces (polynomial, degree <= 3)
-    give one segment with bound 0.  Raises as :func:`piece_to_cubics`.
+    Segment k has parameter interval [t0, t1] (consecutive, from 0 to 1), a (4, 2)
+    cubic C, its ``bound`` <= tol and ``reparam`` (panels of a continuous increasing
+    piecewise-polynomial phi from t0 to t1, see :class:`Segment`) with
+
+        max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
+
+    (certified, :func:`cubic_bound` with ``reparam``): the Fréchet and hence the
+    Hausdorff distance between C and R on [t0, t1] are <= tol.  Exact pieces
+    (polynomial, degree <= 3) give one segment with bound 0.  Raises as
+    :func:`piece_to_cubics`.
     """
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
     piece = _check(piece)
     exact = _exact_cubic(piece)
     if exact is not None:
-        return [(0.0, 1.0, exact, 0.0)]
+        return [Segment(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([0.0, 1.0])),))]
+    min_width = 2.0 ** -max_depth
     out = []
-    stack = [(piece, 0.0, 1.0, 0)]
-    while stack:
-        sub, t0, t1, depth = stack.pop()
-        cubic, bound = fit_cubic(sub)
-        if bound <= tol:
-            out.append((t0, t1, cubic, bound))
-            continue
-        if depth >= max_depth:
-            raise ToleranceNotMetError(
-                "cubic export did not reach tol %.3g after %d halvings (bound %.3g)"
-                % (tol, max_depth, bound), piece=piece, achieved=bound)
-        left, right = pc.split(sub, 0.5)
-        tm = 0.5 * (t0 + t1)
-        stack.append((right, tm, t1, depth + 1))
-        stack.append((left, t0, tm, depth + 1))
+    t0, start, width = 0.0, pc.start(piece), 1.0
+    while t0 < 1.0:
+        t1, cubic, bound, reparam, end = _next_segment(piece, t0, start, width, tol,
+                                                       min_width)
+        out.append(Segment(t0, t1, cubic, bound, reparam))
+        width = t1 - t0
+        t0, start = t1, end
     return out
+
+
+def _next_segment(piece, t0, start, width, tol, min_width):
+    """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
+    reparam, end point).  The first try spans ``width``; later ones follow the model
+    bound ~ width^p, p from the last two fits (2 <= p <= 8, 5 at first), bracketed
+    by the longest certified and the shortest failed interval."""
+    def attempt(t1):
+        end = pc.end(piece) if t1 == 1.0 else pc.evaluate(piece, t1)[0]
+        cubic, bound, reparam = _fit_range(piece, t0, t1, tol, (start, end))
+        return (t1, cubic, bound, reparam, end)
+
+    t1 = min(1.0, t0 + width)
+    if 1.0 - t1 < 0.3 * (t1 - t0):
+        t1 = 1.0
+    good, bad, last = None, None, None
+    for _ in range(8):
+        fit = attempt(t1)
+        w, bound = t1 - t0, fit[2]
+        if bound <= tol:
+            good = fit if good is None or t1 > good[0] else good
+            if t1 == 1.0 or bound >= 0.8 * tol:
+                break
+        else:
+            bad = t1 if bad is None else min(bad, t1)
+        p = 5.0
+        if last is not None and abs(last[0] - w) > 0.01 * w and last[1] > 0 and bound > 0:
+            p = math.log(bound / last[1]) / math.log(w / last[0])
+            p = min(8.0, max(2.0, p))
+        last = (w, bound)
+        ratio = (0.9 * tol / bound) ** (1.0 / p) if bound > 0 else 4.0
+        target = min(1.0, t0 + w * min(4.0, max(0.125, ratio)))
+        lo = good[0] if good is not None else t0
+        hi = bad if bad is not None else 1.0
+        if bad is not None and not lo < target < hi:
+            target = 0.5 * (lo + hi)
+        if good is not None and (target <= lo or (bad is not None and
+                                                  hi - lo <= 0.02 * (lo - t0))):
+            break
+        if target - t0 < min_width:
+            break
+        t1 = target
+    while good is None:
+        # no certified fit yet: halve the shortest failed interval down to min_width
+        t1 = t0 + 0.5 * (bad - t0)
+        if t1 - t0 < min_width:
+            raise ToleranceNotMetError(
+                "cubic export did not reach tol %.3g on a parameter interval of width "
+                "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]), piece=piece,
+                achieved=fit[2])
+        fit = attempt(t1)
+        if fit[2] <= tol:
+            good = fit
+        else:
+            bad = t1
+    return good
 
 
 def piece_to_cubics(piece, tol, max_depth=16):
     """Polynomial cubics within ``tol`` of a (rational) piece, list of (4, 2) arrays.
 
-    Each returned cubic C_k approximates the piece restricted to its parameter
-    interval I_k with max_{t in I_k} |R(t) - C_k(t)| <= tol (a-priori bound of
-    :func:`cubic_bound`, not sampled).  The cubics keep the piece's end points
-    exactly and their joins are exact (G1 where the piece is regular: end tangent
-    directions are matched).  Polynomial pieces of degree <= 3 are returned exactly
-    (degree-elevated).  tol is absolute, in the piece's units.
+    Each returned cubic C_k covers the piece's parameter interval [t_k, t_k+1] with
+    ``max_s |R(phi_k(s)) - C_k(s)| <= tol`` for an increasing polynomial
+    reparametrisation phi_k of [0, 1] onto [t_k, t_k+1] (a-priori bound of
+    :func:`cubic_bound`, not sampled; see :func:`cubic_segments`): the Fréchet
+    distance, and so the Hausdorff distance, between the cubics and the piece is
+    <= tol.  The cubics keep the piece's end points exactly and their joins are exact
+    (G1 where the piece is regular: end tangent directions are matched).
+    Polynomial pieces of degree <= 3 are returned exactly (degree-elevated).  tol is
+    absolute, in the piece's units.
 
     Raises:
-        ValueError: tol <= 0 or weights not positive.
-        ToleranceNotMetError: a sub-piece still exceeds tol after ``max_depth``
-            halvings (e.g. tol below floating-point resolution of the coordinates);
-            ``.achieved`` holds its bound.
+        ValueError: tol not positive and finite, or weights not positive.
+        ToleranceNotMetError: no cubic certifies on a parameter interval narrower
+            than ``2**-max_depth`` (e.g. tol below floating-point resolution of the
+            coordinates); ``.achieved`` holds its bound.
     """
-    return [seg[2] for seg in cubic_segments(piece, tol, max_depth)]
+    return [seg.cubic for seg in cubic_segments(piece, tol, max_depth)]
 
 
 def loop_to_cubics(loop, tol, max_depth=16):
@@ -181,16 +574,21 @@ def loop_to_cubics(loop, tol, max_depth=16):
     return [c for p in loop for c in piece_to_cubics(p, tol, max_depth)]
 
 
+#: Share of piece_to_quadratics' tolerance given to the cubic stage.
+QUADRATIC_CUBIC_SHARE = 0.5
+
+
 def piece_to_quadratics(piece, tol, max_depth=16):
     """Polynomial quadratics within ``tol`` of a piece, list of (3, 2) arrays.
 
-    The budget is split in halves: cubics within tol/2 (:func:`piece_to_cubics`,
-    certified bound), then each cubic to a quadratic spline within tol/2 with
-    ``fontTools.cu2qu.curve_to_quadratic``.  cu2qu's check is also on a common
-    parameter and certified up to rounding: it tests the difference curve's control
-    points against the tolerance disk (convex hull) and subdivides.  By the triangle
-    inequality every quadratic is within tol of the piece on the corresponding
-    parameter interval.  Polynomial pieces of degree <= 2 are returned exactly.
+    The budget is split: cubics within ``QUADRATIC_CUBIC_SHARE * tol``
+    (:func:`piece_to_cubics`, certified Fréchet bound), then each cubic to a
+    quadratic spline within the rest with ``fontTools.cu2qu.curve_to_quadratic``.
+    cu2qu's check is on a common parameter and certified up to rounding: it tests
+    the difference curve's control points against the tolerance disk (convex hull)
+    and subdivides.  The two errors add (Fréchet distance obeys the triangle
+    inequality): the quadratics are within tol of the piece (Fréchet, hence
+    Hausdorff).  Polynomial pieces of degree <= 2 are returned exactly.
 
     Raises:
         ValueError, ToleranceNotMetError: as piece_to_cubics; also when cu2qu finds
@@ -199,19 +597,21 @@ def piece_to_quadratics(piece, tol, max_depth=16):
     from fontTools.cu2qu import curve_to_quadratic
     from fontTools.cu2qu.errors import Error as Cu2QuError
 
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
     piece = _check(piece)
     if len(piece) <= 3 and pc.is_polynomial(piece):
         return [bz.to_degree(pc.cartesian(piece), 2)]
+    cubic_tol = QUADRATIC_CUBIC_SHARE * tol
+    quad_tol = tol - cubic_tol
     out = []
-    for cubic in piece_to_cubics(piece, tol / 2.0, max_depth):
+    for cubic in piece_to_cubics(piece, cubic_tol, max_depth):
         try:
-            spline = curve_to_quadratic([tuple(p) for p in cubic], tol / 2.0,
+            spline = curve_to_quadratic([tuple(p) for p in cubic], quad_tol,
                                         all_quadratic=True)
         except Cu2QuError as exc:
             raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g"
-                                       % (tol / 2.0), piece=cubic) from exc
+                                       % quad_tol, piece=cubic) from exc
         spline = np.asarray(spline, float)
         offs = spline[1:-1]
         ons = [spline[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] \
