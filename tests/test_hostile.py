@@ -120,10 +120,17 @@ def test_svg_without_path_but_a_rect_is_drawn(runner, tmp_path):
 
 
 def test_svg_open_path(runner, tmp_path):
-    line = error_line(runner.invoke(main, ["outline", _svg(tmp_path, "open.svg",
-                                                           "M0 0 L10 0 L10 10"),
-                                           "-o", str(tmp_path / "o.png")]))
-    assert "open" in line
+    """A filled open path is filled as if closed (SVG implicit close): a triangle."""
+    p = _svg(tmp_path, "open.svg", "M0 0 L10 0 L10 10")
+    ok(runner.invoke(main, ["outline", p, "-o", str(tmp_path / "o.png")]))
+    assert abs(pc.region_area(svg_region(p)) - 50.0) < 1e-9
+
+
+def test_svg_stroke_only_path(runner, tmp_path):
+    """A stroke-only path is a centre line: a region command says so, naming it."""
+    p = _svg(tmp_path, "line.svg", "M0 0 L10 0 L10 10", 'id="wire" fill="none" stroke="red"')
+    line = error_line(runner.invoke(main, ["outline", p, "-o", str(tmp_path / "o.png")]))
+    assert "stroke-only" in line and "wire" in line
 
 
 @pytest.mark.parametrize("d", ["M0 0 L10 0 L NaN 10 Z", "M0 0 L10 0 L nan 10 Z",
@@ -192,8 +199,8 @@ def test_zero_length_curves(runner, tmp_path):
 
 
 def test_zero_length_arc(runner, tmp_path):
-    """SVG spec (F.6.2): an arc whose endpoints coincide is omitted.  svgpathtools
-    asserts on it; morph must not report 'cannot parse SVG ...: AssertionError'."""
+    """SVG spec (F.6.2): an arc whose endpoints coincide is omitted (svgpathtools,
+    the former parser, asserted on it); morph must not report 'cannot parse SVG ...: AssertionError'."""
     a = _svg(tmp_path, "zla.svg", "M0 0 L10 0 L10 10 A 3 3 0 0 1 10 10 L0 10 Z")
     b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)

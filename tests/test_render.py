@@ -170,8 +170,12 @@ def test_write_svg_document(tmp_path):
     text = out.read_text()
     assert 'fill-rule="nonzero"' in text and 'fill="red"' in text and 'stroke="black"' in text
     assert 'height="300"' in text and "viewBox=" in text and "<rect" in text
-    back = svg_region(out)  # our own file parses back: background rect + outer + hole
-    assert len(back) == 3
+    # our own file parses back: the filled union is the background rect; the glyph's
+    # element alone is its outer loop and hole
+    assert len(svg_region(out)) == 1
+    from morph.parse import svg_elements
+    rect, glyph = svg_elements(out)
+    assert glyph.filled and glyph.stroked and len(glyph.subpaths) == 2
 
 
 def test_animations(tmp_path):

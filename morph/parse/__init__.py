@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..region import region_bbox
 from .glyphs import Glyph, cubic_test_font_path, default_font_path, glyph_region, load_font
-from .svg import svg_region, validate_path_data
+from .svg import SvgElement, svg_elements, svg_paths, svg_region, validate_path_data
 
 __all__ = [
     "Glyph",
@@ -21,6 +21,9 @@ __all__ = [
     "glyph_region",
     "load_font",
     "load_shape",
+    "SvgElement",
+    "svg_elements",
+    "svg_paths",
     "svg_region",
     "validate_path_data",
 ]

@@ -1,19 +1,41 @@
-"""Reading SVG paths and documents (svgpathtools) -> regions.
+"""Reading SVG documents and path data -> regions (what is filled) and paths (centre lines).
+
+One SVG stack: svgelements reads the document (CSS ``<style>`` rules, ``style``
+attributes, inherited presentation attributes, ``<use>``, nested ``<svg>`` viewports,
+``display``, transforms); path data is read by the grammar here (SVG 1.1, 8.3), so
+elliptical arcs become exact rational quadratics (:func:`morph.piece.ellipse_arc`)
+from the endpoint parameters (SVG 1.1, F.6.5) and every transform is applied exactly
+to the homogeneous control points.
+
+Painting as a browser does it (SVG 1.1/2, 11.3-11.4):
+
+- an element is *filled* unless its ``fill`` is ``none`` (attribute, ``style``, CSS
+  rule, or inherited from ``<svg>``/``<g>``), a colour with alpha 0, or
+  ``fill-opacity`` 0; it is *stroked* when ``stroke`` is not ``none`` and
+  ``stroke-width`` > 0.  ``display: none`` and ``visibility: hidden|collapse``
+  elements are not drawn; ``<defs>``, ``<symbol>`` (outside ``<use>``), ``<mask>``,
+  ``<marker>``, ``<clipPath>`` and ``<pattern>`` content is not drawn.
+- the fill of an open subpath is the fill of the subpath closed by a straight line
+  (implicit close): ``<polyline>``, a path without ``Z``; a ``<line>`` fills nothing.
+- ``fill-rule`` (attribute, style or CSS, inherited) orients each element; the filled
+  region of a document is the union of its elements' fills.
+- the root ``<svg>``'s user units are kept (its ``viewBox`` to ``width``/``height``
+  scaling is not applied); nested ``<svg>`` and ``<use>`` map into them.
 
 SVG coordinates have y pointing down; readers negate y (the map (x, y) -> (x, -y)),
-so a region read from SVG is the mirror image of the drawing's user coordinates
-about the x axis, and looks upright in a y-up frame.  Arcs become exact rational
-quadratics (:func:`morph.piece.ellipse_arc`).
+so a region read from SVG is the mirror image of the drawing's user coordinates about
+the x axis and looks upright in a y-up frame.
 
-Every bad input raises :class:`morph.errors.ParseError` naming the input.
+Every bad input raises :class:`morph.errors.ParseError` naming the input and element.
 """
 
-import contextlib
+import io
 import math
 import os
 import re
 import warnings
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -22,12 +44,16 @@ from ..errors import ParseError
 from ..region import is_zero_length, orient_region
 
 __all__ = [
+    "SvgElement",
+    "svg_elements",
+    "svg_paths",
     "svg_region",
     "validate_path_data",
 ]
 
-
-# =========================================================================== SVG
+#: coordinates beyond this magnitude are refused: products of a few coordinates
+#: (areas, Bernstein products of degree up to 11) must stay finite in float64
+MAX_COORDINATE = 1e100
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(_NUMBER)
@@ -36,27 +62,26 @@ _SEP_RE = re.compile(r"\s*,?\s*")
 _WS_RE = re.compile(r"\s*")
 _ARGS = {"M": "nn", "L": "nn", "T": "nn", "H": "n", "V": "n", "C": "nnnnnn",
          "S": "nnnn", "Q": "nnnn", "A": "nnnffnn", "Z": ""}
+_NOT_RENDERED = {"defs", "symbol", "mask", "marker", "clipPath", "pattern",
+                 "linearGradient", "radialGradient", "filter", "metadata", "title", "desc"}
 
 
-def validate_path_data(d):
-    """Check an SVG path ``d`` string against the path grammar (SVG 1.1, 8.3.9).
+# =========================================================================== path data
 
-    svgpathtools accepts some malformed strings silently (``"L 1 x 1"`` reads as a
-    line to (1, 1)), so path data is checked here first: it must start with a moveto,
-    every command needs whole groups of arguments (arcs: flags 0/1), nothing else may
-    appear.
+def _path_commands(d):
+    """Tokenise path data: list of (command letter, tuple of numbers), checked.
 
-    Raises:
-        ParseError: with the position and a snippet of the offending text.
+    Raises ParseError with the position and a snippet of the offending text.
     """
     def fail(pos, why):
         snippet = d[max(0, pos - 10):pos + 10]
         raise ParseError("malformed SVG path data at character %d (%s): ...%s..."
                          % (pos, why, snippet), d)
 
+    out = []
     pos = _WS_RE.match(d, 0).end()
     if pos == len(d):
-        return
+        return out
     if d[pos] not in "Mm":
         fail(pos, "path data must start with M or m")
     while pos < len(d):
@@ -66,10 +91,12 @@ def validate_path_data(d):
         pos = _WS_RE.match(d, pos + 1).end()
         pattern = _ARGS[cmd.upper()]
         if not pattern:
+            out.append((cmd, ()))
             continue
         groups = 0
         while True:
             start = pos
+            args = []
             for k, kind in enumerate(pattern):
                 if k > 0 or groups > 0:
                     pos = _SEP_RE.match(d, pos).end()
@@ -79,210 +106,522 @@ def validate_path_data(d):
                         pos = start
                         break
                     fail(pos, "command %s needs %d numbers" % (cmd, len(pattern)))
+                args.append(float(m.group()))
                 pos = m.end()
             else:
+                # an implicit command after a moveto is a lineto (8.3.2)
+                c = cmd if groups == 0 or cmd not in "Mm" else ("L" if cmd == "M" else "l")
+                out.append((c, tuple(args)))
                 groups += 1
                 continue
             break
         pos = _WS_RE.match(d, pos).end()
+    return out
 
 
-@contextlib.contextmanager
-def _omit_closed_arcs():
-    """SVG 1.1 F.6.2: an arc whose end point equals its start point is omitted.
+def validate_path_data(d):
+    """Check an SVG path ``d`` string against the path grammar (SVG 1.1, 8.3.9).
 
-    svgpathtools asserts on such an arc in ``Arc.__init__``; while parsing, its
-    parser builds a zero-length line there instead (dropped later with the other
-    zero-length segments).
-    """
-    import svgpathtools.path as svp
-
-    arc = svp.Arc
-
-    class OmittedIfClosed(arc):
-        def __new__(cls, start, *args, **kwargs):
-            end = args[4] if len(args) > 4 else kwargs.get("end")
-            if start == end:
-                return svp.Line(start, end)
-            return super().__new__(cls)
-
-    svp.Arc = OmittedIfClosed
-    try:
-        yield
-    finally:
-        svp.Arc = arc
-
-
-def _segment_pieces(seg):
-    """svgpathtools segment -> list of pieces in the segment's own coordinates."""
-    from svgpathtools import Arc, CubicBezier, Line, QuadraticBezier
-
-    def xy(z):
-        return (z.real, z.imag)
-
-    if isinstance(seg, Line):
-        return [pc.line(xy(seg.start), xy(seg.end))]
-    if isinstance(seg, QuadraticBezier):
-        return [pc.quadratic(*(xy(z) for z in seg.bpoints()))]
-    if isinstance(seg, CubicBezier):
-        return [pc.cubic(*(xy(z) for z in seg.bpoints()))]
-    if isinstance(seg, Arc):
-        rx, ry = abs(seg.radius.real), abs(seg.radius.imag)
-        if not (rx > 0 and ry > 0) or not np.all(np.isfinite([rx, ry])):
-            return [pc.line(xy(seg.start), xy(seg.end))]
-        arcs = pc.ellipse_arc(xy(seg.center), rx, ry, math.radians(seg.rotation),
-                              math.radians(seg.theta), math.radians(seg.delta))
-        # the arc's exact end points (the conic is exact; this removes rounding only)
-        arcs[0] = pc.with_endpoints(arcs[0], xy(seg.start), pc.end(arcs[0]))
-        arcs[-1] = pc.with_endpoints(arcs[-1], pc.start(arcs[-1]), xy(seg.end))
-        return arcs
-    raise ParseError("unsupported SVG segment %r" % (seg,), str(seg))
-
-
-def _path_loops(path, label, close_tol):
-    """Split an svgpathtools Path into closed loops of pieces (SVG coordinates).
-
-    A subpath ends where a segment returns to the subpath's first point (within
-    ``close_tol``) or where the next segment does not start at the current point.
-    An unclosed subpath raises ParseError naming ``label`` and the subpath index.
-    """
-    loops, current, start, current_end, open_ = [], [], None, None, False
-
-    def open_error():
-        return ParseError("%s: subpath %d is open (ends at (%g, %g), starts at (%g, %g))"
-                          % (label, len(loops), current_end.real, current_end.imag,
-                             start.real, start.imag), label)
-
-    for seg in path:
-        s, e = complex(seg.start), complex(seg.end)
-        pieces = [] if not np.isfinite([s.real, s.imag, e.real, e.imag]).all() \
-            else _segment_pieces(seg)
-        if not pieces or not all(np.all(np.isfinite(p)) for p in pieces):
-            raise ParseError("%s: subpath %d has a non-finite coordinate (NaN or inf)"
-                             % (label, len(loops)), label)
-        if open_ and abs(s - current_end) > close_tol:
-            if current:
-                raise open_error()
-            open_ = False  # a subpath of zero length only: drop it
-        if not open_:
-            start, current, open_ = s, [], True
-        current.extend(p for p in pieces if not is_zero_length(p))
-        current_end = e
-        if current and abs(e - start) <= close_tol:
-            loops.append(current)
-            open_ = False
-    if open_ and current:
-        raise open_error()
-    return loops
-
-
-def _fill_rule(element, parents):
-    """fill-rule of an element: its attribute or style, else inherited, else nonzero."""
-    while element is not None:
-        style = element.get("style") or ""
-        m = re.search(r"fill-rule\s*:\s*([a-z]+)", style)
-        value = m.group(1) if m else element.get("fill-rule")
-        if value in ("evenodd", "nonzero"):
-            return value
-        element = parents.get(element)
-    return "nonzero"
-
-
-def _flip_y(pieces):
-    return [pc.transform(p, [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]]) for p in pieces]
-
-
-def svg_region(source, fill_rule=None, close_tol=None):
-    """Region (y up) of an SVG file, an SVG document string or a path ``d`` string.
-
-    ``source`` is a file path (str or Path) of an SVG document, a string starting
-    with ``<`` (an SVG document) or path data (``"M 0 0 L 10 0 ..."``).  For documents
-    every ``path``, ``rect``, ``circle``, ``ellipse``, ``polygon``, ``polyline`` and
-    ``line`` element is read with ``svgpathtools.Document(...).paths()``, which applies
-    the ``transform`` attributes of the element and its groups.  Each element is
-    oriented with its own ``fill-rule`` (attribute or style, inherited from its
-    groups; default nonzero) unless ``fill_rule`` overrides it, and the loops of all
-    elements are concatenated (overlapping elements are not merged).
-
-    Lines, quadratics and cubics become polynomial pieces; elliptical arcs exact
-    rational quadratics.  Zero-length segments are removed.  The y axis is flipped
-    ((x, y) -> (x, -y)) so that the region is y-up.  A subpath must end where it
-    starts (within ``close_tol``, default 1e-9 of the path's size).
+    It must start with a moveto, every command needs whole groups of arguments
+    (arcs: flags 0/1), nothing else may appear.
 
     Raises:
-        ParseError: unreadable file or XML; malformed path data; an open subpath
-            (message names the file and subpath index); NaN or inf coordinates; no
-            path with positive area at all.
+        ParseError: with the position and a snippet of the offending text.
     """
-    from svgpathtools import Document, parse_path
+    _path_commands(d)
 
-    if fill_rule not in (None, "nonzero", "evenodd"):
-        raise ValueError("fill_rule must be None, 'nonzero' or 'evenodd', got %r" % (fill_rule,))
-    items = []  # (label, svgpathtools Path, fill rule)
+
+def _arc_pieces(p0, rx, ry, phi_deg, large, sweep, p1):
+    """Exact pieces of an SVG arc command (SVG 1.1, F.6.5-F.6.6), SVG coordinates.
+
+    An arc with equal end points is omitted (F.6.2, []); a zero radius makes it a line.
+    """
+    x0, y0 = p0
+    x1, y1 = p1
+    if x0 == x1 and y0 == y1:
+        return []
+    rx, ry = abs(rx), abs(ry)
+    if rx == 0 or ry == 0:
+        return [pc.line(p0, p1)]
+    phi = math.radians(phi_deg % 360.0)
+    c, s = math.cos(phi), math.sin(phi)
+    dx, dy = (x0 - x1) / 2.0, (y0 - y1) / 2.0
+    x1p, y1p = c * dx + s * dy, -s * dx + c * dy          # F.6.5.1
+    lam = (x1p / rx) ** 2 + (y1p / ry) ** 2                # F.6.6.2: radii too small
+    if lam > 1:
+        k = math.sqrt(lam)
+        rx, ry = rx * k, ry * k
+    num = rx * rx * ry * ry - rx * rx * y1p * y1p - ry * ry * x1p * x1p
+    den = rx * rx * y1p * y1p + ry * ry * x1p * x1p
+    coef = math.sqrt(max(0.0, num / den)) if den > 0 else 0.0
+    if large == sweep:
+        coef = -coef
+    cxp, cyp = coef * rx * y1p / ry, -coef * ry * x1p / rx  # F.6.5.2
+    cx = c * cxp - s * cyp + (x0 + x1) / 2.0               # F.6.5.3
+    cy = s * cxp + c * cyp + (y0 + y1) / 2.0
+    theta = math.atan2((y1p - cyp) / ry, (x1p - cxp) / rx)  # F.6.5.5-6
+    theta_end = math.atan2((-y1p - cyp) / ry, (-x1p - cxp) / rx)
+    delta = theta_end - theta
+    if sweep and delta < 0:
+        delta += 2 * math.pi
+    elif not sweep and delta > 0:
+        delta -= 2 * math.pi
+    if not all(map(math.isfinite, (cx, cy, rx, ry, theta, delta))):
+        raise ValueError("non-finite arc")
+    arcs = pc.ellipse_arc((cx, cy), rx, ry, phi, theta, delta)
+    # the exact end points (the conic is exact; this removes rounding only)
+    arcs[0] = pc.with_endpoints(arcs[0], p0, pc.end(arcs[0]))
+    arcs[-1] = pc.with_endpoints(arcs[-1], pc.start(arcs[-1]), p1)
+    return arcs
+
+
+def _path_data_subpaths(d):
+    """Path data -> list of (pieces, closed, start point), SVG coordinates.
+
+    ``closed`` is True for a subpath ended by Z/z (a closing line is added when its
+    last point differs from its first).  Zero-length segments are dropped; subpaths
+    with nothing left are dropped.
+    """
+    out = []
+    cur = np.zeros(2)
+    start = np.zeros(2)
+    pieces = []
+    last_ctrl, last_cmd = None, ""
+
+    def finish(closed):
+        nonlocal pieces
+        if closed and pieces and not np.array_equal(cur, start):
+            pieces.append(pc.line(cur, start))
+        kept = [p for p in pieces if not is_zero_length(p)]
+        if kept:
+            out.append((kept, closed, start.copy()))
+        pieces = []
+
+    for cmd, a in _path_commands(d):
+        up = cmd.upper()
+        rel = cmd != up
+        base = cur if rel else np.zeros(2)
+        if up == "M":
+            finish(False)
+            cur = base + a[:2]
+            start = cur.copy()
+            last_ctrl = None
+        elif up == "Z":
+            finish(True)
+            cur = start.copy()
+            last_ctrl = None
+        else:
+            if up == "L" or up == "H" or up == "V":
+                if up == "L":
+                    nxt = base + a[:2]
+                elif up == "H":
+                    nxt = np.array([(cur[0] if rel else 0.0) + a[0], cur[1]])
+                else:
+                    nxt = np.array([cur[0], (cur[1] if rel else 0.0) + a[0]])
+                pieces.append(pc.line(cur, nxt))
+                last_ctrl = None
+            elif up == "C" or up == "S":
+                if up == "C":
+                    c1, c2, nxt = base + a[0:2], base + a[2:4], base + a[4:6]
+                else:
+                    c1 = 2 * cur - last_ctrl if last_cmd.upper() in "CS" and last_ctrl is not None \
+                        else cur.copy()
+                    c2, nxt = base + a[0:2], base + a[2:4]
+                pieces.append(pc.cubic(cur, c1, c2, nxt))
+                last_ctrl = c2
+            elif up == "Q" or up == "T":
+                if up == "Q":
+                    c1, nxt = base + a[0:2], base + a[2:4]
+                else:
+                    c1 = 2 * cur - last_ctrl if last_cmd.upper() in "QT" and last_ctrl is not None \
+                        else cur.copy()
+                    nxt = base + a[0:2]
+                pieces.append(pc.quadratic(cur, c1, nxt))
+                last_ctrl = c1
+            else:  # A
+                nxt = base + a[5:7]
+                try:
+                    pieces.extend(_arc_pieces(tuple(cur), a[0], a[1], a[2], a[3] != 0,
+                                              a[4] != 0, tuple(nxt)))
+                except (ValueError, OverflowError, ZeroDivisionError):
+                    _nonfinite(d)
+                last_ctrl = None
+            cur = nxt
+        if not np.all(np.isfinite(cur)):
+            _nonfinite(d)
+        last_cmd = cmd
+    finish(False)
+    return out
+
+
+def _nonfinite(source):
+    raise ParseError("SVG path has a non-finite coordinate (NaN or inf): %s"
+                     % _shorten(str(source)), source)
+
+
+# =========================================================================== documents
+
+@dataclass
+class SvgElement:
+    """One drawn element of an SVG document, in y-up coordinates.
+
+    ``subpaths`` is a list of (pieces, closed) with the element's transform applied
+    and y flipped; ``closed`` is True for subpaths ended by ``Z`` (and for the closed
+    shapes rect, circle, ellipse, polygon).  ``filled`` / ``stroked`` say how the
+    element is painted, ``fill_rule`` is "nonzero" or "evenodd".
+    """
+
+    label: str
+    subpaths: list = field(repr=False)
+    filled: bool
+    stroked: bool
+    fill_rule: str = "nonzero"
+
+
+def _length(value):
+    """Float of a length attribute value (units ignored), None if absent/unreadable."""
+    if value is None:
+        return None
+    m = _NUMBER_RE.match(str(value).strip())
+    return float(m.group()) if m else None
+
+
+def _check_xml(root, label):
+    """Checks on the raw XML before svgelements reads it: path data grammar, negative
+    sizes, clipping/masking (not supported).  Returns the tree with ``<symbol>``,
+    ``<mask>`` and ``<marker>`` moved into a ``<defs>`` (they are only drawn through
+    a reference)."""
+    parents = {c: p for p in root.iter() for c in p}
+    moved = []
+    for el in root.iter():
+        tag = el.tag.split("}")[-1]
+        name = _element_name(el, tag)
+        if tag == "path":
+            try:
+                _path_commands(el.get("d") or "")
+            except ParseError as exc:
+                raise ParseError("%s: %s: %s" % (label, name, exc), exc.source) from exc
+        sizes = {"circle": ("r",), "ellipse": ("rx", "ry"),
+                 "rect": ("width", "height", "rx", "ry")}.get(tag, ())
+        for attr in sizes:
+            v = _length(el.get(attr))
+            if v is not None and v < 0:
+                raise ParseError("%s: %s has a negative %s (%s): an error in SVG"
+                                 % (label, name, attr, el.get(attr)), label)
+        if el.get("transform") is not None:
+            _check_transform(el.get("transform"), "%s: %s" % (label, name))
+        style = el.get("style") or ""
+        if el.get("clip-path") or el.get("mask") or re.search(r"(clip-path|mask)\s*:", style):
+            if not re.search(r"(clip-path|mask)\s*:\s*none", style) and \
+                    (el.get("clip-path") or el.get("mask") or "none") != "none":
+                raise ParseError("%s: %s is clipped or masked (clip-path/mask): not supported"
+                                 % (label, name), label)
+        if tag in ("symbol", "mask", "marker") and el in parents:
+            moved.append(el)
+    if moved:
+        defs = ET.SubElement(root, "{http://www.w3.org/2000/svg}defs")
+        for el in moved:
+            parents[el].remove(el)
+            defs.append(el)
+    return root
+
+
+_TRANSFORM_RE = re.compile(r"\s*(?:(?:matrix|translate|scale|rotate|skewX|skewY)\s*\(\s*%s"
+                           r"(?:\s*,?\s*%s)*\s*\)\s*,?\s*)*$" % (_NUMBER, _NUMBER))
+
+
+def _check_transform(value, where):
+    """A transform list must follow the grammar (SVG 1.1, 7.6) and be finite."""
+    import svgelements as se
+
+    if not _TRANSFORM_RE.match(value):
+        raise ParseError("%s has a malformed transform %r" % (where, _shorten(value)), value)
+    m = se.Matrix(value)
+    if not np.all(np.isfinite([m.a, m.b, m.c, m.d, m.e, m.f])):
+        raise ParseError("%s has a non-finite transform %r" % (where, _shorten(value)), value)
+
+
+def _element_name(el, tag=None):
+    tag = tag or el.tag.split("}")[-1]
+    ident = el.get("id")
+    return "<%s id=%r>" % (tag, ident) if ident else "<%s>" % tag
+
+
+def _painted(values, key):
+    """Is ``fill`` / ``stroke`` of these svgelements values a visible paint?"""
+    import svgelements as se
+
+    paint = str(values.get(key, "black" if key == "fill" else "none")).strip()
+    if paint.lower() in ("none", ""):
+        return False
+    opacity = _length(values.get(key + "-opacity"))
+    if opacity is not None and opacity <= 0:
+        return False
+    if paint.startswith("url("):
+        return True
+    try:
+        color = se.Color(paint)
+    except Exception:
+        return True
+    if color.value is None:
+        return False
+    return color.alpha != 0
+
+
+def _local_subpaths(el, label):
+    """An svgelements shape -> list of (pieces, closed) in its own user coordinates."""
+    import svgelements as se
+
+    if isinstance(el, se.Path):
+        return [(p, c) for p, c, _ in _path_data_subpaths(el.values.get("d") or "")]
+    if isinstance(el, se.Rect):
+        x, y, w, h = (float(v) for v in (el.x, el.y, el.width, el.height))
+        if w <= 0 or h <= 0:
+            return []
+        rx, ry = _length(el.values.get("rx")), _length(el.values.get("ry"))
+        rx, ry = (rx if rx is not None else ry), (ry if ry is not None else rx)
+        rx, ry = min(abs(rx or 0.0), w / 2), min(abs(ry or 0.0), h / 2)
+        if rx <= 0 or ry <= 0:
+            pts = [(x, y), (x + w, y), (x + w, y + h), (x, y + h)]
+            return [([pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)], True)]
+        # SVG 2 rect path: clockwise on screen from (x + rx, y)
+        corners = [((x + w - rx, y + ry), -math.pi / 2), ((x + w - rx, y + h - ry), 0.0),
+                   ((x + rx, y + h - ry), math.pi / 2), ((x + rx, y + ry), math.pi)]
+        pieces = []
+        for k, (c, a0) in enumerate(corners):
+            arc = pc.ellipse_arc(c, rx, ry, 0.0, a0, math.pi / 2)
+            if pieces:
+                pieces.append(pc.line(pc.end(pieces[-1]), pc.start(arc[0])))
+            pieces.extend(arc)
+        pieces.append(pc.line(pc.end(pieces[-1]), pc.start(pieces[0])))
+        return [([p for p in pieces if not is_zero_length(p)], True)]
+    if isinstance(el, (se.Circle, se.Ellipse)):
+        rx, ry = float(el.rx), float(el.ry)
+        if not (rx > 0 and ry > 0):
+            return []
+        return [(pc.ellipse_arc((float(el.cx), float(el.cy)), rx, ry, 0.0, 0.0, 2 * math.pi),
+                 True)]
+    if isinstance(el, se.SimpleLine):
+        a, b = (float(el.x1), float(el.y1)), (float(el.x2), float(el.y2))
+        line = pc.line(a, b)
+        return [] if is_zero_length(line) else [([line], False)]
+    if isinstance(el, se.Polyline):  # also Polygon (a subclass)
+        pts = [(float(p.x), float(p.y)) for p in el.points]
+        closed = isinstance(el, se.Polygon)
+        if closed and len(pts) > 1 and pts[0] != pts[-1]:
+            pts.append(pts[0])
+        pieces = [pc.line(pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
+        pieces = [p for p in pieces if not is_zero_length(p)]
+        return [(pieces, closed)] if pieces else []
+    return []
+
+
+def _matrix(m):
+    """svgelements Matrix -> 2x3 affine [[a, c, e], [b, d, f]] followed by the y flip."""
+    return np.array([[m.a, m.c, m.e], [-m.b, -m.d, -m.f]], float)
+
+
+def _read_document(text, is_file, label):
+    """svgelements SVG of a file or document string, after the raw-XML checks."""
+    import svgelements as se
+
+    where = text if is_file else "document"
+    try:
+        if is_file:
+            if not os.path.isfile(text):
+                raise ParseError("cannot read SVG file %s: no such file" % text, text)
+            with open(text, "rb") as fh:
+                data = fh.read()
+        else:
+            data = text.encode("utf-8")
+        root = ET.fromstring(data)
+    except ParseError:
+        raise
+    except (ET.ParseError, OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ParseError("cannot read SVG %s: %s" % (where, _one_line(exc)), text) from exc
+    if root.tag.split("}")[-1] != "svg":
+        raise ParseError("SVG %s: the root element is <%s>, not <svg>"
+                         % (where, root.tag.split("}")[-1]), text)
+    root = _check_xml(root, label)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=False)
+    except ParseError:
+        raise
+    except Exception as exc:
+        raise ParseError("cannot parse SVG %s: %s" % (where, _one_line(exc)), text) from exc
+
+
+def svg_elements(source):
+    """Every drawn element of an SVG document (or of one path data string).
+
+    ``source`` is a file path (str or Path) of an SVG document, a string starting
+    with ``<`` (an SVG document) or path data (``"M 0 0 L 10 0 ..."``, read as one
+    filled path with the nonzero rule).  Returns a list of :class:`SvgElement`
+    (y up), hidden elements left out (see the module docstring for the rules).
+
+    Raises:
+        ParseError: unreadable file or XML; malformed path data; a negative radius,
+            width or height; clip-path/mask; NaN, inf or coordinates beyond
+            ``MAX_COORDINATE`` after the transforms.
+    """
+    import svgelements as se
+
     text = os.fspath(source) if isinstance(source, os.PathLike) else source
     if not isinstance(text, str):
         raise ParseError("an SVG source is a path or a string, got %r" % (source,), source)
+    is_doc = text.lstrip().startswith("<")
     is_file = isinstance(source, os.PathLike) or (
-        not text.lstrip().startswith("<") and (text.lower().endswith(".svg") or os.path.exists(text)))
-    if is_file or text.lstrip().startswith("<"):
-        label = text if is_file else "SVG document"
-        where = text if is_file else "document"
-        try:
-            with warnings.catch_warnings(), _omit_closed_arcs():
-                warnings.simplefilter("ignore")
-                if is_file:
-                    if not os.path.isfile(text):
-                        raise ParseError("cannot read SVG file %s: no such file" % text, text)
-                    doc = Document(text)
-                else:
-                    doc = Document.from_svg_string(text)
-                doc.strict_transform_parsing = True  # bad transforms raise, not skip
-                root = doc.tree.getroot() if hasattr(doc.tree, "getroot") else doc.tree
-                for el in root.iter():
-                    if el.tag.split("}")[-1] == "path":
-                        validate_path_data(el.get("d") or "")
-                paths = doc.paths()
-        except ParseError as exc:
-            if exc.source is not None and exc.source != text and is_file:
-                raise ParseError("%s: %s" % (text, exc), text) from exc
-            raise
-        except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
-            raise ParseError("cannot read SVG %s: %s" % (where, _one_line(exc)), text) from exc
-        except Exception as exc:
-            raise ParseError("cannot parse SVG %s: %s" % (where, _one_line(exc)), text) from exc
-        parents = {c: p for p in root.iter() for c in p}
-        for k, path in enumerate(paths):
-            el = getattr(path, "element", None)
-            rule = fill_rule or (_fill_rule(el, parents) if el is not None else "nonzero")
-            items.append(("%s (element %d)" % (label, k) if len(paths) > 1 else label,
-                          path, rule))
-    else:
-        validate_path_data(text)
-        try:
-            with warnings.catch_warnings(), _omit_closed_arcs():
-                warnings.simplefilter("ignore")
-                path = parse_path(text)
-        except Exception as exc:
-            raise ParseError("malformed SVG path data: %s" % _one_line(exc), text) from exc
-        items.append(("path data %r" % _shorten(text), path, fill_rule or "nonzero"))
+        not is_doc and (text.lower().endswith(".svg") or os.path.exists(text)))
+    flip = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    if not (is_file or is_doc):
+        label = "path data %r" % _shorten(text)
+        sub = [([pc.transform(p, flip) for p in pieces], closed)
+               for pieces, closed, _ in _path_data_subpaths(text)]
+        elements = [SvgElement(label, sub, True, False, "nonzero")]
+        _check_finite(elements, text)
+        return elements
 
-    loops = []
-    for label, path, rule in items:
-        if len(path) == 0:
+    label = text if is_file else "SVG document"
+    doc = _read_document(text, is_file, label)
+    vp = doc.values.get("viewport_transform") if isinstance(doc, se.SVG) else None
+    unview = ~se.Matrix(vp) if vp else se.Matrix()
+    elements = []
+    for k, el in enumerate(doc.elements() if isinstance(doc, se.Group) else []):
+        if not isinstance(el, se.Shape):
             continue
-        pts = np.array([[complex(z).real, complex(z).imag] for seg in path
-                        for z in (seg.start, seg.end)])
-        with np.errstate(invalid="ignore"):
-            size = float(np.nanmax(np.abs(pts))) if np.isfinite(pts).any() else 1.0
+        values = el.values
+        tag = values.get("tag", type(el).__name__.lower())
+        name = "<%s id=%r>" % (tag, el.id) if el.id else "<%s> (element %d)" % (tag, k)
+        if str(values.get("visibility", "visible")).strip() in ("hidden", "collapse"):
+            continue
+        try:
+            local = _local_subpaths(el, name)
+        except ParseError as exc:
+            raise ParseError("%s: %s: %s" % (label, name, exc), text) from exc
+        if not local:
+            continue
+        m = _matrix(el.transform * unview)
+        if not np.all(np.isfinite(m)):
+            raise ParseError("%s: %s has a non-finite transform" % (label, name), text)
+        sub = [([pc.transform(p, m) for p in pieces], closed) for pieces, closed in local]
+        rule = str(values.get("fill-rule", "nonzero")).strip()
+        stroke_width = _length(values.get("stroke-width"))
+        stroked = _painted(values, "stroke") and (stroke_width is None or stroke_width > 0)
+        elements.append(SvgElement("%s: %s" % (label, name), sub, _painted(values, "fill"),
+                                   stroked, rule if rule in ("nonzero", "evenodd") else "nonzero"))
+    _check_finite(elements, text)
+    return elements
+
+
+def _check_finite(elements, source):
+    for e in elements:
+        for pieces, _ in e.subpaths:
+            for p in pieces:
+                with np.errstate(all="ignore"):
+                    big = not np.all(np.isfinite(p)) or np.max(np.abs(p)) > MAX_COORDINATE
+                if big:
+                    what = ("a non-finite coordinate (NaN or inf)" if not np.all(np.isfinite(p))
+                            else "a coordinate beyond %g (the largest morph computes with)"
+                            % MAX_COORDINATE)
+                    raise ParseError("%s has %s" % (e.label, what), source)
+
+
+def _close(pieces, tol):
+    """A subpath closed as SVG fills it: a straight line back to its start, or the
+    last end snapped onto the start when the gap is within ``tol``."""
+    a, b = pc.start(pieces[0]), pc.end(pieces[-1])
+    gap = float(np.hypot(*(a - b)))
+    if gap == 0:
+        return list(pieces)
+    if gap <= tol:
+        return list(pieces[:-1]) + [pc.with_endpoints(pieces[-1], pc.start(pieces[-1]), a)]
+    return list(pieces) + [pc.line(b, a)]
+
+
+def _element_size(subpaths):
+    pts = np.concatenate([pc.cartesian(p) for pieces, _ in subpaths for p in pieces])
+    return float(np.max(np.abs(pts))) if len(pts) else 1.0
+
+
+def svg_region(source, fill_rule=None, close_tol=None):
+    """Filled region (y up) of an SVG file, an SVG document string or path data.
+
+    What a browser fills (module docstring): each filled element's subpaths closed
+    (an open one by a straight line to its start; an end within ``close_tol`` of the
+    start, default 1e-9 of the element's size, is snapped onto it), oriented with its
+    own ``fill-rule`` unless ``fill_rule`` overrides it; the region is the union of
+    the elements' fills (nonzero of the oriented loops, so overlapping elements are
+    merged).  Stroke paint is not part of the region (:func:`svg_paths` gives the
+    centre lines).  Lines, quadratics and cubics become polynomial pieces; elliptical
+    arcs exact rational quadratics; zero-length segments are removed; tiny loops of
+    positive area are kept.
+
+    Raises:
+        ParseError: as :func:`svg_elements`; a document that fills nothing (no shape,
+            only stroke-only elements -- the message names one --, or loops whose
+            windings cancel).
+    """
+    if fill_rule not in (None, "nonzero", "evenodd"):
+        raise ValueError("fill_rule must be None, 'nonzero' or 'evenodd', got %r" % (fill_rule,))
+    elements = [e for e in svg_elements(source) if e.subpaths]
+    text = os.fspath(source) if isinstance(source, os.PathLike) else source
+    is_doc = text.lstrip().startswith("<")
+    if is_doc:
+        where = "SVG document"
+    elif isinstance(source, os.PathLike) or text.lower().endswith(".svg") or os.path.exists(text):
+        where = "SVG file %s" % text
+    else:
+        where = "SVG path data %r" % _shorten(text)
+    filled = [e for e in elements if e.filled]
+    if not filled:
+        stroke_only = [e for e in elements if e.stroked]
+        if stroke_only:
+            raise ParseError("%s is stroke-only (fill none): a centre line encloses no "
+                             "region; `morph stroke` sweeps a nib along it"
+                             % stroke_only[0].label, text)
+        raise ParseError("%s has no path or shape that is drawn" % where, text)
+    parts = []
+    for e in filled:
+        size = _element_size(e.subpaths)
         tol = close_tol if close_tol is not None else 1e-9 * (size if size > 0 else 1.0)
-        raw = _path_loops(path, label, tol)
-        loops.extend(orient_region([_flip_y(loop) for loop in raw], rule))
-    if not items:
-        raise ParseError("SVG %s has no path" % (text if is_file else "document"), text)
+        loops = [_close(pieces, tol) for pieces, _ in e.subpaths]
+        oriented = orient_region(loops, fill_rule or e.fill_rule)
+        if oriented:
+            parts.append(oriented)
+    if len(parts) > 1:
+        loops = orient_region([loop for part in parts for loop in part], "nonzero")
+    else:
+        loops = parts[0] if parts else []
     if not loops:
-        raise ParseError("SVG %s has no closed path with positive area"
-                         % (text if is_file else items[0][0]), text)
+        raise ParseError("%s fills nothing: no closed path with positive area, or loops "
+                         "whose windings cancel" % where, text)
     return loops
+
+
+def svg_paths(source, stroked=None):
+    """Every drawn path's subpaths as centre lines: list of (pieces, closed), y up.
+
+    Open subpaths stay open (``closed`` False: no implicit close, as SVG strokes
+    them); subpaths ended by ``Z`` and closed shapes (rect, circle, ellipse,
+    polygon) have ``closed`` True and end where they start.  ``stroked``: None for
+    every drawn element, True only elements with a stroke paint, False only those
+    without.  Coordinates as :func:`svg_region` (transforms applied, y flipped).
+
+    Raises:
+        ParseError: as :func:`svg_elements`; nothing drawn.
+    """
+    out = []
+    for e in svg_elements(source):
+        if not (e.filled or e.stroked):
+            continue
+        if stroked is not None and e.stroked != stroked:
+            continue
+        out.extend((list(pieces), bool(closed)) for pieces, closed in e.subpaths)
+    if not out:
+        raise ParseError("SVG %s draws no path" % _shorten(str(os.fspath(source))), source)
+    return out
 
 
 # =========================================================================== helpers
