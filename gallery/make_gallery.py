@@ -9,6 +9,9 @@ Figures (file stems in gallery/):
   fig37_offsets     'e' offset by exact disks of several radii (Fig. 37)
   fig38_cspace      C-space obstacle of 'O' for a translating 'v' robot (Figs. 4, 38)
   fig05_brush       sample text swept by an elliptical nib (Fig. 5)
+  fig05_skeleton    a Relief SingleLine skeleton, the nib along it, skeleton ⊕ nib (Fig. 5)
+  fig05_stroke_text "Hamburgefonstiv" of Relief stroked by a broad nib at 30 degrees
+                    and by a round nib (`morph stroke`)
   fig06_t_to_m      T -> M morph sequence, (1-a)·T ⊕ a·M (Fig. 6)
   fig36_bird_butterfly  bird -> butterfly morph sequence (Fig. 36)
 
@@ -134,6 +137,85 @@ def fig05_brush(text="Hamburgefonstiv"):
     return [(plain, {"fill": "#909090"}), (swept, {"fill": "black"})], tol
 
 
+RELIEF = HERE.parent / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
+
+
+def _relief_paths(font, name):
+    """Skeleton paths of a Relief glyph, components decomposed (font units)."""
+    from morph.parse.ufo import component_paths, glyph_paths
+
+    g = font[name]
+    paths = glyph_paths(g)
+    for c in g.components:
+        paths.extend(component_paths(font, c))
+    return paths
+
+
+def _centre_line(pieces):
+    """An open path as a degenerate loop (forward and back) for drawing as a line."""
+    return pieces + [pc.reverse(p) for p in reversed(pieces)]
+
+
+def fig05_skeleton(name="a"):
+    """Paper Fig. 5 from a Relief SingleLine skeleton: the centre line with the nib
+    (left), the nib swept along it (middle), the outline = skeleton ⊕ nib (right)."""
+    from morph.fonts.brush import ellipse_nib
+    from morph.parse.ufo import load_ufo
+    from morph.stroke import stroke_paths
+
+    tol = 0.25
+    font = load_ufo(RELIEF)
+    paths = _relief_paths(font, name)
+    nib = ellipse_nib(90, 20, 30)
+    outline = stroke_paths(paths, nib, tol)
+    line = [_centre_line(pieces) for pieces, _ in paths]
+    b = region_bbox(outline)
+    gap = 0.35 * (b[2] - b[0])
+    step = (b[2] - b[0]) + gap
+    shapes = []
+    # left: the skeleton and the nib at its start
+    start = pc.start(paths[0][0][0])
+    shapes.append((moved(nib, *start), {"fill": ORANGE}))
+    shapes.append((line, {"fill": "none", "stroke": RED, "stroke_width": 1.5}))
+    # middle: nib copies along the centre line over the outline
+    shapes.append((moved(outline, step), {"fill": "#e6e6e6"}))
+    for pieces, _ in paths:
+        for p in pieces:
+            for t in (0.0, 0.25, 0.5, 0.75):
+                x, y = pc.evaluate(p, np.array([t]))[0]
+                shapes.append((moved(nib, x + step, y), {"fill": "none", "stroke": BLUE,
+                                                         "stroke_width": 0.8}))
+    shapes.append((moved(line, step), {"fill": "none", "stroke": RED, "stroke_width": 1.0}))
+    # right: the outline
+    shapes.append((moved(outline, 2 * step), {"fill": "black"}))
+    return shapes, tol
+
+
+def fig05_stroke_text(text="Hamburgefonstiv"):
+    """Relief SingleLine stroked with a broad nib at 30 degrees (top) and a round nib
+    (bottom), as `morph stroke` writes the fonts (advance + nib width)."""
+    from morph.fonts.brush import ellipse_nib, region_extent
+    from morph.parse.ufo import glyph_names_for, load_ufo
+    from morph.stroke import stroke_paths
+
+    tol = 0.25
+    font = load_ufo(RELIEF)
+    names = glyph_names_for(font, list(dict.fromkeys(text)))
+    by_char = dict(zip(dict.fromkeys(text), names))
+    shapes = []
+    for row_y, nib in ((0.0, ellipse_nib(90, 20, 30)), (-1000.0, ellipse_nib(50, 50, 0))):
+        nx0, _, nx1, _ = region_extent(nib)
+        cache, x, ink = {}, 0.0, []
+        for ch in text:
+            n = by_char[ch]
+            if n not in cache:
+                cache[n] = stroke_paths(_relief_paths(font, n), nib, tol)
+            ink.extend(moved(cache[n], x - nx0, row_y))
+            x += font[n].width + (nx1 - nx0)
+        shapes.append((ink, {"fill": "black"}))
+    return shapes, tol
+
+
 def _sheet(a, b, n, tol, gap):
     frames = morph_frames(a, b, n, tol)
     return [(r, {"fill": "black"}) for r in row([centered(f) for f in frames], gap)]
@@ -151,7 +233,7 @@ def fig36_bird_butterfly():
 
 
 FIGURES = [fig01_convex, fig02_nonconvex, fig37_offsets, fig38_cspace, fig05_brush,
-           fig06_t_to_m, fig36_bird_butterfly]
+           fig05_skeleton, fig05_stroke_text, fig06_t_to_m, fig36_bird_butterfly]
 
 
 def render(fig, size):

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from . import main
-from .options import InputError, resolve_output
+from .options import EXIT_INTERNAL, LOCATION_HELP, InputError, resolve_output
 
 
 def _parse_nib(spec):
@@ -23,81 +23,291 @@ def _parse_nib(spec):
     return w, h, a
 
 
+BRUSH_TOL_EM = 5e-4  # 0.5 font units at 1000 units per em
+
+
 @main.command()
 @click.argument("font_file", metavar="FONT", required=False, default="default")
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
-              help="Output font (.ttf or .otf); a sample image OUTPUT.png is written "
-                   "next to it (OUTPUT with .png suffix).")
+              help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
+                   "source's; the suffix picks the container). Also written next to it: "
+                   "OUTPUT.png (sample image) and OUTPUT.html (specimen).")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
               help="Elliptical nib: width, height in font units and angle in degrees.")
 @click.option("--nib-svg", type=click.Path(dir_okay=False), default=None,
               help="A convex SVG shape as the nib (user units = font units; its origin "
                    "is the pen point). Overrides --nib.")
-@click.option("--glyphs", default="A-Z,a-z", show_default=True,
-              help="Characters, ranges (a-z) and glyph names, comma separated.")
+@click.option("--glyphs", default="all", show_default=True,
+              help="Characters, ranges (a-z) and glyph names, comma separated; 'all': "
+                   "every glyph drawn by its own contours (composites follow).")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image.")
+              help="Text of the sample image and the specimen.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
-@click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=0.5,
+@click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=BRUSH_TOL_EM,
               show_default=True,
-              help="Outline tolerance in font units (sum and curve conversion together).")
+              help="Outline tolerance in em (sum and curve conversion together), as for "
+                   "the other commands: 5e-4 em = 0.5 font units at 1000 units per em.")
 @click.option("--composites", type=click.Choice(["follow", "sweep"]), default="follow",
               show_default=True,
               help="Composite glyphs using a swept glyph but not chosen (e.g. eacute when e "
                    "is swept): follow (stay composites, widened by the nib) or sweep "
                    "(decomposed and swept too).")
+@click.option("--location", default=None, metavar="TAG=VALUE,...", help=LOCATION_HELP)
+@click.option("--jobs", type=click.IntRange(min=1), default=None,
+              help="Processes computing the glyphs (default: the number of CPUs). The "
+                   "font does not depend on it.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composites, force):
+def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composites, location,
+          jobs, force):
     """Sweep the glyphs of FONT with a fixed calligraphic nib (Fig. 5).
 
     Every chosen glyph is replaced by glyph ⊕ nib (the nib keeps its orientation),
-    converted to the font's curve type within --tol font units (TrueType:
-    quadratics, CFF/.otf: cubics), with the advance width grown by the nib width.
-    FONT is a .ttf/.otf file, or omitted / "default" for the bundled Noto Sans.
-    The nib must be convex.  Also writes OUTPUT.png: the sample text set in the
-    new font with Pillow.
+    converted to the font's curve type within --tol em (TrueType: quadratics,
+    CFF/.otf: cubics), with the advance width grown by the nib width (zero-width
+    marks stay so).  GPOS mark anchors move with their glyphs, vertical metrics grow
+    by the nib, names and OS/2 widths are updated.  FONT is a .ttf/.otf file (a
+    variable font is brushed at --location), or omitted / "default" for the bundled
+    Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
+    in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
+    characters, source and result side by side).
+
+    A glyph whose sum fails is written by a polygon fallback (Clipper sum of the
+    flattened glyph and nib, within --tol but made of lines), or left as in the
+    source if that fails too.  The font is written anyway; the glyphs that fell
+    back are then named on one line and the exit status is 1.
 
     \b
     Examples:
       morph brush -o NotoBrush.ttf
-      morph brush MyFont.otf -o Brushed.otf --nib ellipse:120,20,-30 --glyphs a-z
+      morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
+      morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
     """
-    from ..fonts.brush import brush_font, ellipse_nib, parse_glyph_spec
+    import io
+    import time
+
+    from fontTools.ttLib import TTFont
+
+    from ..fonts.brush import brush_font, ellipse_nib, open_source, parse_glyph_spec
+    from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import specimen_path, write_specimen
+    from ..fonts.tables import FONT_SUFFIXES, font_bytes
     from ..parse import default_font_path, svg_region
 
     src = default_font_path() if font_file in (None, "default") else font_file
     if not Path(src).is_file():
         raise InputError("font %s does not exist" % src)
-    out = resolve_output(output, "brush.ttf", force, suffixes=(".ttf", ".otf"))
-    png = out.with_suffix(".png")
-    if png.exists() and not force:
-        raise InputError("sample %s exists; use --force to overwrite it" % png)
+    out = resolve_output(output, "brush.ttf", force, suffixes=FONT_SUFFIXES)
+    png, page = out.with_suffix(".png"), specimen_path(out)
+    for extra in (png, page):
+        if extra.exists() and not force:
+            raise InputError("%s exists; use --force to overwrite it" % extra)
     if nib_svg:
         nib_region = svg_region(nib_svg)
     else:
         nib_region = ellipse_nib(*_parse_nib(nib))
-    items = parse_glyph_spec(glyphs)
-    if not items:
+    items = None if glyphs.strip().lower() == "all" else parse_glyph_spec(glyphs)
+    if items is not None and not items:
         raise InputError("--glyphs selects no glyph")
-    import time
-
+    source = open_source(src, location)  # static: a variable font at --location
+    source_copy = TTFont(io.BytesIO(font_bytes(source)))  # for the specimen
+    upm = source["head"].unitsPerEm
+    jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with click.progressbar(length=len(items), label="glyphs", file=sys.stderr) as bar:
-        stats = brush_font(src, out, nib_region, items, tol=tol, family_name=family,
-                           progress=lambda name: bar.update(1), composites=composites)
+    total = len(items) if items is not None else None
+    with click.progressbar(length=total or 0, label="glyphs", file=sys.stderr) as bar:
+        stats = brush_font(source, out, nib_region, items, tol=tol * upm, family_name=family,
+                           progress=lambda name: bar.update(1), composites=composites,
+                           jobs=jobs)
     seconds = time.perf_counter() - t0
-    _font_sample(out, sample, png)
-    click.echo("wrote %s (%d glyphs, %d contours, %.1f s) and sample %s"
-               % (out, stats["glyphs"], stats["contours"], seconds, png))
+    _font_sample(io.BytesIO(font_bytes(TTFont(str(out)))), sample, png)
+    write_specimen(out, source_copy, sample=sample)
+    click.echo("wrote %s (%d glyphs, %d contours, %.1f s, %d jobs), sample %s and specimen %s"
+               % (out, stats["glyphs"], stats["contours"], seconds, jobs, png, page))
+    for base, users in stats["base_not_chosen"].items():
+        click.echo("note: swept %s too (not chosen), the base of %s" % (base, ", ".join(users)),
+                   err=True)
+    if stats["fallback"]:
+        kinds = {"polygon": "polygon sum", "source": "left as in the source"}
+        click.echo("morph: error: font written, but %d glyph(s) fell back: %s"
+                   % (len(stats["fallback"]), "; ".join(
+                       "%s (%s: %s)" % (n, kinds[k], err)
+                       for n, (k, err) in sorted(stats["fallback"].items()))), err=True)
+        return EXIT_INTERNAL
+    return 0
 
 
 def _font_sample(font_path, text, png, px=96):
     from PIL import Image, ImageDraw, ImageFont
 
-    fnt = ImageFont.truetype(str(font_path), px)
+    fnt = ImageFont.truetype(font_path if hasattr(font_path, "read") else str(font_path), px)
     left, top, right, bottom = fnt.getbbox(text)
     pad = px // 4
     img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")
     ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill="black")
     img.save(str(png))
     return img
+
+
+# =========================================================================== stroke
+
+_STROKE_NIB = "ellipse:90,20,30"
+
+
+@main.command()
+@click.argument("skeleton", metavar="SKELETON")
+@click.option("-o", "--output", required=True, type=click.Path(),
+              help="UFO skeleton: OUT.ufo (a copy of the source, outlines replaced), "
+                   "OUT.otf (CFF) or OUT.ttf (TrueType), compiled with ufo2ft, plus a "
+                   "sample image OUT.png. SVG skeleton: OUT.svg or OUT.png.")
+@click.option("--nib", default=None,
+              help="Elliptical nib ellipse:W,H,ANGLE: width and height in font units "
+                   "(UFO) or user units (SVG), long axis ANGLE degrees counter-clockwise. "
+                   "Default: %s, a broad nib at 30 degrees, for 1000 units per em "
+                   "(scaled to the UFO's units per em; for an SVG, to its larger side "
+                   "taken as 1000 units)." % _STROKE_NIB)
+@click.option("--nib-svg", type=click.Path(dir_okay=False), default=None,
+              help="A convex SVG shape as the nib (user units = font units; its origin "
+                   "is the pen point). Overrides --nib.")
+@click.option("--glyphs", default=None,
+              help="UFO only: characters, ranges (a-z) and glyph names, comma separated. "
+                   "Default: every glyph.")
+@click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=5e-4,
+              show_default=True,
+              help="Outline tolerance (stroke and curve conversion together): in em for a "
+                   "UFO (5e-4 em = 0.5 font unit at 1000 units per em; compiling then "
+                   "rounds to integer coordinates, <= 0.71 unit more), in user units for "
+                   "an SVG.")
+@click.option("--sample", default="Hamburgefonstiv", show_default=True,
+              help="Text of the sample image (UFO skeletons).")
+@click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
+@click.option("--jobs", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Worker processes for the glyph strokes.")
+@click.option("--size", type=click.IntRange(min=8, max=16384), default=512,
+              show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
+@click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
+def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):
+    """Stroke a skeleton (centre lines) with a calligraphic nib (Fig. 5).
+
+    Every path of SKELETON is swept by a convex nib held at a fixed angle: an
+    open path gives its two sides, convolved with the nib, closed by the nib's
+    own ends (caps); a closed path is stroked, not filled; a single point gives
+    the nib.  The broad nib's thick and thin strokes come from the direction of
+    travel, as with a pen.
+
+    SKELETON is a UFO font source (.ufo folder; open contours are centre lines)
+    or an SVG file (its stroked / open paths are centre lines).  For a UFO, the
+    kerning, groups and features are kept, anchors move with the outlines,
+    advances grow by the nib width (side bearings kept), composites stay
+    composites (a scaled or flipped component is decomposed and stroked).
+
+    \b
+    Examples:
+      morph stroke Relief-SingleLine.ufo -o ReliefStroke.otf
+      morph stroke Relief-SingleLine.ufo -o Round.ttf --nib ellipse:60,60,0
+      morph stroke Sketch.ufo -o Sketch-Stroke.ufo --glyphs A-Z,a-z
+      morph stroke drawing.svg -o drawing-stroke.svg --nib ellipse:8,2,30
+    """
+    src = Path(skeleton)
+    if not src.exists():
+        raise InputError("skeleton %s does not exist" % skeleton)
+    if src.suffix.lower() == ".svg":
+        _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
+    elif src.is_dir():
+        _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs, force)
+    else:
+        raise InputError("skeleton %s is neither a .ufo folder nor an .svg file" % skeleton)
+
+
+def _stroke_nib(nib, nib_svg, scale):
+    """Nib region from --nib-svg, --nib, or the default scaled by ``scale``."""
+    from ..fonts.brush import ellipse_nib
+    from ..parse import svg_region
+
+    if nib_svg:
+        return svg_region(nib_svg)
+    if nib is None:
+        w, h, a = _parse_nib(_STROKE_NIB)
+        return ellipse_nib(w * scale, h * scale, a)
+    return ellipse_nib(*_parse_nib(nib))
+
+
+def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs, force):
+    import logging
+    import shutil
+    import tempfile
+    import time
+
+    from ..fonts.brush import parse_glyph_spec
+    from ..fonts.stroke import stroke_plan, stroke_ufo
+    from ..parse.ufo import load_ufo
+
+    out = Path(output)
+    if out.suffix.lower() not in (".ufo", ".otf", ".ttf"):
+        raise InputError("cannot tell the output format of %s: use a .ufo, .otf or .ttf "
+                         "suffix" % out)
+    if not out.parent.is_dir():
+        raise InputError("output folder %s does not exist" % out.parent)
+    if out.exists() and not force:
+        raise InputError("output %s exists; use --force to overwrite it" % out)
+    if out.exists() and out.suffix.lower() != ".ufo" and out.is_dir():
+        raise InputError("output %s is a folder, expected a file" % out)
+    png = out.with_suffix(".png")
+    if png.exists() and not force:
+        raise InputError("sample %s exists; use --force to overwrite it" % png)
+    font = load_ufo(src)
+    upm = float(font.info.unitsPerEm or 1000)
+    nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
+    items = parse_glyph_spec(glyphs) if glyphs is not None else None
+    if items is not None and not items:
+        raise InputError("--glyphs selects no glyph")
+    for name in ("ufo2ft", "fontTools"):  # feature-merging notes are not errors
+        logging.getLogger(name).setLevel(logging.ERROR)
+    todo, _ = stroke_plan(font, items, nib_region)
+    t0 = time.perf_counter()
+    with click.progressbar(length=len(todo), label="glyphs", file=sys.stderr) as bar:
+        stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
+                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
+    seconds = time.perf_counter() - t0
+    for name, why in sorted(stats["fallback"].items()):
+        click.echo("morph: warning: glyph %r written as a polygon (%s)" % (name, why), err=True)
+    if out.suffix.lower() == ".ufo":
+        import ufo2ft
+
+        tmp = tempfile.mkdtemp(prefix=".morph-sample-")
+        try:
+            otf = Path(tmp) / "sample.otf"
+            ufo2ft.compileOTF(stats["font"]).save(str(otf))
+            _font_sample(otf, sample, png)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    else:
+        _font_sample(out, sample, png)
+    extra = ""
+    if stats["emptied"]:
+        extra = "; %d glyphs not chosen left empty" % stats["emptied"]
+    click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s%s) and "
+               "sample %s" % (out, stats["glyphs"], stats["followed"], stats["points"],
+                              seconds, extra, png))
+
+
+def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
+    from ..fonts.stroke import stroke_glyph_region
+    from ..parse.svg import svg_paths
+    from ..region import region_bbox
+    from .options import resolve_output, write_image
+
+    if glyphs is not None:
+        raise InputError("--glyphs applies to UFO skeletons only")
+    out = resolve_output(output, "stroke.svg", force)
+    from ..errors import ParseError
+
+    try:  # centre lines: the stroked elements, else every drawn path
+        paths = svg_paths(str(src), stroked=True)
+    except ParseError:
+        paths = svg_paths(str(src))
+    box = region_bbox([pieces for pieces, _ in paths])
+    scale = max(box[2] - box[0], box[3] - box[1], 1e-12) / 1000.0
+    nib_region = _stroke_nib(nib, nib_svg, scale)
+    region = stroke_glyph_region(paths, nib_region, tol)
+    write_image(out, [(region, {"fill": "black"})], size=size, tol=tol)
+    click.echo("wrote %s (%d loops)" % (out, len(region)))

@@ -54,7 +54,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import MorphError
 
-__all__ = ["stroke_ufo", "stroke_glyph_region", "region_to_contours", "nib_is_symmetric",
+__all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB"]
 
 # the default broad nib: 90 x 20 units at upm 1000, long axis at 30 degrees
@@ -106,56 +106,28 @@ def stroke_glyph_region(paths, nib_region, tol, stroker=None):
     return stroker(paths, nib_region, tol)
 
 
-def region_to_contours(loops, tol, offset=(0.0, 0.0), decimals=3):
-    """Loops of pieces -> contours of polynomial segments for a segment pen.
-
-    Each contour is a list of ``(k, 2)`` arrays (k = 2: a line, k = 4: a cubic), joined
-    end to start and closed; degree-1 polynomial pieces stay lines, every other piece
-    becomes cubics within ``tol`` (:func:`morph.export.piece_to_cubics`, certified).
-    Points are translated by ``offset`` and rounded to ``decimals``.
-    """
-    from ..export import piece_to_cubics
-
-    off = np.asarray(offset, float)
-    contours = []
-    for loop in loops:
-        segs = []
-        for p in loop:
-            if pc.degree(p) == 1 and pc.is_polynomial(p):
-                segs.append(pc.cartesian(p))
-            else:
-                segs.extend(np.asarray(c, float) for c in piece_to_cubics(p, tol))
-        segs = [np.round(s + off, decimals) for s in segs]
-        # rounding may make a segment zero-length; joins stay exact (shared points)
-        segs = [s for s in segs if not np.all(s == s[0])]
-        if segs:
-            contours.append(segs)
-    return contours
-
-
-def _draw_contours(glyph, contours):
-    """Draw closed contours of segments on a ufoLib2 glyph (the segment pen merges
-    the closing point with the start)."""
-    pen = glyph.getPen()
-    for segs in contours:
-        pen.moveTo(tuple(map(float, segs[0][0])))
-        for s in segs:
-            pts = [tuple(map(float, q)) for q in s[1:]]
-            if len(s) == 2:
-                pen.lineTo(pts[0])
-            else:
-                pen.curveTo(*pts)
-        pen.closePath()
-
-
 def _keep_component(component, symmetric):
     m = tuple(float(v) for v in tuple(component.transformation)[:4])
     return m == (1.0, 0.0, 0.0, 1.0) or (symmetric and m == (-1.0, 0.0, 0.0, -1.0))
 
 
+def stroke_plan(font, glyphs, nib_region):
+    """``(stroked, followed)`` glyph names of a ufoLib2 font for :func:`stroke_ufo`.
+
+    ``stroked``: the chosen glyphs (``glyphs``: characters or names, None: all) and
+    the base glyphs of their kept components; ``followed``: composites not chosen
+    that use only stroked glyphs through kept components (see the module docstring).
+
+    Raises:
+        ParseError: a character or name the font lacks.
+    """
+    from ..parse.ufo import glyph_names_for
+
+    chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
+    return _plan(font, chosen, nib_is_symmetric(nib_region))
+
+
 def _plan(font, chosen, symmetric):
-    """(stroked, followed): names whose outlines are rebuilt, in a dependency-free
-    order, and the composites that follow without being chosen."""
     stroked = []
     seen = set()
     todo = list(chosen)
@@ -202,14 +174,34 @@ def _rename(info, family):
 
 
 def _glyph_job(args):
-    """Stroke one glyph's paths; top-level so that a process pool can run it."""
-    name, paths, nib_region, tol, stroker = args
+    """Stroke one glyph and convert it to integer cubic contours (a process-pool job).
+
+    ``args``: (name, paths, nib_region, tol, offset, stroker).  The stroke gets
+    ``tol / 2``, the cubics ``tol / 2`` (``tol / 4`` for TrueType, see the module
+    docstring: the caller passes the cubic share as ``tol``'s second half).  When the
+    exact stroke or its conversion raises, the glyph falls back to the polygon stroke
+    of :func:`morph.fonts.jobs.polygon_sum` (within ``tol`` + 1/8 unit, lines only)
+    and the error is returned with it.
+    """
+    from .jobs import polygon_sum, polylines_to_contours
+    from .tables import contours_from_loops
+
+    name, paths, nib_region, (sum_tol, cubic_tol, _), offset, stroker = args
     t0 = time.perf_counter()
+    fallback = None
+    region = []
     try:
-        region = stroke_glyph_region(paths, nib_region, tol, stroker)
+        region = stroke_glyph_region(paths, nib_region, sum_tol, stroker)
+        contours = contours_from_loops(region, cubic_tol, False, offset)
     except MorphError as exc:
-        raise type(exc)("glyph %r: %s" % (name, exc)) from exc
-    return name, region, time.perf_counter() - t0
+        fallback = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
+        polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
+                            sum_tol + cubic_tol, closed=False)
+        contours = polylines_to_contours(polys, offset=offset)
+        region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
+    region = [[pc.translate(p, offset) for p in loop] for loop in region]
+    return {"name": name, "contours": contours, "region": region, "fallback": fallback,
+            "seconds": time.perf_counter() - t0}
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
@@ -246,6 +238,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
 
     from ..fonts.brush import check_convex_nib, region_extent
     from ..parse.ufo import component_paths, glyph_names_for, glyph_paths, load_ufo
+    from .jobs import run_jobs
+    from .tables import draw_contours
 
     t_start = time.perf_counter()
     if not tol > 0:
@@ -259,7 +253,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     check_convex_nib(nib_region)
     font = _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
     symmetric = nib_is_symmetric(nib_region)
-    chosen = [g.name for g in font] if glyphs is None else glyph_names_for(font, glyphs)
+    chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen, symmetric)
 
     # integer shifts and advance growth: outlines, anchors, component offsets and
@@ -272,8 +266,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
         shifts[n] = int(round(-nx0)) - (grow if font[n].width == 0 else 0)
 
     # the work: paths of every stroked glyph (own contours + decomposed components)
-    sum_tol = tol / 2.0
-    cubic_tol = tol / 4.0 if kind == ".ttf" else tol / 2.0
+    tols = _tolerances(tol, kind)
     work, decomposed = [], 0
     for n in stroked:
         g = font[n]
@@ -282,27 +275,29 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             if not _keep_component(c, symmetric):
                 paths.extend(component_paths(font, c))
                 decomposed += 1
-        work.append((n, paths, nib_region, sum_tol, stroker))
-    regions, stroke_seconds = {}, 0.0
-    for name, region, secs in _run(work, jobs):
-        regions[name] = region
-        stroke_seconds += secs
-        if progress is not None:
-            progress(name)
+        work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
 
+    def step(k, result):
+        if progress is not None:
+            progress(result["name"])
+
+    results = run_jobs(_glyph_job, work, jobs=jobs, progress=step)
     stats = {"glyphs": len(stroked), "followed": len(followed), "decomposed": decomposed,
-             "emptied": 0, "contours": 0, "points": 0}
+             "emptied": 0, "contours": 0, "points": 0, "fallback": {},
+             "stroke_seconds": sum(r["seconds"] for r in results)}
     out_regions = {}
+    for r in results:
+        g = font[r["name"]]
+        g.clearContours()
+        draw_contours(g.getPen(), r["contours"], False)
+        stats["contours"] += len(r["contours"])
+        stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
+        out_regions[r["name"]] = r["region"]
+        if r["fallback"]:
+            stats["fallback"][r["name"]] = r["fallback"]
     for n in stroked + followed:
         g = font[n]
         s = shifts[n]
-        if n in regions:
-            contours = region_to_contours(regions[n], cubic_tol, offset=(s, 0.0))
-            g.clearContours()
-            _draw_contours(g, contours)
-            stats["contours"] += len(contours)
-            stats["points"] += sum(len(q) - 1 for segs in contours for q in segs)
-            out_regions[n] = [[pc.translate(p, (s, 0.0)) for p in loop] for loop in regions[n]]
         kept = []
         for c in g.components:
             if not _keep_component(c, symmetric):
@@ -334,7 +329,6 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             lambda n: (shifts[n] + centre[0], centre[1]) if n in shifts else None)
     _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
     _grow_win_metrics(font, out_regions, ny0, ny1)
-    stats["stroke_seconds"] = stroke_seconds
     _save(font, out_path, kind, tol, overwrite)
     stats["seconds"] = time.perf_counter() - t_start
     stats["font"] = font
@@ -422,23 +416,26 @@ def _fea_number(v):
     return str(int(round(v)))
 
 
+def _tolerances(tol, kind):
+    """(stroke, cubic, cu2qu) shares of the outline tolerance (font units): the stroke
+    and the export split by :func:`morph.export.split_tolerance`; for TrueType the
+    export share is split again between the cubics and ufo2ft's cu2qu conversion
+    (:data:`morph.export.QUADRATIC_CUBIC_SHARE`)."""
+    from ..export import QUADRATIC_CUBIC_SHARE, split_tolerance
+
+    geometry, export = split_tolerance(tol)
+    if kind != ".ttf":
+        return geometry, export, 0.0
+    cubic = QUADRATIC_CUBIC_SHARE * export
+    return geometry, cubic, export - cubic
+
+
 def _copy_font(font):
     """A full in-memory copy of a ufoLib2 font (the source is never modified)."""
     import copy
 
     font.unlazify()
     return copy.deepcopy(font)
-
-
-def _run(work, jobs):
-    if jobs is None or jobs <= 1 or len(work) < 2:
-        for item in work:
-            yield _glyph_job(item)
-        return
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=int(jobs)) as pool:
-        yield from pool.map(_glyph_job, work, chunksize=max(1, len(work) // (8 * jobs)))
 
 
 def _grow_win_metrics(font, regions, ny0, ny1):
@@ -477,7 +474,8 @@ def _save(font, out_path, kind, tol, overwrite):
                     otf = ufo2ft.compileOTF(font)
                 else:
                     upm = font.info.unitsPerEm or 1000
-                    otf = ufo2ft.compileTTF(font, cubicConversionError=(tol / 4.0) / upm)
+                    otf = ufo2ft.compileTTF(font,
+                                            cubicConversionError=_tolerances(tol, kind)[2] / upm)
             except Exception as exc:
                 raise MorphError("ufo2ft could not compile %s: %s"
                                  % (out_path.name, " ".join(str(exc).split()))) from exc

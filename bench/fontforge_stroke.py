@@ -1,0 +1,89 @@
+"""FontForge Expand Stroke worker for bench/stroke.py (run with Debian's python3).
+
+    /usr/bin/python3 bench/fontforge_stroke.py < job.json > result.json
+
+Needs ``python3-fontforge`` (``apt-get install python3-fontforge``), which installs
+the ``fontforge`` module for the system Python only, hence a subprocess.  Input JSON:
+``{"nib": ["elliptical", W, H, ANGLE_DEG] | ["circular", D], "accuracy": A,
+"glyphs": {name: [[segments, closed], ...]}}`` with segments lists of 2 (line) or 4
+(cubic) points.  Each glyph's skeleton is drawn with FontForge's glyph pen (open
+contours stay open) and stroked by ``glyph.stroke(...)`` with caps and joins "nib" (the nib's own shape
+at ends and corners, so that the result is the Minkowski sum path ⊕ nib; FontForge's
+"round" cap is a half-disk across the stroke, larger than a broad nib),
+``removeoverlap="layer"`` (FontForge's default), ``accuracy=A`` (its target error in
+font units); the time of that call alone is measured (perf_counter).  Output JSON:
+``{name: {"seconds": s, "points": n, "contours": [[segment, ...], ...]}}`` with
+segments as above (quadratic segments do not occur: FontForge strokes in cubics).
+"""
+
+import json
+import math
+import sys
+import time
+
+import fontforge
+
+
+def draw(glyph, paths):
+    pen = glyph.glyphPen()
+    for segments, closed in paths:
+        pen.moveTo(tuple(segments[0][0]))
+        for seg in segments:
+            if len(seg) == 2:
+                pen.lineTo(tuple(seg[1]))
+            else:
+                pen.curveTo(tuple(seg[1]), tuple(seg[2]), tuple(seg[3]))
+        if closed:
+            pen.closePath()
+        else:
+            pen.endPath()
+    pen = None  # FontForge commits the drawing when the pen goes away
+
+
+def segments_of(contour):
+    pts = [(p.x, p.y, bool(p.on_curve)) for p in contour]
+    if not pts:
+        return []
+    k = next(i for i, p in enumerate(pts) if p[2])
+    pts = pts[k:] + pts[:k] + [pts[k]]  # start on-curve, closed
+    segs, cur, offs = [], pts[0][:2], []
+    for x, y, on in pts[1:]:
+        if on:
+            if not offs:
+                segs.append([cur, (x, y)])
+            elif len(offs) == 2:
+                segs.append([cur, offs[0], offs[1], (x, y)])
+            else:  # quadratic (not produced by stroke): keep as a 3-point segment
+                segs.append([cur] + offs + [(x, y)])
+            cur, offs = (x, y), []
+        else:
+            offs.append((x, y))
+    return segs
+
+
+def main():
+    job = json.load(sys.stdin)
+    font = fontforge.font()
+    font.em = 1000
+    nib = job["nib"]
+    acc = float(job["accuracy"])
+    out = {}
+    for k, (name, paths) in enumerate(job["glyphs"].items()):
+        g = font.createChar(-1, "g%d" % k)
+        draw(g, paths)
+        t0 = time.perf_counter()
+        if nib[0] == "elliptical":
+            g.stroke("elliptical", float(nib[1]), float(nib[2]), math.radians(float(nib[3])),
+                     "nib", "nib", accuracy=acc, removeoverlap="layer")
+        else:
+            g.stroke("circular", float(nib[1]), "nib", "nib", accuracy=acc,
+                     removeoverlap="layer")
+        seconds = time.perf_counter() - t0
+        layer = g.foreground
+        out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
+                     "contours": [segments_of(c) for c in layer]}
+    json.dump(out, sys.stdout)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,421 @@
+"""Calligraphic fonts from skeletons (issue #15): accuracy sweep and peers.
+
+    python -m bench.stroke [--glyphs A-Z,a-z,0-9] [--tol 0.5] [--ref-tol 0.02]
+                           [--no-peers] [--md bench/stroke.md | --no-write]
+
+Skeleton: the Relief SingleLine subset in tests/data/relief (every contour an open
+cubic path, upm 1000; SIL OFL).  Part 1, the issue's criterion: every chosen glyph
+stroked by ``morph.fonts.stroke.stroke_ufo`` with the default nib of ``morph stroke``
+(exact ellipse 90 x 20 units, long axis at 30 degrees) at ``--tol`` font units, one
+process, into .otf and .ttf; each glyph read back from the compiled font (integer
+coordinates; composites decomposed) and compared with an independent Clipper polygon
+of the skeleton flattened within ``--ref-tol`` ⊕ the nib flattened within
+``--ref-tol`` (``tests.stroke_reference.stroke_polygon``), shifted like the written
+glyph.  Measures: two-sided boundary Hausdorff distance (``tests.reference.hausdorff``,
+written curves flattened within 0.02, boundaries sampled every 0.25 unit) against
+``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
+o, e, a, 8 ...), each hole's area within perimeter x that bound.
+
+Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
+
+- broad nib (the ellipse above): morph (``stroke_paths`` + certified cubic export,
+  several tolerances) vs FontForge Expand Stroke (``elliptical`` nib, caps and joins
+  "nib" = path ⊕ nib, overlap removed, several ``accuracy`` values), run by Debian's
+  python3-fontforge in a subprocess (``bench/fontforge_stroke.py``);
+- round nib (disk, diameter 60): the same two, and Skia's stroker (skia-pathops
+  ``Path.stroke`` with round caps and joins, conics converted to quadratics, then
+  ``simplify`` to remove overlaps), at scale factors 1, 4, 16 (the path is scaled up
+  before stroking and the result down: Skia's own precision knob is fixed).
+
+Outputs are compared unrounded (floats) with the polygon reference by the same
+Hausdorff measure; seconds per glyph are the stroking calls alone (single core;
+morph: stroke + cubic conversion; FontForge: ``glyph.stroke`` inside FontForge;
+Skia: stroke + conic conversion + simplify), points per glyph are on- and off-curve
+points of the written contours.  Writes bench/stroke.md.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+import shapely  # noqa: E402
+import shapely.affinity  # noqa: E402
+
+from morph import piece as pc  # noqa: E402
+from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # noqa: E402
+from morph.parse import glyph_region  # noqa: E402
+from morph.parse.ufo import component_paths, glyph_names_for, glyph_paths, load_ufo  # noqa: E402
+from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402
+from tests.stroke_reference import stroke_polygon  # noqa: E402
+
+SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
+ROUNDING = 0.71
+BROAD = ("ellipse", 90.0, 20.0, 30.0)
+ROUND = ("disk", 60.0)
+SYSTEM_PYTHON = "/usr/bin/python3"
+MEASURE_FLAT = 0.02
+SPACING = 0.25
+
+
+def code_version():
+    def git(*args):
+        return subprocess.run(["git", "-C", str(ROOT)] + list(args), capture_output=True,
+                              text=True).stdout.strip()
+
+    head = git("rev-parse", "--short", "HEAD")
+    dirty = git("status", "--porcelain", "--", "morph")
+    return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
+
+
+def all_paths(font, name):
+    g = font[name]
+    paths = glyph_paths(g)
+    for c in g.components:
+        paths.extend(component_paths(font, c))
+    return paths
+
+
+def nib_region(spec):
+    if spec[0] == "ellipse":
+        return ellipse_nib(*spec[1:])
+    return ellipse_nib(spec[1], spec[1], 0.0)
+
+
+def holes(geom):
+    polys = getattr(geom, "geoms", [geom])
+    return sorted((shapely.Polygon(r).area, shapely.Polygon(r).length)
+                  for p in polys for r in p.interiors)
+
+
+def segments_to_region(contours):
+    """Contours of polynomial segments ((k, 2) point lists) -> loops of pieces."""
+    loops = []
+    for segs in contours:
+        loop = [pc.from_points(np.asarray(s, float)) for s in segs
+                if not np.all(np.asarray(s, float) == np.asarray(s, float)[0])]
+        if loop:
+            loops.append(loop)
+    return loops
+
+
+def measure(contours, ref):
+    got = region_to_shapely(segments_to_region(contours), MEASURE_FLAT)
+    return hausdorff(got, ref, SPACING), got
+
+
+# =========================================================================== part 1
+
+def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
+    from morph.fonts.stroke import stroke_ufo
+
+    nib = nib_region(BROAD)
+    x0, _, x1, _ = region_extent(nib)
+    grow = int(round(x1 - x0))
+    out = {}
+    for suffix in (".otf", ".ttf"):
+        path = Path(workdir) / ("Relief-Stroke" + suffix)
+        t0, c0 = time.perf_counter(), time.process_time()
+        stats = stroke_ufo(font, path, nib, names, tol=tol, overwrite=True)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        rows = []
+        limit = tol + ROUNDING + ref_tol
+        for n in names:
+            shift = int(round(-x0)) - (grow if font[n].width == 0 else 0)
+            ref = shapely.affinity.translate(refs[n], shift, 0.0)
+            got = region_to_shapely(glyph_region(n, font=str(path)).region, MEASURE_FLAT)
+            d = hausdorff(got, ref, SPACING)
+            h_got, h_ref = count_outer_and_holes(got, 1.0), count_outer_and_holes(ref, 1.0)
+            area_ok = all(abs(a - b) <= per * limit
+                          for (a, _), (b, per) in zip(holes(got), holes(ref)))
+            fail = d > limit or h_got != h_ref or not area_ok or n in stats["fallback"]
+            rows.append({"name": n, "err": d, "holes": h_got[1], "ref_holes": h_ref[1],
+                         "fail": fail, "fallback": stats["fallback"].get(n, "")})
+            print("%s %s: %.3f holes %d/%d%s" % (suffix, n, d, h_got[1], h_ref[1],
+                                                 "  FAIL" if fail else ""), flush=True)
+        out[suffix] = {"stats": stats, "wall": wall, "cpu": cpu, "rows": rows,
+                       "limit": limit, "size": path.stat().st_size}
+    return out
+
+
+# =========================================================================== part 2
+
+def run_morph(font, names, spec, tols, refs):
+    from morph.export import piece_to_cubics
+    from morph.stroke import stroke_paths
+
+    nib = nib_region(spec)
+    rows = []
+    for tol in tols:
+        secs, points, errs, fails = [], [], [], []
+        for n in names:
+            paths = all_paths(font, n)
+            t0 = time.perf_counter()
+            try:
+                region = stroke_paths(paths, nib, tol / 2.0)
+                contours = []
+                for loop in region:
+                    segs = []
+                    for p in loop:
+                        if pc.degree(p) == 1 and pc.is_polynomial(p):
+                            segs.append(pc.cartesian(p))
+                        else:
+                            segs.extend(piece_to_cubics(p, tol / 2.0))
+                    contours.append(segs)
+            except Exception as exc:  # noqa: BLE001 - reported per glyph
+                fails.append("%s (%s)" % (n, type(exc).__name__))
+                continue
+            secs.append(time.perf_counter() - t0)
+            points.append(sum(len(s) - 1 for segs in contours for s in segs))
+            errs.append(measure(contours, refs[n])[0])
+        rows.append(summary("morph", "tol %g" % tol, secs, points, errs, fails))
+    return rows
+
+
+def run_fontforge(font, names, spec, accuracies, refs):
+    if not os.path.exists(SYSTEM_PYTHON):
+        return [], "no %s" % SYSTEM_PYTHON
+    glyphs = {}
+    for n in names:
+        glyphs[n] = [[[pc.cartesian(p).tolist() for p in pieces], closed]
+                     for pieces, closed in all_paths(font, n)]
+    nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
+           else ["circular", spec[1]])
+    rows = []
+    for acc in accuracies:
+        job = json.dumps({"nib": nib, "accuracy": acc, "glyphs": glyphs})
+        proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
+                              input=job, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
+        res = json.loads(proc.stdout)
+        secs, points, errs = [], [], []
+        for n in names:
+            r = res[n]
+            secs.append(r["seconds"])
+            points.append(r["points"])
+            errs.append(measure(r["contours"], refs[n])[0])
+        rows.append(summary("FontForge", "accuracy %g" % acc, secs, points, errs, []))
+    return rows, ""
+
+
+def _skia_contours(path):
+    from fontTools.pens.recordingPen import RecordingPen
+
+    rec = RecordingPen()
+    path.draw(rec)
+    contours, cur, start, segs = [], None, None, []
+    for op, args in rec.value:
+        if op == "moveTo":
+            cur = start = args[0]
+            segs = []
+        elif op == "lineTo":
+            segs.append([cur, args[0]])
+            cur = args[0]
+        elif op == "qCurveTo":
+            pts = [cur] + list(args)
+            for k in range(1, len(pts) - 1):  # implied on-curve points
+                a = pts[k - 1] if k == 1 else tuple(np.add(pts[k - 1], pts[k]) / 2)
+                b = pts[k + 1] if k == len(pts) - 2 else tuple(np.add(pts[k], pts[k + 1]) / 2)
+                segs.append([a, pts[k], b])
+            cur = args[-1]
+        elif op == "curveTo":
+            segs.append([cur] + list(args))
+            cur = args[-1]
+        elif op in ("closePath", "endPath"):
+            if cur != start:
+                segs.append([cur, start])
+            contours.append(segs)
+    return contours
+
+
+def run_skia(font, names, diameter, scales, refs):
+    import pathops
+
+    rows = []
+    for k in scales:
+        secs, points, errs = [], [], []
+        for n in names:
+            t0 = time.perf_counter()
+            path = pathops.Path()
+            pen = path.getPen()
+            for pieces, closed in all_paths(font, n):
+                pts = [pc.cartesian(p) * k for p in pieces]
+                pen.moveTo(tuple(pts[0][0]))
+                for q in pts:
+                    if len(q) == 2:
+                        pen.lineTo(tuple(q[1]))
+                    elif len(q) == 3:
+                        pen.qCurveTo(tuple(q[1]), tuple(q[2]))
+                    else:
+                        pen.curveTo(tuple(q[1]), tuple(q[2]), tuple(q[3]))
+                pen.closePath() if closed else pen.endPath()
+            path.stroke(diameter * k, pathops.LineCap.ROUND_CAP, pathops.LineJoin.ROUND_JOIN, 4)
+            path.convertConicsToQuads(0.25)
+            path.simplify()
+            secs.append(time.perf_counter() - t0)
+            contours = [[np.asarray(s, float) / k for s in segs] for segs in _skia_contours(path)]
+            points.append(sum(len(s) - 1 for segs in contours for s in segs))
+            errs.append(measure(contours, refs[n])[0])
+        rows.append(summary("Skia", "scale %g" % k, secs, points, errs, []))
+    return rows
+
+
+def summary(tool, setting, secs, points, errs, fails):
+    return {"tool": tool, "setting": setting,
+            "ms": 1000 * float(np.mean(secs)) if secs else float("nan"),
+            "points": float(np.mean(points)) if points else float("nan"),
+            "max_err": float(np.max(errs)) if errs else float("nan"),
+            "mean_err": float(np.mean(errs)) if errs else float("nan"),
+            "fails": fails}
+
+
+def equal_error(rows):
+    """For every peer row, morph's fewest-points row with max error <= the peer's."""
+    out = []
+    morph_rows = [r for r in rows if r["tool"] == "morph" and not r["fails"]]
+    for r in rows:
+        if r["tool"] == "morph":
+            continue
+        ok = [m for m in morph_rows if m["max_err"] <= r["max_err"]]
+        m = min(ok, key=lambda m: m["points"]) if ok else None
+        out.append((r, m))
+    return out
+
+
+# =========================================================================== report
+
+def markdown(opt, names, acc, peers, notes, elapsed):
+    md = ["# Calligraphic fonts from skeletons (bench/stroke.py)", "",
+          "Command: `python -m bench.stroke%s` (code: %s; %.0f s)."
+          % (opt.argline, code_version(), elapsed), "",
+          "Skeleton: Relief SingleLine subset (tests/data/relief, SIL OFL), %d glyphs (%s), "
+          "upm 1000, every contour an open cubic path.  Machine: %d CPUs, load average %s "
+          "at the end." % (len(names), opt.glyphs, os.cpu_count() or 1,
+                           ", ".join("%.1f" % v for v in os.getloadavg())), ""]
+    if acc:
+        md += ["## Accuracy of the written fonts", "",
+               "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
+               "units; written glyphs (integer coordinates) against the Clipper reference "
+               "(flattened within %g): criterion Hausdorff <= tol + 0.71 + %g = %.2f units, "
+               "same number of holes, hole areas within perimeter x bound."
+               % (opt.tol, opt.ref_tol, opt.ref_tol, opt.tol + ROUNDING + opt.ref_tol), "",
+               "| font | glyphs stroked | wall s | CPU s | stroke s / glyph | points / glyph | "
+               "worst Hausdorff | mean | holes kept | failures | file bytes |",
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
+        for suffix, r in acc.items():
+            errs = [x["err"] for x in r["rows"]]
+            worst = max(r["rows"], key=lambda x: x["err"])
+            st = r["stats"]
+            md.append("| %s | %d | %.1f | %.1f | %.1f ms | %.0f | %.3f (%s) | %.3f | %d / %d | "
+                      "%d | %d |" % (suffix, st["glyphs"], r["wall"], r["cpu"],
+                                     1000 * st["stroke_seconds"] / max(1, st["glyphs"]),
+                                     st["points"] / max(1, st["glyphs"]), worst["err"],
+                                     worst["name"], float(np.mean(errs)),
+                                     sum(x["holes"] == x["ref_holes"] for x in r["rows"]),
+                                     len(r["rows"]), sum(x["fail"] for x in r["rows"]),
+                                     r["size"]))
+        md.append("")
+        fails = [(s, x) for s, r in acc.items() for x in r["rows"] if x["fail"]]
+        if fails:
+            md += ["Failures:", ""] + ["- %s %s: Hausdorff %.3f, holes %d (reference %d) %s"
+                                       % (s, x["name"], x["err"], x["holes"], x["ref_holes"],
+                                          x["fallback"]) for s, x in fails] + [""]
+        counters = [x for x in acc[".otf"]["rows"] if x["name"] in ("o", "e", "a", "eight")]
+        md += ["Counters: " + ", ".join("%s %d (reference %d)" % (x["name"], x["holes"],
+                                                               x["ref_holes"])
+                                        for x in counters) + ".", ""]
+    for title, rows in peers:
+        md += ["## %s" % title, "",
+               "| tool | setting | ms / glyph | points / glyph | max Hausdorff | mean | "
+               "failures |", "|---|---|---|---|---|---|---|"]
+        for r in rows:
+            md.append("| %s | %s | %.1f | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], r["points"], r["max_err"],
+                         r["mean_err"], ", ".join(r["fails"]) or "0"))
+        md += ["", "At equal measured error (morph's fewest-points setting whose worst "
+               "error is no larger than the peer's):", "",
+               "| peer | peer error | peer points | peer ms | morph setting | morph error | "
+               "morph points | morph ms |", "|---|---|---|---|---|---|---|---|"]
+        for r, m in equal_error(rows):
+            if m is None:
+                md.append("| %s %s | %.3f | %.0f | %.1f | none reaches it | | | |"
+                          % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"]))
+            else:
+                md.append("| %s %s | %.3f | %.0f | %.1f | %s | %.3f | %.0f | %.1f |"
+                          % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"],
+                             m["setting"], m["max_err"], m["points"], m["ms"]))
+        md.append("")
+    md += notes
+    return "\n".join(md) + "\n"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--glyphs", default="A-Z,a-z,0-9")
+    ap.add_argument("--tol", type=float, default=0.5, help="font units")
+    ap.add_argument("--ref-tol", type=float, default=0.02, help="font units")
+    ap.add_argument("--morph-tols", default="4,2,1,0.5,0.25")
+    ap.add_argument("--ff-accuracy", default="2,1,0.25,0.1")
+    ap.add_argument("--skia-scales", default="1,4,16")
+    ap.add_argument("--no-peers", action="store_true")
+    ap.add_argument("--no-accuracy", action="store_true")
+    ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
+    ap.add_argument("--no-write", action="store_true")
+    opt = ap.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    opt.argline = (" " + " ".join(argv)) if argv else ""
+    import logging
+
+    for name in ("ufo2ft", "fontTools"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    t_start = time.perf_counter()
+    font = load_ufo(SUBSET, lazy=False)
+    names = glyph_names_for(font, parse_glyph_spec(opt.glyphs))
+    notes = []
+    refs = {}
+    for spec in (BROAD, ROUND):
+        nib = nib_region(spec)
+        refs[spec] = {n: stroke_polygon(all_paths(font, n), nib, opt.ref_tol) for n in names}
+        print("reference %s: %d glyphs" % (spec[0], len(names)), flush=True)
+    acc = {}
+    if not opt.no_accuracy:
+        with tempfile.TemporaryDirectory() as tmp:
+            acc = accuracy_sweep(font, names, opt.tol, opt.ref_tol, refs[BROAD], tmp)
+    peers = []
+    if not opt.no_peers:
+        tols = [float(v) for v in opt.morph_tols.split(",")]
+        accs = [float(v) for v in opt.ff_accuracy.split(",")]
+        scales = [float(v) for v in opt.skia_scales.split(",")]
+        for spec, title in ((BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
+                            (ROUND, "Round nib: disk of diameter 60")):
+            rows = run_morph(font, names, spec, tols, refs[spec])
+            ff, why = run_fontforge(font, names, spec, accs, refs[spec])
+            if why:
+                notes.append("FontForge not run (%s)." % why)
+            rows += ff
+            if spec is ROUND:
+                rows += run_skia(font, names, spec[1], scales, refs[spec])
+            for r in rows:
+                print("%s %s %s: %.1f ms, %.0f points, max err %.3f" % (
+                    title.split(":")[0], r["tool"], r["setting"], r["ms"], r["points"],
+                    r["max_err"]), flush=True)
+            peers.append((title, rows))
+    text = markdown(opt, names, acc, peers, notes, time.perf_counter() - t_start)
+    print(text)
+    if not opt.no_write:
+        Path(opt.md).write_text(text)
+    failures = sum(x["fail"] for r in acc.values() for x in r["rows"])
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
