@@ -3,10 +3,14 @@
 Lines and polynomial quadratics/cubics are written exactly (L, Q, C); every other
 piece (rational, or degree > 3) goes through :func:`morph.export.piece_to_cubics`
 with a certified bound.  Coordinates are rounded to a number of decimals chosen from
-``tol``.  The budget: cubic fit <= 0.8 tol; rounding moves each control point by at
-most ``0.5 * 10^-d * sqrt(2) <= 0.2 tol`` and hence the curve by at most that much
-(convex combination), so every written curve is within ``tol`` of the piece on the
-same parameter.  y is negated (region y-up -> SVG y-down).
+``tol``.  The budget: cubic fit <= 0.8 tol (Fréchet distance, certified under a
+monotone reparametrisation); rounding moves each control point by at most
+``0.5 * 10^-d * sqrt(2) <= 0.2 tol`` and hence the curve by at most that much at the
+same parameter (convex combination), so every written curve is within ``tol`` of its
+piece in Fréchet, hence Hausdorff, distance.  A command that computes the pieces
+themselves within some tolerance passes this writer only the export share of the
+user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y-up
+-> SVG y-down).
 """
 
 import math
@@ -37,8 +41,9 @@ def svg_path_data(loops, tol):
 
     One subpath per loop: ``M`` start, then ``L`` (lines), ``Q`` (polynomial
     quadratics), ``C`` (polynomial cubics, and exported cubics of all other pieces),
-    ``Z``.  Every written curve is within ``tol`` (absolute, region units) of its
-    piece: certified cubic bound plus rounding, see the module docstring.
+    ``Z``.  Every written curve is within ``tol`` (absolute, region units; Fréchet
+    distance) of its piece: certified cubic bound plus rounding, see the module
+    docstring.
 
     Raises:
         ValueError: tol <= 0.
