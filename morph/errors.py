@@ -46,3 +46,14 @@ class ToleranceNotMetError(MorphError):
 
 class TopologyError(MorphError):
     """Trimming could not assemble closed boundary loops from the convolution curves."""
+
+
+class LimitError(MorphError, ValueError):
+    """The request is outside what morph computes reliably or within its budgets: a
+    tolerance finer than the coordinates' floating-point resolution or the relative
+    floor, coarser than the shapes, or work beyond the point/memory budget
+    (:mod:`morph.limits`).  ``suggestion`` is a tolerance that would work, if any."""
+
+    def __init__(self, message, suggestion=None):
+        super().__init__(message)
+        self.suggestion = suggestion

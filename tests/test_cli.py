@@ -117,10 +117,10 @@ def test_bad_input_exit_2(runner, tmp_path, args, words):
 
 
 def test_bad_svg_file_exit_2(runner, tmp_path):
-    src = tmp_path / "open.svg"
-    src.write_text('<svg %s><path d="M0 0 L 10 0 L 10 10"/></svg>' % SVG_NS)
+    src = tmp_path / "neg.svg"
+    src.write_text('<svg %s><circle id="c" r="-3"/></svg>' % SVG_NS)
     result = runner.invoke(main, ["outline", str(src), "-o", str(tmp_path / "o.png")])
-    assert result.exit_code == 2 and "open" in one_error_line(result)
+    assert result.exit_code == 2 and "negative r" in one_error_line(result)
 
 
 def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
@@ -133,8 +133,39 @@ def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
     line = one_error_line(result)
     assert "internal error" in line and "kaboom" in line
     monkeypatch.setenv("MORPH_DEBUG", "1")
+    monkeypatch.chdir(tmp_path)
     result = runner.invoke(main, ["outline", "g", "-o", str(tmp_path / "g.png")])
-    assert result.exit_code == 1 and isinstance(result.exception, RuntimeError)
+    assert result.exit_code == 1 and "Traceback" in result.stderr
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("morph: error: internal error in morph outline") and "kaboom" in last
+    saved = tmp_path / "morph-debug-outline.json"
+    assert str(saved) in last
+    import json
+    from morph import piece as pc
+    from morph.parse import glyph_region
+    data = json.loads(saved.read_text())
+    loops = [[np.array(p) for p in loop] for loop in data["shapes"][0]["loops"]]
+    assert pc.region_area(loops) == pc.region_area(glyph_region("g").region)
+
+
+@pytest.mark.parametrize("error", ["TopologyError", "ToleranceNotMetError"])
+def test_engine_failures_are_internal_exit_1(runner, tmp_path, monkeypatch, error):
+    """A failure of the engine is not bad input: exit 1, one line naming the command."""
+    import morph.errors
+
+    def fail(*args, **kwargs):
+        raise getattr(morph.errors, error)("loops do not close")
+
+    import importlib
+    for name in ("morph.minkowski", "morph.trim"):  # wherever the command imports it from
+        try:
+            monkeypatch.setattr(importlib.import_module(name), "minkowski_sum", fail)
+        except ImportError:
+            pass
+    result = runner.invoke(main, ["sum", "T", "o", "-o", str(tmp_path / "s.png")])
+    assert result.exit_code == 1
+    line = one_error_line(result)
+    assert "internal error in morph sum" in line and error in line
 
 
 def test_shared_options_for_new_commands(runner, tmp_path):

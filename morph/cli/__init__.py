@@ -11,19 +11,26 @@ Adding a command (for other engineers)::
 
 ``common_options`` adds ``--font``, ``--tol``, ``-o/--output``, ``--force`` and
 ``--size``; ``shape_argument`` converts an argument with :func:`morph.parse.load_shape`
-into a :class:`Shape`.  Errors: raise :class:`morph.errors.MorphError` (or a click
-usage error) and :func:`main` prints one line ``morph: error: ...`` and exits 2;
-anything else is an internal error, exit 1 (``MORPH_DEBUG=1`` shows the traceback).
+into a :class:`Shape`.  Errors: raise :class:`morph.errors.ParseError`,
+``DegenerateCurveError``, ``LimitError`` (or a click usage error) for bad input and
+:func:`main` prints one line ``morph: error: ...`` and exits 2; ``TopologyError``,
+``ToleranceNotMetError`` and anything else are internal failures, one line naming
+the command, exit 1.  ``MORPH_DEBUG=1`` shows the traceback of an internal failure
+and saves the loaded shapes to ``morph-debug-<command>.json`` in the working folder.
 """
 
+import json
 import os
 import sys
+import traceback
 
 import click
 
 from .. import __version__
-from ..errors import MorphError
-from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, InputError, Shape, ShapeParam,  # noqa: F401 (re-exported)
+from ..errors import DegenerateCurveError, LimitError, ParseError
+from ..limits import memory_budget_bytes
+from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401 (re-exported)
+                      InputError, Shape, ShapeParam,
                       common_options, font_option, force_option, output_option,
                       resolve_output, resolve_output_dir, shape_argument, size_option,
                       tol_option, write_image)
@@ -33,6 +40,8 @@ __all__ = ["main", "Shape", "ShapeParam", "shape_argument", "common_options",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
 _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
+#: MorphErrors that mean bad input (exit 2); other MorphErrors are internal (exit 1)
+BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError)
 
 
 def _error_line(message):
@@ -40,19 +49,72 @@ def _error_line(message):
     click.echo("morph: error: %s" % text, err=True)
 
 
+def _limit_memory():
+    """Set the address-space limit to the memory budget (MemoryError, not the OOM
+    killer); returns a function restoring the previous limit."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not POSIX
+        return lambda: None
+    budget = memory_budget_bytes()
+    try:
+        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        new = budget if hard == resource.RLIM_INFINITY else min(budget, hard)
+        if soft != resource.RLIM_INFINITY and soft <= new:
+            return lambda: None
+        resource.setrlimit(resource.RLIMIT_AS, (new, hard))
+    except (ValueError, OSError):
+        return lambda: None
+
+    def restore():
+        try:
+            resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+        except (ValueError, OSError):
+            pass
+    return restore
+
+
+def _save_debug(command, argv, exc):
+    """Write the loaded shapes (loops of homogeneous control points), the arguments
+    and the error to morph-debug-<command>.json in the working folder; its path."""
+    path = os.path.abspath("morph-debug-%s.json" % command)
+    data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
+            "shapes": [{"arg": s.arg, "info": {k: v for k, v in s.info.items()
+                                                if isinstance(v, (str, int, float, type(None)))},
+                        "loops": [[p.tolist() for p in loop] for loop in s.loops]}
+                       for s in LOADED_SHAPES]}
+    for attr in ("piece", "achieved"):
+        value = getattr(exc, attr, None)
+        if value is not None:
+            data[attr] = value.tolist() if hasattr(value, "tolist") else repr(value)
+    try:
+        with open(path, "w") as fh:
+            json.dump(data, fh)
+    except OSError as err:
+        return "nowhere (%s)" % err
+    return path
+
+
 # =========================================================================== group
 
 class MorphGroup(click.Group):
     """click Group whose ``main`` turns every failure into one stderr line.
 
-    Exit status: 0 success; 2 bad input or usage (MorphError, click usage errors,
-    unwritable output); 1 unexpected internal error (re-raised with MORPH_DEBUG=1).
+    Exit status: 0 success; 2 bad input or usage (ParseError, DegenerateCurveError,
+    LimitError, click usage errors, unwritable output); 1 internal failure
+    (TopologyError, ToleranceNotMetError, any other exception, memory budget
+    exceeded), naming the command; with MORPH_DEBUG=1 the traceback and the inputs
+    saved as JSON.
     """
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True,
              **extra):
         debug = os.environ.get("MORPH_DEBUG", "") not in ("", "0")
         code = 0
+        argv = list(sys.argv[1:] if args is None else args)
+        command = next((a for a in argv if not a.startswith("-")), "morph")
+        del LOADED_SHAPES[:]
+        restore = _limit_memory()
         try:
             rv = super().main(args=args, prog_name=prog_name or "morph",
                               complete_var=complete_var, standalone_mode=False, **extra)
@@ -71,17 +133,24 @@ class MorphGroup(click.Group):
                 msg += " (see '%s --help')" % ctx.command_path
             _error_line(msg)
             code = EXIT_BAD_INPUT
-        except MorphError as exc:
-            if debug:
-                raise
+        except BAD_INPUT_ERRORS as exc:
             _error_line(exc)
             code = EXIT_BAD_INPUT
-        except Exception as exc:  # internal error: one line, not a traceback
-            if debug:
-                raise
-            _error_line("internal error: %s: %s (set MORPH_DEBUG=1 for a traceback)"
-                        % (type(exc).__name__, exc))
+        except MemoryError:
+            _error_line("morph %s ran out of its memory budget (%.1f GB, MORPH_MEMORY_LIMIT): "
+                        "use a coarser --tol" % (command, memory_budget_bytes() / 2 ** 30))
             code = EXIT_INTERNAL
+        except Exception as exc:  # internal failure (MorphError or not): one line
+            where = ""
+            if debug:
+                traceback.print_exc()
+                where = "; inputs saved to %s" % _save_debug(command, argv, exc)
+            _error_line("internal error in morph %s: %s: %s%s"
+                        % (command, type(exc).__name__, exc,
+                           where or " (set MORPH_DEBUG=1 for a traceback and the inputs)"))
+            code = EXIT_INTERNAL
+        finally:
+            restore()
         if standalone_mode:
             sys.exit(code)
         return code

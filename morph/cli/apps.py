@@ -10,7 +10,7 @@ from .shapes import _frame_bbox
 
 def _length_in_units(shape, value):
     """A length given in em for glyphs (x units per em) or user units for SVG."""
-    return shape.tolerance(value)
+    return shape.tolerance(value, check=False)
 
 
 @main.command()
@@ -33,18 +33,19 @@ def offset(shape, radius, font, tol, output, force, size):
       morph offset drawing.svg --radius 5 -o grown.svg
     """
     from ..offset import offset_region
+    from ..piece import circle as pc_circle
 
     if radius < 0:
         raise InputError("negative --radius %g: insets are not supported, only "
                          "outward offsets (radius >= 0)" % radius)
+    if not np.isfinite(radius):
+        raise InputError("--radius must be a finite number, got %s" % radius)
     out = resolve_output(output, "offset-%s.png" % shape.slug, force)
-    t = shape.tolerance(tol)
-    from ..export import split_tolerance
-
-    st, et = split_tolerance(t)  # the offset and the SVG export share --tol
-    loops = offset_region(shape.loops, _length_in_units(shape, radius), st)
+    r = _length_in_units(shape, radius)
+    t = shape.tolerance(tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
+    loops = offset_region(shape.loops, r, t)
     write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.loops, {"fill": "black"})],
-                size=size, tol=et)
+                size=size, tol=t)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
@@ -100,12 +101,9 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     from ..region import region_centroid
 
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
-    t = obstacle.tolerance(tol)
+    t = obstacle.tolerance(tol, robot.loops)
     ref = region_centroid(robot.loops) if reference == "centroid" else (0.0, 0.0)
-    from ..export import split_tolerance
-
-    st, et = split_tolerance(t)  # the sum and the SVG export share --tol
-    loops = cspace_obstacle(obstacle.loops, robot.loops, st, reference=ref)
+    loops = cspace_obstacle(obstacle.loops, robot.loops, t, reference=ref)
     write_image(out, cspace_figure(obstacle.loops, robot.loops, loops, t, samples, ref),
-                size=size, tol=et)
+                size=size, tol=t)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))

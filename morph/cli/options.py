@@ -45,10 +45,24 @@ class Shape:
     def units_per_em(self):
         return self.info.get("units_per_em")
 
-    def tolerance(self, tol):
-        """--tol in the shape's units: em -> font units for glyphs, as is for SVG."""
+    def tolerance(self, tol, *others, check=True):
+        """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
+
+        With ``check`` the tolerance is checked against this shape and the ``others``
+        (regions summed with it, e.g. the other operand or the offset disk) by
+        :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
+        than 1e-12 of the size, larger than the shapes, beyond the point budget:
+        LimitError, one line naming a tolerance that works, exit 2.
+        """
         upm = self.units_per_em
-        return tol * upm if upm else tol
+        t = tol * upm if upm else tol
+        if check:
+            from ..limits import check_tolerance
+
+            what = ("glyph %r" % self.name) if upm else ("SVG %s" % self.name)
+            check_tolerance(t, self.loops, *others, operation=what, unit=upm or 1.0,
+                            unit_name="em" if upm else "user units")
+        return t
 
 
 class ShapeParam(click.ParamType):
@@ -67,10 +81,13 @@ class ShapeParam(click.ParamType):
 
         font = ctx.params.get("font") if ctx is not None else None
         loops, info = load_shape(value, font)
-        return Shape(value, loops, info)
+        shape = Shape(value, loops, info)
+        LOADED_SHAPES.append(shape)  # saved by MORPH_DEBUG=1 on an internal failure
+        return shape
 
 
 SHAPE = ShapeParam()
+LOADED_SHAPES = []
 
 
 def shape_argument(name="shape", **kwargs):
@@ -87,9 +104,22 @@ def font_option(f):
              "Noto Sans Regular (TrueType).")(f)
 
 
+class PositiveFinite(click.FloatRange):
+    """Click type: a float > 0 that is not inf or nan."""
+
+    def __init__(self):
+        super().__init__(min=0.0, min_open=True)
+
+    def convert(self, value, param, ctx):
+        rv = super().convert(value, param, ctx)
+        if rv != rv or rv in (float("inf"), float("-inf")):
+            self.fail("%r is not a finite number" % (value,), param, ctx)
+        return rv
+
+
 def tol_option(f):
     return click.option(
-        "--tol", type=click.FloatRange(min=0.0, min_open=True), default=DEFAULT_TOL,
+        "--tol", type=PositiveFinite(), default=DEFAULT_TOL,
         show_default=True,
         help="Absolute geometric tolerance of curve output: in em for glyphs "
              "(1e-4 em = 0.1 unit at 1000 units per em), in user units for SVG.")(f)
@@ -171,3 +201,19 @@ def write_image(path, shapes, size=512, tol=None, **style):
     except OSError as exc:
         raise click.FileError(str(path), hint=exc.strerror or str(exc)) from exc
     return path
+
+
+def progress_bar(length, label):
+    """A click progress bar on stderr when it is a terminal; otherwise nothing is
+    printed (click would print a stray label line)."""
+    import contextlib
+    import sys
+
+    if sys.stderr.isatty():
+        return click.progressbar(length=length, label=label, file=sys.stderr)
+
+    class _Silent:
+        def update(self, n):
+            pass
+
+    return contextlib.nullcontext(_Silent())
