@@ -4,6 +4,8 @@ A-Z, a-z of both bundled fonts are checked the same way by ``python -m bench.bru
 (bench/brush.md); here a few glyphs, kept cheap.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -191,3 +193,296 @@ def test_cli_brush_composites(tmp_path):
         assert f["glyf"][name].isComposite() == composite, mode
     r = CliRunner().invoke(main, ["brush", "-o", str(tmp_path / "x.ttf"), "--composites", "no"])
     assert r.exit_code == 2
+
+
+# =========================================================================== issue 16
+
+import ots  # noqa: E402 - the issue-16 tests below
+import uharfbuzz as hb  # noqa: E402
+from fontTools.pens.recordingPen import DecomposingRecordingPen  # noqa: E402
+
+from morph.errors import TopologyError  # noqa: E402
+from morph.fonts import jobs as jobs_mod  # noqa: E402
+from morph.fonts.tables import outline_glyphs  # noqa: E402
+from tests.fontfixtures import WIDE, bounds, build_mark_font, build_variable_font  # noqa: E402
+
+
+def assert_ots(path):
+    r = ots.sanitize(str(path), capture_output=True)
+    assert r.returncode == 0, (r.stdout + r.stderr).decode(errors="replace")
+
+
+def contour_points(font, name):
+    """Every contour of a glyph as its list of points in order (on- and off-curve),
+    closing point not repeated, drawn through the glyph set (components decomposed)."""
+    pen = DecomposingRecordingPen(font.getGlyphSet())
+    font.getGlyphSet()[name].draw(pen)
+    contours, cur = [], None
+    for op, args in pen.value:
+        if op == "moveTo":
+            cur = [args[0]]
+        elif op in ("lineTo", "qCurveTo", "curveTo"):
+            cur.extend(a for a in args if a is not None)
+        elif op in ("closePath", "endPath"):
+            if len(cur) > 1 and cur[-1] == cur[0]:
+                cur.pop()
+            contours.append(cur)
+    return contours
+
+
+def assert_clean_outlines(font, names):
+    """No zero-length segment and no repeated point in any contour; no two segments
+    of a glyph between the same two on-curve points (fontbakery's check)."""
+    for name in names:
+        for pts in contour_points(font, name):
+            for a, b in zip(pts, pts[1:] + pts[:1]):
+                assert a != b, (name, a)
+
+
+@pytest.fixture(scope="module")
+def mark_font(tmp_path_factory):
+    return build_mark_font(tmp_path_factory.mktemp("marks") / "Marks.ttf")
+
+
+def _shape(path, text):
+    """(glyph name, x, y) of each glyph of ``text`` shaped by HarfBuzz (pen positions)."""
+    font = TTFont(str(path))
+    order = font.getGlyphOrder()
+    hbf = hb.Font(hb.Face(hb.Blob.from_file_path(str(path))))
+    buf = hb.Buffer()
+    buf.add_str(text)
+    buf.guess_segment_properties()
+    hb.shape(hbf, buf)
+    out, x = [], 0
+    for info, pos in zip(buf.glyph_infos, buf.glyph_positions):
+        out.append((order[info.codepoint], x + pos.x_offset, pos.y_offset))
+        x += pos.x_advance
+    return font, out
+
+
+def _centres(path, text):
+    font, shaped = _shape(path, text)
+    cs = []
+    for name, x, y in shaped:
+        x0, y0, x1, y1 = bounds(font, name)
+        cs.append((x + (x0 + x1) / 2.0, y + (y0 + y1) / 2.0))
+    return np.array(cs), [s[0] for s in shaped]
+
+
+@pytest.mark.parametrize("glyphs", [["e", "o", "acutecomb", "gravecomb"], ["e", "o"]],
+                         ids=["marks-swept", "marks-not-swept"])
+def test_gpos_marks_stay_centred(mark_font, tmp_path, glyphs):
+    """é = e + U+0301 (+ U+0300 stacked by mkmk) shaped by HarfBuzz on the written font:
+    each mark keeps its offset from the base's centre within 2 units (the anchors
+    moved with the sweep), whether the marks were swept or not."""
+    out = tmp_path / "m.ttf"
+    stats = brush_font(str(mark_font), out, ellipse_nib(*NIB), glyphs, tol=0.5)
+    assert stats["anchors"] > 0 and not stats["fallback"]
+    text = "e\u0301\u0300"
+    before, names = _centres(mark_font, text)
+    after, names_after = _centres(out, text)
+    assert names == names_after == ["e", "acutecomb", "gravecomb"]
+    for k in (1, 2):
+        shift = (after[k] - after[0]) - (before[k] - before[0])
+        assert np.abs(shift).max() <= 2.0, (k, before, after)
+    assert abs(after[1][0] - after[0][0]) <= 2.0  # the acute was centred: it still is
+    b = TTFont(str(out))
+    assert b["hmtx"]["acutecomb"][0] == 0  # zero-width marks stay zero-width
+    assert_ots(out)
+
+
+def test_fallback_keeps_the_font(tmp_path, monkeypatch):
+    """A glyph whose sum raises is written by the polygon fallback (within 1 unit of
+    glyph ⊕ nib), named in the result; if that fails too it is left as in the source;
+    the CLI writes the font and exits 1 naming it."""
+    import morph.trim
+
+    real = morph.trim.minkowski_sum
+
+    def flaky(a, b, tol, **kw):
+        if len(a) == 2:  # 'o' (two loops) fails, 'T' (one loop) works
+            raise TopologyError("no closed loop (test)")
+        return real(a, b, tol, **kw)
+
+    monkeypatch.setattr(morph.trim, "minkowski_sum", flaky)
+    src, out = default_font_path(), tmp_path / "f.ttf"
+    stats = brush_font(src, out, ellipse_nib(*NIB), ["o", "T"], tol=0.5)
+    assert list(stats["fallback"]) == ["o"]
+    kind, error = stats["fallback"]["o"]
+    assert kind == "polygon" and "TopologyError" in error
+    _assert_sum(src, out, "o")
+    _assert_sum(src, out, "T")
+    assert_clean_outlines(TTFont(str(out)), ["o", "T"])
+
+    r = CliRunner().invoke(main, ["brush", "-o", str(tmp_path / "c.ttf"), "--glyphs", "o,T",
+                                  "--jobs", "1", "--sample", "oT"])
+    assert r.exit_code == 1, r.output
+    assert (tmp_path / "c.ttf").stat().st_size > 0 and (tmp_path / "c.html").exists()
+    line = [s for s in r.output.splitlines() if s.startswith("morph: error:")]
+    assert len(line) == 1 and "o (polygon sum" in line[0] and "T (" not in line[0]
+
+    def broken(*args, **kw):
+        raise ValueError("no polygon either (test)")
+
+    monkeypatch.setattr(jobs_mod, "polygon_sum", broken)
+    stats = brush_font(src, tmp_path / "g.ttf", ellipse_nib(*NIB), ["o"], tol=0.5)
+    assert stats["fallback"]["o"][0] == "source"
+    a, b = TTFont(src), TTFont(str(tmp_path / "g.ttf"))
+    assert b["hmtx"]["o"] == a["hmtx"]["o"] and bounds(b, "o") == bounds(a, "o")
+
+
+def test_jobs_give_the_same_font(tmp_path):
+    """--jobs 2 (a process pool) writes the same outlines, metrics and anchors as 1."""
+    outs = []
+    for jobs in (1, 2):
+        out = tmp_path / ("j%d.ttf" % jobs)
+        brush_font(default_font_path(), out, ellipse_nib(*NIB), list("oTgSWe"), tol=0.5,
+                   jobs=jobs)
+        outs.append(TTFont(str(out)))
+    a, b = outs
+    for tag in ("glyf", "hmtx", "OS/2", "hhea", "name", "GPOS"):
+        assert a.getTableData(tag) == b.getTableData(tag) or \
+            a[tag].compile(a) == b[tag].compile(b), tag
+
+
+def test_tables_after_brush(brushed):
+    """xAvgCharWidth recomputed, vertical metrics grown by the nib, coherent names,
+    clean contours, and OTS accepts the font."""
+    src, out = brushed
+    a, b = TTFont(str(src)), TTFont(str(out))
+    widths = [w for w, _ in b["hmtx"].metrics.values() if w > 0]
+    assert b["OS/2"].xAvgCharWidth == round(sum(widths) / len(widths))
+    _, y0, _, y1 = region_extent(ellipse_nib(*NIB))
+    up, down = int(np.ceil(y1)), int(np.ceil(-y0))
+    assert b["hhea"].ascent == a["hhea"].ascent + up
+    assert b["hhea"].descent == a["hhea"].descent - down
+    assert b["OS/2"].sTypoAscender == a["OS/2"].sTypoAscender + up
+    assert b["OS/2"].usWinDescent == a["OS/2"].usWinDescent + down
+    for name in CHARS:
+        gy0, gy1 = bounds(b, b.getBestCmap()[ord(name)])[1::2]
+        assert gy1 <= b["OS/2"].usWinAscent and -gy0 <= b["OS/2"].usWinDescent
+    n = b["name"]
+    assert (n.getDebugName(1), n.getDebugName(2), n.getDebugName(4), n.getDebugName(6)) == \
+        ("Test Brush", "Regular", "Test Brush Regular", "TestBrush-Regular")
+    assert n.getDebugName(16) is None and n.getDebugName(17) is None
+    if a["name"].getDebugName(25):  # variations PostScript prefix: follows the family
+        assert n.getDebugName(25) == "TestBrush"
+    assert_clean_outlines(b, [b.getBestCmap()[ord(c)] for c in CHARS])
+    assert_ots(out)
+
+
+def test_clean_contours_m(tmp_path):
+    """Issue 16: brushed 'm' had a zero-length segment (three equal points)."""
+    out = tmp_path / "m.ttf"
+    brush_font(default_font_path(), out, ellipse_nib(*NIB), ["m", "n", "h"], tol=0.5)
+    assert_clean_outlines(TTFont(str(out)), ["m", "n", "h"])
+
+
+def test_woff2_output(tmp_path):
+    out = tmp_path / "w.woff2"
+    brush_font(default_font_path(), out, ellipse_nib(*NIB), ["T"], tol=0.5)
+    f = TTFont(str(out))
+    assert f.flavor == "woff2" and f["hmtx"]["T"][0] > TTFont(default_font_path())["hmtx"]["T"][0]
+    assert_ots(out)
+
+
+def test_base_not_chosen_is_swept(tmp_path):
+    """ï = dotlessi + dieresis: with only 'i' chosen, dotlessi is swept too so that ï
+    (and ì í î) follow; they are named in the result."""
+    src, out = default_font_path(), tmp_path / "i.ttf"
+    a = TTFont(src)
+    cmap = a.getBestCmap()
+    base = a["glyf"][cmap[ord("ï")]].components[0].glyphName
+    stats = brush_font(src, out, ellipse_nib(*NIB), ["i"], tol=0.5)
+    assert set(stats["base_not_chosen"]) == {base}
+    assert cmap[ord("ï")] in stats["base_not_chosen"][base]
+    b = TTFont(str(out))
+    for ch in "ìíîï":
+        name = cmap[ord(ch)]
+        assert b["glyf"][name].isComposite()
+        assert b["hmtx"][name][0] == b["hmtx"]["i"][0]
+    x0, _, x1, _ = region_extent(ellipse_nib(*NIB))
+    (p0, _, p1, _), (q0, _, q1, _) = bounds(a, base), bounds(b, base)
+    assert abs((q1 - q0) - (p1 - p0) - (x1 - x0)) <= 1  # dotlessi swept
+    assert_ots(out)
+
+
+def test_default_glyph_set_is_every_outline():
+    a = TTFont(default_font_path())
+    names = outline_glyphs(a)
+    glyf = a["glyf"]
+    assert "A" in names and "space" not in names and "eacute" not in names  # composite
+    assert all(glyf[n].numberOfContours > 0 for n in names)
+    assert len(names) == sum(1 for n in a.getGlyphOrder() if glyf[n].numberOfContours > 0)
+    b = TTFont(cubic_test_font_path())
+    cff_names = outline_glyphs(b)
+    assert "A" in cff_names and "space" not in cff_names and "eacute" in cff_names
+
+
+@pytest.fixture(scope="module")
+def variable_font(tmp_path_factory):
+    return build_variable_font(tmp_path_factory.mktemp("var"))
+
+
+def test_variable_font_at_location(variable_font, tmp_path):
+    """A variable font is brushed at --location (default: the default instance); the
+    output is static."""
+    nib = ellipse_nib(*NIB)
+    x0, _, x1, _ = region_extent(nib)
+    src = TTFont(default_font_path())
+    for loc, scale in ((None, 1.0), ({"wght": 700}, WIDE), ("wght=550", None)):
+        out = tmp_path / "v.ttf"
+        brush_font(str(variable_font), out, nib, ["o"], tol=0.5, location=loc)
+        b = TTFont(str(out))
+        assert "fvar" not in b and "gvar" not in b
+        if scale is not None:
+            assert b["hmtx"]["o"][0] == round(round(src["hmtx"]["o"][0] * scale) + x1 - x0)
+        assert_ots(out)
+    r = CliRunner().invoke(main, ["brush", str(variable_font), "-o", str(tmp_path / "c.ttf"),
+                                  "--glyphs", "o", "--location", "wght=900"])
+    assert r.exit_code == 2 and "wght 400..700" in r.output
+
+
+def test_location_for_glyph_commands(variable_font, tmp_path):
+    """sum/glyph/outline read glyphs at --location (fontTools instancer)."""
+    from morph.parse import glyph_region as gr
+
+    w0 = region_extent(gr("o", font=str(variable_font)).region)
+    w1 = region_extent(gr("o", font=str(variable_font), location="wght=700").region)
+    assert (w1[2] - w1[0]) == pytest.approx((w0[2] - w0[0]) * WIDE, abs=2)
+    out = tmp_path / "s.svg"
+    r = CliRunner().invoke(main, ["sum", "o", "l", "--font", str(variable_font),
+                                  "--location", "wght=700", "-o", str(out), "--tol", "1e-3"])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["outline", "o", "--location", "wght=700",
+                                  "-o", str(tmp_path / "x.png")])
+    assert r.exit_code == 2 and "not a variable font" in r.output
+    r = CliRunner().invoke(main, ["outline", "o", "--font", str(variable_font),
+                                  "--location", "wght700", "-o", str(tmp_path / "y.png")])
+    assert r.exit_code == 2 and "wght=700" in r.output
+
+
+def _fontbakery(path):
+    """{(check id, status)} of the WARN/FAIL/ERROR results of check-universal."""
+    import json
+    import subprocess
+    import sys
+
+    report = Path(str(path) + ".json")
+    subprocess.run([sys.executable, "-m", "fontbakery", "check-universal", "--skip-network",
+                    "-l", "WARN", "--json", str(report), str(path)],
+                   capture_output=True, check=False, timeout=300)
+    data = json.loads(report.read_text())
+    return {(c["key"][1], c["result"]) for s in data["sections"] for c in s["checks"]
+            if c["result"] in ("WARN", "FAIL", "ERROR", "FATAL")}
+
+
+@pytest.mark.slow
+def test_fontbakery_adds_nothing(mark_font, tmp_path):
+    """fontbakery check-universal: the brushed font has no FAIL or WARN the source lacks."""
+    pytest.importorskip("fontbakery")
+    out = tmp_path / "FB.ttf"
+    brush_font(str(mark_font), out, ellipse_nib(*NIB), list("AHOVamneosg") + ["acutecomb"],
+               tol=0.5)
+    before, after = _fontbakery(mark_font), _fontbakery(out)
+    assert after - before == set(), sorted(after - before)

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from . import main
-from .options import EXIT_INTERNAL, LOCATION_HELP, InputError, resolve_output
+from .options import EXIT_INTERNAL, LOCATION_HELP, InputError, progress_bar, resolve_output
 
 
 def _parse_nib(spec):
@@ -87,10 +87,12 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
 
     from fontTools.ttLib import TTFont
 
-    from ..fonts.brush import brush_font, ellipse_nib, open_source, parse_glyph_spec
+    from ..errors import MorphError
+    from ..fonts.brush import (brush_font, check_convex_nib, ellipse_nib, open_source,
+                               parse_glyph_spec)
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import specimen_path, write_specimen
-    from ..fonts.tables import FONT_SUFFIXES, font_bytes
+    from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
     from ..parse import default_font_path, svg_region
 
     src = default_font_path() if font_file in (None, "default") else font_file
@@ -101,10 +103,11 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     for extra in (png, page):
         if extra.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % extra)
-    if nib_svg:
-        nib_region = svg_region(nib_svg)
-    else:
-        nib_region = ellipse_nib(*_parse_nib(nib))
+    try:
+        nib_region = svg_region(nib_svg) if nib_svg else ellipse_nib(*_parse_nib(nib))
+        check_convex_nib(nib_region)
+    except MorphError as exc:  # a bad nib is bad input (exit 2)
+        raise InputError(str(exc)) from exc
     items = None if glyphs.strip().lower() == "all" else parse_glyph_spec(glyphs)
     if items is not None and not items:
         raise InputError("--glyphs selects no glyph")
@@ -113,8 +116,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     upm = source["head"].unitsPerEm
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    total = len(items) if items is not None else None
-    with click.progressbar(length=total or 0, label="glyphs", file=sys.stderr) as bar:
+    total = len(items) if items is not None else len(outline_glyphs(source))
+    with progress_bar(total, "glyphs") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), composites=composites,
                            jobs=jobs)

@@ -80,7 +80,8 @@ class ShapeParam(click.ParamType):
         from ..parse import load_shape
 
         font = ctx.params.get("font") if ctx is not None else None
-        loops, info = load_shape(value, font)
+        location = ctx.meta.get("morph.location") if ctx is not None else None
+        loops, info = load_shape(value, font, location)
         shape = Shape(value, loops, info)
         LOADED_SHAPES.append(shape)  # saved by MORPH_DEBUG=1 on an internal failure
         return shape
@@ -97,7 +98,22 @@ def shape_argument(name="shape", **kwargs):
 
 # =========================================================================== options
 
+LOCATION_HELP = ("Instance of a variable font, e.g. wght=700,wdth=90 (fontTools instancer; "
+                 "axes not given take their default). Default: the default instance.")
+
+
+def _remember_location(ctx, param, value):
+    from ..parse import parse_location
+
+    ctx.meta["morph.location"] = parse_location(value)  # ParseError: one line, exit 2
+    return value
+
+
 def font_option(f):
+    """--font and --location (eager: known before the shape arguments are loaded)."""
+    f = click.option("--location", default=None, is_eager=True, expose_value=False,
+                     callback=_remember_location, metavar="TAG=VALUE,...",
+                     help=LOCATION_HELP)(f)
     return click.option(
         "--font", type=click.Path(dir_okay=False), default=None, is_eager=True,
         help="Font file (TrueType/OpenType) for glyph shapes. Default: the bundled "

@@ -6,37 +6,66 @@ sum is computed with :func:`morph.trim.minkowski_sum` within ``tol / 2`` and its
 rational pieces are converted to the font's curve type within ``tol / 2``
 (TrueType: quadratics, :func:`morph.export.piece_to_quadratics`; CFF: cubics,
 :func:`morph.export.piece_to_cubics`), both with certified bounds, so each written
-outline is within ``tol`` font units of the exact glyph ⊕ nib.
+outline is within ``tol`` font units of the exact glyph ⊕ nib before the points are
+rounded to the integer grid (at most 0.71 unit more; see
+:func:`morph.fonts.tables.clean_contour` for the clean-up of rounded contours).
 
-Metrics: the outline is shifted right by the nib's left extent (so it starts no
-further left of the origin than the original glyph did) and the advance width grows
-by the nib's width.  Contours are written clockwise-outside for TrueType and
-counter-clockwise-outside for CFF.  The result is a trimmed boundary: no overlapping
-contours are left.
+**Fallback.**  A glyph whose sum raises (a :class:`morph.errors.MorphError` such as
+``TopologyError``, or any other exception) does not stop the font: it is computed
+again by :func:`morph.fonts.jobs.polygon_sum` (the glyph and the nib flattened
+within ``tol / 2`` each and summed exactly by Clipper: within ``tol`` of the exact
+sum, but written as short lines, not curves).  Should that fail too, the glyph is
+left as in the source (metrics and anchors unchanged).  Either way it is listed in
+the result's ``fallback`` (name -> (kind, error)); ``morph brush`` writes the font
+and then names them on one line with exit status 1.
 
-Composite glyphs (TrueType; e.g. eacute = e + acute).  A chosen composite is
+**Metrics and anchors.**  Every swept glyph is shifted right by the nib's left
+extent (so it starts no further left of the origin than the original glyph did);
+the advance width grows by the nib's width, except for zero-width glyphs
+(combining marks), which stay zero-width.  The pen point of the nib, which draws
+the glyph's own outline, moves with it to ``t = (shift + nib centre x, nib centre
+y)``: GPOS anchors (mark, base, ligature, mark-to-mark, cursive) of every swept or
+following glyph move by ``t`` (:func:`morph.fonts.tables.move_anchors`), so a mark
+keeps its place relative to its base whether the mark itself was swept or not
+(é stays centred).  Vertical metrics grow by the nib's extent above and below its
+pen point (:func:`morph.fonts.tables.grow_vertical_metrics`), OS/2 xAvgCharWidth is
+recomputed, and the family is renamed with coherent name IDs
+(:func:`morph.fonts.tables.rename_family`).
+
+**Glyph set.**  By default every glyph drawn by its own contours
+(:func:`morph.fonts.tables.outline_glyphs`); composites follow (below).
+
+**Composite glyphs** (TrueType; e.g. eacute = e + acute).  A chosen composite is
 decomposed and swept as a whole (it becomes a simple glyph, accent brushed too).  A
 composite that is not chosen but uses a swept glyph keeps its components (the default
 ``composites="follow"``): its advance width grows by the nib's width like the swept
-base's, and each component that was not swept (the accent) moves by the translation
-of the nib's centre, (nib width / 2, nib centre y), i.e. to where the centre of its own
-swept version would be, so it stays centred over the widened base.  Composites with a
-scaled / flipped component or one placed by anchor points cannot follow (the swept
-outline would be transformed with its nib, or the point numbers changed): they are
-decomposed and swept; ``composites="sweep"`` does that for all of them.  CFF fonts
-have no composites; seac accented glyphs are not handled (they would follow the
-base without metric changes).  GPOS mark anchors are not moved.
+base's, and each component that was not swept (the accent) moves by ``t``, i.e. to
+where its own swept version would be, so it stays centred over the widened base
+(when every component is swept, the composite *is* the sum of its decomposed
+outline: Minkowski sums distribute over unions).  Composites with a scaled / flipped
+component or one placed by anchor points cannot follow (the swept outline would be
+transformed with its nib, or the point numbers changed): they are decomposed and
+swept; ``composites="sweep"`` does that for all of them.  A composite whose
+components were not chosen but whose Unicode base letter was (ï = dotlessi +
+dieresis when i is chosen) would stay light: its base glyph (its first component,
+dotlessi) is swept too, so that it follows; such bases are listed in
+``base_not_chosen``.  CFF fonts have no composites; seac accented glyphs are not
+handled.
+
+**Variable fonts** are brushed at one instance (``location``, default: the default
+instance), made static by :func:`morph.parse.instantiate_font`.
 """
 
 import re
+import unicodedata
 
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError
+from ..errors import MorphError, ParseError
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
-           "region_extent"]
+           "region_extent", "sweep_glyph"]
 
 
 def ellipse_nib(width, height, angle_deg=0.0):
@@ -90,98 +119,8 @@ def _glyph_name(font, item):
     else:
         name = item if item in set(font.getGlyphOrder()) else None
     if name is None:
-        raise MorphError("the font has no glyph for %r" % item)
+        raise ParseError("the font has no glyph for %r" % item, item)
     return name
-
-
-def _reverse_loop(loop):
-    return [pc.reverse(p) for p in reversed(loop)]
-
-
-def _draw(pen, loops, tol, quadratic):
-    """Draw loops (ours: outer counter-clockwise) as polynomial contours on a pen.
-
-    TrueType (``quadratic``): quadratics, outer contours clockwise (loops reversed);
-    CFF: cubics, outer contours counter-clockwise, as ours.  Lines stay lines.
-    """
-    from ..export import piece_to_cubics, piece_to_quadratics
-
-    convert = piece_to_quadratics if quadratic else piece_to_cubics
-    for loop in loops:
-        if quadratic:
-            loop = _reverse_loop(loop)
-        segs = []
-        for p in loop:
-            if pc.degree(p) == 1 and pc.is_polynomial(p):
-                segs.append(pc.cartesian(p))
-            else:
-                segs.extend(np.asarray(q, float) for q in convert(p, tol))
-        _emit(pen, segs, quadratic)
-
-
-def _emit(pen, segs, quadratic):
-    """Draw a closed contour of polynomial segments ((k, 2) control points)."""
-    segs = [s for s in segs if np.hypot(*(s[-1] - s[0])) > 0 or len(s) > 2]
-    if not segs:
-        return
-    start = segs[0][0]
-    pen.moveTo(tuple(map(float, start)))
-    for s in segs:
-        pts = [tuple(map(float, q)) for q in s[1:]]
-        if len(s) == 2:
-            pen.lineTo(pts[0])
-        elif quadratic:
-            pen.qCurveTo(*pts)
-        else:
-            pen.curveTo(*pts)
-    pen.closePath()
-
-
-class _TrueTypeOutlines:
-    """Writes glyph outlines into the ``glyf`` table (quadratic contours)."""
-
-    quadratic = True
-
-    def __init__(self, font):
-        self.glyf = font["glyf"]
-        self.glyph_set = font.getGlyphSet()
-
-    def pen(self, advance):
-        from fontTools.pens.ttGlyphPen import TTGlyphPen
-
-        return TTGlyphPen(self.glyph_set)
-
-    def store(self, name, pen, drawn):
-        """Store the pen's glyph; return the new left side bearing."""
-        g = pen.glyph()
-        self.glyf[name] = g
-        g.recalcBounds(self.glyf)
-        return g.xMin if drawn else 0
-
-
-class _CFFOutlines:
-    """Writes glyph outlines into the ``CFF `` table (Type 2 charstrings, cubic)."""
-
-    quadratic = False
-
-    def __init__(self, font):
-        self.cff = font["CFF "].cff
-        top = self.cff.topDictIndex[0]
-        self.char_strings = top.CharStrings
-        self.private = top.Private
-        self.nominal = getattr(self.private, "nominalWidthX", 0) or 0
-
-    def pen(self, advance):
-        from fontTools.pens.t2CharStringPen import T2CharStringPen
-
-        return T2CharStringPen(advance - self.nominal, None)
-
-    def store(self, name, pen, drawn):
-        """Store the pen's charstring; return the new left side bearing."""
-        cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
-        self.char_strings[name] = cs
-        bounds = cs.calcBounds(self.char_strings) if drawn else None
-        return int(np.floor(bounds[0])) if bounds else 0
 
 
 def _rigid(component):
@@ -221,18 +160,42 @@ def composite_plan(font, swept, composites="follow"):
     return follow, sweep
 
 
+def _base_not_chosen(font, swept, planned):
+    """Base glyphs to sweep for composites untouched by the plan whose Unicode base
+    letter's glyph is swept: ï = dotlessi + dieresis when i is swept but dotlessi is
+    not.  Returns {base glyph: [composites]}, the base glyph being the composite's
+    first component (followed down to a simple glyph)."""
+    if "glyf" not in font:
+        return {}
+    glyf, cmap = font["glyf"], font.getBestCmap() or {}
+    swept, planned = set(swept), set(planned)
+    out = {}
+    for code, name in sorted(cmap.items()):
+        if name in planned or name in swept or not glyf[name].isComposite():
+            continue
+        base = unicodedata.normalize("NFD", chr(code))[0]
+        if base == chr(code) or cmap.get(ord(base)) not in swept:
+            continue
+        first = name
+        while glyf[first].isComposite():
+            first = glyf[first].components[0].glyphName
+        if first not in swept:
+            out.setdefault(first, []).append(name)
+    return out
+
+
 def _follow_composites(font, follow, moved, offset, nib_w):
     """Adjust composites that keep their components (TrueType only).
 
-    Each composite grows by the nib's width like its swept components, and every
-    component that was not swept (an accent over a swept base) moves by ``offset``,
-    the translation of the nib's centre in the swept glyphs: where the centre of its
-    own swept version would be, so it stays centred over its base.
+    Each composite grows by the nib's width like its swept components (zero-width
+    composites stay so), and every component that was not swept (an accent over a
+    swept base) moves by ``offset``, the pen point's translation in the swept glyphs:
+    where its own swept version would be, so it stays centred over its base.
     """
     if not follow:
         return
     glyf, hmtx = font["glyf"], font["hmtx"]
-    dx, dy = (int(round(v)) for v in offset)
+    dx, dy = offset
     for n in follow:
         g = glyf[n]
         for c in g.components:
@@ -241,139 +204,173 @@ def _follow_composites(font, follow, moved, offset, nib_w):
                 c.y += dy
         g.recalcBounds(glyf)
         adv, _ = hmtx[n]
-        hmtx[n] = (int(round(adv + nib_w)), int(getattr(g, "xMin", 0)))
+        hmtx[n] = (_new_advance(adv, nib_w), int(getattr(g, "xMin", 0)))
 
 
-def _rename(font, family):
-    name = font["name"]
-    style = name.getDebugName(2) or "Regular"
-    ps = re.sub(r"[^A-Za-z0-9-]", "", family.replace(" ", "")) + "-" + \
-        re.sub(r"[^A-Za-z0-9]", "", style)
-    full = "%s %s" % (family, style) if style != "Regular" else family
-    for rec in list(name.names):
-        if rec.nameID in (1, 16):
-            rec.string = family
-        elif rec.nameID == 4:
-            rec.string = full
-        elif rec.nameID == 6:
-            rec.string = ps
-        elif rec.nameID == 3:
-            rec.string = "%s;%s" % (ps, "morph-brush")
-        elif rec.nameID == 21:
-            rec.string = family
-    for nid, text in ((1, family), (4, full), (6, ps)):
-        if name.getName(nid, 3, 1, 0x409) is None:
-            name.setName(text, nid, 3, 1, 0x409)
-    if "CFF " in font:
-        cff = font["CFF "].cff
-        cff.fontNames = [ps]
-        top = cff.topDictIndex[0]
-        top.FamilyName = family
-        top.FullName = full
+def _new_advance(adv, nib_w):
+    return int(round(adv + nib_w)) if adv > 0 else adv
 
 
-def brush_font(font_path, out_path, nib_region, glyphs, tol=0.5, family_name=None,
-               progress=None, method="qac", composites="follow"):
-    """Write a copy of the font with each chosen glyph replaced by glyph ⊕ nib.
+def sweep_glyph(job):
+    """One glyph's outline: (glyph ⊕ nib) shifted, as integer contours, with fallbacks.
 
-    ``font_path``: a TrueType (glyf) or CFF OpenType font (None: the bundled font).
-    ``nib_region``: a convex region in font units (e.g. :func:`ellipse_nib`).
-    ``glyphs``: characters or glyph names; a chosen composite glyph is decomposed and
-    swept as a whole.  ``tol``: total outline tolerance in font units (half for the
-    sum, half for the curve conversion).  ``family_name``: the new family name
-    (default: "<family> Brush").  ``progress(name)`` is called after each chosen
-    glyph.  ``composites``: what happens to TrueType composites that are not chosen
-    but use a swept glyph (e.g. eacute = e + acute when e is swept): "follow" (they
-    stay composites, grow by the nib width and their unswept components move with
-    the nib's centre, see :func:`composite_plan`) or "sweep" (decomposed and swept
-    too).  Returns a dict of statistics: glyphs (chosen, swept), contours, segments,
-    followed and decomposed (composites not chosen).
+    ``job``: ``(name, region, nib, tol, method, offset, quadratic)`` (``tol`` the
+    total in font units, half for the sum and half for the curve conversion).
+    Returns ``(name, contours, kind, error)``: ``kind`` "exact" (``error`` None),
+    "polygon" (the sum raised ``error``; contours from
+    :func:`morph.fonts.jobs.polygon_sum`) or "source" (that failed too: contours
+    None, the glyph stays as it is).  Module-level, so it runs in worker processes.
+    """
+    from ..trim import minkowski_sum
+    from .jobs import polygon_sum, polylines_to_contours
+    from .tables import contours_from_loops
 
-    Raises:
-        MorphError: non-convex nib, variable font, a glyph missing from the font, a
-            sum that fails (the message names the glyph).
+    name, region, nib, tol, method, offset, quadratic = job
+    if not region:
+        return name, [], "exact", None
+    try:
+        loops = minkowski_sum(region, nib, tol / 2.0, method=method)
+        return name, contours_from_loops(loops, tol / 2.0, quadratic, offset), "exact", None
+    except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
+        error = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
+    try:
+        polys = polygon_sum(region, nib, tol)
+        return name, polylines_to_contours(polys, quadratic, offset), "polygon", error
+    except Exception as exc:  # noqa: BLE001
+        error += "; polygon fallback: %s: %s" % (type(exc).__name__, exc)
+        return name, None, "source", error
+
+
+def _source_region(font, name):
+    from ..parse import glyph_region
+
+    if len(name) > 1:
+        return glyph_region(name, font=font).region
+    # glyph_region reads a 1-character string as a character: use a character that
+    # maps to this very glyph
+    chars = [chr(c) for c, g in (font.getBestCmap() or {}).items() if g == name]
+    if not chars:
+        raise MorphError("cannot address glyph %r by character or name" % name)
+    return glyph_region(chars[0], font=font).region
+
+
+def open_source(font_path, location=None):
+    """The font to brush: a static ``TTFont`` (a variable font at ``location``).
+
+    ``font_path``: a path, a ``TTFont`` (used as it is, and changed by
+    :func:`brush_font`), or None for the bundled font.
     """
     from fontTools.ttLib import TTFont
 
-    from ..parse import default_font_path, glyph_region
-    from ..trim import minkowski_sum
+    from ..parse import default_font_path, instantiate_font
 
-    if font_path is None:
-        font_path = default_font_path()
-    check_convex_nib(nib_region)
-    font = TTFont(str(font_path))
-    if "fvar" in font:
-        raise MorphError("variable fonts are not supported: instantiate one style first "
-                         "(fontTools.varLib.instancer)")
-    if "glyf" in font:
-        outlines = _TrueTypeOutlines(font)
-    elif "CFF " in font:
-        outlines = _CFFOutlines(font)
+    if hasattr(font_path, "getGlyphSet"):
+        font = font_path
     else:
-        raise MorphError("font %s has neither TrueType (glyf) nor CFF outlines" % font_path)
+        font = TTFont(str(default_font_path() if font_path is None else font_path))
+    if "fvar" in font or location:
+        font = instantiate_font(font, location)
+    return font
+
+
+def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
+               progress=None, method="qac", composites="follow", location=None, jobs=1):
+    """Write a copy of the font with each chosen glyph replaced by glyph ⊕ nib.
+
+    ``font_path``: a TrueType (glyf) or CFF OpenType font, a ``TTFont`` (changed in
+    place), or None (the bundled font); a variable font is brushed at ``location``
+    (dict or "wght=700", default: the default instance).  ``nib_region``: a convex
+    region in font units (e.g. :func:`ellipse_nib`).  ``glyphs``: characters or glyph
+    names (a chosen composite is decomposed and swept as a whole); None: every glyph
+    with an outline.  ``tol``: total outline tolerance in font units (half for the
+    sum, half for the curve conversion).  ``family_name``: the new family name
+    (default: "<family> Brush").  ``progress(name)`` is called after each swept
+    glyph.  ``composites``: "follow" or "sweep" (see the module docstring).  ``jobs``:
+    processes computing the sums (:func:`morph.fonts.jobs.run_jobs`; the result does
+    not depend on it).  ``out_path``: .ttf/.otf/.woff2/.woff (the flavor; the outline
+    format is the source's).
+
+    Returns a dict of statistics: glyphs (chosen, swept), contours, segments,
+    followed and decomposed (composites not chosen), base_not_chosen (base glyph ->
+    composites: bases swept because the composites' Unicode base letter was chosen),
+    anchors (moved), fallback
+    (name -> (kind, error) for glyphs that fell back, see the module docstring).
+
+    Raises:
+        MorphError: non-convex nib, a glyph missing from the font, a bad location, a
+            font without TrueType or CFF outlines.
+    """
+    from .jobs import run_jobs
+    from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_glyphs,
+                         outline_writer, rename_family, save_font)
+
+    check_convex_nib(nib_region)
+    font = open_source(font_path, location)
+    writer = outline_writer(font)
     nx0, ny0, nx1, ny1 = region_extent(nib_region)
     nib_w = nx1 - nx0
     shift = -nx0  # glyph ⊕ nib starts -nx0 further left: move it back
-    names = []
-    for item in glyphs:
-        n = _glyph_name(font, item)
-        if n not in names:
-            names.append(n)
+    # the pen point's image (anchors, unswept components), on the integer grid
+    pen_move = (int(round(shift + (nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
+    if glyphs is None:
+        names = outline_glyphs(font)
+    else:
+        names = []
+        for item in glyphs:
+            n = _glyph_name(font, item)
+            if n not in names:
+                names.append(n)
     follow, extra = composite_plan(font, names, composites)
+    unchosen = _base_not_chosen(font, names, follow + extra)
+    if unchosen:  # sweep their base glyphs too, so that they follow
+        follow, extra = composite_plan(font, names + list(unchosen), composites)
+        extra = list(unchosen) + extra
     if family_name is None:
-        family_name = "%s Brush" % (font["name"].getDebugName(1) or "Morph")
+        family_name = "%s Brush" % (font["name"].getDebugName(16)
+                                    or font["name"].getDebugName(1) or "Morph")
 
     # read all source outlines before anything is changed
+    order = names + extra
     sources = {}
-    for n in names + extra:
+    for n in order:
         try:
-            sources[n] = (glyph_region(n, font=font).region if len(n) > 1
-                          else _region_by_name(font, n))
+            sources[n] = _source_region(font, n)
         except MorphError:
             sources[n] = []  # empty glyph (space): metrics only
-    half = tol / 2.0
+    args = [(n, sources[n], nib_region, tol, method, (shift, 0.0), writer.quadratic)
+            for n in order]
+    chosen = set(names)
+
+    def done(k, result):
+        if progress is not None and result[0] in chosen:
+            progress(result[0])
+
+    results = run_jobs(sweep_glyph, args, jobs=jobs, progress=done)
+
     stats = {"glyphs": 0, "contours": 0, "segments": 0, "followed": len(follow),
-             "decomposed": len(extra)}
+             "decomposed": len([n for n in extra if n not in unchosen]),
+             "base_not_chosen": unchosen, "fallback": {}}
     hmtx = font["hmtx"]
-    for n in names + extra:
-        adv, lsb = hmtx[n]
-        region = sources[n]
-        new_adv = int(round(adv + nib_w))
-        loops = []
-        if region:
-            try:
-                loops = minkowski_sum(region, nib_region, half, method=method)
-            except MorphError as exc:
-                raise type(exc)("glyph %r: %s" % (n, exc)) from exc
-            loops = [[pc.translate(p, (shift, 0.0)) for p in loop] for loop in loops]
-        pen = outlines.pen(new_adv)
-        _draw(pen, loops, half, outlines.quadratic)
-        hmtx[n] = (new_adv, int(outlines.store(n, pen, bool(loops))))
-        if n in extra:
+    offsets = {}
+    for name, contours, kind, error in results:
+        if kind != "exact":
+            stats["fallback"][name] = (kind, error)
+        if contours is None:  # left as in the source
             continue
-        stats["glyphs"] += 1
-        stats["contours"] += len(loops)
-        stats["segments"] += sum(map(len, loops))
-        if progress is not None:
-            progress(n)
-    centre = (shift + (nx0 + nx1) / 2.0, (ny0 + ny1) / 2.0)
-    _follow_composites(font, follow, set(names + extra + follow), centre, nib_w)
-    for tag in ("hdmx", "LTSH", "VDMX"):
-        if tag in font:
-            del font[tag]
-    _rename(font, family_name)
-    font.save(str(out_path))  # recalcBBoxes: head / hhea / maxp bounds
+        adv, _ = hmtx[name]
+        new_adv = _new_advance(adv, nib_w)
+        hmtx[name] = (new_adv, writer.write(name, contours, new_adv))
+        offsets[name] = pen_move
+        if name in chosen:
+            stats["glyphs"] += 1
+            stats["contours"] += len(contours)
+            stats["segments"] += sum(map(len, contours))
+    moved = set(order) | set(follow)
+    _follow_composites(font, follow, moved, pen_move, nib_w)
+    offsets.update({n: pen_move for n in follow})
+    stats["anchors"] = move_anchors(font, offsets)
+    grow_vertical_metrics(font, below=-ny0, above=ny1)
+    rename_family(font, family_name, tool="morph brush")
+    finish_font(font)
+    save_font(font, out_path)
     return stats
-
-
-def _region_by_name(font, name):
-    """Region of glyph ``name`` of an open TTFont (a 1-letter name is not a char)."""
-    from ..parse import glyph_region
-
-    # glyph_region reads a 1-character string as a character: go through the cmap
-    # only when the character maps to this very glyph, else use a temporary lookup
-    cmap = font.getBestCmap()
-    chars = [chr(c) for c, g in cmap.items() if g == name]
-    if chars:
-        return glyph_region(chars[0], font=font).region
-    raise MorphError("cannot address glyph %r by character or name" % name)

@@ -11,7 +11,8 @@ import os
 from pathlib import Path
 
 from ..region import region_bbox
-from .glyphs import Glyph, cubic_test_font_path, default_font_path, glyph_region, load_font
+from .glyphs import (Glyph, cubic_test_font_path, default_font_path, glyph_region,
+                     instantiate_font, load_font, parse_location)
 from .svg import SvgElement, svg_elements, svg_paths, svg_region, validate_path_data
 
 __all__ = [
@@ -19,7 +20,9 @@ __all__ = [
     "cubic_test_font_path",
     "default_font_path",
     "glyph_region",
+    "instantiate_font",
     "load_font",
+    "parse_location",
     "load_shape",
     "SvgElement",
     "svg_elements",
@@ -31,12 +34,13 @@ __all__ = [
 
 # =========================================================================== CLI
 
-def load_shape(arg, font=None):
+def load_shape(arg, font=None, location=None):
     """The CLI's shape argument: an SVG file or a glyph of the font.
 
     An argument ending in ``.svg`` is read with :func:`svg_region` (user units,
     y flipped up); otherwise it is a single character or a glyph name of ``font``
-    (None: bundled TrueType font), read with :func:`glyph_region` (font units).
+    (None: bundled TrueType font) at ``location`` (a variable font's instance, see
+    :func:`load_font`), read with :func:`glyph_region` (font units).
 
     Returns (loops, info) with info keys ``kind`` ("glyph" or "svg"), ``name``
     (glyph name or file stem), ``source``, ``units_per_em`` (None for SVG) and
@@ -51,7 +55,7 @@ def load_shape(arg, font=None):
         box = region_bbox(loops)
         return loops, {"kind": "svg", "name": Path(text).stem, "source": text,
                        "units_per_em": None, "advance": float(box[2] - box[0])}
-    glyph = glyph_region(text, font)
+    glyph = glyph_region(text, font, location)
     return glyph.region, {"kind": "glyph", "name": glyph.name, "source": text,
                           "units_per_em": glyph.units_per_em,
                           "advance": glyph.advance_width}

@@ -1,0 +1,128 @@
+"""HTML specimen of a written font next to its source (brush, stroke).
+
+:func:`write_specimen` writes ``OUT.html`` beside a font ``OUT.ttf``/``.otf``/
+``.woff2``: the new font loaded by ``@font-face`` from its file (relative URL, so
+the page shows the file actually written), the source font embedded as a WOFF2
+data URL (a variable source is embedded at the instance that was brushed), then
+
+- a sample line at 96 px in the new font at a fixed place (``#sample``: 24 px from
+  the top-left corner of the page, line height 1; tests compare its pixels with
+  Pillow's rendering of the same text, see ``tests/test_specimen.py``);
+- a waterfall 12-96 px, source and result side by side;
+- a grid of every encoded character (cmap), each cell with the source glyph, the
+  result glyph and the glyph name.
+
+The page needs no network and no script.
+"""
+
+import base64
+import html
+import unicodedata
+from pathlib import Path
+
+__all__ = ["write_specimen", "specimen_path", "WATERFALL", "SAMPLE_POS", "SAMPLE_PX"]
+
+WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
+SAMPLE_PX = 96
+SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
+
+
+def specimen_path(font_path):
+    """``OUT.html`` for a font ``OUT.ttf`` (any suffix)."""
+    return Path(font_path).with_suffix(".html")
+
+
+def _font_format(path):
+    return {".woff2": "woff2", ".woff": "woff", ".otf": "opentype"}.get(
+        Path(path).suffix.lower(), "truetype")
+
+
+def _cells(font, source_font):
+    """(char, glyph name) of every encoded character with ink in either font."""
+    cmap = font.getBestCmap() or {}
+    src = (source_font.getBestCmap() or {}) if source_font is not None else {}
+    out = []
+    for code in sorted(set(cmap) | set(src)):
+        ch = chr(code)
+        if unicodedata.category(ch)[0] in ("C", "Z"):
+            continue  # controls, spaces, format characters: no ink to compare
+        out.append((ch, cmap.get(code) or src.get(code)))
+    return out
+
+
+def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_path=None,
+                   title=None):
+    """Write the specimen of the font at ``font_path`` (see the module docstring).
+
+    ``source_font``: the source as a ``TTFont`` (embedded as WOFF2, needs brotli) or
+    None (result only).  ``html_path``: default :func:`specimen_path`.  Returns the
+    path written.
+    """
+    from fontTools.ttLib import TTFont
+
+    from .tables import font_bytes
+
+    font_path = Path(font_path)
+    html_path = specimen_path(font_path) if html_path is None else Path(html_path)
+    font = TTFont(str(font_path), lazy=True)
+    family = font["name"].getDebugName(4) or font_path.stem
+    src_name = source_font["name"].getDebugName(4) if source_font is not None else None
+    title = title or "%s: morph specimen" % family
+    faces = ['@font-face { font-family: "MorphResult"; src: url("%s") format("%s"); }'
+             % (html.escape(font_path.name, quote=True), _font_format(font_path))]
+    if source_font is not None:
+        data = base64.b64encode(font_bytes(source_font, "woff2")).decode("ascii")
+        faces.append('@font-face { font-family: "MorphSource"; '
+                     'src: url(data:font/woff2;base64,%s) format("woff2"); }' % data)
+    x, y = SAMPLE_POS
+    css = """
+%s
+body { margin: 0; padding: %dpx 24px 24px 24px; background: #fff; color: #000;
+       font-family: sans-serif; }
+#sample { position: absolute; left: %dpx; top: %dpx; margin: 0; white-space: pre;
+          font: %dpx/1 "MorphResult"; }
+#page { margin-top: %dpx; }
+.src { font-family: "MorphSource"; }
+.res { font-family: "MorphResult"; }
+table.water { border-collapse: collapse; table-layout: fixed; width: 100%%; }
+table.water td { padding: 2px 12px 2px 0; white-space: pre; line-height: 1.3;
+                 overflow: hidden; }
+table.water td.px { font: 11px sans-serif; color: #777; width: 48px; }
+.grid { display: flex; flex-wrap: wrap; gap: 4px; }
+.cell { border: 1px solid #ddd; width: 128px; text-align: center; }
+.cell .g { font-size: 40px; line-height: 1.4; display: inline-block; width: 60px; }
+.cell .n { font: 10px monospace; color: #555; overflow: hidden; white-space: nowrap; }
+h2 { font-size: 16px; margin: 24px 0 8px 0; }
+""" % ("\n".join(faces), y, x, y, SAMPLE_PX, SAMPLE_PX + 16)
+    esc = html.escape
+    rows = []
+    for px in WATERFALL:
+        src_td = ('<td class="src" style="font-size:%dpx">%s</td>' % (px, esc(sample))
+                  if source_font is not None else "")
+        rows.append('<tr><td class="px">%d px</td>%s<td class="res" style="font-size:%dpx">'
+                    '%s</td></tr>' % (px, src_td, px, esc(sample)))
+    cells = []
+    for ch, name in _cells(font, source_font):
+        src = ('<span class="g src">%s</span>' % esc(ch)) if source_font is not None else ""
+        cells.append('<div class="cell">%s<span class="g res">%s</span>'
+                     '<div class="n">%s U+%04X</div></div>'
+                     % (src, esc(ch), esc(name or ""), ord(ch)))
+    head = ("source: %s (left) &middot; result: %s, %s (right)"
+            % (esc(src_name), esc(family), esc(font_path.name))
+            if source_font is not None else "%s, %s" % (esc(family), esc(font_path.name)))
+    doc = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>%s</title>
+<style>%s</style></head>
+<body>
+<p id="sample">%s</p>
+<div id="page">
+<p>%s</p>
+<h2>Waterfall, 12&ndash;96 px</h2>
+<table class="water">%s</table>
+<h2>All encoded characters (%d)</h2>
+<div class="grid">%s</div>
+</div>
+</body></html>
+""" % (esc(title), css, esc(sample), head, "\n".join(rows), len(cells), "\n".join(cells))
+    html_path.write_text(doc, encoding="utf-8")
+    return html_path

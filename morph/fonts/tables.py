@@ -1,0 +1,538 @@
+"""Font tables for fonts whose glyphs were replaced (brush, stroke): outlines, anchors,
+metrics, names, saving.
+
+Every function edits an open ``fontTools.ttLib.TTFont`` in place and works for
+TrueType (``glyf``) and CFF (``CFF ``) fonts.  fontTools' own helpers are used where
+they exist (``recalcAvgCharWidth``, ``recalcBounds``, the pens, ``TTFont.save`` with
+``recalcBBoxes`` for head/hhea/maxp, the ``woff2`` flavor); what fontTools has no
+helper for (moving GPOS anchors by glyph, renaming a family coherently) is here.
+
+Outlines travel as *contours*: lists of polynomial segments, each an ``(k, 2)``
+float array of control points (k = 2 line, 3 quadratic, 4 cubic), first point of
+each segment = last point of the previous one.  :func:`contours_from_loops` turns a
+region of rational pieces into contours in the font's curve type and direction,
+rounded to the integer grid and cleaned (:func:`clean_contour`: no zero-length
+segment, no repeated point, no back-and-forth spike, so fontbakery's
+``overlapping_path_segments`` has nothing to report).  Contours are plain arrays, so
+a worker process can compute them and send them back (:mod:`morph.fonts.jobs`).
+"""
+
+import copy
+import io
+import re
+from pathlib import Path
+
+import numpy as np
+
+from .. import piece as pc
+from ..errors import MorphError
+
+__all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "clean_contour",
+           "draw_contours", "outline_glyphs", "move_anchors", "grow_vertical_metrics",
+           "rename_family", "finish_font", "save_font", "FONT_SUFFIXES"]
+
+FONT_SUFFIXES = (".ttf", ".otf", ".woff2", ".woff")
+
+
+# =========================================================================== outlines
+
+def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
+    """Region (our loops: outer counter-clockwise) -> cleaned integer contours.
+
+    Each piece is translated by ``offset``, converted within ``tol`` (font units) to
+    quadratics (``quadratic``: TrueType, :func:`morph.export.piece_to_quadratics`) or
+    cubics (CFF, :func:`morph.export.piece_to_cubics`), both certified; lines stay
+    lines.  TrueType contours are reversed (outer clockwise, the glyf convention);
+    CFF keeps ours (outer counter-clockwise).  Points are then rounded to integers
+    (at most 0.71 units more) and :func:`clean_contour` applied; contours that
+    vanish are dropped.
+
+    Raises:
+        ToleranceNotMetError: as the converters.
+    """
+    from ..export import piece_to_cubics, piece_to_quadratics
+
+    convert = piece_to_quadratics if quadratic else piece_to_cubics
+    off = np.asarray(offset, float)
+    out = []
+    for loop in loops:
+        if quadratic:
+            loop = [pc.reverse(p) for p in reversed(loop)]
+        segs = []
+        for p in loop:
+            if pc.degree(p) == 1 and pc.is_polynomial(p):
+                segs.append(pc.cartesian(p) + off)
+            else:
+                segs.extend(np.asarray(q, float) + off for q in convert(p, tol))
+        contour = clean_contour(segs)
+        if contour:
+            out.append(contour)
+    return out
+
+
+def _same(a, b):
+    return a[0] == b[0] and a[1] == b[1]
+
+
+def _step(frm, to):
+    """The integer unit step (each coordinate -1, 0 or 1) from ``frm`` toward ``to``."""
+    d = to - frm
+    n = np.abs(d).max()
+    return np.round(d / n) if n > 0 else d
+
+
+def _simplify_segment(s):
+    """A rounded segment whose consecutive points all differ; None if it has zero length.
+
+    A quadratic whose control point coincides with an end point is a line.  A cubic
+    with both handles retracted is a line; a single retracted handle (or two equal
+    handles) is moved one unit toward the next control point, which moves the curve
+    by at most 4/9 unit; a cubic so short that this still leaves two equal points
+    becomes its chord.
+    """
+    if all(_same(q, s[0]) for q in s[1:]):
+        return None
+    if len(s) == 2:
+        return s
+    inner = [q for q in s[1:-1] if not (_same(q, s[0]) or _same(q, s[-1]))]
+    if not inner:
+        return np.array([s[0], s[-1]])
+    if len(s) == 3:
+        return s
+    s = s.copy()
+    if _same(s[1], s[0]):
+        s[1] = s[0] + _step(s[0], s[2])
+    if _same(s[2], s[3]):
+        s[2] = s[3] + _step(s[3], s[1])
+    if _same(s[1], s[2]):
+        s[2] = s[2] + _step(s[2], s[3])
+    if any(_same(a, b) for a, b in zip(s, s[1:])):  # a curve of a unit or two: its chord
+        return np.array([s[0], s[-1]])
+    return s
+
+
+def _collinear_lines(a, b):
+    """Two consecutive line segments on one straight line, same direction."""
+    u, v = a[1] - a[0], b[1] - b[0]
+    return u[0] * v[1] - u[1] * v[0] == 0 and u[0] * v[0] + u[1] * v[1] > 0
+
+
+def clean_contour(segs, spike=3.0):
+    """Round a closed contour's segments to integers and remove what fonts must not have.
+
+    ``segs``: polynomial segments (``(k, 2)`` arrays), each starting where the
+    previous one ends, the last ending at the first's start.  Returns a list of
+    integer-valued ``(k, 2)`` arrays, possibly empty, where:
+
+    - no segment has zero length (all points equal) and no control point repeats an
+      end point (a quadratic whose control point coincides with an end becomes a line,
+      so no two consecutive points of the written contour are equal);
+    - consecutive collinear lines are merged (one segment, no redundant point);
+    - a segment followed by its reverse between the same two points (a spike p -> q
+      -> p shorter than ``spike`` units, left when rounding collapses a tiny cusp or
+      fold) is removed, so no two segments share both end points (fontbakery
+      ``overlapping_path_segments``);
+    - fewer than 2 segments, or two segments forming a zero-area lens: nothing.
+
+    A change moves the outline by at most ``spike`` units, only at such defects.
+    """
+    work = []
+    for s in segs:
+        s = np.round(np.asarray(s, float)) + 0.0  # + 0.0: no negative zeros
+        s = _simplify_segment(s)
+        if s is not None:
+            work.append(s)
+    changed = True
+    while changed and work:
+        changed = False
+        out = []
+        for s in work:
+            if out and len(s) == 2 and len(out[-1]) == 2 and _collinear_lines(out[-1], s):
+                out[-1] = np.array([out[-1][0], s[1]])
+                changed = True
+                continue
+            if (out and _same(out[-1][0], s[-1]) and _same(out[-1][-1], s[0])
+                    and np.hypot(*(s[0] - s[-1])) <= spike):
+                out.pop()  # p -> q -> p spike
+                changed = True
+                continue
+            out.append(s)
+        # the closing join (last segment -> first) gets the same treatment
+        if len(out) >= 2:
+            a, b = out[-1], out[0]
+            if len(a) == 2 and len(b) == 2 and _collinear_lines(a, b):
+                out[0] = np.array([a[0], b[1]])
+                out.pop()
+                changed = True
+            elif (_same(a[0], b[-1]) and _same(a[-1], b[0])
+                  and np.hypot(*(b[0] - b[-1])) <= spike and len(out) > 2):
+                out = out[1:-1]
+                changed = True
+        work = out
+    if len(work) < 2 or (len(work) == 2 and len(work[0]) == 2 and len(work[1]) == 2):
+        return []
+    # the segments must still chain (spike removal joins p .. p)
+    for a, b in zip(work, work[1:] + work[:1]):
+        if not _same(a[-1], b[0]):  # pragma: no cover - guarded by construction
+            raise MorphError("contour cleaning broke the chain at %s" % (a[-1].tolist(),))
+    return work
+
+
+def draw_contours(pen, contours, quadratic):
+    """Draw integer contours (see :func:`contours_from_loops`) on a fontTools pen.
+
+    Each contour starts at its first point; its last segment ends there, and a
+    closing line is left to ``closePath`` (no repeated point).
+    """
+    for segs in contours:
+        pen.moveTo(tuple(int(v) for v in segs[0][0]))
+        last = len(segs) - 1
+        for k, s in enumerate(segs):
+            pts = [tuple(int(v) for v in q) for q in s[1:]]
+            if len(s) == 2:
+                if k < last:  # the closing line is implied by closePath
+                    pen.lineTo(pts[0])
+            elif quadratic and len(s) == 3:
+                pen.qCurveTo(*pts)
+            elif len(s) == 4:
+                pen.curveTo(*pts)
+            else:
+                raise MorphError("cannot draw a %d-point segment in a %s font"
+                                 % (len(s), "TrueType" if quadratic else "CFF"))
+        pen.closePath()
+
+
+class OutlineWriter:
+    """Writes glyph outlines into a font: ``pen(advance)``, draw, ``store(name, pen)``.
+
+    ``quadratic`` tells the curve type (TrueType glyf: True; CFF: False).  ``store``
+    returns the new left side bearing (the outline's xMin; 0 for an empty glyph).
+    """
+
+    quadratic = None
+
+    def pen(self, advance):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def store(self, name, pen):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def write(self, name, contours, advance):
+        """Draw ``contours`` as glyph ``name`` with ``advance``; return its lsb."""
+        pen = self.pen(advance)
+        draw_contours(pen, contours, self.quadratic)
+        return self.store(name, pen)
+
+
+class _TrueTypeOutlines(OutlineWriter):
+    """``glyf`` table (quadratic contours, TTGlyphPen)."""
+
+    quadratic = True
+
+    def __init__(self, font):
+        self.glyf = font["glyf"]
+        self.glyph_set = font.getGlyphSet()
+
+    def pen(self, advance):
+        from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+        return TTGlyphPen(self.glyph_set)
+
+    def store(self, name, pen):
+        g = pen.glyph()
+        self.glyf[name] = g
+        g.recalcBounds(self.glyf)
+        return int(getattr(g, "xMin", 0)) if g.numberOfContours else 0
+
+
+class _CFFOutlines(OutlineWriter):
+    """``CFF `` table (Type 2 charstrings, cubic, T2CharStringPen)."""
+
+    quadratic = False
+
+    def __init__(self, font):
+        self.cff = font["CFF "].cff
+        top = self.cff.topDictIndex[0]
+        self.char_strings = top.CharStrings
+        self.private = top.Private
+        self.nominal = getattr(self.private, "nominalWidthX", 0) or 0
+
+    def pen(self, advance):
+        from fontTools.pens.t2CharStringPen import T2CharStringPen
+
+        return T2CharStringPen(advance - self.nominal, None)
+
+    def store(self, name, pen):
+        cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
+        self.char_strings[name] = cs
+        bounds = cs.calcBounds(self.char_strings)
+        return int(np.floor(bounds[0])) if bounds else 0
+
+
+def outline_writer(font):
+    """The :class:`OutlineWriter` of a TrueType or CFF font.
+
+    Raises:
+        MorphError: CFF2 or no outlines (variable fonts must be instantiated first,
+            :func:`morph.parse.instantiate_font`).
+    """
+    if "fvar" in font:
+        raise MorphError("instantiate the variable font first (morph.parse.instantiate_font)")
+    if "glyf" in font:
+        return _TrueTypeOutlines(font)
+    if "CFF " in font:
+        return _CFFOutlines(font)
+    raise MorphError("the font has neither TrueType (glyf) nor CFF outlines")
+
+
+def outline_glyphs(font):
+    """Names of the glyphs drawn by their own contours, in glyph order.
+
+    TrueType: simple glyphs with at least one contour (composites are left to
+    follow their components, see :func:`morph.fonts.brush.composite_plan`);
+    CFF: glyphs whose charstring draws something.
+    """
+    if "glyf" in font:
+        glyf = font["glyf"]
+        return [n for n in font.getGlyphOrder()
+                if not glyf[n].isComposite() and glyf[n].numberOfContours > 0]
+    from fontTools.pens.boundsPen import ControlBoundsPen
+
+    gs = font.getGlyphSet()
+    names = []
+    for n in font.getGlyphOrder():
+        pen = ControlBoundsPen(gs)
+        gs[n].draw(pen)
+        if pen.bounds is not None:
+            names.append(n)
+    return names
+
+
+# =========================================================================== anchors
+
+def _lookup_subtables(font, tag="GPOS"):
+    if tag not in font or font[tag].table.LookupList is None:
+        return
+    for lookup in font[tag].table.LookupList.Lookup:
+        for st in lookup.SubTable:
+            if getattr(st, "ExtSubTable", None) is not None:  # Extension (type 9)
+                st = st.ExtSubTable
+            yield st
+
+
+def _moved(anchor, d):
+    """A copy of ``anchor`` moved by d (format 2 contour points become format 1: the
+    points were renumbered)."""
+    if anchor is None:
+        return None
+    a = copy.copy(anchor)
+    a.XCoordinate = int(round(a.XCoordinate + d[0]))
+    a.YCoordinate = int(round(a.YCoordinate + d[1]))
+    if a.Format == 2:
+        a.Format = 1
+        del a.AnchorPoint
+    return a
+
+
+def _move_list(anchors, d):
+    return [_moved(a, d) for a in anchors]
+
+
+def move_anchors(font, offsets):
+    """Move the GPOS anchors (and GDEF ligature carets) of glyphs by their offsets.
+
+    ``offsets``: glyph name -> (dx, dy) font units, the translation that glyph's
+    marks must follow (for a swept glyph: the image of its pen point, see
+    :func:`morph.fonts.brush.brush_font`).  Mark-to-base, mark-to-ligature,
+    mark-to-mark (both the mark's own anchor and the anchors it offers to other
+    marks) and cursive entry/exit anchors are moved; each anchor is replaced by a
+    moved copy, so anchors shared between glyphs move once per glyph.  Format 2
+    anchors (on a contour point) become format 1: swept outlines renumber their
+    points.  Returns the number of anchors moved.
+    """
+    moved = 0
+
+    def by(cov, g):
+        return offsets.get(g) if cov is not None else None
+
+    for st in _lookup_subtables(font):
+        kind = type(st).__name__
+        if kind in ("MarkBasePos", "MarkLigPos", "MarkMarkPos"):
+            mark_cov = st.MarkCoverage if kind != "MarkMarkPos" else st.Mark1Coverage
+            mark_arr = st.MarkArray if kind != "MarkMarkPos" else st.Mark1Array
+            for g, rec in zip(mark_cov.glyphs, mark_arr.MarkRecord):
+                d = offsets.get(g)
+                if d:
+                    rec.MarkAnchor = _moved(rec.MarkAnchor, d)
+                    moved += 1
+        if kind == "MarkBasePos":
+            for g, rec in zip(st.BaseCoverage.glyphs, st.BaseArray.BaseRecord):
+                d = offsets.get(g)
+                if d:
+                    rec.BaseAnchor = _move_list(rec.BaseAnchor, d)
+                    moved += len(rec.BaseAnchor)
+        elif kind == "MarkMarkPos":
+            for g, rec in zip(st.Mark2Coverage.glyphs, st.Mark2Array.Mark2Record):
+                d = offsets.get(g)
+                if d:
+                    rec.Mark2Anchor = _move_list(rec.Mark2Anchor, d)
+                    moved += len(rec.Mark2Anchor)
+        elif kind == "MarkLigPos":
+            for g, att in zip(st.LigatureCoverage.glyphs, st.LigatureArray.LigatureAttach):
+                d = offsets.get(g)
+                if d:
+                    for comp in att.ComponentRecord:
+                        comp.LigatureAnchor = _move_list(comp.LigatureAnchor, d)
+                        moved += len(comp.LigatureAnchor)
+        elif kind == "CursivePos":
+            for g, rec in zip(st.Coverage.glyphs, st.EntryExitRecord):
+                d = offsets.get(g)
+                if d:
+                    rec.EntryAnchor = _moved(rec.EntryAnchor, d)
+                    rec.ExitAnchor = _moved(rec.ExitAnchor, d)
+                    moved += 2
+    gdef = font["GDEF"].table if "GDEF" in font else None
+    carets = getattr(gdef, "LigCaretList", None)
+    if carets is not None:
+        for g, lig in zip(carets.Coverage.glyphs, carets.LigGlyph):
+            d = offsets.get(g)
+            if d:
+                for cv in lig.CaretValue:
+                    if cv.Format in (1, 3):
+                        cv.Coordinate = int(round(cv.Coordinate + d[0]))
+    return moved
+
+
+# =========================================================================== metrics
+
+def grow_vertical_metrics(font, below, above):
+    """Grow the font's vertical metrics by ``above`` / ``below`` font units (>= 0).
+
+    For glyphs that grew by at most that much up and down (a nib's extent above and
+    below its pen point): hhea ascender / descender and OS/2 typo ascender /
+    descender (kept equal to each other when they were), OS/2 win ascent / descent
+    (so nothing is clipped where the source was not), x height and cap height (the
+    flat tops of x and H rise by ``above``).
+    """
+    up, down = int(np.ceil(max(above, 0.0))), int(np.ceil(max(below, 0.0)))
+    hhea = font["hhea"]
+    hhea.ascent += up
+    hhea.descent -= down
+    if "OS/2" in font:
+        os2 = font["OS/2"]
+        os2.sTypoAscender += up
+        os2.sTypoDescender -= down
+        os2.usWinAscent += up
+        os2.usWinDescent += down
+        if getattr(os2, "version", 0) >= 2:
+            if os2.sxHeight:
+                os2.sxHeight += up
+            if os2.sCapHeight:
+                os2.sCapHeight += up
+
+
+# =========================================================================== names
+
+_RIBBI = ("Regular", "Bold", "Italic", "Bold Italic")
+
+
+def _ps(text):
+    return re.sub(r"[^A-Za-z0-9]", "", text)
+
+
+def rename_family(font, family, tool="morph"):
+    """Give the font a new family name, with name IDs 1/2/3/4/6/16/17/21/25 coherent.
+
+    The style is the source's typographic subfamily (ID 17, else ID 2).  A RIBBI
+    style (Regular, Bold, Italic, Bold Italic): ID 1 = family, ID 2 = style, IDs 16/17
+    removed.  Any other style (e.g. "Medium"): ID 1 = "family style", ID 2 = Regular
+    or Italic, ID 16 = family, ID 17 = style.  ID 4 = "family style", ID 6 =
+    "Family-Style" (PostScript characters only), ID 3 = "revision;tool;ID 6", ID 25
+    (variations PostScript prefix) and ID 21 (WWS family) follow the family where the
+    source had them.  CFF FontName, FamilyName and FullName follow.  Records are
+    written on every platform/encoding/language the source used for ID 1.
+    """
+    name = font["name"]
+    style = (name.getDebugName(17) or name.getDebugName(2) or "Regular").strip()
+    ps_family = _ps(family)
+    ps = "%s-%s" % (ps_family, _ps(style) or "Regular")
+    full = "%s %s" % (family, style)
+    if style in _RIBBI:
+        ids = {1: family, 2: style}
+        drop = (16, 17)
+    else:
+        legacy = "Italic" if "Italic" in style.split() else "Regular"
+        ids = {1: "%s %s" % (family, style.replace(" Italic", "").replace("Italic", "")
+                              .strip()), 2: legacy, 16: family, 17: style}
+        drop = ()
+    rev = "%.3f" % font["head"].fontRevision
+    ids.update({3: "%s;%s;%s" % (rev, tool, ps), 4: full, 6: ps})
+    for nid, text in ((21, family), (25, ps_family)):
+        if name.getName(nid, 3, 1, 0x409) is not None or any(r.nameID == nid for r in name.names):
+            ids[nid] = text
+    where = {(r.platformID, r.platEncID, r.langID) for r in name.names if r.nameID == 1}
+    where = where or {(3, 1, 0x409)}
+    for nid in drop:
+        name.removeNames(nameID=nid)
+    for nid, text in ids.items():
+        name.removeNames(nameID=nid)
+        for plat, enc, lang in sorted(where):
+            name.setName(text, nid, plat, enc, lang)
+    if "CFF " in font:
+        cff = font["CFF "].cff
+        cff.fontNames = [ps]
+        top = cff.topDictIndex[0]
+        top.FamilyName = family
+        top.FullName = full
+    return ps
+
+
+# =========================================================================== saving
+
+def finish_font(font):
+    """Table clean-up after outlines and advances changed.
+
+    OS/2 xAvgCharWidth recomputed (fontTools ``recalcAvgCharWidth``); tables that
+    cache per-size metrics of the old outlines (hdmx, LTSH, VDMX) are dropped.  Bounds
+    in head/hhea/maxp are recomputed by :func:`save_font` (``recalcBBoxes``).
+    """
+    for tag in ("hdmx", "LTSH", "VDMX"):
+        if tag in font:
+            del font[tag]
+    if "OS/2" in font:
+        font["OS/2"].recalcAvgCharWidth(font)
+
+
+def save_font(font, path):
+    """Save to ``path``; ``.woff2`` / ``.woff`` suffixes save that web flavor.
+
+    ``.woff2`` needs the brotli package.  Returns the path.
+
+    Raises:
+        MorphError: an unknown suffix.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in FONT_SUFFIXES:
+        raise MorphError("cannot tell the font format of %s: use %s"
+                         % (path, ", ".join(FONT_SUFFIXES)))
+    flavor = {".woff2": "woff2", ".woff": "woff"}.get(suffix)
+    old = font.flavor
+    font.flavor = flavor
+    try:
+        font.save(str(path))
+    finally:
+        font.flavor = old
+    return path
+
+
+def font_bytes(font, flavor=None):
+    """The font compiled to bytes (``flavor``: None, "woff" or "woff2")."""
+    buf = io.BytesIO()
+    old = font.flavor
+    font.flavor = flavor
+    try:
+        font.save(buf)
+    finally:
+        font.flavor = old
+    return buf.getvalue()
