@@ -334,3 +334,84 @@ def test_split_tolerance():
     for bad in (0.0, -1.0, float("nan"), float("inf")):
         with pytest.raises(ValueError):
             split_tolerance(bad)
+
+
+# ------------------------------------------------------------------ the certified total
+
+def random_cubic_blob(seed, rational_weights):
+    """A star-shaped loop of random (rational) cubics, one per angular wedge, CCW."""
+    from shapely.geometry import Polygon
+
+    rng = np.random.default_rng(seed)
+    while True:
+        n = int(rng.integers(3, 6))
+        ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+        if np.diff(np.concatenate([ang, [ang[0] + 2 * np.pi]])).max() > 0.9 * np.pi:
+            continue
+        radii = rng.uniform(0.1, 1.0, n)
+        pts = np.column_stack([radii * np.cos(ang), radii * np.sin(ang)])
+        loop = []
+        for i in range(n):
+            j = (i + 1) % n
+            a0, a1 = ang[i], ang[i] + (ang[j] - ang[i]) % (2 * np.pi)
+            th = a0 + (np.arange(2) + rng.uniform(0.05, 0.95, 2)) / 2 * (a1 - a0)
+            r = rng.uniform(0.05, 1.3, 2)
+            w = np.ones(4)
+            if rational_weights:
+                w[1:3] = rng.uniform(0.3, 3.0, 2)
+            ctrl = np.column_stack([r * np.cos(th), r * np.sin(th)])
+            loop.append(pc.from_points(np.vstack([pts[i], ctrl, pts[j]]), w))
+        ring = np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop])
+        poly = Polygon(ring)
+        if poly.is_valid and poly.area > 0.05:
+            return loop, poly
+
+
+def offset_error(points, loop, poly, radius):
+    """max | dist(p, A) - r | for points p meant to lie on the boundary of A ⊕ disk(r)
+    (the exact offset boundary is the set at distance exactly r from A)."""
+    import shapely
+
+    d = np.min([distances(points, rational(p)) for p in loop], axis=0)
+    inside = shapely.contains_xy(poly, points[:, 0], points[:, 1])
+    return float(np.max(np.where(inside, radius + d, np.abs(d - radius))))
+
+
+@pytest.mark.parametrize("seed, rational_weights", [(0, False), (3, True)])
+def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
+    """Issue 17 part 5: a random cubic region ⊕ disk is within tol of the exact offset
+    before export (the sum's pieces) and, with split_tolerance, after the SVG export."""
+    from svgpathtools import parse_path
+
+    from morph.offset import offset_region
+    from morph.render.svg import svg_path_data
+
+    loop, poly = random_cubic_blob(seed, rational_weights)
+    radius, tol = 0.2, 1e-3
+    pieces = [p for lp in offset_region([loop], radius, tol) for p in lp]
+    pts = np.vstack([rational(p)(np.linspace(0, 1, 33)) for p in pieces])
+    assert offset_error(pts, loop, poly, radius) <= tol
+    # the written SVG (y flipped back), sum within tol/2 and export within tol/2
+    st, et = split_tolerance(tol)
+    d = svg_path_data(offset_region([loop], radius, st), et)
+    z = np.array([seg.point(t) for seg in parse_path(d) for t in np.linspace(0, 1, 33)])
+    assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-4])
+def test_circle_plus_circle_written_within_tol(tol):
+    """Issue 17 part 5: circle ⊕ circle written as SVG path data (sum and export
+    sharing tol by split_tolerance) is within tol of the exact circle; parsed back
+    with svgpathtools (it was 1.41 tol with the whole tol spent twice)."""
+    from svgpathtools import parse_path
+
+    from morph.render.svg import svg_path_data
+    from morph.trim import minkowski_sum
+
+    for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
+        st, et = split_tolerance(tol)
+        loops = minkowski_sum([pc.circle((3.0, 2.0), r1)], [pc.circle((-1.0, 1.0), r2)], st)
+        path = parse_path(svg_path_data(loops, et))
+        z = np.array([seg.point(t) for seg in path for t in np.linspace(0, 1, 65)])
+        # SVG is y-down: the centre (2, 3) is written at (2, -3)
+        assert np.abs(np.abs(z - complex(2.0, -3.0)) - (r1 + r2)).max() <= tol
