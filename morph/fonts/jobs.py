@@ -101,7 +101,8 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
     paths (lists of pieces, e.g. a stroke skeleton); ``loops_b``: a region (the nib).
     Each operand is flattened within ``tol / 2``; the sum of the polygons is exact
     up to the 1/16 unit grid, so the result is within tol + 1/8 of the exact sum
-    (Hausdorff distance).  Returns a list of (m, 2) arrays.
+    (Hausdorff distance).  Slivers that Clipper's union leaves (polygons of mean
+    width 2 area / perimeter below tol) are dropped.  Returns a list of (m, 2) arrays.
     """
     import pyclipper
 
@@ -135,8 +136,17 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
             pieces.extend([[(x + ax, y + ay) for x, y in p] for p in pb])
     clip = pyclipper.Pyclipper()
     clip.AddPaths([p for p in pieces if len(p) >= 3], pyclipper.PT_SUBJECT, True)
-    tree = clip.Execute(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
-    return [np.asarray(p, float) / _SCALE for p in tree if len(p) >= 3]
+    paths = clip.Execute(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    out = []
+    for p in paths:
+        p = np.asarray(p, float) / _SCALE
+        if len(p) < 3:
+            continue
+        area = 0.5 * abs(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
+        perimeter = np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T))
+        if 2.0 * area > tol * perimeter:  # mean width 2 area / perimeter: not a sliver
+            out.append(p)
+    return out
 
 
 def polylines_to_contours(polylines, reverse=False, offset=(0.0, 0.0)):

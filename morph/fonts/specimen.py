@@ -6,7 +6,8 @@ the page shows the file actually written), the source font embedded as a WOFF2
 data URL (a variable source is embedded at the instance that was brushed), then
 
 - a sample line at 96 px in the new font at a fixed place (``#sample``: 24 px from
-  the top-left corner of the page, line height 1; tests compare its pixels with
+  the top-left corner of the page, line height 1, nothing else within 72 px below
+  its line box; tests compare its pixels with
   Pillow's rendering of the same text, see ``tests/test_specimen.py``);
 - a waterfall 12-96 px, source and result side by side;
 - a grid of every encoded character (cmap), each cell with the source glyph, the
@@ -20,11 +21,13 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "specimen_path", "WATERFALL", "SAMPLE_POS", "SAMPLE_PX"]
+__all__ = ["write_specimen", "specimen_path", "WATERFALL", "SAMPLE_POS", "SAMPLE_PX",
+           "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
 SAMPLE_PX = 96
 SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
+SAMPLE_MARGIN = 72  # CSS px kept free below the sample line (descenders)
 
 
 def specimen_path(font_path):
@@ -81,7 +84,7 @@ body { margin: 0; padding: %dpx 24px 24px 24px; background: #fff; color: #000;
        font-family: sans-serif; }
 #sample { position: absolute; left: %dpx; top: %dpx; margin: 0; white-space: pre;
           font: %dpx/1 "MorphResult"; }
-#page { margin-top: %dpx; }
+#page { margin-top: %dpx; }  /* room for the sample's descenders */
 .src { font-family: "MorphSource"; }
 .res { font-family: "MorphResult"; }
 table.water { border-collapse: collapse; table-layout: fixed; width: 100%%; }
@@ -93,7 +96,7 @@ table.water td.px { font: 11px sans-serif; color: #777; width: 48px; }
 .cell .g { font-size: 40px; line-height: 1.4; display: inline-block; width: 60px; }
 .cell .n { font: 10px monospace; color: #555; overflow: hidden; white-space: nowrap; }
 h2 { font-size: 16px; margin: 24px 0 8px 0; }
-""" % ("\n".join(faces), y, x, y, SAMPLE_PX, SAMPLE_PX + 16)
+""" % ("\n".join(faces), y, x, y, SAMPLE_PX, SAMPLE_PX + SAMPLE_MARGIN)
     esc = html.escape
     rows = []
     for px in WATERFALL:

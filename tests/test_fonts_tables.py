@@ -1,0 +1,128 @@
+"""morph.fonts.tables (contour clean-up, anchors, names) and morph.fonts.jobs (pool,
+polygon fallback), checked against hand-made cases and Clipper/shapely references."""
+
+import numpy as np
+import pytest
+from fontTools.ttLib import TTFont
+
+from morph.fonts.brush import ellipse_nib
+from morph.fonts.jobs import polygon_sum, run_jobs
+from morph.fonts.tables import clean_contour, move_anchors, rename_family
+from morph.parse import default_font_path, glyph_region
+from tests.fontfixtures import build_mark_font
+from tests.reference import hausdorff, polygon_minkowski_sum
+
+A = np.array
+
+
+def _pts(contour):
+    """The contour's points in order (end points once)."""
+    out = [tuple(contour[0][0])]
+    for s in contour:
+        out.extend(tuple(p) for p in s[1:])
+    return out[:-1]
+
+
+def test_clean_contour_removes_defects():
+    square = [A([[0, 0], [100, 0]]), A([[100, 0], [100, 0.2]]),  # zero length once rounded
+              A([[100, 0.2], [100, 50]]), A([[100, 50], [100, 100]]),  # collinear: merged
+              A([[100, 100], [50, 100.4], [0, 100]]),  # quad with a collinear control: kept
+              A([[0, 100], [0, 100], [0, 0]])]  # control on the start: a line
+    c = clean_contour(square)
+    pts = _pts(c)
+    assert len(set(pts)) == len(pts)  # no repeated point
+    assert [len(s) for s in c] == [2, 2, 3, 2]
+    assert all(float(v).is_integer() for s in c for v in s.ravel())
+    for a, b in zip(c, c[1:] + c[:1]):
+        assert tuple(a[-1]) == tuple(b[0])  # still a closed chain
+
+
+def test_clean_contour_spike_and_retracted_handles():
+    spike = [A([[0, 0], [100, 0]]), A([[100, 0], [101, 2]]), A([[101, 2], [100, 0]]),
+             A([[100, 0], [100, 100]]), A([[100, 100], [0, 0]])]
+    c = clean_contour(spike)
+    ends = [(tuple(s[0]), tuple(s[-1])) for s in c]
+    assert ((100.0, 0.0), (101.0, 2.0)) not in ends and len(c) == 3
+    cubic = [A([[0, 0], [0, 0], [50, 80], [100, 0]]), A([[100, 0], [0, 0]])]
+    c = clean_contour(cubic)
+    assert len(c[0]) == 4 and tuple(c[0][1]) != (0.0, 0.0)  # handle moved one unit
+    assert np.abs(c[0][1] - [0, 0]).max() == 1
+    tiny = [A([[413, 102], [413, 101], [412, 101], [412, 101]]), A([[412, 101], [0, 0]]),
+            A([[0, 0], [413, 102]])]
+    c = clean_contour(tiny)
+    assert [len(s) for s in c] == [2, 2, 2]  # a 1-unit cubic is its chord
+    assert clean_contour([A([[0, 0], [10, 0]]), A([[10, 0], [0, 0]])]) == []
+
+
+@pytest.mark.parametrize("ch", ["o", "g"])
+def test_polygon_fallback_against_clipper(ch):
+    """The fallback sum is within tol (+ its 1/16 grid) of an independent Clipper sum."""
+    import shapely
+
+    region = glyph_region(ch).region
+    nib = ellipse_nib(80, 30, 30)
+    got = polygon_sum(region, nib, 0.5)
+    ref = polygon_minkowski_sum(region, nib, 0.25)
+    assert hausdorff([np.vstack([p, p[:1]]) for p in got], ref, 0.5) <= 0.5 + 0.25 + 0.2
+    # orientation: outer counter-clockwise, holes clockwise, as many as Clipper's
+    signed = [shapely.Polygon(p).area * (1 if shapely.LinearRing(p).is_ccw else -1)
+              for p in got]
+    n_ref = len(getattr(ref, "geoms", [ref]))
+    holes_ref = sum(len(g.interiors) for g in getattr(ref, "geoms", [ref]))
+    assert sum(a > 0 for a in signed) == n_ref and sum(a < 0 for a in signed) == holes_ref
+    assert sum(signed) == pytest.approx(ref.area, rel=2e-3)
+
+
+def _square(k):
+    return k * k
+
+
+def test_run_jobs_order_and_progress():
+    seen = []
+    assert run_jobs(_square, range(7), jobs=2, progress=lambda k, r: seen.append(k)) == \
+        [k * k for k in range(7)]
+    assert sorted(seen) == list(range(7))
+    assert run_jobs(_square, [3], jobs=4) == [9]
+
+
+def test_move_anchors_by_glyph(tmp_path):
+    """Base anchors of e move, mark anchors of acutecomb move, o's stay; format 2
+    anchors (contour points) become format 1."""
+    font = TTFont(str(build_mark_font(tmp_path / "m.ttf")))
+    gpos = font["GPOS"].table
+    st = [s for lk in gpos.LookupList.Lookup for s in lk.SubTable
+          if type(s).__name__ == "MarkBasePos"][0]
+    base = dict(zip(st.BaseCoverage.glyphs, st.BaseArray.BaseRecord))
+    marks = dict(zip(st.MarkCoverage.glyphs, st.MarkArray.MarkRecord))
+    e0 = base["e"].BaseAnchor[0].XCoordinate, base["e"].BaseAnchor[0].YCoordinate
+    o0 = base["o"].BaseAnchor[0].XCoordinate
+    m0 = marks["acutecomb"].MarkAnchor.YCoordinate
+    base["e"].BaseAnchor[0].Format = 2
+    base["e"].BaseAnchor[0].AnchorPoint = 3
+    n = move_anchors(font, {"e": (40, -3), "acutecomb": (0, 7)})
+    assert n >= 3
+    a = base["e"].BaseAnchor[0]
+    assert (a.XCoordinate, a.YCoordinate, a.Format) == (e0[0] + 40, e0[1] - 3, 1)
+    assert not hasattr(a, "AnchorPoint")
+    assert base["o"].BaseAnchor[0].XCoordinate == o0
+    assert marks["acutecomb"].MarkAnchor.YCoordinate == m0 + 7
+    font.save(str(tmp_path / "n.ttf"))  # still compiles
+
+
+@pytest.mark.parametrize("style, want", [
+    ("Regular", {1: "X Brush", 2: "Regular", 4: "X Brush Regular", 6: "XBrush-Regular",
+                 16: None, 17: None}),
+    ("SemiBold Italic", {1: "X Brush SemiBold", 2: "Italic", 4: "X Brush SemiBold Italic",
+                         6: "XBrush-SemiBoldItalic", 16: "X Brush", 17: "SemiBold Italic"}),
+])
+def test_rename_family(style, want):
+    font = TTFont(default_font_path())
+    font["name"].setName(style, 17, 3, 1, 0x409)
+    font["name"].setName("Old Family", 16, 3, 1, 0x409)
+    ps = rename_family(font, "X Brush", tool="t")
+    name = font["name"]
+    for nid, text in want.items():
+        assert name.getDebugName(nid) == text, nid
+    assert ps == want[6] and name.getDebugName(3).endswith(";t;" + ps)
+    assert name.getDebugName(25) == "XBrush"  # the bundled font has ID 25
+    assert all("Old Family" not in r.toUnicode() for r in name.names)

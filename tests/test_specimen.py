@@ -1,0 +1,113 @@
+"""morph.fonts.specimen: the OUT.html page next to every written font.
+
+The slow test opens it in headless Chromium and compares the screenshot's sample line
+with Pillow's rendering of the same text in the same font file (FreeType): the ink
+must be where Pillow puts it, and not where the source font would put it.
+"""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from fontTools.ttLib import TTFont
+from PIL import Image, ImageDraw, ImageFont
+
+from morph.cli import main
+from morph.fonts.specimen import (SAMPLE_MARGIN, SAMPLE_POS, SAMPLE_PX, WATERFALL,
+                                  write_specimen)
+from morph.parse import default_font_path
+
+TEXT = "Hamburg"
+
+
+@pytest.fixture(scope="module")
+def brushed(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("spec")
+    out = folder / "Spec.woff2"
+    r = CliRunner().invoke(main, ["brush", "-o", str(out), "--glyphs", "H,a,m,b,u,r,g",
+                                  "--sample", TEXT, "--jobs", "1"])
+    assert r.exit_code == 0, r.output
+    return out
+
+
+def test_specimen_page(brushed):
+    page = brushed.with_suffix(".html").read_text()
+    assert '@font-face { font-family: "MorphResult"; src: url("Spec.woff2") format("woff2")' \
+        in page
+    assert "data:font/woff2;base64," in page  # the source, embedded
+    for px in WATERFALL:
+        assert 'class="res" style="font-size:%dpx"' % px in page
+        assert 'class="src" style="font-size:%dpx"' % px in page
+    cmap = TTFont(str(brushed)).getBestCmap()
+    assert page.count('class="cell"') == sum(1 for c in cmap if chr(c).isprintable()
+                                             and not chr(c).isspace())
+    assert "U+0041" in page and ">H</p>" not in page
+
+
+def test_specimen_without_source(tmp_path):
+    path = write_specimen(default_font_path(), None, sample="<&>",
+                          html_path=tmp_path / "x.html")
+    text = path.read_text()
+    assert "data:font" not in text and "&lt;&amp;&gt;" in text
+
+
+def _chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome", "chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def _ink(img):
+    """Boolean ink mask cropped to its bounding box."""
+    a = np.asarray(img.convert("L")) < 128
+    ys, xs = np.nonzero(a)
+    return a[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+
+
+def _iou(a, b):
+    h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
+    pa, pb = np.zeros((h, w), bool), np.zeros((h, w), bool)
+    pa[:a.shape[0], :a.shape[1]] = a
+    pb[:b.shape[0], :b.shape[1]] = b
+    return (pa & pb).sum() / (pa | pb).sum()
+
+
+def _pillow(font_file, text, px=SAMPLE_PX):
+    fnt = ImageFont.truetype(str(font_file), px)
+    img = Image.new("L", (px * len(text) * 2, px * 3), 255)
+    ImageDraw.Draw(img).text((px // 2, px // 2), text, font=fnt, fill=0)
+    return img
+
+
+@pytest.mark.slow
+def test_specimen_in_chromium(brushed, tmp_path):
+    """Headless Chromium shows the new font's ink where Pillow's rendering has it."""
+    browser = _chromium()
+    if browser is None:
+        pytest.skip("no Chromium installed (apt-get install chromium) to open the specimen")
+    shot = tmp_path / "shot.png"
+    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+           "--user-data-dir=%s" % (tmp_path / "profile"), "--hide-scrollbars",
+           "--force-device-scale-factor=1", "--window-size=1200,400",
+           "--screenshot=%s" % shot, brushed.with_suffix(".html").as_uri()]
+    subprocess.run(cmd, capture_output=True, timeout=120, check=False)
+    assert shot.exists(), "Chromium wrote no screenshot"
+    x, y = SAMPLE_POS
+    line = Image.open(shot).crop((0, 0, 1200, y + SAMPLE_PX + SAMPLE_MARGIN - 4))
+    browser_ink = _ink(line)
+    ttf = tmp_path / "Spec.ttf"  # FreeType in Pillow may lack WOFF2: the same font as .ttf
+    font = TTFont(str(brushed))
+    font.flavor = None
+    font.save(str(ttf))
+    result = _iou(browser_ink, _ink(_pillow(ttf, TEXT)))
+    source = _iou(browser_ink, _ink(_pillow(default_font_path(), TEXT)))
+    print("IoU with Pillow: result font %.3f, source font %.3f" % (result, source))
+    assert result >= 0.85, (result, source)
+    assert source < result - 0.1, (result, source)  # it is the new font, not the source
+    w_browser, w_pillow = browser_ink.shape[1], _ink(_pillow(ttf, TEXT)).shape[1]
+    assert abs(w_browser - w_pillow) <= 3
