@@ -145,7 +145,12 @@ def orient_region(loops, fill_rule="nonzero"):
 
     Input loops may have any orientation (TrueType outer contours are clockwise,
     CFF ones counter-clockwise, SVG either).  Zero-length pieces are dropped, joins
-    snapped (:func:`clean_loop`), loops of zero area dropped.  Then for each loop L
+    snapped (:func:`clean_loop`), loops of zero area dropped (|area| <= 1e-12 of the
+    loop's *own* extent squared and no self-crossing: tiny islands are kept, a bow
+    tie whose lobes cancel is filled).  Coincident loops cancel as their windings do
+    (:func:`_cancel_coincident`): opposite directions under either rule, equal
+    directions under evenodd; equal directions under nonzero count once.  Then for
+    each loop L
     a probe point on L is chosen (the piece midpoint farthest from the other
     loops' polylines) and ``w`` = the winding number there of all *other* loops
     (on polylines flattened to 1e-3 of the region's size, refined when a probe is
@@ -173,9 +178,16 @@ def orient_region(loops, fill_rule="nonzero"):
         return []
     scale = _region_scale(cleaned)
     areas = [pc.loop_area(loop) for loop in cleaned]
-    keep = [i for i, a in enumerate(areas) if abs(a) > 1e-12 * scale * scale]
+    keep = []
+    for i, a in enumerate(areas):
+        ext = _region_scale([cleaned[i]])
+        if abs(a) > 1e-12 * ext * ext or _loops_cross([cleaned[i]], ext):
+            keep.append(i)
     cleaned = [cleaned[i] for i in keep]
     areas = [areas[i] for i in keep]
+    cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
+    if not cleaned:
+        return []
     if _loops_cross(cleaned, scale):
         from .trim import fill_region
 
@@ -210,6 +222,42 @@ def orient_region(loops, fill_rule="nonzero"):
         ccw = areas[i] > 0
         out.append(loop if ccw == is_outer else reverse_loop(loop))
     return out
+
+
+def _cancel_coincident(loops, areas, fill_rule, scale):
+    """Loops that trace the same curve (within 1e-9 of the size) cancel as their
+    windings do: a pair of opposite directions adds 0 everywhere (both removed); a
+    pair of equal directions adds 2 (evenodd: both removed; nonzero: one kept)."""
+    n = len(loops)
+    if n < 2:
+        return loops, areas
+    eps = 1e-9 * scale
+    boxes = [np.concatenate([pc.cartesian(p) for p in loop]) for loop in loops]
+    boxes = [np.r_[b.min(axis=0), b.max(axis=0)] for b in boxes]
+    gone = set()
+    for i in range(n):
+        for j in range(i + 1, n):
+            if i in gone or j in gone:
+                continue
+            if abs(abs(areas[i]) - abs(areas[j])) > 1e-9 * max(abs(areas[i]), abs(areas[j])):
+                continue
+            if np.max(np.abs(boxes[i] - boxes[j])) > 10 * eps:
+                continue
+            if not (_on_loop(loops[i], loops[j], eps) and _on_loop(loops[j], loops[i], eps)):
+                continue
+            same = (areas[i] > 0) == (areas[j] > 0)
+            gone.add(j)
+            if not same or fill_rule == "evenodd":
+                gone.add(i)
+    keep = [k for k in range(n) if k not in gone]
+    return [loops[k] for k in keep], [areas[k] for k in keep]
+
+
+def _on_loop(loop, other, eps):
+    """Do sample points of ``loop`` (9 per piece) lie within ~eps of ``other``?"""
+    pts = np.concatenate([pc.evaluate(p, np.linspace(0, 1, 9)) for p in loop])
+    poly = loop_polyline(other, eps)
+    return bool(np.max(_point_segment_distance(pts, poly)) <= 4 * eps)
 
 
 def _loops_cross(loops, scale):

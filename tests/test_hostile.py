@@ -361,3 +361,78 @@ def test_sweep_regression(case):
     font, a, b = case.split(":", 2)
     res = check(font, a, b, 1e-4 * UPM)
     assert not res["fail"], res["fail"]
+
+
+# ---------------------------------------------------------------------------- size and budgets
+
+def _run_limited(args, tmp_path, timeout=30, memory=3 * 2 ** 30):
+    """Run `python -m morph.cli ARGS` in a subprocess with a time and memory limit
+    (a regression must fail the test, not hang or exhaust the machine)."""
+    import resource
+    import subprocess
+    import sys
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+
+    res = subprocess.run([sys.executable, "-m", "morph.cli"] + args, cwd=tmp_path,
+                         capture_output=True, text=True, timeout=timeout, preexec_fn=limit)
+    return res
+
+
+def _limit_line(res, *words):
+    assert res.returncode == 2, (res.returncode, res.stderr)
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("morph: error: "), res.stderr
+    assert "Warning" not in res.stderr and "Traceback" not in res.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+    return lines[0]
+
+
+@pytest.mark.parametrize("case", ["coords-1e9", "radius-1e9", "drawing-1e6", "tol-1e-9",
+                                  "tol-larger", "tol-inf", "tol-nan", "coords-1e308"])
+def test_size_and_tolerance_guards(tmp_path, case):
+    """Each case ran > 60 s with up to 15 GB before: now one line within seconds, and
+    the line names a tolerance that works (or the bad value)."""
+    import time
+
+    big = _svg(tmp_path, "big.svg", "M0 0 C 3e8 -1e8 7e8 1e8 1e9 0 L1e9 1e9 "
+                                    "C 7e8 8e8 3e8 1.1e9 0 1e9 Z")
+    mid = _svg(tmp_path, "mid.svg", "M0 0 C 3e5 -1e5 7e5 1e5 1e6 0 L1e6 1e6 "
+                                    "C 7e5 8e5 3e5 1.1e6 0 1e6 Z")
+    sq = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    huge = _svg(tmp_path, "huge.svg", _square_d(0, 0, 1e308))
+    out = str(tmp_path / "o.png")
+    args, words = {
+        "coords-1e9": (["sum", big, sq, "-o", out], ["use a tolerance of at least"]),
+        "radius-1e9": (["offset", "O", "--radius", "1e9", "-o", out], ["at least"]),
+        "drawing-1e6": (["offset", mid, "--radius", "10", "-o", out], ["budget", "at least"]),
+        "tol-1e-9": (["sum", "O", "M", "--tol", "1e-9", "-o", out], ["at least"]),
+        "tol-larger": (["sum", "O", "M", "--tol", "10", "-o", out], ["larger than"]),
+        "tol-inf": (["sum", "O", "M", "--tol", "inf", "-o", out], ["finite"]),
+        "tol-nan": (["sum", "O", "M", "--tol", "nan", "-o", out], ["finite"]),
+        "coords-1e308": (["outline", huge, "-o", out], ["coordinate"]),
+    }[case]
+    t0 = time.perf_counter()
+    res = _run_limited(args, tmp_path)
+    assert time.perf_counter() - t0 < 5
+    _limit_line(res, *words)
+    assert not (tmp_path / "o.png").exists()
+
+
+def test_check_tolerance_library():
+    """The library's validation function: same rules, LimitError (a ValueError)."""
+    from morph.errors import LimitError
+    from morph.limits import check_tolerance
+
+    sq = svg_region(_square_d(0, 0, 10))
+    assert check_tolerance(1e-3, sq, sq) > 0
+    for tol, word in [(0, "positive"), (float("nan"), "positive"), (100, "larger"),
+                      (1e-13, "at least")]:
+        with pytest.raises(LimitError, match=word):
+            check_tolerance(tol, sq, sq)
+    far = svg_region(_square_d(1e12, 0, 10))  # far from the origin: fp resolution
+    with pytest.raises(LimitError, match="floating-point resolution") as info:
+        check_tolerance(1e-5, far)
+    assert info.value.suggestion > 1e-5

@@ -372,13 +372,24 @@ def _local_subpaths(el, label):
     """An svgelements shape -> list of (pieces, closed) in its own user coordinates."""
     import svgelements as se
 
+    raw = el.values.get("attributes") or {}
+
+    def num(name, parsed):
+        """The element's own attribute in user units: plain numbers (or px) as
+        written; other units and percentages as svgelements resolved them."""
+        if name not in raw:
+            return 0.0  # SVG's initial value (svgelements lets x/y leak from <svg>)
+        text = str(raw[name]).strip()
+        m = re.fullmatch(r"(%s)(px)?" % _NUMBER, text)
+        return float(m.group(1)) if m else (float(parsed) if parsed is not None else 0.0)
+
     if isinstance(el, se.Path):
         return [(p, c) for p, c, _ in _path_data_subpaths(el.values.get("d") or "")]
     if isinstance(el, se.Rect):
-        x, y, w, h = (float(v) for v in (el.x, el.y, el.width, el.height))
+        x, y, w, h = (num(k, getattr(el, k)) for k in ("x", "y", "width", "height"))
         if w <= 0 or h <= 0:
             return []
-        rx, ry = _length(el.values.get("rx")), _length(el.values.get("ry"))
+        rx, ry = _length(raw.get("rx")), _length(raw.get("ry"))
         rx, ry = (rx if rx is not None else ry), (ry if ry is not None else rx)
         rx, ry = min(abs(rx or 0.0), w / 2), min(abs(ry or 0.0), h / 2)
         if rx <= 0 or ry <= 0:
@@ -396,16 +407,20 @@ def _local_subpaths(el, label):
         pieces.append(pc.line(pc.end(pieces[-1]), pc.start(pieces[0])))
         return [([p for p in pieces if not is_zero_length(p)], True)]
     if isinstance(el, (se.Circle, se.Ellipse)):
-        rx, ry = float(el.rx), float(el.ry)
+        if isinstance(el, se.Circle):
+            rx = ry = num("r", el.rx)
+        else:
+            rx, ry = num("rx", el.rx), num("ry", el.ry)
         if not (rx > 0 and ry > 0):
             return []
-        return [(pc.ellipse_arc((float(el.cx), float(el.cy)), rx, ry, 0.0, 0.0, 2 * math.pi),
+        return [(pc.ellipse_arc((num("cx", el.cx), num("cy", el.cy)), rx, ry, 0.0, 0.0,
+                                2 * math.pi),
                  True)]
     if isinstance(el, se.SimpleLine):
-        a, b = (float(el.x1), float(el.y1)), (float(el.x2), float(el.y2))
+        a, b = (num("x1", el.x1), num("y1", el.y1)), (num("x2", el.x2), num("y2", el.y2))
         line = pc.line(a, b)
         return [] if is_zero_length(line) else [([line], False)]
-    if isinstance(el, se.Polyline):  # also Polygon (a subclass)
+    if isinstance(el, (se.Polyline, se.Polygon)):
         pts = [(float(p.x), float(p.y)) for p in el.points]
         closed = isinstance(el, se.Polygon)
         if closed and len(pts) > 1 and pts[0] != pts[-1]:
@@ -485,7 +500,7 @@ def svg_elements(source):
 
     label = text if is_file else "SVG document"
     doc = _read_document(text, is_file, label)
-    vp = doc.values.get("viewport_transform") if isinstance(doc, se.SVG) else None
+    vp = getattr(doc, "viewbox_transform", None) if isinstance(doc, se.SVG) else None
     unview = ~se.Matrix(vp) if vp else se.Matrix()
     elements = []
     for k, el in enumerate(doc.elements() if isinstance(doc, se.Group) else []):
@@ -509,7 +524,8 @@ def svg_elements(source):
         rule = str(values.get("fill-rule", "nonzero")).strip()
         stroke_width = _length(values.get("stroke-width"))
         stroked = _painted(values, "stroke") and (stroke_width is None or stroke_width > 0)
-        elements.append(SvgElement("%s: %s" % (label, name), sub, _painted(values, "fill"),
+        filled = _painted(values, "fill") and not isinstance(el, se.SimpleLine)
+        elements.append(SvgElement("%s: %s" % (label, name), sub, filled,
                                    stroked, rule if rule in ("nonzero", "evenodd") else "nonzero"))
     _check_finite(elements, text)
     return elements
