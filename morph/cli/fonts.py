@@ -1,4 +1,4 @@
-"""Font commands: brush (filled glyphs swept by a nib)."""
+"""Font commands: brush (filled glyphs swept by a nib), stroke (skeletons stroked by a nib)."""
 
 import re
 import sys
@@ -161,7 +161,8 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="UFO skeleton: OUT.ufo (a copy of the source, outlines replaced), "
                    "OUT.otf (CFF) or OUT.ttf (TrueType), compiled with ufo2ft, plus a "
-                   "sample image OUT.png. SVG skeleton: OUT.svg or OUT.png.")
+                   "sample image OUT.png (and a specimen OUT.html for a font). SVG "
+                   "skeleton: OUT.svg or OUT.png.")
 @click.option("--nib", default=None,
               help="Elliptical nib ellipse:W,H,ANGLE: width and height in font units "
                    "(UFO) or user units (SVG), long axis ANGLE degrees counter-clockwise. "
@@ -183,8 +184,9 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image (UFO skeletons).")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
-@click.option("--jobs", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Worker processes for the glyph strokes.")
+@click.option("--jobs", type=click.IntRange(min=1), default=None,
+              help="Processes computing the glyphs (default: the number of CPUs). The "
+                   "font does not depend on it.")
 @click.option("--size", type=click.IntRange(min=8, max=16384), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
@@ -195,13 +197,17 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     open path gives its two sides, convolved with the nib, closed by the nib's
     own ends (caps); a closed path is stroked, not filled; a single point gives
     the nib.  The broad nib's thick and thin strokes come from the direction of
-    travel, as with a pen.
+    travel, as with a pen.  The default nib is an ellipse 90 x 20 units with its
+    long axis at 30 degrees (upm 1000).
 
     SKELETON is a UFO font source (.ufo folder; open contours are centre lines)
     or an SVG file (its stroked / open paths are centre lines).  For a UFO, the
     kerning, groups and features are kept, anchors move with the outlines,
     advances grow by the nib width (side bearings kept), composites stay
     composites (a scaled or flipped component is decomposed and stroked).
+    A glyph whose exact stroke fails is written by a polygon fallback (Clipper,
+    within --tol, made of lines); the font is written anyway, those glyphs are
+    named on one line and the exit status is 1.
 
     \b
     Examples:
@@ -214,9 +220,10 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
-        _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
+        return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
-        _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs, force)
+        return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
+                               force)
     else:
         raise InputError("skeleton %s is neither a .ufo folder nor an .svg file" % skeleton)
 
@@ -240,7 +247,10 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     import tempfile
     import time
 
-    from ..fonts.brush import parse_glyph_spec
+    from ..errors import MorphError
+    from ..fonts.brush import check_convex_nib, parse_glyph_spec
+    from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import specimen_path, write_specimen
     from ..fonts.stroke import stroke_plan, stroke_ufo
     from ..parse.ufo import load_ufo
 
@@ -255,24 +265,29 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     if out.exists() and out.suffix.lower() != ".ufo" and out.is_dir():
         raise InputError("output %s is a folder, expected a file" % out)
     png = out.with_suffix(".png")
-    if png.exists() and not force:
-        raise InputError("sample %s exists; use --force to overwrite it" % png)
+    page = specimen_path(out) if out.suffix.lower() != ".ufo" else None
+    for extra in (png, page):
+        if extra is not None and extra.exists() and not force:
+            raise InputError("%s exists; use --force to overwrite it" % extra)
     font = load_ufo(src)
     upm = float(font.info.unitsPerEm or 1000)
-    nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
+    try:
+        nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
+        check_convex_nib(nib_region)
+    except MorphError as exc:  # a bad nib is bad input (exit 2)
+        raise InputError(str(exc)) from exc
     items = parse_glyph_spec(glyphs) if glyphs is not None else None
     if items is not None and not items:
         raise InputError("--glyphs selects no glyph")
     for name in ("ufo2ft", "fontTools"):  # feature-merging notes are not errors
         logging.getLogger(name).setLevel(logging.ERROR)
     todo, _ = stroke_plan(font, items, nib_region)
+    jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with click.progressbar(length=len(todo), label="glyphs", file=sys.stderr) as bar:
+    with progress_bar(len(todo), "glyphs") as bar:
         stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
-    for name, why in sorted(stats["fallback"].items()):
-        click.echo("morph: warning: glyph %r written as a polygon (%s)" % (name, why), err=True)
     if out.suffix.lower() == ".ufo":
         import ufo2ft
 
@@ -285,12 +300,20 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
             shutil.rmtree(tmp, ignore_errors=True)
     else:
         _font_sample(out, sample, png)
+        write_specimen(out, None, sample=sample)
     extra = ""
     if stats["emptied"]:
         extra = "; %d glyphs not chosen left empty" % stats["emptied"]
-    click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s%s) and "
-               "sample %s" % (out, stats["glyphs"], stats["followed"], stats["points"],
-                              seconds, extra, png))
+    click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s, %d jobs%s), "
+               "sample %s%s" % (out, stats["glyphs"], stats["followed"], stats["points"],
+                                seconds, jobs, extra, png,
+                                " and specimen %s" % page if page else ""))
+    if stats["fallback"]:
+        click.echo("morph: error: font written, but %d glyph(s) fell back to a polygon "
+                   "stroke: %s" % (len(stats["fallback"]), "; ".join(
+                       "%s (%s)" % kv for kv in sorted(stats["fallback"].items()))), err=True)
+        return EXIT_INTERNAL
+    return 0
 
 
 def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
