@@ -11,7 +11,8 @@ __version__ = "0.1.0"
 from .frames import morph_frames  # noqa: E402
 from .parse import glyph_region, load_shape, svg_region  # noqa: E402
 from .render import write_png, write_svg  # noqa: E402
-from .trim import fill_region, minkowski_sum  # noqa: E402
+from .minkowski import minkowski_sum  # noqa: E402
+from .trim import fill_region  # noqa: E402
 
 __all__ = ["fill_region", "glyph_region", "load_shape", "minkowski_sum", "morph_frames",
            "svg_region", "write_png", "write_svg"]

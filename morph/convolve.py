@@ -650,8 +650,11 @@ def scaled_gauss_region(loops, base, factor, pair_cache):
 def chain(pieces, tol):
     """Join oriented pieces end to start into closed loops (lists of arrays).
 
-    Ends closer than ``tol`` are joined and snapped to their mean.  Raises
-    TopologyError if a piece's end has no successor.
+    Each end is paired with a start closer than ``tol`` (nearest pairs first, each
+    start used once; found by hashing the points on a grid of cell ``tol``), and the
+    two are snapped to their mean.  Where several starts meet one end (loops
+    touching at a point) any pairing closes the loops with the same edges, so the
+    same winding numbers.  Raises TopologyError if an end has no start within tol.
     """
     from .errors import TopologyError
 
@@ -661,30 +664,48 @@ def chain(pieces, tol):
         return []
     starts = np.array([pc.start(p) for p in pieces])
     ends = np.array([pc.end(p) for p in pieces])
-    used = np.zeros(n, bool)
-    loops = []
+    e, s, d = _near_pairs(ends, starts, tol)
+    succ = np.full(n, -1)
+    taken = np.zeros(n, bool)
+    for i, j in zip(e[np.argsort(d, kind="stable")], s[np.argsort(d, kind="stable")]):
+        if succ[i] < 0 and not taken[j]:
+            succ[i], taken[j] = j, True
+    if (succ < 0).any():
+        raise TopologyError("open convolution chain at %s" % (ends[np.argmax(succ < 0)],))
+    loops, seen = [], np.zeros(n, bool)
     for first in range(n):
-        if used[first]:
+        if seen[first]:
             continue
-        loop = [first]
-        used[first] = True
-        cur = first
-        while True:
-            d = np.hypot(*(starts - ends[cur]).T)
-            d[used] = np.inf
-            if np.hypot(*(starts[first] - ends[cur])) <= tol and (
-                    not np.isfinite(d.min()) or d.min() > np.hypot(*(starts[first] - ends[cur]))):
-                break
-            nxt = int(np.argmin(d))
-            if not np.isfinite(d[nxt]) or d[nxt] > tol:
-                if np.hypot(*(starts[first] - ends[cur])) <= tol:
-                    break
-                raise TopologyError("open convolution chain at %s" % (ends[cur],))
-            loop.append(nxt)
-            used[nxt] = True
-            cur = nxt
-        loops.append(snap_loop([pieces[i] for i in loop]))
+        loop, cur = [], first
+        while not seen[cur]:
+            seen[cur] = True
+            loop.append(pieces[cur])
+            cur = succ[cur]
+        loops.append(snap_loop(loop))
     return loops
+
+
+def _near_pairs(a, b, tol):
+    """Index pairs (i, j, distance) with |a_i - b_j| <= tol (grid hashing, cell tol)."""
+    cell_a = np.floor(a / tol).astype(np.int64)
+    cell_b = np.floor(b / tol).astype(np.int64)
+    keys_b = cell_b[:, 0] * 3_000_017 + cell_b[:, 1]
+    order = np.argsort(keys_b, kind="stable")
+    sorted_keys = keys_b[order]
+    ii, jj = [], []
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1] + dy
+            lo = np.searchsorted(sorted_keys, k, "left")
+            hi = np.searchsorted(sorted_keys, k, "right")
+            cnt = hi - lo
+            ii.append(np.repeat(np.arange(len(a)), cnt))
+            jj.append(order[np.repeat(lo, cnt) + np.arange(cnt.sum())
+                            - np.repeat(np.cumsum(cnt) - cnt, cnt)])
+    i, j = np.concatenate(ii), np.concatenate(jj)
+    d = np.hypot(*(a[i] - b[j]).T)
+    near = d <= tol
+    return i[near], j[near], d[near]
 
 
 def snap_loop(loop):

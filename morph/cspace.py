@@ -36,6 +36,6 @@ def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac"):
     A position p of the reference point is a collision iff p lies in the returned
     region (within ``tol``, absolute, in the shapes' units).
     """
-    from .trim import minkowski_sum
+    from .minkowski import minkowski_sum
 
     return minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method)

@@ -12,7 +12,7 @@ import numpy as np
 from . import convolve, gauss
 from . import piece as pc
 from .region import region_centroid
-from .trim import minkowski_sum
+from .minkowski import minkowski_sum
 
 
 def scale_region(loops, factor):

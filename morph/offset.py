@@ -21,7 +21,7 @@ def offset_region(loops, radius, tol, method="qac"):
     Raises:
         ValueError: radius negative (insets are not supported) or not finite.
     """
-    from .trim import minkowski_sum
+    from .minkowski import minkowski_sum
 
     r = float(radius)
     if not np.isfinite(r):

@@ -132,6 +132,28 @@ def derivative(piece, t):
     return (dh[:, :2] * w - h[:, :2] * dh[:, 2:3]) / w ** 2
 
 
+def stack(pieces):
+    """Pieces elevated to their common highest degree D, stacked: (len(pieces), D+1, 3).
+
+    Degree elevation is exact on homogeneous control points, so one array holds
+    pieces of mixed degree for the batched evaluations below.
+    """
+    deg = max(len(p) for p in pieces) - 1
+    return np.array([bz.to_degree(np.asarray(p, float), deg) for p in pieces])
+
+
+def jet_many(stacked, idx, t):
+    """Points and first derivatives of pieces ``stacked[idx[i]]`` at ``t[i]``, all at
+    once: P = X/W and P' = (X' W - X W') / W^2, shapes (m, 2) and (m, 2)."""
+    h = stacked[idx]
+    n = h.shape[1] - 1
+    t = np.asarray(t, float)
+    val = np.einsum("mi,mij->mj", bz.basis(n, t), h)
+    dval = np.einsum("mi,mij->mj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+    w = val[:, 2:3]
+    return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+
+
 def second_derivative(piece, t):
     """Second derivative of the rational curve (quotient rule twice)."""
     t = np.atleast_1d(t)

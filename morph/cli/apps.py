@@ -43,9 +43,12 @@ def offset(shape, radius, font, tol, output, force, size):
     out = resolve_output(output, "offset-%s.png" % shape.slug, force)
     r = _length_in_units(shape, radius)
     t = shape.tolerance(tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
-    loops = offset_region(shape.loops, r, t)
+    from ..export import split_tolerance
+
+    st, et = split_tolerance(t)  # the offset and the SVG export share --tol
+    loops = offset_region(shape.loops, r, st)
     write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.loops, {"fill": "black"})],
-                size=size, tol=t)
+                size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
@@ -103,7 +106,10 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
     t = obstacle.tolerance(tol, robot.loops)
     ref = region_centroid(robot.loops) if reference == "centroid" else (0.0, 0.0)
-    loops = cspace_obstacle(obstacle.loops, robot.loops, t, reference=ref)
+    from ..export import split_tolerance
+
+    st, et = split_tolerance(t)  # the sum and the SVG export share --tol
+    loops = cspace_obstacle(obstacle.loops, robot.loops, st, reference=ref)
     write_image(out, cspace_figure(obstacle.loops, robot.loops, loops, t, samples, ref),
-                size=size, tol=t)
+                size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))

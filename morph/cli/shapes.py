@@ -61,8 +61,9 @@ def sum_(a, b, method, font, tol, output, force, size):
 
     A and B are characters or glyph names of the font, or SVG files.  The result is
     the boundary of the sum as rational Bézier pieces (Lee, Kim, Elber 1998: QAC
-    convolution, trimmed to the boundary), each within --tol of the exact boundary;
-    SVG output converts them to cubics within --tol as well.  Glyphs are summed in
+    convolution, trimmed to the boundary).  SVG output writes cubics within --tol of
+    the exact sum, export included (half of --tol for the sum, half for the cubic
+    fit and rounding: morph.export.split_tolerance).  Glyphs are summed in
     font units with their own origins (the result's origin is the sum of the two).
 
     \b
@@ -70,12 +71,15 @@ def sum_(a, b, method, font, tol, output, force, size):
       morph sum T M -o tm.png
       morph sum O ellipse.svg -o o-nib.svg --tol 1e-5
     """
-    from ..trim import minkowski_sum
+    from ..minkowski import minkowski_sum
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
     t = a.tolerance(tol, b.loops)
-    loops = minkowski_sum(a.loops, b.loops, t, method=method)
-    write_image(out, [loops], size=size, tol=t)
+    from ..export import split_tolerance
+
+    st, et = split_tolerance(t)  # the sum and the SVG export share --tol
+    loops = minkowski_sum(a.loops, b.loops, st, method=method)
+    write_image(out, [loops], size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
@@ -87,14 +91,17 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
         raise InputError("--frames must be at least 2, got %d" % frames)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
     t = a.tolerance(tol, b.loops)
+    from ..export import split_tolerance
+
+    st, et = split_tolerance(t)  # each frame's sum and its SVG export share --tol
     with progress_bar(frames, "frames") as bar:
-        regions = morph_frames(a.loops, b.loops, frames, t, progress=lambda k: bar.update(1),
+        regions = morph_frames(a.loops, b.loops, frames, st, progress=lambda k: bar.update(1),
                                method=method)
     bbox = _frame_bbox(regions)
     images = []
     for k, region in enumerate(regions):
         stem = outdir / ("frame-%03d" % k)
-        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=t)
+        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=et)
         img = render_png([region], size=size, bbox=bbox)
         img.save(str(stem) + ".png")
         images.append(img)

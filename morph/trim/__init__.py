@@ -1,0 +1,91 @@
+"""Trimming closed loops of rational pieces to the boundary of what they fill (Sec. 6).
+
+The paper's shape: a polygonal sweep on approximations decides the topology, then
+the exact curves give the geometry.  Here:
+
+1. :mod:`.flatten`: every piece flattened within ``eps`` (certified), vertices
+   snapped to an integer grid of unit ``grid`` and tagged (piece, t).
+2. :mod:`.topology`: Clipper's union under the fill rule ("positive" — winding > 0,
+   the rule for oriented convolution loops — "nonzero" or "evenodd") on the
+   integer polylines: a consistent planar subdivision every time, coincident
+   pieces being ordinary overlaps.  Rings thinner than ``thin`` grid units on
+   average (slivers between near-coincident pieces rounded apart) are dropped.
+3. ``hole_test`` (for sums, :mod:`.holes`): every hole ring tested at an interior
+   point with the exact membership predicate; filled holes are closed.
+4. :mod:`.lift`: each ring's runs become the exact pieces restricted to their
+   parameter ranges; crossings refined by Newton on the exact pieces.
+
+Error budget (each output point against the exact boundary of the filled set of
+the input pieces): output pieces are sub-pieces of the input pieces; where the
+topology is decided on the polylines it can be off by eps + grid/sqrt(2) (the
+polyline and rounding errors), and junctions whose Newton iteration did not
+converge sit on the grid point, within the same distance of both pieces.  Runs
+shorter than ``contract`` are contracted, moving their neighbours' ends by less
+than that.  Features thinner than 2 (eps + grid) may merge.
+"""
+
+import numpy as np
+
+from .crossing import polylines_cross
+from .flatten import tag_loops
+from .lift import lift_rings
+from .topology import drop_slivers, fill_holes, filled_rings
+
+__all__ = ["boundary", "fill_region", "polylines_cross", "minkowski_sum"]
+
+THIN_UNITS = 1.5  # rings rounded apart by at most one grid step per vertex
+
+
+def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0):
+    """The region filled by closed ``loops`` of pieces under ``fill_rule``, as loops
+    of rational pieces (outer counter-clockwise, holes clockwise).
+
+    ``hole_test(ring, islands) -> bool`` (float polygons of a hole ring and of the
+    rings directly inside it) says whether a hole is in fact filled.  See the
+    module docstring for eps, grid, contract and the error budget.
+    """
+    loops = [list(loop) for loop in loops if len(loop)]
+    if not loops:
+        return []
+    tg = tag_loops(loops, eps, grid)
+    if len(tg.q) == 0:
+        return []
+    rings = drop_slivers(filled_rings(tg.paths(), fill_rule), THIN_UNITS)
+    if hole_test is not None:
+        filled = []
+        for i, r in enumerate(rings):
+            if r.hole:
+                islands = [tg.to_float(x.q) for x in rings if x.parent == i]
+                if hole_test(tg.to_float(r.q), islands):
+                    filled.append(i)
+        rings = fill_holes(rings, filled)
+    return lift_rings([r.q for r in rings], tg, contract)
+
+
+def fill_region(loops, fill_rule="nonzero", rel=1e-7):
+    """The region filled by closed loops that may cross themselves and each other.
+
+    SVG and font fill semantics: a point is filled when the winding number of all
+    loops there is nonzero (``"nonzero"``) or odd (``"evenodd"``).  The boundary is
+    made of sub-pieces of the input (rational Béziers): outer loops
+    counter-clockwise, holes clockwise.  Topology is decided on polylines within
+    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`).
+    """
+    if fill_rule not in ("nonzero", "evenodd"):
+        raise ValueError("fill_rule must be 'nonzero' or 'evenodd', got %r" % (fill_rule,))
+    pieces = [np.asarray(p, float) for loop in loops for p in loop]
+    if not pieces:
+        return []
+    pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
+    size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+    return boundary(loops, rel * size, rel * size, fill_rule)
+
+
+def __getattr__(name):
+    # minkowski_sum lives in morph.minkowski (it builds on this stage); the old
+    # import path morph.trim.minkowski_sum keeps working
+    if name == "minkowski_sum":
+        from ..minkowski import minkowski_sum
+
+        return minkowski_sum
+    raise AttributeError(name)

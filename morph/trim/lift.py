@@ -1,0 +1,244 @@
+"""Rings of the polygon engine lifted back to the exact rational pieces.
+
+Each edge of an output ring lies on one input segment (:mod:`.topology`); it is
+identified by the tags of its end vertices (exact grid matches of input vertices)
+or, for an edge between two crossings, by the nearest input segment.  Consecutive
+edges on consecutive segments of one piece form a *run*: the piece restricted to
+[t_a, t_b] (reversed when the ring runs against the piece).  Where runs meet at a
+joint of two consecutive pieces, their shared end is the junction; elsewhere they
+meet at a crossing, refined by Newton iteration on the two exact pieces (the
+paper's Fig. 33), all crossings in one batch.  A crossing where Newton does not
+converge near the polyline crossing (near-tangent pieces) keeps the polyline's
+parameters and grid point, within eps + grid/sqrt(2) of both pieces.
+"""
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+
+MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
+
+
+def lift_rings(rings, tg, contract):
+    """Loops of rational pieces, one per ring (see the module docstring).
+
+    rings: list of integer vertex arrays; tg: :class:`.flatten.Tagged`; runs shorter
+    than ``contract`` (control-polygon length) are contracted to their start point.
+    """
+    if not rings:
+        return []
+    sizes = np.array([len(r) for r in rings])
+    v = np.concatenate(rings)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    nx = np.arange(len(v)) + 1
+    nx[first + sizes - 1] = first
+    seg, fwd = _edge_segments(v, v[nx], tg)
+    a, b = tg.q[seg].astype(float), tg.q[tg.nxt[seg]].astype(float)
+    u_p, u_q = _project(v, a, b), _project(v[nx], a, b)
+    t0, t1 = tg.t0[seg], tg.t1[seg]
+    tp, tq = t0 + u_p * (t1 - t0), t0 + u_q * (t1 - t0)
+    pid = tg.piece[seg]
+    s_n, f_n = seg[nx], fwd[nx]
+    step = np.where(fwd, tg.nxt[seg], tg.prv[seg])
+    ends_match = np.where(fwd, t1 == tg.t0[s_n], t0 == tg.t1[s_n])
+    cont = (pid == pid[nx]) & (fwd == f_n) & ((s_n == seg) | ((s_n == step) & ends_match))
+    joint = ~cont & (fwd == f_n) & (s_n == step)
+    cross = ~cont & ~joint
+    # crossings: Newton on the exact pieces, in one batch
+    k = np.flatnonzero(cross)
+    guess = tg.to_float(v[nx[k]])
+    point = np.full((len(v), 2), np.nan)  # junction point after edge i
+    if len(k):
+        used, inv = np.unique(np.concatenate([pid[k], pid[nx[k]]]), return_inverse=True)
+        stacked = pc.stack([tg.pieces[i] for i in used])
+        ia, ib = inv[:len(k)], inv[len(k):]
+        ta, tb, ok = newton_crossings(stacked, ia, tq[k], ib, tp[nx[k]], guess,
+                                      reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid)
+        tq[k] = np.where(ok, ta, tq[k])
+        tp[nx[k]] = np.where(ok, tb, tp[nx[k]])
+        point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
+    runs = []
+    for r in range(len(rings)):
+        lo, hi = first[r], first[r] + sizes[r]
+        runs.append(_ring_runs(np.arange(lo, hi), cont[lo:hi], pid, tp, tq, fwd, point,
+                               tg.pieces))
+    _cut_spikes(runs, 2.0 * tg.grid * MATCH_UNITS)
+    out = [_close(pieces, ends, contract) for pieces, ends in runs]
+    return [loop for loop in out if loop]
+
+
+def _ring_runs(edges, cont, pid, tp, tq, fwd, point, pieces):
+    """The runs of one ring as sub-pieces, and the junction point after each."""
+    junctions = np.flatnonzero(~cont)
+    if len(junctions) == 0:  # a whole single-piece loop
+        p = pieces[pid[edges[0]]]
+        p = p if fwd[edges[0]] else pc.reverse(p)
+        return [p], [pc.start(p)]
+    out, ends = [], []
+    for j in range(len(junctions)):
+        e_first = edges[(junctions[j - 1] + 1) % len(edges)]
+        e_last = edges[junctions[j]]
+        out.append(pc.subsegment(pieces[pid[e_first]], tp[e_first], tq[e_last]))
+        ends.append(point[e_last])
+    # junction points: crossings from Newton, joints the mean of the two ends
+    for j in range(len(out)):
+        if np.isnan(ends[j]).any():
+            ends[j] = 0.5 * (pc.end(out[j]) + pc.start(out[(j + 1) % len(out)]))
+    return out, ends
+
+
+def _close(out, ends, contract):
+    """Runs shorter than ``contract`` dropped, the rest snapped to the junctions."""
+    keep = [j for j in range(len(out)) if pc.length_bound(out[j]) >= contract]
+    return [pc.with_endpoints(out[j], ends[keep[i - 1]], ends[j]) for i, j in enumerate(keep)]
+
+
+def _cut_spikes(runs, reach):
+    """Runs between two neighbours that cross each other, cut out (in place).
+
+    Near-tangent pieces turn the polylines' small normal error into a long
+    tangential one, so a ring can take a run just past the exact crossing of its
+    neighbours: a spike that makes the loop cross itself.  All runs are checked at
+    once (Newton from the ends of the two neighbours at the run, within the run's
+    length + ``reach``); where the neighbours cross, they are cut there and the run
+    goes.  A real short piece between neighbours that do not cross (a nib's tip)
+    stays.
+    """
+    tri = [(r, j) for r, (out, _) in enumerate(runs) if len(out) >= 3 for j in range(len(out))]
+    if not tri:
+        return
+    ok = _neighbours_cross(runs, tri, reach)
+    flagged = {t for t, hit in zip(tri, ok) if hit}
+    for r in sorted({r for r, _ in flagged}):
+        out, ends = runs[r]
+        j = 0
+        while len(out) >= 3 and j < len(out):
+            cut = _neighbours_cross(runs, [(r, j)], reach, apply=True)
+            j = max(j - 1, 0) if cut[0] else j + 1
+
+
+def _neighbours_cross(runs, tri, reach, apply=False):
+    """For runs (ring r, run j): do the runs before and after j cross near j?
+    With ``apply`` (one triple) the crossing is cut in place."""
+    a_list, b_list, guess, lim = [], [], [], []
+    for r, j in tri:
+        out, ends = runs[r]
+        a_list.append(out[(j - 1) % len(out)])
+        b_list.append(out[(j + 1) % len(out)])
+        guess.append(ends[j])
+        lim.append(pc.length_bound(out[j]) + reach)
+    stacked = pc.stack(a_list + b_list)
+    m = len(tri)
+    ia, ib = np.arange(m), np.arange(m, 2 * m)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), np.array(guess),
+                                np.array(lim), 1e-6 * reach)
+    if apply and ok[0]:
+        r, j = tri[0]
+        out, ends = runs[r]
+        i, k = (j - 1) % len(out), (j + 1) % len(out)
+        ends[i] = pc.jet_many(stacked, ia, s)[0][0]
+        out[i] = pc.subsegment(out[i], 0.0, s[0])
+        out[k] = pc.subsegment(out[k], u[0], 1.0)
+        del out[j], ends[j]
+    return ok
+
+
+def _edge_segments(p, q, tg):
+    """Input segment and direction (True: along the segment) of each edge p -> q."""
+    sa, sb = tg.q, tg.q[tg.nxt]
+    cand_e, cand_s = _vertex_candidates(p, q, tg)
+    score, fwd = _fit(p[cand_e], q[cand_e], sa[cand_s], sb[cand_s])
+    best = np.full(len(p), np.inf)
+    seg = np.zeros(len(p), np.int64)
+    direction = np.ones(len(p), bool)
+    order = np.lexsort((score, cand_e))
+    take = order[np.r_[True, np.diff(cand_e[order]) != 0]] if len(order) else order
+    best[cand_e[take]] = score[take]
+    seg[cand_e[take]] = cand_s[take]
+    direction[cand_e[take]] = fwd[take]
+    lost = np.flatnonzero(best > MATCH_UNITS)
+    for chunk in np.array_split(lost, max(1, len(lost) // 64)):
+        if len(chunk) == 0:
+            continue
+        sc, fw = _fit(p[chunk, None], q[chunk, None], sa[None], sb[None])
+        i = np.argmin(sc, axis=1)
+        seg[chunk] = i
+        direction[chunk] = fw[np.arange(len(chunk)), i]
+    return seg, direction
+
+
+def _vertex_candidates(p, q, tg):
+    """(edge, segment) pairs from exact grid matches of the edges' end vertices."""
+    keys = _as_keys(tg.q)
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    es, ss = [], []
+    for pts, rel in ((p, (lambda i: i, tg.prv.__getitem__)),
+                     (q, (tg.prv.__getitem__, lambda i: i))):
+        kp = _as_keys(pts)
+        lo = np.searchsorted(sk, kp, "left")
+        hi = np.searchsorted(sk, kp, "right")
+        cnt = hi - lo
+        e = np.repeat(np.arange(len(pts)), cnt)
+        idx = order[np.repeat(lo, cnt) + (np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt))]
+        for f in rel:
+            es.append(e)
+            ss.append(f(idx))
+    return np.concatenate(es), np.concatenate(ss)
+
+
+def _as_keys(q):
+    q = np.ascontiguousarray(q, np.int64)
+    return q.view([("x", np.int64), ("y", np.int64)]).ravel()
+
+
+def _fit(p, q, a, b):
+    """Largest distance of p and q to segment ab, and whether p -> q runs along it."""
+    ab = b - a
+    fwd = np.sum((q - p) * ab, axis=-1) >= 0
+    return np.maximum(_dist(p, a, b), _dist(q, a, b)), fwd
+
+
+def _project(x, a, b):
+    ab = b - a
+    ll = np.maximum(np.sum(ab * ab, axis=-1), 1e-300)
+    return np.clip(np.sum((x - a) * ab, axis=-1) / ll, 0.0, 1.0)
+
+
+def _dist(x, a, b):
+    x, a, b = (np.asarray(z, float) for z in (x, a, b))
+    u = _project(x, a, b)
+    d = a + u[..., None] * (b - a) - x
+    return np.hypot(d[..., 0], d[..., 1])
+
+
+def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12):
+    """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
+
+    ``stacked``: pieces from :func:`morph.piece.stack`; A = stacked[ia[i]],
+    B = stacked[ib[i]].  Newton iteration on F(s, u) = A(s) - B(u) from (ta, tb),
+    kept in [0, 1]^2.  Returns (s, u, ok); ok where |F| <= atol and the crossing
+    lies within ``reach`` of ``guess``.
+    """
+    if len(ia) == 0:
+        return ta, tb, np.zeros(0, bool)
+    s, u = np.array(ta, float), np.array(tb, float)
+    for _ in range(iters):
+        pa, da = pc.jet_many(stacked, ia, s)
+        pb, db = pc.jet_many(stacked, ib, u)
+        f = pa - pb
+        det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
+        safe = np.where(np.abs(det) > 1e-300, det, 1.0)
+        ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
+        du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
+        ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
+        du = np.where(np.abs(det) > 1e-300, du, 0.0)
+        s = np.clip(s - ds, 0.0, 1.0)
+        u = np.clip(u - du, 0.0, 1.0)
+    pa, _ = pc.jet_many(stacked, ia, s)
+    pb, _ = pc.jet_many(stacked, ib, u)
+    err = np.hypot(*(pa - pb).T)
+    near = np.hypot(*(pa - guess).T) <= reach
+    ok = (err <= atol) & near & np.isfinite(err)
+    return s, u, ok
