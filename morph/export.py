@@ -43,6 +43,7 @@ fit of :func:`fit_cubic` (Hermite / least squares) is tried, and the interval
 shrinks until one certifies.
 """
 
+import bisect
 import math
 from collections import namedtuple
 from functools import lru_cache
@@ -51,10 +52,12 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .errors import ToleranceNotMetError
+from .errors import DegenerateCurveError, ToleranceNotMetError
 
-__all__ = ["SUM_SHARE", "Segment", "cubic_bound", "cubic_segments", "fit_cubic",
-           "loop_to_cubics", "piece_to_cubics", "piece_to_quadratics", "split_tolerance"]
+__all__ = ["JOIN_ANGLE", "SUM_SHARE", "Segment", "chain_segments", "cubic_bound",
+           "cubic_segments", "fit_cubic", "loop_to_beziers", "loop_to_cubics",
+           "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics", "smooth_runs",
+           "split_tolerance"]
 
 #: Share of a user's tolerance given to the geometry (sum, offset, morph frame); the
 #: rest goes to the export (cubic fit and coordinate rounding).  See split_tolerance.
@@ -257,67 +260,122 @@ def fit_cubic(piece):
     return best
 
 
-class _KurboSource:
-    """A sub-piece as kurbo's ``ParamCurveFit`` source (u in [0, 1] -> R(a + u (b - a))).
-
-    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
-    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None).  The
-    sub-piece is held in the power basis and evaluated by Horner's rule in plain
-    floats (kurbo calls back ~40 times per fit).  Where the derivative vanishes the
-    tangent is the first non-zero higher derivative of the tangent numerator
-    X'W - XW', signed by ``sign`` (the one-sided limit kurbo asks for).
-    """
+class _SubSource:
+    """One sub-piece in the power basis, evaluated by Horner's rule in plain floats."""
 
     def __init__(self, sub):
+        power = bz.to_power(sub)
+        self.c = [[float(v) for v in power[:, k]] for k in range(3)]
+        self.d = [[k * c[k] for k in range(1, len(c))] or [0.0] for c in self.c]
+        h = pc.tangent_numerator(sub)
+        self.h = []
+        hp = bz.to_power(h)
+        while len(hp) and len(self.h) < 4:
+            self.h.append([[float(v) for v in hp[:, k]] for k in range(2)])
+            hp = hp[1:] * np.arange(1, len(hp))[:, None]
+
+
+def _horner(c, t):
+    v = 0.0
+    for x in reversed(c):
+        v = v * t + x
+    return v
+
+
+class _KurboSource:
+    """Sub-pieces joined end to end as kurbo's ``ParamCurveFit`` source.
+
+    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
+    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None).  One
+    sub-piece keeps its own parameter (u = v).  Several are parametrised by arc
+    length (u = s / L): kurbo integrates area and moment by 16-point Gauss-Legendre
+    quadrature in u, which a kink of the parametrisation at a join spoils (1e-4
+    relative with the pieces' own parameters, enough to miss the best cubic); v(s)
+    is a C1 cubic Hermite interpolant of the inverse arc length on 16 intervals per
+    sub-piece (lengths by 8-point Gauss-Legendre), its derivative used in the
+    chain rule, so samples and derivatives stay consistent.  Each sub-piece is held
+    in the power basis and evaluated by Horner's rule in plain floats.  Where the
+    derivative vanishes the tangent is the first non-zero higher derivative of the
+    tangent numerator X'W - XW', signed by ``sign`` (the one-sided limit).
+    """
+
+    _GL = np.polynomial.legendre.leggauss(8)
+
+    def __init__(self, subs):
         import kurbopy
 
         self._point, self._vec = kurbopy.Point, kurbopy.Vec2
-        power = bz.to_power(sub)
-        self._c = [[float(v) for v in power[:, k]] for k in range(3)]
-        self._d = [[k * c[k] for k in range(1, len(c))] or [0.0] for c in self._c]
-        h = pc.tangent_numerator(sub)
-        self._h = []
-        hp = bz.to_power(h)
-        while len(hp) and len(self._h) < 4:
-            self._h.append([[float(v) for v in hp[:, k]] for k in range(2)])
-            hp = hp[1:] * np.arange(1, len(hp))[:, None]
-        p = pc.cartesian(sub)
+        self._subs = [_SubSource(sub) for sub in subs]
+        p = np.vstack([pc.cartesian(sub) for sub in subs])
         self._tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+        self._tables = self._arclength_tables(subs) if len(subs) > 1 else None
 
-    @staticmethod
-    def _horner(c, t):
-        v = 0.0
-        for x in reversed(c):
-            v = v * t + x
-        return v
+    def _arclength_tables(self, subs, m=16):
+        tables, total = [], 0.0
+        x, w = self._GL
+        for sub in subs:
+            v = np.linspace(0.0, 1.0, m + 1)
+            speed = np.hypot(*pc.derivative(sub, v).T)
+            if not np.all(speed > 0):
+                return None
+            q = (v[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+            seg = (np.hypot(*pc.derivative(sub, q).T).reshape(m, -1) @ w) * 0.5 / m
+            cum = np.concatenate([[0.0], np.cumsum(seg)])
+            tables.append((total, [float(c) for c in cum], [float(a) for a in v],
+                           [1.0 / float(a) for a in speed]))
+            total += float(cum[-1])
+        self._total = total
+        return tables if total > 0 else None
 
-    def _eval(self, t):
-        hx = self._horner
-        X, Y, W = hx(self._c[0], t), hx(self._c[1], t), hx(self._c[2], t)
-        dX, dY, dW = hx(self._d[0], t), hx(self._d[1], t), hx(self._d[2], t)
+    def _locate(self, u, sign):
+        """(sub-piece, its parameter v, dv/du)."""
+        if self._tables is None:
+            return 0, min(max(u, 0.0), 1.0), 1.0
+        s = min(max(u, 0.0), 1.0) * self._total
+        j = 0
+        while j + 1 < len(self._tables) and (s > self._tables[j + 1][0] or
+                                             (s == self._tables[j + 1][0] and sign > 0)):
+            j += 1
+        start, cum, v, inv = self._tables[j]
+        ell = min(max(s - start, 0.0), cum[-1])
+        i = min(max(bisect.bisect_right(cum, ell) - 1, 0), len(cum) - 2)
+        h = cum[i + 1] - cum[i]
+        t = (ell - cum[i]) / h if h > 0 else 0.0
+        t2, t3 = t * t, t * t * t
+        val = ((2 * t3 - 3 * t2 + 1) * v[i] + (t3 - 2 * t2 + t) * h * inv[i]
+               + (-2 * t3 + 3 * t2) * v[i + 1] + (t3 - t2) * h * inv[i + 1])
+        der = ((6 * t2 - 6 * t) * (v[i] - v[i + 1]) / h if h > 0 else 0.0) \
+            + (3 * t2 - 4 * t + 1) * inv[i] + (3 * t2 - 2 * t) * inv[i + 1]
+        return j, min(max(val, 0.0), 1.0), der * self._total
+
+    def _eval(self, u, sign=1.0):
+        j, v, scale = self._locate(u, sign)
+        src = self._subs[j]
+        X, Y, W = _horner(src.c[0], v), _horner(src.c[1], v), _horner(src.c[2], v)
+        dX, dY, dW = _horner(src.d[0], v), _horner(src.d[1], v), _horner(src.d[2], v)
         x, y = X / W, Y / W
-        return x, y, (dX - x * dW) / W, (dY - y * dW) / W
+        return x, y, scale * (dX - x * dW) / W, scale * (dY - y * dW) / W, src, v
 
-    def sample_pt_deriv(self, t):
-        x, y, dx, dy = self._eval(t)
+    def sample_pt_deriv(self, u):
+        x, y, dx, dy, _, _ = self._eval(u)
         return self._point(x, y), self._vec(dx, dy)
 
-    def sample_pt_tangent(self, t, sign):
-        x, y, dx, dy = self._eval(t)
+    def sample_pt_tangent(self, u, sign):
+        x, y, dx, dy, src, v = self._eval(u, sign)
         if math.hypot(dx, dy) <= self._tiny:
-            for k, (cx, cy) in enumerate(self._h[1:], start=1):
+            for k, (cx, cy) in enumerate(src.h[1:], start=1):
                 s = sign ** k
-                dx, dy = s * self._horner(cx, t), s * self._horner(cy, t)
+                dx, dy = s * _horner(cx, v), s * _horner(cy, v)
                 if math.hypot(dx, dy) > self._tiny:
                     break
         return self._point(x, y), self._vec(dx, dy)
 
-    def break_cusp(self, t0, t1):
+    def break_cusp(self, u0, u1):
         return None
 
 
-def _kurbo_cubic(sub, tol):
-    """kurbo's best single cubic for the whole sub-piece, (4, 2) array, or None.
+def _kurbo_cubic(subs, tol):
+    """kurbo's best single cubic for the sub-pieces joined, (4, 2) array, or None.
 
     The accuracy handed to kurbo is loose (half the chord, at least tol) so that it
     returns its best candidate; whether the cubic is good enough is decided by the
@@ -325,24 +383,21 @@ def _kurbo_cubic(sub, tol):
     """
     import kurbopy
 
-    p = pc.cartesian(sub)
-    chord = math.hypot(*(p[-1] - p[0]))
+    p0, p1 = pc.start(subs[0]), pc.end(subs[-1])
+    chord = math.hypot(*(p1 - p0))
     accuracy = max(tol, 0.5 * chord)
     try:
-        path = kurbopy.fit_to_bezpath(_KurboSource(sub), accuracy)
+        path = kurbopy.fit_to_bezpath(_KurboSource(subs), accuracy)
     except BaseException as exc:  # pyo3 turns panics in callbacks into PanicException
         if isinstance(exc, (KeyboardInterrupt, SystemExit)):
             raise
         return None
     segs = list(path.segments())
-    if len(segs) != 1:
+    if len(segs) != 1 or not hasattr(segs[0], "p3"):
         return None
     c = segs[0]
-    pts = [c.p0, c.p1, c.p2, c.p3] if hasattr(c, "p3") else None
-    if pts is None:
-        return None
-    out = np.array([[q.x, q.y] for q in pts], float)
-    out[0], out[-1] = p[0], p[-1]
+    out = np.array([[q.x, q.y] for q in (c.p0, c.p1, c.p2, c.p3)], float)
+    out[0], out[-1] = p0, p1
     return out if np.all(np.isfinite(out)) else None
 
 
@@ -435,21 +490,91 @@ def _certify(sub, cubic, tol, depth=3):
     return max(b0, b1), panels
 
 
-def _fit_range(piece, t0, t1, tol, ends):
-    """Best certified cubic for piece on [t0, t1]: (cubic, bound, panels)."""
-    sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
+def _cubic_feet(cubic, points, iters=6):
+    """Parameters s in [0, 1] of the closest points of a cubic to ``points`` (Newton)."""
+    dense = bz.evaluate(cubic, _DENSE)
+    s = _DENSE[np.argmin(((points[:, None] - dense[None]) ** 2).sum(-1), axis=1)]
+    d1, d2 = bz.derivative(cubic), bz.derivative(bz.derivative(cubic))
+    for _ in range(iters):
+        r = bz.evaluate(cubic, s) - points
+        p1, p2 = bz.evaluate(d1, s), bz.evaluate(d2, s)
+        fp = (p1 * p1).sum(1) + (r * p2).sum(1)
+        ok = fp > 0
+        s = np.clip(s - np.where(ok, (r * p1).sum(1) / np.where(ok, fp, 1.0), 0.0), 0, 1)
+    return s
+
+
+class _Chain:
+    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1]."""
+
+    def __init__(self, pieces):
+        self.pieces = [_check(p) for p in pieces]
+        self.k = len(self.pieces)
+
+    def point(self, t):
+        if t >= self.k:
+            return pc.end(self.pieces[-1])
+        k = int(math.floor(t))
+        if t == k:
+            return pc.start(self.pieces[k])
+        return pc.evaluate(self.pieces[k], t - k)[0]
+
+    def parts(self, t0, t1):
+        """[(k, a, b, sub-piece)]: piece k restricted to local [a, b] covers [t0, t1]."""
+        out = []
+        for k in range(int(math.floor(t0)), min(self.k, int(math.ceil(t1)))):
+            a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
+            if b > a:
+                p = self.pieces[k]
+                out.append((k, a, b, p if (a, b) == (0.0, 1.0) else pc.subsegment(p, a, b)))
+        return out
+
+
+def _fit_range(chain, t0, t1, tol, ends):
+    """Best certified cubic for the chain on [t0, t1]: (cubic, bound, panels).
+
+    Panels carry chain parameters T.  Across joins of the chain the cubic is cut at
+    the closest points s_k to the join points (increasing, else no certificate) and
+    each part certified against its piece by :func:`_certify`: phi is continuous
+    (it maps s_k to the join) and increasing.
+    """
+    parts = chain.parts(t0, t1)
+    subs = [p[3] for p in parts]
     cands = []
-    cubic = _kurbo_cubic(sub, tol)
+    cubic = _kurbo_cubic(subs, tol)
     if cubic is not None:
         cubic[0], cubic[-1] = ends
-        cands.append((cubic,) + _certify(sub, cubic, tol))
-    if not cands or cands[0][1] > tol:
-        cubic, _ = fit_cubic(sub)
+        if len(parts) == 1:
+            bound, panels = _certify(subs[0], cubic, tol)
+            panels = [(a, b, (0, f)) for a, b, f in panels]
+        else:
+            joins = np.array([pc.start(sub) for sub in subs[1:]])
+            cuts = np.concatenate([[0.0], _cubic_feet(cubic, joins), [1.0]])
+            bound, panels = np.inf, []
+            if np.all(np.diff(cuts) > 0):
+                bound = 0.0
+                for j, sub in enumerate(subs):
+                    s0, s1 = cuts[j], cuts[j + 1]
+                    b, pj = _certify(sub, bz.subsegment(cubic, s0, s1), tol)
+                    bound = max(bound, b)
+                    panels += [(s0 + a * (s1 - s0), s0 + b_ * (s1 - s0), (j, f))
+                               for a, b_, f in pj]
+                    if bound > tol:
+                        break
+        cands.append((cubic, bound, panels))
+    if len(parts) == 1 and (not cands or cands[0][1] > tol):
+        cubic, _ = fit_cubic(subs[0])
         cubic[0], cubic[-1] = ends
-        bound = _bound_from_error(_error_poly(sub, cubic), sub[:, 2:3])
-        cands.append((cubic, bound, [(0.0, 1.0, np.array([0.0, 1.0]))]))
+        bound = _bound_from_error(_error_poly(subs[0], cubic), subs[0][:, 2:3])
+        cands.append((cubic, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
+    if not cands:
+        return None, np.inf, None
     cubic, bound, panels = min(cands, key=lambda c: c[1])
-    return cubic, bound, tuple((a, b, t0 + (t1 - t0) * f) for a, b, f in panels)
+    out = []
+    for a, b, (j, f) in panels:
+        k, lo, hi, _ = parts[j]
+        out.append((a, b, k + lo + (hi - lo) * f))
+    return cubic, bound, tuple(out)
 
 
 def _exact_cubic(piece):
@@ -479,50 +604,110 @@ def cubic_segments(piece, tol, max_depth=16):
     exact = _exact_cubic(piece)
     if exact is not None:
         return [Segment(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([0.0, 1.0])),))]
+    return chain_segments([piece], tol, max_depth)
+
+
+def chain_segments(pieces, tol, max_depth=16):
+    """Certified cubics covering consecutive pieces as one curve: a list of Segment.
+
+    The pieces (end of one = start of the next) form one curve of parameter T in
+    [0, K], piece k on [k, k + 1]; cubics may span joins.  Segment intervals
+    [t0, t1] and the values of its ``reparam`` panels are such T, and
+
+        max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
+
+    with R the chain and phi continuous and increasing: the Fréchet (hence
+    Hausdorff) distance between each cubic and the chain on [t0, t1] is <= tol.
+    Spanning a join pays where the join is G1 (tangent continuous: one smooth curve
+    split into pieces, as sums produce); at corners the fits fail and the search
+    ends segments near them, so callers split chains at corners
+    (:func:`loop_to_beziers` does).  Raises as :func:`piece_to_cubics`.
+    """
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    chain = _Chain(pieces)
     min_width = 2.0 ** -max_depth
     out = []
-    t0, start, width = 0.0, pc.start(piece), 1.0
-    while t0 < 1.0:
-        t1, cubic, bound, reparam, end = _next_segment(piece, t0, start, width, tol,
+    t0, start, width = 0.0, pc.start(chain.pieces[0]), float(chain.k)
+    while t0 < chain.k:
+        t1, cubic, bound, reparam, end = _next_segment(chain, t0, start, width, tol,
                                                        min_width)
         out.append(Segment(t0, t1, cubic, bound, reparam))
         width = t1 - t0
         t0, start = t1, end
+    if len(out) >= 2:
+        # the greedy search stops each segment a little short of its longest reach and
+        # may leave a short last one: try one segment fewer, equal in length
+        fewer = _equal_split(chain, len(out) - 1, tol)
+        if fewer is not None:
+            out = fewer
     return out
 
 
-def _next_segment(piece, t0, start, width, tol, min_width):
+def _equal_split(chain, n, tol):
+    """n certified segments of about equal arc length, or None if one fails."""
+    per = 16
+    t = np.concatenate([k + np.linspace(0.0, 1.0, per + 1)[:-1] for k in range(chain.k)]
+                       + [[float(chain.k)]])
+    pts = np.vstack([pc.evaluate(p, np.linspace(0.0, 1.0, per + 1)[:-1])
+                     for p in chain.pieces] + [pc.end(chain.pieces[-1])[None]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    if not cum[-1] > 0:
+        return None
+    cuts = np.interp(np.linspace(0.0, cum[-1], n + 1), cum, t)
+    cuts[0], cuts[-1] = 0.0, float(chain.k)
+    if np.any(np.diff(cuts) <= 0):
+        return None
+    out, start = [], pc.start(chain.pieces[0])
+    for t0, t1 in zip(cuts[:-1], cuts[1:]):
+        t0, t1 = float(t0), float(t1)
+        end = chain.point(t1)
+        cubic, bound, reparam = _fit_range(chain, t0, t1, tol, (start, end))
+        if not bound <= tol:
+            return None
+        out.append(Segment(t0, t1, cubic, bound, reparam))
+        start = end
+    return out
+
+
+def _next_segment(chain, t0, start, width, tol, min_width):
     """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
     reparam, end point).  The first try spans ``width``; later ones follow the model
     bound ~ width^p, p from the last two fits (2 <= p <= 8, 5 at first), bracketed
     by the longest certified and the shortest failed interval."""
+    top = float(chain.k)
+
     def attempt(t1):
-        end = pc.end(piece) if t1 == 1.0 else pc.evaluate(piece, t1)[0]
-        cubic, bound, reparam = _fit_range(piece, t0, t1, tol, (start, end))
+        end = chain.point(t1)
+        cubic, bound, reparam = _fit_range(chain, t0, t1, tol, (start, end))
         return (t1, cubic, bound, reparam, end)
 
-    t1 = min(1.0, t0 + width)
-    if 1.0 - t1 < 0.3 * (t1 - t0):
-        t1 = 1.0
-    good, bad, last = None, None, None
+    t1 = min(top, t0 + width)
+    if top - t1 < 0.3 * (t1 - t0):
+        t1 = top
+    good, bad, last, fit = None, None, None, None
     for _ in range(8):
         fit = attempt(t1)
         w, bound = t1 - t0, fit[2]
         if bound <= tol:
             good = fit if good is None or t1 > good[0] else good
-            if t1 == 1.0 or bound >= 0.8 * tol:
+            if t1 == top or bound >= 0.8 * tol:
                 break
         else:
             bad = t1 if bad is None else min(bad, t1)
         p = 5.0
-        if last is not None and abs(last[0] - w) > 0.01 * w and last[1] > 0 and bound > 0:
+        if (last is not None and abs(last[0] - w) > 0.01 * w and last[1] > 0 and bound > 0
+                and math.isfinite(bound) and math.isfinite(last[1])):
             p = math.log(bound / last[1]) / math.log(w / last[0])
             p = min(8.0, max(2.0, p))
         last = (w, bound)
-        ratio = (0.9 * tol / bound) ** (1.0 / p) if bound > 0 else 4.0
-        target = min(1.0, t0 + w * min(4.0, max(0.125, ratio)))
+        if not math.isfinite(bound):
+            ratio = 0.5
+        else:
+            ratio = (0.9 * tol / bound) ** (1.0 / p) if bound > 0 else 4.0
+        target = min(top, t0 + w * min(4.0, max(0.125, ratio)))
         lo = good[0] if good is not None else t0
-        hi = bad if bad is not None else 1.0
+        hi = bad if bad is not None else top
         if bad is not None and not lo < target < hi:
             target = 0.5 * (lo + hi)
         if good is not None and (target <= lo or (bad is not None and
@@ -537,8 +722,8 @@ def _next_segment(piece, t0, start, width, tol, min_width):
         if t1 - t0 < min_width:
             raise ToleranceNotMetError(
                 "cubic export did not reach tol %.3g on a parameter interval of width "
-                "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]), piece=piece,
-                achieved=fit[2])
+                "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
+                piece=chain.pieces[min(int(t0), chain.k - 1)], achieved=fit[2])
         fit = attempt(t1)
         if fit[2] <= tol:
             good = fit
@@ -569,13 +754,96 @@ def piece_to_cubics(piece, tol, max_depth=16):
     return [seg.cubic for seg in cubic_segments(piece, tol, max_depth)]
 
 
-def loop_to_cubics(loop, tol, max_depth=16):
-    """All cubics of a loop, in order (each piece within tol, see piece_to_cubics)."""
-    return [c for p in loop for c in piece_to_cubics(p, tol, max_depth)]
+#: Joins whose tangent directions differ by less than this angle (radians) are smooth:
+#: the loop exporters let cubics span them.
+JOIN_ANGLE = 1e-6
+
+
+def _smooth_join(p, q, angle):
+    try:
+        a, b = pc.end_tangents(p)[1], pc.end_tangents(q)[0]
+    except DegenerateCurveError:
+        return False
+    ends = np.vstack([pc.cartesian(p), pc.cartesian(q)])
+    gap = np.hypot(*(pc.end(p) - pc.start(q)))
+    return (float(a @ b) > 0 and abs(float(a[0] * b[1] - a[1] * b[0])) <= math.sin(angle)
+            and gap <= 1e-12 * (1.0 + float(np.abs(ends).max())))
+
+
+def smooth_runs(pieces, join_angle=JOIN_ANGLE):
+    """Consecutive pieces split at corners into maximal runs of smooth (G1) joins.
+
+    A join is smooth when the pieces meet (within 1e-12 of the coordinates) and their
+    tangent directions there differ by less than ``join_angle`` radians.  Returns a
+    list of lists of pieces, in order (a closed loop is not wrapped around: its
+    first run starts at its first piece).
+    """
+    runs = []
+    for p in pieces:
+        p = np.asarray(p, float)
+        if runs and _smooth_join(runs[-1][-1], p, join_angle):
+            runs[-1].append(p)
+        else:
+            runs.append([p])
+    return runs
+
+
+def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+    """Polynomial Béziers within ``tol`` of a loop (or any chain of consecutive pieces).
+
+    Returns (2, 2) lines, (3, 2) quadratics and (4, 2) cubics in order, the first
+    starting at the loop's start.  The loop is split into runs at its corners
+    (:func:`smooth_runs`); a run of one polynomial piece of degree <= 3 is returned
+    exactly (lines stay lines, quadratics quadratics), every other run becomes
+    certified cubics (:func:`chain_segments`) that may span its smooth joins: each
+    cubic is within ``tol`` of the run in Fréchet, hence Hausdorff, distance, so the
+    whole output is within ``tol`` of the loop.  This is what writers of whole
+    outlines should call: a smooth curve that the sum split into many pieces needs
+    far fewer cubics than the pieces one by one (:func:`piece_to_cubics`).
+
+    Raises:
+        ValueError, ToleranceNotMetError: as piece_to_cubics.
+    """
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    out = []
+    for run in smooth_runs(loop, join_angle):
+        if len(run) == 1 and len(run[0]) <= 4 and pc.is_polynomial(_check(run[0])):
+            out.append(pc.cartesian(run[0]))
+            continue
+        out.extend(seg.cubic for seg in chain_segments(run, tol, max_depth))
+    return out
+
+
+def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+    """Cubics within ``tol`` of a loop, in order: :func:`loop_to_beziers` with every
+    line and quadratic degree-elevated (exactly)."""
+    return [bz.to_degree(b, 3) for b in loop_to_beziers(loop, tol, max_depth, join_angle)]
 
 
 #: Share of piece_to_quadratics' tolerance given to the cubic stage.
 QUADRATIC_CUBIC_SHARE = 0.5
+
+
+def _cubics_to_quadratics(cubics, tol):
+    """cu2qu on each cubic within tol; (3, 2) quadratics with explicit on-curve points."""
+    from fontTools.cu2qu import curve_to_quadratic
+    from fontTools.cu2qu.errors import Error as Cu2QuError
+
+    out = []
+    for cubic in cubics:
+        try:
+            spline = curve_to_quadratic([tuple(p) for p in cubic], tol, all_quadratic=True)
+        except Cu2QuError as exc:
+            raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g"
+                                       % tol, piece=cubic) from exc
+        spline = np.asarray(spline, float)
+        offs = spline[1:-1]
+        ons = [spline[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] \
+            + [spline[-1]]
+        for i, off in enumerate(offs):
+            out.append(np.array([ons[i], off, ons[i + 1]]))
+    return out
 
 
 def piece_to_quadratics(piece, tol, max_depth=16):
@@ -594,28 +862,35 @@ def piece_to_quadratics(piece, tol, max_depth=16):
         ValueError, ToleranceNotMetError: as piece_to_cubics; also when cu2qu finds
             no spline within its limit of segments.
     """
-    from fontTools.cu2qu import curve_to_quadratic
-    from fontTools.cu2qu.errors import Error as Cu2QuError
-
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     piece = _check(piece)
     if len(piece) <= 3 and pc.is_polynomial(piece):
         return [bz.to_degree(pc.cartesian(piece), 2)]
     cubic_tol = QUADRATIC_CUBIC_SHARE * tol
-    quad_tol = tol - cubic_tol
+    return _cubics_to_quadratics(piece_to_cubics(piece, cubic_tol, max_depth),
+                                 tol - cubic_tol)
+
+
+def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+    """Quadratics (and lines) within ``tol`` of a loop, for TrueType outlines.
+
+    :func:`loop_to_beziers` within ``QUADRATIC_CUBIC_SHARE * tol`` (certified Fréchet
+    bound; cubics may span smooth joins), then every cubic to quadratics with cu2qu
+    within the rest (its own certified same-parameter bound): the errors add, so
+    every returned curve is within ``tol`` of the loop (Fréchet, hence Hausdorff).
+    Lines come back as (2, 2) arrays and polynomial quadratics exactly; the rest
+    are (3, 2) quadratics with explicit on-curve points (a TrueType writer may drop
+    the implied midpoints).
+
+    Raises:
+        ValueError, ToleranceNotMetError: as piece_to_quadratics.
+    """
+    cubic_tol = QUADRATIC_CUBIC_SHARE * tol
     out = []
-    for cubic in piece_to_cubics(piece, cubic_tol, max_depth):
-        try:
-            spline = curve_to_quadratic([tuple(p) for p in cubic], quad_tol,
-                                        all_quadratic=True)
-        except Cu2QuError as exc:
-            raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g"
-                                       % quad_tol, piece=cubic) from exc
-        spline = np.asarray(spline, float)
-        offs = spline[1:-1]
-        ons = [spline[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] \
-            + [spline[-1]]
-        for i, off in enumerate(offs):
-            out.append(np.array([ons[i], off, ons[i + 1]]))
+    for b in loop_to_beziers(loop, cubic_tol, max_depth, join_angle):
+        if len(b) <= 3:
+            out.append(b)
+        else:
+            out.extend(_cubics_to_quadratics([b], tol - cubic_tol))
     return out

@@ -17,8 +17,9 @@ from hypothesis import strategies as st
 
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from morph.export import (SUM_SHARE, cubic_bound, cubic_segments, fit_cubic, loop_to_cubics,
-                          piece_to_cubics, piece_to_quadratics, split_tolerance)
+from morph.export import (SUM_SHARE, cubic_bound, cubic_segments, fit_cubic, loop_to_beziers,
+                          loop_to_cubics, loop_to_quadratics, piece_to_cubics,
+                          piece_to_quadratics, smooth_runs, split_tolerance)
 
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -55,22 +56,31 @@ def ellipse(center, rx, ry, rot, th0, dth):
     return f
 
 
-def distances(points, curve, n=2001, iters=40):
-    """Distance from each point to the curve f([0, 1]): nearest of n samples, then a
-    ternary search for the closest parameter between the neighbouring samples."""
+def distances(points, curve, n=2001, iters=40, near=4):
+    """Distance from each point to the curve f([0, 1]): for each of the ``near``
+    nearest of n samples (even in arc length), a ternary search for the closest parameter between its
+    neighbouring samples; the smallest result (several candidates, so that a sharp
+    turn whose samples are sparse does not hide the closest branch)."""
     points = np.asarray(points, float)
-    t = np.linspace(0.0, 1.0, n)
+    # samples evenly spaced in arc length (a fine polyline's), not in the parameter
+    fine = np.linspace(0.0, 1.0, 20 * n + 1)
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(curve(fine), axis=0).T))])
+    t = np.interp(np.linspace(0.0, cum[-1], n), cum, fine)
+    t[0], t[-1] = 0.0, 1.0
     poly = curve(t)
     out = np.empty(len(points))
     for s in range(0, len(points), 400):
         q = points[s:s + 400]
-        i = np.argmin(((q[:, None] - poly[None]) ** 2).sum(-1), axis=1)
-        lo, hi = t[np.clip(i - 1, 0, n - 1)], t[np.clip(i + 1, 0, n - 1)]
-        for _ in range(iters):
-            m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-            closer = ((curve(m1) - q) ** 2).sum(-1) < ((curve(m2) - q) ** 2).sum(-1)
-            hi, lo = np.where(closer, m2, hi), np.where(closer, lo, m1)
-        out[s:s + 400] = np.sqrt(((curve(0.5 * (lo + hi)) - q) ** 2).sum(-1))
+        order = np.argsort(((q[:, None] - poly[None]) ** 2).sum(-1), axis=1)[:, :near]
+        best = np.full(len(q), np.inf)
+        for i in order.T:
+            lo, hi = t[np.clip(i - 1, 0, n - 1)], t[np.clip(i + 1, 0, n - 1)]
+            for _ in range(iters):
+                m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
+                closer = ((curve(m1) - q) ** 2).sum(-1) < ((curve(m2) - q) ** 2).sum(-1)
+                hi, lo = np.where(closer, m2, hi), np.where(closer, lo, m1)
+            best = np.minimum(best, np.sqrt(((curve(0.5 * (lo + hi)) - q) ** 2).sum(-1)))
+        out[s:s + 400] = best
     return out
 
 
@@ -293,6 +303,47 @@ def test_loop_to_cubics_closed_circle():
         assert np.all(np.diff(ang) >= -1e-12) and ang[-1] - ang[0] == pytest.approx(2 * np.pi)
 
 
+def test_loop_to_beziers_spans_smooth_joins():
+    """A circle split into 8 arcs: the cubics span the G1 joins, so fewer than per
+    piece, each within tol of the exact circle; the loop's start is kept."""
+    arcs = [pc.ellipse_arc((1, 1), 2.0, 2.0, 0.0, k * np.pi / 4, np.pi / 4)[0]
+            for k in range(8)]
+    for tol in (1e-3, 1e-6):
+        beziers = loop_to_beziers(arcs, tol)
+        per_piece = sum(len(piece_to_cubics(a, tol)) for a in arcs)
+        assert len(beziers) < per_piece
+        assert np.allclose(beziers[0][0], [3, 1]) and np.allclose(beziers[-1][-1], [3, 1])
+        for a, b in zip(beziers, beziers[1:]):
+            assert np.array_equal(a[-1], b[0])
+        pts = np.concatenate([bernstein(c, np.linspace(0, 1, 257)) for c in beziers])
+        assert np.abs(np.hypot(pts[:, 0] - 1, pts[:, 1] - 1) - 2.0).max() <= tol
+        ang = np.unwrap(np.arctan2(pts[:, 1] - 1, pts[:, 0] - 1))
+        assert np.all(np.diff(ang) >= -1e-12) and ang[-1] - ang[0] == pytest.approx(2 * np.pi)
+
+
+def test_loop_to_beziers_keeps_corners_and_lines():
+    """A rounded-corner slot: lines stay exact lines, the corners of a D shape stay
+    on Bézier ends; the cubics are within tol of the arcs (trig oracle)."""
+    half = pc.ellipse_arc((0, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi)       # right half
+    d_shape = half + [pc.line((0, 1), (0, -1))]                          # two corners
+    out = loop_to_beziers(d_shape, 1e-5)
+    assert len(out[-1]) == 2 and np.allclose(out[-1], [[0, 1], [0, -1]])
+    assert np.allclose(out[0][0], [0, -1]) and np.allclose(out[-2][-1], [0, 1])
+    assert len(out) - 1 <= sum(len(piece_to_cubics(p, 1e-5)) for p in half)
+    assert hausdorff(ellipse((0, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi), out[:-1]) <= 1e-5
+    # a stadium: lines and half circles meet tangentially, one smooth run
+    stadium = ([pc.line((0, -1), (2, -1))]
+               + pc.ellipse_arc((2, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi)
+               + [pc.line((2, 1), (0, 1))]
+               + pc.ellipse_arc((0, 0), 1.0, 1.0, 0.0, np.pi / 2, np.pi))
+    assert len(smooth_runs(stadium)) == 1
+    for tol in (1e-2, 1e-5):
+        cubics = loop_to_cubics(stadium, tol)
+        pts = np.concatenate([bernstein(c, np.linspace(0, 1, 257)) for c in cubics])
+        x = np.clip(pts[:, 0], 0, 2)           # exact distance to the stadium's boundary
+        assert np.abs(np.hypot(pts[:, 0] - x, pts[:, 1]) - 1.0).max() <= tol
+
+
 @pytest.mark.parametrize("tol", [1e-2, 1e-4, 1e-6])
 def test_quadratics_within_tol(tol):
     """Quadratics within tol of the exact ellipse (trig formula, two-sided Hausdorff)."""
@@ -305,6 +356,16 @@ def test_quadratics_within_tol(tol):
     for a, b in zip(quads, quads[1:]):
         assert np.array_equal(a[-1], b[0])
     assert hausdorff(f, quads) <= tol
+
+
+def test_loop_quadratics_within_tol():
+    """loop_to_quadratics on a circle of four arcs: within tol of the exact circle."""
+    circle = pc.circle((0, 0), 3.0)
+    for tol in (1e-2, 1e-5):
+        quads = loop_to_quadratics(circle, tol)
+        assert all(len(q) == 3 for q in quads)
+        pts = np.concatenate([bernstein(q, np.linspace(0, 1, 65)) for q in quads])
+        assert np.abs(np.hypot(*pts.T) - 3.0).max() <= tol
 
 
 def test_quadratics_exact_for_polynomial_quadratics_and_lines():

@@ -1,13 +1,14 @@
 """SVG output: regions -> path data (M/L/Q/C/Z) within a stated tolerance.
 
-Lines and polynomial quadratics/cubics are written exactly (L, Q, C); every other
-piece (rational, or degree > 3) goes through :func:`morph.export.piece_to_cubics`
-with a certified bound.  Coordinates are rounded to a number of decimals chosen from
-``tol``.  The budget: cubic fit <= 0.8 tol (Fréchet distance, certified under a
-monotone reparametrisation); rounding moves each control point by at most
+Each loop goes through :func:`morph.export.loop_to_beziers`: a line, polynomial
+quadratic or cubic between corners is written exactly (L, Q, C); every other run of
+pieces with smooth joins becomes certified cubics (C) that may span the joins.
+Coordinates are rounded to a number of decimals chosen from ``tol``.  The budget:
+cubic fit <= 0.8 tol (Fréchet distance, certified under a monotone
+reparametrisation); rounding moves each control point by at most
 ``0.5 * 10^-d * sqrt(2) <= 0.2 tol`` and hence the curve by at most that much at the
-same parameter (convex combination), so every written curve is within ``tol`` of its
-piece in Fréchet, hence Hausdorff, distance.  A command that computes the pieces
+same parameter (convex combination), so the written curves are within ``tol`` of the
+loop in Fréchet, hence Hausdorff, distance.  A command that computes the pieces
 themselves within some tolerance passes this writer only the export share of the
 user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y-up
 -> SVG y-down).
@@ -16,10 +17,8 @@ user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y
 import math
 from xml.sax.saxutils import quoteattr
 
-import numpy as np
-
 from .. import piece as pc
-from ..export import piece_to_cubics
+from ..export import loop_to_beziers
 from . import frame_bbox, normalize_shapes
 
 __all__ = ["svg_path_data", "write_svg", "svg_document"]
@@ -40,10 +39,10 @@ def svg_path_data(loops, tol):
     """SVG ``d`` string of a region (y flipped to SVG's y-down), within ``tol``.
 
     One subpath per loop: ``M`` start, then ``L`` (lines), ``Q`` (polynomial
-    quadratics), ``C`` (polynomial cubics, and exported cubics of all other pieces),
-    ``Z``.  Every written curve is within ``tol`` (absolute, region units; Fréchet
-    distance) of its piece: certified cubic bound plus rounding, see the module
-    docstring.
+    quadratics), ``C`` (polynomial cubics, and the exported cubics of every other run
+    of smooth joins, :func:`morph.export.loop_to_beziers`), ``Z``.  The written
+    curves are within ``tol`` (absolute, region units; Fréchet distance) of the
+    loop: certified cubic bound plus rounding, see the module docstring.
 
     Raises:
         ValueError: tol <= 0.
@@ -61,17 +60,8 @@ def svg_path_data(loops, tol):
         if not loop:
             continue
         parts.append("M" + pt(pc.start(loop[0])))
-        for piece in loop:
-            piece = np.asarray(piece, float)
-            poly = pc.is_polynomial(piece)
-            if poly and len(piece) == 2:
-                parts.append("L" + pt(pc.end(piece)))
-            elif poly and len(piece) == 3:
-                q = pc.cartesian(piece)
-                parts.append("Q" + pt(q[1]) + " " + pt(q[2]))
-            else:
-                for c in piece_to_cubics(piece, 0.8 * tol):
-                    parts.append("C" + " ".join(pt(p) for p in c[1:]))
+        for b in loop_to_beziers(loop, 0.8 * tol):
+            parts.append("LQC"[len(b) - 2] + " ".join(pt(p) for p in b[1:]))
         parts.append("Z")
     return "".join(parts)
 
