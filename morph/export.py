@@ -9,9 +9,13 @@ then *certified* against the exact piece, never only sampled:
 
 **The certificate.**  For a cubic C fitted to R on the parameter interval [a, b] a
 reparametrisation is chosen: an increasing polynomial bijection
-``phi: [0, 1] -> [a, b]`` of degree m (least-squares fit to the closest-point feet
-of C on R, Bernstein coefficients strictly increasing, so phi' > 0).  R o phi is
-again a rational Bézier curve X~ / W~ (degree n m, weights positive), and the error
+``phi: [0, 1] -> [a, b]`` of degree m <= 9 (least-squares fit to the closest-point
+feet of C on R, Bernstein coefficients strictly increasing, so phi' > 0), or, where
+one polynomial does not follow the two parametrisations closely enough, a
+continuous piecewise one: C is cut exactly (de Casteljau) at s values, R at the
+feet of those points, and each panel gets its own polynomial.  On a panel R o phi
+is again a rational Bézier curve X~ / W~ (degree n m, weights positive), and the
+error
 
     |R(phi(s)) - C(s)| = |X~(s) - W~(s) C(s)| / W~(s)
 
@@ -34,13 +38,23 @@ reparametrisation: :func:`cubic_bound` without ``reparam``) it is the plain
 same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in the
 coefficient products), the bound is rigorous.
 
-**Search.**  Per piece, segments are chosen greedily from t = 0: the longest
-parameter interval whose certified bound is <= tol is looked for with a few fits
-(error predicted from the previous fits as ~ h^p), so a 90° arc of radius 2 takes 1
-/ 2 / 3 / 6 cubics at tol 1e-3 / 1e-4 / 1e-6 / 1e-8 (kurbo's own halving: 1 / 2 / 4 /
-8).  Where kurbo finds no cubic, or its cubic does not certify, the same-parameter
-fit of :func:`fit_cubic` (Hermite / least squares) is tried, and the interval
-shrinks until one certifies.
+**Search.**  Per piece (or per run of pieces with smooth joins, see below),
+segments are chosen greedily from the start: the longest parameter interval whose
+certified bound is <= tol is looked for with a few fits (error predicted from the
+previous fits as ~ h^p), then one segment fewer of equal arc length is tried.  A 90°
+arc of radius 2 takes 1 / 2 / 3 / 7 cubics at tol 1e-3 / 1e-4 / 1e-6 / 1e-8 (kurbo's
+own halving: 1 / 2 / 4 / 8; the classic circle cubic 1 / 2 / 3 / 6).  Where kurbo
+finds no cubic, or its cubic does not certify, the same-parameter fit of
+:func:`fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
+one certifies.
+
+**Loops.**  A sum splits one smooth convolution curve into many pieces; fitting
+piece by piece spends one cubic or more on each.  :func:`loop_to_beziers` splits a
+loop at its corners only (:func:`smooth_runs`) and lets cubics span the smooth joins
+(:func:`chain_segments`): the certificate cuts the cubic at the feet of the join
+points and certifies each part against its piece, phi mapping the cut to the join.
+Writers of whole outlines (SVG, fonts) call the loop functions with the export share
+of the user's tolerance (:func:`split_tolerance`).
 """
 
 import bisect
