@@ -1,0 +1,392 @@
+"""Skeleton strokes and calligraphic fonts: morph.parse.ufo, morph.fonts.stroke,
+``morph stroke`` (issue #15).
+
+References are independent: the written glyphs are read back from the compiled font
+and compared with a Clipper polygon of the flattened skeleton ⊕ the flattened nib
+(``tests/stroke_reference.py``); the plumbing (metrics, components, anchors,
+features) is also run with that polygon stroker, so it is checked apart from the
+exact geometry.  The full A-Z, a-z, 0-9 sweep is ``python -m bench.stroke``.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+import shapely.affinity
+import ufoLib2
+from click.testing import CliRunner
+from fontTools.pens.boundsPen import BoundsPen
+from fontTools.ttLib import TTFont
+
+from morph import piece as pc
+from morph.cli import main
+from morph.errors import MorphError, ParseError
+from morph.fonts.brush import ellipse_nib, region_extent
+from morph.fonts.stroke import move_feature_anchors, nib_is_symmetric, stroke_plan, stroke_ufo
+from morph.parse import glyph_region
+from morph.parse.ufo import component_paths, contour_paths, glyph_names_for, glyph_paths, load_ufo
+from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely
+from tests.stroke_reference import polygon_stroker, stroke_polygon
+
+SUBSET = Path(__file__).resolve().parent / "data" / "relief" / "Relief-SingleLine-subset.ufo"
+NIB_SPEC = (90.0, 20.0, 30.0)
+ROUNDING = 0.71  # integer coordinates in the written font: sqrt(2) / 2
+REF_TOL = 0.05   # flattening of the Clipper reference (font units)
+
+
+@pytest.fixture(scope="module")
+def skeleton():
+    return load_ufo(SUBSET, lazy=False)
+
+
+def nib():
+    return ellipse_nib(*NIB_SPEC)
+
+
+def shift_of(font, name, nib_region):
+    """The written glyph's horizontal shift (stroke_ufo's metric rule)."""
+    x0, _, x1, _ = region_extent(nib_region)
+    grow = int(round(x1 - x0))
+    return int(round(-x0)) - (grow if font[name].width == 0 else 0)
+
+
+def all_paths(font, name):
+    """Skeleton paths of a glyph with its components decomposed (composite coords)."""
+    g = font[name]
+    paths = glyph_paths(g)
+    for c in g.components:
+        paths.extend(component_paths(font, c))
+    return paths
+
+
+# =========================================================================== reading
+
+def test_open_skeleton_contours(skeleton):
+    paths = glyph_paths(skeleton["o"])
+    assert len(paths) == 1
+    pieces, closed = paths[0]
+    assert not closed and len(pieces) == 4 and all(pc.degree(p) == 3 for p in pieces)
+    pts = [(p.x, p.y) for p in skeleton["o"].contours[0].points]
+    assert np.allclose(pc.start(pieces[0]), pts[0]) and np.allclose(pc.end(pieces[-1]), pts[-1])
+    for a, b in zip(pieces, pieces[1:]):
+        assert np.array_equal(pc.end(a), pc.start(b))
+    # the i's dot: a 2-unit line
+    dot = glyph_paths(skeleton["uni0307"])
+    assert [len(p) for p, _ in dot] == [1, 1] and not any(c for _, c in dot)
+
+
+def _glyph(draw):
+    g = ufoLib2.objects.Glyph("test")
+    draw(g.getPointPen())
+    return g
+
+
+def test_single_point_closed_and_quadratic_contours():
+    def single(pp):
+        pp.beginPath()
+        pp.addPoint((10, 20), "move")
+        pp.endPath()
+
+    (pieces, closed), = glyph_paths(_glyph(single))
+    assert not closed and len(pieces) == 1
+    assert np.array_equal(pc.start(pieces[0]), [10, 20]) and np.array_equal(pc.end(pieces[0]), [10, 20])
+
+    def square(pp):  # closed: a closing line is added
+        pp.beginPath()
+        for x, y in [(0, 0), (100, 0), (100, 100), (0, 100)]:
+            pp.addPoint((x, y), "line")
+        pp.endPath()
+
+    (pieces, closed), = glyph_paths(_glyph(square))
+    assert closed and len(pieces) == 4 and np.array_equal(pc.end(pieces[-1]), [0, 0])
+
+    def quad(pp):  # a TrueType run with an implied on-curve point, open
+        pp.beginPath()
+        pp.addPoint((0, 0), "move")
+        pp.addPoint((50, 100))
+        pp.addPoint((150, 100))
+        pp.addPoint((200, 0), "qcurve")
+        pp.endPath()
+
+    (pieces, closed), = glyph_paths(_glyph(quad))
+    assert not closed and [pc.degree(p) for p in pieces] == [2, 2]
+    assert np.allclose(pc.end(pieces[0]), (100, 100))
+
+    def zero_segments(pp):  # a dot drawn as a zero-length line
+        pp.beginPath()
+        pp.addPoint((5, 5), "move")
+        pp.addPoint((5, 5), "line")
+        pp.endPath()
+
+    (pieces, closed), = glyph_paths(_glyph(zero_segments))
+    assert not closed and len(pieces) == 1 and np.all(pc.cartesian(pieces[0]) == 5)
+
+
+def test_components_and_names(skeleton):
+    six = glyph_paths(skeleton["six"])
+    (nine,) = [c for c in skeleton["nine"].components]
+    rotated = component_paths(skeleton, nine)
+    xx, xy, yx, yy, dx, dy = tuple(nine.transformation)
+    assert (xx, yy) == (-1, -1)
+    p0 = pc.start(six[0][0][0])
+    assert np.allclose(pc.start(rotated[0][0][0]), (-p0[0] + dx, -p0[1] + dy))
+    assert glyph_names_for(skeleton, ["A", "0", "eacute", "g.ss01"]) == \
+        ["A", "zero", "eacute", "g.ss01"]
+    with pytest.raises(ParseError):
+        glyph_names_for(skeleton, ["Ω"])
+    with pytest.raises(ParseError):
+        load_ufo(SUBSET.parent / "missing.ufo")
+    with pytest.raises(ParseError):
+        contour_paths([object()])
+
+
+# =========================================================================== features
+
+FEA = """# a comment kept
+markClass [acutecomb] <anchor 78 555> @mark_top;
+feature mark {
+\tlookup mark_latn {
+\t\tpos base e <anchor 295 555> mark @mark_top;   # trailing
+\t\tpos base [o c] <anchor  296 555> mark @mark_top;
+\t\tpos base x <anchor 10 20> mark @mark_top;
+\t} mark_latn;
+} mark;
+"""
+
+
+def test_move_feature_anchors():
+    offsets = {"acutecomb": (-40, 0), "e": (39, 0), "o": (39, 0), "c": (39, 0)}
+    out = move_feature_anchors(FEA, ["acutecomb", "e", "o", "c", "x"], offsets.get)
+    assert "markClass [acutecomb] <anchor 38 555> @mark_top;" in out
+    assert "pos base e <anchor 334 555> mark @mark_top;   # trailing" in out
+    assert "pos base [o c] <anchor 335 555> mark @mark_top;" in out
+    assert "pos base x <anchor 10 20> mark @mark_top;" in out  # not moved: no offset
+    assert out.startswith("# a comment kept\n")
+    with pytest.raises(MorphError, match="different offsets"):
+        move_feature_anchors(FEA, ["acutecomb", "e", "o", "c", "x"],
+                             {"acutecomb": (0, 0), "e": (1, 0), "o": (1, 0), "c": (2, 0)}.get)
+    with pytest.raises(MorphError, match="cannot parse"):
+        move_feature_anchors("feature x { sub a by ; } x;", ["a"], offsets.get)
+
+
+# =========================================================================== plumbing
+
+def test_nib_symmetry():
+    assert nib_is_symmetric(nib())
+    off_centre = [[pc.translate(p, (5.0, 0.0)) for p in nib()[0]]]
+    assert not nib_is_symmetric(off_centre)
+
+
+def test_font_plumbing_with_polygon_stroker(skeleton, tmp_path):
+    """Metrics, components, anchors, features, kerning: independent of the geometry."""
+    n = nib()
+    out = tmp_path / "plumb.ufo"
+    chosen = ["H", "eacute", "i", "nine", "ordfeminine"]
+    stroked, followed = stroke_plan(skeleton, chosen, n)
+    assert set(stroked) == set(chosen) | {"e", "acutecomb", "dotlessi", "uni0307", "six"}
+    assert followed == []  # nothing else in the subset is built from those only
+    stats = stroke_ufo(SUBSET, out, n, chosen, tol=0.5, stroker=polygon_stroker(0.25))
+    assert stats["glyphs"] == len(stroked) and stats["decomposed"] == 1 and not stats["fallback"]
+    f = ufoLib2.Font.open(out)
+    x0, _, x1, _ = region_extent(n)
+    grow = int(round(x1 - x0))
+    for name in stroked:
+        src, new = skeleton[name], f[name]
+        assert new.width == (src.width + grow if src.width else 0), name
+        s = shift_of(skeleton, name, n)
+        for a, b in zip(src.anchors, new.anchors):
+            assert (b.name, b.x, b.y) == (a.name, a.x + s, a.y), name
+    # composites: kept (translation, 180-degree turn with a symmetric nib), offsets
+    # corrected for the shifts; the scaled 'a' of ordfeminine decomposed and stroked
+    assert [c.baseGlyph for c in f["eacute"].components] == ["e", "acutecomb"]
+    assert [c.baseGlyph for c in f["nine"].components] == ["six"]
+    assert not f["ordfeminine"].components and f["ordfeminine"].contours
+    for name in ("eacute", "i", "nine"):
+        for c_src, c_new in zip(skeleton[name].components, f[name].components):
+            m = tuple(c_src.transformation)
+            s_c, s_b = shift_of(skeleton, name, n), shift_of(skeleton, c_src.baseGlyph, n)
+            assert tuple(c_new.transformation) == pytest.approx(
+                (m[0], m[1], m[2], m[3], m[4] + s_c - m[0] * s_b, m[5] - m[1] * s_b))
+    # mark attachment agrees with the composite, as in the source
+    top = {a.name: (a.x, a.y) for a in f["e"].anchors}["top"]
+    mark = {a.name: (a.x, a.y) for a in f["acutecomb"].anchors}["_top"]
+    acute = tuple(f["eacute"].components[1].transformation)[4:]
+    assert (top[0] - mark[0], top[1] - mark[1]) == acute
+    # features: explicit anchors moved by the same rule, the rest untouched
+    assert "markClass [acutecomb] <anchor %d 555> @mark_top;" % (78 + shift_of(skeleton, "acutecomb", n)) \
+        in f.features.text
+    assert "pos base e <anchor %d 555> mark @mark_top;" % (295 + shift_of(skeleton, "e", n)) \
+        in f.features.text
+    assert "sub g by g.ss01;" in f.features.text
+    assert dict(f.kerning) == dict(skeleton.kerning)
+    assert dict(f.groups) == dict(skeleton.groups)
+    assert f.info.familyName == "Relief SingleLine Stroke"
+    assert f.info.postscriptStemSnapH is None
+    # glyphs not chosen keep their skeletons in a UFO ...
+    assert [[(p.x, p.y, p.type) for p in c.points] for c in f["B"].contours] == \
+        [[(p.x, p.y, p.type) for p in c.points] for c in skeleton["B"].contours]
+    assert all(c.open for c in f["B"].contours)
+    # ... and are left empty in a compiled font
+    stats = stroke_ufo(skeleton, tmp_path / "plumb.otf", n, ["H"], tol=0.5,
+                       stroker=polygon_stroker(0.25))
+    assert stats["emptied"] > 60
+    font = TTFont(str(tmp_path / "plumb.otf"))
+    gs = font.getGlyphSet()
+    pen = BoundsPen(gs)
+    gs["B"].draw(pen)
+    assert pen.bounds is None
+    assert font["hmtx"]["B"][0] == skeleton["B"].width
+    with pytest.raises(MorphError, match="exists"):
+        stroke_ufo(skeleton, tmp_path / "plumb.otf", n, ["H"], stroker=polygon_stroker(0.25))
+    with pytest.raises(ValueError):
+        stroke_ufo(skeleton, tmp_path / "plumb.pdf", n, ["H"])
+
+
+# =========================================================================== geometry
+
+ACCURACY_GLYPHS = ["o", "e", "a", "eight", "g", "A", "s"]
+# A counter closed by two different strokes (A's bar and legs, 4's bar and stems) is
+# filled by morph.stroke.stroke_paths at the time of writing; bench/stroke.py lists them
+KNOWN_FILLED_COUNTER = pytest.mark.xfail(
+    strict=True, reason="issue #15: a counter between two strokes is filled by stroke_paths")
+
+
+@pytest.fixture(scope="module")
+def stroked_otf(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stroke") / "Relief-Stroke.otf"
+    stats = stroke_ufo(SUBSET, out, nib(), ACCURACY_GLYPHS + ["eacute", "i", "nine"], tol=0.5)
+    return out, stats
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=KNOWN_FILLED_COUNTER) if n == "A" else n
+                                  for n in ACCURACY_GLYPHS])
+def test_written_glyph_matches_reference(skeleton, stroked_otf, name):
+    """Hausdorff <= tol + 0.71 (integer rounding) + the reference's own flattening,
+    and the counters (holes) of o, e, a, 8 kept, against the Clipper polygon."""
+    out, stats = stroked_otf
+    assert not stats["fallback"]
+    n = nib()
+    got = region_to_shapely(glyph_region(name, font=str(out)).region, 0.05)
+    ref = stroke_polygon(all_paths(skeleton, name), n, REF_TOL)
+    ref = shapely.affinity.translate(ref, shift_of(skeleton, name, n), 0.0)
+    d = hausdorff(got, ref, 0.5)
+    assert d <= 0.5 + ROUNDING + REF_TOL, (name, d)
+    assert count_outer_and_holes(got, 1.0) == count_outer_and_holes(ref, 1.0)
+    # each counter's area agrees within its perimeter times the distance bound
+    bound = 0.5 + ROUNDING + REF_TOL
+    for (a, _), (b, perimeter) in zip(holes(got), holes(ref)):
+        assert abs(a - b) <= perimeter * bound, (name, a, b)
+
+
+def holes(geom):
+    """Sorted (area, perimeter) of the holes of a shapely (Multi)Polygon."""
+    polys = getattr(geom, "geoms", [geom])
+    return sorted((shapely.Polygon(r).area, shapely.Polygon(r).length)
+                  for p in polys for r in p.interiors)
+
+
+# =========================================================================== fonts
+
+@pytest.mark.parametrize("suffix", [".otf", ".ttf"])
+def test_compiled_font_loads_sanitizes_renders(skeleton, tmp_path, suffix):
+    """ufo2ft output: fontTools reads it, ots-sanitize passes it, Pillow renders it
+    at 9 to 300 px; TrueType keeps the composites."""
+    import ots
+    from PIL import Image, ImageDraw, ImageFont
+
+    out = tmp_path / ("Relief-Stroke" + suffix)
+    text = "Hoeaé8i9"
+    stats = stroke_ufo(skeleton, out, nib(), list(text) + ["nine"], tol=0.5)
+    assert not stats["fallback"]
+    font = TTFont(str(out))
+    assert ("glyf" in font) == (suffix == ".ttf") and ("CFF " in font) == (suffix == ".otf")
+    if suffix == ".ttf":
+        assert font["glyf"]["eacute"].isComposite() and font["glyf"]["nine"].isComposite()
+    result = ots.sanitize(str(out), capture_output=True)
+    assert result.returncode == 0, result.stderr.decode(errors="replace")
+    for px in (9, 12, 16, 24, 48, 96, 300):
+        fnt = ImageFont.truetype(str(out), px)
+        left, top, right, bottom = fnt.getbbox(text)
+        img = Image.new("L", (right - left + 4, bottom - top + 4), 255)
+        ImageDraw.Draw(img).text((2 - left, 2 - top), text, font=fnt, fill=0)
+        ink = np.asarray(img) < 128
+        assert ink.mean() > 0.05, px  # glyphs drawn
+        assert ink.mean() < 0.7, px   # not filled boxes
+    # the stroke's thick/thin contrast survives: 'o' is wider than the skeleton + nib
+    # height, narrower than the skeleton + nib width
+    gs = font.getGlyphSet()
+    pen = BoundsPen(gs)
+    gs["o"].draw(pen)
+    xmin, ymin, xmax, ymax = pen.bounds
+    x0, y0, x1, y1 = region_extent(nib())
+    assert xmax - xmin == pytest.approx(412 + (x1 - x0), abs=1.5)   # skeleton o: 90..502
+    assert ymax - ymin == pytest.approx(555 + (y1 - y0), abs=1.5)   # 0..555
+
+
+# =========================================================================== CLI
+
+def test_cli_stroke_ufo(tmp_path):
+    out = tmp_path / "R.otf"
+    runner = CliRunner()
+    res = runner.invoke(main, ["stroke", str(SUBSET), "-o", str(out), "--glyphs", "H,o"])
+    assert res.exit_code == 0, res.output
+    assert out.is_file() and out.with_suffix(".png").is_file()
+    assert "glyphs stroked" in res.output
+    again = runner.invoke(main, ["stroke", str(SUBSET), "-o", str(out), "--glyphs", "H"])
+    assert again.exit_code == 2 and "exists" in again.output
+    ufo = tmp_path / "Round.ufo"
+    res = runner.invoke(main, ["stroke", str(SUBSET), "-o", str(ufo), "--glyphs", "o",
+                               "--nib", "ellipse:60,60,0", "--tol", "1e-3"])
+    assert res.exit_code == 0, res.output
+    f = ufoLib2.Font.open(ufo)
+    assert f["o"].width == 592 + 60 and ufo.with_suffix(".png").is_file()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["-o", "x.pdf"], "cannot tell the output format"),
+    (["-o", "x.otf", "--nib", "ellipse:a,b"], "--nib"),
+    (["-o", "x.otf", "--glyphs", "Ω"], "no glyph"),
+])
+def test_cli_stroke_errors(tmp_path, args, message):
+    args = [a if a != "x.pdf" and not a.startswith("x.") else str(tmp_path / a) for a in args]
+    res = CliRunner().invoke(main, ["stroke", str(SUBSET)] + args)
+    assert res.exit_code == 2, res.output
+    assert message in res.output and res.output.count("\n") == 1
+
+
+def test_cli_stroke_missing_skeleton(tmp_path):
+    res = CliRunner().invoke(main, ["stroke", str(tmp_path / "none.ufo"), "-o",
+                                    str(tmp_path / "x.otf")])
+    assert res.exit_code == 2 and "does not exist" in res.output
+
+
+SKELETON_SVG = """<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 120">
+  <path d="M 20 100 C 40 10, 90 10, 100 60 S 160 110, 180 20" fill="none" stroke="black"/>
+  <circle cx="60" cy="100" r="10" fill="none" stroke="black"/>
+</svg>
+"""
+
+
+def test_cli_stroke_svg(tmp_path):
+    """An SVG skeleton: the open path and the circle's outline stroked (the circle's
+    inside stays empty), checked against the Clipper polygon of the same paths."""
+    from morph.parse import svg_region
+    from morph.parse.svg import svg_paths
+
+    src = tmp_path / "skel.svg"
+    src.write_text(SKELETON_SVG)
+    out = tmp_path / "skel-stroke.svg"
+    res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(out), "--nib",
+                                    "ellipse:16,4,30", "--tol", "0.01"])
+    assert res.exit_code == 0, res.output
+    got = region_to_shapely(svg_region(str(out)), 0.005)
+    n = ellipse_nib(16, 4, 30)
+    ref = stroke_polygon(svg_paths(str(src)), n, 0.005)
+    assert hausdorff(got, ref, 0.05) <= 0.01 + 0.005 + 0.01  # tol + reference + SVG digits
+    assert count_outer_and_holes(got, 0.1) == count_outer_and_holes(ref, 0.1) == (2, 1)
+    png = tmp_path / "skel.png"
+    res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(png), "--size", "200"])
+    assert res.exit_code == 0 and png.is_file()
+    res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(tmp_path / "x.otf")])
+    assert res.exit_code == 2
