@@ -62,8 +62,8 @@ def sum_(a, b, method, font, tol, output, force, size):
     A and B are characters or glyph names of the font, or SVG files.  The result is
     the boundary of the sum as rational Bézier pieces (Lee, Kim, Elber 1998: QAC
     convolution, trimmed to the boundary).  SVG output writes cubics within --tol of
-    the exact sum, export included (half of --tol for the sum, half for the cubic
-    fit and rounding: morph.export.split_tolerance).  Glyphs are summed in
+    the exact sum, export included (a quarter of --tol for the sum, the rest for
+    the cubic fit and rounding: morph.export.split_tolerance).  Glyphs are summed in
     font units with their own origins (the result's origin is the sum of the two).
 
     \b
