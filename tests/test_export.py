@@ -476,3 +476,42 @@ def test_circle_plus_circle_written_within_tol(tol):
         z = np.array([seg.point(t) for seg in path for t in np.linspace(0, 1, 65)])
         # SVG is y-down: the centre (2, 3) is written at (2, -3)
         assert np.abs(np.abs(z - complex(2.0, -3.0)) - (r1 + r2)).max() <= tol
+
+
+def test_offset_O_cubics_no_more_than_kurbo():
+    """Issue 18: `morph offset O --radius 0.04` on the CFF O at 0.1 unit writes no more
+    cubics than kurbo's offset_cubic spends on the O's segments (untrimmed, a lower
+    bound of a kurbo-based offsetter: 15), within 20 %; and within tol of the exact
+    offset (distance to the O's outline = 40 units)."""
+    import kurbopy
+    from fontTools.pens.recordingPen import RecordingPen
+    from fontTools.ttLib import TTFont
+    from svgpathtools import parse_path
+
+    from morph.offset import offset_region
+    from morph.parse import default_font_path, glyph_region
+    from morph.render.svg import svg_path_data
+
+    otf = str(default_font_path()).replace(".ttf", ".otf")
+    font = TTFont(otf)
+    pen = RecordingPen()
+    font.getGlyphSet()[font.getBestCmap()[ord("O")]].draw(pen)
+    kurbo, cur = 0, None
+    for op, args in pen.value:
+        if op == "curveTo":
+            c = kurbopy.CubicBez(*[kurbopy.Point(*p) for p in (cur,) + tuple(args)])
+            kurbo += len(list(kurbopy.offset_cubic(c, -40.0, 0.1).segments()))
+        elif op == "lineTo":
+            kurbo += 1
+        if args:
+            cur = args[-1]
+    g = glyph_region("O", otf)
+    tol = 0.1
+    st, et = split_tolerance(tol)
+    d = svg_path_data(offset_region(g.region, 40.0, st), et)
+    written = sum(d.count(c) for c in "CQL")
+    assert written <= 1.2 * kurbo, (written, kurbo)
+    z = np.array([seg.point(t) for seg in parse_path(d) for t in np.linspace(0, 1, 17)])
+    pts = np.column_stack([z.real, -z.imag])
+    dist = np.min([distances(pts, rational(p), n=401) for lp in g.region for p in lp], axis=0)
+    assert np.abs(dist - 40.0).max() <= tol
