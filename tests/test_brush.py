@@ -331,6 +331,41 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     assert b["hmtx"]["o"] == a["hmtx"]["o"] and bounds(b, "o") == bounds(a, "o")
 
 
+def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
+    """A sum that raises at tol/2 but not at tol/8 keeps its curves (kind "retry"); one
+    that raises for the nib as given is computed with the nib turned (within tol)."""
+    import morph.trim
+
+    real = morph.trim.minkowski_sum
+
+    def coarse_fails(a, b, tol, **kw):
+        if tol > 0.1:
+            raise TopologyError("fails at %g (test)" % tol)
+        return real(a, b, tol, **kw)
+
+    monkeypatch.setattr(morph.trim, "minkowski_sum", coarse_fails)
+    src, out = default_font_path(), tmp_path / "r.ttf"
+    stats = brush_font(src, out, ellipse_nib(*NIB), ["o"], tol=0.5)
+    assert stats["fallback"]["o"][0] == "retry" and "fails at 0.25" in stats["fallback"]["o"][1]
+    _assert_sum(src, out, "o")
+    g = TTFont(str(out))["glyf"]["o"]
+    assert g.numberOfContours == 2 and not all(g.flags[k] & 1 for k in range(len(g.flags)))
+
+    nib = ellipse_nib(*NIB)
+
+    def only_turned(a, b, tol, **kw):  # fails for the nib as given, at any tolerance
+        if b is nib:
+            raise TopologyError("tangent nib (test)")
+        return real(a, b, tol, **kw)
+
+    monkeypatch.setattr(morph.trim, "minkowski_sum", only_turned)
+    out = tmp_path / "turned.ttf"  # a new path: glyph_region caches fonts by path
+    stats = brush_font(src, out, nib, ["o", "T"], tol=0.5)
+    assert {n: k for n, (k, _) in stats["fallback"].items()} == {"o": "rotated", "T": "rotated"}
+    _assert_sum(src, out, "o")
+    _assert_sum(src, out, "T")
+
+
 def test_jobs_give_the_same_font(tmp_path):
     """--jobs 2 (a process pool) writes the same outlines, metrics and anchors as 1."""
     outs = []

@@ -71,9 +71,10 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
     characters, source and result side by side).
 
-    A glyph whose sum fails is written by a polygon fallback (Clipper sum of the
-    flattened glyph and nib, within --tol but made of lines), or left as in the
-    source if that fails too.  The font is written anyway; the glyphs that fell
+    A glyph whose sum fails is computed again at --tol/8, then with the nib turned
+    by a tiny angle (within --tol); if that fails too it is written by a polygon
+    fallback (Clipper sum of the flattened glyph and nib,
+    within --tol but made of lines), or left as in the source if that fails too.  The font is written anyway; the glyphs that fell
     back are then named on one line and the exit status is 1.
 
     \b
@@ -130,7 +131,9 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
         click.echo("note: swept %s too (not chosen), the base of %s" % (base, ", ".join(users)),
                    err=True)
     if stats["fallback"]:
-        kinds = {"polygon": "polygon sum", "source": "left as in the source"}
+        kinds = {"retry": "exact sum at tol/8", "rotated": "exact sum, nib turned within tol",
+                 "polygon": "polygon sum",
+                 "source": "left as in the source"}
         click.echo("morph: error: font written, but %d glyph(s) fell back: %s"
                    % (len(stats["fallback"]), "; ".join(
                        "%s (%s: %s)" % (n, kinds[k], err)

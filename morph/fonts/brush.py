@@ -11,11 +11,16 @@ rounded to the integer grid (at most 0.71 unit more; see
 :func:`morph.fonts.tables.clean_contour` for the clean-up of rounded contours).
 
 **Fallback.**  A glyph whose sum raises (a :class:`morph.errors.MorphError` such as
-``TopologyError``, or any other exception) does not stop the font: it is computed
-again by :func:`morph.fonts.jobs.polygon_sum` (the glyph and the nib flattened
-within ``tol / 2`` each and summed exactly by Clipper: within ``tol`` of the exact
-sum, but written as short lines, not curves).  Should that fail too, the glyph is
-left as in the source (metrics and anchors unchanged).  Either way it is listed in
+``TopologyError``, or any other exception) does not stop the font.  It is computed
+again by the same exact method at ``tol / 8`` (other crossings and flattenings;
+curves within tol as usual; kind "retry"), then with the nib turned about its pen
+point by the angle that moves it by ``tol / 4`` at most (both ways; the sum at
+``tol / 4``, so the outline stays within ``tol``; kind "rotated": this breaks exact
+tangencies between the nib and straight glyph edges); if those raise too, by
+:func:`morph.fonts.jobs.polygon_sum` (the glyph and the nib flattened within
+``tol / 2`` each and summed exactly by Clipper: within ``tol`` of the exact sum, but
+written as short lines, not curves; kind "polygon").  Should that fail too, the
+glyph is left as in the source (metrics and anchors unchanged; kind "source").  Either way it is listed in
 the result's ``fallback`` (name -> (kind, error)); ``morph brush`` writes the font
 and then names them on one line with exit status 1.
 
@@ -211,13 +216,34 @@ def _new_advance(adv, nib_w):
     return int(round(adv + nib_w)) if adv > 0 else adv
 
 
+def _attempts(nib, tol):
+    """(kind, sum tolerance, nib) to try in turn: the sum at tol/2; at tol/8; with the
+    nib turned by +-delta about its pen point at tol/4, where delta * (largest
+    distance of the nib from its pen point) = tol/4, so the outline moves by at most
+    tol/4 + tol/4 and stays within tol with the tol/2 of the curve conversion."""
+    from ..region import region_bbox, transform_region
+
+    yield "exact", tol / 2.0, nib
+    yield "retry", tol / 8.0, nib
+    x0, y0, x1, y1 = region_bbox(nib)
+    radius = float(np.hypot(max(abs(x0), abs(x1)), max(abs(y0), abs(y1))))
+    if radius > 0:
+        for sign in (1.0, -1.0):
+            d = sign * tol / 4.0 / radius
+            c, s = np.cos(d), np.sin(d)
+            yield "rotated", tol / 4.0, transform_region(nib, [[c, -s, 0.0], [s, c, 0.0]])
+
+
 def sweep_glyph(job):
     """One glyph's outline: (glyph ⊕ nib) shifted, as integer contours, with fallbacks.
 
     ``job``: ``(name, region, nib, tol, method, offset, quadratic)`` (``tol`` the
     total in font units, half for the sum and half for the curve conversion).
     Returns ``(name, contours, kind, error)``: ``kind`` "exact" (``error`` None),
-    "polygon" (the sum raised ``error``; contours from
+    "retry" (the sum raised ``error`` and was computed again at ``tol / 8``: the
+    exact method, curves within tol), "rotated" (computed with the nib turned by a
+    tiny angle, see :func:`_attempts`: curves within tol), "polygon" (all raised;
+    contours from
     :func:`morph.fonts.jobs.polygon_sum`) or "source" (that failed too: contours
     None, the glyph stays as it is).  Module-level, so it runs in worker processes.
     """
@@ -228,11 +254,15 @@ def sweep_glyph(job):
     name, region, nib, tol, method, offset, quadratic = job
     if not region:
         return name, [], "exact", None
-    try:
-        loops = minkowski_sum(region, nib, tol / 2.0, method=method)
-        return name, contours_from_loops(loops, tol / 2.0, quadratic, offset), "exact", None
-    except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
-        error = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
+    error = None
+    for kind, sum_tol, pen in _attempts(nib, tol):
+        try:
+            loops = minkowski_sum(region, pen, sum_tol, method=method)
+            return (name, contours_from_loops(loops, tol / 2.0, quadratic, offset), kind,
+                    error)
+        except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
+            if error is None:
+                error = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
     try:
         polys = polygon_sum(region, nib, tol)
         return name, polylines_to_contours(polys, quadratic, offset), "polygon", error
@@ -259,6 +289,9 @@ def open_source(font_path, location=None):
 
     ``font_path``: a path, a ``TTFont`` (used as it is, and changed by
     :func:`brush_font`), or None for the bundled font.
+
+    Raises:
+        ParseError: not a font fontTools can read; a bad location.
     """
     from fontTools.ttLib import TTFont
 
@@ -267,7 +300,13 @@ def open_source(font_path, location=None):
     if hasattr(font_path, "getGlyphSet"):
         font = font_path
     else:
-        font = TTFont(str(default_font_path() if font_path is None else font_path))
+        path = str(default_font_path() if font_path is None else font_path)
+        try:
+            font = TTFont(path)
+            font["head"]
+        except Exception as exc:  # fontTools raises many types for garbage input
+            raise ParseError("cannot read font %s: %s" % (path, " ".join(str(exc).split())),
+                             path) from exc
     if "fvar" in font or location:
         font = instantiate_font(font, location)
     return font

@@ -39,7 +39,8 @@ def run_jobs(func, args, jobs=1, progress=None):
     arguments and results picklable.  ``jobs <= 1`` (or one job) runs in this
     process.  ``progress(index, result)`` is called in this process as each job
     finishes (in completion order).  An exception raised by ``func`` propagates;
-    a job whose worker process died is run again here.
+    a job whose worker process died is run again here, and all of them when no
+    process pool can be started.
     """
     args = list(args)
     results = [None] * len(args)
@@ -54,7 +55,11 @@ def run_jobs(func, args, jobs=1, progress=None):
     from concurrent.futures.process import BrokenProcessPool
 
     lost = []
-    with ProcessPoolExecutor(max_workers=min(jobs, len(args))) as pool:
+    try:
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(args)))
+    except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
+        return run_jobs(func, args, jobs=1, progress=progress)
+    with pool:
         futures = {pool.submit(func, a): k for k, a in enumerate(args)}
         for fut in as_completed(futures):
             k = futures[fut]
