@@ -1,56 +1,521 @@
-"""Robustness sweep: every ordered glyph pair and every glyph ⊕ nib, checked.
+"""Robustness sweep of Minkowski sums and strokes (issue #14 acceptance), checked.
 
-    python -m bench.sweep [--fonts ttf,cff] [--set upper|lower|both] [--nibs|--no-nibs]
-                          [--pairs|--no-pairs] [--limit N] [--tol EM] [--jobs J]
-                          [--budget SECONDS] [--cases ttf:W:nib:ellipse,cff:C:S]
+    python -m bench.sweep [--mode pairs|random|stroke|fonts] [--jobs 1] [--timeout S]
+                          [--n N] [--seed S] [--cases SPEC,SPEC...] [--md bench/sweep.md]
+    pairs only:  [--fonts ttf,cff] [--set upper|lower|both] [--nibs|--no-nibs]
+                 [--pairs|--no-pairs] [--limit N] [--tol EM] [--budget SECONDS]
 
-Jobs: every ordered pair A-Z x A-Z (``--set upper``) and/or a-z x a-z (``lower``) in
-the bundled TrueType font (``ttf``) and its CFF version (``cff``,
-``morph.parse.cubic_test_font_path()``), and every glyph of the set ⊕ three nibs
-(disk r=30, thin ellipse 60x8 rotated 30 degrees, square 40x40; font units).
+Modes (each writes its own section of bench/sweep.md):
 
-Each result of ``morph.trim.minkowski_sum(a, b, tol)`` is checked independently:
+``pairs`` (the original sweep): every ordered pair A-Z x A-Z (``--set upper``) and/or
+a-z x a-z (``lower``) in the bundled TrueType font (``ttf``) and its CFF version
+(``cff``, ``morph.parse.cubic_test_font_path()``), and every glyph of the set ⊕ three
+nibs (disk r=30, thin ellipse 60x8 rotated 30 degrees, square 40x40; font units), at
+``--tol`` em; checked by :func:`check` (straddle against the exact predicate
+``tests.test_trim.Oracle``, membership at random points, a coarse Clipper sum).
 
-- closed loops (consecutive piece ends meet), each loop simple (its flattening is a
-  valid shapely ring);
-- straddle: sample points of the boundary pushed by tol + slack (slack = 1e-5 em +
-  2e-3 units: flattening of the oracle) must see both the inside and the outside of
-  the exact sum x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ (``tests.test_trim.Oracle``, inputs
-  flattened to 1e-3 units);
-- membership at random points in the box (winding number of our flattened loops vs
-  the oracle); points within tol+slack of our boundary are not counted;
-- against a coarse Clipper polygon sum (inputs flattened to ``REF_TOL`` units):
-  outer/hole counts (components larger than tol*100 units^2), relative area
-  (must be < 2e-3: the coarse reference is only that good) and Hausdorff distance
-  (<= tol + REF_TOL + 1 unit, reported as "error").
+``random``: ``--n`` jobs drawn with ``--seed`` (printed; random if not given): a glyph
+of a font (``--fonts``, default ttf,cff,lobster,cormorant,amiri: the bundled Noto Sans
+TrueType and CFF, and fonts from PyPI: fontpkg-lobster, fontpkg-cormorant (variable,
+default instance), fontpkg-amiri (Arabic naskh; the Arabic letters and presentation
+forms of its cmap)) ⊕ an exact ellipse nib W x H font units (80x30, 60x8 or 40x40) at
+an angle 1.7 k degrees (0 <= angle < 180), at tol = r x (glyph size: the longer side
+of its bounding box), r log-uniform in [1e-5, 1e-1], everything (glyph, nib, tol)
+scaled by s log-uniform in [1e-3, 1e3].  Checked by :func:`verify` against the exact
+predicate for an ellipse nib E = M·disk:
 
-Prints one summary line (jobs tried, failures, worst error, time); writes each
-failure as bench/sweep_failures/<font>-<a>-<b>.png (ours black fill, reference red
-outline) and a summary table to bench/sweep.md.  Jobs still queued when --budget
-seconds have passed are reported as not run.
+    x ∈ A ⊕ E  ⇔  A ∩ (x − E) ≠ ∅  ⇔  dist(M⁻¹x, M⁻¹A) ≤ 1,
+
+with A the glyph drawn by fontTools' own pen (components decomposed, TrueType implied
+points by fontTools) and flattened within f = tol/64 by a chord bound on the second
+differences, contours united nonzero by Clipper: nothing of morph's parsing, fill
+or trimming is used by the oracle, and it is wrong only within f of the true boundary.
+
+``stroke``: ``--n`` jobs: a glyph of the Relief SingleLine skeleton font (open cubic
+centre lines; /work/shared/data/relief-singleline, else the subset in tests/data) ⊕ an
+ellipse nib as above, by ``morph.stroke.stroke_paths``, at tol r x size (r in [1e-4,
+1e-2]), scaled by s.  Checked by :func:`verify` against the exact predicate (P the
+union of the centre lines flattened within tol/64, dist(M⁻¹x, M⁻¹P) ≤ 1), and against
+a polygon reference: pyclipper's MinkowskiSum of the flattened path with the nib
+polygon, united (``tests.stroke_reference.stroke_polygon``): area within (tol +
+reference flattening) x perimeter, Hausdorff distance within tol + reference error.
+
+``fonts``: ``--n`` ordered pairs glyph ⊕ glyph drawn from each other font
+(lobster, cormorant, amiri) at ``--tol`` em, checked by :func:`check`.
+
+:func:`verify` (random and stroke modes) checks, for one output region:
+
+- the call raised nothing and returned within ``--timeout`` seconds (each job runs in
+  its own forked process with a 4 GiB address-space limit; a hang is killed and is a
+  failure);
+- loops closed (gap between consecutive pieces <= 1e-9 x size) and simple, and no two
+  loops cross or touch (the loops flattened within tol/64 form a simple linework;
+  a crossing is confirmed at tol/1024 before it counts);
+- orientation: the winding number of the output loops is 0 or 1 everywhere probed;
+- straddle (budget): for boundary samples (4 per piece, up to 600), the disk of
+  radius d = tol + 2f around the point (both normal points and 24 points of its
+  circle) must hold points in and out of the exact sum.  The same test on a ladder of
+  radii c·tol + 2f (c = 1, 1/2, ... 1/64) gives each point's error bound; the worst,
+  over tol, is reported (it includes the oracle slack 2f = tol/32);
+- membership (holes right): random points in the box, points 0.6 tol inside and
+  outside the reference boundary, and the label (deepest) point of every hole and
+  every filled part, both ours and the reference's: wherever the point is farther
+  than tol + 2f from our boundary, our winding number (!= 0) must agree with the
+  exact predicate, unless the point lies within 0.2 tol + 2f of the true boundary
+  (the documented rule: features thinner than 0.4 tol may merge; such points are
+  counted as "thin");
+- a polygon reference (random: the flattened glyph buffered by the unit disk in
+  M⁻¹ space with 256 segments per quarter circle, mapped back, error <= f + 4.7e-6
+  x max radius; stroke: the Clipper sum above): |area - reference area| <= (tol +
+  reference error) x reference perimeter; the distance from the reference boundary
+  to ours is reported (a merged thin feature can make it large legitimately).
+
+Failures print a one-line reproducer, ``run_case(SPEC)`` (the check) and
+``case_inputs(SPEC)`` (the arguments of ``minkowski_sum`` / ``stroke_paths``); with
+``--failures FILE`` they are appended to FILE as soon as found.  A summary (counts,
+worst error/tol, time per job by tolerance and scale) replaces the mode's section of
+``--md``.
 """
 
-import argparse
 import os
-import string
-import sys
-import time
-import traceback
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from pathlib import Path
 
-import numpy as np
+for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")  # the machine is shared; forked jobs stay one thread
+
+import argparse  # noqa: E402
+import importlib  # noqa: E402
+import math  # noqa: E402
+import string  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import traceback  # noqa: E402
+from functools import lru_cache  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 UPM = 1000.0
-REF_TOL = 0.5          # units: flattening of the coarse Clipper reference
+REF_TOL = 0.5          # units: flattening of the coarse Clipper reference (pairs mode)
 OUT_DIR = ROOT / "bench" / "sweep_failures"
 NIBS = ("disk", "ellipse", "square")
 
+ASPECTS = ((80.0, 30.0), (60.0, 8.0), (40.0, 40.0))   # nib W x H, font units (upm 1000)
+ANGLE_STEP = 1.7                                       # degrees
+ORACLE_SHARE = 1.0 / 64.0                              # oracle flattening f = tol/64
+LADDER = (1.0, 0.5, 0.25, 0.125, 1 / 16, 1 / 32, 1 / 64)
+OTHER_FONTS = {"lobster": ("fontpkg_lobster", "Lobster-Regular.ttf"),
+               "cormorant": ("fontpkg_cormorant", "Cormorant[wght].ttf"),
+               "amiri": ("fontpkg_amiri", "Amiri-Regular.ttf")}
+RANDOM_FONTS = ("ttf", "cff", "lobster", "cormorant", "amiri")
+LATIN = string.ascii_uppercase + string.ascii_lowercase + string.digits + "&@"
+RELIEF = (Path("/work/shared/data/relief-singleline/Relief-SingleLine.ufo"),
+          ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo")
+
 _cache = {}
 
+
+# ============================================================================ fonts
+
+def font_path(font):
+    """Path of a font key: ttf, cff (bundled) or one of OTHER_FONTS (PyPI, the
+    ``bench`` extra: ``pip install -e '.[bench]'``)."""
+    from morph.parse import cubic_test_font_path, default_font_path
+
+    if font == "ttf":
+        return str(default_font_path())
+    if font == "cff":
+        return str(cubic_test_font_path())
+    if font in OTHER_FONTS:
+        mod, fname = OTHER_FONTS[font]
+        try:
+            m = importlib.import_module(mod)
+        except ImportError as exc:
+            raise SystemExit("bench.sweep: font %r needs %s: pip install -e '.[bench]'"
+                             % (font, mod.replace("_", "-"))) from exc
+        return str(Path(m.__file__).parent / "files" / fname)
+    raise ValueError("unknown font %r" % (font,))
+
+
+@lru_cache(maxsize=None)
+def _ttfont(font):
+    from fontTools.ttLib import TTFont
+
+    return TTFont(font_path(font))
+
+
+def glyph_pool(font):
+    """Glyphs a random job may pick: A-Z a-z 0-9 & @ (Latin fonts); the Arabic
+    letters and presentation forms of the cmap (amiri), by glyph name."""
+    cmap = _ttfont(font).getBestCmap()
+    if font == "amiri":
+        ranges = [(0x0621, 0x064A), (0xFB50, 0xFDFF), (0xFE70, 0xFEFC)]
+        names = sorted({cmap[u] for lo, hi in ranges for u in range(lo, hi + 1) if u in cmap})
+        return names
+    return [c for c in LATIN if ord(c) in cmap]
+
+
+def glyph(font, name):
+    """Region of a glyph (font units), by morph's parser (the operand of the sum)."""
+    key = ("glyph", font, name)
+    if key not in _cache:
+        from morph.parse import glyph_region
+
+        _cache[key] = glyph_region(name, font_path(font)).region
+    return _cache[key]
+
+
+def region_size(region):
+    from morph import piece as pc
+
+    pts = np.concatenate([pc.cartesian(p) for loop in region for p in loop])
+    return float(np.ptp(pts, axis=0).max())
+
+
+def scaled_region(region, s):
+    return [[np.asarray(p, float) * np.array([s, s, 1.0]) for p in loop] for loop in region]
+
+
+def _flat_pen_class():
+    from fontTools.pens.basePen import BasePen
+
+    class FlatPen(BasePen):
+        """Polylines of a glyph within ``flat``: chord error of a uniform n-split is
+        <= h²/8 max|B''|, |B''| <= 2|P0-2P1+P2| (quadratic), <= 6 max second
+        difference (cubic)."""
+
+        def __init__(self, glyphset, flat):
+            super().__init__(glyphset)
+            self.flat, self.loops, self.cur = flat, [], None
+
+        def _moveTo(self, p):
+            self.cur = [np.asarray(p, float)]
+
+        def _lineTo(self, p):
+            self.cur.append(np.asarray(p, float))
+
+        def _bez(self, ctrl, n):
+            t = (np.arange(1, n + 1) / n)[:, None]
+            if len(ctrl) == 3:
+                p0, p1, p2 = ctrl
+                pts = (1 - t) ** 2 * p0 + 2 * t * (1 - t) * p1 + t ** 2 * p2
+            else:
+                p0, p1, p2, p3 = ctrl
+                pts = ((1 - t) ** 3 * p0 + 3 * t * (1 - t) ** 2 * p1
+                       + 3 * t ** 2 * (1 - t) * p2 + t ** 3 * p3)
+            self.cur.extend(pts)
+
+        def _qCurveToOne(self, p1, p2):
+            ctrl = [self.cur[-1], np.asarray(p1, float), np.asarray(p2, float)]
+            m = np.hypot(*(ctrl[0] - 2 * ctrl[1] + ctrl[2]))
+            self._bez(ctrl, max(1, math.ceil(math.sqrt(m / (4 * self.flat)))))
+
+        def _curveToOne(self, p1, p2, p3):
+            ctrl = [self.cur[-1]] + [np.asarray(p, float) for p in (p1, p2, p3)]
+            m = max(np.hypot(*(ctrl[0] - 2 * ctrl[1] + ctrl[2])),
+                    np.hypot(*(ctrl[1] - 2 * ctrl[2] + ctrl[3])))
+            self._bez(ctrl, max(1, math.ceil(math.sqrt(0.75 * m / self.flat))))
+
+        def _closePath(self):
+            if self.cur is not None and len(self.cur) >= 3:
+                self.loops.append(np.array(self.cur))
+            self.cur = None
+
+        _endPath = _closePath
+
+    return FlatPen
+
+
+def raw_glyph_polygon(font, name, flat, s=1.0):
+    """Shapely polygon of a glyph scaled by s, its contours drawn by fontTools (not
+    morph), flattened within ``flat`` (scaled units) and united nonzero by Clipper."""
+    from tests.reference import _clipper_union, _to_clipper
+
+    gs = _ttfont(font).getGlyphSet()
+    gname = name if len(name) > 1 else _ttfont(font).getBestCmap()[ord(name)]
+    pen = _flat_pen_class()(gs, flat / s)
+    gs[gname].draw(pen)
+    loops = [l * s for l in pen.loops]
+    scale = 100.0 / flat
+    return _clipper_union(_to_clipper(loops, scale), scale)
+
+
+# ============================================================================ oracle
+
+class SegmentIndex:
+    """Distance from points to a set of segments (k, 2, 2) (shapely STRtree)."""
+
+    def __init__(self, segs):
+        import shapely
+
+        self.segs = np.asarray(segs, float).reshape(-1, 2, 2)
+        self.tree = shapely.STRtree(shapely.linestrings(self.segs))
+
+    def distance(self, pts):
+        import shapely
+
+        pts = np.asarray(pts, float).reshape(-1, 2)
+        out = np.full(len(pts), np.inf)
+        if len(pts) == 0 or len(self.segs) == 0:
+            return out
+        idx, dist = self.tree.query_nearest(shapely.points(pts), return_distance=True,
+                                            all_matches=False)
+        out[idx[0]] = dist
+        return out
+
+
+def _segments_of(geom):
+    """Segments (k, 2, 2) of every ring / line of a shapely geometry."""
+    import shapely
+
+    lines = shapely.get_parts(shapely.boundary(geom)) if shapely.get_dimensions(geom) == 2 \
+        else shapely.get_parts(geom)
+    segs = []
+    for ln in lines:
+        for part in shapely.get_parts(ln):
+            c = np.asarray(part.coords)
+            if len(c) >= 2:
+                segs.append(np.stack([c[:-1], c[1:]], axis=1))
+    return np.concatenate(segs) if segs else np.zeros((0, 2, 2))
+
+
+class NibOracle:
+    """x ∈ A ⊕ E ⇔ dist(M⁻¹x, M⁻¹A) ≤ 1 for the ellipse E = M·disk (radii rx, ry,
+    rotated by theta); ``geom`` is A (a shapely polygon, or lines for a skeleton)."""
+
+    def __init__(self, geom, rx, ry, theta):
+        import shapely
+        import shapely.affinity
+
+        c, s = math.cos(theta), math.sin(theta)
+        self.minv = np.array([[c / rx, s / rx], [-s / ry, c / ry]])
+        m = self.minv
+        self.g = shapely.affinity.affine_transform(geom, [m[0, 0], m[0, 1], m[1, 0],
+                                                          m[1, 1], 0.0, 0.0])
+        self.areal = shapely.get_dimensions(self.g) == 2
+        if self.areal:
+            shapely.prepare(self.g)
+        self.index = SegmentIndex(_segments_of(self.g))
+
+    def __call__(self, pts):
+        import shapely
+
+        q = np.asarray(pts, float).reshape(-1, 2) @ self.minv.T
+        inside = shapely.contains_xy(self.g, q[:, 0], q[:, 1]) if self.areal \
+            else np.zeros(len(q), bool)
+        return inside | (self.index.distance(q) <= 1.0)
+
+    def reference(self, quad_segs=256):
+        """Polygon of A ⊕ E: M (M⁻¹A buffered by 1), arcs inscribed (error <= 1 -
+        cos(pi / (4 quad_segs)) in M⁻¹ space)."""
+        import shapely.affinity
+
+        buf = self.g.buffer(1.0, quad_segs=quad_segs)
+        m = np.linalg.inv(self.minv)
+        return shapely.affinity.affine_transform(buf, [m[0, 0], m[0, 1], m[1, 0], m[1, 1],
+                                                       0.0, 0.0])
+
+
+def straddle_probes(pts, nrm, d, n_ring=24):
+    """(len(pts), 2 + n_ring, 2): both normal points and n_ring points of the circle
+    of radius d around each point (see tests.test_trim.straddle)."""
+    ang = np.linspace(0, 2 * np.pi, n_ring, endpoint=False)
+    ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    d = np.asarray(d, float).reshape(-1, 1, 1) if np.ndim(d) else d
+    return np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
+                           pts[:, None, :] - d * nrm[:, None, :],
+                           pts[:, None, :] + d * ring[None, :, :]], axis=1)
+
+
+def boundary_samples(loops, ts=(0.0, 1 / 6, 0.5, 5 / 6)):
+    """Points and unit outward normals (right of travel) at parameters ``ts`` of every
+    piece; points where the derivative vanishes get a zero normal (ring probes only)."""
+    from morph import piece as pc
+
+    pts, nrm = [], []
+    t = np.asarray(ts, float)
+    for loop in loops:
+        for p in loop:
+            d = pc.derivative(p, t)
+            n = np.column_stack([d[:, 1], -d[:, 0]])
+            ln = np.hypot(n[:, 0], n[:, 1])
+            n = np.where(ln[:, None] > 0, n / np.where(ln > 0, ln, 1.0)[:, None], 0.0)
+            pts.append(pc.evaluate(p, t))
+            nrm.append(n)
+    return np.concatenate(pts), np.concatenate(nrm)
+
+
+def _label_points(geom):
+    """Deepest interior point of every part and every hole of a polygonal geometry,
+    with its depth: [(point, depth, kind)], kind 'filled' or 'hole'."""
+    import shapely
+    from shapely.geometry import Polygon
+    from shapely.ops import polylabel
+
+    out = []
+    for poly in shapely.get_parts(geom):
+        if poly.is_empty or poly.area <= 0:
+            continue
+        for kind, g in [("filled", poly)] + [("hole", Polygon(r)) for r in poly.interiors]:
+            if not g.is_valid:
+                g = shapely.make_valid(g)
+                g = max(shapely.get_parts(g), key=lambda x: x.area)
+            if g.area <= 0:
+                continue
+            try:
+                lab = polylabel(g, tolerance=max(g.length * 1e-4, 1e-300))
+            except Exception:  # noqa: BLE001 - a degenerate ring: no label
+                continue
+            depth = g.boundary.distance(lab)
+            out.append((np.array([lab.x, lab.y]), depth, kind))
+    return out
+
+
+# ============================================================================ verify
+
+def _closed_lines(rings):
+    from shapely.geometry import LineString, MultiLineString
+
+    return MultiLineString([LineString(np.vstack([r, r[:1]])) for r in rings if len(r) >= 2])
+
+
+def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=600,
+           n_random=300):
+    """Check one output region against the exact predicate ``oracle`` (module
+    docstring).  Returns a dict: fail (list of strings) and measures."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    from morph import piece as pc
+    from tests import reference as R
+
+    res = {"fail": [], "thin": 0}
+    fail = res["fail"]
+    if not loops:
+        fail.append("empty result")
+        return res
+    slack = 2.0 * f
+    # closed
+    gap = 0.0
+    for loop in loops:
+        for p, q in zip(loop, loop[1:] + loop[:1]):
+            gap = max(gap, float(np.hypot(*(pc.end(p) - pc.start(q)))))
+    res["gap/tol"] = gap / tol
+    if gap > 1e-9 * size:
+        fail.append("open loop: gap %.3g (%.3g tol)" % (gap, gap / tol))
+    # simple, no two loops crossing
+    rings = [pc.flatten_loop(l, tol / 64) for l in loops]
+    lines = _closed_lines(rings)
+    if not shapely.is_simple(lines) or any(len(r) < 3 for r in rings):
+        fine = [pc.flatten_loop(l, tol / 1024) for l in loops]
+        lines2 = _closed_lines(fine)
+        if not shapely.is_simple(lines2) or any(len(r) < 3 for r in fine):
+            why = "; ".join(shapely.is_valid_reason(Polygon(r)) for r in fine
+                            if len(r) >= 3 and not Polygon(r).is_valid)[:160]
+            fail.append("loops not simple or crossing each other%s" % (": " + why if why else
+                                                                        " (between loops)"))
+    ours_index = SegmentIndex(np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1)
+                                              for r in rings]))
+
+    def winding(x):
+        return R.winding_number(x, rings)
+
+    # straddle ladder
+    pts, nrm = boundary_samples(loops)
+    if len(pts) > n_boundary:
+        pick = rng.choice(len(pts), n_boundary, replace=False)
+        pts, nrm = pts[pick], nrm[pick]
+    res["samples"] = len(pts)
+    err = np.full(len(pts), np.inf)       # error bound per point (over tol)
+    alive = np.arange(len(pts))
+    for c in LADDER:
+        d = c * tol + slack
+        pr = straddle_probes(pts[alive], nrm[alive], d)
+        inside = oracle(pr.reshape(-1, 2)).reshape(len(alive), -1)
+        ok = inside.any(axis=1) & (~inside).any(axis=1)
+        err[alive[ok]] = d / tol
+        if c == LADDER[0] and not ok.all():
+            bad = alive[~ok]
+            out_side = ~inside[~ok].any(axis=1)
+            k = int(bad[0])
+            fail.append("straddle: %d of %d boundary points farther than tol + 2f = %.4g "
+                        "from the exact boundary (%d outside, %d inside the sum), e.g. %s"
+                        % (len(bad), len(pts), d, out_side.sum(), (~out_side).sum(),
+                           np.array2string(pts[k], precision=12, separator=", ")))
+        alive = alive[ok]
+        if not len(alive):
+            break
+    finite = err[np.isfinite(err)]
+    res["err/tol"] = float(finite.max()) if len(finite) == len(err) and len(err) else float("inf")
+    # orientation: winding 0 or 1 at the straddle probes of the first level
+    w = winding(straddle_probes(pts[:200], nrm[:200], tol + slack).reshape(-1, 2))
+    if w.min() < 0 or w.max() > 1:
+        fail.append("winding numbers %d..%d (loops misoriented or nested wrong)"
+                    % (w.min(), w.max()))
+    # membership: random points, near the reference boundary, labels of features
+    lo = np.min([pc.bbox(p)[:2] for l in loops for p in l], axis=0)
+    hi = np.max([pc.bbox(p)[2:] for l in loops for p in l], axis=0)
+    pad = 0.05 * (hi - lo).max()
+    x = [rng.uniform(lo - pad, hi + pad, size=(n_random, 2))]
+    ours_poly = R.region_to_shapely(loops, tol / 64)
+    geoms = [("ours", ours_poly)] + ([("reference", ref)] if ref is not None else [])
+    for _name, g in geoms:
+        for p, _depth, _kind in _label_points(g):
+            x.append(p[None])
+    if ref is not None and not ref.is_empty:
+        rs = _segments_of(ref)
+        if len(rs):
+            pick = rng.choice(len(rs), min(len(rs), 300), replace=False)
+            s0, s1 = rs[pick, 0], rs[pick, 1]
+            mid = 0.5 * (s0 + s1)
+            dv = s1 - s0
+            n = np.column_stack([dv[:, 1], -dv[:, 0]])
+            n /= np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-300)[:, None]
+            x += [mid + 0.6 * tol * n, mid - 0.6 * tol * n]
+    x = np.concatenate(x)
+    far = ours_index.distance(x) > tol + slack
+    x = x[far]
+    if len(x):
+        ours = winding(x) != 0
+        truth = oracle(x)
+        bad = np.flatnonzero(ours != truth)
+        if len(bad):
+            # the documented rule: features thinner than 0.4 tol may merge
+            r = 0.2 * tol + slack
+            pr = straddle_probes(x[bad], np.zeros((len(bad), 2)), r)
+            ins = oracle(pr.reshape(-1, 2)).reshape(len(bad), -1)
+            thin = ins.any(axis=1) & (~ins).any(axis=1)
+            res["thin"] = int(thin.sum())
+            real = bad[~thin]
+            if len(real):
+                k = int(real[0])
+                fail.append("membership: %d points farther than tol from our boundary on the "
+                            "wrong side (ours %s, exact %s), e.g. %s"
+                            % (len(real), "in" if ours[k] else "out",
+                               "in" if truth[k] else "out",
+                               np.array2string(x[k], precision=12, separator=", ")))
+    res["membership_points"] = int(len(x))
+    # polygon reference: area, distances, counts
+    if ref is not None and not ref.is_empty:
+        area = pc.region_area(loops)
+        per = float(ref.length)
+        bound = (tol + ref_err) * per
+        res["area_diff/bound"] = abs(area - ref.area) / bound
+        if abs(area - ref.area) > bound:
+            fail.append("area %.10g vs reference %.10g: differs by %.3g > (tol + ref err) x "
+                        "perimeter = %.3g" % (area, ref.area, abs(area - ref.area), bound))
+        rs = _segments_of(ref)
+        res["ref_to_ours/tol"] = float(ours_index.distance(
+            rs[:, 0] if len(rs) <= 20000 else rs[rng.choice(len(rs), 20000, replace=False), 0]
+        ).max() / tol) if len(rs) else 0.0
+        res["holes"] = sum(pc.loop_area(l) < 0 for l in loops)
+        res["ref_holes"] = sum(len(p.interiors) for p in shapely.get_parts(ref))
+    return res
+
+
+# ============================================================================ pairs mode
 
 def nib(name):
     from morph import piece as pc
@@ -71,10 +536,7 @@ def shape(font, name):
         if name.startswith("nib:"):
             _cache[key] = nib(name[4:])
         else:
-            from morph.parse import cubic_test_font_path, glyph_region
-
-            path = cubic_test_font_path() if font == "cff" else None
-            _cache[key] = glyph_region(name, path).region
+            _cache[key] = glyph(font, name)
     return _cache[key]
 
 
@@ -206,28 +668,6 @@ def picture(res, path):
         write_png(str(path), shapes, size=600)
 
 
-def _job(args):
-    font, a, b, tol = args
-    try:
-        res = check(font, a, b, tol)
-    except Exception as exc:  # noqa: BLE001 - a crash of the checker itself
-        res = {"font": font, "a": a, "b": b, "fail": ["checker crashed: %s: %s"
-                                                      % (type(exc).__name__, exc)],
-               "error": 0.0, "trace": traceback.format_exc()}
-    if res["fail"]:
-        OUT_DIR.mkdir(parents=True, exist_ok=True)
-        stem = OUT_DIR / ("%s-%s-%s" % (font, _safe(a), _safe(b)))
-        try:
-            picture(res, str(stem) + ".png")
-        except Exception as exc:  # noqa: BLE001
-            res["fail"].append("picture failed: %s" % exc)
-        if "trace" in res:
-            Path(str(stem) + ".txt").write_text(res["trace"])
-    res.pop("loops", None)
-    res.pop("ref", None)
-    return res
-
-
 def jobs(fonts, sets, pairs, nibs, tol):
     """Nib jobs first (cheap, all fonts), then the pairs font by font, set by set."""
     out = []
@@ -242,68 +682,553 @@ def jobs(fonts, sets, pairs, nibs, tol):
     return out
 
 
+
+
+# ============================================================================ cases
+#
+# A case is one string (the reproducer):
+#   nib/FONT/GLYPH/WxH/ANGLE/S/R      glyph ⊕ ellipse nib W x H at ANGLE degrees,
+#                                     everything scaled by S, tol = R x glyph size x S
+#   stroke/relief/GLYPH/WxH/ANGLE/S/R Relief skeleton glyph stroked by that nib
+#   pair/FONT/A/B/TOL_EM              glyph ⊕ glyph, checked by check()
+
+def parse_case(spec):
+    parts = spec.split("/")
+    kind = parts[0]
+    if kind in ("nib", "stroke") and len(parts) == 7:
+        w, h = (float(v) for v in parts[3].split("x"))
+        return dict(kind=kind, font=parts[1], glyph=parts[2], w=w, h=h,
+                    angle=float(parts[4]), s=float(parts[5]), r=float(parts[6]))
+    if kind == "pair" and len(parts) == 5:
+        return dict(kind=kind, font=parts[1], a=parts[2], b=parts[3], tol=float(parts[4]))
+    raise ValueError("bad case %r (nib/FONT/GLYPH/WxH/ANGLE/S/R, stroke/relief/GLYPH/"
+                     "WxH/ANGLE/S/R or pair/FONT/A/B/TOL_EM)" % (spec,))
+
+
+def _nib_region(c):
+    from morph import piece as pc
+
+    rx, ry = c["w"] / 2 * c["s"], c["h"] / 2 * c["s"]
+    theta = math.radians(c["angle"])
+    return [pc.ellipse([0.0, 0.0], rx, ry, theta)], (rx, ry, theta)
+
+
+@lru_cache(maxsize=2)
+def relief_font():
+    from morph.parse.ufo import load_ufo
+
+    for p in RELIEF:
+        if p.exists():
+            return load_ufo(str(p), lazy=False), p
+    raise SystemExit("bench.sweep: no Relief SingleLine UFO found (%s)" % (RELIEF,))
+
+
+def relief_pool():
+    font, _ = relief_font()
+    return sorted(g.name for g in font if len(g.contours) or len(g.components))
+
+
+def relief_paths(name):
+    from morph.parse.ufo import component_paths, glyph_paths
+
+    font, _ = relief_font()
+    g = font[name]
+    paths = glyph_paths(g)
+    for comp in g.components:
+        paths.extend(component_paths(font, comp))
+    return paths
+
+
+def _paths_size(paths):
+    from morph import piece as pc
+
+    pts = np.concatenate([pc.cartesian(np.asarray(p, float)) for pieces, _ in paths
+                          for p in pieces])
+    return float(np.ptp(pts, axis=0).max())
+
+
+def case_inputs(spec):
+    """Arguments of the call a case makes: (region_a, nib, tol) for ``nib`` cases
+    (``morph.minkowski.minkowski_sum(*case_inputs(spec))``), (paths, nib, tol) for
+    ``stroke`` cases (``morph.stroke.stroke_paths(*case_inputs(spec))``)."""
+    c = parse_case(spec)
+    if c["kind"] == "nib":
+        a = glyph(c["font"], c["glyph"])
+        tol = c["r"] * region_size(a) * c["s"]
+        return scaled_region(a, c["s"]), _nib_region(c)[0], tol
+    if c["kind"] == "stroke":
+        paths = relief_paths(c["glyph"])
+        tol = c["r"] * _paths_size(paths) * c["s"]
+        paths = [([np.asarray(p, float) * np.array([c["s"], c["s"], 1.0]) for p in pieces], cl)
+                 for pieces, cl in paths]
+        return paths, _nib_region(c)[0], tol
+    if c["kind"] == "pair":
+        return shape(c["font"], c["a"]), shape(c["font"], c["b"]), c["tol"] * UPM
+    raise ValueError(spec)
+
+
+def run_case(spec, seed=0):
+    """Run and check one case; returns a dict (``fail``: list of strings, empty when
+    the case passes; measures: err/tol, times ...)."""
+    c = parse_case(spec)
+    if c["kind"] == "pair":
+        res = check(c["font"], c["a"], c["b"], c["tol"] * UPM, seed)
+        res.pop("loops", None)
+        res.pop("ref", None)
+        res.pop("trace", None)
+        res["spec"] = spec
+        return res
+    import shapely
+
+    from morph.minkowski import minkowski_sum
+    from morph.stroke import stroke_paths
+
+    res = {"spec": spec, "fail": []}
+    rng = np.random.default_rng(seed)
+    a, nib_region, tol = case_inputs(spec)
+    rx, ry, theta = _nib_region(c)[1]
+    res["tol"] = tol
+    t0 = time.perf_counter()
+    try:
+        loops = (minkowski_sum if c["kind"] == "nib" else stroke_paths)(a, nib_region, tol)
+    except Exception as exc:  # noqa: BLE001 - every exception is a finding
+        res["time_sum"] = time.perf_counter() - t0
+        res["fail"].append("exception %s: %s" % (type(exc).__name__,
+                                                  " ".join(str(exc).split())[:300]))
+        res["trace"] = traceback.format_exc()
+        return res
+    res["time_sum"] = time.perf_counter() - t0
+    res["pieces"] = sum(len(l) for l in loops)
+    res["loops"] = len(loops)
+    t1 = time.perf_counter()
+    f = ORACLE_SHARE * tol
+    if c["kind"] == "nib":
+        size = region_size(a)
+        geom = raw_glyph_polygon(c["font"], c["glyph"], f, c["s"])
+        oracle = NibOracle(geom, rx, ry, theta)
+        ref = oracle.reference()
+        ref_err = f + (1 - math.cos(math.pi / 1024)) * max(rx, ry)
+    else:
+        from shapely.geometry import LineString, MultiLineString
+
+        from tests.stroke_reference import path_polyline, stroke_polygon
+
+        size = _paths_size(a)
+        lines = [path_polyline(pieces, f) for pieces, _ in a]
+        # a dot (zero-length path) is a degenerate segment
+        geom = MultiLineString([LineString(ln if len(ln) >= 2 else np.vstack([ln, ln]))
+                                for ln in lines])
+        oracle = NibOracle(geom, rx, ry, theta)
+        # the polygon reference of the issue: Clipper MinkowskiSum of the flattened
+        # path with the nib polygon, united; flattened within ref_tol / 2 each
+        ref_tol = max(tol / 2, 5e-5 * size)
+        ref = stroke_polygon(a, nib_region, ref_tol)
+        ref_err = ref_tol + 2 * ref_tol / 100
+    res["size"] = size
+    chk = verify(loops, oracle, tol, f, size, rng, ref=ref, ref_err=ref_err)
+    if c["kind"] == "stroke":
+        from tests.reference import hausdorff, region_to_shapely
+
+        ours = region_to_shapely(loops, tol / 64)
+        spacing = max(ref.length / 20000, tol / 4)
+        h = hausdorff(ours, ref, spacing=spacing)
+        chk["hausdorff/tol"] = h / tol
+        bound = tol + ref_err + tol / 64 + spacing / 2
+        if h > bound:
+            chk["fail"].append("Hausdorff to the Clipper reference %.4g > tol + ref err = %.4g"
+                               % (h, bound))
+    res["fail"] += chk.pop("fail")
+    res.update(chk)
+    res["time_check"] = time.perf_counter() - t1
+    return res
+
+
+def repro_line(spec):
+    """One line of Python (run in the repository root) that reruns a case."""
+    c = parse_case(spec)
+    if c["kind"] == "stroke":
+        call = "from morph.stroke import stroke_paths as f"
+    else:
+        call = "from morph.minkowski import minkowski_sum as f"
+    return ("python -c \"from bench.sweep import case_inputs, run_case; %s; "
+            "f(*case_inputs('%s'))\"  # check: run_case('%s')['fail']" % (call, spec, spec))
+
+
+def draw_random_cases(mode, n, seed, fonts):
+    """n case strings drawn with ``seed`` (module docstring)."""
+    rng = np.random.default_rng(seed)
+    pools = {}
+    out = []
+    while len(out) < n:
+        if mode == "stroke":
+            font = "relief"
+            if font not in pools:
+                pools[font] = relief_pool()
+            r = float("%.2g" % 10 ** rng.uniform(-4, -2))
+        else:
+            font = fonts[rng.integers(len(fonts))]
+            if font not in pools:
+                pools[font] = glyph_pool(font)
+            r = float("%.2g" % 10 ** rng.uniform(-5, -1))
+        g = pools[font][rng.integers(len(pools[font]))]
+        w, h = ASPECTS[rng.integers(len(ASPECTS))]
+        angle = round(ANGLE_STEP * rng.integers(0, int(math.ceil(180 / ANGLE_STEP))), 1)
+        s = float("%.3g" % 10 ** rng.uniform(-3, 3))
+        spec = "%s/%s/%s/%gx%g/%g/%g/%g" % ("stroke" if mode == "stroke" else "nib", font, g,
+                                            w, h, angle, s, r)
+        if mode != "stroke":
+            try:
+                glyph(font, g)
+            except Exception:  # noqa: BLE001 - an empty glyph (no contours): draw again
+                pools[font].remove(g)
+                continue
+        else:
+            try:
+                if not any(len(p) for p, _ in relief_paths(g)):
+                    pools[font].remove(g)
+                    continue
+            except Exception:  # noqa: BLE001
+                pools[font].remove(g)
+                continue
+        out.append(spec)
+    return out
+
+
+def draw_font_pairs(n, seed, fonts=("lobster", "cormorant", "amiri"), tol_em=1e-4):
+    rng = np.random.default_rng(seed)
+    out = []
+    for font in fonts:
+        pool = glyph_pool(font)
+        k = 0
+        while k < n:
+            a, b = pool[rng.integers(len(pool))], pool[rng.integers(len(pool))]
+            try:
+                glyph(font, a), glyph(font, b)
+            except Exception:  # noqa: BLE001
+                continue
+            out.append("pair/%s/%s/%s/%g" % (font, a, b, tol_em))
+            k += 1
+    return out
+
+
+# ============================================================================ pool
+
+def _child(spec, conn, memory):
+    import resource
+
+    try:
+        resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+    except (ValueError, OSError):
+        pass
+    try:
+        res = run_case(spec)
+    except BaseException as exc:  # noqa: BLE001 - a crash of the checker itself
+        res = {"spec": spec, "fail": ["checker crashed: %s: %s" % (type(exc).__name__,
+                                                                  " ".join(str(exc).split())[:300])],
+               "trace": traceback.format_exc()}
+    try:
+        conn.send(res)
+    finally:
+        conn.close()
+
+
+def run_pool(specs, workers=1, timeout=300.0, memory=4 * 2 ** 30, on_result=None,
+             budget=None):
+    """Run ``run_case`` on every spec, each in its own forked process (at most
+    ``workers`` at once) with ``timeout`` seconds and ``memory`` bytes of address
+    space; a job over time is killed and reported as failed.  Returns the results
+    in completion order; ``on_result(res)`` is called as each arrives.  With
+    ``budget`` (seconds), jobs not started by then are not run."""
+    import multiprocessing as mp
+    from multiprocessing.connection import wait
+
+    ctx = mp.get_context("fork")
+    queue = list(specs)[::-1]
+    running = {}          # conn -> (proc, spec, start)
+    results = []
+    t_start = time.time()
+
+    def finish(res):
+        results.append(res)
+        if on_result:
+            on_result(res)
+
+    while queue or running:
+        while queue and len(running) < workers and not (budget and time.time() - t_start > budget):
+            spec = queue.pop()
+            rd, wr = ctx.Pipe(duplex=False)
+            p = ctx.Process(target=_child, args=(spec, wr, memory), daemon=True)
+            p.start()
+            wr.close()
+            running[rd] = (p, spec, time.time())
+        if not running:
+            break
+        now = time.time()
+        next_deadline = min(st + timeout for _, _, st in running.values())
+        ready = wait(list(running), timeout=max(0.0, next_deadline - now))
+        for conn in ready:
+            p, spec, st = running.pop(conn)
+            try:
+                res = conn.recv()
+            except EOFError:
+                p.join(5)
+                res = {"spec": spec, "fail": ["process died (exit code %s; memory limit %d "
+                                              "GiB?)" % (p.exitcode, memory >> 30)]}
+            conn.close()
+            p.join(5)
+            res["wall"] = time.time() - st
+            finish(res)
+        now = time.time()
+        for conn in [c for c, (_, _, st) in running.items() if now - st > timeout]:
+            p, spec, st = running.pop(conn)
+            p.kill()
+            p.join(5)
+            conn.close()
+            finish({"spec": spec, "fail": ["timeout: no result after %.0f s (killed)"
+                                           % timeout], "wall": now - st})
+    return results
+
+
+# ============================================================================ report
+
+def _commit():
+    import subprocess
+
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                              capture_output=True, text=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no",
+                                "morph"], cwd=ROOT, capture_output=True,
+                               text=True).stdout.strip()
+        return head + (" + uncommitted changes in morph/" if dirty else "")
+    except OSError:
+        return "?"
+
+
+def record_failure(path, res, mode):
+    """Append one failure (reproducer, what failed) to ``path`` (for the lead)."""
+    spec = res["spec"]
+    line = ("- [%s, %s, code %s] `%s`: %s\n  `%s`\n"
+            % (time.strftime("%Y-%m-%d %H:%M"), mode, _commit(), spec,
+               "; ".join(res["fail"]).replace("\n", " ")[:600],
+               repro_line(spec) if not spec.startswith("pair/") else
+               "python -c \"from bench.sweep import run_case; print(run_case('%s')['fail'])\""
+               % spec))
+    with open(path, "a") as fh:
+        fh.write(line)
+
+
+def _fmt_stats(vals):
+    vals = np.asarray([v for v in vals if v is not None and np.isfinite(v)], float)
+    if not len(vals):
+        return "-"
+    return "%.2f / %.2f / %.2f" % (np.median(vals), vals.mean(), vals.max())
+
+
+def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
+    fails = [r for r in results if r["fail"]]
+    exc = [r for r in fails if any(f.startswith(("exception", "process died", "checker"))
+                                   for f in r["fail"])]
+    tout = [r for r in fails if any(f.startswith("timeout") for f in r["fail"])]
+    lines = ["Command: `%s` (code: commit %s; %d worker%s, timeout %g s per job; %s)"
+             % (command, _commit(), workers, "s" if workers > 1 else "", timeout,
+                time.strftime("%Y-%m-%d")), ""]
+    if seed is not None:
+        lines += ["Seed: %d" % seed, ""]
+    lines.append("%d of %d jobs run, %d failed (%d exceptions or crashes, %d timeouts), "
+                 "%.0f s wall." % (len(results), len(todo), len(fails), len(exc), len(tout),
+                                   elapsed))
+    lines.append("")
+    errs = [r for r in results if np.isfinite(r.get("err/tol", np.nan))]
+    if errs:
+        w = max(errs, key=lambda r: r["err/tol"])
+        lines.append("Worst error bound / tol over all sampled boundary points "
+                     "(straddle ladder, includes the oracle slack 2f = tol/32): "
+                     "**%.3f** (`%s`)." % (w["err/tol"], w["spec"]))
+        hist = {}
+        for r in errs:
+            k = min(c for c in LADDER if r["err/tol"] <= c + ORACLE_SHARE * 2 + 1e-12)
+            hist[k] = hist.get(k, 0) + 1
+        lines.append("Jobs by worst error bound / tol: " + ", ".join(
+            "<= %.3g: %d" % (k + 2 * ORACLE_SHARE, hist[k]) for k in sorted(hist)) + ".")
+        th = sum(r.get("thin", 0) for r in results)
+        lines.append("Membership points on the wrong side inside features thinner than "
+                     "0.4 tol (allowed by the budget): %d." % th)
+        if any("hausdorff/tol" in r for r in results):
+            hh = max(r.get("hausdorff/tol", 0.0) for r in results)
+            lines.append("Worst Hausdorff distance to the Clipper reference / tol: %.3f." % hh)
+        lines.append("")
+    if mode == "pairs" or any(r["spec"].startswith("pair/") for r in results):
+        pr = [r for r in results if r["spec"].startswith("pair/")]
+        if pr:
+            w = max(pr, key=lambda r: r.get("error", 0.0))
+            lines.append("Pairs: worst Hausdorff to the coarse Clipper reference %.4g units "
+                         "(`%s`)." % (w.get("error", 0.0), w["spec"]))
+            lines.append("")
+    # time per job, by group
+    def group_table(title, key):
+        groups = {}
+        for r in results:
+            k = key(r)
+            if k is not None:
+                groups.setdefault(k, []).append(r)
+        if not groups:
+            return []
+        out = ["| %s | jobs | failed | sum time s (median / mean / max) | check time s "
+               "(median / mean / max) | worst err/tol |" % title,
+               "|---|---|---|---|---|---|"]
+        for k in sorted(groups):
+            g = groups[k]
+            we = [r["err/tol"] for r in g if np.isfinite(r.get("err/tol", np.nan))]
+            out.append("| %s | %d | %d | %s | %s | %s |"
+                       % (k, len(g), sum(1 for r in g if r["fail"]),
+                          _fmt_stats([r.get("time_sum") for r in g]),
+                          _fmt_stats([r.get("time_check") for r in g]),
+                          "%.3f" % max(we) if we else "-"))
+        return out + [""]
+
+    def decade(v):
+        return "1e%+d" % int(math.floor(math.log10(v) + 1e-9))
+
+    parsed = {r["spec"]: parse_case(r["spec"]) for r in results}
+    if mode in ("random", "stroke"):
+        lines += group_table("font", lambda r: parsed[r["spec"]]["font"])
+        lines += group_table("tol / size", lambda r: decade(parsed[r["spec"]]["r"]))
+        lines += group_table("scale", lambda r: decade(parsed[r["spec"]]["s"]))
+        lines += group_table("nib", lambda r: "%gx%g" % (parsed[r["spec"]]["w"],
+                                                          parsed[r["spec"]]["h"]))
+    else:
+        lines += group_table("font", lambda r: parsed[r["spec"]]["font"])
+    if fails:
+        lines += ["Failures (reproducer: `%s`):" % "python -c \"from bench.sweep import "
+                  "run_case; print(run_case(SPEC)['fail'])\"", "",
+                  "| case | failure |", "|---|---|"]
+        for r in sorted(fails, key=lambda r: r["spec"]):
+            lines.append("| `%s` | %s |" % (r["spec"], "; ".join(r["fail"]).replace("|", "/")))
+    else:
+        lines.append("No failures.")
+    return lines, len(fails)
+
+
+def write_section(md_path, mode, title, body):
+    """Replace (or append) the section of ``mode`` in md_path."""
+    md_path = Path(md_path)
+    text = md_path.read_text() if md_path.exists() else "# Robustness sweep (bench/sweep.py)\n"
+    begin, end = "<!-- sweep:%s -->" % mode, "<!-- /sweep:%s -->" % mode
+    block = "\n".join([begin, "## %s" % title, ""] + body + [end])
+    if begin in text and end in text:
+        i, j = text.index(begin), text.index(end) + len(end)
+        text = text[:i] + block + text[j:]
+    else:
+        text = text.rstrip("\n") + "\n\n" + block + "\n"
+    md_path.write_text(text)
+
+
+TITLES = {"pairs": "Glyph pairs and fixed nibs (bundled fonts, one tolerance)",
+          "random": "Randomised: glyph ⊕ ellipse nib, angles, aspects, tolerances, scales",
+          "stroke": "Strokes: Relief SingleLine skeletons ⊕ ellipse nibs (stroke_paths)",
+          "fonts": "Glyph pairs of other fonts (Lobster, Cormorant, Amiri)"}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--fonts", default="ttf,cff")
+    ap.add_argument("--mode", default="pairs", choices=sorted(TITLES))
+    ap.add_argument("--fonts", default=None,
+                    help="pairs: ttf,cff (default); random: %s (default)" % ",".join(RANDOM_FONTS))
     ap.add_argument("--set", default="both", choices=["upper", "lower", "both"])
     ap.add_argument("--nibs", action=argparse.BooleanOptionalAction, default=True)
     ap.add_argument("--pairs", action=argparse.BooleanOptionalAction, default=True)
     ap.add_argument("--limit", type=int, default=None, help="run only the first N jobs")
-    ap.add_argument("--tol", type=float, default=1e-4, help="tolerance in em")
-    ap.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 1)))
-    ap.add_argument("--budget", type=float, default=None, help="seconds")
+    ap.add_argument("--tol", type=float, default=1e-4, help="tolerance in em (pairs, fonts)")
+    ap.add_argument("--n", type=int, default=100, help="random/stroke: jobs; fonts: pairs "
+                    "per font")
+    ap.add_argument("--seed", type=int, default=None, help="random seed (printed)")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1: the "
+                    "machine is shared)")
+    ap.add_argument("--timeout", type=float, default=300.0, help="seconds per job")
+    ap.add_argument("--budget", type=float, default=None, help="seconds: start no job after")
     ap.add_argument("--md", default=str(ROOT / "bench" / "sweep.md"))
+    ap.add_argument("--no-md", action="store_true", help="do not write the summary")
+    ap.add_argument("--failures", default=None,
+                    help="append each failure (reproducer) to this file as found")
     ap.add_argument("--cases", default=None,
-                    help="only these jobs: font:A:B,... (B may be nib:disk etc.)")
+                    help="only these jobs, comma separated: specs (nib/..., stroke/..., "
+                    "pair/...) or font:A:B (pairs mode, B may be nib:disk etc.)")
     opt = ap.parse_args(argv)
-    fonts = [f.strip() for f in opt.fonts.split(",") if f.strip()]
-    sets = ["upper", "lower"] if opt.set == "both" else [opt.set]
-    todo = jobs(fonts, sets, opt.pairs, opt.nibs, opt.tol * UPM)
+    command = "python -m bench.sweep " + " ".join(argv if argv is not None else sys.argv[1:])
+    seed = opt.seed
+    if opt.mode in ("random", "stroke", "fonts") and seed is None:
+        seed = int(np.random.SeedSequence().entropy % 2 ** 31)
     if opt.cases:
-        todo = [tuple(c.split(":", 2)) + (opt.tol * UPM,) for c in opt.cases.split(",")]
+        todo = []
+        for c in opt.cases.split(","):
+            c = c.strip()
+            if c.split("/")[0] in ("nib", "stroke", "pair"):
+                todo.append(c)
+            else:
+                font, a, b = c.split(":", 2)
+                todo.append("pair/%s/%s/%s/%g" % (font, a, b, opt.tol))
+    elif opt.mode == "pairs":
+        fonts = [f.strip() for f in (opt.fonts or "ttf,cff").split(",") if f.strip()]
+        sets = ["upper", "lower"] if opt.set == "both" else [opt.set]
+        todo = ["pair/%s/%s/%s/%g" % (f, a, b, opt.tol)
+                for f, a, b, _ in jobs(fonts, sets, opt.pairs, opt.nibs, opt.tol * UPM)]
+    elif opt.mode == "fonts":
+        todo = draw_font_pairs(opt.n, seed, tol_em=opt.tol)
+    else:
+        fonts = [f.strip() for f in (opt.fonts or ",".join(RANDOM_FONTS)).split(",")
+                 if f.strip()]
+        todo = draw_random_cases(opt.mode, opt.n, seed, fonts)
     if opt.limit is not None:
         todo = todo[:opt.limit]
+    print("bench.sweep: mode %s, %d jobs%s, %d worker(s), timeout %g s"
+          % (opt.mode, len(todo), ", seed %d" % seed if seed is not None else "", opt.jobs,
+             opt.timeout), flush=True)
     t0 = time.time()
-    results = []
-    with ProcessPoolExecutor(max_workers=opt.jobs) as ex:
-        futs = [ex.submit(_job, j) for j in todo]
-        for fut in as_completed(futs):
-            results.append(fut.result())
-            r = results[-1]
-            if r["fail"]:
-                print("FAIL %s %s+%s: %s" % (r["font"], r["a"], r["b"], "; ".join(r["fail"])),
-                      flush=True)
-            if opt.budget and time.time() - t0 > opt.budget:
-                for f in futs:
-                    f.cancel()
-                break
+
+    def on_result(r):
+        tag = "FAIL" if r["fail"] else "ok  "
+        extra = ""
+        if "err/tol" in r:
+            extra = " err/tol %.3f" % r["err/tol"]
+        print("%s %-52s sum %6.2f s%s%s" % (tag, r["spec"], r.get("time_sum", float("nan")),
+                                          extra, (": " + "; ".join(r["fail"])) if r["fail"]
+                                          else ""), flush=True)
+        if r["fail"] and opt.failures:
+            record_failure(opt.failures, r, opt.mode)
+        if r["fail"] and r["spec"].startswith("pair/"):
+            _pair_picture(r)
+
+    _preload()
+    results = run_pool(todo, opt.jobs, opt.timeout, on_result=on_result, budget=opt.budget)
     elapsed = time.time() - t0
-    fails = [r for r in results if r["fail"]]
-    worst = max(results, key=lambda r: r["error"]) if results else None
-    line = ("sweep: %d of %d jobs tried, %d failures, worst Hausdorff to coarse reference "
-            "%.4g units (%s %s+%s), %.1f s"
-            % (len(results), len(todo), len(fails), worst["error"] if worst else 0.0,
-               worst["font"] if worst else "-", worst["a"] if worst else "-",
-               worst["b"] if worst else "-", elapsed))
-    print(line)
-    md = ["# Robustness sweep (bench/sweep.py)", "",
-          "Command: `python -m bench.sweep %s`" % " ".join(argv if argv is not None
-                                                             else sys.argv[1:]),
-          "", line, "",
-          "tol = %g em; checks: closed and simple loops, straddle within tol + 1e-5 em "
-          "+ 2e-3 against the exact predicate, membership at random points, outer/hole "
-          "counts, area and Hausdorff against a Clipper sum of inputs flattened to %g "
-          "units." % (opt.tol, REF_TOL), ""]
-    if fails:
-        md += ["| font | A | B | failure | picture |", "|---|---|---|---|---|"]
-        for r in sorted(fails, key=lambda r: (r["font"], r["a"], r["b"])):
-            md.append("| %s | %s | %s | %s | sweep_failures/%s-%s-%s.png |"
-                      % (r["font"], r["a"], r["b"], "; ".join(r["fail"]).replace("|", "/"),
-                         r["font"], _safe(r["a"]), _safe(r["b"])))
-    else:
-        md.append("No failures.")
-    Path(opt.md).write_text("\n".join(md) + "\n")
-    return 1 if fails else 0
+    body, nfail = summarize(opt.mode, results, todo, elapsed, command, seed, opt.jobs,
+                            opt.timeout)
+    print("\n".join(body[:8]))
+    if not opt.no_md:
+        write_section(opt.md, opt.mode, TITLES[opt.mode], body)
+    return 1 if nfail else 0
+
+
+def _preload():
+    """Import what every job needs once, before the jobs are forked."""
+    import shapely.ops  # noqa: F401
+
+    import morph.minkowski  # noqa: F401
+    import morph.stroke  # noqa: F401
+    import tests.reference  # noqa: F401
+    import tests.stroke_reference  # noqa: F401
+    import tests.test_trim  # noqa: F401
+
+
+def _pair_picture(r):
+    c = parse_case(r["spec"])
+    try:
+        OUT_DIR.mkdir(parents=True, exist_ok=True)
+        picture({"font": c["font"], "a": c["a"], "b": c["b"]},
+                OUT_DIR / ("%s-%s-%s.png" % (c["font"], _safe(c["a"]), _safe(c["b"]))))
+    except Exception:  # noqa: BLE001 - a picture is a convenience
+        pass
 
 
 if __name__ == "__main__":
