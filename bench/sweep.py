@@ -414,8 +414,12 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
         if not shapely.is_simple(lines2) or any(len(r) < 3 for r in fine):
             why = "; ".join(shapely.is_valid_reason(Polygon(r)) for r in fine
                             if len(r) >= 3 and not Polygon(r).is_valid)[:160]
-            fail.append("loops not simple or crossing each other%s" % (": " + why if why else
-                                                                        " (between loops)"))
+            faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(
+                shapely.unary_union(lines2))))
+            small = min((g.area for g in faces), default=0.0)
+            fail.append("loops not simple or crossing each other%s (smallest face of the "
+                        "linework %.2g tol^2)" % (": " + why if why else " (between loops)",
+                                                 small / tol ** 2))
     ours_index = SegmentIndex(np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1)
                                               for r in rings]))
 
@@ -490,12 +494,21 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
             res["thin"] = int(thin.sum())
             real = bad[~thin]
             if len(real):
-                k = int(real[0])
+                # the worst: farthest from the exact boundary (ladder of straddle radii)
+                depth = np.full(len(real), np.inf)
+                for cc in (4.0, 2.0, 1.0, 0.5, 0.25):
+                    pr = straddle_probes(x[real], np.zeros((len(real), 2)), cc * tol + slack)
+                    ins = oracle(pr.reshape(-1, 2)).reshape(len(real), -1)
+                    depth[ins.any(axis=1) & (~ins).any(axis=1)] = cc + slack / tol
+                k = int(real[np.argmax(depth)])
                 fail.append("membership: %d points farther than tol from our boundary on the "
-                            "wrong side (ours %s, exact %s), e.g. %s"
+                            "wrong side (ours %s, exact %s), e.g. %s: the exact boundary "
+                            "%s tol from it, ours %.3g tol"
                             % (len(real), "in" if ours[k] else "out",
                                "in" if truth[k] else "out",
-                               np.array2string(x[k], precision=12, separator=", ")))
+                               np.array2string(x[k], precision=12, separator=", "),
+                               "<= %.3g" % depth.max() if np.isfinite(depth.max()) else "> 4",
+                               ours_index.distance(x[k:k + 1])[0] / tol))
     res["membership_points"] = int(len(x))
     # polygon reference: area, distances, counts
     if ref is not None and not ref.is_empty:
