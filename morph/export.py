@@ -804,17 +804,23 @@ def smooth_runs(pieces, join_angle=JOIN_ANGLE):
     """Consecutive pieces split at corners into maximal runs of smooth (G1) joins.
 
     A join is smooth when the pieces meet (within 1e-12 of the coordinates) and their
-    tangent directions there differ by less than ``join_angle`` radians.  Returns a
-    list of lists of pieces, in order (a closed loop is not wrapped around: its
-    first run starts at its first piece).
+    tangent directions there differ by less than ``join_angle`` radians.  A straight
+    polynomial piece (a line) is a run of its own: written as a line it costs one
+    point, which no cubic spanning it beats (brushed M: 46 points instead of 78).
+    Returns a list of lists of pieces, in order (a closed loop is not wrapped
+    around: its first run starts at its first piece).
     """
     runs = []
+    line_before = True
     for p in pieces:
         p = np.asarray(p, float)
-        if runs and _smooth_join(runs[-1][-1], p, join_angle):
+        line = len(p) == 2 and pc.is_polynomial(p)
+        if runs and not line and not line_before and _smooth_join(runs[-1][-1], p,
+                                                                   join_angle):
             runs[-1].append(p)
         else:
             runs.append([p])
+        line_before = line
     return runs
 
 

@@ -331,12 +331,15 @@ def test_loop_to_beziers_keeps_corners_and_lines():
     assert np.allclose(out[0][0], [0, -1]) and np.allclose(out[-2][-1], [0, 1])
     assert len(out) - 1 <= sum(len(piece_to_cubics(p, 1e-5)) for p in half)
     assert hausdorff(ellipse((0, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi), out[:-1]) <= 1e-5
-    # a stadium: lines and half circles meet tangentially, one smooth run
+    # a stadium: lines and half circles meet tangentially; the lines stay lines (one
+    # point each), each half circle is one smooth run of two quarter arcs
     stadium = ([pc.line((0, -1), (2, -1))]
                + pc.ellipse_arc((2, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi)
                + [pc.line((2, 1), (0, 1))]
                + pc.ellipse_arc((0, 0), 1.0, 1.0, 0.0, np.pi / 2, np.pi))
-    assert len(smooth_runs(stadium)) == 1
+    assert [len(r) for r in smooth_runs(stadium)] == [1, 2, 1, 2]
+    out = loop_to_beziers(stadium, 1e-3)
+    assert len(out[0]) == 2 and np.allclose(out[0], [[0, -1], [2, -1]])
     for tol in (1e-2, 1e-5):
         cubics = loop_to_cubics(stadium, tol)
         pts = np.concatenate([bernstein(c, np.linspace(0, 1, 257)) for c in cubics])
