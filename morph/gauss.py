@@ -81,24 +81,54 @@ def _interior(ts, eps=1e-9):
 
 def inflection_params(piece):
     """Interior parameters where x'y'' - x''y' changes sign (Def. 3.2)."""
-    k = pc.curvature_numerator(piece)
-    if np.max(np.abs(k)) == 0.0:
-        return np.empty(0)
-    roots = _interior(bz.roots(k))
-    # keep only sign changes (a double root is a flat point, not an inflection)
-    keep = []
-    for r in roots:
-        a, b = bz.evaluate(k, [max(r - 1e-6, 0.0), min(r + 1e-6, 1.0)])
-        if a * b < 0:
-            keep.append(r)
-    return np.array(keep)
+    return _split_params_many([np.asarray(piece, float)], axes=False)[0]
 
 
 def axis_params(piece):
     """Interior parameters where the hodograph crosses the x or y axis (Sec. 3.2)."""
-    h = pc.tangent_numerator(piece)
-    ts = np.concatenate([bz.roots(h[:, 0]), bz.roots(h[:, 1])])
-    return _interior(ts)
+    return _split_params_many([np.asarray(piece, float)], inflections=False)[0]
+
+
+def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
+    """Sorted interior split parameters of each piece: inflections (roots of
+    x'y'' - x''y' where it changes sign; a double root is a flat point, not an
+    inflection) and hodograph axis crossings (roots of each component of the
+    tangent numerator).  Pieces of one degree and kind (polynomial or rational) are
+    handled together: one batched root finder call per polynomial family
+    (:func:`morph.bernstein.roots_many`)."""
+    out = [np.empty(0)] * len(pieces)
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault((len(p), not pc.is_polynomial(p)), []).append(k)
+    for (_, rational), ks in groups.items():
+        h = pc.tangent_numerator_many(np.array([pieces[k] for k in ks]), rational)
+        owners, ts = [], []
+        if inflections:
+            kn = pc.curvature_numerator_many(h)
+            o, r = bz.roots_many(kn)
+            inside = (r > eps) & (r < 1.0 - eps)
+            o, r = o[inside], r[inside]
+            a = bz.evaluate_many(kn[o], np.maximum(r - 1e-6, 0.0))
+            b = bz.evaluate_many(kn[o], np.minimum(r + 1e-6, 1.0))
+            owners.append(o[a * b < 0])
+            ts.append(r[a * b < 0])
+        if axes:
+            for j in range(2):
+                o, r = bz.roots_many(h[:, :, j])
+                owners.append(o)
+                ts.append(r)
+        o, r = np.concatenate(owners), np.concatenate(ts)
+        inside = (r > eps) & (r < 1.0 - eps)
+        o, r = o[inside], r[inside]
+        order = np.lexsort((r, o))
+        o, r = o[order], r[order]
+        keep = np.ones(len(r), bool)
+        keep[1:] = (o[1:] != o[:-1]) | (r[1:] != r[:-1])
+        o, r = o[keep], r[keep]
+        bounds = np.searchsorted(o, np.arange(len(ks) + 1))
+        for i, k in enumerate(ks):
+            out[k] = r[bounds[i]:bounds[i + 1]]
+    return out
 
 
 def split_monotone(piece):
@@ -107,15 +137,25 @@ def split_monotone(piece):
     Splits at inflections and hodograph axis crossings.  Raises DegenerateCurveError
     for an interior cusp (the hodograph vanishes inside the piece).
     """
-    ts = _interior(np.concatenate([inflection_params(piece), axis_params(piece)]))
-    parts = _split_at(piece, ts) if ts.size else [piece]
+    return split_monotone_many([piece])[0]
+
+
+def split_monotone_many(pieces):
+    """:func:`split_monotone` of many pieces: the split parameters of all pieces of
+    one degree are found together (:func:`_split_params_many`).  Returns one list of
+    parts per piece."""
+    pieces = [np.asarray(p, float) for p in pieces]
     out = []
-    for part in parts:
-        size = max(np.ptp(pc.cartesian(part), axis=0).max(), 1e-300)
-        if size < 1e-12 * max(1.0, np.abs(pc.cartesian(part)).max()):
-            continue  # zero-length sliver from splitting at coincident roots
-        _check_no_cusp(part)
-        out.append(part)
+    for piece, ts in zip(pieces, _split_params_many(pieces)):
+        parts = _split_at(piece, ts) if ts.size else [piece]
+        kept = []
+        for part in parts:
+            size = max(np.ptp(pc.cartesian(part), axis=0).max(), 1e-300)
+            if size < 1e-12 * max(1.0, np.abs(pc.cartesian(part)).max()):
+                continue  # zero-length sliver from splitting at coincident roots
+            _check_no_cusp(part)
+            kept.append(part)
+        out.append(kept)
     return out
 
 
@@ -139,7 +179,14 @@ def gauss_map(loop, angle_tol=1e-10):
     """Edges (curves and corner vertices) of a closed loop with lifted tangent angles.
 
     Def. 3.4: a corner turning left (convex) has sweep > 0, right (concave) < 0.
-    Raises DegenerateCurveError where the loop reverses direction (a turn of pi).
+    A turn of pi (a cusp: a spike, a slit, a crescent's tip, the end of an open
+    path traced forward and back) is a corner of sweep +pi or -pi: +pi where the
+    loop comes back on the left of its way in (a spike or tip of the filled
+    side), -pi on the right (a slit).  Where the two ways coincide (a zero-width
+    spike or slit, an open path's end) the signs are chosen so that the loop turns
+    through 2 pi times the sign of its area (+2 pi for a zero-area loop: a path
+    traced forward and back is swept as a filled stroke).  Raises
+    DegenerateCurveError if no choice of signs gives that total.
     """
     curves = [part for p in loop for part in split_monotone(np.asarray(p, float))]
     if not curves:
@@ -149,27 +196,73 @@ def gauss_map(loop, angle_tol=1e-10):
         t0, t1 = pc.end_tangents(c)
         a0 = np.arctan2(t0[1], t0[0])
         sweep = _wrap(np.arctan2(t1[1], t1[0]) - a0)
-        if abs(sweep) < angle_tol:
-            sweep = 0.0
-        ends.append((a0, sweep))
+        ends.append((a0, 0.0 if abs(sweep) < angle_tol else sweep))
+    turns = _corner_turns(curves, ends)
     edges = []
     theta = ends[0][0]
-    n = len(curves)
     for i, c in enumerate(curves):
         a0, sweep = ends[i]
         if i > 0:
             theta = theta + _wrap(a0 - theta)  # keep lifted angle continuous
         edges.append(Edge("curve", c, pc.start(c), theta, sweep))
         theta = theta + sweep
-        nxt_a0 = ends[(i + 1) % n][0]
-        turn = _wrap(nxt_a0 - theta)
-        if abs(turn) > np.pi - 1e-9:
-            raise DegenerateCurveError(
-                "loop reverses direction (a cusp or spike) at %s" % (pc.end(c),), c)
-        if abs(turn) >= angle_tol:
-            edges.append(Edge("vertex", None, pc.end(c), theta, turn))
-            theta = theta + turn
+        if abs(turns[i]) >= angle_tol:
+            edges.append(Edge("vertex", None, pc.end(c), theta, turns[i]))
+            theta = theta + turns[i]
     return edges
+
+
+CUSP_ANGLE = 1e-9  # a turn within this of pi is a cusp (radians)
+
+
+def _corner_turns(curves, ends):
+    """Turn at the end of each curve, cusps resolved (see :func:`gauss_map`)."""
+    n = len(curves)
+    turns = np.zeros(n)
+    open_cusps = []
+    for i in range(n):
+        a0, sweep = ends[i]
+        turns[i] = _wrap(ends[(i + 1) % n][0] - (a0 + sweep))
+        if abs(turns[i]) > np.pi - CUSP_ANGLE:
+            side = _cusp_side(curves[i], curves[(i + 1) % n])
+            turns[i] = side * np.pi
+            if side == 0:
+                open_cusps.append(i)
+    if open_cusps:
+        area = pc.loop_area(curves)
+        size = max(np.ptp(np.concatenate([pc.cartesian(c) for c in curves]), axis=0).max(), 1e-300)
+        target = TWO_PI * (np.sign(area) if abs(area) > 1e-9 * size * size else 1.0)
+        known = sum(e[1] for e in ends) + turns.sum()
+        m = int(round((target - known) / np.pi))
+        plus = (len(open_cusps) + m) // 2
+        if (len(open_cusps) + m) % 2 or not 0 <= plus <= len(open_cusps):
+            at = pc.end(curves[open_cusps[0]])
+            raise DegenerateCurveError(
+                "loop reverses direction at %s and its turning cannot add up to a full "
+                "turn" % (np.round(at, 9).tolist(),), curves[open_cusps[0]])
+        for k, i in enumerate(open_cusps):
+            turns[i] = np.pi if k < plus else -np.pi
+    return turns
+
+
+def _cusp_side(c_in, c_out):
+    """+1 if the way out of a cusp lies left of the way in, -1 right, 0 coincident.
+
+    Both ways leave the cusp point X backwards along the incoming direction d; the
+    angles of their points seen from X (measured from -d) are compared at
+    parameter steps 1e-6 ... 1e-2, the first clear difference deciding.
+    """
+    x = pc.end(c_in)
+    t_in = pc.end_tangents(c_in)[1]
+    back = -t_in
+    for delta in (1e-6, 1e-4, 1e-2):
+        a = pc.evaluate(c_in, 1.0 - delta)[0] - x
+        b = pc.evaluate(c_out, delta)[0] - x
+        phi_a = np.arctan2(pc.cross2(back, a), np.dot(back, a))
+        phi_b = np.arctan2(pc.cross2(back, b), np.dot(back, b))
+        if abs(phi_b - phi_a) > 1e-7:
+            return 1 if phi_b < phi_a else -1
+    return 0
 
 
 def total_turning(edges):
@@ -181,29 +274,37 @@ def angle_param(piece, theta):
     """Parameter t where the tangent angle of a monotone piece equals theta.
 
     Solves cross(H(t), d) = 0 with d = (cos theta, sin theta) for the hodograph
-    direction H (Eq. 27 specialised to one curve) and keeps the root where H points
-    along d.  The piece must come from :func:`split_monotone` (|sweep| <= pi/2).
+    direction H (Eq. 27 specialised to one curve); on a monotone piece (from
+    :func:`split_monotone`, |sweep| <= pi/2) the root is unique and H points along
+    d there.  Scalar form of :func:`angle_params`.
     """
-    h = pc.tangent_numerator(piece)
-    d = np.array([np.cos(theta), np.sin(theta)])
-    f = h[:, 1] * d[0] - h[:, 0] * d[1]
-    ends = bz.evaluate(f, [0.0, 1.0])
-    scale = np.abs(f).max()
-    if scale == 0.0:
-        return 0.0
-    if abs(ends[0]) <= 1e-14 * scale:
-        return 0.0
-    if abs(ends[1]) <= 1e-14 * scale:
-        return 1.0
-    roots = bz.roots(f)
-    if roots.size == 0:
-        # theta at (numerically) an end: take the closer end
-        return 0.0 if abs(ends[0]) < abs(ends[1]) else 1.0
-    hv = bz.evaluate(h, roots)
-    good = roots[hv @ d > 0]
-    if good.size == 0:
-        return float(roots[0])
-    return float(good[0])
+    h = pc.tangent_numerator(np.asarray(piece, float))
+    return float(angle_params(h[None], np.array([theta], float))[0])
+
+
+def angle_params(h, theta):
+    """:func:`angle_param` for many pieces at once, from their tangent numerators.
+
+    h: (k, m+1, 2) tangent numerators (``piece.tangent_numerator``, elevated to one
+    degree m; elevation leaves the direction unchanged); theta: (k,).  Returns t
+    (k,): f = cross(d, H) is a Bernstein polynomial; an end where |f| <= 1e-14
+    max|f_i| is taken as is; where f changes sign over [0, 1] the root comes from a
+    bracketed Newton iteration (:func:`morph.bernstein.solve_bracketed`); otherwise
+    theta lies (numerically) outside the range and the closer end is returned.
+    """
+    h = np.asarray(h, float)
+    theta = np.asarray(theta, float)
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    f = h[:, :, 1] * c - h[:, :, 0] * s
+    scale = np.abs(f).max(axis=1)
+    f0, f1 = f[:, 0], f[:, -1]
+    t = np.where(np.abs(f0) < np.abs(f1), 0.0, 1.0)
+    t = np.where(np.abs(f1) <= 1e-14 * scale, 1.0, t)
+    t = np.where(np.abs(f0) <= 1e-14 * scale, 0.0, t)
+    inner = (f0 * f1 < 0) & (np.abs(f0) > 1e-14 * scale) & (np.abs(f1) > 1e-14 * scale)
+    if inner.any():
+        t[inner] = bz.solve_bracketed(f[inner])
+    return t
 
 
 def restrict(edge, lo, hi):

@@ -7,6 +7,7 @@ import numpy as np
 
 from .convolve import chain, convolution
 from .errors import TopologyError
+from .limits import check_tolerance
 from .trim import boundary
 from .trim.holes import Membership, deepest_point
 
@@ -30,13 +31,13 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     of the winding-number result are tested exactly, x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅,
     at their deepest point; holes and islands thinner than 0.4 tol may be decided
     either way.  Normals are exact on QAC pieces.  Outer loops counter-clockwise,
-    holes clockwise.  Raises ValueError for a non-positive tol or an empty region,
+    holes clockwise.  Raises LimitError (a ValueError) for a tolerance the operands
+    cannot support (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
     TopologyError if the convolution pieces do not close into loops.
     """
-    if not tol > 0 or not np.isfinite(tol):
-        raise ValueError("tol must be positive and finite, got %r" % (tol,))
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
+    check_tolerance(tol, region_a, region_b, operation="minkowski sum")
     conv = convolution(region_a, region_b, CONV_SHARE * tol, keep_type3=True, method=method)
     pieces = [c.piece for c in conv]
     loops = chain(pieces, _join_tol(pieces, tol))

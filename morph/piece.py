@@ -175,10 +175,31 @@ def tangent_numerator(piece):
     the positive factor W^2.  Its direction is the tangent direction everywhere.
     """
     if is_polynomial(piece):
-        return bz.derivative(cartesian(piece))
-    d = bz.derivative(piece)
-    full = bz.multiply(d[:, :2], piece[:, 2:3]) - bz.multiply(piece[:, :2], d[:, 2:3])
-    return bz.reduce_exact(full, 1)  # degree 2n-2: the t^(2n-1) terms cancel
+        h = bz.derivative(cartesian(piece))
+    else:
+        d = bz.derivative(piece)
+        full = bz.multiply(d[:, :2], piece[:, 2:3]) - bz.multiply(piece[:, :2], d[:, 2:3])
+        h = bz.reduce_exact(full, 1)  # degree 2n-2: the t^(2n-1) terms cancel
+    return _deflate_ends(h)
+
+
+def _deflate_ends(h, rel=1e-12):
+    """H(t) / (t^a (1-t)^b) where H has zeros of order a at t=0 and b at t=1.
+
+    A control point on its own end point (common in real drawings) makes the
+    hodograph vanish there; the quotient has the same direction inside and the
+    limit tangent (the first nonzero derivative's direction) at the ends.  In the
+    Bernstein basis, sum_{i>=1} c_i B_i^n = t sum_{i>=1} (n/i) c_i B_{i-1}^{n-1} and
+    sum_{i<n} c_i B_i^n = (1-t) sum_{i<n} n/(n-i) c_i B_i^{n-1}.
+    """
+    scale = np.abs(h).max()
+    while len(h) > 1 and np.abs(h[0]).max() <= rel * scale:
+        n = len(h) - 1
+        h = h[1:] * (n / np.arange(1, n + 1))[:, None]
+    while len(h) > 1 and np.abs(h[-1]).max() <= rel * scale:
+        n = len(h) - 1
+        h = h[:-1] * (n / (n - np.arange(n)))[:, None]
+    return h
 
 
 def curvature_numerator(piece):
@@ -192,6 +213,53 @@ def curvature_numerator(piece):
         return np.zeros(1)
     dh = bz.derivative(h)
     return bz.multiply(h[:, :1], dh[:, 1:2])[:, 0] - bz.multiply(h[:, 1:2], dh[:, :1])[:, 0]
+
+
+# ------------------------------------------------ batched forms (stacks of one degree)
+
+def is_polynomial_many(stacked, rtol=1e-12):
+    """:func:`is_polynomial` of each piece of a stack (k, n+1, 3): (k,) bools."""
+    w = stacked[:, :, 2]
+    return np.all(np.abs(w - w[:, :1]) <= rtol * np.abs(w[:, :1]), axis=1)
+
+
+@functools.lru_cache(maxsize=None)
+def _reduce_pinv(n):
+    """Pseudo-inverse of the elevation n-1 -> n (least squares of bz.reduce_exact)."""
+    return np.linalg.pinv(bz._elevation_matrix(n - 1, 1))
+
+
+def tangent_numerator_many(stacked, rational):
+    """:func:`tangent_numerator` of a stack (k, n+1, 3) of pieces that are all
+    polynomial (``rational`` False: degree n-1) or all rational (degree 2n-2),
+    before any division by end zeros (see :func:`end_zero_rows`): the same direction
+    inside (0, 1)."""
+    stacked = np.asarray(stacked, float)
+    if not rational:
+        return bz.derivative_many(stacked[:, :, :2] / stacked[:, :, 2:3])
+    d = bz.derivative_many(stacked)
+    full = (bz.multiply_many(d[:, :, :2], stacked[:, :, 2:3])
+            - bz.multiply_many(stacked[:, :, :2], d[:, :, 2:3]))
+    # degree 2n-2: the t^(2n-1) terms cancel (least squares, as bz.reduce_exact)
+    return np.einsum("ij,kjd->kid", _reduce_pinv(full.shape[1] - 1), full)
+
+
+def end_zero_rows(h, rel=1e-12):
+    """Rows of a stack of tangent numerators (k, m+1, 2) that vanish at an end (to
+    ``rel`` of their largest coefficient): where :func:`tangent_numerator` divides
+    the end zeros out, so the stacked (undivided) form is not what it returns."""
+    scale = np.abs(h).max(axis=(1, 2))
+    return ((np.abs(h[:, 0]).max(axis=1) <= rel * scale)
+            | (np.abs(h[:, -1]).max(axis=1) <= rel * scale))
+
+
+def curvature_numerator_many(h):
+    """cross(H, H') of a stack of tangent numerators h (k, m+1, 2): (k, 2m) (as
+    :func:`curvature_numerator`; (k, 1) zeros when m = 0)."""
+    if h.shape[1] == 1:
+        return np.zeros((len(h), 1))
+    dh = bz.derivative_many(h)
+    return (bz.multiply_many(h[:, :, 0], dh[:, :, 1]) - bz.multiply_many(h[:, :, 1], dh[:, :, 0]))
 
 
 # -------------------------------------------------------------------- operations

@@ -311,27 +311,26 @@ def test_flat_point_is_not_an_inflection():
     assert np.allclose(_junctions(parts), [[0.5, 0.0]], atol=1e-12)
 
 
-def test_interior_cusp_is_split_off_and_rejected_by_gauss_map():
+def test_interior_cusp_is_split_off_and_carried_as_a_corner():
     # P'(1/2) = 0: both hodograph components vanish there, so split_monotone cuts at
-    # the cusp (or raises); the loop then reverses direction and has no Gauss map.
+    # the cusp; the loop turns through pi there, a corner of the Gauss map (issue 17)
     cusp = pc.cubic((0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (1.0, 0.0))
-    try:
-        parts = gauss.split_monotone(cusp)
-    except DegenerateCurveError:
-        parts = None
-    if parts is not None:
-        assert np.allclose(_junctions(parts), R.bezier_eval(cusp, [0.5])[0], atol=1e-12)
+    parts = gauss.split_monotone(cusp)
+    assert np.allclose(_junctions(parts), R.bezier_eval(cusp, [0.5])[0], atol=1e-12)
     loop = [cusp, pc.line((1.0, 0.0), (0.5, -1.0)), pc.line((0.5, -1.0), (0.0, 0.0))]
-    with pytest.raises(DegenerateCurveError):
-        gauss.gauss_map(loop)
+    edges = gauss.gauss_map(loop)
+    area = pc.loop_area(loop)
+    assert gauss.total_turning(edges) == pytest.approx(np.sign(area) * TWO_PI)
+    assert any(abs(abs(e.sweep) - np.pi) < 1e-6 for e in edges if e.kind == "vertex")
 
 
-def test_spike_raises():
-    # a loop that reverses direction (turn of pi) has no Gauss map
+def test_spike_is_a_corner_of_pi():
+    # a loop that reverses direction (a zero-width spike) turns through +pi there
     loop = [pc.line((0.0, 0.0), (2.0, 0.0)), pc.line((2.0, 0.0), (1.0, 0.0)),
             pc.line((1.0, 0.0), (1.0, 1.0)), pc.line((1.0, 1.0), (0.0, 0.0))]
-    with pytest.raises(DegenerateCurveError):
-        gauss.gauss_map(loop)
+    edges = gauss.gauss_map(loop)
+    assert gauss.total_turning(edges) == pytest.approx(TWO_PI)
+    assert [e.sweep for e in edges if e.kind == "vertex"][0] == pytest.approx(np.pi)
 
 
 def test_convex_and_concave_corners():
@@ -359,3 +358,43 @@ def test_small_corners_are_vertices(turn):
     assert small.sweep == pytest.approx(turn, rel=1e-6)
     assert np.allclose(small.point, (2.0, 0.0))
     assert gauss.total_turning(edges) == pytest.approx(TWO_PI)
+
+
+# ------------------------------------------------------------------ cusps (turns of pi)
+
+def _polyline_loop(points):
+    return [pc.line(points[i], points[(i + 1) % len(points)]) for i in range(len(points))]
+
+
+@pytest.mark.parametrize("points, cusp", [
+    # a spike out of the top of a square: the way back is on the left, +pi
+    ([(0, 0), (10, 0), (10, 10), (6, 10), (5, 20), (4, 10), (0, 10)], None),
+    # zero-width spike and zero-width slit: decided by the total turning
+    ([(0, 0), (10, 0), (10, 10), (5, 10), (5, 20), (5, 10), (0, 10)], 1.0),
+    ([(0, 0), (10, 0), (10, 10), (5, 10), (5, 3), (5, 10), (0, 10)], -1.0),
+])
+def test_cusps_are_corners_of_plus_or_minus_pi(points, cusp):
+    edges = gauss.gauss_map(_polyline_loop(points))
+    assert gauss.total_turning(edges) == pytest.approx(2 * np.pi)
+    if cusp is not None:
+        sweeps = [e.sweep / np.pi for e in edges if e.kind == "vertex"]
+        assert cusp in [pytest.approx(s) for s in sweeps]
+
+
+def test_open_path_forward_and_back_turns_plus_pi_at_both_ends():
+    c = pc.cubic((0, 0), (30, 40), (60, -40), (100, 0))
+    edges = gauss.gauss_map([c, pc.reverse(c)])
+    ends = [e.sweep for e in edges if e.kind == "vertex" and abs(abs(e.sweep) - np.pi) < 1e-6]
+    assert ends == [pytest.approx(np.pi), pytest.approx(np.pi)]
+    assert gauss.total_turning(edges) == pytest.approx(2 * np.pi)
+
+
+def test_zero_end_derivative_uses_the_limit_tangent():
+    # a control point on its own end point: the tangent there is P2 - P0's direction
+    c = pc.cubic((0, 0), (0, 0), (10, 10), (20, 0))
+    edges = gauss.gauss_map([c, pc.line((20, 0), (0, 0))])
+    first = edges[0]
+    assert first.theta == pytest.approx(np.pi / 4)
+    # and the angle solver finds interior points, not t = 0, for other angles
+    t = gauss.angle_param(first.piece, first.theta + 0.5 * first.sweep)
+    assert 0.05 < t < 0.95

@@ -15,7 +15,7 @@ import pyclipper
 from .. import piece as pc
 
 
-def deepest_point(ring, islands, grid_n=24, rounds=4):
+def deepest_point(ring, islands, grid_n=24, rounds=6):
     """A point inside polygon ``ring`` and outside the ``islands`` polygons (float
     (m, 2) arrays), far from all their edges, and its distance to them.
 
@@ -73,7 +73,8 @@ class Membership:
     """x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅, for points at depth >= ``depth`` from the
     boundary candidates: A and B flattened within depth / 10 and intersected by
     Clipper on a grid of depth / 20 (finer for operands smaller than 1000 grid
-    steps, so that neither collapses)."""
+    steps, so that neither collapses).  Loops of A with no area (paths traced
+    forward and back, as strokes are) count as curves: open paths in Clipper."""
 
     def __init__(self, region_a, region_b, depth):
         flat = depth / 10.0
@@ -81,16 +82,27 @@ class Membership:
         self.pb = [pc.flatten_loop(loop, flat) for loop in region_b]
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
-        self.pa = [self._int(p) for p in pa]
+        flat_loop = [abs(pc.loop_area(loop)) <= 1e-9 * size * size for loop in region_a]
+        self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
+        # a degenerate loop P, reverse(P): its first half is the path
+        self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]
+                       for p, f in zip(pa, flat_loop) if f]
 
     def _int(self, pts):
         return np.rint(pts / self.grid).astype(np.int64)
 
     def __call__(self, x):
         clip = pyclipper.Pyclipper()
-        clip.AddPaths([p.tolist() for p in self.pa if len(p) >= 3], pyclipper.PT_SUBJECT, True)
+        closed = [p.tolist() for p in self.pa if len(p) >= 3]
+        if closed:
+            clip.AddPaths(closed, pyclipper.PT_SUBJECT, True)
+        for c in self.curves:
+            if len(c) >= 2:
+                clip.AddPath(c.tolist(), pyclipper.PT_SUBJECT, False)
         moved = [self._int(np.asarray(x) - p) for p in self.pb]
         clip.AddPaths([p.tolist() for p in moved if len(p) >= 3], pyclipper.PT_CLIP, True)
-        out = clip.Execute(pyclipper.CT_INTERSECTION, pyclipper.PFT_NONZERO,
-                           pyclipper.PFT_NONZERO)
-        return any(abs(pyclipper.Area(p)) > 0 for p in out)
+        tree = clip.Execute2(pyclipper.CT_INTERSECTION, pyclipper.PFT_NONZERO,
+                             pyclipper.PFT_NONZERO)
+        if pyclipper.OpenPathsFromPolyTree(tree):
+            return True
+        return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))

@@ -18,6 +18,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
+PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
 
 
 def lift_rings(rings, tg, contract):
@@ -133,6 +134,9 @@ def _neighbours_cross(runs, tri, reach, apply=False):
     ia, ib = np.arange(m), np.arange(m, 2 * m)
     s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), np.array(guess),
                                 np.array(lim), 1e-6 * reach)
+    # only interior crossings: the neighbours' far ends are junctions of their own
+    # (in a ring of three runs they meet each other there)
+    ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     if apply and ok[0]:
         r, j = tri[0]
         out, ends = runs[r]

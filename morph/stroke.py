@@ -1,0 +1,63 @@
+"""Skeleton paths stroked by a fixed-orientation convex nib (the paper's Fig. 5).
+
+An open path P is the degenerate region traced forward and back: the loop
+P, reverse(P) turns through +pi at both ends (:func:`morph.gauss.gauss_map`), so
+its convolution with the nib N is both sides of P offset by N plus N's own arcs at
+the two ends (the caps are exact nib arcs), and trimming it (winding > 0) gives
+P ⊕ N: what a broad nib held at a fixed angle draws, as METAFONT's pens and
+FontForge's Expand Stroke do.  A closed path is stroked the same way (its outline,
+not its inside); a zero-length path (a dot) gives the nib itself.  Paths of one
+call are united (a glyph is the union of its strokes).
+"""
+
+import numpy as np
+
+from . import piece as pc
+from .minkowski import minkowski_sum
+from .trim import fill_region
+
+
+def path_loop(pieces):
+    """The closed degenerate loop of a path traced forward and back."""
+    pieces = [np.asarray(p, float) for p in pieces]
+    return pieces + [pc.reverse(p) for p in reversed(pieces)]
+
+
+def stroke_paths(paths, nib_region, tol):
+    """The region swept by ``nib_region`` along every path: union of path ⊕ nib.
+
+    paths: list of (pieces, closed) with pieces joined end to start (y up);
+    nib_region: a convex region (its origin is the pen point); tol absolute, in the
+    paths' units, with the budget of :func:`morph.minkowski.minkowski_sum`.
+    Returns loops of rational pieces, outer counter-clockwise, holes clockwise.
+    """
+    if not nib_region:
+        raise ValueError("the nib is empty")
+    size = _size([p for pieces, _ in paths for p in pieces] + [p for l in nib_region for p in l])
+    loops, dots = [], []
+    for pieces, _closed in paths:
+        long = [p for p in pieces if not _is_point(p, 1e-12 * size)]
+        if long:
+            loops.append(path_loop(long))
+        elif len(pieces):
+            dots.append(pc.start(np.asarray(pieces[0], float)))
+    region = minkowski_sum(loops, nib_region, tol) if loops else []
+    if not dots:
+        return region
+    nibs = [[pc.translate(p, d) for p in loop] for d in dots for loop in nib_region]
+    return fill_region(list(region) + nibs, "nonzero")
+
+
+def _is_point(piece, eps):
+    p = pc.cartesian(np.asarray(piece, float))
+    return float(np.ptp(p, axis=0).max()) <= eps
+
+
+def _size(pieces):
+    if not pieces:
+        return 1.0
+    pts = np.concatenate([pc.cartesian(np.asarray(p, float)) for p in pieces])
+    return max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+
+__all__ = ["stroke_paths", "path_loop"]

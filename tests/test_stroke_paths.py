@@ -1,0 +1,85 @@
+"""morph.stroke.stroke_paths (open path ⊕ nib) against Clipper's polygon Minkowski sum
+of the finely flattened path and nib (an independent computation), with shapely for
+areas and Hausdorff distances."""
+
+import numpy as np
+import pyclipper
+import pytest
+import shapely
+from shapely.geometry import Polygon
+
+from morph import piece as pc
+from morph.fonts.brush import ellipse_nib
+from morph.stroke import stroke_paths
+
+FLAT = 1e-3  # reference flattening (both operands), in path units
+SCALE = 1e4  # Clipper integer scale of the reference
+
+
+def _reference(paths, nib):
+    """Union of MinkowskiSum(nib polygon, path polyline) in Clipper (open paths)."""
+    nib_poly = pyclipper.scale_to_clipper(pc.flatten_loop(nib[0], FLAT), SCALE)
+    parts = []
+    for pieces, closed in paths:
+        pts = np.concatenate([pc.flatten(p, FLAT)[0] for p in pieces])
+        parts += pyclipper.MinkowskiSum(nib_poly, pyclipper.scale_to_clipper(pts, SCALE), closed)
+    clip = pyclipper.Pyclipper()
+    clip.AddPaths(parts, pyclipper.PT_SUBJECT, True)
+    tree = clip.Execute2(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    polys, stack = [], list(tree.Childs)
+    while stack:  # outer contours with their holes; islands in holes are outers again
+        node = stack.pop()
+        holes = [np.array(h.Contour) / SCALE for h in node.Childs]
+        polys.append(Polygon(np.array(node.Contour) / SCALE, holes))
+        stack.extend(g for h in node.Childs for g in h.Childs)
+    return shapely.unary_union(polys)
+
+
+def _ours(loops, tol):
+    outer = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) > 0]
+    holes = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) < 0]
+    return shapely.unary_union(outer).difference(shapely.unary_union(holes))
+
+
+def _check(paths, nib, tol):
+    loops = stroke_paths(paths, nib, tol)
+    ours, ref = _ours(loops, tol), _reference(paths, nib)
+    # boundary distance: our curves within tol of the reference boundary, plus the
+    # reference's own flattening and our drawing's tol / 4
+    h = ours.boundary.hausdorff_distance(ref.boundary)
+    assert h <= tol + 2 * FLAT + tol / 4, h
+    assert abs(ours.area - ref.area) <= (tol + 2 * FLAT) * ref.boundary.length
+    return loops
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_cubic_and_ellipse_nib_at_random_angles(seed):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(0, 100, size=(4, 2))
+    angle = rng.uniform(0, 180)
+    print("seed", seed, "angle", angle)
+    nib = ellipse_nib(rng.uniform(10, 30), rng.uniform(2, 10), angle)
+    _check([([pc.cubic(*pts)], False)], nib, 0.05)
+
+
+def test_polyline_with_sharp_corners_and_a_disk():
+    p = [(0, 0), (50, 0), (10, 30), (60, 40)]
+    pieces = [pc.line(p[i], p[i + 1]) for i in range(3)]
+    nib = [list(pc.circle((0.0, 0.0), 6.0))]
+    loops = _check([(pieces, False)], nib, 0.02)
+    assert len(loops) >= 1
+
+
+def test_closed_path_keeps_its_counter():
+    circle = list(pc.circle((0.0, 0.0), 40.0))
+    loops = _check([(circle, True)], ellipse_nib(20, 6, 30), 0.05)
+    assert sorted(np.sign(pc.loop_area(l)) for l in loops) == [-1, 1]
+
+
+def test_paths_are_united_and_dots_are_the_nib():
+    nib = ellipse_nib(12, 4, 30)
+    cross = [([pc.line((0, 0), (50, 50))], False), ([pc.line((0, 50), (50, 0))], False)]
+    loops = _check(cross, nib, 0.05)
+    assert len(loops) == 1
+    dot = stroke_paths([([pc.line((7.0, 3.0), (7.0, 3.0))], False)], nib, 0.05)
+    assert pc.region_area(dot) == pytest.approx(np.pi * 6 * 2, rel=1e-9)
