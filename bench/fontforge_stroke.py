@@ -11,7 +11,7 @@ contours stay open) and stroked by ``glyph.stroke(...)`` with caps and joins "ni
 at ends and corners, so that the result is the Minkowski sum path ⊕ nib; FontForge's
 "round" cap is a half-disk across the stroke, larger than a broad nib),
 ``removeoverlap="layer"`` (FontForge's default), ``accuracy=A`` (its target error in
-font units); the time of that call alone is measured (perf_counter).  Output JSON:
+font units); the CPU time of that call alone is measured (process_time).  Output JSON:
 ``{name: {"seconds": s, "points": n, "contours": [[segment, ...], ...]}}`` with
 segments as above (quadratic segments do not occur: FontForge strokes in cubics).
 """
@@ -71,14 +71,14 @@ def main():
     for k, (name, paths) in enumerate(job["glyphs"].items()):
         g = font.createChar(-1, "g%d" % k)
         draw(g, paths)
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         if nib[0] == "elliptical":
             g.stroke("elliptical", float(nib[1]), float(nib[2]), math.radians(float(nib[3])),
                      "nib", "nib", accuracy=acc, removeoverlap="layer")
         else:
             g.stroke("circular", float(nib[1]), "nib", "nib", accuracy=acc,
                      removeoverlap="layer")
-        seconds = time.perf_counter() - t0
+        seconds = time.process_time() - t0
         layer = g.foreground
         out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
                      "contours": [segments_of(c) for c in layer]}

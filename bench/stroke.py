@@ -28,7 +28,8 @@ Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same gl
   before stroking and the result down: Skia's own precision knob is fixed).
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
-Hausdorff measure; seconds per glyph are the stroking calls alone (single core;
+Hausdorff measure; seconds per glyph are the CPU time (process_time, robust to
+the load of a shared machine) of the stroking calls alone (single core;
 morph: stroke + cubic conversion; FontForge: ``glyph.stroke`` inside FontForge;
 Skia: stroke + conic conversion + simplify), points per glyph are on- and off-curve
 points of the written contours.  Writes bench/stroke.md.
@@ -149,7 +150,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 # =========================================================================== part 2
 
 def run_morph(font, names, spec, tols, refs):
-    from morph.export import piece_to_cubics
+    from morph.export import piece_to_cubics, split_tolerance
     from morph.stroke import stroke_paths
 
     nib = nib_region(spec)
@@ -158,9 +159,10 @@ def run_morph(font, names, spec, tols, refs):
         secs, points, errs, fails = [], [], [], []
         for n in names:
             paths = all_paths(font, n)
-            t0 = time.perf_counter()
+            geometry, export = split_tolerance(tol)
+            t0 = time.process_time()
             try:
-                region = stroke_paths(paths, nib, tol / 2.0)
+                region = stroke_paths(paths, nib, geometry)
                 contours = []
                 for loop in region:
                     segs = []
@@ -168,12 +170,12 @@ def run_morph(font, names, spec, tols, refs):
                         if pc.degree(p) == 1 and pc.is_polynomial(p):
                             segs.append(pc.cartesian(p))
                         else:
-                            segs.extend(piece_to_cubics(p, tol / 2.0))
+                            segs.extend(piece_to_cubics(p, export))
                     contours.append(segs)
             except Exception as exc:  # noqa: BLE001 - reported per glyph
                 fails.append("%s (%s)" % (n, type(exc).__name__))
                 continue
-            secs.append(time.perf_counter() - t0)
+            secs.append(time.process_time() - t0)
             points.append(sum(len(s) - 1 for segs in contours for s in segs))
             errs.append(measure(contours, refs[n])[0])
         rows.append(summary("morph", "tol %g" % tol, secs, points, errs, fails))
@@ -244,7 +246,7 @@ def run_skia(font, names, diameter, scales, refs):
     for k in scales:
         secs, points, errs = [], [], []
         for n in names:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             path = pathops.Path()
             pen = path.getPen()
             for pieces, closed in all_paths(font, n):
@@ -261,7 +263,7 @@ def run_skia(font, names, diameter, scales, refs):
             path.stroke(diameter * k, pathops.LineCap.ROUND_CAP, pathops.LineJoin.ROUND_JOIN, 4)
             path.convertConicsToQuads(0.25)
             path.simplify()
-            secs.append(time.perf_counter() - t0)
+            secs.append(time.process_time() - t0)
             contours = [[np.asarray(s, float) / k for s in segs] for segs in _skia_contours(path)]
             points.append(sum(len(s) - 1 for segs in contours for s in segs))
             errs.append(measure(contours, refs[n])[0])

@@ -10,20 +10,28 @@ source UFO with the outlines replaced (kerning, groups, features, lib kept), sav
 ``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: ufo2ft converts the
 cubics to quadratics with cu2qu).
 
-Tolerance budget (``tol``, font units): the stroke within ``tol / 2``
-(``stroke_paths``), the cubics within ``tol / 2`` of the stroke's pieces for ``.ufo``
-and ``.otf`` (``tol / 4`` for ``.ttf``, whose cu2qu conversion gets the last
-``tol / 4``; cu2qu's check is certified up to rounding, see
-:func:`morph.export.piece_to_quadratics`).  Coordinates are written to the UFO with 3
-decimals (<= 0.0007 units more); compiling rounds them to integers (<= 0.71 units).
+Tolerance budget (``tol``, font units), by :func:`morph.export.split_tolerance`:
+the stroke within the geometry share (``stroke_paths``), the cubics within the export
+share of the stroke's pieces (certified, Fréchet); for ``.ttf`` the export share is
+split again between the cubics and ufo2ft's cu2qu conversion
+(:data:`morph.export.QUADRATIC_CUBIC_SHARE`; cu2qu's check is certified up to
+rounding).  The contours are then rounded to integers and cleaned
+(:func:`morph.fonts.tables.contours_from_loops`: <= 0.71 units more), in the UFO
+too, so the UFO and the compiled font hold the same outlines.  A glyph whose stroke
+or conversion raises is written by the polygon fallback of
+:func:`morph.fonts.jobs.polygon_sum` (lines, within ``tol`` + 1/8 unit) and named in
+the returned statistics.
 
 Metrics.  The stroke of a skeleton point p is p + nib, so a glyph grows by the nib's
 extent on both sides.  Side bearings are kept: the outline is shifted right by the
-nib's left extent (``-xmin``) and the advance grows by the nib's width.  Zero-width
-glyphs (combining marks) keep advance 0 and are shifted by ``-xmax`` instead, so a
-mark drawn after its base lands where it did on the skeleton.  Anchors and vertical
-glyph guidelines move with the outline; anchors also by the nib's centre (the centre
-of the stroke of the anchor point).  Vertical font metrics are kept, except that
+nib's left extent (``-xmin``) and the advance grows by the nib's width, both rounded
+to integers (outlines, anchors, component offsets and feature anchors stay on the
+integer grid).  Zero-width glyphs (combining marks) keep advance 0 and are shifted by
+the left extent minus the width instead, so a mark drawn after its base lands where
+it did on the skeleton.  Anchors (in the glyphs and the explicit ``<anchor>`` of the
+feature file, :func:`move_feature_anchors`) and vertical glyph guidelines move with
+the outline; anchors also by the nib's centre (the centre of the stroke of the
+anchor point).  Vertical font metrics are kept, except that
 the OS/2 win ascent / descent grow to cover the new glyphs (no clipping).  PostScript
 hinting values of the skeleton (blue zones, stems) are dropped: they described
 hairlines.
@@ -176,18 +184,17 @@ def _rename(info, family):
 def _glyph_job(args):
     """Stroke one glyph and convert it to integer cubic contours (a process-pool job).
 
-    ``args``: (name, paths, nib_region, tol, offset, stroker).  The stroke gets
-    ``tol / 2``, the cubics ``tol / 2`` (``tol / 4`` for TrueType, see the module
-    docstring: the caller passes the cubic share as ``tol``'s second half).  When the
-    exact stroke or its conversion raises, the glyph falls back to the polygon stroke
-    of :func:`morph.fonts.jobs.polygon_sum` (within ``tol`` + 1/8 unit, lines only)
-    and the error is returned with it.
+    ``args``: (name, paths, nib_region, (stroke_tol, cubic_tol, cu2qu_tol), offset,
+    stroker), the tolerances as :func:`_tolerances` splits them.  When the exact
+    stroke or its conversion raises, the glyph falls back to the polygon stroke of
+    :func:`morph.fonts.jobs.polygon_sum` (within stroke_tol + cubic_tol + 1/8 unit,
+    lines only) and the error is returned with it.
     """
     from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops
 
     name, paths, nib_region, (sum_tol, cubic_tol, _), offset, stroker = args
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     fallback = None
     region = []
     try:
@@ -201,7 +208,7 @@ def _glyph_job(args):
         region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
     region = [[pc.translate(p, offset) for p in loop] for loop in region]
     return {"name": name, "contours": contours, "region": region, "fallback": fallback,
-            "seconds": time.perf_counter() - t0}
+            "seconds": time.process_time() - t0}
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
@@ -224,7 +231,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     (composites kept without being chosen), ``decomposed`` (components decomposed
     because of a transformation), ``emptied`` (glyphs left empty in a compiled
     font), ``contours``, ``points`` (on- and off-curve points written),
-    ``stroke_seconds`` (sum over glyphs), ``seconds`` (wall, whole call), ``font``
+    ``stroke_seconds`` (CPU time of the strokes and their conversion, summed over the
+    glyphs), ``seconds`` (wall, whole call), ``fallback`` (glyph -> the error that
+    sent it to the polygon stroke), ``font``
     (the stroked ``ufoLib2.Font``) and ``regions`` (name -> stroked region in the
     glyph's output coordinates, components not included).
 
