@@ -68,8 +68,8 @@ from . import bernstein as bz
 from . import piece as pc
 from .errors import DegenerateCurveError, ToleranceNotMetError
 
-__all__ = ["JOIN_ANGLE", "SUM_SHARE", "Segment", "chain_segments", "cubic_bound",
-           "cubic_segments", "fit_cubic", "loop_to_beziers", "loop_to_cubics",
+__all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "Segment", "chain_segments",
+           "cubic_bound", "cubic_segments", "fit_cubic", "loop_to_beziers", "loop_to_cubics",
            "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics", "smooth_runs",
            "split_tolerance"]
 
