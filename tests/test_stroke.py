@@ -245,11 +245,9 @@ def test_font_plumbing_with_polygon_stroker(skeleton, tmp_path):
 
 # =========================================================================== geometry
 
+# A: a counter closed by two different strokes (bar and legs), filled by an early
+# stroke_paths; 4 likewise (in bench/stroke.py)
 ACCURACY_GLYPHS = ["o", "e", "a", "eight", "g", "A", "s"]
-# A counter closed by two different strokes (A's bar and legs, 4's bar and stems) is
-# filled by morph.stroke.stroke_paths at the time of writing; bench/stroke.py lists them
-KNOWN_FILLED_COUNTER = pytest.mark.xfail(
-    strict=True, reason="issue #15: a counter between two strokes is filled by stroke_paths")
 
 
 @pytest.fixture(scope="module")
@@ -259,8 +257,7 @@ def stroked_otf(tmp_path_factory):
     return out, stats
 
 
-@pytest.mark.parametrize("name", [pytest.param(n, marks=KNOWN_FILLED_COUNTER) if n == "A" else n
-                                  for n in ACCURACY_GLYPHS])
+@pytest.mark.parametrize("name", ACCURACY_GLYPHS)
 def test_written_glyph_matches_reference(skeleton, stroked_otf, name):
     """Hausdorff <= tol + 0.71 (integer rounding) + the reference's own flattening,
     and the counters (holes) of o, e, a, 8 kept, against the Clipper polygon."""
