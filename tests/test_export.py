@@ -462,6 +462,48 @@ def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
 
 
+# A random rational-cubic blob (control points and weights) with a sharp concave turn
+# near (0.57, -0.31), where the offset's convolution curve folds (a swallowtail).
+FOLD_BLOB = [
+    ([[0.156430307568, 0.026378412446], [0.485144115381, 0.846809004248],
+      [-0.117456430013, 0.38203574], [-0.097002184657, 0.040359680072]],
+     [1.0, 2.412995471386, 2.966900016615, 1.0]),
+    ([[-0.097002184657, 0.040359680072], [-1.152862421271, 0.299030377997],
+      [-0.92876739843, 0.109999310115], [-0.843769842314, 0.080057534416]],
+     [1.0, 1.797141568611, 2.79274316179, 1.0]),
+    ([[-0.843769842314, 0.080057534416], [-0.805988501857, -0.048119984505],
+      [-0.021995111204, -0.646788489163], [0.629719997464, -0.757378772277]],
+     [1.0, 2.440716277343, 0.826733262393, 1.0]),
+    ([[0.629719997464, -0.757378772277], [0.81890084925, -0.949002603454],
+      [0.168456549211, -0.135146743005], [0.694864328228, -0.408704736669]],
+     [1.0, 0.910465483881, 1.318052201582, 1.0]),
+    ([[0.694864328228, -0.408704736669], [0.128248115508, -0.074488981447],
+      [1.056015044783, -0.598950663806], [0.334470260752, -0.188729379818]],
+     [1.0, 2.359537655742, 1.166603117856, 1.0]),
+    ([[0.334470260752, -0.188729379818], [0.718231786699, -0.336994990076],
+      [0.384202988696, 0.010089622403], [0.156430307568, 0.026378412446]],
+     [1.0, 0.757360595252, 2.369461595196, 1.0]),
+]
+
+
+@pytest.mark.xfail(reason="trim engine rewrite, lead", strict=True)
+def test_offset_of_folding_rational_cubics_within_tol():
+    """Issue 17 part 5, the sum's share: offset by r = 0.02 at tol 0.005, a point of
+    the result lies 0.00999 from the shape (measured to an actual point of it), so
+    0.01 = 2 tol inside the exact offset boundary; at tol 0.01 it is 0.9998 tol: the
+    error does not shrink with tol (a piece of the folded convolution curve kept)."""
+    from shapely.geometry import Polygon
+
+    from morph.offset import offset_region
+
+    loop = [pc.from_points(np.array(p), np.array(w)) for p, w in FOLD_BLOB]
+    poly = Polygon(np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop]))
+    radius, tol = 0.02, 0.005
+    pieces = [p for lp in offset_region([loop], radius, tol) for p in lp]
+    pts = np.vstack([rational(p)(np.linspace(0, 1, 65)) for p in pieces])
+    assert offset_error(pts, loop, poly, radius) <= tol
+
+
 @pytest.mark.parametrize("tol", [1e-2, 1e-4])
 def test_circle_plus_circle_written_within_tol(tol):
     """Issue 17 part 5: circle ⊕ circle written as SVG path data (sum and export
