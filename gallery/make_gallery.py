@@ -203,7 +203,7 @@ def fig05_stroke_text(text="Hamburgefonstiv"):
     names = glyph_names_for(font, list(dict.fromkeys(text)))
     by_char = dict(zip(dict.fromkeys(text), names))
     shapes = []
-    for row_y, nib in ((0.0, ellipse_nib(90, 20, 30)), (-1000.0, ellipse_nib(50, 50, 0))):
+    for row_y, nib in ((0.0, ellipse_nib(90, 20, 30)), (-1000.0, ellipse_nib(60, 60, 0))):
         nx0, _, nx1, _ = region_extent(nib)
         cache, x, ink = {}, 0.0, []
         for ch in text:

@@ -308,7 +308,8 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     if stats["emptied"]:
         extra = "; %d glyphs not chosen left empty" % stats["emptied"]
     click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s, %d jobs%s), "
-               "sample %s%s" % (out, stats["glyphs"], stats["followed"], stats["points"],
+               "sample %s%s" % (out, stats["glyphs"] + stats["followed"], stats["composites"],
+                                stats["points"],
                                 seconds, jobs, extra, png,
                                 " and specimen %s" % page if page else ""))
     if stats["fallback"]:

@@ -228,7 +228,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     ``jobs``: worker processes for the strokes (1: in this process).
 
     Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
-    (composites kept without being chosen), ``decomposed`` (components decomposed
+    (composites kept without being chosen), ``composites`` (written glyphs that
+    keep components), ``decomposed`` (components decomposed
     because of a transformation), ``emptied`` (glyphs left empty in a compiled
     font), ``contours``, ``points`` (on- and off-curve points written),
     ``stroke_seconds`` (CPU time of the strokes and their conversion, summed over the
@@ -324,6 +325,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                 gl.x += s
         if g.width:
             g.width = g.width + grow
+    stats["composites"] = sum(1 for n in stroked + followed if font[n].components)
     done = set(stroked) | set(followed)
     if kind != ".ufo":
         for g in font:
