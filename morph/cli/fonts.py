@@ -181,9 +181,9 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=5e-4,
               show_default=True,
               help="Outline tolerance (stroke and curve conversion together): in em for a "
-                   "UFO (5e-4 em = 0.5 font unit at 1000 units per em; compiling then "
-                   "rounds to integer coordinates, <= 0.71 unit more), in user units for "
-                   "an SVG.")
+                   "UFO (5e-4 em = 0.5 font unit at 1000 units per em; the outlines are "
+                   "then rounded to integer coordinates, <= 0.71 unit more), in user "
+                   "units for an SVG.")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image (UFO skeletons).")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
@@ -207,7 +207,8 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     or an SVG file (its stroked / open paths are centre lines).  For a UFO, the
     kerning, groups and features are kept, anchors move with the outlines,
     advances grow by the nib width (side bearings kept), composites stay
-    composites (a scaled or flipped component is decomposed and stroked).
+    composites (a scaled, mirrored or turned component is decomposed and
+    stroked; a half turn is kept when the nib is centrally symmetric).
     A glyph whose exact stroke fails is written by a polygon fallback (Clipper,
     within --tol, made of lines); the font is written anyway, those glyphs are
     named on one line and the exit status is 1.
