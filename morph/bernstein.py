@@ -39,12 +39,11 @@ def multiply(a, b):
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     m, n = len(a) - 1, len(b) - 1
-    w = _product_matrix(m, n)
     tail = np.broadcast_shapes(a.shape[1:], b.shape[1:])
-    out = np.zeros((m + n + 1,) + tail)
-    for i in range(m + 1):
-        out[i:i + n + 1] += (w[i].reshape((-1,) + (1,) * len(tail))) * (a[i] * b)
-    return out
+    a = a.reshape((m + 1,) + (1,) * (len(tail) - a.ndim + 1) + a.shape[1:])
+    b = b.reshape((n + 1,) + (1,) * (len(tail) - b.ndim + 1) + b.shape[1:])
+    outer = (a[:, None] * b[None, :]).reshape((m + 1) * (n + 1), -1)
+    return (_scatter(m, n) @ outer).reshape((m + n + 1,) + tail)
 
 
 @lru_cache(maxsize=None)
@@ -137,41 +136,255 @@ def subsegment(c, t0, t1):
 def roots(c, lo=0.0, hi=1.0, eps=1e-13):
     """Real roots in [lo, hi] of a scalar Bernstein polynomial, sorted.
 
-    Converted to the power basis and solved with numpy's companion matrix, then each
-    root polished by Newton on the Bernstein form.  Adequate for the low degrees used
-    here (<= 20).  A polynomial that is zero everywhere returns no roots.
+    Found in the Bernstein basis (:func:`roots_many`: subdivision isolates each root
+    by the sign changes of the coefficients, then a bracketed Newton iteration);
+    roots closer than ``10 eps`` are merged.  A multiple root (or a cluster of roots
+    closer than 2^-40) is returned once.  A polynomial that is zero everywhere
+    returns no roots.
     """
     c = np.asarray(c, float)
-    n = len(c) - 1
-    scale = np.max(np.abs(c)) if c.size else 0.0
-    if scale == 0.0 or n == 0:
-        return np.empty(0)
-    p = to_power(c / scale)
-    # strip near-zero leading coefficients (degree drop)
-    while len(p) > 1 and abs(p[-1]) < 1e-14:
-        p = p[:-1]
-    if len(p) <= 1:
-        return np.empty(0)
-    r = np.roots(p[::-1])
-    r = r[np.abs(r.imag) < 1e-7].real
-    r = r[(r >= lo - 1e-9) & (r <= hi + 1e-9)]
-    if r.size == 0:
-        return r
-    d = derivative(c / scale)
-    for _ in range(3):
-        f = evaluate(c / scale, r)
-        fp = evaluate(d, r)
-        # Newton only where the slope is well above the value's rounding noise;
-        # at (near) double roots the quotient of two tiny numbers is meaningless.
-        ok = np.abs(fp) > 1e-6
-        step = np.where(ok, f / np.where(ok, fp, 1.0), 0.0)
-        better = np.abs(evaluate(c / scale, r - step)) <= np.abs(f)
-        r = np.where(ok & better, r - step, r)
-    r = np.clip(np.sort(r), lo, hi)
-    if r.size > 1:
-        keep = np.concatenate([[True], np.diff(r) > eps * 10])
-        r = r[keep]
-    return r
+    if (lo, hi) != (0.0, 1.0):
+        c = subsegment(c, lo, hi)
+    _, r = roots_many(c[None], eps)
+    return lo + (hi - lo) * r if (lo, hi) != (0.0, 1.0) else r
+
+
+ROOT_DEPTH = 40   # halvings before a cluster of sign changes counts as one root
+
+
+def _variations(c):
+    """Sign changes of each row of c (m, n+1), zero coefficients skipped."""
+    s = np.sign(c)
+    idx = np.where(s != 0, np.arange(c.shape[1]), 0)
+    np.maximum.accumulate(idx, axis=1, out=idx)
+    filled = np.take_along_axis(s, idx, axis=1)
+    return np.count_nonzero(filled[:, 1:] * filled[:, :-1] < 0, axis=1)
+
+
+def roots_many(c, eps=1e-13):
+    """Real roots in [0, 1] of many Bernstein polynomials of one degree, all at once.
+
+    c: (k, n+1).  Returns (owner, t): the roots of row ``owner[i]`` are the ``t[i]``,
+    sorted by (owner, t).  Issue 19: the Bernstein basis all the way, no power basis.
+    Each row is scaled to max |c_i| = 1; end coefficients below ``eps`` count as
+    zero (a root at that end).  Intervals are halved (de Casteljau, all rows of a
+    level together) while their coefficients change sign more than once (Descartes'
+    rule for the Bernstein basis: the number of sign changes bounds the number of
+    roots, and one change means exactly one root); an interval with one change gets
+    a bracketed Newton iteration (:func:`_bracketed_newton`); after ROOT_DEPTH
+    halvings an interval still changing sign twice or more counts as one (multiple)
+    root at its middle.  Roots of one row closer than ``10 eps`` are merged.
+    """
+    c = np.asarray(c, float)
+    k, n1 = c.shape
+    if k == 0 or n1 < 2:
+        return np.zeros(0, np.intp), np.zeros(0)
+    scale = np.abs(c).max(axis=1)
+    live = scale > 0
+    c = c[live] / scale[live, None]
+    owner = np.nonzero(live)[0]
+    c = c.copy()
+    c[:, 0] = np.where(np.abs(c[:, 0]) <= eps, 0.0, c[:, 0])
+    c[:, -1] = np.where(np.abs(c[:, -1]) <= eps, 0.0, c[:, -1])
+    out_o = [owner[c[:, 0] == 0.0], owner[c[:, -1] == 0.0]]
+    out_t = [np.zeros(np.count_nonzero(c[:, 0] == 0.0)),
+             np.ones(np.count_nonzero(c[:, -1] == 0.0))]
+    a = np.zeros(len(c))
+    w = 1.0
+    lmat, rmat = _half_matrices(n1 - 1)
+    for depth in range(ROOT_DEPTH + 1):
+        if len(c) == 0:
+            break
+        v = _variations(c)
+        one = v == 1
+        if one.any():
+            u = _bracketed_newton(c[one])
+            out_o.append(owner[one])
+            out_t.append(a[one] + w * u)
+        many = v >= 2
+        if depth == ROOT_DEPTH:
+            out_o.append(owner[many])
+            out_t.append(a[many] + 0.5 * w)
+            break
+        c, owner, a = c[many], owner[many], a[many]
+        left = _apply(lmat, c)
+        right = _apply(rmat, c)
+        w *= 0.5
+        # a root at the split point: its value is (numerically) zero
+        mid = np.abs(left[:, -1]) <= eps * np.abs(c).max(axis=1)
+        out_o.append(owner[mid])
+        out_t.append(a[mid] + w)
+        left[mid, -1] = 0.0
+        right[mid, 0] = 0.0
+        c = np.concatenate([left, right])
+        owner = np.concatenate([owner, owner])
+        a = np.concatenate([a, a + w])
+    owner = np.concatenate(out_o).astype(np.intp)
+    t = np.clip(np.concatenate(out_t), 0.0, 1.0)
+    order = np.lexsort((t, owner))
+    owner, t = owner[order], t[order]
+    if len(t) > 1:
+        keep = np.ones(len(t), bool)
+        keep[1:] = (owner[1:] != owner[:-1]) | (np.diff(t) > eps * 10)
+        owner, t = owner[keep], t[keep]
+    return owner, t
+
+
+def _bracketed_newton(c, iters=80):
+    """The root in [0, 1] of each row of c (m, n+1) whose coefficients change sign
+    once: Newton's iteration kept inside a shrinking sign bracket (bisection where a
+    step leaves it), all rows together, until the steps fall below 1e-16."""
+    m, n1 = c.shape
+    n = n1 - 1
+    nz = c != 0
+    first = np.take_along_axis(c, np.argmax(nz, axis=1)[:, None], axis=1)[:, 0]
+    s_lo = np.sign(first)
+    d = n * np.diff(c, axis=1)
+    lo, hi = np.zeros(m), np.ones(m)
+    # start from the chord of the end coefficients where both are nonzero
+    den = c[:, 0] - c[:, -1]
+    u = np.where((c[:, 0] != 0) & (c[:, -1] != 0) & (den != 0),
+                 c[:, 0] / np.where(den != 0, den, 1.0), 0.5)
+    u = np.clip(u, 0.01, 0.99)
+    done = np.zeros(m, bool)
+    for _ in range(iters):
+        f = np.sum(basis(n, u) * c, axis=1)
+        fp = np.sum(basis(n - 1, u) * d, axis=1)
+        same = np.sign(f) == s_lo
+        lo = np.where(same, u, lo)
+        hi = np.where(~same & (f != 0), u, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            un = u - f / fp
+        bad = ~((un > lo) & (un < hi))
+        un = np.where(bad, 0.5 * (lo + hi), un)
+        done |= (f == 0) | (np.abs(un - u) <= 1e-16) | (hi - lo <= 2e-16)
+        u = np.where(done, u, un)
+        if done.all():
+            break
+    return u
+
+
+def solve_bracketed(c, lo=None, hi=None):
+    """For each row of c (m, n+1) whose polynomial changes sign on [lo_i, hi_i]
+    (default [0, 1]): the root there (bracketed Newton on the subsegment's
+    coefficients, :func:`_bracketed_newton`)."""
+    c = np.asarray(c, float)
+    if lo is None and hi is None:
+        return _bracketed_newton(c)
+    sub = subsegment_many(c, lo, hi)
+    return lo + (hi - lo) * _bracketed_newton(sub)
+
+
+# ----------------------------------------------------------------- batched forms
+# Stacks of polynomials of one degree: axis 0 = which polynomial, axis 1 = index.
+
+@lru_cache(maxsize=None)
+def _half_matrices(n):
+    """Matrices L, R (n+1, n+1) giving the coefficients on [0, 1/2] and [1/2, 1]."""
+    left, right = split(np.eye(n + 1), 0.5)
+    return left, right
+
+
+def halves_many(c):
+    """de Casteljau at 1/2 of a stack c (k, n+1, ...): (left, right)."""
+    lmat, rmat = _half_matrices(c.shape[1] - 1)
+    return _apply(lmat, c), _apply(rmat, c)
+
+
+def _apply(mat, c):
+    """mat applied along axis 1 of a stack c (k, n+1, ...)."""
+    c = np.asarray(c, float)
+    k = c.shape[0]
+    # a stack of small products: one large one would go to the threaded BLAS, which
+    # is many times slower on a loaded machine
+    rest = int(np.prod(c.shape[2:], dtype=int))
+    out = np.matmul(mat, c.reshape(k, c.shape[1], rest))
+    return out.reshape((k, mat.shape[0]) + c.shape[2:])
+
+
+def evaluate_many(c, t):
+    """c_k(t_k) for a stack c (k, n+1, ...) and t (k,): shape (k, ...)."""
+    c = np.asarray(c, float)
+    b = basis(c.shape[1] - 1, t)
+    if c.ndim == 2:
+        return np.sum(b * c, axis=1)
+    return np.sum(b.reshape(b.shape + (1,) * (c.ndim - 2)) * c, axis=1)
+
+
+def derivative_many(c):
+    """Derivatives of a stack (k, n+1, ...): (k, n, ...)."""
+    n = c.shape[1] - 1
+    if n == 0:
+        return np.zeros_like(c)
+    return n * np.diff(c, axis=1)
+
+
+def elevate_many(c, r=1):
+    """Degree elevation by r of a stack (k, n+1, ...)."""
+    if r <= 0:
+        return np.array(c, float)
+    e = _elevation_matrix(c.shape[1] - 1, r)
+    return _apply(e, c)
+
+
+@lru_cache(maxsize=None)
+def _scatter(m, n):
+    """S with S @ (a_i b_j).ravel() = Bernstein product coefficients (degrees m, n)."""
+    w = _product_matrix(m, n)
+    i, j = np.meshgrid(np.arange(m + 1), np.arange(n + 1), indexing="ij")
+    s = np.zeros((m + n + 1, (m + 1) * (n + 1)))
+    s[(i + j).ravel(), np.arange((m + 1) * (n + 1))] = w.ravel()
+    return s
+
+
+def multiply_many(a, b):
+    """Products of stacks a (k, m+1, ...) and b (k, n+1, ...), trailing axes broadcast:
+    (k, m+n+1, ...), as :func:`multiply` row by row."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    m, n = a.shape[1] - 1, b.shape[1] - 1
+    ta, tb = a.shape[2:], b.shape[2:]
+    tail = np.broadcast_shapes(ta, tb)
+    a = a.reshape(a.shape[:2] + (1,) * (len(tail) - len(ta)) + ta)
+    b = b.reshape(b.shape[:2] + (1,) * (len(tail) - len(tb)) + tb)
+    outer = a[:, :, None] * b[:, None, :]
+    k = max(len(a), len(b))
+    return _apply(_scatter(m, n), outer.reshape((k, (m + 1) * (n + 1)) + outer.shape[3:]))
+
+
+def split_many(c, t):
+    """de Casteljau split of each c_k at t_k: (left, right), each like c."""
+    c = np.asarray(c, float)
+    t = np.asarray(t, float).reshape((-1,) + (1,) * (c.ndim - 2))
+    n = c.shape[1] - 1
+    left = np.empty_like(c)
+    right = np.empty_like(c)
+    work = c
+    left[:, 0] = work[:, 0]
+    right[:, n] = work[:, n]
+    for r in range(1, n + 1):
+        work = (1.0 - t[:, None]) * work[:, :-1] + t[:, None] * work[:, 1:]
+        left[:, r] = work[:, 0]
+        right[:, n - r] = work[:, -1]
+    return left, right
+
+
+def subsegment_many(c, t0, t1):
+    """Each c_k restricted to [t0_k, t1_k] (reversed where t1_k < t0_k), as
+    :func:`subsegment` row by row."""
+    c = np.asarray(c, float)
+    t0 = np.asarray(t0, float)
+    t1 = np.asarray(t1, float)
+    rev = t1 < t0
+    a, b = np.where(rev, t1, t0), np.where(rev, t0, t1)
+    _, right = split_many(c, a)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.where(a >= 1.0, 1.0, (b - a) / (1.0 - a))
+    left, _ = split_many(right, u)
+    out = np.where((a >= 1.0).reshape((-1,) + (1,) * (c.ndim - 1)), right, left)
+    if rev.any():
+        out[rev] = out[rev][:, ::-1]
+    return out
 
 
 @lru_cache(maxsize=None)
@@ -203,7 +416,12 @@ def reduce_exact(c, r=1):
     n = len(c) - 1
     if r <= 0 or n - r < 0:
         return c.copy()
-    e = _elevation_matrix(n - r, r)
     flat = c.reshape(n + 1, -1)
-    low, *_ = np.linalg.lstsq(e, flat, rcond=None)
+    low = _reduction_matrix(n, r) @ flat
     return low.reshape((n - r + 1,) + c.shape[1:])
+
+
+@lru_cache(maxsize=None)
+def _reduction_matrix(n, r):
+    """Least-squares inverse (pseudo-inverse) of the elevation from n - r to n."""
+    return np.linalg.pinv(_elevation_matrix(n - r, r))

@@ -29,6 +29,7 @@ keeps the pieces of one loop pair chained end to end.
 """
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -351,70 +352,367 @@ def choose_roles(ca, cb, tol=None):
 def _positive_weights(piece):
     return bool(np.all(piece[:, 2] > 0))
 
+# ------------------------------------------------------------- batched QAC forms
+# The functions above take one pair; these take stacks (k, n+1, 3) of pieces of one
+# degree and give the same results row by row (tests/test_convolve.py checks them
+# against each other).  Algorithm 4.1 (:func:`_qac_driver`) calls only these.
+
+def quadratic_approximation_many(c2):
+    """:func:`quadratic_approximation` of each row of a stack: (q2 (k, 3, 2), ok (k,)).
+
+    ok is False where the end tangents are parallel (or the piece has no length)."""
+    p = c2[:, :, :2] / c2[:, :, 2:3]
+    size = np.maximum(np.ptp(p, axis=1).max(axis=1), 1e-300)
+    d = np.diff(p, axis=1)
+    norms = np.hypot(d[..., 0], d[..., 1])
+    nz = norms > 1e-12 * size[:, None]
+    first = np.argmax(nz, axis=1)
+    last = nz.shape[1] - 1 - np.argmax(nz[:, ::-1], axis=1)
+    rows = np.arange(len(p))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0 = d[rows, first] / norms[rows, first, None]
+        t1 = d[rows, last] / norms[rows, last, None]
+        q0, q2 = p[:, 0], p[:, -1]
+        det = pc.cross2(t0, t1)
+        ok = nz.any(axis=1) & (size > 1e-300) & (np.abs(det) >= 1e-14)
+        a = pc.cross2(q2 - q0, t1) / np.where(ok, det, 1.0)   # Eq. 38
+    q = np.stack([q0, q0 + a[:, None] * t0, q2], axis=1)
+    return q, ok
+
+
+def _ratio_bound_many(a, b):
+    """:func:`_ratio_bound` (one halving) of each row of stacks a, b (k, n+1)."""
+    n = a.shape[1] - 1
+    la, ra = bz.halves_many(a)
+    lb, rb = bz.halves_many(b)
+    num = np.concatenate([la, ra], axis=1)
+    den = np.concatenate([lb, rb], axis=1)
+    good = np.all(den > 0, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = num / np.where(den > 0, den, 1.0)
+    k = np.argmax(r, axis=1)
+    best = r[np.arange(len(r)), k]
+    s = np.where(k <= n, 0.5 * k / n, 0.5 + 0.5 * (k - n - 1) / n)
+    return np.where(good, best, np.inf), np.where(good, s, 0.5)
+
+
+def _sq_norm_many(g):
+    return bz.multiply_many(g[..., 0], g[..., 0]) + bz.multiply_many(g[..., 1], g[..., 1])
+
+
+def qac_parametric_bound_many(c2, q2):
+    """:func:`qac_parametric_bound` of each row: (bound (k,), s_peak (k,))."""
+    origin = c2[:, 0, :2] / c2[:, 0, 2:3]
+    w = c2[:, :, 2]
+    x = c2[:, :, :2] - w[:, :, None] * origin[:, None]
+    num = bz.elevate_many(x, 2) - bz.multiply_many(w, q2 - origin[:, None])
+    sq = _sq_norm_many(num)
+    den = bz.elevate_many(bz.multiply_many(w, w), sq.shape[1] - 2 * w.shape[1] + 1)
+    r, s = _ratio_bound_many(sq, den)
+    return np.sqrt(np.maximum(r, 0.0)), s
+
+
+@lru_cache(maxsize=None)
+def _fit_matrices():
+    basis = bz.basis(REPARAM_DEGREE, _FIT_S)
+    k = REPARAM_DEGREE
+    return np.linalg.pinv(basis[:, 1:k]), basis[:, k], bz.basis(2, _FIT_S)
+
+
+def _compose_many(c, r):
+    """:func:`_compose` row by row: c (k, n+1, d), r (k, m+1) -> (k, n m + 1, d)."""
+    n = c.shape[1] - 1
+    u = 1.0 - r
+    pr, pu = [None, r], [None, u]
+    for _ in range(2, n + 1):
+        pr.append(bz.multiply_many(pr[-1], r))
+        pu.append(bz.multiply_many(pu[-1], u))
+    binom = bz._binomials(n)
+    rows = [binom[0] * pu[n]]
+    rows += [binom[i] * bz.multiply_many(pr[i], pu[n - i]) for i in range(1, n)]
+    rows.append(binom[n] * pr[n])
+    return np.sum(np.stack(rows, axis=2)[..., None] * c[:, None], axis=2)
+
+
+def _foot_params_many(c2, pts, sig, iters=6):
+    """:func:`_foot_params` row by row: c2 (k, n+1, 3), pts (k, m, 2), sig (k, m)."""
+    n = c2.shape[1] - 1
+    for _ in range(iters):
+        v, v1, v2 = _jet2(c2, sig, n)
+        w, w1, w2 = v[..., 2:], v1[..., 2:], v2[..., 2:]
+        p = v[..., :2] / w
+        d = (v1[..., :2] - w1 * p) / w
+        dd = (v2[..., :2] - 2.0 * w1 * d - w2 * p) / w
+        diff = p - pts
+        f = np.sum(diff * d, axis=2)
+        fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
+        ok = fp > 0
+        sig = np.clip(sig - np.where(ok, f / np.where(ok, fp, 1.0), 0.0), 0.0, 1.0)
+    return sig
+
+
+def _jet2(c, s, n):
+    """Values, first and second derivatives of the stack c (k, n+1, 3) at the
+    parameters s (k, m), by de Casteljau: the last three levels of the triangle
+    give them (P' = n (b1 - b0), P'' = n (n-1) (b2 - 2 b1 + b0) one level up)."""
+    t = s[:, :, None, None]
+    work = np.broadcast_to(c[:, None], (c.shape[0], s.shape[1]) + c.shape[1:])
+    for _ in range(max(n - 2, 0)):
+        work = work[:, :, :-1] + t * (work[:, :, 1:] - work[:, :, :-1])
+    if n < 2:
+        lev1 = work
+        zero = np.zeros(work.shape[:2] + work.shape[3:])
+        if n == 0:
+            return work[:, :, 0], zero, zero
+        return (lev1[:, :, 0] + s[..., None] * (lev1[:, :, 1] - lev1[:, :, 0]),
+                lev1[:, :, 1] - lev1[:, :, 0], zero)
+    lev1 = work[:, :, :-1] + t * (work[:, :, 1:] - work[:, :, :-1])
+    d2 = n * (n - 1) * (work[:, :, 2] - 2 * work[:, :, 1] + work[:, :, 0])
+    d1 = n * (lev1[:, :, 1] - lev1[:, :, 0])
+    v = lev1[:, :, 0] + s[..., None] * (lev1[:, :, 1] - lev1[:, :, 0])
+    return v, d1, d2
+
+
+def _reparam_bound_many(c2, q2, par, s_par):
+    """:func:`_reparam_bound` of each row: (bound, s_peak), (par, s_par) kept where
+    the reparametrised bound is not smaller."""
+    k = REPARAM_DEGREE
+    pinv, last, qbasis = _fit_matrices()
+    origin = c2[:, 0, :2] / c2[:, 0, 2:3]
+    c = c2.copy()
+    c[:, :, :2] -= c[:, :, 2:3] * origin[:, None]
+    q = q2 - origin[:, None]
+    bound, s_out = par.copy(), s_par.copy()
+    with np.errstate(all="ignore"):
+        sig = _foot_params_many(c, np.matmul(qbasis, q),
+                                np.tile(_FIT_S, (len(c), 1)))
+        coef = (sig - last) @ pinv.T
+        fine = np.all(np.isfinite(coef), axis=1)
+        r = np.concatenate([np.zeros((len(c), 1)), np.clip(coef, 0.0, 1.0),
+                            np.ones((len(c), 1))], axis=1)
+        cr = _compose_many(c, np.where(fine[:, None], r, 0.0))
+        x, w = cr[:, :, :2], cr[:, :, 2]
+        flat = np.ptp(w, axis=1) <= 1e-14 * np.abs(w[:, 0])      # polynomial C2
+        for rows, poly in ((np.nonzero(flat)[0], True), (np.nonzero(~flat)[0], False)):
+            if not len(rows):
+                continue
+            if poly:
+                g = x[rows] / w[rows, :1, None] - bz.elevate_many(q[rows], x.shape[1] - 3)
+                a = _sq_norm_many(g)
+                b = np.ones_like(a)
+            else:
+                g = bz.elevate_many(x[rows], 2) - bz.multiply_many(w[rows], q[rows])
+                a = _sq_norm_many(g)
+                ww = bz.multiply_many(w[rows], w[rows])
+                b = bz.elevate_many(ww, a.shape[1] - ww.shape[1])
+            ratio, s = _ratio_bound_many(a, b)
+            bnd = np.sqrt(np.maximum(ratio, 0.0))
+            better = fine[rows] & (bnd < par[rows])
+            sel = rows[better]
+            bound[sel] = bnd[better]
+            s_out[sel] = bz.evaluate_many(r[sel], s[better])
+    return bound, s_out
+
+
+def convolve_qac_many(c1, q2, rational):
+    """:func:`convolve_qac_piece` of each row of a stack c1 (k, n+1, 3) (all
+    polynomial, or all rational: ``rational``) with the quadratics q2 (k, 3, 2).
+    Rows whose tangent numerator vanishes at an end (``pc.end_zero_rows``) must go
+    through :func:`convolve_qac_piece` (their numerator has a lower degree)."""
+    h1 = pc.tangent_numerator_many(c1, rational)
+    d0, d1 = q2[:, 1] - q2[:, 0], q2[:, 2] - q2[:, 1]
+    num = h1[:, :, 0] * d0[:, None, 1] - h1[:, :, 1] * d0[:, None, 0]   # Eq. 36
+    dd = d0 - d1
+    den = h1[:, :, 0] * dd[:, None, 1] - h1[:, :, 1] * dd[:, None, 0]
+    flip = np.where(np.mean(den, axis=1) < 0, -1.0, 1.0)[:, None]
+    num, den = num * flip, den * flip
+    m0 = bz.multiply_many(den - num, den - num)
+    m1 = 2.0 * bz.multiply_many(num, den - num)
+    m2 = bz.multiply_many(num, num)
+    dsq = m0 + m1 + m2
+    qpart = (m0[:, :, None] * q2[:, None, 0] + m1[:, :, None] * q2[:, None, 1]
+             + m2[:, :, None] * q2[:, None, 2])
+    w1 = c1[:, :, 2]
+    x = bz.multiply_many(c1[:, :, :2], dsq[:, :, None]) + bz.multiply_many(w1[:, :, None], qpart)
+    w = bz.multiply_many(w1, dsq)
+    return np.concatenate([x, w[:, :, None]], axis=2)
+
 
 # ---------------------------------------------------------------- edge pairing
 
-def _edge_arrays(edges):
-    lo = np.array([e.lo for e in edges])
-    hi = np.array([e.hi for e in edges])
-    return lo, hi
+class _EdgeTable:
+    """The edges of several loops' Gauss maps as arrays, one row per edge.
+
+    loop, index: the loop and the edge's index in it.  curved: curve edges that
+    turn (sweep != 0); straight: curve edges with sweep 0; vertex: corners.
+    deg, slot: each curve edge's piece is ``stacks[deg][slot]``.  h: tangent
+    numerators of the curved edges (``piece.tangent_numerator``), elevated to one
+    degree (zeros elsewhere), for :func:`morph.gauss.angle_params`.
+    """
+
+    def __init__(self, maps):
+        edges = [e for m in maps for e in m]
+        self.edges = edges
+        self.loop = np.repeat(np.arange(len(maps)), [len(m) for m in maps])
+        self.index = np.concatenate([np.arange(len(m)) for m in maps]) if maps else np.zeros(0, int)
+        is_curve = np.array([e.kind == "curve" for e in edges], bool)
+        self.theta = np.array([e.theta for e in edges], float)
+        self.sweep = np.array([e.sweep for e in edges], float)
+        self.lo = np.minimum(self.theta, self.theta + self.sweep)
+        self.hi = np.maximum(self.theta, self.theta + self.sweep)
+        self.sign = np.sign(self.sweep).astype(int)
+        self.point = np.array([np.asarray(e.point, float) for e in edges]).reshape(-1, 2)
+        self.vertex = ~is_curve
+        self.straight = is_curve & (self.sweep == 0.0)
+        self.curved = is_curve & (self.sweep != 0.0)
+        n = len(edges)
+        self.deg = np.full(n, -1)
+        self.slot = np.zeros(n, int)
+        self.stacks = {}
+        lists = {}
+        for i in np.nonzero(is_curve)[0]:
+            p = np.asarray(edges[i].piece, float)
+            d = len(p) - 1
+            lst = lists.setdefault(d, [])
+            self.deg[i], self.slot[i] = d, len(lst)
+            lst.append(p)
+        self.stacks = {d: np.array(lst) for d, lst in lists.items()}
+        self.h = self._tangent_numerators()
+
+    def pieces(self, idx):
+        """Stacks of the pieces of edges idx, grouped by degree: [(rows, stack)]."""
+        out = []
+        deg = self.deg[idx]
+        for d in np.unique(deg):
+            rows = np.nonzero(deg == d)[0]
+            out.append((rows, self.stacks[d][self.slot[idx[rows]]]))
+        return out
+
+    def _tangent_numerators(self):
+        idx = np.nonzero(self.curved)[0]
+        parts = []
+        for rows, st in self.pieces(idx):
+            poly = pc.is_polynomial_many(st)
+            for sel, rational in ((poly, False), (~poly, True)):
+                if sel.any():
+                    h = pc.tangent_numerator_many(st[sel], rational)
+                    hs = list(h)
+                    for r in np.nonzero(pc.end_zero_rows(h))[0]:
+                        hs[r] = pc.tangent_numerator(st[sel][r])   # ends divided out
+                    parts.append((idx[rows[sel]], hs))
+        deg = max([len(h) - 1 for _, hs in parts for h in hs], default=0)
+        out = np.zeros((len(self.edges), deg + 1, 2))
+        for ids, hs in parts:
+            for i, h in zip(ids, hs):
+                out[i] = bz.to_degree(h, deg)
+        return out
+
+    def params(self, idx, angle):
+        """Parameters of the curved edges idx where their tangent angle is ``angle``
+        (an angle within 1e-13 of the edge's start or end angle gives that end, as
+        :func:`morph.gauss.restrict`)."""
+        t = gauss.angle_params(self.h[idx], angle) if len(idx) else np.zeros(0)
+        t = np.where(np.abs(angle - (self.theta[idx] + self.sweep[idx])) < 1e-13, 1.0, t)
+        return np.where(np.abs(angle - self.theta[idx]) < 1e-13, 0.0, t)
+
+    def restricted(self, idx, t_lo, t_hi):
+        """Sub-pieces of the curved edges idx between the parameters at their angles
+        lo and hi, in each edge's direction: [(rows, stack)] by degree."""
+        conv = self.sweep[idx] > 0
+        t0 = np.where(conv, t_lo, t_hi)
+        t1 = np.where(conv, t_hi, t_lo)
+        out = []
+        for rows, st in self.pieces(idx):
+            out.append((rows, bz.subsegment_many(st, t0[rows], t1[rows])))
+        return out
+
+    def points_at(self, idx, angle):
+        """Point of each edge idx with tangent angle ``angle`` (:func:`gauss.point_at_angle`)."""
+        pts = self.point[idx].copy()
+        cur = np.nonzero(self.curved[idx])[0]
+        if len(cur):
+            t = self.params(idx[cur], angle[cur])
+            for rows, st in self.pieces(idx[cur]):
+                v = bz.evaluate_many(st, t[rows])
+                pts[cur[rows]] = v[:, :2] / v[:, 2:3]
+        return pts
+
+
+def _pair_table(ta, tb, block=1 << 21):
+    """All compatible pairs of the edges of two tables (every loop of A with every
+    loop of B): arrays (i, j, lo, hi, k) in the order of :func:`compatible_pairs`
+    applied loop pair by loop pair (loops of A, then of B; proper pairs, then A's
+    straight edges, then B's; row-major within each)."""
+    out = [[] for _ in range(6)]
+    a_line_all = ta.straight
+    b_line = tb.straight[None, :]
+    bmid = 0.5 * (tb.lo + tb.hi)
+    step = max(1, block // max(1, len(tb.lo)))
+    for s in range(0, len(ta.lo), step):
+        alo, ahi = ta.lo[s:s + step, None], ta.hi[s:s + step, None]
+        amid = 0.5 * (alo + ahi)
+        k = np.round((amid - bmid[None, :]) / gauss.TWO_PI)
+        sblo = tb.lo[None, :] + gauss.TWO_PI * k
+        sbhi = tb.hi[None, :] + gauss.TWO_PI * k
+        lo = np.maximum(alo, sblo)
+        hi = np.minimum(ahi, sbhi)
+        a_line = a_line_all[s:s + step, None]
+        proper = (hi - lo > ANGLE_EQ) & ~a_line & ~b_line
+        # straight edge of A at theta: B range (lo, hi]  (B perturbed by +eps)
+        a_match = a_line & ~b_line & (alo - sblo > ANGLE_EQ) & (alo - sbhi <= ANGLE_EQ)
+        # straight edge of B at theta: A range [lo, hi)
+        b_match = b_line & ~a_line & (sblo - alo >= -ANGLE_EQ) & (ahi - sblo > ANGLE_EQ)
+        for cls, (mask, plo, phi) in enumerate(((proper, lo, hi),
+                                                (a_match, np.broadcast_to(alo, lo.shape),
+                                                 np.broadcast_to(alo, lo.shape)),
+                                                (b_match, sblo, sblo))):
+            ii, jj = np.nonzero(mask)
+            out[0].append(ii + s)
+            out[1].append(jj)
+            out[2].append(plo[ii, jj])
+            out[3].append(phi[ii, jj])
+            out[4].append(k[ii, jj])
+            out[5].append(np.full(len(ii), cls))
+    i, j, lo, hi, k, cls = (np.concatenate(x) if x else np.zeros(0) for x in out)
+    i, j, cls = i.astype(int), j.astype(int), cls.astype(int)
+    order = np.lexsort((j, i, cls, tb.loop[j], ta.loop[i]))
+    return i[order], j[order], lo[order], hi[order], k[order]
 
 
 def compatible_pairs(edges_a, edges_b):
-    """Pairs (i, j, lo, hi) of edges whose tangent-angle ranges overlap (Sec. 3.2).
+    """Pairs (i, j, lo, hi, k) of edges whose tangent-angle ranges overlap (Sec. 3.2).
 
-    lo, hi are in A's lifted angles.  Uses the epsilon rule of the module docstring
-    for equal angles; a zero-length overlap (lo == hi) is returned only for straight
-    edges, whose convolution is a translated segment.
+    lo, hi are in A's lifted angles; B's angles are shifted by 2 pi k.  Uses the
+    epsilon rule of the module docstring for equal angles; a zero-length overlap
+    (lo == hi) is returned only for straight edges, whose convolution is a
+    translated segment.
     """
-    alo, ahi = _edge_arrays(edges_a)
-    blo, bhi = _edge_arrays(edges_b)
-    amid = 0.5 * (alo + ahi)
-    bmid = 0.5 * (blo + bhi)
-    k = np.round((amid[:, None] - bmid[None, :]) / gauss.TWO_PI)
-    sblo = blo[None, :] + gauss.TWO_PI * k
-    sbhi = bhi[None, :] + gauss.TWO_PI * k
-    lo = np.maximum(alo[:, None], sblo)
-    hi = np.minimum(ahi[:, None], sbhi)
-    a_line = (ahi - alo == 0.0)[:, None] & np.array([e.kind == "curve" for e in edges_a])[:, None]
-    b_line = (bhi - blo == 0.0)[None, :] & np.array([e.kind == "curve" for e in edges_b])[None, :]
-    proper = (hi - lo > ANGLE_EQ) & ~a_line & ~b_line
-    # straight edge of A at theta: B range (lo, hi]  (B perturbed by +eps)
-    th_a = alo[:, None]
-    a_match = a_line & ~b_line & (th_a - sblo > ANGLE_EQ) & (th_a - sbhi <= ANGLE_EQ)
-    # straight edge of B at theta: A range [lo, hi)
-    th_b = sblo
-    b_match = b_line & ~a_line & (th_b - alo[:, None] >= -ANGLE_EQ) & (ahi[:, None] - th_b > ANGLE_EQ)
-    out = []
-    for mask, kind in ((proper, "proper"), (a_match, "a_line"), (b_match, "b_line")):
-        ii, jj = np.nonzero(mask)
-        for i, j in zip(ii, jj):
-            if kind == "proper":
-                out.append((i, j, lo[i, j], hi[i, j], k[i, j]))
-            elif kind == "a_line":
-                out.append((i, j, alo[i], alo[i], k[i, j]))
-            else:
-                out.append((i, j, sblo[i, j], sblo[i, j], k[i, j]))
-    return out
+    i, j, lo, hi, k = _pair_table(_EdgeTable([edges_a]), _EdgeTable([edges_b]))
+    return list(zip(i.tolist(), j.tolist(), lo.tolist(), hi.tolist(), k.tolist()))
 
 
 def pair_type(sa, sb, a_vertex=False, b_vertex=False):
     """Fig. 20 type of a pair from the signs of its two edges (+1, 0, -1).
 
     Type 3 (never on the boundary): concave/concave or concave/straight pairs, and
-    any pair with a concave vertex.
+    any pair with a concave vertex.  Works elementwise on arrays too.
     """
-    if (a_vertex and sa < 0) or (b_vertex and sb < 0):
-        return 3
-    if (sa < 0 and sb <= 0) or (sb < 0 and sa <= 0):
-        return 3
-    if sa >= 0 and sb >= 0:
-        return 1
-    return 2
+    sa, sb = np.asarray(sa), np.asarray(sb)
+    t3 = ((np.asarray(a_vertex) & (sa < 0)) | (np.asarray(b_vertex) & (sb < 0))
+          | ((sa < 0) & (sb <= 0)) | ((sb < 0) & (sa <= 0)))
+    typ = np.where(t3, 3, np.where((sa >= 0) & (sb >= 0), 1, 2))
+    return int(typ) if typ.ndim == 0 else typ
 
 
 def _oriented(piece, forward):
     return piece if forward else pc.reverse(piece)
+
+
+def _translate_many(st, offset):
+    """Pieces of a stack moved by offsets (k, 2) (exact: X += ox W, Y += oy W)."""
+    out = st.copy()
+    out[:, :, :2] += offset[:, None, :] * st[:, :, 2:3]
+    return out
 
 
 def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
@@ -425,30 +723,68 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
     the angle range where the error of Eq. 40 peaks (Algorithm 4.1) until every
     bound <= tol; raises ToleranceNotMetError past ``max_depth`` halvings.
     """
-    sa, sb = ea.sign, eb.sign
-    off = gauss.TWO_PI * shift
-    a_curve = ea.kind == "curve" and ea.sweep != 0.0
-    b_curve = eb.kind == "curve" and eb.sweep != 0.0
-    a_line = ea.kind == "curve" and ea.sweep == 0.0
-    b_line = eb.kind == "curve" and eb.sweep == 0.0
-    if a_line:
-        # segment of A translated by B's point at that angle; direction by B's sign
-        pt = gauss.point_at_angle(eb, lo - off)
-        return [(_oriented(pc.translate(ea.piece, pt), sb > 0), "translate", 0.0)]
-    if b_line:
-        pt = gauss.point_at_angle(ea, lo)
-        return [(_oriented(pc.translate(eb.piece, pt), sa > 0), "translate", 0.0)]
-    if a_curve and not b_curve:
-        sub = gauss.restrict(ea, lo, hi)[0]
-        return [(_oriented(pc.translate(sub, eb.point), sb > 0), "translate", 0.0)]
-    if b_curve and not a_curve:
-        sub = gauss.restrict(eb, lo - off, hi - off)[0]
-        return [(_oriented(pc.translate(sub, ea.point), sa > 0), "translate", 0.0)]
-    if not a_curve and not b_curve:
-        return []
-    if method != "qac":
-        return _method_range(ea, eb, lo, hi, off, tol, max_depth, method)
-    return _qac_range(ea, eb, lo, hi, off, tol, max_depth)
+    ta, tb = _EdgeTable([[ea]]), _EdgeTable([[eb]])
+    pairs = tuple(np.array([x]) for x in (0, 0, lo, hi, shift))
+    res = _convolve_table(ta, tb, pairs, tol, max_depth, method)
+    return [(p, kind, b) for _, p, kind, b in res]
+
+
+def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
+    """Convolution pieces of the pairs (i, j, lo, hi, k) of two edge tables, all at
+    once: [(pair position, piece, kind, bound)] in the pairs' order, each pair's
+    pieces in travel order (the cases of the module docstring)."""
+    i, j, lo, hi, k = pairs
+    off = gauss.TWO_PI * np.asarray(k, float)
+    sa, sb = ta.sign[i], tb.sign[j]
+    a_line, b_line = ta.straight[i], tb.straight[j]
+    a_curve, b_curve = ta.curved[i], tb.curved[j]
+    out = []   # (pair position, sort key, piece, kind, bound)
+
+    def emit(pos, stack, forward, kind, bounds=None):
+        for r, p in enumerate(stack):
+            out.append((pos[r], 0.0, p if forward[r] else p[::-1].copy(), kind,
+                        0.0 if bounds is None else float(bounds[r])))
+
+    # segment of A translated by B's point at that angle; direction by B's sign
+    pos = np.nonzero(a_line)[0]
+    if len(pos):
+        pts = tb.points_at(j[pos], lo[pos] - off[pos])
+        for rows, st in ta.pieces(i[pos]):
+            emit(pos[rows], _translate_many(st, pts[rows]), sb[pos[rows]] > 0, "translate")
+    pos = np.nonzero(b_line & ~a_line)[0]
+    if len(pos):
+        pts = ta.points_at(i[pos], lo[pos])
+        for rows, st in tb.pieces(j[pos]):
+            emit(pos[rows], _translate_many(st, pts[rows]), sa[pos[rows]] > 0, "translate")
+    # curve + vertex: the restricted curve translated by the vertex
+    pos = np.nonzero(a_curve & tb.vertex[j])[0]
+    if len(pos):
+        ii = i[pos]
+        subs = ta.restricted(ii, ta.params(ii, lo[pos]), ta.params(ii, hi[pos]))
+        for rows, st in subs:
+            p = pos[rows]
+            emit(p, _translate_many(st, tb.point[j[p]]), sb[p] > 0, "translate")
+    pos = np.nonzero(b_curve & ta.vertex[i])[0]
+    if len(pos):
+        jj = j[pos]
+        subs = tb.restricted(jj, tb.params(jj, lo[pos] - off[pos]),
+                             tb.params(jj, hi[pos] - off[pos]))
+        for rows, st in subs:
+            p = pos[rows]
+            emit(p, _translate_many(st, ta.point[i[p]]), sa[p] > 0, "translate")
+    pos = np.nonzero(a_curve & b_curve)[0]
+    if len(pos):
+        if method != "qac":
+            for p in pos:
+                ea, eb = ta.edges[i[p]], tb.edges[j[p]]
+                for r, (piece, kind, bound) in enumerate(
+                        _method_range(ea, eb, lo[p], hi[p], off[p], tol, max_depth, method)):
+                    out.append((p, float(r), piece, kind, bound))
+        else:
+            out.extend(_qac_driver(ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos],
+                                   tol, max_depth))
+    order = sorted(range(len(out)), key=lambda r: (out[r][0], out[r][1]))
+    return [(int(out[r][0]),) + tuple(out[r][2:]) for r in order]
 
 
 def _method_range(ea, eb, lo, hi, off, tol, depth, method):
@@ -470,60 +806,198 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
-def _qac_range(ea, eb, lo, hi, off, tol, depth):
-    """Algorithm 4.1 on the angle range [lo, hi]: QAC, split at the peak, recurse."""
-    ca = gauss.restrict(ea, lo, hi)[0]
-    cb = gauss.restrict(eb, lo - off, hi - off)[0]
-    # a degenerate sub-piece (1e-7 of the other's length, e.g. next to a repeated
-    # control point, where the tangent swings through its range within a tiny
-    # length), or any sub-piece shorter than tol/2 once the halvings are used up,
-    # acts as a corner: the
-    # other piece translated by its start is within its length of the exact
-    # convolution, and keeps exact normals (the other piece has the matching normal)
-    # (ends snapped to the exact sums of the angle-matched end points: bound 2 * length)
-    la, lb = pc.length_bound(ca), pc.length_bound(cb)
-    if min(la, lb) <= min(0.25 * tol, 1e-7 * max(la, lb)) or (depth == 0 and 2 * min(la, lb) <= tol):
-        same = ea.sign == eb.sign
-        if la <= lb:
-            short, long_, s_long = ca, cb, ea.sign
-        else:
-            short, long_, s_long = cb, ca, eb.sign
-        m0 = pc.start(short) if same else pc.end(short)
-        m1 = pc.end(short) if same else pc.start(short)
-        moved = pc.translate(long_, pc.start(short))
-        moved = pc.with_endpoints(moved, pc.start(long_) + m0, pc.end(long_) + m1)
-        return [(_oriented(moved, s_long > 0), "translate", 2.0 * min(la, lb))]
-    if hi - lo < TINY_SWEEP:
-        chord = _chord(ca, cb, ea.sign, eb.sign)
+def _qac_driver(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
+    """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
+    together: restrict both edges to each angle range, QAC with the better role
+    (:func:`_roles_many`), and split every range whose bound exceeds tol at the
+    angle where its error peaks.  Returns [(pair position, sort key, piece, kind,
+    bound)]; the sort key orders each pair's pieces along its travel direction
+    (increasing angle when the two edges turn the same way).
+
+    Before QAC, as in the scalar form: a sub-piece shorter than 1e-7 of the other
+    (or than tol/4, or tol/2 once the halvings are used up) acts as a corner (the
+    other piece translated, ends snapped to the angle-matched sums, bound twice its
+    length); a common sweep below TINY_SWEEP gives the chord where its bound meets tol.
+    """
+    out = []
+    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
+    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
+    depth = np.full(len(pos), max_depth)
+    while len(pos):
+        sa, sb = ta.sign[i], tb.sign[j]
+        key = np.where(sa * sb > 0, lo, -lo)
+        ca_all = ta.restricted(i, ta_lo, ta_hi)
+        cb_all = tb.restricted(j, tb_lo, tb_hi)
+        # rows of (degree of A's piece, degree of B's piece) groups
+        ga = np.zeros(len(pos), int)
+        gb = np.zeros(len(pos), int)
+        for g, (rows, _) in enumerate(ca_all):
+            ga[rows] = g
+        for g, (rows, _) in enumerate(cb_all):
+            gb[rows] = g
+        a_row = np.zeros(len(pos), int)
+        b_row = np.zeros(len(pos), int)
+        for rows, _ in ca_all:
+            a_row[rows] = np.arange(len(rows))
+        for rows, _ in cb_all:
+            b_row[rows] = np.arange(len(rows))
+        split = np.zeros(len(pos), bool)
+        th = np.zeros(len(pos))
+        for g1 in range(len(ca_all)):
+            for g2 in range(len(cb_all)):
+                rows = np.nonzero((ga == g1) & (gb == g2))[0]
+                if not len(rows):
+                    continue
+                ca = ca_all[g1][1][a_row[rows]]
+                cb = cb_all[g2][1][b_row[rows]]
+                done, fail, t_split = _qac_level(
+                    ca, cb, sa[rows], sb[rows], lo[rows], hi[rows], off[rows], depth[rows],
+                    tol, ta, tb, i[rows], j[rows], ta_lo[rows], ta_hi[rows], tb_lo[rows],
+                    tb_hi[rows])
+                for r, piece, kind, bound in done:
+                    out.append((pos[rows[r]], key[rows[r]], piece, kind, bound))
+                split[rows[fail]] = True
+                th[rows[fail]] = t_split
+        if not split.any():
+            break
+        s = np.nonzero(split)[0]
+        t_a = ta.params(i[s], th[s])
+        t_b = tb.params(j[s], th[s] - off[s])
+        two = lambda x, y: np.concatenate([x, y])  # noqa: E731
+        pos, i, j, off = (two(x[s], x[s]) for x in (pos, i, j, off))
+        lo, hi = two(lo[s], th[s]), two(th[s], hi[s])
+        ta_lo, ta_hi = two(ta_lo[s], t_a), two(t_a, ta_hi[s])
+        tb_lo, tb_hi = two(tb_lo[s], t_b), two(t_b, tb_hi[s])
+        depth = two(depth[s], depth[s]) - 1
+    return out
+
+
+def _length_bounds(st):
+    p = st[:, :, :2] / st[:, :, 2:3]
+    return np.sum(np.hypot(*np.moveaxis(np.diff(p, axis=1), 2, 0)), axis=1)
+
+
+def _qac_level(ca, cb, sa, sb, lo, hi, off, depth, tol, ta, tb, i, j, ta_lo, ta_hi,
+               tb_lo, tb_hi):
+    """One level of :func:`_qac_driver` on rows whose A and B sub-pieces have one
+    degree each.  Returns (done, fail, th): done = [(row, piece, kind, bound)],
+    fail = rows to split, th = their split angles (A's lifted angles)."""
+    done = []
+    la, lb = _length_bounds(ca), _length_bounds(cb)
+    short = (np.minimum(la, lb) <= np.minimum(0.25 * tol, 1e-7 * np.maximum(la, lb))) | (
+        (depth == 0) & (2 * np.minimum(la, lb) <= tol))
+    for r in np.nonzero(short)[0]:
+        done.append((r,) + _corner_piece(ca[r], cb[r], la[r], lb[r], sa[r], sb[r]))
+    rest = ~short
+    tiny = rest & (hi - lo < TINY_SWEEP)
+    for r in np.nonzero(tiny)[0]:
+        chord = _chord(ca[r], cb[r], sa[r], sb[r])
         if chord[2] <= tol:
-            return [chord]
-        # long, nearly straight pieces: the chord is too far; QAC may still do
-    swap, q2, bound, s_peak = _roles(ca, cb, tol)
-    c1, c2 = (cb, ca) if swap else (ca, cb)
-    s_other = ea.sign if swap else eb.sign
-    if bound <= tol:
-        res = convolve_qac_piece(c1, c2, q2)
-        if _positive_weights(res):
-            return [(_oriented(res, s_other > 0), "qac", bound)]
-    if depth == 0:
+            done.append((r,) + chord)
+            rest[r] = False
+    rows = np.nonzero(rest)[0]
+    if not len(rows):
+        return done, np.zeros(0, int), np.zeros(0)
+    ca, cb = ca[rows], cb[rows]
+    swap, q2, bound, s_peak = _roles_many(ca, cb, tol)
+    accept = bound <= tol
+    s_other = np.where(swap, sa[rows], sb[rows])
+    for sw in (False, True):
+        sel = np.nonzero(accept & (swap == sw))[0]
+        if not len(sel):
+            continue
+        c1 = (cb if sw else ca)[sel]
+        res = _qac_pieces(c1, (ca if sw else cb)[sel], q2[sel])
+        for r, piece in zip(sel, res):
+            if np.all(piece[:, 2] > 0):
+                done.append((rows[r], _oriented(piece, s_other[r] > 0), "qac", float(bound[r])))
+            else:
+                accept[r] = False
+    fail = np.nonzero(~accept)[0]
+    if not len(fail):
+        return done, np.zeros(0, int), np.zeros(0)
+    if np.any(depth[rows[fail]] == 0):
+        r = fail[np.argmax(depth[rows[fail]] == 0)]
+        c2 = ca[r] if swap[r] else cb[r]
         raise ToleranceNotMetError(
-            "QAC did not reach tolerance %g (best %g)" % (tol, bound), piece=c2, achieved=bound)
-    # split the angle range where the error of C2 peaks (Algorithm 4.1)
-    s_peak = min(max(s_peak, 0.2), 0.8)
-    th = float(pc.tangent_angle(c2, s_peak)[0])
+            "QAC did not reach tolerance %g (best %g)" % (tol, bound[r]), piece=c2,
+            achieved=float(bound[r]))
+    # split the angle range where the error of C2 peaks (Algorithm 4.1): the tangent
+    # angle of C2 at s_peak, from its edge's tangent numerator at the same point
+    fr = rows[fail]
+    s = np.clip(s_peak[fail], 0.2, 0.8)
+    sw = swap[fail]
+    t_a = ta_lo[fr] + s * (ta_hi[fr] - ta_lo[fr])
+    t_a = np.where(ta.sweep[i[fr]] > 0, t_a, ta_hi[fr] + s * (ta_lo[fr] - ta_hi[fr]))
+    t_b = tb_lo[fr] + s * (tb_hi[fr] - tb_lo[fr])
+    t_b = np.where(tb.sweep[j[fr]] > 0, t_b, tb_hi[fr] + s * (tb_lo[fr] - tb_hi[fr]))
+    hv = np.where(sw[:, None], bz.evaluate_many(ta.h[i[fr]], t_a),
+                  bz.evaluate_many(tb.h[j[fr]], t_b))
+    th = np.arctan2(hv[:, 1], hv[:, 0])
     # express the split angle in A's lifted angles
-    ref = lo if not swap else lo - off
-    th = ref + gauss._wrap(th - ref)
-    if swap:
-        th += off
-    if not (lo < th < hi):
-        th = 0.5 * (lo + hi)
-    left = _qac_range(ea, eb, lo, th, off, tol, depth - 1)
-    right = _qac_range(ea, eb, th, hi, off, tol, depth - 1)
-    # order along the travel direction: increasing angle when sa*sb > 0
-    if ea.sign * eb.sign > 0:
-        return left + right
-    return right + left
+    ref = np.where(sw, lo[fr] - off[fr], lo[fr])
+    th = ref + gauss._wrap(th - ref) + np.where(sw, off[fr], 0.0)
+    bad = ~((lo[fr] < th) & (th < hi[fr]))
+    th = np.where(bad, 0.5 * (lo[fr] + hi[fr]), th)
+    return done, fr, th
+
+
+def _corner_piece(ca, cb, la, lb, sa, sb):
+    """A degenerate sub-piece acts as a corner (see :func:`_qac_driver`)."""
+    same = sa == sb
+    if la <= lb:
+        short, long_, s_long = ca, cb, sa
+    else:
+        short, long_, s_long = cb, ca, sb
+    m0 = pc.start(short) if same else pc.end(short)
+    m1 = pc.end(short) if same else pc.start(short)
+    moved = pc.translate(long_, pc.start(short))
+    moved = pc.with_endpoints(moved, pc.start(long_) + m0, pc.end(long_) + m1)
+    return _oriented(moved, s_long > 0), "translate", 2.0 * min(la, lb)
+
+
+def _qac_pieces(c1, c2, q2):
+    """QAC pieces of rows of stacks c1, c2 (one degree each): a list of arrays."""
+    out = [None] * len(c1)
+    poly = pc.is_polynomial_many(c1)
+    for sel, rational in ((poly, False), (~poly, True)):
+        rows = np.nonzero(sel)[0]
+        if not len(rows):
+            continue
+        h = pc.tangent_numerator_many(c1[rows], rational)
+        odd = pc.end_zero_rows(h)
+        res = convolve_qac_many(c1[rows], q2[rows], rational)
+        for r, row in enumerate(rows):
+            out[row] = (convolve_qac_piece(c1[row], c2[row], q2[row]) if odd[r] else res[r])
+    return out
+
+
+def _roles_many(ca, cb, tol):
+    """:func:`_roles` of each row of stacks ca, cb: (swap, q2, bound, s_peak)."""
+    k = len(ca)
+    cands = []
+    for swap, c1, c2 in ((False, ca, cb), (True, cb, ca)):
+        q2, ok = quadratic_approximation_many(c2)
+        bound, s = np.full(k, np.inf), np.full(k, 0.5)
+        if ok.any():
+            bound[ok], s[ok] = qac_parametric_bound_many(c2[ok], q2[ok])
+        d = c1.shape[1] - 1
+        degree = np.where(pc.is_polynomial_many(c1), 3 * d - 2, 5 * d - 4)
+        # a role without a tangent intersection is no candidate: it loses every tie
+        degree = np.where(ok, degree, np.iinfo(np.int64).max)
+        cands.append([bound, degree, q2, s, c2, ok])
+    need = np.minimum(cands[0][0], cands[1][0]) > tol
+    for c in cands:
+        bound, _, q2, s, c2, ok = c
+        sel = np.nonzero(need & ok & (bound > 0) & (bound < np.inf))[0]
+        if len(sel):
+            bound[sel], s[sel] = _reparam_bound_many(c2[sel], q2[sel], bound[sel], s[sel])
+    # smaller bound first, then the lower output degree; swap=False on a tie
+    b0, d0 = cands[0][0], cands[0][1]
+    b1, d1 = cands[1][0], cands[1][1]
+    swap = (b1 < b0) | ((b1 == b0) & (d1 < d0))
+    q2 = np.where(swap[:, None, None], cands[1][2], cands[0][2])
+    return swap, q2, np.where(swap, b1, b0), np.where(swap, cands[1][3], cands[0][3])
 
 
 def _chord(ca, cb, sa, sb):
@@ -556,17 +1030,31 @@ def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), metho
     ``pairs``: the result of ``compatible_pairs(edges_a, edges_b)`` if known (it
     depends on the angles only).
     """
-    out = []
+    ta, tb = _EdgeTable([edges_a]), _EdgeTable([edges_b])
     if pairs is None:
-        pairs = compatible_pairs(edges_a, edges_b)
-    for i, j, lo, hi, k in pairs:
-        ea, eb = edges_a[i], edges_b[j]
-        typ = pair_type(ea.sign, eb.sign, ea.kind == "vertex", eb.kind == "vertex")
-        if typ == 3 and not keep_type3:
-            continue
-        for piece, kind, bound in convolve_edges(ea, eb, lo, hi, k, tol, method=method):
-            out.append(ConvPiece(piece, kind, typ, bound, (source[0], i, source[1], j)))
-    return out
+        table = _pair_table(ta, tb)
+    else:
+        table = tuple(np.array([p[c] for p in pairs], float if c >= 2 else int)
+                      for c in range(5))
+    conv = _convolve_all(ta, tb, table, tol, keep_type3, method)
+    for c in conv:
+        c.source = (source[0], c.source[1], source[1], c.source[3])
+    return conv
+
+
+def _convolve_all(ta, tb, table, tol, keep_type3, method):
+    """ConvPieces of all pairs of a pair table, typed (Fig. 20), in its order."""
+    i, j = table[0], table[1]
+    typ = pair_type(ta.sign[i], tb.sign[j], ta.vertex[i], tb.vertex[j])
+    if not keep_type3:
+        keep = typ != 3
+        table = tuple(x[keep] for x in table)
+        typ, i, j = typ[keep], i[keep], j[keep]
+    res = _convolve_table(ta, tb, table, tol, method=method)
+    la, ia, lb, ib = ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]
+    return [ConvPiece(piece, kind, int(typ[p]), bound,
+                      (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p])))
+            for p, piece, kind, bound in res]
 
 
 def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
@@ -577,26 +1065,25 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
     except on "chord" pieces (common sweep below 1e-7 rad).  tol is absolute, in
     input units.  With keep_type3 the pieces form closed, consistently oriented
     loops (:func:`chain`); without it type-3 pieces (never on the boundary) are
-    dropped early.
+    dropped early.  All edge pairs of all loop pairs are handled together (the
+    pairs found with one array comparison, Algorithm 4.1 level by level on arrays),
+    in the order of the loops of A, then of B.
     """
     if tol <= 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
-    ga = _gauss_maps(region_a)
-    gb = _gauss_maps(region_b)
+    ta = _EdgeTable(_gauss_maps(region_a))
+    tb = _EdgeTable(_gauss_maps(region_b))
     cache = getattr(region_a, "pair_cache", None)
     if cache is None or cache is not getattr(region_b, "pair_cache", None):
         cache = None
-    out = []
-    for ia, ea in enumerate(ga):
-        for ib, eb in enumerate(gb):
-            pairs = None
-            if cache is not None:
-                key = (id(region_a.base), id(region_b.base), ia, ib)
-                pairs = cache.get(key)
-                if pairs is None:
-                    pairs = cache[key] = compatible_pairs(ea, eb)
-            out.extend(convolve_loops(ea, eb, tol, keep_type3, (ia, ib), method, pairs))
-    return out
+    if cache is not None:
+        key = (id(region_a.base), id(region_b.base))
+        table = cache.get(key)
+        if table is None:
+            table = cache[key] = _pair_table(ta, tb)
+    else:
+        table = _pair_table(ta, tb)
+    return _convolve_all(ta, tb, table, tol, keep_type3, method)
 
 
 # ------------------------------------------------- Gauss maps shared by scaled copies
@@ -621,7 +1108,15 @@ def _gauss_maps(region):
     maps = getattr(region, "gauss_maps", None)
     if maps is not None:
         return maps
-    return [gauss.gauss_map(loop) for loop in region]
+    # the monotone parts of all pieces of all loops in one batched call; splitting
+    # is idempotent, so gauss_map of the parts is gauss_map of the loop
+    loops = [[np.asarray(p, float) for p in loop] for loop in region]
+    parts = gauss.split_monotone_many([p for loop in loops for p in loop], check=False)
+    out, k = [], 0
+    for loop in loops:
+        out.append(gauss.gauss_map([q for ps in parts[k:k + len(loop)] for q in ps]))
+        k += len(loop)
+    return out
 
 
 def scale_edges(edges, factor):

@@ -137,25 +137,57 @@ def split_monotone(piece):
     Splits at inflections and hodograph axis crossings.  Raises DegenerateCurveError
     for an interior cusp (the hodograph vanishes inside the piece).
     """
+    piece = np.asarray(piece, float)
+    if not _may_split(piece):
+        return _keep_parts([piece])
     return split_monotone_many([piece])[0]
 
 
-def split_monotone_many(pieces):
+def _may_split(piece, eps=1e-13):
+    """False when no split parameter can exist: neither component of the tangent
+    numerator H nor cross(H, H') changes sign among its Bernstein coefficients
+    (ends within eps of zero skipped, as :func:`morph.bernstein.roots_many` does),
+    so neither has a root inside (Descartes' rule in the Bernstein basis)."""
+    h = pc.tangent_numerator(piece)
+    if len(h) == 1:
+        return False
+    dh = bz.derivative(h)
+    k = bz.multiply(h[:, :1], dh[:, 1:2])[:, 0] - bz.multiply(h[:, 1:2], dh[:, :1])[:, 0]
+    for c in (h[:, 0], h[:, 1], k):
+        scale = np.abs(c).max()
+        if scale == 0.0:
+            continue
+        c = c / scale
+        c = c[int(abs(c[0]) <= eps):len(c) - int(abs(c[-1]) <= eps)]
+        s = np.sign(c[c != 0])
+        if np.any(s[1:] != s[:-1]):
+            return True
+    return False
+
+
+def _keep_parts(parts, check=True):
+    """The parts of a split piece without zero-length slivers, each checked for
+    interior cusps (DegenerateCurveError) if ``check``."""
+    kept = []
+    for part in parts:
+        size = max(np.ptp(pc.cartesian(part), axis=0).max(), 1e-300)
+        if size < 1e-12 * max(1.0, np.abs(pc.cartesian(part)).max()):
+            continue  # zero-length sliver from splitting at coincident roots
+        if check:
+            _check_no_cusp(part)
+        kept.append(part)
+    return kept
+
+
+def split_monotone_many(pieces, check=True):
     """:func:`split_monotone` of many pieces: the split parameters of all pieces of
     one degree are found together (:func:`_split_params_many`).  Returns one list of
-    parts per piece."""
+    parts per piece.  ``check=False`` skips the cusp check (for a caller that
+    passes the parts through :func:`split_monotone` again, as gauss_map does)."""
     pieces = [np.asarray(p, float) for p in pieces]
     out = []
     for piece, ts in zip(pieces, _split_params_many(pieces)):
-        parts = _split_at(piece, ts) if ts.size else [piece]
-        kept = []
-        for part in parts:
-            size = max(np.ptp(pc.cartesian(part), axis=0).max(), 1e-300)
-            if size < 1e-12 * max(1.0, np.abs(pc.cartesian(part)).max()):
-                continue  # zero-length sliver from splitting at coincident roots
-            _check_no_cusp(part)
-            kept.append(part)
-        out.append(kept)
+        out.append(_keep_parts(_split_at(piece, ts) if ts.size else [piece], check))
     return out
 
 

@@ -241,7 +241,7 @@ def tangent_numerator_many(stacked, rational):
     full = (bz.multiply_many(d[:, :, :2], stacked[:, :, 2:3])
             - bz.multiply_many(stacked[:, :, :2], d[:, :, 2:3]))
     # degree 2n-2: the t^(2n-1) terms cancel (least squares, as bz.reduce_exact)
-    return np.einsum("ij,kjd->kid", _reduce_pinv(full.shape[1] - 1), full)
+    return bz._apply(_reduce_pinv(full.shape[1] - 1), full)
 
 
 def end_zero_rows(h, rel=1e-12):
