@@ -233,7 +233,8 @@ def roots_many(c, eps=1e-13):
 def _bracketed_newton(c, iters=80):
     """The root in [0, 1] of each row of c (m, n+1) whose coefficients change sign
     once: Newton's iteration kept inside a shrinking sign bracket (bisection where a
-    step leaves it), all rows together, until the steps fall below 1e-16."""
+    step leaves it), all rows together, until a Newton step falls below 1e-15 (the
+    last one is taken) or the bracket is narrower than that."""
     m, n1 = c.shape
     n = n1 - 1
     nz = c != 0
@@ -254,11 +255,12 @@ def _bracketed_newton(c, iters=80):
         lo = np.where(same, u, lo)
         hi = np.where(~same & (f != 0), u, hi)
         with np.errstate(divide="ignore", invalid="ignore"):
-            un = u - f / fp
-        bad = ~((un > lo) & (un < hi))
+            step = f / fp
+        un = u - step
+        bad = ~((un >= lo) & (un <= hi))
         un = np.where(bad, 0.5 * (lo + hi), un)
-        done |= (f == 0) | (np.abs(un - u) <= 1e-16) | (hi - lo <= 2e-16)
         u = np.where(done, u, un)
+        done |= (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
         if done.all():
             break
     return u

@@ -1108,15 +1108,7 @@ def _gauss_maps(region):
     maps = getattr(region, "gauss_maps", None)
     if maps is not None:
         return maps
-    # the monotone parts of all pieces of all loops in one batched call; splitting
-    # is idempotent, so gauss_map of the parts is gauss_map of the loop
-    loops = [[np.asarray(p, float) for p in loop] for loop in region]
-    parts = gauss.split_monotone_many([p for loop in loops for p in loop], check=False)
-    out, k = [], 0
-    for loop in loops:
-        out.append(gauss.gauss_map([q for ps in parts[k:k + len(loop)] for q in ps]))
-        k += len(loop)
-    return out
+    return [gauss.gauss_map(loop) for loop in region]
 
 
 def scale_edges(edges, factor):

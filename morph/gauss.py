@@ -220,7 +220,7 @@ def gauss_map(loop, angle_tol=1e-10):
     traced forward and back is swept as a filled stroke).  Raises
     DegenerateCurveError if no choice of signs gives that total.
     """
-    curves = [part for p in loop for part in split_monotone(np.asarray(p, float))]
+    curves = [part for parts in split_monotone_many(loop) for part in parts]
     if not curves:
         raise DegenerateCurveError("loop has no curve of nonzero length", None)
     ends = []
