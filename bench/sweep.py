@@ -111,7 +111,8 @@ OTHER_FONTS = {"lobster": ("fontpkg_lobster", "Lobster-Regular.ttf"),
                "amiri": ("fontpkg_amiri", "Amiri-Regular.ttf")}
 RANDOM_FONTS = ("ttf", "cff", "lobster", "cormorant", "amiri")
 LATIN = string.ascii_uppercase + string.ascii_lowercase + string.digits + "&@"
-RELIEF = (Path("/work/shared/data/relief-singleline/Relief-SingleLine.ufo"),
+RELIEF = (ROOT.parent / "shared" / "data" / "relief-singleline" / "Relief-SingleLine.ufo",
+          Path("/work/shared/data/relief-singleline/Relief-SingleLine.ufo"),
           ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo")
 
 _cache = {}
