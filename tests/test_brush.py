@@ -269,12 +269,14 @@ def _centres(path, text):
     return np.array(cs), [s[0] for s in shaped]
 
 
-@pytest.mark.parametrize("glyphs", [["e", "o", "acutecomb", "gravecomb"], ["e", "o"]],
+@pytest.mark.parametrize("glyphs", [["e", "o", "m", "acutecomb", "gravecomb"], ["e", "o", "m"]],
                          ids=["marks-swept", "marks-not-swept"])
 def test_gpos_marks_stay_centred(mark_font, tmp_path, glyphs):
     """é = e + U+0301 (+ U+0300 stacked by mkmk) shaped by HarfBuzz on the written font:
     each mark keeps its offset from the base's centre within 2 units (the anchors
-    moved with the sweep), whether the marks were swept or not."""
+    moved with the sweep), whether the marks were swept or not.  A swept mark on a
+    base without an anchor (m + U+0301: the mark hangs from the end of m's advance)
+    keeps its offset too."""
     out = tmp_path / "m.ttf"
     stats = brush_font(str(mark_font), out, ellipse_nib(*NIB), glyphs, tol=0.5)
     assert stats["anchors"] > 0 and not stats["fallback"]
@@ -286,6 +288,9 @@ def test_gpos_marks_stay_centred(mark_font, tmp_path, glyphs):
         shift = (after[k] - after[0]) - (before[k] - before[0])
         assert np.abs(shift).max() <= 2.0, (k, before, after)
     assert abs(after[1][0] - after[0][0]) <= 2.0  # the acute was centred: it still is
+    if "acutecomb" in glyphs:
+        (b0, b1), (a0, a1) = _centres(mark_font, "m\u0301")[0], _centres(out, "m\u0301")[0]
+        assert np.abs((a1 - a0) - (b1 - b0)).max() <= 2.0, (b1 - b0, a1 - a0)
     b = TTFont(str(out))
     assert b["hmtx"]["acutecomb"][0] == 0  # zero-width marks stay zero-width
     assert_ots(out)

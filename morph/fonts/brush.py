@@ -27,12 +27,15 @@ and then names them on one line with exit status 1.
 **Metrics and anchors.**  Every swept glyph is shifted right by the nib's left
 extent (so it starts no further left of the origin than the original glyph did);
 the advance width grows by the nib's width, except for zero-width glyphs
-(combining marks), which stay zero-width.  The pen point of the nib, which draws
-the glyph's own outline, moves with it to ``t = (shift + nib centre x, nib centre
-y)``: GPOS anchors (mark, base, ligature, mark-to-mark, cursive) of every swept or
-following glyph move by ``t`` (:func:`morph.fonts.tables.move_anchors`), so a mark
-keeps its place relative to its base whether the mark itself was swept or not
-(é stays centred).  Vertical metrics grow by the nib's extent above and below its
+(combining marks), which stay zero-width and are shifted left by the nib's right
+extent instead (a mark without an anchor hangs from the end of the preceding,
+widened advance: so its centre stays over its base's).  The pen point of the nib,
+which draws the glyph's own outline, moves with it to ``t = (shift + nib centre x,
+nib centre y)``: GPOS anchors (mark, base, ligature, mark-to-mark, cursive) of
+every swept or following glyph move by its ``t``
+(:func:`morph.fonts.tables.move_anchors`), so a mark keeps its place relative to
+its base whether the mark itself was swept or not (é stays centred).  (Unswept
+zero-width marks without an anchor on their base end nib width / 2 to the right.)  Vertical metrics grow by the nib's extent above and below its
 pen point (:func:`morph.fonts.tables.grow_vertical_metrics`), OS/2 xAvgCharWidth is
 recomputed, and the family is renamed with coherent name IDs
 (:func:`morph.fonts.tables.rename_family`).
@@ -46,6 +49,8 @@ composite that is not chosen but uses a swept glyph keeps its components (the de
 ``composites="follow"``): its advance width grows by the nib's width like the swept
 base's, and each component that was not swept (the accent) moves by ``t``, i.e. to
 where its own swept version would be, so it stays centred over the widened base
+(a swept zero-width mark component is moved back by the difference of the two
+``t``)
 (when every component is swept, the composite *is* the sum of its decomposed
 outline: Minkowski sums distribute over unions).  Composites with a scaled / flipped
 component or one placed by anchor points cannot follow (the swept outline would be
@@ -189,27 +194,31 @@ def _base_not_chosen(font, swept, planned):
     return out
 
 
-def _follow_composites(font, follow, moved, offset, nib_w):
+def _follow_composites(font, follow, moves, move_of, nib_w):
     """Adjust composites that keep their components (TrueType only).
 
     Each composite grows by the nib's width like its swept components (zero-width
-    composites stay so), and every component that was not swept (an accent over a
-    swept base) moves by ``offset``, the pen point's translation in the swept glyphs:
-    where its own swept version would be, so it stays centred over its base.
+    composites stay so) and moves as a whole by ``move_of(advance)``, the pen point's
+    translation of a swept glyph of that advance; each component, which moved by
+    ``moves[component]`` (0 if it was not swept), gets the difference: an unswept
+    accent moves to where its own swept version would be, a swept zero-width mark
+    (which moved the other way, see :func:`brush_font`) comes back over its base.
+    ``moves`` gets the composites' translations.
     """
     if not follow:
         return
     glyf, hmtx = font["glyf"], font["hmtx"]
-    dx, dy = offset
     for n in follow:
         g = glyf[n]
-        for c in g.components:
-            if c.glyphName not in moved:
-                c.x += dx
-                c.y += dy
-        g.recalcBounds(glyf)
         adv, _ = hmtx[n]
+        tx, ty = move_of(adv)
+        for c in g.components:
+            cx, cy = moves.get(c.glyphName, (0, 0))
+            c.x += tx - cx
+            c.y += ty - cy
+        g.recalcBounds(glyf)
         hmtx[n] = (_new_advance(adv, nib_w), int(getattr(g, "xMin", 0)))
+        moves[n] = (tx, ty)
 
 
 def _new_advance(adv, nib_w):
@@ -348,9 +357,19 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     writer = outline_writer(font)
     nx0, ny0, nx1, ny1 = region_extent(nib_region)
     nib_w = nx1 - nx0
-    shift = -nx0  # glyph ⊕ nib starts -nx0 further left: move it back
-    # the pen point's image (anchors, unswept components), on the integer grid
-    pen_move = (int(round(shift + (nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
+    hmtx = font["hmtx"]
+
+    def shift_of(adv):
+        """x translation of a swept outline: glyph ⊕ nib starts -nx0 further left, so
+        move it back; a zero-width mark (hanging left of the pen position, placed
+        after its base's advance, which grew by nib_w) goes the other way."""
+        return -nx0 if adv > 0 else -nx1
+
+    def move_of(adv):
+        """The pen point's image (anchors, components), on the integer grid: the
+        nib's centre, translated."""
+        return (int(round(shift_of(adv) + (nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
+
     if glyphs is None:
         names = outline_glyphs(font)
     else:
@@ -376,8 +395,8 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
             sources[n] = _source_region(font, n)
         except MorphError:
             sources[n] = []  # empty glyph (space): metrics only
-    args = [(n, sources[n], nib_region, tol, method, (shift, 0.0), writer.quadratic)
-            for n in order]
+    args = [(n, sources[n], nib_region, tol, method, (shift_of(hmtx[n][0]), 0.0),
+             writer.quadratic) for n in order]
     chosen = set(names)
 
     def done(k, result):
@@ -389,8 +408,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     stats = {"glyphs": 0, "contours": 0, "segments": 0, "followed": len(follow),
              "decomposed": len([n for n in extra if n not in unchosen]),
              "base_not_chosen": unchosen, "fallback": {}}
-    hmtx = font["hmtx"]
-    offsets = {}
+    moves = {}
     for name, contours, kind, error in results:
         if kind != "exact":
             stats["fallback"][name] = (kind, error)
@@ -399,15 +417,13 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
         adv, _ = hmtx[name]
         new_adv = _new_advance(adv, nib_w)
         hmtx[name] = (new_adv, writer.write(name, contours, new_adv))
-        offsets[name] = pen_move
+        moves[name] = move_of(adv)
         if name in chosen:
             stats["glyphs"] += 1
             stats["contours"] += len(contours)
             stats["segments"] += sum(map(len, contours))
-    moved = set(order) | set(follow)
-    _follow_composites(font, follow, moved, pen_move, nib_w)
-    offsets.update({n: pen_move for n in follow})
-    stats["anchors"] = move_anchors(font, offsets)
+    _follow_composites(font, follow, moves, move_of, nib_w)
+    stats["anchors"] = move_anchors(font, moves)
     grow_vertical_metrics(font, below=-ny0, above=ny1)
     rename_family(font, family_name, tool="morph brush")
     finish_font(font)
