@@ -505,6 +505,19 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
             near = ref_index.distance(pts[alive[~ok]]) <= d + ref_err
             res["probe_misses"] = int(near.sum())
             ok[np.flatnonzero(~ok)[near]] = True
+        if c == ladder[0] and not ok.all() and ref_index is None:
+            # no reference: probe the disk densely (8 rings of 180 directions: wedges
+            # down to 2 degrees)
+            miss = np.flatnonzero(~ok)
+            for i in miss:
+                ang = np.linspace(0, 2 * np.pi, 180, endpoint=False)
+                rad = d * np.arange(1, 9) / 8
+                pr = pts[alive[i]] + (rad[:, None, None] * np.stack([np.cos(ang), np.sin(ang)],
+                                                                   axis=1)[None]).reshape(-1, 2)
+                ins = oracle(pr)
+                if ins.any() and (~ins).any():
+                    ok[i] = True
+                    res["probe_misses"] += 1
         err[alive[ok]] = d / tol
         if c == ladder[0] and not ok.all():
             bad = alive[~ok]

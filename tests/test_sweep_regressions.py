@@ -73,10 +73,14 @@ SWEEP_REGRESSIONS = [
     # path whose ends nearly meet); the exact predicate sides with stroke_paths
     ("stroke/relief/semicolon/80x30/1.7/4.96/0.0052",
      "Hausdorff 15.8 tol to the Clipper stroke reference (a reference defect)"),
+    # fonts mode (glyph ⊕ glyph of other fonts, tol 1e-4 em), seed 777
+    ("pair/amiri/uniFB55/uniFD51/0.0001",
+     "outer loop passes 10-20 units (100-200 tol) inside the exact sum"),
 ]
 
 # cases whose check takes more than ~3 s on one core (loaded machine)
 SLOW = {
+    "pair/amiri/uniFB55/uniFD51/0.0001",
     "nib/amiri/uniFB8D/60x8/6.8/32.5/3.8e-05",
     "nib/amiri/uniFBFA/40x40/52.7/18.4/8.8e-05",
     "nib/amiri/uniFBFA/80x30/161.5/0.0317/2.1e-05",
@@ -96,6 +100,8 @@ SLOW = {
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
 OPEN = {
+    "pair/amiri/uniFB55/uniFD51/0.0001":
+        "outer loop passes 10-20 units (100-200 tol) inside the exact sum",
     "nib/amiri/uniFC6A/60x8/153/0.563/1.1e-05":
         "TopologyError: open convolution chain",
     "nib/cormorant/7/80x30/173.4/0.00218/0.00047":
