@@ -4,6 +4,8 @@
                           [--n N] [--seed S] [--cases SPEC,SPEC...] [--md bench/sweep.md]
     pairs only:  [--fonts ttf,cff] [--set upper|lower|both] [--nibs|--no-nibs]
                  [--pairs|--no-pairs] [--limit N] [--tol EM] [--budget SECONDS]
+                 (with --seed the jobs run in a shuffled order, so that a --budget or
+                 --limit run samples every font, set and nib)
 
 Modes (each writes its own section of bench/sweep.md):
 
@@ -1367,6 +1369,9 @@ def main(argv=None):
         fonts = [f.strip() for f in (opt.fonts or ",".join(RANDOM_FONTS)).split(",")
                  if f.strip()]
         todo = draw_random_cases(opt.mode, opt.n, seed, fonts)
+    if opt.mode == "pairs" and opt.seed is not None and not opt.cases:
+        # a budgeted or limited run then samples every font, set and nib evenly
+        todo = [todo[i] for i in np.random.default_rng(opt.seed).permutation(len(todo))]
     if opt.limit is not None:
         todo = todo[:opt.limit]
     print("bench.sweep: mode %s, %d jobs%s, %d worker(s), timeout %g s"
