@@ -1233,7 +1233,8 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
                      "**%.3f** (`%s`)." % (w["err/tol"], w["spec"]))
         hist = {}
         for r in errs:
-            k = min(c for c in LADDER if r["err/tol"] <= c + ORACLE_SHARE * 2 + 1e-12)
+            k = min((c for c in LADDER if r["err/tol"] <= c + ORACLE_SHARE * 2 + 1e-12),
+                    default=r["err/tol"] - 2 * ORACLE_SHARE)
             hist[k] = hist.get(k, 0) + 1
         lines.append("Jobs by worst error bound / tol: " + ", ".join(
             "<= %.3g: %d" % (k + 2 * ORACLE_SHARE, hist[k]) for k in sorted(hist)) + ".")
