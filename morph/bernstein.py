@@ -138,9 +138,10 @@ def roots(c, lo=0.0, hi=1.0, eps=1e-13):
 
     Found in the Bernstein basis (:func:`roots_many`: subdivision isolates each root
     by the sign changes of the coefficients, then a bracketed Newton iteration);
-    roots closer than ``10 eps`` are merged.  A multiple root (or a cluster of roots
-    closer than 2^-40) is returned once.  A polynomial that is zero everywhere
-    returns no roots.
+    roots closer than ``10 eps`` are merged.  A root of odd multiplicity (or a
+    cluster of roots closer than 2^-40) is returned once; one of even multiplicity
+    (no sign change) only where rounding leaves a sign change of the coefficients,
+    so it may be missed.  A polynomial that is zero everywhere returns no roots.
     """
     c = np.asarray(c, float)
     if (lo, hi) != (0.0, 1.0):

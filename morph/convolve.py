@@ -136,15 +136,21 @@ def _ratio_bound(a, b, halvings=1):
             sm = 0.5 * (s0 + s1)
             nxt += [(la, lb, s0, sm), (ra, rb, sm, s1)]
         parts = nxt
-    best, s_best = -np.inf, 0.5
+    ratios, where = [], []
     for pa, pb, s0, s1 in parts:
         if not np.all(pb > 0):
             return np.inf, 0.5
-        r = pa / pb
-        k = int(np.argmax(r))
-        if r[k] > best:
-            best, s_best = float(r[k]), s0 + (s1 - s0) * k / (len(r) - 1)
-    return best, s_best
+        ratios.append(pa / pb)
+        where.append(s0 + (s1 - s0) * np.arange(len(pa)) / (len(pa) - 1))
+    r, s = np.concatenate(ratios), np.concatenate(where)
+    best = float(r.max())
+    # the first coefficient within RATIO_TIE of the largest: near-ties (symmetric
+    # pieces) are decided the same way whatever the rounding
+    k = int(np.argmax(r >= best - RATIO_TIE * abs(best)))
+    return best, float(s[k])
+
+
+RATIO_TIE = 1e-9
 
 
 def _sq_norm(g):
@@ -390,8 +396,8 @@ def _ratio_bound_many(a, b):
     good = np.all(den > 0, axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = num / np.where(den > 0, den, 1.0)
-    k = np.argmax(r, axis=1)
-    best = r[np.arange(len(r)), k]
+    best = r.max(axis=1)
+    k = np.argmax(r >= (best - RATIO_TIE * np.abs(best))[:, None], axis=1)
     s = np.where(k <= n, 0.5 * k / n, 0.5 + 0.5 * (k - n - 1) / n)
     return np.where(good, best, np.inf), np.where(good, s, 0.5)
 

@@ -113,3 +113,113 @@ def test_basis_is_partition_of_unity(c):
     b = bz.basis(len(c) - 1, T)
     assert np.allclose(b.sum(axis=1), 1.0)
     assert np.all(b >= 0)
+
+
+# ------------------------------------------------ roots in the Bernstein basis (issue 19)
+
+def _bernstein_from_roots(rts, lead=1.0):
+    c = np.array([lead])
+    for r in rts:
+        c = bz.multiply(c, np.array([-r, 1.0 - r]))
+    return c
+
+
+def test_roots_many_matches_companion_matrix_roots():
+    """Random degree 1-7 polynomials: the real roots in [0, 1] of the power form by
+    numpy's companion matrix (independent), well separated ones compared."""
+    rng = np.random.default_rng(7)
+    for n in range(1, 8):
+        c = rng.normal(size=(300, n + 1))
+        owner, t = bz.roots_many(c)
+        for k in range(len(c)):
+            p = np.polynomial.polynomial.Polynomial(bz.to_power(c[k]))
+            ref = p.roots()
+            ref = np.sort(ref[np.abs(ref.imag) < 1e-9].real)
+            ref = ref[(ref > 1e-6) & (ref < 1 - 1e-6)]
+            got = t[owner == k]
+            if len(ref) > 1 and np.diff(ref).min() < 1e-4:
+                continue   # near-multiple roots: conditioning, not the method
+            assert len(got) == len(ref), (n, k, got, ref)
+            assert np.allclose(got, ref, atol=1e-10), (n, k, got, ref)
+            # each root is a root: |f(t)| small against the coefficients
+            assert np.all(np.abs(bz.evaluate(c[k], got)) <= 1e-12 * np.abs(c[k]).max())
+
+
+def test_roots_many_rows_agree_with_scalar_roots():
+    rng = np.random.default_rng(8)
+    c = rng.normal(size=(200, 5))
+    owner, t = bz.roots_many(c)
+    for k in range(len(c)):
+        assert np.array_equal(t[owner == k], bz.roots(c[k]))
+
+
+@pytest.mark.parametrize("rts,expect", [([0.0, 0.4], [0.0, 0.4]), ([0.3, 1.0], [0.3, 1.0]),
+                                        ([0.1, 0.1 + 1e-6], [0.1, 0.1 + 1e-6]),
+                                        ([0.35, 0.35, 0.35], [0.35]), ([0.2, 0.7, 0.7, 0.7], [0.2, 0.7])])
+def test_roots_at_ends_close_and_odd_multiple(rts, expect):
+    """Every sign change is found, a root of odd multiplicity once (to its
+    conditioning, eps^(1/3) for a triple root), roots at the ends exactly."""
+    got = bz.roots(_bernstein_from_roots(rts, 3.0))
+    assert len(got) == len(expect), got
+    assert np.allclose(got, expect, atol=1e-5)
+
+
+@pytest.mark.parametrize("rts,odd", [([0.5, 0.5], []), ([0.2, 0.6, 0.6], [0.2]),
+                                     ([0.6, 0.6, 0.9], [0.9])])
+def test_roots_even_multiplicity(rts, odd):
+    """A root of even multiplicity (no sign change) may be missed when rounding makes
+    the polynomial one-signed there (callers only need sign changes); if reported,
+    it is accurate.  The sign changes are always found."""
+    got = bz.roots(_bernstein_from_roots(rts, 3.0))
+    for r in odd:
+        assert np.min(np.abs(got - r)) < 1e-12
+    assert all(np.min(np.abs(np.array(rts) - g)) < 1e-6 for g in got)
+
+
+def test_roots_on_subinterval():
+    c = _bernstein_from_roots([0.1, 0.45, 0.8])
+    assert np.allclose(bz.roots(c, 0.2, 0.9), [0.45, 0.8], atol=1e-12)
+
+
+def test_solve_bracketed_finds_the_sign_change():
+    rng = np.random.default_rng(9)
+    r = rng.uniform(0.05, 0.95, 50)
+    c = np.array([bz.elevate(np.array([-x, 1.0 - x]), 3) for x in r])
+    assert np.allclose(bz.solve_bracketed(c), r, atol=1e-14)
+    lo, hi = r - 0.04, r + 0.05
+    assert np.allclose(bz.solve_bracketed(c, lo, hi), r, atol=1e-14)
+
+
+# ----------------------------------------------------------- batched forms vs scalar
+
+def test_batched_forms_match_scalar():
+    rng = np.random.default_rng(10)
+    for n, m in ((1, 2), (3, 2), (4, 5)):
+        a = rng.normal(size=(6, n + 1, 3))
+        b = rng.normal(size=(6, m + 1, 1))
+        t = rng.uniform(0, 1, 6)
+        t0, t1 = rng.uniform(0, 1, 6), rng.uniform(0, 1, 6)
+        prod = bz.multiply_many(a, b)
+        elev = bz.elevate_many(a, 2)
+        left, right = bz.split_many(a, t)
+        sub = bz.subsegment_many(a, t0, t1)
+        hl, hr = bz.halves_many(a)
+        val = bz.evaluate_many(a, t)
+        for k in range(6):
+            assert np.allclose(prod[k], bz.multiply(a[k], b[k]), atol=1e-13)
+            assert np.allclose(elev[k], bz.elevate(a[k], 2), atol=1e-13)
+            sl, sr = bz.split(a[k], t[k])
+            assert np.allclose(left[k], sl, atol=1e-13) and np.allclose(right[k], sr, atol=1e-13)
+            assert np.allclose(sub[k], bz.subsegment(a[k], t0[k], t1[k]), atol=1e-12)
+            s2l, s2r = bz.split(a[k], 0.5)
+            assert np.allclose(hl[k], s2l, atol=1e-13) and np.allclose(hr[k], s2r, atol=1e-13)
+            assert np.allclose(val[k], bz.evaluate(a[k], [t[k]])[0], atol=1e-13)
+        # 1-D rows (scalar polynomials) too
+        p = bz.multiply_many(a[:, :, 0], b[:, :, 0])
+        assert np.allclose(p[2], bz.multiply(a[2, :, 0], b[2, :, 0]), atol=1e-13)
+
+
+def test_reduce_exact_inverts_elevate():
+    rng = np.random.default_rng(11)
+    c = rng.normal(size=(4, 2))
+    assert np.allclose(bz.reduce_exact(bz.elevate(c, 2), 2), c, atol=1e-12)

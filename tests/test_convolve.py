@@ -783,3 +783,85 @@ if __name__ == "__main__":
         ref = _reference_sum(a, b, 0.05)
         n_outer, n_holes = R.count_outer_and_holes(ref, 1.0)
         print("    (%r, %r): (%r, %d, %d)," % (a, b, float(ref.area), n_outer, n_holes))
+
+
+# ================================================= batched QAC forms (issue 18)
+
+def _random_pairs(n, seed=SEED + 1):
+    rng = np.random.default_rng(seed)
+    pairs = []
+    for k in range(n):
+        kind = KINDS[k % len(KINDS)]
+        if kind in SWAPPED:
+            c2, c1 = R.random_compatible_pair(rng, SWAPPED[kind])
+        else:
+            c1, c2 = R.random_compatible_pair(rng, kind)
+        pairs.append((c1, c2))
+    return pairs
+
+
+def _by_shape(pieces):
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault((p.shape, pc.is_polynomial(p)), []).append(k)
+    return groups.values()
+
+
+def test_batched_qac_forms_match_scalar():
+    """quadratic_approximation, both bounds and the QAC piece on stacks of one
+    degree agree row by row with the one-pair functions."""
+    pairs = _random_pairs(240)
+    c1s = [p[0] for p in pairs]
+    c2s = [p[1] for p in pairs]
+    for ks in _by_shape(c2s):
+        c2 = np.array([c2s[k] for k in ks])
+        q2, ok = convolve.quadratic_approximation_many(c2)
+        assert ok.all()
+        par, s_par = convolve.qac_parametric_bound_many(c2, q2)
+        geo, s_geo = convolve._reparam_bound_many(c2, q2, par, s_par)
+        for r, k in enumerate(ks):
+            q_ref = convolve.quadratic_approximation(c2s[k])
+            assert np.allclose(q2[r], q_ref, atol=1e-12)
+            p_ref = convolve.qac_parametric_bound(c2s[k], q_ref)
+            assert par[r] == pytest.approx(p_ref[0], rel=1e-9, abs=1e-15)
+            g_ref = convolve.qac_error_bound(c2s[k], q_ref)
+            assert geo[r] == pytest.approx(g_ref[0], rel=1e-7, abs=1e-15)
+    for ks in _by_shape(c1s):
+        c1 = np.array([c1s[k] for k in ks])
+        q2 = np.array([convolve.quadratic_approximation(c2s[k]) for k in ks])
+        res = convolve.convolve_qac_many(c1, q2, not pc.is_polynomial(c1[0]))
+        for r, k in enumerate(ks):
+            ref = convolve.convolve_qac_piece(c1s[k], c2s[k], q2[r])
+            assert res[r].shape == ref.shape
+            # same rational curve: same Cartesian control points and weight ratios
+            assert np.allclose(pc.cartesian(res[r]), pc.cartesian(ref), atol=1e-9)
+            assert np.allclose(res[r][:, 2] / res[r][0, 2], ref[:, 2] / ref[0, 2], rtol=1e-9)
+
+
+def test_parallel_end_tangents_are_not_a_role():
+    line = pc.cubic((0, 0), (1, 0), (2, 0), (3, 0))
+    q2, ok = convolve.quadratic_approximation_many(line[None])
+    assert not ok[0]
+
+
+def test_batched_driver_matches_pair_by_pair():
+    """Algorithm 4.1 on all pairs at once (one edge table per side) gives each pair
+    the pieces of the one-pair driver, in the same order, every bound <= tol."""
+    pairs = _random_pairs(60, SEED + 2)
+    tol = 1e-4
+    ea = [_edge(c1) for c1, _ in pairs]
+    eb = [_edge(c2) for _, c2 in pairs]
+    ta, tb = convolve._EdgeTable([ea]), convolve._EdgeTable([eb])
+    table = []
+    for k in range(len(pairs)):
+        (i, j, lo, hi, shift), = convolve.compatible_pairs([ea[k]], [eb[k]])
+        table.append((k, k, lo, hi, shift))
+    arrays = tuple(np.array([p[c] for p in table]) for c in range(5))
+    res = convolve._convolve_table(ta, tb, arrays, tol)
+    for k in range(len(pairs)):
+        got = [(p, kind, b) for pos, p, kind, b in res if pos == k]
+        ref = convolve.convolve_edges(ea[k], eb[k], *table[k][2:], tol)
+        assert len(got) == len(ref) > 0
+        for (p, kind, b), (p_ref, kind_ref, b_ref) in zip(got, ref):
+            assert kind == kind_ref and p.shape == p_ref.shape and b <= tol
+            assert np.allclose(pc.cartesian(p), pc.cartesian(p_ref), atol=1e-9)

@@ -398,3 +398,64 @@ def test_zero_end_derivative_uses_the_limit_tangent():
     # and the angle solver finds interior points, not t = 0, for other angles
     t = gauss.angle_param(first.piece, first.theta + 0.5 * first.sweep)
     assert 0.05 < t < 0.95
+
+
+# ------------------------------------------------------------- batched forms (issue 18)
+
+def _random_pieces(rng, n):
+    out = []
+    for k in range(n):
+        deg = 1 + k % 4
+        p = rng.uniform(-3, 3, (deg + 1, 2))
+        w = rng.uniform(0.3, 2.0, deg + 1) if k % 3 == 0 else None
+        out.append(pc.from_points(p, w))
+    return out
+
+
+def _all_glyph_pieces():
+    return [np.asarray(p, float) for font in FONTS.values() for ch in GLYPHS
+            for loop in parse.glyph_region(ch, font).region for p in loop]
+
+
+def test_split_monotone_many_matches_piece_by_piece():
+    """The batched split (all pieces of one degree together) gives the parts of the
+    per-piece one (which skips root finding when no coefficient changes sign)."""
+    rng = np.random.default_rng(3)
+    pieces = _all_glyph_pieces() + _random_pieces(rng, 200)
+    many = gauss.split_monotone_many(pieces, check=False)
+    for p, parts in zip(pieces, many):
+        try:
+            single = gauss.split_monotone(p)
+        except DegenerateCurveError:
+            continue
+        assert len(single) == len(parts)
+        for a, b in zip(single, parts):
+            assert np.allclose(a, b, atol=1e-12 * max(1.0, np.abs(a).max()))
+
+
+def test_quick_monotone_test_never_hides_a_split():
+    rng = np.random.default_rng(4)
+    pieces = _all_glyph_pieces() + _random_pieces(rng, 300)
+    params = gauss._split_params_many(pieces)
+    for p, ts in zip(pieces, params):
+        if ts.size:
+            assert gauss._may_split(p)
+
+
+def test_angle_params_batched_over_edges_of_mixed_degree():
+    """angle_params on the tangent numerators of all curve edges of several loops,
+    elevated to one degree, inverts the tangent angle (reference evaluation)."""
+    edges = [e for ch in "Sg&" for loop in parse.glyph_region(ch, FONTS["cff"]).region
+             for e in gauss.gauss_map(loop) if e.kind == "curve" and e.sweep != 0.0]
+    edges += [e for e in gauss.gauss_map(pc.ellipse((0.0, 0.0), 5.0, 1.5, 0.3))]
+    hs = [pc.tangent_numerator(e.piece) for e in edges]
+    deg = max(len(h) for h in hs) - 1
+    from morph import bernstein as bz
+    h = np.array([bz.to_degree(x, deg) for x in hs])
+    rng = np.random.default_rng(5)
+    f = rng.uniform(0, 1, len(edges))
+    theta = np.array([e.theta + x * e.sweep for e, x in zip(edges, f)])
+    t = gauss.angle_params(h, theta)
+    for e, tk, th in zip(edges, t, theta):
+        assert abs(_wrap(_tangent_angle_at(e.piece, tk) - th)) < 1e-8
+        assert tk == pytest.approx(gauss.angle_param(e.piece, th), abs=1e-12)
