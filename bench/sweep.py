@@ -1310,6 +1310,9 @@ def write_section(md_path, mode, title, body):
     if begin in text and end in text:
         i, j = text.index(begin), text.index(end) + len(end)
         text = text[:i] + block + text[j:]
+    elif "<!-- sections -->" in text:   # new sections go before the history
+        i = text.index("<!-- sections -->")
+        text = text[:i] + block + "\n\n" + text[i:]
     else:
         text = text.rstrip("\n") + "\n\n" + block + "\n"
     md_path.write_text(text)
