@@ -20,8 +20,9 @@ exits 2) when
   rational pieces use their Cartesian control points, an estimate, not a bound).
   The points of A ⊕ B are estimated as those of A plus those of B.  The budget is
   calibrated on the Clipper trimming engine (O ⊕ M at 1e-5 font units: 24k
-  estimated points, 2.2 s and 0.3 GB; time and memory grow about linearly), so
-  200k points stay within about 20 s and 2.5 GB; override with the environment
+  estimated points, 2.2 s and 0.3 GB; time and memory grow about linearly, and
+  the sum flattens at a fraction of the user's tolerance), so 50k points stay
+  within about 10 s and 1 GB; override with the environment
   variable ``MORPH_POINT_BUDGET``.
 
 Each message says which tolerance would work.  :func:`memory_budget_bytes` is the
@@ -53,7 +54,7 @@ __all__ = [
 REL_TOL_FLOOR = 1e-12
 FP_FACTOR = 1024.0
 MAX_COORDINATE = 1e100
-POINT_BUDGET = 200_000
+POINT_BUDGET = 50_000
 
 
 def _point_budget():

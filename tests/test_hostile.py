@@ -178,7 +178,10 @@ def test_tiny_coordinates(runner, tmp_path):
     a 2e-9 square; outline and sum work."""
     a = _svg(tmp_path, "tiny.svg", _square_d(0, 0, 1e-9))
     b = _svg(tmp_path, "tiny2.svg", _square_d(0, 0, 1e-9))
-    ok(runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o.png")]))
+    ok(runner.invoke(main, ["outline", a, "--tol", "1e-13", "-o", str(tmp_path / "o.png")]))
+    # the default tolerance (1e-4 user units) is larger than the shape: one clear line
+    res = runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o2.png")])
+    assert res.exit_code == 2 and "larger than the shapes" in res.output
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-13)
     assert abs(area - 4e-18) < 1e-3 * 4e-18
 

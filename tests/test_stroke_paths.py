@@ -12,7 +12,7 @@ from morph import piece as pc
 from morph.fonts.brush import ellipse_nib
 from morph.stroke import stroke_paths
 
-FLAT = 1e-3  # reference flattening (both operands), in path units
+FLAT = 5e-3  # reference flattening (both operands), in path units
 SCALE = 1e4  # Clipper integer scale of the reference
 
 

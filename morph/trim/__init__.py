@@ -14,6 +14,9 @@ the exact curves give the geometry.  Here:
    point with the exact membership predicate; filled holes are closed.
 4. :mod:`.lift`: each ring's runs become the exact pieces restricted to their
    parameter ranges; crossings refined by Newton on the exact pieces.
+5. :mod:`.untangle`: where the exact pieces of a lifted loop still cross (twice
+   within the polylines' error), the loop is split there and twisted or nested
+   lobes go.
 
 Error budget (each output point against the exact boundary of the filled set of
 the input pieces): output pieces are sub-pieces of the input pieces; where the
@@ -21,7 +24,8 @@ topology is decided on the polylines it can be off by eps + grid/sqrt(2) (the
 polyline and rounding errors), and junctions whose Newton iteration did not
 converge sit on the grid point, within the same distance of both pieces.  Runs
 shorter than ``contract`` are contracted, moving their neighbours' ends by less
-than that.  Features thinner than 2 (eps + grid) may merge.
+than that.  Features thinner than 2 (eps + grid) may merge.  Loops may touch
+themselves or each other at single points.
 """
 
 import numpy as np
@@ -30,13 +34,15 @@ from .crossing import polylines_cross
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
+from .untangle import untangle as untangle_loops
 
 __all__ = ["boundary", "fill_region", "polylines_cross", "minkowski_sum"]
 
 THIN_UNITS = 1.5  # rings rounded apart by at most one grid step per vertex
 
 
-def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0):
+def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0,
+             untangle=True):
     """The region filled by closed ``loops`` of pieces under ``fill_rule``, as loops
     of rational pieces (outer counter-clockwise, holes clockwise).
 
@@ -59,7 +65,10 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                 if hole_test(tg.to_float(r.q), islands):
                     filled.append(i)
         rings = fill_holes(rings, filled)
-    return lift_rings([r.q for r in rings], tg, contract)
+    out = lift_rings([r.q for r in rings], tg, contract)
+    if untangle:
+        out = untangle_loops(out, eps)
+    return out
 
 
 def fill_region(loops, fill_rule="nonzero", rel=1e-7):

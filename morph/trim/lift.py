@@ -111,12 +111,12 @@ def _cut_spikes(runs, reach):
         return
     ok = _neighbours_cross(runs, tri, reach)
     flagged = {t for t, hit in zip(tri, ok) if hit}
-    for r in sorted({r for r, _ in flagged}):
-        out, ends = runs[r]
-        j = 0
-        while len(out) >= 3 and j < len(out):
-            cut = _neighbours_cross(runs, [(r, j)], reach, apply=True)
-            j = max(j - 1, 0) if cut[0] else j + 1
+    # cut from the last run back, so that the indices still to visit stay valid (a
+    # cut changes runs j - 1 and j + 1 only); each cut is checked again first
+    for r, j in sorted(flagged, reverse=True):
+        out, _ = runs[r]
+        if len(out) >= 3 and j < len(out):
+            _neighbours_cross(runs, [(r, j)], reach, apply=True)
 
 
 def _neighbours_cross(runs, tri, reach, apply=False):

@@ -1,0 +1,126 @@
+"""Lobes cut out of lifted loops where their exact pieces cross.
+
+The topology is decided on polylines within eps of the pieces; where two exact
+pieces cross twice within that distance (a small swallowtail of the convolution
+curve, two near-tangent pieces), the lifted loop can keep a tiny lobe: a twist or
+a curl.  Such crossings are found on polylines far finer than eps, refined by
+Newton on the exact pieces, and the loop is split there into the lobe and the
+rest.  Under the fill rule of the sums (winding > 0) a lobe of the opposite
+orientation (a twist) or nested in the rest (a curl) bounds nothing and goes; a
+lobe beside the rest with the same orientation (two parts touching at a point) is
+kept as a loop of its own.
+"""
+
+import numpy as np
+
+from .. import piece as pc
+from .crossing import _crossings, _flatten_all, _segment_pairs
+from .lift import newton_crossings
+
+
+def untangle(loops, eps, max_rounds=64):
+    """Loops with their self-crossings resolved (see the module docstring).
+
+    eps: the polylines' bound used to find crossings (absolute)."""
+    out = [list(loop) for loop in loops]
+    for _ in range(max_rounds):
+        hit = _first_crossing(out, eps)
+        if hit is None:
+            return out
+        li, i, s, j, u, x = hit
+        lobe, rest = _split(out[li], i, s, j, u, x)
+        keep = [rest]
+        if lobe and _keep_lobe(lobe, rest, eps):
+            keep.append(lobe)
+        out[li:li + 1] = [k for k in keep if k]
+    return out
+
+
+def _first_crossing(loops, eps):
+    """(loop, piece i, s, piece j, u, point) of one interior crossing of two pieces of
+    one loop (i < j, or i == j for a piece crossing itself), refined on the exact
+    pieces; None if the polylines within eps / 100 show none."""
+    pieces = [p for loop in loops for p in loop]
+    if len(pieces) < 2:
+        return None
+    owner = np.concatenate([np.full(len(loop), k) for k, loop in enumerate(loops)])
+    first = np.concatenate([[0], np.cumsum([len(loop) for loop in loops])[:-1]])
+    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 100.0)
+    pairs = _segment_pairs(p0, p1, ids, True)
+    if not len(pairs):
+        return None
+    k, u, v = _crossings(p0, p1, pairs)
+    a, b = pairs[k, 0], pairs[k, 1]
+    ta = t0[a] + u * (t1[a] - t0[a])
+    tb = t0[b] + v * (t1[b] - t0[b])
+    pa, pb = ids[a], ids[b]
+    same_loop = owner[pa] == owner[pb]
+    # not the shared end of consecutive segments / pieces
+    shared = ((u <= 1e-9) | (u >= 1 - 1e-9)) & ((v <= 1e-9) | (v >= 1 - 1e-9))
+    sel = np.flatnonzero(same_loop & ~shared)
+    if not len(sel):
+        return None
+    used, inv = np.unique(np.concatenate([pa[sel], pb[sel]]), return_inverse=True)
+    stacked = pc.stack([pieces[q] for q in used])
+    guess = p0[a[sel]] + u[sel, None] * (p1[a[sel]] - p0[a[sel]])
+    s, w, ok = newton_crossings(stacked, inv[:len(sel)], ta[sel], inv[len(sel):], tb[sel],
+                                guess, 2.0 * eps, 1e-6 * eps)
+    for n in np.flatnonzero(ok):
+        gi, gj, si, wj = pa[sel[n]], pb[sel[n]], s[n], w[n]
+        if gi > gj or (gi == gj and si > wj):
+            gi, gj, si, wj = gj, gi, wj, si
+        li = owner[gi]
+        i, j = gi - first[li], gj - first[li]
+        n_loop = len(loops[li])
+        # ends of consecutive pieces meet by construction: not a crossing
+        if (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
+           (i == 0 and j == n_loop - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
+           (i == j and abs(si - wj) <= 1e-9):
+            continue
+        x = pc.jet_many(stacked, inv[n:n + 1], s[n:n + 1])[0][0]
+        return li, i, si, j, wj, x
+    return None
+
+
+def _split(loop, i, s, j, u, x):
+    """The loop cut at a crossing of piece i (at s) and piece j (at u), i <= j: the
+    lobe i[s:] .. j[:u] and the rest .. i[:s], j[u:] .., both snapped to x."""
+    if i == j:
+        lobe = [pc.subsegment(loop[i], s, u)]
+        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[i], u, 1.0)] + loop[i + 1:]
+    else:
+        lobe = [pc.subsegment(loop[i], s, 1.0)] + loop[i + 1:j] + [pc.subsegment(loop[j], 0.0, u)]
+        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[j], u, 1.0)] + loop[j + 1:]
+    return _snap(lobe, x), _snap(rest, x)
+
+
+def _snap(loop, x):
+    """Degenerate pieces dropped, every join snapped to the mean of its two ends (x
+    where the cut was made)."""
+    loop = [p for p in loop if pc.length_bound(p) > 0.0]
+    out = []
+    for k, p in enumerate(loop):
+        a = 0.5 * (pc.start(p) + pc.end(loop[k - 1]))
+        b = 0.5 * (pc.end(p) + pc.start(loop[(k + 1) % len(loop)]))
+        out.append(pc.with_endpoints(p, a, b))
+    return out
+
+
+def _keep_lobe(lobe, rest, eps):
+    """A lobe is kept when it has the rest's orientation and lies outside it."""
+    a_lobe, a_rest = pc.loop_area(lobe), pc.loop_area(rest)
+    if np.sign(a_lobe) != np.sign(a_rest) or abs(a_lobe) <= eps * eps:
+        return False
+    probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)
+    poly = pc.flatten_loop(rest, eps / 10)
+    return _winding(probe[0], poly) == 0
+
+
+def _winding(x, poly):
+    a, b = poly, np.roll(poly, -1, axis=0)
+    up = (a[:, 1] <= x[1]) & (b[:, 1] > x[1])
+    down = (b[:, 1] <= x[1]) & (a[:, 1] > x[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cx = a[:, 0] + (x[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    right = cx > x[0]
+    return int(np.sum(up & right) - np.sum(down & right))
