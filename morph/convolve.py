@@ -355,9 +355,6 @@ def choose_roles(ca, cb, tol=None):
     return swap, q2
 
 
-def _positive_weights(piece):
-    return bool(np.all(piece[:, 2] > 0))
-
 # ------------------------------------------------------------- batched QAC forms
 # The functions above take one pair; these take stacks (k, n+1, 3) of pieces of one
 # degree and give the same results row by row (tests/test_convolve.py checks them
@@ -482,7 +479,6 @@ def _jet2(c, s, n):
 def _reparam_bound_many(c2, q2, par, s_par):
     """:func:`_reparam_bound` of each row: (bound, s_peak), (par, s_par) kept where
     the reparametrised bound is not smaller."""
-    k = REPARAM_DEGREE
     pinv, last, qbasis = _fit_matrices()
     origin = c2[:, 0, :2] / c2[:, 0, 2:3]
     c = c2.copy()
