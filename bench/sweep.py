@@ -56,7 +56,8 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
 - orientation: the winding number of the output loops is 0 or 1 everywhere probed;
 - straddle (budget): for boundary samples (4 per piece, up to 600), the disk of
   radius d = tol + 2f around the point (both normal points and 24 points of its
-  circle) must hold points in and out of the exact sum.  The same test on a ladder of
+  circle; where these miss, 1440 dense probes) must hold points in and out of the
+  exact sum.  The same test on a ladder of
   radii c·tol + 2f (c = 1, 1/2, ... 1/64) gives each point's error bound; the worst,
   over tol, is reported (it includes the oracle slack 2f = tol/32);
 - membership (holes right): random points in the box, points 0.6 tol inside and
@@ -67,10 +68,11 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   (the documented rule: features thinner than 0.4 tol may merge; such points are
   counted as "thin");
 - a polygon reference (random: the flattened glyph buffered by the unit disk in
-  M⁻¹ space with 256 segments per quarter circle, mapped back, error <= f + 4.7e-6
-  x max radius; stroke: the Clipper sum above): |area - reference area| <= (tol +
-  reference error) x reference perimeter; the distance from the reference boundary
-  to ours is reported (a merged thin feature can make it large legitimately).
+  M⁻¹ space with 256 segments per quarter circle, mapped back; GEOS simplifies the
+  buffer's input by 1 % of the distance, so its error is f + (4.7e-6 + 0.01) x max
+  radius, more where that closes a notch; stroke: the Clipper sum above):
+  |area - reference area| <= (tol + reference error) x reference perimeter; the
+  distances between the reference boundary and ours are reported, not judged.
 
 Failures print a one-line reproducer, ``run_case(SPEC)`` (the check) and
 ``case_inputs(SPEC)`` (the arguments of ``minkowski_sum`` / ``stroke_paths``); with
@@ -108,6 +110,7 @@ ASPECTS = ((80.0, 30.0), (60.0, 8.0), (40.0, 40.0))   # nib W x H, font units (u
 ANGLE_STEP = 1.7                                       # degrees
 ORACLE_SHARE = 1.0 / 64.0                              # oracle flattening f = tol/64
 LADDER = (1.0, 0.5, 0.25, 0.125, 1 / 16, 1 / 32, 1 / 64)
+BUFFER_SIMPLIFY = 0.01   # GEOS simplifies a buffer's input by 1 % of the distance
 OTHER_FONTS = {"lobster": ("fontpkg_lobster", "Lobster-Regular.ttf"),
                "cormorant": ("fontpkg_cormorant", "Cormorant[wght].ttf"),
                "amiri": ("fontpkg_amiri", "Amiri-Regular.ttf")}
@@ -492,7 +495,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     ref_index = None
     if ref is not None and not ref.is_empty:
         ref_index = SegmentIndex(_segments_of(ref))
-        # measured error: distance to the reference boundary (within ref_err of exact)
+        # distance to the polygon reference's boundary: informative only (see above)
         res["ref_dist/tol"] = float(ref_index.distance(pts).max() / tol) if len(pts) else 0.0
     res["probe_misses"] = 0
     for c in ladder:
@@ -500,16 +503,12 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
         pr = straddle_probes(pts[alive], nrm[alive], d)
         inside = oracle(pr.reshape(-1, 2)).reshape(len(alive), -1)
         ok = inside.any(axis=1) & (~inside).any(axis=1)
-        if c == ladder[0] and not ok.all() and ref_index is not None:
+        if c == ladder[0] and not ok.all():
             # 26 probes miss a wedge of the complement narrower than 15 degrees (a
-            # hole's sharp tip): such a point is confirmed by its distance to the
-            # reference boundary (exact within ref_err)
-            near = ref_index.distance(pts[alive[~ok]]) <= d + ref_err
-            res["probe_misses"] = int(near.sum())
-            ok[np.flatnonzero(~ok)[near]] = True
-        if c == ladder[0] and not ok.all() and ref_index is None:
-            # no reference: probe the disk densely (8 rings of 180 directions: wedges
-            # down to 2 degrees)
+            # hole's sharp tip): probe the disk densely with the exact predicate (8
+            # rings of 180 directions: wedges down to 2 degrees).  (Not the polygon
+            # reference: GEOS simplifies a buffer's input by 1 % of the distance and
+            # can close a notch deeper than that.)
             miss = np.flatnonzero(~ok)
             for i in miss:
                 ang = np.linspace(0, 2 * np.pi, 180, endpoint=False)
@@ -907,7 +906,7 @@ def run_case(spec, seed=0):
         geom = raw_glyph_polygon(c["font"], c["glyph"], f, c["s"])
         oracle = NibOracle(geom, rx, ry, theta)
         ref = oracle.reference()
-        ref_err = f + (1 - math.cos(math.pi / 1024)) * max(rx, ry)
+        ref_err = f + (1 - math.cos(math.pi / 1024) + BUFFER_SIMPLIFY) * max(rx, ry)
     else:
         from shapely.geometry import LineString, MultiLineString
 
@@ -925,7 +924,7 @@ def run_case(spec, seed=0):
         clip = stroke_polygon(a, nib_region, ref_tol)
         clip_err = ref_tol + 2 * ref_tol / 100
         ref = oracle.reference()
-        ref_err = f + (1 - math.cos(math.pi / 1024)) * max(rx, ry)
+        ref_err = f + (1 - math.cos(math.pi / 1024) + BUFFER_SIMPLIFY) * max(rx, ry)
     res["size"] = size
     chk = verify(loops, oracle, tol, f, size, rng, ref=ref, ref_err=ref_err)
     if c["kind"] == "stroke":
@@ -1220,11 +1219,12 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
     meas = [r for r in results if np.isfinite(r.get("ref_dist/tol", np.nan))]
     if meas:
         w = max(meas, key=lambda r: r["ref_dist/tol"])
-        lines.append("Worst measured error / tol (largest distance from a sampled output "
-                     "boundary point to the reference boundary, which is within f + arc "
-                     "sagitta <= 0.04 tol of the exact one): **%.3f** (`%s`); median over jobs "
-                     "%.3f." % (w["ref_dist/tol"], w["spec"],
-                                float(np.median([r["ref_dist/tol"] for r in meas]))))
+        lines.append("Distance from sampled output boundary points to the polygon "
+                     "reference's boundary / tol (informative only: GEOS simplifies the "
+                     "buffer's input by 1 %% of the nib radius and can close notches): "
+                     "worst %.3f (`%s`), median over jobs %.3f."
+                     % (w["ref_dist/tol"], w["spec"],
+                        float(np.median([r["ref_dist/tol"] for r in meas]))))
     errs = [r for r in results if np.isfinite(r.get("err/tol", np.nan))]
     if errs:
         w = max(errs, key=lambda r: r["err/tol"])
@@ -1239,9 +1239,9 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
         lines.append("Jobs by worst error bound / tol: " + ", ".join(
             "<= %.3g: %d" % (k + 2 * ORACLE_SHARE, hist[k]) for k in sorted(hist)) + ".")
         pm = sum(r.get("probe_misses", 0) for r in results)
-        lines.append("Straddle probe misses (a hole's tip narrower than 15 degrees; the "
-                     "point's distance to the reference boundary confirmed <= tol + 2f + "
-                     "reference error): %d points." % pm)
+        lines.append("Straddle probe misses (a hole's tip narrower than 15 degrees; "
+                     "confirmed within tol + 2f by 1440 dense probes of the exact "
+                     "predicate): %d points." % pm)
         th = sum(r.get("thin", 0) for r in results)
         lines.append("Membership points on the wrong side inside features thinner than "
                      "0.4 tol (allowed by the budget): %d." % th)
@@ -1266,11 +1266,11 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
         if not groups:
             return []
         out = ["| %s | jobs | failed | sum time s (median / mean / max) | check time s "
-               "(median / mean / max) | worst measured error / tol |" % title,
+               "(median / mean / max) | worst error bound / tol |" % title,
                "|---|---|---|---|---|---|"]
         for k in sorted(groups):
             g = groups[k]
-            we = [r["ref_dist/tol"] for r in g if np.isfinite(r.get("ref_dist/tol", np.nan))]
+            we = [r["err/tol"] for r in g if np.isfinite(r.get("err/tol", np.nan))]
             out.append("| %s | %d | %d | %s | %s | %s |"
                        % (k, len(g), sum(1 for r in g if r["fail"]),
                           _fmt_stats([r.get("time_sum") for r in g]),
