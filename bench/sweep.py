@@ -876,9 +876,6 @@ def run_case(spec, seed=0):
         res.pop("trace", None)
         res["spec"] = spec
         return res
-    import shapely
-
-    from morph import piece as pc
     from morph.minkowski import minkowski_sum
     from morph.stroke import stroke_paths
 
