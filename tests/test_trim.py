@@ -160,11 +160,16 @@ def test_small_hole_closes():
 def test_large_hole_stays():
     ring = _ring(10.0, 6.0)
     disk = [pc.circle([0, 0], 2.0)]
-    loops = minkowski_sum(ring, disk, 1e-4)
+    tol = 1e-4
+    loops = minkowski_sum(ring, disk, tol)
     areas = sorted(pc.loop_area(l) for l in loops)
     assert len(loops) == 2 and areas[0] < 0 < areas[1]
-    assert abs(areas[0] + np.pi * 4.0 ** 2) < 1e-3
-    assert abs(areas[1] - np.pi * 12.0 ** 2) < 1e-3
+    # every boundary point within tol of the exact circles: the areas within tol x
+    # perimeter (the QAC pieces of two conics are not exact; 0.13 tol measured)
+    assert abs(areas[0] + np.pi * 4.0 ** 2) <= tol * 2 * np.pi * 4.0
+    assert abs(areas[1] - np.pi * 12.0 ** 2) <= tol * 2 * np.pi * 12.0
+    r = np.hypot(*np.concatenate([pc.sample(p, 20) for l in loops for p in l]).T)
+    assert np.all(np.minimum(np.abs(r - 4.0), np.abs(r - 12.0)) <= tol)
 
 
 def test_hole_closed_by_square_not_by_winding():

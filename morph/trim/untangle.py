@@ -8,7 +8,8 @@ Newton on the exact pieces, and the loop is split there into the lobe and the
 rest.  Under the fill rule of the sums (winding > 0) a lobe of the opposite
 orientation (a twist) or nested in the rest (a curl) bounds nothing and goes; a
 lobe beside the rest with the same orientation (two parts touching at a point) is
-kept as a loop of its own.
+kept as a loop of its own.  Zero-width spikes (a piece folding back onto its
+neighbour) are removed first.
 """
 
 import numpy as np
@@ -24,6 +25,7 @@ def untangle(loops, eps, max_rounds=64):
     eps: the polylines' bound used to find crossings (absolute)."""
     out = [list(loop) for loop in loops]
     for _ in range(max_rounds):
+        out = [remove_folds(loop, 2.0 * eps) for loop in out]
         hit = _first_crossing(out, eps)
         if hit is None:
             return out
@@ -80,6 +82,60 @@ def _first_crossing(loops, eps):
         x = pc.jet_many(stacked, inv[n:n + 1], s[n:n + 1])[0][0]
         return li, i, si, j, wj, x
     return None
+
+
+FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
+
+
+def remove_folds(loop, width):
+    """The loop without zero-width spikes: where a piece folds back onto its
+    neighbour (turn of pi at their join) and lies within ``width`` of it, the
+    shorter of the two goes and the longer is cut where the shorter one began (or
+    ended).  Such spikes enclose no area; the polygon engine keeps them because it
+    preserves collinear vertices."""
+    loop = list(loop)
+    changed = True
+    while changed and len(loop) >= 3:
+        changed = False
+        for i in range(len(loop)):
+            j = (i + 1) % len(loop)
+            a, b = loop[i], loop[j]
+            if float(np.dot(pc.end_tangents(a)[1], pc.end_tangents(b)[0])) > FOLD_COS:
+                continue
+            la, lb = pc.length_bound(a), pc.length_bound(b)
+            short, long_ = (a, b) if la <= lb else (b, a)
+            ts = np.linspace(0.0, 1.0, 9)
+            near, t_near = _closest(long_, pc.evaluate(short, ts))
+            if near.max() > width:
+                continue
+            if la <= lb:  # a goes; b starts where a started
+                loop[j] = pc.subsegment(b, t_near[0], 1.0)
+                loop[j] = pc.with_endpoints(loop[j], pc.start(a), pc.end(loop[j]))
+            else:  # b goes; a ends where b ended
+                loop[i] = pc.subsegment(a, 0.0, t_near[-1])
+                loop[i] = pc.with_endpoints(loop[i], pc.start(loop[i]), pc.end(b))
+            del loop[j if la > lb else i]
+            changed = True
+            break
+    return loop
+
+
+def _closest(piece, points, samples=257):
+    """Distances from points to a piece and the parameters of the closest points
+    (dense sampling, then Newton on the squared distance)."""
+    t = np.linspace(0.0, 1.0, samples)
+    curve = pc.evaluate(piece, t)
+    d2 = ((points[:, None, :] - curve[None, :, :]) ** 2).sum(axis=2)
+    u = t[np.argmin(d2, axis=1)]
+    stacked = pc.stack([piece])
+    idx = np.zeros(len(points), int)
+    for _ in range(8):
+        x, dx = pc.jet_many(stacked, idx, u)
+        r = x - points
+        step = (r * dx).sum(axis=1) / np.maximum((dx * dx).sum(axis=1), 1e-300)
+        u = np.clip(u - step, 0.0, 1.0)
+    x, _ = pc.jet_many(stacked, idx, u)
+    return np.hypot(*(x - points).T), u
 
 
 def _split(loop, i, s, j, u, x):
