@@ -31,13 +31,19 @@ def _segment_pairs(p0, p1, ids, same_piece_ok):
     n = len(p0)
     span = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-300)
     lengths = np.maximum(hi - lo, 0).max(axis=1)
-    cell = max(np.median(lengths) * 4.0, span.max() / 2048.0)
+    # cells about as large as the typical segment (few segments per cell), grown
+    # while long segments would cover more than 8 cells per segment on average
+    cell = max(float(np.median(lengths)) * 2.0, span.max() * 1e-9)
     origin = lo.min(axis=0)
-    c0 = np.floor((lo - origin) / cell).astype(np.int64)
-    c1 = np.floor((hi - origin) / cell).astype(np.int64)
-    nx = c1[:, 0] - c0[:, 0] + 1
-    ny = c1[:, 1] - c0[:, 1] + 1
-    counts = nx * ny
+    while True:
+        c0 = np.floor((lo - origin) / cell).astype(np.int64)
+        c1 = np.floor((hi - origin) / cell).astype(np.int64)
+        nx = c1[:, 0] - c0[:, 0] + 1
+        ny = c1[:, 1] - c0[:, 1] + 1
+        counts = nx * ny
+        if counts.sum() <= 8 * n + 64:
+            break
+        cell *= 2.0
     seg = np.repeat(np.arange(n), counts)
     # enumerate cells covered by each segment's box
     offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
