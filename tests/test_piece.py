@@ -79,7 +79,10 @@ def test_tangent_numerator_is_parallel_to_derivative(p):
     dot = (d * h).sum(axis=1)
     scale = np.hypot(*d.T) * np.hypot(*h.T) + 1e-12
     assert np.all(np.abs(cross) <= 1e-8 * scale + 1e-9)
-    assert np.all(dot >= -1e-9 * scale - 1e-15)  # d vanishes where P has a zero end derivative
+    # the direction is compared where P' does not vanish (a control point on its own
+    # end point makes P'(0) = 0; the tangent numerator then has the limit direction)
+    moving = np.hypot(*d.T) > 1e-9 * np.hypot(*d.T).max()
+    assert np.all(dot[moving] >= -1e-9 * scale[moving])
 
 
 @given(rational_pieces(), st.floats(0.05, 0.95))

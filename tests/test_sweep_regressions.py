@@ -115,12 +115,8 @@ SLOW = {
 OPEN = {
     "nib/amiri/uniFC6A/60x8/153/0.563/1.1e-05":
         "TopologyError: open convolution chain",
-    "nib/lobster/5/80x30/163.2/0.213/0.089":
-        "loop not simple",
     "nib/lobster/Q/40x40/74.8/2.43/0.0013":
         "a hole's boundary point 1.69 tol inside the exact sum",
-    "nib/amiri/uniFD19/80x30/142.8/0.658/0.054":
-        "loops not simple (adjacent pieces cross 0.003-0.02 tol from junctions)",
     "nib/cormorant/A/80x30/134.3/76.7/0.074":
         "a hole of inradius 0.54 tol (wider than the documented 0.4 tol) is filled",
 }

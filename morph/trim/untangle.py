@@ -41,13 +41,13 @@ def untangle(loops, eps, max_rounds=64):
 def _first_crossing(loops, eps):
     """(loop, piece i, s, piece j, u, point) of one interior crossing of two pieces of
     one loop (i < j, or i == j for a piece crossing itself), refined on the exact
-    pieces; None if the polylines within eps / 10 show none."""
+    pieces; None if the polylines within eps / 100 show none."""
     pieces = [p for loop in loops for p in loop]
     if len(pieces) < 2:
         return None
     owner = np.concatenate([np.full(len(loop), k) for k, loop in enumerate(loops)])
     first = np.concatenate([[0], np.cumsum([len(loop) for loop in loops])[:-1]])
-    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 10.0)
+    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 100.0)
     pairs = _segment_pairs(p0, p1, ids, True)
     if not len(pairs):
         return None
