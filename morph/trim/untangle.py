@@ -28,6 +28,8 @@ def untangle(loops, eps, max_rounds=64):
         out = [remove_folds(loop, 2.0 * eps) for loop in out]
         hit = _first_crossing(out, eps)
         if hit is None:
+            hit = _junction_crossing(out, eps)
+        if hit is None:
             return out
         li, i, s, j, u, x = hit
         lobe, rest = _split(out[li], i, s, j, u, x)
@@ -41,13 +43,13 @@ def untangle(loops, eps, max_rounds=64):
 def _first_crossing(loops, eps):
     """(loop, piece i, s, piece j, u, point) of one interior crossing of two pieces of
     one loop (i < j, or i == j for a piece crossing itself), refined on the exact
-    pieces; None if the polylines within eps / 100 show none."""
+    pieces; None if the polylines within eps / 10 show none."""
     pieces = [p for loop in loops for p in loop]
     if len(pieces) < 2:
         return None
     owner = np.concatenate([np.full(len(loop), k) for k, loop in enumerate(loops)])
     first = np.concatenate([[0], np.cumsum([len(loop) for loop in loops])[:-1]])
-    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 100.0)
+    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 10.0)
     pairs = _segment_pairs(p0, p1, ids, True)
     if not len(pairs):
         return None
@@ -81,6 +83,36 @@ def _first_crossing(loops, eps):
             continue
         x = pc.jet_many(stacked, inv[n:n + 1], s[n:n + 1])[0][0]
         return li, i, si, j, wj, x
+    return None
+
+
+def _junction_crossing(loops, eps):
+    """A crossing of two consecutive pieces close to their join (closer than the
+    polylines of :func:`_first_crossing` resolve): Newton from points about eps
+    before and after every join, all joins at once."""
+    pairs = [(li, i) for li, loop in enumerate(loops) if len(loop) >= 2 for i in range(len(loop))]
+    if not pairs:
+        return None
+    a = [loops[li][i] for li, i in pairs]
+    b = [loops[li][(i + 1) % len(loops[li])] for li, i in pairs]
+    la = np.array([pc.length_bound(p) for p in a])
+    lb = np.array([pc.length_bound(p) for p in b])
+    s0 = 1.0 - np.clip(2.0 * eps / np.maximum(la, 1e-300), 1e-6, 0.5)
+    u0 = np.clip(2.0 * eps / np.maximum(lb, 1e-300), 1e-6, 0.5)
+    stacked = pc.stack(a + b)
+    m = len(pairs)
+    ia, ib = np.arange(m), np.arange(m, 2 * m)
+    joint = np.array([pc.end(p) for p in a])
+    s, u, ok = newton_crossings(stacked, ia, s0, ib, u0, joint, 8.0 * eps, 1e-9 * eps)
+    ok &= (s < 1.0 - 1e-9) & (u > 1e-9)
+    for n in np.flatnonzero(ok):
+        li, i = pairs[n]
+        loop = loops[li]
+        x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
+        if i == len(loop) - 1:  # the join at the loop's own start: rotate it inside
+            loops[li] = loop[1:] + loop[:1]
+            i -= 1
+        return li, i, s[n], i + 1, u[n], x
     return None
 
 
