@@ -113,8 +113,6 @@ SLOW = {
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
 OPEN = {
-    "nib/amiri/uniFC6A/60x8/153/0.563/1.1e-05":
-        "TopologyError: open convolution chain",
     "nib/lobster/Q/40x40/74.8/2.43/0.0013":
         "a hole's boundary point 1.69 tol inside the exact sum",
     "nib/cormorant/A/80x30/134.3/76.7/0.074":
