@@ -45,13 +45,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import kurbopy  # noqa: E402
+import kurbopy  # noqa: E402 - after sys.path gets the repo root
 
-from morph import bernstein as bz  # noqa: E402
-from morph import piece as pc  # noqa: E402
-from morph.export import (SUM_SHARE, loop_to_beziers, piece_to_cubics,  # noqa: E402
+from morph import bernstein as bz  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.export import (SUM_SHARE, loop_to_beziers, piece_to_cubics,  # noqa: E402 - after sys.path gets the repo root
                           split_tolerance)
-from morph.render.svg import svg_path_data  # noqa: E402
+from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
 
 PREVIOUS = "2043d8b~1"      # the exporter before kurbo's fit
 

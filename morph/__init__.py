@@ -8,6 +8,8 @@ counter-clockwise and holes clockwise (y up).
 
 __version__ = "0.1.0"
 
+# the public names below come after __version__, which the CLI imports (E402 on purpose)
+
 from .cspace import cspace_obstacle  # noqa: E402
 from .export import loop_to_cubics, piece_to_cubics, piece_to_quadratics  # noqa: E402
 from .frames import morph_frames  # noqa: E402

@@ -507,17 +507,7 @@ def _flat_enough(parts, tol):
 
 def _split_half(parts):
     """de Casteljau at t = 1/2 of a stack (m, n+1, 3) of pieces."""
-    n = parts.shape[1] - 1
-    left = np.empty_like(parts)
-    right = np.empty_like(parts)
-    work = parts
-    left[:, 0] = work[:, 0]
-    right[:, n] = work[:, n]
-    for r in range(1, n + 1):
-        work = 0.5 * (work[:, :-1] + work[:, 1:])
-        left[:, r] = work[:, 0]
-        right[:, n - r] = work[:, -1]
-    return left, right
+    return bz.split_many(parts, np.full(len(parts), 0.5))
 
 
 def flatten_loop(pieces, tol):

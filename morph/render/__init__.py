@@ -67,5 +67,5 @@ def frame_bbox(shapes, bbox=None, margin=0.05):
     return np.array([x0 - m, y0 - m, x1 + m, y1 + m])
 
 
-from .png import frames_to_gif, render_png, save_animation, write_png  # noqa: E402
+from .png import frames_to_gif, render_png, save_animation, write_png  # noqa: E402 - png uses frame_bbox above
 from .svg import svg_document, svg_path_data, write_svg  # noqa: E402
