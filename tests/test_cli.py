@@ -157,7 +157,9 @@ def test_engine_failures_are_internal_exit_1(runner, tmp_path, monkeypatch, erro
         raise getattr(morph.errors, error)("loops do not close")
 
     import importlib
-    for name in ("morph.minkowski", "morph.trim"):  # wherever the command imports it from
+    # morph.trim first: its module __getattr__ reads morph.minkowski.minkowski_sum, so
+    # patching morph.minkowski first would make monkeypatch "restore" morph.trim to fail
+    for name in ("morph.trim", "morph.minkowski"):  # wherever the command imports it from
         try:
             monkeypatch.setattr(importlib.import_module(name), "minkowski_sum", fail)
         except ImportError:
