@@ -244,6 +244,45 @@ def tangent_numerator_many(stacked, rational):
     return bz._apply(_reduce_pinv(full.shape[1] - 1), full)
 
 
+def tangent_cones(pieces, rel=1e-12):
+    """Cones holding every tangent direction of each piece, for monotonicity tests.
+
+    The tangent numerator H (:func:`tangent_numerator_many`) is a positive
+    combination of its Bernstein coefficients, so every tangent direction lies in
+    the cone they span.  Per piece: ``start`` (angle of the first nonzero
+    coefficient: the start tangent, also at a zero end derivative), ``lo <= 0 <=
+    hi`` (the cone's angles relative to ``start``), ``end`` (the end tangent,
+    relative to ``start``).  Where the cone spans pi or more, lo = -inf, hi = inf.
+    A curve whose tangents stay in a cone narrower than pi is monotone along its
+    bisector and cannot cross itself.
+    """
+    n = len(pieces)
+    start, lo, hi, end = (np.zeros(n) for _ in range(4))
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault((len(p), not is_polynomial(p)), []).append(k)
+    for (_, rational), ks in groups.items():
+        h = tangent_numerator_many(np.array([pieces[k] for k in ks], float), rational)
+        start[ks], lo[ks], hi[ks], end[ks] = _cones(h, rel)
+    return start, lo, hi, end
+
+
+def _cones(h, rel):
+    """:func:`tangent_cones` of a stack of tangent numerators (k, m+1, 2)."""
+    norm = np.hypot(h[..., 0], h[..., 1])
+    live = norm > rel * np.maximum(norm.max(axis=1, keepdims=True), 1e-300)
+    ang = np.arctan2(h[..., 1], h[..., 0])
+    first = np.argmax(live, axis=1)
+    last = h.shape[1] - 1 - np.argmax(live[:, ::-1], axis=1)
+    rows = np.arange(len(h))
+    start = ang[rows, first]
+    relang = np.angle(np.exp(1j * (ang - start[:, None])))
+    lo = np.where(live, relang, 0.0).min(axis=1)
+    hi = np.where(live, relang, 0.0).max(axis=1)
+    wide = hi - lo >= np.pi * (1.0 - 1e-9)
+    return start, np.where(wide, -np.inf, lo), np.where(wide, np.inf, hi), relang[rows, last]
+
+
 def end_zero_rows(h, rel=1e-12):
     """Rows of a stack of tangent numerators (k, m+1, 2) that vanish at an end (to
     ``rel`` of their largest coefficient): where :func:`tangent_numerator` divides
@@ -327,6 +366,19 @@ def bbox(piece):
 def length_bound(piece):
     """Length of the Cartesian control polygon (an upper bound of the arc length)."""
     return float(np.sum(np.hypot(*np.diff(cartesian(piece), axis=0).T)))
+
+
+def length_bounds(pieces):
+    """:func:`length_bound` of many pieces (those of one degree at once): (k,)."""
+    out = np.zeros(len(pieces))
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault(len(p), []).append(k)
+    for ks in groups.values():
+        h = np.array([pieces[k] for k in ks], float)
+        d = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
+        out[ks] = np.hypot(d[..., 0], d[..., 1]).sum(axis=1)
+    return out
 
 
 def with_endpoints(piece, p0, p1):

@@ -68,6 +68,75 @@ def _segment_pairs(p0, p1, ids, same_piece_ok):
     return pairs[keep]
 
 
+def uncertain_pairs(loops):
+    """Pairs (i, j), i <= j, of pieces (indices into the loops' pieces in order) of
+    one loop that may cross or touch away from a shared end: their control boxes
+    overlap and no monotone chain holds both.
+
+    A chain of consecutive pieces whose tangents stay in a cone narrower than pi
+    (:func:`morph.piece.tangent_cones`, corners included) is monotone along the
+    cone's bisector, so it is a simple arc: two of its pieces meet at most at a
+    shared end.  Either way round the loop from i to j may be that chain.
+    """
+    pieces = [p for loop in loops for p in loop]
+    sizes = np.array([len(loop) for loop in loops])
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    local = np.arange(len(pieces)) - first[owner]
+    start, lo, hi, end = pc.tangent_cones(pieces)
+    nxt = first[owner] + (local + 1) % sizes[owner]
+    turn = end + np.angle(np.exp(1j * (start[nxt] - start - end)))
+    csum = np.cumsum(turn) - turn
+    base = csum - csum[first][owner]  # unwrapped start angle of each piece in its loop
+    total = np.add.reduceat(turn, first) if len(first) else turn
+    # each loop twice in a row, the second copy one total turn further on
+    pos = 2 * first[owner] + local
+    m = 2 * len(pieces)
+    lo2, hi2 = np.empty(m), np.empty(m)
+    lo2[pos], hi2[pos] = base + lo, base + hi
+    lo2[pos + sizes[owner]] = base + lo + total[owner]
+    hi2[pos + sizes[owner]] = base + hi + total[owner]
+    i, j = _box_pairs(pieces, owner)
+    a, b = pos[i], pos[j]
+    narrow = np.pi * (1.0 - 1e-9)
+    fwd = _range_span(lo2, hi2, a, b) < narrow
+    back = _range_span(lo2, hi2, b, a + sizes[owner[i]]) < narrow
+    keep = ~(fwd | back)
+    return np.stack([i[keep], j[keep]], axis=1)
+
+
+def _box_pairs(pieces, owner):
+    """(i, j), i <= j, of pieces of one loop whose control boxes overlap (i == j
+    included)."""
+    boxes = np.array([pc.bbox(p) for p in pieces])
+    n = len(pieces)
+    pairs = _segment_pairs(boxes[:, :2], boxes[:, 2:], np.arange(n), True) if n > 1 \
+        else np.zeros((0, 2), np.int64)
+    pairs = pairs[owner[pairs[:, 0]] == owner[pairs[:, 1]]]
+    i = np.concatenate([np.arange(n), pairs[:, 0]])
+    j = np.concatenate([np.arange(n), pairs[:, 1]])
+    return i, j
+
+
+def _range_span(lo, hi, a, b):
+    """max(hi[a..b]) - min(lo[a..b]) for index ranges a <= b (inclusive), all at
+    once (sparse tables)."""
+    lows, highs = [lo], [hi]
+    while 2 ** len(lows) <= len(lo):
+        w = 2 ** (len(lows) - 1)
+        lows.append(np.minimum(lows[-1][:-w], lows[-1][w:]))
+        highs.append(np.maximum(highs[-1][:-w], highs[-1][w:]))
+    k = np.floor(np.log2(b - a + 1)).astype(int)
+    out = np.empty(len(a))
+    for level in np.unique(k):
+        s = k == level
+        w = 2 ** level
+        mn = np.minimum(lows[level][a[s]], lows[level][b[s] - w + 1])
+        mx = np.maximum(highs[level][a[s]], highs[level][b[s] - w + 1])
+        out[s] = mx - mn
+    return out
+
+
 def _crossings(p0, p1, pairs):
     """Proper or touching crossings of segment pairs: (pair index, u, v) parameters."""
     i, j = pairs[:, 0], pairs[:, 1]

@@ -59,34 +59,52 @@ def lift_rings(rings, tg, contract):
         tq[k] = np.where(ok, ta, tq[k])
         tp[nx[k]] = np.where(ok, tb, tp[nx[k]])
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
-    runs = []
-    for r in range(len(rings)):
-        lo, hi = first[r], first[r] + sizes[r]
-        runs.append(_ring_runs(np.arange(lo, hi), cont[lo:hi], pid, tp, tq, fwd, point,
-                               tg.pieces))
+    runs = _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, tg.pieces)
     _cut_spikes(runs, 2.0 * tg.grid * MATCH_UNITS)
     out = [_close(pieces, ends, contract) for pieces, ends in runs]
     return [loop for loop in out if loop]
 
 
-def _ring_runs(edges, cont, pid, tp, tq, fwd, point, pieces):
-    """The runs of one ring as sub-pieces, and the junction point after each."""
-    junctions = np.flatnonzero(~cont)
-    if len(junctions) == 0:  # a whole single-piece loop
-        p = pieces[pid[edges[0]]]
-        p = p if fwd[edges[0]] else pc.reverse(p)
-        return [p], [pc.start(p)]
-    out, ends = [], []
-    for j in range(len(junctions)):
-        e_first = edges[(junctions[j - 1] + 1) % len(edges)]
-        e_last = edges[junctions[j]]
-        out.append(pc.subsegment(pieces[pid[e_first]], tp[e_first], tq[e_last]))
-        ends.append(point[e_last])
-    # junction points: crossings from Newton, joints the mean of the two ends
-    for j in range(len(out)):
-        if np.isnan(ends[j]).any():
-            ends[j] = 0.5 * (pc.end(out[j]) + pc.start(out[(j + 1) % len(out)]))
-    return out, ends
+def _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, pieces):
+    """Per ring: its runs as sub-pieces (all cut at once) and the junction point after
+    each (crossings from Newton; at joints the mean of the two ends)."""
+    spans = []  # (ring, piece, t_a, t_b, junction row)
+    for r in range(len(rings)):
+        edges = np.arange(first[r], first[r] + sizes[r])
+        junctions = np.flatnonzero(~cont[edges])
+        if len(junctions) == 0:  # a whole single-piece loop
+            e = edges[0]
+            spans.append((r, pid[e], 0.0 if fwd[e] else 1.0, 1.0 if fwd[e] else 0.0, -1))
+            continue
+        for j in range(len(junctions)):
+            e_first = edges[(junctions[j - 1] + 1) % len(edges)]
+            e_last = edges[junctions[j]]
+            spans.append((r, pid[e_first], tp[e_first], tq[e_last], e_last))
+    ring, piece_id, ta, tb, row = (np.array(c) for c in zip(*spans))
+    cut = _subsegments(pieces, piece_id.astype(int), ta, tb)
+    runs = [([], []) for _ in rings]
+    for k in range(len(spans)):
+        runs[ring[k]][0].append(cut[k])
+        runs[ring[k]][1].append(point[row[k]] if row[k] >= 0 else pc.start(cut[k]))
+    for out, ends in runs:
+        for j in range(len(out)):
+            if np.isnan(ends[j]).any():
+                ends[j] = 0.5 * (pc.end(out[j]) + pc.start(out[(j + 1) % len(out)]))
+    return runs
+
+
+def _subsegments(pieces, idx, t0, t1):
+    """pieces[idx[k]] restricted to [t0[k], t1[k]] (reversed where t1 < t0), those of
+    one degree at once."""
+    out = [None] * len(idx)
+    groups = {}
+    for k, i in enumerate(idx):
+        groups.setdefault(len(pieces[i]), []).append(k)
+    for ks in groups.values():
+        h = np.array([pieces[idx[k]] for k in ks], float)
+        for k, c in zip(ks, bz.subsegment_many(h, t0[ks], t1[ks])):
+            out[k] = c
+    return out
 
 
 def _close(out, ends, contract):
@@ -174,13 +192,13 @@ def _edge_segments(p, q, tg):
 
 def _vertex_candidates(p, q, tg):
     """(edge, segment) pairs from exact grid matches of the edges' end vertices."""
-    keys = _as_keys(tg.q)
+    keys = _as_keys(tg.q, tg.q)
     order = np.argsort(keys, kind="stable")
     sk = keys[order]
     es, ss = [], []
     for pts, rel in ((p, (lambda i: i, tg.prv.__getitem__)),
                      (q, (tg.prv.__getitem__, lambda i: i))):
-        kp = _as_keys(pts)
+        kp = _as_keys(pts, tg.q)
         lo = np.searchsorted(sk, kp, "left")
         hi = np.searchsorted(sk, kp, "right")
         cnt = hi - lo
@@ -192,9 +210,17 @@ def _vertex_candidates(p, q, tg):
     return np.concatenate(es), np.concatenate(ss)
 
 
-def _as_keys(q):
+def _as_keys(q, ref):
+    """One sortable key per grid point: x * height + y inside the box of ``ref``
+    (-1 outside it: such a point matches no vertex of ``ref``); structured
+    (x, y) keys where the box has more than 2^62 points."""
     q = np.ascontiguousarray(q, np.int64)
-    return q.view([("x", np.int64), ("y", np.int64)]).ravel()
+    lo, hi = ref.min(axis=0), ref.max(axis=0)
+    height = int(hi[1]) - int(lo[1]) + 1
+    if (int(hi[0]) - int(lo[0]) + 1) * height >= 2 ** 62:
+        return q.view([("x", np.int64), ("y", np.int64)]).ravel()
+    inside = np.all((q >= lo) & (q <= hi), axis=1)
+    return np.where(inside, (q[:, 0] - lo[0]) * height + (q[:, 1] - lo[1]), -1)
 
 
 def _fit(p, q, a, b):

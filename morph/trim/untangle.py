@@ -15,7 +15,7 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from .crossing import _crossings, _flatten_all, _segment_pairs
+from .crossing import _crossings, _flatten_all, _segment_pairs, uncertain_pairs
 from .lift import newton_crossings
 
 
@@ -25,7 +25,8 @@ def untangle(loops, eps, max_rounds=64):
     eps: the polylines' bound used to find crossings (absolute)."""
     out = [list(loop) for loop in loops]
     for _ in range(max_rounds):
-        out = [remove_folds(loop, 2.0 * eps) for loop in out]
+        folded = _may_fold(out)
+        out = [remove_folds(loop, 2.0 * eps) if f else loop for loop, f in zip(out, folded)]
         hit = _first_crossing(out, eps)
         if hit is None:
             hit = _junction_crossing(out, eps)
@@ -49,8 +50,16 @@ def _first_crossing(loops, eps):
         return None
     owner = np.concatenate([np.full(len(loop), k) for k, loop in enumerate(loops)])
     first = np.concatenate([[0], np.cumsum([len(loop) for loop in loops])[:-1]])
-    p0, p1, ids, t0, t1 = _flatten_all(pieces, eps / 10.0)
+    suspects = uncertain_pairs(loops)  # the other pairs cannot cross
+    if not len(suspects):
+        return None
+    used = np.unique(suspects)
+    p0, p1, ids, t0, t1 = _flatten_all([pieces[k] for k in used], eps / 10.0)
+    ids = used[ids]
     pairs = _segment_pairs(p0, p1, ids, True)
+    if len(pairs):
+        key = np.sort(ids[pairs], axis=1) @ np.array([len(pieces), 1])
+        pairs = pairs[np.isin(key, suspects @ np.array([len(pieces), 1]))]
     if not len(pairs):
         return None
     k, u, v = _crossings(p0, p1, pairs)
@@ -95,14 +104,13 @@ def _junction_crossing(loops, eps):
         return None
     a = [loops[li][i] for li, i in pairs]
     b = [loops[li][(i + 1) % len(loops[li])] for li, i in pairs]
-    la = np.array([pc.length_bound(p) for p in a])
-    lb = np.array([pc.length_bound(p) for p in b])
+    la, lb = pc.length_bounds(a), pc.length_bounds(b)
     s0 = 1.0 - np.clip(2.0 * eps / np.maximum(la, 1e-300), 1e-6, 0.5)
     u0 = np.clip(2.0 * eps / np.maximum(lb, 1e-300), 1e-6, 0.5)
     stacked = pc.stack(a + b)
     m = len(pairs)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    joint = np.array([pc.end(p) for p in a])
+    joint = pc.jet_many(stacked, ia, np.ones(m))[0]
     s, u, ok = newton_crossings(stacked, ia, s0, ib, u0, joint, 8.0 * eps, 1e-9 * eps)
     ok &= (s < 1.0 - 1e-9) & (u > 1e-9)
     for n in np.flatnonzero(ok):
@@ -117,6 +125,21 @@ def _junction_crossing(loops, eps):
 
 
 FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
+
+
+def _may_fold(loops):
+    """Per loop: whether some join turns by nearly pi (see :func:`remove_folds`; all
+    joins at once, with a margin over its test)."""
+    pieces = [p for loop in loops for p in loop]
+    if not pieces:
+        return [False] * len(loops)
+    start, _, _, end = pc.tangent_cones(pieces)
+    sizes = np.array([len(loop) for loop in loops])
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    nxt = first[owner] + (np.arange(len(pieces)) - first[owner] + 1) % sizes[owner]
+    fold = np.cos(start[nxt] - start - end) <= FOLD_COS + 1e-6
+    return np.bincount(owner, weights=fold, minlength=len(loops)) > 0
 
 
 def remove_folds(loop, width):
