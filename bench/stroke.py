@@ -18,7 +18,8 @@ o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
 Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
 
-- broad nib (the ellipse above): morph (``stroke_paths`` + certified cubic export,
+- broad nib (the ellipse above): morph (``stroke_paths`` + certified cubic export
+  ``loop_to_beziers``,
   several tolerances) vs FontForge Expand Stroke (``elliptical`` nib, caps and joins
   "nib" = path ⊕ nib, overlap removed, several ``accuracy`` values), run by Debian's
   python3-fontforge in a subprocess (``bench/fontforge_stroke.py``);
@@ -150,7 +151,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 # =========================================================================== part 2
 
 def run_morph(font, names, spec, tols, refs):
-    from morph.export import piece_to_cubics, split_tolerance
+    from morph.export import loop_to_beziers, split_tolerance
     from morph.stroke import stroke_paths
 
     nib = nib_region(spec)
@@ -163,15 +164,7 @@ def run_morph(font, names, spec, tols, refs):
             t0 = time.process_time()
             try:
                 region = stroke_paths(paths, nib, geometry)
-                contours = []
-                for loop in region:
-                    segs = []
-                    for p in loop:
-                        if pc.degree(p) == 1 and pc.is_polynomial(p):
-                            segs.append(pc.cartesian(p))
-                        else:
-                            segs.extend(piece_to_cubics(p, export))
-                    contours.append(segs)
+                contours = [loop_to_beziers(loop, export) for loop in region]
             except Exception as exc:  # noqa: BLE001 - reported per glyph
                 fails.append("%s (%s)" % (n, type(exc).__name__))
                 continue

@@ -863,12 +863,30 @@ def smooth_runs(pieces, join_angle=JOIN_ANGLE):
     return runs
 
 
-def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+def _wrap_runs(runs, join_angle):
+    """Runs of a closed loop with the last run joined to the first when the loop's
+    closing join is smooth (the loop's start is then not a break of the fit)."""
+    if len(runs) < 2:
+        return runs
+    last, first = runs[-1][-1], runs[0][0]
+    if any(len(p) == 2 and pc.is_polynomial(p) for p in (last, first)):
+        return runs
+    if not _smooth_join(last, first, join_angle):
+        return runs
+    return [runs[-1] + runs[0]] + runs[1:-1]
+
+
+def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     """Polynomial Béziers within ``tol`` of a loop (or any chain of consecutive pieces).
 
-    Returns (2, 2) lines, (3, 2) quadratics and (4, 2) cubics in order, the first
-    starting at the loop's start.  The loop is split into runs at its corners
-    (:func:`smooth_runs`); a run of polynomial pieces of degree <= 3 is returned
+    Returns (2, 2) lines, (3, 2) quadratics and (4, 2) cubics in order, end to start,
+    the first starting at the loop's start.  The loop is split into runs at its
+    corners (:func:`smooth_runs`).  With ``wrap`` (a closed loop, the last piece
+    ending where the first starts, written by a caller that does not need the output
+    to start at the loop's start: SVG subpaths, font contours) a smooth closing join
+    is spanned too: the last run and the first are one, and the output starts at
+    the start of the loop's last run (at the loop's start when a corner is there).
+    A run of polynomial pieces of degree <= 3 is returned
     exactly (lines stay lines, quadratics quadratics: no fitting time is spent on
     what is exact already, e.g. TrueType glyph sums), every other run becomes
     certified cubics (:func:`chain_segments`) that may span its smooth joins: each
@@ -883,7 +901,10 @@ def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     out = []
-    for run in smooth_runs(loop, join_angle):
+    runs = smooth_runs(loop, join_angle)
+    if wrap and join_angle > 0:
+        runs = _wrap_runs(runs, join_angle)
+    for run in runs:
         if all(len(p) <= 4 and pc.is_polynomial(_check(p)) for p in run):
             out.extend(pc.cartesian(p) for p in run)     # exact already: no fitting
             continue
@@ -891,10 +912,11 @@ def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
     return out
 
 
-def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     """Cubics within ``tol`` of a loop, in order: :func:`loop_to_beziers` with every
     line and quadratic degree-elevated (exactly)."""
-    return [bz.to_degree(b, 3) for b in loop_to_beziers(loop, tol, max_depth, join_angle)]
+    return [bz.to_degree(b, 3)
+            for b in loop_to_beziers(loop, tol, max_depth, join_angle, wrap)]
 
 
 #: Share of piece_to_quadratics' tolerance given to the cubic stage.
@@ -948,7 +970,7 @@ def piece_to_quadratics(piece, tol, max_depth=16):
                                  tol - cubic_tol)
 
 
-def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
+def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     """Quadratics (and lines) within ``tol`` of a loop, for TrueType outlines.
 
     :func:`loop_to_beziers` within ``QUADRATIC_CUBIC_SHARE * tol`` (certified Fréchet
@@ -964,7 +986,7 @@ def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE):
     """
     cubic_tol = QUADRATIC_CUBIC_SHARE * tol
     out = []
-    for b in loop_to_beziers(loop, cubic_tol, max_depth, join_angle):
+    for b in loop_to_beziers(loop, cubic_tol, max_depth, join_angle, wrap):
         if len(b) <= 3:
             out.append(b)
         else:

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 from ..errors import MorphError
 
@@ -40,30 +41,30 @@ def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
     """Region (our loops: outer counter-clockwise) -> cleaned integer contours.
 
     Each piece is translated by ``offset``, converted within ``tol`` (font units) to
-    quadratics (``quadratic``: TrueType, :func:`morph.export.piece_to_quadratics`) or
-    cubics (CFF, :func:`morph.export.piece_to_cubics`), both certified; lines stay
-    lines.  TrueType contours are reversed (outer clockwise, the glyf convention);
-    CFF keeps ours (outer counter-clockwise).  Points are then rounded to integers
-    (at most 0.71 units more) and :func:`clean_contour` applied; contours that
-    vanish are dropped.
+    quadratics (``quadratic``: TrueType, :func:`morph.export.loop_to_quadratics`) or
+    cubics (CFF, :func:`morph.export.loop_to_beziers`), both certified, curves
+    spanning the loop's smooth joins; lines stay lines.  TrueType contours are
+    reversed (outer clockwise, the glyf convention); CFF keeps ours (outer
+    counter-clockwise).  Points are then rounded to integers (at most 0.71 units
+    more) and :func:`clean_contour` applied; contours that vanish are dropped.
 
     Raises:
         ToleranceNotMetError: as the converters.
     """
-    from ..export import piece_to_cubics, piece_to_quadratics
+    from ..export import loop_to_beziers, loop_to_quadratics
 
-    convert = piece_to_quadratics if quadratic else piece_to_cubics
+    convert = loop_to_quadratics if quadratic else loop_to_beziers
     off = np.asarray(offset, float)
     out = []
     for loop in loops:
         if quadratic:
             loop = [pc.reverse(p) for p in reversed(loop)]
         segs = []
-        for p in loop:
-            if pc.degree(p) == 1 and pc.is_polynomial(p):
-                segs.append(pc.cartesian(p) + off)
-            else:
-                segs.extend(np.asarray(q, float) + off for q in convert(p, tol))
+        for q in convert(loop, tol, wrap=True):  # cubics span the smooth joins
+            q = np.asarray(q, float)
+            if not quadratic and len(q) == 3:
+                q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)
+            segs.append(q + off)
         contour = clean_contour(segs)
         if contour:
             out.append(contour)

@@ -17,7 +17,6 @@ user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y
 import math
 from xml.sax.saxutils import quoteattr
 
-from .. import piece as pc
 from ..export import loop_to_beziers
 from . import frame_bbox, normalize_shapes
 
@@ -59,8 +58,9 @@ def svg_path_data(loops, tol):
     for loop in loops:
         if not loop:
             continue
-        parts.append("M" + pt(pc.start(loop[0])))
-        for b in loop_to_beziers(loop, 0.8 * tol):
+        beziers = loop_to_beziers(loop, 0.8 * tol, wrap=True)  # may start elsewhere
+        parts.append("M" + pt(beziers[0][0]))
+        for b in beziers:
             parts.append("LQC"[len(b) - 2] + " ".join(pt(p) for p in b[1:]))
         parts.append("Z")
     return "".join(parts)
