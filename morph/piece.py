@@ -654,7 +654,7 @@ def _split_half(parts):
 
 def flatten_loop(pieces, tol):
     """Closed polyline (without repeating the first point) of a loop within tol."""
-    pts = [flatten(p, tol)[0][:-1] for p in pieces]
+    pts = [p[:-1] for p, _ in flatten_many(pieces, tol)] if len(pieces) else []
     return np.concatenate(pts) if pts else np.zeros((0, 2))
 
 
