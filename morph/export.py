@@ -41,9 +41,12 @@ coefficient products), the bound is rigorous.
 **Search.**  Per piece (or per run of pieces with smooth joins, see below),
 segments are chosen greedily from the start: the longest parameter interval whose
 certified bound is <= tol is looked for with a few fits (error predicted from the
-previous fits as ~ h^p), then one segment fewer of equal arc length is tried.  A 90°
-arc of radius 2 takes 1 / 2 / 3 / 7 cubics at tol 1e-3 / 1e-4 / 1e-6 / 1e-8 (kurbo's
-own halving: 1 / 2 / 4 / 8; the classic circle cubic 1 / 2 / 3 / 6).  Where kurbo
+previous fits as ~ h^p, a segment accepted once its bound reaches 0.8 tol), then one
+segment fewer is tried while the segments' bounds say it may fit (cuts at equal
+shares of the modelled difficulty, :func:`_balanced_split`), or of equal arc length
+after a short last segment.  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
+cubics at tol 1e-3 ... 1e-8 (kurbo's own halving: 1 / 2 / 2 / 4 / 8 / 8; the
+classic circle cubic 1 / 2 / 2 / 3 / 5 / 7; bench/export.md).  Where kurbo
 finds no cubic, or its cubic does not certify, the same-parameter fit of
 :func:`fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
 one certifies.
@@ -53,8 +56,10 @@ piece by piece spends one cubic or more on each.  :func:`loop_to_beziers` splits
 loop at its corners only (:func:`smooth_runs`) and lets cubics span the smooth joins
 (:func:`chain_segments`): the certificate cuts the cubic at the feet of the join
 points and certifies each part against its piece, phi mapping the cut to the join.
-Writers of whole outlines (SVG, fonts) call the loop functions with the export share
-of the user's tolerance (:func:`split_tolerance`).
+Writers of whole outlines (SVG, fonts) call the loop functions with ``wrap=True`` (a
+smooth closing join is spanned as well) and the export share of the user's
+tolerance (:func:`split_tolerance`, or :func:`export_tolerance` when the geometry
+has a certified error below its share).
 """
 
 import bisect
@@ -69,9 +74,9 @@ from . import piece as pc
 from .errors import DegenerateCurveError, ToleranceNotMetError
 
 __all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "Segment", "chain_segments",
-           "cubic_bound", "cubic_segments", "fit_cubic", "loop_to_beziers", "loop_to_cubics",
-           "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics", "smooth_runs",
-           "split_tolerance"]
+           "cubic_bound", "cubic_segments", "export_tolerance", "fit_cubic", "loop_to_beziers",
+           "loop_to_cubics", "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics",
+           "smooth_runs", "split_tolerance"]
 
 #: Share of a user's tolerance given to the geometry (sum, offset, morph frame); the
 #: rest goes to the export (cubic fit and coordinate rounding).  See split_tolerance.
@@ -103,6 +108,30 @@ def split_tolerance(tol, share=SUM_SHARE):
         raise ValueError("share must be in (0, 1), got %r" % (share,))
     geometry = share * tol
     return geometry, tol - geometry
+
+
+def export_tolerance(tol, geometry_bound):
+    """The export's share of a total ``tol`` once the geometry's error is bounded.
+
+    ``geometry_bound`` must be a stated upper bound of the Hausdorff distance between
+    the computed pieces and the exact shape (never a measurement), e.g. for
+    :func:`morph.minkowski.minkowski_sum` at ``geometry_tol``: the largest a-priori
+    bound of its convolution pieces (``ConvPiece.bound``, 0 for exact ones such as
+    a TrueType glyph ⊕ disk) plus the shares of ``geometry_tol`` it spends on
+    anything else (``(1 - CONV_SHARE) * geometry_tol``).  The result is ``tol -
+    geometry_bound``: an exporter within it keeps the written file within ``tol``
+    of the exact shape (triangle inequality), as :func:`split_tolerance` does with
+    the whole geometry share.
+
+    Raises:
+        ValueError: tol not positive and finite, or geometry_bound not in [0, tol).
+    """
+    tol, bound = float(tol), float(geometry_bound)
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    if not 0.0 <= bound < tol:
+        raise ValueError("geometry_bound must be in [0, tol), got %r" % (geometry_bound,))
+    return tol - bound
 
 
 #: One certified cubic of a piece: ``cubic`` (4, 2) approximates the piece on
@@ -696,27 +725,67 @@ def chain_segments(pieces, tol, max_depth=16):
         out.append(Segment(t0, t1, cubic, bound, reparam))
         width = t1 - t0
         t0, start = t1, end
+    # the greedy search stops each segment a little short of its longest reach: try
+    # one segment fewer, cut where the greedy segments' bounds say it may fit
+    while len(out) >= 2:
+        fewer = _balanced_split(chain, out, tol)
+        if fewer is None:
+            break
+        out = fewer
     widths = [seg.t1 - seg.t0 for seg in out]
     if len(out) >= 2 and widths[-1] < 0.5 * max(widths[:-1]):
-        # the greedy search stops each segment a little short of its longest reach and
-        # left a short last one: try one segment fewer, equal in length
-        fewer = _equal_split(chain, len(out) - 1, tol)
-        if fewer is not None:
-            out = fewer
+        # a short last one is left: try one segment fewer, equal in arc length
+        t, cum = _arclength_table(chain)
+        if cum[-1] > 0:
+            fewer = _split_at(chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t),
+                              tol)
+            out = out if fewer is None else fewer
     return out
 
 
-def _equal_split(chain, n, tol):
-    """n certified segments of about equal arc length, or None if one fails."""
-    per = 16
+#: Error model of :func:`_balanced_split`: a cubic's bound grows like the P-th power
+#: of the arc length it spans.
+ERROR_POWER = 5.0
+#: One segment fewer is tried when the greedy segments' shares add up to at most this
+#: many segments fewer than there are (the greedy segments stop short of their reach).
+FEWER_SLACK = 1.0
+
+
+def _arclength_table(chain, per=16):
+    """(T, cumulative arc length) at ``per`` samples per piece (chords)."""
     t = np.concatenate([k + np.linspace(0.0, 1.0, per + 1)[:-1] for k in range(chain.k)]
                        + [[float(chain.k)]])
     pts = np.vstack([pc.evaluate(p, np.linspace(0.0, 1.0, per + 1)[:-1])
                      for p in chain.pieces] + [pc.end(chain.pieces[-1])[None]])
-    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    return t, np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+
+
+def _balanced_split(chain, segs, tol):
+    """len(segs) - 1 certified segments, or None (not plausible, or one fails).
+
+    Segment i of ``segs`` (bound b_i over arc length L_i) counts as d_i = (b_i /
+    tol)^(1/P) of a segment that just reaches tol (model bound ~ L^P, P =
+    :data:`ERROR_POWER`), spread evenly over its arc length.  When the d_i add up to
+    at most len(segs) - 1, the cuts are placed at equal shares of that sum (equal arc
+    lengths where the curve is equally hard) and every new cubic is fitted and
+    certified as usual; any failure keeps ``segs``."""
+    n = len(segs) - 1
+    d = np.array([(max(seg.bound, 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
+                  for seg in segs])
+    if not (n >= 1 and d.sum() <= len(segs) - FEWER_SLACK):
+        return None
+    t, cum = _arclength_table(chain)
     if not cum[-1] > 0:
         return None
-    cuts = np.interp(np.linspace(0.0, cum[-1], n + 1), cum, t)
+    edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
+    hard = np.concatenate([[0.0], np.cumsum(d)])
+    cuts = np.interp(np.interp(np.linspace(0.0, hard[-1], n + 1), hard, edges), cum, t)
+    return _split_at(chain, cuts, tol)
+
+
+def _split_at(chain, cuts, tol):
+    """Certified segments between the chain parameters ``cuts``, or None if one fails."""
+    cuts = np.array(cuts, float)
     cuts[0], cuts[-1] = 0.0, float(chain.k)
     if np.any(np.diff(cuts) <= 0):
         return None
@@ -734,7 +803,7 @@ def _equal_split(chain, n, tol):
 
 #: The search stops at a certified segment whose bound is at least this share of tol
 #: (higher: longer segments, more fits).
-ACCEPT = 0.6
+ACCEPT = 0.8
 
 
 def _next_segment(chain, t0, start, width, tol, min_width):
