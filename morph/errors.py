@@ -57,3 +57,8 @@ class LimitError(MorphError, ValueError):
     def __init__(self, message, suggestion=None):
         super().__init__(message)
         self.suggestion = suggestion
+
+
+def one_line(exc):
+    """The message of an exception on one line (its type name when it has none)."""
+    return " ".join(str(exc).split()) or type(exc).__name__

@@ -24,6 +24,7 @@ __all__ = [
     "is_zero_length",
     "loop_polyline",
     "orient_region",
+    "point_polyline_distance",
     "point_in_region",
     "region_bbox",
     "region_centroid",
@@ -120,8 +121,12 @@ def winding_number(points, polylines, chunk=2_000_000):
     return out
 
 
-def _point_segment_distance(points, polyline):
-    """Distance from each point to a closed polyline, shape (m,)."""
+def point_polyline_distance(points, polyline):
+    """Distance from each of the (m, 2) points to a closed (k, 2) polyline, shape (m,).
+
+    Each point is projected on every edge [a, b] at ``u = clip((p - a).(b - a) /
+    |b - a|^2, 0, 1)``; the least distance to a projection is returned.
+    """
     a = polyline
     b = np.roll(polyline, -1, axis=0)
     d = b - a
@@ -172,19 +177,11 @@ def orient_region(loops, fill_rule="nonzero"):
     """
     if fill_rule not in FILL_RULES:
         raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
-    cleaned = [clean_loop(loop) for loop in loops]
-    cleaned = [loop for loop in cleaned if loop]
+    cleaned = _positive_loops(loops)
     if not cleaned:
         return []
     scale = _region_scale(cleaned)
     areas = [pc.loop_area(loop) for loop in cleaned]
-    keep = []
-    for i, a in enumerate(areas):
-        ext = _region_scale([cleaned[i]])
-        if abs(a) > 1e-12 * ext * ext or _loops_cross([cleaned[i]], ext):
-            keep.append(i)
-    cleaned = [cleaned[i] for i in keep]
-    areas = [areas[i] for i in keep]
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
         return []
@@ -193,35 +190,58 @@ def orient_region(loops, fill_rule="nonzero"):
 
         return fill_region(cleaned, fill_rule)
     if len(cleaned) == 1:
-        loop = cleaned[0]
-        return [loop if areas[0] > 0 else reverse_loop(loop)]
-
-    tol = 1e-3 * scale
-    polys = [loop_polyline(loop, tol) for loop in cleaned]
+        return [cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])]
+    windings = _outside_windings(cleaned, scale)
     out = []
-    for i, loop in enumerate(cleaned):
+    for loop, area, w in zip(cleaned, areas, windings):
+        is_outer = _is_outer(w, 1 if area > 0 else -1, fill_rule)
+        if is_outer is not None:
+            out.append(loop if (area > 0) == is_outer else reverse_loop(loop))
+    return out
+
+
+def _positive_loops(loops):
+    """Cleaned loops (:func:`clean_loop`) without those of zero area: |area| <= 1e-12
+    of the loop's own extent squared and no self-crossing (tiny islands are kept, a
+    bow tie whose lobes cancel is not dropped)."""
+    out = []
+    for loop in loops:
+        loop = clean_loop(loop)
+        if not loop:
+            continue
+        ext = _region_scale([loop])
+        if abs(pc.loop_area(loop)) > 1e-12 * ext * ext or _loops_cross([loop], ext):
+            out.append(loop)
+    return out
+
+
+def _outside_windings(loops, scale):
+    """For each loop, the winding number just outside it: that of all *other* loops
+    at a probe point on it (the piece midpoint farthest from the other loops), on
+    polylines within 1e-3 of ``scale``, refined when the probe is closer than that."""
+    tol = 1e-3 * scale
+    polys = [loop_polyline(loop, tol) for loop in loops]
+    out = []
+    for i, loop in enumerate(loops):
         others = [p for j, p in enumerate(polys) if j != i]
         cand = _sample_candidates(loop)
-        dist = np.min([_point_segment_distance(cand, p) for p in others], axis=0)
+        dist = np.min([point_polyline_distance(cand, p) for p in others], axis=0)
         best = int(np.argmax(dist))
-        probe = cand[best:best + 1]
         if dist[best] < 2 * tol:
-            fine = [loop_polyline(l, max(0.25 * dist[best], 1e-7 * scale))
-                    for j, l in enumerate(cleaned) if j != i]
-            w = int(winding_number(probe, fine)[0])
-        else:
-            w = int(winding_number(probe, others)[0])
-        s = 1 if areas[i] > 0 else -1
-        if fill_rule == "nonzero":
-            outside, inside = w != 0, (w + s) != 0
-            if inside == outside:
-                continue  # both sides filled: not a boundary
-            is_outer = inside
-        else:
-            is_outer = w % 2 == 0
-        ccw = areas[i] > 0
-        out.append(loop if ccw == is_outer else reverse_loop(loop))
+            fine = max(0.25 * dist[best], 1e-7 * scale)
+            others = [loop_polyline(l, fine) for j, l in enumerate(loops) if j != i]
+        out.append(int(winding_number(cand[best:best + 1], others)[0]))
     return out
+
+
+def _is_outer(w, s, fill_rule):
+    """Is a loop of orientation ``s`` (+-1) with winding ``w`` just outside it an outer
+    boundary (True), a hole (False) or no boundary of the filled set (None)?  Just
+    inside, the winding is ``w + s``."""
+    if fill_rule == "evenodd":
+        return w % 2 == 0
+    outside, inside = w != 0, (w + s) != 0
+    return None if inside == outside else inside
 
 
 def _cancel_coincident(loops, areas, fill_rule, scale):
@@ -257,7 +277,7 @@ def _on_loop(loop, other, eps):
     """Do sample points of ``loop`` (9 per piece) lie within ~eps of ``other``?"""
     pts = np.concatenate([pc.evaluate(p, np.linspace(0, 1, 9)) for p in loop])
     poly = loop_polyline(other, eps)
-    return bool(np.max(_point_segment_distance(pts, poly)) <= 4 * eps)
+    return bool(np.max(point_polyline_distance(pts, poly)) <= 4 * eps)
 
 
 def _loops_cross(loops, scale):

@@ -1,7 +1,6 @@
 """Font commands: brush (filled glyphs swept by a nib), stroke (skeletons stroked by a nib)."""
 
 import re
-import sys
 from pathlib import Path
 
 import click
@@ -83,63 +82,118 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
     """
-    import io
     import time
 
-    from fontTools.ttLib import TTFont
-
-    from ..errors import MorphError
-    from ..fonts.brush import (brush_font, check_convex_nib, ellipse_nib, open_source,
-                               parse_glyph_spec)
+    from ..fonts.brush import brush_font, ellipse_nib, open_source
     from ..fonts.jobs import default_jobs
-    from ..fonts.specimen import specimen_path, write_specimen
-    from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
-    from ..parse import default_font_path, svg_region
+    from ..fonts.tables import FONT_SUFFIXES, outline_glyphs
+    from ..parse import svg_region
 
-    src = default_font_path() if font_file in (None, "default") else font_file
-    if not Path(src).is_file():
-        raise InputError("font %s does not exist" % src)
+    src = _brush_source(font_file)
     out = resolve_output(output, "brush.ttf", force, suffixes=FONT_SUFFIXES)
-    png, page = out.with_suffix(".png"), specimen_path(out)
-    for extra in (png, page):
-        if extra.exists() and not force:
-            raise InputError("%s exists; use --force to overwrite it" % extra)
-    try:
-        nib_region = svg_region(nib_svg) if nib_svg else ellipse_nib(*_parse_nib(nib))
-        check_convex_nib(nib_region)
-    except MorphError as exc:  # a bad nib is bad input (exit 2)
-        raise InputError(str(exc)) from exc
-    items = None if glyphs.strip().lower() == "all" else parse_glyph_spec(glyphs)
-    if items is not None and not items:
-        raise InputError("--glyphs selects no glyph")
+    png, page = _companions(out, force)
+    nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
+                              else ellipse_nib(*_parse_nib(nib)))
+    items = _glyph_items(glyphs, everything="all")
     source = open_source(src, location)  # static: a variable font at --location
-    source_copy = TTFont(io.BytesIO(font_bytes(source)))  # for the specimen
-    upm = source["head"].unitsPerEm
+    source_bytes = _font_bytes(source)  # the source as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
-    t0 = time.perf_counter()
     total = len(items) if items is not None else len(outline_glyphs(source))
+    t0 = time.perf_counter()
     with progress_bar(total, "glyphs") as bar:
-        stats = brush_font(source, out, nib_region, items, tol=tol * upm, family_name=family,
-                           progress=lambda name: bar.update(1), composites=composites,
-                           jobs=jobs)
+        stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
+                           family_name=family, progress=lambda name: bar.update(1),
+                           composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
-    _font_sample(io.BytesIO(font_bytes(TTFont(str(out)))), sample, png)
-    write_specimen(out, source_copy, sample=sample)
+    _write_brush_pictures(out, source_bytes, sample, png)
     click.echo("wrote %s (%d glyphs, %d contours, %.1f s, %d jobs), sample %s and specimen %s"
                % (out, stats["glyphs"], stats["contours"], seconds, jobs, png, page))
     for base, users in stats["base_not_chosen"].items():
         click.echo("note: swept %s too (not chosen), the base of %s" % (base, ", ".join(users)),
                    err=True)
-    if stats["fallback"]:
-        kinds = {"retry": "exact sum at tol/8", "rotated": "exact sum, nib turned within tol",
-                 "polygon": "polygon sum",
-                 "source": "left as in the source"}
-        click.echo("morph: error: font written, but %d glyph(s) fell back: %s"
-                   % (len(stats["fallback"]), "; ".join(
-                       "%s (%s: %s)" % (n, kinds[k], err)
-                       for n, (k, err) in sorted(stats["fallback"].items()))), err=True)
-        return EXIT_INTERNAL
-    return 0
+    return _fallback_status(["%s (%s: %s)" % (n, _BRUSH_FALLBACKS[k], err)
+                             for n, (k, err) in sorted(stats["fallback"].items())], "")
+
+
+_BRUSH_FALLBACKS = {"retry": "exact sum at tol/8", "rotated": "exact sum, nib turned within tol",
+                    "polygon": "polygon sum", "source": "left as in the source"}
+
+
+def _brush_source(font_file):
+    """The font file to brush: FONT, or the bundled font for none / "default"."""
+    from ..parse import default_font_path
+
+    src = default_font_path() if font_file in (None, "default") else font_file
+    if not Path(src).is_file():
+        raise InputError("font %s does not exist" % src)
+    return src
+
+
+def _companions(out, force, specimen=True):
+    """(OUT.png, OUT.html or None) written next to a font; InputError when one exists
+    and ``force`` is not given."""
+    from ..fonts.specimen import specimen_path
+
+    png, page = out.with_suffix(".png"), specimen_path(out) if specimen else None
+    for extra in (png, page):
+        if extra is not None and extra.exists() and not force:
+            raise InputError("%s exists; use --force to overwrite it" % extra)
+    return png, page
+
+
+def _checked_nib(make):
+    """The nib region ``make()`` returns, checked convex; a bad nib is bad input
+    (InputError, exit 2)."""
+    from ..errors import MorphError
+    from ..fonts.brush import check_convex_nib
+
+    try:
+        nib_region = make()
+        check_convex_nib(nib_region)
+    except MorphError as exc:
+        raise InputError(str(exc)) from exc
+    return nib_region
+
+
+def _glyph_items(spec, everything=None):
+    """--glyphs as characters and names; None for every glyph (no spec, or the word
+    ``everything``).  InputError when it selects nothing."""
+    from ..fonts.brush import parse_glyph_spec
+
+    if spec is None or (everything and spec.strip().lower() == everything):
+        return None
+    items = parse_glyph_spec(spec)
+    if not items:
+        raise InputError("--glyphs selects no glyph")
+    return items
+
+
+def _font_bytes(font):
+    from ..fonts.tables import font_bytes
+
+    return font_bytes(font)
+
+
+def _write_brush_pictures(out, source_bytes, sample, png):
+    """The sample image OUT.png and the specimen OUT.html of a brushed font."""
+    import io
+
+    from fontTools.ttLib import TTFont
+
+    from ..fonts.specimen import write_specimen
+
+    _font_sample(io.BytesIO(_font_bytes(TTFont(str(out)))), sample, png)
+    write_specimen(out, TTFont(io.BytesIO(source_bytes)), sample=sample)
+
+
+def _fallback_status(fallbacks, what):
+    """Exit status of a font command: 0, or 1 after naming the glyphs that fell back
+    (``what``: how, e.g. " to a polygon stroke") on one line."""
+    if not fallbacks:
+        return 0
+    click.echo("morph: error: font written, but %d glyph(s) fell back%s: %s"
+               % (len(fallbacks), what, "; ".join(fallbacks)), err=True)
+    return EXIT_INTERNAL
 
 
 def _font_sample(font_path, text, png, px=96):
@@ -233,31 +287,24 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
 
 
 def _stroke_nib(nib, nib_svg, scale):
-    """Nib region from --nib-svg, --nib, or the default scaled by ``scale``."""
+    """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
+    convex (InputError otherwise)."""
     from ..fonts.brush import ellipse_nib
     from ..parse import svg_region
 
-    if nib_svg:
-        return svg_region(nib_svg)
-    if nib is None:
-        w, h, a = _parse_nib(_STROKE_NIB)
-        return ellipse_nib(w * scale, h * scale, a)
-    return ellipse_nib(*_parse_nib(nib))
+    def make():
+        if nib_svg:
+            return svg_region(nib_svg)
+        if nib is None:
+            w, h, a = _parse_nib(_STROKE_NIB)
+            return ellipse_nib(w * scale, h * scale, a)
+        return ellipse_nib(*_parse_nib(nib))
+
+    return _checked_nib(make)
 
 
-def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs, force):
-    import logging
-    import shutil
-    import tempfile
-    import time
-
-    from ..errors import MorphError
-    from ..fonts.brush import check_convex_nib, parse_glyph_spec
-    from ..fonts.jobs import default_jobs
-    from ..fonts.specimen import specimen_path, write_specimen
-    from ..fonts.stroke import stroke_plan, stroke_ufo
-    from ..parse.ufo import load_ufo
-
+def _stroke_output(output, force):
+    """The checked UFO-skeleton output: .ufo (a folder), .otf or .ttf (a file)."""
     out = Path(output)
     if out.suffix.lower() not in (".ufo", ".otf", ".ttf"):
         raise InputError("cannot tell the output format of %s: use a .ufo, .otf or .ttf "
@@ -268,21 +315,23 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         raise InputError("output %s exists; use --force to overwrite it" % out)
     if out.exists() and out.suffix.lower() != ".ufo" and out.is_dir():
         raise InputError("output %s is a folder, expected a file" % out)
-    png = out.with_suffix(".png")
-    page = specimen_path(out) if out.suffix.lower() != ".ufo" else None
-    for extra in (png, page):
-        if extra is not None and extra.exists() and not force:
-            raise InputError("%s exists; use --force to overwrite it" % extra)
+    return out
+
+
+def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs, force):
+    import logging
+    import time
+
+    from ..fonts.jobs import default_jobs
+    from ..fonts.stroke import stroke_plan, stroke_ufo
+    from ..parse.ufo import load_ufo
+
+    out = _stroke_output(output, force)
+    png, page = _companions(out, force, specimen=out.suffix.lower() != ".ufo")
     font = load_ufo(src)
     upm = float(font.info.unitsPerEm or 1000)
-    try:
-        nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
-        check_convex_nib(nib_region)
-    except MorphError as exc:  # a bad nib is bad input (exit 2)
-        raise InputError(str(exc)) from exc
-    items = parse_glyph_spec(glyphs) if glyphs is not None else None
-    if items is not None and not items:
-        raise InputError("--glyphs selects no glyph")
+    nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
+    items = _glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):  # feature-merging notes are not errors
         logging.getLogger(name).setLevel(logging.ERROR)
     todo, _ = stroke_plan(font, items, nib_region)
@@ -292,33 +341,37 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
-    if out.suffix.lower() == ".ufo":
-        import ufo2ft
-
-        tmp = tempfile.mkdtemp(prefix=".morph-sample-")
-        try:
-            otf = Path(tmp) / "sample.otf"
-            ufo2ft.compileOTF(stats["font"]).save(str(otf))
-            _font_sample(otf, sample, png)
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
-    else:
-        _font_sample(out, sample, png)
-        write_specimen(out, None, sample=sample)
-    extra = ""
-    if stats["emptied"]:
-        extra = "; %d glyphs not chosen left empty" % stats["emptied"]
+    _write_stroke_pictures(out, stats["font"], sample, png, page)
+    extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
     click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s, %d jobs%s), "
                "sample %s%s" % (out, stats["glyphs"] + stats["followed"], stats["composites"],
-                                stats["points"],
-                                seconds, jobs, extra, png,
+                                stats["points"], seconds, jobs, extra, png,
                                 " and specimen %s" % page if page else ""))
-    if stats["fallback"]:
-        click.echo("morph: error: font written, but %d glyph(s) fell back to a polygon "
-                   "stroke: %s" % (len(stats["fallback"]), "; ".join(
-                       "%s (%s)" % kv for kv in sorted(stats["fallback"].items()))), err=True)
-        return EXIT_INTERNAL
-    return 0
+    return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
+                            " to a polygon stroke")
+
+
+def _write_stroke_pictures(out, font, sample, png, page):
+    """The sample image (a .ufo output is compiled to a temporary OTF for it) and,
+    for a compiled font, the specimen."""
+    import shutil
+    import tempfile
+
+    from ..fonts.specimen import write_specimen
+
+    if page is not None:
+        _font_sample(out, sample, png)
+        write_specimen(out, None, sample=sample)
+        return
+    import ufo2ft
+
+    tmp = tempfile.mkdtemp(prefix=".morph-sample-")
+    try:
+        otf = Path(tmp) / "sample.otf"
+        ufo2ft.compileOTF(font).save(str(otf))
+        _font_sample(otf, sample, png)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):

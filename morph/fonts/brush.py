@@ -72,7 +72,7 @@ import unicodedata
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError, ParseError
+from ..errors import MorphError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent", "sweep_glyph"]
@@ -121,16 +121,6 @@ def parse_glyph_spec(spec):
         else:
             out.append(item)
     return out
-
-
-def _glyph_name(font, item):
-    if len(item) == 1:
-        name = font.getBestCmap().get(ord(item))
-    else:
-        name = item if item in set(font.getGlyphOrder()) else None
-    if name is None:
-        raise ParseError("the font has no glyph for %r" % item, item)
-    return name
 
 
 def _rigid(component):
@@ -194,16 +184,16 @@ def _base_not_chosen(font, swept, planned):
     return out
 
 
-def _follow_composites(font, follow, moves, move_of, nib_w):
+def _follow_composites(font, follow, moves, extent):
     """Adjust composites that keep their components (TrueType only).
 
     Each composite grows by the nib's width like its swept components (zero-width
-    composites stay so) and moves as a whole by ``move_of(advance)``, the pen point's
-    translation of a swept glyph of that advance; each component, which moved by
-    ``moves[component]`` (0 if it was not swept), gets the difference: an unswept
-    accent moves to where its own swept version would be, a swept zero-width mark
-    (which moved the other way, see :func:`brush_font`) comes back over its base.
-    ``moves`` gets the composites' translations.
+    composites stay so) and moves as a whole by :func:`_pen_move` of its advance, the
+    pen point's translation of a swept glyph of that advance; each component, which
+    moved by ``moves[component]`` (0 if it was not swept), gets the difference: an
+    unswept accent moves to where its own swept version would be, a swept zero-width
+    mark (which moved the other way, see :func:`_outline_shift`) comes back over its
+    base.  ``moves`` gets the composites' translations.
     """
     if not follow:
         return
@@ -211,18 +201,34 @@ def _follow_composites(font, follow, moves, move_of, nib_w):
     for n in follow:
         g = glyf[n]
         adv, _ = hmtx[n]
-        tx, ty = move_of(adv)
+        tx, ty = _pen_move(adv, extent)
         for c in g.components:
             cx, cy = moves.get(c.glyphName, (0, 0))
             c.x += tx - cx
             c.y += ty - cy
         g.recalcBounds(glyf)
-        hmtx[n] = (_new_advance(adv, nib_w), int(getattr(g, "xMin", 0)))
+        hmtx[n] = (_new_advance(adv, extent), int(getattr(g, "xMin", 0)))
         moves[n] = (tx, ty)
 
 
-def _new_advance(adv, nib_w):
-    return int(round(adv + nib_w)) if adv > 0 else adv
+def _new_advance(adv, extent):
+    """The advance of a swept glyph: grown by the nib's width, zero kept zero."""
+    return int(round(adv + extent[2] - extent[0])) if adv > 0 else adv
+
+
+def _outline_shift(adv, extent):
+    """x translation of a swept outline: glyph ⊕ nib starts -xmin further left, so it
+    moves back; a zero-width mark (hanging left of the pen position, placed after its
+    base's advance, which grew by the nib's width) goes the other way, by -xmax."""
+    return -extent[0] if adv > 0 else -extent[2]
+
+
+def _pen_move(adv, extent):
+    """The pen point's image (anchors, components) on the integer grid: the nib's
+    centre, translated by :func:`_outline_shift`."""
+    nx0, ny0, nx1, ny1 = extent
+    return (int(round(_outline_shift(adv, extent) + (nx0 + nx1) / 2.0)),
+            int(round((ny0 + ny1) / 2.0)))
 
 
 def _attempts(nib, tol):
@@ -271,7 +277,7 @@ def sweep_glyph(job):
                     error)
         except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
             if error is None:
-                error = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
+                error = "%s: %s" % (type(exc).__name__, one_line(exc))
     try:
         polys = polygon_sum(region, nib, tol)
         return name, polylines_to_contours(polys, quadratic, offset), "polygon", error
@@ -280,17 +286,18 @@ def sweep_glyph(job):
         return name, None, "source", error
 
 
-def _source_region(font, name):
-    from ..parse import glyph_region
+def _source_regions(font, names):
+    """{name: region} of the glyphs' outlines in font units; [] for a glyph without
+    contours (a space: its metrics only)."""
+    from ..parse import read_glyph
 
-    if len(name) > 1:
-        return glyph_region(name, font=font).region
-    # glyph_region reads a 1-character string as a character: use a character that
-    # maps to this very glyph
-    chars = [chr(c) for c, g in (font.getBestCmap() or {}).items() if g == name]
-    if not chars:
-        raise MorphError("cannot address glyph %r by character or name" % name)
-    return glyph_region(chars[0], font=font).region
+    out = {}
+    for n in names:
+        try:
+            out[n] = read_glyph(font, n).region
+        except ParseError:
+            out[n] = []
+    return out
 
 
 def open_source(font_path, location=None):
@@ -314,8 +321,7 @@ def open_source(font_path, location=None):
             font = TTFont(path)
             font["head"]
         except Exception as exc:  # fontTools raises many types for garbage input
-            raise ParseError("cannot read font %s: %s" % (path, " ".join(str(exc).split())),
-                             path) from exc
+            raise ParseError("cannot read font %s: %s" % (path, one_line(exc)), path) from exc
     if "fvar" in font or location:
         font = instantiate_font(font, location)
     return font
@@ -349,65 +355,77 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
             font without TrueType or CFF outlines.
     """
     from .jobs import run_jobs
-    from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_glyphs,
-                         outline_writer, rename_family, save_font)
+    from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_writer,
+                         rename_family, save_font)
 
     check_convex_nib(nib_region)
     font = open_source(font_path, location)
     writer = outline_writer(font)
-    nx0, ny0, nx1, ny1 = region_extent(nib_region)
-    nib_w = nx1 - nx0
+    extent = region_extent(nib_region)
+    names, follow, extra, unchosen = _brush_plan(font, glyphs, composites)
+    family_name = family_name or _default_family(font)
+    order = names + extra
+    sources = _source_regions(font, order)  # all read before anything is changed
     hmtx = font["hmtx"]
+    args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
+             writer.quadratic) for n in order]
+    chosen = set(names)
+    results = run_jobs(sweep_glyph, args, jobs=jobs, progress=_chosen_progress(progress, chosen))
+    stats, moves = _store_outlines(font, writer, results, chosen, extent)
+    stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
+                 base_not_chosen=unchosen)
+    _follow_composites(font, follow, moves, extent)
+    stats["anchors"] = move_anchors(font, moves)
+    grow_vertical_metrics(font, below=-extent[1], above=extent[3])
+    rename_family(font, family_name, tool="morph brush")
+    finish_font(font)
+    save_font(font, out_path)
+    return stats
 
-    def shift_of(adv):
-        """x translation of a swept outline: glyph ⊕ nib starts -nx0 further left, so
-        move it back; a zero-width mark (hanging left of the pen position, placed
-        after its base's advance, which grew by nib_w) goes the other way."""
-        return -nx0 if adv > 0 else -nx1
 
-    def move_of(adv):
-        """The pen point's image (anchors, components), on the integer grid: the
-        nib's centre, translated."""
-        return (int(round(shift_of(adv) + (nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
+def _brush_plan(font, glyphs, composites):
+    """(names, follow, extra, unchosen): the chosen glyphs (``glyphs`` None: every
+    outline glyph), the composites that follow, the glyphs swept besides the chosen
+    ones (bases of composites whose Unicode base letter was chosen, then composites
+    to decompose) and those bases ({base: [composites]}, :func:`_base_not_chosen`).
+
+    Raises:
+        ParseError: a character or name the font lacks.
+    """
+    from ..parse import glyph_name
+    from .tables import outline_glyphs
 
     if glyphs is None:
         names = outline_glyphs(font)
     else:
-        names = []
-        for item in glyphs:
-            n = _glyph_name(font, item)
-            if n not in names:
-                names.append(n)
+        names = list(dict.fromkeys(glyph_name(font, item) for item in glyphs))
     follow, extra = composite_plan(font, names, composites)
     unchosen = _base_not_chosen(font, names, follow + extra)
     if unchosen:  # sweep their base glyphs too, so that they follow
         follow, extra = composite_plan(font, names + list(unchosen), composites)
         extra = list(unchosen) + extra
-    if family_name is None:
-        family_name = "%s Brush" % (font["name"].getDebugName(16)
-                                    or font["name"].getDebugName(1) or "Morph")
+    return names, follow, extra, unchosen
 
-    # read all source outlines before anything is changed
-    order = names + extra
-    sources = {}
-    for n in order:
-        try:
-            sources[n] = _source_region(font, n)
-        except MorphError:
-            sources[n] = []  # empty glyph (space): metrics only
-    args = [(n, sources[n], nib_region, tol, method, (shift_of(hmtx[n][0]), 0.0),
-             writer.quadratic) for n in order]
-    chosen = set(names)
 
-    def done(k, result):
-        if progress is not None and result[0] in chosen:
-            progress(result[0])
+def _default_family(font):
+    """"<family> Brush" from the typographic family name (ID 16) or ID 1."""
+    return "%s Brush" % (font["name"].getDebugName(16) or font["name"].getDebugName(1)
+                         or "Morph")
 
-    results = run_jobs(sweep_glyph, args, jobs=jobs, progress=done)
 
-    stats = {"glyphs": 0, "contours": 0, "segments": 0, "followed": len(follow),
-             "decomposed": len([n for n in extra if n not in unchosen]),
-             "base_not_chosen": unchosen, "fallback": {}}
+def _chosen_progress(progress, chosen):
+    """``progress(name)`` for the chosen glyphs, as a run_jobs progress callback."""
+    if progress is None:
+        return None
+    return lambda index, result: progress(result[0]) if result[0] in chosen else None
+
+
+def _store_outlines(font, writer, results, chosen, extent):
+    """Write the swept outlines and advances; (statistics, moves): glyphs, contours,
+    segments (of the chosen glyphs) and fallback (name -> (kind, error)); moves: name
+    -> the pen point's translation (:func:`_pen_move`) of every glyph written."""
+    hmtx = font["hmtx"]
+    stats = {"glyphs": 0, "contours": 0, "segments": 0, "fallback": {}}
     moves = {}
     for name, contours, kind, error in results:
         if kind != "exact":
@@ -415,17 +433,11 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
         if contours is None:  # left as in the source
             continue
         adv, _ = hmtx[name]
-        new_adv = _new_advance(adv, nib_w)
+        new_adv = _new_advance(adv, extent)
         hmtx[name] = (new_adv, writer.write(name, contours, new_adv))
-        moves[name] = move_of(adv)
+        moves[name] = _pen_move(adv, extent)
         if name in chosen:
             stats["glyphs"] += 1
             stats["contours"] += len(contours)
             stats["segments"] += sum(map(len, contours))
-    _follow_composites(font, follow, moves, move_of, nib_w)
-    stats["anchors"] = move_anchors(font, moves)
-    grow_vertical_metrics(font, below=-ny0, above=ny1)
-    rename_family(font, family_name, tool="morph brush")
-    finish_font(font)
-    save_font(font, out_path)
-    return stats
+    return stats, moves

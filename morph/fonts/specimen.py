@@ -53,38 +53,13 @@ def _cells(font, source_font):
     return out
 
 
-def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_path=None,
-                   title=None):
-    """Write the specimen of the font at ``font_path`` (see the module docstring).
-
-    ``source_font``: the source as a ``TTFont`` (embedded as WOFF2, needs brotli) or
-    None (result only).  ``html_path``: default :func:`specimen_path`.  Returns the
-    path written.
-    """
-    from fontTools.ttLib import TTFont
-
-    from .tables import font_bytes
-
-    font_path = Path(font_path)
-    html_path = specimen_path(font_path) if html_path is None else Path(html_path)
-    font = TTFont(str(font_path), lazy=True)
-    family = font["name"].getDebugName(4) or font_path.stem
-    src_name = source_font["name"].getDebugName(4) if source_font is not None else None
-    title = title or "%s: morph specimen" % family
-    faces = ['@font-face { font-family: "MorphResult"; src: url("%s") format("%s"); }'
-             % (html.escape(font_path.name, quote=True), _font_format(font_path))]
-    if source_font is not None:
-        data = base64.b64encode(font_bytes(source_font, "woff2")).decode("ascii")
-        faces.append('@font-face { font-family: "MorphSource"; '
-                     'src: url(data:font/woff2;base64,%s) format("woff2"); }' % data)
-    x, y = SAMPLE_POS
-    css = """
-%s
-body { margin: 0; padding: %dpx 24px 24px 24px; background: #fff; color: #000;
+_CSS = """
+%(faces)s
+body { margin: 0; padding: %(y)dpx 24px 24px 24px; background: #fff; color: #000;
        font-family: sans-serif; }
-#sample { position: absolute; left: %dpx; top: %dpx; margin: 0; white-space: pre;
-          font: %dpx/1 "MorphResult"; }
-#page { margin-top: %dpx; }  /* room for the sample's descenders */
+#sample { position: absolute; left: %(x)dpx; top: %(y)dpx; margin: 0; white-space: pre;
+          font: %(px)dpx/1 "MorphResult"; }
+#page { margin-top: %(room)dpx; }  /* room for the sample's descenders */
 .src { font-family: "MorphSource"; }
 .res { font-family: "MorphResult"; }
 table.water { border-collapse: collapse; table-layout: fixed; width: 100%%; }
@@ -96,36 +71,88 @@ table.water td.px { font: 11px sans-serif; color: #777; width: 48px; }
 .cell .g { font-size: 40px; line-height: 1.4; display: inline-block; width: 60px; }
 .cell .n { font: 10px monospace; color: #555; overflow: hidden; white-space: nowrap; }
 h2 { font-size: 16px; margin: 24px 0 8px 0; }
-""" % ("\n".join(faces), y, x, y, SAMPLE_PX, SAMPLE_PX + SAMPLE_MARGIN)
+"""
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>%(title)s</title>
+<style>%(css)s</style></head>
+<body>
+<p id="sample">%(sample)s</p>
+<div id="page">
+<p>%(head)s</p>
+<h2>Waterfall, 12&ndash;96 px</h2>
+<table class="water">%(rows)s</table>
+<h2>All encoded characters (%(count)d)</h2>
+<div class="grid">%(cells)s</div>
+</div>
+</body></html>
+"""
+
+
+def _font_faces(font_path, source_font):
+    """@font-face rules: MorphResult from the written file (relative URL), MorphSource
+    embedded as a WOFF2 data URL (when there is a source)."""
+    from .tables import font_bytes
+
+    faces = ['@font-face { font-family: "MorphResult"; src: url("%s") format("%s"); }'
+             % (html.escape(font_path.name, quote=True), _font_format(font_path))]
+    if source_font is not None:
+        data = base64.b64encode(font_bytes(source_font, "woff2")).decode("ascii")
+        faces.append('@font-face { font-family: "MorphSource"; '
+                     'src: url(data:font/woff2;base64,%s) format("woff2"); }' % data)
+    return "\n".join(faces)
+
+
+def _waterfall_rows(sample, with_source):
+    """Table rows of the sample at every WATERFALL size, source cell first."""
     esc = html.escape
     rows = []
     for px in WATERFALL:
         src_td = ('<td class="src" style="font-size:%dpx">%s</td>' % (px, esc(sample))
-                  if source_font is not None else "")
+                  if with_source else "")
         rows.append('<tr><td class="px">%d px</td>%s<td class="res" style="font-size:%dpx">'
                     '%s</td></tr>' % (px, src_td, px, esc(sample)))
+    return rows
+
+
+def _char_cells(font, source_font):
+    """Grid cells: each encoded character in the source (if any) and the result."""
+    esc = html.escape
     cells = []
     for ch, name in _cells(font, source_font):
         src = ('<span class="g src">%s</span>' % esc(ch)) if source_font is not None else ""
         cells.append('<div class="cell">%s<span class="g res">%s</span>'
                      '<div class="n">%s U+%04X</div></div>'
                      % (src, esc(ch), esc(name or ""), ord(ch)))
-    head = ("source: %s (left) &middot; result: %s, %s (right)"
-            % (esc(src_name), esc(family), esc(font_path.name))
-            if source_font is not None else "%s, %s" % (esc(family), esc(font_path.name)))
-    doc = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>%s</title>
-<style>%s</style></head>
-<body>
-<p id="sample">%s</p>
-<div id="page">
-<p>%s</p>
-<h2>Waterfall, 12&ndash;96 px</h2>
-<table class="water">%s</table>
-<h2>All encoded characters (%d)</h2>
-<div class="grid">%s</div>
-</div>
-</body></html>
-""" % (esc(title), css, esc(sample), head, "\n".join(rows), len(cells), "\n".join(cells))
+    return cells
+
+
+def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_path=None,
+                   title=None):
+    """Write the specimen of the font at ``font_path`` (see the module docstring).
+
+    ``source_font``: the source as a ``TTFont`` (embedded as WOFF2, needs brotli) or
+    None (result only).  ``html_path``: default :func:`specimen_path`.  Returns the
+    path written.
+    """
+    from fontTools.ttLib import TTFont
+
+    esc = html.escape
+    font_path = Path(font_path)
+    html_path = specimen_path(font_path) if html_path is None else Path(html_path)
+    font = TTFont(str(font_path), lazy=True)
+    family = font["name"].getDebugName(4) or font_path.stem
+    if source_font is not None:
+        head = ("source: %s (left) &middot; result: %s, %s (right)"
+                % (esc(source_font["name"].getDebugName(4)), esc(family), esc(font_path.name)))
+    else:
+        head = "%s, %s" % (esc(family), esc(font_path.name))
+    css = _CSS % {"faces": _font_faces(font_path, source_font), "x": SAMPLE_POS[0],
+                  "y": SAMPLE_POS[1], "px": SAMPLE_PX, "room": SAMPLE_PX + SAMPLE_MARGIN}
+    cells = _char_cells(font, source_font)
+    doc = _PAGE % {"title": esc(title or "%s: morph specimen" % family), "css": css,
+                   "sample": esc(sample), "head": head,
+                   "rows": "\n".join(_waterfall_rows(sample, source_font is not None)),
+                   "count": len(cells), "cells": "\n".join(cells)}
     html_path.write_text(doc, encoding="utf-8")
     return html_path

@@ -55,12 +55,16 @@ import os
 import shutil
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError
+from ..errors import MorphError, one_line
+from ..parse.ufo import glyph_names_for
+from .brush import check_convex_nib, region_extent
+from .jobs import run_jobs
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB"]
@@ -90,8 +94,6 @@ def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
     boundary flattened within that tolerance (a sampled check).  An ellipse from
     :func:`morph.fonts.brush.ellipse_nib` is symmetric.
     """
-    from ..fonts.brush import region_extent
-
     x0, y0, x1, y1 = region_extent(nib_region)
     size = max(x1 - x0, y1 - y0)
     eps = rel * size
@@ -129,8 +131,6 @@ def stroke_plan(font, glyphs, nib_region):
     Raises:
         ParseError: a character or name the font lacks.
     """
-    from ..parse.ufo import glyph_names_for
-
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     return _plan(font, chosen, nib_is_symmetric(nib_region))
 
@@ -201,7 +201,7 @@ def _glyph_job(args):
         region = stroke_glyph_region(paths, nib_region, sum_tol, stroker)
         contours = contours_from_loops(region, cubic_tol, False, offset)
     except MorphError as exc:
-        fallback = "%s: %s" % (type(exc).__name__, " ".join(str(exc).split()))
+        fallback = "%s: %s" % (type(exc).__name__, one_line(exc))
         polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
                             sum_tol + cubic_tol, closed=False)
         contours = polylines_to_contours(polys, offset=offset)
@@ -244,14 +244,46 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             glyph), an output that exists without ``overwrite``, ufo2ft failing.
         ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
     """
-    import ufoLib2
-
-    from ..fonts.brush import check_convex_nib, region_extent
-    from ..parse.ufo import component_paths, glyph_names_for, glyph_paths, load_ufo
-    from .jobs import run_jobs
-    from .tables import draw_contours
-
     t_start = time.perf_counter()
+    out_path, kind = _checked_output(out_path, tol, overwrite)
+    check_convex_nib(nib_region)
+    font = _open_copy(src)
+    symmetric = nib_is_symmetric(nib_region)
+    chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
+    stroked, followed = _plan(font, chosen, symmetric)
+    place = _placement(font, stroked + followed, nib_region)
+    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region, _tolerances(tol, kind),
+                                    place.shifts, stroker)
+    results = run_jobs(_glyph_job, work, jobs=jobs, progress=_by_name(progress))
+    stats = _write_strokes(font, results)
+    stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed)
+    _move_furniture(font, stroked + followed, place, symmetric)
+    stats["composites"] = sum(1 for n in stroked + followed if font[n].components)
+    stats["emptied"] = _empty_unstroked(font, set(stroked) | set(followed)) if kind != ".ufo" \
+        else 0
+    _move_feature_file(font, place)
+    _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    _grow_win_metrics(font, stats["regions"])
+    _save(font, out_path, kind, tol, overwrite)
+    stats["seconds"] = time.perf_counter() - t_start
+    stats["font"] = font
+    return stats
+
+
+def _by_name(progress):
+    """``progress(name)`` as a :func:`morph.fonts.jobs.run_jobs` progress callback."""
+    if progress is None:
+        return None
+    return lambda index, result: progress(result["name"])
+
+
+def _checked_output(out_path, tol, overwrite):
+    """(path, suffix) of the output.
+
+    Raises:
+        ValueError: tol <= 0; a suffix other than .ufo/.otf/.ttf.
+        MorphError: the output exists and ``overwrite`` is false.
+    """
     if not tol > 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
     out_path = Path(out_path)
@@ -260,23 +292,50 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
         raise ValueError("output must end in .ufo, .otf or .ttf, got %s" % out_path)
     if out_path.exists() and not overwrite:
         raise MorphError("%s exists (pass overwrite=True to replace it)" % out_path)
-    check_convex_nib(nib_region)
-    font = _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
-    symmetric = nib_is_symmetric(nib_region)
-    chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    stroked, followed = _plan(font, chosen, symmetric)
+    return out_path, kind
 
-    # integer shifts and advance growth: outlines, anchors, component offsets and
-    # feature anchors stay on the same integer grid
+
+def _open_copy(src):
+    """A ufoLib2 font to change: a copy of an open font, or the UFO at ``src`` read whole."""
+    import ufoLib2
+
+    from ..parse.ufo import load_ufo
+
+    return _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
+
+
+@dataclass(frozen=True)
+class _Placement:
+    """Where the stroked glyphs go, on the integer grid (see the module docstring):
+    ``shifts`` glyph name -> x shift of the outline; ``grow`` the advance growth (nib
+    width); ``centre`` the nib's centre (anchors move by shift + centre)."""
+
+    shifts: dict
+    grow: int
+    centre: tuple
+
+    def anchor_offset(self, name):
+        """(dx, dy) of a glyph's anchors; None for a glyph that is not written anew."""
+        if name not in self.shifts:
+            return None
+        return self.shifts[name] + self.centre[0], self.centre[1]
+
+
+def _placement(font, names, nib_region):
+    """The :class:`_Placement` of the glyphs ``names`` for this nib: outlines shifted
+    right by the nib's left extent, zero-width glyphs left by its width on top."""
     nx0, ny0, nx1, ny1 = region_extent(nib_region)
     grow = int(round(nx1 - nx0))
     centre = (int(round((nx0 + nx1) / 2.0)), int(round((ny0 + ny1) / 2.0)))
-    shifts = {}
-    for n in stroked + followed:
-        shifts[n] = int(round(-nx0)) - (grow if font[n].width == 0 else 0)
+    shifts = {n: int(round(-nx0)) - (grow if font[n].width == 0 else 0) for n in names}
+    return _Placement(shifts, grow, centre)
 
-    # the work: paths of every stroked glyph (own contours + decomposed components)
-    tols = _tolerances(tol, kind)
+
+def _stroke_work(font, stroked, symmetric, nib_region, tols, shifts, stroker):
+    """(jobs for :func:`_glyph_job`, number of components decomposed): the paths of
+    every stroked glyph, its own contours and the components that cannot be kept."""
+    from ..parse.ufo import component_paths, glyph_paths
+
     work, decomposed = [], 0
     for n in stroked:
         g = font[n]
@@ -286,65 +345,70 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                 paths.extend(component_paths(font, c))
                 decomposed += 1
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
+    return work, decomposed
 
-    def step(k, result):
-        if progress is not None:
-            progress(result["name"])
 
-    results = run_jobs(_glyph_job, work, jobs=jobs, progress=step)
-    stats = {"glyphs": len(stroked), "followed": len(followed), "decomposed": decomposed,
-             "emptied": 0, "contours": 0, "points": 0, "fallback": {},
+def _write_strokes(font, results):
+    """Draw the jobs' contours into their glyphs; the statistics of what was written
+    (contours, points, fallback, stroke_seconds, regions)."""
+    from .tables import draw_contours
+
+    stats = {"contours": 0, "points": 0, "fallback": {}, "regions": {},
              "stroke_seconds": sum(r["seconds"] for r in results)}
-    out_regions = {}
     for r in results:
         g = font[r["name"]]
         g.clearContours()
         draw_contours(g.getPen(), r["contours"], False)
         stats["contours"] += len(r["contours"])
         stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
-        out_regions[r["name"]] = r["region"]
+        stats["regions"][r["name"]] = r["region"]
         if r["fallback"]:
             stats["fallback"][r["name"]] = r["fallback"]
-    for n in stroked + followed:
+    return stats
+
+
+def _move_furniture(font, names, place, symmetric):
+    """Kept components re-placed (o' = o + s_composite - M s_base), anchors and
+    vertical guidelines moved, advances grown, for the written glyphs ``names``."""
+    for n in names:
         g = font[n]
-        s = shifts[n]
+        s = place.shifts[n]
         kept = []
         for c in g.components:
-            if not _keep_component(c, symmetric):
-                continue  # decomposed into the stroke above
-            xx, xy, yx, yy, dx, dy = tuple(c.transformation)
-            sb = shifts[c.baseGlyph]
-            c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
-            kept.append(c)
+            if _keep_component(c, symmetric):  # the others are in the stroke
+                xx, xy, yx, yy, dx, dy = tuple(c.transformation)
+                sb = place.shifts[c.baseGlyph]
+                c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
+                kept.append(c)
         g.components[:] = kept
+        dx, dy = place.anchor_offset(n)
         for a in g.anchors:
-            a.x += s + centre[0]
-            a.y += centre[1]
+            a.x += dx
+            a.y += dy
         for gl in g.guidelines:
             if gl.x is not None and gl.y is None:
                 gl.x += s
         if g.width:
-            g.width = g.width + grow
-    stats["composites"] = sum(1 for n in stroked + followed if font[n].components)
-    done = set(stroked) | set(followed)
-    if kind != ".ufo":
-        for g in font:
-            if g.name not in done and (g.contours or g.components):
-                g.clearContours()
-                g.clearComponents()
-                stats["emptied"] += 1
+            g.width = g.width + place.grow
 
+
+def _empty_unstroked(font, done):
+    """Clear the skeletons of glyphs not written anew (a compiled font cannot fill an
+    open skeleton); how many were cleared."""
+    emptied = 0
+    for g in font:
+        if g.name not in done and (g.contours or g.components):
+            g.clearContours()
+            g.clearComponents()
+            emptied += 1
+    return emptied
+
+
+def _move_feature_file(font, place):
+    """The feature file's explicit anchors moved like their glyphs' anchors."""
     if "anchor" in (font.features.text or ""):
-        font.features.text = move_feature_anchors(
-            font.features.text, font.keys(),
-            lambda n: (shifts[n] + centre[0], centre[1]) if n in shifts else None)
-    _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    _grow_win_metrics(font, out_regions, ny0, ny1)
-    _save(font, out_path, kind, tol, overwrite)
-    stats["seconds"] = time.perf_counter() - t_start
-    stats["font"] = font
-    stats["regions"] = out_regions
-    return stats
+        font.features.text = move_feature_anchors(font.features.text, font.keys(),
+                                                  place.anchor_offset)
 
 
 def move_feature_anchors(text, glyph_names, offset_of):
@@ -362,49 +426,65 @@ def move_feature_anchors(text, glyph_names, offset_of):
             glyphs moved by different offsets.
     """
     import io
-    import re
 
-    from fontTools.feaLib import ast
     from fontTools.feaLib.parser import Parser
 
     try:
         doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
     except Exception as exc:  # feaLib's FeatureLibError and include errors
-        raise MorphError("cannot parse the features: %s" % " ".join(str(exc).split())) from exc
+        raise MorphError("cannot parse the features: %s" % one_line(exc)) from exc
+    moves = []
+    for anchor, glyph_set in _statement_anchors(doc.statements):
+        offset = _common_offset(anchor, glyph_set, offset_of)
+        if offset is not None:
+            moves.append((anchor, offset))
+    return _rewrite_anchors(text, moves)
 
-    moves = []  # (anchor, offset)
 
-    def add(anchor, glyph_set):
-        if anchor is None or anchor.x is None:
-            return
-        offs = {offset_of(g) for g in glyph_set} - {None}
-        if len(offs) > 1:
-            raise MorphError("anchor at line %d: its glyphs %s moved by different offsets"
-                             % (anchor.location.line, ", ".join(sorted(glyph_set))))
-        if offs:
-            moves.append((anchor, offs.pop()))
+def _statement_anchors(statements):
+    """(anchor, glyph set it belongs to) of every anchor in feaLib statements, blocks
+    included: mark classes (the marks), mark-to-base / -mark / -ligature (the bases),
+    cursive entry and exit (the glyphs)."""
+    from fontTools.feaLib import ast
 
-    def walk(statements):
-        for st in statements:
-            if isinstance(st, ast.MarkClassDefinition):
-                add(st.anchor, st.glyphSet())
-            elif isinstance(st, ast.MarkBasePosStatement):
-                for anchor, _ in st.marks:
-                    add(anchor, st.base.glyphSet())
-            elif isinstance(st, ast.MarkMarkPosStatement):
-                for anchor, _ in st.marks:
-                    add(anchor, st.baseMarks.glyphSet())
-            elif isinstance(st, ast.MarkLigPosStatement):
-                for component in st.marks:
-                    for anchor, _ in component:
-                        add(anchor, st.ligatures.glyphSet())
-            elif isinstance(st, ast.CursivePosStatement):
-                add(st.entryAnchor, st.glyphclass.glyphSet())
-                add(st.exitAnchor, st.glyphclass.glyphSet())
-            if hasattr(st, "statements"):
-                walk(st.statements)
+    for st in statements:
+        if isinstance(st, ast.MarkClassDefinition):
+            yield st.anchor, st.glyphSet()
+        elif isinstance(st, ast.MarkBasePosStatement):
+            yield from ((anchor, st.base.glyphSet()) for anchor, _ in st.marks)
+        elif isinstance(st, ast.MarkMarkPosStatement):
+            yield from ((anchor, st.baseMarks.glyphSet()) for anchor, _ in st.marks)
+        elif isinstance(st, ast.MarkLigPosStatement):
+            yield from ((anchor, st.ligatures.glyphSet())
+                        for component in st.marks for anchor, _ in component)
+        elif isinstance(st, ast.CursivePosStatement):
+            yield st.entryAnchor, st.glyphclass.glyphSet()
+            yield st.exitAnchor, st.glyphclass.glyphSet()
+        if hasattr(st, "statements"):
+            yield from _statement_anchors(st.statements)
 
-    walk(doc.statements)
+
+def _common_offset(anchor, glyph_set, offset_of):
+    """The one offset by which the glyphs of an anchor moved (None: not moved, or a
+    null anchor).  Raises MorphError when they moved by different offsets."""
+    if anchor is None or anchor.x is None:
+        return None
+    offsets = {offset_of(g) for g in glyph_set} - {None}
+    if len(offsets) > 1:
+        raise MorphError("anchor at line %d: its glyphs %s moved by different offsets"
+                         % (anchor.location.line, ", ".join(sorted(glyph_set))))
+    return offsets.pop() if offsets else None
+
+
+def _rewrite_anchors(text, moves):
+    """The feature text with the numbers of each ``anchor x y`` in ``moves`` (anchor,
+    (dx, dy)) rewritten in place; anchors of included files are left alone.
+
+    Raises:
+        MorphError: an anchor not found where feaLib located it.
+    """
+    import re
+
     lines = text.split("\n")
     number = r"(-?\d+(?:\.\d+)?)"
     pattern = re.compile(r"anchor\s+" + number + r"\s+" + number)
@@ -449,7 +529,7 @@ def _copy_font(font):
     return copy.deepcopy(font)
 
 
-def _grow_win_metrics(font, regions, ny0, ny1):
+def _grow_win_metrics(font, regions):
     """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping)."""
     from ..region import region_bbox
 
@@ -489,7 +569,7 @@ def _save(font, out_path, kind, tol, overwrite):
                                             cubicConversionError=_tolerances(tol, kind)[2] / upm)
             except Exception as exc:
                 raise MorphError("ufo2ft could not compile %s: %s"
-                                 % (out_path.name, " ".join(str(exc).split()))) from exc
+                                 % (out_path.name, one_line(exc))) from exc
             otf.save(str(tmp))
         if out_path.exists():
             if not overwrite:

@@ -335,8 +335,73 @@ def _moved(anchor, d):
     return a
 
 
-def _move_list(anchors, d):
-    return [_moved(a, d) for a in anchors]
+def _move_records(glyphs, records, attrs, offsets):
+    """Move the anchors ``attrs`` (an anchor or a list of anchors each) of the records
+    of the glyphs that have an offset; the number of anchors moved."""
+    moved = 0
+    for g, rec in zip(glyphs, records):
+        d = offsets.get(g)
+        if not d:
+            continue
+        for attr in attrs:
+            value = getattr(rec, attr)
+            if isinstance(value, list):
+                setattr(rec, attr, [_moved(a, d) for a in value])
+                moved += len(value)
+            else:
+                setattr(rec, attr, _moved(value, d))
+                moved += 1
+    return moved
+
+
+def _marks(st, offsets):
+    """The marks' own anchors of a mark-to-base, -ligature or -mark subtable."""
+    if type(st).__name__ == "MarkMarkPos":
+        return _move_records(st.Mark1Coverage.glyphs, st.Mark1Array.MarkRecord,
+                             ("MarkAnchor",), offsets)
+    return _move_records(st.MarkCoverage.glyphs, st.MarkArray.MarkRecord, ("MarkAnchor",),
+                         offsets)
+
+
+def _bases(st, offsets):
+    return _move_records(st.BaseCoverage.glyphs, st.BaseArray.BaseRecord, ("BaseAnchor",),
+                         offsets)
+
+
+def _mark2s(st, offsets):
+    """The anchors a mark offers to other marks."""
+    return _move_records(st.Mark2Coverage.glyphs, st.Mark2Array.Mark2Record, ("Mark2Anchor",),
+                         offsets)
+
+
+def _ligatures(st, offsets):
+    return sum(_move_records([g] * len(att.ComponentRecord), att.ComponentRecord,
+                             ("LigatureAnchor",), offsets)
+               for g, att in zip(st.LigatureCoverage.glyphs, st.LigatureArray.LigatureAttach))
+
+
+def _cursive(st, offsets):
+    return _move_records(st.Coverage.glyphs, st.EntryExitRecord, ("EntryAnchor", "ExitAnchor"),
+                         offsets)
+
+
+#: GPOS subtable type -> the functions moving its anchors
+_ANCHOR_MOVERS = {"MarkBasePos": (_marks, _bases), "MarkLigPos": (_marks, _ligatures),
+                  "MarkMarkPos": (_marks, _mark2s), "CursivePos": (_cursive,)}
+
+
+def _move_carets(font, offsets):
+    """GDEF ligature carets placed by a coordinate (formats 1 and 3) move in x."""
+    gdef = font["GDEF"].table if "GDEF" in font else None
+    carets = getattr(gdef, "LigCaretList", None)
+    if carets is None:
+        return
+    for g, lig in zip(carets.Coverage.glyphs, carets.LigGlyph):
+        d = offsets.get(g)
+        if d:
+            for cv in lig.CaretValue:
+                if cv.Format in (1, 3):
+                    cv.Coordinate = int(round(cv.Coordinate + d[0]))
 
 
 def move_anchors(font, offsets):
@@ -352,55 +417,10 @@ def move_anchors(font, offsets):
     points.  Returns the number of anchors moved.
     """
     moved = 0
-
-    def by(cov, g):
-        return offsets.get(g) if cov is not None else None
-
     for st in _lookup_subtables(font):
-        kind = type(st).__name__
-        if kind in ("MarkBasePos", "MarkLigPos", "MarkMarkPos"):
-            mark_cov = st.MarkCoverage if kind != "MarkMarkPos" else st.Mark1Coverage
-            mark_arr = st.MarkArray if kind != "MarkMarkPos" else st.Mark1Array
-            for g, rec in zip(mark_cov.glyphs, mark_arr.MarkRecord):
-                d = offsets.get(g)
-                if d:
-                    rec.MarkAnchor = _moved(rec.MarkAnchor, d)
-                    moved += 1
-        if kind == "MarkBasePos":
-            for g, rec in zip(st.BaseCoverage.glyphs, st.BaseArray.BaseRecord):
-                d = offsets.get(g)
-                if d:
-                    rec.BaseAnchor = _move_list(rec.BaseAnchor, d)
-                    moved += len(rec.BaseAnchor)
-        elif kind == "MarkMarkPos":
-            for g, rec in zip(st.Mark2Coverage.glyphs, st.Mark2Array.Mark2Record):
-                d = offsets.get(g)
-                if d:
-                    rec.Mark2Anchor = _move_list(rec.Mark2Anchor, d)
-                    moved += len(rec.Mark2Anchor)
-        elif kind == "MarkLigPos":
-            for g, att in zip(st.LigatureCoverage.glyphs, st.LigatureArray.LigatureAttach):
-                d = offsets.get(g)
-                if d:
-                    for comp in att.ComponentRecord:
-                        comp.LigatureAnchor = _move_list(comp.LigatureAnchor, d)
-                        moved += len(comp.LigatureAnchor)
-        elif kind == "CursivePos":
-            for g, rec in zip(st.Coverage.glyphs, st.EntryExitRecord):
-                d = offsets.get(g)
-                if d:
-                    rec.EntryAnchor = _moved(rec.EntryAnchor, d)
-                    rec.ExitAnchor = _moved(rec.ExitAnchor, d)
-                    moved += 2
-    gdef = font["GDEF"].table if "GDEF" in font else None
-    carets = getattr(gdef, "LigCaretList", None)
-    if carets is not None:
-        for g, lig in zip(carets.Coverage.glyphs, carets.LigGlyph):
-            d = offsets.get(g)
-            if d:
-                for cv in lig.CaretValue:
-                    if cv.Format in (1, 3):
-                        cv.Coordinate = int(round(cv.Coordinate + d[0]))
+        for mover in _ANCHOR_MOVERS.get(type(st).__name__, ()):
+            moved += mover(st, offsets)
+    _move_carets(font, offsets)
     return moved
 
 

@@ -11,25 +11,13 @@ import os
 from pathlib import Path
 
 from ..region import region_bbox
-from .glyphs import (Glyph, cubic_test_font_path, default_font_path, glyph_region,
-                     instantiate_font, load_font, parse_location)
-from .svg import SvgElement, svg_elements, svg_paths, svg_region, validate_path_data
+from . import glyphs, svg
+from .glyphs import (Glyph, cubic_test_font_path, default_font_path, glyph_name,  # noqa: F401
+                     glyph_region, instantiate_font, load_font, parse_location, read_glyph)
+from .svg import (SvgElement, svg_elements, svg_paths, svg_region,  # noqa: F401
+                  validate_path_data)
 
-__all__ = [
-    "Glyph",
-    "cubic_test_font_path",
-    "default_font_path",
-    "glyph_region",
-    "instantiate_font",
-    "load_font",
-    "parse_location",
-    "load_shape",
-    "SvgElement",
-    "svg_elements",
-    "svg_paths",
-    "svg_region",
-    "validate_path_data",
-]
+__all__ = glyphs.__all__ + svg.__all__ + ["load_shape"]
 
 
 # =========================================================================== CLI

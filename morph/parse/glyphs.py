@@ -20,17 +20,20 @@ from pathlib import Path
 import numpy as np
 
 from .. import piece as pc
-from ..errors import ParseError
+from ..errors import ParseError, one_line
 from ..region import is_zero_length, orient_region
+from .pens import RawContour, closing_line, record_contours
 
 __all__ = [
     "Glyph",
     "cubic_test_font_path",
     "default_font_path",
+    "glyph_name",
     "glyph_region",
     "instantiate_font",
     "load_font",
     "parse_location",
+    "read_glyph",
 ]
 
 _FONT_DIR = Path(__file__).resolve().parent.parent / "fonts" / "data"
@@ -88,7 +91,7 @@ def _load_font_cached(path, loc=()):
         font.getGlyphOrder()
         font["head"]
     except Exception as exc:  # fontTools raises many types for garbage input
-        raise ParseError("cannot read font %s: %s" % (path, _one_line(exc)), path) from exc
+        raise ParseError("cannot read font %s: %s" % (path, one_line(exc)), path) from exc
     font._morph_path = path
     return font
 
@@ -158,7 +161,7 @@ def instantiate_font(font, location=None):
         return instancer.instantiateVariableFont(font, full, inplace=False)
     except Exception as exc:  # fontTools raises many types for broken variation data
         raise ParseError("cannot instantiate font %s at %s: %s"
-                         % (label, full, _one_line(exc)), label) from exc
+                         % (label, full, one_line(exc)), label) from exc
 
 
 def _font_label(font):
@@ -186,71 +189,40 @@ class Glyph:
     units_per_em: int
 
 
-_PEN_DOC = """fontTools pen protocol -> loops of pieces (a BasePen subclass, built lazily).
+def _filled_loop(contour, label):
+    """A glyph contour (:class:`.pens.RawContour`) as a loop: zero-length pieces
+    dropped, closed by a line when it ends away from its start; None when nothing of
+    positive length is left.  An open contour (``endPath``) must end where it starts.
 
-    Contract (BasePen): override ``_moveTo``, ``_lineTo``, ``_curveToOne`` and
-    ``_qCurveToOne``; ``_closePath`` closes the contour with a line when its last
-    point differs from the first; ``_endPath`` (open contour) raises ParseError unless
-    the contour ends where it starts or has no extent.  BasePen splits TrueType quadratic runs at their implied
-    on-curve points and decomposes components through the glyph set.
-"""
-
-
-def _make_pen_class():
-    from fontTools.pens.basePen import BasePen
-
-    class RegionPen(BasePen):
-        __doc__ = _PEN_DOC
-
-        def __init__(self, glyph_set, label):
-            super().__init__(glyph_set)
-            self.loops = []
-            self.label = label
-            self._pieces = None
-            self._start = None
-
-        def _moveTo(self, pt):
-            if self._pieces:
-                self._finish(closed=False)
-            self._pieces = []
-            self._start = pt
-
-        def _add(self, points):
-            arr = pc.from_points([self._getCurrentPoint()] + list(points))
-            if not is_zero_length(arr):
-                self._pieces.append(arr)
-
-        def _lineTo(self, pt):
-            self._add([pt])
-
-        def _curveToOne(self, pt1, pt2, pt3):
-            self._add([pt1, pt2, pt3])
-
-        def _qCurveToOne(self, pt1, pt2):
-            self._add([pt1, pt2])
-
-        def _closePath(self):
-            self._finish(closed=True)
-
-        def _endPath(self):
-            self._finish(closed=False)
-
-        def _finish(self, closed):
-            pieces, start = self._pieces or [], self._start
-            self._pieces, self._start = None, None
-            if not pieces:
-                return
-            cur = pc.end(pieces[-1])
-            if not np.array_equal(cur, np.asarray(start, float)):
-                if not closed:
-                    raise ParseError("%s has an open contour" % self.label, self.label)
-                pieces.append(pc.line(cur, start))
-            self.loops.append(pieces)
-
-    return RegionPen
+    Raises:
+        ParseError: an open contour that does not end at its start.
+    """
+    pieces = [p for p in contour.pieces if not is_zero_length(p)]
+    if not pieces:
+        return None
+    if not contour.closed and not np.array_equal(pc.end(pieces[-1]), contour.start):
+        raise ParseError("%s has an open contour" % label, label)
+    return closing_line(RawContour(pieces, contour.start, True))
 
 
-_PEN_CLASS = None
+def glyph_name(font, char_or_name):
+    """The name of the glyph of a single character (cmap) or of a glyph name in an
+    open ``TTFont``.
+
+    Raises:
+        ParseError: not a non-empty string; no such glyph.
+    """
+    if not isinstance(char_or_name, str) or not char_or_name:
+        raise ParseError("a glyph is named by a character or a glyph name, got %r"
+                         % (char_or_name,), char_or_name)
+    if len(char_or_name) == 1:
+        name = (font.getBestCmap() or {}).get(ord(char_or_name))
+    else:
+        name = char_or_name if char_or_name in set(font.getGlyphOrder()) else None
+    if name is None:
+        raise ParseError("font %s has no glyph for %r" % (_font_label(font), char_or_name),
+                         char_or_name)
+    return name
 
 
 def glyph_region(char_or_name, font=None, location=None):
@@ -265,39 +237,33 @@ def glyph_region(char_or_name, font=None, location=None):
         ParseError: unreadable font; no glyph for the character or name; a glyph
             without contours (e.g. space); an open contour.
     """
-    global _PEN_CLASS
     font = load_font(font, location)
+    return read_glyph(font, glyph_name(font, char_or_name), source=char_or_name)
+
+
+def read_glyph(font, name, source=None):
+    """The glyph named ``name`` (exactly: no cmap lookup) of an open ``TTFont`` as a
+    :class:`Glyph`; ``source`` names it in errors (default: ``name``).
+
+    Raises:
+        ParseError: no such glyph; a glyph without contours; an open contour.
+    """
     label = _font_label(font)
-    if not isinstance(char_or_name, str) or not char_or_name:
-        raise ParseError("a glyph is named by a character or a glyph name, got %r"
-                         % (char_or_name,), char_or_name)
-    if len(char_or_name) == 1:
-        name = (font.getBestCmap() or {}).get(ord(char_or_name))
-    else:
-        name = char_or_name if char_or_name in set(font.getGlyphOrder()) else None
-    if name is None:
-        raise ParseError("font %s has no glyph for %r" % (label, char_or_name), char_or_name)
-    if _PEN_CLASS is None:
-        _PEN_CLASS = _make_pen_class()
+    source = name if source is None else source
     glyph_set = font.getGlyphSet()
-    pen = _PEN_CLASS(glyph_set, "glyph %r of font %s" % (name, label))
+    where = "glyph %r of font %s" % (name, label)
+    if name not in glyph_set:
+        raise ParseError("font %s has no glyph named %r" % (label, name), source)
     try:
-        glyph_set[name].draw(pen)
+        contours = record_contours(glyph_set[name].draw, where, glyph_set)
     except ParseError:
         raise
     except Exception as exc:
-        raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, _one_line(exc)),
-                         char_or_name) from exc
-    loops = orient_region(pen.loops, "nonzero")
+        raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, one_line(exc)),
+                         source) from exc
+    loops = [loop for loop in (_filled_loop(c, where) for c in contours) if loop]
+    loops = orient_region(loops, "nonzero")
     if not loops:
-        raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label),
-                         char_or_name)
+        raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
     advance, lsb = font["hmtx"][name]
     return Glyph(name, loops, advance, lsb, font["head"].unitsPerEm)
-
-
-# =========================================================================== helpers
-
-def _one_line(exc):
-    return " ".join(str(exc).split()) or type(exc).__name__
-

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import piece as pc
-from ..errors import ParseError
+from ..errors import ParseError, one_line
 from ..region import is_zero_length, orient_region
 
 __all__ = [
@@ -175,82 +175,92 @@ def _arc_pieces(p0, rx, ry, phi_deg, large, sweep, p1):
     return arcs
 
 
+def _smooth_control(up, cur, last_ctrl, last_up):
+    """First control point of S / T (SVG 1.1, 8.3.6, 8.3.7): the previous command's
+    last control point reflected about ``cur`` when that command was of the same
+    family (C/S for S, Q/T for T), else ``cur`` itself."""
+    family = "CS" if up == "S" else "QT"
+    if last_ctrl is not None and last_up in family:
+        return 2 * cur - last_ctrl
+    return cur.copy()
+
+
+def _draw_segment(up, a, cur, base, smooth):
+    """One drawing command from ``cur``: (pieces, end point, last control point).
+
+    ``up``: the command letter in upper case (L H V C S Q T A); ``a``: its numbers;
+    ``base``: the origin of its coordinates (``cur`` for a relative command, 0
+    otherwise); ``smooth``: the first control point of S / T (:func:`_smooth_control`).
+    The last control point is None for lines and arcs.  Raises ValueError for an arc
+    with non-finite parameters.
+    """
+    if up in "LHV":
+        if up == "L":
+            nxt = base + a[:2]
+        elif up == "H":
+            nxt = np.array([base[0] + a[0], cur[1]])
+        else:
+            nxt = np.array([cur[0], base[1] + a[0]])
+        return [pc.line(cur, nxt)], nxt, None
+    if up == "C":
+        c1, c2, nxt = base + a[0:2], base + a[2:4], base + a[4:6]
+        return [pc.cubic(cur, c1, c2, nxt)], nxt, c2
+    if up == "S":
+        c2, nxt = base + a[0:2], base + a[2:4]
+        return [pc.cubic(cur, smooth, c2, nxt)], nxt, c2
+    if up == "Q":
+        c1, nxt = base + a[0:2], base + a[2:4]
+        return [pc.quadratic(cur, c1, nxt)], nxt, c1
+    if up == "T":
+        nxt = base + a[0:2]
+        return [pc.quadratic(cur, smooth, nxt)], nxt, smooth
+    nxt = base + a[5:7]  # A
+    arcs = _arc_pieces(tuple(cur), a[0], a[1], a[2], a[3] != 0, a[4] != 0, tuple(nxt))
+    return arcs, nxt, None
+
+
+def _end_subpath(out, pieces, cur, start, closed):
+    """Append (pieces, closed, start) to ``out``: a closing line added when a closed
+    subpath ends away from its start, zero-length pieces dropped, nothing appended
+    when nothing is left."""
+    if closed and pieces and not np.array_equal(cur, start):
+        pieces = pieces + [pc.line(cur, start)]
+    kept = [p for p in pieces if not is_zero_length(p)]
+    if kept:
+        out.append((kept, closed, start.copy()))
+
+
 def _path_data_subpaths(d):
     """Path data -> list of (pieces, closed, start point), SVG coordinates.
 
     ``closed`` is True for a subpath ended by Z/z (a closing line is added when its
     last point differs from its first).  Zero-length segments are dropped; subpaths
     with nothing left are dropped.
+
+    Raises:
+        ParseError: malformed path data; a non-finite coordinate.
     """
-    out = []
-    cur = np.zeros(2)
-    start = np.zeros(2)
-    pieces = []
-    last_ctrl, last_cmd = None, ""
-
-    def finish(closed):
-        nonlocal pieces
-        if closed and pieces and not np.array_equal(cur, start):
-            pieces.append(pc.line(cur, start))
-        kept = [p for p in pieces if not is_zero_length(p)]
-        if kept:
-            out.append((kept, closed, start.copy()))
-        pieces = []
-
+    out, pieces = [], []
+    cur = start = np.zeros(2)
+    last_ctrl, last_up = None, ""
     for cmd, a in _path_commands(d):
         up = cmd.upper()
-        rel = cmd != up
-        base = cur if rel else np.zeros(2)
-        if up == "M":
-            finish(False)
-            cur = base + a[:2]
-            start = cur.copy()
-            last_ctrl = None
-        elif up == "Z":
-            finish(True)
-            cur = start.copy()
-            last_ctrl = None
+        base = cur if cmd != up else np.zeros(2)
+        if up in "MZ":
+            _end_subpath(out, pieces, cur, start, closed=up == "Z")
+            pieces, last_ctrl = [], None
+            cur = start = base + a[:2] if up == "M" else start
         else:
-            if up == "L" or up == "H" or up == "V":
-                if up == "L":
-                    nxt = base + a[:2]
-                elif up == "H":
-                    nxt = np.array([(cur[0] if rel else 0.0) + a[0], cur[1]])
-                else:
-                    nxt = np.array([cur[0], (cur[1] if rel else 0.0) + a[0]])
-                pieces.append(pc.line(cur, nxt))
-                last_ctrl = None
-            elif up == "C" or up == "S":
-                if up == "C":
-                    c1, c2, nxt = base + a[0:2], base + a[2:4], base + a[4:6]
-                else:
-                    c1 = 2 * cur - last_ctrl if last_cmd.upper() in "CS" and last_ctrl is not None \
-                        else cur.copy()
-                    c2, nxt = base + a[0:2], base + a[2:4]
-                pieces.append(pc.cubic(cur, c1, c2, nxt))
-                last_ctrl = c2
-            elif up == "Q" or up == "T":
-                if up == "Q":
-                    c1, nxt = base + a[0:2], base + a[2:4]
-                else:
-                    c1 = 2 * cur - last_ctrl if last_cmd.upper() in "QT" and last_ctrl is not None \
-                        else cur.copy()
-                    nxt = base + a[0:2]
-                pieces.append(pc.quadratic(cur, c1, nxt))
-                last_ctrl = c1
-            else:  # A
-                nxt = base + a[5:7]
-                try:
-                    pieces.extend(_arc_pieces(tuple(cur), a[0], a[1], a[2], a[3] != 0,
-                                              a[4] != 0, tuple(nxt)))
-                except (ValueError, OverflowError, ZeroDivisionError):
-                    _nonfinite(d)
-                last_ctrl = None
-            cur = nxt
+            smooth = _smooth_control(up, cur, last_ctrl, last_up)
+            try:
+                new, cur, last_ctrl = _draw_segment(up, a, cur, base, smooth)
+            except (ValueError, OverflowError, ZeroDivisionError):
+                _nonfinite(d)
+            pieces.extend(new)
         if not np.all(np.isfinite(cur)):
             _nonfinite(d)
-        last_cmd = cmd
-    finish(False)
+        last_up = up
+    _end_subpath(out, pieces, cur, start, closed=False)
     return out
 
 
@@ -368,6 +378,50 @@ def _painted(values, key):
     return color.alpha != 0
 
 
+def _own_length(raw, name, parsed):
+    """An element's own attribute ``name`` in user units: plain numbers (or px) as
+    written in ``raw`` (the attributes); other units and percentages as svgelements
+    resolved them (``parsed``).  Absent: 0, SVG's initial value (svgelements lets
+    x/y leak from <svg>)."""
+    if name not in raw:
+        return 0.0
+    text = str(raw[name]).strip()
+    m = re.fullmatch(r"(%s)(px)?" % _NUMBER, text)
+    return float(m.group(1)) if m else (float(parsed) if parsed is not None else 0.0)
+
+
+def _rect_subpaths(x, y, w, h, rx, ry):
+    """A rectangle, its corners rounded by (rx, ry) (SVG 2 rect path: clockwise on
+    screen from (x + rx, y), radii clamped to half the sides); [] for an empty one."""
+    if w <= 0 or h <= 0:
+        return []
+    rx, ry = (rx if rx is not None else ry), (ry if ry is not None else rx)
+    rx, ry = min(abs(rx or 0.0), w / 2), min(abs(ry or 0.0), h / 2)
+    if rx <= 0 or ry <= 0:
+        pts = [(x, y), (x + w, y), (x + w, y + h), (x, y + h)]
+        return [([pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)], True)]
+    corners = [((x + w - rx, y + ry), -math.pi / 2), ((x + w - rx, y + h - ry), 0.0),
+               ((x + rx, y + h - ry), math.pi / 2), ((x + rx, y + ry), math.pi)]
+    pieces = []
+    for c, a0 in corners:
+        arc = pc.ellipse_arc(c, rx, ry, 0.0, a0, math.pi / 2)
+        if pieces:
+            pieces.append(pc.line(pc.end(pieces[-1]), pc.start(arc[0])))
+        pieces.extend(arc)
+    pieces.append(pc.line(pc.end(pieces[-1]), pc.start(pieces[0])))
+    return [([p for p in pieces if not is_zero_length(p)], True)]
+
+
+def _polyline_subpaths(pts, closed):
+    """Lines through points (a polygon closed back to its first point); [] if none."""
+    pts = list(pts)
+    if closed and len(pts) > 1 and pts[0] != pts[-1]:
+        pts.append(pts[0])
+    pieces = [pc.line(pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
+    pieces = [p for p in pieces if not is_zero_length(p)]
+    return [(pieces, closed)] if pieces else []
+
+
 def _local_subpaths(el, label):
     """An svgelements shape -> list of (pieces, closed) in its own user coordinates."""
     import svgelements as se
@@ -375,59 +429,26 @@ def _local_subpaths(el, label):
     raw = el.values.get("attributes") or {}
 
     def num(name, parsed):
-        """The element's own attribute in user units: plain numbers (or px) as
-        written; other units and percentages as svgelements resolved them."""
-        if name not in raw:
-            return 0.0  # SVG's initial value (svgelements lets x/y leak from <svg>)
-        text = str(raw[name]).strip()
-        m = re.fullmatch(r"(%s)(px)?" % _NUMBER, text)
-        return float(m.group(1)) if m else (float(parsed) if parsed is not None else 0.0)
+        return _own_length(raw, name, parsed)
 
     if isinstance(el, se.Path):
         return [(p, c) for p, c, _ in _path_data_subpaths(el.values.get("d") or "")]
     if isinstance(el, se.Rect):
         x, y, w, h = (num(k, getattr(el, k)) for k in ("x", "y", "width", "height"))
-        if w <= 0 or h <= 0:
-            return []
-        rx, ry = _length(raw.get("rx")), _length(raw.get("ry"))
-        rx, ry = (rx if rx is not None else ry), (ry if ry is not None else rx)
-        rx, ry = min(abs(rx or 0.0), w / 2), min(abs(ry or 0.0), h / 2)
-        if rx <= 0 or ry <= 0:
-            pts = [(x, y), (x + w, y), (x + w, y + h), (x, y + h)]
-            return [([pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)], True)]
-        # SVG 2 rect path: clockwise on screen from (x + rx, y)
-        corners = [((x + w - rx, y + ry), -math.pi / 2), ((x + w - rx, y + h - ry), 0.0),
-                   ((x + rx, y + h - ry), math.pi / 2), ((x + rx, y + ry), math.pi)]
-        pieces = []
-        for k, (c, a0) in enumerate(corners):
-            arc = pc.ellipse_arc(c, rx, ry, 0.0, a0, math.pi / 2)
-            if pieces:
-                pieces.append(pc.line(pc.end(pieces[-1]), pc.start(arc[0])))
-            pieces.extend(arc)
-        pieces.append(pc.line(pc.end(pieces[-1]), pc.start(pieces[0])))
-        return [([p for p in pieces if not is_zero_length(p)], True)]
+        return _rect_subpaths(x, y, w, h, _length(raw.get("rx")), _length(raw.get("ry")))
     if isinstance(el, (se.Circle, se.Ellipse)):
-        if isinstance(el, se.Circle):
-            rx = ry = num("r", el.rx)
-        else:
-            rx, ry = num("rx", el.rx), num("ry", el.ry)
+        rx, ry = ((num("r", el.rx),) * 2 if isinstance(el, se.Circle)
+                  else (num("rx", el.rx), num("ry", el.ry)))
         if not (rx > 0 and ry > 0):
             return []
-        return [(pc.ellipse_arc((num("cx", el.cx), num("cy", el.cy)), rx, ry, 0.0, 0.0,
-                                2 * math.pi),
-                 True)]
+        centre = (num("cx", el.cx), num("cy", el.cy))
+        return [(pc.ellipse_arc(centre, rx, ry, 0.0, 0.0, 2 * math.pi), True)]
     if isinstance(el, se.SimpleLine):
-        a, b = (num("x1", el.x1), num("y1", el.y1)), (num("x2", el.x2), num("y2", el.y2))
-        line = pc.line(a, b)
+        line = pc.line((num("x1", el.x1), num("y1", el.y1)), (num("x2", el.x2), num("y2", el.y2)))
         return [] if is_zero_length(line) else [([line], False)]
     if isinstance(el, (se.Polyline, se.Polygon)):
-        pts = [(float(p.x), float(p.y)) for p in el.points]
-        closed = isinstance(el, se.Polygon)
-        if closed and len(pts) > 1 and pts[0] != pts[-1]:
-            pts.append(pts[0])
-        pieces = [pc.line(pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
-        pieces = [p for p in pieces if not is_zero_length(p)]
-        return [(pieces, closed)] if pieces else []
+        return _polyline_subpaths([(float(p.x), float(p.y)) for p in el.points],
+                                  isinstance(el, se.Polygon))
     return []
 
 
@@ -453,7 +474,7 @@ def _read_document(text, is_file, label):
     except ParseError:
         raise
     except (ET.ParseError, OSError, UnicodeDecodeError, ValueError) as exc:
-        raise ParseError("cannot read SVG %s: %s" % (where, _one_line(exc)), text) from exc
+        raise ParseError("cannot read SVG %s: %s" % (where, one_line(exc)), text) from exc
     if root.tag.split("}")[-1] != "svg":
         raise ParseError("SVG %s: the root element is <%s>, not <svg>"
                          % (where, root.tag.split("}")[-1]), text)
@@ -465,7 +486,60 @@ def _read_document(text, is_file, label):
     except ParseError:
         raise
     except Exception as exc:
-        raise ParseError("cannot parse SVG %s: %s" % (where, _one_line(exc)), text) from exc
+        raise ParseError("cannot parse SVG %s: %s" % (where, one_line(exc)), text) from exc
+
+
+def _source_kind(source):
+    """(text, kind) of an SVG source: kind "file", "document" or "path data".
+
+    Raises:
+        ParseError: neither a path nor a string.
+    """
+    text = os.fspath(source) if isinstance(source, os.PathLike) else source
+    if not isinstance(text, str):
+        raise ParseError("an SVG source is a path or a string, got %r" % (source,), source)
+    if text.lstrip().startswith("<"):
+        return text, "document"
+    if isinstance(source, os.PathLike) or text.lower().endswith(".svg") or os.path.exists(text):
+        return text, "file"
+    return text, "path data"
+
+
+def _path_data_element(text):
+    """Path data as one filled element (nonzero rule), y flipped up."""
+    flip = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    sub = [([pc.transform(p, flip) for p in pieces], closed)
+           for pieces, closed, _ in _path_data_subpaths(text)]
+    return SvgElement("path data %r" % _shorten(text), sub, True, False, "nonzero")
+
+
+def _drawn_element(el, name, label, unview, source):
+    """An svgelements shape -> :class:`SvgElement` (y up, its transform applied), or
+    None when it draws nothing.  ``unview``: the inverse of the root viewBox
+    transform (the root's user units are kept).
+
+    Raises:
+        ParseError: as :func:`_local_subpaths`; a non-finite transform.
+    """
+    import svgelements as se
+
+    try:
+        local = _local_subpaths(el, name)
+    except ParseError as exc:
+        raise ParseError("%s: %s: %s" % (label, name, exc), source) from exc
+    if not local:
+        return None
+    m = _matrix(el.transform * unview)
+    if not np.all(np.isfinite(m)):
+        raise ParseError("%s: %s has a non-finite transform" % (label, name), source)
+    sub = [([pc.transform(p, m) for p in pieces], closed) for pieces, closed in local]
+    values = el.values
+    rule = str(values.get("fill-rule", "nonzero")).strip()
+    stroke_width = _length(values.get("stroke-width"))
+    stroked = _painted(values, "stroke") and (stroke_width is None or stroke_width > 0)
+    filled = _painted(values, "fill") and not isinstance(el, se.SimpleLine)
+    return SvgElement("%s: %s" % (label, name), sub, filled, stroked,
+                      rule if rule in ("nonzero", "evenodd") else "nonzero")
 
 
 def svg_elements(source):
@@ -483,50 +557,26 @@ def svg_elements(source):
     """
     import svgelements as se
 
-    text = os.fspath(source) if isinstance(source, os.PathLike) else source
-    if not isinstance(text, str):
-        raise ParseError("an SVG source is a path or a string, got %r" % (source,), source)
-    is_doc = text.lstrip().startswith("<")
-    is_file = isinstance(source, os.PathLike) or (
-        not is_doc and (text.lower().endswith(".svg") or os.path.exists(text)))
-    flip = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
-    if not (is_file or is_doc):
-        label = "path data %r" % _shorten(text)
-        sub = [([pc.transform(p, flip) for p in pieces], closed)
-               for pieces, closed, _ in _path_data_subpaths(text)]
-        elements = [SvgElement(label, sub, True, False, "nonzero")]
+    text, kind = _source_kind(source)
+    if kind == "path data":
+        elements = [_path_data_element(text)]
         _check_finite(elements, text)
         return elements
-
-    label = text if is_file else "SVG document"
-    doc = _read_document(text, is_file, label)
+    label = text if kind == "file" else "SVG document"
+    doc = _read_document(text, kind == "file", label)
     vp = getattr(doc, "viewbox_transform", None) if isinstance(doc, se.SVG) else None
     unview = ~se.Matrix(vp) if vp else se.Matrix()
     elements = []
     for k, el in enumerate(doc.elements() if isinstance(doc, se.Group) else []):
         if not isinstance(el, se.Shape):
             continue
-        values = el.values
-        tag = values.get("tag", type(el).__name__.lower())
+        if str(el.values.get("visibility", "visible")).strip() in ("hidden", "collapse"):
+            continue
+        tag = el.values.get("tag", type(el).__name__.lower())
         name = "<%s id=%r>" % (tag, el.id) if el.id else "<%s> (element %d)" % (tag, k)
-        if str(values.get("visibility", "visible")).strip() in ("hidden", "collapse"):
-            continue
-        try:
-            local = _local_subpaths(el, name)
-        except ParseError as exc:
-            raise ParseError("%s: %s: %s" % (label, name, exc), text) from exc
-        if not local:
-            continue
-        m = _matrix(el.transform * unview)
-        if not np.all(np.isfinite(m)):
-            raise ParseError("%s: %s has a non-finite transform" % (label, name), text)
-        sub = [([pc.transform(p, m) for p in pieces], closed) for pieces, closed in local]
-        rule = str(values.get("fill-rule", "nonzero")).strip()
-        stroke_width = _length(values.get("stroke-width"))
-        stroked = _painted(values, "stroke") and (stroke_width is None or stroke_width > 0)
-        filled = _painted(values, "fill") and not isinstance(el, se.SimpleLine)
-        elements.append(SvgElement("%s: %s" % (label, name), sub, filled,
-                                   stroked, rule if rule in ("nonzero", "evenodd") else "nonzero"))
+        element = _drawn_element(el, name, label, unview, text)
+        if element is not None:
+            elements.append(element)
     _check_finite(elements, text)
     return elements
 
@@ -582,14 +632,9 @@ def svg_region(source, fill_rule=None, close_tol=None):
     if fill_rule not in (None, "nonzero", "evenodd"):
         raise ValueError("fill_rule must be None, 'nonzero' or 'evenodd', got %r" % (fill_rule,))
     elements = [e for e in svg_elements(source) if e.subpaths]
-    text = os.fspath(source) if isinstance(source, os.PathLike) else source
-    is_doc = text.lstrip().startswith("<")
-    if is_doc:
-        where = "SVG document"
-    elif isinstance(source, os.PathLike) or text.lower().endswith(".svg") or os.path.exists(text):
-        where = "SVG file %s" % text
-    else:
-        where = "SVG path data %r" % _shorten(text)
+    text, kind = _source_kind(source)
+    where = {"document": "SVG document", "file": "SVG file %s" % text,
+             "path data": "SVG path data %r" % _shorten(text)}[kind]
     filled = [e for e in elements if e.filled]
     if not filled:
         stroke_only = [e for e in elements if e.stroked]
@@ -641,10 +686,6 @@ def svg_paths(source, stroked=None):
 
 
 # =========================================================================== helpers
-
-def _one_line(exc):
-    return " ".join(str(exc).split()) or type(exc).__name__
-
 
 def _shorten(text, n=40):
     return text if len(text) <= n else text[:n - 3] + "..."

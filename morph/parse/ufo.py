@@ -23,7 +23,8 @@ import os
 import numpy as np
 
 from .. import piece as pc
-from ..errors import ParseError
+from ..errors import ParseError, one_line
+from .pens import closing_line, record_contours
 
 __all__ = ["load_ufo", "glyph_paths", "component_paths", "contour_paths", "transform_paths",
            "glyph_names_for"]
@@ -46,82 +47,24 @@ def load_ufo(path, lazy=True):
     try:
         return ufoLib2.Font.open(text, lazy=lazy)
     except Exception as exc:  # fontTools.ufoLib raises several types for bad input
-        raise ParseError("cannot read UFO %s: %s" % (text, _one_line(exc)), text) from exc
-
-
-_PEN_CLASS = None
-
-
-def _make_pen_class():
-    from fontTools.pens.basePen import BasePen
-
-    class SkeletonPen(BasePen):
-        """Segment pen -> list of ``(pieces, closed)`` paths (font units, y up).
-
-        Contract (BasePen): ``_moveTo``, ``_lineTo``, ``_curveToOne`` and
-        ``_qCurveToOne`` are overridden; BasePen splits quadratic runs at implied
-        on-curve points and long cubic runs.  ``_closePath`` adds a closing line when
-        the last point differs from the first; ``_endPath`` keeps the path open.
-        Components are refused (draw contours only).
-        """
-
-        def __init__(self, label):
-            super().__init__(None)
-            self.paths = []
-            self.label = label
-            self._pieces = None
-            self._start = None
-
-        def _moveTo(self, pt):
-            if self._pieces is not None:
-                self._finish(closed=False)
-            self._pieces = []
-            self._start = pt
-
-        def _add(self, points):
-            self._pieces.append(pc.from_points([self._getCurrentPoint()] + list(points)))
-
-        def _lineTo(self, pt):
-            self._add([pt])
-
-        def _curveToOne(self, pt1, pt2, pt3):
-            self._add([pt1, pt2, pt3])
-
-        def _qCurveToOne(self, pt1, pt2):
-            self._add([pt1, pt2])
-
-        def _closePath(self):
-            self._finish(closed=True)
-
-        def _endPath(self):
-            self._finish(closed=False)
-
-        def addComponent(self, glyphName, transformation):
-            raise ParseError("%s: components are read by component_paths" % self.label,
-                             self.label)
-
-        def _finish(self, closed):
-            pieces, start = self._pieces, self._start
-            self._pieces, self._start = None, None
-            if pieces is None:
-                return
-            start = np.asarray(start, float)
-            if not np.all(np.isfinite(start)):
-                raise ParseError("%s has a non-finite point" % self.label, self.label)
-            if closed and pieces and not np.array_equal(pc.end(pieces[-1]), start):
-                pieces.append(pc.line(pc.end(pieces[-1]), start))
-            kept = [p for p in pieces if not _zero_length(p)]
-            if not kept:  # a single point or a dot of zero-length segments
-                self.paths.append(([pc.line(start, start)], False))
-                return
-            self.paths.append((kept, bool(closed)))
-
-    return SkeletonPen
+        raise ParseError("cannot read UFO %s: %s" % (text, one_line(exc)), text) from exc
 
 
 def _zero_length(piece):
     pts = pc.cartesian(piece)
     return bool(np.all(pts == pts[0]))
+
+
+def _skeleton_path(contour):
+    """A skeleton contour (:class:`.pens.RawContour`) as a path ``(pieces, closed)``:
+    a closing line added to a closed one that ends away from its start, zero-length
+    pieces dropped, a single point or a dot of zero-length pieces as
+    ``([line(p, p)], False)``."""
+    pieces = closing_line(contour) if contour.closed else list(contour.pieces)
+    kept = [p for p in pieces if not _zero_length(p)]
+    if not kept:
+        return [pc.line(contour.start, contour.start)], False
+    return kept, contour.closed
 
 
 def contour_paths(contours, label="contours"):
@@ -131,19 +74,17 @@ def contour_paths(contours, label="contours"):
         ParseError: a contour fontTools cannot draw (bad point types, a contour that
             ends with off-curve points while open) or a non-finite coordinate.
     """
-    global _PEN_CLASS
-    if _PEN_CLASS is None:
-        _PEN_CLASS = _make_pen_class()
-    pen = _PEN_CLASS(label)
-    for contour in contours:
-        try:
-            contour.draw(pen)
-        except ParseError:
-            raise
-        except Exception as exc:
-            raise ParseError("%s: cannot read a contour: %s" % (label, _one_line(exc)),
-                             label) from exc
-    return pen.paths
+    def draw(pen):
+        for contour in contours:
+            try:
+                contour.draw(pen)
+            except ParseError:
+                raise
+            except Exception as exc:
+                raise ParseError("%s: cannot read a contour: %s" % (label, one_line(exc)),
+                                 label) from exc
+
+    return [_skeleton_path(c) for c in record_contours(draw, label)]
 
 
 def glyph_paths(glyph):
@@ -212,7 +153,3 @@ def glyph_names_for(font, items):
         if name not in out:
             out.append(name)
     return out
-
-
-def _one_line(exc):
-    return " ".join(str(exc).split()) or type(exc).__name__

@@ -1,0 +1,118 @@
+"""One fontTools pen for both font readers: it records contours, the readers decide.
+
+:func:`record_contours` draws with a :class:`fontTools.pens.basePen.BasePen` subclass
+that only *records*: each contour becomes a :class:`RawContour` (its pieces, exactly as
+drawn, its start point and whether it was closed).  What a contour means is left to the
+caller, as pure functions on the records: a filled glyph (:mod:`.glyphs`) refuses open
+contours and closes the others, a skeleton (:mod:`.ufo`) keeps them open and turns a
+lone point into a dot.
+
+Contract (BasePen): ``_moveTo``, ``_lineTo``, ``_curveToOne`` and ``_qCurveToOne`` are
+overridden; BasePen splits TrueType quadratic runs at their implied on-curve points and
+long cubic runs, and decomposes components through the glyph set it was given
+(``glyph_set=None``: components are refused with a ParseError).  A ``moveTo`` while a
+contour is pending ends that contour as open.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import piece as pc
+from ..errors import ParseError
+
+__all__ = ["RawContour", "record_contours", "closing_line"]
+
+
+@dataclass
+class RawContour:
+    """A contour as drawn: polynomial pieces joined end to start, font units."""
+
+    pieces: list = field(repr=False)
+    start: np.ndarray
+    closed: bool
+
+
+def closing_line(contour):
+    """The contour's pieces with a line back to its start added when the last piece
+    ends elsewhere (what ``closePath`` means)."""
+    pieces = list(contour.pieces)
+    if pieces and not np.array_equal(pc.end(pieces[-1]), contour.start):
+        pieces.append(pc.line(pc.end(pieces[-1]), contour.start))
+    return pieces
+
+
+_PEN_CLASS = None
+
+
+def _pen_class():
+    """The recording BasePen subclass (built on first use: fontTools loads lazily)."""
+    global _PEN_CLASS
+    if _PEN_CLASS is not None:
+        return _PEN_CLASS
+    from fontTools.pens.basePen import BasePen
+
+    class RecordingPen(BasePen):
+        """Segment pen -> ``self.contours``, a list of :class:`RawContour`."""
+
+        def __init__(self, glyph_set, label):
+            super().__init__(glyph_set)
+            self.contours = []
+            self.label = label
+            self._pieces = None
+            self._start = None
+
+        def _moveTo(self, pt):
+            self._finish(closed=False)
+            self._pieces = []
+            self._start = np.asarray(pt, float)
+
+        def _add(self, points):
+            self._pieces.append(pc.from_points([self._getCurrentPoint()] + list(points)))
+
+        def _lineTo(self, pt):
+            self._add([pt])
+
+        def _curveToOne(self, pt1, pt2, pt3):
+            self._add([pt1, pt2, pt3])
+
+        def _qCurveToOne(self, pt1, pt2):
+            self._add([pt1, pt2])
+
+        def _closePath(self):
+            self._finish(closed=True)
+
+        def _endPath(self):
+            self._finish(closed=False)
+
+        def addComponent(self, glyphName, transformation):
+            if self.glyphSet is None:
+                raise ParseError("%s: components are read by component_paths" % self.label,
+                                 self.label)
+            super().addComponent(glyphName, transformation)
+
+        def _finish(self, closed):
+            if self._pieces is not None:
+                self.contours.append(RawContour(self._pieces, self._start, bool(closed)))
+            self._pieces, self._start = None, None
+
+    _PEN_CLASS = RecordingPen
+    return RecordingPen
+
+
+def record_contours(draw, label, glyph_set=None):
+    """The :class:`RawContour` list that ``draw(pen)`` draws.
+
+    ``label`` names the glyph in error messages; ``glyph_set`` decomposes components
+    (None: a component raises ParseError).
+
+    Raises:
+        ParseError: a non-finite start point; what ``draw`` raises as ParseError.
+    """
+    pen = _pen_class()(glyph_set, label)
+    draw(pen)
+    pen._finish(closed=False)  # a contour drawn without closePath/endPath
+    for c in pen.contours:
+        if not np.all(np.isfinite(c.start)):
+            raise ParseError("%s has a non-finite point" % label, label)
+    return pen.contours
