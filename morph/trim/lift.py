@@ -167,7 +167,37 @@ def _neighbours_cross(runs, tri, reach, apply=False):
 
 
 def _edge_segments(p, q, tg):
-    """Input segment and direction (True: along the segment) of each edge p -> q."""
+    """Input segment and direction (True: along the segment) of each edge p -> q.
+
+    Most edges are input segments whose two ends are input vertices found at no
+    other grid point: those are read off directly; the rest are matched by
+    :func:`_matched_segments`."""
+    keys = _as_keys(tg.q, tg.q)
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    ip, iq = _unique_vertex(sk, order, _as_keys(p, tg.q)), _unique_vertex(sk, order, _as_keys(q, tg.q))
+    seg = np.zeros(len(p), np.int64)
+    direction = np.ones(len(p), bool)
+    along = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(ip, 0)] == iq)
+    against = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(iq, 0)] == ip) & ~along
+    seg[along], seg[against] = ip[along], iq[against]
+    direction[against] = False
+    rest = np.flatnonzero(~(along | against))
+    if len(rest):
+        seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg)
+    return seg, direction
+
+
+def _unique_vertex(sorted_keys, order, kp):
+    """Index of the input vertex at each key, -1 where there is none or several."""
+    lo = np.searchsorted(sorted_keys, kp, "left")
+    hi = np.searchsorted(sorted_keys, kp, "right")
+    return np.where(hi - lo == 1, order[np.minimum(lo, len(order) - 1)], -1)
+
+
+def _matched_segments(p, q, tg):
+    """:func:`_edge_segments` by candidates: segments at the edges' end vertices, the
+    best fitting one; edges between crossings by a search over all segments."""
     sa, sb = tg.q, tg.q[tg.nxt]
     cand_e, cand_s = _vertex_candidates(p, q, tg)
     score, fwd = _fit(p[cand_e], q[cand_e], sa[cand_s], sb[cand_s])
