@@ -51,10 +51,10 @@ sys.path.insert(0, str(ROOT))
 
 from fontTools.ttLib import TTFont  # noqa: E402 - after sys.path gets the repo root
 
-from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 from morph.fonts.brush import (brush_font, ellipse_nib, open_source,  # noqa: E402 - after sys.path gets the repo root
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region  # noqa: E402 - after sys.path gets the repo root
+from morph.region import translate_region  # noqa: E402 - after sys.path gets the repo root
 from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
 
 LIMIT = 1.0          # font units: the criterion at upm 1000
@@ -93,7 +93,7 @@ def run_font(key, chars, nib_spec, tol, ref_tol, workdir, jobs=1):
     for name, (kind, err) in sorted(fallback.items()):
         print("%s %s fell back (%s): %s" % (tag, name, kind, err), flush=True)
     x0, _, x1, _ = region_extent(nib)
-    nib_shifted = [[pc.translate(p, (-x0, 0.0)) for p in nib[0]]]
+    nib_shifted = translate_region(nib, (-x0, 0.0))
     a, b = TTFont(src), TTFont(str(out))
     cmap = a.getBestCmap()
     rows = []

@@ -55,7 +55,8 @@ import shapely.affinity  # noqa: E402
 from morph import piece as pc  # noqa: E402
 from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # noqa: E402
 from morph.parse import glyph_region  # noqa: E402
-from morph.parse.ufo import component_paths, glyph_names_for, glyph_paths, load_ufo  # noqa: E402
+from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402
+from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402
 from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402
 from tests.stroke_reference import stroke_polygon  # noqa: E402
 
@@ -76,14 +77,6 @@ def code_version():
     head = git("rev-parse", "--short", "HEAD")
     dirty = git("status", "--porcelain", "--", "morph")
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
-
-
-def all_paths(font, name):
-    g = font[name]
-    paths = glyph_paths(g)
-    for c in g.components:
-        paths.extend(component_paths(font, c))
-    return paths
 
 
 def nib_region(spec):
@@ -159,7 +152,7 @@ def run_morph(font, names, spec, tols, refs):
     for tol in tols:
         secs, points, errs, fails = [], [], [], []
         for n in names:
-            paths = all_paths(font, n)
+            paths = decomposed_paths(font, n)
             geometry, export = split_tolerance(tol)
             t0 = time.process_time()
             try:
@@ -181,7 +174,7 @@ def run_fontforge(font, names, spec, accuracies, refs):
     glyphs = {}
     for n in names:
         glyphs[n] = [[[pc.cartesian(p).tolist() for p in pieces], closed]
-                     for pieces, closed in all_paths(font, n)]
+                     for pieces, closed in decomposed_paths(font, n)]
     nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
            else ["circular", spec[1]])
     rows = []
@@ -203,33 +196,10 @@ def run_fontforge(font, names, spec, accuracies, refs):
 
 
 def _skia_contours(path):
-    from fontTools.pens.recordingPen import RecordingPen
-
-    rec = RecordingPen()
-    path.draw(rec)
-    contours, cur, start, segs = [], None, None, []
-    for op, args in rec.value:
-        if op == "moveTo":
-            cur = start = args[0]
-            segs = []
-        elif op == "lineTo":
-            segs.append([cur, args[0]])
-            cur = args[0]
-        elif op == "qCurveTo":
-            pts = [cur] + list(args)
-            for k in range(1, len(pts) - 1):  # implied on-curve points
-                a = pts[k - 1] if k == 1 else tuple(np.add(pts[k - 1], pts[k]) / 2)
-                b = pts[k + 1] if k == len(pts) - 2 else tuple(np.add(pts[k], pts[k + 1]) / 2)
-                segs.append([a, pts[k], b])
-            cur = args[-1]
-        elif op == "curveTo":
-            segs.append([cur] + list(args))
-            cur = args[-1]
-        elif op in ("closePath", "endPath"):
-            if cur != start:
-                segs.append([cur, start])
-            contours.append(segs)
-    return contours
+    """Contours of segment point arrays of a pathops path (closed by a line where a
+    contour ends away from its start), read by morph's recording pen."""
+    return [[pc.cartesian(p) for p in closing_line(c)]
+            for c in record_contours(path.draw, "skia path")]
 
 
 def run_skia(font, names, diameter, scales, refs):
@@ -241,18 +211,8 @@ def run_skia(font, names, diameter, scales, refs):
         for n in names:
             t0 = time.process_time()
             path = pathops.Path()
-            pen = path.getPen()
-            for pieces, closed in all_paths(font, n):
-                pts = [pc.cartesian(p) * k for p in pieces]
-                pen.moveTo(tuple(pts[0][0]))
-                for q in pts:
-                    if len(q) == 2:
-                        pen.lineTo(tuple(q[1]))
-                    elif len(q) == 3:
-                        pen.qCurveTo(tuple(q[1]), tuple(q[2]))
-                    else:
-                        pen.curveTo(tuple(q[1]), tuple(q[2]), tuple(q[3]))
-                pen.closePath() if closed else pen.endPath()
+            draw_paths(path.getPen(), [([pc.transform(p, [[k, 0, 0], [0, k, 0]]) for p in pieces],
+                                        closed) for pieces, closed in decomposed_paths(font, n)])
             path.stroke(diameter * k, pathops.LineCap.ROUND_CAP, pathops.LineJoin.ROUND_JOIN, 4)
             path.convertConicsToQuads(0.25)
             path.simplify()
@@ -379,7 +339,7 @@ def main(argv=None):
     refs = {}
     for spec in (BROAD, ROUND):
         nib = nib_region(spec)
-        refs[spec] = {n: stroke_polygon(all_paths(font, n), nib, opt.ref_tol) for n in names}
+        refs[spec] = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
         print("reference %s: %d glyphs" % (spec[0], len(names)), flush=True)
     acc = {}
     if not opt.no_accuracy:

@@ -825,14 +825,10 @@ def relief_pool():
 
 
 def relief_paths(name):
-    from morph.parse.ufo import component_paths, glyph_paths
+    from morph.parse.ufo import decomposed_paths
 
     font, _ = relief_font()
-    g = font[name]
-    paths = glyph_paths(g)
-    for comp in g.components:
-        paths.extend(component_paths(font, comp))
-    return paths
+    return decomposed_paths(font, name)
 
 
 def _paths_size(paths):

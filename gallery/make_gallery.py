@@ -32,7 +32,7 @@ sys.path.insert(0, str(HERE.parent))
 from morph import piece as pc  # noqa: E402
 from morph.frames import centered, morph_frames  # noqa: E402
 from morph.parse import glyph_region, svg_region  # noqa: E402
-from morph.region import region_bbox  # noqa: E402
+from morph.region import region_bbox, translate_region  # noqa: E402
 from morph.trim import minkowski_sum  # noqa: E402
 
 DATA = HERE.parent / "morph" / "data"
@@ -40,7 +40,7 @@ BLUE, ORANGE, GREY, RED = "#1f5fa8", "#f2c894", "#404040", "#d62728"
 
 
 def moved(loops, dx, dy=0.0):
-    return [[pc.translate(p, (dx, dy)) for p in loop] for loop in loops]
+    return translate_region(loops, (dx, dy))
 
 
 def row(regions, gap):
@@ -140,35 +140,19 @@ def fig05_brush(text="Hamburgefonstiv"):
 RELIEF = HERE.parent / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 
 
-def _relief_paths(font, name):
-    """Skeleton paths of a Relief glyph, components decomposed (font units)."""
-    from morph.parse.ufo import component_paths, glyph_paths
-
-    g = font[name]
-    paths = glyph_paths(g)
-    for c in g.components:
-        paths.extend(component_paths(font, c))
-    return paths
-
-
-def _centre_line(pieces):
-    """An open path as a degenerate loop (forward and back) for drawing as a line."""
-    return pieces + [pc.reverse(p) for p in reversed(pieces)]
-
-
 def fig05_skeleton(name="a"):
     """Paper Fig. 5 from a Relief SingleLine skeleton: the centre line with the nib
     (left), the nib swept along it (middle), the outline = skeleton ⊕ nib (right)."""
     from morph.fonts.brush import ellipse_nib
-    from morph.parse.ufo import load_ufo
-    from morph.stroke import stroke_paths
+    from morph.parse.ufo import decomposed_paths, load_ufo
+    from morph.stroke import path_loop, stroke_paths
 
     tol = 0.25
     font = load_ufo(RELIEF)
-    paths = _relief_paths(font, name)
+    paths = decomposed_paths(font, name)
     nib = ellipse_nib(90, 20, 30)
     outline = stroke_paths(paths, nib, tol)
-    line = [_centre_line(pieces) for pieces, _ in paths]
+    line = [path_loop(pieces) for pieces, _ in paths]  # the centre line, drawn as a loop
     b = region_bbox(outline)
     gap = 0.35 * (b[2] - b[0])
     step = (b[2] - b[0]) + gap
@@ -195,7 +179,7 @@ def fig05_stroke_text(text="Hamburgefonstiv"):
     """Relief SingleLine stroked with a broad nib at 30 degrees (top) and a round nib
     (bottom), as `morph stroke` writes the fonts (advance + nib width)."""
     from morph.fonts.brush import ellipse_nib, region_extent
-    from morph.parse.ufo import glyph_names_for, load_ufo
+    from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo
     from morph.stroke import stroke_paths
 
     tol = 0.25
@@ -209,7 +193,7 @@ def fig05_stroke_text(text="Hamburgefonstiv"):
         for ch in text:
             n = by_char[ch]
             if n not in cache:
-                cache[n] = stroke_paths(_relief_paths(font, n), nib, tol)
+                cache[n] = stroke_paths(decomposed_paths(font, n), nib, tol)
             ink.extend(moved(cache[n], x - nx0, row_y))
             x += font[n].width + (nx1 - nx0)
         shapes.append((ink, {"fill": "black"}))

@@ -9,7 +9,7 @@ orientation of loops (outer CCW, holes CW) and the pieces stay exact.
 
 import numpy as np
 
-from . import piece as pc
+from .region import transform_region, translate_region
 
 __all__ = ["reflect_region", "place_robot", "cspace_obstacle"]
 
@@ -20,14 +20,12 @@ def reflect_region(loops, reference=(0.0, 0.0)):
     A rotation by pi (keeps orientation: outer loops stay CCW).
     """
     rx, ry = map(float, reference)
-    m = np.array([[-1.0, 0.0, rx], [0.0, -1.0, ry]])
-    return [[pc.transform(p, m) for p in loop] for loop in loops]
+    return transform_region(loops, [[-1.0, 0.0, rx], [0.0, -1.0, ry]])
 
 
 def place_robot(robot, position, reference=(0.0, 0.0)):
     """The robot translated so that its reference point lies at ``position``."""
-    off = np.asarray(position, float) - np.asarray(reference, float)
-    return [[pc.translate(p, off) for p in loop] for loop in robot]
+    return translate_region(robot, np.asarray(position, float) - np.asarray(reference, float))
 
 
 def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac"):

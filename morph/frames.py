@@ -10,19 +10,10 @@ one frame is one Minkowski sum of scaled copies.
 import numpy as np
 
 from . import convolve, gauss
-from . import piece as pc
-from .region import region_centroid
 from .minkowski import minkowski_sum
+from .region import region_centroid, scale_region, translate_region
 
-
-def scale_region(loops, factor):
-    """Region scaled by a positive factor about the origin (exact on control points)."""
-    m = [[factor, 0.0, 0.0], [0.0, factor, 0.0]]
-    return [[pc.transform(p, m) for p in loop] for loop in loops]
-
-
-def translate_region(loops, offset):
-    return [[pc.translate(p, offset) for p in loop] for loop in loops]
+__all__ = ["centered", "morph_frames", "scale_region", "translate_region"]
 
 
 def centered(loops):

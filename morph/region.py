@@ -25,11 +25,15 @@ __all__ = [
     "loop_polyline",
     "orient_region",
     "point_polyline_distance",
+    "polyline_edges",
     "point_in_region",
     "region_bbox",
     "region_centroid",
+    "region_polylines",
     "reverse_loop",
+    "scale_region",
     "transform_region",
+    "translate_region",
     "winding_number",
 ]
 
@@ -83,6 +87,22 @@ def loop_polyline(loop, tol):
     return pc.flatten_loop(loop, tol)
 
 
+def region_polylines(loops, tol):
+    """:func:`loop_polyline` of every loop, those with fewer than 3 points left out."""
+    polys = [loop_polyline(loop, tol) for loop in loops]
+    return [p for p in polys if len(p) >= 3]
+
+
+def polyline_edges(polylines):
+    """The edges of closed polylines as two (e, 2) arrays ``a, b``: edge k runs from
+    ``a[k]`` to ``b[k]``, each polyline closed from its last point to its first
+    (polylines with fewer than 2 points have no edge)."""
+    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
+    if not polys:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.concatenate(polys), np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+
+
 def _region_scale(loops):
     pts = [pc.cartesian(p) for loop in loops for p in loop]
     if not pts:
@@ -104,11 +124,9 @@ def winding_number(points, polylines, chunk=2_000_000):
     """
     pts = np.atleast_2d(np.asarray(points, float))
     out = np.zeros(len(pts), int)
-    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
-    if not polys or len(pts) == 0:
+    a, b = polyline_edges(polylines)
+    if not len(a) or len(pts) == 0:
         return out
-    a = np.concatenate(polys)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
     step = max(1, chunk // len(a))
     for s in range(0, len(pts), step):
         p = pts[s:s + step, None, :]
@@ -127,8 +145,7 @@ def point_polyline_distance(points, polyline):
     Each point is projected on every edge [a, b] at ``u = clip((p - a).(b - a) /
     |b - a|^2, 0, 1)``; the least distance to a projection is returned.
     """
-    a = polyline
-    b = np.roll(polyline, -1, axis=0)
+    a, b = polyline_edges([polyline])
     d = b - a
     dd = np.maximum((d ** 2).sum(axis=1), 1e-300)
     rel = points[:, None, :] - a[None]
@@ -368,6 +385,20 @@ def point_in_region(points, loops, tol):
     return winding_number(points, polys) != 0
 
 
+def translate_region(loops, offset):
+    """All pieces moved by ``offset`` (dx, dy) (exact on homogeneous points)."""
+    return [[pc.translate(p, offset) for p in loop] for loop in loops]
+
+
+def scale_region(loops, factor, center=(0.0, 0.0)):
+    """The region scaled by ``factor`` > 0 (a number, or (sx, sy)) about ``center``
+    (exact on homogeneous points; a negative factor mirrors, see
+    :func:`transform_region`)."""
+    sx, sy = (factor, factor) if np.isscalar(factor) else factor
+    cx, cy = center
+    return transform_region(loops, [[sx, 0.0, cx - sx * cx], [0.0, sy, cy - sy * cy]])
+
+
 def transform_region(loops, matrix):
     """All pieces mapped by the affine [[a, b, e], [c, d, f]] (exact on homogeneous points).
 
@@ -410,12 +441,10 @@ class Region:
         return Region(transform_region(self.loops, matrix), orient=False)
 
     def scaled(self, s, center=(0.0, 0.0)):
-        sx, sy = (s, s) if np.isscalar(s) else s
-        cx, cy = center
-        return self.transformed([[sx, 0, cx - sx * cx], [0, sy, cy - sy * cy]])
+        return Region(scale_region(self.loops, s, center), orient=False)
 
     def translated(self, v):
-        return self.transformed([[1, 0, v[0]], [0, 1, v[1]]])
+        return Region(translate_region(self.loops, v), orient=False)
 
     def contains(self, points, tol):
         return point_in_region(points, self.loops, tol)

@@ -14,13 +14,14 @@ import numpy as np
 
 from . import piece as pc
 from .minkowski import minkowski_sum
+from .region import reverse_loop, translate_region
 from .trim import fill_region
 
 
 def path_loop(pieces):
     """The closed degenerate loop of a path traced forward and back."""
     pieces = [np.asarray(p, float) for p in pieces]
-    return pieces + [pc.reverse(p) for p in reversed(pieces)]
+    return pieces + reverse_loop(pieces)
 
 
 def stroke_paths(paths, nib_region, tol):
@@ -44,7 +45,7 @@ def stroke_paths(paths, nib_region, tol):
     region = minkowski_sum(loops, nib_region, tol) if loops else []
     if not dots:
         return region
-    nibs = [[pc.translate(p, d) for p in loop] for d in dots for loop in nib_region]
+    nibs = [loop for d in dots for loop in translate_region(nib_region, d)]
     return fill_region(list(region) + nibs, "nonzero")
 
 

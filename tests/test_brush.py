@@ -19,6 +19,7 @@ from morph.errors import MorphError
 from morph.fonts.brush import (brush_font, check_convex_nib, composite_plan, ellipse_nib,
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region
+from morph.region import translate_region
 from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
 
 NIB = (80.0, 30.0, 30.0)
@@ -39,7 +40,7 @@ def brushed(request, tmp_path_factory):
 def _shifted_nib():
     nib = ellipse_nib(*NIB)
     shift = -region_extent(nib)[0]
-    return [[pc.translate(p, (shift, 0.0)) for p in nib[0]]]
+    return translate_region(nib, (shift, 0.0))
 
 
 def _assert_sum(src, out, ch_or_name):

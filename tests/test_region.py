@@ -148,6 +148,6 @@ def test_fill_region_figure_eight_and_opposite_squares():
     # a square and an opposite-direction square inside crossing it: nonzero keeps
     # only where the windings do not cancel
     outer = _square(0, 0, 10)
-    inner = [pc.reverse(p) for p in reversed(_square(5, 2, 10))]
+    inner = reverse_loop(_square(5, 2, 10))
     out = fill_region([outer, inner], "nonzero")
     assert abs(pc.region_area(out) - (100 + 100 - 2 * 40)) < 1e-9

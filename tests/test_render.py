@@ -10,7 +10,7 @@ from PIL import Image
 from imagediff import assert_matches_golden
 from morph import piece as pc
 from morph.parse import cubic_test_font_path, glyph_region, svg_region
-from morph.region import Region, region_bbox, reverse_loop
+from morph.region import Region, region_bbox, reverse_loop, translate_region
 from morph.render import (frame_bbox, frames_to_gif, normalize_shapes, render_png,
                           save_animation, svg_document, svg_path_data, write_png, write_svg)
 from morph.render.png import coverage_mask
@@ -44,7 +44,7 @@ def test_golden_svg_arc_with_hole_and_stroke():
 
 def test_golden_two_shapes_one_canvas():
     a = glyph_region("a").region
-    b = [[pc.translate(p, (700, 0)) for p in loop] for loop in glyph_region("b").region]
+    b = translate_region(glyph_region("b").region, (700, 0))
     img = render_png([(a, {"fill": (200, 30, 30)}), (b, {"fill": "#2060c0", "opacity": 0.6})],
                      size=(160, 96), background="#f0f0e0")
     assert img.size == (160, 96)
@@ -105,7 +105,7 @@ def test_coverage_mask_is_exact_for_aligned_square_and_area_for_disk():
 
 def test_fixed_bbox_frames_align():
     disk = [pc.circle((0, 0), 1.0)]
-    moved = [[pc.translate(p, (2.0, 0.0)) for p in disk[0]]]
+    moved = translate_region(disk, (2.0, 0.0))
     box = (-1.5, -1.5, 3.5, 1.5)
     a = gray(render_png(disk, size=100, bbox=box, margin=0))
     b = gray(render_png(moved, size=100, bbox=box, margin=0))

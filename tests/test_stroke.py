@@ -25,7 +25,9 @@ from morph.errors import MorphError, ParseError
 from morph.fonts.brush import ellipse_nib, region_extent
 from morph.fonts.stroke import move_feature_anchors, nib_is_symmetric, stroke_plan, stroke_ufo
 from morph.parse import glyph_region
-from morph.parse.ufo import component_paths, contour_paths, glyph_names_for, glyph_paths, load_ufo
+from morph.region import translate_region
+from morph.parse.ufo import (component_paths, contour_paths, decomposed_paths, glyph_names_for,
+                             glyph_paths, load_ufo)
 from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely
 from tests.stroke_reference import polygon_stroker, stroke_polygon
 
@@ -49,15 +51,6 @@ def shift_of(font, name, nib_region):
     x0, _, x1, _ = region_extent(nib_region)
     grow = int(round(x1 - x0))
     return int(round(-x0)) - (grow if font[name].width == 0 else 0)
-
-
-def all_paths(font, name):
-    """Skeleton paths of a glyph with its components decomposed (composite coords)."""
-    g = font[name]
-    paths = glyph_paths(g)
-    for c in g.components:
-        paths.extend(component_paths(font, c))
-    return paths
 
 
 # =========================================================================== reading
@@ -174,7 +167,7 @@ def test_move_feature_anchors():
 
 def test_nib_symmetry():
     assert nib_is_symmetric(nib())
-    off_centre = [[pc.translate(p, (5.0, 0.0)) for p in nib()[0]]]
+    off_centre = translate_region(nib(), (5.0, 0.0))
     assert not nib_is_symmetric(off_centre)
 
 
@@ -265,7 +258,7 @@ def test_written_glyph_matches_reference(skeleton, stroked_otf, name):
     assert not stats["fallback"]
     n = nib()
     got = region_to_shapely(glyph_region(name, font=str(out)).region, 0.05)
-    ref = stroke_polygon(all_paths(skeleton, name), n, REF_TOL)
+    ref = stroke_polygon(decomposed_paths(skeleton, name), n, REF_TOL)
     ref = shapely.affinity.translate(ref, shift_of(skeleton, name, n), 0.0)
     d = hausdorff(got, ref, 0.5)
     assert d <= 0.5 + ROUNDING + REF_TOL, (name, d)

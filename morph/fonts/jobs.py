@@ -19,7 +19,9 @@ import os
 
 import numpy as np
 
-__all__ = ["default_jobs", "run_jobs", "polygon_sum", "region_polylines", "polylines_to_contours"]
+from ..region import polyline_edges, region_polylines
+
+__all__ = ["default_jobs", "run_jobs", "polygon_sum", "polylines_to_contours"]
 
 _SCALE = 16.0  # Clipper integer units per font unit
 
@@ -79,20 +81,6 @@ def run_jobs(func, args, jobs=1, progress=None):
 
 # =========================================================================== fallback
 
-def region_polylines(loops, tol):
-    """Closed polylines (first point not repeated) through each loop's pieces, every
-    chord within ``tol`` of its piece (:func:`morph.piece.flatten_many`)."""
-    from .. import piece as pc
-
-    out = []
-    for loop in loops:
-        flat = pc.flatten_many(loop, tol)
-        pts = np.concatenate([f[0][:-1] for f in flat]) if flat else np.zeros((0, 2))
-        if len(pts) >= 3:
-            out.append(pts)
-    return out
-
-
 def _clipper_paths(polylines):
     return [[(int(round(x * _SCALE)), int(round(y * _SCALE))) for x, y in p]
             for p in polylines]
@@ -147,8 +135,9 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
         p = np.asarray(p, float) / _SCALE
         if len(p) < 3:
             continue
-        area = 0.5 * abs(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
-        perimeter = np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T))
+        a, b = polyline_edges([p])
+        area = 0.5 * abs(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))
+        perimeter = np.sum(np.hypot(*(b - a).T))
         if 2.0 * area > tol * perimeter:  # mean width 2 area / perimeter: not a sliver
             out.append(p)
     return out

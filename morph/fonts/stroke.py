@@ -63,6 +63,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import MorphError, one_line
 from ..parse.ufo import glyph_names_for
+from ..region import region_bbox, translate_region
 from .brush import check_convex_nib, region_extent
 from .jobs import run_jobs
 
@@ -206,7 +207,7 @@ def _glyph_job(args):
                             sum_tol + cubic_tol, closed=False)
         contours = polylines_to_contours(polys, offset=offset)
         region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
-    region = [[pc.translate(p, offset) for p in loop] for loop in region]
+    region = translate_region(region, offset)
     return {"name": name, "contours": contours, "region": region, "fallback": fallback,
             "seconds": time.process_time() - t0}
 
@@ -531,8 +532,6 @@ def _copy_font(font):
 
 def _grow_win_metrics(font, regions):
     """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping)."""
-    from ..region import region_bbox
-
     top, bottom = None, None
     for loops in regions.values():
         if loops:

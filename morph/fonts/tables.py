@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import bernstein as bz
-from .. import piece as pc
 from ..errors import MorphError
+from ..region import reverse_loop
 
 __all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "clean_contour",
            "draw_contours", "outline_glyphs", "move_anchors", "grow_vertical_metrics",
@@ -58,7 +58,7 @@ def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
     out = []
     for loop in loops:
         if quadratic:
-            loop = [pc.reverse(p) for p in reversed(loop)]
+            loop = reverse_loop(loop)
         segs = []
         for q in convert(loop, tol, wrap=True):  # cubics span the smooth joins
             q = np.asarray(q, float)

@@ -1,5 +1,7 @@
 """One fontTools pen for both font readers: it records contours, the readers decide.
 
+(:func:`draw_paths` goes the other way: paths of polynomial pieces onto any pen.)
+
 :func:`record_contours` draws with a :class:`fontTools.pens.basePen.BasePen` subclass
 that only *records*: each contour becomes a :class:`RawContour` (its pieces, exactly as
 drawn, its start point and whether it was closed).  What a contour means is left to the
@@ -21,7 +23,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import ParseError
 
-__all__ = ["RawContour", "record_contours", "closing_line"]
+__all__ = ["RawContour", "record_contours", "closing_line", "draw_paths"]
 
 
 @dataclass
@@ -116,3 +118,32 @@ def record_contours(draw, label, glyph_set=None):
         if not np.all(np.isfinite(c.start)):
             raise ParseError("%s has a non-finite point" % label, label)
     return pen.contours
+
+
+def draw_paths(pen, paths):
+    """Draw paths ``(pieces, closed)`` of polynomial pieces (lines, quadratics, cubics,
+    joined end to start) on a fontTools segment pen: ``moveTo``, then ``lineTo`` /
+    ``qCurveTo`` / ``curveTo`` per piece, then ``closePath`` or ``endPath``.
+
+    Raises:
+        ValueError: a rational piece or one of degree above 3.
+    """
+    for pieces, closed in paths:
+        if not len(pieces):
+            continue
+        pts = [pc.cartesian(p) for p in pieces]
+        pen.moveTo(tuple(pts[0][0]))
+        for p, q in zip(pieces, pts):
+            if not pc.is_polynomial(p) or len(q) > 4:
+                raise ValueError("only lines, quadratics and cubics can be drawn on a pen")
+            points = [tuple(v) for v in q[1:]]
+            if len(q) == 2:
+                pen.lineTo(points[0])
+            elif len(q) == 3:
+                pen.qCurveTo(*points)
+            else:
+                pen.curveTo(*points)
+        if closed:
+            pen.closePath()
+        else:
+            pen.endPath()

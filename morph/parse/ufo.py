@@ -26,8 +26,8 @@ from .. import piece as pc
 from ..errors import ParseError, one_line
 from .pens import closing_line, record_contours
 
-__all__ = ["load_ufo", "glyph_paths", "component_paths", "contour_paths", "transform_paths",
-           "glyph_names_for"]
+__all__ = ["load_ufo", "glyph_paths", "component_paths", "contour_paths", "decomposed_paths",
+           "transform_paths", "glyph_names_for"]
 
 
 def load_ufo(path, lazy=True):
@@ -97,16 +97,8 @@ def transform_paths(paths, transformation):
     """Paths mapped by an affine ``(xx, xy, yx, yy, dx, dy)`` transformation (fontTools
     order: x' = xx x + yx y + dx, y' = xy x + yy y + dy)."""
     xx, xy, yx, yy, dx, dy = (float(v) for v in transformation)
-    mat = np.array([[xx, yx, dx], [xy, yy, dy]])
-    out = []
-    for pieces, closed in paths:
-        moved = []
-        for p in pieces:
-            pts = pc.cartesian(p)
-            q = pts @ mat[:, :2].T + mat[:, 2]
-            moved.append(pc.from_points(q, p[:, 2]))
-        out.append((moved, closed))
-    return out
+    m = [[xx, yx, dx], [xy, yy, dy]]
+    return [([pc.transform(p, m) for p in pieces], closed) for pieces, closed in paths]
 
 
 def component_paths(font, component, _depth=0):
@@ -127,6 +119,20 @@ def component_paths(font, component, _depth=0):
     for sub in base.components:
         paths.extend(component_paths(font, sub, _depth + 1))
     return transform_paths(paths, tuple(component.transformation))
+
+
+def decomposed_paths(font, name):
+    """Paths of the glyph ``name`` of a ufoLib2 font: its own contours, then every
+    component decomposed (:func:`component_paths`), in the glyph's coordinates.
+
+    Raises:
+        ParseError: as :func:`glyph_paths` and :func:`component_paths`.
+    """
+    glyph = font[name]
+    paths = glyph_paths(glyph)
+    for component in glyph.components:
+        paths.extend(component_paths(font, component))
+    return paths
 
 
 def glyph_names_for(font, items):

@@ -14,6 +14,7 @@ import numpy as np
 from PIL import Image, ImageColor, ImageDraw
 
 from .. import piece as pc
+from ..region import polyline_edges
 from . import frame_bbox, normalize_shapes
 
 __all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask"]
@@ -37,11 +38,9 @@ def coverage_mask(polylines, height, width):
     ``polylines`` are closed (k, 2) arrays in pixel coordinates (x right, y down,
     pixel (i, j) covering [i, i+1) x [j, j+1), centre (i + 0.5, j + 0.5)).
     """
-    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
-    if not polys:
+    a, b = polyline_edges(polylines)
+    if not len(a):
         return np.zeros((height, width), bool)
-    a = np.concatenate(polys)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
     x0, y0, x1, y1 = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
     moving = y0 != y1
     x0, y0, x1, y1 = x0[moving], y0[moving], x1[moving], y1[moving]
