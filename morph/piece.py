@@ -571,56 +571,31 @@ def region_area(loops):
 def flatten(piece, tol, max_depth=16):
     """Polyline through the piece within ``tol`` of it, with parameters.
 
-    Returns (points (m, 2), params (m,)).  Halving until the control polygon of
-    each part lies within tol of its chord (a bound on the curve's distance, by the
-    convex hull property), so the polyline is within tol of the curve.  All parts
-    of one level are tested and split together (vectorised de Casteljau).
+    Returns (points (m, 2), params (m,)); see :func:`flatten_many`.
     """
-    piece = np.asarray(piece, float)
-    parts = piece[None]
-    t0 = np.zeros(1)
-    width = 1.0
-    done_t = []
-    for depth in range(max_depth + 1):
-        flat = _flat_enough(parts, tol) if depth < max_depth else np.ones(len(parts), bool)
-        done_t.append(t0[flat])
-        if flat.all():
-            break
-        parts, t0 = parts[~flat], t0[~flat]
-        left, right = _split_half(parts)
-        width *= 0.5
-        parts = np.concatenate([left, right])
-        t0 = np.concatenate([t0, t0 + width])
-    params = np.sort(np.concatenate(done_t + [[1.0]]))
-    return evaluate(piece, params), params
+    return flatten_many([piece], tol, max_depth)[0]
 
 
 def flatten_many(pieces, tol, max_depth=16):
-    """:func:`flatten` of many pieces at once: pieces of one degree are subdivided
-    together.  Returns a list of (points, params), one per piece."""
+    """Polylines through many pieces, each within ``tol`` of its piece, with their
+    parameters: a list of (points (m, 2), params (m,)), one per piece.
+
+    Each piece is cut into parts until the control polygon of every part lies
+    within tol of its chord (a bound on the curve's distance, by the convex hull
+    property of positive-weight rational Béziers), so the polyline is within tol of
+    the curve.  A part whose polygon is d > tol from its chord is cut into
+    ceil(sqrt(d / tol)) equal parameter steps at once (the distance of a smooth
+    curve's polygon falls with the square of the step) and checked again.  Parts
+    are never narrower than 2^-max_depth in parameter; at that width they are
+    accepted as they are.  Pieces of one degree are processed together.
+    """
     out = [None] * len(pieces)
     by_degree = {}
     for k, p in enumerate(pieces):
         by_degree.setdefault(len(p), []).append(k)
     for ks in by_degree.values():
         stack = np.array([np.asarray(pieces[k], float) for k in ks])
-        parts, owner = stack, np.arange(len(ks))
-        t0, width = np.zeros(len(ks)), 1.0
-        done_owner, done_t = [], []
-        for depth in range(max_depth + 1):
-            flat = _flat_enough(parts, tol) if depth < max_depth else np.ones(len(parts), bool)
-            done_owner.append(owner[flat])
-            done_t.append(t0[flat])
-            if flat.all():
-                break
-            parts, owner, t0 = parts[~flat], owner[~flat], t0[~flat]
-            left, right = _split_half(parts)
-            width *= 0.5
-            parts = np.concatenate([left, right])
-            owner = np.concatenate([owner, owner])
-            t0 = np.concatenate([t0, t0 + width])
-        owner = np.concatenate(done_owner)
-        ts = np.concatenate(done_t)
+        owner, ts = _flat_params(stack, tol, 2.0 ** -max_depth)
         order = np.lexsort((ts, owner))
         owner, ts = owner[order], ts[order]
         bounds = np.searchsorted(owner, np.arange(len(ks) + 1))
@@ -630,8 +605,31 @@ def flatten_many(pieces, tol, max_depth=16):
     return out
 
 
-def _flat_enough(parts, tol):
-    """For a stack (m, n+1, 3) of pieces: control polygon within tol of the chord."""
+def _flat_params(stack, tol, min_width):
+    """(owner, t0) of the flat parts of a stack of pieces (see :func:`flatten_many`)."""
+    parts, owner = stack, np.arange(len(stack))
+    t0, width = np.zeros(len(stack)), np.ones(len(stack))
+    done_owner, done_t = [], []
+    while len(parts):
+        dist = _chord_distance(parts)
+        flat = (dist <= tol) | (width <= min_width * 1.5)
+        done_owner.append(owner[flat])
+        done_t.append(t0[flat])
+        parts, owner, t0, width, dist = (a[~flat] for a in (parts, owner, t0, width, dist))
+        steps = np.ceil(np.sqrt(dist / tol))
+        steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
+        steps = steps.astype(np.int64)
+        rep = np.repeat(np.arange(len(parts)), steps)
+        j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+        a, b = j / steps[rep], (j + 1) / steps[rep]
+        parts = bz.subsegment_many(parts[rep], a, b)
+        owner, t0, width = owner[rep], t0[rep] + a * width[rep], width[rep] / steps[rep]
+    return np.concatenate(done_owner), np.concatenate(done_t)
+
+
+def _chord_distance(parts):
+    """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
+    the chord (segment) of its part."""
     p = parts[..., :2] / parts[..., 2:]
     a, b = p[:, :1], p[:, -1:]
     chord = b - a
@@ -644,12 +642,7 @@ def _flat_enough(parts, tol):
     to_b = np.hypot(*np.moveaxis(p - b, -1, 0))
     dist = np.where((along < 0) | (length == 0), to_a, dist)
     dist = np.where((along > 1) & (length > 0), to_b, dist)
-    return dist.max(axis=1) <= tol
-
-
-def _split_half(parts):
-    """de Casteljau at t = 1/2 of a stack (m, n+1, 3) of pieces."""
-    return bz.split_many(parts, np.full(len(parts), 0.5))
+    return dist.max(axis=1)
 
 
 def flatten_loop(pieces, tol):
