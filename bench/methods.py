@@ -161,14 +161,13 @@ def sweep_method(pairs, method, measure, tols):
     """Control points per tolerance (loosest first), memo shared across tolerances."""
     name = "qac" if method.startswith("qac") else method
     certified = method == "qac*"
-    one_piece, error = M.method_functions(name, measure, certified)
-    memos = [dict() for _ in pairs]
+    methods = [M.method_functions(name, measure, certified, memo={}) for _ in pairs]
     counts = []
     for tol in tols:
         pieces = []
         try:
-            for (c1, c2), memo in zip(pairs, memos):
-                segs = M.subdivide(c1, c2, one_piece, error, tol, MAX_DEPTH, memo)
+            for (c1, c2), method in zip(pairs, methods):
+                segs = M.subdivide(c1, c2, method, tol, MAX_DEPTH)
                 pieces.extend(s.piece for s in segs)
             counts.append(M.control_point_count(pieces))
         except Exception as exc:  # noqa: BLE001 - reported in the table

@@ -44,6 +44,7 @@ sys.path.insert(0, str(ROOT))
 
 from morph import convolve, gauss, parse, trim  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph import qac  # noqa: E402 - after sys.path gets the repo root
 from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
 from tests.test_convolve import pair_error  # noqa: E402 - after sys.path gets the repo root
 
@@ -153,10 +154,10 @@ def _ratio_row(label, c2s):
     old, new, geo = [], [], []
     for c2 in c2s:
         try:
-            q2 = convolve.quadratic_approximation(c2)
+            q2 = qac.quadratic_approximation(c2)
         except ValueError:
             continue
-        b = convolve.qac_error_bound(c2, q2)[0]
+        b = qac.qac_error_bound(c2, q2)[0]
         if b <= 1e-12 * max(1.0, np.abs(pc.cartesian(c2)).max()):
             continue                       # an exact quadratic C2
         qp = R.bezier_eval(np.column_stack([q2, np.ones(3)]), np.linspace(0, 1, 41))[0]

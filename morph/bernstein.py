@@ -428,3 +428,80 @@ def reduce_exact(c, r=1):
 def _reduction_matrix(n, r):
     """Least-squares inverse (pseudo-inverse) of the elevation from n - r to n."""
     return np.linalg.pinv(_elevation_matrix(n - r, r))
+
+
+# ------------------------------------------------------ composition, ratio certificate
+
+def compose_many(c, r):
+    """Bernstein coefficients of c_k(r_k(s)) for a stack c (k, n+1, ...) and
+    polynomials r (k, m+1) (Bernstein coefficients, values in [0, 1]): (k, n m + 1, ...).
+
+    ``B_i^n(r) = C(n, i) r^i (1 - r)^(n - i)``; ``1 - r`` has the coefficients
+    ``1 - r_j`` and the powers are Bernstein products (:func:`multiply_many`), so
+    ``c(r(s)) = sum_i c_i C(n, i) r^i (1 - r)^(n - i)`` is exact (no fitting).  Used
+    on homogeneous control points, a rational curve composes as is; with r's
+    coefficients in [0, 1] positive weights stay positive.
+    """
+    c = np.asarray(c, float)
+    r = np.asarray(r, float)
+    k, n = c.shape[0], c.shape[1] - 1
+    if n == 0:
+        return c.copy()
+    u = 1.0 - r
+    pr, pu = [None, r], [None, u]
+    for _ in range(2, n + 1):
+        pr.append(multiply_many(pr[-1], r))
+        pu.append(multiply_many(pu[-1], u))
+    binom = _binomials(n)
+    rows = [pu[n]] + [binom[i] * multiply_many(pr[i], pu[n - i]) for i in range(1, n)]
+    basis = np.stack(rows + [pr[n]], axis=2)                 # (k, n m + 1, n + 1)
+    out = np.matmul(basis, c.reshape(k, n + 1, -1))
+    return out.reshape((k, basis.shape[1]) + c.shape[2:])
+
+
+def compose(c, r):
+    """c(r(s)) for one polynomial c (n+1, ...) and r (m+1,): :func:`compose_many`."""
+    return compose_many(np.asarray(c, float)[None], np.asarray(r, float)[None])[0]
+
+
+RATIO_TIE = 1e-9   # ratios within this (relative) of the largest tie; the first wins
+
+
+@lru_cache(maxsize=None)
+def _panel_matrices(n, halvings):
+    """de Casteljau onto 2^halvings equal panels, stacked left to right:
+    (2^halvings (n+1), n+1)."""
+    mats = [np.eye(n + 1)]
+    lmat, rmat = _half_matrices(n)
+    for _ in range(halvings):
+        mats = [half @ m for m in mats for half in (lmat, rmat)]
+    return np.concatenate(mats)
+
+
+def ratio_bound_many(a, b, halvings=1):
+    """Certified upper bound of max_s a(s) / b(s) on [0, 1], row by row.
+
+    a, b: (k, n+1) Bernstein coefficients of one degree with b > 0.  The
+    coefficient-ratio certificate: sum a_i B_i / sum b_i B_i <= max_i a_i / b_i when
+    every b_i > 0 (a mediant inequality, the convex hull property with weights),
+    taken on each of 2^halvings equal panels (de Casteljau), which tightens it
+    (Bernstein coefficients converge to the polynomial under subdivision).
+    Rigorous up to rounding (relative ~1e-15 of the coefficients).  Returns
+    (bound (k,), s (k,)): s is where the largest ratio sits (its coefficient's
+    Greville abscissa on its panel; the first ratio within RATIO_TIE of the largest,
+    so near-ties are decided the same way whatever the rounding); (inf, 0.5) where a
+    coefficient of b is not positive.
+    """
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    n1 = a.shape[1]
+    mat = _panel_matrices(n1 - 1, halvings)
+    num, den = _apply(mat, a), _apply(mat, b)
+    good = np.all(den > 0, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = num / np.where(den > 0, den, 1.0)
+    best = r.max(axis=1)
+    k = np.argmax(r >= (best - RATIO_TIE * np.abs(best))[:, None], axis=1)
+    panel, i = np.divmod(k, n1)
+    s = (panel + i / max(n1 - 1, 1)) / 2 ** halvings
+    return np.where(good, best, np.inf), np.where(good, s, 0.5)

@@ -7,10 +7,13 @@ angle over the same angle range of less than 90 degrees.  The exact convolution 
 otherwise (convex against concave) s runs 1 -> 0.
 
 Every method maps a pair to ONE rational Bézier piece (an ``(m+1, 3)`` array of
-homogeneous control points) parametrised by C1's t, and :func:`subdivide`
-(Algorithm 5.1) splits the pair at its mid tangent angle until a measured error is
-within tolerance.  Output degrees (Table 1; d1, d2 the degrees of C1, C2, k the degree
-of the fitted reparametrization s(t)):
+homogeneous control points) parametrised by C1's t, and the one subdivision driver of
+Algorithm 5.1 (:func:`subdivide_nodes`, level by level on batches of sub-pairs) splits
+the pair until the error is within tolerance: at the mid tangent angle for a measured
+error (:func:`pair_method`), where the a-priori bound peaks for certified QAC, which
+also chooses which piece plays C2 (:data:`QAC_METHOD`, Algorithm 4.1 of
+:mod:`morph.qac`, the same pieces as :mod:`morph.convolve`).  Output degrees (Table 1;
+d1, d2 the degrees of C1, C2, k the degree of the fitted reparametrization s(t)):
 
 - ctc: C1's control points P_i moved by C2(s_i), s_i matching C1's normal at the
   Greville abscissae i/D (Eqs. 25-27).  Degree max(d1, d2) (C1 elevated to it first);
@@ -22,8 +25,9 @@ of the fitted reparametrization s(t)):
 - hic: cubic Hermite with exact end points and end tangents, ds/dt from Eq. 33.
   Polynomial, degree 3.
 - qac: C1(t) + Q2(s(t)), Q2 the quadratic of Eq. 38 and s(t) of Eq. 36
-  (:func:`morph.convolve.convolve_qac_piece`).  Rational, degree 3 d1 - 2 for
-  polynomial C1, 5 d1 - 4 for rational C1.
+  (:func:`morph.qac.convolve_qac_piece`).  Rational, degree 3 d1 - 2 for
+  polynomial C1, 5 d1 - 4 for rational C1 (C1 the piece kept: certified QAC may
+  keep C2 and replace C1 by a quadratic instead).
 - lrc: C1(t) + C2(s0 + (s1 - s0) t) (Eq. 41).  Degree max(d1, d2) if both are
   polynomial, else d1 + d2 (rational), or max(d1, d2) when the two denominators are
   proportional (two circular arcs of equal sweep give a rational quadratic).
@@ -41,9 +45,11 @@ on N - 1 uniform sub-pairs.  Here the piecewise refinement is the driver's job, 
 TMC and SRC fit one polynomial s(t) of degree k >= 2 per sub-pair instead
 (``s_degree``; k = 1 would make them identical to LRC).
 
-Composition C2(s(t)) is exact Bernstein arithmetic: with s(t) = sum b_j B_j^k(t),
-B_i^n(s(t)) = C(n, i) s(t)^i (1 - s(t))^(n-i) is a product of Bernstein polynomials of
-degree n k, applied to the homogeneous control points (so rational C2 works as is).
+Composition C2(s(t)) is exact Bernstein arithmetic (:func:`morph.bernstein.compose`):
+with s(t) = sum b_j B_j^k(t), B_i^n(s(t)) = C(n, i) s(t)^i (1 - s(t))^(n-i) is a
+product of Bernstein polynomials of degree n k, applied to the homogeneous control
+points (so rational C2 works as is).  Eq. 27 (the parameter with a given tangent) is
+solved by :func:`morph.gauss.angle_params`.
 
 Error measures (Sec. 5.2), all *sampled*, none is a bound:
 
@@ -59,17 +65,20 @@ Error measures (Sec. 5.2), all *sampled*, none is a bound:
   the exact convolution curve.  Equal to the distance measure to first order, and
   meaningful for LRC, TMC and SRC too; :func:`convolve_pair` uses it for them.
 
-Only QAC has an a-priori bound: max_s |C2(s) - Q2(s)| (Eqs. 39-40), used by default
-when QAC runs under the distance measure (``certified=True``).
+Only QAC has an a-priori bound: the distance from Q2 to C2 (Eqs. 39-40, after a
+reparametrisation: :func:`morph.qac.qac_error_bound`), used by default when QAC runs
+under the distance measure (``certified=True``).
 """
 
+from collections import namedtuple
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import bernstein as bz
+from . import gauss
 from . import piece as pc
-from .convolve import convolve_qac_piece, qac_error_bound, quadratic_approximation
+from . import qac
 from .errors import DegenerateCurveError, MorphError, ToleranceNotMetError
 
 METHODS = ("ctc", "lsc", "bic", "hic", "qac", "lrc", "tmc", "src")
@@ -98,65 +107,36 @@ def turning_sign(piece):
     return 1 if c > 0 else -1
 
 
-def param_for_direction(piece, directions, sign=None, iterations=10):
-    """Parameters where a monotone piece's tangent points along each direction (Eq. 27).
-
-    ``directions`` has shape (m, 2).  Solves cross(d, H(u)) = 0 for the hodograph
-    direction H of :func:`morph.piece.tangent_numerator`, vectorised: bisection on the
-    sign of sign * cross(d, H(u)), which increases through zero along a piece turning
-    monotonically by less than pi, then safeguarded Newton steps.  Directions outside
-    the piece's angle range give 0 or 1 (the nearer end).
-    """
-    d = np.atleast_2d(np.asarray(directions, float))
-    sgn = turning_sign(piece) if sign is None else sign
-    h = pc.tangent_numerator(piece)
-    dh = bz.derivative(h)
-
-    def g(u):
-        v = bz.evaluate(h, u)
-        return sgn * (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])
-
-    lo = np.zeros(len(d))
-    hi = np.ones(len(d))
-    for _ in range(iterations):                       # bracket to 2^-10
-        mid = 0.5 * (lo + hi)
-        neg = g(mid) < 0
-        lo = np.where(neg, mid, lo)
-        hi = np.where(neg, hi, mid)
-    u = 0.5 * (lo + hi)
-    for _ in range(8):                                # Newton, kept inside the bracket
-        f = g(u)
-        neg = f < 0
-        lo = np.where(neg, u, lo)
-        hi = np.where(neg, hi, u)
-        v = bz.evaluate(dh, u)
-        fp = sgn * (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            un = u - f / fp
-        # a step leaving the bracket is clipped to its end (Newton overshoots a root
-        # sitting at a bracket end); bisect only when the clip stops all progress
-        uc = np.clip(un, lo, hi)
-        stalled = ~np.isfinite(un) | ((uc == u) & (un != u))
-        u = np.where(stalled, 0.5 * (lo + hi), uc)
-    return np.clip(u, 0.0, 1.0)
-
-
 def same_direction(c1, c2):
     """True when s increases with t (C1 and C2 turn the same way)."""
     return turning_sign(c1) == turning_sign(c2)
+
+
+def _unit_tangents(piece, u):
+    """Unit tangent directions of a piece at the parameters u (m, 2)."""
+    v = bz.evaluate(pc.tangent_numerator(piece), u)
+    return v / np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)[:, None]
+
+
+def params_at_angles(piece, theta):
+    """Parameters where the tangent of a monotone piece has the angles theta (Eq. 27):
+    :func:`morph.gauss.angle_params` on the piece's tangent numerator, vectorised."""
+    theta = np.atleast_1d(np.asarray(theta, float))
+    h = pc.tangent_numerator(np.asarray(piece, float))
+    return gauss.angle_params(np.broadcast_to(h, (len(theta),) + h.shape), theta)
 
 
 def match_params(c1, c2, ts):
     """s(t) of the exact convolution: C2'(s) parallel to C1'(t), same way (Eq. 27).
 
     For t = 0 and t = 1 the pair's end correspondence is used (s = 0/1, or 1/0 for
-    opposite turning); inside, :func:`param_for_direction` on C1's tangent, which is
-    the same as ``gauss.angle_param(c2, piece.tangent_angle(c1, t))``, vectorised.
+    opposite turning); inside, ``gauss.angle_param(c2, piece.tangent_angle(c1, t))``,
+    vectorised (:func:`params_at_angles`).
     """
     ts = np.atleast_1d(np.asarray(ts, float))
     forward = same_direction(c1, c2)
     hv = bz.evaluate(pc.tangent_numerator(c1), ts)
-    s = param_for_direction(c2, hv)
+    s = params_at_angles(c2, np.arctan2(hv[:, 1], hv[:, 0]))
     s = np.where(ts <= 0.0, 0.0 if forward else 1.0, s)
     return np.where(ts >= 1.0, 1.0 if forward else 0.0, s)
 
@@ -167,39 +147,41 @@ def convolution_points(c1, c2, ts):
     return pc.evaluate(c1, ts) + pc.evaluate(c2, s), s
 
 
+def _angle_at(piece, u):
+    hv = bz.evaluate(pc.tangent_numerator(piece), [u])[0]
+    return float(np.arctan2(hv[1], hv[0]))
+
+
 def split_pair(c1, c2, balance=0.2):
     """Split a compatible pair at a common tangent direction (Algorithm 5.1, Line 2).
 
     The split direction is C1's mid tangent angle (halfway between its end tangent
-    angles); t_m on C1 and s_m on C2 both have it, so the two sub-pairs are again
-    compatible.  Near an inflection at an end of one curve the tangent angle moves
-    quadratically in the parameter, and a mid-angle split would leave almost all of
-    that curve in one half (the pair then shrinks ever more slowly); so when s_m or
-    t_m falls outside [balance, 1 - balance] it is clamped into that interval and the
-    other curve's parameter is matched to the clamped one's tangent instead.
+    angles); t_m on C1 and s_m on C2 both have it (Eq. 27), so the two sub-pairs are
+    again compatible.  Near an inflection at an end of one curve the tangent angle
+    moves quadratically in the parameter, and a mid-angle split would leave almost
+    all of that curve in one half (the pair then shrinks ever more slowly); so when
+    s_m or t_m falls outside [balance, 1 - balance] it is clamped into that interval
+    and the other curve's parameter is matched to the clamped one's tangent instead.
     Returns ``((c1a, c2a), (c1b, c2b), t_m, s_m)`` with the a-halves first along t.
     """
     a0, a1 = pc.end_tangents(c1)
-    th0 = np.arctan2(a0[1], a0[0])
-    dth = np.arctan2(pc.cross2(a0, a1), np.dot(a0, a1))
-    thm = th0 + 0.5 * dth
-    d = np.array([[np.cos(thm), np.sin(thm)]])
-    tm = float(param_for_direction(c1, d)[0])
-    sm = float(param_for_direction(c2, d)[0])
+    thm = np.arctan2(a0[1], a0[0]) + 0.5 * np.arctan2(pc.cross2(a0, a1), np.dot(a0, a1))
+    tm = float(params_at_angles(c1, thm)[0])
+    sm = float(params_at_angles(c2, thm)[0])
     if not balance <= sm <= 1.0 - balance:
         sm = min(max(sm, balance), 1.0 - balance)
-        d = bz.evaluate(pc.tangent_numerator(c2), [sm])
-        tm = float(param_for_direction(c1, d)[0])
+        tm = float(params_at_angles(c1, _angle_at(c2, sm))[0])
     if not balance <= tm <= 1.0 - balance:
         tm = min(max(tm, balance), 1.0 - balance)
-        d = bz.evaluate(pc.tangent_numerator(c1), [tm])
-        sm = float(param_for_direction(c2, d)[0])
+        sm = float(params_at_angles(c2, _angle_at(c1, tm))[0])
     c1a, c1b = pc.split(c1, tm)
     c2lo, c2hi = pc.split(c2, sm)
     if same_direction(c1, c2):
         return (c1a, c2lo), (c1b, c2hi), tm, sm
     return (c1a, c2hi), (c1b, c2lo), tm, sm
 
+
+# ============================================================ symbolic arithmetic
 
 # ============================================================ symbolic arithmetic
 
@@ -238,37 +220,22 @@ def add_pieces(a, b):
     return np.column_stack([x, bz.to_degree(w, n)])
 
 
-def compose(c2, s_coeffs):
-    """C2(s(t)) for a polynomial s(t) in Bernstein form: homogeneous, degree n k.
-
-    B_i^n(s) = C(n,i) s^i (1-s)^(n-i) with s = sum_j b_j B_j^k(t) and
-    1 - s = sum_j (1 - b_j) B_j^k(t); the powers are Bernstein products, so the result
-    is exact: sum_i P_i C(n,i) S^i U^(n-i), P_i the homogeneous control points.
-    """
-    c2 = np.asarray(c2, float)
-    b = np.asarray(s_coeffs, float).reshape(-1, 1)
-    n = len(c2) - 1
-    spow = [np.ones((1, 1))]
-    upow = [np.ones((1, 1))]
-    for _ in range(n):
-        spow.append(bz.multiply(spow[-1], b))
-        upow.append(bz.multiply(upow[-1], 1.0 - b))
-    binom = bz._binomials(n)
-    out = 0.0
-    for i in range(n + 1):
-        out = out + binom[i] * bz.multiply(spow[i], upow[n - i]) * c2[i]
-    return np.asarray(out, float)
 
 
 def reparametrized_sum(c1, c2, s_coeffs):
-    """C1(t) + C2(s(t)) exactly (Sec. 4.4), s(t) a Bernstein polynomial in t."""
+    """C1(t) + C2(s(t)) exactly (Sec. 4.4), s(t) a Bernstein polynomial in t.
+
+    C2(s(t)) is the exact composition :func:`morph.bernstein.compose` on C2's
+    homogeneous control points (degree n k for C2 of degree n, s of degree k; a
+    rational C2 composes as is), then :func:`add_pieces`.
+    """
     s = np.asarray(s_coeffs, float)
     if len(s) == 2 and s[0] == 0.0 and s[1] == 1.0:
         c2s = np.asarray(c2, float)
     elif len(s) == 2 and s[0] == 1.0 and s[1] == 0.0:
         c2s = pc.reverse(c2)
     else:
-        c2s = compose(c2, s)
+        c2s = bz.compose(c2, s)
     if pc.is_polynomial(c2s):
         c2s = np.column_stack([pc.cartesian(c2s), np.ones(len(c2s))])
     return add_pieces(c1, c2s)
@@ -391,11 +358,13 @@ def hic_piece(c1, c2):
 
 
 def qac_piece(c1, c2):
-    """QAC (Sec. 4.3, Eqs. 34-38): C1(t) + Q2(s(t)), see :func:`convolve_qac_piece`.
+    """QAC (Sec. 4.4, Eqs. 34-38): C1(t) + Q2(s(t)), see :func:`morph.qac.convolve_qac_piece`.
 
-    Degree 3 d1 - 2 for polynomial C1, 5 d1 - 4 for rational C1; normals exact.
+    The paper's one piece, C2 replaced by its quadratic.  Degree 3 d1 - 2 for
+    polynomial C1, 5 d1 - 4 for rational C1; normals exact.  The certified driver
+    (:data:`QAC_METHOD`) also chooses which piece plays C2 (Sec. 4.4).
     """
-    return convolve_qac_piece(c1, c2)
+    return qac.convolve_qac_piece(c1, c2)
 
 
 def lrc_piece(c1, c2):
@@ -422,11 +391,7 @@ def tangent_field_matching(c1, c2, samples=TMC_SAMPLES):
     s0, s1 = _ends(c1, c2)
     ss = np.linspace(s0, s1, n)
 
-    def unit(piece, u):
-        v = bz.evaluate(pc.tangent_numerator(piece), u)
-        return v / np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)[:, None]
-
-    sim = unit(c1, ts) @ unit(c2, ss).T            # <T1_i, T2_j>, Eq. 44
+    sim = _unit_tangents(c1, ts) @ _unit_tangents(c2, ss).T            # <T1_i, T2_j>, Eq. 44
     best = np.full(n, -np.inf)
     best[0] = sim[0, 0]                            # j(0) = 0
     back = np.zeros((n, n), dtype=int)
@@ -531,22 +496,6 @@ def _sampled_max(f, n, zooms=2, zoom_samples=17, candidates=2):
     return vbest, tbest
 
 
-def _jet(piece):
-    """u -> (C(u), C'(u), C''(u)) of a rational piece, derivatives precomputed once."""
-    p0 = np.asarray(piece, float)
-    p1 = bz.derivative(p0)
-    p2 = bz.derivative(p1) if len(p1) > 1 else np.zeros((1, 3))
-
-    def jet(u):
-        h, d1, d2 = bz.evaluate(p0, u), bz.evaluate(p1, u), bz.evaluate(p2, u)
-        w, w1, w2 = h[:, 2:3], d1[:, 2:3], d2[:, 2:3]
-        c = h[:, :2] / w
-        c1 = (d1[:, :2] - c * w1) / w
-        return c, c1, (d2[:, :2] - 2 * c1 * w1 - c * w2) / w
-
-    return jet
-
-
 def distance_to_curve(q, curve, samples=33, newton=4):
     """Distances of points q (m, 2) to a piece (min over its parameter in [0, 1]).
 
@@ -559,26 +508,20 @@ def distance_to_curve(q, curve, samples=33, newton=4):
 
 
 def _curve_distance(curve, samples=33, newton=4):
-    """q -> distances to the piece, with the piece's samples and derivatives cached."""
-    jet = _jet(curve)
+    """q -> distances to the piece: the nearest of ``samples`` uniform samples, then
+    ``newton`` Newton steps to the foot point (:func:`morph.piece.closest_params_many`);
+    the smaller of the sampled and the refined distance."""
+    c = np.asarray(curve, float)
     us = np.linspace(0.0, 1.0, samples)
-    cs = jet(us)[0]
+    cs = pc.evaluate(c, us)
 
     def dist(q):
         q = np.atleast_2d(q)
         d2 = np.sum((q[:, None, :] - cs[None, :, :]) ** 2, axis=2)
         i = np.argmin(d2, axis=1)
         dmin = np.sqrt(d2[np.arange(len(q)), i])
-        u = us[i]
-        for _ in range(newton):
-            p, d1, dd = jet(u)
-            r = p - q
-            gr = np.sum(r * d1, axis=1)
-            hs = np.sum(d1 * d1, axis=1) + np.sum(r * dd, axis=1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                step = np.where(hs > 0, gr / hs, 0.0)
-            u = np.clip(u - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
-        return np.minimum(dmin, np.hypot(*(jet(u)[0] - q).T))
+        u = pc.closest_params_many(c[None], q[None], us[i][None], newton)[0]
+        return np.minimum(dmin, np.hypot(*(pc.evaluate(c, u) - q).T))
 
     return dist
 
@@ -615,15 +558,9 @@ def hausdorff_error(approx, c1, c2, n=ERROR_SAMPLES, samples=65, iterations=10):
     of K at u are parallel), but unlike that measure it is not zero for LRC, TMC and
     SRC: a point C1(t) + C2(s~) with s~ != s(t) lies off the convolution curve.
     """
-    h1 = pc.tangent_numerator(c1)
-
-    def unit_t1(u):
-        v = bz.evaluate(h1, u)
-        return v / np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)[:, None]
-
     us = np.linspace(0.0, 1.0, samples)
     ks = convolution_points(c1, c2, us)[0]
-    ts_ = unit_t1(us)
+    ts_ = _unit_tangents(c1, us)
 
     def f(t):
         q = pc.evaluate(approx, t)
@@ -649,7 +586,7 @@ def hausdorff_error(approx, c1, c2, n=ERROR_SAMPLES, samples=65, iterations=10):
             c = np.where(np.isfinite(c) & (c >= np.minimum(a, b)) & (c <= np.maximum(a, b)),
                          c, 0.5 * (a + b))
             kc = convolution_points(c1, c2, c)[0]
-            gc = np.sum((kc - q) * unit_t1(c), axis=1)
+            gc = np.sum((kc - q) * _unit_tangents(c1, c), axis=1)
             best = np.where(ok, np.minimum(best, np.hypot(*(kc - q).T)), best)
             same = gc * gb > 0                      # replace b, halve ga (Illinois)
             a, ga, b, gb = (np.where(same, a, b), np.where(same, 0.5 * ga, gb),
@@ -690,19 +627,94 @@ def normal_error(approx, c1, n=ERROR_SAMPLES, of="difference"):
 
 
 def qac_bound(c2):
-    """A-priori bound of QAC's distance error: max |C2 - Q2| bound of Eqs. 39-40."""
-    return qac_error_bound(c2, quadratic_approximation(c2))[0]
+    """A-priori bound of QAC's distance error with C2 replaced by its quadratic:
+    :func:`morph.qac.qac_error_bound` (Eqs. 39-40, reparametrised)."""
+    return qac.qac_error_bound(c2, qac.quadratic_approximation(c2))[0]
 
 
 # ====================================================================== driver
+# Algorithm 5.1, level by level.  A *node* is one compatible sub-pair; a batch of
+# nodes is a dict of arrays with one row per node (stacks of pieces of one degree,
+# parameter intervals, ...), so that a method may work on all nodes of a level at
+# once (QAC does: :mod:`morph.qac`) or loop over them (the other seven methods).
+
+def _take(nodes, rows):
+    return {k: v[rows] for k, v in nodes.items()}
+
+
+def _concat(batches):
+    return {k: np.concatenate([b[k] for b in batches]) for k in batches[0]}
+
+
+def _objects(items):
+    """A 1-D object array of the items (arrays of one shape stay separate)."""
+    out = np.empty(len(items), object)
+    for k, item in enumerate(items):
+        out[k] = item
+    return out
+
+
+def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
+    """Algorithm 5.1: approximate, bound, split until every bound <= tol.
+
+    The one subdivision driver of every method (and of :mod:`morph.convolve`).
+    ``nodes``: a dict of arrays, one row per root sub-pair; the driver adds
+    ``depth``, the halvings left (``max_depth`` at the roots).  Each level:
+
+    - ``bound(nodes, tol) -> (error (k,), where (k,))``: the error of each node's
+      approximation (an a-priori bound or a measure: the method's contract says
+      which) and where to split it; it may add columns to ``nodes`` for the other
+      two callables (the role QAC chose, the piece a measure was taken on);
+    - ``one_piece(nodes) -> list``: the pieces of the nodes whose error is <= tol
+      (None where the method rejects its piece: that node is split instead);
+    - ``split(nodes, where) -> (left, right)``: the columns of the two children
+      of each node; columns it does not return are copied from the parent.
+
+    Returns (done, pieces, errors): the accepted nodes (a dict of arrays, level by
+    level), their pieces and errors; the caller orders them.  Raises ValueError for
+    tol <= 0, ToleranceNotMetError (``piece``: the failing sub-pair (ca, cb),
+    ``achieved``: its error) when a node still fails after ``max_depth`` halvings.
+    """
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    nodes = dict(nodes, depth=np.full(len(next(iter(nodes.values()))), max_depth))
+    done, pieces, errors = [], [], []
+    while len(nodes["depth"]):
+        err, where = bound(nodes, tol)
+        acc = np.nonzero(err <= tol)[0]
+        got = one_piece(_take(nodes, acc)) if len(acc) else []
+        ok = np.zeros(len(err), bool)
+        ok[acc[np.array([p is not None for p in got], bool)]] = True
+        done.append(_take(nodes, ok))
+        pieces += [p for p in got if p is not None]
+        errors.append(err[ok])
+        fail = np.nonzero(~ok)[0]
+        if not len(fail):
+            break
+        last = fail[nodes["depth"][fail] <= 0]
+        if len(last):
+            r = last[0]
+            raise ToleranceNotMetError(
+                "error %g above tolerance %g after %d splits" % (err[r], tol, max_depth),
+                piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]))
+        parent = _take(nodes, fail)
+        left, right = split(parent, where[fail])
+        nodes = _concat([{**parent, **left}, {**parent, **right}])
+        nodes["depth"] = nodes["depth"] - 1
+    return _concat(done), pieces, np.concatenate(errors)
+
 
 @dataclass
 class Segment:
     """One output piece of the driver with the sub-pair it approximates.
 
-    piece: (m+1, 3) homogeneous control points, parametrised like ``c1``.  c1, c2: the
-    compatible sub-pair.  error: the measured (or, for certified QAC, bounded) error.
-    t: the sub-pair's parameter interval on the original C1.
+    piece: (m+1, 3) homogeneous control points, approximating c1(t) + c2(s(t)) and
+    parametrised like ``c1``.  c1, c2: the compatible sub-pair in the roles the
+    method used: c1 is the part of the original C1, except where certified QAC chose
+    the other role (Sec. 4.4) and c1 is the part of C2 (reversed where the two turn
+    opposite ways, so that it runs like the piece).  error: the measured (or, for
+    certified QAC, bounded) error.  t: the sub-pair's parameter interval on the
+    original C1.
     """
 
     piece: np.ndarray
@@ -712,99 +724,159 @@ class Segment:
     t: tuple = field(default=(0.0, 1.0))
 
 
+class Method(namedtuple("Method", "root one_piece bound split role_pair")):
+    """A method for :func:`subdivide`: ``root(c1, c2)`` the root node batch of a pair,
+    ``one_piece``, ``bound``, ``split`` the callables of :func:`subdivide_nodes`, and
+    ``role_pair(nodes, r)`` the (c1, c2) of an accepted node as in :class:`Segment`."""
+
+
 def _valid(piece):
     piece = np.asarray(piece, float)
     return bool(np.all(np.isfinite(piece)) and np.all(piece[:, 2] > 0))
 
 
-def subdivide(c1, c2, one_piece, error, tol, max_depth=24, memo=None):
-    """Algorithm 5.1: approximate, measure, split at the mid angle until error <= tol.
+def _measured(piece_fn, error_fn, a, b):
+    """(piece, error) of one sub-pair; (None, inf) where the method fails on it."""
+    try:
+        piece = piece_fn(a, b)
+    except (ValueError, MorphError):      # e.g. QAC: parallel end tangents
+        return None, np.inf
+    if piece is None or not _valid(piece):
+        return None, np.inf
+    return piece, float(error_fn(piece, a, b))
 
-    ``one_piece(c1, c2) -> piece`` is any method of this module; ``error(piece, c1, c2)
-    -> float`` the error measure (what is measured, and whether it is a bound, is the
-    measure's contract).  A piece with non-positive weights or non-finite entries, or
-    a method raising ValueError or MorphError on the pair, counts as infinite error.
-    The pair is split by :func:`split_pair` (C1 at its mid tangent angle, C2 at the
-    matching s) so sub-pairs stay compatible.
 
-    ``memo`` (a dict, optional) caches every visited node by its path; reuse it only
-    for the same (c1, c2, one_piece, error) to sweep tolerances cheaply.
+def _pair_root(c1, c2):
+    return {"ca": np.asarray(c1, float)[None], "cb": np.asarray(c2, float)[None],
+            "t0": np.zeros(1), "t1": np.ones(1), "id": np.ones(1, np.int64)}
 
-    Returns a list of :class:`Segment` in C1's parameter order.  Raises
-    ToleranceNotMetError (keeping the failing sub-pair's C1 and the error reached)
-    after ``max_depth`` halvings.
+
+def _split_or_raise(a, b, err, tol):
+    try:
+        left, right, tm, _ = split_pair(a, b)
+    except MorphError as exc:             # a sub-pair too small to turn
+        raise ToleranceNotMetError(
+            "error %g above tolerance %g, pair cannot be split further (%s)"
+            % (err, tol, exc), piece=(a, b), achieved=err) from exc
+    return left, right, tm
+
+
+def pair_method(piece_fn, error_fn, memo=None):
+    """The :class:`Method` of a one-pair approximation ``piece_fn(c1, c2) -> piece``
+    measured by ``error_fn(piece, c1, c2) -> float``, node by node.
+
+    The piece is built and measured in ``bound`` (a piece with non-positive weights
+    or non-finite entries, or a method raising ValueError or MorphError, counts as
+    infinite error); pairs are split by :func:`split_pair` (C1 at its mid tangent
+    angle, C2 at the matching s).  ``memo`` (a dict, optional) keeps every visited
+    node (piece, error, children) by its position in the tree; reuse it only for the
+    same pair and method, to sweep tolerances cheaply.
     """
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
     memo = {} if memo is None else memo
+
+    def bound(nodes, tol):
+        k = len(nodes["id"])
+        pieces, err = _objects([None] * k), np.empty(k)
+        for r, key in enumerate(nodes["id"].tolist()):
+            if key not in memo:
+                memo[key] = [*_measured(piece_fn, error_fn, nodes["ca"][r], nodes["cb"][r]), None]
+            pieces[r], err[r] = memo[key][:2]
+        nodes.update(piece=pieces, err=err, tol=np.full(k, tol))
+        return err, np.full(k, 0.5)
+
+    def split(nodes, where):
+        kids = []
+        for r, key in enumerate(nodes["id"].tolist()):
+            node = memo[key]
+            if node[2] is None:
+                node[2] = _split_or_raise(nodes["ca"][r], nodes["cb"][r], nodes["err"][r],
+                                          nodes["tol"][r])
+            kids.append(node[2])
+        t0, t1 = nodes["t0"], nodes["t1"]
+        tm = t0 + np.array([kid[2] for kid in kids]) * (t1 - t0)
+        halves = []
+        for side, (a, b) in enumerate(((t0, tm), (tm, t1))):
+            halves.append({"ca": np.array([kid[side][0] for kid in kids]),
+                           "cb": np.array([kid[side][1] for kid in kids]),
+                           "t0": a, "t1": b, "id": 2 * nodes["id"] + side})
+        return halves
+
+    return Method(_pair_root, lambda nodes: list(nodes["piece"]), bound, split,
+                  lambda nodes, r: (nodes["ca"][r], nodes["cb"][r]))
+
+
+def _qac_root(c1, c2):
+    """The root node of a pair for :mod:`morph.qac`'s callables."""
+    c1, c2 = np.asarray(c1, float), np.asarray(c2, float)
+    sa, sb = turning_sign(c1), turning_sign(c2)
+    a0, a1 = pc.end_tangents(c1)
+    th0 = float(np.arctan2(a0[1], a0[0]))
+    th1 = th0 + float(np.arctan2(pc.cross2(a0, a1), np.dot(a0, a1)))
+    return {"ca": c1[None], "cb": c2[None], "ha": pc.tangent_numerator(c1)[None],
+            "hb": pc.tangent_numerator(c2)[None], "sa": np.array([sa]),
+            "sb": np.array([sb]), "lo": np.array([min(th0, th1)]),
+            "hi": np.array([max(th0, th1)]), "t0": np.zeros(1), "t1": np.ones(1)}
+
+
+#: Certified QAC, Algorithm 4.1 exactly as :mod:`morph.convolve` runs it: role
+#: choice, a-priori bound, split where the bound peaks (:mod:`morph.qac`).
+QAC_METHOD = Method(_qac_root, qac.piece_nodes, qac.bound_nodes, qac.split_nodes,
+                    qac.role_pair)
+
+
+def subdivide(c1, c2, method, tol, max_depth=24):
+    """Algorithm 5.1 on one compatible pair: a list of :class:`Segment` in C1's order.
+
+    ``method`` is a :class:`Method` (:func:`method_functions`, :func:`pair_method`);
+    :func:`subdivide_nodes` does the work.  Raises ValueError for tol <= 0,
+    ToleranceNotMetError after ``max_depth`` halvings.
+    """
+    done, pieces, errors = subdivide_nodes(method.root(c1, c2), method.one_piece,
+                                           method.bound, method.split, tol, max_depth)
     out = []
-    stack = [((), np.asarray(c1, float), np.asarray(c2, float), 0.0, 1.0)]
-    while stack:
-        path, a, b, t0, t1 = stack.pop()
-        node = memo.get(path)
-        if node is None:
-            try:
-                piece = one_piece(a, b)
-            except (ValueError, MorphError):      # e.g. QAC: parallel end tangents
-                piece = None
-            err = float(error(piece, a, b)) if piece is not None and _valid(piece) \
-                else float("inf")
-            node = memo[path] = [piece, err, None]
-        piece, err, children = node
-        if err <= tol:
-            out.append(Segment(piece, a, b, err, (t0, t1)))
-            continue
-        if len(path) >= max_depth:
-            raise ToleranceNotMetError(
-                "error %g above tolerance %g after %d splits" % (err, tol, max_depth),
-                piece=a, achieved=err)
-        if children is None:
-            try:
-                left, right, tm, _ = split_pair(a, b)
-            except MorphError as exc:             # a sub-pair too small to turn
-                raise ToleranceNotMetError(
-                    "error %g above tolerance %g, pair cannot be split further (%s)"
-                    % (err, tol, exc), piece=a, achieved=err) from exc
-            children = node[2] = (left, right, tm)
-        left, right, tm = children
-        t_mid = t0 + tm * (t1 - t0)
-        stack.append((path + (1,), right[0], right[1], t_mid, t1))
-        stack.append((path + (0,), left[0], left[1], t0, t_mid))
+    for r in np.argsort(done["t0"], kind="stable"):
+        a, b = method.role_pair(done, r)
+        out.append(Segment(pieces[r], a, b, float(errors[r]),
+                           (float(done["t0"][r]), float(done["t1"][r]))))
     return out
 
 
 def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES,
-                     normal_of="difference", **options):
-    """(one_piece, error) for a method name and measure, as :func:`subdivide` takes them.
+                     normal_of="difference", memo=None, **options):
+    """The :class:`Method` of a method name and measure, for :func:`subdivide`.
 
     options go to the method (``degree`` for lsc/bic, ``s_degree``/``samples`` for
-    tmc/src, ``samples`` for lsc).  QAC under the distance measure uses its a-priori
-    bound when ``certified`` (else the sampled distance, as the paper does in Sec.
-    5.2.3 for a fair comparison).  ``normal_of`` selects the normal measure's curve
-    (see :func:`normal_error`).
+    tmc/src, ``samples`` for lsc).  QAC under the distance (or hausdorff) measure
+    with ``certified`` is :data:`QAC_METHOD` (its a-priori bound, Eqs. 39-40, the
+    default QAC of :mod:`morph.convolve`); otherwise QAC is the paper's one piece
+    C1 + Q2 measured like the other methods (Sec. 5.2.3's fair comparison).
+    ``normal_of`` selects the normal measure's curve (see :func:`normal_error`);
+    ``memo``: see :func:`pair_method` (not used by certified QAC).
     """
     key = str(method).lower()
     if key not in ONE_PIECE:
         raise ValueError("unknown method %r (one of %s)" % (method, ", ".join(METHODS)))
     if measure not in MEASURES:
         raise ValueError("measure must be one of %s, got %r" % (MEASURES, measure))
+    if key == "qac" and certified and measure in ("distance", "hausdorff"):
+        return QAC_METHOD
     base = ONE_PIECE[key]
     one_piece = (lambda a, b: base(a, b, **options)) if options else base
     if measure == "normal":
-        return one_piece, lambda piece, a, b: normal_error(piece, a, n, normal_of)
-    if key == "qac" and certified and measure in ("distance", "hausdorff"):
-        return one_piece, lambda piece, a, b: qac_bound(b)
-    if measure == "hausdorff":
-        return one_piece, lambda piece, a, b: hausdorff_error(piece, a, b, n)
-    return one_piece, lambda piece, a, b: distance_error(piece, a, b, n)
+        error = lambda piece, a, b: normal_error(piece, a, n, normal_of)  # noqa: E731
+    elif measure == "hausdorff":
+        error = lambda piece, a, b: hausdorff_error(piece, a, b, n)  # noqa: E731
+    else:
+        error = lambda piece, a, b: distance_error(piece, a, b, n)  # noqa: E731
+    return pair_method(one_piece, error, memo)
 
 
 def approximate_segments(c1, c2, method, tol, measure="distance", certified=True,
                          max_depth=24, memo=None, normal_of="difference", **options):
     """Like :func:`approximate` but returns the :class:`Segment` records."""
-    one_piece, error = method_functions(method, measure, certified,
-                                        normal_of=normal_of, **options)
-    return subdivide(c1, c2, one_piece, error, tol, max_depth, memo)
+    m = method_functions(method, measure, certified, normal_of=normal_of, memo=memo,
+                         **options)
+    return subdivide(c1, c2, m, tol, max_depth)
 
 
 def approximate(c1, c2, method, tol, measure="distance", certified=True, max_depth=24,
@@ -813,7 +885,8 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
 
     Algorithm 5.1 with ``method`` in ``METHODS`` ("ctc", "lsc", "bic", "hic", "qac",
     "lrc", "tmc", "src"); returns a list of ``(m+1, 3)`` pieces, in C1's parameter
-    order, each parametrised by its sub-pair's t.
+    order and direction, each parametrised by its sub-pair's t (for certified QAC,
+    by the t of the sub-pair's piece it keeps: :class:`Segment`).
 
     measure="distance": every piece P has sampled max_t dist(P(t) - C1(t), C2) <= tol
     (Eqs. 49-53; not a bound, except QAC with ``certified=True``: then
@@ -859,8 +932,8 @@ def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
     - "lrc", "tmc", "src": the sampled distance to the exact convolution curve
       (:func:`hausdorff_error`), since the paper's distance is 0 for them.
 
-    Only QAC's is a bound; the others are sampled.  Pieces are parametrised by their
-    sub-pair's t and run in C1's direction; the first starts at C1(0) + C2(s(0)) and
+    Only QAC's is a bound; the others are sampled.  Pieces are parametrised as in
+    :func:`approximate` and run in C1's direction; the first starts at C1(0) + C2(s(0)) and
     consecutive pieces share end points.  Raises ValueError for an unknown method,
     ToleranceNotMetError after ``max_depth`` halvings.
     """

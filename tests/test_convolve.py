@@ -3,15 +3,7 @@
 What is measured, and how (all references in ``tests/reference.py`` or below; none
 calls morph's evaluation or root finding):
 
-- QAC exactness on 1000 seeded random compatible pairs (``R.random_compatible_pair``,
-  all kinds): the distance measure of Sec. 5.2 (Eqs. 49-53, ``R.distance_to_convolution``:
-  point minus C1(t), distance to the curve C2, C2's parameter solved numerically) is
-  <= the a-priori bound (``qac_error_bound``: Eqs. 39-40 after a reparametrisation of
-  C2), which is >= the sampled distance from Q2 to the curve C2 and within 10% of it
-  on the median; the parametric bound of Eqs. 39-40 is >= the sampled max
-  |C2(s) - Q2(s)|; a
-  polynomial quadratic C2 gives error and bound < 1e-12; the result's tangent is C1's
-  tangent at the same t (angle < 1e-9); degree 3d - 2 (polynomial C1), 5d - 4 (rational).
+- QAC itself (Q2, bounds, pieces on 1000 random pairs): tests/test_qac.py.
 - The driver (``convolve_edges``, Algorithm 4.1) at tol 1e-2 ... 1e-6: every piece's
   bound <= tol, sampled error <= its bound, pieces chained end to start from one end
   convolution point to the other, oriented as the module docstring says.
@@ -48,11 +40,12 @@ from morph.errors import ToleranceNotMetError
 
 try:
     from tests import reference as R
+    from tests.test_qac import random_pairs
 except ImportError:  # tests/ on sys.path (rootdir-less import mode)
     import reference as R
+    from test_qac import random_pairs
 
 SEED = 20240604
-N_PAIRS = 1000
 TS = np.linspace(0.0, 1.0, 7)
 
 
@@ -154,125 +147,6 @@ def _shoelace(poly):
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-# ============================================================ QAC on random pairs
-
-# the reference's kinds are 'C1-C2'; conic C2 (rational, Eq. 40's weight bound) by swapping
-SWAPPED = {"quad-conic": "conic-quad", "cubic-conic": "conic-cubic"}
-KINDS = R.PAIR_KINDS + tuple(SWAPPED)
-
-
-@pytest.fixture(scope="module")
-def qac_runs():
-    """QAC of 1000 random compatible pairs, with the reference measurements."""
-    rng = np.random.default_rng(SEED)
-    runs = []
-    s = np.linspace(0.0, 1.0, 201)
-    for k in range(N_PAIRS):
-        kind = KINDS[k % len(KINDS)]
-        if kind in SWAPPED:            # a rational C2: the reference's pair, roles swapped
-            c2, c1 = R.random_compatible_pair(rng, SWAPPED[kind])
-        else:
-            c1, c2 = R.random_compatible_pair(rng, kind)
-        q2 = convolve.quadratic_approximation(c2)
-        bound, s_peak = convolve.qac_error_bound(c2, q2)
-        pbound, _ = convolve.qac_parametric_bound(c2, q2)
-        res = convolve.convolve_qac_piece(c1, c2)
-        pts, d_res = R.bezier_eval(res, TS, 1)
-        err = R.distance_to_convolution(pts, TS, c1, c2)
-        q_h = np.column_stack([q2, np.ones(3)])
-        q_pts = R.bezier_eval(q_h, s)[0]
-        param_err = np.hypot(*(R.bezier_eval(c2, s)[0] - q_pts).T).max()
-        # the geometric distance the bound is about: points of Q2 to the curve C2
-        geo_err = R.point_curve_distance(q_pts[::8], c2, samples=513)[0].max()
-        d_c1 = R.bezier_eval(c1, TS, 1)[1]
-        normal = np.arctan2(np.abs(_cross(d_res, d_c1)), np.sum(d_res * d_c1, axis=1))
-        runs.append(dict(kind=kind, c1=c1, c2=c2, bound=bound, s_peak=s_peak, err=err.max(),
-                         pbound=pbound, param_err=param_err, geo_err=geo_err, normal=normal.max(), degree=len(res) - 1,
-                         weights_positive=bool(np.all(res[:, 2] > 0))))
-    return runs
-
-
-def _failures(runs, bad):
-    hits = [(k, r["kind"]) for k, r in enumerate(runs) if bad(r)]
-    return "%d of %d: %s" % (len(hits), len(runs), hits[:8])
-
-
-def test_qac_pairs_cover_every_kind(qac_runs):
-    kinds = {r["kind"] for r in qac_runs}
-    assert kinds == set(KINDS)
-    assert len(qac_runs) >= 1000
-
-
-def test_qac_error_within_a_priori_bound(qac_runs):
-    bad = lambda r: not r["err"] <= r["bound"] + 1e-12
-    assert not any(map(bad, qac_runs)), _failures(qac_runs, bad)
-
-
-def test_qac_parametric_bound_bounds_parametric_distance(qac_runs):
-    # Eqs. 39-40 bound max_s |C2(s) - Q2(s)| by the convex hull property
-    bad = lambda r: not r["param_err"] <= r["pbound"] * (1 + 1e-9) + 1e-13
-    assert not any(map(bad, qac_runs)), _failures(qac_runs, bad)
-    # and it is not vacuous: within a factor 3 of the sampled maximum, times
-    # max W / min W for a rational C2 (Eq. 40 divides by the smallest weight coefficient)
-    def loose(r):
-        w = r["c2"][:, 2]
-        return r["pbound"] > 3.0 * (w.max() / w.min()) * r["param_err"] + 1e-12
-    assert not any(map(loose, qac_runs)), _failures(qac_runs, loose)
-
-
-def test_qac_bound_bounds_geometric_distance(qac_runs):
-    """qac_error_bound >= max over Q2 of the distance to the curve C2 (what the
-    convolution's distance measure sees), <= the parametric bound, and tight: within
-    a factor 4 of the sampled distance on every pair, within 10% on the median."""
-    bad = lambda r: not (r["geo_err"] <= r["bound"] * (1 + 1e-9) + 1e-13
-                         and r["bound"] <= r["pbound"])
-    assert not any(map(bad, qac_runs)), _failures(qac_runs, bad)
-    loose = lambda r: r["bound"] > 4.0 * r["geo_err"] + 1e-12
-    assert not any(map(loose, qac_runs)), _failures(qac_runs, loose)
-    ratios = [r["bound"] / r["geo_err"] for r in qac_runs if r["geo_err"] > 1e-12]
-    assert len(ratios) >= 500 and np.median(ratios) < 1.1, np.median(ratios)
-
-
-def test_qac_exact_for_polynomial_quadratic_c2(qac_runs):
-    quad = [r for r in qac_runs if r["kind"].endswith("-quad")]
-    assert len(quad) >= 400
-    bad = lambda r: not (r["err"] < 1e-12 and r["bound"] < 1e-12)
-    assert not any(map(bad, quad)), _failures(quad, bad)
-
-
-def test_qac_normals_are_exact(qac_runs):
-    bad = lambda r: not r["normal"] < 1e-9
-    assert not any(map(bad, qac_runs)), _failures(qac_runs, bad)
-
-
-def test_qac_degree(qac_runs):
-    def expect(r):
-        d = len(r["c1"]) - 1
-        return 3 * d - 2 if r["kind"].startswith(("quad", "cubic")) else 5 * d - 4
-    bad = lambda r: r["degree"] != expect(r) or not r["weights_positive"]
-    assert not any(map(bad, qac_runs)), _failures(qac_runs, bad)
-    degrees = {r["kind"].split("-")[0]: r["degree"] for r in qac_runs}
-    assert degrees == {"quad": 4, "cubic": 7, "conic": 6}
-
-
-def test_choose_roles_prefers_exact_quadratic():
-    rng = np.random.default_rng(SEED + 1)
-    for _ in range(50):
-        cubic, quad = R.random_compatible_pair(rng, "cubic-quad")
-        swap, q2 = convolve.choose_roles(cubic, quad)
-        assert not swap and np.allclose(q2, pc.cartesian(quad), atol=1e-12)
-        swap, q2 = convolve.choose_roles(quad, cubic)
-        assert swap and np.allclose(q2, pc.cartesian(quad), atol=1e-12)
-
-
-def test_quadratic_approximation_is_tangent_intersection():
-    c = pc.cubic((0.0, 0.0), (1.0, 0.0), (3.0, 1.0), (3.0, 3.0))
-    q = convolve.quadratic_approximation(c)
-    assert np.allclose(q, [[0.0, 0.0], [3.0, 0.0], [3.0, 3.0]], atol=1e-14)
-    with pytest.raises(ValueError):
-        convolve.quadratic_approximation(pc.cubic((0, 0), (1, 0), (2, 0), (3, 0)))
-
-
 # ============================================================ Algorithm 4.1 driver
 
 # (tol, number of pairs): more pairs where they are cheap (1e-6 needs ~100 pieces a pair)
@@ -372,7 +246,7 @@ def test_concave_vertex_pairs_are_type3():
     r = 0.3
     disk = [pc.circle((0.0, 0.0), r)]
     conv = convolve.convolution(ell, disk, 1e-6)
-    ga, gb = gauss.gauss_map(ell[0]), gauss.gauss_map(disk[0])
+    ga = gauss.gauss_map(ell[0])
     hexagon = shapely.Polygon(pts)
     reflex = []
     for c in conv:
@@ -785,69 +659,12 @@ if __name__ == "__main__":
         print("    (%r, %r): (%r, %d, %d)," % (a, b, float(ref.area), n_outer, n_holes))
 
 
-# ================================================= batched QAC forms (issue 18)
-
-def _random_pairs(n, seed=SEED + 1):
-    rng = np.random.default_rng(seed)
-    pairs = []
-    for k in range(n):
-        kind = KINDS[k % len(KINDS)]
-        if kind in SWAPPED:
-            c2, c1 = R.random_compatible_pair(rng, SWAPPED[kind])
-        else:
-            c1, c2 = R.random_compatible_pair(rng, kind)
-        pairs.append((c1, c2))
-    return pairs
-
-
-def _by_shape(pieces):
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault((p.shape, pc.is_polynomial(p)), []).append(k)
-    return groups.values()
-
-
-def test_batched_qac_forms_match_scalar():
-    """quadratic_approximation, both bounds and the QAC piece on stacks of one
-    degree agree row by row with the one-pair functions."""
-    pairs = _random_pairs(240)
-    c1s = [p[0] for p in pairs]
-    c2s = [p[1] for p in pairs]
-    for ks in _by_shape(c2s):
-        c2 = np.array([c2s[k] for k in ks])
-        q2, ok = convolve.quadratic_approximation_many(c2)
-        assert ok.all()
-        par, s_par = convolve.qac_parametric_bound_many(c2, q2)
-        geo, s_geo = convolve._reparam_bound_many(c2, q2, par, s_par)
-        for r, k in enumerate(ks):
-            q_ref = convolve.quadratic_approximation(c2s[k])
-            assert np.allclose(q2[r], q_ref, atol=1e-12)
-            p_ref = convolve.qac_parametric_bound(c2s[k], q_ref)
-            assert par[r] == pytest.approx(p_ref[0], rel=1e-9, abs=1e-15)
-            g_ref = convolve.qac_error_bound(c2s[k], q_ref)
-            assert geo[r] == pytest.approx(g_ref[0], rel=1e-7, abs=1e-15)
-    for ks in _by_shape(c1s):
-        c1 = np.array([c1s[k] for k in ks])
-        q2 = np.array([convolve.quadratic_approximation(c2s[k]) for k in ks])
-        res = convolve.convolve_qac_many(c1, q2, not pc.is_polynomial(c1[0]))
-        for r, k in enumerate(ks):
-            ref = convolve.convolve_qac_piece(c1s[k], c2s[k], q2[r])
-            assert res[r].shape == ref.shape
-            # same rational curve: same Cartesian control points and weight ratios
-            assert np.allclose(pc.cartesian(res[r]), pc.cartesian(ref), atol=1e-9)
-            assert np.allclose(res[r][:, 2] / res[r][0, 2], ref[:, 2] / ref[0, 2], rtol=1e-9)
-
-
-def test_parallel_end_tangents_are_not_a_role():
-    line = pc.cubic((0, 0), (1, 0), (2, 0), (3, 0))
-    q2, ok = convolve.quadratic_approximation_many(line[None])
-    assert not ok[0]
-
+# ================================================= batched driver (issue 18)
 
 def test_batched_driver_matches_pair_by_pair():
     """Algorithm 4.1 on all pairs at once (one edge table per side) gives each pair
     the pieces of the one-pair driver, in the same order, every bound <= tol."""
-    pairs = _random_pairs(60, SEED + 2)
+    pairs = [(c1, c2) for _, c1, c2 in random_pairs(60, SEED + 2)]
     tol = 1e-4
     ea = [_edge(c1) for c1, _ in pairs]
     eb = [_edge(c2) for _, c2 in pairs]

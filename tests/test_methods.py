@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from morph import bernstein as bz
+from morph import convolve
 from morph import gauss
 from morph import methods as M
 from morph import piece as pc
@@ -112,7 +113,7 @@ def test_compose_is_exact_and_of_degree_nk():
     rng = np.random.default_rng(5)
     c2 = pc.from_points(rng.uniform(-3, 3, (4, 2)), rng.uniform(0.5, 2, 4))
     s = np.sort(rng.uniform(0, 1, 3))
-    comp = M.compose(c2, s)
+    comp = bz.compose(c2, s)
     assert len(comp) - 1 == 3 * 2
     t = np.linspace(0, 1, 21)
     direct = pc.evaluate(c2, bz.evaluate(s, t))
@@ -235,10 +236,48 @@ def test_qac_exact_for_polynomial_quadratic_c2(kind):
     rng = np.random.default_rng(11)
     for _ in range(3):
         c1, c2 = R.random_compatible_pair(rng, kind)
-        pieces = M.approximate(c1, c2, "qac", 1e-9)
-        assert len(pieces) == 1
-        assert R.approx_convolution_error(pieces[0], c1, c2, 100) < 1e-12
+        segs = M.approximate_segments(c1, c2, "qac", 1e-9)
+        assert len(segs) == 1
+        # certified QAC may keep either piece (both are quadratics for quad-quad):
+        # the segment names the roles, its piece is parametrised by seg.c1
+        seg = segs[0]
+        assert R.approx_convolution_error(seg.piece, seg.c1, seg.c2, 100) < 1e-12
         assert M.qac_bound(c2) < 1e-12
+
+
+def _edge(c):
+    """A curve Edge of a monotone piece (angles from its end tangents)."""
+    t0, t1 = pc.end_tangents(c)
+    th0 = float(np.arctan2(t0[1], t0[0]))
+    sweep = float(np.arctan2(pc.cross2(t0, t1), np.dot(t0, t1)))
+    return gauss.Edge("curve", c, pc.start(c), th0, sweep)
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-5])
+def test_qac_is_the_default_qac_of_convolve(tol):
+    """convolve_pair(..., "qac") gives the pieces of morph.convolve's QAC (role
+    choice, split where the bound peaks): the same curves, bounds and order."""
+    rng = np.random.default_rng(21)
+    pairs = [R.random_compatible_pair(rng, kind) for kind in R.PAIR_KINDS * 3]
+    pairs += [opposite_pair(rng) for _ in range(3)]
+    pairs += [(c2, c1) for c1, c2 in pairs[:5]]
+    swapped = 0
+    for c1, c2 in pairs:
+        segs = M.convolve_pair_segments(c1, c2, tol, "qac")
+        ea, eb = _edge(c1), _edge(c2)
+        (_, _, lo, hi, shift), = convolve.compatible_pairs([ea], [eb])
+        ref = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+        if eb.sweep < 0:          # convolve runs against A where B is concave
+            ref = [(p[::-1], kind, b) for p, kind, b in ref[::-1]]
+        assert len(segs) == len(ref) > 0
+        for seg, (p, kind, b) in zip(segs, ref):
+            assert seg.piece.shape == p.shape and seg.error == pytest.approx(b, rel=1e-6)
+            assert np.allclose(pc.cartesian(seg.piece), pc.cartesian(p), atol=1e-9)
+            # the piece is parametrised like seg.c1, whichever piece that is
+            assert R.approx_convolution_error(seg.piece, seg.c1, seg.c2, 9) <= tol
+        swapped += sum(len(s.c1) != len(c1) or not np.allclose(
+            pc.start(s.c1), pc.evaluate(c1, s.t[0])[0]) for s in segs)
+    assert swapped > 0                      # the role choice was exercised
 
 
 def arc_pair(r1, r2, a0, sweep, c1=(2.0, -1.0), c2=(0.5, 0.3), opposite=False):
