@@ -178,8 +178,8 @@ def test_shared_options_for_new_commands(runner, tmp_path):
     @cli.shape_argument("shape")
     @cli.common_options
     def probe(shape, font, tol, output, force, size):
-        click.echo("%s %s %r %s" % (shape.name, shape.units_per_em, shape.tolerance(tol),
-                                    len(shape.loops)))
+        click.echo("%s %s %r %s" % (shape.name, shape.units_per_em,
+                                    cli.shape_tolerance(shape, tol), len(shape.region)))
 
     from morph.parse import cubic_test_font_path
     # --font after the shape still applies: it is eager

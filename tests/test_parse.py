@@ -11,7 +11,7 @@ import shapely
 from morph import piece as pc
 from morph.errors import ParseError
 from morph.parse import (cubic_test_font_path, default_font_path, glyph_region, load_font,
-                         load_shape, svg_region, validate_path_data)
+                         load_shape, svg_region, svg_shape, validate_path_data)
 from morph.region import region_bbox
 
 FONTS = {"ttf": default_font_path(), "otf": cubic_test_font_path()}
@@ -188,13 +188,16 @@ def test_svg_file_and_load_shape(tmp_path):
     f.write_text('<svg %s><path d="M0 0 H10 V5 H0 Z"/></svg>' % SVG_NS)
     for src in (f, str(f)):
         assert pc.region_area(svg_region(src)) == pytest.approx(50)
-    loops, info = load_shape(str(f))
-    assert info["kind"] == "svg" and info["units_per_em"] is None
-    assert info["name"] == "shape" and info["advance"] == pytest.approx(10)
-    loops, info = load_shape("g")
-    assert info["kind"] == "glyph" and info["units_per_em"] == 1000 and info["advance"] == 615
-    loops, info = load_shape("g", cubic_test_font_path())
-    assert {len(p) for l in loops for p in l} == {2, 4}
+    s = load_shape(str(f))
+    assert s.kind == "svg" and s.units_per_em is None and s.source == str(f)
+    assert s.name == "shape" and s.advance_width == pytest.approx(10) and s.lsb == 0
+    assert s.em_to_units(0.5) == 0.5 and s.slug == "shape"
+    g = load_shape("g")
+    assert g.kind == "glyph" and g.units_per_em == 1000 and g.advance_width == 615
+    assert g.source == "g" and g.lsb == 55 and g.em_to_units(1e-3) == 1.0
+    s = load_shape("g", cubic_test_font_path())
+    assert {len(p) for l in s.region for p in l} == {2, 4}
+    assert svg_shape("M 1 0 H 4 V 2 Z").name == "path"
 
 
 @pytest.mark.parametrize("d", ["M 0 0 L 1 x 1 Z", "L 0 0 1 1 Z", "M 0 0 L 1 Z",

@@ -7,11 +7,12 @@ Adding a command (for other engineers)::
     @common_options                     # --font --tol -o/--output --force --size
     def mycommand(shape, font, tol, output, force, size):
         out = resolve_output(output, "mycommand-%s.png" % shape.slug, force)
-        write_image(out, [shape.loops], size=size, tol=shape.tolerance(tol))
+        write_image(out, [shape.region], size=size, tol=shape_tolerance(shape, tol))
 
 ``common_options`` adds ``--font``, ``--tol``, ``-o/--output``, ``--force`` and
 ``--size``; ``shape_argument`` converts an argument with :func:`morph.parse.load_shape`
-into a :class:`Shape`.  Errors: raise :class:`morph.errors.ParseError`,
+into a :class:`morph.parse.Shape`; :func:`shape_tolerance` turns --tol (em for
+glyphs, user units for SVG) into the shape's units.  Errors: raise :class:`morph.errors.ParseError`,
 ``DegenerateCurveError``, ``LimitError`` (or a click usage error) for bad input and
 :func:`main` prints one line ``morph: error: ...`` and exits 2; ``TopologyError``,
 ``ToleranceNotMetError`` and anything else are internal failures, one line naming
@@ -30,12 +31,12 @@ from .. import __version__
 from ..errors import DegenerateCurveError, LimitError, ParseError
 from ..limits import memory_budget_bytes
 from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401 (re-exported)
-                      InputError, Shape, ShapeParam,
+                      InputError, ShapeParam,
                       common_options, font_option, force_option, output_option,
-                      resolve_output, resolve_output_dir, shape_argument, size_option,
-                      tol_option, write_image)
+                      resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
+                      size_option, tol_option, write_image)
 
-__all__ = ["main", "Shape", "ShapeParam", "shape_argument", "common_options",
+__all__ = ["main", "ShapeParam", "shape_argument", "shape_tolerance", "common_options",
            "font_option", "tol_option", "output_option", "force_option", "size_option",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
@@ -79,9 +80,10 @@ def _save_debug(command, argv, exc):
     and the error to morph-debug-<command>.json in the working folder; its path."""
     path = os.path.abspath("morph-debug-%s.json" % command)
     data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
-            "shapes": [{"arg": s.arg, "info": {k: v for k, v in s.info.items()
-                                                if isinstance(v, (str, int, float, type(None)))},
-                        "loops": [[p.tolist() for p in loop] for loop in s.loops]}
+            "shapes": [{"arg": s.source,
+                        "info": {"kind": s.kind, "name": s.name, "units_per_em": s.units_per_em,
+                                 "advance": s.advance_width, "lsb": s.lsb},
+                        "loops": [[p.tolist() for p in loop] for loop in s.region]}
                        for s in LOADED_SHAPES]}
     for attr in ("piece", "achieved"):
         value = getattr(exc, attr, None)

@@ -4,13 +4,9 @@ import click
 import numpy as np
 
 from . import main
-from .options import InputError, common_options, resolve_output, shape_argument, write_image
+from .options import (InputError, common_options, resolve_output, shape_argument,
+                      shape_tolerance, write_image)
 from .shapes import _frame_bbox
-
-
-def _length_in_units(shape, value):
-    """A length given in em for glyphs (x units per em) or user units for SVG."""
-    return shape.tolerance(value, check=False)
 
 
 @main.command()
@@ -41,13 +37,13 @@ def offset(shape, radius, font, tol, output, force, size):
     if not np.isfinite(radius):
         raise InputError("--radius must be a finite number, got %s" % radius)
     out = resolve_output(output, "offset-%s.png" % shape.slug, force)
-    r = _length_in_units(shape, radius)
-    t = shape.tolerance(tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
+    r = shape.em_to_units(radius)
+    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
     from ..export import split_tolerance
 
     st, et = split_tolerance(t)  # the offset and the SVG export share --tol
-    loops = offset_region(shape.loops, r, st)
-    write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.loops, {"fill": "black"})],
+    loops = offset_region(shape.region, r, st)
+    write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.region, {"fill": "black"})],
                 size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
@@ -104,12 +100,12 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     from ..region import region_centroid
 
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
-    t = obstacle.tolerance(tol, robot.loops)
-    ref = region_centroid(robot.loops) if reference == "centroid" else (0.0, 0.0)
+    t = shape_tolerance(obstacle, tol, robot.region)
+    ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
     from ..export import split_tolerance
 
     st, et = split_tolerance(t)  # the sum and the SVG export share --tol
-    loops = cspace_obstacle(obstacle.loops, robot.loops, st, reference=ref)
-    write_image(out, cspace_figure(obstacle.loops, robot.loops, loops, t, samples, ref),
+    loops = cspace_obstacle(obstacle.region, robot.region, st, reference=ref)
+    write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref),
                 size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))

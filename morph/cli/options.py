@@ -1,7 +1,5 @@
 """Shared vocabulary of the commands: shape arguments, options, output paths."""
 
-import re
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import click
@@ -20,53 +18,28 @@ class InputError(click.ClickException):
 
 # =========================================================================== shapes
 
-@dataclass
-class Shape:
-    """A loaded shape argument: its region and where it came from.
+def shape_tolerance(shape, tol, *others, check=True):
+    """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
 
-    ``info`` is the dict of :func:`morph.parse.load_shape` (kind, name, source,
-    units_per_em, advance).
+    With ``check`` the tolerance is checked against this shape and the ``others``
+    (regions summed with it, e.g. the other operand or the offset disk) by
+    :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
+    than 1e-12 of the size, larger than the shapes, beyond the point budget:
+    LimitError, one line naming a tolerance that works, exit 2.
     """
+    t = shape.em_to_units(tol)
+    if check:
+        from ..limits import check_tolerance
 
-    arg: str
-    loops: list = field(repr=False)
-    info: dict
-
-    @property
-    def name(self):
-        return self.info["name"]
-
-    @property
-    def slug(self):
-        """File-name-safe name (glyph name or SVG file stem)."""
-        return re.sub(r"[^A-Za-z0-9._-]+", "_", self.name) or "shape"
-
-    @property
-    def units_per_em(self):
-        return self.info.get("units_per_em")
-
-    def tolerance(self, tol, *others, check=True):
-        """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
-
-        With ``check`` the tolerance is checked against this shape and the ``others``
-        (regions summed with it, e.g. the other operand or the offset disk) by
-        :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
-        than 1e-12 of the size, larger than the shapes, beyond the point budget:
-        LimitError, one line naming a tolerance that works, exit 2.
-        """
-        upm = self.units_per_em
-        t = tol * upm if upm else tol
-        if check:
-            from ..limits import check_tolerance
-
-            what = ("glyph %r" % self.name) if upm else ("SVG %s" % self.name)
-            check_tolerance(t, self.loops, *others, operation=what, unit=upm or 1.0,
-                            unit_name="em" if upm else "user units")
-        return t
+        upm = shape.units_per_em
+        what = ("glyph %r" % shape.name) if upm else ("SVG %s" % shape.name)
+        check_tolerance(t, shape.region, *others, operation=what, unit=upm or 1.0,
+                        unit_name="em" if upm else "user units")
+    return t
 
 
 class ShapeParam(click.ParamType):
-    """Click type: a glyph character/name or an .svg path -> :class:`Shape`.
+    """Click type: a glyph character/name or an .svg path -> :class:`morph.parse.Shape`.
 
     Loads with the ``--font`` value (``--font`` is eager, so it is known first).
     Parse errors propagate as MorphError (one clean line, exit 2).
@@ -75,14 +48,13 @@ class ShapeParam(click.ParamType):
     name = "SHAPE"
 
     def convert(self, value, param, ctx):
+        from ..parse import Shape, load_shape
+
         if isinstance(value, Shape):
             return value
-        from ..parse import load_shape
-
         font = ctx.params.get("font") if ctx is not None else None
         location = ctx.meta.get("morph.location") if ctx is not None else None
-        loops, info = load_shape(value, font, location)
-        shape = Shape(value, loops, info)
+        shape = load_shape(value, font, location)
         LOADED_SHAPES.append(shape)  # saved by MORPH_DEBUG=1 on an internal failure
         return shape
 
@@ -92,7 +64,7 @@ LOADED_SHAPES = []
 
 
 def shape_argument(name="shape", **kwargs):
-    """Decorator: a positional shape argument converted to a :class:`Shape`."""
+    """Decorator: a positional shape argument converted to a :class:`morph.parse.Shape`."""
     return click.argument(name, type=SHAPE, metavar=name.upper(), **kwargs)
 
 

@@ -4,8 +4,8 @@ import click
 import numpy as np
 
 from . import main
-from .options import (DEFAULT_TOL, InputError, common_options, progress_bar, resolve_output,
-                      resolve_output_dir, shape_argument, write_image)
+from .options import (InputError, common_options, progress_bar, resolve_output,
+                      resolve_output_dir, shape_argument, shape_tolerance, write_image)
 
 
 @main.command()
@@ -31,7 +31,7 @@ def outline(shape, font, tol, output, force, size):
       morph outline logo.svg
     """
     out = resolve_output(output, "outline-%s.png" % shape.slug, force)
-    write_image(out, [shape.loops], size=size, tol=shape.tolerance(tol))
+    write_image(out, [shape.region], size=size, tol=shape_tolerance(shape, tol))
     click.echo("wrote %s" % out)
 
 
@@ -74,11 +74,11 @@ def sum_(a, b, method, font, tol, output, force, size):
     from ..minkowski import minkowski_sum
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
-    t = a.tolerance(tol, b.loops)
+    t = shape_tolerance(a, tol, b.region)
     from ..export import split_tolerance
 
     st, et = split_tolerance(t)  # the sum and the SVG export share --tol
-    loops = minkowski_sum(a.loops, b.loops, st, method=method)
+    loops = minkowski_sum(a.region, b.region, st, method=method)
     write_image(out, [loops], size=size, tol=et)
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
@@ -90,12 +90,12 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
     if frames < 2:
         raise InputError("--frames must be at least 2, got %d" % frames)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
-    t = a.tolerance(tol, b.loops)
+    t = shape_tolerance(a, tol, b.region)
     from ..export import split_tolerance
 
     st, et = split_tolerance(t)  # each frame's sum and its SVG export share --tol
     with progress_bar(frames, "frames") as bar:
-        regions = morph_frames(a.loops, b.loops, frames, st, progress=lambda k: bar.update(1),
+        regions = morph_frames(a.region, b.region, frames, st, progress=lambda k: bar.update(1),
                                method=method)
     bbox = _frame_bbox(regions)
     images = []

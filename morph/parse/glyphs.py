@@ -13,7 +13,6 @@ Every bad input raises :class:`morph.errors.ParseError` naming the input.
 
 import os
 import re
-from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
@@ -23,9 +22,9 @@ from .. import piece as pc
 from ..errors import ParseError, one_line
 from ..region import is_zero_length, orient_region
 from .pens import RawContour, closing_line, record_contours
+from .shape import Shape
 
 __all__ = [
-    "Glyph",
     "cubic_test_font_path",
     "default_font_path",
     "glyph_name",
@@ -174,21 +173,6 @@ def _font_label(font):
         return "font"
 
 
-@dataclass
-class Glyph:
-    """A glyph's outline and metrics, in font units (y up).
-
-    ``region`` is a list of oriented loops; ``advance_width`` and ``lsb`` come from
-    ``hmtx``; ``units_per_em`` from ``head``.
-    """
-
-    name: str
-    region: list = field(repr=False)
-    advance_width: int
-    lsb: int
-    units_per_em: int
-
-
 def _filled_loop(contour, label):
     """A glyph contour (:class:`.pens.RawContour`) as a loop: zero-length pieces
     dropped, closed by a line when it ends away from its start; None when nothing of
@@ -226,7 +210,8 @@ def glyph_name(font, char_or_name):
 
 
 def glyph_region(char_or_name, font=None, location=None):
-    """Outline of one glyph as a :class:`Glyph` (region in font units, y up).
+    """Outline of one glyph as a :class:`~morph.parse.shape.Shape` (region in font units,
+    y up; ``advance_width``, ``lsb`` from ``hmtx``, ``units_per_em`` from ``head``).
 
     A single character is looked up in the font's cmap; a longer string is taken as
     a glyph name (``"g"`` is the character, ``"ampersand"`` a glyph name).  ``font``
@@ -243,7 +228,8 @@ def glyph_region(char_or_name, font=None, location=None):
 
 def read_glyph(font, name, source=None):
     """The glyph named ``name`` (exactly: no cmap lookup) of an open ``TTFont`` as a
-    :class:`Glyph`; ``source`` names it in errors (default: ``name``).
+    :class:`~morph.parse.shape.Shape`; ``source``: what was asked for (default:
+    ``name``), also named in errors.
 
     Raises:
         ParseError: no such glyph; a glyph without contours; an open contour.
@@ -266,4 +252,4 @@ def read_glyph(font, name, source=None):
     if not loops:
         raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
     advance, lsb = font["hmtx"][name]
-    return Glyph(name, loops, advance, lsb, font["head"].unitsPerEm)
+    return Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
