@@ -200,7 +200,7 @@ _CMD = re.compile(r"([MLQCZ])([^MLQCZ]*)")
 
 def svg_beziers(d):
     """Loops of (k, 2) Béziers (y up again) from morph's path data, and outline points."""
-    loops, cur, npts = [], None, 0
+    loops, cur, npts, start, last = [], None, 0, None, None
     for c, args in _CMD.findall(d):
         xy = np.array(args.split(), float).reshape(-1, 2) * [1, -1] if args.strip() else None
         if c == "M":
@@ -402,10 +402,10 @@ def kurbo_offset(segs, acc):
     ap = AreaPen()
     replayRecording(segs, ap)
     dist = DISK_R if ap.value < 0 else -DISK_R
-    loops, cur, last, start = [], None, None, None
+    loops, cur, last = [], None, None
     for verb, pts in segs:
         if verb == "moveTo":
-            cur, last, start = [], pts[0], pts[0]
+            cur, last = [], pts[0]
         elif verb == "curveTo":
             c = kurbopy.CubicBez(*[kurbopy.Point(*p) for p in (last,) + tuple(pts)])
             rp = RecordingPen()
