@@ -58,7 +58,8 @@ test with the exact predicate x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ on opera
 within 1e-6 em (resolution ~2e-6 em).  Samples: 16 per curve segment, edge midpoints
 of polygons (at most 4000).  Times: min and median of --repeats runs (perf_counter
 wall and process_time CPU); ratios use minimums.  The machine has 2 cores shared with
-other jobs, so wall times are upper bounds.
+other jobs, so wall times are upper bounds.  Processes run with bytecode cached in a
+private folder (PYTHONPYCACHEPREFIX, after one warm-up run), as after a pip install.
 """
 
 import argparse
@@ -104,7 +105,13 @@ DISK_R = 40.0                      # = morph offset O --radius 0.04
 ORACLE_FLAT = 1e-6 * UPM
 E_MAX = 0.05 * UPM
 FF_PYTHON = "/usr/bin/python3"     # Debian's python3-fontforge is for the system Python
-ENV = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+# Subprocesses: the repo on the path, and bytecode cached (in a private folder) as
+# after a pip install; this machine sets PYTHONDONTWRITEBYTECODE, under which every
+# morph process compiles its ~40 modules again (~0.4 s).  One warm-up run per command.
+PYCACHE = tempfile.mkdtemp(prefix="peers-pycache-")
+ENV = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
+           PYTHONPYCACHEPREFIX=PYCACHE)
+ENV.pop("PYTHONDONTWRITEBYTECODE", None)
 
 # ------------------------------------------------------------------------- helpers
 
@@ -325,6 +332,7 @@ def glyph_case(a, b, tol_em, args, log, budget):
         cd = [sys.executable, str(ROOT / "bench" / "dc_sum.py"), a, b, "--font", TTF,
               "--tol", "%g" % tol_em, "-o", os.path.join(tmp, "d.svg")]
         mw, mc, dw, dcp = [], [], [], []
+        run_process(cm, cwd=tmp), run_process(cd, cwd=tmp)      # warm-up, not counted
         for _ in range(args.proc_repeats if tol_em >= 1e-4 else max(2, args.proc_repeats - 2)):
             x, y = run_process(cm, cwd=tmp)
             mw.append(x), mc.append(y)
@@ -609,6 +617,7 @@ def cli_section(args, log):
         cmd = [sys.executable, "-m", "morph.cli", "glyph", "T", "M", "--frames", "10",
                "-o", os.path.join(tmp, "tm"), "--force"]
         ws, cs = [], []
+        run_process(cmd, cwd=tmp)                               # warm-up, not counted
         for _ in range(args.proc_repeats):
             w, c = run_process(cmd, cwd=tmp)
             ws.append(w), cs.append(c)
@@ -683,7 +692,8 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
     L += ["", "## 2. Glyph sums as processes (start-up, font reading and SVG writing included)",
           "",
           "`python -m morph.cli sum A B --tol T -o a.svg` against `python bench/dc_sum.py A B "
-          "--font NotoSans-Regular.ttf --tol T -o b.svg`, run in turn; dc-one = dc_sum.py "
+          "--font NotoSans-Regular.ttf --tol T -o b.svg`, run in turn after one warm-up "
+          "each, bytecode cached as after a pip install; dc-one = dc_sum.py "
           "`--fan 0` (one pyclipper union of all pair sums), one run, killed at %g s.  "
           "Ratio = morph min wall / dc min wall (< 1: morph faster)." % args.budget, "",
           "| case | tol (em) | runs | morph wall min (med) | morph CPU min | dc wall min (med) | "
