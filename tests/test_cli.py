@@ -37,6 +37,21 @@ def test_help_reads_like_a_manual(runner):
         assert word in result.output
 
 
+@pytest.mark.parametrize("command", ["outline", "sum", "glyph", "svg", "offset", "cspace",
+                                     "brush", "stroke"])
+def test_every_command_states_one_tol_convention(runner, command):
+    """--tol means one thing everywhere: absolute, em for glyphs and fonts, user units
+    for SVG; every --help says so in the same words, and nan/inf/0 are refused."""
+    from morph.cli.options import TOL_UNITS
+
+    result = runner.invoke(main, [command, "--help"])
+    assert result.exit_code == 0
+    assert TOL_UNITS in " ".join(result.output.split())
+    for bad in ("nan", "inf", "0"):
+        result = runner.invoke(main, [command, "x", "--tol", bad])
+        assert result.exit_code == 2 and "--tol" in result.output
+
+
 def test_outline_png(runner, tmp_path):
     out = tmp_path / "g.png"
     result = runner.invoke(main, ["outline", "g", "-o", str(out), "--size", "200"])

@@ -373,7 +373,8 @@ def test_cli_stroke_svg(tmp_path):
     got = region_to_shapely(svg_region(str(out)), 0.005)
     n = ellipse_nib(16, 4, 30)
     ref = stroke_polygon(svg_paths(str(src)), n, 0.005)
-    assert hausdorff(got, ref, 0.05) <= 0.01 + 0.005 + 0.01  # tol + reference + SVG digits
+    # --tol covers the stroke and the SVG export together (as for `morph sum`)
+    assert hausdorff(got, ref, 0.05) <= 0.01 + 0.005 + 0.005  # tol + reading + reference
     assert count_outer_and_holes(got, 0.1) == count_outer_and_holes(ref, 0.1) == (2, 1)
     png = tmp_path / "skel.png"
     res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(png), "--size", "200"])

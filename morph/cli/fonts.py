@@ -6,7 +6,8 @@ from pathlib import Path
 import click
 
 from . import main
-from .options import EXIT_INTERNAL, LOCATION_HELP, InputError, progress_bar, resolve_output
+from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError,
+                      progress_bar, resolve_output, tol_option, write_image)
 
 
 def _parse_nib(spec):
@@ -20,9 +21,6 @@ def _parse_nib(spec):
     except ValueError:
         raise InputError("--nib numbers not understood: %r" % spec) from None
     return w, h, a
-
-
-BRUSH_TOL_EM = 5e-4  # 0.5 font units at 1000 units per em
 
 
 @main.command()
@@ -42,10 +40,9 @@ BRUSH_TOL_EM = 5e-4  # 0.5 font units at 1000 units per em
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image and the specimen.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
-@click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=BRUSH_TOL_EM,
-              show_default=True,
-              help="Outline tolerance in em (sum and curve conversion together), as for "
-                   "the other commands: 5e-4 em = 0.5 font units at 1000 units per em.")
+@tol_option(default=FONT_TOL, what="outlines (sum and curve conversion together)",
+            note="5e-4 em = 0.5 font units at 1000 units per em; the outlines are then "
+                 "rounded to integer coordinates (<= 0.71 unit more).")
 @click.option("--composites", type=click.Choice(["follow", "sweep"]), default="follow",
               show_default=True,
               help="Composite glyphs using a swept glyph but not chosen (e.g. eacute when e "
@@ -232,12 +229,10 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("--glyphs", default=None,
               help="UFO only: characters, ranges (a-z) and glyph names, comma separated. "
                    "Default: every glyph.")
-@click.option("--tol", type=click.FloatRange(min=0.0, min_open=True), default=5e-4,
-              show_default=True,
-              help="Outline tolerance (stroke and curve conversion together): in em for a "
-                   "UFO (5e-4 em = 0.5 font unit at 1000 units per em; the outlines are "
-                   "then rounded to integer coordinates, <= 0.71 unit more), in user "
-                   "units for an SVG.")
+@tol_option(default=None, what="outlines (stroke and curve conversion together)",
+            note="Default: %g em for a UFO (the outlines are then rounded to integer "
+                 "coordinates, <= 0.71 unit more), %g user units for an SVG, as for "
+                 "images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image (UFO skeletons).")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
@@ -278,8 +273,10 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
+        tol = DEFAULT_TOL if tol is None else tol
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
+        tol = FONT_TOL if tol is None else tol
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
@@ -375,23 +372,29 @@ def _write_stroke_pictures(out, font, sample, png, page):
 
 
 def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
+    """``morph stroke`` of an SVG skeleton: an image of its paths ⊕ nib within ``tol``
+    user units (stroke and SVG export together, as ``morph sum``)."""
+    from ..errors import ParseError
+    from ..export import split_tolerance
     from ..fonts.stroke import stroke_glyph_region
+    from ..limits import check_tolerance
     from ..parse.svg import svg_paths
     from ..region import region_bbox
-    from .options import resolve_output, write_image
 
     if glyphs is not None:
         raise InputError("--glyphs applies to UFO skeletons only")
     out = resolve_output(output, "stroke.svg", force)
-    from ..errors import ParseError
-
     try:  # centre lines: the stroked elements, else every drawn path
         paths = svg_paths(str(src), stroked=True)
     except ParseError:
         paths = svg_paths(str(src))
-    box = region_bbox([pieces for pieces, _ in paths])
+    lines = [pieces for pieces, _ in paths]
+    box = region_bbox(lines)
     scale = max(box[2] - box[0], box[3] - box[1], 1e-12) / 1000.0
     nib_region = _stroke_nib(nib, nib_svg, scale)
-    region = stroke_glyph_region(paths, nib_region, tol)
-    write_image(out, [(region, {"fill": "black"})], size=size, tol=tol)
+    check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
+                    unit_name="user units")
+    st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol
+    region = stroke_glyph_region(paths, nib_region, st)
+    write_image(out, [(region, {"fill": "black"})], size=size, tol=et)
     click.echo("wrote %s (%d loops)" % (out, len(region)))

@@ -6,7 +6,14 @@ import click
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
+#: --tol of every command is absolute: in em for glyphs and fonts (font units divided
+#: by units per em), in user units for SVG; it bounds the written curves' distance
+#: from the exact result (computation and export together).  Defaults: images 1e-4,
+#: fonts 5e-4 em (their outlines are then rounded to integer units, <= 0.71 unit more).
 DEFAULT_TOL = 1e-4
+FONT_TOL = 5e-4
+TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
+             "em), in user units for SVG")
 IMAGE_SUFFIXES = (".png", ".svg")
 
 
@@ -105,12 +112,15 @@ class PositiveFinite(click.FloatRange):
         return rv
 
 
-def tol_option(f):
-    return click.option(
-        "--tol", type=PositiveFinite(), default=DEFAULT_TOL,
-        show_default=True,
-        help="Absolute geometric tolerance of curve output: in em for glyphs "
-             "(1e-4 em = 0.1 unit at 1000 units per em), in user units for SVG.")(f)
+def tol_option(f=None, default=DEFAULT_TOL, what="curve output", note=""):
+    """--tol, stated the same way by every command (:data:`TOL_UNITS`): a decorator,
+    or ``tol_option(default=..., what=..., note=...)`` for one (``default`` None: the
+    command picks it, ``note`` says how)."""
+    def deco(f):
+        return click.option(
+            "--tol", type=PositiveFinite(), default=default, show_default=default is not None,
+            help="Tolerance of the %s: %s.%s" % (what, TOL_UNITS, " " + note if note else ""))(f)
+    return deco(f) if f is not None else deco
 
 
 def output_option(f):
