@@ -488,12 +488,17 @@ def _poly_area_terms(h):
     return 0.5 * f.mean(axis=1)
 
 
-def _rational_area_terms(h, quad_points, max_depth=30):
+def _rational_area_terms(h, quad_points, max_depth=30, max_intervals=1 << 16):
     """Adaptive Gauss-Legendre of 1/2 ∫ (x y' - y x') dt on a stack of one degree:
-    every open interval halved until its halves agree with it (all at once)."""
+    every open interval halved until its halves agree with it (all at once), at
+    most ``max_depth`` times and while fewer than ``max_intervals`` are open."""
     x, wts = _leggauss(quad_points)
     c = h[:, :, :2] / h[:, :, 2:]
-    eps = 1e-13 * np.maximum(np.ptp(c, axis=1).max(axis=1) ** 2, 1e-300)
+    # x y' - y x' loses digits to |x| |y'|: the agreement asked for is relative
+    # to the piece's size times its distance from the origin (or its size)
+    size = np.ptp(c, axis=1).max(axis=1)
+    reach = np.maximum(np.abs(c).max(axis=(1, 2)), size)
+    eps = 1e-13 * np.maximum(size * reach, 1e-300)
 
     def gauss(idx, t0, t1):
         t = t0[:, None] + (t1 - t0)[:, None] * 0.5 * (x + 1.0)
@@ -509,7 +514,8 @@ def _rational_area_terms(h, quad_points, max_depth=30):
     for depth in range(max_depth + 1):
         tm = 0.5 * (t0 + t1)
         left, right = gauss(idx, t0, tm), gauss(idx, tm, t1)
-        done = (np.abs(left + right - whole) <= eps[idx]) | (depth == max_depth)
+        done = ((np.abs(left + right - whole) <= eps[idx]) | (depth == max_depth)
+                | (len(idx) > max_intervals))
         np.add.at(total, idx[done], (left + right)[done])
         if done.all():
             break

@@ -6,6 +6,7 @@ tested with orientation predicates, all vectorised.
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 
 
@@ -164,3 +165,110 @@ def polylines_cross(pieces, tol):
         return False
     k, u, v = _crossings(p0, p1, pairs)
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
+
+
+PAIRS, JOINED, SELF = 0, 1, 2  # kinds of subdivision items (see subdivided_crossings)
+
+
+def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60):
+    """Candidate crossings of pairs of pieces, by subdivision (vectorised level by
+    level); None when the work would exceed ``max_items`` (near-coincident pieces).
+
+    pairs (k, 2) index ``pieces``; kinds: ``PAIRS`` (two pieces), ``JOINED`` (the
+    first piece ends where the second starts: only crossings away from that join
+    count), ``SELF`` (a piece with itself).  An item (two parameter intervals) is
+    dropped when the control boxes of its parts do not overlap, or, for a joined or
+    self item, when the tangents of the parts stay in a cone narrower than pi (a
+    monotone arc: it meets itself nowhere but at the join).  Otherwise the larger
+    part is halved (a joined item gives a joined item at the join and three plain
+    ones, a self item two self items and one joined).  Items whose parts are both
+    smaller than ``res`` are the candidates: (pair index, s, u) at their centres.
+    """
+    stacked = pc.stack(pieces)
+    n = len(pairs)
+    it = dict(org=np.arange(n), ia=pairs[:, 0].copy(), ib=pairs[:, 1].copy(),
+              a0=np.zeros(n), a1=np.ones(n), b0=np.zeros(n), b1=np.ones(n),
+              kind=np.asarray(kinds, int).copy())
+    found = []
+    for depth in range(max_depth):
+        if not len(it["org"]):
+            break
+        if len(it["org"]) > max_items:
+            return None
+        ca = _cartesian(stacked, it["ia"], it["a0"], it["a1"])
+        cb = _cartesian(stacked, it["ib"], it["b0"], it["b1"])
+        lo_a, hi_a, lo_b, hi_b = ca.min(1), ca.max(1), cb.min(1), cb.max(1)
+        size_a = np.hypot(*(hi_a - lo_a).T)
+        size_b = np.hypot(*(hi_b - lo_b).T)
+        slack = 1e-9 * res
+        meet = np.all(lo_a <= hi_b + slack, axis=1) & np.all(lo_b <= hi_a + slack, axis=1)
+        kind = it["kind"]
+        small = (size_a <= res) & (size_b <= res)
+        narrow = np.zeros(len(kind), bool)
+        j = kind != PAIRS
+        narrow[j] = _narrow_cone(np.concatenate([_diffs(ca[j]), _diffs(cb[j])], axis=1))
+        live = meet & ~narrow & ~(small & (kind != PAIRS))
+        hit = live & (kind == PAIRS) & (small | (depth == max_depth - 1))
+        found.append((it["org"][hit], 0.5 * (it["a0"][hit] + it["a1"][hit]),
+                      0.5 * (it["b0"][hit] + it["b1"][hit])))
+        it = _split_items(it, live & ~hit, size_a >= size_b)
+    org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
+    return org.astype(int), s, u
+
+
+def _cartesian(stacked, idx, t0, t1):
+    h = bz.subsegment_many(stacked[idx], t0, t1)
+    return h[..., :2] / h[..., 2:]
+
+
+def _diffs(c):
+    """All differences c_j - c_i, j > i, of control points (m, k, 2): their cone holds
+    every tangent of a positive-weight rational Bézier (for j > i, B_j / B_i
+    increases, so X'W - XW' = sum_{i<j} w_i w_j (B_j' B_i - B_j B_i') (P_j - P_i))."""
+    i, j = np.triu_indices(c.shape[1], 1)
+    return c[:, j] - c[:, i]
+
+
+def _narrow_cone(v):
+    """Per row of vectors (m, k, 2): all nonzero ones within a cone narrower than pi."""
+    norm = np.hypot(v[..., 0], v[..., 1])
+    live = norm > 1e-12 * np.maximum(norm.max(axis=1, keepdims=True), 1e-300)
+    ang = np.arctan2(v[..., 1], v[..., 0])
+    ref = ang[np.arange(len(v)), np.argmax(live, axis=1)]
+    rel = np.angle(np.exp(1j * (ang - ref[:, None])))
+    lo = np.where(live, rel, 0.0).min(axis=1)
+    hi = np.where(live, rel, 0.0).max(axis=1)
+    return (hi - lo < np.pi * (1.0 - 1e-9)) & live.any(axis=1)
+
+
+def _split_items(it, keep, split_a):
+    """The next level's items (see :func:`subdivided_crossings`)."""
+    it = {k: v[keep] for k, v in it.items()}
+    split_a = split_a[keep]
+    am, bm = 0.5 * (it["a0"] + it["a1"]), 0.5 * (it["b0"] + it["b1"])
+    out = []
+    plain = it["kind"] == PAIRS
+    pa, pb = plain & split_a, plain & ~split_a
+    out.append(_items(it, pa, a1=am[pa]))
+    out.append(_items(it, pa, a0=am[pa]))
+    out.append(_items(it, pb, b1=bm[pb]))
+    out.append(_items(it, pb, b0=bm[pb]))
+    jn = it["kind"] == JOINED  # a ends at the join, b starts there
+    out.append(_items(it, jn, a0=am[jn], b1=bm[jn]))  # the halves at the join
+    out.append(_items(it, jn, a1=am[jn], b1=bm[jn], kind=PAIRS))
+    out.append(_items(it, jn, a0=am[jn], b0=bm[jn], kind=PAIRS))
+    out.append(_items(it, jn, a1=am[jn], b0=bm[jn], kind=PAIRS))
+    sf = it["kind"] == SELF
+    out.append(_items(it, sf, a1=am[sf], b1=bm[sf]))
+    out.append(_items(it, sf, a0=am[sf], b0=bm[sf]))
+    out.append(_items(it, sf, a1=am[sf], b0=bm[sf], kind=JOINED))
+    return {k: np.concatenate([o[k] for o in out]) for k in it}
+
+
+def _items(it, sel, kind=None, **bounds):
+    new = {k: v[sel].copy() for k, v in it.items()}
+    for k, v in bounds.items():
+        new[k] = v
+    if kind is not None:
+        new["kind"] = np.full(int(sel.sum()), kind)
+    return new

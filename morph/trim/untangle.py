@@ -15,7 +15,8 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from .crossing import _crossings, _flatten_all, _segment_pairs, uncertain_pairs
+from .crossing import (JOINED, PAIRS, SELF, _crossings, _flatten_all, _segment_pairs,
+                       subdivided_crossings, uncertain_pairs)
 from .lift import newton_crossings
 
 
@@ -42,57 +43,85 @@ def untangle(loops, eps, max_rounds=64):
 
 
 def _first_crossing(loops, eps):
-    """(loop, piece i, s, piece j, u, point) of one interior crossing of two pieces of
-    one loop (i < j, or i == j for a piece crossing itself), refined on the exact
-    pieces; None if the polylines within eps / 10 show none."""
+    """(loop, piece i, s, piece j, u, point) of one crossing of two pieces of one loop
+    away from their shared ends (i < j, or i == j for a piece crossing itself),
+    refined on the exact pieces; None if there is none.
+
+    Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
+    searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
+    or on polylines within eps / 10 where subdivision would not end (pieces that
+    nearly coincide)."""
     pieces = [p for loop in loops for p in loop]
-    if len(pieces) < 2:
-        return None
-    owner = np.concatenate([np.full(len(loop), k) for k, loop in enumerate(loops)])
-    first = np.concatenate([[0], np.cumsum([len(loop) for loop in loops])[:-1]])
+    sizes = np.array([len(loop) for loop in loops])
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     suspects = uncertain_pairs(loops)  # the other pairs cannot cross
     if not len(suspects):
         return None
+    pairs, kinds = _oriented(suspects, owner, first, sizes)
+    found = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
+    if found is None:
+        pa, pb, ta, tb, guess = _polyline_crossings(pieces, suspects, eps / 10.0)
+    else:
+        k, ta, tb = found
+        pa, pb = pairs[k, 0], pairs[k, 1]
+        guess = None
+    if not len(pa):
+        return None
+    used, inv = np.unique(np.concatenate([pa, pb]), return_inverse=True)
+    stacked = pc.stack([pieces[q] for q in used])
+    ia, ib = inv[:len(pa)], inv[len(pa):]
+    if guess is None:
+        guess = pc.jet_many(stacked, ia, ta)[0]
+    s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
+    for n in np.flatnonzero(ok):
+        gi, gj, si, wj = pa[n], pb[n], s[n], w[n]
+        if gi > gj or (gi == gj and si > wj):
+            gi, gj, si, wj = gj, gi, wj, si
+        li = owner[gi]
+        i, j = gi - first[li], gj - first[li]
+        # ends of consecutive pieces meet by construction: not a crossing
+        if (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
+           (i == 0 and j == sizes[li] - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
+           (i == j and abs(si - wj) <= 1e-9):
+            continue
+        x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
+        return li, i, si, j, wj, x
+    return None
+
+
+def _oriented(pairs, owner, first, sizes):
+    """Suspect pairs with their subdivision kinds: a piece with itself (SELF), a
+    piece and the next one of its loop in that order (JOINED), others (PAIRS)."""
+    i, j = pairs[:, 0].copy(), pairs[:, 1].copy()
+    nxt = lambda k: first[owner[k]] + (k - first[owner[k]] + 1) % sizes[owner[k]]  # noqa: E731
+    kinds = np.full(len(i), PAIRS)
+    back = (nxt(j) == i) & (nxt(i) != j)
+    i[back], j[back] = pairs[back, 1], pairs[back, 0]
+    kinds[nxt(i) == j] = JOINED
+    kinds[i == j] = SELF
+    return np.stack([i, j], axis=1), kinds
+
+
+def _polyline_crossings(pieces, suspects, flat):
+    """Crossings of the suspect pairs' polylines within ``flat``: (piece a, piece b,
+    t on a, u on b, point), away from shared polyline vertices."""
     used = np.unique(suspects)
-    p0, p1, ids, t0, t1 = _flatten_all([pieces[k] for k in used], eps / 10.0)
+    p0, p1, ids, t0, t1 = _flatten_all([pieces[k] for k in used], flat)
     ids = used[ids]
     pairs = _segment_pairs(p0, p1, ids, True)
     if len(pairs):
         key = np.sort(ids[pairs], axis=1) @ np.array([len(pieces), 1])
         pairs = pairs[np.isin(key, suspects @ np.array([len(pieces), 1]))]
     if not len(pairs):
-        return None
+        empty = np.zeros(0, int)
+        return empty, empty, np.zeros(0), np.zeros(0), np.zeros((0, 2))
     k, u, v = _crossings(p0, p1, pairs)
     a, b = pairs[k, 0], pairs[k, 1]
-    ta = t0[a] + u * (t1[a] - t0[a])
-    tb = t0[b] + v * (t1[b] - t0[b])
-    pa, pb = ids[a], ids[b]
-    same_loop = owner[pa] == owner[pb]
-    # not the shared end of consecutive segments / pieces
-    shared = ((u <= 1e-9) | (u >= 1 - 1e-9)) & ((v <= 1e-9) | (v >= 1 - 1e-9))
-    sel = np.flatnonzero(same_loop & ~shared)
-    if not len(sel):
-        return None
-    used, inv = np.unique(np.concatenate([pa[sel], pb[sel]]), return_inverse=True)
-    stacked = pc.stack([pieces[q] for q in used])
-    guess = p0[a[sel]] + u[sel, None] * (p1[a[sel]] - p0[a[sel]])
-    s, w, ok = newton_crossings(stacked, inv[:len(sel)], ta[sel], inv[len(sel):], tb[sel],
-                                guess, 2.0 * eps, 1e-6 * eps)
-    for n in np.flatnonzero(ok):
-        gi, gj, si, wj = pa[sel[n]], pb[sel[n]], s[n], w[n]
-        if gi > gj or (gi == gj and si > wj):
-            gi, gj, si, wj = gj, gi, wj, si
-        li = owner[gi]
-        i, j = gi - first[li], gj - first[li]
-        n_loop = len(loops[li])
-        # ends of consecutive pieces meet by construction: not a crossing
-        if (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
-           (i == 0 and j == n_loop - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
-           (i == j and abs(si - wj) <= 1e-9):
-            continue
-        x = pc.jet_many(stacked, inv[n:n + 1], s[n:n + 1])[0][0]
-        return li, i, si, j, wj, x
-    return None
+    sel = ~(((u <= 1e-9) | (u >= 1 - 1e-9)) & ((v <= 1e-9) | (v >= 1 - 1e-9)))
+    a, b, u, v = a[sel], b[sel], u[sel], v[sel]
+    ta, tb = t0[a] + u * (t1[a] - t0[a]), t0[b] + v * (t1[b] - t0[b])
+    return ids[a], ids[b], ta, tb, p0[a] + u[:, None] * (p1[a] - p0[a])
 
 
 def _junction_crossing(loops, eps):
