@@ -106,7 +106,7 @@ def fig37_offsets():
 
 
 def fig38_cspace():
-    from morph.cli.apps import cspace_figure
+    from morph.render import cspace_figure
     from morph.cspace import cspace_obstacle
     from morph.frames import scale_region
     from morph.region import region_centroid

@@ -6,7 +6,6 @@ import numpy as np
 from . import main
 from .options import (InputError, common_options, resolve_output, shape_argument,
                       shape_tolerance, write_image)
-from .shapes import _frame_bbox
 
 
 @main.command()
@@ -48,31 +47,6 @@ def offset(shape, radius, font, tol, output, force, size):
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
-def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0)):
-    """Shapes for a C-space picture: C-space region (light), obstacle (dark), robot
-    outlines placed at ``samples`` points spread along the C-space boundary, and a
-    dot at each reference point."""
-    from .. import piece as pc
-    from ..cspace import place_robot
-
-    shapes = [(cspace, {"fill": "#f2c894", "stroke": "#b3541e", "stroke_width": 1.5}),
-              (obstacle, {"fill": "#404040"})]
-    outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop))) if cspace else []
-    if outer and samples > 0:
-        poly = np.vstack([pc.flatten_loop(outer, tol)])
-        seg = np.hypot(*np.diff(np.vstack([poly, poly[:1]]), axis=0).T)
-        cum = np.concatenate([[0.0], np.cumsum(seg)])
-        box = _frame_bbox([cspace])
-        dot = 0.012 * max(box[2] - box[0], box[3] - box[1])
-        for s in np.arange(samples) * cum[-1] / samples:
-            i = min(np.searchsorted(cum, s, side="right") - 1, len(poly) - 1)
-            p = poly[i]
-            shapes.append((place_robot(robot, p, reference),
-                           {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}))
-            shapes.append(([pc.circle(p, dot)], {"fill": "#1f5fa8"}))
-    return shapes
-
-
 @main.command()
 @shape_argument("obstacle")
 @shape_argument("robot")
@@ -98,6 +72,7 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     """
     from ..cspace import cspace_obstacle
     from ..region import region_centroid
+    from ..render import cspace_figure
 
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
     t = shape_tolerance(obstacle, tol, robot.region)

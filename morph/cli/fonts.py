@@ -79,11 +79,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
     """
+    import io
     import time
+
+    from fontTools.ttLib import TTFont
 
     from ..fonts.brush import brush_font, ellipse_nib, open_source
     from ..fonts.jobs import default_jobs
-    from ..fonts.tables import FONT_SUFFIXES, outline_glyphs
+    from ..fonts.specimen import write_sample_image, write_specimen
+    from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
     from ..parse import svg_region
 
     src = _brush_source(font_file)
@@ -93,7 +97,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
     source = open_source(src, location)  # static: a variable font at --location
-    source_bytes = _font_bytes(source)  # the source as it was, for the specimen
+    source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
@@ -102,9 +106,16 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
-    _write_brush_pictures(out, source_bytes, sample, png)
+    write_sample_image(out, sample, png)
+    write_specimen(out, source_copy, sample=sample)
     click.echo("wrote %s (%d glyphs, %d contours, %.1f s, %d jobs), sample %s and specimen %s"
                % (out, stats["glyphs"], stats["contours"], seconds, jobs, png, page))
+    return _brush_status(stats)
+
+
+def _brush_status(stats):
+    """Notes on the bases swept without being chosen, then the exit status
+    (:func:`_fallback_status`)."""
     for base, users in stats["base_not_chosen"].items():
         click.echo("note: swept %s too (not chosen), the base of %s" % (base, ", ".join(users)),
                    err=True)
@@ -165,24 +176,6 @@ def _glyph_items(spec, everything=None):
     return items
 
 
-def _font_bytes(font):
-    from ..fonts.tables import font_bytes
-
-    return font_bytes(font)
-
-
-def _write_brush_pictures(out, source_bytes, sample, png):
-    """The sample image OUT.png and the specimen OUT.html of a brushed font."""
-    import io
-
-    from fontTools.ttLib import TTFont
-
-    from ..fonts.specimen import write_specimen
-
-    _font_sample(io.BytesIO(_font_bytes(TTFont(str(out)))), sample, png)
-    write_specimen(out, TTFont(io.BytesIO(source_bytes)), sample=sample)
-
-
 def _fallback_status(fallbacks, what):
     """Exit status of a font command: 0, or 1 after naming the glyphs that fell back
     (``what``: how, e.g. " to a polygon stroke") on one line."""
@@ -191,18 +184,6 @@ def _fallback_status(fallbacks, what):
     click.echo("morph: error: font written, but %d glyph(s) fell back%s: %s"
                % (len(fallbacks), what, "; ".join(fallbacks)), err=True)
     return EXIT_INTERNAL
-
-
-def _font_sample(font_path, text, png, px=96):
-    from PIL import Image, ImageDraw, ImageFont
-
-    fnt = ImageFont.truetype(font_path if hasattr(font_path, "read") else str(font_path), px)
-    left, top, right, bottom = fnt.getbbox(text)
-    pad = px // 4
-    img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")
-    ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill="black")
-    img.save(str(png))
-    return img
 
 
 # =========================================================================== stroke
@@ -320,6 +301,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     import time
 
     from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.stroke import stroke_plan, stroke_ufo
     from ..parse.ufo import load_ufo
 
@@ -338,7 +320,9 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
-    _write_stroke_pictures(out, stats["font"], sample, png, page)
+    write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
+    if page:
+        write_specimen(out, None, sample=sample)
     extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
     click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s, %d jobs%s), "
                "sample %s%s" % (out, stats["glyphs"] + stats["followed"], stats["composites"],
@@ -346,29 +330,6 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
                                 " and specimen %s" % page if page else ""))
     return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
                             " to a polygon stroke")
-
-
-def _write_stroke_pictures(out, font, sample, png, page):
-    """The sample image (a .ufo output is compiled to a temporary OTF for it) and,
-    for a compiled font, the specimen."""
-    import shutil
-    import tempfile
-
-    from ..fonts.specimen import write_specimen
-
-    if page is not None:
-        _font_sample(out, sample, png)
-        write_specimen(out, None, sample=sample)
-        return
-    import ufo2ft
-
-    tmp = tempfile.mkdtemp(prefix=".morph-sample-")
-    try:
-        otf = Path(tmp) / "sample.otf"
-        ufo2ft.compileOTF(font).save(str(otf))
-        _font_sample(otf, sample, png)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):

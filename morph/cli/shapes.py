@@ -1,7 +1,6 @@
 """Commands on shapes: outline, sum, and the morph frame sequences (glyph, svg)."""
 
 import click
-import numpy as np
 
 from . import main
 from .options import (InputError, common_options, progress_bar, resolve_output,
@@ -33,13 +32,6 @@ def outline(shape, font, tol, output, force, size):
     out = resolve_output(output, "outline-%s.png" % shape.slug, force)
     write_image(out, [shape.region], size=size, tol=shape_tolerance(shape, tol))
     click.echo("wrote %s" % out)
-
-
-def _frame_bbox(regions):
-    from ..region import region_bbox
-
-    boxes = np.array([region_bbox(r) for r in regions if r])
-    return (boxes[:, 0].min(), boxes[:, 1].min(), boxes[:, 2].max(), boxes[:, 3].max())
 
 
 def method_option(f):
@@ -84,28 +76,19 @@ def sum_(a, b, method, font, tol, output, force, size):
 
 
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac"):
+    from ..export import split_tolerance
     from ..frames import morph_frames
-    from ..render import render_png, save_animation, write_svg
+    from ..render import write_frames
 
     if frames < 2:
         raise InputError("--frames must be at least 2, got %d" % frames)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
     t = shape_tolerance(a, tol, b.region)
-    from ..export import split_tolerance
-
     st, et = split_tolerance(t)  # each frame's sum and its SVG export share --tol
     with progress_bar(frames, "frames") as bar:
         regions = morph_frames(a.region, b.region, frames, st, progress=lambda k: bar.update(1),
                                method=method)
-    bbox = _frame_bbox(regions)
-    images = []
-    for k, region in enumerate(regions):
-        stem = outdir / ("frame-%03d" % k)
-        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=et)
-        img = render_png([region], size=size, bbox=bbox)
-        img.save(str(stem) + ".png")
-        images.append(img)
-    save_animation(images, str(outdir / "morph.gif"), duration=duration)
+    write_frames(outdir, regions, size=size, tol=et, duration=duration)
     click.echo("wrote %d frames (SVG + PNG) and morph.gif to %s" % (frames, outdir))
 
 

@@ -1,4 +1,5 @@
-"""HTML specimen of a written font next to its source (brush, stroke).
+"""HTML specimen of a written font next to its source (brush, stroke), and the sample
+image (:func:`write_sample_image`) written beside it.
 
 :func:`write_specimen` writes ``OUT.html`` beside a font ``OUT.ttf``/``.otf``/
 ``.woff2``: the new font loaded by ``@font-face`` from its file (relative URL, so
@@ -21,13 +22,52 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "specimen_path", "WATERFALL", "SAMPLE_POS", "SAMPLE_PX",
-           "SAMPLE_MARGIN"]
+__all__ = ["write_specimen", "write_sample_image", "specimen_path", "WATERFALL", "SAMPLE_POS",
+           "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
 SAMPLE_PX = 96
 SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
 SAMPLE_MARGIN = 72  # CSS px kept free below the sample line (descenders)
+
+
+def _sfnt_file(font):
+    """Something Pillow's FreeType reads: a path or file object of a TrueType/OpenType
+    font as it is; a .woff/.woff2 file, a ``TTFont`` (any flavor) or a ufoLib2 font
+    (compiled to CFF by ufo2ft) as the bytes of a plain OpenType font."""
+    import io
+
+    from fontTools.ttLib import TTFont
+
+    from .tables import font_bytes
+
+    if hasattr(font, "read"):
+        return font
+    if hasattr(font, "layers"):  # ufoLib2.Font
+        import ufo2ft
+
+        font = ufo2ft.compileOTF(font)
+    elif not hasattr(font, "getGlyphSet"):
+        if Path(font).suffix.lower() not in (".woff", ".woff2"):
+            return str(font)
+        font = TTFont(str(font))
+    return io.BytesIO(font_bytes(font))
+
+
+def write_sample_image(font, text, png, px=SAMPLE_PX):
+    """Set ``text`` in a font with Pillow at ``px`` pixels, black on white with a
+    quarter-size margin, and save it to ``png``; returns the image.  ``font``: a
+    path or binary file object of a font file (.ttf, .otf, .woff, .woff2), a
+    fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft)."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    fnt = ImageFont.truetype(_sfnt_file(font), px)
+    left, top, right, bottom = fnt.getbbox(text)
+    pad = px // 4
+    img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")
+    ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill="black")
+    img.save(str(png))
+    return img
 
 
 def specimen_path(font_path):

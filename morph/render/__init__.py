@@ -1,4 +1,5 @@
-"""Rendering regions: SVG path data (:mod:`.svg`) and anti-aliased PNG, GIF, APNG (:mod:`.png`).
+"""Rendering regions: SVG path data (:mod:`.svg`), anti-aliased PNG, GIF, APNG (:mod:`.png`)
+and figures composed of several shapes (:mod:`.figures`).
 
 Both writers take *shapes*: a region (list of loops), a :class:`morph.region.Region`,
 or a list whose items are regions or ``(loops, style)`` pairs.  ``style`` is a dict
@@ -13,7 +14,8 @@ import numpy as np
 from ..region import Region, region_bbox
 
 __all__ = ["frame_bbox", "normalize_shapes", "render_png", "write_png", "frames_to_gif",
-           "save_animation", "svg_document", "svg_path_data", "write_svg"]
+           "save_animation", "svg_document", "svg_path_data", "write_svg", "cspace_figure",
+           "write_frames"]
 
 
 def _is_loop(obj):
@@ -69,3 +71,4 @@ def frame_bbox(shapes, bbox=None, margin=0.05):
 
 from .png import frames_to_gif, render_png, save_animation, write_png  # noqa: E402 - png uses frame_bbox above
 from .svg import svg_document, svg_path_data, write_svg  # noqa: E402
+from .figures import cspace_figure, write_frames  # noqa: E402

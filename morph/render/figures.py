@@ -1,0 +1,70 @@
+"""Figures composed of several shapes: C-space pictures, frame sequences.
+
+These build *shapes* lists (see :mod:`morph.render`) or write several files; the
+commands (:mod:`morph.cli`) and the gallery call them.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import piece as pc
+from . import frame_bbox
+
+__all__ = ["cspace_figure", "write_frames"]
+
+CSPACE_STYLE = {"fill": "#f2c894", "stroke": "#b3541e", "stroke_width": 1.5}
+OBSTACLE_STYLE = {"fill": "#404040"}
+ROBOT_STYLE = {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}
+
+
+def _boundary_points(loop, tol, count):
+    """``count`` points spread evenly by arc length along a loop (on its polyline
+    within ``tol``), starting at the loop's start."""
+    poly = pc.flatten_loop(loop, tol)
+    seg = np.hypot(*np.diff(np.vstack([poly, poly[:1]]), axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    at = np.arange(count) * cum[-1] / count
+    idx = np.minimum(np.searchsorted(cum, at, side="right") - 1, len(poly) - 1)
+    return poly[idx]
+
+
+def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0)):
+    """Shapes of a C-space picture (paper Figs. 4, 38): the C-space region (light),
+    the obstacle (dark), the robot's outline placed with its reference point at
+    ``samples`` points spread along the C-space boundary's largest loop (touching
+    the obstacle there), and a dot at each of those points.  ``tol``: flattening of
+    that loop, in the shapes' units."""
+    from ..cspace import place_robot
+
+    shapes = [(cspace, dict(CSPACE_STYLE)), (obstacle, dict(OBSTACLE_STYLE))]
+    if not cspace or samples <= 0:
+        return shapes
+    outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop)))
+    box = frame_bbox([cspace], margin=0.0)
+    dot = 0.012 * max(box[2] - box[0], box[3] - box[1])
+    for p in _boundary_points(outer, tol, samples):
+        shapes.append((place_robot(robot, p, reference), dict(ROBOT_STYLE)))
+        shapes.append(([pc.circle(p, dot)], {"fill": ROBOT_STYLE["stroke"]}))
+    return shapes
+
+
+def write_frames(folder, regions, size=512, tol=None, duration=120):
+    """Write a frame sequence into ``folder``: ``frame-000.svg``/``.png`` ... (one
+    frame box for all, so the shapes stay in place) and the animation ``morph.gif``
+    (``duration`` ms per frame).  ``tol``: the SVG export's tolerance (region
+    units).  Returns the folder."""
+    from .png import render_png, save_animation
+    from .svg import write_svg
+
+    folder = Path(folder)
+    bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    images = []
+    for k, region in enumerate(regions):
+        stem = folder / ("frame-%03d" % k)
+        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=tol)
+        image = render_png([region], size=size, bbox=bbox)
+        image.save(str(stem) + ".png")
+        images.append(image)
+    save_animation(images, str(folder / "morph.gif"), duration=duration)
+    return folder
