@@ -157,7 +157,7 @@ def run_morph(font, names, spec, tols, refs):
             t0 = time.process_time()
             try:
                 region = stroke_paths(paths, nib, geometry)
-                contours = [loop_to_beziers(loop, export) for loop in region]
+                contours = [loop_to_beziers(loop, export, wrap=True) for loop in region]
             except Exception as exc:  # noqa: BLE001 - reported per glyph
                 fails.append("%s (%s)" % (n, type(exc).__name__))
                 continue
