@@ -505,3 +505,22 @@ def ratio_bound_many(a, b, halvings=1):
     panel, i = np.divmod(k, n1)
     s = (panel + i / max(n1 - 1, 1)) / 2 ** halvings
     return np.where(good, best, np.inf), np.where(good, s, 0.5)
+
+
+def fit_fixed_ends(t, values, n, v0, v1):
+    """Least-squares Bernstein polynomial of degree n through values at parameters t
+    with both ends fixed: coefficients c (n+1, ...) with c_0 = v0, c_n = v1 and
+    c_1 ... c_{n-1} minimising sum_k |sum_i c_i B_i^n(t_k) - values_k|^2.
+
+    values: (m,) or (m, d) (d columns fitted at once: coordinates, or many
+    polynomials sampled at the same t); v0, v1 broadcast to values' trailing shape.
+    """
+    values = np.asarray(values, float)
+    basis_t = basis(n, t)
+    c = np.empty((n + 1,) + values.shape[1:])
+    c[0], c[-1] = v0, v1
+    if n > 1:
+        rhs = (values - np.multiply.outer(basis_t[:, 0], c[0])
+               - np.multiply.outer(basis_t[:, -1], c[-1]))
+        c[1:-1] = np.linalg.lstsq(basis_t[:, 1:-1], rhs, rcond=None)[0]
+    return c

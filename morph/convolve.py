@@ -5,7 +5,8 @@ normals) point the same way (Def. 1.1, Eqs. 2-4).  Each loop is first turned int
 Gauss map (:mod:`morph.gauss`); every pair of edges of the two Gauss maps whose angle
 ranges overlap contributes one convolution piece:
 
-- curve + curve: approximated by QAC (:func:`convolve_qac`), normals exact;
+- curve + curve: approximated by QAC (:mod:`morph.qac`, Sec. 4.4; the subdivision
+  driver of :mod:`morph.methods`), normals exact;
 - curve + vertex: the curve translated by the vertex (exact);
 - line + anything: the segment translated by the other edge's point at its angle;
 - vertex + vertex: a single point, dropped.
@@ -151,6 +152,7 @@ class _EdgeTable:
         return bz.subsegment_many(self.h[idx], t0, t1)
 
     def _directed(self, idx, t_lo, t_hi):
+        """(t0, t1): the parameters at angles lo, hi in each edge's direction."""
         conv = self.sweep[idx] > 0
         return np.where(conv, t_lo, t_hi), np.where(conv, t_hi, t_lo)
 
@@ -419,7 +421,7 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
     """Convolution pieces of two regions (lists of loops), Sec. 3.3.
 
     Each returned piece P has max distance to the exact convolution curve <= tol
-    (a-priori bound of Eqs. 39-40; see :func:`qac_error_bound`); normals are exact
+    (a-priori bound of Eqs. 39-40; see :func:`morph.qac.qac_error_bound`); normals are exact
     except on "chord" pieces (common sweep below 1e-7 rad).  tol is absolute, in
     input units.  With keep_type3 the pieces form closed, consistently oriented
     loops (:func:`chain`); without it type-3 pieces (never on the boundary) are

@@ -148,6 +148,7 @@ def convolution_points(c1, c2, ts):
 
 
 def _angle_at(piece, u):
+    """Tangent angle of a piece at the parameter u."""
     hv = bz.evaluate(pc.tangent_numerator(piece), [u])[0]
     return float(np.arctan2(hv[1], hv[0]))
 
@@ -249,10 +250,7 @@ def _fit_s(t, s, k, s0, s1):
     """
     if k <= 1:
         return np.array([s0, s1])
-    basis = bz.basis(k, t)
-    rhs = s - basis[:, 0] * s0 - basis[:, -1] * s1
-    inner, *_ = np.linalg.lstsq(basis[:, 1:-1], rhs, rcond=None)
-    b = np.clip(np.concatenate([[s0], inner, [s1]]), 0.0, 1.0)
+    b = np.clip(bz.fit_fixed_ends(t, s, k, s0, s1), 0.0, 1.0)
     line = bz.elevate(np.array([s0, s1]), k - 1)
     if np.max(np.abs(b - line)) <= 1e-12:
         return np.array([s0, s1])
@@ -289,13 +287,7 @@ def _translate_each(piece, offsets):
 
 def _bezier_fit(ts, pts, degree):
     """Polynomial Bézier of a degree with both ends interpolated, least squares inside."""
-    basis = bz.basis(degree, ts)
-    p0, p1 = pts[0], pts[-1]
-    ctrl = np.empty((degree + 1, 2))
-    ctrl[0], ctrl[-1] = p0, p1
-    if degree > 1:
-        rhs = pts - np.outer(basis[:, 0], p0) - np.outer(basis[:, -1], p1)
-        ctrl[1:-1], *_ = np.linalg.lstsq(basis[:, 1:-1], rhs, rcond=None)
+    ctrl = bz.fit_fixed_ends(ts, pts, degree, pts[0], pts[-1])
     return np.column_stack([ctrl, np.ones(degree + 1)])
 
 
@@ -639,10 +631,12 @@ def qac_bound(c2):
 # once (QAC does: :mod:`morph.qac`) or loop over them (the other seven methods).
 
 def _take(nodes, rows):
+    """The rows of a node batch (every column)."""
     return {k: v[rows] for k, v in nodes.items()}
 
 
 def _concat(batches):
+    """Node batches with the same columns, one after the other."""
     return {k: np.concatenate([b[k] for b in batches]) for k in batches[0]}
 
 
@@ -658,7 +652,8 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
     """Algorithm 5.1: approximate, bound, split until every bound <= tol.
 
     The one subdivision driver of every method (and of :mod:`morph.convolve`).
-    ``nodes``: a dict of arrays, one row per root sub-pair; the driver adds
+    ``nodes``: a dict of arrays, one row per root sub-pair, with at least the
+    columns ``ca`` and ``cb`` (the sub-pieces, kept on the error); the driver adds
     ``depth``, the halvings left (``max_depth`` at the roots).  Each level:
 
     - ``bound(nodes, tol) -> (error (k,), where (k,))``: the error of each node's
@@ -747,11 +742,14 @@ def _measured(piece_fn, error_fn, a, b):
 
 
 def _pair_root(c1, c2):
+    """The root node of a pair for :func:`pair_method`'s callables (id 1; the
+    children of node i are 2i and 2i + 1)."""
     return {"ca": np.asarray(c1, float)[None], "cb": np.asarray(c2, float)[None],
             "t0": np.zeros(1), "t1": np.ones(1), "id": np.ones(1, np.int64)}
 
 
 def _split_or_raise(a, b, err, tol):
+    """:func:`split_pair`; ToleranceNotMetError where the pair cannot be split."""
     try:
         left, right, tm, _ = split_pair(a, b)
     except MorphError as exc:             # a sub-pair too small to turn

@@ -24,8 +24,6 @@ This module is a leaf: it imports only :mod:`morph.bernstein`, :mod:`morph.piece
 and :mod:`morph.gauss`; :mod:`morph.convolve` and :mod:`morph.methods` import it.
 """
 
-from functools import lru_cache
-
 import numpy as np
 
 from . import bernstein as bz
@@ -119,23 +117,16 @@ def qac_parametric_bound(c2, q2):
     return float(b[0]), float(s[0])
 
 
-@lru_cache(maxsize=None)
-def _fit_matrices():
-    basis = bz.basis(REPARAM_DEGREE, _FIT_S)
-    k = REPARAM_DEGREE
-    return np.linalg.pinv(basis[:, 1:k]), basis[:, k], bz.basis(2, _FIT_S)
-
-
 def _reparam_maps(c, q):
     """The maps r(s) of :func:`qac_error_bound` for C2 (origin-shifted) and Q2:
-    (r (k, REPARAM_DEGREE+1), finite (k,))."""
-    pinv, last, qbasis = _fit_matrices()
-    sig = pc.closest_params_many(c, np.matmul(qbasis, q), np.tile(_FIT_S, (len(c), 1)))
-    coef = (sig - last) @ pinv.T
-    fine = np.all(np.isfinite(coef), axis=1)
-    r = np.concatenate([np.zeros((len(c), 1)), np.clip(coef, 0.0, 1.0),
-                        np.ones((len(c), 1))], axis=1)
-    return np.where(fine[:, None], r, 0.0), fine
+    (r (k, REPARAM_DEGREE+1), finite (k,)).  Least squares with r(0) = 0, r(1) = 1
+    (:func:`morph.bernstein.fit_fixed_ends`, all rows at once) to the parameters of
+    C2 nearest to Q2 at the Chebyshev nodes _FIT_S, coefficients clamped to [0, 1]."""
+    pts = np.matmul(bz.basis(2, _FIT_S), q)
+    sig = pc.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)))
+    r = bz.fit_fixed_ends(_FIT_S, sig.T, REPARAM_DEGREE, 0.0, 1.0).T
+    fine = np.all(np.isfinite(r), axis=1)
+    return np.where(fine[:, None], np.clip(r, 0.0, 1.0), 0.0), fine
 
 
 def _composed_ratio(cr, q):
@@ -416,7 +407,8 @@ def chord_piece(ca, cb, sa, sb):
     ca: the chord between the sums of the angle-matched end points; bound: the two
     sagittas (largest distance of a control point from its chord).  (piece, bound)."""
     b0, b1 = (pc.start(cb), pc.end(cb)) if sa == sb else (pc.end(cb), pc.start(cb))
-    bound = float(_sagitta_many(np.asarray([ca], float))[0] + _sagitta_many(np.asarray([cb], float))[0])
+    bound = float(_sagitta_many(np.asarray(ca, float)[None])[0]
+                  + _sagitta_many(np.asarray(cb, float)[None])[0])
     return pc.line(pc.start(ca) + b0, pc.end(ca) + b1), bound
 
 
