@@ -29,13 +29,24 @@ Measures, in one run:
    with svgpathtools, 200 samples per segment), against the previous behaviour
    (sum at tol and export at tol, previous exporter).
 5. The split itself: the O offset with the sum given 0.5, 0.25 or 0.1 of tol.
+6. Points at equal measured error (issue #18 targets): the TrueType O ⊕ disk (r = 40
+   units) and O ⊕ ellipse (semi-axes 40 and 15 at 30°): morph (``minkowski_sum`` at
+   the sum share, ``loop_to_beziers(wrap=True)`` at the export share), FontForge's
+   Expand Stroke (Debian's python3-fontforge: the O's contours stroked with the nib,
+   the O drawn again and ``removeOverlap``: O ⊕ nib = O ∪ (∂O ⊕ nib)) at several
+   ``accuracy`` values, Skia (skia-pathops: the O mapped by the inverse of the
+   ellipse's linear map, stroked with round joins, united with the filled O, mapped
+   back, conics to quadratics; scaled up 1 / 4 / 16 times for precision).  Error: the
+   two-sided Hausdorff distance of each output (flattened within 0.005) from an
+   independent Clipper polygon (the O's outline ⊕ nib, ``tests.stroke_reference``,
+   flattened within 0.005, united with the filled O), boundaries sampled every 0.25
+   unit.  Points: on- and off-curve points (a line 1, a quadratic 2, a cubic 3).
 """
 
 import argparse
 import math
 import subprocess
 import sys
-import tempfile
 import time
 import types
 from pathlib import Path
@@ -262,11 +273,198 @@ def brush_table(old, chars, tol=0.5):
                         else:
                             n += 3 * len(conv(p, tol_fit))
                 return n
-            new = sum(len(b) - 1 for lp in loops for b in loop_to_beziers(lp, et))
+            new = sum(len(b) - 1 for lp in loops for b in loop_to_beziers(lp, et, wrap=True))
             sec = time.process_time() - t
             per_piece = points(piece_to_cubics, et)
             prev = points(old.piece_to_cubics, tol)
             rows.append((key, ch, sum(map(len, loops)), new, per_piece, prev, sec))
+    return rows
+
+
+# ------------------------------------------------------------------ 6. O ⊕ nib vs peers
+
+#: The nibs of section 6 (font units): the disk of `morph offset O --radius 0.04` and
+#: bench/peers.py's ellipse (semi-axes 40 and 15, long axis at 30°).
+PEER_NIBS = (("disk", 40.0, 40.0, 0.0), ("ellipse", 40.0, 15.0, 30.0))
+
+FF_WORKER = r"""
+import json, math, sys, time
+import fontforge
+job = json.load(sys.stdin)
+font = fontforge.font()
+font.em = 1000
+out = []
+for acc in job["accuracies"]:
+    g = font.createChar(-1, "g%d" % len(out))
+    for rep in range(2):
+        pen = g.glyphPen(replace=False)
+        for segs in job["contours"]:
+            segs = [s[::-1] for s in segs[::-1]]  # outer contours clockwise in FontForge
+            pen.moveTo(tuple(segs[0][0]))
+            for s in segs:
+                if len(s) == 2:
+                    pen.lineTo(tuple(s[1]))
+                else:
+                    pen.curveTo(tuple(s[1]), tuple(s[2]), tuple(s[3]))
+            pen.closePath()
+        pen = None
+        if rep == 0:
+            t0 = time.process_time()
+            rx, ry, ang = job["nib"]
+            if rx == ry:
+                g.stroke("circular", 2 * rx, "round", "round", accuracy=acc,
+                         removeoverlap="layer")
+            else:
+                g.stroke("elliptical", 2 * rx, 2 * ry, math.radians(ang), "nib", "nib",
+                         accuracy=acc, removeoverlap="layer")
+    g.removeOverlap()
+    sec = time.process_time() - t0
+    cs = []
+    for c in g.foreground:
+        pts = [(p.x, p.y, bool(p.on_curve)) for p in c]
+        k = next(i for i, q in enumerate(pts) if q[2])
+        pts = pts[k:] + pts[:k] + [pts[k]]
+        segs, cur, offs = [], pts[0][:2], []
+        for x, y, on in pts[1:]:
+            if on:
+                segs.append([cur] + offs + [(x, y)])
+                cur, offs = (x, y), []
+            else:
+                offs.append((x, y))
+        cs.append(segs)
+    out.append({"accuracy": acc, "seconds": sec, "contours": cs,
+                "points": sum(len(c) for c in g.foreground)})
+json.dump(out, sys.stdout)
+"""
+
+
+def _o_contours():
+    """The TrueType O's contours as cubic segments (exact degree elevation)."""
+    from morph.parse import glyph_region
+
+    g = glyph_region("O", str(font_paths()["ttf"]))
+    return g.region, [[bz.to_degree(pc.cartesian(p), 3) if len(p) > 2 else pc.cartesian(p)
+                       for p in loop] for loop in g.region]
+
+
+def _nib_region(rx, ry, ang):
+    return [pc.ellipse((0.0, 0.0), rx, ry, math.radians(ang))]
+
+
+def _reference(region, nib, flat=0.005):
+    """Independent polygon of O ⊕ nib: the O's outline stroked in Clipper
+    (tests.stroke_reference, closed paths) united with the filled O (shapely)."""
+    from tests.reference import region_to_shapely
+    from tests.stroke_reference import stroke_polygon
+
+    ring = stroke_polygon([(loop, True) for loop in region], nib, flat)
+    return ring.union(region_to_shapely(region, flat))
+
+
+def _measure(beziers, ref):
+    """Hausdorff distance of closed Bézier contours from the reference polygon."""
+    from tests.reference import hausdorff, region_to_shapely
+
+    loops = [[pc.from_points(np.asarray(b, float)) for b in c] for c in beziers]
+    return hausdorff(region_to_shapely(loops, 0.005), ref, 0.25)
+
+
+def _skia_o(region, rx, ry, ang, scale):
+    """Skia's recipe for O ⊕ ellipse: map the ellipse to a disk (A^-1), stroke with
+    round caps and joins, union with the filled O, map back (A), conics to quads."""
+    import pathops
+    from fontTools.pens.recordingPen import RecordingPen
+
+    c, s_ = math.cos(math.radians(ang)), math.sin(math.radians(ang))
+    m = np.array([[c, -s_], [s_, c]]) @ np.diag([1.0, ry / rx])   # disk(rx) -> the nib
+    inv = np.linalg.inv(m) * scale            # scaled up: Skia's precision is fixed
+    a = m / scale
+    t0 = time.process_time()
+    path = pathops.Path()
+    pen = path.getPen()
+    for loop in region:
+        pts = [pc.cartesian(p) @ inv.T for p in loop]
+        pen.moveTo(tuple(pts[0][0]))
+        for q in pts:
+            if len(q) == 2:
+                pen.lineTo(tuple(q[1]))
+            elif len(q) == 3:
+                pen.qCurveTo(tuple(q[1]), tuple(q[2]))
+            else:
+                pen.curveTo(tuple(q[1]), tuple(q[2]), tuple(q[3]))
+        pen.closePath()
+    fill = pathops.Path()
+    path.draw(fill.getPen())
+    path.stroke(2.0 * rx * scale, pathops.LineCap.ROUND_CAP, pathops.LineJoin.ROUND_JOIN, 4)
+    res = pathops.op(path, fill, pathops.PathOp.UNION)
+    res = res.transform(a[0, 0], a[1, 0], a[0, 1], a[1, 1], 0.0, 0.0)  # a new path
+    res.convertConicsToQuads(0.25)
+    res.simplify()
+    sec = time.process_time() - t0
+    rec = RecordingPen()
+    res.draw(rec)
+    contours, cur, start = [], None, None
+    for op, args in rec.value:
+        if op == "moveTo":
+            cur = start = args[0]
+            segs = []
+        elif op == "lineTo":
+            segs.append([cur, args[0]])
+            cur = args[0]
+        elif op == "qCurveTo":
+            pts = [cur] + list(args)
+            for k in range(1, len(pts) - 1):
+                p0 = pts[k - 1] if k == 1 else tuple(np.add(pts[k - 1], pts[k]) / 2)
+                p2 = pts[k + 1] if k == len(pts) - 2 else tuple(np.add(pts[k], pts[k + 1]) / 2)
+                segs.append([p0, pts[k], p2])
+            cur = args[-1]
+        elif op == "curveTo":
+            segs.append([cur] + list(args))
+            cur = args[-1]
+        elif op == "closePath":
+            if cur != start:
+                segs.append([cur, start])
+            contours.append(segs)
+    return [[np.asarray(q, float) for q in c] for c in contours], sec
+
+
+def peer_table(morph_tols, ff_accuracies, skia_scales):
+    """O ⊕ disk and O ⊕ ellipse: points and measured error of morph (sum +
+    loop_to_beziers at split_tolerance), FontForge Expand Stroke + remove overlap with
+    the O, Skia stroke + union with the O."""
+    import json
+    import os
+
+    from morph.minkowski import minkowski_sum
+
+    region, contours = _o_contours()
+    rows = []
+    for name, rx, ry, ang in PEER_NIBS:
+        nib = _nib_region(rx, ry, ang)
+        ref = _reference(region, nib)
+        for tol in morph_tols:
+            st, et = split_tolerance(tol)
+            t0 = time.process_time()
+            loops = minkowski_sum(region, nib, st)
+            bez = [loop_to_beziers(lp, et, wrap=True) for lp in loops]
+            sec = time.process_time() - t0
+            pts = sum(len(b) - 1 for c in bez for b in c)
+            rows.append((name, "morph", "tol %g" % tol, pts, _measure(bez, ref), sec))
+        if os.path.exists("/usr/bin/python3"):
+            job = json.dumps({"nib": [rx, ry, ang], "accuracies": list(ff_accuracies),
+                              "contours": [[q.tolist() for q in c] for c in contours]})
+            proc = subprocess.run(["/usr/bin/python3", "-c", FF_WORKER], input=job,
+                                  capture_output=True, text=True)
+            if proc.returncode == 0:
+                for r in json.loads(proc.stdout):
+                    rows.append((name, "FontForge", "accuracy %g" % r["accuracy"],
+                                 r["points"], _measure(r["contours"], ref), r["seconds"]))
+            else:
+                print("FontForge failed:", proc.stderr.strip()[-300:])
+        for k in skia_scales:
+            cs, sec = _skia_o(region, rx, ry, ang, k)
+            pts = sum(len(q) - 1 for c in cs for q in c)
+            rows.append((name, "Skia", "scale %g" % k, pts, _measure(cs, ref), sec))
     return rows
 
 
@@ -394,6 +592,36 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
     return "\n".join(out) + "\n"
 
 
+def peer_markdown(rows):
+    out = ["", "## 6. O ⊕ disk and O ⊕ ellipse against FontForge and Skia, points at equal "
+           "measured error", "",
+           "TrueType O (Noto Sans, font units); disk r = 40, ellipse semi-axes 40 x 15 at "
+           "30°.  Recipes and error measure: the script's docstring.  CPU s: the "
+           "peer's call alone / morph's sum + export.", "",
+           "| nib | tool | setting | points | measured error (units) | CPU s |",
+           "|---|---|---|---|---|---|"]
+    for name, tool, setting, pts, err, sec in rows:
+        out.append("| %s | %s | %s | %d | %.3f | %.3f |" % (name, tool, setting, pts, err, sec))
+    out += ["", "At equal measured error (morph's fewest-points row whose error is no larger "
+            "than the peer's):", "",
+            "| nib | peer | peer points | peer error | morph setting | morph points | "
+            "morph error | peer / morph points |", "|---|---|---|---|---|---|---|---|"]
+    for name in dict.fromkeys(r[0] for r in rows):
+        mine = [r for r in rows if r[0] == name and r[1] == "morph"]
+        for r in rows:
+            if r[0] != name or r[1] == "morph":
+                continue
+            ok = [m for m in mine if m[4] <= r[4]]
+            if not ok:
+                out.append("| %s | %s %s | %d | %.3f | none reaches it | | | |"
+                           % (name, r[1], r[2], r[3], r[4]))
+                continue
+            m = min(ok, key=lambda m: m[3])
+            out.append("| %s | %s %s | %d | %.3f | %s | %d | %.3f | %.2f |"
+                       % (name, r[1], r[2], r[3], r[4], m[2], m[3], m[4], r[3] / m[3]))
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--md", default=str(ROOT / "bench" / "export.md"))
@@ -408,7 +636,11 @@ def main(argv=None):
     brush = brush_table(old, "OS" if opt.quick else "OSaegM")
     total = circle_total(old, [1e-2, 1e-4] if opt.quick else [1e-2, 1e-3, 1e-4, 1e-5])
     shares = share_table([0.1] if opt.quick else [0.1, 0.01])
+    peers = peer_table([1.0, 0.3, 0.1] if opt.quick else [1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.03],
+                       [1.0, 0.25, 0.1] if opt.quick else [2.0, 1.0, 0.25, 0.1, 0.03],
+                       [1, 4] if opt.quick else [1, 4, 16])
     text = markdown(arc, offs, kurbo, brush, total, shares, time.perf_counter() - t0)
+    text += "\n".join(peer_markdown(peers)) + "\n"
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text, encoding="utf-8")
