@@ -30,8 +30,6 @@ def untangle(loops, eps, max_rounds=64):
         out = [remove_folds(loop, 2.0 * eps) if f else loop for loop, f in zip(out, folded)]
         hit = _first_crossing(out, eps)
         if hit is None:
-            hit = _junction_crossing(out, eps)
-        if hit is None:
             return out
         li, i, s, j, u, x = hit
         lobe, rest = _split(out[li], i, s, j, u, x)
@@ -122,35 +120,6 @@ def _polyline_crossings(pieces, suspects, flat):
     a, b, u, v = a[sel], b[sel], u[sel], v[sel]
     ta, tb = t0[a] + u * (t1[a] - t0[a]), t0[b] + v * (t1[b] - t0[b])
     return ids[a], ids[b], ta, tb, p0[a] + u[:, None] * (p1[a] - p0[a])
-
-
-def _junction_crossing(loops, eps):
-    """A crossing of two consecutive pieces close to their join (closer than the
-    polylines of :func:`_first_crossing` resolve): Newton from points about eps
-    before and after every join, all joins at once."""
-    pairs = [(li, i) for li, loop in enumerate(loops) if len(loop) >= 2 for i in range(len(loop))]
-    if not pairs:
-        return None
-    a = [loops[li][i] for li, i in pairs]
-    b = [loops[li][(i + 1) % len(loops[li])] for li, i in pairs]
-    la, lb = pc.length_bounds(a), pc.length_bounds(b)
-    s0 = 1.0 - np.clip(2.0 * eps / np.maximum(la, 1e-300), 1e-6, 0.5)
-    u0 = np.clip(2.0 * eps / np.maximum(lb, 1e-300), 1e-6, 0.5)
-    stacked = pc.stack(a + b)
-    m = len(pairs)
-    ia, ib = np.arange(m), np.arange(m, 2 * m)
-    joint = pc.jet_many(stacked, ia, np.ones(m))[0]
-    s, u, ok = newton_crossings(stacked, ia, s0, ib, u0, joint, 8.0 * eps, 1e-9 * eps)
-    ok &= (s < 1.0 - 1e-9) & (u > 1e-9)
-    for n in np.flatnonzero(ok):
-        li, i = pairs[n]
-        loop = loops[li]
-        x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
-        if i == len(loop) - 1:  # the join at the loop's own start: rotate it inside
-            loops[li] = loop[1:] + loop[:1]
-            i -= 1
-        return li, i, s[n], i + 1, u[n], x
-    return None
 
 
 FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
