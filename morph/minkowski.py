@@ -32,8 +32,12 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     at their deepest point.  Where the exact sum has a hole or a gap narrower than
     about 1.5 tol (twice the convolution share), the approximated pieces may
     overlap across it and close it: there the exact boundary can be up to that
-    width from the output (a sweep case at tol = 0.074 x the size shows it).  Normals are exact on QAC pieces.  Outer loops counter-clockwise,
-    holes clockwise.  Raises LimitError (a ValueError) for a tolerance the operands
+    width from the output (a sweep case at tol = 0.074 x the size shows it).
+    Likewise where two pieces cross at a small angle theta (the tip of a wedge of
+    the sum's boundary, narrower than that width), the crossing of the
+    approximations can slide along the wedge by up to 0.75 tol / sin(theta / 2)
+    (a sweep case: 1.7 tol at the tip of a hairline counter).  Normals are exact
+    on QAC pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError (a ValueError) for a tolerance the operands
     cannot support (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
     TopologyError if the convolution pieces do not close into loops.
     """
