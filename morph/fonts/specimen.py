@@ -41,12 +41,12 @@ def _sfnt_file(font):
 
     from .tables import font_bytes
 
-    if hasattr(font, "read"):
-        return font
-    if hasattr(font, "layers"):  # ufoLib2.Font
+    if hasattr(font, "layers"):  # ufoLib2.Font (its class method Font.read is no file)
         import ufo2ft
 
         font = ufo2ft.compileOTF(font)
+    elif hasattr(font, "read"):
+        return font
     elif not hasattr(font, "getGlyphSet"):
         if Path(font).suffix.lower() not in (".woff", ".woff2"):
             return str(font)
