@@ -155,19 +155,16 @@ def test_sweep_case(spec):
 # as the bench checks them (bench.icons.check_op: polygon reference; gaps narrower than
 # 1.6 tol may close).  (file stem, what the bench found)
 ICON_REGRESSIONS = [
+    # at a045031 (fixed by a40d6e3's trim)
     ("bootstrap-cake-offset",
      "offset: a scalloped hole (box + 18 pieces) whose offset splits into 4 holes keeps 1"),
 ]
 
 # icon cases whose check takes more than ~3 s on one core
-ICON_SLOW = {
-    "bootstrap-cake-offset",
-}
+ICON_SLOW = set()
 
 # icon cases the engine still fails (strict xfail: remove the entry once it passes)
-ICON_OPEN = {
-    "bootstrap-cake-offset": "3 of the 4 holes of the offset are lost",
-}
+ICON_OPEN = {}
 
 
 def _icon_params():
