@@ -1,8 +1,15 @@
 """The project's exceptions: one base class, errors that keep the failing data.
 
 Every public function raises a subclass of :class:`MorphError` for bad geometry or
-input, and :class:`ValueError` for bad arguments.  The CLI turns a ``MorphError``
-into one line on stderr and exit code 2.
+input, and :class:`ValueError` (or a subclass of both, such as :class:`LimitError`
+and :class:`NibError`) for bad arguments.  Each error keeps what failed as
+attributes (``source``, ``piece``, ``achieved``, ``loops``, ``nib``, ``suggestion``),
+as fontTools' ``cu2qu`` errors do.
+
+The command line (:mod:`morph.cli`) prints one line ``morph: error: ...`` for every
+error: :class:`ParseError`, :class:`DegenerateCurveError`, :class:`LimitError` and
+:class:`NibError` are bad input (exit status 2); :class:`TopologyError`,
+:class:`ToleranceNotMetError` and anything else are internal failures (exit 1).
 """
 
 
@@ -45,7 +52,27 @@ class ToleranceNotMetError(MorphError):
 
 
 class TopologyError(MorphError):
-    """Trimming could not assemble closed boundary loops from the convolution curves."""
+    """Closed boundary loops could not be assembled (from convolution curves, trimmed
+    or filled pieces).
+
+    ``loops`` keeps the input that failed (loops or pieces being assembled, when the
+    raiser has them) and ``point`` where it failed (None when unknown).
+    """
+
+    def __init__(self, message, loops=None, point=None):
+        super().__init__(message)
+        self.loops = loops
+        self.point = point
+
+
+class NibError(MorphError, ValueError):
+    """A nib (the convex pen of brush and stroke) that cannot be used: not one convex
+    loop, or an ellipse without positive width and height.  ``nib`` keeps it (the
+    region, or the ellipse's ``(width, height, angle)``)."""
+
+    def __init__(self, message, nib=None):
+        super().__init__(message)
+        self.nib = nib
 
 
 class LimitError(MorphError, ValueError):

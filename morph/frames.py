@@ -26,7 +26,7 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
-    :func:`morph.trim.minkowski_sum`.  ``progress`` (optional) is called with each
+    :func:`morph.minkowski.minkowski_sum`.  ``progress`` (optional) is called with each
     frame index as it is done.  ``method`` is the convolution method (Sec. 4).
     With ``cache`` the Gauss maps of A and B and their compatible pairs, which do not
     depend on the scale factors, are computed once for all frames

@@ -2,7 +2,7 @@
 
 The disk is an exact rational quadratic circle (:func:`morph.piece.circle`), so the
 offset boundary is the QAC convolution of the region with a circle, trimmed to the
-boundary by :func:`morph.trim.minkowski_sum`, within ``tol`` of the exact offset.
+boundary by :func:`morph.minkowski.minkowski_sum`, within ``tol`` of the exact offset.
 """
 
 import numpy as np

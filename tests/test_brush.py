@@ -114,7 +114,7 @@ def test_chosen_composite_is_decomposed_and_swept(tmp_path):
     for name in ("eacute", "Yacute"):  # chosen / decomposed because Y was swept
         assert not b["glyf"][name].isComposite()
         _assert_sum(src, out, name)
-    with pytest.raises(MorphError, match="composites"):
+    with pytest.raises(ValueError, match="composites"):  # a bad argument
         brush_font(src, "unused.ttf", ellipse_nib(*NIB), ["Y"], composites="keep")
 
 
@@ -159,6 +159,19 @@ def test_nonconvex_nib_rejected():
     with pytest.raises(MorphError, match="not convex"):
         check_convex_nib(star)
     check_convex_nib(ellipse_nib(10, 5, 20))
+
+
+def test_nib_errors_keep_the_nib():
+    """A bad nib is a bad argument (ValueError) and a MorphError, and keeps the nib."""
+    from morph.errors import NibError
+
+    with pytest.raises(NibError) as info:
+        ellipse_nib(0, 5, 10)
+    assert isinstance(info.value, ValueError) and info.value.nib == (0, 5, 10)
+    two = ellipse_nib(10, 5) + ellipse_nib(4, 4)
+    with pytest.raises(NibError, match="one closed convex shape") as info:
+        check_convex_nib(two)
+    assert info.value.nib is two
 
 
 def test_parse_glyph_spec():

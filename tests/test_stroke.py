@@ -159,8 +159,10 @@ def test_move_feature_anchors():
     with pytest.raises(MorphError, match="different offsets"):
         move_feature_anchors(FEA, ["acutecomb", "e", "o", "c", "x"],
                              {"acutecomb": (0, 0), "e": (1, 0), "o": (1, 0), "c": (2, 0)}.get)
-    with pytest.raises(MorphError, match="cannot parse"):
-        move_feature_anchors("feature x { sub a by ; } x;", ["a"], offsets.get)
+    bad = "feature x { sub a by ; } x;"
+    with pytest.raises(ParseError, match="cannot parse") as info:
+        move_feature_anchors(bad, ["a"], offsets.get)
+    assert info.value.source == bad
 
 
 # =========================================================================== plumbing

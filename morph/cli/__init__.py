@@ -12,8 +12,9 @@ Adding a command (for other engineers)::
 ``common_options`` adds ``--font``, ``--tol``, ``-o/--output``, ``--force`` and
 ``--size``; ``shape_argument`` converts an argument with :func:`morph.parse.load_shape`
 into a :class:`morph.parse.Shape`; :func:`shape_tolerance` turns --tol (em for
-glyphs, user units for SVG) into the shape's units.  Errors: raise :class:`morph.errors.ParseError`,
-``DegenerateCurveError``, ``LimitError`` (or a click usage error) for bad input and
+glyphs, user units for SVG) into the shape's units.  Errors: raise
+:class:`morph.errors.ParseError`, ``DegenerateCurveError``, ``LimitError``,
+``NibError`` (or a click usage error) for bad input and
 :func:`main` prints one line ``morph: error: ...`` and exits 2; ``TopologyError``,
 ``ToleranceNotMetError`` and anything else are internal failures, one line naming
 the command, exit 1.  ``MORPH_DEBUG=1`` shows the traceback of an internal failure
@@ -28,7 +29,7 @@ import traceback
 import click
 
 from .. import __version__
-from ..errors import DegenerateCurveError, LimitError, ParseError
+from ..errors import DegenerateCurveError, LimitError, NibError, ParseError
 from ..limits import memory_budget_bytes
 from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401 (re-exported)
                       InputError, ShapeParam,
@@ -42,7 +43,7 @@ __all__ = ["main", "ShapeParam", "shape_argument", "shape_tolerance", "common_op
 
 _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
 #: MorphErrors that mean bad input (exit 2); other MorphErrors are internal (exit 1)
-BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError)
+BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError)
 
 
 def _error_line(message):
@@ -103,7 +104,7 @@ class MorphGroup(click.Group):
     """click Group whose ``main`` turns every failure into one stderr line.
 
     Exit status: 0 success; 2 bad input or usage (ParseError, DegenerateCurveError,
-    LimitError, click usage errors, unwritable output); 1 internal failure
+    LimitError, NibError, click usage errors, unwritable output); 1 internal failure
     (TopologyError, ToleranceNotMetError, any other exception, memory budget
     exceeded), naming the command; with MORPH_DEBUG=1 the traceback and the inputs
     saved as JSON.

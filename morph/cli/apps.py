@@ -60,7 +60,8 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     """C-space obstacle of a translating ROBOT: OBSTACLE ⊕ (−ROBOT) (Figs. 4, 38).
 
     The robot's reference point is its area centroid (--reference centroid) or
-    its origin (glyph origin, SVG user-space origin after the y flip).  The robot, with its reference point at p, overlaps
+    its origin (glyph origin, SVG user-space origin after the y flip).  The robot,
+    with its reference point at p, overlaps
     the obstacle exactly when p lies in the C-space region.  The picture shows the
     C-space region (orange), the obstacle (dark grey) and the robot outline placed
     at SAMPLES points along the C-space boundary (touching the obstacle).

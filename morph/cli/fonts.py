@@ -70,7 +70,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     A glyph whose sum fails is computed again at --tol/8, then with the nib turned
     by a tiny angle (within --tol); if that fails too it is written by a polygon
     fallback (Clipper sum of the flattened glyph and nib,
-    within --tol but made of lines), or left as in the source if that fails too.  The font is written anyway; the glyphs that fell
+    within --tol but made of lines), or left as in the source if that fails
+    too.  The font is written anyway; the glyphs that fell
     back are then named on one line and the exit status is 1.
 
     \b

@@ -2,10 +2,12 @@
 
 The nib is a convex region swept without rotation (a calligraphic pen held at a
 fixed angle); the default is an exact ellipse (:func:`morph.piece.ellipse`).  Each
-sum is computed with :func:`morph.trim.minkowski_sum` within ``tol / 2`` and its
-rational pieces are converted to the font's curve type within ``tol / 2``
-(TrueType: quadratics, :func:`morph.export.piece_to_quadratics`; CFF: cubics,
-:func:`morph.export.piece_to_cubics`), both with certified bounds, so each written
+sum is computed with :func:`morph.minkowski.minkowski_sum` within ``tol / 2`` and its
+loops of rational pieces are converted to the font's curve type within ``tol / 2``
+by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
+:func:`morph.export.loop_to_quadratics`; CFF: cubics,
+:func:`morph.export.loop_to_beziers`; curves may span smooth joins), both with
+certified bounds, so each written
 outline is within ``tol`` font units of the exact glyph ⊕ nib before the points are
 rounded to the integer grid (at most 0.71 unit more; see
 :func:`morph.fonts.tables.clean_contour` for the clean-up of rounded contours).
@@ -20,7 +22,8 @@ tangencies between the nib and straight glyph edges); if those raise too, by
 :func:`morph.fonts.jobs.polygon_sum` (the glyph and the nib flattened within
 ``tol / 2`` each and summed exactly by Clipper: within ``tol`` of the exact sum, but
 written as short lines, not curves; kind "polygon").  Should that fail too, the
-glyph is left as in the source (metrics and anchors unchanged; kind "source").  Either way it is listed in
+glyph is left as in the source (metrics and anchors unchanged; kind "source").
+Either way it is listed in
 the result's ``fallback`` (name -> (kind, error)); ``morph brush`` writes the font
 and then names them on one line with exit status 1.
 
@@ -35,8 +38,9 @@ nib centre y)``: GPOS anchors (mark, base, ligature, mark-to-mark, cursive) of
 every swept or following glyph move by its ``t``
 (:func:`morph.fonts.tables.move_anchors`), so a mark keeps its place relative to
 its base whether the mark itself was swept or not (é stays centred).  (Unswept
-zero-width marks without an anchor on their base end nib width / 2 to the right.)  Vertical metrics grow by the nib's extent above and below its
-pen point (:func:`morph.fonts.tables.grow_vertical_metrics`), OS/2 xAvgCharWidth is
+zero-width marks without an anchor on their base end nib width / 2 to the right.)
+Vertical metrics grow by the nib's extent above and below its pen point
+(:func:`morph.fonts.tables.grow_vertical_metrics`), OS/2 xAvgCharWidth is
 recomputed, and the family is renamed with coherent name IDs
 (:func:`morph.fonts.tables.rename_family`).
 
@@ -72,34 +76,43 @@ import unicodedata
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError, ParseError, one_line
+from ..errors import MorphError, NibError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent", "sweep_glyph"]
 
 
 def ellipse_nib(width, height, angle_deg=0.0):
-    """Exact elliptical nib: width x height (font units), rotated by angle (degrees)."""
-    if width <= 0 or height <= 0:
-        raise MorphError("nib width and height must be positive, got %g x %g"
-                         % (width, height))
+    """Exact elliptical nib: width x height (font units), rotated by angle (degrees).
+
+    Raises:
+        NibError: width or height not positive (``.nib`` = the three arguments).
+    """
+    if not (width > 0 and height > 0):
+        raise NibError("nib width and height must be positive, got %g x %g"
+                       % (width, height), (width, height, angle_deg))
     return [pc.ellipse((0.0, 0.0), width / 2.0, height / 2.0, np.radians(angle_deg))]
 
 
 def check_convex_nib(nib):
-    """Raise MorphError unless the nib is a single convex loop (Gauss map monotone)."""
+    """Check that the nib is a single convex loop (its Gauss map turns monotonically
+    through 2 pi).
+
+    Raises:
+        NibError: not one loop, or not convex (``.nib`` = the region).
+    """
     from ..gauss import gauss_map
 
     if len(nib) != 1:
-        raise MorphError("the nib must be one closed convex shape, got %d loops" % len(nib))
+        raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
     edges = gauss_map(nib[0])
     bad = [e for e in edges if e.sweep < -1e-9]
     if bad:
-        raise MorphError("the nib is not convex: it turns clockwise at %s (only convex "
-                         "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),))
+        raise NibError("the nib is not convex: it turns clockwise at %s (only convex "
+                       "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),), nib)
     total = sum(e.sweep for e in edges)
     if abs(total - 2 * np.pi) > 1e-6:
-        raise MorphError("the nib is not convex (total turning %.3f rad)" % total)
+        raise NibError("the nib is not convex (total turning %.3f rad)" % total, nib)
 
 
 def region_extent(loops):
@@ -139,9 +152,12 @@ def composite_plan(font, swept, composites="follow"):
     cannot simply be reused there: (M g) ⊕ nib is not M (g ⊕ nib), and the point
     numbers changed), and all of them with ``composites="sweep"``.  CFF fonts have no
     composites (seac accents are not looked at): both lists are empty.
+
+    Raises:
+        ValueError: ``composites`` not "follow" or "sweep".
     """
     if composites not in ("follow", "sweep"):
-        raise MorphError("composites must be 'follow' or 'sweep', got %r" % (composites,))
+        raise ValueError("composites must be 'follow' or 'sweep', got %r" % (composites,))
     if "glyf" not in font:
         return [], []
     glyf = font["glyf"]
@@ -351,8 +367,11 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     (name -> (kind, error) for glyphs that fell back, see the module docstring).
 
     Raises:
-        MorphError: non-convex nib, a glyph missing from the font, a bad location, a
-            font without TrueType or CFF outlines.
+        NibError: a nib that is not one convex loop.
+        ParseError: a glyph missing from the font, an unreadable font, a bad location,
+            a font without TrueType or CFF outlines.
+        ValueError: ``composites`` not "follow" or "sweep"; an output suffix other
+            than .ttf, .otf, .woff2, .woff; a variable font not instantiated.
     """
     from .jobs import run_jobs
     from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_writer,

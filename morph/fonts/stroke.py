@@ -61,7 +61,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError, one_line
+from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..region import region_bbox, translate_region
 from .brush import check_convex_nib, region_extent
@@ -145,7 +145,7 @@ def _plan(font, chosen, symmetric):
         if n in seen:
             continue
         if n not in font:
-            raise MorphError("component base glyph %r is missing from the UFO" % n)
+            raise ParseError("component base glyph %r is missing from the UFO" % n, n)
         seen.add(n)
         stroked.append(n)
         for c in font[n].components:
@@ -239,10 +239,15 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     (the stroked ``ufoLib2.Font``) and ``regions`` (name -> stroked region in the
     glyph's output coordinates, components not included).
 
+    A glyph whose stroke raises a MorphError is written by the polygon fallback and
+    named in ``fallback``; it does not stop the font.
+
     Raises:
-        ParseError: unreadable UFO, a glyph the UFO lacks, a bad contour.
-        MorphError: non-convex nib, a stroke that fails (the message names the
-            glyph), an output that exists without ``overwrite``, ufo2ft failing.
+        ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
+            contour, features that do not parse.
+        NibError: a nib that is not one convex loop.
+        MorphError: an output that exists without ``overwrite``; ufo2ft failing;
+            feature anchors whose glyphs moved by different offsets.
         ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
     """
     t_start = time.perf_counter()
@@ -423,8 +428,8 @@ def move_feature_anchors(text, glyph_names, offset_of):
     (comments, layout) is kept.  Anchors in included files are not moved.
 
     Raises:
-        MorphError: the text does not parse (fontTools.feaLib), or one statement's
-            glyphs moved by different offsets.
+        ParseError: the text does not parse (fontTools.feaLib; ``.source`` is the text).
+        MorphError: one statement's glyphs moved by different offsets.
     """
     import io
 
@@ -433,7 +438,7 @@ def move_feature_anchors(text, glyph_names, offset_of):
     try:
         doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
     except Exception as exc:  # feaLib's FeatureLibError and include errors
-        raise MorphError("cannot parse the features: %s" % one_line(exc)) from exc
+        raise ParseError("cannot parse the features: %s" % one_line(exc), text) from exc
     moves = []
     for anchor, glyph_set in _statement_anchors(doc.statements):
         offset = _common_offset(anchor, glyph_set, offset_of)

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import bernstein as bz
-from ..errors import MorphError
+from ..errors import MorphError, ParseError
 from ..region import reverse_loop
 
 __all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "clean_contour",
@@ -274,16 +274,19 @@ def outline_writer(font):
     """The :class:`OutlineWriter` of a TrueType or CFF font.
 
     Raises:
-        MorphError: CFF2 or no outlines (variable fonts must be instantiated first,
+        ValueError: a variable font (instantiate it first,
             :func:`morph.parse.instantiate_font`).
+        ParseError: CFF2 or no outlines (``.source`` names the font).
     """
     if "fvar" in font:
-        raise MorphError("instantiate the variable font first (morph.parse.instantiate_font)")
+        raise ValueError("instantiate the variable font first (morph.parse.instantiate_font)")
     if "glyf" in font:
         return _TrueTypeOutlines(font)
     if "CFF " in font:
         return _CFFOutlines(font)
-    raise MorphError("the font has neither TrueType (glyf) nor CFF outlines")
+    label = font["name"].getDebugName(4) if "name" in font else None
+    raise ParseError("font %s has neither TrueType (glyf) nor CFF outlines" % (label or ""),
+                     label)
 
 
 def outline_glyphs(font):
@@ -530,12 +533,12 @@ def save_font(font, path):
     ``.woff2`` needs the brotli package.  Returns the path.
 
     Raises:
-        MorphError: an unknown suffix.
+        ValueError: an unknown suffix.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in FONT_SUFFIXES:
-        raise MorphError("cannot tell the font format of %s: use %s"
+        raise ValueError("cannot tell the font format of %s: use %s"
                          % (path, ", ".join(FONT_SUFFIXES)))
     flavor = {".woff2": "woff2", ".woff": "woff"}.get(suffix)
     old = font.flavor

@@ -37,9 +37,11 @@ def _fmt(v, d):
 def svg_path_data(loops, tol):
     """SVG ``d`` string of a region (y flipped to SVG's y-down), within ``tol``.
 
-    One subpath per loop: ``M`` start, then ``L`` (lines), ``Q`` (polynomial
-    quadratics), ``C`` (polynomial cubics, and the exported cubics of every other run
-    of smooth joins, :func:`morph.export.loop_to_beziers`), ``Z``.  The written
+    One subpath per loop: ``M`` at the start of its first Bézier (the loop's start,
+    or the start of its last smooth run when cubics span the closing join), then
+    ``L`` (lines), ``Q`` (polynomial quadratics), ``C`` (polynomial cubics, and the
+    exported cubics of every other run of smooth joins,
+    :func:`morph.export.loop_to_beziers` with ``wrap``), ``Z``.  The written
     curves are within ``tol`` (absolute, region units; Fréchet distance) of the
     loop: certified cubic bound plus rounding, see the module docstring.
 
