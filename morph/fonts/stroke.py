@@ -229,18 +229,15 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     ``jobs``: worker processes for the strokes (1: in this process).
 
     Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
-    (composites kept without being chosen), ``composites`` (written glyphs that
-    keep components), ``decomposed`` (components decomposed
-    because of a transformation), ``emptied`` (glyphs left empty in a compiled
-    font), ``contours``, ``points`` (on- and off-curve points written),
-    ``stroke_seconds`` (CPU time of the strokes and their conversion, summed over the
-    glyphs), ``seconds`` (wall, whole call), ``fallback`` (glyph -> the error that
-    sent it to the polygon stroke), ``font``
-    (the stroked ``ufoLib2.Font``) and ``regions`` (name -> stroked region in the
-    glyph's output coordinates, components not included).
-
-    A glyph whose stroke raises a MorphError is written by the polygon fallback and
-    named in ``fallback``; it does not stop the font.
+    (composites kept without being chosen), ``composites`` (written glyphs that keep
+    components), ``decomposed`` (components decomposed because of a transformation),
+    ``emptied`` (glyphs left empty in a compiled font), ``contours``, ``points`` (on-
+    and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
+    their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
+    ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
+    glyph does not stop the font), ``font`` (the stroked ``ufoLib2.Font``) and
+    ``regions`` (name -> stroked region in the glyph's output coordinates, kept
+    components not included).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -262,11 +259,10 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                                     place.shifts, stroker)
     results = run_jobs(_glyph_job, work, jobs=jobs, progress=_by_name(progress))
     stats = _write_strokes(font, results)
-    stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed)
     _move_furniture(font, stroked + followed, place, symmetric)
-    stats["composites"] = sum(1 for n in stroked + followed if font[n].components)
-    stats["emptied"] = _empty_unstroked(font, set(stroked) | set(followed)) if kind != ".ufo" \
-        else 0
+    stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
+                 composites=sum(1 for n in stroked + followed if font[n].components),
+                 emptied=_empty_unstroked(font, set(stroked) | set(followed), kind))
     _move_feature_file(font, place)
     _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
     _grow_win_metrics(font, stats["regions"])
@@ -398,9 +394,12 @@ def _move_furniture(font, names, place, symmetric):
             g.width = g.width + place.grow
 
 
-def _empty_unstroked(font, done):
-    """Clear the skeletons of glyphs not written anew (a compiled font cannot fill an
-    open skeleton); how many were cleared."""
+def _empty_unstroked(font, done, kind):
+    """Clear the skeletons of glyphs not written anew in a compiled font (``kind``
+    .otf or .ttf: an open skeleton cannot be filled; a .ufo keeps them); how many
+    were cleared."""
+    if kind == ".ufo":
+        return 0
     emptied = 0
     for g in font:
         if g.name not in done and (g.contours or g.components):
