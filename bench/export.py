@@ -80,7 +80,7 @@ def previous_exporter():
 def previous_beziers(old):
     """The previous SVG writer's curves: polynomial pieces of degree <= 3 as they are,
     every other piece by itself through the previous exporter."""
-    def loop_to_beziers(loop, tol):
+    def loop_to_beziers(loop, tol, wrap=False):
         out = []
         for p in loop:
             p = np.asarray(p, float)
