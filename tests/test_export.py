@@ -686,8 +686,6 @@ FOLD_BLOB = [
 ]
 
 
-@pytest.mark.xfail(reason="the trim keeps a fold of the convolution curve (piece 8, "
-                   "2 tol inside); trim engine rewrite, lead", strict=True)
 def test_offset_of_folding_rational_cubics_within_tol():
     """Issue 17 part 5, the sum's share: offset by r = 0.02 at tol 0.005, a point of
     the result lies 0.00999 from the shape (measured to an actual point of it), so
@@ -701,7 +699,9 @@ def test_offset_of_folding_rational_cubics_within_tol():
     t = 0.770 (0.57079, -0.31218), 0.00999 from the blob near (0.56569, -0.32077),
     and comes back to within 1.8e-4 of where it left at t = 1; the convolution piece
     under it has a QAC bound of 6.4e-4 <= 0.75 tol: the curve is accurate, the trim
-    keeps a fold of it that lies inside the sum."""
+    kept a fold of it that lies inside the sum.  Fixed since the untangle stage
+    finds the fold's crossing by subdivision (morph.trim.crossing), not on
+    polylines that could not resolve it."""
     from shapely.geometry import Polygon
 
     from morph.offset import offset_region
