@@ -507,6 +507,14 @@ def ratio_bound_many(a, b, halvings=1):
     return np.where(good, best, np.inf), np.where(good, s, 0.5)
 
 
+@lru_cache(maxsize=None)
+def _inner_pinv(n, t):
+    """Basis of degree n at the parameters t (a tuple) and the pseudo-inverse of its
+    inner columns (least squares for c_1 ... c_{n-1})."""
+    b = basis(n, np.array(t))
+    return b, np.linalg.pinv(b[:, 1:-1])
+
+
 def fit_fixed_ends(t, values, n, v0, v1):
     """Least-squares Bernstein polynomial of degree n through values at parameters t
     with both ends fixed: coefficients c (n+1, ...) with c_0 = v0, c_n = v1 and
@@ -516,11 +524,11 @@ def fit_fixed_ends(t, values, n, v0, v1):
     polynomials sampled at the same t); v0, v1 broadcast to values' trailing shape.
     """
     values = np.asarray(values, float)
-    basis_t = basis(n, t)
+    basis_t, pinv = _inner_pinv(n, tuple(np.asarray(t, float).tolist()))
     c = np.empty((n + 1,) + values.shape[1:])
     c[0], c[-1] = v0, v1
     if n > 1:
         rhs = (values - np.multiply.outer(basis_t[:, 0], c[0])
                - np.multiply.outer(basis_t[:, -1], c[-1]))
-        c[1:-1] = np.linalg.lstsq(basis_t[:, 1:-1], rhs, rcond=None)[0]
+        c[1:-1] = np.tensordot(pinv, rhs, axes=(1, 0))
     return c

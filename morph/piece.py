@@ -164,20 +164,29 @@ def jet2_many(c, s):
     """P, P' and P'' of each piece of a stack c (k, n+1, 3) at its parameters s (k, m):
     three arrays (k, m, 2).
 
-    Quotient rule on P = X / W (X, W and their derivatives are Bernstein
-    polynomials): P' = (X' - W' P) / W, P'' = (X'' - 2 W' P' - W'' P) / W.
+    The homogeneous value and derivatives come from the last three levels of de
+    Casteljau's triangle (H' = n (b1 - b0), H'' = n (n-1) (b2 - 2 b1 + b0) one level
+    up); then the quotient rule on P = X / W: P' = (X' - W' P) / W,
+    P'' = (X'' - 2 W' P' - W'' P) / W.
     """
     c = np.asarray(c, float)
     s = np.asarray(s, float)
-    k, m = s.shape
-    d1 = bz.derivative_many(c)
-    d2 = bz.derivative_many(d1)
-
-    def at(h):
-        basis = bz.basis(h.shape[1] - 1, s.ravel()).reshape(k, m, -1)
-        return np.matmul(basis, h)
-
-    v, v1, v2 = at(c), at(d1), at(d2)
+    n = c.shape[1] - 1
+    t = s[:, :, None, None]
+    work = np.broadcast_to(c[:, None], (c.shape[0], s.shape[1]) + c.shape[1:])
+    for _ in range(max(n - 2, 0)):
+        work = work[:, :, :-1] + t * (work[:, :, 1:] - work[:, :, :-1])
+    zero = np.zeros(work.shape[:2] + work.shape[3:])
+    if n == 0:
+        v, v1, v2 = work[:, :, 0], zero, zero
+    elif n == 1:
+        v1, v2 = work[:, :, 1] - work[:, :, 0], zero
+        v = work[:, :, 0] + s[..., None] * v1
+    else:
+        lev1 = work[:, :, :-1] + t * (work[:, :, 1:] - work[:, :, :-1])
+        v2 = n * (n - 1) * (work[:, :, 2] - 2.0 * work[:, :, 1] + work[:, :, 0])
+        v1 = n * (lev1[:, :, 1] - lev1[:, :, 0])
+        v = lev1[:, :, 0] + s[..., None] * (lev1[:, :, 1] - lev1[:, :, 0])
     w, w1, w2 = v[..., 2:], v1[..., 2:], v2[..., 2:]
     p = v[..., :2] / w
     p1 = (v1[..., :2] - w1 * p) / w
