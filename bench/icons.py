@@ -17,16 +17,27 @@ when, with both boundaries densified to tol/4:
 - every point of our boundary is within 1.25 tol of the reference's (tol plus the
   reference's own error and the densification): the certified direction, reported
   as "err/tol";
+  except points in a gap of ours narrower than 0.2 tol that the reference fills (its
+  own flattening error closes such hairline gaps where two parts touch tangentially:
+  @mdi/svg power-socket-de offset); these are counted, and a spurious slit of ours
+  that narrow would go unnoticed;
 - every point of the reference's boundary is within 1.25 tol of ours, except where
   the reference has a gap, notch or hole narrower than 1.6 tol (the engine may close
   those: its docstring's 1.5 tol plus the reference's flattening), i.e. points inside
   the reference's morphological closing by 0.8 tol (an earlier version compared the
   plain two-sided Hausdorff distance and failed correct results at tangent notches,
   e.g. two rounded corners touching, and at reference slivers of 1e-5 tol²);
-- the numbers of outer loops and holes (parts <= tol² not counted) lie between those
-  of the reference and of its closing;
+- the numbers of outer loops and holes (parts <= tol² not counted) of ours, or of ours
+  with its hairline gaps (< 0.2 tol) closed, lie between those of the reference, of
+  its closing and of its opening by 0.8 tol (where two parts of the exact sum touch at
+  a point, e.g. @mdi/svg book-arrow-up and power-socket-de offset, ours keeps them
+  apart by a hair, the reference merges them);
 
-it is a *wrong shape* otherwise.  Each icon runs
+it is a *wrong shape* otherwise, except when the only fault is our boundary more
+than 1.25 tol from the reference's at points inside a gap of ours narrower than 1.6
+tol that the reference fills: the tip of a narrow wedge running on, which
+``minkowski_sum``'s docstring states as a limit (0.75 tol / sin(theta/2)); such icons
+count as *documented limit*, listed with the failures.  Each icon runs
 in its own process limited to ``--timeout`` seconds of CPU (a *hang* when exceeded;
 CPU, not wall time, so that other work on a shared machine does not make hangs) and
 4 GiB of address space; exceptions are recorded with their type and message.
@@ -90,16 +101,23 @@ def choose(files, n):
 ACCEPT = 1.25  # x tol: tol + the reference's flattening (2 x tol/20) + densification (tol/8)
 GAP = 0.8      # x tol: half the narrowest gap the engine may close (1.5 tol, see
                # minkowski_sum's docstring) plus the reference's flattening
+HAIR = 0.1     # x tol: half the widest gap the reference itself may fill (its input is
+               # flattened within tol/20 on either side of the gap)
 
 
 def compare(got, ref, tol):
     """Judge a result (shapely) against the polygon reference, following the contract of
     ``minkowski_sum``: every output boundary point within tol of the exact boundary
-    (``fwd``, the certified direction), every reference boundary point within tol of
+    (``fwd``, the certified direction; points in a gap of ours narrower than 2 HAIR tol
+    that the reference fills are excused and counted, ``hairline``: where two parts of
+    the exact result touch tangentially, e.g. @mdi/svg power-socket-de's offset pins
+    touching its rim, the reference's own flattening closes the gap over several tol),
+    every reference boundary point within tol of
     ours (``back``) except inside gaps and holes narrower than 2 GAP tol, which the
     engine may close (they are the points inside the reference's morphological closing
     by GAP tol, ``ref_closed``), and numbers of outer loops / holes (parts <= tol² not
-    counted) between those of ``ref_closed`` and ``ref``.  Returns a dict with fwd,
+    counted) of ours or of ours with hairline gaps closed between those of ``ref``,
+    ``ref_closed`` and its opening (parts touching at a point may stay apart).  Returns a dict with fwd,
     back (lengths), topo and, per failed criterion, a message."""
     import shapely
 
@@ -108,8 +126,18 @@ def compare(got, ref, tol):
     ga, gb = R._linework(got), R._linework(ref)
     pa = R._sample_points(ga, tol / 4)
     pb = R._sample_points(gb, tol / 4)
-    fwd = float(shapely.distance(shapely.points(pa), gb).max()) if len(pa) else 0.0
+    da = shapely.distance(shapely.points(pa), gb) if len(pa) else np.zeros(0)
     db = shapely.distance(shapely.points(pb), ga) if len(pb) else np.zeros(0)
+    far = np.flatnonzero(da > ACCEPT * tol)
+    n_hair = 0
+    got_closed = got.buffer(HAIR * tol, quad_segs=16).buffer(-HAIR * tol, quad_segs=16)
+    if len(far):  # excused: in a hairline gap of ours (< 2 HAIR tol) the reference filled
+        q = shapely.points(pa[far])
+        hair = shapely.contains(got_closed, q) & shapely.contains(ref, q) & (
+            shapely.distance(q, got_closed.boundary) > tol / 100)
+        da[far[hair]] = 0.0
+        n_hair = int(hair.sum())
+    fwd = float(da.max()) if len(da) else 0.0
     closed = ref.buffer(GAP * tol, quad_segs=16).buffer(-GAP * tol, quad_segs=16)
     far = np.flatnonzero(db > ACCEPT * tol)
     if len(far):  # excused: strictly inside the closing (a narrow gap or hole, filled)
@@ -121,16 +149,33 @@ def compare(got, ref, tol):
     t_got = R.count_outer_and_holes(got, tol * tol)
     t_ref = R.count_outer_and_holes(ref, tol * tol)
     t_cl = R.count_outer_and_holes(closed, tol * tol)
-    res = {"fwd": fwd, "back": back, "topo": (t_got, t_ref)}
+    opened = ref.buffer(-GAP * tol, quad_segs=16).buffer(GAP * tol, quad_segs=16)
+    t_op = R.count_outer_and_holes(opened, tol * tol)
+    res = {"fwd": fwd, "back": back, "topo": (t_got, t_ref), "hairline": n_hair}
     if fwd > ACCEPT * tol:
         res["f"] = "output boundary %.3g tol from the reference's" % (fwd / tol)
+        # all of it inside a narrow gap of ours that the reference fills: the tip of a
+        # wedge of ours runs on (minkowski_sum's documented limit, 0.75 tol/sin(theta/2))
+        far = np.flatnonzero(da > ACCEPT * tol)
+        q = shapely.points(pa[far])
+        wide = got.buffer(GAP * tol, quad_segs=16).buffer(-GAP * tol, quad_segs=16)
+        if np.all(shapely.contains(wide, q) & shapely.contains(ref, q)):
+            k = far[int(np.argmax(da[far]))]
+            res["limit"] = ("wedge tip: output boundary %.3g tol from the reference's at "
+                            "(%.6g, %.6g), in a gap of ours narrower than %.2g tol that the "
+                            "reference fills (minkowski_sum's documented wedge-tip limit)"
+                            % (fwd / tol, pa[k, 0], pa[k, 1], 2 * GAP))
+            del res["f"]
     if back > ACCEPT * tol:
         k = int(np.argmax(db))
         res["b"] = "reference boundary %.3g tol from ours at (%.6g, %.6g)" % (
             back / tol, pb[k, 0], pb[k, 1])
-    if not all(min(c, r) <= g <= max(c, r) for g, r, c in zip(t_got, t_ref, t_cl)):
-        res["t"] = "loops/holes %s vs reference %s (closed over narrow gaps %s)" % (
-            t_got, t_ref, t_cl)
+    t_hair = R.count_outer_and_holes(got_closed, tol * tol)
+    if not any(all(min(c) <= g <= max(c) for g, c in zip(t, zip(t_ref, t_cl, t_op)))
+               for t in (t_got, t_hair)):
+        res["t"] = "loops/holes %s (%s with hairline gaps closed) vs reference %s " \
+            "(closed over narrow gaps %s, opened at narrow necks %s)" % (
+                t_got, t_hair, t_ref, t_cl, t_op)
     return res
 
 
@@ -190,6 +235,9 @@ def check_op(region, op, s, rec):
     rec[op + "_err"] = wrong.pop("fwd") / tol
     rec[op + "_back"] = wrong.pop("back") / tol
     rec[op + "_topo"] = wrong.pop("topo")
+    rec[op + "_hairline"] = wrong.pop("hairline")
+    if "limit" in wrong:
+        rec.setdefault("limit", []).append("%s: %s" % (op, wrong.pop("limit")))
     if wrong:
         rec["wrong"] = "%s: %s" % (op, "; ".join(wrong.values()))
         return False
@@ -257,6 +305,8 @@ def failure_kind(rec):
         return "wrong " + ",".join(k for k, m in (("boundary", "output boundary"),
                                                  ("missing", "reference boundary"),
                                                  ("topology", "loops/holes")) if m in w)
+    if "limit" in rec:
+        return "limit"
     return "pass"
 
 
@@ -400,6 +450,8 @@ def classify(rec):
             "ParseError" in rec["error"] else "exception"
     if "wrong" in rec:
         return "wrong shape"
+    if "limit" in rec:
+        return "documented limit"
     return "pass"
 
 
@@ -479,15 +531,15 @@ def main(argv=None):
              "ellipse 0.04 x 0.015 size at 30°. Pass (see the script's docstring): our boundary "
              "within 1.25 tol of the polygon reference's, the reference's within 1.25 tol of "
              "ours except in gaps narrower than 1.6 tol, loop and hole counts between the "
-             "reference's and those of its closing over such gaps."
+             "reference's and those of its closing over such gaps and opening at such necks."
              % (args.per_set, args.timeout, args.jobs, total, ", ".join(versions.values())),
              "", "CPU s/icon: the icon's whole process (parse, offset, ellipse sum, polygon "
              "references and checks); engine CPU s: offset_region + minkowski_sum only. "
              "err/tol: our boundary's distance to the reference's (the certified direction); "
              "back/tol: the reference's to ours outside narrow gaps. Both over passing icons.",
              "", "| set | icons | pass | parse errors | exceptions | wrong shapes | hangs | "
-             "median CPU s/icon | max CPU s/icon | median engine CPU s | median wall s/icon | "
-             "worst err/tol | worst back/tol |", "|---" * 13 + "|"]
+             "documented limit | median CPU s/icon | max CPU s/icon | median engine CPU s | "
+             "median wall s/icon | worst err/tol | worst back/tol |", "|---" * 14 + "|"]
 
     def fmt(vals, f=np.median, spec="%.2f"):
         return spec % f(vals) if vals else "-"
@@ -501,12 +553,13 @@ def main(argv=None):
         ok = [r for r in recs if classify(r) == "pass"]
         errs = [max(r.get("offset_err", 0), r.get("ellipse_err", 0)) for r in ok]
         backs = [max(r.get("offset_back", 0), r.get("ellipse_back", 0)) for r in ok]
-        lines.append("| %s | %d | %d | %d | %d | %d | %d | %s | %s | %s | %s | %s | %s |" % (
-            pkg, len(recs), len(ok), cls.count("parse error"),
-            cls.count("exception"), cls.count("wrong shape"), cls.count("hang"),
-            fmt(cpus), fmt(cpus, max, "%.1f"), fmt(eng), fmt(walls),
-            fmt(errs, max) if kind_of(pkg) == "fill" else "-",
-            fmt(backs, max) if kind_of(pkg) == "fill" else "-"))
+        lines.append("| %s | %d | %d | %d | %d | %d | %d | %d | %s | %s | %s | %s | %s | %s |"
+                     % (pkg, len(recs), len(ok), cls.count("parse error"),
+                        cls.count("exception"), cls.count("wrong shape"), cls.count("hang"),
+                        cls.count("documented limit"),
+                        fmt(cpus), fmt(cpus, max, "%.1f"), fmt(eng), fmt(walls),
+                        fmt(errs, max) if kind_of(pkg) == "fill" else "-",
+                        fmt(backs, max) if kind_of(pkg) == "fill" else "-"))
     if args.records:
         import json
 
@@ -517,7 +570,8 @@ def main(argv=None):
         for r in recs:
             c = classify(r)
             if c != "pass":
-                detail = r.get("wrong") or r.get("error") or r.get("hang_why", "hang")
+                detail = r.get("wrong") or r.get("error") or "; ".join(r.get("limit", [])) \
+                    or r.get("hang_why", "hang")
                 lines.append("- %s `%s`: %s (stage %s): %s" % (pkg, r["icon"], c,
                                                              r.get("stage", "?"), detail))
     Path(args.output).write_text("\n".join(lines) + "\n")
