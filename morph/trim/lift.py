@@ -108,9 +108,18 @@ def _subsegments(pieces, idx, t0, t1):
 
 
 def _close(out, ends, contract):
-    """Runs shorter than ``contract`` dropped, the rest snapped to the junctions."""
-    keep = [j for j in range(len(out)) if pc.length_bound(out[j]) >= contract]
-    return [pc.with_endpoints(out[j], ends[keep[i - 1]], ends[j]) for i, j in enumerate(keep)]
+    """Runs shorter than ``contract`` dropped, the rest snapped to the junctions;
+    again while snapping leaves a run that short (or of no length at all: both
+    ends on one junction)."""
+    while True:
+        keep = [j for j in range(len(out)) if pc.length_bound(out[j]) >= contract]
+        snapped = [pc.with_endpoints(out[j], ends[keep[i - 1]], ends[j])
+                   for i, j in enumerate(keep)]
+        short = [pc.length_bound(p) < contract or pc.length_bound(p) == 0.0 for p in snapped]
+        if not any(short):
+            return snapped
+        out = [p for p, s in zip(snapped, short) if not s]
+        ends = [ends[j] for j, s in zip(keep, short) if not s]
 
 
 def _cut_spikes(runs, reach):

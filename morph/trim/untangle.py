@@ -32,7 +32,7 @@ def untangle(loops, eps, max_rounds=64):
         if hit is None:
             return out
         li, i, s, j, u, x = hit
-        lobe, rest = _split(out[li], i, s, j, u, x)
+        lobe, rest = _split(out[li], i, s, j, u, x, 1e-6 * eps)
         keep = [rest]
         if lobe and _keep_lobe(lobe, rest, eps):
             keep.append(lobe)
@@ -168,6 +168,7 @@ def remove_folds(loop, width):
                 loop[i] = pc.subsegment(a, 0.0, t_near[-1])
                 loop[i] = pc.with_endpoints(loop[i], pc.start(loop[i]), pc.end(b))
             del loop[j if la > lb else i]
+            loop = _snap(loop, 5e-7 * width)  # a cut at the long piece's end leaves nothing
             changed = True
             break
     return loop
@@ -191,7 +192,7 @@ def _closest(piece, points, samples=257):
     return np.hypot(*(x - points).T), u
 
 
-def _split(loop, i, s, j, u, x):
+def _split(loop, i, s, j, u, x, min_len):
     """The loop cut at a crossing of piece i (at s) and piece j (at u), i <= j: the
     lobe i[s:] .. j[:u] and the rest .. i[:s], j[u:] .., both snapped to x."""
     if i == j:
@@ -200,19 +201,23 @@ def _split(loop, i, s, j, u, x):
     else:
         lobe = [pc.subsegment(loop[i], s, 1.0)] + loop[i + 1:j] + [pc.subsegment(loop[j], 0.0, u)]
         rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[j], u, 1.0)] + loop[j + 1:]
-    return _snap(lobe, x), _snap(rest, x)
+    return _snap(lobe, min_len), _snap(rest, min_len)
 
 
-def _snap(loop, x):
-    """Degenerate pieces dropped, every join snapped to the mean of its two ends (x
-    where the cut was made)."""
-    loop = [p for p in loop if pc.length_bound(p) > 0.0]
-    out = []
-    for k, p in enumerate(loop):
-        a = 0.5 * (pc.start(p) + pc.end(loop[k - 1]))
-        b = 0.5 * (pc.end(p) + pc.start(loop[(k + 1) % len(loop)]))
-        out.append(pc.with_endpoints(p, a, b))
-    return out
+def _snap(loop, min_len):
+    """Pieces no longer than ``min_len`` dropped, every join snapped to the mean of
+    its two ends (the cut point where the cut was made); again while snapping
+    leaves a piece that short."""
+    while True:
+        loop = [p for p in loop if pc.length_bound(p) > min_len]
+        out = []
+        for k, p in enumerate(loop):
+            a = 0.5 * (pc.start(p) + pc.end(loop[k - 1]))
+            b = 0.5 * (pc.end(p) + pc.start(loop[(k + 1) % len(loop)]))
+            out.append(pc.with_endpoints(p, a, b))
+        if all(pc.length_bound(p) > min_len for p in out):
+            return out
+        loop = out
 
 
 def _keep_lobe(lobe, rest, eps):
