@@ -6,7 +6,7 @@ For every chosen filled icon (size s = the larger side of its bounding box):
 
 - ``svg_region`` must parse it (a parse failure is a failure of morph.parse);
 - offset: ``morph.offset.offset_region(region, 0.05 s, tol)``;
-- sum: ``morph.trim.minkowski_sum(region, ellipse(0.04 s, 0.015 s, 30°), tol)``;
+- sum: ``morph.minkowski.minkowski_sum(region, ellipse(0.04 s, 0.015 s, 30°), tol)``;
 
 at tol = 1e-3 s.  Reference: the region flattened within tol/20 (tests/reference.py,
 Clipper nonzero union), then ``shapely.buffer`` for the offset (64 segments per
@@ -212,7 +212,7 @@ def check_op(region, op, s, rec):
     :func:`compare`; figures go into rec, a failure into rec["wrong"].  True on a pass."""
     from morph import piece as pc
     from morph.offset import offset_region
-    from morph.trim import minkowski_sum
+    from morph.minkowski import minkowski_sum
     from tests import reference as R
 
     tol = 1e-3 * s

@@ -42,7 +42,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from morph import convolve, gauss, parse, trim  # noqa: E402 - after sys.path gets the repo root
+from morph import convolve, gauss, minkowski, parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 from morph import qac  # noqa: E402 - after sys.path gets the repo root
 from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
@@ -97,7 +97,7 @@ def run_case(region_a, region_b, tol, rng):
     pieces = [c.piece for c in conv]
     err = sampled_error(region_a, region_b, conv, rng)
     t0 = time.perf_counter()
-    loops = trim.minkowski_sum(region_a, region_b, tol)
+    loops = minkowski.minkowski_sum(region_a, region_b, tol)
     t_sum = time.perf_counter() - t0
     sum_pieces = [p for loop in loops for p in loop]
     return dict(

@@ -652,7 +652,7 @@ def check(font, a_name, b_name, tol, seed=0):
     from shapely.geometry import Polygon
 
     from morph import piece as pc
-    from morph.trim import minkowski_sum
+    from morph.minkowski import minkowski_sum
     from tests import reference as R
     from tests.test_trim import Oracle, _boundary_samples, _inside, straddle
 

@@ -33,7 +33,7 @@ from morph import piece as pc  # noqa: E402
 from morph.frames import centered, morph_frames  # noqa: E402
 from morph.parse import glyph_region, svg_region  # noqa: E402
 from morph.region import region_bbox, translate_region  # noqa: E402
-from morph.trim import minkowski_sum  # noqa: E402
+from morph.minkowski import minkowski_sum  # noqa: E402
 
 DATA = HERE.parent / "morph" / "data"
 BLUE, ORANGE, GREY, RED = "#1f5fa8", "#f2c894", "#404040", "#d62728"

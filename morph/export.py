@@ -92,7 +92,7 @@ def split_tolerance(tol, share=SUM_SHARE):
 
     The one place where the error budget of a written file is divided: a command
     that computes a shape within ``geometry_tol`` of the exact result (Hausdorff
-    distance, e.g. :func:`morph.trim.minkowski_sum`) and writes it with an exporter
+    distance, e.g. :func:`morph.minkowski.minkowski_sum`) and writes it with an exporter
     bounded by ``export_tol`` (Fréchet, hence Hausdorff, distance between the written
     curves and the computed pieces, e.g. :func:`morph.render.write_svg`, the font
     writers) produces a file within ``tol`` of the exact result by the triangle

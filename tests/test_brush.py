@@ -314,16 +314,16 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     """A glyph whose sum raises is written by the polygon fallback (within 1 unit of
     glyph ⊕ nib), named in the result; if that fails too it is left as in the source;
     the CLI writes the font and exits 1 naming it."""
-    import morph.trim
+    import morph.minkowski
 
-    real = morph.trim.minkowski_sum
+    real = morph.minkowski.minkowski_sum
 
     def flaky(a, b, tol, **kw):
         if len(a) == 2:  # 'o' (two loops) fails, 'T' (one loop) works
             raise TopologyError("no closed loop (test)")
         return real(a, b, tol, **kw)
 
-    monkeypatch.setattr(morph.trim, "minkowski_sum", flaky)
+    monkeypatch.setattr(morph.minkowski, "minkowski_sum", flaky)
     src, out = default_font_path(), tmp_path / "f.ttf"
     stats = brush_font(src, out, ellipse_nib(*NIB), ["o", "T"], tol=0.5)
     assert list(stats["fallback"]) == ["o"]
@@ -353,16 +353,16 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
 def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
     """A sum that raises at tol/2 but not at tol/8 keeps its curves (kind "retry"); one
     that raises for the nib as given is computed with the nib turned (within tol)."""
-    import morph.trim
+    import morph.minkowski
 
-    real = morph.trim.minkowski_sum
+    real = morph.minkowski.minkowski_sum
 
     def coarse_fails(a, b, tol, **kw):
         if tol > 0.1:
             raise TopologyError("fails at %g (test)" % tol)
         return real(a, b, tol, **kw)
 
-    monkeypatch.setattr(morph.trim, "minkowski_sum", coarse_fails)
+    monkeypatch.setattr(morph.minkowski, "minkowski_sum", coarse_fails)
     src, out = default_font_path(), tmp_path / "r.ttf"
     stats = brush_font(src, out, ellipse_nib(*NIB), ["o"], tol=0.5)
     assert stats["fallback"]["o"][0] == "retry" and "fails at 0.25" in stats["fallback"]["o"][1]
@@ -377,7 +377,7 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
             raise TopologyError("tangent nib (test)")
         return real(a, b, tol, **kw)
 
-    monkeypatch.setattr(morph.trim, "minkowski_sum", only_turned)
+    monkeypatch.setattr(morph.minkowski, "minkowski_sum", only_turned)
     out = tmp_path / "turned.ttf"  # a new path: glyph_region caches fonts by path
     stats = brush_font(src, out, nib, ["o", "T"], tol=0.5)
     assert {n: k for n, (k, _) in stats["fallback"].items()} == {"o": "rotated", "T": "rotated"}

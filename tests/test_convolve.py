@@ -35,7 +35,7 @@ from morph import convolve
 from morph import gauss
 from morph import parse
 from morph import piece as pc
-from morph import trim
+from morph import minkowski
 from morph.errors import ToleranceNotMetError
 
 try:
@@ -346,7 +346,7 @@ def test_random_polygons_exact():
         w = R.winding_number(pts, polys)
         assert np.all(w[far & ~inside] == 0), k
         assert np.all(w[far & inside] >= 1), k
-        loops_sum = trim.minkowski_sum(ra, rb, 1e-6)
+        loops_sum = minkowski.minkowski_sum(ra, rb, 1e-6)
         # Clipper rounds coordinates to 1e-7: area within perimeter x 1e-7
         assert pc.region_area(loops_sum) == pytest.approx(ref.area, abs=1e-7 * ref.length), k
         corners = [np.array([pc.start(p) for p in loop]) for loop in loops_sum]
@@ -577,7 +577,7 @@ def _reference_sum(a, b, flat):
 @pytest.mark.parametrize("a, b", SUM_PAIRS, ids=["%s+%s" % p for p in SUM_PAIRS])
 def test_minkowski_sum_area_and_topology(a, b):
     ra, rb = parse.glyph_region(a).region, parse.glyph_region(b).region
-    loops = trim.minkowski_sum(ra, rb, 0.1)
+    loops = minkowski.minkowski_sum(ra, rb, 0.1)
     area = sum(_shoelace(p) for p in _loop_polys(loops, 0.002))
     n_outer = sum(1 for l in loops if pc.loop_area(l) > 0)
     n_holes = sum(1 for l in loops if pc.loop_area(l) < 0)
@@ -622,7 +622,7 @@ def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
     coarse = 1e-3 * max(r, 1.0)
     fine = min(coarse, 1e-5 * ref.area / ref.length)
     for tol in sorted({coarse, fine}, reverse=True):
-        loops = trim.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+        loops = minkowski.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
         got = R.region_to_shapely(loops, tol) if loops else shapely.Polygon()
         assert R.count_outer_and_holes(got, 1e-6) == R.count_outer_and_holes(ref, 1e-6), \
             (tol, [pc.loop_area(l) for l in loops])
@@ -643,7 +643,7 @@ def test_minkowski_sum_within_coarse_tolerance(tol):
     the polygon reference."""
     region = parse.glyph_region("S").region
     nib = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
-    loops = trim.minkowski_sum(region, nib, tol)
+    loops = minkowski.minkowski_sum(region, nib, tol)
     assert loops, "empty Minkowski sum"
     ref = R.polygon_minkowski_sum(region, nib, 1.0)
     hd = R.hausdorff(ref, R.region_to_shapely(loops, 0.1), spacing=2.0)

@@ -722,7 +722,7 @@ def test_circle_plus_circle_written_within_tol(tol):
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
-    from morph.trim import minkowski_sum
+    from morph.minkowski import minkowski_sum
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
         st, et = split_tolerance(tol)

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 from morph import piece as pc
 from morph.cli import main
 from morph.parse import svg_region
-from morph.trim import minkowski_sum
+from morph.minkowski import minkowski_sum
 from tests import reference as R
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg">%s</svg>'

@@ -1,4 +1,4 @@
-"""Property-based tests of morph.trim.minkowski_sum (hypothesis, small and fast).
+"""Property-based tests of morph.minkowski.minkowski_sum (hypothesis, small and fast).
 
 Operands are random star-shaped blobs: radii at sorted random angles joined by
 polynomial or rational quadratic / cubic pieces (control points inside each angular
@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 from morph import piece as pc
-from morph.trim import minkowski_sum
+from morph.minkowski import minkowski_sum
 from tests import reference as R
 
 TOL = 1e-2

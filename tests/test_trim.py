@@ -20,7 +20,7 @@ from shapely.geometry import Polygon
 
 from morph import piece as pc
 from morph.parse import glyph_region
-from morph.trim import minkowski_sum
+from morph.minkowski import minkowski_sum
 from tests import reference as R
 
 GLYPHS = "OB8g&@TMSaex"

@@ -278,7 +278,7 @@ def sweep_glyph(job):
     :func:`morph.fonts.jobs.polygon_sum`) or "source" (that failed too: contours
     None, the glyph stays as it is).  Module-level, so it runs in worker processes.
     """
-    from ..trim import minkowski_sum
+    from ..minkowski import minkowski_sum
     from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops
 

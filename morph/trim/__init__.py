@@ -36,7 +36,7 @@ from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
 from .untangle import untangle as untangle_loops
 
-__all__ = ["boundary", "fill_region", "polylines_cross", "minkowski_sum"]
+__all__ = ["boundary", "fill_region", "polylines_cross"]
 
 THIN_UNITS = 1.5  # rings rounded apart by at most one grid step per vertex
 
@@ -88,13 +88,3 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
     size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
     return boundary(loops, rel * size, rel * size, fill_rule)
-
-
-def __getattr__(name):
-    # minkowski_sum lives in morph.minkowski (it builds on this stage); the old
-    # import path morph.trim.minkowski_sum keeps working
-    if name == "minkowski_sum":
-        from ..minkowski import minkowski_sum
-
-        return minkowski_sum
-    raise AttributeError(name)
