@@ -8,19 +8,28 @@ counter-clockwise and holes clockwise (y up).
 
 __version__ = "0.1.0"
 
-# the public names below come after __version__, which the CLI imports (E402 on purpose)
+# public names, imported on first use (PEP 562) so that ``import morph`` and the
+# command line load only the modules a command needs
+_PUBLIC = {
+    "cspace_obstacle": "cspace", "loop_to_cubics": "export", "piece_to_cubics": "export",
+    "piece_to_quadratics": "export", "morph_frames": "frames", "minkowski_sum": "minkowski",
+    "offset_region": "offset", "glyph_region": "parse", "load_shape": "parse",
+    "svg_paths": "parse", "svg_region": "parse", "write_png": "render", "write_svg": "render",
+    "stroke_paths": "stroke", "fill_region": "trim",
+}
 
-from .cspace import cspace_obstacle  # noqa: E402
-from .export import loop_to_cubics, piece_to_cubics, piece_to_quadratics  # noqa: E402
-from .frames import morph_frames  # noqa: E402
-from .minkowski import minkowski_sum  # noqa: E402
-from .offset import offset_region  # noqa: E402
-from .parse import glyph_region, load_shape, svg_paths, svg_region  # noqa: E402
-from .render import write_png, write_svg  # noqa: E402
-from .stroke import stroke_paths  # noqa: E402
-from .trim import fill_region  # noqa: E402
+__all__ = sorted(_PUBLIC)
 
-__all__ = ["cspace_obstacle", "fill_region", "glyph_region", "load_shape", "loop_to_cubics",
-           "minkowski_sum", "morph_frames", "offset_region", "piece_to_cubics",
-           "piece_to_quadratics", "stroke_paths", "svg_paths", "svg_region", "write_png",
-           "write_svg"]
+
+def __getattr__(name):
+    if name in _PUBLIC:
+        import importlib
+
+        value = getattr(importlib.import_module("." + _PUBLIC[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError("module 'morph' has no attribute %r" % (name,))
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_PUBLIC))

@@ -15,13 +15,19 @@ user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y
 """
 
 import math
-from xml.sax.saxutils import quoteattr
+import html
 
 from ..export import loop_to_beziers
 from . import frame_bbox, normalize_shapes
 
 __all__ = ["svg_path_data", "write_svg", "svg_document"]
 
+
+
+def quoteattr(value):
+    """An XML attribute value in double quotes (``&``, ``<``, ``>``, ``"`` escaped);
+    html.escape, not xml.sax.saxutils, which imports urllib.request."""
+    return '"%s"' % html.escape(str(value), quote=True)
 
 def _decimals(tol):
     return max(0, int(math.ceil(math.log10(0.5 * math.sqrt(2.0) / (0.2 * tol)))))
