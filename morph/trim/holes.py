@@ -57,9 +57,11 @@ def _search(ring, islands, grid_n, rounds):
     lo, hi = ring.min(axis=0), ring.max(axis=0)
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center, -np.inf
-    for _ in range(rounds):
+    for r in range(rounds):
         g = np.linspace(-1.0, 1.0, grid_n)
         cand = center + np.stack(np.meshgrid(g, g), -1).reshape(-1, 2) * half
+        if r == 0:  # a thin ring can slip between grid points: add its scanline spans
+            cand = np.concatenate([cand, _span_midpoints(ring)])
         inside = (_crossings(cand, ring) % 2 == 1)
         for isl in islands:
             inside &= _crossings(cand, isl) % 2 == 0
@@ -71,6 +73,28 @@ def _search(ring, islands, grid_n, rounds):
                 best, depth = cand[i], float(d[i])
         center, half = best, half * (4.0 / grid_n)
     return best, depth
+
+
+def _span_midpoints(ring, lines=64):
+    """Midpoints of the spans inside ``ring`` on horizontal lines halfway between
+    its vertices' heights (the widest gaps first, at most ``lines`` of them): at
+    least one lies inside any ring of positive area."""
+    ys = np.unique(ring[:, 1])
+    if len(ys) < 2:
+        return np.zeros((0, 2))
+    gaps = np.diff(ys)
+    pick = np.sort(np.argsort(-gaps, kind="stable")[:lines])
+    y = 0.5 * (ys[pick] + ys[pick + 1])
+    a, b = ring, np.roll(ring, -1, axis=0)
+    hit = (a[None, :, 1] <= y[:, None]) != (b[None, :, 1] <= y[:, None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[None, :, 0] + (y[:, None] - a[None, :, 1]) * (b[None, :, 0] - a[None, :, 0]) / (
+            b[None, :, 1] - a[None, :, 1])
+    x = np.sort(np.where(hit, x, np.inf), axis=1)
+    mid = 0.5 * (x[:, 0:-1:2] + x[:, 1::2])  # between crossings 1-2, 3-4, ...
+    yy = np.broadcast_to(y[:, None], mid.shape)
+    ok = np.isfinite(mid)
+    return np.stack([mid[ok], yy[ok]], axis=1)
 
 
 def _crossings(points, poly):

@@ -33,6 +33,8 @@ def untangle(loops, eps, max_rounds=64):
             return out
         li, i, s, j, u, x = hit
         lobe, rest = _split(out[li], i, s, j, u, x, 1e-6 * eps)
+        if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
+            lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
         keep = [rest]
         if lobe and _keep_lobe(lobe, rest, eps):
             keep.append(lobe)
