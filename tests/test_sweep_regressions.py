@@ -141,19 +141,20 @@ OPEN = {
 }
 
 
-def _params():
+def _params(cases, still_open, slow):
+    """pytest params of (case, found) pairs: strict xfail where still open, slow marks."""
     out = []
-    for spec, found in SWEEP_REGRESSIONS:
+    for case, _found in cases:
         marks = []
-        if spec in OPEN:
-            marks.append(pytest.mark.xfail(strict=True, reason="open: " + OPEN[spec]))
-        if spec in SLOW:
+        if case in still_open:
+            marks.append(pytest.mark.xfail(strict=True, reason="open: " + still_open[case]))
+        if case in slow:
             marks.append(pytest.mark.slow)
-        out.append(pytest.param(spec, marks=marks, id=spec))
+        out.append(pytest.param(case, marks=marks, id=case))
     return out
 
 
-@pytest.mark.parametrize("spec", _params())
+@pytest.mark.parametrize("spec", _params(SWEEP_REGRESSIONS, OPEN, SLOW))
 def test_sweep_case(spec):
     from bench.sweep import parse_case, relief_font, run_case
 
@@ -202,19 +203,7 @@ ICON_SLOW = set()
 ICON_OPEN = {}
 
 
-def _icon_params():
-    out = []
-    for name, _found in ICON_REGRESSIONS:
-        marks = []
-        if name in ICON_OPEN:
-            marks.append(pytest.mark.xfail(strict=True, reason="open: " + ICON_OPEN[name]))
-        if name in ICON_SLOW:
-            marks.append(pytest.mark.slow)
-        out.append(pytest.param(name, marks=marks, id=name))
-    return out
-
-
-@pytest.mark.parametrize("name", _icon_params())
+@pytest.mark.parametrize("name", _params(ICON_REGRESSIONS, ICON_OPEN, ICON_SLOW))
 def test_icon_case(name):
     from pathlib import Path
 
