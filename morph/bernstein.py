@@ -180,16 +180,7 @@ def roots_many(c, eps=1e-13):
     k, n1 = c.shape
     if k == 0 or n1 < 2:
         return np.zeros(0, np.intp), np.zeros(0)
-    scale = np.abs(c).max(axis=1)
-    live = scale > 0
-    c = c[live] / scale[live, None]
-    owner = np.nonzero(live)[0]
-    c = c.copy()
-    c[:, 0] = np.where(np.abs(c[:, 0]) <= eps, 0.0, c[:, 0])
-    c[:, -1] = np.where(np.abs(c[:, -1]) <= eps, 0.0, c[:, -1])
-    out_o = [owner[c[:, 0] == 0.0], owner[c[:, -1] == 0.0]]
-    out_t = [np.zeros(np.count_nonzero(c[:, 0] == 0.0)),
-             np.ones(np.count_nonzero(c[:, -1] == 0.0))]
+    c, owner, out_o, out_t = _normalised_with_end_roots(c, eps)
     a = np.zeros(len(c))
     w = 1.0
     lmat, rmat = _half_matrices(n1 - 1)
@@ -220,13 +211,32 @@ def roots_many(c, eps=1e-13):
         c = np.concatenate([left, right])
         owner = np.concatenate([owner, owner])
         a = np.concatenate([a, a + w])
+    return _sorted_merged(out_o, out_t, 10 * eps)
+
+
+def _normalised_with_end_roots(c, eps):
+    """:func:`roots_many`'s start: rows scaled to max |c_i| = 1 (zero rows dropped),
+    end coefficients below eps set to zero; (rows, their owners, and the owners and
+    parameters of the end roots as lists of arrays)."""
+    scale = np.abs(c).max(axis=1)
+    live = scale > 0
+    c = c[live] / scale[live, None]
+    owner = np.nonzero(live)[0]
+    c[:, 0] = np.where(np.abs(c[:, 0]) <= eps, 0.0, c[:, 0])
+    c[:, -1] = np.where(np.abs(c[:, -1]) <= eps, 0.0, c[:, -1])
+    at0, at1 = c[:, 0] == 0.0, c[:, -1] == 0.0
+    return c, owner, [owner[at0], owner[at1]], [np.zeros(at0.sum()), np.ones(at1.sum())]
+
+
+def _sorted_merged(out_o, out_t, gap):
+    """Roots (owner, t) sorted by (owner, t), those of one owner closer than gap merged."""
     owner = np.concatenate(out_o).astype(np.intp)
     t = np.clip(np.concatenate(out_t), 0.0, 1.0)
     order = np.lexsort((t, owner))
     owner, t = owner[order], t[order]
     if len(t) > 1:
         keep = np.ones(len(t), bool)
-        keep[1:] = (owner[1:] != owner[:-1]) | (np.diff(t) > eps * 10)
+        keep[1:] = (owner[1:] != owner[:-1]) | (np.diff(t) > gap)
         owner, t = owner[keep], t[keep]
     return owner, t
 
