@@ -317,6 +317,7 @@ def reduce_case(region, op, s, timeout, log=print):
     failure stays.  Returns (region, record of the last failing run)."""
     from morph import piece as pc
     from morph.region import orient_region, region_bbox
+    from morph.trim import fill_region
 
     base = run_case(region, op, s, timeout)
     kind = failure_kind(base)
@@ -327,7 +328,7 @@ def reduce_case(region, op, s, timeout, log=print):
     while i < len(region) and len(region) > 1:
         trial = region[:i] + region[i + 1:]
         try:
-            trial = orient_region(trial)
+            trial = orient_region(trial, on_crossing=fill_region)
         except Exception:
             i += 1
             continue

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
+from .trim.crossing import polylines_cross
 
 __all__ = [
     "Region",
@@ -162,7 +163,7 @@ def _sample_candidates(loop, max_candidates=32):
 
 # ------------------------------------------------------------------ orientation
 
-def orient_region(loops, fill_rule="nonzero"):
+def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     """Normalise loops to a region: outer loops counter-clockwise, holes clockwise.
 
     Input loops may have any orientation (TrueType outer contours are clockwise,
@@ -188,9 +189,11 @@ def orient_region(loops, fill_rule="nonzero"):
       and a hole otherwise.
 
     Loops that cross or touch themselves or each other (overlapping font contours,
-    self-intersecting SVG paths) are cut at their intersections and filled by the
-    rule instead (:func:`morph.trim.fill_region`).  Returns a new list of loops.
-    Raises ValueError for an unknown fill rule.
+    self-intersecting SVG paths) are handed to ``on_crossing(loops, fill_rule)``,
+    which cuts them at their intersections and fills them by the rule (the parsers
+    pass :func:`morph.trim.fill_region`; this module does not depend on the
+    trimming engine).  Returns a new list of loops.  Raises ValueError for an
+    unknown fill rule, and for crossing loops when ``on_crossing`` is None.
     """
     if fill_rule not in FILL_RULES:
         raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
@@ -203,9 +206,10 @@ def orient_region(loops, fill_rule="nonzero"):
     if not cleaned:
         return []
     if _loops_cross(cleaned, scale):
-        from .trim import fill_region
-
-        return fill_region(cleaned, fill_rule)
+        if on_crossing is None:
+            raise ValueError("the loops cross or touch: they need a fill "
+                             "(on_crossing=morph.trim.fill_region)")
+        return on_crossing(cleaned, fill_rule)
     if len(cleaned) == 1:
         return [cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])]
     windings = _outside_windings(cleaned, scale)
@@ -299,8 +303,6 @@ def _on_loop(loop, other, eps):
 
 def _loops_cross(loops, scale):
     """True if the loops' polylines (within 1e-5 of the size) cross properly."""
-    from .trim import polylines_cross
-
     return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
 
 
@@ -417,13 +419,14 @@ def transform_region(loops, matrix):
 class Region:
     """A thin wrapper of a region (list of oriented loops); functions do the work.
 
-    ``Region(loops, orient=True, fill_rule="nonzero")`` orients the loops with
-    :func:`orient_region` unless ``orient=False`` (loops already oriented).
+    ``Region(loops, orient=True, fill_rule="nonzero", on_crossing=None)`` orients the
+    loops with :func:`orient_region` unless ``orient=False`` (loops already oriented).
     """
 
-    def __init__(self, loops, orient=True, fill_rule="nonzero"):
+    def __init__(self, loops, orient=True, fill_rule="nonzero", on_crossing=None):
         loops = loops.loops if isinstance(loops, Region) else loops
-        self.loops = orient_region(loops, fill_rule) if orient else [list(l) for l in loops]
+        self.loops = (orient_region(loops, fill_rule, on_crossing) if orient
+                      else [list(l) for l in loops])
 
     @property
     def area(self):

@@ -133,8 +133,10 @@ def test_fill_region_overlapping_squares():
     assert len(union) == 1 and abs(pc.region_area(union) - 175.0) < 1e-9
     xor = fill_region(loops, "evenodd")
     assert abs(pc.region_area(xor) - 150.0) < 1e-9
-    # orient_region routes crossing loops to fill_region
-    assert abs(pc.region_area(orient_region(loops, "nonzero")) - 175.0) < 1e-9
+    # orient_region routes crossing loops to on_crossing, and refuses them without it
+    assert abs(pc.region_area(orient_region(loops, "nonzero", fill_region)) - 175.0) < 1e-9
+    with pytest.raises(ValueError, match="cross"):
+        orient_region(loops, "nonzero")
 
 
 def test_fill_region_figure_eight_and_opposite_squares():

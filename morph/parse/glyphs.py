@@ -21,6 +21,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import ParseError, one_line
 from ..region import is_zero_length, orient_region
+from ..trim import fill_region
 from .pens import RawContour, closing_line, record_contours
 from .shape import Shape
 
@@ -248,7 +249,7 @@ def read_glyph(font, name, source=None):
         raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, one_line(exc)),
                          source) from exc
     loops = [loop for loop in (_filled_loop(c, where) for c in contours) if loop]
-    loops = orient_region(loops, "nonzero")
+    loops = orient_region(loops, "nonzero", on_crossing=fill_region)
     if not loops:
         raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
     advance, lsb = font["hmtx"][name]

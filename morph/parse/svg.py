@@ -42,6 +42,7 @@ import numpy as np
 from .. import piece as pc
 from ..errors import ParseError, one_line
 from ..region import is_zero_length, orient_region
+from ..trim import fill_region
 
 __all__ = [
     "SvgElement",
@@ -648,11 +649,12 @@ def svg_region(source, fill_rule=None, close_tol=None):
         size = _element_size(e.subpaths)
         tol = close_tol if close_tol is not None else 1e-9 * (size if size > 0 else 1.0)
         loops = [_close(pieces, tol) for pieces, _ in e.subpaths]
-        oriented = orient_region(loops, fill_rule or e.fill_rule)
+        oriented = orient_region(loops, fill_rule or e.fill_rule, on_crossing=fill_region)
         if oriented:
             parts.append(oriented)
     if len(parts) > 1:
-        loops = orient_region([loop for part in parts for loop in part], "nonzero")
+        loops = orient_region([loop for part in parts for loop in part], "nonzero",
+                              on_crossing=fill_region)
     else:
         loops = parts[0] if parts else []
     if not loops:
