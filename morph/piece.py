@@ -634,12 +634,39 @@ def _flat_params(stack, tol, min_width):
         steps = np.ceil(np.sqrt(dist / tol))
         steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
         steps = steps.astype(np.int64)
+        order = np.argsort(steps, kind="stable")
+        parts, owner, t0, width, steps = (x[order] for x in (parts, owner, t0, width, steps))
         rep = np.repeat(np.arange(len(parts)), steps)
         j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
-        a, b = j / steps[rep], (j + 1) / steps[rep]
-        parts = bz.subsegment_many(parts[rep], a, b)
-        owner, t0, width = owner[rep], t0[rep] + a * width[rep], width[rep] / steps[rep]
+        parts = _equal_parts(parts, steps)
+        owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
     return np.concatenate(done_owner), np.concatenate(done_t)
+
+
+def _equal_parts(parts, steps):
+    """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
+    parameter steps, in order: one matrix product per distinct step count."""
+    n = parts.shape[1] - 1
+    if not len(parts):
+        return parts
+    out = []
+    bounds = np.flatnonzero(np.diff(steps)) + 1
+    for lo, hi in zip(np.r_[0, bounds], np.r_[bounds, len(steps)]):
+        mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
+        cut = np.einsum("kij,mjc->mkic", mats, parts[lo:hi])
+        out.append(cut.reshape(-1, n + 1, parts.shape[2]))
+    return np.concatenate(out)
+
+
+@functools.lru_cache(maxsize=256)
+def _equal_split_matrices(n, k):
+    """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
+    eye = np.eye(n + 1)
+    t = np.arange(k + 1) / k
+    cols = bz.subsegment_many(np.repeat(eye[None], k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
+                              np.repeat(t[:-1], n + 1), np.repeat(t[1:], n + 1))
+    # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
+    return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
 
 
 def _chord_distance(parts):
