@@ -112,11 +112,13 @@ def _close(out, ends, contract):
     again while snapping leaves a run that short (or of no length at all: both
     ends on one junction)."""
     while True:
-        keep = [j for j in range(len(out)) if pc.length_bound(out[j]) >= contract]
+        lengths = pc.length_bounds(out) if out else np.zeros(0)
+        keep = [j for j in range(len(out)) if lengths[j] >= contract]
         snapped = [pc.with_endpoints(out[j], ends[keep[i - 1]], ends[j])
                    for i, j in enumerate(keep)]
-        short = [pc.length_bound(p) < contract or pc.length_bound(p) == 0.0 for p in snapped]
-        if not any(short):
+        after = pc.length_bounds(snapped) if snapped else np.zeros(0)
+        short = (after < contract) | (after == 0.0)
+        if not short.any():
             return snapped
         out = [p for p, s in zip(snapped, short) if not s]
         ends = [ends[j] for j, s in zip(keep, short) if not s]
