@@ -67,7 +67,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
         rings = fill_holes(rings, filled)
     out = lift_rings([r.q for r in rings], tg, contract)
     if untangle:
-        out = untangle_loops(out, eps)
+        out = untangle_loops(out, eps, hole_test=hole_test)
     return out
 
 

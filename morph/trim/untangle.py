@@ -20,10 +20,12 @@ from .crossing import (JOINED, PAIRS, SELF, _crossings, _flatten_all, _segment_p
 from .lift import newton_crossings
 
 
-def untangle(loops, eps, max_rounds=64):
+def untangle(loops, eps, max_rounds=64, hole_test=None):
     """Loops with their self-crossings resolved (see the module docstring).
 
-    eps: the polylines' bound used to find crossings (absolute)."""
+    eps: the polylines' bound used to find crossings (absolute); hole_test: as for
+    :func:`morph.trim.boundary`, decides a lobe that would be a hole of the rest
+    (None: winding numbers decide)."""
     out = [list(loop) for loop in loops]
     for _ in range(max_rounds):
         folded = _may_fold(out)
@@ -36,7 +38,7 @@ def untangle(loops, eps, max_rounds=64):
         if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
             lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
         keep = [rest]
-        if lobe and _keep_lobe(lobe, rest, eps):
+        if lobe and _keep_lobe(lobe, rest, eps, hole_test):
             keep.append(lobe)
         out[li:li + 1] = [k for k in keep if k]
     return out
@@ -222,14 +224,24 @@ def _snap(loop, min_len):
         loop = out
 
 
-def _keep_lobe(lobe, rest, eps):
-    """A lobe is kept when it has the rest's orientation and lies outside it."""
+def _keep_lobe(lobe, rest, eps, hole_test=None):
+    """Is a lobe cut off the rest a boundary of the filled set?  Beside the rest with
+    the same orientation, it is a part of its own; nested in the rest with the
+    opposite one, it bounds a hole (winding 0: two parts of the rest touching within
+    eps around it), which ``hole_test`` may find filled.  A lobe of the opposite
+    orientation beside the rest (a twist) or nested with the same one (a curl)
+    bounds nothing; nor does one of area below eps^2."""
     a_lobe, a_rest = pc.loop_area(lobe), pc.loop_area(rest)
-    if np.sign(a_lobe) != np.sign(a_rest) or abs(a_lobe) <= eps * eps:
+    if abs(a_lobe) <= eps * eps:
         return False
     probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)
     poly = pc.flatten_loop(rest, eps / 10)
-    return _winding(probe[0], poly) == 0
+    nested = _winding(probe[0], poly) != 0
+    if np.sign(a_lobe) == np.sign(a_rest):
+        return not nested
+    if not nested:
+        return False
+    return hole_test is None or not hole_test(pc.flatten_loop(lobe, eps / 10), [])
 
 
 def _winding(x, poly):
