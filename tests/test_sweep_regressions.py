@@ -189,7 +189,7 @@ ICON_REGRESSIONS = [
     ("mdi-shower-head-offset",
      "offset of three dots (radius 1, two touching after the offset): the curved "
      "triangle hole between them is lost"),
-    # full run at 0c2a1b8-ish (2026-11-24 00:55): two offset dots touching exactly, the
+    # full run at ee9e75a (2026-11-24 00:55): two offset dots touching exactly, the
     # hole between them and a third pinched off within eps: untangle dropped it as a twist
     ("mdi-shower-head-offset-touching",
      "offset of three dots (two offsets touching at one point): the pinched hole is lost"),
