@@ -176,12 +176,12 @@ def main(argv=None):
              "## Scaling of `minkowski_sum` (issue #14; `python -m bench.scaling`)", "",
              "Measured %s at commit %s; in-process seconds, best of %d calls (each in a "
              "fresh forked process), tol %g; load average %.1f on the 2-core machine while "
-             "measuring (other sessions were running), so wall times are upper bounds; CPU "
+             "measuring (other jobs were running), so wall times are upper bounds; CPU "
              "is the process's own time.  Circles: unit circles on a grid of pitch 3 ⊕ disk "
              "r = 0.25; path: r(θ) = 1 + 0.15 sin 50θ as cubic Hermite segments ⊕ disk "
-             "r = 0.02.  The convolution stage is being vectorised (another change in "
-             "progress), the column shows its share.  MORPH_POINT_BUDGET=%d (with the "
-             "default budget, 200000 points, 1000 circles at tol 1e-4 raise LimitError)."
+             "r = 0.02.  The convolution column shows that stage's share; the rest is "
+             "trimming.  MORPH_POINT_BUDGET=%d (the default budget, 50000 points, refuses "
+             "300 and more circles at tol 1e-4 with a LimitError)."
              % (time.strftime("%Y-%m-%d %H:%M"), _commit(), opt.repeat, TOL, load,
                 opt.point_budget), "",
              "| case | minkowski_sum wall s | CPU s | convolution stage alone, wall s | "
