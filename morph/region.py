@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .trim.crossing import polylines_cross
+from .polyline import polylines_cross
 
 __all__ = [
     "Region",

@@ -30,7 +30,7 @@ themselves or each other at single points.
 
 import numpy as np
 
-from .crossing import polylines_cross
+from ..polyline import polylines_cross
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings

@@ -1,72 +1,12 @@
-"""A cheap crossing test on polylines, for deciding whether loops need filling.
-
-Segments are bucketed on a grid (hashing their bounding boxes) and candidate pairs
-tested with orientation predicates, all vectorised.
+"""Which pieces of the lifted loops may cross, and where: monotone chains certify
+the pairs that cannot (tangent cones), subdivision finds the crossings of the rest.
 """
 
 import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-
-
-def _flatten_all(pieces, tol):
-    """Segments of all pieces: arrays p0 (N,2), p1 (N,2), piece id, t0, t1."""
-    p0s, p1s, ids, t0s, t1s = [], [], [], [], []
-    for k, (pts, ts) in enumerate(pc.flatten_many(pieces, tol)):
-        if len(pts) < 2:
-            continue
-        p0s.append(pts[:-1])
-        p1s.append(pts[1:])
-        ids.append(np.full(len(pts) - 1, k))
-        t0s.append(ts[:-1])
-        t1s.append(ts[1:])
-    return (np.concatenate(p0s), np.concatenate(p1s), np.concatenate(ids),
-            np.concatenate(t0s), np.concatenate(t1s))
-
-
-def _segment_pairs(p0, p1, ids, same_piece_ok):
-    """Index pairs (i < j) of segments whose bounding boxes overlap (grid hashing)."""
-    lo = np.minimum(p0, p1)
-    hi = np.maximum(p0, p1)
-    n = len(p0)
-    span = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-300)
-    lengths = np.maximum(hi - lo, 0).max(axis=1)
-    # cells about as large as the typical segment (few segments per cell), grown
-    # while long segments would cover more than 8 cells per segment on average
-    cell = max(float(np.median(lengths)) * 2.0, span.max() * 1e-9)
-    origin = lo.min(axis=0)
-    while True:
-        c0 = np.floor((lo - origin) / cell).astype(np.int64)
-        c1 = np.floor((hi - origin) / cell).astype(np.int64)
-        nx = c1[:, 0] - c0[:, 0] + 1
-        ny = c1[:, 1] - c0[:, 1] + 1
-        counts = nx * ny
-        if counts.sum() <= 8 * n + 64:
-            break
-        cell *= 2.0
-    seg = np.repeat(np.arange(n), counts)
-    # enumerate cells covered by each segment's box
-    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    cx = c0[seg, 0] + offs % nx[seg]
-    cy = c0[seg, 1] + offs // nx[seg]
-    key = cx * 1_000_003 + cy
-    order = np.argsort(key, kind="stable")
-    key, seg = key[order], seg[order]
-    # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
-    bounds = np.flatnonzero(np.diff(key)) + 1
-    ends = np.repeat(np.concatenate([bounds, [len(key)]]),
-                     np.diff(np.concatenate([[0], bounds, [len(key)]])))
-    cnt = ends - np.arange(len(key)) - 1
-    if cnt.sum() == 0:
-        return np.zeros((0, 2), np.int64)
-    first = np.repeat(np.arange(len(key)), cnt)
-    second = first + 1 + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    pairs = np.sort(np.stack([seg[first], seg[second]], axis=1), axis=1)
-    pairs = np.unique(pairs, axis=0)
-    i, j = pairs[:, 0], pairs[:, 1]
-    keep = np.all(lo[i] <= hi[j] + 1e-12 * span.max(), axis=1) & np.all(lo[j] <= hi[i] + 1e-12 * span.max(), axis=1)
-    return pairs[keep]
+from ..polyline import segment_pairs
 
 
 def uncertain_pairs(loops):
@@ -111,7 +51,7 @@ def _box_pairs(pieces, owner):
     included)."""
     boxes = np.array([pc.bbox(p) for p in pieces])
     n = len(pieces)
-    pairs = _segment_pairs(boxes[:, :2], boxes[:, 2:], np.arange(n), True) if n > 1 \
+    pairs = segment_pairs(boxes[:, :2], boxes[:, 2:], np.arange(n), True) if n > 1 \
         else np.zeros((0, 2), np.int64)
     pairs = pairs[owner[pairs[:, 0]] == owner[pairs[:, 1]]]
     i = np.concatenate([np.arange(n), pairs[:, 0]])
@@ -136,35 +76,6 @@ def _range_span(lo, hi, a, b):
         mx = np.maximum(highs[level][a[s]], highs[level][b[s] - w + 1])
         out[s] = mx - mn
     return out
-
-
-def _crossings(p0, p1, pairs):
-    """Proper or touching crossings of segment pairs: (pair index, u, v) parameters."""
-    i, j = pairs[:, 0], pairs[:, 1]
-    r = p1[i] - p0[i]
-    s = p1[j] - p0[j]
-    qp = p0[j] - p0[i]
-    den = pc.cross2(r, s)
-    ok = np.abs(den) > 1e-300
-    den_safe = np.where(ok, den, 1.0)
-    u = pc.cross2(qp, s) / den_safe
-    v = pc.cross2(qp, r) / den_safe
-    eps = 1e-9
-    hit = ok & (u >= -eps) & (u <= 1 + eps) & (v >= -eps) & (v <= 1 + eps)
-    return np.flatnonzero(hit), np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
-
-
-def polylines_cross(pieces, tol):
-    """True if the pieces' polylines (within tol) cross at interior points of both
-    segments: a cheap test for pieces that cross each other or themselves."""
-    if not pieces:
-        return False
-    p0, p1, ids, _, _ = _flatten_all(pieces, tol)
-    pairs = _segment_pairs(p0, p1, ids, True)
-    if not len(pairs):
-        return False
-    k, u, v = _crossings(p0, p1, pairs)
-    return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
 
 
 PAIRS, JOINED, SELF = 0, 1, 2  # kinds of subdivision items (see subdivided_crossings)

@@ -15,8 +15,8 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from .crossing import (JOINED, PAIRS, SELF, _crossings, _flatten_all, _segment_pairs,
-                       subdivided_crossings, uncertain_pairs)
+from ..polyline import flatten_segments, segment_crossings, segment_pairs
+from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import newton_crossings
 
 
@@ -109,16 +109,16 @@ def _polyline_crossings(pieces, suspects, flat):
     """Crossings of the suspect pairs' polylines within ``flat``: (piece a, piece b,
     t on a, u on b, point), away from shared polyline vertices."""
     used = np.unique(suspects)
-    p0, p1, ids, t0, t1 = _flatten_all([pieces[k] for k in used], flat)
+    p0, p1, ids, t0, t1 = flatten_segments([pieces[k] for k in used], flat)
     ids = used[ids]
-    pairs = _segment_pairs(p0, p1, ids, True)
+    pairs = segment_pairs(p0, p1, ids, True)
     if len(pairs):
         key = np.sort(ids[pairs], axis=1) @ np.array([len(pieces), 1])
         pairs = pairs[np.isin(key, suspects @ np.array([len(pieces), 1]))]
     if not len(pairs):
         empty = np.zeros(0, int)
         return empty, empty, np.zeros(0), np.zeros(0), np.zeros((0, 2))
-    k, u, v = _crossings(p0, p1, pairs)
+    k, u, v = segment_crossings(p0, p1, pairs)
     a, b = pairs[k, 0], pairs[k, 1]
     sel = ~(((u <= 1e-9) | (u >= 1 - 1e-9)) & ((v <= 1e-9) | (v >= 1 - 1e-9)))
     a, b, u, v = a[sel], b[sel], u[sel], v[sel]
