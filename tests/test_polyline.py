@@ -1,0 +1,60 @@
+"""morph.polyline against shapely: segment pairs, crossings, and the loop crossing test."""
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString
+
+from morph import piece as pc
+from morph.polyline import flatten_segments, polylines_cross, segment_crossings, segment_pairs
+
+
+def _random_segments(rng, n):
+    p0 = rng.uniform(0, 10, (n, 2))
+    p1 = p0 + rng.normal(0, 1.5, (n, 2))
+    return p0, p1
+
+
+def test_segment_pairs_hold_every_intersecting_pair():
+    """Every pair of segments that shapely finds intersecting is among the box pairs."""
+    rng = np.random.default_rng(3)
+    p0, p1 = _random_segments(rng, 300)
+    pairs = {tuple(p) for p in segment_pairs(p0, p1, np.arange(len(p0)), True)}
+    lines = [LineString([a, b]) for a, b in zip(p0, p1)]
+    tree = shapely.STRtree(lines)
+    left, right = tree.query(lines, predicate="intersects")
+    truth = {(int(i), int(j)) for i, j in zip(left, right) if i < j}
+    assert truth and truth <= pairs
+
+
+def test_segment_crossings_points_agree_with_shapely():
+    rng = np.random.default_rng(4)
+    p0, p1 = _random_segments(rng, 200)
+    pairs = segment_pairs(p0, p1, np.arange(len(p0)), True)
+    k, u, v = segment_crossings(p0, p1, pairs)
+    i, j = pairs[k, 0], pairs[k, 1]
+    x = p0[i] + u[:, None] * (p1[i] - p0[i])
+    y = p0[j] + v[:, None] * (p1[j] - p0[j])
+    assert len(k) > 20
+    assert np.abs(x - y).max() < 1e-9
+    for a, b, pt in zip(i[:50], j[:50], x[:50]):
+        inter = LineString([p0[a], p1[a]]).intersection(LineString([p0[b], p1[b]]))
+        assert inter.distance(shapely.Point(pt)) < 1e-9
+
+
+def test_flatten_segments_cover_the_pieces():
+    loop = pc.circle((1.0, 2.0), 3.0)
+    p0, p1, ids, t0, t1 = flatten_segments(loop, 1e-3)
+    assert set(ids) == {0, 1, 2, 3}
+    mid = 0.5 * (p0 + p1)
+    # chords of a circle lie inside it, within the flattening tolerance
+    r = np.hypot(mid[:, 0] - 1.0, mid[:, 1] - 2.0)
+    assert (r <= 3.0 + 1e-12).all() and (r >= 3.0 - 1e-3).all()
+    assert np.all(t1 > t0)
+
+
+def test_polylines_cross_figure_eight_and_disjoint_circles():
+    eight = [pc.line((0, 0), (2, 2)), pc.line((2, 2), (2, 0)), pc.line((2, 0), (0, 2)),
+             pc.line((0, 2), (0, 0))]
+    assert polylines_cross(eight, 1e-6)
+    assert not polylines_cross(pc.circle((0, 0), 1.0) + pc.circle((5, 0), 1.0), 1e-6)
+    assert polylines_cross(pc.circle((0, 0), 1.0) + pc.circle((1.5, 0), 1.0), 1e-6)
