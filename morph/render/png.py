@@ -125,7 +125,7 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
             layers.append((st, (np.asarray(img) > 127).view(np.uint8)))
         for color, mask in layers:
             # box filter: the share of covered samples (integer sums of 0/1 samples)
-            hits = mask.reshape(height, k, width, k).sum(axis=(1, 3), dtype=np.uint16)
+            hits = _box_sum(mask, k)
             alpha = (hits * np.float32(color[3] / 255.0 / (k * k)))[..., None]
             src = np.array(color[:3], np.float32) / np.float32(255.0)
             # "over" compositing with straight alpha
@@ -136,6 +136,18 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
     data = np.clip(np.round(canvas * 255.0), 0, 255).astype(np.uint8)
     image = Image.fromarray(data, "RGBA")
     return image if background is None else image.convert("RGB")
+
+
+def _box_sum(mask, k):
+    """Sums of k x k blocks of a 0/1 uint8 mask (strided adds: an order of magnitude
+    faster than a reduction over reshaped axes)."""
+    rows = mask[0::k].astype(np.uint16)
+    for i in range(1, k):
+        rows += mask[i::k]
+    out = rows[:, 0::k].copy()
+    for j in range(1, k):
+        out += rows[:, j::k]
+    return out
 
 
 def write_png(path, shapes, **kwargs):
