@@ -859,6 +859,23 @@ def case_inputs(spec):
     raise ValueError(spec)
 
 
+def _timed_sum(res, fn, a, b, tol):
+    """fn(a, b, tol) timed into res (time_sum, pieces); None, with the exception
+    recorded as a failure, when it raises (every exception is a finding)."""
+    t0 = time.perf_counter()
+    try:
+        loops = fn(a, b, tol)
+    except Exception as exc:  # noqa: BLE001 - every exception is a finding
+        res["time_sum"] = time.perf_counter() - t0
+        res["fail"].append("exception %s: %s" % (type(exc).__name__,
+                                                  " ".join(str(exc).split())[:300]))
+        res["trace"] = traceback.format_exc()
+        return None
+    res["time_sum"] = time.perf_counter() - t0
+    res["pieces"] = sum(len(l) for l in loops)
+    return loops
+
+
 def run_case(spec, seed=0):
     """Run and check one case; returns a dict (``fail``: list of strings, empty when
     the case passes; measures: err/tol, times ...)."""
@@ -880,17 +897,10 @@ def run_case(spec, seed=0):
     a, nib_region, tol = case_inputs(spec)
     rx, ry, theta = _nib_region(c)[1]
     res["tol"] = tol
-    t0 = time.perf_counter()
-    try:
-        loops = (minkowski_sum if c["kind"] == "nib" else stroke_paths)(a, nib_region, tol)
-    except Exception as exc:  # noqa: BLE001 - every exception is a finding
-        res["time_sum"] = time.perf_counter() - t0
-        res["fail"].append("exception %s: %s" % (type(exc).__name__,
-                                                  " ".join(str(exc).split())[:300]))
-        res["trace"] = traceback.format_exc()
+    loops = _timed_sum(res, minkowski_sum if c["kind"] == "nib" else stroke_paths,
+                       a, nib_region, tol)
+    if loops is None:
         return res
-    res["time_sum"] = time.perf_counter() - t0
-    res["pieces"] = sum(len(l) for l in loops)
     res["loops"] = len(loops)
     t1 = time.perf_counter()
     f = ORACLE_SHARE * tol
@@ -992,17 +1002,9 @@ def _run_font_pair(spec, c, seed):
     a, b = glyph(c["font"], c["a"]), glyph(c["font"], c["b"])
     tol = c["tol"] * UPM
     res["tol"] = tol
-    t0 = time.perf_counter()
-    try:
-        loops = minkowski_sum(a, b, tol)
-    except Exception as exc:  # noqa: BLE001 - every exception is a finding
-        res["time_sum"] = time.perf_counter() - t0
-        res["fail"].append("exception %s: %s" % (type(exc).__name__,
-                                                  " ".join(str(exc).split())[:300]))
-        res["trace"] = traceback.format_exc()
+    loops = _timed_sum(res, minkowski_sum, a, b, tol)
+    if loops is None:
         return res
-    res["time_sum"] = time.perf_counter() - t0
-    res["pieces"] = sum(len(l) for l in loops)
     t1 = time.perf_counter()
     f = ORACLE_SHARE * tol
     oracle = PairOracle(raw_glyph_polygon(c["font"], c["a"], f),
