@@ -417,7 +417,7 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method):
             for p, piece, kind, bound in res]
 
 
-def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
+def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None):
     """Convolution pieces of two regions (lists of loops), Sec. 3.3.
 
     Each returned piece P has max distance to the exact convolution curve <= tol
@@ -427,48 +427,42 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac"):
     loops (:func:`chain`); without it type-3 pieces (never on the boundary) are
     dropped early.  All edge pairs of all loop pairs are handled together (the
     pairs found with one array comparison, Algorithm 4.1 level by level on arrays),
-    in the order of the loops of A, then of B.
+    in the order of the loops of A, then of B.  ``gauss_pair`` (a :class:`GaussPair`)
+    gives the operands' Gauss maps and compatible pairs when they are known already
+    (frames of scaled copies, :func:`scaled_gauss_pair`).
     """
     if tol <= 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
-    ta = _EdgeTable(_gauss_maps(region_a))
-    tb = _EdgeTable(_gauss_maps(region_b))
-    cache = getattr(region_a, "pair_cache", None)
-    if cache is None or cache is not getattr(region_b, "pair_cache", None):
-        cache = None
-    if cache is not None:
-        key = (id(region_a.base), id(region_b.base))
-        table = cache.get(key)
-        if table is None:
-            table = cache[key] = _pair_table(ta, tb)
-    else:
-        table = _pair_table(ta, tb)
+    if gauss_pair is None:
+        gauss_pair = gauss_pair_of(region_a, region_b)
+    ta, tb = _EdgeTable(gauss_pair.maps_a), _EdgeTable(gauss_pair.maps_b)
+    table = gauss_pair.table if gauss_pair.table is not None else _pair_table(ta, tb)
     return _convolve_all(ta, tb, table, tol, keep_type3, method)
 
 
 # ------------------------------------------------- Gauss maps shared by scaled copies
 
-class GaussRegion(list):
-    """A region (list of loops) that carries its loops' Gauss maps.
+@dataclass
+class GaussPair:
+    """The Gauss maps of two operands (one list of edges per loop) and their table of
+    compatible pairs (None: not computed yet).  Tangent angles do not change under
+    scaling, so frames of scaled copies share one table (:func:`scaled_gauss_pair`)."""
 
-    Made by :func:`scaled_gauss_region`; :func:`convolution` uses ``gauss_maps``
-    instead of recomputing them, and ``compatible_pairs`` results from
-    ``pair_cache`` (a dict shared by the operands) keyed by the unscaled maps
-    ``base``.  Everything else sees a plain list of loops.
-    """
-
-    def __init__(self, loops, gauss_maps, base, pair_cache):
-        super().__init__(loops)
-        self.gauss_maps = gauss_maps
-        self.base = base
-        self.pair_cache = pair_cache
+    maps_a: list
+    maps_b: list
+    table: object = None
 
 
-def _gauss_maps(region):
-    maps = getattr(region, "gauss_maps", None)
-    if maps is not None:
-        return maps
-    return [gauss.gauss_map(loop) for loop in region]
+def gauss_pair_of(region_a, region_b):
+    """:class:`GaussPair` of two regions, the compatible pairs not computed yet."""
+    return GaussPair([gauss.gauss_map(loop) for loop in region_a],
+                     [gauss.gauss_map(loop) for loop in region_b])
+
+
+def with_pair_table(pair):
+    """The :class:`GaussPair` with its table of compatible pairs computed."""
+    table = _pair_table(_EdgeTable(pair.maps_a), _EdgeTable(pair.maps_b))
+    return GaussPair(pair.maps_a, pair.maps_b, table)
 
 
 def scale_edges(edges, factor):
@@ -481,17 +475,13 @@ def scale_edges(edges, factor):
                        factor * np.asarray(e.point, float), e.theta, e.sweep) for e in edges]
 
 
-def scaled_gauss_region(loops, base, factor, pair_cache):
-    """``loops`` (already scaled by ``factor``) as a :class:`GaussRegion` whose Gauss
-    maps are ``base`` (the unscaled loops' Gauss maps, computed once) scaled.
-
-    Tangent angles do not change under scaling, so the Gauss maps and the
-    compatible pairs of two such regions (``pair_cache``, a dict shared by both
-    operands across calls) are computed once for all scale factors; the pieces of
-    Algorithm 4.1, which depend on tol relative to the sizes, are not cached.
-    """
-    return GaussRegion(loops, [scale_edges(edges, factor) for edges in base], base,
-                       pair_cache)
+def scaled_gauss_pair(base, factor_a, factor_b):
+    """``base`` (a :class:`GaussPair` of unscaled operands, table computed) for the
+    operands scaled by factor_a and factor_b about the origin: positions scaled,
+    angles and the table of compatible pairs shared.  The pieces of Algorithm 4.1,
+    which depend on tol relative to the sizes, are not shared."""
+    return GaussPair([scale_edges(e, factor_a) for e in base.maps_a],
+                     [scale_edges(e, factor_b) for e in base.maps_b], base.table)
 
 
 def chain(pieces, tol):

@@ -9,7 +9,7 @@ one frame is one Minkowski sum of scaled copies.
 
 import numpy as np
 
-from . import convolve, gauss
+from . import convolve
 from .minkowski import minkowski_sum
 from .region import region_centroid, scale_region, translate_region
 
@@ -30,24 +30,13 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     frame index as it is done.  ``method`` is the convolution method (Sec. 4).
     With ``cache`` the Gauss maps of A and B and their compatible pairs, which do not
     depend on the scale factors, are computed once for all frames
-    (:func:`morph.convolve.scaled_gauss_region`).  Raises ValueError for n < 2.
+    (:func:`morph.convolve.scaled_gauss_pair`).  Raises ValueError for n < 2.
     """
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
     a = centered(region_a)
     b = centered(region_b)
-    if cache and n > 2:
-        ga = [gauss.gauss_map(loop) for loop in a]
-        gb = [gauss.gauss_map(loop) for loop in b]
-        pairs = {}
-
-        def operands(alpha):
-            return (convolve.scaled_gauss_region(scale_region(a, 1.0 - alpha), ga, 1.0 - alpha,
-                                                 pairs),
-                    convolve.scaled_gauss_region(scale_region(b, alpha), gb, alpha, pairs))
-    else:
-        def operands(alpha):
-            return scale_region(a, 1.0 - alpha), scale_region(b, alpha)
+    base = convolve.with_pair_table(convolve.gauss_pair_of(a, b)) if cache and n > 2 else None
     frames = []
     for k, alpha in enumerate(np.linspace(0.0, 1.0, n)):
         if alpha == 0.0:
@@ -55,7 +44,9 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
         elif alpha == 1.0:
             frames.append(b)
         else:
-            frames.append(minkowski_sum(*operands(alpha), tol, method=method))
+            pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
+            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
+                                        method=method, gauss_pair=pair))
         if progress is not None:
             progress(k)
     return frames

@@ -19,7 +19,7 @@ GRID_SHARE = 0.1
 CONTRACT_SHARE = 0.05
 
 
-def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
+def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gauss_pair=None):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Every output point lies within ``tol`` of the exact boundary of A ⊕ B (tol
@@ -39,12 +39,14 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False):
     (a sweep case: 1.7 tol at the tip of a hairline counter).  Normals are exact
     on QAC pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError (a ValueError) for a tolerance the operands
     cannot support (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
-    TopologyError if the convolution pieces do not close into loops.
+    TopologyError if the convolution pieces do not close into loops.  ``gauss_pair``:
+    the operands' Gauss maps when known already (:class:`morph.convolve.GaussPair`).
     """
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
-    conv = convolution(region_a, region_b, CONV_SHARE * tol, keep_type3=True, method=method)
+    conv = convolution(region_a, region_b, CONV_SHARE * tol, keep_type3=True, method=method,
+                       gauss_pair=gauss_pair)
     pieces = [c.piece for c in conv]
     # ends of consecutive pieces agree to rounding in most places, but where a
     # tangent angle is solved at high curvature they can be a few 1e-9 of the size

@@ -87,17 +87,17 @@ def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
     The convolution pieces are those of independent sums to rounding (1e-12 of the
     size); the trimmed frames agree to 1e-6 of the size: cutting at near-tangent
     crossings amplifies that rounding (a shift e becomes e / sin(angle))."""
-    from morph import convolve, gauss
+    from morph import convolve
     from morph.frames import centered, scale_region
     from morph.parse import cubic_test_font_path
     font = cubic_test_font_path() if cff else None
     ra, rb = centered(glyph_region(a, font).region), centered(glyph_region(b, font).region)
-    alpha, pairs = 0.4, {}
+    alpha = 0.4
     sa, sb = scale_region(ra, 1 - alpha), scale_region(rb, alpha)
-    ca = convolve.scaled_gauss_region(sa, [gauss.gauss_map(l) for l in ra], 1 - alpha, pairs)
-    cb = convolve.scaled_gauss_region(sb, [gauss.gauss_map(l) for l in rb], alpha, pairs)
+    base = convolve.with_pair_table(convolve.gauss_pair_of(ra, rb))
     plain_conv = convolve.convolution(sa, sb, 1.0)
-    cached_conv = convolve.convolution(ca, cb, 1.0)
+    cached_conv = convolve.convolution(sa, sb, 1.0,
+                                       gauss_pair=convolve.scaled_gauss_pair(base, 1 - alpha, alpha))
     pts = np.concatenate([pc.cartesian(c.piece) for c in plain_conv])
     size = float(np.ptp(pts, axis=0).max())
     assert len(plain_conv) == len(cached_conv)
