@@ -92,17 +92,7 @@ def _polygons_with_holes(loops, scale):
     pc.AddPaths([np.rint(l * scale).astype(np.int64).tolist() for l in loops],
                 pyclipper.PT_SUBJECT, True)
     tree = pc.Execute2(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
-    out = []
-
-    def walk(node):
-        for outer in node.Childs:
-            out.append((np.array(outer.Contour, float) / scale,
-                        [np.array(h.Contour, float) / scale for h in outer.Childs]))
-            for h in outer.Childs:
-                walk(h)
-
-    walk(tree)
-    return out
+    return rings_of(tree, scale)
 
 
 def _cross(o, a, b):
