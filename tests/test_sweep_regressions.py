@@ -85,6 +85,10 @@ SWEEP_REGRESSIONS = [
     # random mode, seed 2027, at commit ccb0b80 (100 jobs, this the one failure)
     ("nib/lobster/R/80x30/42.5/3.9/0.00025",
      "wedge tip: a QAC piece and a line meet at a 3 degree tip 0.9 tol inside the sum"),
+    # fonts mode, seed 8080, at commit 77868a7 (90 jobs, these the two failures)
+    ("pair/cormorant/W/b/0.0001", "wedge tip: pieces meeting at a 2.8 degree tip inside the sum"),
+    ("pair/amiri/uniFBA1/uni064A/0.0001",
+     "wedge tip: pieces meeting at a 0.8 degree tip inside the sum"),
     # fonts mode, seed 5150, at commit 3f6b019
     ("pair/cormorant/I/t/0.0001",
      "DegenerateCurveError: a fold cut at the long piece's very end left a zero-length piece"),
@@ -108,6 +112,8 @@ SWEEP_REGRESSIONS = [
 # cases whose check takes more than ~3 s on one core (loaded machine)
 SLOW = {
     "pair/cff/p/b/0.0001",
+    "pair/cormorant/W/b/0.0001",
+    "pair/amiri/uniFBA1/uni064A/0.0001",
     "pair/amiri/uniFB51/uniFDC3/0.0001",
     "pair/amiri/uniFCF1/uniFD95/0.0001",
     "pair/amiri/uniFCCE/uniFC22/0.0001",
@@ -142,6 +148,8 @@ OPEN = {
     "nib/lobster/R/80x30/42.5/3.9/0.00025":
         "wedge tip: the crossing slides along a 3 degree hairline counter "
         "(minkowski_sum's stated wedge limit)",
+    "pair/cormorant/W/b/0.0001": "wedge tip at 2.8 degrees (the stated wedge limit)",
+    "pair/amiri/uniFBA1/uni064A/0.0001": "wedge tip at 0.8 degrees (the stated wedge limit)",
     "nib/cormorant/A/80x30/134.3/76.7/0.074":
         "a hole of inradius 0.54 tol (wider than the documented 0.4 tol) is filled",
 }
