@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import polylines_cross
+from .polyline import polylines_cross, unique
 
 __all__ = [
     "Region",
@@ -158,7 +158,7 @@ def point_polyline_distance(points, polyline):
 def _sample_candidates(loop, max_candidates=32):
     """Points on the loop (piece mid-parameter points) used as nesting probes."""
     idx = np.linspace(0, len(loop) - 1, min(len(loop), max_candidates)).round().astype(int)
-    return np.concatenate([pc.evaluate(loop[i], 0.5) for i in np.unique(idx)])
+    return np.concatenate([pc.evaluate(loop[i], 0.5) for i in unique(idx)])
 
 
 # ------------------------------------------------------------------ orientation

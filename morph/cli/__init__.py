@@ -21,14 +21,17 @@ the command, exit 1.  ``MORPH_DEBUG=1`` shows the traceback of an internal failu
 and saves the loaded shapes to ``morph-debug-<command>.json`` in the working folder.
 """
 
-import json
 import os
 import sys
-import traceback
 
-import click
+# one BLAS thread, set before numpy loads: the commands multiply small matrices only,
+# and OpenBLAS starting its thread pool costs ~50 ms of CPU per process; a value
+# the user set is kept
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from .. import __version__
+import click  # noqa: E402
+
+from .. import __version__  # noqa: E402
 from ..errors import DegenerateCurveError, LimitError, NibError, ParseError
 from ..limits import memory_budget_bytes
 from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401 (re-exported)
@@ -79,6 +82,8 @@ def _limit_memory():
 def _save_debug(command, argv, exc):
     """Write the loaded shapes (loops of homogeneous control points), the arguments
     and the error to morph-debug-<command>.json in the working folder; its path."""
+    import json
+
     path = os.path.abspath("morph-debug-%s.json" % command)
     data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
             "shapes": [{"arg": s.source,
@@ -146,6 +151,8 @@ class MorphGroup(click.Group):
         except Exception as exc:  # internal failure (MorphError or not): one line
             where = ""
             if debug:
+                import traceback
+
                 traceback.print_exc()
                 where = "; inputs saved to %s" % _save_debug(command, argv, exc)
             _error_line("internal error in morph %s: %s: %s%s"

@@ -188,13 +188,15 @@ def resolve_output_dir(output, default_name, force):
 
 def write_image(path, shapes, size=512, tol=None, **style):
     """Write shapes to ``path`` as PNG or SVG by suffix (``tol`` in shape units)."""
-    from ..render import write_png, write_svg
-
     path = Path(path)
     try:
-        if path.suffix.lower() == ".svg":
+        if path.suffix.lower() == ".svg":  # Pillow is not loaded for SVG output
+            from ..render import write_svg
+
             write_svg(str(path), shapes, size=size, tol=tol, **style)
         else:
+            from ..render import write_png
+
             write_png(str(path), shapes, size=size, **style)
     except OSError as exc:
         raise click.FileError(str(path), hint=exc.strerror or str(exc)) from exc

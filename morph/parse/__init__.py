@@ -12,15 +12,27 @@ it as a :class:`Shape` (region, name, source, units per em, metrics);
 import os
 from pathlib import Path
 
-from ..region import region_bbox
-from . import glyphs, svg
+from . import glyphs
 from .glyphs import (cubic_test_font_path, default_font_path, glyph_name,  # noqa: F401
                      glyph_region, instantiate_font, load_font, parse_location, read_glyph)
 from .shape import Shape
-from .svg import (SvgElement, svg_elements, svg_paths, svg_region,  # noqa: F401
-                  validate_path_data)
 
-__all__ = ["Shape", "load_shape", "svg_shape"] + glyphs.__all__ + svg.__all__
+#: names of :mod:`.svg` (its ``__all__``), imported on first use (PEP 562): reading a
+#: glyph does not load the SVG reader and its XML parser
+_SVG_NAMES = ("SvgElement", "svg_elements", "svg_paths", "svg_region", "validate_path_data")
+
+__all__ = ["Shape", "load_shape", "svg_shape"] + glyphs.__all__ + list(_SVG_NAMES)
+
+
+def __getattr__(name):
+    if name in _SVG_NAMES or name == "svg":
+        import importlib
+
+        svg = importlib.import_module(".svg", __name__)
+        value = svg if name == "svg" else getattr(svg, name)
+        globals()[name] = value
+        return value
+    raise AttributeError("module 'morph.parse' has no attribute %r" % (name,))
 
 
 def svg_shape(source, fill_rule=None):
@@ -31,7 +43,10 @@ def svg_shape(source, fill_rule=None):
     Raises:
         ParseError: as :func:`svg_region`.
     """
-    region = svg_region(source, fill_rule)
+    from ..region import region_bbox
+    from . import svg
+
+    region = svg.svg_region(source, fill_rule)
     text, kind = svg._source_kind(source)
     name = {"file": Path(text).stem, "document": "svg", "path data": "path"}[kind]
     box = region_bbox(region)

@@ -69,6 +69,21 @@ def frame_bbox(shapes, bbox=None, margin=0.05):
     return np.array([x0 - m, y0 - m, x1 + m, y1 + m])
 
 
-from .png import frames_to_gif, render_png, save_animation, write_png  # noqa: E402 - png uses frame_bbox above
-from .svg import svg_document, svg_path_data, write_svg  # noqa: E402
-from .figures import cspace_figure, write_frames  # noqa: E402
+# the writers, imported on first use (PEP 562): an SVG command never loads Pillow
+_WRITERS = {"frames_to_gif": "png", "render_png": "png", "save_animation": "png",
+            "write_png": "png", "svg_document": "svg", "svg_path_data": "svg",
+            "write_svg": "svg", "cspace_figure": "figures", "write_frames": "figures"}
+
+
+def __getattr__(name):
+    if name in _WRITERS:
+        import importlib
+
+        value = getattr(importlib.import_module("." + _WRITERS[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError("module 'morph.render' has no attribute %r" % (name,))
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WRITERS))

@@ -15,19 +15,24 @@ user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y
 """
 
 import math
-import html
 
 from ..export import loop_to_beziers
 from . import frame_bbox, normalize_shapes
 
 __all__ = ["svg_path_data", "write_svg", "svg_document"]
 
+#: what html.escape(value, quote=True) replaces, in its order (``&`` first); written
+#: out because xml.sax.saxutils imports urllib.request and html imports html.entities
+_ESCAPES = (("&", "&amp;"), ("<", "&lt;"), (">", "&gt;"), ('"', "&quot;"), ("'", "&#x27;"))
 
 
 def quoteattr(value):
-    """An XML attribute value in double quotes (``&``, ``<``, ``>``, ``"`` escaped);
-    html.escape, not xml.sax.saxutils, which imports urllib.request."""
-    return '"%s"' % html.escape(str(value), quote=True)
+    """An XML attribute value in double quotes (``&``, ``<``, ``>``, ``"``, ``'``
+    escaped as html.escape does)."""
+    text = str(value)
+    for char, entity in _ESCAPES:
+        text = text.replace(char, entity)
+    return '"%s"' % text
 
 def _decimals(tol):
     return max(0, int(math.ceil(math.log10(0.5 * math.sqrt(2.0) / (0.2 * tol)))))

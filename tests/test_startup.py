@@ -1,0 +1,86 @@
+"""Start-up cost of the command line: each command loads only the modules it needs.
+
+A fresh interpreter runs one command in-process and reports ``sys.modules``; a
+module a command does not use (Pillow for SVG output, the SVG reader and its XML
+parser for glyphs, the BLAS thread pool) must not have been loaded, since every
+process pays for it again (issue 18: ``morph sum`` as a process against the
+polygon script).
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: top-level packages / modules no glyph -> SVG command needs
+NOT_FOR_GLYPH_SVG = ("PIL", "svgelements", "xml.etree", "html", "kurbopy",
+                     "svgpathtools", "ufoLib2", "ufo2ft", "fontTools.varLib", "numpy.ma")
+
+_PROBE = r"""
+import json, os, sys
+argv = json.loads(sys.argv[1])
+if argv:
+    from morph.cli import main
+    code = main(argv, standalone_mode=False)
+else:
+    import morph.cli
+    code = 0
+print(json.dumps({"code": code, "modules": sorted(sys.modules),
+                  "blas": os.environ.get("OPENBLAS_NUM_THREADS")}))
+"""
+
+
+def _modules_after(argv, cwd, env_extra=None):
+    env = dict(os.environ)
+    env.pop("OPENBLAS_NUM_THREADS", None)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in [env.get("PYTHONPATH")] if p])
+    env.update(env_extra or {})
+    res = subprocess.run([sys.executable, "-c", _PROBE, json.dumps(argv)], cwd=cwd, env=env,
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    return out["code"], set(out["modules"]), out["blas"]
+
+
+def _loaded(modules, name):
+    return name in modules or any(m.startswith(name + ".") for m in modules)
+
+
+def test_import_cli_loads_no_reader_or_writer(tmp_path):
+    code, mods, blas = _modules_after([], tmp_path)
+    for name in NOT_FOR_GLYPH_SVG + ("fontTools", "morph.parse", "morph.render",
+                                     "morph.minkowski", "morph.trim"):
+        assert not _loaded(mods, name), name
+    assert blas == "1"  # set before numpy loaded
+
+
+@pytest.mark.parametrize("argv", [["sum", "T", "M", "--tol", "1e-3", "-o", "tm.svg"],
+                                  ["outline", "g", "-o", "g.svg"]])
+def test_glyph_to_svg_loads_neither_pillow_nor_the_svg_reader(tmp_path, argv):
+    code, mods, _ = _modules_after(argv, tmp_path)
+    assert code == 0 and (tmp_path / argv[-1]).stat().st_size > 0
+    for name in NOT_FOR_GLYPH_SVG:
+        if name == "numpy.ma" and argv[0] == "sum":
+            continue  # np.unique (numpy 2.4) in the convolution still imports numpy.ma
+        assert not _loaded(mods, name), name
+    assert _loaded(mods, "fontTools.ttLib")
+
+
+def test_png_and_svg_input_load_what_they_need(tmp_path):
+    """The other side of the laziness: the modules do load when a command needs them."""
+    (tmp_path / "box.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg">'
+                                      '<rect width="10" height="5"/></svg>')
+    code, mods, _ = _modules_after(["outline", "box.svg", "-o", "box.png"], tmp_path)
+    assert code == 0 and (tmp_path / "box.png").stat().st_size > 0
+    assert _loaded(mods, "PIL") and _loaded(mods, "morph.parse.svg")
+    assert not _loaded(mods, "fontTools.ttLib")  # no font opened for an SVG shape
+
+
+def test_a_blas_thread_count_the_user_set_is_kept(tmp_path):
+    _, _, blas = _modules_after([], tmp_path, {"OPENBLAS_NUM_THREADS": "2"})
+    assert blas == "2"
