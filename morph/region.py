@@ -197,11 +197,10 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     """
     if fill_rule not in FILL_RULES:
         raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
-    cleaned = _positive_loops(loops)
+    cleaned, areas = _positive_loops(loops)
     if not cleaned:
         return []
     scale = _region_scale(cleaned)
-    areas = [pc.loop_area(loop) for loop in cleaned]
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
         return []
@@ -224,16 +223,18 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
 def _positive_loops(loops):
     """Cleaned loops (:func:`clean_loop`) without those of zero area: |area| <= 1e-12
     of the loop's own extent squared and no self-crossing (tiny islands are kept, a
-    bow tie whose lobes cancel is not dropped)."""
-    out = []
+    bow tie whose lobes cancel is not dropped); and their signed areas."""
+    out, areas = [], []
     for loop in loops:
         loop = clean_loop(loop)
         if not loop:
             continue
         ext = _region_scale([loop])
-        if abs(pc.loop_area(loop)) > 1e-12 * ext * ext or _loops_cross([loop], ext):
+        area = pc.loop_area(loop)
+        if abs(area) > 1e-12 * ext * ext or _loops_cross([loop], ext):
             out.append(loop)
-    return out
+            areas.append(area)
+    return out, areas
 
 
 def _outside_windings(loops, scale):
