@@ -49,7 +49,8 @@ class ConvPiece:
     piece: (n+1, 3) homogeneous control points, already in travel direction.
     kind: "qac", "translate", "chord".  type: 1, 2 or 3 (Fig. 20).  bound: a-priori
     bound on its distance to the exact convolution (0 for exact pieces).
-    source: (loop index in A, edge index, loop index in B, edge index).
+    source: (loop index in A, edge index, loop index in B, edge index).  row: the
+    pair's row in the table of compatible pairs (:class:`GaussPair`), -1 when unknown.
     """
 
     piece: np.ndarray
@@ -57,6 +58,7 @@ class ConvPiece:
     type: int
     bound: float = 0.0
     source: tuple = field(default_factory=tuple)
+    row: int = -1
 
 
 # ---------------------------------------------------------------- edge pairing
@@ -262,8 +264,10 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
 def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     """Convolution pieces of the pairs (i, j, lo, hi, k) of two edge tables, all at
     once: [(pair position, piece, kind, bound)] in the pairs' order, each pair's
-    pieces in travel order (the cases of the module docstring)."""
+    pieces in travel order (the cases of the module docstring).  tol: one number,
+    or one per pair."""
     i, j, lo, hi, k = pairs
+    tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
     out = (_line_pairs(ta, tb, i, j, lo, off) + _vertex_pairs(ta, tb, i, j, lo, hi, off)
            + _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method))
@@ -325,8 +329,8 @@ def _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method):
                           max_depth)
     out = []
     for p in pos:
-        pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p], tol,
-                               max_depth, method)
+        pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p],
+                               float(tol[p]), max_depth, method)
         out += [(p, float(r), piece, kind, bound) for r, (piece, kind, bound) in enumerate(pieces)]
     return out
 
@@ -360,6 +364,7 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     two edges turn the same way), a piece runs along A's edge, reversed when B is
     concave (Figs. 18-19).
     """
+    tol = tol[pos]
     ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
     tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
@@ -370,9 +375,11 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
                  "cb": tb.restricted(j[rows], tb_lo[rows], tb_hi[rows])[0][1],
                  "ha": ha[rows], "hb": hb[rows], "sa": ta.sign[i[rows]],
                  "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
-                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows]}
+                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
+                 "tol": tol[rows]}
         done, pieces, bounds = methods.subdivide_nodes(
-            nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, tol, max_depth)
+            nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, float(tol[rows].min()),
+            max_depth)
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         for r, piece in enumerate(pieces):
             out.append((done["pos"][r], key[r], _oriented(piece, done["sb"][r] > 0),
@@ -402,22 +409,27 @@ def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), metho
     return conv
 
 
-def _convolve_all(ta, tb, table, tol, keep_type3, method):
-    """ConvPieces of all pairs of a pair table, typed (Fig. 20), in its order."""
+def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
+    """ConvPieces of the pairs of a pair table (those of ``rows`` only, when given),
+    typed (Fig. 20), in its order.  tol: one number, or one per row of the table."""
+    row = np.arange(len(table[0])) if rows is None else np.asarray(rows, int)
+    tol = np.broadcast_to(np.asarray(tol, float), (len(table[0]),))[row]
+    table = tuple(np.asarray(x)[row] for x in table)
     i, j = table[0], table[1]
     typ = pair_type(ta.sign[i], tb.sign[j], ta.vertex[i], tb.vertex[j])
     if not keep_type3:
         keep = typ != 3
-        table = tuple(x[keep] for x in table)
-        typ, i, j = typ[keep], i[keep], j[keep]
+        table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
+        i, j = table[0], table[1]
     res = _convolve_table(ta, tb, table, tol, method=method)
     la, ia, lb, ib = ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]
     return [ConvPiece(piece, kind, int(typ[p]), bound,
-                      (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p])))
+                      (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p])), int(row[p]))
             for p, piece, kind, bound in res]
 
 
-def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None):
+def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None,
+                rows=None):
     """Convolution pieces of two regions (lists of loops), Sec. 3.3.
 
     Each returned piece P has max distance to the exact convolution curve <= tol
@@ -429,15 +441,19 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pa
     pairs found with one array comparison, Algorithm 4.1 level by level on arrays),
     in the order of the loops of A, then of B.  ``gauss_pair`` (a :class:`GaussPair`)
     gives the operands' Gauss maps and compatible pairs when they are known already
-    (frames of scaled copies, :func:`scaled_gauss_pair`).
+    (frames of scaled copies, :func:`scaled_gauss_pair`).  ``tol`` may also be one
+    number per row of that table (each piece's ``row`` says which), and ``rows``
+    (indices into the table) restricts the result to those pairs: a few pairs
+    approximated again more finely (:func:`morph.minkowski.minkowski_sum` at the
+    tips of wedges).
     """
-    if tol <= 0:
+    if not np.all(np.asarray(tol) > 0):
         raise ValueError("tol must be positive, got %r" % (tol,))
     if gauss_pair is None:
         gauss_pair = gauss_pair_of(region_a, region_b)
     ta, tb = _EdgeTable(gauss_pair.maps_a), _EdgeTable(gauss_pair.maps_b)
     table = gauss_pair.table if gauss_pair.table is not None else _pair_table(ta, tb)
-    return _convolve_all(ta, tb, table, tol, keep_type3, method)
+    return _convolve_all(ta, tb, table, tol, keep_type3, method, rows)
 
 
 # ------------------------------------------------- Gauss maps shared by scaled copies

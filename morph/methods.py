@@ -660,6 +660,8 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
       approximation (an a-priori bound or a measure: the method's contract says
       which) and where to split it; it may add columns to ``nodes`` for the other
       two callables (the role QAC chose, the piece a measure was taken on);
+      a column ``tol`` in the root nodes gives each root its own tolerance
+      (children inherit it, and ``bound`` gets that column instead of ``tol``);
     - ``one_piece(nodes) -> list``: the pieces of the nodes whose error is <= tol
       (None where the method rejects its piece: that node is split instead);
     - ``split(nodes, where) -> (left, right)``: the columns of the two children
@@ -675,8 +677,9 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
     nodes = dict(nodes, depth=np.full(len(next(iter(nodes.values()))), max_depth))
     done, pieces, errors = [], [], []
     while len(nodes["depth"]):
-        err, where = bound(nodes, tol)
-        acc = np.nonzero(err <= tol)[0]
+        limit = nodes["tol"] if "tol" in nodes else tol
+        err, where = bound(nodes, limit)
+        acc = np.nonzero(err <= limit)[0]
         got = one_piece(_take(nodes, acc)) if len(acc) else []
         ok = np.zeros(len(err), bool)
         ok[acc[np.array([p is not None for p in got], bool)]] = True
@@ -690,7 +693,8 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
         if len(last):
             r = last[0]
             raise ToleranceNotMetError(
-                "error %g above tolerance %g after %d splits" % (err[r], tol, max_depth),
+                "error %g above tolerance %g after %d splits"
+                % (err[r], np.broadcast_to(limit, err.shape)[r], max_depth),
                 piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]))
         parent = _take(nodes, fail)
         left, right = split(parent, where[fail])

@@ -5,7 +5,8 @@
 
 import numpy as np
 
-from .convolve import chain, convolution
+from . import piece as pc
+from .convolve import chain, convolution, gauss_pair_of, with_pair_table
 from .errors import TopologyError
 from .limits import check_tolerance
 from .trim import boundary
@@ -17,6 +18,13 @@ CONV_SHARE = 0.75
 FLAT_SHARE = 0.1
 GRID_SHARE = 0.1
 CONTRACT_SHARE = 0.05
+# sharp corners (wedge tips): rounds of finer approximation, the margin for angles
+# measured on approximations, the smallest cos(phi / 2) honoured, and how near (in
+# tol) a piece's box must come to a corner to count as passing through it
+TIP_ROUNDS = 3
+TIP_MARGIN = 0.9
+TIP_FLOOR = 1e-3
+TIP_REACH = 0.5
 
 
 def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gauss_pair=None):
@@ -33,31 +41,101 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     about 1.5 tol (twice the convolution share), the approximated pieces may
     overlap across it and close it: there the exact boundary can be up to that
     width from the output (a sweep case at tol = 0.074 x the size shows it).
-    Likewise where two pieces cross at a small angle theta (the tip of a wedge of
-    the sum's boundary, narrower than that width), the crossing of the
-    approximations can slide along the wedge by up to 0.75 tol / sin(theta / 2)
-    (a sweep case: 1.7 tol at the tip of a hairline counter).  Normals are exact
-    on QAC pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError (a ValueError) for a tolerance the operands
-    cannot support (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
+    At a corner where the boundary turns by phi (the tip of a wedge: phi near
+    pi), the junction of two pieces within e of their curves can lie
+    e / cos(phi / 2) from the exact corner: the pairs through such corners are
+    approximated again until e / cos(phi / 2) <= 0.75 tol (up to TIP_ROUNDS
+    rounds; cos(phi / 2) counted as at least TIP_FLOOR, i.e. turns up to
+    179.9 degrees), so the budget holds there too.  Normals are exact on QAC
+    pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError
+    (a ValueError) for a tolerance the operands cannot support
+    (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
     TopologyError if the convolution pieces do not close into loops.  ``gauss_pair``:
     the operands' Gauss maps when known already (:class:`morph.convolve.GaussPair`).
     """
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
+    if gauss_pair is None or gauss_pair.table is None:
+        gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b))
     conv = convolution(region_a, region_b, CONV_SHARE * tol, keep_type3=True, method=method,
                        gauss_pair=gauss_pair)
-    pieces = [c.piece for c in conv]
-    # ends of consecutive pieces agree to rounding in most places, but where a
-    # tangent angle is solved at high curvature they can be a few 1e-9 of the size
-    # apart: ends within a hundredth of tol are joined (inside the contraction share)
-    loops = chain(pieces, 0.01 * tol)
-    grid = GRID_SHARE * np.sqrt(2.0) * tol
     member = _HoleTest(region_a, region_b, tol)
-    out = boundary(loops, FLAT_SHARE * tol, grid, "positive", member, CONTRACT_SHARE * tol)
+    row_tol = np.full(len(gauss_pair.table[0]), CONV_SHARE * tol)
+    for round_ in range(TIP_ROUNDS + 1):
+        loops, out = _trimmed(conv, tol, member)
+        finer = _tip_tolerances(out, conv, tol)
+        finer = {r: t for r, t in finer.items() if t < row_tol[r]}
+        if not finer or round_ == TIP_ROUNDS:
+            break
+        rows = np.array(sorted(finer))
+        row_tol[rows] = [finer[r] for r in rows]
+        again = convolution(region_a, region_b, row_tol, keep_type3=True, method=method,
+                            gauss_pair=gauss_pair, rows=rows)
+        conv = [c for c in conv if c.row not in finer] + again
     if return_debug:
         return out, {"convolution": conv, "loops": loops, "holes": member.log}
     return out
+
+
+def _trimmed(conv, tol, member):
+    """(loops, boundary) of convolution pieces: chained into loops and trimmed."""
+    # ends of consecutive pieces agree to rounding in most places, but where a
+    # tangent angle is solved at high curvature they can be a few 1e-9 of the size
+    # apart: ends within a hundredth of tol are joined (inside the contraction share)
+    loops = chain([c.piece for c in conv], 0.01 * tol)
+    grid = GRID_SHARE * np.sqrt(2.0) * tol
+    return loops, boundary(loops, FLAT_SHARE * tol, grid, "positive", member,
+                           CONTRACT_SHARE * tol)
+
+
+def _tip_tolerances(out, conv, tol):
+    """Finer tolerances for the pairs whose pieces meet at a sharp corner of ``out``.
+
+    Where the boundary turns by phi at a junction of two pieces, each within e of
+    its exact curve, the corner of the approximations can lie up to
+    e / cos(phi / 2) from the exact corner (two lines at that angle, each moved by
+    e): at the tip of a thin wedge (phi near pi) far more than e.  The budget
+    CONV_SHARE tol holds at such a corner when every piece through it has
+    e <= CONV_SHARE tol cos(phi / 2) (TIP_MARGIN for phi measured on the
+    approximations; cos(phi / 2) at least TIP_FLOOR).  The pieces through the
+    corner are those whose control-point box comes within TIP_REACH tol of it (a
+    superset: the corner was found on polylines within (FLAT_SHARE + GRID_SHARE) tol
+    of them).  Returns {table row: tolerance} for the pairs to approximate again.
+    """
+    bounds = np.array([c.bound for c in conv])
+    worst = float(bounds.max(initial=0.0))
+    if worst <= 0 or not out:
+        return {}
+    pts, cos_half = _corners(out)
+    sharp = np.nonzero(cos_half * CONV_SHARE * tol < worst)[0]
+    if not len(sharp):
+        return {}
+    boxes = np.array([pc.bbox(c.piece) for c in conv])
+    rows = np.array([c.row for c in conv])
+    reach = TIP_REACH * tol
+    finer = {}
+    for k in sharp:
+        x, y = pts[k]
+        near = ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
+                & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
+        want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half[k], TIP_FLOOR)
+        for r in np.unique(rows[near & (bounds > want)]):
+            finer[int(r)] = min(finer.get(int(r), np.inf), want)
+    return finer
+
+
+def _corners(out):
+    """Junction points of the loops of ``out`` and cos(phi / 2) of the turn phi there."""
+    pts, ins, outs = [], [], []
+    for loop in out:
+        tangents = [pc.end_tangents(p) for p in loop]
+        for k, p in enumerate(loop):
+            pts.append(pc.end(p))
+            ins.append(tangents[k][1])
+            outs.append(tangents[(k + 1) % len(loop)][0])
+    dot = np.einsum("ij,ij->i", np.array(ins), np.array(outs))
+    return np.array(pts), np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))
 
 
 class _HoleTest:

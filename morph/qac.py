@@ -372,6 +372,7 @@ def bound_nodes(nodes, tol):
     """
     ca, cb = nodes["ca"], nodes["cb"]
     k = len(ca)
+    tol = np.broadcast_to(np.asarray(tol, float), (k,))
     la, lb = pc.length_bounds(ca), pc.length_bounds(cb)
     short = (np.minimum(la, lb) <= np.minimum(0.25 * tol, 1e-7 * np.maximum(la, lb))) | (
         (nodes["depth"] == 0) & (2 * np.minimum(la, lb) <= tol))
@@ -381,11 +382,12 @@ def bound_nodes(nodes, tol):
     tiny = np.nonzero(~short & (nodes["hi"] - nodes["lo"] < TINY_SWEEP))[0]
     if len(tiny):
         chord = _sagitta_many(ca[tiny]) + _sagitta_many(cb[tiny])
-        fits = chord <= tol
+        fits = chord <= tol[tiny]
         bound[tiny[fits]], kind[tiny[fits]] = chord[fits], CHORD
     rows = np.nonzero(kind == QAC)[0]
     if len(rows):
-        swap[rows], q2[rows], bound[rows], s_peak[rows], _ = roles_many(ca[rows], cb[rows], tol)
+        got = roles_many(ca[rows], cb[rows], tol[rows])
+        swap[rows], q2[rows], bound[rows], s_peak[rows] = got[:4]
     nodes.update(kind=kind, swap=swap, q2=q2)
     return bound, s_peak
 

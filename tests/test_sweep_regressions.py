@@ -137,19 +137,6 @@ SLOW = {
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
 OPEN = {
-    "nib/lobster/Q/40x40/74.8/2.43/0.0013":
-        "a hole's boundary point 1.69 tol inside the exact sum",
-    "nib/lobster/G/80x30/69.7/3.55/1.9e-05":
-        "wedge tip: the crossing of a QAC piece and a line at a small angle slides "
-        "2.37 tol along the hairline counter (minkowski_sum's stated wedge limit)",
-    "pair/amiri/uniFB51/uniFDC3/0.0001":
-        "wedge tip: pieces crossing at 1.2 degrees put the tip inside the sum "
-        "(minkowski_sum's stated wedge limit)",
-    "nib/lobster/R/80x30/42.5/3.9/0.00025":
-        "wedge tip: the crossing slides along a 3 degree hairline counter "
-        "(minkowski_sum's stated wedge limit)",
-    "pair/cormorant/W/b/0.0001": "wedge tip at 2.8 degrees (the stated wedge limit)",
-    "pair/amiri/uniFBA1/uni064A/0.0001": "wedge tip at 0.8 degrees (the stated wedge limit)",
     "nib/cormorant/A/80x30/134.3/76.7/0.074":
         "a hole of inradius 0.54 tol (wider than the documented 0.4 tol) is filled",
 }

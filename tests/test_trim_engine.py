@@ -94,6 +94,28 @@ def test_batched_newton_finds_line_circle_crossings():
     assert np.allclose(x, [[np.sqrt(3) / 2, 0.5], [-np.sqrt(3) / 2, 0.5]], atol=1e-12)
 
 
+@pytest.mark.parametrize("angle_deg", [0.5, 3.0, 20.0])
+def test_newton_reaches_shallow_crossings_as_far_as_the_polylines_can_slide(angle_deg):
+    # two lines crossing at the origin at a small angle; a polyline crossing of
+    # copies moved by d across each lies up to d / sin(alpha / 2) along the wedge
+    a = np.radians(angle_deg)
+    p = pc.line((-1.0, 0.0), (1.0, 0.0))
+    q = pc.line((-np.cos(a), -np.sin(a)), (np.cos(a), np.sin(a)))
+    stacked = pc.stack([p, q])
+    d = 1e-4
+    slide = d / np.sin(a / 2)
+    for off, accept in ((0.9 * slide, True), (3.0 * slide, False)):
+        guess = np.array([[off, 0.0]])
+        args = (stacked, np.array([0]), np.array([0.5 + off / 2]), np.array([1]),
+                np.array([0.5 + off / 2]), guess)
+        s, u, ok = newton_crossings(*args, reach=d, atol=1e-12, shallow=d)
+        assert bool(ok[0]) == accept
+        if accept:
+            assert np.allclose(pc.jet_many(stacked, np.array([0]), s)[0], 0.0, atol=1e-12)
+        # without the allowance only a guess within reach is taken
+        assert not newton_crossings(*args, reach=d, atol=1e-12)[2][0]
+
+
 def test_boundary_of_two_crossing_circles_is_exact_arcs():
     a = list(pc.circle((0.0, 0.0), 1.0))
     b = list(pc.circle((1.0, 0.0), 1.0))

@@ -25,7 +25,8 @@ class Tagged:
     q (N, 2) int64 grid coordinates; piece (N,) index into ``pieces``; t0, t1 (N,)
     parameter range of segment i (from vertex i to vertex ``nxt[i]``) on
     ``pieces[piece[i]]``; nxt, prv (N,) next / previous vertex of the same loop;
-    starts (L+1,) offsets of the loops; origin (2,) and grid: float = origin + grid * q.
+    starts (L+1,) offsets of the loops; origin (2,) and grid: float = origin + grid * q;
+    eps: the flattening bound (each segment within eps of its piece before rounding).
     """
 
     q: np.ndarray
@@ -38,6 +39,7 @@ class Tagged:
     origin: np.ndarray
     grid: float
     pieces: list
+    eps: float = 0.0
 
     def to_float(self, q):
         return self.origin + self.grid * np.asarray(q, float)
@@ -88,7 +90,7 @@ def tag_loops(loops, eps, grid, origin=None):
     prv[starts[:-1]] = starts[1:] - 1
     same = (pid[nxt] == pid) & (ts[nxt] > ts)
     t1 = np.where(same, ts[nxt], 1.0)
-    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces)
+    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
 
 
 def _merge_equal(q, is_start, loop_of):

@@ -19,6 +19,7 @@ from .. import piece as pc
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
+MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees reach no farther than this
 
 
 def lift_rings(rings, tg, contract):
@@ -54,8 +55,11 @@ def lift_rings(rings, tg, contract):
         used, inv = np.unique(np.concatenate([pid[k], pid[nx[k]]]), return_inverse=True)
         stacked = pc.stack([tg.pieces[i] for i in used])
         ia, ib = inv[:len(k)], inv[len(k):]
+        # a polyline crossing is off the exact one by up to (eps + grid / sqrt 2) /
+        # sin(alpha / 2) at an angle alpha: far along a shallow crossing
         ta, tb, ok = newton_crossings(stacked, ia, tq[k], ib, tp[nx[k]], guess,
-                                      reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid)
+                                      reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid,
+                                      shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)))
         tq[k] = np.where(ok, ta, tq[k])
         tp[nx[k]] = np.where(ok, tb, tp[nx[k]])
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
@@ -284,13 +288,16 @@ def _dist(x, a, b):
     return np.hypot(d[..., 0], d[..., 1])
 
 
-def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12):
+def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0):
     """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
 
     ``stacked``: pieces from :func:`morph.piece.stack`; A = stacked[ia[i]],
     B = stacked[ib[i]].  Newton iteration on F(s, u) = A(s) - B(u) from (ta, tb),
     kept in [0, 1]^2.  Returns (s, u, ok); ok where |F| <= atol and the crossing
-    lies within ``reach`` of ``guess``.
+    lies within ``reach`` + ``shallow`` / sin(alpha / 2) of ``guess``, alpha the
+    angle between the two pieces there (two lines each moved by d across cross
+    up to d / sin(alpha / 2) from where they did; sin(alpha / 2) at least
+    MIN_SIN_HALF).
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
@@ -307,9 +314,12 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12):
         du = np.where(np.abs(det) > 1e-300, du, 0.0)
         s = np.clip(s - ds, 0.0, 1.0)
         u = np.clip(u - du, 0.0, 1.0)
-    pa, _ = pc.jet_many(stacked, ia, s)
-    pb, _ = pc.jet_many(stacked, ib, u)
+    pa, da = pc.jet_many(stacked, ia, s)
+    pb, db = pc.jet_many(stacked, ib, u)
     err = np.hypot(*(pa - pb).T)
-    near = np.hypot(*(pa - guess).T) <= reach
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
+    sin_half = np.sqrt(np.clip(0.5 * (1.0 - np.nan_to_num(cos, nan=1.0)), MIN_SIN_HALF ** 2, 1.0))
+    near = np.hypot(*(pa - guess).T) <= reach + shallow / sin_half
     ok = (err <= atol) & near & np.isfinite(err)
     return s, u, ok
