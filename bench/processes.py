@@ -2,6 +2,7 @@
 
     python bench/processes.py                       # the cases below, 7 runs each
     python bench/processes.py --runs 11 --cases "O M 1e-4,S g 1e-5"
+    python bench/processes.py --stages --cases "O M 1e-4"   # where a morph process spends
 
 Each case runs, in turn and after one warm-up run of each, the three commands
 
@@ -79,6 +80,54 @@ def case(a, b, tol, font, runs, env, tmp):
     return times
 
 
+STAGES = r"""
+import os, sys, time
+c0 = time.process_time()
+laps = [("interpreter and site", c0)]
+def lap(name):
+    laps.append((name, time.process_time()))
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import numpy
+lap("numpy")
+import morph.cli
+lap("click, morph.cli")
+from morph.parse import load_font, load_shape
+font = sys.argv[4] if len(sys.argv) > 4 else None
+load_font(font)
+lap("fontTools, open font, glyph names")
+a, b = load_shape(sys.argv[1], font), load_shape(sys.argv[2], font)
+lap("read both glyphs")
+from morph.export import split_tolerance
+from morph.minkowski import minkowski_sum
+st, et = split_tolerance(a.em_to_units(float(sys.argv[3])))
+loops = minkowski_sum(a.region, b.region, st)
+lap("sum (imports included)")
+from morph.render import write_svg
+write_svg(os.devnull, [loops], tol=et)
+lap("SVG export (imports included)")
+prev = 0.0
+for name, c in laps:
+    print("%s\t%.6f" % (name, c - prev))
+    prev = c
+print("total\t%.6f" % laps[-1][1])
+"""
+
+
+def stages(a, b, tol, font, runs, env, tmp):
+    """CPU seconds of each stage of the `morph sum` path in fresh processes (medians
+    over ``runs``): {stage: seconds}, in order."""
+    cmd = [sys.executable, "-c", STAGES, a, b, tol] + ([] if font == "noto"
+                                                       else [font_path(font)])
+    subprocess.run(cmd, env=env, cwd=tmp, check=True, capture_output=True)  # warm-up
+    out = {}
+    for _ in range(runs):
+        p = subprocess.run(cmd, env=env, cwd=tmp, check=True, capture_output=True, text=True)
+        for line in p.stdout.splitlines():
+            name, sec = line.split("\t")
+            out.setdefault(name, []).append(float(sec))
+    return {k: med(v) for k, v in out.items()}
+
+
 def med(xs):
     return statistics.median(xs)
 
@@ -93,11 +142,27 @@ def main(argv=None):
     ap.add_argument("--cases", default=CASES,
                     help="comma-separated 'A B TOL [FONT]', FONT noto (default), lobster "
                          "or a path")
+    ap.add_argument("--stages", action="store_true",
+                    help="instead: CPU of each stage of the morph process (fresh processes, "
+                         "medians), one column per case")
     args = ap.parse_args(argv)
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
                PYTHONPYCACHEPREFIX=tempfile.mkdtemp(prefix="processes-pycache-"))
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env.pop("OPENBLAS_NUM_THREADS", None)
+    if args.stages:
+        cols = []
+        with tempfile.TemporaryDirectory() as tmp:
+            for spec in args.cases.split(","):
+                a, b, tol, *font = spec.split()
+                cols.append(("%s + %s %s" % (a, b, tol),
+                             stages(a, b, tol, font[0] if font else "noto", args.runs, env, tmp)))
+        print("| stage (CPU ms) | " + " | ".join(c for c, _ in cols) + " |")
+        print("|---|" + "---|" * len(cols))
+        for name in cols[0][1]:
+            print("| %s | " % name + " | ".join("%.0f" % (st[name] * 1e3) for _, st in cols)
+                  + " |")
+        return
     print("| case | font | tol (em) | morph wall / CPU | dc wall / CPU | morph/dc wall, CPU "
           "| dc-1 CPU | morph/dc-1 CPU |")
     print("|---|---|---|---|---|---|---|---|")
