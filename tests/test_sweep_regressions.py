@@ -107,6 +107,11 @@ SWEEP_REGRESSIONS = [
     ("pair/amiri/uniFEEE/uniFB68/0.0001", "loop not simple (pieces 20/23, face 0.45 tol^2)"),
     ("pair/amiri/uni0643/uniFB8D/0.0001", "loop not simple (adjacent pieces 39/40)"),
     ("pair/amiri/uniFCCE/uniFC22/0.0001", "loop not simple (adjacent pieces 86/87)"),
+    # random mode, seed 31337, at commit 1e32185 (150 jobs, this the one failure): a hole
+    # whose ring's neighbours of its long side cross near the far corner; the spike
+    # cut dropped the long side and kept the corner's sliver
+    ("nib/amiri/uniFBAB/80x30/91.8/29.4/0.0052",
+     "membership: a hole 37.5 tol deep filled (ours in, exact out)"),
 ]
 
 # cases whose check takes more than ~3 s on one core (loaded machine)
@@ -136,10 +141,7 @@ SLOW = {
 }
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
-OPEN = {
-    "nib/cormorant/A/80x30/134.3/76.7/0.074":
-        "a hole of inradius 0.54 tol (wider than the documented 0.4 tol) is filled",
-}
+OPEN = {}
 
 
 def _params(cases, still_open, slow):

@@ -116,6 +116,27 @@ def test_newton_reaches_shallow_crossings_as_far_as_the_polylines_can_slide(angl
         assert not newton_crossings(*args, reach=d, atol=1e-12)[2][0]
 
 
+def test_spike_cut_keeps_the_larger_part_when_the_long_side_is_flanked():
+    # a hole ring (clockwise) of five runs: the neighbours of the long left side
+    # (bottom and right sides) cross near the far corner, where two short runs
+    # close a sliver; the cut must keep the triangle, not the sliver
+    from morph.trim.lift import _cut_spikes
+
+    pts = [(1.006, -0.874), (1.045, -0.765), (1.008, -0.729), (-0.767, -0.729),
+           (0.019, 1.161), (1.064, -1.087)]
+    out = [pc.line(pts[0], pts[1]), pc.line(pts[2], pts[3]), pc.line(pts[3], pts[4]),
+           pc.line(pts[4], pts[5]), pc.line(pts[5], pts[0])]
+    ends = [0.5 * (pc.end(out[k]) + pc.start(out[(k + 1) % 5])) for k in range(5)]
+    runs = [(out, ends)]
+    _cut_spikes(runs, 0.05)
+    loop, _ = runs[0]
+    # the bottom and the right side cross at y = -0.729
+    x_cross = 0.019 + (1.161 + 0.729) / (1.161 + 1.087) * (1.064 - 0.019)
+    triangle = 0.5 * (x_cross + 0.767) * (1.161 + 0.729)
+    assert len(loop) == 3
+    assert pc.loop_area(loop) == pytest.approx(-triangle, rel=1e-9)
+
+
 def test_boundary_of_two_crossing_circles_is_exact_arcs():
     a = list(pc.circle((0.0, 0.0), 1.0))
     b = list(pc.circle((1.0, 0.0), 1.0))

@@ -171,14 +171,29 @@ def _neighbours_cross(runs, tri, reach, apply=False):
     # (in a ring of three runs they meet each other there)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     if apply and ok[0]:
-        r, j = tri[0]
-        out, ends = runs[r]
-        i, k = (j - 1) % len(out), (j + 1) % len(out)
-        ends[i] = pc.jet_many(stacked, ia, s)[0][0]
-        out[i] = pc.subsegment(out[i], 0.0, s[0])
-        out[k] = pc.subsegment(out[k], u[0], 1.0)
-        del out[j], ends[j]
+        _cut_at(runs[tri[0][0]], tri[0][1], s[0], u[0], pc.jet_many(stacked, ia, s)[0][0])
     return ok
+
+
+def _cut_at(run, j, s, u, x):
+    """Split a ring's runs where the neighbours of run j cross (at s on the one
+    before, u on the one after, point x) and keep the larger part by area: the
+    rest of the ring without run j (a spike at j), or the part through j (the rest
+    was the spike: a run between the neighbours' crossing and the ring's far side).
+    """
+    out, ends = run
+    i, k = (j - 1) % len(out), (j + 1) % len(out)
+    head_i, tail_i = pc.subsegment(out[i], 0.0, s), pc.subsegment(out[i], s, 1.0)
+    head_k, tail_k = pc.subsegment(out[k], 0.0, u), pc.subsegment(out[k], u, 1.0)
+    through_j = [tail_i, out[j], head_k]
+    part = pc.loop_area(through_j)
+    if abs(part) > abs(pc.loop_area(out) - part):
+        out[:] = through_j
+        ends[:] = [ends[i], ends[j], x]
+        return
+    ends[i] = x
+    out[i], out[k] = head_i, tail_k
+    del out[j], ends[j]
 
 
 def _edge_segments(p, q, tg):
