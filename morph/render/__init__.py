@@ -76,10 +76,11 @@ _WRITERS = {"frames_to_gif": "png", "render_png": "png", "save_animation": "png"
 
 
 def __getattr__(name):
-    if name in _WRITERS:
+    if name in _WRITERS or name in ("png", "svg", "figures"):
         import importlib
 
-        value = getattr(importlib.import_module("." + _WRITERS[name], __name__), name)
+        module = importlib.import_module("." + _WRITERS.get(name, name), __name__)
+        value = module if name in ("png", "svg", "figures") else getattr(module, name)
         globals()[name] = value
         return value
     raise AttributeError("module 'morph.render' has no attribute %r" % (name,))
