@@ -25,7 +25,7 @@ import os
 import sys
 
 # one BLAS thread, set before numpy loads: the commands multiply small matrices only,
-# and OpenBLAS starting its thread pool costs ~50 ms of CPU per process; a value
+# and OpenBLAS starting its thread pool costs ~40-50 ms of CPU per process; a value
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
