@@ -471,8 +471,8 @@ class GaussPair:
 
 def gauss_pair_of(region_a, region_b):
     """:class:`GaussPair` of two regions, the compatible pairs not computed yet."""
-    return GaussPair([gauss.gauss_map(loop) for loop in region_a],
-                     [gauss.gauss_map(loop) for loop in region_b])
+    maps = gauss.gauss_maps(list(region_a) + list(region_b))
+    return GaussPair(maps[:len(region_a)], maps[len(region_a):])
 
 
 def with_pair_table(pair):

@@ -181,14 +181,51 @@ def _keep_parts(parts, check=True):
 
 def split_monotone_many(pieces, check=True):
     """:func:`split_monotone` of many pieces: the split parameters of all pieces of
-    one degree are found together (:func:`_split_params_many`).  Returns one list of
-    parts per piece.  ``check=False`` skips the cusp check (for a caller that
-    passes the parts through :func:`split_monotone` again, as gauss_map does)."""
+    one degree are found together (:func:`_split_params_many`), and the parts are
+    checked together (:func:`_kept_many`).  Returns one list of parts per piece.
+    ``check=False`` skips the cusp check."""
     pieces = [np.asarray(p, float) for p in pieces]
-    out = []
-    for piece, ts in zip(pieces, _split_params_many(pieces)):
-        out.append(_keep_parts(_split_at(piece, ts) if ts.size else [piece], check))
+    parts = [_split_at(piece, ts) if ts.size else [piece]
+             for piece, ts in zip(pieces, _split_params_many(pieces))]
+    flat = [q for ps in parts for q in ps]
+    keep = _kept_many(flat, check)
+    out, k = [], 0
+    for ps in parts:
+        out.append([q for q, ok in zip(ps, keep[k:k + len(ps)]) if ok])
+        k += len(ps)
     return out
+
+
+CUSP_SAMPLES = np.linspace(0.0, 1.0, 33)[1:-1]
+
+
+def _kept_many(parts, check=True):
+    """Which parts to keep: not zero-length slivers (from splitting at coincident
+    roots).  With ``check``, a kept part whose hodograph nearly vanishes inside
+    (below 1e-10 of its largest coefficient at 31 interior points) raises
+    DegenerateCurveError: an interior cusp.  Parts of one degree and kind at once
+    (:func:`_keep_parts` is the same test one part at a time)."""
+    keep = np.zeros(len(parts), bool)
+    groups = {}
+    for k, p in enumerate(parts):
+        groups.setdefault((len(p), not pc.is_polynomial(p)), []).append(k)
+    for (_, rational), ks in groups.items():
+        h = np.array([parts[k] for k in ks])
+        x = h[..., :2] / h[..., 2:]
+        size = np.ptp(x, axis=1).max(axis=1)
+        ok = ~(size < 1e-12 * np.maximum(1.0, np.abs(x).max(axis=(1, 2))))
+        keep[ks] = ok
+        if not check or not ok.any():
+            continue
+        tn = pc.tangent_numerator_many(h[ok], rational)
+        v = np.einsum("sj,kjd->ksd", bz.basis(tn.shape[1] - 1, CUSP_SAMPLES), tn)
+        scale = np.abs(tn).max(axis=(1, 2))
+        bad = (scale == 0.0) | (np.hypot(v[..., 0], v[..., 1]).min(axis=1) < 1e-10 * scale)
+        if bad.any():
+            part = h[ok][np.argmax(bad)]
+            _check_no_cusp(part)  # the one-part test names the defect
+            raise DegenerateCurveError("curve piece has a cusp (zero tangent) inside", part)
+    return keep
 
 
 def _check_no_cusp(piece):
@@ -220,15 +257,30 @@ def gauss_map(loop, angle_tol=1e-10):
     traced forward and back is swept as a filled stroke).  Raises
     DegenerateCurveError if no choice of signs gives that total.
     """
-    curves = [part for parts in split_monotone_many(loop) for part in parts]
+    return gauss_maps([loop], angle_tol)[0]
+
+
+def gauss_maps(loops, angle_tol=1e-10):
+    """:func:`gauss_map` of each loop; the pieces of all loops split and their end
+    tangents found together."""
+    sizes = [len(loop) for loop in loops]
+    parts = split_monotone_many([p for loop in loops for p in loop])
+    out, k = [], 0
+    for n in sizes:
+        out.append(_edges([q for ps in parts[k:k + n] for q in ps], angle_tol))
+        k += n
+    return out
+
+
+def _edges(curves, angle_tol):
+    """The edges of a loop of monotone curves (:func:`gauss_map`)."""
     if not curves:
         raise DegenerateCurveError("loop has no curve of nonzero length", None)
-    ends = []
-    for c in curves:
-        t0, t1 = pc.end_tangents(c)
-        a0 = np.arctan2(t0[1], t0[0])
-        sweep = _wrap(np.arctan2(t1[1], t1[0]) - a0)
-        ends.append((a0, 0.0 if abs(sweep) < angle_tol else sweep))
+    first, last = end_directions(curves)
+    a0 = np.arctan2(first[:, 1], first[:, 0])
+    sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
+    sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
+    ends = list(zip(a0.tolist(), sweep.tolist()))
     turns = _corner_turns(curves, ends)
     edges = []
     theta = ends[0][0]
@@ -242,6 +294,37 @@ def gauss_map(loop, angle_tol=1e-10):
             edges.append(Edge("vertex", None, pc.end(c), theta, turns[i]))
             theta = theta + turns[i]
     return edges
+
+
+def end_directions(pieces, rel=1e-12, strict=True):
+    """Unit tangents at t = 0 and t = 1 of each piece, (k, 2) each: along the first
+    and the last control-point difference longer than ``rel`` times the piece's
+    size (the limit direction where the hodograph vanishes; as
+    :func:`morph.piece.end_tangents`), pieces of one degree at once.  A piece whose
+    control points all coincide raises DegenerateCurveError (``strict``) or gets
+    zero vectors."""
+    first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault(len(p), []).append(k)
+    for ks in groups.values():
+        h = np.array([pieces[k] for k in ks], float)
+        x = h[..., :2] / h[..., 2:]
+        d = np.diff(x, axis=1)
+        n = np.hypot(d[..., 0], d[..., 1])
+        size = np.ptp(x, axis=1).max(axis=1)
+        ok = n > rel * size[:, None]
+        dead = ~ok.any(axis=1) | (size <= 1e-300)
+        if strict and dead.any():
+            raise DegenerateCurveError("zero-length curve piece", h[np.argmax(dead)])
+        i0 = np.argmax(ok, axis=1)
+        i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
+        r = np.arange(len(ks))
+        norm = np.where(dead, 1.0, 1.0 / np.where(dead, 1.0, n[r, i0]))
+        first[ks] = np.where(dead[:, None], 0.0, d[r, i0] * norm[:, None])
+        norm = np.where(dead, 1.0, 1.0 / np.where(dead, 1.0, n[r, i1]))
+        last[ks] = np.where(dead[:, None], 0.0, d[r, i1] * norm[:, None])
+    return first, last
 
 
 CUSP_ANGLE = 1e-9  # a turn within this of pi is a cusp (radians)

@@ -5,6 +5,7 @@
 
 import numpy as np
 
+from . import gauss
 from . import piece as pc
 from .convolve import chain, convolution, gauss_pair_of, with_pair_table
 from .errors import TopologyError
@@ -127,15 +128,13 @@ def _tip_tolerances(out, conv, tol):
 
 def _corners(out):
     """Junction points of the loops of ``out`` and cos(phi / 2) of the turn phi there."""
-    pts, ins, outs = [], [], []
-    for loop in out:
-        tangents = [pc.end_tangents(p) for p in loop]
-        for k, p in enumerate(loop):
-            pts.append(pc.end(p))
-            ins.append(tangents[k][1])
-            outs.append(tangents[(k + 1) % len(loop)][0])
-    dot = np.einsum("ij,ij->i", np.array(ins), np.array(outs))
-    return np.array(pts), np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))
+    pieces = [p for loop in out for p in loop]
+    nxt = np.concatenate([np.roll(np.arange(len(loop)), -1) for loop in out])
+    nxt += np.repeat(np.cumsum([0] + [len(loop) for loop in out[:-1]]), [len(l) for l in out])
+    first, last = gauss.end_directions(pieces, strict=False)
+    dot = np.einsum("ij,ij->i", last, first[nxt])
+    pts = np.array([pc.end(p) for p in pieces])
+    return pts, np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))
 
 
 class _HoleTest:
