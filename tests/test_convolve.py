@@ -38,12 +38,8 @@ from morph import piece as pc
 from morph import minkowski
 from morph.errors import ToleranceNotMetError
 
-try:
-    from tests import reference as R
-    from tests.test_qac import random_pairs
-except ImportError:  # tests/ on sys.path (rootdir-less import mode)
-    import reference as R
-    from test_qac import random_pairs
+from tests import reference as R
+from tests.test_qac import random_pairs
 
 SEED = 20240604
 TS = np.linspace(0.0, 1.0, 7)

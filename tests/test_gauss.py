@@ -26,10 +26,7 @@ from morph import parse
 from morph import piece as pc
 from morph.errors import DegenerateCurveError
 
-try:
-    from tests import reference as R
-except ImportError:  # tests/ on sys.path (rootdir-less import mode)
-    import reference as R
+from tests import reference as R
 
 TWO_PI = 2.0 * np.pi
 GLYPHS = "SOgB8a&@"

@@ -33,10 +33,7 @@ import pytest
 from morph import piece as pc
 from morph import qac
 
-try:
-    from tests import reference as R
-except ImportError:  # tests/ on sys.path (rootdir-less import mode)
-    import reference as R
+from tests import reference as R
 
 SEED = 20240604
 N_PAIRS = 1000

@@ -8,10 +8,7 @@ from shapely.geometry import Point, Polygon, box
 
 from morph import piece as mp
 
-try:
-    from tests import reference as R
-except ImportError:  # tests/ on sys.path (pytest rootdir-less import mode)
-    import reference as R
+from tests import reference as R
 
 
 # ------------------------------------------------------------------------- helpers

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from imagediff import assert_matches_golden
+from tests.imagediff import assert_matches_golden
 from morph import piece as pc
 from morph.parse import cubic_test_font_path, glyph_region, svg_region
 from morph.region import Region, region_bbox, reverse_loop, translate_region
