@@ -14,7 +14,7 @@ a-z x a-z (``lower``) in the bundled TrueType font (``ttf``) and its CFF version
 (``cff``, ``morph.parse.cubic_test_font_path()``), and every glyph of the set ⊕ three
 nibs (disk r=30, thin ellipse 60x8 rotated 30 degrees, square 40x40; font units), at
 ``--tol`` em; checked by :func:`check` (straddle against the exact predicate
-``tests.test_trim.Oracle``, membership at random points, a coarse Clipper sum).
+``tests.test_minkowski.Oracle``, membership at random points, a coarse Clipper sum).
 
 ``random``: ``--n`` jobs drawn with ``--seed`` (printed; random if not given): a glyph
 of a font (``--fonts``, default ttf,cff,lobster,cormorant,amiri: the bundled Noto Sans
@@ -325,8 +325,8 @@ class NibOracle:
 
 
 class PairOracle:
-    """x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ for two shapely polygons (tests.test_trim.Oracle on
-    glyphs drawn by fontTools)."""
+    """x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ for two shapely polygons
+    (tests.test_minkowski.Oracle on glyphs drawn by fontTools)."""
 
     def __init__(self, pa, pb):
         import shapely
@@ -346,7 +346,7 @@ class PairOracle:
 
 def straddle_probes(pts, nrm, d, n_ring=24):
     """(len(pts), 2 + n_ring, 2): both normal points and n_ring points of the circle
-    of radius d around each point (see tests.test_trim.straddle)."""
+    of radius d around each point (see tests.test_minkowski.straddle)."""
     ang = np.linspace(0, 2 * np.pi, n_ring, endpoint=False)
     ring = np.column_stack([np.cos(ang), np.sin(ang)])
     d = np.asarray(d, float).reshape(-1, 1, 1) if np.ndim(d) else d
@@ -654,7 +654,7 @@ def check(font, a_name, b_name, tol, seed=0):
     from morph import piece as pc
     from morph.minkowski import minkowski_sum
     from tests import reference as R
-    from tests.test_trim import Oracle, _boundary_samples, _inside, straddle
+    from tests.test_minkowski import Oracle, _boundary_samples, _inside, straddle
 
     a, b = shape(font, a_name), shape(font, b_name)
     res = {"font": font, "a": a_name, "b": b_name, "fail": [], "error": 0.0}
@@ -1410,7 +1410,7 @@ def _preload():
     import morph.stroke  # noqa: F401
     import tests.reference  # noqa: F401
     import tests.stroke_reference  # noqa: F401
-    import tests.test_trim  # noqa: F401
+    import tests.test_minkowski  # noqa: F401
 
 
 def _pair_picture(r):
