@@ -46,6 +46,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")    # as the CLI does, before numpy
 
 import numpy as np  # noqa: E402
 
@@ -170,7 +171,6 @@ def main():
     ap.add_argument("--cache", default="/tmp/morph_export_profile.pkl")
     ap.add_argument("--save", default=None, help="write {case: {shape: points}} as JSON")
     args = ap.parse_args()
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
     cache = {}
     if os.path.exists(args.cache):

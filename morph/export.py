@@ -62,10 +62,8 @@ tolerance (:func:`split_tolerance`, or :func:`export_tolerance` when the geometr
 has a certified error below its share).
 """
 
-import bisect
 import math
 from collections import namedtuple
-from functools import lru_cache
 
 import numpy as np
 
@@ -73,7 +71,7 @@ from . import bernstein as bz
 from . import piece as pc
 from .errors import DegenerateCurveError, ToleranceNotMetError
 
-__all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "Segment", "chain_segments",
+__all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "CubicFit", "chain_segments",
            "cubic_bound", "cubic_segments", "export_tolerance", "fit_cubic", "loop_to_beziers",
            "loop_to_cubics", "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics",
            "smooth_runs", "split_tolerance"]
@@ -134,12 +132,12 @@ def export_tolerance(tol, geometry_bound):
     return tol - bound
 
 
-#: One certified cubic of a piece: ``cubic`` (4, 2) approximates the piece on
+#: One certified cubic of a piece or chain: ``cubic`` (4, 2) approximates it on
 #: [t0, t1] with ``max_s |R(phi(s)) - C(s)| <= bound`` for the continuous increasing
 #: phi: [0, 1] -> [t0, t1] given by ``reparam``, a tuple of panels ``(s0, s1,
 #: coefficients)`` (phi on [s0, s1] is the polynomial with these Bernstein
 #: coefficients in (s - s0) / (s1 - s0)); see :func:`cubic_bound`.
-Segment = namedtuple("Segment", "t0 t1 cubic bound reparam")
+CubicFit = namedtuple("CubicFit", "t0 t1 cubic bound reparam")
 
 
 def _check(piece):
@@ -156,67 +154,8 @@ def _check(piece):
 
 # ------------------------------------------------------------------ the certificate
 
-def compose(c, phi):
-    """Bernstein coefficients of ``c(phi(s))``: degree n m for c of degree n, phi of m.
-
-    de Casteljau's recursion with the polynomial phi in place of the parameter,
-    ``b_i^r = (1 - phi) b_i^{r-1} + phi b_{i+1}^{r-1}`` (products by
-    :func:`bernstein.multiply`); trailing axes of ``c`` are carried.  With phi's
-    coefficients in [0, 1] every product has non-negative factors, so positive
-    weights stay positive.
-    """
-    c = np.asarray(c, float)
-    phi = np.asarray(phi, float)
-    if len(phi) == 2 and phi[0] == 0.0 and phi[1] == 1.0:
-        return c.copy()
-    m = len(phi) - 1
-    bm = bz._binomials(m)
-    p1 = (bm * phi)[:, None, None]            # binomial-scaled, for the product formula
-    p0 = (bm * (1.0 - phi))[:, None, None]
-    flat = c.reshape(len(c), -1)
-    b = flat[None]                    # axis 0: coefficients of the polynomial entries
-    while b.shape[1] > 1:
-        d = len(b) - 1
-        lo = b[:, :-1] * bz._binomials(d)[:, None, None]
-        hi = b[:, 1:] * bz._binomials(d)[:, None, None]
-        out = np.zeros((d + m + 1,) + lo.shape[1:])
-        for i in range(m + 1):                # sum_{i+j=k} C(m,i) C(d,j) a_i b_j / C(m+d,k)
-            out[i:i + d + 1] += p0[i] * lo + p1[i] * hi
-        b = out / bz._binomials(d + m)[:, None, None]
-    return b[:, 0].reshape((len(b),) + c.shape[1:])
-
-
-def _error_poly(piece, cubic):
-    """Bernstein coefficients of E = X - W C, shape (n + 4, 2)."""
-    x = bz.elevate(piece[:, :2], 3)
-    wc = bz.multiply(piece[:, 2:3], np.asarray(cubic, float))
-    return x - wc
-
-
-def _square(c):
-    """Bernstein coefficients of c^2 (degree 2n) for a scalar Bernstein polynomial c."""
-    n = len(c) - 1
-    b = bz._binomials(n)
-    return np.convolve(b * c, b * c) / bz._binomials(2 * n)
-
-
-@lru_cache(maxsize=None)
-def _panel_matrix(n, refine):
-    """Stacked de Casteljau subdivision matrices of degree n onto 2^refine equal panels:
-    shape (2^refine, n + 1, n + 1), panel k's coefficients = M[k] @ c."""
-    k = 2 ** refine
-    eye = np.eye(n + 1)
-    return np.stack([bz.subsegment(eye, i / k, (i + 1) / k) for i in range(k)])
-
-
-def _bound_from_error(e, w, refine=3):
-    """sqrt of the smallest b2 with b2 W^2 - |E|^2 >= 0 coefficient-wise on 2^refine panels."""
-    e2 = _square(e[:, 0]) + _square(e[:, 1])
-    w2 = bz.to_degree(_square(w[:, 0]), len(e2) - 1)
-    if refine > 0:
-        m = _panel_matrix(len(e2) - 1, refine)
-        e2, w2 = m @ e2, m @ w2
-    return float(np.sqrt(max(float(np.max(e2 / w2)), 0.0)))
+#: de Casteljau halvings of the certificate's coefficients (2^REFINE panels).
+REFINE = 3
 
 
 def _normalized_reparam(phi, t0, t1):
@@ -242,19 +181,26 @@ def _panels(reparam):
     return panels
 
 
-def cubic_bound(piece, cubic, reparam=None, refine=3):
+def _same_param_bound(piece, cubic, refine=REFINE):
+    """:func:`morph.piece.distance_bound_many` of one piece and one cubic."""
+    return float(pc.distance_bound_many(piece[None], np.asarray(cubic, float)[None],
+                                        refine)[0][0])
+
+
+def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
     """Certified bound on the distance between a piece R and a cubic C.
 
     Without ``reparam``: ``max_{t in [0,1]} |R(t) - C(t)|`` (same parameter).  With
     ``reparam``: ``max_{s in [0,1]} |R(phi(s)) - C(s)|`` for the continuous increasing
     phi it describes, which bounds the Fréchet and Hausdorff distances between C
     and R on [phi(0), phi(1)].  ``reparam`` is either the Bernstein coefficients of
-    one increasing polynomial phi (values in [0, 1]) or, as in :class:`Segment`, a
+    one increasing polynomial phi (values in [0, 1]) or, as in :class:`CubicFit`, a
     sequence of panels ``(s0, s1, coefficients)``: phi on [s0, s1] is the polynomial
     in (s - s0) / (s1 - s0).  ``cubic`` is a (4, 2) array of Cartesian control
-    points.  The bound is the Bernstein-coefficient certificate of the module
-    docstring (never below the true maximum, rounding aside), the largest over the
-    panels.
+    points.  On each panel R o phi is composed exactly
+    (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
+    :func:`morph.piece.distance_bound_many` applied on 2^refine panels (never below
+    the true maximum, rounding aside); the largest over the panels is returned.
 
     Raises:
         ValueError: bad piece (shape, weights) or a reparam that is not increasing.
@@ -262,16 +208,16 @@ def cubic_bound(piece, cubic, reparam=None, refine=3):
     piece = _check(piece)
     cubic = np.asarray(cubic, float)
     if reparam is None:
-        return _bound_from_error(_error_poly(piece, cubic), piece[:, 2:3], refine)
+        return _same_param_bound(piece, cubic, refine)
     worst = 0.0
     for s0, s1, phi in _panels(reparam):
         t0, t1 = float(phi[0]), float(phi[-1])
         if not 0.0 <= t0 < t1 <= 1.0:
             raise ValueError("reparam must map [0, 1] into [0, 1] increasingly")
         sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
-        comp = compose(sub, _normalized_reparam(phi, t0, t1))
+        comp = bz.compose(sub, _normalized_reparam(phi, t0, t1))
         c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
-        worst = max(worst, _bound_from_error(_error_poly(comp, c), comp[:, 2:3], refine))
+        worst = max(worst, _same_param_bound(comp, c, refine))
     return worst
 
 
@@ -295,311 +241,67 @@ def fit_cubic(piece):
     p0, p3 = p[0], p[-1]
     d = pc.derivative(piece, np.array([0.0, 1.0]))
     hermite = np.array([p0, p0 + d[0] / 3.0, p3 - d[1] / 3.0, p3])
-    best = (hermite, _bound_from_error(_error_poly(piece, hermite), piece[:, 2:3]))
+    best = (hermite, _same_param_bound(piece, hermite))
 
     n0, n1 = np.hypot(*d[0]), np.hypot(*d[1])
     if n0 > 0 and n1 > 0:
         t0, t1 = d[0] / n0, d[1] / n1
-        e0 = _error_poly(piece, np.array([p0, p0, p3, p3]))
+        w = piece[:, 2:3]
+        e0 = bz.elevate(piece[:, :2], 3) - bz.multiply(w, np.array([p0, p0, p3, p3]))
         # E(alpha, beta) = e0 - alpha W B1 t0 + beta W B2 t1 (B_i cubic Bernstein basis)
-        wb1 = bz.multiply(piece[:, 2:3], np.array([[0.0], [1.0], [0.0], [0.0]]))
-        wb2 = bz.multiply(piece[:, 2:3], np.array([[0.0], [0.0], [1.0], [0.0]]))
+        wb1 = bz.multiply(w, np.array([[0.0], [1.0], [0.0], [0.0]]))
+        wb2 = bz.multiply(w, np.array([[0.0], [0.0], [1.0], [0.0]]))
         mat = np.column_stack([(-wb1 * t0).ravel(), (wb2 * t1).ravel()])
         sol, *_ = np.linalg.lstsq(mat, -e0.ravel(), rcond=None)
         alpha, beta = sol
         if alpha > 0 and beta > 0 and np.all(np.isfinite(sol)):
             cand = np.array([p0, p0 + alpha * t0, p3 - beta * t1, p3])
-            bound = _bound_from_error(_error_poly(piece, cand), piece[:, 2:3])
+            bound = _same_param_bound(piece, cand)
             if bound < best[1]:
                 best = (cand, bound)
     return best
 
 
-class _SubSource:
-    """One sub-piece in the power basis, evaluated by Horner's rule in plain floats."""
-
-    def __init__(self, sub):
-        self.sub = sub
-        power = bz.to_power(sub)
-        self.desc = [tuple(float(v) for v in row) for row in power[::-1]]
-        self._h = None
-
-    def eval(self, t):
-        """X, Y, W and their derivatives at t (Horner's rule with the derivative)."""
-        X = Y = W = dX = dY = dW = 0.0
-        for cx, cy, cw in self.desc:
-            dX, dY, dW = dX * t + X, dY * t + Y, dW * t + W
-            X, Y, W = X * t + cx, Y * t + cy, W * t + cw
-        return X, Y, W, dX, dY, dW
-
-    @property
-    def h(self):
-        """Power coefficients of the tangent numerator and its first derivatives (only
-        needed where the derivative vanishes)."""
-        if self._h is None:
-            self._h = []
-            hp = bz.to_power(pc.tangent_numerator(self.sub))
-            while len(hp) and len(self._h) < 4:
-                self._h.append([[float(v) for v in hp[:, k]] for k in range(2)])
-                hp = hp[1:] * np.arange(1, len(hp))[:, None]
-        return self._h
+#: Intervals per piece of a chain's arc-length table (lengths by 8-point
+#: Gauss-Legendre on each).
+ARC_INTERVALS = 32
+_GL8 = np.polynomial.legendre.leggauss(8)
 
 
-def _horner(c, t):
-    v = 0.0
-    for x in reversed(c):
-        v = v * t + x
-    return v
-
-
-class _KurboSource:
-    """Sub-pieces joined end to end as kurbo's ``ParamCurveFit`` source.
-
-    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
-    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None).  One
-    sub-piece keeps its own parameter (u = v).  Several are parametrised by arc
-    length (u = s / L): kurbo integrates area and moment by 16-point Gauss-Legendre
-    quadrature in u, which a kink of the parametrisation at a join spoils (1e-4
-    relative with the pieces' own parameters, enough to miss the best cubic); v(s)
-    is a C1 cubic Hermite interpolant of the inverse arc length on 16 intervals per
-    sub-piece (lengths by 8-point Gauss-Legendre), its derivative used in the
-    chain rule, so samples and derivatives stay consistent.  Each sub-piece is held
-    in the power basis and evaluated by Horner's rule in plain floats.  Where the
-    derivative vanishes the tangent is the first non-zero higher derivative of the
-    tangent numerator X'W - XW', signed by ``sign`` (the one-sided limit).
-    """
-
-    _GL = np.polynomial.legendre.leggauss(8)
-
-    def __init__(self, subs):
-        import kurbopy
-
-        self._point, self._vec = kurbopy.Point, kurbopy.Vec2
-        self._subs = [_SubSource(sub) for sub in subs]
-        p = np.vstack([pc.cartesian(sub) for sub in subs])
-        self._tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
-        self._tables = self._arclength_tables(subs) if len(subs) > 1 else None
-
-    def _arclength_tables(self, subs, m=16):
-        tables, total = [], 0.0
-        x, w = self._GL
-        for sub in subs:
-            v = np.linspace(0.0, 1.0, m + 1)
-            speed = np.hypot(*pc.derivative(sub, v).T)
-            if not np.all(speed > 0):
-                return None
-            q = (v[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
-            seg = (np.hypot(*pc.derivative(sub, q).T).reshape(m, -1) @ w) * 0.5 / m
-            cum = np.concatenate([[0.0], np.cumsum(seg)])
-            tables.append((total, [float(c) for c in cum], [float(a) for a in v],
-                           [1.0 / float(a) for a in speed]))
-            total += float(cum[-1])
-        self._total = total
-        return tables if total > 0 else None
-
-    def _locate(self, u, sign):
-        """(sub-piece, its parameter v, dv/du)."""
-        if self._tables is None:
-            return 0, min(max(u, 0.0), 1.0), 1.0
-        s = min(max(u, 0.0), 1.0) * self._total
-        j = 0
-        while j + 1 < len(self._tables) and (s > self._tables[j + 1][0] or
-                                             (s == self._tables[j + 1][0] and sign > 0)):
-            j += 1
-        start, cum, v, inv = self._tables[j]
-        ell = min(max(s - start, 0.0), cum[-1])
-        i = min(max(bisect.bisect_right(cum, ell) - 1, 0), len(cum) - 2)
-        h = cum[i + 1] - cum[i]
-        t = (ell - cum[i]) / h if h > 0 else 0.0
-        t2, t3 = t * t, t * t * t
-        val = ((2 * t3 - 3 * t2 + 1) * v[i] + (t3 - 2 * t2 + t) * h * inv[i]
-               + (-2 * t3 + 3 * t2) * v[i + 1] + (t3 - t2) * h * inv[i + 1])
-        der = ((6 * t2 - 6 * t) * (v[i] - v[i + 1]) / h if h > 0 else 0.0) \
-            + (3 * t2 - 4 * t + 1) * inv[i] + (3 * t2 - 2 * t) * inv[i + 1]
-        return j, min(max(val, 0.0), 1.0), der * self._total
-
-    def _eval(self, u, sign=1.0):
-        j, v, scale = self._locate(u, sign)
-        src = self._subs[j]
-        X, Y, W, dX, dY, dW = src.eval(v)
-        x, y = X / W, Y / W
-        return x, y, scale * (dX - x * dW) / W, scale * (dY - y * dW) / W, src, v
-
-    def sample_pt_deriv(self, u):
-        x, y, dx, dy, _, _ = self._eval(u)
-        return self._point(x, y), self._vec(dx, dy)
-
-    def sample_pt_tangent(self, u, sign):
-        x, y, dx, dy, src, v = self._eval(u, sign)
-        if math.hypot(dx, dy) <= self._tiny:
-            for k, (cx, cy) in enumerate(src.h[1:], start=1):
-                s = sign ** k
-                dx, dy = s * _horner(cx, v), s * _horner(cy, v)
-                if math.hypot(dx, dy) > self._tiny:
-                    break
-        return self._point(x, y), self._vec(dx, dy)
-
-    def break_cusp(self, u0, u1):
-        return None
-
-
-def _kurbo_cubic(subs, tol):
-    """kurbo's best single cubic for the sub-pieces joined, (4, 2) array, or None.
-
-    The accuracy handed to kurbo is loose (half the chord, at least tol) so that it
-    returns its best candidate; whether the cubic is good enough is decided by the
-    certificate, not by kurbo's sampled error.
-    """
-    import kurbopy
-
-    p0, p1 = pc.start(subs[0]), pc.end(subs[-1])
-    chord = math.hypot(*(p1 - p0))
-    accuracy = max(tol, 0.5 * chord)
-    try:
-        path = kurbopy.fit_to_bezpath(_KurboSource(subs), accuracy)
-    except BaseException as exc:  # pyo3 turns panics in callbacks into PanicException
-        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
-            raise
-        return None
-    segs = list(path.segments())
-    if len(segs) != 1 or not hasattr(segs[0], "p3"):
-        return None
-    c = segs[0]
-    out = np.array([[q.x, q.y] for q in (c.p0, c.p1, c.p2, c.p3)], float)
-    out[0], out[-1] = p0, p1
-    return out if np.all(np.isfinite(out)) else None
-
-
-_NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
-_DENSE = np.linspace(0.0, 1.0, 65)
-
-
-def _feet(sub, points, iters=4):
-    """Parameters u in [0, 1] of the closest points of ``sub`` to ``points``.
-
-    Start at the nearest of 65 samples, then Newton on (R(u) - p) . R'(u) = 0 with
-    the rational derivatives from the homogeneous ones (quotient rule), evaluated in
-    the power basis by Horner's rule over all points at once.  Returns (u, |R'(u)|).
-    """
-    desc = bz.to_power(sub)[::-1]
-    dense = pc.evaluate(sub, _DENSE)
-    u = _DENSE[np.argmin(((points[:, None] - dense[None]) ** 2).sum(-1), axis=1)]
-
-    def jet(u):
-        uu = u[:, None]
-        h = np.zeros((len(u), 3))
-        h1, h2 = h.copy(), h.copy()
-        for c in desc:
-            h2 = h2 * uu + 2.0 * h1
-            h1 = h1 * uu + h
-            h = h * uu + c
-        w, w1, w2 = h[:, 2:3], h1[:, 2:3], h2[:, 2:3]
-        p = h[:, :2] / w
-        p1 = (h1[:, :2] - p * w1) / w
-        p2 = (h2[:, :2] - 2.0 * p1 * w1 - p * w2) / w
-        return p, p1, p2
-
-    for _ in range(iters):
-        p, p1, p2 = jet(u)
-        r = p - points
-        f = (r * p1).sum(1)
-        fp = (p1 * p1).sum(1) + (r * p2).sum(1)
-        ok = fp > 0
-        u = np.clip(u - np.where(ok, f / np.where(ok, fp, 1.0), 0.0), 0.0, 1.0)
-    return u, np.hypot(*jet(u)[1].T)
-
-
-@lru_cache(maxsize=None)
-def _node_fit(m):
-    """Bernstein basis of degree m at the nodes and the least-squares solver for the
-    inner coefficients (end coefficients fixed at 0 and 1)."""
-    basis = bz.basis(m, _NODES)
-    return basis, np.linalg.pinv(basis[:, 1:-1])
-
-
-def _reparam_for(sub, cubic, tol):
-    """phi: [0,1] -> [0,1] matching C(s) to its closest points R(phi(s)).
-
-    Returns ``(phi, normal)``: phi's increasing Bernstein coefficients, of the lowest
-    degree in 1, 3, 5, 7, 9 whose tangential mismatch |phi(s_j) - u_j| |R'(u_j)| at
-    24 Chebyshev nodes is below tol / 5 (else the best increasing one), and the
-    largest foot distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).
-    """
-    pts = bz.evaluate(cubic, _NODES)
-    u, speed = _feet(sub, pts)
-    normal = float(np.max(np.hypot(*(pc.evaluate(sub, u) - pts).T)))
-    best = (float(np.max(np.abs(_NODES - u) * speed)), np.array([0.0, 1.0]))
-    if best[0] > 0.2 * tol:
-        for m in (3, 5, 7, 9):
-            basis, pinv = _node_fit(m)
-            phi = np.concatenate([[0.0], pinv @ (u - basis[:, -1]), [1.0]])
-            if not np.all(np.diff(phi) > 0):
-                continue
-            miss = float(np.max(np.abs(basis @ phi - u) * speed))
-            if miss < best[0]:
-                best = (miss, phi)
-            if miss <= 0.2 * tol:
-                break
-    return best[1], normal
-
-
-def _certify(sub, cubic, tol, depth=3):
-    """Certified bound of a cubic against a sub-piece: (bound, panels).
-
-    ``panels`` is a list of ``(s0, s1, phi)``: on s in [s0, s1] the reparametrisation
-    is the polynomial with Bernstein coefficients phi (in the local variable
-    (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]); together they form one
-    continuous increasing phi.  One panel is tried first; when its bound exceeds tol
-    although the cubic is within tol of the curve at the nodes (the parametrisations
-    differ more than a polynomial of degree 9 follows: rational straight pieces,
-    zero end derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
-    sub-piece at the foot of C(1/2), and each half certified alone, ``depth`` times.
-    A bound <= tol is certified; above tol it may be a sampled distance (a cubic
-    farther than tol from the curve at a node is not composed at all).
-    """
-    phi, normal = _reparam_for(sub, cubic, tol)
-    if normal > tol:
-        # the cubic is farther than tol from the curve at a node: no reparametrisation
-        # can certify it; the sampled distance (a lower bound) guides the search
-        return normal, [(0.0, 1.0, phi)]
-    comp = compose(sub, phi)
-    bound = _bound_from_error(_error_poly(comp, cubic), comp[:, 2:3])
-    single = (bound, [(0.0, 1.0, phi)])
-    if bound <= tol or depth <= 0 or normal > 0.95 * tol:
-        return single
-    um = float(_feet(sub, bz.evaluate(cubic, [0.5]))[0][0])
-    if not 0.0 < um < 1.0:
-        return single
-    halves = bz.split(cubic, 0.5)
-    subs = pc.split(sub, um)
-    (b0, p0), (b1, p1) = (_certify(s, c, tol, depth - 1) for s, c in zip(subs, halves))
-    if max(b0, b1) >= bound:
-        return single
-    panels = [(0.5 * a, 0.5 * b, um * f) for a, b, f in p0] + \
-        [(0.5 + 0.5 * a, 0.5 + 0.5 * b, um + (1.0 - um) * f) for a, b, f in p1]
-    return max(b0, b1), panels
-
-
-def _cubic_feet(cubic, points, iters=6):
-    """Parameters s in [0, 1] of the closest points of a cubic to ``points`` (Newton)."""
-    dense = bz.evaluate(cubic, _DENSE)
-    s = _DENSE[np.argmin(((points[:, None] - dense[None]) ** 2).sum(-1), axis=1)]
-    d1, d2 = bz.derivative(cubic), bz.derivative(bz.derivative(cubic))
-    for _ in range(iters):
-        r = bz.evaluate(cubic, s) - points
-        p1, p2 = bz.evaluate(d1, s), bz.evaluate(d2, s)
-        fp = (p1 * p1).sum(1) + (r * p2).sum(1)
-        ok = fp > 0
-        s = np.clip(s - np.where(ok, (r * p1).sum(1) / np.where(ok, fp, 1.0), 0.0), 0, 1)
-    return s
+def _hermite(x):
+    """Cubic Hermite basis (h00, h10, h01, h11) and its derivative at x in [0, 1]."""
+    x2, x3 = x * x, x * x * x
+    val = (2 * x3 - 3 * x2 + 1, x3 - 2 * x2 + x, -2 * x3 + 3 * x2, x3 - x2)
+    der = (6 * x2 - 6 * x, 3 * x2 - 4 * x + 1, -6 * x2 + 6 * x, 3 * x2 - 2 * x)
+    return val, der
 
 
 class _Chain:
-    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1]."""
+    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
+
+    Set up once per chain, used by every fit on it: the pieces stacked at one degree
+    (points and derivatives at any array of parameters in one call,
+    :meth:`jet`) and an arc-length table (:meth:`arc_table`): ARC_INTERVALS equal
+    parameter intervals per piece with their lengths and the speeds at their ends.
+    """
 
     def __init__(self, pieces):
         self.pieces = [_check(p) for p in pieces]
         self.k = len(self.pieces)
+        self.stack = pc.stack(self.pieces)
+        p = np.vstack([pc.cartesian(q) for q in self.pieces])
+        self.tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+        self._arc = None
+
+    def jet(self, t, left=None):
+        """Points and derivatives dP/dT at chain parameters ``t``, arrays (m, 2).  At a
+        join T = k the piece starting there is used, or where ``left`` is true the
+        piece ending there (the one-sided value from the left)."""
+        t = np.asarray(t, float)
+        idx = np.clip(np.floor(t).astype(int), 0, self.k - 1)
+        if left is not None:
+            idx = np.where(left, np.clip(np.ceil(t).astype(int) - 1, 0, self.k - 1), idx)
+        return pc.jet_many(self.stack, idx, np.clip(t - idx, 0.0, 1.0))
 
     def point(self, t):
         if t >= self.k:
@@ -619,52 +321,431 @@ class _Chain:
                 out.append((k, a, b, p if (a, b) == (0.0, 1.0) else pc.subsegment(p, a, b)))
         return out
 
+    def arc_table(self):
+        """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
+        pieces, in order) its chain parameters, cumulative arc lengths and speeds
+        |dP/dT| at both ends; arrays of K * ARC_INTERVALS."""
+        if self._arc is None:
+            m, (x, w) = ARC_INTERVALS, _GL8
+            knots = np.linspace(0.0, 1.0, m + 1)
+            q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+            ks = np.arange(self.k)
+            _, d = pc.jet_many(self.stack, np.repeat(ks, len(q)), np.tile(q, self.k))
+            seg = (np.hypot(*d.T).reshape(self.k, m, len(x)) @ w) * 0.5 / m
+            _, dk = pc.jet_many(self.stack, np.repeat(ks, m + 1), np.tile(knots, self.k))
+            speed = np.hypot(*dk.T).reshape(self.k, m + 1)
+            cum = np.concatenate([[0.0], np.cumsum(seg.ravel())])
+            tl = (ks[:, None] + knots[None, :-1]).ravel()
+            self._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], speed[:, :-1].ravel(),
+                         speed[:, 1:].ravel())
+        return self._arc
 
-def _fit_range(chain, t0, t1, tol, ends):
-    """Best certified cubic for the chain on [t0, t1]: (cubic, bound, panels).
+    def arclength(self, t):
+        """Arc length from the chain's start to chain parameters ``t`` (cubic Hermite
+        interpolation of the table, O(h^4))."""
+        tl, tr, sl, sr, vl, vr = self.arc_table()
+        t = np.asarray(t, float)
+        i = np.clip(np.floor(t * ARC_INTERVALS).astype(int), 0, len(tl) - 1)
+        h = tr[i] - tl[i]
+        (h00, h10, h01, h11), _ = _hermite((t - tl[i]) / h)
+        return h00 * sl[i] + h10 * h * vl[i] + h01 * sr[i] + h11 * h * vr[i]
 
-    Panels carry chain parameters T.  Across joins of the chain the cubic is cut at
-    the closest points s_k to the join points (increasing, else no certificate) and
-    each part certified against its piece by :func:`_certify`: phi is continuous
-    (it maps s_k to the join) and increasing.
+    def range_map(self, t0, t1):
+        """A parametrisation u in [0, 1] -> T in [t0, t1] for fitting: a function of
+        u (array) returning (T, dT/du).  Within one piece the piece's own parameter
+        (linear).  Across joins the arc length (u = s / L), so that quadrature in u
+        sees no kink of the parametrisation at a join: T(s) is the C1 cubic Hermite
+        interpolant of the inverse arc length (knots of :meth:`arc_table`, slopes
+        1 / speed), plus a linear term of size O(h^4) that makes T(0) = t0 and T(1)
+        = t1 exact; its derivative is used in the chain rule, so samples and
+        derivatives stay consistent.  Linear in T where a speed vanishes (callers
+        check that the map increases where they use it)."""
+        def linear(u):
+            return t0 + u * (t1 - t0), np.full(np.shape(u), t1 - t0)
+
+        if int(math.floor(t0)) >= int(math.ceil(t1)) - 1:
+            return linear
+        tl, tr, sl, sr, vl, vr = self.arc_table()
+        lo = int(math.floor(t0 * ARC_INTERVALS))
+        hi = min(int(math.ceil(t1 * ARC_INTERVALS)), len(tl))
+        if not np.all(np.minimum(vl[lo:hi], vr[lo:hi]) > 1e-9 * np.max(vr[lo:hi])):
+            return linear
+        s0, s1 = (float(v) for v in self.arclength(np.array([t0, t1])))
+        if not s1 > s0:
+            return linear
+
+        def inverse(s):
+            i = np.clip(np.searchsorted(sl, s, side="right") - 1, lo, hi - 1)
+            h = sr[i] - sl[i]
+            (h00, h10, h01, h11), (d00, d10, d01, d11) = _hermite((s - sl[i]) / h)
+            t = h00 * tl[i] + h10 * h / vl[i] + h01 * tr[i] + h11 * h / vr[i]
+            dt = (d00 * tl[i] + d01 * tr[i]) / h + d10 / vl[i] + d11 / vr[i]
+            return t, dt
+
+        (e0, e1), _ = inverse(np.array([s0, s1]))
+        c0, c1 = t0 - e0, t1 - e1
+
+        def arc(u):
+            u = np.asarray(u, float)
+            t, dt = inverse(s0 + u * (s1 - s0))
+            return (np.clip(t + (1.0 - u) * c0 + u * c1, t0, t1),
+                    dt * (s1 - s0) + (c1 - c0))
+        return arc
+
+
+def _limit_tangent(piece, t, sign, tiny):
+    """Direction of travel of a piece at t where its derivative vanishes: the first
+    derivative of the tangent numerator H = X'W - XW' (:func:`morph.piece.
+    tangent_numerator`, zeros at the ends divided out) that is not zero, k-th
+    signed by sign^k (the one-sided limit from the side ``sign``)."""
+    h = pc.tangent_numerator(piece)
+    for k in range(4):
+        v = bz.evaluate(h, [t])[0]
+        if math.hypot(*v) > tiny or len(h) == 1:
+            return sign ** k * v
+        h = bz.derivative(h)
+    return v
+
+
+def _kurbo_grid():
+    """The parameters kurbo's ``fit_to_bezpath`` samples a source at on its first
+    level (range [0, 1], kurbo's fit.rs), (base, arc): the ends, 16-point
+    Gauss-Legendre nodes (moment integrals), 22 equal steps (distance samples), 7
+    steps (short chords); and 210 midpoints of equal steps (arc lengths, asked for
+    a "spicy" source only).  Computed with kurbo's float expressions, so most
+    requests match exactly (a node off by an ulp is matched by :func:`_grid_index`)."""
+    gl = 0.5 + 0.5 * np.polynomial.legendre.leggauss(16)[0]
+    base = {0.0, 1.0}
+    base.update(float(v) for v in gl)
+    base.update(0.0 + i * (1.0 * (1.0 / 21.0)) for i in range(22))
+    base.update(0.0 + (i + 1) * (1.0 / 8.0) for i in range(7))
+    arc = {0.0 + (1.0 * (1.0 / 210.0)) * (k + 0.5) for k in range(210)} - base
+    return np.array(sorted(base)), np.array(sorted(arc))
+
+
+_KURBO_BASE, _KURBO_ARC = _kurbo_grid()
+_KURBO_U = np.concatenate([_KURBO_BASE, _KURBO_ARC])
+_KURBO_INDEX = {float(u): i for i, u in enumerate(_KURBO_U)}
+_SPICY_ROWS = np.array([_KURBO_INDEX[0.0 + i * (1.0 * (1.0 / 21.0))] for i in range(22)])
+
+
+def _grid_index(u):
+    """Index of the grid parameter equal to u within 1e-14 (learned), else None."""
+    for grid, offset in ((_KURBO_BASE, 0), (_KURBO_ARC, len(_KURBO_BASE))):
+        i = int(np.searchsorted(grid, u))
+        for j in (i - 1, i):
+            if 0 <= j < len(grid) and abs(grid[j] - u) <= 1e-14:
+                _KURBO_INDEX[u] = j + offset
+                return j + offset
+    return None
+
+
+class _KurboSource:
+    """The chain on [t0, t1] as kurbo's ``ParamCurveFit`` source.
+
+    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
+    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None), one
+    Python call per sample.  The samples kurbo asks for on its first level are known
+    in advance (:func:`_kurbo_grid`): they are evaluated for the whole grid at once
+    (:meth:`_Chain.jet` under :meth:`_Chain.range_map`), and each callback only looks
+    its answer up; other parameters (kurbo subdividing) are evaluated one by one.
+    Where the derivative vanishes the tangent is the one-sided limit direction
+    (:func:`_limit_tangent`); u = 1 is sampled from the left.
     """
-    parts = chain.parts(t0, t1)
-    subs = [p[3] for p in parts]
-    cands = []
-    cubic = _kurbo_cubic(subs, tol)
-    if cubic is not None:
-        cubic[0], cubic[-1] = ends
-        if len(parts) == 1:
-            bound, panels = _certify(subs[0], cubic, tol)
-            panels = [(a, b, (0, f)) for a, b, f in panels]
-        else:
-            joins = np.array([pc.start(sub) for sub in subs[1:]])
-            cuts = np.concatenate([[0.0], _cubic_feet(cubic, joins), [1.0]])
-            bound, panels = np.inf, []
+
+    def __init__(self, chain, t0, t1):
+        import kurbopy
+
+        self._point, self._vec = kurbopy.Point, kurbopy.Vec2
+        self._chain, self._map = chain, chain.range_map(t0, t1)
+        u = _KURBO_BASE
+        t, dt = self._map(u)
+        if not np.all(dt > 0):                    # the arc-length map must increase
+            self._map = lambda u: (t0 + u * (t1 - t0), np.full(np.shape(u), t1 - t0))
+            t, dt = self._map(u)
+        p, d = chain.jet(t, u == 1.0)
+        d *= dt[:, None]
+        self._t, self._p, self._d = t.tolist(), p.tolist(), d.tolist()
+        # kurbo's "spicy" test on its 22 distance samples (tangents turning by more
+        # than atan(0.2) between neighbours): it then measures arc lengths
+        a, b = d[_SPICY_ROWS[:-1]], d[_SPICY_ROWS[1:]]
+        self.spicy = bool(np.any(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+                                 > 0.2 * np.abs((a * b).sum(1))))
+        self._first = True
+
+    def _eval(self, u, left):
+        t, dt = self._map(u)
+        p, d = self._chain.jet(t, left)
+        return p, d * dt[:, None], t
+
+    def _lookup(self, u, sign=1.0):
+        i = _KURBO_INDEX.get(u)
+        if i is None:
+            i = _grid_index(u)
+        if i is not None and not (u == 0.0 and sign < 0):
+            if i >= len(self._p):                 # kurbo measures arc lengths: all at once
+                p, d, t = self._eval(_KURBO_ARC, None)
+                self._t += t.tolist()
+                self._p += p.tolist()
+                self._d += d.tolist()
+            (x, y), (dx, dy) = self._p[i], self._d[i]
+            return x, y, dx, dy, self._t[i]
+        p, d, t = self._eval(np.array([u]), np.array([sign < 0]))
+        return p[0, 0], p[0, 1], d[0, 0], d[0, 1], float(t[0])
+
+    def sample_pt_deriv(self, u):
+        x, y, dx, dy, _ = self._lookup(u)
+        return self._point(x, y), self._vec(dx, dy)
+
+    def sample_pt_tangent(self, u, sign):
+        x, y, dx, dy, t = self._lookup(u, sign)
+        if math.hypot(dx, dy) <= self._chain.tiny:
+            k = min(int(math.floor(t)), self._chain.k - 1)
+            if sign < 0 and t == math.floor(t) and t > 0:
+                k = int(t) - 1
+            dx, dy = _limit_tangent(self._chain.pieces[k], t - k, sign, self._chain.tiny)
+        return self._point(x, y), self._vec(dx, dy)
+
+    def break_cusp(self, u0, u1):
+        # kurbo asks first for the whole range (no cusp: fit it); a later call means
+        # its fit failed and it subdivides: answer the range's start, which makes it
+        # draw a line and stop (the result then has several segments: no fit)
+        if self._first:
+            self._first = False
+            return None
+        return u0
+
+
+#: kurbo's accuracy is at most this multiple of tol (a cubic 16 tol away certifies
+#: nothing; the search then halves its step, as (0.9 / 16)^(1/5) ~ 0.56 would).
+KURBO_SLACK = 16.0
+#: The same for a "spicy" source (tangent turning fast between kurbo's samples):
+#: kurbo then also measures the arc length of every candidate within its accuracy
+#: (adaptive quadrature within 1e-3 of it, inverse by bisection), which took
+#: minutes on one poor candidate with the half chord as accuracy (Relief 'three' ⊕
+#: broad nib); close candidates are cheap.
+SPICY_SLACK = 2.0
+
+
+def _kurbo_cubic(chain, t0, t1, tol, ends):
+    """kurbo's best single cubic for the chain on [t0, t1] with the given exact end
+    points, (4, 2) array, or None.
+
+    The accuracy handed to kurbo is loose (half the chord, at most KURBO_SLACK tol,
+    at least tol) so that it returns its best candidate; whether the cubic is good
+    enough is decided by the certificate, not by kurbo's sampled error.  (Not the
+    whole half chord: for a candidate within its accuracy by kurbo's ray distance
+    on a "spicy" source kurbo measures arc lengths of the cubic within 1e-3 of the
+    accuracy, which took minutes on a poor candidate with a near-cusp.)
+    """
+    import kurbopy
+
+    chord = math.hypot(*(ends[1] - ends[0]))
+    source = _KurboSource(chain, t0, t1)
+    slack = SPICY_SLACK if source.spicy else KURBO_SLACK
+    try:
+        path = kurbopy.fit_to_bezpath(source, max(tol, min(0.5 * chord, slack * tol)))
+    except BaseException as exc:  # pyo3 turns panics in callbacks into PanicException
+        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+            raise
+        return None
+    segs = list(path.segments())
+    if len(segs) != 1 or not hasattr(segs[0], "p3"):
+        return None
+    c = segs[0]
+    out = np.array([[q.x, q.y] for q in (c.p0, c.p1, c.p2, c.p3)], float)
+    out[0], out[-1] = ends
+    return out if np.all(np.isfinite(out)) else None
+
+
+_NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
+_NODE_BASIS = bz.basis(3, _NODES)
+#: Degrees of the reparametrisation phi tried in turn (the lowest that follows the
+#: feet within PHI_SHARE * tol).
+PHI_DEGREES = (3, 5, 7, 9)
+PHI_SHARE = 0.2
+
+
+def _reparams(subs, cubics, tol):
+    """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
+
+    Returns ``(phis, normal)``: for each (sub-piece, cubic) pair phi's increasing
+    Bernstein coefficients, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
+    PHI_SHARE * tol (else the best increasing one), and the largest foot distance
+    |R(u_j) - C(s_j)| (what no reparametrisation can beat).  The feet u_j of all
+    pairs come from one batched search (:func:`morph.piece.nearest_params_many`),
+    phi from one least-squares solve per degree (:func:`morph.bernstein.
+    fit_fixed_ends`, ends fixed at 0 and 1).
+    """
+    stack = pc.stack(subs)
+    pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
+    u = pc.nearest_params_many(stack, pts)
+    p, d, _ = (pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many)(stack, u)
+    speed = np.hypot(d[..., 0], d[..., 1])
+    normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
+    miss = (np.abs(_NODES - u) * speed).max(axis=1)
+    phis = [np.array([0.0, 1.0])] * len(subs)
+    todo = miss > PHI_SHARE * tol
+    for m in PHI_DEGREES:
+        rows = np.nonzero(todo)[0]
+        if not len(rows):
+            break
+        phi = bz.fit_fixed_ends(_NODES, u[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
+        mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
+        err = (np.abs(phi @ bz.basis(m, _NODES).T - u[rows]) * speed[rows]).max(axis=1)
+        for j in np.nonzero(mono & (err < miss[rows]))[0]:
+            phis[rows[j]], miss[rows[j]] = phi[j], err[j]
+        todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
+    return phis, normal
+
+
+def _certify_many(subs, cubics, tol, depth=3):
+    """Certified bounds of cubics against sub-pieces, all pairs at once: a list of
+    (bound, panels), one per pair.
+
+    ``panels`` is a list of ``(s0, s1, phi)``: on s in [s0, s1] the reparametrisation
+    is the polynomial with Bernstein coefficients phi (in the local variable
+    (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]); together they form one
+    continuous increasing phi (:func:`_reparams`).  The bound is the certificate of
+    the module docstring on the exact composition R o phi (:func:`morph.bernstein.
+    compose_many`, one call per pair of degrees, then :func:`morph.piece.
+    distance_bound_many`).  Where it exceeds tol although the cubic is within tol of
+    the curve at the nodes (the parametrisations differ more than a polynomial of
+    degree 9 follows: rational straight pieces, zero end derivatives) the cubic is
+    halved exactly at s = 1/2 (de Casteljau), the sub-piece at the foot of C(1/2),
+    and the halves certified alone, ``depth`` times.  A bound <= tol is certified;
+    above tol it may be a sampled distance (a cubic farther than tol from the curve
+    at a node is not composed at all).
+    """
+    cubics = np.asarray(cubics, float)
+    phis, normal = _reparams(subs, cubics, tol)
+    bound = normal.copy()
+    groups = {}
+    for i in np.nonzero(normal <= tol)[0]:
+        groups.setdefault((len(subs[i]), len(phis[i])), []).append(i)
+    for (_, m), rows in groups.items():
+        comp = np.array([subs[i] for i in rows])
+        if m > 2:
+            comp = bz.compose_many(comp, np.array([phis[i] for i in rows]))
+        bound[rows] = pc.distance_bound_many(comp, cubics[rows], REFINE)[0]
+    out = [(float(b), [(0.0, 1.0, f)]) for b, f in zip(bound, phis)]
+    rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
+    if not len(rows):
+        return out
+    mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
+    um = pc.nearest_params_many(pc.stack([subs[i] for i in rows]), mids)[:, 0]
+    rows, um = rows[(um > 0) & (um < 1)], um[(um > 0) & (um < 1)]
+    if not len(rows):
+        return out
+    left, right = bz.split_many(cubics[rows], np.full(len(rows), 0.5))
+    halves = [pc.split(subs[i], u) for i, u in zip(rows, um)]
+    res = _certify_many([h[0] for h in halves] + [h[1] for h in halves],
+                        np.concatenate([left, right]), tol, depth - 1)
+    for j, (i, u) in enumerate(zip(rows, um)):
+        (b0, p0), (b1, p1) = res[j], res[len(rows) + j]
+        if max(b0, b1) < out[i][0]:
+            out[i] = (max(b0, b1),
+                      [(0.5 * a, 0.5 * b, u * f) for a, b, f in p0]
+                      + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, u + (1.0 - u) * f)
+                         for a, b, f in p1])
+    return out
+
+
+def _fit_ranges(requests, tol):
+    """Best certified cubics for many chain ranges at once: for each request
+    ``(chain, t0, t1, (start, end))`` a result (cubic, bound, panels).
+
+    kurbo fits each range (:func:`_kurbo_cubic`, one call each); then every part of
+    every fitted cubic is certified in one batch (:func:`_certify_many`).  Panels
+    carry chain parameters T.  Across joins of a chain the cubic is cut at the
+    closest points s_k to the join points (increasing, else no certificate) and
+    each part certified against its piece: phi is continuous (it maps s_k to the
+    join) and increasing.  A single-piece range whose kurbo cubic does not certify
+    also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
+    """
+    plans = []
+    for chain, t0, t1, ends in requests:
+        plans.append((chain.parts(t0, t1), _kurbo_cubic(chain, t0, t1, tol, ends)))
+    # the feet of the join points on their cubics, all at once (padded to one count)
+    multi = [r for r, (parts, cubic) in enumerate(plans) if cubic is not None and len(parts) > 1]
+    feet = {}
+    if multi:
+        n = max(len(plans[r][0]) - 1 for r in multi)
+        joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
+                          + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
+                          for r in multi])
+        s = pc.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
+                                   joins, iters=6)
+        feet = {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
+    subs, pieces, cut_list = [], [], []
+    for r, (parts, cubic) in enumerate(plans):
+        cuts = None
+        if cubic is not None:
+            cuts = np.concatenate([[0.0], feet.get(r, []), [1.0]])
             if np.all(np.diff(cuts) > 0):
-                bound = 0.0
-                for j, sub in enumerate(subs):
+                subs += [p[3] for p in parts]
+                pieces.append(cubic[None] if len(parts) == 1 else bz.subsegment_many(
+                    np.repeat(cubic[None], len(parts), axis=0), cuts[:-1], cuts[1:]))
+            else:
+                cuts = None
+        cut_list.append(cuts)
+    res = _certify_many(subs, np.concatenate(pieces), tol) if subs else []
+    out, i = [], 0
+    for r, ((parts, cubic), cuts) in enumerate(zip(plans, cut_list)):
+        cands = []
+        if cubic is not None:
+            bound, panels = np.inf, []
+            if cuts is not None:
+                mine, i = res[i:i + len(parts)], i + len(parts)
+                bound = max(b for b, _ in mine)
+                for j, (_, pj) in enumerate(mine):
                     s0, s1 = cuts[j], cuts[j + 1]
-                    b, pj = _certify(sub, bz.subsegment(cubic, s0, s1), tol)
-                    bound = max(bound, b)
-                    panels += [(s0 + a * (s1 - s0), s0 + b_ * (s1 - s0), (j, f))
-                               for a, b_, f in pj]
-                    if bound > tol:
-                        break
-        cands.append((cubic, bound, panels))
-    if len(parts) == 1 and (not cands or cands[0][1] > tol):
-        cubic, _ = fit_cubic(subs[0])
-        cubic[0], cubic[-1] = ends
-        bound = _bound_from_error(_error_poly(subs[0], cubic), subs[0][:, 2:3])
-        cands.append((cubic, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
-    if not cands:
-        return None, np.inf, None
-    cubic, bound, panels = min(cands, key=lambda c: c[1])
-    out = []
-    for a, b, (j, f) in panels:
-        k, lo, hi, _ = parts[j]
-        out.append((a, b, k + lo + (hi - lo) * f))
-    return cubic, bound, tuple(out)
+                    panels += [(s0 + a * (s1 - s0), s0 + b * (s1 - s0), (j, f))
+                               for a, b, f in pj]
+            cands.append((cubic, bound, panels))
+        if len(parts) == 1 and (not cands or cands[0][1] > tol):
+            sub, ends = parts[0][3], requests[r][3]
+            c, bound = fit_cubic(sub)
+            c[0], c[-1] = ends
+            if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
+                bound = _same_param_bound(sub, c)
+            cands.append((c, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
+        if not cands:
+            out.append((None, np.inf, None))
+            continue
+        cubic, bound, panels = min(cands, key=lambda c: c[1])
+        out.append((cubic, bound, tuple(
+            (a, b, parts[j][0] + parts[j][1] + (parts[j][2] - parts[j][1]) * f)
+            for a, b, (j, f) in panels)))
+    return out
+
+
+def _drive(searches, tol):
+    """Run search generators in lockstep and return their results in order.
+
+    A search (:func:`_search`) yields a list of fit requests and is sent back their
+    results; the pending requests of all searches are fitted and certified together
+    (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
+    call per fit."""
+    results = [None] * len(searches)
+    pending = {}
+    for i, g in enumerate(searches):
+        try:
+            pending[i] = next(g)
+        except StopIteration as stop:
+            results[i] = stop.value
+    while pending:
+        order = [(i, len(reqs)) for i, reqs in pending.items()]
+        fits = _fit_ranges([r for reqs in pending.values() for r in reqs], tol)
+        pending, k = {}, 0
+        for i, n in order:
+            try:
+                pending[i] = searches[i].send(fits[k:k + n])
+            except StopIteration as stop:
+                results[i] = stop.value
+            k += n
+    return results
 
 
 def _exact_cubic(piece):
@@ -675,17 +756,17 @@ def _exact_cubic(piece):
 
 
 def cubic_segments(piece, tol, max_depth=16):
-    """Certified cubics covering a piece: a list of :class:`Segment`.
+    """Certified cubics covering a piece: a list of :class:`CubicFit`.
 
-    Segment k has parameter interval [t0, t1] (consecutive, from 0 to 1), a (4, 2)
+    Fit k has parameter interval [t0, t1] (consecutive, from 0 to 1), a (4, 2)
     cubic C, its ``bound`` <= tol and ``reparam`` (panels of a continuous increasing
-    piecewise-polynomial phi from t0 to t1, see :class:`Segment`) with
+    piecewise-polynomial phi from t0 to t1, see :class:`CubicFit`) with
 
         max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
 
     (certified, :func:`cubic_bound` with ``reparam``): the Fréchet and hence the
     Hausdorff distance between C and R on [t0, t1] are <= tol.  Exact pieces
-    (polynomial, degree <= 3) give one segment with bound 0.  Raises as
+    (polynomial, degree <= 3) give one fit with bound 0.  Raises as
     :func:`piece_to_cubics`.
     """
     if not (tol > 0 and math.isfinite(tol)):
@@ -693,16 +774,16 @@ def cubic_segments(piece, tol, max_depth=16):
     piece = _check(piece)
     exact = _exact_cubic(piece)
     if exact is not None:
-        return [Segment(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([0.0, 1.0])),))]
+        return [CubicFit(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([0.0, 1.0])),))]
     return chain_segments([piece], tol, max_depth)
 
 
 def chain_segments(pieces, tol, max_depth=16):
-    """Certified cubics covering consecutive pieces as one curve: a list of Segment.
+    """Certified cubics covering consecutive pieces as one curve: a list of CubicFit.
 
     The pieces (end of one = start of the next) form one curve of parameter T in
-    [0, K], piece k on [k, k + 1]; cubics may span joins.  Segment intervals
-    [t0, t1] and the values of its ``reparam`` panels are such T, and
+    [0, K], piece k on [k, k + 1]; cubics may span joins.  Fit intervals [t0, t1]
+    and the values of its ``reparam`` panels are such T, and
 
         max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
 
@@ -713,22 +794,38 @@ def chain_segments(pieces, tol, max_depth=16):
     ends segments near them, so callers split chains at corners
     (:func:`loop_to_beziers` does).  Raises as :func:`piece_to_cubics`.
     """
+    return _chains_segments([pieces], tol, max_depth)[0]
+
+
+def _chains_segments(chains, tol, max_depth=16):
+    """:func:`chain_segments` of several chains, searched in lockstep (:func:`_drive`)."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    chain = _Chain(pieces)
-    min_width = 2.0 ** -max_depth
+    return _drive([_search(_Chain(p), tol, 2.0 ** -max_depth) for p in chains], tol)
+
+
+def _search(chain, tol, min_width):
+    """The segment search of one chain, a generator for :func:`_drive`: yields lists
+    of fit requests ``(chain, t0, t1, (start, end))``, is sent their results, and
+    returns the chain's list of CubicFit.
+
+    Segments are found greedily from the start (:func:`_next_segment`); then one
+    segment fewer is tried while the segments' bounds say it may fit
+    (:func:`_balanced_split`), and after a short last segment one fewer of equal
+    arc length."""
     out = []
     t0, start, width = 0.0, pc.start(chain.pieces[0]), min(float(chain.k), 2.0)
     while t0 < chain.k:
-        t1, cubic, bound, reparam, end = _next_segment(chain, t0, start, width, tol,
-                                                       min_width)
-        out.append(Segment(t0, t1, cubic, bound, reparam))
+        t1, cubic, bound, reparam, end = yield from _next_segment(
+            chain, t0, start, width, tol, min_width)
+        out.append(CubicFit(t0, t1, cubic, bound, reparam))
         width = t1 - t0
         t0, start = t1, end
     # the greedy search stops each segment a little short of its longest reach: try
     # one segment fewer, cut where the greedy segments' bounds say it may fit
     while len(out) >= 2:
-        fewer = _balanced_split(chain, out, tol)
+        cuts = _balanced_cuts(chain, out, tol)
+        fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
         if fewer is None:
             break
         out = fewer
@@ -737,13 +834,13 @@ def chain_segments(pieces, tol, max_depth=16):
         # a short last one is left: try one segment fewer, equal in arc length
         t, cum = _arclength_table(chain)
         if cum[-1] > 0:
-            fewer = _split_at(chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t),
-                              tol)
+            fewer = yield from _split_at(
+                chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t), tol)
             out = out if fewer is None else fewer
     return out
 
 
-#: Error model of :func:`_balanced_split`: a cubic's bound grows like the P-th power
+#: Error model of :func:`_balanced_cuts`: a cubic's bound grows like the P-th power
 #: of the arc length it spans.
 ERROR_POWER = 5.0
 #: One segment fewer is tried when the greedy segments' shares add up to at most this
@@ -751,24 +848,21 @@ ERROR_POWER = 5.0
 FEWER_SLACK = 1.0
 
 
-def _arclength_table(chain, per=16):
-    """(T, cumulative arc length) at ``per`` samples per piece (chords)."""
-    t = np.concatenate([k + np.linspace(0.0, 1.0, per + 1)[:-1] for k in range(chain.k)]
-                       + [[float(chain.k)]])
-    pts = np.vstack([pc.evaluate(p, np.linspace(0.0, 1.0, per + 1)[:-1])
-                     for p in chain.pieces] + [pc.end(chain.pieces[-1])[None]])
-    return t, np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+def _arclength_table(chain):
+    """(T, cumulative arc length) at the knots of the chain's arc-length table."""
+    tl, tr, sl, sr, _, _ = chain.arc_table()
+    return np.append(tl, tr[-1]), np.append(sl, sr[-1])
 
 
-def _balanced_split(chain, segs, tol):
-    """len(segs) - 1 certified segments, or None (not plausible, or one fails).
+def _balanced_cuts(chain, segs, tol):
+    """Cuts of len(segs) - 1 segments, or None (not plausible).
 
     Segment i of ``segs`` (bound b_i over arc length L_i) counts as d_i = (b_i /
     tol)^(1/P) of a segment that just reaches tol (model bound ~ L^P, P =
     :data:`ERROR_POWER`), spread evenly over its arc length.  When the d_i add up to
     at most len(segs) - 1, the cuts are placed at equal shares of that sum (equal arc
-    lengths where the curve is equally hard) and every new cubic is fitted and
-    certified as usual; any failure keeps ``segs``."""
+    lengths where the curve is equally hard); the caller fits and certifies them
+    (:func:`_split_at`) and keeps ``segs`` if any fails."""
     n = len(segs) - 1
     d = np.array([(max(seg.bound, 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
                   for seg in segs])
@@ -779,26 +873,23 @@ def _balanced_split(chain, segs, tol):
         return None
     edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
     hard = np.concatenate([[0.0], np.cumsum(d)])
-    cuts = np.interp(np.interp(np.linspace(0.0, hard[-1], n + 1), hard, edges), cum, t)
-    return _split_at(chain, cuts, tol)
+    return np.interp(np.interp(np.linspace(0.0, hard[-1], n + 1), hard, edges), cum, t)
 
 
 def _split_at(chain, cuts, tol):
-    """Certified segments between the chain parameters ``cuts``, or None if one fails."""
+    """Certified segments between the chain parameters ``cuts`` (all fitted in one
+    request list), or None if one fails; a generator step of :func:`_search`."""
     cuts = np.array(cuts, float)
     cuts[0], cuts[-1] = 0.0, float(chain.k)
     if np.any(np.diff(cuts) <= 0):
         return None
-    out, start = [], pc.start(chain.pieces[0])
-    for t0, t1 in zip(cuts[:-1], cuts[1:]):
-        t0, t1 = float(t0), float(t1)
-        end = chain.point(t1)
-        cubic, bound, reparam = _fit_range(chain, t0, t1, tol, (start, end))
-        if not bound <= tol:
-            return None
-        out.append(Segment(t0, t1, cubic, bound, reparam))
-        start = end
-    return out
+    points = [pc.start(chain.pieces[0])] + [chain.point(float(t)) for t in cuts[1:]]
+    fits = yield [(chain, float(t0), float(t1), (p0, p1))
+                  for t0, t1, p0, p1 in zip(cuts[:-1], cuts[1:], points[:-1], points[1:])]
+    if not all(bound <= tol for _, bound, _ in fits):
+        return None
+    return [CubicFit(float(t0), float(t1), cubic, bound, reparam)
+            for t0, t1, (cubic, bound, reparam) in zip(cuts[:-1], cuts[1:], fits)]
 
 
 #: The search stops at a certified segment whose bound is at least this share of tol
@@ -808,14 +899,15 @@ ACCEPT = 0.8
 
 def _next_segment(chain, t0, start, width, tol, min_width):
     """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
-    reparam, end point).  The first try spans ``width``; later ones follow the model
-    bound ~ width^p, p from the last two fits (2 <= p <= 8, 5 at first), bracketed
-    by the longest certified and the shortest failed interval."""
+    reparam, end point); a generator step of :func:`_search`.  The first try spans
+    ``width``; later ones follow the model bound ~ width^p, p from the last two fits
+    (2 <= p <= 8, 5 at first), bracketed by the longest certified and the shortest
+    failed interval."""
     top = float(chain.k)
 
     def attempt(t1):
         end = chain.point(t1)
-        cubic, bound, reparam = _fit_range(chain, t0, t1, tol, (start, end))
+        (cubic, bound, reparam), = yield [(chain, t0, t1, (start, end))]
         return (t1, cubic, bound, reparam, end)
 
     t1 = min(top, t0 + width)
@@ -823,7 +915,7 @@ def _next_segment(chain, t0, start, width, tol, min_width):
         t1 = top
     good, bad, last, fit = None, None, None, None
     for _ in range(8):
-        fit = attempt(t1)
+        fit = yield from attempt(t1)
         w, bound = t1 - t0, fit[2]
         if bound <= tol:
             good = fit if good is None or t1 > good[0] else good
@@ -860,7 +952,7 @@ def _next_segment(chain, t0, start, width, tol, min_width):
                 "cubic export did not reach tol %.3g on a parameter interval of width "
                 "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
                 piece=chain.pieces[min(int(t0), chain.k - 1)], achieved=fit[2])
-        fit = attempt(t1)
+        fit = yield from attempt(t1)
         if fit[2] <= tol:
             good = fit
         else:
@@ -969,15 +1061,17 @@ def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     """
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    out = []
     runs = smooth_runs(loop, join_angle)
     if wrap and join_angle > 0:
         runs = _wrap_runs(runs, join_angle)
-    for run in runs:
-        if all(len(p) <= 4 and pc.is_polynomial(_check(p)) for p in run):
+    exact = [all(len(p) <= 4 and pc.is_polynomial(_check(p)) for p in run) for run in runs]
+    fitted = iter(_chains_segments([r for r, e in zip(runs, exact) if not e], tol, max_depth))
+    out = []
+    for run, e in zip(runs, exact):
+        if e:
             out.extend(pc.cartesian(p) for p in run)     # exact already: no fitting
-            continue
-        out.extend(seg.cubic for seg in chain_segments(run, tol, max_depth))
+        else:
+            out.extend(seg.cubic for seg in next(fitted))
     return out
 
 
