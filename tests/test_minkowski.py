@@ -9,6 +9,12 @@ Two references, neither using the project's trimming:
   point to the true boundary by tol + slack.  Random points check the rest (nothing
   missing, holes right);
 - the Clipper polygon Minkowski sum (tests/reference.py) for areas and loop counts.
+  At tol 0.1 font units the area is within 1e-4 (relative) of the polygon reference
+  flattened at 0.05 units, with the same numbers of outer loops and holes; that
+  reference takes minutes, so its values are stored in ``REFERENCE_SUMS``
+  (regenerate: ``python -m tests.test_minkowski``), and a live coarse reference checks
+  that the stored values still describe the current glyphs;
+- shapely's buffer for glyph + disk (offsets).
 
 Sharp corners of the boundary (the error budget): where the boundary turns by phi at a
 junction of two approximated pieces, each within e of its exact curve, the junction can
@@ -32,6 +38,7 @@ from morph import piece as pc
 from morph.parse import glyph_region
 from morph.minkowski import minkowski_sum
 from tests import reference as R
+from tests.helpers import loop_polygons, polygon_region, region_size, shoelace
 
 GLYPHS = "OB8g&@TMSaex"
 UPM = 1000.0
@@ -354,3 +361,106 @@ def test_s_plus_g_needed_the_second_pass():
     pts, cos_half = _corners(out)
     worst = max(c.bound for c in dbg["convolution"])
     assert (worst / cos_half.clip(1e-3) > minkowski.CONV_SHARE * TOL).any()
+
+
+# ------------------------------------------ areas and disk offsets against references
+
+# R.polygon_minkowski_sum(glyph a, glyph b, 0.05) of the bundled TrueType font:
+# (area in font units^2, outer loops, holes).  Regenerate: python -m tests.test_minkowski
+REFERENCE_SUMS = {
+    ("T", "M"): (1445105.88725, 1, 0),
+    ("O", "M"): (1888635.2864146254, 1, 0),
+    ("S", "g"): (1261466.595209749, 1, 0),
+    ("B", "8"): (1277320.2946213754, 1, 0),
+}
+SUM_PAIRS = sorted(REFERENCE_SUMS)
+
+
+def _reference_sum(a, b, flat):
+    ref = R.polygon_minkowski_sum(parse.glyph_region(a).region, parse.glyph_region(b).region,
+                                  flat)
+    return ref
+
+
+@pytest.mark.parametrize("a, b", SUM_PAIRS, ids=["%s+%s" % p for p in SUM_PAIRS])
+def test_minkowski_sum_area_and_topology(a, b):
+    ra, rb = parse.glyph_region(a).region, parse.glyph_region(b).region
+    loops = minkowski.minkowski_sum(ra, rb, 0.1)
+    area = sum(shoelace(p) for p in loop_polygons(loops, 0.002))
+    n_outer = sum(1 for l in loops if pc.loop_area(l) > 0)
+    n_holes = sum(1 for l in loops if pc.loop_area(l) < 0)
+    ref_area, ref_outer, ref_holes = REFERENCE_SUMS[(a, b)]
+    assert area == pytest.approx(ref_area, rel=1e-4)
+    assert (n_outer, n_holes) == (ref_outer, ref_holes)
+    # the stored reference still describes these glyphs: a live coarse reference
+    # (flattened within 1.0; its area is ~3e-4 low) agrees with it
+    live = _reference_sum(a, b, 1.0)
+    assert live.area == pytest.approx(ref_area, rel=1e-3)
+    assert R.count_outer_and_holes(live, 1.0) == (ref_outer, ref_holes)
+
+
+def _spike(apex_deg, length=10.0):
+    """Isosceles triangle whose apex turns by apex_deg degrees (a needle for ~180)."""
+    half = length * np.tan((np.pi - np.radians(apex_deg)) / 2)
+    return polygon_region(np.array([(0.0, 0.0), (length, -half), (length, half)]))
+
+
+OFFSET_CASES = [
+    ("ttf-O", 60.0),     # hole of 'O' still open (inscribed radius ~ 127)
+    ("cff-O", 0.5),
+    ("cff-O", 20.0),
+    ("needle", 0.5),     # apex turning 179.999 degrees
+]
+
+
+@pytest.mark.parametrize("shape, r", OFFSET_CASES, ids=["%s-r%g" % c for c in OFFSET_CASES])
+def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
+    """shape + disk(r) against shapely's buffer of the flattened shape: the same
+    numbers of outer loops and holes, boundary samples within tol of the buffer's
+    boundary, and the same area: within tol x perimeter (what tol promises) at
+    tol = 1e-3 r, and within 1e-5 relative at the tol that promises that."""
+    if shape == "needle":
+        region = _spike(179.999)
+    else:
+        font = None if shape.startswith("ttf") else parse.cubic_test_font_path()
+        region = parse.glyph_region(shape[-1], font).region
+    ref = R.region_to_shapely(region, 1e-4).buffer(r, quad_segs=256)
+    # flattening of the reference: 1e-4 on the shape, r (1 - cos(pi / 1024)) on the disk
+    slack = 1e-4 + r * (1.0 - np.cos(np.pi / 1024)) + 1e-9 * region_size(region)
+    coarse = 1e-3 * max(r, 1.0)
+    fine = min(coarse, 1e-5 * ref.area / ref.length)
+    for tol in sorted({coarse, fine}, reverse=True):
+        loops = minkowski.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+        got = R.region_to_shapely(loops, tol) if loops else shapely.Polygon()
+        assert R.count_outer_and_holes(got, 1e-6) == R.count_outer_and_holes(ref, 1e-6), \
+            (tol, [pc.loop_area(l) for l in loops])
+        pts = np.concatenate([R.bezier_eval(p, np.linspace(0.0, 1.0, 64))[0]
+                              for loop in loops for p in loop])
+        far = shapely.distance(shapely.points(pts), ref.boundary).max()
+        assert far <= tol + slack, (tol, far)
+        area = pc.region_area(loops)
+        assert abs(area - ref.area) <= tol * ref.length + slack * ref.length, (tol, area, ref.area)
+        if tol == fine:
+            assert area == pytest.approx(ref.area, rel=1e-5)
+
+
+@pytest.mark.parametrize("tol", [100.0, 30.0])
+def test_minkowski_sum_within_coarse_tolerance(tol):
+    """A coarse tolerance still bounds the result: 'S' + an elliptic nib (40 x 12
+    units) at tol = 0.1 em and 0.03 em is non-empty and within tol (Hausdorff) of
+    the polygon reference."""
+    region = parse.glyph_region("S").region
+    nib = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
+    loops = minkowski.minkowski_sum(region, nib, tol)
+    assert loops, "empty Minkowski sum"
+    ref = R.polygon_minkowski_sum(region, nib, 1.0)
+    hd = R.hausdorff(ref, R.region_to_shapely(loops, 0.1), spacing=2.0)
+    assert hd <= tol + 1.0, hd
+
+
+if __name__ == "__main__":
+    # regenerate REFERENCE_SUMS (takes several minutes): python -m tests.test_minkowski
+    for a, b in SUM_PAIRS:
+        ref = _reference_sum(a, b, 0.05)
+        n_outer, n_holes = R.count_outer_and_holes(ref, 1.0)
+        print("    (%r, %r): (%r, %d, %d)," % (a, b, float(ref.area), n_outer, n_holes))
