@@ -30,3 +30,8 @@ def shoelace(poly):
 def polygon_region(p):
     """The region of one loop of line pieces through the points ``p`` (closed)."""
     return [[pc.line(p[i], p[(i + 1) % len(p)]) for i in range(len(p))]]
+
+
+def square_path_data(x0, y0, s):
+    """SVG path data of the axis-aligned square with corner (x0, y0) and side s."""
+    return "M%r %r L%r %r L%r %r L%r %r Z" % (x0, y0, x0 + s, y0, x0 + s, y0 + s, x0, y0 + s)

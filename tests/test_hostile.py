@@ -4,7 +4,6 @@ Never a traceback, never a wrong picture.  "Correct" is checked against independ
 references (shapely / Clipper of the flattened operands, exact areas of polygons).
 """
 
-import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -13,6 +12,7 @@ from morph.cli import main
 from morph.parse import svg_region
 from morph.minkowski import minkowski_sum
 from tests import reference as R
+from tests.helpers import square_path_data
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg">%s</svg>'
 
@@ -26,10 +26,6 @@ def _svg(tmp_path, name, d, attrs=""):
     p = tmp_path / name
     p.write_text(SVG % ('<path %s d="%s"/>' % (attrs, d)))
     return str(p)
-
-
-def _square_d(x0, y0, s):
-    return "M%r %r L%r %r L%r %r L%r %r Z" % (x0, y0, x0 + s, y0, x0 + s, y0 + s, x0, y0 + s)
 
 
 def error_line(result, code=2):
@@ -166,8 +162,8 @@ def _sum_area_via_cli(runner, tmp_path, a, b, tol):
 
 def test_huge_coordinates(runner, tmp_path):
     """A 1e9 square ⊕ a 10-square: (1e9 + 10)^2."""
-    a = _svg(tmp_path, "huge.svg", _square_d(0, 0, 1e9))
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    a = _svg(tmp_path, "huge.svg", square_path_data(0, 0, 1e9))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 10))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1.0)
     assert len(loops) == 1
     assert abs(area - (1e9 + 10) ** 2) <= 1e-9 * (1e9 + 10) ** 2
@@ -176,8 +172,8 @@ def test_huge_coordinates(runner, tmp_path):
 def test_tiny_coordinates(runner, tmp_path):
     """A 1e-9 square is a square (user units are arbitrary): 1e-9 ⊕ 1e-9 squares =
     a 2e-9 square; outline and sum work."""
-    a = _svg(tmp_path, "tiny.svg", _square_d(0, 0, 1e-9))
-    b = _svg(tmp_path, "tiny2.svg", _square_d(0, 0, 1e-9))
+    a = _svg(tmp_path, "tiny.svg", square_path_data(0, 0, 1e-9))
+    b = _svg(tmp_path, "tiny2.svg", square_path_data(0, 0, 1e-9))
     ok(runner.invoke(main, ["outline", a, "--tol", "1e-13", "-o", str(tmp_path / "o.png")]))
     # the default tolerance (1e-4 user units) is larger than the shape: one clear line
     res = runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o2.png")])
@@ -188,7 +184,7 @@ def test_tiny_coordinates(runner, tmp_path):
 
 def test_duplicated_points(runner, tmp_path):
     a = _svg(tmp_path, "dup.svg", "M0 0 L0 0 L10 0 L10 0 L10 10 L0 10 L0 10 L0 0 Z")
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 10))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
     assert len(loops) == 1 and abs(area - 400.0) < 1e-6
 
@@ -196,7 +192,7 @@ def test_duplicated_points(runner, tmp_path):
 def test_zero_length_curves(runner, tmp_path):
     a = _svg(tmp_path, "zl.svg", "M0 0 C0 0 0 0 0 0 L10 0 C10 0 10 0 10 0 Q10 10 10 10 "
                                  "L10 10 Q10 10 10 10 L0 10 Z")
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 10))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
     assert len(loops) == 1 and abs(area - 400.0) < 1e-6
 
@@ -205,7 +201,7 @@ def test_zero_length_arc(runner, tmp_path):
     """SVG spec (F.6.2): an arc whose endpoints coincide is omitted (svgpathtools,
     the former parser, asserted on it); morph must not report 'cannot parse SVG ...: AssertionError'."""
     a = _svg(tmp_path, "zla.svg", "M0 0 L10 0 L10 10 A 3 3 0 0 1 10 10 L0 10 Z")
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 10))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
     assert len(loops) == 1 and abs(area - 400.0) < 1e-6
 
@@ -213,7 +209,7 @@ def test_zero_length_arc(runner, tmp_path):
 def test_nonconvex_nib(runner, tmp_path):
     """A non-convex 'nib' is just a shape: correct sum (Clipper reference)."""
     a = _svg(tmp_path, "c.svg", "M0 0 L10 0 L10 10 L5 3 L0 10 Z")
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 4))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 4))
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-4)
     ref = R.polygon_minkowski_sum(svg_region(a), svg_region(b), 1e-3)
     assert abs(area - ref.area) < 1e-3 * ref.area
@@ -227,7 +223,7 @@ def _self_intersecting_check(runner, tmp_path, d, attrs=""):
     from shapely.ops import unary_union
 
     a = _svg(tmp_path, "x.svg", d, attrs)
-    b = _svg(tmp_path, "sq.svg", _square_d(0, 0, 2))
+    b = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 2))
     out = tmp_path / "s.png"
     res = runner.invoke(main, ["sum", a, b, "-o", str(out)])
     if res.exit_code != 0:
@@ -280,8 +276,8 @@ def test_bad_frames(runner, tmp_path, cmd, frames):
     if cmd == "glyph":
         a, b = "A", "B"
     else:
-        a = _svg(tmp_path, "a.svg", _square_d(0, 0, 10))
-        b = _svg(tmp_path, "b.svg", _square_d(0, 0, 5))
+        a = _svg(tmp_path, "a.svg", square_path_data(0, 0, 10))
+        b = _svg(tmp_path, "b.svg", square_path_data(0, 0, 5))
     out = tmp_path / "frames"
     line = error_line(runner.invoke(main, [cmd, a, b, "--frames", frames, "-o", str(out)]))
     assert "frames" in line
@@ -314,56 +310,6 @@ def test_bad_tolerance(runner, tmp_path, tol):
     error_line(runner.invoke(main, ["sum", "A", "B", "--tol", tol,
                                     "-o", str(tmp_path / "x.png")]))
     assert not (tmp_path / "x.png").exists()
-
-
-# ---------------------------------------------------------------------------- nibs
-
-@pytest.mark.parametrize("font,ch,rot", [("ttf", "w", 0.0), ("ttf", "w", 30.0),
-                                         ("cff", "C", 30.0)])
-def test_thin_ellipse_nib(font, ch, rot):
-    """A thin nib (ellipse 60 x 8) is hostile for the trimming: found by bench/sweep.py
-    (ttf w: area 7651 instead of ~2.66e5; cff C: empty result)."""
-    from morph.parse import cubic_test_font_path, glyph_region
-
-    a = glyph_region(ch, cubic_test_font_path() if font == "cff" else None).region
-    b = [pc.ellipse([0.0, 0.0], 30.0, 4.0, np.radians(rot))]
-    loops = minkowski_sum(a, b, 0.1)
-    ref = R.polygon_minkowski_sum(a, b, 0.5)
-    assert loops, "empty sum"
-    assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area, \
-        (pc.region_area(loops), ref.area)
-    assert (sum(pc.loop_area(l) > 0 for l in loops),
-            sum(pc.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 10.0)
-
-
-# Every failure bench/sweep.py has found, fixed (session 2: near misses of the
-# flattened pieces now seed Newton, sides are classified by direct winding numbers,
-# sub-pieces far below tol are contracted), checked by the sweep's own full check.
-SWEEP_REGRESSIONS = [
-    "ttf:w:nib:ellipse", "cff:C:nib:ellipse", "cff:D:nib:ellipse", "cff:G:nib:ellipse",
-    "cff:s:nib:ellipse", "cff:w:nib:ellipse", "ttf:S:nib:disk", "ttf:W:nib:disk",
-    "ttf:s:nib:disk", "ttf:w:nib:disk", "ttf:S:nib:ellipse", "ttf:W:nib:ellipse",
-    "cff:S:nib:ellipse", "cff:W:nib:ellipse", "cff:t:nib:ellipse", "cff:W:nib:disk",
-    "cff:w:nib:disk", "cff:y:nib:square", "ttf:C:S", "ttf:S:S",
-    # second sweep: holes filled by a too-shallow membership probe (the QAC error
-    # now comes close to tol), slivers between near-coincident sub-pieces
-    "cff:o:nib:disk", "cff:b:nib:disk", "cff:K:nib:disk", "cff:c:nib:ellipse",
-    # third: a hole's 33-degree tip fooled the 8-direction straddle probe (the check
-    # now probes 24 directions)
-    "ttf:h:j",
-    # two sub-pieces leaving a crossing node side by side and crossing again just
-    # after it; near-coincident multi-piece paths in self-sums
-    "cff:d:q", "cff:q:d", "cff:c:c",
-]
-
-
-@pytest.mark.parametrize("case", SWEEP_REGRESSIONS)
-def test_sweep_regression(case):
-    from bench.sweep import UPM, check
-
-    font, a, b = case.split(":", 2)
-    res = check(font, a, b, 1e-4 * UPM)
-    assert not res["fail"], res["fail"]
 
 
 # ---------------------------------------------------------------------------- size and budgets
@@ -404,8 +350,8 @@ def test_size_and_tolerance_guards(tmp_path, case):
                                     "C 7e8 8e8 3e8 1.1e9 0 1e9 Z")
     mid = _svg(tmp_path, "mid.svg", "M0 0 C 3e5 -1e5 7e5 1e5 1e6 0 L1e6 1e6 "
                                     "C 7e5 8e5 3e5 1.1e6 0 1e6 Z")
-    sq = _svg(tmp_path, "sq.svg", _square_d(0, 0, 10))
-    huge = _svg(tmp_path, "huge.svg", _square_d(0, 0, 1e308))
+    sq = _svg(tmp_path, "sq.svg", square_path_data(0, 0, 10))
+    huge = _svg(tmp_path, "huge.svg", square_path_data(0, 0, 1e308))
     out = str(tmp_path / "o.png")
     args, words = {
         "coords-1e9": (["sum", big, sq, "-o", out], ["use a tolerance of at least"]),
@@ -422,20 +368,3 @@ def test_size_and_tolerance_guards(tmp_path, case):
     assert time.perf_counter() - t0 < 5
     _limit_line(res, *words)
     assert not (tmp_path / "o.png").exists()
-
-
-def test_check_tolerance_library():
-    """The library's validation function: same rules, LimitError (a ValueError)."""
-    from morph.errors import LimitError
-    from morph.limits import check_tolerance
-
-    sq = svg_region(_square_d(0, 0, 10))
-    assert check_tolerance(1e-3, sq, sq) > 0
-    for tol, word in [(0, "positive"), (float("nan"), "positive"), (100, "larger"),
-                      (1e-13, "at least")]:
-        with pytest.raises(LimitError, match=word):
-            check_tolerance(tol, sq, sq)
-    far = svg_region(_square_d(1e12, 0, 10))  # far from the origin: fp resolution
-    with pytest.raises(LimitError, match="floating-point resolution") as info:
-        check_tolerance(1e-5, far)
-    assert info.value.suggestion > 1e-5

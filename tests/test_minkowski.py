@@ -458,6 +458,26 @@ def test_minkowski_sum_within_coarse_tolerance(tol):
     assert hd <= tol + 1.0, hd
 
 
+# ------------------------------------------------------------------ thin nibs
+
+@pytest.mark.parametrize("font,ch,rot", [("ttf", "w", 0.0), ("ttf", "w", 30.0),
+                                         ("cff", "C", 30.0)])
+def test_thin_ellipse_nib(font, ch, rot):
+    """A thin nib (ellipse 60 x 8) is hostile for the trimming: found by bench/sweep.py
+    (ttf w: area 7651 instead of ~2.66e5; cff C: empty result)."""
+    from morph.parse import cubic_test_font_path, glyph_region
+
+    a = glyph_region(ch, cubic_test_font_path() if font == "cff" else None).region
+    b = [pc.ellipse([0.0, 0.0], 30.0, 4.0, np.radians(rot))]
+    loops = minkowski_sum(a, b, 0.1)
+    ref = R.polygon_minkowski_sum(a, b, 0.5)
+    assert loops, "empty sum"
+    assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area, \
+        (pc.region_area(loops), ref.area)
+    assert (sum(pc.loop_area(l) > 0 for l in loops),
+            sum(pc.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 10.0)
+
+
 if __name__ == "__main__":
     # regenerate REFERENCE_SUMS (takes several minutes): python -m tests.test_minkowski
     for a, b in SUM_PAIRS:

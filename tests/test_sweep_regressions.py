@@ -169,6 +169,37 @@ def test_sweep_case(spec):
     assert not res["fail"], res["fail"]
 
 
+# Glyph pairs (font:a:b) and nibs: every failure the first bench/sweep.py found, fixed
+# (session 2: near misses of the flattened pieces now seed Newton, sides are classified
+# by direct winding numbers, sub-pieces far below tol are contracted), checked by the
+# sweep's own full check (bench.sweep.check).
+PAIR_REGRESSIONS = [
+    "ttf:w:nib:ellipse", "cff:C:nib:ellipse", "cff:D:nib:ellipse", "cff:G:nib:ellipse",
+    "cff:s:nib:ellipse", "cff:w:nib:ellipse", "ttf:S:nib:disk", "ttf:W:nib:disk",
+    "ttf:s:nib:disk", "ttf:w:nib:disk", "ttf:S:nib:ellipse", "ttf:W:nib:ellipse",
+    "cff:S:nib:ellipse", "cff:W:nib:ellipse", "cff:t:nib:ellipse", "cff:W:nib:disk",
+    "cff:w:nib:disk", "cff:y:nib:square", "ttf:C:S", "ttf:S:S",
+    # second sweep: holes filled by a too-shallow membership probe (the QAC error
+    # now comes close to tol), slivers between near-coincident sub-pieces
+    "cff:o:nib:disk", "cff:b:nib:disk", "cff:K:nib:disk", "cff:c:nib:ellipse",
+    # third: a hole's 33-degree tip fooled the 8-direction straddle probe (the check
+    # now probes 24 directions)
+    "ttf:h:j",
+    # two sub-pieces leaving a crossing node side by side and crossing again just
+    # after it; near-coincident multi-piece paths in self-sums
+    "cff:d:q", "cff:q:d", "cff:c:c",
+]
+
+
+@pytest.mark.parametrize("case", PAIR_REGRESSIONS)
+def test_sweep_regression(case):
+    from bench.sweep import UPM, check
+
+    font, a, b = case.split(":", 2)
+    res = check(font, a, b, 1e-4 * UPM)
+    assert not res["fail"], res["fail"]
+
+
 # Real icons (issue 17, ``python -m bench.icons``): failing inputs reduced by ``python -m
 # bench.icons --reduce`` and saved in tests/data/icons/ (licences in its README), checked
 # as the bench checks them (bench.icons.check_op: polygon reference; gaps narrower than
