@@ -28,7 +28,10 @@ non-negative combination of the non-negative Bernstein basis), i.e.
 
 The coefficients are first subdivided (de Casteljau, 2^refine panels, default 8) and
 the worst panel taken: the same certificate, tighter because Bernstein coefficients
-converge to the polynomial under subdivision.
+converge to the polynomial under subdivision.  The curve math is the shared layer's:
+R o phi by :func:`morph.bernstein.compose_many`, the certificate by
+:func:`morph.piece.distance_bound_many`, the feet by
+:func:`morph.piece.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
 
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
@@ -43,8 +46,11 @@ segments are chosen greedily from the start: the longest parameter interval whos
 certified bound is <= tol is looked for with a few fits (error predicted from the
 previous fits as ~ h^p, a segment accepted once its bound reaches 0.8 tol), then one
 segment fewer is tried while the segments' bounds say it may fit (cuts at equal
-shares of the modelled difficulty, :func:`_balanced_split`), or of equal arc length
-after a short last segment.  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
+shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
+after a short last segment.  The searches of all runs of a loop go in lockstep
+(:func:`_drive`): each round fits the pending ranges of every run with kurbo (whose
+samples come from one batched evaluation per fit, :class:`_KurboSource`) and
+certifies all their cubics in one batch (:func:`_certify_many`).  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
 cubics at tol 1e-3 ... 1e-8 (kurbo's own halving: 1 / 2 / 2 / 4 / 8 / 8; the
 classic circle cubic 1 / 2 / 2 / 3 / 5 / 7; bench/export.md).  Where kurbo
 finds no cubic, or its cubic does not certify, the same-parameter fit of
@@ -811,7 +817,7 @@ def _search(chain, tol, min_width):
 
     Segments are found greedily from the start (:func:`_next_segment`); then one
     segment fewer is tried while the segments' bounds say it may fit
-    (:func:`_balanced_split`), and after a short last segment one fewer of equal
+    (:func:`_balanced_cuts`), and after a short last segment one fewer of equal
     arc length."""
     out = []
     t0, start, width = 0.0, pc.start(chain.pieces[0]), min(float(chain.k), 2.0)

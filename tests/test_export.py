@@ -19,9 +19,10 @@ from hypothesis import strategies as st
 
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from morph.export import (SUM_SHARE, cubic_bound, cubic_segments, export_tolerance,
-                          fit_cubic, loop_to_beziers, loop_to_cubics, loop_to_quadratics,
-                          piece_to_cubics, piece_to_quadratics, smooth_runs, split_tolerance)
+from morph.export import (SUM_SHARE, chain_segments, cubic_bound, cubic_segments,
+                          export_tolerance, fit_cubic, loop_to_beziers, loop_to_cubics,
+                          loop_to_quadratics, piece_to_cubics, piece_to_quadratics,
+                          smooth_runs, split_tolerance)
 
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -331,6 +332,91 @@ def test_straight_rational_piece_is_one_cubic():
     follows its speed (no halving into many cubics)."""
     for tol in (1e-2, 1e-5, 1e-8):
         assert len(piece_to_cubics(HARD["straight_rational"], tol)) == 1
+
+
+# ------------------------------------------------------------------ chains (cubics spanning joins)
+
+def random_smooth_chain(seed, k):
+    """A rational quartic with random weights split at k - 1 random parameters: k
+    pieces joined G1 (one smooth curve), each reparametrised by a random Möbius map
+    (weights scaled by a geometric factor: same curve, uneven speeds at the joins)."""
+    rng = np.random.default_rng(seed)
+    pts = np.cumsum(rng.uniform(-1, 1, (5, 2)) + [1.5, 0], axis=0)
+    whole = pc.from_points(pts, rng.uniform(0.4, 2.5, 5))
+    cuts = np.sort(rng.uniform(0.05, 0.95, k - 1))
+    pieces, rest, done = [], whole, 0.0
+    for c in cuts:
+        left, rest = pc.split(rest, (c - done) / (1.0 - done))
+        pieces.append(left)
+        done = c
+    pieces.append(rest)
+    out = []
+    for p in pieces:
+        r = rng.uniform(0.5, 2.0)          # w_i -> w_i r^i: a Möbius reparametrisation
+        out.append(p * (r ** np.arange(len(p)))[:, None])
+    return out, whole
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+@pytest.mark.parametrize("tol", [1e-2, 1e-5])
+def test_chain_segments_certified_across_joins(seed, tol):
+    """chain_segments on a G1 chain: cubics span joins (fewer than per piece), each
+    fit's bound <= tol, every panel of its phi certified (bound >= dense samples of
+    |R(phi(s)) - C(s)| on the chain, R evaluated by plain Bernstein sums), exact
+    joins, and the two-sided Hausdorff distance to the exact curve <= tol
+    (closest-point oracle)."""
+    pieces, whole = random_smooth_chain(seed, 5)
+    segs = chain_segments(pieces, tol)
+    assert len(segs) < sum(len(cubic_segments(p, tol)) for p in pieces)
+    assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+    for a, b in zip(segs, segs[1:]):
+        assert a.t1 == b.t0 and np.array_equal(a.cubic[-1], b.cubic[0])
+    assert np.allclose(segs[0].cubic[0], rational(pieces[0])(np.array([0.0]))[0])
+    assert np.allclose(segs[-1].cubic[-1], rational(pieces[-1])(np.array([1.0]))[0])
+    for seg in segs:
+        assert seg.bound <= tol
+        for s0, s1, phi in seg.reparam:
+            s = np.linspace(s0, s1, 129)
+            t = bernstein(np.asarray(phi)[:, None], (s - s0) / (s1 - s0))[:, 0]
+            k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
+            assert t.max() <= k + 1 + 1e-12               # a panel stays on one piece
+            err = np.hypot(*(rational(pieces[k])(np.clip(t - k, 0, 1))
+                             - bernstein(seg.cubic, s)).T).max()
+            assert err <= seg.bound * (1 + 1e-9) + 1e-13, (err, seg.bound)
+    cubics = [seg.cubic for seg in segs]
+    pts = np.vstack([bernstein(c, np.linspace(0, 1, 65)) for c in cubics])
+    assert closest_distances(pts, [whole]).max() <= tol * (1 + 1e-9)
+    back = rational(whole)(np.linspace(0, 1, 65 * len(cubics)))
+    assert closest_distances(back, cubics).max() <= tol * (1 + 1e-9)
+
+
+# Two pieces of Relief 'three' ⊕ the broad nib (a degree-7 QAC piece and a small
+# rational quadratic nib arc, joined G1; the tangent turns back 15° on the short arc):
+# kurbo handed the half chord as accuracy spent minutes measuring arc lengths of a
+# poor candidate cubic on this "spicy" source (export.SPICY_SLACK).
+THREE_RUN = [np.array(
+    [[1569.3920129122705, 1309.9121065779807, 12.138956751982496],
+     [1537.6861967119962, 1371.8849911065186, 12.160222488618423],
+     [1506.1293418423897, 1433.7089731552621, 12.16305803352122],
+     [1475.010311207167, 1494.9515943558995, 12.147395503850102],
+     [1444.5795506411096, 1555.1559087514797, 12.113255367970556],
+     [1415.0425487038121, 1613.848131809986, 12.060746445454349],
+     [1386.555312701934, 1670.5465816823082, 11.990065907079524],
+     [1359.2223709020707, 1724.7714391683567, 11.901499274830398]]), np.array(
+    [[111.43614865728277, 141.4057703946136, 0.9757470674606028],
+     [112.6795620707932, 143.3907862145296, 0.9873250231173686],
+     [113.97114317029974, 145.5, 1.0]])]
+
+
+def test_spicy_chain_exports_fast():
+    import time
+
+    t = time.process_time()
+    segs = chain_segments(THREE_RUN, 0.375)
+    assert time.process_time() - t < 5.0
+    assert all(seg.bound <= 0.375 for seg in segs)
+    pts = np.vstack([bernstein(s.cubic, np.linspace(0, 1, 65)) for s in segs])
+    assert closest_distances(pts, THREE_RUN).max() <= 0.375 * (1 + 1e-9)
 
 
 # ------------------------------------------------------------------ the sweep against kurbo

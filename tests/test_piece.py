@@ -228,3 +228,72 @@ def test_flatten_many_equals_flatten():
             q2, t2 = pc.flatten(p, tol)
             assert np.array_equal(t, t2)
             assert np.allclose(q, q2, atol=1e-12)
+
+
+# ------------------------------------------ closest points and the distance certificate
+
+def _random_rational_stack(rng, k, n):
+    pts = rng.uniform(-1, 1, (k, n + 1, 2))
+    w = rng.uniform(0.3, 3.0, (k, n + 1, 1))
+    return np.concatenate([pts * w, w], axis=2)
+
+
+def _plain_eval(c, t):
+    """R(t) of one homogeneous piece by a plain Bernstein sum (math.comb)."""
+    import math
+
+    n = len(c) - 1
+    h = sum(math.comb(n, i) * t[:, None] ** i * (1 - t[:, None]) ** (n - i) * c[i]
+            for i in range(n + 1))
+    return h[:, :2] / h[:, 2:]
+
+
+def test_jet2_power_many_matches_de_casteljau_jets():
+    rng = np.random.default_rng(3)
+    for n in (2, 3, 7, 12):
+        c = _random_rational_stack(rng, 4, n)
+        s = rng.uniform(0, 1, (4, 9))
+        for a, b in zip(pc.jet2_many(c, s), pc.jet2_power_many(c, s)):
+            assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * (1 + np.abs(a).max()))
+
+
+def test_nearest_params_many_against_brute_force():
+    """The foot found is as near as the nearest of 20001 samples (up to the samples'
+    own spacing), for points near and far from random rational pieces."""
+    rng = np.random.default_rng(4)
+    c = _random_rational_stack(rng, 6, 4)
+    pts = rng.uniform(-1.2, 1.2, (6, 15, 2))
+    s = pc.nearest_params_many(c, pts)
+    t = np.linspace(0, 1, 20001)
+    for k in range(len(c)):
+        dense = _plain_eval(c[k], t)
+        brute = np.sqrt(((pts[k][:, None] - dense[None]) ** 2).sum(-1)).min(axis=1)
+        got = np.hypot(*(_plain_eval(c[k], s[k]) - pts[k]).T)
+        slack = np.hypot(*np.diff(dense, axis=0).T).max()
+        # a sampled start may miss a far branch: count, not all must hold
+        assert np.mean(got <= brute + slack) >= 0.95
+        assert np.all(got >= brute - slack - 1e-12)
+
+
+def test_distance_bound_many_certifies_and_is_invariant():
+    """bound >= max over dense samples of |R(s) - Q(s)|, tighter with more panels,
+    unchanged by translating both curves, scaled with them."""
+    rng = np.random.default_rng(5)
+    c = _random_rational_stack(rng, 8, 5)
+    q = np.array([_plain_eval(ck, np.linspace(0, 1, 4)) for ck in c])   # 4 points as
+    q[:, 1:3] += rng.normal(0, 0.05, (8, 2, 2))                          # a rough cubic
+    t = np.linspace(0, 1, 4001)
+    import math
+    bern = np.stack([math.comb(3, i) * t ** i * (1 - t) ** (3 - i) for i in range(4)], 1)
+    b0, _ = pc.distance_bound_many(c, q, 0)
+    b3, _ = pc.distance_bound_many(c, q, 3)
+    for k in range(len(c)):
+        sampled = np.hypot(*(_plain_eval(c[k], t) - bern @ q[k]).T).max()
+        assert b0[k] >= b3[k] >= sampled * (1 - 1e-12)
+        assert b3[k] <= 1.5 * sampled                 # refined: close to the maximum
+    shift = np.array([1e3, -2e3])
+    cs = c.copy()
+    cs[:, :, :2] += cs[:, :, 2:] * shift
+    assert np.allclose(pc.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
+    assert np.allclose(pc.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
+                       rtol=1e-12)
