@@ -1,0 +1,34 @@
+"""morph.trim.holes: the deepest point of a hole and the exact membership test, against
+shapely distances and analytic depths."""
+
+import numpy as np
+import pytest
+from shapely.geometry import LineString, Point, Polygon
+
+from morph import piece as pc
+from morph.trim.holes import Membership, deepest_point
+
+
+def test_deepest_point_of_a_square_hole_with_an_island():
+    ring = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    island = np.array([[4, 4], [6, 4], [6, 6], [4, 6]], float)
+    x, depth = deepest_point(ring, [island])
+    poly = Polygon(ring, [island])
+    assert poly.contains(Point(x))
+    assert depth == pytest.approx(poly.boundary.distance(Point(x)), abs=1e-9)
+    # the best points lie on the diagonals, equally far from the outer corner's sides
+    # and the island's corner: a = sqrt(2) (4 - a)
+    assert depth == pytest.approx(4 * np.sqrt(2) / (1 + np.sqrt(2)), abs=1e-3)
+
+
+def test_membership_with_an_open_path():
+    path = pc.cubic((0, 0), (3, 4), (6, -4), (10, 0))
+    a = [[path, pc.reverse(path)]]  # a path traced forward and back: a curve
+    b = [list(pc.circle((0.0, 0.0), 1.0))]
+    member = Membership(a, b, 0.01)
+    line = LineString(pc.flatten(path, 1e-5)[0])
+    rng = np.random.default_rng(1)
+    for x in rng.uniform([-2, -4], [12, 4], size=(60, 2)):
+        d = line.distance(Point(x))
+        if abs(d - 1.0) > 0.02:
+            assert member(x) == (d < 1.0), (x, d)
