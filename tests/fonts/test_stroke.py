@@ -31,7 +31,7 @@ from morph.parse.ufo import (component_paths, contour_paths, decomposed_paths, g
 from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely
 from tests.stroke_reference import polygon_stroker, stroke_polygon
 
-SUBSET = Path(__file__).resolve().parent / "data" / "relief" / "Relief-SingleLine-subset.ufo"
+SUBSET = Path(__file__).resolve().parents[1] / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 NIB_SPEC = (90.0, 20.0, 30.0)
 ROUNDING = 0.71  # integer coordinates in the written font: sqrt(2) / 2
 REF_TOL = 0.05   # flattening of the Clipper reference (font units)

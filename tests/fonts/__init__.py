@@ -1,0 +1,1 @@
+"""Tests of morph.fonts, one file per module."""
