@@ -129,9 +129,9 @@ def random_pairs_table(rng, n_pairs=30, tols=(1e-2, 1e-3, 1e-4, 1e-5, 1e-6)):
             res = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
             t_all += time.perf_counter() - t0
             n += len(res)
-            cps += control_points([p for p, _, _ in res])
+            cps += control_points([c.piece for c in res])
             for w in rng.integers(0, len(res), 4):
-                piece, _, bound = res[w]
+                piece, bound = res[w].piece, res[w].bound
                 p, d = R.bezier_eval(piece, rng.uniform(0, 1, 1), 1)
                 e = float(pair_error(p, d, ea, eb)[0])
                 worst = max(worst, e)

@@ -29,7 +29,7 @@ edge of B with A's [lo, hi), and two parallel segments never pair directly.  Thi
 keeps the pieces of one loop pair chained end to end.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -38,27 +38,9 @@ from . import gauss
 from . import methods
 from . import piece as pc
 from . import qac
+from .methods import ConvPiece
 
 ANGLE_EQ = 1e-9      # angles closer than this are equal (radians)
-
-
-@dataclass
-class ConvPiece:
-    """One oriented piece of a convolution curve.
-
-    piece: (n+1, 3) homogeneous control points, already in travel direction.
-    kind: "qac", "translate", "chord".  type: 1, 2 or 3 (Fig. 20).  bound: a-priori
-    bound on its distance to the exact convolution (0 for exact pieces).
-    source: (loop index in A, edge index, loop index in B, edge index).  row: the
-    pair's row in the table of compatible pairs (:class:`GaussPair`), -1 when unknown.
-    """
-
-    piece: np.ndarray
-    kind: str
-    type: int
-    bound: float = 0.0
-    source: tuple = field(default_factory=tuple)
-    row: int = -1
 
 
 # ---------------------------------------------------------------- edge pairing
@@ -251,33 +233,35 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
     """Convolution pieces of one compatible pair of edges (A's angles lo..hi).
 
     ``shift`` is the multiple of 2 pi added to B's angles.  Returns a list of
-    (piece, kind, bound).  Curve + curve pairs go through QAC with subdivision of
-    the angle range where its a-priori bound peaks (Algorithm 4.1) until every
-    bound <= tol; raises ToleranceNotMetError past ``max_depth`` halvings.
+    :class:`ConvPiece` (piece, bound, kind).  Curve + curve pairs go through QAC
+    with subdivision of the angle range where its a-priori bound peaks (Algorithm
+    4.1) until every bound <= tol; raises ToleranceNotMetError past ``max_depth``
+    halvings.
     """
     ta, tb = _EdgeTable([[ea]]), _EdgeTable([[eb]])
     pairs = tuple(np.array([x]) for x in (0, 0, lo, hi, shift))
-    res = _convolve_table(ta, tb, pairs, tol, max_depth, method)
-    return [(p, kind, b) for _, p, kind, b in res]
+    return _convolve_table(ta, tb, pairs, tol, max_depth, method)
 
 
 def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     """Convolution pieces of the pairs (i, j, lo, hi, k) of two edge tables, all at
-    once: [(pair position, piece, kind, bound)] in the pairs' order, each pair's
-    pieces in travel order (the cases of the module docstring).  tol: one number,
-    or one per pair."""
+    once: :class:`ConvPiece` (``row``: the pair's position) in the pairs' order,
+    each pair's pieces in travel order (the cases of the module docstring).  tol:
+    one number, or one per pair."""
     i, j, lo, hi, k = pairs
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
     out = (_line_pairs(ta, tb, i, j, lo, off) + _vertex_pairs(ta, tb, i, j, lo, hi, off)
            + _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method))
     order = sorted(range(len(out)), key=lambda r: (out[r][0], out[r][1]))
-    return [(int(out[r][0]),) + tuple(out[r][2:]) for r in order]
+    for r in order:
+        out[r][2].row = int(out[r][0])
+    return [out[r][2] for r in order]
 
 
 def _stack_out(pos, stack, forward):
-    """Exact pieces of a stack as (pair position, sort key 0, piece, "translate", 0)."""
-    return [(pos[r], 0.0, p if forward[r] else p[::-1].copy(), "translate", 0.0)
+    """Exact pieces of a stack as (pair position, sort key 0, ConvPiece "translate")."""
+    return [(pos[r], 0.0, ConvPiece(p if forward[r] else p[::-1].copy(), 0.0, "translate"))
             for r, p in enumerate(stack)]
 
 
@@ -331,7 +315,7 @@ def _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method):
     for p in pos:
         pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p],
                                float(tol[p]), max_depth, method)
-        out += [(p, float(r), piece, kind, bound) for r, (piece, kind, bound) in enumerate(pieces)]
+        out += [(p, float(r), c) for r, c in enumerate(pieces)]
     return out
 
 
@@ -348,9 +332,10 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     forward = eb.sign > 0
     if hi - lo < qac.TINY_SWEEP:
         piece, bound = qac.chord_piece(ca, cb, ea.sign, eb.sign)
-        return [(_oriented(piece, forward), "chord", bound)]
-    segs = methods.convolve_pair_segments(ca, cb, tol, method, max_depth=depth)
-    out = [(_oriented(s.piece, forward), method, s.error) for s in segs]
+        return [ConvPiece(_oriented(piece, forward), bound, "chord")]
+    out = methods.convolve_pair_segments(ca, cb, tol, method, max_depth=depth)
+    for c in out:
+        c.piece, c.c1, c.c2 = _oriented(c.piece, forward), None, None
     return out if forward else out[::-1]
 
 
@@ -382,8 +367,9 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
             max_depth)
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         for r, piece in enumerate(pieces):
-            out.append((done["pos"][r], key[r], _oriented(piece, done["sb"][r] > 0),
-                        qac.KIND_NAMES[done["kind"][r]], float(bounds[r])))
+            out.append((done["pos"][r], key[r],
+                        ConvPiece(_oriented(piece, done["sb"][r] > 0), float(bounds[r]),
+                                  qac.KIND_NAMES[done["kind"][r]])))
     return out
 
 
@@ -421,11 +407,13 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
         keep = typ != 3
         table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
         i, j = table[0], table[1]
-    res = _convolve_table(ta, tb, table, tol, method=method)
+    out = _convolve_table(ta, tb, table, tol, method=method)
     la, ia, lb, ib = ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]
-    return [ConvPiece(piece, kind, int(typ[p]), bound,
-                      (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p])), int(row[p]))
-            for p, piece, kind, bound in res]
+    for c in out:
+        p = c.row
+        c.type, c.row = int(typ[p]), int(row[p])
+        c.source = (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p]))
+    return out
 
 
 def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None,

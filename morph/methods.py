@@ -704,29 +704,39 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
 
 
 @dataclass
-class Segment:
-    """One output piece of the driver with the sub-pair it approximates.
+class ConvPiece:
+    """One piece of a convolution curve: the one record of every method, of
+    Algorithm 5.1 (:func:`subdivide`) and of :func:`morph.convolve.convolution`.
 
-    piece: (m+1, 3) homogeneous control points, approximating c1(t) + c2(s(t)) and
-    parametrised like ``c1``.  c1, c2: the compatible sub-pair in the roles the
-    method used: c1 is the part of the original C1, except where certified QAC chose
-    the other role (Sec. 4.4) and c1 is the part of C2 (reversed where the two turn
-    opposite ways, so that it runs like the piece).  error: the measured (or, for
-    certified QAC, bounded) error.  t: the sub-pair's parameter interval on the
-    original C1.
+    piece: (m+1, 3) homogeneous control points.  bound: its distance to the exact
+    convolution curve: the a-priori bound for QAC (Eqs. 39-40) and for exact
+    pieces (0), the measured error for the other methods.  kind: "qac",
+    "translate", "chord" or a method's name.  type: 1, 2 or 3 (Fig. 20; 0 where not
+    typed).  source: (loop in A, edge, loop in B, edge).  row: the pair's row in
+    the table of compatible pairs (:class:`morph.convolve.GaussPair`, -1 when
+    unknown).  c1, c2: the compatible sub-pair approximated, in the roles the
+    method used (from :func:`subdivide`; None from ``convolution``): the piece
+    approximates c1(t) + c2(s(t)) and is parametrised like c1, which is the part of
+    the original C1 except where certified QAC chose the other role (Sec. 4.4)
+    (reversed where the two turn opposite ways, so that it runs like the piece).
+    t: the sub-pair's parameter interval on the original C1.
     """
 
     piece: np.ndarray
-    c1: np.ndarray
-    c2: np.ndarray
-    error: float
-    t: tuple = field(default=(0.0, 1.0))
+    bound: float = 0.0
+    kind: str = "qac"
+    type: int = 0
+    source: tuple = field(default_factory=tuple)
+    row: int = -1
+    c1: np.ndarray = None
+    c2: np.ndarray = None
+    t: tuple = (0.0, 1.0)
 
 
 class Method(namedtuple("Method", "root one_piece bound split role_pair")):
     """A method for :func:`subdivide`: ``root(c1, c2)`` the root node batch of a pair,
     ``one_piece``, ``bound``, ``split`` the callables of :func:`subdivide_nodes`, and
-    ``role_pair(nodes, r)`` the (c1, c2) of an accepted node as in :class:`Segment`."""
+    ``role_pair(nodes, r)`` the (c1, c2) of an accepted node as in :class:`ConvPiece`."""
 
 
 def _valid(piece):
@@ -826,20 +836,22 @@ QAC_METHOD = Method(_qac_root, qac.piece_nodes, qac.bound_nodes, qac.split_nodes
                     qac.role_pair)
 
 
-def subdivide(c1, c2, method, tol, max_depth=24):
-    """Algorithm 5.1 on one compatible pair: a list of :class:`Segment` in C1's order.
+def subdivide(c1, c2, method, tol, max_depth=24, kind=""):
+    """Algorithm 5.1 on one compatible pair: a list of :class:`ConvPiece` in C1's order.
 
     ``method`` is a :class:`Method` (:func:`method_functions`, :func:`pair_method`);
-    :func:`subdivide_nodes` does the work.  Raises ValueError for tol <= 0,
-    ToleranceNotMetError after ``max_depth`` halvings.
+    :func:`subdivide_nodes` does the work.  The pieces' kind is ``kind`` (the
+    method's name), or QAC's own kinds (qac, translate, chord) where its nodes say.
+    Raises ValueError for tol <= 0, ToleranceNotMetError after ``max_depth`` halvings.
     """
     done, pieces, errors = subdivide_nodes(method.root(c1, c2), method.one_piece,
                                            method.bound, method.split, tol, max_depth)
     out = []
     for r in np.argsort(done["t0"], kind="stable"):
         a, b = method.role_pair(done, r)
-        out.append(Segment(pieces[r], a, b, float(errors[r]),
-                           (float(done["t0"][r]), float(done["t1"][r]))))
+        name = qac.KIND_NAMES[done["kind"][r]] if "kind" in done else kind
+        out.append(ConvPiece(pieces[r], float(errors[r]), kind=name, c1=a, c2=b,
+                             t=(float(done["t0"][r]), float(done["t1"][r]))))
     return out
 
 
@@ -875,10 +887,10 @@ def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES
 
 def approximate_segments(c1, c2, method, tol, measure="distance", certified=True,
                          max_depth=24, memo=None, normal_of="difference", **options):
-    """Like :func:`approximate` but returns the :class:`Segment` records."""
+    """Like :func:`approximate` but returns the :class:`ConvPiece` records."""
     m = method_functions(method, measure, certified, normal_of=normal_of, memo=memo,
                          **options)
-    return subdivide(c1, c2, m, tol, max_depth)
+    return subdivide(c1, c2, m, tol, max_depth, kind=str(method).lower())
 
 
 def approximate(c1, c2, method, tol, measure="distance", certified=True, max_depth=24,
@@ -888,7 +900,7 @@ def approximate(c1, c2, method, tol, measure="distance", certified=True, max_dep
     Algorithm 5.1 with ``method`` in ``METHODS`` ("ctc", "lsc", "bic", "hic", "qac",
     "lrc", "tmc", "src"); returns a list of ``(m+1, 3)`` pieces, in C1's parameter
     order and direction, each parametrised by its sub-pair's t (for certified QAC,
-    by the t of the sub-pair's piece it keeps: :class:`Segment`).
+    by the t of the sub-pair's piece it keeps: :class:`ConvPiece`).
 
     measure="distance": every piece P has sampled max_t dist(P(t) - C1(t), C2) <= tol
     (Eqs. 49-53; not a bound, except QAC with ``certified=True``: then
@@ -916,7 +928,7 @@ def pair_measure(method):
 
 
 def convolve_pair_segments(c1, c2, tol, method="qac", max_depth=24, **options):
-    """Like :func:`convolve_pair` but returns the :class:`Segment` records (with the
+    """Like :func:`convolve_pair` but returns the :class:`ConvPiece` records (with the
     error each piece reached: the a-priori bound for QAC, a sampled distance else)."""
     key = str(method).lower()
     return approximate_segments(c1, c2, key, tol, pair_measure(key), True, max_depth,

@@ -145,7 +145,8 @@ def test_convolve_edges_within_tolerance(tol, n):
         assert len(pairs) == 1, (k, kind)
         _, _, lo, hi, shift = pairs[0]
         assert hi - lo == pytest.approx(abs(ea.sweep), abs=1e-12)
-        out = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+        out = [(c.piece, c.kind, c.bound)
+               for c in convolve.convolve_edges(ea, eb, lo, hi, shift, tol)]
         assert out
         size = max(_size([[c1]]), _size([[c2]]))
         bounds = np.array([b for _, _, b in out])
@@ -277,7 +278,8 @@ def test_tiny_common_sweep_meets_tolerance():
     assert not np.any(np.isnan(s))
     for tol in (1e-3, 1e-6, 1e-8):
         try:
-            out = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+            out = [(c.piece, c.kind, c.bound)
+               for c in convolve.convolve_edges(ea, eb, lo, hi, shift, tol)]
         except ToleranceNotMetError:
             continue
         bounds = [b for _, _, b in out]
@@ -547,8 +549,9 @@ def test_batched_driver_matches_pair_by_pair():
     arrays = tuple(np.array([p[c] for p in table]) for c in range(5))
     res = convolve._convolve_table(ta, tb, arrays, tol)
     for k in range(len(pairs)):
-        got = [(p, kind, b) for pos, p, kind, b in res if pos == k]
-        ref = convolve.convolve_edges(ea[k], eb[k], *table[k][2:], tol)
+        got = [(c.piece, c.kind, c.bound) for c in res if c.row == k]
+        ref = [(c.piece, c.kind, c.bound)
+               for c in convolve.convolve_edges(ea[k], eb[k], *table[k][2:], tol)]
         assert len(got) == len(ref) > 0
         for (p, kind, b), (p_ref, kind_ref, b_ref) in zip(got, ref):
             assert kind == kind_ref and p.shape == p_ref.shape and b <= tol

@@ -267,11 +267,12 @@ def test_qac_is_the_default_qac_of_convolve(tol):
         ea, eb = _edge(c1), _edge(c2)
         (_, _, lo, hi, shift), = convolve.compatible_pairs([ea], [eb])
         ref = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
+        ref = [(c.piece, c.bound) for c in ref]
         if eb.sweep < 0:          # convolve runs against A where B is concave
-            ref = [(p[::-1], kind, b) for p, kind, b in ref[::-1]]
+            ref = [(p[::-1], b) for p, b in ref[::-1]]
         assert len(segs) == len(ref) > 0
-        for seg, (p, kind, b) in zip(segs, ref):
-            assert seg.piece.shape == p.shape and seg.error == pytest.approx(b, rel=1e-6)
+        for seg, (p, b) in zip(segs, ref):
+            assert seg.piece.shape == p.shape and seg.bound == pytest.approx(b, rel=1e-6)
             assert np.allclose(pc.cartesian(seg.piece), pc.cartesian(p), atol=1e-9)
             # the piece is parametrised like seg.c1, whichever piece that is
             assert R.approx_convolution_error(seg.piece, seg.c1, seg.c2, 9) <= tol
