@@ -9,7 +9,7 @@ data URL (a variable source is embedded at the instance that was brushed), then
 - a sample line at 96 px in the new font at a fixed place (``#sample``: 24 px from
   the top-left corner of the page, line height 1, nothing else within 72 px below
   its line box; tests compare its pixels with
-  Pillow's rendering of the same text, see ``tests/test_specimen.py``);
+  Pillow's rendering of the same text, see ``tests/fonts/test_specimen.py``);
 - a waterfall 12-96 px, source and result side by side;
 - a grid of every encoded character (cmap), each cell with the source glyph, the
   result glyph and the glyph name.
