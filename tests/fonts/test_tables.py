@@ -1,16 +1,12 @@
-"""morph.fonts.tables (contour clean-up, anchors, names) and morph.fonts.jobs (pool,
-polygon fallback), checked against hand-made cases and Clipper/shapely references."""
+"""morph.fonts.tables (contour clean-up, anchors, names), checked on hand-made cases."""
 
 import numpy as np
 import pytest
 from fontTools.ttLib import TTFont
 
-from morph.fonts.brush import ellipse_nib
-from morph.fonts.jobs import polygon_sum, run_jobs
 from morph.fonts.tables import clean_contour, move_anchors, rename_family
-from morph.parse import default_font_path, glyph_region
+from morph.parse import default_font_path
 from tests.fontfixtures import build_mark_font
-from tests.reference import hausdorff, polygon_minkowski_sum
 
 A = np.array
 
@@ -52,37 +48,6 @@ def test_clean_contour_spike_and_retracted_handles():
     c = clean_contour(tiny)
     assert [len(s) for s in c] == [2, 2, 2]  # a 1-unit cubic is its chord
     assert clean_contour([A([[0, 0], [10, 0]]), A([[10, 0], [0, 0]])]) == []
-
-
-@pytest.mark.parametrize("ch", ["o", "g"])
-def test_polygon_fallback_against_clipper(ch):
-    """The fallback sum is within tol (+ its 1/16 grid) of an independent Clipper sum."""
-    import shapely
-
-    region = glyph_region(ch).region
-    nib = ellipse_nib(80, 30, 30)
-    got = polygon_sum(region, nib, 0.5)
-    ref = polygon_minkowski_sum(region, nib, 0.25)
-    assert hausdorff([np.vstack([p, p[:1]]) for p in got], ref, 0.5) <= 0.5 + 0.25 + 0.2
-    # orientation: outer counter-clockwise, holes clockwise, as many as Clipper's
-    signed = [shapely.Polygon(p).area * (1 if shapely.LinearRing(p).is_ccw else -1)
-              for p in got]
-    n_ref = len(getattr(ref, "geoms", [ref]))
-    holes_ref = sum(len(g.interiors) for g in getattr(ref, "geoms", [ref]))
-    assert sum(a > 0 for a in signed) == n_ref and sum(a < 0 for a in signed) == holes_ref
-    assert sum(signed) == pytest.approx(ref.area, rel=2e-3)
-
-
-def _square(k):
-    return k * k
-
-
-def test_run_jobs_order_and_progress():
-    seen = []
-    assert run_jobs(_square, range(7), jobs=2, progress=lambda k, r: seen.append(k)) == \
-        [k * k for k in range(7)]
-    assert sorted(seen) == list(range(7))
-    assert run_jobs(_square, [3], jobs=4) == [9]
 
 
 def test_move_anchors_by_glyph(tmp_path):
