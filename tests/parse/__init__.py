@@ -1,0 +1,1 @@
+"""Tests of morph.parse, one file per module."""
