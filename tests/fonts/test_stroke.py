@@ -1,5 +1,5 @@
-"""Skeleton strokes and calligraphic fonts: morph.parse.ufo, morph.fonts.stroke,
-``morph stroke`` (issue #15).
+"""Skeleton strokes and calligraphic fonts: morph.fonts.stroke, ``morph stroke`` (issue
+#15); reading the skeletons (morph.parse.ufo) is tests/parse/test_ufo.py.
 
 References are independent: the written glyphs are read back from the compiled font
 and compared with a Clipper polygon of the flattened skeleton ⊕ the flattened nib
@@ -7,8 +7,6 @@ and compared with a Clipper polygon of the flattened skeleton ⊕ the flattened 
 features) is also run with that polygon stroker, so it is checked apart from the
 exact geometry.  The full A-Z, a-z, 0-9 sweep is ``python -m bench.stroke``.
 """
-
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,27 +17,20 @@ from click.testing import CliRunner
 from fontTools.pens.boundsPen import BoundsPen
 from fontTools.ttLib import TTFont
 
-from morph import piece as pc
 from morph.cli import main
 from morph.errors import MorphError, ParseError
 from morph.fonts.brush import ellipse_nib, region_extent
 from morph.fonts.stroke import move_feature_anchors, nib_is_symmetric, stroke_plan, stroke_ufo
 from morph.parse import glyph_region
 from morph.region import translate_region
-from morph.parse.ufo import (component_paths, contour_paths, decomposed_paths, glyph_names_for,
-                             glyph_paths, load_ufo)
+from morph.parse.ufo import decomposed_paths
+from tests import RELIEF_SUBSET as SUBSET
 from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely
 from tests.stroke_reference import polygon_stroker, stroke_polygon
 
-SUBSET = Path(__file__).resolve().parents[1] / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 NIB_SPEC = (90.0, 20.0, 30.0)
 ROUNDING = 0.71  # integer coordinates in the written font: sqrt(2) / 2
 REF_TOL = 0.05   # flattening of the Clipper reference (font units)
-
-
-@pytest.fixture(scope="module")
-def skeleton():
-    return load_ufo(SUBSET, lazy=False)
 
 
 def nib():
@@ -51,87 +42,6 @@ def shift_of(font, name, nib_region):
     x0, _, x1, _ = region_extent(nib_region)
     grow = int(round(x1 - x0))
     return int(round(-x0)) - (grow if font[name].width == 0 else 0)
-
-
-# =========================================================================== reading
-
-def test_open_skeleton_contours(skeleton):
-    paths = glyph_paths(skeleton["o"])
-    assert len(paths) == 1
-    pieces, closed = paths[0]
-    assert not closed and len(pieces) == 4 and all(pc.degree(p) == 3 for p in pieces)
-    pts = [(p.x, p.y) for p in skeleton["o"].contours[0].points]
-    assert np.allclose(pc.start(pieces[0]), pts[0]) and np.allclose(pc.end(pieces[-1]), pts[-1])
-    for a, b in zip(pieces, pieces[1:]):
-        assert np.array_equal(pc.end(a), pc.start(b))
-    # the i's dot: a 2-unit line
-    dot = glyph_paths(skeleton["uni0307"])
-    assert [len(p) for p, _ in dot] == [1, 1] and not any(c for _, c in dot)
-
-
-def _glyph(draw):
-    g = ufoLib2.objects.Glyph("test")
-    draw(g.getPointPen())
-    return g
-
-
-def test_single_point_closed_and_quadratic_contours():
-    def single(pp):
-        pp.beginPath()
-        pp.addPoint((10, 20), "move")
-        pp.endPath()
-
-    (pieces, closed), = glyph_paths(_glyph(single))
-    assert not closed and len(pieces) == 1
-    assert np.array_equal(pc.start(pieces[0]), [10, 20]) and np.array_equal(pc.end(pieces[0]), [10, 20])
-
-    def square(pp):  # closed: a closing line is added
-        pp.beginPath()
-        for x, y in [(0, 0), (100, 0), (100, 100), (0, 100)]:
-            pp.addPoint((x, y), "line")
-        pp.endPath()
-
-    (pieces, closed), = glyph_paths(_glyph(square))
-    assert closed and len(pieces) == 4 and np.array_equal(pc.end(pieces[-1]), [0, 0])
-
-    def quad(pp):  # a TrueType run with an implied on-curve point, open
-        pp.beginPath()
-        pp.addPoint((0, 0), "move")
-        pp.addPoint((50, 100))
-        pp.addPoint((150, 100))
-        pp.addPoint((200, 0), "qcurve")
-        pp.endPath()
-
-    (pieces, closed), = glyph_paths(_glyph(quad))
-    assert not closed and [pc.degree(p) for p in pieces] == [2, 2]
-    assert np.allclose(pc.end(pieces[0]), (100, 100))
-
-    def zero_segments(pp):  # a dot drawn as a zero-length line
-        pp.beginPath()
-        pp.addPoint((5, 5), "move")
-        pp.addPoint((5, 5), "line")
-        pp.endPath()
-
-    (pieces, closed), = glyph_paths(_glyph(zero_segments))
-    assert not closed and len(pieces) == 1 and np.all(pc.cartesian(pieces[0]) == 5)
-
-
-def test_components_and_names(skeleton):
-    six = glyph_paths(skeleton["six"])
-    (nine,) = [c for c in skeleton["nine"].components]
-    rotated = component_paths(skeleton, nine)
-    xx, xy, yx, yy, dx, dy = tuple(nine.transformation)
-    assert (xx, yy) == (-1, -1)
-    p0 = pc.start(six[0][0][0])
-    assert np.allclose(pc.start(rotated[0][0][0]), (-p0[0] + dx, -p0[1] + dy))
-    assert glyph_names_for(skeleton, ["A", "0", "eacute", "g.ss01"]) == \
-        ["A", "zero", "eacute", "g.ss01"]
-    with pytest.raises(ParseError):
-        glyph_names_for(skeleton, ["Ω"])
-    with pytest.raises(ParseError):
-        load_ufo(SUBSET.parent / "missing.ufo")
-    with pytest.raises(ParseError):
-        contour_paths([object()])
 
 
 # =========================================================================== features
