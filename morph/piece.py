@@ -187,6 +187,12 @@ def jet2_many(c, s):
         v2 = n * (n - 1) * (work[:, :, 2] - 2.0 * work[:, :, 1] + work[:, :, 0])
         v1 = n * (lev1[:, :, 1] - lev1[:, :, 0])
         v = lev1[:, :, 0] + s[..., None] * (lev1[:, :, 1] - lev1[:, :, 0])
+    return _quotient_jet(v, v1, v2)
+
+
+def _quotient_jet(v, v1, v2):
+    """P, P', P'' of P = X / W from the homogeneous H = (X, W) and its derivatives
+    (last axis x, y, w): P' = (X' - W' P) / W, P'' = (X'' - 2 W' P' - W'' P) / W."""
     w, w1, w2 = v[..., 2:], v1[..., 2:], v2[..., 2:]
     p = v[..., :2] / w
     p1 = (v1[..., :2] - w1 * p) / w
@@ -208,11 +214,8 @@ def jet2_power_many(c, s):
     a1 = a[:, 1:] * j[1:, None]
     a2 = a1[:, 1:] * j[1:-1, None]
     v = s[..., None] ** j                                        # (k, m, n+1)
-    h, h1, h2 = np.matmul(v, a), np.matmul(v[..., :n], a1), np.matmul(v[..., :n - 1], a2)
-    w, w1, w2 = h[..., 2:], h1[..., 2:], h2[..., 2:]
-    p = h[..., :2] / w
-    p1 = (h1[..., :2] - w1 * p) / w
-    return p, p1, (h2[..., :2] - 2.0 * w1 * p1 - w2 * p) / w
+    return _quotient_jet(np.matmul(v, a), np.matmul(v[..., :n], a1),
+                         np.matmul(v[..., :n - 1], a2))
 
 
 def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
