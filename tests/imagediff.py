@@ -1,4 +1,4 @@
-"""Golden-image comparison for render tests.
+"""Golden-image comparison for render tests (and ``gray``, an image as gray levels).
 
 ``assert_matches_golden(image, name)`` compares an image with ``tests/golden/<name>.png``:
 
@@ -57,7 +57,7 @@ def assert_matches_golden(image, name, pixel_tol=PIXEL_TOL, max_fraction=MAX_FRA
         return
     if not golden.exists():
         pytest.fail("golden image %s is missing; create it deliberately with "
-                    "MORPH_UPDATE_GOLDEN=1 python -m pytest tests/test_render.py" % golden)
+                    "MORPH_UPDATE_GOLDEN=1 python -m pytest tests/render/test_png.py" % golden)
     expected = Image.open(golden)
     expected.load()
     fraction, worst, mask = compare_images(image, expected, pixel_tol)
@@ -67,3 +67,8 @@ def assert_matches_golden(image, name, pixel_tol=PIXEL_TOL, max_fraction=MAX_FRA
         pytest.fail("%s differs from its golden: %.3f%% of pixels off by > %d (allowed %.3f%%), "
                     "max difference %d%s; see %s" % (name, 100 * fraction, pixel_tol,
                                                       100 * max_fraction, worst, size_note, where))
+
+
+def gray(image):
+    """The image as a float array of gray levels (0 black .. 255 white)."""
+    return np.asarray(image.convert("L"), float)
