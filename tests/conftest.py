@@ -1,6 +1,7 @@
-"""Fixtures shared by several test folders."""
+"""Fixtures shared by several test files."""
 
 import pytest
+from click.testing import CliRunner
 
 from tests import RELIEF_SUBSET
 
@@ -11,3 +12,9 @@ def skeleton():
     from morph.parse.ufo import load_ufo
 
     return load_ufo(RELIEF_SUBSET, lazy=False)
+
+
+@pytest.fixture
+def runner():
+    """click's CliRunner, for invoking morph's commands in-process."""
+    return CliRunner()

@@ -5,7 +5,6 @@ references (shapely / Clipper of the flattened operands, exact areas of polygons
 """
 
 import pytest
-from click.testing import CliRunner
 
 from morph import piece as pc
 from morph.cli import main
@@ -15,11 +14,6 @@ from tests import reference as R
 from tests.helpers import square_path_data
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg">%s</svg>'
-
-
-@pytest.fixture
-def runner():
-    return CliRunner()
 
 
 def _svg(tmp_path, name, d, attrs=""):
