@@ -19,7 +19,7 @@ from .. import piece as pc
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
-MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees reach no farther than this
+MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allowance
 
 
 def lift_rings(rings, tg, contract):
@@ -311,8 +311,8 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     kept in [0, 1]^2.  Returns (s, u, ok); ok where |F| <= atol and the crossing
     lies within ``reach`` + ``shallow`` / sin(alpha / 2) of ``guess``, alpha the
     angle between the two pieces there (two lines each moved by d across cross
-    up to d / sin(alpha / 2) from where they did; sin(alpha / 2) at least
-    MIN_SIN_HALF).
+    up to d / sin(alpha / 2) from where they did), the allowance only for
+    crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
@@ -334,7 +334,13 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
-    sin_half = np.sqrt(np.clip(0.5 * (1.0 - np.nan_to_num(cos, nan=1.0)), MIN_SIN_HALF ** 2, 1.0))
-    near = np.hypot(*(pa - guess).T) <= reach + shallow / sin_half
+    sin_half = np.sqrt(np.clip(0.5 * (1.0 - np.nan_to_num(cos, nan=1.0)), 0.0, 1.0))
+    # the allowance only for crossings inside both pieces (Newton clamps to [0, 1],
+    # and consecutive pieces meet at their ends) and not near-tangent: where two
+    # pieces touch or continue each other, Newton stalls anywhere along the contact
+    real = ((s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
+            & (sin_half >= MIN_SIN_HALF))
+    allow = np.where(real, shallow / np.maximum(sin_half, MIN_SIN_HALF), 0.0)
+    near = np.hypot(*(pa - guess).T) <= reach + allow
     ok = (err <= atol) & near & np.isfinite(err)
     return s, u, ok
