@@ -22,19 +22,14 @@ and saves the loaded shapes to ``morph-debug-<command>.json`` in the working fol
 """
 
 import os
-import sys
 
 # one BLAS thread, set before numpy loads: the commands multiply small matrices only,
 # and OpenBLAS starting its thread pool costs ~40-50 ms of CPU per process; a value
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import click  # noqa: E402
-
-from .. import __version__  # noqa: E402
-from ..errors import DegenerateCurveError, LimitError, NibError, ParseError
-from ..limits import memory_budget_bytes
-from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401 (re-exported)
+from .group import BAD_INPUT_ERRORS, main  # noqa: E402,F401 (re-exported)
+from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E402,F401
                       InputError, ShapeParam,
                       common_options, font_option, force_option, output_option,
                       resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
@@ -44,147 +39,6 @@ __all__ = ["main", "ShapeParam", "shape_argument", "shape_tolerance", "common_op
            "font_option", "tol_option", "output_option", "force_option", "size_option",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
-_NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
-#: MorphErrors that mean bad input (exit 2); other MorphErrors are internal (exit 1)
-BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError)
-
-
-def _error_line(message):
-    text = " ".join(str(message).split())
-    click.echo("morph: error: %s" % text, err=True)
-
-
-def _limit_memory():
-    """Set the address-space limit to the memory budget (MemoryError, not the OOM
-    killer); returns a function restoring the previous limit."""
-    try:
-        import resource
-    except ImportError:  # pragma: no cover - not POSIX
-        return lambda: None
-    budget = memory_budget_bytes()
-    try:
-        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-        new = budget if hard == resource.RLIM_INFINITY else min(budget, hard)
-        if soft != resource.RLIM_INFINITY and soft <= new:
-            return lambda: None
-        resource.setrlimit(resource.RLIMIT_AS, (new, hard))
-    except (ValueError, OSError):
-        return lambda: None
-
-    def restore():
-        try:
-            resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
-        except (ValueError, OSError):
-            pass
-    return restore
-
-
-def _save_debug(command, argv, exc):
-    """Write the loaded shapes (loops of homogeneous control points), the arguments
-    and the error to morph-debug-<command>.json in the working folder; its path."""
-    import json
-
-    path = os.path.abspath("morph-debug-%s.json" % command)
-    data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
-            "shapes": [{"arg": s.source,
-                        "info": {"kind": s.kind, "name": s.name, "units_per_em": s.units_per_em,
-                                 "advance": s.advance_width, "lsb": s.lsb},
-                        "loops": [[p.tolist() for p in loop] for loop in s.region]}
-                       for s in LOADED_SHAPES]}
-    for attr in ("piece", "achieved"):
-        value = getattr(exc, attr, None)
-        if value is not None:
-            data[attr] = value.tolist() if hasattr(value, "tolist") else repr(value)
-    try:
-        with open(path, "w") as fh:
-            json.dump(data, fh)
-    except OSError as err:
-        return "nowhere (%s)" % err
-    return path
-
-
-# =========================================================================== group
-
-class MorphGroup(click.Group):
-    """click Group whose ``main`` turns every failure into one stderr line.
-
-    Exit status: 0 success; 2 bad input or usage (ParseError, DegenerateCurveError,
-    LimitError, NibError, click usage errors, unwritable output); 1 internal failure
-    (TopologyError, ToleranceNotMetError, any other exception, memory budget
-    exceeded), naming the command; with MORPH_DEBUG=1 the traceback and the inputs
-    saved as JSON.
-    """
-
-    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True,
-             **extra):
-        debug = os.environ.get("MORPH_DEBUG", "") not in ("", "0")
-        code = 0
-        argv = list(sys.argv[1:] if args is None else args)
-        command = next((a for a in argv if not a.startswith("-")), "morph")
-        del LOADED_SHAPES[:]
-        restore = _limit_memory()
-        try:
-            rv = super().main(args=args, prog_name=prog_name or "morph",
-                              complete_var=complete_var, standalone_mode=False, **extra)
-            if isinstance(rv, int) and not isinstance(rv, bool):
-                code = rv
-        except click.exceptions.Abort:
-            _error_line("aborted")
-            code = EXIT_INTERNAL
-        except _NO_ARGS_IS_HELP as exc:  # bare "morph": the manual, not an error
-            click.echo(exc.format_message())
-            code = 0
-        except click.ClickException as exc:
-            msg = exc.format_message()
-            ctx = getattr(exc, "ctx", None)
-            if isinstance(exc, click.UsageError) and ctx is not None:
-                msg += " (see '%s --help')" % ctx.command_path
-            _error_line(msg)
-            code = EXIT_BAD_INPUT
-        except BAD_INPUT_ERRORS as exc:
-            _error_line(exc)
-            code = EXIT_BAD_INPUT
-        except MemoryError:
-            _error_line("morph %s ran out of its memory budget (%.1f GB, MORPH_MEMORY_LIMIT): "
-                        "use a coarser --tol" % (command, memory_budget_bytes() / 2 ** 30))
-            code = EXIT_INTERNAL
-        except Exception as exc:  # internal failure (MorphError or not): one line
-            where = ""
-            if debug:
-                import traceback
-
-                traceback.print_exc()
-                where = "; inputs saved to %s" % _save_debug(command, argv, exc)
-            _error_line("internal error in morph %s: %s: %s%s"
-                        % (command, type(exc).__name__, exc,
-                           where or " (set MORPH_DEBUG=1 for a traceback and the inputs)"))
-            code = EXIT_INTERNAL
-        finally:
-            restore()
-        if standalone_mode:
-            sys.exit(code)
-        return code
-
-
-@click.group(cls=MorphGroup, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, "--version", prog_name="morph",
-                      message="%(prog)s %(version)s")
-def main():
-    """Minkowski sums of curved planar shapes (glyphs, SVG paths) as exact curves.
-
-    Shapes are glyphs of a font (a single character such as g, or a glyph name
-    such as ampersand) or SVG files (an argument ending in .svg).  Glyphs are read
-    in font units and SVG in user units, both with the y axis up.
-
-    \b
-    Examples:
-      morph outline g -o g.png
-      morph outline B --font MyFont.otf -o B.svg
-      morph outline drawing.svg --size 800
-    """
-
-
-# one module per command family; importing registers the commands on ``main``
 from . import shapes, apps, fonts  # noqa: E402,F401
 
 if __name__ == "__main__":  # pragma: no cover

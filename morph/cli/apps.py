@@ -3,7 +3,7 @@
 import click
 import numpy as np
 
-from . import main
+from .group import main
 from .options import (InputError, common_options, resolve_output, shape_argument,
                       shape_tolerance, write_image)
 

@@ -2,7 +2,7 @@
 
 import click
 
-from . import main
+from .group import main
 from .options import (InputError, common_options, progress_bar, resolve_output,
                       resolve_output_dir, shape_argument, shape_tolerance, write_image)
 
