@@ -99,16 +99,7 @@ def qac_parametric_bound_many(c2, q2):
     where the bound peaks.  Loose for cubic C2: it measures the mismatch of the
     parametrisations too, O(h^2) on a piece of size h (see :func:`qac_error_bound`).
     """
-    c2 = np.asarray(c2, float)
-    q2 = np.asarray(q2, float)
-    origin = c2[:, 0, :2] / c2[:, 0, 2:3]
-    w = c2[:, :, 2]
-    x = c2[:, :, :2] - w[:, :, None] * origin[:, None]
-    num = bz.elevate_many(x, 2) - bz.multiply_many(w, q2 - origin[:, None])
-    sq = _sq_norm_many(num)
-    den = bz.elevate_many(bz.multiply_many(w, w), sq.shape[1] - 2 * w.shape[1] + 1)
-    r, s = bz.ratio_bound_many(sq, den)
-    return np.sqrt(np.maximum(r, 0.0)), s
+    return pc.distance_bound_many(c2, q2)
 
 
 def qac_parametric_bound(c2, q2):
@@ -131,7 +122,9 @@ def _reparam_maps(c, q):
 
 def _composed_ratio(cr, q):
     """Squared-distance certificate of |C2(r(s)) - Q2(s)| for the composed C2(r(s))
-    = X / W (rows of cr) against Q2: (bound^2 (k,), s (k,))."""
+    = X / W (rows of cr) against Q2: (bound^2 (k,), s (k,)).  Rational rows by
+    :func:`morph.piece.distance_bound_many`; where W is constant (polynomial C2)
+    the same ratio of |X / W - Q2|^2 at the lower degree."""
     x, w = cr[:, :, :2], cr[:, :, 2]
     flat = np.ptp(w, axis=1) <= 1e-14 * np.abs(w[:, 0])      # polynomial C2: W constant
     ratio, s = np.full(len(cr), np.inf), np.full(len(cr), 0.5)
@@ -141,13 +134,10 @@ def _composed_ratio(cr, q):
         if poly:
             g = x[rows] / w[rows, :1, None] - bz.elevate_many(q[rows], x.shape[1] - 3)
             a = _sq_norm_many(g)
-            b = np.ones_like(a)
+            ratio[rows], s[rows] = bz.ratio_bound_many(a, np.ones_like(a))
         else:
-            g = bz.elevate_many(x[rows], 2) - bz.multiply_many(w[rows], q[rows])
-            a = _sq_norm_many(g)
-            ww = bz.multiply_many(w[rows], w[rows])
-            b = bz.elevate_many(ww, a.shape[1] - ww.shape[1])
-        ratio[rows], s[rows] = bz.ratio_bound_many(a, b)
+            b, s[rows] = pc.distance_bound_many(cr[rows], q[rows])
+            ratio[rows] = b * b
     return ratio, s
 
 
