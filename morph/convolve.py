@@ -512,7 +512,8 @@ def chain(pieces, tol):
         if succ[i] < 0 and not taken[j]:
             succ[i], taken[j] = j, True
     if (succ < 0).any():
-        raise TopologyError("open convolution chain at %s" % (ends[np.argmax(succ < 0)],))
+        at = ends[np.argmax(succ < 0)]
+        raise TopologyError("open convolution chain at %s" % (at,), loops=pieces, point=at)
     loops, seen = [], np.zeros(n, bool)
     for first in range(n):
         if seen[first]:
