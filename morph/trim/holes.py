@@ -16,14 +16,16 @@ from .. import piece as pc
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
+DEPTH_REL = 0.05  # the search stops once its cells are this small against the depth
 
 
 def deepest_point(ring, islands, grid_n=12, rounds=8):
     """A point inside polygon ``ring`` and outside the ``islands`` polygons (float
     (m, 2) arrays), far from all their edges, and its distance to them.
 
-    A grid of candidates over the ring's box, refined ``rounds`` times around the
-    best one, on the polygons thinned to every k-th vertex (the choice only needs
+    A grid of candidates over the ring's box, refined up to ``rounds`` times around
+    the best one (until a cell's half-diagonal is below DEPTH_REL times the depth
+    found), on the polygons thinned to every k-th vertex (the choice only needs
     to be nearly the deepest); the returned point is checked, and its distance
     measured, on the full polygons (the search is repeated on them if the thinned
     polygons misled it).
@@ -72,6 +74,8 @@ def _search(ring, islands, grid_n, rounds):
             if d[i] > depth:
                 best, depth = cand[i], float(d[i])
         center, half = best, half * (4.0 / grid_n)
+        if np.hypot(*half) <= DEPTH_REL * depth:
+            break  # a deeper point lies within the next cells: deeper by that at most
     return best, depth
 
 
