@@ -120,12 +120,18 @@ def exporter(rev):
 def export(ex, loops, tol, kind):
     """Written curves of one glyph / shape: list of (k, 2) arrays."""
     curves = []
+    batched = hasattr(ex, "loops_to_beziers")         # older revisions: loop by loop
     if kind == "quadratic":
         from morph.region import reverse_loop
+        loops = [reverse_loop(loop) for loop in loops]
+        if batched:
+            return [c for cs in ex.loops_to_quadratics(loops, tol, wrap=True) for c in cs]
         for loop in loops:
-            curves += ex.loop_to_quadratics(reverse_loop(loop), tol, wrap=True)
+            curves += ex.loop_to_quadratics(loop, tol, wrap=True)
     else:
         t = 0.8 * tol if kind == "svg" else tol        # svg_path_data's share
+        if batched:
+            return [c for cs in ex.loops_to_beziers(loops, t, wrap=True) for c in cs]
         for loop in loops:
             curves += ex.loop_to_beziers(loop, t, wrap=True)
     return curves

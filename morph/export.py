@@ -79,7 +79,8 @@ from .errors import DegenerateCurveError, ToleranceNotMetError
 
 __all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "CubicFit", "chain_segments",
            "cubic_bound", "cubic_segments", "export_tolerance", "fit_cubic", "loop_to_beziers",
-           "loop_to_cubics", "loop_to_quadratics", "piece_to_cubics", "piece_to_quadratics",
+           "loop_to_cubics", "loop_to_quadratics", "loops_to_beziers",
+           "loops_to_quadratics", "piece_to_cubics", "piece_to_quadratics",
            "smooth_runs", "split_tolerance"]
 
 #: Share of a user's tolerance given to the geometry (sum, offset, morph frame); the
@@ -564,6 +565,257 @@ def _kurbo_cubic(chain, t0, t1, tol, ends):
     return out if np.all(np.isfinite(out)) else None
 
 
+# ------------------------------------------------------------------ the batched fitter
+
+def _cubic_integrals():
+    """I2[j, k] = int B_j B_k' and I3[i, j, k] = int B_i B_j B_k' over [0, 1] for the
+    cubic Bernstein basis (Gauss-Legendre, exact for these degrees)."""
+    x, w = np.polynomial.legendre.leggauss(8)
+    x, w = 0.5 + 0.5 * x, 0.5 * w
+    b = bz.basis(3, x)                                             # (8, 4)
+    diff = 3.0 * (np.eye(3, 4, 1) - np.eye(3, 4))                  # B3_k' in B2
+    db = bz.basis(2, x) @ diff
+    return (np.einsum("g,gj,gk->jk", w, b, db),
+            np.einsum("g,gi,gj,gk->ijk", w, b, b, db))
+
+
+_I2, _I3 = _cubic_integrals()
+_GL16 = np.polynomial.legendre.leggauss(16)
+_GX, _GW = 0.5 + 0.5 * _GL16[0], 0.5 * _GL16[1]
+#: Handle lengths d0 (in chord lengths) where the moment equation is solved.
+_D0_GRID = np.linspace(0.0, 2.0, 81)[1:]
+#: kurbo's handle-length penalty: the sampled error is scaled by
+#: (1 + max(d - elbow, 0) * slope)^2 for the longer handle d (in chord lengths).
+D_ELBOW, D_SLOPE = 0.65, 2.0
+#: The fitter's acceptance distance is at most this multiple of tol (a cubic 16 tol
+#: away certifies nothing; the search then halves its step).
+FIT_SLACK = 16.0
+#: Candidate cubics kept per range (roots of the moment equation).
+MAX_CANDIDATES = 6
+
+
+def _frame(v, chord, chord2):
+    """Vectors v (..., 2) in the unit-chord frame: x along the chord, y to its left,
+    divided by the chord length (``chord`` (..., 2), ``chord2`` its squared length)."""
+    return np.stack([(v * chord).sum(-1), chord[..., 0] * v[..., 1] - chord[..., 1] * v[..., 0]],
+                    axis=-1) / chord2[..., None]
+
+
+def _moment_cubics(items, tol):
+    """Fitted cubics for many chain ranges at once (no callbacks): for each item
+    ``(chain, parts, (start, end))`` a (4, 2) cubic with those end points, or None.
+
+    R. Levien's area-and-moment fit, as kurbo's ``fit_to_cubic`` does it (kurbo's
+    fit.rs): in the frame where the chord runs from (0, 0) to (1, 0), the cubic
+    with the range's end tangent directions (angles th0, th1) and handle lengths
+    d0, d1 is chosen so that its signed area int y dx and moment int x y dx equal
+    the range's.  The range's integrals are Gauss-Legendre sums (16 nodes on each
+    part, in the part's own parameter: the integrals do not depend on the
+    parametrisation); the cubic's are polynomials in (d0, d1) (exact Bernstein
+    integrals :data:`_I2`, :data:`_I3`).  The area is linear in d1, so d1 = d1(d0)
+    and the moment equation becomes one equation in d0, solved on a grid of d0
+    (sign changes, refined by regula falsi; without one, the grid point of least
+    residual, like kurbo's real part of a complex root pair).  Of the candidates
+    the one with the least sampled distance wins: rays from the range's samples
+    along their normals to the cubic (Newton), scaled by kurbo's penalty on long
+    handles, kept if below the acceptance distance (half the chord, at least tol,
+    at most FIT_SLACK tol).  A chord shorter than that gets its straight line.
+    Nothing here is a certificate: the caller certifies (:func:`_certify_many`).
+    """
+    n = len(items)
+    out = [None] * n
+    if not n:
+        return out
+    starts = np.array([e[0] for _, _, e in items], float)
+    ends = np.array([e[1] for _, _, e in items], float)
+    chord = ends - starts
+    chord2 = (chord * chord).sum(1)
+    length = np.sqrt(chord2)
+    acc = np.maximum(tol, np.minimum(0.5 * length, FIT_SLACK * tol))
+    # the parts' samples: 16 Gauss-Legendre nodes each, one evaluation for all
+    bank = items[0][0].bank
+    req, idx, lo, width, first, last = [], [], [], [], [], []
+    for r, (chain, parts, _) in enumerate(items):
+        first.append(len(idx))
+        for k, a, b, _ in parts:
+            req.append(r)
+            idx.append(chain.base + k)
+            lo.append(a)
+            width.append(b - a)
+        last.append(len(idx) - 1)
+    req, idx = np.array(req), np.array(idx)
+    lo, width = np.array(lo), np.array(width)
+    first, last = np.array(first), np.array(last)
+    m = len(_GX)
+    params = lo[:, None] + width[:, None] * _GX[None]
+    p, d = pc.jet_many(bank, np.repeat(idx, m), params.ravel())
+    _, de = pc.jet_many(bank, np.concatenate([idx[first], idx[last]]),
+                        np.concatenate([lo[first], lo[last] + width[last]]))
+    # end tangents (one-sided limits where the derivative vanishes)
+    for j in np.nonzero(np.hypot(*de.T) <= np.array([c.tiny for c, _, _ in items] * 2))[0]:
+        r, sign = j % n, (1.0 if j < n else -1.0)
+        chain, parts, _ = items[r]
+        k, a, b, _ = parts[0] if sign > 0 else parts[-1]
+        de[j] = _limit_tangent(chain.pieces[k], a if sign > 0 else b, sign, chain.tiny)
+    short = length <= acc
+    good = ~short & (chord2 > 0)
+    safe2 = np.where(good, chord2, 1.0)
+    q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
+               safe2[req][:, None])                                # (P, m, 2)
+    dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
+    wgt = _GW[None] * width[:, None]
+    area = np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n)
+    moment = np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)
+    t0 = _frame(de[:n], chord, safe2)
+    t1 = _frame(de[n:], chord, safe2)
+    t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
+    t1 /= np.maximum(np.hypot(*t1.T), 1e-300)[:, None]
+    c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
+    # the cubic's control points K + d0 U + d1 V in the frame; its area and moment
+    zero, one = np.zeros(n), np.ones(n)
+    xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
+                   np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
+    ys = np.stack([np.stack([zero, s0, zero, zero], 1),
+                   np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
+    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, _I2)                 # area terms d_b m_c
+    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, _I3)       # moment m_a d_b m_c
+    g = _D0_GRID[None]
+
+    def d1_of(d0):
+        num = area[:, None] - d0 * ta[:, 0, 0, None] - d0 * d0 * ta[:, 0, 1, None]
+        den = ta[:, 1, 0, None] + d0 * (ta[:, 0, 2, None] + ta[:, 1, 1, None])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return num / den
+
+    def resid(d0, d1, rows=slice(None)):
+        mm = np.stack([np.ones_like(d0), d0, d1], -1)
+        nn = np.stack([d0, d1], -1)
+        return np.einsum("rga,rgb,rgc,rabc->rg", mm, nn, mm, tm[rows]) - moment[rows, None]
+
+    d0 = np.broadcast_to(g, (n, len(_D0_GRID)))
+    d1 = d1_of(d0)
+    ok = np.isfinite(d1) & (d1 > 0)
+    f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
+    cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
+    cross &= good[:, None]
+    rr, gg = np.nonzero(cross)
+    a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    fa, fb = f[rr, gg], f[rr, gg + 1]
+    for _ in range(4):                                             # regula falsi
+        x = (a * fb - b * fa) / (fb - fa)
+        fx = resid(x[:, None], d1_of_rows(x, rr, area, ta)[:, None], rr)[:, 0]
+        left = np.sign(fx) == np.sign(fa)
+        a, fa = np.where(left, x, a), np.where(left, fx, fa)
+        b, fb = np.where(left, b, x), np.where(left, fb, fx)
+    roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
+    # local minima of |f| that do not cross zero (kurbo: the real part of a complex
+    # root pair, a near-double root): the grid points where |f| is least
+    af = np.where(ok, np.abs(f), np.inf)
+    dip = np.zeros_like(ok)
+    dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
+    dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
+    near = np.zeros_like(ok)
+    near[:, :-1] |= cross
+    near[:, 1:] |= cross
+    dip &= ~near & good[:, None]
+    rn, gn = np.nonzero(dip)
+    none = np.zeros(n, bool)
+    none[rn] = True
+    # nothing solves (e.g. a straight range: area and moment vanish): handles of a
+    # third, the straight cubic when the tangents run along the chord
+    rt = np.nonzero(good & ~np.any(cross, 1) & ~none)[0]
+    cr = np.concatenate([rr, rn, rt])
+    cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
+    thirds = np.arange(len(cr)) >= len(cr) - len(rt)
+    keep = np.zeros(len(cr), bool)
+    count = {}
+    for i, r in enumerate(cr.tolist()):                   # at most MAX_CANDIDATES per range
+        count[r] = count.get(r, 0) + 1
+        keep[i] = count[r] <= MAX_CANDIDATES
+    cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
+    cd1 = np.where(thirds, 1.0 / 3.0, d1_of_rows(cd0, cr, area, ta))
+    fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
+    cr, cd0, cd1 = cr[fine], cd0[fine], cd1[fine]
+    ctrl = np.zeros((len(cr), 4, 2))
+    ctrl[:, 1] = cd0[:, None] * t0[cr]
+    ctrl[:, 2, 0] = 1.0 - cd1 * c1[cr]
+    ctrl[:, 2, 1] = cd1 * s1[cr]
+    ctrl[:, 3, 0] = 1.0
+    # sampled distance: rays along the samples' normals to the candidate cubic
+    err = _ray_distance(ctrl, cr, q, dq, req, width) * length[cr]
+    scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
+    score = err * scale
+    best = np.full(n, np.inf)
+    pick = np.full(n, -1)
+    for i in np.argsort(score, kind="stable"):
+        r = cr[i]
+        if pick[r] < 0 and score[i] < acc[r]:
+            pick[r], best[r] = i, score[i]
+    for r in range(n):
+        if pick[r] >= 0:
+            c = ctrl[pick[r]]
+            cubic = (starts[r] + c[:, :1] * chord[r]
+                     + c[:, 1:] * np.array([-chord[r, 1], chord[r, 0]]))
+        elif short[r]:
+            cubic = np.array([starts[r], starts[r] + chord[r] / 3.0,
+                              ends[r] - chord[r] / 3.0, ends[r]])
+        else:
+            continue
+        cubic[0], cubic[-1] = starts[r], ends[r]
+        if np.all(np.isfinite(cubic)):
+            out[r] = cubic
+    return out
+
+
+def d1_of_rows(d0, rows, area, ta):
+    """d1 from the area equation for handle lengths d0 of ranges ``rows``."""
+    num = area[rows] - d0 * ta[rows, 0, 0] - d0 * d0 * ta[rows, 0, 1]
+    den = ta[rows, 1, 0] + d0 * (ta[rows, 0, 2] + ta[rows, 1, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return num / den
+
+
+def _ray_distance(ctrl, cr, q, dq, req, width):
+    """Largest distance (frame units) from each candidate's range samples to the
+    candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
+    the sample's share of the range's arc length, s clipped to [0, 1]."""
+    if not len(cr):
+        return np.zeros(0)
+    m = q.shape[1]
+    pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
+    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_GW, len(width))
+    sreq = np.repeat(req, m)
+    cum = np.cumsum(speed)
+    tot = np.bincount(sreq, speed)
+    base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
+    frac = (cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)
+    start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
+    cnt = np.bincount(sreq, minlength=len(tot))
+    counts = cnt[cr]
+    owner = np.repeat(np.arange(len(cr)), counts)
+    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    si = start[cr][owner] + offs
+    cc = ctrl[owner]                                              # (S, 4, 2)
+    p, t = pts[si], tan[si]
+    s = frac[si]
+    dc = 3.0 * np.diff(cc, axis=1)                                # (S, 3, 2)
+    for _ in range(5):
+        b3 = bz.basis(3, s)
+        b2 = bz.basis(2, s)
+        c = np.einsum("si,sij->sj", b3, cc)
+        dcs = np.einsum("si,sij->sj", b2, dc)
+        gv = ((c - p) * t).sum(1)
+        gd = (dcs * t).sum(1)
+        s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
+    c = np.einsum("si,sij->sj", bz.basis(3, s), cc)
+    dist = np.hypot(*(c - p).T)
+    out = np.zeros(len(cr))
+    np.maximum.at(out, owner, dist)
+    return out
+
+
+FITTER = "moment"
+
 _NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
 _NODE_BASIS = bz.basis(3, _NODES)
 #: Degrees of the reparametrisation phi tried in turn (the lowest that follows the
@@ -670,9 +922,13 @@ def _fit_ranges(requests, tol):
     join) and increasing.  A single-piece range whose kurbo cubic does not certify
     also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
     """
-    plans = []
-    for chain, t0, t1, ends in requests:
-        plans.append((chain.parts(t0, t1), _kurbo_cubic(chain, t0, t1, tol, ends)))
+    parts = [chain.parts(t0, t1) for chain, t0, t1, _ in requests]
+    if FITTER == "kurbo":
+        plans = [(pr, _kurbo_cubic(chain, t0, t1, tol, ends))
+                 for pr, (chain, t0, t1, ends) in zip(parts, requests)]
+    else:
+        plans = list(zip(parts, _moment_cubics(
+            [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)))
     # the feet of the join points on their cubics, all at once (padded to one count)
     multi = [r for r, (parts, cubic) in enumerate(plans) if cubic is not None and len(parts) > 1]
     feet = {}
@@ -807,7 +1063,14 @@ def _chains_segments(chains, tol, max_depth=16):
     """:func:`chain_segments` of several chains, searched in lockstep (:func:`_drive`)."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    return _drive([_search(_Chain(p), tol, 2.0 ** -max_depth) for p in chains], tol)
+    chains = [_Chain(p) for p in chains]
+    if chains:                      # one stack of all pieces for the batched fitter
+        bank = pc.stack([p for c in chains for p in c.pieces])
+        base = 0
+        for c in chains:
+            c.bank, c.base = bank, base
+            base += c.k
+    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol)
 
 
 def _search(chain, tol, min_width):
@@ -1060,24 +1323,45 @@ def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     cubic is within ``tol`` of the run in Fréchet, hence Hausdorff, distance, so the
     whole output is within ``tol`` of the loop.  This is what writers of whole
     outlines should call: a smooth curve that the sum split into many pieces needs
-    far fewer cubics than the pieces one by one (:func:`piece_to_cubics`).
+    far fewer cubics than the pieces one by one (:func:`piece_to_cubics`).  Writers
+    of several loops call :func:`loops_to_beziers` (the same, all loops' runs
+    fitted in one batch).
+
+    Raises:
+        ValueError, ToleranceNotMetError: as piece_to_cubics.
+    """
+    return loops_to_beziers([loop], tol, max_depth, join_angle, wrap)[0]
+
+
+def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+    """:func:`loop_to_beziers` of every loop of a region (a list per loop), with the
+    segment searches of all their runs in lockstep: each round's fits of the whole
+    region are fitted and certified in one batch (the numerical work is a few array
+    calls per round, not per loop).  Same results and bounds as loop by loop.
 
     Raises:
         ValueError, ToleranceNotMetError: as piece_to_cubics.
     """
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    runs = smooth_runs(loop, join_angle)
-    if wrap and join_angle > 0:
-        runs = _wrap_runs(runs, join_angle)
-    exact = [all(len(p) <= 4 and pc.is_polynomial(_check(p)) for p in run) for run in runs]
-    fitted = iter(_chains_segments([r for r, e in zip(runs, exact) if not e], tol, max_depth))
+    plans = []
+    for loop in loops:
+        runs = smooth_runs(loop, join_angle)
+        if wrap and join_angle > 0:
+            runs = _wrap_runs(runs, join_angle)
+        plans.append([(run, all(len(p) <= 4 and pc.is_polynomial(_check(p)) for p in run))
+                      for run in runs])
+    fitted = iter(_chains_segments([r for plan in plans for r, e in plan if not e],
+                                   tol, max_depth))
     out = []
-    for run, e in zip(runs, exact):
-        if e:
-            out.extend(pc.cartesian(p) for p in run)     # exact already: no fitting
-        else:
-            out.extend(seg.cubic for seg in next(fitted))
+    for plan in plans:
+        beziers = []
+        for run, e in plan:
+            if e:
+                beziers.extend(pc.cartesian(p) for p in run)   # exact already: no fitting
+            else:
+                beziers.extend(seg.cubic for seg in next(fitted))
+        out.append(beziers)
     return out
 
 
@@ -1148,16 +1432,26 @@ def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=Fals
     every returned curve is within ``tol`` of the loop (Fréchet, hence Hausdorff).
     Lines come back as (2, 2) arrays and polynomial quadratics exactly; the rest
     are (3, 2) quadratics with explicit on-curve points (a TrueType writer may drop
-    the implied midpoints).
+    the implied midpoints).  :func:`loops_to_quadratics` does several loops in one
+    batch.
 
     Raises:
         ValueError, ToleranceNotMetError: as piece_to_quadratics.
     """
+    return loops_to_quadratics([loop], tol, max_depth, join_angle, wrap)[0]
+
+
+def loops_to_quadratics(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+    """:func:`loop_to_quadratics` of every loop (a list per loop), the cubic stage
+    batched over all loops as in :func:`loops_to_beziers`."""
     cubic_tol = QUADRATIC_CUBIC_SHARE * tol
     out = []
-    for b in loop_to_beziers(loop, cubic_tol, max_depth, join_angle, wrap):
-        if len(b) <= 3:
-            out.append(b)
-        else:
-            out.extend(_cubics_to_quadratics([b], tol - cubic_tol))
+    for beziers in loops_to_beziers(loops, cubic_tol, max_depth, join_angle, wrap):
+        quads = []
+        for b in beziers:
+            if len(b) <= 3:
+                quads.append(b)
+            else:
+                quads.extend(_cubics_to_quadratics([b], tol - cubic_tol))
+        out.append(quads)
     return out

@@ -51,16 +51,17 @@ def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
     Raises:
         ToleranceNotMetError: as the converters.
     """
-    from ..export import loop_to_beziers, loop_to_quadratics
+    from ..export import loops_to_beziers, loops_to_quadratics
 
-    convert = loop_to_quadratics if quadratic else loop_to_beziers
+    convert = loops_to_quadratics if quadratic else loops_to_beziers
     off = np.asarray(offset, float)
     out = []
-    for loop in loops:
-        if quadratic:
-            loop = reverse_loop(loop)
+    if quadratic:
+        loops = [reverse_loop(loop) for loop in loops]
+    # all loops in one batch; cubics span the smooth joins
+    for beziers in convert(loops, tol, wrap=True):
         segs = []
-        for q in convert(loop, tol, wrap=True):  # cubics span the smooth joins
+        for q in beziers:
             q = np.asarray(q, float)
             if not quadratic and len(q) == 3:
                 q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)

@@ -16,7 +16,7 @@ user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y
 
 import math
 
-from ..export import loop_to_beziers
+from ..export import loops_to_beziers
 from . import frame_bbox, normalize_shapes
 
 __all__ = ["svg_path_data", "write_svg", "svg_document"]
@@ -68,10 +68,9 @@ def svg_path_data(loops, tol):
         return "%s %s" % (_fmt(p[0], d), _fmt(-p[1], d))
 
     parts = []
-    for loop in loops:
-        if not loop:
-            continue
-        beziers = loop_to_beziers(loop, 0.8 * tol, wrap=True)  # may start elsewhere
+    loops = [loop for loop in loops if loop]
+    # all loops fitted in one batch; each may start elsewhere than its first piece
+    for beziers in loops_to_beziers(loops, 0.8 * tol, wrap=True):
         parts.append("M" + pt(beziers[0][0]))
         for b in beziers:
             parts.append("LQC"[len(b) - 2] + " ".join(pt(p) for p in b[1:]))
