@@ -144,18 +144,27 @@ class Membership:
         # a degenerate loop P, reverse(P): its first half is the path
         self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]
                        for p, f in zip(pa, flat_loop) if f]
+        self.box_a = _boxes(self.pa)
+        self.box_c = _boxes(self.curves)
+        pts_b = np.concatenate(self.pb)
+        self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
 
     def _int(self, pts):
         return np.rint(pts / self.grid).astype(np.int64)
 
     def __call__(self, x):
+        # only the loops of A whose boxes meet the box of x - B can meet x - B
+        lo = self._int(np.asarray(x) - self.box_b[2:]) - 1
+        hi = self._int(np.asarray(x) - self.box_b[:2]) + 1
+        closed = [p.tolist() for p in _meeting(self.pa, self.box_a, lo, hi) if len(p) >= 3]
+        curves = [c.tolist() for c in _meeting(self.curves, self.box_c, lo, hi) if len(c) >= 2]
+        if not closed and not curves:
+            return False
         clip = pyclipper.Pyclipper()
-        closed = [p.tolist() for p in self.pa if len(p) >= 3]
         if closed:
             clip.AddPaths(closed, pyclipper.PT_SUBJECT, True)
-        for c in self.curves:
-            if len(c) >= 2:
-                clip.AddPath(c.tolist(), pyclipper.PT_SUBJECT, False)
+        for c in curves:
+            clip.AddPath(c, pyclipper.PT_SUBJECT, False)
         moved = [self._int(np.asarray(x) - p) for p in self.pb]
         clip.AddPaths([p.tolist() for p in moved if len(p) >= 3], pyclipper.PT_CLIP, True)
         tree = clip.Execute2(pyclipper.CT_INTERSECTION, pyclipper.PFT_NONZERO,
@@ -163,3 +172,18 @@ class Membership:
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
+
+
+def _boxes(polys):
+    """(k, 4) integer boxes (xmin, ymin, xmax, ymax) of polygons."""
+    if not polys:
+        return np.zeros((0, 4), np.int64)
+    return np.array([np.concatenate([p.min(axis=0), p.max(axis=0)]) for p in polys])
+
+
+def _meeting(polys, boxes, lo, hi):
+    """The polygons whose boxes meet the box [lo, hi]."""
+    if not len(polys):
+        return []
+    hit = np.all(boxes[:, :2] <= hi, axis=1) & np.all(boxes[:, 2:] >= lo, axis=1)
+    return [polys[k] for k in np.flatnonzero(hit)]

@@ -3,6 +3,7 @@ shapely distances and analytic depths."""
 
 import numpy as np
 import pytest
+import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from morph import piece as pc
@@ -35,3 +36,21 @@ def test_membership_with_an_open_path():
         d = line.distance(Point(x))
         if abs(d - 1.0) > 0.02:
             assert member(x) == (d < 1.0), (x, d)
+
+
+def test_membership_of_scattered_loops_against_shapely():
+    # loops of A far apart and a hole-less B: the test reads only the loops of A
+    # near x - B, and must agree with the exact distance everywhere
+    rng = np.random.default_rng(7)
+    centres = rng.uniform(-200, 200, size=(12, 2))
+    a = [list(pc.circle(c, r)) for c, r in zip(centres, rng.uniform(1, 6, 12))]
+    b = [list(pc.circle((0.0, 0.0), 2.0))]
+    member = Membership(a, b, 0.01)
+    union = shapely.union_all([Polygon(pc.flatten_loop(loop, 1e-4)) for loop in a])
+    xs = np.concatenate([rng.uniform(-210, 210, size=(150, 2)),
+                         centres + rng.uniform(-9, 9, size=(12, 2))])
+    for x in xs:
+        d = union.distance(Point(x))
+        if abs(d - 2.0) > 0.05:
+            assert member(x) == (d < 2.0), (x, d)
+
