@@ -603,7 +603,8 @@ def _frame(v, chord, chord2):
 
 def _moment_cubics(items, tol):
     """Fitted cubics for many chain ranges at once (no callbacks): for each item
-    ``(chain, parts, (start, end))`` a (4, 2) cubic with those end points, or None.
+    ``(chain, parts, (start, end))`` a (4, 2) cubic with those end points and its
+    sampled distance (below), or None.
 
     R. Levien's area-and-moment fit, as kurbo's ``fit_to_cubic`` does it (kurbo's
     fit.rs): in the frame where the chord runs from (0, 0) to (1, 0), the cubic
@@ -763,7 +764,7 @@ def _moment_cubics(items, tol):
             continue
         cubic[0], cubic[-1] = starts[r], ends[r]
         if np.all(np.isfinite(cubic)):
-            out[r] = cubic
+            out[r] = (cubic, float(err[pick[r]]) if pick[r] >= 0 else 0.0)
     return out
 
 
@@ -815,6 +816,8 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
 
 
 FITTER = "moment"
+#: Fits whose sampled distance exceeds this multiple of tol are not certified.
+SCREEN = 1.25
 
 _NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
 _NODE_BASIS = bz.basis(3, _NODES)
@@ -926,11 +929,18 @@ def _fit_ranges(requests, tol):
     if FITTER == "kurbo":
         plans = [(pr, _kurbo_cubic(chain, t0, t1, tol, ends))
                  for pr, (chain, t0, t1, ends) in zip(parts, requests)]
+        sampled = [0.0] * len(plans)
     else:
-        plans = list(zip(parts, _moment_cubics(
-            [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)))
+        fits = _moment_cubics(
+            [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)
+        plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
+        sampled = [0.0 if f is None else f[1] for f in fits]
+    # a cubic whose sampled distance already exceeds tol well is not certified: its
+    # sampled distance is reported (the search only needs to know it fails)
+    skip = [e > SCREEN * tol for e in sampled]
     # the feet of the join points on their cubics, all at once (padded to one count)
-    multi = [r for r, (parts, cubic) in enumerate(plans) if cubic is not None and len(parts) > 1]
+    multi = [r for r, (parts, cubic) in enumerate(plans)
+             if cubic is not None and len(parts) > 1 and not skip[r]]
     feet = {}
     if multi:
         n = max(len(plans[r][0]) - 1 for r in multi)
@@ -943,7 +953,7 @@ def _fit_ranges(requests, tol):
     subs, pieces, cut_list = [], [], []
     for r, (parts, cubic) in enumerate(plans):
         cuts = None
-        if cubic is not None:
+        if cubic is not None and not skip[r]:
             cuts = np.concatenate([[0.0], feet.get(r, []), [1.0]])
             if np.all(np.diff(cuts) > 0):
                 subs += [p[3] for p in parts]
@@ -957,7 +967,7 @@ def _fit_ranges(requests, tol):
     for r, ((parts, cubic), cuts) in enumerate(zip(plans, cut_list)):
         cands = []
         if cubic is not None:
-            bound, panels = np.inf, []
+            bound, panels = (sampled[r] if skip[r] else np.inf), []
             if cuts is not None:
                 mine, i = res[i:i + len(parts)], i + len(parts)
                 bound = max(b for b, _ in mine)

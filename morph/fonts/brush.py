@@ -79,7 +79,7 @@ from .. import piece as pc
 from ..errors import MorphError, NibError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
-           "region_extent", "sweep_glyph"]
+           "region_extent", "sweep_glyph", "sweep_glyphs"]
 
 
 def ellipse_nib(width, height, angle_deg=0.0):
@@ -278,6 +278,14 @@ def sweep_glyph(job):
     :func:`morph.fonts.jobs.polygon_sum`) or "source" (that failed too: contours
     None, the glyph stays as it is).  Module-level, so it runs in worker processes.
     """
+    return _sweep(job)
+
+
+def _sweep(job, start=0, error=None):
+    """:func:`sweep_glyph` from the ``start``-th attempt of :func:`_attempts` on
+    (the earlier ones raised ``error``)."""
+    from itertools import islice
+
     from ..minkowski import minkowski_sum
     from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops
@@ -285,8 +293,7 @@ def sweep_glyph(job):
     name, region, nib, tol, method, offset, quadratic = job
     if not region:
         return name, [], "exact", None
-    error = None
-    for kind, sum_tol, pen in _attempts(nib, tol):
+    for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None):
         try:
             loops = minkowski_sum(region, pen, sum_tol, method=method)
             return (name, contours_from_loops(loops, tol / 2.0, quadratic, offset), kind,
@@ -300,6 +307,54 @@ def sweep_glyph(job):
     except Exception as exc:  # noqa: BLE001
         error += "; polygon fallback: %s: %s" % (type(exc).__name__, exc)
         return name, None, "source", error
+
+
+#: Glyphs per job of :func:`sweep_glyphs` (their curve conversions go in one batch).
+#: Fixed, not derived from the number of processes: the font does not depend on it.
+CHUNK = 24
+
+
+def sweep_glyphs(jobs):
+    """:func:`sweep_glyph` of several glyphs (a process-pool job), a list of its
+    results.  Each glyph is summed on its own (first attempt); the outlines of all
+    that succeeded are converted in one batch
+    (:func:`morph.fonts.tables.contours_from_regions`: the certified fits of all
+    glyphs share each round's array calls, a fraction of the glyph-by-glyph cost).
+    A glyph whose sum raised goes on with :func:`sweep_glyph`'s next attempts; if
+    the batch raises, each glyph is converted alone and a failing one goes on the
+    same way, so the results are :func:`sweep_glyph`'s."""
+    from ..minkowski import minkowski_sum
+    from .tables import contours_from_loops, contours_from_regions
+
+    out, done = [None] * len(jobs), []
+    for k, job in enumerate(jobs):
+        name, region, nib, tol, method, offset, quadratic = job
+        if not region:
+            out[k] = (name, [], "exact", None)
+            continue
+        kind, sum_tol, pen = next(iter(_attempts(nib, tol)))
+        try:
+            done.append((k, minkowski_sum(region, pen, sum_tol, method=method)))
+        except Exception as exc:  # noqa: BLE001 - any failure: the next attempts
+            out[k] = _sweep(job, 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+    if done:
+        tol, quadratic = jobs[done[0][0]][3], jobs[done[0][0]][6]
+        try:
+            contours = contours_from_regions([loops for _, loops in done], tol / 2.0,
+                                             quadratic, [jobs[k][5] for k, _ in done])
+        except Exception:  # noqa: BLE001 - glyph by glyph below
+            contours = None
+        for i, (k, loops) in enumerate(done):
+            name, _, _, tol, _, offset, quadratic = jobs[k]
+            if contours is not None:
+                out[k] = (name, contours[i], "exact", None)
+                continue
+            try:
+                out[k] = (name, contours_from_loops(loops, tol / 2.0, quadratic, offset),
+                          "exact", None)
+            except Exception as exc:  # noqa: BLE001
+                out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+    return out
 
 
 def _source_regions(font, names):
@@ -389,7 +444,9 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
              writer.quadratic) for n in order]
     chosen = set(names)
-    results = run_jobs(sweep_glyph, args, jobs=jobs, progress=_chosen_progress(progress, chosen))
+    chunks = [args[i:i + CHUNK] for i in range(0, len(args), CHUNK)]
+    results = [r for rs in run_jobs(sweep_glyphs, chunks, jobs=jobs,
+                                    progress=_chosen_progress(progress, chosen)) for r in rs]
     stats, moves = _store_outlines(font, writer, results, chosen, extent)
     stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
                  base_not_chosen=unchosen)
@@ -436,7 +493,11 @@ def _chosen_progress(progress, chosen):
     """``progress(name)`` for the chosen glyphs, as a run_jobs progress callback."""
     if progress is None:
         return None
-    return lambda index, result: progress(result[0]) if result[0] in chosen else None
+    def report(index, results):             # a chunk's glyphs, once it is done
+        for r in results:
+            if r[0] in chosen:
+                progress(r[0])
+    return report
 
 
 def _store_outlines(font, writer, results, chosen, extent):

@@ -191,25 +191,75 @@ def _glyph_job(args):
     :func:`morph.fonts.jobs.polygon_sum` (within stroke_tol + cubic_tol + 1/8 unit,
     lines only) and the error is returned with it.
     """
-    from .jobs import polygon_sum, polylines_to_contours
-    from .tables import contours_from_loops
+    return _chunk_job([args])[0]
 
-    name, paths, nib_region, (sum_tol, cubic_tol, _), offset, stroker = args
+
+#: Glyphs per job of :func:`_chunk_job`: their cubic conversions go in one batch.
+#: Fixed (not derived from the number of processes), so that the font does not
+#: depend on ``jobs``.
+CHUNK = 24
+
+
+def _chunk_job(chunk):
+    """:func:`_glyph_job` of several glyphs (a process-pool job): each glyph is
+    stroked on its own, then the outlines of all of them are converted to cubics in
+    one batch (:func:`morph.fonts.tables.contours_from_regions`), which costs a
+    fraction of glyph-by-glyph conversion (the certified fits of all glyphs share
+    each round's array calls).  If the batch raises, each glyph is converted alone,
+    so that only the failing one falls back to the polygon stroke.  A glyph's
+    ``seconds`` is its stroke's CPU time plus its share of the batch (by its number
+    of pieces)."""
+    from .jobs import polygon_sum, polylines_to_contours
+    from .tables import contours_from_loops, contours_from_regions
+
+    out = []
+    for name, paths, nib_region, (sum_tol, cubic_tol, _), offset, stroker in chunk:
+        t0 = time.process_time()
+        try:
+            region, error = stroke_glyph_region(paths, nib_region, sum_tol, stroker), None
+        except MorphError as exc:
+            region, error = None, exc
+        out.append({"name": name, "contours": None, "region": region, "fallback": error,
+                    "seconds": time.process_time() - t0})
+    good = [k for k, r in enumerate(out) if r["fallback"] is None]
     t0 = time.process_time()
-    fallback = None
-    region = []
     try:
-        region = stroke_glyph_region(paths, nib_region, sum_tol, stroker)
-        contours = contours_from_loops(region, cubic_tol, False, offset)
-    except MorphError as exc:
-        fallback = "%s: %s" % (type(exc).__name__, one_line(exc))
-        polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
-                            sum_tol + cubic_tol, closed=False)
-        contours = polylines_to_contours(polys, offset=offset)
-        region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
-    region = translate_region(region, offset)
-    return {"name": name, "contours": contours, "region": region, "fallback": fallback,
-            "seconds": time.process_time() - t0}
+        contours = contours_from_regions([out[k]["region"] for k in good], chunk[0][3][1],
+                                         False, [chunk[k][4] for k in good])
+    except MorphError:
+        contours = None
+    if contours is not None:
+        sizes = np.array([sum(len(lp) for lp in out[k]["region"]) for k in good], float)
+        share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
+        for k, c, dt in zip(good, contours, share):
+            out[k]["contours"] = c
+            out[k]["seconds"] += float(dt)
+    else:                   # one glyph at a time: only the failing ones fall back
+        for k in good:
+            t0 = time.process_time()
+            try:
+                out[k]["contours"] = contours_from_loops(out[k]["region"], chunk[k][3][1],
+                                                         False, chunk[k][4])
+            except MorphError as exc:
+                out[k]["fallback"] = exc
+            out[k]["seconds"] += time.process_time() - t0
+    for (name, paths, nib_region, (sum_tol, cubic_tol, _), offset, _), r in zip(chunk, out):
+        if r["fallback"] is not None:
+            t0 = time.process_time()
+            exc = r["fallback"]
+            r["fallback"] = "%s: %s" % (type(exc).__name__, one_line(exc))
+            polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
+                                sum_tol + cubic_tol, closed=False)
+            r["contours"] = polylines_to_contours(polys, offset=offset)
+            r["region"] = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))]
+                           for p in polys]
+            r["seconds"] += time.process_time() - t0
+        r["region"] = translate_region(r["region"], offset)
+    return out
+
+
+def _chunks(work):
+    return [work[i:i + CHUNK] for i in range(0, len(work), CHUNK)]
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
@@ -257,7 +307,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     place = _placement(font, stroked + followed, nib_region)
     work, decomposed = _stroke_work(font, stroked, symmetric, nib_region, _tolerances(tol, kind),
                                     place.shifts, stroker)
-    results = run_jobs(_glyph_job, work, jobs=jobs, progress=_by_name(progress))
+    results = [r for rs in run_jobs(_chunk_job, _chunks(work), jobs=jobs,
+                                    progress=_by_name(progress)) for r in rs]
     stats = _write_strokes(font, results)
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
@@ -276,7 +327,10 @@ def _by_name(progress):
     """``progress(name)`` as a :func:`morph.fonts.jobs.run_jobs` progress callback."""
     if progress is None:
         return None
-    return lambda index, result: progress(result["name"])
+    def report(index, results):             # a chunk's glyphs, once it is done
+        for r in results:
+            progress(r["name"])
+    return report
 
 
 def _checked_output(out_path, tol, overwrite):
@@ -535,15 +589,31 @@ def _copy_font(font):
 
 
 def _grow_win_metrics(font, regions):
-    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping)."""
-    top, bottom = None, None
+    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping).
+
+    The tight top and bottom of all outlines, as the tight boxes of every region
+    (:func:`morph.region.region_bbox`) would give them; the control points bound
+    each region (positive weights: convex hull), so only the regions whose control
+    points reach past the extreme found so far are measured exactly."""
+    hulls = []
     for loops in regions.values():
-        if loops:
-            b = region_bbox(loops)
-            top = b[3] if top is None else max(top, b[3])
-            bottom = b[1] if bottom is None else min(bottom, b[1])
-    if top is None:
+        pts = [p[:, :2] / p[:, 2:] for loop in loops for p in loop]
+        if pts:
+            pts = np.vstack(pts)
+            hulls.append((float(pts[:, 1].min()), float(pts[:, 1].max()), loops))
+    if not hulls:
         return
+    top = bottom = None
+    for lo, hi, loops in sorted(hulls, key=lambda h: -h[1]):
+        if top is not None and hi <= top:
+            break
+        b = region_bbox(loops)[3]
+        top = b if top is None else max(top, b)
+    for lo, hi, loops in sorted(hulls, key=lambda h: h[0]):
+        if bottom is not None and lo >= bottom:
+            break
+        b = region_bbox(loops)[1]
+        bottom = b if bottom is None else min(bottom, b)
     info = font.info
     if info.openTypeOS2WinAscent is not None:
         info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))

@@ -28,7 +28,8 @@ from .. import bernstein as bz
 from ..errors import MorphError, ParseError
 from ..region import reverse_loop
 
-__all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "clean_contour",
+__all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "contours_from_regions",
+           "clean_contour",
            "draw_contours", "outline_glyphs", "move_anchors", "grow_vertical_metrics",
            "rename_family", "finish_font", "save_font", "FONT_SUFFIXES"]
 
@@ -51,24 +52,41 @@ def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
     Raises:
         ToleranceNotMetError: as the converters.
     """
+    return contours_from_regions([loops], tol, quadratic, [offset])[0]
+
+
+def contours_from_regions(regions, tol, quadratic, offsets=None):
+    """:func:`contours_from_loops` of several regions (glyphs) at once: a list of
+    contour lists.  The loops of all regions are converted in one batch
+    (:func:`morph.export.loops_to_beziers`: the segment searches of every loop go in
+    lockstep and each round is fitted and certified with a few array calls), with
+    the same results as region by region.  ``offsets``: one per region (None:
+    zero).
+
+    Raises:
+        ToleranceNotMetError: as the converters (for the whole batch).
+    """
     from ..export import loops_to_beziers, loops_to_quadratics
 
     convert = loops_to_quadratics if quadratic else loops_to_beziers
-    off = np.asarray(offset, float)
+    offsets = [(0.0, 0.0)] * len(regions) if offsets is None else offsets
+    loops = [reverse_loop(loop) if quadratic else loop for loops in regions for loop in loops]
+    converted = iter(convert(loops, tol, wrap=True))  # cubics span the smooth joins
     out = []
-    if quadratic:
-        loops = [reverse_loop(loop) for loop in loops]
-    # all loops in one batch; cubics span the smooth joins
-    for beziers in convert(loops, tol, wrap=True):
-        segs = []
-        for q in beziers:
-            q = np.asarray(q, float)
-            if not quadratic and len(q) == 3:
-                q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)
-            segs.append(q + off)
-        contour = clean_contour(segs)
-        if contour:
-            out.append(contour)
+    for loops, offset in zip(regions, offsets):
+        off = np.asarray(offset, float)
+        contours = []
+        for _ in loops:
+            segs = []
+            for q in next(converted):
+                q = np.asarray(q, float)
+                if not quadratic and len(q) == 3:
+                    q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)
+                segs.append(q + off)
+            contour = clean_contour(segs)
+            if contour:
+                contours.append(contour)
+        out.append(contours)
     return out
 
 
