@@ -2,7 +2,7 @@
 
     python -m bench.export_profile [--cases stroke,brush,sumOM,Odisk,Oellipse]
                                    [--glyphs A-Z,a-z,0-9] [--rev REV] [--profile]
-                                   [--top 30] [--check] [--cache FILE]
+                                   [--top 30] [--check] [--cache FILE] [--batch N]
 
 The geometry (sums, strokes) is computed once and cached in ``--cache`` (default
 /tmp/morph_export_profile.pkl; delete it to recompute), so that exporters are timed on
@@ -176,6 +176,10 @@ def main():
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--cache", default="/tmp/morph_export_profile.pkl")
     ap.add_argument("--save", default=None, help="write {case: {shape: points}} as JSON")
+    ap.add_argument("--batch", type=int, default=1,
+                    help="also time the export of N shapes per call (the loops of N "
+                         "glyphs in one loops_to_beziers call, as morph stroke / brush "
+                         "do): the totals printed are then those")
     args = ap.parse_args()
 
     cache = {}
@@ -214,6 +218,19 @@ def main():
                 worst = max(worst, e)
             per.append((dt, label))
             saved.setdefault(case, {})[label] = points(curves)
+        if args.batch > 1:        # shapes converted N at a time, as the font commands do
+            total, npts = 0.0, 0
+            for c in range(0, len(items), args.batch):
+                chunk = items[c:c + args.batch]
+                t0 = time.process_time()
+                if prof:
+                    prof.enable()
+                curves = export(ex, [lp for _, loops, _, _ in chunk for lp in loops],
+                                chunk[0][2], chunk[0][3])
+                if prof:
+                    prof.disable()
+                total += time.process_time() - t0
+                npts += points(curves)
         n = len(items)
         print("%-9s %3d shapes: export %.3f s CPU, %.1f ms/shape, %.1f points/shape%s"
               % (case, n, total, 1e3 * total / n, npts / n,

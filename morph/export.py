@@ -2,10 +2,11 @@
 
 SVG path data and font outlines hold polynomial cubics (CFF, SVG) or quadratics
 (TrueType); the pipeline's pieces are rational.  Each rational piece R = X / W is
-covered by few cubics C, fitted by kurbo's curve fitter (``kurbopy.fit_to_bezpath``:
-end points and end tangents of the piece, signed area and x-moment matched, the
-classic approach of R. Levien's "fitting cubic Béziers" work), and every cubic is
-then *certified* against the exact piece, never only sampled:
+covered by few cubics C, fitted by the method of kurbo's curve fitter (end points
+and end tangents of the piece, signed area and x-moment matched: R. Levien's
+"fitting cubic Béziers" work), done here in numpy for many ranges at once
+(:func:`_moment_cubics`), and every cubic is then *certified* against the exact
+piece, never only sampled:
 
 **The certificate.**  For a cubic C fitted to R on the parameter interval [a, b] a
 reparametrisation is chosen: an increasing polynomial bijection
@@ -48,11 +49,13 @@ previous fits as ~ h^p, a segment accepted once its bound reaches 0.8 tol), then
 segment fewer is tried while the segments' bounds say it may fit (cuts at equal
 shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
 after a short last segment.  The searches of all runs of a loop go in lockstep
-(:func:`_drive`): each round fits the pending ranges of every run with kurbo (whose
-samples come from one batched evaluation per fit, :class:`_KurboSource`) and
-certifies all their cubics in one batch (:func:`_certify_many`).  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
+(:func:`_drive`), over all loops of a region or of many glyphs
+(:func:`loops_to_beziers`): each round fits the pending ranges of every run in one
+batch (:func:`_moment_cubics`, no callbacks), certifies all their cubics in one
+batch (:func:`_certify_many`; a cubic whose sampled distance exceeds SCREEN tol
+is not certified).  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
 cubics at tol 1e-3 ... 1e-8 (kurbo's own halving: 1 / 2 / 2 / 4 / 8 / 8; the
-classic circle cubic 1 / 2 / 2 / 3 / 5 / 7; bench/export.md).  Where kurbo
+classic circle cubic 1 / 2 / 2 / 3 / 5 / 7; bench/export.md).  Where the fit
 finds no cubic, or its cubic does not certify, the same-parameter fit of
 :func:`fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
 one certifies.
@@ -239,7 +242,7 @@ def fit_cubic(piece):
     subdivision) and the cubic whose two handle lengths minimise the sum of squared
     Bernstein coefficients of E = X - W C (a 2x2 least-squares problem, kept only if
     both lengths are positive so the tangent directions are preserved).  This is the
-    fallback of :func:`cubic_segments` where kurbo's fit does not certify (e.g. near
+    fallback of :func:`cubic_segments` where the moment fit does not certify (e.g. near
     a zero derivative, where the parametrisations of R and a fitted cubic differ
     too much for a polynomial reparametrisation).
     """
@@ -275,21 +278,14 @@ ARC_INTERVALS = 32
 _GL8 = np.polynomial.legendre.leggauss(8)
 
 
-def _hermite(x):
-    """Cubic Hermite basis (h00, h10, h01, h11) and its derivative at x in [0, 1]."""
-    x2, x3 = x * x, x * x * x
-    val = (2 * x3 - 3 * x2 + 1, x3 - 2 * x2 + x, -2 * x3 + 3 * x2, x3 - x2)
-    der = (6 * x2 - 6 * x, 3 * x2 - 4 * x + 1, -6 * x2 + 6 * x, 3 * x2 - 2 * x)
-    return val, der
-
-
 class _Chain:
     """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
 
-    Set up once per chain, used by every fit on it: the pieces stacked at one degree
-    (points and derivatives at any array of parameters in one call,
-    :meth:`jet`) and an arc-length table (:meth:`arc_table`): ARC_INTERVALS equal
-    parameter intervals per piece with their lengths and the speeds at their ends.
+    Set up once per chain, used by every fit on it: its pieces, where they sit in
+    the per-degree stacks of the batch (``banks``, ``where``: set by
+    :func:`_chains_segments`) and an arc-length table (:meth:`arc_table`):
+    ARC_INTERVALS equal parameter intervals per piece with their lengths and the
+    speeds at their ends.
     """
 
     def __init__(self, pieces):
@@ -299,16 +295,6 @@ class _Chain:
         p = np.vstack([pc.cartesian(q) for q in self.pieces])
         self.tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
         self._arc = None
-
-    def jet(self, t, left=None):
-        """Points and derivatives dP/dT at chain parameters ``t``, arrays (m, 2).  At a
-        join T = k the piece starting there is used, or where ``left`` is true the
-        piece ending there (the one-sided value from the left)."""
-        t = np.asarray(t, float)
-        idx = np.clip(np.floor(t).astype(int), 0, self.k - 1)
-        if left is not None:
-            idx = np.where(left, np.clip(np.ceil(t).astype(int) - 1, 0, self.k - 1), idx)
-        return pc.jet_many(self.stack, idx, np.clip(t - idx, 0.0, 1.0))
 
     def point(self, t):
         if t >= self.k:
@@ -347,59 +333,6 @@ class _Chain:
                          speed[:, 1:].ravel())
         return self._arc
 
-    def arclength(self, t):
-        """Arc length from the chain's start to chain parameters ``t`` (cubic Hermite
-        interpolation of the table, O(h^4))."""
-        tl, tr, sl, sr, vl, vr = self.arc_table()
-        t = np.asarray(t, float)
-        i = np.clip(np.floor(t * ARC_INTERVALS).astype(int), 0, len(tl) - 1)
-        h = tr[i] - tl[i]
-        (h00, h10, h01, h11), _ = _hermite((t - tl[i]) / h)
-        return h00 * sl[i] + h10 * h * vl[i] + h01 * sr[i] + h11 * h * vr[i]
-
-    def range_map(self, t0, t1):
-        """A parametrisation u in [0, 1] -> T in [t0, t1] for fitting: a function of
-        u (array) returning (T, dT/du).  Within one piece the piece's own parameter
-        (linear).  Across joins the arc length (u = s / L), so that quadrature in u
-        sees no kink of the parametrisation at a join: T(s) is the C1 cubic Hermite
-        interpolant of the inverse arc length (knots of :meth:`arc_table`, slopes
-        1 / speed), plus a linear term of size O(h^4) that makes T(0) = t0 and T(1)
-        = t1 exact; its derivative is used in the chain rule, so samples and
-        derivatives stay consistent.  Linear in T where a speed vanishes (callers
-        check that the map increases where they use it)."""
-        def linear(u):
-            return t0 + u * (t1 - t0), np.full(np.shape(u), t1 - t0)
-
-        if int(math.floor(t0)) >= int(math.ceil(t1)) - 1:
-            return linear
-        tl, tr, sl, sr, vl, vr = self.arc_table()
-        lo = int(math.floor(t0 * ARC_INTERVALS))
-        hi = min(int(math.ceil(t1 * ARC_INTERVALS)), len(tl))
-        if not np.all(np.minimum(vl[lo:hi], vr[lo:hi]) > 1e-9 * np.max(vr[lo:hi])):
-            return linear
-        s0, s1 = (float(v) for v in self.arclength(np.array([t0, t1])))
-        if not s1 > s0:
-            return linear
-
-        def inverse(s):
-            i = np.clip(np.searchsorted(sl, s, side="right") - 1, lo, hi - 1)
-            h = sr[i] - sl[i]
-            (h00, h10, h01, h11), (d00, d10, d01, d11) = _hermite((s - sl[i]) / h)
-            t = h00 * tl[i] + h10 * h / vl[i] + h01 * tr[i] + h11 * h / vr[i]
-            dt = (d00 * tl[i] + d01 * tr[i]) / h + d10 / vl[i] + d11 / vr[i]
-            return t, dt
-
-        (e0, e1), _ = inverse(np.array([s0, s1]))
-        c0, c1 = t0 - e0, t1 - e1
-
-        def arc(u):
-            u = np.asarray(u, float)
-            t, dt = inverse(s0 + u * (s1 - s0))
-            return (np.clip(t + (1.0 - u) * c0 + u * c1, t0, t1),
-                    dt * (s1 - s0) + (c1 - c0))
-        return arc
-
-
 def _limit_tangent(piece, t, sign, tiny):
     """Direction of travel of a piece at t where its derivative vanishes: the first
     derivative of the tangent numerator H = X'W - XW' (:func:`morph.piece.
@@ -412,157 +345,6 @@ def _limit_tangent(piece, t, sign, tiny):
             return sign ** k * v
         h = bz.derivative(h)
     return v
-
-
-def _kurbo_grid():
-    """The parameters kurbo's ``fit_to_bezpath`` samples a source at on its first
-    level (range [0, 1], kurbo's fit.rs), (base, arc): the ends, 16-point
-    Gauss-Legendre nodes (moment integrals), 22 equal steps (distance samples), 7
-    steps (short chords); and 210 midpoints of equal steps (arc lengths, asked for
-    a "spicy" source only).  Computed with kurbo's float expressions, so most
-    requests match exactly (a node off by an ulp is matched by :func:`_grid_index`)."""
-    gl = 0.5 + 0.5 * np.polynomial.legendre.leggauss(16)[0]
-    base = {0.0, 1.0}
-    base.update(float(v) for v in gl)
-    base.update(0.0 + i * (1.0 * (1.0 / 21.0)) for i in range(22))
-    base.update(0.0 + (i + 1) * (1.0 / 8.0) for i in range(7))
-    arc = {0.0 + (1.0 * (1.0 / 210.0)) * (k + 0.5) for k in range(210)} - base
-    return np.array(sorted(base)), np.array(sorted(arc))
-
-
-_KURBO_BASE, _KURBO_ARC = _kurbo_grid()
-_KURBO_U = np.concatenate([_KURBO_BASE, _KURBO_ARC])
-_KURBO_INDEX = {float(u): i for i, u in enumerate(_KURBO_U)}
-_SPICY_ROWS = np.array([_KURBO_INDEX[0.0 + i * (1.0 * (1.0 / 21.0))] for i in range(22)])
-
-
-def _grid_index(u):
-    """Index of the grid parameter equal to u within 1e-14 (learned), else None."""
-    for grid, offset in ((_KURBO_BASE, 0), (_KURBO_ARC, len(_KURBO_BASE))):
-        i = int(np.searchsorted(grid, u))
-        for j in (i - 1, i):
-            if 0 <= j < len(grid) and abs(grid[j] - u) <= 1e-14:
-                _KURBO_INDEX[u] = j + offset
-                return j + offset
-    return None
-
-
-class _KurboSource:
-    """The chain on [t0, t1] as kurbo's ``ParamCurveFit`` source.
-
-    kurbopy calls ``sample_pt_tangent(u, sign)``, ``sample_pt_deriv(u)`` (each a
-    (Point, Vec2) tuple) and ``break_cusp(u0, u1)`` (a parameter or None), one
-    Python call per sample.  The samples kurbo asks for on its first level are known
-    in advance (:func:`_kurbo_grid`): they are evaluated for the whole grid at once
-    (:meth:`_Chain.jet` under :meth:`_Chain.range_map`), and each callback only looks
-    its answer up; other parameters (kurbo subdividing) are evaluated one by one.
-    Where the derivative vanishes the tangent is the one-sided limit direction
-    (:func:`_limit_tangent`); u = 1 is sampled from the left.
-    """
-
-    def __init__(self, chain, t0, t1):
-        import kurbopy
-
-        self._point, self._vec = kurbopy.Point, kurbopy.Vec2
-        self._chain, self._map = chain, chain.range_map(t0, t1)
-        u = _KURBO_BASE
-        t, dt = self._map(u)
-        if not np.all(dt > 0):                    # the arc-length map must increase
-            self._map = lambda u: (t0 + u * (t1 - t0), np.full(np.shape(u), t1 - t0))
-            t, dt = self._map(u)
-        p, d = chain.jet(t, u == 1.0)
-        d *= dt[:, None]
-        self._t, self._p, self._d = t.tolist(), p.tolist(), d.tolist()
-        # kurbo's "spicy" test on its 22 distance samples (tangents turning by more
-        # than atan(0.2) between neighbours): it then measures arc lengths
-        a, b = d[_SPICY_ROWS[:-1]], d[_SPICY_ROWS[1:]]
-        self.spicy = bool(np.any(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-                                 > 0.2 * np.abs((a * b).sum(1))))
-        self._first = True
-
-    def _eval(self, u, left):
-        t, dt = self._map(u)
-        p, d = self._chain.jet(t, left)
-        return p, d * dt[:, None], t
-
-    def _lookup(self, u, sign=1.0):
-        i = _KURBO_INDEX.get(u)
-        if i is None:
-            i = _grid_index(u)
-        if i is not None and not (u == 0.0 and sign < 0):
-            if i >= len(self._p):                 # kurbo measures arc lengths: all at once
-                p, d, t = self._eval(_KURBO_ARC, None)
-                self._t += t.tolist()
-                self._p += p.tolist()
-                self._d += d.tolist()
-            (x, y), (dx, dy) = self._p[i], self._d[i]
-            return x, y, dx, dy, self._t[i]
-        p, d, t = self._eval(np.array([u]), np.array([sign < 0]))
-        return p[0, 0], p[0, 1], d[0, 0], d[0, 1], float(t[0])
-
-    def sample_pt_deriv(self, u):
-        x, y, dx, dy, _ = self._lookup(u)
-        return self._point(x, y), self._vec(dx, dy)
-
-    def sample_pt_tangent(self, u, sign):
-        x, y, dx, dy, t = self._lookup(u, sign)
-        if math.hypot(dx, dy) <= self._chain.tiny:
-            k = min(int(math.floor(t)), self._chain.k - 1)
-            if sign < 0 and t == math.floor(t) and t > 0:
-                k = int(t) - 1
-            dx, dy = _limit_tangent(self._chain.pieces[k], t - k, sign, self._chain.tiny)
-        return self._point(x, y), self._vec(dx, dy)
-
-    def break_cusp(self, u0, u1):
-        # kurbo asks first for the whole range (no cusp: fit it); a later call means
-        # its fit failed and it subdivides: answer the range's start, which makes it
-        # draw a line and stop (the result then has several segments: no fit)
-        if self._first:
-            self._first = False
-            return None
-        return u0
-
-
-#: kurbo's accuracy is at most this multiple of tol (a cubic 16 tol away certifies
-#: nothing; the search then halves its step, as (0.9 / 16)^(1/5) ~ 0.56 would).
-KURBO_SLACK = 16.0
-#: The same for a "spicy" source (tangent turning fast between kurbo's samples):
-#: kurbo then also measures the arc length of every candidate within its accuracy
-#: (adaptive quadrature within 1e-3 of it, inverse by bisection), which took
-#: minutes on one poor candidate with the half chord as accuracy (Relief 'three' ⊕
-#: broad nib); close candidates are cheap.
-SPICY_SLACK = 2.0
-
-
-def _kurbo_cubic(chain, t0, t1, tol, ends):
-    """kurbo's best single cubic for the chain on [t0, t1] with the given exact end
-    points, (4, 2) array, or None.
-
-    The accuracy handed to kurbo is loose (half the chord, at most KURBO_SLACK tol,
-    at least tol) so that it returns its best candidate; whether the cubic is good
-    enough is decided by the certificate, not by kurbo's sampled error.  (Not the
-    whole half chord: for a candidate within its accuracy by kurbo's ray distance
-    on a "spicy" source kurbo measures arc lengths of the cubic within 1e-3 of the
-    accuracy, which took minutes on a poor candidate with a near-cusp.)
-    """
-    import kurbopy
-
-    chord = math.hypot(*(ends[1] - ends[0]))
-    source = _KurboSource(chain, t0, t1)
-    slack = SPICY_SLACK if source.spicy else KURBO_SLACK
-    try:
-        path = kurbopy.fit_to_bezpath(source, max(tol, min(0.5 * chord, slack * tol)))
-    except BaseException as exc:  # pyo3 turns panics in callbacks into PanicException
-        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
-            raise
-        return None
-    segs = list(path.segments())
-    if len(segs) != 1 or not hasattr(segs[0], "p3"):
-        return None
-    c = segs[0]
-    out = np.array([[q.x, q.y] for q in (c.p0, c.p1, c.p2, c.p3)], float)
-    out[0], out[-1] = ends
-    return out if np.all(np.isfinite(out)) else None
 
 
 # ------------------------------------------------------------------ the batched fitter
@@ -634,24 +416,26 @@ def _moment_cubics(items, tol):
     length = np.sqrt(chord2)
     acc = np.maximum(tol, np.minimum(0.5 * length, FIT_SLACK * tol))
     # the parts' samples: 16 Gauss-Legendre nodes each, one evaluation for all
-    bank = items[0][0].bank
-    req, idx, lo, width, first, last = [], [], [], [], [], []
+    banks = items[0][0].banks
+    req, deg, idx, lo, width, first, last = [], [], [], [], [], [], []
     for r, (chain, parts, _) in enumerate(items):
         first.append(len(idx))
         for k, a, b, _ in parts:
             req.append(r)
-            idx.append(chain.base + k)
+            deg.append(chain.where[k][0])
+            idx.append(chain.where[k][1])
             lo.append(a)
             width.append(b - a)
         last.append(len(idx) - 1)
-    req, idx = np.array(req), np.array(idx)
+    req, deg, idx = np.array(req), np.array(deg), np.array(idx)
     lo, width = np.array(lo), np.array(width)
     first, last = np.array(first), np.array(last)
     m = len(_GX)
     params = lo[:, None] + width[:, None] * _GX[None]
-    p, d = pc.jet_many(bank, np.repeat(idx, m), params.ravel())
-    _, de = pc.jet_many(bank, np.concatenate([idx[first], idx[last]]),
-                        np.concatenate([lo[first], lo[last] + width[last]]))
+    p, d = _bank_jet(banks, np.repeat(deg, m), np.repeat(idx, m), params.ravel())
+    ends_at = np.concatenate([first, last])
+    _, de = _bank_jet(banks, deg[ends_at], idx[ends_at],
+                      np.concatenate([lo[first], lo[last] + width[last]]))
     # end tangents (one-sided limits where the derivative vanishes)
     for j in np.nonzero(np.hypot(*de.T) <= np.array([c.tiny for c, _, _ in items] * 2))[0]:
         r, sign = j % n, (1.0 if j < n else -1.0)
@@ -682,19 +466,13 @@ def _moment_cubics(items, tol):
     tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, _I3)       # moment m_a d_b m_c
     g = _D0_GRID[None]
 
-    def d1_of(d0):
-        num = area[:, None] - d0 * ta[:, 0, 0, None] - d0 * d0 * ta[:, 0, 1, None]
-        den = ta[:, 1, 0, None] + d0 * (ta[:, 0, 2, None] + ta[:, 1, 1, None])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return num / den
-
     def resid(d0, d1, rows=slice(None)):
         mm = np.stack([np.ones_like(d0), d0, d1], -1)
         nn = np.stack([d0, d1], -1)
         return np.einsum("rga,rgb,rgc,rabc->rg", mm, nn, mm, tm[rows]) - moment[rows, None]
 
     d0 = np.broadcast_to(g, (n, len(_D0_GRID)))
-    d1 = d1_of(d0)
+    d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)
     ok = np.isfinite(d1) & (d1 > 0)
     f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
     cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
@@ -704,7 +482,7 @@ def _moment_cubics(items, tol):
     fa, fb = f[rr, gg], f[rr, gg + 1]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x[:, None], d1_of_rows(x, rr, area, ta)[:, None], rr)[:, 0]
+        fx = resid(x[:, None], _d1_of(x, rr, area, ta)[:, None], rr)[:, 0]
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
@@ -734,7 +512,7 @@ def _moment_cubics(items, tol):
         count[r] = count.get(r, 0) + 1
         keep[i] = count[r] <= MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, d1_of_rows(cd0, cr, area, ta))
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     cr, cd0, cd1 = cr[fine], cd0[fine], cd1[fine]
     ctrl = np.zeros((len(cr), 4, 2))
@@ -768,8 +546,30 @@ def _moment_cubics(items, tol):
     return out
 
 
-def d1_of_rows(d0, rows, area, ta):
-    """d1 from the area equation for handle lengths d0 of ranges ``rows``."""
+def _bank_jet(banks, deg, idx, t):
+    """:func:`morph.piece.jet_many` of pieces ``banks[deg[i]][idx[i]]`` at ``t[i]``:
+    each degree evaluated at its own degree (the result of a piece does not depend
+    on the other pieces of a batch)."""
+    p, d = np.empty((len(t), 2)), np.empty((len(t), 2))
+    for g in np.unique(deg):
+        rows = np.nonzero(deg == g)[0]
+        p[rows], d[rows] = pc.jet_many(banks[g], idx[rows], t[rows])
+    return p, d
+
+
+def _degree_groups(subs):
+    """Rows of ``subs`` by degree: [(rows, stacked pieces)] (stacks of one degree, so
+    that batched results do not depend on the other pieces of a batch)."""
+    groups = {}
+    for i, sub in enumerate(subs):
+        groups.setdefault(len(sub), []).append(i)
+    return [(np.array(rows), np.array([subs[i] for i in rows], float))
+            for rows in groups.values()]
+
+
+def _d1_of(d0, rows, area, ta):
+    """d1 from the area equation (linear in d1) for handle lengths d0 of the ranges
+    ``rows`` (arrays of one shape)."""
     num = area[rows] - d0 * ta[rows, 0, 0] - d0 * d0 * ta[rows, 0, 1]
     den = ta[rows, 1, 0] + d0 * (ta[rows, 0, 2] + ta[rows, 1, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -815,7 +615,6 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     return out
 
 
-FITTER = "moment"
 #: Fits whose sampled distance exceeds this multiple of tol are not certified.
 SCREEN = 1.25
 
@@ -825,6 +624,9 @@ _NODE_BASIS = bz.basis(3, _NODES)
 #: feet within PHI_SHARE * tol).
 PHI_DEGREES = (3, 5, 7, 9)
 PHI_SHARE = 0.2
+#: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
+#: within about tol of the piece: a coarse start is in Newton's basin).
+REPARAM_SAMPLES = 33
 
 
 def _reparams(subs, cubics, tol):
@@ -839,10 +641,12 @@ def _reparams(subs, cubics, tol):
     phi from one least-squares solve per degree (:func:`morph.bernstein.
     fit_fixed_ends`, ends fixed at 0 and 1).
     """
-    stack = pc.stack(subs)
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
-    u = pc.nearest_params_many(stack, pts)
-    p, d, _ = (pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many)(stack, u)
+    u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
+    for rows, stack in _degree_groups(subs):
+        u[rows] = pc.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
+        p[rows], d[rows], _ = (pc.jet2_power_many if stack.shape[1] <= 13
+                               else pc.jet2_many)(stack, u[rows])
     speed = np.hypot(d[..., 0], d[..., 1])
     normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
     miss = (np.abs(_NODES - u) * speed).max(axis=1)
@@ -895,7 +699,9 @@ def _certify_many(subs, cubics, tol, depth=3):
     if not len(rows):
         return out
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
-    um = pc.nearest_params_many(pc.stack([subs[i] for i in rows]), mids)[:, 0]
+    um = np.empty(len(rows))
+    for grp, stack in _degree_groups([subs[i] for i in rows]):
+        um[grp] = pc.nearest_params_many(stack, mids[grp])[:, 0]
     rows, um = rows[(um > 0) & (um < 1)], um[(um > 0) & (um < 1)]
     if not len(rows):
         return out
@@ -917,24 +723,21 @@ def _fit_ranges(requests, tol):
     """Best certified cubics for many chain ranges at once: for each request
     ``(chain, t0, t1, (start, end))`` a result (cubic, bound, panels).
 
-    kurbo fits each range (:func:`_kurbo_cubic`, one call each); then every part of
-    every fitted cubic is certified in one batch (:func:`_certify_many`).  Panels
+    All ranges are fitted in one call (:func:`_moment_cubics`); then every part of
+    every fitted cubic is certified in one batch (:func:`_certify_many`), except
+    cubics whose sampled distance exceeds SCREEN tol (their sampled distance is
+    returned as the bound: they fail).  Panels
     carry chain parameters T.  Across joins of a chain the cubic is cut at the
     closest points s_k to the join points (increasing, else no certificate) and
     each part certified against its piece: phi is continuous (it maps s_k to the
-    join) and increasing.  A single-piece range whose kurbo cubic does not certify
+    join) and increasing.  A single-piece range whose fitted cubic does not certify
     also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
     """
     parts = [chain.parts(t0, t1) for chain, t0, t1, _ in requests]
-    if FITTER == "kurbo":
-        plans = [(pr, _kurbo_cubic(chain, t0, t1, tol, ends))
-                 for pr, (chain, t0, t1, ends) in zip(parts, requests)]
-        sampled = [0.0] * len(plans)
-    else:
-        fits = _moment_cubics(
-            [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)
-        plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
-        sampled = [0.0 if f is None else f[1] for f in fits]
+    fits = _moment_cubics(
+        [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)
+    plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
+    sampled = [0.0 if f is None else f[1] for f in fits]
     # a cubic whose sampled distance already exceeds tol well is not certified: its
     # sampled distance is reported (the search only needs to know it fails)
     skip = [e > SCREEN * tol for e in sampled]
@@ -1074,12 +877,14 @@ def _chains_segments(chains, tol, max_depth=16):
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = [_Chain(p) for p in chains]
-    if chains:                      # one stack of all pieces for the batched fitter
-        bank = pc.stack([p for c in chains for p in c.pieces])
-        base = 0
-        for c in chains:
-            c.bank, c.base = bank, base
-            base += c.k
+    banks = {}                      # one stack per degree of all pieces, for the fitter
+    for c in chains:
+        c.banks, c.where = banks, []
+        for p in c.pieces:
+            banks.setdefault(len(p), []).append(p)
+            c.where.append((len(p), len(banks[len(p)]) - 1))
+    for n in banks:
+        banks[n] = np.array(banks[n], float)
     return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol)
 
 

@@ -79,7 +79,7 @@ from .. import piece as pc
 from ..errors import MorphError, NibError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
-           "region_extent", "sweep_glyph", "sweep_glyphs"]
+           "region_extent", "sweep_glyph", "sweep_glyphs", "glyph_chunks"]
 
 
 def ellipse_nib(width, height, angle_deg=0.0):
@@ -309,9 +309,18 @@ def _sweep(job, start=0, error=None):
         return name, None, "source", error
 
 
-#: Glyphs per job of :func:`sweep_glyphs` (their curve conversions go in one batch).
-#: Fixed, not derived from the number of processes: the font does not depend on it.
-CHUNK = 24
+#: At most this many glyphs per job of :func:`sweep_glyphs` (their curve conversions
+#: go in one batch); equal chunks by the number of glyphs alone, not by the number
+#: of processes: the font does not depend on it (:func:`glyph_chunks`).
+CHUNK = 48
+
+
+def glyph_chunks(work, size):
+    """``work`` in consecutive chunks of equal length (within one), at most ``size``
+    each (the jobs of :func:`sweep_glyphs` and the stroke's chunk jobs)."""
+    count = -(-len(work) // size)
+    edges = [round(i * len(work) / count) for i in range(count + 1)] if count else [0]
+    return [work[a:b] for a, b in zip(edges, edges[1:])]
 
 
 def sweep_glyphs(jobs):
@@ -444,7 +453,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
              writer.quadratic) for n in order]
     chosen = set(names)
-    chunks = [args[i:i + CHUNK] for i in range(0, len(args), CHUNK)]
+    chunks = glyph_chunks(args, CHUNK)
     results = [r for rs in run_jobs(sweep_glyphs, chunks, jobs=jobs,
                                     progress=_chosen_progress(progress, chosen)) for r in rs]
     stats, moves = _store_outlines(font, writer, results, chosen, extent)

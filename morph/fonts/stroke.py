@@ -64,7 +64,7 @@ from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..region import region_bbox, translate_region
-from .brush import check_convex_nib, region_extent
+from .brush import check_convex_nib, glyph_chunks, region_extent
 from .jobs import run_jobs
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
@@ -194,10 +194,11 @@ def _glyph_job(args):
     return _chunk_job([args])[0]
 
 
-#: Glyphs per job of :func:`_chunk_job`: their cubic conversions go in one batch.
-#: Fixed (not derived from the number of processes), so that the font does not
-#: depend on ``jobs``.
-CHUNK = 24
+#: At most this many glyphs per job of :func:`_chunk_job` (their cubic conversions
+#: go in one batch; a batch's cost per glyph falls with its size).  The glyphs are
+#: split into equal chunks by their number alone (not by the number of
+#: processes), so that the font does not depend on ``jobs``.
+CHUNK = 48
 
 
 def _chunk_job(chunk):
@@ -258,8 +259,6 @@ def _chunk_job(chunk):
     return out
 
 
-def _chunks(work):
-    return [work[i:i + CHUNK] for i in range(0, len(work), CHUNK)]
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
@@ -307,7 +306,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     place = _placement(font, stroked + followed, nib_region)
     work, decomposed = _stroke_work(font, stroked, symmetric, nib_region, _tolerances(tol, kind),
                                     place.shifts, stroker)
-    results = [r for rs in run_jobs(_chunk_job, _chunks(work), jobs=jobs,
+    results = [r for rs in run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs,
                                     progress=_by_name(progress)) for r in rs]
     stats = _write_strokes(font, results)
     _move_furniture(font, stroked + followed, place, symmetric)
