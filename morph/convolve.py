@@ -39,6 +39,7 @@ from . import methods
 from . import piece as pc
 from . import qac
 from .methods import ConvPiece
+from .polyline import unique
 
 ANGLE_EQ = 1e-9      # angles closer than this are equal (radians)
 
@@ -88,7 +89,7 @@ class _EdgeTable:
         """Stacks of the pieces of edges idx, grouped by degree: [(rows, stack)]."""
         out = []
         deg = self.deg[idx]
-        for d in np.unique(deg):
+        for d in unique(deg):
             rows = np.nonzero(deg == d)[0]
             out.append((rows, self.stacks[d][self.slot[idx[rows]]]))
         return out

@@ -26,6 +26,7 @@ import numpy as np
 from . import bernstein as bz
 from . import piece as pc
 from .errors import DegenerateCurveError
+from .polyline import unique
 
 TWO_PI = 2.0 * np.pi
 
@@ -76,7 +77,7 @@ def _split_at(piece, params):
 
 def _interior(ts, eps=1e-9):
     ts = np.asarray(ts, float)
-    return np.unique(ts[(ts > eps) & (ts < 1.0 - eps)])
+    return unique(ts[(ts > eps) & (ts < 1.0 - eps)])
 
 
 def inflection_params(piece):

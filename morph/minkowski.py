@@ -10,6 +10,7 @@ from . import piece as pc
 from .convolve import chain, convolution, gauss_pair_of, with_pair_table
 from .errors import TopologyError
 from .limits import check_tolerance
+from .polyline import unique
 from .trim import boundary
 from .trim.holes import Membership, deepest_point
 
@@ -121,7 +122,7 @@ def _tip_tolerances(out, conv, tol):
         near = ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
                 & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
         want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half[k], TIP_FLOOR)
-        for r in np.unique(rows[near & (bounds > want)]):
+        for r in unique(rows[near & (bounds > want)]):
             finer[int(r)] = min(finer.get(int(r), np.inf), want)
     return finer
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import segment_pairs
+from ..polyline import segment_pairs, unique
 
 
 def uncertain_pairs(loops):
@@ -69,7 +69,7 @@ def _range_span(lo, hi, a, b):
         highs.append(np.maximum(highs[-1][:-w], highs[-1][w:]))
     k = np.floor(np.log2(b - a + 1)).astype(int)
     out = np.empty(len(a))
-    for level in np.unique(k):
+    for level in unique(k):
         s = k == level
         w = 2 ** level
         mn = np.minimum(lows[level][a[s]], lows[level][b[s] - w + 1])

@@ -81,7 +81,7 @@ def tag_loops(loops, eps, grid, origin=None):
     counts = np.bincount(loop_of, minlength=len(loops))
     ok = counts[loop_of] >= 3
     q, pid, ts, loop_of = q[ok], pid[ok], ts[ok], loop_of[ok]
-    _, first, counts = np.unique(loop_of, return_index=True, return_counts=True)
+    first = np.flatnonzero(np.diff(loop_of, prepend=-1))  # loop_of is sorted, >= 0
     starts = np.append(first, len(q))
     idx = np.arange(len(q))
     nxt = idx + 1

@@ -13,6 +13,7 @@ import numpy as np
 import pyclipper
 
 from .. import piece as pc
+from ..polyline import unique
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -83,7 +84,7 @@ def _span_midpoints(ring, lines=64):
     """Midpoints of the spans inside ``ring`` on horizontal lines halfway between
     its vertices' heights (the widest gaps first, at most ``lines`` of them): at
     least one lies inside any ring of positive area."""
-    ys = np.unique(ring[:, 1])
+    ys = unique(ring[:, 1])
     if len(ys) < 2:
         return np.zeros((0, 2))
     gaps = np.diff(ys)

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from ..polyline import unique
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
@@ -52,7 +53,9 @@ def lift_rings(rings, tg, contract):
     guess = tg.to_float(v[nx[k]])
     point = np.full((len(v), 2), np.nan)  # junction point after edge i
     if len(k):
-        used, inv = np.unique(np.concatenate([pid[k], pid[nx[k]]]), return_inverse=True)
+        ids = np.concatenate([pid[k], pid[nx[k]]])
+        used = unique(ids)
+        inv = np.searchsorted(used, ids)
         stacked = pc.stack([tg.pieces[i] for i in used])
         ia, ib = inv[:len(k)], inv[len(k):]
         # a polyline crossing is off the exact one by up to (eps + grid / sqrt 2) /

@@ -15,7 +15,7 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from ..polyline import flatten_segments, segment_crossings, segment_pairs
+from ..polyline import flatten_segments, segment_crossings, segment_pairs, unique
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import newton_crossings
 
@@ -70,7 +70,9 @@ def _first_crossing(loops, eps):
         guess = None
     if not len(pa):
         return None
-    used, inv = np.unique(np.concatenate([pa, pb]), return_inverse=True)
+    ids = np.concatenate([pa, pb])
+    used = unique(ids)
+    inv = np.searchsorted(used, ids)
     stacked = pc.stack([pieces[q] for q in used])
     ia, ib = inv[:len(pa)], inv[len(pa):]
     if guess is None:
@@ -108,7 +110,7 @@ def _oriented(pairs, owner, first, sizes):
 def _polyline_crossings(pieces, suspects, flat):
     """Crossings of the suspect pairs' polylines within ``flat``: (piece a, piece b,
     t on a, u on b, point), away from shared polyline vertices."""
-    used = np.unique(suspects)
+    used = unique(suspects)
     p0, p1, ids, t0, t1 = flatten_segments([pieces[k] for k in used], flat)
     ids = used[ids]
     pairs = segment_pairs(p0, p1, ids, True)
