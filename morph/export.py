@@ -304,16 +304,6 @@ class _Chain:
             return pc.start(self.pieces[k])
         return pc.evaluate(self.pieces[k], t - k)[0]
 
-    def parts(self, t0, t1):
-        """[(k, a, b, sub-piece)]: piece k restricted to local [a, b] covers [t0, t1]."""
-        out = []
-        for k in range(int(math.floor(t0)), min(self.k, int(math.ceil(t1)))):
-            a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
-            if b > a:
-                p = self.pieces[k]
-                out.append((k, a, b, p if (a, b) == (0.0, 1.0) else pc.subsegment(p, a, b)))
-        return out
-
     def arc_table(self):
         """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
         pieces, in order) its chain parameters, cumulative arc lengths and speeds
@@ -576,6 +566,10 @@ def _d1_of(d0, rows, area, ta):
         return num / den
 
 
+#: Power coefficients of a cubic from its Bernstein coefficients.
+_POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]])
+
+
 def _ray_distance(ctrl, cr, q, dq, req, width):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
@@ -596,19 +590,17 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     owner = np.repeat(np.arange(len(cr)), counts)
     offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     si = start[cr][owner] + offs
-    cc = ctrl[owner]                                              # (S, 4, 2)
+    power = np.matmul(_POWER3, ctrl)[owner]                       # (S, 4, 2): C(s) = sum a_k s^k
     p, t = pts[si], tan[si]
     s = frac[si]
-    dc = 3.0 * np.diff(cc, axis=1)                                # (S, 3, 2)
+    g = (power * t[:, None]).sum(2)                               # (C(s) - p) . t, power form
+    g[:, 0] -= (p * t).sum(1)
     for _ in range(5):
-        b3 = bz.basis(3, s)
-        b2 = bz.basis(2, s)
-        c = np.einsum("si,sij->sj", b3, cc)
-        dcs = np.einsum("si,sij->sj", b2, dc)
-        gv = ((c - p) * t).sum(1)
-        gd = (dcs * t).sum(1)
+        gv = ((g[:, 3] * s + g[:, 2]) * s + g[:, 1]) * s + g[:, 0]
+        gd = (3.0 * g[:, 3] * s + 2.0 * g[:, 2]) * s + g[:, 1]
         s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
-    c = np.einsum("si,sij->sj", bz.basis(3, s), cc)
+    s = s[:, None]
+    c = ((power[:, 3] * s + power[:, 2]) * s + power[:, 1]) * s + power[:, 0]
     dist = np.hypot(*(c - p).T)
     out = np.zeros(len(cr))
     np.maximum.at(out, owner, dist)
@@ -719,6 +711,29 @@ def _certify_many(subs, cubics, tol, depth=3):
     return out
 
 
+def _parts_many(requests):
+    """For every request ``(chain, t0, t1, ends)`` its parts ``[(k, a, b, sub)]``:
+    piece k of the chain restricted to its local [a, b] (``sub``) covers [t0, t1];
+    the sub-pieces of all requests cut in one de Casteljau call per degree."""
+    out, todo = [], {}
+    for chain, t0, t1, _ in requests:
+        parts = []
+        for k in range(int(math.floor(t0)), min(chain.k, int(math.ceil(t1)))):
+            a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
+            if b > a:
+                p = chain.pieces[k]
+                parts.append([k, a, b, p])
+                if (a, b) != (0.0, 1.0):
+                    todo.setdefault(len(p), []).append(parts[-1])
+        out.append(parts)
+    for rows in todo.values():
+        subs = bz.subsegment_many(np.array([r[3] for r in rows]), [r[1] for r in rows],
+                                  [r[2] for r in rows])
+        for r, sub in zip(rows, subs):
+            r[3] = sub
+    return [[tuple(p) for p in parts] for parts in out]
+
+
 def _fit_ranges(requests, tol):
     """Best certified cubics for many chain ranges at once: for each request
     ``(chain, t0, t1, (start, end))`` a result (cubic, bound, panels).
@@ -733,7 +748,7 @@ def _fit_ranges(requests, tol):
     join) and increasing.  A single-piece range whose fitted cubic does not certify
     also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
     """
-    parts = [chain.parts(t0, t1) for chain, t0, t1, _ in requests]
+    parts = _parts_many(requests)
     fits = _moment_cubics(
         [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)
     plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
@@ -1152,7 +1167,9 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     """:func:`loop_to_beziers` of every loop of a region (a list per loop), with the
     segment searches of all their runs in lockstep: each round's fits of the whole
     region are fitted and certified in one batch (the numerical work is a few array
-    calls per round, not per loop).  Same results and bounds as loop by loop.
+    calls per round, not per loop; callers batch the loops of many glyphs too).
+    Every curve is certified within tol as loop by loop; the curves themselves may
+    differ from loop-by-loop ones by rounding (batched array calls).
 
     Raises:
         ValueError, ToleranceNotMetError: as piece_to_cubics.

@@ -59,9 +59,10 @@ def contours_from_regions(regions, tol, quadratic, offsets=None):
     """:func:`contours_from_loops` of several regions (glyphs) at once: a list of
     contour lists.  The loops of all regions are converted in one batch
     (:func:`morph.export.loops_to_beziers`: the segment searches of every loop go in
-    lockstep and each round is fitted and certified with a few array calls), with
-    the same results as region by region.  ``offsets``: one per region (None:
-    zero).
+    lockstep and each round is fitted and certified with a few array calls).  The
+    fits are those of region by region up to rounding (batched array calls may
+    round differently: callers that must be reproducible batch the same regions
+    together every time).  ``offsets``: one per region (None: zero).
 
     Raises:
         ToleranceNotMetError: as the converters (for the whole batch).
