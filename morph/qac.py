@@ -112,9 +112,11 @@ def _reparam_maps(c, q):
     """The maps r(s) of :func:`qac_error_bound` for C2 (origin-shifted) and Q2:
     (r (k, REPARAM_DEGREE+1), finite (k,)).  Least squares with r(0) = 0, r(1) = 1
     (:func:`morph.bernstein.fit_fixed_ends`, all rows at once) to the parameters of
-    C2 nearest to Q2 at the Chebyshev nodes _FIT_S, coefficients clamped to [0, 1]."""
+    C2 nearest to Q2 at the Chebyshev nodes _FIT_S (Newton, jets from the power
+    basis up to degree 12), coefficients clamped to [0, 1]."""
     pts = np.matmul(bz.basis(2, _FIT_S), q)
-    sig = pc.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)))
+    jet = pc.jet2_power_many if c.shape[1] <= 13 else pc.jet2_many
+    sig = pc.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)), jet=jet)
     r = bz.fit_fixed_ends(_FIT_S, sig.T, REPARAM_DEGREE, 0.0, 1.0).T
     fine = np.all(np.isfinite(r), axis=1)
     return np.where(fine[:, None], np.clip(r, 0.0, 1.0), 0.0), fine
