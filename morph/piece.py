@@ -693,26 +693,29 @@ def flatten_many(pieces, tol, max_depth=16):
         by_degree.setdefault(len(p), []).append(k)
     for ks in by_degree.values():
         stack = np.array([np.asarray(pieces[k], float) for k in ks])
-        owner, ts = _flat_params(stack, tol, 2.0 ** -max_depth)
+        owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth)
         order = np.lexsort((ts, owner))
-        owner, ts = owner[order], ts[order]
+        owner, ts, starts = owner[order], ts[order], starts[order]
         bounds = np.searchsorted(owner, np.arange(len(ks) + 1))
+        ends = stack[:, -1, :2] / stack[:, -1, 2:]
         for i, k in enumerate(ks):
-            params = np.append(ts[bounds[i]:bounds[i + 1]], 1.0)
-            out[k] = (evaluate(stack[i], params), params)
+            a, b = bounds[i], bounds[i + 1]
+            out[k] = (np.vstack([starts[a:b], ends[i:i + 1]]), np.append(ts[a:b], 1.0))
     return out
 
 
 def _flat_params(stack, tol, min_width):
-    """(owner, t0) of the flat parts of a stack of pieces (see :func:`flatten_many`)."""
+    """(owner, t0, start point) of the flat parts of a stack of pieces (see
+    :func:`flatten_many`); a part's start point is its first control point."""
     parts, owner = stack, np.arange(len(stack))
     t0, width = np.zeros(len(stack)), np.ones(len(stack))
-    done_owner, done_t = [], []
+    done_owner, done_t, done_p = [], [], []
     while len(parts):
         dist = _chord_distance(parts)
         flat = (dist <= tol) | (width <= min_width * 1.5)
         done_owner.append(owner[flat])
         done_t.append(t0[flat])
+        done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
         parts, owner, t0, width, dist = (a[~flat] for a in (parts, owner, t0, width, dist))
         steps = np.ceil(np.sqrt(dist / tol))
         steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
@@ -723,7 +726,7 @@ def _flat_params(stack, tol, min_width):
         j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
         parts = _equal_parts(parts, steps)
         owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
-    return np.concatenate(done_owner), np.concatenate(done_t)
+    return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
 
 
 def _equal_parts(parts, steps):

@@ -20,13 +20,15 @@ ROBOT_STYLE = {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}
 
 def _boundary_points(loop, tol, count):
     """``count`` points spread evenly by arc length along a loop (on its polyline
-    within ``tol``), starting at the loop's start."""
+    within ``tol``, interpolated along its segments), starting at the loop's start."""
     poly = pc.flatten_loop(loop, tol)
-    seg = np.hypot(*np.diff(np.vstack([poly, poly[:1]]), axis=0).T)
+    closed = np.vstack([poly, poly[:1]])
+    seg = np.hypot(*np.diff(closed, axis=0).T)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
     at = np.arange(count) * cum[-1] / count
-    idx = np.minimum(np.searchsorted(cum, at, side="right") - 1, len(poly) - 1)
-    return poly[idx]
+    idx = np.clip(np.searchsorted(cum, at, side="right") - 1, 0, len(poly) - 1)
+    u = (at - cum[idx]) / np.where(seg[idx] > 0, seg[idx], 1.0)
+    return closed[idx] + u[:, None] * (closed[idx + 1] - closed[idx])
 
 
 def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0)):
