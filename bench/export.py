@@ -67,14 +67,20 @@ from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets t
 PREVIOUS = "2043d8b~1"      # the exporter before kurbo's fit
 
 
-def previous_exporter():
-    """The previous morph.export module (git show PREVIOUS:morph/export.py)."""
-    src = subprocess.run(["git", "-C", str(ROOT), "show", PREVIOUS + ":morph/export.py"],
+def exporter_at(rev):
+    """morph.export as it was at git revision ``rev`` (git show REV:morph/export.py),
+    loaded as a module of the package (its relative imports resolve to today's)."""
+    src = subprocess.run(["git", "-C", str(ROOT), "show", rev + ":morph/export.py"],
                          capture_output=True, text=True, check=True).stdout
-    mod = types.ModuleType("morph.export_previous")
+    mod = types.ModuleType("morph.export_at_" + rev)
     mod.__package__ = "morph"
-    exec(compile(src, "morph/export.py@" + PREVIOUS, "exec"), mod.__dict__)
+    exec(compile(src, "morph/export.py@" + rev, "exec"), mod.__dict__)
     return mod
+
+
+def previous_exporter():
+    """The previous morph.export module (at PREVIOUS)."""
+    return exporter_at(PREVIOUS)
 
 
 def previous_beziers(old):

@@ -38,10 +38,8 @@ import json
 import os
 import pickle
 import pstats
-import subprocess
 import sys
 import time
-import types
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -109,12 +107,9 @@ def exporter(rev):
     if rev is None:
         import morph.export as mod
         return mod
-    src = subprocess.run(["git", "-C", str(ROOT), "show", rev + ":morph/export.py"],
-                         capture_output=True, text=True, check=True).stdout
-    mod = types.ModuleType("morph.export_at_rev")
-    mod.__package__ = "morph"
-    exec(compile(src, "morph/export.py@" + rev, "exec"), mod.__dict__)
-    return mod
+    from bench.export import exporter_at
+
+    return exporter_at(rev)
 
 
 def export(ex, loops, tol, kind):

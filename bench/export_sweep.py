@@ -78,13 +78,7 @@ def random_case(rng, kind):
     size = float(np.ptp(pts, axis=0).max())
     tol = size * 10.0 ** rng.uniform(-7, -1.5)
     if kind == "chain":
-        cuts = np.sort(rng.uniform(0.1, 0.9, int(rng.integers(1, 4))))
-        pieces, rest, done = [], piece, 0.0
-        for c in cuts:
-            a, rest = pc.split(rest, (c - done) / (1.0 - done))
-            pieces.append(a)
-            done = c
-        pieces.append(rest)
+        pieces = pc.split_at(piece, np.sort(rng.uniform(0.1, 0.9, int(rng.integers(1, 4)))))
     else:
         pieces = [piece]
     return pieces, tol

@@ -61,20 +61,6 @@ class Edge:
         return int(np.sign(self.sweep))
 
 
-def _split_at(piece, params):
-    """Split a piece at sorted interior parameters."""
-    out = []
-    rest = piece
-    t_prev = 0.0
-    for t in params:
-        u = (t - t_prev) / (1.0 - t_prev)
-        left, rest = pc.split(rest, u)
-        out.append(left)
-        t_prev = t
-    out.append(rest)
-    return out
-
-
 def _interior(ts, eps=1e-9):
     ts = np.asarray(ts, float)
     return unique(ts[(ts > eps) & (ts < 1.0 - eps)])
@@ -186,7 +172,7 @@ def split_monotone_many(pieces, check=True):
     checked together (:func:`_kept_many`).  Returns one list of parts per piece.
     ``check=False`` skips the cusp check."""
     pieces = [np.asarray(p, float) for p in pieces]
-    parts = [_split_at(piece, ts) if ts.size else [piece]
+    parts = [pc.split_at(piece, ts) if ts.size else [piece]
              for piece, ts in zip(pieces, _split_params_many(pieces))]
     flat = [q for ps in parts for q in ps]
     keep = _kept_many(flat, check)

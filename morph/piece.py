@@ -439,6 +439,18 @@ def split(piece, t):
     return bz.split(piece, t)
 
 
+def split_at(piece, params):
+    """The piece cut at sorted interior parameters: len(params) + 1 consecutive parts
+    (de Casteljau, each cut on the rest reparametrised to [0, 1])."""
+    out, rest, t_prev = [], piece, 0.0
+    for t in params:
+        left, rest = split(rest, (t - t_prev) / (1.0 - t_prev))
+        out.append(left)
+        t_prev = t
+    out.append(rest)
+    return out
+
+
 def subsegment(piece, t0, t1):
     """The piece restricted to [t0, t1] (t1 < t0 gives the reversed restriction)."""
     return bz.subsegment(piece, t0, t1)

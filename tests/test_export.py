@@ -343,13 +343,7 @@ def random_smooth_chain(seed, k):
     rng = np.random.default_rng(seed)
     pts = np.cumsum(rng.uniform(-1, 1, (5, 2)) + [1.5, 0], axis=0)
     whole = pc.from_points(pts, rng.uniform(0.4, 2.5, 5))
-    cuts = np.sort(rng.uniform(0.05, 0.95, k - 1))
-    pieces, rest, done = [], whole, 0.0
-    for c in cuts:
-        left, rest = pc.split(rest, (c - done) / (1.0 - done))
-        pieces.append(left)
-        done = c
-    pieces.append(rest)
+    pieces = pc.split_at(whole, np.sort(rng.uniform(0.05, 0.95, k - 1)))
     out = []
     for p in pieces:
         r = rng.uniform(0.5, 2.0)          # w_i -> w_i r^i: a Möbius reparametrisation

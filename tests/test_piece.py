@@ -50,23 +50,18 @@ def test_rational_quadratic_matches_formula():
     assert np.allclose(np.hypot(*pc.evaluate(p, T).T), 1.0, atol=1e-14)
 
 
-@given(rational_pieces())
-def test_derivative_matches_finite_differences(p):
-    h = 1e-6
-    t = np.linspace(0.02, 0.98, 17)
-    fd = (pc.evaluate(p, t + h) - pc.evaluate(p, t - h)) / (2 * h)
-    scale = 1 + np.abs(fd).max()
-    assert np.allclose(pc.derivative(p, t), fd, atol=1e-4 * scale)
+# (derivative, its antiderivative, step, parameters): P' by differences of P, P'' of P'
+DERIVATIVES = [(pc.derivative, pc.evaluate, 1e-6, np.linspace(0.02, 0.98, 17)),
+               (pc.second_derivative, pc.derivative, 1e-4, np.linspace(0.05, 0.95, 9))]
 
 
+@pytest.mark.parametrize("deriv, lower, h, t", DERIVATIVES, ids=["first", "second"])
 @settings(max_examples=40)
-@given(rational_pieces())
-def test_second_derivative_matches_finite_differences(p):
-    h = 1e-4
-    t = np.linspace(0.05, 0.95, 9)
-    fd = (pc.derivative(p, t + h) - pc.derivative(p, t - h)) / (2 * h)
+@given(p=rational_pieces())
+def test_derivatives_match_finite_differences(deriv, lower, h, t, p):
+    fd = (lower(p, t + h) - lower(p, t - h)) / (2 * h)
     scale = 1 + np.abs(fd).max()
-    assert np.allclose(pc.second_derivative(p, t), fd, atol=1e-4 * scale)
+    assert np.allclose(deriv(p, t), fd, atol=1e-4 * scale)
 
 
 @given(rational_pieces())
