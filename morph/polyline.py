@@ -111,3 +111,61 @@ def polylines_cross(pieces, tol):
         return False
     k, u, v = segment_crossings(p0, p1, pairs)
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
+
+def polyline_edges(polylines):
+    """The edges of closed polylines as two (e, 2) arrays ``a, b``: edge k runs from
+    ``a[k]`` to ``b[k]``, each polyline closed from its last point to its first
+    (polylines with fewer than 2 points have no edge)."""
+    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
+    if not polys:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.concatenate(polys), np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+
+
+def winding_number(points, polylines, chunk=2_000_000):
+    """Winding numbers of points with respect to closed polylines, shape (m,) int.
+
+    ``polylines`` is a list of (k, 2) arrays (closed implicitly, first point not
+    repeated).  Crossing rule: an edge going up across the point's horizontal line
+    with the point on its left counts +1, going down with the point on its right -1.
+    Vectorised over points x edges (in chunks of about ``chunk`` pairs).
+    """
+    pts = np.atleast_2d(np.asarray(points, float))
+    out = np.zeros(len(pts), int)
+    a, b = polyline_edges(polylines)
+    if not len(a) or len(pts) == 0:
+        return out
+    step = max(1, chunk // len(a))
+    for s in range(0, len(pts), step):
+        p = pts[s:s + step, None, :]
+        ay, by = a[None, :, 1], b[None, :, 1]
+        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
+                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
+        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0)
+        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0)
+        out[s:s + step] = up.sum(axis=1) - down.sum(axis=1)
+    return out
+
+
+def project(x, a, b):
+    """Parameter in [0, 1] of the point of segment ab nearest to x (broadcasting)."""
+    ab = b - a
+    ll = np.maximum(np.sum(ab * ab, axis=-1), 1e-300)
+    return np.clip(np.sum((x - a) * ab, axis=-1) / ll, 0.0, 1.0)
+
+
+def segment_distance(x, a, b):
+    """Distance from x to segment ab (broadcasting over leading axes)."""
+    x, a, b = (np.asarray(z, float) for z in (x, a, b))
+    d = a + project(x, a, b)[..., None] * (b - a) - x
+    return np.hypot(d[..., 0], d[..., 1])
+
+
+def min_segment_distance(points, a, b, chunk=1 << 22):
+    """Distance from each point (m, 2) to the nearest of the segments a[k] b[k],
+    in chunks of about ``chunk`` point-segment pairs."""
+    out = np.empty(len(points))
+    step = max(1, chunk // max(len(a), 1))
+    for i in range(0, len(points), step):
+        out[i:i + step] = segment_distance(points[i:i + step, None, :], a, b).min(axis=1)
+    return out

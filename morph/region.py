@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import polylines_cross, unique
+from .polyline import polyline_edges, polylines_cross, unique, winding_number  # noqa: F401
 
 __all__ = [
     "Region",
@@ -94,16 +94,6 @@ def region_polylines(loops, tol):
     return [p for p in polys if len(p) >= 3]
 
 
-def polyline_edges(polylines):
-    """The edges of closed polylines as two (e, 2) arrays ``a, b``: edge k runs from
-    ``a[k]`` to ``b[k]``, each polyline closed from its last point to its first
-    (polylines with fewer than 2 points have no edge)."""
-    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
-    if not polys:
-        return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.concatenate(polys), np.concatenate([np.roll(p, -1, axis=0) for p in polys])
-
-
 def _region_scale(loops):
     pts = [pc.cartesian(p) for loop in loops for p in loop]
     if not pts:
@@ -114,31 +104,6 @@ def _region_scale(loops):
 
 
 # ------------------------------------------------------------------ winding numbers
-
-def winding_number(points, polylines, chunk=2_000_000):
-    """Winding numbers of points with respect to closed polylines, shape (m,) int.
-
-    ``polylines`` is a list of (k, 2) arrays (closed implicitly, first point not
-    repeated).  Crossing rule: an edge going up across the point's horizontal line
-    with the point on its left counts +1, going down with the point on its right -1.
-    Vectorised over points x edges (in chunks of about ``chunk`` pairs).
-    """
-    pts = np.atleast_2d(np.asarray(points, float))
-    out = np.zeros(len(pts), int)
-    a, b = polyline_edges(polylines)
-    if not len(a) or len(pts) == 0:
-        return out
-    step = max(1, chunk // len(a))
-    for s in range(0, len(pts), step):
-        p = pts[s:s + step, None, :]
-        ay, by = a[None, :, 1], b[None, :, 1]
-        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
-                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
-        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0)
-        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0)
-        out[s:s + step] = up.sum(axis=1) - down.sum(axis=1)
-    return out
-
 
 def point_polyline_distance(points, polyline):
     """Distance from each of the (m, 2) points to a closed (k, 2) polyline, shape (m,).

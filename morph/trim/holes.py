@@ -13,7 +13,7 @@ import numpy as np
 import pyclipper
 
 from .. import piece as pc
-from ..polyline import unique
+from ..polyline import min_segment_distance, unique, winding_number
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -44,12 +44,12 @@ def _depth(x, ring, islands):
     """Distance from x to the polygons' edges; -1 when x is not inside ring or is
     inside an island."""
     x = np.asarray(x, float)[None]
-    if _crossings(x, ring)[0] % 2 == 0 or any(_crossings(x, i)[0] % 2 for i in islands):
+    if winding_number(x, [ring])[0] % 2 == 0 or any(winding_number(x, [i])[0] % 2 for i in islands):
         return -1.0
     polys = [ring] + list(islands)
     a = np.concatenate(polys)
     b = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
-    return float(_min_distance(x, a, b)[0])
+    return float(min_segment_distance(x, a, b)[0])
 
 
 def _search(ring, islands, grid_n, rounds):
@@ -65,12 +65,12 @@ def _search(ring, islands, grid_n, rounds):
         cand = center + np.stack(np.meshgrid(g, g), -1).reshape(-1, 2) * half
         if r == 0:  # a thin ring can slip between grid points: add its scanline spans
             cand = np.concatenate([cand, _span_midpoints(ring)])
-        inside = (_crossings(cand, ring) % 2 == 1)
+        inside = winding_number(cand, [ring]) % 2 == 1
         for isl in islands:
-            inside &= _crossings(cand, isl) % 2 == 0
+            inside &= winding_number(cand, [isl]) % 2 == 0
         if inside.any():
             cand = cand[inside]
-            d = _min_distance(cand, a, b)
+            d = min_segment_distance(cand, a, b)
             i = int(np.argmax(d))
             if d[i] > depth:
                 best, depth = cand[i], float(d[i])
@@ -100,31 +100,6 @@ def _span_midpoints(ring, lines=64):
     yy = np.broadcast_to(y[:, None], mid.shape)
     ok = np.isfinite(mid)
     return np.stack([mid[ok], yy[ok]], axis=1)
-
-
-def _crossings(points, poly):
-    """Signed count of polygon edges crossing the rightward ray from each point."""
-    a, b = poly, np.roll(poly, -1, axis=0)
-    px, py = points[:, None, 0], points[:, None, 1]
-    up = (a[None, :, 1] <= py) & (b[None, :, 1] > py)
-    down = (b[None, :, 1] <= py) & (a[None, :, 1] > py)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = a[None, :, 0] + (py - a[None, :, 1]) * (b[None, :, 0] - a[None, :, 0]) / (
-            b[None, :, 1] - a[None, :, 1])
-    return np.sum((up | down) & (x > px), axis=1)
-
-
-def _min_distance(points, a, b, chunk=1 << 22):
-    out = np.empty(len(points))
-    step = max(1, chunk // max(len(a), 1))
-    ab = b - a
-    ll = np.maximum(np.sum(ab * ab, axis=1), 1e-300)
-    for i in range(0, len(points), step):
-        x = points[i:i + step, None, :]
-        u = np.clip(np.sum((x - a) * ab, axis=2) / ll, 0.0, 1.0)
-        d = a + u[..., None] * ab - x
-        out[i:i + step] = np.sqrt(np.min(np.sum(d * d, axis=2), axis=1))
-    return out
 
 
 class Membership:

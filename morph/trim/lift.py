@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import unique
+from ..polyline import project, segment_distance, unique
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
@@ -38,7 +38,7 @@ def lift_rings(rings, tg, contract):
     nx[first + sizes - 1] = first
     seg, fwd = _edge_segments(v, v[nx], tg)
     a, b = tg.q[seg].astype(float), tg.q[tg.nxt[seg]].astype(float)
-    u_p, u_q = _project(v, a, b), _project(v[nx], a, b)
+    u_p, u_q = project(v, a, b), project(v[nx], a, b)
     t0, t1 = tg.t0[seg], tg.t1[seg]
     tp, tq = t0 + u_p * (t1 - t0), t0 + u_q * (t1 - t0)
     pid = tg.piece[seg]
@@ -290,20 +290,7 @@ def _fit(p, q, a, b):
     """Largest distance of p and q to segment ab, and whether p -> q runs along it."""
     ab = b - a
     fwd = np.sum((q - p) * ab, axis=-1) >= 0
-    return np.maximum(_dist(p, a, b), _dist(q, a, b)), fwd
-
-
-def _project(x, a, b):
-    ab = b - a
-    ll = np.maximum(np.sum(ab * ab, axis=-1), 1e-300)
-    return np.clip(np.sum((x - a) * ab, axis=-1) / ll, 0.0, 1.0)
-
-
-def _dist(x, a, b):
-    x, a, b = (np.asarray(z, float) for z in (x, a, b))
-    u = _project(x, a, b)
-    d = a + u[..., None] * (b - a) - x
-    return np.hypot(d[..., 0], d[..., 1])
+    return np.maximum(segment_distance(p, a, b), segment_distance(q, a, b)), fwd
 
 
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0):

@@ -15,7 +15,8 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from ..polyline import flatten_segments, segment_crossings, segment_pairs, unique
+from ..polyline import (flatten_segments, segment_crossings, segment_pairs, unique,
+                        winding_number)
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import newton_crossings
 
@@ -238,19 +239,10 @@ def _keep_lobe(lobe, rest, eps, hole_test=None):
         return False
     probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)
     poly = pc.flatten_loop(rest, eps / 10)
-    nested = _winding(probe[0], poly) != 0
+    nested = winding_number(probe[:1], [poly])[0] != 0
     if np.sign(a_lobe) == np.sign(a_rest):
         return not nested
     if not nested:
         return False
     return hole_test is None or not hole_test(pc.flatten_loop(lobe, eps / 10), [])
 
-
-def _winding(x, poly):
-    a, b = poly, np.roll(poly, -1, axis=0)
-    up = (a[:, 1] <= x[1]) & (b[:, 1] > x[1])
-    down = (b[:, 1] <= x[1]) & (a[:, 1] > x[1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cx = a[:, 0] + (x[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-    right = cx > x[0]
-    return int(np.sum(up & right) - np.sum(down & right))
