@@ -15,7 +15,8 @@ _PUBLIC = {
     "piece_to_quadratics": "export", "morph_frames": "frames", "minkowski_sum": "minkowski",
     "offset_region": "offset", "glyph_region": "parse", "load_shape": "parse",
     "svg_paths": "parse", "svg_region": "parse", "write_png": "render", "write_svg": "render",
-    "stroke_paths": "stroke", "fill_region": "trim",
+    "stroke_paths": "stroke", "fill_region": "trim", "loops_to_beziers": "export",
+    "ellipse_nib": "fonts.brush", "brush_font": "fonts.brush", "stroke_ufo": "fonts.stroke",
 }
 
 __all__ = sorted(_PUBLIC)
