@@ -396,16 +396,40 @@ def _moment_cubics(items, tol):
     Nothing here is a certificate: the caller certifies (:func:`_certify_many`).
     """
     n = len(items)
-    out = [None] * n
     if not n:
-        return out
+        return []
     starts = np.array([e[0] for _, _, e in items], float)
     ends = np.array([e[1] for _, _, e in items], float)
     chord = ends - starts
     chord2 = (chord * chord).sum(1)
     length = np.sqrt(chord2)
     acc = np.maximum(tol, np.minimum(0.5 * length, FIT_SLACK * tol))
-    # the parts' samples: 16 Gauss-Legendre nodes each, one evaluation for all
+    short = length <= acc
+    good = ~short & (chord2 > 0)
+    safe2 = np.where(good, chord2, 1.0)
+    sam = _range_samples(items, starts, chord, safe2)
+    ta, tm = _cubic_integrals(sam["t0"], sam["t1"])
+    cr, cd0, cd1 = _handle_candidates(sam["area"], sam["moment"], ta, tm, good)
+    t0, t1 = sam["t0"], sam["t1"]
+    ctrl = np.zeros((len(cr), 4, 2))
+    ctrl[:, 1] = cd0[:, None] * t0[cr]
+    ctrl[:, 2, 0] = 1.0 - cd1 * t1[cr, 0]
+    ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
+    ctrl[:, 3, 0] = 1.0
+    # sampled distance: rays along the samples' normals to the candidate cubic
+    err = _ray_distance(ctrl, cr, sam["q"], sam["dq"], sam["req"], sam["width"]) * length[cr]
+    scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
+    return _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts, ends, chord)
+
+
+def _range_samples(items, starts, chord, safe2):
+    """The ranges' samples for :func:`_moment_cubics`, in the chord frames: 16
+    Gauss-Legendre nodes on each part (one evaluation for all), their points ``q``
+    and derivatives ``dq`` (P, 16, 2) with the owning range ``req`` and the parts'
+    parameter ``width``; each range's ``area`` and ``moment`` (Gauss-Legendre sums)
+    and its unit end tangents ``t0``, ``t1`` (one-sided limits where the derivative
+    vanishes)."""
+    n = len(items)
     banks = items[0][0].banks
     req, deg, idx, lo, width, first, last = [], [], [], [], [], [], []
     for r, (chain, parts, _) in enumerate(items):
@@ -426,42 +450,54 @@ def _moment_cubics(items, tol):
     ends_at = np.concatenate([first, last])
     _, de = _bank_jet(banks, deg[ends_at], idx[ends_at],
                       np.concatenate([lo[first], lo[last] + width[last]]))
-    # end tangents (one-sided limits where the derivative vanishes)
     for j in np.nonzero(np.hypot(*de.T) <= np.array([c.tiny for c, _, _ in items] * 2))[0]:
         r, sign = j % n, (1.0 if j < n else -1.0)
         chain, parts, _ = items[r]
         k, a, b, _ = parts[0] if sign > 0 else parts[-1]
         de[j] = _limit_tangent(chain.pieces[k], a if sign > 0 else b, sign, chain.tiny)
-    short = length <= acc
-    good = ~short & (chord2 > 0)
-    safe2 = np.where(good, chord2, 1.0)
     q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
                safe2[req][:, None])                                # (P, m, 2)
     dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
     wgt = _GW[None] * width[:, None]
-    area = np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n)
-    moment = np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)
     t0 = _frame(de[:n], chord, safe2)
     t1 = _frame(de[n:], chord, safe2)
     t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
     t1 /= np.maximum(np.hypot(*t1.T), 1e-300)[:, None]
+    return {"q": q, "dq": dq, "req": req, "width": width, "t0": t0, "t1": t1,
+            "area": np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n),
+            "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
+
+
+def _cubic_integrals(t0, t1):
+    """Area and moment of the frame cubics K + d0 U + d1 V (end tangents t0, t1) as
+    polynomials in (d0, d1): ``ta`` (n, 2, 3) area terms d_b m_c and ``tm``
+    (n, 3, 2, 3) moment terms m_a d_b m_c, m = (1, d0, d1) (exact Bernstein
+    integrals :data:`_I2`, :data:`_I3`)."""
+    n = len(t0)
     c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
-    # the cubic's control points K + d0 U + d1 V in the frame; its area and moment
     zero, one = np.zeros(n), np.ones(n)
     xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
                    np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
     ys = np.stack([np.stack([zero, s0, zero, zero], 1),
                    np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
-    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, _I2)                 # area terms d_b m_c
-    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, _I3)       # moment m_a d_b m_c
-    g = _D0_GRID[None]
+    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, _I2)
+    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, _I3)
+    return ta, tm
+
+
+def _handle_candidates(area, moment, ta, tm, good):
+    """Candidate handle lengths (range, d0, d1) of :func:`_moment_cubics`: the roots
+    of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
+    falsi), its local minima that do not cross zero, and handles of a third where
+    nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
+    n = len(area)
 
     def resid(d0, d1, rows=slice(None)):
         mm = np.stack([np.ones_like(d0), d0, d1], -1)
         nn = np.stack([d0, d1], -1)
         return np.einsum("rga,rgb,rgc,rabc->rg", mm, nn, mm, tm[rows]) - moment[rows, None]
 
-    d0 = np.broadcast_to(g, (n, len(_D0_GRID)))
+    d0 = np.broadcast_to(_D0_GRID[None], (n, len(_D0_GRID)))
     d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)
     ok = np.isfinite(d1) & (d1 > 0)
     f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
@@ -504,16 +540,15 @@ def _moment_cubics(items, tol):
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
     cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
-    cr, cd0, cd1 = cr[fine], cd0[fine], cd1[fine]
-    ctrl = np.zeros((len(cr), 4, 2))
-    ctrl[:, 1] = cd0[:, None] * t0[cr]
-    ctrl[:, 2, 0] = 1.0 - cd1 * c1[cr]
-    ctrl[:, 2, 1] = cd1 * s1[cr]
-    ctrl[:, 3, 0] = 1.0
-    # sampled distance: rays along the samples' normals to the candidate cubic
-    err = _ray_distance(ctrl, cr, q, dq, req, width) * length[cr]
-    scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
-    score = err * scale
+    return cr[fine], cd0[fine], cd1[fine]
+
+
+def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
+    """Per range the candidate of least score below its acceptance distance, mapped
+    back from the chord frame (the straight cubic for a short chord), with its
+    sampled distance; None where none is accepted."""
+    n = len(starts)
+    out = [None] * n
     best = np.full(n, np.inf)
     pick = np.full(n, -1)
     for i in np.argsort(score, kind="stable"):
@@ -734,6 +769,22 @@ def _parts_many(requests):
     return [[tuple(p) for p in parts] for parts in out]
 
 
+def _join_feet(plans, skip):
+    """{range: parameters on its fitted cubic nearest to the joins of its parts}, for
+    the multi-part ranges not skipped, all at once (padded to one count)."""
+    multi = [r for r, (parts, cubic) in enumerate(plans)
+             if cubic is not None and len(parts) > 1 and not skip[r]]
+    if not multi:
+        return {}
+    n = max(len(plans[r][0]) - 1 for r in multi)
+    joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
+                      + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
+                      for r in multi])
+    s = pc.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
+                               joins, iters=6)
+    return {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
+
+
 def _fit_ranges(requests, tol):
     """Best certified cubics for many chain ranges at once: for each request
     ``(chain, t0, t1, (start, end))`` a result (cubic, bound, panels).
@@ -756,18 +807,7 @@ def _fit_ranges(requests, tol):
     # a cubic whose sampled distance already exceeds tol well is not certified: its
     # sampled distance is reported (the search only needs to know it fails)
     skip = [e > SCREEN * tol for e in sampled]
-    # the feet of the join points on their cubics, all at once (padded to one count)
-    multi = [r for r, (parts, cubic) in enumerate(plans)
-             if cubic is not None and len(parts) > 1 and not skip[r]]
-    feet = {}
-    if multi:
-        n = max(len(plans[r][0]) - 1 for r in multi)
-        joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
-                          + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
-                          for r in multi])
-        s = pc.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
-                                   joins, iters=6)
-        feet = {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
+    feet = _join_feet(plans, skip)
     subs, pieces, cut_list = [], [], []
     for r, (parts, cubic) in enumerate(plans):
         cuts = None
