@@ -1,0 +1,56 @@
+"""The stroke sum alone (``morph.stroke.stroke_paths``) per glyph of Relief SingleLine.
+
+    python -m bench.stroke_sum [--tol 0.5] [--profile cumulative|tottime]
+
+Relief A-Z, a-z, 0-9 (the full UFO from ../shared/data when present, else the subset
+in tests/data), the default broad nib of ``morph stroke`` (ellipse 90 x 20 at 30
+degrees), the geometry share of --tol (``morph.export.split_tolerance``): CPU ms per
+glyph of one pass after a warm-up pass, in-process.  The export and the font
+compilation are not included (``bench/export_profile.py``, ``bench/stroke.py``).
+"""
+
+import argparse
+import cProfile
+import pstats
+import time
+
+from bench.stroke import BROAD, nib_region
+from bench.sweep import relief_font
+from morph.export import split_tolerance
+from morph.parse.ufo import decomposed_paths
+from morph.stroke import stroke_paths
+
+NAMES = list("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") + [
+    "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine"]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tol", type=float, default=0.5)
+    ap.add_argument("--profile", choices=("cumulative", "tottime"))
+    opt = ap.parse_args(argv)
+    font, _ = relief_font()
+    have = {g.name for g in font}
+    names = [n for n in NAMES if n in have]
+    nib = nib_region(BROAD)
+    geometry, _ = split_tolerance(opt.tol)
+    paths = {n: decomposed_paths(font, n) for n in names}
+
+    def run():
+        for n in names:
+            stroke_paths(paths[n], nib, geometry)
+
+    run()
+    t = time.process_time()
+    run()
+    dt = time.process_time() - t
+    print("%d glyphs, %.1f ms/glyph CPU (stroke_paths at tol %g)"
+          % (len(names), dt / len(names) * 1e3, geometry))
+    if opt.profile:
+        prof = cProfile.Profile()
+        prof.runcall(run)
+        pstats.Stats(prof).sort_stats(opt.profile).print_stats(30)
+
+
+if __name__ == "__main__":
+    main()
