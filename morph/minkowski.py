@@ -8,7 +8,7 @@ import numpy as np
 from . import gauss
 from . import piece as pc
 from .convolve import chain, convolution, gauss_pair_of, with_pair_table
-from .errors import TopologyError
+from .errors import ToleranceNotMetError, TopologyError
 from .limits import check_tolerance
 from .polyline import unique
 from .trim import boundary
@@ -48,7 +48,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     e / cos(phi / 2) from the exact corner: the pairs through such corners are
     approximated again until e / cos(phi / 2) <= 0.75 tol (up to TIP_ROUNDS
     rounds; cos(phi / 2) counted as at least TIP_FLOOR, i.e. turns up to
-    179.9 degrees), so the budget holds there too.  Normals are exact on QAC
+    179.9 degrees; a pair that cannot be subdivided that far keeps the previous
+    round's pieces), so the budget holds there too.  Normals are exact on QAC
     pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError
     (a ValueError) for a tolerance the operands cannot support
     (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
@@ -72,8 +73,11 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
             break
         rows = np.array(sorted(finer))
         row_tol[rows] = [finer[r] for r in rows]
-        again = convolution(region_a, region_b, row_tol, keep_type3=True, method=method,
-                            gauss_pair=gauss_pair, rows=rows)
+        try:
+            again = convolution(region_a, region_b, row_tol, keep_type3=True, method=method,
+                                gauss_pair=gauss_pair, rows=rows)
+        except ToleranceNotMetError:
+            break  # a pair that cannot be refined that far: the corner keeps its error
         conv = [c for c in conv if c.row not in finer] + again
     if return_debug:
         return out, {"convolution": conv, "loops": loops, "holes": member.log}

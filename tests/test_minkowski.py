@@ -484,3 +484,30 @@ if __name__ == "__main__":
         ref = _reference_sum(a, b, 0.05)
         n_outer, n_holes = R.count_outer_and_holes(ref, 1.0)
         print("    (%r, %r): (%r, %d, %d)," % (a, b, float(ref.area), n_outer, n_holes))
+
+
+def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch):
+    # the refinement round's convolution gives up (ToleranceNotMetError): the sum
+    # is the first round's, not an error
+    from morph.errors import ToleranceNotMetError
+
+    ra, rb = _region("e"), _region("s")
+    monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
+    first = minkowski.minkowski_sum(ra, rb, TOL)
+    monkeypatch.setattr(minkowski, "TIP_ROUNDS", 3)
+    real = minkowski.convolution
+    calls = []
+
+    def refusing(*args, rows=None, **kwargs):
+        if rows is not None:
+            calls.append(len(rows))
+            raise ToleranceNotMetError("cannot refine", piece=None, achieved=1.0)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(minkowski, "convolution", refusing)
+    out = minkowski.minkowski_sum(ra, rb, TOL)
+    assert calls, "e + s needs a corner pass (see the test above)"
+    assert len(out) == len(first)
+    for la, lb in zip(out, first):
+        assert len(la) == len(lb)
+        assert all(np.array_equal(p, q) for p, q in zip(la, lb))
