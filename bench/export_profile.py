@@ -46,10 +46,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")    # as the CLI does, before numpy
 
-import numpy as np  # noqa: E402
+import numpy as np  # noqa: E402 - after OPENBLAS_NUM_THREADS is set, before numpy loads
 
-from morph import bernstein as bz  # noqa: E402
-from morph import piece as pc  # noqa: E402
+from morph import bernstein as bz  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 
 RELIEF = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 CASES = ("stroke", "brush", "sumOM", "Odisk", "Oellipse")

@@ -44,9 +44,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from morph import piece as pc  # noqa: E402
-from morph.errors import ToleranceNotMetError  # noqa: E402
-from morph.export import chain_segments, cubic_segments  # noqa: E402
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.errors import ToleranceNotMetError  # noqa: E402 - after sys.path gets the repo root
+from morph.export import chain_segments, cubic_segments  # noqa: E402 - after sys.path gets the repo root
 
 
 def _oracles():

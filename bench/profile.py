@@ -29,12 +29,12 @@ from pathlib import Path
 # its own directory off the path first
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
-import argparse  # noqa: E402
-import cProfile  # noqa: E402
-import io  # noqa: E402
-import os  # noqa: E402
-import pstats  # noqa: E402
-import time  # noqa: E402
+import argparse  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
+import cProfile  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
+import io  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
+import os  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
+import pstats  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
+import time  # noqa: E402 - after this folder leaves sys.path (cProfile imports profile)
 
 import numpy as np
 
@@ -42,9 +42,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import morph  # noqa: E402 - after sys.path gets the repo root
-from morph import convolve  # noqa: E402
-from morph import piece as pc  # noqa: E402
-from morph.minkowski import CONV_SHARE  # noqa: E402
+from morph import convolve  # noqa: E402 - after sys.path gets the repo root
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.minkowski import CONV_SHARE  # noqa: E402 - after sys.path gets the repo root
 
 
 def circles(n, spacing=4.0, radius=1.0):

@@ -48,17 +48,17 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import numpy as np  # noqa: E402
-import shapely  # noqa: E402
-import shapely.affinity  # noqa: E402
+import numpy as np  # noqa: E402 - after sys.path gets the repo root
+import shapely  # noqa: E402 - after sys.path gets the repo root
+import shapely.affinity  # noqa: E402 - after sys.path gets the repo root
 
-from morph import piece as pc  # noqa: E402
-from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # noqa: E402
-from morph.parse import glyph_region  # noqa: E402
-from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402
-from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402
-from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402
-from tests.stroke_reference import stroke_polygon  # noqa: E402
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # noqa: E402 - after sys.path gets the repo root
+from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
+from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
+from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
+from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 ROUNDING = 0.71

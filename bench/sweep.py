@@ -86,17 +86,17 @@ import os
 for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")  # the machine is shared; forked jobs stay one thread
 
-import argparse  # noqa: E402
-import importlib  # noqa: E402
-import math  # noqa: E402
-import string  # noqa: E402
-import sys  # noqa: E402
-import time  # noqa: E402
-import traceback  # noqa: E402
-from functools import lru_cache  # noqa: E402
-from pathlib import Path  # noqa: E402
+import argparse  # noqa: E402 - after the BLAS thread counts are set
+import importlib  # noqa: E402 - after the BLAS thread counts are set
+import math  # noqa: E402 - after the BLAS thread counts are set
+import string  # noqa: E402 - after the BLAS thread counts are set
+import sys  # noqa: E402 - after the BLAS thread counts are set
+import time  # noqa: E402 - after the BLAS thread counts are set
+import traceback  # noqa: E402 - after the BLAS thread counts are set
+from functools import lru_cache  # noqa: E402 - after the BLAS thread counts are set
+from pathlib import Path  # noqa: E402 - after the BLAS thread counts are set
 
-import numpy as np  # noqa: E402
+import numpy as np  # noqa: E402 - after the BLAS thread counts are set
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))

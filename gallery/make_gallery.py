@@ -29,11 +29,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from morph import piece as pc  # noqa: E402
-from morph.frames import centered, morph_frames  # noqa: E402
-from morph.parse import glyph_region, svg_region  # noqa: E402
-from morph.region import region_bbox, translate_region  # noqa: E402
-from morph.minkowski import minkowski_sum  # noqa: E402
+from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.frames import centered, morph_frames  # noqa: E402 - after sys.path gets the repo root
+from morph.parse import glyph_region, svg_region  # noqa: E402 - after sys.path gets the repo root
+from morph.region import region_bbox, translate_region  # noqa: E402 - after sys.path gets the repo root
+from morph.minkowski import minkowski_sum  # noqa: E402 - after sys.path gets the repo root
 
 DATA = HERE.parent / "morph" / "data"
 BLUE, ORANGE, GREY, RED = "#1f5fa8", "#f2c894", "#404040", "#d62728"

@@ -7,15 +7,21 @@ A-Z, a-z of both bundled fonts are checked the same way by ``python -m bench.bru
 from pathlib import Path
 
 import numpy as np
+import ots
 import pytest
+import uharfbuzz as hb
 from click.testing import CliRunner
 from fontTools.pens.areaPen import AreaPen
+from fontTools.pens.recordingPen import DecomposingRecordingPen
 from fontTools.ttLib import TTFont
 from PIL import Image, ImageDraw, ImageFont
 
 from morph import piece as pc
 from morph.cli import main
-from morph.errors import MorphError
+from morph.errors import MorphError, TopologyError
+from morph.fonts import jobs as jobs_mod
+from morph.fonts.tables import outline_glyphs
+from tests.fontfixtures import WIDE, bounds, build_mark_font, build_variable_font
 from morph.fonts.brush import (brush_font, check_convex_nib, composite_plan, ellipse_nib,
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region
@@ -211,14 +217,6 @@ def test_cli_brush_composites(tmp_path):
 
 # =========================================================================== issue 16
 
-import ots  # noqa: E402 - the issue-16 tests below
-import uharfbuzz as hb  # noqa: E402
-from fontTools.pens.recordingPen import DecomposingRecordingPen  # noqa: E402
-
-from morph.errors import TopologyError  # noqa: E402
-from morph.fonts import jobs as jobs_mod  # noqa: E402
-from morph.fonts.tables import outline_glyphs  # noqa: E402
-from tests.fontfixtures import WIDE, bounds, build_mark_font, build_variable_font  # noqa: E402
 
 
 def assert_ots(path):

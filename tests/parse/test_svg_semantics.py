@@ -19,7 +19,7 @@ from morph.parse import svg_elements, svg_paths, svg_region
 from morph.region import point_in_region
 
 cairosvg = pytest.importorskip("cairosvg")
-from PIL import Image  # noqa: E402
+from PIL import Image  # noqa: E402 - only when cairosvg (the reference renderer) is installed
 
 NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
 N = 100  # pixels per side; documents use a 0..100 user space with width=height=100
