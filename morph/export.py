@@ -823,32 +823,42 @@ def _fit_ranges(requests, tol):
     res = _certify_many(subs, np.concatenate(pieces), tol) if subs else []
     out, i = [], 0
     for r, ((parts, cubic), cuts) in enumerate(zip(plans, cut_list)):
-        cands = []
-        if cubic is not None:
-            bound, panels = (sampled[r] if skip[r] else np.inf), []
-            if cuts is not None:
-                mine, i = res[i:i + len(parts)], i + len(parts)
-                bound = max(b for b, _ in mine)
-                for j, (_, pj) in enumerate(mine):
-                    s0, s1 = cuts[j], cuts[j + 1]
-                    panels += [(s0 + a * (s1 - s0), s0 + b * (s1 - s0), (j, f))
-                               for a, b, f in pj]
-            cands.append((cubic, bound, panels))
-        if len(parts) == 1 and (not cands or cands[0][1] > tol):
-            sub, ends = parts[0][3], requests[r][3]
-            c, bound = fit_cubic(sub)
-            c[0], c[-1] = ends
-            if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
-                bound = _same_param_bound(sub, c)
-            cands.append((c, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
-        if not cands:
-            out.append((None, np.inf, None))
-            continue
-        cubic, bound, panels = min(cands, key=lambda c: c[1])
-        out.append((cubic, bound, tuple(
-            (a, b, parts[j][0] + parts[j][1] + (parts[j][2] - parts[j][1]) * f)
-            for a, b, (j, f) in panels)))
+        mine = []
+        if cubic is not None and cuts is not None:
+            mine, i = res[i:i + len(parts)], i + len(parts)
+        fallback = sampled[r] if skip[r] else np.inf
+        out.append(_chosen_fit(parts, cubic, cuts, mine, fallback, requests[r][3], tol))
     return out
+
+
+def _chosen_fit(parts, cubic, cuts, certified, fallback, ends, tol):
+    """One range's result (cubic, bound, panels) of :func:`_fit_ranges`: the moment
+    fit with the worst bound of its certified parts (``fallback`` when it was not
+    certified), and for a single piece that fails tol also the same-parameter fit
+    of :func:`fit_cubic`; the smaller bound wins.  Panels map back to chain
+    parameters T."""
+    cands = []
+    if cubic is not None:
+        bound, panels = fallback, []
+        if cuts is not None:
+            bound = max(b for b, _ in certified)
+            for j, (_, pj) in enumerate(certified):
+                s0, s1 = cuts[j], cuts[j + 1]
+                panels += [(s0 + a * (s1 - s0), s0 + b * (s1 - s0), (j, f)) for a, b, f in pj]
+        cands.append((cubic, bound, panels))
+    if len(parts) == 1 and (not cands or cands[0][1] > tol):
+        sub = parts[0][3]
+        c, bound = fit_cubic(sub)
+        c[0], c[-1] = ends
+        if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
+            bound = _same_param_bound(sub, c)
+        cands.append((c, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
+    if not cands:
+        return (None, np.inf, None)
+    cubic, bound, panels = min(cands, key=lambda c: c[1])
+    return (cubic, bound, tuple(
+        (a, b, parts[j][0] + parts[j][1] + (parts[j][2] - parts[j][1]) * f)
+        for a, b, (j, f) in panels))
 
 
 def _drive(searches, tol):
@@ -1036,6 +1046,31 @@ def _split_at(chain, cuts, tol):
 ACCEPT = 0.8
 
 
+def _next_try(t0, w, bound, last, good, bad, top, tol):
+    """The next end to try after a fit of width w with ``bound`` (``last``: the
+    previous (width, bound); ``good``: the longest certified fit; ``bad``: the
+    shortest failed end), or None when the bracket is tight enough.  The model is
+    bound ~ width^p with p from the last two fits (2 <= p <= 8, 5 without them),
+    aimed at 0.9 tol, the step kept within 1/8 to 4 times the width and inside
+    the bracket (bisecting it otherwise)."""
+    p = 5.0
+    if (last is not None and abs(last[0] - w) > 0.01 * w and last[1] > 0 and bound > 0
+            and math.isfinite(bound) and math.isfinite(last[1])):
+        p = min(8.0, max(2.0, math.log(bound / last[1]) / math.log(w / last[0])))
+    if not math.isfinite(bound):
+        ratio = 0.5
+    else:
+        ratio = (0.9 * tol / bound) ** (1.0 / p) if bound > 0 else 4.0
+    target = min(top, t0 + w * min(4.0, max(0.125, ratio)))
+    lo = good[0] if good is not None else t0
+    hi = bad if bad is not None else top
+    if bad is not None and not lo < target < hi:
+        target = 0.5 * (lo + hi)
+    if good is not None and (target <= lo or (bad is not None and hi - lo <= 0.02 * (lo - t0))):
+        return None
+    return target
+
+
 def _next_segment(chain, t0, start, width, tol, min_width):
     """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
     reparam, end point); a generator step of :func:`_search`.  The first try spans
@@ -1062,25 +1097,9 @@ def _next_segment(chain, t0, start, width, tol, min_width):
                 break
         else:
             bad = t1 if bad is None else min(bad, t1)
-        p = 5.0
-        if (last is not None and abs(last[0] - w) > 0.01 * w and last[1] > 0 and bound > 0
-                and math.isfinite(bound) and math.isfinite(last[1])):
-            p = math.log(bound / last[1]) / math.log(w / last[0])
-            p = min(8.0, max(2.0, p))
+        target = _next_try(t0, w, bound, last, good, bad, top, tol)
         last = (w, bound)
-        if not math.isfinite(bound):
-            ratio = 0.5
-        else:
-            ratio = (0.9 * tol / bound) ** (1.0 / p) if bound > 0 else 4.0
-        target = min(top, t0 + w * min(4.0, max(0.125, ratio)))
-        lo = good[0] if good is not None else t0
-        hi = bad if bad is not None else top
-        if bad is not None and not lo < target < hi:
-            target = 0.5 * (lo + hi)
-        if good is not None and (target <= lo or (bad is not None and
-                                                  hi - lo <= 0.02 * (lo - t0))):
-            break
-        if target - t0 < min_width:
+        if target is None or target - t0 < min_width:
             break
         t1 = target
     while good is None:
