@@ -263,7 +263,7 @@ def _edges(curves, angle_tol):
     """The edges of a loop of monotone curves (:func:`gauss_map`)."""
     if not curves:
         raise DegenerateCurveError("loop has no curve of nonzero length", None)
-    first, last = end_directions(curves)
+    first, last = pc.end_tangents_many(curves)
     a0 = np.arctan2(first[:, 1], first[:, 0])
     sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
@@ -281,37 +281,6 @@ def _edges(curves, angle_tol):
             edges.append(Edge("vertex", None, pc.end(c), theta, turns[i]))
             theta = theta + turns[i]
     return edges
-
-
-def end_directions(pieces, rel=1e-12, strict=True):
-    """Unit tangents at t = 0 and t = 1 of each piece, (k, 2) each: along the first
-    and the last control-point difference longer than ``rel`` times the piece's
-    size (the limit direction where the hodograph vanishes; as
-    :func:`morph.piece.end_tangents`), pieces of one degree at once.  A piece whose
-    control points all coincide raises DegenerateCurveError (``strict``) or gets
-    zero vectors."""
-    first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault(len(p), []).append(k)
-    for ks in groups.values():
-        h = np.array([pieces[k] for k in ks], float)
-        x = h[..., :2] / h[..., 2:]
-        d = np.diff(x, axis=1)
-        n = np.hypot(d[..., 0], d[..., 1])
-        size = np.ptp(x, axis=1).max(axis=1)
-        ok = n > rel * size[:, None]
-        dead = ~ok.any(axis=1) | (size <= 1e-300)
-        if strict and dead.any():
-            raise DegenerateCurveError("zero-length curve piece", h[np.argmax(dead)])
-        i0 = np.argmax(ok, axis=1)
-        i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
-        r = np.arange(len(ks))
-        norm = np.where(dead, 1.0, 1.0 / np.where(dead, 1.0, n[r, i0]))
-        first[ks] = np.where(dead[:, None], 0.0, d[r, i0] * norm[:, None])
-        norm = np.where(dead, 1.0, 1.0 / np.where(dead, 1.0, n[r, i1]))
-        last[ks] = np.where(dead[:, None], 0.0, d[r, i1] * norm[:, None])
-    return first, last
 
 
 CUSP_ANGLE = 1e-9  # a turn within this of pi is a cusp (radians)

@@ -5,7 +5,6 @@
 
 import numpy as np
 
-from . import gauss
 from . import piece as pc
 from .convolve import chain, convolution, gauss_pair_of, with_pair_table
 from .errors import ToleranceNotMetError, TopologyError
@@ -136,7 +135,7 @@ def _corners(out):
     pieces = [p for loop in out for p in loop]
     nxt = np.concatenate([np.roll(np.arange(len(loop)), -1) for loop in out])
     nxt += np.repeat(np.cumsum([0] + [len(loop) for loop in out[:-1]]), [len(l) for l in out])
-    first, last = gauss.end_directions(pieces, strict=False)
+    first, last = pc.end_tangents_many(pieces, strict=False)
     dot = np.einsum("ij,ij->i", last, first[nxt])
     pts = np.array([pc.end(p) for p in pieces])
     return pts, np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))

@@ -539,25 +539,41 @@ def tangent_angle(piece, t):
 
 
 def end_tangents(piece, eps=1e-12):
-    """Unit tangent directions at t=0 and t=1, robust where the hodograph vanishes.
-
-    Where the first derivative is zero (repeated control point) the first nonzero
-    control-point difference gives the direction, as for the limit t -> 0.
-    Raises DegenerateCurveError when all control points coincide.
-    """
-    p = cartesian(piece)
-    size = max(np.ptp(p[:, 0]), np.ptp(p[:, 1]), 1e-300)
-    d = np.diff(p, axis=0)
-    norms = np.hypot(d[:, 0], d[:, 1])
-    nz = np.nonzero(norms > eps * size)[0]   # relative: tiny sub-pieces are fine
-    if nz.size == 0 or size <= 1e-300:
-        raise DegenerateCurveError("zero-length curve piece", piece)
-    t0 = d[nz[0]] / norms[nz[0]]
-    t1 = d[nz[-1]] / norms[nz[-1]]
-    return t0, t1
+    """Unit tangent directions at t=0 and t=1, robust where the hodograph vanishes:
+    :func:`end_tangents_many` of one piece.  Raises DegenerateCurveError when all
+    control points coincide."""
+    first, last = end_tangents_many([piece], eps)
+    return first[0], last[0]
 
 
-# ------------------------------------------------------------------ loops, areas
+def end_tangents_many(pieces, rel=1e-12, strict=True):
+    """Unit tangents at t = 0 and t = 1 of each piece, (k, 2) each: along the first
+    and the last control-point difference longer than ``rel`` times the piece's
+    size (the limit direction where the hodograph vanishes), pieces of one degree
+    at once.  A piece whose control points all coincide raises
+    DegenerateCurveError (``strict``) or gets zero vectors."""
+    first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault(len(p), []).append(k)
+    for ks in groups.values():
+        h = np.array([pieces[k] for k in ks], float)
+        x = h[..., :2] / h[..., 2:]
+        d = np.diff(x, axis=1)
+        n = np.hypot(d[..., 0], d[..., 1])
+        size = np.ptp(x, axis=1).max(axis=1)
+        ok = n > rel * size[:, None]
+        dead = ~ok.any(axis=1) | (size <= 1e-300)
+        if strict and dead.any():
+            raise DegenerateCurveError("zero-length curve piece", h[np.argmax(dead)])
+        i0 = np.argmax(ok, axis=1)
+        i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
+        r = np.arange(len(ks))
+        for out, i in ((first, i0), (last, i1)):
+            length = np.where(dead, 1.0, n[r, i])
+            out[ks] = np.where(dead[:, None], 0.0, d[r, i] / length[:, None])
+    return first, last
+
 
 def loop_area(pieces, quad_points=24):
     """Signed area of a closed loop of pieces (Green: 1/2 ∮ x dy - y dx).
