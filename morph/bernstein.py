@@ -442,7 +442,7 @@ def _reduction_matrix(n, r):
 
 # ------------------------------------------------------ composition, ratio certificate
 
-def compose_many(c, r):
+def compose_many(c, r, d=None):
     """Bernstein coefficients of c_k(r_k(s)) for a stack c (k, n+1, ...) and
     polynomials r (k, m+1) (Bernstein coefficients, values in [0, 1]): (k, n m + 1, ...).
 
@@ -450,14 +450,17 @@ def compose_many(c, r):
     ``1 - r_j`` and the powers are Bernstein products (:func:`multiply_many`), so
     ``c(r(s)) = sum_i c_i C(n, i) r^i (1 - r)^(n - i)`` is exact (no fitting).  Used
     on homogeneous control points, a rational curve composes as is; with r's
-    coefficients in [0, 1] positive weights stay positive.
+    coefficients in [0, 1] positive weights stay positive.  With ``d`` (k, m+1),
+    positive with d >= r: the rational function r / d instead, on homogeneous
+    control points (``sum_i c_i C(n, i) r^i (d - r)^(n - i)``, the common factor
+    d^n dropped: the same rational curve).
     """
     c = np.asarray(c, float)
     r = np.asarray(r, float)
     k, n = c.shape[0], c.shape[1] - 1
     if n == 0:
         return c.copy()
-    u = 1.0 - r
+    u = 1.0 - r if d is None else np.asarray(d, float) - r
     pr, pu = [None, r], [None, u]
     for _ in range(2, n + 1):
         pr.append(multiply_many(pr[-1], r))

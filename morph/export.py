@@ -145,8 +145,9 @@ def export_tolerance(tol, geometry_bound):
 #: One certified cubic of a piece or chain: ``cubic`` (4, 2) approximates it on
 #: [t0, t1] with ``max_s |R(phi(s)) - C(s)| <= bound`` for the continuous increasing
 #: phi: [0, 1] -> [t0, t1] given by ``reparam``, a tuple of panels ``(s0, s1,
-#: coefficients)`` (phi on [s0, s1] is the polynomial with these Bernstein
-#: coefficients in (s - s0) / (s1 - s0)); see :func:`cubic_bound`.
+#: coefficients)`` (phi on [s0, s1] is the rational Bézier function of (s - s0) /
+#: (s1 - s0) with these (m+1, 2) [numerator, weight] coefficients: a polynomial
+#: composed with a Möbius map, see :func:`_reparams`); see :func:`cubic_bound`.
 CubicFit = namedtuple("CubicFit", "t0 t1 cubic bound reparam")
 
 
@@ -168,24 +169,54 @@ def _check(piece):
 REFINE = 3
 
 
-def _normalized_reparam(phi, t0, t1):
-    """phi on [t0, t1] as increasing coefficients on [0, 1] (checked)."""
+def homogeneous_reparam(phi):
+    """A reparametrisation's coefficients as an (m+1, 2) array [numerator, weight]:
+    (m+1,) Bernstein coefficients of a polynomial get weights 1; an (m+1, 2) array
+    (a rational Bézier function, value numerator / weight) is checked and returned."""
     phi = np.asarray(phi, float)
-    u = (phi - t0) / (t1 - t0)
+    if phi.ndim == 1:
+        return np.stack([phi, np.ones_like(phi)], axis=1)
+    if phi.ndim != 2 or phi.shape[1] != 2 or not np.all(phi[:, 1] > 0):
+        raise ValueError("a reparametrisation is (m+1,) Bernstein coefficients or (m+1, 2) "
+                         "[numerator, weight] with positive weights")
+    return phi
+
+
+def _affine(h, a, b):
+    """Homogeneous reparametrisation coefficients of a + b phi (h those of phi)."""
+    out = h.copy()
+    out[:, 0] = a * h[:, 1] + b * h[:, 0]
+    return out
+
+
+def _normalized_reparam(phi, t0, t1):
+    """phi on [t0, t1] as increasing homogeneous coefficients on [0, 1] (checked).
+
+    A rational Bézier function with positive weights and increasing values
+    numerator_i / weight_i is increasing (its derivative's numerator has
+    non-negative Bernstein coefficients)."""
+    h = _affine(homogeneous_reparam(phi), -t0 / (t1 - t0), 1.0 / (t1 - t0))
+    u = h[:, 0] / h[:, 1]
     if abs(u[0]) > 1e-12 or abs(u[-1] - 1.0) > 1e-12 or np.any(np.diff(u) <= 0):
         raise ValueError("a reparametrisation needs increasing Bernstein coefficients")
-    u[0], u[-1] = 0.0, 1.0
-    return np.clip(u, 0.0, 1.0)
+    h[0, 0], h[-1, 0] = 0.0, h[-1, 1]
+    h[:, 0] = np.clip(h[:, 0], 0.0, h[:, 1])
+    return h
+
+
+def _value(h, i):
+    return float(h[i, 0] / h[i, 1])
 
 
 def _panels(reparam):
-    """A reparam argument as a list of (s0, s1, phi) panels (checked contiguous)."""
+    """A reparam argument as a list of (s0, s1, homogeneous phi) panels (checked
+    contiguous: values at the panels' joins equal to 1e-12)."""
     if isinstance(reparam, np.ndarray) or (len(reparam) and np.isscalar(reparam[0])):
-        return [(0.0, 1.0, np.asarray(reparam, float))]
-    panels = [(float(a), float(b), np.asarray(f, float)) for a, b, f in reparam]
-    ok = panels[0][0] == 0.0 and panels[-1][1] == 1.0 and all(
-        p[1] == q[0] and p[2][-1] == q[2][0] and p[0] < p[1]
-        for p, q in zip(panels, panels[1:] + [(1.0, 2.0, panels[-1][2][-1:])]))
+        return [(0.0, 1.0, homogeneous_reparam(reparam))]
+    panels = [(float(a), float(b), homogeneous_reparam(f)) for a, b, f in reparam]
+    ok = panels[0][0] == 0.0 and panels[-1][0] < panels[-1][1] == 1.0 and all(
+        p[0] < p[1] and p[1] == q[0] and abs(_value(p[2], -1) - _value(q[2], 0)) <= 1e-12
+        for p, q in zip(panels, panels[1:]))
     if not ok:
         raise ValueError("reparam panels must cover [0, 1] and join continuously")
     return panels
@@ -203,10 +234,12 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
     Without ``reparam``: ``max_{t in [0,1]} |R(t) - C(t)|`` (same parameter).  With
     ``reparam``: ``max_{s in [0,1]} |R(phi(s)) - C(s)|`` for the continuous increasing
     phi it describes, which bounds the Fréchet and Hausdorff distances between C
-    and R on [phi(0), phi(1)].  ``reparam`` is either the Bernstein coefficients of
-    one increasing polynomial phi (values in [0, 1]) or, as in :class:`CubicFit`, a
-    sequence of panels ``(s0, s1, coefficients)``: phi on [s0, s1] is the polynomial
-    in (s - s0) / (s1 - s0).  ``cubic`` is a (4, 2) array of Cartesian control
+    and R on [phi(0), phi(1)].  ``reparam`` is either the coefficients of one
+    increasing phi (values in [0, 1]) or, as in :class:`CubicFit`, a sequence of
+    panels ``(s0, s1, coefficients)``: phi on [s0, s1] is the function of (s - s0)
+    / (s1 - s0) with these coefficients, (m+1,) Bernstein coefficients of a
+    polynomial or (m+1, 2) [numerator, weight] of a rational Bézier function
+    (:func:`homogeneous_reparam`).  ``cubic`` is a (4, 2) array of Cartesian control
     points.  On each panel R o phi is composed exactly
     (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
     :func:`morph.piece.distance_bound_many` applied on 2^refine panels (never below
@@ -221,11 +254,12 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
         return _same_param_bound(piece, cubic, refine)
     worst = 0.0
     for s0, s1, phi in _panels(reparam):
-        t0, t1 = float(phi[0]), float(phi[-1])
+        t0, t1 = _value(phi, 0), _value(phi, -1)
         if not 0.0 <= t0 < t1 <= 1.0:
             raise ValueError("reparam must map [0, 1] into [0, 1] increasingly")
         sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
-        comp = bz.compose(sub, _normalized_reparam(phi, t0, t1))
+        h = _normalized_reparam(phi, t0, t1)
+        comp = bz.compose_many(sub[None], h[None, :, 0], h[None, :, 1])[0]
         c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
         worst = max(worst, _same_param_bound(comp, c, refine))
     return worst
@@ -651,19 +685,40 @@ _NODE_BASIS = bz.basis(3, _NODES)
 #: feet within PHI_SHARE * tol).
 PHI_DEGREES = (3, 5, 7, 9)
 PHI_SHARE = 0.2
+#: Largest |log c| of the Möbius factor of :func:`_reparams`.
+MOEBIUS_LOG = 5.0
 #: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
 #: within about tol of the piece: a coarse start is in Newton's basin).
 REPARAM_SAMPLES = 33
 
 
+def _moebius(u):
+    """Per row the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) of [0, 1]
+    closest to the feet u (k, 24) at the nodes: the median over the nodes of
+    log(u (1 - s) / (s (1 - u))), c = 1 where it is within 5 % of 1 (or undefined)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logs = np.log(u * (1.0 - _NODES) / (_NODES * (1.0 - u)))
+    fine = np.isfinite(logs)
+    logs = np.sort(np.where(fine, logs, np.inf), axis=1)         # undefined ones last
+    count = fine.sum(axis=1)
+    mid = np.where(count > 0, logs[np.arange(len(logs)), np.maximum(count - 1, 0) // 2], 0.0)
+    mid = np.clip(mid, -MOEBIUS_LOG, MOEBIUS_LOG)
+    return np.where(np.abs(mid) > 0.05, np.exp(mid), 1.0)
+
+
 def _reparams(subs, cubics, tol):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
-    Returns ``(phis, normal)``: for each (sub-piece, cubic) pair phi's increasing
-    Bernstein coefficients, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    Returns ``(phis, c, normal)``: for each (sub-piece, cubic) pair phi's increasing
+    Bernstein coefficients of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
-    PHI_SHARE * tol (else the best increasing one), and the largest foot distance
-    |R(u_j) - C(s_j)| (what no reparametrisation can beat).  The feet u_j of all
+    PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
+    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).  Where no
+    polynomial follows the feet that closely (a rational piece whose speed varies by
+    30x along it: QAC pieces of a stroke), phi is fitted again in the parameter v
+    of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
+    homogeneous control points R o mu is R with w_i scaled by c^i, the same curve)
+    and kept if it follows better; elsewhere c = 1.  The feet u_j of all
     pairs come from one batched search (:func:`morph.piece.nearest_params_many`),
     phi from one least-squares solve per degree (:func:`morph.bernstein.
     fit_fixed_ends`, ends fixed at 0 and 1).
@@ -676,20 +731,40 @@ def _reparams(subs, cubics, tol):
                                else pc.jet2_many)(stack, u[rows])
     speed = np.hypot(d[..., 0], d[..., 1])
     normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
-    miss = (np.abs(_NODES - u) * speed).max(axis=1)
-    phis = [np.array([0.0, 1.0])] * len(subs)
+    c = np.ones(len(subs))
+    phis, miss = _phi_fits(u, speed, tol)
+    retry = np.nonzero(miss > PHI_SHARE * tol)[0]
+    cm = _moebius(u[retry])
+    retry, cm = retry[cm != 1.0], cm[cm != 1.0]
+    if len(retry):
+        v = u[retry] / (cm[:, None] - (cm[:, None] - 1.0) * u[retry])     # mu^-1(u)
+        dv = speed[retry] * cm[:, None] / ((cm[:, None] - 1.0) * v + 1.0) ** 2
+        again, miss2 = _phi_fits(v, dv, tol)
+        for j in np.nonzero(miss2 < miss[retry])[0]:
+            i = retry[j]
+            phis[i], c[i], miss[i] = again[j], cm[j], miss2[j]
+    return phis, c, normal
+
+
+def _phi_fits(v, speed, tol):
+    """Per row the increasing Bernstein coefficients of phi fitted to the feet v
+    (k, 24) at the nodes, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    mismatch |phi(s_j) - v_j| speed_j is below PHI_SHARE * tol (else the increasing
+    one of least mismatch), and that mismatch: (list of arrays, (k,))."""
+    miss = (np.abs(_NODES - v) * speed).max(axis=1)
+    phis = [np.array([0.0, 1.0])] * len(v)
     todo = miss > PHI_SHARE * tol
     for m in PHI_DEGREES:
         rows = np.nonzero(todo)[0]
         if not len(rows):
             break
-        phi = bz.fit_fixed_ends(_NODES, u[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
+        phi = bz.fit_fixed_ends(_NODES, v[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
-        err = (np.abs(phi @ bz.basis(m, _NODES).T - u[rows]) * speed[rows]).max(axis=1)
+        err = (np.abs(phi @ bz.basis(m, _NODES).T - v[rows]) * speed[rows]).max(axis=1)
         for j in np.nonzero(mono & (err < miss[rows]))[0]:
             phis[rows[j]], miss[rows[j]] = phi[j], err[j]
         todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
-    return phis, normal
+    return phis, miss
 
 
 def _certify_many(subs, cubics, tol, depth=3):
@@ -697,31 +772,34 @@ def _certify_many(subs, cubics, tol, depth=3):
     (bound, panels), one per pair.
 
     ``panels`` is a list of ``(s0, s1, phi)``: on s in [s0, s1] the reparametrisation
-    is the polynomial with Bernstein coefficients phi (in the local variable
-    (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]); together they form one
-    continuous increasing phi (:func:`_reparams`).  The bound is the certificate of
-    the module docstring on the exact composition R o phi (:func:`morph.bernstein.
-    compose_many`, one call per pair of degrees, then :func:`morph.piece.
-    distance_bound_many`).  Where it exceeds tol although the cubic is within tol of
-    the curve at the nodes (the parametrisations differ more than a polynomial of
-    degree 9 follows: rational straight pieces, zero end derivatives) the cubic is
-    halved exactly at s = 1/2 (de Casteljau), the sub-piece at the foot of C(1/2),
-    and the halves certified alone, ``depth`` times.  A bound <= tol is certified;
-    above tol it may be a sampled distance (a cubic farther than tol from the curve
-    at a node is not composed at all).
+    is the rational Bézier function with homogeneous coefficients phi (m+1, 2) in
+    the local variable (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]: the
+    Möbius map of :func:`_reparams` composed with its polynomial; together they
+    form one continuous increasing phi.  The bound is the certificate of the module
+    docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
+    then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
+    :func:`morph.piece.distance_bound_many`).  Where it exceeds tol although the
+    cubic is within tol of the curve at the nodes (the parametrisations differ more
+    than a polynomial of degree 9 follows: rational straight pieces, zero end
+    derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
+    sub-piece at the foot of C(1/2), and the halves certified alone, ``depth``
+    times.  A bound <= tol is certified; above tol it may be a sampled distance (a
+    cubic farther than tol from the curve at a node is not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, normal = _reparams(subs, cubics, tol)
+    phis, cs, normal = _reparams(subs, cubics, tol)
     bound = normal.copy()
     groups = {}
     for i in np.nonzero(normal <= tol)[0]:
         groups.setdefault((len(subs[i]), len(phis[i])), []).append(i)
-    for (_, m), rows in groups.items():
-        comp = np.array([subs[i] for i in rows])
+    for (n, m), rows in groups.items():
+        comp = np.array([subs[i] for i in rows]) * (
+            cs[rows, None] ** np.arange(n))[:, :, None]         # R o mu: w_i c^i
         if m > 2:
             comp = bz.compose_many(comp, np.array([phis[i] for i in rows]))
         bound[rows] = pc.distance_bound_many(comp, cubics[rows], REFINE)[0]
-    out = [(float(b), [(0.0, 1.0, f)]) for b, f in zip(bound, phis)]
+    homog = [np.stack([c * f, (c - 1.0) * f + 1.0], axis=1) for f, c in zip(phis, cs)]
+    out = [(float(b), [(0.0, 1.0, h)]) for b, h in zip(bound, homog)]
     rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
     if not len(rows):
         return out
@@ -740,8 +818,8 @@ def _certify_many(subs, cubics, tol, depth=3):
         (b0, p0), (b1, p1) = res[j], res[len(rows) + j]
         if max(b0, b1) < out[i][0]:
             out[i] = (max(b0, b1),
-                      [(0.5 * a, 0.5 * b, u * f) for a, b, f in p0]
-                      + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, u + (1.0 - u) * f)
+                      [(0.5 * a, 0.5 * b, _affine(f, 0.0, u)) for a, b, f in p0]
+                      + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, _affine(f, u, 1.0 - u))
                          for a, b, f in p1])
     return out
 
@@ -852,12 +930,12 @@ def _chosen_fit(parts, cubic, cuts, certified, fallback, ends, tol):
         c[0], c[-1] = ends
         if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
             bound = _same_param_bound(sub, c)
-        cands.append((c, bound, [(0.0, 1.0, (0, np.array([0.0, 1.0])))]))
+        cands.append((c, bound, [(0.0, 1.0, (0, np.array([[0.0, 1.0], [1.0, 1.0]])))]))
     if not cands:
         return (None, np.inf, None)
     cubic, bound, panels = min(cands, key=lambda c: c[1])
     return (cubic, bound, tuple(
-        (a, b, parts[j][0] + parts[j][1] + (parts[j][2] - parts[j][1]) * f)
+        (a, b, _affine(f, parts[j][0] + parts[j][1], parts[j][2] - parts[j][1]))
         for a, b, (j, f) in panels))
 
 
@@ -914,7 +992,7 @@ def cubic_segments(piece, tol, max_depth=16):
     piece = _check(piece)
     exact = _exact_cubic(piece)
     if exact is not None:
-        return [CubicFit(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([0.0, 1.0])),))]
+        return [CubicFit(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([[0.0, 1.0], [1.0, 1.0]])),))]
     return chain_segments([piece], tol, max_depth)
 
 
@@ -1145,15 +1223,26 @@ def piece_to_cubics(piece, tol, max_depth=16):
 JOIN_ANGLE = 1e-6
 
 
+def _smooth_flags(pieces, angle):
+    """Whether each join of consecutive pieces is smooth (see :func:`smooth_runs`):
+    entry i for piece i to piece i + 1, the last for the closing join (last piece
+    to first); all pieces' end tangents in one batch (a piece without a direction
+    joins nothing smoothly)."""
+    first, last = pc.end_tangents_many(pieces, strict=False)
+    nxt = np.roll(np.arange(len(pieces)), -1)
+    a, b = last, first[nxt]
+    cart = [pc.cartesian(p) for p in pieces]
+    start = np.array([c[0] for c in cart])
+    end = np.array([c[-1] for c in cart])
+    scale = np.array([np.abs(c).max() for c in cart])
+    gap = np.hypot(*(end - start[nxt]).T)
+    return (((a * b).sum(axis=1) > 0)
+            & (np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) <= math.sin(angle))
+            & (gap <= 1e-12 * (1.0 + np.maximum(scale, scale[nxt]))))
+
+
 def _smooth_join(p, q, angle):
-    try:
-        a, b = pc.end_tangents(p)[1], pc.end_tangents(q)[0]
-    except DegenerateCurveError:
-        return False
-    ends = np.vstack([pc.cartesian(p), pc.cartesian(q)])
-    gap = np.hypot(*(pc.end(p) - pc.start(q)))
-    return (float(a @ b) > 0 and abs(float(a[0] * b[1] - a[1] * b[0])) <= math.sin(angle)
-            and gap <= 1e-12 * (1.0 + float(np.abs(ends).max())))
+    return bool(_smooth_flags([np.asarray(p, float), np.asarray(q, float)], angle)[0])
 
 
 def smooth_runs(pieces, join_angle=JOIN_ANGLE):
@@ -1168,17 +1257,18 @@ def smooth_runs(pieces, join_angle=JOIN_ANGLE):
     Returns a list of lists of pieces, in order (a closed loop is not wrapped
     around: its first run starts at its first piece).
     """
+    pieces = [np.asarray(p, float) for p in pieces]
+    if not pieces:
+        return []
+    line = [len(p) == 2 and pc.is_polynomial(p) for p in pieces]
+    smooth = (_smooth_flags(pieces, join_angle) if join_angle > 0
+              else np.zeros(len(pieces), bool))
     runs = []
-    line_before = True
-    for p in pieces:
-        p = np.asarray(p, float)
-        line = len(p) == 2 and pc.is_polynomial(p)
-        if (runs and join_angle > 0 and not line and not line_before
-                and _smooth_join(runs[-1][-1], p, join_angle)):
+    for i, p in enumerate(pieces):
+        if runs and not line[i] and not line[i - 1] and smooth[i - 1]:
             runs[-1].append(p)
         else:
             runs.append([p])
-        line_before = line
     return runs
 
 

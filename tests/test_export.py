@@ -48,6 +48,16 @@ def rational(piece):
     return f
 
 
+def reparam_values(phi, s):
+    """Values at s of a CubicFit panel's reparametrisation: a polynomial's (m+1,)
+    Bernstein coefficients or a rational function's (m+1, 2) [numerator, weight]."""
+    phi = np.asarray(phi, float)
+    if phi.ndim == 1:
+        return bernstein(phi[:, None], s)[:, 0]
+    h = bernstein(phi, s)
+    return h[:, 0] / h[:, 1]
+
+
 def ellipse(center, rx, ry, rot, th0, dth):
     """Point function of an ellipse arc, t in [0, 1] -> angle th0 + t dth (trig formula)."""
     c, s = math.cos(rot), math.sin(rot)
@@ -228,7 +238,7 @@ def check_chain(piece, segs, tol, curve=None):
         # the certificate: bound >= max_s |R(phi(s)) - C(s)| (dense samples, every panel)
         for s0, s1, phi in seg.reparam:
             s = np.linspace(s0, s1, 129)
-            u = bernstein(np.asarray(phi)[:, None], (s - s0) / (s1 - s0))[:, 0]
+            u = reparam_values(phi, (s - s0) / (s1 - s0))
             err = np.hypot(*(exact(u) - bernstein(seg.cubic, s)).T).max()
             assert err <= seg.bound * (1 + 1e-9) + 1e-13, (err, seg.bound)
     measured = hausdorff(curve, [s.cubic for s in segs],
@@ -371,7 +381,7 @@ def test_chain_segments_certified_across_joins(seed, tol):
         assert seg.bound <= tol
         for s0, s1, phi in seg.reparam:
             s = np.linspace(s0, s1, 129)
-            t = bernstein(np.asarray(phi)[:, None], (s - s0) / (s1 - s0))[:, 0]
+            t = reparam_values(phi, (s - s0) / (s1 - s0))
             k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
             assert t.max() <= k + 1 + 1e-12               # a panel stays on one piece
             err = np.hypot(*(rational(pieces[k])(np.clip(t - k, 0, 1))
