@@ -330,8 +330,12 @@ def _corners(loops):
     return np.array(pts), np.array(cos_half)
 
 
+@pytest.mark.parametrize("first", [minkowski.FIRST_SHARE, 1.0])
 @pytest.mark.parametrize("a, b", [("S", "g"), ("e", "s"), ("B", "8")])
-def test_pieces_through_sharp_corners_fit_the_budget(a, b):
+def test_pieces_through_sharp_corners_fit_the_budget(a, b, first, monkeypatch):
+    """With the tighter first round and with a first round at the whole budget
+    (FIRST_SHARE = 1: the corner pass alone refines the pairs)."""
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", first)
     ra, rb = _region(a), _region(b)
     out, dbg = minkowski.minkowski_sum(ra, rb, TOL, return_debug=True)
     conv = dbg["convolution"]
@@ -349,15 +353,13 @@ def test_pieces_through_sharp_corners_fit_the_budget(a, b):
     assert checked > 0
 
 
-def test_s_plus_g_needed_the_second_pass():
-    # the case above can fail: without the second pass its corner is too coarse
+def test_s_plus_g_needed_the_second_pass(monkeypatch):
+    # the case above can fail: with a first round at the whole budget and without
+    # the second pass its corner is too coarse
     ra, rb = _region("S"), _region("g")
-    old = minkowski.TIP_ROUNDS
-    try:
-        minkowski.TIP_ROUNDS = 0
-        out, dbg = minkowski.minkowski_sum(ra, rb, TOL, return_debug=True)
-    finally:
-        minkowski.TIP_ROUNDS = old
+    monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
+    out, dbg = minkowski.minkowski_sum(ra, rb, TOL, return_debug=True)
     pts, cos_half = _corners(out)
     worst = max(c.bound for c in dbg["convolution"])
     assert (worst / cos_half.clip(1e-3) > minkowski.CONV_SHARE * TOL).any()
@@ -492,6 +494,7 @@ def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch)
     from morph.errors import ToleranceNotMetError
 
     ra, rb = _region("e"), _region("s")
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)   # so that a corner pass is needed
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
     first = minkowski.minkowski_sum(ra, rb, TOL)
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 3)
@@ -509,5 +512,33 @@ def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch)
     assert calls, "e + s needs a corner pass (see the test above)"
     assert len(out) == len(first)
     for la, lb in zip(out, first):
+        assert len(la) == len(lb)
+        assert all(np.array_equal(p, q) for p, q in zip(la, lb))
+
+
+def test_a_first_round_that_cannot_subdivide_falls_back_to_the_whole_budget(monkeypatch):
+    # pairs that cannot be approximated within FIRST_SHARE of the budget: the first
+    # round is the whole budget's (what the corner pass then refines), not an error
+    from morph.errors import ToleranceNotMetError
+
+    ra, rb = _region("e"), _region("s")
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
+    coarse = minkowski.minkowski_sum(ra, rb, TOL)
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 0.4)
+    real = minkowski.convolution
+    tols = []
+
+    def refusing(a, b, tol, *args, **kwargs):
+        tols.append(tol)
+        if np.isscalar(tol) and tol < minkowski.CONV_SHARE * TOL:
+            raise ToleranceNotMetError("cannot subdivide", piece=None, achieved=1.0)
+        return real(a, b, tol, *args, **kwargs)
+
+    monkeypatch.setattr(minkowski, "convolution", refusing)
+    out = minkowski.minkowski_sum(ra, rb, TOL)
+    assert tols[0] == pytest.approx(0.4 * minkowski.CONV_SHARE * TOL)
+    assert tols[1] == pytest.approx(minkowski.CONV_SHARE * TOL)
+    assert len(out) == len(coarse)
+    for la, lb in zip(out, coarse):
         assert len(la) == len(lb)
         assert all(np.array_equal(p, q) for p, q in zip(la, lb))
