@@ -11,10 +11,12 @@ piece, never only sampled:
 **The certificate.**  For a cubic C fitted to R on the parameter interval [a, b] a
 reparametrisation is chosen: an increasing polynomial bijection
 ``phi: [0, 1] -> [a, b]`` of degree m <= 9 (least-squares fit to the closest-point
-feet of C on R, Bernstein coefficients strictly increasing, so phi' > 0), or, where
-one polynomial does not follow the two parametrisations closely enough, a
+feet of C on R, Bernstein coefficients strictly increasing, so phi' > 0), composed
+with a Möbius map mu(v) = c v / ((c - 1) v + 1) where no polynomial alone follows
+the feet (R o mu is R with its weights scaled by c^i: the same curve, exactly), or,
+where that does not follow the two parametrisations closely enough either, a
 continuous piecewise one: C is cut exactly (de Casteljau) at s values, R at the
-feet of those points, and each panel gets its own polynomial.  On a panel R o phi
+feet of those points, and each panel gets its own map.  On a panel R o mu o phi
 is again a rational Bézier curve X~ / W~ (degree n m, weights positive), and the
 error
 
