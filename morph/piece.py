@@ -145,11 +145,19 @@ def stack(pieces):
 def jet_many(stacked, idx, t):
     """Points and first derivatives of pieces ``stacked[idx[i]]`` at ``t[i]``, all at
     once: P = X/W and P' = (X' W - X W') / W^2, shapes (m, 2) and (m, 2)."""
-    h = stacked[idx]
+    return jet_rows(stacked[idx], t)
+
+
+def jet_rows(h, t, dh=None):
+    """:func:`jet_many` of pieces already gathered, h[i] (m, n+1, 3) at t[i]; ``dh``:
+    their hodographs n (h[:, 1:] - h[:, :-1]) when known (an iteration evaluating the
+    same pieces again and again computes them once)."""
     n = h.shape[1] - 1
+    if dh is None:
+        dh = n * np.diff(h, axis=1)
     t = np.asarray(t, float)
     val = np.einsum("mi,mij->mj", bz.basis(n, t), h)
-    dval = np.einsum("mi,mij->mj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+    dval = np.einsum("mi,mij->mj", bz.basis(n - 1, t), dh)
     w = val[:, 2:3]
     return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 

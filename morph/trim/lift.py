@@ -307,9 +307,12 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
     s, u = np.array(ta, float), np.array(tb, float)
+    ha, hb = stacked[ia], stacked[ib]
+    n = stacked.shape[1] - 1
+    dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
     for _ in range(iters):
-        pa, da = pc.jet_many(stacked, ia, s)
-        pb, db = pc.jet_many(stacked, ib, u)
+        pa, da = pc.jet_rows(ha, s, dha)
+        pb, db = pc.jet_rows(hb, u, dhb)
         f = pa - pb
         det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
         safe = np.where(np.abs(det) > 1e-300, det, 1.0)
@@ -319,8 +322,8 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         du = np.where(np.abs(det) > 1e-300, du, 0.0)
         s = np.clip(s - ds, 0.0, 1.0)
         u = np.clip(u - du, 0.0, 1.0)
-    pa, da = pc.jet_many(stacked, ia, s)
-    pb, db = pc.jet_many(stacked, ib, u)
+    pa, da = pc.jet_rows(ha, s, dha)
+    pb, db = pc.jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
