@@ -55,7 +55,8 @@ after a short last segment.  The searches of all runs of a loop go in lockstep
 (:func:`loops_to_beziers`): each round fits the pending ranges of every run in one
 batch (:func:`_moment_cubics`, no callbacks), certifies all their cubics in one
 batch (:func:`_certify_many`; a cubic whose sampled distance exceeds SCREEN tol
-is not certified).  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
+is not certified, nor is a try whose sampled distance is below PROVISIONAL tol:
+the search extends it anyway, and certifies it only if it ends there).  A 90° arc of radius 2 takes 1 / 2 / 2 / 3 / 5 / 7
 cubics at tol 1e-3 ... 1e-8 (kurbo's own halving: 1 / 2 / 2 / 4 / 8 / 8; the
 classic circle cubic 1 / 2 / 2 / 3 / 5 / 7; bench/export.md).  Where the fit
 finds no cubic, or its cubic does not certify, the same-parameter fit of
@@ -831,7 +832,7 @@ def _parts_many(requests):
     piece k of the chain restricted to its local [a, b] (``sub``) covers [t0, t1];
     the sub-pieces of all requests cut in one de Casteljau call per degree."""
     out, todo = [], {}
-    for chain, t0, t1, _ in requests:
+    for chain, t0, t1, *_ in requests:
         parts = []
         for k in range(int(math.floor(t0)), min(chain.k, int(math.ceil(t1)))):
             a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
@@ -867,7 +868,9 @@ def _join_feet(plans, skip):
 
 def _fit_ranges(requests, tol):
     """Best certified cubics for many chain ranges at once: for each request
-    ``(chain, t0, t1, (start, end))`` a result (cubic, bound, panels).
+    ``(chain, t0, t1, (start, end)[, need])`` a result (cubic, bound, panels); where
+    the fitted cubic's sampled distance is below ``need`` tol it is returned as is,
+    not certified: (cubic, sampled distance, None).
 
     All ranges are fitted in one call (:func:`_moment_cubics`); then every part of
     every fitted cubic is certified in one batch (:func:`_certify_many`), except
@@ -881,12 +884,16 @@ def _fit_ranges(requests, tol):
     """
     parts = _parts_many(requests)
     fits = _moment_cubics(
-        [(chain, pr, ends) for pr, (chain, _, _, ends) in zip(parts, requests)], tol)
+        [(r[0], pr, r[3]) for pr, r in zip(parts, requests)], tol)
     plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
     sampled = [0.0 if f is None else f[1] for f in fits]
     # a cubic whose sampled distance already exceeds tol well is not certified: its
     # sampled distance is reported (the search only needs to know it fails)
-    skip = [e > SCREEN * tol for e in sampled]
+    # a cubic whose sampled distance is below the request's ``need`` share of tol is
+    # not certified either: the search will try a longer one (a provisional result)
+    short = [f is not None and len(r) > 4 and e < r[4] * tol
+             for f, e, r in zip(fits, sampled, requests)]
+    skip = [e > SCREEN * tol or sh for e, sh in zip(sampled, short)]
     feet = _join_feet(plans, skip)
     subs, pieces, cut_list = [], [], []
     for r, (parts, cubic) in enumerate(plans):
@@ -906,6 +913,9 @@ def _fit_ranges(requests, tol):
         mine = []
         if cubic is not None and cuts is not None:
             mine, i = res[i:i + len(parts)], i + len(parts)
+        if short[r]:
+            out.append((cubic, sampled[r], None))
+            continue
         fallback = sampled[r] if skip[r] else np.inf
         out.append(_chosen_fit(parts, cubic, cuts, mine, fallback, requests[r][3], tol))
     return out
@@ -1151,37 +1161,55 @@ def _next_try(t0, w, bound, last, good, bad, top, tol):
     return target
 
 
+#: A try whose sampled distance is below this share of tol is not certified (the
+#: search extends it anyway); the longest such try is certified once the search
+#: would end on it.
+PROVISIONAL = 0.7
+
+
 def _next_segment(chain, t0, start, width, tol, min_width):
     """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
     reparam, end point); a generator step of :func:`_search`.  The first try spans
     ``width``; later ones follow the model bound ~ width^p, p from the last two fits
-    (2 <= p <= 8, 5 at first), bracketed by the longest certified and the shortest
-    failed interval."""
+    (2 <= p <= 8, 5 at first), bracketed by the longest certified (or provisional:
+    sampled below PROVISIONAL tol, certified only if the search ends on it) and the
+    shortest failed interval."""
     top = float(chain.k)
 
-    def attempt(t1):
+    def attempt(t1, need):
         end = chain.point(t1)
-        (cubic, bound, reparam), = yield [(chain, t0, t1, (start, end))]
+        (cubic, bound, reparam), = yield [(chain, t0, t1, (start, end), need)]
         return (t1, cubic, bound, reparam, end)
 
     t1 = min(top, t0 + width)
     if top - t1 < 0.3 * (t1 - t0):
         t1 = top
     good, bad, last, fit = None, None, None, None
-    for _ in range(8):
-        fit = yield from attempt(t1)
-        w, bound = t1 - t0, fit[2]
-        if bound <= tol:
-            good = fit if good is None or t1 > good[0] else good
-            if t1 == top or bound >= ACCEPT * tol:
+    for provisional in (PROVISIONAL, 0.0):
+        for _ in range(8):
+            fit = yield from attempt(t1, 0.0 if t1 == top else provisional)
+            w, bound = t1 - t0, fit[2]
+            if bound <= tol:
+                good = fit if good is None or t1 > good[0] else good
+                if fit[3] is not None and (t1 == top or bound >= ACCEPT * tol):
+                    break
+            else:
+                bad = t1 if bad is None else min(bad, t1)
+            target = _next_try(t0, w, bound, last, good, bad, top, tol)
+            last = (w, bound)
+            if target is None or target - t0 < min_width:
                 break
-        else:
-            bad = t1 if bad is None else min(bad, t1)
-        target = _next_try(t0, w, bound, last, good, bad, top, tol)
-        last = (w, bound)
-        if target is None or target - t0 < min_width:
+            t1 = target
+        if good is None or good[3] is not None:
             break
-        t1 = target
+        # the search ends on a provisional try: certify it; where that fails (the
+        # certificate is loose here), search again certifying every try
+        fit = yield from attempt(good[0], 0.0)
+        if fit[2] <= tol:
+            return fit
+        bad, last = good[0], (good[0] - t0, fit[2])
+        t1 = _next_try(t0, good[0] - t0, fit[2], None, None, bad, top, tol) or 0.5 * (t0 + bad)
+        good = None
     while good is None:
         # no certified fit yet: halve the shortest failed interval down to min_width
         t1 = t0 + 0.5 * (bad - t0)
@@ -1190,7 +1218,7 @@ def _next_segment(chain, t0, start, width, tol, min_width):
                 "cubic export did not reach tol %.3g on a parameter interval of width "
                 "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
                 piece=chain.pieces[min(int(t0), chain.k - 1)], achieved=fit[2])
-        fit = yield from attempt(t1)
+        fit = yield from attempt(t1, 0.0)
         if fit[2] <= tol:
             good = fit
         else:
