@@ -19,8 +19,8 @@ o, e, a, 8 ...), each hole's area within perimeter x that bound.
 Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
 
 - broad nib (the ellipse above): morph (``stroke_paths`` + certified cubic export
-  ``loop_to_beziers``,
-  several tolerances) vs FontForge Expand Stroke (``elliptical`` nib, caps and joins
+  ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
+  below) vs FontForge Expand Stroke (``elliptical`` nib, caps and joins
   "nib" = path ⊕ nib, overlap removed, several ``accuracy`` values), run by Debian's
   python3-fontforge in a subprocess (``bench/fontforge_stroke.py``);
 - round nib (disk, diameter 60): the same two, and Skia's stroker (skia-pathops
@@ -29,11 +29,21 @@ Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same gl
   before stroking and the result down: Skia's own precision knob is fixed).
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
-Hausdorff measure; seconds per glyph are the CPU time (process_time, robust to
-the load of a shared machine) of the stroking calls alone (single core;
-morph: stroke + cubic conversion; FontForge: ``glyph.stroke`` inside FontForge;
-Skia: stroke + conic conversion + simplify), points per glyph are on- and off-curve
-points of the written contours.  Writes bench/stroke.md.
+Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
+of a shared machine) of the stroking calls alone, single core.  morph is timed as
+the ``morph stroke`` command works (``morph.fonts.stroke._chunk_job``): the glyphs
+in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (48; 62 glyphs are
+two chunks of 31), each glyph stroked on its own (``stroke_paths`` at the geometry
+share of ``split_tolerance(tol)``: its CPU time is the glyph's stroke ms), then
+all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
+wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
+time divided by the chunk's glyphs is each glyph's export ms) and split back per
+glyph; the row's ms / glyph is stroke + export.  FontForge: ``glyph.stroke``
+inside FontForge; Skia: stroke + conic conversion + simplify.  Points per glyph
+are on- and off-curve points of the output contours (morph: lines and quadratics
+as the exporter returns them), the error is measured glyph by glyph.  A morph
+failure (a glyph's stroke, a chunk's export) is reported with its traceback, not
+worked around.  Writes bench/stroke.md.
 """
 
 import argparse
@@ -144,28 +154,68 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 # =========================================================================== part 2
 
 def run_morph(font, names, spec, tols, refs):
-    from morph.export import loop_to_beziers, split_tolerance
+    """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
+    one process): the glyphs in the command's chunks of at most ``CHUNK`` (48), each
+    glyph stroked on its own (``stroke_paths``), then all loops of the chunk exported
+    in one ``loops_to_beziers(..., export_tol, wrap=True)`` call and split back per
+    glyph.  Per glyph: the stroke's CPU time, the chunk's export CPU time divided by
+    its number of glyphs, and their sum (the ms compared with the peers)."""
+    import traceback
+
+    from morph.export import loops_to_beziers, split_tolerance
+    from morph.fonts.brush import glyph_chunks
+    from morph.fonts.stroke import CHUNK
     from morph.stroke import stroke_paths
 
     nib = nib_region(spec)
     rows = []
     for tol in tols:
-        secs, points, errs, fails = [], [], [], []
-        for n in names:
-            paths = decomposed_paths(font, n)
-            geometry, export = split_tolerance(tol)
+        geometry, export = split_tolerance(tol)
+        stroke_s, export_s, points, errs, fails = [], [], [], [], []
+        for chunk in glyph_chunks(list(names), CHUNK):
+            done = []                           # (name, region, stroke seconds)
+            for n in chunk:
+                paths = decomposed_paths(font, n)
+                t0 = time.process_time()
+                try:
+                    region = stroke_paths(paths, nib, geometry)
+                except Exception as exc:  # noqa: BLE001 - reported per glyph, not worked around
+                    fails.append(_failure("stroke", n, tol, exc, traceback.format_exc()))
+                    continue
+                done.append((n, region, time.process_time() - t0))
+            if not done:
+                continue
+            loops = [loop for _, region, _ in done for loop in region]
             t0 = time.process_time()
             try:
-                region = stroke_paths(paths, nib, geometry)
-                contours = [loop_to_beziers(loop, export, wrap=True) for loop in region]
-            except Exception as exc:  # noqa: BLE001 - reported per glyph
-                fails.append("%s (%s)" % (n, type(exc).__name__))
+                converted = loops_to_beziers(loops, export, wrap=True)
+            except Exception as exc:  # noqa: BLE001 - reported, not worked around
+                fails.append(_failure("export of the chunk %s-%s" % (done[0][0], done[-1][0]),
+                                      None, tol, exc, traceback.format_exc()))
                 continue
-            secs.append(time.process_time() - t0)
-            points.append(sum(len(s) - 1 for segs in contours for s in segs))
-            errs.append(measure(contours, refs[n])[0])
-        rows.append(summary("morph", "tol %g" % tol, secs, points, errs, fails))
+            share = (time.process_time() - t0) / len(done)
+            it = iter(converted)
+            for n, region, secs in done:
+                contours = [next(it) for _ in region]
+                stroke_s.append(secs)
+                export_s.append(share)
+                points.append(sum(len(s) - 1 for segs in contours for s in segs))
+                errs.append(measure(contours, refs[n])[0])
+        row = summary("morph", "tol %g" % tol, [a + b for a, b in zip(stroke_s, export_s)],
+                      points, errs, [f["short"] for f in fails])
+        row["stroke_ms"] = 1000 * float(np.mean(stroke_s)) if stroke_s else float("nan")
+        row["export_ms"] = 1000 * float(np.mean(export_s)) if export_s else float("nan")
+        row["tracebacks"] = [f["long"] for f in fails]
+        rows.append(row)
     return rows
+
+
+def _failure(stage, name, tol, exc, tb):
+    """A morph failure of the peer rows, as the row's short note and the full report."""
+    what = stage if name is None else "%s of %s" % (stage, name)
+    print("morph failed: %s at tol %g\n%s" % (what, tol, tb), file=sys.stderr, flush=True)
+    return {"short": "%s (%s)" % (name or stage, type(exc).__name__),
+            "long": "%s at tol %g:\n\n```\n%s```" % (what, tol, tb)}
 
 
 def run_fontforge(font, names, spec, accuracies, refs):
@@ -263,7 +313,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
                "(flattened within %g): criterion Hausdorff <= tol + 0.71 + %g = %.2f units, "
                "same number of holes, hole areas within perimeter x bound."
                % (opt.tol, opt.ref_tol, opt.ref_tol, opt.tol + ROUNDING + opt.ref_tol), "",
-               "| font | glyphs stroked | wall s | CPU s | stroke s / glyph | points / glyph | "
+               "| font | glyphs stroked | wall s | CPU s | stroke + export CPU / glyph | "
+               "points / glyph | "
                "worst Hausdorff | mean | holes kept | failures | file bytes |",
                "|---|---|---|---|---|---|---|---|---|---|---|"]
         for suffix, r in acc.items():
@@ -288,14 +339,18 @@ def markdown(opt, names, acc, peers, notes, elapsed):
         md += ["Counters: " + ", ".join("%s %d (reference %d)" % (x["name"], x["holes"],
                                                                x["ref_holes"])
                                         for x in counters) + ".", ""]
+    tracebacks = []
     for title, rows in peers:
         md += ["## %s" % title, "",
-               "| tool | setting | ms / glyph | points / glyph | max Hausdorff | mean | "
-               "failures |", "|---|---|---|---|---|---|---|"]
+               "| tool | setting | ms / glyph | morph: stroke + export ms | points / glyph | "
+               "max Hausdorff | mean | failures |", "|---|---|---|---|---|---|---|---|"]
         for r in rows:
-            md.append("| %s | %s | %.1f | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], r["points"], r["max_err"],
+            split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
+                     if "stroke_ms" in r else "")
+            md.append("| %s | %s | %.1f | %s | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], split, r["points"], r["max_err"],
                          r["mean_err"], ", ".join(r["fails"]) or "0"))
+            tracebacks += r.get("tracebacks", [])
         md += ["", "At equal measured error (morph's fewest-points setting whose worst "
                "error is no larger than the peer's):", "",
                "| peer | peer error | peer points | peer ms | morph setting | morph error | "
@@ -309,6 +364,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
                           % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"],
                              m["setting"], m["max_err"], m["points"], m["ms"]))
         md.append("")
+    if tracebacks:
+        md += ["## morph failures", ""] + ["- " + t for t in tracebacks] + [""]
     md += notes
     return "\n".join(md) + "\n"
 
