@@ -17,6 +17,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from morph import export as ex_mod
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
 from morph.export import (SUM_SHARE, chain_segments, cubic_bound, cubic_segments,
@@ -860,3 +861,53 @@ def test_offset_O_cubics_no_more_than_kurbo():
     pts = np.column_stack([z.real, -z.imag])
     dist = closest_distances(pts, [p for lp in g.region for p in lp])
     assert np.abs(dist - 40.0).max() <= tol
+
+
+def g1_arcs(radii, sweep=0.9):
+    """Circular arcs of the given radii joined tangent-continuously (curvature jumps
+    at every join), each turning by ``sweep`` radians: a chain of rational pieces."""
+    pieces, p, ang = [], np.array([1.0, 0.0]), 0.0
+    for r in radii:
+        c = p - r * np.array([math.cos(ang), math.sin(ang)])
+        pieces += pc.ellipse_arc(tuple(c), r, r, 0.0, ang, sweep)
+        ang += sweep
+        p = c + r * np.array([math.cos(ang), math.sin(ang)])
+    return pieces
+
+
+@pytest.mark.parametrize("tol", [1e-4, 1e-6])
+def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkeypatch):
+    """Tries below PROVISIONAL tol are not certified; the one a search ends on is.
+    Where that certificate fails (forced here, once per segment start), the segment
+    is searched again certifying every try: every returned cubic is certified (its
+    panels sampled densely against its bound, R by plain Bernstein sums)."""
+    real = ex_mod._fit_ranges
+    provisional, refused = set(), []
+
+    def refusing(requests, tol):
+        out = real(requests, tol)
+        for k, (r, o) in enumerate(zip(requests, out)):
+            key = (id(r[0]), r[1], r[2])
+            if o[2] is None:
+                provisional.add(key)
+            elif key in provisional and len(r) > 4 and r[4] == 0.0 and r[1] not in refused:
+                refused.append(r[1])
+                out[k] = (o[0], 2.0 * tol, o[2])
+        return out
+
+    monkeypatch.setattr(ex_mod, "_fit_ranges", refusing)
+    pieces = g1_arcs([1, 3, 0.5, 2, 1])
+    segs = chain_segments(pieces, tol)
+    assert refused, "no search ended on a provisional try"
+    assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+    for a, b in zip(segs, segs[1:]):
+        assert a.t1 == b.t0 and np.array_equal(a.cubic[-1], b.cubic[0])
+    for seg in segs:
+        assert seg.bound <= tol and seg.reparam
+        for s0, s1, phi in seg.reparam:
+            s = np.linspace(s0, s1, 129)
+            t = reparam_values(phi, (s - s0) / (s1 - s0))
+            k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
+            err = np.hypot(*(rational(pieces[k])(np.clip(t - k, 0, 1))
+                             - bernstein(seg.cubic, s)).T).max()
+            assert err <= seg.bound * (1 + 1e-9) + 1e-13, (err, seg.bound)
