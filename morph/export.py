@@ -1136,6 +1136,11 @@ def _split_at(chain, cuts, tol):
 ACCEPT = 0.8
 
 
+#: The search for a segment's end stops once the bracket (longest certified, shortest
+#: failed end) is this narrow relative to the certified width.
+BRACKET_REL = 0.02
+
+
 def _next_try(t0, w, bound, last, good, bad, top, tol):
     """The next end to try after a fit of width w with ``bound`` (``last``: the
     previous (width, bound); ``good``: the longest certified fit; ``bad``: the
@@ -1156,7 +1161,7 @@ def _next_try(t0, w, bound, last, good, bad, top, tol):
     hi = bad if bad is not None else top
     if bad is not None and not lo < target < hi:
         target = 0.5 * (lo + hi)
-    if good is not None and (target <= lo or (bad is not None and hi - lo <= 0.02 * (lo - t0))):
+    if good is not None and (target <= lo or (bad is not None and hi - lo <= BRACKET_REL * (lo - t0))):
         return None
     return target
 

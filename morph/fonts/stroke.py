@@ -195,10 +195,11 @@ def _glyph_job(args):
 
 
 #: At most this many glyphs per job of :func:`_chunk_job` (their cubic conversions
-#: go in one batch; a batch's cost per glyph falls with its size).  The glyphs are
-#: split into equal chunks by their number alone (not by the number of
-#: processes), so that the font does not depend on ``jobs``.
-CHUNK = 48
+#: go in one batch; a batch's cost per glyph falls with its size, see
+#: :data:`morph.fonts.brush.CHUNK`).  The glyphs are split into equal chunks by
+#: their number alone (not by the number of processes), so that the font does not
+#: depend on ``jobs``.
+CHUNK = 96
 
 
 def _chunk_job(chunk):

@@ -39,3 +39,18 @@ def test_run_jobs_order_and_progress():
         [k * k for k in range(7)]
     assert sorted(seen) == list(range(7))
     assert run_jobs(_square, [3], jobs=4) == [9]
+
+
+@pytest.mark.parametrize("n, size, count", [(0, 96, 0), (1, 96, 1), (2, 96, 2), (52, 96, 2),
+                                            (96, 96, 2), (193, 96, 3), (584, 96, 7),
+                                            (584, 48, 13)])
+def test_glyph_chunks_equal_bounded_and_two_for_small_fonts(n, size, count):
+    from morph.fonts.brush import glyph_chunks
+
+    work = list(range(n))
+    chunks = glyph_chunks(work, size)
+    assert len(chunks) == count
+    assert [g for c in chunks for g in c] == work
+    if chunks:
+        sizes = [len(c) for c in chunks]
+        assert max(sizes) <= size and max(sizes) - min(sizes) <= 1
