@@ -126,10 +126,14 @@ def export_tolerance(tol, geometry_bound):
 
     ``geometry_bound`` must be a stated upper bound of the Hausdorff distance between
     the computed pieces and the exact shape (never a measurement), e.g. for
-    :func:`morph.minkowski.minkowski_sum` at ``geometry_tol``: the largest a-priori
-    bound of its convolution pieces (``ConvPiece.bound``, 0 for exact ones such as
-    a TrueType glyph ⊕ disk) plus the shares of ``geometry_tol`` it spends on
-    anything else (``(1 - CONV_SHARE) * geometry_tol``).  The result is ``tol -
+    :func:`morph.minkowski.minkowski_sum` at ``geometry_tol``: the shares of
+    ``geometry_tol`` it spends on anything else (``(1 - CONV_SHARE) *
+    geometry_tol``) plus the largest a-priori bound e of its convolution pieces
+    (``ConvPiece.bound``, 0 for exact ones such as a TrueType glyph ⊕ disk) where
+    the boundary is smooth, and e / cos(phi / 2) of the pieces meeting at a corner
+    that turns by phi (two curves each within e can meet that far from the exact
+    corner; minkowski_sum keeps it within ``CONV_SHARE * geometry_tol``, so
+    ``geometry_tol`` itself is always a valid bound).  The result is ``tol -
     geometry_bound``: an exporter within it keeps the written file within ``tol``
     of the exact shape (triangle inequality), as :func:`split_tolerance` does with
     the whole geometry share.
