@@ -81,7 +81,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .errors import DegenerateCurveError, ToleranceNotMetError
+from .errors import ToleranceNotMetError
 
 __all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "CubicFit", "chain_segments",
            "cubic_bound", "cubic_segments", "export_tolerance", "fit_cubic", "loop_to_beziers",

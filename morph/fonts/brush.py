@@ -76,7 +76,7 @@ import unicodedata
 import numpy as np
 
 from .. import piece as pc
-from ..errors import MorphError, NibError, ParseError, one_line
+from ..errors import NibError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent", "sweep_glyph", "sweep_glyphs", "glyph_chunks"]
