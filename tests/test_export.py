@@ -911,3 +911,31 @@ def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkey
             err = np.hypot(*(rational(pieces[k])(np.clip(t - k, 0, 1))
                              - bernstein(seg.cubic, s)).T).max()
             assert err <= seg.bound * (1 + 1e-9) + 1e-13, (err, seg.bound)
+
+
+# A QAC piece of a Relief stroke (degree 6, weights falling 6x along it: its speed
+# varies ~35x) and the cubic the exporter fitted to it, within 0.375 units.
+QAC_PIECE = np.array([[5.2205e+08, 4.7918e+07, 1.3348e+06], [4.2361e+08, 3.8340e+07, 1.0870e+06],
+                      [3.3431e+08, 2.9334e+07, 8.6501e+05], [2.5335e+08, 2.0996e+07, 6.6658e+05],
+                      [1.8032e+08, 1.3685e+07, 4.8941e+05], [1.1662e+08, 8.0629e+06, 3.3443e+05],
+                      [6.7676e+07, 5.1056e+06, 2.1177e+05]])
+QAC_CUBIC = np.array([[391.102, 35.8988], [375.6758, 28.9745], [349.6395, 23.9509],
+                      [319.5739, 24.0776]])
+
+
+def test_moebius_reparametrisation_certifies_a_piece_of_uneven_speed(monkeypatch):
+    """No increasing polynomial phi of degree <= 9 follows the feet of this cubic on
+    the piece (the same-parameter distance is 59 tol); with the Möbius step one
+    panel certifies it, and the bound holds on dense samples of R(phi(s)).  Without
+    the Möbius step the certificate has to halve the cubic."""
+    tol = 0.375
+    (bound, panels), = ex_mod._certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
+    assert bound <= tol and len(panels) == 1
+    s0, s1, phi = panels[0]
+    assert not np.allclose(phi[:, 1], 1.0)           # a rational phi: the Möbius step
+    s = np.linspace(0.0, 1.0, 2001)
+    err = np.hypot(*(rational(QAC_PIECE)(reparam_values(phi, s)) - bernstein(QAC_CUBIC, s)).T)
+    assert err.max() <= bound * (1 + 1e-9)
+    monkeypatch.setattr(ex_mod, "_moebius", lambda u: np.ones(len(u)))
+    (bound0, panels0), = ex_mod._certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
+    assert len(panels0) > 1 or bound0 > tol
