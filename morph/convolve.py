@@ -470,6 +470,71 @@ def with_pair_table(pair):
     return GaussPair(pair.maps_a, pair.maps_b, table)
 
 
+def crossing_rows(gauss_pair, reach):
+    """Which rows of the pair table may have a convolution piece that meets another
+    piece at a junction of the trimmed boundary (a corner of the sum): a boolean per
+    row, decided per convolution loop (loop a of A with loop b of B).
+
+    A loop's convolution curve cannot cross itself when a and b are both convex and
+    counter-clockwise (each Gauss map turns monotonically through exactly 2 pi: the
+    curve is the boundary of the convex sum), and cannot cross another loop's when
+    its box (box(a) + box(b), control points, grown by ``reach``) overlaps none of
+    theirs.  The rows of every other loop are flagged.  Conservative: a row flagged
+    in vain only costs work."""
+    i, j = gauss_pair.table[0], gauss_pair.table[1]
+    ta_loop = np.repeat(np.arange(len(gauss_pair.maps_a)), [len(m) for m in gauss_pair.maps_a])
+    tb_loop = np.repeat(np.arange(len(gauss_pair.maps_b)), [len(m) for m in gauss_pair.maps_b])
+    la, lb = ta_loop[i], tb_loop[j]
+    na, nb = len(gauss_pair.maps_a), len(gauss_pair.maps_b)
+    convex = (np.array([_convex_ccw(m) for m in gauss_pair.maps_a])[:, None]
+              & np.array([_convex_ccw(m) for m in gauss_pair.maps_b])[None, :])
+    box = (_loop_boxes(gauss_pair.maps_a)[:, None, :]
+           + _loop_boxes(gauss_pair.maps_b)[None, :, :]).reshape(-1, 4)
+    box[:, :2] -= reach
+    box[:, 2:] += reach
+    used = np.zeros(na * nb, bool)
+    used[la * nb + lb] = True
+    ids = np.nonzero(used)[0]
+    alone = np.ones(na * nb, bool)
+    alone[ids] = _isolated(box[ids])
+    return ~(convex.ravel() & alone)[la * nb + lb]
+
+
+def _isolated(box):
+    """Whether each box (k, 4) overlaps no other (sort and sweep on x, then y)."""
+    n = len(box)
+    out = np.ones(n, bool)
+    order = np.argsort(box[:, 0], kind="stable")
+    stop = np.searchsorted(box[order, 0], box[order, 2], side="right")
+    cnt = np.maximum(stop - np.arange(n) - 1, 0)
+    p = np.repeat(np.arange(n), cnt)
+    q = p + 1 + np.arange(len(p)) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    r1, r2 = order[p], order[q]
+    hit = (box[r1, 1] <= box[r2, 3]) & (box[r2, 1] <= box[r1, 3])
+    out[r1[hit]] = False
+    out[r2[hit]] = False
+    return out
+
+
+def _convex_ccw(edges):
+    """Whether a loop's Gauss map turns monotonically counter-clockwise through
+    exactly 2 pi (a convex loop, outer orientation)."""
+    sweep = np.array([e.sweep for e in edges], float)
+    return bool(np.all(sweep >= 0.0) and abs(sweep.sum() - gauss.TWO_PI) <= 1e-9)
+
+
+def _loop_boxes(maps):
+    """(xmin, ymin, xmax, ymax) of each loop of a Gauss map table: its curve edges'
+    control points and its corners."""
+    out = np.empty((len(maps), 4))
+    for k, m in enumerate(maps):
+        pts = [pc.cartesian(e.piece) if e.kind == "curve" else np.asarray(e.point, float)[None]
+               for e in m]
+        p = np.concatenate(pts)
+        out[k] = [p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()]
+    return out
+
+
 def scale_edges(edges, factor):
     """The Gauss map of a loop scaled by factor > 0 about the origin: the same angles,
     scaled positions (scaling does not turn tangents)."""

@@ -556,3 +556,38 @@ def test_batched_driver_matches_pair_by_pair():
         for (p, kind, b), (p_ref, kind_ref, b_ref) in zip(got, ref):
             assert kind == kind_ref and p.shape == p_ref.shape and b <= tol
             assert np.allclose(pc.cartesian(p), pc.cartesian(p_ref), atol=1e-9)
+
+
+def _flags(region_a, region_b, reach=1e-3):
+    pair = convolve.with_pair_table(convolve.gauss_pair_of(region_a, region_b))
+    return convolve.crossing_rows(pair, reach)
+
+
+def test_crossing_rows_none_for_disjoint_convex_loops():
+    """Convex counter-clockwise loops whose sums' boxes are apart: no convolution
+    piece can meet another, no row is flagged; moved close enough for their boxes to
+    overlap, every row is."""
+    disk = [pc.circle((0.0, 0.0), 0.25)]
+    apart = [pc.circle((0.0, 0.0), 1.0), pc.circle((3.0, 0.0), 1.0)]
+    near = [pc.circle((0.0, 0.0), 1.0), pc.circle((2.4, 0.0), 1.0)]   # sums 0.1 apart, boxes overlap
+    assert not _flags(apart, disk).any()
+    assert _flags(near, disk).all()
+
+
+def test_crossing_rows_flag_non_convex_and_clockwise_loops():
+    """A glyph's loops (not convex) and a hole (clockwise) can meet themselves: all
+    their rows are flagged."""
+    disk = [pc.circle((0.0, 0.0), 20.0)]
+    assert _flags(parse.glyph_region("S").region, disk).all()
+    hole = [pc.reverse(p) for p in pc.circle((0.0, 0.0), 1.0)][::-1]
+    assert _flags([pc.circle((0.0, 0.0), 3.0), hole], [pc.circle((0.0, 0.0), 0.25)]).all()
+
+
+def test_first_round_keeps_the_whole_budget_away_from_corners():
+    """Disjoint circles ⊕ disk: the first round's pieces are those of the whole
+    budget (no row can reach a corner), not the finer ones of FIRST_SHARE."""
+    region = [pc.circle((3.0 * k, 0.0), 1.0) for k in range(3)]
+    disk = [pc.circle((0.0, 0.0), 0.25)]
+    out = minkowski.minkowski_sum(region, disk, 1e-4)
+    conv = convolve.convolution(region, disk, minkowski.CONV_SHARE * 1e-4)
+    assert sum(len(loop) for loop in out) == len(conv)
