@@ -42,7 +42,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
 
     Every output point lies within ``tol`` of the exact boundary of A ⊕ B (tol
     absolute, in input units), split as: convolution pieces within 0.75 tol of the
-    exact convolution curve (0.3 tol in the first round, FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
+    exact convolution curve (0.3 tol in the first round where loops can meet at a corner,
+    FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
     QAC; other methods of ``morph.methods.METHODS`` are sampled, not bounded),
     topology decided on polylines within 0.1 tol on a grid of 0.1·sqrt(2) tol
     (:func:`morph.trim.boundary`), runs shorter than 0.05 tol contracted.  Holes
