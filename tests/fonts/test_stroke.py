@@ -155,18 +155,29 @@ def test_font_plumbing_with_polygon_stroker(skeleton, tmp_path):
 ACCURACY_GLYPHS = ["o", "e", "a", "eight", "g", "A", "s"]
 
 
-@pytest.fixture(scope="module")
-def stroked_otf(tmp_path_factory):
-    out = tmp_path_factory.mktemp("stroke") / "Relief-Stroke.otf"
+@pytest.fixture(scope="module", params=[".otf", ".ttf"])
+def stroked_font(tmp_path_factory, request):
+    out = tmp_path_factory.mktemp("stroke") / ("Relief-Stroke" + request.param)
     stats = stroke_ufo(SUBSET, out, nib(), ACCURACY_GLYPHS + ["eacute", "i", "nine"], tol=0.5)
     return out, stats
 
 
+#: Open in the TrueType font: ufo2ft converts the written (integer) cubics to
+#: quadratics and rounds those to integers again, so a point can move twice by up to
+#: 0.71 unit (g: 1.38 units against the 1.26 allowed).  The fix: convert to
+#: quadratic splines before the one rounding and write them with implied on-curve
+#: points (explicit ones double the TrueType points).
+TTF_OPEN = {"g": "TrueType rounds twice (ufo2ft's cu2qu after ours): 1.38 units"}
+
+
 @pytest.mark.parametrize("name", ACCURACY_GLYPHS)
-def test_written_glyph_matches_reference(skeleton, stroked_otf, name):
+def test_written_glyph_matches_reference(skeleton, stroked_font, name, request):
     """Hausdorff <= tol + 0.71 (integer rounding) + the reference's own flattening,
-    and the counters (holes) of o, e, a, 8 kept, against the Clipper polygon."""
-    out, stats = stroked_otf
+    and the counters (holes) of o, e, a, 8 kept, against the Clipper polygon; in
+    the CFF and in the TrueType font (strict xfail where still open: TTF_OPEN)."""
+    out, stats = stroked_font
+    if str(out).endswith(".ttf") and name in TTF_OPEN:
+        request.applymarker(pytest.mark.xfail(strict=True, reason=TTF_OPEN[name]))
     assert not stats["fallback"]
     n = nib()
     got = region_to_shapely(glyph_region(name, font=str(out)).region, 0.05)
