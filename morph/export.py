@@ -1396,8 +1396,10 @@ def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
 QUADRATIC_CUBIC_SHARE = 0.5
 
 
-def _cubics_to_quadratics(cubics, tol):
-    """cu2qu on each cubic within tol; (3, 2) quadratics with explicit on-curve points."""
+def _cubics_to_quadratics(cubics, tol, splines=False):
+    """cu2qu on each cubic within tol; (3, 2) quadratics with explicit on-curve points,
+    or with ``splines`` one (n + 2, 2) TrueType spline per cubic: its end points and
+    its n off-curve points, the on-curve points between them implied (midpoints)."""
     from fontTools.cu2qu import curve_to_quadratic
     from fontTools.cu2qu.errors import Error as Cu2QuError
 
@@ -1409,6 +1411,9 @@ def _cubics_to_quadratics(cubics, tol):
             raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g"
                                        % tol, piece=cubic) from exc
         spline = np.asarray(spline, float)
+        if splines:
+            out.append(spline)
+            continue
         offs = spline[1:-1]
         ons = [spline[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] \
             + [spline[-1]]
@@ -1461,9 +1466,11 @@ def loop_to_quadratics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=Fals
     return loops_to_quadratics([loop], tol, max_depth, join_angle, wrap)[0]
 
 
-def loops_to_quadratics(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+def loops_to_quadratics(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False,
+                        splines=False):
     """:func:`loop_to_quadratics` of every loop (a list per loop), the cubic stage
-    batched over all loops as in :func:`loops_to_beziers`."""
+    batched over all loops as in :func:`loops_to_beziers`; with ``splines`` each
+    converted cubic is one TrueType spline (:func:`_cubics_to_quadratics`)."""
     cubic_tol = QUADRATIC_CUBIC_SHARE * tol
     out = []
     for beziers in loops_to_beziers(loops, cubic_tol, max_depth, join_angle, wrap):
@@ -1472,6 +1479,6 @@ def loops_to_quadratics(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=Fa
             if len(b) <= 3:
                 quads.append(b)
             else:
-                quads.extend(_cubics_to_quadratics([b], tol - cubic_tol))
+                quads.extend(_cubics_to_quadratics([b], tol - cubic_tol, splines))
         out.append(quads)
     return out

@@ -7,15 +7,17 @@ sides convolved with the nib plus the nib's own boundary as caps; a closed path 
 stroked, not filled) and the rational pieces of the result are written as cubics with
 :func:`morph.export.piece_to_cubics` (certified bound).  The output is a copy of the
 source UFO with the outlines replaced (kerning, groups, features, lib kept), saved as
-``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: ufo2ft converts the
-cubics to quadratics with cu2qu).
+``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: the UFO copy holds
+TrueType quadratic splines, converted here, which ufo2ft compiles as they are).
 
 Tolerance budget (``tol``, font units), by :func:`morph.export.split_tolerance`:
 the stroke within the geometry share (``stroke_paths``), the cubics within the export
 share of the stroke's pieces (certified, Fréchet); for ``.ttf`` the export share is
-split again between the cubics and ufo2ft's cu2qu conversion
-(:data:`morph.export.QUADRATIC_CUBIC_SHARE`; cu2qu's check is certified up to
-rounding).  The contours are then rounded to integers and cleaned
+split again between the cubics and their conversion to quadratic splines with cu2qu
+(:func:`morph.export.loops_to_quadratics`, :data:`morph.export.QUADRATIC_CUBIC_SHARE`;
+cu2qu's check is certified up to rounding), before rounding: every point is rounded
+once (ufo2ft converting rounded cubics and rounding again moved TrueType g 1.38
+units).  The contours are then rounded to integers and cleaned
 (:func:`morph.fonts.tables.contours_from_loops`: <= 0.71 units more), in the UFO
 too, so the UFO and the compiled font hold the same outlines.  A glyph whose stroke
 or conversion raises is written by the polygon fallback of
@@ -225,9 +227,11 @@ def _chunk_job(chunk):
                     "seconds": time.process_time() - t0})
     good = [k for k, r in enumerate(out) if r["fallback"] is None]
     t0 = time.process_time()
+    tol, quadratic = _outline_tolerance(chunk[0][3])
     try:
-        contours = contours_from_regions([out[k]["region"] for k in good], chunk[0][3][1],
-                                         False, [chunk[k][4] for k in good])
+        contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
+                                         [chunk[k][4] for k in good], reverse=False,
+                                         splines=True)
     except MorphError:
         contours = None
     if contours is not None:
@@ -240,8 +244,9 @@ def _chunk_job(chunk):
         for k in good:
             t0 = time.process_time()
             try:
-                out[k]["contours"] = contours_from_loops(out[k]["region"], chunk[k][3][1],
-                                                         False, chunk[k][4])
+                out[k]["contours"] = contours_from_loops(out[k]["region"], tol, quadratic,
+                                                         chunk[k][4], reverse=False,
+                                                         splines=True)
             except MorphError as exc:
                 out[k]["fallback"] = exc
             out[k]["seconds"] += time.process_time() - t0
@@ -309,7 +314,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                                     place.shifts, stroker)
     results = [r for rs in run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs,
                                     progress=_by_name(progress)) for r in rs]
-    stats = _write_strokes(font, results)
+    stats = _write_strokes(font, results, kind == ".ttf")
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
                  composites=sum(1 for n in stroked + followed if font[n].components),
@@ -404,9 +409,10 @@ def _stroke_work(font, stroked, symmetric, nib_region, tols, shifts, stroker):
     return work, decomposed
 
 
-def _write_strokes(font, results):
-    """Draw the jobs' contours into their glyphs; the statistics of what was written
-    (contours, points, fallback, stroke_seconds, regions)."""
+def _write_strokes(font, results, quadratic):
+    """Draw the jobs' contours (TrueType splines for a .ttf) into their glyphs; the
+    statistics of what was written (contours, points, fallback, stroke_seconds,
+    regions)."""
     from .tables import draw_contours
 
     stats = {"contours": 0, "points": 0, "fallback": {}, "regions": {},
@@ -414,7 +420,7 @@ def _write_strokes(font, results):
     for r in results:
         g = font[r["name"]]
         g.clearContours()
-        draw_contours(g.getPen(), r["contours"], False)
+        draw_contours(g.getPen(), r["contours"], quadratic)
         stats["contours"] += len(r["contours"])
         stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
         stats["regions"][r["name"]] = r["region"]
@@ -564,6 +570,16 @@ def _rewrite_anchors(text, moves):
 
 def _fea_number(v):
     return str(int(round(v)))
+
+
+def _outline_tolerance(tols):
+    """(tolerance, quadratic) of the outlines written into the UFO for the shares
+    (stroke, cubic, cu2qu) of :func:`_tolerances`: cubics within the cubic share, or
+    for TrueType quadratic splines within cubic + cu2qu (:func:`morph.export.
+    loops_to_quadratics` splits it the same way), so that ufo2ft has nothing to
+    convert and every point is rounded to an integer once."""
+    _, cubic, cu2qu = tols
+    return cubic + cu2qu, cu2qu > 0
 
 
 def _tolerances(tol, kind):

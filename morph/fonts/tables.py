@@ -38,41 +38,51 @@ FONT_SUFFIXES = (".ttf", ".otf", ".woff2", ".woff")
 
 # =========================================================================== outlines
 
-def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0)):
+def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0), reverse=None,
+                        splines=False):
     """Region (our loops: outer counter-clockwise) -> cleaned integer contours.
 
     Each piece is translated by ``offset``, converted within ``tol`` (font units) to
     quadratics (``quadratic``: TrueType, :func:`morph.export.loop_to_quadratics`) or
     cubics (CFF, :func:`morph.export.loop_to_beziers`), both certified, curves
     spanning the loop's smooth joins; lines stay lines.  TrueType contours are
-    reversed (outer clockwise, the glyf convention); CFF keeps ours (outer
-    counter-clockwise).  Points are then rounded to integers (at most 0.71 units
-    more) and :func:`clean_contour` applied; contours that vanish are dropped.
+    reversed (outer clockwise, the glyf convention) unless ``reverse`` is False (a
+    UFO's quadratic contours keep ours: ufo2ft reverses them when it compiles);
+    CFF keeps ours (outer counter-clockwise).  With ``splines`` (quadratic only)
+    each converted cubic is one TrueType spline, its on-curve points between
+    off-curve points implied.  Points are then rounded to integers (at most 0.71
+    units more: an implied point is the midpoint of two rounded ones) and
+    :func:`clean_contour` applied; contours that vanish are dropped.
 
     Raises:
         ToleranceNotMetError: as the converters.
     """
-    return contours_from_regions([loops], tol, quadratic, [offset])[0]
+    return contours_from_regions([loops], tol, quadratic, [offset], reverse, splines)[0]
 
 
-def contours_from_regions(regions, tol, quadratic, offsets=None):
+def contours_from_regions(regions, tol, quadratic, offsets=None, reverse=None,
+                          splines=False):
     """:func:`contours_from_loops` of several regions (glyphs) at once: a list of
     contour lists.  The loops of all regions are converted in one batch
     (:func:`morph.export.loops_to_beziers`: the segment searches of every loop go in
     lockstep and each round is fitted and certified with a few array calls).  The
     fits are those of region by region up to rounding (batched array calls may
     round differently: callers that must be reproducible batch the same regions
-    together every time).  ``offsets``: one per region (None: zero).
+    together every time).  ``offsets``: one per region (None: zero); ``reverse`` and
+    ``splines`` as :func:`contours_from_loops`.
 
     Raises:
         ToleranceNotMetError: as the converters (for the whole batch).
     """
     from ..export import loops_to_beziers, loops_to_quadratics
 
-    convert = loops_to_quadratics if quadratic else loops_to_beziers
+    splines = splines and quadratic
     offsets = [(0.0, 0.0)] * len(regions) if offsets is None else offsets
-    loops = [reverse_loop(loop) if quadratic else loop for loops in regions for loop in loops]
-    converted = iter(convert(loops, tol, wrap=True))  # cubics span the smooth joins
+    flip = quadratic if reverse is None else reverse
+    loops = [reverse_loop(loop) if flip else loop for loops in regions for loop in loops]
+    # cubics span the smooth joins
+    converted = iter(loops_to_quadratics(loops, tol, wrap=True, splines=splines) if quadratic
+                     else loops_to_beziers(loops, tol, wrap=True))
     out = []
     for loops, offset in zip(regions, offsets):
         off = np.asarray(offset, float)
@@ -84,7 +94,7 @@ def contours_from_regions(regions, tol, quadratic, offsets=None):
                 if not quadratic and len(q) == 3:
                     q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)
                 segs.append(q + off)
-            contour = clean_contour(segs)
+            contour = clean_contour(segs, splines=splines)
             if contour:
                 contours.append(contour)
         out.append(contours)
@@ -102,7 +112,15 @@ def _step(frm, to):
     return np.round(d / n) if n > 0 else d
 
 
-def _simplify_segment(s):
+def _spline_quadratics(s):
+    """The quadratics of a TrueType spline (end points, off-curve points), with their
+    implied on-curve points (midpoints) explicit: (3, 2) arrays, unrounded."""
+    offs = s[1:-1]
+    ons = [s[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] + [s[-1]]
+    return [np.array([ons[i], off, ons[i + 1]]) for i, off in enumerate(offs)]
+
+
+def _simplify_segment(s, spline=False):
     """A rounded segment whose consecutive points all differ; None if it has zero length.
 
     A quadratic whose control point coincides with an end point is a line.  A cubic
@@ -118,8 +136,8 @@ def _simplify_segment(s):
     inner = [q for q in s[1:-1] if not (_same(q, s[0]) or _same(q, s[-1]))]
     if not inner:
         return np.array([s[0], s[-1]])
-    if len(s) == 3:
-        return s
+    if len(s) == 3 or spline:
+        return s    # a spline's rounded points all differ (clean_contour checked)
     s = s.copy()
     if _same(s[1], s[0]):
         s[1] = s[0] + _step(s[0], s[2])
@@ -138,7 +156,7 @@ def _collinear_lines(a, b):
     return u[0] * v[1] - u[1] * v[0] == 0 and u[0] * v[0] + u[1] * v[1] > 0
 
 
-def clean_contour(segs, spike=3.0):
+def clean_contour(segs, spike=3.0, splines=False):
     """Round a closed contour's segments to integers and remove what fonts must not have.
 
     ``segs``: polynomial segments (``(k, 2)`` arrays), each starting where the
@@ -156,13 +174,23 @@ def clean_contour(segs, spike=3.0):
     - fewer than 2 segments, or two segments forming a zero-area lens: nothing.
 
     A change moves the outline by at most ``spike`` units, only at such defects.
+    With ``splines``, segments of 4 points or more are TrueType splines (end points,
+    off-curve points, the on-curve points between them implied); one whose rounded
+    points would repeat is written as its quadratics with explicit on-curve points,
+    each rounded once.
     """
     work = []
     for s in segs:
-        s = np.round(np.asarray(s, float)) + 0.0  # + 0.0: no negative zeros
-        s = _simplify_segment(s)
-        if s is not None:
-            work.append(s)
+        s = np.asarray(s, float)
+        parts = [s]
+        if splines and len(s) >= 4:
+            r = np.round(s)
+            if any(_same(a, b) for a, b in zip(r, r[1:])):
+                parts = _spline_quadratics(s)
+        for q in parts:
+            q = _simplify_segment(np.round(q) + 0.0, spline=splines and len(q) >= 4)
+            if q is not None:
+                work.append(q)
     changed = True
     while changed and work:
         changed = False
@@ -213,8 +241,8 @@ def draw_contours(pen, contours, quadratic):
             if len(s) == 2:
                 if k < last:  # the closing line is implied by closePath
                     pen.lineTo(pts[0])
-            elif quadratic and len(s) == 3:
-                pen.qCurveTo(*pts)
+            elif quadratic and len(s) >= 3:
+                pen.qCurveTo(*pts)      # a quadratic, or a spline (on-curves implied)
             elif len(s) == 4:
                 pen.curveTo(*pts)
             else:

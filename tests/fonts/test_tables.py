@@ -91,3 +91,24 @@ def test_rename_family(style, want):
     assert ps == want[6] and name.getDebugName(3).endswith(";t;" + ps)
     assert name.getDebugName(25) == "XBrush"  # the bundled font has ID 25
     assert all("Old Family" not in r.toUnicode() for r in name.names)
+
+
+def test_clean_contour_keeps_splines_and_splits_those_that_round_to_repeats():
+    """With ``splines`` a TrueType spline (on, off, off, on) stays one segment after
+    rounding; one whose off-curve points round to the same point is written as its
+    quadratics with explicit on-curve points (each point rounded once)."""
+    from morph.fonts.tables import clean_contour
+
+    spline = np.array([[0.0, 0.0], [10.2, 20.1], [30.4, 19.8], [40.0, 0.0]])
+    line = np.array([[40.0, 0.0], [0.0, 0.0]])
+    out = clean_contour([spline, line], splines=True)
+    assert [len(s) for s in out] == [4, 2]
+    assert np.array_equal(out[0], np.round(spline))
+    close = np.array([[0.0, 0.0], [10.2, 20.1], [10.4, 19.8], [40.0, 0.0]])   # offs round alike
+    out = clean_contour([close, line], splines=True)
+    mid = np.round(0.5 * (close[1] + close[2]))                 # the explicit midpoint
+    # both quadratics' control points round onto that midpoint: two lines through it
+    assert [len(s) for s in out] == [2, 2, 2]
+    assert np.array_equal(out[0][1], mid) and np.array_equal(out[1][0], mid)
+    # without splines a 4-point segment is a cubic, as before
+    assert [len(s) for s in clean_contour([spline, line])] == [4, 2]
