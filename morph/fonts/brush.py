@@ -296,8 +296,8 @@ def _sweep(job, start=0, error=None):
     for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None):
         try:
             loops = minkowski_sum(region, pen, sum_tol, method=method)
-            return (name, contours_from_loops(loops, tol / 2.0, quadratic, offset), kind,
-                    error)
+            return (name, contours_from_loops(loops, tol / 2.0, quadratic, offset,
+                                              splines=True), kind, error)
         except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
             if error is None:
                 error = "%s: %s" % (type(exc).__name__, one_line(exc))
@@ -354,7 +354,8 @@ def sweep_glyphs(jobs):
         tol, quadratic = jobs[done[0][0]][3], jobs[done[0][0]][6]
         try:
             contours = contours_from_regions([loops for _, loops in done], tol / 2.0,
-                                             quadratic, [jobs[k][5] for k, _ in done])
+                                             quadratic, [jobs[k][5] for k, _ in done],
+                                             splines=True)
         except Exception:  # noqa: BLE001 - glyph by glyph below
             contours = None
         for i, (k, loops) in enumerate(done):
@@ -363,8 +364,8 @@ def sweep_glyphs(jobs):
                 out[k] = (name, contours[i], "exact", None)
                 continue
             try:
-                out[k] = (name, contours_from_loops(loops, tol / 2.0, quadratic, offset),
-                          "exact", None)
+                out[k] = (name, contours_from_loops(loops, tol / 2.0, quadratic, offset,
+                                                    splines=True), "exact", None)
             except Exception as exc:  # noqa: BLE001
                 out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
     return out
