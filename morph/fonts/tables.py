@@ -112,6 +112,25 @@ def _step(frm, to):
     return np.round(d / n) if n > 0 else d
 
 
+def _rounded_segments(segs, splines):
+    """The segments rounded to integers and simplified (:func:`_simplify_segment`,
+    zero-length ones dropped); with ``splines`` a spline whose rounded points would
+    repeat becomes its quadratics (:func:`_spline_quadratics`), each rounded once."""
+    work = []
+    for s in segs:
+        s = np.asarray(s, float)
+        parts = [s]
+        if splines and len(s) >= 4:
+            r = np.round(s)
+            if any(_same(a, b) for a, b in zip(r, r[1:])):
+                parts = _spline_quadratics(s)
+        for q in parts:
+            q = _simplify_segment(np.round(q) + 0.0, spline=splines and len(q) >= 4)
+            if q is not None:
+                work.append(q)
+    return work
+
+
 def _spline_quadratics(s):
     """The quadratics of a TrueType spline (end points, off-curve points), with their
     implied on-curve points (midpoints) explicit: (3, 2) arrays, unrounded."""
@@ -179,18 +198,7 @@ def clean_contour(segs, spike=3.0, splines=False):
     points would repeat is written as its quadratics with explicit on-curve points,
     each rounded once.
     """
-    work = []
-    for s in segs:
-        s = np.asarray(s, float)
-        parts = [s]
-        if splines and len(s) >= 4:
-            r = np.round(s)
-            if any(_same(a, b) for a, b in zip(r, r[1:])):
-                parts = _spline_quadratics(s)
-        for q in parts:
-            q = _simplify_segment(np.round(q) + 0.0, spline=splines and len(q) >= 4)
-            if q is not None:
-                work.append(q)
+    work = _rounded_segments(segs, splines)
     changed = True
     while changed and work:
         changed = False
