@@ -476,8 +476,8 @@ def crossing_rows(gauss_pair, reach):
     row, decided per convolution loop (loop a of A with loop b of B).
 
     A loop's convolution curve cannot cross itself when a and b are both convex and
-    counter-clockwise (each Gauss map turns monotonically through exactly 2 pi: the
-    curve is the boundary of the convex sum), and cannot cross another loop's when
+    counter-clockwise (:func:`morph.gauss.turns_convex`: the curve is the boundary of
+    the convex sum), and cannot cross another loop's when
     its box (box(a) + box(b), control points, grown by ``reach``) overlaps none of
     theirs.  The rows of every other loop are flagged.  Conservative: a row flagged
     in vain only costs work."""
@@ -486,8 +486,8 @@ def crossing_rows(gauss_pair, reach):
     tb_loop = np.repeat(np.arange(len(gauss_pair.maps_b)), [len(m) for m in gauss_pair.maps_b])
     la, lb = ta_loop[i], tb_loop[j]
     na, nb = len(gauss_pair.maps_a), len(gauss_pair.maps_b)
-    convex = (np.array([_convex_ccw(m) for m in gauss_pair.maps_a])[:, None]
-              & np.array([_convex_ccw(m) for m in gauss_pair.maps_b])[None, :])
+    convex = (np.array([gauss.turns_convex(m) for m in gauss_pair.maps_a])[:, None]
+              & np.array([gauss.turns_convex(m) for m in gauss_pair.maps_b])[None, :])
     box = (_loop_boxes(gauss_pair.maps_a)[:, None, :]
            + _loop_boxes(gauss_pair.maps_b)[None, :, :]).reshape(-1, 4)
     box[:, :2] -= reach
@@ -514,13 +514,6 @@ def _isolated(box):
     out[r1[hit]] = False
     out[r2[hit]] = False
     return out
-
-
-def _convex_ccw(edges):
-    """Whether a loop's Gauss map turns monotonically counter-clockwise through
-    exactly 2 pi (a convex loop, outer orientation)."""
-    sweep = np.array([e.sweep for e in edges], float)
-    return bool(np.all(sweep >= 0.0) and abs(sweep.sum() - gauss.TWO_PI) <= 1e-9)
 
 
 def _loop_boxes(maps):

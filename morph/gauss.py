@@ -231,6 +231,18 @@ def _wrap(a):
     return a - TWO_PI * np.ceil((a - np.pi) / TWO_PI)
 
 
+#: Slack of :func:`turns_convex`: a clockwise turn this small counts as none, and
+#: the total may miss 2 pi by TURN_TOTAL_EPS (rounding of the edges' angles).
+TURN_EPS, TURN_TOTAL_EPS = 1e-9, 1e-6
+
+
+def turns_convex(edges):
+    """Whether a loop's Gauss map (its edges) turns monotonically counter-clockwise
+    through exactly 2 pi: the loop is convex, with the outer orientation."""
+    sweep = np.array([e.sweep for e in edges], float)
+    return bool(np.all(sweep >= -TURN_EPS) and abs(sweep.sum() - TWO_PI) <= TURN_TOTAL_EPS)
+
+
 def gauss_map(loop, angle_tol=1e-10):
     """Edges (curves and corner vertices) of a closed loop with lifted tangent angles.
 

@@ -101,18 +101,19 @@ def check_convex_nib(nib):
     Raises:
         NibError: not one loop, or not convex (``.nib`` = the region).
     """
-    from ..gauss import gauss_map
+    from ..gauss import TURN_EPS, gauss_map, turns_convex
 
     if len(nib) != 1:
         raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
     edges = gauss_map(nib[0])
-    bad = [e for e in edges if e.sweep < -1e-9]
+    if turns_convex(edges):
+        return
+    bad = [e for e in edges if e.sweep < -TURN_EPS]
     if bad:
         raise NibError("the nib is not convex: it turns clockwise at %s (only convex "
                        "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),), nib)
-    total = sum(e.sweep for e in edges)
-    if abs(total - 2 * np.pi) > 1e-6:
-        raise NibError("the nib is not convex (total turning %.3f rad)" % total, nib)
+    raise NibError("the nib is not convex (total turning %.3f rad)"
+                   % sum(e.sweep for e in edges), nib)
 
 
 def region_extent(loops):
