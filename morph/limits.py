@@ -48,6 +48,8 @@ __all__ = [
     "check_tolerance",
     "estimate_points",
     "memory_budget_bytes",
+    "precision_floor",
+    "fits_precision",
     "region_extent",
 ]
 
@@ -104,6 +106,18 @@ def estimate_points(region, tol):
     return n
 
 
+def precision_floor(magnitude):
+    """The finest tolerance honoured at coordinates up to ``magnitude``:
+    FP_FACTOR ulps of it (see the module docstring)."""
+    return FP_FACTOR * np.finfo(float).eps * magnitude
+
+
+def fits_precision(tol, *regions):
+    """Whether ``tol`` is above :func:`precision_floor` of the regions' largest
+    coordinate (for layouts of several regions, such as :mod:`morph.packing`)."""
+    return tol >= precision_floor(max(region_extent(r)[1] for r in regions))
+
+
 def _fmt(x):
     return "%.2g" % x
 
@@ -135,7 +149,7 @@ def check_tolerance(tol, *regions, operation="this operation", unit=1.0, unit_na
         raise LimitError("%s: tolerance %s is larger than the shapes (size %s): use a "
                          "tolerance below %s" % (operation, user(tol), user(size),
                                                  user(size / 10)), size / 10)
-    floor = max(REL_TOL_FLOOR * size, FP_FACTOR * np.finfo(float).eps * mag)
+    floor = max(REL_TOL_FLOOR * size, precision_floor(mag))
     if tol < floor:
         why = ("the floating-point resolution at coordinates of %s" % _fmt(mag)
                if floor > REL_TOL_FLOOR * size else "%g of the size %s" % (REL_TOL_FLOOR,

@@ -36,37 +36,67 @@ def unique(values):
     return a
 
 
+class BoxGrid:
+    """Axis-aligned boxes hashed on a uniform grid, for all-at-once candidate searches.
+
+    lo, hi: (n, 2) box corners.  Cells are about twice the median box's larger side
+    (few boxes per cell), grown while long boxes would cover more than 8 cells per
+    box on average.  ``items`` and ``keys``: the box of each (box, covered cell)
+    entry and its cell key, sorted by key.
+    """
+
+    def __init__(self, lo, hi):
+        n = len(lo)
+        self.span = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-300)
+        lengths = np.maximum(hi - lo, 0).max(axis=1)
+        # the median by np.partition: np.median imports numpy.ma (~10 ms of every process)
+        mid = np.partition(lengths, [(n - 1) // 2, n // 2])
+        median = 0.5 * (mid[(n - 1) // 2] + mid[n // 2])
+        self.cell = max(float(median) * 2.0, self.span.max() * 1e-9)
+        self.origin = lo.min(axis=0)
+        while True:
+            c0, c1 = self._cell(lo), self._cell(hi)
+            nx = c1[:, 0] - c0[:, 0] + 1
+            counts = nx * (c1[:, 1] - c0[:, 1] + 1)
+            if counts.sum() <= 8 * n + 64:
+                break
+            self.cell *= 2.0
+        item = np.repeat(np.arange(n), counts)
+        offs = _ranks(counts)  # the cells covered by each box, row by row
+        key = _key(c0[item, 0] + offs % nx[item], c0[item, 1] + offs // nx[item])
+        order = np.argsort(key, kind="stable")
+        self.keys, self.items = key[order], item[order]
+
+    def _cell(self, x):
+        return np.floor((x - self.origin) / self.cell).astype(np.int64)
+
+    def at_points(self, points):
+        """(point index, box index) of every box whose cell holds the point: a
+        superset of the boxes that contain it."""
+        c = self._cell(np.asarray(points, float))
+        k = _key(c[:, 0], c[:, 1])
+        lo = np.searchsorted(self.keys, k, "left")
+        cnt = np.searchsorted(self.keys, k, "right") - lo
+        pt = np.repeat(np.arange(len(k)), cnt)
+        return pt, self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+
+
+def _key(cx, cy):
+    return cx * 1_000_003 + cy
+
+
+def _ranks(counts):
+    """0, 1, .., counts[0]-1, 0, 1, .., counts[1]-1, ... (one range per count)."""
+    return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+
+
 def segment_pairs(p0, p1, ids, same_piece_ok):
     """Index pairs (i < j) of segments whose bounding boxes overlap (grid hashing)."""
     lo = np.minimum(p0, p1)
     hi = np.maximum(p0, p1)
     n = len(p0)
-    span = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-300)
-    lengths = np.maximum(hi - lo, 0).max(axis=1)
-    # cells about as large as the typical segment (few segments per cell), grown
-    # while long segments would cover more than 8 cells per segment on average
-    # the median by np.partition: np.median imports numpy.ma (~10 ms of every process)
-    mid = np.partition(lengths, [(n - 1) // 2, n // 2])
-    median = 0.5 * (mid[(n - 1) // 2] + mid[n // 2])
-    cell = max(float(median) * 2.0, span.max() * 1e-9)
-    origin = lo.min(axis=0)
-    while True:
-        c0 = np.floor((lo - origin) / cell).astype(np.int64)
-        c1 = np.floor((hi - origin) / cell).astype(np.int64)
-        nx = c1[:, 0] - c0[:, 0] + 1
-        ny = c1[:, 1] - c0[:, 1] + 1
-        counts = nx * ny
-        if counts.sum() <= 8 * n + 64:
-            break
-        cell *= 2.0
-    seg = np.repeat(np.arange(n), counts)
-    # enumerate cells covered by each segment's box
-    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    cx = c0[seg, 0] + offs % nx[seg]
-    cy = c0[seg, 1] + offs // nx[seg]
-    key = cx * 1_000_003 + cy
-    order = np.argsort(key, kind="stable")
-    key, seg = key[order], seg[order]
+    grid = BoxGrid(lo, hi)
+    key, seg = grid.keys, grid.items
     # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
     bounds = np.flatnonzero(np.diff(key)) + 1
     ends = np.repeat(np.concatenate([bounds, [len(key)]]),
@@ -75,12 +105,13 @@ def segment_pairs(p0, p1, ids, same_piece_ok):
     if cnt.sum() == 0:
         return np.zeros((0, 2), np.int64)
     first = np.repeat(np.arange(len(key)), cnt)
-    second = first + 1 + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    second = first + 1 + _ranks(cnt)
     a, b = seg[first], seg[second]
     pair_keys = unique(np.minimum(a, b) * n + np.maximum(a, b))  # rows in (i, j) order
     i, j = pair_keys // n, pair_keys % n
     pairs = np.stack([i, j], axis=1)
-    keep = np.all(lo[i] <= hi[j] + 1e-12 * span.max(), axis=1) & np.all(lo[j] <= hi[i] + 1e-12 * span.max(), axis=1)
+    slack = 1e-12 * grid.span.max()
+    keep = np.all(lo[i] <= hi[j] + slack, axis=1) & np.all(lo[j] <= hi[i] + slack, axis=1)
     return pairs[keep]
 
 

@@ -13,7 +13,7 @@ call are united (a glyph is the union of its strokes).
 import numpy as np
 
 from . import piece as pc
-from .minkowski import minkowski_sum
+from .minkowski import minkowski_sums
 from .region import reverse_loop, translate_region
 from .trim import fill_region
 
@@ -32,8 +32,30 @@ def stroke_paths(paths, nib_region, tol):
     paths' units, with the budget of :func:`morph.minkowski.minkowski_sum`.
     Returns loops of rational pieces, outer counter-clockwise, holes clockwise.
     """
+    return stroke_many([paths], nib_region, tol)[0]
+
+
+def stroke_many(path_sets, nib_region, tol):
+    """:func:`stroke_paths` of several sets of paths (a font's glyphs) with one nib,
+    the sums computed together (:func:`morph.minkowski.minkowski_sums`)."""
     if not nib_region:
         raise ValueError("the nib is empty")
+    loops, dots = zip(*[_loops_and_dots(paths, nib_region) for paths in path_sets]) \
+        if path_sets else ((), ())
+    has = [k for k, lp in enumerate(loops) if lp]
+    sums = minkowski_sums([loops[k] for k in has], nib_region, tol)
+    out = [[] for _ in path_sets]
+    for k, region in zip(has, sums):
+        out[k] = region
+    for k, d in enumerate(dots):
+        if d:
+            nibs = [loop for x in d for loop in translate_region(nib_region, x)]
+            out[k] = fill_region(list(out[k]) + nibs, "nonzero")
+    return out
+
+
+def _loops_and_dots(paths, nib_region):
+    """(degenerate loops of the paths, start points of the zero-length ones)."""
     size = _size([p for pieces, _ in paths for p in pieces] + [p for l in nib_region for p in l])
     loops, dots = [], []
     for pieces, _closed in paths:
@@ -42,11 +64,7 @@ def stroke_paths(paths, nib_region, tol):
             loops.append(path_loop(long))
         elif len(pieces):
             dots.append(pc.start(np.asarray(pieces[0], float)))
-    region = minkowski_sum(loops, nib_region, tol) if loops else []
-    if not dots:
-        return region
-    nibs = [loop for d in dots for loop in translate_region(nib_region, d)]
-    return fill_region(list(region) + nibs, "nonzero")
+    return loops, dots
 
 
 def _is_point(piece, eps):
@@ -61,4 +79,4 @@ def _size(pieces):
     return max(float(np.ptp(pts, axis=0).max()), 1e-300)
 
 
-__all__ = ["stroke_paths", "path_loop"]
+__all__ = ["stroke_paths", "stroke_many", "path_loop"]

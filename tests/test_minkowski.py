@@ -95,7 +95,11 @@ def straddle(oracle, pts, nrm, d, n_ring=24):
 
 
 def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
-    loops = minkowski_sum(a, b, tol)
+    return check_loops(minkowski_sum(a, b, tol), a, b, tol, slack, rng, n_random, max_boundary)
+
+
+def check_loops(loops, a, b, tol, slack, rng, n_random=60, max_boundary=80):
+    """Straddle and membership tests of ``loops`` as A ⊕ B within tol + slack."""
     assert loops, "empty sum"
     oracle = Oracle(a, b, 1e-3)
     pts, nrm = _boundary_samples(loops)
@@ -542,3 +546,79 @@ def test_a_first_round_that_cannot_subdivide_falls_back_to_the_whole_budget(monk
     for la, lb in zip(out, coarse):
         assert len(la) == len(lb)
         assert all(np.array_equal(p, q) for p, q in zip(la, lb))
+
+
+# ------------------------------------------------ several sums at once (minkowski_sums)
+
+def test_sums_of_glyphs_with_one_operand_pass_the_oracle(glyphs):
+    """Each result of the packed computation against the oracle of its own pair
+    (straddle and membership), glyphs with holes and without, at 1e-3 em."""
+    names = "OB8g&@TM"
+    b = glyphs["e"]
+    tol = 1e-3 * UPM
+    outs = minkowski.minkowski_sums([glyphs[c] for c in names], b, tol)
+    assert len(outs) == len(names)
+    for k, (c, loops) in enumerate(zip(names, outs)):
+        check_loops(loops, glyphs[c], b, tol, 1e-5 * UPM + 2e-3, np.random.default_rng(k),
+                    n_random=30, max_boundary=24)
+
+
+def test_sums_keep_each_region_in_place_and_its_topology(glyphs):
+    """The same glyph at several places (overlapping inputs) and other glyphs: every
+    result has the loops, holes and area of the sum computed alone."""
+    regions = [glyphs["O"], R_translate(glyphs["O"], (100.0, 50.0)), glyphs["8"], glyphs["@"]]
+    b = glyphs["x"]
+    tol = 1e-3 * UPM
+    together = minkowski.minkowski_sums(regions, b, tol)
+    for a, loops in zip(regions, together):
+        alone = minkowski_sum(a, b, tol)
+        assert sorted(pc.loop_area(l) > 0 for l in loops) == sorted(
+            pc.loop_area(l) > 0 for l in alone)
+        assert pc.region_area(loops) == pytest.approx(pc.region_area(alone), rel=1e-5)
+        ba = np.array([pc.bbox(p) for l in loops for p in l])
+        bb = np.array([pc.bbox(p) for l in alone for p in l])
+        assert np.allclose([ba[:, :2].min(0), ba[:, 2:].max(0)],
+                           [bb[:, :2].min(0), bb[:, 2:].max(0)], atol=2 * tol)
+
+
+def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
+    """S + g needs the corner pass (above); O + g does not.  Packed together, the
+    second trim gets only S's pieces, and S's corners still meet the budget."""
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
+    s, o, g = _region("S"), _region("O"), _region("g")
+    calls = []
+    trimmed = minkowski._trimmed
+
+    def spy(conv, tol, member):
+        calls.append(len(conv))
+        return trimmed(conv, tol, member)
+
+    monkeypatch.setattr(minkowski, "_trimmed", spy)
+    out_s, out_o = minkowski.minkowski_sums([s, o], g, TOL)
+    assert len(calls) >= 2
+    alone_s, dbg = minkowski.minkowski_sum(s, g, TOL, return_debug=True)
+    n_s = len(dbg["convolution"])
+    assert calls[1] == n_s < calls[0]   # the second trim: S's pieces only
+    assert pc.region_area(out_s) == pytest.approx(pc.region_area(alone_s), rel=1e-6)
+    assert pc.region_area(out_o) == pytest.approx(
+        pc.region_area(minkowski.minkowski_sum(o, g, TOL)), rel=1e-6)
+
+
+def test_sums_fall_back_to_one_by_one_beyond_the_precision(glyphs, monkeypatch):
+    regions = [glyphs["O"], glyphs["T"]]
+    monkeypatch.setattr(minkowski, "fits_precision", lambda tol, *r: False)
+    got = minkowski.minkowski_sums(regions, glyphs["M"], 1.0)
+    for a, loops in zip(regions, got):
+        alone = minkowski_sum(a, glyphs["M"], 1.0)
+        assert len(loops) == len(alone)
+        assert all(np.array_equal(p, q) for l, m in zip(loops, alone) for p, q in zip(l, m))
+
+
+def test_sums_bad_arguments(glyphs):
+    with pytest.raises(ValueError, match="region 1 is empty"):
+        minkowski.minkowski_sums([glyphs["O"], []], glyphs["M"], 1.0)
+    assert minkowski.minkowski_sums([], glyphs["M"], 1.0) == []
+
+
+def R_translate(region, offset):
+    return [[pc.translate(p, offset) for p in loop] for loop in region]

@@ -205,9 +205,10 @@ CHUNK = 96
 
 
 def _chunk_job(chunk):
-    """:func:`_glyph_job` of several glyphs (a process-pool job): each glyph is
-    stroked on its own, then the outlines of all of them are converted to cubics in
-    one batch (:func:`morph.fonts.tables.contours_from_regions`), which costs a
+    """:func:`_glyph_job` of several glyphs (a process-pool job): the glyphs are
+    stroked together (:func:`_stroked_regions`), then the outlines of all of them
+    are converted to cubics in one batch
+    (:func:`morph.fonts.tables.contours_from_regions`), which costs a
     fraction of glyph-by-glyph conversion (the certified fits of all glyphs share
     each round's array calls).  If the batch raises, each glyph is converted alone,
     so that only the failing one falls back to the polygon stroke.  A glyph's
@@ -216,15 +217,8 @@ def _chunk_job(chunk):
     from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops, contours_from_regions
 
-    out = []
-    for name, paths, nib_region, (sum_tol, cubic_tol, _), offset, stroker in chunk:
-        t0 = time.process_time()
-        try:
-            region, error = stroke_glyph_region(paths, nib_region, sum_tol, stroker), None
-        except MorphError as exc:
-            region, error = None, exc
-        out.append({"name": name, "contours": None, "region": region, "fallback": error,
-                    "seconds": time.process_time() - t0})
+    out = [{"name": job[0], "contours": None, "region": r, "fallback": e, "seconds": s}
+           for job, (r, e, s) in zip(chunk, _stroked_regions(chunk))]
     good = [k for k, r in enumerate(out) if r["fallback"] is None]
     t0 = time.process_time()
     tol, quadratic = _outline_tolerance(chunk[0][3])
@@ -265,6 +259,33 @@ def _chunk_job(chunk):
     return out
 
 
+
+
+def _stroked_regions(chunk):
+    """[(region, error, CPU seconds)] of :func:`_chunk_job`'s glyphs: with the default
+    stroker all at once (:func:`morph.stroke.stroke_many`; each glyph's share of the
+    time by its number of result pieces), else, or where that raises, one by one."""
+    if all(job[5] is None for job in chunk):
+        from ..stroke import stroke_many
+
+        t0 = time.process_time()
+        try:
+            regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3][0])
+        except MorphError:
+            regions = None
+        if regions is not None:
+            sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
+            share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
+            return [(r, None, float(s)) for r, s in zip(regions, share)]
+    out = []
+    for name, paths, nib_region, (sum_tol, _, _), _, stroker in chunk:
+        t0 = time.process_time()
+        try:
+            region, error = stroke_glyph_region(paths, nib_region, sum_tol, stroker), None
+        except MorphError as exc:
+            region, error = None, exc
+        out.append((region, error, time.process_time() - t0))
+    return out
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import project, segment_distance, unique
+from ..polyline import BoxGrid, project, segment_distance, unique
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
@@ -233,24 +233,42 @@ def _matched_segments(p, q, tg):
     best fitting one; edges between crossings by a search over all segments."""
     sa, sb = tg.q, tg.q[tg.nxt]
     cand_e, cand_s = _vertex_candidates(p, q, tg)
-    score, fwd = _fit(p[cand_e], q[cand_e], sa[cand_s], sb[cand_s])
-    best = np.full(len(p), np.inf)
-    seg = np.zeros(len(p), np.int64)
-    direction = np.ones(len(p), bool)
-    order = np.lexsort((score, cand_e))
-    take = order[np.r_[True, np.diff(cand_e[order]) != 0]] if len(order) else order
-    best[cand_e[take]] = score[take]
-    seg[cand_e[take]] = cand_s[take]
-    direction[cand_e[take]] = fwd[take]
+    best, seg, direction = _best_fits(len(p), cand_e, cand_s, *_fit(
+        p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
     lost = np.flatnonzero(best > MATCH_UNITS)
-    for chunk in np.array_split(lost, max(1, len(lost) // 64)):
-        if len(chunk) == 0:
-            continue
-        sc, fw = _fit(p[chunk, None], q[chunk, None], sa[None], sb[None])
-        i = np.argmin(sc, axis=1)
-        seg[chunk] = i
-        direction[chunk] = fw[np.arange(len(chunk)), i]
+    if len(lost):
+        s, f = _nearest_segments(p[lost], q[lost], sa, sb)
+        seg[lost], direction[lost] = s, f
     return seg, direction
+
+
+def _nearest_segments(p, q, sa, sb):
+    """For edges p -> q: the segment sa -> sb that fits both ends best, and whether
+    the edge runs along it.  Candidates are the segments whose boxes, widened by
+    MATCH_UNITS, hold p (:class:`morph.polyline.BoxGrid`); an edge with no candidate
+    within MATCH_UNITS is matched against every segment."""
+    grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
+    e, s = grid.at_points(p)
+    best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
+    far = np.flatnonzero(best > MATCH_UNITS)
+    for chunk in np.array_split(far, max(1, len(far) // 64)):
+        if len(chunk):
+            sc, fw = _fit(p[chunk, None], q[chunk, None], sa[None], sb[None])
+            i = np.argmin(sc, axis=1)
+            seg[chunk], direction[chunk] = i, fw[np.arange(len(chunk)), i]
+    return seg, direction
+
+
+def _best_fits(n, e, s, score, fwd):
+    """(score, segment, direction) of the best scoring candidate pair (e, s) of each
+    of n edges (score inf, segment 0 where an edge has none)."""
+    best = np.full(n, np.inf)
+    seg = np.zeros(n, np.int64)
+    direction = np.ones(n, bool)
+    order = np.lexsort((score, e))
+    take = order[np.r_[True, np.diff(e[order]) != 0]] if len(order) else order
+    best[e[take]], seg[e[take]], direction[e[take]] = score[take], s[take], fwd[take]
+    return best, seg, direction
 
 
 def _vertex_candidates(p, q, tg):
