@@ -330,27 +330,21 @@ def glyph_chunks(work, size):
 
 def sweep_glyphs(jobs):
     """:func:`sweep_glyph` of several glyphs (a process-pool job), a list of its
-    results.  Each glyph is summed on its own (first attempt); the outlines of all
+    results.  The glyphs are summed together (first attempt, :func:`_first_sums`);
+    the outlines of all
     that succeeded are converted in one batch
     (:func:`morph.fonts.tables.contours_from_regions`: the certified fits of all
     glyphs share each round's array calls, a fraction of the glyph-by-glyph cost).
     A glyph whose sum raised goes on with :func:`sweep_glyph`'s next attempts; if
     the batch raises, each glyph is converted alone and a failing one goes on the
     same way, so the results are :func:`sweep_glyph`'s."""
-    from ..minkowski import minkowski_sum
     from .tables import contours_from_loops, contours_from_regions
 
-    out, done = [None] * len(jobs), []
+    out = [None] * len(jobs)
     for k, job in enumerate(jobs):
-        name, region, nib, tol, method, offset, quadratic = job
-        if not region:
-            out[k] = (name, [], "exact", None)
-            continue
-        kind, sum_tol, pen = next(iter(_attempts(nib, tol)))
-        try:
-            done.append((k, minkowski_sum(region, pen, sum_tol, method=method)))
-        except Exception as exc:  # noqa: BLE001 - any failure: the next attempts
-            out[k] = _sweep(job, 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+        if not job[1]:
+            out[k] = (job[0], [], "exact", None)
+    done = _first_sums(jobs, [k for k in range(len(jobs)) if out[k] is None], out)
     if done:
         tol, quadratic = jobs[done[0][0]][3], jobs[done[0][0]][6]
         try:
@@ -370,6 +364,31 @@ def sweep_glyphs(jobs):
             except Exception as exc:  # noqa: BLE001
                 out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
     return out
+
+
+def _first_sums(jobs, todo, out):
+    """[(job index, loops)] of the first attempt of :func:`_attempts` for jobs
+    ``todo`` (one nib, tolerance and method): all at once
+    (:func:`morph.minkowski.minkowski_sums`), or where that raises one by one; a
+    glyph whose own sum raised gets :func:`_sweep`'s next attempts in ``out``."""
+    from ..minkowski import minkowski_sum, minkowski_sums
+
+    if not todo:
+        return []
+    _, sum_tol, pen = next(iter(_attempts(jobs[todo[0]][2], jobs[todo[0]][3])))
+    method = jobs[todo[0]][4]
+    try:
+        return list(zip(todo, minkowski_sums([jobs[k][1] for k in todo], pen, sum_tol,
+                                             method=method)))
+    except Exception:  # noqa: BLE001 - glyph by glyph below
+        pass
+    done = []
+    for k in todo:
+        try:
+            done.append((k, minkowski_sum(jobs[k][1], pen, sum_tol, method=method)))
+        except Exception as exc:  # noqa: BLE001 - any failure: the next attempts
+            out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+    return done
 
 
 def _source_regions(font, names):
