@@ -217,9 +217,16 @@ def _corners(out):
     return pts, np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))
 
 
+#: The hole test's point needs to be no deeper than this many tol inside the hole's
+#: ring (which is within about tol of the exact boundary): from there on the answer
+#: and the flattening the predicate uses (a tenth of min(depth, tol)) stay the same.
+HOLE_DEPTH = 8.0
+
+
 class _HoleTest:
     """hole_test for :func:`morph.trim.boundary`: the exact predicate at the hole's
-    deepest point (A and B flattened within a tenth of max(depth, tol))."""
+    deepest point, or one HOLE_DEPTH tol deep (A and B flattened within a tenth of
+    min(depth, tol))."""
 
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
@@ -227,7 +234,7 @@ class _HoleTest:
         self.log = []
 
     def __call__(self, ring, islands):
-        x, depth = deepest_point(ring, islands)
+        x, depth = deepest_point(ring, islands, enough=HOLE_DEPTH * self.tol)
         # flattenings fine enough for the depth, never coarser than tol, reused
         key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)), -3, 0)
         if key not in self.cache:

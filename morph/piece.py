@@ -139,7 +139,13 @@ def stack(pieces):
     pieces of mixed degree for the batched evaluations below.
     """
     deg = max(len(p) for p in pieces) - 1
-    return np.array([bz.to_degree(np.asarray(p, float), deg) for p in pieces])
+    out = np.empty((len(pieces), deg + 1, 3))
+    by_degree = {}
+    for k, p in enumerate(pieces):
+        by_degree.setdefault(len(p), []).append(k)
+    for n, ks in by_degree.items():
+        out[ks] = bz.elevate_many(np.array([pieces[k] for k in ks], float), deg + 1 - n)
+    return out
 
 
 def jet_many(stacked, idx, t):
@@ -811,8 +817,17 @@ def _chord_distance(parts):
 
 def flatten_loop(pieces, tol):
     """Closed polyline (without repeating the first point) of a loop within tol."""
-    pts = [p[:-1] for p, _ in flatten_many(pieces, tol)] if len(pieces) else []
-    return np.concatenate(pts) if pts else np.zeros((0, 2))
+    return flatten_loops([pieces], tol)[0]
+
+
+def flatten_loops(loops, tol):
+    """:func:`flatten_loop` of every loop, all pieces flattened at once."""
+    flat = iter(flatten_many([p for loop in loops for p in loop], tol))
+    out = []
+    for loop in loops:
+        pts = [next(flat)[0][:-1] for _ in loop]
+        out.append(np.concatenate(pts) if pts else np.zeros((0, 2)))
+    return out
 
 
 def sample(piece, n):

@@ -20,24 +20,24 @@ COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
 DEPTH_REL = 0.05  # the search stops once its cells are this small against the depth
 
 
-def deepest_point(ring, islands, grid_n=12, rounds=8):
+def deepest_point(ring, islands, grid_n=12, rounds=8, enough=np.inf):
     """A point inside polygon ``ring`` and outside the ``islands`` polygons (float
     (m, 2) arrays), far from all their edges, and its distance to them.
 
     A grid of candidates over the ring's box, refined up to ``rounds`` times around
     the best one (until a cell's half-diagonal is below DEPTH_REL times the depth
-    found), on the polygons thinned to every k-th vertex (the choice only needs
-    to be nearly the deepest); the returned point is checked, and its distance
-    measured, on the full polygons (the search is repeated on them if the thinned
-    polygons misled it).
+    found, or the depth is ``enough``), on the polygons thinned to every k-th vertex
+    (the choice only needs to be nearly the deepest); the returned point is checked,
+    and its distance measured, on the full polygons (the search is repeated on them
+    if the thinned polygons misled it).
     """
     k = max(1, -(-sum(len(p) for p in [ring] + list(islands)) // COARSE_VERTICES))
     if k > 1:
-        best, _ = _search(ring[::k], [i[::k] for i in islands], grid_n, rounds)
+        best, _ = _search(ring[::k], [i[::k] for i in islands], grid_n, rounds, enough)
         depth = _depth(best, ring, islands)
         if depth > 0.0:
             return best, depth
-    return _search(ring, islands, grid_n, rounds)
+    return _search(ring, islands, grid_n, rounds, enough)
 
 
 def _depth(x, ring, islands):
@@ -52,7 +52,7 @@ def _depth(x, ring, islands):
     return float(min_segment_distance(x, a, b)[0])
 
 
-def _search(ring, islands, grid_n, rounds):
+def _search(ring, islands, grid_n, rounds, enough=np.inf):
     """:func:`deepest_point`'s grid search on the given polygons."""
     polys = [ring] + list(islands)
     a = np.concatenate(polys)
@@ -75,7 +75,7 @@ def _search(ring, islands, grid_n, rounds):
             if d[i] > depth:
                 best, depth = cand[i], float(d[i])
         center, half = best, half * (4.0 / grid_n)
-        if np.hypot(*half) <= DEPTH_REL * depth:
+        if np.hypot(*half) <= DEPTH_REL * depth or depth >= enough:
             break  # a deeper point lies within the next cells: deeper by that at most
     return best, depth
 
@@ -111,8 +111,8 @@ class Membership:
 
     def __init__(self, region_a, region_b, depth):
         flat = depth / 10.0
-        pa = [pc.flatten_loop(loop, flat) for loop in region_a]
-        self.pb = [pc.flatten_loop(loop, flat) for loop in region_b]
+        pa = pc.flatten_loops(region_a, flat)
+        self.pb = pc.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
         flat_loop = [abs(pc.loop_area(loop)) <= 1e-9 * size * size for loop in region_a]
