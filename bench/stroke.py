@@ -18,7 +18,7 @@ o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
 Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
 
-- broad nib (the ellipse above): morph (``stroke_paths`` + certified cubic export
+- broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
   below) vs FontForge Expand Stroke (``elliptical`` nib, caps and joins
   "nib" = path ⊕ nib, overlap removed, several ``accuracy`` values), run by Debian's
@@ -32,9 +32,10 @@ Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
 of a shared machine) of the stroking calls alone, single core.  morph is timed as
 the ``morph stroke`` command works (``morph.fonts.stroke._chunk_job``): the glyphs
-in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (48; 62 glyphs are
-two chunks of 31), each glyph stroked on its own (``stroke_paths`` at the geometry
-share of ``split_tolerance(tol)``: its CPU time is the glyph's stroke ms), then
+in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (96, at least two
+chunks: 62 glyphs are two chunks of 31), the glyphs of a chunk stroked together
+(``stroke_many`` at the geometry share of ``split_tolerance(tol)``: its CPU time
+divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
 wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
 time divided by the chunk's glyphs is each glyph's export ms) and split back per
@@ -155,17 +156,18 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 
 def run_morph(font, names, spec, tols, refs):
     """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
-    one process): the glyphs in the command's chunks of at most ``CHUNK`` (48), each
-    glyph stroked on its own (``stroke_paths``), then all loops of the chunk exported
-    in one ``loops_to_beziers(..., export_tol, wrap=True)`` call and split back per
-    glyph.  Per glyph: the stroke's CPU time, the chunk's export CPU time divided by
-    its number of glyphs, and their sum (the ms compared with the peers)."""
+    one process): the glyphs in the command's chunks of at most ``CHUNK`` (96, at
+    least two chunks), the glyphs of a chunk stroked together (``stroke_many``), then
+    all loops of the chunk exported in one ``loops_to_beziers(..., export_tol,
+    wrap=True)`` call and split back per glyph.  Per glyph: the chunk's stroke and
+    export CPU times divided by its number of glyphs, and their sum (the ms compared
+    with the peers)."""
     import traceback
 
     from morph.export import loops_to_beziers, split_tolerance
     from morph.fonts.brush import glyph_chunks
     from morph.fonts.stroke import CHUNK
-    from morph.stroke import stroke_paths
+    from morph.stroke import stroke_many
 
     nib = nib_region(spec)
     rows = []
@@ -173,18 +175,16 @@ def run_morph(font, names, spec, tols, refs):
         geometry, export = split_tolerance(tol)
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
         for chunk in glyph_chunks(list(names), CHUNK):
-            done = []                           # (name, region, stroke seconds)
-            for n in chunk:
-                paths = decomposed_paths(font, n)
-                t0 = time.process_time()
-                try:
-                    region = stroke_paths(paths, nib, geometry)
-                except Exception as exc:  # noqa: BLE001 - reported per glyph, not worked around
-                    fails.append(_failure("stroke", n, tol, exc, traceback.format_exc()))
-                    continue
-                done.append((n, region, time.process_time() - t0))
-            if not done:
+            sets = [decomposed_paths(font, n) for n in chunk]
+            t0 = time.process_time()
+            try:
+                regions = stroke_many(sets, nib, geometry)
+            except Exception as exc:  # noqa: BLE001 - reported, not worked around
+                fails.append(_failure("stroke of the chunk %s-%s" % (chunk[0], chunk[-1]),
+                                      None, tol, exc, traceback.format_exc()))
                 continue
+            secs = (time.process_time() - t0) / len(chunk)
+            done = [(n, region, secs) for n, region in zip(chunk, regions)]
             loops = [loop for _, region, _ in done for loop in region]
             t0 = time.process_time()
             try:
