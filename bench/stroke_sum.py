@@ -1,11 +1,14 @@
-"""The stroke sum alone (``morph.stroke.stroke_paths``) per glyph of Relief SingleLine.
+"""The stroke sum alone per glyph of Relief SingleLine, as ``morph stroke`` computes it.
 
-    python -m bench.stroke_sum [--tol 0.5] [--profile cumulative|tottime]
+    python -m bench.stroke_sum [--tol 0.5] [--alone] [--profile cumulative|tottime]
 
 Relief A-Z, a-z, 0-9 (the full UFO from ../shared/data when present, else the subset
 in tests/data), the default broad nib of ``morph stroke`` (ellipse 90 x 20 at 30
 degrees), the geometry share of --tol (``morph.export.split_tolerance``): CPU ms per
-glyph of one pass after a warm-up pass, in-process.  The export and the font
+glyph of one pass after a warm-up pass, in-process; the glyphs in the command's
+chunks (``morph.fonts.brush.glyph_chunks``), each chunk stroked together
+(``morph.stroke.stroke_many``), or with ``--alone`` one glyph at a time
+(``stroke_paths``).  The export and the font
 compilation are not included (``bench/export_profile.py``, ``bench/stroke.py``).
 """
 
@@ -18,7 +21,9 @@ from bench.stroke import BROAD, nib_region
 from bench.sweep import relief_font
 from morph.export import split_tolerance
 from morph.parse.ufo import decomposed_paths
-from morph.stroke import stroke_paths
+from morph.fonts.brush import glyph_chunks
+from morph.fonts.stroke import CHUNK
+from morph.stroke import stroke_many, stroke_paths
 
 NAMES = list("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") + [
     "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine"]
@@ -27,6 +32,7 @@ NAMES = list("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") + [
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tol", type=float, default=0.5)
+    ap.add_argument("--alone", action="store_true", help="one glyph at a time")
     ap.add_argument("--profile", choices=("cumulative", "tottime"))
     opt = ap.parse_args(argv)
     font, _ = relief_font()
@@ -37,15 +43,20 @@ def main(argv=None):
     paths = {n: decomposed_paths(font, n) for n in names}
 
     def run():
-        for n in names:
-            stroke_paths(paths[n], nib, geometry)
+        if opt.alone:
+            for n in names:
+                stroke_paths(paths[n], nib, geometry)
+            return
+        for chunk in glyph_chunks(names, CHUNK):
+            stroke_many([paths[n] for n in chunk], nib, geometry)
 
     run()
     t = time.process_time()
     run()
     dt = time.process_time() - t
-    print("%d glyphs, %.1f ms/glyph CPU (stroke_paths at tol %g)"
-          % (len(names), dt / len(names) * 1e3, geometry))
+    print("%d glyphs, %.1f ms/glyph CPU (%s at tol %g)"
+          % (len(names), dt / len(names) * 1e3,
+             "stroke_paths" if opt.alone else "stroke_many by chunks", geometry))
     if opt.profile:
         prof = cProfile.Profile()
         prof.runcall(run)
