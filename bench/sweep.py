@@ -2,6 +2,7 @@
 
     python -m bench.sweep [--mode pairs|random|stroke|fonts] [--jobs 1] [--timeout S]
                           [--n N] [--seed S] [--cases SPEC,SPEC...] [--md bench/sweep.md]
+                          [--packed]
     pairs only:  [--fonts ttf,cff] [--set upper|lower|both] [--nibs|--no-nibs]
                  [--pairs|--no-pairs] [--limit N] [--tol EM] [--budget SECONDS]
                  (with --seed the jobs run in a shuffled order, so that a --budget or
@@ -73,6 +74,11 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   radius, more where that closes a notch; stroke: the Clipper sum above):
   |area - reference area| <= (tol + reference error) x reference perimeter; the
   distances between the reference boundary and ours are reported, not judged.
+
+``--packed`` (random and stroke modes): each case's region is computed in one packed
+call (``morph.minkowski.minkowski_sums`` / ``morph.stroke.stroke_many``, as the font
+commands do) together with three transformed copies of itself (mirrored, turned by
+90 degrees, halved), and its own result is checked as above.
 
 Failures print a one-line reproducer, ``run_case(SPEC)`` (the check) and
 ``case_inputs(SPEC)`` (the arguments of ``minkowski_sum`` / ``stroke_paths``); with
@@ -876,6 +882,33 @@ def _timed_sum(res, fn, a, b, tol):
     return loops
 
 
+#: Set (by ``--packed``) in the environment of the case processes: each case's
+#: region is computed in one packed call (``minkowski_sums`` / ``stroke_many``)
+#: together with COMPANIONS transformed copies of itself, and only its own result
+#: is checked.
+PACKED_ENV = "MORPH_SWEEP_PACKED"
+#: The copies: mirrored in x, turned by 90 degrees, scaled by 1/2 (affine maps).
+COMPANIONS = ([[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0]],
+              [[0.5, 0.0, 0.0], [0.0, 0.5, 0.0]])
+
+
+def _packed_call(kind):
+    """fn(a, nib, tol) returning a's result of one packed call with its companions."""
+    from morph import piece as pc
+    from morph.minkowski import minkowski_sums
+    from morph.region import transform_region
+    from morph.stroke import stroke_many
+
+    if kind == "nib":
+        return lambda a, b, tol: minkowski_sums(
+            [a] + [transform_region(a, m) for m in COMPANIONS], b, tol)[0]
+
+    def moved(paths, m):
+        return [([pc.transform(p, np.asarray(m)) for p in pieces], cl) for pieces, cl in paths]
+
+    return lambda a, b, tol: stroke_many([a] + [moved(a, m) for m in COMPANIONS], b, tol)[0]
+
+
 def run_case(spec, seed=0):
     """Run and check one case; returns a dict (``fail``: list of strings, empty when
     the case passes; measures: err/tol, times ...)."""
@@ -897,8 +930,10 @@ def run_case(spec, seed=0):
     a, nib_region, tol = case_inputs(spec)
     rx, ry, theta = _nib_region(c)[1]
     res["tol"] = tol
-    loops = _timed_sum(res, minkowski_sum if c["kind"] == "nib" else stroke_paths,
-                       a, nib_region, tol)
+    fn = minkowski_sum if c["kind"] == "nib" else stroke_paths
+    if os.environ.get(PACKED_ENV):
+        fn = _packed_call(c["kind"])
+    loops = _timed_sum(res, fn, a, nib_region, tol)
     if loops is None:
         return res
     res["loops"] = len(loops)
@@ -1336,6 +1371,8 @@ def main(argv=None):
                     "machine is shared)")
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per job")
     ap.add_argument("--budget", type=float, default=None, help="seconds: start no job after")
+    ap.add_argument("--packed", action="store_true",
+                    help="random/stroke: each case in one packed call with copies of itself")
     ap.add_argument("--md", default=str(ROOT / "bench" / "sweep.md"))
     ap.add_argument("--no-md", action="store_true", help="do not write the summary")
     ap.add_argument("--failures", default=None,
@@ -1344,6 +1381,8 @@ def main(argv=None):
                     help="only these jobs, comma separated: specs (nib/..., stroke/..., "
                     "pair/...) or font:A:B (pairs mode, B may be nib:disk etc.)")
     opt = ap.parse_args(argv)
+    if opt.packed:
+        os.environ[PACKED_ENV] = "1"
     command = "python -m bench.sweep " + " ".join(argv if argv is not None else sys.argv[1:])
     seed = opt.seed
     if opt.mode in ("random", "stroke", "fonts") and seed is None:
