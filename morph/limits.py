@@ -49,6 +49,7 @@ __all__ = [
     "estimate_points",
     "memory_budget_bytes",
     "precision_floor",
+    "point_budget",
     "fits_precision",
     "region_extent",
 ]
@@ -59,7 +60,8 @@ MAX_COORDINATE = 1e100
 POINT_BUDGET = 50_000
 
 
-def _point_budget():
+def point_budget():
+    """POINT_BUDGET, or the MORPH_POINT_BUDGET environment variable when set."""
     try:
         return float(os.environ.get("MORPH_POINT_BUDGET", POINT_BUDGET))
     except ValueError:
@@ -157,7 +159,7 @@ def check_tolerance(tol, *regions, operation="this operation", unit=1.0, unit_na
         raise LimitError("%s: tolerance %s is finer than %s; use a tolerance of at least %s"
                          % (operation, user(tol), why, user(floor)), floor)
     points = sum(estimate_points(r, tol) for r in regions)
-    budget = _point_budget()
+    budget = point_budget()
     if points > budget:
         need = tol * (points / budget) ** 2  # points scale as tol^(-1/2)
         raise LimitError("%s: at tolerance %s the curves need about %d polyline points, "

@@ -8,7 +8,7 @@ import numpy as np
 from . import piece as pc
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
 from .errors import ToleranceNotMetError, TopologyError
-from .limits import check_tolerance, fits_precision
+from .limits import check_tolerance, fits_precision, point_budget
 from .packing import Packing, control_box
 from .polyline import unique
 from .trim import boundary
@@ -85,21 +85,45 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     point x of one slot meet another region: the hole test stays per region) and summed
     together: each phase then costs a few array calls for all of them.  Each result
     is held to the budget of :func:`minkowski_sum` as if computed alone; the corner
-    pass trims again only the slots it refines.  Regions whose packed coordinates
-    would be too large for ``tol`` (:func:`morph.limits.check_tolerance`) are
-    summed one by one.  Raises as :func:`minkowski_sum` (ValueError naming the
+    pass trims again only the slots it refines.  The regions are packed in
+    consecutive groups whose estimated polyline points (:func:`morph.limits.
+    check_tolerance`) fit the budget of one sum; regions whose packed coordinates
+    would be too large for ``tol`` (:func:`morph.limits.fits_precision`) are summed
+    one by one.  Raises as :func:`minkowski_sum` (ValueError naming the
     index of an empty region).
     """
     regions_a = list(regions_a)
+    points = []
     for i, a in enumerate(regions_a):
         if not a:
             raise ValueError("region %d is empty: both regions must have at least one loop" % i)
-        check_tolerance(tol, a, region_b, operation="minkowski sum")
+        points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
+    out = []
+    for group in _budget_groups(points, point_budget()):
+        out += _packed_sums([regions_a[i] for i in group], region_b, tol, method)
+    return out
+
+
+def _budget_groups(points, budget):
+    """Consecutive index groups whose estimated polyline points add up to at most
+    ``budget`` (a group of one where a single region needs more)."""
+    groups, total = [[]], 0.0
+    for i, n in enumerate(points):
+        if groups[-1] and total + n > budget:
+            groups.append([])
+            total = 0.0
+        groups[-1].append(i)
+        total += n
+    return groups if groups[-1] else []
+
+
+def _packed_sums(regions_a, region_b, tol, method):
+    """:func:`minkowski_sums` of regions already checked, as one packed sum."""
     if len(regions_a) < 2:
-        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
+        return [_sum(a, region_b, tol, method, None)[0] for a in regions_a]
     layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol)
     if not fits_precision(tol, layout.packed, region_b):
-        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
+        return [_sum(a, region_b, tol, method, None)[0] for a in regions_a]
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
     return layout.split(out)
 

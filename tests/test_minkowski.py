@@ -614,6 +614,31 @@ def test_sums_fall_back_to_one_by_one_beyond_the_precision(glyphs, monkeypatch):
         assert all(np.array_equal(p, q) for l, m in zip(loops, alone) for p, q in zip(l, m))
 
 
+def test_sums_pack_groups_within_the_point_budget(glyphs, monkeypatch):
+    """The packed groups never need more polyline points than one sum may (the
+    budget of morph.limits): here two groups of two."""
+    regions = [glyphs[c] for c in "OTMS"]
+    need = [minkowski.check_tolerance(1.0, a, glyphs["x"]) for a in regions]
+    monkeypatch.setenv("MORPH_POINT_BUDGET", str(need[0] + need[1] + 1))
+    assert minkowski._budget_groups(need, need[0] + need[1] + 1)[0] == [0, 1]
+    packed = []
+    real = minkowski._packed_sums
+
+    def spy(group, b, tol, method):
+        packed.append(len(group))
+        return real(group, b, tol, method)
+
+    monkeypatch.setattr(minkowski, "_packed_sums", spy)
+    out = minkowski.minkowski_sums(regions, glyphs["x"], 1.0)
+    assert len(out) == 4 and all(out)
+    assert max(packed) < 4 and sum(packed) == 4
+
+
+def test_budget_groups():
+    assert minkowski._budget_groups([3, 3, 3, 10, 1], 6) == [[0, 1], [2], [3], [4]]
+    assert minkowski._budget_groups([], 6) == []
+
+
 def test_sums_bad_arguments(glyphs):
     with pytest.raises(ValueError, match="region 1 is empty"):
         minkowski.minkowski_sums([glyphs["O"], []], glyphs["M"], 1.0)
