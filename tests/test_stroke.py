@@ -83,3 +83,35 @@ def test_paths_are_united_and_dots_are_the_nib():
     assert len(loops) == 1
     dot = stroke_paths([([pc.line((7.0, 3.0), (7.0, 3.0))], False)], nib, 0.05)
     assert pc.region_area(dot) == pytest.approx(np.pi * 6 * 2, rel=1e-9)
+
+
+def test_stroke_many_each_result_against_its_own_reference():
+    """Several path sets stroked together (the font commands' packed call): random
+    cubics, a closed path with its counter, crossing lines, a dot beside a line (an
+    i), and a set of a dot alone; each result against the Clipper reference of its
+    own paths, the empty set gives an empty region."""
+    from morph.stroke import stroke_many
+
+    rng = np.random.default_rng(11)
+    nib, tol = ellipse_nib(14, 4, 30), 0.05
+    sets = [[([pc.cubic(*rng.uniform(0, 100, size=(4, 2)))], False)] for _ in range(3)]
+    sets.append([(list(pc.circle((0.0, 0.0), 40.0)), True)])
+    sets.append([([pc.line((0, 0), (50, 50))], False), ([pc.line((0, 50), (50, 0))], False)])
+    sets.append([([pc.line((0, 0), (0, 60))], False), ([pc.line((0, 80), (0, 80))], False)])
+    sets.append([([pc.line((7.0, 3.0), (7.0, 3.0))], False)])
+    sets.append([])
+    out = stroke_many(sets, nib, tol)
+    assert len(out) == len(sets) and out[-1] == []
+    for paths, loops in zip(sets[:5], out[:5]):   # the reference has no dots
+        ours, ref = _ours(loops, tol), _reference(paths, nib)
+        assert ours.boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
+        assert abs(ours.area - ref.area) <= (tol + 2 * FLAT) * ref.boundary.length
+    assert sorted(np.sign(pc.loop_area(l)) for l in out[3]) == [-1, 1]
+    # the i: the stem against its reference, the dot the nib at (0, 80)
+    stem = [l for l in out[5] if pc.bbox(l[0])[3] < 70]
+    dot = [l for l in out[5] if pc.bbox(l[0])[1] > 70]
+    assert len(stem) == 1 and len(dot) == 1
+    ref = _reference(sets[5][:1], nib)
+    assert _ours(stem, tol).boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
+    assert pc.region_area(dot) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
+    assert pc.region_area(out[6]) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
