@@ -611,10 +611,10 @@ def _near_pairs(a, b, tol):
 
 def snap_loop(loop):
     """The loop with each join snapped to the mean of the two ends meeting there."""
-    out = [p.copy() for p in loop]
-    for i in range(len(out)):
-        j = (i + 1) % len(out)
-        m = 0.5 * (pc.end(out[i]) + pc.start(out[j]))
-        out[i] = pc.with_endpoints(out[i], pc.start(out[i]), m)
-        out[j] = pc.with_endpoints(out[j], m, pc.end(out[j]))
+    starts, ends = pc.end_points(loop)
+    joins = 0.5 * (ends + np.roll(starts, -1, axis=0))   # join i: end of i, start of i + 1
+    out = [np.array(p, float) for p in loop]
+    for i, p in enumerate(out):
+        p[0, :2] = joins[i - 1] * p[0, 2]
+        p[-1, :2] = joins[i] * p[-1, 2]
     return out

@@ -120,10 +120,10 @@ def _budget_groups(points, budget):
 def _packed_sums(regions_a, region_b, tol, method):
     """:func:`minkowski_sums` of regions already checked, as one packed sum."""
     if len(regions_a) < 2:
-        return [_sum(a, region_b, tol, method, None)[0] for a in regions_a]
+        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol)
     if not fits_precision(tol, layout.packed, region_b):
-        return [_sum(a, region_b, tol, method, None)[0] for a in regions_a]
+        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
     return layout.split(out)
 
@@ -216,7 +216,7 @@ def _tip_tolerances(out, conv, tol):
     sharp = np.nonzero(cos_half * CONV_SHARE * tol < worst)[0]
     if not len(sharp):
         return {}
-    boxes = np.array([pc.bbox(c.piece) for c in conv])
+    boxes = pc.bboxes([c.piece for c in conv])
     rows = np.array([c.row for c in conv])
     reach = TIP_REACH * tol
     finer = {}

@@ -140,10 +140,7 @@ def stack(pieces):
     """
     deg = max(len(p) for p in pieces) - 1
     out = np.empty((len(pieces), deg + 1, 3))
-    by_degree = {}
-    for k, p in enumerate(pieces):
-        by_degree.setdefault(len(p), []).append(k)
-    for n, ks in by_degree.items():
+    for n, ks in _by_degree(pieces).items():
         out[ks] = bz.elevate_many(np.array([pieces[k] for k in ks], float), deg + 1 - n)
     return out
 
@@ -520,6 +517,33 @@ def bbox(piece):
     return np.array([p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()])
 
 
+def _by_degree(pieces):
+    """{number of control points: indices} of a list of pieces."""
+    groups = {}
+    for k, p in enumerate(pieces):
+        groups.setdefault(len(p), []).append(k)
+    return groups
+
+
+def bboxes(pieces):
+    """:func:`bbox` of many pieces (those of one degree at once): (k, 4)."""
+    out = np.zeros((len(pieces), 4))
+    for ks in _by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        p = h[:, :, :2] / h[:, :, 2:]
+        out[ks] = np.concatenate([p.min(axis=1), p.max(axis=1)], axis=1)
+    return out
+
+
+def end_points(pieces):
+    """(starts, ends), (k, 2) each: the first and last points of many pieces."""
+    starts, ends = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
+    for ks in _by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        starts[ks], ends[ks] = h[:, 0, :2] / h[:, 0, 2:], h[:, -1, :2] / h[:, -1, 2:]
+    return starts, ends
+
+
 def length_bound(piece):
     """Length of the Cartesian control polygon (an upper bound of the arc length)."""
     return float(np.sum(np.hypot(*np.diff(cartesian(piece), axis=0).T)))
@@ -528,10 +552,7 @@ def length_bound(piece):
 def length_bounds(pieces):
     """:func:`length_bound` of many pieces (those of one degree at once): (k,)."""
     out = np.zeros(len(pieces))
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault(len(p), []).append(k)
-    for ks in groups.values():
+    for ks in _by_degree(pieces).values():
         h = np.array([pieces[k] for k in ks], float)
         d = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
         out[ks] = np.hypot(d[..., 0], d[..., 1]).sum(axis=1)

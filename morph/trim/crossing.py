@@ -49,7 +49,7 @@ def uncertain_pairs(loops):
 def _box_pairs(pieces, owner):
     """(i, j), i <= j, of pieces of one loop whose control boxes overlap (i == j
     included)."""
-    boxes = np.array([pc.bbox(p) for p in pieces])
+    boxes = pc.bboxes(pieces)
     n = len(pieces)
     pairs = segment_pairs(boxes[:, :2], boxes[:, 2:], np.arange(n), True) if n > 1 \
         else np.zeros((0, 2), np.int64)

@@ -538,3 +538,27 @@ def test_fontbakery_adds_nothing(mark_font, tmp_path):
                tol=0.5)
     before, after = _fontbakery(mark_font), _fontbakery(out)
     assert after - before == set(), sorted(after - before)
+
+
+def test_chunk_sums_glyph_by_glyph_where_the_packed_call_raises(monkeypatch):
+    """sweep_glyphs sums its glyphs together; where that raises, one by one: the
+    same kinds, and outlines within the tolerance of each other."""
+    import morph.minkowski
+    from morph.fonts.brush import sweep_glyph, sweep_glyphs
+
+    pen = ellipse_nib(*NIB)
+    jobs = [(c, glyph_region(c).region, pen, 0.5, "qac", (0.0, 0.0), False) for c in "oTg"]
+    together = sweep_glyphs(jobs)
+
+    def broken(*args, **kw):
+        raise TopologyError("packed call failed (test)")
+
+    monkeypatch.setattr(morph.minkowski, "minkowski_sums", broken)
+    alone = sweep_glyphs(jobs)
+    for job, (n1, c1, k1, e1), (n2, c2, k2, e2) in zip(jobs, together, alone):
+        assert n1 == n2 and k1 == k2 == "exact" and e1 is None and e2 is None
+        assert len(c1) == len(c2)
+        single = sweep_glyph(job)[1]                # as if each glyph were swept alone
+        assert len(c2) == len(single)
+        for a, b in zip(c2, single):                # contours: lists of segments
+            assert len(a) == len(b) and all(np.array_equal(s, u) for s, u in zip(a, b))

@@ -296,3 +296,34 @@ def test_cli_stroke_svg(tmp_path):
     assert res.exit_code == 0 and png.is_file()
     res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(tmp_path / "x.otf")])
     assert res.exit_code == 2
+
+
+def test_chunk_strokes_glyph_by_glyph_where_the_packed_call_raises(skeleton, monkeypatch):
+    """The chunk job strokes its glyphs together; where that raises, one by one, so
+    the glyphs come out as if stroked alone (and only a failing one falls back)."""
+    import morph.stroke
+    from morph.fonts.stroke import _stroked_regions, _tolerances
+    from morph.stroke import stroke_paths
+
+    tols, pen = _tolerances(0.5, ".otf"), nib()
+    chunk = [(n, decomposed_paths(skeleton, n), pen, tols, (0.0, 0.0), None)
+             for n in ("o", "i", "H")]
+    together = _stroked_regions(chunk)
+
+    real = morph.stroke.stroke_many
+
+    def broken(path_sets, *args):
+        if len(path_sets) > 1:                      # the packed call, not stroke_paths
+            raise MorphError("packed call failed (test)")
+        return real(path_sets, *args)
+
+    monkeypatch.setattr(morph.stroke, "stroke_many", broken)
+    alone = _stroked_regions(chunk)
+    for (n, paths, *_), (r1, e1, _), (r2, e2, _) in zip(chunk, together, alone):
+        assert e1 is None and e2 is None
+        assert len(r1) == len(r2)
+        exact = stroke_paths(paths, pen, tols[0])
+        assert all(np.array_equal(p, q) for l, m in zip(r2, exact) for p, q in zip(l, m))
+        a1 = region_to_shapely(r1, 0.05)
+        a2 = region_to_shapely(r2, 0.05)
+        assert hausdorff(a1.boundary, a2.boundary) <= 2 * tols[0]
