@@ -333,9 +333,14 @@ def _cusp_side(c_in, c_out):
 
     Both ways leave the cusp point X backwards along the incoming direction d; the
     angles of their points seen from X (measured from -d) are compared at
-    parameter steps 1e-6 ... 1e-2, the first clear difference deciding.
+    parameter steps 1e-6 ... 1e-2, the first clear difference deciding.  Both curves
+    are evaluated moved so that X is the origin: the points' rounding then scales
+    with the curves' size, not with X's distance from (0, 0) (far from it, a
+    path traced back on itself would otherwise seem to turn to a random side).
     """
     x = pc.end(c_in)
+    c_in, c_out = pc.translate(c_in, -x), pc.translate(c_out, -x)
+    x = np.zeros(2)
     t_in = pc.end_tangents(c_in)[1]
     back = -t_in
     for delta in (1e-6, 1e-4, 1e-2):

@@ -617,19 +617,27 @@ def loop_area(pieces, quad_points=24):
     control points (the integrand is a Bernstein polynomial whose integral over [0,1]
     is the mean of its coefficients); rational pieces use Gauss-Legendre quadrature
     with ``quad_points`` nodes, halved until the halves agree with the whole to
-    1e-13 of the piece's size squared (:func:`area_terms`).
+    1e-13 of the piece's size squared (:func:`area_terms`).  Computed about the
+    loop's first point: the sum is the same for any origin, and its rounding then
+    scales with the loop's size squared, not with its distance from (0, 0) squared
+    (a degenerate loop far from the origin has area 0 to that accuracy).
     """
-    return float(np.sum(area_terms(pieces, quad_points)))
+    if not len(pieces):
+        return 0.0
+    return float(np.sum(area_terms(pieces, quad_points, origin=start(pieces[0]))))
 
 
-def area_terms(pieces, quad_points=24):
-    """:func:`piece_area_term` of many pieces, those of one degree and kind at once."""
+def area_terms(pieces, quad_points=24, origin=None):
+    """:func:`piece_area_term` of many pieces, those of one degree and kind at once;
+    with ``origin`` (x, y), of the pieces moved by -origin."""
     out = np.zeros(len(pieces))
     groups = {}
     for k, p in enumerate(pieces):
         groups.setdefault((len(p), is_polynomial(p)), []).append(k)
     for (_, poly), ks in groups.items():
         h = np.array([pieces[k] for k in ks], float)
+        if origin is not None:
+            h[:, :, :2] -= np.asarray(origin, float) * h[:, :, 2:]
         out[ks] = _poly_area_terms(h) if poly else _rational_area_terms(h, quad_points)
     return out
 

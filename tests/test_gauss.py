@@ -386,6 +386,19 @@ def test_open_path_forward_and_back_turns_plus_pi_at_both_ends():
     assert gauss.total_turning(edges) == pytest.approx(2 * np.pi)
 
 
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (2296.554, -3243.444), (-4092.47, 803.324),
+                                    (1e5 + 0.3, -7e4 - 0.7)])
+def test_short_line_forward_and_back_turns_plus_pi_anywhere(offset):
+    """A 2-unit line traced back on itself, far from the origin: both ends turn +pi
+    (the side of a cusp is decided about the cusp point, not on absolute
+    coordinates, whose rounding reads as a turn to a random side)."""
+    a, b = np.add((141.0, 785.0), offset), np.add((139.0, 785.0), offset)
+    edges = gauss.gauss_map([pc.line(a, b), pc.line(b, a)])
+    ends = [e.sweep for e in edges if e.kind == "vertex" and abs(abs(e.sweep) - np.pi) < 1e-6]
+    assert ends == [pytest.approx(np.pi), pytest.approx(np.pi)]
+    assert abs(pc.loop_area([pc.line(a, b), pc.line(b, a)])) == 0.0
+
+
 def test_zero_end_derivative_uses_the_limit_tangent():
     # a control point on its own end point: the tangent there is P2 - P0's direction
     c = pc.cubic((0, 0), (0, 0), (10, 10), (20, 0))
