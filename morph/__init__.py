@@ -13,6 +13,7 @@ __version__ = "0.1.0"
 _PUBLIC = {
     "cspace_obstacle": "cspace", "loop_to_cubics": "export", "piece_to_cubics": "export",
     "piece_to_quadratics": "export", "morph_frames": "frames", "minkowski_sum": "minkowski",
+    "minkowski_sums": "minkowski", "stroke_many": "stroke",
     "offset_region": "offset", "glyph_region": "parse", "load_shape": "parse",
     "svg_paths": "parse", "svg_region": "parse", "write_png": "render", "write_svg": "render",
     "stroke_paths": "stroke", "fill_region": "trim", "loops_to_beziers": "export",

@@ -141,12 +141,12 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
     member = _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
-        slot = slot_of(np.array([pc.start(c.piece) for c in conv]))
+        slot = slot_of(pc.end_points([c.piece for c in conv])[0])
         part = [c for c, s in zip(conv, slot) if redo is None or s in redo]
         loops, out = _trimmed(part, tol, member)
         for s in (unique(slot) if redo is None else redo):
             done[int(s)] = []
-        for loop, s in zip(out, slot_of(np.array([pc.start(lp[0]) for lp in out]))):
+        for loop, s in zip(out, slot_of(pc.end_points([lp[0] for lp in out])[0])):
             done.setdefault(int(s), []).append(loop)
         finer = _tip_tolerances(out, part, tol)
         finer = {r: t for r, t in finer.items() if t < row_tol[r]}
