@@ -26,29 +26,47 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
 
     eps: the polylines' bound used to find crossings (absolute); hole_test: as for
     :func:`morph.trim.boundary`, decides a lobe that would be a hole of the rest
-    (None: winding numbers decide)."""
+    (None: winding numbers decide).  Each round splits every loop that still
+    crosses itself at one crossing (so a loop gets up to ``max_rounds`` splits
+    however many other loops there are); loops found free of crossings are not
+    searched again."""
     out = [list(loop) for loop in loops]
+    active = [True] * len(out)
     for _ in range(max_rounds):
-        folded = _may_fold(out)
-        out = [remove_folds(loop, 2.0 * eps) if f else loop for loop, f in zip(out, folded)]
-        hit = _first_crossing(out, eps)
-        if hit is None:
-            return out
-        li, i, s, j, u, x = hit
-        lobe, rest = _split(out[li], i, s, j, u, x, 1e-6 * eps)
-        if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
-            lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
-        keep = [rest]
-        if lobe and _keep_lobe(lobe, rest, eps, hole_test):
-            keep.append(lobe)
-        out[li:li + 1] = [k for k in keep if k]
+        idx = [k for k, a in enumerate(active) if a]
+        if not idx:
+            break
+        for k, f in zip(idx, _may_fold([out[k] for k in idx])):
+            if f:
+                out[k] = remove_folds(out[k], 2.0 * eps)
+        hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps).items()}
+        new_out, new_active = [], []
+        for k, loop in enumerate(out):
+            hit = hits.get(k)
+            parts = [loop] if hit is None else _split_off(loop, hit, eps, hole_test)
+            new_out += parts
+            new_active += [hit is not None] * len(parts)
+        out, active = new_out, new_active
     return out
 
 
-def _first_crossing(loops, eps):
-    """(loop, piece i, s, piece j, u, point) of one crossing of two pieces of one loop
-    away from their shared ends (i < j, or i == j for a piece crossing itself),
-    refined on the exact pieces; None if there is none.
+def _split_off(loop, hit, eps, hole_test):
+    """The parts of ``loop`` kept after splitting it at crossing ``hit`` (i, s, j,
+    u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`
+    says so."""
+    lobe, rest = _split(loop, *hit, 1e-6 * eps)
+    if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
+        lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
+    keep = [rest]
+    if lobe and _keep_lobe(lobe, rest, eps, hole_test):
+        keep.append(lobe)
+    return [k for k in keep if k]
+
+
+def _first_crossings(loops, eps):
+    """{loop: (piece i, s, piece j, u, point)}: one crossing of two pieces of each
+    loop that has one, away from their shared ends (i < j, or i == j for a piece
+    crossing itself), refined on the exact pieces.
 
     Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
@@ -60,7 +78,7 @@ def _first_crossing(loops, eps):
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     suspects = uncertain_pairs(loops)  # the other pairs cannot cross
     if not len(suspects):
-        return None
+        return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
     found = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
     if found is None:
@@ -70,7 +88,7 @@ def _first_crossing(loops, eps):
         pa, pb = pairs[k, 0], pairs[k, 1]
         guess = None
     if not len(pa):
-        return None
+        return {}
     ids = np.concatenate([pa, pb])
     used = unique(ids)
     inv = np.searchsorted(used, ids)
@@ -79,20 +97,21 @@ def _first_crossing(loops, eps):
     if guess is None:
         guess = pc.jet_many(stacked, ia, ta)[0]
     s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
+    hits = {}
     for n in np.flatnonzero(ok):
         gi, gj, si, wj = pa[n], pb[n], s[n], w[n]
         if gi > gj or (gi == gj and si > wj):
             gi, gj, si, wj = gj, gi, wj, si
-        li = owner[gi]
+        li = int(owner[gi])
         i, j = gi - first[li], gj - first[li]
         # ends of consecutive pieces meet by construction: not a crossing
-        if (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
+        if li in hits or (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
            (i == 0 and j == sizes[li] - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
            (i == j and abs(si - wj) <= 1e-9):
             continue
         x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
-        return li, i, si, j, wj, x
-    return None
+        hits[li] = (i, si, j, wj, x)
+    return hits
 
 
 def _oriented(pairs, owner, first, sizes):

@@ -1,0 +1,38 @@
+"""morph.trim.untangle: lobes cut where the exact pieces of a lifted loop cross."""
+
+import numpy as np
+
+from morph import piece as pc
+from morph.polyline import polylines_cross
+from morph.trim.untangle import untangle
+
+
+def _bow_tie(x, y, w=10.0):
+    """A loop of four lines crossing itself once, at (x + w/2, y + w/2): a
+    counter-clockwise triangle and a clockwise one (a twist)."""
+    p = np.array([[0, 0], [w, w], [w, 0], [0, w]], float) + (x, y)
+    return [pc.line(p[k], p[(k + 1) % 4]) for k in range(4)]
+
+
+def test_every_loop_is_untangled_however_many_cross():
+    """70 twisted loops, more than max_rounds: each loop gets its own rounds, so none
+    keeps its crossing (one crossing per round over all loops used to leave 6)."""
+    loops = [_bow_tie(30.0 * (k % 10), 30.0 * (k // 10)) for k in range(70)]
+    assert all(polylines_cross(loop, 1e-3) for loop in loops)
+    out = untangle(loops, 1e-3, max_rounds=64)
+    assert not any(polylines_cross(loop, 1e-3) for loop in out)
+    # the twist (the clockwise triangle) goes, the counter-clockwise one stays
+    assert len(out) == 70
+    assert all(pc.loop_area(loop) > 0 for loop in out)
+    centres = np.array([np.mean([pc.start(p) for p in loop], axis=0) for loop in out])
+    assert len(np.unique(np.round(centres // 30.0), axis=0)) == 70   # one per place
+
+
+def test_loops_without_crossings_are_kept_in_order():
+    sq = [pc.line(a, b) for a, b in [((0, 0), (1, 0)), ((1, 0), (1, 1)), ((1, 1), (0, 1)),
+                                      ((0, 1), (0, 0))]]
+    moved = [[pc.translate(p, (5.0, 0.0)) for p in sq]]
+    out = untangle([sq, _bow_tie(20.0, 0.0)] + moved, 1e-3)
+    assert len(out) == 3
+    assert all(np.array_equal(p, q) for p, q in zip(out[0], sq))
+    assert all(np.array_equal(p, q) for p, q in zip(out[2], moved[0]))
