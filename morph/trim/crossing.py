@@ -81,9 +81,16 @@ def _range_span(lo, hi, a, b):
 PAIRS, JOINED, SELF = 0, 1, 2  # kinds of subdivision items (see subdivided_crossings)
 
 
-def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60):
+#: A pair whose subdivision holds more items than this at one level nearly coincides
+#: (two pieces within ``res`` of each other along a stretch: every level doubles its
+#: items); it is left to the caller's polyline search.
+PAIR_ITEMS = 1024
+
+
+def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60,
+                         pair_items=PAIR_ITEMS):
     """Candidate crossings of pairs of pieces, by subdivision (vectorised level by
-    level); None when the work would exceed ``max_items`` (near-coincident pieces).
+    level), and the pairs it gave up on.
 
     pairs (k, 2) index ``pieces``; kinds: ``PAIRS`` (two pieces), ``JOINED`` (the
     first piece ends where the second starts: only crossings away from that join
@@ -93,19 +100,25 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     monotone arc: it meets itself nowhere but at the join).  Otherwise the larger
     part is halved (a joined item gives a joined item at the join and three plain
     ones, a self item two self items and one joined).  Items whose parts are both
-    smaller than ``res`` are the candidates: (pair index, s, u) at their centres.
+    smaller than ``res`` are the candidates.  A pair whose items at one level
+    exceed ``pair_items`` (near-coincident pieces), and the most crowded pairs while
+    all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
+    the candidates at their items' centres and the indices of the pairs given up.
     """
     stacked = pc.stack(pieces)
     n = len(pairs)
     it = dict(org=np.arange(n), ia=pairs[:, 0].copy(), ib=pairs[:, 1].copy(),
               a0=np.zeros(n), a1=np.ones(n), b0=np.zeros(n), b1=np.ones(n),
               kind=np.asarray(kinds, int).copy())
-    found = []
+    found, crowded = [], []
     for depth in range(max_depth):
+        over = _crowded(np.bincount(it["org"], minlength=n), pair_items, max_items)
+        if len(over):
+            crowded.append(over)
+            keep = ~np.isin(it["org"], over)
+            it = {key: v[keep] for key, v in it.items()}
         if not len(it["org"]):
             break
-        if len(it["org"]) > max_items:
-            return None
         ca = _cartesian(stacked, it["ia"], it["a0"], it["a1"])
         cb = _cartesian(stacked, it["ib"], it["b0"], it["b1"])
         lo_a, hi_a, lo_b, hi_b = ca.min(1), ca.max(1), cb.min(1), cb.max(1)
@@ -124,7 +137,21 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
                       0.5 * (it["b0"][hit] + it["b1"][hit])))
         it = _split_items(it, live & ~hit, size_a >= size_b)
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
-    return org.astype(int), s, u
+    gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
+    return org.astype(int), s, u, gave_up
+
+
+def _crowded(counts, pair_items, max_items):
+    """Pairs (by their item counts) to give up: those above ``pair_items``, and the
+    most crowded others while the rest exceeds ``max_items`` in all."""
+    over = counts > pair_items
+    rest = np.where(over, 0, counts)
+    if rest.sum() > max_items:
+        order = np.argsort(-rest, kind="stable")
+        drop = np.cumsum(rest[order]) > rest.sum() - max_items
+        cut = int(np.argmax(drop)) + 1           # the fewest largest whose removal fits
+        over[order[:cut]] = True
+    return np.flatnonzero(over)
 
 
 def _cartesian(stacked, idx, t0, t1):

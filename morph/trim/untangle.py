@@ -70,8 +70,8 @@ def _first_crossings(loops, eps):
 
     Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
-    or on polylines within eps / 10 where subdivision would not end (pieces that
-    nearly coincide)."""
+    and on polylines within eps / 10 the pairs where subdivision would not end
+    (pieces that nearly coincide)."""
     pieces = [p for loop in loops for p in loop]
     sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
@@ -80,22 +80,21 @@ def _first_crossings(loops, eps):
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
-    found = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
-    if found is None:
-        pa, pb, ta, tb, guess = _polyline_crossings(pieces, suspects, eps / 10.0)
-    else:
-        k, ta, tb = found
-        pa, pb = pairs[k, 0], pairs[k, 1]
-        guess = None
-    if not len(pa):
+    k, ta, tb, crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
+    pa, pb = pairs[k, 0], pairs[k, 1]
+    near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
+    if not len(pa) + len(near[0]):
         return {}
-    ids = np.concatenate([pa, pb])
+    ids = np.concatenate([pa, pb, near[0], near[1]])
     used = unique(ids)
     inv = np.searchsorted(used, ids)
     stacked = pc.stack([pieces[q] for q in used])
-    ia, ib = inv[:len(pa)], inv[len(pa):]
-    if guess is None:
-        guess = pc.jet_many(stacked, ia, ta)[0]
+    n_sub = len(pa)
+    guess = np.concatenate([pc.jet_many(stacked, inv[:n_sub], ta)[0], near[4]])
+    pa, pb = np.concatenate([pa, near[0]]), np.concatenate([pb, near[1]])
+    ta, tb = np.concatenate([ta, near[2]]), np.concatenate([tb, near[3]])
+    ia = np.concatenate([inv[:n_sub], inv[2 * n_sub:2 * n_sub + len(near[0])]])
+    ib = np.concatenate([inv[n_sub:2 * n_sub], inv[2 * n_sub + len(near[0]):]])
     s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
     hits = {}
     for n in np.flatnonzero(ok):
@@ -130,10 +129,12 @@ def _oriented(pairs, owner, first, sizes):
 def _polyline_crossings(pieces, suspects, flat):
     """Crossings of the suspect pairs' polylines within ``flat``: (piece a, piece b,
     t on a, u on b, point), away from shared polyline vertices."""
-    used = unique(suspects)
-    p0, p1, ids, t0, t1 = flatten_segments([pieces[k] for k in used], flat)
-    ids = used[ids]
-    pairs = segment_pairs(p0, p1, ids, True)
+    pairs = np.zeros((0, 2), int)
+    if len(suspects):
+        used = unique(suspects)
+        p0, p1, ids, t0, t1 = flatten_segments([pieces[k] for k in used], flat)
+        ids = used[ids]
+        pairs = segment_pairs(p0, p1, ids, True)
     if len(pairs):
         key = np.sort(ids[pairs], axis=1) @ np.array([len(pieces), 1])
         pairs = pairs[np.isin(key, suspects @ np.array([len(pieces), 1]))]

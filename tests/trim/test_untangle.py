@@ -36,3 +36,23 @@ def test_loops_without_crossings_are_kept_in_order():
     assert len(out) == 3
     assert all(np.array_equal(p, q) for p, q in zip(out[0], sq))
     assert all(np.array_equal(p, q) for p, q in zip(out[2], moved[0]))
+
+
+def test_subdivision_gives_up_only_the_near_coincident_pairs():
+    """Two pieces 1e-9 apart (every level doubles their items) are given up alone;
+    the other pair's crossing is still found by subdivision."""
+    from morph.trim.crossing import PAIRS, _crowded, subdivided_crossings
+
+    c = pc.cubic((0, 0), (3, 4), (7, 4), (10, 0))
+    twin = pc.translate(c, (0.0, 1e-9))
+    cross = pc.line((5.0, -1.0), (5.0, 5.0))
+    pairs = np.array([[0, 1], [0, 2]])
+    org, s, u, gave_up = subdivided_crossings([c, twin, cross], pairs,
+                                              np.array([PAIRS, PAIRS]), 1e-4)
+    assert list(gave_up) == [0]
+    assert set(org) == {1}
+    x = pc.evaluate(c, s[org == 1][:1])[0]
+    assert np.allclose(x[0], 5.0, atol=1e-3)
+    # the budget: pairs above pair_items, then the most crowded while over max_items
+    assert list(_crowded(np.array([5, 2000, 7, 1]), 1024, 100)) == [1]
+    assert list(_crowded(np.array([50, 20, 70, 1]), 1024, 60)) == [0, 2]
