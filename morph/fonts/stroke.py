@@ -271,7 +271,7 @@ def _stroked_regions(chunk):
         t0 = time.process_time()
         try:
             regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3][0])
-        except MorphError:
+        except Exception:  # noqa: BLE001 - any failure: glyph by glyph, as they were
             regions = None
         if regions is not None:
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
