@@ -1073,8 +1073,11 @@ def _search(chain, tol, min_width):
             break
         out = fewer
     widths = [seg.t1 - seg.t0 for seg in out]
-    if len(out) >= 2 and widths[-1] < 0.5 * max(widths[:-1]):
-        # a short last one is left: try one segment fewer, equal in arc length
+    if len(out) == 2 and widths[-1] < 0.5 * widths[0]:
+        # a short last one is left: try one cubic for the whole chain (for more
+        # segments, n - 1 of equal arc length where the model said no fitted 4 of
+        # 92 times on the Relief strokes, all of them two into one, for 10 % of the
+        # export's fits)
         t, cum = _arclength_table(chain)
         if cum[-1] > 0:
             fewer = yield from _split_at(
