@@ -647,3 +647,22 @@ def test_sums_bad_arguments(glyphs):
 
 def R_translate(region, offset):
     return [[pc.translate(p, offset) for p in loop] for loop in region]
+
+
+def test_sums_of_regions_of_very_different_sizes_and_places(glyphs):
+    """Packing cells fit the largest region: a glyph at 1/10, at full size, at 5x and
+    one far from the origin come out as if summed alone (the same loops, boundaries
+    within twice the tolerance of each other)."""
+    from morph.region import scale_region
+
+    b = glyphs["x"]
+    regions = [scale_region(glyphs["O"], 0.1), glyphs["O"], scale_region(glyphs["g"], 5.0),
+               R_translate(glyphs["T"], (1e4, -1e4))]
+    tol = 0.5
+    together = minkowski.minkowski_sums(regions, b, tol)
+    for a, loops in zip(regions, together):
+        alone = minkowski_sum(a, b, tol)
+        assert sorted(pc.loop_area(l) > 0 for l in loops) == sorted(
+            pc.loop_area(l) > 0 for l in alone)
+        p, q = _polygon(loops, 0.01), _polygon(alone, 0.01)
+        assert p.boundary.hausdorff_distance(q.boundary) <= 2 * tol
