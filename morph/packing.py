@@ -5,9 +5,11 @@ lifting) costs a few array calls however many pieces it gets, so the sums of man
 regions with one common operand (a font's glyphs with one nib) cost far less as one
 sum of all the regions moved apart than as one sum each: ``(A + t) ⊕ B = (A ⊕ B) + t``,
 and sums of regions whose slots are far enough apart cannot meet.  A
-:class:`Packing` moves the regions into the cells of a square grid (exact:
-translation of homogeneous points), tells which slot a point is in, and splits a
-result by slot and moves it back.
+:class:`Packing` moves the regions into the cells of a square grid (translation of
+homogeneous points: exact up to the rounding of coordinates a few cells from the
+origin, which every decision of the sum must tolerate anyway; see
+``tests/test_stroke.py``'s sums far from the origin), tells which slot a point is in,
+and splits a result by slot and moves it back.
 """
 
 import numpy as np
