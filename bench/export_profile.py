@@ -50,6 +50,7 @@ import numpy as np  # noqa: E402 - after OPENBLAS_NUM_THREADS is set, before num
 
 from morph import bernstein as bz  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from morph.render.svg import rounding as svg_rounding  # noqa: E402 - after sys.path gets the repo root
 
 RELIEF = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 CASES = ("stroke", "brush", "sumOM", "Odisk", "Oellipse")
@@ -124,7 +125,7 @@ def export(ex, loops, tol, kind):
         for loop in loops:
             curves += ex.loop_to_quadratics(loop, tol, wrap=True)
     else:
-        t = 0.8 * tol if kind == "svg" else tol        # svg_path_data's share
+        t = tol - svg_rounding(tol)[1] if kind == "svg" else tol   # svg_path_data's share
         if batched:
             return [c for cs in ex.loops_to_beziers(loops, t, wrap=True) for c in cs]
         for loop in loops:

@@ -1,5 +1,7 @@
 """morph.render.svg: SVG path data and documents, parsed back by morph.parse."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -7,6 +9,7 @@ from morph import piece as pc
 from morph.parse import glyph_region, svg_region
 from morph.region import region_bbox, reverse_loop
 from morph.render import svg_path_data, write_svg
+from morph.render.svg import ROUND_SHARE
 
 
 def test_svg_path_data_round_trip():
@@ -31,8 +34,12 @@ def test_svg_path_data_decimals_follow_tol():
     loops = [pc.circle((0, 0), 1.0)]
     coarse = svg_path_data(loops, 1e-2)
     fine = svg_path_data(loops, 1e-7)
-    assert max(len(tok.split(".")[-1]) for tok in coarse.replace("C", " ").split()
-               if "." in tok) <= 3
+    # rounding to d decimals moves a point by 0.5 10^-d sqrt 2: at most the rounding
+    # share of tol, and one decimal fewer would exceed it
+    for tol, d in ((1e-2, coarse), (1e-7, fine)):
+        places = max(len(tok.split(".")[-1]) for tok in re.split("[MLQCZ ]", d) if "." in tok)
+        assert 0.5 * 10.0 ** -places * 2 ** 0.5 <= ROUND_SHARE * tol
+        assert 0.5 * 10.0 ** (1 - places) * 2 ** 0.5 > ROUND_SHARE * tol
     assert len(fine) > len(coarse)
     with pytest.raises(ValueError):
         svg_path_data(loops, 0)
