@@ -22,21 +22,21 @@ when, with both boundaries densified to tol/4:
   @mdi/svg power-socket-de offset); these are counted, and a spurious slit of ours
   that narrow would go unnoticed;
 - every point of the reference's boundary is within 1.25 tol of ours, except where
-  the reference has a gap, notch or hole narrower than 1.6 tol (the engine may close
-  those: its docstring's 1.5 tol plus the reference's flattening), i.e. points inside
-  the reference's morphological closing by 0.8 tol (an earlier version compared the
+  the reference has a gap, notch or hole narrower than 2 GAP tol = 1.1 tol (the engine
+  may close those: its docstring's 1 tol plus the reference's flattening), i.e. points
+  inside the reference's morphological closing by GAP tol (an earlier version compared the
   plain two-sided Hausdorff distance and failed correct results at tangent notches,
   e.g. two rounded corners touching, and at reference slivers of 1e-5 tol²);
 - the numbers of outer loops and holes (parts <= tol² not counted) of ours, or of ours
   with its hairline gaps (< 0.2 tol) closed, lie between those of the reference, of
-  its closing and of its opening by 0.8 tol (where two parts of the exact sum touch at
+  its closing and of its opening by GAP tol (where two parts of the exact sum touch at
   a point, e.g. @mdi/svg book-arrow-up and power-socket-de offset, ours keeps them
   apart by a hair, the reference merges them);
 
 it is a *wrong shape* otherwise, except when the only fault is our boundary more
-than 1.25 tol from the reference's at points inside a gap of ours narrower than 1.6
+than 1.25 tol from the reference's at points inside a gap of ours narrower than 2 GAP
 tol that the reference fills: the tip of a narrow wedge running on, which
-``minkowski_sum``'s docstring states as a limit (0.75 tol / sin(theta/2)); such icons
+``minkowski_sum``'s docstring states as a limit (0.5 tol / sin(theta/2)); such icons
 count as *documented limit*, listed with the failures.  Each icon runs
 in its own process limited to ``--timeout`` seconds of CPU (a *hang* when exceeded;
 CPU, not wall time, so that other work on a shared machine does not make hangs) and
@@ -71,6 +71,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from morph import minkowski as _minkowski  # noqa: E402 - after sys.path gets the repo root
+
 SETS = {  # npm package -> (glob of icon files inside the package, kind)
     "bootstrap-icons": ("package/icons/*.svg", "fill"),
     "@mdi/svg": ("package/svg/*.svg", "fill"),
@@ -99,8 +101,10 @@ def choose(files, n):
 # =========================================================================== one icon
 
 ACCEPT = 1.25  # x tol: tol + the reference's flattening (2 x tol/20) + densification (tol/8)
-GAP = 0.8      # x tol: half the narrowest gap the engine may close (1.5 tol, see
-               # minkowski_sum's docstring) plus the reference's flattening
+# x tol: half the narrowest gap the engine may close (twice its convolution share, or
+# twice its flattening and grid shares, see minkowski_sum's docstring) plus the
+# reference's flattening
+GAP = max(_minkowski.CONV_SHARE, _minkowski.FLAT_SHARE + _minkowski.GRID_SHARE) + 0.05
 HAIR = 0.1     # x tol: half the widest gap the reference itself may fill (its input is
                # flattened within tol/20 on either side of the gap)
 
@@ -155,7 +159,7 @@ def compare(got, ref, tol):
     if fwd > ACCEPT * tol:
         res["f"] = "output boundary %.3g tol from the reference's" % (fwd / tol)
         # all of it inside a narrow gap of ours that the reference fills: the tip of a
-        # wedge of ours runs on (minkowski_sum's documented limit, 0.75 tol/sin(theta/2))
+        # wedge of ours runs on (minkowski_sum's documented limit, 0.5 tol/sin(theta/2))
         far = np.flatnonzero(da > ACCEPT * tol)
         q = shapely.points(pa[far])
         wide = got.buffer(GAP * tol, quad_segs=16).buffer(-GAP * tol, quad_segs=16)
@@ -531,9 +535,9 @@ def main(argv=None):
              "Packages: %s. tol = 1e-3 of the icon's size; offset radius 0.05 size; "
              "ellipse 0.04 x 0.015 size at 30°. Pass (see the script's docstring): our boundary "
              "within 1.25 tol of the polygon reference's, the reference's within 1.25 tol of "
-             "ours except in gaps narrower than 1.6 tol, loop and hole counts between the "
+             "ours except in gaps narrower than %.2g tol, loop and hole counts between the "
              "reference's and those of its closing over such gaps and opening at such necks."
-             % (args.per_set, args.timeout, args.jobs, total, ", ".join(versions.values())),
+             % (args.per_set, args.timeout, args.jobs, total, ", ".join(versions.values()), 2 * GAP),
              "", "CPU s/icon: the icon's whole process (parse, offset, ellipse sum, polygon "
              "references and checks); engine CPU s: offset_region + minkowski_sum only. "
              "err/tol: our boundary's distance to the reference's (the certified direction); "

@@ -65,8 +65,9 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   outside the reference boundary, and the label (deepest) point of every hole and
   every filled part, both ours and the reference's: wherever the point is farther
   than tol + 2f from our boundary, our winding number (!= 0) must agree with the
-  exact predicate, unless the point lies within 0.2 tol + 2f of the true boundary
-  (the documented rule: features thinner than 0.4 tol may merge; such points are
+  exact predicate, unless the point lies within THIN tol + 2f of the true boundary
+  (the documented rule: features thinner than 2 THIN tol = 0.9 tol, twice the
+  flattening and grid shares of ``morph.minkowski``, may merge; such points are
   counted as "thin");
 - a polygon reference (random: the flattened glyph buffered by the unit disk in
   M⁻¹ space with 256 segments per quarter circle, mapped back; GEOS simplifies the
@@ -104,6 +105,8 @@ from pathlib import Path  # noqa: E402 - after the BLAS thread counts are set
 
 import numpy as np  # noqa: E402 - after the BLAS thread counts are set
 
+from morph import minkowski as _minkowski  # noqa: E402 - after the BLAS thread counts are set
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
@@ -116,6 +119,9 @@ ASPECTS = ((80.0, 30.0), (60.0, 8.0), (40.0, 40.0))   # nib W x H, font units (u
 ANGLE_STEP = 1.7                                       # degrees
 ORACLE_SHARE = 1.0 / 64.0                              # oracle flattening f = tol/64
 LADDER = (1.0, 0.5, 0.25, 0.125, 1 / 16, 1 / 32, 1 / 64)
+#: half the thinnest feature the sum may merge, x tol: its polylines' flattening and
+#: grid rounding (morph.trim's budget)
+THIN = _minkowski.FLAT_SHARE + _minkowski.GRID_SHARE
 BUFFER_SIMPLIFY = 0.01   # GEOS simplifies a buffer's input by 1 % of the distance
 OTHER_FONTS = {"lobster": ("fontpkg_lobster", "Lobster-Regular.ttf"),
                "cormorant": ("fontpkg_cormorant", "Cormorant[wght].ttf"),
@@ -575,8 +581,8 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
         truth = oracle(x)
         bad = np.flatnonzero(ours != truth)
         if len(bad):
-            # the documented rule: features thinner than 0.4 tol may merge
-            r = 0.2 * tol + slack
+            # the documented rule: features thinner than 2 THIN tol may merge
+            r = THIN * tol + slack
             pr = straddle_probes(x[bad], np.zeros((len(bad), 2)), r)
             ins = oracle(pr.reshape(-1, 2)).reshape(len(bad), -1)
             thin = ins.any(axis=1) & (~ins).any(axis=1)
@@ -978,7 +984,7 @@ def _compare_clipper(loops, ref, ref_err, oracle, tol, f, chk):
     disagree, the exact predicate arbitrates at a point of every part of the symmetric
     difference larger than tol²: a part where ours agrees with the predicate is the
     reference's error (counted in ``clipper_wrong``), one in a feature thinner than
-    0.4 tol is allowed; only the others fail."""
+    2 THIN tol is allowed; only the others fail."""
     import shapely
 
     from morph import piece as pc
@@ -1010,7 +1016,7 @@ def _compare_clipper(loops, ref, ref_err, oracle, tol, f, chk):
     truth = oracle(pts)
     wrong = ours_in != truth
     if wrong.any():
-        r = 0.2 * tol + 2 * f
+        r = THIN * tol + 2 * f
         pr = straddle_probes(pts[wrong], np.zeros((wrong.sum(), 2)), r)
         ins = oracle(pr.reshape(-1, 2)).reshape(wrong.sum(), -1)
         thin = ins.any(axis=1) & (~ins).any(axis=1)
@@ -1274,7 +1280,7 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
                      "predicate): %d points." % pm)
         th = sum(r.get("thin", 0) for r in results)
         lines.append("Membership points on the wrong side inside features thinner than "
-                     "0.4 tol (allowed by the budget): %d." % th)
+                     "%.2g tol (allowed by the budget): %d." % (2 * THIN, th))
         if any("hausdorff/tol" in r for r in results):
             hh = max(r.get("hausdorff/tol", 0.0) for r in results)
             lines.append("Worst Hausdorff distance to the Clipper reference / tol: %.3f." % hh)

@@ -497,7 +497,7 @@ def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch)
     # is the first round's, not an error
     from morph.errors import ToleranceNotMetError
 
-    ra, rb = _region("e"), _region("s")
+    ra, rb = _region("S"), _region("g")
     monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)   # so that a corner pass is needed
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
     first = minkowski.minkowski_sum(ra, rb, TOL)
@@ -513,7 +513,7 @@ def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch)
 
     monkeypatch.setattr(minkowski, "convolution", refusing)
     out = minkowski.minkowski_sum(ra, rb, TOL)
-    assert calls, "e + s needs a corner pass (see the test above)"
+    assert calls, "S + g needs a corner pass (test_s_plus_g_needed_the_second_pass)"
     assert len(out) == len(first)
     for la, lb in zip(out, first):
         assert len(la) == len(lb)
