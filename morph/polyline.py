@@ -47,6 +47,7 @@ class BoxGrid:
 
     def __init__(self, lo, hi):
         n = len(lo)
+        self.lo, self.hi = lo, hi
         self.span = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-300)
         lengths = np.maximum(hi - lo, 0).max(axis=1)
         # the median by np.partition: np.median imports numpy.ma (~10 ms of every process)
@@ -92,10 +93,13 @@ def _ranks(counts):
 
 def segment_pairs(p0, p1, ids, same_piece_ok):
     """Index pairs (i < j) of segments whose bounding boxes overlap (grid hashing)."""
-    lo = np.minimum(p0, p1)
-    hi = np.maximum(p0, p1)
-    n = len(p0)
-    grid = BoxGrid(lo, hi)
+    return _cell_pairs(BoxGrid(np.minimum(p0, p1), np.maximum(p0, p1)))
+
+
+def _cell_pairs(grid):
+    """Index pairs (i < j) of a BoxGrid's boxes that share a cell and overlap."""
+    lo, hi = grid.lo, grid.hi
+    n = len(lo)
     key, seg = grid.keys, grid.items
     # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
     bounds = np.flatnonzero(np.diff(key)) + 1
@@ -142,6 +146,41 @@ def polylines_cross(pieces, tol):
         return False
     k, u, v = segment_crossings(p0, p1, pairs)
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
+
+def polylines_apart(pieces, tol):
+    """True if no two of the pieces' sub-arcs that do not meet end to end come within
+    2 tol of each other: then the pieces neither cross nor touch (a sufficient test,
+    cheap at a coarse tol; False says nothing).
+
+    The pieces are flattened within tol (each segment within tol of its arc,
+    :func:`morph.piece.flatten_many`); two arcs whose segments are more than 2 tol
+    apart are disjoint.  Segments that share a vertex (consecutive along a piece or
+    across a join, the end of one the start of the other) are not compared; arcs
+    that meet elsewhere, such as two loops touching at a point, are (distance 0).
+    """
+    if not pieces:
+        return True
+    p0, p1, _, _, _ = flatten_segments(pieces, tol)
+    reach = 2.0 * tol
+    grid = BoxGrid(np.minimum(p0, p1) - reach, np.maximum(p0, p1) + reach)
+    pairs = _cell_pairs(grid)
+    if not len(pairs):
+        return True
+    i, j = pairs[:, 0], pairs[:, 1]
+    join = 1e-12 * float(grid.span.max())
+    chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
+               | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
+    i, j = i[~chained], j[~chained]
+    if not len(i):
+        return True
+    if len(segment_crossings(p0, p1, np.stack([i, j], axis=1))[0]):
+        return False
+    gap = np.minimum(np.minimum(segment_distance(p0[i], p0[j], p1[j]),
+                                segment_distance(p1[i], p0[j], p1[j])),
+                     np.minimum(segment_distance(p0[j], p0[i], p1[i]),
+                                segment_distance(p1[j], p0[i], p1[i])))
+    return bool(gap.min() > reach)
+
 
 def polyline_edges(polylines):
     """The edges of closed polylines as two (e, 2) arrays ``a, b``: edge k runs from

@@ -17,7 +17,8 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import polyline_edges, polylines_cross, unique, winding_number  # noqa: F401
+from .polyline import (polyline_edges, polylines_apart, polylines_cross,  # noqa: F401
+                       unique, winding_number)
 
 __all__ = [
     "Region",
@@ -267,9 +268,20 @@ def _on_loop(loop, other, eps):
     return bool(np.max(point_polyline_distance(pts, poly)) <= 4 * eps)
 
 
+#: Loops whose arcs stay 2 APART x their size apart (polylines within APART x the size,
+#: :func:`morph.polyline.polylines_apart`) cross nowhere: only the others are
+#: flattened within 1e-5 of the size to look for crossings (52 glyphs of the bundled
+#: font read in 190 -> 135 ms).
+APART = 1e-3
+
+
 def _loops_cross(loops, scale):
-    """True if the loops' polylines (within 1e-5 of the size) cross properly."""
-    return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
+    """True if the loops' polylines (within 1e-5 of the size) cross properly; False
+    at once where their arcs are far apart (:data:`APART`)."""
+    pieces = [p for loop in loops for p in loop]
+    if polylines_apart(pieces, APART * scale):
+        return False
+    return polylines_cross(pieces, 1e-5 * scale)
 
 
 # ------------------------------------------------------------------ measures

@@ -5,7 +5,8 @@ import shapely
 from shapely.geometry import LineString
 
 from morph import piece as pc
-from morph.polyline import flatten_segments, polylines_cross, segment_crossings, segment_pairs
+from morph.polyline import (flatten_segments, polylines_apart, polylines_cross, segment_crossings,
+                            segment_pairs)
 
 
 def _random_segments(rng, n):
@@ -58,3 +59,41 @@ def test_polylines_cross_figure_eight_and_disjoint_circles():
     assert polylines_cross(eight, 1e-6)
     assert not polylines_cross(pc.circle((0, 0), 1.0) + pc.circle((5, 0), 1.0), 1e-6)
     assert polylines_cross(pc.circle((0, 0), 1.0) + pc.circle((1.5, 0), 1.0), 1e-6)
+
+
+def test_polylines_apart_is_a_sufficient_test():
+    """Apart means that the exact curves keep a gap (shapely, on curves flattened far
+    finer): pairs of circles at random gaps, the apart test at tol; never apart where
+    the curves come within 2 tol minus the reference's flattening, always where they
+    stay more than 4 tol apart (boxes inflated by 2 tol: no pair farther is compared),
+    and a single loop (consecutive segments share a vertex) is apart from itself."""
+    rng = np.random.default_rng(11)
+    tol = 1e-2
+    seen = set()
+    for _ in range(60):
+        r1, r2 = rng.uniform(0.5, 2.0, 2)
+        gap = rng.uniform(-0.1, 0.1)
+        ang = rng.uniform(0, 2 * np.pi)
+        c2 = (r1 + r2 + gap) * np.array([np.cos(ang), np.sin(ang)])
+        a, b = pc.circle((0.0, 0.0), r1), pc.circle(c2, r2)
+        got = polylines_apart(a + b, tol)
+        true_gap = shapely.Polygon(pc.flatten_loop(a, 1e-6)).distance(
+            shapely.Polygon(pc.flatten_loop(b, 1e-6)))
+        if got:   # each arc within tol of its segments, the segments over 2 tol apart
+            assert true_gap > 0, (gap, true_gap)
+        if true_gap > 4 * tol:   # the polylines (within tol) more than 2 tol apart
+            assert got, (gap, true_gap)
+        seen.add(got)
+        if gap < 0:
+            assert not got and polylines_cross(a + b, 1e-6)
+    assert seen == {True, False}
+    assert polylines_apart(pc.circle((0.0, 0.0), 1.0), tol)
+    # a loop touching another at a shared point, and a figure eight, are not apart
+    square = [pc.line((0, 0), (1, 0)), pc.line((1, 0), (1, 1)), pc.line((1, 1), (0, 1)),
+              pc.line((0, 1), (0, 0))]
+    other = [pc.line((1, 1), (2, 1)), pc.line((2, 1), (2, 2)), pc.line((2, 2), (1, 2)),
+             pc.line((1, 2), (1, 1))]
+    assert not polylines_apart(square + other, tol)
+    eight = [pc.line((0, 0), (2, 2)), pc.line((2, 2), (2, 0)), pc.line((2, 0), (0, 2)),
+             pc.line((0, 2), (0, 0))]
+    assert not polylines_apart(eight, tol)
