@@ -683,8 +683,12 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     return out
 
 
-#: Fits whose sampled distance exceeds this multiple of tol are not certified.
-SCREEN = 1.25
+#: Fits whose sampled distance exceeds this multiple of tol are not certified.  The
+#: sampled distance is nearly a lower bound of the certified one: on the Relief
+#: strokes at tol 0.5, 1 of 50 fits sampled within 1-1.1 tol certified, none above
+#: (of ~130); at 1 instead of 1.25 the export spends 18 % fewer certificates, for
+#: the same points there and on the brush, O ⊕ disk and O ⊕ ellipse.
+SCREEN = 1.0
 
 _NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
 _NODE_BASIS = bz.basis(3, _NODES)
