@@ -154,32 +154,36 @@ def polylines_apart(pieces, tol):
 
     The pieces are flattened within tol (each segment within tol of its arc,
     :func:`morph.piece.flatten_many`); two arcs whose segments are more than 2 tol
-    apart are disjoint.  Segments that share a vertex (consecutive along a piece or
-    across a join, the end of one the start of the other) are not compared; arcs
-    that meet elsewhere, such as two loops touching at a point, are (distance 0).
+    apart are disjoint (:func:`near_segments`).
     """
     if not pieces:
         return True
     p0, p1, _, _, _ = flatten_segments(pieces, tol)
-    reach = 2.0 * tol
-    grid = BoxGrid(np.minimum(p0, p1) - reach, np.maximum(p0, p1) + reach)
+    return not len(near_segments(p0, p1, 2.0 * tol))
+
+
+def near_segments(p0, p1, reach):
+    """Index pairs (i < j) of segments p0[k] p1[k] that come within ``reach`` of each
+    other (crossing ones included), except pairs that share a vertex (consecutive
+    along a polyline: the end of one the start of the other).  Pairs that meet
+    elsewhere, such as two loops touching at a point, are included (distance 0)."""
+    grid = BoxGrid(np.minimum(p0, p1) - 0.5 * reach, np.maximum(p0, p1) + 0.5 * reach)
     pairs = _cell_pairs(grid)
     if not len(pairs):
-        return True
+        return pairs
     i, j = pairs[:, 0], pairs[:, 1]
     join = 1e-12 * float(grid.span.max())
     chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
                | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
-    i, j = i[~chained], j[~chained]
-    if not len(i):
-        return True
-    if len(segment_crossings(p0, p1, np.stack([i, j], axis=1))[0]):
-        return False
+    pairs = pairs[~chained]
+    i, j = pairs[:, 0], pairs[:, 1]
+    hit = np.zeros(len(pairs), bool)
+    hit[segment_crossings(p0, p1, pairs)[0]] = True
     gap = np.minimum(np.minimum(segment_distance(p0[i], p0[j], p1[j]),
                                 segment_distance(p1[i], p0[j], p1[j])),
                      np.minimum(segment_distance(p0[j], p0[i], p1[i]),
                                 segment_distance(p1[j], p0[i], p1[i])))
-    return bool(gap.min() > reach)
+    return pairs[hit | (gap <= reach)]
 
 
 def polyline_edges(polylines):
