@@ -14,16 +14,19 @@ compilation are not included (``bench/export_profile.py``, ``bench/stroke.py``).
 
 import argparse
 import cProfile
+import os
 import pstats
 import time
 
-from bench.stroke import BROAD, nib_region
-from bench.sweep import relief_font
-from morph.export import split_tolerance
-from morph.parse.ufo import decomposed_paths
-from morph.fonts.brush import glyph_chunks
-from morph.fonts.stroke import CHUNK
-from morph.stroke import stroke_many, stroke_paths
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")    # as the command, before numpy loads
+
+from bench.stroke import BROAD, nib_region  # noqa: E402 - after the BLAS thread count is set
+from bench.sweep import relief_font  # noqa: E402 - after the BLAS thread count is set
+from morph.export import split_tolerance  # noqa: E402 - after the BLAS thread count is set
+from morph.parse.ufo import decomposed_paths  # noqa: E402 - after the BLAS thread count is set
+from morph.fonts.brush import glyph_chunks  # noqa: E402 - after the BLAS thread count is set
+from morph.fonts.stroke import CHUNK  # noqa: E402 - after the BLAS thread count is set
+from morph.stroke import stroke_many, stroke_paths  # noqa: E402 - after the BLAS thread count is set
 
 NAMES = list("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") + [
     "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine"]
