@@ -836,7 +836,7 @@ def _chord_distance(parts):
     rel = p - a
     safe = np.where(length > 0, length, 1.0)
     dist = np.abs(chord[..., 0] * rel[..., 1] - chord[..., 1] * rel[..., 0]) / safe
-    along = (rel[..., 0] * chord[..., 0] + rel[..., 1] * chord[..., 1]) / safe ** 2
+    along = (rel[..., 0] * chord[..., 0] + rel[..., 1] * chord[..., 1]) / safe / safe  # no underflow of safe^2
     to_a = np.hypot(rel[..., 0], rel[..., 1])
     to_b = np.hypot(*np.moveaxis(p - b, -1, 0))
     dist = np.where((along < 0) | (length == 0), to_a, dist)

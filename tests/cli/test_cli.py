@@ -51,27 +51,31 @@ def test_outline_svg_with_cubic_font(runner, tmp_path):
     assert "<path" in text and " C" not in text and "C" in text
 
 
-def test_outline_svg_input(runner, tmp_path):
+def test_outline_svg_input(runner, tmp_path, monkeypatch):
     src = tmp_path / "ring.svg"
     src.write_text('<svg %s><path fill-rule="evenodd" d="M -10 0 A 10 10 0 0 1 10 0 '
                    'A 10 10 0 0 1 -10 0 Z M -4 0 A 4 4 0 0 1 4 0 A 4 4 0 0 1 -4 0 Z"/></svg>'
                    % SVG_NS)
-    with runner.isolated_filesystem(temp_dir=tmp_path):
-        result = runner.invoke(main, ["outline", str(src), "--size", "64"])
-        assert result.exit_code == 0, result.output
-        img = np.asarray(Image.open("outline-ring.png").convert("L"))
-        assert img.shape == (64, 64)
-        assert img[32, 32] == 255 and img[32, 10] == 0  # hole in the middle, ring filled
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    result = runner.invoke(main, ["outline", str(src), "--size", "64"])
+    assert result.exit_code == 0, result.output
+    img = np.asarray(Image.open("outline-ring.png").convert("L"))
+    assert img.shape == (64, 64)
+    assert img[32, 32] == 255 and img[32, 10] == 0  # hole in the middle, ring filled
 
 
-def test_default_output_name_in_cwd(runner, tmp_path):
-    with runner.isolated_filesystem(temp_dir=tmp_path):
-        result = runner.invoke(main, ["outline", "g", "--size", "32"])
-        assert result.exit_code == 0
-        assert Image.open("outline-g.png").size[1] == 32
-        result = runner.invoke(main, ["outline", "&", "--size", "32"])
-        assert result.exit_code == 0
-        assert Image.open("outline-ampersand.png")
+def test_default_output_name_in_cwd(runner, tmp_path, monkeypatch):
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    result = runner.invoke(main, ["outline", "g", "--size", "32"])
+    assert result.exit_code == 0
+    assert Image.open("outline-g.png").size[1] == 32
+    result = runner.invoke(main, ["outline", "&", "--size", "32"])
+    assert result.exit_code == 0
+    assert Image.open("outline-ampersand.png")
 
 
 def test_missing_glyph_exit_2_one_line(runner, tmp_path):
@@ -103,11 +107,13 @@ def test_existing_output_not_overwritten(runner, tmp_path):
     (["outline", "missing.svg"], "missing.svg"),
     (["outline", "g", "-o", "/no/such/dir/g.png"], "does not exist"),
 ])
-def test_bad_input_exit_2(runner, tmp_path, args, words):
-    with runner.isolated_filesystem(temp_dir=tmp_path):
-        result = runner.invoke(main, args)
-        assert result.exit_code == 2, result.output
-        assert words in one_error_line(result)
+def test_bad_input_exit_2(runner, tmp_path, monkeypatch, args, words):
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    result = runner.invoke(main, args)
+    assert result.exit_code == 2, result.output
+    assert words in one_error_line(result)
 
 
 def test_bad_svg_file_exit_2(runner, tmp_path):
