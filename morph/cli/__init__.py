@@ -35,11 +35,38 @@ from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E40
                       resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
                       size_option, tol_option, write_image)
 
-__all__ = ["main", "ShapeParam", "shape_argument", "shape_tolerance", "common_options",
+__all__ = ["main", "run", "ShapeParam", "shape_argument", "shape_tolerance", "common_options",
            "font_option", "tol_option", "output_option", "force_option", "size_option",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
 from . import shapes, apps, fonts  # noqa: E402,F401
 
+
+def run():
+    """The ``morph`` console script: :func:`main`, then a fast exit.
+
+    Every command has written and closed its files, and joined its worker
+    processes, when main returns; the interpreter's teardown (freeing numpy's and
+    fontTools' modules: ~20 ms of a 0.2 s ``morph sum O M``) is skipped with
+    ``os._exit`` once the standard streams and logging are flushed.  Under coverage
+    it exits normally, so that the coverage data is saved.  Other callers (tests,
+    ``CliRunner``) use :func:`main`, which returns or raises SystemExit as click
+    commands do.
+    """
+    import sys
+
+    code = main.main(standalone_mode=False)
+    if "coverage" in sys.modules:
+        sys.exit(code)
+    if "logging" in sys.modules:
+        sys.modules["logging"].shutdown()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: nothing left to tell
+            pass
+    os._exit(code)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    main()
+    run()

@@ -168,3 +168,22 @@ def test_engine_failures_are_internal_exit_1(runner, tmp_path, monkeypatch, erro
 def test_bare_morph_shows_the_manual(runner):
     result = runner.invoke(main, [])
     assert result.exit_code == 0 and "outline" in result.output
+
+
+def test_console_script_exits_fast_with_its_output_flushed(tmp_path):
+    """The console entry (``run``: main, then os._exit without the interpreter's
+    teardown) still writes the file, flushes stdout and stderr through a pipe and
+    exits with the command's code: 0, 2 for bad input."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "om.svg"
+    ok = subprocess.run([sys.executable, "-m", "morph.cli", "sum", "O", "M", "-o", str(out)],
+                        capture_output=True, text=True, timeout=120)
+    assert ok.returncode == 0, ok.stderr
+    assert ok.stdout.startswith("wrote %s" % out) and ok.stdout.endswith("\n")
+    assert out.read_text().rstrip().endswith("</svg>")
+    bad = subprocess.run([sys.executable, "-m", "morph.cli", "sum", "O", "M", "-o", str(out)],
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.count("\n") == 1 and "exists" in bad.stderr
