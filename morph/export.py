@@ -74,6 +74,7 @@ tolerance (:func:`split_tolerance`, or :func:`export_tolerance` when the geometr
 has a certified error below its share).
 """
 
+import functools
 import math
 from collections import namedtuple
 
@@ -316,7 +317,6 @@ def fit_cubic(piece):
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
 #: Gauss-Legendre on each).
 ARC_INTERVALS = 32
-_GL8 = np.polynomial.legendre.leggauss(8)
 
 
 class _Chain:
@@ -350,7 +350,7 @@ class _Chain:
         pieces, in order) its chain parameters, cumulative arc lengths and speeds
         |dP/dT| at both ends; arrays of K * ARC_INTERVALS."""
         if self._arc is None:
-            m, (x, w) = ARC_INTERVALS, _GL8
+            m, (x, w) = ARC_INTERVALS, _quadrature().gl8
             knots = np.linspace(0.0, 1.0, m + 1)
             q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
             ks = np.arange(self.k)
@@ -380,21 +380,28 @@ def _limit_tangent(piece, t, sign, tiny):
 
 # ------------------------------------------------------------------ the batched fitter
 
-def _cubic_integrals():
-    """I2[j, k] = int B_j B_k' and I3[i, j, k] = int B_i B_j B_k' over [0, 1] for the
-    cubic Bernstein basis (Gauss-Legendre, exact for these degrees)."""
-    x, w = np.polynomial.legendre.leggauss(8)
-    x, w = 0.5 + 0.5 * x, 0.5 * w
+_Quadrature = namedtuple("_Quadrature", "gl8 gx gw i2 i3")
+
+
+@functools.lru_cache(maxsize=1)
+def _quadrature():
+    """The fitter's constants, made on first use (numpy.polynomial, which gives the
+    Gauss-Legendre rules, takes ~4 ms to import: a process that fits nothing, such
+    as a TrueType sum written exactly, does not pay it): ``gl8`` the 8-point rule on
+    [-1, 1]; ``gx``, ``gw`` the 16-point rule on [0, 1]; ``i2[j, k]`` = int B_j B_k'
+    and ``i3[i, j, k]`` = int B_i B_j B_k' over [0, 1] for the cubic Bernstein basis
+    (the 8-point rule, exact for these degrees)."""
+    gl8 = np.polynomial.legendre.leggauss(8)
+    x, w = 0.5 + 0.5 * gl8[0], 0.5 * gl8[1]
     b = bz.basis(3, x)                                             # (8, 4)
     diff = 3.0 * (np.eye(3, 4, 1) - np.eye(3, 4))                  # B3_k' in B2
     db = bz.basis(2, x) @ diff
-    return (np.einsum("g,gj,gk->jk", w, b, db),
-            np.einsum("g,gi,gj,gk->ijk", w, b, b, db))
+    gx, gw = np.polynomial.legendre.leggauss(16)
+    return _Quadrature(gl8, 0.5 + 0.5 * gx, 0.5 * gw,
+                       np.einsum("g,gj,gk->jk", w, b, db),
+                       np.einsum("g,gi,gj,gk->ijk", w, b, b, db))
 
 
-_I2, _I3 = _cubic_integrals()
-_GL16 = np.polynomial.legendre.leggauss(16)
-_GX, _GW = 0.5 + 0.5 * _GL16[0], 0.5 * _GL16[1]
 #: Handle lengths d0 (in chord lengths) where the moment equation is solved.
 _D0_GRID = np.linspace(0.0, 2.0, 81)[1:]
 #: kurbo's handle-length penalty: the sampled error is scaled by
@@ -426,7 +433,7 @@ def _moment_cubics(items, tol):
     the range's.  The range's integrals are Gauss-Legendre sums (16 nodes on each
     part, in the part's own parameter: the integrals do not depend on the
     parametrisation); the cubic's are polynomials in (d0, d1) (exact Bernstein
-    integrals :data:`_I2`, :data:`_I3`).  The area is linear in d1, so d1 = d1(d0)
+    integrals of :func:`_quadrature`).  The area is linear in d1, so d1 = d1(d0)
     and the moment equation becomes one equation in d0, solved on a grid of d0
     (sign changes, refined by regula falsi; without one, the grid point of least
     residual, like kurbo's real part of a complex root pair).  Of the candidates
@@ -485,8 +492,9 @@ def _range_samples(items, starts, chord, safe2):
     req, deg, idx = np.array(req), np.array(deg), np.array(idx)
     lo, width = np.array(lo), np.array(width)
     first, last = np.array(first), np.array(last)
-    m = len(_GX)
-    params = lo[:, None] + width[:, None] * _GX[None]
+    quad = _quadrature()
+    m = len(quad.gx)
+    params = lo[:, None] + width[:, None] * quad.gx[None]
     p, d = _bank_jet(banks, np.repeat(deg, m), np.repeat(idx, m), params.ravel())
     ends_at = np.concatenate([first, last])
     _, de = _bank_jet(banks, deg[ends_at], idx[ends_at],
@@ -499,7 +507,7 @@ def _range_samples(items, starts, chord, safe2):
     q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
                safe2[req][:, None])                                # (P, m, 2)
     dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
-    wgt = _GW[None] * width[:, None]
+    wgt = quad.gw[None] * width[:, None]
     t0 = _frame(de[:n], chord, safe2)
     t1 = _frame(de[n:], chord, safe2)
     t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
@@ -513,7 +521,7 @@ def _cubic_integrals(t0, t1):
     """Area and moment of the frame cubics K + d0 U + d1 V (end tangents t0, t1) as
     polynomials in (d0, d1): ``ta`` (n, 2, 3) area terms d_b m_c and ``tm``
     (n, 3, 2, 3) moment terms m_a d_b m_c, m = (1, d0, d1) (exact Bernstein
-    integrals :data:`_I2`, :data:`_I3`)."""
+    integrals of :func:`_quadrature`)."""
     n = len(t0)
     c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
     zero, one = np.zeros(n), np.ones(n)
@@ -521,8 +529,9 @@ def _cubic_integrals(t0, t1):
                    np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
     ys = np.stack([np.stack([zero, s0, zero, zero], 1),
                    np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
-    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, _I2)
-    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, _I3)
+    quad = _quadrature()
+    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, quad.i2)
+    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, quad.i3)
     return ta, tm
 
 
@@ -654,7 +663,7 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
         return np.zeros(0)
     m = q.shape[1]
     pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
-    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_GW, len(width))
+    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
     sreq = np.repeat(req, m)
     cum = np.cumsum(speed)
     tot = np.bincount(sreq, speed)
