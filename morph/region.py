@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (polyline_edges, polylines_apart, polylines_cross,  # noqa: F401
+from .polyline import (near_segments, polyline_edges, polylines_cross,  # noqa: F401
                        unique, winding_number)
 
 __all__ = [
@@ -170,14 +170,15 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
         return []
-    if _loops_cross(cleaned, scale):
+    polys = pc.flatten_loops(cleaned, APART * scale)   # shared by both tests below
+    if _loops_cross(cleaned, scale, polys):
         if on_crossing is None:
             raise ValueError("the loops cross or touch: they need a fill "
                              "(on_crossing=morph.trim.fill_region)")
         return on_crossing(cleaned, fill_rule)
     if len(cleaned) == 1:
         return [cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])]
-    windings = _outside_windings(cleaned, scale)
+    windings = _outside_windings(cleaned, scale, polys)
     out = []
     for loop, area, w in zip(cleaned, areas, windings):
         is_outer = _is_outer(w, 1 if area > 0 else -1, fill_rule)
@@ -203,12 +204,12 @@ def _positive_loops(loops):
     return out, areas
 
 
-def _outside_windings(loops, scale):
+def _outside_windings(loops, scale, polys):
     """For each loop, the winding number just outside it: that of all *other* loops
     at a probe point on it (the piece midpoint farthest from the other loops), on
-    polylines within 1e-3 of ``scale``, refined when the probe is closer than that."""
-    tol = 1e-3 * scale
-    polys = [loop_polyline(loop, tol) for loop in loops]
+    their polylines ``polys`` within APART x ``scale``, refined when the probe is
+    closer than that."""
+    tol = APART * scale
     out = []
     for i, loop in enumerate(loops):
         others = [p for j, p in enumerate(polys) if j != i]
@@ -269,19 +270,24 @@ def _on_loop(loop, other, eps):
 
 
 #: Loops whose arcs stay 2 APART x their size apart (polylines within APART x the size,
-#: :func:`morph.polyline.polylines_apart`) cross nowhere: only the others are
+#: as :func:`morph.polyline.polylines_apart` tests) cross nowhere: only the others are
 #: flattened within 1e-5 of the size to look for crossings (52 glyphs of the bundled
 #: font read in 190 -> 135 ms).
 APART = 1e-3
 
 
-def _loops_cross(loops, scale):
+def _loops_cross(loops, scale, polys=None):
     """True if the loops' polylines (within 1e-5 of the size) cross properly; False
-    at once where their arcs are far apart (:data:`APART`)."""
-    pieces = [p for loop in loops for p in loop]
-    if polylines_apart(pieces, APART * scale):
+    at once where their arcs are far apart: no two edges of the closed polylines
+    ``polys`` within APART x ``scale`` (made here when not given) that share no
+    vertex come within twice that (:func:`morph.polyline.near_segments`)."""
+    tol = APART * scale
+    if polys is None:
+        polys = pc.flatten_loops(loops, tol)
+    a, b = polyline_edges(polys)
+    if not len(near_segments(a, b, 2.0 * tol)):
         return False
-    return polylines_cross(pieces, 1e-5 * scale)
+    return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
 
 
 # ------------------------------------------------------------------ measures
