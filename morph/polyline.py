@@ -147,6 +147,7 @@ def polylines_cross(pieces, tol):
     k, u, v = segment_crossings(p0, p1, pairs)
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
 
+
 def polylines_apart(pieces, tol):
     """True if no two of the pieces' sub-arcs that do not meet end to end come within
     2 tol of each other: then the pieces neither cross nor touch (a sufficient test,
