@@ -75,12 +75,19 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
     TopologyError if the convolution pieces do not close into loops.  ``gauss_pair``:
     the operands' Gauss maps when known already (:class:`morph.convolve.GaussPair`).
+    With ``return_debug``: (boundary, debug), debug["bound"] the error this sum
+    achieved (at most tol; the shares above with the convolution's actual bounds:
+    0.5 tol for TrueType sums, whose QAC pieces are exact), which a writer may give
+    to its export (:func:`morph.export.export_tolerance`).
     """
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
     out, debug = _sum(region_a, region_b, tol, method, gauss_pair)
-    return (out, debug) if return_debug else out
+    if not return_debug:
+        return out
+    debug["bound"] = _achieved_bound(out, debug["convolution"], tol, method)
+    return out, debug
 
 
 def minkowski_sums(regions_a, region_b, tol, method="qac"):
@@ -220,22 +227,49 @@ def _tip_tolerances(out, conv, tol):
     worst = float(bounds.max(initial=0.0))
     if worst <= 0 or not out:
         return {}
-    pts, cos_half = _corners(out)
-    sharp = np.nonzero(cos_half * CONV_SHARE * tol < worst)[0]
-    if not len(sharp):
-        return {}
-    boxes = pc.bboxes([c.piece for c in conv])
     rows = np.array([c.row for c in conv])
-    reach = TIP_REACH * tol
     finer = {}
-    for k in sharp:
-        x, y = pts[k]
-        near = ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
-                & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
-        want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half[k], TIP_FLOOR)
+    for cos_half, near in _corners_near(out, conv, tol, worst / (CONV_SHARE * tol)):
+        want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half, TIP_FLOOR)
         for r in unique(rows[near & (bounds > want)]):
             finer[int(r)] = min(finer.get(int(r), np.inf), want)
     return finer
+
+
+def _corners_near(out, conv, tol, below=1.0):
+    """(cos(phi / 2), mask of the pieces of ``conv`` through it) for each junction of
+    ``out`` whose cos(phi / 2) is below ``below``: the pieces whose control-point
+    box comes within TIP_REACH tol of the junction (a superset: the corner was found
+    on polylines within (FLAT_SHARE + GRID_SHARE) tol of them)."""
+    pts, cos_half = _corners(out)
+    sharp = np.nonzero(cos_half < below)[0]
+    if not len(sharp):
+        return
+    boxes = pc.bboxes([c.piece for c in conv])
+    reach = TIP_REACH * tol
+    for k in sharp:
+        x, y = pts[k]
+        yield cos_half[k], ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
+                            & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
+
+
+def _achieved_bound(out, conv, tol, method):
+    """A bound of the Hausdorff distance between ``out`` and the exact boundary, at
+    most ``tol`` (the sum's own guarantee): the shares of tol that are not the
+    convolution's, plus the largest convolution error e where the boundary is
+    smooth and e / cos(phi / 2) at a junction turning by phi (cos(phi / 2) at
+    least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
+    pieces through it.  Only QAC bounds are a-priori bounds: for the other methods
+    it is ``tol``.  What :func:`morph.export.export_tolerance` takes."""
+    if method != "qac":
+        return float(tol)
+    bounds = np.array([c.bound for c in conv])
+    err = float(bounds.max(initial=0.0))
+    if err > 0 and out:
+        for cos_half, near in _corners_near(out, conv, tol):
+            if near.any():
+                err = max(err, float(bounds[near].max()) / max(cos_half, TIP_FLOOR))
+    return min(float(tol), (1.0 - CONV_SHARE) * tol + err)
 
 
 def _corners(out):

@@ -673,9 +673,11 @@ def test_exact_sum_leaves_its_share_to_the_export():
     out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv == 0.0
-    et2 = export_tolerance(tol, (1.0 - CONV_SHARE) * st + conv)
+    # the sum's achieved bound is its other shares alone
+    assert dbg["bound"] == pytest.approx((1.0 - CONV_SHARE) * st, rel=1e-12)
+    et2 = export_tolerance(tol, dbg["bound"])
     assert et2 == pytest.approx(et + CONV_SHARE * st)
-    # svg_path_data spends 0.8 of its tol on the cubics, the rest on decimal rounding
+    # svg_path_data spends part of its tol on the cubics, the rest on decimal rounding
     z = np.array([seg.point(t) for seg in parse_path(svg_path_data(out, et2))
                   for t in np.linspace(0, 1, 33)])
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
@@ -751,6 +753,34 @@ def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
     d = svg_path_data(offset_region([loop], radius, st), et)
     z = np.array([seg.point(t) for seg in parse_path(d) for t in np.linspace(0, 1, 33)])
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
+
+
+@pytest.mark.parametrize("seed", [3, 5])
+def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
+    """A rational-cubic region ⊕ disk (QAC pieces with bounds > 0, sharp corners of
+    the offset where the blob turns): minkowski_sum's achieved bound lies between its
+    convolution bounds plus the other shares and its tol; the SVG written with
+    export_tolerance(tol, bound) is within tol of the exact offset (closest-point
+    oracle), and its cubics no more numerous than with the plain split."""
+    from svgpathtools import parse_path
+
+    from morph.minkowski import CONV_SHARE, minkowski_sum
+    from morph.render.svg import svg_path_data
+
+    loop, poly = random_cubic_blob(seed, True)
+    radius, tol = 0.2, 1e-3
+    st, et = split_tolerance(tol)
+    out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
+    conv = max(c.bound for c in dbg["convolution"])
+    assert conv > 0
+    assert (1.0 - CONV_SHARE) * st + conv <= dbg["bound"] <= st
+    counts = []
+    for t in (et, export_tolerance(tol, dbg["bound"])):
+        d = svg_path_data(out, t)
+        z = np.array([seg.point(u) for seg in parse_path(d) for u in np.linspace(0, 1, 33)])
+        assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
+        counts.append(d.count("C"))
+    assert counts[1] <= counts[0]
 
 
 # A random rational-cubic blob (control points and weights) with a sharp concave turn

@@ -54,8 +54,9 @@ def sum_(a, b, method, font, tol, output, force, size):
     A and B are characters or glyph names of the font, or SVG files.  The result is
     the boundary of the sum as rational Bézier pieces (Lee, Kim, Elber 1998: QAC
     convolution, trimmed to the boundary).  SVG output writes cubics within --tol of
-    the exact sum, export included (a quarter of --tol for the sum, the rest for
-    the cubic fit and rounding: morph.export.split_tolerance).  Glyphs are summed in
+    the exact sum, export included (a quarter of --tol for the sum,
+    morph.export.split_tolerance; the cubic fit and rounding get the rest of --tol
+    beyond the error the sum achieved, morph.export.export_tolerance).  Glyphs are summed in
     font units with their own origins (the result's origin is the sum of the two).
 
     \b
@@ -67,11 +68,12 @@ def sum_(a, b, method, font, tol, output, force, size):
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
     t = shape_tolerance(a, tol, b.region)
-    from ..export import split_tolerance
+    from ..export import export_tolerance, split_tolerance
 
-    st, et = split_tolerance(t)  # the sum and the SVG export share --tol
-    loops = minkowski_sum(a.region, b.region, st, method=method)
-    write_image(out, [loops], size=size, tol=et)
+    st, _ = split_tolerance(t)  # the sum's share of --tol
+    loops, debug = minkowski_sum(a.region, b.region, st, method=method, return_debug=True)
+    # the export gets what the sum left of --tol (its achieved bound, <= its share)
+    write_image(out, [loops], size=size, tol=export_tolerance(t, debug["bound"]))
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
