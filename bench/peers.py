@@ -10,7 +10,8 @@ units; tolerances and errors in em).  Sections:
 glyphs  T+M, O+M, S+g at 1e-3, 1e-4, 1e-5 em (TrueType).
         - morph: ``minkowski_sum(a, b, tol)`` in-process; size = control points (sum of
           len(piece)), and the SVG ``morph sum A B -o x.svg --tol T`` writes (sum at
-          ``split_tolerance``'s share, ``svg_path_data``): L/Q/C commands and outline
+          ``split_tolerance``'s share, ``svg_path_data`` with the rest of tol beyond
+          the sum's achieved bound, :func:`morph_svg`): L/Q/C commands and outline
           points (on + off curve).
         - dc (the strongest polygon recipe, ``bench/dc_sum.py``): flatten both glyphs
           within tol/2, pyclipper nonzero union, mapbox-earcut triangles merged into
@@ -32,8 +33,8 @@ nibs    the CFF O (cubics, so that kurbo applies) ⊕ disk r = 40 units and ⊕ 
         1e-5 em.  Each method runs a ladder of its accuracy setting; reported is the
         smallest output whose measured error is within the level (and its time; "within":
         bound <= level + 2e-6 em, the oracle's own flattening):
-        - morph: ``minkowski_sum`` / ``offset_region`` + ``svg_path_data`` (the
-          commands' SVG) at tol = level x {4, 2, 1, 3/4}.
+        - morph: ``minkowski_sum`` + ``svg_path_data`` as ``morph sum`` writes its
+          SVG (:func:`morph_svg`) at tol = level x {4, 2, 1, 3/4}.
         - Skia (skia-pathops): ``Path.stroke(2r, round cap, round join)`` of the glyph,
           united with the glyph (``pathops.op`` UNION); Skia's stroker works to about
           1/4 unit, so the path is scaled by k = 1 ... 4096 before and 1/k after
@@ -92,7 +93,7 @@ import dc_sum as DC  # noqa: E402 - bench/dc_sum.py, the peer recipe
 from bench import measure as ME  # noqa: E402 - after sys.path gets the repo root
 from morph import parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
-from morph.export import split_tolerance  # noqa: E402 - after sys.path gets the repo root
+from morph.export import export_tolerance, split_tolerance  # noqa: E402 - after sys.path gets the repo root
 from morph.fonts.brush import ellipse_nib  # noqa: E402 - after sys.path gets the repo root
 from morph.minkowski import minkowski_sum  # noqa: E402 - after sys.path gets the repo root
 from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
@@ -125,6 +126,14 @@ ENV.pop("PYTHONDONTWRITEBYTECODE", None)
 
 def glyph(ch, font=TTF):
     return parse.glyph_region(ch, font).region
+
+
+def morph_svg(a, b, tol):
+    """The path data `morph sum A B -o x.svg --tol T` writes: the sum at its share of
+    tol (split_tolerance), the export with the rest beyond the error the sum
+    achieved (export_tolerance of its debug["bound"])."""
+    out, debug = minkowski_sum(a, b, split_tolerance(tol)[0], return_debug=True)
+    return svg_path_data(out, export_tolerance(tol, debug["bound"]))
 
 
 def ctrl_points(loops):
@@ -311,8 +320,7 @@ def glyph_case(a, b, tol_em, args, log, budget):
     w, wm, c, out = timed(lambda: minkowski_sum(A, B, tol), reps)
     row.update(m_wmin=w, m_wmed=wm, m_cmin=c, m_ctrl=ctrl_points(out), m_err=err_pieces(out, oracle))
     # what `morph sum A B -o x.svg --tol T` writes
-    st, et = split_tolerance(tol)
-    d = svg_path_data(minkowski_sum(A, B, st), et)
+    d = morph_svg(A, B, tol)
     bez, npts = svg_beziers(d)
     row.update(m_cmds=sum(len(lp) for lp in bez), m_pts=npts, m_svg_err=err_beziers(bez, oracle))
     # dc, strongest: tree union
@@ -365,8 +373,7 @@ def glyph_ladder(a, b, level_em, oracle, A, B, font):
     best = {}
     for f in (4, 2, 1, 0.75):
         tol = level_em * UPM * f
-        st, et = split_tolerance(tol)
-        bez, npts = svg_beziers(svg_path_data(minkowski_sum(A, B, st), et))
+        bez, npts = svg_beziers(morph_svg(A, B, tol))
         e = err_beziers(bez, oracle)
         if within(e, level_em * UPM) and "morph" not in best:
             best["morph"] = (npts, f, e)
@@ -550,11 +557,7 @@ def nib_case(kind, level_em, args, log, ff_ok):
     reps = args.repeats
     for f in (4, 2, 1, 0.75):
         tol = level * f
-        st, et = split_tolerance(tol)
-
-        def morph_svg():
-            return svg_path_data(minkowski_sum(O, nib, st), et)
-        w, _, _, d = timed(morph_svg, reps)
+        w, _, _, d = timed(lambda: morph_svg(O, nib, tol), reps)
         bez, npts = svg_beziers(d)
         add("morph (sum + SVG export)", "tol %g em" % (tol / UPM), w, npts, err_beziers(bez, oracle))
         w, _, _, out = timed(lambda: minkowski_sum(O, nib, tol), reps)
