@@ -12,11 +12,13 @@ from . import piece as pc
 __all__ = ["offset_region"]
 
 
-def offset_region(loops, radius, tol, method="qac"):
+def offset_region(loops, radius, tol, method="qac", return_bound=False):
     """Outward offset of a region by ``radius``: the Minkowski sum with a disk.
 
     ``radius`` and ``tol`` are absolute, in the region's units.  Holes shrink and
     close when the radius exceeds their inner radius.  Radius 0 returns the input.
+    With ``return_bound``: (loops, the error achieved, at most tol: the debug
+    "bound" of :func:`morph.minkowski.minkowski_sum`, 0 for radius 0).
 
     Raises:
         ValueError: radius negative (insets are not supported) or not finite.
@@ -30,6 +32,10 @@ def offset_region(loops, radius, tol, method="qac"):
         raise ValueError("negative offset radius %g: insets (erosion) are not supported; "
                          "only outward offsets (radius >= 0)" % r)
     if r == 0:
-        return [list(loop) for loop in loops]
+        out = [list(loop) for loop in loops]
+        return (out, 0.0) if return_bound else out
     disk = [pc.circle((0.0, 0.0), r)]
-    return minkowski_sum(loops, disk, tol, method=method)
+    if not return_bound:
+        return minkowski_sum(loops, disk, tol, method=method)
+    out, debug = minkowski_sum(loops, disk, tol, method=method, return_debug=True)
+    return out, debug["bound"]

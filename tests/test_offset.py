@@ -80,3 +80,35 @@ def test_cli_offset(tmp_path):
                              str(tmp_path / "n.png")])
     assert r.exit_code == 2
     assert "not supported" in r.output
+
+
+def test_offset_bound_and_the_written_svg(tmp_path):
+    """offset_region's achieved bound (return_bound) is at most its tol, 0 at radius
+    0; `morph offset -o x.svg` writes its export with the rest of --tol, and the
+    written outline (svgpathtools samples, y flipped back) is within --tol of the
+    exact offset of the SVG shape: distance to its boundary = radius (the shape
+    flattened within tol / 20)."""
+    from svgpathtools import parse_path
+
+    region = svg_region(SVG)
+    out, bound = offset_region(region, 7.5, 0.01, return_bound=True)
+    plain = offset_region(region, 7.5, 0.01)
+    assert [len(lp) for lp in out] == [len(lp) for lp in plain]
+    assert all(np.array_equal(p, q) for lp, lq in zip(out, plain) for p, q in zip(lp, lq))
+    assert 0.0 < bound <= 0.01
+    assert offset_region(region, 0.0, 0.01, return_bound=True)[1] == 0.0
+    src = tmp_path / "shape.svg"
+    src.write_text(SVG)
+    dst = tmp_path / "grown.svg"
+    tol = 0.04
+    r = CliRunner().invoke(main, ["offset", str(src), "--radius", "7.5", "--tol", str(tol),
+                                  "-o", str(dst)])
+    assert r.exit_code == 0, r.output
+    import re
+
+    paths = re.findall(r' d="([^"]+)"', dst.read_text())
+    grown = parse_path(paths[0])
+    z = np.array([seg.point(t) for seg in grown for t in np.linspace(0, 1, 17)])
+    lines = boundary_lines(region, tol / 20)
+    d = np.array([lines.distance(Point(x, -y)) for x, y in zip(z.real, z.imag)])
+    assert np.abs(d - 7.5).max() <= tol + tol / 20 + 1e-9

@@ -38,12 +38,13 @@ def offset(shape, radius, font, tol, output, force, size):
     out = resolve_output(output, "offset-%s.png" % shape.slug, force)
     r = shape.em_to_units(radius)
     t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
-    from ..export import split_tolerance
+    from ..export import export_tolerance, split_tolerance
 
-    st, et = split_tolerance(t)  # the offset and the SVG export share --tol
-    loops = offset_region(shape.region, r, st)
+    st, _ = split_tolerance(t)  # the offset's share of --tol
+    loops, bound = offset_region(shape.region, r, st, return_bound=True)
+    # the export gets what the offset left of --tol (its achieved bound <= its share)
     write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.region, {"fill": "black"})],
-                size=size, tol=et)
+                size=size, tol=export_tolerance(t, bound))
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
 
 
