@@ -148,19 +148,14 @@ def polylines_cross(pieces, tol):
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
 
 
-def polylines_apart(pieces, tol):
-    """True if no two of the pieces' sub-arcs that do not meet end to end come within
-    2 tol of each other: then the pieces neither cross nor touch (a sufficient test,
-    cheap at a coarse tol; False says nothing).
-
-    The pieces are flattened within tol (each segment within tol of its arc,
-    :func:`morph.piece.flatten_many`); two arcs whose segments are more than 2 tol
-    apart are disjoint (:func:`near_segments`).
-    """
-    if not pieces:
-        return True
-    p0, p1, _, _, _ = flatten_segments(pieces, tol)
-    return not len(near_segments(p0, p1, 2.0 * tol))
+def polylines_apart(polylines, tol):
+    """True if no two edges of closed ``polylines`` (each within tol of its loop of
+    curves: :func:`morph.piece.flatten_loops`) that share no vertex come within 2 tol
+    of each other: then the loops neither cross nor touch one another or themselves
+    (each arc lies within tol of its edge; a sufficient test, cheap at a coarse tol;
+    False says nothing)."""
+    a, b = polyline_edges(polylines)
+    return not len(near_segments(a, b, 2.0 * tol))
 
 
 def near_segments(p0, p1, reach):

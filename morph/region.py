@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (near_segments, polyline_edges, polylines_cross,  # noqa: F401
+from .polyline import (polyline_edges, polylines_apart, polylines_cross,  # noqa: F401
                        unique, winding_number)
 
 __all__ = [
@@ -278,14 +278,11 @@ APART = 1e-3
 
 def _loops_cross(loops, scale, polys=None):
     """True if the loops' polylines (within 1e-5 of the size) cross properly; False
-    at once where their arcs are far apart: no two edges of the closed polylines
-    ``polys`` within APART x ``scale`` (made here when not given) that share no
-    vertex come within twice that (:func:`morph.polyline.near_segments`)."""
+    at once where their arcs are far apart (:func:`morph.polyline.polylines_apart`
+    on the closed polylines ``polys`` within APART x ``scale``, made here when not
+    given)."""
     tol = APART * scale
-    if polys is None:
-        polys = pc.flatten_loops(loops, tol)
-    a, b = polyline_edges(polys)
-    if not len(near_segments(a, b, 2.0 * tol)):
+    if polylines_apart(pc.flatten_loops(loops, tol) if polys is None else polys, tol):
         return False
     return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
 

@@ -1,5 +1,7 @@
 """Offsets: region ⊕ disk(R); every boundary sample lies at distance R from the input."""
 
+import re
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -104,8 +106,6 @@ def test_offset_bound_and_the_written_svg(tmp_path):
     r = CliRunner().invoke(main, ["offset", str(src), "--radius", "7.5", "--tol", str(tol),
                                   "-o", str(dst)])
     assert r.exit_code == 0, r.output
-    import re
-
     paths = re.findall(r' d="([^"]+)"', dst.read_text())
     grown = parse_path(paths[0])
     z = np.array([seg.point(t) for seg in grown for t in np.linspace(0, 1, 17)])
