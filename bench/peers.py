@@ -218,12 +218,15 @@ def poly_vertices(geom):
 
 # ------------------------------------------------------- curve outlines: parsing
 
-_CMD = re.compile(r"([MLQCZ])([^MLQCZ]*)")
+_CMD = re.compile(r"([MLQCTSZ])([^MLQCTSZ]*)")
 
 
 def svg_beziers(d):
-    """Loops of (k, 2) Béziers (y up again) from morph's path data, and outline points."""
-    loops, cur, npts, start, last = [], None, 0, None, None
+    """Loops of (k, 2) Béziers (y up again) from morph's path data, and outline
+    points: the points the file stores (T and S imply their first control point, the
+    reflection of the previous one, as TrueType implies on-curve points; counted as
+    :func:`segments_beziers` counts a peer's implied points)."""
+    loops, cur, npts, start, last, ctrl = [], None, 0, None, None, None
     for c, args in _CMD.findall(d):
         xy = np.array(args.split(), float).reshape(-1, 2) * [1, -1] if args.strip() else None
         if c == "M":
@@ -234,8 +237,12 @@ def svg_beziers(d):
                 npts += 1
             loops.append(cur)
         else:
+            if c in "TS":  # after Q / T resp. C / S only, as morph writes them
+                xy = np.vstack([2 * last - ctrl, xy])
+                npts -= 1
             cur.append(np.vstack([last, xy]))
             npts += len(xy)
+            ctrl = xy[-2] if len(xy) > 1 else None
         if xy is not None:
             last = xy[-1]
     return loops, npts

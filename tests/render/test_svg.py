@@ -30,6 +30,58 @@ def test_svg_path_data_round_trip():
     assert "C" in svg_path_data(circle_hole, 1e-3)
 
 
+def _written_beziers(d):
+    """The Béziers of path data as svgpathtools reads them (an independent parser:
+    it implies T / S control points itself), y up again."""
+    from svgpathtools import parse_path
+    return [np.array([(p.real, -p.imag) for p in seg.bpoints()]) for seg in parse_path(d)]
+
+
+def _quad_loop(kink):
+    """Two quadratics joined at (2, 0) (smooth when kink = 0: the second's control
+    point is the first's reflected) closed by a line."""
+    a = [[0, 0, 1], [1, 1, 1], [2, 0, 1]]
+    b = [[2, 0, 1], [3, -1 - kink, 1], [4, 0, 1]]
+    return [[np.array(a, float), np.array(b, float), np.array([[4, 0, 1], [0, 0, 1]], float)]]
+
+
+def test_reflected_controls_are_written_T_or_S_and_read_back_exactly():
+    """T / S only where the reader's implied control point is the one Q / C would
+    write: svgpathtools' Béziers equal the exported ones rounded to the written
+    decimals (rounding moves a point by at most r)."""
+    from morph.export import loops_to_beziers
+    from morph.render.svg import rounding
+    g = glyph_region("o").region  # TrueType quadratics with implied on-curve points
+    for loops, tol, letter in [(g, 1e-3, "T"), (_quad_loop(0.0), 1e-2, "T"),
+                               (_quad_loop(1e-9), 1e-2, "T")]:
+        d = svg_path_data(loops, tol)
+        assert letter in d
+        _, r = rounding(tol)
+        ref = [b for loop in loops_to_beziers(loops, tol - r, wrap=True) for b in loop]
+        got = _written_beziers(d)
+        assert len(got) == len(ref)
+        assert max(np.abs(x - y).max() for x, y in zip(got, ref)) <= r
+    # off by more than the written decimals: Q with its control point
+    d = svg_path_data(_quad_loop(0.02), 1e-2)
+    assert "T" not in d and d.count("Q") == 2
+    # a cubic after a cubic with a reflected control point: S
+    c1 = np.array([[0, 0, 1], [1, 1, 1], [2, 1, 1], [3, 0, 1]], float)
+    c2 = np.array([[3, 0, 1], [4, -1, 1], [5, 0, 1], [6, 0, 1]], float)
+    line = np.array([[6, 0, 1], [0, 0, 1]], float)
+    d = svg_path_data([[c1, c2, line]], 1e-3)
+    assert "S" in d and d.count("C") == 1
+    got = _written_beziers(d)
+    assert np.allclose(got[1], c2[:, :2], atol=1e-3)
+
+
+def test_T_commands_store_fewer_points_than_the_quadratics():
+    """A TrueType glyph's quadratics stored as the font stores them: one point per
+    quadratic in a smooth run, as its implied on-curve points do."""
+    d = svg_path_data(glyph_region("o").region, 1e-3)
+    stored = len(re.findall(r"-?[0-9.]+", d)) // 2
+    assert stored < len(_written_beziers(d)) * 2 * 0.75
+
+
 def test_svg_path_data_decimals_follow_tol():
     loops = [pc.circle((0, 0), 1.0)]
     coarse = svg_path_data(loops, 1e-2)
@@ -37,7 +89,7 @@ def test_svg_path_data_decimals_follow_tol():
     # rounding to d decimals moves a point by 0.5 10^-d sqrt 2: at most the rounding
     # share of tol, and one decimal fewer would exceed it
     for tol, d in ((1e-2, coarse), (1e-7, fine)):
-        places = max(len(tok.split(".")[-1]) for tok in re.split("[MLQCZ ]", d) if "." in tok)
+        places = max(len(tok.split(".")[-1]) for tok in re.split("[MLQTCSZ ]", d) if "." in tok)
         assert 0.5 * 10.0 ** -places * 2 ** 0.5 <= ROUND_SHARE * tol
         assert 0.5 * 10.0 ** (1 - places) * 2 ** 0.5 > ROUND_SHARE * tol
     assert len(fine) > len(coarse)
