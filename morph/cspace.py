@@ -28,12 +28,16 @@ def place_robot(robot, position, reference=(0.0, 0.0)):
     return translate_region(robot, np.asarray(position, float) - np.asarray(reference, float))
 
 
-def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac"):
+def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac", return_bound=False):
     """C-space obstacle O ⊕ (−R) of a translating robot about its reference point.
 
     A position p of the reference point is a collision iff p lies in the returned
-    region (within ``tol``, absolute, in the shapes' units).
+    region (within ``tol``, absolute, in the shapes' units).  With ``return_bound``:
+    (region, the error achieved, at most tol; see :func:`morph.minkowski.minkowski_sum`'s
+    ``debug["bound"]``).
     """
     from .minkowski import minkowski_sum
 
-    return minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method)
+    out, debug = minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method,
+                               return_debug=True)
+    return (out, debug["bound"]) if return_bound else out

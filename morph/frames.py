@@ -22,7 +22,8 @@ def centered(loops):
     return translate_region(loops, -c)
 
 
-def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True):
+def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True,
+                 return_bounds=False):
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
@@ -30,23 +31,27 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     frame index as it is done.  ``method`` is the convolution method (Sec. 4).
     With ``cache`` the Gauss maps of A and B and their compatible pairs, which do not
     depend on the scale factors, are computed once for all frames
-    (:func:`morph.convolve.scaled_gauss_pair`).  Raises ValueError for n < 2.
+    (:func:`morph.convolve.scaled_gauss_pair`).  With ``return_bounds``: (frames,
+    bounds), bounds[k] the error frame k achieved (at most tol; 0 for the end frames,
+    which are the operands), what :func:`morph.export.export_tolerance` takes.
+    Raises ValueError for n < 2.
     """
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
     a = centered(region_a)
     b = centered(region_b)
     base = convolve.with_pair_table(convolve.gauss_pair_of(a, b)) if cache and n > 2 else None
-    frames = []
+    frames, bounds = [], []
     for k, alpha in enumerate(np.linspace(0.0, 1.0, n)):
-        if alpha == 0.0:
-            frames.append(a)
-        elif alpha == 1.0:
-            frames.append(b)
+        if alpha == 0.0 or alpha == 1.0:
+            frames.append(a if alpha == 0.0 else b)
+            bounds.append(0.0)
         else:
             pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
-            frames.append(minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
-                                        method=method, gauss_pair=pair))
+            out, debug = minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
+                                       method=method, gauss_pair=pair, return_debug=True)
+            frames.append(out)
+            bounds.append(debug["bound"])
         if progress is not None:
             progress(k)
-    return frames
+    return (frames, bounds) if return_bounds else frames

@@ -58,3 +58,13 @@ def test_cli_cspace(tmp_path):
     r = CliRunner().invoke(main, ["cspace", "O", "v", "-o", str(out), "--size", "96"])
     assert r.exit_code == 0, r.output
     assert out.stat().st_size > 0
+
+
+def test_cspace_obstacle_reports_the_error_it_achieved():
+    """return_bound: the same region and a bound in (0, tol] (what `morph cspace`
+    gives its export the rest of --tol beyond)."""
+    obs, rob = glyph_region("o").region, glyph_region("v").region
+    plain = cspace_obstacle(obs, rob, TOL)
+    loops, bound = cspace_obstacle(obs, rob, TOL, return_bound=True)
+    assert [len(loop) for loop in loops] == [len(loop) for loop in plain]
+    assert 0.0 < bound <= TOL

@@ -1,9 +1,13 @@
 """morph_frames and the glyph / sum / svg commands."""
 
+import re
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
 from PIL import Image
+from shapely.geometry import Point, Polygon
+from svgpathtools import parse_path
 
 from morph import piece as pc
 from morph.cli import main
@@ -112,3 +116,36 @@ def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
         for p, q in zip([p for loop in f0 for p in loop], [q for loop in f1 for q in loop]):
             assert p.shape == q.shape
             assert np.abs(pc.cartesian(p) - pc.cartesian(q)).max() <= 1e-6 * size
+
+def test_frames_report_the_error_each_achieved(tm_frames):
+    """return_bounds: the same frames, 0 for the operands, (0, tol] for the sums."""
+    frames, bounds = morph_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1,
+                                  return_bounds=True)
+    assert [pc.region_area(f) for f in frames] == [pc.region_area(f) for f in tm_frames]
+    assert bounds[0] == bounds[-1] == 0.0
+    assert all(0.0 < e <= 0.1 for e in bounds[1:-1])
+
+
+def test_svg_frames_are_within_tol_of_the_exact_frames(tmp_path):
+    """`morph svg square.svg disk.svg`: frame k is (1 - a) S ⊕ a D, a rounded square
+    whose boundary lies a r from (1 - a) S.  Every written frame, its export given
+    the rest of --tol beyond what its sum achieved, stays within --tol (sampled
+    points of the written Béziers, distances to the scaled square by shapely)."""
+    (tmp_path / "s.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg">'
+                                    '<rect x="-50" y="-50" width="100" height="100"/></svg>')
+    (tmp_path / "d.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg">'
+                                    '<circle cx="0" cy="0" r="30"/></svg>')
+    tol, n = 1e-3, 4
+    res = CliRunner().invoke(main, ["svg", str(tmp_path / "s.svg"), str(tmp_path / "d.svg"),
+                                    "--frames", str(n), "--tol", str(tol), "-o",
+                                    str(tmp_path / "f"), "--size", "64"])
+    assert res.exit_code == 0, res.output
+    t = np.linspace(0.0, 1.0, 41)
+    for k, a in enumerate(np.linspace(0.0, 1.0, n)):
+        d = re.search(r' d="([^"]*)"', (tmp_path / "f" / ("frame-%03d.svg" % k)).read_text())
+        pts = np.array([seg.point(u) for seg in parse_path(d.group(1)) for u in t])
+        h = 50.0 * (1.0 - a)
+        square = Polygon([(-h, -h), (h, -h), (h, h), (-h, h)]).exterior
+        dist = np.array([square.distance(Point(p.real, p.imag)) for p in pts]) if h > 0 \
+            else np.abs(pts)
+        assert np.abs(dist - 30.0 * a).max() <= tol, (k, np.abs(dist - 30.0 * a).max())

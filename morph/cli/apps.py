@@ -79,10 +79,12 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
     t = shape_tolerance(obstacle, tol, robot.region)
     ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
-    from ..export import split_tolerance
+    from ..export import export_tolerance, split_tolerance
 
-    st, et = split_tolerance(t)  # the sum and the SVG export share --tol
-    loops = cspace_obstacle(obstacle.region, robot.region, st, reference=ref)
+    st, _ = split_tolerance(t)  # the sum's share of --tol
+    loops, bound = cspace_obstacle(obstacle.region, robot.region, st, reference=ref,
+                                   return_bound=True)
+    # the SVG export gets the rest of --tol beyond the error the sum achieved
     write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref),
-                size=size, tol=et)
+                size=size, tol=export_tolerance(t, bound))
     click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))

@@ -78,7 +78,7 @@ def sum_(a, b, method, font, tol, output, force, size):
 
 
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac"):
-    from ..export import split_tolerance
+    from ..export import export_tolerance, split_tolerance
     from ..frames import morph_frames
     from ..render import write_frames
 
@@ -86,11 +86,13 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
         raise InputError("--frames must be at least 2, got %d" % frames)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
     t = shape_tolerance(a, tol, b.region)
-    st, et = split_tolerance(t)  # each frame's sum and its SVG export share --tol
+    st, _ = split_tolerance(t)  # each frame's sum gets this share of --tol
     with progress_bar(frames, "frames") as bar:
-        regions = morph_frames(a.region, b.region, frames, st, progress=lambda k: bar.update(1),
-                               method=method)
-    write_frames(outdir, regions, size=size, tol=et, duration=duration)
+        regions, bounds = morph_frames(a.region, b.region, frames, st, method=method,
+                                       progress=lambda k: bar.update(1), return_bounds=True)
+    # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
+    write_frames(outdir, regions, size=size, tol=[export_tolerance(t, e) for e in bounds],
+                 duration=duration)
     click.echo("wrote %d frames (SVG + PNG) and morph.gif to %s" % (frames, outdir))
 
 

@@ -55,16 +55,19 @@ def write_frames(folder, regions, size=512, tol=None, duration=120):
     """Write a frame sequence into ``folder``: ``frame-000.svg``/``.png`` ... (one
     frame box for all, so the shapes stay in place) and the animation ``morph.gif``
     (``duration`` ms per frame).  ``tol``: the SVG export's tolerance (region
-    units).  Returns the folder."""
+    units), one for all frames or a sequence of one per frame.  Returns the folder."""
     from .png import render_png, save_animation
     from .svg import write_svg
 
     folder = Path(folder)
     bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    tols = list(tol) if hasattr(tol, "__len__") else [tol] * len(regions)
+    if len(tols) != len(regions):
+        raise ValueError("%d tolerances for %d frames" % (len(tols), len(regions)))
     images = []
-    for k, region in enumerate(regions):
+    for k, (region, t) in enumerate(zip(regions, tols)):
         stem = folder / ("frame-%03d" % k)
-        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=tol)
+        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=t)
         image = render_png([region], size=size, bbox=bbox)
         image.save(str(stem) + ".png")
         images.append(image)
