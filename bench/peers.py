@@ -11,8 +11,9 @@ glyphs  T+M, O+M, S+g at 1e-3, 1e-4, 1e-5 em (TrueType).
         - morph: ``minkowski_sum(a, b, tol)`` in-process; size = control points (sum of
           len(piece)), and the SVG ``morph sum A B -o x.svg --tol T`` writes (sum at
           ``split_tolerance``'s share, ``svg_path_data`` with the rest of tol beyond
-          the sum's achieved bound, :func:`morph_svg`): L/Q/C commands and outline
-          points (on + off curve).
+          the sum's achieved bound, :func:`morph_svg`): path commands and outline
+          points (on + off curve points stored; T / S imply their first control
+          point as TrueType implies on-curve points, counted as the peers' are).
         - dc (the strongest polygon recipe, ``bench/dc_sum.py``): flatten both glyphs
           within tol/2, pyclipper nonzero union, mapbox-earcut triangles merged into
           convex pieces (Hertel-Mehlhorn), Minkowski sum of every convex pair by merging
@@ -736,8 +737,10 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
     if ladders:
         L += ["", "## 3. Glyph sums: size at equal measured error", "",
               "Each method at tol = level x 4, 2, 1, 3/4; the smallest output whose measured error "
-              "is within the level (bound <= level + 2e-6 em, the oracle's own flattening).  morph: outline points (on + off curve) of the SVG the command "
-              "writes; dc: polygon vertices.", "",
+              "is within the level (bound <= level + 2e-6 em, the oracle's own flattening).  morph: outline points (on + off curve) the SVG the command "
+              "writes stores (a T / S command implies its first control point, as TrueType "
+              "implies on-curve points and as the peers' points are counted); dc: polygon "
+              "vertices.", "",
               "| case | level (em) | morph SVG points (tol factor, err) | dc vertices (tol "
               "factor, err) | dc / morph |", "|---|---|---|---|---|"]
         for (case, level), best in ladders.items():
