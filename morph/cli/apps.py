@@ -4,8 +4,8 @@ import click
 import numpy as np
 
 from .group import main
-from .options import (InputError, common_options, resolve_output, shape_argument,
-                      shape_tolerance, write_image)
+from .options import (InputError, common_options, report_written, resolve_output,
+                      shape_argument, shape_tolerance, write_image)
 
 
 @main.command()
@@ -45,7 +45,7 @@ def offset(shape, radius, font, tol, output, force, size):
     # the export gets what the offset left of --tol (its achieved bound <= its share)
     write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.region, {"fill": "black"})],
                 size=size, tol=export_tolerance(t, bound))
-    click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
+    report_written(out, loops)
 
 
 @main.command()
@@ -87,4 +87,4 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     # the SVG export gets the rest of --tol beyond the error the sum achieved
     write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref),
                 size=size, tol=export_tolerance(t, bound))
-    click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
+    report_written(out, loops)

@@ -7,7 +7,7 @@ import click
 
 from .group import main
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError,
-                      progress_bar, resolve_output, tol_option, write_image)
+                      progress_bar, report_written, resolve_output, tol_option, write_image)
 
 
 def _parse_nib(spec):
@@ -359,4 +359,4 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol
     region = stroke_glyph_region(paths, nib_region, st)
     write_image(out, [(region, {"fill": "black"})], size=size, tol=et)
-    click.echo("wrote %s (%d loops)" % (out, len(region)))
+    report_written(out, region)

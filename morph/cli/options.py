@@ -203,6 +203,18 @@ def write_image(path, shapes, size=512, tol=None, **style):
     return path
 
 
+def count(n, word):
+    """``1 loop``, ``2 loops``: a count with its noun."""
+    return "%d %s%s" % (n, word, "" if n == 1 else "s")
+
+
+def report_written(path, loops):
+    """The one line a command prints after writing a region: the file, its loops
+    and pieces."""
+    click.echo("wrote %s (%s, %s)" % (path, count(len(loops), "loop"),
+                                      count(sum(map(len, loops)), "piece")))
+
+
 def progress_bar(length, label):
     """A click progress bar on stderr when it is a terminal; otherwise nothing is
     printed (click would print a stray label line)."""

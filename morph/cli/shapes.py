@@ -3,7 +3,7 @@
 import click
 
 from .group import main
-from .options import (InputError, common_options, progress_bar, resolve_output,
+from .options import (InputError, common_options, progress_bar, report_written, resolve_output,
                       resolve_output_dir, shape_argument, shape_tolerance, write_image)
 
 
@@ -74,7 +74,7 @@ def sum_(a, b, method, font, tol, output, force, size):
     loops, debug = minkowski_sum(a.region, b.region, st, method=method, return_debug=True)
     # the export gets what the sum left of --tol (its achieved bound, <= its share)
     write_image(out, [loops], size=size, tol=export_tolerance(t, debug["bound"]))
-    click.echo("wrote %s (%d loops, %d pieces)" % (out, len(loops), sum(map(len, loops))))
+    report_written(out, loops)
 
 
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac"):

@@ -187,3 +187,13 @@ def test_console_script_exits_fast_with_its_output_flushed(tmp_path):
                          capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and "exists" in bad.stderr
+
+
+def test_written_line_counts_loops_and_pieces(runner, tmp_path):
+    """The line after writing names the file and counts, singular where one."""
+    out = tmp_path / "om.svg"
+    res = runner.invoke(main, ["sum", "O", "M", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert res.output.startswith("wrote %s (1 loop, " % out) and res.output.endswith(" pieces)\n")
+    res = runner.invoke(main, ["offset", "o", "--radius", "0.01", "-o", str(tmp_path / "o.svg")])
+    assert "(2 loops, " in res.output
