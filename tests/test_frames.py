@@ -64,6 +64,27 @@ def test_glyph_command_writes_frames_and_gif(tmp_path):
     assert res.exit_code == 2 and "force" in res.output
 
 
+def test_glyph_command_writes_an_apng_on_request(tmp_path):
+    """--animation apng: morph.apng, an animated PNG in full colour (anti-aliased edge
+    levels kept, where the GIF has a palette), one image per frame."""
+    out = tmp_path / "tm"
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "-o", str(out),
+                                    "--size", "64", "--animation", "apng"])
+    assert res.exit_code == 0, res.output
+    assert "morph.apng" in res.output and not (out / "morph.gif").exists()
+    im = Image.open(out / "morph.apng")
+    assert im.format == "PNG" and im.is_animated and im.n_frames == 3
+    assert im.mode in ("RGB", "RGBA")
+    levels = set()
+    for k in range(im.n_frames):
+        im.seek(k)
+        levels |= set(np.asarray(im.convert("L")).ravel().tolist())
+    assert len(levels) > 16
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "-o", str(out),
+                                    "--animation", "mp4"])
+    assert res.exit_code == 2
+
+
 @pytest.mark.parametrize("frames", ["0", "1", "-3"])
 def test_glyph_command_rejects_bad_frame_counts(tmp_path, frames):
     res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", frames, "-o", str(tmp_path / "x")])

@@ -77,7 +77,8 @@ def sum_(a, b, method, font, tol, output, force, size):
     report_written(out, loops)
 
 
-def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac"):
+def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac",
+                   animation="gif"):
     from ..export import export_tolerance, split_tolerance
     from ..frames import morph_frames
     from ..render import write_frames
@@ -92,8 +93,8 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
                                        progress=lambda k: bar.update(1), return_bounds=True)
     # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
     write_frames(outdir, regions, size=size, tol=[export_tolerance(t, e) for e in bounds],
-                 duration=duration)
-    click.echo("wrote %d frames (SVG + PNG) and morph.gif to %s" % (frames, outdir))
+                 duration=duration, animation=animation)
+    click.echo("wrote %d frames (SVG + PNG) and morph.%s to %s" % (frames, animation, outdir))
 
 
 def _frames_option(f):
@@ -103,47 +104,57 @@ def _frames_option(f):
 
 def _duration_option(f):
     return click.option("--duration", type=click.IntRange(min=10), default=120,
-                        show_default=True, help="Milliseconds per frame of the GIF.")(f)
+                        show_default=True, help="Milliseconds per frame of the animation.")(f)
+
+
+def _animation_option(f):
+    return click.option("--animation", type=click.Choice(["gif", "apng"]), default="gif",
+                        show_default=True,
+                        help="Animation written beside the frames: morph.gif (256 colours) "
+                             "or morph.apng (full colour, anti-aliased edges kept).")(f)
 
 
 def _morph_options(f):
     """Arguments A B and the options shared by `morph glyph` and `morph svg`."""
     for deco in reversed([shape_argument("a"), shape_argument("b"), _frames_option,
-                          _duration_option, method_option, common_options]):
+                          _duration_option, _animation_option, method_option,
+                          common_options]):
         f = deco(f)
     return f
 
 
 @main.command()
 @_morph_options
-def glyph(a, b, frames, duration, method, font, tol, output, force, size):
+def glyph(a, b, frames, duration, animation, method, font, tol, output, force, size):
     """Morph glyph A into glyph B: frames (1-a)·A ⊕ a·B (the paper's Fig. 6).
 
     Each frame is the Minkowski sum of A scaled by 1-a and B scaled by a, both
     centred on their area centroids, for a = 0 ... 1 in FRAMES steps: frame 0 is A,
-    the last frame is B.  Writes frame-000.svg/.png ... and morph.gif into the
-    output folder (default: glyph-A-B in the current directory; created if missing;
+    the last frame is B.  Writes frame-000.svg/.png ... and morph.gif (or
+    morph.apng, --animation apng) into the output folder (default: glyph-A-B in the current directory; created if missing;
     an existing non-empty folder needs --force).  --tol is in em.
 
     \b
     Examples:
       morph glyph T M --frames 10
-      morph glyph a g --frames 24 --font MyFont.otf -o ag/
+      morph glyph a g --frames 24 --font MyFont.otf -o ag/ --animation apng
     """
-    _morph_command(a, b, frames, tol, output, force, size, duration, "glyph", method)
+    _morph_command(a, b, frames, tol, output, force, size, duration, "glyph", method,
+                   animation)
 
 
 @main.command()
 @_morph_options
-def svg(a, b, frames, duration, method, font, tol, output, force, size):
+def svg(a, b, frames, duration, animation, method, font, tol, output, force, size):
     """Morph SVG shape A into SVG shape B: frames (1-a)·A ⊕ a·B (Fig. 36).
 
     Like `morph glyph` for SVG files (closed paths; arcs are exact).  --tol is in the
-    SVG's user units.  Writes frame SVGs and PNGs and morph.gif into the output
-    folder (default: svg-A-B).
+    SVG's user units.  Writes frame SVGs and PNGs and morph.gif (or morph.apng) into
+    the output folder (default: svg-A-B).
 
     \b
     Example:
       morph svg bird.svg butterfly.svg --frames 12 -o bird2butterfly/
     """
-    _morph_command(a, b, frames, tol, output, force, size, duration, "svg", method)
+    _morph_command(a, b, frames, tol, output, force, size, duration, "svg", method,
+                   animation)

@@ -180,15 +180,16 @@ def frames_to_gif(images, path, duration=50, loop=0):
 
 
 def save_animation(images, path, duration=50, loop=0):
-    """Animation by suffix: ``.gif`` (GIF) or ``.png`` (APNG, full colour and alpha)."""
+    """Animation by suffix: ``.gif`` (GIF) or ``.apng`` / ``.png`` (APNG, full colour
+    and alpha)."""
     path = str(path)
     images = list(images)
     if not images:
         raise ValueError("no frames to write")
     if path.lower().endswith(".gif"):
         return frames_to_gif(images, path, duration, loop)
-    if path.lower().endswith(".png"):
+    if path.lower().endswith((".apng", ".png")):
         images[0].save(path, format="PNG", save_all=True, append_images=images[1:],
                        duration=duration, loop=loop)
         return path
-    raise ValueError("animation format from suffix: .gif or .png, got %r" % path)
+    raise ValueError("animation format from suffix: .gif, .apng or .png, got %r" % path)
