@@ -140,7 +140,7 @@ def stack(pieces):
     """
     deg = max(len(p) for p in pieces) - 1
     out = np.empty((len(pieces), deg + 1, 3))
-    for n, ks in _by_degree(pieces).items():
+    for n, ks in by_degree(pieces).items():
         out[ks] = bz.elevate_many(np.array([pieces[k] for k in ks], float), deg + 1 - n)
     return out
 
@@ -517,8 +517,9 @@ def bbox(piece):
     return np.array([p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()])
 
 
-def _by_degree(pieces):
-    """{number of control points: indices} of a list of pieces."""
+def by_degree(pieces):
+    """{number of control points: indices} of a list of pieces (the groups that batched
+    functions stack)."""
     groups = {}
     for k, p in enumerate(pieces):
         groups.setdefault(len(p), []).append(k)
@@ -528,7 +529,7 @@ def _by_degree(pieces):
 def bboxes(pieces):
     """:func:`bbox` of many pieces (those of one degree at once): (k, 4)."""
     out = np.zeros((len(pieces), 4))
-    for ks in _by_degree(pieces).values():
+    for ks in by_degree(pieces).values():
         h = np.array([pieces[k] for k in ks], float)
         p = h[:, :, :2] / h[:, :, 2:]
         out[ks] = np.concatenate([p.min(axis=1), p.max(axis=1)], axis=1)
@@ -538,7 +539,7 @@ def bboxes(pieces):
 def end_points(pieces):
     """(starts, ends), (k, 2) each: the first and last points of many pieces."""
     starts, ends = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
-    for ks in _by_degree(pieces).values():
+    for ks in by_degree(pieces).values():
         h = np.array([pieces[k] for k in ks], float)
         starts[ks], ends[ks] = h[:, 0, :2] / h[:, 0, 2:], h[:, -1, :2] / h[:, -1, 2:]
     return starts, ends
@@ -552,7 +553,7 @@ def length_bound(piece):
 def length_bounds(pieces):
     """:func:`length_bound` of many pieces (those of one degree at once): (k,)."""
     out = np.zeros(len(pieces))
-    for ks in _by_degree(pieces).values():
+    for ks in by_degree(pieces).values():
         h = np.array([pieces[k] for k in ks], float)
         d = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
         out[ks] = np.hypot(d[..., 0], d[..., 1]).sum(axis=1)

@@ -289,29 +289,34 @@ def _loops_cross(loops, scale, polys=None):
 
 # ------------------------------------------------------------------ measures
 
-def _piece_extremes(piece):
-    """Tight (xmin, ymin, xmax, ymax) of one piece: ends and tangent-component roots."""
-    ts = [np.array([0.0, 1.0])]
-    h = pc.tangent_numerator(piece)
-    for k in range(2):
-        if len(h) > 1:
-            ts.append(bz.roots(h[:, k]))
-    t = np.concatenate(ts)
-    p = pc.evaluate(piece, t)
-    return np.array([p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()])
-
-
 def region_bbox(loops):
     """Tight bounding box (xmin, ymin, xmax, ymax) of all loops.
 
     Exact up to root finding: the extremes of each piece are at its ends or where a
-    component of its tangent numerator vanishes.  Raises ValueError for no pieces.
+    component of its tangent numerator vanishes (:func:`morph.piece.tangent_numerator_many`,
+    roots by :func:`morph.bernstein.roots_many`), for all pieces of one degree and
+    kind (polynomial or rational) at once.  Raises ValueError for no pieces.
     """
-    boxes = [_piece_extremes(p) for loop in loops for p in loop]
-    if not boxes:
+    pieces = [p for loop in loops for p in loop]
+    if not pieces:
         raise ValueError("empty region has no bounding box")
-    b = np.array(boxes)
-    return np.array([b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()])
+    points = [np.array([pc.start(p) for p in pieces]), np.array([pc.end(p) for p in pieces])]
+    for ks in pc.by_degree(pieces).values():
+        stack = np.array([pieces[k] for k in ks], float)
+        if stack.shape[1] < 3:  # lines: their ends
+            continue
+        rational = ~pc.is_polynomial_many(stack)
+        for kind in (False, True):
+            group = stack[rational == kind]
+            if not len(group):
+                continue
+            h = pc.tangent_numerator_many(group, kind)
+            for axis in range(2):
+                owner, t = bz.roots_many(h[:, :, axis])
+                if len(t):
+                    points.append(pc.jet_rows(group[owner], t)[0])
+    p = np.concatenate(points)
+    return np.concatenate([p.min(axis=0), p.max(axis=0)])
 
 
 def _piece_moments(piece, quad_points=24):

@@ -82,6 +82,30 @@ def test_region_bbox_is_tight():
     assert np.allclose(region_bbox([[c, pc.line((3, 0), (0, 0))]]), [0, 0, 3, 1.5])
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_region_bbox_of_random_pieces_matches_dense_sampling(seed):
+    """Mixed degrees 1-5, polynomial and rational (weights 0.2-5), with a repeated
+    control point (a zero of the tangent at an end) in some: every sampled point
+    lies in the box and each side is reached by the samples within their spacing's
+    error (extremes are stationary points: O(h^2))."""
+    rng = np.random.default_rng(seed)
+    pieces = []
+    for k in range(12):
+        n = int(rng.integers(1, 6))
+        pts = rng.normal(size=(n + 1, 2)) * 10 ** rng.uniform(-1, 2)
+        if k % 4 == 1 and n >= 2:
+            pts[1] = pts[0]
+        w = np.ones(n + 1) if k % 2 else rng.uniform(0.2, 5.0, n + 1)
+        pieces.append(pc.from_points(pts, w))
+    box = region_bbox([pieces])
+    t = np.linspace(0.0, 1.0, 20001)
+    dense = np.vstack([pc.evaluate(p, t) for p in pieces])
+    size = np.ptp(dense, axis=0).max()
+    lo, hi = dense.min(axis=0), dense.max(axis=0)
+    assert np.all(box[:2] <= lo + 1e-12 * size) and np.all(box[2:] >= hi - 1e-12 * size)
+    assert np.allclose(box, np.concatenate([lo, hi]), rtol=0, atol=1e-6 * size)
+
+
 def test_centroid_exact():
     ring = [square(0, 0, 4), reverse_loop(square(0, 0, 2))]  # L shape
     assert np.allclose(region_centroid(ring), [(16 * 2 - 4 * 1) / 12] * 2, atol=1e-14)
