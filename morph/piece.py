@@ -759,21 +759,30 @@ def flatten_many(pieces, tol, max_depth=16):
     are never narrower than 2^-max_depth in parameter; at that width they are
     accepted as they are.  Pieces of one degree are processed together.
     """
-    out = [None] * len(pieces)
-    by_degree = {}
+    owner, ts, starts = flat_starts(pieces, tol, max_depth)
+    bounds = np.searchsorted(owner, np.arange(len(pieces) + 1))
+    out = []
     for k, p in enumerate(pieces):
-        by_degree.setdefault(len(p), []).append(k)
-    for ks in by_degree.values():
+        a, b = bounds[k], bounds[k + 1]
+        out.append((np.vstack([starts[a:b], end(np.asarray(p, float))]), np.append(ts[a:b], 1.0)))
+    return out
+
+
+def flat_starts(pieces, tol, max_depth=16):
+    """The polylines of :func:`flatten_many` without each piece's end point (the next
+    piece's start, in a loop), all in three arrays: (owner (m,), t (m,), points (m,
+    2)), sorted by (owner, t); owner indexes ``pieces``.  Pieces of one degree are
+    processed together."""
+    owners, params, points = [np.zeros(0, np.intp)], [np.zeros(0)], [np.zeros((0, 2))]
+    for ks in by_degree(pieces).values():
         stack = np.array([np.asarray(pieces[k], float) for k in ks])
         owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth)
-        order = np.lexsort((ts, owner))
-        owner, ts, starts = owner[order], ts[order], starts[order]
-        bounds = np.searchsorted(owner, np.arange(len(ks) + 1))
-        ends = stack[:, -1, :2] / stack[:, -1, 2:]
-        for i, k in enumerate(ks):
-            a, b = bounds[i], bounds[i + 1]
-            out[k] = (np.vstack([starts[a:b], ends[i:i + 1]]), np.append(ts[a:b], 1.0))
-    return out
+        owners.append(np.asarray(ks)[owner])
+        params.append(ts)
+        points.append(starts)
+    owner, ts, pts = np.concatenate(owners), np.concatenate(params), np.concatenate(points)
+    order = np.lexsort((ts, owner))
+    return owner[order], ts[order], pts[order]
 
 
 def _flat_params(stack, tol, min_width):
@@ -852,12 +861,10 @@ def flatten_loop(pieces, tol):
 
 def flatten_loops(loops, tol):
     """:func:`flatten_loop` of every loop, all pieces flattened at once."""
-    flat = iter(flatten_many([p for loop in loops for p in loop], tol))
-    out = []
-    for loop in loops:
-        pts = [next(flat)[0][:-1] for _ in loop]
-        out.append(np.concatenate(pts) if pts else np.zeros((0, 2)))
-    return out
+    owner, _, pts = flat_starts([p for loop in loops for p in loop], tol)
+    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])[owner]
+    bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+    return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
 def sample(piece, n):

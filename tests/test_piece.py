@@ -225,6 +225,21 @@ def test_flatten_many_equals_flatten():
             assert np.allclose(q, q2, atol=1e-12)
 
 
+def test_flat_starts_are_the_polylines_without_their_ends():
+    """flat_starts: every piece's flatten polyline but its end point, all in arrays
+    sorted by (piece, t), pieces of mixed degrees in their given order."""
+    pieces = [pc.line((0, 0), (5, 1)), pc.cubic((5, 1), (6, 3), (7, -3), (8, 0))] \
+        + pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3) + [pc.quadratic((0, 0), (1, 2), (2, 0))]
+    owner, t, pts = pc.flat_starts(pieces, 1e-3)
+    assert np.all(np.diff(owner) >= 0)
+    for k, p in enumerate(pieces):
+        q, tk = pc.flatten(p, 1e-3)
+        assert np.array_equal(t[owner == k], tk[:-1])
+        assert np.allclose(pts[owner == k], q[:-1], atol=1e-12)
+    empty = pc.flat_starts([], 1e-3)
+    assert [len(a) for a in empty] == [0, 0, 0]
+
+
 # ------------------------------------------ closest points and the distance certificate
 
 def _random_rational_stack(rng, k, n):

@@ -57,23 +57,13 @@ def tag_loops(loops, eps, grid, origin=None):
     grid^2 times their vertex count).
     """
     pieces = [np.asarray(p, float) for loop in loops for p in loop]
-    flat = pc.flatten_many(pieces, eps)
+    # a closed loop's polyline: its pieces' polylines without their ends (the next
+    # piece's start), in order
+    pid, ts, xy = pc.flat_starts(pieces, eps)
+    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])[pid]
     if origin is None:
-        lo = np.min([pts.min(axis=0) for pts, _ in flat], axis=0)
-        hi = np.max([pts.max(axis=0) for pts, _ in flat], axis=0)
-        origin = 0.5 * (lo + hi)
+        origin = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
     origin = np.asarray(origin, float)
-    xy, pid, ts, loop_of = [], [], [], []
-    k = 0
-    for li, loop in enumerate(loops):
-        for _ in loop:
-            pts, par = flat[k]
-            xy.append(pts[:-1])
-            pid.append(np.full(len(pts) - 1, k))
-            ts.append(par[:-1])
-            loop_of.append(np.full(len(pts) - 1, li))
-            k += 1
-    xy, pid, ts, loop_of = (np.concatenate(a) for a in (xy, pid, ts, loop_of))
     q = np.rint((xy - origin) / grid).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
     q, pid, ts, loop_of = q[keep], pid[keep], ts[keep], loop_of[keep]
