@@ -24,6 +24,8 @@ __all__ = [
     "Region",
     "clean_loop",
     "is_zero_length",
+    "without_zero_length",
+    "zero_length_mask",
     "loop_polyline",
     "orient_region",
     "point_polyline_distance",
@@ -46,9 +48,24 @@ FILL_RULES = ("nonzero", "evenodd")
 
 def is_zero_length(piece, rtol=1e-12):
     """True when all Cartesian control points of the piece coincide (up to rtol)."""
-    p = pc.cartesian(piece)
-    scale = max(1.0, float(np.max(np.abs(p))))
-    return bool(np.all(np.abs(p - p[0]) <= rtol * scale))
+    return bool(zero_length_mask([piece], rtol)[0])
+
+
+def zero_length_mask(pieces, rtol=1e-12):
+    """:func:`is_zero_length` of many pieces (those of one degree at once): (k,) bools:
+    all Cartesian control points within rtol max(1, max |coordinate|) of the first."""
+    out = np.zeros(len(pieces), bool)
+    for ks in pc.by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        p = h[:, :, :2] / h[:, :, 2:]
+        scale = np.maximum(1.0, np.abs(p).max(axis=(1, 2)))
+        out[ks] = np.all(np.abs(p - p[:, :1]) <= rtol * scale[:, None, None], axis=(1, 2))
+    return out
+
+
+def without_zero_length(pieces):
+    """The pieces that are not zero-length (:func:`zero_length_mask`), in order."""
+    return [p for p, z in zip(pieces, zero_length_mask(pieces)) if not z]
 
 
 def clean_loop(pieces, tol=None):
@@ -60,23 +77,20 @@ def clean_loop(pieces, tol=None):
     (the pieces do not form a closed loop).  Returns a new list; an empty list when
     nothing of positive length is left.
     """
-    kept = [np.asarray(p, float) for p in pieces if not is_zero_length(p)]
-    n = len(kept)
-    if n == 0:
+    kept = without_zero_length([np.asarray(p, float) for p in pieces])
+    if not kept:
         return []
-    ends = [(pc.start(p), pc.end(p)) for p in kept]
-    joins = []
-    for i in range(n):
-        a = ends[i][1]
-        b = ends[(i + 1) % n][0]
-        if tol is not None and np.hypot(*(a - b)) > tol:
+    starts, ends = pc.end_points(kept)
+    following = np.roll(starts, -1, axis=0)  # the start of piece i + 1, cyclically
+    if tol is not None:
+        gaps = np.hypot(*(ends - following).T)
+        if (gaps > tol).any():
+            i = int(np.argmax(gaps > tol))
             raise ValueError("loop is not closed: gap %.3g after piece %d exceeds tol %.3g"
-                             % (np.hypot(*(a - b)), i, tol))
-        joins.append(0.5 * (a + b))
-    out = []
-    for i in range(n):
-        out.append(pc.with_endpoints(kept[i], joins[i - 1], joins[i]))
-    return out
+                             % (gaps[i], i, tol))
+    joins = 0.5 * (ends + following)
+    before = np.roll(joins, 1, axis=0)
+    return [pc.with_endpoints(p, before[i], joins[i]) for i, p in enumerate(kept)]
 
 
 def reverse_loop(loop):

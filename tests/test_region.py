@@ -5,7 +5,7 @@ import pytest
 
 from morph import piece as pc
 from morph.region import (Region, clean_loop, orient_region, point_in_region, region_bbox,
-                          region_centroid, reverse_loop, winding_number)
+                          region_centroid, reverse_loop, winding_number, zero_length_mask)
 
 
 def square(x0, y0, size, ccw=True):
@@ -68,6 +68,23 @@ def test_clean_loop_snaps_joins_exactly():
         assert np.array_equal(pc.end(a), pc.start(b))
     with pytest.raises(ValueError):
         clean_loop([pc.line((0, 0), (1, 0)), pc.line((1, 0.5), (0, 0))], tol=1e-6)
+
+
+def test_zero_length_pieces_found_among_mixed_degrees_and_dropped():
+    """zero_length_mask flags exactly the pieces whose control points coincide (a
+    point repeated, up to 1e-12 of the coordinates' size, weights of any value),
+    whatever the degrees around them; clean_loop drops them and closes the rest."""
+    dot = pc.from_points([(5.0, 5.0)] * 3, [1.0, 3.0, 1.0])
+    almost = pc.line((1e6, 0.0), (1e6 + 1e-7, 0.0))  # 1e-13 of its coordinates
+    short = pc.line((0.0, 0.0), (1e-9, 0.0))           # 1e-9 of the unit scale: kept
+    pieces = [pc.line((0, 0), (5, 5)), dot, pc.cubic((5, 5), (6, 7), (8, 7), (9, 5)), almost,
+              short, pc.from_points([(2.0, 2.0)] * 4)]
+    assert zero_length_mask(pieces).tolist() == [False, True, False, True, False, True]
+    assert zero_length_mask([]).tolist() == []
+    loop = [pc.line((0, 0), (4, 0)), pc.line((4, 0), (4, 0)), pc.line((4, 0), (0, 3)),
+            pc.from_points([(0, 3)] * 3), pc.line((0, 3), (0, 0))]
+    out = clean_loop(loop)
+    assert len(out) == 3 and abs(pc.loop_area(out) - 6.0) < 1e-12
 
 
 def test_unknown_fill_rule():

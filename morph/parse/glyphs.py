@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError, one_line
-from ..region import is_zero_length, orient_region
+from ..region import orient_region, without_zero_length
 from ..trim import fill_region
 from .pens import RawContour, closing_line, record_contours
 from .shape import Shape
@@ -182,7 +182,7 @@ def _filled_loop(contour, label):
     Raises:
         ParseError: an open contour that does not end at its start.
     """
-    pieces = [p for p in contour.pieces if not is_zero_length(p)]
+    pieces = without_zero_length(contour.pieces)
     if not pieces:
         return None
     if not contour.closed and not np.array_equal(pc.end(pieces[-1]), contour.start):

@@ -41,7 +41,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError, one_line
-from ..region import is_zero_length, orient_region
+from ..region import is_zero_length, orient_region, without_zero_length
 from ..trim import fill_region
 
 __all__ = [
@@ -226,7 +226,7 @@ def _end_subpath(out, pieces, cur, start, closed):
     when nothing is left."""
     if closed and pieces and not np.array_equal(cur, start):
         pieces = pieces + [pc.line(cur, start)]
-    kept = [p for p in pieces if not is_zero_length(p)]
+    kept = without_zero_length(pieces)
     if kept:
         out.append((kept, closed, start.copy()))
 
@@ -410,7 +410,7 @@ def _rect_subpaths(x, y, w, h, rx, ry):
             pieces.append(pc.line(pc.end(pieces[-1]), pc.start(arc[0])))
         pieces.extend(arc)
     pieces.append(pc.line(pc.end(pieces[-1]), pc.start(pieces[0])))
-    return [([p for p in pieces if not is_zero_length(p)], True)]
+    return [(without_zero_length(pieces), True)]
 
 
 def _polyline_subpaths(pts, closed):
@@ -419,7 +419,7 @@ def _polyline_subpaths(pts, closed):
     if closed and len(pts) > 1 and pts[0] != pts[-1]:
         pts.append(pts[0])
     pieces = [pc.line(pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
-    pieces = [p for p in pieces if not is_zero_length(p)]
+    pieces = without_zero_length(pieces)
     return [(pieces, closed)] if pieces else []
 
 
