@@ -131,8 +131,9 @@ def glyph(a, b, frames, duration, animation, method, font, tol, output, force, s
     Each frame is the Minkowski sum of A scaled by 1-a and B scaled by a, both
     centred on their area centroids, for a = 0 ... 1 in FRAMES steps: frame 0 is A,
     the last frame is B.  Writes frame-000.svg/.png ... and morph.gif (or
-    morph.apng, --animation apng) into the output folder (default: glyph-A-B in the current directory; created if missing;
-    an existing non-empty folder needs --force).  --tol is in em.
+    morph.apng, --animation apng) into the output folder (default: glyph-A-B in
+    the current directory; created if missing; an existing non-empty folder needs
+    --force).  --tol is in em.
 
     \b
     Examples:
