@@ -84,11 +84,8 @@ def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
     handled together: one batched root finder call per polynomial family
     (:func:`morph.bernstein.roots_many`)."""
     out = [np.empty(0)] * len(pieces)
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault((len(p), not pc.is_polynomial(p)), []).append(k)
-    for (_, rational), ks in groups.items():
-        h = pc.tangent_numerator_many(np.array([pieces[k] for k in ks]), rational)
+    for ks, stack, rational in pc.kind_groups(pieces):
+        h = pc.tangent_numerator_many(stack, rational)
         owners, ts = [], []
         if inflections:
             kn = pc.curvature_numerator_many(h)
@@ -193,11 +190,7 @@ def _kept_many(parts, check=True):
     DegenerateCurveError: an interior cusp.  Parts of one degree and kind at once
     (:func:`_keep_parts` is the same test one part at a time)."""
     keep = np.zeros(len(parts), bool)
-    groups = {}
-    for k, p in enumerate(parts):
-        groups.setdefault((len(p), not pc.is_polynomial(p)), []).append(k)
-    for (_, rational), ks in groups.items():
-        h = np.array([parts[k] for k in ks])
+    for ks, h, rational in pc.kind_groups(parts):
         x = h[..., :2] / h[..., 2:]
         size = np.ptp(x, axis=1).max(axis=1)
         ok = ~(size < 1e-12 * np.maximum(1.0, np.abs(x).max(axis=(1, 2))))

@@ -72,10 +72,11 @@ def region_extent(region):
     """(size, magnitude) of a region from its control points (a hull bound): size is
     the larger side of the control-point box, magnitude the largest |coordinate|.
     Raises LimitError for NaN/inf or coordinates beyond MAX_COORDINATE."""
-    pts = [pc.cartesian(p) for loop in region for p in loop]
-    if not pts:
+    pieces = [p for loop in region for p in loop]
+    if not pieces:
         return 0.0, 0.0
-    pts = np.concatenate(pts)
+    pts = np.concatenate([(h[..., :2] / h[..., 2:]).reshape(-1, 2)
+                          for _, h, _ in pc.kind_groups(pieces)])
     with np.errstate(all="ignore"):
         finite = bool(np.all(np.isfinite(pts)))
         mag = float(np.max(np.abs(pts))) if finite else math.inf
@@ -95,16 +96,16 @@ def check_coordinates(*regions):
 def estimate_points(region, tol):
     """A-priori number of polyline points flattening ``region`` within ``tol``."""
     n = 0.0
-    for loop in region:
-        for p in loop:
-            c = pc.cartesian(p)
-            d = len(c) - 1
-            if d < 2:
-                n += 1
-                continue
-            with np.errstate(all="ignore"):
-                dd = float(np.abs(np.diff(c, 2, axis=0)).max()) * d * (d - 1)
-            n += math.ceil(math.sqrt(dd / (8.0 * tol))) if dd > 0 else 1
+    for _, h, _ in pc.kind_groups([p for loop in region for p in loop]):
+        d = h.shape[1] - 1
+        if d < 2:  # lines: one point each
+            n += len(h)
+            continue
+        with np.errstate(all="ignore"):
+            c = h[..., :2] / h[..., 2:]
+            dd = np.abs(np.diff(c, 2, axis=1)).max(axis=(1, 2)) * d * (d - 1)
+            steps = np.ceil(np.sqrt(dd / (8.0 * tol)))
+        n += float(np.where(dd > 0, steps, 1.0).sum())
     return n
 
 

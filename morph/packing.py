@@ -20,8 +20,8 @@ from . import piece as pc
 def control_box(region):
     """(xmin, ymin, xmax, ymax) of a region's control points: a box holding every
     piece (positive weights: the convex-hull property)."""
-    pts = np.concatenate([pc.cartesian(np.asarray(p, float)) for loop in region for p in loop])
-    return np.concatenate([pts.min(axis=0), pts.max(axis=0)])
+    boxes = pc.bboxes([p for loop in region for p in loop])
+    return np.concatenate([boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)])
 
 
 class Packing:

@@ -400,12 +400,8 @@ def tangent_cones(pieces, rel=1e-12):
     """
     n = len(pieces)
     start, lo, hi, end = (np.zeros(n) for _ in range(4))
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault((len(p), not is_polynomial(p)), []).append(k)
-    for (_, rational), ks in groups.items():
-        h = tangent_numerator_many(np.array([pieces[k] for k in ks], float), rational)
-        start[ks], lo[ks], hi[ks], end[ks] = _cones(h, rel)
+    for ks, stack, rational in kind_groups(pieces):
+        start[ks], lo[ks], hi[ks], end[ks] = _cones(tangent_numerator_many(stack, rational), rel)
     return start, lo, hi, end
 
 
@@ -526,6 +522,21 @@ def by_degree(pieces):
     return groups
 
 
+def kind_groups(pieces):
+    """The pieces in groups of one degree and kind, the unit of the batched
+    functions: a list of (indices (k,), stack (k, n+1, 3), rational), ``rational``
+    False where every piece of the group is polynomial (:func:`is_polynomial`)."""
+    out = []
+    for ks in by_degree(pieces).values():
+        stack = np.array([pieces[k] for k in ks], float)
+        rational = ~is_polynomial_many(stack)
+        ks = np.asarray(ks)
+        for kind in (False, True):
+            if (rational == kind).any():
+                out.append((ks[rational == kind], stack[rational == kind], kind))
+    return out
+
+
 def bboxes(pieces):
     """:func:`bbox` of many pieces (those of one degree at once): (k, 4)."""
     out = np.zeros((len(pieces), 4))
@@ -632,14 +643,10 @@ def area_terms(pieces, quad_points=24, origin=None):
     """:func:`piece_area_term` of many pieces, those of one degree and kind at once;
     with ``origin`` (x, y), of the pieces moved by -origin."""
     out = np.zeros(len(pieces))
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault((len(p), is_polynomial(p)), []).append(k)
-    for (_, poly), ks in groups.items():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h, rational in kind_groups(pieces):
         if origin is not None:
             h[:, :, :2] -= np.asarray(origin, float) * h[:, :, 2:]
-        out[ks] = _poly_area_terms(h) if poly else _rational_area_terms(h, quad_points)
+        out[ks] = _rational_area_terms(h, quad_points) if rational else _poly_area_terms(h)
     return out
 
 

@@ -314,21 +314,15 @@ def region_bbox(loops):
     pieces = [p for loop in loops for p in loop]
     if not pieces:
         raise ValueError("empty region has no bounding box")
-    points = [np.array([pc.start(p) for p in pieces]), np.array([pc.end(p) for p in pieces])]
-    for ks in pc.by_degree(pieces).values():
-        stack = np.array([pieces[k] for k in ks], float)
-        if stack.shape[1] < 3:  # lines: their ends
+    points = list(pc.end_points(pieces))
+    for _, group, rational in pc.kind_groups(pieces):
+        if group.shape[1] < 3:  # lines: their ends
             continue
-        rational = ~pc.is_polynomial_many(stack)
-        for kind in (False, True):
-            group = stack[rational == kind]
-            if not len(group):
-                continue
-            h = pc.tangent_numerator_many(group, kind)
-            for axis in range(2):
-                owner, t = bz.roots_many(h[:, :, axis])
-                if len(t):
-                    points.append(pc.jet_rows(group[owner], t)[0])
+        h = pc.tangent_numerator_many(group, rational)
+        for axis in range(2):
+            owner, t = bz.roots_many(h[:, :, axis])
+            if len(t):
+                points.append(pc.jet_rows(group[owner], t)[0])
     p = np.concatenate(points)
     return np.concatenate([p.min(axis=0), p.max(axis=0)])
 

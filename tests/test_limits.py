@@ -22,3 +22,36 @@ def test_check_tolerance_library():
     with pytest.raises(LimitError, match="floating-point resolution") as info:
         check_tolerance(1e-5, far)
     assert info.value.suggestion > 1e-5
+
+
+def test_point_estimate_and_extent_of_mixed_pieces():
+    """estimate_points: one point per line and ceil(sqrt(n (n-1) max|second
+    difference| / (8 tol))) per curve (the chord bound of uniform steps), summed over
+    pieces of any degree and kind; region_extent: the control points' box side and
+    largest |coordinate|, LimitError for NaN."""
+    import math
+
+    import numpy as np
+
+    from morph import piece as pc
+    from morph.errors import LimitError
+    from morph.limits import estimate_points, region_extent
+
+    loop = ([pc.line((0, 0), (40, 0)), pc.quadratic((40, 0), (60, 10), (40, 20)),
+             pc.cubic((40, 20), (30, 40), (10, 40), (0, 20))] + pc.circle((5, 5), 3.0)[:2]
+            + [pc.line((0, 20), (0, 0))])
+    tol = 1e-3
+    want = 0
+    for p in loop:
+        c = pc.cartesian(p)
+        n = len(c) - 1
+        dd = np.abs(np.diff(c, 2, axis=0)).max() * n * (n - 1) if n >= 2 else 0.0
+        want += math.ceil(math.sqrt(dd / (8 * tol))) if dd > 0 else 1
+    assert estimate_points([loop], tol) == want
+    size, mag = region_extent([loop])
+    pts = np.concatenate([pc.cartesian(p) for p in loop])
+    assert size == np.ptp(pts, axis=0).max() and mag == np.abs(pts).max()
+    assert region_extent([]) == (0.0, 0.0)
+    bad = [pc.line((0, 0), (float("nan"), 1.0)), pc.line((float("nan"), 1.0), (0, 0))]
+    with pytest.raises(LimitError, match="non-finite"):
+        region_extent([bad])

@@ -240,6 +240,23 @@ def test_flat_starts_are_the_polylines_without_their_ends():
     assert [len(a) for a in empty] == [0, 0, 0]
 
 
+def test_kind_groups_partition_pieces_by_degree_and_kind():
+    """Every piece in exactly one group, with its own control points, of its degree
+    and kind (an arc is rational, a weight-2 everywhere quadratic is polynomial)."""
+    pieces = [pc.line((0, 0), (1, 0)), pc.circle((0, 0), 1.0)[0], pc.quadratic((0, 0), (1, 1), (2, 0)),
+              2.0 * pc.quadratic((0, 0), (1, 2), (2, 0)), pc.cubic((0, 0), (1, 1), (2, 1), (3, 0)),
+              pc.circle((5, 5), 2.0)[1]]
+    seen = []
+    for ks, stack, rational in pc.kind_groups(pieces):
+        assert len({len(pieces[k]) for k in ks}) == 1
+        for k, h in zip(ks, stack):
+            assert np.array_equal(h, pieces[k])
+            assert rational == (not pc.is_polynomial(pieces[k]))
+        seen += list(ks)
+    assert sorted(seen) == list(range(len(pieces)))
+    assert pc.kind_groups([]) == []
+
+
 # ------------------------------------------ closest points and the distance certificate
 
 def _random_rational_stack(rng, k, n):

@@ -158,18 +158,19 @@ def _cut_spikes(runs, reach):
 def _neighbours_cross(runs, tri, reach, apply=False):
     """For runs (ring r, run j): do the runs before and after j cross near j?
     With ``apply`` (one triple) the crossing is cut in place."""
-    a_list, b_list, guess, lim = [], [], [], []
+    a_list, b_list, guess, mid = [], [], [], []
     for r, j in tri:
         out, ends = runs[r]
         a_list.append(out[(j - 1) % len(out)])
         b_list.append(out[(j + 1) % len(out)])
         guess.append(ends[j])
-        lim.append(pc.length_bound(out[j]) + reach)
+        mid.append(out[j])
+    lim = pc.length_bounds(mid) + reach
     stacked = pc.stack(a_list + b_list)
     m = len(tri)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
     s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), np.array(guess),
-                                np.array(lim), 1e-6 * reach)
+                                lim, 1e-6 * reach)
     # only interior crossings: the neighbours' far ends are junctions of their own
     # (in a ring of three runs they meet each other there)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
