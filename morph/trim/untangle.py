@@ -168,11 +168,19 @@ def _may_fold(loops):
 
 
 def remove_folds(loop, width):
-    """The loop without zero-width spikes: where a piece folds back onto its
-    neighbour (turn of pi at their join) and lies within ``width`` of it, the
-    shorter of the two goes and the longer is cut where the shorter one began (or
-    ended).  Such spikes enclose no area; the polygon engine keeps them because it
-    preserves collinear vertices."""
+    """The loop without zero-width spikes, where a piece folds back onto its
+    neighbour (turn of nearly pi at their join):
+
+    - the shorter piece lies within ``width`` of the longer: it goes, and the
+      longer is cut where the shorter one began (or ended);
+    - else, the two legs of the spike coincide from the join (within COINCIDE
+      ``width`` at equal arc lengths) for at least ``width`` of arc length (a hook
+      at a piece's end that the next piece runs along, :func:`_zip`): both are cut
+      where they part, a piece zipped whole goes.
+
+    Such spikes enclose no area; the polygon engine keeps them because it preserves
+    collinear vertices, and legs that coincide hide any crossing on them from the
+    polylines and from subdivision (the crossing search gives such pairs up)."""
     loop = list(loop)
     changed = True
     while changed and len(loop) >= 3:
@@ -186,19 +194,84 @@ def remove_folds(loop, width):
             short, long_ = (a, b) if la <= lb else (b, a)
             ts = np.linspace(0.0, 1.0, 9)
             near, t_near = _closest(long_, pc.evaluate(short, ts))
-            if near.max() > width:
-                continue
-            if la <= lb:  # a goes; b starts where a started
-                loop[j] = pc.subsegment(b, t_near[0], 1.0)
-                loop[j] = pc.with_endpoints(loop[j], pc.start(a), pc.end(loop[j]))
-            else:  # b goes; a ends where b ended
-                loop[i] = pc.subsegment(a, 0.0, t_near[-1])
-                loop[i] = pc.with_endpoints(loop[i], pc.start(loop[i]), pc.end(b))
-            del loop[j if la > lb else i]
-            loop = _snap(loop, 5e-7 * width)  # a cut at the long piece's end leaves nothing
+            if near.max() <= width:
+                cut = (0.0, t_near[0]) if la <= lb else (t_near[-1], 1.0)
+            else:
+                cut = _zip(a, b, COINCIDE * width, width)
+                if cut is None:
+                    continue
+                cut = _parting(a, b, *cut)
+            loop = _cut_fold(loop, i, j, *cut)
+            loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
             changed = True
             break
     return loop
+
+
+#: Legs of a fold closer than this share of remove_folds' width coincide (:func:`_zip`).
+COINCIDE = 1e-3
+#: Samples per piece of :func:`_zip`'s arc-length tables.
+ZIP_SAMPLES = 257
+
+
+def _cut_fold(loop, i, j, s, u):
+    """The loop with piece i (ending at the fold) cut at s and piece j cut at u,
+    joined at the mean of the two cut points; s = 0 (u = 1): piece i (j) goes."""
+    a, b = loop[i], loop[j]
+    loop = list(loop)
+    if s <= 0.0:  # a goes; b starts where a started
+        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), pc.start(a), pc.end(b))
+        del loop[i]
+    elif u >= 1.0:  # b goes; a ends where b ended
+        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), pc.end(b))
+        del loop[j]
+    else:
+        x = 0.5 * (pc.evaluate(a, s) + pc.evaluate(b, u))
+        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), x)
+        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), x, pc.end(b))
+    return loop
+
+
+def _parting(a, b, s, u):
+    """The cut of a zipped fold placed where its legs part: ``a`` is cut just before
+    its point farthest along b's start direction on [s - 1/16, 1] (the hook's
+    turning point; the sample before the largest of 4097, so that ``a`` does not
+    turn back), ``b`` at its point closest to that cut; a piece zipped whole stays
+    so."""
+    if s <= 0.0 or u >= 1.0:
+        return s, u
+    d = pc.end_tangents(b)[0]
+    t = np.linspace(max(s - 1.0 / 16, 0.0), 1.0, 4097)
+    k = int(np.argmax(pc.evaluate(a, t) @ d))
+    s = float(t[max(k - 1, 0)])
+    _, t_b = _closest(b, pc.evaluate(a, np.array([s])))
+    return s, float(t_b[0])
+
+
+def _zip(a, b, close, min_length):
+    """(s, u): where the legs of a fold at the join of ``a`` (ending) and ``b``
+    (starting) part: the points at arc length L back from a's end and L on from b's
+    start, for the largest L (at most the shorter piece's length) with the two
+    within ``close`` at every arc length up to L (s = 0 or u = 1 when a piece is
+    zipped whole); None when L < ``min_length``.  Arc lengths from ZIP_SAMPLES
+    points per piece, compared at 4 ZIP_SAMPLES arc lengths."""
+    t = np.linspace(0.0, 1.0, ZIP_SAMPLES)
+    pa, pb = pc.evaluate(a, t[::-1]), pc.evaluate(b, t)  # both from the join outwards
+    la = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pa, axis=0).T))])
+    lb = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pb, axis=0).T))])
+    top = min(la[-1], lb[-1])
+    if not top >= min_length:
+        return None
+    ell = np.linspace(0.0, top, 4 * ZIP_SAMPLES)
+    xa = np.stack([np.interp(ell, la, pa[:, k]) for k in range(2)], axis=1)
+    xb = np.stack([np.interp(ell, lb, pb[:, k]) for k in range(2)], axis=1)
+    apart = np.flatnonzero(np.hypot(*(xa - xb).T) > close)
+    L = ell[apart[0] - 1] if len(apart) else top
+    if L < min_length:
+        return None
+    s = 0.0 if not len(apart) and la[-1] <= lb[-1] else float(np.interp(L, la, t[::-1]))
+    u = 1.0 if not len(apart) and lb[-1] < la[-1] else float(np.interp(L, lb, t))
+    return s, u
 
 
 def _closest(piece, points, samples=257):

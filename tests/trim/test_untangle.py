@@ -56,3 +56,28 @@ def test_subdivision_gives_up_only_the_near_coincident_pairs():
     # the budget: pairs above pair_items, then the most crowded while over max_items
     assert list(_crowded(np.array([5, 2000, 7, 1]), 1024, 100)) == [1]
     assert list(_crowded(np.array([50, 20, 70, 1]), 1024, 60)) == [0, 2]
+
+
+def test_a_hook_the_next_piece_runs_along_is_zipped_off():
+    """A piece that runs past its end and doubles back (x: 0 -> 10.67 -> 9) onto a
+    line that starts there and runs on along the same points: both legs of the hook
+    coincide with the line, so no polyline or subdivision sees where the line
+    leaves the outgoing leg.  remove_folds cuts both where the legs part (the
+    hook's turning point) and the loop is simple, of the triangle's area; the
+    swallowtail-like fold of legs that part at once (a tip) is left alone."""
+    from shapely.geometry import LineString
+
+    from morph.trim.untangle import remove_folds
+
+    hook = pc.cubic((0, 0), (12, 0), (12, 0), (9, 0))
+    loop = [hook, pc.line((9, 0), (20, 0)), pc.line((20, 0), (10, 5)), pc.line((10, 5), (0, 0))]
+    out = remove_folds(loop, 0.07)
+    assert len(out) == 4
+    assert np.allclose(pc.end(out[0]), (32.0 / 3.0, 0.0), atol=0.07)  # the turning point
+    assert np.allclose(pc.start(out[1]), pc.end(out[0])) and np.allclose(pc.end(out[1]), (20, 0))
+    ring = pc.flatten_loop(out, 1e-4)
+    assert LineString(np.vstack([ring, ring[:1]])).is_simple
+    assert abs(pc.loop_area(out) - 50.0) < 1e-6
+    # a tip: the legs part at once (a turn of pi, not a spike), kept as it is
+    tip = [pc.quadratic((0, 0), (5, 1), (10, 0)), pc.quadratic((10, 0), (5, -1), (0, 0))]
+    assert len(remove_folds(tip + [], 0.07)) == 2
