@@ -6,7 +6,7 @@ from pathlib import Path
 import click
 
 from .group import main
-from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError,
+from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
 
@@ -109,8 +109,9 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     seconds = time.perf_counter() - t0
     write_sample_image(out, sample, png)
     write_specimen(out, source_copy, sample=sample)
-    click.echo("wrote %s (%d glyphs, %d contours, %.1f s, %d jobs), sample %s and specimen %s"
-               % (out, stats["glyphs"], stats["contours"], seconds, jobs, png, page))
+    click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
+               % (out, count(stats["glyphs"], "glyph"), count(stats["contours"], "contour"),
+                  seconds, count(jobs, "job"), png, page))
     return _brush_status(stats)
 
 
@@ -325,10 +326,11 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     if page:
         write_specimen(out, None, sample=sample)
     extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
-    click.echo("wrote %s (%d glyphs stroked, %d composites kept, %d points, %.1f s, %d jobs%s), "
-               "sample %s%s" % (out, stats["glyphs"] + stats["followed"], stats["composites"],
-                                stats["points"], seconds, jobs, extra, png,
-                                " and specimen %s" % page if page else ""))
+    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s%s), sample %s%s"
+               % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
+                  count(stats["composites"], "composite"), count(stats["points"], "point"),
+                  seconds, count(jobs, "job"), extra, png,
+                  " and specimen %s" % page if page else ""))
     return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
                             " to a polygon stroke")
 

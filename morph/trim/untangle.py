@@ -197,10 +197,10 @@ def remove_folds(loop, width):
             if near.max() <= width:
                 cut = (0.0, t_near[0]) if la <= lb else (t_near[-1], 1.0)
             else:
-                cut = _zip(a, b, COINCIDE * width, width)
-                if cut is None:
+                zipped = _zip(a, b, COINCIDE * width, width)
+                if zipped is None:
                     continue
-                cut = _parting(a, b, *cut)
+                cut = _parting(a, b, *zipped)
             loop = _cut_fold(loop, i, j, *cut)
             loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
             changed = True
@@ -232,28 +232,31 @@ def _cut_fold(loop, i, j, s, u):
     return loop
 
 
-def _parting(a, b, s, u):
-    """The cut of a zipped fold placed where its legs part: ``a`` is cut just before
-    its point farthest along b's start direction on [s - 1/16, 1] (the hook's
-    turning point; the sample before the largest of 4097, so that ``a`` does not
-    turn back), ``b`` at its point closest to that cut; a piece zipped whole stays
-    so."""
+def _parting(a, b, s, u, window):
+    """The cut of a zipped fold placed where its legs part, if that is a turning
+    point of ``a``: its point farthest along b's start direction among 4097 in
+    ``window`` (parameters of ``a``), taken when it lies inside the window (the
+    sample before it, so that ``a`` does not turn back), with ``b`` cut at its point
+    closest to it; else the zip's own cut (s, u), also where a piece goes whole."""
     if s <= 0.0 or u >= 1.0:
         return s, u
     d = pc.end_tangents(b)[0]
-    t = np.linspace(max(s - 1.0 / 16, 0.0), 1.0, 4097)
+    t = np.linspace(window[0], window[1], 4097)
     k = int(np.argmax(pc.evaluate(a, t) @ d))
-    s = float(t[max(k - 1, 0)])
+    if not 0 < k < len(t) - 1:
+        return s, u
+    s = float(t[k - 1])
     _, t_b = _closest(b, pc.evaluate(a, np.array([s])))
     return s, float(t_b[0])
 
 
 def _zip(a, b, close, min_length):
-    """(s, u): where the legs of a fold at the join of ``a`` (ending) and ``b``
-    (starting) part: the points at arc length L back from a's end and L on from b's
-    start, for the largest L (at most the shorter piece's length) with the two
-    within ``close`` at every arc length up to L (s = 0 or u = 1 when a piece is
-    zipped whole); None when L < ``min_length``.  Arc lengths from ZIP_SAMPLES
+    """(s, u, window): where the legs of a fold at the join of ``a`` (ending) and
+    ``b`` (starting) part: the points at arc length L back from a's end and L on
+    from b's start, for the largest L (at most the shorter piece's length) with the
+    two within ``close`` at every arc length up to L (s = 0 or u = 1 when a piece
+    is zipped whole), and the parameters of ``a`` within four comparison steps of
+    arc length of s; None when L < ``min_length``.  Arc lengths from ZIP_SAMPLES
     points per piece, compared at 4 ZIP_SAMPLES arc lengths."""
     t = np.linspace(0.0, 1.0, ZIP_SAMPLES)
     pa, pb = pc.evaluate(a, t[::-1]), pc.evaluate(b, t)  # both from the join outwards
@@ -266,12 +269,16 @@ def _zip(a, b, close, min_length):
     xa = np.stack([np.interp(ell, la, pa[:, k]) for k in range(2)], axis=1)
     xb = np.stack([np.interp(ell, lb, pb[:, k]) for k in range(2)], axis=1)
     apart = np.flatnonzero(np.hypot(*(xa - xb).T) > close)
+    if len(apart) and apart[0] == 0:
+        return None
     L = ell[apart[0] - 1] if len(apart) else top
     if L < min_length:
         return None
     s = 0.0 if not len(apart) and la[-1] <= lb[-1] else float(np.interp(L, la, t[::-1]))
     u = 1.0 if not len(apart) and lb[-1] < la[-1] else float(np.interp(L, lb, t))
-    return s, u
+    step = 4.0 * (ell[1] - ell[0])
+    window = (float(np.interp(L + step, la, t[::-1])), float(np.interp(max(L - step, 0.0), la, t[::-1])))
+    return s, u, window
 
 
 def _closest(piece, points, samples=257):

@@ -78,6 +78,18 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     ring = pc.flatten_loop(out, 1e-4)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
     assert abs(pc.loop_area(out) - 50.0) < 1e-6
+    # legs that coincide and then part without a turn (a veers off towards (14, 6)):
+    # cut where they part (y_a = 7e-5, x = 9.2), not further back along a
+    veer = pc.cubic((14, 6), (12, 0), (12, 0), (9, 0))
+    loop = [veer, pc.line((9, 0), (20, 0)), pc.line((20, 0), (14, 6))]
+    out = remove_folds(loop, 0.07)
+    assert len(out) == 3 and 9.15 < pc.end(out[0])[0] < 9.25
+    ring = pc.flatten_loop(out, 1e-4)
+    assert LineString(np.vstack([ring, ring[:1]])).is_simple
+    assert abs(pc.loop_area(out) - pc.loop_area(loop)) < 1e-3
     # a tip: the legs part at once (a turn of pi, not a spike), kept as it is
-    tip = [pc.quadratic((0, 0), (5, 1), (10, 0)), pc.quadratic((10, 0), (5, -1), (0, 0))]
-    assert len(remove_folds(tip + [], 0.07)) == 2
+    tip = [pc.quadratic((0, 0), (5, 0.1), (10, 0)), pc.quadratic((10, 0), (5, -0.1), (1, -0.5)),
+           pc.line((1, -0.5), (0, 0))]
+    assert np.dot(pc.end_tangents(tip[0])[1], pc.end_tangents(tip[1])[0]) < -0.999  # a fold
+    out = remove_folds(tip, 0.07)
+    assert len(out) == 3 and all(np.array_equal(p, q) for p, q in zip(out, tip))
