@@ -54,8 +54,9 @@ def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0))
 def write_frames(folder, regions, size=512, tol=None, duration=120, animation="gif"):
     """Write a frame sequence into ``folder``: ``frame-000.svg``/``.png`` ... (one
     frame box for all, so the shapes stay in place) and the animation ``morph.gif``
-    (``animation="apng"``: ``morph.apng``, full colour) with ``duration`` ms per frame.  ``tol``: the SVG export's tolerance (region
-    units), one for all frames or a sequence of one per frame.  Returns the folder."""
+    (``animation="apng"``: ``morph.apng``, full colour) with ``duration`` ms per
+    frame.  ``tol``: the SVG export's tolerance (region units), one for all frames
+    or a sequence of one per frame.  Returns the folder."""
     from .png import render_png, save_animation
     from .svg import write_svg
 

@@ -277,7 +277,8 @@ def _zip(a, b, close, min_length):
     s = 0.0 if not len(apart) and la[-1] <= lb[-1] else float(np.interp(L, la, t[::-1]))
     u = 1.0 if not len(apart) and lb[-1] < la[-1] else float(np.interp(L, lb, t))
     step = 4.0 * (ell[1] - ell[0])
-    window = (float(np.interp(L + step, la, t[::-1])), float(np.interp(max(L - step, 0.0), la, t[::-1])))
+    window = (float(np.interp(L + step, la, t[::-1])),
+              float(np.interp(max(L - step, 0.0), la, t[::-1])))
     return s, u, window
 
 
