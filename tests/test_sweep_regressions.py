@@ -126,7 +126,8 @@ SWEEP_REGRESSIONS = [
     # random mode, seed 1618, at commit 26b59d7 (and 1ace8fa): two marks 0.0738 apart
     # with a disk of diameter 0.0752 (tol 0.028): their sums overlap in a lens 0.0014
     # wide, half a grid step, which the integer union keeps as two rings; the lifted
-    # loops cross (winding 2 in the lens)
+    # loops crossed (winding 2 in the lens); trim.boundary now merges such outer
+    # loops (untangle.merge_lenses)
     ("nib/amiri/uniFE71/40x40/20.4/0.00188/0.013",
      "loops crossing each other (a lens of 0.055 tol^2), winding numbers 0..2"),
 ]
@@ -160,10 +161,7 @@ SLOW = {
 }
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
-OPEN = {
-    "nib/amiri/uniFE71/40x40/20.4/0.00188/0.013":
-        "two loops whose sums overlap by less than a grid step stay separate and cross",
-}
+OPEN = {}
 
 
 def _params(cases, still_open, slow):
@@ -260,10 +258,7 @@ ICON_SLOW = set()
 # icon cases the engine still fails (strict xfail: remove the entry once it passes)
 # (bank-outline and alpha-f: untangle judged the larger part of a cut loop as the lobe;
 # book-edit: the hole test's grid missed a thin hole; both fixed)
-ICON_OPEN = {
-    "nib/amiri/uniFE71/40x40/20.4/0.00188/0.013":
-        "two loops whose sums overlap by less than a grid step stay separate and cross",
-}
+ICON_OPEN = {}
 
 
 @pytest.mark.parametrize("name", _params(ICON_REGRESSIONS, ICON_OPEN, ICON_SLOW))

@@ -34,7 +34,7 @@ from ..polyline import polylines_cross
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
-from .untangle import untangle as untangle_loops
+from .untangle import merge_lenses, untangle as untangle_loops
 
 __all__ = ["boundary", "fill_region", "polylines_cross"]
 
@@ -65,7 +65,8 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                 if hole_test(tg.to_float(r.q), islands):
                     filled.append(i)
         rings = fill_holes(rings, filled)
-    out = lift_rings([r.q for r in rings], tg, contract)
+    out, of_ring = lift_rings([r.q for r in rings], tg, contract, return_rings=True)
+    out = merge_lenses(out, [not rings[k].hole for k in of_ring], eps)
     if untangle:
         out = untangle_loops(out, eps, hole_test=hole_test)
     return out

@@ -50,6 +50,128 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
     return out
 
 
+def merge_lenses(loops, outer, eps, max_rounds=64):
+    """The loops with every two outer loops that cross each other twice replaced by
+    their union; ``outer``: which loops are outer (not holes).
+
+    The integer union decides which parts touch on a grid; two sums that overlap by
+    less than a grid step (two marks a nib's width apart) can come out as two rings,
+    and their exact pieces then cross in a thin lens (winding 2 inside it).  Their
+    union is the outside arc of each between the two crossings (found on polylines
+    within eps / 10, refined by Newton on the exact pieces; the outside arc is the
+    one whose middle the other loop does not wind around).  Only outer loops whose
+    control boxes overlap are searched; pairs crossing any other number of times
+    are left as they are."""
+    out = [list(loop) for loop in loops]
+    outer = list(outer)
+    for _ in range(max_rounds):
+        hit = _lens_pair(out, outer, eps)
+        if hit is None:
+            break
+        a, b, ca, cb = hit
+        merged = _union_arcs(out[a], out[b], ca, cb, eps)
+        if merged is None:
+            break
+        keep = [k for k in range(len(out)) if k not in (a, b)]
+        out = [out[k] for k in keep] + [merged]
+        outer = [outer[k] for k in keep] + [True]
+    return out
+
+
+def _lens_pair(loops, outer, eps):
+    """(loop a, loop b, [(piece, t) on a of the two crossings], [(piece, t) on b])
+    of the first pair of outer loops with overlapping control boxes whose pieces
+    cross exactly twice; None if there is none."""
+    ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)]
+    if len(ks) < 2:
+        return None
+    pieces = [p for k in ks for p in loops[k]]
+    starts = np.cumsum([0] + [len(loops[k]) for k in ks[:-1]])
+    pb = pc.bboxes(pieces)
+    lo = np.minimum.reduceat(pb[:, :2], starts)
+    hi = np.maximum.reduceat(pb[:, 2:], starts)
+    meet = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
+    for i, j in zip(*np.nonzero(np.triu(meet, 1))):
+        found = _loop_crossings(loops[ks[i]], loops[ks[j]], eps)
+        if found is not None and len(found[0]) == 2:
+            return (ks[i], ks[j]) + found
+    return None
+
+
+def _loop_crossings(la, lb, eps):
+    """Crossings of the pieces of loop la with those of loop lb: ([(piece, s)] on
+    la, [(piece, u)] on lb), in order along la; None if Newton does not confirm one."""
+    pieces = list(la) + list(lb)
+    p0, p1, ids, t0, t1 = flatten_segments(pieces, eps / 10.0)
+    pairs = segment_pairs(p0, p1, ids, False)
+    if not len(pairs):
+        return [], []
+    first_b = len(la)
+    pairs = np.sort(pairs, axis=1)
+    pairs = pairs[(ids[pairs[:, 0]] < first_b) & (ids[pairs[:, 1]] >= first_b)]
+    if not len(pairs):
+        return [], []
+    k, u, v = segment_crossings(p0, p1, pairs)
+    a, b = pairs[k, 0], pairs[k, 1]
+    ta, tb = t0[a] + u * (t1[a] - t0[a]), t0[b] + v * (t1[b] - t0[b])
+    guess = p0[a] + u[:, None] * (p1[a] - p0[a])
+    pa, pb = ids[a], ids[b]
+    # one crossing per point (segment ends shared by two segments report it twice)
+    keep = np.ones(len(guess), bool)
+    for n in range(1, len(guess)):
+        if np.any(np.hypot(*(guess[:n][keep[:n]] - guess[n]).T) <= eps / 10.0):
+            keep[n] = False
+    pa, pb, ta, tb, guess = pa[keep], pb[keep], ta[keep], tb[keep], guess[keep]
+    if not len(pa):
+        return [], []
+    stacked = pc.stack(pieces)
+    # each polyline is within eps / 10 of its piece: a crossing at angle alpha moves
+    # by up to 2 (eps / 10) / sin(alpha / 2) (newton_crossings' shallow allowance)
+    s, w, ok = newton_crossings(stacked, pa, ta, pb, tb, guess, eps, 1e-6 * eps,
+                                shallow=2.0 * eps / 10.0)
+    if not ok.all():
+        return None
+    order = np.lexsort((s, pa))
+    return ([(int(pa[n]), float(s[n])) for n in order],
+            [(int(pb[n]) - first_b, float(w[n])) for n in order])
+
+
+def _arc(loop, start, end):
+    """The pieces of a loop from (piece, t) ``start`` to (piece, t) ``end``, forwards
+    (cyclically)."""
+    (i, s), (j, u) = start, end
+    if i == j and s < u:
+        return [pc.subsegment(loop[i], s, u)]
+    middle = [loop[k % len(loop)] for k in range(i + 1, j + (len(loop) if j <= i else 0))]
+    return [pc.subsegment(loop[i], s, 1.0)] + middle + [pc.subsegment(loop[j], 0.0, u)]
+
+
+def _union_arcs(la, lb, ca, cb, eps):
+    """The union of two outer loops crossing at two points (ca on la, cb on lb, in
+    la's order): the arc of each outside the other, joined at the crossings; None
+    when each loop's two arcs are both inside or both outside the other."""
+    arcs_a = [_arc(la, ca[0], ca[1]), _arc(la, ca[1], ca[0])]
+    # on lb, the arc from the crossing la meets first to the other, and back
+    arcs_b = [_arc(lb, cb[0], cb[1]), _arc(lb, cb[1], cb[0])]
+    poly_a, poly_b = pc.flatten_loop(la, eps / 10.0), pc.flatten_loop(lb, eps / 10.0)
+
+    def outside(arc, poly):
+        mid = arc[len(arc) // 2]
+        return winding_number(pc.evaluate(mid, np.array([0.5])), [poly])[0] == 0
+
+    out_a = [outside(arc, poly_b) for arc in arcs_a]
+    out_b = [outside(arc, poly_a) for arc in arcs_b]
+    if out_a[0] == out_a[1] or out_b[0] == out_b[1]:
+        return None
+    # la's outside arc ends at crossing 1 (or 0); lb's outside arc must start there
+    a_arc = arcs_a[0] if out_a[0] else arcs_a[1]
+    ends_at = 1 if out_a[0] else 0
+    b_arc = arcs_b[1] if ends_at == 1 else arcs_b[0]
+    if not out_b[1 if ends_at == 1 else 0]:
+        return None
+    return _snap(a_arc + b_arc, 1e-6 * eps)
+
+
 def _split_off(loop, hit, eps, hole_test):
     """The parts of ``loop`` kept after splitting it at crossing ``hit`` (i, s, j,
     u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`

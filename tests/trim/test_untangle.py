@@ -93,3 +93,24 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     assert np.dot(pc.end_tangents(tip[0])[1], pc.end_tangents(tip[1])[0]) < -0.999  # a fold
     out = remove_folds(tip, 0.07)
     assert len(out) == 3 and all(np.array_equal(p, q) for p, q in zip(out, tip))
+
+
+def test_two_outer_loops_crossing_in_a_lens_become_their_union():
+    """Two unit circles 1.999 apart cross twice (a lens 0.001 wide, what the integer
+    union keeps as two rings when it is under a grid step): merge_lenses gives one
+    simple loop of the union's area (shapely, flattened within 1e-6); holes, and
+    loops that do not cross, are left as they are."""
+    from shapely.geometry import LineString, Polygon
+
+    from morph.trim.untangle import merge_lenses
+
+    a, b = pc.circle((0.0, 0.0), 1.0), pc.circle((1.999, 0.0), 1.0)
+    out = merge_lenses([a, b], [True, True], 0.01)
+    assert len(out) == 1
+    ring = pc.flatten_loop(out[0], 1e-6)
+    assert LineString(np.vstack([ring, ring[:1]])).is_simple
+    union = Polygon(pc.flatten_loop(a, 1e-6)).union(Polygon(pc.flatten_loop(b, 1e-6)))
+    assert abs(pc.loop_area(out[0]) - union.area) < 1e-5
+    assert len(merge_lenses([a, b], [True, False], 0.01)) == 2
+    far = pc.circle((2.5, 0.0), 1.0)
+    assert len(merge_lenses([a, far], [True, True], 0.01)) == 2
