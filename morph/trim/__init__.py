@@ -14,9 +14,11 @@ the exact curves give the geometry.  Here:
    point with the exact membership predicate; filled holes are closed.
 4. :mod:`.lift`: each ring's runs become the exact pieces restricted to their
    parameter ranges; crossings refined by Newton on the exact pieces.
-5. :mod:`.untangle`: where the exact pieces of a lifted loop still cross (twice
-   within the polylines' error), the loop is split there and twisted or nested
-   lobes go.
+5. :mod:`.untangle`: two outer loops whose exact pieces cross twice (two parts
+   that overlap by less than a grid step, kept as two rings) are merged into their
+   union (``merge_lenses``); where the exact pieces of a lifted loop still cross
+   (twice within the polylines' error), the loop is split there and twisted or
+   nested lobes go.
 
 Error budget (each output point against the exact boundary of the filled set of
 the input pieces): output pieces are sub-pieces of the input pieces; where the
