@@ -477,8 +477,14 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     rings = [pc.flatten_loop(l, tol / 64) for l in loops]
     lines = _closed_lines(rings)
     if not shapely.is_simple(lines) or any(len(r) < 3 for r in rings):
-        fine = [pc.flatten_loop(l, tol / 1024) for l in loops]
-        lines2 = _closed_lines(fine)
+        # polylines within f of the loops can cross where two strands of the loops
+        # pass closer than 2f (a hairpin of a piece whose strands are 2e-4 tol apart
+        # crossed at tol/1024 while the pieces do not): the finest level decides
+        for f in (tol / 1024, tol / 65536):
+            fine = [pc.flatten_loop(l, f) for l in loops]
+            lines2 = _closed_lines(fine)
+            if shapely.is_simple(lines2) and all(len(r) >= 3 for r in fine):
+                break
         if not shapely.is_simple(lines2) or any(len(r) < 3 for r in fine):
             why = "; ".join(shapely.is_valid_reason(Polygon(r)) for r in fine
                             if len(r) >= 3 and not Polygon(r).is_valid)[:160]
