@@ -32,7 +32,7 @@ themselves or each other at single points.
 
 import numpy as np
 
-from ..polyline import polylines_cross
+from ..polyline import near_segments, polyline_edges, polylines_cross
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
@@ -68,10 +68,29 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                     filled.append(i)
         rings = fill_holes(rings, filled)
     out, of_ring = lift_rings([r.q for r in rings], tg, contract, return_rings=True)
-    out = merge_lenses(out, [not rings[k].hole for k in of_ring], eps)
+    outer = [not rings[k].hole for k in of_ring]
+    # each lifted loop lies within eps + grid + contract of its ring: loops whose
+    # rings stay farther apart than twice that cannot cross
+    near = _near_pairs([tg.to_float(rings[k].q) if o else [] for k, o in zip(of_ring, outer)],
+                       2.0 * (eps + grid + contract))
+    out = merge_lenses(out, outer, eps, near)
     if untangle:
         out = untangle_loops(out, eps, hole_test=hole_test)
     return out
+
+
+def _near_pairs(polylines, reach):
+    """Index pairs (i < j) of closed polylines that come within ``reach`` of each
+    other (empty polylines are none's neighbours)."""
+    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines])
+    a, b = polyline_edges([p for p in polylines if len(p) >= 2])
+    owner = np.repeat(np.flatnonzero(sizes), sizes[sizes > 0])
+    pairs = near_segments(a, b, reach)
+    if not len(pairs):
+        return set()
+    i, j = owner[pairs[:, 0]], owner[pairs[:, 1]]
+    keep = i != j
+    return {(int(min(x, y)), int(max(x, y))) for x, y in zip(i[keep], j[keep])}
 
 
 def fill_region(loops, fill_rule="nonzero", rel=1e-7):

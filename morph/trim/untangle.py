@@ -50,9 +50,10 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
     return out
 
 
-def merge_lenses(loops, outer, eps, max_rounds=64):
+def merge_lenses(loops, outer, eps, near=None, max_rounds=64):
     """The loops with every two outer loops that cross each other twice replaced by
-    their union; ``outer``: which loops are outer (not holes).
+    their union; ``outer``: which loops are outer (not holes); ``near``: the index
+    pairs (i < j) that may cross (None: all pairs).
 
     The integer union decides which parts touch on a grid; two sums that overlap by
     less than a grid step (two marks a nib's width apart) can come out as two rings,
@@ -64,8 +65,12 @@ def merge_lenses(loops, outer, eps, max_rounds=64):
     are left as they are."""
     out = [list(loop) for loop in loops]
     outer = list(outer)
+    near = {(min(i, j), max(i, j)) for i, j in near} if near is not None else None
+    groups = [{k} for k in range(len(out))]  # the original loops each loop holds
     for _ in range(max_rounds):
-        hit = _lens_pair(out, outer, eps)
+        if near is not None and not near:
+            break
+        hit = _lens_pair(out, outer, eps, groups, near)
         if hit is None:
             break
         a, b, ca, cb = hit
@@ -75,14 +80,17 @@ def merge_lenses(loops, outer, eps, max_rounds=64):
         keep = [k for k in range(len(out)) if k not in (a, b)]
         out = [out[k] for k in keep] + [merged]
         outer = [outer[k] for k in keep] + [True]
+        groups = [groups[k] for k in keep] + [groups[a] | groups[b]]
     return out
 
 
-def _lens_pair(loops, outer, eps):
+def _lens_pair(loops, outer, eps, groups, near):
     """(loop a, loop b, [(piece, t) on a of the two crossings], [(piece, t) on b])
-    of the first pair of outer loops with overlapping control boxes whose pieces
-    cross exactly twice; None if there is none."""
-    ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)]
+    of the first pair of outer loops, near each other (some of their original
+    loops a pair in ``near``, None: all) with overlapping control boxes, whose
+    pieces cross exactly twice; None if there is none."""
+    ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)
+          and (near is None or any(i in pair for pair in near for i in groups[k]))]
     if len(ks) < 2:
         return None
     pieces = [p for k in ks for p in loops[k]]
@@ -92,6 +100,9 @@ def _lens_pair(loops, outer, eps):
     hi = np.maximum.reduceat(pb[:, 2:], starts)
     meet = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
     for i, j in zip(*np.nonzero(np.triu(meet, 1))):
+        if near is not None and not any((min(x, y), max(x, y)) in near
+                                        for x in groups[ks[i]] for y in groups[ks[j]]):
+            continue
         found = _loop_crossings(loops[ks[i]], loops[ks[j]], eps)
         if found is not None and len(found[0]) == 2:
             return (ks[i], ks[j]) + found
