@@ -112,5 +112,31 @@ def test_two_outer_loops_crossing_in_a_lens_become_their_union():
     union = Polygon(pc.flatten_loop(a, 1e-6)).union(Polygon(pc.flatten_loop(b, 1e-6)))
     assert abs(pc.loop_area(out[0]) - union.area) < 1e-5
     assert len(merge_lenses([a, b], [True, False], 0.01)) == 2
+    # only the pairs said to be near are searched (boundary passes those whose rings
+    # come within twice the lift's error)
+    assert len(merge_lenses([a, b], [True, True], 0.01, near=set())) == 2
+    assert len(merge_lenses([a, b], [True, True], 0.01, near={(1, 0)})) == 1
     far = pc.circle((2.5, 0.0), 1.0)
     assert len(merge_lenses([a, far], [True, True], 0.01)) == 2
+
+
+def test_near_ring_pairs_match_shapely_distances():
+    """trim._near_pairs (which rings merge_lenses searches): exactly the pairs of
+    closed polylines within reach of each other, by shapely's distances, on random
+    circles; empty polylines have no neighbours."""
+    from shapely.geometry import LinearRing
+
+    from morph.trim import _near_pairs
+
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        polys = []
+        for _ in range(7):
+            c, r = rng.uniform(0, 10, 2), rng.uniform(0.5, 2.0)
+            t = np.linspace(0.0, 2 * np.pi, 40, endpoint=False)
+            polys.append(np.stack([c[0] + r * np.cos(t), c[1] + r * np.sin(t)], 1))
+        polys[3] = []
+        want = {(i, j) for i in range(7) for j in range(i + 1, 7)
+                if len(polys[i]) and len(polys[j])
+                and LinearRing(polys[i]).distance(LinearRing(polys[j])) <= 0.3}
+        assert _near_pairs(polys, 0.3) == want
