@@ -82,7 +82,9 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
 def _near_pairs(polylines, reach):
     """Index pairs (i < j) of closed polylines that come within ``reach`` of each
     other (empty polylines are none's neighbours)."""
-    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines])
+    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], dtype=np.int64)
+    if np.count_nonzero(sizes) < 2:
+        return set()
     a, b = polyline_edges([p for p in polylines if len(p) >= 2])
     owner = np.repeat(np.flatnonzero(sizes), sizes[sizes > 0])
     pairs = near_segments(a, b, reach)

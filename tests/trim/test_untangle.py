@@ -140,3 +140,4 @@ def test_near_ring_pairs_match_shapely_distances():
                 if len(polys[i]) and len(polys[j])
                 and LinearRing(polys[i]).distance(LinearRing(polys[j])) <= 0.3}
         assert _near_pairs(polys, 0.3) == want
+    assert _near_pairs([], 0.3) == set() and _near_pairs([polys[0], []], 0.3) == set()
