@@ -7,7 +7,7 @@ import numpy as np
 
 from . import piece as pc
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
-from .errors import ToleranceNotMetError, TopologyError
+from .errors import LimitError, ToleranceNotMetError, TopologyError
 from .limits import check_tolerance, fits_precision, point_budget
 from .packing import Packing, control_box
 from .polyline import unique
@@ -84,6 +84,7 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
         raise ValueError("both regions must have at least one loop")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
     out, debug = _sum(region_a, region_b, tol, method, gauss_pair)
+    _not_vanished(out, tol)
     if not return_debug:
         return out
     debug["bound"] = _achieved_bound(out, debug["convolution"], tol, method)
@@ -140,7 +141,21 @@ def _packed_sums(regions_a, region_b, tol, method):
     if not fits_precision(tol, layout.packed, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
-    return layout.split(out)
+    out = layout.split(out)
+    for k, loops in enumerate(out):
+        _not_vanished(loops, tol, " of region %d" % k)
+    return out
+
+
+def _not_vanished(loops, tol, which=""):
+    """Raise LimitError when a sum came out empty: the sum of two regions with area
+    has area, so nothing left means every part of it was thinner than the features
+    the tolerance keeps (about 0.9 tol: the flattening and grid shares) and merged
+    away; a tolerance a tenth as large is suggested."""
+    if not loops:
+        raise LimitError("minkowski sum%s: at tolerance %.3g every part of the sum is thinner "
+                         "than the tolerance keeps and nothing is left; use a tolerance of at "
+                         "most %.3g" % (which, tol, tol / 10), tol / 10)
 
 
 def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):

@@ -36,7 +36,7 @@ from shapely.geometry import Polygon
 from morph import minkowski, parse
 from morph import piece as pc
 from morph.parse import glyph_region
-from morph.minkowski import minkowski_sum
+from morph.minkowski import minkowski_sum, minkowski_sums
 from tests import reference as R
 from tests.helpers import loop_polygons, polygon_region, region_size, shoelace
 
@@ -666,3 +666,27 @@ def test_sums_of_regions_of_very_different_sizes_and_places(glyphs):
             pc.loop_area(l) > 0 for l in alone)
         p, q = _polygon(loops, 0.01), _polygon(alone, 0.01)
         assert p.boundary.hausdorff_distance(q.boundary) <= 2 * tol
+
+
+def test_a_sum_thinner_than_its_tolerance_everywhere_is_refused_not_empty():
+    """A 100 x 0.5 bar ⊕ a disk of radius 0.1 at tol 20: every part of the sum is
+    thinner than the features that tolerance keeps, and an empty result would be
+    infinitely far from the exact sum: LimitError with a tolerance that works (the
+    sum at it lies within it of the exact one: the bar grown by 0.1, by shapely)."""
+    from shapely.geometry import Polygon, box
+
+    from morph.errors import LimitError
+
+    bar = [[pc.line((0, 0), (100, 0)), pc.line((100, 0), (100, 0.5)),
+            pc.line((100, 0.5), (0, 0.5)), pc.line((0, 0.5), (0, 0))]]
+    disk = [pc.circle((0, 0), 0.1)]
+    with pytest.raises(LimitError, match="nothing is left") as info:
+        minkowski_sum(bar, disk, 20.0)
+    tol = info.value.suggestion
+    assert 0 < tol < 20.0
+    out = minkowski_sum(bar, disk, tol)
+    exact = box(0, 0, 100, 0.5).buffer(0.1)
+    ours = Polygon(pc.flatten_loop(out[0], 1e-3))
+    assert exact.hausdorff_distance(ours) <= tol
+    with pytest.raises(LimitError, match="region 1"):
+        minkowski_sums([[pc.circle((0, 0), 50.0)], bar], disk, 20.0)
