@@ -60,9 +60,9 @@ def merge_lenses(loops, outer, eps, near=None, max_rounds=64):
     and their exact pieces then cross in a thin lens (winding 2 inside it).  Their
     union is the outside arc of each between the two crossings (found on polylines
     within eps / 10, refined by Newton on the exact pieces; the outside arc is the
-    one whose middle the other loop does not wind around).  Only outer loops whose
-    control boxes overlap are searched; pairs crossing any other number of times
-    are left as they are."""
+    one whose middle the other loop does not wind around).  Only outer loops in a
+    ``near`` pair whose control boxes overlap are searched; pairs crossing any
+    other number of times are left as they are."""
     out = [list(loop) for loop in loops]
     outer = list(outer)
     near = {(min(i, j), max(i, j)) for i, j in near} if near is not None else None
@@ -89,8 +89,9 @@ def _lens_pair(loops, outer, eps, groups, near):
     of the first pair of outer loops, near each other (some of their original
     loops a pair in ``near``, None: all) with overlapping control boxes, whose
     pieces cross exactly twice; None if there is none."""
+    in_near = None if near is None else {i for pair in near for i in pair}
     ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)
-          and (near is None or any(i in pair for pair in near for i in groups[k]))]
+          and (in_near is None or groups[k] & in_near)]
     if len(ks) < 2:
         return None
     pieces = [p for k in ks for p in loops[k]]
