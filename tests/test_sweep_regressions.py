@@ -134,10 +134,11 @@ SWEEP_REGRESSIONS = [
     # whose strokes are all thinner than tol (0.048 of its size) summed to nothing;
     # now a LimitError naming tol / 10, at which the case passes
     ("nib/amiri/uniFDFD/40x40/10.2/325/0.048", "empty result"),
-    # fonts mode, seed 303, at commit 9ba0c51 (and 1ace8fa): open, see OPEN (dropping
-    # pieces shorter than remove_folds' width between two joins that turn by pi
-    # together fixes it but also erases whole thin regions: a 100 x 0.5 bar + a 0.1
-    # disk at tol 2 became a zero-area loop)
+    # fonts mode, seed 303, at commit 9ba0c51 (and 1ace8fa): the exact convolution has
+    # a needle (two lines 0.00065 apart, 89 units long, winding 2 inside, 1 around);
+    # its legs' ends rounded to the grid apart and the legs crossed: winding 0 inside,
+    # an open crack 0.004 wide and 65 long.  Fixed by rounding segments through the
+    # hot pixels of the vertices they pass (trim.flatten._through_hot_pixels)
     ("pair/amiri/uniFDB3/uniFCE4/0.0001",
      "straddle: a boundary point of an island (loop 3, area 61934) lies more than "
      "tol + 2f inside the exact sum"),
@@ -172,11 +173,7 @@ SLOW = {
 }
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
-OPEN = {
-    "pair/amiri/uniFDB3/uniFCE4/0.0001":
-        "a zero-width spike 656 tol long whose turn of pi is split by a 0.01-unit piece "
-        "(joins of 20 and 160 degrees): remove_folds sees no fold",
-}
+OPEN = {}
 
 
 def _params(cases, still_open, slow):
@@ -273,11 +270,7 @@ ICON_SLOW = set()
 # icon cases the engine still fails (strict xfail: remove the entry once it passes)
 # (bank-outline and alpha-f: untangle judged the larger part of a cut loop as the lobe;
 # book-edit: the hole test's grid missed a thin hole; both fixed)
-ICON_OPEN = {
-    "pair/amiri/uniFDB3/uniFCE4/0.0001":
-        "a zero-width spike 656 tol long whose turn of pi is split by a 0.01-unit piece "
-        "(joins of 20 and 160 degrees): remove_folds sees no fold",
-}
+ICON_OPEN = {}
 
 
 @pytest.mark.parametrize("name", _params(ICON_REGRESSIONS, ICON_OPEN, ICON_SLOW))

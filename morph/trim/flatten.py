@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import piece as pc
+from ..polyline import BoxGrid
 
 
 @dataclass
@@ -66,21 +67,89 @@ def tag_loops(loops, eps, grid, origin=None):
     origin = np.asarray(origin, float)
     q = np.rint((xy - origin) / grid).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
-    q, pid, ts, loop_of = q[keep], pid[keep], ts[keep], loop_of[keep]
+    q, pid, ts, loop_of, xy = q[keep], pid[keep], ts[keep], loop_of[keep], xy[keep]
     # loops with fewer than three vertices enclose nothing on the grid
     counts = np.bincount(loop_of, minlength=len(loops))
     ok = counts[loop_of] >= 3
-    q, pid, ts, loop_of = q[ok], pid[ok], ts[ok], loop_of[ok]
-    first = np.flatnonzero(np.diff(loop_of, prepend=-1))  # loop_of is sorted, >= 0
-    starts = np.append(first, len(q))
-    idx = np.arange(len(q))
+    q, pid, ts, loop_of, xy = q[ok], pid[ok], ts[ok], loop_of[ok], xy[ok]
+    nxt, prv, starts = _links(loop_of)
+    if len(q):
+        q, pid, ts, loop_of = _through_hot_pixels(q, (xy - origin) / grid, pid, ts, loop_of, nxt)
+        nxt, prv, starts = _links(loop_of)
+    same = (pid[nxt] == pid) & (ts[nxt] > ts)
+    t1 = np.where(same, ts[nxt], 1.0)
+    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
+
+
+def _links(loop_of):
+    """(nxt, prv, starts) of closed loops stored one after another (loop_of sorted)."""
+    first = np.flatnonzero(np.diff(loop_of, prepend=-1))
+    starts = np.append(first, len(loop_of))
+    idx = np.arange(len(loop_of))
     nxt = idx + 1
     nxt[starts[1:] - 1] = starts[:-1]
     prv = idx - 1
     prv[starts[:-1]] = starts[1:] - 1
-    same = (pid[nxt] == pid) & (ts[nxt] > ts)
-    t1 = np.where(same, ts[nxt], 1.0)
-    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
+    return nxt, prv, starts
+
+
+def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
+    """Each segment routed through the grid points of the vertices whose pixels (unit
+    squares around them) its unrounded form crosses: snap rounding (Hobby) with the
+    vertices' pixels hot.
+
+    Rounding each vertex on its own can invert two segments closer than a grid
+    step (a needle of two near-coincident legs whose ends round apart: its inside
+    changes winding, an open crack in a filled region).  Through the same hot
+    pixels, such legs round to the same grid path, and near-parallel segments keep
+    their order.  x: unrounded positions in grid units; a vertex put on a segment
+    gets that segment's piece and a parameter interpolated along it.  The rounded
+    polyline stays within sqrt(2) / 2 grid units of the unrounded one.
+    """
+    a, b = x, x[nxt]
+    grid = BoxGrid(np.minimum(a, b) - 0.5, np.maximum(a, b) + 0.5)
+    hot, hot_of = _unique_rows(q)
+    h, s = grid.at_points(hot.astype(float))
+    c = hot[h].astype(float)
+    # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
+    keep = np.flatnonzero((grid.lo[s, 0] < c[:, 0]) & (grid.hi[s, 0] > c[:, 0])
+                          & (grid.lo[s, 1] < c[:, 1]) & (grid.hi[s, 1] > c[:, 1])
+                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
+    h, s, c = h[keep], s[keep], c[keep]
+    keep = _line_crosses_square(a[s], b[s], c)
+    h, s, c = h[keep], s[keep], c[keep]
+    if not len(s):
+        return q, pid, ts, loop_of
+    d = b[s] - a[s]
+    u = np.clip(np.einsum("ij,ij->i", c - a[s], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),
+                0.0, 1.0)
+    t_end = np.where((pid[nxt[s]] == pid[s]) & (ts[nxt[s]] > ts[s]), ts[nxt[s]], 1.0)
+    # the new vertices after their segment's start, in order along it
+    key = np.concatenate([np.arange(len(q), dtype=float), s + 0.5 * (1.0 + u) / (1.0 + 1e-9)])
+    order = np.argsort(key, kind="stable")
+    q = np.concatenate([q, hot[h]])[order]
+    pid = np.concatenate([pid, pid[s]])[order]
+    ts = np.concatenate([ts, ts[s] + u * (t_end - ts[s])])[order]
+    loop_of = np.concatenate([loop_of, loop_of[s]])[order]
+    return q, pid, ts, loop_of
+
+
+def _unique_rows(q):
+    """(distinct rows of an (n, 2) integer array, the index of each row among them)."""
+    o = np.lexsort((q[:, 1], q[:, 0]))
+    r = q[o]
+    new = np.concatenate(([True], np.any(r[1:] != r[:-1], axis=1)))
+    of = np.empty(len(q), np.int64)
+    of[o] = np.cumsum(new) - 1
+    return r[new], of
+
+
+def _line_crosses_square(a, b, c):
+    """Whether the lines through a and b cross the unit squares centred at c (not
+    just touch): |d x (c - a)| < (|d_x| + |d_y|) / 2, d = b - a.  For a segment
+    whose box overlaps the square, the same as the segment crossing it."""
+    d, w = b - a, c - a
+    return np.abs(d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0]) < 0.5 * (np.abs(d[:, 0]) + np.abs(d[:, 1]))
 
 
 def _merge_equal(q, is_start, loop_of):
