@@ -4,7 +4,9 @@ The paper's shape: a polygonal sweep on approximations decides the topology, the
 the exact curves give the geometry.  Here:
 
 1. :mod:`.flatten`: every piece flattened within ``eps`` (certified), vertices
-   snapped to an integer grid of unit ``grid`` and tagged (piece, t).
+   snapped to an integer grid of unit ``grid`` and tagged (piece, t); segments
+   routed through the hot pixels they cross (snap rounding: near-coincident
+   segments keep their order).
 2. :mod:`.topology`: Clipper's union under the fill rule ("positive" — winding > 0,
    the rule for oriented convolution loops — "nonzero" or "evenodd") on the
    integer polylines: a consistent planar subdivision every time, coincident

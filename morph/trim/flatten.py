@@ -8,7 +8,10 @@ Each vertex keeps its tag (piece index, parameter t); each segment runs from its
 vertex to the next one of its loop and carries the parameter range [t0, t1] on the
 piece of its start vertex.  Vertices that fall into one grid point are merged,
 keeping the start of a piece where there is one (a piece shorter than the grid
-vanishes and its neighbours meet at the grid point).
+vanishes and its neighbours meet at the grid point).  Segments are then routed
+through the grid points of the other vertices whose pixels they cross (snap
+rounding with the vertices' pixels hot): two segments closer than a grid step keep
+their order or coincide, where rounding their ends on their own could swap them.
 """
 
 from dataclasses import dataclass
