@@ -128,8 +128,10 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
                 0.0, 1.0)
     t_end = np.where((pid[nxt[s]] == pid[s]) & (ts[nxt[s]] > ts[s]), ts[nxt[s]], 1.0)
     # the new vertices after their segment's start, in order along it
-    key = np.concatenate([np.arange(len(q), dtype=float), s + 0.5 * (1.0 + u) / (1.0 + 1e-9)])
-    order = np.argsort(key, kind="stable")
+    n = len(q)
+    order = np.lexsort((np.concatenate([np.zeros(n), u]),
+                        np.concatenate([np.zeros(n, np.int8), np.ones(len(s), np.int8)]),
+                        np.concatenate([np.arange(n), s])))
     q = np.concatenate([q, hot[h]])[order]
     pid = np.concatenate([pid, pid[s]])[order]
     ts = np.concatenate([ts, ts[s] + u * (t_end - ts[s])])[order]
