@@ -61,6 +61,11 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   exact sum.  The same test on a ladder of
   radii c·tol + 2f (c = 1, 1/2, ... 1/64) gives each point's error bound; the worst,
   over tol, is reported (it includes the oracle slack 2f = tol/32);
+- dense (budget, every vertex of the loops flattened within tol/64, not a sample:
+  a thin spike or crack has its tip at a junction, a vertex): a lower bound of the
+  vertex's distance to the exact boundary (``NibOracle.distance_bound``: |d - 1| or
+  d + 1 in M⁻¹ space times the smaller radius, less f and tol/64) must not exceed
+  tol + 2f;
 - membership (holes right): random points in the box, points 0.6 tol inside and
   outside the reference boundary, and the label (deepest) point of every hole and
   every filled part, both ours and the reference's: wherever the point is farther
@@ -309,6 +314,7 @@ class NibOracle:
 
         c, s = math.cos(theta), math.sin(theta)
         self.minv = np.array([[c / rx, s / rx], [-s / ry, c / ry]])
+        self.r_min = min(rx, ry)
         m = self.minv
         self.g = shapely.affinity.affine_transform(geom, [m[0, 0], m[0, 1], m[1, 0],
                                                           m[1, 1], 0.0, 0.0])
@@ -324,6 +330,20 @@ class NibOracle:
         inside = shapely.contains_xy(self.g, q[:, 0], q[:, 1]) if self.areal \
             else np.zeros(len(q), bool)
         return inside | (self.index.distance(q) <= 1.0)
+
+    def distance_bound(self, pts):
+        """A lower bound of each point's distance to the boundary of A ⊕ E, exact up
+        to the flattening of A: in M⁻¹ space the boundary is where the distance d to
+        A is 1, so a point at distance d outside A lies |d - 1| from it, one at depth d
+        inside A at least d + 1 (triangle inequality); M stretches lengths by at least
+        the smaller radius."""
+        import shapely
+
+        q = np.asarray(pts, float).reshape(-1, 2) @ self.minv.T
+        d = self.index.distance(q)
+        inside = shapely.contains_xy(self.g, q[:, 0], q[:, 1]) if self.areal \
+            else np.zeros(len(q), bool)
+        return self.r_min * np.where(inside, d + 1.0, np.abs(d - 1.0))
 
     def reference(self, quad_segs=256):
         """Polygon of A ⊕ E: M (M⁻¹A buffered by 1), arcs inscribed (error <= 1 -
@@ -498,6 +518,20 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
                                                    "; " + where if where else ""))
     ours_index = SegmentIndex(np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1)
                                               for r in rings]))
+    if hasattr(oracle, "distance_bound"):
+        # every vertex of the polylines within tol/64 (a spike's or a crack's tip is a
+        # junction, always a vertex), not a sample: a rigorous lower bound of its
+        # distance to the exact boundary (less the oracle's flattening f and the
+        # polyline's tol/64) must stay within tol + 2f
+        allv = np.concatenate(rings)
+        far = oracle.distance_bound(allv) - f - tol / 64
+        res["dense/tol"] = float(far.max() / tol)
+        if far.max() > tol + slack:
+            k = int(np.argmax(far))
+            fail.append("dense: %d of %d boundary vertices lie more than tol + 2f from the "
+                        "exact boundary (up to %.3g tol), e.g. %s"
+                        % ((far > tol + slack).sum(), len(allv), far.max() / tol,
+                           np.array2string(allv[k], precision=12, separator=", ")))
 
     def winding(x):
         return R.winding_number(x, rings)

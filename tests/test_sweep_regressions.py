@@ -284,3 +284,38 @@ def test_icon_case(name):
     rec = {}
     check_op(region, op, size, rec)
     assert "wrong" not in rec, rec["wrong"]
+
+
+def test_the_checker_finds_a_crack_no_sample_hits():
+    """bench.sweep.verify's dense check: a crack 20 tol deep and 1e-3 tol wide cut into
+    a correct square ⊕ ellipse (as the uniFDB3 crack was, found by one of 150
+    samples) fails it at every seed; the correct sum passes."""
+    import numpy as np
+    import shapely
+
+    from bench.sweep import NibOracle, verify
+    from morph import piece as pc
+    from morph.minkowski import minkowski_sum
+
+    rx, ry, theta, tol = 3.0, 1.0, 0.5, 0.01
+    pts = [(0.0, 0.0), (40.0, 0.0), (40.0, 40.0), (0.0, 40.0)]
+    square = [[pc.line(pts[i], pts[(i + 1) % 4]) for i in range(4)]]
+    loops = minkowski_sum(square, [pc.ellipse([0.0, 0.0], rx, ry, theta)], tol)
+    oracle = NibOracle(shapely.Polygon(pts), rx, ry, theta)
+    f = tol / 64
+    ok = verify(loops, oracle, tol, f, 46.0, np.random.default_rng(0), n_boundary=20)
+    assert not ok["fail"], ok["fail"]
+    # the crack: at the middle of the longest piece, in along the inward normal and out
+    loop = loops[0]
+    k = int(np.argmax([np.hypot(*(pc.end(p) - pc.start(p))) for p in loop]))
+    head, tail = pc.subsegment(loop[k], 0.0, 0.5), pc.subsegment(loop[k], 0.5, 1.0)
+    x, d = pc.end(head), pc.end(loop[k]) - pc.start(loop[k])
+    inward = np.array([-d[1], d[0]]) / np.hypot(*d)
+    along = d / np.hypot(*d) * 1e-3 * tol
+    tip = x + 20 * tol * inward
+    cracked = loop[:k] + [head, pc.line(x, tip), pc.line(tip, x + along),
+                          pc.with_endpoints(tail, x + along, pc.end(tail))] + loop[k + 1:]
+    for seed in range(3):
+        bad = verify([cracked], oracle, tol, f, 46.0, np.random.default_rng(seed),
+                     n_boundary=20)
+        assert any(m.startswith("dense:") for m in bad["fail"]), bad["fail"]
