@@ -55,7 +55,8 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   loops cross or touch (the loops flattened within tol/64 form a simple linework;
   a crossing is confirmed at tol/1024 before it counts);
 - orientation: the winding number of the output loops is 0 or 1 everywhere probed;
-- straddle (budget): for boundary samples (4 per piece, up to 600), the disk of
+- straddle (budget): for boundary samples (4 per piece, up to 600, every junction
+  turning by more than 90 degrees among them: a spike's or crack's tip), the disk of
   radius d = tol + 2f around the point (both normal points and 24 points of its
   circle; where these miss, 1440 dense probes) must hold points in and out of the
   exact sum.  The same test on a ladder of
@@ -387,7 +388,22 @@ def straddle_probes(pts, nrm, d, n_ring=24):
                            pts[:, None, :] + d * ring[None, :, :]], axis=1)
 
 
-def boundary_samples(loops, ts=(0.0, 1 / 6, 0.5, 5 / 6)):
+SAMPLE_TS = (0.0, 1 / 6, 0.5, 5 / 6)
+
+
+def _sharp_starts(loops, cos_max=0.0):
+    """Per piece of ``loops`` (in order): whether its start is a junction where the
+    boundary turns by more than acos(cos_max)."""
+    from morph import piece as pc
+
+    out = []
+    for loop in loops:
+        first, last = pc.end_tangents_many(loop, strict=False)
+        out.append(np.einsum("ij,ij->i", np.roll(last, 1, axis=0), first) < cos_max)
+    return np.concatenate(out) if out else np.zeros(0, bool)
+
+
+def boundary_samples(loops, ts=SAMPLE_TS):
     """Points and unit outward normals (right of travel) at parameters ``ts`` of every
     piece; points where the derivative vanishes get a zero normal (ring probes only)."""
     from morph import piece as pc
@@ -539,7 +555,12 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     # straddle ladder
     pts, nrm = boundary_samples(loops)
     if len(pts) > n_boundary:
-        pick = rng.choice(len(pts), n_boundary, replace=False)
+        # junctions turning by more than 90 degrees always (a spike's or a crack's
+        # tip is one), the rest drawn at random
+        sharp = np.flatnonzero(_sharp_starts(loops)) * len(SAMPLE_TS)
+        rest = np.setdiff1d(np.arange(len(pts)), sharp)
+        more = max(n_boundary - len(sharp), 0)
+        pick = np.concatenate([sharp, rng.choice(rest, min(more, len(rest)), replace=False)])
         pts, nrm = pts[pick], nrm[pick]
     res["samples"] = len(pts)
     err = np.full(len(pts), np.inf)       # error bound per point (over tol)
