@@ -403,6 +403,14 @@ def _sharp_starts(loops, cos_max=0.0):
     return np.concatenate(out) if out else np.zeros(0, bool)
 
 
+def _sharp_points(loops):
+    """The junction points where the boundary turns by more than 90 degrees."""
+    from morph import piece as pc
+
+    starts = np.array([pc.start(p) for loop in loops for p in loop]).reshape(-1, 2)
+    return starts[_sharp_starts(loops)]
+
+
 def boundary_samples(loops, ts=SAMPLE_TS):
     """Points and unit outward normals (right of travel) at parameters ``ts`` of every
     piece; points where the derivative vanishes get a zero normal (ring probes only)."""
@@ -758,9 +766,13 @@ def check(font, a_name, b_name, tol, seed=0):
     d = tol + slack
     oracle = Oracle(a, b, 1e-3)
     pts, nrm = _boundary_samples(loops)
+    sharp = _sharp_points(loops)
     if len(pts) > 40:
         pick = rng.choice(len(pts), 40, replace=False)
         pts, nrm = pts[pick], nrm[pick]
+    # and every junction turning by more than 90 degrees (a spike's or crack's tip)
+    pts = np.concatenate([pts, sharp])
+    nrm = np.concatenate([nrm, np.zeros_like(sharp)])
     inside = straddle(oracle, pts, nrm, d)
     bad_out = ~inside.any(axis=1)
     bad_in = inside.all(axis=1)
