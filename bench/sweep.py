@@ -391,26 +391,6 @@ def straddle_probes(pts, nrm, d, n_ring=24):
 SAMPLE_TS = (0.0, 1 / 6, 0.5, 5 / 6)
 
 
-def _sharp_starts(loops, cos_max=0.0):
-    """Per piece of ``loops`` (in order): whether its start is a junction where the
-    boundary turns by more than acos(cos_max)."""
-    from morph import piece as pc
-
-    out = []
-    for loop in loops:
-        first, last = pc.end_tangents_many(loop, strict=False)
-        out.append(np.einsum("ij,ij->i", np.roll(last, 1, axis=0), first) < cos_max)
-    return np.concatenate(out) if out else np.zeros(0, bool)
-
-
-def _sharp_points(loops):
-    """The junction points where the boundary turns by more than 90 degrees."""
-    from morph import piece as pc
-
-    starts = np.array([pc.start(p) for loop in loops for p in loop]).reshape(-1, 2)
-    return starts[_sharp_starts(loops)]
-
-
 def boundary_samples(loops, ts=SAMPLE_TS):
     """Points and unit outward normals (right of travel) at parameters ``ts`` of every
     piece; points where the derivative vanishes get a zero normal (ring probes only)."""
@@ -502,6 +482,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
 
     from morph import piece as pc
     from tests import reference as R
+    from tests.test_minkowski import sharp_starts
 
     res = {"fail": [], "thin": 0}
     fail = res["fail"]
@@ -565,7 +546,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     if len(pts) > n_boundary:
         # junctions turning by more than 90 degrees always (a spike's or a crack's
         # tip is one), the rest drawn at random
-        sharp = np.flatnonzero(_sharp_starts(loops)) * len(SAMPLE_TS)
+        sharp = np.flatnonzero(sharp_starts(loops)) * len(SAMPLE_TS)
         rest = np.setdiff1d(np.arange(len(pts)), sharp)
         more = max(n_boundary - len(sharp), 0)
         pick = np.concatenate([sharp, rng.choice(rest, min(more, len(rest)), replace=False)])
@@ -735,7 +716,8 @@ def check(font, a_name, b_name, tol, seed=0):
     from morph import piece as pc
     from morph.minkowski import minkowski_sum
     from tests import reference as R
-    from tests.test_minkowski import Oracle, _boundary_samples, _inside, straddle
+    from tests.test_minkowski import (Oracle, _boundary_samples, _inside, _sharp_junctions,
+                                      straddle)
 
     a, b = shape(font, a_name), shape(font, b_name)
     res = {"font": font, "a": a_name, "b": b_name, "fail": [], "error": 0.0}
@@ -766,7 +748,7 @@ def check(font, a_name, b_name, tol, seed=0):
     d = tol + slack
     oracle = Oracle(a, b, 1e-3)
     pts, nrm = _boundary_samples(loops)
-    sharp = _sharp_points(loops)
+    sharp = _sharp_junctions(loops)
     if len(pts) > 40:
         pick = rng.choice(len(pts), 40, replace=False)
         pts, nrm = pts[pick], nrm[pick]

@@ -94,6 +94,22 @@ def straddle(oracle, pts, nrm, d, n_ring=24):
     return oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
 
 
+def sharp_starts(loops, cos_max=0.0):
+    """Per piece of ``loops`` (in order): whether its start is a junction where the
+    boundary turns by more than acos(cos_max)."""
+    out = []
+    for loop in loops:
+        first, last = pc.end_tangents_many(loop, strict=False)
+        out.append(np.einsum("ij,ij->i", np.roll(last, 1, axis=0), first) < cos_max)
+    return np.concatenate(out) if out else np.zeros(0, bool)
+
+
+def _sharp_junctions(loops):
+    """Junction points where the boundary turns by more than 90 degrees, (k, 2)."""
+    starts = np.array([pc.start(p) for loop in loops for p in loop], float).reshape(-1, 2)
+    return starts[sharp_starts(loops)]
+
+
 def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
     return check_loops(minkowski_sum(a, b, tol), a, b, tol, slack, rng, n_random, max_boundary)
 
@@ -106,6 +122,10 @@ def check_loops(loops, a, b, tol, slack, rng, n_random=60, max_boundary=80):
     if len(pts) > max_boundary:
         pick = rng.choice(len(pts), max_boundary, replace=False)
         pts, nrm = pts[pick], nrm[pick]
+    # and every junction turning by more than 90 degrees: a spike's or crack's tip
+    # (the ring probes judge it; a corner has no one normal)
+    sharp = _sharp_junctions(loops)
+    pts, nrm = np.concatenate([pts, sharp]), np.concatenate([nrm, np.zeros_like(sharp)])
     inside = straddle(oracle, pts, nrm, tol + slack)
     assert inside.any(axis=1).all(), "boundary point farther than tol+slack outside"
     assert (~inside).any(axis=1).all(), "boundary point farther than tol+slack inside"
