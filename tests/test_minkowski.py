@@ -94,7 +94,12 @@ def straddle(oracle, pts, nrm, d, n_ring=24):
     return oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
 
 
-def sharp_starts(loops, cos_max=0.0):
+#: a spike's or crack's tip turns by pi, in one junction or over a few (uniFDB3's:
+#: 160 and 20 degrees): junctions turning by more than 45 degrees are its candidates
+SHARP_COS = np.cos(np.pi / 4)
+
+
+def sharp_starts(loops, cos_max=SHARP_COS):
     """Per piece of ``loops`` (in order): whether its start is a junction where the
     boundary turns by more than acos(cos_max)."""
     out = []
@@ -105,7 +110,7 @@ def sharp_starts(loops, cos_max=0.0):
 
 
 def _sharp_junctions(loops):
-    """Junction points where the boundary turns by more than 90 degrees, (k, 2)."""
+    """Junction points where the boundary turns by more than 45 degrees, (k, 2)."""
     starts = np.array([pc.start(p) for loop in loops for p in loop], float).reshape(-1, 2)
     return starts[sharp_starts(loops)]
 
@@ -122,7 +127,7 @@ def check_loops(loops, a, b, tol, slack, rng, n_random=60, max_boundary=80):
     if len(pts) > max_boundary:
         pick = rng.choice(len(pts), max_boundary, replace=False)
         pts, nrm = pts[pick], nrm[pick]
-    # and every junction turning by more than 90 degrees: a spike's or crack's tip
+    # and every junction turning by more than 45 degrees: a spike's or crack's tip
     # (the ring probes judge it; a corner has no one normal)
     sharp = _sharp_junctions(loops)
     pts, nrm = np.concatenate([pts, sharp]), np.concatenate([nrm, np.zeros_like(sharp)])
