@@ -719,7 +719,7 @@ def check(font, a_name, b_name, tol, seed=0):
     from morph.minkowski import minkowski_sum
     from tests import reference as R
     from tests.test_minkowski import (Oracle, _boundary_samples, _inside, _sharp_junctions,
-                                      straddle)
+                                      straddle_sides)
 
     a, b = shape(font, a_name), shape(font, b_name)
     res = {"font": font, "a": a_name, "b": b_name, "fail": [], "error": 0.0}
@@ -757,9 +757,8 @@ def check(font, a_name, b_name, tol, seed=0):
     # and every junction turning by more than 45 degrees (a spike's or crack's tip)
     pts = np.concatenate([pts, sharp])
     nrm = np.concatenate([nrm, np.zeros_like(sharp)])
-    inside = straddle(oracle, pts, nrm, d)
-    bad_out = ~inside.any(axis=1)
-    bad_in = inside.all(axis=1)
+    has_in, has_out = straddle_sides(oracle, pts, nrm, d)
+    bad_out, bad_in = ~has_in, ~has_out
     if bad_out.any():
         res["fail"].append("straddle: %d boundary points > tol+slack outside the sum, e.g. %s"
                            % (bad_out.sum(), np.round(pts[bad_out][0], 3).tolist()))
