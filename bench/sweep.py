@@ -62,7 +62,8 @@ reference flattening) x perimeter, Hausdorff distance within tol + reference err
   exact sum.  The same test on a ladder of
   radii c·tol + 2f (c = 1, 1/2, ... 1/64) gives each point's error bound; the worst,
   over tol, is reported (it includes the oracle slack 2f = tol/32);
-- dense (budget, every vertex of the loops flattened within tol/64, not a sample:
+- dense (budget; random and stroke modes, whose oracle gives distances: every
+  vertex of the loops flattened within tol/64, not a sample:
   a thin spike or crack has its tip at a junction, a vertex): a lower bound of the
   vertex's distance to the exact boundary (``NibOracle.distance_bound``: |d - 1| or
   d + 1 in M⁻¹ space times the smaller radius, less f and tol/64) must not exceed
