@@ -142,6 +142,15 @@ SWEEP_REGRESSIONS = [
     ("pair/amiri/uniFDB3/uniFCE4/0.0001",
      "straddle: a boundary point of an island (loop 3, area 61934) lies more than "
      "tol + 2f inside the exact sum"),
+    # random mode, seed 1357, found at 827e38e (the snap rounding moved a crossing of a
+    # QAC cusp piece onto the grid point of a joint one grid step away: the lift paired
+    # the wrong pieces, Newton failed, and the run ended at the parameter interpolated
+    # along its segment, 0.2 units off; snapping it to the junction bent the piece into
+    # a hump 1.2 tol high, at 30 of 30 sub-grid shifts).  Fixed: a junction Newton
+    # misses takes each piece's nearest point within its segment's range
+    # (lift._nearest_in_range)
+    ("nib/cormorant/U/60x8/120.7/0.0319/0.009",
+     "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
 ]
 
 # cases whose check takes more than ~3 s on one core (loaded machine)
