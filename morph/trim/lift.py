@@ -8,8 +8,11 @@ edges on consecutive segments of one piece form a *run*: the piece restricted to
 joint of two consecutive pieces, their shared end is the junction; elsewhere they
 meet at a crossing, refined by Newton iteration on the two exact pieces (the
 paper's Fig. 33), all crossings in one batch.  A crossing where Newton does not
-converge near the polyline crossing (near-tangent pieces) keeps the polyline's
-parameters and grid point, within eps + grid/sqrt(2) of both pieces.
+converge near the polyline crossing (near-tangent pieces, or a crossing rounded onto
+a joint's grid point, so that the ring pairs the wrong pieces) keeps the grid point,
+and each of its runs ends at its piece's point nearest to it within the segment's
+parameter range (within eps + grid/sqrt(2) of it), not at a parameter interpolated
+along the segment.
 """
 
 import numpy as np
