@@ -278,6 +278,21 @@ def nearest_params_many(c, pts, samples=65, iters=4):
     return closest_params_many(c, pts, grid[np.argmin(d2, axis=2)], iters, jet)
 
 
+def nearest_params_in_range(c, pts, lo, hi, samples=17):
+    """Parameters in [lo, hi] of the pieces of a stack c (k, n+1, 3) nearest to
+    points pts (k, 2): the nearest of ``samples`` equally spaced parameters of each
+    range, then Newton (:func:`closest_params_many`), kept in the range.  Returns
+    s (k,)."""
+    lo, hi = np.minimum(lo, hi), np.maximum(lo, hi)
+    c = np.asarray(c, float)
+    pts = np.asarray(pts, float)
+    s = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, samples)[None]
+    p = jet2_many(c, s)[0]
+    best = s[np.arange(len(s)), np.argmin(((p - pts[:, None, :]) ** 2).sum(-1), axis=1)]
+    s = closest_params_many(c, pts[:, None, :], best[:, None], iters=4)[:, 0]
+    return np.clip(s, lo, hi)
+
+
 def distance_bound_many(c, q, halvings=1):
     """Certified bound of max_s |R_k(s) - Q_k(s)| (same parameter s in [0, 1]) for
     rational pieces c (k, n+1, 3), R = X / W with W > 0, and polynomial curves q

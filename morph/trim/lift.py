@@ -75,9 +75,10 @@ def lift_rings(rings, tg, contract, return_rings=False):
         # to the junction would bend the piece that far)
         bad = ~ok
         if bad.any():
-            ta[bad] = _nearest_in_range(stacked, ia[bad], t0[k[bad]], t1[k[bad]], guess[bad])
-            tb[bad] = _nearest_in_range(stacked, ib[bad], t0[nx[k[bad]]], t1[nx[k[bad]]],
-                                        guess[bad])
+            ta[bad] = pc.nearest_params_in_range(stacked[ia[bad]], guess[bad], t0[k[bad]],
+                                                 t1[k[bad]])
+            tb[bad] = pc.nearest_params_in_range(stacked[ib[bad]], guess[bad],
+                                                 t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
     runs = _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, tg.pieces)
@@ -85,23 +86,6 @@ def lift_rings(rings, tg, contract, return_rings=False):
     out = [_close(pieces, ends, contract) for pieces, ends in runs]
     kept = [k for k, loop in enumerate(out) if loop]
     return ([out[k] for k in kept], kept) if return_rings else [out[k] for k in kept]
-
-
-#: samples of a segment's parameter range that seed the nearest-point search
-RANGE_SAMPLES = 17
-
-
-def _nearest_in_range(stacked, idx, lo, hi, pts):
-    """Parameters in [lo, hi] of the pieces stacked[idx] nearest to pts (m, 2): the
-    nearest of RANGE_SAMPLES equally spaced parameters, then Newton
-    (:func:`morph.piece.closest_params_many`), kept in the range."""
-    lo, hi = np.minimum(lo, hi), np.maximum(lo, hi)
-    c = stacked[idx]
-    s = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, RANGE_SAMPLES)[None]
-    p = pc.jet2_many(c, s)[0]
-    best = s[np.arange(len(s)), np.argmin(((p - pts[:, None, :]) ** 2).sum(-1), axis=1)]
-    s = pc.closest_params_many(c, pts[:, None, :], best[:, None], iters=4)[:, 0]
-    return np.clip(s, lo, hi)
 
 
 def _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, pieces):

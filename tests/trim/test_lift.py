@@ -81,10 +81,10 @@ def test_boundary_of_two_crossing_circles_is_exact_arcs():
 
 
 def test_nearest_in_range_against_dense_sampling():
-    """lift._nearest_in_range (where a crossing's Newton fails, each run ends at its
-    piece's point nearest to the grid point within its segment's range) against the
-    nearest of 20001 samples of the range, on random rational pieces of uneven speed."""
-    from morph.trim.lift import _nearest_in_range
+    """piece.nearest_params_in_range (where a crossing's Newton fails, each run ends
+    at its piece's point nearest to the grid point within its segment's range) against
+    the nearest of 20001 samples of the range, on random rational pieces of uneven
+    speed."""
 
     rng = np.random.default_rng(5)
     m = 200
@@ -95,7 +95,7 @@ def test_nearest_in_range_against_dense_sampling():
     hi = np.minimum(lo + rng.uniform(0.01, 0.4, m), 1.0)
     mid = np.array([pc.evaluate(stacked[i], 0.5 * (lo[i] + hi[i]))[0] for i in range(m)])
     pts = mid + rng.normal(0, 0.05, (m, 2))
-    s = _nearest_in_range(stacked, np.arange(m), lo, hi, pts)
+    s = pc.nearest_params_in_range(stacked, pts, lo, hi)
     assert np.all((s >= lo) & (s <= hi))
     got = np.hypot(*(np.array([pc.evaluate(stacked[i], s[i])[0] for i in range(m)]) - pts).T)
     dense = np.array([np.hypot(*(pc.evaluate(stacked[i], np.linspace(lo[i], hi[i], 20001))
