@@ -856,7 +856,8 @@ def jobs(fonts, sets, pairs, nibs, tol):
 # A case is one string (the reproducer):
 #   nib/FONT/GLYPH/WxH/ANGLE/S/R      glyph ⊕ ellipse nib W x H at ANGLE degrees,
 #                                     everything scaled by S, tol = R x glyph size x S
-#   stroke/relief/GLYPH/WxH/ANGLE/S/R Relief skeleton glyph stroked by that nib
+#   stroke/SRC/NAME/WxH/ANGLE/S/R    skeleton NAME of SRC (relief: a Relief glyph; feather:
+#                                     a Feather icon) stroked by that nib
 #   pair/FONT/A/B/TOL_EM              glyph ⊕ glyph, checked by check()
 
 def parse_case(spec):
@@ -868,7 +869,7 @@ def parse_case(spec):
                     angle=float(parts[4]), s=float(parts[5]), r=float(parts[6]))
     if kind == "pair" and len(parts) == 5:
         return dict(kind=kind, font=parts[1], a=parts[2], b=parts[3], tol=float(parts[4]))
-    raise ValueError("bad case %r (nib/FONT/GLYPH/WxH/ANGLE/S/R, stroke/relief/GLYPH/"
+    raise ValueError("bad case %r (nib/FONT/GLYPH/WxH/ANGLE/S/R, stroke/SRC/NAME/"
                      "WxH/ANGLE/S/R or pair/FONT/A/B/TOL_EM)" % (spec,))
 
 
@@ -902,6 +903,47 @@ def relief_paths(name):
     return decomposed_paths(font, name)
 
 
+#: stroke-only icons (centre lines: open paths, circles, rects, polylines on a 24-unit
+#: grid), fetched from npm into the cache folder (MORPH_BENCH_CACHE, default
+#: ~/.cache/morph-bench) on first use; scaled to FEATHER_EM units per 24
+FEATHER = "feather-icons@4.29.2"
+FEATHER_EM = 1000.0
+
+
+@lru_cache(maxsize=1)
+def feather_dir():
+    import subprocess
+
+    cache = Path(os.environ.get("MORPH_BENCH_CACHE", Path.home() / ".cache" / "morph-bench"))
+    folder = cache / FEATHER.replace("@", "-")
+    icons = folder / "package" / "dist" / "icons"
+    if not icons.is_dir():
+        folder.mkdir(parents=True, exist_ok=True)
+        try:
+            tgz = subprocess.run(["npm", "pack", FEATHER, "--silent"], cwd=cache, check=True,
+                                 capture_output=True, text=True).stdout.split()[-1]
+            subprocess.run(["tar", "xzf", str(cache / tgz), "-C", str(folder)], check=True)
+        except (OSError, subprocess.CalledProcessError, IndexError) as exc:
+            raise SystemExit("bench.sweep: cannot fetch %s with npm: %s" % (FEATHER, exc))
+    return icons
+
+
+def feather_pool():
+    return sorted(f.stem for f in feather_dir().glob("*.svg"))
+
+
+def feather_paths(name):
+    from morph.parse import svg_paths
+
+    scale = np.array([FEATHER_EM / 24.0, FEATHER_EM / 24.0, 1.0])
+    return [([np.asarray(p, float) * scale for p in pieces], closed)
+            for pieces, closed in svg_paths(str(feather_dir() / (name + ".svg")))]
+
+
+#: skeleton sources of stroke cases: font key -> (pool, paths of one name)
+SKELETONS = {"relief": (relief_pool, relief_paths), "feather": (feather_pool, feather_paths)}
+
+
 def _paths_size(paths):
     from morph import piece as pc
 
@@ -920,7 +962,7 @@ def case_inputs(spec):
         tol = c["r"] * region_size(a) * c["s"]
         return scaled_region(a, c["s"]), _nib_region(c)[0], tol
     if c["kind"] == "stroke":
-        paths = relief_paths(c["glyph"])
+        paths = SKELETONS[c["font"]][1](c["glyph"])
         tol = c["r"] * _paths_size(paths) * c["s"]
         paths = [([np.asarray(p, float) * np.array([c["s"], c["s"], 1.0]) for p in pieces], cl)
                  for pieces, cl in paths]
@@ -1143,9 +1185,9 @@ def draw_random_cases(mode, n, seed, fonts):
     out = []
     while len(out) < n:
         if mode == "stroke":
-            font = "relief"
+            font = fonts[rng.integers(len(fonts))]
             if font not in pools:
-                pools[font] = relief_pool()
+                pools[font] = SKELETONS[font][0]()
             r = float("%.2g" % 10 ** rng.uniform(-4, -2))
         else:
             font = fonts[rng.integers(len(fonts))]
@@ -1166,7 +1208,7 @@ def draw_random_cases(mode, n, seed, fonts):
                 continue
         else:
             try:
-                if not any(len(p) for p, _ in relief_paths(g)):
+                if not any(len(p) for p, _ in SKELETONS[font][1](g)):
                     pools[font].remove(g)
                     continue
             except Exception:  # noqa: BLE001
@@ -1428,7 +1470,8 @@ def write_section(md_path, mode, title, body):
 
 TITLES = {"pairs": "Glyph pairs and fixed nibs (bundled fonts, one tolerance)",
           "random": "Randomised: glyph ⊕ ellipse nib, angles, aspects, tolerances, scales",
-          "stroke": "Strokes: Relief SingleLine skeletons ⊕ ellipse nibs (stroke_paths)",
+          "stroke": "Strokes: skeletons (Relief SingleLine, Feather icons) ⊕ ellipse nibs "
+                    "(stroke_paths)",
           "fonts": "Glyph pairs of other fonts (Lobster, Cormorant, Amiri)"}
 
 
@@ -1437,7 +1480,8 @@ def main(argv=None):
     ap.add_argument("--mode", default="pairs", choices=sorted(TITLES))
     ap.add_argument("--fonts", default=None,
                     help="pairs: ttf,cff (default); random: %s (default); fonts: "
-                    "lobster,cormorant,amiri (default); ebg (EB Garamond) is not in any default"
+                    "lobster,cormorant,amiri (default); ebg (EB Garamond) is not in any default; "
+                    "stroke: relief (default), feather (stroke-only icons, fetched with npm)"
                     % ",".join(RANDOM_FONTS))
     ap.add_argument("--set", default="both", choices=["upper", "lower", "both"])
     ap.add_argument("--nibs", action=argparse.BooleanOptionalAction, default=True)
@@ -1486,8 +1530,8 @@ def main(argv=None):
                  if f.strip()]
         todo = draw_font_pairs(opt.n, seed, fonts, tol_em=opt.tol)
     else:
-        fonts = [f.strip() for f in (opt.fonts or ",".join(RANDOM_FONTS)).split(",")
-                 if f.strip()]
+        default = "relief" if opt.mode == "stroke" else ",".join(RANDOM_FONTS)
+        fonts = [f.strip() for f in (opt.fonts or default).split(",") if f.strip()]
         todo = draw_random_cases(opt.mode, opt.n, seed, fonts)
     if opt.mode == "pairs" and opt.seed is not None and not opt.cases:
         # a budgeted or limited run then samples every font, set and nib evenly
