@@ -319,6 +319,8 @@ def _check_xml(root, label):
             if v is not None and v < 0:
                 raise ParseError("%s: %s has a negative %s (%s): an error in SVG"
                                  % (label, name, attr, el.get(attr)), label)
+        if el.get("viewBox") is not None:
+            _check_viewbox(el.get("viewBox"), "%s: %s" % (label, name), label)
         if el.get("transform") is not None:
             _check_transform(el.get("transform"), "%s: %s" % (label, name))
         style = el.get("style") or ""
@@ -339,6 +341,16 @@ def _check_xml(root, label):
 
 _TRANSFORM_RE = re.compile(r"\s*(?:(?:matrix|translate|scale|rotate|skewX|skewY)\s*\(\s*%s"
                            r"(?:\s*,?\s*%s)*\s*\)\s*,?\s*)*$" % (_NUMBER, _NUMBER))
+
+
+def _check_viewbox(value, where, source):
+    """A viewBox of zero width or height disables rendering (SVG 1.1, 7.7) and a
+    negative one is an error: both refused (nothing to sum), not divided by."""
+    nums = [float(v) for v in re.findall(_NUMBER, value)]
+    if len(nums) == 4 and (nums[2] <= 0 or nums[3] <= 0 or not np.all(np.isfinite(nums))):
+        raise ParseError("%s has a viewBox %r of %s width or height: nothing is drawn"
+                         % (where, _shorten(value), "zero" if min(nums[2:]) == 0
+                            else "negative or non-finite"), source)
 
 
 def _check_transform(value, where):

@@ -189,6 +189,19 @@ def test_negative_sizes_are_errors(body, what):
         svg_region(doc(body))
 
 
+@pytest.mark.parametrize("box,what", [("0 0 0 0", "zero"), ("0 0 100 0", "zero"),
+                                      ("0 0 100 -5", "negative"), ("0 0 1e400 10", "negative or non-finite")])
+def test_degenerate_viewbox_is_refused(box, what):
+    # SVG 1.1 7.7: zero width or height disables rendering, negative is an error; the
+    # viewport transform would divide by it (a ZeroDivisionError from svgelements)
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50" viewBox="%s">'
+           '<rect x="10" y="10" width="50" height="30"/></svg>' % box)
+    with pytest.raises(ParseError, match="viewBox .* of %s" % what):
+        svg_region(svg)
+    ok = svg.replace('viewBox="%s"' % box, 'viewBox="0 0 200 100"')
+    assert abs(pc.region_area(svg_region(ok)) - 1500) < 1e-9  # user units are kept
+
+
 def test_symbol_and_mask_content_not_drawn_directly():
     body = ('<symbol id="s"><rect width="50" height="50"/></symbol>'
             '<mask id="m"><rect width="100" height="100" fill="white"/></mask>'
