@@ -148,6 +148,40 @@ def polylines_cross(pieces, tol):
     return bool(np.any((u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)))
 
 
+def polylines_touch(polylines, reach):
+    """True if two edges of the closed ``polylines`` that are not consecutive along
+    one of them come within ``reach`` of each other: crossing, overlapping, touching
+    (a vertex visited twice, a loop's vertex on another's edge) or nearer than
+    ``reach``.  For polylines within ``reach / 2`` of their loops of curves, False
+    proves that the loops neither cross nor touch one another or themselves.  Unlike
+    :func:`near_segments`, only neighbours along a polyline are exempt, not every pair
+    that shares a point: a figure-8 whose lobes meet at a joint touches."""
+    polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
+    if not polys:
+        return False
+    a, b = polyline_edges(polys)
+    sizes = np.array([len(p) for p in polys])
+    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
+    pairs = _cell_pairs(grid)
+    if not len(pairs):
+        return False
+    i, j = pairs[:, 0], pairs[:, 1]
+    step = np.abs(i - j)
+    size = np.repeat(sizes, sizes)[i]
+    pairs = pairs[(first[i] != first[j]) | ((step != 1) & (step != size - 1))]
+    if not len(pairs):
+        return False
+    if len(segment_crossings(a, b, pairs)[0]):
+        return True
+    i, j = pairs[:, 0], pairs[:, 1]
+    gap = np.minimum(np.minimum(segment_distance(a[i], a[j], b[j]),
+                                segment_distance(b[i], a[j], b[j])),
+                     np.minimum(segment_distance(a[j], a[i], b[i]),
+                                segment_distance(b[j], a[i], b[i])))
+    return bool(np.any(gap <= reach))
+
+
 def polylines_apart(polylines, tol):
     """True if no two edges of closed ``polylines`` (each within tol of its loop of
     curves: :func:`morph.piece.flatten_loops`) that share no vertex come within 2 tol

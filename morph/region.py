@@ -17,7 +17,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (polyline_edges, polylines_apart, polylines_cross,  # noqa: F401
+from .polyline import (polyline_edges, polylines_apart, polylines_cross, polylines_touch,  # noqa: F401
                        unique, winding_number)
 
 __all__ = [
@@ -291,14 +291,18 @@ APART = 1e-3
 
 
 def _loops_cross(loops, scale, polys=None):
-    """True if the loops' polylines (within 1e-5 of the size) cross properly; False
-    at once where their arcs are far apart (:func:`morph.polyline.polylines_apart`
+    """True if the loops may cross or touch one another or themselves: their
+    polylines within f = 1e-5 of the size come within 2 f of each other anywhere but
+    between neighbouring edges (:func:`morph.polyline.polylines_touch`: a crossing
+    at a joint, a vertex visited twice, collinear overlaps, a zero-width spike);
+    False at once where their arcs are far apart (:func:`morph.polyline.polylines_apart`
     on the closed polylines ``polys`` within APART x ``scale``, made here when not
-    given)."""
+    given).  True is conservative: such loops are filled by the general trimming."""
     tol = APART * scale
     if polylines_apart(pc.flatten_loops(loops, tol) if polys is None else polys, tol):
         return False
-    return polylines_cross([p for loop in loops for p in loop], 1e-5 * scale)
+    fine = 1e-5 * scale
+    return polylines_touch(pc.flatten_loops(loops, fine), 2.0 * fine)
 
 
 # ------------------------------------------------------------------ measures

@@ -5,8 +5,8 @@ import shapely
 from shapely.geometry import LineString
 
 from morph import piece as pc
-from morph.polyline import (flatten_segments, polylines_apart, polylines_cross, segment_crossings,
-                            segment_pairs)
+from morph.polyline import (flatten_segments, polylines_apart, polylines_cross, polylines_touch,
+                            segment_crossings, segment_pairs)
 
 
 def _random_segments(rng, n):
@@ -102,3 +102,41 @@ def test_polylines_apart_is_a_sufficient_test():
     eight = [pc.line((0, 0), (2, 2)), pc.line((2, 2), (2, 0)), pc.line((2, 0), (0, 2)),
              pc.line((0, 2), (0, 0))]
     assert not apart(eight)
+
+
+def test_polylines_touch_against_shapely_distances():
+    """polylines_touch says whether two edges, not neighbours along one polyline, come
+    within reach: against shapely's distance of every such pair of edges, on random
+    closed polylines (random walks: they cross, touch and overlap themselves), on
+    polylines that visit a vertex twice (a figure-8 through a joint, two squares on a
+    shared edge), and on simple ones far apart."""
+    rng = np.random.default_rng(5)
+
+    def truth(polys, reach):
+        edges = [(k, i, p[i], p[(i + 1) % len(p)]) for k, p in enumerate(polys)
+                 for i in range(len(p))]
+        for x in range(len(edges)):
+            for y in range(x + 1, len(edges)):
+                (k, i, a, b), (m, j, c, d) = edges[x], edges[y]
+                n = len(polys[k])
+                if k == m and (abs(i - j) == 1 or abs(i - j) == n - 1):
+                    continue
+                if LineString([a, b]).distance(LineString([c, d])) <= reach:
+                    return True
+        return False
+
+    seen = set()
+    for _ in range(150):
+        polys = [np.cumsum(rng.normal(0, 1, (rng.integers(3, 9), 2)), axis=0) + rng.uniform(0, 30, 2)
+                 for _ in range(rng.integers(1, 3))]
+        reach = float(rng.choice([1e-9, 0.05, 0.5]))
+        got = polylines_touch(polys, reach)
+        assert got == truth(polys, reach)
+        seen.add(got)
+    assert seen == {True, False}
+    eight = np.array([[0, 0], [1, 1], [2, 0], [1, -1], [0, 0], [-1, 1], [-2, 0], [-1, -1.0]])
+    assert polylines_touch([eight], 1e-12)          # through the joint at the origin
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
+    assert polylines_touch([square, square + [1, 0]], 1e-12)   # a shared edge
+    assert not polylines_touch([square, square + [1.5, 0]], 0.1)
+    assert not polylines_touch([square], 1e-12)     # neighbours along a polyline meet

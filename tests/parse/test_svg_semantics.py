@@ -16,6 +16,7 @@ import pytest
 from morph import piece as pc
 from morph.errors import ParseError
 from morph.parse import svg_elements, svg_paths, svg_region
+from morph.polyline import polylines_cross
 from morph.region import point_in_region
 
 cairosvg = pytest.importorskip("cairosvg")
@@ -187,6 +188,50 @@ def test_line_is_a_centre_line_not_a_region():
 def test_negative_sizes_are_errors(body, what):
     with pytest.raises(ParseError, match=what):
         svg_region(doc(body))
+
+
+@pytest.mark.parametrize("d,rule", [
+    # lobes of opposite directions meeting at a joint: both filled under nonzero
+    ("M50 50 C 100 0 100 100 50 50 C 0 0 0 100 50 50 Z", "nonzero"),     # figure-8
+    ("M5 50 C 20 80 35 80 50 50 S 80 20 95 50 Z", "nonzero"),             # S of cubics
+    ("M5 50 Q 27 95 50 50 T 95 50 Z", "nonzero"),                          # S of quadratics
+    ("M5 50 L 27 90 L 50 50 L 72 10 L 95 50 Z", "nonzero"),                # closing line
+    ("M5 50 L 27 90 L 50 50 L 72 10 L 95 50 Z", "evenodd"),                # through a vertex
+    # overlapping squares sharing collinear edges, in one path and in two
+    ("M5 20 L 55 20 L 55 80 L 5 80 Z M30 20 L 95 20 L 95 80 L 30 80 Z", "nonzero"),
+    ("M5 20 L 55 20 L 55 80 L 5 80 Z M30 20 L 95 20 L 95 80 L 30 80 Z", "evenodd"),
+    ("M5 20 L 55 20 L 55 80 L 5 80 Z M55 20 L 95 20 L 95 80 L 55 80 Z", "nonzero"),  # abut
+    # a zero-width spike (L 90 20 then back): no area, so nothing of it is filled
+    ("M10 20 L 90 20 L 50 20 L 90 80 L 10 80 Z", "nonzero"),
+])
+def test_loops_meeting_at_joints_or_along_edges_fill_as_rendered(d, rule):
+    # a touch that is no proper crossing of two polyline edges (a joint, a vertex, a
+    # collinear overlap) must reach the general fill, as crossings do
+    body = '<path fill-rule="%s" d="%s"/>' % (rule, d)
+    got = assert_same_fill(doc(body), min_area=1000)
+    region = svg_region(doc(body))
+    ref = cairo_mask(doc(body))
+    assert abs(got.sum() - ref.sum()) < 0.05 * ref.sum()
+    # every loop of the region is simple and the outer ones are counter-clockwise
+    for loop in region:
+        assert not polylines_cross(loop, 1e-6)
+    if "L 90 20 L 50 20" in d:  # the spike's tip is no boundary point
+        assert not point_in_region(np.array([[89.0, -20.0]]), region, 0.5)[0]
+
+
+def test_sum_of_lobes_meeting_at_a_joint_keeps_both():
+    # the S of two opposite lobes summed with a disk: before the touch test the loop
+    # was taken as one simple loop (its signed area, the lobes' difference) and the
+    # sum lost the lower lobe.  Reference: the exact region's polygon buffered by r
+    from morph.minkowski import minkowski_sum
+    from tests.reference import hausdorff, region_to_shapely
+
+    region = svg_region(doc('<path d="M5 50 C 20 80 35 80 50 50 S 80 20 95 50 Z"/>'))
+    r, tol = 4.0, 1e-3
+    got = minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+    ref = region_to_shapely(region, tol / 100).buffer(r, quad_segs=256)
+    assert hausdorff(region_to_shapely(got, tol / 100), ref) < 2 * tol
+    assert abs(pc.region_area(got) - ref.area) < 1e-3 * ref.area
 
 
 @pytest.mark.parametrize("box,what", [("0 0 0 0", "zero"), ("0 0 100 0", "zero"),
