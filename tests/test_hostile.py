@@ -362,3 +362,99 @@ def test_size_and_tolerance_guards(tmp_path, case):
     assert time.perf_counter() - t0 < 5
     _limit_line(res, *words)
     assert not (tmp_path / "o.png").exists()
+
+
+# ------------------------------------------------------- broken UFO and font files
+
+def _relief_copy(tmp_path):
+    import shutil
+
+    from tests import RELIEF_SUBSET
+
+    dst = tmp_path / "Broken.ufo"
+    shutil.copytree(RELIEF_SUBSET, dst)
+    return dst
+
+
+def _edit(path, old, new):
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+
+
+@pytest.mark.parametrize("damage,says", [
+    ("xml", "GLIF contains invalid XML"),
+    ("missing", "does not exist"),
+    ("huge", "coordinate of 1e+308"),
+    ("upm", "unitsPerEm 0"),
+    ("cycle", "uses itself through its components: l => l"),
+])
+def test_broken_ufo_is_bad_input(runner, tmp_path, damage, says):
+    # each was an internal error (exit 1: GlifLibError, OverflowError, ufo2ft's
+    # division by zero or cyclical component) or a numpy warning before the line
+    ufo = _relief_copy(tmp_path)
+    glif = ufo / "glyphs" / "l.glif"
+    if damage == "xml":
+        _edit(glif, "</glyph>", "")
+    elif damage == "missing":
+        glif.unlink()
+    elif damage == "huge":
+        _edit(glif, '<point x="252" y="4" type="move"/>', '<point x="1e308" y="4" type="move"/>')
+    elif damage == "upm":
+        _edit(ufo / "fontinfo.plist", "<integer>1000</integer>", "<integer>0</integer>")
+    else:
+        _edit(glif, "  </outline>", '    <component base="l"/>\n  </outline>')
+    out = tmp_path / "out.otf"
+    line = error_line(runner.invoke(main, ["stroke", str(ufo), "-o", str(out), "--glyphs", "l"]))
+    assert says in line
+    assert not out.exists()
+
+
+def test_truncated_font_is_bad_input(runner, tmp_path):
+    # the glyf table is read lazily, after the font opened: its TTLibError was exit 1
+    from morph.parse import default_font_path
+
+    data = open(default_font_path(), "rb").read()
+    from fontTools.ttLib import TTFont
+
+    font = TTFont(default_font_path())
+    glyf = font.reader.tables["glyf"]
+    cut = tmp_path / "cut.ttf"
+    cut.write_bytes(data[:glyf.offset + glyf.length // 4])
+    line = error_line(runner.invoke(main, ["brush", str(cut), "-o", str(tmp_path / "b.ttf"),
+                                           "--glyphs", "o"]))
+    assert "cannot read the font" in line and "glyf" in line
+
+
+def test_numpy_warnings_do_not_add_lines(tmp_path):
+    # numpy's RuntimeWarnings (an input that overflowed, e.g. a coordinate of 1e308
+    # in a UFO before it was refused) were printed before the error line.  A reader
+    # that warns and then fails, in a process of its own (pytest captures warnings
+    # raised in-process)
+    import os
+    import subprocess
+    import sys
+
+    script = ("import sys, numpy as np, morph.parse as P\n"
+              "from morph.errors import ParseError\n"
+              "def bad(*a, **k):\n"
+              "    np.array([1e308]) * np.array([1e308])\n"
+              "    raise ParseError('shape x is bad', 'x')\n"
+              "P.load_shape = bad\n"
+              "from morph.cli import run\n"
+              "sys.argv = ['morph', 'outline', 'g', '-o', sys.argv[1]]\n"
+              "run()\n")
+    env = {k: v for k, v in os.environ.items() if k not in ("MORPH_DEBUG", "PYTHONWARNINGS")}
+    r = subprocess.run([sys.executable, "-c", script, str(tmp_path / "o.svg")],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines() == ["morph: error: shape x is bad"], r.stderr
+
+
+def test_nib_option_must_be_positive_and_finite(runner, tmp_path):
+    p = tmp_path / "line.svg"
+    p.write_text(SVG % '<path d="M0 0 L10 0" fill="none" stroke="black"/>')
+    for nib in ("ellipse:inf,2,0", "ellipse:0,2,0", "ellipse:3,-2,0", "ellipse:3,2,nan"):
+        line = error_line(runner.invoke(main, ["stroke", str(p), "-o", str(tmp_path / "s.svg"),
+                                               "--nib", nib]))
+        assert "--nib" in line

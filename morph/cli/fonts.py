@@ -1,5 +1,6 @@
 """Font commands: brush (filled glyphs swept by a nib), stroke (skeletons stroked by a nib)."""
 
+import math
 import re
 from pathlib import Path
 
@@ -20,6 +21,9 @@ def _parse_nib(spec):
         a = float(m.group(3)) if m.group(3) else 0.0
     except ValueError:
         raise InputError("--nib numbers not understood: %r" % spec) from None
+    if not all(math.isfinite(v) for v in (w, h, a)) or w <= 0 or h <= 0:
+        raise InputError("--nib width and height must be positive and finite, the angle "
+                         "finite: got %r" % spec)
     return w, h, a
 
 

@@ -7,6 +7,7 @@ package imports its parent.
 
 import os
 import sys
+import warnings
 
 import click
 
@@ -74,6 +75,38 @@ def _save_debug(command, argv, exc):
     return path
 
 
+def _reading_error(exc):
+    """What a reader of the input failed on ("UFO", "font"), or None: fontTools'
+    UFO errors (a broken .glif, a glyph its contents.plist lists but that is missing)
+    and TTLibError (a truncated table, read lazily after the font opened) come from
+    the input, wherever in a command they surface."""
+    module = type(exc).__module__ or ""
+    if module.startswith("fontTools.ufoLib"):
+        return "UFO"
+    if type(exc).__name__ == "TTLibError" and module.startswith("fontTools.ttLib"):
+        return "font"
+    return None
+
+
+def _failure_line(exc, command, argv, debug):
+    """Print the line of an exception no handler took; its exit status: 2 for a
+    reading error of the input (:func:`_reading_error`), 1 (internal) otherwise."""
+    what = _reading_error(exc)
+    if what and not debug:
+        _error_line("cannot read the %s: %s" % (what, exc))
+        return EXIT_BAD_INPUT
+    where = ""
+    if debug:
+        import traceback
+
+        traceback.print_exc()
+        where = "; inputs saved to %s" % _save_debug(command, argv, exc)
+    _error_line("internal error in morph %s: %s: %s%s"
+                % (command, type(exc).__name__, exc,
+                   where or " (set MORPH_DEBUG=1 for a traceback and the inputs)"))
+    return EXIT_INTERNAL
+
+
 # =========================================================================== group
 
 class MorphGroup(click.Group):
@@ -94,6 +127,9 @@ class MorphGroup(click.Group):
         command = next((a for a in argv if not a.startswith("-")), "morph")
         del LOADED_SHAPES[:]
         restore = _limit_memory()
+        filters = warnings.filters[:]
+        if not debug:  # numpy's RuntimeWarnings would add lines before the error line
+            warnings.simplefilter("ignore", RuntimeWarning)
         try:
             rv = super().main(args=args, prog_name=prog_name or "morph",
                               complete_var=complete_var, standalone_mode=False, **extra)
@@ -120,18 +156,10 @@ class MorphGroup(click.Group):
                         "use a coarser --tol" % (command, memory_budget_bytes() / 2 ** 30))
             code = EXIT_INTERNAL
         except Exception as exc:  # internal failure (MorphError or not): one line
-            where = ""
-            if debug:
-                import traceback
-
-                traceback.print_exc()
-                where = "; inputs saved to %s" % _save_debug(command, argv, exc)
-            _error_line("internal error in morph %s: %s: %s%s"
-                        % (command, type(exc).__name__, exc,
-                           where or " (set MORPH_DEBUG=1 for a traceback and the inputs)"))
-            code = EXIT_INTERNAL
+            code = _failure_line(exc, command, argv, debug)
         finally:
             restore()
+            warnings.filters[:] = filters
         if standalone_mode:
             sys.exit(code)
         return code

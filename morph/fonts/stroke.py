@@ -139,6 +139,12 @@ def stroke_plan(font, glyphs, nib_region):
 
 
 def _plan(font, chosen, symmetric):
+    from ..parse.ufo import component_cycle
+
+    cycle = component_cycle(font, chosen)
+    if cycle:
+        raise ParseError("glyph %r uses itself through its components: %s"
+                         % (cycle[0], " => ".join(cycle)), cycle[0])
     stroked = []
     seen = set()
     todo = list(chosen)

@@ -22,6 +22,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError
+from ..limits import MAX_COORDINATE
 
 __all__ = ["RawContour", "record_contours", "closing_line", "draw_paths"]
 
@@ -109,14 +110,19 @@ def record_contours(draw, label, glyph_set=None):
     (None: a component raises ParseError).
 
     Raises:
-        ParseError: a non-finite start point; what ``draw`` raises as ParseError.
+        ParseError: a non-finite point or one beyond ``MAX_COORDINATE``; what ``draw``
+            raises as ParseError.
     """
     pen = _pen_class()(glyph_set, label)
     draw(pen)
     pen._finish(closed=False)  # a contour drawn without closePath/endPath
     for c in pen.contours:
-        if not np.all(np.isfinite(c.start)):
+        pts = np.concatenate([np.ravel(c.start)] + [np.ravel(p) for p in c.pieces])
+        if not np.all(np.isfinite(pts)):
             raise ParseError("%s has a non-finite point" % label, label)
+        if np.max(np.abs(pts)) > MAX_COORDINATE:
+            raise ParseError("%s has a coordinate of %.3g; morph computes with |coordinates| "
+                             "up to %g" % (label, np.max(np.abs(pts)), MAX_COORDINATE), label)
     return pen.contours
 
 

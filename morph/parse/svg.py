@@ -54,7 +54,7 @@ __all__ = [
 
 #: coordinates beyond this magnitude are refused: products of a few coordinates
 #: (areas, Bernstein products of degree up to 11) must stay finite in float64
-MAX_COORDINATE = 1e100
+from ..limits import MAX_COORDINATE  # noqa: E402 - beside the other limits of the parser
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(_NUMBER)

@@ -45,9 +45,37 @@ def load_ufo(path, lazy=True):
     if not os.path.isdir(text):
         raise ParseError("cannot read UFO %s: it is not a folder" % text, text)
     try:
-        return ufoLib2.Font.open(text, lazy=lazy)
+        font = ufoLib2.Font.open(text, lazy=lazy)
     except Exception as exc:  # fontTools.ufoLib raises several types for bad input
         raise ParseError("cannot read UFO %s: %s" % (text, one_line(exc)), text) from exc
+    upm = font.info.unitsPerEm
+    if upm is not None and not 0 < upm < float("inf"):
+        raise ParseError("UFO %s has unitsPerEm %r: it must be positive" % (text, upm), text)
+    return font
+
+
+def component_cycle(font, names):
+    """A component cycle reachable from the glyphs ``names`` of a ufoLib2 font, as a
+    list of glyph names from a glyph back to itself (``["b", "b"]``), or None.
+    Missing base glyphs are not followed (they are reported where they are used)."""
+    state = {}  # 1: on the current path, 2: done
+    for root in names:
+        if root in state or root not in font:
+            continue
+        path, stack = [root], [iter(c.baseGlyph for c in font[root].components)]
+        state[root] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[path.pop()] = 2
+                stack.pop()
+            elif state.get(nxt) == 1:
+                return path[path.index(nxt):] + [nxt]
+            elif nxt not in state and nxt in font:
+                state[nxt] = 1
+                path.append(nxt)
+                stack.append(iter(c.baseGlyph for c in font[nxt].components))
+    return None
 
 
 def _zero_length(piece):
