@@ -41,7 +41,12 @@ def filled_rings(paths, fill_rule):
         return []
     clip = pyclipper.Pyclipper()
     clip.PreserveCollinear = True
-    clip.AddPaths([p.tolist() for p in paths], pyclipper.PT_SUBJECT, True)
+    try:
+        clip.AddPaths([p.tolist() for p in paths], pyclipper.PT_SUBJECT, True)
+    except pyclipper.ClipperException:
+        # Clipper refuses only when every path is invalid (all its points on one
+        # line after the rounding): such paths enclose nothing
+        return []
     ft = FILL_TYPES[fill_rule]
     tree = clip.Execute2(pyclipper.CT_UNION, ft, ft)
     rings = []

@@ -40,3 +40,28 @@ def test_slivers_dropped_and_holes_filled():
     assert len(drop_slivers(rings, 4.0)) == 2  # ...at a width threshold of 4 units it is
     hole = [i for i, r in enumerate(thin) if r.hole]
     assert len(fill_holes(thin, hole)) == 2
+
+
+def test_paths_on_one_line_fill_nothing():
+    # Clipper refuses a batch whose every path is invalid (collinear after rounding):
+    # a stroke with a nib far below tol ended in its ClipperException (exit 1)
+    import numpy as np
+
+    flat = [np.array([[0, 0], [5, 5], [9, 9], [5, 5]], np.int64),
+            np.array([[0, 3], [4, 3], [8, 3]], np.int64)]
+    assert filled_rings(flat, "nonzero") == []
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], np.int64)
+    rings = filled_rings(flat + [square], "nonzero")
+    assert len(rings) == 1 and ring_area(rings[0].q) == 16
+
+
+def test_sum_with_a_nib_far_below_tol_is_refused_with_a_suggestion():
+    from morph.errors import LimitError
+    from morph.stroke import stroke_paths
+
+    path = [pc.line((0, 0), (50, 50)), pc.line((50, 50), (90, 10))]
+    tiny = [[pc.line((0, 0), (1e-9, 0)), pc.line((1e-9, 0), (1e-9, 1e-9)),
+             pc.line((1e-9, 1e-9), (0, 1e-9)), pc.line((0, 1e-9), (0, 0))]]
+    with pytest.raises(LimitError, match="thinner than the tolerance") as err:
+        stroke_paths([(path, False)], tiny, 1e-4)
+    assert err.value.suggestion < 1e-4
