@@ -82,6 +82,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     """
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
+    check_operand(region_a, "region_a")
+    check_operand(region_b, "region_b")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
     out, debug = _sum(region_a, region_b, tol, method, gauss_pair)
     _not_vanished(out, tol)
@@ -109,10 +111,14 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     index of an empty region).
     """
     regions_a = list(regions_a)
+    if not region_b:
+        raise ValueError("region_b is empty: both regions must have at least one loop")
+    check_operand(region_b, "region_b")
     points = []
     for i, a in enumerate(regions_a):
         if not a:
             raise ValueError("region %d is empty: both regions must have at least one loop" % i)
+        check_operand(a, "region %d" % i)
         points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
     out = []
     for group in _budget_groups(points, point_budget()):
@@ -145,6 +151,44 @@ def _packed_sums(regions_a, region_b, tol, method):
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
+
+
+def check_operand(region, name):
+    """ValueError unless ``region`` is a list of closed loops (each piece ending where
+    the next starts, within 1e-7 of the size) of pieces, each an (n+1, 3) array
+    (n >= 1) of homogeneous control points with positive weights, whose signed area
+    is not negative
+    (beyond 1e-9 of its control box squared: a centre line traced out and back has
+    area 0): outer loops counter-clockwise, holes clockwise, as
+    :func:`morph.region.orient_region` makes them."""
+    for loop in region:
+        if not len(loop):
+            raise ValueError("%s has an empty loop" % name)
+        for p in loop:
+            shape = np.shape(p)
+            if len(shape) != 2 or shape[1] != 3 or shape[0] < 2:
+                raise ValueError("%s: a piece is an (n+1, 3) array of homogeneous control "
+                                 "points (w*x, w*y, w), n >= 1; got shape %s" % (name, shape))
+    h = np.concatenate([np.asarray(p, float) for loop in region for p in loop])
+    if not np.all(np.isfinite(h)):
+        return  # check_tolerance names it
+    if not np.all(h[:, 2] > 0):
+        raise ValueError("%s has a weight <= 0: rational pieces need positive weights" % name)
+    pts = h[:, :2] / h[:, 2:]
+    with np.errstate(all="ignore"):
+        size = float(np.max(np.ptp(pts, axis=0)))
+        for k, loop in enumerate(region):
+            ends = np.array([pc.cartesian(np.asarray(p, float))[[0, -1]] for p in loop])
+            gap = np.hypot(*(np.roll(ends[:, 0], -1, axis=0) - ends[:, 1]).T)
+            if np.any(gap > 1e-7 * size):
+                j = int(np.argmax(gap))
+                raise ValueError("%s: loop %d is not closed: piece %d ends %.3g away from "
+                                 "where the next starts" % (name, k, j, gap[j]))
+        area = pc.region_area(region)
+    if area < -1e-9 * size * size:
+        raise ValueError("%s has a negative signed area (%.6g): outer loops must run "
+                         "counter-clockwise and holes clockwise "
+                         "(morph.region.orient_region normalises loops)" % (name, area))
 
 
 def _not_vanished(loops, tol, which=""):

@@ -731,3 +731,30 @@ def test_a_sum_thinner_than_its_tolerance_everywhere_is_refused_not_empty():
     assert exact.hausdorff_distance(ours) <= tol
     with pytest.raises(LimitError, match="region 1"):
         minkowski_sums([[pc.circle((0, 0), 50.0)], bar], disk, 20.0)
+
+
+def _square_loop(s=1.0, cw=False):
+    p = [(0.0, 0.0), (s, 0.0), (s, s), (0.0, s)]
+    p = p[::-1] if cw else p
+    return [pc.line(p[i], p[(i + 1) % 4]) for i in range(4)]
+
+
+@pytest.mark.parametrize("region,says", [
+    ([_square_loop(cw=True)], "negative signed area"),          # was a ClipperException
+    ([[]], "empty loop"),
+    ([[np.array([[0, 0], [1, 0.0]])] * 4], "shape \\(2, 2\\)"),   # was an IndexError
+    ([[np.zeros((2, 3, 3))]], "shape \\(2, 3, 3\\)"),
+    ([_square_loop()[:3]], "loop 0 is not closed: piece 2"),     # was a TopologyError
+    ([[p * np.array([1, 1, -1.0]) for p in _square_loop()]], "weight <= 0"),
+])
+def test_malformed_operands_are_refused_naming_the_fault(region, says):
+    disk = [pc.circle((0.0, 0.0), 0.25)]
+    for a, b in ((region, disk), (disk, region)):
+        with pytest.raises(ValueError, match=says):
+            minkowski_sum(a, b, 1e-3)
+    with pytest.raises(ValueError, match=says):
+        minkowski_sums([disk, region], disk, 1e-3)
+    # a centre line traced out and back (area 0, as strokes pass) is no fault
+    out_and_back = [pc.line((0, 0), (1, 0)), pc.line((1, 0), (0, 0))]
+    got = minkowski_sum([out_and_back], disk, 1e-3)
+    assert abs(pc.region_area(got) - (2 * 0.25 * 1 + np.pi * 0.25 ** 2)) < 2e-3 * 4
