@@ -226,7 +226,7 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
                    "font does not depend on it.")
-@click.option("--size", type=click.IntRange(min=8, max=16384), default=512,
+@click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
 def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):

@@ -137,7 +137,7 @@ def force_option(f):
 
 
 def size_option(f):
-    return click.option("--size", type=click.IntRange(min=8, max=16384), default=512,
+    return click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
                         show_default=True,
                         help="Longer side of the image in pixels.")(f)
 

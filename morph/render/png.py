@@ -10,12 +10,17 @@ winding rule sees the clockwise hole loops.  Strokes are drawn with
 ``PIL.ImageDraw.line`` on the supersampled mask.
 """
 
+import math
+
 import numpy as np
 from PIL import Image, ImageColor, ImageDraw
 
 from .. import piece as pc
 from ..region import polyline_edges
 from . import frame_bbox, normalize_shapes
+
+#: coverage samples per image, at most (supersample lowered to fit): 2^28
+MAX_SAMPLES = 1 << 28
 
 __all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask"]
 
@@ -97,6 +102,9 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
     k = int(supersample)
     if k < 1:
         raise ValueError("supersample must be >= 1, got %r" % (supersample,))
+    # at most MAX_SAMPLES coverage samples (4 at 512 and 4096 px, 2 at 8192 px): the
+    # sample mask and its winding sums stay within a few GB at the largest sizes
+    k = max(1, min(k, int(math.sqrt(MAX_SAMPLES / (width * height)))))
     big_w, big_h, s = width * k, height * k, scale * k
     flat_tol = 0.1 / s
 

@@ -144,3 +144,17 @@ def test_png_fill_none_like_svg():
     img = np.asarray(render_png([(sq, {"fill": "none", "stroke": "black"})], size=64))
     assert img[32, 32].min() == 255     # centre: nothing painted (white background)
     assert img.min() < 128              # the outline is drawn (anti-aliased)
+
+
+def test_supersampling_lowered_to_the_sample_cap(monkeypatch):
+    # --size 16384 at 4 x 4 samples per pixel ran out of the memory budget: the
+    # samples per image are capped (MAX_SAMPLES), the supersampling lowered to fit
+    import morph.render.png as P
+
+    shape = [pc.circle((0.0, 0.0), 1.0)]
+    full = np.asarray(P.render_png(shape, size=64, supersample=2))
+    monkeypatch.setattr(P, "MAX_SAMPLES", 64 * 64 * 4)  # room for 2 x 2, not 4 x 4
+    assert np.array_equal(np.asarray(P.render_png(shape, size=64, supersample=4)), full)
+    monkeypatch.setattr(P, "MAX_SAMPLES", 1)             # never below one sample
+    one = np.asarray(P.render_png(shape, size=64, supersample=1))
+    assert np.array_equal(np.asarray(P.render_png(shape, size=64, supersample=4)), one)
