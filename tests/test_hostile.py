@@ -458,3 +458,26 @@ def test_nib_option_must_be_positive_and_finite(runner, tmp_path):
         line = error_line(runner.invoke(main, ["stroke", str(p), "-o", str(tmp_path / "s.svg"),
                                                "--nib", nib]))
         assert "--nib" in line
+
+
+def test_svg_path_without_data_draws_nothing(runner, tmp_path):
+    # a <path/> without d is not rendered; it was "object of type 'NoneType' has no len()"
+    p = tmp_path / "nod.svg"
+    p.write_text(SVG % '<path/>')
+    assert "no path or shape that is drawn" in error_line(
+        runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "a.png")]))
+    p.write_text(SVG % '<path/><rect width="10" height="20"/>')
+    assert abs(pc.region_area(svg_region(str(p))) - 200) < 1e-9
+
+
+def test_svg_argument_that_is_a_folder_or_self_referencing(runner, tmp_path):
+    folder = tmp_path / "dir.svg"
+    folder.mkdir()
+    assert "it is a folder" in error_line(
+        runner.invoke(main, ["outline", str(folder), "-o", str(tmp_path / "a.png")]))
+    loop = tmp_path / "loop.svg"
+    loop.write_text('<svg xmlns="http://www.w3.org/2000/svg" '
+                    'xmlns:xlink="http://www.w3.org/1999/xlink"><g id="g">'
+                    '<rect width="5" height="5"/><use xlink:href="#g"/></g></svg>')
+    line = error_line(runner.invoke(main, ["outline", str(loop), "-o", str(tmp_path / "b.png")]))
+    assert "nest too deeply" in line or "refer" in line

@@ -307,6 +307,8 @@ def _check_xml(root, label):
     for el in root.iter():
         tag = el.tag.split("}")[-1]
         name = _element_name(el, tag)
+        if tag == "path" and el.get("d") is None:
+            el.set("d", "")  # no path data: not rendered (SVG 1.1, 8.3.2), as d=""
         if tag == "path":
             try:
                 _path_commands(el.get("d") or "")
@@ -478,7 +480,9 @@ def _read_document(text, is_file, label):
     try:
         if is_file:
             if not os.path.isfile(text):
-                raise ParseError("cannot read SVG file %s: no such file" % text, text)
+                why = ("it is a folder" if os.path.isdir(text) else
+                       "it is not a regular file" if os.path.exists(text) else "no such file")
+                raise ParseError("cannot read SVG file %s: %s" % (text, why), text)
             with open(text, "rb") as fh:
                 data = fh.read()
         else:
@@ -498,6 +502,9 @@ def _read_document(text, is_file, label):
             return se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=False)
     except ParseError:
         raise
+    except RecursionError:
+        raise ParseError("cannot parse SVG %s: its elements or <use> references nest too "
+                         "deeply (or refer to themselves)" % where, text) from None
     except Exception as exc:
         raise ParseError("cannot parse SVG %s: %s" % (where, one_line(exc)), text) from exc
 
