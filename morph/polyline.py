@@ -251,6 +251,57 @@ def winding_number(points, polylines, chunk=2_000_000):
     return out
 
 
+def near_point_pairs(points, reach):
+    """Index pairs (i < j), shape (k, 2), of points within ``reach`` of each other
+    in each coordinate (a grid search, no all-pairs loop)."""
+    pts = np.asarray(points, float)
+    if len(pts) < 2:
+        return np.zeros((0, 2), np.int64)
+    return _cell_pairs(BoxGrid(pts - 0.5 * reach, pts + 0.5 * reach))
+
+
+def winding_of_others(points, owner, polylines, chunk=2_000_000):
+    """Winding number at each point of the closed ``polylines`` other than its own
+    (``owner[k]``: the index of point k's polyline, whose edges it does not count),
+    shape (m,) int; the crossing rule of :func:`winding_number`, all points at once."""
+    pts = np.atleast_2d(np.asarray(points, float))
+    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
+    a, b = polyline_edges(polylines)
+    edge_owner = np.repeat(np.arange(len(polylines)), sizes)
+    out = np.zeros(len(pts), int)
+    if not len(a) or not len(pts):
+        return out
+    step = max(1, chunk // len(a))
+    for s in range(0, len(pts), step):
+        p = pts[s:s + step, None, :]
+        ay, by = a[None, :, 1], b[None, :, 1]
+        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
+                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
+        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0)
+        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0)
+        other = np.asarray(owner)[s:s + step, None] != edge_owner[None, :]
+        out[s:s + step] = (up & other).sum(axis=1) - (down & other).sum(axis=1)
+    return out
+
+
+def distance_to_others(points, owner, polylines, chunk=1 << 22):
+    """Distance from each point to the nearest edge of the closed ``polylines`` other
+    than its own (``owner[k]``), shape (m,); inf where there is no other edge."""
+    pts = np.atleast_2d(np.asarray(points, float))
+    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
+    a, b = polyline_edges(polylines)
+    edge_owner = np.repeat(np.arange(len(polylines)), sizes)
+    out = np.full(len(pts), np.inf)
+    if not len(a):
+        return out
+    step = max(1, chunk // len(a))
+    for s in range(0, len(pts), step):
+        d = segment_distance(pts[s:s + step, None, :], a, b)
+        d[np.asarray(owner)[s:s + step, None] == edge_owner[None, :]] = np.inf
+        out[s:s + step] = d.min(axis=1)
+    return out
+
+
 def project(x, a, b):
     """Parameter in [0, 1] of the point of segment ab nearest to x (broadcasting)."""
     ab = b - a

@@ -17,8 +17,9 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (polyline_edges, polylines_apart, polylines_cross, polylines_touch,  # noqa: F401
-                       unique, winding_number)
+from .polyline import (distance_to_others, near_point_pairs, polyline_edges,  # noqa: F401
+                       polylines_apart, polylines_cross, polylines_touch, unique,
+                       winding_number, winding_of_others)
 
 __all__ = [
     "Region",
@@ -222,19 +223,21 @@ def _outside_windings(loops, scale, polys):
     """For each loop, the winding number just outside it: that of all *other* loops
     at a probe point on it (the piece midpoint farthest from the other loops), on
     their polylines ``polys`` within APART x ``scale``, refined when the probe is
-    closer than that."""
+    closer than that.  All loops' probes at once (Python work per loop only for the
+    rare refinements)."""
     tol = APART * scale
-    out = []
-    for i, loop in enumerate(loops):
-        others = [p for j, p in enumerate(polys) if j != i]
-        cand = _sample_candidates(loop)
-        dist = np.min([point_polyline_distance(cand, p) for p in others], axis=0)
-        best = int(np.argmax(dist))
-        if dist[best] < 2 * tol:
-            fine = max(0.25 * dist[best], 1e-7 * scale)
-            others = [loop_polyline(l, fine) for j, l in enumerate(loops) if j != i]
-        out.append(int(winding_number(cand[best:best + 1], others)[0]))
-    return out
+    cands = [_sample_candidates(loop) for loop in loops]
+    owner = np.repeat(np.arange(len(loops)), [len(c) for c in cands])
+    cand = np.concatenate(cands)
+    dist = distance_to_others(cand, owner, polys)
+    order = np.lexsort((dist, owner))  # per loop, its farthest candidate last
+    best = order[np.searchsorted(owner[order], np.arange(len(loops)), side="right") - 1]
+    out = winding_of_others(cand[best], np.arange(len(loops)), polys)
+    for i in np.flatnonzero(dist[best] < 2 * tol):
+        fine = max(0.25 * dist[best[i]], 1e-7 * scale)
+        others = [loop_polyline(l, fine) for j, l in enumerate(loops) if j != i]
+        out[i] = int(winding_number(cand[best[i]:best[i] + 1], others)[0])
+    return [int(w) for w in out]
 
 
 def _is_outer(w, s, fill_rule):
@@ -256,22 +259,24 @@ def _cancel_coincident(loops, areas, fill_rule, scale):
         return loops, areas
     eps = 1e-9 * scale
     boxes = [np.concatenate([pc.cartesian(p) for p in loop]) for loop in loops]
-    boxes = [np.r_[b.min(axis=0), b.max(axis=0)] for b in boxes]
+    boxes = np.array([np.r_[b.min(axis=0), b.max(axis=0)] for b in boxes])
+    size = np.abs(np.asarray(areas, float))
+    # candidate pairs, all at once: control boxes within 10 eps (a grid search on the
+    # lower corners) and areas within 1e-9 of each other
+    pairs = near_point_pairs(boxes[:, :2], 10 * eps)
+    i, j = pairs[:, 0], pairs[:, 1]
+    keep = ((np.abs(boxes[i] - boxes[j]).max(axis=1) <= 10 * eps)
+            & (np.abs(size[i] - size[j]) <= 1e-9 * np.maximum(size[i], size[j])))
     gone = set()
-    for i in range(n):
-        for j in range(i + 1, n):
-            if i in gone or j in gone:
-                continue
-            if abs(abs(areas[i]) - abs(areas[j])) > 1e-9 * max(abs(areas[i]), abs(areas[j])):
-                continue
-            if np.max(np.abs(boxes[i] - boxes[j])) > 10 * eps:
-                continue
-            if not (_on_loop(loops[i], loops[j], eps) and _on_loop(loops[j], loops[i], eps)):
-                continue
-            same = (areas[i] > 0) == (areas[j] > 0)
-            gone.add(j)
-            if not same or fill_rule == "evenodd":
-                gone.add(i)
+    for i, j in pairs[keep].tolist():
+        if i in gone or j in gone:
+            continue
+        if not (_on_loop(loops[i], loops[j], eps) and _on_loop(loops[j], loops[i], eps)):
+            continue
+        same = (areas[i] > 0) == (areas[j] > 0)
+        gone.add(j)
+        if not same or fill_rule == "evenodd":
+            gone.add(i)
     keep = [k for k in range(n) if k not in gone]
     return [loops[k] for k in keep], [areas[k] for k in keep]
 

@@ -27,6 +27,30 @@ def test_evenodd_nesting_alternates(dirs):
     assert pc.region_area(out) == pytest.approx(68.0)
 
 
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_many_nested_loops_against_a_pixel_count_of_the_rule(rule):
+    # 20 x 20 cells, each a square with random nesting (0-2 squares inside it) and
+    # random directions: the probes of all loops are found at once; the filled area
+    # and every loop's role checked against the rule's winding count at cell centres
+    rng = np.random.default_rng(3)
+    loops, truth = [], 0.0
+    for i in range(20):
+        for j in range(20):
+            depth = int(rng.integers(1, 4))
+            dirs = rng.integers(0, 2, depth).astype(bool)
+            for d in range(depth):
+                loops.append(square(10 * i + d, 10 * j + d, 8 - 2 * d, bool(dirs[d])))
+            # windings of the rings between nested squares, outermost first
+            w, sides = 0, [8 - 2 * d for d in range(depth)] + [0]
+            for d in range(depth):
+                w += 1 if dirs[d] else -1
+                filled = (w != 0) if rule == "nonzero" else (w % 2 == 1)
+                truth += filled * (sides[d] ** 2 - sides[d + 1] ** 2)
+    out = orient_region(loops, rule)
+    assert pc.region_area(out) == pytest.approx(truth)
+    assert all(pc.loop_area(l) != 0 for l in out)
+
+
 def test_nonzero_opposite_directions_make_a_hole():
     out = orient_region([square(0, 0, 10, False), square(2, 2, 6, True)], "nonzero")
     assert areas(out) == [-36.0, 100.0]
