@@ -125,6 +125,29 @@ def _fmt(x):
     return "%.2g" % x
 
 
+def _round_up(x):
+    """x rounded up to two significant digits (as :func:`_fmt` prints it)."""
+    e = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return math.ceil(x / e * (1 - 1e-12)) * e
+
+
+def _passing_tolerance(tol, regions, unit):
+    """The tolerance to suggest for a refused ``tol`` at or above the precision floor:
+    two significant digits in the user's unit (rounded up, so that the printed value
+    works), and estimated points within the budget: points scale about as tol^(-1/2)
+    (each piece keeps at least one point, so the first guess can fall short); raised
+    by 10 % until it fits."""
+    budget = point_budget()
+    points = sum(estimate_points(r, tol) for r in regions)
+    need = tol * max(points / budget, 1.0) ** 2
+    for _ in range(64):
+        need = _round_up(need / unit) * unit
+        if sum(estimate_points(r, need) for r in regions) <= budget:
+            break
+        need *= 1.1
+    return need
+
+
 def check_tolerance(tol, *regions, operation="this operation", unit=1.0, unit_name=""):
     """Refuse a tolerance the operands cannot support (see the module docstring).
 
@@ -157,12 +180,13 @@ def check_tolerance(tol, *regions, operation="this operation", unit=1.0, unit_na
         why = ("the floating-point resolution at coordinates of %s" % _fmt(mag)
                if floor > REL_TOL_FLOOR * size else "%g of the size %s" % (REL_TOL_FLOOR,
                                                                          user(size)))
+        need = _passing_tolerance(floor, regions, unit)
         raise LimitError("%s: tolerance %s is finer than %s; use a tolerance of at least %s"
-                         % (operation, user(tol), why, user(floor)), floor)
+                         % (operation, user(tol), why, user(need)), need)
     points = sum(estimate_points(r, tol) for r in regions)
     budget = point_budget()
     if points > budget:
-        need = tol * (points / budget) ** 2  # points scale as tol^(-1/2)
+        need = _passing_tolerance(tol, regions, unit)
         raise LimitError("%s: at tolerance %s the curves need about %d polyline points, "
                          "more than the budget of %d (MORPH_POINT_BUDGET); use a tolerance "
                          "of at least %s" % (operation, user(tol), points, budget, user(need)),

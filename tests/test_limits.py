@@ -55,3 +55,23 @@ def test_point_estimate_and_extent_of_mixed_pieces():
     bad = [pc.line((0, 0), (float("nan"), 1.0)), pc.line((float("nan"), 1.0), (0, 0))]
     with pytest.raises(LimitError, match="non-finite"):
         region_extent([bad])
+
+
+@pytest.mark.parametrize("chars,unit", [("og", 1000.0), ("&g", 1000.0), ("MW", 1.0)])
+def test_the_suggested_tolerance_passes_the_budget(chars, unit):
+    # the suggestion was tol x (points / budget)^2 printed to two digits: the lines'
+    # one point per piece and the rounding down made it fail again (o + g at 1e-9 em
+    # suggested 7.7e-09, refused again at 7.7e-09)
+    from morph.errors import LimitError
+    from morph.limits import check_tolerance
+    from morph.parse import glyph_region
+
+    a, b = (glyph_region(c).region for c in chars)
+    for tol_em in (1e-9, 1e-8, 3e-8):
+        try:
+            check_tolerance(tol_em * unit, a, b, unit=unit, unit_name="em")
+            continue
+        except LimitError as exc:
+            suggested = float(str(exc).split("at least ")[1].split()[0])
+            assert suggested * unit == pytest.approx(exc.suggestion, rel=1e-9)
+        assert check_tolerance(suggested * unit, a, b, unit=unit) > 0   # as printed

@@ -37,9 +37,10 @@ def offset(shape, radius, font, tol, output, force, size):
         raise InputError("--radius must be a finite number, got %s" % radius)
     out = resolve_output(output, "offset-%s.png" % shape.slug, force)
     r = shape.em_to_units(radius)
-    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []))
-    from ..export import export_tolerance, split_tolerance
+    from ..export import SUM_SHARE, export_tolerance, split_tolerance
 
+    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []),
+                        share=SUM_SHARE)
     st, _ = split_tolerance(t)  # the offset's share of --tol
     loops, bound = offset_region(shape.region, r, st, return_bound=True)
     # the export gets what the offset left of --tol (its achieved bound <= its share)
@@ -77,10 +78,10 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     from ..render import cspace_figure
 
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
-    t = shape_tolerance(obstacle, tol, robot.region)
-    ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
-    from ..export import export_tolerance, split_tolerance
+    from ..export import SUM_SHARE, export_tolerance, split_tolerance
 
+    t = shape_tolerance(obstacle, tol, robot.region, share=SUM_SHARE)
+    ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
     st, _ = split_tolerance(t)  # the sum's share of --tol
     loops, bound = cspace_obstacle(obstacle.region, robot.region, st, reference=ref,
                                    return_bound=True)

@@ -25,14 +25,16 @@ class InputError(click.ClickException):
 
 # =========================================================================== shapes
 
-def shape_tolerance(shape, tol, *others, check=True):
+def shape_tolerance(shape, tol, *others, check=True, share=1.0):
     """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
 
     With ``check`` the tolerance is checked against this shape and the ``others``
     (regions summed with it, e.g. the other operand or the offset disk) by
     :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
     than 1e-12 of the size, larger than the shapes, beyond the point budget:
-    LimitError, one line naming a tolerance that works, exit 2.
+    LimitError, one line naming a tolerance that works, exit 2.  ``share``: the part
+    of --tol the computation runs at (:func:`morph.export.split_tolerance`); the
+    check is made at it and its message names --tol values.
     """
     t = shape.em_to_units(tol)
     if check:
@@ -40,8 +42,8 @@ def shape_tolerance(shape, tol, *others, check=True):
 
         upm = shape.units_per_em
         what = ("glyph %r" % shape.name) if upm else ("SVG %s" % shape.name)
-        check_tolerance(t, shape.region, *others, operation=what, unit=upm or 1.0,
-                        unit_name="em" if upm else "user units")
+        check_tolerance(t * share, shape.region, *others, operation=what,
+                        unit=(upm or 1.0) * share, unit_name="em" if upm else "user units")
     return t
 
 

@@ -67,9 +67,9 @@ def sum_(a, b, method, font, tol, output, force, size):
     from ..minkowski import minkowski_sum
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
-    t = shape_tolerance(a, tol, b.region)
-    from ..export import export_tolerance, split_tolerance
+    from ..export import SUM_SHARE, export_tolerance, split_tolerance
 
+    t = shape_tolerance(a, tol, b.region, share=SUM_SHARE)
     st, _ = split_tolerance(t)  # the sum's share of --tol
     loops, debug = minkowski_sum(a.region, b.region, st, method=method, return_debug=True)
     # the export gets what the sum left of --tol (its achieved bound, <= its share)
@@ -79,14 +79,14 @@ def sum_(a, b, method, font, tol, output, force, size):
 
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac",
                    animation="gif"):
-    from ..export import export_tolerance, split_tolerance
+    from ..export import SUM_SHARE, export_tolerance, split_tolerance
     from ..frames import morph_frames
     from ..render import write_frames
 
     if frames < 2:
         raise InputError("--frames must be at least 2, got %d" % frames)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
-    t = shape_tolerance(a, tol, b.region)
+    t = shape_tolerance(a, tol, b.region, share=SUM_SHARE)
     st, _ = split_tolerance(t)  # each frame's sum gets this share of --tol
     with progress_bar(frames, "frames") as bar:
         regions, bounds = morph_frames(a.region, b.region, frames, st, method=method,
