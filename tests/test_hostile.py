@@ -481,3 +481,20 @@ def test_svg_argument_that_is_a_folder_or_self_referencing(runner, tmp_path):
                     '<rect width="5" height="5"/><use xlink:href="#g"/></g></svg>')
     line = error_line(runner.invoke(main, ["outline", str(loop), "-o", str(tmp_path / "b.png")]))
     assert "nest too deeply" in line or "refer" in line
+
+
+def test_svgz_and_svg_without_suffix_are_read_as_svg(runner, tmp_path):
+    # both were taken for glyph names ("font ... has no glyph for 'x.svgz'")
+    import gzip
+
+    doc = SVG % '<rect x="0" y="0" width="30" height="20"/>'
+    (tmp_path / "r.svgz").write_bytes(gzip.compress(doc.encode()))
+    (tmp_path / "drawing").write_text(doc)
+    (tmp_path / "bad.svgz").write_bytes(gzip.compress(doc.encode())[:20])
+    for name in ("r.svgz", "drawing"):
+        out = tmp_path / (name + ".svg")
+        ok(runner.invoke(main, ["outline", str(tmp_path / name), "-o", str(out)]))
+        assert abs(pc.region_area(svg_region(str(out))) - 600) < 1e-6
+    line = error_line(runner.invoke(main, ["outline", str(tmp_path / "bad.svgz"), "-o",
+                                           str(tmp_path / "bad.png")]))
+    assert "cannot read SVG" in line

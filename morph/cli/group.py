@@ -172,8 +172,9 @@ def main():
     """Minkowski sums of curved planar shapes (glyphs, SVG paths) as exact curves.
 
     Shapes are glyphs of a font (a single character such as g, or a glyph name
-    such as ampersand) or SVG files (an argument ending in .svg).  Glyphs are read
-    in font units and SVG in user units, both with the y axis up.
+    such as ampersand) or SVG files (.svg, .svgz, or any file holding an SVG
+    document).  Glyphs are read in font units and SVG in user units, both with the
+    y axis up.
 
     \b
     Examples:

@@ -56,8 +56,9 @@ def svg_shape(source, fill_rule=None):
 def load_shape(arg, font=None, location=None):
     """The CLI's shape argument as a :class:`Shape`: an SVG file or a glyph of the font.
 
-    An argument ending in ``.svg`` is read with :func:`svg_shape` (user units, y
-    flipped up); otherwise it is a single character or a glyph name of ``font``
+    An argument ending in ``.svg`` or ``.svgz``, or naming a file that starts as an
+    XML (or gzip) document, is read with :func:`svg_shape` (user units, y flipped
+    up); otherwise it is a single character or a glyph name of ``font``
     (None: bundled TrueType font) at ``location`` (a variable font's instance, see
     :func:`load_font`), read with :func:`glyph_region` (font units).
 
@@ -65,6 +66,16 @@ def load_shape(arg, font=None, location=None):
         ParseError: as :func:`svg_region` and :func:`glyph_region`.
     """
     text = os.fspath(arg)
-    if text.lower().endswith(".svg"):
+    if text.lower().endswith((".svg", ".svgz")) or (len(text) > 1 and _svg_file(text)):
         return svg_shape(text)
     return glyph_region(text, font, location)
+
+
+def _svg_file(path):
+    """Is ``path`` a file whose content starts as an SVG (gzip) or XML document does?"""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64)
+    except OSError:
+        return False
+    return head[:2] == b"\x1f\x8b" or head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<")

@@ -29,6 +29,7 @@ the x axis and looks upright in a y-up frame.
 Every bad input raises :class:`morph.errors.ParseError` naming the input and element.
 """
 
+import gzip
 import io
 import math
 import os
@@ -485,12 +486,14 @@ def _read_document(text, is_file, label):
                 raise ParseError("cannot read SVG file %s: %s" % (text, why), text)
             with open(text, "rb") as fh:
                 data = fh.read()
+            if data[:2] == b"\x1f\x8b":  # .svgz: gzip-compressed SVG
+                data = gzip.decompress(data)
         else:
             data = text.encode("utf-8")
         root = ET.fromstring(data)
     except ParseError:
         raise
-    except (ET.ParseError, OSError, UnicodeDecodeError, ValueError) as exc:
+    except (ET.ParseError, OSError, UnicodeDecodeError, ValueError, EOFError) as exc:
         raise ParseError("cannot read SVG %s: %s" % (where, one_line(exc)), text) from exc
     if root.tag.split("}")[-1] != "svg":
         raise ParseError("SVG %s: the root element is <%s>, not <svg>"
