@@ -16,9 +16,10 @@ def offset_region(loops, radius, tol, method="qac", return_bound=False):
     """Outward offset of a region by ``radius``: the Minkowski sum with a disk.
 
     ``radius`` and ``tol`` are absolute, in the region's units.  Holes shrink and
-    close when the radius exceeds their inner radius.  Radius 0 returns the input.
+    close when the radius exceeds their inner radius.  A radius of at most 1e-9 tol
+    (0 included) returns the input, which lies within the radius of the offset.
     With ``return_bound``: (loops, the error achieved, at most tol: the debug
-    "bound" of :func:`morph.minkowski.minkowski_sum`, 0 for radius 0).
+    "bound" of :func:`morph.minkowski.minkowski_sum`; the radius for the input returned).
 
     Raises:
         ValueError: radius negative (insets are not supported) or not finite.
@@ -31,9 +32,12 @@ def offset_region(loops, radius, tol, method="qac", return_bound=False):
     if r < 0:
         raise ValueError("negative offset radius %g: insets (erosion) are not supported; "
                          "only outward offsets (radius >= 0)" % r)
-    if r == 0:
+    if r <= 1e-9 * tol:
+        # the region itself is within r of its offset (Hausdorff distance r): for a
+        # radius far below tol it is the answer (a disk of radius 1e-300 has no curve
+        # of nonzero length in floating point)
         out = [list(loop) for loop in loops]
-        return (out, 0.0) if return_bound else out
+        return (out, r) if return_bound else out
     disk = [pc.circle((0.0, 0.0), r)]
     if not return_bound:
         return minkowski_sum(loops, disk, tol, method=method)

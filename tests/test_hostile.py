@@ -498,3 +498,18 @@ def test_svgz_and_svg_without_suffix_are_read_as_svg(runner, tmp_path):
     line = error_line(runner.invoke(main, ["outline", str(tmp_path / "bad.svgz"), "-o",
                                            str(tmp_path / "bad.png")]))
     assert "cannot read SVG" in line
+
+
+def test_font_collection_reads_its_first_font(runner, tmp_path):
+    # a .ttc was refused with fontTools' "specify a font number" (no option gives one)
+    from fontTools.ttLib import TTCollection, TTFont
+
+    from morph.parse import cubic_test_font_path, default_font_path, glyph_region
+
+    col = TTCollection()
+    col.fonts = [TTFont(default_font_path()), TTFont(cubic_test_font_path())]
+    path = tmp_path / "pair.ttc"
+    col.save(str(path))
+    got = glyph_region("g", str(path)).region
+    assert pc.region_area(got) == pytest.approx(pc.region_area(glyph_region("g").region))
+    ok(runner.invoke(main, ["outline", "g", "--font", str(path), "-o", str(tmp_path / "g.png")]))

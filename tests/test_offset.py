@@ -112,3 +112,17 @@ def test_offset_bound_and_the_written_svg(tmp_path):
     lines = boundary_lines(region, tol / 20)
     d = np.array([lines.distance(Point(x, -y)) for x, y in zip(z.real, z.imag)])
     assert np.abs(d - 7.5).max() <= tol + tol / 20 + 1e-9
+
+
+def test_radius_far_below_tol_returns_the_region():
+    # a disk of radius 1e-300 has no curve of nonzero length ("loop has no curve of
+    # nonzero length", naming no input); the region is within r of its offset
+    from morph.offset import offset_region
+    from morph.parse import glyph_region
+
+    o = glyph_region("o").region
+    for r in (1e-300, 1e-12):
+        out, bound = offset_region(o, r, 0.05, return_bound=True)
+        assert bound == r and pc.region_area(out) == pytest.approx(pc.region_area(o))
+    out, bound = offset_region(o, 1e-6, 0.05, return_bound=True)  # computed: area grows
+    assert pc.region_area(out) > pc.region_area(o) and bound <= 0.05

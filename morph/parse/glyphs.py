@@ -52,7 +52,8 @@ def cubic_test_font_path():
 
 
 def load_font(path=None, location=None):
-    """The fontTools ``TTFont`` at ``path`` (None: the bundled TrueType font), cached.
+    """The fontTools ``TTFont`` at ``path`` (None: the bundled TrueType font; a font
+    collection, .ttc/.otc: its first font), cached.
 
     ``location``: design-space coordinates of a variable font, a dict such as
     ``{"wght": 700}`` or a string ``"wght=700,wdth=90"`` (:func:`parse_location`);
@@ -87,7 +88,7 @@ def _load_font_cached(path, loc=()):
     if not os.path.isfile(path):
         raise ParseError("cannot read font %s: no such file" % path, path)
     try:
-        font = TTFont(path)
+        font = TTFont(path, fontNumber=0)  # a collection (.ttc/.otc): its first font
         font.getGlyphOrder()
         font["head"]
     except Exception as exc:  # fontTools raises many types for garbage input
