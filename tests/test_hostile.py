@@ -454,7 +454,8 @@ def test_numpy_warnings_do_not_add_lines(tmp_path):
 def test_nib_option_must_be_positive_and_finite(runner, tmp_path):
     p = tmp_path / "line.svg"
     p.write_text(SVG % '<path d="M0 0 L10 0" fill="none" stroke="black"/>')
-    for nib in ("ellipse:inf,2,0", "ellipse:0,2,0", "ellipse:3,-2,0", "ellipse:3,2,nan"):
+    for nib in ("ellipse:inf,2,0", "ellipse:0,2,0", "ellipse:3,-2,0", "ellipse:3,2,nan",
+                "ellipse:1e9,1,0"):  # the last was "the nib is not convex"
         line = error_line(runner.invoke(main, ["stroke", str(p), "-o", str(tmp_path / "s.svg"),
                                                "--nib", nib]))
         assert "--nib" in line

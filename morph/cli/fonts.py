@@ -24,6 +24,9 @@ def _parse_nib(spec):
     if not all(math.isfinite(v) for v in (w, h, a)) or w <= 0 or h <= 0:
         raise InputError("--nib width and height must be positive and finite, the angle "
                          "finite: got %r" % spec)
+    if max(w, h) > 1e6 * min(w, h):
+        raise InputError("--nib %r is more than 1e6 times longer than wide: a nib that thin "
+                         "is not supported" % spec)
     return w, h, a
 
 
