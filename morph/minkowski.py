@@ -169,21 +169,27 @@ def check_operand(region, name):
             if len(shape) != 2 or shape[1] != 3 or shape[0] < 2:
                 raise ValueError("%s: a piece is an (n+1, 3) array of homogeneous control "
                                  "points (w*x, w*y, w), n >= 1; got shape %s" % (name, shape))
-    h = np.concatenate([np.asarray(p, float) for loop in region for p in loop])
+    pieces = [p for loop in region for p in loop]
+    h = np.concatenate(pieces).astype(float, copy=False)
     if not np.all(np.isfinite(h)):
         return  # check_tolerance names it
     if not np.all(h[:, 2] > 0):
         raise ValueError("%s has a weight <= 0: rational pieces need positive weights" % name)
     pts = h[:, :2] / h[:, 2:]
+    starts, ends = pc.end_points(pieces)
+    # the start of the next piece of the same loop, cyclically
+    sizes = np.array([len(loop) for loop in region])
+    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    k = np.arange(len(pieces))
+    nxt = np.where(k + 1 - first == np.repeat(sizes, sizes), first, k + 1)
     with np.errstate(all="ignore"):
         size = float(np.max(np.ptp(pts, axis=0)))
-        for k, loop in enumerate(region):
-            ends = np.array([pc.cartesian(np.asarray(p, float))[[0, -1]] for p in loop])
-            gap = np.hypot(*(np.roll(ends[:, 0], -1, axis=0) - ends[:, 1]).T)
-            if np.any(gap > 1e-7 * size):
-                j = int(np.argmax(gap))
-                raise ValueError("%s: loop %d is not closed: piece %d ends %.3g away from "
-                                 "where the next starts" % (name, k, j, gap[j]))
+        gap = np.hypot(*(starts[nxt] - ends).T)
+        if np.any(gap > 1e-7 * size):
+            j = int(np.argmax(gap))
+            loop = int(np.searchsorted(np.cumsum(sizes), j, side="right"))
+            raise ValueError("%s: loop %d is not closed: piece %d ends %.3g away from where "
+                             "the next starts" % (name, loop, j - first[j], gap[j]))
         area = pc.region_area(region)
     if area < -1e-9 * size * size:
         raise ValueError("%s has a negative signed area (%.6g): outer loops must run "

@@ -235,20 +235,7 @@ def winding_number(points, polylines, chunk=2_000_000):
     Vectorised over points x edges (in chunks of about ``chunk`` pairs).
     """
     pts = np.atleast_2d(np.asarray(points, float))
-    out = np.zeros(len(pts), int)
-    a, b = polyline_edges(polylines)
-    if not len(a) or len(pts) == 0:
-        return out
-    step = max(1, chunk // len(a))
-    for s in range(0, len(pts), step):
-        p = pts[s:s + step, None, :]
-        ay, by = a[None, :, 1], b[None, :, 1]
-        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
-                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
-        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0)
-        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0)
-        out[s:s + step] = up.sum(axis=1) - down.sum(axis=1)
-    return out
+    return winding_of_others(pts, np.full(len(pts), -1), polylines, chunk)
 
 
 def near_point_pairs(points, reach):
@@ -262,12 +249,10 @@ def near_point_pairs(points, reach):
 
 def winding_of_others(points, owner, polylines, chunk=2_000_000):
     """Winding number at each point of the closed ``polylines`` other than its own
-    (``owner[k]``: the index of point k's polyline, whose edges it does not count),
-    shape (m,) int; the crossing rule of :func:`winding_number`, all points at once."""
+    (``owner[k]``: the index of point k's polyline, whose edges it does not count;
+    -1: all count), shape (m,) int; the crossing rule of :func:`winding_number`."""
     pts = np.atleast_2d(np.asarray(points, float))
-    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
-    a, b = polyline_edges(polylines)
-    edge_owner = np.repeat(np.arange(len(polylines)), sizes)
+    a, b, edge_owner = _owned_edges(polylines)
     out = np.zeros(len(pts), int)
     if not len(a) or not len(pts):
         return out
@@ -277,20 +262,25 @@ def winding_of_others(points, owner, polylines, chunk=2_000_000):
         ay, by = a[None, :, 1], b[None, :, 1]
         cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
                  - (by - ay) * (p[..., 0] - a[None, :, 0]))
-        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0)
-        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0)
         other = np.asarray(owner)[s:s + step, None] != edge_owner[None, :]
-        out[s:s + step] = (up & other).sum(axis=1) - (down & other).sum(axis=1)
+        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0) & other
+        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0) & other
+        out[s:s + step] = up.sum(axis=1) - down.sum(axis=1)
     return out
+
+
+def _owned_edges(polylines):
+    """:func:`polyline_edges` and the index of each edge's polyline."""
+    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
+    a, b = polyline_edges(polylines)
+    return a, b, np.repeat(np.arange(len(polylines)), sizes)
 
 
 def distance_to_others(points, owner, polylines, chunk=1 << 22):
     """Distance from each point to the nearest edge of the closed ``polylines`` other
     than its own (``owner[k]``), shape (m,); inf where there is no other edge."""
     pts = np.atleast_2d(np.asarray(points, float))
-    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
-    a, b = polyline_edges(polylines)
-    edge_owner = np.repeat(np.arange(len(polylines)), sizes)
+    a, b, edge_owner = _owned_edges(polylines)
     out = np.full(len(pts), np.inf)
     if not len(a):
         return out
