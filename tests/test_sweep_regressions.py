@@ -152,11 +152,11 @@ SWEEP_REGRESSIONS = [
     ("nib/cormorant/U/60x8/120.7/0.0319/0.009",
      "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
     # session 11, EB Garamond (a font the code was not tuned on), fonts seed 9900:
-    # a hole of w + i keeps a spike 1.5 units (15 tol) into the filled sum at a corner
-    # where two QAC pieces cross; passes at 7e32a04, fails since the snap rounding
-    # (7a79858).  The integer ring turns at the corner and the lift's Newton finds the
-    # exact crossing, yet the lifted loop runs on to (649.78, 894.40), off every
-    # convolution piece: the spike is made inside trim.lift after the crossings
+    # a hole of w + i kept a spike 1.5 units (15 tol) into the filled sum at a corner,
+    # since the snap rounding (7a79858): a hot pixel put on a segment at its start took
+    # the start's parameter, and the start's range became [t, 1] (t1 = 1 where the next
+    # parameter was not greater): a one-unit edge lifted as a whole piece.  Equal
+    # parameters now give an empty range (trim.flatten.tag_loops)
     ("pair/ebg/w/i/0.0001",
      "straddle: 1 of 150 boundary points farther than tol + 2f inside the sum"),
 ]
@@ -190,9 +190,7 @@ SLOW = {
 }
 
 # cases the engine still fails (strict xfail: remove the entry once it passes)
-OPEN = {
-    "pair/ebg/w/i/0.0001": "a hole's spike 15 tol into the sum at a corner (see its entry)",
-}
+OPEN = {}
 
 
 def _params(cases, still_open, slow):

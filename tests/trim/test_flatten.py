@@ -94,3 +94,32 @@ def test_pixel_crossing_test_agrees_with_shapely():
     theirs = shapely.intersects(lines, squares)
     assert 200 < theirs.sum() < 3800  # both outcomes well represented
     assert np.array_equal(ours, theirs)
+
+
+def test_segment_ranges_end_near_their_next_vertex_with_hot_pixels():
+    # loops that meet at joints one grid unit apart (a piece ending beside another's
+    # start: hot pixels put vertices on segments at their start, with the start's
+    # parameter).  Every segment's range [t0, t1] must map near its two vertices; a
+    # vertex sharing its successor's parameter was given t1 = 1 (a whole piece for a
+    # one-unit edge: EB Garamond w + i lifted a spike 15 tol long)
+    rng = np.random.default_rng(8)
+    eps, grid = 1e-3, 1e-2
+    checked = 0
+    for _ in range(40):
+        c = rng.uniform(-1, 1, 2)
+        a = rng.uniform(0, 2 * np.pi)
+        d = np.array([np.cos(a), np.sin(a)])
+        n = np.array([-d[1], d[0]])
+        off = rng.uniform(0.3, 1.2) * grid * n   # the second loop's joint one unit away
+        p0, p1, p2 = c - 3 * d, c, c + 3 * d + 2 * n
+        loops = [[pc.line(p0, p1), pc.quadratic(p1, p1 + 2 * d - n, p2), pc.line(p2, p0)],
+                 [pc.line(p1 + off, p1 + off + 3 * n), pc.line(p1 + off + 3 * n, p1 + off - 3 * d),
+                  pc.line(p1 + off - 3 * d, p1 + off)]]
+        tg = tag_loops(loops, eps, grid)
+        x0 = np.array([pc.evaluate(tg.pieces[k], t)[0] for k, t in zip(tg.piece, tg.t0)])
+        x1 = np.array([pc.evaluate(tg.pieces[k], t)[0] for k, t in zip(tg.piece, tg.t1)])
+        reach = eps + grid
+        assert np.hypot(*(x0 - tg.to_float(tg.q)).T).max() <= reach
+        assert np.hypot(*(x1 - tg.to_float(tg.q[tg.nxt])).T).max() <= reach
+        checked += int(np.sum(tg.t0 == tg.t0[tg.nxt]))
+    assert checked > 0   # vertices sharing a parameter occurred
