@@ -170,16 +170,7 @@ def polylines_touch(polylines, reach):
     step = np.abs(i - j)
     size = np.repeat(sizes, sizes)[i]
     pairs = pairs[(first[i] != first[j]) | ((step != 1) & (step != size - 1))]
-    if not len(pairs):
-        return False
-    if len(segment_crossings(a, b, pairs)[0]):
-        return True
-    i, j = pairs[:, 0], pairs[:, 1]
-    gap = np.minimum(np.minimum(segment_distance(a[i], a[j], b[j]),
-                                segment_distance(b[i], a[j], b[j])),
-                     np.minimum(segment_distance(a[j], a[i], b[i]),
-                                segment_distance(b[j], a[i], b[i])))
-    return bool(np.any(gap <= reach))
+    return bool(len(pairs)) and bool(_within(a, b, pairs, reach).any())
 
 
 def polylines_apart(polylines, tol):
@@ -206,6 +197,11 @@ def near_segments(p0, p1, reach):
     chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
                | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
     pairs = pairs[~chained]
+    return pairs[_within(p0, p1, pairs, reach)]
+
+
+def _within(p0, p1, pairs, reach):
+    """Mask of the segment pairs (i, j) that cross or come within ``reach``."""
     i, j = pairs[:, 0], pairs[:, 1]
     hit = np.zeros(len(pairs), bool)
     hit[segment_crossings(p0, p1, pairs)[0]] = True
@@ -213,7 +209,7 @@ def near_segments(p0, p1, reach):
                                 segment_distance(p1[i], p0[j], p1[j])),
                      np.minimum(segment_distance(p0[j], p0[i], p1[i]),
                                 segment_distance(p1[j], p0[i], p1[i])))
-    return pairs[hit | (gap <= reach)]
+    return hit | (gap <= reach)
 
 
 def polyline_edges(polylines):

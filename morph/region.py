@@ -17,9 +17,8 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (distance_to_others, near_point_pairs, polyline_edges,  # noqa: F401
-                       polylines_apart, polylines_cross, polylines_touch, unique,
-                       winding_number, winding_of_others)
+from .polyline import (distance_to_others, near_point_pairs, polyline_edges, polylines_apart,
+                       polylines_touch, unique, winding_number, winding_of_others)
 
 __all__ = [
     "Region",

@@ -153,7 +153,8 @@ class MorphGroup(click.Group):
             code = EXIT_BAD_INPUT
         except MemoryError:
             _error_line("morph %s ran out of its memory budget (%.1f GB, MORPH_MEMORY_LIMIT): "
-                        "use a coarser --tol (or a smaller --size)" % (command, memory_budget_bytes() / 2 ** 30))
+                        "use a coarser --tol (or a smaller --size)"
+                        % (command, memory_budget_bytes() / 2 ** 30))
             code = EXIT_INTERNAL
         except Exception as exc:  # internal failure (MorphError or not): one line
             code = _failure_line(exc, command, argv, debug)

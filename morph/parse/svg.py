@@ -42,6 +42,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError, one_line
+from ..limits import MAX_COORDINATE  # coordinates beyond it are refused (morph.limits)
 from ..region import is_zero_length, orient_region, without_zero_length
 from ..trim import fill_region
 
@@ -52,10 +53,6 @@ __all__ = [
     "svg_region",
     "validate_path_data",
 ]
-
-#: coordinates beyond this magnitude are refused: products of a few coordinates
-#: (areas, Bernstein products of degree up to 11) must stay finite in float64
-from ..limits import MAX_COORDINATE  # noqa: E402 - beside the other limits of the parser
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(_NUMBER)

@@ -81,9 +81,9 @@ def tag_loops(loops, eps, grid, origin=None):
         nxt, prv, starts = _links(loop_of)
     # a segment ends at its next vertex's parameter on the same piece, 1 at a piece's
     # last vertex; a vertex put on a segment at its start (a hot pixel beside it)
-    # shares the start's parameter: that range is empty, not [t, 1] (EB Garamond
-    # w + i lifted a whole piece for such a one-unit edge: a spike 15 tol long)
-    same = (pid[nxt] == pid) & (ts[nxt] >= ts) & (nxt != np.arange(len(pid)))
+    # shares the start's parameter: that range is empty, not [t, 1] (which would lift
+    # a one-unit edge as the whole rest of the piece)
+    same = (pid[nxt] == pid) & (ts[nxt] >= ts)
     t1 = np.where(same, ts[nxt], 1.0)
     return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
 
