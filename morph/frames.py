@@ -11,9 +11,10 @@ import numpy as np
 
 from . import convolve
 from .minkowski import minkowski_sum
-from .region import region_centroid, scale_region, translate_region
+from .region import region_bbox, region_centroid, scale_region, translate_region
 
-__all__ = ["centered", "morph_frames", "scale_region", "translate_region"]
+__all__ = ["centered", "frames_bbox", "iter_frames", "morph_frames", "scale_region",
+           "translate_region"]
 
 
 def centered(loops):
@@ -34,24 +35,40 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     (:func:`morph.convolve.scaled_gauss_pair`).  With ``return_bounds``: (frames,
     bounds), bounds[k] the error frame k achieved (at most tol; 0 for the end frames,
     which are the operands), what :func:`morph.export.export_tolerance` takes.
+    :func:`iter_frames` gives the same frames one at a time.
     Raises ValueError for n < 2.
     """
+    frames, bounds = [], []
+    for k, (out, bound) in enumerate(iter_frames(region_a, region_b, n, tol, method, cache)):
+        frames.append(out)
+        bounds.append(bound)
+        if progress is not None:
+            progress(k)
+    return (frames, bounds) if return_bounds else frames
+
+
+def iter_frames(region_a, region_b, n, tol, method="qac", cache=True):
+    """(frame, bound) of :func:`morph_frames`, one frame at a time, in order: a writer
+    can store each frame as it is done, holding one in memory."""
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
     a = centered(region_a)
     b = centered(region_b)
     base = convolve.with_pair_table(convolve.gauss_pair_of(a, b)) if cache and n > 2 else None
-    frames, bounds = [], []
-    for k, alpha in enumerate(np.linspace(0.0, 1.0, n)):
+    for alpha in np.linspace(0.0, 1.0, n):
         if alpha == 0.0 or alpha == 1.0:
-            frames.append(a if alpha == 0.0 else b)
-            bounds.append(0.0)
-        else:
-            pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
-            out, debug = minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
-                                       method=method, gauss_pair=pair, return_debug=True)
-            frames.append(out)
-            bounds.append(debug["bound"])
-        if progress is not None:
-            progress(k)
-    return (frames, bounds) if return_bounds else frames
+            yield (a if alpha == 0.0 else b), 0.0
+            continue
+        pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
+        out, debug = minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
+                                   method=method, gauss_pair=pair, return_debug=True)
+        yield out, debug["bound"]
+
+
+def frames_bbox(region_a, region_b):
+    """The tight box of every frame together: the union of the boxes of centred A and
+    B.  A box's sides are the support function h(u) = max <x, u> at the four axis
+    directions, and h((1 - a) A ⊕ a B) = (1 - a) h(A) + a h(B) lies between h(A) and
+    h(B); so a writer can fix the frame box before the first sum is done."""
+    boxes = np.array([region_bbox(centered(r)) for r in (region_a, region_b)])
+    return np.concatenate([boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)])

@@ -11,7 +11,8 @@ from svgpathtools import parse_path
 
 from morph import piece as pc
 from morph.cli import main
-from morph.frames import centered, morph_frames, scale_region
+from morph.frames import centered, frames_bbox, iter_frames, morph_frames, scale_region
+from morph.region import region_bbox
 from morph.parse import glyph_region
 from morph.render import render_png
 from tests.imagediff import assert_matches_golden
@@ -85,7 +86,7 @@ def test_glyph_command_writes_an_apng_on_request(tmp_path):
     assert res.exit_code == 2
 
 
-@pytest.mark.parametrize("frames", ["0", "1", "-3"])
+@pytest.mark.parametrize("frames", ["0", "1", "-3", "1001", "100000"])
 def test_glyph_command_rejects_bad_frame_counts(tmp_path, frames):
     res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", frames, "-o", str(tmp_path / "x")])
     assert res.exit_code == 2
@@ -170,3 +171,53 @@ def test_svg_frames_are_within_tol_of_the_exact_frames(tmp_path):
         dist = np.array([square.distance(Point(p.real, p.imag)) for p in pts]) if h > 0 \
             else np.abs(pts)
         assert np.abs(dist - 30.0 * a).max() <= tol, (k, np.abs(dist - 30.0 * a).max())
+
+
+def test_frames_bbox_holds_every_frame(tm_frames):
+    """frames_bbox (from the operands' boxes alone, before any sum) is the union of
+    the computed frames' tight boxes, to the sums' tol (0.1 units here)."""
+    box = frames_bbox(glyph_region("T").region, glyph_region("M").region)
+    boxes = np.array([region_bbox(f) for f in tm_frames])
+    union = np.concatenate([boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)])
+    assert np.abs(box - union).max() <= 0.1
+    # the inner frames' boxes are the interpolated operand boxes
+    a = np.linspace(0.0, 1.0, 5)[:, None]
+    assert np.abs(boxes - ((1 - a) * boxes[0] + a * boxes[-1])).max() <= 0.1
+
+
+def test_iter_frames_gives_morph_frames_one_at_a_time(tm_frames):
+    it = iter_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1)
+    first = next(it)
+    assert first[1] == 0.0 and pc.region_area(first[0]) == pc.region_area(tm_frames[0])
+    rest = list(it)
+    assert [pc.region_area(f) for f, _ in rest] == [pc.region_area(f) for f in tm_frames[1:]]
+
+
+def test_frames_are_written_as_they_are_done(tmp_path):
+    """write_frame_stream stores each frame when it arrives: a sequence that stops
+    (here a generator failing at its third frame) leaves its first frames on disk."""
+    from morph.render import write_frame_stream
+
+    def frames():
+        for r in (1.0, 2.0):
+            yield [pc.circle((0.0, 0.0), r)], 1e-3
+        raise RuntimeError("stopped")
+
+    with pytest.raises(RuntimeError):
+        write_frame_stream(tmp_path, frames(), (-3.0, -3.0, 3.0, 3.0), size=32)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "frame-000.png", "frame-000.svg", "frame-001.png", "frame-001.svg"]
+
+
+def test_glyph_command_refuses_an_animation_beyond_memory(tmp_path, monkeypatch):
+    """The animation's frames stay in memory: frames x size^2 bytes (GIF) against a
+    quarter of the memory budget (here 1 GB); one line, nothing written."""
+    monkeypatch.setattr("morph.limits.memory_budget_bytes", lambda: 2 ** 30)
+    out = tmp_path / "x"
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "300", "--size", "1024",
+                                    "-o", str(out)])
+    assert res.exit_code == 2 and len(res.output.strip().splitlines()) == 1
+    assert "0.3 GB" in res.output and "--frames" in res.output and not out.exists()
+    res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "--size", "1024",
+                                    "--animation", "apng", "-o", str(out)])
+    assert res.exit_code == 0, res.output

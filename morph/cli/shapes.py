@@ -80,25 +80,47 @@ def sum_(a, b, method, font, tol, output, force, size):
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac",
                    animation="gif"):
     from ..export import SUM_SHARE, export_tolerance, split_tolerance
-    from ..frames import morph_frames
-    from ..render import write_frames
+    from ..frames import frames_bbox, iter_frames
+    from ..render import write_frame_stream
 
-    if frames < 2:
-        raise InputError("--frames must be at least 2, got %d" % frames)
+    _check_animation_memory(frames, size, animation)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
     t = shape_tolerance(a, tol, b.region, share=SUM_SHARE)
     st, _ = split_tolerance(t)  # each frame's sum gets this share of --tol
+
+    def written(bar):
+        # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
+        for out, bound in iter_frames(a.region, b.region, frames, st, method=method):
+            yield out, export_tolerance(t, bound)
+            bar.update(1)
+
     with progress_bar(frames, "frames") as bar:
-        regions, bounds = morph_frames(a.region, b.region, frames, st, method=method,
-                                       progress=lambda k: bar.update(1), return_bounds=True)
-    # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
-    write_frames(outdir, regions, size=size, tol=[export_tolerance(t, e) for e in bounds],
-                 duration=duration, animation=animation)
+        write_frame_stream(outdir, written(bar), frames_bbox(a.region, b.region), size=size,
+                           duration=duration, animation=animation)
     click.echo("wrote %d frames (SVG + PNG) and morph.%s to %s" % (frames, animation, outdir))
 
 
+def _check_animation_memory(frames, size, animation):
+    """The animation's frames stay in memory until it is written (1 byte a pixel in
+    a GIF's palette, 4 in an APNG): at most a quarter of the process's memory budget,
+    the rest is the sums'."""
+    from ..limits import memory_budget_bytes
+
+    need = frames * size * size * (1 if animation == "gif" else 4)
+    budget = memory_budget_bytes() // 4
+    if need > budget:
+        raise InputError("%d frames at --size %d make a %s of %.1f GB, more than the %.1f GB "
+                         "this machine allows; use fewer --frames or a smaller --size"
+                         % (frames, size, animation.upper(), need / 2 ** 30, budget / 2 ** 30))
+
+
+#: frames of one sequence: frame-000 ... frame-999, a 2-minute animation at 120 ms
+MAX_FRAMES = 1000
+
+
 def _frames_option(f):
-    return click.option("--frames", type=int, default=10, show_default=True,
+    return click.option("--frames", type=click.IntRange(min=2, max=MAX_FRAMES), default=10,
+                        show_default=True,
                         help="Number of frames, including both end shapes.")(f)
 
 

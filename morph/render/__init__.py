@@ -15,7 +15,7 @@ from ..region import Region, region_bbox
 
 __all__ = ["frame_bbox", "normalize_shapes", "render_png", "write_png", "frames_to_gif",
            "save_animation", "svg_document", "svg_path_data", "write_svg", "cspace_figure",
-           "write_frames"]
+           "write_frames", "write_frame_stream", "gif_frame"]
 
 
 def _is_loop(obj):
@@ -72,7 +72,8 @@ def frame_bbox(shapes, bbox=None, margin=0.05):
 # the writers, imported on first use (PEP 562): an SVG command never loads Pillow
 _WRITERS = {"frames_to_gif": "png", "render_png": "png", "save_animation": "png",
             "write_png": "png", "svg_document": "svg", "svg_path_data": "svg",
-            "write_svg": "svg", "cspace_figure": "figures", "write_frames": "figures"}
+            "write_svg": "svg", "cspace_figure": "figures", "write_frames": "figures",
+            "write_frame_stream": "figures", "gif_frame": "png"}
 
 
 def __getattr__(name):

@@ -11,7 +11,7 @@ import numpy as np
 from .. import piece as pc
 from . import frame_bbox
 
-__all__ = ["cspace_figure", "write_frames"]
+__all__ = ["cspace_figure", "write_frame_stream", "write_frames"]
 
 CSPACE_STYLE = {"fill": "#f2c894", "stroke": "#b3541e", "stroke_width": 1.5}
 OBSTACLE_STYLE = {"fill": "#404040"}
@@ -57,20 +57,30 @@ def write_frames(folder, regions, size=512, tol=None, duration=120, animation="g
     (``animation="apng"``: ``morph.apng``, full colour) with ``duration`` ms per
     frame.  ``tol``: the SVG export's tolerance (region units), one for all frames
     or a sequence of one per frame.  Returns the folder."""
-    from .png import render_png, save_animation
-    from .svg import write_svg
-
-    folder = Path(folder)
-    bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    regions = list(regions)
     tols = list(tol) if hasattr(tol, "__len__") else [tol] * len(regions)
     if len(tols) != len(regions):
         raise ValueError("%d tolerances for %d frames" % (len(tols), len(regions)))
+    bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    return write_frame_stream(folder, zip(regions, tols), bbox, size, duration, animation)
+
+
+def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="gif"):
+    """:func:`write_frames` of (region, tol) pairs from any iterable, each frame's
+    files written as it arrives (e.g. from :func:`morph.frames.iter_frames`, in the
+    box of :func:`morph.frames.frames_bbox`): a long sequence is on disk as far as
+    it got, and only the animation's frames stay in memory (palette images for a
+    GIF).  Returns the folder."""
+    from .png import gif_frame, render_png, save_animation
+    from .svg import write_svg
+
+    folder = Path(folder)
     images = []
-    for k, (region, t) in enumerate(zip(regions, tols)):
+    for k, (region, t) in enumerate(frames):
         stem = folder / ("frame-%03d" % k)
         write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=t)
         image = render_png([region], size=size, bbox=bbox)
         image.save(str(stem) + ".png")
-        images.append(image)
+        images.append(gif_frame(image) if animation == "gif" else image)
     save_animation(images, str(folder / ("morph." + animation)), duration=duration)
     return folder

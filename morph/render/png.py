@@ -173,13 +173,19 @@ def _flatten_rgb(image):
     return image.convert("RGB")
 
 
+def gif_frame(image):
+    """An image as a GIF frame: composited on white, adaptive 256-colour palette."""
+    return _flatten_rgb(image).convert("P", palette=Image.Palette.ADAPTIVE)
+
+
 def frames_to_gif(images, path, duration=50, loop=0):
     """Write an animated GIF: ``duration`` ms per frame, ``loop`` 0 = forever.
 
     Transparent pixels are composited on white (GIF has 1-bit transparency); each
-    frame is quantised to an adaptive 256-colour palette.
+    frame is quantised to an adaptive 256-colour palette (:func:`gif_frame`; images
+    in palette mode are taken as they are).
     """
-    frames = [_flatten_rgb(im).convert("P", palette=Image.Palette.ADAPTIVE) for im in images]
+    frames = [im if im.mode == "P" else gif_frame(im) for im in images]
     if not frames:
         raise ValueError("no frames to write")
     frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:],
