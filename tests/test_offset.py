@@ -9,7 +9,7 @@ from shapely.geometry import LineString, MultiLineString, Point
 
 from morph import piece as pc
 from morph.cli import main
-from morph.offset import offset_region
+from morph.offset import inset_region, offset_region
 from morph.parse import glyph_region, svg_region
 from tests.reference import region_polylines
 
@@ -64,11 +64,14 @@ def test_large_radius_closes_hole():
     assert len(out) == 1
 
 
-def test_zero_and_negative_radius():
+def test_zero_and_bad_radius():
     region = glyph_region("o").region
     assert offset_region(region, 0.0, 0.1) == region
-    with pytest.raises(ValueError, match="not supported"):
-        offset_region(region, -5.0, 0.1)
+    for r in (np.nan, np.inf, -np.inf):
+        with pytest.raises(ValueError, match="finite"):
+            offset_region(region, r, 0.1)
+    with pytest.raises(ValueError, match="positive"):
+        inset_region(region, 0.0, 0.1)
 
 
 def test_cli_offset(tmp_path):
@@ -79,9 +82,12 @@ def test_cli_offset(tmp_path):
     assert r.exit_code == 0, r.output
     assert out.stat().st_size > 0
     r = runner.invoke(main, ["offset", "o", "--radius", "-0.03", "-o",
-                             str(tmp_path / "n.png")])
-    assert r.exit_code == 2
-    assert "not supported" in r.output
+                             str(tmp_path / "n.png"), "--size", "64"])
+    assert r.exit_code == 0, r.output
+    r = runner.invoke(main, ["offset", "o", "--radius", "-0.3", "-o",
+                             str(tmp_path / "gone.png")])
+    assert r.exit_code == 2 and len(r.output.strip().splitlines()) == 1
+    assert "erodes all of glyph 'o'" in r.output and not (tmp_path / "gone.png").exists()
 
 
 def test_offset_bound_and_the_written_svg(tmp_path):
@@ -117,7 +123,7 @@ def test_offset_bound_and_the_written_svg(tmp_path):
 def test_radius_far_below_tol_returns_the_region():
     # a disk of radius 1e-300 has no curve of nonzero length ("loop has no curve of
     # nonzero length", naming no input); the region is within r of its offset
-    from morph.offset import offset_region
+    from morph.offset import inset_region, offset_region
     from morph.parse import glyph_region
 
     o = glyph_region("o").region
@@ -126,3 +132,69 @@ def test_radius_far_below_tol_returns_the_region():
         assert bound == r and pc.region_area(out) == pytest.approx(pc.region_area(o))
     out, bound = offset_region(o, 1e-6, 0.05, return_bound=True)  # computed: area grows
     assert pc.region_area(out) > pc.region_area(o) and bound <= 0.05
+
+
+def _inset_against_shapely(region, radius, tol):
+    """The inset against shapely's buffer(-radius) of the region flattened within
+    tol / 20 (arcs as 256 segments a quarter: their error radius * 2e-5): every
+    boundary sample of the inset lies at distance ``radius`` from the input's
+    boundary (within tol + the flattening) and inside the input (nonzero winding),
+    and the two regions differ by an area of at most (tol + flattening) times the
+    perimeter (nothing missing, no extra part)."""
+    from shapely.geometry import Polygon
+
+    from tests.reference import region_to_shapely
+
+    out = inset_region(region, radius, tol)
+    flat = tol / 20
+    pts = boundary_samples(out)
+    d = np.array([boundary_lines(region, flat).distance(Point(p)) for p in pts])
+    assert np.abs(d - radius).max() <= tol + flat + 1e-9, np.abs(d - radius).max()
+    ref = region_to_shapely(region, flat).buffer(-radius, quad_segs=256)
+    mine = region_to_shapely(out, flat) if out else Polygon()
+    slack = (tol + 2 * flat + radius * 2e-5) * max(ref.length, 1.0)
+    assert mine.symmetric_difference(ref).area <= slack, (mine.symmetric_difference(ref).area,
+                                                          slack)
+    return out
+
+
+@pytest.mark.parametrize("char,radius,loops", [("o", 20.0, 2), ("e", 15.0, 2), ("S", 25.0, 1),
+                                               ("B", 20.0, 3), ("B", 30.0, 1),
+                                               ("m", 35.0, 3)])
+def test_glyph_inset_against_shapely(char, radius, loops):
+    """Insets of glyphs: holes grow, thin parts vanish (m's stems 2 x 35 units wide
+    are split from its arches; at 30 units B's bowls part where they meet on the
+    right, opening both counters: one loop), measured against shapely."""
+    out = _inset_against_shapely(glyph_region(char).region, radius, 0.1)
+    assert len(out) == loops
+
+
+def test_inset_of_a_square_keeps_its_corners_and_of_an_annulus_its_circles():
+    sq = [[pc.line(a, b) for a, b in zip([(0, 0), (100, 0), (100, 100), (0, 100)],
+                                         [(100, 0), (100, 100), (0, 100), (0, 0)])]]
+    out = inset_region(sq, 10.0, 1e-3)
+    assert len(out) == 1 and pc.region_area(out) == pytest.approx(6400.0, abs=1e-6)
+    from morph.region import region_bbox, reverse_loop
+    assert np.allclose(region_bbox(out), [10, 10, 90, 90], atol=1e-9)
+    ring = [pc.circle((0, 0), 50), reverse_loop(pc.circle((0, 0), 20))]
+    out, bound = inset_region(ring, 5.0, 1e-4, return_bound=True)
+    assert 0 < bound <= 1e-4 and len(out) == 2
+    assert pc.region_area(out) == pytest.approx(np.pi * (45 ** 2 - 25 ** 2), abs=2 * np.pi * 70 * 1e-4)
+    assert inset_region(ring, 15.5, 1e-4) == []        # the ring is 30 wide
+
+
+@pytest.mark.parametrize("seed", [3, 11])
+def test_inset_at_random_angles_and_scales(seed):
+    """Inputs not tuned on: an SVG shape and a CFF glyph turned by a random angle and
+    scaled by a random factor, inset by a random radius, against shapely."""
+    from morph.parse import cubic_test_font_path
+    from morph.region import region_bbox, transform_region
+
+    rng = np.random.default_rng(seed)
+    for region in (svg_region(SVG), glyph_region("g", cubic_test_font_path()).region):
+        a, k = rng.uniform(0, 2 * np.pi), rng.uniform(0.2, 5.0)
+        m = k * np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0]])
+        turned = transform_region(region, m)
+        x0, y0, x1, y1 = region_bbox(turned)
+        size = max(x1 - x0, y1 - y0)
+        _inset_against_shapely(turned, rng.uniform(0.005, 0.03) * size, 1e-4 * size)

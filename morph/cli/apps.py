@@ -12,39 +12,46 @@ from .options import (InputError, common_options, report_written, resolve_output
 @shape_argument("shape")
 @click.option("--radius", "-r", type=float, required=True,
               help="Offset radius: in em for glyphs (0.05 = 50 units at 1000 units "
-                   "per em), in user units for SVG. Must be >= 0.")
+                   "per em), in user units for SVG. Negative: an inset (the shape "
+                   "shrunk by the disk).")
 @common_options
 def offset(shape, radius, font, tol, output, force, size):
-    """Offset a shape outward by an exact disk: SHAPE ⊕ disk(RADIUS) (Fig. 37).
+    """Offset a shape by an exact disk: SHAPE ⊕ disk(RADIUS) (Fig. 37), or for a
+    negative RADIUS the inset SHAPE ⊖ disk(-RADIUS).
 
     The disk is an exact rational circle, so the boundary is the QAC convolution
     with a circle trimmed to the boundary, within --tol of the exact offset curve.
-    Holes shrink and close.  Negative radii (insets) are not supported: exit 2.
-    The picture shows the offset region in grey with the original shape on top.
+    Outward, holes shrink and close; inward, holes grow and parts narrower than
+    twice the radius vanish (a shape that vanishes entirely: exit 2).  The
+    picture shows the larger region in blue with the smaller on top in black.
 
     \b
     Examples:
       morph offset o --radius 0.04 -o o-offset.png
       morph offset drawing.svg --radius 5 -o grown.svg
+      morph offset o --radius -0.02 -o o-inset.svg
     """
     from ..offset import offset_region
     from ..piece import circle as pc_circle
 
-    if radius < 0:
-        raise InputError("negative --radius %g: insets are not supported, only "
-                         "outward offsets (radius >= 0)" % radius)
     if not np.isfinite(radius):
         raise InputError("--radius must be a finite number, got %s" % radius)
-    out = resolve_output(output, "offset-%s.png" % shape.slug, force)
+    out = resolve_output(output, "%s-%s.png" % ("inset" if radius < 0 else "offset",
+                                               shape.slug), force)
     r = shape.em_to_units(radius)
     from ..export import SUM_SHARE, export_tolerance, split_tolerance
 
-    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), r)]] if r > 0 else []),
+    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), abs(r))]] if r else []),
                         share=SUM_SHARE)
     st, _ = split_tolerance(t)  # the offset's share of --tol
     loops, bound = offset_region(shape.region, r, st, return_bound=True)
+    if not loops:
+        raise InputError("--radius %g erodes all of %s '%s': no disk of radius %g%s fits in it"
+                         % (radius, shape.kind, shape.name, -radius,
+                            " em" if shape.kind == "glyph" else ""))
+    big, small = (loops, shape.region) if r >= 0 else (shape.region, loops)
     # the export gets what the offset left of --tol (its achieved bound <= its share)
-    write_image(out, [(loops, {"fill": "#9bbbd4"}), (shape.region, {"fill": "black"})],
+    write_image(out, [(big, {"fill": "#9bbbd4"}), (small, {"fill": "black"})],
                 size=size, tol=export_tolerance(t, bound))
     report_written(out, loops)
 
