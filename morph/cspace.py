@@ -5,13 +5,17 @@ p + (R - ref).  It overlaps the obstacle O iff p ∈ O ⊕ (ref - R): the C-spac
 obstacle is the Minkowski sum of the obstacle with the robot reflected through its
 reference point.  The reflection x -> 2 ref - x is a rotation by pi, so it keeps the
 orientation of loops (outer CCW, holes CW) and the pieces stay exact.
+
+The other way round, a robot that must stay inside a container C (a room) fits at p
+iff p + (R - ref) ⊂ C: the free positions are the erosion C ⊖ (R - ref)
+(:func:`free_space`, by :func:`morph.offset.erode_region`).
 """
 
 import numpy as np
 
 from .region import transform_region, translate_region
 
-__all__ = ["reflect_region", "place_robot", "cspace_obstacle"]
+__all__ = ["reflect_region", "place_robot", "cspace_obstacle", "free_space"]
 
 
 def reflect_region(loops, reference=(0.0, 0.0)):
@@ -41,3 +45,13 @@ def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac", re
     out, debug = minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method,
                                return_debug=True)
     return (out, debug["bound"]) if return_bound else out
+
+
+def free_space(container, robot, tol, reference=(0.0, 0.0), method="qac", return_bound=False):
+    """Positions of the reference point where the robot lies inside the container:
+    C ⊖ (R − ref), exact-normal curves within ``tol``; [] where the robot fits
+    nowhere.  ``return_bound`` as :func:`cspace_obstacle`."""
+    from .offset import erode_region
+
+    relative = translate_region(robot, -np.asarray(reference, float))
+    return erode_region(container, relative, tol, method=method, return_bound=return_bound)

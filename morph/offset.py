@@ -6,7 +6,7 @@ offset boundary is the QAC convolution of the region with a circle, trimmed to t
 boundary by :func:`morph.minkowski.minkowski_sum`, within ``tol`` of the exact offset.
 An inset is the same sum on the complement: A ⊖ D = not((not A) ⊕ (−D)), D = −D for a
 disk, with "not A" a box around A, margin beyond 2 R, with A's loops as its holes
-(:func:`inset_region`).
+(:func:`inset_region`; any region B in place of the disk: :func:`erode_region`).
 """
 
 import numpy as np
@@ -14,7 +14,7 @@ import numpy as np
 from . import piece as pc
 from .region import region_bbox, reverse_loop
 
-__all__ = ["inset_region", "offset_region"]
+__all__ = ["erode_region", "inset_region", "offset_region"]
 
 
 def offset_region(loops, radius, tol, method="qac", return_bound=False):
@@ -53,29 +53,44 @@ def offset_region(loops, radius, tol, method="qac", return_bound=False):
 
 def inset_region(loops, radius, tol, method="qac", return_bound=False):
     """Inward offset (erosion) of a region by ``radius`` > 0: the points whose disk
-    of that radius lies in the region, A ⊖ D = not((not A) ⊕ D).
+    of that radius lies in the region, :func:`erode_region` by the exact disk.
 
-    "not A" is a box around A with margin ``2 radius + 1 %`` of A's size (so the box's
-    own offset stays clear of A's) holding A's loops reversed (outer loops become
-    holes, holes become islands).  The sum's loops other than the grown box are the
-    boundary of the inset, reversed back: exact-normal curves within ``tol`` of the
-    inner offset, sharp where A's convex corners are (the erosion of a square is a
-    smaller square).  Parts of A narrower than 2 ``radius`` vanish; a region narrower
-    everywhere gives [].  ``return_bound`` as :func:`offset_region`.
+    Exact-normal curves within ``tol`` of the inner offset, sharp where the region's
+    convex corners are (the inset of a square is a smaller square).  Parts narrower
+    than 2 ``radius`` vanish; a region narrower everywhere gives [].
+    ``return_bound`` as :func:`offset_region`.
     """
-    from .minkowski import minkowski_sum
-
     r = float(radius)
     if not (np.isfinite(r) and r > 0):
         raise ValueError("inset radius must be positive and finite, got %r" % (radius,))
+    return erode_region(loops, [pc.circle((0.0, 0.0), r)], tol, method, return_bound)
+
+
+def erode_region(loops, shape, tol, method="qac", return_bound=False):
+    """The erosion (Minkowski difference) A ⊖ B = {x : x + B inside A} of a region A
+    by a region B, as A ⊖ B = not((not A) ⊕ (−B)).
+
+    "not A" is a box around A, its margin twice B's extent and 1 % of A's size (so
+    the box's own sum stays clear of A's), holding A's loops reversed (outer loops
+    become holes, holes become islands); −B is B turned by pi about the origin (its
+    loops keep their orientation).  The sum's loops other than the grown box, the
+    one reaching lowest, are the boundary of A ⊖ B reversed back: exact-normal curves
+    within ``tol`` (absolute) of it.  Parts of A that B does not fit in vanish; []
+    when B fits nowhere.  With ``return_bound``: (loops, the error achieved: the
+    debug "bound" of :func:`morph.minkowski.minkowski_sum`).
+    """
+    from .minkowski import minkowski_sum
+    from .region import transform_region
+
     x0, y0, x1, y1 = region_bbox(loops)
-    m = 2.0 * r + 0.01 * max(x1 - x0, y1 - y0)
+    extent = float(np.abs(np.reshape(region_bbox(shape), (2, 2))).max())
+    m = 2.0 * extent + 0.01 * max(x1 - x0, y1 - y0)
     corners = np.array([[x0 - m, y0 - m], [x1 + m, y0 - m], [x1 + m, y1 + m], [x0 - m, y1 + m]])
     box = [pc.line(corners[k], corners[(k + 1) % 4]) for k in range(4)]
     complement = [box] + [reverse_loop(loop) for loop in loops]
-    out, debug = minkowski_sum(complement, [pc.circle((0.0, 0.0), r)], tol, method=method,
-                               return_debug=True)
-    # the grown box holds every other loop: the one reaching below y0 - m
-    low = np.array([region_bbox([loop])[1] for loop in out])
-    inset = [reverse_loop(loop) for loop, y in zip(out, low) if y > y0 - m + r]
-    return (inset, debug["bound"]) if return_bound else inset
+    turned = transform_region(shape, [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    out, debug = minkowski_sum(complement, turned, tol, method=method, return_debug=True)
+    lows = [region_bbox([loop])[1] for loop in out]
+    grown_box = int(np.argmin(lows))
+    eroded = [reverse_loop(loop) for k, loop in enumerate(out) if k != grown_box]
+    return (eroded, debug["bound"]) if return_bound else eroded

@@ -64,8 +64,11 @@ def offset(shape, radius, font, tol, output, force, size):
 @click.option("--reference", type=click.Choice(["centroid", "origin"]), default="centroid",
               show_default=True,
               help="The robot's reference point: its area centroid or its origin.")
+@click.option("--inside", is_flag=True,
+              help="OBSTACLE is a container the robot must stay in: the region drawn is "
+                   "where the robot fits, OBSTACLE ⊖ (ROBOT − ref).")
 @common_options
-def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
+def cspace(obstacle, robot, samples, reference, inside, font, tol, output, force, size):
     """C-space obstacle of a translating ROBOT: OBSTACLE ⊕ (−ROBOT) (Figs. 4, 38).
 
     The robot's reference point is its area centroid (--reference centroid) or
@@ -73,14 +76,18 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     with its reference point at p, overlaps
     the obstacle exactly when p lies in the C-space region.  The picture shows the
     C-space region (orange), the obstacle (dark grey) and the robot outline placed
-    at SAMPLES points along the C-space boundary (touching the obstacle).
+    at SAMPLES points along the C-space boundary (touching the obstacle).  With
+    --inside the robot moves inside OBSTACLE (a room): the region is where it fits,
+    drawn over the room, with the robot placed touching the walls from inside; a
+    robot that fits nowhere is an error (exit 2).
 
     \b
     Examples:
       morph cspace O v -o cspace.png
       morph cspace room.svg robot.svg --samples 12
+      morph cspace room.svg robot.svg --inside
     """
-    from ..cspace import cspace_obstacle
+    from ..cspace import cspace_obstacle, free_space
     from ..region import region_centroid
     from ..render import cspace_figure
 
@@ -90,9 +97,13 @@ def cspace(obstacle, robot, samples, reference, font, tol, output, force, size):
     t = shape_tolerance(obstacle, tol, robot.region, share=SUM_SHARE)
     ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
     st, _ = split_tolerance(t)  # the sum's share of --tol
-    loops, bound = cspace_obstacle(obstacle.region, robot.region, st, reference=ref,
-                                   return_bound=True)
+    space = free_space if inside else cspace_obstacle
+    loops, bound = space(obstacle.region, robot.region, st, reference=ref, return_bound=True)
+    if not loops:
+        raise InputError("%s '%s' fits nowhere inside %s '%s'" % (robot.kind, robot.name,
+                                                                 obstacle.kind, obstacle.name))
     # the SVG export gets the rest of --tol beyond the error the sum achieved
-    write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref),
+    write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref,
+                                   inside=inside),
                 size=size, tol=export_tolerance(t, bound))
     report_written(out, loops)

@@ -31,15 +31,19 @@ def _boundary_points(loop, tol, count):
     return closed[idx] + u[:, None] * (closed[idx + 1] - closed[idx])
 
 
-def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0)):
+def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0),
+                  inside=False):
     """Shapes of a C-space picture (paper Figs. 4, 38): the C-space region (light),
     the obstacle (dark), the robot's outline placed with its reference point at
     ``samples`` points spread along the C-space boundary's largest loop (touching
     the obstacle there), and a dot at each of those points.  ``tol``: flattening of
-    that loop, in the shapes' units."""
+    that loop, in the shapes' units.  ``inside``: the obstacle is a container and
+    ``cspace`` its free space (:func:`morph.cspace.free_space`), drawn on top of it."""
     from ..cspace import place_robot
 
     shapes = [(cspace, dict(CSPACE_STYLE)), (obstacle, dict(OBSTACLE_STYLE))]
+    if inside:
+        shapes.reverse()
     if not cspace or samples <= 0:
         return shapes
     outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop)))
