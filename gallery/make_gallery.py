@@ -7,6 +7,7 @@ Figures (file stems in gallery/):
   fig02_nonconvex   'C' ⊕ ellipse: convolution curve before trimming (left, all
                     pieces including type 3 as strokes) and the trimmed sum (right) (Fig. 2)
   fig37_offsets     'e' offset by exact disks of several radii (Fig. 37)
+  fig37_insets      'e' inset by exact disks of several radii (its erosions)
   fig38_cspace      C-space obstacle of 'O' for a translating 'v' robot (Figs. 4, 38)
   fig05_brush       sample text swept by an elliptical nib (Fig. 5)
   fig05_skeleton    a Relief SingleLine skeleton, the nib along it, skeleton ⊕ nib (Fig. 5)
@@ -102,6 +103,19 @@ def fig37_offsets():
         shapes.append((offset_region(a, r, tol), {"fill": c, "stroke": BLUE,
                                                   "stroke_width": 0.8}))
     shapes.append((a, {"fill": "black"}))
+    return shapes, tol
+
+
+def fig37_insets():
+    from morph.offset import inset_region
+
+    tol = 0.5
+    a = glyph_region("e").region
+    shapes = [(a, {"fill": "#dbe6f1", "stroke": BLUE, "stroke_width": 0.8})]
+    colours = ["#b5cde3", "#8fb3d5", "#6999c7", "black"]
+    for r, c in zip([8, 16, 24, 32], colours):
+        shapes.append((inset_region(a, r, tol), {"fill": c, "stroke": BLUE,
+                                                 "stroke_width": 0.8}))
     return shapes, tol
 
 
@@ -216,7 +230,7 @@ def fig36_bird_butterfly():
                   6, tol, 25), tol
 
 
-FIGURES = [fig01_convex, fig02_nonconvex, fig37_offsets, fig38_cspace, fig05_brush,
+FIGURES = [fig01_convex, fig02_nonconvex, fig37_offsets, fig37_insets, fig38_cspace, fig05_brush,
            fig05_skeleton, fig05_stroke_text, fig06_t_to_m, fig36_bird_butterfly]
 
 
