@@ -18,7 +18,8 @@ of the em.  Checks, independent of morph's trimming:
   closing (shapely's rings at radius +- 2 tol disagree), where either count is right.
 
 Times: morph's inset in-process against shapely's buffer of the flattened glyph (the
-flattening not counted).  Writes a markdown summary with ``--md``.
+flattening not counted); sizes: morph's control points (rational pieces, before any
+export) against shapely's polygon vertices.  Writes a markdown summary with ``--md``.
 """
 
 import argparse
@@ -81,8 +82,11 @@ def run(font, name, angle, frac, tol_em):
         near = {_rings(src.buffer(-(r + s), quad_segs=256)) for s in (-2 * tol, 2 * tol)}
         if len(near) == 1:
             fails.append("loops %d, shapely %d" % (len(out), n_ref))
+    n_ref_pts = sum(len(ring.coords) - 1 for poly in getattr(ref, "geoms", [ref])
+                    if not poly.is_empty for ring in [poly.exterior, *poly.interiors])
     return dict(case="%s/%s/%.4f/%.4f" % (font, name, angle, frac), loops=len(out),
-                t_morph=t_morph, t_shapely=t_shapely, fails=fails)
+                t_morph=t_morph, t_shapely=t_shapely, fails=fails,
+                pts=sum(len(p) for loop in out for p in loop), ref_pts=n_ref_pts)
 
 
 def main(argv=None):
@@ -104,16 +108,19 @@ def main(argv=None):
         name = pool[rng.integers(len(pool))]
         res = run(font, name, rng.uniform(0, 2 * np.pi), rng.uniform(0.005, 0.06), args.tol_em)
         rows.append(res)
-        print("%3d %-40s loops %2d  morph %6.1f ms  shapely %6.1f ms  %s"
-              % (k, res["case"], res["loops"], 1e3 * res["t_morph"], 1e3 * res["t_shapely"],
+        print("%3d %-40s loops %2d  morph %6.1f ms %4d ctrl pts  shapely %6.1f ms %5d vertices  %s"
+              % (k, res["case"], res["loops"], 1e3 * res["t_morph"], res["pts"],
+                 1e3 * res["t_shapely"], res["ref_pts"],
                  "FAIL " + "; ".join(res["fails"]) if res["fails"] else "ok"), flush=True)
     bad = [r for r in rows if r["fails"]]
     tm = np.array([r["t_morph"] for r in rows]) * 1e3
     ts = np.array([r["t_shapely"] for r in rows]) * 1e3
+    ratio = np.median([r["ref_pts"] / max(r["pts"], 1) for r in rows if r["pts"]])
     summary = ("%d cases (seed %d, fonts %s, tol %g em): %d failed; morph inset median "
-               "%.0f ms (max %.0f), shapely buffer of the flattened glyph median %.0f ms"
+               "%.0f ms (max %.0f), shapely buffer of the flattened glyph median %.0f ms; "
+               "shapely's vertices / morph's control points: median %.1f"
                % (len(rows), args.seed, ",".join(fonts), args.tol_em, len(bad),
-                  np.median(tm), tm.max(), np.median(ts)))
+                  np.median(tm), tm.max(), np.median(ts), ratio))
     print(summary)
     for r in bad:
         print("FAIL", r["case"], "; ".join(r["fails"]))
