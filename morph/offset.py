@@ -39,11 +39,11 @@ def offset_region(loops, radius, tol, method="qac", return_bound=False):
     if r < -1e-9 * tol:
         return inset_region(loops, -r, tol, method, return_bound)
     if r <= 1e-9 * tol:
-        # the region itself is within r of its offset (Hausdorff distance r): for a
-        # radius far below tol it is the answer (a disk of radius 1e-300 has no curve
+        # the region itself is within |r| of its offset (Hausdorff distance |r|): for
+        # a radius far below tol, either sign, it is the answer (a disk of radius 1e-300 has no curve
         # of nonzero length in floating point)
         out = [list(loop) for loop in loops]
-        return (out, r) if return_bound else out
+        return (out, abs(r)) if return_bound else out
     disk = [pc.circle((0.0, 0.0), r)]
     if not return_bound:
         return minkowski_sum(loops, disk, tol, method=method)
