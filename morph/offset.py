@@ -57,7 +57,9 @@ def inset_region(loops, radius, tol, method="qac", return_bound=False):
 
     Exact-normal curves within ``tol`` of the inner offset, sharp where the region's
     convex corners are (the inset of a square is a smaller square).  Parts narrower
-    than 2 ``radius`` vanish; a region narrower everywhere gives [].
+    than 2 ``radius`` vanish; a region narrower everywhere gives [].  The region is
+    taken as given: a crack in it, however narrow, is a channel 2 ``radius`` wide in
+    the inset (erosion is not continuous in its input).
     ``return_bound`` as :func:`offset_region`.
     """
     r = float(radius)
