@@ -288,7 +288,12 @@ def _edges(curves, angle_tol):
     return edges
 
 
-CUSP_ANGLE = 1e-9  # a turn within this of pi is a cusp (radians)
+#: a turn within this of pi is a cusp (radians), its side read from the curves
+#: (:func:`_cusp_side`), not from the sign of the turn: tangents that meet at
+#: 179.99 degrees are as likely the rounding of a cusp whose sides cross a hair from
+#: its point (an SVG's coordinates rounded to 1e-3: bootstrap-icons bluesky's notch
+#: turns by +179.986 degrees, its twin by -179.995) as a genuine corner
+CUSP_ANGLE = 1e-3
 
 
 def _corner_turns(curves, ends):
@@ -301,9 +306,11 @@ def _corner_turns(curves, ends):
         turns[i] = _wrap(ends[(i + 1) % n][0] - (a0 + sweep))
         if abs(turns[i]) > np.pi - CUSP_ANGLE:
             side = _cusp_side(curves[i], curves[(i + 1) % n])
-            turns[i] = side * np.pi
             if side == 0:
+                turns[i] = 0.0
                 open_cusps.append(i)
+            elif side * turns[i] < 0:   # the same tangents, turned the other way round
+                turns[i] += side * TWO_PI
     if open_cusps:
         area = pc.loop_area(curves)
         size = max(np.ptp(np.concatenate([pc.cartesian(c) for c in curves]), axis=0).max(), 1e-300)
@@ -326,7 +333,10 @@ def _cusp_side(c_in, c_out):
 
     Both ways leave the cusp point X backwards along the incoming direction d; the
     angles of their points seen from X (measured from -d) are compared at
-    parameter steps 1e-6 ... 1e-2, the first clear difference deciding.  Both curves
+    parameter steps 1e-2, 1e-4, 1e-6, the first clear difference deciding: the
+    largest step, so that two ways crossing a hair from X (a sliver below the
+    flattening's resolution, which no crossing test sees) are read by where they
+    run beyond the crossing, not by their end tangents.  Both curves
     are evaluated moved so that X is the origin: the points' rounding then scales
     with the curves' size, not with X's distance from (0, 0) (far from it, a
     path traced back on itself would otherwise seem to turn to a random side).
@@ -336,7 +346,7 @@ def _cusp_side(c_in, c_out):
     x = np.zeros(2)
     t_in = pc.end_tangents(c_in)[1]
     back = -t_in
-    for delta in (1e-6, 1e-4, 1e-2):
+    for delta in (1e-2, 1e-4, 1e-6):
         a = pc.evaluate(c_in, 1.0 - delta)[0] - x
         b = pc.evaluate(c_out, delta)[0] - x
         phi_a = np.arctan2(pc.cross2(back, a), np.dot(back, a))
