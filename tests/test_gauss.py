@@ -469,3 +469,19 @@ def test_angle_params_batched_over_edges_of_mixed_degree():
     for e, tk, th in zip(edges, t, theta):
         assert abs(_wrap(_tangent_angle_at(e.piece, tk) - th)) < 1e-8
         assert tk == pytest.approx(gauss.angle_param(e.piece, th), abs=1e-12)
+
+
+@pytest.mark.parametrize("eps", [2.4e-4, 1e-6])
+def test_a_cusp_whose_sides_cross_a_hair_from_its_point_turns_by_where_they_run(eps):
+    """A wedge tip whose end tangents turn by +(pi - eps) (the way out a hair left of
+    the way in) while the way out crosses to the right of the way in at t ~ 5 eps and
+    runs there (bootstrap-icons bluesky's notch, rounded SVG coordinates): the tip
+    turns by -(pi + eps), the loop's total turning is -2 pi as for the clockwise
+    wedge it is, not 0 (the tip read as a convex corner by its tangents)."""
+    c_in = pc.quadratic((-1.0, 0.1), (-0.5, 0.0), (0.0, 0.0))          # y = 0.1 x^2
+    c_out = pc.quadratic((0.0, 0.0), (-0.5, 0.5 * eps), (-1.0, -0.1))
+    loop = [c_in, c_out, pc.line((-1.0, -0.1), (-1.0, 0.1))]
+    edges = gauss.gauss_map(loop)
+    tip = [e for e in edges if e.kind == "vertex" and np.allclose(e.point, 0.0)]
+    assert len(tip) == 1 and tip[0].sweep == pytest.approx(-(np.pi + eps), abs=1e-9)
+    assert gauss.total_turning(edges) == pytest.approx(-2 * np.pi, abs=1e-9)

@@ -279,6 +279,15 @@ ICON_REGRESSIONS = [
     ("mdi-shower-head-offset-degenerate",
      "offset of the three dots and the shower head: DegenerateCurveError: zero-length "
      "curve piece"),
+    # session 12, the inset (radius 0.02 size) at b4aa833
+    ("bootstrap-bluesky-inset",
+     "inset of the butterfly: its left notch, tangents turning +179.986 degrees (the "
+     "sides cross a hair from the point), read as a convex corner of the complement: "
+     "the disk around the notch's tip missing (20-29 tol)"),
+    ("bootstrap-zoom-out-inset",
+     "inset of the magnifier: the handle's arc 1e-4 off the ring's, a crack the inset "
+     "keeps as a channel ending r from the arcs' crossing (passes; failed against a "
+     "reference flattened at tol/20)"),
 ]
 
 # icon cases whose check takes more than ~3 s on one core
