@@ -26,17 +26,13 @@ import argparse
 import time
 
 import numpy as np
-from shapely.geometry import Point
+from shapely.geometry import LineString, MultiLineString, Point
 
 from bench.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
 from morph import piece as pc
 from morph.offset import inset_region
 from morph.region import transform_region
 from tests.reference import region_polylines, region_to_shapely
-from shapely.geometry import LineString, MultiLineString
-
-UPM = {"ttf": 1000.0, "cff": 1000.0}
-
 
 def _rings(geom):
     polys = getattr(geom, "geoms", [geom])
