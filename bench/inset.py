@@ -34,6 +34,7 @@ from morph.offset import inset_region
 from morph.region import transform_region
 from tests.reference import region_polylines, region_to_shapely
 
+
 def _rings(geom):
     polys = getattr(geom, "geoms", [geom])
     return sum(1 + len(p.interiors) for p in polys if not p.is_empty)
