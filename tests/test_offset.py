@@ -199,3 +199,34 @@ def test_inset_at_random_angles_and_scales(seed):
         x0, y0, x1, y1 = region_bbox(turned)
         size = max(x1 - x0, y1 - y0)
         _inset_against_shapely(turned, rng.uniform(0.005, 0.03) * size, 1e-4 * size)
+
+
+def test_offsets_and_insets_of_near_cusps_against_shapely():
+    """Wedges whose two sides meet at a turn of pi +- eps (eps from 1e-7 to 5e-4 rad,
+    either sign: the sides cross a hair from the point, or just miss), random
+    curvatures and directions, as rounded SVG coordinates make them (bootstrap-icons
+    bluesky): the outward offset (every boundary sample at distance r) and the inset
+    (against shapely's negative buffer) of the filled side, and of the notch cut into
+    a box (the same wedge as a hole's tip)."""
+    from morph.region import orient_region, reverse_loop, transform_region
+    from morph.trim import fill_region
+
+    rng = np.random.default_rng(2024)
+    for _ in range(6):
+        eps = rng.choice([-1, 1]) * 10 ** rng.uniform(-7, np.log10(5e-4))
+        k1, k2 = rng.uniform(0.05, 0.4, 2)
+        c_in = pc.quadratic((-1.0, k1), (-0.5, 0.0), (0.0, 0.0))
+        c_out = pc.quadratic((0.0, 0.0), (-0.5, 0.5 * eps), (-1.0, -k2))
+        wedge = [c_in, c_out, pc.line((-1.0, -k2), (-1.0, k1))]
+        a = rng.uniform(0, 2 * np.pi)
+        m = 10.0 * np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0]])
+        spike = orient_region(transform_region([wedge], m), on_crossing=fill_region)
+        check_offset(spike, 0.3, 0.01)
+        box = [pc.line(p, q) for p, q in zip([(-2, -2), (1, -2), (1, 2), (-2, 2)],
+                                             [(1, -2), (1, 2), (-2, 2), (-2, -2)])]
+        notch = [wedge[0], wedge[1], pc.line((-1.0, -k2), (-2.0, -k2)),
+                 pc.line((-2.0, -k2), (-2.0, k1)), pc.line((-2.0, k1), (-1.0, k1))]
+        holed = orient_region(transform_region([box, reverse_loop(notch)], m),
+                              on_crossing=fill_region)
+        _inset_against_shapely(holed, 0.5, 0.01)
+        check_offset(holed, 0.5, 0.01)
