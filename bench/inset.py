@@ -18,8 +18,10 @@ of the em.  Checks, independent of morph's trimming:
   closing (shapely's rings at radius +- 2 tol disagree), where either count is right.
 
 Times: morph's inset in-process against shapely's buffer of the flattened glyph (the
-flattening not counted); sizes: morph's control points (rational pieces, before any
-export) against shapely's polygon vertices.  Writes a markdown summary with ``--md``.
+flattening not counted) and against the strongest polygon peer, Clipper's offset
+(pyclipper, round joins, arc tolerance tol / 4, the glyph flattened within tol / 4:
+flattening counted); sizes: morph's control points (rational pieces, before any
+export) against the peers' polygon vertices.  Writes a markdown summary with ``--md``.
 """
 
 import argparse
@@ -81,9 +83,33 @@ def run(font, name, angle, frac, tol_em):
             fails.append("loops %d, shapely %d" % (len(out), n_ref))
     n_ref_pts = sum(len(ring.coords) - 1 for poly in getattr(ref, "geoms", [ref])
                     if not poly.is_empty for ring in [poly.exterior, *poly.interiors])
+    t_clip, n_clip, e_clip = clipper_inset(region, r, tol, ref)
     return dict(case="%s/%s/%.4f/%.4f" % (font, name, angle, frac), loops=len(out),
                 t_morph=t_morph, t_shapely=t_shapely, fails=fails,
-                pts=sum(len(p) for loop in out for p in loop), ref_pts=n_ref_pts)
+                pts=sum(len(p) for loop in out for p in loop), ref_pts=n_ref_pts,
+                t_clip=t_clip, n_clip=n_clip, e_clip=e_clip / tol)
+
+
+def clipper_inset(region, r, tol, ref):
+    """The strongest polygon peer: Clipper's offset (pyclipper, round joins) by -r of
+    the region flattened within tol / 4, arc tolerance tol / 4, 1000 units per tol
+    (so that its result is within tol).  Returns (seconds for flattening and offset,
+    vertices, the largest distance of its vertices from shapely's reference boundary)."""
+    import pyclipper
+    import shapely
+
+    scale = 1000.0 / tol
+    t0 = time.perf_counter()
+    polys = region_polylines(region, tol / 4)
+    co = pyclipper.PyclipperOffset(2.0, 0.25 * tol * scale)
+    co.AddPaths([np.round(np.asarray(p) * scale).astype(np.int64).tolist() for p in polys],
+                pyclipper.JT_ROUND, pyclipper.ET_CLOSEDPOLYGON)
+    rings = co.Execute(-r * scale)
+    dt = time.perf_counter() - t0
+    pts = np.concatenate([np.asarray(q, float) / scale for q in rings]) if rings else None
+    err = float(shapely.distance(shapely.points(pts), ref.boundary).max()) if pts is not None \
+        and not ref.is_empty else 0.0
+    return dt, sum(len(q) for q in rings), err
 
 
 def main(argv=None):
@@ -105,19 +131,27 @@ def main(argv=None):
         name = pool[rng.integers(len(pool))]
         res = run(font, name, rng.uniform(0, 2 * np.pi), rng.uniform(0.005, 0.06), args.tol_em)
         rows.append(res)
-        print("%3d %-40s loops %2d  morph %6.1f ms %4d ctrl pts  shapely %6.1f ms %5d vertices  %s"
+        print("%3d %-34s loops %2d  morph %5.1f ms %4d pts  shapely %4.1f ms %5d  clipper %4.1f "
+              "ms %5d (err %.2f tol)  %s"
               % (k, res["case"], res["loops"], 1e3 * res["t_morph"], res["pts"],
-                 1e3 * res["t_shapely"], res["ref_pts"],
+                 1e3 * res["t_shapely"], res["ref_pts"], 1e3 * res["t_clip"], res["n_clip"],
+                 res["e_clip"],
                  "FAIL " + "; ".join(res["fails"]) if res["fails"] else "ok"), flush=True)
     bad = [r for r in rows if r["fails"]]
     tm = np.array([r["t_morph"] for r in rows]) * 1e3
     ts = np.array([r["t_shapely"] for r in rows]) * 1e3
     ratio = np.median([r["ref_pts"] / max(r["pts"], 1) for r in rows if r["pts"]])
+    tc = np.array([r["t_clip"] for r in rows]) * 1e3
+    clip_ratio = np.median([r["n_clip"] / max(r["pts"], 1) for r in rows if r["pts"]])
     summary = ("%d cases (seed %d, fonts %s, tol %g em): %d failed; morph inset median "
                "%.0f ms (max %.0f), shapely buffer of the flattened glyph median %.0f ms; "
-               "shapely's vertices / morph's control points: median %.1f"
+               "shapely's vertices / morph's control points: median %.1f; Clipper offset "
+               "(flattening included) median %.1f ms, its vertices / morph's control "
+               "points median %.1f, its distance to shapely's boundary median %.2f tol, "
+               "worst %.2f tol"
                % (len(rows), args.seed, ",".join(fonts), args.tol_em, len(bad),
-                  np.median(tm), tm.max(), np.median(ts), ratio))
+                  np.median(tm), tm.max(), np.median(ts), ratio, np.median(tc), clip_ratio,
+                  np.median([r["e_clip"] for r in rows]), max(r["e_clip"] for r in rows)))
     print(summary)
     for r in bad:
         print("FAIL", r["case"], "; ".join(r["fails"]))
