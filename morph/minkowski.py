@@ -122,7 +122,13 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
         points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
     out = []
     for group in _budget_groups(points, point_budget()):
-        out += _packed_sums([regions_a[i] for i in group], region_b, tol, method)
+        try:
+            out += _packed_sums([regions_a[i] for i in group], region_b, tol, method)
+        except ValueError:
+            # a loop crossing itself (gauss_pair_of): name its region, not a packed loop
+            for i in group:
+                gauss_pair_of(regions_a[i], region_b, ("region %d" % i, "region_b"))
+            raise
     return out
 
 

@@ -739,7 +739,19 @@ def _square_loop(s=1.0, cw=False):
     return [pc.line(p[i], p[(i + 1) % 4]) for i in range(4)]
 
 
+def _polygon_loop(points):
+    return [pc.line(points[i], points[(i + 1) % len(points)]) for i in range(len(points))]
+
+
+_BOWTIE = _polygon_loop([(0.0, 0.0), (1.0, 1.0), (1.0, 0.0), (0.0, 1.0)])     # turns 0 times
+_PENTAGRAM = _polygon_loop([(np.cos(a), np.sin(a)) for a in                 # turns twice
+                            np.pi / 2 + 4 * np.pi / 5 * np.arange(5)])
+
+
 @pytest.mark.parametrize("region,says", [
+    ([_BOWTIE], "loop 0 turns 0 times, not once: it crosses itself"),   # was a wrong sum
+    ([_square_loop(), [pc.translate(p, (3.0, 0.0)) for p in _PENTAGRAM]],
+     "loop 1 turns 2 times"),                                             # was a wrong sum
     ([_square_loop(cw=True)], "negative signed area"),          # was a ClipperException
     ([[]], "empty loop"),
     ([[np.array([[0, 0], [1, 0.0]])] * 4], "shape \\(2, 2\\)"),   # was an IndexError
