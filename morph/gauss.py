@@ -289,10 +289,13 @@ def _edges(curves, angle_tol):
 
 
 #: a turn within this of pi is a cusp (radians), its side read from the curves
-#: (:func:`_cusp_side`), not from the sign of the turn: tangents that meet at
-#: 179.99 degrees are as likely the rounding of a cusp whose sides cross a hair from
-#: its point (an SVG's coordinates rounded to 1e-3: bootstrap-icons bluesky's notch
-#: turns by +179.986 degrees, its twin by -179.995) as a genuine corner
+#: (:func:`_cusp_side`), not from the sign of the turn.  End tangents come from
+#: control points, and coordinates rounded to 1e-3 of a handle's length (as SVG
+#: and font files store them) turn them by up to ~1e-3 rad: a turn that close to pi
+#: may be a cusp whose sides cross a hair from its point, where the sign of the turn
+#: says the wrong side (an icon's notch read as a spike).  For a genuine corner the
+#: side test agrees with the sign; so this bounds only how many corners pay for the
+#: test, not what the Gauss map is.
 CUSP_ANGLE = 1e-3
 
 
