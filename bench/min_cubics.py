@@ -1,6 +1,6 @@
 """How few tangent-continuous cubics can hold a glyph ⊕ nib outline (issue #18 part 2).
 
-    python bench/min_cubics.py [--char O] [--accuracy 1e-4] [--starts 6]
+    python -m bench.min_cubics [--char O] [--accuracy 1e-4] [--starts 6]
 
 The target "1.5x fewer points than FontForge's Expand Stroke on O ⊕ ellipse at 1e-4
 em" asks for 30 points (10 cubics) where FontForge writes 45 and morph 42.  This
@@ -22,20 +22,16 @@ sum O ellipse`` writes; 30 points would need cubics that kink at their joins.
 """
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 from scipy.optimize import minimize
 from scipy.spatial import cKDTree
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from morph import parse  # noqa: E402 - after sys.path gets the repo root
-from morph import piece as pc  # noqa: E402
-from morph.fonts.brush import ellipse_nib  # noqa: E402
-from morph.minkowski import minkowski_sum  # noqa: E402
+from morph import parse
+from morph import piece as pc
+from morph.fonts.brush import ellipse_nib
+from morph.minkowski import minkowski_sum
 
 UPM = 1000.0
 ELLIPSE = (80.0, 30.0, 30.0)
@@ -77,8 +73,11 @@ def best_span(pts, tan, i, j):
     n = len(pts)
     q = pts[np.arange(i, j + 1) % n]
     length = np.hypot(*np.diff(q, axis=0).T).sum()
-    f = lambda h: span_error(q, tan[i % n], tan[j % n], h)  # noqa: E731
-    return min(minimize(f, g, method="Nelder-Mead",
+
+    def error(handles):
+        return span_error(q, tan[i % n], tan[j % n], handles)
+
+    return min(minimize(error, g, method="Nelder-Mead",
                         options=dict(xatol=1e-4 * length, fatol=1e-4)).fun
                for g in ([length / 3, length / 3], [length / 2, length / 5],
                          [length / 5, length / 2]))
