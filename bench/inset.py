@@ -28,7 +28,8 @@ import argparse
 import time
 
 import numpy as np
-from shapely.geometry import LineString, MultiLineString, Point
+import shapely
+from shapely.geometry import LineString, MultiLineString
 
 from bench.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
 from morph import piece as pc
@@ -68,7 +69,7 @@ def run(font, name, angle, frac, tol_em):
                                  for p in region_polylines(region, flat)])
         pts = np.vstack([pc.evaluate(p, np.linspace(0, 1, 12, endpoint=False))
                          for loop in out for p in loop])
-        d = np.abs(np.array([lines.distance(Point(p)) for p in pts]) - r).max()
+        d = np.abs(shapely.distance(shapely.points(pts), lines) - r).max()
         if d > tol + flat + 1e-9 * r:
             fails.append("distance %.3g tol" % (d / tol))
     mine = region_to_shapely(out, flat) if out else None
@@ -96,7 +97,6 @@ def clipper_inset(region, r, tol, ref):
     (so that its result is within tol).  Returns (seconds for flattening and offset,
     vertices, the largest distance of its vertices from shapely's reference boundary)."""
     import pyclipper
-    import shapely
 
     scale = 1000.0 / tol
     t0 = time.perf_counter()

@@ -38,6 +38,7 @@ from . import gauss
 from . import methods
 from . import piece as pc
 from . import qac
+from .errors import SelfCrossingError
 from .methods import ConvPiece
 from .polyline import unique
 
@@ -461,7 +462,8 @@ class GaussPair:
 def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
     """:class:`GaussPair` of two regions, the compatible pairs not computed yet.
 
-    Raises ValueError for a loop whose tangent does not turn through +-2 pi (the
+    Raises SelfCrossingError (a ValueError) for a loop whose tangent does not turn
+    through +-2 pi (the
     turning number of a simple closed curve, Hopf's Umlaufsatz): a figure-8 (0) or a
     curl (+-4 pi) crosses itself, and its convolution would bound no sum.  The
     message names the region by ``names``."""
@@ -470,9 +472,10 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
         turns = gauss.total_turning(edges) / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:
             which, loop = (0, k) if k < len(region_a) else (1, k - len(region_a))
-            raise ValueError("%s: loop %d turns %.3g times, not once: it crosses itself; "
-                             "pass the loops through morph.region.orient_region (with "
-                             "on_crossing=morph.trim.fill_region)" % (names[which], loop, turns))
+            raise SelfCrossingError(
+                "%s: loop %d turns %.3g times, not once: it crosses itself; pass the loops "
+                "through morph.region.orient_region (with on_crossing=morph.trim.fill_region)"
+                % (names[which], loop, turns), loop)
     return GaussPair(maps[:len(region_a)], maps[len(region_a):])
 
 

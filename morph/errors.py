@@ -75,6 +75,16 @@ class NibError(MorphError, ValueError):
         self.nib = nib
 
 
+class SelfCrossingError(MorphError, ValueError):
+    """An operand loop whose tangent does not turn exactly once (a figure-8, a
+    pentagram): it crosses itself, so it bounds no region.  ``loop`` is its index
+    in its operand."""
+
+    def __init__(self, message, loop=None):
+        super().__init__(message)
+        self.loop = loop
+
+
 class LimitError(MorphError, ValueError):
     """The request is outside what morph computes reliably or within its budgets: a
     tolerance finer than the coordinates' floating-point resolution or the relative

@@ -7,7 +7,7 @@ import numpy as np
 
 from . import piece as pc
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
-from .errors import LimitError, ToleranceNotMetError, TopologyError
+from .errors import LimitError, SelfCrossingError, ToleranceNotMetError, TopologyError
 from .limits import check_tolerance, fits_precision, point_budget
 from .packing import Packing, control_box
 from .polyline import unique
@@ -124,8 +124,8 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     for group in _budget_groups(points, point_budget()):
         try:
             out += _packed_sums([regions_a[i] for i in group], region_b, tol, method)
-        except ValueError:
-            # a loop crossing itself (gauss_pair_of): name its region, not a packed loop
+        except SelfCrossingError:
+            # name the loop's region, not its index in the packed region
             for i in group:
                 gauss_pair_of(regions_a[i], region_b, ("region %d" % i, "region_b"))
             raise
