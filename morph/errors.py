@@ -76,9 +76,11 @@ class NibError(MorphError, ValueError):
 
 
 class SelfCrossingError(MorphError, ValueError):
-    """An operand loop whose tangent does not turn exactly once (a figure-8, a
-    pentagram): it crosses itself, so it bounds no region.  ``loop`` is its index
-    in its operand."""
+    """Operand loops that cross so that they bound no region: a loop whose
+    tangent does not turn exactly once (a figure-8, a pentagram), or loops whose
+    winding number is neither 0 nor 1 somewhere (a curl undone by a counter-curl,
+    overlapping loops).  ``loop`` is the loop's index in its operand when one loop
+    is at fault, else None."""
 
     def __init__(self, message, loop=None):
         super().__init__(message)

@@ -11,6 +11,7 @@ from .errors import LimitError, SelfCrossingError, ToleranceNotMetError, Topolog
 from .limits import check_tolerance, fits_precision, point_budget
 from .packing import Packing, control_box
 from .polyline import unique
+from .region import NormalLoops, winding_fault
 from .trim import boundary
 from .trim.holes import Membership, deepest_point
 
@@ -153,7 +154,7 @@ def _packed_sums(regions_a, region_b, tol, method):
     if not fits_precision(tol, layout.packed, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
-    out = layout.split(out)
+    out = [NormalLoops(loops) for loops in layout.split(out)]
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
@@ -165,8 +166,13 @@ def check_operand(region, name):
     (n >= 1) of homogeneous control points with positive weights, whose signed area
     is not negative
     (beyond 1e-9 of its control box squared: a centre line traced out and back has
-    area 0): outer loops counter-clockwise, holes clockwise, as
-    :func:`morph.region.orient_region` makes them."""
+    area 0), and which pass :func:`morph.region.winding_fault` (skipped for
+    :class:`morph.region.NormalLoops`): no part of negative winding, no loop
+    crossing itself with its own winding other than 0 or +-1 there
+    (SelfCrossingError: a figure-8, a curl undone by a counter-curl); outer loops
+    counter-clockwise, holes clockwise, as :func:`morph.region.orient_region`
+    makes them.  Loops turning other than once are also refused by
+    :func:`morph.convolve.gauss_pair_of`."""
     for loop in region:
         if not len(loop):
             raise ValueError("%s has an empty loop" % name)
@@ -201,6 +207,20 @@ def check_operand(region, name):
         raise ValueError("%s has a negative signed area (%.6g): outer loops must run "
                          "counter-clockwise and holes clockwise "
                          "(morph.region.orient_region normalises loops)" % (name, area))
+    fault = None if isinstance(region, NormalLoops) else winding_fault(region)
+    if fault is not None:
+        (x, y), w, loop, crossed = fault
+        if crossed:
+            raise SelfCrossingError(
+                "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
+                "loop winds 0 times or once; morph.region.orient_region (with on_crossing="
+                "morph.trim.fill_region) makes a region of it" % (name, loop, w, x, y), loop)
+        which = "loop %d is a hole outside the other loops, or reaching out of them: " % loop \
+            if loop is not None else ""
+        raise ValueError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
+                         "is 0 or more; morph.region.orient_region (with on_crossing="
+                         "morph.trim.fill_region) makes a region of the loops"
+                         % (name, which, x, y, w))
 
 
 def _not_vanished(loops, tol, which=""):
@@ -247,7 +267,7 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
             break  # a pair that cannot be refined that far: the corner keeps its error
         redo = set(int(s) for c, s in zip(conv, slot) if c.row in finer)
         conv = [c for c in conv if c.row not in finer] + again
-    out = [loop for s in sorted(done) for loop in done[s]]
+    out = NormalLoops(loop for s in sorted(done) for loop in done[s])
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
 
 

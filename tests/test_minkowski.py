@@ -748,10 +748,31 @@ _PENTAGRAM = _polygon_loop([(np.cos(a), np.sin(a)) for a in                 # tu
                             np.pi / 2 + 4 * np.pi / 5 * np.arange(5)])
 
 
+# turns once and crosses itself: a curl inside (winding 2) undone by one outside (-1)
+_CURL_AND_COUNTER_CURL = _polygon_loop([(0, 0), (6, 1), (6, 3), (4, 3), (4, -1), (10, 0), (10, 10),
+                                        (4, 11), (4, 13), (6, 13), (6, 9), (0, 10)])
+# turns once, crosses itself, winding 0, 1 and 2 (found by a random search)
+_CROSSED_ONCE_TURNING = _polygon_loop([(1, 0), (8, 10), (7, 9), (4, 9), (0, 1), (1, 3), (8, 3),
+                                       (0, 10)])
+_FAR_CW_SQUARE = [pc.translate(p, (3.0, 0.0)) for p in _square_loop(cw=True)]
+_OVERLAPPING_SQUARE = [pc.translate(p, (0.5, 0.5)) for p in _square_loop()]
+_INNER_SQUARE = _polygon_loop([(0.25, 0.25), (0.75, 0.25), (0.75, 0.75), (0.25, 0.75)])
+
+
+_HOLE_REACHING_OUT = [_square_loop(), _polygon_loop([(-0.2, 0.2), (-0.2, 0.8), (0.8, 0.8),
+                                                   (0.8, 0.2)])]
+
+
 @pytest.mark.parametrize("region,says", [
-    ([_BOWTIE], "loop 0 turns 0 times, not once: it crosses itself"),   # was a wrong sum
+    ([_BOWTIE], "loop 0 crosses itself and winds -1 times round"),  # was a wrong sum
     ([_square_loop(), [pc.translate(p, (3.0, 0.0)) for p in _PENTAGRAM]],
-     "loop 1 turns 2 times"),                                             # was a wrong sum
+     "loop 1 crosses itself and winds 2 times round"),                   # was a wrong sum
+    ([_CURL_AND_COUNTER_CURL], "loop 0 crosses itself and winds (-1|2) times"),  # was wrong
+    ([_CROSSED_ONCE_TURNING], "loop 0 crosses itself and winds 2 times"),    # was a wrong sum
+    ([_square_loop(), _FAR_CW_SQUARE], "loop 1 is a hole outside the other loops, or "
+                                       "reaching out of them: the winding number near "
+                                       "\\(3.*\\) is -1"),                 # was a wrong sum
+    (_HOLE_REACHING_OUT, "loop 1 is a hole .* near \\(-[0-9.e-]*, 0.[2-8][0-9]*\\) is -1"),
     ([_square_loop(cw=True)], "negative signed area"),          # was a ClipperException
     ([[]], "empty loop"),
     ([[np.array([[0, 0], [1, 0.0]])] * 4], "shape \\(2, 2\\)"),   # was an IndexError
@@ -770,3 +791,73 @@ def test_malformed_operands_are_refused_naming_the_fault(region, says):
     out_and_back = [pc.line((0, 0), (1, 0)), pc.line((1, 0), (0, 0))]
     got = minkowski_sum([out_and_back], disk, 1e-3)
     assert abs(pc.region_area(got) - (2 * 0.25 * 1 + np.pi * 0.25 ** 2)) < 2e-3 * 4
+
+
+# crosses itself at (2, 1) and turns once, winding 0 or 1 everywhere (random search):
+# the loop is the boundary of its filled set, traced through the crossing
+_PINCHED = _polygon_loop([(2, 3), (2, 0), (5, 1), (2, 1), (10, 4), (1, 8)])
+_TOUCHING_HOLE = [_square_loop(10.0), _polygon_loop([(0, 5), (8, 8), (8, 2)])]   # at (0, 5)
+
+
+@pytest.mark.parametrize("region", [[_PINCHED], _TOUCHING_HOLE,
+                                    [_square_loop(), _OVERLAPPING_SQUARE],
+                                    [_square_loop(), _INNER_SQUARE]],
+                         ids=["pinched", "touching", "overlapping", "nested"])
+def test_loops_that_touch_overlap_or_cross_and_still_bound_a_region_are_summed(region):
+    """Loops that touch or pass through their own crossing with winding 0 or 1
+    beside it (a region's boundary traced through a pinch), and loops of one
+    direction that overlap or nest (winding 2), pass the winding test, and their sum
+    is the nonzero fill grown by the disk (Clipper fill, shapely buffer)."""
+    from morph.region import winding_fault
+
+    assert winding_fault(region) is None
+    tol, r = 1e-3, 0.3
+    got = minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+    exact = R.region_to_shapely(region, 1e-5).buffer(r, quad_segs=512)
+    ours = R.region_to_shapely(got, 1e-5)
+    assert exact.boundary.hausdorff_distance(ours.boundary) <= tol
+    assert abs(exact.area - ours.area) <= tol * exact.length
+
+
+def test_the_gauss_map_refuses_a_loop_that_does_not_turn_once():
+    """Behind the winding test, the convolution refuses a loop whose tangent turns 0
+    or 2 times (a figure-8, a pentagram), naming the loop."""
+    from morph.convolve import gauss_pair_of
+    from morph.errors import SelfCrossingError
+
+    disk = [pc.circle((0.0, 0.0), 0.25)]
+    with pytest.raises(SelfCrossingError, match="operand A: loop 0 turns 0 times"):
+        gauss_pair_of([_BOWTIE], disk)
+    with pytest.raises(SelfCrossingError, match="B: loop 1 turns 2 times") as info:
+        gauss_pair_of(disk, [_square_loop(), [pc.translate(p, (3.0, 0.0)) for p in _PENTAGRAM]],
+                      ("A", "B"))
+    assert info.value.loop == 1
+
+
+def test_real_regions_pass_the_winding_test():
+    """No false alarm: every letter of the bundled TrueType and CFF fonts, and sums
+    of glyphs (whose loops may touch), as plain lists, pass :func:`winding_fault`."""
+    from morph.region import NormalLoops, winding_fault
+
+    for font in (None, parse.glyphs.cubic_test_font_path()):
+        for ch in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz&%@8":
+            region = glyph_region(ch, font).region
+            assert isinstance(region, NormalLoops)
+            assert winding_fault(list(region)) is None, (font, ch)
+    for a, b in ("OM", "Sg", "mw", "e8"):
+        out = minkowski_sum(glyph_region(a).region, glyph_region(b).region, 0.1)
+        assert isinstance(out, NormalLoops)
+        assert winding_fault(list(out)) is None, (a, b)
+
+
+def test_regions_keep_their_mark_under_maps_that_keep_them_regions():
+    """:class:`NormalLoops` survive translation and invertible affine maps (a
+    mirror reverses the loops), not a singular map; plain lists stay plain."""
+    from morph.region import NormalLoops, scale_region, transform_region, translate_region
+
+    region = glyph_region("o").region
+    assert isinstance(translate_region(region, (3, 4)), NormalLoops)
+    assert isinstance(scale_region(region, -0.5), NormalLoops)
+    assert isinstance(transform_region(region, [[1, 2, 0], [0, 1, 0]]), NormalLoops)
+    assert not isinstance(transform_region(region, [[1, 0, 0], [0, 0, 0]]), NormalLoops)
+    assert not isinstance(translate_region(list(region), (3, 4)), NormalLoops)

@@ -35,6 +35,7 @@ themselves or each other at single points.
 import numpy as np
 
 from ..polyline import near_segments, polyline_edges, polylines_cross
+from ..region import NormalLoops
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
@@ -105,12 +106,13 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     made of sub-pieces of the input (rational Béziers): outer loops
     counter-clockwise, holes clockwise.  Topology is decided on polylines within
     ``rel`` times the loops' size, on a grid of that size (:func:`boundary`).
+    Returns :class:`morph.region.NormalLoops`.
     """
     if fill_rule not in ("nonzero", "evenodd"):
         raise ValueError("fill_rule must be 'nonzero' or 'evenodd', got %r" % (fill_rule,))
     pieces = [np.asarray(p, float) for loop in loops for p in loop]
     if not pieces:
-        return []
+        return NormalLoops()
     pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
     size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
-    return boundary(loops, rel * size, rel * size, fill_rule)
+    return NormalLoops(boundary(loops, rel * size, rel * size, fill_rule))
