@@ -210,6 +210,11 @@ def check_operand(region, name):
     fault = None if isinstance(region, NormalLoops) else winding_fault(region)
     if fault is not None:
         (x, y), w, loop, crossed = fault
+        if crossed and w is None:
+            raise SelfCrossingError(
+                "%s: loop %d traces a part of zero width both ways (a spike or a slit), "
+                "which bounds nothing; morph.region.orient_region (with on_crossing="
+                "morph.trim.fill_region) makes a region of it" % (name, loop), loop)
         if crossed:
             raise SelfCrossingError(
                 "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
