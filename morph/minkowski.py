@@ -210,11 +210,6 @@ def check_operand(region, name):
     fault = None if isinstance(region, NormalLoops) else winding_fault(region)
     if fault is not None:
         (x, y), w, loop, crossed = fault
-        if crossed and w is None:
-            raise SelfCrossingError(
-                "%s: loop %d traces a part of zero width both ways (a spike or a slit), "
-                "which bounds nothing; morph.region.orient_region (with on_crossing="
-                "morph.trim.fill_region) makes a region of it" % (name, loop), loop)
         if crossed:
             raise SelfCrossingError(
                 "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
@@ -247,7 +242,8 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
     """
     slot_of = slot_of or (lambda pts: np.zeros(len(pts), np.int64))
     if gauss_pair is None or gauss_pair.table is None:
-        gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b))
+        names = ("region_a", "region_b")
+        gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b, names))
     conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair)
     member = _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)

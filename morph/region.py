@@ -271,9 +271,7 @@ def winding_fault(loops):
     Two faults: a loop that crosses itself so that its own winding number is
     other than 0 and its orientation's sign (``crossed`` True, ``loop`` its index,
     ``winding`` its own: a figure-8 or a curl undone by a counter-curl, which turns
-    once in all), or that traces a part of zero width both ways (a spike, a slit:
-    ``winding`` None, ``point`` the loop's start; longer than 1e-4 of the size in
-    all: the loop's polyline is longer than its filled set's boundary); or a part where the winding number of all loops is negative
+    once in all); or a part where the winding number of all loops is negative
     (``crossed`` False, ``loop`` the clockwise loop just around it when known, else
     None: a hole outside every outer loop or reaching out of its own).  Loops of one
     direction may overlap or nest (winding 2 or more: the sum is linear in the loops
@@ -287,10 +285,11 @@ def winding_fault(loops):
     winding, and for each loop that comes near itself the parts where it winds
     other than 0 or 1 (its own filled set subtracted from it as a cycle), each
     eroded by 3 f so that the slivers where flattened arcs touch vanish: a part
-    thinner than 6 f is not reported.  A loop of area 0 (a centre line traced out
-    and back, as strokes pass it) and parts of zero width between loops (a hole
-    sharing an edge with its outer loop) pass: the sums take them as traced, like
-    the closed set they bound, not as removed."""
+    thinner than 6 f is not reported.  Parts of zero width wind 0 on both sides
+    and pass: between loops (a hole sharing an edge with its outer loop) and as a
+    whole loop traced out and back (a stroke's centre line) the sums take them as
+    traced, like the closed set they bound; a loop of nonzero area turning back
+    along itself (a spike) is refused by :func:`morph.convolve.gauss_pair_of`."""
     loops = [loop for loop in loops if len(loop)]
     if not loops:
         return None
@@ -322,12 +321,6 @@ def winding_fault(loops):
         if core is not None:
             point = core * grid + lo
             return point, int(round(winding_number(point[None], [flat[k]])[0])), k, True
-        # a part traced both ways (a spike, a slit) bounds nothing: the loop is
-        # longer than its filled set's boundary (a loop of area 0, a centre line
-        # traced out and back, is all such parts and is taken as it is)
-        excess = (_perimeter(path) - sum(_perimeter(ring) for ring in filled)) * grid
-        if abs(areas[k]) > 1e-9 * scale * scale and excess > 20 * fine:
-            return flat[k][0], None, k, True
     core = _clipper_core([p for p in paths if len(p) >= 3], pyclipper.PFT_NEGATIVE,
                          3 * fine / grid)
     if core is not None:
@@ -335,12 +328,6 @@ def winding_fault(loops):
         w = int(round(winding_number(point[None], flat)[0]))
         return point, w, _loop_around(point, loops, areas, flat), False
     return None
-
-
-def _perimeter(path):
-    """Length of a closed integer path."""
-    q = np.asarray(path, float)
-    return float(np.hypot(*(np.roll(q, -1, axis=0) - q).T).sum())
 
 
 def _clipper_union(paths, fill_type):

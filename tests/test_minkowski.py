@@ -863,16 +863,25 @@ def test_regions_keep_their_mark_under_maps_that_keep_them_regions():
     assert not isinstance(translate_region(list(region), (3, 4)), NormalLoops)
 
 
-def test_a_spike_traced_both_ways_is_refused():
-    """A square with a spike (a segment traced out and back inside one loop) bounds
-    no region: refused by name (the sum was off by ~the disk's radius); a whole
-    loop traced out and back (a stroke's centre line) is still taken."""
-    from morph.errors import SelfCrossingError
+@pytest.mark.parametrize("r", [0.25, 1.0])
+def test_a_spike_or_a_slit_is_summed_as_traced(r):
+    """A square with a spike out of it or a slit into it (a segment traced out and
+    back inside one loop, winding 0 on both sides) passes the winding test and sums
+    as the set it traces: the spike grows by the disk too (shapely buffer of the
+    fill with the traced polyline)."""
+    from shapely.geometry import LinearRing
+    from shapely.ops import unary_union
 
-    spiky = _polygon_loop([(0, 0), (1, 0), (1, 0.5), (1.8, 0.5), (1, 0.5), (1, 1), (0, 1)])
-    disk = [pc.circle((0.0, 0.0), 0.25)]
-    with pytest.raises(SelfCrossingError, match="loop 0 traces a part of zero width both ways"):
-        minkowski_sum([spiky], disk, 1e-3)
+    from morph.region import winding_fault
+
+    for points in ([(0, 0), (1, 0), (1, 0.5), (1.8, 0.5), (1, 0.5), (1, 1), (0, 1)],
+                   [(0, 0), (1, 0), (1, 1), (0.5, 1), (0.5, 0.3), (0.5, 1), (0, 1)]):
+        region = [_polygon_loop(points)]
+        assert winding_fault(region) is None
+        got = minkowski_sum(region, [pc.circle((0.0, 0.0), r)], 1e-3)
+        traced = unary_union([R.region_to_shapely(region, 1e-5), LinearRing(points)])
+        exact = traced.buffer(r, quad_segs=512)
+        assert exact.boundary.hausdorff_distance(R.region_to_shapely(got, 1e-5).boundary) <= 1e-3
 
 
 @pytest.mark.parametrize("general", [False, True], ids=["integer", "perturbed"])
@@ -882,11 +891,15 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(general):
     with positive area are either refused with a fault confirmed by independent
     winding numbers at the point named (its loop's own winding there not 0 or its
     sign, or all loops' negative, or just inside a clockwise loop with the others
-    winding less than 1 there), or summed within 2 tol of the exact sum of the set
-    they trace (Clipper's nonzero fill with the traced polylines, shapely buffer)."""
+    winding less than 1 there), or refused by the Gauss map (a loop that turns
+    twice), or summed within 2 tol of the exact sum of the set they trace (Clipper's
+    nonzero fill with the traced polylines, shapely buffer).  Not covered (README): a
+    loop retracing part of its own edge from a point inside it (2 of 110 accepted
+    integer polygons of other seeds were summed wrong)."""
     from shapely.geometry import LinearRing
     from shapely.ops import unary_union
 
+    from morph.errors import SelfCrossingError
     from morph.polyline import winding_number
     from morph.region import winding_fault
 
@@ -907,8 +920,6 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(general):
         if fault is not None:
             refused += 1
             point, w, k, crossed = fault
-            if crossed and w is None:
-                continue  # a part traced both ways: nothing to wind round
             if crossed:
                 own = winding_number(point[None], [loops[k]])[0]
                 assert own == w and own not in (0, np.sign(pc.loop_area(region[k])))
@@ -919,9 +930,14 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(general):
                 assert pc.loop_area(region[k]) < 0
                 assert winding_number(point[None], others)[0] < 1
             continue
-        summed += 1
         r, tol = rng.uniform(0.2, 2.0), 1e-3
-        got = minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+        try:
+            got = minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
+        except SelfCrossingError as exc:  # winding 0/1 but turning twice: the Gauss map
+            assert "turns" in str(exc)
+            refused += 1
+            continue
+        summed += 1
         traced = unary_union([R.region_to_shapely(region, 1e-5)]
                              + [LinearRing(p) for p in loops])
         exact = traced.buffer(r, quad_segs=512)
