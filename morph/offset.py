@@ -12,7 +12,7 @@ disk, with "not A" a box around A, margin beyond 2 R, with A's loops as its hole
 import numpy as np
 
 from . import piece as pc
-from .region import region_bbox, reverse_loop
+from .region import NormalLoops, region_bbox, reverse_loop
 
 __all__ = ["erode_region", "inset_region", "offset_region"]
 
@@ -90,9 +90,11 @@ def erode_region(loops, shape, tol, method="qac", return_bound=False):
     corners = np.array([[x0 - m, y0 - m], [x1 + m, y0 - m], [x1 + m, y1 + m], [x0 - m, y1 + m]])
     box = [pc.line(corners[k], corners[(k + 1) % 4]) for k in range(4)]
     complement = [box] + [reverse_loop(loop) for loop in loops]
+    if isinstance(loops, NormalLoops):  # A's loops reversed are holes and islands of the box
+        complement = NormalLoops(complement)
     turned = transform_region(shape, [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
     out, debug = minkowski_sum(complement, turned, tol, method=method, return_debug=True)
     lows = [region_bbox([loop])[1] for loop in out]
     grown_box = int(np.argmin(lows))
-    eroded = [reverse_loop(loop) for k, loop in enumerate(out) if k != grown_box]
+    eroded = NormalLoops(reverse_loop(loop) for k, loop in enumerate(out) if k != grown_box)
     return (eroded, debug["bound"]) if return_bound else eroded

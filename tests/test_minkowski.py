@@ -861,6 +861,9 @@ def test_regions_keep_their_mark_under_maps_that_keep_them_regions():
     assert isinstance(transform_region(region, [[1, 2, 0], [0, 1, 0]]), NormalLoops)
     assert not isinstance(transform_region(region, [[1, 0, 0], [0, 0, 0]]), NormalLoops)
     assert not isinstance(translate_region(list(region), (3, 4)), NormalLoops)
+    from morph.offset import inset_region
+
+    assert isinstance(inset_region(region, 20.0, 0.1), NormalLoops)
 
 
 @pytest.mark.parametrize("r", [0.25, 1.0])
