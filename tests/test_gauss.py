@@ -330,6 +330,31 @@ def test_spike_is_a_corner_of_pi():
     assert [e.sweep for e in edges if e.kind == "vertex"][0] == pytest.approx(np.pi)
 
 
+@pytest.mark.parametrize("mirror", [1.0, -1.0])
+def test_the_tip_of_a_part_of_zero_width_turns_as_the_traced_set_has_it(mirror):
+    """Where a loop runs back along itself, the tip turns +pi when it sticks out of
+    the loop and -pi when it is cut into it (times the loop's orientation: the
+    mirror image, a clockwise loop, turns the other way), read from the winding
+    number beyond the tip; a part of zero width crossing the rest of its loop
+    then turns the loop twice, which the convolution refuses (it was summed with
+    its tip's disk missing)."""
+    def loop(points):
+        pts = [(mirror * x, y) for x, y in points]
+        return [pc.line(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+
+    def tip_turns(points):
+        return [e.sweep / np.pi for e in gauss.gauss_map(loop(points))
+                if e.kind == "vertex" and abs(abs(e.sweep) - np.pi) < 1e-9]
+
+    spike = [(0, 0), (10, 0), (10, 5), (14, 5), (10, 5), (10, 10), (0, 10)]
+    slit = [(0, 0), (10, 0), (10, 5), (6, 5), (10, 5), (10, 10), (0, 10)]
+    assert tip_turns(spike) == [pytest.approx(mirror)]
+    assert tip_turns(slit) == [pytest.approx(-mirror)]
+    crossing = [(8, 10), (0, 1), (9, 10), (2, 3), (9, 4)]
+    assert gauss.total_turning(gauss.gauss_map(loop(crossing))) == pytest.approx(
+        mirror * 2 * TWO_PI)
+
+
 def test_convex_and_concave_corners():
     # an L-shaped hexagon: five left turns of +pi/2 and one right turn of -pi/2
     pts = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]

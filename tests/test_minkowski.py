@@ -772,6 +772,9 @@ _HOLE_REACHING_OUT = [_square_loop(), _polygon_loop([(-0.2, 0.2), (-0.2, 0.8), (
     ([_square_loop(), _FAR_CW_SQUARE], "loop 1 is a hole outside the other loops, or "
                                        "reaching out of them: the winding number near "
                                        "\\(3.*\\) is -1"),                 # was a wrong sum
+    # a part traced both ways that crosses the rest of its loop: its tip sticks out
+    ([_polygon_loop([(8, 10), (0, 1), (9, 10), (2, 3), (9, 4)])],
+     "loop 0 turns 2 times, not once"),                                   # was a wrong sum
     (_HOLE_REACHING_OUT, "loop 1 is a hole .* near \\(-[0-9.e-]*, 0.[2-8][0-9]*\\) is -1"),
     ([_square_loop(cw=True)], "negative signed area"),          # was a ClipperException
     ([[]], "empty loop"),
@@ -904,9 +907,7 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(general):
     sign, or all loops' negative, or just inside a clockwise loop with the others
     winding less than 1 there), or refused by the Gauss map (a loop that turns
     twice), or summed within 2 tol of the exact sum of the set they trace (Clipper's
-    nonzero fill with the traced polylines, shapely buffer).  Not covered (README): a
-    loop retracing part of its own edge from a point inside it (2 of 110 accepted
-    integer polygons of other seeds were summed wrong)."""
+    nonzero fill with the traced polylines, shapely buffer)."""
     from shapely.ops import unary_union
 
     from morph.errors import SelfCrossingError
