@@ -355,6 +355,24 @@ def test_the_tip_of_a_part_of_zero_width_turns_as_the_traced_set_has_it(mirror):
         mirror * 2 * TWO_PI)
 
 
+def test_a_centre_line_running_back_over_itself_is_refused_not_summed_without_a_cap():
+    """A stroke's centre line traced out and back whose path itself turns back
+    ((0, 0) -> (10, 0) -> (5, 0)): its inner tip lies on its own trace, so the
+    loop turns twice and the convolution refuses it (the turns used to be chosen to
+    add up to one turn, and the sum lacked a cap: area 20.0 for 20 + pi); a plain
+    centre line still sums to its capsule."""
+    from morph.errors import SelfCrossingError
+    from morph.minkowski import minkowski_sum
+
+    disk = [pc.circle((0.0, 0.0), 1.0)]
+    path = [pc.line((0, 0), (10, 0)), pc.line((10, 0), (5, 0))]
+    with pytest.raises(SelfCrossingError, match="loop 0 turns 2 times"):
+        minkowski_sum([path + [pc.reverse(p) for p in reversed(path)]], disk, 1e-3)
+    line = [pc.line((0, 0), (10, 0)), pc.line((10, 0), (0, 0))]
+    assert pc.region_area(minkowski_sum([line], disk, 1e-3)) == pytest.approx(20 + np.pi,
+                                                                              abs=1e-2)
+
+
 def test_convex_and_concave_corners():
     # an L-shaped hexagon: five left turns of +pi/2 and one right turn of -pi/2
     pts = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
