@@ -13,6 +13,7 @@ call are united (a glyph is the union of its strokes).
 import numpy as np
 
 from . import piece as pc
+from .gauss import CUSP_ANGLE
 from .minkowski import minkowski_sums
 from .region import reverse_loop, translate_region
 from .trim import fill_region
@@ -59,12 +60,26 @@ def _loops_and_dots(paths, nib_region):
     size = _size([p for pieces, _ in paths for p in pieces] + [p for l in nib_region for p in l])
     loops, dots = [], []
     for pieces, _closed in paths:
-        long = [p for p in pieces if not _is_point(p, 1e-12 * size)]
+        long = [np.asarray(p, float) for p in pieces if not _is_point(p, 1e-12 * size)]
         if long:
-            loops.append(path_loop(long))
+            loops += [path_loop(part) for part in _split_at_reversals(long)]
         elif len(pieces):
             dots.append(pc.start(np.asarray(pieces[0], float)))
     return loops, dots
+
+
+def _split_at_reversals(pieces):
+    """The path cut where it turns back on itself (a turn within CUSP_ANGLE of pi
+    between consecutive pieces): the parts' sums with the nib unite to the path's
+    (a sum distributes over a union), and each part traced forward and back turns
+    once, where a path running back over its own trace would make its loop turn
+    twice (:func:`morph.gauss.gauss_map` reads that tip as cut into the trace)."""
+    if len(pieces) < 2:
+        return [pieces]
+    first, last = pc.end_tangents_many(pieces)  # unit tangents
+    cos = np.einsum("ij,ij->i", last[:-1], first[1:])
+    cuts = np.flatnonzero(cos < -np.cos(CUSP_ANGLE)) + 1
+    return [[pieces[i] for i in part] for part in np.split(np.arange(len(pieces)), cuts)]
 
 
 def _is_point(piece, eps):

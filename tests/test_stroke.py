@@ -134,3 +134,19 @@ def test_stroke_far_from_the_origin_is_the_stroke_moved(seed):
         got = stroke_paths(moved, nib, tol)
         assert len(got) == len(base)
         assert pc.region_area(got) == pytest.approx(pc.region_area(base), abs=1e-3), off
+
+
+@pytest.mark.parametrize("points", [[(0, 0), (60, 0), (30, 0)],
+                                    [(0, 0), (60, 0), (30, 0), (30, 40)],
+                                    [(0, 0), (60, 0), (15, 0), (45, 0), (20, 10)]])
+def test_a_path_running_back_over_itself_is_stroked_exactly(points):
+    """A centre line that turns back over its own trace (a pen retracing a stroke)
+    is cut at its reversals and stroked part by part: the union is the path's
+    stroke (Clipper reference).  Traced forward and back whole, its loop would turn
+    twice and be refused (it was stroked with a cap missing before)."""
+    nib, tol = ellipse_nib(14, 4, 30), 0.05
+    pieces = [pc.line(points[i], points[i + 1]) for i in range(len(points) - 1)]
+    loops = stroke_paths([(pieces, False)], nib, tol)
+    ours, ref = _ours(loops, tol), _reference([(pieces, False)], nib)
+    assert ours.boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
+    assert abs(ours.area - ref.area) <= (tol + 2 * FLAT) * ref.boundary.length
