@@ -76,11 +76,12 @@ class NibError(MorphError, ValueError):
 
 
 class SelfCrossingError(MorphError, ValueError):
-    """Operand loops that cross so that they bound no region: a loop whose
-    tangent does not turn exactly once (a figure-8, a pentagram), or loops whose
-    winding number is neither 0 nor 1 somewhere (a curl undone by a counter-curl,
-    overlapping loops).  ``loop`` is the loop's index in its operand when one loop
-    is at fault, else None."""
+    """An operand loop that crosses itself so that it bounds no region: its own
+    winding number beside the crossing is neither 0 nor its orientation's sign (a
+    curl undone by a counter-curl, :func:`morph.region.winding_fault`), or its
+    tangent does not turn exactly once (a figure-8, a pentagram, a part of zero
+    width crossing the rest of the loop: :func:`morph.convolve.gauss_pair_of`).
+    ``loop`` is its index in its operand."""
 
     def __init__(self, message, loop=None):
         super().__init__(message)

@@ -281,15 +281,16 @@ def winding_fault(loops):
     Loops whose arcs stay apart (:func:`_loops_cross` says no) are simple: only the
     winding just outside each clockwise loop is needed (:func:`_outside_windings`,
     at least 1).  Otherwise the loops are flattened within f = 1e-5 of their size
-    (integer points on a grid of f / 100) and Clipper finds the parts of negative
-    winding, and for each loop that comes near itself the parts where it winds
-    other than 0 or 1 (its own filled set subtracted from it as a cycle), each
-    eroded by 3 f so that the slivers where flattened arcs touch vanish: a part
-    thinner than 6 f is not reported.  Parts of zero width wind 0 on both sides
-    and pass: between loops (a hole sharing an edge with its outer loop) and as a
-    whole loop traced out and back (a stroke's centre line) the sums take them as
-    traced, like the closed set they bound; a loop of nonzero area turning back
-    along itself (a spike) is refused by :func:`morph.convolve.gauss_pair_of`."""
+    (integer points on a grid of f / 100) and Clipper finds, for each loop that
+    comes near itself, the parts where it winds other than 0 or its sign (its own
+    filled set subtracted from it as a cycle), then the parts of negative winding,
+    each eroded by 3 f so that the slivers where flattened arcs touch vanish: a
+    part thinner than 6 f is not reported.  Parts of zero width wind 0 on both
+    sides and pass (a spike, a slit, a hole sharing an edge with its outer loop, a
+    stroke's centre line traced out and back): the sums take them as traced, like
+    the closed set they bound; one that crosses the rest of its loop makes the
+    loop turn other than once, which :func:`morph.convolve.gauss_pair_of`
+    refuses."""
     loops = [loop for loop in loops if len(loop)]
     if not loops:
         return None
