@@ -207,20 +207,28 @@ def check_operand(region, name):
         raise ValueError("%s has a negative signed area (%.6g): outer loops must run "
                          "counter-clockwise and holes clockwise "
                          "(morph.region.orient_region normalises loops)" % (name, area))
-    fault = None if isinstance(region, NormalLoops) else winding_fault(region)
-    if fault is not None:
-        (x, y), w, loop, crossed = fault
-        if crossed:
-            raise SelfCrossingError(
-                "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
-                "loop winds 0 times or once; morph.region.orient_region (with on_crossing="
-                "morph.trim.fill_region) makes a region of it" % (name, loop, w, x, y), loop)
-        which = "loop %d is a hole outside the other loops, or reaching out of them: " % loop \
-            if loop is not None else ""
-        raise ValueError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
-                         "is 0 or more; morph.region.orient_region (with on_crossing="
-                         "morph.trim.fill_region) makes a region of the loops"
-                         % (name, which, x, y, w))
+    if not isinstance(region, NormalLoops):
+        _check_windings(region, name)
+
+
+def _check_windings(region, name):
+    """SelfCrossingError or ValueError naming the loop and a point where
+    :func:`morph.region.winding_fault` finds ``region`` bounds no region."""
+    fault = winding_fault(region)
+    if fault is None:
+        return
+    (x, y), w, loop, crossed = fault
+    if crossed:
+        raise SelfCrossingError(
+            "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
+            "loop winds 0 times or once; morph.region.orient_region (with on_crossing="
+            "morph.trim.fill_region) makes a region of it" % (name, loop, w, x, y), loop)
+    which = "loop %d is a hole outside the other loops, or reaching out of them: " % loop \
+        if loop is not None else ""
+    raise ValueError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
+                     "is 0 or more; morph.region.orient_region (with on_crossing="
+                     "morph.trim.fill_region) makes a region of the loops"
+                     % (name, which, x, y, w))
 
 
 def _not_vanished(loops, tol, which=""):

@@ -298,17 +298,31 @@ def winding_fault(loops):
     polys = pc.flatten_loops(loops, APART * scale)
     areas = [pc.loop_area(loop) for loop in loops]
     if not _loops_cross(loops, scale, polys):
-        # a loop of area 0 (a centre line traced out and back) winds round nothing
-        holes = [k for k, a in enumerate(areas) if a < -1e-9 * scale * scale]
-        if not holes:
-            return None
-        outside = _outside_windings(loops, scale, polys) if len(loops) > 1 else [0]
-        for k in holes:
-            if outside[k] < 1:
-                return _sample_candidates(loops[k])[0], outside[k] - 1, k, False
+        return _hole_outside(loops, areas, scale, polys)
+    return _crossed_fault(loops, areas, scale, polys)
+
+
+def _hole_outside(loops, areas, scale, polys):
+    """:func:`winding_fault` of loops whose arcs stay apart: a clockwise loop with
+    winding less than 1 just outside it (on its polylines ``polys``), or None."""
+    # a loop of area 0 (a centre line traced out and back) winds round nothing
+    holes = [k for k, a in enumerate(areas) if a < -1e-9 * scale * scale]
+    if not holes:
         return None
+    outside = _outside_windings(loops, scale, polys) if len(loops) > 1 else [0]
+    for k in holes:
+        if outside[k] < 1:
+            return _sample_candidates(loops[k])[0], outside[k] - 1, k, False
+    return None
+
+
+def _crossed_fault(loops, areas, scale, polys):
+    """:func:`winding_fault` of loops that come near each other or themselves, on
+    Clipper's integer polylines: a loop's own wrong winding first, then a part of
+    negative winding."""
     fine = 1e-5 * scale
     grid = fine / 100.0
+    depth = 3 * fine / grid  # the erosion, in grid units
     lo = np.min(np.concatenate(polys), axis=0)
     flat = pc.flatten_loops(loops, fine)
     paths = [np.round((p - lo) / grid).astype(np.int64).tolist() for p in flat]
@@ -318,17 +332,16 @@ def winding_fault(loops):
         path = path if areas[k] >= 0 else path[::-1]
         filled = _clipper_union([path], pyclipper.PFT_POSITIVE)
         core = _clipper_core([path] + [ring[::-1] for ring in filled], pyclipper.PFT_NONZERO,
-                             3 * fine / grid)
+                             depth)
         if core is not None:
             point = core * grid + lo
             return point, int(round(winding_number(point[None], [flat[k]])[0])), k, True
-    core = _clipper_core([p for p in paths if len(p) >= 3], pyclipper.PFT_NEGATIVE,
-                         3 * fine / grid)
-    if core is not None:
-        point = core * grid + lo
-        w = int(round(winding_number(point[None], flat)[0]))
-        return point, w, _loop_around(point, loops, areas, flat), False
-    return None
+    core = _clipper_core([p for p in paths if len(p) >= 3], pyclipper.PFT_NEGATIVE, depth)
+    if core is None:
+        return None
+    point = core * grid + lo
+    w = int(round(winding_number(point[None], flat)[0]))
+    return point, w, _loop_around(point, loops, areas, flat), False
 
 
 def _clipper_union(paths, fill_type):
