@@ -18,8 +18,9 @@ import pyclipper
 
 from . import bernstein as bz
 from . import piece as pc
-from .polyline import (distance_to_others, near_point_pairs, polyline_edges, polylines_apart,
-                       polylines_touch, unique, winding_number, winding_of_others)
+from .polyline import (BoxGrid, distance_to_others, near_point_pairs, polyline_edges,
+                       polylines_apart, polylines_touch, project, segment_distance, unique,
+                       winding_number, winding_of_others)
 
 __all__ = [
     "NormalLoops",
@@ -376,41 +377,115 @@ def _loop_around(point, loops, areas, flat):
 
 
 def _cancel_coincident(loops, areas, fill_rule, scale):
-    """Loops that trace the same curve (within 1e-9 of the size) cancel as their
-    windings do: a pair of opposite directions adds 0 everywhere (both removed); a
-    pair of equal directions adds 2 (evenodd: both removed; nonzero: one kept)."""
+    """Loops that trace the same curve (within 1e-9 of the size) reduced as their
+    windings add up: a class of coincident loops whose directions sum to ``net``
+    (+1 counter-clockwise, -1 clockwise) adds ``net`` times the class curve's
+    winding number everywhere.  Evenodd keeps one loop of a class of odd size and
+    none of an even one; nonzero keeps |net| / g loops in the direction of ``net``,
+    g the greatest common divisor of all classes' |net| (nonzero fills where the
+    total winding is not 0, which dividing every term by g does not change).  All
+    exact: a class of n copies is one loop where the other classes' nets allow."""
     n = len(loops)
     if n < 2:
         return loops, areas
-    eps = 1e-9 * scale
-    boxes = [np.concatenate([pc.cartesian(p) for p in loop]) for loop in loops]
-    boxes = np.array([np.r_[b.min(axis=0), b.max(axis=0)] for b in boxes])
+    rep = _coincident_classes(loops, areas, 1e-9 * scale, COINCIDENT_COARSE * scale)
+    sign = np.where(np.asarray(areas, float) > 0, 1, -1)
+    net = np.bincount(rep, weights=sign, minlength=n).astype(np.int64)
+    size = np.bincount(rep, minlength=n)
+    reps = np.flatnonzero(size)
+    if fill_rule == "evenodd":
+        copies = {r: (size[r] % 2, 1 if areas[r] > 0 else -1) for r in reps}
+    else:
+        g = np.gcd.reduce(np.abs(net[reps])) or 1
+        copies = {r: (abs(net[r]) // g, 1 if net[r] > 0 else -1) for r in reps}
+    out, out_areas = [], []
+    for r in reps.tolist():
+        count, direction = copies[r]
+        loop = loops[r] if (areas[r] > 0) == (direction > 0) else reverse_loop(loops[r])
+        out += [loop] * int(count)
+        out_areas += [direction * abs(areas[r])] * int(count)
+    return out, out_areas
+
+
+def _coincident_classes(loops, areas, eps, coarse):
+    """Class of each loop (the index of its first member): loops whose samples lie
+    within 4 ``eps`` of each other's curves, both ways.  Candidates, all at once:
+    tight bounding boxes (:func:`loop_bboxes`) within 10 eps (a grid search on the
+    lower corners) and |areas| within 1e-9 of each other; each is compared with its
+    class's first member (:class:`_LoopProbes`, polylines within ``coarse``)."""
+    boxes = loop_bboxes(loops)
     size = np.abs(np.asarray(areas, float))
-    # candidate pairs, all at once: control boxes within 10 eps (a grid search on the
-    # lower corners) and areas within 1e-9 of each other
     pairs = near_point_pairs(boxes[:, :2], 10 * eps)
     i, j = pairs[:, 0], pairs[:, 1]
     keep = ((np.abs(boxes[i] - boxes[j]).max(axis=1) <= 10 * eps)
             & (np.abs(size[i] - size[j]) <= 1e-9 * np.maximum(size[i], size[j])))
-    gone = set()
-    for i, j in pairs[keep].tolist():
-        if i in gone or j in gone:
-            continue
-        if not (_on_loop(loops[i], loops[j], eps) and _on_loop(loops[j], loops[i], eps)):
-            continue
-        same = (areas[i] > 0) == (areas[j] > 0)
-        gone.add(j)
-        if not same or fill_rule == "evenodd":
-            gone.add(i)
-    keep = [k for k in range(n) if k not in gone]
-    return [loops[k] for k in keep], [areas[k] for k in keep]
+    pairs = pairs[keep]
+    pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    rep = np.arange(len(loops))
+    probes = _LoopProbes(loops, coarse)
+    for i, j in pairs.tolist():
+        if rep[i] == i and rep[j] == j and probes.on_loop(j, i, 4 * eps) \
+                and probes.on_loop(i, j, 4 * eps):
+            rep[j] = i
+    return rep
 
 
-def _on_loop(loop, other, eps):
-    """Do sample points of ``loop`` (9 per piece) lie within ~eps of ``other``?"""
-    pts = np.concatenate([pc.evaluate(p, np.linspace(0, 1, 9)) for p in loop])
-    poly = loop_polyline(other, eps)
-    return bool(np.max(point_polyline_distance(pts, poly)) <= 4 * eps)
+#: Flattening bound (x the size) of the polylines that guide :class:`_LoopProbes` to
+#: the pieces near a point: it bounds how far a candidate piece's polyline may be from
+#: its nearest point, not the distance measured (Newton's foot on the piece).
+COINCIDENT_COARSE = 1e-4
+
+
+class _LoopProbes:
+    """Distances from sample points of one loop to the curves of another, for many
+    pairs of the same loops: each loop's samples (9 per piece) and tagged polyline
+    (within ``coarse``) are made once, on first use."""
+
+    def __init__(self, loops, coarse):
+        self.loops, self.coarse = loops, float(coarse)
+        self._samples, self._flat = {}, {}
+
+    def samples(self, k):
+        if k not in self._samples:
+            t = np.linspace(0.0, 1.0, 9)
+            self._samples[k] = np.concatenate([pc.evaluate(p, t) for p in self.loops[k]])
+        return self._samples[k]
+
+    def flat(self, k):
+        """(stacked pieces, segment piece, t0, t1, a, b) of loop k's polyline."""
+        if k not in self._flat:
+            pieces = [np.asarray(p, float) for p in self.loops[k]]
+            pid, ts, xy = pc.flat_starts(pieces, self.coarse)
+            nxt = np.roll(np.arange(len(pid)), -1)
+            t1 = np.where(pid[nxt] == pid, ts[nxt], 1.0)
+            self._flat[k] = (pc.stack(pieces), pid, ts, t1, xy, xy[nxt])
+        return self._flat[k]
+
+    def on_loop(self, k, other, within):
+        """Do all samples of loop k lie within ``within`` of loop ``other``'s curves?
+
+        Each sample's distance is the least over Newton's feet on the pieces
+        (:func:`morph.piece.closest_params_many`), started from the projection on
+        every polyline segment within ``within`` + 2 coarse of it: the segment
+        whose parameter range holds a foot lies within coarse of the foot (the
+        flattening bound), so a foot within ``within`` is reached from some start.
+        """
+        pts = self.samples(k)
+        stacked, pid, t0, t1, a, b = self.flat(other)
+        reach = within + 2.0 * self.coarse
+        grid = BoxGrid(np.minimum(a, b) - reach, np.maximum(a, b) + reach)
+        p, s = grid.at_points(pts)
+        u = project(pts[p], a[s], b[s])
+        near = segment_distance(pts[p], a[s], b[s]) <= reach
+        p, s, u = p[near], s[near], u[near]
+        if len(unique(p)) < len(pts):
+            return False  # some sample is far from every segment
+        start = t0[s] + u * (t1[s] - t0[s])
+        foot = pc.closest_params_many(stacked[pid[s]], pts[p][:, None, :], start[:, None])
+        q = pc.jet2_many(stacked[pid[s]], foot)[0][:, 0]
+        best = np.full(len(pts), np.inf)
+        np.minimum.at(best, p, np.hypot(*(q - pts[p]).T))
+        return bool(best.max() <= within)
 
 
 #: Loops whose arcs stay 2 APART x their size apart (polylines within APART x the size,
@@ -438,18 +513,28 @@ def _loops_cross(loops, scale, polys=None):
 # ------------------------------------------------------------------ measures
 
 def region_bbox(loops):
-    """Tight bounding box (xmin, ymin, xmax, ymax) of all loops.
+    """Tight bounding box (xmin, ymin, xmax, ymax) of all loops (see
+    :func:`loop_bboxes`).  Raises ValueError for no pieces."""
+    boxes = loop_bboxes(loops)
+    if not len(boxes):
+        raise ValueError("empty region has no bounding box")
+    return np.concatenate([boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)])
+
+
+def loop_bboxes(loops):
+    """Tight bounding box (xmin, ymin, xmax, ymax) of each loop with pieces, (L, 4).
 
     Exact up to root finding: the extremes of each piece are at its ends or where a
     component of its tangent numerator vanishes (:func:`morph.piece.tangent_numerator_many`,
     roots by :func:`morph.bernstein.roots_many`), for all pieces of one degree and
-    kind (polynomial or rational) at once.  Raises ValueError for no pieces.
+    kind (polynomial or rational) at once.  Loops without pieces are left out.
     """
     pieces = [p for loop in loops for p in loop]
     if not pieces:
-        raise ValueError("empty region has no bounding box")
-    points = list(pc.end_points(pieces))
-    for _, group, rational in pc.kind_groups(pieces):
+        return np.zeros((0, 4))
+    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+    points, owners = [np.concatenate(pc.end_points(pieces))], [np.tile(loop_of, 2)]
+    for ks, group, rational in pc.kind_groups(pieces):
         if group.shape[1] < 3:  # lines: their ends
             continue
         h = pc.tangent_numerator_many(group, rational)
@@ -457,8 +542,15 @@ def region_bbox(loops):
             owner, t = bz.roots_many(h[:, :, axis])
             if len(t):
                 points.append(pc.jet_rows(group[owner], t)[0])
-    p = np.concatenate(points)
-    return np.concatenate([p.min(axis=0), p.max(axis=0)])
+                owners.append(loop_of[np.asarray(ks)[owner]])
+    p, of = np.concatenate(points), np.concatenate(owners)
+    n = len(loops)
+    lo = np.full((n, 2), np.inf)
+    hi = np.full((n, 2), -np.inf)
+    np.minimum.at(lo, of, p)
+    np.maximum.at(hi, of, p)
+    used = np.bincount(loop_of, minlength=n) > 0
+    return np.concatenate([lo, hi], axis=1)[used]
 
 
 def _piece_moments(piece, quad_points=24):

@@ -314,32 +314,58 @@ def remove_folds(loop, width):
 
     Such spikes enclose no area; the polygon engine keeps them because it preserves
     collinear vertices, and legs that coincide hide any crossing on them from the
-    polylines and from subdivision (the crossing search gives such pairs up)."""
+    polylines and from subdivision (the crossing search gives such pairs up).
+
+    Each pass finds every fold at once (:func:`_fold_joins`) and cuts those that
+    share no piece, from the last to the first (earlier indices stay valid; a fold
+    at the wrap, piece -1 to piece 0, is cut alone in its pass); a fold left as it
+    is (legs neither close nor zipped) is not looked at again while its two pieces
+    are unchanged (:func:`_snap` keeps a piece whose ends stay).  Passes repeat until no fold is left to cut."""
     loop = list(loop)
-    changed = True
-    while changed and len(loop) >= 3:
-        changed = False
-        for i in range(len(loop)):
+    left = {}  # (id(a), id(b)) -> (a, b) of folds left as they are (kept alive: ids unique)
+    while len(loop) >= 3:
+        folds = [i for i in _fold_joins(loop)
+                 if (id(loop[i]), id(loop[(i + 1) % len(loop)])) not in left]
+        if not folds:
+            break
+        if folds[-1] == len(loop) - 1:
+            folds = folds[-1:]  # its cut may delete piece 0 and move every index
+        changed, taken = False, set()
+        for i in reversed(folds):
+            if i + 1 in taken:
+                continue  # shares piece i + 1 with a fold cut in this pass
             j = (i + 1) % len(loop)
             a, b = loop[i], loop[j]
-            if float(np.dot(pc.end_tangents(a)[1], pc.end_tangents(b)[0])) > FOLD_COS:
+            cut = _fold_cut(a, b, width)
+            if cut is None:
+                left[(id(a), id(b))] = (a, b)
                 continue
-            la, lb = pc.length_bound(a), pc.length_bound(b)
-            short, long_ = (a, b) if la <= lb else (b, a)
-            ts = np.linspace(0.0, 1.0, 9)
-            near, t_near = _closest(long_, pc.evaluate(short, ts))
-            if near.max() <= width:
-                cut = (0.0, t_near[0]) if la <= lb else (t_near[-1], 1.0)
-            else:
-                zipped = _zip(a, b, COINCIDE * width, width)
-                if zipped is None:
-                    continue
-                cut = _parting(a, b, *zipped)
             loop = _cut_fold(loop, i, j, *cut)
-            loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
+            taken.add(i)
             changed = True
-            break
+        if changed:
+            loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
     return loop
+
+
+def _fold_joins(loop):
+    """Indices i of the joins (piece i, piece i + 1, cyclic) that turn by nearly pi:
+    unit end tangents with dot product at most FOLD_COS, all joins at once."""
+    first, last = pc.end_tangents_many(loop)
+    dots = np.einsum("ij,ij->i", last, np.roll(first, -1, axis=0))
+    return np.flatnonzero(dots <= FOLD_COS).tolist()
+
+
+def _fold_cut(a, b, width):
+    """Where to cut the fold at the join of ``a`` (ending) and ``b`` (starting), as
+    :func:`_cut_fold`'s (s, u), or None to leave it (see :func:`remove_folds`)."""
+    la, lb = pc.length_bound(a), pc.length_bound(b)
+    short, long_ = (a, b) if la <= lb else (b, a)
+    near, t_near = _closest(long_, pc.evaluate(short, np.linspace(0.0, 1.0, 9)))
+    if near.max() <= width:
+        return (0.0, t_near[0]) if la <= lb else (t_near[-1], 1.0)
+    zipped = _zip(a, b, COINCIDE * width, width)
+    return None if zipped is None else _parting(a, b, *zipped)
 
 
 #: Legs of a fold closer than this share of remove_folds' width coincide (:func:`_zip`).
@@ -456,7 +482,8 @@ def _snap(loop, min_len):
         for k, p in enumerate(loop):
             a = 0.5 * (pc.start(p) + pc.end(loop[k - 1]))
             b = 0.5 * (pc.end(p) + pc.start(loop[(k + 1) % len(loop)]))
-            out.append(pc.with_endpoints(p, a, b))
+            same = np.array_equal(a, pc.start(p)) and np.array_equal(b, pc.end(p))
+            out.append(p if same else pc.with_endpoints(p, a, b))
         if all(pc.length_bound(p) > min_len for p in out):
             return out
         loop = out

@@ -271,6 +271,56 @@ def test_windings_that_cancel_are_empty():
         svg_region(svg)
 
 
+# a blob of four cubics and a round hole of four cubics inside it, as path data traced
+# from any segment, either way, with one segment split in two: the same curves in
+# different parametrisations
+BLOB = [((20, 50), (20, 20), (45, 12), (60, 15)), ((60, 15), (85, 20), (90, 40), (85, 60)),
+        ((85, 60), (80, 85), (50, 92), (35, 80)), ((35, 80), (20, 70), (20, 60), (20, 50))]
+HOLE = [((40, 50), (40, 39), (49, 30), (55, 30)), ((55, 30), (66, 30), (70, 44), (70, 50)),
+        ((70, 50), (70, 61), (61, 70), (55, 70)), ((55, 70), (44, 70), (40, 61), (40, 50))]
+
+
+def _traced(segments, start, backwards, split):
+    segs = segments[start:] + segments[:start]
+    if backwards:
+        segs = [tuple(reversed(s)) for s in reversed(segs)]
+    p0, p1, p2, p3 = (np.asarray(p, float) for p in segs[split])
+    a, b, c = (p0 + p1) / 2, (p1 + p2) / 2, (p2 + p3) / 2
+    d, e = (a + b) / 2, (b + c) / 2
+    m = (d + e) / 2
+    segs = segs[:split] + [(p0, a, d, m), (m, e, c, p3)] + segs[split + 1:]
+    text = "M%g %g " % tuple(segs[0][0])
+    return text + " ".join("C%g %g %g %g %g %g" % (*s[1], *s[2], *s[3]) for s in segs) + " Z"
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_coincident_paths_add_their_windings(seed):
+    """Copies of one curve, traced from any point either way, add their windings as
+    any renderer adds them: a blob drawn k times one way and m times the other, with
+    a hole drawn some times either way, painted as cairosvg paints it under both fill
+    rules (a doubled blob with one opposite hole keeps the hole filled under nonzero;
+    three copies, one reversed, still fill)."""
+    rng = np.random.default_rng(seed)
+    for rule in ("nonzero", "evenodd"):
+        paths = []
+        for shape, counts in ((BLOB, rng.integers(0, 4, 2)), (HOLE, rng.integers(0, 3, 2))):
+            for backwards, count in enumerate(counts):
+                paths += [_traced(shape, int(rng.integers(4)), bool(backwards),
+                                  int(rng.integers(4))) for _ in range(count)]
+        rng.shuffle(paths)
+        assert_same_fill(doc('<path fill-rule="%s" d="%s"/>' % (rule, " ".join(paths))))
+
+
+def test_many_copies_of_a_path_are_one_loop():
+    """300 copies of a path, 200 one way and 100 the other (net 100 under nonzero: one
+    loop), read as the single blob; each copy is compared with one representative."""
+    paths = [_traced(BLOB, k % 4, k % 3 == 2, (k // 3) % 4) for k in range(300)]
+    region = svg_region(doc('<path d="%s"/>' % " ".join(paths)))
+    single = svg_region(doc('<path d="%s"/>' % _traced(BLOB, 0, False, 0)))
+    assert len(region) == 1
+    assert abs(pc.region_area(region) - pc.region_area(single)) < 1e-9 * pc.region_area(single)
+
+
 def test_bow_tie_with_equal_lobes_is_two_triangles():
     svg = doc('<path d="M10 10 L90 90 L90 10 L10 90 Z"/>')
     region = assert_same_fill(svg, min_area=2000)
