@@ -1,10 +1,12 @@
 """morph.trim.topology: fill rules, slivers and holes on the integer rings, against
 exact areas."""
 
+import numpy as np
 import pytest
 
 from morph import piece as pc
 from morph.trim.flatten import tag_loops
+from morph.polyline import min_segment_distance, winding_number
 from morph.trim.topology import drop_slivers, fill_holes, filled_rings, ring_area
 
 
@@ -65,3 +67,80 @@ def test_sum_with_a_nib_far_below_tol_is_refused_with_a_suggestion():
     with pytest.raises(LimitError, match="thinner than the tolerance") as err:
         stroke_paths([(path, False)], tiny, 1e-4)
     assert err.value.suggestion < 1e-4
+
+
+def _one_pass_fill(paths, rule, pts):
+    """The reference: which points Clipper's union of the paths in one pass fills
+    (even-odd over its output rings, which overlap nowhere)."""
+    import pyclipper
+
+    from morph.trim.topology import FILL_TYPES
+
+    clip = pyclipper.Pyclipper()
+    clip.AddPaths([p.tolist() for p in paths], pyclipper.PT_SUBJECT, True)
+    ft = FILL_TYPES[rule]
+    rings = [np.asarray(r, float) for r in clip.Execute(pyclipper.CT_UNION, ft, ft)]
+    a = np.concatenate(rings)
+    b = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+    return winding_number(pts, rings) % 2 == 1, min_segment_distance(pts, a, b)
+
+
+@pytest.mark.parametrize("rule", ["positive", "nonzero", "evenodd"])
+@pytest.mark.parametrize("seed", range(4))
+def test_two_pass_rings_fill_and_nest_as_clipper(rule, seed):
+    """filled_rings (a flat union, then the tree of its rings) on random overlapping
+    integer polygons and nested squares of both directions (holes, islands in
+    holes, a triangle touching a square's corner): its rings fill what Clipper's
+    one-pass union fills (at 10,000 points off the lattice, those farther than 2
+    units from its rings: each pass rounds its crossings to the lattice), each ring's hole flag
+    is its orientation, and each ring lies inside its parent (a box inside its box,
+    of the other kind, larger), outer rings at the top."""
+    rng = np.random.default_rng(seed)
+    paths = [rng.integers(0, 60, (int(rng.integers(3, 9)), 2)) for _ in range(8)]
+    for k, s in enumerate((50, 40, 30, 20, 10)):
+        sq = np.array([[0, 0], [s, 0], [s, s], [0, s]]) + 70 + (50 - s) // 2
+        paths.append(sq if k % 2 == 0 else sq[::-1])
+    paths.append(np.array([[70, 70], [60, 60], [60, 70]]))
+    rings = filled_rings(paths, rule)
+    pts = np.c_[rng.uniform(-1, 121, 10000), rng.uniform(-1, 121, 10000)]
+    got = winding_number(pts, [r.q.astype(float) for r in rings])
+    ref, gap = _one_pass_fill(paths, rule, pts)
+    assert set(np.unique(got[gap > 2])) <= {0, 1}
+    assert np.array_equal((got == 1)[gap > 2], ref[gap > 2]) and (gap > 2).sum() > 5000
+    for r in rings:
+        assert (ring_area(r.q) < 0) == r.hole
+        if r.parent < 0:
+            assert not r.hole
+            continue
+        parent = rings[r.parent]
+        assert parent.hole != r.hole and abs(ring_area(parent.q)) > abs(ring_area(r.q))
+        assert (r.q.min(axis=0) >= parent.q.min(axis=0)).all()
+        assert (r.q.max(axis=0) <= parent.q.max(axis=0)).all()
+    assert sum(r.hole for r in rings) >= 1 and len(rings) >= 4
+
+
+def test_near_coincident_copies_fill_in_seconds(tmp_path):
+    """Three copies of a blob 1e-7 of its size apart, in both directions (Clipper's
+    one-pass tree took minutes on the slivers between them, and remove_folds went
+    through the spikes one rescan at a time): the region is the blob, found in a
+    subprocess within 60 s."""
+    import subprocess
+    import sys
+
+    pts = [(20, 50), (20, 20), (45, 12), (60, 15), (85, 20), (90, 40), (85, 60), (80, 85),
+           (50, 92), (35, 80), (20, 70), (20, 60), (20, 50)]
+
+    def path(dx, backwards):
+        p = pts[::-1] if backwards else pts
+        xy = ["%.5f %g" % (x + dx, y) for x, y in p]
+        return "M" + xy[0] + " " + " ".join("C" + " ".join(xy[k:k + 3]) for k in range(1, 13, 3))
+
+    # one path element: the parser fills its three subpaths together (winding +1 -1 -1)
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg"><path d="%s %s %s"/></svg>'
+           % (path(0, False), path(1e-5, True), path(-1e-5, True)))
+    script = ("import sys\nfrom morph.parse import svg_region\nfrom morph import piece as pc\n"
+              "r = svg_region(sys.argv[1])\nprint(len(r), pc.region_area(r))\n")
+    out = subprocess.run([sys.executable, "-c", script, svg], capture_output=True, text=True,
+                         timeout=60, check=True).stdout.split()
+    assert int(out[0]) >= 1
+    assert abs(float(out[1]) - 3824.5) < 0.01

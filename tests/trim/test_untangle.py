@@ -141,3 +141,36 @@ def test_near_ring_pairs_match_shapely_distances():
                 and LinearRing(polys[i]).distance(LinearRing(polys[j])) <= 0.3}
         assert _near_pairs(polys, 0.3) == want
     assert _near_pairs([], 0.3) == set() and _near_pairs([polys[0], []], 0.3) == set()
+
+
+def test_a_comb_of_spikes_folds_back_to_its_square():
+    """A square whose bottom edge carries 60 zero-width spikes (up and back down),
+    some of two pieces each way (a fold behind a fold), one across the loop's wrap
+    (its last piece runs up, its first back down): remove_folds leaves the square,
+    every join turning by less than the fold angle and every point on the square's
+    boundary, of area 10,000 (shapely: a simple ring)."""
+    from shapely.geometry import LineString
+
+    from morph.trim.untangle import FOLD_COS, remove_folds
+
+    loop = [pc.line((0.5, 10), (0.5, 0)), pc.line((0.5, 0), (1, 0))]
+    xs = np.linspace(1, 99, 61)
+    for k, (x, x1) in enumerate(zip(xs[:-1], xs[1:])):
+        if k % 3 == 0:
+            loop += [pc.line((x, 0), (x, 5)), pc.line((x, 5), (x, 9)),
+                     pc.line((x, 9), (x, 5)), pc.line((x, 5), (x, 0))]
+        else:
+            loop += [pc.line((x, 0), (x, 7)), pc.line((x, 7), (x, 0))]
+        loop.append(pc.line((x, 0), (x1, 0)))
+    loop += [pc.line((99, 0), (100, 0)), pc.line((100, 0), (100, 100)),
+             pc.line((100, 100), (0, 100)), pc.line((0, 100), (0, 0)), pc.line((0, 0), (0.5, 0)),
+             pc.line((0.5, 0), (0.5, 10))]
+    out = remove_folds(loop, 1e-3)
+    assert abs(pc.loop_area(out) - 10000.0) < 1e-9
+    first, last = pc.end_tangents_many(out)
+    assert (np.einsum("ij,ij->i", last, np.roll(first, -1, axis=0)) > FOLD_COS).all()
+    ring = pc.flatten_loop(out, 1e-6)
+    on_edge = (np.isclose(ring[:, 1], 0) | np.isclose(ring[:, 1], 100)
+               | np.isclose(ring[:, 0], 0) | np.isclose(ring[:, 0], 100))
+    assert on_edge.all()
+    assert LineString(np.vstack([ring, ring[:1]])).is_simple
