@@ -29,10 +29,10 @@ __all__ = [
     "is_zero_length",
     "without_zero_length",
     "zero_length_mask",
+    "loop_bboxes",
     "loop_polyline",
     "winding_fault",
     "orient_region",
-    "point_polyline_distance",
     "polyline_edges",
     "point_in_region",
     "region_bbox",
@@ -135,21 +135,6 @@ def _region_scale(loops):
 
 
 # ------------------------------------------------------------------ winding numbers
-
-def point_polyline_distance(points, polyline):
-    """Distance from each of the (m, 2) points to a closed (k, 2) polyline, shape (m,).
-
-    Each point is projected on every edge [a, b] at ``u = clip((p - a).(b - a) /
-    |b - a|^2, 0, 1)``; the least distance to a projection is returned.
-    """
-    a, b = polyline_edges([polyline])
-    d = b - a
-    dd = np.maximum((d ** 2).sum(axis=1), 1e-300)
-    rel = points[:, None, :] - a[None]
-    u = np.clip((rel * d[None]).sum(axis=2) / dd[None], 0.0, 1.0)
-    proj = a[None] + u[..., None] * d[None]
-    return np.sqrt(((points[:, None, :] - proj) ** 2).sum(axis=2)).min(axis=1)
-
 
 def _sample_candidates(loop, max_candidates=32):
     """Points on the loop (piece mid-parameter points) used as nesting probes."""

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from morph import piece as pc
-from morph.region import (Region, clean_loop, orient_region, point_in_region, region_bbox,
-                          region_centroid, reverse_loop, winding_number, zero_length_mask)
+from morph.region import (Region, clean_loop, loop_bboxes, orient_region, point_in_region,
+                          region_bbox, region_centroid, reverse_loop, winding_number,
+                          zero_length_mask)
 
 
 def square(x0, y0, size, ccw=True):
@@ -145,6 +146,13 @@ def test_region_bbox_of_random_pieces_matches_dense_sampling(seed):
     lo, hi = dense.min(axis=0), dense.max(axis=0)
     assert np.all(box[:2] <= lo + 1e-12 * size) and np.all(box[2:] >= hi - 1e-12 * size)
     assert np.allclose(box, np.concatenate([lo, hi]), rtol=0, atol=1e-6 * size)
+    # per loop (pieces dealt to 3 loops, one left empty), the same against its samples
+    loops = [pieces[0::3], [], pieces[1::3], pieces[2::3]]
+    boxes = loop_bboxes(loops)
+    assert boxes.shape == (3, 4)
+    for b, loop in zip(boxes, [loops[0], loops[2], loops[3]]):
+        d = np.vstack([pc.evaluate(p, t) for p in loop])
+        assert np.allclose(b, np.r_[d.min(axis=0), d.max(axis=0)], rtol=0, atol=1e-6 * size)
 
 
 def test_centroid_exact():
@@ -178,3 +186,24 @@ def test_region_class_is_thin():
     assert mirrored.area == pytest.approx(3.0)
     assert [len(l) for l in r] == [4, 4]
     assert "Region(2 loops" in repr(r)
+
+
+def test_loops_with_equal_boxes_and_areas_but_other_curves_do_not_cancel():
+    """A square notched at the top and the same square notched at the bottom (same
+    bounding box, same area), in opposite directions: not coincident, so under
+    nonzero they fill their symmetric difference (shapely), not nothing."""
+    from shapely.geometry import Polygon
+
+    from morph.trim import fill_region
+
+    top = [(0, 0), (10, 0), (10, 10), (6, 10), (6, 9), (4, 9), (4, 10), (0, 10)]
+    bottom = [(0, 0), (4, 0), (4, 1), (6, 1), (6, 0), (10, 0), (10, 10), (0, 10)]
+
+    def loop(pts):
+        return [pc.line(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+
+    a, b = loop(top), reverse_loop(loop(bottom))
+    assert pc.loop_area(a) == -pc.loop_area(b) == 98.0
+    got = orient_region([a, b], "nonzero", on_crossing=fill_region)
+    ref = Polygon(top).symmetric_difference(Polygon(bottom))
+    assert abs(pc.region_area(got) - ref.area) < 1e-9 and ref.area == 4.0
