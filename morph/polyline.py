@@ -98,6 +98,19 @@ def segment_pairs(p0, p1, ids, same_piece_ok):
 
 def _cell_pairs(grid):
     """Index pairs (i < j) of a BoxGrid's boxes that share a cell and overlap."""
+    chunks = list(_cell_pair_chunks(grid))
+    if not chunks:
+        return np.zeros((0, 2), np.int64)
+    n = len(grid.lo)
+    keys = unique(np.concatenate([c[:, 0] * n + c[:, 1] for c in chunks]))  # (i, j) order
+    return np.stack([keys // n, keys % n], axis=1)
+
+
+def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
+    """The pairs of :func:`_cell_pairs` in chunks of cells holding about ``first``,
+    4 ``first``, 16 ``first``, ... candidate pairs, at most ``limit`` (a pair sharing
+    cells of two chunks comes in both): a caller that needs one pair stops at the
+    first chunk that has it, having paid for little more than that chunk."""
     lo, hi = grid.lo, grid.hi
     n = len(lo)
     key, seg = grid.keys, grid.items
@@ -106,17 +119,29 @@ def _cell_pairs(grid):
     ends = np.repeat(np.concatenate([bounds, [len(key)]]),
                      np.diff(np.concatenate([[0], bounds, [len(key)]])))
     cnt = ends - np.arange(len(key)) - 1
-    if cnt.sum() == 0:
-        return np.zeros((0, 2), np.int64)
-    first = np.repeat(np.arange(len(key)), cnt)
-    second = first + 1 + _ranks(cnt)
-    a, b = seg[first], seg[second]
-    pair_keys = unique(np.minimum(a, b) * n + np.maximum(a, b))  # rows in (i, j) order
-    i, j = pair_keys // n, pair_keys % n
-    pairs = np.stack([i, j], axis=1)
+    total = np.cumsum(cnt)
+    if not len(cnt) or total[-1] == 0:
+        return
+    # chunk borders at run starts, every ~limit pairs (a run is never split)
+    starts = np.concatenate([[0], bounds])
+    before = np.concatenate([[0], total])[starts]  # pairs before each run
+    sizes = np.minimum(first * 4.0 ** np.arange(64), limit)
+    marks = np.cumsum(sizes)
+    marks = marks[:np.searchsorted(marks, total[-1]) + 1]
+    cut = starts[np.searchsorted(before, marks).clip(0, len(starts) - 1)]
+    borders = unique(np.concatenate([[0], cut, [len(key)]]))
     slack = 1e-12 * grid.span.max()
-    keep = np.all(lo[i] <= hi[j] + slack, axis=1) & np.all(lo[j] <= hi[i] + slack, axis=1)
-    return pairs[keep]
+    for s0, s1 in zip(borders[:-1], borders[1:]):
+        c = cnt[s0:s1]
+        if c.sum() == 0:
+            continue
+        first = s0 + np.repeat(np.arange(s1 - s0), c)
+        second = first + 1 + _ranks(c)
+        a, b = seg[first], seg[second]
+        pair_keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
+        i, j = pair_keys // n, pair_keys % n
+        keep = np.all(lo[i] <= hi[j] + slack, axis=1) & np.all(lo[j] <= hi[i] + slack, axis=1)
+        yield np.stack([i[keep], j[keep]], axis=1)
 
 
 def segment_crossings(p0, p1, pairs):
@@ -162,15 +187,15 @@ def polylines_touch(polylines, reach):
     a, b = polyline_edges(polys)
     sizes = np.array([len(p) for p in polys])
     first = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    size = np.repeat(sizes, sizes)
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
-    pairs = _cell_pairs(grid)
-    if not len(pairs):
-        return False
-    i, j = pairs[:, 0], pairs[:, 1]
-    step = np.abs(i - j)
-    size = np.repeat(sizes, sizes)[i]
-    pairs = pairs[(first[i] != first[j]) | ((step != 1) & (step != size - 1))]
-    return bool(len(pairs)) and bool(_within(a, b, pairs, reach).any())
+    for pairs in _cell_pair_chunks(grid):  # the first chunk with a touching pair decides
+        i, j = pairs[:, 0], pairs[:, 1]
+        step = np.abs(i - j)
+        pairs = pairs[(first[i] != first[j]) | ((step != 1) & (step != size[i] - 1))]
+        if len(pairs) and _within(a, b, pairs, reach).any():
+            return True
+    return False
 
 
 def polylines_apart(polylines, tol):
@@ -180,7 +205,10 @@ def polylines_apart(polylines, tol):
     (each arc lies within tol of its edge; a sufficient test, cheap at a coarse tol;
     False says nothing)."""
     a, b = polyline_edges(polylines)
-    return not len(near_segments(a, b, 2.0 * tol))
+    if not len(a):
+        return True
+    # the first chunk of candidates with a near pair decides
+    return not any(len(p) for p in _near_segment_chunks(a, b, 2.0 * tol))
 
 
 def near_segments(p0, p1, reach):
@@ -188,16 +216,26 @@ def near_segments(p0, p1, reach):
     other (crossing ones included), except pairs that share a vertex (consecutive
     along a polyline: the end of one the start of the other).  Pairs that meet
     elsewhere, such as two loops touching at a point, are included (distance 0)."""
+    chunks = [p for p in _near_segment_chunks(p0, p1, reach) if len(p)]
+    if not chunks:
+        return np.zeros((0, 2), np.int64)
+    n = len(p0)
+    keys = unique(np.concatenate([c[:, 0] * n + c[:, 1] for c in chunks]))
+    return np.stack([keys // n, keys % n], axis=1)
+
+
+def _near_segment_chunks(p0, p1, reach):
+    """The pairs of :func:`near_segments`, chunk by chunk of candidates
+    (:func:`_cell_pair_chunks`)."""
     grid = BoxGrid(np.minimum(p0, p1) - 0.5 * reach, np.maximum(p0, p1) + 0.5 * reach)
-    pairs = _cell_pairs(grid)
-    if not len(pairs):
-        return pairs
-    i, j = pairs[:, 0], pairs[:, 1]
     join = 1e-12 * float(grid.span.max())
-    chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
-               | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
-    pairs = pairs[~chained]
-    return pairs[_within(p0, p1, pairs, reach)]
+    for pairs in _cell_pair_chunks(grid):
+        i, j = pairs[:, 0], pairs[:, 1]
+        chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
+                   | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
+        pairs = pairs[~chained]
+        if len(pairs):
+            yield pairs[_within(p0, p1, pairs, reach)]
 
 
 def _within(p0, p1, pairs, reach):

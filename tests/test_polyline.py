@@ -27,6 +27,28 @@ def test_segment_pairs_hold_every_intersecting_pair():
     assert truth and truth <= pairs
 
 
+def test_box_pairs_in_chunks_are_the_overlapping_pairs():
+    """BoxGrid's pairs, whole and in growing chunks (an early exit's unit), are
+    exactly the pairs of boxes that overlap (all pairs compared), for boxes of mixed
+    sizes and chunk sizes down to one pair."""
+    from morph.polyline import BoxGrid, _cell_pair_chunks, _cell_pairs
+
+    rng = np.random.default_rng(11)
+    for n in (1, 40, 1500):
+        lo = rng.uniform(0, 100, (n, 2))
+        hi = lo + rng.uniform(0, 1, (n, 2)) ** 3 * 30
+        grid = BoxGrid(lo, hi)
+        i, j = np.triu_indices(n, 1)
+        overlap = np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
+        truth = np.stack([i[overlap], j[overlap]], axis=1)
+        assert np.array_equal(_cell_pairs(grid), truth)
+        for limit, first in ((1, 1), (50, 3), (1 << 20, 1 << 12)):
+            chunks = list(_cell_pair_chunks(grid, limit, first))
+            got = np.unique(np.concatenate(chunks), axis=0) if chunks else np.zeros((0, 2))
+            assert np.array_equal(got.reshape(-1, 2), truth)
+        assert n < 1500 or len(truth) > 1000
+
+
 def test_segment_crossings_points_agree_with_shapely():
     rng = np.random.default_rng(4)
     p0, p1 = _random_segments(rng, 200)
