@@ -1,6 +1,6 @@
 """Copies of one path: reading time and result against the single path.
 
-    python -m bench.coincident [--md bench/coincident.md] [--repeat 3]
+    python -m bench.coincident [--md bench/coincident.md] [--repeat 3] [--timeout 600]
 
 SVG documents drawn the way editors and scripts leave them: one path drawn many
 times (exact copies, the same curve from another start point or split into more
@@ -91,7 +91,7 @@ def cases():
     return out
 
 
-def run(d, rule, repeat):
+def run(d, rule, repeat, timeout):
     import tempfile
 
     svg = '<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="%s" d="%s"/></svg>' % (rule, d)
@@ -100,8 +100,11 @@ def run(d, rule, repeat):
     best, out = np.inf, None
     for _ in range(repeat):
         t = time.perf_counter()
-        res = subprocess.run([sys.executable, "-c", SCRIPT, fh.name], capture_output=True,
-                             text=True, timeout=600)
+        try:
+            res = subprocess.run([sys.executable, "-c", SCRIPT, fh.name], capture_output=True,
+                                 text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return timeout, None, "timeout (%g s)" % timeout
         best = min(best, time.perf_counter() - t)
         if res.returncode:
             return best, None, res.stderr.strip().splitlines()[-1]
@@ -113,12 +116,13 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--md", default=None)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--timeout", type=float, default=600.0, help="seconds per process")
     args = ap.parse_args(argv)
     rows = ["| case | rule | process wall (min of %d) | loops | area | expected | ok |" % args.repeat,
             "|---|---|---|---|---|---|---|"]
     bad = 0
     for name, d, rule, expected in cases():
-        wall, got, err = run(d, rule, args.repeat)
+        wall, got, err = run(d, rule, args.repeat, args.timeout)
         if got is None:
             ok, loops, area = False, "-", err
         else:
