@@ -320,7 +320,8 @@ def remove_folds(loop, width):
     share no piece, from the last to the first (earlier indices stay valid; a fold
     at the wrap, piece -1 to piece 0, is cut alone in its pass); a fold left as it
     is (legs neither close nor zipped) is not looked at again while its two pieces
-    are unchanged (:func:`_snap` keeps a piece whose ends stay).  Passes repeat until no fold is left to cut."""
+    are unchanged (:func:`_snap` keeps a piece whose ends stay).  Passes repeat
+    until no fold is left to cut."""
     loop = list(loop)
     left = {}  # (id(a), id(b)) -> (a, b) of folds left as they are (kept alive: ids unique)
     while len(loop) >= 3:
