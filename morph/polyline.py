@@ -284,22 +284,33 @@ def near_point_pairs(points, reach):
 def winding_of_others(points, owner, polylines, chunk=2_000_000):
     """Winding number at each point of the closed ``polylines`` other than its own
     (``owner[k]``: the index of point k's polyline, whose edges it does not count;
-    -1: all count), shape (m,) int; the crossing rule of :func:`winding_number`."""
+    -1: all count), shape (m,) int; the crossing rule of :func:`winding_number`.
+
+    Only the edges that span a point's height can cross its ray: they are found on
+    horizontal slabs (a :class:`BoxGrid` of the edges' y-ranges, all at one x), in
+    blocks of points of about ``chunk`` (point, edge) pairs, not points x edges."""
     pts = np.atleast_2d(np.asarray(points, float))
     a, b, edge_owner = _owned_edges(polylines)
     out = np.zeros(len(pts), int)
     if not len(a) or not len(pts):
         return out
-    step = max(1, chunk // len(a))
+    ys = np.stack([a[:, 1], b[:, 1]], axis=1)
+    zero = np.zeros((len(a), 1))
+    grid = BoxGrid(np.hstack([zero, ys.min(axis=1, keepdims=True)]),
+                   np.hstack([zero, ys.max(axis=1, keepdims=True)]))
+    probe = np.stack([np.zeros(len(pts)), pts[:, 1]], axis=1)
+    owner = np.broadcast_to(np.asarray(owner), (len(pts),))
+    step = max(1, chunk // 64)  # points per block: ~64 candidate edges a point or fewer
     for s in range(0, len(pts), step):
-        p = pts[s:s + step, None, :]
-        ay, by = a[None, :, 1], b[None, :, 1]
-        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
-                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
-        other = np.asarray(owner)[s:s + step, None] != edge_owner[None, :]
-        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0) & other
-        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0) & other
-        out[s:s + step] = up.sum(axis=1) - down.sum(axis=1)
+        k, e = grid.at_points(probe[s:s + step])
+        k = k + s
+        p, ea, eb = pts[k], a[e], b[e]
+        cross = ((eb[:, 0] - ea[:, 0]) * (p[:, 1] - ea[:, 1])
+                 - (eb[:, 1] - ea[:, 1]) * (p[:, 0] - ea[:, 0]))
+        other = owner[k] != edge_owner[e]
+        up = (ea[:, 1] <= p[:, 1]) & (eb[:, 1] > p[:, 1]) & (cross > 0) & other
+        down = (ea[:, 1] > p[:, 1]) & (eb[:, 1] <= p[:, 1]) & (cross < 0) & other
+        out += np.bincount(k, weights=up.astype(float) - down, minlength=len(pts)).astype(int)
     return out
 
 
@@ -310,19 +321,24 @@ def _owned_edges(polylines):
     return a, b, np.repeat(np.arange(len(polylines)), sizes)
 
 
-def distance_to_others(points, owner, polylines, chunk=1 << 22):
+def distance_to_others(points, owner, polylines, reach):
     """Distance from each point to the nearest edge of the closed ``polylines`` other
-    than its own (``owner[k]``), shape (m,); inf where there is no other edge."""
+    than its own (``owner[k]``), shape (m,), where that is at most ``reach``; inf
+    where no other edge comes within ``reach``.  Edges near each point found on a
+    grid (:class:`BoxGrid` of the edges' boxes grown by ``reach``): no all-pairs
+    product."""
     pts = np.atleast_2d(np.asarray(points, float))
     a, b, edge_owner = _owned_edges(polylines)
     out = np.full(len(pts), np.inf)
-    if not len(a):
+    if not len(a) or not len(pts):
         return out
-    step = max(1, chunk // len(a))
-    for s in range(0, len(pts), step):
-        d = segment_distance(pts[s:s + step, None, :], a, b)
-        d[np.asarray(owner)[s:s + step, None] == edge_owner[None, :]] = np.inf
-        out[s:s + step] = d.min(axis=1)
+    grid = BoxGrid(np.minimum(a, b) - reach, np.maximum(a, b) + reach)
+    k, e = grid.at_points(pts)
+    keep = np.asarray(owner)[k] != edge_owner[e]
+    k, e = k[keep], e[keep]
+    d = segment_distance(pts[k], a[e], b[e])
+    near = d <= reach
+    np.minimum.at(out, k[near], d[near])
     return out
 
 

@@ -221,15 +221,15 @@ def _positive_loops(loops):
 
 def _outside_windings(loops, scale, polys):
     """For each loop, the winding number just outside it: that of all *other* loops
-    at a probe point on it (the piece midpoint farthest from the other loops), on
-    their polylines ``polys`` within APART x ``scale``, refined when the probe is
-    closer than that.  All loops' probes at once (Python work per loop only for the
-    rare refinements)."""
+    at a probe point on it (the piece midpoint farthest from the other loops, any
+    of those farther than 2 tol = 2 APART x ``scale``), on their polylines ``polys``
+    within tol, refined when the probe is closer than 2 tol.  All loops' probes at
+    once (Python work per loop only for the rare refinements)."""
     tol = APART * scale
     cands = [_sample_candidates(loop) for loop in loops]
     owner = np.repeat(np.arange(len(loops)), [len(c) for c in cands])
     cand = np.concatenate(cands)
-    dist = distance_to_others(cand, owner, polys)
+    dist = distance_to_others(cand, owner, polys, 2 * tol)
     order = np.lexsort((dist, owner))  # per loop, its farthest candidate last
     best = order[np.searchsorted(owner[order], np.arange(len(loops)), side="right") - 1]
     out = winding_of_others(cand[best], np.arange(len(loops)), polys)

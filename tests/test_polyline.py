@@ -49,6 +49,39 @@ def test_box_pairs_in_chunks_are_the_overlapping_pairs():
         assert n < 1500 or len(truth) > 1000
 
 
+def test_winding_of_others_on_slabs_is_the_all_pairs_count():
+    """Windings counted over the edges found on horizontal slabs equal the plain
+    count over every (point, edge) pair, on random integer polylines (horizontal
+    edges, repeated vertices, points on vertices and edges: every tie of the
+    crossing rule) with random owners, in blocks down to one point."""
+    from morph.polyline import _owned_edges, winding_of_others
+
+    def all_pairs(pts, owner, polys):
+        a, b, edge_owner = _owned_edges(polys)
+        p = pts[:, None, :]
+        ay, by = a[None, :, 1], b[None, :, 1]
+        cross = ((b[None, :, 0] - a[None, :, 0]) * (p[..., 1] - ay)
+                 - (by - ay) * (p[..., 0] - a[None, :, 0]))
+        other = owner[:, None] != edge_owner[None, :]
+        up = (ay <= p[..., 1]) & (by > p[..., 1]) & (cross > 0) & other
+        down = (ay > p[..., 1]) & (by <= p[..., 1]) & (cross < 0) & other
+        return up.sum(axis=1) - down.sum(axis=1)
+
+    rng = np.random.default_rng(5)
+    wound = 0
+    for _ in range(20):
+        polys = [rng.integers(0, 20, (int(rng.integers(2, 12)), 2)) * rng.choice([1.0, 0.5])
+                 for _ in range(int(rng.integers(1, 8)))]
+        pts = np.vstack([rng.uniform(-2, 22, (300, 2)), np.concatenate(polys),
+                         rng.integers(0, 20, (100, 2)).astype(float)])
+        owner = rng.integers(-1, len(polys), len(pts))
+        want = all_pairs(pts, owner, polys)
+        wound += np.abs(want).max() >= 1
+        for chunk in (2_000_000, 64, 1):
+            assert np.array_equal(winding_of_others(pts, owner, polys, chunk), want)
+    assert wound >= 15
+
+
 def test_segment_crossings_points_agree_with_shapely():
     rng = np.random.default_rng(4)
     p0, p1 = _random_segments(rng, 200)
