@@ -88,6 +88,10 @@ def cases():
     for n in (40, 100):
         out.append(("%d lenses shifted by 0.001" % n, lens_chain(n), "nonzero",
                     lens_union_area(n)))
+    dots = " ".join("M %d %d a 1 1 0 1 0 2 0 a 1 1 0 1 0 -2 0 Z" % (3 * i, 3 * j)
+                    for i in range(45) for j in range(45))
+    out.append(("2025 disjoint dots (no copies: the probes' grid search)", dots, "nonzero",
+                2025 * np.pi))
     return out
 
 
@@ -127,8 +131,10 @@ def main(argv=None):
             ok, loops, area = False, "-", err
         else:
             loops, area = got
-            # the area within 1e-6 of the drawing's size squared (80 units, 1.3 for lenses)
-            ok = abs(area - expected) <= 1e-6 * (1.3 if "lenses" in name else 80.0) ** 2
+            # the area within 1e-6 of the drawing's size squared (80 units; lenses 1.3,
+            # dots 134)
+            size = 1.3 if "lenses" in name else 134.0 if "dots" in name else 80.0
+            ok = abs(area - expected) <= 1e-6 * size ** 2
         bad += not ok
         row = "| %s | %s | %.2f s | %s | %s | %s | %s |" % (
             name, rule, wall, loops, area if isinstance(area, str) else "%.4f" % area,
