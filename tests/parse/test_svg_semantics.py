@@ -311,6 +311,16 @@ def test_coincident_paths_add_their_windings(seed):
         assert_same_fill(doc('<path fill-rule="%s" d="%s"/>' % (rule, " ".join(paths))))
 
 
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+@pytest.mark.parametrize("ways", ["++-", "+-+", "++--", "+++-", "++-+--"])
+def test_copies_either_way_add_up(ways, rule):
+    """Copies of the blob drawn each way in the order given (winding 1, 1, 0, 2, 0),
+    all from one point: painted as cairosvg paints them (pairwise cancelling made
+    ++- empty and ++-- filled under nonzero)."""
+    paths = [_traced(BLOB, 0, way == "-", 0) for way in ways]
+    assert_same_fill(doc('<path fill-rule="%s" d="%s"/>' % (rule, " ".join(paths))))
+
+
 def test_many_copies_of_a_path_are_one_loop():
     """300 copies of a path, 200 one way and 100 the other (net 100 under nonzero: one
     loop), read as the single blob; each copy is compared with one representative."""
