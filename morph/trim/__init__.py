@@ -61,7 +61,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     tg = tag_loops(loops, eps, grid)
     if len(tg.q) == 0:
         return []
-    rings = drop_slivers(filled_rings(tg.paths(), fill_rule), THIN_UNITS)
+    rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)
     if hole_test is not None:
         filled = []
         for i, r in enumerate(rings):
