@@ -405,7 +405,8 @@ class _HoleTest:
         key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)), -3, 0)
         if key not in self.cache:
             self.cache[key] = Membership(self.a, self.b, key)
-        filled = self.cache[key](x)
+        # no point inside (a hole of no area outside its islands): it stays a hole
+        filled = bool(depth > 0.0) and self.cache[key](x)
         self.log.append((x, depth, filled))
         return filled
 

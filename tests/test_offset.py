@@ -231,3 +231,30 @@ def test_offsets_and_insets_of_near_cusps_against_shapely():
                               on_crossing=fill_region)
         _inset_against_shapely(holed, 0.5, 0.01)
         check_offset(holed, 0.5, 0.01)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_thin_annular_gap_around_an_island_stays_open(seed):
+    """A disk inside the round hole of a ring, offset so that the gap left between
+    them is 40-200 tol wide but thinner than the hole test's first grid: the gap
+    (a hole with an island) stays open, and the area is shapely's buffer.  The
+    hole's probe point used to be taken in the island (the middle of a scanline
+    across the hole ring, islands ignored), which filled the gap (a 4-unit gap in
+    ionicons' ribbon)."""
+    from tests.reference import region_to_shapely
+
+    rng = np.random.default_rng(seed)
+    c = rng.uniform(-100, 100, 2)
+    r_disk, r_hole = rng.uniform(20, 60), rng.uniform(70, 90)
+    tol = rng.choice([0.005, 0.01, 0.02])
+    gap = rng.uniform(40, 200) * tol
+    radius = 0.5 * (r_hole - r_disk - gap)
+    region = [list(pc.circle(c, r_hole + 60)), list(pc.circle(c, r_hole))[::-1],
+              list(pc.circle(c, r_disk))]
+    region[1] = [pc.reverse(p) for p in region[1]]
+    out = offset_region(region, radius, tol)
+    assert len(out) == 3
+    flat = tol / 20
+    ref = region_to_shapely(region, flat).buffer(radius, quad_segs=256)
+    mine = region_to_shapely(out, flat)
+    assert mine.symmetric_difference(ref).area <= 2 * (tol + flat) * ref.length

@@ -63,43 +63,59 @@ def _search(ring, islands, grid_n, rounds, enough=np.inf):
     for r in range(rounds):
         g = np.linspace(-1.0, 1.0, grid_n)
         cand = center + np.stack(np.meshgrid(g, g), -1).reshape(-1, 2) * half
-        if r == 0:  # a thin ring can slip between grid points: add its scanline spans
-            cand = np.concatenate([cand, _span_midpoints(ring)])
         inside = winding_number(cand, [ring]) % 2 == 1
         for isl in islands:
             inside &= winding_number(cand, [isl]) % 2 == 0
-        if inside.any():
-            cand = cand[inside]
+        cand = cand[inside]
+        if r == 0 and len(cand) == 0:
+            # a thin hole slipped between the grid points: midpoints of its spans on
+            # scanlines, the widest gaps between vertex heights first, then all
+            cand = _span_midpoints(polys)
+            if len(cand) == 0:
+                cand = _span_midpoints(polys, lines=None)
+        if len(cand):
             d = min_segment_distance(cand, a, b)
             i = int(np.argmax(d))
             if d[i] > depth:
                 best, depth = cand[i], float(d[i])
+        elif r == 0:
+            return best, depth  # no area inside the hole: no point
         center, half = best, half * (4.0 / grid_n)
         if np.hypot(*half) <= DEPTH_REL * depth or depth >= enough:
             break  # a deeper point lies within the next cells: deeper by that at most
     return best, depth
 
 
-def _span_midpoints(ring, lines=64):
-    """Midpoints of the spans inside ``ring`` on horizontal lines halfway between
-    its vertices' heights (the widest gaps first, at most ``lines`` of them): at
-    least one lies inside any ring of positive area."""
-    ys = unique(ring[:, 1])
+def _span_midpoints(polys, lines=64):
+    """Midpoints of the spans inside ``polys[0]`` and outside the islands
+    ``polys[1:]`` (nested inside it, apart) on horizontal lines halfway between
+    their vertices' heights, the widest gaps first, at most ``lines`` of them (None:
+    all): with all lines, at least one lies inside a hole of positive area (its
+    area lies between two consecutive heights somewhere, and the line halfway
+    crosses it there)."""
+    q = np.concatenate(polys)
+    ys = unique(q[:, 1])
     if len(ys) < 2:
         return np.zeros((0, 2))
     gaps = np.diff(ys)
-    pick = np.sort(np.argsort(-gaps, kind="stable")[:lines])
-    y = 0.5 * (ys[pick] + ys[pick + 1])
-    a, b = ring, np.roll(ring, -1, axis=0)
-    hit = (a[None, :, 1] <= y[:, None]) != (b[None, :, 1] <= y[:, None])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = a[None, :, 0] + (y[:, None] - a[None, :, 1]) * (b[None, :, 0] - a[None, :, 0]) / (
-            b[None, :, 1] - a[None, :, 1])
-    x = np.sort(np.where(hit, x, np.inf), axis=1)
-    mid = 0.5 * (x[:, 0:-1:2] + x[:, 1::2])  # between crossings 1-2, 3-4, ...
-    yy = np.broadcast_to(y[:, None], mid.shape)
-    ok = np.isfinite(mid)
-    return np.stack([mid[ok], yy[ok]], axis=1)
+    pick = np.argsort(-gaps, kind="stable")
+    pick = np.sort(pick if lines is None else pick[:lines])
+    a = q
+    b = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+    out = []
+    for ys_chunk in np.array_split(0.5 * (ys[pick] + ys[pick + 1]),
+                                   max(1, len(pick) * len(q) // 2 ** 22 + 1)):
+        y = ys_chunk
+        hit = (a[None, :, 1] <= y[:, None]) != (b[None, :, 1] <= y[:, None])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = a[None, :, 0] + (y[:, None] - a[None, :, 1]) * (b[None, :, 0] - a[None, :, 0]) / (
+                b[None, :, 1] - a[None, :, 1])
+        x = np.sort(np.where(hit, x, np.inf), axis=1)
+        mid = 0.5 * (x[:, 0:-1:2] + x[:, 1::2])  # between crossings 1-2, 3-4, ...
+        yy = np.broadcast_to(y[:, None], mid.shape)
+        ok = np.isfinite(mid)
+        out.append(np.stack([mid[ok], yy[ok]], axis=1))
+    return np.concatenate(out)
 
 
 class Membership:

@@ -25,6 +25,25 @@ def test_deepest_point_of_a_square_hole_with_an_island():
     assert best * (1 - DEPTH_REL) <= depth <= best + 1e-9
 
 
+@pytest.mark.parametrize("seed", range(8))
+def test_deepest_point_of_a_thin_annulus_around_an_island(seed):
+    """A round hole around an island (both polygons) leaving an annulus 0.1-4 units
+    wide: the point is in the annulus (not in the island, which every scanline
+    across the hole ring crosses) and about width / 2 deep."""
+    rng = np.random.default_rng(seed)
+    radius, width = rng.uniform(40, 120), rng.uniform(0.1, 4.0)
+    t = np.linspace(0, 2 * np.pi, int(rng.integers(100, 400)), endpoint=False)
+    c = rng.uniform(-300, 300, 2)
+    ring = np.c_[radius * np.cos(t), radius * np.sin(t)] + c
+    island = np.c_[(radius - width) * np.cos(t + 0.01), (radius - width) * np.sin(t + 0.01)] + c
+    x, depth = deepest_point(ring, [island])
+    poly = Polygon(ring, [island])
+    assert poly.contains(Point(x))
+    assert depth == pytest.approx(poly.boundary.distance(Point(x)), abs=1e-9)
+    sag = radius * (1 - np.cos(np.pi / len(t)))  # the polygons' chords widen the gap
+    assert 0.3 * width <= depth <= 0.5 * width + sag
+
+
 def test_membership_with_an_open_path():
     path = pc.cubic((0, 0), (3, 4), (6, -4), (10, 0))
     a = [[path, pc.reverse(path)]]  # a path traced forward and back: a curve
