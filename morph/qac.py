@@ -265,6 +265,7 @@ def _qac_from_numerator(c1, h1, q):
     den = h1[:, :, 0] * dd[:, None, 1] - h1[:, :, 1] * dd[:, None, 0]   # Eq. 36 denominator
     flip = np.where(np.mean(den, axis=1) < 0, -1.0, 1.0)[:, None]
     num, den = num * flip, den * flip
+    num = _exact_end_params(num, den)
     m0 = bz.multiply_many(den - num, den - num)
     m1 = 2.0 * bz.multiply_many(num, den - num)
     m2 = bz.multiply_many(num, num)
@@ -276,6 +277,29 @@ def _qac_from_numerator(c1, h1, q):
          + bz.multiply_many(w1[:, :, None], qpart))
     w = bz.multiply_many(w1, dsq)
     return np.concatenate([x, w[:, :, None]], axis=2)
+
+
+def _exact_end_params(num, den):
+    """N with s(t) = N / D exactly 0 or 1 at t = 0 and t = 1 (Eq. 36's ends).
+
+    The pair is compatible: C1's end tangents are parallel to Q2's (C2's), so s is
+    0 or 1 at each end, whichever the computed ratio is nearer.  The computed N(0),
+    N(1) are cross products of nearly parallel vectors, and where C1 or C2 is much
+    shorter than the other and the common sweep small, their rounding (relative to
+    the coordinates' magnitude) is large against D = cross(H1, D0 - D1): the piece's
+    ends slipped along it, 1.3e-6 for 2e-5 of a cubic ⊕ 0.3 of a quadratic over
+    1.25e-3 rad at 500 units from the origin, more than the 0.01 tol the loops are
+    chained within.  Setting the end coefficients puts the ends on the exact sums
+    C1(end) + C2(end); inside, s moves along Q2, so the piece stays on the surface
+    C1(t) + Q2(s) the bound of Eqs. 39-40 is about."""
+    num = num.copy()
+    for k in (0, -1):
+        d = den[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = num[:, k] / d
+        ok = np.isfinite(s)
+        num[ok, k] = np.where(s[ok] < 0.5, 0.0, d[ok])
+    return num
 
 
 def convolve_qac_piece(c1, c2, q2=None):

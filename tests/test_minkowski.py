@@ -975,3 +975,38 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
             exact = unary_union([exact, _segments(loops).buffer(r, quad_segs=512)])
         ours = R.region_to_shapely(got, 1e-5)
         assert exact.boundary.hausdorff_distance(ours.boundary) <= 2 * tol, loops
+
+
+def _tiny_handle_and_flat_joint(rng):
+    """A triangle whose cubic side ends on a tiny handle (its tangent turns through
+    most of its angle in the last 1e-5 of it) and a box with a nearly flat G1
+    quadratic bottom, both far from the origin (icons of Font Awesome and ionicons
+    summed: the handle's end meets the bottom's joint at a common sweep of ~1e-3)."""
+    x, y = rng.uniform(-1000, 1000, 2)
+    h = rng.uniform(0.05, 0.5)
+    tri = [pc.line((x, y), (x, y + 52)), pc.line((x, y + 52), (x - 56, y - 9.2)),
+           pc.line((x - 56, y - 9.2), (x - 9.2, y - 9.2)),
+           pc.cubic((x - 9.2, y - 9.2), (x - 8.6, y - 8.6), (x - h, y), (x, y))]
+    u, v = rng.uniform(-1000, 1000, 2)
+    bulge, tilt = rng.uniform(0.2, 0.6), rng.uniform(0.002, 0.03)
+    box = [pc.line((u + 32, v - 0.46), (u + 32, v + 20)), pc.line((u + 32, v + 20), (u, v + 20)),
+           pc.line((u, v + 20), (u, v - 0.46)),
+           pc.quadratic((u, v - 0.46), (u + 8, v - 0.46 + bulge), (u + 16, v - 0.46 + bulge + tilt)),
+           pc.quadratic((u + 16, v - 0.46 + bulge + tilt), (u + 24, v - 0.46 + bulge + 2 * tilt),
+                        (u + 32, v - 0.46))]
+    return [tri], [box]
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_tiny_handle_against_a_flat_joint(seed):
+    """QAC pieces end at the angle-matched sums: s(t) of Eq. 36 is 0 or 1 at the
+    ends (computed, it slipped where a short piece meets a long one over a small
+    sweep, far from the origin, and the loops did not close: exit 1), and the sum
+    is A ⊕ B at 1e-4 and 1e-5, without extra pieces."""
+    rng = np.random.default_rng(seed)
+    a, b = _tiny_handle_and_flat_joint(rng)
+    for tol in (1e-4, 1e-5):
+        for x, y in ((a, b), (b, a)):
+            loops, debug = minkowski_sum(x, y, tol, return_debug=True)
+            assert debug["bound"] <= tol and len(debug["convolution"]) < 100
+            check_loops(loops, x, y, tol, 2e-3, rng, n_random=30, max_boundary=40)
