@@ -153,17 +153,31 @@ class Membership:
         if not closed and not curves:
             return False
         clip = pyclipper.Pyclipper()
-        if closed:
-            clip.AddPaths(closed, pyclipper.PT_SUBJECT, True)
+        for c in closed:
+            if not _add(clip, c, pyclipper.PT_SUBJECT, True):
+                curves.append(c + c[:1])  # no area on the grid: its outline
         for c in curves:
-            clip.AddPath(c, pyclipper.PT_SUBJECT, False)
+            # a curve that rounds to one grid point: a segment of one unit (within
+            # the flattening's depth / 10 of it)
+            _add(clip, c, pyclipper.PT_SUBJECT, False) or _add(
+                clip, [c[0], [c[0][0] + 1, c[0][1]]], pyclipper.PT_SUBJECT, False)
         moved = [self._int(np.asarray(x) - p) for p in self.pb]
-        clip.AddPaths([p.tolist() for p in moved if len(p) >= 3], pyclipper.PT_CLIP, True)
+        if not any([_add(clip, p.tolist(), pyclipper.PT_CLIP, True) for p in moved if len(p) >= 3]):
+            return False  # x - B rounds to no area
         tree = clip.Execute2(pyclipper.CT_INTERSECTION, pyclipper.PFT_NONZERO,
                              pyclipper.PFT_NONZERO)
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
+
+
+def _add(clip, path, kind, closed):
+    """Add one path to Clipper; False where Clipper refuses it (fewer than 2 distinct
+    points, or a closed path with all its points on one line)."""
+    try:
+        return bool(clip.AddPath(path, kind, closed))
+    except pyclipper.ClipperException:
+        return False
 
 
 def _boxes(polys):

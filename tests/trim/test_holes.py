@@ -44,6 +44,24 @@ def test_deepest_point_of_a_thin_annulus_around_an_island(seed):
     assert 0.3 * width <= depth <= 0.5 * width + sag
 
 
+def test_membership_with_loops_that_round_to_a_point_or_a_line():
+    """Loops of A with no area on the predicate's grid (a square 1e-9 wide, a
+    sliver 1e-9 thin, and a path traced forward and back that is 1e-9 long) are
+    still A: the points within B's reach of them are in A ⊕ B (Clipper refuses
+    such paths: a ClipperException from an inset, exit 1)."""
+    b = [list(pc.circle((0.0, 0.0), 1.0))]
+    sq = [pc.line((5, 0), (5 + 1e-9, 0)), pc.line((5 + 1e-9, 0), (5 + 1e-9, 1e-9)),
+          pc.line((5 + 1e-9, 1e-9), (5, 1e-9)), pc.line((5, 1e-9), (5, 0))]
+    sliver = [pc.line((0, 5), (3, 5)), pc.line((3, 5), (3, 5 + 1e-9)),
+              pc.line((3, 5 + 1e-9), (0, 5 + 1e-9)), pc.line((0, 5 + 1e-9), (0, 5))]
+    dash = pc.line((-5, 0), (-5 + 1e-9, 0))
+    member = Membership([sq, sliver, [dash, pc.reverse(dash)]], b, 0.01)
+    for x, inside in (((5.5, 0.5), True), ((6.2, 0.0), False), ((1.5, 5.9), True),
+                      ((1.5, 6.2), False), ((-5.0, 0.9), True), ((-5.0, 1.2), False),
+                      ((0.0, 0.0), False)):
+        assert member(np.array(x)) == inside, x
+
+
 def test_membership_with_an_open_path():
     path = pc.cubic((0, 0), (3, 4), (6, -4), (10, 0))
     a = [[path, pc.reverse(path)]]  # a path traced forward and back: a curve
