@@ -99,6 +99,12 @@ class LimitError(MorphError, ValueError):
         self.suggestion = suggestion
 
 
+class MorphWarning(UserWarning):
+    """Input was read, but part of what it draws is left out on purpose (stroke paint
+    of an SVG whose fills make the region).  The command line prints it as one line
+    ``morph: warning: ...`` on stderr and goes on."""
+
+
 def one_line(exc):
     """The message of an exception on one line (its type name when it has none)."""
     return " ".join(str(exc).split()) or type(exc).__name__

@@ -123,6 +123,35 @@ def test_svg_stroke_only_path(runner, tmp_path):
     assert "stroke-only" in line and "wire" in line
 
 
+def test_svg_strokes_beside_fills_are_named_in_one_warning(runner, tmp_path):
+    """A filled disk inside a stroked ring (ionicons' radio-button-on-outline): the
+    region is the fill, and one warning line names the stroked element (the ring
+    was left out without a word); the same library call warns with MorphWarning."""
+    from morph.errors import MorphWarning
+
+    p = tmp_path / "radio.svg"
+    p.write_text(SVG % ('<circle id="dot" cx="0" cy="0" r="4"/>'
+                        '<circle id="ring" cx="0" cy="0" r="9" fill="none" stroke="#000"/>'
+                        '<path id="wire" d="M0 0 L9 9" fill="none" stroke="#000"/>'))
+    res = ok(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.svg")]))
+    lines = [l for l in res.stderr.splitlines() if l.strip()]
+    assert len(lines) == 1 and lines[0].startswith("morph: warning: "), res.stderr
+    assert "ring" in lines[0] and "1 more" in lines[0] and "morph stroke" in lines[0]
+    with pytest.warns(MorphWarning, match="ring"):
+        region = svg_region(str(p))
+    assert abs(pc.region_area(region) - 16 * 3.141592653589793) < 1e-6
+
+
+def test_svg_strokes_and_fills_of_no_area(runner, tmp_path):
+    """A stroked rect and a filled path of no area (ionicons' laptop-outline): the
+    error says that what the file draws is stroke paint, naming an element."""
+    p = tmp_path / "laptop.svg"
+    p.write_text(SVG % ('<rect id="screen" x="0" y="0" width="9" height="6" fill="none" '
+                        'stroke="#000"/><path d="M-1 8h11"/>'))
+    line = error_line(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.png")]))
+    assert "fills nothing" in line and "stroke paint" in line and "screen" in line
+
+
 @pytest.mark.parametrize("d", ["M0 0 L10 0 L NaN 10 Z", "M0 0 L10 0 L nan 10 Z",
                                "M0 0 L10 0 L10 1e999 Z", "M0 0 L10 0 L10 inf Z",
                                "M0 0 C 1 1 NaN 2 10 10 Z"])
@@ -132,10 +161,11 @@ def test_svg_nan_and_inf(runner, tmp_path, d):
     assert not (tmp_path / "o.png").exists()
 
 
-def test_missing_svg_file(runner, tmp_path):
-    line = error_line(runner.invoke(main, ["outline", str(tmp_path / "gone.svg"),
+@pytest.mark.parametrize("name", ["gone.svg", "gone.svgz", "GONE.SVGZ"])
+def test_missing_svg_file(runner, tmp_path, name):
+    line = error_line(runner.invoke(main, ["outline", str(tmp_path / name),
                                            "-o", str(tmp_path / "o.png")]))
-    assert "gone.svg" in line
+    assert name in line and "no such file" in line, line
 
 
 def test_svg_not_xml(runner, tmp_path):
@@ -174,6 +204,17 @@ def test_tiny_coordinates(runner, tmp_path):
     assert res.exit_code == 2 and "larger than the shapes" in res.output
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-13)
     assert abs(area - 4e-18) < 1e-3 * 4e-18
+
+
+@pytest.mark.parametrize("radius", ["-0.5", "-1e-4"])
+def test_inset_of_a_shape_below_tol_erodes_it(runner, tmp_path, radius):
+    """A 1e-7 square inset by more than its size (at the default tol 1e-4): all of
+    it erodes, one line; the hole test's predicate met loops that round to one
+    grid point (a ClipperException, exit 1)."""
+    a = _svg(tmp_path, "tinyrect.svg", square_path_data(0, 0, 1e-7))
+    line = error_line(runner.invoke(main, ["offset", a, "--radius=" + radius,
+                                           "-o", str(tmp_path / "o.svg")]))
+    assert "erodes all" in line and "tinyrect" in line
 
 
 def test_duplicated_points(runner, tmp_path):

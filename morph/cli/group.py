@@ -12,7 +12,7 @@ import warnings
 import click
 
 from .. import __version__
-from ..errors import DegenerateCurveError, LimitError, NibError, ParseError
+from ..errors import DegenerateCurveError, LimitError, MorphWarning, NibError, ParseError
 from ..limits import memory_budget_bytes
 from .options import EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES
 
@@ -24,6 +24,16 @@ BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError)
 def _error_line(message):
     text = " ".join(str(message).split())
     click.echo("morph: error: %s" % text, err=True)
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None,
+                  _show=warnings.showwarning):
+    """``warnings.showwarning`` of the command line: a MorphWarning as one line
+    ``morph: warning: ...`` on stderr, anything else as Python shows it."""
+    if issubclass(category, MorphWarning):
+        click.echo("morph: warning: %s" % " ".join(str(message).split()), err=True)
+    else:
+        _show(message, category, filename, lineno, file, line)
 
 
 def _limit_memory():
@@ -110,7 +120,8 @@ def _failure_line(exc, command, argv, debug):
 # =========================================================================== group
 
 class MorphGroup(click.Group):
-    """click Group whose ``main`` turns every failure into one stderr line.
+    """click Group whose ``main`` turns every failure into one stderr line (and a
+    MorphWarning into one ``morph: warning:`` line).
 
     Exit status: 0 success; 2 bad input or usage (ParseError, DegenerateCurveError,
     LimitError, NibError, click usage errors, unwritable output); 1 internal failure
@@ -127,9 +138,11 @@ class MorphGroup(click.Group):
         command = next((a for a in argv if not a.startswith("-")), "morph")
         del LOADED_SHAPES[:]
         restore = _limit_memory()
-        filters = warnings.filters[:]
+        filters, show = warnings.filters[:], warnings.showwarning
         if not debug:  # numpy's RuntimeWarnings would add lines before the error line
             warnings.simplefilter("ignore", RuntimeWarning)
+        warnings.simplefilter("default", MorphWarning)  # once per message
+        warnings.showwarning = _warning_line
         try:
             rv = super().main(args=args, prog_name=prog_name or "morph",
                               complete_var=complete_var, standalone_mode=False, **extra)
@@ -160,7 +173,7 @@ class MorphGroup(click.Group):
             code = _failure_line(exc, command, argv, debug)
         finally:
             restore()
-            warnings.filters[:] = filters
+            warnings.filters[:], warnings.showwarning = filters, show
         if standalone_mode:
             sys.exit(code)
         return code

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import piece as pc
-from ..errors import ParseError, one_line
+from ..errors import MorphWarning, ParseError, one_line
 from ..limits import MAX_COORDINATE  # coordinates beyond it are refused (morph.limits)
 from ..region import is_zero_length, orient_region, without_zero_length
 from ..trim import fill_region
@@ -520,7 +520,7 @@ def _source_kind(source):
         raise ParseError("an SVG source is a path or a string, got %r" % (source,), source)
     if text.lstrip().startswith("<"):
         return text, "document"
-    if isinstance(source, os.PathLike) or text.lower().endswith(".svg") or os.path.exists(text):
+    if isinstance(source, os.PathLike) or text.lower().endswith((".svg", ".svgz")) or os.path.exists(text):
         return text, "file"
     return text, "path data"
 
@@ -676,10 +676,31 @@ def svg_region(source, fill_rule=None, close_tol=None):
                               on_crossing=fill_region)
     else:
         loops = parts[0] if parts else []
+    stroked = [e for e in elements if e.stroked]
     if not loops:
         raise ParseError("%s fills nothing: no closed path with positive area, or loops "
-                         "whose windings cancel" % where, text)
+                         "whose windings cancel%s" % (where, _strokes_note(stroked)), text)
+    if stroked:
+        warnings.warn(MorphWarning(
+            "%s is stroked: stroke paint is not part of the region (only fills are); "
+            "`morph stroke` sweeps a nib along centre lines" % _labels(stroked)),
+            stacklevel=2)
     return loops
+
+
+def _labels(elements):
+    """The first element's label, and how many more."""
+    more = len(elements) - 1
+    return elements[0].label + (" (and %d more element%s)" % (more, "s" if more > 1 else "")
+                                if more else "")
+
+
+def _strokes_note(stroked):
+    """What the error of a document that fills nothing says about its strokes."""
+    if not stroked:
+        return ""
+    return ("; what it draws is stroke paint (%s), and `morph stroke` sweeps a nib along "
+            "centre lines" % _labels(stroked))
 
 
 def svg_paths(source, stroked=None):
