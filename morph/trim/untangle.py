@@ -478,16 +478,39 @@ def _snap(loop, min_len):
     its two ends (the cut point where the cut was made); again while snapping
     leaves a piece that short."""
     while True:
-        loop = [p for p in loop if pc.length_bound(p) > min_len]
-        out = []
-        for k, p in enumerate(loop):
-            a = 0.5 * (pc.start(p) + pc.end(loop[k - 1]))
-            b = 0.5 * (pc.end(p) + pc.start(loop[(k + 1) % len(loop)]))
-            same = np.array_equal(a, pc.start(p)) and np.array_equal(b, pc.end(p))
-            out.append(p if same else pc.with_endpoints(p, a, b))
-        if all(pc.length_bound(p) > min_len for p in out):
+        if not loop:
+            return []
+        loop = [p for p, n in zip(loop, pc.length_bounds(loop)) if n > min_len]
+        if not loop:
+            return []
+        starts, ends = pc.end_points(loop)
+        a = 0.5 * (starts + np.roll(ends, 1, axis=0))
+        b = 0.5 * (ends + np.roll(starts, -1, axis=0))
+        moved = np.flatnonzero(np.any(a != starts, axis=1) | np.any(b != ends, axis=1))
+        out = list(loop)
+        for k in moved:
+            out[k] = pc.with_endpoints(loop[k], a[k], b[k])
+        if not len(moved) or (pc.length_bounds([out[k] for k in moved]) > min_len).all():
             return out
         loop = out
+
+
+def _ray_winding(x, loop, flat):
+    """The winding number of the loop flattened within ``flat`` at point x
+    (:func:`morph.polyline.winding_number`'s rule), from the pieces whose control
+    boxes meet the ray from x to the right only: no other edge can cross it (the
+    rest of a loop after many lobes is long, the ray short)."""
+    box = pc.bboxes(loop)
+    meet = np.flatnonzero((box[:, 1] <= x[1]) & (box[:, 3] >= x[1]) & (box[:, 2] >= x[0]))
+    if not len(meet):
+        return 0
+    polys = [pts for pts, _ in pc.flatten_many([loop[k] for k in meet], flat)]
+    a = np.concatenate([q[:-1] for q in polys])
+    b = np.concatenate([q[1:] for q in polys])
+    cross = (b[:, 0] - a[:, 0]) * (x[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (x[0] - a[:, 0])
+    up = (a[:, 1] <= x[1]) & (b[:, 1] > x[1]) & (cross > 0)
+    down = (a[:, 1] > x[1]) & (b[:, 1] <= x[1]) & (cross < 0)
+    return int(up.sum()) - int(down.sum())
 
 
 def _keep_lobe(lobe, rest, eps, hole_test=None):
@@ -500,9 +523,8 @@ def _keep_lobe(lobe, rest, eps, hole_test=None):
     a_lobe, a_rest = pc.loop_area(lobe), pc.loop_area(rest)
     if abs(a_lobe) <= eps * eps:
         return False
-    probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)
-    poly = pc.flatten_loop(rest, eps / 10)
-    nested = winding_number(probe[:1], [poly])[0] != 0
+    probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)[0]
+    nested = _ray_winding(probe, rest, eps / 10) != 0
     if np.sign(a_lobe) == np.sign(a_rest):
         return not nested
     if not nested:

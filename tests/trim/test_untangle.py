@@ -174,3 +174,59 @@ def test_a_comb_of_spikes_folds_back_to_its_square():
                | np.isclose(ring[:, 0], 0) | np.isclose(ring[:, 0], 100))
     assert on_edge.all()
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
+
+
+def _random_curved_loop(rng, n):
+    """A closed loop of n rational quadratics and cubics through random points (curls
+    and self-crossings included), joined exactly."""
+    pts = rng.uniform(-10, 10, (n, 2))
+    loop = []
+    for k in range(n):
+        a, b = pts[k], pts[(k + 1) % n]
+        inner = rng.uniform(-12, 12, (int(rng.integers(1, 3)), 2))
+        ctrl = np.vstack([a, inner, b])
+        w = np.ones(len(ctrl))
+        w[1:-1] = rng.uniform(0.3, 3.0, len(ctrl) - 2)
+        loop.append(np.column_stack([ctrl * w[:, None], w]))
+    return loop
+
+
+def test_ray_winding_equals_the_winding_number_of_the_whole_flattened_loop():
+    """The winding at a probe counted from the pieces whose boxes meet its ray equals
+    the count over every edge of the loop flattened within the same tolerance
+    (probes on the loop's own vertices and heights included)."""
+    from morph.polyline import winding_number
+    from morph.trim.untangle import _ray_winding
+
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        loop = _random_curved_loop(rng, int(rng.integers(3, 12)))
+        flat = 10.0 ** rng.uniform(-4, -1)
+        poly = pc.flatten_loop(loop, flat)
+        probes = np.vstack([rng.uniform(-12, 12, (60, 2)), poly[rng.integers(0, len(poly), 10)],
+                            np.column_stack([rng.uniform(-12, 12, 10), poly[:10, 1]])])
+        want = winding_number(probes, [poly])
+        got = [_ray_winding(x, loop, flat) for x in probes]
+        assert list(got) == list(want)
+
+
+def test_snap_joins_every_piece_to_its_neighbours_and_drops_short_ones():
+    """Snapping against a plain per-piece rule: pieces no longer than min_len go,
+    each join is the midpoint of the two ends that meet, and only moved ends change."""
+    from morph.trim.untangle import _snap
+
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        loop = _random_curved_loop(rng, int(rng.integers(3, 9)))
+        loop = [pc.with_endpoints(p, pc.start(p) + rng.normal(0, 1e-6, 2) * (k % 2),
+                                  pc.end(p)) for k, p in enumerate(loop)]
+        tiny = pc.line((0.0, 0.0), (1e-9, 0.0))
+        loop.insert(int(rng.integers(0, len(loop))), pc.translate(tiny, pc.end(loop[0])))
+        out = _snap(loop, 1e-7)
+        assert len(out) == len(loop) - 1
+        for k, p in enumerate(out):
+            assert np.array_equal(pc.end(out[k - 1]), pc.start(p))
+        kept = [p for p in loop if pc.length_bound(p) > 1e-7]
+        for p, q in zip(kept, out):
+            assert np.allclose(pc.cartesian(p)[1:-1], pc.cartesian(q)[1:-1], atol=0, rtol=0)
+        assert not any(pc.length_bound(p) <= 1e-7 for p in out)
