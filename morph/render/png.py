@@ -22,7 +22,8 @@ from . import frame_bbox, normalize_shapes
 #: coverage samples per image, at most (supersample lowered to fit): 2^28
 MAX_SAMPLES = 1 << 28
 
-__all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask"]
+__all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
+           "coverage_counts"]
 
 
 def _rgba(color, opacity=1.0):
@@ -37,36 +38,78 @@ def _rgba(color, opacity=1.0):
     return c[:3] + (int(round(c[3] * opacity)),)
 
 
-def coverage_mask(polylines, height, width):
-    """Boolean (height, width) mask of pixel centres with nonzero winding number.
-
-    ``polylines`` are closed (k, 2) arrays in pixel coordinates (x right, y down,
-    pixel (i, j) covering [i, i+1) x [j, j+1), centre (i + 0.5, j + 0.5)).
-    """
+def _row_crossings(polylines, height, width):
+    """Where the edges of closed ``polylines`` (pixel coordinates, see
+    :func:`coverage_mask`) cross the rows of pixel centres: (rows, cols, directions),
+    one entry per crossing of a row j (lo <= j + 0.5 < hi); the crossing adds its
+    direction (+1 down, -1 up) from column ``cols`` on, the first pixel centre at or
+    right of it (clipped to [0, width]: a crossing right of the image is kept, so
+    every row's directions still add up to 0)."""
     a, b = polyline_edges(polylines)
+    empty = np.zeros(0, np.int64)
     if not len(a):
-        return np.zeros((height, width), bool)
+        return empty, empty, empty
     x0, y0, x1, y1 = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
     moving = y0 != y1
     x0, y0, x1, y1 = x0[moving], y0[moving], x1[moving], y1[moving]
-    direction = np.where(y1 > y0, 1, -1).astype(np.int32)
+    direction = np.where(y1 > y0, 1, -1)
     lo, hi = np.minimum(y0, y1), np.maximum(y0, y1)
     # rows j with lo <= j + 0.5 < hi
     first = np.clip(np.ceil(lo - 0.5), 0, height).astype(np.int64)
     stop = np.clip(np.ceil(hi - 0.5), 0, height).astype(np.int64)
     counts = np.maximum(stop - first, 0)
     total = int(counts.sum())
-    acc = np.zeros((height, width + 1), np.int16 if len(x0) < 30000 else np.int32)
-    if total:
-        edge = np.repeat(np.arange(len(counts)), counts)
-        offsets = np.cumsum(counts) - counts
-        rows = first[edge] + (np.arange(total) - offsets[edge])
-        yc = rows + 0.5
-        t = (yc - y0[edge]) / (y1[edge] - y0[edge])
-        xc = x0[edge] + t * (x1[edge] - x0[edge])
-        cols = np.clip(np.ceil(xc - 0.5), 0, width).astype(np.int64)
-        np.add.at(acc, (rows, cols), direction[edge].astype(acc.dtype))
+    if not total:
+        return empty, empty, empty
+    edge = np.repeat(np.arange(len(counts)), counts)
+    offsets = np.cumsum(counts) - counts
+    rows = first[edge] + (np.arange(total) - offsets[edge])
+    yc = rows + 0.5
+    t = (yc - y0[edge]) / (y1[edge] - y0[edge])
+    xc = x0[edge] + t * (x1[edge] - x0[edge])
+    cols = np.clip(np.ceil(xc - 0.5), 0, width).astype(np.int64)
+    return rows, cols, direction[edge]
+
+
+def coverage_mask(polylines, height, width):
+    """Boolean (height, width) mask of pixel centres with nonzero winding number.
+
+    ``polylines`` are closed (k, 2) arrays in pixel coordinates (x right, y down,
+    pixel (i, j) covering [i, i+1) x [j, j+1), centre (i + 0.5, j + 0.5)).
+    """
+    rows, cols, direction = _row_crossings(polylines, height, width)
+    acc = np.zeros((height, width + 1), np.int16 if len(rows) < 30000 else np.int32)
+    np.add.at(acc, (rows, cols), direction.astype(acc.dtype))
     return np.cumsum(acc[:, :width], axis=1, dtype=acc.dtype) != 0
+
+
+def coverage_counts(polylines, height, width, k):
+    """For each pixel of a (height, width) image, how many of its k x k sample
+    centres have a nonzero winding number: ``_box_sum(coverage_mask(polylines,
+    height * k, width * k), k)`` exactly, ``polylines`` in sample coordinates.
+
+    Not sample by sample: each sample row's crossings, sorted, give the runs of
+    samples between two crossings with a nonzero winding after the first (a row's
+    directions add up to 0, so one running sum serves every row).  A run [u, v) of
+    samples adds k per pixel from pixel u // k on, less u % k in that pixel, and takes
+    the same off from v; these steps are gathered per output row and one cumulative
+    sum over (height, width + 1) counts turns them into the counts, (height, width)
+    uint16."""
+    big_h, big_w = height * k, width * k
+    rows, cols, direction = _row_crossings(polylines, big_h, big_w)
+    out = np.zeros((height, width + 1), np.int64)
+    if len(rows) > 1:
+        order = np.lexsort((cols, rows))
+        rows, cols = rows[order], cols[order]
+        winding = np.cumsum(direction[order])
+        run = np.flatnonzero(winding[:-1] != 0)  # [cols[i], cols[i + 1]) is covered
+        u, v = cols[run], cols[run + 1]
+        base = (rows[run] // k) * (width + 1)
+        steps = np.concatenate([base + u // k, base + v // k])
+        slope = np.bincount(steps, np.repeat([k, -k], len(run)), out.size)
+        point = np.bincount(steps, np.concatenate([-(u % k), v % k]), out.size)
+        out = np.cumsum(slope.reshape(out.shape), axis=1) + point.reshape(out.shape)
+    return out[:, :width].astype(np.uint16)
 
 
 def _fit(size, frame):
@@ -113,15 +156,14 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
                                 (cy - points[:, 1]) * s + big_h / 2.0])
 
     bg = _rgba(background) if background is not None else (0, 0, 0, 0)
-    canvas = np.zeros((height, width, 4), np.float32)
-    canvas[...] = np.array(bg, np.float32) / np.float32(255.0)
+    canvas = Image.new("RGBA", (width, height), bg)
     for loops, style in items:
         opacity = style.get("opacity", 1.0)
         polys = [to_px(pc.flatten_loop(loop, flat_tol)) for loop in loops if loop]
         layers = []
         f = _rgba(style.get("fill", fill), opacity)
         if f is not None:
-            layers.append((f, coverage_mask(polys, big_h, big_w).view(np.uint8)))
+            layers.append((f, coverage_counts(polys, height, width, k)))
         st = _rgba(style.get("stroke", stroke), opacity)
         if st is not None:
             img = Image.new("L", (big_w, big_h), 0)
@@ -130,20 +172,15 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
             for p in polys:
                 pts = [tuple(v) for v in (p - 0.5)] + [tuple(p[0] - 0.5)]
                 draw.line(pts, fill=255, width=lw, joint="curve")
-            layers.append((st, (np.asarray(img) > 127).view(np.uint8)))
-        for color, mask in layers:
-            # box filter: the share of covered samples (integer sums of 0/1 samples)
-            hits = _box_sum(mask, k)
-            alpha = (hits * np.float32(color[3] / 255.0 / (k * k)))[..., None]
-            src = np.array(color[:3], np.float32) / np.float32(255.0)
-            # "over" compositing with straight alpha
-            out_a = alpha + canvas[..., 3:] * (1 - alpha)
-            safe = np.where(out_a > 0, out_a, 1.0)
-            canvas[..., :3] = (src * alpha + canvas[..., :3] * canvas[..., 3:] * (1 - alpha)) / safe
-            canvas[..., 3:] = out_a
-    data = np.clip(np.round(canvas * 255.0), 0, 255).astype(np.uint8)
-    image = Image.fromarray(data, "RGBA")
-    return image if background is None else image.convert("RGB")
+            layers.append((st, _box_sum((np.asarray(img) > 127).view(np.uint8), k)))
+        for color, hits in layers:
+            # box filter: the share of covered samples, times the colour's alpha,
+            # rounded to 0-255; "over" compositing with straight alpha (Pillow)
+            alpha = (hits.astype(np.uint32) * (2 * color[3]) + k * k) // (2 * k * k)
+            layer = Image.new("RGBA", (width, height), color[:3] + (0,))
+            layer.putalpha(Image.fromarray(alpha.astype(np.uint8), "L"))
+            canvas.alpha_composite(layer)
+    return canvas if background is None else canvas.convert("RGB")
 
 
 def _box_sum(mask, k):
@@ -174,8 +211,18 @@ def _flatten_rgb(image):
 
 
 def gif_frame(image):
-    """An image as a GIF frame: composited on white, adaptive 256-colour palette."""
-    return _flatten_rgb(image).convert("P", palette=Image.Palette.ADAPTIVE)
+    """An image as a GIF frame: composited on white; an image of at most 256 colours
+    (one fill anti-aliased on a background has supersample**2 + 1) keeps them
+    exactly, in a palette of its own colours; others get an adaptive 256-colour
+    palette (median cut)."""
+    rgb = _flatten_rgb(image)
+    colors = rgb.getcolors(256)
+    if colors is None:
+        return rgb.convert("P", palette=Image.Palette.ADAPTIVE)
+    flat = [c for _, color in colors for c in color]
+    palette = Image.new("P", (1, 1))
+    palette.putpalette(flat + flat[:3] * (256 - len(colors)))
+    return rgb.quantize(palette=palette, dither=Image.Dither.NONE)
 
 
 def frames_to_gif(images, path, duration=50, loop=0):

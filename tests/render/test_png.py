@@ -13,7 +13,7 @@ from morph import piece as pc
 from morph.parse import cubic_test_font_path, glyph_region, svg_region
 from morph.region import reverse_loop, translate_region
 from morph.render import frame_bbox, frames_to_gif, render_png, save_animation, svg_document
-from morph.render.png import coverage_mask
+from morph.render.png import _box_sum, coverage_counts, coverage_mask, gif_frame
 
 SVG_NS = 'xmlns="http://www.w3.org/2000/svg"'
 ARC_SVG = ('<svg %s><path d="M 0 0 A 50 30 20 1 1 60 40 L 30 80 Z '
@@ -97,6 +97,47 @@ def test_coverage_mask_is_exact_for_aligned_square_and_area_for_disk():
     # edges outside the image are clipped
     big = [np.array([[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0], [-50.0, 50.0]])]
     assert coverage_mask(big, 10, 10).all()
+
+
+def test_coverage_counts_equal_the_box_sums_of_the_sample_mask():
+    """The pixel counts gathered from each sample row's runs equal the k x k box sums
+    of the sample-by-sample mask, exactly: random polygons (crossing, nested, either
+    direction) with vertices on sample centres and half-way between (ties of the
+    crossing rule), reaching out of the image on every side, k = 1..5."""
+    rng = np.random.default_rng(11)
+    for trial in range(400):
+        k = int(rng.integers(1, 6))
+        h, w = int(rng.integers(1, 25)), int(rng.integers(1, 25))
+        polys = []
+        for _ in range(int(rng.integers(1, 4))):
+            n = int(rng.integers(3, 12))
+            if trial % 2:
+                p = rng.integers(-3, max(h, w) * k + 3, (n, 2)) + 0.5 * rng.integers(0, 2, (n, 2))
+            else:
+                p = rng.uniform(-5, max(h, w) * k + 5, (n, 2))
+            polys.append(p.astype(float))
+        want = _box_sum(coverage_mask(polys, h * k, w * k).view(np.uint8), k)
+        got = coverage_counts(polys, h, w, k)
+        assert got.dtype == np.uint16 and got.shape == (h, w)
+        assert np.array_equal(got, want)
+    assert not coverage_counts([], 3, 4, 2).any()
+
+
+def test_gif_frames_keep_the_colours_of_a_frame():
+    """A frame of at most 256 colours is written with exactly its colours; one of
+    more is quantised to 256."""
+    img = render_png([(glyph_region("g").region, {"fill": "#3060c0"})], size=120)
+    frame = gif_frame(img)
+    assert frame.mode == "P"
+    assert np.array_equal(np.asarray(frame.convert("RGB")), np.asarray(img))
+    ramp = np.zeros((40, 40, 3), np.uint8)
+    ramp[..., 0] = np.arange(40)[:, None] * 6
+    ramp[..., 1] = np.arange(40)[None, :] * 6
+    many = Image.fromarray(ramp, "RGB")  # 1600 colours
+    assert many.getcolors(256) is None
+    frame = gif_frame(many)
+    assert frame.mode == "P" and len(frame.getcolors(256)) <= 256
+    assert np.abs(np.asarray(frame.convert("RGB"), int) - ramp.astype(int)).mean() < 8
 
 
 def test_fixed_bbox_frames_align():
