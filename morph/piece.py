@@ -478,6 +478,17 @@ def subsegment(piece, t0, t1):
     return bz.subsegment(piece, t0, t1)
 
 
+def subsegments(pieces, idx, t0, t1):
+    """pieces[idx[k]] restricted to [t0[k], t1[k]] (reversed where t1 < t0), a list
+    (those of one degree at once)."""
+    out = [None] * len(idx)
+    for ks in by_degree([pieces[i] for i in idx]).values():
+        h = np.array([pieces[idx[k]] for k in ks], float)
+        for k, c in zip(ks, bz.subsegment_many(h, np.asarray(t0)[ks], np.asarray(t1)[ks])):
+            out[k] = c
+    return out
+
+
 def elevate(piece, r=1):
     """Same curve at degree n + r."""
     return bz.elevate(piece, r)

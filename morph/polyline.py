@@ -181,21 +181,39 @@ def polylines_touch(polylines, reach):
     proves that the loops neither cross nor touch one another or themselves.  Unlike
     :func:`near_segments`, only neighbours along a polyline are exempt, not every pair
     that shares a point: a figure-8 whose lobes meet at a joint touches."""
+    # the first chunk with a touching pair decides
+    return any(len(p) for p in _touching_chunks(polylines, reach))
+
+
+def touching_edges(polylines, reach):
+    """Index pairs (i < j), shape (k, 2), into the edges of
+    :func:`polyline_edges` ``(polylines)`` of the edges that :func:`polylines_touch`
+    looks for: not consecutive along one polyline, and crossing, touching or nearer
+    than ``reach``."""
+    chunks = [p for p in _touching_chunks(polylines, reach) if len(p)]
+    if not chunks:
+        return np.zeros((0, 2), np.int64)
+    n = sum(len(p) for p in polylines if len(p) >= 2)
+    keys = unique(np.concatenate([c[:, 0] * n + c[:, 1] for c in chunks]))
+    return np.stack([keys // n, keys % n], axis=1)
+
+
+def _touching_chunks(polylines, reach):
+    """The pairs of :func:`touching_edges`, chunk by chunk of candidates
+    (:func:`_cell_pair_chunks`)."""
     polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
     if not polys:
-        return False
+        return
     a, b = polyline_edges(polys)
     sizes = np.array([len(p) for p in polys])
     first = np.repeat(np.cumsum(sizes) - sizes, sizes)
     size = np.repeat(sizes, sizes)
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
-    for pairs in _cell_pair_chunks(grid):  # the first chunk with a touching pair decides
+    for pairs in _cell_pair_chunks(grid):
         i, j = pairs[:, 0], pairs[:, 1]
         step = np.abs(i - j)
         pairs = pairs[(first[i] != first[j]) | ((step != 1) & (step != size[i] - 1))]
-        if len(pairs) and _within(a, b, pairs, reach).any():
-            return True
-    return False
+        yield pairs[_within(a, b, pairs, reach)] if len(pairs) else pairs
 
 
 def polylines_apart(polylines, tol):

@@ -3,7 +3,9 @@
 Every closed loop of rational pieces becomes a closed polyline whose vertices lie
 on the pieces (certified flattening, :func:`morph.piece.flatten_many`: each piece
 is within ``eps`` of its polyline by the convex-hull property of positive-weight
-rational Béziers), snapped to the integer grid ``round((p - origin) / grid)``.
+rational Béziers, wherever its topology is decided; within COARSE eps along the
+simple arcs that nothing comes near, :func:`adaptive_starts`), snapped to the
+integer grid ``round((p - origin) / grid)``.
 Each vertex keeps its tag (piece index, parameter t); each segment runs from its
 vertex to the next one of its loop and carries the parameter range [t0, t1] on the
 piece of its start vertex.  Vertices that fall into one grid point are merged,
@@ -19,7 +21,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import piece as pc
-from ..polyline import BoxGrid
+from ..polyline import BoxGrid, touching_edges
+
+#: segments whose topology is certain are flattened this many times coarser
+#: (:func:`adaptive_starts`)
+COARSE = 32.0
+#: the tangents of a coarse part lie within this angle of its chord
+CONE = np.radians(25.0)
+#: a coarse segment's chord turns by at most this into its neighbours'
+TURN = np.radians(30.0)
 
 
 @dataclass
@@ -30,7 +40,9 @@ class Tagged:
     parameter range of segment i (from vertex i to vertex ``nxt[i]``) on
     ``pieces[piece[i]]``; nxt, prv (N,) next / previous vertex of the same loop;
     starts (L+1,) offsets of the loops; origin (2,) and grid: float = origin + grid * q;
-    eps: the flattening bound (each segment within eps of its piece before rounding).
+    eps: the flattening bound (each segment within eps of its piece before rounding
+    where the topology is decided, within COARSE eps along simple arcs apart from
+    everything: :func:`adaptive_starts`).
     """
 
     q: np.ndarray
@@ -56,15 +68,18 @@ class Tagged:
 def tag_loops(loops, eps, grid, origin=None):
     """:class:`Tagged` polylines of closed loops of pieces (see the module docstring).
 
-    eps: flattening bound (absolute); grid: size of one integer unit.  Loops that
+    eps: flattening bound where the topology is decided (absolute; COARSE eps along
+    simple arcs apart from everything, :func:`adaptive_starts`); grid: size of one
+    integer unit.  Loops that
     collapse to fewer than three grid points are dropped (their area is below
     grid^2 times their vertex count).
     """
     pieces = [np.asarray(p, float) for loop in loops for p in loop]
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
-    pid, ts, xy = pc.flat_starts(pieces, eps)
-    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])[pid]
+    piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+    pid, ts, xy = adaptive_starts(pieces, piece_loop, eps, grid)
+    loop_of = piece_loop[pid]
     if origin is None:
         origin = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
     origin = np.asarray(origin, float)
@@ -86,6 +101,81 @@ def tag_loops(loops, eps, grid, origin=None):
     same = (pid[nxt] == pid) & (ts[nxt] >= ts)
     t1 = np.where(same, ts[nxt], 1.0)
     return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
+
+
+def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
+    """The vertices of closed polylines through loops of pieces (``piece_loop``: the
+    loop of each piece, loops stored one after another), as :func:`morph.piece.
+    flat_starts` gives them: (piece, t, point), sorted by (piece, t).  Within ``eps``
+    where the topology is decided, within ``coarse`` eps elsewhere (None:
+    :data:`COARSE`; 1: within eps everywhere).
+
+    The loops are flattened within e = ``coarse`` eps first; each segment's part of
+    its piece lies in the segment grown by e (a capsule).  A segment's part is cut
+    finer, within eps, unless its topology is certain at e:
+
+    - no segment of another part (not its neighbour along the loop) comes within
+      2 e + 2 (eps + grid) of it: the two parts, their polylines at either
+      tolerance and those polylines rounded to the grid stay apart (the lifted
+      loops, within eps + grid + contraction of their rings, too);
+    - the tangents of its part lie within CONE of its chord (the control polygon's
+      legs do, and a positive-weight rational's hodograph is in their cone): the
+      part is a simple arc, without a cusp; its neighbours' parts are such arcs too;
+    - its chord turns by at most TURN into each neighbour's: with TURN + 2 CONE
+      below 90 degrees the two arcs advance along the mean chord direction, so they
+      meet only at their shared vertex.  (A closed polyline turning at most TURN at
+      every vertex has more than 180 / TURN = 6 segments: the directions of fewer
+      would lie within a half-plane.  Smaller loops are cut within eps.)
+
+    Where all of this holds, the parts are simple arcs that neither cross nor come
+    near any other: the winding numbers away from them, hence the filled set, are
+    those of the finer flattening, and the lifted boundary follows the exact pieces.
+    """
+    coarse = COARSE if coarse is None else coarse
+    pid, ts, xy = pc.flat_starts(pieces, coarse * eps)
+    if coarse <= 1.0 or not len(pid):
+        return pid, ts, xy
+    loop_of = piece_loop[pid]
+    nxt, prv, starts = _links(loop_of)
+    t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
+    parts = pc.subsegments(pieces, pid, ts, t_end)
+    chord = xy[nxt] - xy
+    arc = _in_cone(parts, chord, np.cos(CONE))
+    length = np.hypot(chord[:, 0], chord[:, 1])
+    turn_cos = np.einsum("ij,ij->i", chord, chord[nxt]) / np.maximum(length * length[nxt], 1e-300)
+    smooth = (turn_cos >= np.cos(TURN)) & (length > 0) & (length[nxt] > 0)
+    fine = ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv])
+    # touching_edges numbers the edges of the polylines of two or more vertices
+    many = np.diff(starts) >= 2
+    polys = [xy[a:b] for a, b, m in zip(starts[:-1], starts[1:], many) if m]
+    edge = np.flatnonzero(many[loop_of])
+    reach = 2.0 * coarse * eps + 2.0 * (eps + grid)
+    fine[edge[touching_edges(polys, reach).ravel()]] = True
+    k = np.flatnonzero(fine)
+    if not len(k):
+        return pid, ts, xy
+    owner, s, pts = pc.flat_starts([parts[i] for i in k], eps)
+    inner = s > 0.0  # s = 0: the segment's own start, already a vertex
+    owner, s, pts = k[owner[inner]], s[inner], pts[inner]
+    pid = np.concatenate([pid, pid[owner]])
+    ts = np.concatenate([ts, ts[owner] + s * (t_end[owner] - ts[owner])])
+    xy = np.concatenate([xy, pts])
+    order = np.lexsort((ts, pid))
+    return pid[order], ts[order], xy[order]
+
+
+def _in_cone(parts, chord, cos_max):
+    """Whether each part's control-polygon legs (those of nonzero length) all lie
+    within the angle acos(cos_max) of its chord, (m,) bool."""
+    ok = np.zeros(len(parts), bool)
+    for ks in pc.by_degree(parts).values():
+        h = np.array([parts[k] for k in ks], float)
+        legs = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
+        c = chord[ks][:, None, :]
+        dot = np.einsum("kij,kij->ki", legs, np.broadcast_to(c, legs.shape))
+        size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(c[..., 0], c[..., 1])
+        ok[ks] = np.all((dot >= cos_max * size) | (size == 0), axis=1)
+    return ok
 
 
 def _links(loop_of):

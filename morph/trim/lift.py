@@ -104,7 +104,7 @@ def _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, pieces):
             e_last = edges[junctions[j]]
             spans.append((r, pid[e_first], tp[e_first], tq[e_last], e_last))
     ring, piece_id, ta, tb, row = (np.array(c) for c in zip(*spans))
-    cut = _subsegments(pieces, piece_id.astype(int), ta, tb)
+    cut = pc.subsegments(pieces, piece_id.astype(int), ta, tb)
     runs = [([], []) for _ in rings]
     for k in range(len(spans)):
         runs[ring[k]][0].append(cut[k])
@@ -114,20 +114,6 @@ def _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, pieces):
             if np.isnan(ends[j]).any():
                 ends[j] = 0.5 * (pc.end(out[j]) + pc.start(out[(j + 1) % len(out)]))
     return runs
-
-
-def _subsegments(pieces, idx, t0, t1):
-    """pieces[idx[k]] restricted to [t0[k], t1[k]] (reversed where t1 < t0), those of
-    one degree at once."""
-    out = [None] * len(idx)
-    groups = {}
-    for k, i in enumerate(idx):
-        groups.setdefault(len(pieces[i]), []).append(k)
-    for ks in groups.values():
-        h = np.array([pieces[idx[k]] for k in ks], float)
-        for k, c in zip(ks, bz.subsegment_many(h, t0[ks], t1[ks])):
-            out[k] = c
-    return out
 
 
 def _close(out, ends, contract):

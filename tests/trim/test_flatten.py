@@ -1,9 +1,10 @@
 """morph.trim.flatten: tagged flattening on the integer grid, against the exact pieces."""
 
 import numpy as np
+import pytest
 
 from morph import piece as pc
-from morph.trim.flatten import tag_loops
+from morph.trim.flatten import COARSE, tag_loops
 
 
 def test_tags_lie_on_their_pieces():
@@ -12,10 +13,12 @@ def test_tags_lie_on_their_pieces():
     tg = tag_loops([loop], eps, grid)
     pts = np.array([pc.evaluate(tg.pieces[k], t)[0] for k, t in zip(tg.piece, tg.t0)])
     assert np.abs(tg.to_float(tg.q) - pts).max() <= grid / np.sqrt(2) + 1e-12
-    # every segment's middle is within eps + grid of the circle (flattening bound)
+    # every segment's middle is within COARSE eps + grid of the circle (a lone circle
+    # is a simple arc nothing comes near: flattened coarsely, and only so)
     mid = tg.to_float(0.5 * (tg.q + tg.q[tg.nxt]))
     r = np.hypot(mid[:, 0] - 3.0, mid[:, 1] + 2.0)
-    assert np.abs(r - 5.0).max() <= eps + grid
+    assert np.abs(r - 5.0).max() <= COARSE * eps + grid
+    assert np.abs(r - 5.0).max() > 4 * eps
     # segment parameter ranges tile every piece
     for k in range(len(loop)):
         sel = tg.piece == k
@@ -123,3 +126,159 @@ def test_segment_ranges_end_near_their_next_vertex_with_hot_pixels():
         assert np.hypot(*(x1 - tg.to_float(tg.q[tg.nxt])).T).max() <= reach
         checked += int(np.sum(tg.t0 == tg.t0[tg.nxt]))
     assert checked > 0   # vertices sharing a parameter occurred
+
+
+def _segment_gaps(tg, centre, radius):
+    """Distance of each segment's middle from a circle."""
+    mid = tg.to_float(0.5 * (tg.q + tg.q[tg.nxt]))
+    return np.abs(np.hypot(mid[:, 0] - centre[0], mid[:, 1] - centre[1]) - radius)
+
+
+def test_parts_near_another_loop_are_flattened_within_eps():
+    """Two circles 0.5 eps apart at one point: every segment whose middle comes
+    within 2 COARSE eps of the other circle is within eps (+ rounding) of its own;
+    away from the meeting point the segments are coarse."""
+    eps, grid = 1e-4, 1e-5
+    ca, cb = (0.0, 0.0), (2.0 + 0.5 * eps, 0.0)
+    a, b = pc.circle(ca, 1.0), pc.circle(cb, 1.0)
+    tg = tag_loops([list(a), list(b)], eps, grid)
+    first = tg.piece < len(a)
+    own = np.where(first, _segment_gaps(tg, ca, 1.0), _segment_gaps(tg, cb, 1.0))
+    other = np.where(first, _segment_gaps(tg, cb, 1.0), _segment_gaps(tg, ca, 1.0))
+    near = other < 2 * COARSE * eps
+    assert near.sum() > 10
+    assert own[near].max() <= eps + grid
+    assert own[~near].max() > 4 * eps
+
+
+def _random_loops(rng):
+    """1-3 closed loops of 2-6 rational quadratics and cubics with random control
+    points and weights: curls, cusps, crossings and near contacts."""
+    loops = []
+    for _ in range(int(rng.integers(1, 4))):
+        n = int(rng.integers(2, 7))
+        pts = rng.uniform(0, 10, (n, 2))
+        loop = []
+        for k in range(n):
+            inner = rng.uniform(-2, 12, (int(rng.integers(1, 3)), 2))
+            ctrl = np.vstack([pts[k], inner, pts[(k + 1) % n]])
+            w = np.ones(len(ctrl))
+            w[1:-1] = rng.uniform(0.3, 3.0, len(ctrl) - 2)
+            loop.append(np.column_stack([ctrl * w[:, None], w]))
+        loops.append(loop)
+    return loops
+
+
+def _membership(points, loops, rule, flat, reach):
+    """Filled or not under ``rule`` at each point, the loops flattened within
+    ``flat``; and whether each point is farther than ``reach`` from those polylines."""
+    from morph.polyline import distance_to_others, winding_number
+
+    polys = [pc.flatten_loop(loop, flat) for loop in loops]
+    if not polys:
+        return np.zeros(len(points), bool), np.ones(len(points), bool)
+    w = winding_number(points, polys)
+    far = np.isinf(distance_to_others(points, np.full(len(points), -1), polys, reach))
+    return (w % 2 == 1) if rule == "evenodd" else (w != 0), far
+
+
+def test_adaptive_flattening_fills_by_the_rule(monkeypatch):
+    """Random crossing, curling, cusped loops filled (both rules) with the adaptive
+    flattening: at 5000 random points farther than 3 (eps + grid) from every input
+    curve the output loops are filled exactly where the input's winding rule fills
+    (thinner features may merge, as with the flattening within eps everywhere,
+    which is held to the same test)."""
+    import morph.trim.flatten as F
+    from morph.trim import boundary
+
+    rng = np.random.default_rng(5)
+    for trial in range(24):
+        loops = _random_loops(rng)
+        rule = ("nonzero", "evenodd")[trial % 2]
+        eps = 10.0 ** rng.uniform(-4, -2.5)
+        x = rng.uniform(-3, 13, (5000, 2))
+        want, far = _membership(x, loops, rule, 0.1 * eps, 3 * (eps + eps))
+        for coarse in (F.COARSE, 1.0):
+            monkeypatch.setattr(F, "COARSE", coarse)
+            got, _ = _membership(x, boundary(loops, eps, eps, rule), "nonzero", 0.1 * eps, 0.0)
+            assert np.array_equal(got[far], want[far]), (trial, coarse)
+        monkeypatch.undo()
+
+
+def test_adaptive_flattening_sums_as_flattening_everywhere_within_eps(monkeypatch):
+    """Minkowski sums of glyphs at random angles and scales (convolution loops full
+    of swallowtails, cusps and near contacts) with the adaptive flattening and with
+    the flattening within eps everywhere: each within tol of the exact sum, so at
+    random points farther than 2 tol from both boundaries they fill alike."""
+    import morph.trim.flatten as F
+    from morph.minkowski import minkowski_sum
+    from morph.parse import glyph_region
+    from morph.region import region_bbox, transform_region
+
+    rng = np.random.default_rng(12)
+    for a, b in [("S", "g"), ("a", "W"), ("ampersand", "e"), ("k", "B")]:
+        angle, scale = rng.uniform(0, 2 * np.pi), rng.uniform(0.3, 1.5)
+        m = scale * np.array([[np.cos(angle), -np.sin(angle), 0.0],
+                              [np.sin(angle), np.cos(angle), 0.0]])
+        ra = transform_region(glyph_region(a).region, m)
+        rb = glyph_region(b).region
+        tol = 10.0 ** rng.uniform(-2.5, 0)
+        got = minkowski_sum(ra, rb, tol)
+        monkeypatch.setattr(F, "COARSE", 1.0)
+        want = minkowski_sum(ra, rb, tol)
+        monkeypatch.undo()
+        x0, y0, x1, y1 = region_bbox(want)
+        x = np.column_stack([rng.uniform(x0, x1, 20000), rng.uniform(y0, y1, 20000)])
+        in_got, far_got = _membership(x, got, "nonzero", 0.1 * tol, 2 * tol)
+        in_want, far_want = _membership(x, want, "nonzero", 0.1 * tol, 2 * tol)
+        far = far_got & far_want
+        assert far.sum() > 10000 and in_want[far].any()
+        assert np.array_equal(in_got[far], in_want[far])
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+def test_a_curl_finer_than_the_coarse_flattening_fills_by_the_rule(side, rule):
+    """A square whose bottom side makes a small curl out of it or into it (a loop
+    cubic whose control points lie within COARSE eps of its chord: one coarse
+    segment would pass straight over it): the curl's tangents leave the chord's
+    cone, so it is cut within eps, and its lobe (winding 2 inside the square, -1
+    outside) is filled as the rule says, 2 eps in from its edges."""
+    from morph.polyline import min_segment_distance, winding_number
+    from morph.trim import boundary
+
+    eps = 1e-4
+    h, d = 8e-4, 2e-3 * side  # the control points within COARSE eps of the chord
+    assert np.hypot(2 * h, d) < COARSE * eps
+    curl = pc.from_points(np.array([(0.5 - h, 0.0), (0.5 + 3 * h, d), (0.5 - 3 * h, d),
+                                    (0.5 + h, 0.0)]))
+    loop = [pc.line((0, 0), (0.5 - h, 0)), curl, pc.line((0.5 + h, 0), (1, 0)),
+            pc.line((1, 0), (1, 1)), pc.line((1, 1), (0, 1)), pc.line((0, 1), (0, 0))]
+    xs, ys = np.meshgrid(np.linspace(0.5 - 3 * h, 0.5 + 3 * h, 61), np.linspace(-abs(d), abs(d), 81))
+    x = np.column_stack([xs.ravel(), ys.ravel()])
+    poly = pc.flatten_loop(loop, 1e-7)
+    w = winding_number(x, [poly])
+    lobe = w == (2 if side > 0 else -1)  # the curl's lobe
+    deep = lobe & (min_segment_distance(x, poly, np.roll(poly, -1, axis=0)) > 2 * eps)
+    assert deep.sum() > 5
+    want = (w[deep] % 2 == 1) if rule == "evenodd" else (w[deep] != 0)
+    out = boundary([loop], eps, eps, rule)
+    got = winding_number(x[deep], [pc.flatten_loop(lp, 1e-7) for lp in out]) != 0
+    assert np.array_equal(got, want)
+
+
+def test_a_lens_thinner_than_the_coarse_flattening_is_kept():
+    """A lens of two arcs 20 eps apart at its middle: each arc is one coarse segment,
+    a loop of two vertices that would enclose nothing; loops of fewer than four
+    coarse segments are cut within eps, and the lens is filled along its middle."""
+    from morph.polyline import winding_number
+    from morph.trim import boundary
+
+    eps = 1e-4
+    w = 20 * eps
+    upper = pc.from_points(np.array([(0.0, 0.0), (0.5, w), (1.0, 0.0)]))  # bulges w / 2
+    lower = pc.from_points(np.array([(1.0, 0.0), (0.5, -w), (0.0, 0.0)]))
+    out = boundary([[upper, lower]], eps, eps, "nonzero")
+    x = np.column_stack([np.linspace(0.2, 0.8, 13), np.zeros(13)])
+    assert len(out) == 1
+    assert (winding_number(x, [pc.flatten_loop(lp, 1e-7) for lp in out]) != 0).all()
