@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 from ..polyline import BoxGrid, touching_edges
 
@@ -138,44 +139,65 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     loop_of = piece_loop[pid]
     nxt, prv, starts = _links(loop_of)
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
-    parts = pc.subsegments(pieces, pid, ts, t_end)
     chord = xy[nxt] - xy
-    arc = _in_cone(parts, chord, np.cos(CONE))
     length = np.hypot(chord[:, 0], chord[:, 1])
     turn_cos = np.einsum("ij,ij->i", chord, chord[nxt]) / np.maximum(length * length[nxt], 1e-300)
     smooth = (turn_cos >= np.cos(TURN)) & (length > 0) & (length[nxt] > 0)
-    fine = ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv])
     # touching_edges numbers the edges of the polylines of two or more vertices
     many = np.diff(starts) >= 2
     polys = [xy[a:b] for a, b, m in zip(starts[:-1], starts[1:], many) if m]
     edge = np.flatnonzero(many[loop_of])
+    near = np.zeros(len(pid), bool)
     reach = 2.0 * coarse * eps + 2.0 * (eps + grid)
-    fine[edge[touching_edges(polys, reach).ravel()]] = True
-    k = np.flatnonzero(fine)
-    if not len(k):
+    near[edge[touching_edges(polys, reach).ravel()]] = True
+    arc = np.zeros(len(pid), bool)
+    cut = []  # (segments, their parts) to flatten within eps, by degree
+    for k, parts in _segment_parts(pieces, pid, ts, t_end):
+        arc[k] = _in_cone(parts, chord[k], np.cos(CONE))
+        cut.append((k, parts))
+    fine = near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv])
+    owners, params, points = [np.zeros(0, np.int64)], [np.zeros(0)], [np.zeros((0, 2))]
+    for k, parts in cut:
+        f = fine[k]
+        if not f.any():
+            continue
+        owner, s, pts = pc.flat_starts_stacked(parts[f], eps)
+        inner = s > 0.0  # s = 0: the segment's own start, already a vertex
+        owners.append(k[f][owner[inner]])
+        params.append(s[inner])
+        points.append(pts[inner])
+    owner = np.concatenate(owners)
+    if not len(owner):
         return pid, ts, xy
-    owner, s, pts = pc.flat_starts([parts[i] for i in k], eps)
-    inner = s > 0.0  # s = 0: the segment's own start, already a vertex
-    owner, s, pts = k[owner[inner]], s[inner], pts[inner]
+    s = np.concatenate(params)
     pid = np.concatenate([pid, pid[owner]])
     ts = np.concatenate([ts, ts[owner] + s * (t_end[owner] - ts[owner])])
-    xy = np.concatenate([xy, pts])
+    xy = np.concatenate([xy, np.concatenate(points)])
     order = np.lexsort((ts, pid))
     return pid[order], ts[order], xy[order]
 
 
+def _segment_parts(pieces, pid, t0, t1):
+    """(segments, their parts) by degree: each segment's piece restricted to its
+    range [t0, t1], a stack (k, n+1, 3) of the segments k of one degree."""
+    deg = np.array([len(p) for p in pieces])
+    for n in np.unique(deg):
+        of = np.flatnonzero(deg == n)
+        stack = np.array([pieces[i] for i in of], float)
+        row = np.full(len(pieces), -1)
+        row[of] = np.arange(len(of))
+        k = np.flatnonzero(deg[pid] == n)
+        yield k, bz.subsegment_many(stack[row[pid[k]]], t0[k], t1[k])
+
+
 def _in_cone(parts, chord, cos_max):
     """Whether each part's control-polygon legs (those of nonzero length) all lie
-    within the angle acos(cos_max) of its chord, (m,) bool."""
-    ok = np.zeros(len(parts), bool)
-    for ks in pc.by_degree(parts).values():
-        h = np.array([parts[k] for k in ks], float)
-        legs = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
-        c = chord[ks][:, None, :]
-        dot = np.einsum("kij,kij->ki", legs, np.broadcast_to(c, legs.shape))
-        size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(c[..., 0], c[..., 1])
-        ok[ks] = np.all((dot >= cos_max * size) | (size == 0), axis=1)
-    return ok
+    within the angle acos(cos_max) of its chord: a stack of parts (k, n+1, 3) and
+    their chords (k, 2), (k,) bool."""
+    legs = np.diff(parts[:, :, :2] / parts[:, :, 2:], axis=1)
+    dot = legs[..., 0] * chord[:, None, 0] + legs[..., 1] * chord[:, None, 1]
+    size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(chord[:, 0], chord[:, 1])[:, None]
+    return np.all((dot >= cos_max * size) | (size == 0), axis=1)
 
 
 def _links(loop_of):
