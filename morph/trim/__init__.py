@@ -3,7 +3,9 @@
 The paper's shape: a polygonal sweep on approximations decides the topology, then
 the exact curves give the geometry.  Here:
 
-1. :mod:`.flatten`: every piece flattened within ``eps`` (certified), vertices
+1. :mod:`.flatten`: every piece flattened within ``eps`` (certified) where the
+   topology is decided, and 32 times coarser along the simple arcs that nothing
+   comes near (:func:`.flatten.adaptive_starts`), vertices
    snapped to an integer grid of unit ``grid`` and tagged (piece, t); segments
    routed through the hot pixels they cross (snap rounding: near-coincident
    segments keep their order).
