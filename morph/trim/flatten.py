@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import BoxGrid, touching_edges
+from ..polyline import BoxGrid, touching_edges, unique
 
 #: segments whose topology is certain are flattened this many times coarser
 #: (:func:`adaptive_starts`)
@@ -181,7 +181,7 @@ def _segment_parts(pieces, pid, t0, t1):
     """(segments, their parts) by degree: each segment's piece restricted to its
     range [t0, t1], a stack (k, n+1, 3) of the segments k of one degree."""
     deg = np.array([len(p) for p in pieces])
-    for n in np.unique(deg):
+    for n in unique(deg):
         of = np.flatnonzero(deg == n)
         stack = np.array([pieces[i] for i in of], float)
         row = np.full(len(pieces), -1)
