@@ -818,13 +818,6 @@ def flat_starts(pieces, tol, max_depth=16):
     return owner[order], ts[order], pts[order]
 
 
-def flat_starts_stacked(stack, tol, max_depth=16):
-    """:func:`flat_starts` of a stack (k, n+1, 3) of pieces of one degree."""
-    owner, ts, pts = _flat_params(np.asarray(stack, float), tol, 2.0 ** -max_depth)
-    order = np.lexsort((ts, owner))
-    return owner[order], ts[order], pts[order]
-
-
 def _flat_params(stack, tol, min_width):
     """(owner, t0, start point) of the flat parts of a stack of pieces (see
     :func:`flatten_many`); a part's start point is its first control point."""

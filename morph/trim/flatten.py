@@ -151,30 +151,59 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     reach = 2.0 * coarse * eps + 2.0 * (eps + grid)
     near[edge[touching_edges(polys, reach).ravel()]] = True
     arc = np.zeros(len(pid), bool)
-    cut = []  # (segments, their parts) to flatten within eps, by degree
     for k, parts in _segment_parts(pieces, pid, ts, t_end):
         arc[k] = _in_cone(parts, chord[k], np.cos(CONE))
-        cut.append((k, parts))
     fine = near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv])
-    owners, params, points = [np.zeros(0, np.int64)], [np.zeros(0)], [np.zeros((0, 2))]
-    for k, parts in cut:
-        f = fine[k]
-        if not f.any():
-            continue
-        owner, s, pts = pc.flat_starts_stacked(parts[f], eps)
-        inner = s > 0.0  # s = 0: the segment's own start, already a vertex
-        owners.append(k[f][owner[inner]])
-        params.append(s[inner])
-        points.append(pts[inner])
-    owner = np.concatenate(owners)
-    if not len(owner):
+    if not fine.any():
         return pid, ts, xy
-    s = np.concatenate(params)
-    pid = np.concatenate([pid, pid[owner]])
-    ts = np.concatenate([ts, ts[owner] + s * (t_end[owner] - ts[owner])])
-    xy = np.concatenate([xy, np.concatenate(points)])
-    order = np.lexsort((ts, pid))
-    return pid[order], ts[order], xy[order]
+    return _refined(pieces, pid, ts, xy, fine, prv, eps)
+
+
+def _refined(pieces, pid, ts, xy, fine, prv, eps):
+    """The coarse vertices (piece, t, point) with the segments marked ``fine`` cut
+    within eps: a refined stretch takes the vertices of its pieces' own flattening
+    within eps (where two parts run close, both polylines are the ones flattening
+    within eps everywhere gives: near-coincident pieces cross as rarely), the coarse
+    vertices inside a stretch go, and where a coarse vertex bounds a stretch the
+    part between it and the nearest vertex of the finer flattening is flattened
+    within eps on its own (a chord to a point inside a flat part could leave it
+    farther than eps)."""
+    of = unique(pid[fine])
+    fp, fts, fxy = pc.flat_starts([pieces[i] for i in of], eps)
+    fp = of[fp]
+    # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
+    key, fkey = pid * 2.0 + ts, fp * 2.0 + fts
+    seg = np.searchsorted(key, fkey, side="right") - 1  # the coarse segment of each
+    take = fine[seg] & (fts > ts[seg])
+    keep = ~(fine & fine[prv] & (ts > 0.0))  # coarse vertices between refined segments go
+    at = np.searchsorted(fkey, key)
+    on_fine = (at < len(fkey)) & (fkey[np.minimum(at, len(fkey) - 1)] == key)
+    # the merged polyline: (piece, t, point, a coarse vertex off the finer flattening's)
+    mp = np.concatenate([pid[keep], fp[take]])
+    mt = np.concatenate([ts[keep], fts[take]])
+    mx = np.concatenate([xy[keep], fxy[take]])
+    loose = np.concatenate([~on_fine[keep], np.zeros(take.sum(), bool)])
+    mseg = np.concatenate([np.flatnonzero(keep), seg[take]])
+    order = np.lexsort((mt, mp))
+    mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
+    # gaps: a chord within a refined segment with a loose end (to the next vertex of
+    # its piece, or to the piece's end)
+    last = np.append(mp[1:] != mp[:-1], True)
+    t_next = np.where(last, 1.0, np.append(mt[1:], 1.0))
+    loose_next = np.where(last, False, np.append(loose[1:], False))
+    gap = fine[mseg] & (loose | loose_next)
+    if gap.any():
+        g = np.flatnonzero(gap)
+        parts = pc.subsegments(pieces, mp[g], mt[g], t_next[g])
+        owner, s, pts = pc.flat_starts(parts, eps)
+        inner = s > 0.0
+        owner, s, pts = g[owner[inner]], s[inner], pts[inner]
+        mp = np.concatenate([mp, mp[owner]])
+        mt = np.concatenate([mt, mt[owner] + s * (t_next[owner] - mt[owner])])
+        mx = np.concatenate([mx, pts])
+        order = np.lexsort((mt, mp))
+        mp, mt, mx = mp[order], mt[order], mx[order]
+    return mp, mt, mx
 
 
 def _segment_parts(pieces, pid, t0, t1):
