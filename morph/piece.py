@@ -801,15 +801,19 @@ def flatten_many(pieces, tol, max_depth=16):
     return out
 
 
-def flat_starts(pieces, tol, max_depth=16):
+def flat_starts(pieces, tol, max_depth=16, keep=None):
     """The polylines of :func:`flatten_many` without each piece's end point (the next
     piece's start, in a loop), all in three arrays: (owner (m,), t (m,), points (m,
     2)), sorted by (owner, t); owner indexes ``pieces``.  Pieces of one degree are
-    processed together."""
+    processed together.  ``keep(owner, t0, width) -> mask``: parts of the
+    subdivision left out (with all they would be cut into) where False; the vertices
+    of the parts kept are those of the whole flattening."""
     owners, params, points = [np.zeros(0, np.intp)], [np.zeros(0)], [np.zeros((0, 2))]
     for ks in by_degree(pieces).values():
         stack = np.array([np.asarray(pieces[k], float) for k in ks])
-        owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth)
+        ks_arr = np.asarray(ks)
+        part_keep = None if keep is None else (lambda o, t, w, ks_arr=ks_arr: keep(ks_arr[o], t, w))
+        owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth, part_keep)
         owners.append(np.asarray(ks)[owner])
         params.append(ts)
         points.append(starts)
@@ -818,9 +822,10 @@ def flat_starts(pieces, tol, max_depth=16):
     return owner[order], ts[order], pts[order]
 
 
-def _flat_params(stack, tol, min_width):
+def _flat_params(stack, tol, min_width, keep=None):
     """(owner, t0, start point) of the flat parts of a stack of pieces (see
-    :func:`flatten_many`); a part's start point is its first control point."""
+    :func:`flatten_many`); a part's start point is its first control point.
+    ``keep(owner, t0, width)``: the parts to cut further (see :func:`flat_starts`)."""
     parts, owner = stack, np.arange(len(stack))
     t0, width = np.zeros(len(stack)), np.ones(len(stack))
     done_owner, done_t, done_p = [], [], []
@@ -838,8 +843,19 @@ def _flat_params(stack, tol, min_width):
         parts, owner, t0, width, steps = (x[order] for x in (parts, owner, t0, width, steps))
         rep = np.repeat(np.arange(len(parts)), steps)
         j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+        if keep is not None:  # the sub-parts a caller needs, before they are cut
+            t_sub = t0[rep] + j / steps[rep] * width[rep]
+            m = keep(owner[rep], t_sub, width[rep] / steps[rep])
+            part_of = np.repeat(np.arange(len(parts)), steps)
+            needed = np.bincount(part_of[m], minlength=len(parts)) > 0
+            parts, owner, t0, width, steps = (x[needed] for x in (parts, owner, t0, width, steps))
+            rep = np.repeat(np.arange(len(parts)), steps)
+            j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+            sub_keep = m[np.repeat(needed, np.bincount(part_of, minlength=len(needed)))]
         parts = _equal_parts(parts, steps)
         owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
+        if keep is not None:
+            parts, owner, t0, width = parts[sub_keep], owner[sub_keep], t0[sub_keep], width[sub_keep]
     return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
 
 

@@ -324,3 +324,31 @@ def test_distance_bound_many_certifies_and_is_invariant():
     assert np.allclose(pc.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
     assert np.allclose(pc.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
                        rtol=1e-12)
+
+
+def test_flat_starts_keep_gives_the_whole_flattening_where_kept():
+    """flat_starts with ``keep`` (parts left out of the subdivision where False) gives
+    exactly the vertices of the whole flattening inside the kept ranges, and only
+    vertices of the whole flattening."""
+    rng = np.random.default_rng(21)
+    pieces = []
+    for _ in range(30):
+        n = int(rng.integers(3, 6))
+        w = np.ones(n)
+        w[1:-1] = rng.uniform(0.3, 3.0, n - 2)
+        ctrl = rng.uniform(0, 10, (n, 2))
+        pieces.append(np.column_stack([ctrl * w[:, None], w]))
+    lo = rng.uniform(0, 0.8, len(pieces))
+    hi = lo + rng.uniform(0.01, 0.2, len(pieces))
+
+    def keep(owner, t0, width):
+        return (t0 <= hi[owner]) & (t0 + width >= lo[owner])
+
+    full = pc.flat_starts(pieces, 1e-3)
+    part = pc.flat_starts(pieces, 1e-3, keep=keep)
+    whole = {(int(o), float(t)): tuple(p) for o, t, p in zip(*full)}
+    got = {(int(o), float(t)): tuple(p) for o, t, p in zip(*part)}
+    assert all(whole.get(k) == v for k, v in got.items())
+    inside = {k for k in whole if lo[k[0]] < k[1] < hi[k[0]]}
+    assert inside and inside <= set(got)
+    assert len(got) < 0.6 * len(whole)

@@ -169,10 +169,20 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     within eps on its own (a chord to a point inside a flat part could leave it
     farther than eps)."""
     of = unique(pid[fine])
-    fp, fts, fxy = pc.flat_starts([pieces[i] for i in of], eps)
-    fp = of[fp]
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
-    key, fkey = pid * 2.0 + ts, fp * 2.0 + fts
+    key = pid * 2.0 + ts
+    refined = np.concatenate([[0], np.cumsum(fine)])
+
+    def overlaps(owner, t0, width):
+        """Parts of the pieces' subdivision that meet a refined segment."""
+        p = of[owner] * 2.0
+        first = np.searchsorted(key, p + t0, side="right") - 1
+        last = np.searchsorted(key, p + t0 + width, side="left") - 1
+        return refined[np.maximum(last, first) + 1] - refined[first] > 0
+
+    fp, fts, fxy = pc.flat_starts([pieces[i] for i in of], eps, keep=overlaps)
+    fp = of[fp]
+    fkey = fp * 2.0 + fts
     seg = np.searchsorted(key, fkey, side="right") - 1  # the coarse segment of each
     take = fine[seg] & (fts > ts[seg])
     keep = ~(fine & fine[prv] & (ts > 0.0))  # coarse vertices between refined segments go
