@@ -163,7 +163,8 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     """The coarse vertices (piece, t, point) with the segments marked ``fine`` cut
     within eps: a refined stretch takes the vertices of its pieces' own flattening
     within eps (where two parts run close, both polylines are the ones flattening
-    within eps everywhere gives: near-coincident pieces cross as rarely), the coarse
+    within eps everywhere gives: near-coincident pieces cross as rarely; only the
+    parts of that subdivision that meet a refined segment are cut), the coarse
     vertices inside a stretch go, and where a coarse vertex bounds a stretch the
     part between it and the nearest vertex of the finer flattening is flattened
     within eps on its own (a chord to a point inside a flat part could leave it
