@@ -322,14 +322,20 @@ def winding_of_others(points, owner, polylines, chunk=2_000_000):
     for s in range(0, len(pts), step):
         k, e = grid.at_points(probe[s:s + step])
         k = k + s
-        p, ea, eb = pts[k], a[e], b[e]
-        cross = ((eb[:, 0] - ea[:, 0]) * (p[:, 1] - ea[:, 1])
-                 - (eb[:, 1] - ea[:, 1]) * (p[:, 0] - ea[:, 0]))
-        other = owner[k] != edge_owner[e]
-        up = (ea[:, 1] <= p[:, 1]) & (eb[:, 1] > p[:, 1]) & (cross > 0) & other
-        down = (ea[:, 1] > p[:, 1]) & (eb[:, 1] <= p[:, 1]) & (cross < 0) & other
-        out += np.bincount(k, weights=up.astype(float) - down, minlength=len(pts)).astype(int)
+        sign = ray_crossings(pts[k], a[e], b[e]) * (owner[k] != edge_owner[e])
+        out += np.bincount(k, weights=sign, minlength=len(pts)).astype(int)
     return out
+
+
+def ray_crossings(p, a, b):
+    """The crossing rule of :func:`winding_number` for pairs of a point p[i] and an
+    edge a[i] b[i]: +1 where the edge goes up across the point's horizontal line with
+    the point on its left, -1 where it goes down with the point on its right, else
+    0, shape (m,) int."""
+    cross = (b[:, 0] - a[:, 0]) * (p[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[:, 0] - a[:, 0])
+    up = (a[:, 1] <= p[:, 1]) & (b[:, 1] > p[:, 1]) & (cross > 0)
+    down = (a[:, 1] > p[:, 1]) & (b[:, 1] <= p[:, 1]) & (cross < 0)
+    return up.astype(int) - down.astype(int)
 
 
 def _owned_edges(polylines):

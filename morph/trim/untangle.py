@@ -15,8 +15,8 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
-from ..polyline import (flatten_segments, segment_crossings, segment_pairs, unique,
-                        winding_number)
+from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
+                        unique, winding_number)
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import newton_crossings
 
@@ -507,10 +507,7 @@ def _ray_winding(x, loop, flat):
     polys = [pts for pts, _ in pc.flatten_many([loop[k] for k in meet], flat)]
     a = np.concatenate([q[:-1] for q in polys])
     b = np.concatenate([q[1:] for q in polys])
-    cross = (b[:, 0] - a[:, 0]) * (x[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (x[0] - a[:, 0])
-    up = (a[:, 1] <= x[1]) & (b[:, 1] > x[1]) & (cross > 0)
-    down = (a[:, 1] > x[1]) & (b[:, 1] <= x[1]) & (cross < 0)
-    return int(up.sum()) - int(down.sum())
+    return int(ray_crossings(np.broadcast_to(x, a.shape), a, b).sum())
 
 
 def _keep_lobe(lobe, rest, eps, hole_test=None):
