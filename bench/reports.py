@@ -5,7 +5,7 @@
     python -m bench.reports --quick            # every script on a small case, into --out
     python -m bench.reports --check            # headline numbers against the scripts (~20 s)
     python -m bench.reports --list             # the reports, their commands and costs
-    python -m bench.reports --performance      # docs/performance.md from the reports
+    python -m bench.reports --performance      # docs/performance.md, evaluation figures
 
 Every report starts with a stamp line (:func:`bench.stamp.stamp`: the command, morph's
 version, the commit, the date and the machine); a script that does not write one gets
@@ -167,7 +167,7 @@ def run(report, out_dir=None, quick=False):
         subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.DEVNULL)
     seconds = time.time() - t0
     shown = "python -m bench.reports --only %s%s" % (report.name, " --quick" if quick else "")
-    put_stamp(md, stamp(shown, seconds))
+    put_stamp(md, stamp(shown, seconds, script="bench/%s.py" % report.module.split(".")[-1]))
     return seconds
 
 
@@ -218,10 +218,14 @@ def check_export():
 
 
 def check_performance():
-    """docs/performance.md is what ``--performance`` makes of the reports now."""
+    """docs/performance.md and the figures of docs/evaluation.md are what
+    ``--performance`` makes of the reports now."""
     text = PERFORMANCE.read_text(encoding="utf-8") if PERFORMANCE.exists() else ""
     return [("docs/performance.md made from the reports", "current" if text
-             == performance_text() else "stale", "current")]
+             == performance_text() else "stale", "current"),
+            ("docs/evaluation.md figures made from the reports", "current" if
+             EVALUATION.read_text(encoding="utf-8") == evaluation_text() else "stale",
+             "current")]
 
 
 def checks(names=None):
@@ -301,6 +305,70 @@ def performance_text():
     return "\n".join(out).rstrip("\n") + "\n"
 
 
+# ------------------------------------------------------------------ evaluation.md
+
+EVALUATION = ROOT / "docs" / "evaluation.md"
+FIGURES = ("<!-- figures: made by python -m bench.reports --performance -->",
+           "<!-- /figures -->")
+
+
+def _when(text):
+    """"commit C, DATE" of a report's or section's Command / stamp line."""
+    m = re.search(r"commit ([0-9a-f]{7,})[^;)]*?[;)].*?(\d{4}-\d{2}-\d{2})", text)
+    if m:
+        return "commit %s, %s" % m.groups()
+    m = re.search(r"commit ([0-9a-f]{7,}).*? on (\d{4}-\d{2}-\d{2})", text)
+    return "commit %s, %s" % m.groups() if m else "undated"
+
+
+def evaluation_rows():
+    """(check, cases, failed, when) from the acceptance reports as they are."""
+    from bench.mdtable import tables
+
+    rows = []
+    sweep = (BENCH / "sweep.md").read_text(encoding="utf-8")
+    for block in re.findall(r"<!-- sweep:\w+ -->\n(.*?)<!-- /sweep:\w+ -->", sweep, re.S):
+        title = block.splitlines()[0].lstrip("# ").strip()
+        m = re.search(r"(\d+) of (\d+) jobs run, (\d+) failed", block)
+        if m:
+            rows.append(("sweep: " + title, m.group(2), m.group(3), _when(block)))
+    icons = (BENCH / "icons.md").read_text(encoding="utf-8")
+    for t in tables(icons)[:1]:
+        col = {name: k for k, name in enumerate(t[0])}
+        for r in t[1:]:
+            limits = int(r[col["documented limit"]])
+            rows.append(("icons: %s%s" % (r[0], ", %d documented limits" % limits
+                                          if limits else ""), r[col["icons"]],
+                         str(int(r[col["icons"]]) - int(r[col["pass"]]) - limits),
+                         _when(icons)))
+    ex = (BENCH / "export_sweep.md").read_text(encoding="utf-8")
+    for r in tables(ex)[0][1:]:
+        rows.append(("certified cubic export: %s pieces" % r[0], r[1], r[2], _when(ex)))
+    ins = (BENCH / "inset.md").read_text(encoding="utf-8")
+    m = re.search(r"(\d+) cases .*?: (\d+) failed", ins)
+    if m:
+        rows.append(("insets against shapely", m.group(1), m.group(2), _when(ins)))
+    co = (BENCH / "coincident.md").read_text(encoding="utf-8")
+    t = tables(co)[0]
+    rows.append(("copies of one path", str(len(t) - 1),
+                 str(sum(r[-1] != "yes" for r in t[1:])), _when(co)))
+    return rows
+
+
+def evaluation_figures():
+    """The block of docs/evaluation.md between the FIGURES markers."""
+    out = [FIGURES[0], "", "| check | cases | failed | the report's commit and date |", "|---|---|---|---|"]
+    out += ["| %s | %s | %s | %s |" % r for r in evaluation_rows()]
+    return "\n".join(out + ["", FIGURES[1]])
+
+
+def evaluation_text():
+    """docs/evaluation.md with its figures block remade from the reports."""
+    text = EVALUATION.read_text(encoding="utf-8")
+    i, j = text.index(FIGURES[0]), text.index(FIGURES[1]) + len(FIGURES[1])
+    return text[:i] + evaluation_figures() + text[j:]
+
+
 # ------------------------------------------------------------------------- main
 
 def main(argv=None):
@@ -362,7 +430,9 @@ def main(argv=None):
             return 0
     PERFORMANCE.parent.mkdir(exist_ok=True)
     PERFORMANCE.write_text(performance_text(), encoding="utf-8")
-    print("wrote", PERFORMANCE.relative_to(ROOT))
+    EVALUATION.write_text(evaluation_text(), encoding="utf-8")
+    print("wrote", PERFORMANCE.relative_to(ROOT), "and the figures of",
+          EVALUATION.relative_to(ROOT))
     return 0
 
 

@@ -15,9 +15,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def commit():
-    """The repository's commit, with "+ uncommitted changes" when morph/ or bench/ differ
-    from it; "unknown" outside a git checkout."""
+def commit(paths=("morph",)):
+    """The repository's commit, with "+ uncommitted changes" when ``paths`` (the code
+    measured: morph/, and the script) differ from it; "unknown" outside a git
+    checkout."""
     def git(*args):
         return subprocess.run(("git",) + args, cwd=ROOT, capture_output=True, text=True,
                               timeout=30)
@@ -25,7 +26,7 @@ def commit():
         head = git("rev-parse", "--short", "HEAD")
         if head.returncode:
             return "unknown"
-        dirty = git("status", "--porcelain", "--", "morph", "bench").stdout.strip()
+        dirty = git("status", "--porcelain", "--", *paths).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return "unknown"
     return head.stdout.strip() + (" + uncommitted changes" if dirty else "")
@@ -39,16 +40,21 @@ def machine():
         platform.python_version())
 
 
-def stamp(command=None, seconds=None):
+def stamp(command=None, seconds=None, script=None):
     """Markdown line: ``Made by `command` with morph VERSION at commit C on DATE (UTC),
-    on MACHINE[, in S s].``  ``command`` defaults to this process's command line."""
+    on MACHINE[, in S s].``  ``command`` defaults to this process's command line;
+    ``script`` (a path relative to the repository) is checked for changes with morph/
+    (default: the running script)."""
     from morph import __version__
 
     if command is None:
         command = "python " + " ".join([_module_name(sys.argv[0])] + sys.argv[1:])
     tail = "" if seconds is None else ", in %.0f s" % seconds
+    if script is None and Path(sys.argv[0]).resolve().is_relative_to(ROOT):
+        script = str(Path(sys.argv[0]).resolve().relative_to(ROOT))
+    paths = ("morph",) + ((script,) if script else ())
     return "Made by `%s` with morph %s at commit %s on %s (UTC), on %s%s." % (
-        command.strip(), __version__, commit(), time.strftime("%Y-%m-%d %H:%M",
+        command.strip(), __version__, commit(paths), time.strftime("%Y-%m-%d %H:%M",
                                                                   time.gmtime()),
         machine(), tail)
 
