@@ -32,11 +32,11 @@ import shapely
 from shapely.geometry import LineString, MultiLineString
 
 from bench.stamp import stamp
-from bench.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
+from tests.oracles.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
 from morph import piece as pc
 from morph.offset import inset_region
 from morph.region import transform_region
-from tests.reference import region_polylines, region_to_shapely
+from tests.oracles.reference import region_polylines, region_to_shapely
 
 
 def _rings(geom):
@@ -45,7 +45,7 @@ def _rings(geom):
 
 
 def _upm(font):
-    from bench.sweep import _ttfont
+    from tests.oracles.sweep import _ttfont
 
     return float(_ttfont(font)["head"].unitsPerEm)
 

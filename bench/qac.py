@@ -45,7 +45,7 @@ from morph import convolve, gauss, minkowski, parse  # noqa: E402 - after sys.pa
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 from bench.stamp import stamp  # noqa: E402 - after sys.path gets the repo root
 from morph import qac  # noqa: E402 - after sys.path gets the repo root
-from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles import reference as R  # noqa: E402 - after sys.path gets the repo root
 from tests.test_convolve import pair_error  # noqa: E402 - after sys.path gets the repo root
 
 TOLS_EM = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)

@@ -10,8 +10,8 @@ stroked by ``morph.fonts.stroke.stroke_ufo`` with the default nib of ``morph str
 process, into .otf and .ttf; each glyph read back from the compiled font (integer
 coordinates; composites decomposed) and compared with an independent Clipper polygon
 of the skeleton flattened within ``--ref-tol`` ⊕ the nib flattened within
-``--ref-tol`` (``tests.stroke_reference.stroke_polygon``), shifted like the written
-glyph.  Measures: two-sided boundary Hausdorff distance (``tests.reference.hausdorff``,
+``--ref-tol`` (``tests.oracles.stroke_reference.stroke_polygon``), shifted like the written
+glyph.  Measures: two-sided boundary Hausdorff distance (``tests.oracles.reference.hausdorff``,
 written curves flattened within 0.02, boundaries sampled every 0.25 unit) against
 ``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
 o, e, a, 8 ...), each hole's area within perimeter x that bound.
@@ -72,8 +72,8 @@ from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # no
 from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
-from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
-from tests.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 ROUNDING = 0.71

@@ -7,9 +7,7 @@ A-Z, a-z of both bundled fonts are checked the same way by ``python -m bench.bru
 from pathlib import Path
 
 import numpy as np
-import ots
 import pytest
-import uharfbuzz as hb
 from click.testing import CliRunner
 from fontTools.pens.areaPen import AreaPen
 from fontTools.pens.recordingPen import DecomposingRecordingPen
@@ -26,7 +24,7 @@ from morph.fonts.brush import (brush_font, check_convex_nib, composite_plan, ell
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region
 from morph.region import translate_region
-from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
+from tests.oracles.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
 
 NIB = (80.0, 30.0, 30.0)
 CHARS = "oTgSWe"
@@ -215,11 +213,12 @@ def test_cli_brush_composites(tmp_path):
     assert r.exit_code == 2
 
 
-# =========================================================================== issue 16
+# ========================================================== outlines of the written font
 
 
 
 def assert_ots(path):
+    ots = pytest.importorskip("ots")
     r = ots.sanitize(str(path), capture_output=True)
     assert r.returncode == 0, (r.stdout + r.stderr).decode(errors="replace")
 
@@ -258,6 +257,7 @@ def mark_font(tmp_path_factory):
 
 def _shape(path, text):
     """(glyph name, x, y) of each glyph of ``text`` shaped by HarfBuzz (pen positions)."""
+    hb = pytest.importorskip("uharfbuzz")
     font = TTFont(str(path))
     order = font.getGlyphOrder()
     hbf = hb.Font(hb.Face(hb.Blob.from_file_path(str(path))))
@@ -424,7 +424,7 @@ def test_tables_after_brush(brushed):
 
 
 def test_clean_contours_m(tmp_path):
-    """Issue 16: brushed 'm' had a zero-length segment (three equal points)."""
+    """The brushed 'm' had a zero-length segment (three equal points)."""
     out = tmp_path / "m.ttf"
     brush_font(default_font_path(), out, ellipse_nib(*NIB), ["m", "n", "h"], tol=0.5)
     assert_clean_outlines(TTFont(str(out)), ["m", "n", "h"])
