@@ -76,32 +76,39 @@ def sums(out):
     (out / "sums.txt").write_text("\n".join(lines) + "\n")
 
 
-def cli(args, env):
+def cli(args, env, out):
+    """Run ``morph ARGS``; a failure other than bad input (exit 2) is recorded in
+    OUT/cli-errors.txt (part of the snapshot: a fixed bug shows as a change)."""
     r = subprocess.run([sys.executable, "-m", "morph.cli"] + args, env=env,
                        capture_output=True, text=True)
-    if r.returncode not in (0, 1):
+    if r.returncode == 2:
         raise SystemExit("morph %s failed (%d):\n%s" % (" ".join(args), r.returncode, r.stderr))
+    if r.returncode or "internal error" in r.stderr:
+        with open(out / "cli-errors.txt", "a") as f:
+            f.write("%s %s -> %d %s\n" % (args[0], Path(args[args.index("-o") + 1]).name,
+                                           r.returncode,
+                                        r.stderr.strip().replace(str(out), "OUT")))
 
 
 def cli_outputs(out, env, skip):
     root = code_root()
-    cli(["glyph", "T", "M", "--frames", "10", "-o", str(out / "frames")], env)
+    cli(["glyph", "T", "M", "--frames", "10", "-o", str(out / "frames")], env, out)
     s = out / "sums"
     s.mkdir(parents=True, exist_ok=True)
-    cli(["sum", "T", "M", "-o", str(s / "tm.svg")], env)
-    cli(["sum", "o", str(root / "morph/data/bird.svg"), "-o", str(s / "o-bird.svg")], env)
-    cli(["offset", "g", "-r", "0.04", "-o", str(s / "g-offset.svg")], env)
-    cli(["offset", "g", "-r", "-0.01", "-o", str(s / "g-inset.svg")], env)
+    cli(["sum", "T", "M", "-o", str(s / "tm.svg")], env, out)
+    cli(["sum", "o", str(root / "morph/data/bird.svg"), "-o", str(s / "o-bird.svg")], env, out)
+    cli(["offset", "g", "-r", "0.04", "-o", str(s / "g-offset.svg")], env, out)
+    cli(["offset", "g", "-r", "-0.01", "-o", str(s / "g-inset.svg")], env, out)
     if "fonts" in skip:
         return
     f = out / "fonts"
     f.mkdir(parents=True, exist_ok=True)
     for suffix in ("ttf", "otf"):
         src = [] if suffix == "ttf" else [str(root / "morph/fonts/data/NotoSans-Regular.otf")]
-        cli(["brush"] + src + ["-o", str(f / ("brush-%s.%s" % (suffix, suffix))), "--glyphs", "a,g,o,T,M,e",
-                               "--jobs", "1"], env)
+        cli(["brush"] + src + ["-o", str(f / ("brush-%s.%s" % (suffix, suffix))),
+                               "--glyphs", "a,g,o,T,M,e", "--jobs", "1"], env, out)
         cli(["stroke", str(root / RELIEF), "-o", str(f / ("stroke-%s.%s" % (suffix, suffix))),
-             "--glyphs", "a,b,g,o,S", "--jobs", "1"], env)
+             "--glyphs", "a,b,g,o,S", "--jobs", "1"], env, out)
 
 
 def gallery(out):
@@ -126,6 +133,8 @@ def main(argv=None):
     skip = set(filter(None, args.skip.split(",")))
     out = args.out.resolve()
     env = dict(os.environ, SOURCE_DATE_EPOCH="0", MORPH_JOBS="1")
+    env.pop("MORPH_DEBUG", None)
+    out.mkdir(parents=True, exist_ok=True)
     os.environ["SOURCE_DATE_EPOCH"] = "0"
     sums(out / "sums")
     cli_outputs(out, env, skip)

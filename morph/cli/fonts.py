@@ -346,7 +346,7 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     """``morph stroke`` of an SVG skeleton: an image of its paths ⊕ nib within ``tol``
     user units (stroke and SVG export together, as ``morph sum``)."""
     from ..errors import ParseError
-    from ..export import split_tolerance
+    from ..budget import plan
     from ..fonts.stroke import stroke_glyph_region
     from ..limits import check_tolerance
     from ..parse.svg import svg_paths
@@ -365,7 +365,7 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     nib_region = _stroke_nib(nib, nib_svg, scale)
     check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
                     unit_name="user units")
-    st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol
+    st, et = plan(tol)[:2]  # the stroke and the SVG export share --tol
     region = stroke_glyph_region(paths, nib_region, st)
     write_image(out, [(region, {"fill": "black"})], size=size, tol=et)
     report_written(out, region)

@@ -10,11 +10,11 @@ source UFO with the outlines replaced (kerning, groups, features, lib kept), sav
 ``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: the UFO copy holds
 TrueType quadratic splines, converted here, which ufo2ft compiles as they are).
 
-Tolerance budget (``tol``, font units), by :func:`morph.export.split_tolerance`:
+Tolerance budget (``tol``, font units), by :func:`morph.budget.plan`:
 the stroke within the geometry share (``stroke_paths``), the cubics within the export
 share of the stroke's pieces (certified, Fréchet); for ``.ttf`` the export share is
 split again between the cubics and their conversion to quadratic splines with cu2qu
-(:func:`morph.export.loops_to_quadratics`, :data:`morph.export.QUADRATIC_CUBIC_SHARE`;
+(:func:`morph.export.loops_to_quadratics`, :data:`morph.budget.QUADRATIC_CUBIC_SHARE`;
 cu2qu's check is certified up to rounding), before rounding: every point is rounded
 once (ufo2ft converting rounded cubics and rounding again moved TrueType g 1.38
 units).  The contours are then rounded to integers and cleaned
@@ -62,6 +62,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
@@ -193,8 +194,8 @@ def _rename(info, family):
 def _glyph_job(args):
     """Stroke one glyph and convert it to integer cubic contours (a process-pool job).
 
-    ``args``: (name, paths, nib_region, (stroke_tol, cubic_tol, cu2qu_tol), offset,
-    stroker), the tolerances as :func:`_tolerances` splits them.  When the exact
+    ``args``: (name, paths, nib_region, budget, offset, stroker), the tolerances as
+    :func:`morph.budget.plan` splits them.  When the exact
     stroke or its conversion raises, the glyph falls back to the polygon stroke of
     :func:`morph.fonts.jobs.polygon_sum` (within stroke_tol + cubic_tol + 1/8 unit,
     lines only) and the error is returned with it.
@@ -250,13 +251,13 @@ def _chunk_job(chunk):
             except MorphError as exc:
                 out[k]["fallback"] = exc
             out[k]["seconds"] += time.process_time() - t0
-    for (name, paths, nib_region, (sum_tol, cubic_tol, _), offset, _), r in zip(chunk, out):
+    for (name, paths, nib_region, tols, offset, _), r in zip(chunk, out):
         if r["fallback"] is not None:
             t0 = time.process_time()
             exc = r["fallback"]
             r["fallback"] = "%s: %s" % (type(exc).__name__, one_line(exc))
             polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
-                                sum_tol + cubic_tol, closed=False)
+                                tols.geometry + tols.cubic, closed=False)
             r["contours"] = polylines_to_contours(polys, offset=offset)
             r["region"] = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))]
                            for p in polys]
@@ -276,7 +277,7 @@ def _stroked_regions(chunk):
 
         t0 = time.process_time()
         try:
-            regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3][0])
+            regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3].geometry)
         except Exception:  # noqa: BLE001 - any failure: glyph by glyph, as they were
             regions = None
         if regions is not None:
@@ -284,10 +285,10 @@ def _stroked_regions(chunk):
             share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
             return [(r, None, float(s)) for r, s in zip(regions, share)]
     out = []
-    for name, paths, nib_region, (sum_tol, _, _), _, stroker in chunk:
+    for name, paths, nib_region, tols, _, stroker in chunk:
         t0 = time.process_time()
         try:
-            region, error = stroke_glyph_region(paths, nib_region, sum_tol, stroker), None
+            region, error = stroke_glyph_region(paths, nib_region, tols.geometry, stroker), None
         except MorphError as exc:
             region, error = None, exc
         out.append((region, error, time.process_time() - t0))
@@ -337,7 +338,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen, symmetric)
     place = _placement(font, stroked + followed, nib_region)
-    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region, _tolerances(tol, kind),
+    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region,
+                                    budget.plan(tol, kind == ".ttf"),
                                     place.shifts, stroker)
     results = [r for rs in run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs,
                                     progress=_by_name(progress)) for r in rs]
@@ -599,28 +601,13 @@ def _fea_number(v):
     return str(int(round(v)))
 
 
-def _outline_tolerance(tols):
-    """(tolerance, quadratic) of the outlines written into the UFO for the shares
-    (stroke, cubic, cu2qu) of :func:`_tolerances`: cubics within the cubic share, or
-    for TrueType quadratic splines within cubic + cu2qu (:func:`morph.export.
-    loops_to_quadratics` splits it the same way), so that ufo2ft has nothing to
-    convert and every point is rounded to an integer once."""
-    _, cubic, cu2qu = tols
-    return cubic + cu2qu, cu2qu > 0
-
-
-def _tolerances(tol, kind):
-    """(stroke, cubic, cu2qu) shares of the outline tolerance (font units): the stroke
-    and the export split by :func:`morph.export.split_tolerance`; for TrueType the
-    export share is split again between the cubics and ufo2ft's cu2qu conversion
-    (:data:`morph.export.QUADRATIC_CUBIC_SHARE`)."""
-    from ..export import QUADRATIC_CUBIC_SHARE, split_tolerance
-
-    geometry, export = split_tolerance(tol)
-    if kind != ".ttf":
-        return geometry, export, 0.0
-    cubic = QUADRATIC_CUBIC_SHARE * export
-    return geometry, cubic, export - cubic
+def _outline_tolerance(budget):
+    """(tolerance, quadratic) of the outlines written into the UFO for a
+    :class:`morph.budget.Budget`: cubics within the cubic share, or for TrueType
+    quadratic splines within cubic + cu2qu (:func:`morph.export.loops_to_quadratics`
+    splits it the same way), so that ufo2ft has nothing to convert and every point is
+    rounded to an integer once."""
+    return budget.export, budget.cu2qu > 0
 
 
 def _copy_font(font):
@@ -682,7 +669,7 @@ def _save(font, out_path, kind, tol, overwrite):
                 else:
                     upm = font.info.unitsPerEm or 1000
                     otf = ufo2ft.compileTTF(font,
-                                            cubicConversionError=_tolerances(tol, kind)[2] / upm)
+                                            cubicConversionError=budget.plan(tol, True).cu2qu / upm)
             except Exception as exc:
                 raise MorphError("ufo2ft could not compile %s: %s"
                                  % (out_path.name, one_line(exc))) from exc

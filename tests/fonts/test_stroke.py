@@ -302,10 +302,11 @@ def test_chunk_strokes_glyph_by_glyph_where_the_packed_call_raises(skeleton, mon
     """The chunk job strokes its glyphs together; where that raises, one by one, so
     the glyphs come out as if stroked alone (and only a failing one falls back)."""
     import morph.stroke
-    from morph.fonts.stroke import _stroked_regions, _tolerances
+    from morph.budget import plan
+    from morph.fonts.stroke import _stroked_regions
     from morph.stroke import stroke_paths
 
-    tols, pen = _tolerances(0.5, ".otf"), nib()
+    tols, pen = plan(0.5), nib()
     chunk = [(n, decomposed_paths(skeleton, n), pen, tols, (0.0, 0.0), None)
              for n in ("o", "i", "H")]
     together = _stroked_regions(chunk)
