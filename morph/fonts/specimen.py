@@ -177,14 +177,16 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
     """
     from fontTools.ttLib import TTFont
 
+    from ..parse import font_display_name
+
     esc = html.escape
     font_path = Path(font_path)
     html_path = specimen_path(font_path) if html_path is None else Path(html_path)
     font = TTFont(str(font_path), lazy=True)
-    family = font["name"].getDebugName(4) or font_path.stem
+    family = font_display_name(font, font_path.stem)
     if source_font is not None:
         head = ("source: %s (left) &middot; result: %s, %s (right)"
-                % (esc(source_font["name"].getDebugName(4)), esc(family), esc(font_path.name)))
+                % (esc(font_display_name(source_font, "source")), esc(family), esc(font_path.name)))
     else:
         head = "%s, %s" % (esc(family), esc(font_path.name))
     css = _CSS % {"faces": _font_faces(font_path, source_font), "x": SAMPLE_POS[0],

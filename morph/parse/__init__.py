@@ -13,8 +13,8 @@ import os
 from pathlib import Path
 
 from . import glyphs
-from .glyphs import (cubic_test_font_path, default_font_path, glyph_name,  # noqa: F401
-                     glyph_region, instantiate_font, load_font, parse_location, read_glyph)
+from .glyphs import (cubic_test_font_path, default_font_path, font_display_name,  # noqa: F401
+                     glyph_name, glyph_region, instantiate_font, load_font, parse_location, read_glyph)
 from .shape import Shape
 
 #: names of :mod:`.svg` (its ``__all__``), imported on first use (PEP 562): reading a
