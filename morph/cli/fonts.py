@@ -218,7 +218,9 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "is the pen point). Overrides --nib.")
 @click.option("--glyphs", default=None,
               help="UFO only: characters, ranges (a-z) and glyph names, comma separated. "
-                   "Default: every glyph.")
+                   "Default: every glyph. Glyphs not chosen (nor following as composites) "
+                   "are left empty with their advances, so the output compiles; a .ufo "
+                   "output keeps their skeletons in its layer 'skeleton'.")
 @tol_option(default=None, what="outlines (stroke and curve conversion together)",
             note="Default: %g em for a UFO (the outlines are then rounded to integer "
                  "coordinates, <= 0.71 unit more), %g user units for an SVG, as for "
@@ -332,12 +334,18 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)
-    extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
-    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s%s), sample %s%s"
+    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"
                % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
                   count(stats["composites"], "composite"), count(stats["points"], "point"),
-                  seconds, count(jobs, "job"), extra, png,
+                  seconds, count(jobs, "job"), png,
                   " and specimen %s" % page if page else ""))
+    if stats["emptied"]:
+        from ..fonts.stroke import SKELETON_LAYER
+
+        click.echo("note: %s not chosen by --glyphs left empty (advances kept)%s"
+                   % (count(stats["emptied"], "glyph"),
+                      "; their skeletons are in the UFO layer '%s'" % SKELETON_LAYER
+                      if out.suffix.lower() == ".ufo" else ""), err=True)
     return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
                             " to a polygon stroke")
 

@@ -57,3 +57,31 @@ def test_display_name_falls_back_on_family_and_style(font_without_full_name):
     assert font_display_name(font) == "NotoSansCFF-Regular"  # the PostScript name
     font["name"].removeNames(nameID=6)
     assert font_display_name(font, "x.otf") == "x.otf"
+
+
+# =========================================================================== 2: UFO subsets
+
+def test_stroked_ufo_subset_compiles(runner, tmp_path):
+    """``morph stroke SKELETON -o sub.ufo --glyphs ...`` (the help's own example)
+    writes a UFO that ufo2ft compiles as it stands, to CFF and TrueType: the glyphs
+    not chosen are left empty (advance kept, skeleton moved to the ``skeleton``
+    layer), and stderr says so."""
+    import ufo2ft
+    import ufoLib2
+
+    from tests import RELIEF_SUBSET
+
+    out = tmp_path / "sub.ufo"
+    res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), "--glyphs",
+                               "H,o", "--tol", "2e-3"])
+    assert res.exit_code == 0, res.output
+    assert "not chosen" in res.stderr and "skeleton" in res.stderr
+    font = ufoLib2.Font.open(out)
+    source = ufoLib2.Font.open(RELIEF_SUBSET)
+    assert all(not c.open for g in font for c in g.contours)
+    assert not font["A"].contours and font["A"].width == source["A"].width
+    assert len(font.layers["skeleton"]["A"].contours) == len(source["A"].contours)
+    assert "H" not in font.layers["skeleton"]  # stroked glyphs: their outline only
+    otf = ufo2ft.compileOTF(font)
+    ttf = ufo2ft.compileTTF(font)
+    assert otf["CFF "] and ttf["glyf"]["o"].numberOfContours == 2

@@ -128,11 +128,12 @@ def test_font_plumbing_with_polygon_stroker(skeleton, tmp_path):
     assert dict(f.groups) == dict(skeleton.groups)
     assert f.info.familyName == "Relief SingleLine Stroke"
     assert f.info.postscriptStemSnapH is None
-    # glyphs not chosen keep their skeletons in a UFO ...
-    assert [[(p.x, p.y, p.type) for p in c.points] for c in f["B"].contours] == \
-        [[(p.x, p.y, p.type) for p in c.points] for c in skeleton["B"].contours]
-    assert all(c.open for c in f["B"].contours)
-    # ... and are left empty in a compiled font
+    # glyphs not chosen are left empty in a UFO (so that it compiles), their
+    # skeletons kept in the layer 'skeleton' ...
+    assert not f["B"].contours and f["B"].width == skeleton["B"].width
+    assert [[(p.x, p.y, p.type) for p in c.points] for c in f.layers["skeleton"]["B"].contours] \
+        == [[(p.x, p.y, p.type) for p in c.points] for c in skeleton["B"].contours]
+    # ... and in a compiled font
     stats = stroke_ufo(skeleton, tmp_path / "plumb.otf", n, ["H"], tol=0.5,
                        stroker=polygon_stroker(0.25))
     assert stats["emptied"] > 60
