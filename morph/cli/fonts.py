@@ -35,7 +35,8 @@ def _parse_nib(spec):
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
                    "source's; the suffix picks the container). Also written next to it: "
-                   "OUTPUT.png (sample image) and OUTPUT.html (specimen).")
+                   "OUTPUT.png (sample image) and OUTPUT.html (specimen), e.g. X.ttf.png "
+                   "and X.ttf.html for -o X.ttf.")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
               help="Elliptical nib: width, height in font units and angle in degrees.")
 @click.option("--nib-svg", type=click.Path(dir_okay=False), default=None,
@@ -147,11 +148,12 @@ def _brush_source(font_file):
 
 
 def _companions(out, force, specimen=True):
-    """(OUT.png, OUT.html or None) written next to a font; InputError when one exists
-    and ``force`` is not given."""
-    from ..fonts.specimen import specimen_path
+    """(OUT.png, OUT.html or None) written next to a font OUT (e.g. X.ttf.png,
+    X.ttf.html: :func:`morph.fonts.specimen.sample_path`, ``specimen_path``);
+    InputError when one exists and ``force`` is not given."""
+    from ..fonts.specimen import sample_path, specimen_path
 
-    png, page = out.with_suffix(".png"), specimen_path(out) if specimen else None
+    png, page = sample_path(out), specimen_path(out) if specimen else None
     for extra in (png, page):
         if extra is not None and extra.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % extra)
@@ -205,7 +207,8 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="UFO skeleton: OUT.ufo (a copy of the source, outlines replaced), "
                    "OUT.otf (CFF) or OUT.ttf (TrueType), compiled with ufo2ft, plus a "
-                   "sample image OUT.png (and a specimen OUT.html for a font). SVG "
+                   "sample image OUT.png (and a specimen OUT.html for a font; e.g. "
+                   "X.otf.png and X.otf.html for -o X.otf). SVG "
                    "skeleton: OUT.svg or OUT.png.")
 @click.option("--nib", default=None,
               help="Elliptical nib ellipse:W,H,ANGLE: width and height in font units "

@@ -85,3 +85,29 @@ def test_stroked_ufo_subset_compiles(runner, tmp_path):
     otf = ufo2ft.compileOTF(font)
     ttf = ufo2ft.compileTTF(font)
     assert otf["CFF "] and ttf["glyf"]["o"].numberOfContours == 2
+
+
+# =========================================================================== 3: side outputs
+
+def test_side_outputs_of_two_formats_live_side_by_side(runner, tmp_path):
+    """The sample image and specimen are named after the whole output name
+    (X.ttf -> X.ttf.png, X.ttf.html), so X.ttf and X.woff2 can be built into one
+    folder without --force, and --force rewrites only its own side outputs."""
+    ttf, woff2 = tmp_path / "X.ttf", tmp_path / "X.woff2"
+    for out in (ttf, woff2):
+        res = runner.invoke(main, ["brush", "-o", str(out), "--glyphs", "o"])
+        assert res.exit_code == 0, res.output
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["X.ttf", "X.ttf.html", "X.ttf.png", "X.woff2", "X.woff2.html",
+                     "X.woff2.png"]
+    assert 'url("X.woff2")' in (tmp_path / "X.woff2.html").read_text()
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir() if "woff2" in p.name}
+    for p in tmp_path.iterdir():  # mark the woff2 build's files
+        if "woff2" in p.name:
+            os.utime(p, (1, 1))
+    res = runner.invoke(main, ["brush", "-o", str(ttf), "--glyphs", "o", "--nib",
+                               "ellipse:40,20,0", "--force"])
+    assert res.exit_code == 0, res.output
+    for p in tmp_path.iterdir():
+        if "woff2" in p.name:
+            assert p.stat().st_mtime == 1 and p.read_bytes() == before[p.name]

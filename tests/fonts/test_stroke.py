@@ -237,7 +237,7 @@ def test_cli_stroke_ufo(tmp_path):
     runner = CliRunner()
     res = runner.invoke(main, ["stroke", str(SUBSET), "-o", str(out), "--glyphs", "H,o"])
     assert res.exit_code == 0, res.output
-    assert out.is_file() and out.with_suffix(".png").is_file()
+    assert out.is_file() and out.with_name(out.name + ".png").is_file()
     assert "glyphs stroked" in res.output
     again = runner.invoke(main, ["stroke", str(SUBSET), "-o", str(out), "--glyphs", "H"])
     assert again.exit_code == 2 and "exists" in again.output
@@ -246,7 +246,7 @@ def test_cli_stroke_ufo(tmp_path):
                                "--nib", "ellipse:60,60,0", "--tol", "1e-3"])
     assert res.exit_code == 0, res.output
     f = ufoLib2.Font.open(ufo)
-    assert f["o"].width == 592 + 60 and ufo.with_suffix(".png").is_file()
+    assert f["o"].width == 592 + 60 and ufo.with_name(ufo.name + ".png").is_file()
 
 
 @pytest.mark.parametrize("args, message", [
