@@ -135,7 +135,8 @@ def output_option(f):
 
 def force_option(f):
     return click.option("--force", is_flag=True, default=False,
-                        help="Overwrite an existing output file.")(f)
+                        help="Overwrite an existing output file (for frames: replace the "
+                             "frames and animation morph wrote in the folder before).")(f)
 
 
 def size_option(f):
@@ -174,14 +175,18 @@ def resolve_output(output, default_name, force, suffixes=IMAGE_SUFFIXES):
 def resolve_output_dir(output, default_name, force):
     """Checked output folder for frame sequences (created if missing).
 
-    An existing non-empty folder needs ``force``.  Raises InputError.
+    An existing non-empty folder needs ``force`` (the command then removes the
+    frames it wrote before and does not write again, see
+    :func:`morph.render.figures.stale_frame_files`; other files are kept).  Raises
+    InputError.
     """
     path = Path(output) if output is not None else Path.cwd() / default_name
     if path.exists() and not path.is_dir():
         raise InputError("output %s exists and is not a folder" % path)
     if path.is_dir() and any(path.iterdir()) and not force:
-        raise InputError("output folder %s is not empty; use --force to write "
-                               "into it" % path)
+        raise InputError("output folder %s is not empty (frames of an earlier run?); use "
+                         "--force to replace the frames morph wrote there (other files "
+                         "are kept)" % path)
     if not path.parent.is_dir():
         raise InputError("output folder %s does not exist" % path.parent)
     path.mkdir(exist_ok=True)

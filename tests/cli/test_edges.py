@@ -111,3 +111,24 @@ def test_side_outputs_of_two_formats_live_side_by_side(runner, tmp_path):
     for p in tmp_path.iterdir():
         if "woff2" in p.name:
             assert p.stat().st_mtime == 1 and p.read_bytes() == before[p.name]
+
+
+# =========================================================================== 4: frame folders
+
+def test_force_replaces_morphs_own_frames_only(runner, tmp_path):
+    """A second run into a frames folder needs --force (the error says so); with it,
+    the frames and animation morph wrote before and does not write again are
+    removed, and files morph did not write are kept."""
+    out = tmp_path / "d"
+    args = ["glyph", "T", "M", "-o", str(out), "--size", "32", "--tol", "2e-3"]
+    res = runner.invoke(main, args + ["--frames", "4"])
+    assert res.exit_code == 0, res.output
+    (out / "notes.txt").write_text("mine")
+    (out / "frame-7.png").write_text("not morph's naming")
+    res = runner.invoke(main, args + ["--frames", "2"])
+    assert res.exit_code == 2 and "--force" in one_error_line(res)
+    res = runner.invoke(main, args + ["--frames", "2", "--force", "--animation", "apng"])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in out.iterdir()) == [
+        "frame-000.png", "frame-000.svg", "frame-001.png", "frame-001.svg", "frame-7.png",
+        "morph.apng", "notes.txt"]
