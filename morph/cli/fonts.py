@@ -142,6 +142,12 @@ def _brush_source(font_file):
     from ..parse import default_font_path
 
     src = default_font_path() if font_file in (None, "default") else font_file
+    if Path(src).is_dir() and (Path(src) / "metainfo.plist").is_file():
+        raise InputError("%s is a UFO source: morph brush reads compiled fonts (.ttf, .otf); "
+                         "stroke a UFO skeleton with 'morph stroke', or compile a UFO of "
+                         "filled outlines first (fontmake)" % src)
+    if Path(src).is_dir():
+        raise InputError("font %s is a folder, not a font file" % src)
     if not Path(src).is_file():
         raise InputError("font %s does not exist" % src)
     return src

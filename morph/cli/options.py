@@ -146,10 +146,44 @@ def size_option(f):
 
 
 def common_options(f):
-    """--font, --tol, -o/--output, --force, --size: the shared vocabulary."""
+    """--font, --tol, -o/--output, --force, --size: the shared vocabulary; the shape
+    arguments are checked against them (:func:`check_shape_units`)."""
+    import functools
+
+    @functools.wraps(f)
+    def checked(*args, **kwargs):
+        check_shape_units(kwargs.get("font"),
+                          [v for v in kwargs.values() if hasattr(v, "units_per_em")])
+        return f(*args, **kwargs)
+
     for deco in (size_option, force_option, output_option, tol_option, font_option):
-        f = deco(f)
-    return f
+        checked = deco(checked)
+    return checked
+
+
+def check_shape_units(font, shapes):
+    """The shapes of one command and --font agree: --font given while every shape is
+    an SVG file is bad input (InputError: it would be ignored); SVG shapes (user
+    units) combined with glyphs (font units) are summed as 1 user unit = 1 font unit,
+    which a MorphWarning says."""
+    import warnings
+
+    from ..errors import MorphWarning
+
+    kinds = {s.kind for s in shapes}
+    if font is not None and shapes and kinds == {"svg"}:
+        raise InputError("--font %s applies to glyph shapes, and %s %s SVG file%s"
+                         % (font, " and ".join(s.name for s in shapes),
+                            "is an" if len(shapes) == 1 else "are",
+                            "" if len(shapes) == 1 else "s"))
+    if kinds == {"svg", "glyph"}:
+        svg = [s.name for s in shapes if s.kind == "svg"]
+        glyph = [s.name for s in shapes if s.kind == "glyph"]
+        warnings.warn(MorphWarning(
+            "%s in SVG user units and glyph %s in font units are combined as 1 user unit "
+            "= 1 font unit (--tol in the units of the first shape, %s)"
+            % (", ".join(svg), ", ".join(glyph),
+               "user units" if shapes[0].kind == "svg" else "em")))
 
 
 # =========================================================================== output

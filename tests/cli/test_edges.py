@@ -132,3 +132,53 @@ def test_force_replaces_morphs_own_frames_only(runner, tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [
         "frame-000.png", "frame-000.svg", "frame-001.png", "frame-001.svg", "frame-7.png",
         "morph.apng", "notes.txt"]
+
+
+# =========================================================================== 7: errors
+
+BOX_SVG = ('<svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 H 100 V 80 H 0 Z"/>'
+           '</svg>')
+
+
+def test_brush_of_a_ufo_points_to_stroke(runner, tmp_path):
+    from tests import RELIEF_SUBSET
+
+    res = runner.invoke(main, ["brush", str(RELIEF_SUBSET), "-o", str(tmp_path / "b.ttf")])
+    line = one_error_line(res)
+    assert res.exit_code == 2 and "morph stroke" in line and "does not exist" not in line
+
+
+@pytest.mark.parametrize("name", ["picture.png", "sub/picture.png"])
+def test_shape_file_that_is_not_svg(runner, tmp_path, monkeypatch, name):
+    """A file that is not an SVG document is named as such, not looked up as a
+    glyph; a path that does not exist says so."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / name).write_bytes(b"\x89PNG\r\n\x1a\n")
+    res = runner.invoke(main, ["outline", name])
+    line = one_error_line(res)
+    assert res.exit_code == 2 and "not an SVG" in line and "no glyph" not in line
+    res = runner.invoke(main, ["outline", "missing/" + name])
+    line = one_error_line(res)
+    assert res.exit_code == 2 and "no such file" in line
+
+
+def test_font_given_for_svg_shapes_only(runner, tmp_path):
+    from morph.parse import cubic_test_font_path
+
+    box = tmp_path / "box.svg"
+    box.write_text(BOX_SVG)
+    res = runner.invoke(main, ["svg", str(box), str(box), "--frames", "2", "-o",
+                               str(tmp_path / "f"), "--font", cubic_test_font_path()])
+    assert res.exit_code == 2 and "--font" in one_error_line(res)
+    assert not (tmp_path / "f").exists()
+
+
+def test_svg_and_glyph_mixed_units_say_so(runner, tmp_path):
+    box = tmp_path / "box.svg"
+    box.write_text(BOX_SVG)
+    res = runner.invoke(main, ["sum", str(box), "o", "-o", str(tmp_path / "s.png"),
+                               "--size", "32"])
+    assert res.exit_code == 0, res.output
+    warning = [s for s in res.stderr.splitlines() if s.startswith("morph: warning:")]
+    assert len(warning) == 1 and "user units" in warning[0] and "font units" in warning[0]
