@@ -232,8 +232,8 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "output keeps their skeletons in its layer 'skeleton'.")
 @tol_option(default=None, what="outlines (stroke and curve conversion together)",
             note="Default: %g em for a UFO (the outlines are then rounded to integer "
-                 "coordinates, <= 0.71 unit more), %g user units for an SVG, as for "
-                 "images of the other commands." % (FONT_TOL, DEFAULT_TOL))
+                 "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
+                 "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image (UFO skeletons).")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
@@ -274,7 +274,6 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
-        tol = DEFAULT_TOL if tol is None else tol
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
         tol = FONT_TOL if tol is None else tol
@@ -380,6 +379,8 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     box = region_bbox(lines)
     scale = max(box[2] - box[0], box[3] - box[1], 1e-12) / 1000.0
     nib_region = _stroke_nib(nib, nib_svg, scale)
+    if tol is None:  # relative to the drawing, as for the shapes of the other commands
+        tol = DEFAULT_TOL * 1000.0 * scale
     check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
                     unit_name="user units")
     st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol

@@ -8,12 +8,17 @@ EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
 #: --tol of every command is absolute: in em for glyphs and fonts (font units divided
 #: by units per em), in user units for SVG; it bounds the written curves' distance
-#: from the exact result (computation and export together).  Defaults: images 1e-4,
-#: fonts 5e-4 em (their outlines are then rounded to integer units, <= 0.71 unit more).
+#: from the exact result (computation and export together).  Defaults: images 1e-4
+#: em for glyphs and 1e-4 of the drawing's size for SVG
+#: (:meth:`morph.parse.Shape.tolerance`), fonts 5e-4 em (their outlines are then
+#: rounded to integer units, <= 0.71 unit more).  The library's ``tol`` is in the
+#: shapes' own units: :meth:`morph.parse.Shape.em_to_units` converts.
 DEFAULT_TOL = 1e-4
 FONT_TOL = 5e-4
 TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
              "em), in user units for SVG")
+TOL_DEFAULT_NOTE = ("Default: 1e-4 em for glyphs, 1e-4 of the drawing's size (the larger "
+                    "side of the shapes' bounding boxes) for SVG.")
 IMAGE_SUFFIXES = (".png", ".svg")
 
 
@@ -26,7 +31,8 @@ class InputError(click.ClickException):
 # =========================================================================== shapes
 
 def shape_tolerance(shape, tol, *others, check=True, share=1.0):
-    """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
+    """--tol in the shape's units: em -> font units for glyphs, as is for SVG; no
+    --tol (None): the default relative to the size (:meth:`morph.parse.Shape.tolerance`).
 
     With ``check`` the tolerance is checked against this shape and the ``others``
     (regions summed with it, e.g. the other operand or the offset disk) by
@@ -36,7 +42,7 @@ def shape_tolerance(shape, tol, *others, check=True, share=1.0):
     of --tol the computation runs at (:func:`morph.export.split_tolerance`); the
     check is made at it and its message names --tol values.
     """
-    t = shape.em_to_units(tol)
+    t = shape.tolerance(tol, *others)  # None: the default, relative to the size
     if check:
         from ..limits import check_tolerance
 
@@ -145,9 +151,14 @@ def size_option(f):
                         help="Longer side of the image in pixels.")(f)
 
 
+def _default_tol_option(f):
+    return tol_option(f, default=None, note=TOL_DEFAULT_NOTE)
+
+
 def common_options(f):
     """--font, --tol, -o/--output, --force, --size: the shared vocabulary; the shape
-    arguments are checked against them (:func:`check_shape_units`)."""
+    arguments are checked against them (:func:`check_shape_units`).  --tol is None
+    when not given (:func:`shape_tolerance` takes the default)."""
     import functools
 
     @functools.wraps(f)
@@ -156,7 +167,7 @@ def common_options(f):
                           [v for v in kwargs.values() if hasattr(v, "units_per_em")])
         return f(*args, **kwargs)
 
-    for deco in (size_option, force_option, output_option, tol_option, font_option):
+    for deco in (size_option, force_option, output_option, _default_tol_option, font_option):
         checked = deco(checked)
     return checked
 

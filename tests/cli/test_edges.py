@@ -182,3 +182,45 @@ def test_svg_and_glyph_mixed_units_say_so(runner, tmp_path):
     assert res.exit_code == 0, res.output
     warning = [s for s in res.stderr.splitlines() if s.startswith("morph: warning:")]
     assert len(warning) == 1 and "user units" in warning[0] and "font units" in warning[0]
+
+
+# =========================================================================== 12: SVG tolerance
+
+def _ellipse_svg(scale):
+    return ('<svg xmlns="http://www.w3.org/2000/svg"><ellipse cx="%g" cy="%g" rx="%g" '
+            'ry="%g"/></svg>' % (3 * scale, 2 * scale, 2 * scale, scale))
+
+
+def _curves(svg):
+    """The number of cubic segments (C and S) of a written SVG's path data."""
+    import re
+
+    d = re.search(r' d="([^"]*)"', svg.read_text()).group(1)
+    return sum(len(re.findall(r"-?[0-9.e]+", part)) // ({"C": 6, "S": 4}[part[0]])
+               for part in re.findall(r"[CS][^A-Za-z]*", d))
+
+
+def test_svg_default_tolerance_is_relative_to_the_drawing(runner, tmp_path):
+    """Without --tol an SVG is written within 1e-4 of its size, as a glyph within
+    1e-4 em: the same drawing at two scales gives the same curves; an explicit
+    --tol is absolute (user units)."""
+    counts = []
+    for scale in (1.0, 1e4):
+        src = tmp_path / ("e%g.svg" % scale)
+        src.write_text(_ellipse_svg(scale))
+        out = tmp_path / ("o%g.svg" % scale)
+        res = runner.invoke(main, ["outline", str(src), "-o", str(out)])
+        assert res.exit_code == 0, res.output
+        counts.append(_curves(out))
+    assert counts[0] == counts[1] > 1
+    # explicit --tol: absolute, the larger drawing needs more curves at the same value
+    res = runner.invoke(main, ["outline", str(tmp_path / "e10000.svg"), "-o",
+                               str(tmp_path / "abs.svg"), "--tol", "1e-4"])
+    assert res.exit_code == 0, res.output
+    assert _curves(tmp_path / "abs.svg") > counts[1]
+
+
+def test_tol_help_states_both_defaults(runner):
+    res = runner.invoke(main, ["svg", "--help"])
+    text = " ".join(res.output.split())
+    assert "of the drawing's size" in text and "absolute" in text
