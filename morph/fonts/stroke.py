@@ -49,8 +49,11 @@ stroked base would scale the nib too.
 Which glyphs.  ``glyphs`` (None: all) are stroked, with the base glyphs of their kept
 components, and the composites not chosen that use only stroked glyphs through kept
 components (e.g. eacute when e and acutecomb are) follow for free.  Every other glyph
-keeps its skeleton in a ``.ufo`` output; in a compiled font it is left empty (an open
-skeleton cannot be filled), its advance kept.
+is left empty, its advance kept, in every output: an open skeleton cannot be filled,
+and a ``.ufo`` output must compile with ufo2ft as it stands (a type designer builds
+the subset they asked for).  In a ``.ufo`` the skeletons of those glyphs are kept in
+a layer named ``skeleton`` (:data:`SKELETON_LAYER`; not compiled), so nothing of
+the source is lost.
 """
 
 import os
@@ -71,10 +74,12 @@ from .brush import check_convex_nib, glyph_chunks, region_extent
 from .jobs import run_jobs
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
-           "move_feature_anchors", "DEFAULT_NIB"]
+           "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
 
 # the default broad nib: 90 x 20 units at upm 1000, long axis at 30 degrees
 DEFAULT_NIB = (90.0, 20.0, 30.0)
+#: the layer of a ``.ufo`` output holding the skeletons of the glyphs not stroked
+SKELETON_LAYER = "skeleton"
 
 _DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
               "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
@@ -314,7 +319,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
     (composites kept without being chosen), ``composites`` (written glyphs that keep
     components), ``decomposed`` (components decomposed because of a transformation),
-    ``emptied`` (glyphs left empty in a compiled font), ``contours``, ``points`` (on-
+    ``emptied`` (glyphs not chosen, left empty), ``contours``, ``points`` (on-
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
@@ -484,18 +489,18 @@ def _move_furniture(font, names, place, symmetric):
 
 
 def _empty_unstroked(font, done, kind):
-    """Clear the skeletons of glyphs not written anew in a compiled font (``kind``
-    .otf or .ttf: an open skeleton cannot be filled; a .ufo keeps them); how many
-    were cleared."""
-    if kind == ".ufo":
-        return 0
-    emptied = 0
-    for g in font:
-        if g.name not in done and (g.contours or g.components):
-            g.clearContours()
-            g.clearComponents()
-            emptied += 1
-    return emptied
+    """Clear the skeletons of the glyphs not written anew (an open skeleton cannot be
+    filled; a written UFO must compile), keeping their advances; in a ``.ufo`` output
+    their skeletons go to the :data:`SKELETON_LAYER` layer.  How many were cleared."""
+    emptied = [g for g in font if g.name not in done and (g.contours or g.components)]
+    if emptied and kind == ".ufo":
+        layer = font.layers.get(SKELETON_LAYER) or font.layers.newLayer(SKELETON_LAYER)
+        for g in emptied:
+            layer.insertGlyph(g, overwrite=True, copy=True)
+    for g in emptied:
+        g.clearContours()
+        g.clearComponents()
+    return len(emptied)
 
 
 def _move_feature_file(font, place):

@@ -192,7 +192,7 @@ def test_cli_brush(tmp_path):
                                   "--nib", "ellipse:60,20,45", "--sample", "ToT"])
     assert r.exit_code == 0, r.output
     assert TTFont(str(out))["name"].getDebugName(1).endswith("Brush")
-    assert (tmp_path / "f.png").stat().st_size > 0
+    assert (tmp_path / "f.ttf.png").stat().st_size > 0
     nib = tmp_path / "nib.svg"
     nib.write_text('<svg xmlns="http://www.w3.org/2000/svg"><path '
                    'd="M0 0 L20 0 L10 5 L20 20 L0 20 Z"/></svg>')
@@ -336,7 +336,7 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     r = CliRunner().invoke(main, ["brush", "-o", str(tmp_path / "c.ttf"), "--glyphs", "o,T",
                                   "--jobs", "1", "--sample", "oT"])
     assert r.exit_code == 1, r.output
-    assert (tmp_path / "c.ttf").stat().st_size > 0 and (tmp_path / "c.html").exists()
+    assert (tmp_path / "c.ttf").stat().st_size > 0 and (tmp_path / "c.ttf.html").exists()
     line = [s for s in r.output.splitlines() if s.startswith("morph: error:")]
     assert len(line) == 1 and "o (polygon sum" in line[0] and "T (" not in line[0]
 
