@@ -791,8 +791,8 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
 
 
 def targets(glyph_rows, ladders, nibs, cli):
-    """The issue #18 targets, met / not met with the ratio."""
-    T = ["## Targets of issue #18", "",
+    """The headline figures, met / not met with the ratio."""
+    T = ["## Headline figures", "",
          "| target | measured | ratio | met? |", "|---|---|---|---|"]
 
     def row(name, meas, r, ok):
