@@ -14,14 +14,14 @@ Measures, in one run:
    independently: max | |C(t)| - 2 | over 257 samples per cubic (exact distance to
    the circle).
 2. ``morph offset O --radius 0.04`` as the command writes it (sum within
-   ``split_tolerance(tol)[0]``, SVG path data within the export share) on the bundled
+   ``plan(tol).geometry``, SVG path data within the export share) on the bundled
    Noto Sans TrueType and CFF fonts, at tol 1e-4 em (the default, 0.1 unit) and
    1e-5 em: the number of SVG path commands (C / Q / L) of the offset outline, against
    ``kurbopy.offset_cubic`` applied to each cubic of the CFF O (40 units, accuracy
    0.1 and 0.01 unit; untrimmed per-segment offsets, so a lower bound of what a
    kurbo-based offsetter writes) and the previous exporter on the same pieces.
 3. Brushed glyphs (the ``morph brush`` default nib: ellipse 80 x 30 units rotated
-   30°, total tol 0.5 unit, split by ``split_tolerance``): outline points (on- and
+   30°, total tol 0.5 unit, split by ``plan``): outline points (on- and
    off-curve, cubics) per glyph, new exporter against the previous one.  The issue
    quotes FontForge's Expand Stroke at 51-95 points for such glyphs.
 4. The certified total: circle ⊕ circle written as SVG through the command's path
@@ -60,8 +60,8 @@ import kurbopy  # noqa: E402 - after sys.path gets the repo root
 
 from morph import bernstein as bz  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
-from morph.export import (SUM_SHARE, loop_to_beziers, piece_to_cubics,  # noqa: E402 - after sys.path gets the repo root
-                          split_tolerance)
+from morph.budget import SUM_SHARE, plan  # noqa: E402 - after sys.path gets the repo root
+from morph.export import loop_to_beziers, piece_to_cubics  # noqa: E402 - after sys.path gets the repo root
 from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
 
 PREVIOUS = "2043d8b~1"      # the exporter before kurbo's fit
@@ -203,7 +203,7 @@ def offset_table(old, tols):
         upm = 1000.0
         for tol_em in tols:
             tol = tol_em * upm
-            st, et = split_tolerance(tol)
+            st, et = plan(tol)[:2]
             t = time.process_time()
             loops = offset_region(g.region, 0.04 * upm, st)
             d = svg_path_data(loops, et)
@@ -262,7 +262,7 @@ def brush_table(old, chars, tol=0.5):
     from morph.parse import glyph_region
 
     nib = ellipse_nib(80, 30, 30)
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     rows = []
     for key, path in font_paths().items():
         for ch in chars:
@@ -436,7 +436,7 @@ def _skia_o(region, rx, ry, ang, scale):
 
 def peer_table(morph_tols, ff_accuracies, skia_scales):
     """O ⊕ disk and O ⊕ ellipse: points and measured error of morph (sum +
-    loop_to_beziers at split_tolerance), FontForge Expand Stroke + remove overlap with
+    loop_to_beziers at plan), FontForge Expand Stroke + remove overlap with
     the O, Skia stroke + union with the O."""
     import json
     import os
@@ -449,7 +449,7 @@ def peer_table(morph_tols, ff_accuracies, skia_scales):
         nib = _nib_region(rx, ry, ang)
         ref = _reference(region, nib)
         for tol in morph_tols:
-            st, et = split_tolerance(tol)
+            st, et = plan(tol)[:2]
             t0 = time.process_time()
             loops = minkowski_sum(region, nib, st)
             bez = [loop_to_beziers(lp, et, wrap=True) for lp in loops]
@@ -488,7 +488,7 @@ def circle_total(old, tols):
             res = []
             for mode in ("split", "previous"):
                 if mode == "split":
-                    st, et = split_tolerance(tol)
+                    st, et = plan(tol)[:2]
                     d = svg_path_data(minkowski_sum([a], [b], st), et)
                 else:
                     loops = minkowski_sum([a], [b], tol)
@@ -518,7 +518,7 @@ def share_table(tols, shares=(0.5, 0.25, 0.1)):
         g = glyph_region("O", str(path))
         for tol in tols:
             for share in shares:
-                st, et = split_tolerance(tol, share)
+                st, et = plan(tol, share=share)[:2]
                 t = time.process_time()
                 loops = offset_region(g.region, 40.0, st)
                 t1 = time.process_time()
@@ -557,7 +557,7 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
             "sum pieces | previous (sum at tol, previous exporter) | CPU s (sum + export) |",
             "|---|---|---|---|---|---|---|"]
     for key, tol_em, tol, n, pieces, prev, sec in offs:
-        st, et = split_tolerance(tol)
+        st, et = plan(tol)[:2]
         out.append("| %s | %.0e | %.3g / %.3g | %d | %d | %d | %.2f |"
                    % (key, tol_em, st, et, n, pieces, prev, sec))
     out += ["", "kurbo's `offset_cubic` on each segment of the CFF O (40 units, no trimming "
@@ -566,9 +566,9 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
                 for acc, (n, segs) in kurbo.items()) + ".", "",
             "## 3. Brushed glyphs (ellipse 80 x 30 rotated 30°, tol 0.5 unit), outline points",
             "", "Points: on- and off-curve points of the cubic outline (a line 1, a cubic "
-            "3).  Sum within %.2g unit, export within %.2g unit (split_tolerance); the "
+            "3).  Sum within %.2g unit, export within %.2g unit (plan); the "
             "previous exporter is given the whole 0.5 unit, as before.  FontForge's "
-            "Expand Stroke: 51-95 points." % split_tolerance(0.5), "",
+            "Expand Stroke: 51-95 points." % plan(0.5)[:2], "",
             "| font | glyph | sum pieces | points (morph, loop_to_beziers) | points (new "
             "fitter piece by piece) | points (previous) | export CPU s (loop_to_beziers) |",
             "|---|---|---|---|---|---|---|"]
@@ -578,7 +578,7 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
     out += ["", "## 4. The certified total: circle ⊕ circle written as SVG", "",
             "Error of the written path data against the exact circle of radius r1 + r2 "
             "(svgpathtools, 200 samples per segment), in units of the requested tol. "
-            "'split': the commands' path (`split_tolerance`: sum at %g tol, SVG export "
+            "'split': the commands' path (`plan`: sum at %g tol, SVG export "
             "at the rest, certified).  'previous': sum at tol and the previous exporter "
             "at tol (no total bound)." % SUM_SHARE, "",
             "| r1 + r2 | tol | split: error / tol | split: commands | previous: error / tol "

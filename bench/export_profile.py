@@ -65,7 +65,7 @@ def glyph_names(spec):
 
 def build_inputs(case, glyphs):
     """[(label, loops, export tol, kind)]: kind 'beziers', 'svg' or 'quadratic'."""
-    from morph.export import split_tolerance
+    from morph.budget import plan
     from morph.fonts.brush import ellipse_nib
     from morph.minkowski import minkowski_sum
     from morph.parse import cubic_test_font_path, glyph_region
@@ -77,7 +77,7 @@ def build_inputs(case, glyphs):
 
         font = load_ufo(str(RELIEF), lazy=False)
         nib = ellipse_nib(90, 20, 30) if case == "stroke" else ellipse_nib(60, 60, 0)
-        geometry, export = split_tolerance(0.5)
+        geometry, export = plan(0.5)[:2]
         for name in glyph_names_for(font, glyph_names(glyphs)):
             region = stroke_paths(decomposed_paths(font, name), nib, geometry)
             out.append((name, region, export, "beziers"))
@@ -93,12 +93,12 @@ def build_inputs(case, glyphs):
             out.append((name, minkowski_sum(region, nib, 0.25), 0.25, "quadratic"))
     elif case == "sumOM":
         a, b = glyph_region("O").region, glyph_region("M").region
-        st, et = split_tolerance(0.1)
+        st, et = plan(0.1)[:2]
         out.append(("O+M", minkowski_sum(a, b, st), et, "svg"))
     elif case in ("Odisk", "Oellipse"):
         o = glyph_region("O", font=str(cubic_test_font_path())).region
         nib = [pc.circle((0.0, 0.0), 40.0)] if case == "Odisk" else ellipse_nib(80, 30, 30)
-        st, et = split_tolerance(0.1)
+        st, et = plan(0.1)[:2]
         out.append((case, minkowski_sum(o, nib, st), et, "svg"))
     else:
         raise SystemExit("unknown case %r" % case)

@@ -10,7 +10,7 @@ units; tolerances and errors in em).  Sections:
 glyphs  T+M, O+M, S+g at 1e-3, 1e-4, 1e-5 em (TrueType).
         - morph: ``minkowski_sum(a, b, tol)`` in-process; size = control points (sum of
           len(piece)), and the SVG ``morph sum A B -o x.svg --tol T`` writes (sum at
-          ``split_tolerance``'s share, ``svg_path_data`` with the rest of tol beyond
+          ``plan``'s share, ``svg_path_data`` with the rest of tol beyond
           the sum's achieved bound, :func:`morph_svg`): path commands and outline
           points (on + off curve points stored; T / S imply their first control
           point as TrueType implies on-curve points, counted as the peers' are).
@@ -94,7 +94,7 @@ import dc_sum as DC  # noqa: E402 - bench/dc_sum.py, the peer recipe
 from tests.oracles import measure as ME  # noqa: E402 - after sys.path gets the repo root
 from morph import parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
-from morph.export import export_tolerance, split_tolerance  # noqa: E402 - after sys.path gets the repo root
+from morph.budget import export_tolerance, plan  # noqa: E402 - after sys.path gets the repo root
 from morph.fonts.brush import ellipse_nib  # noqa: E402 - after sys.path gets the repo root
 from morph.minkowski import minkowski_sum  # noqa: E402 - after sys.path gets the repo root
 from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
@@ -131,9 +131,9 @@ def glyph(ch, font=TTF):
 
 def morph_svg(a, b, tol):
     """The path data `morph sum A B -o x.svg --tol T` writes: the sum at its share of
-    tol (split_tolerance), the export with the rest beyond the error the sum
+    tol (plan), the export with the rest beyond the error the sum
     achieved (export_tolerance of its debug["bound"])."""
-    out, debug = minkowski_sum(a, b, split_tolerance(tol)[0], return_debug=True)
+    out, debug = minkowski_sum(a, b, plan(tol).geometry, return_debug=True)
     return svg_path_data(out, export_tolerance(tol, debug["bound"]))
 
 

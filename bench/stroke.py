@@ -34,7 +34,7 @@ of a shared machine) of the stroking calls alone, single core.  morph is timed a
 the ``morph stroke`` command works (``morph.fonts.stroke._chunk_job``): the glyphs
 in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (96, at least two
 chunks: 62 glyphs are two chunks of 31), the glyphs of a chunk stroked together
-(``stroke_many`` at the geometry share of ``split_tolerance(tol)``: its CPU time
+(``stroke_many`` at the geometry share of ``plan(tol)[:2]``: its CPU time
 divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
 wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
@@ -168,7 +168,8 @@ def run_morph(font, names, spec, tols, refs):
     with the peers)."""
     import traceback
 
-    from morph.export import loops_to_beziers, split_tolerance
+    from morph.budget import plan
+    from morph.export import loops_to_beziers
     from morph.fonts.brush import glyph_chunks
     from morph.fonts.stroke import CHUNK
     from morph.stroke import stroke_many
@@ -176,7 +177,7 @@ def run_morph(font, names, spec, tols, refs):
     nib = nib_region(spec)
     rows = []
     for tol in tols:
-        geometry, export = split_tolerance(tol)
+        geometry, export = plan(tol)[:2]
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
         for chunk in glyph_chunks(list(names), CHUNK):
             sets = [decomposed_paths(font, n) for n in chunk]

@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 from morph import export as ex_mod
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from morph.export import (SUM_SHARE, chain_segments, cubic_bound, cubic_segments,
-                          export_tolerance, fit_cubic, loop_to_beziers, loop_to_cubics,
-                          loop_to_quadratics, piece_to_cubics, piece_to_quadratics,
-                          smooth_runs, split_tolerance)
+from morph.budget import export_tolerance, plan
+from morph.export import (chain_segments, cubic_bound, cubic_segments, fit_cubic,
+                          loop_to_beziers, loop_to_cubics, loop_to_quadratics,
+                          piece_to_cubics, piece_to_quadratics, smooth_runs)
 
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -649,14 +649,6 @@ def test_errors():
     assert info.value.achieved > 1e-9 and info.value.piece is not None
 
 
-def test_export_tolerance():
-    assert export_tolerance(1.0, 0.25) == 0.75 and export_tolerance(1e-4, 0.0) == 1e-4
-    for tol, bound in ((0.0, 0.0), (1.0, 1.0), (1.0, -0.1), (float("nan"), 0.0),
-                       (1.0, float("nan"))):
-        with pytest.raises(ValueError):
-            export_tolerance(tol, bound)
-
-
 def test_exact_sum_leaves_its_share_to_the_export():
     """A polynomial-quadratic region ⊕ disk is an exact convolution (every QAC bound
     0): the export gets tol minus the sum's other shares (export_tolerance), and the
@@ -666,7 +658,8 @@ def test_exact_sum_leaves_its_share_to_the_export():
     pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
-    from morph.minkowski import CONV_SHARE, minkowski_sum
+    from morph.budget import CONV_SHARE
+    from morph.minkowski import minkowski_sum
     from morph.render.svg import svg_path_data
 
     pts = [(0, 0), (1, -0.3), (2, 0), (2.3, 1), (2, 2), (1, 2.4), (0, 2), (-0.3, 1)]
@@ -674,7 +667,7 @@ def test_exact_sum_leaves_its_share_to_the_export():
             for i in range(0, 8, 2)]
     poly = Polygon(np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop]))
     radius, tol = 0.3, 1e-3
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv == 0.0
@@ -686,16 +679,6 @@ def test_exact_sum_leaves_its_share_to_the_export():
     z = np.array([seg.point(t) for seg in parse_path(svg_path_data(out, et2))
                   for t in np.linspace(0, 1, 33)])
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
-
-
-def test_split_tolerance():
-    geometry, export = split_tolerance(1e-4)
-    assert geometry + export == pytest.approx(1e-4, rel=1e-15)
-    assert geometry == pytest.approx(SUM_SHARE * 1e-4) and 0 < SUM_SHARE <= 0.5
-    assert split_tolerance(1.0, share=0.25) == (0.25, 0.75)
-    for bad in (0.0, -1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError):
-            split_tolerance(bad)
 
 
 # ------------------------------------------------------------------ the certified total
@@ -744,7 +727,7 @@ def offset_error(points, loop, poly, radius):
 @pytest.mark.parametrize("seed, rational_weights", [(0, False), (3, True)])
 def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
     """A random cubic region ⊕ disk is within tol of the exact offset
-    before export (the sum's pieces) and, with split_tolerance, after the SVG export."""
+    before export (the sum's pieces) and, with morph.budget.plan, after the SVG export."""
     pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
@@ -757,7 +740,7 @@ def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
     pts = np.vstack([rational(p)(np.linspace(0, 1, 33)) for p in pieces])
     assert offset_error(pts, loop, poly, radius) <= tol
     # the written SVG (y flipped back), the sum and the export sharing tol
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     d = svg_path_data(offset_region([loop], radius, st), et)
     z = np.array([seg.point(t) for seg in parse_path(d) for t in np.linspace(0, 1, 33)])
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
@@ -773,12 +756,13 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
-    from morph.minkowski import CONV_SHARE, minkowski_sum
+    from morph.budget import CONV_SHARE
+    from morph.minkowski import minkowski_sum
     from morph.render.svg import svg_path_data
 
     loop, poly = random_cubic_blob(seed, True)
     radius, tol = 0.2, 1e-3
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv > 0
@@ -848,7 +832,7 @@ def test_offset_of_folding_rational_cubics_within_tol():
 @pytest.mark.parametrize("tol", [1e-2, 1e-4])
 def test_circle_plus_circle_written_within_tol(tol):
     """Circle ⊕ circle written as SVG path data (sum and export
-    sharing tol by split_tolerance) is within tol of the exact circle; parsed back
+    sharing tol by morph.budget.plan) is within tol of the exact circle; parsed back
     with svgpathtools (it was 1.41 tol with the whole tol spent twice)."""
     pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
@@ -857,7 +841,7 @@ def test_circle_plus_circle_written_within_tol(tol):
     from morph.minkowski import minkowski_sum
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
-        st, et = split_tolerance(tol)
+        st, et = plan(tol)[:2]
         loops = minkowski_sum([pc.circle((3.0, 2.0), r1)], [pc.circle((-1.0, 1.0), r2)], st)
         path = parse_path(svg_path_data(loops, et))
         z = np.array([seg.point(t) for seg in path for t in np.linspace(0, 1, 65)])
@@ -896,7 +880,7 @@ def test_offset_O_cubics_no_more_than_kurbo():
             cur = args[-1]
     g = glyph_region("O", otf)
     tol = 0.1
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     d = svg_path_data(offset_region(g.region, 40.0, st), et)
     written = sum(d.count(c) for c in "CQL")
     assert written <= kurbo, (written, kurbo)

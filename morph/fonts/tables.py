@@ -340,9 +340,10 @@ def outline_writer(font):
         return _TrueTypeOutlines(font)
     if "CFF " in font:
         return _CFFOutlines(font)
-    label = font["name"].getDebugName(4) if "name" in font else None
-    raise ParseError("font %s has neither TrueType (glyf) nor CFF outlines" % (label or ""),
-                     label)
+    from ..parse import font_display_name
+
+    label = font_display_name(font, "")
+    raise ParseError("font %s has neither TrueType (glyf) nor CFF outlines" % label, label)
 
 
 def outline_glyphs(font):

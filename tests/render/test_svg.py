@@ -9,7 +9,7 @@ from morph import piece as pc
 from morph.parse import glyph_region, svg_region
 from morph.region import region_bbox, reverse_loop
 from morph.render import svg_path_data, write_svg
-from morph.render.svg import ROUND_SHARE
+from morph.budget import ROUND_SHARE
 
 
 def test_svg_path_data_round_trip():
