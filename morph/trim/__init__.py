@@ -117,4 +117,61 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
         return NormalLoops()
     pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
     size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
-    return NormalLoops(boundary(loops, rel * size, rel * size, fill_rule))
+    eps = rel * size
+    loops = [[unfold_flat_curl(p, eps) for p in loop] for loop in loops]
+    return NormalLoops(_without_sliver_holes(boundary(loops, eps, eps, fill_rule), eps))
+
+
+def _without_sliver_holes(loops, eps):
+    """The loops without holes thinner than ``eps`` on average (2 |area| / length):
+    the lobe of a curl that a glyph's contour draws just inside itself, lifted from
+    a ring of the polylines within ``eps`` as exact pieces a hundredth as wide.  A
+    hole that thin is below the fill's resolution (features thinner than 2 eps may
+    merge with their side, :func:`boundary`) and no renderer shows it; the sums
+    would take its convolution for a bite.  Islands, however small, are kept."""
+    from .. import piece as pc
+
+    out = []
+    for loop in loops:
+        area = pc.loop_area(loop)
+        if area < 0:
+            flat = np.concatenate([f[0] for f in pc.flatten_many(loop, eps)])
+            length = float(np.sum(np.hypot(*np.diff(flat, axis=0).T)))
+            if 2.0 * -area < eps * length:
+                continue
+        out.append(loop)
+    return out
+
+
+def unfold_flat_curl(piece, eps):
+    """A piece that folds back on itself within ``eps`` of its chord, replaced by the
+    chord (a line); any other piece as it is.
+
+    Such a piece is a curl thinner than the fill resolves (a handwriting font's
+    pen reversal whose lobe is 1e-8 of its length wide): the fill decides topology
+    on polylines within ``eps``, where the curl is its chord folded onto itself, and
+    a renderer fills nothing of its lobe; but the lifted exact piece would keep the
+    curl, whose tangent turns a full turn more than the loop's, which no sum takes.
+    Every point of the curve is within ``eps`` of the chord (its control points are:
+    the convex hull), and it runs within the chord's ends (its polyline within
+    ``eps / 4`` does, within ``eps``), so the two are within ``eps`` of each other
+    (Hausdorff): the fill's own error.
+    """
+    h = np.asarray(piece, float)
+    if len(h) < 3:
+        return piece
+    c = h[:, :2] / h[:, 2:]
+    a, b = c[0], c[-1]
+    length = float(np.hypot(*(b - a)))
+    if length <= eps:
+        return piece
+    d = (b - a) / length
+    rel = c - a
+    if np.max(np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])) > eps:
+        return piece
+    from .. import piece as pc
+
+    along = (pc.flatten(h, eps / 4.0)[0] - a) @ d
+    if np.all(np.diff(along) >= 0) or along.min() < -eps or along.max() > length + eps:
+        return piece  # no fold, or one reaching past the chord's ends (a spike)
+    return pc.line(a, b)
