@@ -10,7 +10,7 @@ import pytest
 
 from morph import piece as pc
 from morph.minkowski import minkowski_sum
-from morph.region import orient_region
+from morph.region import orient_region, region_bbox
 from morph.trim import fill_region
 from tests import reference as R
 
@@ -130,3 +130,25 @@ def test_curled_glyphs_through_the_commands(tmp_path):
                                "--sample", "abc"])
     assert res.exit_code == 0, res.output
     assert "fell back" not in res.output
+
+
+# =========================================================================== tiny islands
+
+@pytest.mark.parametrize("side", [1e-6, 1e-5, 1e-3])
+@pytest.mark.parametrize("crossing", [False, True])
+def test_tiny_closed_subpath_is_kept(side, crossing):
+    """A tiny square next to a 50-unit square (with ``crossing``, the big one drawn as
+    two overlapping squares, so the region goes through the fill) is part of the
+    region: an island is small only until something is added, and `morph offset
+    --radius 3` of it is a 3-unit disk beside the grown square."""
+    from morph.parse import svg_region
+
+    big = "M0 0H50V50H0Z" + (" M10 10H60V60H10Z" if crossing else "")
+    d = "%s M70 0h%r v%r h-%r Z" % (big, side, side, side)
+    region = svg_region(d)
+    areas = sorted(pc.loop_area(loop) for loop in region)
+    assert len(region) == 2 and areas[0] == pytest.approx(side * side, rel=1e-6)
+    got = minkowski_sum(region, [pc.circle((0.0, 0.0), 3.0)], 1e-3)
+    island = [loop for loop in got if region_bbox([loop])[0] > 65]
+    assert len(island) == 1
+    assert pc.loop_area(island[0]) == pytest.approx(np.pi * 9 + 4 * 3 * side, abs=1e-2)

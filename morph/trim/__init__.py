@@ -112,14 +112,50 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     """
     if fill_rule not in ("nonzero", "evenodd"):
         raise ValueError("fill_rule must be 'nonzero' or 'evenodd', got %r" % (fill_rule,))
-    pieces = [np.asarray(p, float) for loop in loops for p in loop]
-    if not pieces:
+    loops = [loop for loop in loops if len(loop)]
+    if not loops:
         return NormalLoops()
-    pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
-    size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
-    eps = rel * size
+    groups = _apart_groups(loops, rel * _size(loops))
+    return NormalLoops(loop for group in groups
+                       for loop in _fill_group([loops[k] for k in group], fill_rule, rel))
+
+
+def _points(piece):
+    h = np.asarray(piece, float)
+    return h[:, :2] / h[:, 2:]
+
+
+def _size(loops):
+    """The larger side of the loops' control-point box."""
+    pts = np.concatenate([_points(p) for loop in loops for p in loop])
+    return max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+
+def _fill_group(loops, fill_rule, rel):
+    """:func:`fill_region` of loops that are not apart, at ``rel`` times their size."""
+    eps = rel * _size(loops)
     loops = [[unfold_flat_curl(p, eps) for p in loop] for loop in loops]
-    return NormalLoops(_without_sliver_holes(boundary(loops, eps, eps, fill_rule), eps))
+    return _without_sliver_holes(boundary(loops, eps, eps, fill_rule), eps)
+
+
+def _apart_groups(loops, margin):
+    """The loops in groups (lists of indices, in order of their first loop) whose
+    control-point boxes, grown by ``margin``, overlap within a group and not
+    between groups: the groups neither cross nor nest nor touch, so each is filled
+    on its own, at its own size.  A tiny island beside a large shape is then
+    resolved at its size, not dropped as a sliver of the whole's grid: an island is
+    small only until something is added to it."""
+    pts = [np.concatenate([_points(p) for p in loop]) for loop in loops]
+    boxes = np.array([[*(c.min(axis=0) - margin), *(c.max(axis=0) + margin)] for c in pts])
+    meets = ((boxes[:, None, 0] <= boxes[None, :, 2]) & (boxes[None, :, 0] <= boxes[:, None, 2])
+             & (boxes[:, None, 1] <= boxes[None, :, 3]) & (boxes[None, :, 1] <= boxes[:, None, 3]))
+    group = np.arange(len(loops))
+    changed = True
+    while changed:  # each loop takes the smallest group index it meets, to a fixed point
+        new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
+        changed = bool(np.any(new != group))
+        group = new
+    return [list(np.flatnonzero(group == g)) for g in np.unique(group)]
 
 
 def _without_sliver_holes(loops, eps):
