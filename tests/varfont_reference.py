@@ -86,3 +86,199 @@ def classify_against_predicate(points, loops, skeleton_lines, nib, margin, regio
     filled = w != 0
     negative = int((w < 0).sum())
     return int(clear.sum()), int((filled != inside)[clear].sum()), negative
+
+
+# ------------------------------------------------- Clipper sums and filled outlines
+
+_CLIP = 1000.0      # Clipper integer units per font unit
+
+
+def skeleton_polylines(paths, k=128):
+    """Open polylines of skeleton paths ((pieces, closed), pieces homogeneous or
+    cartesian control arrays), k chords per piece."""
+    out = []
+    for pieces, _ in paths:
+        pts = [bezier_points(np.asarray(p, float)[:, :2] / (np.asarray(p, float)[:, 2:]
+                                                              if np.shape(p)[1] == 3 else 1.0),
+                             k) for p in pieces]
+        out.append(np.vstack(pts))
+    return out
+
+
+def clipper_stroke(polylines, nib, arc_tol=0.002):
+    """skeleton ⊕ elliptical nib by Clipper: the space mapped so that the nib is a
+    disk (M⁻¹), the open polylines offset with round ends and joins (the sum with a
+    disk, within ``arc_tol`` font units), mapped back.  Closed polygons (y up)."""
+    import pyclipper
+
+    width, height, angle = nib
+    m = ellipse_matrix(width, height, angle)
+    r = min(width, height) / 2.0 * _CLIP          # disk radius in integer units
+    to = np.linalg.inv(m) * r
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = arc_tol * _CLIP
+    dots = []
+    for pl in polylines:
+        q = np.round(pl @ to.T).astype(np.int64)
+        if len(np.unique(q, axis=0)) < 2:
+            dots.append(pl[0])
+            continue
+        # segment by segment: the sum distributes over a union, and one offset of a
+        # path that closes or crosses itself has the convolution's own winding
+        # (0 inside a loop the nib covers): a convex stadium each is always right
+        keep = np.ones(len(q), bool)
+        keep[1:] = np.any(q[1:] != q[:-1], axis=1)
+        q = q[keep]
+        off.AddPaths([q[i:i + 2].tolist() for i in range(len(q) - 1)], pyclipper.JT_ROUND,
+                     pyclipper.ET_OPENROUND)
+    polys = [np.asarray(p, float) @ np.linalg.inv(to).T for p in off.Execute(r)] \
+        if off is not None else []
+    ang = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    for d in dots:
+        polys.append(d + np.column_stack([np.cos(ang), np.sin(ang)]) @ m.T)
+    return union(polys)
+
+
+def union(polylines):
+    """Closed polylines united under the nonzero rule (Clipper), as closed polygons."""
+    import pyclipper
+
+    pc = pyclipper.Pyclipper()
+    paths = [np.round(np.asarray(p) * _CLIP).astype(np.int64).tolist() for p in polylines
+             if len(p) >= 3]
+    if not paths:
+        return []
+    pc.AddPaths(paths, pyclipper.PT_SUBJECT, True)
+    out = pc.Execute(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    return [np.asarray(p, float) / _CLIP for p in out]
+
+
+class FlattenPen:
+    """A fontTools pen recording a glyph's contours as closed polylines (curves cut
+    into chords no longer than ``step`` along their control polygon)."""
+
+    def __init__(self, step=0.5):
+        self.step = step
+        self.polys, self.cur = [], None
+
+    def moveTo(self, p):
+        self.cur = [np.asarray(p, float)]
+
+    def lineTo(self, p):
+        self.cur.append(np.asarray(p, float))
+
+    def _curve(self, ctrl):
+        ctrl = np.asarray(ctrl, float)
+        length = np.linalg.norm(np.diff(ctrl, axis=0), axis=1).sum()
+        k = max(2, int(np.ceil(length / self.step)))
+        self.cur.extend(bezier_points(ctrl, k)[1:])
+
+    def curveTo(self, *pts):
+        from fontTools.pens.basePen import decomposeSuperBezierSegment
+
+        if len(pts) == 3:
+            self._curve([self.cur[-1], *pts])
+            return
+        for seg in decomposeSuperBezierSegment(pts):
+            self._curve([self.cur[-1], *seg])
+
+    def qCurveTo(self, *pts):
+        from fontTools.pens.basePen import decomposeQuadraticSegment
+
+        if pts[-1] is None:
+            raise ValueError("closed quadratic contours without on-curve points")
+        for seg in decomposeQuadraticSegment(pts):
+            self._curve([self.cur[-1], *seg])
+
+    def closePath(self):
+        if self.cur is not None and len(self.cur) >= 3:
+            self.polys.append(np.vstack(self.cur))
+        self.cur = None
+
+    endPath = closePath
+
+    def addComponent(self, name, transform):
+        raise ValueError("decompose components first (use a glyph set)")
+
+
+def glyph_polygons(glyph_set, name, step=0.25):
+    """The nonzero fill of a glyph of a fontTools glyph set, as Clipper polygons."""
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+
+    rec = DecomposingRecordingPen(glyph_set)
+    glyph_set[name].draw(rec)
+    pen = FlattenPen(step)
+    rec.replay(pen)
+    return union(pen.polys)
+
+
+def _densify(polys, spacing):
+    out = []
+    for p in polys:
+        q = np.roll(p, -1, axis=0)
+        n = np.maximum(1, np.ceil(np.linalg.norm(q - p, axis=1) / spacing)).astype(int)
+        for a, b, k in zip(p, q, n):
+            t = np.arange(k)[:, None] / k
+            out.append(a + t * (b - a))
+    return np.vstack(out) if out else np.zeros((0, 2))
+
+
+def boundary_distance(polys_a, polys_b, spacing=0.02):
+    """Hausdorff distance between the boundaries of two polygon sets (densified at
+    ``spacing``: exact within spacing / 2); inf when one is empty and not the other."""
+    from scipy.spatial import cKDTree
+
+    a, b = _densify(polys_a, spacing), _densify(polys_b, spacing)
+    if len(a) == 0 or len(b) == 0:
+        return 0.0 if len(a) == len(b) else float("inf")
+    return float(max(cKDTree(b).query(a)[0].max(), cKDTree(a).query(b)[0].max()))
+
+
+def _offset(polys, d):
+    import pyclipper
+
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = 0.001 * _CLIP
+    off.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in polys],
+                 pyclipper.JT_ROUND, pyclipper.ET_CLOSEDPOLYGON)
+    return [np.asarray(p, float) / _CLIP for p in off.Execute(d * _CLIP)]
+
+
+def _difference_area(a, b):
+    """Area of a \\ b (font units²), polygons as Clipper returns them."""
+    import pyclipper
+
+    if not a:
+        return 0.0
+    pc = pyclipper.Pyclipper()
+    pc.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in a],
+                pyclipper.PT_SUBJECT, True)
+    if b:
+        pc.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in b],
+                    pyclipper.PT_CLIP, True)
+    out = pc.Execute(pyclipper.CT_DIFFERENCE, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    return sum(pyclipper.Area(p) for p in out) / _CLIP ** 2
+
+
+def sum_distance(filled, exact, hi=8.0, step=0.005, area=1e-4, strict=False):
+    """The least d (to ``step``) such that the filled outline F and the exact sum S
+    differ only within d of their boundaries: erode(S, d) ⊆ dilate(F, d) and
+    erode(F, d) ⊆ dilate(S, d), i.e. every point of F Δ S is within d of ∂S or ∂F (a
+    missing feature counts by its half-width, a sliver pinhole too).  ``strict``:
+    within d of ∂S alone, erode(S, d) ⊆ F ⊆ dilate(S, d) (a pinhole counts by its
+    depth).  ``area``: leftover differences below this many units² are Clipper's
+    rounding.  Returns ``hi`` when even that does not hold."""
+    def holds(d):
+        if strict:
+            return (_difference_area(filled, _offset(exact, d)) <= area and
+                    _difference_area(_offset(exact, -d), filled) <= area)
+        return (_difference_area(_offset(exact, -d), _offset(filled, d)) <= area and
+                _difference_area(_offset(filled, -d), _offset(exact, d)) <= area)
+
+    if not holds(hi):
+        return hi
+    lo = 0.0
+    while hi - lo > step:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
+    return hi
