@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from .group import main
+from .variable import VARY_NIB_HELP, stroke_variable_cli
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -242,8 +243,10 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "font does not depend on it.")
 @click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
+@click.option("--vary-nib", default=None, metavar="ellipse:W,H,ANGLE", help=VARY_NIB_HELP)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):
+def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, vary_nib,
+           force):
     """Stroke a skeleton (centre lines) with a calligraphic nib (Fig. 5).
 
     Every path of SKELETON is swept by a convex nib held at a fixed angle: an
@@ -274,9 +277,17 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
+        if vary_nib is not None:
+            raise InputError("--vary-nib needs a UFO skeleton (a font), not an SVG")
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
         tol = FONT_TOL if tol is None else tol
+        if vary_nib is not None:
+            if nib_svg:
+                raise InputError("--vary-nib needs elliptical nibs (--nib), not --nib-svg")
+            return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
+                                       jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
+                                       _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
