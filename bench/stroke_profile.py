@@ -279,8 +279,9 @@ def measure(run, repeat):
         for _ in range(repeat):
             proc = subprocess.run([sys.executable, "-m", "bench.stroke_profile", "--worker",
                                    json.dumps(args)], capture_output=True, text=True,
-                                  cwd=str(ROOT), env=dict(os.environ, PYTHONPATH=str(ROOT),
-                                                          OPENBLAS_NUM_THREADS="1"))
+                                  cwd=tmp, env=dict(os.environ, OPENBLAS_NUM_THREADS="1",
+                                                    PYTHONPATH=os.environ.get("PYTHONPATH")
+                                                    or str(ROOT)))
             if proc.returncode != 0:
                 raise SystemExit("run %s failed:\n%s" % (run, proc.stderr[-3000:]))
             results.append(json.loads(proc.stdout.strip().splitlines()[-1]))
@@ -299,6 +300,10 @@ def code_version():
         return subprocess.run(["git", "-C", str(ROOT)] + list(args), capture_output=True,
                               text=True).stdout.strip()
 
+    import morph
+
+    if Path(morph.__file__).resolve().parents[1] != ROOT:  # PYTHONPATH put another first
+        return "morph/ of %s" % os.environ.get("MORPH_CODE_LABEL", "another checkout")
     head = git("rev-parse", "--short", "HEAD")
     dirty = git("status", "--porcelain", "--", "morph")
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
