@@ -35,24 +35,31 @@ def default_jobs():
         return max(1, os.cpu_count() or 1)
 
 
-def run_jobs(func, args, jobs=1, progress=None):
+def run_jobs(func, args, jobs=1, progress=None, keep=True):
     """``[func(a) for a in args]``, computed by ``jobs`` processes, in input order.
 
     ``func`` must be a module-level function (it is pickled by reference) and its
     arguments and results picklable.  ``jobs <= 1`` (or one job) runs in this
     process.  ``progress(index, result)`` is called in this process as each job
-    finishes (in completion order).  An exception raised by ``func`` propagates;
-    a job whose worker process died is run again here, and all of them when no
-    process pool can be started.
+    finishes (in completion order).  ``keep=False`` streams: each result is dropped
+    once ``progress`` has had it (the list returned holds None), so that memory
+    does not grow with the number of jobs.  An exception raised by ``func``
+    propagates; a job whose worker process died is run again here, and all of them
+    when no process pool can be started.
     """
     args = list(args)
     results = [None] * len(args)
     jobs = int(jobs or 1)
+
+    def done(k, result):
+        if progress is not None:
+            progress(k, result)
+        if keep:
+            results[k] = result
+
     if jobs <= 1 or len(args) <= 1:
         for k, a in enumerate(args):
-            results[k] = func(a)
-            if progress is not None:
-                progress(k, results[k])
+            done(k, func(a))
         return results
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
@@ -61,22 +68,19 @@ def run_jobs(func, args, jobs=1, progress=None):
     try:
         pool = ProcessPoolExecutor(max_workers=min(jobs, len(args)))
     except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
-        return run_jobs(func, args, jobs=1, progress=progress)
+        return run_jobs(func, args, jobs=1, progress=progress, keep=keep)
     with pool:
         futures = {pool.submit(func, a): k for k, a in enumerate(args)}
         for fut in as_completed(futures):
-            k = futures[fut]
+            k = futures.pop(fut)            # the future, and its result, go when done
             try:
-                results[k] = fut.result()
+                result = fut.result()
             except BrokenProcessPool:
                 lost.append(k)
                 continue
-            if progress is not None:
-                progress(k, results[k])
+            done(k, result)
     for k in sorted(lost):
-        results[k] = func(args[k])
-        if progress is not None:
-            progress(k, results[k])
+        done(k, func(args[k]))
     return results
 
 

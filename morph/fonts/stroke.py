@@ -323,9 +323,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font), ``font`` (the stroked ``ufoLib2.Font``) and
-    ``regions`` (name -> stroked region in the glyph's output coordinates, kept
-    components not included).
+    glyph does not stop the font) and ``font`` (the stroked ``ufoLib2.Font``).  The
+    glyphs are streamed: each chunk is drawn into the font when it is done and its
+    regions are not kept.
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -346,30 +346,34 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     work, decomposed = _stroke_work(font, stroked, symmetric, nib_region,
                                     budget.plan(tol, kind == ".ttf"),
                                     place.shifts, stroker)
-    results = [r for rs in run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs,
-                                    progress=_by_name(progress)) for r in rs]
-    stats = _write_strokes(font, results, kind == ".ttf")
+    # streamed: each chunk's glyphs are drawn into the font as it comes and its
+    # regions dropped, so that memory does not grow with the number of glyphs
+    stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
+             "extent": [None, None]}
+    run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs, keep=False,
+             progress=_writer(font, kind == ".ttf", stats, progress))
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
                  composites=sum(1 for n in stroked + followed if font[n].components),
                  emptied=_empty_unstroked(font, set(stroked) | set(followed), kind))
     _move_feature_file(font, place)
     _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    _grow_win_metrics(font, stats["regions"])
+    _grow_win_metrics(font, *stats.pop("extent"))
     _save(font, out_path, kind, tol, overwrite)
     stats["seconds"] = time.perf_counter() - t_start
     stats["font"] = font
     return stats
 
 
-def _by_name(progress):
-    """``progress(name)`` as a :func:`morph.fonts.jobs.run_jobs` progress callback."""
-    if progress is None:
-        return None
-    def report(index, results):             # a chunk's glyphs, once it is done
-        for r in results:
-            progress(r["name"])
-    return report
+def _writer(font, quadratic, stats, progress):
+    """A :func:`morph.fonts.jobs.run_jobs` progress callback writing each chunk's
+    glyphs as it is done (:func:`_write_strokes`), then ``progress(name)``."""
+    def write(index, results):
+        _write_strokes(font, results, quadratic, stats)
+        if progress is not None:
+            for r in results:
+                progress(r["name"])
+    return write
 
 
 def _checked_output(out_path, tol, overwrite):
@@ -443,21 +447,20 @@ def _stroke_work(font, stroked, symmetric, nib_region, tols, shifts, stroker):
     return work, decomposed
 
 
-def _write_strokes(font, results, quadratic):
-    """Draw the jobs' contours (TrueType splines for a .ttf) into their glyphs; the
-    statistics of what was written (contours, points, fallback, stroke_seconds,
-    regions)."""
+def _write_strokes(font, results, quadratic, stats):
+    """Draw the jobs' contours (TrueType splines for a .ttf) into their glyphs; add
+    what was written to ``stats`` (contours, points, fallback, stroke_seconds, and
+    ``extent``: the lowest and highest y of the stroked regions so far)."""
     from .tables import draw_contours
 
-    stats = {"contours": 0, "points": 0, "fallback": {}, "regions": {},
-             "stroke_seconds": sum(r["seconds"] for r in results)}
+    stats["stroke_seconds"] += sum(r["seconds"] for r in results)
     for r in results:
         g = font[r["name"]]
         g.clearContours()
         draw_contours(g.getPen(), r["contours"], quadratic)
         stats["contours"] += len(r["contours"])
         stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
-        stats["regions"][r["name"]] = r["region"]
+        _widen_extent(stats["extent"], r["region"])
         if r["fallback"]:
             stats["fallback"][r["name"]] = r["fallback"]
     return stats
@@ -623,32 +626,29 @@ def _copy_font(font):
     return copy.deepcopy(font)
 
 
-def _grow_win_metrics(font, regions):
-    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping).
-
-    The tight top and bottom of all outlines, as the tight boxes of every region
-    (:func:`morph.region.region_bbox`) would give them; the control points bound
-    each region (positive weights: convex hull), so only the regions whose control
-    points reach past the extreme found so far are measured exactly."""
-    hulls = []
-    for loops in regions.values():
-        pts = [p[:, :2] / p[:, 2:] for loop in loops for p in loop]
-        if pts:
-            pts = np.vstack(pts)
-            hulls.append((float(pts[:, 1].min()), float(pts[:, 1].max()), loops))
-    if not hulls:
+def _widen_extent(extent, loops):
+    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
+    region (:func:`morph.region.region_bbox`).  The control points bound the region
+    (positive weights: convex hull), so the tight box is computed only when they
+    reach past the extreme found so far: the result is the tight range of all
+    regions, at the cost of a few tight boxes."""
+    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
+    if not pts:
         return
-    top = bottom = None
-    for lo, hi, loops in sorted(hulls, key=lambda h: -h[1]):
-        if top is not None and hi <= top:
-            break
-        b = region_bbox(loops)[3]
-        top = b if top is None else max(top, b)
-    for lo, hi, loops in sorted(hulls, key=lambda h: h[0]):
-        if bottom is not None and lo >= bottom:
-            break
-        b = region_bbox(loops)[1]
-        bottom = b if bottom is None else min(bottom, b)
+    pts = np.concatenate(pts)
+    bottom, top = extent
+    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
+        box = region_bbox(loops)
+        extent[0] = box[1] if bottom is None else min(bottom, box[1])
+        extent[1] = box[3] if top is None else max(top, box[3])
+
+
+def _grow_win_metrics(font, bottom, top):
+    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
+    ``bottom`` and ``top`` are their tight extent (:func:`_widen_extent`; None:
+    nothing stroked)."""
+    if top is None:
+        return
     info = font.info
     if info.openTypeOS2WinAscent is not None:
         info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
