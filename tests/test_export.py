@@ -654,7 +654,7 @@ def test_exact_sum_leaves_its_share_to_the_export():
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum, minkowski_sum_debug
     from morph.render.svg import svg_path_data
 
     pts = [(0, 0), (1, -0.3), (2, 0), (2.3, 1), (2, 2), (1, 2.4), (0, 2), (-0.3, 1)]
@@ -663,12 +663,12 @@ def test_exact_sum_leaves_its_share_to_the_export():
     poly = Polygon(np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop]))
     radius, tol = 0.3, 1e-3
     st, et = plan(tol)[:2]
-    out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
+    out, dbg = minkowski_sum_debug([loop], [pc.circle((0.0, 0.0), radius)], st)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv == 0.0
     # the sum's achieved bound is its other shares alone
-    assert dbg["bound"] == pytest.approx((1.0 - CONV_SHARE) * st, rel=1e-12)
-    et2 = export_tolerance(tol, dbg["bound"])
+    assert out.bound == pytest.approx((1.0 - CONV_SHARE) * st, rel=1e-12)
+    et2 = export_tolerance(tol, out.bound)
     assert et2 == pytest.approx(et + CONV_SHARE * st)
     # svg_path_data spends part of its tol on the cubics, the rest on decimal rounding
     z = np.array([seg.point(t) for seg in parse_path(svg_path_data(out, et2))
@@ -748,18 +748,18 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum, minkowski_sum_debug
     from morph.render.svg import svg_path_data
 
     loop, poly = random_cubic_blob(seed, True)
     radius, tol = 0.2, 1e-3
     st, et = plan(tol)[:2]
-    out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
+    out, dbg = minkowski_sum_debug([loop], [pc.circle((0.0, 0.0), radius)], st)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv > 0
-    assert (1.0 - CONV_SHARE) * st + conv <= dbg["bound"] <= st
+    assert (1.0 - CONV_SHARE) * st + conv <= out.bound <= st
     counts = []
-    for t in (et, export_tolerance(tol, dbg["bound"])):
+    for t in (et, export_tolerance(tol, out.bound)):
         d = svg_path_data(out, t)
         z = np.array([seg.point(u) for seg in parse_path(d) for u in np.linspace(0, 1, 33)])
         assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
@@ -827,7 +827,7 @@ def test_circle_plus_circle_written_within_tol(tol):
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum, minkowski_sum_debug
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
         st, et = plan(tol)[:2]
