@@ -36,7 +36,7 @@ def outline(shape, font, tol, output, force, size):
 
 
 def method_option(f):
-    from ..methods import METHODS
+    from ..subdivide import METHODS
 
     return click.option(
         "--method", type=click.Choice(list(METHODS)), default="qac", show_default=True,
