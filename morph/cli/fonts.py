@@ -110,7 +110,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
-    with progress_bar(total, "glyphs") as bar:
+    with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
@@ -335,7 +335,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     todo, _ = stroke_plan(font, items, nib_region)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with progress_bar(len(todo), "glyphs") as bar:
+    with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
         stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0

@@ -224,3 +224,40 @@ def test_tol_help_states_both_defaults(runner):
     res = runner.invoke(main, ["svg", "--help"])
     text = " ".join(res.output.split())
     assert "of the drawing's size" in text and "absolute" in text
+
+
+# =========================================================================== 5: progress
+
+def test_progress_off_a_terminal_prints_status_lines(runner, tmp_path, monkeypatch):
+    """A run whose stderr is not a terminal prints a status line every few seconds
+    (here every 10 ms): the glyphs done of all, and the time."""
+    from morph.cli import options
+
+    monkeypatch.setattr(options, "STATUS_SECONDS", 0.01)
+    res = runner.invoke(main, ["brush", "-o", str(tmp_path / "p.ttf"), "--glyphs", "o,T",
+                               "--jobs", "1"])
+    assert res.exit_code == 0, res.output
+    status = [s for s in res.stderr.splitlines() if s.startswith("morph brush: ")]
+    assert status and "/2 glyphs" in status[0] and status[-1].startswith("morph brush: 2/2")
+
+
+def test_progress_eta_from_work_done():
+    """The time left is the time per item done so far times the items left, shown
+    once something is done; items reported in bursts (a batch of glyphs finishing
+    together) count each."""
+    import io
+    import time
+
+    from morph.cli.options import Progress
+
+    out = io.StringIO()
+    with Progress(100, "glyphs", "morph brush", stream=out, tty=False, interval=60) as bar:
+        t0 = time.monotonic()
+        assert "left" not in bar.status()
+        bar.update(25)
+        elapsed = time.monotonic() - t0
+        text = bar.status()
+    assert "25/100 glyphs (25 %)" in text
+    left = float(text.split("about ")[1].split(" s left")[0])
+    assert left <= 3 * elapsed + 0.5
+    assert out.getvalue() == ""  # nothing shown in under a minute off a terminal
