@@ -4,6 +4,8 @@ misleading errors, progress, tolerance units)."""
 
 import os
 
+import numpy as np
+
 import pytest
 from fontTools.ttLib import TTFont
 
@@ -261,3 +263,30 @@ def test_progress_eta_from_work_done():
     left = float(text.split("about ")[1].split(" s left")[0])
     assert left <= 3 * elapsed + 0.5
     assert out.getvalue() == ""  # nothing shown in under a minute off a terminal
+
+
+# =========================================================================== 6: --location
+
+def test_location_draws_the_glyph_without_instancing_the_font(tmp_path, monkeypatch):
+    """A glyph at a location is drawn from the variable font directly (the glyph set
+    at that location), not by instancing the whole font: the same outline and
+    advance as the instance, and the instancer is not called."""
+    from morph import parse
+    from morph.parse import glyphs, instantiate_font, load_font
+    from tests.fontfixtures import build_variable_font
+
+    path = build_variable_font(tmp_path)
+    instance = instantiate_font(load_font(str(path)), {"wght": 550})
+    want = parse.read_glyph(instance, "o")
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the whole font was instanced for one glyph")
+
+    monkeypatch.setattr(glyphs, "instantiate_font", refuse)
+    got = parse.glyph_region("o", str(path), "wght=550")
+    assert got.advance_width == want.advance_width
+    assert len(got.region) == len(want.region)
+    for a, b in zip(got.region, want.region):
+        assert np.allclose(np.concatenate(a), np.concatenate(b))
+    with pytest.raises(parse.glyphs.ParseError, match="axes"):
+        parse.glyph_region("o", str(path), "wght=900")
