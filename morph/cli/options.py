@@ -16,7 +16,8 @@ EXIT_INTERNAL = 1
 DEFAULT_TOL = 1e-4
 FONT_TOL = 5e-4
 TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
-             "em), in user units for SVG")
+             "em), in user units for SVG (the library's tol is in the shapes' units: "
+             "em x units per em, morph.parse.em_to_units)")
 TOL_DEFAULT_NOTE = ("Default: 1e-4 em for glyphs, 1e-4 of the drawing's size (the larger "
                     "side of the shapes' bounding boxes) for SVG.")
 IMAGE_SUFFIXES = (".png", ".svg")

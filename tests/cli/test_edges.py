@@ -290,3 +290,21 @@ def test_location_draws_the_glyph_without_instancing_the_font(tmp_path, monkeypa
         assert np.allclose(np.concatenate(a), np.concatenate(b))
     with pytest.raises(parse.glyphs.ParseError, match="axes"):
         parse.glyph_region("o", str(path), "wght=900")
+
+
+# =========================================================================== 8: tolerance units
+
+def test_tolerance_units_helper_and_where_both_are_documented(runner):
+    """The library's tol is in the shapes' own units, --tol in em for glyphs: one
+    helper converts (em_to_units: em x units per em; SVG user units as they are),
+    named where both are documented."""
+    import morph.minkowski
+    from morph.parse import em_to_units, glyph_region, svg_shape
+
+    g = glyph_region("o")
+    assert em_to_units(1e-4, 1000) == g.em_to_units(1e-4) == pytest.approx(0.1)
+    assert svg_shape("M0 0H10V10H0Z").em_to_units(1e-4) == 1e-4
+    assert em_to_units(1e-4, None) == 1e-4
+    assert "em_to_units" in morph.minkowski.minkowski_sum.__doc__
+    text = " ".join(runner.invoke(main, ["sum", "--help"]).output.split())
+    assert "units per em" in text and "library" in text
