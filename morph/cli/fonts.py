@@ -46,7 +46,9 @@ def _parse_nib(spec):
               help="Characters, ranges (a-z) and glyph names, comma separated; 'all': "
                    "every glyph drawn by its own contours (composites follow).")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image and the specimen.")
+              help="Text of the sample image and the specimen. A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
 @tol_option(default=FONT_TOL, what="outlines (sum and curve conversion together)",
             note="5e-4 em = 0.5 font units at 1000 units per em; the outlines are then "
@@ -115,6 +117,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
     write_specimen(out, source_copy, sample=sample)
     click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
@@ -164,6 +167,19 @@ def _companions(out, force, specimen=True):
         if extra is not None and extra.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % extra)
     return png, page
+
+
+def _covered_sample(font, sample):
+    """--sample when the written font draws it, else its own characters
+    (:func:`morph.fonts.specimen.sample_text`), with a note on stderr."""
+    from ..fonts.specimen import sample_text
+
+    text, changed = sample_text(font, sample)
+    if changed:
+        click.echo("note: the font does not draw every character of the sample %r: the "
+                   "sample image and specimen show its own characters %r" % (sample, text),
+                   err=True)
+    return text
 
 
 def _checked_nib(make):
@@ -235,7 +251,9 @@ _STROKE_NIB = "ellipse:90,20,30"
                  "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
                  "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image (UFO skeletons).")
+              help="Text of the sample image (UFO skeletons). A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
@@ -339,6 +357,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)

@@ -308,3 +308,30 @@ def test_tolerance_units_helper_and_where_both_are_documented(runner):
     assert "em_to_units" in morph.minkowski.minkowski_sum.__doc__
     text = " ".join(runner.invoke(main, ["sum", "--help"]).output.split())
     assert "units per em" in text and "library" in text
+
+
+# =========================================================================== 13: sample text
+
+def test_sample_text_the_font_covers(runner, tmp_path):
+    """A font that does not draw the sample text (here a stroked subset: only H and o
+    have outlines) gets a sample of its own characters in cmap order, and says so;
+    the specimen uses the same text."""
+    from tests import RELIEF_SUBSET
+
+    out = tmp_path / "S.otf"
+    res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), "--glyphs", "H,o",
+                               "--tol", "2e-3"])
+    assert res.exit_code == 0, res.output
+    note = [s for s in res.stderr.splitlines() if "sample" in s]
+    assert len(note) == 1 and "Hamburgefonstiv" in note[0] and "'Ho'" in note[0]
+    assert '<p id="sample">Ho</p>' in (tmp_path / "S.otf.html").read_text()
+
+
+def test_sample_text_kept_when_covered():
+    from morph.fonts.specimen import sample_text
+    from morph.parse import load_font
+
+    font = load_font()
+    assert sample_text(font, "Hamburgefonstiv") == ("Hamburgefonstiv", False)
+    text, changed = sample_text(font, "Hamburg 一二")
+    assert changed and "一" not in text and text.startswith("!")  # its own, cmap order
