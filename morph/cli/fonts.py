@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from .group import main
+from .variable import VARY_NIB_HELP, stroke_variable_cli
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -260,8 +261,10 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "font does not depend on it.")
 @click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
+@click.option("--vary-nib", default=None, metavar="ellipse:W,H,ANGLE", help=VARY_NIB_HELP)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):
+def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, vary_nib,
+           force):
     """Stroke a skeleton (centre lines) with a calligraphic nib (Fig. 5).
 
     Every path of SKELETON is swept by a convex nib held at a fixed angle: an
@@ -292,9 +295,17 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
+        if vary_nib is not None:
+            raise InputError("--vary-nib needs a UFO skeleton (a font), not an SVG")
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
         tol = FONT_TOL if tol is None else tol
+        if vary_nib is not None:
+            if nib_svg:
+                raise InputError("--vary-nib needs elliptical nibs (--nib), not --nib-svg")
+            return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
+                                       jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
+                                       _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
@@ -381,7 +392,7 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     """``morph stroke`` of an SVG skeleton: an image of its paths ⊕ nib within ``tol``
     user units (stroke and SVG export together, as ``morph sum``)."""
     from ..errors import ParseError
-    from ..export import split_tolerance
+    from ..budget import plan
     from ..fonts.stroke import stroke_glyph_region
     from ..limits import check_tolerance
     from ..parse.svg import svg_paths
@@ -402,7 +413,7 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
         tol = DEFAULT_TOL * 1000.0 * scale
     check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
                     unit_name="user units")
-    st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol
+    st, et = plan(tol)[:2]  # the stroke and the SVG export share --tol
     region = stroke_glyph_region(paths, nib_region, st)
     write_image(out, [(region, {"fill": "black"})], size=size, tol=et)
     report_written(out, region)

@@ -40,7 +40,7 @@ def shape_tolerance(shape, tol, *others, check=True, share=1.0):
     :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
     than 1e-12 of the size, larger than the shapes, beyond the point budget:
     LimitError, one line naming a tolerance that works, exit 2.  ``share``: the part
-    of --tol the computation runs at (:func:`morph.export.split_tolerance`); the
+    of --tol the computation runs at (:func:`morph.budget.plan`); the
     check is made at it and its message names --tol values.
     """
     t = shape.tolerance(tol, *others)  # None: the default, relative to the size
@@ -53,6 +53,15 @@ def shape_tolerance(shape, tol, *others, check=True, share=1.0):
                         unit=(upm or 1.0) * share, unit_name="em" if upm else "user units")
     return t
 
+
+
+def writer_budget(shape, tol, *others):
+    """--tol of a command that computes a shape and writes it: in the shape's units,
+    checked at the geometry's share (:func:`shape_tolerance`), split by
+    :func:`morph.budget.plan` (the geometry's share; ``.after(bound)`` the export's)."""
+    from ..budget import SUM_SHARE, plan
+
+    return plan(shape_tolerance(shape, tol, *others, share=SUM_SHARE))
 
 class ShapeParam(click.ParamType):
     """Click type: a glyph character/name or an .svg path -> :class:`morph.parse.Shape`.

@@ -10,6 +10,7 @@ exact geometry.  The full A-Z, a-z, 0-9 sweep is ``python -m bench.stroke``.
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 import shapely.affinity
 import ufoLib2
@@ -25,8 +26,8 @@ from morph.parse import glyph_region
 from morph.region import translate_region
 from morph.parse.ufo import decomposed_paths
 from tests import RELIEF_SUBSET as SUBSET
-from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely
-from tests.stroke_reference import polygon_stroker, stroke_polygon
+from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely
+from tests.oracles.stroke_reference import polygon_stroker, stroke_polygon
 
 NIB_SPEC = (90.0, 20.0, 30.0)
 ROUNDING = 0.71  # integer coordinates in the written font: sqrt(2) / 2
@@ -198,6 +199,7 @@ def holes(geom):
 def test_compiled_font_loads_sanitizes_renders(skeleton, tmp_path, suffix):
     """ufo2ft output: fontTools reads it, ots-sanitize passes it, Pillow renders it
     at 9 to 300 px; TrueType keeps the composites."""
+    pytest.importorskip("ots")
     import ots
     from PIL import Image, ImageDraw, ImageFont
 
@@ -303,10 +305,11 @@ def test_chunk_strokes_glyph_by_glyph_where_the_packed_call_raises(skeleton, mon
     """The chunk job strokes its glyphs together; where that raises, one by one, so
     the glyphs come out as if stroked alone (and only a failing one falls back)."""
     import morph.stroke
-    from morph.fonts.stroke import _stroked_regions, _tolerances
+    from morph.budget import plan
+    from morph.fonts.stroke import _stroked_regions
     from morph.stroke import stroke_paths
 
-    tols, pen = _tolerances(0.5, ".otf"), nib()
+    tols, pen = plan(0.5), nib()
     chunk = [(n, decomposed_paths(skeleton, n), pen, tols, (0.0, 0.0), None)
              for n in ("o", "i", "H")]
     together = _stroked_regions(chunk)
