@@ -96,7 +96,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
 
     from fontTools.ttLib import TTFont
 
-    from ..fonts.brush import brush_font, ellipse_nib, open_source
+    from ..fonts.brush import brush_font, open_source
+    from ..nib import ellipse_nib
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
@@ -187,7 +188,7 @@ def _checked_nib(make):
     """The nib region ``make()`` returns, checked convex; a bad nib is bad input
     (InputError, exit 2)."""
     from ..errors import MorphError
-    from ..fonts.brush import check_convex_nib
+    from ..nib import check_convex_nib
 
     try:
         nib_region = make()
@@ -315,7 +316,7 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
 def _stroke_nib(nib, nib_svg, scale):
     """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
     convex (InputError otherwise)."""
-    from ..fonts.brush import ellipse_nib
+    from ..nib import ellipse_nib
     from ..parse import svg_region
 
     def make():
