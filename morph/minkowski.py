@@ -28,7 +28,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Every output point lies within ``tol`` of the exact boundary of A ⊕ B (tol
-    absolute, in input units), split as: convolution pieces within 0.5 tol of the
+    absolute, in input units: font units for glyphs, whose command-line --tol is in
+    em, converted by :func:`morph.parse.em_to_units`), split as: convolution pieces within 0.5 tol of the
     exact convolution curve (0.2 tol in the first round where loops can meet at a corner,
     FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
     QAC; other methods of ``morph.subdivide.METHODS`` are sampled, not bounded),

@@ -15,6 +15,7 @@ import numpy as np
 from . import piece as pc
 from .gauss import CUSP_ANGLE
 from .minkowski import minkowski_sums
+from .nib import check_convex_nib
 from .region import reverse_loop, translate_region, validated
 from .trim import fill_region
 
@@ -32,6 +33,9 @@ def stroke_paths(paths, nib_region, tol):
     nib_region: a convex region (its origin is the pen point); tol absolute, in the
     paths' units, with the budget of :func:`morph.minkowski.minkowski_sum`.
     Returns loops of rational pieces, outer counter-clockwise, holes clockwise.
+
+    Raises:
+        NibError: a nib that is not one convex loop (:func:`morph.nib.check_convex_nib`).
     """
     return stroke_many([paths], nib_region, tol)[0]
 
@@ -41,6 +45,7 @@ def stroke_many(path_sets, nib_region, tol):
     the sums computed together (:func:`morph.minkowski.minkowski_sums`)."""
     if not nib_region:
         raise ValueError("the nib is empty")
+    check_convex_nib(nib_region)  # NibError: a path ⊕ a non-convex nib is no pen's stroke
     loops, dots = zip(*[_loops_and_dots(paths, nib_region) for paths in path_sets]) \
         if path_sets else ((), ())
     has = [k for k, lp in enumerate(loops) if lp]

@@ -91,7 +91,7 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
             yield out, budget.after(out.bound)
             bar.update(1)
 
-    with progress_bar(frames, "frames") as bar:
+    with progress_bar(frames, "frames", "morph %s" % kind) as bar:
         write_frame_stream(outdir, written(bar), frames_bbox(a.region, b.region), size=size,
                            duration=duration, animation=animation)
     for stale in stale_frame_files(outdir, frames, animation):  # of an earlier run (--force)

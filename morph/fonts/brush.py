@@ -77,53 +77,12 @@ import unicodedata
 
 import numpy as np
 
-from .. import piece as pc
 from ..budget import plan
-from ..errors import NibError, ParseError, one_line
+from ..errors import ParseError, one_line
+from ..nib import check_convex_nib, ellipse_nib, region_extent  # noqa: F401 (re-exported)
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent", "sweep_glyph", "sweep_glyphs", "glyph_chunks"]
-
-
-def ellipse_nib(width, height, angle_deg=0.0):
-    """Exact elliptical nib: width x height (font units), rotated by angle (degrees).
-
-    Raises:
-        NibError: width or height not positive (``.nib`` = the three arguments).
-    """
-    if not (width > 0 and height > 0):
-        raise NibError("nib width and height must be positive, got %g x %g"
-                       % (width, height), (width, height, angle_deg))
-    return [pc.ellipse((0.0, 0.0), width / 2.0, height / 2.0, np.radians(angle_deg))]
-
-
-def check_convex_nib(nib):
-    """Check that the nib is a single convex loop (its Gauss map turns monotonically
-    through 2 pi).
-
-    Raises:
-        NibError: not one loop, or not convex (``.nib`` = the region).
-    """
-    from ..gauss import TURN_EPS, gauss_map, turns_convex
-
-    if len(nib) != 1:
-        raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
-    edges = gauss_map(nib[0])
-    if turns_convex(edges):
-        return
-    bad = [e for e in edges if e.sweep < -TURN_EPS]
-    if bad:
-        raise NibError("the nib is not convex: it turns clockwise at %s (only convex "
-                       "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),), nib)
-    raise NibError("the nib is not convex (total turning %.3f rad)"
-                   % sum(e.sweep for e in edges), nib)
-
-
-def region_extent(loops):
-    """Exact bounding box of a region (xmin, ymin, xmax, ymax)."""
-    from ..region import region_bbox
-
-    return tuple(float(v) for v in region_bbox(loops))
 
 
 def parse_glyph_spec(spec):
