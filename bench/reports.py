@@ -66,7 +66,7 @@ class Report:
 REPORTS = [
     Report("methods", "bench.methods", ["--md", "{md}"], cost="1-2 min",
            check="bench.methods:check"),
-    Report("qac", "bench.qac", ["--md", "{md}"], cost="3-5 min"),
+    Report("qac", "bench.qac", ["--md", "{md}"], cost="5-25 min", check="bench.qac:check"),
     Report("coincident", "bench.coincident", ["--md", "{md}"],
            quick=["--md", "{md}", "--repeat", "1"], cost="1-2 min",
            check="bench.reports:check_coincident"),
