@@ -13,8 +13,7 @@ case_inputs; minkowski_sum(*case_inputs('SPEC'))``.
 import pytest
 
 SWEEP_REGRESSIONS = [
-    # (case, what the sweep found) -- random mode, seed 20261123, code 5555a19 + the working
-    # tree of 2026-11-23 21:07
+    # (case, what the sweep found) -- random mode, seed 20261123
     ("nib/amiri/uniFB8D/60x8/6.8/32.5/3.8e-05",
      "output loop not simple (adjacent pieces cross again near their junction)"),
     ("nib/amiri/uniFBFA/40x40/52.7/18.4/8.8e-05",
@@ -153,7 +152,7 @@ SWEEP_REGRESSIONS = [
      "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
     # EB Garamond (a font the code was not tuned on), fonts seed 9900:
     # a hole of w + i kept a spike 1.5 units (15 tol) into the filled sum at a corner,
-    # since the snap rounding (7a79858): a hot pixel put on a segment at its start took
+    # under snap rounding: a hot pixel put on a segment at its start took
     # the start's parameter, and the start's range became [t, 1] (t1 = 1 where the next
     # parameter was not greater): a one-unit edge lifted as a whole piece.  Equal
     # parameters now give an empty range (trim.flatten.tag_loops)
@@ -254,26 +253,22 @@ def test_sweep_regression(case):
 # as the bench checks them (tests.oracles.icons.check_op: polygon reference; gaps narrower than
 # 1.6 tol may close).  (file stem, what the bench found)
 ICON_REGRESSIONS = [
-    # at a045031 (fixed by a40d6e3's trim)
     ("bootstrap-cake-offset",
      "offset: a scalloped hole (box + 18 pieces) whose offset splits into 4 holes keeps 1"),
-    # at a40d6e3 and 3f6b019
     ("mdi-bank-outline-offset",
      "offset of 4 rectangles whose offsets share collinear edges: the enclosed hole "
      "(about 8 x 9) comes out as a 2-piece loop of zero area"),
-    # not in the 150 sampled; fail at 3f6b019 and with the working tree of 00:45
+    # not in the 150 sampled
     ("mdi-alpha-f-circle-offset",
      "offset of a box with an F-shaped hole of stroke width 2 by 1: the hole left at the "
      "T-junction (inradius 0.25) comes out as a zero-area loop"),
     ("mdi-book-edit-offset",
      "offset of book + pencil (3 loops, 24 pieces): a hole of the exact offset is lost"),
-    # fail at a40d6e3 and 3f6b019; pass with the trim changes in progress at 2026-11-24
-    # 00:45 (morph/trim/lift.py, untangle.py, uncommitted then): guards of that work
+    # guards of morph/trim/lift.py and untangle.py
     ("mdi-shower-head-offset",
      "offset of three dots (radius 1, two touching after the offset): the curved "
      "triangle hole between them is lost"),
-    # full run at ee9e75a (2026-11-24 00:55): two offset dots touching exactly, the
-    # hole between them and a third pinched off within eps: untangle dropped it as a twist
+    # two offset dots touching exactly, the hole between them and a third pinched off within eps: untangle dropped it as a twist
     ("mdi-shower-head-offset-touching",
      "offset of three dots (two offsets touching at one point): the pinched hole is lost"),
     ("mdi-shower-head-offset-degenerate",
