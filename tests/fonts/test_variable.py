@@ -1,0 +1,135 @@
+"""morph.fonts.variable: variable calligraphic fonts with a nib axis, end to end.
+
+A small variable font is built from the Relief subset and every master and instance
+(instanced by fontTools.varLib.instancer from the compiled font) is compared with the
+exact sum skeleton ⊕ nib computed independently (Clipper on finely flattened inputs,
+tests/varfont_reference.py)."""
+
+import logging
+
+import numpy as np
+import pytest
+
+from morph.compatible import Ellipse, interpolation_error
+from morph.fonts.variable import (BLEND_SHARE, axis_masters, nib_axis, stroke_variable,
+                                  variable_outputs)
+from tests import RELIEF_SUBSET
+from tests.varfont_reference import (clipper_stroke, glyph_polygons, skeleton_polylines,
+                                     within)
+
+TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
+ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
+SLACK = 0.05                # flattening and Clipper's integer grid in the reference
+NIBS = ((40, 10, 30), (120, 30, 30))
+GLYPHS = ["a", "s", "period", "eacute"]
+
+
+def test_axis_tag_and_masters():
+    axis = nib_axis(*NIBS)
+    assert (axis.tag, axis.minimum, axis.maximum) == ("NIBW", 40.0, 120.0)
+    assert axis.nib_at(80) == Ellipse(80, 20, 30)
+    assert axis_masters(axis, 0.2) == [40.0, 120.0]     # a uniform scale: exact
+    turned = nib_axis((80, 20, 0), (80, 20, 60))
+    assert turned.tag == "NIBP" and (turned.minimum, turned.maximum) == (0.0, 100.0)
+    values = axis_masters(turned, 0.2)
+    assert len(values) > 8
+    nibs = [turned.nib_at(v) for v in values]
+    assert all(interpolation_error(a, b) <= 0.2 for a, b in zip(nibs[:-1], nibs[1:]))
+    with pytest.raises(ValueError):
+        nib_axis((40, 10, 30), (40, 10, 30))
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, skeleton):
+    for name in ("ufo2ft", "fontTools"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    out = tmp_path_factory.mktemp("var") / "Nib.ttf"
+    stats = stroke_variable(skeleton, out, *NIBS, glyphs=GLYPHS, tol=TOL)
+    return out, stats
+
+
+def _reference(skeleton, name, nib, shift):
+    from morph.parse.ufo import decomposed_paths
+
+    polys = clipper_stroke(skeleton_polylines(decomposed_paths(skeleton, name)), tuple(nib))
+    return [p + np.array([shift, 0.0]) for p in polys]
+
+
+def _instance(path, value):
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    return instancer.instantiateVariableFont(TTFont(str(path)), {"NIBW": value}).getGlyphSet()
+
+
+def test_outputs_and_compatibility(built):
+    from fontTools.designspaceLib import DesignSpaceDocument
+    from fontTools.ttLib import TTFont
+
+    out, stats = built
+    ds_path, masters_dir = variable_outputs(out)
+    assert stats["designspace"] == ds_path and ds_path.is_file() and masters_dir.is_dir()
+    doc = DesignSpaceDocument.fromfile(str(ds_path))
+    assert [a.tag for a in doc.axes] == ["NIBW"] and len(doc.sources) == 2
+    assert all(s.path and (ds_path.parent / s.filename).is_dir() for s in doc.sources)
+    font = TTFont(str(out))
+    assert "gvar" in font and "HVAR" in font and "STAT" in font
+    assert [a.axisTag for a in font["fvar"].axes] == ["NIBW"]
+    glyf = font["glyf"]
+    for name in ("a", "s", "period"):               # overlapping contours: flags set
+        assert glyf[name].flags[0] & 0x40
+    assert glyf["eacute"].isComposite() and glyf["eacute"].components[0].flags & 0x400
+    # the same structure in every master: contours and points
+    m0, m1 = stats["sources"]
+    for name in ("a", "s", "period"):
+        assert [len(c) for c in m0[name].contours] == [len(c) for c in m1[name].contours]
+    # advances grow with the nib
+    grow = [round(2 * Ellipse(*n).extent()[2]) for n in NIBS]
+    assert m1["a"].width - m0["a"].width == grow[1] - grow[0] == 70
+
+
+def test_masters_and_instances_within_bound(built, skeleton):
+    """At the masters within tol + one rounding; at 9 positions and random ones,
+    instanced from the compiled font, within tol + two roundings of the exact sum
+    with the nib the axis defines there (shifted as the masters' shifts interpolate)."""
+    out, stats = built
+    axis = stats["axis"]
+    values = stats["values"]
+    rng = np.random.default_rng(35)
+    spots = [(v, TOL + ROUND) for v in values] + \
+        [(v, TOL + 2 * ROUND) for v in list(np.linspace(40, 120, 9)) + list(rng.uniform(40, 120, 2))]
+    for k, (v, bound) in enumerate(spots):
+        glyphs = _instance(out, v)
+        nib = axis.nib_at(v)
+        shift = float(np.interp(v, values, [axis.nib_at(x).extent()[2] for x in values]))
+        for name in ("period", "s", "a")[:1 + (k % 3 == 0) + (k % 4 == 0)]:
+            filled = glyph_polygons(glyphs, name)
+            assert within(filled, _reference(skeleton, name, nib, shift), bound + SLACK,
+                          strict=True), (name, v)
+    # the check can fail: the instance at 80 against the sum with a nib 2 bounds wider
+    glyphs = _instance(out, 80.0)
+    bound = TOL + 2 * ROUND + SLACK
+    wide = Ellipse(80 + 4 * bound, 20, 30)
+    assert not within(glyph_polygons(glyphs, "s"), _reference(skeleton, "s", wide, 35.0),
+                      bound, strict=True)
+
+
+def test_cff2_output(tmp_path, skeleton):
+    from fontTools.ttLib import TTFont
+
+    out = tmp_path / "Nib.otf"
+    stats = stroke_variable(skeleton, out, *NIBS, glyphs=["s"], tol=TOL)
+    font = TTFont(str(out))
+    assert "CFF2" in font and "glyf" not in font
+    axis = stats["axis"]
+    nib = axis.nib_at(80.0)
+    assert within(glyph_polygons(_instance(out, 80.0), "s"),
+                  _reference(skeleton, "s", nib, 35.0), TOL + 2 * ROUND + SLACK, strict=True)
+
+
+def test_existing_outputs_need_overwrite(built, skeleton):
+    from morph.errors import MorphError
+
+    out, _ = built
+    with pytest.raises(MorphError, match="exists"):
+        stroke_variable(skeleton, out, *NIBS, glyphs=["s"], tol=TOL)
