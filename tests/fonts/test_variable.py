@@ -133,3 +133,26 @@ def test_existing_outputs_need_overwrite(built, skeleton):
     out, _ = built
     with pytest.raises(MorphError, match="exists"):
         stroke_variable(skeleton, out, *NIBS, glyphs=["s"], tol=TOL)
+
+
+def test_turning_nib_gets_intermediate_masters(tmp_path, skeleton):
+    """A nib that turns as it grows does not interpolate: intermediate masters are
+    added (each interval's blend within its share), and instances between them are
+    within the same bound as on a uniform-scale axis."""
+    nibs = ((40, 10, 30), (120, 30, 45))
+    out = tmp_path / "Turn.ttf"
+    stats = stroke_variable(skeleton, out, *nibs, glyphs=["s"], tol=TOL)
+    values, axis = stats["values"], stats["axis"]
+    assert len(values) > 2
+    assert all(interpolation_error(axis.nib_at(a), axis.nib_at(b)) <= BLEND_SHARE * TOL
+               for a, b in zip(values[:-1], values[1:]))
+    shifts = [axis.nib_at(x).extent()[2] for x in values]
+    for v in np.linspace(40, 120, 9)[1:-1:2]:
+        v = float(v) + 1.3                      # between masters
+        shift = float(np.interp(v, values, shifts))
+        ref = _reference(skeleton, "s", axis.nib_at(v), shift)
+        assert within(glyph_polygons(_instance(out, v), "s"), ref, TOL + 2 * ROUND + SLACK,
+                      strict=True), v
+    # with the two end masters only, the blend misses the turned nib by more
+    ends = [axis.nib_at(values[0]), axis.nib_at(values[-1])]
+    assert interpolation_error(*ends) > 4 * (TOL + 2 * ROUND)
