@@ -19,6 +19,7 @@ import os
 
 import numpy as np
 
+from ..budget import POLYGON_SHARE
 from ..region import polyline_edges, region_polylines
 
 __all__ = ["default_jobs", "run_jobs", "polygon_sum", "polylines_to_contours"]
@@ -34,24 +35,31 @@ def default_jobs():
         return max(1, os.cpu_count() or 1)
 
 
-def run_jobs(func, args, jobs=1, progress=None):
+def run_jobs(func, args, jobs=1, progress=None, keep=True):
     """``[func(a) for a in args]``, computed by ``jobs`` processes, in input order.
 
     ``func`` must be a module-level function (it is pickled by reference) and its
     arguments and results picklable.  ``jobs <= 1`` (or one job) runs in this
     process.  ``progress(index, result)`` is called in this process as each job
-    finishes (in completion order).  An exception raised by ``func`` propagates;
-    a job whose worker process died is run again here, and all of them when no
-    process pool can be started.
+    finishes (in completion order).  ``keep=False`` streams: each result is dropped
+    once ``progress`` has had it (the list returned holds None), so that memory
+    does not grow with the number of jobs.  An exception raised by ``func``
+    propagates; a job whose worker process died is run again here, and all of them
+    when no process pool can be started.
     """
     args = list(args)
     results = [None] * len(args)
     jobs = int(jobs or 1)
+
+    def done(k, result):
+        if progress is not None:
+            progress(k, result)
+        if keep:
+            results[k] = result
+
     if jobs <= 1 or len(args) <= 1:
         for k, a in enumerate(args):
-            results[k] = func(a)
-            if progress is not None:
-                progress(k, results[k])
+            done(k, func(a))
         return results
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
@@ -60,22 +68,19 @@ def run_jobs(func, args, jobs=1, progress=None):
     try:
         pool = ProcessPoolExecutor(max_workers=min(jobs, len(args)))
     except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
-        return run_jobs(func, args, jobs=1, progress=progress)
+        return run_jobs(func, args, jobs=1, progress=progress, keep=keep)
     with pool:
         futures = {pool.submit(func, a): k for k, a in enumerate(args)}
         for fut in as_completed(futures):
-            k = futures[fut]
+            k = futures.pop(fut)            # the future, and its result, go when done
             try:
-                results[k] = fut.result()
+                result = fut.result()
             except BrokenProcessPool:
                 lost.append(k)
                 continue
-            if progress is not None:
-                progress(k, results[k])
+            done(k, result)
     for k in sorted(lost):
-        results[k] = func(args[k])
-        if progress is not None:
-            progress(k, results[k])
+        done(k, func(args[k]))
     return results
 
 
@@ -92,7 +97,7 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
 
     ``loops_a``: a region (loops of pieces), or with ``closed=False`` a list of open
     paths (lists of pieces, e.g. a stroke skeleton); ``loops_b``: a region (the nib).
-    Each operand is flattened within ``tol / 2``; the sum of the polygons is exact
+    Each operand is flattened within ``POLYGON_SHARE * tol``; the sum of the polygons is exact
     up to the 1/16 unit grid, so the result is within tol + 1/8 of the exact sum
     (Hausdorff distance).  Slivers that Clipper's union leaves (polygons of mean
     width 2 area / perimeter below tol) are dropped.  Returns a list of (m, 2) arrays.
@@ -100,16 +105,16 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
     import pyclipper
 
     if closed:
-        pa = _clipper_paths(region_polylines(loops_a, tol / 2.0))
+        pa = _clipper_paths(region_polylines(loops_a, POLYGON_SHARE * tol))
     else:
         from .. import piece as pc
 
         pa = []
         for path in loops_a:
-            flat = pc.flatten_many(path, tol / 2.0)
+            flat = pc.flatten_many(path, POLYGON_SHARE * tol)
             pts = np.concatenate([f[0][:-1] for f in flat] + [flat[-1][0][-1:]])
             pa.extend(_clipper_paths([pts]))
-    pb = _clipper_paths(region_polylines(loops_b, tol / 2.0))
+    pb = _clipper_paths(region_polylines(loops_b, POLYGON_SHARE * tol))
     if not pa or not pb:
         return []
     pieces = []
