@@ -34,7 +34,7 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
 
     from ..errors import MorphError
     from ..fonts.jobs import default_jobs
-    from ..fonts.specimen import specimen_path, write_sample_image, write_specimen
+    from ..fonts.specimen import sample_path, specimen_path, write_sample_image, write_specimen
     from ..fonts.variable import stroke_variable, variable_outputs
     from ..parse.ufo import load_ufo
 
@@ -44,7 +44,7 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
                          "(glyf/gvar) or .otf (CFF2), got %s" % out)
     if not out.parent.is_dir():
         raise InputError("output folder %s does not exist" % out.parent)
-    png, page = out.with_suffix(".png"), specimen_path(out)
+    png, page = sample_path(out), specimen_path(out)
     for p in (out, *variable_outputs(out), png, page):
         if p.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % p)

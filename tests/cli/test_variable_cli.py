@@ -16,8 +16,8 @@ def test_variable_stroke_writes_font_designspace_and_masters(runner, tmp_path):
     assert result.exit_code == 0, result.output
     assert "variable, axis NIBW" in result.output
     masters = tmp_path / "Nib-masters"
-    for p in (out, tmp_path / "Nib.designspace", masters, tmp_path / "Nib.png",
-              tmp_path / "Nib.html"):
+    for p in (out, tmp_path / "Nib.designspace", masters, tmp_path / "Nib.ttf.png",
+              tmp_path / "Nib.ttf.html"):
         assert p.exists(), p
     assert len(list(masters.glob("*.ufo"))) == 2
     again = runner.invoke(main, args)
