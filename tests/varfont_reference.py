@@ -308,3 +308,61 @@ def pinholes(filled, exact, depth=1.0):
                     pyclipper.PT_CLIP, True)
     out = pc.Execute(pyclipper.CT_DIFFERENCE, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     return sorted(abs(pyclipper.Area(p)) / _CLIP ** 2 for p in out)
+
+
+def skeleton_designspace(folder, source, glyphs, slant=0.15, widen=0.25):
+    """A small compatible skeleton designspace made from a skeleton UFO: ``glyphs``
+    of ``source`` as the Regular master (wdth 100) and the same centre lines mapped
+    by x' = (1 + widen) x + slant y as the Wide master (wdth 125, advances and
+    anchors mapped too): the same structure, points moved.  Returns the path; at
+    wdth = 100 + 25 u the skeleton is the map with u widen and u slant."""
+    import copy
+
+    import ufoLib2
+    from fontTools.designspaceLib import (AxisDescriptor, DesignSpaceDocument,
+                                          InstanceDescriptor, SourceDescriptor)
+
+    from pathlib import Path
+
+    folder = Path(folder)
+    base = ufoLib2.Font.open(str(source))
+    keep = set(glyphs)
+    for g in base:
+        keep.update(c.baseGlyph for c in g.components if g.name in glyphs)
+    for name in list(base.keys()):
+        if name not in keep:
+            del base[name]
+    base.features.text = ""
+    base.kerning.clear()
+    base.groups.clear()
+    base.info.styleName = "Regular"
+    wide = copy.deepcopy(base)
+    wide.info.styleName = "Wide"
+    for g in wide:
+        for c in g.contours:
+            for p in c.points:
+                p.x = (1 + widen) * p.x + slant * p.y
+        for a in g.anchors:
+            a.x = (1 + widen) * a.x + slant * a.y
+        for c in g.components:
+            xx, xy, yx, yy, dx, dy = tuple(c.transformation)
+            c.transformation = (xx, xy, yx, yy, (1 + widen) * dx + slant * dy, dy)
+        g.width = round((1 + widen) * g.width)
+    base.save(str(folder / "Skel-Regular.ufo"), overwrite=True)
+    wide.save(str(folder / "Skel-Wide.ufo"), overwrite=True)
+    doc = DesignSpaceDocument()
+    ax = AxisDescriptor()
+    ax.tag, ax.name, ax.minimum, ax.default, ax.maximum = "wdth", "Width", 100, 100, 125
+    doc.addAxis(ax)
+    for fn, v, style in (("Skel-Regular.ufo", 100, "Regular"), ("Skel-Wide.ufo", 125, "Wide")):
+        s = SourceDescriptor()
+        s.filename, s.location, s.styleName = fn, {"Width": v}, style
+        s.familyName = base.info.familyName
+        doc.addSource(s)
+    inst = InstanceDescriptor()
+    inst.familyName, inst.styleName, inst.location = base.info.familyName, "SemiWide", \
+        {"Width": 112.5}
+    doc.addInstance(inst)
+    path = folder / "Skel.designspace"
+    doc.write(str(path))
+    return path

@@ -387,6 +387,8 @@ def read_skeleton(src):
 
     from ..parse.ufo import load_ufo
 
+    if isinstance(src, Skeleton):
+        return src
     if isinstance(src, ufoLib2.Font):
         return Skeleton([src], [{}], [], [], 0, ["the UFO"])
     path = Path(src)

@@ -14,7 +14,7 @@ def test_variable_stroke_writes_font_designspace_and_masters(runner, tmp_path):
             "--jobs", "1"]
     result = runner.invoke(main, args)
     assert result.exit_code == 0, result.output
-    assert "variable, axis NIBW" in result.output
+    assert "variable, axes NIBW Nib width 40..120" in result.output
     masters = tmp_path / "Nib-masters"
     for p in (out, tmp_path / "Nib.designspace", masters, tmp_path / "Nib.ttf.png",
               tmp_path / "Nib.ttf.html"):

@@ -156,3 +156,63 @@ def test_turning_nib_gets_intermediate_masters(tmp_path, skeleton):
     # with the two end masters only, the blend misses the turned nib by more
     ends = [axis.nib_at(values[0]), axis.nib_at(values[-1])]
     assert interpolation_error(*ends) > 4 * (TOL + 2 * ROUND)
+
+
+def _skeleton_reference(skeleton, name, u, nib, slant=0.15, widen=0.25):
+    """The exact sum at the designspace location u of skeleton_designspace: its
+    own interpolation is the map x' = (1 + u widen) x + u slant y."""
+    from morph.parse.ufo import decomposed_paths
+
+    m = np.array([[1 + widen * u, slant * u], [0.0, 1.0]])
+    lines = [p @ m.T for p in skeleton_polylines(decomposed_paths(skeleton, name))]
+    return [p + np.array([nib.extent()[2], 0.0])
+            for p in clipper_stroke(lines, tuple(nib))]
+
+
+def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
+    """Two skeleton masters x two nib masters: axes and instances kept, every
+    corner and inner location within tol + two roundings of the exact sum (the
+    skeleton interpolated by its own rule, the nib by the axis)."""
+    from fontTools.designspaceLib import DesignSpaceDocument
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from tests.varfont_reference import skeleton_designspace
+
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
+    out = tmp_path / "Family.ttf"
+    stats = stroke_variable(ds, out, *NIBS, tol=TOL)
+    assert len(stats["masters"]) == 4
+    doc = DesignSpaceDocument.fromfile(str(stats["designspace"]))
+    assert [a.tag for a in doc.axes] == ["wdth", "NIBW"]
+    assert "SemiWide" in [i.styleName for i in doc.instances]
+    font = TTFont(str(out))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wdth", "NIBW"]
+    for u, w in ((0.0, 120.0), (1.0, 40.0), (0.5, 80.0), (0.3, 110.0), (0.9, 55.0)):
+        glyphs = instancer.instantiateVariableFont(font, {"wdth": 100 + 25 * u, "NIBW": w},
+                                                   ).getGlyphSet()
+        nib = Ellipse(w, w / 4, 30)
+        for name in ("s", "period"):
+            ref = _skeleton_reference(skeleton, name, u, nib)
+            assert within(glyph_polygons(glyphs, name), ref, TOL + 2 * ROUND + SLACK,
+                          strict=True), (u, w, name)
+
+
+def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
+    import ufoLib2
+
+    from morph.cli import main
+    from morph.compatible import IncompatibleMasters
+    from tests.varfont_reference import skeleton_designspace
+
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
+    wide = ufoLib2.Font.open(str(tmp_path / "Skel-Wide.ufo"))
+    pts = wide["s"].contours[0].points
+    del pts[-3:]                                    # one curve fewer
+    wide.save(str(tmp_path / "Skel-Wide.ufo"), overwrite=True)
+    with pytest.raises(IncompatibleMasters, match=r"glyph 's'.*Skel-Wide\.ufo"):
+        stroke_variable(ds, tmp_path / "x.ttf", (80, 20, 30), tol=TOL)
+    result = runner.invoke(main, ["stroke", str(ds), "-o", str(tmp_path / "y.ttf")])
+    assert result.exit_code == 2, result.output
+    line = result.output.strip()
+    assert "glyph 's'" in line and "Skel-Wide.ufo" in line and len(line.splitlines()) == 1
