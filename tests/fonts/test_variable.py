@@ -216,3 +216,67 @@ def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
     assert result.exit_code == 2, result.output
     line = result.output.strip()
     assert "glyph 's'" in line and "Skel-Wide.ufo" in line and len(line.splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_specimen_sliders_in_chromium(tmp_path, runner):
+    """The specimen's slider position (set by the page address) reaches the browser's
+    rendering: screenshots at the two ends of the nib axis differ, and each matches
+    Pillow's rendering (FreeType) of the font at that location."""
+    import shutil
+    import subprocess
+
+    from PIL import Image, ImageDraw, ImageFont
+
+    from morph.cli import main
+    from morph.fonts.specimen import SAMPLE_MARGIN, SAMPLE_POS, SAMPLE_PX
+    from tests.fonts.test_specimen import _ink
+
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if browser is None:
+        pytest.skip("no Chromium installed (apt-get install chromium) to open the specimen")
+    text = "Hamburg"
+    out = tmp_path / "Spec.ttf"
+    r = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), *sum(
+        (["--nib", "ellipse:%g,%g,%g" % NIBS[0]], ["--vary-nib", "ellipse:%g,%g,%g" % NIBS[1]]),
+        []), "--glyphs", "H,a,m,b,u,r,g", "--sample", text, "--jobs", "1"])
+    assert r.exit_code == 0, r.output
+    page = out.with_name(out.name + ".html")
+    assert 'type="range" name="NIBW"' in page.read_text()
+    inks = {}
+    for value in (40, 120):
+        shot = tmp_path / ("shot%d.png" % value)
+        cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+               "--disable-background-networking", "--disable-component-update",
+               "--disable-sync", "--user-data-dir=%s" % (tmp_path / ("profile%d" % value)),
+               "--hide-scrollbars", "--force-device-scale-factor=1", "--window-size=1200,400",
+               "--screenshot=%s" % shot, page.as_uri() + "#NIBW=%d" % value]
+        subprocess.run(cmd, capture_output=True, timeout=120, check=False)
+        assert shot.exists(), "Chromium wrote no screenshot"
+        line = Image.open(shot).crop((0, 0, 1200, SAMPLE_POS[1] + SAMPLE_PX + SAMPLE_MARGIN - 4))
+        inks[value] = _ink(line)
+    for value in (40, 120):
+        fnt = ImageFont.truetype(str(out), SAMPLE_PX)
+        fnt.set_variation_by_axes([value])
+        img = Image.new("L", (SAMPLE_PX * len(text) * 2, SAMPLE_PX * 3), 255)
+        ImageDraw.Draw(img).text((SAMPLE_PX // 2, SAMPLE_PX // 2), text, font=fnt, fill=0)
+        pillow = _ink(img)
+        other = inks[160 - value]
+        same, crossed = _near(inks[value], pillow), _near(other, pillow)
+        assert same >= 0.97, (value, same, crossed)             # within 2 px
+        assert crossed < same - 0.1, (value, same, crossed)     # the two positions differ
+        assert abs(inks[value].shape[1] - pillow.shape[1]) <= 3
+
+
+def _near(a, b, px=2):
+    """The share of the ink of each mask within ``px`` pixels of the other's ink (the
+    smaller of the two): anti-aliased hairlines differ by a pixel between renderers."""
+    from scipy.ndimage import binary_dilation
+
+    h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
+    pa, pb = np.zeros((h, w), bool), np.zeros((h, w), bool)
+    pa[:a.shape[0], :a.shape[1]] = a
+    pb[:b.shape[0], :b.shape[1]] = b
+    grow = np.ones((2 * px + 1, 2 * px + 1), bool)
+    return min((pa & binary_dilation(pb, grow)).sum() / pa.sum(),
+               (pb & binary_dilation(pa, grow)).sum() / pb.sum())
