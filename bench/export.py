@@ -1,4 +1,4 @@
-"""Cubic export (issue #18 part 2, issue #17 part 5): cubics per piece, certified totals.
+"""Cubic export: cubics per piece, certified totals.
 
     python bench/export.py [--md bench/export.md | --no-write] [--quick]
 
@@ -14,14 +14,14 @@ Measures, in one run:
    independently: max | |C(t)| - 2 | over 257 samples per cubic (exact distance to
    the circle).
 2. ``morph offset O --radius 0.04`` as the command writes it (sum within
-   ``split_tolerance(tol)[0]``, SVG path data within the export share) on the bundled
+   ``plan(tol).geometry``, SVG path data within the export share) on the bundled
    Noto Sans TrueType and CFF fonts, at tol 1e-4 em (the default, 0.1 unit) and
    1e-5 em: the number of SVG path commands (C / Q / L) of the offset outline, against
    ``kurbopy.offset_cubic`` applied to each cubic of the CFF O (40 units, accuracy
    0.1 and 0.01 unit; untrimmed per-segment offsets, so a lower bound of what a
    kurbo-based offsetter writes) and the previous exporter on the same pieces.
 3. Brushed glyphs (the ``morph brush`` default nib: ellipse 80 x 30 units rotated
-   30°, total tol 0.5 unit, split by ``split_tolerance``): outline points (on- and
+   30°, total tol 0.5 unit, split by ``plan``): outline points (on- and
    off-curve, cubics) per glyph, new exporter against the previous one.  The issue
    quotes FontForge's Expand Stroke at 51-95 points for such glyphs.
 4. The certified total: circle ⊕ circle written as SVG through the command's path
@@ -29,7 +29,7 @@ Measures, in one run:
    with svgpathtools, 200 samples per segment), against the previous behaviour
    (sum at tol and export at tol, previous exporter).
 5. The split itself: the O offset with the sum given 0.5, 0.25 or 0.1 of tol.
-6. Points at equal measured error (issue #18 targets): the TrueType O ⊕ disk (r = 40
+6. Points at equal measured error: the TrueType O ⊕ disk (r = 40
    units) and O ⊕ ellipse (semi-axes 40 and 15 at 30°): morph (``minkowski_sum`` at
    the sum share, ``loop_to_beziers(wrap=True)`` at the export share), FontForge's
    Expand Stroke (Debian's python3-fontforge: the O's contours stroked with the nib,
@@ -38,7 +38,7 @@ Measures, in one run:
    ellipse's linear map, stroked with round joins, united with the filled O, mapped
    back, conics to quadratics; scaled up 1 / 4 / 16 times for precision).  Error: the
    two-sided Hausdorff distance of each output (flattened within 0.005) from an
-   independent Clipper polygon (the O's outline ⊕ nib, ``tests.stroke_reference``,
+   independent Clipper polygon (the O's outline ⊕ nib, ``tests.oracles.stroke_reference``,
    flattened within 0.005, united with the filled O), boundaries sampled every 0.25
    unit.  Points: on- and off-curve points (a line 1, a quadratic 2, a cubic 3).
 """
@@ -60,8 +60,8 @@ import kurbopy  # noqa: E402 - after sys.path gets the repo root
 
 from morph import bernstein as bz  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
-from morph.export import (SUM_SHARE, loop_to_beziers, piece_to_cubics,  # noqa: E402 - after sys.path gets the repo root
-                          split_tolerance)
+from morph.budget import SUM_SHARE, plan  # noqa: E402 - after sys.path gets the repo root
+from morph.export import loop_to_beziers, piece_to_cubics  # noqa: E402 - after sys.path gets the repo root
 from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
 
 PREVIOUS = "2043d8b~1"      # the exporter before kurbo's fit
@@ -203,7 +203,7 @@ def offset_table(old, tols):
         upm = 1000.0
         for tol_em in tols:
             tol = tol_em * upm
-            st, et = split_tolerance(tol)
+            st, et = plan(tol)[:2]
             t = time.process_time()
             loops = offset_region(g.region, 0.04 * upm, st)
             d = svg_path_data(loops, et)
@@ -262,7 +262,7 @@ def brush_table(old, chars, tol=0.5):
     from morph.parse import glyph_region
 
     nib = ellipse_nib(80, 30, 30)
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     rows = []
     for key, path in font_paths().items():
         for ch in chars:
@@ -359,9 +359,9 @@ def _nib_region(rx, ry, ang):
 
 def _reference(region, nib, flat=0.005):
     """Independent polygon of O ⊕ nib: the O's outline stroked in Clipper
-    (tests.stroke_reference, closed paths) united with the filled O (shapely)."""
-    from tests.reference import region_to_shapely
-    from tests.stroke_reference import stroke_polygon
+    (tests.oracles.stroke_reference, closed paths) united with the filled O (shapely)."""
+    from tests.oracles.reference import region_to_shapely
+    from tests.oracles.stroke_reference import stroke_polygon
 
     ring = stroke_polygon([(loop, True) for loop in region], nib, flat)
     return ring.union(region_to_shapely(region, flat))
@@ -369,7 +369,7 @@ def _reference(region, nib, flat=0.005):
 
 def _measure(beziers, ref):
     """Hausdorff distance of closed Bézier contours from the reference polygon."""
-    from tests.reference import hausdorff, region_to_shapely
+    from tests.oracles.reference import hausdorff, region_to_shapely
 
     loops = [[pc.from_points(np.asarray(b, float)) for b in c] for c in beziers]
     return hausdorff(region_to_shapely(loops, 0.005), ref, 0.25)
@@ -436,7 +436,7 @@ def _skia_o(region, rx, ry, ang, scale):
 
 def peer_table(morph_tols, ff_accuracies, skia_scales):
     """O ⊕ disk and O ⊕ ellipse: points and measured error of morph (sum +
-    loop_to_beziers at split_tolerance), FontForge Expand Stroke + remove overlap with
+    loop_to_beziers at plan), FontForge Expand Stroke + remove overlap with
     the O, Skia stroke + union with the O."""
     import json
     import os
@@ -449,7 +449,7 @@ def peer_table(morph_tols, ff_accuracies, skia_scales):
         nib = _nib_region(rx, ry, ang)
         ref = _reference(region, nib)
         for tol in morph_tols:
-            st, et = split_tolerance(tol)
+            st, et = plan(tol)[:2]
             t0 = time.process_time()
             loops = minkowski_sum(region, nib, st)
             bez = [loop_to_beziers(lp, et, wrap=True) for lp in loops]
@@ -488,7 +488,7 @@ def circle_total(old, tols):
             res = []
             for mode in ("split", "previous"):
                 if mode == "split":
-                    st, et = split_tolerance(tol)
+                    st, et = plan(tol)[:2]
                     d = svg_path_data(minkowski_sum([a], [b], st), et)
                 else:
                     loops = minkowski_sum([a], [b], tol)
@@ -518,7 +518,7 @@ def share_table(tols, shares=(0.5, 0.25, 0.1)):
         g = glyph_region("O", str(path))
         for tol in tols:
             for share in shares:
-                st, et = split_tolerance(tol, share)
+                st, et = plan(tol, share=share)[:2]
                 t = time.process_time()
                 loops = offset_region(g.region, 40.0, st)
                 t1 = time.process_time()
@@ -557,7 +557,7 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
             "sum pieces | previous (sum at tol, previous exporter) | CPU s (sum + export) |",
             "|---|---|---|---|---|---|---|"]
     for key, tol_em, tol, n, pieces, prev, sec in offs:
-        st, et = split_tolerance(tol)
+        st, et = plan(tol)[:2]
         out.append("| %s | %.0e | %.3g / %.3g | %d | %d | %d | %.2f |"
                    % (key, tol_em, st, et, n, pieces, prev, sec))
     out += ["", "kurbo's `offset_cubic` on each segment of the CFF O (40 units, no trimming "
@@ -566,9 +566,9 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
                 for acc, (n, segs) in kurbo.items()) + ".", "",
             "## 3. Brushed glyphs (ellipse 80 x 30 rotated 30°, tol 0.5 unit), outline points",
             "", "Points: on- and off-curve points of the cubic outline (a line 1, a cubic "
-            "3).  Sum within %.2g unit, export within %.2g unit (split_tolerance); the "
+            "3).  Sum within %.2g unit, export within %.2g unit (plan); the "
             "previous exporter is given the whole 0.5 unit, as before.  FontForge's "
-            "Expand Stroke: 51-95 points (issue #18)." % split_tolerance(0.5), "",
+            "Expand Stroke: 51-95 points." % plan(0.5)[:2], "",
             "| font | glyph | sum pieces | points (morph, loop_to_beziers) | points (new "
             "fitter piece by piece) | points (previous) | export CPU s (loop_to_beziers) |",
             "|---|---|---|---|---|---|---|"]
@@ -578,7 +578,7 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
     out += ["", "## 4. The certified total: circle ⊕ circle written as SVG", "",
             "Error of the written path data against the exact circle of radius r1 + r2 "
             "(svgpathtools, 200 samples per segment), in units of the requested tol. "
-            "'split': the commands' path (`split_tolerance`: sum at %g tol, SVG export "
+            "'split': the commands' path (`plan`: sum at %g tol, SVG export "
             "at the rest, certified).  'previous': sum at tol and the previous exporter "
             "at tol (no total bound)." % SUM_SHARE, "",
             "| r1 + r2 | tol | split: error / tol | split: commands | previous: error / tol "

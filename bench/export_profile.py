@@ -5,8 +5,8 @@
                                    [--top 30] [--check] [--cache FILE] [--batch N]
 
 The geometry (sums, strokes) is computed once and cached in ``--cache`` (default
-/tmp/morph_export_profile.pkl; delete it to recompute), so that exporters are timed on
-the same input even while the sum code changes.  ``--rev REV`` times the exporter of a
+morph_export_profile.pkl in the system temporary folder; delete it to recompute), so
+that exporters are timed on the same input even while the sum code changes.  ``--rev REV`` times the exporter of a
 git revision (``git show REV:morph/export.py``, run against today's bernstein/piece)
 instead of the working tree's.  Times are CPU seconds of this process
 (``time.process_time``), one warm run.  Cases (tol in font units, glyphs in font
@@ -39,6 +39,7 @@ import os
 import pickle
 import pstats
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -64,7 +65,7 @@ def glyph_names(spec):
 
 def build_inputs(case, glyphs):
     """[(label, loops, export tol, kind)]: kind 'beziers', 'svg' or 'quadratic'."""
-    from morph.export import split_tolerance
+    from morph.budget import plan
     from morph.fonts.brush import ellipse_nib
     from morph.minkowski import minkowski_sum
     from morph.parse import cubic_test_font_path, glyph_region
@@ -76,7 +77,7 @@ def build_inputs(case, glyphs):
 
         font = load_ufo(str(RELIEF), lazy=False)
         nib = ellipse_nib(90, 20, 30) if case == "stroke" else ellipse_nib(60, 60, 0)
-        geometry, export = split_tolerance(0.5)
+        geometry, export = plan(0.5)[:2]
         for name in glyph_names_for(font, glyph_names(glyphs)):
             region = stroke_paths(decomposed_paths(font, name), nib, geometry)
             out.append((name, region, export, "beziers"))
@@ -92,12 +93,12 @@ def build_inputs(case, glyphs):
             out.append((name, minkowski_sum(region, nib, 0.25), 0.25, "quadratic"))
     elif case == "sumOM":
         a, b = glyph_region("O").region, glyph_region("M").region
-        st, et = split_tolerance(0.1)
+        st, et = plan(0.1)[:2]
         out.append(("O+M", minkowski_sum(a, b, st), et, "svg"))
     elif case in ("Odisk", "Oellipse"):
         o = glyph_region("O", font=str(cubic_test_font_path())).region
         nib = [pc.circle((0.0, 0.0), 40.0)] if case == "Odisk" else ellipse_nib(80, 30, 30)
-        st, et = split_tolerance(0.1)
+        st, et = plan(0.1)[:2]
         out.append((case, minkowski_sum(o, nib, st), et, "svg"))
     else:
         raise SystemExit("unknown case %r" % case)
@@ -170,7 +171,8 @@ def main():
     ap.add_argument("--profile", action="store_true")
     ap.add_argument("--top", type=int, default=30)
     ap.add_argument("--check", action="store_true")
-    ap.add_argument("--cache", default="/tmp/morph_export_profile.pkl")
+    ap.add_argument("--cache", default=os.path.join(tempfile.gettempdir(),
+                                                    "morph_export_profile.pkl"))
     ap.add_argument("--save", default=None, help="write {case: {shape: points}} as JSON")
     ap.add_argument("--batch", type=int, default=1,
                     help="also time the export of N shapes per call (the loops of N "

@@ -97,9 +97,9 @@ load_font(font)
 lap("fontTools, open font, glyph names")
 a, b = load_shape(sys.argv[1], font), load_shape(sys.argv[2], font)
 lap("read both glyphs")
-from morph.export import split_tolerance
+from morph.budget import plan
 from morph.minkowski import minkowski_sum
-st, et = split_tolerance(a.em_to_units(float(sys.argv[3])))
+st, et = plan(a.em_to_units(float(sys.argv[3])))
 loops = minkowski_sum(a.region, b.region, st)
 lap("sum (imports included)")
 from morph.render import write_svg

@@ -1,6 +1,6 @@
 """QAC convolution curves and Minkowski sums of glyphs: size and time vs tolerance.
 
-    python bench/qac.py            # 1-2 minutes; prints the tables, writes bench/qac.md
+    python -m bench.qac [--md bench/qac.md]   # 2-5 minutes; prints the tables, writes the report
 
 For each font (bundled Noto Sans: TrueType = quadratic outlines, CFF = cubic
 outlines), each case and each tolerance tol = 1e-1 ... 1e-5 em (x 1000 font units,
@@ -32,7 +32,6 @@ random pairs (all kinds with a non-quadratic C2, halved 0-4 times) and on the
 curve-curve pairs of the glyph cases (CFF), halved 0-4 times in angle.
 """
 
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -44,8 +43,9 @@ sys.path.insert(0, str(ROOT))
 
 from morph import convolve, gauss, minkowski, parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from bench.stamp import stamp  # noqa: E402 - after sys.path gets the repo root
 from morph import qac  # noqa: E402 - after sys.path gets the repo root
-from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles import reference as R  # noqa: E402 - after sys.path gets the repo root
 from tests.test_convolve import pair_error  # noqa: E402 - after sys.path gets the repo root
 
 TOLS_EM = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)
@@ -54,19 +54,6 @@ NIB = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
 CASES = [("S + nib", "S", None), ("T + M", "T", "M"), ("O + M", "O", "M"), ("S + g", "S", "g")]
 FONTS = [("TrueType", None), ("CFF", parse.cubic_test_font_path())]
 SAMPLES = 60
-
-
-def code_version():
-    """Commit of the code measured, '+dirty' when morph/ has uncommitted changes."""
-    def git(*args):
-        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True,
-                              text=True).stdout.strip()
-    try:
-        rev = git("rev-parse", "--short", "HEAD") or "unknown"
-        dirty = git("status", "--porcelain", "--", "morph")
-    except OSError:
-        return "unknown"
-    return rev + ("+dirty" if dirty else "")
 
 
 def control_points(pieces):
@@ -224,7 +211,7 @@ def table(font_label, case_label, rows):
     return "\n".join(out)
 
 
-def main():
+def main(md=ROOT / "bench" / "qac.md"):
     start = time.perf_counter()
     rng = np.random.default_rng(1998)
     sections = []
@@ -261,7 +248,7 @@ def main():
         "",
         "\n".join(header[1:]),
         "",
-        "This run: %.0f s, code at %s." % (elapsed, code_version()),
+        stamp(seconds=elapsed),
         "",
         "## Summary",
         "",
@@ -280,10 +267,10 @@ def main():
         ratios,
         "",
     ])
-    (ROOT / "bench" / "qac.md").write_text(text)
+    Path(md).write_text(text)
     print("\n".join(summary))
-    print("\nwrote bench/qac.md in %.0f s" % elapsed)
+    print("\nwrote %s in %.0f s" % (md, elapsed))
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[sys.argv.index("--md") + 1:][:1] if "--md" in sys.argv else ())

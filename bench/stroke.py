@@ -10,8 +10,8 @@ stroked by ``morph.fonts.stroke.stroke_ufo`` with the default nib of ``morph str
 process, into .otf and .ttf; each glyph read back from the compiled font (integer
 coordinates; composites decomposed) and compared with an independent Clipper polygon
 of the skeleton flattened within ``--ref-tol`` ⊕ the nib flattened within
-``--ref-tol`` (``tests.stroke_reference.stroke_polygon``), shifted like the written
-glyph.  Measures: two-sided boundary Hausdorff distance (``tests.reference.hausdorff``,
+``--ref-tol`` (``tests.oracles.stroke_reference.stroke_polygon``), shifted like the written
+glyph.  Measures: two-sided boundary Hausdorff distance (``tests.oracles.reference.hausdorff``,
 written curves flattened within 0.02, boundaries sampled every 0.25 unit) against
 ``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
 o, e, a, 8 ...), each hole's area within perimeter x that bound.
@@ -42,7 +42,7 @@ of a shared machine) of the stroking calls alone, single core.  morph is timed a
 the ``morph stroke`` command works (``morph.fonts.stroke._chunk_job``): the glyphs
 in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (96, at least two
 chunks: 62 glyphs are two chunks of 31), the glyphs of a chunk stroked together
-(``stroke_many`` at the geometry share of ``split_tolerance(tol)``: its CPU time
+(``stroke_many`` at the geometry share of ``plan(tol)[:2]``: its CPU time
 divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
 wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
@@ -80,8 +80,8 @@ from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # no
 from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
-from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
-from tests.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 ROUNDING = 0.71
@@ -180,7 +180,8 @@ def run_morph(font, names, spec, tols, refs):
     with the peers)."""
     import traceback
 
-    from morph.export import loops_to_beziers, split_tolerance
+    from morph.budget import plan
+    from morph.export import loops_to_beziers
     from morph.fonts.brush import glyph_chunks
     from morph.fonts.stroke import CHUNK
     from morph.stroke import stroke_many
@@ -188,7 +189,7 @@ def run_morph(font, names, spec, tols, refs):
     nib = nib_region(spec)
     rows = []
     for tol in tols:
-        geometry, export = split_tolerance(tol)
+        geometry, export = plan(tol)[:2]
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
         for chunk in glyph_chunks(list(names), CHUNK):
             sets = [decomposed_paths(font, n) for n in chunk]

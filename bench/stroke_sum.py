@@ -4,7 +4,7 @@
 
 Relief A-Z, a-z, 0-9 (the full UFO from ../shared/data when present, else the subset
 in tests/data), the default broad nib of ``morph stroke`` (ellipse 90 x 20 at 30
-degrees), the geometry share of --tol (``morph.export.split_tolerance``): CPU ms per
+degrees), the geometry share of --tol (``morph.budget.plan``): CPU ms per
 glyph of one pass after a warm-up pass, in-process; the glyphs in the command's
 chunks (``morph.fonts.brush.glyph_chunks``), each chunk stroked together
 (``morph.stroke.stroke_many``), or with ``--alone`` one glyph at a time
@@ -21,8 +21,8 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")    # as the command, before numpy loads
 
 from bench.stroke import BROAD, nib_region  # noqa: E402 - after the BLAS thread count is set
-from bench.sweep import relief_font  # noqa: E402 - after the BLAS thread count is set
-from morph.export import split_tolerance  # noqa: E402 - after the BLAS thread count is set
+from tests.oracles.sweep import relief_font  # noqa: E402 - after the BLAS thread count is set
+from morph.budget import plan  # noqa: E402 - after the BLAS thread count is set
 from morph.parse.ufo import decomposed_paths  # noqa: E402 - after the BLAS thread count is set
 from morph.fonts.brush import glyph_chunks  # noqa: E402 - after the BLAS thread count is set
 from morph.fonts.stroke import CHUNK  # noqa: E402 - after the BLAS thread count is set
@@ -42,7 +42,7 @@ def main(argv=None):
     have = {g.name for g in font}
     names = [n for n in NAMES if n in have]
     nib = nib_region(BROAD)
-    geometry, _ = split_tolerance(opt.tol)
+    geometry, _ = plan(opt.tol)[:2]
     paths = {n: decomposed_paths(font, n) for n in names}
 
     def run():

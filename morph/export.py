@@ -70,8 +70,8 @@ loop at its corners only (:func:`smooth_runs`) and lets cubics span the smooth j
 points and certifies each part against its piece, phi mapping the cut to the join.
 Writers of whole outlines (SVG, fonts) call the loop functions with ``wrap=True`` (a
 smooth closing join is spanned as well) and the export share of the user's
-tolerance (:func:`split_tolerance`, or :func:`export_tolerance` when the geometry
-has a certified error below its share).
+tolerance (:func:`morph.budget.plan`, or :meth:`morph.budget.Budget.after` when the
+geometry has a certified error below its share).
 """
 
 import functools
@@ -82,73 +82,14 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
+from .budget import PHI_SHARE, QUADRATIC_CUBIC_SHARE
 from .errors import ToleranceNotMetError
 
-__all__ = ["JOIN_ANGLE", "QUADRATIC_CUBIC_SHARE", "SUM_SHARE", "CubicFit", "chain_segments",
-           "cubic_bound", "cubic_segments", "export_tolerance", "fit_cubic", "loop_to_beziers",
+__all__ = ["JOIN_ANGLE", "CubicFit", "chain_segments",
+           "cubic_bound", "cubic_segments", "fit_cubic", "loop_to_beziers",
            "loop_to_cubics", "loop_to_quadratics", "loops_to_beziers",
            "loops_to_quadratics", "piece_to_cubics", "piece_to_quadratics",
-           "smooth_runs", "split_tolerance"]
-
-#: Share of a user's tolerance given to the geometry (sum, offset, morph frame); the
-#: rest goes to the export (cubic fit and coordinate rounding).  See split_tolerance.
-#: A quarter: the cubics must follow the sum's pieces, ripples of the QAC
-#: approximation included, so export slack is what lets one cubic span several
-#: pieces (CFF O offset by 40 units at 0.1 unit: 17 cubics at 0.5, 14 at 0.25; the
-#: sum takes ~20 % longer; bench/export.md).
-SUM_SHARE = 0.25
-
-
-def split_tolerance(tol, share=SUM_SHARE):
-    """Split a total tolerance into ``(geometry_tol, export_tol)``, summing to ``tol``.
-
-    The one place where the error budget of a written file is divided: a command
-    that computes a shape within ``geometry_tol`` of the exact result (Hausdorff
-    distance, e.g. :func:`morph.minkowski.minkowski_sum`) and writes it with an exporter
-    bounded by ``export_tol`` (Fréchet, hence Hausdorff, distance between the written
-    curves and the computed pieces, e.g. :func:`morph.render.write_svg`, the font
-    writers) produces a file within ``tol`` of the exact result by the triangle
-    inequality of the Hausdorff distance.
-
-    Raises:
-        ValueError: tol not positive and finite, or share not in (0, 1).
-    """
-    tol = float(tol)
-    if not (tol > 0 and math.isfinite(tol)):
-        raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    if not 0.0 < share < 1.0:
-        raise ValueError("share must be in (0, 1), got %r" % (share,))
-    geometry = share * tol
-    return geometry, tol - geometry
-
-
-def export_tolerance(tol, geometry_bound):
-    """The export's share of a total ``tol`` once the geometry's error is bounded.
-
-    ``geometry_bound`` must be a stated upper bound of the Hausdorff distance between
-    the computed pieces and the exact shape (never a measurement), e.g. for
-    :func:`morph.minkowski.minkowski_sum` at ``geometry_tol``: the shares of
-    ``geometry_tol`` it spends on anything else (``(1 - CONV_SHARE) *
-    geometry_tol``) plus the largest a-priori bound e of its convolution pieces
-    (``ConvPiece.bound``, 0 for exact ones such as a TrueType glyph ⊕ disk) where
-    the boundary is smooth, and e / cos(phi / 2) of the pieces meeting at a corner
-    that turns by phi (two curves each within e can meet that far from the exact
-    corner; minkowski_sum keeps it within ``CONV_SHARE * geometry_tol``, so
-    ``geometry_tol`` itself is always a valid bound).  The result is ``tol -
-    geometry_bound``: an exporter within it keeps the written file within ``tol``
-    of the exact shape (triangle inequality), as :func:`split_tolerance` does with
-    the whole geometry share.
-
-    Raises:
-        ValueError: tol not positive and finite, or geometry_bound not in [0, tol).
-    """
-    tol, bound = float(tol), float(geometry_bound)
-    if not (tol > 0 and math.isfinite(tol)):
-        raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    if not 0.0 <= bound < tol:
-        raise ValueError("geometry_bound must be in [0, tol), got %r" % (geometry_bound,))
-    return tol - bound
-
+           "smooth_runs"]
 
 #: One certified cubic of a piece or chain: ``cubic`` (4, 2) approximates it on
 #: [t0, t1] with ``max_s |R(phi(s)) - C(s)| <= bound`` for the continuous increasing
@@ -704,7 +645,6 @@ _NODE_BASIS = bz.basis(3, _NODES)
 #: Degrees of the reparametrisation phi tried in turn (the lowest that follows the
 #: feet within PHI_SHARE * tol).
 PHI_DEGREES = (3, 5, 7, 9)
-PHI_SHARE = 0.2
 #: Largest |log c| of the Möbius factor of :func:`_reparams`.
 MOEBIUS_LOG = 5.0
 #: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
@@ -1410,10 +1350,6 @@ def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
     line and quadratic degree-elevated (exactly)."""
     return [bz.to_degree(b, 3)
             for b in loop_to_beziers(loop, tol, max_depth, join_angle, wrap)]
-
-
-#: Share of piece_to_quadratics' tolerance given to the cubic stage.
-QUADRATIC_CUBIC_SHARE = 0.5
 
 
 def _cubics_to_quadratics(cubics, tol, splines=False):

@@ -34,7 +34,7 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     depend on the scale factors, are computed once for all frames
     (:func:`morph.convolve.scaled_gauss_pair`).  With ``return_bounds``: (frames,
     bounds), bounds[k] the error frame k achieved (at most tol; 0 for the end frames,
-    which are the operands), what :func:`morph.export.export_tolerance` takes.
+    which are the operands), what :func:`morph.budget.export_tolerance` takes.
     :func:`iter_frames` gives the same frames one at a time.
     Raises ValueError for n < 2.
     """

@@ -6,6 +6,8 @@
 import numpy as np
 
 from . import piece as pc
+from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
+                     TIP_FLOOR, TIP_MARGIN, TIP_REACH)
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
 from .errors import LimitError, SelfCrossingError, ToleranceNotMetError, TopologyError
 from .limits import check_tolerance, fits_precision, point_budget
@@ -15,34 +17,8 @@ from .region import NormalLoops, winding_fault
 from .trim import boundary
 from .trim.holes import Membership, deepest_point, loop_areas
 
-# shares of tol: convolution error, flattening, grid rounding (grid / sqrt 2),
-# contraction of tiny runs; they add up to 1.  A gap narrower than twice the
-# convolution share may close (the pieces on its sides may overlap), a feature
-# thinner than twice the flattening and grid shares may merge (morph.trim): the
-# split makes both about 1 tol.  The convolution costs little (QAC pieces grow as
-# e^-1/4 or slower), the flattening most of the trimming (points grow as e^-1/2):
-# 0.5 / 0.35 instead of 0.75 / 0.1 takes TrueType S+g at 2.5e-6 em from 99 to 61 ms
-# and CFF O ⊕ ellipse at 2.5e-6 em from 63 to 54 ms, with the same output.
-CONV_SHARE = 0.5
-FLAT_SHARE = 0.35
-GRID_SHARE = 0.1
-CONTRACT_SHARE = 0.05
-# sharp corners (wedge tips): rounds of finer approximation, the margin for angles
-# measured on approximations, the smallest cos(phi / 2) honoured, and how near (in
-# tol) a piece's box must come to a corner to count as passing through it
+#: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
-TIP_MARGIN = 0.9
-TIP_FLOOR = 1e-3
-TIP_REACH = 0.5
-#: The first round approximates the pairs that may meet another at a corner
-#: (:func:`morph.convolve.crossing_rows`) within this share of the convolution
-#: budget, so that corners turning by up to 2 acos(FIRST_SHARE / TIP_MARGIN) (about
-#: 127 degrees) need no second round: the corner pass trims the whole sum again,
-#: which costs more than the extra pieces (Relief strokes 31 -> 24 ms per glyph,
-#: a second round in 1 glyph of 62 instead of 16; CFF S+g 74 -> 46 ms; exact
-#: TrueType pairs unchanged; bench.stroke_sum).  Pairs that meet no other keep the
-#: whole budget (300 disjoint circles: 4800 pieces, not 9600; bench.scaling).
-FIRST_SHARE = 0.4
 #: :func:`minkowski_sums` keeps the packed sums this many tol apart (beyond B's size)
 PACK_GAP = 16.0
 
@@ -79,7 +55,7 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     With ``return_debug``: (boundary, debug), debug["bound"] the error this sum
     achieved (at most tol; the shares above with the convolution's actual bounds:
     0.5 tol for TrueType sums, whose QAC pieces are exact), which a writer may give
-    to its export (:func:`morph.export.export_tolerance`).
+    to its export (:func:`morph.budget.export_tolerance`).
     """
     if not region_a or not region_b:
         raise ValueError("both regions must have at least one loop")
@@ -360,7 +336,7 @@ def _achieved_bound(out, conv, tol, method):
     smooth and e / cos(phi / 2) at a junction turning by phi (cos(phi / 2) at
     least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
     pieces through it.  Only QAC bounds are a-priori bounds: for the other methods
-    it is ``tol``.  What :func:`morph.export.export_tolerance` takes."""
+    it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
     if method != "qac":
         return float(tol)
     bounds = np.array([c.bound for c in conv])

@@ -1,10 +1,10 @@
 """Small geometry helpers shared by several test files: sizes, polygons and areas from
-control points and ``tests.reference`` evaluation (nothing here is under test)."""
+control points and ``tests.oracles.reference`` evaluation (nothing here is under test)."""
 
 import numpy as np
 
 from morph import piece as pc
-from tests import reference as R
+from tests.oracles import reference as R
 
 
 def region_size(region):
@@ -14,7 +14,7 @@ def region_size(region):
 
 
 def loop_polygons(loops, tol):
-    """Each loop as one polygon: its pieces evaluated by ``tests.reference.bezier_eval``
+    """Each loop as one polygon: its pieces evaluated by ``tests.oracles.reference.bezier_eval``
     at the parameters of ``piece.flatten(p, tol)``, each piece's end point left to the
     next piece."""
     return [np.concatenate([R.bezier_eval(p, pc.flatten(p, tol)[1])[0][:-1] for p in loop])

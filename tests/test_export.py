@@ -14,16 +14,17 @@ import math
 
 import numpy as np
 import pytest
+pytest.importorskip("hypothesis")
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from morph import export as ex_mod
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from morph.export import (SUM_SHARE, chain_segments, cubic_bound, cubic_segments,
-                          export_tolerance, fit_cubic, loop_to_beziers, loop_to_cubics,
-                          loop_to_quadratics, piece_to_cubics, piece_to_quadratics,
-                          smooth_runs, split_tolerance)
+from morph.budget import export_tolerance, plan
+from morph.export import (chain_segments, cubic_bound, cubic_segments, fit_cubic,
+                          loop_to_beziers, loop_to_cubics, loop_to_quadratics,
+                          piece_to_cubics, piece_to_quadratics, smooth_runs)
 
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -430,6 +431,7 @@ class _ArcSource:
     """kurbo fitting source for the exact arc (trig formula), for kurbo's own counts."""
 
     def __init__(self, radius, sweep):
+        pytest.importorskip("kurbopy")
         import kurbopy
 
         self.r, self.a, self.k = radius, sweep, kurbopy
@@ -450,6 +452,7 @@ def test_tolerance_sweep_against_kurbo():
     """As kurbo's `cubicbez_toquads` sweep: for accuracy 0.1^i the measured error is
     below the accuracy, and the counts are no more than kurbo's fit_to_bezpath on the
     same 90° arc of radius 2 (kurbo: 1, 1, 2, 2, 4, 6, 8 at 1e-2 ... 1e-8)."""
+    pytest.importorskip("kurbopy")
     import kurbopy
 
     arc = pc.ellipse_arc((0, 0), 2.0, 2.0, 0.0, 0.0, np.pi / 2)[0]
@@ -646,22 +649,17 @@ def test_errors():
     assert info.value.achieved > 1e-9 and info.value.piece is not None
 
 
-def test_export_tolerance():
-    assert export_tolerance(1.0, 0.25) == 0.75 and export_tolerance(1e-4, 0.0) == 1e-4
-    for tol, bound in ((0.0, 0.0), (1.0, 1.0), (1.0, -0.1), (float("nan"), 0.0),
-                       (1.0, float("nan"))):
-        with pytest.raises(ValueError):
-            export_tolerance(tol, bound)
-
-
 def test_exact_sum_leaves_its_share_to_the_export():
     """A polynomial-quadratic region ⊕ disk is an exact convolution (every QAC bound
     0): the export gets tol minus the sum's other shares (export_tolerance), and the
     written SVG is still within tol of the exact offset (closest-point oracle)."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
-    from morph.minkowski import CONV_SHARE, minkowski_sum
+    from morph.budget import CONV_SHARE
+    from morph.minkowski import minkowski_sum
     from morph.render.svg import svg_path_data
 
     pts = [(0, 0), (1, -0.3), (2, 0), (2.3, 1), (2, 2), (1, 2.4), (0, 2), (-0.3, 1)]
@@ -669,7 +667,7 @@ def test_exact_sum_leaves_its_share_to_the_export():
             for i in range(0, 8, 2)]
     poly = Polygon(np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop]))
     radius, tol = 0.3, 1e-3
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv == 0.0
@@ -683,20 +681,11 @@ def test_exact_sum_leaves_its_share_to_the_export():
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
 
 
-def test_split_tolerance():
-    geometry, export = split_tolerance(1e-4)
-    assert geometry + export == pytest.approx(1e-4, rel=1e-15)
-    assert geometry == pytest.approx(SUM_SHARE * 1e-4) and 0 < SUM_SHARE <= 0.5
-    assert split_tolerance(1.0, share=0.25) == (0.25, 0.75)
-    for bad in (0.0, -1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError):
-            split_tolerance(bad)
-
-
 # ------------------------------------------------------------------ the certified total
 
 def random_cubic_blob(seed, rational_weights):
     """A star-shaped loop of random (rational) cubics, one per angular wedge, CCW."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
     rng = np.random.default_rng(seed)
@@ -727,6 +716,7 @@ def random_cubic_blob(seed, rational_weights):
 def offset_error(points, loop, poly, radius):
     """max | dist(p, A) - r | for points p meant to lie on the boundary of A ⊕ disk(r)
     (the exact offset boundary is the set at distance exactly r from A)."""
+    pytest.importorskip("shapely")
     import shapely
 
     d = closest_distances(points, loop)
@@ -736,8 +726,9 @@ def offset_error(points, loop, poly, radius):
 
 @pytest.mark.parametrize("seed, rational_weights", [(0, False), (3, True)])
 def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
-    """Issue 17 part 5: a random cubic region ⊕ disk is within tol of the exact offset
-    before export (the sum's pieces) and, with split_tolerance, after the SVG export."""
+    """A random cubic region ⊕ disk is within tol of the exact offset
+    before export (the sum's pieces) and, with morph.budget.plan, after the SVG export."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.offset import offset_region
@@ -749,7 +740,7 @@ def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
     pts = np.vstack([rational(p)(np.linspace(0, 1, 33)) for p in pieces])
     assert offset_error(pts, loop, poly, radius) <= tol
     # the written SVG (y flipped back), the sum and the export sharing tol
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     d = svg_path_data(offset_region([loop], radius, st), et)
     z = np.array([seg.point(t) for seg in parse_path(d) for t in np.linspace(0, 1, 33)])
     assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
@@ -762,14 +753,16 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     convolution bounds plus the other shares and its tol; the SVG written with
     export_tolerance(tol, bound) is within tol of the exact offset (closest-point
     oracle), and its cubics no more numerous than with the plain split."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
-    from morph.minkowski import CONV_SHARE, minkowski_sum
+    from morph.budget import CONV_SHARE
+    from morph.minkowski import minkowski_sum
     from morph.render.svg import svg_path_data
 
     loop, poly = random_cubic_blob(seed, True)
     radius, tol = 0.2, 1e-3
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv > 0
@@ -808,7 +801,7 @@ FOLD_BLOB = [
 
 
 def test_offset_of_folding_rational_cubics_within_tol():
-    """Issue 17 part 5, the sum's share: offset by r = 0.02 at tol 0.005, a point of
+    """The sum's share: offset by r = 0.02 at tol 0.005, a point of
     the result lies 0.00999 from the shape (measured to an actual point of it), so
     0.01 = 2 tol inside the exact offset boundary; at tol 0.01 it is 0.9998 tol: the
     error does not shrink with tol (a piece of the folded convolution curve kept).
@@ -823,6 +816,7 @@ def test_offset_of_folding_rational_cubics_within_tol():
     kept a fold of it that lies inside the sum.  Fixed since the untangle stage
     finds the fold's crossing by subdivision (morph.trim.crossing), not on
     polylines that could not resolve it."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
     from morph.offset import offset_region
@@ -837,16 +831,17 @@ def test_offset_of_folding_rational_cubics_within_tol():
 
 @pytest.mark.parametrize("tol", [1e-2, 1e-4])
 def test_circle_plus_circle_written_within_tol(tol):
-    """Issue 17 part 5: circle ⊕ circle written as SVG path data (sum and export
-    sharing tol by split_tolerance) is within tol of the exact circle; parsed back
+    """Circle ⊕ circle written as SVG path data (sum and export
+    sharing tol by morph.budget.plan) is within tol of the exact circle; parsed back
     with svgpathtools (it was 1.41 tol with the whole tol spent twice)."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
     from morph.minkowski import minkowski_sum
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
-        st, et = split_tolerance(tol)
+        st, et = plan(tol)[:2]
         loops = minkowski_sum([pc.circle((3.0, 2.0), r1)], [pc.circle((-1.0, 1.0), r2)], st)
         path = parse_path(svg_path_data(loops, et))
         z = np.array([seg.point(t) for seg in path for t in np.linspace(0, 1, 65)])
@@ -855,13 +850,15 @@ def test_circle_plus_circle_written_within_tol(tol):
 
 
 def test_offset_O_cubics_no_more_than_kurbo():
-    """Issue 18: `morph offset O --radius 0.04` on the CFF O at 0.1 unit writes no more
+    """`morph offset O --radius 0.04` on the CFF O at 0.1 unit writes no more
     cubics than kurbo's offset_cubic spends on the O's segments (untrimmed, a lower
     bound of a kurbo-based offsetter: 15; morph 14); and within tol of the exact
     offset (distance to the O's outline = 40 units)."""
+    pytest.importorskip("kurbopy")
     import kurbopy
     from fontTools.pens.recordingPen import RecordingPen
     from fontTools.ttLib import TTFont
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.offset import offset_region
@@ -883,7 +880,7 @@ def test_offset_O_cubics_no_more_than_kurbo():
             cur = args[-1]
     g = glyph_region("O", otf)
     tol = 0.1
-    st, et = split_tolerance(tol)
+    st, et = plan(tol)[:2]
     d = svg_path_data(offset_region(g.region, 40.0, st), et)
     written = sum(d.count(c) for c in "CQL")
     assert written <= kurbo, (written, kurbo)

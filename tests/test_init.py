@@ -14,7 +14,7 @@ def test_every_public_name_resolves_to_a_function_of_its_module():
 
 
 def test_readme_library_names_are_public():
-    # what the README's library section and issue 19 list: offsets, C-space, brush and
+    # what the README's library section lists: offsets, C-space, brush and
     # stroke fonts, export
     for name in ("minkowski_sum", "offset_region", "cspace_obstacle", "stroke_paths",
                  "brush_font", "stroke_ufo", "ellipse_nib", "loop_to_cubics",

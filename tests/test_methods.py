@@ -17,7 +17,7 @@ from morph import gauss
 from morph import methods as M
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from tests import reference as R
+from tests.oracles import reference as R
 
 ROOT = Path(__file__).resolve().parents[1]
 DISTANCE_METHODS = ("ctc", "lsc", "bic", "hic", "qac")

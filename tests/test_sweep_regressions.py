@@ -1,12 +1,12 @@
-"""Every failure the issue-14 acceptance sweep (``python -m bench.sweep --mode random|stroke
-|fonts``) found, rerun with the same check (``bench.sweep.run_case``: the exact predicate
+"""Every failure the acceptance sweep (``python -m bench.sweep --mode random|stroke
+|fonts``) found, rerun with the same check (``tests.oracles.sweep.run_case``: the exact predicate
 x ∈ A ⊕ E ⇔ dist(M⁻¹x, M⁻¹A) ≤ 1 on glyphs drawn by fontTools, straddle within tol,
 membership, closed and simple loops, polygon references).
 
 A case still open in the engine is a strict xfail naming its failure: when the engine
 is fixed the test XPASSes and fails, and the marker is to be removed (the case then
-guards the fix).  Reproduce one case: ``python -c "from bench.sweep import run_case;
-print(run_case('SPEC')['fail'])"``; the call alone: ``from bench.sweep import
+guards the fix).  Reproduce one case: ``python -c "from tests.oracles.sweep import run_case;
+print(run_case('SPEC')['fail'])"``; the call alone: ``from tests.oracles.sweep import
 case_inputs; minkowski_sum(*case_inputs('SPEC'))``.
 """
 
@@ -151,7 +151,7 @@ SWEEP_REGRESSIONS = [
     # (piece.nearest_params_in_range)
     ("nib/cormorant/U/60x8/120.7/0.0319/0.009",
      "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
-    # session 11, EB Garamond (a font the code was not tuned on), fonts seed 9900:
+    # EB Garamond (a font the code was not tuned on), fonts seed 9900:
     # a hole of w + i kept a spike 1.5 units (15 tol) into the filled sum at a corner,
     # since the snap rounding (7a79858): a hot pixel put on a segment at its start took
     # the start's parameter, and the start's range became [t, 1] (t1 = 1 where the next
@@ -208,7 +208,7 @@ def _params(cases, still_open, slow):
 
 @pytest.mark.parametrize("spec", _params(SWEEP_REGRESSIONS, OPEN, SLOW))
 def test_sweep_case(spec):
-    from bench.sweep import parse_case, relief_font, run_case
+    from tests.oracles.sweep import parse_case, relief_font, run_case
 
     c = parse_case(spec)
     if c["kind"] == "stroke" and c["glyph"] not in relief_font()[0]:
@@ -219,9 +219,9 @@ def test_sweep_case(spec):
 
 
 # Glyph pairs (font:a:b) and nibs: every failure the first bench/sweep.py found, fixed
-# (session 2: near misses of the flattened pieces now seed Newton, sides are classified
+# (near misses of the flattened pieces now seed Newton, sides are classified
 # by direct winding numbers, sub-pieces far below tol are contracted), checked by the
-# sweep's own full check (bench.sweep.check).
+# sweep's own full check (tests.oracles.sweep.check).
 PAIR_REGRESSIONS = [
     "ttf:w:nib:ellipse", "cff:C:nib:ellipse", "cff:D:nib:ellipse", "cff:G:nib:ellipse",
     "cff:s:nib:ellipse", "cff:w:nib:ellipse", "ttf:S:nib:disk", "ttf:W:nib:disk",
@@ -242,16 +242,16 @@ PAIR_REGRESSIONS = [
 
 @pytest.mark.parametrize("case", PAIR_REGRESSIONS)
 def test_sweep_regression(case):
-    from bench.sweep import UPM, check
+    from tests.oracles.sweep import UPM, check
 
     font, a, b = case.split(":", 2)
     res = check(font, a, b, 1e-4 * UPM)
     assert not res["fail"], res["fail"]
 
 
-# Real icons (issue 17, ``python -m bench.icons``): failing inputs reduced by ``python -m
+# Real icons (``python -m bench.icons``): failing inputs reduced by ``python -m
 # bench.icons --reduce`` and saved in tests/data/icons/ (licences in its README), checked
-# as the bench checks them (bench.icons.check_op: polygon reference; gaps narrower than
+# as the bench checks them (tests.oracles.icons.check_op: polygon reference; gaps narrower than
 # 1.6 tol may close).  (file stem, what the bench found)
 ICON_REGRESSIONS = [
     # at a045031 (fixed by a40d6e3's trim)
@@ -279,7 +279,7 @@ ICON_REGRESSIONS = [
     ("mdi-shower-head-offset-degenerate",
      "offset of the three dots and the shower head: DegenerateCurveError: zero-length "
      "curve piece"),
-    # session 12, the inset (radius 0.02 size) at b4aa833
+    # the inset (radius 0.02 size)
     ("bootstrap-bluesky-inset",
      "inset of the butterfly: its left notch, tangents turning +179.986 degrees (the "
      "sides cross a hair from the point), read as a convex corner of the complement: "
@@ -303,7 +303,7 @@ ICON_OPEN = {}
 def test_icon_case(name):
     from pathlib import Path
 
-    from bench.icons import check_op, load_case
+    from tests.oracles.icons import check_op, load_case
 
     region, op, size, _meta = load_case(Path(__file__).parent / "data" / "icons"
                                         / (name + ".json"))
@@ -313,13 +313,14 @@ def test_icon_case(name):
 
 
 def test_the_checker_finds_a_crack_no_sample_hits():
-    """bench.sweep.verify's dense check: a crack 20 tol deep and 1e-3 tol wide cut into
+    """tests.oracles.sweep.verify's dense check: a crack 20 tol deep and 1e-3 tol wide cut into
     a correct square ⊕ ellipse (as the uniFDB3 crack was, found by one of 150
     samples) fails it at every seed; the correct sum passes."""
     import numpy as np
+    pytest.importorskip("shapely")
     import shapely
 
-    from bench.sweep import NibOracle, verify
+    from tests.oracles.sweep import NibOracle, verify
     from morph import piece as pc
     from morph.minkowski import minkowski_sum
 

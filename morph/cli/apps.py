@@ -5,7 +5,7 @@ import numpy as np
 
 from .group import main
 from .options import (InputError, common_options, report_written, resolve_output,
-                      shape_argument, shape_tolerance, write_image)
+                      shape_argument, write_image, writer_budget)
 
 
 @main.command()
@@ -39,12 +39,8 @@ def offset(shape, radius, font, tol, output, force, size):
     out = resolve_output(output, "%s-%s.png" % ("inset" if radius < 0 else "offset",
                                                shape.slug), force)
     r = shape.em_to_units(radius)
-    from ..export import SUM_SHARE, export_tolerance, split_tolerance
-
-    t = shape_tolerance(shape, tol, *([[pc_circle((0.0, 0.0), abs(r))]] if r else []),
-                        share=SUM_SHARE)
-    st, _ = split_tolerance(t)  # the offset's share of --tol
-    loops, bound = offset_region(shape.region, r, st, return_bound=True)
+    budget = writer_budget(shape, tol, *([[pc_circle((0.0, 0.0), abs(r))]] if r else []))
+    loops, bound = offset_region(shape.region, r, budget.geometry, return_bound=True)
     if not loops:
         raise InputError("--radius %g erodes all of %s '%s': no disk of radius %g%s fits in it"
                          % (radius, shape.kind, shape.name, -radius,
@@ -52,7 +48,7 @@ def offset(shape, radius, font, tol, output, force, size):
     big, small = (loops, shape.region) if r >= 0 else (shape.region, loops)
     # the export gets what the offset left of --tol (its achieved bound <= its share)
     write_image(out, [(big, {"fill": "#9bbbd4"}), (small, {"fill": "black"})],
-                size=size, tol=export_tolerance(t, bound))
+                size=size, tol=budget.after(bound))
     report_written(out, loops)
 
 
@@ -92,18 +88,16 @@ def cspace(obstacle, robot, samples, reference, inside, font, tol, output, force
     from ..render import cspace_figure
 
     out = resolve_output(output, "cspace-%s-%s.png" % (obstacle.slug, robot.slug), force)
-    from ..export import SUM_SHARE, export_tolerance, split_tolerance
-
-    t = shape_tolerance(obstacle, tol, robot.region, share=SUM_SHARE)
+    budget = writer_budget(obstacle, tol, robot.region)
     ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
-    st, _ = split_tolerance(t)  # the sum's share of --tol
     space = free_space if inside else cspace_obstacle
-    loops, bound = space(obstacle.region, robot.region, st, reference=ref, return_bound=True)
+    loops, bound = space(obstacle.region, robot.region, budget.geometry, reference=ref,
+                         return_bound=True)
     if not loops:
         raise InputError("%s '%s' fits nowhere inside %s '%s'" % (robot.kind, robot.name,
                                                                  obstacle.kind, obstacle.name))
     # the SVG export gets the rest of --tol beyond the error the sum achieved
-    write_image(out, cspace_figure(obstacle.region, robot.region, loops, t, samples, ref,
+    write_image(out, cspace_figure(obstacle.region, robot.region, loops, budget.total, samples, ref,
                                    inside=inside),
-                size=size, tol=export_tolerance(t, bound))
+                size=size, tol=budget.after(bound))
     report_written(out, loops)

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from .group import main
+from .variable import VARY_NIB_HELP, stroke_variable_cli
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -35,7 +36,8 @@ def _parse_nib(spec):
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
                    "source's; the suffix picks the container). Also written next to it: "
-                   "OUTPUT.png (sample image) and OUTPUT.html (specimen).")
+                   "OUTPUT.png (sample image) and OUTPUT.html (specimen), e.g. X.ttf.png "
+                   "and X.ttf.html for -o X.ttf.")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
               help="Elliptical nib: width, height in font units and angle in degrees.")
 @click.option("--nib-svg", type=click.Path(dir_okay=False), default=None,
@@ -141,17 +143,24 @@ def _brush_source(font_file):
     from ..parse import default_font_path
 
     src = default_font_path() if font_file in (None, "default") else font_file
+    if Path(src).is_dir() and (Path(src) / "metainfo.plist").is_file():
+        raise InputError("%s is a UFO source: morph brush reads compiled fonts (.ttf, .otf); "
+                         "stroke a UFO skeleton with 'morph stroke', or compile a UFO of "
+                         "filled outlines first (fontmake)" % src)
+    if Path(src).is_dir():
+        raise InputError("font %s is a folder, not a font file" % src)
     if not Path(src).is_file():
         raise InputError("font %s does not exist" % src)
     return src
 
 
 def _companions(out, force, specimen=True):
-    """(OUT.png, OUT.html or None) written next to a font; InputError when one exists
-    and ``force`` is not given."""
-    from ..fonts.specimen import specimen_path
+    """(OUT.png, OUT.html or None) written next to a font OUT (e.g. X.ttf.png,
+    X.ttf.html: :func:`morph.fonts.specimen.sample_path`, ``specimen_path``);
+    InputError when one exists and ``force`` is not given."""
+    from ..fonts.specimen import sample_path, specimen_path
 
-    png, page = out.with_suffix(".png"), specimen_path(out) if specimen else None
+    png, page = sample_path(out), specimen_path(out) if specimen else None
     for extra in (png, page):
         if extra is not None and extra.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % extra)
@@ -205,7 +214,8 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="UFO skeleton: OUT.ufo (a copy of the source, outlines replaced), "
                    "OUT.otf (CFF) or OUT.ttf (TrueType), compiled with ufo2ft, plus a "
-                   "sample image OUT.png (and a specimen OUT.html for a font). SVG "
+                   "sample image OUT.png (and a specimen OUT.html for a font; e.g. "
+                   "X.otf.png and X.otf.html for -o X.otf). SVG "
                    "skeleton: OUT.svg or OUT.png.")
 @click.option("--nib", default=None,
               help="Elliptical nib ellipse:W,H,ANGLE: width and height in font units "
@@ -218,11 +228,13 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "is the pen point). Overrides --nib.")
 @click.option("--glyphs", default=None,
               help="UFO only: characters, ranges (a-z) and glyph names, comma separated. "
-                   "Default: every glyph.")
+                   "Default: every glyph. Glyphs not chosen (nor following as composites) "
+                   "are left empty with their advances, so the output compiles; a .ufo "
+                   "output keeps their skeletons in its layer 'skeleton'.")
 @tol_option(default=None, what="outlines (stroke and curve conversion together)",
             note="Default: %g em for a UFO (the outlines are then rounded to integer "
-                 "coordinates, <= 0.71 unit more), %g user units for an SVG, as for "
-                 "images of the other commands." % (FONT_TOL, DEFAULT_TOL))
+                 "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
+                 "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
               help="Text of the sample image (UFO skeletons).")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
@@ -231,8 +243,10 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "font does not depend on it.")
 @click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
+@click.option("--vary-nib", default=None, metavar="ellipse:W,H,ANGLE", help=VARY_NIB_HELP)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):
+def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, vary_nib,
+           force):
     """Stroke a skeleton (centre lines) with a calligraphic nib (Fig. 5).
 
     Every path of SKELETON is swept by a convex nib held at a fixed angle: an
@@ -263,10 +277,17 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
-        tol = DEFAULT_TOL if tol is None else tol
+        if vary_nib is not None:
+            raise InputError("--vary-nib needs a UFO skeleton (a font), not an SVG")
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
     elif src.is_dir():
         tol = FONT_TOL if tol is None else tol
+        if vary_nib is not None:
+            if nib_svg:
+                raise InputError("--vary-nib needs elliptical nibs (--nib), not --nib-svg")
+            return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
+                                       jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
+                                       _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
@@ -334,12 +355,18 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)
-    extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
-    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s%s), sample %s%s"
+    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"
                % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
                   count(stats["composites"], "composite"), count(stats["points"], "point"),
-                  seconds, count(jobs, "job"), extra, png,
+                  seconds, count(jobs, "job"), png,
                   " and specimen %s" % page if page else ""))
+    if stats["emptied"]:
+        from ..fonts.stroke import SKELETON_LAYER
+
+        click.echo("note: %s not chosen by --glyphs left empty (advances kept)%s"
+                   % (count(stats["emptied"], "glyph"),
+                      "; their skeletons are in the UFO layer '%s'" % SKELETON_LAYER
+                      if out.suffix.lower() == ".ufo" else ""), err=True)
     return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
                             " to a polygon stroke")
 
@@ -348,7 +375,7 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     """``morph stroke`` of an SVG skeleton: an image of its paths ⊕ nib within ``tol``
     user units (stroke and SVG export together, as ``morph sum``)."""
     from ..errors import ParseError
-    from ..export import split_tolerance
+    from ..budget import plan
     from ..fonts.stroke import stroke_glyph_region
     from ..limits import check_tolerance
     from ..parse.svg import svg_paths
@@ -365,9 +392,11 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     box = region_bbox(lines)
     scale = max(box[2] - box[0], box[3] - box[1], 1e-12) / 1000.0
     nib_region = _stroke_nib(nib, nib_svg, scale)
+    if tol is None:  # relative to the drawing, as for the shapes of the other commands
+        tol = DEFAULT_TOL * 1000.0 * scale
     check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
                     unit_name="user units")
-    st, et = split_tolerance(tol)  # the stroke and the SVG export share --tol
+    st, et = plan(tol)[:2]  # the stroke and the SVG export share --tol
     region = stroke_glyph_region(paths, nib_region, st)
     write_image(out, [(region, {"fill": "black"})], size=size, tol=et)
     report_written(out, region)

@@ -8,12 +8,17 @@ EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
 #: --tol of every command is absolute: in em for glyphs and fonts (font units divided
 #: by units per em), in user units for SVG; it bounds the written curves' distance
-#: from the exact result (computation and export together).  Defaults: images 1e-4,
-#: fonts 5e-4 em (their outlines are then rounded to integer units, <= 0.71 unit more).
+#: from the exact result (computation and export together).  Defaults: images 1e-4
+#: em for glyphs and 1e-4 of the drawing's size for SVG
+#: (:meth:`morph.parse.Shape.tolerance`), fonts 5e-4 em (their outlines are then
+#: rounded to integer units, <= 0.71 unit more).  The library's ``tol`` is in the
+#: shapes' own units: :meth:`morph.parse.Shape.em_to_units` converts.
 DEFAULT_TOL = 1e-4
 FONT_TOL = 5e-4
 TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
              "em), in user units for SVG")
+TOL_DEFAULT_NOTE = ("Default: 1e-4 em for glyphs, 1e-4 of the drawing's size (the larger "
+                    "side of the shapes' bounding boxes) for SVG.")
 IMAGE_SUFFIXES = (".png", ".svg")
 
 
@@ -26,17 +31,18 @@ class InputError(click.ClickException):
 # =========================================================================== shapes
 
 def shape_tolerance(shape, tol, *others, check=True, share=1.0):
-    """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
+    """--tol in the shape's units: em -> font units for glyphs, as is for SVG; no
+    --tol (None): the default relative to the size (:meth:`morph.parse.Shape.tolerance`).
 
     With ``check`` the tolerance is checked against this shape and the ``others``
     (regions summed with it, e.g. the other operand or the offset disk) by
     :func:`morph.limits.check_tolerance`: finer than the coordinates resolve or
     than 1e-12 of the size, larger than the shapes, beyond the point budget:
     LimitError, one line naming a tolerance that works, exit 2.  ``share``: the part
-    of --tol the computation runs at (:func:`morph.export.split_tolerance`); the
+    of --tol the computation runs at (:func:`morph.budget.plan`); the
     check is made at it and its message names --tol values.
     """
-    t = shape.em_to_units(tol)
+    t = shape.tolerance(tol, *others)  # None: the default, relative to the size
     if check:
         from ..limits import check_tolerance
 
@@ -46,6 +52,15 @@ def shape_tolerance(shape, tol, *others, check=True, share=1.0):
                         unit=(upm or 1.0) * share, unit_name="em" if upm else "user units")
     return t
 
+
+
+def writer_budget(shape, tol, *others):
+    """--tol of a command that computes a shape and writes it: in the shape's units,
+    checked at the geometry's share (:func:`shape_tolerance`), split by
+    :func:`morph.budget.plan` (the geometry's share; ``.after(bound)`` the export's)."""
+    from ..budget import SUM_SHARE, plan
+
+    return plan(shape_tolerance(shape, tol, *others, share=SUM_SHARE))
 
 class ShapeParam(click.ParamType):
     """Click type: a glyph character/name or an .svg path -> :class:`morph.parse.Shape`.
@@ -135,7 +150,8 @@ def output_option(f):
 
 def force_option(f):
     return click.option("--force", is_flag=True, default=False,
-                        help="Overwrite an existing output file.")(f)
+                        help="Overwrite an existing output file (for frames: replace the "
+                             "frames and animation morph wrote in the folder before).")(f)
 
 
 def size_option(f):
@@ -144,11 +160,50 @@ def size_option(f):
                         help="Longer side of the image in pixels.")(f)
 
 
+def _default_tol_option(f):
+    return tol_option(f, default=None, note=TOL_DEFAULT_NOTE)
+
+
 def common_options(f):
-    """--font, --tol, -o/--output, --force, --size: the shared vocabulary."""
-    for deco in (size_option, force_option, output_option, tol_option, font_option):
-        f = deco(f)
-    return f
+    """--font, --tol, -o/--output, --force, --size: the shared vocabulary; the shape
+    arguments are checked against them (:func:`check_shape_units`).  --tol is None
+    when not given (:func:`shape_tolerance` takes the default)."""
+    import functools
+
+    @functools.wraps(f)
+    def checked(*args, **kwargs):
+        check_shape_units(kwargs.get("font"),
+                          [v for v in kwargs.values() if hasattr(v, "units_per_em")])
+        return f(*args, **kwargs)
+
+    for deco in (size_option, force_option, output_option, _default_tol_option, font_option):
+        checked = deco(checked)
+    return checked
+
+
+def check_shape_units(font, shapes):
+    """The shapes of one command and --font agree: --font given while every shape is
+    an SVG file is bad input (InputError: it would be ignored); SVG shapes (user
+    units) combined with glyphs (font units) are summed as 1 user unit = 1 font unit,
+    which a MorphWarning says."""
+    import warnings
+
+    from ..errors import MorphWarning
+
+    kinds = {s.kind for s in shapes}
+    if font is not None and shapes and kinds == {"svg"}:
+        raise InputError("--font %s applies to glyph shapes, and %s %s SVG file%s"
+                         % (font, " and ".join(s.name for s in shapes),
+                            "is an" if len(shapes) == 1 else "are",
+                            "" if len(shapes) == 1 else "s"))
+    if kinds == {"svg", "glyph"}:
+        svg = [s.name for s in shapes if s.kind == "svg"]
+        glyph = [s.name for s in shapes if s.kind == "glyph"]
+        warnings.warn(MorphWarning(
+            "%s in SVG user units and glyph %s in font units are combined as 1 user unit "
+            "= 1 font unit (--tol in the units of the first shape, %s)"
+            % (", ".join(svg), ", ".join(glyph),
+               "user units" if shapes[0].kind == "svg" else "em")))
 
 
 # =========================================================================== output
@@ -174,14 +229,18 @@ def resolve_output(output, default_name, force, suffixes=IMAGE_SUFFIXES):
 def resolve_output_dir(output, default_name, force):
     """Checked output folder for frame sequences (created if missing).
 
-    An existing non-empty folder needs ``force``.  Raises InputError.
+    An existing non-empty folder needs ``force`` (the command then removes the
+    frames it wrote before and does not write again, see
+    :func:`morph.render.figures.stale_frame_files`; other files are kept).  Raises
+    InputError.
     """
     path = Path(output) if output is not None else Path.cwd() / default_name
     if path.exists() and not path.is_dir():
         raise InputError("output %s exists and is not a folder" % path)
     if path.is_dir() and any(path.iterdir()) and not force:
-        raise InputError("output folder %s is not empty; use --force to write "
-                               "into it" % path)
+        raise InputError("output folder %s is not empty (frames of an earlier run?); use "
+                         "--force to replace the frames morph wrote there (other files "
+                         "are kept)" % path)
     if not path.parent.is_dir():
         raise InputError("output folder %s does not exist" % path.parent)
     path.mkdir(exist_ok=True)

@@ -4,7 +4,8 @@ import click
 
 from .group import main
 from .options import (InputError, common_options, progress_bar, report_written, resolve_output,
-                      resolve_output_dir, shape_argument, shape_tolerance, write_image)
+                      resolve_output_dir, shape_argument, shape_tolerance, write_image,
+                      writer_budget)
 
 
 @main.command()
@@ -55,8 +56,8 @@ def sum_(a, b, method, font, tol, output, force, size):
     the boundary of the sum as rational Bézier pieces (Lee, Kim, Elber 1998: QAC
     convolution, trimmed to the boundary).  SVG output writes cubics within --tol of
     the exact sum, export included (a quarter of --tol for the sum,
-    morph.export.split_tolerance; the cubic fit and rounding get the rest of --tol
-    beyond the error the sum achieved, morph.export.export_tolerance).  Glyphs are summed in
+    morph.budget.plan; the cubic fit and rounding get the rest of --tol beyond the
+    error the sum achieved).  Glyphs are summed in
     font units with their own origins (the result's origin is the sum of the two).
 
     \b
@@ -67,36 +68,36 @@ def sum_(a, b, method, font, tol, output, force, size):
     from ..minkowski import minkowski_sum
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
-    from ..export import SUM_SHARE, export_tolerance, split_tolerance
-
-    t = shape_tolerance(a, tol, b.region, share=SUM_SHARE)
-    st, _ = split_tolerance(t)  # the sum's share of --tol
-    loops, debug = minkowski_sum(a.region, b.region, st, method=method, return_debug=True)
+    budget = writer_budget(a, tol, b.region)
+    loops, debug = minkowski_sum(a.region, b.region, budget.geometry, method=method,
+                                 return_debug=True)
     # the export gets what the sum left of --tol (its achieved bound, <= its share)
-    write_image(out, [loops], size=size, tol=export_tolerance(t, debug["bound"]))
+    write_image(out, [loops], size=size, tol=budget.after(debug["bound"]))
     report_written(out, loops)
 
 
 def _morph_command(a, b, frames, tol, output, force, size, duration, kind, method="qac",
                    animation="gif"):
-    from ..export import SUM_SHARE, export_tolerance, split_tolerance
     from ..frames import frames_bbox, iter_frames
     from ..render import write_frame_stream
+    from ..render.figures import stale_frame_files
 
     _check_animation_memory(frames, size, animation)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
-    t = shape_tolerance(a, tol, b.region, share=SUM_SHARE)
-    st, _ = split_tolerance(t)  # each frame's sum gets this share of --tol
+    budget = writer_budget(a, tol, b.region)  # each frame's sum gets budget.geometry
 
     def written(bar):
         # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
-        for out, bound in iter_frames(a.region, b.region, frames, st, method=method):
-            yield out, export_tolerance(t, bound)
+        for out, bound in iter_frames(a.region, b.region, frames, budget.geometry,
+                                      method=method):
+            yield out, budget.after(bound)
             bar.update(1)
 
     with progress_bar(frames, "frames") as bar:
         write_frame_stream(outdir, written(bar), frames_bbox(a.region, b.region), size=size,
                            duration=duration, animation=animation)
+    for stale in stale_frame_files(outdir, frames, animation):  # of an earlier run (--force)
+        stale.unlink()
     click.echo("wrote %d frames (SVG + PNG) and morph.%s to %s" % (frames, animation, outdir))
 
 

@@ -2,8 +2,9 @@
 
 The nib is a convex region swept without rotation (a calligraphic pen held at a
 fixed angle); the default is an exact ellipse (:func:`morph.piece.ellipse`).  Each
-sum is computed with :func:`morph.minkowski.minkowski_sum` within ``tol / 2`` and its
-loops of rational pieces are converted to the font's curve type within ``tol / 2``
+sum is computed with :func:`morph.minkowski.minkowski_sum` within the geometry share
+of ``tol`` and its loops of rational pieces are converted to the font's curve type
+within the export share (:func:`morph.budget.plan`, as every writer splits it)
 by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
 :func:`morph.export.loop_to_quadratics`; CFF: cubics,
 :func:`morph.export.loop_to_beziers`; curves may span smooth joins), both with
@@ -14,13 +15,14 @@ rounded to the integer grid (at most 0.71 unit more; see
 
 **Fallback.**  A glyph whose sum raises (a :class:`morph.errors.MorphError` such as
 ``TopologyError``, or any other exception) does not stop the font.  It is computed
-again by the same exact method at ``tol / 8`` (other crossings and flattenings;
-curves within tol as usual; kind "retry"), then with the nib turned about its pen
-point by the angle that moves it by ``tol / 4`` at most (both ways; the sum at
-``tol / 4``, so the outline stays within ``tol``; kind "rotated": this breaks exact
+again by the same exact method at a quarter of the geometry share (other crossings
+and flattenings; curves within tol as usual; kind "retry"), then with the nib turned
+about its pen point by the angle that moves it by half the geometry share at most
+(both ways; the sum at the other half, so the outline stays within ``tol``; kind
+"rotated", :data:`morph.budget.TURN_SHARE`: this breaks exact
 tangencies between the nib and straight glyph edges); if those raise too, by
 :func:`morph.fonts.jobs.polygon_sum` (the glyph and the nib flattened within
-``tol / 2`` each and summed exactly by Clipper: within ``tol`` of the exact sum, but
+``tol / 2`` each (:data:`morph.budget.POLYGON_SHARE`) and summed exactly by Clipper: within ``tol`` of the exact sum, but
 written as short lines, not curves; kind "polygon").  Should that fail too, the
 glyph is left as in the source (metrics and anchors unchanged; kind "source").
 Either way it is listed in
@@ -76,6 +78,7 @@ import unicodedata
 import numpy as np
 
 from .. import piece as pc
+from ..budget import plan
 from ..errors import NibError, ParseError, one_line
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
@@ -249,21 +252,25 @@ def _pen_move(adv, extent):
 
 
 def _attempts(nib, tol):
-    """(kind, sum tolerance, nib) to try in turn: the sum at tol/2; at tol/8; with the
-    nib turned by +-delta about its pen point at tol/4, where delta * (largest
-    distance of the nib from its pen point) = tol/4, so the outline moves by at most
-    tol/4 + tol/4 and stays within tol with the tol/2 of the curve conversion."""
+    """(kind, sum tolerance, nib) to try in turn, for the geometry share g of
+    :func:`morph.budget.plan` (tol): the sum at g; at RETRY_SHARE g; with the nib turned
+    by +-delta about its pen point at (1 - TURN_SHARE) g, where delta * (largest
+    distance of the nib from its pen point) = TURN_SHARE g, so the outline moves by at
+    most g and stays within tol with the export share of the curve conversion."""
+    from ..budget import RETRY_SHARE, TURN_SHARE
     from ..region import region_bbox, transform_region
 
-    yield "exact", tol / 2.0, nib
-    yield "retry", tol / 8.0, nib
+    g = plan(tol).geometry
+    yield "exact", g, nib
+    yield "retry", RETRY_SHARE * g, nib
     x0, y0, x1, y1 = region_bbox(nib)
     radius = float(np.hypot(max(abs(x0), abs(x1)), max(abs(y0), abs(y1))))
     if radius > 0:
         for sign in (1.0, -1.0):
-            d = sign * tol / 4.0 / radius
+            d = sign * TURN_SHARE * g / radius
             c, s = np.cos(d), np.sin(d)
-            yield "rotated", tol / 4.0, transform_region(nib, [[c, -s, 0.0], [s, c, 0.0]])
+            yield "rotated", (1.0 - TURN_SHARE) * g, transform_region(
+                nib, [[c, -s, 0.0], [s, c, 0.0]])
 
 
 def sweep_glyph(job):
@@ -272,7 +279,7 @@ def sweep_glyph(job):
     ``job``: ``(name, region, nib, tol, method, offset, quadratic)`` (``tol`` the
     total in font units, half for the sum and half for the curve conversion).
     Returns ``(name, contours, kind, error)``: ``kind`` "exact" (``error`` None),
-    "retry" (the sum raised ``error`` and was computed again at ``tol / 8``: the
+    "retry" (the sum raised ``error`` and was computed again at a finer tolerance: the
     exact method, curves within tol), "rotated" (computed with the nib turned by a
     tiny angle, see :func:`_attempts`: curves within tol), "polygon" (all raised;
     contours from
@@ -297,7 +304,7 @@ def _sweep(job, start=0, error=None):
     for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None):
         try:
             loops = minkowski_sum(region, pen, sum_tol, method=method)
-            return (name, contours_from_loops(loops, tol / 2.0, quadratic, offset,
+            return (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
                                               splines=True), kind, error)
         except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
             if error is None:
@@ -348,7 +355,7 @@ def sweep_glyphs(jobs):
     if done:
         tol, quadratic = jobs[done[0][0]][3], jobs[done[0][0]][6]
         try:
-            contours = contours_from_regions([loops for _, loops in done], tol / 2.0,
+            contours = contours_from_regions([loops for _, loops in done], plan(tol).export,
                                              quadratic, [jobs[k][5] for k, _ in done],
                                              splines=True)
         except Exception:  # noqa: BLE001 - glyph by glyph below
@@ -359,7 +366,7 @@ def sweep_glyphs(jobs):
                 out[k] = (name, contours[i], "exact", None)
                 continue
             try:
-                out[k] = (name, contours_from_loops(loops, tol / 2.0, quadratic, offset,
+                out[k] = (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
                                                     splines=True), "exact", None)
             except Exception as exc:  # noqa: BLE001
                 out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))

@@ -19,6 +19,7 @@ import os
 
 import numpy as np
 
+from ..budget import POLYGON_SHARE
 from ..region import polyline_edges, region_polylines
 
 __all__ = ["default_jobs", "run_jobs", "polygon_sum", "polylines_to_contours"]
@@ -96,7 +97,7 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
 
     ``loops_a``: a region (loops of pieces), or with ``closed=False`` a list of open
     paths (lists of pieces, e.g. a stroke skeleton); ``loops_b``: a region (the nib).
-    Each operand is flattened within ``tol / 2``; the sum of the polygons is exact
+    Each operand is flattened within ``POLYGON_SHARE * tol``; the sum of the polygons is exact
     up to the 1/16 unit grid, so the result is within tol + 1/8 of the exact sum
     (Hausdorff distance).  Slivers that Clipper's union leaves (polygons of mean
     width 2 area / perimeter below tol) are dropped.  Returns a list of (m, 2) arrays.
@@ -104,16 +105,16 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
     import pyclipper
 
     if closed:
-        pa = _clipper_paths(region_polylines(loops_a, tol / 2.0))
+        pa = _clipper_paths(region_polylines(loops_a, POLYGON_SHARE * tol))
     else:
         from .. import piece as pc
 
         pa = []
         for path in loops_a:
-            flat = pc.flatten_many(path, tol / 2.0)
+            flat = pc.flatten_many(path, POLYGON_SHARE * tol)
             pts = np.concatenate([f[0][:-1] for f in flat] + [flat[-1][0][-1:]])
             pa.extend(_clipper_paths([pts]))
-    pb = _clipper_paths(region_polylines(loops_b, tol / 2.0))
+    pb = _clipper_paths(region_polylines(loops_b, POLYGON_SHARE * tol))
     if not pa or not pb:
         return []
     pieces = []

@@ -1,8 +1,10 @@
 """HTML specimen of a written font next to its source (brush, stroke), and the sample
 image (:func:`write_sample_image`) written beside it.
 
-:func:`write_specimen` writes ``OUT.html`` beside a font ``OUT.ttf``/``.otf``/
-``.woff2``: the new font loaded by ``@font-face`` from its file (relative URL, so
+:func:`write_specimen` writes ``OUT.ttf.html`` beside a font ``OUT.ttf`` (any
+suffix; :func:`specimen_path`; the sample image is ``OUT.ttf.png``,
+:func:`sample_path`: side outputs are named after the whole output name, so that
+``OUT.ttf`` and ``OUT.woff2`` and their side outputs live side by side): the new font loaded by ``@font-face`` from its file (relative URL, so
 the page shows the file actually written), the source font embedded as a WOFF2
 data URL (a variable source is embedded at the instance that was brushed), then
 
@@ -22,7 +24,7 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "specimen_path", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
@@ -70,9 +72,21 @@ def write_sample_image(font, text, png, px=SAMPLE_PX):
     return img
 
 
+def _side_output(font_path, suffix):
+    path = Path(font_path)
+    return path.with_name(path.name + suffix)
+
+
 def specimen_path(font_path):
-    """``OUT.html`` for a font ``OUT.ttf`` (any suffix)."""
-    return Path(font_path).with_suffix(".html")
+    """``OUT.ttf.html`` for a font ``OUT.ttf``: the whole output name and ``.html``
+    (so the specimens of ``OUT.ttf`` and ``OUT.woff2`` do not collide)."""
+    return _side_output(font_path, ".html")
+
+
+def sample_path(font_path):
+    """``OUT.ttf.png``, the sample image of a font ``OUT.ttf`` (or a UFO ``OUT.ufo``):
+    the whole output name and ``.png``."""
+    return _side_output(font_path, ".png")
 
 
 def _font_format(path):
@@ -177,14 +191,16 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
     """
     from fontTools.ttLib import TTFont
 
+    from ..parse import font_display_name
+
     esc = html.escape
     font_path = Path(font_path)
     html_path = specimen_path(font_path) if html_path is None else Path(html_path)
     font = TTFont(str(font_path), lazy=True)
-    family = font["name"].getDebugName(4) or font_path.stem
+    family = font_display_name(font, font_path.stem)
     if source_font is not None:
         head = ("source: %s (left) &middot; result: %s, %s (right)"
-                % (esc(source_font["name"].getDebugName(4)), esc(family), esc(font_path.name)))
+                % (esc(font_display_name(source_font, "source")), esc(family), esc(font_path.name)))
     else:
         head = "%s, %s" % (esc(family), esc(font_path.name))
     css = _CSS % {"faces": _font_faces(font_path, source_font), "x": SAMPLE_POS[0],

@@ -10,11 +10,11 @@ source UFO with the outlines replaced (kerning, groups, features, lib kept), sav
 ``.ufo`` or compiled with ufo2ft (``.otf``: CFF cubics; ``.ttf``: the UFO copy holds
 TrueType quadratic splines, converted here, which ufo2ft compiles as they are).
 
-Tolerance budget (``tol``, font units), by :func:`morph.export.split_tolerance`:
+Tolerance budget (``tol``, font units), by :func:`morph.budget.plan`:
 the stroke within the geometry share (``stroke_paths``), the cubics within the export
 share of the stroke's pieces (certified, Fréchet); for ``.ttf`` the export share is
 split again between the cubics and their conversion to quadratic splines with cu2qu
-(:func:`morph.export.loops_to_quadratics`, :data:`morph.export.QUADRATIC_CUBIC_SHARE`;
+(:func:`morph.export.loops_to_quadratics`, :data:`morph.budget.QUADRATIC_CUBIC_SHARE`;
 cu2qu's check is certified up to rounding), before rounding: every point is rounded
 once (ufo2ft converting rounded cubics and rounding again moved TrueType g 1.38
 units).  The contours are then rounded to integers and cleaned
@@ -49,8 +49,11 @@ stroked base would scale the nib too.
 Which glyphs.  ``glyphs`` (None: all) are stroked, with the base glyphs of their kept
 components, and the composites not chosen that use only stroked glyphs through kept
 components (e.g. eacute when e and acutecomb are) follow for free.  Every other glyph
-keeps its skeleton in a ``.ufo`` output; in a compiled font it is left empty (an open
-skeleton cannot be filled), its advance kept.
+is left empty, its advance kept, in every output: an open skeleton cannot be filled,
+and a ``.ufo`` output must compile with ufo2ft as it stands (a type designer builds
+the subset they asked for).  In a ``.ufo`` the skeletons of those glyphs are kept in
+a layer named ``skeleton`` (:data:`SKELETON_LAYER`; not compiled), so nothing of
+the source is lost.
 """
 
 import os
@@ -62,6 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
@@ -70,10 +74,12 @@ from .brush import check_convex_nib, glyph_chunks, region_extent
 from .jobs import run_jobs
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
-           "move_feature_anchors", "DEFAULT_NIB"]
+           "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
 
 # the default broad nib: 90 x 20 units at upm 1000, long axis at 30 degrees
 DEFAULT_NIB = (90.0, 20.0, 30.0)
+#: the layer of a ``.ufo`` output holding the skeletons of the glyphs not stroked
+SKELETON_LAYER = "skeleton"
 
 _DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
               "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
@@ -193,8 +199,8 @@ def _rename(info, family):
 def _glyph_job(args):
     """Stroke one glyph and convert it to integer cubic contours (a process-pool job).
 
-    ``args``: (name, paths, nib_region, (stroke_tol, cubic_tol, cu2qu_tol), offset,
-    stroker), the tolerances as :func:`_tolerances` splits them.  When the exact
+    ``args``: (name, paths, nib_region, budget, offset, stroker), the tolerances as
+    :func:`morph.budget.plan` splits them.  When the exact
     stroke or its conversion raises, the glyph falls back to the polygon stroke of
     :func:`morph.fonts.jobs.polygon_sum` (within stroke_tol + cubic_tol + 1/8 unit,
     lines only) and the error is returned with it.
@@ -250,13 +256,13 @@ def _chunk_job(chunk):
             except MorphError as exc:
                 out[k]["fallback"] = exc
             out[k]["seconds"] += time.process_time() - t0
-    for (name, paths, nib_region, (sum_tol, cubic_tol, _), offset, _), r in zip(chunk, out):
+    for (name, paths, nib_region, tols, offset, _), r in zip(chunk, out):
         if r["fallback"] is not None:
             t0 = time.process_time()
             exc = r["fallback"]
             r["fallback"] = "%s: %s" % (type(exc).__name__, one_line(exc))
             polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
-                                sum_tol + cubic_tol, closed=False)
+                                tols.geometry + tols.cubic, closed=False)
             r["contours"] = polylines_to_contours(polys, offset=offset)
             r["region"] = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))]
                            for p in polys]
@@ -276,7 +282,7 @@ def _stroked_regions(chunk):
 
         t0 = time.process_time()
         try:
-            regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3][0])
+            regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3].geometry)
         except Exception:  # noqa: BLE001 - any failure: glyph by glyph, as they were
             regions = None
         if regions is not None:
@@ -284,10 +290,10 @@ def _stroked_regions(chunk):
             share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
             return [(r, None, float(s)) for r, s in zip(regions, share)]
     out = []
-    for name, paths, nib_region, (sum_tol, _, _), _, stroker in chunk:
+    for name, paths, nib_region, tols, _, stroker in chunk:
         t0 = time.process_time()
         try:
-            region, error = stroke_glyph_region(paths, nib_region, sum_tol, stroker), None
+            region, error = stroke_glyph_region(paths, nib_region, tols.geometry, stroker), None
         except MorphError as exc:
             region, error = None, exc
         out.append((region, error, time.process_time() - t0))
@@ -313,7 +319,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
     (composites kept without being chosen), ``composites`` (written glyphs that keep
     components), ``decomposed`` (components decomposed because of a transformation),
-    ``emptied`` (glyphs left empty in a compiled font), ``contours``, ``points`` (on-
+    ``emptied`` (glyphs not chosen, left empty), ``contours``, ``points`` (on-
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
@@ -337,7 +343,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen, symmetric)
     place = _placement(font, stroked + followed, nib_region)
-    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region, _tolerances(tol, kind),
+    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region,
+                                    budget.plan(tol, kind == ".ttf"),
                                     place.shifts, stroker)
     # streamed: each chunk's glyphs are drawn into the font as it comes and its
     # regions dropped, so that memory does not grow with the number of glyphs
@@ -485,18 +492,18 @@ def _move_furniture(font, names, place, symmetric):
 
 
 def _empty_unstroked(font, done, kind):
-    """Clear the skeletons of glyphs not written anew in a compiled font (``kind``
-    .otf or .ttf: an open skeleton cannot be filled; a .ufo keeps them); how many
-    were cleared."""
-    if kind == ".ufo":
-        return 0
-    emptied = 0
-    for g in font:
-        if g.name not in done and (g.contours or g.components):
-            g.clearContours()
-            g.clearComponents()
-            emptied += 1
-    return emptied
+    """Clear the skeletons of the glyphs not written anew (an open skeleton cannot be
+    filled; a written UFO must compile), keeping their advances; in a ``.ufo`` output
+    their skeletons go to the :data:`SKELETON_LAYER` layer.  How many were cleared."""
+    emptied = [g for g in font if g.name not in done and (g.contours or g.components)]
+    if emptied and kind == ".ufo":
+        layer = font.layers.get(SKELETON_LAYER) or font.layers.newLayer(SKELETON_LAYER)
+        for g in emptied:
+            layer.insertGlyph(g, overwrite=True, copy=True)
+    for g in emptied:
+        g.clearContours()
+        g.clearComponents()
+    return len(emptied)
 
 
 def _move_feature_file(font, place):
@@ -602,28 +609,13 @@ def _fea_number(v):
     return str(int(round(v)))
 
 
-def _outline_tolerance(tols):
-    """(tolerance, quadratic) of the outlines written into the UFO for the shares
-    (stroke, cubic, cu2qu) of :func:`_tolerances`: cubics within the cubic share, or
-    for TrueType quadratic splines within cubic + cu2qu (:func:`morph.export.
-    loops_to_quadratics` splits it the same way), so that ufo2ft has nothing to
-    convert and every point is rounded to an integer once."""
-    _, cubic, cu2qu = tols
-    return cubic + cu2qu, cu2qu > 0
-
-
-def _tolerances(tol, kind):
-    """(stroke, cubic, cu2qu) shares of the outline tolerance (font units): the stroke
-    and the export split by :func:`morph.export.split_tolerance`; for TrueType the
-    export share is split again between the cubics and ufo2ft's cu2qu conversion
-    (:data:`morph.export.QUADRATIC_CUBIC_SHARE`)."""
-    from ..export import QUADRATIC_CUBIC_SHARE, split_tolerance
-
-    geometry, export = split_tolerance(tol)
-    if kind != ".ttf":
-        return geometry, export, 0.0
-    cubic = QUADRATIC_CUBIC_SHARE * export
-    return geometry, cubic, export - cubic
+def _outline_tolerance(budget):
+    """(tolerance, quadratic) of the outlines written into the UFO for a
+    :class:`morph.budget.Budget`: cubics within the cubic share, or for TrueType
+    quadratic splines within cubic + cu2qu (:func:`morph.export.loops_to_quadratics`
+    splits it the same way), so that ufo2ft has nothing to convert and every point is
+    rounded to an integer once."""
+    return budget.export, budget.cu2qu > 0
 
 
 def _copy_font(font):
@@ -682,7 +674,7 @@ def _save(font, out_path, kind, tol, overwrite):
                 else:
                     upm = font.info.unitsPerEm or 1000
                     otf = ufo2ft.compileTTF(font,
-                                            cubicConversionError=_tolerances(tol, kind)[2] / upm)
+                                            cubicConversionError=budget.plan(tol, True).cu2qu / upm)
             except Exception as exc:
                 raise MorphError("ufo2ft could not compile %s: %s"
                                  % (out_path.name, one_line(exc))) from exc

@@ -28,6 +28,7 @@ from .shape import Shape
 __all__ = [
     "cubic_test_font_path",
     "default_font_path",
+    "font_display_name",
     "glyph_name",
     "glyph_region",
     "instantiate_font",
@@ -165,14 +166,30 @@ def instantiate_font(font, location=None):
                          % (label, full, one_line(exc)), label) from exc
 
 
+def font_display_name(font, default="font"):
+    """The name a person reads for an open ``TTFont``: its full name (name ID 4),
+    else its family and style (IDs 16 and 17, else 1 and 2), else its PostScript
+    name (ID 6), else ``default``.  Real fonts lack some of these records; none is
+    required."""
+    try:
+        name = font["name"]
+    except Exception:  # no (readable) name table
+        return default
+    full = name.getDebugName(4)
+    if full:
+        return full
+    family = name.getDebugName(16) or name.getDebugName(1)
+    if family:
+        style = name.getDebugName(17) or name.getDebugName(2)
+        return "%s %s" % (family, style) if style else family
+    return name.getDebugName(6) or default
+
+
 def _font_label(font):
     path = getattr(font, "_morph_path", None)
     if path:
         return os.path.basename(path)
-    try:
-        return font["name"].getDebugName(4) or "font"
-    except Exception:
-        return "font"
+    return font_display_name(font)
 
 
 def _filled_loop(contour, label):

@@ -3,7 +3,11 @@
 import re
 from dataclasses import dataclass, field
 
-__all__ = ["Shape"]
+__all__ = ["Shape", "DEFAULT_RELATIVE_TOL"]
+
+#: the default tolerance of a shape, relative to its size: 1e-4 em for a glyph,
+#: 1e-4 of the drawing's size for SVG (:meth:`Shape.tolerance`)
+DEFAULT_RELATIVE_TOL = 1e-4
 
 
 @dataclass(frozen=True)
@@ -38,5 +42,35 @@ class Shape:
 
     def em_to_units(self, value):
         """A length given in em for a glyph (times units per em) or in user units for
-        SVG (as it is), in the shape's own units."""
+        SVG (as it is), in the shape's own units.  The library's ``tol`` is in the
+        shapes' own units, the command line's ``--tol`` in em for glyphs: this is the
+        conversion (``morph sum g o --tol 1e-4`` sums at ``glyph.em_to_units(1e-4)``,
+        0.1 unit at 1000 units per em)."""
         return value * self.units_per_em if self.units_per_em else value
+
+    def size(self, *others):
+        """The larger side of the bounding box of this shape's region and of
+        ``others`` (regions), in the shape's units: the drawing's size."""
+        from ..region import region_bbox
+
+        sides = [0.0]
+        for loops in (self.region,) + others:
+            if loops:
+                x0, y0, x1, y1 = region_bbox(loops)
+                sides.append(max(x1 - x0, y1 - y0))
+        return float(max(sides))
+
+    def tolerance(self, tol=None, *others, relative=DEFAULT_RELATIVE_TOL):
+        """A tolerance in the shape's units.
+
+        ``tol`` given: absolute, in em for a glyph (:meth:`em_to_units`), in user
+        units for SVG.  ``tol`` None, the default: ``relative`` (1e-4) of a size, em
+        for a glyph (1e-4 em = 0.1 unit at 1000 units per em), the drawing's
+        :meth:`size` with ``others`` (regions combined with it) for SVG, so that a
+        drawing is computed as finely as a glyph whatever its units.
+        """
+        if tol is not None:
+            return self.em_to_units(tol)
+        if self.units_per_em:
+            return relative * self.units_per_em
+        return relative * (self.size(*others) or 1.0)

@@ -6,8 +6,7 @@ pieces with smooth joins becomes certified cubics (C) that may span the joins.  
 quadratic (cubic) whose first control point is, in the written decimals, the
 reflection of the previous one's last control point is written T (S), without it:
 the reader implies the same point (TrueType's implied on-curve points, kept by a
-sum's translated glyph quadratics; O + M of the bundled TrueType font at 1e-4 em:
-51 -> 41 stored points).
+sum's translated glyph quadratics).
 Coordinates are rounded to d decimals, the fewest with ``r = 0.5 * 10^-d * sqrt(2)
 <= ROUND_SHARE tol``.  Rounding moves each control point by at most r and hence the
 curve by at most r at the same parameter (convex combination); the cubic fit gets
@@ -15,12 +14,13 @@ the rest, ``tol - r >= 0.95 tol`` (Fréchet distance, certified under a monotone
 reparametrisation), so the written curves are within ``tol`` of the loop in
 Fréchet, hence Hausdorff, distance.  A command that computes the pieces
 themselves within some tolerance passes this writer only the export share of the
-user's tolerance (:func:`morph.export.split_tolerance`).  y is negated (region y-up
+user's tolerance (:func:`morph.budget.plan`).  y is negated (region y-up
 -> SVG y-down).
 """
 
 import math
 
+from ..budget import ROUND_SHARE
 from ..export import loops_to_beziers
 from . import frame_bbox, normalize_shapes
 
@@ -38,12 +38,6 @@ def quoteattr(value):
     for char, entity in _ESCAPES:
         text = text.replace(char, entity)
     return '"%s"' % text
-
-#: At most this share of svg_path_data's tolerance goes to rounding coordinates: one
-#: decimal more than a share of 0.2 would need, and the fit gets >= 0.95 tol instead
-#: of 0.8 (CFF O ⊕ ellipse 80 x 30 at 0.01 unit: 75 -> 66 outline points; O ⊕ disk
-#: r = 40: 63 -> 60; bench/peers.md).
-ROUND_SHARE = 0.05
 
 
 def rounding(tol):

@@ -7,9 +7,7 @@ A-Z, a-z of both bundled fonts are checked the same way by ``python -m bench.bru
 from pathlib import Path
 
 import numpy as np
-import ots
 import pytest
-import uharfbuzz as hb
 from click.testing import CliRunner
 from fontTools.pens.areaPen import AreaPen
 from fontTools.pens.recordingPen import DecomposingRecordingPen
@@ -26,7 +24,7 @@ from morph.fonts.brush import (brush_font, check_convex_nib, composite_plan, ell
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region
 from morph.region import translate_region
-from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
+from tests.oracles.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
 
 NIB = (80.0, 30.0, 30.0)
 CHARS = "oTgSWe"
@@ -133,8 +131,10 @@ def test_metrics_names_and_directions(brushed):
     for ch in CHARS + " ":
         name = cmap[ord(ch)]
         assert b["hmtx"][name][0] == round(a["hmtx"][name][0] + nib_w)
-        if ch != " ":  # left side bearing kept (outline shifted by the nib's left extent)
-            assert abs(b["hmtx"][name][1] - a["hmtx"][name][1]) <= 1
+        if ch != " ":  # left side bearing kept (outline shifted by the nib's left extent):
+            # the curves' left edge within tol (0.5) + rounding (0.71) of the source's; the
+            # hmtx value is the control box's, which an off-curve point may widen
+            assert abs(_bounds(b, name)[0] - a["hmtx"][name][1]) <= 0.5 + 0.71
     assert b["name"].getDebugName(1) == "Test Brush"
     assert b["name"].getDebugName(6).startswith("TestBrush")
     # contour direction of the format: TrueType outer clockwise (AreaPen < 0),
@@ -190,7 +190,7 @@ def test_cli_brush(tmp_path):
                                   "--nib", "ellipse:60,20,45", "--sample", "ToT"])
     assert r.exit_code == 0, r.output
     assert TTFont(str(out))["name"].getDebugName(1).endswith("Brush")
-    assert (tmp_path / "f.png").stat().st_size > 0
+    assert (tmp_path / "f.ttf.png").stat().st_size > 0
     nib = tmp_path / "nib.svg"
     nib.write_text('<svg xmlns="http://www.w3.org/2000/svg"><path '
                    'd="M0 0 L20 0 L10 5 L20 20 L0 20 Z"/></svg>')
@@ -215,11 +215,12 @@ def test_cli_brush_composites(tmp_path):
     assert r.exit_code == 2
 
 
-# =========================================================================== issue 16
+# ========================================================== outlines of the written font
 
 
 
 def assert_ots(path):
+    ots = pytest.importorskip("ots")
     r = ots.sanitize(str(path), capture_output=True)
     assert r.returncode == 0, (r.stdout + r.stderr).decode(errors="replace")
 
@@ -258,6 +259,7 @@ def mark_font(tmp_path_factory):
 
 def _shape(path, text):
     """(glyph name, x, y) of each glyph of ``text`` shaped by HarfBuzz (pen positions)."""
+    hb = pytest.importorskip("uharfbuzz")
     font = TTFont(str(path))
     order = font.getGlyphOrder()
     hbf = hb.Font(hb.Face(hb.Blob.from_file_path(str(path))))
@@ -334,7 +336,7 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     r = CliRunner().invoke(main, ["brush", "-o", str(tmp_path / "c.ttf"), "--glyphs", "o,T",
                                   "--jobs", "1", "--sample", "oT"])
     assert r.exit_code == 1, r.output
-    assert (tmp_path / "c.ttf").stat().st_size > 0 and (tmp_path / "c.html").exists()
+    assert (tmp_path / "c.ttf").stat().st_size > 0 and (tmp_path / "c.ttf.html").exists()
     line = [s for s in r.output.splitlines() if s.startswith("morph: error:")]
     assert len(line) == 1 and "o (polygon sum" in line[0] and "T (" not in line[0]
 
@@ -349,21 +351,25 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
 
 
 def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
-    """A sum that raises at tol/2 but not at tol/8 keeps its curves (kind "retry"); one
-    that raises for the nib as given is computed with the nib turned (within tol)."""
+    """A sum that raises at the geometry share of tol but not at RETRY_SHARE of it keeps
+    its curves (kind "retry"); one that raises for the nib as given is computed with
+    the nib turned (within tol)."""
     import morph.minkowski
+    from morph.budget import RETRY_SHARE, plan
+
+    geometry = plan(0.5).geometry
 
     real = morph.minkowski.minkowski_sum
 
     def coarse_fails(a, b, tol, **kw):
-        if tol > 0.1:
+        if tol > RETRY_SHARE * geometry:
             raise TopologyError("fails at %g (test)" % tol)
         return real(a, b, tol, **kw)
 
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", coarse_fails)
     src, out = default_font_path(), tmp_path / "r.ttf"
     stats = brush_font(src, out, ellipse_nib(*NIB), ["o"], tol=0.5)
-    assert stats["fallback"]["o"][0] == "retry" and "fails at 0.25" in stats["fallback"]["o"][1]
+    assert stats["fallback"]["o"][0] == "retry" and "fails at %g" % geometry in stats["fallback"]["o"][1]
     _assert_sum(src, out, "o")
     g = TTFont(str(out))["glyf"]["o"]
     assert g.numberOfContours == 2 and not all(g.flags[k] & 1 for k in range(len(g.flags)))
@@ -424,7 +430,7 @@ def test_tables_after_brush(brushed):
 
 
 def test_clean_contours_m(tmp_path):
-    """Issue 16: brushed 'm' had a zero-length segment (three equal points)."""
+    """The brushed 'm' had a zero-length segment (three equal points)."""
     out = tmp_path / "m.ttf"
     brush_font(default_font_path(), out, ellipse_nib(*NIB), ["m", "n", "h"], tol=0.5)
     assert_clean_outlines(TTFont(str(out)), ["m", "n", "h"])

@@ -1,0 +1,454 @@
+"""Variable calligraphic fonts: a nib axis, masters compatible by construction.
+
+A skeleton UFO stroked by elliptical nibs at several axis positions gives master
+UFOs whose outlines are the *untrimmed* convolutions of :mod:`morph.compatible`:
+overlapping contours whose nonzero fill is exactly skeleton ⊕ nib (Guibas, Ramshaw,
+Stolfi), fitted with the same breaks in every master, so the masters have the same
+contours and points.  A designspace is written beside them (a designer can open and
+edit both) and compiled with ufo2ft's variable compilers: ``.ttf`` glyf/gvar
+(:func:`ufo2ft.compileVariableTTF`, cubics converted to quadratics compatibly by
+cu2qu), ``.otf`` CFF2 (:func:`ufo2ft.compileVariableCFF2`).  Every glyph's
+OVERLAP_SIMPLE flag (OVERLAP_COMPOUND for composites) is set, so that renderers fill
+overlapping contours as one (CFF2 charstrings need none: they are filled nonzero).
+Static outputs of ``morph stroke`` stay trimmed and free of overlaps.
+
+The nib axis runs from the ``nib_min`` nib (its minimum, the default master) to the
+``nib_max`` nib (its maximum); at a fraction u of the way the nib's width, height and
+angle are each interpolated linearly (:func:`morph.compatible.blend_nib`).  Its tag:
+
+- ``NIBW`` ("Nib width"), user values the nib's width in font units, when the width
+  grows along the axis: a reader sets the pen width directly (CSS
+  ``font-variation-settings: "NIBW" 80``).
+- ``NIBP`` ("Nib position"), user values 0 to 100 (percent of the way), otherwise
+  (an angle or height change at a fixed width).
+
+Private (uppercase) tags, not ``wght``: the registered weight axis has the CSS
+weight scale (100 to 900, usWeightClass) and keeps a glyph's proportions, while a
+nib axis is measured in font units, widens the advances by the nib and changes the
+stroke contrast with the nib's shape; nor ``GRAD``, which must keep the advances.
+
+Error budget (``tol`` font units, before integer rounding), every share measured:
+
+- :data:`FIT_SHARE` of tol: each master's nib part fitted by cubics
+  (:func:`morph.compatible.fit_elements`, at the sample parameters);
+- :data:`CU2QU_SHARE`: the TrueType quadratic conversion (ufo2ft's compatible
+  cu2qu, ``cubicConversionError``);
+- :data:`BLEND_SHARE`: an instance between two masters, against the sum with the
+  nib the axis defines there (:func:`morph.compatible.interpolation_error` of the
+  two masters' nibs); intermediate masters are added until it holds.  A uniform
+  scale (same aspect and angle) needs none: the masters' cubics are c + s H and
+  interpolate exactly.
+
+So every master and every instance is within tol of the exact sum before the
+integer rounding of the compiled font (<= 0.71 unit for the masters' points and
+again for an instance's).  The gvar deltas are not IUP-optimised (``optimizeGvar``
+off): IUP's 0.5-unit tolerance would come on top of the bound.
+
+Metrics as in the static stroke (:mod:`morph.fonts.stroke`): each master's
+outlines shift right by its nib's left extent and the advances grow by the nib's
+width (rounded), zero-width marks keep advance 0 and shift left by the width;
+anchors move with the outlines (the nib is centred: its centre adds nothing), kept
+components are re-placed, scaled / turned components decomposed and stroked.
+"""
+
+import copy
+import os
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, \
+    skeleton_elements
+from ..errors import MorphError, ParseError, one_line
+
+__all__ = ["NibAxis", "nib_axis", "axis_masters", "stroke_variable", "variable_outputs",
+           "set_overlap_flags", "FIT_SHARE", "CU2QU_SHARE", "BLEND_SHARE"]
+
+FIT_SHARE = 0.4
+CU2QU_SHARE = 0.2
+BLEND_SHARE = 0.4
+
+#: at most this many masters on the nib axis (a bound on how far intermediate
+#: masters are added: an angle change of a thin nib needs many)
+MAX_MASTERS = 65
+
+OVERLAP_KEY = "public.truetype.overlap"
+
+
+@dataclass(frozen=True)
+class NibAxis:
+    """A nib axis from ``nib_min`` (user value ``minimum``) to ``nib_max``
+    (``maximum``), user values linear in the fraction u of the way."""
+
+    tag: str
+    name: str
+    minimum: float
+    maximum: float
+    nib_min: Ellipse
+    nib_max: Ellipse
+
+    def fraction(self, value):
+        return (float(value) - self.minimum) / (self.maximum - self.minimum)
+
+    def value(self, u):
+        return self.minimum + float(u) * (self.maximum - self.minimum)
+
+    def nib_at(self, value):
+        """The nib at user value ``value`` (width, height, angle interpolated)."""
+        return blend_nib(self.nib_min, self.nib_max, self.fraction(value))
+
+
+def nib_axis(nib_min, nib_max):
+    """The :class:`NibAxis` from ``nib_min`` to ``nib_max`` ((width, height, angle)
+    each); see the module docstring for the choice of tag.
+
+    Raises:
+        ValueError: the two nibs are the same.
+    """
+    a, b = Ellipse(*map(float, nib_min)), Ellipse(*map(float, nib_max))
+    if a == b:
+        raise ValueError("the nib axis needs two different nibs, got %s twice" % (tuple(a),))
+    if b.width > a.width:
+        return NibAxis("NIBW", "Nib width", a.width, b.width, a, b)
+    return NibAxis("NIBP", "Nib position", 0.0, 100.0, a, b)
+
+
+def axis_masters(axis, budget):
+    """User values of the masters along ``axis``: both ends, and intermediate ones
+    halving each interval whose blend error (:func:`interpolation_error` of its end
+    nibs) exceeds ``budget`` font units.
+
+    Raises:
+        MorphError: more than :data:`MAX_MASTERS` would be needed.
+    """
+    us = [0.0, 1.0]
+    k = 0
+    while k < len(us) - 1:
+        a, b = (blend_nib(axis.nib_min, axis.nib_max, u) for u in us[k:k + 2])
+        if interpolation_error(a, b) > budget:
+            us.insert(k + 1, 0.5 * (us[k] + us[k + 1]))
+            if len(us) > MAX_MASTERS:
+                raise MorphError("the nib axis from %s to %s needs more than %d masters to "
+                                 "stay within %g units: use nibs closer in angle and aspect"
+                                 % (tuple(axis.nib_min), tuple(axis.nib_max), MAX_MASTERS,
+                                    budget))
+        else:
+            k += 1
+    return [axis.value(u) for u in us]
+
+
+def variable_outputs(out_path):
+    """(designspace path, masters folder) written next to a variable font."""
+    out_path = Path(out_path)
+    return (out_path.with_suffix(".designspace"),
+            out_path.with_name(out_path.stem + "-masters"))
+
+
+# ---------------------------------------------------------------- glyph jobs
+
+def _keep_component(component):
+    """A component kept as a component: a translation, or a half turn (an ellipse is
+    centrally symmetric, so the stroke commutes with both)."""
+    m = tuple(float(v) for v in tuple(component.transformation)[:4])
+    return m in ((1.0, 0.0, 0.0, 1.0), (-1.0, 0.0, 0.0, -1.0))
+
+
+def _glyph_job(args):
+    """(name, loops per master as lists of (k, 4, 2) arrays, CPU seconds) of one
+    glyph's paths stroked by every master nib (a process-pool job)."""
+    name, paths, nibs, tol = args
+    t0 = time.process_time()
+    if not paths:
+        return name, [[] for _ in nibs], 0.0
+    loops = fit_elements(skeleton_elements([paths], "glyph %r" % name), nibs, tol=tol)
+    return name, loops, time.process_time() - t0
+
+
+def _plan(font, chosen):
+    """(glyphs stroked, composites that follow): the chosen glyphs and the bases of
+    their kept components; composites not chosen whose kept components all use
+    stroked glyphs (eacute for e and acutecomb)."""
+    from ..parse.ufo import component_cycle
+
+    cycle = component_cycle(font, chosen)
+    if cycle:
+        raise ParseError("glyph %r uses itself through its components: %s"
+                         % (cycle[0], " => ".join(cycle)), cycle[0])
+    stroked, seen, todo = [], set(), list(chosen)
+    while todo:
+        n = todo.pop(0)
+        if n in seen:
+            continue
+        if n not in font:
+            raise ParseError("component base glyph %r is missing from the UFO" % n, n)
+        seen.add(n)
+        stroked.append(n)
+        todo += [c.baseGlyph for c in font[n].components if _keep_component(c)]
+    followed, changed = [], True
+    while changed:
+        changed = False
+        for g in font:
+            if g.name not in seen and not g.contours and g.components and \
+                    all(_keep_component(c) and c.baseGlyph in seen for c in g.components):
+                seen.add(g.name)
+                followed.append(g.name)
+                changed = True
+    return stroked, followed
+
+
+def _work(font, stroked, nibs, tol):
+    from ..parse.ufo import component_paths, glyph_paths
+
+    for n in stroked:
+        g = font[n]
+        paths = glyph_paths(g)
+        for c in g.components:
+            if not _keep_component(c):
+                paths.extend(component_paths(font, c))
+        yield n, paths, nibs, tol
+
+
+# ------------------------------------------------------------------- masters
+
+def _draw(glyph, loops, shift):
+    pen = glyph.getPen()
+    for loop in loops:
+        pts = loop + np.array([shift, 0.0])
+        pen.moveTo(_pt(pts[0, 0]))
+        for c in pts:
+            pen.curveTo(_pt(c[1]), _pt(c[2]), _pt(c[3]))
+        pen.closePath()
+
+
+def _pt(p):
+    return (round(float(p[0]), 4), round(float(p[1]), 4))
+
+
+def _master(font, results, nib, done, family, style):
+    """A copy of the skeleton with the stroked outlines of one master drawn in."""
+    m = copy.deepcopy(font)
+    hx = float(nib.extent()[2])
+    grow = int(round(2 * hx))
+    shifts = {n: hx - (grow if m[n].width == 0 else 0) for n in done}
+    for name, loops in results.items():
+        g = m[name]
+        g.clearContours()
+        _draw(g, loops, shifts[name])
+        g.lib[OVERLAP_KEY] = True
+    for n in done:
+        g = m[n]
+        s = shifts[n]
+        kept = []
+        for c in g.components:
+            if _keep_component(c):
+                xx, xy, yx, yy, dx, dy = tuple(c.transformation)
+                sb = shifts[c.baseGlyph]
+                c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
+                kept.append(c)
+        g.components[:] = kept
+        if len(kept) > 1 or (kept and g.contours):
+            g.lib[OVERLAP_KEY] = True
+        for a in g.anchors:
+            a.x += s
+        for gl in g.guidelines:
+            if gl.x is not None and gl.y is None:
+                gl.x += s
+        if g.width:
+            g.width += grow
+    for g in m:                 # an open skeleton cannot be compiled: left empty
+        if g.name not in done and (g.contours or g.components):
+            g.clearContours()
+            g.clearComponents()
+    info = m.info
+    info.familyName = family
+    info.styleName = style
+    for key in ("styleMapFamilyName", "styleMapStyleName", "openTypeNamePreferredFamilyName",
+                "openTypeNamePreferredSubfamilyName", "postscriptFontName",
+                "postscriptFullName", "openTypeNameUniqueID", "postscriptUniqueID",
+                "openTypeNameCompatibleFullName", "macintoshFONDName",
+                "openTypeNameWWSFamilyName", "openTypeNameWWSSubfamilyName",
+                "postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
+                "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV"):
+        setattr(info, key, None)
+    return m, shifts
+
+
+def _grow_win(masters):
+    """OS/2 win ascent / descent of every master grown to cover all masters' outlines
+    (no clipping at any instance: the control points bound the curves)."""
+    lo, hi = 0.0, 0.0
+    for m in masters:
+        for g in m:
+            for c in g.contours:
+                ys = [p.y for p in c.points]
+                lo, hi = min(lo, min(ys)), max(hi, max(ys))
+    for m in masters:
+        info = m.info
+        if info.openTypeOS2WinAscent is not None:
+            info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(hi)))
+        if info.openTypeOS2WinDescent is not None:
+            info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-lo)))
+
+
+def _style(axis, value):
+    return "%s %g" % (axis.name.split()[0], round(value, 2))
+
+
+def _designspace(axis, masters, values, names, family):
+    from fontTools.designspaceLib import (AxisDescriptor, AxisLabelDescriptor,
+                                          DesignSpaceDocument, InstanceDescriptor,
+                                          SourceDescriptor)
+
+    doc = DesignSpaceDocument()
+    ax = AxisDescriptor()
+    ax.tag, ax.name = axis.tag, axis.name
+    ax.minimum, ax.default, ax.maximum = axis.minimum, axis.minimum, axis.maximum
+    ax.labelNames = {"en": axis.name}
+    ends = [axis.minimum, axis.maximum]
+    ax.axisLabels = [AxisLabelDescriptor(name=_style(axis, v), userValue=v,
+                                         elidable=(v == axis.minimum)) for v in ends]
+    doc.addAxis(ax)
+    for m, v, fn in zip(masters, values, names):
+        src = SourceDescriptor()
+        src.filename, src.font = fn, m
+        src.familyName, src.styleName = family, m.info.styleName
+        src.location = {axis.name: v}
+        doc.addSource(src)
+    for v in (axis.minimum, axis.value(0.5), axis.maximum):
+        inst = InstanceDescriptor()
+        inst.familyName, inst.styleName = family, _style(axis, v)
+        inst.location = {axis.name: v}
+        doc.addInstance(inst)
+    return doc
+
+
+def set_overlap_flags(ttfont):
+    """Set OVERLAP_SIMPLE on every simple glyph with contours and OVERLAP_COMPOUND on
+    every composite of a glyf font (no-op for CFF2); returns how many were set."""
+    from fontTools.ttLib.tables._g_l_y_f import OVERLAP_COMPOUND, flagOverlapSimple
+
+    if "glyf" not in ttfont:
+        return 0
+    count = 0
+    glyf = ttfont["glyf"]
+    for name in glyf.keys():
+        g = glyf[name]
+        if g.isComposite():
+            g.components[0].flags |= OVERLAP_COMPOUND
+            count += 1
+        elif g.numberOfContours > 0:
+            g.flags[0] |= flagOverlapSimple
+            count += 1
+    return count
+
+
+def _compile(doc, kind, cu2qu_error_em):
+    import ufo2ft
+
+    try:
+        if kind == ".otf":
+            return ufo2ft.compileVariableCFF2(doc, optimizeCFF=False)
+        return ufo2ft.compileVariableTTF(doc, cubicConversionError=cu2qu_error_em,
+                                         optimizeGvar=False)
+    except Exception as exc:
+        raise MorphError("ufo2ft could not compile the variable font: %s"
+                         % one_line(exc)) from exc
+
+
+def stroke_variable(src, out_path, nib_min, nib_max, glyphs=None, tol=0.5, family_name=None,
+                    overwrite=False, jobs=1, progress=None):
+    """Write a variable calligraphic font with a nib axis from a skeleton UFO.
+
+    ``src``: a skeleton ``.ufo`` (or an open ``ufoLib2.Font``, not modified);
+    ``out_path``: ``.ttf`` (glyf/gvar) or ``.otf`` (CFF2), with the designspace and
+    master UFOs beside it (:func:`variable_outputs`); ``nib_min`` / ``nib_max``:
+    (width, height, angle) of the nibs at the axis' ends; ``glyphs``: characters or
+    names (None: all); ``tol``: font units, split as the module docstring says;
+    ``overwrite``: replace existing outputs (the masters folder is replaced whole);
+    ``jobs``: processes; ``progress(name)`` after each glyph.
+
+    Returns a dict: ``axis`` (:class:`NibAxis`), ``values`` (masters' user values),
+    ``designspace``, ``masters`` (paths), ``glyphs``, ``followed``, ``points`` (per
+    master), ``fit_seconds`` (CPU, all glyphs and masters), ``seconds`` (wall),
+    ``font`` (the compiled TTFont), ``sources`` (the master ufoLib2 fonts).
+
+    Raises:
+        ParseError: unreadable UFO or glyph; IncompatibleMasters cannot happen here
+        (one skeleton); MorphError: outputs exist without ``overwrite``, ufo2ft
+        fails; ValueError: a bad suffix, tol <= 0, equal nibs.
+    """
+    import ufoLib2
+
+    from ..parse.ufo import glyph_names_for, load_ufo
+    from .jobs import run_jobs
+
+    t_start = time.perf_counter()
+    out_path = Path(out_path)
+    kind = out_path.suffix.lower()
+    if kind not in (".ttf", ".otf"):
+        raise ValueError("a variable font is a .ttf or .otf, got %s" % out_path)
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    ds_path, masters_dir = variable_outputs(out_path)
+    for p in (out_path, ds_path, masters_dir):
+        if p.exists() and not overwrite:
+            raise MorphError("%s exists (pass overwrite=True to replace it)" % p)
+    font = src if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
+    axis = nib_axis(nib_min, nib_max)
+    values = axis_masters(axis, BLEND_SHARE * tol)
+    nibs = [axis.nib_at(v) for v in values]
+    chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
+    stroked, followed = _plan(font, chosen)
+    fit_tol = FIT_SHARE * tol
+    report = None if progress is None else (lambda k, r: progress(r[0]))
+    results = run_jobs(_glyph_job, list(_work(font, stroked, nibs, fit_tol)), jobs=jobs,
+                       progress=report)
+    fit_seconds = sum(r[2] for r in results)
+    family = family_name or "%s Stroke" % (font.info.familyName or "Morph")
+    done = set(stroked) | set(followed)
+    masters, names = [], []
+    stem = out_path.stem
+    for k, (v, nib) in enumerate(zip(values, nibs)):
+        per = {name: loops[k] for name, loops, _ in results}
+        m, _ = _master(font, per, nib, done, family, _style(axis, v))
+        masters.append(m)
+        names.append("%s/%s-%s%s.ufo" % (masters_dir.name, stem, axis.tag,
+                                         ("%g" % round(v, 3)).replace(".", "_")))
+    _grow_win(masters)
+    doc = _designspace(axis, masters, values, names, family)
+    upm = float(font.info.unitsPerEm or 1000)
+    vf = _compile(doc, kind, CU2QU_SHARE * tol / upm)
+    set_overlap_flags(vf)
+    _write(out_path, vf, doc, masters, names, ds_path, masters_dir)
+    points = sum(len(c) for g in masters[0] for c in g.contours)
+    return {"axis": axis, "values": values, "designspace": ds_path,
+            "masters": [ds_path.parent / n for n in names], "glyphs": len(stroked),
+            "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
+            "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters}
+
+
+def _write(out_path, vf, doc, masters, names, ds_path, masters_dir):
+    """Font, designspace and masters written to a temporary folder, then moved into
+    place (an existing masters folder is replaced whole: nothing stale is left)."""
+    parent = out_path.parent
+    parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=".morph-variable-", dir=str(parent)))
+    try:
+        vf.save(str(tmp / out_path.name))
+        (tmp / masters_dir.name).mkdir()
+        for m, n in zip(masters, names):
+            m.save(str(tmp / n), overwrite=True)
+        for s in doc.sources:       # the document refers to the files, not the objects
+            s.font = None
+        doc.write(str(tmp / ds_path.name))
+        if masters_dir.exists():
+            shutil.rmtree(masters_dir)
+        os.replace(str(tmp / masters_dir.name), str(masters_dir))
+        os.replace(str(tmp / ds_path.name), str(ds_path))
+        os.replace(str(tmp / out_path.name), str(out_path))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
