@@ -344,6 +344,26 @@ def markdown(rows, argline, elapsed):
     return "\n".join(md) + "\n"
 
 
+def compare(rows, before, label, path):
+    """A table of the whole-process ms per glyph and of each phase, earlier and now."""
+    old = {r["run"]: r for r in before}
+    both = [(old[r["run"]], r) for r in rows if r["run"] in old]
+    if not both:
+        return ""
+    md = ["", "## Against %s (`%s`, measured the same way)" % (label, path), "",
+          "| phase | " + " | ".join("%s %s" % tuple(r["run"].split(":")) for _, r in both)
+          + " |", "|---|" + "---|" * len(both)]
+    for p in ORDER + ["whole process"]:
+        cells = []
+        for b, a in both:
+            def ms(r):
+                v = r["total"] if p == "whole process" else r["phases"].get(p, 0.0)
+                return 1000.0 * v / max(1, r["glyphs"])
+            cells.append("%.2f -> %.2f" % (ms(b), ms(a)))
+        md.append("| %s | %s |" % (p, " | ".join(cells)))
+    return "\n".join(md) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker")
@@ -353,6 +373,9 @@ def main(argv=None):
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_profile.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--json", help="also write the measured phases here (for comparisons)")
+    ap.add_argument("--before", default=str(ROOT / "bench" / "stroke_profile_base.json"),
+                    help="phases measured earlier (--json of another run), shown beside")
+    ap.add_argument("--before-label", default="the base commit 2e961c8")
     opt = ap.parse_args(argv)
     if opt.worker:
         return worker(opt.worker)
@@ -361,6 +384,9 @@ def main(argv=None):
     t0 = time.perf_counter()
     rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
     text = markdown(rows, argline, time.perf_counter() - t0)
+    if opt.before and os.path.exists(opt.before):
+        text += compare(rows, json.loads(Path(opt.before).read_text()), opt.before_label,
+                        os.path.relpath(opt.before, ROOT))
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)
