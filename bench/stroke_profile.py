@@ -17,7 +17,8 @@ not inside any timed function, is ``other`` (the CLI, the job loop, packing).
 A timer costs about a microsecond a call, far below the phases' times.
 
 The timers only wrap functions (every module attribute that is the function, so
-``from .x import f`` call sites are timed too); no code of morph is changed.
+``from .x import f`` call sites are timed too; names that a version of the code
+lacks are skipped); no code of morph is changed.
 Runs (``--runs``, comma separated ``command:set``):
 
 - ``stroke:relief``: the whole Relief SingleLine UFO (``relief-singleline`` in the
@@ -51,7 +52,7 @@ PHASES = [
                "morph.parse.ufo:glyph_paths", "morph.fonts.stroke:stroke_plan",
                "morph.fonts.stroke:_stroke_work", "morph.fonts.brush:_source_regions",
                "morph.fonts.brush:open_source", "morph.fonts.brush:_brush_plan",
-               "morph.stroke:_loops_and_dots"]),
+               "morph.stroke:_loops_and_dots", "morph.stroke:_loops_and_dots_many"]),
     ("operand checks", ["morph.minkowski:check_operand", "morph.limits:check_tolerance"]),
     ("Gauss map", ["morph.convolve:gauss_pair_of", "morph.gauss:gauss_maps",
                    "morph.convolve:with_pair_table", "morph.convolve:crossing_rows"]),
@@ -141,7 +142,9 @@ def install(clock):
             *path, attr = qual.split(".")
             for p in path:
                 owner = getattr(owner, p)
-            orig = getattr(owner, attr)
+            orig = getattr(owner, attr, None)
+            if orig is None:  # a function of another version of the code
+                continue
             new = _wrap(clock, phase, orig)
             setattr(owner, attr, new)
             if owner is mod:
