@@ -71,9 +71,8 @@ from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..region import region_bbox, translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
-from .brush import glyph_chunks
-from .fea import move_feature_anchors
-from .jobs import run_jobs
+from .fea import move_feature_anchors  # noqa: F401 (re-exported)
+from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
@@ -192,14 +191,6 @@ def _glyph_job(args):
     return _chunk_job([args])[0]
 
 
-#: At most this many glyphs per job of :func:`_chunk_job` (their cubic conversions
-#: go in one batch; a batch's cost per glyph falls with its size, see
-#: :data:`morph.fonts.brush.CHUNK`).  The glyphs are split into equal chunks by
-#: their number alone (not by the number of processes), so that the font does not
-#: depend on ``jobs``.
-CHUNK = 96
-
-
 def _chunk_job(chunk):
     """:func:`_glyph_job` of several glyphs (a process-pool job): the glyphs are
     stroked together (:func:`_stroked_regions`), then the outlines of all of them
@@ -210,7 +201,6 @@ def _chunk_job(chunk):
     so that only the failing one falls back to the polygon stroke.  A glyph's
     ``seconds`` is its stroke's CPU time plus its share of the batch (by its number
     of pieces)."""
-    from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops, contours_from_regions
 
     out = [{"name": job[0], "contours": None, "region": r, "fallback": e, "seconds": s}
@@ -240,19 +230,35 @@ def _chunk_job(chunk):
             except MorphError as exc:
                 out[k]["fallback"] = exc
             out[k]["seconds"] += time.process_time() - t0
-    for (name, paths, nib_region, tols, offset, _), r in zip(chunk, out):
+    for job, r in zip(chunk, out):
         if r["fallback"] is not None:
             t0 = time.process_time()
-            exc = r["fallback"]
-            r["fallback"] = "%s: %s" % (type(exc).__name__, one_line(exc))
-            polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
-                                tols.geometry + tols.cubic, closed=False)
-            r["contours"] = polylines_to_contours(polys, offset=offset)
-            r["region"] = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))]
-                           for p in polys]
+            r["contours"], r["region"], r["fallback"] = _polygon_stroke(job, r["fallback"])
             r["seconds"] += time.process_time() - t0
-        r["region"] = translate_region(r["region"], offset)
+        r["region"] = translate_region(r["region"], job[4])
     return out
+
+
+def _polygon_stroke(job, exc):
+    """(contours, region, error text) of a glyph whose exact stroke raised ``exc``:
+    the rest of the fallback ladder (:func:`morph.fonts.jobs.fallback_ladder`), the
+    polygon stroke of :func:`morph.fonts.jobs.polygon_sum`; should that raise a
+    MorphError too, the glyph is left empty (and named)."""
+    from .jobs import error_text, fallback_ladder, polygon_sum
+
+    name, paths, nib_region, tols, offset, _ = job
+
+    def polygon():
+        return polygon_sum([pieces for pieces, _ in paths], nib_region,
+                           tols.geometry + tols.cubic, closed=False)
+
+    kind, polys, error = fallback_ladder([("polygon", polygon)], error_text(exc))
+    if kind is None:
+        return [], [], error + "; left empty"
+    from .jobs import polylines_to_contours
+
+    region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
+    return polylines_to_contours(polys, offset=offset), region, error
 
 
 
@@ -267,7 +273,7 @@ def _stroked_regions(chunk):
         t0 = time.process_time()
         try:
             regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3].geometry)
-        except Exception:  # noqa: BLE001 - any failure: glyph by glyph, as they were
+        except MorphError:  # glyph by glyph, as they were (only a MorphError: the ladder)
             regions = None
         if regions is not None:
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
@@ -334,8 +340,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     # regions dropped, so that memory does not grow with the number of glyphs
     stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
              "extent": [None, None]}
-    run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs, keep=False,
-             progress=_writer(font, kind == ".ttf", stats, progress))
+    run_glyph_jobs(_chunk_job, work, jobs=jobs, keep=False,
+                   each=_writer(font, kind == ".ttf", stats, progress))
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
                  composites=sum(1 for n in stroked + followed if font[n].components),
@@ -350,13 +356,12 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
 
 
 def _writer(font, quadratic, stats, progress):
-    """A :func:`morph.fonts.jobs.run_jobs` progress callback writing each chunk's
-    glyphs as it is done (:func:`_write_strokes`), then ``progress(name)``."""
-    def write(index, results):
-        _write_strokes(font, results, quadratic, stats)
+    """A :func:`morph.fonts.jobs.run_glyph_jobs` callback writing each glyph as its
+    chunk is done (:func:`_write_strokes`), then ``progress(name)``."""
+    def write(result):
+        _write_strokes(font, [result], quadratic, stats)
         if progress is not None:
-            for r in results:
-                progress(r["name"])
+            progress(result["name"])
     return write
 
 
