@@ -56,9 +56,6 @@ a layer named ``skeleton`` (:data:`SKELETON_LAYER`; not compiled), so nothing of
 the source is lost.
 """
 
-import os
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -69,10 +66,11 @@ from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
-from ..region import region_bbox, translate_region
+from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
 from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
+from .ufo_tables import copy_font, grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
@@ -82,12 +80,7 @@ DEFAULT_NIB = (90.0, 20.0, 30.0)
 #: the layer of a ``.ufo`` output holding the skeletons of the glyphs not stroked
 SKELETON_LAYER = "skeleton"
 
-_DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
-              "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
-              "postscriptBlueFuzz", "postscriptBlueShift", "postscriptBlueScale",
-              "postscriptForceBold", "openTypeNameUniqueID", "postscriptUniqueID",
-              "postscriptFullName", "openTypeNameCompatibleFullName", "macintoshFONDName",
-              "openTypeNameWWSFamilyName", "openTypeNameWWSSubfamilyName")
+
 
 
 def _default_stroker():
@@ -160,23 +153,6 @@ def _plan(font, chosen, symmetric):
                 followed.append(g.name)
                 changed = True
     return stroked, followed
-
-
-def _rename(info, family):
-    import re
-
-    style = info.styleName or "Regular"
-    ps = re.sub(r"[^A-Za-z0-9-]", "", family.replace(" ", "")) + "-" + \
-        re.sub(r"[^A-Za-z0-9]", "", style)
-    info.familyName = family
-    if info.styleMapFamilyName:
-        info.styleMapFamilyName = family
-    if info.openTypeNamePreferredFamilyName:
-        info.openTypeNamePreferredFamilyName = family
-    info.postscriptFontName = ps
-    for key in _DROP_INFO:
-        if getattr(info, key, None) is not None:
-            setattr(info, key, None)
 
 
 def _glyph_job(args):
@@ -347,8 +323,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                  composites=sum(1 for n in stroked + followed if font[n].components),
                  emptied=_empty_unstroked(font, set(stroked) | set(followed), kind))
     _move_feature_file(font, place)
-    _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    _grow_win_metrics(font, *stats.pop("extent"))
+    rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    grow_win_metrics(font, *stats.pop("extent"))
     _save(font, out_path, kind, tol, overwrite)
     stats["seconds"] = time.perf_counter() - t_start
     stats["font"] = font
@@ -389,7 +365,7 @@ def _open_copy(src):
 
     from ..parse.ufo import load_ufo
 
-    return _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
+    return copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
 
 
 @dataclass(frozen=True)
@@ -449,7 +425,7 @@ def _write_strokes(font, results, quadratic, stats):
         draw_contours(g.getPen(), r["contours"], quadratic)
         stats["contours"] += len(r["contours"])
         stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
-        _widen_extent(stats["extent"], r["region"])
+        widen_extent(stats["extent"], r["region"])
         if r["fallback"]:
             stats["fallback"][r["name"]] = r["fallback"]
     return stats
@@ -511,74 +487,27 @@ def _outline_tolerance(budget):
     return budget.export, budget.cu2qu > 0
 
 
-def _copy_font(font):
-    """A full in-memory copy of a ufoLib2 font (the source is never modified)."""
-    import copy
-
-    font.unlazify()
-    return copy.deepcopy(font)
-
-
-def _widen_extent(extent, loops):
-    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
-    region (:func:`morph.region.region_bbox`).  The control points bound the region
-    (positive weights: convex hull), so the tight box is computed only when they
-    reach past the extreme found so far: the result is the tight range of all
-    regions, at the cost of a few tight boxes."""
-    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
-    if not pts:
-        return
-    pts = np.concatenate(pts)
-    bottom, top = extent
-    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
-        box = region_bbox(loops)
-        extent[0] = box[1] if bottom is None else min(bottom, box[1])
-        extent[1] = box[3] if top is None else max(top, box[3])
-
-
-def _grow_win_metrics(font, bottom, top):
-    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
-    ``bottom`` and ``top`` are their tight extent (:func:`_widen_extent`; None:
-    nothing stroked)."""
-    if top is None:
-        return
-    info = font.info
-    if info.openTypeOS2WinAscent is not None:
-        info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
-    if info.openTypeOS2WinDescent is not None:
-        info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-bottom)))
-
-
 def _save(font, out_path, kind, tol, overwrite):
-    """Save the UFO or compile it with ufo2ft; written to a temporary name first."""
-    out_path = Path(out_path)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp_dir = tempfile.mkdtemp(prefix=".morph-stroke-", dir=str(out_path.parent))
-    tmp = Path(tmp_dir) / out_path.name
-    try:
+    """Save the UFO or compile it with ufo2ft, atomically
+    (:func:`morph.fonts.tables.save_atomically`)."""
+    from .tables import save_atomically
+
+    def write(tmp):
         if kind == ".ufo":
             font.save(str(tmp), overwrite=True)
-        else:
-            import ufo2ft
+            return
+        import ufo2ft
 
-            try:
-                if kind == ".otf":
-                    otf = ufo2ft.compileOTF(font)
-                else:
-                    upm = font.info.unitsPerEm or 1000
-                    otf = ufo2ft.compileTTF(font,
-                                            cubicConversionError=budget.plan(tol, True).cu2qu / upm)
-            except Exception as exc:
-                raise MorphError("ufo2ft could not compile %s: %s"
-                                 % (out_path.name, one_line(exc))) from exc
-            otf.save(str(tmp))
-        if out_path.exists():
-            if not overwrite:
-                raise MorphError("%s exists" % out_path)
-            if out_path.is_dir():
-                shutil.rmtree(out_path)
+        try:
+            if kind == ".otf":
+                otf = ufo2ft.compileOTF(font)
             else:
-                out_path.unlink()
-        os.replace(str(tmp), str(out_path))
-    finally:
-        shutil.rmtree(tmp_dir, ignore_errors=True)
+                upm = font.info.unitsPerEm or 1000
+                otf = ufo2ft.compileTTF(font,
+                                        cubicConversionError=budget.plan(tol, True).cu2qu / upm)
+        except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
+            raise MorphError("ufo2ft could not compile %s: %s"
+                             % (Path(out_path).name, one_line(exc))) from exc
+        otf.save(str(tmp))
+
+    save_atomically(out_path, write, overwrite)
