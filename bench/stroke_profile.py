@@ -17,7 +17,8 @@ not inside any timed function, is ``other`` (the CLI, the job loop, packing).
 A timer costs about a microsecond a call, far below the phases' times.
 
 The timers only wrap functions (every module attribute that is the function, so
-``from .x import f`` call sites are timed too); no code of morph is changed.
+``from .x import f`` call sites are timed too; names that a version of the code
+lacks are skipped); no code of morph is changed.
 Runs (``--runs``, comma separated ``command:set``):
 
 - ``stroke:relief``: the whole Relief SingleLine UFO (``relief-singleline`` in the
@@ -51,7 +52,7 @@ PHASES = [
                "morph.parse.ufo:glyph_paths", "morph.fonts.stroke:stroke_plan",
                "morph.fonts.stroke:_stroke_work", "morph.fonts.brush:_source_regions",
                "morph.fonts.brush:open_source", "morph.fonts.brush:_brush_plan",
-               "morph.stroke:_loops_and_dots"]),
+               "morph.stroke:_loops_and_dots", "morph.stroke:_loops_and_dots_many"]),
     ("operand checks", ["morph.minkowski:check_operand", "morph.limits:check_tolerance"]),
     ("Gauss map", ["morph.convolve:gauss_pair_of", "morph.gauss:gauss_maps",
                    "morph.convolve:with_pair_table", "morph.convolve:crossing_rows"]),
@@ -141,7 +142,9 @@ def install(clock):
             *path, attr = qual.split(".")
             for p in path:
                 owner = getattr(owner, p)
-            orig = getattr(owner, attr)
+            orig = getattr(owner, attr, None)
+            if orig is None:  # a function of another version of the code
+                continue
             new = _wrap(clock, phase, orig)
             setattr(owner, attr, new)
             if owner is mod:
@@ -344,6 +347,26 @@ def markdown(rows, argline, elapsed):
     return "\n".join(md) + "\n"
 
 
+def compare(rows, before, label, path):
+    """A table of the whole-process ms per glyph and of each phase, earlier and now."""
+    old = {r["run"]: r for r in before}
+    both = [(old[r["run"]], r) for r in rows if r["run"] in old]
+    if not both:
+        return ""
+    md = ["", "## Against %s (`%s`, measured the same way)" % (label, path), "",
+          "| phase | " + " | ".join("%s %s" % tuple(r["run"].split(":")) for _, r in both)
+          + " |", "|---|" + "---|" * len(both)]
+    for p in ORDER + ["whole process"]:
+        cells = []
+        for b, a in both:
+            def ms(r):
+                v = r["total"] if p == "whole process" else r["phases"].get(p, 0.0)
+                return 1000.0 * v / max(1, r["glyphs"])
+            cells.append("%.2f -> %.2f" % (ms(b), ms(a)))
+        md.append("| %s | %s |" % (p, " | ".join(cells)))
+    return "\n".join(md) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker")
@@ -353,6 +376,9 @@ def main(argv=None):
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_profile.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--json", help="also write the measured phases here (for comparisons)")
+    ap.add_argument("--before", default=str(ROOT / "bench" / "stroke_profile_base.json"),
+                    help="phases measured earlier (--json of another run), shown beside")
+    ap.add_argument("--before-label", default="the base commit 2e961c8")
     opt = ap.parse_args(argv)
     if opt.worker:
         return worker(opt.worker)
@@ -361,6 +387,9 @@ def main(argv=None):
     t0 = time.perf_counter()
     rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
     text = markdown(rows, argline, time.perf_counter() - t0)
+    if opt.before and os.path.exists(opt.before):
+        text += compare(rows, json.loads(Path(opt.before).read_text()), opt.before_label,
+                        os.path.relpath(opt.before, ROOT))
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)

@@ -12,13 +12,14 @@ import warnings
 import click
 
 from .. import __version__
-from ..errors import DegenerateCurveError, LimitError, MorphWarning, NibError, ParseError
+from ..errors import (DegenerateCurveError, LimitError, MorphWarning, NibError, OperandError,
+                      ParseError)
 from ..limits import memory_budget_bytes
 from .options import EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES
 
 _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
 #: MorphErrors that mean bad input (exit 2); other MorphErrors are internal (exit 1)
-BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError)
+BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError, OperandError)
 
 
 def _error_line(message):

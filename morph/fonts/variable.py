@@ -66,7 +66,7 @@ from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, 
 from ..errors import MorphError, ParseError, one_line
 
 __all__ = ["NibAxis", "nib_axis", "axis_masters", "stroke_variable", "variable_outputs",
-           "set_overlap_flags", "FIT_SHARE", "CU2QU_SHARE", "BLEND_SHARE"]
+           "set_overlap_flags", "read_skeleton", "Skeleton", "FIT_SHARE", "CU2QU_SHARE", "BLEND_SHARE"]
 
 FIT_SHARE = 0.4
 CU2QU_SHARE = 0.2
@@ -158,13 +158,15 @@ def _keep_component(component):
 
 
 def _glyph_job(args):
-    """(name, loops per master as lists of (k, 4, 2) arrays, CPU seconds) of one
-    glyph's paths stroked by every master nib (a process-pool job)."""
-    name, paths, nibs, tol = args
+    """(name, loops per fitted master as lists of (k, 4, 2) arrays, CPU seconds) of
+    one glyph: its paths in every skeleton master stroked by the nib of every fitted
+    master (``owners``: its skeleton master), a process-pool job."""
+    name, paths_by_master, nibs, owners, tol = args
     t0 = time.process_time()
-    if not paths:
+    if not paths_by_master[0]:
         return name, [[] for _ in nibs], 0.0
-    loops = fit_elements(skeleton_elements([paths], "glyph %r" % name), nibs, tol=tol)
+    loops = fit_elements(skeleton_elements(paths_by_master, "glyph %r" % name), nibs, owners,
+                         tol)
     return name, loops, time.process_time() - t0
 
 
@@ -200,16 +202,19 @@ def _plan(font, chosen):
     return stroked, followed
 
 
-def _work(font, stroked, nibs, tol):
+def _work(fonts, stroked, nibs, owners, tol):
     from ..parse.ufo import component_paths, glyph_paths
 
     for n in stroked:
-        g = font[n]
-        paths = glyph_paths(g)
-        for c in g.components:
-            if not _keep_component(c):
-                paths.extend(component_paths(font, c))
-        yield n, paths, nibs, tol
+        per = []
+        for font in fonts:
+            g = font[n]
+            paths = glyph_paths(g)
+            for c in g.components:
+                if not _keep_component(c):
+                    paths.extend(component_paths(font, c))
+            per.append(paths)
+        yield n, per, nibs, owners, tol
 
 
 # ------------------------------------------------------------------- masters
@@ -298,32 +303,142 @@ def _style(axis, value):
     return "%s %g" % (axis.name.split()[0], round(value, 2))
 
 
-def _designspace(axis, masters, values, names, family):
-    from fontTools.designspaceLib import (AxisDescriptor, AxisLabelDescriptor,
-                                          DesignSpaceDocument, InstanceDescriptor,
-                                          SourceDescriptor)
+def _nib_axis_descriptor(axis):
+    from fontTools.designspaceLib import AxisDescriptor, AxisLabelDescriptor
 
-    doc = DesignSpaceDocument()
     ax = AxisDescriptor()
     ax.tag, ax.name = axis.tag, axis.name
     ax.minimum, ax.default, ax.maximum = axis.minimum, axis.minimum, axis.maximum
     ax.labelNames = {"en": axis.name}
-    ends = [axis.minimum, axis.maximum]
     ax.axisLabels = [AxisLabelDescriptor(name=_style(axis, v), userValue=v,
-                                         elidable=(v == axis.minimum)) for v in ends]
-    doc.addAxis(ax)
-    for m, v, fn in zip(masters, values, names):
+                                         elidable=(v == axis.minimum))
+                     for v in (axis.minimum, axis.maximum)]
+    return ax
+
+
+def _designspace(skel, axis, fitted, masters, names, family):
+    """The output designspace: the skeleton's axes (and instances, at the nib
+    axis' default) plus the nib axis (and its instances at the skeleton's default)."""
+    from fontTools.designspaceLib import DesignSpaceDocument, InstanceDescriptor, \
+        SourceDescriptor
+
+    doc = DesignSpaceDocument()
+    for ax in skel.axes:
+        doc.addAxis(copy.deepcopy(ax))
+    if axis is not None:
+        doc.addAxis(_nib_axis_descriptor(axis))
+    for m, (s, v), fn in zip(masters, fitted, names):
         src = SourceDescriptor()
         src.filename, src.font = fn, m
         src.familyName, src.styleName = family, m.info.styleName
-        src.location = {axis.name: v}
+        src.location = dict(skel.locations[s])
+        if axis is not None:
+            src.location[axis.name] = v
         doc.addSource(src)
-    for v in (axis.minimum, axis.value(0.5), axis.maximum):
-        inst = InstanceDescriptor()
-        inst.familyName, inst.styleName = family, _style(axis, v)
-        inst.location = {axis.name: v}
-        doc.addInstance(inst)
+    seen = set()
+    extra = {} if axis is None else {axis.name: axis.minimum}
+    for inst in skel.instances:
+        new = InstanceDescriptor()
+        new.familyName = family
+        new.styleName = inst.styleName or "Instance %d" % len(seen)
+        new.location = {**dict(inst.location or {}), **extra}
+        if (new.styleName not in seen):
+            seen.add(new.styleName)
+            doc.addInstance(new)
+    if axis is not None:
+        base = dict(skel.locations[skel.default])
+        for v in (axis.minimum, axis.value(0.5), axis.maximum):
+            new = InstanceDescriptor()
+            new.familyName = family
+            new.styleName = " ".join(x for x in (skel.default_style, _style(axis, v)) if x)
+            new.location = {**base, axis.name: v}
+            if new.styleName not in seen:
+                seen.add(new.styleName)
+                doc.addInstance(new)
     return doc
+
+
+@dataclass
+class Skeleton:
+    """Skeleton masters: ``fonts`` (ufoLib2), their design ``locations`` (axis name
+    -> value), the designspace ``axes`` and ``instances`` (none for one UFO), the
+    ``default`` master's index, ``labels`` (file names, for messages)."""
+
+    fonts: list
+    locations: list
+    axes: list
+    instances: list
+    default: int
+    labels: list
+
+    @property
+    def default_style(self):
+        return "" if not self.axes else (self.fonts[self.default].info.styleName or "")
+
+
+def read_skeleton(src):
+    """A :class:`Skeleton` from a UFO (path or ufoLib2 font) or a ``.designspace``.
+
+    Raises:
+        ParseError: unreadable designspace or UFO, a discrete axis, a source layer,
+            no default source.
+    """
+    import ufoLib2
+
+    from ..parse.ufo import load_ufo
+
+    if isinstance(src, Skeleton):
+        return src
+    if isinstance(src, ufoLib2.Font):
+        return Skeleton([src], [{}], [], [], 0, ["the UFO"])
+    path = Path(src)
+    if path.suffix.lower() != ".designspace":
+        return Skeleton([load_ufo(path, lazy=False)], [{}], [], [], 0, [path.name])
+    from fontTools.designspaceLib import DesignSpaceDocument
+
+    try:
+        doc = DesignSpaceDocument.fromfile(str(path))
+    except Exception as exc:
+        raise ParseError("cannot read designspace %s: %s" % (path, one_line(exc)),
+                         str(path)) from exc
+    if any(not hasattr(ax, "minimum") for ax in doc.axes):
+        raise ParseError("designspace %s has a discrete axis: only continuous axes are "
+                         "supported" % path, str(path))
+    if not doc.sources:
+        raise ParseError("designspace %s has no sources" % path, str(path))
+    default = doc.findDefault()
+    if default is None:
+        raise ParseError("designspace %s has no source at the axes' defaults" % path,
+                         str(path))
+    fonts, locations, labels = [], [], []
+    for s in doc.sources:
+        if s.layerName:
+            raise ParseError("designspace %s: source %s is a layer (%s); sparse layer "
+                             "masters are not supported" % (path, s.filename, s.layerName),
+                             str(path))
+        fonts.append(load_ufo(s.path, lazy=False))
+        locations.append(dict(s.location))
+        labels.append(s.filename or Path(s.path).name)
+    return Skeleton(fonts, locations, list(doc.axes), list(doc.instances),
+                    doc.sources.index(default), labels)
+
+
+def _check_glyphs(skel, names):
+    """Every stroked glyph in every master, with the same kept components."""
+    from ..compatible import IncompatibleMasters
+
+    base = skel.fonts[skel.default]
+    for n in names:
+        want = [(c.baseGlyph, _keep_component(c)) for c in base[n].components]
+        for font, label in zip(skel.fonts, skel.labels):
+            if n not in font:
+                raise IncompatibleMasters("glyph %r is missing from master %s" % (n, label),
+                                          "glyph")
+            got = [(c.baseGlyph, _keep_component(c)) for c in font[n].components]
+            if got != want:
+                raise IncompatibleMasters("glyph %r: its components differ between masters "
+                                          "%s and %s" % (n, skel.labels[skel.default], label),
+                                          "components")
 
 
 def set_overlap_flags(ttfont):
@@ -359,31 +474,34 @@ def _compile(doc, kind, cu2qu_error_em):
                          % one_line(exc)) from exc
 
 
-def stroke_variable(src, out_path, nib_min, nib_max, glyphs=None, tol=0.5, family_name=None,
-                    overwrite=False, jobs=1, progress=None):
-    """Write a variable calligraphic font with a nib axis from a skeleton UFO.
+def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
+                    family_name=None, overwrite=False, jobs=1, progress=None):
+    """Write a variable calligraphic font from a skeleton UFO or designspace.
 
-    ``src``: a skeleton ``.ufo`` (or an open ``ufoLib2.Font``, not modified);
-    ``out_path``: ``.ttf`` (glyf/gvar) or ``.otf`` (CFF2), with the designspace and
-    master UFOs beside it (:func:`variable_outputs`); ``nib_min`` / ``nib_max``:
-    (width, height, angle) of the nibs at the axis' ends; ``glyphs``: characters or
-    names (None: all); ``tol``: font units, split as the module docstring says;
+    ``src``: a skeleton ``.ufo`` or ``.designspace`` (or an open ``ufoLib2.Font``,
+    not modified); ``out_path``: ``.ttf`` (glyf/gvar) or ``.otf`` (CFF2), with the
+    designspace and master UFOs beside it (:func:`variable_outputs`); ``nib_min``:
+    (width, height, angle) of the nib, and with ``nib_max`` the nib axis from one
+    to the other (every skeleton master is stroked at every nib master); a
+    designspace keeps its axes and instances.  ``glyphs``: characters or names
+    (None: all); ``tol``: font units, split as the module docstring says;
     ``overwrite``: replace existing outputs (the masters folder is replaced whole);
     ``jobs``: processes; ``progress(name)`` after each glyph.
 
-    Returns a dict: ``axis`` (:class:`NibAxis`), ``values`` (masters' user values),
-    ``designspace``, ``masters`` (paths), ``glyphs``, ``followed``, ``points`` (per
-    master), ``fit_seconds`` (CPU, all glyphs and masters), ``seconds`` (wall),
-    ``font`` (the compiled TTFont), ``sources`` (the master ufoLib2 fonts).
+    Returns a dict: ``axis`` (:class:`NibAxis` or None), ``values`` (the nib
+    masters' user values), ``designspace``, ``masters`` (paths), ``glyphs``,
+    ``followed``, ``points`` (per master), ``fit_seconds`` (CPU, all glyphs and
+    masters), ``seconds`` (wall), ``font`` (the compiled TTFont), ``sources`` (the
+    master ufoLib2 fonts), ``fitted`` ((skeleton master, nib value) per master).
 
     Raises:
-        ParseError: unreadable UFO or glyph; IncompatibleMasters cannot happen here
-        (one skeleton); MorphError: outputs exist without ``overwrite``, ufo2ft
-        fails; ValueError: a bad suffix, tol <= 0, equal nibs.
+        ParseError: unreadable sources or glyphs; IncompatibleMasters: skeleton
+            masters that differ (the message names the glyph and what differs);
+        MorphError: outputs exist without ``overwrite``, ufo2ft fails; ValueError:
+            a bad suffix, tol <= 0, equal nibs.
     """
-    import ufoLib2
-
-    from ..parse.ufo import glyph_names_for, load_ufo
+    from ..compatible import IncompatibleMasters
+    from ..parse.ufo import glyph_names_for
     from .jobs import run_jobs
 
     t_start = time.perf_counter()
@@ -397,38 +515,67 @@ def stroke_variable(src, out_path, nib_min, nib_max, glyphs=None, tol=0.5, famil
     for p in (out_path, ds_path, masters_dir):
         if p.exists() and not overwrite:
             raise MorphError("%s exists (pass overwrite=True to replace it)" % p)
-    font = src if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
-    axis = nib_axis(nib_min, nib_max)
-    values = axis_masters(axis, BLEND_SHARE * tol)
-    nibs = [axis.nib_at(v) for v in values]
+    skel = read_skeleton(src)
+    if nib_max is None and len(skel.fonts) < 2:
+        raise ValueError("a variable font needs a nib axis or several skeleton masters")
+    axis = None if nib_max is None else nib_axis(nib_min, nib_max)
+    values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
+    nibs_v = [Ellipse(*map(float, nib_min))] if axis is None else \
+        [axis.nib_at(v) for v in values]
+    fitted = [(s, v) for s in range(len(skel.fonts)) for v in values]
+    nibs = [nibs_v[values.index(v)] for _, v in fitted]
+    owners = [s for s, _ in fitted]
+    font = skel.fonts[skel.default]
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen)
-    fit_tol = FIT_SHARE * tol
-    report = None if progress is None else (lambda k, r: progress(r[0]))
-    results = run_jobs(_glyph_job, list(_work(font, stroked, nibs, fit_tol)), jobs=jobs,
-                       progress=report)
+    try:
+        _check_glyphs(skel, stroked + followed)
+        report = None if progress is None else (lambda k, r: progress(r[0]))
+        results = run_jobs(_glyph_job, list(_work(skel.fonts, stroked, nibs, owners,
+                                                  FIT_SHARE * tol)),
+                           jobs=jobs, progress=report)
+    except IncompatibleMasters as exc:
+        raise IncompatibleMasters(_name_masters(str(exc), skel.labels), exc.what) from None
     fit_seconds = sum(r[2] for r in results)
     family = family_name or "%s Stroke" % (font.info.familyName or "Morph")
     done = set(stroked) | set(followed)
     masters, names = [], []
-    stem = out_path.stem
-    for k, (v, nib) in enumerate(zip(values, nibs)):
+    for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
-        m, _ = _master(font, per, nib, done, family, _style(axis, v))
+        style = " ".join(x for x in ((skel.fonts[s].info.styleName or "") if skel.axes
+                                     else "", _style(axis, v) if axis else "") if x)
+        m, _ = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
         masters.append(m)
-        names.append("%s/%s-%s%s.ufo" % (masters_dir.name, stem, axis.tag,
-                                         ("%g" % round(v, 3)).replace(".", "_")))
+        names.append("%s/%s-%s.ufo" % (masters_dir.name, out_path.stem,
+                                       _file_part(style or "Regular")))
+    if len(set(names)) < len(names):
+        names = ["%s/%s-%d.ufo" % (masters_dir.name, out_path.stem, k)
+                 for k in range(len(names))]
     _grow_win(masters)
-    doc = _designspace(axis, masters, values, names, family)
+    doc = _designspace(skel, axis, fitted, masters, names, family)
     upm = float(font.info.unitsPerEm or 1000)
     vf = _compile(doc, kind, CU2QU_SHARE * tol / upm)
     set_overlap_flags(vf)
     _write(out_path, vf, doc, masters, names, ds_path, masters_dir)
     points = sum(len(c) for g in masters[0] for c in g.contours)
-    return {"axis": axis, "values": values, "designspace": ds_path,
+    return {"axis": axis, "values": values if axis else [], "designspace": ds_path,
             "masters": [ds_path.parent / n for n in names], "glyphs": len(stroked),
             "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
-            "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters}
+            "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
+            "fitted": fitted}
+
+
+def _file_part(style):
+    import re
+
+    return re.sub(r"[^A-Za-z0-9]+", "", style.replace(".", "_").replace(" ", "")) or "Master"
+
+
+def _name_masters(message, labels):
+    """'master 1' in a compatibility message -> the master's file name."""
+    import re
+
+    return re.sub(r"master (\d+)", lambda m: "master %s" % labels[int(m.group(1))], message)
 
 
 def _write(out_path, vf, doc, masters, names, ds_path, masters_dir):
