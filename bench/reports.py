@@ -165,7 +165,11 @@ def run(report, out_dir=None, quick=False):
     cmds = report.commands(md, quick)
     for cmd in cmds:
         print("+", " ".join(cmd[1:]), flush=True)
-        subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.DEVNULL)
+        code = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL).returncode
+        if code:   # a sweep exits 1 when a case failed; its report says which
+            print("  exit status %d: see the report" % code, flush=True)
+        if not Path(ROOT / md).exists():
+            raise SystemExit("%s wrote no report %s" % (" ".join(cmd[1:]), md))
     seconds = time.time() - t0
     shown = "python -m bench.reports --only %s%s" % (report.name, " --quick" if quick else "")
     put_stamp(md, stamp(shown, seconds, script="bench/%s.py" % report.module.split(".")[-1]))

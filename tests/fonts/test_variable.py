@@ -3,7 +3,7 @@
 A small variable font is built from the Relief subset and every master and instance
 (instanced by fontTools.varLib.instancer from the compiled font) is compared with the
 exact sum skeleton ⊕ nib computed independently (Clipper on finely flattened inputs,
-tests/varfont_reference.py)."""
+tests/oracles/varfont_reference.py)."""
 
 import logging
 
@@ -14,8 +14,8 @@ from morph.compatible import Ellipse, interpolation_error
 from morph.fonts.variable import (BLEND_SHARE, axis_masters, nib_axis, stroke_variable,
                                   variable_outputs)
 from tests import RELIEF_SUBSET
-from tests.varfont_reference import (clipper_stroke, glyph_polygons, skeleton_polylines,
-                                     within)
+from tests.oracles.varfont_reference import (clipper_stroke, glyph_polygons,
+                                             skeleton_polylines, within)
 
 TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
 ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
@@ -177,7 +177,7 @@ def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
     from fontTools.ttLib import TTFont
     from fontTools.varLib import instancer
 
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont_reference import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     out = tmp_path / "Family.ttf"
@@ -203,7 +203,7 @@ def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
 
     from morph.cli import main
     from morph.compatible import IncompatibleMasters
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont_reference import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     wide = ufoLib2.Font.open(str(tmp_path / "Skel-Wide.ufo"))
@@ -271,6 +271,7 @@ def test_specimen_sliders_in_chromium(tmp_path, runner):
 def _near(a, b, px=2):
     """The share of the ink of each mask within ``px`` pixels of the other's ink (the
     smaller of the two): anti-aliased hairlines differ by a pixel between renderers."""
+    pytest.importorskip("scipy")
     from scipy.ndimage import binary_dilation
 
     h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
