@@ -310,10 +310,22 @@ def _nib_axis_descriptor(axis):
     ax.tag, ax.name = axis.tag, axis.name
     ax.minimum, ax.default, ax.maximum = axis.minimum, axis.minimum, axis.maximum
     ax.labelNames = {"en": axis.name}
-    ax.axisLabels = [AxisLabelDescriptor(name=_style(axis, v), userValue=v,
+    ax.axisLabels = [AxisLabelDescriptor(name=_axis_label(axis, v), userValue=v,
                                          elidable=(v == axis.minimum))
-                     for v in (axis.minimum, axis.maximum)]
+                     for v in _nib_instances(axis)]
     return ax
+
+
+def _nib_instances(axis):
+    """User values of the nib axis' named instances (and STAT labels): the ends and
+    the middle."""
+    return [axis.minimum, axis.value(0.5), axis.maximum]
+
+
+def _axis_label(axis, v):
+    """The STAT label and instance style of a nib axis value: "Regular" at the
+    default (fontbakery wants a Regular instance at the default location)."""
+    return "Regular" if v == axis.minimum else _style(axis, v)
 
 
 def _designspace(skel, axis, fitted, masters, names, family):
@@ -324,7 +336,7 @@ def _designspace(skel, axis, fitted, masters, names, family):
 
     doc = DesignSpaceDocument()
     for ax in skel.axes:
-        doc.addAxis(copy.deepcopy(ax))
+        doc.addAxis(_labelled(copy.deepcopy(ax), skel))
     if axis is not None:
         doc.addAxis(_nib_axis_descriptor(axis))
     for m, (s, v), fn in zip(masters, fitted, names):
@@ -345,17 +357,53 @@ def _designspace(skel, axis, fitted, masters, names, family):
         if (new.styleName not in seen):
             seen.add(new.styleName)
             doc.addInstance(new)
+    if skel.axes and skel.default_style not in seen:     # a named default instance
+        new = InstanceDescriptor()
+        new.familyName, new.styleName = family, skel.default_style or "Regular"
+        new.location = {**dict(skel.locations[skel.default]), **extra}
+        seen.add(new.styleName)
+        doc.addInstance(new)
     if axis is not None:
         base = dict(skel.locations[skel.default])
-        for v in (axis.minimum, axis.value(0.5), axis.maximum):
+        for v in _nib_instances(axis):
             new = InstanceDescriptor()
             new.familyName = family
-            new.styleName = " ".join(x for x in (skel.default_style, _style(axis, v)) if x)
+            label = _axis_label(axis, v)
+            new.styleName = label if not skel.default_style or label != "Regular" else \
+                skel.default_style
+            if skel.default_style and label != "Regular":
+                new.styleName = "%s %s" % (skel.default_style, label)
             new.location = {**base, axis.name: v}
             if new.styleName not in seen:
                 seen.add(new.styleName)
                 doc.addInstance(new)
     return doc
+
+
+def _labelled(ax, skel):
+    """A skeleton axis with STAT labels at its default ("Regular", elidable) and at
+    every source and instance coordinate, unless it has labels already (the named
+    instances need STAT values on every axis)."""
+    from fontTools.designspaceLib import AxisLabelDescriptor
+
+    if getattr(ax, "axisLabels", None):
+        return ax
+    default = skel.locations[skel.default]
+    named = {}              # user value -> the style of a master or instance there
+    places = [(loc, f.info.styleName) for loc, f in zip(skel.locations, skel.fonts)]
+    places += [(dict(i.location or {}), i.styleName) for i in skel.instances]
+    for loc, style in places:
+        if ax.name not in loc:
+            continue
+        u = round(float(ax.map_backward(loc[ax.name])), 3)
+        alone = all(loc.get(k, v) == v for k, v in default.items() if k != ax.name)
+        if alone and style and u != ax.default:
+            named.setdefault(u, style)
+        named.setdefault(u, "%s %g" % (ax.tag, u))
+    named[ax.default] = "Regular"
+    ax.axisLabels = [AxisLabelDescriptor(name=name, userValue=u, elidable=(u == ax.default))
+                     for u, name in sorted(named.items())]
+    return ax
 
 
 @dataclass
@@ -485,6 +533,8 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     to the other (every skeleton master is stroked at every nib master); a
     designspace keeps its axes and instances.  ``glyphs``: characters or names
     (None: all); ``tol``: font units, split as the module docstring says;
+    ``family_name``: default "FAMILY Nib" with a nib axis, else "FAMILY Stroke"
+    (short: fontbakery wants family and style names within 31 characters);
     ``overwrite``: replace existing outputs (the masters folder is replaced whole);
     ``jobs``: processes; ``progress(name)`` after each glyph.
 
@@ -537,13 +587,17 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     except IncompatibleMasters as exc:
         raise IncompatibleMasters(_name_masters(str(exc), skel.labels), exc.what) from None
     fit_seconds = sum(r[2] for r in results)
-    family = family_name or "%s Stroke" % (font.info.familyName or "Morph")
+    family = family_name or "%s %s" % (font.info.familyName or "Morph",
+                                        "Nib" if axis is not None else "Stroke")
     done = set(stroked) | set(followed)
     masters, names = [], []
     for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
-        style = " ".join(x for x in ((skel.fonts[s].info.styleName or "") if skel.axes
-                                     else "", _style(axis, v) if axis else "") if x)
+        parts = [(skel.fonts[s].info.styleName or "") if skel.axes else "",
+                 _axis_label(axis, v) if axis else ""]
+        if parts[0] and parts[1] == "Regular":
+            parts[1] = ""
+        style = " ".join(x for x in parts if x)
         m, _ = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
         masters.append(m)
         names.append("%s/%s-%s.ufo" % (masters_dir.name, out_path.stem,
