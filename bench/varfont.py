@@ -12,7 +12,7 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
    axis' ends, sizes and CPU time; every glyph of the variable font instanced by
    fontTools.varLib.instancer at ``--positions`` positions and ``--random`` random
    ones, each compared with the exact sum (Clipper on finely flattened inputs,
-   tests/varfont_reference.py): the largest distance (the symmetric difference
+   tests/oracles/varfont.py): the largest distance (the symmetric difference
    within d of the exact boundary, pinholes under 1 unit² aside, and then the
    pinholes counted).
 3. Masters a nib axis needs (intermediate ones for aspect or angle changes).
@@ -40,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from morph.fonts.variable import axis_masters, nib_axis, stroke_variable  # noqa: E402
-from tests.varfont_reference import (clipper_stroke, glyph_polygons, pinholes,  # noqa: E402
+from tests.oracles.varfont import (clipper_stroke, glyph_polygons, pinholes,  # noqa: E402
                                      skeleton_polylines, sum_distance)
 
 SYSTEM_PYTHON = "/usr/bin/python3"

@@ -3,7 +3,7 @@
 A small variable font is built from the Relief subset and every master and instance
 (instanced by fontTools.varLib.instancer from the compiled font) is compared with the
 exact sum skeleton ⊕ nib computed independently (Clipper on finely flattened inputs,
-tests/varfont_reference.py)."""
+tests/oracles/varfont.py)."""
 
 import logging
 
@@ -14,7 +14,7 @@ from morph.compatible import Ellipse, interpolation_error
 from morph.fonts.variable import (BLEND_SHARE, axis_masters, nib_axis, stroke_variable,
                                   variable_outputs)
 from tests import RELIEF_SUBSET
-from tests.varfont_reference import (clipper_stroke, glyph_polygons, skeleton_polylines,
+from tests.oracles.varfont import (clipper_stroke, glyph_polygons, skeleton_polylines,
                                      within)
 
 TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
@@ -180,7 +180,7 @@ def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
     from fontTools.ttLib import TTFont
     from fontTools.varLib import instancer
 
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     out = tmp_path / "Family.ttf"
@@ -206,7 +206,7 @@ def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
 
     from morph.cli import main
     from morph.compatible import IncompatibleMasters
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     wide = ufoLib2.Font.open(str(tmp_path / "Skel-Wide.ufo"))
@@ -300,7 +300,7 @@ def test_fontbakery_adds_no_fail(tmp_path, skeleton, suffix):
     import ufo2ft
 
     from tests.fonts.test_brush import _fontbakery
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont import skeleton_designspace
 
     pytest.importorskip("fontbakery")
     for name in ("ufo2ft", "fontTools"):
