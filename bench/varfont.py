@@ -1,8 +1,9 @@
 """Variable calligraphic fonts (morph.fonts.variable): cost, size, instance error, and
 whether FontForge's Expand Stroke gives interpolation-compatible masters.
 
-    python bench/varfont.py [--skeleton UFO] [--subset UFO] [--out bench/varfont.md]
-                            [--positions 9] [--random 3] [--jobs 1]
+    python -m bench.varfont [--skeleton UFO|none] [--subset UFO] [--out bench/varfont.md]
+                            [--positions 9] [--random 3] [--jobs 1] [--no-fontforge]
+                            [--glyphs a,s,period]
 
 1. The whole Relief skeleton stroked into a variable font with a nib axis from
    ellipse 40 x 10 at 30 degrees to 120 x 30 (a uniform scale: two masters): CPU
@@ -20,11 +21,11 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
    at the two nibs: glyphs whose two results have the same contours and segment
    types (what varLib needs), and whether varLib builds from them.
 
-Writes a Markdown report stating the date and commit it was made at.
+Writes a Markdown report stamped with the command, commit and date it was made at
+(:func:`bench.stamp.stamp`); ``python -m bench.reports --only varfont`` remakes it.
 """
 
 import argparse
-import datetime
 import json
 import logging
 import os
@@ -48,14 +49,6 @@ NIB_MIN, NIB_MAX = (40.0, 10.0, 30.0), (120.0, 30.0, 30.0)
 TOL = 0.5
 
 
-def _commit():
-    try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                              capture_output=True, text=True).stdout.strip()
-    except OSError:
-        return "unknown"
-
-
 def whole_font(skeleton, folder, jobs):
     rows = {}
     for suffix in (".ttf", ".otf"):
@@ -69,7 +62,7 @@ def whole_font(skeleton, folder, jobs):
     return rows
 
 
-def static_fonts(subset, folder):
+def static_fonts(subset, folder, glyphs):
     from morph.fonts.brush import ellipse_nib
     from morph.fonts.stroke import stroke_ufo
 
@@ -77,13 +70,14 @@ def static_fonts(subset, folder):
     for nib in (NIB_MIN, NIB_MAX):
         out = folder / ("Static%d.ttf" % nib[0])
         c0 = time.process_time()
-        stroke_ufo(str(subset), out, ellipse_nib(*nib), tol=TOL, overwrite=True, jobs=1)
+        stroke_ufo(str(subset), out, ellipse_nib(*nib), glyphs=glyphs, tol=TOL,
+                   overwrite=True, jobs=1)
         rows.append({"nib": nib, "size": out.stat().st_size,
                      "cpu": time.process_time() - c0})
     return rows
 
 
-def instance_errors(subset, font_path, positions, randoms):
+def instance_errors(subset, font_path, positions, randoms, glyphs):
     from fontTools.ttLib import TTFont
     from fontTools.varLib import instancer
 
@@ -96,7 +90,8 @@ def instance_errors(subset, font_path, positions, randoms):
     rng = np.random.default_rng(35)
     spots = list(np.linspace(axis.minimum, axis.maximum, positions)) + \
         list(rng.uniform(axis.minimum, axis.maximum, randoms))
-    names = [n for n in vf.getGlyphOrder() if n in sk and decomposed_paths(sk, n)]
+    names = [n for n in vf.getGlyphOrder() if n in sk and decomposed_paths(sk, n) and
+             (glyphs is None or n in glyphs)]
     rows = []
     for v in spots:
         glyphs = instancer.instantiateVariableFont(vf, {axis.tag: float(v)}).getGlyphSet()
@@ -126,7 +121,7 @@ def masters_needed():
             for a, b in cases]
 
 
-def fontforge_compat(subset):
+def fontforge_compat(subset, only):
     """(glyphs compared, glyphs with equal structure at both nibs, varLib result)."""
     from morph import piece as pc
     from morph.parse.ufo import decomposed_paths, load_ufo
@@ -136,7 +131,7 @@ def fontforge_compat(subset):
     sk = load_ufo(subset, lazy=False)
     glyphs = {n: [[[pc.cartesian(p).tolist() for p in pieces], closed]
                   for pieces, closed in decomposed_paths(sk, n)]
-              for n in sk.keys() if decomposed_paths(sk, n)}
+              for n in sk.keys() if decomposed_paths(sk, n) and (only is None or n in only)}
     results = []
     for nib in (NIB_MIN, NIB_MAX):
         job = json.dumps({"nib": ["elliptical", *nib], "accuracy": 0.25, "glyphs": glyphs})
@@ -200,15 +195,20 @@ def main():
     ap.add_argument("--positions", type=int, default=9)
     ap.add_argument("--random", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--no-fontforge", action="store_true")
+    ap.add_argument("--glyphs", default=None, help="glyph names of the subset (default: all)")
     args = ap.parse_args()
+    glyphs = None if args.glyphs is None else args.glyphs.split(",")
     for name in ("ufo2ft", "fontTools"):
         logging.getLogger(name).setLevel(logging.ERROR)
     folder = Path(tempfile.mkdtemp(prefix="varfont-bench-"))
-    lines = ["# Variable calligraphic fonts: cost, size, instance error, FontForge",
-             "",
-             "Made by `python bench/varfont.py` on %s at commit %s. CPU times are "
-             "process_time (the machine is shared); tol %g font units." % (
-                 datetime.date.today().isoformat(), _commit(), TOL), ""]
+    from bench.stamp import stamp
+
+    t_start = time.perf_counter()
+    lines = ["# Variable calligraphic fonts: cost, size, instance error, FontForge", "",
+             "STAMP", "",
+             "CPU times are process_time (the machine is shared); tol %g font units." % TOL,
+             ""]
     whole = None
     if Path(args.skeleton).is_dir():
         whole = whole_font(args.skeleton, folder, args.jobs)
@@ -224,9 +224,10 @@ def main():
         lines.append("")
     var_path = folder / "SubsetNib.ttf"
     c0 = time.process_time()
-    st = stroke_variable(args.subset, var_path, NIB_MIN, NIB_MAX, tol=TOL, overwrite=True)
+    st = stroke_variable(args.subset, var_path, NIB_MIN, NIB_MAX, glyphs=glyphs, tol=TOL,
+                         overwrite=True)
     var_cpu = time.process_time() - c0
-    statics = static_fonts(args.subset, folder)
+    statics = static_fonts(args.subset, folder, glyphs)
     lines += ["## 2. Relief subset (%d glyphs): variable against static" % st["glyphs"], "",
               "| font | size | CPU s |", "|---|---|---|",
               "| variable TTF (2 masters, overlapping, no IUP) | %d | %.1f |" % (
@@ -239,7 +240,7 @@ def main():
               "and the pinholes (> 0.001 unit²) the rounded outline leaves at swallowtail "
               "cusps. Bound: tol + 2 x 0.71 (the masters' and the instance's integer "
               "rounding) = %.2f units." % (TOL + 2 ** 0.5), ""]
-    rows, count = instance_errors(args.subset, var_path, args.positions, args.random)
+    rows, count = instance_errors(args.subset, var_path, args.positions, args.random, glyphs)
     lines += ["| NIBW | max d | glyph | pinholes | largest pinhole (unit²) |",
               "|---|---|---|---|---|"]
     for r in rows:
@@ -251,10 +252,11 @@ def main():
               "| from | to | tag | masters |", "|---|---|---|---|"]
     for a, b, tag, n in masters_needed():
         lines.append("| %s | %s | %s | %d |" % (a, b, tag, n))
-    ff = fontforge_compat(args.subset)
+    ff = None if args.no_fontforge else fontforge_compat(args.subset, glyphs)
     lines += ["", "## 4. FontForge Expand Stroke at the two nibs", ""]
     if ff is None:
-        lines.append("No %s with python3-fontforge: not measured." % SYSTEM_PYTHON)
+        lines.append("Not measured (--no-fontforge, or no %s with python3-fontforge)."
+                     % SYSTEM_PYTHON)
     elif "error" in ff:
         lines.append("FontForge failed: %s" % ff["error"])
     else:
@@ -263,6 +265,7 @@ def main():
                      "masters: %s. morph's masters are compatible by construction (every "
                      "glyph)." % (ff["glyphs"], ff["same"], ff["contours_differ"],
                                   ff["varlib"]))
+    lines[2] = stamp(seconds=time.perf_counter() - t_start)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
