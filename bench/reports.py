@@ -100,6 +100,10 @@ REPORTS = [
            quick=["--per-set", "2", "--timeout", "60", "--jobs", "1", "-o", "{md}"],
            cost="5-10 min, icon packages fetched with npm", snapshot=True,
            needs=("shapely",)),
+    Report("varfont", "bench.varfont", ["--out", "{md}"],
+           quick=["--skeleton", "none", "--positions", "2", "--random", "0",
+                  "--no-fontforge", "--glyphs", "a,s,period", "--out", "{md}"],
+           cost="10-20 min", snapshot=True, needs=("scipy",)),
     Report("sweep", "bench.sweep", cost="hours (each mode a section)", snapshot=True,
            needs=("shapely", "fontpkg_lobster", "fontpkg_cormorant", "fontpkg_amiri"),
            runs=[["--mode", m, "--md", "{md}"] + extra for m, extra in (
