@@ -543,7 +543,9 @@ def main(argv=None):
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
-    opt.set_argline = "".join(" " + a for a in argv if a != "--only-sets")
+    from bench.stroke_profile import shown_args
+
+    opt.set_argline = "".join(" " + a for a in shown_args(argv) if a != "--only-sets")
     import logging
 
     for name in ("ufo2ft", "fontTools"):

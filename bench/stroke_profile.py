@@ -347,6 +347,20 @@ def markdown(rows, argline, elapsed):
     return "\n".join(md) + "\n"
 
 
+def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before")):
+    """The command-line arguments without the output-file options (their paths are
+    the machine's, not the measurement's)."""
+    out, skip = [], False
+    for a in argv:
+        if skip:
+            skip = False
+        elif a in outputs:
+            skip = True
+        elif not any(a.startswith(o + "=") for o in outputs):
+            out.append(a)
+    return out
+
+
 def compare(rows, before, label, path):
     """A table of the whole-process ms per glyph and of each phase, earlier and now."""
     old = {r["run"]: r for r in before}
@@ -383,7 +397,7 @@ def main(argv=None):
     if opt.worker:
         return worker(opt.worker)
     argv = sys.argv[1:] if argv is None else argv
-    argline = (" " + " ".join(argv)) if argv else ""
+    argline = "".join(" " + a for a in shown_args(argv))
     t0 = time.perf_counter()
     rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
     text = markdown(rows, argline, time.perf_counter() - t0)
