@@ -416,7 +416,7 @@ def sets_markdown(opt, sets, elapsed):
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
           "in FontForge's Python (`bench/fontforge_stroke.py`), per glyph.  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
-          "against the independent Clipper reference (`tests/stroke_reference.py`, "
+          "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit; *over* = glyphs whose error "
           "exceeds tol + %g.  Points: on- and off-curve points per glyph."
           % (opt.ref_tol, SPACING, opt.ref_tol), ""]
