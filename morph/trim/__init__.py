@@ -107,7 +107,11 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     loops there is nonzero (``"nonzero"``) or odd (``"evenodd"``).  The boundary is
     made of sub-pieces of the input (rational Béziers): outer loops
     counter-clockwise, holes clockwise.  Topology is decided on polylines within
-    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`).
+    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`), for
+    each group of loops whose boxes stay apart at its own size (:func:`_apart_groups`:
+    a tiny island is kept); pieces folded within that resolution are unfolded
+    (:func:`unfold_flat_curl`) and holes thinner than it dropped
+    (:func:`_without_sliver_holes`), so that a curl is filled as a renderer fills it.
     Returns a validated :class:`morph.region.Region`.
     """
     if fill_rule not in ("nonzero", "evenodd"):

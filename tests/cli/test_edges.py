@@ -335,3 +335,23 @@ def test_sample_text_kept_when_covered():
     assert sample_text(font, "Hamburgefonstiv") == ("Hamburgefonstiv", False)
     text, changed = sample_text(font, "Hamburg 一二")
     assert changed and "一" not in text and text.startswith("!")  # its own, cmap order
+
+
+def test_debug_file_goes_where_morph_debug_says(runner, tmp_path, monkeypatch):
+    """MORPH_DEBUG naming a folder puts the debug file there, not in the working
+    folder (MORPH_DEBUG=1: the working folder, as documented)."""
+    import morph.minkowski
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("kaboom")
+
+    monkeypatch.setattr(morph.minkowski, "minkowski_sum", boom)
+    work, dumps = tmp_path / "work", tmp_path / "dumps"
+    work.mkdir()
+    dumps.mkdir()
+    monkeypatch.chdir(work)
+    monkeypatch.setenv("MORPH_DEBUG", str(dumps))
+    res = runner.invoke(main, ["sum", "o", "x", "-o", str(tmp_path / "s.png")])
+    assert res.exit_code == 1 and str(dumps) in res.stderr
+    assert [p.name for p in dumps.iterdir()] == ["morph-debug-sum.json"]
+    assert not list(work.iterdir())

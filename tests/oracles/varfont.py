@@ -369,3 +369,20 @@ def skeleton_designspace(folder, source, glyphs, slant=0.15, widen=0.25):
     path = folder / "Skel.designspace"
     doc.write(str(path))
     return path
+
+
+def clipper_region_sum(polygons, nib, arc_tol=0.002):
+    """region ⊕ elliptical nib by Clipper: the region (closed polygons, nonzero) mapped
+    so that the nib is a disk, offset outward with round joins (the sum with a disk
+    within ``arc_tol`` font units), mapped back."""
+    import pyclipper
+
+    width, height, angle = nib
+    m = ellipse_matrix(width, height, angle)
+    r = min(width, height) / 2.0 * _CLIP
+    to = np.linalg.inv(m) * r
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = arc_tol * _CLIP
+    off.AddPaths([np.round(p @ to.T).astype(np.int64).tolist() for p in polygons],
+                 pyclipper.JT_ROUND, pyclipper.ET_CLOSEDPOLYGON)
+    return union([np.asarray(p, float) @ np.linalg.inv(to).T for p in off.Execute(r)])
