@@ -195,17 +195,9 @@ def markdown(stats, cases, seed, wall):
     lines += ["", "A case fails when a segment's bound exceeds tol, a panel's sampled error "
               "exceeds its bound (beyond 1e-9 relative and 1e-13 of the coordinates), the "
               "Hausdorff distance exceeds tol, or an end or join is not exact.  Export CPU: "
-              "process time of cubic_segments / chain_segments alone.", "",
-              "History: the Hypothesis test `test_random_rational_pieces_within_tol` "
-              "failed on a rational cubic with a near-cusp (tests/test_export.py "
-              "`NEAR_CUSP`: 2.1e-4 measured at tol 1e-4); its oracle, a ternary search "
-              "between arc-length samples, put both branches of the hairpin in one bracket "
-              "and found the far one (exact distance 9.25e-5, within the certified 9.25e-5). "
-              "A first exact oracle with power-basis roots then flagged 8 'rational-wide' "
-              "cases of the first 1345 (up to 150 tol on a degree-6 piece with weights "
-              "0.05 ... 19 at coordinates ~1e5): ill-conditioned roots, not the export; "
-              "roots in the Chebyshev basis (colleague matrix) measure them at <= 0.9953 "
-              "tol.  The exporter itself was not changed."]
+              "process time of cubic_segments / chain_segments alone.  The Hausdorff "
+              "oracle finds closest points from roots in the Chebyshev basis (colleague "
+              "matrix): power-basis roots are ill-conditioned on wide-weight pieces."]
     return "\n".join(lines) + "\n"
 
 
