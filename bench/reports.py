@@ -84,6 +84,17 @@ REPORTS = [
     Report("stroke", "bench.stroke", ["--md", "{md}"],
            quick=["--glyphs", "A-C", "--no-peers", "--md", "{md}"], cost="6-10 min",
            snapshot=True, needs=("shapely", "pathops")),
+    Report("stroke_sets", "bench.stroke", ["--only-sets", "--sets-md", "{md}"],
+           quick=["--only-sets", "--sets", "hershey-sans", "--ff-accuracy-sets", "1",
+                  "--sets-md", "{md}"],
+           cost="30-60 min, skeleton sets fetched with npm", snapshot=True,
+           needs=("shapely",)),
+    Report("stroke_profile", "bench.stroke_profile", ["--md", "{md}"],
+           quick=["--runs", "stroke:hershey-sans", "--repeat", "1", "--md", "{md}"],
+           cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
+    Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
+           quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
+           cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
     Report("brush", "bench.brush", ["--fonts", "ttf,cff,ebg", "--nibs", "80,30,30;60,8,30",
                                     "--compare-jobs", "--fontbakery", "--md", "{md}"],
            quick=["--fonts", "ttf", "--glyphs", "A-C", "--md", "{md}"], cost="5-10 min",
@@ -100,6 +111,10 @@ REPORTS = [
            quick=["--per-set", "2", "--timeout", "60", "--jobs", "1", "-o", "{md}"],
            cost="5-10 min, icon packages fetched with npm", snapshot=True,
            needs=("shapely",)),
+    Report("varfont", "bench.varfont", ["--out", "{md}"],
+           quick=["--skeleton", "none", "--positions", "2", "--random", "0",
+                  "--no-fontforge", "--glyphs", "a,s,period", "--out", "{md}"],
+           cost="10-20 min", snapshot=True, needs=("scipy",)),
     Report("sweep", "bench.sweep", cost="hours (each mode a section)", snapshot=True,
            needs=("shapely", "fontpkg_lobster", "fontpkg_cormorant", "fontpkg_amiri"),
            runs=[["--mode", m, "--md", "{md}"] + extra for m, extra in (
@@ -165,7 +180,11 @@ def run(report, out_dir=None, quick=False):
     cmds = report.commands(md, quick)
     for cmd in cmds:
         print("+", " ".join(cmd[1:]), flush=True)
-        subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.DEVNULL)
+        code = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL).returncode
+        if code:   # a sweep exits 1 when a case failed; its report says which
+            print("  exit status %d: see the report" % code, flush=True)
+        if not Path(ROOT / md).exists():
+            raise SystemExit("%s wrote no report %s" % (" ".join(cmd[1:]), md))
     seconds = time.time() - t0
     shown = "python -m bench.reports --only %s%s" % (report.name, " --quick" if quick else "")
     put_stamp(md, stamp(shown, seconds, script="bench/%s.py" % report.module.split(".")[-1]))

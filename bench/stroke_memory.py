@@ -82,7 +82,7 @@ def run(ufo, jobs, out):
 
 def main(argv=None):
     from bench.skeletons import skeleton_ufo
-    from bench.stroke_profile import code_version
+    from bench.stroke_profile import code_version, shown_args
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", default="hanzi-300,hanzi-3000")
@@ -107,7 +107,7 @@ def main(argv=None):
           "",
           "Command: `python -m bench.stroke_memory%s`; measured %s UTC at %s.  Machine: "
           "%d CPUs shared with other jobs (load average %s at the end): wall times are "
-          "upper bounds." % ("".join(" " + a for a in argv),
+          "upper bounds." % ("".join(" " + a for a in shown_args(argv)),
                              time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
                              os.cpu_count() or 1,
                              ", ".join("%.1f" % v for v in os.getloadavg())), "",

@@ -312,14 +312,18 @@ def code_version():
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
 
 
-def markdown(rows, argline, elapsed):
+def measured_line(argline, elapsed, rows):
+    return ("Command: `python -m bench.stroke_profile%s`; measured %s UTC at %s (%.0f s). "
+            "Machine: %d CPUs shared with other jobs (load average %s at the end), so CPU "
+            "time (process_time), the median of %d fresh processes per run, not wall time."
+            % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+               elapsed, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
+               rows[0]["repeat"] if rows else 0))
+
+
+def markdown(rows, argline, elapsed, measured=None):
     md = ["# Where the milliseconds of a glyph go (bench/stroke_profile.py)", "",
-          "Command: `python -m bench.stroke_profile%s`; measured %s UTC at %s (%.0f s). "
-          "Machine: %d CPUs shared with other jobs (load average %s at the end), so CPU "
-          "time (process_time), the median of %d fresh processes per run, not wall time."
-          % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-             elapsed, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
-             rows[0]["repeat"] if rows else 0), "",
+          measured or measured_line(argline, elapsed, rows), "",
           "Each column is one whole command (`--jobs 1`, .otf output for stroke, .ttf for "
           "brush), ms of CPU per glyph written, by phase (exclusive times: a phase's own "
           "time, not that of the phases it calls; see the script's docstring for which "
@@ -347,6 +351,20 @@ def markdown(rows, argline, elapsed):
     return "\n".join(md) + "\n"
 
 
+def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before")):
+    """The command-line arguments without the output-file options (their paths are
+    the machine's, not the measurement's)."""
+    out, skip = [], False
+    for a in argv:
+        if skip:
+            skip = False
+        elif a in outputs:
+            skip = True
+        elif not any(a.startswith(o + "=") for o in outputs):
+            out.append(a)
+    return out
+
+
 def compare(rows, before, label, path):
     """A table of the whole-process ms per glyph and of each phase, earlier and now."""
     old = {r["run"]: r for r in before}
@@ -354,6 +372,7 @@ def compare(rows, before, label, path):
     if not both:
         return ""
     md = ["", "## Against %s (`%s`, measured the same way)" % (label, path), "",
+          "ms of CPU per glyph, then -> now.", "",
           "| phase | " + " | ".join("%s %s" % tuple(r["run"].split(":")) for _, r in both)
           + " |", "|---|" + "---|" * len(both)]
     for p in ORDER + ["whole process"]:
@@ -379,22 +398,30 @@ def main(argv=None):
     ap.add_argument("--before", default=str(ROOT / "bench" / "stroke_profile_base.json"),
                     help="phases measured earlier (--json of another run), shown beside")
     ap.add_argument("--before-label", default="the base commit 2e961c8")
+    ap.add_argument("--from-json", help="report the phases of an earlier run's --json "
+                                        "instead of measuring")
     opt = ap.parse_args(argv)
     if opt.worker:
         return worker(opt.worker)
     argv = sys.argv[1:] if argv is None else argv
-    argline = (" " + " ".join(argv)) if argv else ""
+    argline = "".join(" " + a for a in shown_args(argv))
     t0 = time.perf_counter()
-    rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
-    text = markdown(rows, argline, time.perf_counter() - t0)
+    if opt.from_json:   # a report of phases measured before (a --json of a run)
+        saved = json.loads(Path(opt.from_json).read_text())
+        rows, measured = saved["rows"], saved["measured"]
+    else:
+        rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
+        measured = measured_line(argline, time.perf_counter() - t0, rows)
+    text = markdown(rows, argline, 0.0, measured)
     if opt.before and os.path.exists(opt.before):
-        text += compare(rows, json.loads(Path(opt.before).read_text()), opt.before_label,
-                        os.path.relpath(opt.before, ROOT))
+        before = json.loads(Path(opt.before).read_text())
+        text += compare(rows, before["rows"] if isinstance(before, dict) else before,
+                        opt.before_label, os.path.relpath(opt.before, ROOT))
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)
     if opt.json:
-        Path(opt.json).write_text(json.dumps(rows, indent=1))
+        Path(opt.json).write_text(json.dumps({"measured": measured, "rows": rows}, indent=1))
     return 0
 
 

@@ -328,7 +328,7 @@ def test_the_checker_finds_a_crack_no_sample_hits():
     ok = verify(loops, oracle, tol, f, 46.0, np.random.default_rng(0), n_boundary=20)
     assert not ok["fail"], ok["fail"]
     # the crack: at the middle of the longest piece, in along the inward normal and out
-    loop = loops[0]
+    loop = list(loops[0])  # a list of pieces, to cut a crack into
     k = int(np.argmax([np.hypot(*(pc.end(p) - pc.start(p))) for p in loop]))
     head, tail = pc.subsegment(loop[k], 0.0, 0.5), pc.subsegment(loop[k], 0.5, 1.0)
     x, d = pc.end(head), pc.end(loop[k]) - pc.start(loop[k])

@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 
 from .group import main
-from .variable import VARY_NIB_HELP, stroke_variable_cli
+from .variable import (VARY_NIB_HELP, brush_variable_cli, is_variable_truetype,
+                       stroke_variable_cli)
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -73,10 +74,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     CFF/.otf: cubics), with the advance width grown by the nib width (zero-width
     marks stay so).  GPOS mark anchors move with their glyphs, vertical metrics grow
     by the nib, names and OS/2 widths are updated.  FONT is a .ttf/.otf file (a
-    variable font is brushed at --location), or omitted / "default" for the bundled
-    Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
+    variable font at --location gives a static instance), or omitted / "default"
+    for the bundled Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
     in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
     characters, source and result side by side).
+
+    A variable FONT without --location keeps every axis: each master's glyphs
+    are brushed as untrimmed, overlapping contours compatible across the
+    masters (overlap flags set), its layout kept.  Static outputs are trimmed:
+    one outline, free of overlaps.
 
     A glyph whose sum fails is computed again at --tol/8, then with the nib turned
     by a tiny angle (within --tol); if that fails too it is written by a polygon
@@ -90,6 +96,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush -o NotoBrush.ttf
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
+      morph brush Variable.ttf -o VariableBrush.ttf --nib ellipse:60,15,30
     """
     import io
     import time
@@ -109,6 +116,9 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
+    if location is None and is_variable_truetype(src):   # every axis kept
+        return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
+                                  png, page, _parse_nib)
     source = open_source(src, location)  # static: a variable font at --location
     source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs

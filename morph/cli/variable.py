@@ -85,3 +85,57 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
                   count(stats["glyphs"], "glyph"), seconds, count(jobs, "job"),
                   stats["designspace"], png, page))
     return 0
+
+
+def is_variable_truetype(path):
+    """True for a font file with fvar (a variable font)."""
+    from fontTools.ttLib import TTFont
+
+    try:
+        return "fvar" in TTFont(str(path), lazy=True)
+    except Exception:                   # noqa: BLE001 - the static path reports it
+        return False
+
+
+def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample, png, page,
+                       parse_nib):
+    """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept."""
+    import time
+
+    from fontTools.ttLib import TTFont
+
+    from ..errors import MorphError
+    from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import write_sample_image, write_specimen
+    from ..fonts.variable import brush_variable
+    from ..parse.glyphs import glyph_name
+
+    if nib_svg:
+        raise InputError("brushing a variable font keeping its axes needs an elliptical "
+                         "--nib, not --nib-svg (or give --location for a static instance)")
+    font = TTFont(str(src), lazy=True)
+    if "gvar" not in font:
+        raise InputError("%s is a CFF2 variable font: only TrueType (glyf/gvar) sources "
+                         "keep their axes; give --location for a static instance" % src)
+    names = None
+    if items is not None:
+        try:
+            names = [glyph_name(font, it) for it in items]
+        except MorphError as exc:
+            raise InputError(str(exc)) from exc
+    upm = font["head"].unitsPerEm
+    jobs = default_jobs() if jobs is None else jobs
+    t0 = time.perf_counter()
+    try:
+        stats = brush_variable(src, out, parse_nib(nib), names, tol=tol * upm,
+                               family_name=family, jobs=jobs)
+    except (MorphError, ValueError) as exc:
+        raise InputError("%s: %s" % (src, exc)) from exc
+    write_sample_image(out, sample, png)
+    write_specimen(out, None, sample=sample)
+    click.echo("wrote %s (variable, axes %s kept, %s, %s brushed, %.1f s), sample %s and "
+               "specimen %s" % (out, ", ".join(a.axisTag for a in stats["font"]["fvar"].axes),
+                                count(len(stats["masters"]), "master"),
+                                count(stats["glyphs"], "glyph"), time.perf_counter() - t0,
+                                png, page))
+    return 0

@@ -61,7 +61,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, \
+from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, region_elements, \
     skeleton_elements
 from ..errors import MorphError, ParseError, one_line
 
@@ -310,10 +310,22 @@ def _nib_axis_descriptor(axis):
     ax.tag, ax.name = axis.tag, axis.name
     ax.minimum, ax.default, ax.maximum = axis.minimum, axis.minimum, axis.maximum
     ax.labelNames = {"en": axis.name}
-    ax.axisLabels = [AxisLabelDescriptor(name=_style(axis, v), userValue=v,
+    ax.axisLabels = [AxisLabelDescriptor(name=_axis_label(axis, v), userValue=v,
                                          elidable=(v == axis.minimum))
-                     for v in (axis.minimum, axis.maximum)]
+                     for v in _nib_instances(axis)]
     return ax
+
+
+def _nib_instances(axis):
+    """User values of the nib axis' named instances (and STAT labels): the ends and
+    the middle."""
+    return [axis.minimum, axis.value(0.5), axis.maximum]
+
+
+def _axis_label(axis, v):
+    """The STAT label and instance style of a nib axis value: "Regular" at the
+    default (fontbakery wants a Regular instance at the default location)."""
+    return "Regular" if v == axis.minimum else _style(axis, v)
 
 
 def _designspace(skel, axis, fitted, masters, names, family):
@@ -324,7 +336,7 @@ def _designspace(skel, axis, fitted, masters, names, family):
 
     doc = DesignSpaceDocument()
     for ax in skel.axes:
-        doc.addAxis(copy.deepcopy(ax))
+        doc.addAxis(_labelled(copy.deepcopy(ax), skel))
     if axis is not None:
         doc.addAxis(_nib_axis_descriptor(axis))
     for m, (s, v), fn in zip(masters, fitted, names):
@@ -345,17 +357,53 @@ def _designspace(skel, axis, fitted, masters, names, family):
         if (new.styleName not in seen):
             seen.add(new.styleName)
             doc.addInstance(new)
+    if skel.axes and skel.default_style not in seen:     # a named default instance
+        new = InstanceDescriptor()
+        new.familyName, new.styleName = family, skel.default_style or "Regular"
+        new.location = {**dict(skel.locations[skel.default]), **extra}
+        seen.add(new.styleName)
+        doc.addInstance(new)
     if axis is not None:
         base = dict(skel.locations[skel.default])
-        for v in (axis.minimum, axis.value(0.5), axis.maximum):
+        for v in _nib_instances(axis):
             new = InstanceDescriptor()
             new.familyName = family
-            new.styleName = " ".join(x for x in (skel.default_style, _style(axis, v)) if x)
+            label = _axis_label(axis, v)
+            new.styleName = label if not skel.default_style or label != "Regular" else \
+                skel.default_style
+            if skel.default_style and label != "Regular":
+                new.styleName = "%s %s" % (skel.default_style, label)
             new.location = {**base, axis.name: v}
             if new.styleName not in seen:
                 seen.add(new.styleName)
                 doc.addInstance(new)
     return doc
+
+
+def _labelled(ax, skel):
+    """A skeleton axis with STAT labels at its default ("Regular", elidable) and at
+    every source and instance coordinate, unless it has labels already (the named
+    instances need STAT values on every axis)."""
+    from fontTools.designspaceLib import AxisLabelDescriptor
+
+    if getattr(ax, "axisLabels", None):
+        return ax
+    default = skel.locations[skel.default]
+    named = {}              # user value -> the style of a master or instance there
+    places = [(loc, f.info.styleName) for loc, f in zip(skel.locations, skel.fonts)]
+    places += [(dict(i.location or {}), i.styleName) for i in skel.instances]
+    for loc, style in places:
+        if ax.name not in loc:
+            continue
+        u = round(float(ax.map_backward(loc[ax.name])), 3)
+        alone = all(loc.get(k, v) == v for k, v in default.items() if k != ax.name)
+        if alone and style and u != ax.default:
+            named.setdefault(u, style)
+        named.setdefault(u, "%s %g" % (ax.tag, u))
+    named[ax.default] = "Regular"
+    ax.axisLabels = [AxisLabelDescriptor(name=name, userValue=u, elidable=(u == ax.default))
+                     for u, name in sorted(named.items())]
+    return ax
 
 
 @dataclass
@@ -485,6 +533,8 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     to the other (every skeleton master is stroked at every nib master); a
     designspace keeps its axes and instances.  ``glyphs``: characters or names
     (None: all); ``tol``: font units, split as the module docstring says;
+    ``family_name``: default "FAMILY Nib" with a nib axis, else "FAMILY Stroke"
+    (short: fontbakery wants family and style names within 31 characters);
     ``overwrite``: replace existing outputs (the masters folder is replaced whole);
     ``jobs``: processes; ``progress(name)`` after each glyph.
 
@@ -537,13 +587,17 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     except IncompatibleMasters as exc:
         raise IncompatibleMasters(_name_masters(str(exc), skel.labels), exc.what) from None
     fit_seconds = sum(r[2] for r in results)
-    family = family_name or "%s Stroke" % (font.info.familyName or "Morph")
+    family = family_name or "%s %s" % (font.info.familyName or "Morph",
+                                        "Nib" if axis is not None else "Stroke")
     done = set(stroked) | set(followed)
     masters, names = [], []
     for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
-        style = " ".join(x for x in ((skel.fonts[s].info.styleName or "") if skel.axes
-                                     else "", _style(axis, v) if axis else "") if x)
+        parts = [(skel.fonts[s].info.styleName or "") if skel.axes else "",
+                 _axis_label(axis, v) if axis else ""]
+        if parts[0] and parts[1] == "Regular":
+            parts[1] = ""
+        style = " ".join(x for x in parts if x)
         m, _ = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
         masters.append(m)
         names.append("%s/%s-%s.ufo" % (masters_dir.name, out_path.stem,
@@ -599,3 +653,150 @@ def _write(out_path, vf, doc, masters, names, ds_path, masters_dir):
         os.replace(str(tmp / out_path.name), str(out_path))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+# ====================================================================== brush
+
+def _master_locations(font):
+    """Normalized locations of a glyf/gvar font's masters: the default and the peak
+    of every region its glyph variations use."""
+    peaks = set()
+    for variations in font["gvar"].variations.values():
+        for v in variations:
+            peaks.add(tuple(sorted((tag, float(t[1])) for tag, t in v.axes.items())))
+    tags = [a.axisTag for a in font["fvar"].axes]
+    return [{t: 0.0 for t in tags}] + [{**{t: 0.0 for t in tags}, **dict(p)}
+                                       for p in sorted(peaks)]
+
+
+def _region_loops(glyph_set, name):
+    """A glyph's contours at one master as closed loops of cartesian pieces, turned
+    counter-clockwise for the outer ones (TrueType draws them clockwise)."""
+    from ..parse.pens import record_contours
+
+    contours = record_contours(glyph_set[name].draw, "glyph %r" % name, glyph_set)
+    loops = []
+    for c in contours:
+        pieces = [np.asarray(p, float) for p in c.pieces]
+        pieces = [p[:, :2] / p[:, 2:] if p.shape[1] == 3 else p for p in pieces]
+        if pieces and np.any(pieces[-1][-1] != pieces[0][0]):
+            pieces.append(np.array([pieces[-1][-1], pieces[0][0]]))
+        if pieces:
+            loops.append([p[::-1] for p in reversed(pieces)])
+    return loops
+
+
+def _brush_glyph_job(args):
+    """(name, per-master quadratic contours or None, CPU s) of one glyph ⊕ nib at
+    every master, converted to quadratics compatibly (cu2qu on the masters' curves
+    together)."""
+    from fontTools.cu2qu import curves_to_quadratic
+
+    name, loops_by_master, nib, fit_tol, q_tol = args
+    t0 = time.process_time()
+    if not loops_by_master[0]:
+        return name, None, 0.0
+    fits = fit_elements(region_elements(loops_by_master, "glyph %r" % name),
+                        [nib] * len(loops_by_master), list(range(len(loops_by_master))),
+                        fit_tol)
+    out = [[] for _ in fits]
+    for k in range(len(fits[0])):
+        per = [[] for _ in fits]
+        for j in range(len(fits[0][k])):
+            curves = [[tuple(p) for p in fits[m][k][j]] for m in range(len(fits))]
+            splines = curves_to_quadratic(curves, [q_tol] * len(curves))
+            for m, s in enumerate(splines):
+                per[m].append(s)
+        for m in range(len(fits)):
+            out[m].append(per[m])
+    return name, out, time.process_time() - t0
+
+
+def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, jobs=1,
+                   progress=None):
+    """Brush a variable TrueType font keeping its axes: every master of every chosen
+    glyph ⊕ the nib, as untrimmed overlapping contours fitted compatibly across the
+    masters (:func:`morph.compatible.region_elements`), converted to quadratics with
+    cu2qu on all masters at once; the glyf/gvar of a copy of the source are
+    replaced (its layout, names, STAT and avar kept; the advance variations carried
+    by gvar's phantom points, HVAR dropped), the outlines shifted right by the nib's
+    left extent, advances grown by its width, GPOS anchors moved along.
+
+    ``src``: a variable ``.ttf`` (glyf/gvar); ``nib``: (width, height, angle);
+    ``glyphs``: glyph names (None: every glyph with contours; composites are
+    decomposed); ``tol``: font units (fit FIT_SHARE, quadratics CU2QU_SHARE, the rest
+    the masters' own interpolation of the nib part, measured, not bounded: a
+    source's masters are not a nib scale).  Returns a dict: ``masters``
+    (normalized locations), ``glyphs``, ``fit_seconds``, ``font``.
+
+    Raises:
+        MorphError: not a glyf/gvar variable font; IncompatibleMasters: cannot happen
+            for a valid variable font (its masters share their points).
+    """
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+    from fontTools.ttLib import TTFont
+    from fontTools.ttLib.tables.TupleVariation import TupleVariation
+    from fontTools.varLib.models import VariationModel
+
+    from .jobs import run_jobs
+    from .tables import move_anchors, rename_family, save_font
+
+    font = TTFont(str(src))
+    if "fvar" not in font or "gvar" not in font or "glyf" not in font:
+        raise MorphError("%s is not a TrueType variable font (glyf/gvar)" % src)
+    nib = Ellipse(*map(float, nib))
+    locs = _master_locations(font)
+    tags = [a.axisTag for a in font["fvar"].axes]
+    sets = [font.getGlyphSet(location=loc, normalized=True) for loc in locs]
+    glyf = font["glyf"]
+    names = [n for n in font.getGlyphOrder()
+             if (glyphs is None or n in glyphs) and glyf[n].numberOfContours != 0]
+    work = [(n, [_region_loops(gs, n) for gs in sets], nib, FIT_SHARE * tol,
+             CU2QU_SHARE * tol) for n in names]
+    report = None if progress is None else (lambda k, r: progress(r[0]))
+    results = run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
+    hx = float(nib.extent()[2])
+    grow = int(round(2 * hx))
+    model = VariationModel(locs, tags)
+    gvar, hmtx = font["gvar"], font["hmtx"]
+    shifts = {}
+    for name, contours, _ in results:
+        if contours is None:
+            continue
+        width0 = hmtx[name][0]
+        shift = hx - (grow if width0 == 0 else 0)
+        shifts[name] = (shift, 0.0)
+        coords = []
+        for m, per in enumerate(contours):
+            pen = TTGlyphPen(None)
+            for splines in per:
+                pen.moveTo(_rnd(splines[0][0], shift))
+                for s in splines:
+                    pen.qCurveTo(*[_rnd(p, shift) for p in s[1:]])
+                pen.closePath()
+            g = pen.glyph(dropImpliedOnCurves=False)
+            adv = sets[m][name].width + (grow if width0 else 0)
+            pts = list(g.coordinates) + [(0, 0), (adv, 0), (0, 0), (0, 0)]
+            coords.append(np.array(pts, float))
+            if m == 0:
+                glyph0, adv0 = g, adv
+        glyf[name] = glyph0
+        glyph0.recalcBounds(glyf)
+        hmtx[name] = (int(adv0), glyph0.xMin)
+        deltas, supports = model.getDeltas(coords), model.supports
+        gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, np.round(p))) for p in d])
+                                 for d, sup in zip(deltas[1:], supports[1:])
+                                 if np.any(np.round(d) != 0)]
+    if "HVAR" in font:
+        del font["HVAR"]
+    move_anchors(font, shifts)
+    if family_name:
+        rename_family(font, family_name)
+    set_overlap_flags(font)
+    save_font(font, out_path)
+    return {"masters": locs, "glyphs": len(shifts),
+            "fit_seconds": sum(r[2] for r in results), "font": font}
+
+
+def _rnd(p, shift):
+    return (int(round(p[0] + shift)), int(round(p[1])))

@@ -3,7 +3,7 @@
 A small variable font is built from the Relief subset and every master and instance
 (instanced by fontTools.varLib.instancer from the compiled font) is compared with the
 exact sum skeleton ⊕ nib computed independently (Clipper on finely flattened inputs,
-tests/varfont_reference.py)."""
+tests/oracles/varfont.py)."""
 
 import logging
 
@@ -14,7 +14,7 @@ from morph.compatible import Ellipse, interpolation_error
 from morph.fonts.variable import (BLEND_SHARE, axis_masters, nib_axis, stroke_variable,
                                   variable_outputs)
 from tests import RELIEF_SUBSET
-from tests.varfont_reference import (clipper_stroke, glyph_polygons, skeleton_polylines,
+from tests.oracles.varfont import (clipper_stroke, glyph_polygons, skeleton_polylines,
                                      within)
 
 TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
@@ -84,6 +84,9 @@ def test_outputs_and_compatibility(built):
     for name in ("a", "s", "period"):
         assert [len(c) for c in m0[name].contours] == [len(c) for c in m1[name].contours]
     # advances grow with the nib
+    ots = pytest.importorskip("ots")
+    r = ots.sanitize(str(out), capture_output=True)
+    assert r.returncode == 0, r.stderr
     grow = [round(2 * Ellipse(*n).extent()[2]) for n in NIBS]
     assert m1["a"].width - m0["a"].width == grow[1] - grow[0] == 70
 
@@ -177,7 +180,7 @@ def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
     from fontTools.ttLib import TTFont
     from fontTools.varLib import instancer
 
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     out = tmp_path / "Family.ttf"
@@ -203,7 +206,7 @@ def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
 
     from morph.cli import main
     from morph.compatible import IncompatibleMasters
-    from tests.varfont_reference import skeleton_designspace
+    from tests.oracles.varfont import skeleton_designspace
 
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     wide = ufoLib2.Font.open(str(tmp_path / "Skel-Wide.ufo"))
@@ -280,3 +283,39 @@ def _near(a, b, px=2):
     grow = np.ones((2 * px + 1, 2 * px + 1), bool)
     return min((pa & binary_dilation(pb, grow)).sum() / pa.sum(),
                (pb & binary_dilation(pa, grow)).sum() / pb.sum())
+
+
+#: fontbakery's opentype/fvar/regular_coords_correct FAILs every variable font whose
+#: axes are all private ("Regular" instance not present: it reads the Regular
+#: instance's wght, wdth, slnt, ital or opsz coordinate only); a nib axis is private
+PRIVATE_AXES_ONLY = {("<FontBakeryCheck:opentype/fvar/regular_coords_correct>", "FAIL")}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("suffix", [".ttf", ".otf"])
+def test_fontbakery_adds_no_fail(tmp_path, skeleton, suffix):
+    """check-universal on the variable font has no FAIL that the skeleton compiled as
+    it is (ufo2ft) lacks, but the one fontbakery gives every private-axes-only font;
+    a skeleton designspace (registered wdth) has none at all."""
+    import ufo2ft
+
+    from tests.fonts.test_brush import _fontbakery
+    from tests.oracles.varfont import skeleton_designspace
+
+    pytest.importorskip("fontbakery")
+    for name in ("ufo2ft", "fontTools"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    source = tmp_path / ("Skeleton" + suffix)
+    (ufo2ft.compileOTF if suffix == ".otf" else ufo2ft.compileTTF)(skeleton).save(str(source))
+    out = tmp_path / ("Nib" + suffix)
+    stroke_variable(skeleton, out, *NIBS, tol=TOL)
+    fails = {k for k in _fontbakery(out) - _fontbakery(source) if k[1] != "WARN"}
+    assert fails <= PRIVATE_AXES_ONLY, sorted(fails)
+    if suffix == ".ttf":
+        ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, list(skeleton.keys()))
+        fam = tmp_path / "Family.ttf"
+        # the default family "Relief SingleLine Stroke" plus "SemiWide" would pass
+        # fontbakery's 31 characters: a shorter family, as --family gives
+        stroke_variable(ds, fam, (60, 15, 30), tol=TOL, family_name="Relief Stroke")
+        fails = {k for k in _fontbakery(fam) - _fontbakery(source) if k[1] != "WARN"}
+        assert not fails, sorted(fails)

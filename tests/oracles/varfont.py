@@ -226,6 +226,9 @@ def _densify(polys, spacing):
 def boundary_distance(polys_a, polys_b, spacing=0.02):
     """Hausdorff distance between the boundaries of two polygon sets (densified at
     ``spacing``: exact within spacing / 2); inf when one is empty and not the other."""
+    from tests.oracles import need
+
+    need("scipy", "nearest boundary points")
     from scipy.spatial import cKDTree
 
     a, b = _densify(polys_a, spacing), _densify(polys_b, spacing)
@@ -366,3 +369,20 @@ def skeleton_designspace(folder, source, glyphs, slant=0.15, widen=0.25):
     path = folder / "Skel.designspace"
     doc.write(str(path))
     return path
+
+
+def clipper_region_sum(polygons, nib, arc_tol=0.002):
+    """region ⊕ elliptical nib by Clipper: the region (closed polygons, nonzero) mapped
+    so that the nib is a disk, offset outward with round joins (the sum with a disk
+    within ``arc_tol`` font units), mapped back."""
+    import pyclipper
+
+    width, height, angle = nib
+    m = ellipse_matrix(width, height, angle)
+    r = min(width, height) / 2.0 * _CLIP
+    to = np.linalg.inv(m) * r
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = arc_tol * _CLIP
+    off.AddPaths([np.round(p @ to.T).astype(np.int64).tolist() for p in polygons],
+                 pyclipper.JT_ROUND, pyclipper.ET_CLOSEDPOLYGON)
+    return union([np.asarray(p, float) @ np.linalg.inv(to).T for p in off.Execute(r)])
