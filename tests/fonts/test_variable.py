@@ -274,6 +274,7 @@ def test_specimen_sliders_in_chromium(tmp_path, runner):
 def _near(a, b, px=2):
     """The share of the ink of each mask within ``px`` pixels of the other's ink (the
     smaller of the two): anti-aliased hairlines differ by a pixel between renderers."""
+    pytest.importorskip("scipy")
     from scipy.ndimage import binary_dilation
 
     h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
