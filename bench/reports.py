@@ -66,23 +66,35 @@ class Report:
 REPORTS = [
     Report("methods", "bench.methods", ["--md", "{md}"], cost="1-2 min",
            check="bench.methods:check"),
-    Report("qac", "bench.qac", ["--md", "{md}"], cost="3-5 min"),
+    Report("qac", "bench.qac", ["--md", "{md}"], cost="5-25 min", check="bench.qac:check"),
     Report("coincident", "bench.coincident", ["--md", "{md}"],
-           quick=["--md", "{md}", "--repeat", "1"], cost="1-2 min",
+           quick=["--md", "{md}", "--repeat", "1"], cost="2-20 min", snapshot=True,
            check="bench.reports:check_coincident"),
     Report("adaptive", "bench.adaptive", ["--repeat", "5", "--md", "{md}"],
-           quick=["--repeat", "1", "--md", "{md}"], cost="2-4 min", needs=("scipy",)),
+           quick=["--repeat", "1", "--md", "{md}"], cost="2-10 min", snapshot=True,
+           needs=("scipy",)),
     Report("scaling", "bench.scaling", ["--md", "{md}"],
            quick=["--n", "10,30", "--cubics", "100", "--repeat", "1", "--md", "{md}"],
-           cost="3-6 min"),
+           cost="3-10 min", snapshot=True),
     Report("inset", "bench.inset", ["--n", "60", "--seed", "5", "--md", "{md}"],
            quick=["--n", "4", "--seed", "5", "--fonts", "ttf,cff", "--md", "{md}"],
-           cost="2-4 min", needs=("shapely", "fontpkg_lobster")),
+           cost="2-10 min", snapshot=True, needs=("shapely", "fontpkg_lobster")),
     Report("peers", "bench.peers", ["--md", "{md}"], quick=["--quick", "--md", "{md}"],
            cost="5-10 min", snapshot=True, needs=("pathops", "kurbopy", "mapbox_earcut")),
     Report("stroke", "bench.stroke", ["--md", "{md}"],
            quick=["--glyphs", "A-C", "--no-peers", "--md", "{md}"], cost="6-10 min",
            snapshot=True, needs=("shapely", "pathops")),
+    Report("stroke_sets", "bench.stroke", ["--only-sets", "--sets-md", "{md}"],
+           quick=["--only-sets", "--sets", "hershey-sans", "--ff-accuracy-sets", "1",
+                  "--sets-md", "{md}"],
+           cost="30-60 min, skeleton sets fetched with npm", snapshot=True,
+           needs=("shapely",)),
+    Report("stroke_profile", "bench.stroke_profile", ["--md", "{md}"],
+           quick=["--runs", "stroke:hershey-sans", "--repeat", "1", "--md", "{md}"],
+           cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
+    Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
+           quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
+           cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
     Report("brush", "bench.brush", ["--fonts", "ttf,cff,ebg", "--nibs", "80,30,30;60,8,30",
                                     "--compare-jobs", "--fontbakery", "--md", "{md}"],
            quick=["--fonts", "ttf", "--glyphs", "A-C", "--md", "{md}"], cost="5-10 min",
@@ -168,7 +180,11 @@ def run(report, out_dir=None, quick=False):
     cmds = report.commands(md, quick)
     for cmd in cmds:
         print("+", " ".join(cmd[1:]), flush=True)
-        subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.DEVNULL)
+        code = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL).returncode
+        if code:   # a sweep exits 1 when a case failed; its report says which
+            print("  exit status %d: see the report" % code, flush=True)
+        if not Path(ROOT / md).exists():
+            raise SystemExit("%s wrote no report %s" % (" ".join(cmd[1:]), md))
     seconds = time.time() - t0
     shown = "python -m bench.reports --only %s%s" % (report.name, " --quick" if quick else "")
     put_stamp(md, stamp(shown, seconds, script="bench/%s.py" % report.module.split(".")[-1]))

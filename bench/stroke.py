@@ -416,7 +416,7 @@ def sets_markdown(opt, sets, elapsed):
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
           "in FontForge's Python (`bench/fontforge_stroke.py`), per glyph.  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
-          "against the independent Clipper reference (`tests/stroke_reference.py`, "
+          "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit; *over* = glyphs whose error "
           "exceeds tol + %g.  Points: on- and off-curve points per glyph."
           % (opt.ref_tol, SPACING, opt.ref_tol), ""]
@@ -543,7 +543,9 @@ def main(argv=None):
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
-    opt.set_argline = "".join(" " + a for a in argv if a != "--only-sets")
+    from bench.stroke_profile import shown_args
+
+    opt.set_argline = "".join(" " + a for a in shown_args(argv) if a != "--only-sets")
     import logging
 
     for name in ("ufo2ft", "fontTools"):

@@ -82,30 +82,32 @@ def run(ufo, jobs, out):
 
 def main(argv=None):
     from bench.skeletons import skeleton_ufo
-    from bench.stroke_profile import code_version
+    from bench.stroke_profile import code_version, shown_args
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", default="hanzi-300,hanzi-3000")
     ap.add_argument("--jobs", default="1,2")
+    ap.add_argument("--pairs", help="set:jobs,... instead of every set with every --jobs")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_memory.md"))
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
     rows = []
+    pairs = ([p.split(":") for p in opt.pairs.split(",")] if opt.pairs else
+             [(s, j) for s in opt.sets.split(",") for j in opt.jobs.split(",")])
     with tempfile.TemporaryDirectory() as tmp:
-        for s in opt.sets.split(","):
+        for s, j in pairs:
             ufo = skeleton_ufo(s)
             glyphs = sum(1 for _ in (ufo / "glyphs").glob("*.glif"))
-            for j in opt.jobs.split(","):
-                r = run(ufo, int(j), Path(tmp) / (s + ".otf"))
-                r.update(set=s, jobs=int(j), glyphs=glyphs)
-                print(r, flush=True)
-                rows.append(r)
+            r = run(ufo, int(j), Path(tmp) / (s + ".otf"))
+            r.update(set=s, jobs=int(j), glyphs=glyphs)
+            print(r, flush=True)
+            rows.append(r)
     md = ["# Peak memory of `morph stroke` against the font's size (bench/stroke_memory.py)",
           "",
           "Command: `python -m bench.stroke_memory%s`; measured %s UTC at %s.  Machine: "
           "%d CPUs shared with other jobs (load average %s at the end): wall times are "
-          "upper bounds." % ("".join(" " + a for a in argv),
+          "upper bounds." % ("".join(" " + a for a in shown_args(argv)),
                              time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
                              os.cpu_count() or 1,
                              ", ".join("%.1f" % v for v in os.getloadavg())), "",

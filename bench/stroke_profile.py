@@ -17,7 +17,8 @@ not inside any timed function, is ``other`` (the CLI, the job loop, packing).
 A timer costs about a microsecond a call, far below the phases' times.
 
 The timers only wrap functions (every module attribute that is the function, so
-``from .x import f`` call sites are timed too); no code of morph is changed.
+``from .x import f`` call sites are timed too; names that a version of the code
+lacks are skipped); no code of morph is changed.
 Runs (``--runs``, comma separated ``command:set``):
 
 - ``stroke:relief``: the whole Relief SingleLine UFO (``relief-singleline`` in the
@@ -51,7 +52,7 @@ PHASES = [
                "morph.parse.ufo:glyph_paths", "morph.fonts.stroke:stroke_plan",
                "morph.fonts.stroke:_stroke_work", "morph.fonts.brush:_source_regions",
                "morph.fonts.brush:open_source", "morph.fonts.brush:_brush_plan",
-               "morph.stroke:_loops_and_dots"]),
+               "morph.stroke:_loops_and_dots", "morph.stroke:_loops_and_dots_many"]),
     ("operand checks", ["morph.minkowski:check_operand", "morph.limits:check_tolerance"]),
     ("Gauss map", ["morph.convolve:gauss_pair_of", "morph.gauss:gauss_maps",
                    "morph.convolve:with_pair_table", "morph.convolve:crossing_rows"]),
@@ -67,7 +68,7 @@ PHASES = [
     ("certificate", ["morph.export:_reparams", "morph.export:_certify_many"]),
     ("font tables", ["morph.fonts.tables:contours_from_regions",
                      "morph.fonts.stroke:_write_strokes", "morph.fonts.stroke:_open_copy",
-                     "morph.fonts.stroke:_move_furniture", "morph.fonts.stroke:_grow_win_metrics",
+                     "morph.fonts.stroke:_move_furniture", "morph.fonts.ufo_tables:grow_win_metrics",
                      "morph.fonts.brush:_store_outlines"]),
     ("compile", ["morph.fonts.stroke:_save", "morph.fonts.tables:save_font"]),
     ("sample + specimen", ["morph.fonts.specimen:write_sample_image",
@@ -141,7 +142,9 @@ def install(clock):
             *path, attr = qual.split(".")
             for p in path:
                 owner = getattr(owner, p)
-            orig = getattr(owner, attr)
+            orig = getattr(owner, attr, None)
+            if orig is None:  # a function of another version of the code
+                continue
             new = _wrap(clock, phase, orig)
             setattr(owner, attr, new)
             if owner is mod:
@@ -309,14 +312,18 @@ def code_version():
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
 
 
-def markdown(rows, argline, elapsed):
+def measured_line(argline, elapsed, rows):
+    return ("Command: `python -m bench.stroke_profile%s`; measured %s UTC at %s (%.0f s). "
+            "Machine: %d CPUs shared with other jobs (load average %s at the end), so CPU "
+            "time (process_time), the median of %d fresh processes per run, not wall time."
+            % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+               elapsed, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
+               rows[0]["repeat"] if rows else 0))
+
+
+def markdown(rows, argline, elapsed, measured=None):
     md = ["# Where the milliseconds of a glyph go (bench/stroke_profile.py)", "",
-          "Command: `python -m bench.stroke_profile%s`; measured %s UTC at %s (%.0f s). "
-          "Machine: %d CPUs shared with other jobs (load average %s at the end), so CPU "
-          "time (process_time), the median of %d fresh processes per run, not wall time."
-          % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-             elapsed, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
-             rows[0]["repeat"] if rows else 0), "",
+          measured or measured_line(argline, elapsed, rows), "",
           "Each column is one whole command (`--jobs 1`, .otf output for stroke, .ttf for "
           "brush), ms of CPU per glyph written, by phase (exclusive times: a phase's own "
           "time, not that of the phases it calls; see the script's docstring for which "
@@ -344,6 +351,41 @@ def markdown(rows, argline, elapsed):
     return "\n".join(md) + "\n"
 
 
+def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before")):
+    """The command-line arguments without the output-file options (their paths are
+    the machine's, not the measurement's)."""
+    out, skip = [], False
+    for a in argv:
+        if skip:
+            skip = False
+        elif a in outputs:
+            skip = True
+        elif not any(a.startswith(o + "=") for o in outputs):
+            out.append(a)
+    return out
+
+
+def compare(rows, before, label, path):
+    """A table of the whole-process ms per glyph and of each phase, earlier and now."""
+    old = {r["run"]: r for r in before}
+    both = [(old[r["run"]], r) for r in rows if r["run"] in old]
+    if not both:
+        return ""
+    md = ["", "## Against %s (`%s`, measured the same way)" % (label, path), "",
+          "ms of CPU per glyph, then -> now.", "",
+          "| phase | " + " | ".join("%s %s" % tuple(r["run"].split(":")) for _, r in both)
+          + " |", "|---|" + "---|" * len(both)]
+    for p in ORDER + ["whole process"]:
+        cells = []
+        for b, a in both:
+            def ms(r):
+                v = r["total"] if p == "whole process" else r["phases"].get(p, 0.0)
+                return 1000.0 * v / max(1, r["glyphs"])
+            cells.append("%.2f -> %.2f" % (ms(b), ms(a)))
+        md.append("| %s | %s |" % (p, " | ".join(cells)))
+    return "\n".join(md) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker")
@@ -353,19 +395,33 @@ def main(argv=None):
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_profile.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--json", help="also write the measured phases here (for comparisons)")
+    ap.add_argument("--before", default=str(ROOT / "bench" / "stroke_profile_base.json"),
+                    help="phases measured earlier (--json of another run), shown beside")
+    ap.add_argument("--before-label", default="the base commit 2e961c8")
+    ap.add_argument("--from-json", help="report the phases of an earlier run's --json "
+                                        "instead of measuring")
     opt = ap.parse_args(argv)
     if opt.worker:
         return worker(opt.worker)
     argv = sys.argv[1:] if argv is None else argv
-    argline = (" " + " ".join(argv)) if argv else ""
+    argline = "".join(" " + a for a in shown_args(argv))
     t0 = time.perf_counter()
-    rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
-    text = markdown(rows, argline, time.perf_counter() - t0)
+    if opt.from_json:   # a report of phases measured before (a --json of a run)
+        saved = json.loads(Path(opt.from_json).read_text())
+        rows, measured = saved["rows"], saved["measured"]
+    else:
+        rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
+        measured = measured_line(argline, time.perf_counter() - t0, rows)
+    text = markdown(rows, argline, 0.0, measured)
+    if opt.before and os.path.exists(opt.before):
+        before = json.loads(Path(opt.before).read_text())
+        text += compare(rows, before["rows"] if isinstance(before, dict) else before,
+                        opt.before_label, os.path.relpath(opt.before, ROOT))
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)
     if opt.json:
-        Path(opt.json).write_text(json.dumps(rows, indent=1))
+        Path(opt.json).write_text(json.dumps({"measured": measured, "rows": rows}, indent=1))
     return 0
 
 

@@ -48,7 +48,9 @@ def _parse_nib(spec):
               help="Characters, ranges (a-z) and glyph names, comma separated; 'all': "
                    "every glyph drawn by its own contours (composites follow).")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image and the specimen.")
+              help="Text of the sample image and the specimen. A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
 @tol_option(default=FONT_TOL, what="outlines (sum and curve conversion together)",
             note="5e-4 em = 0.5 font units at 1000 units per em; the outlines are then "
@@ -101,7 +103,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
 
     from fontTools.ttLib import TTFont
 
-    from ..fonts.brush import brush_font, ellipse_nib, open_source
+    from ..fonts.brush import brush_font, open_source
+    from ..nib import ellipse_nib
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
@@ -121,11 +124,12 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
-    with progress_bar(total, "glyphs") as bar:
+    with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
     write_specimen(out, source_copy, sample=sample)
     click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
@@ -177,11 +181,24 @@ def _companions(out, force, specimen=True):
     return png, page
 
 
+def _covered_sample(font, sample):
+    """--sample when the written font draws it, else its own characters
+    (:func:`morph.fonts.specimen.sample_text`), with a note on stderr."""
+    from ..fonts.specimen import sample_text
+
+    text, changed = sample_text(font, sample)
+    if changed:
+        click.echo("note: the font does not draw every character of the sample %r: the "
+                   "sample image and specimen show its own characters %r" % (sample, text),
+                   err=True)
+    return text
+
+
 def _checked_nib(make):
     """The nib region ``make()`` returns, checked convex; a bad nib is bad input
     (InputError, exit 2)."""
     from ..errors import MorphError
-    from ..fonts.brush import check_convex_nib
+    from ..nib import check_convex_nib
 
     try:
         nib_region = make()
@@ -246,7 +263,9 @@ _STROKE_NIB = "ellipse:90,20,30"
                  "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
                  "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image (UFO skeletons).")
+              help="Text of the sample image (UFO skeletons). A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
@@ -317,7 +336,7 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
 def _stroke_nib(nib, nib_svg, scale):
     """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
     convex (InputError otherwise)."""
-    from ..fonts.brush import ellipse_nib
+    from ..nib import ellipse_nib
     from ..parse import svg_region
 
     def make():
@@ -366,10 +385,13 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     todo, _ = stroke_plan(font, items, nib_region)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with progress_bar(len(todo), "glyphs") as bar:
-        stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
+    with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
+        # the path, not the open font: stroke_ufo then reads the UFO whole instead of
+        # deep-copying this one (5 ms a glyph)
+        stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)

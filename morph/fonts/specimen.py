@@ -28,7 +28,7 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
@@ -58,6 +58,58 @@ def _sfnt_file(font):
             return str(font)
         font = TTFont(str(font))
     return io.BytesIO(font_bytes(font))
+
+
+#: characters in a sample of the font's own characters (:func:`sample_text`)
+OWN_SAMPLE_LENGTH = 15
+
+
+def _ink_test(font):
+    """(cmap {code point: glyph name}, has_ink(glyph name)) of a ``TTFont``, a font
+    file's path or a ufoLib2 font."""
+    if hasattr(font, "layers"):  # ufoLib2.Font
+        cmap = {}
+        for g in font:
+            for u in g.unicodes:
+                cmap.setdefault(u, g.name)
+        return cmap, lambda name: font[name].getBounds(font) is not None
+    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.ttLib import TTFont
+
+    if not hasattr(font, "getGlyphSet"):
+        font = TTFont(str(font), lazy=True)
+    glyph_set = font.getGlyphSet()
+
+    def has_ink(name):
+        pen = ControlBoundsPen(glyph_set)
+        glyph_set[name].draw(pen)
+        return pen.bounds is not None
+
+    return font.getBestCmap() or {}, has_ink
+
+
+def sample_text(font, text, length=OWN_SAMPLE_LENGTH):
+    """``(text, changed)``: the sample ``text`` when the font draws every character
+    of it (a space needs a glyph, others ink too), else the font's own characters
+    that have ink, in cmap order, at most ``length`` of them (``changed`` True): a
+    CJK skeleton font gets a sample of its own ideographs, not 15 .notdef boxes.
+    ``font``: a ``TTFont``, a font file's path or a ufoLib2 font."""
+    cmap, has_ink = _ink_test(font)
+
+    def covered(ch):
+        name = cmap.get(ord(ch))
+        return name is not None and (ch.isspace() or has_ink(name))
+
+    if text and all(covered(ch) for ch in text):
+        return text, False
+    own = []
+    for code in sorted(cmap):
+        ch = chr(code)
+        if unicodedata.category(ch)[0] not in ("C", "Z") and has_ink(cmap[code]):
+            own.append(ch)
+            if len(own) == length:
+                break
+    return "".join(own), True
 
 
 def write_sample_image(font, text, png, px=SAMPLE_PX):

@@ -42,6 +42,15 @@ def test_run_jobs_order_and_progress():
     assert run_jobs(_square, [3], jobs=4) == [9]
 
 
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_run_jobs_streams_without_keeping_results(jobs):
+    got = {}
+    out = run_jobs(_square, range(5), jobs=jobs, keep=False,
+                   progress=lambda k, r: got.__setitem__(k, r))
+    assert out == [None] * 5  # nothing kept: memory does not grow with the jobs
+    assert got == {k: k * k for k in range(5)}
+
+
 @pytest.mark.parametrize("n, size, count", [(0, 96, 0), (1, 96, 1), (2, 96, 2), (52, 96, 2),
                                             (96, 96, 2), (193, 96, 3), (584, 96, 7),
                                             (584, 48, 13)])

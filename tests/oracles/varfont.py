@@ -226,6 +226,9 @@ def _densify(polys, spacing):
 def boundary_distance(polys_a, polys_b, spacing=0.02):
     """Hausdorff distance between the boundaries of two polygon sets (densified at
     ``spacing``: exact within spacing / 2); inf when one is empty and not the other."""
+    from tests.oracles import need
+
+    need("scipy", "nearest boundary points")
     from scipy.spatial import cKDTree
 
     a, b = _densify(polys_a, spacing), _densify(polys_b, spacing)
