@@ -44,6 +44,12 @@ integer rounding of the compiled font (<= 0.71 unit for the masters' points and
 again for an instance's).  The gvar deltas are not IUP-optimised (``optimizeGvar``
 off): IUP's 0.5-unit tolerance would come on top of the bound.
 
+A variable TrueType font brushed keeping its axes (:func:`brush_variable`) is the same
+construction on filled glyphs (:func:`morph.compatible.region_elements`): every master
+of the source, and intermediate ones on its master grid (the nib part of distant
+masters does not interpolate), ⊕ the nib, fitted with common breaks, written into the
+glyf/gvar of a copy of the source.
+
 Metrics as in the static stroke (:mod:`morph.fonts.stroke`): each master's
 outlines shift right by its nib's left extent and the advances grow by the nib's
 width (rounded), zero-width marks keep advance 0 and shift left by the width;
