@@ -113,6 +113,7 @@ from pathlib import Path  # noqa: E402 - after the BLAS thread counts are set
 import numpy as np  # noqa: E402 - after the BLAS thread counts are set
 
 from morph import minkowski as _minkowski  # noqa: E402 - after the BLAS thread counts are set
+from morph import polyline as pl  # noqa: E402 - after the BLAS thread counts are set
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -450,7 +451,7 @@ def junction_crossings(loops, tol, limit=3):
 
     out = []
     for k, loop in enumerate(loops):
-        lines = [LineString(pc.flatten(p, tol / 4096)[0]) for p in loop]
+        lines = [LineString(pl.flatten(p, tol / 4096)[0]) for p in loop]
         ends = [np.array([pc.start(p), pc.end(p)]) for p in loop]
         n = len(loop)
         pairs = shapely.STRtree(lines).query(lines, predicate="intersects")
@@ -502,14 +503,14 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     if gap > 1e-9 * size:
         fail.append("open loop: gap %.3g (%.3g tol)" % (gap, gap / tol))
     # simple, no two loops crossing
-    rings = [pc.flatten_loop(l, tol / 64) for l in loops]
+    rings = [pl.flatten_loop(l, tol / 64) for l in loops]
     lines = _closed_lines(rings)
     if not shapely.is_simple(lines) or any(len(r) < 3 for r in rings):
         # polylines within f of the loops can cross where two strands of the loops
         # pass closer than 2f (a hairpin of a piece whose strands are 2e-4 tol apart
         # crossed at tol/1024 while the pieces do not): the finest level decides
         for f in (tol / 1024, tol / 65536):
-            fine = [pc.flatten_loop(l, f) for l in loops]
+            fine = [pl.flatten_loop(l, f) for l in loops]
             lines2 = _closed_lines(fine)
             if shapely.is_simple(lines2) and all(len(r) >= 3 for r in fine):
                 break
@@ -744,7 +745,7 @@ def check(font, a_name, b_name, tol, seed=0):
     if not _closed(loops, 1e-9 * scale + 1e-9):
         res["fail"].append("open loop")
     for k, loop in enumerate(loops):
-        ring = pc.flatten_loop(loop, tol / 4)
+        ring = pl.flatten_loop(loop, tol / 4)
         if len(ring) < 3 or not Polygon(ring).is_valid:
             res["fail"].append("loop %d not simple" % k)
             break

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
+from . import polyline as pl
 from .errors import DegenerateCurveError
 from .polyline import unique, winding_number
 
@@ -338,7 +339,7 @@ def _open_cusp_turns(curves, open_cusps):
     tips = np.array([pc.end(curves[i]) for i in open_cusps])
     ways = np.array([pc.end_tangents(curves[i])[1] for i in open_cusps])
     ways /= np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
-    poly = pc.flatten_loop(curves, 0.1 * eps)
+    poly = pl.flatten_loop(curves, 0.1 * eps)
     outside = np.round(winding_number(tips + eps * ways, [poly])) == 0
     return np.where(outside, np.pi, -np.pi) * sign
 

@@ -9,7 +9,7 @@ Everything here is a function on sequences of loops; :class:`Region` is the one
 region type the package returns: its loops, whether they are validated, and the
 error bound achieved.
 
-Polyline work (winding numbers, point tests) uses :func:`morph.piece.flatten`, whose
+Polyline work (winding numbers, point tests) uses :func:`morph.polyline.flatten`, whose
 polylines lie within ``tol`` of the curves; a point closer than that to a boundary may
 be classified either way.
 """
@@ -19,6 +19,8 @@ import pyclipper
 
 from . import bernstein as bz
 from . import piece as pc
+from . import nearest as nr
+from . import polyline as pl
 from .polyline import (BoxGrid, distance_to_others, near_point_pairs, polyline_edges,
                        polylines_apart, polylines_touch, project, segment_distance, unique,
                        winding_number, winding_of_others)
@@ -188,7 +190,7 @@ def reverse_loop(loop):
 
 def loop_polyline(loop, tol):
     """Closed polyline within ``tol`` of the loop, shape (m, 2), first point not repeated."""
-    return pc.flatten_loop(loop, tol)
+    return pl.flatten_loop(loop, tol)
 
 
 def region_polylines(loops, tol):
@@ -257,7 +259,7 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
         return validated([])
-    polys = pc.flatten_loops(cleaned, APART * scale)   # shared by both tests below
+    polys = pl.flatten_loops(cleaned, APART * scale)   # shared by both tests below
     if _loops_cross(cleaned, scale, polys):
         if on_crossing is None:
             raise ValueError("the loops cross or touch: they need a fill "
@@ -353,7 +355,7 @@ def winding_fault(loops):
     if not loops:
         return None
     scale = _region_scale(loops)
-    polys = pc.flatten_loops(loops, APART * scale)
+    polys = pl.flatten_loops(loops, APART * scale)
     areas = [pc.loop_area(loop) for loop in loops]
     if not _loops_cross(loops, scale, polys):
         return _hole_outside(loops, areas, scale, polys)
@@ -382,7 +384,7 @@ def _crossed_fault(loops, areas, scale, polys):
     grid = fine / 100.0
     depth = 3 * fine / grid  # the erosion, in grid units
     lo = np.min(np.concatenate(polys), axis=0)
-    flat = pc.flatten_loops(loops, fine)
+    flat = pl.flatten_loops(loops, fine)
     paths = [np.round((p - lo) / grid).astype(np.int64).tolist() for p in flat]
     for k, (loop, path) in enumerate(zip(loops, paths)):
         if len(path) < 3 or not _loops_cross([loop], scale):
@@ -512,7 +514,7 @@ class _LoopProbes:
         """(stacked pieces, segment piece, t0, t1, a, b) of loop k's polyline."""
         if k not in self._flat:
             pieces = [np.asarray(p, float) for p in self.loops[k]]
-            pid, ts, xy = pc.flat_starts(pieces, self.coarse)
+            pid, ts, xy = pl.flat_starts(pieces, self.coarse)
             nxt = np.roll(np.arange(len(pid)), -1)
             t1 = np.where(pid[nxt] == pid, ts[nxt], 1.0)
             self._flat[k] = (pc.stack(pieces), pid, ts, t1, xy, xy[nxt])
@@ -522,7 +524,7 @@ class _LoopProbes:
         """Do all samples of loop k lie within ``within`` of loop ``other``'s curves?
 
         Each sample's distance is the least over Newton's feet on the pieces
-        (:func:`morph.piece.closest_params_many`), started from the projection on
+        (:func:`morph.nearest.closest_params_many`), started from the projection on
         every polyline segment within ``within`` + 2 coarse of it: the segment
         whose parameter range holds a foot lies within coarse of the foot (the
         flattening bound), so a foot within ``within`` is reached from some start.
@@ -538,7 +540,7 @@ class _LoopProbes:
         if len(unique(p)) < len(pts):
             return False  # some sample is far from every segment
         start = t0[s] + u * (t1[s] - t0[s])
-        foot = pc.closest_params_many(stacked[pid[s]], pts[p][:, None, :], start[:, None])
+        foot = nr.closest_params_many(stacked[pid[s]], pts[p][:, None, :], start[:, None])
         q = pc.jet2_many(stacked[pid[s]], foot)[0][:, 0]
         best = np.full(len(pts), np.inf)
         np.minimum.at(best, p, np.hypot(*(q - pts[p]).T))
@@ -561,10 +563,10 @@ def _loops_cross(loops, scale, polys=None):
     on the closed polylines ``polys`` within APART x ``scale``, made here when not
     given).  True is conservative: such loops are filled by the general trimming."""
     tol = APART * scale
-    if polylines_apart(pc.flatten_loops(loops, tol) if polys is None else polys, tol):
+    if polylines_apart(pl.flatten_loops(loops, tol) if polys is None else polys, tol):
         return False
     fine = 1e-5 * scale
-    return polylines_touch(pc.flatten_loops(loops, fine), 2.0 * fine)
+    return polylines_touch(pl.flatten_loops(loops, fine), 2.0 * fine)
 
 
 # ------------------------------------------------------------------ measures

@@ -35,6 +35,7 @@ from shapely.geometry import Polygon
 
 from morph import minkowski, parse
 from morph import piece as pc
+from morph import polyline as pl
 from morph.parse import glyph_region
 from morph.minkowski import minkowski_sum, minkowski_sum_debug, minkowski_sums
 from tests import reference as R
@@ -74,7 +75,7 @@ def _boundary_samples(loops, per_piece=3):
 
 
 def _inside(loops, points):
-    polys = [pc.flatten_loop(l, 0.01) for l in loops]
+    polys = [pl.flatten_loop(l, 0.01) for l in loops]
     return R.winding_number(points, polys) != 0
 
 
@@ -271,7 +272,7 @@ def test_output_loops_closed_and_simple(glyphs):
     for loop in loops:
         for p, q in zip(loop, loop[1:] + loop[:1]):
             assert np.allclose(pc.end(p), pc.start(q), atol=1e-9)
-        poly = Polygon(pc.flatten_loop(loop, 0.05))
+        poly = Polygon(pl.flatten_loop(loop, 0.05))
         assert poly.is_valid
 
 
@@ -727,7 +728,7 @@ def test_a_sum_thinner_than_its_tolerance_everywhere_is_refused_not_empty():
     assert 0 < tol < 20.0
     out = minkowski_sum(bar, disk, tol)
     exact = box(0, 0, 100, 0.5).buffer(0.1)
-    ours = Polygon(pc.flatten_loop(out[0], 1e-3))
+    ours = Polygon(pl.flatten_loop(out[0], 1e-3))
     assert exact.hausdorff_distance(ours) <= tol
     with pytest.raises(LimitError, match="region 1"):
         minkowski_sums([[pc.circle((0, 0), 50.0)], bar], disk, 20.0)

@@ -7,6 +7,8 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from morph import piece as pc
+from morph import nearest as nr
+from morph import polyline as pl
 from morph.errors import DegenerateCurveError
 
 T = np.linspace(0.0, 1.0, 101)
@@ -185,7 +187,7 @@ def test_bbox_contains_curve(p):
 @settings(max_examples=30)
 @given(rational_pieces(max_degree=4), st.sampled_from([1e-1, 1e-2, 1e-3]))
 def test_flatten_within_tol(p, tol):
-    pts, params = pc.flatten(p, tol)
+    pts, params = pl.flatten(p, tol)
     assert params[0] == 0.0 and params[-1] == 1.0 and np.all(np.diff(params) > 0)
     # curve points between consecutive params are within tol of the chord
     for a, b, ta, tb in zip(pts[:-1], pts[1:], params[:-1], params[1:]):
@@ -219,8 +221,8 @@ def test_flatten_many_equals_flatten():
               + [pc.cubic((0, 0), (1, 3), (2, -3), (3, 0)), pc.line((0, 0), (5, 1)),
                  pc.quadratic((0, 0), (1, 2), (2, 0)), pc.cubic((0, 0), (2, 1), (1, 1), (3, 0))])
     for tol in (1e-1, 1e-3):
-        for p, (q, t) in zip(pieces, pc.flatten_many(pieces, tol)):
-            q2, t2 = pc.flatten(p, tol)
+        for p, (q, t) in zip(pieces, pl.flatten_many(pieces, tol)):
+            q2, t2 = pl.flatten(p, tol)
             assert np.array_equal(t, t2)
             assert np.allclose(q, q2, atol=1e-12)
 
@@ -230,13 +232,13 @@ def test_flat_starts_are_the_polylines_without_their_ends():
     sorted by (piece, t), pieces of mixed degrees in their given order."""
     pieces = [pc.line((0, 0), (5, 1)), pc.cubic((5, 1), (6, 3), (7, -3), (8, 0))] \
         + pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3) + [pc.quadratic((0, 0), (1, 2), (2, 0))]
-    owner, t, pts = pc.flat_starts(pieces, 1e-3)
+    owner, t, pts = pl.flat_starts(pieces, 1e-3)
     assert np.all(np.diff(owner) >= 0)
     for k, p in enumerate(pieces):
-        q, tk = pc.flatten(p, 1e-3)
+        q, tk = pl.flatten(p, 1e-3)
         assert np.array_equal(t[owner == k], tk[:-1])
         assert np.allclose(pts[owner == k], q[:-1], atol=1e-12)
-    empty = pc.flat_starts([], 1e-3)
+    empty = pl.flat_starts([], 1e-3)
     assert [len(a) for a in empty] == [0, 0, 0]
 
 
@@ -290,7 +292,7 @@ def test_nearest_params_many_against_brute_force():
     rng = np.random.default_rng(4)
     c = _random_rational_stack(rng, 6, 4)
     pts = rng.uniform(-1.2, 1.2, (6, 15, 2))
-    s = pc.nearest_params_many(c, pts)
+    s = nr.nearest_params_many(c, pts)
     t = np.linspace(0, 1, 20001)
     for k in range(len(c)):
         dense = _plain_eval(c[k], t)
@@ -312,8 +314,8 @@ def test_distance_bound_many_certifies_and_is_invariant():
     t = np.linspace(0, 1, 4001)
     import math
     bern = np.stack([math.comb(3, i) * t ** i * (1 - t) ** (3 - i) for i in range(4)], 1)
-    b0, _ = pc.distance_bound_many(c, q, 0)
-    b3, _ = pc.distance_bound_many(c, q, 3)
+    b0, _ = nr.distance_bound_many(c, q, 0)
+    b3, _ = nr.distance_bound_many(c, q, 3)
     for k in range(len(c)):
         sampled = np.hypot(*(_plain_eval(c[k], t) - bern @ q[k]).T).max()
         assert b0[k] >= b3[k] >= sampled * (1 - 1e-12)
@@ -321,8 +323,8 @@ def test_distance_bound_many_certifies_and_is_invariant():
     shift = np.array([1e3, -2e3])
     cs = c.copy()
     cs[:, :, :2] += cs[:, :, 2:] * shift
-    assert np.allclose(pc.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
-    assert np.allclose(pc.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
+    assert np.allclose(nr.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
+    assert np.allclose(nr.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
                        rtol=1e-12)
 
 
@@ -344,8 +346,8 @@ def test_flat_starts_keep_gives_the_whole_flattening_where_kept():
     def keep(owner, t0, width):
         return (t0 <= hi[owner]) & (t0 + width >= lo[owner])
 
-    full = pc.flat_starts(pieces, 1e-3)
-    part = pc.flat_starts(pieces, 1e-3, keep=keep)
+    full = pl.flat_starts(pieces, 1e-3)
+    part = pl.flat_starts(pieces, 1e-3, keep=keep)
     whole = {(int(o), float(t)): tuple(p) for o, t, p in zip(*full)}
     got = {(int(o), float(t)): tuple(p) for o, t, p in zip(*part)}
     assert all(whole.get(k) == v for k, v in got.items())

@@ -5,6 +5,7 @@ import shapely
 from shapely.geometry import LineString
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.polyline import (flatten_segments, polylines_apart, polylines_cross, polylines_touch,
                             segment_crossings, segment_pairs)
 
@@ -125,7 +126,7 @@ def test_polylines_apart_is_a_sufficient_test():
     not apart."""
 
     def apart(*loops):
-        return polylines_apart(pc.flatten_loops(list(loops), tol), tol)
+        return polylines_apart(pl.flatten_loops(list(loops), tol), tol)
 
     tol = 1e-2
     rng = np.random.default_rng(11)
@@ -137,8 +138,8 @@ def test_polylines_apart_is_a_sufficient_test():
         c2 = (r1 + r2 + gap) * np.array([np.cos(ang), np.sin(ang)])
         a, b = pc.circle((0.0, 0.0), r1), pc.circle(c2, r2)
         got = apart(a, b)
-        true_gap = shapely.Polygon(pc.flatten_loop(a, 1e-6)).distance(
-            shapely.Polygon(pc.flatten_loop(b, 1e-6)))
+        true_gap = shapely.Polygon(pl.flatten_loop(a, 1e-6)).distance(
+            shapely.Polygon(pl.flatten_loop(b, 1e-6)))
         if got:   # each arc within tol of its segments, the segments over 2 tol apart
             assert true_gap > 0, (gap, true_gap)
         if true_gap > 4 * tol:   # the polylines (within tol) more than 2 tol apart

@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.minkowski import minkowski_sum
 from tests import reference as R
 
@@ -63,7 +64,7 @@ def blobs(draw, size=100.0):
             w[1:-1] = draw(st.lists(st.floats(0.3, 3.0), min_size=k, max_size=k))
         pieces.append(pc.from_points(cp, w))
     loop = pieces
-    ring = pc.flatten_loop(loop, 0.01)
+    ring = pl.flatten_loop(loop, 0.01)
     poly = Polygon(ring)
     assume(poly.is_valid and poly.area > 1.0)
     if pc.loop_area(loop) < 0:  # CCW outer
@@ -87,7 +88,7 @@ shapes = st.one_of(blobs(), blobs(), convex())
 
 
 def _polys(loops):
-    return [pc.flatten_loop(l, TOL / 10) for l in loops]
+    return [pl.flatten_loop(l, TOL / 10) for l in loops]
 
 
 def _interior_points(region, rng, n):
@@ -185,7 +186,7 @@ def _rng_blob(rng, size):
             if k and rng.random() < 0.5:
                 w[1:-1] = rng.uniform(0.3, 3.0, k)
             loop.append(pc.from_points(cp, w))
-        poly = Polygon(pc.flatten_loop(loop, 1e-3 * size))
+        poly = Polygon(pl.flatten_loop(loop, 1e-3 * size))
         if poly.is_valid and poly.area > 1e-3 * size * size:
             return [loop] if pc.loop_area(loop) > 0 else [[pc.reverse(p) for p in loop[::-1]]]
 
@@ -216,7 +217,7 @@ def test_random_rotated_scaled_sums_against_polygon_reference():
         where = "MORPH_SEED=%d case %d" % (seed, case)
         loops = minkowski_sum(a, b, tol)
         x = (_interior_points(a, rng, 6)[:, None, :] + _interior_points(b, rng, 6)[None]).reshape(-1, 2)
-        polys = [pc.flatten_loop(l, tol / 10) for l in loops]
+        polys = [pl.flatten_loop(l, tol / 10) for l in loops]
         inside = R.winding_number(x, polys) != 0
         lines = shapely.MultiLineString([np.vstack([p, p[:1]]) for p in polys])
         assert (inside | (shapely.distance(shapely.points(x), lines) <= 2 * tol)).all(), where

@@ -9,6 +9,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.fonts.brush import ellipse_nib
 from morph.stroke import stroke_paths
 
@@ -18,10 +19,10 @@ SCALE = 1e4  # Clipper integer scale of the reference
 
 def _reference(paths, nib):
     """Union of MinkowskiSum(nib polygon, path polyline) in Clipper (open paths)."""
-    nib_poly = pyclipper.scale_to_clipper(pc.flatten_loop(nib[0], FLAT), SCALE)
+    nib_poly = pyclipper.scale_to_clipper(pl.flatten_loop(nib[0], FLAT), SCALE)
     parts = []
     for pieces, closed in paths:
-        pts = np.concatenate([pc.flatten(p, FLAT)[0] for p in pieces])
+        pts = np.concatenate([pl.flatten(p, FLAT)[0] for p in pieces])
         parts += pyclipper.MinkowskiSum(nib_poly, pyclipper.scale_to_clipper(pts, SCALE), closed)
     clip = pyclipper.Pyclipper()
     clip.AddPaths(parts, pyclipper.PT_SUBJECT, True)
@@ -36,8 +37,8 @@ def _reference(paths, nib):
 
 
 def _ours(loops, tol):
-    outer = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) > 0]
-    holes = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) < 0]
+    outer = [Polygon(pl.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) > 0]
+    holes = [Polygon(pl.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) < 0]
     return shapely.unary_union(outer).difference(shapely.unary_union(holes))
 
 

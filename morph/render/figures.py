@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import piece as pc
+from .. import polyline as pl
 from . import frame_bbox
 
 __all__ = ["cspace_figure", "write_frame_stream", "write_frames"]
@@ -21,7 +22,7 @@ ROBOT_STYLE = {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}
 def _boundary_points(loop, tol, count):
     """``count`` points spread evenly by arc length along a loop (on its polyline
     within ``tol``, interpolated along its segments), starting at the loop's start."""
-    poly = pc.flatten_loop(loop, tol)
+    poly = pl.flatten_loop(loop, tol)
     closed = np.vstack([poly, poly[:1]])
     seg = np.hypot(*np.diff(closed, axis=0).T)
     cum = np.concatenate([[0.0], np.cumsum(seg)])

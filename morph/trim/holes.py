@@ -13,6 +13,7 @@ import numpy as np
 import pyclipper
 
 from .. import piece as pc
+from .. import polyline as pl
 from ..polyline import min_segment_distance, unique, winding_number
 
 
@@ -127,8 +128,8 @@ class Membership:
 
     def __init__(self, region_a, region_b, depth):
         flat = depth / 10.0
-        pa = pc.flatten_loops(region_a, flat)
-        self.pb = pc.flatten_loops(region_b, flat)
+        pa = pl.flatten_loops(region_a, flat)
+        self.pb = pl.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
         flat_loop = [abs(pc.loop_area(loop)) <= 1e-9 * size * size for loop in region_a]

@@ -17,8 +17,8 @@ along the segment.
 
 import numpy as np
 
-from .. import bernstein as bz
 from .. import piece as pc
+from .. import nearest as nr
 from ..polyline import BoxGrid, project, segment_distance, unique
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
@@ -74,9 +74,9 @@ def lift_rings(rings, tg, contract):
         # to the junction would bend the piece that far)
         bad = ~ok
         if bad.any():
-            ta[bad] = pc.nearest_params_in_range(stacked[ia[bad]], guess[bad], t0[k[bad]],
+            ta[bad] = nr.nearest_params_in_range(stacked[ia[bad]], guess[bad], t0[k[bad]],
                                                  t1[k[bad]])
-            tb[bad] = pc.nearest_params_in_range(stacked[ib[bad]], guess[bad],
+            tb[bad] = nr.nearest_params_in_range(stacked[ib[bad]], guess[bad],
                                                  t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)

@@ -10,6 +10,7 @@ import pytest
 import shapely
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.errors import ParseError
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region, load_font
 
@@ -63,7 +64,7 @@ def test_orientation_outer_ccw_holes_cw(font, ch, holes):
     assert signs.count(-1) == holes and signs.count(1) == len(signs) - holes
     # the biggest loop is the outer one; every hole lies inside an outer loop
     assert pc.loop_area(max(g.region, key=lambda l: abs(pc.loop_area(l)))) > 0
-    outers = [shapely.Polygon(pc.flatten_loop(l, 0.5)) for l in g.region if pc.loop_area(l) > 0]
+    outers = [shapely.Polygon(pl.flatten_loop(l, 0.5)) for l in g.region if pc.loop_area(l) > 0]
     for l in g.region:
         if pc.loop_area(l) < 0:
             probe = shapely.Point(pc.evaluate(l[0], 0.5)[0])

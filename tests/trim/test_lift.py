@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from morph import piece as pc
+from morph import nearest as nr
 from morph.trim import boundary
 from morph.trim.lift import newton_crossings
 
@@ -81,7 +82,7 @@ def test_boundary_of_two_crossing_circles_is_exact_arcs():
 
 
 def test_nearest_in_range_against_dense_sampling():
-    """piece.nearest_params_in_range (where a crossing's Newton fails, each run ends
+    """nr.nearest_params_in_range (where a crossing's Newton fails, each run ends
     at its piece's point nearest to the grid point within its segment's range) against
     the nearest of 20001 samples of the range, on random rational pieces of uneven
     speed."""
@@ -95,7 +96,7 @@ def test_nearest_in_range_against_dense_sampling():
     hi = np.minimum(lo + rng.uniform(0.01, 0.4, m), 1.0)
     mid = np.array([pc.evaluate(stacked[i], 0.5 * (lo[i] + hi[i]))[0] for i in range(m)])
     pts = mid + rng.normal(0, 0.05, (m, 2))
-    s = pc.nearest_params_in_range(stacked, pts, lo, hi)
+    s = nr.nearest_params_in_range(stacked, pts, lo, hi)
     assert np.all((s >= lo) & (s <= hi))
     got = np.hypot(*(np.array([pc.evaluate(stacked[i], s[i])[0] for i in range(m)]) - pts).T)
     dense = np.array([np.hypot(*(pc.evaluate(stacked[i], np.linspace(lo[i], hi[i], 20001))
