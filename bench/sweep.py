@@ -114,6 +114,7 @@ import numpy as np  # noqa: E402 - after the BLAS thread counts are set
 
 from morph import minkowski as _minkowski  # noqa: E402 - after the BLAS thread counts are set
 from morph import polyline as pl  # noqa: E402 - after the BLAS thread counts are set
+from morph import moments as mo  # noqa: E402 - after the BLAS thread counts are set
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -663,7 +664,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     res["membership_points"] = int(len(x))
     # polygon reference: area, distances, counts
     if ref is not None and not ref.is_empty:
-        area = pc.region_area(loops)
+        area = mo.region_area(loops)
         per = float(ref.length)
         bound = (tol + ref_err) * per
         res["area_diff/bound"] = abs(area - ref.area) / bound
@@ -674,7 +675,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
         res["ref_to_ours/tol"] = float(ours_index.distance(
             rs[:, 0] if len(rs) <= 20000 else rs[rng.choice(len(rs), 20000, replace=False), 0]
         ).max() / tol) if len(rs) else 0.0
-        res["holes"] = sum(pc.loop_area(l) < 0 for l in loops)
+        res["holes"] = sum(mo.loop_area(l) < 0 for l in loops)
         res["ref_holes"] = sum(len(p.interiors) for p in shapely.get_parts(ref))
     return res
 
@@ -785,15 +786,15 @@ def check(font, a_name, b_name, tol, seed=0):
     # coarse Clipper reference
     ref = R.polygon_minkowski_sum(a, b, REF_TOL)
     res["ref"] = ref
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     rel = abs(area - ref.area) / ref.area
     res["area_rel"] = rel
     if rel > 2e-3:
         res["fail"].append("area %.6g vs reference %.6g (rel %.2e)" % (area, ref.area, rel))
     min_area = 100 * tol
     ref_counts = R.count_outer_and_holes(ref, min_area)
-    ours_counts = (sum(pc.loop_area(l) > min_area for l in loops),
-                   sum(pc.loop_area(l) < -min_area for l in loops))
+    ours_counts = (sum(mo.loop_area(l) > min_area for l in loops),
+                   sum(mo.loop_area(l) < -min_area for l in loops))
     if ours_counts != ref_counts:
         res["fail"].append("outer/holes %s vs reference %s" % (ours_counts, ref_counts))
     h = R.hausdorff(ours_poly, ref, spacing=2.0)
@@ -1101,7 +1102,7 @@ def _compare_clipper(loops, ref, ref_err, oracle, tol, f, chk):
     from tests.reference import hausdorff, region_to_shapely
 
     msgs = []
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     bound = (tol + ref_err) * float(ref.length)
     chk["clipper_area_diff/bound"] = abs(area - ref.area) / bound
     if abs(area - ref.area) > bound:

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
+from . import moments as mo
 from . import polyline as pl
 from .errors import DegenerateCurveError
 from .polyline import unique, winding_number
@@ -331,7 +332,7 @@ def _open_cusp_turns(curves, open_cusps):
     counter-clockwise.  Where the loop does not bound what it traces (a part of zero
     width crossing the rest of the loop) the turns then do not add up to one full
     turn, and :func:`morph.convolve.gauss_pair_of` refuses it."""
-    area = pc.loop_area(curves)
+    area = mo.loop_area(curves)
     pts = np.concatenate([pc.cartesian(c) for c in curves])
     size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
     sign = np.sign(area) if abs(area) > 1e-9 * size * size else 1.0

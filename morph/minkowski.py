@@ -6,6 +6,7 @@
 import numpy as np
 
 from . import piece as pc
+from . import moments as mo
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
@@ -188,7 +189,7 @@ def check_operand(region, name):
             loop = int(np.searchsorted(np.cumsum(sizes), j, side="right"))
             raise OperandError("%s: loop %d is not closed: piece %d ends %.3g away from "
                                "where the next starts" % (name, loop, j - first[j], gap[j]))
-        area = pc.region_area(region)
+        area = mo.region_area(region)
     if area < -1e-9 * size * size:
         raise OperandError("%s has a negative signed area (%.6g): outer loops must run "
                            "counter-clockwise and holes clockwise "

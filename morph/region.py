@@ -19,8 +19,10 @@ import pyclipper
 
 from . import bernstein as bz
 from . import piece as pc
+from . import moments as mo
 from . import nearest as nr
 from . import polyline as pl
+from .moments import region_centroid
 from .polyline import (BoxGrid, distance_to_others, near_point_pairs, polyline_edges,
                        polylines_apart, polylines_touch, project, segment_distance, unique,
                        winding_number, winding_of_others)
@@ -99,7 +101,7 @@ class Region(tuple):
 
     @property
     def area(self):
-        return pc.region_area(self)
+        return mo.region_area(self)
 
     @property
     def bbox(self):
@@ -286,7 +288,7 @@ def _positive_loops(loops):
         if not loop:
             continue
         ext = _region_scale([loop])
-        area = pc.loop_area(loop)
+        area = mo.loop_area(loop)
         if abs(area) > 1e-12 * ext * ext or _loops_cross([loop], ext):
             out.append(loop)
             areas.append(area)
@@ -356,7 +358,7 @@ def winding_fault(loops):
         return None
     scale = _region_scale(loops)
     polys = pl.flatten_loops(loops, APART * scale)
-    areas = [pc.loop_area(loop) for loop in loops]
+    areas = [mo.loop_area(loop) for loop in loops]
     if not _loops_cross(loops, scale, polys):
         return _hole_outside(loops, areas, scale, polys)
     return _crossed_fault(loops, areas, scale, polys)
@@ -610,50 +612,6 @@ def loop_bboxes(loops):
     np.maximum.at(hi, of, p)
     used = np.bincount(loop_of, minlength=n) > 0
     return np.concatenate([lo, hi], axis=1)[used]
-
-
-def _piece_moments(piece, quad_points=24):
-    """(A, Mx, My) contributions of a piece: 1/2 ∮ x dy - y dx, 1/3 ∮ x (x dy - y dx), ..."""
-    piece = np.asarray(piece, float)
-    if pc.is_polynomial(piece):
-        p = pc.cartesian(piece)
-        if len(p) == 1:
-            return np.zeros(3)
-        d = bz.derivative(p)
-        cross = bz.multiply(p[:, :1], d[:, 1:2])[:, 0] - bz.multiply(p[:, 1:2], d[:, :1])[:, 0]
-        mx = bz.multiply(p[:, :1], cross[:, None])[:, 0]
-        my = bz.multiply(p[:, 1:2], cross[:, None])[:, 0]
-        # the integral over [0, 1] of a Bernstein polynomial is the mean of its coefficients
-        return np.array([np.mean(cross) / 2, np.mean(mx) / 3, np.mean(my) / 3])
-    x, wts = np.polynomial.legendre.leggauss(quad_points)
-    out = np.zeros(3)
-    for lo in (0.0, 0.5):  # two panels: 1e-14 relative for conics and QAC output
-        t = lo + 0.25 * (x + 1.0)
-        pt = pc.evaluate(piece, t)
-        dp = pc.derivative(piece, t)
-        cross = pt[:, 0] * dp[:, 1] - pt[:, 1] * dp[:, 0]
-        out += 0.25 * np.array([np.dot(wts, cross) / 2,
-                                np.dot(wts, pt[:, 0] * cross) / 3,
-                                np.dot(wts, pt[:, 1] * cross) / 3])
-    return out
-
-
-def region_centroid(loops):
-    """Area centroid (cx, cy) of an oriented region (Green's theorem).
-
-    ``A = 1/2 ∮ x dy - y dx``, ``∬ x dA = 1/3 ∮ x (x dy - y dx)``,
-    ``∬ y dA = 1/3 ∮ y (x dy - y dx)``.  Exact on the control points for polynomial
-    pieces (the integrands are Bernstein polynomials; their integral over [0, 1] is the
-    mean of the coefficients); Gauss-Legendre quadrature (2 x 24 nodes) for rational
-    pieces.  Raises ValueError when the region has zero area.
-    """
-    m = np.zeros(3)
-    for loop in loops:
-        for p in loop:
-            m += _piece_moments(p)
-    if m[0] == 0:
-        raise ValueError("region of zero area has no centroid")
-    return np.array([m[1] / m[0], m[2] / m[0]])
 
 
 def point_in_region(points, loops, tol):

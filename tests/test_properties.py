@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 from morph import piece as pc
+from morph import moments as mo
 from morph import polyline as pl
 from morph.minkowski import minkowski_sum
 from tests import reference as R
@@ -67,7 +68,7 @@ def blobs(draw, size=100.0):
     ring = pl.flatten_loop(loop, 0.01)
     poly = Polygon(ring)
     assume(poly.is_valid and poly.area > 1.0)
-    if pc.loop_area(loop) < 0:  # CCW outer
+    if mo.loop_area(loop) < 0:  # CCW outer
         loop = [pc.reverse(p) for p in loop[::-1]]
     off = draw(st.tuples(st.floats(-50, 50), st.floats(-50, 50)))
     return [[pc.translate(p, np.array(off)) for p in loop]]
@@ -129,10 +130,10 @@ def test_sum_contains_translates(a, b, seed):
 def test_area_bounds_and_symmetry(a, b):
     ab = minkowski_sum(a, b, TOL)
     ba = minkowski_sum(b, a, TOL)
-    area_ab, area_ba = pc.region_area(ab), pc.region_area(ba)
-    assert area_ab >= max(pc.region_area(a), pc.region_area(b)) - TOL * _perimeter(ab)
+    area_ab, area_ba = mo.region_area(ab), mo.region_area(ba)
+    assert area_ab >= max(mo.region_area(a), mo.region_area(b)) - TOL * _perimeter(ab)
     assert abs(area_ab - area_ba) <= TOL * max(_perimeter(ab), _perimeter(ba))
-    assert sum(pc.loop_area(l) > 0 for l in ab) == sum(pc.loop_area(l) > 0 for l in ba)
+    assert sum(mo.loop_area(l) > 0 for l in ab) == sum(mo.loop_area(l) > 0 for l in ba)
 
 
 @SETTINGS
@@ -142,7 +143,7 @@ def test_translation_covariance(a, b, t):
     ab = minkowski_sum(a, b, TOL)
     moved = [[pc.translate(p, t) for p in l] for l in a]
     ab2 = minkowski_sum(moved, b, TOL)
-    assert abs(pc.region_area(ab2) - pc.region_area(ab)) <= TOL * _perimeter(ab)
+    assert abs(mo.region_area(ab2) - mo.region_area(ab)) <= TOL * _perimeter(ab)
     box1 = np.min([pc.bbox(p)[:2] for l in ab for p in l], axis=0)
     box2 = np.min([pc.bbox(p)[:2] for l in ab2 for p in l], axis=0)
     assert np.allclose(box2 - box1, t, atol=2 * TOL)
@@ -155,11 +156,11 @@ def test_sum_area_matches_polygon_reference(a, b):
     REF_TOL: the fine one costs N·M)."""
     loops = minkowski_sum(a, b, TOL)
     ref = R.polygon_minkowski_sum(a, b, REF_TOL)
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     per = _perimeter(loops)
     assert abs(area - ref.area) <= REF_TOL * per, (area, ref.area)
     outer, holes = R.count_outer_and_holes(ref, min_area=REF_TOL * per)
-    assert sum(pc.loop_area(l) > REF_TOL * per for l in loops) == outer
+    assert sum(mo.loop_area(l) > REF_TOL * per for l in loops) == outer
 
 
 # ---------------------------------------------------------------- real randomness (slow)
@@ -188,7 +189,7 @@ def _rng_blob(rng, size):
             loop.append(pc.from_points(cp, w))
         poly = Polygon(pl.flatten_loop(loop, 1e-3 * size))
         if poly.is_valid and poly.area > 1e-3 * size * size:
-            return [loop] if pc.loop_area(loop) > 0 else [[pc.reverse(p) for p in loop[::-1]]]
+            return [loop] if mo.loop_area(loop) > 0 else [[pc.reverse(p) for p in loop[::-1]]]
 
 
 def _rotated(region, theta, scale):
@@ -224,6 +225,6 @@ def test_random_rotated_scaled_sums_against_polygon_reference():
         ref_flat = 5 * tol  # the reference (flattened operands) is within this of exact
         ref = R.polygon_minkowski_sum(a, b, ref_flat)
         per = _perimeter(loops)
-        assert abs(pc.region_area(loops) - ref.area) <= (tol + 2 * ref_flat) * per, where
+        assert abs(mo.region_area(loops) - ref.area) <= (tol + 2 * ref_flat) * per, where
         ba = minkowski_sum(b, a, tol)
-        assert abs(pc.region_area(ba) - pc.region_area(loops)) <= 2 * tol * per, where
+        assert abs(mo.region_area(ba) - mo.region_area(loops)) <= 2 * tol * per, where

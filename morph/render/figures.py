@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import piece as pc
+from .. import moments as mo
 from .. import polyline as pl
 from . import frame_bbox
 
@@ -47,7 +48,7 @@ def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0),
         shapes.reverse()
     if not cspace or samples <= 0:
         return shapes
-    outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop)))
+    outer = max(cspace, key=lambda loop: abs(mo.loop_area(loop)))
     box = frame_bbox([cspace], margin=0.0)
     dot = 0.012 * max(box[2] - box[0], box[3] - box[1])
     for p in _boundary_points(outer, tol, samples):

@@ -18,6 +18,7 @@ along the segment.
 import numpy as np
 
 from .. import piece as pc
+from .. import moments as mo
 from .. import nearest as nr
 from ..polyline import BoxGrid, project, segment_distance, unique
 
@@ -191,8 +192,8 @@ def _cut_at(run, j, s, u, x):
     head_i, tail_i = pc.subsegment(out[i], 0.0, s), pc.subsegment(out[i], s, 1.0)
     head_k, tail_k = pc.subsegment(out[k], 0.0, u), pc.subsegment(out[k], u, 1.0)
     through_j = [tail_i, out[j], head_k]
-    part = pc.loop_area(through_j)
-    if abs(part) > abs(pc.loop_area(out) - part):
+    part = mo.loop_area(through_j)
+    if abs(part) > abs(mo.loop_area(out) - part):
         out[:] = through_j
         ends[:] = [ends[i], ends[j], x]
         return

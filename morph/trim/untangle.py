@@ -15,6 +15,7 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
+from .. import moments as mo
 from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
@@ -190,7 +191,7 @@ def _split_off(loop, hit, eps, hole_test):
     u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`
     says so."""
     lobe, rest = _split(loop, *hit, 1e-6 * eps)
-    if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
+    if lobe and rest and abs(mo.loop_area(lobe)) > abs(mo.loop_area(rest)):
         lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
     keep = [rest]
     if lobe and _keep_lobe(lobe, rest, eps, hole_test):
@@ -518,7 +519,7 @@ def _keep_lobe(lobe, rest, eps, hole_test=None):
     eps around it), which ``hole_test`` may find filled.  A lobe of the opposite
     orientation beside the rest (a twist) or nested with the same one (a curl)
     bounds nothing; nor does one of area below eps^2."""
-    a_lobe, a_rest = pc.loop_area(lobe), pc.loop_area(rest)
+    a_lobe, a_rest = mo.loop_area(lobe), mo.loop_area(rest)
     if abs(a_lobe) <= eps * eps:
         return False
     probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)[0]

@@ -3,6 +3,7 @@
 import numpy as np
 
 from morph import piece as pc
+from morph import moments as mo
 from morph import polyline as pl
 from morph.polyline import polylines_cross
 from morph.trim.untangle import untangle
@@ -24,7 +25,7 @@ def test_every_loop_is_untangled_however_many_cross():
     assert not any(polylines_cross(loop, 1e-3) for loop in out)
     # the twist (the clockwise triangle) goes, the counter-clockwise one stays
     assert len(out) == 70
-    assert all(pc.loop_area(loop) > 0 for loop in out)
+    assert all(mo.loop_area(loop) > 0 for loop in out)
     centres = np.array([np.mean([pc.start(p) for p in loop], axis=0) for loop in out])
     assert len(np.unique(np.round(centres // 30.0), axis=0)) == 70   # one per place
 
@@ -78,7 +79,7 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     assert np.allclose(pc.start(out[1]), pc.end(out[0])) and np.allclose(pc.end(out[1]), (20, 0))
     ring = pl.flatten_loop(out, 1e-4)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
-    assert abs(pc.loop_area(out) - 50.0) < 1e-6
+    assert abs(mo.loop_area(out) - 50.0) < 1e-6
     # legs that coincide and then part without a turn (a veers off towards (14, 6)):
     # cut where they part (y_a = 7e-5, x = 9.2), not further back along a
     veer = pc.cubic((14, 6), (12, 0), (12, 0), (9, 0))
@@ -87,7 +88,7 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     assert len(out) == 3 and 9.15 < pc.end(out[0])[0] < 9.25
     ring = pl.flatten_loop(out, 1e-4)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
-    assert abs(pc.loop_area(out) - pc.loop_area(loop)) < 1e-3
+    assert abs(mo.loop_area(out) - mo.loop_area(loop)) < 1e-3
     # a tip: the legs part at once (a turn of pi, not a spike), kept as it is
     tip = [pc.quadratic((0, 0), (5, 0.1), (10, 0)), pc.quadratic((10, 0), (5, -0.1), (1, -0.5)),
            pc.line((1, -0.5), (0, 0))]
@@ -111,7 +112,7 @@ def test_two_outer_loops_crossing_in_a_lens_become_their_union():
     ring = pl.flatten_loop(out[0], 1e-6)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
     union = Polygon(pl.flatten_loop(a, 1e-6)).union(Polygon(pl.flatten_loop(b, 1e-6)))
-    assert abs(pc.loop_area(out[0]) - union.area) < 1e-5
+    assert abs(mo.loop_area(out[0]) - union.area) < 1e-5
     assert len(merge_lenses([a, b], [True, False], 0.01)) == 2
     # only the pairs said to be near are searched (boundary passes those whose rings
     # come within twice the lift's error)
@@ -167,7 +168,7 @@ def test_a_comb_of_spikes_folds_back_to_its_square():
              pc.line((100, 100), (0, 100)), pc.line((0, 100), (0, 0)), pc.line((0, 0), (0.5, 0)),
              pc.line((0.5, 0), (0.5, 10))]
     out = remove_folds(loop, 1e-3)
-    assert abs(pc.loop_area(out) - 10000.0) < 1e-9
+    assert abs(mo.loop_area(out) - 10000.0) < 1e-9
     first, last = pc.end_tangents_many(out)
     assert (np.einsum("ij,ij->i", last, np.roll(first, -1, axis=0)) > FOLD_COS).all()
     ring = pl.flatten_loop(out, 1e-6)
