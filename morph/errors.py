@@ -79,13 +79,13 @@ class NibError(MorphError, ValueError):
 class OperandError(MorphError, ValueError):
     """An operand of a sum that is no region: not a list of closed loops of (n+1, 3)
     pieces with positive weights, a negative area, a loop winding the wrong way
-    (:func:`morph.minkowski.check_operand`).  Bad input (exit status 2)."""
+    (:func:`morph.operands.check_operand`).  Bad input (exit status 2)."""
 
 
 class SelfCrossingError(OperandError):
     """An operand loop that crosses itself so that it bounds no region: its own
     winding number beside the crossing is neither 0 nor its orientation's sign (a
-    curl undone by a counter-curl, :func:`morph.region.winding_fault`), or its
+    curl undone by a counter-curl, :func:`morph.operands.winding_fault`), or its
     tangent does not turn exactly once (a figure-8, a pentagram, a part of zero
     width crossing the rest of the loop: :func:`morph.convolve.gauss_pair_of`).
     ``loop`` is its index in its operand."""

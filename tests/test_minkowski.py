@@ -813,7 +813,7 @@ def test_loops_that_touch_overlap_or_cross_and_still_bound_a_region_are_summed(r
     beside it (a region's boundary traced through a pinch), and loops of one
     direction that overlap or nest (winding 2), pass the winding test, and their sum
     is the nonzero fill grown by the disk (Clipper fill, shapely buffer)."""
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     assert winding_fault(region) is None
     tol, r = 1e-3, 0.3
@@ -842,7 +842,7 @@ def test_the_gauss_map_refuses_a_loop_that_does_not_turn_once():
 def test_real_regions_pass_the_winding_test():
     """No false alarm: every letter of the bundled TrueType and CFF fonts, and sums
     of glyphs (whose loops may touch), as plain lists, pass :func:`winding_fault`."""
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     for font in (None, parse.glyphs.cubic_test_font_path()):
         for ch in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz&%@8":
@@ -904,7 +904,7 @@ def test_a_spike_or_a_slit_is_summed_as_traced(r):
     fill with the traced polyline)."""
     from shapely.ops import unary_union
 
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     for points in ([(0, 0), (1, 0), (1, 0.5), (1.8, 0.5), (1, 0.5), (1, 1), (0, 1)],
                    [(0, 0), (1, 0), (1, 1), (0.5, 1), (0.5, 0.3), (0.5, 1), (0, 1)]):
@@ -951,7 +951,7 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
 
     from morph.errors import SelfCrossingError
     from morph.polyline import winding_number
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     rng = np.random.default_rng({"integer": 8, "perturbed": 7, "curved": 9}[kind])
     summed = refused = 0
