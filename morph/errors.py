@@ -21,12 +21,15 @@ class MorphError(Exception):
 class ParseError(MorphError):
     """Input (font, glyph, SVG file or path string) could not be read as a shape.
 
-    ``source`` names the input (file path, glyph, path string) the message is about.
+    ``source`` names the input (file path, glyph, path string) the message is about;
+    ``kind`` what is wrong, for a caller's advice (e.g. "stroke": it draws only
+    stroke paint, centre lines).
     """
 
-    def __init__(self, message, source=None):
+    def __init__(self, message, source=None, kind=None):
         super().__init__(message)
         self.source = source
+        self.kind = kind
 
 
 class DegenerateCurveError(MorphError):
@@ -109,7 +112,11 @@ class LimitError(MorphError, ValueError):
 class MorphWarning(UserWarning):
     """Input was read, but part of what it draws is left out on purpose (stroke paint
     of an SVG whose fills make the region).  The command line prints it as one line
-    ``morph: warning: ...`` on stderr and goes on."""
+    ``morph: warning: ...`` on stderr and goes on.  ``kind`` as :class:`ParseError`'s."""
+
+    def __init__(self, message, kind=None):
+        super().__init__(message)
+        self.kind = kind
 
 
 def one_line(exc):

@@ -28,7 +28,7 @@ from . import piece as pc
 from . import moments as mo
 from . import polyline as pl
 from .errors import DegenerateCurveError
-from .polyline import unique, winding_number
+from .polyline import winding_number
 
 TWO_PI = 2.0 * np.pi
 
@@ -61,21 +61,6 @@ class Edge:
     def sign(self):
         """+1 convex, -1 concave, 0 straight (curve) or no turn."""
         return int(np.sign(self.sweep))
-
-
-def _interior(ts, eps=1e-9):
-    ts = np.asarray(ts, float)
-    return unique(ts[(ts > eps) & (ts < 1.0 - eps)])
-
-
-def inflection_params(piece):
-    """Interior parameters where x'y'' - x''y' changes sign (Def. 3.2)."""
-    return _split_params_many([np.asarray(piece, float)], axes=False)[0]
-
-
-def axis_params(piece):
-    """Interior parameters where the hodograph crosses the x or y axis (Sec. 3.2)."""
-    return _split_params_many([np.asarray(piece, float)], inflections=False)[0]
 
 
 def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):

@@ -405,22 +405,6 @@ def reverse(piece):
     return np.asarray(piece)[::-1].copy()
 
 
-def normalize_weights(piece):
-    """Scale homogeneous coordinates so that the end weights are 1 (standard form).
-
-    Uses the reparametrisation t -> c t / ((c-1) t + 1), which multiplies w_i by c^i,
-    then a global scale.  The curve and its ends are unchanged.
-    """
-    piece = np.asarray(piece, float)
-    n = len(piece) - 1
-    w0, wn = piece[0, 2], piece[-1, 2]
-    if n == 0:
-        return piece / w0
-    c = (w0 / wn) ** (1.0 / n)
-    out = piece * (c ** np.arange(n + 1))[:, None]
-    return out / out[0, 2]
-
-
 def translate(piece, offset):
     """The piece moved by offset (exact: X += ox W, Y += oy W)."""
     piece = np.array(piece, float)

@@ -323,15 +323,6 @@ def convolve_qac_piece(c1, c2, q2=None):
     return _qac_from_numerator(c1[None], h1[None], q[None])[0]
 
 
-def convolve_qac_many(c1, q2, rational):
-    """:func:`convolve_qac_piece` of each row of a stack c1 (k, n+1, 3) (all
-    polynomial, or all rational: ``rational``) with the quadratics q2 (k, 3, 2).
-    Rows whose tangent numerator vanishes at an end (``pc.end_zero_rows``) must go
-    through :func:`convolve_qac_piece` (their numerator has a lower degree)."""
-    c1 = np.asarray(c1, float)
-    return _qac_from_numerator(c1, pc.tangent_numerator_many(c1, rational), q2)
-
-
 def qac_pieces(c1, q2):
     """QAC pieces of the rows of a stack c1 (one degree) with quadratics q2: a list.
 

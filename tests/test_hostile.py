@@ -121,7 +121,7 @@ def test_svg_stroke_only_path(runner, tmp_path):
     """A stroke-only path is a centre line: a region command says so, naming it."""
     p = _svg(tmp_path, "line.svg", "M0 0 L10 0 L10 10", 'id="wire" fill="none" stroke="red"')
     line = error_line(runner.invoke(main, ["outline", p, "-o", str(tmp_path / "o.png")]))
-    assert "stroke-only" in line and "wire" in line
+    assert "stroke-only" in line and "wire" in line and "morph stroke" in line
 
 
 def test_svg_strokes_beside_fills_are_named_in_one_warning(runner, tmp_path):

@@ -111,15 +111,6 @@ def test_reverse(p):
     assert np.allclose(pc.evaluate(pc.reverse(p), T), pc.evaluate(p, 1 - T), atol=1e-12)
 
 
-@given(rational_pieces())
-def test_normalize_weights_same_curve(p):
-    q = pc.normalize_weights(p)
-    assert np.isclose(q[0, 2], 1.0) and np.isclose(q[-1, 2], 1.0)
-    # same point set, same ends (reparametrised), checked on the ends and the hull
-    assert np.allclose(pc.start(q), pc.start(p)) and np.allclose(pc.end(q), pc.end(p))
-    assert np.allclose(pc.cartesian(q), pc.cartesian(p))
-
-
 @pytest.mark.parametrize("rx, ry, rot, th0, dth", [
     (1.0, 1.0, 0.0, 0.0, 2 * np.pi),
     (3.0, 1.5, 0.4, 0.3, 2.5),

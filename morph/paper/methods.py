@@ -476,17 +476,6 @@ def _sampled_max(f, n, zooms=2, zoom_samples=17, candidates=2):
     return vbest, tbest
 
 
-def distance_to_curve(q, curve, samples=33, newton=4):
-    """Distances of points q (m, 2) to a piece (min over its parameter in [0, 1]).
-
-    Nearest of ``samples`` uniform samples, then Newton steps on (C(u) - q)·C'(u) = 0,
-    clamped to [0, 1]; the smaller of the sampled and the refined distance is kept.
-    ``curve`` may also be the function returned by :func:`_curve_distance`.
-    """
-    dist = curve if callable(curve) else _curve_distance(curve, samples, newton)
-    return dist(q)
-
-
 def _curve_distance(curve, samples=33, newton=4):
     """q -> distances to the piece: the nearest of ``samples`` uniform samples, then
     ``newton`` Newton steps to the foot point (:func:`morph.nearest.closest_params_many`);
