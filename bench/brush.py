@@ -22,10 +22,10 @@ table lists such glyphs, and they are checked like the others.
 
 Then every written glyph is read back from the saved font (``morph.parse.glyph_region``:
 the quadratics / cubics actually stored, on integer coordinates) and compared with an
-independent polygon reference, ``tests.reference.polygon_minkowski_sum`` of the source
+independent polygon reference, ``tests.oracles.reference.polygon_minkowski_sum`` of the source
 glyph and the nib (both flattened within ``--ref-tol`` units, summed with Clipper),
 shifted like the written glyph (right by the nib's left extent).  The measure is the
-two-sided boundary Hausdorff distance ``tests.reference.hausdorff`` (our curves
+two-sided boundary Hausdorff distance ``tests.oracles.reference.hausdorff`` (our curves
 flattened within 0.05 units, boundaries sampled every 0.5 units).  The criterion:
 Hausdorff <= 1 font unit for every glyph; a glyph above it is a failure.  Advance
 widths are checked too (original + nib width, rounded).
@@ -55,7 +55,7 @@ from morph.fonts.brush import (brush_font, ellipse_nib, open_source,  # noqa: E4
                                parse_glyph_spec, region_extent)
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.region import translate_region  # noqa: E402 - after sys.path gets the repo root
-from tests.reference import hausdorff, polygon_minkowski_sum, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import hausdorff, polygon_minkowski_sum, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
 
 LIMIT = 1.0          # font units: the criterion at upm 1000
 

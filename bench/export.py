@@ -1,4 +1,4 @@
-"""Cubic export (issue #18 part 2, issue #17 part 5): cubics per piece, certified totals.
+"""Cubic export: cubics per piece, certified totals.
 
     python bench/export.py [--md bench/export.md | --no-write] [--quick]
 
@@ -29,7 +29,7 @@ Measures, in one run:
    with svgpathtools, 200 samples per segment), against the previous behaviour
    (sum at tol and export at tol, previous exporter).
 5. The split itself: the O offset with the sum given 0.5, 0.25 or 0.1 of tol.
-6. Points at equal measured error (issue #18 targets): the TrueType O ⊕ disk (r = 40
+6. Points at equal measured error: the TrueType O ⊕ disk (r = 40
    units) and O ⊕ ellipse (semi-axes 40 and 15 at 30°): morph (``minkowski_sum`` at
    the sum share, ``loop_to_beziers(wrap=True)`` at the export share), FontForge's
    Expand Stroke (Debian's python3-fontforge: the O's contours stroked with the nib,
@@ -38,7 +38,7 @@ Measures, in one run:
    ellipse's linear map, stroked with round joins, united with the filled O, mapped
    back, conics to quadratics; scaled up 1 / 4 / 16 times for precision).  Error: the
    two-sided Hausdorff distance of each output (flattened within 0.005) from an
-   independent Clipper polygon (the O's outline ⊕ nib, ``tests.stroke_reference``,
+   independent Clipper polygon (the O's outline ⊕ nib, ``tests.oracles.stroke_reference``,
    flattened within 0.005, united with the filled O), boundaries sampled every 0.25
    unit.  Points: on- and off-curve points (a line 1, a quadratic 2, a cubic 3).
 """
@@ -359,9 +359,9 @@ def _nib_region(rx, ry, ang):
 
 def _reference(region, nib, flat=0.005):
     """Independent polygon of O ⊕ nib: the O's outline stroked in Clipper
-    (tests.stroke_reference, closed paths) united with the filled O (shapely)."""
-    from tests.reference import region_to_shapely
-    from tests.stroke_reference import stroke_polygon
+    (tests.oracles.stroke_reference, closed paths) united with the filled O (shapely)."""
+    from tests.oracles.reference import region_to_shapely
+    from tests.oracles.stroke_reference import stroke_polygon
 
     ring = stroke_polygon([(loop, True) for loop in region], nib, flat)
     return ring.union(region_to_shapely(region, flat))
@@ -369,7 +369,7 @@ def _reference(region, nib, flat=0.005):
 
 def _measure(beziers, ref):
     """Hausdorff distance of closed Bézier contours from the reference polygon."""
-    from tests.reference import hausdorff, region_to_shapely
+    from tests.oracles.reference import hausdorff, region_to_shapely
 
     loops = [[pc.from_points(np.asarray(b, float)) for b in c] for c in beziers]
     return hausdorff(region_to_shapely(loops, 0.005), ref, 0.25)
@@ -568,7 +568,7 @@ def markdown(arc, offs, kurbo, brush, total, shares, seconds):
             "", "Points: on- and off-curve points of the cubic outline (a line 1, a cubic "
             "3).  Sum within %.2g unit, export within %.2g unit (plan); the "
             "previous exporter is given the whole 0.5 unit, as before.  FontForge's "
-            "Expand Stroke: 51-95 points (issue #18)." % plan(0.5)[:2], "",
+            "Expand Stroke: 51-95 points." % plan(0.5)[:2], "",
             "| font | glyph | sum pieces | points (morph, loop_to_beziers) | points (new "
             "fitter piece by piece) | points (previous) | export CPU s (loop_to_beziers) |",
             "|---|---|---|---|---|---|---|"]

@@ -5,8 +5,8 @@
                                    [--top 30] [--check] [--cache FILE] [--batch N]
 
 The geometry (sums, strokes) is computed once and cached in ``--cache`` (default
-/tmp/morph_export_profile.pkl; delete it to recompute), so that exporters are timed on
-the same input even while the sum code changes.  ``--rev REV`` times the exporter of a
+morph_export_profile.pkl in the system temporary folder; delete it to recompute), so
+that exporters are timed on the same input even while the sum code changes.  ``--rev REV`` times the exporter of a
 git revision (``git show REV:morph/export.py``, run against today's bernstein/piece)
 instead of the working tree's.  Times are CPU seconds of this process
 (``time.process_time``), one warm run.  Cases (tol in font units, glyphs in font
@@ -39,6 +39,7 @@ import os
 import pickle
 import pstats
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -170,7 +171,8 @@ def main():
     ap.add_argument("--profile", action="store_true")
     ap.add_argument("--top", type=int, default=30)
     ap.add_argument("--check", action="store_true")
-    ap.add_argument("--cache", default="/tmp/morph_export_profile.pkl")
+    ap.add_argument("--cache", default=os.path.join(tempfile.gettempdir(),
+                                                    "morph_export_profile.pkl"))
     ap.add_argument("--save", default=None, help="write {case: {shape: points}} as JSON")
     ap.add_argument("--batch", type=int, default=1,
                     help="also time the export of N shapes per call (the loops of N "

@@ -31,11 +31,12 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiLineString
 
-from bench.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
+from bench.stamp import stamp
+from tests.oracles.sweep import OTHER_FONTS, font_path, glyph, glyph_pool, region_size
 from morph import piece as pc
 from morph.offset import inset_region
 from morph.region import transform_region
-from tests.reference import region_polylines, region_to_shapely
+from tests.oracles.reference import region_polylines, region_to_shapely
 
 
 def _rings(geom):
@@ -44,7 +45,7 @@ def _rings(geom):
 
 
 def _upm(font):
-    from bench.sweep import _ttfont
+    from tests.oracles.sweep import _ttfont
 
     return float(_ttfont(font)["head"].unitsPerEm)
 
@@ -156,8 +157,9 @@ def main(argv=None):
     for r in bad:
         print("FAIL", r["case"], "; ".join(r["fails"]))
     if args.md:
-        with open(args.md, "a") as fh:
-            fh.write("- %s: %s\n" % (time.strftime("%Y-%m-%d"), summary))
+        with open(args.md, "w") as fh:
+            fh.write("# Insets against shapely (bench/inset.py)\n\n%s\n\n" % stamp())
+            fh.write("See the script's docstring for the checks.\n\n- %s\n" % summary)
             for r in bad:
                 fh.write("  - FAIL `%s`: %s\n" % (r["case"], "; ".join(r["fails"])))
     return 1 if bad else 0

@@ -1,4 +1,4 @@
-"""How few tangent-continuous cubics can hold a glyph ⊕ nib outline (issue #18 part 2).
+"""How few tangent-continuous cubics can hold a glyph ⊕ nib outline.
 
     python -m bench.min_cubics [--char O] [--accuracy 1e-4] [--starts 6]
 

@@ -23,7 +23,7 @@ glyphs  T+M, O+M, S+g at 1e-3, 1e-4, 1e-5 em (TrueType).
           usually written; Clipper's sweep degrades on heavily overlapping input), as a
           process, killed at --budget s.
         - Clipper MinkowskiSum: the old whole-polygon recipe
-          (``tests.reference.polygon_minkowski_sum``: pyclipper.MinkowskiSum of every
+          (``tests.oracles.reference.polygon_minkowski_sum``: pyclipper.MinkowskiSum of every
           loop pair plus translated copies, one union), skipped when predicted over
           --budget s.
         - processes: ``python -m morph.cli sum A B --tol T -o a.svg`` against
@@ -55,7 +55,7 @@ cli     wall time of ``morph glyph T M --frames 10`` and of ``morph brush -o x.t
         --glyphs A-Z,a-z`` (``--jobs 1`` and the default), min and median of runs;
         for scale, Skia and FontForge stroking the same 52 glyphs with the same nib.
 
-Error (bench/measure.py, independent of morph.trim): a certified upper bound on the
+Error (tests/oracles/measure.py, independent of morph.trim): a certified upper bound on the
 distance from the output boundary to the exact boundary of A ⊕ B, by the straddle
 test with the exact predicate x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ on operands flattened
 within 1e-6 em (resolution ~2e-6 em).  Samples: 16 per curve segment, edge midpoints
@@ -91,14 +91,14 @@ sys.path.insert(0, str(ROOT / "bench"))
 import kurbopy  # noqa: E402 - after sys.path gets the repo root
 
 import dc_sum as DC  # noqa: E402 - bench/dc_sum.py, the peer recipe
-from bench import measure as ME  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles import measure as ME  # noqa: E402 - after sys.path gets the repo root
 from morph import parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 from morph.budget import export_tolerance, plan  # noqa: E402 - after sys.path gets the repo root
 from morph.fonts.brush import ellipse_nib  # noqa: E402 - after sys.path gets the repo root
 from morph.minkowski import minkowski_sum  # noqa: E402 - after sys.path gets the repo root
 from morph.render.svg import svg_path_data  # noqa: E402 - after sys.path gets the repo root
-from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles import reference as R  # noqa: E402 - after sys.path gets the repo root
 
 UPM = 1000.0
 TTF = parse.default_font_path()
@@ -692,7 +692,7 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
          "Command: `python bench/peers.py %s` (%.0f s).  Machine: 2 cores shared with other "
          "engineers' jobs, load average %s during the run: **times were taken under load**; "
          "wall times are upper bounds, ratios use the minimum of several runs.  Font: bundled "
-         "Noto Sans (upm 1000).  Errors: certified upper bounds (bench/measure.py, exact "
+         "Noto Sans (upm 1000).  Errors: certified upper bounds (tests/oracles/measure.py, exact "
          "membership predicate on operands flattened within 1e-6 em, resolution ~2e-6 em)."
          % (" ".join(args.argv), seconds, load), ""]
     L += targets(glyph_rows, ladders, nibs, cli)
@@ -701,7 +701,7 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
           "pyclipper nonzero union, mapbox-earcut triangles merged to convex pieces "
           "(Hertel-Mehlhorn), convex pair sums by merged edge angles (numpy), pyclipper union "
           "as a tree of 8-input unions (`bench/dc_sum.py`); **Clipper MinkowskiSum** = the "
-          "old whole-polygon recipe (`tests.reference.polygon_minkowski_sum`, one run, "
+          "old whole-polygon recipe (`tests.oracles.reference.polygon_minkowski_sum`, one run, "
           "skipped when predicted over %g s).  Times: min (median) wall, min CPU." % args.budget,
           "",
           "| case | tol (em) | morph wall min (med) | morph CPU | morph ctrl pts | morph err | "
@@ -791,8 +791,8 @@ def markdown(glyph_rows, ladders, nibs, cli, args, seconds, load):
 
 
 def targets(glyph_rows, ladders, nibs, cli):
-    """The issue #18 targets, met / not met with the ratio."""
-    T = ["## Targets of issue #18", "",
+    """The headline figures, met / not met with the ratio."""
+    T = ["## Headline figures", "",
          "| target | measured | ratio | met? |", "|---|---|---|---|"]
 
     def row(name, meas, r, ok):

@@ -1,4 +1,4 @@
-"""Profile of the convolution stage and of whole Minkowski sums (issue 18).
+"""Profile of the convolution stage and of whole Minkowski sums.
 
     python bench/profile.py                 # times table + cProfile top entries
     python bench/profile.py --scaling       # n log n table: 10 ... 3000 circles + disk

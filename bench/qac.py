@@ -1,6 +1,6 @@
 """QAC convolution curves and Minkowski sums of glyphs: size and time vs tolerance.
 
-    python bench/qac.py            # 1-2 minutes; prints the tables, writes bench/qac.md
+    python -m bench.qac [--md bench/qac.md]   # 2-5 minutes; prints the tables, writes the report
 
 For each font (bundled Noto Sans: TrueType = quadratic outlines, CFF = cubic
 outlines), each case and each tolerance tol = 1e-1 ... 1e-5 em (x 1000 font units,
@@ -32,7 +32,6 @@ random pairs (all kinds with a non-quadratic C2, halved 0-4 times) and on the
 curve-curve pairs of the glyph cases (CFF), halved 0-4 times in angle.
 """
 
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -44,8 +43,9 @@ sys.path.insert(0, str(ROOT))
 
 from morph import convolve, gauss, minkowski, parse  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
+from bench.stamp import stamp  # noqa: E402 - after sys.path gets the repo root
 from morph import qac  # noqa: E402 - after sys.path gets the repo root
-from tests import reference as R  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles import reference as R  # noqa: E402 - after sys.path gets the repo root
 from tests.test_convolve import pair_error  # noqa: E402 - after sys.path gets the repo root
 
 TOLS_EM = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5)
@@ -54,19 +54,6 @@ NIB = [pc.ellipse((0.0, 0.0), 40.0, 12.0, np.radians(30.0))]
 CASES = [("S + nib", "S", None), ("T + M", "T", "M"), ("O + M", "O", "M"), ("S + g", "S", "g")]
 FONTS = [("TrueType", None), ("CFF", parse.cubic_test_font_path())]
 SAMPLES = 60
-
-
-def code_version():
-    """Commit of the code measured, '+dirty' when morph/ has uncommitted changes."""
-    def git(*args):
-        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True,
-                              text=True).stdout.strip()
-    try:
-        rev = git("rev-parse", "--short", "HEAD") or "unknown"
-        dirty = git("status", "--porcelain", "--", "morph")
-    except OSError:
-        return "unknown"
-    return rev + ("+dirty" if dirty else "")
 
 
 def control_points(pieces):
@@ -224,7 +211,7 @@ def table(font_label, case_label, rows):
     return "\n".join(out)
 
 
-def main():
+def main(md=ROOT / "bench" / "qac.md"):
     start = time.perf_counter()
     rng = np.random.default_rng(1998)
     sections = []
@@ -261,7 +248,7 @@ def main():
         "",
         "\n".join(header[1:]),
         "",
-        "This run: %.0f s, code at %s." % (elapsed, code_version()),
+        stamp(seconds=elapsed),
         "",
         "## Summary",
         "",
@@ -280,10 +267,38 @@ def main():
         ratios,
         "",
     ])
-    (ROOT / "bench" / "qac.md").write_text(text)
+    Path(md).write_text(text)
     print("\n".join(summary))
-    print("\nwrote bench/qac.md in %.0f s" % elapsed)
+    print("\nwrote %s in %.0f s" % (md, elapsed))
+
+
+def check(cases=("T + M", "O + M", "S + g")):
+    """The summary rows of bench/qac.md for ``cases`` in the TrueType font (control points
+    of the convolution and of the sum at every tolerance) against what the code gives
+    now: [(what, reported, computed)].  (About 2 s.)"""
+    from bench.mdtable import section, tables
+
+    table = tables(section((ROOT / "bench" / "qac.md").read_text(encoding="utf-8"),
+                           "Summary"))[0]
+    out = []
+    for label, a, b in CASES:
+        if label not in cases:
+            continue
+        region_a, region_b = parse.glyph_region(a).region, parse.glyph_region(b).region
+        conv, summ = [], []
+        for tol_em in TOLS_EM:
+            tol = tol_em * UPM
+            conv.append(control_points([c.piece for c in convolve.convolution(
+                region_a, region_b, tol, keep_type3=True)]))
+            loops = minkowski.minkowski_sum(region_a, region_b, tol)
+            summ.append(control_points([p for loop in loops for p in loop]))
+        row = [r for r in table[1:] if r[0] == label and r[1] == "TrueType"][0]
+        out.append(("qac.md %s TrueType: convolution control points" % label, row[2],
+                    " / ".join(map(str, conv))))
+        out.append(("qac.md %s TrueType: sum control points" % label, row[3],
+                    " / ".join(map(str, summ))))
+    return out
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[sys.argv.index("--md") + 1:][:1] if "--md" in sys.argv else ())

@@ -1,7 +1,7 @@
-"""How minkowski_sum's time grows with the input (issue #14): a table for bench/README.md.
+"""How minkowski_sum's time grows with the input: bench/scaling.md.
 
     python -m bench.scaling [--n 10,30,100,300,1000,3000] [--cubics 1000] [--repeat 3]
-                            [--timeout 600] [--readme bench/README.md | --no-write]
+                            [--timeout 600] [--md bench/scaling.md | --no-write]
 
 Cases (in-process, one core; each call in a forked process with a time limit, so a
 slow case cannot stall the table; the best of ``--repeat`` calls, wall and CPU
@@ -19,16 +19,13 @@ Runs with MORPH_POINT_BUDGET raised (``--point-budget``): the default budget of
   0.003, so the convolution folds there and trimming has work to do), tol 1e-4.
 
 Also the convolution stage alone (``morph.convolve.convolution`` at 0.75 tol, what
-``minkowski_sum`` calls first), so the trimming share is visible.  The table
-replaces the section between ``<!-- scaling -->`` and ``<!-- /scaling -->`` of the
-README and names the commit measured (the trimming stage and the convolution stage
-are being changed, so figures date quickly).
+``minkowski_sum`` calls first), so the trimming share is visible.  The report names
+the commit measured (bench/stamp.py).
 """
 
 import argparse
 import math
 import os
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -40,6 +37,8 @@ import numpy as np  # noqa: E402 - after the BLAS thread counts are set, before 
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+from bench.stamp import stamp  # noqa: E402 - after sys.path gets the repo root
 
 TOL = 1e-4
 
@@ -121,22 +120,13 @@ def measure(kind, n, stage, repeat, timeout):
     return best
 
 
-def _commit():
-    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
-                          capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no",
-                            "morph"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
-    return head + (" with uncommitted changes in morph/ (the working tree as it was)"
-                   if dirty else "")
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--n", default="10,30,100,300,1000,3000")
     ap.add_argument("--cubics", default="1000")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=600.0)
-    ap.add_argument("--readme", default=str(ROOT / "bench" / "README.md"))
+    ap.add_argument("--md", default=str(ROOT / "bench" / "scaling.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--point-budget", type=float, default=1e8,
                     help="MORPH_POINT_BUDGET for the runs (the default budget of "
@@ -171,33 +161,20 @@ def main(argv=None):
             "%d loops, %d pieces" % s[2] if s and s[0] != "error" else "-")
         print(row, flush=True)
         rows.append(row)
-    load = os.getloadavg()[0]
-    table = ["<!-- scaling -->",
-             "## Scaling of `minkowski_sum` (issue #14; `python -m bench.scaling`)", "",
-             "Measured %s at commit %s; in-process seconds, best of %d calls (each in a "
-             "fresh forked process), tol %g; load average %.1f on the 2-core machine while "
-             "measuring (other jobs were running), so wall times are upper bounds; CPU "
-             "is the process's own time.  Circles: unit circles on a grid of pitch 3 ⊕ disk "
-             "r = 0.25; path: r(θ) = 1 + 0.15 sin 50θ as cubic Hermite segments ⊕ disk "
-             "r = 0.02.  The convolution column shows that stage's share; the rest is "
-             "trimming.  MORPH_POINT_BUDGET=%d (the default budget, 50000 points, refuses "
-             "300 and more circles at tol 1e-4 with a LimitError)."
-             % (time.strftime("%Y-%m-%d %H:%M"), _commit(), opt.repeat, TOL, load,
-                opt.point_budget), "",
+    table = ["# Scaling of `minkowski_sum` (bench/scaling.py)", "", stamp(), "",
+             "In-process seconds, best of %d calls (each in a fresh forked process), tol "
+             "%g; CPU is the process's own time, wall times are upper bounds on a loaded "
+             "machine.  Circles: unit circles on a grid of pitch 3 ⊕ disk r = 0.25; path: "
+             "r(θ) = 1 + 0.15 sin 50θ as cubic Hermite segments ⊕ disk r = 0.02.  The "
+             "convolution column shows that stage's share; the rest is trimming.  "
+             "MORPH_POINT_BUDGET=%d (the default budget, 50000 points, refuses 300 and "
+             "more circles at tol 1e-4 with a LimitError)."
+             % (opt.repeat, TOL, opt.point_budget), "",
              "| case | minkowski_sum wall s | CPU s | convolution stage alone, wall s | "
-             "CPU s | output |", "|---|---|---|---|---|---|"] + rows + ["<!-- /scaling -->"]
+             "CPU s | output |", "|---|---|---|---|---|---|"] + rows
     print("\n".join(table))
     if not opt.no_write:
-        p = Path(opt.readme)
-        text = p.read_text() if p.exists() else ""
-        block = "\n".join(table)
-        if "<!-- scaling -->" in text and "<!-- /scaling -->" in text:
-            i = text.index("<!-- scaling -->")
-            j = text.index("<!-- /scaling -->") + len("<!-- /scaling -->")
-            text = text[:i] + block + text[j:]
-        else:
-            text = text.rstrip("\n") + "\n\n" + block + "\n"
-        p.write_text(text)
+        Path(opt.md).write_text("\n".join(table) + "\n")
     return 0
 
 

@@ -1,6 +1,6 @@
 """Sub-grid shift sweep: each random-mode case of bench.sweep summed again after
 translations by up to ``--by`` tol in x and y, every result checked by
-:func:`bench.sweep.verify` against the translated exact predicate.
+:func:`tests.oracles.sweep.verify` against the translated exact predicate.
 
     python -m bench.shifts --seed 424 --n 40 --shifts 5
     python -m bench.shifts --mode fonts --seed 303 --n 10 --shifts 3
@@ -14,7 +14,7 @@ The trimming rounds to an integer grid of 0.14 tol: a topology that the rounding
 alone decides (a crossing landing on a joint's grid point, two legs of a needle
 swapping sides) passes at one offset and fails at another, so a case that fails at
 some shifts and not at others is a rounding dependence, one that fails at every
-shift is systematic (session 10: cormorant U ⊕ a thin nib failed at 30 of 30 shifts
+shift is systematic (cormorant U ⊕ a thin nib failed at 30 of 30 shifts
 after the snap rounding, 0 of 30 before; fixed in morph.trim.lift).  Prints one
 line per failure and a summary; exit status 1 when any failed.
 """
@@ -28,9 +28,10 @@ import numpy as np
 def main(argv=None):
     import shapely.affinity
 
-    from bench.sweep import (ORACLE_SHARE, RANDOM_FONTS, NibOracle, _nib_region,
-                             case_inputs, draw_random_cases, parse_case, raw_glyph_polygon,
-                             region_size, verify)
+    from bench.sweep import draw_random_cases
+    from tests.oracles.sweep import (ORACLE_SHARE, RANDOM_FONTS, NibOracle, _nib_region,
+                                     case_inputs, parse_case, raw_glyph_polygon,
+                                     region_size, verify)
     from morph.errors import LimitError
     from morph.minkowski import minkowski_sum
     from morph.region import transform_region
@@ -75,8 +76,9 @@ def _font_pairs(opt, rng):
     """The fonts mode of :func:`main`."""
     import shapely.affinity
 
-    from bench.sweep import (ORACLE_SHARE, UPM, PairOracle, draw_font_pairs, glyph,
-                             parse_case, raw_glyph_polygon, region_size, verify)
+    from bench.sweep import draw_font_pairs
+    from tests.oracles.sweep import (ORACLE_SHARE, UPM, PairOracle, glyph, parse_case,
+                                     raw_glyph_polygon, region_size, verify)
     from morph.minkowski import minkowski_sum
     from morph.region import transform_region
 

@@ -10,8 +10,8 @@ stroked by ``morph.fonts.stroke.stroke_ufo`` with the default nib of ``morph str
 process, into .otf and .ttf; each glyph read back from the compiled font (integer
 coordinates; composites decomposed) and compared with an independent Clipper polygon
 of the skeleton flattened within ``--ref-tol`` ⊕ the nib flattened within
-``--ref-tol`` (``tests.stroke_reference.stroke_polygon``), shifted like the written
-glyph.  Measures: two-sided boundary Hausdorff distance (``tests.reference.hausdorff``,
+``--ref-tol`` (``tests.oracles.stroke_reference.stroke_polygon``), shifted like the written
+glyph.  Measures: two-sided boundary Hausdorff distance (``tests.oracles.reference.hausdorff``,
 written curves flattened within 0.02, boundaries sampled every 0.25 unit) against
 ``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
 o, e, a, 8 ...), each hole's area within perimeter x that bound.
@@ -27,6 +27,14 @@ Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same gl
   ``Path.stroke`` with round caps and joins, conics converted to quadratics, then
   ``simplify`` to remove overlaps), at scale factors 1, 4, 16 (the path is scaled up
   before stroking and the result down: Skia's own precision knob is fixed).
+
+Part 3, skeleton sets (``--sets``, default hershey-sans, hershey-script, hanzi-300
+of :mod:`bench.skeletons`, fetched at bench time; ``--only-sets`` runs only this part;
+writes bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
+per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
+(mean) and glyph by glyph (median and mean), points per glyph, the worst error of
+the unrounded outlines and of the written font against the Clipper reference, and
+FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it.
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
@@ -57,7 +65,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path.append(str(ROOT))  # after PYTHONPATH: a checkout named there is measured
 # one BLAS thread, as the morph command sets before numpy loads: otherwise OpenBLAS's
 # second thread spins through numpy's larger products and counts in process_time
 # (the export at tol 0.5 measured 18.7 instead of 13.9 ms per glyph)
@@ -72,8 +80,8 @@ from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # no
 from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
-from tests.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
-from tests.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 ROUNDING = 0.71
@@ -89,6 +97,10 @@ def code_version():
         return subprocess.run(["git", "-C", str(ROOT)] + list(args), capture_output=True,
                               text=True).stdout.strip()
 
+    import morph
+
+    if Path(morph.__file__).resolve().parents[1] != ROOT:  # PYTHONPATH put another first
+        return "morph/ of %s" % os.environ.get("MORPH_CODE_LABEL", "another checkout")
     head = git("rev-parse", "--short", "HEAD")
     dirty = git("status", "--porcelain", "--", "morph")
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
@@ -282,6 +294,8 @@ def run_skia(font, names, diameter, scales, refs):
 def summary(tool, setting, secs, points, errs, fails):
     return {"tool": tool, "setting": setting,
             "ms": 1000 * float(np.mean(secs)) if secs else float("nan"),
+            "median_ms": 1000 * float(np.median(secs)) if secs else float("nan"),
+            "errs": [float(e) for e in errs],
             "points": float(np.mean(points)) if points else float("nan"),
             "max_err": float(np.max(errs)) if errs else float("nan"),
             "mean_err": float(np.mean(errs)) if errs else float("nan"),
@@ -299,6 +313,139 @@ def equal_error(rows):
         m = min(ok, key=lambda m: m["points"]) if ok else None
         out.append((r, m))
     return out
+
+
+# =========================================================================== part 3
+
+SETS = ("hershey-sans", "hershey-script", "hanzi-300")
+
+
+def _time_command(ufo, out_path):
+    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1`` in a
+    fresh process (its own user + sys time, from the kernel's child accounting)."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run([sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o",
+                           str(out_path), "--jobs", "1", "--force"], capture_output=True,
+                          text=True, cwd=str(Path(out_path).parent),
+                          env=dict(os.environ, OPENBLAS_NUM_THREADS="1",
+                                   PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT)))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    lines = (proc.stdout + proc.stderr).strip().splitlines()
+    return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
+
+
+def _written_errors(out_path, names, refs, shift):
+    """Worst Hausdorff distance of the glyphs read back from the compiled font (integer
+    coordinates) against the references shifted as the command shifts them."""
+    errs = {}
+    for n in names:
+        got = region_to_shapely(glyph_region(n, font=str(out_path)).region, MEASURE_FLAT)
+        errs[n] = hausdorff(got, shapely.affinity.translate(refs[n], shift, 0.0), SPACING)
+    return errs
+
+
+def skeleton_set(name, opt, workdir):
+    """The rows of one skeleton set of :mod:`bench.skeletons` (see the module doc)."""
+    from bench.skeletons import skeleton_ufo
+
+    ufo = skeleton_ufo(name)
+    font = load_ufo(ufo, lazy=False)
+    names = [g.name for g in sorted(font, key=lambda g: g.name) if len(g.contours)]
+    names = [n for n in names if any(len(c) > 1 for c in font[n].contours)]
+    upm = float(font.info.unitsPerEm or 1000)
+    k = upm / 1000.0
+    spec = ("ellipse", BROAD[1] * k, BROAD[2] * k, BROAD[3])
+    nib = nib_region(spec)
+    tol = opt.set_tol * upm
+    t0 = time.process_time()
+    refs = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
+    print("%s: %d glyphs, references %.1f s" % (name, len(names), time.process_time() - t0),
+          flush=True)
+    out = {"name": name, "glyphs": len(names), "upm": upm, "tol": tol, "nib": spec,
+           "rows": []}
+    # the command, as users run it
+    otf = Path(workdir) / (name + ".otf")
+    cpu, rss, line, rc = _time_command(ufo, otf)
+    x0 = region_extent(nib)[0]
+    written = _written_errors(otf, names, refs, int(round(-x0))) if rc in (0, 1) else {}
+    out.update(command_cpu=cpu, command_rss=rss, command_line=line, command_rc=rc,
+               written_worst=max(written.values()) if written else float("nan"),
+               written_worst_glyph=max(written, key=written.get) if written else "",
+               written_limit=tol + ROUNDING + opt.ref_tol,
+               written_over=sum(e > tol + ROUNDING + opt.ref_tol for e in written.values()))
+    print("%s: command %.1f s CPU (%.1f ms / glyph), %.0f MB; written worst %.3f"
+          % (name, cpu, 1000 * cpu / len(names), rss, out["written_worst"]), flush=True)
+    # in-process, as the command strokes chunks (a chunk's glyphs are computed
+    # together: its CPU time divided by its glyphs is each glyph's)
+    out["rows"] += run_morph(font, names, spec, [tol], refs)
+    ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
+                            refs)
+    out["rows"] += ff
+    out["ff_note"] = why
+    for r in out["rows"]:
+        print("%s %s %s: %.1f ms (median %.1f), %.0f points, max err %.3f"
+              % (name, r["tool"], r["setting"], r["ms"], r["median_ms"], r["points"],
+                 r["max_err"]), flush=True)
+    return out
+
+
+def sets_markdown(opt, sets, elapsed):
+    md = ["# Stroke speed and accuracy on skeleton sets (bench/stroke.py, part 3)", "",
+          "Command: `python -m bench.stroke --only-sets%s` (code: %s; %s UTC; %.0f s). "
+          "Machine: %d CPUs shared with other jobs (load average %s at the end): every time "
+          "is CPU time (process_time, or the kernel's user + sys of a child process), "
+          "which the load inflates less than wall time, but does inflate (caches, "
+          "hyper-threads)." % (opt.set_argline, code_version(),
+                               time.strftime("%Y-%m-%d %H:%M", time.gmtime()), elapsed,
+                               os.cpu_count() or 1,
+                               ", ".join("%.1f" % v for v in os.getloadavg())), "",
+          "Sets (`bench/skeletons.py`, fetched with `npm pack` at bench time, not "
+          "committed): Hershey Sans 1-stroke and Script 1-stroke (npm `hersheytext`, ASCII "
+          "33-126), and 300 characters of hanzi-writer-data's stroke medians (Make Me a "
+          "Hanzi, Arphic licence; spread evenly over the code points).  Nib: `morph "
+          "stroke`'s default (ellipse 90 x 20 at 30 degrees per 1000 units per em), tol "
+          "%g em (the command's default)." % opt.set_tol, "",
+          "Columns: **command** = the whole `morph stroke SET.ufo -o SET.otf --jobs 1` "
+          "process (startup, parse, stroke, export, font tables, compile, sample image and "
+          "specimen) divided by the glyphs; **chunks** = `stroke_many` + "
+          "`loops_to_beziers` by the command's chunks, in process (a chunk's glyphs are "
+          "computed together, so morph has a mean per glyph, not a median); FontForge = "
+          "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
+          "in FontForge's Python (`bench/fontforge_stroke.py`), per glyph.  Errors: "
+          "two-sided boundary Hausdorff distance (font units) of the unrounded output "
+          "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
+          "flattened within %g), sampled every %g unit; *over* = glyphs whose error "
+          "exceeds tol + %g.  Points: on- and off-curve points per glyph."
+          % (opt.ref_tol, SPACING, opt.ref_tol), ""]
+    for st in sets:
+        md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
+                                                               st["upm"], st["tol"]), "",
+               "| tool | setting | command ms / glyph | chunks ms / glyph | "
+               "median ms / glyph | mean ms / glyph | points / glyph | worst error | "
+               "mean error | over |", "|---|---|---|---|---|---|---|---|---|---|"]
+        limit = st["tol"] + opt.ref_tol
+        for r in st["rows"]:
+            over = sum(e > limit for e in r["errs"])
+            if r["tool"] == "morph":
+                md.append("| morph | tol %.3g | %.1f | %.1f | | | %.0f | %.3f | %.3f | %d |"
+                          % (st["tol"], 1000 * st["command_cpu"] / st["glyphs"], r["ms"],
+                             r["points"], r["max_err"], r["mean_err"], over))
+            else:
+                md.append("| %s | %s | | | %.1f | %.1f | %.0f | %.3f | %.3f | %d |"
+                          % (r["tool"], r["setting"], r["median_ms"], r["ms"], r["points"],
+                             r["max_err"], r["mean_err"], over))
+        md += ["", "Written font (integer coordinates, read back): worst %.3f units (%s), "
+               "%d glyphs over tol + 0.71 + %g = %.2f; command %.1f s CPU, peak RSS %.0f MB; "
+               "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
+                         opt.ref_tol, st["written_limit"], st["command_cpu"],
+                         st["command_rss"], st["command_line"])]
+        if st["ff_note"]:
+            md += ["", "FontForge not run (%s)." % st["ff_note"]]
+        md.append("")
+    return "\n".join(md) + "\n"
 
 
 # =========================================================================== report
@@ -387,14 +534,32 @@ def main(argv=None):
     ap.add_argument("--no-accuracy", action="store_true")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--sets", default=",".join(SETS),
+                    help="skeleton sets of bench/skeletons.py for part 3 ('' skips it)")
+    ap.add_argument("--set-tol", type=float, default=0.0005, help="em, part 3")
+    ap.add_argument("--ff-accuracy-sets", default="1,0.25")
+    ap.add_argument("--only-sets", action="store_true", help="part 3 only")
+    ap.add_argument("--sets-md", default=str(ROOT / "bench" / "stroke_sets.md"))
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
+    from bench.stroke_profile import shown_args
+
+    opt.set_argline = "".join(" " + a for a in shown_args(argv) if a != "--only-sets")
     import logging
 
     for name in ("ufo2ft", "fontTools"):
         logging.getLogger(name).setLevel(logging.ERROR)
     t_start = time.perf_counter()
+    if opt.sets:
+        with tempfile.TemporaryDirectory() as tmp:
+            sets = [skeleton_set(s, opt, tmp) for s in opt.sets.split(",")]
+        text = sets_markdown(opt, sets, time.perf_counter() - t_start)
+        print(text)
+        if not opt.no_write:
+            Path(opt.sets_md).write_text(text)
+    if opt.only_sets:
+        return 0
     font = load_ufo(SUBSET, lazy=False)
     names = glyph_names_for(font, parse_glyph_spec(opt.glyphs))
     notes = []

@@ -21,7 +21,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")    # as the command, before numpy loads
 
 from bench.stroke import BROAD, nib_region  # noqa: E402 - after the BLAS thread count is set
-from bench.sweep import relief_font  # noqa: E402 - after the BLAS thread count is set
+from tests.oracles.sweep import relief_font  # noqa: E402 - after the BLAS thread count is set
 from morph.budget import plan  # noqa: E402 - after the BLAS thread count is set
 from morph.parse.ufo import decomposed_paths  # noqa: E402 - after the BLAS thread count is set
 from morph.fonts.brush import glyph_chunks  # noqa: E402 - after the BLAS thread count is set

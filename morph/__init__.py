@@ -20,7 +20,7 @@ _PUBLIC = {
     "load_shape": "parse",
     "svg_paths": "parse", "svg_region": "parse", "write_png": "render", "write_svg": "render",
     "stroke_paths": "stroke", "fill_region": "trim", "loops_to_beziers": "export",
-    "ellipse_nib": "fonts.brush", "brush_font": "fonts.brush", "stroke_ufo": "fonts.stroke",
+    "ellipse_nib": "nib", "brush_font": "fonts.brush", "stroke_ufo": "fonts.stroke",
     "Region": "region", "Shape": "parse", "MorphError": "errors", "OperandError": "errors",
 }
 #: submodules reachable as attributes after a plain ``import morph``

@@ -559,28 +559,69 @@ def chain(pieces, tol):
     n = len(pieces)
     if n == 0:
         return []
-    starts = np.array([pc.start(p) for p in pieces])
-    ends = np.array([pc.end(p) for p in pieces])
+    starts, ends = pc.end_points(pieces)
     e, s, d = _near_pairs(ends, starts, tol)
-    succ = np.full(n, -1)
-    taken = np.zeros(n, bool)
-    for i, j in zip(e[np.argsort(d, kind="stable")], s[np.argsort(d, kind="stable")]):
-        if succ[i] < 0 and not taken[j]:
-            succ[i], taken[j] = j, True
+    succ = _nearest_first(e, s, d, n)
     if (succ < 0).any():
         at = ends[np.argmax(succ < 0)]
         raise TopologyError("open convolution chain at %s" % (at,), loops=pieces, point=at)
-    loops, seen = [], np.zeros(n, bool)
-    for first in range(n):
-        if seen[first]:
-            continue
-        loop, cur = [], first
-        while not seen[cur]:
-            seen[cur] = True
-            loop.append(pieces[cur])
-            cur = succ[cur]
-        loops.append(snap_loop(loop))
-    return loops
+    first, rank = _cycles(succ)
+    order = np.lexsort((rank, first))          # loops by their lowest piece, in travel order
+    # each join snapped to the mean of the end and the start meeting there
+    joins = 0.5 * (ends + starts[succ])        # join i: end of i, start of succ[i]
+    pred = np.empty(n, np.int64)
+    pred[succ] = np.arange(n)
+    snapped = [None] * n
+    for ks in pc.by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
+        h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
+        for j, k in enumerate(ks):
+            snapped[k] = h[j]
+    bounds = np.flatnonzero(np.diff(first[order])) + 1
+    return [[snapped[k] for k in part] for part in np.split(order, bounds)]
+
+
+def _nearest_first(e, s, d, n):
+    """succ (n,) of the pairs (end e[k], start s[k], distance d[k]) taken nearest
+    first, each end and each start used once (-1: an end left without a start).
+    A pair whose end and start occur in no other pair is taken whatever the order;
+    only the others are decided one by one, in order of distance (the same
+    result as deciding all of them so)."""
+    succ = np.full(n, -1)
+    lone = (np.bincount(e, minlength=n)[e] == 1) & (np.bincount(s, minlength=n)[s] == 1)
+    succ[e[lone]] = s[lone]
+    taken = np.zeros(n, bool)
+    taken[s[lone]] = True
+    rest = np.flatnonzero(~lone)
+    for k in rest[np.argsort(d[rest], kind="stable")].tolist():
+        i, j = e[k], s[k]
+        if succ[i] < 0 and not taken[j]:
+            succ[i], taken[j] = j, True
+    return succ
+
+
+def _cycles(succ):
+    """(first, rank) of the cycles of a permutation: each element's cycle named by
+    its lowest element, and its number of steps from there along ``succ``.  By
+    pointer jumping (about log2 n rounds of array calls each): the lowest of 1, 2,
+    4 ... elements ahead, then the list ranking of the cycles cut at their lowest."""
+    n = len(succ)
+    idx = np.arange(n)
+    first, jump, span = idx.copy(), succ.copy(), 1
+    while span < n:
+        first = np.minimum(first, first[jump])
+        jump = jump[jump]
+        span *= 2
+    root = first == idx
+    pred = np.empty(n, np.int64)
+    pred[succ] = idx
+    rank = (~root).astype(np.int64)
+    ptr = np.where(root, idx, pred)
+    while not root[ptr].all():
+        rank = rank + rank[ptr]
+        ptr = ptr[ptr]
+    return first, rank
 
 
 def _near_pairs(a, b, tol):
@@ -606,12 +647,3 @@ def _near_pairs(a, b, tol):
     return i[near], j[near], d[near]
 
 
-def snap_loop(loop):
-    """The loop with each join snapped to the mean of the two ends meeting there."""
-    starts, ends = pc.end_points(loop)
-    joins = 0.5 * (ends + np.roll(starts, -1, axis=0))   # join i: end of i, start of i + 1
-    out = [np.array(p, float) for p in loop]
-    for i, p in enumerate(out):
-        p[0, :2] = joins[i - 1] * p[0, 2]
-        p[-1, :2] = joins[i] * p[-1, 2]
-    return out

@@ -240,43 +240,49 @@ def gauss_map(loop, angle_tol=1e-10):
 
 
 def gauss_maps(loops, angle_tol=1e-10):
-    """:func:`gauss_map` of each loop; the pieces of all loops split and their end
-    tangents found together."""
+    """:func:`gauss_map` of each loop, all loops at once: the pieces split, their end
+    tangents and points found, the turns at the joins and the sides of the cusps
+    resolved in array calls over every loop (:func:`_corner_turns_many`); only the
+    :class:`Edge` objects are made one by one."""
     sizes = [len(loop) for loop in loops]
     parts = split_monotone_many([p for loop in loops for p in loop])
-    out, k = [], 0
+    curves, counts, k = [], [], 0
     for n in sizes:
-        out.append(_edges([q for ps in parts[k:k + n] for q in ps], angle_tol))
+        loop_curves = [q for ps in parts[k:k + n] for q in ps]
+        if not loop_curves:
+            raise DegenerateCurveError("loop has no curve of nonzero length", None)
+        curves += loop_curves
+        counts.append(len(loop_curves))
         k += n
-    return out
-
-
-def _edges(curves, angle_tol):
-    """The edges of a loop of monotone curves (:func:`gauss_map`)."""
     if not curves:
-        raise DegenerateCurveError("loop has no curve of nonzero length", None)
+        return []
+    counts = np.array(counts)
     first, last = pc.end_tangents_many(curves)
     a0 = np.arctan2(first[:, 1], first[:, 0])
     sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
-    ends = list(zip(a0.tolist(), sweep.tolist()))
-    turns = _corner_turns(curves, ends)
-    edges = []
-    theta = ends[0][0]
-    for i, c in enumerate(curves):
-        a0, sweep = ends[i]
-        if i > 0:
-            theta = theta + _wrap(a0 - theta)  # keep lifted angle continuous
-        edges.append(Edge("curve", c, pc.start(c), theta, sweep))
-        theta = theta + sweep
-        if abs(turns[i]) >= angle_tol:
-            edges.append(Edge("vertex", None, pc.end(c), theta, turns[i]))
-            theta = theta + turns[i]
-    return edges
+    turns = _corner_turns_many(curves, counts, a0, sweep, last)
+    starts, ends = pc.end_points(curves)
+    a0, sweep, turns = a0.tolist(), sweep.tolist(), turns.tolist()
+    out, lo = [], 0
+    for n in counts.tolist():
+        edges = []
+        theta = a0[lo]
+        for i in range(lo, lo + n):
+            if i > lo:
+                theta = theta + _wrap(a0[i] - theta)  # keep lifted angle continuous
+            edges.append(Edge("curve", curves[i], starts[i], theta, sweep[i]))
+            theta = theta + sweep[i]
+            if abs(turns[i]) >= angle_tol:
+                edges.append(Edge("vertex", None, ends[i], theta, turns[i]))
+                theta = theta + turns[i]
+        out.append(edges)
+        lo += n
+    return out
 
 
 #: a turn within this of pi is a cusp (radians), its side read from the curves
-#: (:func:`_cusp_side`), not from the sign of the turn.  End tangents come from
+#: (:func:`_cusp_sides`), not from the sign of the turn.  End tangents come from
 #: control points, and coordinates rounded to 1e-3 of a handle's length (as SVG
 #: and font files store them) turn them by up to ~1e-3 rad: a turn that close to pi
 #: may be a cusp whose sides cross a hair from its point, where the sign of the turn
@@ -286,27 +292,31 @@ def _edges(curves, angle_tol):
 CUSP_ANGLE = 1e-3
 
 
-def _corner_turns(curves, ends):
-    """Turn at the end of each curve, cusps resolved (see :func:`gauss_map`)."""
-    n = len(curves)
-    turns = np.zeros(n)
-    open_cusps = []
-    for i in range(n):
-        a0, sweep = ends[i]
-        turns[i] = _wrap(ends[(i + 1) % n][0] - (a0 + sweep))
-        if abs(turns[i]) > np.pi - CUSP_ANGLE:
-            side = _cusp_side(curves[i], curves[(i + 1) % n])
-            if side == 0:
-                turns[i] = 0.0
-                open_cusps.append(i)
-            elif side * turns[i] < 0:   # the same tangents, turned the other way round
-                turns[i] += side * TWO_PI
-    if open_cusps:
-        turns[open_cusps] = _open_cusp_turns(curves, open_cusps)
+def _corner_turns_many(curves, counts, a0, sweep, last):
+    """Turn at the end of each curve (the loops' curves one after the other,
+    ``counts`` per loop), cusps resolved (see :func:`gauss_map`): the turns of all
+    loops at once, the sides of all near-cusps at once (:func:`_cusp_sides`), the
+    open cusps of all loops at once (:func:`_open_cusp_turns_many`).  ``a0``,
+    ``sweep``: start angle and sweep of each curve; ``last``: its unit end tangent."""
+    first_of = np.repeat(np.cumsum(counts) - counts, counts)
+    k = np.arange(len(curves))
+    nxt = np.where(k + 1 - first_of == np.repeat(counts, counts), first_of, k + 1)
+    turns = _wrap(a0[nxt] - (a0 + sweep))
+    cusp = np.flatnonzero(np.abs(turns) > np.pi - CUSP_ANGLE)
+    if not len(cusp):
+        return turns
+    side = _cusp_sides([curves[i] for i in cusp], [curves[i] for i in nxt[cusp]])
+    flip = (side != 0) & (side * turns[cusp] < 0)  # the same tangents, turned the other way
+    turns[cusp[flip]] += side[flip] * TWO_PI
+    open_cusps = cusp[side == 0]
+    if len(open_cusps):
+        loop_of = np.repeat(np.arange(len(counts)), counts)
+        turns[open_cusps] = _open_cusp_turns_many(curves, counts, loop_of, open_cusps,
+                                                  last[open_cusps])
     return turns
 
 
-def _open_cusp_turns(curves, open_cusps):
+def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     """Turns (+-pi) at the ends of curves where the loop runs back along itself (its
     two ways coincide: a spike, a slit, the ends of a centre line traced out and
     back), as the set the loop traces has them: the tip of a part of zero width
@@ -316,22 +326,56 @@ def _open_cusp_turns(curves, open_cusps):
     loop flattened within a tenth of that): 0 outside.  A loop of area 0 counts as
     counter-clockwise.  Where the loop does not bound what it traces (a part of zero
     width crossing the rest of the loop) the turns then do not add up to one full
-    turn, and :func:`morph.convolve.gauss_pair_of` refuses it."""
-    area = mo.loop_area(curves)
-    pts = np.concatenate([pc.cartesian(c) for c in curves])
-    size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
-    sign = np.sign(area) if abs(area) > 1e-9 * size * size else 1.0
-    eps = 1e-6 * size
-    tips = np.array([pc.end(curves[i]) for i in open_cusps])
-    ways = np.array([pc.end_tangents(curves[i])[1] for i in open_cusps])
-    ways /= np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
-    poly = pl.flatten_loop(curves, 0.1 * eps)
-    outside = np.round(winding_number(tips + eps * ways, [poly])) == 0
-    return np.where(outside, np.pi, -np.pi) * sign
+    turn, and :func:`morph.convolve.gauss_pair_of` refuses it.
+
+    All loops with open cusps at once: each is moved so that its first point is at
+    the origin and scaled by 1 / its size (homogeneous x, y; the same curves), so
+    that one flattening tolerance (1e-7) and one area threshold (1e-9) serve every
+    loop, and stacked 4 apart in y (a loop then spans at most 1 in x and y), so that
+    the horizontal rays of one loop's probes (:func:`morph.polyline.
+    winding_number`) meet no other loop.  ``ways``: the unit end tangents of the
+    curves ``open_cusps``."""
+    loops = np.unique(loop_of[open_cusps])
+    begin = np.cumsum(counts) - counts
+    idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
+    owner = np.repeat(np.arange(len(loops)), counts[loops])
+    sel = [curves[i] for i in idx]
+    groups = [(np.asarray(ks), np.array([sel[i] for i in ks], float))
+              for ks in pc.by_degree(sel).values()]
+    lo = np.full((len(loops), 2), np.inf)
+    hi = np.full((len(loops), 2), -np.inf)
+    for ks, h in groups:
+        x = h[..., :2] / h[..., 2:]
+        np.minimum.at(lo, owner[ks], x.min(axis=1))
+        np.maximum.at(hi, owner[ks], x.max(axis=1))
+    size = np.maximum(np.max(hi - lo, axis=1), 1e-300)
+    first = [curves[begin[j]] for j in loops]
+    origin = pc.end_points(first)[0]
+    shift = np.column_stack([np.zeros(len(loops)), 4.0 * np.arange(len(loops))])
+    moved, terms = [None] * len(sel), np.zeros(len(sel))
+    for ks, h in groups:
+        o = owner[ks]
+        h[..., :2] = (h[..., :2] - origin[o][:, None] * h[..., 2:]) / size[o][:, None, None]
+        terms[ks] = mo.area_terms(list(h))      # about the loop's first point
+        h[..., :2] += shift[o][:, None] * h[..., 2:]
+        for j, i in enumerate(ks.tolist()):
+            moved[i] = h[j]
+    area = np.bincount(owner, weights=terms, minlength=len(loops))
+    sign = np.where(np.abs(area) > 1e-9, np.sign(area), 1.0)
+    eps = 1e-6
+    ends = np.cumsum(counts[loops])
+    polys = pl.flatten_loops([moved[a:b] for a, b in zip(ends - counts[loops], ends)], 0.1 * eps)
+    where = np.searchsorted(loops, loop_of[open_cusps])
+    tips = pc.end_points([curves[i] for i in open_cusps])[1]
+    tips = (tips - origin[where]) / size[where][:, None] + shift[where]
+    ways = ways / np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
+    outside = np.round(winding_number(tips + eps * ways, polys)) == 0
+    return np.where(outside, np.pi, -np.pi) * sign[where]
 
 
-def _cusp_side(c_in, c_out):
-    """+1 if the way out of a cusp lies left of the way in, -1 right, 0 coincident.
+def _cusp_sides(c_ins, c_outs):
+    """For each cusp (the end of ``c_ins[k]``, where ``c_outs[k]`` starts): +1 if
+    the way out lies left of the way in, -1 right, 0 coincident; (k,) ints.
 
     Both ways leave the cusp point X backwards along the incoming direction d; the
     angles of their points seen from X (measured from -d) are compared at
@@ -342,20 +386,36 @@ def _cusp_side(c_in, c_out):
     are evaluated moved so that X is the origin: the points' rounding then scales
     with the curves' size, not with X's distance from (0, 0) (far from it, a
     path traced back on itself would otherwise seem to turn to a random side).
+    All cusps at once, the curves evaluated by degree groups (:func:`_points_at`).
     """
-    x = pc.end(c_in)
-    c_in, c_out = pc.translate(c_in, -x), pc.translate(c_out, -x)
-    x = np.zeros(2)
-    t_in = pc.end_tangents(c_in)[1]
-    back = -t_in
+    k = len(c_ins)
+    x = pc.end_points(c_ins)[1]
+    c_ins = [pc.translate(c, -p) for c, p in zip(c_ins, x)]
+    c_outs = [pc.translate(c, -p) for c, p in zip(c_outs, x)]
+    back = -pc.end_tangents_many(c_ins)[1]
+    side = np.zeros(k, np.int64)
+    todo = np.ones(k, bool)
     for delta in (1e-2, 1e-4, 1e-6):
-        a = pc.evaluate(c_in, 1.0 - delta)[0] - x
-        b = pc.evaluate(c_out, delta)[0] - x
-        phi_a = np.arctan2(pc.cross2(back, a), np.dot(back, a))
-        phi_b = np.arctan2(pc.cross2(back, b), np.dot(back, b))
-        if abs(phi_b - phi_a) > 1e-7:
-            return 1 if phi_b < phi_a else -1
-    return 0
+        a = _points_at(c_ins, 1.0 - delta)
+        b = _points_at(c_outs, delta)
+        phi_a = np.arctan2(back[:, 0] * a[:, 1] - back[:, 1] * a[:, 0], np.sum(back * a, axis=1))
+        phi_b = np.arctan2(back[:, 0] * b[:, 1] - back[:, 1] * b[:, 0], np.sum(back * b, axis=1))
+        clear = todo & (np.abs(phi_b - phi_a) > 1e-7)
+        side[clear] = np.where(phi_b[clear] < phi_a[clear], 1, -1)
+        todo &= ~clear
+        if not todo.any():
+            break
+    return side
+
+
+def _points_at(pieces, t):
+    """Points of many pieces at one parameter t, (k, 2): pieces of one degree at once."""
+    out = np.zeros((len(pieces), 2))
+    for n, ks in pc.by_degree(pieces).items():
+        h = np.array([pieces[i] for i in ks], float)
+        v = np.einsum("j,kjc->kc", bz.basis(n - 1, np.array([t]))[0], h)
+        out[ks] = v[:, :2] / v[:, 2:]
+    return out
 
 
 def total_turning(edges):

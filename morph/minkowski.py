@@ -12,8 +12,8 @@ from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pai
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
                      TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
-from .packing import Packing, control_box
 from .operands import check_operand
+from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
@@ -29,7 +29,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Every output point lies within ``tol`` of the exact boundary of A ⊕ B (tol
-    absolute, in input units), split as: convolution pieces within 0.5 tol of the
+    absolute, in input units: font units for glyphs, whose command-line --tol is in
+    em, converted by :func:`morph.parse.em_to_units`), split as: convolution pieces within 0.5 tol of the
     exact convolution curve (0.2 tol in the first round where loops can meet at a corner,
     FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
     QAC; other methods of ``morph.subdivide.METHODS`` are sampled, not bounded),

@@ -17,9 +17,10 @@ import functools
 import numpy as np
 
 from . import bernstein as bz
-from .piece import jet_many, kind_groups, start
+from .piece import by_degree, end_points, jet_many, kind_groups, start
 
-__all__ = ["area_terms", "moment_terms", "loop_area", "region_area", "region_centroid"]
+__all__ = ["area_terms", "moment_terms", "loop_area", "loop_areas", "region_area",
+           "region_centroid"]
 
 QUAD_POINTS = 24
 REL_AGREE = 1e-13
@@ -36,6 +37,26 @@ def loop_area(pieces, quad_points=QUAD_POINTS):
     if not len(pieces):
         return 0.0
     return float(np.sum(area_terms(pieces, quad_points, origin=start(pieces[0]))))
+
+
+def loop_areas(loops):
+    """:func:`loop_area` of every loop, (k,): the pieces of all loops moved
+    so that each loop's first point is the origin (as ``loop_area`` integrates) and
+    integrated together (:func:`area_terms`, by degree and kind)."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    pieces = [p for loop in loops for p in loop]
+    if not pieces:
+        return np.zeros(len(sizes))
+    owner = np.repeat(np.arange(len(sizes)), sizes)
+    origin = end_points([loop[0] for loop in loops if len(loop)])[0]
+    origin = origin[np.cumsum(sizes > 0) - 1][owner]
+    moved = [None] * len(pieces)
+    for ks in by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        h[..., :2] -= origin[ks][:, None] * h[..., 2:]
+        for j, k in enumerate(ks):
+            moved[k] = h[j]
+    return np.bincount(owner, weights=area_terms(moved), minlength=len(sizes))
 
 
 def region_area(loops):

@@ -64,7 +64,7 @@ def check_operand(region, name):
             loop = int(np.searchsorted(np.cumsum(sizes), j, side="right"))
             raise OperandError("%s: loop %d is not closed: piece %d ends %.3g away from "
                                "where the next starts" % (name, loop, j - first[j], gap[j]))
-        area = mo.region_area(region)
+        area = float(np.sum(mo.loop_areas(region)))  # the loops' areas in one batch
     if area < -1e-9 * size * size:
         raise OperandError("%s has a negative signed area (%.6g): outer loops must run "
                            "counter-clockwise and holes clockwise "

@@ -45,8 +45,8 @@ class Packing:
         cell = np.stack([np.arange(len(regions)) % cols, np.arange(len(regions)) // cols], 1)
         corner = cell * pitch - 0.5 * pitch * [cols, -(-len(regions) // cols)]
         self.offsets = corner - boxes[:, :2]
-        self.packed = [[pc.translate(p, o) for p in loop]
-                       for r, o in zip(regions, self.offsets) for loop in r]
+        self.packed = _translated([loop for r in regions for loop in r],
+                                  np.repeat(self.offsets, [len(r) for r in regions], axis=0))
         lo, hi = corner + reach[:2] - 0.25 * margin, boxes[:, 2:] + self.offsets + reach[2:]
         self.slot_boxes = np.concatenate([lo, hi + 0.25 * margin], axis=1)
         self.pitch, self.cols = pitch, cols
@@ -73,9 +73,25 @@ class Packing:
         slots = self.slot_of([pc.start(np.asarray(loop[0], float)) for loop in loops])
         if (slots < 0).any():
             raise ValueError("a loop of the packed result lies outside every slot")
-        for loop, s in zip(loops, slots):
-            out[s].append([pc.translate(p, -self.offsets[s]) for p in loop])
+        for loop, s in zip(_translated(loops, -self.offsets[slots]), slots):
+            out[s].append(loop)
         return out
+
+
+def _translated(loops, offsets):
+    """Each loop moved by its offset (:func:`morph.piece.translate`, exact on
+    homogeneous points), the pieces of one degree at once."""
+    sizes = [len(loop) for loop in loops]
+    pieces = [p for loop in loops for p in loop]
+    shift = np.repeat(np.asarray(offsets, float).reshape(-1, 2), sizes, axis=0)
+    moved = [None] * len(pieces)
+    for ks in pc.by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        h[..., :2] += shift[ks][:, None] * h[..., 2:]
+        for j, k in enumerate(ks):
+            moved[k] = h[j]
+    bounds = np.cumsum([0] + sizes)
+    return [moved[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
 __all__ = ["Packing", "control_box"]

@@ -1,5 +1,5 @@
 """morph's test suite (a package, so test files in subfolders may share base names and
-``from tests.reference import ...`` works under plain ``pytest`` too).  See README.md."""
+``from tests.oracles.reference import ...`` works under plain ``pytest`` too).  See README.md."""
 
 from pathlib import Path
 

@@ -1,11 +1,11 @@
 """Small geometry helpers shared by several test files: sizes, polygons and areas from
-control points and ``tests.reference`` evaluation (nothing here is under test)."""
+control points and ``tests.oracles.reference`` evaluation (nothing here is under test)."""
 
 import numpy as np
 
 from morph import piece as pc
 from morph import polyline as pl
-from tests import reference as R
+from tests.oracles import reference as R
 
 
 def region_size(region):
@@ -15,8 +15,8 @@ def region_size(region):
 
 
 def loop_polygons(loops, tol):
-    """Each loop as one polygon: its pieces evaluated by ``tests.reference.bezier_eval``
-    at the parameters of ``pl.flatten(p, tol)``, each piece's end point left to the
+    """Each loop as one polygon: its pieces evaluated by ``tests.oracles.reference.bezier_eval``
+    at the parameters of ``polyline.flatten(p, tol)``, each piece's end point left to the
     next piece."""
     return [np.concatenate([R.bezier_eval(p, pl.flatten(p, tol)[1])[0][:-1] for p in loop])
             for loop in loops]

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+pytest.importorskip("hypothesis")
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -115,7 +116,7 @@ def test_basis_is_partition_of_unity(c):
     assert np.all(b >= 0)
 
 
-# ------------------------------------------------ roots in the Bernstein basis (issue 19)
+# ------------------------------------------------------- roots in the Bernstein basis
 
 def _bernstein_from_roots(rts, lead=1.0):
     c = np.array([lead])

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from click.testing import CliRunner
 from shapely.geometry import Point
@@ -10,7 +11,7 @@ from morph.cli import main
 from morph.cspace import cspace_obstacle, place_robot
 from morph.parse import glyph_region
 from morph.region import point_in_region, region_bbox, region_centroid
-from tests.reference import region_polylines, region_to_shapely
+from tests.oracles.reference import region_polylines, region_to_shapely
 
 TOL = 0.5
 
@@ -31,8 +32,10 @@ def test_random_placements_agree_with_polygon_overlap(obstacle, robot, use_centr
     pts = rng.uniform([box[0] - pad, box[1] - pad], [box[2] + pad, box[3] + pad], (1000, 2))
     inside = point_in_region(pts, cs, flat)
     # distance to the C-space boundary: skip near-boundary points
+    pytest.importorskip("shapely")
     from shapely.geometry import LineString, MultiLineString
     bnd = MultiLineString([LineString(np.vstack([p, p[:1]])) for p in cs_lines])
+    pytest.importorskip("shapely")
     from shapely import affinity
     mismatches, checked = 0, 0
     for p, ins in zip(pts, inside):
@@ -85,6 +88,7 @@ def _placements_agree(free, room, robot, ref, tol, seed):
     polygons of both, flattened within tol / 4).  Boundary samples of the free space:
     the placed robot touches a wall (inside the room grown by that margin, not inside
     the room shrunk by it).  Returns the counts inside and outside."""
+    pytest.importorskip("shapely")
     from shapely import affinity
     from shapely.geometry import LineString, MultiLineString
 

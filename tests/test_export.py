@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+pytest.importorskip("hypothesis")
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -431,6 +432,7 @@ class _ArcSource:
     """kurbo fitting source for the exact arc (trig formula), for kurbo's own counts."""
 
     def __init__(self, radius, sweep):
+        pytest.importorskip("kurbopy")
         import kurbopy
 
         self.r, self.a, self.k = radius, sweep, kurbopy
@@ -451,6 +453,7 @@ def test_tolerance_sweep_against_kurbo():
     """As kurbo's `cubicbez_toquads` sweep: for accuracy 0.1^i the measured error is
     below the accuracy, and the counts are no more than kurbo's fit_to_bezpath on the
     same 90° arc of radius 2 (kurbo: 1, 1, 2, 2, 4, 6, 8 at 1e-2 ... 1e-8)."""
+    pytest.importorskip("kurbopy")
     import kurbopy
 
     arc = pc.ellipse_arc((0, 0), 2.0, 2.0, 0.0, 0.0, np.pi / 2)[0]
@@ -651,7 +654,9 @@ def test_exact_sum_leaves_its_share_to_the_export():
     """A polynomial-quadratic region ⊕ disk is an exact convolution (every QAC bound
     0): the export gets tol minus the sum's other shares (export_tolerance), and the
     written SVG is still within tol of the exact offset (closest-point oracle)."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
@@ -681,6 +686,7 @@ def test_exact_sum_leaves_its_share_to_the_export():
 
 def random_cubic_blob(seed, rational_weights):
     """A star-shaped loop of random (rational) cubics, one per angular wedge, CCW."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
     rng = np.random.default_rng(seed)
@@ -711,6 +717,7 @@ def random_cubic_blob(seed, rational_weights):
 def offset_error(points, loop, poly, radius):
     """max | dist(p, A) - r | for points p meant to lie on the boundary of A ⊕ disk(r)
     (the exact offset boundary is the set at distance exactly r from A)."""
+    pytest.importorskip("shapely")
     import shapely
 
     d = closest_distances(points, loop)
@@ -720,8 +727,9 @@ def offset_error(points, loop, poly, radius):
 
 @pytest.mark.parametrize("seed, rational_weights", [(0, False), (3, True)])
 def test_random_cubics_plus_disk_within_tol(seed, rational_weights):
-    """Issue 17 part 5: a random cubic region ⊕ disk is within tol of the exact offset
+    """A random cubic region ⊕ disk is within tol of the exact offset
     before export (the sum's pieces) and, with morph.budget.plan, after the SVG export."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.offset import offset_region
@@ -746,6 +754,7 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     convolution bounds plus the other shares and its tol; the SVG written with
     export_tolerance(tol, bound) is within tol of the exact offset (closest-point
     oracle), and its cubics no more numerous than with the plain split."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
@@ -793,7 +802,7 @@ FOLD_BLOB = [
 
 
 def test_offset_of_folding_rational_cubics_within_tol():
-    """Issue 17 part 5, the sum's share: offset by r = 0.02 at tol 0.005, a point of
+    """The sum's share: offset by r = 0.02 at tol 0.005, a point of
     the result lies 0.00999 from the shape (measured to an actual point of it), so
     0.01 = 2 tol inside the exact offset boundary; at tol 0.01 it is 0.9998 tol: the
     error does not shrink with tol (a piece of the folded convolution curve kept).
@@ -808,6 +817,7 @@ def test_offset_of_folding_rational_cubics_within_tol():
     kept a fold of it that lies inside the sum.  Fixed since the untangle stage
     finds the fold's crossing by subdivision (morph.trim.crossing), not on
     polylines that could not resolve it."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
     from morph.offset import offset_region
@@ -822,9 +832,10 @@ def test_offset_of_folding_rational_cubics_within_tol():
 
 @pytest.mark.parametrize("tol", [1e-2, 1e-4])
 def test_circle_plus_circle_written_within_tol(tol):
-    """Issue 17 part 5: circle ⊕ circle written as SVG path data (sum and export
+    """Circle ⊕ circle written as SVG path data (sum and export
     sharing tol by morph.budget.plan) is within tol of the exact circle; parsed back
     with svgpathtools (it was 1.41 tol with the whole tol spent twice)."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
@@ -840,13 +851,15 @@ def test_circle_plus_circle_written_within_tol(tol):
 
 
 def test_offset_O_cubics_no_more_than_kurbo():
-    """Issue 18: `morph offset O --radius 0.04` on the CFF O at 0.1 unit writes no more
+    """`morph offset O --radius 0.04` on the CFF O at 0.1 unit writes no more
     cubics than kurbo's offset_cubic spends on the O's segments (untrimmed, a lower
     bound of a kurbo-based offsetter: 15; morph 14); and within tol of the exact
     offset (distance to the O's outline = 40 units)."""
+    pytest.importorskip("kurbopy")
     import kurbopy
     from fontTools.pens.recordingPen import RecordingPen
     from fontTools.ttLib import TTFont
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     from morph.offset import offset_region

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from PIL import Image
+pytest.importorskip("shapely")
 from shapely.geometry import Point, Polygon
+pytest.importorskip("svgpathtools")
 from svgpathtools import parse_path
 
 from morph import piece as pc

@@ -19,6 +19,7 @@ Glyphs come from both bundled fonts (TrueType quadratics, CFF cubics).
 
 import numpy as np
 import pytest
+pytest.importorskip("scipy")
 from scipy.optimize import brentq
 
 from morph import gauss
@@ -27,7 +28,7 @@ from morph import piece as pc
 from morph import moments as mo
 from morph.errors import DegenerateCurveError
 
-from tests import reference as R
+from tests.oracles import reference as R
 
 TWO_PI = 2.0 * np.pi
 GLYPHS = "SOgB8a&@"
@@ -311,7 +312,7 @@ def test_flat_point_is_not_an_inflection():
 
 def test_interior_cusp_is_split_off_and_carried_as_a_corner():
     # P'(1/2) = 0: both hodograph components vanish there, so split_monotone cuts at
-    # the cusp; the loop turns through pi there, a corner of the Gauss map (issue 17)
+    # the cusp; the loop turns through pi there, a corner of the Gauss map
     cusp = pc.cubic((0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (1.0, 0.0))
     parts = gauss.split_monotone(cusp)
     assert np.allclose(_junctions(parts), R.bezier_eval(cusp, [0.5])[0], atol=1e-12)
@@ -454,7 +455,7 @@ def test_zero_end_derivative_uses_the_limit_tangent():
     assert 0.05 < t < 0.95
 
 
-# ------------------------------------------------------------- batched forms (issue 18)
+# ------------------------------------------------------------------------ batched forms
 
 def _random_pieces(rng, n):
     out = []

@@ -24,7 +24,7 @@ def test_plain_import_reaches_the_errors_the_budget_and_the_region_type():
 
 
 def test_readme_library_names_are_public():
-    # what the README's library section and issue 19 list: offsets, C-space, brush and
+    # what the README's library section lists: offsets, C-space, brush and
     # stroke fonts, export
     for name in ("minkowski_sum", "offset_region", "cspace_obstacle", "stroke_paths",
                  "brush_font", "stroke_ufo", "ellipse_nib", "loop_to_cubics",

@@ -30,6 +30,7 @@ import itertools
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import Polygon
 
@@ -39,127 +40,12 @@ from morph import moments as mo
 from morph import polyline as pl
 from morph.parse import glyph_region
 from morph.minkowski import minkowski_sum, minkowski_sum_debug, minkowski_sums
-from tests import reference as R
+from tests.oracles import reference as R
 from tests.helpers import loop_polygons, polygon_region, region_size, shoelace
+from tests.oracles.membership import check_loops, check_sum
 
 GLYPHS = "OB8g&@TMSaex"
 UPM = 1000.0
-
-
-def _polygon(region, tol):
-    return R.region_to_shapely(region, tol)
-
-
-class Oracle:
-    """x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅ (shapely, inputs flattened to ``flat``)."""
-
-    def __init__(self, a, b, flat):
-        self.pa = _polygon(a, flat)
-        shapely.prepare(self.pa)
-        self.neg_b = shapely.affinity.scale(_polygon(b, flat), -1, -1, origin=(0, 0))
-
-    def __call__(self, points):
-        moved = [shapely.affinity.translate(self.neg_b, x, y) for x, y in points]
-        return shapely.intersects(self.pa, np.array(moved, dtype=object))
-
-
-def _boundary_samples(loops, per_piece=3):
-    pts, normals = [], []
-    for loop in loops:
-        for p in loop:
-            t = (np.arange(per_piece) + 0.5) / per_piece
-            d = pc.derivative(p, t)
-            n = np.column_stack([d[:, 1], -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
-            pts.append(pc.evaluate(p, t))
-            normals.append(n)  # outward: right of travel (outer CCW, holes CW)
-    return np.concatenate(pts), np.concatenate(normals)
-
-
-def _inside(loops, points):
-    polys = [pl.flatten_loop(l, 0.01) for l in loops]
-    return R.winding_number(points, polys) != 0
-
-
-def straddle(oracle, pts, nrm, d, n_ring=24):
-    """Membership of probes around each boundary point: (len(pts), 2 + n_ring).
-
-    The true boundary is within d of p iff the disk of radius d around p has points
-    in and out of the sum; probed at the two normal points and n_ring points of the
-    circle (along the normal alone fails legitimately near concave corners; 24
-    directions see wedges down to 15 degrees, e.g. a hole's sharp tip).
-    """
-    ang = np.linspace(0, 2 * np.pi, n_ring, endpoint=False)
-    ring = np.column_stack([np.cos(ang), np.sin(ang)])
-    probes = np.concatenate([pts[:, None, :] + d * nrm[:, None, :],
-                             pts[:, None, :] - d * nrm[:, None, :],
-                             pts[:, None, :] + d * ring[None, :, :]], axis=1)
-    return oracle(probes.reshape(-1, 2)).reshape(len(pts), -1)
-
-
-#: a spike's or crack's tip turns by pi, in one junction or over a few (uniFDB3's:
-#: 160 and 20 degrees): junctions turning by more than 45 degrees are its candidates
-SHARP_COS = np.cos(np.pi / 4)
-
-
-def sharp_starts(loops, cos_max=SHARP_COS):
-    """Per piece of ``loops`` (in order): whether its start is a junction where the
-    boundary turns by more than acos(cos_max)."""
-    out = []
-    for loop in loops:
-        first, last = pc.end_tangents_many(loop, strict=False)
-        out.append(np.einsum("ij,ij->i", np.roll(last, 1, axis=0), first) < cos_max)
-    return np.concatenate(out) if out else np.zeros(0, bool)
-
-
-def _sharp_junctions(loops):
-    """Junction points where the boundary turns by more than 45 degrees, (k, 2)."""
-    starts = np.array([pc.start(p) for loop in loops for p in loop], float).reshape(-1, 2)
-    return starts[sharp_starts(loops)]
-
-
-def straddle_sides(oracle, pts, nrm, d):
-    """(has a point in the sum, has one out) within d of each point: the probes of
-    :func:`straddle`, and where they see one side only, 1440 more (8 radii x 180
-    directions: wedges down to 2 degrees, e.g. the tip of a narrow notch at a sharp
-    junction, which 24 directions miss)."""
-    inside = straddle(oracle, pts, nrm, d)
-    has_in, has_out = inside.any(axis=1), (~inside).any(axis=1)
-    ang = np.linspace(0, 2 * np.pi, 180, endpoint=False)
-    disk = ((d * np.arange(1, 9) / 8)[:, None, None]
-            * np.stack([np.cos(ang), np.sin(ang)], axis=1)[None]).reshape(-1, 2)
-    for i in np.flatnonzero(~(has_in & has_out)):
-        ins = oracle(pts[i] + disk)
-        has_in[i], has_out[i] = has_in[i] | ins.any(), has_out[i] | (~ins).any()
-    return has_in, has_out
-
-
-def check_sum(a, b, tol, slack, rng, n_random=60, max_boundary=80):
-    return check_loops(minkowski_sum(a, b, tol), a, b, tol, slack, rng, n_random, max_boundary)
-
-
-def check_loops(loops, a, b, tol, slack, rng, n_random=60, max_boundary=80):
-    """Straddle and membership tests of ``loops`` as A ⊕ B within tol + slack."""
-    assert loops, "empty sum"
-    oracle = Oracle(a, b, 1e-3)
-    pts, nrm = _boundary_samples(loops)
-    if len(pts) > max_boundary:
-        pick = rng.choice(len(pts), max_boundary, replace=False)
-        pts, nrm = pts[pick], nrm[pick]
-    # and every junction turning by more than 45 degrees: a spike's or crack's tip
-    # (the ring probes judge it; a corner has no one normal)
-    sharp = _sharp_junctions(loops)
-    pts, nrm = np.concatenate([pts, sharp]), np.concatenate([nrm, np.zeros_like(sharp)])
-    has_in, has_out = straddle_sides(oracle, pts, nrm, tol + slack)
-    assert has_in.all(), "boundary point farther than tol+slack outside"
-    assert has_out.all(), "boundary point farther than tol+slack inside"
-    lo = np.min([pc.bbox(p)[:2] for l in loops for p in l], axis=0) - 20
-    hi = np.max([pc.bbox(p)[2:] for l in loops for p in l], axis=0) + 20
-    x = rng.uniform(lo, hi, size=(n_random, 2))
-    ours = _inside(loops, x)
-    truth = oracle(x)
-    # points within slack of our boundary may legitimately disagree
-    assert np.array_equal(ours, truth), "membership differs at %s" % (x[ours != truth][:3],)
-    return loops
 
 
 @pytest.fixture(scope="module")
@@ -284,7 +170,7 @@ def test_bad_arguments():
         minkowski_sum([pc.circle([0, 0], 1)], [pc.circle([0, 0], 1)], 0.0)
 
 
-# ------------------------------------------------------- session 2 regressions
+# ------------------------------------------------------- regressions of the first sweep
 
 def test_folded_joint_crossing_is_cut():
     """B ⊕ ellipse nib: two convolution pieces meet at a cusp (their polylines only
@@ -327,7 +213,7 @@ def test_thin_ellipse_sum_area_is_exact():
           pc.line((5.76634332, -5.48547742), (97.11091368, -23.86357989)),
           pc.line((97.11091368, -23.86357989), (69.79474919, 0.0))]]
     loops = minkowski_sum(a, b, 1e-2)
-    flat = _polygon(loops, 1e-4)
+    flat = R.region_to_shapely(loops, 1e-4)
     # a polygon within 1e-4 of the boundary differs in area by < 1e-4 * perimeter
     assert abs(mo.region_area(loops) - flat.area) < 1e-4 * flat.length
     ref = R.polygon_minkowski_sum(a, b, 1e-2)
@@ -347,7 +233,7 @@ def test_coarse_tolerance_keeps_thin_loops():
     loops = minkowski_sum(a, nib, 100.0)
     ref = R.polygon_minkowski_sum(a, nib, 0.5)
     assert len(loops) == 1
-    assert R.hausdorff(_polygon(loops, 1.0), ref, 2.0) <= 100.0 + 0.5 + 1.0
+    assert R.hausdorff(R.region_to_shapely(loops, 1.0), ref, 2.0) <= 100.0 + 0.5 + 1.0
     assert abs(mo.region_area(loops) - ref.area) < 1e-2 * ref.area
 
 
@@ -707,7 +593,7 @@ def test_sums_of_regions_of_very_different_sizes_and_places(glyphs):
         alone = minkowski_sum(a, b, tol)
         assert sorted(mo.loop_area(l) > 0 for l in loops) == sorted(
             mo.loop_area(l) > 0 for l in alone)
-        p, q = _polygon(loops, 0.01), _polygon(alone, 0.01)
+        p, q = R.region_to_shapely(loops, 0.01), R.region_to_shapely(alone, 0.01)
         assert p.boundary.hausdorff_distance(q.boundary) <= 2 * tol
 
 
@@ -716,6 +602,7 @@ def test_a_sum_thinner_than_its_tolerance_everywhere_is_refused_not_empty():
     thinner than the features that tolerance keeps, and an empty result would be
     infinitely far from the exact sum: LimitError with a tolerance that works (the
     sum at it lies within it of the exact one: the bar grown by 0.1, by shapely)."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon, box
 
     from morph.errors import LimitError
@@ -889,6 +776,7 @@ def test_an_edited_region_is_checked_again():
 
 def _segments(loops):
     """The closed polylines' segments as one shapely MultiLineString."""
+    pytest.importorskip("shapely")
     from shapely.geometry import MultiLineString
 
     loops = [np.asarray(p, float) for p in loops]
@@ -902,6 +790,7 @@ def test_a_spike_or_a_slit_is_summed_as_traced(r):
     back inside one loop, winding 0 on both sides) passes the winding test and sums
     as the set it traces: the spike grows by the disk too (shapely buffer of the
     fill with the traced polyline)."""
+    pytest.importorskip("shapely")
     from shapely.ops import unary_union
 
     from morph.operands import winding_fault
@@ -947,6 +836,7 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
     winding less than 1 there), or refused by the Gauss map (a loop that turns
     twice), or summed within 2 tol of the exact sum of the set they trace (Clipper's
     nonzero fill with the traced polylines, shapely buffer)."""
+    pytest.importorskip("shapely")
     from shapely.ops import unary_union
 
     from morph.errors import SelfCrossingError

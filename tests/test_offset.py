@@ -4,6 +4,7 @@ import re
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from click.testing import CliRunner
 from shapely.geometry import LineString, MultiLineString, Point
@@ -13,7 +14,7 @@ from morph import moments as mo
 from morph.cli import main
 from morph.offset import inset_region, offset_region
 from morph.parse import glyph_region, svg_region
-from tests.reference import region_polylines
+from tests.oracles.reference import region_polylines
 
 SVG = """<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">
 <path d="M 20 100 C 20 40 80 20 100 60 C 120 20 180 40 180 100 C 180 150 130 150 100 180
@@ -98,6 +99,7 @@ def test_offset_bound_and_the_written_svg(tmp_path):
     written outline (svgpathtools samples, y flipped back) is within --tol of the
     exact offset of the SVG shape: distance to its boundary = radius (the shape
     flattened within tol / 20)."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
 
     region = svg_region(SVG)
@@ -146,9 +148,10 @@ def _inset_against_shapely(region, radius, tol):
     boundary (within tol + the flattening) and inside the input (nonzero winding),
     and the two regions differ by an area of at most (tol + flattening) times the
     perimeter (nothing missing, no extra part)."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
-    from tests.reference import region_to_shapely
+    from tests.oracles.reference import region_to_shapely
 
     out = inset_region(region, radius, tol)
     flat = tol / 20
@@ -246,7 +249,7 @@ def test_thin_annular_gap_around_an_island_stays_open(seed):
     hole's probe point used to be taken in the island (the middle of a scanline
     across the hole ring, islands ignored), which filled the gap (a 4-unit gap in
     ionicons' ribbon)."""
-    from tests.reference import region_to_shapely
+    from tests.oracles.reference import region_to_shapely
 
     rng = np.random.default_rng(seed)
     c = rng.uniform(-100, 100, 2)

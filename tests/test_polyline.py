@@ -1,6 +1,8 @@
 """morph.polyline against shapely: segment pairs, crossings, and the loop crossing test."""
 
+import pytest
 import numpy as np
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import LineString
 

@@ -19,7 +19,9 @@ import random
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
+pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Polygon
@@ -28,7 +30,7 @@ from morph import piece as pc
 from morph import moments as mo
 from morph import polyline as pl
 from morph.minkowski import minkowski_sum
-from tests import reference as R
+from tests.oracles import reference as R
 
 TOL = 1e-2
 REF_TOL = 0.5

@@ -33,7 +33,7 @@ import pytest
 from morph import piece as pc
 from morph import qac
 
-from tests import reference as R
+from tests.oracles import reference as R
 
 SEED = 20240604
 N_PAIRS = 1000

@@ -3,12 +3,13 @@
 import numpy as np
 import pyclipper
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import Point, Polygon, box
 
 from morph import piece as mp
 
-from tests import reference as R
+from tests.oracles import reference as R
 
 
 # ------------------------------------------------------------------------- helpers

@@ -218,6 +218,7 @@ def test_loops_with_equal_boxes_and_areas_but_other_curves_do_not_cancel():
     """A square notched at the top and the same square notched at the bottom (same
     bounding box, same area), in opposite directions: not coincident, so under
     nonzero they fill their symmetric difference (shapely), not nothing."""
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon
 
     from morph.trim import fill_region

@@ -3,7 +3,7 @@
 A fresh interpreter runs one command in-process and reports ``sys.modules``; a
 module a command does not use (Pillow for SVG output, the SVG reader and its XML
 parser for glyphs, the BLAS thread pool) must not have been loaded, since every
-process pays for it again (issue 18: ``morph sum`` as a process against the
+process pays for it again (``morph sum`` as a process against the
 polygon script).
 """
 

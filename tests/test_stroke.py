@@ -5,6 +5,7 @@ areas and Hausdorff distances."""
 import numpy as np
 import pyclipper
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import Polygon
 

@@ -7,6 +7,8 @@ from pathlib import Path
 import click
 
 from .group import main
+from .variable import (VARY_NIB_HELP, brush_variable_cli, is_variable_truetype,
+                       stroke_variable_cli)
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -35,7 +37,8 @@ def _parse_nib(spec):
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
                    "source's; the suffix picks the container). Also written next to it: "
-                   "OUTPUT.png (sample image) and OUTPUT.html (specimen).")
+                   "OUTPUT.png (sample image) and OUTPUT.html (specimen), e.g. X.ttf.png "
+                   "and X.ttf.html for -o X.ttf.")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
               help="Elliptical nib: width, height in font units and angle in degrees.")
 @click.option("--nib-svg", type=click.Path(dir_okay=False), default=None,
@@ -45,7 +48,9 @@ def _parse_nib(spec):
               help="Characters, ranges (a-z) and glyph names, comma separated; 'all': "
                    "every glyph drawn by its own contours (composites follow).")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image and the specimen.")
+              help="Text of the sample image and the specimen. A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
 @tol_option(default=FONT_TOL, what="outlines (sum and curve conversion together)",
             note="5e-4 em = 0.5 font units at 1000 units per em; the outlines are then "
@@ -69,10 +74,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     CFF/.otf: cubics), with the advance width grown by the nib width (zero-width
     marks stay so).  GPOS mark anchors move with their glyphs, vertical metrics grow
     by the nib, names and OS/2 widths are updated.  FONT is a .ttf/.otf file (a
-    variable font is brushed at --location), or omitted / "default" for the bundled
-    Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
+    variable font at --location gives a static instance), or omitted / "default"
+    for the bundled Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
     in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
     characters, source and result side by side).
+
+    A variable FONT without --location keeps every axis: each master's glyphs
+    are brushed as untrimmed, overlapping contours compatible across the
+    masters (overlap flags set), its layout kept.  Static outputs are trimmed:
+    one outline, free of overlaps.
 
     A glyph whose sum fails is computed again at --tol/8, then with the nib turned
     by a tiny angle (within --tol); if that fails too it is written by a polygon
@@ -86,13 +96,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush -o NotoBrush.ttf
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
+      morph brush Variable.ttf -o VariableBrush.ttf --nib ellipse:60,15,30
     """
     import io
     import time
 
     from fontTools.ttLib import TTFont
 
-    from ..fonts.brush import brush_font, ellipse_nib, open_source
+    from ..fonts.brush import brush_font, open_source
+    from ..nib import ellipse_nib
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
@@ -104,16 +116,20 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
+    if location is None and is_variable_truetype(src):   # every axis kept
+        return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
+                                  png, page, _parse_nib)
     source = open_source(src, location)  # static: a variable font at --location
     source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
-    with progress_bar(total, "glyphs") as bar:
+    with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
     write_specimen(out, source_copy, sample=sample)
     click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
@@ -141,28 +157,48 @@ def _brush_source(font_file):
     from ..parse import default_font_path
 
     src = default_font_path() if font_file in (None, "default") else font_file
+    if Path(src).is_dir() and (Path(src) / "metainfo.plist").is_file():
+        raise InputError("%s is a UFO source: morph brush reads compiled fonts (.ttf, .otf); "
+                         "stroke a UFO skeleton with 'morph stroke', or compile a UFO of "
+                         "filled outlines first (fontmake)" % src)
+    if Path(src).is_dir():
+        raise InputError("font %s is a folder, not a font file" % src)
     if not Path(src).is_file():
         raise InputError("font %s does not exist" % src)
     return src
 
 
 def _companions(out, force, specimen=True):
-    """(OUT.png, OUT.html or None) written next to a font; InputError when one exists
-    and ``force`` is not given."""
-    from ..fonts.specimen import specimen_path
+    """(OUT.png, OUT.html or None) written next to a font OUT (e.g. X.ttf.png,
+    X.ttf.html: :func:`morph.fonts.specimen.sample_path`, ``specimen_path``);
+    InputError when one exists and ``force`` is not given."""
+    from ..fonts.specimen import sample_path, specimen_path
 
-    png, page = out.with_suffix(".png"), specimen_path(out) if specimen else None
+    png, page = sample_path(out), specimen_path(out) if specimen else None
     for extra in (png, page):
         if extra is not None and extra.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % extra)
     return png, page
 
 
+def _covered_sample(font, sample):
+    """--sample when the written font draws it, else its own characters
+    (:func:`morph.fonts.specimen.sample_text`), with a note on stderr."""
+    from ..fonts.specimen import sample_text
+
+    text, changed = sample_text(font, sample)
+    if changed:
+        click.echo("note: the font does not draw every character of the sample %r: the "
+                   "sample image and specimen show its own characters %r" % (sample, text),
+                   err=True)
+    return text
+
+
 def _checked_nib(make):
     """The nib region ``make()`` returns, checked convex; a bad nib is bad input
     (InputError, exit 2)."""
     from ..errors import MorphError
-    from ..fonts.brush import check_convex_nib
+    from ..nib import check_convex_nib
 
     try:
         nib_region = make()
@@ -205,7 +241,8 @@ _STROKE_NIB = "ellipse:90,20,30"
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="UFO skeleton: OUT.ufo (a copy of the source, outlines replaced), "
                    "OUT.otf (CFF) or OUT.ttf (TrueType), compiled with ufo2ft, plus a "
-                   "sample image OUT.png (and a specimen OUT.html for a font). SVG "
+                   "sample image OUT.png (and a specimen OUT.html for a font; e.g. "
+                   "X.otf.png and X.otf.html for -o X.otf). SVG "
                    "skeleton: OUT.svg or OUT.png.")
 @click.option("--nib", default=None,
               help="Elliptical nib ellipse:W,H,ANGLE: width and height in font units "
@@ -218,21 +255,27 @@ _STROKE_NIB = "ellipse:90,20,30"
                    "is the pen point). Overrides --nib.")
 @click.option("--glyphs", default=None,
               help="UFO only: characters, ranges (a-z) and glyph names, comma separated. "
-                   "Default: every glyph.")
+                   "Default: every glyph. Glyphs not chosen (nor following as composites) "
+                   "are left empty with their advances, so the output compiles; a .ufo "
+                   "output keeps their skeletons in its layer 'skeleton'.")
 @tol_option(default=None, what="outlines (stroke and curve conversion together)",
             note="Default: %g em for a UFO (the outlines are then rounded to integer "
-                 "coordinates, <= 0.71 unit more), %g user units for an SVG, as for "
-                 "images of the other commands." % (FONT_TOL, DEFAULT_TOL))
+                 "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
+                 "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image (UFO skeletons).")
+              help="Text of the sample image (UFO skeletons). A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
                    "font does not depend on it.")
 @click.option("--size", type=click.IntRange(min=8, max=8192), default=512,
               show_default=True, help="SVG skeleton to PNG: longer side in pixels.")
+@click.option("--vary-nib", default=None, metavar="ellipse:W,H,ANGLE", help=VARY_NIB_HELP)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
-def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, force):
+def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, size, vary_nib,
+           force):
     """Stroke a skeleton (centre lines) with a calligraphic nib (Fig. 5).
 
     Every path of SKELETON is swept by a convex nib held at a fixed angle: an
@@ -252,9 +295,18 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     within --tol, made of lines); the font is written anyway, those glyphs are
     named on one line and the exit status is 1.
 
+    Static outputs are trimmed: one outline, free of overlaps.  Variable
+    outputs (--vary-nib, or a .designspace of compatible skeleton masters:
+    every master stroked, axes and instances kept) keep the untrimmed
+    convolution as overlapping contours, compatible in every master; the
+    renderers fill them as the sum (nonzero, overlap flags set).
+
     \b
     Examples:
       morph stroke Relief-SingleLine.ufo -o ReliefStroke.otf
+      morph stroke Relief-SingleLine.ufo -o ReliefNib.ttf --nib ellipse:40,10,30
+            --vary-nib ellipse:120,30,30
+      morph stroke Family.designspace -o FamilyStroke.ttf
       morph stroke Relief-SingleLine.ufo -o Round.ttf --nib ellipse:60,60,0
       morph stroke Sketch.ufo -o Sketch-Stroke.ufo --glyphs A-Z,a-z
       morph stroke drawing.svg -o drawing-stroke.svg --nib ellipse:8,2,30
@@ -263,20 +315,28 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     if not src.exists():
         raise InputError("skeleton %s does not exist" % skeleton)
     if src.suffix.lower() == ".svg":
-        tol = DEFAULT_TOL if tol is None else tol
+        if vary_nib is not None:
+            raise InputError("--vary-nib needs a UFO skeleton (a font), not an SVG")
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
-    elif src.is_dir():
+    elif src.is_dir() or src.suffix.lower() == ".designspace":
         tol = FONT_TOL if tol is None else tol
+        if vary_nib is not None or not src.is_dir():
+            if nib_svg:
+                raise InputError("a variable font needs elliptical nibs (--nib), not --nib-svg")
+            return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
+                                       jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
+                                       _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
-        raise InputError("skeleton %s is neither a .ufo folder nor an .svg file" % skeleton)
+        raise InputError("skeleton %s is neither a .ufo folder, a .designspace nor an .svg "
+                         "file" % skeleton)
 
 
 def _stroke_nib(nib, nib_svg, scale):
     """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
     convex (InputError otherwise)."""
-    from ..fonts.brush import ellipse_nib
+    from ..nib import ellipse_nib
     from ..parse import svg_region
 
     def make():
@@ -325,19 +385,28 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     todo, _ = stroke_plan(font, items, nib_region)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with progress_bar(len(todo), "glyphs") as bar:
-        stats = stroke_ufo(font, out, nib_region, items, tol=tol * upm, family_name=family,
+    with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
+        # the path, not the open font: stroke_ufo then reads the UFO whole instead of
+        # deep-copying this one (5 ms a glyph)
+        stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)
-    extra = "; %d glyphs not chosen left empty" % stats["emptied"] if stats["emptied"] else ""
-    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s%s), sample %s%s"
+    click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"
                % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
                   count(stats["composites"], "composite"), count(stats["points"], "point"),
-                  seconds, count(jobs, "job"), extra, png,
+                  seconds, count(jobs, "job"), png,
                   " and specimen %s" % page if page else ""))
+    if stats["emptied"]:
+        from ..fonts.stroke import SKELETON_LAYER
+
+        click.echo("note: %s not chosen by --glyphs left empty (advances kept)%s"
+                   % (count(stats["emptied"], "glyph"),
+                      "; their skeletons are in the UFO layer '%s'" % SKELETON_LAYER
+                      if out.suffix.lower() == ".ufo" else ""), err=True)
     return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
                             " to a polygon stroke")
 
@@ -363,6 +432,8 @@ def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):
     box = region_bbox(lines)
     scale = max(box[2] - box[0], box[3] - box[1], 1e-12) / 1000.0
     nib_region = _stroke_nib(nib, nib_svg, scale)
+    if tol is None:  # relative to the drawing, as for the shapes of the other commands
+        tol = DEFAULT_TOL * 1000.0 * scale
     check_tolerance(tol, lines, nib_region, operation="SVG %s" % src.name,
                     unit_name="user units")
     st, et = plan(tol)[:2]  # the stroke and the SVG export share --tol

@@ -73,10 +73,13 @@ def _limit_memory():
 
 def _save_debug(command, argv, exc):
     """Write the loaded shapes (loops of homogeneous control points), the arguments
-    and the error to morph-debug-<command>.json in the working folder; its path."""
+    and the error to morph-debug-<command>.json: in the folder MORPH_DEBUG names,
+    else (MORPH_DEBUG=1) in the working folder; its path."""
     import json
 
-    path = os.path.abspath("morph-debug-%s.json" % command)
+    folder = os.environ.get("MORPH_DEBUG", "")
+    path = os.path.abspath(os.path.join(folder if os.path.isdir(folder) else "",
+                                        "morph-debug-%s.json" % command))
     data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
             "shapes": [{"arg": s.source,
                         "info": {"kind": s.kind, "name": s.name, "units_per_em": s.units_per_em,

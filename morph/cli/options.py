@@ -8,12 +8,18 @@ EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
 #: --tol of every command is absolute: in em for glyphs and fonts (font units divided
 #: by units per em), in user units for SVG; it bounds the written curves' distance
-#: from the exact result (computation and export together).  Defaults: images 1e-4,
-#: fonts 5e-4 em (their outlines are then rounded to integer units, <= 0.71 unit more).
+#: from the exact result (computation and export together).  Defaults: images 1e-4
+#: em for glyphs and 1e-4 of the drawing's size for SVG
+#: (:meth:`morph.parse.Shape.tolerance`), fonts 5e-4 em (their outlines are then
+#: rounded to integer units, <= 0.71 unit more).  The library's ``tol`` is in the
+#: shapes' own units: :meth:`morph.parse.Shape.em_to_units` converts.
 DEFAULT_TOL = 1e-4
 FONT_TOL = 5e-4
 TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
-             "em), in user units for SVG")
+             "em), in user units for SVG (the library's tol is in the shapes' units: "
+             "em x units per em, morph.parse.em_to_units)")
+TOL_DEFAULT_NOTE = ("Default: 1e-4 em for glyphs, 1e-4 of the drawing's size (the larger "
+                    "side of the shapes' bounding boxes) for SVG.")
 IMAGE_SUFFIXES = (".png", ".svg")
 
 
@@ -26,7 +32,8 @@ class InputError(click.ClickException):
 # =========================================================================== shapes
 
 def shape_tolerance(shape, tol, *others, check=True, share=1.0):
-    """--tol in the shape's units: em -> font units for glyphs, as is for SVG.
+    """--tol in the shape's units: em -> font units for glyphs, as is for SVG; no
+    --tol (None): the default relative to the size (:meth:`morph.parse.Shape.tolerance`).
 
     With ``check`` the tolerance is checked against this shape and the ``others``
     (regions summed with it, e.g. the other operand or the offset disk) by
@@ -36,7 +43,7 @@ def shape_tolerance(shape, tol, *others, check=True, share=1.0):
     of --tol the computation runs at (:func:`morph.budget.plan`); the
     check is made at it and its message names --tol values.
     """
-    t = shape.em_to_units(tol)
+    t = shape.tolerance(tol, *others)  # None: the default, relative to the size
     if check:
         from ..limits import check_tolerance
 
@@ -144,7 +151,8 @@ def output_option(f):
 
 def force_option(f):
     return click.option("--force", is_flag=True, default=False,
-                        help="Overwrite an existing output file.")(f)
+                        help="Overwrite an existing output file (for frames: replace the "
+                             "frames and animation morph wrote in the folder before).")(f)
 
 
 def size_option(f):
@@ -153,11 +161,50 @@ def size_option(f):
                         help="Longer side of the image in pixels.")(f)
 
 
+def _default_tol_option(f):
+    return tol_option(f, default=None, note=TOL_DEFAULT_NOTE)
+
+
 def common_options(f):
-    """--font, --tol, -o/--output, --force, --size: the shared vocabulary."""
-    for deco in (size_option, force_option, output_option, tol_option, font_option):
-        f = deco(f)
-    return f
+    """--font, --tol, -o/--output, --force, --size: the shared vocabulary; the shape
+    arguments are checked against them (:func:`check_shape_units`).  --tol is None
+    when not given (:func:`shape_tolerance` takes the default)."""
+    import functools
+
+    @functools.wraps(f)
+    def checked(*args, **kwargs):
+        check_shape_units(kwargs.get("font"),
+                          [v for v in kwargs.values() if hasattr(v, "units_per_em")])
+        return f(*args, **kwargs)
+
+    for deco in (size_option, force_option, output_option, _default_tol_option, font_option):
+        checked = deco(checked)
+    return checked
+
+
+def check_shape_units(font, shapes):
+    """The shapes of one command and --font agree: --font given while every shape is
+    an SVG file is bad input (InputError: it would be ignored); SVG shapes (user
+    units) combined with glyphs (font units) are summed as 1 user unit = 1 font unit,
+    which a MorphWarning says."""
+    import warnings
+
+    from ..errors import MorphWarning
+
+    kinds = {s.kind for s in shapes}
+    if font is not None and shapes and kinds == {"svg"}:
+        raise InputError("--font %s applies to glyph shapes, and %s %s SVG file%s"
+                         % (font, " and ".join(s.name for s in shapes),
+                            "is an" if len(shapes) == 1 else "are",
+                            "" if len(shapes) == 1 else "s"))
+    if kinds == {"svg", "glyph"}:
+        svg = [s.name for s in shapes if s.kind == "svg"]
+        glyph = [s.name for s in shapes if s.kind == "glyph"]
+        warnings.warn(MorphWarning(
+            "%s in SVG user units and glyph %s in font units are combined as 1 user unit "
+            "= 1 font unit (--tol in the units of the first shape, %s)"
+            % (", ".join(svg), ", ".join(glyph),
+               "user units" if shapes[0].kind == "svg" else "em")))
 
 
 # =========================================================================== output
@@ -183,14 +230,18 @@ def resolve_output(output, default_name, force, suffixes=IMAGE_SUFFIXES):
 def resolve_output_dir(output, default_name, force):
     """Checked output folder for frame sequences (created if missing).
 
-    An existing non-empty folder needs ``force``.  Raises InputError.
+    An existing non-empty folder needs ``force`` (the command then removes the
+    frames it wrote before and does not write again, see
+    :func:`morph.render.figures.stale_frame_files`; other files are kept).  Raises
+    InputError.
     """
     path = Path(output) if output is not None else Path.cwd() / default_name
     if path.exists() and not path.is_dir():
         raise InputError("output %s exists and is not a folder" % path)
     if path.is_dir() and any(path.iterdir()) and not force:
-        raise InputError("output folder %s is not empty; use --force to write "
-                               "into it" % path)
+        raise InputError("output folder %s is not empty (frames of an earlier run?); use "
+                         "--force to replace the frames morph wrote there (other files "
+                         "are kept)" % path)
     if not path.parent.is_dir():
         raise InputError("output folder %s does not exist" % path.parent)
     path.mkdir(exist_ok=True)
@@ -226,17 +277,91 @@ def report_written(path, loops):
                                       count(sum(map(len, loops)), "piece")))
 
 
-def progress_bar(length, label):
-    """A click progress bar on stderr when it is a terminal; otherwise nothing is
-    printed (click would print a stray label line)."""
-    import contextlib
-    import sys
+#: seconds between the status lines of a run whose stderr is not a terminal
+STATUS_SECONDS = 5.0
+#: seconds between redraws of the progress line on a terminal
+REDRAW_SECONDS = 0.5
 
-    if sys.stderr.isatty():
-        return click.progressbar(length=length, label=label, file=sys.stderr)
 
-    class _Silent:
-        def update(self, n):
-            pass
+class Progress:
+    """Work done, counted in items (glyphs, frames), on stderr.
 
-    return contextlib.nullcontext(_Silent())
+    ``update(n)`` adds ``n`` items done (a batch of glyphs finishing together adds
+    each).  The status says the items done of all, the percentage, the time
+    elapsed, and once something is done the time left: the time per item done so
+    far times the items left (no estimate before the first item: a rate from
+    nothing done is no rate).  On a terminal the line is redrawn in place, at most
+    every :data:`REDRAW_SECONDS`; otherwise (a pipe, a log) a line is printed every
+    :data:`STATUS_SECONDS`, and a last one at the end when any was (a short run
+    prints nothing).  A background thread keeps
+    the clock, so a long first batch still shows the time passing.
+    """
+
+    def __init__(self, total, label, command="morph", stream=None, tty=None, interval=None):
+        import sys
+        import threading
+
+        self.total, self.label, self.command = int(total), label, command
+        self.stream = sys.stderr if stream is None else stream
+        self.tty = self.stream.isatty() if tty is None else tty
+        self.interval = (interval if interval is not None
+                         else REDRAW_SECONDS if self.tty else STATUS_SECONDS)
+        self.done = 0
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._tick, daemon=True)
+        self._start = None
+        self._shown = False
+
+    def __enter__(self):
+        import time
+
+        self._start = time.monotonic()
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+        if self._shown:  # the last line: all done, or where it stopped
+            self._show(final=True)
+        return False
+
+    def update(self, n=1):
+        with self._lock:
+            self.done = min(self.total, self.done + n)
+        if self.tty:
+            self._show()
+
+    def status(self):
+        """The status text: ``3/141 glyphs (2 %), 4 s, about 180 s left``."""
+        import time
+
+        elapsed = time.monotonic() - self._start
+        done, total = self.done, max(self.total, 1)
+        text = "%d/%d %s (%d %%), %.0f s" % (done, self.total, self.label,
+                                             100 * done // total, elapsed)
+        if 0 < done < self.total:
+            text += ", about %.0f s left" % (elapsed / done * (self.total - done))
+        return text
+
+    def _tick(self):
+        while not self._stop.wait(self.interval):
+            self._show()
+
+    def _show(self, final=False):
+        with self._lock:
+            line = "%s: %s" % (self.command, self.status())
+            if self.tty:
+                self.stream.write("\r\033[K" + line + ("\n" if final else ""))
+            else:
+                self.stream.write(line + "\n")
+            self.stream.flush()
+            self._shown = True
+
+
+def progress_bar(length, label, command="morph"):
+    """A :class:`Progress` of ``length`` items on stderr (a context manager with
+    ``update(n)``): redrawn on a terminal, a status line every few seconds
+    otherwise."""
+    return Progress(length, label, command)

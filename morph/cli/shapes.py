@@ -79,6 +79,7 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
                    animation="gif"):
     from ..frames import frames_bbox, iter_frames
     from ..render import write_frame_stream
+    from ..render.figures import stale_frame_files
 
     _check_animation_memory(frames, size, animation)
     outdir = resolve_output_dir(output, "%s-%s-%s" % (kind, a.slug, b.slug), force)
@@ -90,9 +91,11 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
             yield out, budget.after(out.bound)
             bar.update(1)
 
-    with progress_bar(frames, "frames") as bar:
+    with progress_bar(frames, "frames", "morph %s" % kind) as bar:
         write_frame_stream(outdir, written(bar), frames_bbox(a.region, b.region), size=size,
                            duration=duration, animation=animation)
+    for stale in stale_frame_files(outdir, frames, animation):  # of an earlier run (--force)
+        stale.unlink()
     click.echo("wrote %d frames (SVG + PNG) and morph.%s to %s" % (frames, animation, outdir))
 
 

@@ -112,6 +112,15 @@ def _step(frm, to):
     return np.round(d / n) if n > 0 else d
 
 
+def _exact_joins(segs):
+    """The segments (copies) with each start set to the end of the segment before
+    it, cyclically: joins equal exactly, not within float noise."""
+    segs = [np.array(q, float) for q in segs]
+    for k in range(len(segs)):
+        segs[k][0] = segs[k - 1][-1]
+    return segs
+
+
 def _rounded_segments(segs, splines):
     """The segments rounded to integers and simplified (:func:`_simplify_segment`,
     zero-length ones dropped); with ``splines`` a spline whose rounded points would
@@ -179,8 +188,11 @@ def clean_contour(segs, spike=3.0, splines=False):
     """Round a closed contour's segments to integers and remove what fonts must not have.
 
     ``segs``: polynomial segments (``(k, 2)`` arrays), each starting where the
-    previous one ends, the last ending at the first's start.  Returns a list of
-    integer-valued ``(k, 2)`` arrays, possibly empty, where:
+    previous one ends, the last ending at the first's start, up to float noise
+    (converted segments meet within ~1e-12): each join is taken from the end of
+    the segment before it, so it is rounded once (rounded from its two sides, a
+    join at x.5 +- 1e-12 fell on two integers and broke the chain).  Returns a list
+    of integer-valued ``(k, 2)`` arrays, possibly empty, where:
 
     - no segment has zero length (all points equal) and no control point repeats an
       end point (a quadratic whose control point coincides with an end becomes a line,
@@ -198,7 +210,7 @@ def clean_contour(segs, spike=3.0, splines=False):
     points would repeat is written as its quadratics with explicit on-curve points,
     each rounded once.
     """
-    work = _rounded_segments(segs, splines)
+    work = _rounded_segments(_exact_joins(segs), splines)
     changed = True
     while changed and work:
         changed = False
@@ -230,7 +242,7 @@ def clean_contour(segs, spike=3.0, splines=False):
         return []
     # the segments must still chain (spike removal joins p .. p)
     for a, b in zip(work, work[1:] + work[:1]):
-        if not _same(a[-1], b[0]):  # pragma: no cover - guarded by construction
+        if not _same(a[-1], b[0]):  # pragma: no cover - exact joins, each step keeps them
             raise MorphError("contour cleaning broke the chain at %s" % (a[-1].tolist(),))
     return work
 
@@ -340,9 +352,10 @@ def outline_writer(font):
         return _TrueTypeOutlines(font)
     if "CFF " in font:
         return _CFFOutlines(font)
-    label = font["name"].getDebugName(4) if "name" in font else None
-    raise ParseError("font %s has neither TrueType (glyf) nor CFF outlines" % (label or ""),
-                     label)
+    from ..parse import font_display_name
+
+    label = font_display_name(font, "")
+    raise ParseError("font %s has neither TrueType (glyf) nor CFF outlines" % label, label)
 
 
 def outline_glyphs(font):
@@ -583,8 +596,43 @@ def finish_font(font):
         font["OS/2"].recalcAvgCharWidth(font)
 
 
+def save_atomically(path, write, overwrite=True):
+    """Write an output as a whole or not at all: ``write(tmp)`` writes it to a
+    temporary name in the output's folder (a file, or a folder such as a UFO), which
+    then replaces ``path``; a failure leaves what was there.  The one save of the
+    font writers (brush, stroke).  Returns the path.
+
+    Raises:
+        MorphError: ``path`` exists and ``overwrite`` is false.
+    """
+    import os
+    import shutil
+    import tempfile
+
+    from ..errors import MorphError
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp_dir = tempfile.mkdtemp(prefix=".morph-", dir=str(path.parent))
+    tmp = Path(tmp_dir) / path.name
+    try:
+        write(tmp)
+        if path.exists():
+            if not overwrite:
+                raise MorphError("%s exists" % path)
+            if path.is_dir():
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+        os.replace(str(tmp), str(path))
+    finally:
+        shutil.rmtree(tmp_dir, ignore_errors=True)
+    return path
+
+
 def save_font(font, path):
-    """Save to ``path``; ``.woff2`` / ``.woff`` suffixes save that web flavor.
+    """Save to ``path`` (:func:`save_atomically`); ``.woff2`` / ``.woff`` suffixes save
+    that web flavor.
 
     ``.woff2`` needs the brotli package.  Returns the path.
 
@@ -600,7 +648,7 @@ def save_font(font, path):
     old = font.flavor
     font.flavor = flavor
     try:
-        font.save(str(path))
+        save_atomically(path, lambda tmp: font.save(str(tmp)))
     finally:
         font.flavor = old
     return path

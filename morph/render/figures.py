@@ -4,6 +4,7 @@ These build *shapes* lists (see :mod:`morph.render`) or write several files; the
 commands (:mod:`morph.cli`) and the gallery call them.
 """
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,8 @@ from .. import moments as mo
 from .. import polyline as pl
 from . import frame_bbox
 
-__all__ = ["cspace_figure", "write_frame_stream", "write_frames"]
+__all__ = ["cspace_figure", "write_frame_stream", "write_frames", "FRAME_FILE",
+           "frame_file_names", "stale_frame_files"]
 
 CSPACE_STYLE = {"fill": "#f2c894", "stroke": "#b3541e", "stroke_width": 1.5}
 OBSTACLE_STYLE = {"fill": "#404040"}
@@ -69,6 +71,26 @@ def write_frames(folder, regions, size=512, tol=None, duration=120, animation="g
         raise ValueError("%d tolerances for %d frames" % (len(tols), len(regions)))
     bbox = frame_bbox([r for r in regions if r], margin=0.0)
     return write_frame_stream(folder, zip(regions, tols), bbox, size, duration, animation)
+
+
+#: the names of the files :func:`write_frame_stream` writes: frame-000.svg/.png ...
+#: and morph.gif or morph.apng
+FRAME_FILE = re.compile(r"frame-[0-9]{3,}\.(svg|png)|morph\.(gif|apng)")
+
+
+def frame_file_names(count, animation="gif"):
+    """The names of the files a sequence of ``count`` frames is written as."""
+    return {"frame-%03d.%s" % (k, ext) for k in range(count) for ext in ("svg", "png")} | \
+        {"morph." + animation}
+
+
+def stale_frame_files(folder, count, animation="gif"):
+    """The files in ``folder`` named as :func:`write_frame_stream` names its files
+    (:data:`FRAME_FILE`) that a sequence of ``count`` frames does not write: what an
+    earlier, longer run (or one with the other animation) left behind."""
+    keep = frame_file_names(count, animation)
+    return sorted(p for p in Path(folder).iterdir()
+                  if p.is_file() and FRAME_FILE.fullmatch(p.name) and p.name not in keep)
 
 
 def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="gif"):

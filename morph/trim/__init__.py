@@ -107,14 +107,113 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     loops there is nonzero (``"nonzero"``) or odd (``"evenodd"``).  The boundary is
     made of sub-pieces of the input (rational Béziers): outer loops
     counter-clockwise, holes clockwise.  Topology is decided on polylines within
-    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`).
+    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`), for
+    each group of loops whose boxes stay apart at its own size (:func:`_apart_groups`:
+    a tiny island is kept); pieces folded within that resolution are unfolded
+    (:func:`unfold_flat_curl`) and holes thinner than it dropped
+    (:func:`_without_sliver_holes`), so that a curl is filled as a renderer fills it.
     Returns a validated :class:`morph.region.Region`.
     """
     if fill_rule not in ("nonzero", "evenodd"):
         raise ValueError("fill_rule must be 'nonzero' or 'evenodd', got %r" % (fill_rule,))
-    pieces = [np.asarray(p, float) for loop in loops for p in loop]
-    if not pieces:
+    loops = [loop for loop in loops if len(loop)]
+    if not loops:
         return validated([])
-    pts = np.concatenate([p[:, :2] / p[:, 2:] for p in pieces])
-    size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
-    return validated(boundary(loops, rel * size, rel * size, fill_rule))
+    groups = _apart_groups(loops, rel * _size(loops))
+    return validated([loop for group in groups
+                      for loop in _fill_group([loops[k] for k in group], fill_rule, rel)])
+
+
+def _points(piece):
+    h = np.asarray(piece, float)
+    return h[:, :2] / h[:, 2:]
+
+
+def _size(loops):
+    """The larger side of the loops' control-point box."""
+    pts = np.concatenate([_points(p) for loop in loops for p in loop])
+    return max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+
+def _fill_group(loops, fill_rule, rel):
+    """:func:`fill_region` of loops that are not apart, at ``rel`` times their size."""
+    eps = rel * _size(loops)
+    loops = [[unfold_flat_curl(p, eps) for p in loop] for loop in loops]
+    return _without_sliver_holes(boundary(loops, eps, eps, fill_rule), eps)
+
+
+def _apart_groups(loops, margin):
+    """The loops in groups (lists of indices, in order of their first loop) whose
+    control-point boxes, grown by ``margin``, overlap within a group and not
+    between groups: the groups neither cross nor nest nor touch, so each is filled
+    on its own, at its own size.  A tiny island beside a large shape is then
+    resolved at its size, not dropped as a sliver of the whole's grid: an island is
+    small only until something is added to it."""
+    pts = [np.concatenate([_points(p) for p in loop]) for loop in loops]
+    boxes = np.array([[*(c.min(axis=0) - margin), *(c.max(axis=0) + margin)] for c in pts])
+    meets = ((boxes[:, None, 0] <= boxes[None, :, 2]) & (boxes[None, :, 0] <= boxes[:, None, 2])
+             & (boxes[:, None, 1] <= boxes[None, :, 3]) & (boxes[None, :, 1] <= boxes[:, None, 3]))
+    group = np.arange(len(loops))
+    changed = True
+    while changed:  # each loop takes the smallest group index it meets, to a fixed point
+        new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
+        changed = bool(np.any(new != group))
+        group = new
+    return [list(np.flatnonzero(group == g)) for g in np.unique(group)]
+
+
+def _without_sliver_holes(loops, eps):
+    """The loops without holes thinner than ``eps`` on average (2 |area| / length):
+    the lobe of a curl that a glyph's contour draws just inside itself, lifted from
+    a ring of the polylines within ``eps`` as exact pieces a hundredth as wide.  A
+    hole that thin is below the fill's resolution (features thinner than 2 eps may
+    merge with their side, :func:`boundary`) and no renderer shows it; the sums
+    would take its convolution for a bite.  Islands, however small, are kept."""
+    from .. import piece as pc
+    from .. import moments as mo
+    from .. import polyline as pl
+
+    out = []
+    for loop in loops:
+        area = mo.loop_area(loop)
+        if area < 0:
+            flat = np.concatenate([f[0] for f in pl.flatten_many(loop, eps)])
+            length = float(np.sum(np.hypot(*np.diff(flat, axis=0).T)))
+            if 2.0 * -area < eps * length:
+                continue
+        out.append(loop)
+    return out
+
+
+def unfold_flat_curl(piece, eps):
+    """A piece that folds back on itself within ``eps`` of its chord, replaced by the
+    chord (a line); any other piece as it is.
+
+    Such a piece is a curl thinner than the fill resolves (a handwriting font's
+    pen reversal whose lobe is 1e-8 of its length wide): the fill decides topology
+    on polylines within ``eps``, where the curl is its chord folded onto itself, and
+    a renderer fills nothing of its lobe; but the lifted exact piece would keep the
+    curl, whose tangent turns a full turn more than the loop's, which no sum takes.
+    Every point of the curve is within ``eps`` of the chord (its control points are:
+    the convex hull), and it runs within the chord's ends (its polyline within
+    ``eps / 4`` does, within ``eps``), so the two are within ``eps`` of each other
+    (Hausdorff): the fill's own error.
+    """
+    h = np.asarray(piece, float)
+    if len(h) < 3:
+        return piece
+    c = h[:, :2] / h[:, 2:]
+    a, b = c[0], c[-1]
+    length = float(np.hypot(*(b - a)))
+    if length <= eps:
+        return piece
+    d = (b - a) / length
+    rel = c - a
+    if np.max(np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])) > eps:
+        return piece
+    from .. import piece as pc
+
+    along = (pl.flatten(h, eps / 4.0)[0] - a) @ d
+    if np.all(np.diff(along) >= 0) or along.min() < -eps or along.max() > length + eps:
+        return piece  # no fold, or one reaching past the chord's ends (a spike)
+    return pc.line(a, b)

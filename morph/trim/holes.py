@@ -132,7 +132,7 @@ class Membership:
         self.pb = pl.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
-        flat_loop = [abs(mo.loop_area(loop)) <= 1e-9 * size * size for loop in region_a]
+        flat_loop = (np.abs(mo.loop_areas(region_a)) <= 1e-9 * size * size).tolist()
         self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
         # a degenerate loop P, reverse(P): its first half is the path
         self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]

@@ -81,39 +81,90 @@ def lift_rings(rings, tg, contract):
                                                  t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
-    runs = _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, tg.pieces)
+    runs = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
     _cut_spikes(runs, 2.0 * tg.grid * MATCH_UNITS)
-    out = [_close(pieces, ends, contract) for pieces, ends in runs]
+    out = _close_all(runs, contract)
     kept = [k for k, loop in enumerate(out) if loop]
     return [out[k] for k in kept], kept
 
 
-def _ring_runs(rings, first, sizes, cont, pid, tp, tq, fwd, point, pieces):
-    """Per ring: its runs as sub-pieces (all cut at once) and the junction point after
-    each (crossings from Newton; at joints the mean of the two ends)."""
-    spans = []  # (ring, piece, t_a, t_b, junction row)
-    for r in range(len(rings)):
-        edges = np.arange(first[r], first[r] + sizes[r])
-        junctions = np.flatnonzero(~cont[edges])
-        if len(junctions) == 0:  # a whole single-piece loop
-            e = edges[0]
-            spans.append((r, pid[e], 0.0 if fwd[e] else 1.0, 1.0 if fwd[e] else 0.0, -1))
-            continue
-        for j in range(len(junctions)):
-            e_first = edges[(junctions[j - 1] + 1) % len(edges)]
-            e_last = edges[junctions[j]]
-            spans.append((r, pid[e_first], tp[e_first], tq[e_last], e_last))
-    ring, piece_id, ta, tb, row = (np.array(c) for c in zip(*spans))
-    cut = pc.subsegments(pieces, piece_id.astype(int), ta, tb)
-    runs = [([], []) for _ in rings]
-    for k in range(len(spans)):
-        runs[ring[k]][0].append(cut[k])
-        runs[ring[k]][1].append(point[row[k]] if row[k] >= 0 else pc.start(cut[k]))
-    for out, ends in runs:
-        for j in range(len(out)):
-            if np.isnan(ends[j]).any():
-                ends[j] = 0.5 * (pc.end(out[j]) + pc.start(out[(j + 1) % len(out)]))
-    return runs
+def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
+    """Per ring: its runs as sub-pieces and the junction point after each (crossings
+    from Newton; at joints the mean of the two ends).  All rings at once: a run
+    goes from the edge after one junction (an edge whose successor ``nx`` is not
+    its continuation) to the next junction of its ring, cyclically; a ring without
+    junction is one whole piece.  The runs are cut in one call
+    (:func:`morph.piece.subsegments`)."""
+    n_rings = len(rings)
+    ring_of = np.repeat(np.arange(n_rings), sizes)
+    junction = np.flatnonzero(~cont)                 # sorted: grouped by ring, in order
+    jr = ring_of[junction]
+    count = np.bincount(jr, minlength=n_rings)
+    lo = np.cumsum(count) - count                    # first junction of each ring
+    i = np.arange(len(junction))
+    prev = np.where(i == lo[jr], lo[jr] + count[jr] - 1, i - 1)
+    e_first, e_last = nx[junction[prev]], junction
+    whole = np.flatnonzero(count == 0)               # a whole single-piece loop
+    e = first[whole]
+    ring = np.concatenate([jr, whole])
+    piece_id = np.concatenate([pid[e_first], pid[e]]).astype(int)
+    ta = np.concatenate([tp[e_first], np.where(fwd[e], 0.0, 1.0)])
+    tb = np.concatenate([tq[e_last], np.where(fwd[e], 1.0, 0.0)])
+    row = np.concatenate([e_last, np.full(len(e), -1)])
+    order = np.argsort(ring, kind="stable")          # by ring, runs in ring order
+    ring, piece_id, ta, tb, row = ring[order], piece_id[order], ta[order], tb[order], row[order]
+    cut = pc.subsegments(pieces, piece_id, ta, tb)
+    starts, stops = pc.end_points(cut)
+    ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
+    # junctions at joints (no crossing point): the mean of the two runs' ends
+    per = np.bincount(ring, minlength=n_rings)
+    base = np.cumsum(per) - per
+    k = np.arange(len(ring))
+    after = np.where(k + 1 == base[ring] + per[ring], base[ring], k + 1)
+    gap = np.isnan(ends).any(axis=1)
+    ends[gap] = 0.5 * (stops[gap] + starts[after[gap]])
+    bounds = np.append(base, len(ring)).tolist()
+    return [(cut[bounds[r]:bounds[r + 1]], list(ends[bounds[r]:bounds[r + 1]]))
+            for r in range(n_rings)]
+
+
+def _close_all(runs, contract):
+    """:func:`_close` of every ring's runs: the first round (lengths, snapping to the
+    junctions, lengths again) for all rings at once; the rings where snapping leaves
+    a short run go on one by one."""
+    sizes = np.array([len(out) for out, _ in runs], np.int64)
+    pieces = [p for out, _ in runs for p in out]
+    if not pieces:
+        return [[] for _ in runs]
+    ring = np.repeat(np.arange(len(runs)), sizes)
+    ends = np.array([e for _, ends in runs for e in ends], float).reshape(-1, 2)
+    keep = pc.length_bounds(pieces) >= contract
+    idx = np.flatnonzero(keep)
+    kr = ring[idx]
+    per = np.bincount(kr, minlength=len(runs))
+    base = np.cumsum(per) - per
+    k = np.arange(len(idx))
+    before = np.where(k == base[kr], base[kr] + per[kr] - 1, k - 1)
+    snapped = _with_endpoints_many([pieces[j] for j in idx], ends[idx[before]], ends[idx])
+    after = pc.length_bounds(snapped) if snapped else np.zeros(0)
+    short = np.bincount(kr, weights=((after < contract) | (after == 0.0)),
+                        minlength=len(runs)) > 0
+    bounds = np.append(base, len(idx)).tolist()
+    return [_close(*runs[r], contract) if short[r] else snapped[bounds[r]:bounds[r + 1]]
+            for r in range(len(runs))]
+
+
+def _with_endpoints_many(pieces, p0, p1):
+    """:func:`morph.piece.with_endpoints` of many pieces (first and last control
+    points moved to p0[k] and p1[k]), those of one degree at once."""
+    out = [None] * len(pieces)
+    for ks in pc.by_degree(pieces).values():
+        h = np.array([pieces[k] for k in ks], float)
+        h[:, 0, :2] = p0[ks] * h[:, 0, 2:]
+        h[:, -1, :2] = p1[ks] * h[:, -1, 2:]
+        for j, k in enumerate(ks):
+            out[k] = h[j]
+    return out
 
 
 def _close(out, ends, contract):

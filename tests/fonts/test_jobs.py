@@ -7,12 +7,13 @@ import pytest
 from morph.fonts.brush import ellipse_nib
 from morph.fonts.jobs import polygon_sum, run_jobs
 from morph.parse import glyph_region
-from tests.reference import hausdorff, polygon_minkowski_sum
+from tests.oracles.reference import hausdorff, polygon_minkowski_sum
 
 
 @pytest.mark.parametrize("ch", ["o", "g"])
 def test_polygon_fallback_against_clipper(ch):
     """The fallback sum is within tol (+ its 1/16 grid) of an independent Clipper sum."""
+    pytest.importorskip("shapely")
     import shapely
 
     region = glyph_region(ch).region
@@ -39,6 +40,15 @@ def test_run_jobs_order_and_progress():
         [k * k for k in range(7)]
     assert sorted(seen) == list(range(7))
     assert run_jobs(_square, [3], jobs=4) == [9]
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_run_jobs_streams_without_keeping_results(jobs):
+    got = {}
+    out = run_jobs(_square, range(5), jobs=jobs, keep=False,
+                   progress=lambda k, r: got.__setitem__(k, r))
+    assert out == [None] * 5  # nothing kept: memory does not grow with the jobs
+    assert got == {k: k * k for k in range(5)}
 
 
 @pytest.mark.parametrize("n, size, count", [(0, 96, 0), (1, 96, 1), (2, 96, 2), (52, 96, 2),

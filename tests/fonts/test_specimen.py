@@ -33,7 +33,7 @@ def brushed(tmp_path_factory):
 
 
 def test_specimen_page(brushed):
-    page = brushed.with_suffix(".html").read_text()
+    page = brushed.with_name(brushed.name + ".html").read_text()
     assert '@font-face { font-family: "MorphResult"; src: url("Spec.woff2") format("woff2")' \
         in page
     assert "data:font/woff2;base64," in page  # the source, embedded
@@ -94,7 +94,7 @@ def test_specimen_in_chromium(brushed, tmp_path):
            "--disable-background-networking", "--disable-component-update", "--disable-sync",
            "--user-data-dir=%s" % (tmp_path / "profile"), "--hide-scrollbars",
            "--force-device-scale-factor=1", "--window-size=1200,400",
-           "--screenshot=%s" % shot, brushed.with_suffix(".html").as_uri()]
+           "--screenshot=%s" % shot, brushed.with_name(brushed.name + ".html").as_uri()]
     subprocess.run(cmd, capture_output=True, timeout=120, check=False)
     assert shot.exists(), "Chromium wrote no screenshot"
     x, y = SAMPLE_POS

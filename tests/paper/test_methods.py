@@ -17,7 +17,7 @@ from morph import gauss
 from morph.paper import methods as M
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
-from tests import reference as R
+from tests.oracles import reference as R
 
 ROOT = Path(__file__).resolve().parents[2]
 DISTANCE_METHODS = ("ctc", "lsc", "bic", "hic", "qac")

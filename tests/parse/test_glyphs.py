@@ -7,6 +7,7 @@ from functools import reduce
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 
 from morph import piece as pc

@@ -227,7 +227,7 @@ def test_sum_of_lobes_meeting_at_a_joint_keeps_both():
     # was taken as one simple loop (its signed area, the lobes' difference) and the
     # sum lost the lower lobe.  Reference: the exact region's polygon buffered by r
     from morph.minkowski import minkowski_sum
-    from tests.reference import hausdorff, region_to_shapely
+    from tests.oracles.reference import hausdorff, region_to_shapely
 
     region = svg_region(doc('<path d="M5 50 C 20 80 35 80 50 50 S 80 20 95 50 Z"/>'))
     r, tol = 4.0, 1e-3

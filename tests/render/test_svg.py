@@ -34,6 +34,7 @@ def test_svg_path_data_round_trip():
 def _written_beziers(d):
     """The Béziers of path data as svgpathtools reads them (an independent parser:
     it implies T / S control points itself), y up again."""
+    pytest.importorskip("svgpathtools")
     from svgpathtools import parse_path
     return [np.array([(p.real, -p.imag) for p in seg.bpoints()]) for seg in parse_path(d)]
 

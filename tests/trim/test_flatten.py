@@ -82,6 +82,7 @@ def test_pixel_crossing_test_agrees_with_shapely():
     closer than |d_x|/2 + |d_y|/2 across) against shapely's segment-square
     intersection, on random segments and pixels (touching cases excluded: measure
     zero)."""
+    pytest.importorskip("shapely")
     import shapely
 
     from morph.trim.flatten import _line_crosses_square

@@ -3,6 +3,7 @@ shapely distances and analytic depths."""
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import LineString, Point, Polygon
 

@@ -3,6 +3,7 @@ exact areas and an independent winding count; orient_region hands it crossing lo
 
 import numpy as np
 import pytest
+pytest.importorskip("shapely")
 import shapely
 from shapely.geometry import LineString
 

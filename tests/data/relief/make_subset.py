@@ -1,6 +1,7 @@
 """Build the test subset of Relief SingleLine (SIL OFL 1.1, see OFL.txt / AUTHORS.txt).
 
-    python tests/data/relief/make_subset.py [SOURCE.ufo]
+    python tests/data/relief/make_subset.py SOURCE.ufo
+    MORPH_RELIEF_UFO=SOURCE.ufo python tests/data/relief/make_subset.py
 
 Source: Relief-SingleLine.ufo (https://github.com/isdat-type/Relief-SingleLine), 584
 skeleton glyphs, every contour an open cubic path.  Kept: A-Z, a-z, 0-9, space,
@@ -11,6 +12,7 @@ kept glyphs: the ss01 substitution and the mark feature with its explicit anchor
 (kerning comes from kerning.plist, which ufo2ft turns into a kern feature).
 """
 
+import os
 import re
 import sys
 from pathlib import Path
@@ -18,7 +20,8 @@ from pathlib import Path
 import ufoLib2
 
 HERE = Path(__file__).resolve().parent
-DEFAULT_SOURCE = "/work/shared/data/relief-singleline/Relief-SingleLine.ufo"
+#: the full font: the first argument, else the environment variable MORPH_RELIEF_UFO
+DEFAULT_SOURCE = os.environ.get("MORPH_RELIEF_UFO")
 NAMES = ([chr(c) for c in range(ord("A"), ord("Z") + 1)]
          + [chr(c) for c in range(ord("a"), ord("z") + 1)]
          + "zero one two three four five six seven eight nine space period comma hyphen "
@@ -37,6 +40,9 @@ def closure(font, names):
 
 
 def main(source=DEFAULT_SOURCE):
+    if not source:
+        sys.exit("make_subset.py: give the full Relief-SingleLine.ufo as the argument "
+                 "or in MORPH_RELIEF_UFO")
     src = ufoLib2.Font.open(source)
     keep = closure(src, NAMES)
     keep_set = set(keep)

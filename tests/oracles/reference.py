@@ -48,12 +48,16 @@ lies inside x - B (disk ⊕ ring: x = centre).
 
 import numpy as np
 import pyclipper
-import shapely
-from scipy.optimize import brentq, minimize_scalar
-from scipy.special import comb
-from shapely.geometry import MultiPolygon, Polygon
 
-from morph import polyline as pl
+from tests.oracles import need
+
+shapely = need("shapely", "polygon references and the membership predicate")
+need("scipy", "exact convolution points and binomial coefficients")
+from scipy.optimize import brentq, minimize_scalar  # noqa: E402 - after the checks above
+from scipy.special import comb  # noqa: E402
+from shapely.geometry import MultiPolygon, Polygon  # noqa: E402
+
+from morph import polyline as pl  # noqa: E402
 
 
 # =========================================================================== curves

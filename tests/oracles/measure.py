@@ -1,8 +1,8 @@
 """Error and size measures for bench/peers.py that do not trust a coarse polygon.
 
 Nothing here calls ``morph.trim`` (or any of the project's geometry beyond
-``morph.polyline.flatten``, used by ``tests.reference`` to flatten the *inputs*).  Curve
-points, tangents and curvature come from ``tests.reference.bezier_eval`` (explicit
+``morph.polyline.flatten``, used by ``tests.oracles.reference`` to flatten the *inputs*).  Curve
+points, tangents and curvature come from ``tests.oracles.reference.bezier_eval`` (explicit
 Bernstein sums).
 
 certified_error(samples, oracle)
@@ -28,10 +28,13 @@ powerlaw(xs, ns)
 """
 
 import numpy as np
-import shapely
-import shapely.affinity
 
-from tests import reference as R
+from tests.oracles import need
+
+shapely = need("shapely", "the certified error measure")
+import shapely.affinity  # noqa: E402 - after the check above
+
+from tests.oracles import reference as R  # noqa: E402
 
 LADDER_RATIO = 10 ** (1 / 8)
 
@@ -154,7 +157,7 @@ def certified_error(points, normals, oracle, e_min, e_max, ring=8):
 
 def curvature_integral(loops, quad=32):
     """Per loop: integral of sqrt(|curvature|) ds (Gauss-Legendre per piece), and the
-    number of loops.  Curvature from ``tests.reference.bezier_eval``."""
+    number of loops.  Curvature from ``tests.oracles.reference.bezier_eval``."""
     x, w = np.polynomial.legendre.leggauss(quad)
     t, w = (x + 1) / 2, w / 2
     per_loop = []

@@ -18,13 +18,16 @@ The flattening is within ``tol / 2`` for each operand, so the polygon is within
 
 import numpy as np
 import pyclipper
-import shapely
-from shapely.geometry import MultiPolygon, Polygon
 
-from morph import piece as mp
-from morph import polyline as pl
+from tests.oracles import need
 
-from tests.reference import _clipper_union, _polygons, default_scale, region_polylines
+shapely = need("shapely", "the Clipper stroke's polygons")
+from shapely.geometry import MultiPolygon, Polygon  # noqa: E402 - after the check above
+
+from morph import piece as mp  # noqa: E402
+from morph import polyline as pl  # noqa: E402
+from tests.oracles.reference import (_clipper_union, _polygons, default_scale,  # noqa: E402
+                                     region_polylines)
 
 
 def path_polyline(pieces, tol):
