@@ -199,7 +199,7 @@ def check_coincident():
     report's columns."""
     from bench import coincident as C
     from bench.mdtable import cell, tables
-    from morph import piece as pc
+    from morph import moments as mo
     from morph.errors import ParseError
     from morph.parse import svg_region
 
@@ -216,7 +216,7 @@ def check_coincident():
             r = []
         out.append(("coincident.md %s: loops" % name, cell(table, name, "loops"), str(len(r))))
         out.append(("coincident.md %s: area" % name, cell(table, name, "area"),
-                    "%.4f" % (pc.region_area(r) if r else 0.0)))
+                    "%.4f" % (mo.region_area(r) if r else 0.0)))
     return out
 
 
