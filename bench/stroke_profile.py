@@ -409,6 +409,7 @@ def main(argv=None):
     if opt.from_json:   # a report of phases measured before (a --json of a run)
         saved = json.loads(Path(opt.from_json).read_text())
         rows, measured = saved["rows"], saved["measured"]
+        measured += "  This report: `python -m bench.stroke_profile%s`." % argline
     else:
         rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
         measured = measured_line(argline, time.perf_counter() - t0, rows)
