@@ -7,7 +7,7 @@
 For each of four test pairs of curves (stated below, coordinates in 0..10 units) the
 convolution is cut into compatible pairs (Gauss maps, :mod:`morph.gauss`; pairs whose
 common angle range is below 1e-6 rad are skipped), and every pair is approximated with
-Algorithm 5.1 (:func:`morph.methods.approximate`) by each method until the sampled
+Algorithm 5.1 (:func:`morph.paper.methods.approximate`) by each method until the sampled
 distance error (Eqs. 49-53) is below e_d = 1 ... 1e-4, or the sampled normal deviation
 (Eqs. 54-55) below e_n = 10 ... 0.5 degrees.  The number reported is the number of
 control points of all output pieces, counted as one C0 chain of Bézier pieces: the sum
@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from morph import convolve, gauss  # noqa: E402 - after sys.path gets the repo root
-from morph import methods as M  # noqa: E402 - after sys.path gets the repo root
+from morph.paper import methods as M  # noqa: E402 - after sys.path gets the repo root
 from morph import piece as pc  # noqa: E402 - after sys.path gets the repo root
 from bench.stamp import stamp  # noqa: E402 - after sys.path gets the repo root
 
@@ -44,7 +44,7 @@ NORMAL_TOLS = (10.0, 5.0, 3.0, 1.0, 0.5)
 DIST_METHODS = ("ctc", "lsc", "bic", "hic", "qac", "qac*", "lsc-b", "bic-b")
 NORMAL_METHODS = ("ctc", "lsc", "bic", "hic", "lrc", "tmc", "src", "lsc-b", "bic-b")
 HAUSDORFF_METHODS = ("lsc", "hic", "qac", "lrc", "tmc", "src")
-# (key, measure of morph.methods, tolerances, methods, tolerance label, heading)
+# (key, measure of morph.paper.methods, tolerances, methods, tolerance label, heading)
 STUDIES = (
     ("distance", "distance", DIST_TOLS, DIST_METHODS, "e_d",
      "Distance measure of the paper (Eqs. 49-53): C~2 = A - C1 against C2"),
@@ -235,7 +235,7 @@ def fit_spline(c1, c2, n, kind, p=3):
 
 
 def spline_error(c1, c2, knots, ctrl, measure, p=3):
-    """The same sampled measures as morph.methods, on a B-spline approximation."""
+    """The same sampled measures as morph.paper.methods, on a B-spline approximation."""
     samples = max(M.ERROR_SAMPLES, 8 * len(ctrl) + 1)
     if measure == "distance":
         dist = M._curve_distance(c2)
@@ -387,7 +387,7 @@ def plot_pairs(curves, path, size=360):
     font = ImageFont.load_default(size=12)
     for k, (name, (_, a, b, closed)) in enumerate(curves.items()):
         pairs = compatible_curve_pairs(a, b, closed)
-        conv = [p for c1, c2 in pairs for p in M.approximate(c1, c2, "lsc", 0.01)]
+        conv = [s.piece for c1, c2 in pairs for s in M.approximate(c1, c2, "lsc", 0.01)]
         polys = [[pc.sample(p, 64) for p in group] for group in (a, b, conv)]
         allp = np.concatenate([q for g in polys for q in g])
         lo, hi = allp.min(axis=0), allp.max(axis=0)

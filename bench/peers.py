@@ -132,9 +132,9 @@ def glyph(ch, font=TTF):
 def morph_svg(a, b, tol):
     """The path data `morph sum A B -o x.svg --tol T` writes: the sum at its share of
     tol (plan), the export with the rest beyond the error the sum
-    achieved (export_tolerance of its debug["bound"])."""
-    out, debug = minkowski_sum(a, b, plan(tol).geometry, return_debug=True)
-    return svg_path_data(out, export_tolerance(tol, debug["bound"]))
+    achieved (export_tolerance of its bound)."""
+    out = minkowski_sum(a, b, plan(tol).geometry)
+    return svg_path_data(out, export_tolerance(tol, out.bound))
 
 
 def ctrl_points(loops):

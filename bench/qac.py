@@ -272,5 +272,33 @@ def main(md=ROOT / "bench" / "qac.md"):
     print("\nwrote %s in %.0f s" % (md, elapsed))
 
 
+def check(cases=("T + M", "O + M", "S + g")):
+    """The summary rows of bench/qac.md for ``cases`` in the TrueType font (control points
+    of the convolution and of the sum at every tolerance) against what the code gives
+    now: [(what, reported, computed)].  (About 2 s.)"""
+    from bench.mdtable import section, tables
+
+    table = tables(section((ROOT / "bench" / "qac.md").read_text(encoding="utf-8"),
+                           "Summary"))[0]
+    out = []
+    for label, a, b in CASES:
+        if label not in cases:
+            continue
+        region_a, region_b = parse.glyph_region(a).region, parse.glyph_region(b).region
+        conv, summ = [], []
+        for tol_em in TOLS_EM:
+            tol = tol_em * UPM
+            conv.append(control_points([c.piece for c in convolve.convolution(
+                region_a, region_b, tol, keep_type3=True)]))
+            loops = minkowski.minkowski_sum(region_a, region_b, tol)
+            summ.append(control_points([p for loop in loops for p in loop]))
+        row = [r for r in table[1:] if r[0] == label and r[1] == "TrueType"][0]
+        out.append(("qac.md %s TrueType: convolution control points" % label, row[2],
+                    " / ".join(map(str, conv))))
+        out.append(("qac.md %s TrueType: sum control points" % label, row[3],
+                    " / ".join(map(str, summ))))
+    return out
+
+
 if __name__ == "__main__":
     main(*sys.argv[sys.argv.index("--md") + 1:][:1] if "--md" in sys.argv else ())

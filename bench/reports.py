@@ -66,18 +66,19 @@ class Report:
 REPORTS = [
     Report("methods", "bench.methods", ["--md", "{md}"], cost="1-2 min",
            check="bench.methods:check"),
-    Report("qac", "bench.qac", ["--md", "{md}"], cost="3-5 min"),
+    Report("qac", "bench.qac", ["--md", "{md}"], cost="5-25 min", check="bench.qac:check"),
     Report("coincident", "bench.coincident", ["--md", "{md}"],
-           quick=["--md", "{md}", "--repeat", "1"], cost="1-2 min",
+           quick=["--md", "{md}", "--repeat", "1"], cost="2-20 min", snapshot=True,
            check="bench.reports:check_coincident"),
     Report("adaptive", "bench.adaptive", ["--repeat", "5", "--md", "{md}"],
-           quick=["--repeat", "1", "--md", "{md}"], cost="2-4 min", needs=("scipy",)),
+           quick=["--repeat", "1", "--md", "{md}"], cost="2-10 min", snapshot=True,
+           needs=("scipy",)),
     Report("scaling", "bench.scaling", ["--md", "{md}"],
            quick=["--n", "10,30", "--cubics", "100", "--repeat", "1", "--md", "{md}"],
-           cost="3-6 min"),
+           cost="3-10 min", snapshot=True),
     Report("inset", "bench.inset", ["--n", "60", "--seed", "5", "--md", "{md}"],
            quick=["--n", "4", "--seed", "5", "--fonts", "ttf,cff", "--md", "{md}"],
-           cost="2-4 min", needs=("shapely", "fontpkg_lobster")),
+           cost="2-10 min", snapshot=True, needs=("shapely", "fontpkg_lobster")),
     Report("peers", "bench.peers", ["--md", "{md}"], quick=["--quick", "--md", "{md}"],
            cost="5-10 min", snapshot=True, needs=("pathops", "kurbopy", "mapbox_earcut")),
     Report("stroke", "bench.stroke", ["--md", "{md}"],
@@ -110,6 +111,10 @@ REPORTS = [
            quick=["--per-set", "2", "--timeout", "60", "--jobs", "1", "-o", "{md}"],
            cost="5-10 min, icon packages fetched with npm", snapshot=True,
            needs=("shapely",)),
+    Report("varfont", "bench.varfont", ["--out", "{md}"],
+           quick=["--skeleton", "none", "--positions", "2", "--random", "0",
+                  "--no-fontforge", "--glyphs", "a,s,period", "--out", "{md}"],
+           cost="10-20 min", snapshot=True, needs=("scipy",)),
     Report("sweep", "bench.sweep", cost="hours (each mode a section)", snapshot=True,
            needs=("shapely", "fontpkg_lobster", "fontpkg_cormorant", "fontpkg_amiri"),
            runs=[["--mode", m, "--md", "{md}"] + extra for m, extra in (
@@ -175,7 +180,11 @@ def run(report, out_dir=None, quick=False):
     cmds = report.commands(md, quick)
     for cmd in cmds:
         print("+", " ".join(cmd[1:]), flush=True)
-        subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.DEVNULL)
+        code = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL).returncode
+        if code:   # a sweep exits 1 when a case failed; its report says which
+            print("  exit status %d: see the report" % code, flush=True)
+        if not Path(ROOT / md).exists():
+            raise SystemExit("%s wrote no report %s" % (" ".join(cmd[1:]), md))
     seconds = time.time() - t0
     shown = "python -m bench.reports --only %s%s" % (report.name, " --quick" if quick else "")
     put_stamp(md, stamp(shown, seconds, script="bench/%s.py" % report.module.split(".")[-1]))

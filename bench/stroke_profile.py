@@ -68,7 +68,7 @@ PHASES = [
     ("certificate", ["morph.export:_reparams", "morph.export:_certify_many"]),
     ("font tables", ["morph.fonts.tables:contours_from_regions",
                      "morph.fonts.stroke:_write_strokes", "morph.fonts.stroke:_open_copy",
-                     "morph.fonts.stroke:_move_furniture", "morph.fonts.stroke:_grow_win_metrics",
+                     "morph.fonts.stroke:_move_furniture", "morph.fonts.ufo_tables:grow_win_metrics",
                      "morph.fonts.brush:_store_outlines"]),
     ("compile", ["morph.fonts.stroke:_save", "morph.fonts.tables:save_font"]),
     ("sample + specimen", ["morph.fonts.specimen:write_sample_image",

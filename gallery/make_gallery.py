@@ -13,6 +13,9 @@ Figures (file stems in gallery/):
   fig05_skeleton    a Relief SingleLine skeleton, the nib along it, skeleton ⊕ nib (Fig. 5)
   fig05_stroke_text "Hamburgefonstiv" of Relief stroked by a broad nib at 30 degrees
                     and by a round nib (`morph stroke`)
+  fig35_nib_axis    Relief 'g' in a variable font with a nib axis (`morph stroke
+                    --vary-nib`): five instances from fontTools' instancer, their
+                    overlapping contours drawn over each other, thin to broad nib
   fig06_t_to_m      T -> M morph sequence, (1-a)·T ⊕ a·M (Fig. 6)
   fig36_bird_butterfly  bird -> butterfly morph sequence (Fig. 36)
 
@@ -214,6 +217,63 @@ def fig05_stroke_text(text="Hamburgefonstiv"):
     return shapes, tol
 
 
+def _glyph_loops(glyph_set, name):
+    """A glyph's contours (TrueType quadratics, lines) as loops of pieces."""
+    from fontTools.pens.basePen import decomposeQuadraticSegment
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+
+    rec = DecomposingRecordingPen(glyph_set)
+    glyph_set[name].draw(rec)
+    loops, cur, at = [], [], None
+    for op, args in rec.value:
+        if op == "moveTo":
+            cur, at = [], args[0]
+        elif op == "lineTo":
+            cur.append(pc.line(at, args[0]))
+            at = args[0]
+        elif op == "qCurveTo":
+            for b, c in decomposeQuadraticSegment(args):
+                cur.append(pc.quadratic(at, b, c))
+                at = c
+        elif op == "curveTo":
+            cur.append(pc.cubic(at, *args))
+            at = args[-1]
+        elif op == "closePath":
+            if np.any(pc.cartesian(cur[0])[0] != pc.cartesian(cur[-1])[-1]):
+                cur.append(pc.line(at, pc.cartesian(cur[0])[0]))
+            loops.append(cur)
+    return loops
+
+
+def fig35_nib_axis(name="g", values=(40, 60, 80, 100, 120)):
+    """A variable calligraphic font (nib axis from ellipse 40 x 10 to 120 x 30 at 30
+    degrees), glyph ``name`` instanced at five positions: the untrimmed, overlapping
+    contours of each instance drawn over each other (thin nib light, broad nib dark),
+    the broadest filled in grey below; they are the same contours moving."""
+    import logging
+    import tempfile
+
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.fonts.variable import stroke_variable
+
+    for lib in ("ufo2ft", "fontTools"):
+        logging.getLogger(lib).setLevel(logging.ERROR)
+    tol = 0.25
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "Nib.ttf"
+        stroke_variable(str(RELIEF), out, (40, 10, 30), (120, 30, 30), glyphs=[name], tol=0.5)
+        font = TTFont(str(out))
+        loops = [_glyph_loops(instancer.instantiateVariableFont(font, {"NIBW": v})
+                              .getGlyphSet(), name) for v in values]
+    shapes = [(loops[-1], {"fill": "#e0e0e0"})]
+    shades = ["#9ecae1", "#6baed6", "#3182bd", "#08519c", "#08306b"]
+    for lp, colour in zip(loops, shades):
+        shapes.append((lp, {"fill": "none", "stroke": colour, "stroke_width": 1.2}))
+    return shapes, tol
+
+
 def _sheet(a, b, n, tol, gap):
     frames = morph_frames(a, b, n, tol)
     return [(r, {"fill": "black"}) for r in row([centered(f) for f in frames], gap)]
@@ -231,7 +291,8 @@ def fig36_bird_butterfly():
 
 
 FIGURES = [fig01_convex, fig02_nonconvex, fig37_offsets, fig37_insets, fig38_cspace, fig05_brush,
-           fig05_skeleton, fig05_stroke_text, fig06_t_to_m, fig36_bird_butterfly]
+           fig05_skeleton, fig05_stroke_text, fig35_nib_axis, fig06_t_to_m,
+           fig36_bird_butterfly]
 
 
 def render(fig, size):

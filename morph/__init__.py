@@ -1,9 +1,11 @@
 """morph: Minkowski sums of curved planar shapes as exact-normal rational Bézier pieces.
 
 Implements I.-K. Lee, M.-S. Kim, G. Elber, "Polynomial/Rational Approximation of
-Minkowski Sum Boundary Curves" (1998).  Shapes are regions: lists of closed loops of
-rational Bézier pieces ((n+1, 3) arrays of homogeneous control points), outer loops
-counter-clockwise and holes clockwise (y up).
+Minkowski Sum Boundary Curves" (1998).  Shapes are regions: sequences of closed loops
+of rational Bézier pieces ((n+1, 3) arrays of homogeneous control points), outer loops
+counter-clockwise and holes clockwise (y up).  Results are :class:`Region` objects
+(immutable; ``validated``, and ``bound``: the error achieved); ``morph.budget``
+splits a tolerance between the stages, ``morph.errors`` holds the exceptions.
 """
 
 __version__ = "0.1.0"
@@ -18,21 +20,27 @@ _PUBLIC = {
     "load_shape": "parse",
     "svg_paths": "parse", "svg_region": "parse", "write_png": "render", "write_svg": "render",
     "stroke_paths": "stroke", "fill_region": "trim", "loops_to_beziers": "export",
-    "ellipse_nib": "fonts.brush", "brush_font": "fonts.brush", "stroke_ufo": "fonts.stroke",
+    "ellipse_nib": "nib", "brush_font": "fonts.brush", "stroke_ufo": "fonts.stroke",
+    "Region": "region", "Shape": "parse", "MorphError": "errors", "OperandError": "errors",
 }
+#: submodules reachable as attributes after a plain ``import morph``
+_MODULES = ("budget", "errors")
 
-__all__ = sorted(_PUBLIC)
+__all__ = sorted(_PUBLIC) + list(_MODULES)
 
 
 def __getattr__(name):
-    if name in _PUBLIC:
-        import importlib
+    import importlib
 
+    if name in _PUBLIC:
         value = getattr(importlib.import_module("." + _PUBLIC[name], __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError("module 'morph' has no attribute %r" % (name,))
+    elif name in _MODULES:
+        value = importlib.import_module("." + name, __name__)
+    else:
+        raise AttributeError("module 'morph' has no attribute %r" % (name,))
+    globals()[name] = value
+    return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_PUBLIC))
+    return sorted(set(globals()) | set(_PUBLIC) | set(_MODULES))

@@ -443,9 +443,51 @@ def _hermite(el, nibs, owners, a, b):
 _U = np.linspace(0.0, 1.0, SAMPLES + 2)[1:-1]
 
 
+def _speed(el, nibs, owners, t):
+    """d/dt of the convolution along the piece's unit tangent, every master: (J, k).
+    It changes sign at the cusps of the convolution (where the source's curvature
+    radius equals the nib's: the swallowtails of the inner side)."""
+    h = 1e-6
+    lo, hi = np.clip(t - h, 0.0, 1.0), np.clip(t + h, 0.0, 1.0)
+    tau = _tangents(el.ctrl, t)                                  # (M, k, 2)
+    dc = _bezier(_hodograph(el.ctrl), t)
+    de = (_nib_part(el, nibs, owners, hi) - _nib_part(el, nibs, owners, lo)) / \
+        (hi - lo)[None, :, None]
+    return np.einsum("jkd,jkd->jk", dc[owners] + de, tau[owners])
+
+
+def _cusps(el, nibs, owners, samples=65):
+    """Parameters of every master's cusps on a piece (sign changes of
+    :func:`_speed`, refined by bisection): breaks for all masters, so that each
+    master's cusp is an end point of its segments, where the Hermite ends give the
+    fitted curve a zero derivative too (a true cusp, not a small loop whose inside
+    would have the wrong winding)."""
+    if el.kind != "piece":
+        return []
+    t = np.linspace(0.0, 1.0, samples)
+    v = _speed(el, nibs, owners, t)
+    out = []
+    for j, k in zip(*np.nonzero(np.sign(v[:, :-1]) * np.sign(v[:, 1:]) < 0)):
+        lo, hi, sign = t[k], t[k + 1], np.sign(v[j, k])
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            if np.sign(_speed(el, nibs, owners, np.array([mid]))[j, 0]) == sign:
+                lo = mid
+            else:
+                hi = mid
+        out.append(0.5 * (lo + hi))
+    return out
+
+
 def _fit_element(el, nibs, owners, tol):
-    """[(a, b, hermite (J, 4, 2))] of one element, every master within tol."""
-    bounds = [0.0, *el.breaks, 1.0]
+    """[(a, b, hermite (J, 4, 2))] of one element, every master within tol; pieces
+    are split first at their inflections and at every master's cusps."""
+    cuts = sorted(set(el.breaks) | set(_cusps(el, nibs, owners)))
+    bounds = [0.0]
+    for s in cuts:
+        if 1e-9 < s < 1 - 1e-9 and s - bounds[-1] > 1e-9:
+            bounds.append(s)
+    bounds.append(1.0)
     todo = [(a, b, 0) for a, b in zip(bounds[:-1], bounds[1:])][::-1]
     out = []
     while todo:

@@ -6,7 +6,7 @@ Gauss map (:mod:`morph.gauss`); every pair of edges of the two Gauss maps whose 
 ranges overlap contributes one convolution piece:
 
 - curve + curve: approximated by QAC (:mod:`morph.qac`, Sec. 4.4; the subdivision
-  driver of :mod:`morph.methods`), normals exact;
+  driver of :mod:`morph.subdivide`), normals exact;
 - curve + vertex: the curve translated by the vertex (exact);
 - line + anything: the segment translated by the other edge's point at its angle;
 - vertex + vertex: a single point, dropped.
@@ -35,11 +35,10 @@ import numpy as np
 
 from . import bernstein as bz
 from . import gauss
-from . import methods
 from . import piece as pc
 from . import qac
 from .errors import SelfCrossingError
-from .methods import ConvPiece
+from .subdivide import ConvPiece, subdivide_nodes
 from .polyline import unique
 
 ANGLE_EQ = 1e-9      # angles closer than this are equal (radians)
@@ -322,7 +321,7 @@ def _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method):
 
 
 def _method_range(ea, eb, lo, hi, off, tol, depth, method):
-    """Curve + curve pair by one of the other methods of Sec. 4 (morph.methods).
+    """Curve + curve pair by one of the other methods of Sec. 4 (morph.paper.methods).
 
     Algorithm 5.1 on the pair (A's edge is C1); each piece's ``bound`` is the error it
     reached, sampled (not a bound) for every method but QAC.  Pieces come in A's
@@ -335,7 +334,9 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     if hi - lo < qac.TINY_SWEEP:
         piece, bound = qac.chord_piece(ca, cb, ea.sign, eb.sign)
         return [ConvPiece(_oriented(piece, forward), bound, "chord")]
-    out = methods.convolve_pair_segments(ca, cb, tol, method, max_depth=depth)
+    from .paper.methods import approximate  # the paper's methods: only for --method
+
+    out = approximate(ca, cb, method, tol, max_depth=depth)
     for c in out:
         c.piece, c.c1, c.c2 = _oriented(c.piece, forward), None, None
     return out if forward else out[::-1]
@@ -344,7 +345,7 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
 def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
     together: each pair restricted to its common angle range, then the driver
-    :func:`morph.methods.subdivide_nodes` with :mod:`morph.qac`'s callables (role
+    :func:`morph.subdivide.subdivide_nodes` with :mod:`morph.qac`'s callables (role
     choice, a-priori bound, split where it peaks), one batch per pair of piece
     degrees.  Returns [(pair position, sort key, piece, kind, bound)]; the key
     orders each pair's pieces along its travel direction (increasing angle when the
@@ -364,7 +365,7 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
                  "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
                  "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
                  "tol": tol[rows]}
-        done, pieces, bounds = methods.subdivide_nodes(
+        done, pieces, bounds = subdivide_nodes(
             nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, float(tol[rows].min()),
             max_depth)
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])

@@ -32,26 +32,23 @@ def place_robot(robot, position, reference=(0.0, 0.0)):
     return translate_region(robot, np.asarray(position, float) - np.asarray(reference, float))
 
 
-def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac", return_bound=False):
+def cspace_obstacle(obstacle, robot, tol, reference=(0.0, 0.0), method="qac"):
     """C-space obstacle O ⊕ (−R) of a translating robot about its reference point.
 
     A position p of the reference point is a collision iff p lies in the returned
-    region (within ``tol``, absolute, in the shapes' units).  With ``return_bound``:
-    (region, the error achieved, at most tol; see :func:`morph.minkowski.minkowski_sum`'s
-    ``debug["bound"]``).
+    region (within ``tol``, absolute, in the shapes' units; its ``bound`` the error
+    achieved, see :func:`morph.minkowski.minkowski_sum`).
     """
     from .minkowski import minkowski_sum
 
-    out, debug = minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method,
-                               return_debug=True)
-    return (out, debug["bound"]) if return_bound else out
+    return minkowski_sum(obstacle, reflect_region(robot, reference), tol, method=method)
 
 
-def free_space(container, robot, tol, reference=(0.0, 0.0), method="qac", return_bound=False):
+def free_space(container, robot, tol, reference=(0.0, 0.0), method="qac"):
     """Positions of the reference point where the robot lies inside the container:
     C ⊖ (R − ref), exact-normal curves within ``tol``; [] where the robot fits
-    nowhere.  ``return_bound`` as :func:`cspace_obstacle`."""
+    nowhere; its ``bound`` as :func:`cspace_obstacle`'s."""
     from .offset import erode_region
 
     relative = translate_region(robot, -np.asarray(reference, float))
-    return erode_region(container, relative, tol, method=method, return_bound=return_bound)
+    return erode_region(container, relative, tol, method=method)

@@ -7,9 +7,10 @@ attributes (``source``, ``piece``, ``achieved``, ``loops``, ``nib``, ``suggestio
 as fontTools' ``cu2qu`` errors do.
 
 The command line (:mod:`morph.cli`) prints one line ``morph: error: ...`` for every
-error: :class:`ParseError`, :class:`DegenerateCurveError`, :class:`LimitError` and
-:class:`NibError` are bad input (exit status 2); :class:`TopologyError`,
-:class:`ToleranceNotMetError` and anything else are internal failures (exit 1).
+error: :class:`ParseError`, :class:`DegenerateCurveError`, :class:`LimitError`,
+:class:`NibError` and :class:`OperandError` are bad input (exit status 2);
+:class:`TopologyError`, :class:`ToleranceNotMetError` and anything else are internal
+failures (exit 1).
 """
 
 
@@ -75,7 +76,13 @@ class NibError(MorphError, ValueError):
         self.nib = nib
 
 
-class SelfCrossingError(MorphError, ValueError):
+class OperandError(MorphError, ValueError):
+    """An operand of a sum that is no region: not a list of closed loops of (n+1, 3)
+    pieces with positive weights, a negative area, a loop winding the wrong way
+    (:func:`morph.minkowski.check_operand`).  Bad input (exit status 2)."""
+
+
+class SelfCrossingError(OperandError):
     """An operand loop that crosses itself so that it bounds no region: its own
     winding number beside the crossing is neither 0 nor its orientation's sign (a
     curl undone by a counter-curl, :func:`morph.region.winding_fault`), or its

@@ -11,7 +11,7 @@ import numpy as np
 
 from . import convolve
 from .minkowski import minkowski_sum
-from .region import region_bbox, region_centroid, scale_region, translate_region
+from .region import Region, region_bbox, region_centroid, scale_region, translate_region
 
 __all__ = ["centered", "frames_bbox", "iter_frames", "morph_frames", "scale_region",
            "translate_region"]
@@ -23,8 +23,7 @@ def centered(loops):
     return translate_region(loops, -c)
 
 
-def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True,
-                 return_bounds=False):
+def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True):
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
@@ -32,24 +31,23 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     frame index as it is done.  ``method`` is the convolution method (Sec. 4).
     With ``cache`` the Gauss maps of A and B and their compatible pairs, which do not
     depend on the scale factors, are computed once for all frames
-    (:func:`morph.convolve.scaled_gauss_pair`).  With ``return_bounds``: (frames,
-    bounds), bounds[k] the error frame k achieved (at most tol; 0 for the end frames,
-    which are the operands), what :func:`morph.budget.export_tolerance` takes.
-    :func:`iter_frames` gives the same frames one at a time.
-    Raises ValueError for n < 2.
+    (:func:`morph.convolve.scaled_gauss_pair`).  Each frame is a
+    :class:`morph.region.Region` whose ``bound`` is the error it achieved (at most tol;
+    0 for the end frames, which are the operands), what
+    :meth:`morph.budget.Budget.after` takes.  :func:`iter_frames` gives the same
+    frames one at a time.  Raises ValueError for n < 2.
     """
-    frames, bounds = [], []
-    for k, (out, bound) in enumerate(iter_frames(region_a, region_b, n, tol, method, cache)):
+    frames = []
+    for k, out in enumerate(iter_frames(region_a, region_b, n, tol, method, cache)):
         frames.append(out)
-        bounds.append(bound)
         if progress is not None:
             progress(k)
-    return (frames, bounds) if return_bounds else frames
+    return frames
 
 
 def iter_frames(region_a, region_b, n, tol, method="qac", cache=True):
-    """(frame, bound) of :func:`morph_frames`, one frame at a time, in order: a writer
-    can store each frame as it is done, holding one in memory."""
+    """The frames of :func:`morph_frames`, one at a time, in order: a writer can store
+    each frame as it is done, holding one in memory."""
     if n < 2:
         raise ValueError("need at least 2 frames, got %r" % (n,))
     a = centered(region_a)
@@ -57,12 +55,12 @@ def iter_frames(region_a, region_b, n, tol, method="qac", cache=True):
     base = convolve.with_pair_table(convolve.gauss_pair_of(a, b)) if cache and n > 2 else None
     for alpha in np.linspace(0.0, 1.0, n):
         if alpha == 0.0 or alpha == 1.0:
-            yield (a if alpha == 0.0 else b), 0.0
+            end = a if alpha == 0.0 else b
+            yield Region._make(end, isinstance(end, Region) and end.validated, 0.0)
             continue
         pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
-        out, debug = minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
-                                   method=method, gauss_pair=pair, return_debug=True)
-        yield out, debug["bound"]
+        yield minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
+                            method=method, gauss_pair=pair)
 
 
 def frames_bbox(region_a, region_b):

@@ -9,11 +9,12 @@ from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
 from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
-from .errors import LimitError, SelfCrossingError, ToleranceNotMetError, TopologyError
+from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
+                     TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
 from .packing import Packing, control_box
 from .polyline import unique
-from .region import NormalLoops, winding_fault
+from .region import Region, validated, winding_fault
 from .trim import boundary
 from .trim.holes import Membership, deepest_point, loop_areas
 
@@ -23,14 +24,15 @@ TIP_ROUNDS = 3
 PACK_GAP = 16.0
 
 
-def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gauss_pair=None):
+def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     """Boundary of A ⊕ B as a region of rational Bézier pieces (Secs. 3-6).
 
     Every output point lies within ``tol`` of the exact boundary of A ⊕ B (tol
-    absolute, in input units), split as: convolution pieces within 0.5 tol of the
+    absolute, in input units: font units for glyphs, whose command-line --tol is in
+    em, converted by :func:`morph.parse.em_to_units`), split as: convolution pieces within 0.5 tol of the
     exact convolution curve (0.2 tol in the first round where loops can meet at a corner,
     FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
-    QAC; other methods of ``morph.methods.METHODS`` are sampled, not bounded),
+    QAC; other methods of ``morph.subdivide.METHODS`` are sampled, not bounded),
     topology decided on polylines within 0.35 tol on a grid of 0.1·sqrt(2) tol
     (:func:`morph.trim.boundary`), runs shorter than 0.05 tol contracted.  Holes
     of the winding-number result are tested exactly, x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅,
@@ -49,25 +51,30 @@ def minkowski_sum(region_a, region_b, tol, method="qac", return_debug=False, gau
     round's pieces), so the budget holds there too.  Normals are exact on QAC
     pieces.  Outer loops counter-clockwise, holes clockwise.  Raises LimitError
     (a ValueError) for a tolerance the operands cannot support
-    (:func:`morph.limits.check_tolerance`), ValueError for an empty region,
+    (:func:`morph.limits.check_tolerance`), OperandError for an empty region,
     TopologyError if the convolution pieces do not close into loops.  ``gauss_pair``:
     the operands' Gauss maps when known already (:class:`morph.convolve.GaussPair`).
-    With ``return_debug``: (boundary, debug), debug["bound"] the error this sum
-    achieved (at most tol; the shares above with the convolution's actual bounds:
+    Returns a validated :class:`morph.region.Region` whose ``bound`` is the error this
+    sum achieved (at most tol; the shares above with the convolution's actual bounds:
     0.5 tol for TrueType sums, whose QAC pieces are exact), which a writer may give
-    to its export (:func:`morph.budget.export_tolerance`).
+    to its export (:meth:`morph.budget.Budget.after`).  Bad operands raise
+    :class:`morph.errors.OperandError` (:func:`check_operand`).
     """
+    return minkowski_sum_debug(region_a, region_b, tol, method, gauss_pair)[0]
+
+
+def minkowski_sum_debug(region_a, region_b, tol, method="qac", gauss_pair=None):
+    """(:func:`minkowski_sum`, debug): debug["convolution"] the convolution pieces
+    (:class:`morph.subdivide.ConvPiece`) of the last round, "loops" their chains,
+    "holes" the hole tests made ((point, depth, filled) each)."""
     if not region_a or not region_b:
-        raise ValueError("both regions must have at least one loop")
+        raise OperandError("both regions must have at least one loop")
     check_operand(region_a, "region_a")
     check_operand(region_b, "region_b")
     check_tolerance(tol, region_a, region_b, operation="minkowski sum")
     out, debug = _sum(region_a, region_b, tol, method, gauss_pair)
     _not_vanished(out, tol)
-    if not return_debug:
-        return out
-    debug["bound"] = _achieved_bound(out, debug["convolution"], tol, method)
-    return out, debug
+    return validated(out, _achieved_bound(out, debug["convolution"], tol, method)), debug
 
 
 def minkowski_sums(regions_a, region_b, tol, method="qac"):
@@ -84,17 +91,18 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     consecutive groups whose estimated polyline points (:func:`morph.limits.
     check_tolerance`) fit the budget of one sum; regions whose packed coordinates
     would be too large for ``tol`` (:func:`morph.limits.fits_precision`) are summed
-    one by one.  Raises as :func:`minkowski_sum` (ValueError naming the
+    one by one.  Raises as :func:`minkowski_sum` (OperandError naming the
     index of an empty region).
     """
     regions_a = list(regions_a)
     if not region_b:
-        raise ValueError("region_b is empty: both regions must have at least one loop")
+        raise OperandError("region_b is empty: both regions must have at least one loop")
     check_operand(region_b, "region_b")
     points = []
     for i, a in enumerate(regions_a):
         if not a:
-            raise ValueError("region %d is empty: both regions must have at least one loop" % i)
+            raise OperandError("region %d is empty: both regions must have at least one loop"
+                               % i)
         check_operand(a, "region %d" % i)
         points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
     out = []
@@ -130,20 +138,22 @@ def _packed_sums(regions_a, region_b, tol, method):
     if not fits_precision(tol, layout.packed, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
-    out = [NormalLoops(loops) for loops in layout.split(out)]
+    # each result's bound is tol, the sum's guarantee (the achieved error is not
+    # tracked per packed region)
+    out = [validated(loops, tol) for loops in layout.split(out)]
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
 
 
 def check_operand(region, name):
-    """ValueError unless ``region`` is a list of closed loops (each piece ending where
-    the next starts, within 1e-7 of the size) of pieces, each an (n+1, 3) array
+    """OperandError (a ValueError) unless ``region`` is a list of closed loops (each
+    piece ending where the next starts, within 1e-7 of the size) of pieces, each an (n+1, 3) array
     (n >= 1) of homogeneous control points with positive weights, whose signed area
     is not negative
     (beyond 1e-9 of its control box squared: a centre line traced out and back has
-    area 0), and which pass :func:`morph.region.winding_fault` (skipped for
-    :class:`morph.region.NormalLoops`): no part of negative winding, no loop
+    area 0), and which pass :func:`morph.region.winding_fault` (skipped for a
+    validated :class:`morph.region.Region`): no part of negative winding, no loop
     crossing itself with its own winding other than 0 or +-1 there
     (SelfCrossingError: a figure-8, a curl undone by a counter-curl); outer loops
     counter-clockwise, holes clockwise, as :func:`morph.region.orient_region`
@@ -151,18 +161,19 @@ def check_operand(region, name):
     :func:`morph.convolve.gauss_pair_of`."""
     for loop in region:
         if not len(loop):
-            raise ValueError("%s has an empty loop" % name)
+            raise OperandError("%s has an empty loop" % name)
         for p in loop:
             shape = np.shape(p)
             if len(shape) != 2 or shape[1] != 3 or shape[0] < 2:
-                raise ValueError("%s: a piece is an (n+1, 3) array of homogeneous control "
-                                 "points (w*x, w*y, w), n >= 1; got shape %s" % (name, shape))
+                raise OperandError("%s: a piece is an (n+1, 3) array of homogeneous control "
+                                   "points (w*x, w*y, w), n >= 1; got shape %s" % (name, shape))
     pieces = [p for loop in region for p in loop]
     h = np.concatenate(pieces).astype(float, copy=False)
     if not np.all(np.isfinite(h)):
         return  # check_tolerance names it
     if not np.all(h[:, 2] > 0):
-        raise ValueError("%s has a weight <= 0: rational pieces need positive weights" % name)
+        raise OperandError("%s has a weight <= 0: rational pieces need positive weights"
+                           % name)
     pts = h[:, :2] / h[:, 2:]
     starts, ends = pc.end_points(pieces)
     # the start of the next piece of the same loop, cyclically
@@ -176,19 +187,19 @@ def check_operand(region, name):
         if np.any(gap > 1e-7 * size):
             j = int(np.argmax(gap))
             loop = int(np.searchsorted(np.cumsum(sizes), j, side="right"))
-            raise ValueError("%s: loop %d is not closed: piece %d ends %.3g away from where "
-                             "the next starts" % (name, loop, j - first[j], gap[j]))
+            raise OperandError("%s: loop %d is not closed: piece %d ends %.3g away from "
+                               "where the next starts" % (name, loop, j - first[j], gap[j]))
         area = float(np.sum(loop_areas(region)))  # the loops' areas in one batch
     if area < -1e-9 * size * size:
-        raise ValueError("%s has a negative signed area (%.6g): outer loops must run "
-                         "counter-clockwise and holes clockwise "
-                         "(morph.region.orient_region normalises loops)" % (name, area))
-    if not isinstance(region, NormalLoops):
+        raise OperandError("%s has a negative signed area (%.6g): outer loops must run "
+                           "counter-clockwise and holes clockwise "
+                           "(morph.region.orient_region normalises loops)" % (name, area))
+    if not (isinstance(region, Region) and region.validated):
         _check_windings(region, name)
 
 
 def _check_windings(region, name):
-    """SelfCrossingError or ValueError naming the loop and a point where
+    """SelfCrossingError or OperandError naming the loop and a point where
     :func:`morph.region.winding_fault` finds ``region`` bounds no region."""
     fault = winding_fault(region)
     if fault is None:
@@ -201,10 +212,10 @@ def _check_windings(region, name):
             "morph.trim.fill_region) makes a region of it" % (name, loop, w, x, y), loop)
     which = "loop %d is a hole outside the other loops, or reaching out of them: " % loop \
         if loop is not None else ""
-    raise ValueError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
-                     "is 0 or more; morph.region.orient_region (with on_crossing="
-                     "morph.trim.fill_region) makes a region of the loops"
-                     % (name, which, x, y, w))
+    raise OperandError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
+                       "is 0 or more; morph.region.orient_region (with on_crossing="
+                       "morph.trim.fill_region) makes a region of the loops"
+                       % (name, which, x, y, w))
 
 
 def _not_vanished(loops, tol, which=""):
@@ -252,7 +263,7 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
             break  # a pair that cannot be refined that far: the corner keeps its error
         redo = set(int(s) for c, s in zip(conv, slot) if c.row in finer)
         conv = [c for c in conv if c.row not in finer] + again
-    out = NormalLoops(loop for s in sorted(done) for loop in done[s])
+    out = [loop for s in sorted(done) for loop in done[s]]
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
 
 
@@ -387,4 +398,5 @@ class _HoleTest:
         return filled
 
 
-__all__ = ["minkowski_sum", "minkowski_sums", "TopologyError"]
+__all__ = ["minkowski_sum", "minkowski_sum_debug", "minkowski_sums", "check_operand",
+           "TopologyError"]

@@ -12,21 +12,21 @@ disk, with "not A" a box around A, margin beyond 2 R, with A's loops as its hole
 import numpy as np
 
 from . import piece as pc
-from .region import NormalLoops, region_bbox, reverse_loop
+from .region import Region, region_bbox, reverse_loop, validated
 
 __all__ = ["erode_region", "inset_region", "offset_region"]
 
 
-def offset_region(loops, radius, tol, method="qac", return_bound=False):
+def offset_region(loops, radius, tol, method="qac"):
     """Offset of a region by ``radius``: outward (the Minkowski sum with a disk) for
     a positive radius, inward (:func:`inset_region` by -radius) for a negative one.
 
     ``radius`` and ``tol`` are absolute, in the region's units.  Outward, holes shrink
     and close when the radius exceeds their inner radius.  A radius of at most 1e-9
     tol in size (0 included) returns the input, which lies within the radius of the
-    offset.  With ``return_bound``: (loops, the error achieved, at most tol: the
-    debug "bound" of :func:`morph.minkowski.minkowski_sum`; the radius for the input
-    returned).
+    offset.  Returns a :class:`morph.region.Region` whose ``bound`` is the error
+    achieved, at most tol (that of :func:`morph.minkowski.minkowski_sum`; the radius
+    for the input returned).
 
     Raises:
         ValueError: radius not finite.
@@ -37,21 +37,16 @@ def offset_region(loops, radius, tol, method="qac", return_bound=False):
     if not np.isfinite(r):
         raise ValueError("offset radius must be finite, got %r" % (radius,))
     if r < -1e-9 * tol:
-        return inset_region(loops, -r, tol, method, return_bound)
+        return inset_region(loops, -r, tol, method)
     if r <= 1e-9 * tol:
         # the region itself is within |r| of its offset (Hausdorff distance |r|): for
         # a radius far below tol, either sign, it is the answer (a disk of radius 1e-300 has no curve
         # of nonzero length in floating point)
-        out = [list(loop) for loop in loops]
-        return (out, abs(r)) if return_bound else out
-    disk = [pc.circle((0.0, 0.0), r)]
-    if not return_bound:
-        return minkowski_sum(loops, disk, tol, method=method)
-    out, debug = minkowski_sum(loops, disk, tol, method=method, return_debug=True)
-    return out, debug["bound"]
+        return Region._make(loops, isinstance(loops, Region) and loops.validated, abs(r))
+    return minkowski_sum(loops, [pc.circle((0.0, 0.0), r)], tol, method=method)
 
 
-def inset_region(loops, radius, tol, method="qac", return_bound=False):
+def inset_region(loops, radius, tol, method="qac"):
     """Inward offset (erosion) of a region by ``radius`` > 0: the points whose disk
     of that radius lies in the region, :func:`erode_region` by the exact disk.
 
@@ -60,15 +55,15 @@ def inset_region(loops, radius, tol, method="qac", return_bound=False):
     than 2 ``radius`` vanish; a region narrower everywhere gives [].  The region is
     taken as given: a crack in it, however narrow, is a channel 2 ``radius`` wide in
     the inset (erosion is not continuous in its input).
-    ``return_bound`` as :func:`offset_region`.
+    The result's ``bound`` as :func:`offset_region`'s.
     """
     r = float(radius)
     if not (np.isfinite(r) and r > 0):
         raise ValueError("inset radius must be positive and finite, got %r" % (radius,))
-    return erode_region(loops, [pc.circle((0.0, 0.0), r)], tol, method, return_bound)
+    return erode_region(loops, [pc.circle((0.0, 0.0), r)], tol, method)
 
 
-def erode_region(loops, shape, tol, method="qac", return_bound=False):
+def erode_region(loops, shape, tol, method="qac"):
     """The erosion (Minkowski difference) A ⊖ B = {x : x + B inside A} of a region A
     by a region B, as A ⊖ B = not((not A) ⊕ (−B)).
 
@@ -78,8 +73,8 @@ def erode_region(loops, shape, tol, method="qac", return_bound=False):
     loops keep their orientation).  The sum's loops other than the grown box, the
     one reaching lowest, are the boundary of A ⊖ B reversed back: exact-normal curves
     within ``tol`` (absolute) of it.  Parts of A that B does not fit in vanish; []
-    when B fits nowhere.  With ``return_bound``: (loops, the error achieved: the
-    debug "bound" of :func:`morph.minkowski.minkowski_sum`).
+    when B fits nowhere.  The result's ``bound`` is the error achieved (that of
+    :func:`morph.minkowski.minkowski_sum`).
     """
     from .minkowski import minkowski_sum
     from .region import transform_region
@@ -90,11 +85,11 @@ def erode_region(loops, shape, tol, method="qac", return_bound=False):
     corners = np.array([[x0 - m, y0 - m], [x1 + m, y0 - m], [x1 + m, y1 + m], [x0 - m, y1 + m]])
     box = [pc.line(corners[k], corners[(k + 1) % 4]) for k in range(4)]
     complement = [box] + [reverse_loop(loop) for loop in loops]
-    if isinstance(loops, NormalLoops):  # A's loops reversed are holes and islands of the box
-        complement = NormalLoops(complement)
+    if isinstance(loops, Region) and loops.validated:
+        complement = validated(complement)  # A's loops reversed: holes and islands of the box
     turned = transform_region(shape, [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
-    out, debug = minkowski_sum(complement, turned, tol, method=method, return_debug=True)
+    out = minkowski_sum(complement, turned, tol, method=method)
     lows = [region_bbox([loop])[1] for loop in out]
     grown_box = int(np.argmin(lows))
-    eroded = NormalLoops(reverse_loop(loop) for k, loop in enumerate(out) if k != grown_box)
-    return (eroded, debug["bound"]) if return_bound else eroded
+    return validated((reverse_loop(loop) for k, loop in enumerate(out) if k != grown_box),
+                     out.bound)

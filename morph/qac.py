@@ -17,11 +17,11 @@ Contents, all array functions on stacks ``(k, n+1, 3)`` of pieces of one degree
   distance from Q2 to the curve C2);
 - :func:`choose_roles`: which piece of a pair is replaced by a quadratic;
 - the three callables of Algorithm 4.1 for the driver
-  :func:`morph.methods.subdivide_nodes`: :func:`bound_nodes`, :func:`piece_nodes`,
+  :func:`morph.subdivide.subdivide_nodes`: :func:`bound_nodes`, :func:`piece_nodes`,
   :func:`split_nodes` (the split at the angle where the bound peaks).
 
 This module is a leaf: it imports only :mod:`morph.bernstein`, :mod:`morph.piece`
-and :mod:`morph.gauss`; :mod:`morph.convolve` and :mod:`morph.methods` import it.
+and :mod:`morph.gauss`; :mod:`morph.convolve` and :mod:`morph.subdivide` import it.
 """
 
 import numpy as np
@@ -352,7 +352,7 @@ def qac_pieces(c1, q2):
 
 # ------------------------------------------- Algorithm 4.1 as driver callables
 # A node is one compatible sub-pair; nodes are dicts of arrays with one row per
-# node (the protocol of morph.methods.subdivide_nodes).  Columns read here:
+# node (the protocol of morph.subdivide.subdivide_nodes).  Columns read here:
 #   ca, cb (k, n+1, 3): the sub-pieces, each in its own edge's direction;
 #   ha, hb (k, m+1, 2): their tangent numerators (any positive multiple);
 #   sa, sb (k,): +1 convex, -1 concave (the tangent turns left / right);

@@ -5,8 +5,9 @@ whose joins are exact: the end of each piece equals the start of the next.  A *r
 is a list of loops; outer loops run counter-clockwise (positive area) and holes
 clockwise, y axis up.  Loops of one region do not cross each other.
 
-Everything here is a function on plain lists of arrays; :class:`Region` is a thin
-wrapper for the public API whose methods delegate to these functions.
+Everything here is a function on sequences of loops; :class:`Region` is the one
+region type the package returns: its loops, whether they are validated, and the
+error bound achieved.
 
 Polyline work (winding numbers, point tests) uses :func:`morph.piece.flatten`, whose
 polylines lie within ``tol`` of the curves; a point closer than that to a boundary may
@@ -23,7 +24,6 @@ from .polyline import (BoxGrid, distance_to_others, near_point_pairs, polyline_e
                        winding_number, winding_of_others)
 
 __all__ = [
-    "NormalLoops",
     "Region",
     "clean_loop",
     "is_zero_length",
@@ -48,16 +48,88 @@ __all__ = [
 FILL_RULES = ("nonzero", "evenodd")
 
 
-class NormalLoops(list):
-    """A list of loops known to bound a region (winding number 1 inside, 0
-    outside): what :func:`orient_region`, :func:`morph.trim.fill_region` and the
-    sums return, and its images under :func:`transform_region` and
-    :func:`translate_region`.  :func:`morph.minkowski.minkowski_sum` takes it
-    without the winding test (:func:`winding_fault`, ~1-3 ms for a glyph); a
-    plain list is tested.  A change made in place keeps the mark: whoever makes it
-    vouches for it."""
+def _frozen(piece):
+    """A read-only view of a piece as a float array (the caller's array stays as it was)."""
+    a = np.asarray(piece, float)
+    if a.flags.writeable:
+        a = a.view()
+        a.flags.writeable = False
+    return a
 
-    __slots__ = ()
+
+class Region(tuple):
+    """A region: a tuple of loops, each a tuple of read-only ``(n+1, 3)`` piece arrays,
+    with what is known of it.
+
+    - ``validated``: the loops are known to bound a region (winding number 1 inside,
+      0 outside; outer loops counter-clockwise, holes clockwise): what
+      :func:`orient_region`, :func:`morph.trim.fill_region` and the sums return.
+      :func:`morph.minkowski.minkowski_sum` takes a validated operand without the
+      winding test (:func:`winding_fault`, ~1-3 ms for a glyph); anything else is
+      tested.
+    - ``bound``: a certified bound of the Hausdorff distance between the loops and
+      the exact shape they approximate (a sum's achieved error, at most its
+      tolerance; what :meth:`morph.budget.Budget.after` takes), or None.
+
+    A region cannot become invalid silently: it is immutable (its loops are tuples,
+    its arrays read-only), and any change is a new object, which ``Region(loops)``
+    makes unvalidated; :func:`translate_region` and :func:`transform_region` (by an
+    invertible map) keep the mark.  It is a sequence of loops, so every function
+    taking a list of loops takes it.
+    """
+
+    def __new__(cls, loops=(), bound=None):
+        return cls._make(loops, False, bound)
+
+    @classmethod
+    def _make(cls, loops, validated, bound=None):
+        """A region marked ``validated`` by the function that proved it (package use)."""
+        obj = tuple.__new__(cls, (tuple(_frozen(p) for p in loop) for loop in loops))
+        object.__setattr__(obj, "validated", bool(validated))
+        object.__setattr__(obj, "bound", None if bound is None else float(bound))
+        return obj
+
+    def __setattr__(self, name, value):
+        raise AttributeError("a Region is immutable: make a new one")
+
+    def __reduce__(self):
+        return (Region._make, ([list(loop) for loop in self], self.validated, self.bound))
+
+    @property
+    def area(self):
+        return pc.region_area(self)
+
+    @property
+    def bbox(self):
+        return region_bbox(self)
+
+    @property
+    def centroid(self):
+        return region_centroid(self)
+
+    def contains(self, points, tol):
+        return point_in_region(points, self, tol)
+
+    def translated(self, offset):
+        return translate_region(self, offset)
+
+    def scaled(self, factor, center=(0.0, 0.0)):
+        return scale_region(self, factor, center)
+
+    def transformed(self, matrix):
+        return transform_region(self, matrix)
+
+    def __repr__(self):
+        return "Region(%d loops, %d pieces%s%s)" % (
+            len(self), sum(len(loop) for loop in self),
+            ", validated" if self.validated else "",
+            "" if self.bound is None else ", bound=%.3g" % self.bound)
+
+
+def validated(loops, bound=None):
+    """``loops`` as a validated :class:`Region` (package use: the caller has proved
+    they bound a region, e.g. :func:`orient_region`)."""
+    return Region._make(loops, True, bound)
 
 
 # ------------------------------------------------------------------ single loops
@@ -173,33 +245,33 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     self-intersecting SVG paths) are handed to ``on_crossing(loops, fill_rule)``,
     which cuts them at their intersections and fills them by the rule (the parsers
     pass :func:`morph.trim.fill_region`; this module does not depend on the
-    trimming engine).  Returns a new list of loops.  Raises ValueError for an
+    trimming engine).  Returns a validated :class:`Region`.  Raises ValueError for an
     unknown fill rule, and for crossing loops when ``on_crossing`` is None.
     """
     if fill_rule not in FILL_RULES:
         raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
     cleaned, areas = _positive_loops(loops)
     if not cleaned:
-        return NormalLoops()
+        return validated([])
     scale = _region_scale(cleaned)
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
-        return NormalLoops()
+        return validated([])
     polys = pc.flatten_loops(cleaned, APART * scale)   # shared by both tests below
     if _loops_cross(cleaned, scale, polys):
         if on_crossing is None:
             raise ValueError("the loops cross or touch: they need a fill "
                              "(on_crossing=morph.trim.fill_region)")
-        return NormalLoops(on_crossing(cleaned, fill_rule))
+        return validated(on_crossing(cleaned, fill_rule))
     if len(cleaned) == 1:
-        return NormalLoops([cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])])
+        return validated([cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])])
     windings = _outside_windings(cleaned, scale, polys)
-    out = NormalLoops()
+    out = []
     for loop, area, w in zip(cleaned, areas, windings):
         is_outer = _is_outer(w, 1 if area > 0 else -1, fill_rule)
         if is_outer is not None:
             out.append(loop if (area > 0) == is_outer else reverse_loop(loop))
-    return out
+    return validated(out)
 
 
 def _positive_loops(loops):
@@ -593,10 +665,12 @@ def point_in_region(points, loops, tol):
 
 
 def translate_region(loops, offset):
-    """All pieces moved by ``offset`` (dx, dy) (exact on homogeneous points);
-    :class:`NormalLoops` stay so."""
+    """All pieces moved by ``offset`` (dx, dy) (exact on homogeneous points); a
+    :class:`Region` stays validated, with its bound."""
     out = [[pc.translate(p, offset) for p in loop] for loop in loops]
-    return NormalLoops(out) if isinstance(loops, NormalLoops) else out
+    if isinstance(loops, Region):
+        return Region._make(out, loops.validated, loops.bound)
+    return out
 
 
 def scale_region(loops, factor, center=(0.0, 0.0)):
@@ -612,64 +686,15 @@ def transform_region(loops, matrix):
     """All pieces mapped by the affine [[a, b, e], [c, d, f]] (exact on homogeneous points).
 
     A map with negative determinant reverses orientation; the loops are then reversed
-    so that outer loops stay counter-clockwise.  :class:`NormalLoops` stay so under
-    an invertible map.
+    so that outer loops stay counter-clockwise.  A :class:`Region` stays validated
+    under an invertible map, its bound scaled by the map's largest stretch.
     """
     m = np.asarray(matrix, float)
     out = [[pc.transform(p, m) for p in loop] for loop in loops]
     det = np.linalg.det(m[:2, :2])
     if det < 0:
         out = [reverse_loop(loop) for loop in out]
-    return NormalLoops(out) if isinstance(loops, NormalLoops) and det != 0 else out
-
-
-# ------------------------------------------------------------------ thin class
-
-class Region:
-    """A thin wrapper of a region (list of oriented loops); functions do the work.
-
-    ``Region(loops, orient=True, fill_rule="nonzero", on_crossing=None)`` orients the
-    loops with :func:`orient_region` unless ``orient=False`` (loops already oriented).
-    """
-
-    def __init__(self, loops, orient=True, fill_rule="nonzero", on_crossing=None):
-        loops = loops.loops if isinstance(loops, Region) else loops
-        self.loops = (orient_region(loops, fill_rule, on_crossing) if orient
-                      else [list(l) for l in loops])
-
-    @property
-    def area(self):
-        return pc.region_area(self.loops)
-
-    @property
-    def bbox(self):
-        return region_bbox(self.loops)
-
-    @property
-    def centroid(self):
-        return region_centroid(self.loops)
-
-    def transformed(self, matrix):
-        return Region(transform_region(self.loops, matrix), orient=False)
-
-    def scaled(self, s, center=(0.0, 0.0)):
-        return Region(scale_region(self.loops, s, center), orient=False)
-
-    def translated(self, v):
-        return Region(translate_region(self.loops, v), orient=False)
-
-    def contains(self, points, tol):
-        return point_in_region(points, self.loops, tol)
-
-    def __len__(self):
-        return len(self.loops)
-
-    def __iter__(self):
-        return iter(self.loops)
-
-    def __getitem__(self, i):
-        return self.loops[i]
-
-    def __repr__(self):
-        return "Region(%d loops, %d pieces, area=%.6g)" % (
-            len(self.loops), sum(len(l) for l in self.loops), self.area)
+    if not isinstance(loops, Region):
+        return out
+    bound = None if loops.bound is None else loops.bound * np.linalg.norm(m[:2, :2], 2)
+    return Region._make(out, loops.validated and det != 0, bound)

@@ -15,7 +15,8 @@ import numpy as np
 from . import piece as pc
 from .gauss import CUSP_ANGLE
 from .minkowski import minkowski_sums
-from .region import NormalLoops, reverse_loop, translate_region
+from .nib import check_convex_nib
+from .region import reverse_loop, translate_region, validated
 from .trim import fill_region
 
 
@@ -32,6 +33,9 @@ def stroke_paths(paths, nib_region, tol):
     nib_region: a convex region (its origin is the pen point); tol absolute, in the
     paths' units, with the budget of :func:`morph.minkowski.minkowski_sum`.
     Returns loops of rational pieces, outer counter-clockwise, holes clockwise.
+
+    Raises:
+        NibError: a nib that is not one convex loop (:func:`morph.nib.check_convex_nib`).
     """
     return stroke_many([paths], nib_region, tol)[0]
 
@@ -41,12 +45,13 @@ def stroke_many(path_sets, nib_region, tol):
     the sums computed together (:func:`morph.minkowski.minkowski_sums`)."""
     if not nib_region:
         raise ValueError("the nib is empty")
+    check_convex_nib(nib_region)  # NibError: a path ⊕ a non-convex nib is no pen's stroke
     loops, dots = _loops_and_dots_many(path_sets, nib_region) if path_sets else ((), ())
     has = [k for k, lp in enumerate(loops) if lp]
     # a path traced out and back winds 0 round every point off it, whatever it
     # crosses: the loops pass the operand's winding test by construction, so they
     # go in marked as such (that test cost 10-17 % of a stroke font's CPU time)
-    sums = minkowski_sums([NormalLoops(loops[k]) for k in has], nib_region, tol)
+    sums = minkowski_sums([validated(loops[k]) for k in has], nib_region, tol)
     out = [[] for _ in path_sets]
     for k, region in zip(has, sums):
         out[k] = region

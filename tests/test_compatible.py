@@ -1,7 +1,7 @@
 """morph.compatible: untrimmed convolutions with ellipses, fitted compatibly.
 
 The nonzero fill of the untrimmed loops is checked against the exact membership
-predicate (tests/varfont_reference.py) at random points, for skeleton glyphs and
+predicate (tests/oracles/varfont.py) at random points, for skeleton glyphs and
 filled glyphs, and the check is shown to fail on a displaced outline."""
 
 import numpy as np
@@ -10,7 +10,7 @@ import pytest
 from morph.compatible import (Ellipse, IncompatibleMasters, blend_nib, convolve_masters,
                               fit_elements, interpolation_error, region_elements,
                               skeleton_elements)
-from tests.varfont_reference import bezier_points, classify_against_predicate
+from tests.oracles.varfont import bezier_points, classify_against_predicate
 
 TOL = 0.3
 

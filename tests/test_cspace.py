@@ -65,11 +65,12 @@ def test_cli_cspace(tmp_path):
 
 
 def test_cspace_obstacle_reports_the_error_it_achieved():
-    """return_bound: the same region and a bound in (0, tol] (what `morph cspace`
+    """The result's bound is in (0, tol] (what `morph cspace`
     gives its export the rest of --tol beyond)."""
     obs, rob = glyph_region("o").region, glyph_region("v").region
     plain = cspace_obstacle(obs, rob, TOL)
-    loops, bound = cspace_obstacle(obs, rob, TOL, return_bound=True)
+    loops = cspace_obstacle(obs, rob, TOL)
+    bound = loops.bound
     assert [len(loop) for loop in loops] == [len(loop) for loop in plain]
     assert 0.0 < bound <= TOL
 
@@ -134,7 +135,8 @@ def test_free_space_inside_a_room_agrees_with_polygon_containment(angle):
     c, s = np.cos(angle), np.sin(angle)
     robot = transform_region(svg_region(ROBOT), [[c, -s, 0.0], [s, c, 0.0]])
     ref = region_centroid(robot)
-    free, bound = free_space(room, robot, 0.01, reference=ref, return_bound=True)
+    free = free_space(room, robot, 0.01, reference=ref)
+    bound = free.bound
     assert 0.0 < bound <= 0.01
     inside, outside = _placements_agree(free, room, robot, ref, 0.01, seed=int(10 * angle))
     assert inside > 200 and outside > 200
@@ -143,7 +145,7 @@ def test_free_space_inside_a_room_agrees_with_polygon_containment(angle):
 def test_free_space_is_empty_where_the_robot_fits_nowhere(tmp_path):
     from morph.cspace import free_space
 
-    assert free_space(glyph_region("O").region, glyph_region("period").region, TOL) == []
+    assert len(free_space(glyph_region("O").region, glyph_region("period").region, TOL)) == 0
     (tmp_path / "room.svg").write_text(ROOM)
     (tmp_path / "robot.svg").write_text(ROBOT)
     r = CliRunner().invoke(main, ["cspace", "O", "period", "--inside", "-o",

@@ -12,7 +12,7 @@ from morph import piece as pc
 from morph.minkowski import minkowski_sum
 from morph.region import orient_region, region_bbox
 from morph.trim import fill_region
-from tests import reference as R
+from tests.oracles import reference as R
 
 
 def _blob(rng, n=8):

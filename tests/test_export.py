@@ -18,7 +18,8 @@ pytest.importorskip("hypothesis")
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from morph import export as ex_mod
+from morph.export import certify as certify_mod
+from morph.export import search as search_mod
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
 from morph.budget import export_tolerance, plan
@@ -659,7 +660,7 @@ def test_exact_sum_leaves_its_share_to_the_export():
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum_debug
     from morph.render.svg import svg_path_data
 
     pts = [(0, 0), (1, -0.3), (2, 0), (2.3, 1), (2, 2), (1, 2.4), (0, 2), (-0.3, 1)]
@@ -668,12 +669,12 @@ def test_exact_sum_leaves_its_share_to_the_export():
     poly = Polygon(np.vstack([rational(p)(np.linspace(0, 1, 200)[:-1]) for p in loop]))
     radius, tol = 0.3, 1e-3
     st, et = plan(tol)[:2]
-    out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
+    out, dbg = minkowski_sum_debug([loop], [pc.circle((0.0, 0.0), radius)], st)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv == 0.0
     # the sum's achieved bound is its other shares alone
-    assert dbg["bound"] == pytest.approx((1.0 - CONV_SHARE) * st, rel=1e-12)
-    et2 = export_tolerance(tol, dbg["bound"])
+    assert out.bound == pytest.approx((1.0 - CONV_SHARE) * st, rel=1e-12)
+    et2 = export_tolerance(tol, out.bound)
     assert et2 == pytest.approx(et + CONV_SHARE * st)
     # svg_path_data spends part of its tol on the cubics, the rest on decimal rounding
     z = np.array([seg.point(t) for seg in parse_path(svg_path_data(out, et2))
@@ -757,18 +758,18 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum, minkowski_sum_debug
     from morph.render.svg import svg_path_data
 
     loop, poly = random_cubic_blob(seed, True)
     radius, tol = 0.2, 1e-3
     st, et = plan(tol)[:2]
-    out, dbg = minkowski_sum([loop], [pc.circle((0.0, 0.0), radius)], st, return_debug=True)
+    out, dbg = minkowski_sum_debug([loop], [pc.circle((0.0, 0.0), radius)], st)
     conv = max(c.bound for c in dbg["convolution"])
     assert conv > 0
-    assert (1.0 - CONV_SHARE) * st + conv <= dbg["bound"] <= st
+    assert (1.0 - CONV_SHARE) * st + conv <= out.bound <= st
     counts = []
-    for t in (et, export_tolerance(tol, dbg["bound"])):
+    for t in (et, export_tolerance(tol, out.bound)):
         d = svg_path_data(out, t)
         z = np.array([seg.point(u) for seg in parse_path(d) for u in np.linspace(0, 1, 33)])
         assert offset_error(np.column_stack([z.real, -z.imag]), loop, poly, radius) <= tol
@@ -838,7 +839,7 @@ def test_circle_plus_circle_written_within_tol(tol):
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
-    from morph.minkowski import minkowski_sum
+    from morph.minkowski import minkowski_sum, minkowski_sum_debug
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
         st, et = plan(tol)[:2]
@@ -908,7 +909,7 @@ def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkey
     Where that certificate fails (forced here, once per segment start), the segment
     is searched again certifying every try: every returned cubic is certified (its
     panels sampled densely against its bound, R by plain Bernstein sums)."""
-    real = ex_mod._fit_ranges
+    real = search_mod._fit_ranges
     provisional, refused = set(), []
 
     def refusing(requests, tol):
@@ -922,7 +923,7 @@ def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkey
                 out[k] = (o[0], 2.0 * tol, o[2])
         return out
 
-    monkeypatch.setattr(ex_mod, "_fit_ranges", refusing)
+    monkeypatch.setattr(search_mod, "_fit_ranges", refusing)
     pieces = g1_arcs([1, 3, 0.5, 2, 1])
     segs = chain_segments(pieces, tol)
     assert refused, "no search ended on a provisional try"
@@ -956,13 +957,13 @@ def test_moebius_reparametrisation_certifies_a_piece_of_uneven_speed(monkeypatch
     panel certifies it, and the bound holds on dense samples of R(phi(s)).  Without
     the Möbius step the certificate has to halve the cubic."""
     tol = 0.375
-    (bound, panels), = ex_mod._certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
+    (bound, panels), = certify_mod.certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
     assert bound <= tol and len(panels) == 1
     s0, s1, phi = panels[0]
     assert not np.allclose(phi[:, 1], 1.0)           # a rational phi: the Möbius step
     s = np.linspace(0.0, 1.0, 2001)
     err = np.hypot(*(rational(QAC_PIECE)(reparam_values(phi, s)) - bernstein(QAC_CUBIC, s)).T)
     assert err.max() <= bound * (1 + 1e-9)
-    monkeypatch.setattr(ex_mod, "_moebius", lambda u: np.ones(len(u)))
-    (bound0, panels0), = ex_mod._certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
+    monkeypatch.setattr(certify_mod, "_moebius", lambda u: np.ones(len(u)))
+    (bound0, panels0), = certify_mod.certify_many([QAC_PIECE], QAC_CUBIC[None], tol)
     assert len(panels0) > 1 or bound0 > tol

@@ -142,9 +142,9 @@ def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
             assert np.abs(pc.cartesian(p) - pc.cartesian(q)).max() <= 1e-6 * size
 
 def test_frames_report_the_error_each_achieved(tm_frames):
-    """return_bounds: the same frames, 0 for the operands, (0, tol] for the sums."""
-    frames, bounds = morph_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1,
-                                  return_bounds=True)
+    """Each frame's bound: 0 for the operands, (0, tol] for the sums."""
+    frames = morph_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1)
+    bounds = [f.bound for f in frames]
     assert [pc.region_area(f) for f in frames] == [pc.region_area(f) for f in tm_frames]
     assert bounds[0] == bounds[-1] == 0.0
     assert all(0.0 < e <= 0.1 for e in bounds[1:-1])
@@ -190,9 +190,9 @@ def test_frames_bbox_holds_every_frame(tm_frames):
 def test_iter_frames_gives_morph_frames_one_at_a_time(tm_frames):
     it = iter_frames(glyph_region("T").region, glyph_region("M").region, 5, 0.1)
     first = next(it)
-    assert first[1] == 0.0 and pc.region_area(first[0]) == pc.region_area(tm_frames[0])
+    assert first.bound == 0.0 and pc.region_area(first) == pc.region_area(tm_frames[0])
     rest = list(it)
-    assert [pc.region_area(f) for f, _ in rest] == [pc.region_area(f) for f in tm_frames[1:]]
+    assert [pc.region_area(f) for f in rest] == [pc.region_area(f) for f in tm_frames[1:]]
 
 
 def test_frames_are_written_as_they_are_done(tmp_path):

@@ -199,8 +199,10 @@ def test_tiny_coordinates(runner, tmp_path):
     a = _svg(tmp_path, "tiny.svg", square_path_data(0, 0, 1e-9))
     b = _svg(tmp_path, "tiny2.svg", square_path_data(0, 0, 1e-9))
     ok(runner.invoke(main, ["outline", a, "--tol", "1e-13", "-o", str(tmp_path / "o.png")]))
-    # the default tolerance (1e-4 user units) is larger than the shape: one clear line
-    res = runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o2.png")])
+    # the default tolerance is relative to the drawing (1e-4 of its size): it works
+    ok(runner.invoke(main, ["outline", a, "-o", str(tmp_path / "o1.png")]))
+    # an explicit tolerance is absolute: 1e-4 user units is larger than the shape
+    res = runner.invoke(main, ["outline", a, "--tol", "1e-4", "-o", str(tmp_path / "o2.png")])
     assert res.exit_code == 2 and "larger than the shapes" in res.output
     area, loops = _sum_area_via_cli(runner, tmp_path, a, b, 1e-13)
     assert abs(area - 4e-18) < 1e-3 * 4e-18
@@ -391,9 +393,12 @@ def test_size_and_tolerance_guards(tmp_path, case):
     huge = _svg(tmp_path, "huge.svg", square_path_data(0, 0, 1e308))
     out = str(tmp_path / "o.png")
     args, words = {
-        "coords-1e9": (["sum", big, sq, "-o", out], ["use a tolerance of at least"]),
+        # an explicit --tol is absolute in user units (the default is relative to the drawing)
+        "coords-1e9": (["sum", big, sq, "--tol", "1e-4", "-o", out],
+                       ["use a tolerance of at least"]),
         "radius-1e9": (["offset", "O", "--radius", "1e9", "-o", out], ["at least"]),
-        "drawing-1e6": (["offset", mid, "--radius", "10", "-o", out], ["budget", "at least"]),
+        "drawing-1e6": (["offset", mid, "--radius", "10", "--tol", "1e-4", "-o", out],
+                        ["budget", "at least"]),
         "tol-1e-9": (["sum", "O", "M", "--tol", "1e-9", "-o", out], ["at least"]),
         "tol-larger": (["sum", "O", "M", "--tol", "10", "-o", out], ["larger than"]),
         "tol-inf": (["sum", "O", "M", "--tol", "inf", "-o", out], ["finite"]),

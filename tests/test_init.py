@@ -9,8 +9,18 @@ import morph
 def test_every_public_name_resolves_to_a_function_of_its_module():
     for name in morph.__all__:
         value = getattr(morph, name)
+        if name in ("budget", "errors"):       # submodules
+            assert value.__name__ == "morph." + name
+            continue
         assert callable(value), name
         assert value.__name__ == name and value.__module__.startswith("morph."), name
+
+
+def test_plain_import_reaches_the_errors_the_budget_and_the_region_type():
+    code = ("import morph; morph.errors.MorphError; morph.budget.plan; "
+            "assert issubclass(morph.OperandError, (morph.MorphError, ValueError)); "
+            "morph.Region; morph.Shape")
+    subprocess.run([sys.executable, "-c", code], check=True)
 
 
 def test_readme_library_names_are_public():

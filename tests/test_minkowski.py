@@ -37,7 +37,7 @@ from shapely.geometry import Polygon
 from morph import minkowski, parse
 from morph import piece as pc
 from morph.parse import glyph_region
-from morph.minkowski import minkowski_sum, minkowski_sums
+from morph.minkowski import minkowski_sum, minkowski_sum_debug, minkowski_sums
 from tests.oracles import reference as R
 from tests.helpers import loop_polygons, polygon_region, region_size, shoelace
 from tests.oracles.membership import check_loops, check_sum
@@ -268,7 +268,7 @@ def test_pieces_through_sharp_corners_fit_the_budget(a, b, first, monkeypatch):
     (FIRST_SHARE = 1: the corner pass alone refines the pairs)."""
     monkeypatch.setattr(minkowski, "FIRST_SHARE", first)
     ra, rb = _region(a), _region(b)
-    out, dbg = minkowski.minkowski_sum(ra, rb, TOL, return_debug=True)
+    out, dbg = minkowski.minkowski_sum_debug(ra, rb, TOL)
     conv = dbg["convolution"]
     samples = [pc.evaluate(c.piece, np.linspace(0.0, 1.0, 4001)) for c in conv]
     pts, cos_half = _corners(out)
@@ -290,7 +290,7 @@ def test_s_plus_g_needed_the_second_pass(monkeypatch):
     ra, rb = _region("S"), _region("g")
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
     monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
-    out, dbg = minkowski.minkowski_sum(ra, rb, TOL, return_debug=True)
+    out, dbg = minkowski.minkowski_sum_debug(ra, rb, TOL)
     pts, cos_half = _corners(out)
     worst = max(c.bound for c in dbg["convolution"])
     assert (worst / cos_half.clip(1e-3) > minkowski.CONV_SHARE * TOL).any()
@@ -523,7 +523,7 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
     monkeypatch.setattr(minkowski, "_trimmed", spy)
     out_s, out_o = minkowski.minkowski_sums([s, o], g, TOL)
     assert len(calls) >= 2
-    alone_s, dbg = minkowski.minkowski_sum(s, g, TOL, return_debug=True)
+    alone_s, dbg = minkowski.minkowski_sum_debug(s, g, TOL)
     n_s = len(dbg["convolution"])
     assert calls[1] == n_s < calls[0]   # the second trim: S's pieces only
     assert pc.region_area(out_s) == pytest.approx(pc.region_area(alone_s), rel=1e-6)
@@ -727,33 +727,49 @@ def test_the_gauss_map_refuses_a_loop_that_does_not_turn_once():
 def test_real_regions_pass_the_winding_test():
     """No false alarm: every letter of the bundled TrueType and CFF fonts, and sums
     of glyphs (whose loops may touch), as plain lists, pass :func:`winding_fault`."""
-    from morph.region import NormalLoops, winding_fault
+    from morph.region import winding_fault
 
     for font in (None, parse.glyphs.cubic_test_font_path()):
         for ch in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz&%@8":
             region = glyph_region(ch, font).region
-            assert isinstance(region, NormalLoops)
+            assert region.validated
             assert winding_fault(list(region)) is None, (font, ch)
     for a, b in ("OM", "Sg", "mw", "e8"):
         out = minkowski_sum(glyph_region(a).region, glyph_region(b).region, 0.1)
-        assert isinstance(out, NormalLoops)
+        assert out.validated and 0 <= out.bound <= 0.1
         assert winding_fault(list(out)) is None, (a, b)
 
 
 def test_regions_keep_their_mark_under_maps_that_keep_them_regions():
-    """:class:`NormalLoops` survive translation and invertible affine maps (a
+    """A validated Region stays so under translation and invertible affine maps (a
     mirror reverses the loops), not a singular map; plain lists stay plain."""
-    from morph.region import NormalLoops, scale_region, transform_region, translate_region
+    from morph.region import Region, scale_region, transform_region, translate_region
 
     region = glyph_region("o").region
-    assert isinstance(translate_region(region, (3, 4)), NormalLoops)
-    assert isinstance(scale_region(region, -0.5), NormalLoops)
-    assert isinstance(transform_region(region, [[1, 2, 0], [0, 1, 0]]), NormalLoops)
-    assert not isinstance(transform_region(region, [[1, 0, 0], [0, 0, 0]]), NormalLoops)
-    assert not isinstance(translate_region(list(region), (3, 4)), NormalLoops)
+    assert translate_region(region, (3, 4)).validated
+    assert scale_region(region, -0.5).validated
+    assert transform_region(region, [[1, 2, 0], [0, 1, 0]]).validated
+    assert not transform_region(region, [[1, 0, 0], [0, 0, 0]]).validated
+    assert not isinstance(translate_region(list(region), (3, 4)), Region)
     from morph.offset import inset_region
 
-    assert isinstance(inset_region(region, 20.0, 0.1), NormalLoops)
+    assert inset_region(region, 20.0, 0.1).validated
+
+
+def test_an_edited_region_is_checked_again():
+    """A validated region cannot be edited in place; a region made from its loops plus
+    a broken one is unvalidated, so the sum runs the winding test and refuses it."""
+    from morph.errors import OperandError
+    from morph.region import Region
+
+    region = glyph_region("o").region
+    with pytest.raises(AttributeError):
+        region.append(region[0])
+    square = [pc.line(a, b) for a, b in (((5e3, 0), (5e3, 9)), ((5e3, 9), (5e3 + 9, 9)),
+                                         ((5e3 + 9, 9), (5e3 + 9, 0)), ((5e3 + 9, 0), (5e3, 0)))]
+    broken = Region(list(region) + [square])   # a clockwise square outside: winding -1
+    with pytest.raises(OperandError, match="winding number"):
+        minkowski_sum(broken, [pc.circle((0.0, 0.0), 10.0)], 0.1)
 
 
 def _segments(loops):
@@ -897,6 +913,6 @@ def test_tiny_handle_against_a_flat_joint(seed):
     a, b = _tiny_handle_and_flat_joint(rng)
     for tol in (1e-4, 1e-5):
         for x, y in ((a, b), (b, a)):
-            loops, debug = minkowski_sum(x, y, tol, return_debug=True)
-            assert debug["bound"] <= tol and len(debug["convolution"]) < 100
+            loops, debug = minkowski_sum_debug(x, y, tol)
+            assert loops.bound <= tol and len(debug["convolution"]) < 100
             check_loops(loops, x, y, tol, 2e-3, rng, n_random=30, max_boundary=40)

@@ -93,7 +93,7 @@ def test_cli_offset(tmp_path):
 
 
 def test_offset_bound_and_the_written_svg(tmp_path):
-    """offset_region's achieved bound (return_bound) is at most its tol, 0 at radius
+    """offset_region's achieved bound (.bound) is at most its tol, 0 at radius
     0; `morph offset -o x.svg` writes its export with the rest of --tol, and the
     written outline (svgpathtools samples, y flipped back) is within --tol of the
     exact offset of the SVG shape: distance to its boundary = radius (the shape
@@ -102,12 +102,13 @@ def test_offset_bound_and_the_written_svg(tmp_path):
     from svgpathtools import parse_path
 
     region = svg_region(SVG)
-    out, bound = offset_region(region, 7.5, 0.01, return_bound=True)
+    out = offset_region(region, 7.5, 0.01)
+    bound = out.bound
     plain = offset_region(region, 7.5, 0.01)
     assert [len(lp) for lp in out] == [len(lp) for lp in plain]
     assert all(np.array_equal(p, q) for lp, lq in zip(out, plain) for p, q in zip(lp, lq))
     assert 0.0 < bound <= 0.01
-    assert offset_region(region, 0.0, 0.01, return_bound=True)[1] == 0.0
+    assert offset_region(region, 0.0, 0.01).bound == 0.0
     src = tmp_path / "shape.svg"
     src.write_text(SVG)
     dst = tmp_path / "grown.svg"
@@ -131,9 +132,11 @@ def test_radius_far_below_tol_returns_the_region():
 
     o = glyph_region("o").region
     for r in (1e-300, 1e-12, -1e-300, -1e-12, -1e-320):
-        out, bound = offset_region(o, r, 0.05, return_bound=True)
+        out = offset_region(o, r, 0.05)
+        bound = out.bound
         assert bound == abs(r) and pc.region_area(out) == pytest.approx(pc.region_area(o))
-    out, bound = offset_region(o, 1e-6, 0.05, return_bound=True)  # computed: area grows
+    out = offset_region(o, 1e-6, 0.05)  # computed: area grows
+    bound = out.bound
     assert pc.region_area(out) > pc.region_area(o) and bound <= 0.05
 
 
@@ -181,11 +184,12 @@ def test_inset_of_a_square_keeps_its_corners_and_of_an_annulus_its_circles():
     from morph.region import region_bbox, reverse_loop
     assert np.allclose(region_bbox(out), [10, 10, 90, 90], atol=1e-9)
     ring = [pc.circle((0, 0), 50), reverse_loop(pc.circle((0, 0), 20))]
-    out, bound = inset_region(ring, 5.0, 1e-4, return_bound=True)
+    out = inset_region(ring, 5.0, 1e-4)
+    bound = out.bound
     assert 0 < bound <= 1e-4 and len(out) == 2
     perimeter = 2 * np.pi * (45 + 25)
     assert pc.region_area(out) == pytest.approx(np.pi * (45 ** 2 - 25 ** 2), abs=perimeter * 1e-4)
-    assert inset_region(ring, 15.5, 1e-4) == []        # the ring is 30 wide
+    assert len(inset_region(ring, 15.5, 1e-4)) == 0     # the ring is 30 wide
 
 
 @pytest.mark.parametrize("seed", [3, 11])

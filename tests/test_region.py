@@ -175,17 +175,42 @@ def test_winding_number_and_point_in_region():
     assert list(winding_number(np.array([[1.0, 1.0]]), cw)) == [-1]
 
 
-def test_region_class_is_thin():
-    r = Region([square(0, 0, 2, False), square(0.5, 0.5, 1, False)], fill_rule="evenodd")
+def test_region_is_immutable_and_knows_what_it_is():
+    """A Region is a sequence of loops; it cannot be edited in place, so its mark
+    (validated) and bound cannot go stale: an edit makes a new, unvalidated region."""
+    r = orient_region([square(0, 0, 2, False), square(0.5, 0.5, 1, False)], "evenodd")
+    assert isinstance(r, Region) and r.validated and r.bound is None
     assert len(r) == 2 and r.area == pytest.approx(3.0)
     assert np.allclose(r.bbox, [0, 0, 2, 2])
     m = r.translated((1, 1)).scaled(2)
-    assert m.area == pytest.approx(12.0)
+    assert m.validated and m.area == pytest.approx(12.0)
     assert np.allclose(m.bbox, [2, 2, 6, 6])
     mirrored = r.transformed([[-1, 0, 0], [0, 1, 0]])  # orientation kept
-    assert mirrored.area == pytest.approx(3.0)
+    assert mirrored.validated and mirrored.area == pytest.approx(3.0)
     assert [len(l) for l in r] == [4, 4]
-    assert "Region(2 loops" in repr(r)
+    assert "Region(2 loops, 8 pieces, validated" in repr(r)
+    with pytest.raises(AttributeError):
+        r.append(r[0])
+    with pytest.raises(AttributeError):
+        r.validated = False
+    with pytest.raises(TypeError):
+        r[0][0] = r[0][1]
+    with pytest.raises(ValueError):   # read-only arrays
+        r[0][0][0, 0] = 5.0
+    edited = Region(list(r) + [square(5, 5, 1, True)])
+    assert not edited.validated and len(edited) == 3
+    # the caller's arrays are not frozen by wrapping them
+    piece = np.array([[0, 0, 1], [1, 0, 1]], float)
+    Region([[piece]])
+    piece[0, 0] = 1.0
+    # bounds scale with the map; a singular map drops the mark
+    b = Region._make(r, True, 0.5)
+    assert b.scaled(3).bound == pytest.approx(1.5) and b.translated((1, 0)).bound == 0.5
+    assert not b.transformed([[1, 0, 0], [0, 0, 0]]).validated
+    import pickle
+
+    back = pickle.loads(pickle.dumps(b))
+    assert back.validated and back.bound == 0.5 and len(back) == 2
 
 
 def test_loops_with_equal_boxes_and_areas_but_other_curves_do_not_cancel():

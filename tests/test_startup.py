@@ -66,6 +66,7 @@ def test_glyph_to_svg_loads_neither_pillow_nor_the_svg_reader(tmp_path, argv):
     for name in NOT_FOR_GLYPH_SVG:
         assert not _loaded(mods, name), name
     assert _loaded(mods, "fontTools.ttLib")
+    assert not _loaded(mods, "morph.paper")   # the paper's methods: only for --method
 
 
 def test_png_and_svg_input_load_what_they_need(tmp_path):

@@ -13,8 +13,7 @@ case_inputs; minkowski_sum(*case_inputs('SPEC'))``.
 import pytest
 
 SWEEP_REGRESSIONS = [
-    # (case, what the sweep found) -- random mode, seed 20261123, code 5555a19 + the working
-    # tree of 2026-11-23 21:07
+    # (case, what the sweep found) -- random mode, seed 20261123
     ("nib/amiri/uniFB8D/60x8/6.8/32.5/3.8e-05",
      "output loop not simple (adjacent pieces cross again near their junction)"),
     ("nib/amiri/uniFBFA/40x40/52.7/18.4/8.8e-05",
@@ -73,28 +72,28 @@ SWEEP_REGRESSIONS = [
     # path whose ends nearly meet); the exact predicate sides with stroke_paths
     ("stroke/relief/semicolon/80x30/1.7/4.96/0.0052",
      "Hausdorff 15.8 tol to the Clipper stroke reference (a reference defect)"),
-    # random mode, seed 777, at commit 0c7f01f
+    # random mode, seed 777
     ("nib/cormorant/c/60x8/79.9/0.129/0.017",
      "loop not simple: a swallowtail 0.007 tol across at the join of pieces 14/15"),
     ("nib/cormorant/0/60x8/54.4/615/0.05", "the counter filled (area 1.8x the reference)"),
     ("nib/lobster/Q/40x40/122.4/29.2/0.0031", "hole boundary point 0.9 tol inside"),
     ("nib/lobster/Q/40x40/88.4/1.3/7.4e-05", "hole boundary point 1.57 tol inside"),
-    # random mode, seed 9001, at commit 7861d0c
+    # random mode, seed 9001
     ("nib/lobster/G/80x30/69.7/3.55/1.9e-05",
      "wedge tip: a line and a QAC piece cross at a small angle 2.37 tol inside"),
-    # random mode, seed 2027, at commit ccb0b80 (100 jobs, this the one failure)
+    # random mode, seed 2027 (100 jobs, this the one failure)
     ("nib/lobster/R/80x30/42.5/3.9/0.00025",
      "wedge tip: a QAC piece and a line meet at a 3 degree tip 0.9 tol inside the sum"),
-    # fonts mode, seed 8080, at commit 77868a7 (90 jobs, these the two failures)
+    # fonts mode, seed 8080 (90 jobs, these the two failures)
     ("pair/cormorant/W/b/0.0001", "wedge tip: pieces meeting at a 2.8 degree tip inside the sum"),
     ("pair/amiri/uniFBA1/uni064A/0.0001",
      "wedge tip: pieces meeting at a 0.8 degree tip inside the sum"),
-    # fonts mode, seed 5150, at commit 3f6b019
+    # fonts mode, seed 5150
     ("pair/cormorant/I/t/0.0001",
      "DegenerateCurveError: a fold cut at the long piece's very end left a zero-length piece"),
     ("pair/amiri/uniFB51/uniFDC3/0.0001",
      "wedge tip: two pieces meet at a 1.2 degree tip, a point inside the sum"),
-    # pairs mode (bundled fonts, 1e-4 em), seed 14, at commit 26155fb
+    # pairs mode (bundled fonts, 1e-4 em), seed 14
     ("pair/cff/o/e/0.0001",
      "loop not simple: pieces 17/18 cross 8.7 tol from their junction"),
     ("pair/cff/p/b/0.0001", "loop not simple"),
@@ -102,39 +101,39 @@ SWEEP_REGRESSIONS = [
     # fonts mode (glyph ⊕ glyph of other fonts, tol 1e-4 em), seed 777
     ("pair/amiri/uniFB55/uniFD51/0.0001",
      "outer loop passes 10-20 units (100-200 tol) inside the exact sum"),
-    # fonts mode, seed 777, at commit 26155fb
+    # fonts mode, seed 777
     ("pair/amiri/uniFCF1/uniFD95/0.0001", "loop not simple (adjacent pieces 36/37)"),
     ("pair/amiri/uniFEEE/uniFB68/0.0001", "loop not simple (pieces 20/23, face 0.45 tol^2)"),
     ("pair/amiri/uni0643/uniFB8D/0.0001", "loop not simple (adjacent pieces 39/40)"),
     ("pair/amiri/uniFCCE/uniFC22/0.0001", "loop not simple (adjacent pieces 86/87)"),
-    # random mode, seed 31337, at commit 1e32185 (150 jobs, this the one failure): a hole
+    # random mode, seed 31337 (150 jobs, this the one failure): a hole
     # whose ring's neighbours of its long side cross near the far corner; the spike
     # cut dropped the long side and kept the corner's sliver
     ("nib/amiri/uniFBAB/80x30/91.8/29.4/0.0052",
      "membership: a hole 37.5 tol deep filled (ours in, exact out)"),
-    # fonts mode, seed 9090, at commit 634b34b: the shallow-crossing allowance of
+    # fonts mode, seed 9090: the shallow-crossing allowance of
     # lift's Newton took near-tangent joints of consecutive pieces (Newton stalls
     # along the contact) 2-22 tol from the polyline crossing
     ("pair/amiri/uniFD60/uniFEF2/0.0001", "loop not simple (pieces 132/134 cross)"),
     ("pair/amiri/uniFD36/uniFC34/0.0001", "loop not simple (pieces 27/29 cross), 101 s"),
-    # fonts mode, seed 7070, at commit 6ec58c9 (and 1ace8fa): a hook at the end of a
+    # fonts mode, seed 7070: a hook at the end of a
     # piece whose legs the next piece runs along within 1e-6 units; the crossing of
     # the outgoing leg with the next piece hid in the coincidence (subdivision gave
     # the pair up), leaving a lens of 3e-5 tol^2
     ("pair/cormorant/h/l/0.0001",
      "loop not simple: adjacent pieces 123/124 cross 7.6 tol from their junction"),
-    # random mode, seed 1618, at commit 26b59d7 (and 1ace8fa): two marks 0.0738 apart
+    # random mode, seed 1618: two marks 0.0738 apart
     # with a disk of diameter 0.0752 (tol 0.028): their sums overlap in a lens 0.0014
     # wide, half a grid step, which the integer union keeps as two rings; the lifted
     # loops crossed (winding 2 in the lens); trim.boundary now merges such outer
     # loops (untangle.merge_lenses)
     ("nib/amiri/uniFE71/40x40/20.4/0.00188/0.013",
      "loops crossing each other (a lens of 0.055 tol^2), winding numbers 0..2"),
-    # random mode, seed 111, at commit 9ba0c51 (and 1ace8fa): a 3.7e6-unit ligature
+    # random mode, seed 111: a 3.7e6-unit ligature
     # whose strokes are all thinner than tol (0.048 of its size) summed to nothing;
     # now a LimitError naming tol / 10, at which the case passes
     ("nib/amiri/uniFDFD/40x40/10.2/325/0.048", "empty result"),
-    # fonts mode, seed 303, at commit 9ba0c51 (and 1ace8fa): the exact convolution has
+    # fonts mode, seed 303: the exact convolution has
     # a needle (two lines 0.00065 apart, 89 units long, winding 2 inside, 1 around);
     # its legs' ends rounded to the grid apart and the legs crossed: winding 0 inside,
     # an open crack 0.004 wide and 65 long.  Fixed by rounding segments through the
@@ -142,7 +141,7 @@ SWEEP_REGRESSIONS = [
     ("pair/amiri/uniFDB3/uniFCE4/0.0001",
      "straddle: a boundary point of an island (loop 3, area 61934) lies more than "
      "tol + 2f inside the exact sum"),
-    # random mode, seed 1357, found at 827e38e (the snap rounding moved a crossing of a
+    # random mode, seed 1357 (the snap rounding moved a crossing of a
     # QAC cusp piece onto the grid point of a joint one grid step away: the lift paired
     # the wrong pieces, Newton failed, and the run ended at the parameter interpolated
     # along its segment, 0.2 units off; snapping it to the junction bent the piece into
@@ -153,7 +152,7 @@ SWEEP_REGRESSIONS = [
      "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
     # EB Garamond (a font the code was not tuned on), fonts seed 9900:
     # a hole of w + i kept a spike 1.5 units (15 tol) into the filled sum at a corner,
-    # since the snap rounding (7a79858): a hot pixel put on a segment at its start took
+    # under snap rounding: a hot pixel put on a segment at its start took
     # the start's parameter, and the start's range became [t, 1] (t1 = 1 where the next
     # parameter was not greater): a one-unit edge lifted as a whole piece.  Equal
     # parameters now give an empty range (trim.flatten.tag_loops)
@@ -254,26 +253,22 @@ def test_sweep_regression(case):
 # as the bench checks them (tests.oracles.icons.check_op: polygon reference; gaps narrower than
 # 1.6 tol may close).  (file stem, what the bench found)
 ICON_REGRESSIONS = [
-    # at a045031 (fixed by a40d6e3's trim)
     ("bootstrap-cake-offset",
      "offset: a scalloped hole (box + 18 pieces) whose offset splits into 4 holes keeps 1"),
-    # at a40d6e3 and 3f6b019
     ("mdi-bank-outline-offset",
      "offset of 4 rectangles whose offsets share collinear edges: the enclosed hole "
      "(about 8 x 9) comes out as a 2-piece loop of zero area"),
-    # not in the 150 sampled; fail at 3f6b019 and with the working tree of 00:45
+    # not in the 150 sampled
     ("mdi-alpha-f-circle-offset",
      "offset of a box with an F-shaped hole of stroke width 2 by 1: the hole left at the "
      "T-junction (inradius 0.25) comes out as a zero-area loop"),
     ("mdi-book-edit-offset",
      "offset of book + pencil (3 loops, 24 pieces): a hole of the exact offset is lost"),
-    # fail at a40d6e3 and 3f6b019; pass with the trim changes in progress at 2026-11-24
-    # 00:45 (morph/trim/lift.py, untangle.py, uncommitted then): guards of that work
+    # guards of morph/trim/lift.py and untangle.py
     ("mdi-shower-head-offset",
      "offset of three dots (radius 1, two touching after the offset): the curved "
      "triangle hole between them is lost"),
-    # full run at ee9e75a (2026-11-24 00:55): two offset dots touching exactly, the
-    # hole between them and a third pinched off within eps: untangle dropped it as a twist
+    # two offset dots touching exactly, the hole between them and a third pinched off within eps: untangle dropped it as a twist
     ("mdi-shower-head-offset-touching",
      "offset of three dots (two offsets touching at one point): the pinched hole is lost"),
     ("mdi-shower-head-offset-degenerate",
@@ -333,7 +328,7 @@ def test_the_checker_finds_a_crack_no_sample_hits():
     ok = verify(loops, oracle, tol, f, 46.0, np.random.default_rng(0), n_boundary=20)
     assert not ok["fail"], ok["fail"]
     # the crack: at the middle of the longest piece, in along the inward normal and out
-    loop = loops[0]
+    loop = list(loops[0])  # a list of pieces, to cut a crack into
     k = int(np.argmax([np.hypot(*(pc.end(p) - pc.start(p))) for p in loop]))
     head, tail = pc.subsegment(loop[k], 0.0, 0.5), pc.subsegment(loop[k], 0.5, 1.0)
     x, d = pc.end(head), pc.end(loop[k]) - pc.start(loop[k])

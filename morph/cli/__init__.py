@@ -18,7 +18,8 @@ glyphs, user units for SVG) into the shape's units.  Errors: raise
 :func:`main` prints one line ``morph: error: ...`` and exits 2; ``TopologyError``,
 ``ToleranceNotMetError`` and anything else are internal failures, one line naming
 the command, exit 1.  ``MORPH_DEBUG=1`` shows the traceback of an internal failure
-and saves the loaded shapes to ``morph-debug-<command>.json`` in the working folder.
+and saves the loaded shapes to ``morph-debug-<command>.json`` in the working folder
+(``MORPH_DEBUG=FOLDER``: in that folder); debug files are written nowhere else.
 """
 
 import os

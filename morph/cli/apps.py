@@ -40,7 +40,7 @@ def offset(shape, radius, font, tol, output, force, size):
                                                shape.slug), force)
     r = shape.em_to_units(radius)
     budget = writer_budget(shape, tol, *([[pc_circle((0.0, 0.0), abs(r))]] if r else []))
-    loops, bound = offset_region(shape.region, r, budget.geometry, return_bound=True)
+    loops = offset_region(shape.region, r, budget.geometry)
     if not loops:
         raise InputError("--radius %g erodes all of %s '%s': no disk of radius %g%s fits in it"
                          % (radius, shape.kind, shape.name, -radius,
@@ -48,7 +48,7 @@ def offset(shape, radius, font, tol, output, force, size):
     big, small = (loops, shape.region) if r >= 0 else (shape.region, loops)
     # the export gets what the offset left of --tol (its achieved bound <= its share)
     write_image(out, [(big, {"fill": "#9bbbd4"}), (small, {"fill": "black"})],
-                size=size, tol=budget.after(bound))
+                size=size, tol=budget.after(loops.bound))
     report_written(out, loops)
 
 
@@ -91,13 +91,12 @@ def cspace(obstacle, robot, samples, reference, inside, font, tol, output, force
     budget = writer_budget(obstacle, tol, robot.region)
     ref = region_centroid(robot.region) if reference == "centroid" else (0.0, 0.0)
     space = free_space if inside else cspace_obstacle
-    loops, bound = space(obstacle.region, robot.region, budget.geometry, reference=ref,
-                         return_bound=True)
+    loops = space(obstacle.region, robot.region, budget.geometry, reference=ref)
     if not loops:
         raise InputError("%s '%s' fits nowhere inside %s '%s'" % (robot.kind, robot.name,
                                                                  obstacle.kind, obstacle.name))
     # the SVG export gets the rest of --tol beyond the error the sum achieved
     write_image(out, cspace_figure(obstacle.region, robot.region, loops, budget.total, samples, ref,
                                    inside=inside),
-                size=size, tol=budget.after(bound))
+                size=size, tol=budget.after(loops.bound))
     report_written(out, loops)

@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 
 from .group import main
-from .variable import VARY_NIB_HELP, stroke_variable_cli
+from .variable import (VARY_NIB_HELP, brush_variable_cli, is_variable_truetype,
+                       stroke_variable_cli)
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -47,7 +48,9 @@ def _parse_nib(spec):
               help="Characters, ranges (a-z) and glyph names, comma separated; 'all': "
                    "every glyph drawn by its own contours (composites follow).")
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image and the specimen.")
+              help="Text of the sample image and the specimen. A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Brush).")
 @tol_option(default=FONT_TOL, what="outlines (sum and curve conversion together)",
             note="5e-4 em = 0.5 font units at 1000 units per em; the outlines are then "
@@ -71,10 +74,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     CFF/.otf: cubics), with the advance width grown by the nib width (zero-width
     marks stay so).  GPOS mark anchors move with their glyphs, vertical metrics grow
     by the nib, names and OS/2 widths are updated.  FONT is a .ttf/.otf file (a
-    variable font is brushed at --location), or omitted / "default" for the bundled
-    Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
+    variable font at --location gives a static instance), or omitted / "default"
+    for the bundled Noto Sans.  The nib must be convex.  Also writes OUTPUT.png (the sample text set
     in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
     characters, source and result side by side).
+
+    A variable FONT without --location keeps every axis: each master's glyphs
+    are brushed as untrimmed, overlapping contours compatible across the
+    masters (overlap flags set), its layout kept.  Static outputs are trimmed:
+    one outline, free of overlaps.
 
     A glyph whose sum fails is computed again at --tol/8, then with the nib turned
     by a tiny angle (within --tol); if that fails too it is written by a polygon
@@ -88,13 +96,15 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush -o NotoBrush.ttf
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
+      morph brush Variable.ttf -o VariableBrush.ttf --nib ellipse:60,15,30
     """
     import io
     import time
 
     from fontTools.ttLib import TTFont
 
-    from ..fonts.brush import brush_font, ellipse_nib, open_source
+    from ..fonts.brush import brush_font, open_source
+    from ..nib import ellipse_nib
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
@@ -106,16 +116,20 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
+    if location is None and is_variable_truetype(src):   # every axis kept
+        return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
+                                  png, page, _parse_nib)
     source = open_source(src, location)  # static: a variable font at --location
     source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
-    with progress_bar(total, "glyphs") as bar:
+    with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
     write_specimen(out, source_copy, sample=sample)
     click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
@@ -167,11 +181,24 @@ def _companions(out, force, specimen=True):
     return png, page
 
 
+def _covered_sample(font, sample):
+    """--sample when the written font draws it, else its own characters
+    (:func:`morph.fonts.specimen.sample_text`), with a note on stderr."""
+    from ..fonts.specimen import sample_text
+
+    text, changed = sample_text(font, sample)
+    if changed:
+        click.echo("note: the font does not draw every character of the sample %r: the "
+                   "sample image and specimen show its own characters %r" % (sample, text),
+                   err=True)
+    return text
+
+
 def _checked_nib(make):
     """The nib region ``make()`` returns, checked convex; a bad nib is bad input
     (InputError, exit 2)."""
     from ..errors import MorphError
-    from ..fonts.brush import check_convex_nib
+    from ..nib import check_convex_nib
 
     try:
         nib_region = make()
@@ -236,7 +263,9 @@ _STROKE_NIB = "ellipse:90,20,30"
                  "coordinates, <= 0.71 unit more), %g of the drawing's size for an SVG, "
                  "as for images of the other commands." % (FONT_TOL, DEFAULT_TOL))
 @click.option("--sample", default="Hamburgefonstiv", show_default=True,
-              help="Text of the sample image (UFO skeletons).")
+              help="Text of the sample image (UFO skeletons). A font that does not draw "
+                   "every character of it gets a sample of its own characters (cmap "
+                   "order), with a note.")
 @click.option("--family", default=None, help="New family name (default: FAMILY Stroke).")
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
@@ -266,9 +295,18 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     within --tol, made of lines); the font is written anyway, those glyphs are
     named on one line and the exit status is 1.
 
+    Static outputs are trimmed: one outline, free of overlaps.  Variable
+    outputs (--vary-nib, or a .designspace of compatible skeleton masters:
+    every master stroked, axes and instances kept) keep the untrimmed
+    convolution as overlapping contours, compatible in every master; the
+    renderers fill them as the sum (nonzero, overlap flags set).
+
     \b
     Examples:
       morph stroke Relief-SingleLine.ufo -o ReliefStroke.otf
+      morph stroke Relief-SingleLine.ufo -o ReliefNib.ttf --nib ellipse:40,10,30
+            --vary-nib ellipse:120,30,30
+      morph stroke Family.designspace -o FamilyStroke.ttf
       morph stroke Relief-SingleLine.ufo -o Round.ttf --nib ellipse:60,60,0
       morph stroke Sketch.ufo -o Sketch-Stroke.ufo --glyphs A-Z,a-z
       morph stroke drawing.svg -o drawing-stroke.svg --nib ellipse:8,2,30
@@ -280,24 +318,25 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
         if vary_nib is not None:
             raise InputError("--vary-nib needs a UFO skeleton (a font), not an SVG")
         return _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force)
-    elif src.is_dir():
+    elif src.is_dir() or src.suffix.lower() == ".designspace":
         tol = FONT_TOL if tol is None else tol
-        if vary_nib is not None:
+        if vary_nib is not None or not src.is_dir():
             if nib_svg:
-                raise InputError("--vary-nib needs elliptical nibs (--nib), not --nib-svg")
+                raise InputError("a variable font needs elliptical nibs (--nib), not --nib-svg")
             return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
                                        jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
                                        _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:
-        raise InputError("skeleton %s is neither a .ufo folder nor an .svg file" % skeleton)
+        raise InputError("skeleton %s is neither a .ufo folder, a .designspace nor an .svg "
+                         "file" % skeleton)
 
 
 def _stroke_nib(nib, nib_svg, scale):
     """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
     convex (InputError otherwise)."""
-    from ..fonts.brush import ellipse_nib
+    from ..nib import ellipse_nib
     from ..parse import svg_region
 
     def make():
@@ -346,12 +385,13 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     todo, _ = stroke_plan(font, items, nib_region)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with progress_bar(len(todo), "glyphs") as bar:
+    with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
         # the path, not the open font: stroke_ufo then reads the UFO whole instead of
         # deep-copying this one (5 ms a glyph)
         stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
+    sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
     if page:
         write_specimen(out, None, sample=sample)

@@ -12,13 +12,14 @@ import warnings
 import click
 
 from .. import __version__
-from ..errors import DegenerateCurveError, LimitError, MorphWarning, NibError, ParseError
+from ..errors import (DegenerateCurveError, LimitError, MorphWarning, NibError, OperandError,
+                      ParseError)
 from ..limits import memory_budget_bytes
 from .options import EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES
 
 _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
 #: MorphErrors that mean bad input (exit 2); other MorphErrors are internal (exit 1)
-BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError)
+BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError, OperandError)
 
 
 def _error_line(message):
@@ -63,10 +64,13 @@ def _limit_memory():
 
 def _save_debug(command, argv, exc):
     """Write the loaded shapes (loops of homogeneous control points), the arguments
-    and the error to morph-debug-<command>.json in the working folder; its path."""
+    and the error to morph-debug-<command>.json: in the folder MORPH_DEBUG names,
+    else (MORPH_DEBUG=1) in the working folder; its path."""
     import json
 
-    path = os.path.abspath("morph-debug-%s.json" % command)
+    folder = os.environ.get("MORPH_DEBUG", "")
+    path = os.path.abspath(os.path.join(folder if os.path.isdir(folder) else "",
+                                        "morph-debug-%s.json" % command))
     data = {"argv": argv, "error": "%s: %s" % (type(exc).__name__, exc),
             "shapes": [{"arg": s.source,
                         "info": {"kind": s.kind, "name": s.name, "units_per_em": s.units_per_em,

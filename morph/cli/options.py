@@ -16,7 +16,8 @@ EXIT_INTERNAL = 1
 DEFAULT_TOL = 1e-4
 FONT_TOL = 5e-4
 TOL_UNITS = ("absolute, in em for glyphs and fonts (1e-4 em = 0.1 unit at 1000 units per "
-             "em), in user units for SVG")
+             "em), in user units for SVG (the library's tol is in the shapes' units: "
+             "em x units per em, morph.parse.em_to_units)")
 TOL_DEFAULT_NOTE = ("Default: 1e-4 em for glyphs, 1e-4 of the drawing's size (the larger "
                     "side of the shapes' bounding boxes) for SVG.")
 IMAGE_SUFFIXES = (".png", ".svg")
@@ -276,17 +277,91 @@ def report_written(path, loops):
                                       count(sum(map(len, loops)), "piece")))
 
 
-def progress_bar(length, label):
-    """A click progress bar on stderr when it is a terminal; otherwise nothing is
-    printed (click would print a stray label line)."""
-    import contextlib
-    import sys
+#: seconds between the status lines of a run whose stderr is not a terminal
+STATUS_SECONDS = 5.0
+#: seconds between redraws of the progress line on a terminal
+REDRAW_SECONDS = 0.5
 
-    if sys.stderr.isatty():
-        return click.progressbar(length=length, label=label, file=sys.stderr)
 
-    class _Silent:
-        def update(self, n):
-            pass
+class Progress:
+    """Work done, counted in items (glyphs, frames), on stderr.
 
-    return contextlib.nullcontext(_Silent())
+    ``update(n)`` adds ``n`` items done (a batch of glyphs finishing together adds
+    each).  The status says the items done of all, the percentage, the time
+    elapsed, and once something is done the time left: the time per item done so
+    far times the items left (no estimate before the first item: a rate from
+    nothing done is no rate).  On a terminal the line is redrawn in place, at most
+    every :data:`REDRAW_SECONDS`; otherwise (a pipe, a log) a line is printed every
+    :data:`STATUS_SECONDS`, and a last one at the end when any was (a short run
+    prints nothing).  A background thread keeps
+    the clock, so a long first batch still shows the time passing.
+    """
+
+    def __init__(self, total, label, command="morph", stream=None, tty=None, interval=None):
+        import sys
+        import threading
+
+        self.total, self.label, self.command = int(total), label, command
+        self.stream = sys.stderr if stream is None else stream
+        self.tty = self.stream.isatty() if tty is None else tty
+        self.interval = (interval if interval is not None
+                         else REDRAW_SECONDS if self.tty else STATUS_SECONDS)
+        self.done = 0
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._tick, daemon=True)
+        self._start = None
+        self._shown = False
+
+    def __enter__(self):
+        import time
+
+        self._start = time.monotonic()
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+        if self._shown:  # the last line: all done, or where it stopped
+            self._show(final=True)
+        return False
+
+    def update(self, n=1):
+        with self._lock:
+            self.done = min(self.total, self.done + n)
+        if self.tty:
+            self._show()
+
+    def status(self):
+        """The status text: ``3/141 glyphs (2 %), 4 s, about 180 s left``."""
+        import time
+
+        elapsed = time.monotonic() - self._start
+        done, total = self.done, max(self.total, 1)
+        text = "%d/%d %s (%d %%), %.0f s" % (done, self.total, self.label,
+                                             100 * done // total, elapsed)
+        if 0 < done < self.total:
+            text += ", about %.0f s left" % (elapsed / done * (self.total - done))
+        return text
+
+    def _tick(self):
+        while not self._stop.wait(self.interval):
+            self._show()
+
+    def _show(self, final=False):
+        with self._lock:
+            line = "%s: %s" % (self.command, self.status())
+            if self.tty:
+                self.stream.write("\r\033[K" + line + ("\n" if final else ""))
+            else:
+                self.stream.write(line + "\n")
+            self.stream.flush()
+            self._shown = True
+
+
+def progress_bar(length, label, command="morph"):
+    """A :class:`Progress` of ``length`` items on stderr (a context manager with
+    ``update(n)``): redrawn on a terminal, a status line every few seconds
+    otherwise."""
+    return Progress(length, label, command)

@@ -36,7 +36,7 @@ def outline(shape, font, tol, output, force, size):
 
 
 def method_option(f):
-    from ..methods import METHODS
+    from ..subdivide import METHODS
 
     return click.option(
         "--method", type=click.Choice(list(METHODS)), default="qac", show_default=True,
@@ -69,10 +69,9 @@ def sum_(a, b, method, font, tol, output, force, size):
 
     out = resolve_output(output, "sum-%s-%s.png" % (a.slug, b.slug), force)
     budget = writer_budget(a, tol, b.region)
-    loops, debug = minkowski_sum(a.region, b.region, budget.geometry, method=method,
-                                 return_debug=True)
+    loops = minkowski_sum(a.region, b.region, budget.geometry, method=method)
     # the export gets what the sum left of --tol (its achieved bound, <= its share)
-    write_image(out, [loops], size=size, tol=budget.after(debug["bound"]))
+    write_image(out, [loops], size=size, tol=budget.after(loops.bound))
     report_written(out, loops)
 
 
@@ -88,12 +87,11 @@ def _morph_command(a, b, frames, tol, output, force, size, duration, kind, metho
 
     def written(bar):
         # each frame's SVG export gets the rest of --tol beyond the error its sum achieved
-        for out, bound in iter_frames(a.region, b.region, frames, budget.geometry,
-                                      method=method):
-            yield out, budget.after(bound)
+        for out in iter_frames(a.region, b.region, frames, budget.geometry, method=method):
+            yield out, budget.after(out.bound)
             bar.update(1)
 
-    with progress_bar(frames, "frames") as bar:
+    with progress_bar(frames, "frames", "morph %s" % kind) as bar:
         write_frame_stream(outdir, written(bar), frames_bbox(a.region, b.region), size=size,
                            duration=duration, animation=animation)
     for stale in stale_frame_files(outdir, frames, animation):  # of an earlier run (--force)

@@ -34,26 +34,30 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
 
     from ..errors import MorphError
     from ..fonts.jobs import default_jobs
-    from ..fonts.specimen import specimen_path, write_sample_image, write_specimen
-    from ..fonts.variable import stroke_variable, variable_outputs
-    from ..parse.ufo import load_ufo
+    from ..fonts.specimen import sample_path, specimen_path, write_sample_image, write_specimen
+    from ..fonts.variable import read_skeleton, stroke_variable, variable_outputs
 
     out = Path(output)
     if out.suffix.lower() not in (".ttf", ".otf"):
-        raise InputError("--vary-nib makes a variable font: the output must end in .ttf "
-                         "(glyf/gvar) or .otf (CFF2), got %s" % out)
+        raise InputError("a variable font (--vary-nib or a designspace skeleton) is a .ttf "
+                         "(glyf/gvar) or .otf (CFF2): the output must end in .ttf or .otf, "
+                         "got %s" % out)
     if not out.parent.is_dir():
         raise InputError("output folder %s does not exist" % out.parent)
-    png, page = out.with_suffix(".png"), specimen_path(out)
+    png, page = sample_path(out), specimen_path(out)
     for p in (out, *variable_outputs(out), png, page):
         if p.exists() and not force:
             raise InputError("%s exists; use --force to overwrite it" % p)
-    font = load_ufo(src, lazy=False)
+    try:
+        skel = read_skeleton(src)
+    except MorphError as exc:
+        raise InputError(str(exc)) from exc
+    font = skel.fonts[skel.default]
     upm = float(font.info.unitsPerEm or 1000)
     lo = parse_nib(nib) if nib is not None else tuple(v * (upm / 1000.0) if k < 2 else v
                                                     for k, v in enumerate(default_nib))
-    hi = parse_vary_nib(vary_nib, parse_nib)
-    if tuple(map(float, lo)) == tuple(map(float, hi)):
+    hi = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
+    if hi is not None and tuple(map(float, lo)) == tuple(map(float, hi)):
         raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
     items = glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):
@@ -63,7 +67,7 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
     n = len(font.keys()) if items is None else len(items)
     try:
         with progress_bar(n, "glyphs") as bar:
-            stats = stroke_variable(font, out, lo, hi, items, tol=tol * upm,
+            stats = stroke_variable(skel, out, lo, hi, items, tol=tol * upm,
                                     family_name=family, overwrite=force, jobs=jobs,
                                     progress=lambda name: bar.update(1))
     except (MorphError, ValueError) as exc:
@@ -71,10 +75,67 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
     seconds = time.perf_counter() - t0
     write_sample_image(out, sample, png)
     write_specimen(out, None, sample=sample)
+    axes = ["%s %g..%g" % (a.tag, a.minimum, a.maximum) for a in skel.axes]
     axis = stats["axis"]
-    click.echo("wrote %s (variable, axis %s %s %g..%g, %s, %s stroked, %.1f s, %s), "
+    if axis is not None:
+        axes.append("%s %s %g..%g" % (axis.tag, axis.name, axis.minimum, axis.maximum))
+    click.echo("wrote %s (variable, axes %s, %s, %s stroked, %.1f s, %s), "
                "designspace %s, sample %s and specimen %s"
-               % (out, axis.tag, axis.name, axis.minimum, axis.maximum,
-                  count(len(stats["values"]), "master"), count(stats["glyphs"], "glyph"),
-                  seconds, count(jobs, "job"), stats["designspace"], png, page))
+               % (out, ", ".join(axes), count(len(stats["masters"]), "master"),
+                  count(stats["glyphs"], "glyph"), seconds, count(jobs, "job"),
+                  stats["designspace"], png, page))
+    return 0
+
+
+def is_variable_truetype(path):
+    """True for a font file with fvar (a variable font)."""
+    from fontTools.ttLib import TTFont
+
+    try:
+        return "fvar" in TTFont(str(path), lazy=True)
+    except Exception:                   # noqa: BLE001 - the static path reports it
+        return False
+
+
+def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample, png, page,
+                       parse_nib):
+    """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept."""
+    import time
+
+    from fontTools.ttLib import TTFont
+
+    from ..errors import MorphError
+    from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import write_sample_image, write_specimen
+    from ..fonts.variable import brush_variable
+    from ..parse.glyphs import glyph_name
+
+    if nib_svg:
+        raise InputError("brushing a variable font keeping its axes needs an elliptical "
+                         "--nib, not --nib-svg (or give --location for a static instance)")
+    font = TTFont(str(src), lazy=True)
+    if "gvar" not in font:
+        raise InputError("%s is a CFF2 variable font: only TrueType (glyf/gvar) sources "
+                         "keep their axes; give --location for a static instance" % src)
+    names = None
+    if items is not None:
+        try:
+            names = [glyph_name(font, it) for it in items]
+        except MorphError as exc:
+            raise InputError(str(exc)) from exc
+    upm = font["head"].unitsPerEm
+    jobs = default_jobs() if jobs is None else jobs
+    t0 = time.perf_counter()
+    try:
+        stats = brush_variable(src, out, parse_nib(nib), names, tol=tol * upm,
+                               family_name=family, jobs=jobs)
+    except (MorphError, ValueError) as exc:
+        raise InputError("%s: %s" % (src, exc)) from exc
+    write_sample_image(out, sample, png)
+    write_specimen(out, None, sample=sample)
+    click.echo("wrote %s (variable, axes %s kept, %s, %s brushed, %.1f s), sample %s and "
+               "specimen %s" % (out, ", ".join(a.axisTag for a in stats["font"]["fvar"].axes),
+                                count(len(stats["masters"]), "master"),
+                                count(stats["glyphs"], "glyph"), time.perf_counter() - t0,
+                                png, page))
     return 0

@@ -14,7 +14,8 @@ rounded to the integer grid (at most 0.71 unit more; see
 :func:`morph.fonts.tables.clean_contour` for the clean-up of rounded contours).
 
 **Fallback.**  A glyph whose sum raises (a :class:`morph.errors.MorphError` such as
-``TopologyError``, or any other exception) does not stop the font.  It is computed
+``TopologyError``; any other exception is a programming error and stops the
+command, :func:`morph.fonts.jobs.fallback_ladder`) does not stop the font.  It is computed
 again by the same exact method at a quarter of the geometry share (other crossings
 and flattenings; curves within tol as usual; kind "retry"), then with the nib turned
 about its pen point by the angle that moves it by half the geometry share at most
@@ -77,53 +78,13 @@ import unicodedata
 
 import numpy as np
 
-from .. import piece as pc
 from ..budget import plan
-from ..errors import NibError, ParseError, one_line
+from ..errors import ParseError, one_line
+from ..nib import check_convex_nib, ellipse_nib, region_extent  # noqa: F401 (re-exported)
+from .jobs import CHUNK, glyph_chunks  # noqa: F401 (re-exported)
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
            "region_extent", "sweep_glyph", "sweep_glyphs", "glyph_chunks"]
-
-
-def ellipse_nib(width, height, angle_deg=0.0):
-    """Exact elliptical nib: width x height (font units), rotated by angle (degrees).
-
-    Raises:
-        NibError: width or height not positive (``.nib`` = the three arguments).
-    """
-    if not (width > 0 and height > 0):
-        raise NibError("nib width and height must be positive, got %g x %g"
-                       % (width, height), (width, height, angle_deg))
-    return [pc.ellipse((0.0, 0.0), width / 2.0, height / 2.0, np.radians(angle_deg))]
-
-
-def check_convex_nib(nib):
-    """Check that the nib is a single convex loop (its Gauss map turns monotonically
-    through 2 pi).
-
-    Raises:
-        NibError: not one loop, or not convex (``.nib`` = the region).
-    """
-    from ..gauss import TURN_EPS, gauss_map, turns_convex
-
-    if len(nib) != 1:
-        raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
-    edges = gauss_map(nib[0])
-    if turns_convex(edges):
-        return
-    bad = [e for e in edges if e.sweep < -TURN_EPS]
-    if bad:
-        raise NibError("the nib is not convex: it turns clockwise at %s (only convex "
-                       "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),), nib)
-    raise NibError("the nib is not convex (total turning %.3f rad)"
-                   % sum(e.sweep for e in edges), nib)
-
-
-def region_extent(loops):
-    """Exact bounding box of a region (xmin, ymin, xmax, ymax)."""
-    from ..region import region_bbox
-
-    return tuple(float(v) for v in region_bbox(loops))
 
 
 def parse_glyph_spec(spec):
@@ -291,48 +252,31 @@ def sweep_glyph(job):
 
 def _sweep(job, start=0, error=None):
     """:func:`sweep_glyph` from the ``start``-th attempt of :func:`_attempts` on
-    (the earlier ones raised ``error``)."""
+    (the earlier ones raised ``error``), down the fallback ladder
+    (:func:`morph.fonts.jobs.fallback_ladder`: on a MorphError only)."""
     from itertools import islice
 
-    from ..minkowski import minkowski_sum
-    from .jobs import polygon_sum, polylines_to_contours
-    from .tables import contours_from_loops
+    from .jobs import fallback_ladder, polygon_sum, polylines_to_contours
 
     name, region, nib, tol, method, offset, quadratic = job
     if not region:
         return name, [], "exact", None
-    for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None):
-        try:
-            loops = minkowski_sum(region, pen, sum_tol, method=method)
-            return (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
-                                              splines=True), kind, error)
-        except Exception as exc:  # noqa: BLE001 - any failure: the fallback, named later
-            if error is None:
-                error = "%s: %s" % (type(exc).__name__, one_line(exc))
-    try:
-        polys = polygon_sum(region, nib, tol)
-        return name, polylines_to_contours(polys, quadratic, offset), "polygon", error
-    except Exception as exc:  # noqa: BLE001
-        error += "; polygon fallback: %s: %s" % (type(exc).__name__, exc)
+
+    def exact(pen, sum_tol):
+        from ..minkowski import minkowski_sum
+        from .tables import contours_from_loops
+
+        loops = minkowski_sum(region, pen, sum_tol, method=method)
+        return contours_from_loops(loops, plan(tol).export, quadratic, offset, splines=True)
+
+    rungs = [(kind, lambda p=pen, t=sum_tol: exact(p, t))
+             for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None)]
+    rungs.append(("polygon", lambda: polylines_to_contours(polygon_sum(region, nib, tol),
+                                                           quadratic, offset)))
+    kind, contours, error = fallback_ladder(rungs, error)
+    if kind is None:
         return name, None, "source", error
-
-
-#: At most this many glyphs per job of :func:`sweep_glyphs` (their curve conversions
-#: go in one batch: a batch's rounds cost the same however many glyphs share them,
-#: so its cost per glyph falls with its size: 62 stroked Relief glyphs 26 / 19 / 13
-#: ms each in batches of 16 / 48 / 124); equal chunks by the number of glyphs alone,
-#: not by the number of processes: the font does not depend on it
-#: (:func:`glyph_chunks`).
-CHUNK = 96
-
-
-def glyph_chunks(work, size):
-    """``work`` in consecutive chunks of equal length (within one), at most ``size``
-    each and at least two for two glyphs or more (so that two processes share a
-    small font): the jobs of :func:`sweep_glyphs` and the stroke's chunk jobs."""
-    count = max(-(-len(work) // size), min(2, len(work)))
-    edges = [round(i * len(work) / count) for i in range(count + 1)] if count else [0]
-    return [work[a:b] for a, b in zip(edges, edges[1:])]
+    return name, contours, kind, error
 
 
 def sweep_glyphs(jobs):
@@ -344,7 +288,10 @@ def sweep_glyphs(jobs):
     glyphs share each round's array calls, a fraction of the glyph-by-glyph cost).
     A glyph whose sum raised goes on with :func:`sweep_glyph`'s next attempts; if
     the batch raises, each glyph is converted alone and a failing one goes on the
-    same way, so the results are :func:`sweep_glyph`'s."""
+    same way, so the results are :func:`sweep_glyph`'s.  Only a MorphError moves a
+    glyph down the ladder (:func:`morph.fonts.jobs.fallback_ladder`)."""
+    from ..errors import MorphError
+    from .jobs import error_text
     from .tables import contours_from_loops, contours_from_regions
 
     out = [None] * len(jobs)
@@ -358,7 +305,7 @@ def sweep_glyphs(jobs):
             contours = contours_from_regions([loops for _, loops in done], plan(tol).export,
                                              quadratic, [jobs[k][5] for k, _ in done],
                                              splines=True)
-        except Exception:  # noqa: BLE001 - glyph by glyph below
+        except MorphError:  # glyph by glyph below
             contours = None
         for i, (k, loops) in enumerate(done):
             name, _, _, tol, _, offset, quadratic = jobs[k]
@@ -368,17 +315,20 @@ def sweep_glyphs(jobs):
             try:
                 out[k] = (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
                                                     splines=True), "exact", None)
-            except Exception as exc:  # noqa: BLE001
-                out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+            except MorphError as exc:
+                out[k] = _sweep(jobs[k], 1, error_text(exc))
     return out
 
 
 def _first_sums(jobs, todo, out):
     """[(job index, loops)] of the first attempt of :func:`_attempts` for jobs
     ``todo`` (one nib, tolerance and method): all at once
-    (:func:`morph.minkowski.minkowski_sums`), or where that raises one by one; a
-    glyph whose own sum raised gets :func:`_sweep`'s next attempts in ``out``."""
+    (:func:`morph.minkowski.minkowski_sums`), or where that raises a MorphError one
+    by one; a glyph whose own sum raised one gets :func:`_sweep`'s next attempts in
+    ``out``."""
+    from ..errors import MorphError
     from ..minkowski import minkowski_sum, minkowski_sums
+    from .jobs import error_text
 
     if not todo:
         return []
@@ -387,14 +337,14 @@ def _first_sums(jobs, todo, out):
     try:
         return list(zip(todo, minkowski_sums([jobs[k][1] for k in todo], pen, sum_tol,
                                              method=method)))
-    except Exception:  # noqa: BLE001 - glyph by glyph below
+    except MorphError:  # glyph by glyph below
         pass
     done = []
     for k in todo:
         try:
             done.append((k, minkowski_sum(jobs[k][1], pen, sum_tol, method=method)))
-        except Exception as exc:  # noqa: BLE001 - any failure: the next attempts
-            out[k] = _sweep(jobs[k], 1, "%s: %s" % (type(exc).__name__, one_line(exc)))
+        except MorphError as exc:  # the next attempts
+            out[k] = _sweep(jobs[k], 1, error_text(exc))
     return done
 
 
@@ -452,7 +402,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     sum, half for the curve conversion).  ``family_name``: the new family name
     (default: "<family> Brush").  ``progress(name)`` is called after each swept
     glyph.  ``composites``: "follow" or "sweep" (see the module docstring).  ``jobs``:
-    processes computing the sums (:func:`morph.fonts.jobs.run_jobs`; the result does
+    processes computing the sums (:func:`morph.fonts.jobs.run_glyph_jobs`; the result does
     not depend on it).  ``out_path``: .ttf/.otf/.woff2/.woff (the flavor; the outline
     format is the source's).
 
@@ -469,7 +419,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
         ValueError: ``composites`` not "follow" or "sweep"; an output suffix other
             than .ttf, .otf, .woff2, .woff; a variable font not instantiated.
     """
-    from .jobs import run_jobs
+    from .jobs import run_glyph_jobs
     from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_writer,
                          rename_family, save_font)
 
@@ -485,9 +435,8 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
              writer.quadratic) for n in order]
     chosen = set(names)
-    chunks = glyph_chunks(args, CHUNK)
-    results = [r for rs in run_jobs(sweep_glyphs, chunks, jobs=jobs,
-                                    progress=_chosen_progress(progress, chosen)) for r in rs]
+    results = run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
+                             each=_chosen_progress(progress, chosen))
     stats, moves = _store_outlines(font, writer, results, chosen, extent)
     stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
                  base_not_chosen=unchosen)
@@ -531,13 +480,14 @@ def _default_family(font):
 
 
 def _chosen_progress(progress, chosen):
-    """``progress(name)`` for the chosen glyphs, as a run_jobs progress callback."""
+    """``progress(name)`` for the chosen glyphs, as a :func:`morph.fonts.jobs.
+    run_glyph_jobs` callback (``each``)."""
     if progress is None:
         return None
-    def report(index, results):             # a chunk's glyphs, once it is done
-        for r in results:
-            if r[0] in chosen:
-                progress(r[0])
+
+    def report(result):
+        if result[0] in chosen:
+            progress(result[0])
     return report
 
 

@@ -16,7 +16,11 @@ data URL (a variable source is embedded at the instance that was brushed), then
 - a grid of every encoded character (cmap), each cell with the source glyph, the
   result glyph and the glyph name.
 
-The page needs no network and no script.
+The page needs no network.  A variable font gets one slider per axis (its fvar
+axes, from minimum to maximum, at the default), which set the CSS
+``font-variation-settings`` of the sample and of every result glyph; the page's
+address may set them too (``OUT.ttf.html#NIBW=80,wdth=110``).  Static fonts get no
+script.
 """
 
 import base64
@@ -24,7 +28,7 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
@@ -54,6 +58,58 @@ def _sfnt_file(font):
             return str(font)
         font = TTFont(str(font))
     return io.BytesIO(font_bytes(font))
+
+
+#: characters in a sample of the font's own characters (:func:`sample_text`)
+OWN_SAMPLE_LENGTH = 15
+
+
+def _ink_test(font):
+    """(cmap {code point: glyph name}, has_ink(glyph name)) of a ``TTFont``, a font
+    file's path or a ufoLib2 font."""
+    if hasattr(font, "layers"):  # ufoLib2.Font
+        cmap = {}
+        for g in font:
+            for u in g.unicodes:
+                cmap.setdefault(u, g.name)
+        return cmap, lambda name: font[name].getBounds(font) is not None
+    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.ttLib import TTFont
+
+    if not hasattr(font, "getGlyphSet"):
+        font = TTFont(str(font), lazy=True)
+    glyph_set = font.getGlyphSet()
+
+    def has_ink(name):
+        pen = ControlBoundsPen(glyph_set)
+        glyph_set[name].draw(pen)
+        return pen.bounds is not None
+
+    return font.getBestCmap() or {}, has_ink
+
+
+def sample_text(font, text, length=OWN_SAMPLE_LENGTH):
+    """``(text, changed)``: the sample ``text`` when the font draws every character
+    of it (a space needs a glyph, others ink too), else the font's own characters
+    that have ink, in cmap order, at most ``length`` of them (``changed`` True): a
+    CJK skeleton font gets a sample of its own ideographs, not 15 .notdef boxes.
+    ``font``: a ``TTFont``, a font file's path or a ufoLib2 font."""
+    cmap, has_ink = _ink_test(font)
+
+    def covered(ch):
+        name = cmap.get(ord(ch))
+        return name is not None and (ch.isspace() or has_ink(name))
+
+    if text and all(covered(ch) for ch in text):
+        return text, False
+    own = []
+    for code in sorted(cmap):
+        ch = chr(code)
+        if unicodedata.category(ch)[0] not in ("C", "Z") and has_ink(cmap[code]):
+            own.append(ch)
+            if len(own) == length:
+                break
+    return "".join(own), True
 
 
 def write_sample_image(font, text, png, px=SAMPLE_PX):
@@ -116,6 +172,7 @@ body { margin: 0; padding: %(y)dpx 24px 24px 24px; background: #fff; color: #000
 #page { margin-top: %(room)dpx; }  /* room for the sample's descenders */
 .src { font-family: "MorphSource"; }
 .res { font-family: "MorphResult"; }
+#sample, .res { font-variation-settings: var(--fvs, normal); }
 table.water { border-collapse: collapse; table-layout: fixed; width: 100%%; }
 table.water td { padding: 2px 12px 2px 0; white-space: pre; line-height: 1.3;
                  overflow: hidden; }
@@ -206,9 +263,48 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
     css = _CSS % {"faces": _font_faces(font_path, source_font), "x": SAMPLE_POS[0],
                   "y": SAMPLE_POS[1], "px": SAMPLE_PX, "room": SAMPLE_PX + SAMPLE_MARGIN}
     cells = _char_cells(font, source_font)
+    head += _axis_sliders(font)
     doc = _PAGE % {"title": esc(title or "%s: morph specimen" % family), "css": css,
                    "sample": esc(sample), "head": head,
                    "rows": "\n".join(_waterfall_rows(sample, source_font is not None)),
                    "count": len(cells), "cells": "\n".join(cells)}
     html_path.write_text(doc, encoding="utf-8")
     return html_path
+
+
+_SLIDER_SCRIPT = """<script>
+(function () {
+  var inputs = document.querySelectorAll("#axes input");
+  function apply() {
+    var parts = [];
+    inputs.forEach(function (i) {
+      parts.push('"' + i.name + '" ' + i.value);
+      document.getElementById("v-" + i.name).textContent = i.value;
+    });
+    document.documentElement.style.setProperty("--fvs", parts.join(", "));
+  }
+  decodeURIComponent(location.hash.slice(1)).split(",").forEach(function (kv) {
+    var p = kv.split("=");
+    inputs.forEach(function (i) { if (i.name === p[0] && p.length === 2) i.value = p[1]; });
+  });
+  inputs.forEach(function (i) { i.addEventListener("input", apply); });
+  apply();
+})();
+</script>"""
+
+
+def _axis_sliders(font):
+    """The sliders of a variable font's axes (HTML and script), '' for a static one."""
+    if "fvar" not in font:
+        return ""
+    esc = html.escape
+    rows = []
+    for ax in font["fvar"].axes:
+        name = font["name"].getDebugName(ax.axisNameID) or ax.axisTag
+        step = (ax.maxValue - ax.minValue) / 1000.0
+        rows.append('<label>%s (%s) <input type="range" name="%s" min="%g" max="%g" '
+                    'step="%g" value="%g"> <span id="v-%s">%g</span></label><br>'
+                    % (esc(name), esc(ax.axisTag), esc(ax.axisTag, quote=True), ax.minValue,
+                       ax.maxValue, step, ax.defaultValue, esc(ax.axisTag, quote=True),
+                       ax.defaultValue))
+    return '</p><div id="axes">%s</div>%s<p>' % ("\n".join(rows), _SLIDER_SCRIPT)

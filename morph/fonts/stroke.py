@@ -56,9 +56,6 @@ a layer named ``skeleton`` (:data:`SKELETON_LAYER`; not compiled), so nothing of
 the source is lost.
 """
 
-import os
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -69,9 +66,11 @@ from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
-from ..region import region_bbox, translate_region
-from .brush import check_convex_nib, glyph_chunks, region_extent
-from .jobs import run_jobs
+from ..region import translate_region
+from ..nib import check_convex_nib, nib_is_symmetric, region_extent
+from .fea import move_feature_anchors  # noqa: F401 (re-exported)
+from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
+from .ufo_tables import copy_font, grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
@@ -81,36 +80,13 @@ DEFAULT_NIB = (90.0, 20.0, 30.0)
 #: the layer of a ``.ufo`` output holding the skeletons of the glyphs not stroked
 SKELETON_LAYER = "skeleton"
 
-_DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
-              "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
-              "postscriptBlueFuzz", "postscriptBlueShift", "postscriptBlueScale",
-              "postscriptForceBold", "openTypeNameUniqueID", "postscriptUniqueID",
-              "postscriptFullName", "openTypeNameCompatibleFullName", "macintoshFONDName",
-              "openTypeNameWWSFamilyName", "openTypeNameWWSSubfamilyName")
+
 
 
 def _default_stroker():
     from ..stroke import stroke_paths
 
     return stroke_paths
-
-
-def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
-    """True when the nib is centrally symmetric about the origin (N = -N).
-
-    Checked on the support function h(u) = max_{x in N} x.u: h(u) = h(-u) for
-    ``directions`` unit vectors within ``rel`` times the nib's size, on the nib's
-    boundary flattened within that tolerance (a sampled check).  An ellipse from
-    :func:`morph.fonts.brush.ellipse_nib` is symmetric.
-    """
-    x0, y0, x1, y1 = region_extent(nib_region)
-    size = max(x1 - x0, y1 - y0)
-    eps = rel * size
-    pts = np.concatenate([pc.flatten(p, eps)[0] for loop in nib_region for p in loop])
-    ang = np.linspace(0.0, np.pi, directions, endpoint=False)
-    u = np.column_stack([np.cos(ang), np.sin(ang)])
-    d = pts @ u.T
-    return bool(np.all(np.abs(d.max(axis=0) + d.min(axis=0)) <= 4 * eps))
 
 
 def stroke_glyph_region(paths, nib_region, tol, stroker=None):
@@ -179,23 +155,6 @@ def _plan(font, chosen, symmetric):
     return stroked, followed
 
 
-def _rename(info, family):
-    import re
-
-    style = info.styleName or "Regular"
-    ps = re.sub(r"[^A-Za-z0-9-]", "", family.replace(" ", "")) + "-" + \
-        re.sub(r"[^A-Za-z0-9]", "", style)
-    info.familyName = family
-    if info.styleMapFamilyName:
-        info.styleMapFamilyName = family
-    if info.openTypeNamePreferredFamilyName:
-        info.openTypeNamePreferredFamilyName = family
-    info.postscriptFontName = ps
-    for key in _DROP_INFO:
-        if getattr(info, key, None) is not None:
-            setattr(info, key, None)
-
-
 def _glyph_job(args):
     """Stroke one glyph and convert it to integer cubic contours (a process-pool job).
 
@@ -208,14 +167,6 @@ def _glyph_job(args):
     return _chunk_job([args])[0]
 
 
-#: At most this many glyphs per job of :func:`_chunk_job` (their cubic conversions
-#: go in one batch; a batch's cost per glyph falls with its size, see
-#: :data:`morph.fonts.brush.CHUNK`).  The glyphs are split into equal chunks by
-#: their number alone (not by the number of processes), so that the font does not
-#: depend on ``jobs``.
-CHUNK = 96
-
-
 def _chunk_job(chunk):
     """:func:`_glyph_job` of several glyphs (a process-pool job): the glyphs are
     stroked together (:func:`_stroked_regions`), then the outlines of all of them
@@ -226,7 +177,6 @@ def _chunk_job(chunk):
     so that only the failing one falls back to the polygon stroke.  A glyph's
     ``seconds`` is its stroke's CPU time plus its share of the batch (by its number
     of pieces)."""
-    from .jobs import polygon_sum, polylines_to_contours
     from .tables import contours_from_loops, contours_from_regions
 
     out = [{"name": job[0], "contours": None, "region": r, "fallback": e, "seconds": s}
@@ -256,19 +206,35 @@ def _chunk_job(chunk):
             except MorphError as exc:
                 out[k]["fallback"] = exc
             out[k]["seconds"] += time.process_time() - t0
-    for (name, paths, nib_region, tols, offset, _), r in zip(chunk, out):
+    for job, r in zip(chunk, out):
         if r["fallback"] is not None:
             t0 = time.process_time()
-            exc = r["fallback"]
-            r["fallback"] = "%s: %s" % (type(exc).__name__, one_line(exc))
-            polys = polygon_sum([pieces for pieces, _ in paths], nib_region,
-                                tols.geometry + tols.cubic, closed=False)
-            r["contours"] = polylines_to_contours(polys, offset=offset)
-            r["region"] = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))]
-                           for p in polys]
+            r["contours"], r["region"], r["fallback"] = _polygon_stroke(job, r["fallback"])
             r["seconds"] += time.process_time() - t0
-        r["region"] = translate_region(r["region"], offset)
+        r["region"] = translate_region(r["region"], job[4])
     return out
+
+
+def _polygon_stroke(job, exc):
+    """(contours, region, error text) of a glyph whose exact stroke raised ``exc``:
+    the rest of the fallback ladder (:func:`morph.fonts.jobs.fallback_ladder`), the
+    polygon stroke of :func:`morph.fonts.jobs.polygon_sum`; should that raise a
+    MorphError too, the glyph is left empty (and named)."""
+    from .jobs import error_text, fallback_ladder, polygon_sum
+
+    name, paths, nib_region, tols, offset, _ = job
+
+    def polygon():
+        return polygon_sum([pieces for pieces, _ in paths], nib_region,
+                           tols.geometry + tols.cubic, closed=False)
+
+    kind, polys, error = fallback_ladder([("polygon", polygon)], error_text(exc))
+    if kind is None:
+        return [], [], error + "; left empty"
+    from .jobs import polylines_to_contours
+
+    region = [[pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))] for p in polys]
+    return polylines_to_contours(polys, offset=offset), region, error
 
 
 
@@ -283,7 +249,7 @@ def _stroked_regions(chunk):
         t0 = time.process_time()
         try:
             regions = stroke_many([job[1] for job in chunk], chunk[0][2], chunk[0][3].geometry)
-        except Exception:  # noqa: BLE001 - any failure: glyph by glyph, as they were
+        except MorphError:  # glyph by glyph, as they were (only a MorphError: the ladder)
             regions = None
         if regions is not None:
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
@@ -350,15 +316,15 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     # regions dropped, so that memory does not grow with the number of glyphs
     stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
              "extent": [None, None]}
-    run_jobs(_chunk_job, glyph_chunks(work, CHUNK), jobs=jobs, keep=False,
-             progress=_writer(font, kind == ".ttf", stats, progress))
+    run_glyph_jobs(_chunk_job, work, jobs=jobs, keep=False,
+                   each=_writer(font, kind == ".ttf", stats, progress))
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
                  composites=sum(1 for n in stroked + followed if font[n].components),
                  emptied=_empty_unstroked(font, set(stroked) | set(followed), kind))
     _move_feature_file(font, place)
-    _rename(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    _grow_win_metrics(font, *stats.pop("extent"))
+    rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    grow_win_metrics(font, *stats.pop("extent"))
     _save(font, out_path, kind, tol, overwrite)
     stats["seconds"] = time.perf_counter() - t_start
     stats["font"] = font
@@ -366,13 +332,12 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
 
 
 def _writer(font, quadratic, stats, progress):
-    """A :func:`morph.fonts.jobs.run_jobs` progress callback writing each chunk's
-    glyphs as it is done (:func:`_write_strokes`), then ``progress(name)``."""
-    def write(index, results):
-        _write_strokes(font, results, quadratic, stats)
+    """A :func:`morph.fonts.jobs.run_glyph_jobs` callback writing each glyph as its
+    chunk is done (:func:`_write_strokes`), then ``progress(name)``."""
+    def write(result):
+        _write_strokes(font, [result], quadratic, stats)
         if progress is not None:
-            for r in results:
-                progress(r["name"])
+            progress(result["name"])
     return write
 
 
@@ -400,7 +365,7 @@ def _open_copy(src):
 
     from ..parse.ufo import load_ufo
 
-    return _copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
+    return copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
 
 
 @dataclass(frozen=True)
@@ -460,7 +425,7 @@ def _write_strokes(font, results, quadratic, stats):
         draw_contours(g.getPen(), r["contours"], quadratic)
         stats["contours"] += len(r["contours"])
         stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
-        _widen_extent(stats["extent"], r["region"])
+        widen_extent(stats["extent"], r["region"])
         if r["fallback"]:
             stats["fallback"][r["name"]] = r["fallback"]
     return stats
@@ -513,102 +478,6 @@ def _move_feature_file(font, place):
                                                   place.anchor_offset)
 
 
-def move_feature_anchors(text, glyph_names, offset_of):
-    """Feature-file text with its explicit anchors moved like their glyphs' anchors.
-
-    ``offset_of(glyph_name)`` gives the ``(dx, dy)`` by which that glyph's anchors
-    moved (None: unchanged).  Every ``<anchor x y>`` of a mark class definition
-    (``markClass``), a mark-to-base / ligature / mark-to-mark or cursive statement is
-    moved by the offset of the statement's glyphs (the marks of a ``markClass``, the
-    bases of a ``pos base`` ...); only the numbers are rewritten, the rest of the text
-    (comments, layout) is kept.  Anchors in included files are not moved.
-
-    Raises:
-        ParseError: the text does not parse (fontTools.feaLib; ``.source`` is the text).
-        MorphError: one statement's glyphs moved by different offsets.
-    """
-    import io
-
-    from fontTools.feaLib.parser import Parser
-
-    try:
-        doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
-    except Exception as exc:  # feaLib's FeatureLibError and include errors
-        raise ParseError("cannot parse the features: %s" % one_line(exc), text) from exc
-    moves = []
-    for anchor, glyph_set in _statement_anchors(doc.statements):
-        offset = _common_offset(anchor, glyph_set, offset_of)
-        if offset is not None:
-            moves.append((anchor, offset))
-    return _rewrite_anchors(text, moves)
-
-
-def _statement_anchors(statements):
-    """(anchor, glyph set it belongs to) of every anchor in feaLib statements, blocks
-    included: mark classes (the marks), mark-to-base / -mark / -ligature (the bases),
-    cursive entry and exit (the glyphs)."""
-    from fontTools.feaLib import ast
-
-    for st in statements:
-        if isinstance(st, ast.MarkClassDefinition):
-            yield st.anchor, st.glyphSet()
-        elif isinstance(st, ast.MarkBasePosStatement):
-            yield from ((anchor, st.base.glyphSet()) for anchor, _ in st.marks)
-        elif isinstance(st, ast.MarkMarkPosStatement):
-            yield from ((anchor, st.baseMarks.glyphSet()) for anchor, _ in st.marks)
-        elif isinstance(st, ast.MarkLigPosStatement):
-            yield from ((anchor, st.ligatures.glyphSet())
-                        for component in st.marks for anchor, _ in component)
-        elif isinstance(st, ast.CursivePosStatement):
-            yield st.entryAnchor, st.glyphclass.glyphSet()
-            yield st.exitAnchor, st.glyphclass.glyphSet()
-        if hasattr(st, "statements"):
-            yield from _statement_anchors(st.statements)
-
-
-def _common_offset(anchor, glyph_set, offset_of):
-    """The one offset by which the glyphs of an anchor moved (None: not moved, or a
-    null anchor).  Raises MorphError when they moved by different offsets."""
-    if anchor is None or anchor.x is None:
-        return None
-    offsets = {offset_of(g) for g in glyph_set} - {None}
-    if len(offsets) > 1:
-        raise MorphError("anchor at line %d: its glyphs %s moved by different offsets"
-                         % (anchor.location.line, ", ".join(sorted(glyph_set))))
-    return offsets.pop() if offsets else None
-
-
-def _rewrite_anchors(text, moves):
-    """The feature text with the numbers of each ``anchor x y`` in ``moves`` (anchor,
-    (dx, dy)) rewritten in place; anchors of included files are left alone.
-
-    Raises:
-        MorphError: an anchor not found where feaLib located it.
-    """
-    import re
-
-    lines = text.split("\n")
-    number = r"(-?\d+(?:\.\d+)?)"
-    pattern = re.compile(r"anchor\s+" + number + r"\s+" + number)
-    # later positions first, so earlier columns stay valid
-    for anchor, (dx, dy) in sorted(moves, key=lambda m: (m[0].location.line,
-                                                        m[0].location.column), reverse=True):
-        loc = anchor.location
-        if loc.file != "<features>":
-            continue
-        line = lines[loc.line - 1]
-        m = pattern.match(line, loc.column - 1)
-        if m is None:
-            raise MorphError("cannot find the anchor of line %d in the features" % loc.line)
-        new = "anchor %s %s" % (_fea_number(anchor.x + dx), _fea_number(anchor.y + dy))
-        lines[loc.line - 1] = line[:m.start()] + new + line[m.end():]
-    return "\n".join(lines)
-
-
-def _fea_number(v):
-    return str(int(round(v)))
-
-
 def _outline_tolerance(budget):
     """(tolerance, quadratic) of the outlines written into the UFO for a
     :class:`morph.budget.Budget`: cubics within the cubic share, or for TrueType
@@ -618,74 +487,27 @@ def _outline_tolerance(budget):
     return budget.export, budget.cu2qu > 0
 
 
-def _copy_font(font):
-    """A full in-memory copy of a ufoLib2 font (the source is never modified)."""
-    import copy
-
-    font.unlazify()
-    return copy.deepcopy(font)
-
-
-def _widen_extent(extent, loops):
-    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
-    region (:func:`morph.region.region_bbox`).  The control points bound the region
-    (positive weights: convex hull), so the tight box is computed only when they
-    reach past the extreme found so far: the result is the tight range of all
-    regions, at the cost of a few tight boxes."""
-    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
-    if not pts:
-        return
-    pts = np.concatenate(pts)
-    bottom, top = extent
-    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
-        box = region_bbox(loops)
-        extent[0] = box[1] if bottom is None else min(bottom, box[1])
-        extent[1] = box[3] if top is None else max(top, box[3])
-
-
-def _grow_win_metrics(font, bottom, top):
-    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
-    ``bottom`` and ``top`` are their tight extent (:func:`_widen_extent`; None:
-    nothing stroked)."""
-    if top is None:
-        return
-    info = font.info
-    if info.openTypeOS2WinAscent is not None:
-        info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
-    if info.openTypeOS2WinDescent is not None:
-        info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-bottom)))
-
-
 def _save(font, out_path, kind, tol, overwrite):
-    """Save the UFO or compile it with ufo2ft; written to a temporary name first."""
-    out_path = Path(out_path)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp_dir = tempfile.mkdtemp(prefix=".morph-stroke-", dir=str(out_path.parent))
-    tmp = Path(tmp_dir) / out_path.name
-    try:
+    """Save the UFO or compile it with ufo2ft, atomically
+    (:func:`morph.fonts.tables.save_atomically`)."""
+    from .tables import save_atomically
+
+    def write(tmp):
         if kind == ".ufo":
             font.save(str(tmp), overwrite=True)
-        else:
-            import ufo2ft
+            return
+        import ufo2ft
 
-            try:
-                if kind == ".otf":
-                    otf = ufo2ft.compileOTF(font)
-                else:
-                    upm = font.info.unitsPerEm or 1000
-                    otf = ufo2ft.compileTTF(font,
-                                            cubicConversionError=budget.plan(tol, True).cu2qu / upm)
-            except Exception as exc:
-                raise MorphError("ufo2ft could not compile %s: %s"
-                                 % (out_path.name, one_line(exc))) from exc
-            otf.save(str(tmp))
-        if out_path.exists():
-            if not overwrite:
-                raise MorphError("%s exists" % out_path)
-            if out_path.is_dir():
-                shutil.rmtree(out_path)
+        try:
+            if kind == ".otf":
+                otf = ufo2ft.compileOTF(font)
             else:
-                out_path.unlink()
-        os.replace(str(tmp), str(out_path))
-    finally:
-        shutil.rmtree(tmp_dir, ignore_errors=True)
+                upm = font.info.unitsPerEm or 1000
+                otf = ufo2ft.compileTTF(font,
+                                        cubicConversionError=budget.plan(tol, True).cu2qu / upm)
+        except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
+            raise MorphError("ufo2ft could not compile %s: %s"
+                             % (Path(out_path).name, one_line(exc))) from exc
+        otf.save(str(tmp))
+
+    save_atomically(out_path, write, overwrite)

@@ -596,8 +596,43 @@ def finish_font(font):
         font["OS/2"].recalcAvgCharWidth(font)
 
 
+def save_atomically(path, write, overwrite=True):
+    """Write an output as a whole or not at all: ``write(tmp)`` writes it to a
+    temporary name in the output's folder (a file, or a folder such as a UFO), which
+    then replaces ``path``; a failure leaves what was there.  The one save of the
+    font writers (brush, stroke).  Returns the path.
+
+    Raises:
+        MorphError: ``path`` exists and ``overwrite`` is false.
+    """
+    import os
+    import shutil
+    import tempfile
+
+    from ..errors import MorphError
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp_dir = tempfile.mkdtemp(prefix=".morph-", dir=str(path.parent))
+    tmp = Path(tmp_dir) / path.name
+    try:
+        write(tmp)
+        if path.exists():
+            if not overwrite:
+                raise MorphError("%s exists" % path)
+            if path.is_dir():
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+        os.replace(str(tmp), str(path))
+    finally:
+        shutil.rmtree(tmp_dir, ignore_errors=True)
+    return path
+
+
 def save_font(font, path):
-    """Save to ``path``; ``.woff2`` / ``.woff`` suffixes save that web flavor.
+    """Save to ``path`` (:func:`save_atomically`); ``.woff2`` / ``.woff`` suffixes save
+    that web flavor.
 
     ``.woff2`` needs the brotli package.  Returns the path.
 
@@ -613,7 +648,7 @@ def save_font(font, path):
     old = font.flavor
     font.flavor = flavor
     try:
-        font.save(str(path))
+        save_atomically(path, lambda tmp: font.save(str(tmp)))
     finally:
         font.flavor = old
     return path

@@ -15,14 +15,15 @@ from pathlib import Path
 from ..errors import ParseError
 from . import glyphs
 from .glyphs import (cubic_test_font_path, default_font_path, font_display_name,  # noqa: F401
-                     glyph_name, glyph_region, instantiate_font, load_font, parse_location, read_glyph)
-from .shape import Shape
+                     full_location, glyph_name, glyph_region, instantiate_font,
+                     load_font, parse_location, read_glyph)
+from .shape import Shape, em_to_units
 
 #: names of :mod:`.svg` (its ``__all__``), imported on first use (PEP 562): reading a
 #: glyph does not load the SVG reader and its XML parser
 _SVG_NAMES = ("SvgElement", "svg_elements", "svg_paths", "svg_region", "validate_path_data")
 
-__all__ = ["Shape", "load_shape", "svg_shape"] + glyphs.__all__ + list(_SVG_NAMES)
+__all__ = ["Shape", "em_to_units", "load_shape", "svg_shape"] + glyphs.__all__ + list(_SVG_NAMES)
 
 
 def __getattr__(name):
@@ -73,7 +74,7 @@ def load_shape(arg, font=None, location=None):
     if text.lower().endswith((".svg", ".svgz")) or (len(text) > 1 and _svg_file(text)):
         return svg_shape(text)
     if len(text) > 1 and (os.path.exists(text) or _looks_like_path(text)):
-        _check_glyph_not_file(text, load_font(font, location))
+        _check_glyph_not_file(text, load_font(font))
     return glyph_region(text, font, location)
 
 

@@ -29,6 +29,7 @@ __all__ = [
     "cubic_test_font_path",
     "default_font_path",
     "font_display_name",
+    "full_location",
     "glyph_name",
     "glyph_region",
     "instantiate_font",
@@ -137,22 +138,10 @@ def instantiate_font(font, location=None):
     """
     from fontTools.varLib import instancer
 
-    loc = parse_location(location)
-    label = _font_label(font)
-    if "fvar" not in font:
-        if loc:
-            raise ParseError("font %s is not a variable font: --location %s cannot apply"
-                             % (label, ",".join("%s=%g" % kv for kv in loc.items())), label)
+    full = full_location(font, location)
+    if full is None:
         return font
-    axes = {a.axisTag: a for a in font["fvar"].axes}
-    ranges = ", ".join("%s %g..%g (default %g)" % (t, a.minValue, a.maxValue, a.defaultValue)
-                       for t, a in axes.items())
-    for tag, value in loc.items():
-        a = axes.get(tag)
-        if a is None or not a.minValue <= value <= a.maxValue:
-            raise ParseError("font %s has no location %s=%g: its axes are %s"
-                             % (label, tag, value, ranges), label)
-    full = {t: loc.get(t, a.defaultValue) for t, a in axes.items()}
+    label = _font_label(font)
     try:
         if "STAT" in font:  # names of the instance (e.g. "Bold") from the STAT table
             try:
@@ -183,6 +172,32 @@ def font_display_name(font, default="font"):
         style = name.getDebugName(17) or name.getDebugName(2)
         return "%s %s" % (family, style) if style else family
     return name.getDebugName(6) or default
+
+
+def full_location(font, location):
+    """The user-space location of every axis of a variable ``TTFont`` (axes not in
+    ``location`` at their default), checked; None for a static font and no location.
+
+    Raises:
+        ParseError: a location for a static font, an axis the font does not have,
+            or a value outside the axis range (the message lists the axes).
+    """
+    loc = parse_location(location)
+    label = _font_label(font)
+    if "fvar" not in font:
+        if loc:
+            raise ParseError("font %s is not a variable font: --location %s cannot apply"
+                             % (label, ",".join("%s=%g" % kv for kv in loc.items())), label)
+        return None
+    axes = {a.axisTag: a for a in font["fvar"].axes}
+    ranges = ", ".join("%s %g..%g (default %g)" % (t, a.minValue, a.maxValue, a.defaultValue)
+                       for t, a in axes.items())
+    for tag, value in loc.items():
+        a = axes.get(tag)
+        if a is None or not a.minValue <= value <= a.maxValue:
+            raise ParseError("font %s has no location %s=%g: its axes are %s"
+                             % (label, tag, value, ranges), label)
+    return {t: loc.get(t, a.defaultValue) for t, a in axes.items()}
 
 
 def _font_label(font):
@@ -241,21 +256,25 @@ def glyph_region(char_or_name, font=None, location=None):
         ParseError: unreadable font; no glyph for the character or name; a glyph
             without contours (e.g. space); an open contour.
     """
-    font = load_font(font, location)
-    return read_glyph(font, glyph_name(font, char_or_name), source=char_or_name)
+    font = load_font(font)
+    loc = full_location(font, location) if parse_location(location) else None
+    return read_glyph(font, glyph_name(font, char_or_name), source=char_or_name, location=loc)
 
 
-def read_glyph(font, name, source=None):
+def read_glyph(font, name, source=None, location=None):
     """The glyph named ``name`` (exactly: no cmap lookup) of an open ``TTFont`` as a
     :class:`~morph.parse.shape.Shape`; ``source``: what was asked for (default:
-    ``name``), also named in errors.
+    ``name``), also named in errors.  ``location``: a variable font's user-space
+    location (every axis, :func:`full_location`): the glyph is drawn there from the
+    variations directly (``TTFont.getGlyphSet(location=...)``, its advance too),
+    without instancing the whole font for one glyph (5x faster for Cormorant's g).
 
     Raises:
         ParseError: no such glyph; a glyph without contours; an open contour.
     """
     label = _font_label(font)
     source = name if source is None else source
-    glyph_set = font.getGlyphSet()
+    glyph_set = font.getGlyphSet(location=location) if location else font.getGlyphSet()
     where = "glyph %r of font %s" % (name, label)
     if name not in glyph_set:
         raise ParseError("font %s has no glyph named %r" % (label, name), source)
@@ -271,4 +290,10 @@ def read_glyph(font, name, source=None):
     if not loops:
         raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
     advance, lsb = font["hmtx"][name]
+    if location:  # the advance at the location, rounded as an instance's; lsb: the outline's
+        from fontTools.misc.roundTools import otRound
+
+        from ..region import region_bbox
+
+        advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
     return Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)

@@ -3,11 +3,23 @@
 import re
 from dataclasses import dataclass, field
 
-__all__ = ["Shape", "DEFAULT_RELATIVE_TOL"]
+__all__ = ["Shape", "DEFAULT_RELATIVE_TOL", "em_to_units"]
 
 #: the default tolerance of a shape, relative to its size: 1e-4 em for a glyph,
 #: 1e-4 of the drawing's size for SVG (:meth:`Shape.tolerance`)
 DEFAULT_RELATIVE_TOL = 1e-4
+
+
+def em_to_units(value, units_per_em):
+    """A length (a tolerance, a radius) in em as a length in font units: ``value``
+    times ``units_per_em``; as it is when ``units_per_em`` is None (SVG user units).
+
+    The library's ``tol`` is in the shapes' own units (font units for a glyph), the
+    command line's ``--tol`` in em for glyphs: ``minkowski_sum(glyph.region, nib,
+    em_to_units(1e-4, glyph.units_per_em))`` sums within 1e-4 em, as ``morph sum
+    --tol 1e-4`` does (0.1 unit at 1000 units per em).
+    """
+    return value * units_per_em if units_per_em else value
 
 
 @dataclass(frozen=True)
@@ -46,7 +58,7 @@ class Shape:
         shapes' own units, the command line's ``--tol`` in em for glyphs: this is the
         conversion (``morph sum g o --tol 1e-4`` sums at ``glyph.em_to_units(1e-4)``,
         0.1 unit at 1000 units per em)."""
-        return value * self.units_per_em if self.units_per_em else value
+        return em_to_units(value, self.units_per_em)
 
     def size(self, *others):
         """The larger side of the bounding box of this shape's region and of

@@ -1,7 +1,7 @@
 """Rendering regions: SVG path data (:mod:`.svg`), anti-aliased PNG, GIF, APNG (:mod:`.png`)
 and figures composed of several shapes (:mod:`.figures`).
 
-Both writers take *shapes*: a region (list of loops), a :class:`morph.region.Region`,
+Both writers take *shapes*: a region (a :class:`morph.region.Region` or a list of loops),
 or a list whose items are regions or ``(loops, style)`` pairs.  ``style`` is a dict
 with optional keys ``fill``, ``stroke``, ``stroke_width`` (output pixels) and
 ``opacity`` overriding the writer's defaults.  Several shapes share one frame (the
@@ -41,8 +41,6 @@ def normalize_shapes(shapes):
         style = {}
         if (isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], dict)):
             item, style = item
-        if isinstance(item, Region):
-            item = item.loops
         if not _is_region(item):
             raise ValueError("a shape is a region (list of loops of (n+1, 3) arrays) or "
                              "(region, style), got %r" % (type(item),))

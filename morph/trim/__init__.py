@@ -37,7 +37,7 @@ themselves or each other at single points.
 import numpy as np
 
 from ..polyline import near_segments, polyline_edges, polylines_cross
-from ..region import NormalLoops
+from ..region import validated
 from .flatten import tag_loops
 from .lift import lift_rings
 from .topology import drop_slivers, fill_holes, filled_rings
@@ -72,7 +72,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                 if hole_test(tg.to_float(r.q), islands):
                     filled.append(i)
         rings = fill_holes(rings, filled)
-    out, of_ring = lift_rings([r.q for r in rings], tg, contract, return_rings=True)
+    out, of_ring = lift_rings([r.q for r in rings], tg, contract)
     outer = [not rings[k].hole for k in of_ring]
     # each lifted loop lies within eps + grid + contract of its ring: loops whose
     # rings stay farther apart than twice that cannot cross
@@ -107,17 +107,21 @@ def fill_region(loops, fill_rule="nonzero", rel=1e-7):
     loops there is nonzero (``"nonzero"``) or odd (``"evenodd"``).  The boundary is
     made of sub-pieces of the input (rational Béziers): outer loops
     counter-clockwise, holes clockwise.  Topology is decided on polylines within
-    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`).
-    Returns :class:`morph.region.NormalLoops`.
+    ``rel`` times the loops' size, on a grid of that size (:func:`boundary`), for
+    each group of loops whose boxes stay apart at its own size (:func:`_apart_groups`:
+    a tiny island is kept); pieces folded within that resolution are unfolded
+    (:func:`unfold_flat_curl`) and holes thinner than it dropped
+    (:func:`_without_sliver_holes`), so that a curl is filled as a renderer fills it.
+    Returns a validated :class:`morph.region.Region`.
     """
     if fill_rule not in ("nonzero", "evenodd"):
         raise ValueError("fill_rule must be 'nonzero' or 'evenodd', got %r" % (fill_rule,))
     loops = [loop for loop in loops if len(loop)]
     if not loops:
-        return NormalLoops()
+        return validated([])
     groups = _apart_groups(loops, rel * _size(loops))
-    return NormalLoops(loop for group in groups
-                       for loop in _fill_group([loops[k] for k in group], fill_rule, rel))
+    return validated([loop for group in groups
+                      for loop in _fill_group([loops[k] for k in group], fill_rule, rel)])
 
 
 def _points(piece):

@@ -26,16 +26,15 @@ PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
 MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allowance
 
 
-def lift_rings(rings, tg, contract, return_rings=False):
-    """Loops of rational pieces, one per ring (see the module docstring), rings
-    whose runs were all contracted left out.
+def lift_rings(rings, tg, contract):
+    """(loops of rational pieces, one per ring (see the module docstring), the index
+    of each loop's ring): rings whose runs were all contracted are left out.
 
     rings: list of integer vertex arrays; tg: :class:`.flatten.Tagged`; runs shorter
     than ``contract`` (control-polygon length) are contracted to their start point.
-    With ``return_rings``: (loops, the index of each loop's ring).
     """
     if not rings:
-        return ([], []) if return_rings else []
+        return [], []
     sizes = np.array([len(r) for r in rings])
     v = np.concatenate(rings)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -85,7 +84,7 @@ def lift_rings(rings, tg, contract, return_rings=False):
     _cut_spikes(runs, 2.0 * tg.grid * MATCH_UNITS)
     out = _close_all(runs, contract)
     kept = [k for k, loop in enumerate(out) if loop]
-    return ([out[k] for k in kept], kept) if return_rings else [out[k] for k in kept]
+    return [out[k] for k in kept], kept
 
 
 def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):

@@ -123,6 +123,27 @@ def test_bad_svg_file_exit_2(runner, tmp_path):
     assert result.exit_code == 2 and "negative r" in one_error_line(result)
 
 
+def test_malformed_operand_exit_2_one_line(runner, tmp_path, monkeypatch):
+    """An operand that bounds no region (here a clockwise outer loop, as a reader
+    that did not orient its loops would give) is bad input: OperandError, exit 2."""
+    import morph.parse
+    from morph.parse import Shape
+
+    real = morph.parse.load_shape
+
+    def clockwise(arg, font=None, location=None):
+        shape = real(arg, font, location)
+        if arg != "o":
+            return shape
+        loops = [[morph.piece.reverse(p) for p in reversed(loop)] for loop in shape.region]
+        return Shape(loops, shape.name, shape.source, shape.units_per_em)
+
+    monkeypatch.setattr(morph.parse, "load_shape", clockwise)
+    result = runner.invoke(main, ["sum", "o", "x", "-o", str(tmp_path / "s.svg")])
+    assert result.exit_code == 2 and "negative signed area" in one_error_line(result)
+    assert not (tmp_path / "s.svg").exists()
+
+
 def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("kaboom")

@@ -4,6 +4,8 @@ misleading errors, progress, tolerance units)."""
 
 import os
 
+import numpy as np
+
 import pytest
 from fontTools.ttLib import TTFont
 
@@ -224,3 +226,132 @@ def test_tol_help_states_both_defaults(runner):
     res = runner.invoke(main, ["svg", "--help"])
     text = " ".join(res.output.split())
     assert "of the drawing's size" in text and "absolute" in text
+
+
+# =========================================================================== 5: progress
+
+def test_progress_off_a_terminal_prints_status_lines(runner, tmp_path, monkeypatch):
+    """A run whose stderr is not a terminal prints a status line every few seconds
+    (here every 10 ms): the glyphs done of all, and the time."""
+    from morph.cli import options
+
+    monkeypatch.setattr(options, "STATUS_SECONDS", 0.01)
+    res = runner.invoke(main, ["brush", "-o", str(tmp_path / "p.ttf"), "--glyphs", "o,T",
+                               "--jobs", "1"])
+    assert res.exit_code == 0, res.output
+    status = [s for s in res.stderr.splitlines() if s.startswith("morph brush: ")]
+    assert status and "/2 glyphs" in status[0] and status[-1].startswith("morph brush: 2/2")
+
+
+def test_progress_eta_from_work_done():
+    """The time left is the time per item done so far times the items left, shown
+    once something is done; items reported in bursts (a batch of glyphs finishing
+    together) count each."""
+    import io
+    import time
+
+    from morph.cli.options import Progress
+
+    out = io.StringIO()
+    with Progress(100, "glyphs", "morph brush", stream=out, tty=False, interval=60) as bar:
+        t0 = time.monotonic()
+        assert "left" not in bar.status()
+        bar.update(25)
+        elapsed = time.monotonic() - t0
+        text = bar.status()
+    assert "25/100 glyphs (25 %)" in text
+    left = float(text.split("about ")[1].split(" s left")[0])
+    assert left <= 3 * elapsed + 0.5
+    assert out.getvalue() == ""  # nothing shown in under a minute off a terminal
+
+
+# =========================================================================== 6: --location
+
+def test_location_draws_the_glyph_without_instancing_the_font(tmp_path, monkeypatch):
+    """A glyph at a location is drawn from the variable font directly (the glyph set
+    at that location), not by instancing the whole font: the same outline and
+    advance as the instance, and the instancer is not called."""
+    from morph import parse
+    from morph.parse import glyphs, instantiate_font, load_font
+    from tests.fontfixtures import build_variable_font
+
+    path = build_variable_font(tmp_path)
+    instance = instantiate_font(load_font(str(path)), {"wght": 550})
+    want = parse.read_glyph(instance, "o")
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the whole font was instanced for one glyph")
+
+    monkeypatch.setattr(glyphs, "instantiate_font", refuse)
+    got = parse.glyph_region("o", str(path), "wght=550")
+    assert got.advance_width == want.advance_width
+    assert len(got.region) == len(want.region)
+    for a, b in zip(got.region, want.region):
+        assert np.allclose(np.concatenate(a), np.concatenate(b))
+    with pytest.raises(parse.glyphs.ParseError, match="axes"):
+        parse.glyph_region("o", str(path), "wght=900")
+
+
+# =========================================================================== 8: tolerance units
+
+def test_tolerance_units_helper_and_where_both_are_documented(runner):
+    """The library's tol is in the shapes' own units, --tol in em for glyphs: one
+    helper converts (em_to_units: em x units per em; SVG user units as they are),
+    named where both are documented."""
+    import morph.minkowski
+    from morph.parse import em_to_units, glyph_region, svg_shape
+
+    g = glyph_region("o")
+    assert em_to_units(1e-4, 1000) == g.em_to_units(1e-4) == pytest.approx(0.1)
+    assert svg_shape("M0 0H10V10H0Z").em_to_units(1e-4) == 1e-4
+    assert em_to_units(1e-4, None) == 1e-4
+    assert "em_to_units" in morph.minkowski.minkowski_sum.__doc__
+    text = " ".join(runner.invoke(main, ["sum", "--help"]).output.split())
+    assert "units per em" in text and "library" in text
+
+
+# =========================================================================== 13: sample text
+
+def test_sample_text_the_font_covers(runner, tmp_path):
+    """A font that does not draw the sample text (here a stroked subset: only H and o
+    have outlines) gets a sample of its own characters in cmap order, and says so;
+    the specimen uses the same text."""
+    from tests import RELIEF_SUBSET
+
+    out = tmp_path / "S.otf"
+    res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), "--glyphs", "H,o",
+                               "--tol", "2e-3"])
+    assert res.exit_code == 0, res.output
+    note = [s for s in res.stderr.splitlines() if "sample" in s]
+    assert len(note) == 1 and "Hamburgefonstiv" in note[0] and "'Ho'" in note[0]
+    assert '<p id="sample">Ho</p>' in (tmp_path / "S.otf.html").read_text()
+
+
+def test_sample_text_kept_when_covered():
+    from morph.fonts.specimen import sample_text
+    from morph.parse import load_font
+
+    font = load_font()
+    assert sample_text(font, "Hamburgefonstiv") == ("Hamburgefonstiv", False)
+    text, changed = sample_text(font, "Hamburg 一二")
+    assert changed and "一" not in text and text.startswith("!")  # its own, cmap order
+
+
+def test_debug_file_goes_where_morph_debug_says(runner, tmp_path, monkeypatch):
+    """MORPH_DEBUG naming a folder puts the debug file there, not in the working
+    folder (MORPH_DEBUG=1: the working folder, as documented)."""
+    import morph.minkowski
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("kaboom")
+
+    monkeypatch.setattr(morph.minkowski, "minkowski_sum", boom)
+    work, dumps = tmp_path / "work", tmp_path / "dumps"
+    work.mkdir()
+    dumps.mkdir()
+    monkeypatch.chdir(work)
+    monkeypatch.setenv("MORPH_DEBUG", str(dumps))
+    res = runner.invoke(main, ["sum", "o", "x", "-o", str(tmp_path / "s.png")])
+    assert res.exit_code == 1 and str(dumps) in res.stderr
+    assert [p.name for p in dumps.iterdir()] == ["morph-debug-sum.json"]
+    assert not list(work.iterdir())

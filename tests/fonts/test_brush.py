@@ -318,10 +318,10 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
 
     real = morph.minkowski.minkowski_sum
 
-    def flaky(a, b, tol, **kw):
+    def flaky(a, b, tol, *args, **kw):
         if len(a) == 2:  # 'o' (two loops) fails, 'T' (one loop) works
             raise TopologyError("no closed loop (test)")
-        return real(a, b, tol, **kw)
+        return real(a, b, tol, *args, **kw)
 
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", flaky)
     src, out = default_font_path(), tmp_path / "f.ttf"
@@ -340,8 +340,8 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     line = [s for s in r.output.splitlines() if s.startswith("morph: error:")]
     assert len(line) == 1 and "o (polygon sum" in line[0] and "T (" not in line[0]
 
-    def broken(*args, **kw):
-        raise ValueError("no polygon either (test)")
+    def broken(*args, **kw):  # a MorphError: the ladder's last rung fails too
+        raise MorphError("no polygon either (test)")
 
     monkeypatch.setattr(jobs_mod, "polygon_sum", broken)
     stats = brush_font(src, tmp_path / "g.ttf", ellipse_nib(*NIB), ["o"], tol=0.5)
@@ -361,10 +361,10 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
 
     real = morph.minkowski.minkowski_sum
 
-    def coarse_fails(a, b, tol, **kw):
+    def coarse_fails(a, b, tol, *args, **kw):
         if tol > RETRY_SHARE * geometry:
             raise TopologyError("fails at %g (test)" % tol)
-        return real(a, b, tol, **kw)
+        return real(a, b, tol, *args, **kw)
 
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", coarse_fails)
     src, out = default_font_path(), tmp_path / "r.ttf"
@@ -376,10 +376,10 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
 
     nib = ellipse_nib(*NIB)
 
-    def only_turned(a, b, tol, **kw):  # fails for the nib as given, at any tolerance
+    def only_turned(a, b, tol, *args, **kw):  # fails for the nib as given, at any tolerance
         if b is nib:
             raise TopologyError("tangent nib (test)")
-        return real(a, b, tol, **kw)
+        return real(a, b, tol, *args, **kw)
 
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", only_turned)
     out = tmp_path / "turned.ttf"  # a new path: glyph_region caches fonts by path

@@ -53,7 +53,7 @@ def test_stroked_polylines_clean_up(seed, quadratic):
     the rounding (0.71 unit along its length)."""
     from morph.fonts.brush import ellipse_nib
     from morph.stroke import stroke_paths
-    from tests.reference import region_to_shapely
+    from tests.oracles.reference import region_to_shapely
 
     rng = np.random.default_rng(100 + seed)
     paths = [(_polyline(rng), False) for _ in range(int(rng.integers(1, 4)))]

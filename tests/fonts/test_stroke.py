@@ -21,7 +21,9 @@ from fontTools.ttLib import TTFont
 from morph.cli import main
 from morph.errors import MorphError, ParseError
 from morph.fonts.brush import ellipse_nib, region_extent
-from morph.fonts.stroke import move_feature_anchors, nib_is_symmetric, stroke_plan, stroke_ufo
+from morph.fonts.fea import move_feature_anchors
+from morph.fonts.stroke import stroke_plan, stroke_ufo
+from morph.nib import nib_is_symmetric
 from morph.parse import glyph_region
 from morph.region import translate_region
 from morph.parse.ufo import decomposed_paths

@@ -11,6 +11,8 @@ imports this package, nothing under tests/ imports bench/.
 - :mod:`tests.oracles.sweep`: the acceptance sweeps' cases and their full check
   (nib and glyph-pair oracles, :func:`~tests.oracles.sweep.verify`);
 - :mod:`tests.oracles.icons`: the icon cases' checks against polygon references;
+- :mod:`tests.oracles.varfont`: variable-font checks (the nib's ellipse
+  metric, Clipper strokes of flattened skeletons, boundary distances);
 - :mod:`tests.oracles.measure`: a certified upper bound of a result's distance to the
   exact sum (for comparing peers at equal measured error).
 

@@ -11,7 +11,7 @@ from morph.render import normalize_shapes, write_png
 def test_region_object_and_list_of_regions_accepted(tmp_path):
     r = Region([pc.circle((0, 0), 1.0)])
     assert len(normalize_shapes(r)) == 1
-    assert len(normalize_shapes([r, r.loops])) == 2
+    assert len(normalize_shapes([r, list(r)])) == 2
     with pytest.raises(ValueError):
         normalize_shapes([])
     with pytest.raises(ValueError):

@@ -1,4 +1,7 @@
-"""The eight ways of approximating one compatible convolution piece (Sec. 4, Sec. 5.2).
+"""The paper's eight ways of approximating one compatible convolution piece (Sec. 4,
+Sec. 5.2), and its sampled error measures: a reproduction of the paper for
+``--method`` and the benchmark, outside the import path of a sum (which runs
+:data:`morph.subdivide.QAC_METHOD`).
 
 Given a *compatible pair* C1(t), C2(s) (:mod:`morph.gauss`): both monotone in tangent
 angle over the same angle range of less than 90 degrees.  The exact convolution piece is
@@ -8,7 +11,8 @@ otherwise (convex against concave) s runs 1 -> 0.
 
 Every method maps a pair to ONE rational Bézier piece (an ``(m+1, 3)`` array of
 homogeneous control points) parametrised by C1's t, and the one subdivision driver of
-Algorithm 5.1 (:func:`subdivide_nodes`, level by level on batches of sub-pairs) splits
+Algorithm 5.1 (:func:`morph.subdivide.subdivide_nodes`, level by level on batches of
+sub-pairs) splits
 the pair until the error is within tolerance: at the mid tangent angle for a measured
 error (:func:`pair_method`), where the a-priori bound peaks for certified QAC, which
 also chooses which piece plays C2 (:data:`QAC_METHOD`, Algorithm 4.1 of
@@ -63,25 +67,22 @@ Error measures (Sec. 5.2), all *sampled*, none is a bound:
   measures A's own tangent instead (the normal error of the convolution curve).
 - :func:`hausdorff_error` (not in the paper): one-sided Hausdorff distance from A to
   the exact convolution curve.  Equal to the distance measure to first order, and
-  meaningful for LRC, TMC and SRC too; :func:`convolve_pair` uses it for them.
+  meaningful for LRC, TMC and SRC too; :func:`approximate` uses it for them.
 
 Only QAC has an a-priori bound: the distance from Q2 to C2 (Eqs. 39-40, after a
 reparametrisation: :func:`morph.qac.qac_error_bound`), used by default when QAC runs
 under the distance measure (``certified=True``).
 """
 
-from collections import namedtuple
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from . import bernstein as bz
-from . import gauss
-from . import piece as pc
-from . import qac
-from .errors import DegenerateCurveError, MorphError, ToleranceNotMetError
+from .. import bernstein as bz
+from .. import gauss
+from .. import piece as pc
+from .. import qac
+from ..errors import MorphError, ToleranceNotMetError
+from ..subdivide import METHODS, QAC_METHOD, Method, _objects, subdivide, turning_sign
 
-METHODS = ("ctc", "lsc", "bic", "hic", "qac", "lrc", "tmc", "src")
 MEASURES = ("distance", "normal", "hausdorff")
 
 LSC_SAMPLES = 16     # exact convolution points per LSC fit
@@ -92,20 +93,6 @@ ERROR_SAMPLES = 65   # uniform samples of t per error evaluation (then refined)
 
 
 # =============================================================== matching (Eq. 27)
-
-def turning_sign(piece):
-    """+1 if the tangent of a monotone piece turns counter-clockwise, -1 if clockwise.
-
-    Raises DegenerateCurveError for a straight piece (no turning to match against).
-    """
-    t0, t1 = pc.end_tangents(piece)
-    c = float(pc.cross2(t0, t1))
-    if c == 0.0:
-        if float(np.dot(t0, t1)) > 0:
-            raise DegenerateCurveError("straight piece: tangent does not turn", piece)
-        raise DegenerateCurveError("piece turns by pi: not a compatible piece", piece)
-    return 1 if c > 0 else -1
-
 
 def same_direction(c1, c2):
     """True when s increases with t (C1 and C2 turn the same way)."""
@@ -624,121 +611,6 @@ def qac_bound(c2):
     return qac.qac_error_bound(c2, qac.quadratic_approximation(c2))[0]
 
 
-# ====================================================================== driver
-# Algorithm 5.1, level by level.  A *node* is one compatible sub-pair; a batch of
-# nodes is a dict of arrays with one row per node (stacks of pieces of one degree,
-# parameter intervals, ...), so that a method may work on all nodes of a level at
-# once (QAC does: :mod:`morph.qac`) or loop over them (the other seven methods).
-
-def _take(nodes, rows):
-    """The rows of a node batch (every column)."""
-    return {k: v[rows] for k, v in nodes.items()}
-
-
-def _concat(batches):
-    """Node batches with the same columns, one after the other."""
-    return {k: np.concatenate([b[k] for b in batches]) for k in batches[0]}
-
-
-def _objects(items):
-    """A 1-D object array of the items (arrays of one shape stay separate)."""
-    out = np.empty(len(items), object)
-    for k, item in enumerate(items):
-        out[k] = item
-    return out
-
-
-def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
-    """Algorithm 5.1: approximate, bound, split until every bound <= tol.
-
-    The one subdivision driver of every method (and of :mod:`morph.convolve`).
-    ``nodes``: a dict of arrays, one row per root sub-pair, with at least the
-    columns ``ca`` and ``cb`` (the sub-pieces, kept on the error); the driver adds
-    ``depth``, the halvings left (``max_depth`` at the roots).  Each level:
-
-    - ``bound(nodes, tol) -> (error (k,), where (k,))``: the error of each node's
-      approximation (an a-priori bound or a measure: the method's contract says
-      which) and where to split it; it may add columns to ``nodes`` for the other
-      two callables (the role QAC chose, the piece a measure was taken on);
-      a column ``tol`` in the root nodes gives each root its own tolerance
-      (children inherit it, and ``bound`` gets that column instead of ``tol``);
-    - ``one_piece(nodes) -> list``: the pieces of the nodes whose error is <= tol
-      (None where the method rejects its piece: that node is split instead);
-    - ``split(nodes, where) -> (left, right)``: the columns of the two children
-      of each node; columns it does not return are copied from the parent.
-
-    Returns (done, pieces, errors): the accepted nodes (a dict of arrays, level by
-    level), their pieces and errors; the caller orders them.  Raises ValueError for
-    tol <= 0, ToleranceNotMetError (``piece``: the failing sub-pair (ca, cb),
-    ``achieved``: its error) when a node still fails after ``max_depth`` halvings.
-    """
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
-    nodes = dict(nodes, depth=np.full(len(next(iter(nodes.values()))), max_depth))
-    done, pieces, errors = [], [], []
-    while len(nodes["depth"]):
-        limit = nodes["tol"] if "tol" in nodes else tol
-        err, where = bound(nodes, limit)
-        acc = np.nonzero(err <= limit)[0]
-        got = one_piece(_take(nodes, acc)) if len(acc) else []
-        ok = np.zeros(len(err), bool)
-        ok[acc[np.array([p is not None for p in got], bool)]] = True
-        done.append(_take(nodes, ok))
-        pieces += [p for p in got if p is not None]
-        errors.append(err[ok])
-        fail = np.nonzero(~ok)[0]
-        if not len(fail):
-            break
-        last = fail[nodes["depth"][fail] <= 0]
-        if len(last):
-            r = last[0]
-            raise ToleranceNotMetError(
-                "error %g above tolerance %g after %d splits"
-                % (err[r], np.broadcast_to(limit, err.shape)[r], max_depth),
-                piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]))
-        parent = _take(nodes, fail)
-        left, right = split(parent, where[fail])
-        nodes = _concat([{**parent, **left}, {**parent, **right}])
-        nodes["depth"] = nodes["depth"] - 1
-    return _concat(done), pieces, np.concatenate(errors)
-
-
-@dataclass
-class ConvPiece:
-    """One piece of a convolution curve: the one record of every method, of
-    Algorithm 5.1 (:func:`subdivide`) and of :func:`morph.convolve.convolution`.
-
-    piece: (m+1, 3) homogeneous control points.  bound: its distance to the exact
-    convolution curve: the a-priori bound for QAC (Eqs. 39-40) and for exact
-    pieces (0), the measured error for the other methods.  kind: "qac",
-    "translate", "chord" or a method's name.  type: 1, 2 or 3 (Fig. 20; 0 where not
-    typed).  source: (loop in A, edge, loop in B, edge).  row: the pair's row in
-    the table of compatible pairs (:class:`morph.convolve.GaussPair`, -1 when
-    unknown).  c1, c2: the compatible sub-pair approximated, in the roles the
-    method used (from :func:`subdivide`; None from ``convolution``): the piece
-    approximates c1(t) + c2(s(t)) and is parametrised like c1, which is the part of
-    the original C1 except where certified QAC chose the other role (Sec. 4.4)
-    (reversed where the two turn opposite ways, so that it runs like the piece).
-    t: the sub-pair's parameter interval on the original C1.
-    """
-
-    piece: np.ndarray
-    bound: float = 0.0
-    kind: str = "qac"
-    type: int = 0
-    source: tuple = field(default_factory=tuple)
-    row: int = -1
-    c1: np.ndarray = None
-    c2: np.ndarray = None
-    t: tuple = (0.0, 1.0)
-
-
-class Method(namedtuple("Method", "root one_piece bound split role_pair")):
-    """A method for :func:`subdivide`: ``root(c1, c2)`` the root node batch of a pair,
-    ``one_piece``, ``bound``, ``split`` the callables of :func:`subdivide_nodes`, and
-    ``role_pair(nodes, r)`` the (c1, c2) of an accepted node as in :class:`ConvPiece`."""
-
-
 def _valid(piece):
     piece = np.asarray(piece, float)
     return bool(np.all(np.isfinite(piece)) and np.all(piece[:, 2] > 0))
@@ -817,44 +689,6 @@ def pair_method(piece_fn, error_fn, memo=None):
                   lambda nodes, r: (nodes["ca"][r], nodes["cb"][r]))
 
 
-def _qac_root(c1, c2):
-    """The root node of a pair for :mod:`morph.qac`'s callables."""
-    c1, c2 = np.asarray(c1, float), np.asarray(c2, float)
-    sa, sb = turning_sign(c1), turning_sign(c2)
-    a0, a1 = pc.end_tangents(c1)
-    th0 = float(np.arctan2(a0[1], a0[0]))
-    th1 = th0 + float(np.arctan2(pc.cross2(a0, a1), np.dot(a0, a1)))
-    return {"ca": c1[None], "cb": c2[None], "ha": pc.tangent_numerator(c1)[None],
-            "hb": pc.tangent_numerator(c2)[None], "sa": np.array([sa]),
-            "sb": np.array([sb]), "lo": np.array([min(th0, th1)]),
-            "hi": np.array([max(th0, th1)]), "t0": np.zeros(1), "t1": np.ones(1)}
-
-
-#: Certified QAC, Algorithm 4.1 exactly as :mod:`morph.convolve` runs it: role
-#: choice, a-priori bound, split where the bound peaks (:mod:`morph.qac`).
-QAC_METHOD = Method(_qac_root, qac.piece_nodes, qac.bound_nodes, qac.split_nodes,
-                    qac.role_pair)
-
-
-def subdivide(c1, c2, method, tol, max_depth=24, kind=""):
-    """Algorithm 5.1 on one compatible pair: a list of :class:`ConvPiece` in C1's order.
-
-    ``method`` is a :class:`Method` (:func:`method_functions`, :func:`pair_method`);
-    :func:`subdivide_nodes` does the work.  The pieces' kind is ``kind`` (the
-    method's name), or QAC's own kinds (qac, translate, chord) where its nodes say.
-    Raises ValueError for tol <= 0, ToleranceNotMetError after ``max_depth`` halvings.
-    """
-    done, pieces, errors = subdivide_nodes(method.root(c1, c2), method.one_piece,
-                                           method.bound, method.split, tol, max_depth)
-    out = []
-    for r in np.argsort(done["t0"], kind="stable"):
-        a, b = method.role_pair(done, r)
-        name = qac.KIND_NAMES[done["kind"][r]] if "kind" in done else kind
-        out.append(ConvPiece(pieces[r], float(errors[r]), kind=name, c1=a, c2=b,
-                             t=(float(done["t0"][r]), float(done["t1"][r]))))
-    return out
-
-
 def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES,
                      normal_of="difference", memo=None, **options):
     """The :class:`Method` of a method name and measure, for :func:`subdivide`.
@@ -885,74 +719,54 @@ def method_functions(method, measure="distance", certified=True, n=ERROR_SAMPLES
     return pair_method(one_piece, error, memo)
 
 
-def approximate_segments(c1, c2, method, tol, measure="distance", certified=True,
-                         max_depth=24, memo=None, normal_of="difference", **options):
-    """Like :func:`approximate` but returns the :class:`ConvPiece` records."""
-    m = method_functions(method, measure, certified, normal_of=normal_of, memo=memo,
-                         **options)
-    return subdivide(c1, c2, m, tol, max_depth, kind=str(method).lower())
-
-
-def approximate(c1, c2, method, tol, measure="distance", certified=True, max_depth=24,
-                normal_of="difference", **options):
-    """Approximate the convolution of a compatible pair by one of the eight methods.
-
-    Algorithm 5.1 with ``method`` in ``METHODS`` ("ctc", "lsc", "bic", "hic", "qac",
-    "lrc", "tmc", "src"); returns a list of ``(m+1, 3)`` pieces, in C1's parameter
-    order and direction, each parametrised by its sub-pair's t (for certified QAC,
-    by the t of the sub-pair's piece it keeps: :class:`ConvPiece`).
-
-    measure="distance": every piece P has sampled max_t dist(P(t) - C1(t), C2) <= tol
-    (Eqs. 49-53; not a bound, except QAC with ``certified=True``: then
-    max |C2 - Q2| <= tol a priori, Eqs. 39-40, and normals are exact).  tol is
-    absolute, in input units.  LRC, TMC and SRC always measure 0 here (trace exact),
-    so they return one piece: use measure="normal" for them.
-    measure="hausdorff": sampled distance from P to the exact convolution curve <= tol
-    (:func:`hausdorff_error`, input units; QAC with ``certified`` uses its bound).
-    measure="normal": sampled normal deviation (Eqs. 54-55) <= tol, tol in DEGREES;
-    ``normal_of`` = "difference" (the paper's: tangent of A - C1 against C1's) or
-    "approximation" (tangent of A itself against C1's), see :func:`normal_error`.
-    ``options`` go to the method (``degree``; ``s_degree``, ``samples``).
-
-    Raises ValueError for an unknown method or measure or tol <= 0,
-    DegenerateCurveError for a straight input, ToleranceNotMetError after
-    ``max_depth`` halvings.
-    """
-    return [seg.piece for seg in approximate_segments(
-        c1, c2, method, tol, measure, certified, max_depth, None, normal_of, **options)]
-
-
 def pair_measure(method):
-    """The distance measure :func:`convolve_pair` uses for a method (see there)."""
+    """The distance measure :func:`approximate` uses for a method by default: the
+    paper's distance (Eqs. 49-53), or for "lrc", "tmc", "src", whose paper distance is
+    0 by construction, the sampled distance to the exact convolution curve."""
     return "hausdorff" if str(method).lower() in ("lrc", "tmc", "src") else "distance"
 
 
-def convolve_pair_segments(c1, c2, tol, method="qac", max_depth=24, **options):
-    """Like :func:`convolve_pair` but returns the :class:`ConvPiece` records (with the
-    error each piece reached: the a-priori bound for QAC, a sampled distance else)."""
-    key = str(method).lower()
-    return approximate_segments(c1, c2, key, tol, pair_measure(key), True, max_depth,
-                                **options)
+def approximate(c1, c2, method="qac", tol=None, measure=None, max_angle_deg=None,
+                certified=True, max_depth=24, normal_of="difference", memo=None, **options):
+    """Approximate the convolution of a compatible pair by one of the eight methods:
+    Algorithm 5.1 (:func:`morph.subdivide.subdivide`), a list of
+    :class:`morph.subdivide.ConvPiece` in C1's parameter order and direction, each
+    parametrised by its sub-pair's t (for certified QAC, by the t of the sub-pair's
+    piece it keeps), consecutive pieces sharing end points.
 
+    ``method`` in ``METHODS``.  The limit is either a distance ``tol`` (absolute, in
+    input units) under ``measure``:
 
-def convolve_pair(c1, c2, tol, method="qac", max_depth=24, **options):
-    """Convolution pieces of one compatible curve pair within distance tol, in C1's order.
+    - "distance": the paper's sampled max_t dist(P(t) - C1(t), C2) (Eqs. 49-53);
+      for QAC with ``certified`` its a-priori bound max |C2 - Q2| (Eqs. 39-40, the
+      only bound; normals exact);
+    - "hausdorff": the sampled distance from P to the exact convolution curve
+      (:func:`hausdorff_error`; QAC with ``certified`` uses its bound);
+    - None (default): :func:`pair_measure` (the paper's distance is 0 for LRC, TMC
+      and SRC, whose trace is exact);
 
-    The entry point for :mod:`morph.convolve`.  The tolerance is a distance in input
-    units, measured the way that is meaningful for each method:
+    or an angle ``max_angle_deg`` (degrees): the sampled normal deviation (Eqs. 54-55,
+    measure "normal"; ``normal_of`` = "difference", the paper's, or "approximation",
+    see :func:`normal_error`).  ``options`` go to the method (``degree``;
+    ``s_degree``, ``samples``); ``memo``: see :func:`pair_method`.
 
-    - "qac": certified, max |C2 - Q2| <= tol a priori (Eqs. 39-40); normals exact;
-    - "ctc", "lsc", "bic", "hic": the paper's sampled distance (Eqs. 49-53);
-    - "lrc", "tmc", "src": the sampled distance to the exact convolution curve
-      (:func:`hausdorff_error`), since the paper's distance is 0 for them.
-
-    Only QAC's is a bound; the others are sampled.  Pieces are parametrised as in
-    :func:`approximate` and run in C1's direction; the first starts at C1(0) + C2(s(0)) and
-    consecutive pieces share end points.  Raises ValueError for an unknown method,
-    ToleranceNotMetError after ``max_depth`` halvings.
+    Raises ValueError for an unknown method or measure, a limit not given once or
+    not positive, DegenerateCurveError for a straight input, ToleranceNotMetError
+    after ``max_depth`` halvings.
     """
-    return [seg.piece for seg in convolve_pair_segments(c1, c2, tol, method, max_depth,
-                                                         **options)]
+    key = str(method).lower()
+    if (tol is None) == (max_angle_deg is None):
+        raise ValueError("give one limit: tol (a distance) or max_angle_deg (an angle)")
+    if max_angle_deg is not None:
+        if measure not in (None, "normal"):
+            raise ValueError("max_angle_deg limits the normal measure, not %r" % (measure,))
+        measure, limit = "normal", float(max_angle_deg)
+    else:
+        if measure == "normal":
+            raise ValueError("the normal measure is an angle: give max_angle_deg, not tol")
+        measure, limit = measure or pair_measure(key), float(tol)
+    m = method_functions(key, measure, certified, normal_of=normal_of, memo=memo, **options)
+    return subdivide(c1, c2, m, limit, max_depth, kind=key)
 
 
 def control_point_count(pieces):

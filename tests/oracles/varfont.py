@@ -93,7 +93,7 @@ def classify_against_predicate(points, loops, skeleton_lines, nib, margin, regio
 _CLIP = 1000.0      # Clipper integer units per font unit
 
 
-def skeleton_polylines(paths, k=128):
+def skeleton_polylines(paths, k=48):
     """Open polylines of skeleton paths ((pieces, closed), pieces homogeneous or
     cartesian control arrays), k chords per piece."""
     out = []
@@ -226,6 +226,9 @@ def _densify(polys, spacing):
 def boundary_distance(polys_a, polys_b, spacing=0.02):
     """Hausdorff distance between the boundaries of two polygon sets (densified at
     ``spacing``: exact within spacing / 2); inf when one is empty and not the other."""
+    from tests.oracles import need
+
+    need("scipy", "nearest boundary points")
     from scipy.spatial import cKDTree
 
     a, b = _densify(polys_a, spacing), _densify(polys_b, spacing)
@@ -245,7 +248,8 @@ def _offset(polys, d):
 
 
 def _difference_area(a, b):
-    """Area of a \\ b (font units²), polygons as Clipper returns them."""
+    """Area of the largest polygon of a \\ b (font units²), polygons as Clipper
+    returns them."""
     import pyclipper
 
     if not a:
@@ -257,28 +261,128 @@ def _difference_area(a, b):
         pc.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in b],
                     pyclipper.PT_CLIP, True)
     out = pc.Execute(pyclipper.CT_DIFFERENCE, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
-    return sum(pyclipper.Area(p) for p in out) / _CLIP ** 2
+    return max((abs(pyclipper.Area(p)) for p in out), default=0.0) / _CLIP ** 2
 
 
-def sum_distance(filled, exact, hi=8.0, step=0.005, area=1e-4, strict=False):
-    """The least d (to ``step``) such that the filled outline F and the exact sum S
-    differ only within d of their boundaries: erode(S, d) ⊆ dilate(F, d) and
-    erode(F, d) ⊆ dilate(S, d), i.e. every point of F Δ S is within d of ∂S or ∂F (a
-    missing feature counts by its half-width, a sliver pinhole too).  ``strict``:
-    within d of ∂S alone, erode(S, d) ⊆ F ⊆ dilate(S, d) (a pinhole counts by its
-    depth).  ``area``: leftover differences below this many units² are Clipper's
-    rounding.  Returns ``hi`` when even that does not hold."""
-    def holds(d):
-        if strict:
-            return (_difference_area(filled, _offset(exact, d)) <= area and
-                    _difference_area(_offset(exact, -d), filled) <= area)
-        return (_difference_area(_offset(exact, -d), _offset(filled, d)) <= area and
-                _difference_area(_offset(filled, -d), _offset(exact, d)) <= area)
+def within(filled, exact, d, strict=False, area=1.0):
+    """Do the filled outline F and the exact sum S differ only within d of their
+    boundaries: erode(S, d) ⊆ dilate(F, d) and erode(F, d) ⊆ dilate(S, d) (every
+    point of F Δ S within d of ∂S or ∂F: a missing feature counts by its half-width,
+    a sliver pinhole too)?  ``strict``: within d of ∂S alone, erode(S, d) ⊆ F ⊆
+    dilate(S, d) (a pinhole counts by its depth).  ``area``: leftover parts of the
+    differences smaller than this many units² each are ignored: Clipper's rounding,
+    and the pinholes that the fit and the integer rounding open where the
+    overlapping outline turns back at a swallowtail's cusp (a cusp moved by delta
+    becomes a loop about delta wide; 1 unit² is 1e-6 em²); :func:`pinholes` lists
+    them."""
+    if strict:
+        return (_difference_area(filled, _offset(exact, d)) <= area and
+                _difference_area(_offset(exact, -d), filled) <= area)
+    return (_difference_area(_offset(exact, -d), _offset(filled, d)) <= area and
+            _difference_area(_offset(filled, -d), _offset(exact, d)) <= area)
 
-    if not holds(hi):
+
+def sum_distance(filled, exact, hi=4.0, step=0.01, strict=False, area=1.0):
+    """The least d (to ``step``) for which :func:`within` holds; ``hi`` when even
+    that does not hold."""
+    if not within(filled, exact, hi, strict, area):
         return hi
     lo = 0.0
     while hi - lo > step:
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
+        lo, hi = (lo, mid) if within(filled, exact, mid, strict, area) else (mid, hi)
     return hi
+
+
+def pinholes(filled, exact, depth=1.0):
+    """Areas (units²) of the parts of the exact sum that the filled outline leaves
+    open deeper than ``depth`` inside it: the cusp pinholes of an overlapping
+    outline."""
+    import pyclipper
+
+    inner = _offset(exact, -depth)
+    if not inner:
+        return []
+    pc = pyclipper.Pyclipper()
+    pc.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in inner],
+                pyclipper.PT_SUBJECT, True)
+    if filled:
+        pc.AddPaths([np.round(p * _CLIP).astype(np.int64).tolist() for p in filled],
+                    pyclipper.PT_CLIP, True)
+    out = pc.Execute(pyclipper.CT_DIFFERENCE, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    return sorted(abs(pyclipper.Area(p)) / _CLIP ** 2 for p in out)
+
+
+def skeleton_designspace(folder, source, glyphs, slant=0.15, widen=0.25):
+    """A small compatible skeleton designspace made from a skeleton UFO: ``glyphs``
+    of ``source`` as the Regular master (wdth 100) and the same centre lines mapped
+    by x' = (1 + widen) x + slant y as the Wide master (wdth 125, advances and
+    anchors mapped too): the same structure, points moved.  Returns the path; at
+    wdth = 100 + 25 u the skeleton is the map with u widen and u slant."""
+    import copy
+
+    import ufoLib2
+    from fontTools.designspaceLib import (AxisDescriptor, DesignSpaceDocument,
+                                          InstanceDescriptor, SourceDescriptor)
+
+    from pathlib import Path
+
+    folder = Path(folder)
+    base = ufoLib2.Font.open(str(source))
+    keep = set(glyphs)
+    for g in base:
+        keep.update(c.baseGlyph for c in g.components if g.name in glyphs)
+    for name in list(base.keys()):
+        if name not in keep:
+            del base[name]
+    base.features.text = ""
+    base.kerning.clear()
+    base.groups.clear()
+    base.info.styleName = "Regular"
+    wide = copy.deepcopy(base)
+    wide.info.styleName = "Wide"
+    for g in wide:
+        for c in g.contours:
+            for p in c.points:
+                p.x = (1 + widen) * p.x + slant * p.y
+        for a in g.anchors:
+            a.x = (1 + widen) * a.x + slant * a.y
+        for c in g.components:
+            xx, xy, yx, yy, dx, dy = tuple(c.transformation)
+            c.transformation = (xx, xy, yx, yy, (1 + widen) * dx + slant * dy, dy)
+        g.width = round((1 + widen) * g.width)
+    base.save(str(folder / "Skel-Regular.ufo"), overwrite=True)
+    wide.save(str(folder / "Skel-Wide.ufo"), overwrite=True)
+    doc = DesignSpaceDocument()
+    ax = AxisDescriptor()
+    ax.tag, ax.name, ax.minimum, ax.default, ax.maximum = "wdth", "Width", 100, 100, 125
+    doc.addAxis(ax)
+    for fn, v, style in (("Skel-Regular.ufo", 100, "Regular"), ("Skel-Wide.ufo", 125, "Wide")):
+        s = SourceDescriptor()
+        s.filename, s.location, s.styleName = fn, {"Width": v}, style
+        s.familyName = base.info.familyName
+        doc.addSource(s)
+    inst = InstanceDescriptor()
+    inst.familyName, inst.styleName, inst.location = base.info.familyName, "SemiWide", \
+        {"Width": 112.5}
+    doc.addInstance(inst)
+    path = folder / "Skel.designspace"
+    doc.write(str(path))
+    return path
+
+
+def clipper_region_sum(polygons, nib, arc_tol=0.002):
+    """region ⊕ elliptical nib by Clipper: the region (closed polygons, nonzero) mapped
+    so that the nib is a disk, offset outward with round joins (the sum with a disk
+    within ``arc_tol`` font units), mapped back."""
+    import pyclipper
+
+    width, height, angle = nib
+    m = ellipse_matrix(width, height, angle)
+    r = min(width, height) / 2.0 * _CLIP
+    to = np.linalg.inv(m) * r
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = arc_tol * _CLIP
+    off.AddPaths([np.round(p @ to.T).astype(np.int64).tolist() for p in polygons],
+                 pyclipper.JT_ROUND, pyclipper.ET_CLOSEDPOLYGON)
+    return union([np.asarray(p, float) @ np.linalg.inv(to).T for p in off.Execute(r)])

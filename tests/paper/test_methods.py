@@ -14,12 +14,12 @@ import pytest
 from morph import bernstein as bz
 from morph import convolve
 from morph import gauss
-from morph import methods as M
+from morph.paper import methods as M
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
 from tests.oracles import reference as R
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DISTANCE_METHODS = ("ctc", "lsc", "bic", "hic", "qac")
 TRACE_EXACT = ("lrc", "tmc", "src")
 
@@ -199,7 +199,7 @@ def test_error_decreases_under_subdivision(name, c1, c2):
 def test_driver_meets_tolerance_by_reference(name, c1, c2):
     tol = 1e-3
     for m in DISTANCE_METHODS:
-        segs = M.approximate_segments(c1, c2, m, tol)
+        segs = M.approximate(c1, c2, m, tol)
         for seg in segs:
             assert R.approx_convolution_error(seg.piece, seg.c1, seg.c2, 60) <= tol, m
         # the pieces chain in C1's order and start / end at the exact ends
@@ -211,7 +211,7 @@ def test_driver_meets_tolerance_by_reference(name, c1, c2):
         assert np.allclose(ends[-1][1], exact[1], atol=1e-9)
         assert np.isclose(segs[0].t[0], 0.0) and np.isclose(segs[-1].t[1], 1.0)
     for m in ("ctc", "lsc", "bic", "hic") + TRACE_EXACT:
-        for seg in M.approximate_segments(c1, c2, m, 0.5, "normal"):
+        for seg in M.approximate(c1, c2, m, max_angle_deg=0.5):
             assert reference_normal_error(seg.piece, seg.c1) <= 0.5 + 1e-9, m
 
 
@@ -222,10 +222,10 @@ def test_driver_on_the_four_bench_pairs():
         assert pairs, name
         for c1, c2 in pairs:
             for m in DISTANCE_METHODS:
-                for seg in M.approximate_segments(c1, c2, m, 1e-2):
+                for seg in M.approximate(c1, c2, m, 1e-2):
                     assert R.approx_convolution_error(seg.piece, seg.c1, seg.c2, 24) <= 1e-2
             for m in ("lsc",) + TRACE_EXACT:
-                for seg in M.approximate_segments(c1, c2, m, 2.0, "normal"):
+                for seg in M.approximate(c1, c2, m, max_angle_deg=2.0):
                     assert reference_normal_error(seg.piece, seg.c1, 101) <= 2.0 + 1e-9
 
 
@@ -236,7 +236,7 @@ def test_qac_exact_for_polynomial_quadratic_c2(kind):
     rng = np.random.default_rng(11)
     for _ in range(3):
         c1, c2 = R.random_compatible_pair(rng, kind)
-        segs = M.approximate_segments(c1, c2, "qac", 1e-9)
+        segs = M.approximate(c1, c2, "qac", 1e-9)
         assert len(segs) == 1
         # certified QAC may keep either piece (both are quadratics for quad-quad):
         # the segment names the roles, its piece is parametrised by seg.c1
@@ -263,7 +263,7 @@ def test_qac_is_the_default_qac_of_convolve(tol):
     pairs += [(c2, c1) for c1, c2 in pairs[:5]]
     swapped = 0
     for c1, c2 in pairs:
-        segs = M.convolve_pair_segments(c1, c2, tol, "qac")
+        segs = M.approximate(c1, c2, "qac", tol)
         ea, eb = _edge(c1), _edge(c2)
         (_, _, lo, hi, shift), = convolve.compatible_pairs([ea], [eb])
         ref = convolve.convolve_edges(ea, eb, lo, hi, shift, tol)
@@ -301,7 +301,8 @@ def test_reparametrization_methods_exact_on_circular_arcs(method, opposite):
     assert M.hausdorff_error(piece, c1, c2) < 1e-12
     # concentric: the convolution is the circle of radius r1 +- r2
     cc1, cc2 = arc_pair(5.0, 1.5, 0.4, 1.3, c1=(0, 0), c2=(0, 0), opposite=opposite)
-    p = pc.evaluate(M.approximate(cc1, cc2, method, 0.01, "normal")[0], np.linspace(0, 1, 50))
+    p = pc.evaluate(M.approximate(cc1, cc2, method, max_angle_deg=0.01)[0].piece,
+                    np.linspace(0, 1, 50))
     r = 5.0 - 1.5 if opposite else 5.0 + 1.5
     assert np.allclose(np.hypot(*p.T), r, atol=1e-12)
 
@@ -356,7 +357,7 @@ def test_normal_measures():
 
 # ------------------------------------------------------------------ API contract
 
-def test_api_errors_and_convolve_pair():
+def test_api_errors_and_one_entry_point():
     c1, c2 = R.random_compatible_pair(np.random.default_rng(8), "cubic-cubic")
     with pytest.raises(ValueError):
         M.approximate(c1, c2, "nope", 0.1)
@@ -364,12 +365,18 @@ def test_api_errors_and_convolve_pair():
         M.approximate(c1, c2, "lsc", 0.0)
     with pytest.raises(ValueError):
         M.approximate(c1, c2, "lsc", 0.1, measure="area")
+    with pytest.raises(ValueError, match="max_angle_deg"):   # an angle is not a tol
+        M.approximate(c1, c2, "lsc", 0.1, measure="normal")
+    with pytest.raises(ValueError, match="one limit"):
+        M.approximate(c1, c2, "lsc", 0.1, max_angle_deg=1.0)
+    with pytest.raises(ValueError, match="one limit"):
+        M.approximate(c1, c2, "lsc")
     with pytest.raises(ToleranceNotMetError) as info:
         M.approximate(c1, c2, "ctc", 1e-9, max_depth=2)
     assert info.value.achieved > 1e-9 and info.value.piece is not None
     exact, _ = R.exact_convolution_points(c1, c2, np.linspace(0, 1, 3001))
     for m in M.METHODS:
-        pieces = M.convolve_pair(c1, c2, 1e-3, method=m)
+        pieces = [seg.piece for seg in M.approximate(c1, c2, m, 1e-3)]
         assert pieces and all(p.shape[1] == 3 for p in pieces)
         assert pc.start(pieces[0]) == pytest.approx(pc.start(c1) + pc.start(c2), abs=1e-9)
         assert pc.end(pieces[-1]) == pytest.approx(pc.end(c1) + pc.end(c2), abs=1e-9)

@@ -1,0 +1,367 @@
+"""The certificate of a cubic against a rational piece, the reparametrisation fits it
+uses, and the same-parameter fallback fitter.
+
+**The certificate.**  For a cubic C fitted to R on the parameter interval [a, b] a
+reparametrisation is chosen: an increasing polynomial bijection
+``phi: [0, 1] -> [a, b]`` of degree m <= 9 (least-squares fit to the closest-point
+feet of C on R, Bernstein coefficients strictly increasing, so phi' > 0), composed
+with a Möbius map mu(v) = c v / ((c - 1) v + 1) where no polynomial alone follows
+the feet (R o mu is R with its weights scaled by c^i: the same curve, exactly), or,
+where that does not follow the two parametrisations closely enough either, a
+continuous piecewise one: C is cut exactly (de Casteljau) at s values, R at the
+feet of those points, and each panel gets its own map.  On a panel R o mu o phi
+is again a rational Bézier curve X~ / W~ (degree n m, weights positive), and the
+error
+
+    |R(phi(s)) - C(s)| = |X~(s) - W~(s) C(s)| / W~(s)
+
+is bounded without sampling: E = X~ - W~ C is a Bernstein polynomial, and so are
+``|E|^2 = E_x^2 + E_y^2`` and ``W~^2`` (coefficients e_k and v_k > 0).  If
+``b^2 v_k - e_k >= 0`` for every k then ``b^2 W~^2 - |E|^2 >= 0`` on [0, 1] (a
+non-negative combination of the non-negative Bernstein basis), i.e.
+
+    max_{s in [0,1]} |R(phi(s)) - C(s)| <= b = sqrt(max_k e_k / v_k)     (cubic_bound)
+
+The coefficients are first subdivided (de Casteljau, 2^refine panels, default 8) and
+the worst panel taken: the same certificate, tighter because Bernstein coefficients
+converge to the polynomial under subdivision.  The curve math is the shared layer's:
+R o phi by :func:`morph.bernstein.compose_many`, the certificate by
+:func:`morph.piece.distance_bound_many`, the feet by
+:func:`morph.piece.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
+
+**What is bounded.**  A bound b of the parametric distance under the monotone
+reparametrisation phi bounds the Fréchet distance between C and R restricted to
+[a, b], hence the Hausdorff distance: every point of C is within b of R([a, b]) and
+every point of R([a, b]) is within b of C.  With phi = identity on [a, b] (no
+reparametrisation: :func:`cubic_bound` without ``reparam``) it is the plain
+same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in the
+coefficient products), the bound is rigorous.
+"""
+
+from collections import namedtuple
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+from ..budget import PHI_SHARE
+
+
+#: (s1 - s0) with these (m+1, 2) [numerator, weight] coefficients: a polynomial
+#: composed with a Möbius map, see :func:`_reparams`); see :func:`cubic_bound`.
+CubicFit = namedtuple("CubicFit", "t0 t1 cubic bound reparam")
+
+
+def check_piece(piece):
+    piece = np.asarray(piece, float)
+    if piece.ndim != 2 or piece.shape[1] != 3 or len(piece) < 2:
+        raise ValueError("a piece is an (n+1, 3) array with n >= 1, got shape %r"
+                         % (piece.shape,))
+    if not np.all(np.isfinite(piece)):
+        raise ValueError("export needs finite control points, got %r" % (piece,))
+    if np.any(piece[:, 2] <= 0):
+        raise ValueError("export needs positive weights, got %r" % (piece[:, 2],))
+    return piece
+
+
+# ------------------------------------------------------------------ the certificate
+
+#: de Casteljau halvings of the certificate's coefficients (2^REFINE panels).
+REFINE = 3
+
+
+def homogeneous_reparam(phi):
+    """A reparametrisation's coefficients as an (m+1, 2) array [numerator, weight]:
+    (m+1,) Bernstein coefficients of a polynomial get weights 1; an (m+1, 2) array
+    (a rational Bézier function, value numerator / weight) is checked and returned."""
+    phi = np.asarray(phi, float)
+    if phi.ndim == 1:
+        return np.stack([phi, np.ones_like(phi)], axis=1)
+    if phi.ndim != 2 or phi.shape[1] != 2 or not np.all(phi[:, 1] > 0):
+        raise ValueError("a reparametrisation is (m+1,) Bernstein coefficients or (m+1, 2) "
+                         "[numerator, weight] with positive weights")
+    return phi
+
+
+def affine_reparam(h, a, b):
+    """Homogeneous reparametrisation coefficients of a + b phi (h those of phi)."""
+    out = h.copy()
+    out[:, 0] = a * h[:, 1] + b * h[:, 0]
+    return out
+
+
+def _normalized_reparam(phi, t0, t1):
+    """phi on [t0, t1] as increasing homogeneous coefficients on [0, 1] (checked).
+
+    A rational Bézier function with positive weights and increasing values
+    numerator_i / weight_i is increasing (its derivative's numerator has
+    non-negative Bernstein coefficients)."""
+    h = affine_reparam(homogeneous_reparam(phi), -t0 / (t1 - t0), 1.0 / (t1 - t0))
+    u = h[:, 0] / h[:, 1]
+    if abs(u[0]) > 1e-12 or abs(u[-1] - 1.0) > 1e-12 or np.any(np.diff(u) <= 0):
+        raise ValueError("a reparametrisation needs increasing Bernstein coefficients")
+    h[0, 0], h[-1, 0] = 0.0, h[-1, 1]
+    h[:, 0] = np.clip(h[:, 0], 0.0, h[:, 1])
+    return h
+
+
+def _value(h, i):
+    return float(h[i, 0] / h[i, 1])
+
+
+def _panels(reparam):
+    """A reparam argument as a list of (s0, s1, homogeneous phi) panels (checked
+    contiguous: values at the panels' joins equal to 1e-12)."""
+    if isinstance(reparam, np.ndarray) or (len(reparam) and np.isscalar(reparam[0])):
+        return [(0.0, 1.0, homogeneous_reparam(reparam))]
+    panels = [(float(a), float(b), homogeneous_reparam(f)) for a, b, f in reparam]
+    ok = panels[0][0] == 0.0 and panels[-1][0] < panels[-1][1] == 1.0 and all(
+        p[0] < p[1] and p[1] == q[0] and abs(_value(p[2], -1) - _value(q[2], 0)) <= 1e-12
+        for p, q in zip(panels, panels[1:]))
+    if not ok:
+        raise ValueError("reparam panels must cover [0, 1] and join continuously")
+    return panels
+
+
+def same_param_bound(piece, cubic, refine=REFINE):
+    """:func:`morph.piece.distance_bound_many` of one piece and one cubic."""
+    return float(pc.distance_bound_many(piece[None], np.asarray(cubic, float)[None],
+                                        refine)[0][0])
+
+
+def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
+    """Certified bound on the distance between a piece R and a cubic C.
+
+    Without ``reparam``: ``max_{t in [0,1]} |R(t) - C(t)|`` (same parameter).  With
+    ``reparam``: ``max_{s in [0,1]} |R(phi(s)) - C(s)|`` for the continuous increasing
+    phi it describes, which bounds the Fréchet and Hausdorff distances between C
+    and R on [phi(0), phi(1)].  ``reparam`` is either the coefficients of one
+    increasing phi (values in [0, 1]) or, as in :class:`CubicFit`, a sequence of
+    panels ``(s0, s1, coefficients)``: phi on [s0, s1] is the function of (s - s0)
+    / (s1 - s0) with these coefficients, (m+1,) Bernstein coefficients of a
+    polynomial or (m+1, 2) [numerator, weight] of a rational Bézier function
+    (:func:`homogeneous_reparam`).  ``cubic`` is a (4, 2) array of Cartesian control
+    points.  On each panel R o phi is composed exactly
+    (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
+    :func:`morph.piece.distance_bound_many` applied on 2^refine panels (never below
+    the true maximum, rounding aside); the largest over the panels is returned.
+
+    Raises:
+        ValueError: bad piece (shape, weights) or a reparam that is not increasing.
+    """
+    piece = check_piece(piece)
+    cubic = np.asarray(cubic, float)
+    if reparam is None:
+        return same_param_bound(piece, cubic, refine)
+    worst = 0.0
+    for s0, s1, phi in _panels(reparam):
+        t0, t1 = _value(phi, 0), _value(phi, -1)
+        if not 0.0 <= t0 < t1 <= 1.0:
+            raise ValueError("reparam must map [0, 1] into [0, 1] increasingly")
+        sub = piece if (t0, t1) == (0.0, 1.0) else pc.subsegment(piece, t0, t1)
+        h = _normalized_reparam(phi, t0, t1)
+        comp = bz.compose_many(sub[None], h[None, :, 0], h[None, :, 1])[0]
+        c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
+        worst = max(worst, same_param_bound(comp, c, refine))
+    return worst
+
+
+# ------------------------------------------------------------------ fitting
+
+def fit_cubic(piece):
+    """Same-parameter cubic with the piece's end points and tangents; (cubic, bound).
+
+    Two candidates are built and the one with the smaller :func:`cubic_bound`
+    (same parameter, no reparametrisation) is returned: the Hermite cubic (end
+    derivatives matched: P1 = P0 + R'(0)/3, P2 = P3 - R'(1)/3, error O(h^4) under
+    subdivision) and the cubic whose two handle lengths minimise the sum of squared
+    Bernstein coefficients of E = X - W C (a 2x2 least-squares problem, kept only if
+    both lengths are positive so the tangent directions are preserved).  This is the
+    fallback of :func:`cubic_segments` where the moment fit does not certify (e.g. near
+    a zero derivative, where the parametrisations of R and a fitted cubic differ
+    too much for a polynomial reparametrisation).
+    """
+    piece = check_piece(piece)
+    p = pc.cartesian(piece)
+    p0, p3 = p[0], p[-1]
+    d = pc.derivative(piece, np.array([0.0, 1.0]))
+    hermite = np.array([p0, p0 + d[0] / 3.0, p3 - d[1] / 3.0, p3])
+    best = (hermite, same_param_bound(piece, hermite))
+
+    n0, n1 = np.hypot(*d[0]), np.hypot(*d[1])
+    if n0 > 0 and n1 > 0:
+        t0, t1 = d[0] / n0, d[1] / n1
+        w = piece[:, 2:3]
+        e0 = bz.elevate(piece[:, :2], 3) - bz.multiply(w, np.array([p0, p0, p3, p3]))
+        # E(alpha, beta) = e0 - alpha W B1 t0 + beta W B2 t1 (B_i cubic Bernstein basis)
+        wb1 = bz.multiply(w, np.array([[0.0], [1.0], [0.0], [0.0]]))
+        wb2 = bz.multiply(w, np.array([[0.0], [0.0], [1.0], [0.0]]))
+        mat = np.column_stack([(-wb1 * t0).ravel(), (wb2 * t1).ravel()])
+        sol, *_ = np.linalg.lstsq(mat, -e0.ravel(), rcond=None)
+        alpha, beta = sol
+        if alpha > 0 and beta > 0 and np.all(np.isfinite(sol)):
+            cand = np.array([p0, p0 + alpha * t0, p3 - beta * t1, p3])
+            bound = same_param_bound(piece, cand)
+            if bound < best[1]:
+                best = (cand, bound)
+    return best
+
+
+
+def degree_groups(subs):
+    """Rows of ``subs`` by degree: [(rows, stacked pieces)] (stacks of one degree, so
+    that batched results do not depend on the other pieces of a batch)."""
+    groups = {}
+    for i, sub in enumerate(subs):
+        groups.setdefault(len(sub), []).append(i)
+    return [(np.array(rows), np.array([subs[i] for i in rows], float))
+            for rows in groups.values()]
+
+
+#: Fits whose sampled distance exceeds this multiple of tol are not certified: the
+#: sampled distance is nearly a lower bound of the certified one, so such a fit would
+#: fail anyway (bench/export_profile.py counts the certificates spent).
+SCREEN = 1.0
+
+_NODES = 0.5 - 0.5 * np.cos(np.pi * (np.arange(24) + 0.5) / 24)   # Chebyshev nodes
+_NODE_BASIS = bz.basis(3, _NODES)
+#: Degrees of the reparametrisation phi tried in turn (the lowest that follows the
+#: feet within PHI_SHARE * tol).
+PHI_DEGREES = (3, 5, 7, 9)
+#: Largest |log c| of the Möbius factor of :func:`_reparams`.
+MOEBIUS_LOG = 5.0
+#: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
+#: within about tol of the piece: a coarse start is in Newton's basin).
+REPARAM_SAMPLES = 33
+
+
+def _moebius(u):
+    """Per row the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) of [0, 1]
+    closest to the feet u (k, 24) at the nodes: the median over the nodes of
+    log(u (1 - s) / (s (1 - u))), c = 1 where it is within 5 % of 1 (or undefined)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logs = np.log(u * (1.0 - _NODES) / (_NODES * (1.0 - u)))
+    fine = np.isfinite(logs)
+    logs = np.sort(np.where(fine, logs, np.inf), axis=1)         # undefined ones last
+    count = fine.sum(axis=1)
+    mid = np.where(count > 0, logs[np.arange(len(logs)), np.maximum(count - 1, 0) // 2], 0.0)
+    mid = np.clip(mid, -MOEBIUS_LOG, MOEBIUS_LOG)
+    return np.where(np.abs(mid) > 0.05, np.exp(mid), 1.0)
+
+
+def _reparams(subs, cubics, tol):
+    """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
+
+    Returns ``(phis, c, normal)``: for each (sub-piece, cubic) pair phi's increasing
+    Bernstein coefficients of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
+    PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
+    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).  Where no
+    polynomial follows the feet that closely (a rational piece whose speed varies by
+    30x along it: QAC pieces of a stroke), phi is fitted again in the parameter v
+    of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
+    homogeneous control points R o mu is R with w_i scaled by c^i, the same curve)
+    and kept if it follows better; elsewhere c = 1.  The feet u_j of all
+    pairs come from one batched search (:func:`morph.piece.nearest_params_many`),
+    phi from one least-squares solve per degree (:func:`morph.bernstein.
+    fit_fixed_ends`, ends fixed at 0 and 1).
+    """
+    pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
+    u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
+    for rows, stack in degree_groups(subs):
+        u[rows] = pc.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
+        p[rows], d[rows], _ = (pc.jet2_power_many if stack.shape[1] <= 13
+                               else pc.jet2_many)(stack, u[rows])
+    speed = np.hypot(d[..., 0], d[..., 1])
+    normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
+    c = np.ones(len(subs))
+    phis, miss = _phi_fits(u, speed, tol)
+    retry = np.nonzero(miss > PHI_SHARE * tol)[0]
+    cm = _moebius(u[retry])
+    retry, cm = retry[cm != 1.0], cm[cm != 1.0]
+    if len(retry):
+        v = u[retry] / (cm[:, None] - (cm[:, None] - 1.0) * u[retry])     # mu^-1(u)
+        dv = speed[retry] * cm[:, None] / ((cm[:, None] - 1.0) * v + 1.0) ** 2
+        again, miss2 = _phi_fits(v, dv, tol)
+        for j in np.nonzero(miss2 < miss[retry])[0]:
+            i = retry[j]
+            phis[i], c[i], miss[i] = again[j], cm[j], miss2[j]
+    return phis, c, normal
+
+
+def _phi_fits(v, speed, tol):
+    """Per row the increasing Bernstein coefficients of phi fitted to the feet v
+    (k, 24) at the nodes, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    mismatch |phi(s_j) - v_j| speed_j is below PHI_SHARE * tol (else the increasing
+    one of least mismatch), and that mismatch: (list of arrays, (k,))."""
+    miss = (np.abs(_NODES - v) * speed).max(axis=1)
+    phis = [np.array([0.0, 1.0])] * len(v)
+    todo = miss > PHI_SHARE * tol
+    for m in PHI_DEGREES:
+        rows = np.nonzero(todo)[0]
+        if not len(rows):
+            break
+        phi = bz.fit_fixed_ends(_NODES, v[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
+        mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
+        err = (np.abs(phi @ bz.basis(m, _NODES).T - v[rows]) * speed[rows]).max(axis=1)
+        for j in np.nonzero(mono & (err < miss[rows]))[0]:
+            phis[rows[j]], miss[rows[j]] = phi[j], err[j]
+        todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
+    return phis, miss
+
+
+def certify_many(subs, cubics, tol, depth=3):
+    """Certified bounds of cubics against sub-pieces, all pairs at once: a list of
+    (bound, panels), one per pair.
+
+    ``panels`` is a list of ``(s0, s1, phi)``: on s in [s0, s1] the reparametrisation
+    is the rational Bézier function with homogeneous coefficients phi (m+1, 2) in
+    the local variable (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]: the
+    Möbius map of :func:`_reparams` composed with its polynomial; together they
+    form one continuous increasing phi.  The bound is the certificate of the module
+    docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
+    then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
+    :func:`morph.piece.distance_bound_many`).  Where it exceeds tol although the
+    cubic is within tol of the curve at the nodes (the parametrisations differ more
+    than a polynomial of degree 9 follows: rational straight pieces, zero end
+    derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
+    sub-piece at the foot of C(1/2), and the halves certified alone, ``depth``
+    times.  A bound <= tol is certified; above tol it may be a sampled distance (a
+    cubic farther than tol from the curve at a node is not composed at all).
+    """
+    cubics = np.asarray(cubics, float)
+    phis, cs, normal = _reparams(subs, cubics, tol)
+    bound = normal.copy()
+    groups = {}
+    for i in np.nonzero(normal <= tol)[0]:
+        groups.setdefault((len(subs[i]), len(phis[i])), []).append(i)
+    for (n, m), rows in groups.items():
+        comp = np.array([subs[i] for i in rows]) * (
+            cs[rows, None] ** np.arange(n))[:, :, None]         # R o mu: w_i c^i
+        if m > 2:
+            comp = bz.compose_many(comp, np.array([phis[i] for i in rows]))
+        bound[rows] = pc.distance_bound_many(comp, cubics[rows], REFINE)[0]
+    homog = [np.stack([c * f, (c - 1.0) * f + 1.0], axis=1) for f, c in zip(phis, cs)]
+    out = [(float(b), [(0.0, 1.0, h)]) for b, h in zip(bound, homog)]
+    rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
+    if not len(rows):
+        return out
+    mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
+    um = np.empty(len(rows))
+    for grp, stack in degree_groups([subs[i] for i in rows]):
+        um[grp] = pc.nearest_params_many(stack, mids[grp])[:, 0]
+    rows, um = rows[(um > 0) & (um < 1)], um[(um > 0) & (um < 1)]
+    if not len(rows):
+        return out
+    left, right = bz.split_many(cubics[rows], np.full(len(rows), 0.5))
+    halves = [pc.split(subs[i], u) for i, u in zip(rows, um)]
+    res = certify_many([h[0] for h in halves] + [h[1] for h in halves],
+                        np.concatenate([left, right]), tol, depth - 1)
+    for j, (i, u) in enumerate(zip(rows, um)):
+        (b0, p0), (b1, p1) = res[j], res[len(rows) + j]
+        if max(b0, b1) < out[i][0]:
+            out[i] = (max(b0, b1),
+                      [(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u)) for a, b, f in p0]
+                      + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
+                         for a, b, f in p1])
+    return out

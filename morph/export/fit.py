@@ -1,0 +1,384 @@
+"""The batched moment fitter: cubics fitted to ranges of rational pieces by the method
+of kurbo's curve fitter (``fit.rs``: end points and end tangents of the piece, signed
+area and x-moment matched; R. Levien's "fitting cubic Béziers" work), done in numpy
+for many ranges at once (:func:`moment_cubics`).  The fits are only candidates:
+:mod:`morph.export.certify` certifies them.
+"""
+
+import functools
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+from .certify import check_piece
+
+
+#: Intervals per piece of a chain's arc-length table (lengths by 8-point
+#: Gauss-Legendre on each).
+ARC_INTERVALS = 32
+
+
+class Chain:
+    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
+
+    Set up once per chain, used by every fit on it: its pieces, where they sit in
+    the per-degree stacks of the batch (``banks``, ``where``: set by
+    :func:`chains_segments`) and an arc-length table (:meth:`arc_table`):
+    ARC_INTERVALS equal parameter intervals per piece with their lengths and the
+    speeds at their ends.
+    """
+
+    def __init__(self, pieces):
+        self.pieces = [check_piece(p) for p in pieces]
+        self.k = len(self.pieces)
+        self.stack = pc.stack(self.pieces)
+        p = np.vstack([pc.cartesian(q) for q in self.pieces])
+        self.tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+        self._arc = None
+
+    def point(self, t):
+        if t >= self.k:
+            return pc.end(self.pieces[-1])
+        k = int(math.floor(t))
+        if t == k:
+            return pc.start(self.pieces[k])
+        return pc.evaluate(self.pieces[k], t - k)[0]
+
+    def arc_table(self):
+        """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
+        pieces, in order) its chain parameters, cumulative arc lengths and speeds
+        |dP/dT| at both ends; arrays of K * ARC_INTERVALS."""
+        if self._arc is None:
+            m, (x, w) = ARC_INTERVALS, _quadrature().gl8
+            knots = np.linspace(0.0, 1.0, m + 1)
+            q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+            ks = np.arange(self.k)
+            _, d = pc.jet_many(self.stack, np.repeat(ks, len(q)), np.tile(q, self.k))
+            seg = (np.hypot(*d.T).reshape(self.k, m, len(x)) @ w) * 0.5 / m
+            _, dk = pc.jet_many(self.stack, np.repeat(ks, m + 1), np.tile(knots, self.k))
+            speed = np.hypot(*dk.T).reshape(self.k, m + 1)
+            cum = np.concatenate([[0.0], np.cumsum(seg.ravel())])
+            tl = (ks[:, None] + knots[None, :-1]).ravel()
+            self._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], speed[:, :-1].ravel(),
+                         speed[:, 1:].ravel())
+        return self._arc
+
+def _limit_tangent(piece, t, sign, tiny):
+    """Direction of travel of a piece at t where its derivative vanishes: the first
+    derivative of the tangent numerator H = X'W - XW' (:func:`morph.piece.
+    tangent_numerator`, zeros at the ends divided out) that is not zero, k-th
+    signed by sign^k (the one-sided limit from the side ``sign``)."""
+    h = pc.tangent_numerator(piece)
+    for k in range(4):
+        v = bz.evaluate(h, [t])[0]
+        if math.hypot(*v) > tiny or len(h) == 1:
+            return sign ** k * v
+        h = bz.derivative(h)
+    return v
+
+
+# ------------------------------------------------------------------ the batched fitter
+
+_Quadrature = namedtuple("_Quadrature", "gl8 gx gw i2 i3")
+
+
+@functools.lru_cache(maxsize=1)
+def _quadrature():
+    """The fitter's constants, made on first use (numpy.polynomial, which gives the
+    Gauss-Legendre rules, takes ~4 ms to import: a process that fits nothing, such
+    as a TrueType sum written exactly, does not pay it): ``gl8`` the 8-point rule on
+    [-1, 1]; ``gx``, ``gw`` the 16-point rule on [0, 1]; ``i2[j, k]`` = int B_j B_k'
+    and ``i3[i, j, k]`` = int B_i B_j B_k' over [0, 1] for the cubic Bernstein basis
+    (the 8-point rule, exact for these degrees)."""
+    gl8 = np.polynomial.legendre.leggauss(8)
+    x, w = 0.5 + 0.5 * gl8[0], 0.5 * gl8[1]
+    b = bz.basis(3, x)                                             # (8, 4)
+    diff = 3.0 * (np.eye(3, 4, 1) - np.eye(3, 4))                  # B3_k' in B2
+    db = bz.basis(2, x) @ diff
+    gx, gw = np.polynomial.legendre.leggauss(16)
+    return _Quadrature(gl8, 0.5 + 0.5 * gx, 0.5 * gw,
+                       np.einsum("g,gj,gk->jk", w, b, db),
+                       np.einsum("g,gi,gj,gk->ijk", w, b, b, db))
+
+
+#: Handle lengths d0 (in chord lengths) where the moment equation is solved.
+_D0_GRID = np.linspace(0.0, 2.0, 81)[1:]
+#: kurbo's handle-length penalty: the sampled error is scaled by
+#: (1 + max(d - elbow, 0) * slope)^2 for the longer handle d (in chord lengths).
+D_ELBOW, D_SLOPE = 0.65, 2.0
+#: The fitter's acceptance distance is at most this multiple of tol (a cubic 16 tol
+#: away certifies nothing; the search then halves its step).
+FIT_SLACK = 16.0
+#: Candidate cubics kept per range (roots of the moment equation).
+MAX_CANDIDATES = 6
+
+
+def _frame(v, chord, chord2):
+    """Vectors v (..., 2) in the unit-chord frame: x along the chord, y to its left,
+    divided by the chord length (``chord`` (..., 2), ``chord2`` its squared length)."""
+    return np.stack([(v * chord).sum(-1), chord[..., 0] * v[..., 1] - chord[..., 1] * v[..., 0]],
+                    axis=-1) / chord2[..., None]
+
+
+def moment_cubics(items, tol):
+    """Fitted cubics for many chain ranges at once (no callbacks): for each item
+    ``(chain, parts, (start, end))`` a (4, 2) cubic with those end points and its
+    sampled distance (below), or None.
+
+    R. Levien's area-and-moment fit, as kurbo's ``fit_to_cubic`` does it (kurbo's
+    fit.rs): in the frame where the chord runs from (0, 0) to (1, 0), the cubic
+    with the range's end tangent directions (angles th0, th1) and handle lengths
+    d0, d1 is chosen so that its signed area int y dx and moment int x y dx equal
+    the range's.  The range's integrals are Gauss-Legendre sums (16 nodes on each
+    part, in the part's own parameter: the integrals do not depend on the
+    parametrisation); the cubic's are polynomials in (d0, d1) (exact Bernstein
+    integrals of :func:`_quadrature`).  The area is linear in d1, so d1 = d1(d0)
+    and the moment equation becomes one equation in d0, solved on a grid of d0
+    (sign changes, refined by regula falsi; without one, the grid point of least
+    residual, like kurbo's real part of a complex root pair).  Of the candidates
+    the one with the least sampled distance wins: rays from the range's samples
+    along their normals to the cubic (Newton), scaled by kurbo's penalty on long
+    handles, kept if below the acceptance distance (half the chord, at least tol,
+    at most FIT_SLACK tol).  A chord shorter than that gets its straight line.
+    Nothing here is a certificate: the caller certifies (:func:`certify_many`).
+    """
+    n = len(items)
+    if not n:
+        return []
+    starts = np.array([e[0] for _, _, e in items], float)
+    ends = np.array([e[1] for _, _, e in items], float)
+    chord = ends - starts
+    chord2 = (chord * chord).sum(1)
+    length = np.sqrt(chord2)
+    acc = np.maximum(tol, np.minimum(0.5 * length, FIT_SLACK * tol))
+    short = length <= acc
+    good = ~short & (chord2 > 0)
+    safe2 = np.where(good, chord2, 1.0)
+    sam = _range_samples(items, starts, chord, safe2)
+    ta, tm = _cubic_integrals(sam["t0"], sam["t1"])
+    cr, cd0, cd1 = _handle_candidates(sam["area"], sam["moment"], ta, tm, good)
+    t0, t1 = sam["t0"], sam["t1"]
+    ctrl = np.zeros((len(cr), 4, 2))
+    ctrl[:, 1] = cd0[:, None] * t0[cr]
+    ctrl[:, 2, 0] = 1.0 - cd1 * t1[cr, 0]
+    ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
+    ctrl[:, 3, 0] = 1.0
+    # sampled distance: rays along the samples' normals to the candidate cubic
+    err = _ray_distance(ctrl, cr, sam["q"], sam["dq"], sam["req"], sam["width"]) * length[cr]
+    scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
+    return _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts, ends, chord)
+
+
+def _range_samples(items, starts, chord, safe2):
+    """The ranges' samples for :func:`moment_cubics`, in the chord frames: 16
+    Gauss-Legendre nodes on each part (one evaluation for all), their points ``q``
+    and derivatives ``dq`` (P, 16, 2) with the owning range ``req`` and the parts'
+    parameter ``width``; each range's ``area`` and ``moment`` (Gauss-Legendre sums)
+    and its unit end tangents ``t0``, ``t1`` (one-sided limits where the derivative
+    vanishes)."""
+    n = len(items)
+    banks = items[0][0].banks
+    req, deg, idx, lo, width, first, last = [], [], [], [], [], [], []
+    for r, (chain, parts, _) in enumerate(items):
+        first.append(len(idx))
+        for k, a, b, _ in parts:
+            req.append(r)
+            deg.append(chain.where[k][0])
+            idx.append(chain.where[k][1])
+            lo.append(a)
+            width.append(b - a)
+        last.append(len(idx) - 1)
+    req, deg, idx = np.array(req), np.array(deg), np.array(idx)
+    lo, width = np.array(lo), np.array(width)
+    first, last = np.array(first), np.array(last)
+    quad = _quadrature()
+    m = len(quad.gx)
+    params = lo[:, None] + width[:, None] * quad.gx[None]
+    p, d = _bank_jet(banks, np.repeat(deg, m), np.repeat(idx, m), params.ravel())
+    ends_at = np.concatenate([first, last])
+    _, de = _bank_jet(banks, deg[ends_at], idx[ends_at],
+                      np.concatenate([lo[first], lo[last] + width[last]]))
+    for j in np.nonzero(np.hypot(*de.T) <= np.array([c.tiny for c, _, _ in items] * 2))[0]:
+        r, sign = j % n, (1.0 if j < n else -1.0)
+        chain, parts, _ = items[r]
+        k, a, b, _ = parts[0] if sign > 0 else parts[-1]
+        de[j] = _limit_tangent(chain.pieces[k], a if sign > 0 else b, sign, chain.tiny)
+    q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
+               safe2[req][:, None])                                # (P, m, 2)
+    dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
+    wgt = quad.gw[None] * width[:, None]
+    t0 = _frame(de[:n], chord, safe2)
+    t1 = _frame(de[n:], chord, safe2)
+    t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
+    t1 /= np.maximum(np.hypot(*t1.T), 1e-300)[:, None]
+    return {"q": q, "dq": dq, "req": req, "width": width, "t0": t0, "t1": t1,
+            "area": np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n),
+            "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
+
+
+def _cubic_integrals(t0, t1):
+    """Area and moment of the frame cubics K + d0 U + d1 V (end tangents t0, t1) as
+    polynomials in (d0, d1): ``ta`` (n, 2, 3) area terms d_b m_c and ``tm``
+    (n, 3, 2, 3) moment terms m_a d_b m_c, m = (1, d0, d1) (exact Bernstein
+    integrals of :func:`_quadrature`)."""
+    n = len(t0)
+    c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
+    zero, one = np.zeros(n), np.ones(n)
+    xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
+                   np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
+    ys = np.stack([np.stack([zero, s0, zero, zero], 1),
+                   np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
+    quad = _quadrature()
+    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, quad.i2)
+    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, quad.i3)
+    return ta, tm
+
+
+def _handle_candidates(area, moment, ta, tm, good):
+    """Candidate handle lengths (range, d0, d1) of :func:`moment_cubics`: the roots
+    of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
+    falsi), its local minima that do not cross zero, and handles of a third where
+    nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
+    n = len(area)
+
+    def resid(d0, d1, rows=slice(None)):
+        mm = np.stack([np.ones_like(d0), d0, d1], -1)
+        nn = np.stack([d0, d1], -1)
+        return np.einsum("rga,rgb,rgc,rabc->rg", mm, nn, mm, tm[rows]) - moment[rows, None]
+
+    d0 = np.broadcast_to(_D0_GRID[None], (n, len(_D0_GRID)))
+    d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)
+    ok = np.isfinite(d1) & (d1 > 0)
+    f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
+    cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
+    cross &= good[:, None]
+    rr, gg = np.nonzero(cross)
+    a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    fa, fb = f[rr, gg], f[rr, gg + 1]
+    for _ in range(4):                                             # regula falsi
+        x = (a * fb - b * fa) / (fb - fa)
+        fx = resid(x[:, None], _d1_of(x, rr, area, ta)[:, None], rr)[:, 0]
+        left = np.sign(fx) == np.sign(fa)
+        a, fa = np.where(left, x, a), np.where(left, fx, fa)
+        b, fb = np.where(left, b, x), np.where(left, fb, fx)
+    roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
+    # local minima of |f| that do not cross zero (kurbo: the real part of a complex
+    # root pair, a near-double root): the grid points where |f| is least
+    af = np.where(ok, np.abs(f), np.inf)
+    dip = np.zeros_like(ok)
+    dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
+    dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
+    near = np.zeros_like(ok)
+    near[:, :-1] |= cross
+    near[:, 1:] |= cross
+    dip &= ~near & good[:, None]
+    rn, gn = np.nonzero(dip)
+    none = np.zeros(n, bool)
+    none[rn] = True
+    # nothing solves (e.g. a straight range: area and moment vanish): handles of a
+    # third, the straight cubic when the tangents run along the chord
+    rt = np.nonzero(good & ~np.any(cross, 1) & ~none)[0]
+    cr = np.concatenate([rr, rn, rt])
+    cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
+    thirds = np.arange(len(cr)) >= len(cr) - len(rt)
+    keep = np.zeros(len(cr), bool)
+    count = {}
+    for i, r in enumerate(cr.tolist()):                   # at most MAX_CANDIDATES per range
+        count[r] = count.get(r, 0) + 1
+        keep[i] = count[r] <= MAX_CANDIDATES
+    cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
+    fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
+    return cr[fine], cd0[fine], cd1[fine]
+
+
+def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
+    """Per range the candidate of least score below its acceptance distance, mapped
+    back from the chord frame (the straight cubic for a short chord), with its
+    sampled distance; None where none is accepted."""
+    n = len(starts)
+    out = [None] * n
+    best = np.full(n, np.inf)
+    pick = np.full(n, -1)
+    for i in np.argsort(score, kind="stable"):
+        r = cr[i]
+        if pick[r] < 0 and score[i] < acc[r]:
+            pick[r], best[r] = i, score[i]
+    for r in range(n):
+        if pick[r] >= 0:
+            c = ctrl[pick[r]]
+            cubic = (starts[r] + c[:, :1] * chord[r]
+                     + c[:, 1:] * np.array([-chord[r, 1], chord[r, 0]]))
+        elif short[r]:
+            cubic = np.array([starts[r], starts[r] + chord[r] / 3.0,
+                              ends[r] - chord[r] / 3.0, ends[r]])
+        else:
+            continue
+        cubic[0], cubic[-1] = starts[r], ends[r]
+        if np.all(np.isfinite(cubic)):
+            out[r] = (cubic, float(err[pick[r]]) if pick[r] >= 0 else 0.0)
+    return out
+
+
+def _bank_jet(banks, deg, idx, t):
+    """:func:`morph.piece.jet_many` of pieces ``banks[deg[i]][idx[i]]`` at ``t[i]``:
+    each degree evaluated at its own degree (the result of a piece does not depend
+    on the other pieces of a batch)."""
+    p, d = np.empty((len(t), 2)), np.empty((len(t), 2))
+    for g in np.unique(deg):
+        rows = np.nonzero(deg == g)[0]
+        p[rows], d[rows] = pc.jet_many(banks[g], idx[rows], t[rows])
+    return p, d
+
+
+def _d1_of(d0, rows, area, ta):
+    """d1 from the area equation (linear in d1) for handle lengths d0 of the ranges
+    ``rows`` (arrays of one shape)."""
+    num = area[rows] - d0 * ta[rows, 0, 0] - d0 * d0 * ta[rows, 0, 1]
+    den = ta[rows, 1, 0] + d0 * (ta[rows, 0, 2] + ta[rows, 1, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return num / den
+
+
+#: Power coefficients of a cubic from its Bernstein coefficients.
+_POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]])
+
+
+def _ray_distance(ctrl, cr, q, dq, req, width):
+    """Largest distance (frame units) from each candidate's range samples to the
+    candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
+    the sample's share of the range's arc length, s clipped to [0, 1]."""
+    if not len(cr):
+        return np.zeros(0)
+    m = q.shape[1]
+    pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
+    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
+    sreq = np.repeat(req, m)
+    cum = np.cumsum(speed)
+    tot = np.bincount(sreq, speed)
+    base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
+    frac = (cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)
+    start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
+    cnt = np.bincount(sreq, minlength=len(tot))
+    counts = cnt[cr]
+    owner = np.repeat(np.arange(len(cr)), counts)
+    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    si = start[cr][owner] + offs
+    power = np.matmul(_POWER3, ctrl)[owner]                       # (S, 4, 2): C(s) = sum a_k s^k
+    p, t = pts[si], tan[si]
+    s = frac[si]
+    g = (power * t[:, None]).sum(2)                               # (C(s) - p) . t, power form
+    g[:, 0] -= (p * t).sum(1)
+    for _ in range(5):
+        gv = ((g[:, 3] * s + g[:, 2]) * s + g[:, 1]) * s + g[:, 0]
+        gd = (3.0 * g[:, 3] * s + 2.0 * g[:, 2]) * s + g[:, 1]
+        s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
+    s = s[:, None]
+    c = ((power[:, 3] * s + power[:, 2]) * s + power[:, 1]) * s + power[:, 0]
+    dist = np.hypot(*(c - p).T)
+    out = np.zeros(len(cr))
+    np.maximum.at(out, owner, dist)
+    return out

@@ -1,0 +1,157 @@
+"""Loops and regions to cubics: loops split at their corners, cubics spanning the
+smooth joins, the searches of all loops batched.
+
+**Loops.**  A sum splits one smooth convolution curve into many pieces; fitting
+piece by piece spends one cubic or more on each.  :func:`loop_to_beziers` splits a
+loop at its corners only (:func:`smooth_runs`) and lets cubics span the smooth joins
+(:func:`chain_segments`): the certificate cuts the cubic at the feet of the join
+points and certifies each part against its piece, phi mapping the cut to the join.
+Writers of whole outlines (SVG, fonts) call the loop functions with ``wrap=True`` (a
+smooth closing join is spanned as well) and the export share of the user's
+tolerance (:func:`morph.budget.plan`, or :meth:`morph.budget.Budget.after` when the
+geometry has a certified error below its share).
+"""
+
+import math
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+from .certify import check_piece
+from .search import chains_segments
+
+
+#: Joins whose tangent directions differ by less than this angle (radians) are smooth:
+#: the loop exporters let cubics span them.
+JOIN_ANGLE = 1e-6
+
+
+def _smooth_flags(pieces, angle):
+    """Whether each join of consecutive pieces is smooth (see :func:`smooth_runs`):
+    entry i for piece i to piece i + 1, the last for the closing join (last piece
+    to first); all pieces' end tangents in one batch (a piece without a direction
+    joins nothing smoothly)."""
+    first, last = pc.end_tangents_many(pieces, strict=False)
+    nxt = np.roll(np.arange(len(pieces)), -1)
+    a, b = last, first[nxt]
+    cart = [pc.cartesian(p) for p in pieces]
+    start = np.array([c[0] for c in cart])
+    end = np.array([c[-1] for c in cart])
+    scale = np.array([np.abs(c).max() for c in cart])
+    gap = np.hypot(*(end - start[nxt]).T)
+    return (((a * b).sum(axis=1) > 0)
+            & (np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) <= math.sin(angle))
+            & (gap <= 1e-12 * (1.0 + np.maximum(scale, scale[nxt]))))
+
+
+def _smooth_join(p, q, angle):
+    return bool(_smooth_flags([np.asarray(p, float), np.asarray(q, float)], angle)[0])
+
+
+def smooth_runs(pieces, join_angle=JOIN_ANGLE):
+    """Consecutive pieces split at corners into maximal runs of smooth (G1) joins.
+
+    A join is smooth when the pieces meet (within 1e-12 of the coordinates) and their
+    tangent directions there differ by less than ``join_angle`` radians.  A straight
+    polynomial piece (a line) is a run of its own: written as a line it costs one
+    point, which no cubic spanning it beats (brushed M: 46 points instead of 78).
+    ``join_angle <= 0``: every piece is a run of its own (fitting piece by piece:
+    about 4 times less CPU than spanning joins, about twice the cubics).
+    Returns a list of lists of pieces, in order (a closed loop is not wrapped
+    around: its first run starts at its first piece).
+    """
+    pieces = [np.asarray(p, float) for p in pieces]
+    if not pieces:
+        return []
+    line = [len(p) == 2 and pc.is_polynomial(p) for p in pieces]
+    smooth = (_smooth_flags(pieces, join_angle) if join_angle > 0
+              else np.zeros(len(pieces), bool))
+    runs = []
+    for i, p in enumerate(pieces):
+        if runs and not line[i] and not line[i - 1] and smooth[i - 1]:
+            runs[-1].append(p)
+        else:
+            runs.append([p])
+    return runs
+
+
+def _wrap_runs(runs, join_angle):
+    """Runs of a closed loop with the last run joined to the first when the loop's
+    closing join is smooth (the loop's start is then not a break of the fit)."""
+    if len(runs) < 2:
+        return runs
+    last, first = runs[-1][-1], runs[0][0]
+    if any(len(p) == 2 and pc.is_polynomial(p) for p in (last, first)):
+        return runs
+    if not _smooth_join(last, first, join_angle):
+        return runs
+    return [runs[-1] + runs[0]] + runs[1:-1]
+
+
+def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+    """Polynomial Béziers within ``tol`` of a loop (or any chain of consecutive pieces).
+
+    Returns (2, 2) lines, (3, 2) quadratics and (4, 2) cubics in order, end to start,
+    the first starting at the loop's start.  The loop is split into runs at its
+    corners (:func:`smooth_runs`).  With ``wrap`` (a closed loop, the last piece
+    ending where the first starts, written by a caller that does not need the output
+    to start at the loop's start: SVG subpaths, font contours) a smooth closing join
+    is spanned too: the last run and the first are one, and the output starts at
+    the start of the loop's last run (at the loop's start when a corner is there).
+    A run of polynomial pieces of degree <= 3 is returned
+    exactly (lines stay lines, quadratics quadratics: no fitting time is spent on
+    what is exact already, e.g. TrueType glyph sums), every other run becomes
+    certified cubics (:func:`chain_segments`) that may span its smooth joins: each
+    cubic is within ``tol`` of the run in Fréchet, hence Hausdorff, distance, so the
+    whole output is within ``tol`` of the loop.  This is what writers of whole
+    outlines should call: a smooth curve that the sum split into many pieces needs
+    far fewer cubics than the pieces one by one (:func:`piece_to_cubics`).  Writers
+    of several loops call :func:`loops_to_beziers` (the same, all loops' runs
+    fitted in one batch).
+
+    Raises:
+        ValueError, ToleranceNotMetError: as piece_to_cubics.
+    """
+    return loops_to_beziers([loop], tol, max_depth, join_angle, wrap)[0]
+
+
+def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+    """:func:`loop_to_beziers` of every loop of a region (a list per loop), with the
+    segment searches of all their runs in lockstep: each round's fits of the whole
+    region are fitted and certified in one batch (the numerical work is a few array
+    calls per round, not per loop; callers batch the loops of many glyphs too).
+    Every curve is certified within tol as loop by loop; the curves themselves may
+    differ from loop-by-loop ones by rounding (batched array calls).
+
+    Raises:
+        ValueError, ToleranceNotMetError: as piece_to_cubics.
+    """
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    plans = []
+    for loop in loops:
+        runs = smooth_runs(loop, join_angle)
+        if wrap and join_angle > 0:
+            runs = _wrap_runs(runs, join_angle)
+        plans.append([(run, all(len(p) <= 4 and pc.is_polynomial(check_piece(p)) for p in run))
+                      for run in runs])
+    fitted = iter(chains_segments([r for plan in plans for r, e in plan if not e],
+                                   tol, max_depth))
+    out = []
+    for plan in plans:
+        beziers = []
+        for run, e in plan:
+            if e:
+                beziers.extend(pc.cartesian(p) for p in run)   # exact already: no fitting
+            else:
+                beziers.extend(seg.cubic for seg in next(fitted))
+        out.append(beziers)
+    return out
+
+
+def loop_to_cubics(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
+    """Cubics within ``tol`` of a loop, in order: :func:`loop_to_beziers` with every
+    line and quadratic degree-elevated (exactly)."""
+    return [bz.to_degree(b, 3)
+            for b in loop_to_beziers(loop, tol, max_depth, join_angle, wrap)]

@@ -1,0 +1,487 @@
+"""The greedy search for certified cubics along a chain of pieces.
+
+**Search.**  Per piece (or per run of pieces with smooth joins, see below),
+segments are chosen greedily from the start: the longest parameter interval whose
+certified bound is <= tol is looked for with a few fits (error predicted from the
+previous fits as ~ h^p, a segment accepted once its bound reaches 0.7 tol), then one
+segment fewer is tried while the segments' bounds say it may fit (cuts at equal
+shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
+after a short last segment.  The searches of all runs of a loop go in lockstep
+(:func:`_drive`), over all loops of a region or of many glyphs
+(:func:`loops_to_beziers`): each round fits the pending ranges of every run in one
+batch (:func:`morph.export.fit.moment_cubics`, no callbacks), certifies all their cubics in one
+batch (:func:`morph.export.certify.certify_many`; a cubic whose sampled distance exceeds SCREEN tol
+is not certified, nor is a try whose sampled distance is below PROVISIONAL tol:
+the search extends it anyway, and certifies it only if it ends there).  bench/export.py compares the cubic counts with kurbo's
+and with the classic circle cubic.  Where the fit
+finds no cubic, or its cubic does not certify, the same-parameter fit of
+:func:`morph.export.certify.fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
+one certifies.
+
+**The protocol of a search.**  A search is a generator (:func:`_search` and its
+steps :func:`_next_segment`, :func:`_split_at`, composed with ``yield from``): it
+yields a list of fit requests ``(chain, t0, t1, (start, end)[, need])`` and is sent
+back the list of their results ``(cubic, bound, panels)`` (:func:`_fit_ranges`), in
+order; its return value (``StopIteration.value``) is the chain's list of
+:class:`~morph.export.certify.CubicFit`.  :func:`_drive` advances every search to
+its next yield, fits all pending requests of all searches in one batch, sends each
+search its share, and repeats until every search has returned.  A generator keeps
+the search's state (bracket, last fit) in its local variables between rounds.
+"""
+
+import math
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+from ..errors import ToleranceNotMetError
+from .certify import (SCREEN, CubicFit, affine_reparam, certify_many, check_piece, fit_cubic,
+                      same_param_bound)
+from .fit import Chain, moment_cubics
+
+
+def _parts_many(requests):
+    """For every request ``(chain, t0, t1, ends)`` its parts ``[(k, a, b, sub)]``:
+    piece k of the chain restricted to its local [a, b] (``sub``) covers [t0, t1];
+    the sub-pieces of all requests cut in one de Casteljau call per degree."""
+    out, todo = [], {}
+    for chain, t0, t1, *_ in requests:
+        parts = []
+        for k in range(int(math.floor(t0)), min(chain.k, int(math.ceil(t1)))):
+            a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
+            if b > a:
+                p = chain.pieces[k]
+                parts.append([k, a, b, p])
+                if (a, b) != (0.0, 1.0):
+                    todo.setdefault(len(p), []).append(parts[-1])
+        out.append(parts)
+    for rows in todo.values():
+        subs = bz.subsegment_many(np.array([r[3] for r in rows]), [r[1] for r in rows],
+                                  [r[2] for r in rows])
+        for r, sub in zip(rows, subs):
+            r[3] = sub
+    return [[tuple(p) for p in parts] for parts in out]
+
+
+def _join_feet(plans, skip):
+    """{range: parameters on its fitted cubic nearest to the joins of its parts}, for
+    the multi-part ranges not skipped, all at once (padded to one count)."""
+    multi = [r for r, (parts, cubic) in enumerate(plans)
+             if cubic is not None and len(parts) > 1 and not skip[r]]
+    if not multi:
+        return {}
+    n = max(len(plans[r][0]) - 1 for r in multi)
+    joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
+                      + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
+                      for r in multi])
+    s = pc.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
+                               joins, iters=6)
+    return {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
+
+
+def _fit_ranges(requests, tol):
+    """Best certified cubics for many chain ranges at once: for each request
+    ``(chain, t0, t1, (start, end)[, need])`` a result (cubic, bound, panels); where
+    the fitted cubic's sampled distance is below ``need`` tol it is returned as is,
+    not certified: (cubic, sampled distance, None).
+
+    All ranges are fitted in one call (:func:`moment_cubics`); then every part of
+    every fitted cubic is certified in one batch (:func:`certify_many`), except
+    cubics whose sampled distance exceeds SCREEN tol (their sampled distance is
+    returned as the bound: they fail).  Panels
+    carry chain parameters T.  Across joins of a chain the cubic is cut at the
+    closest points s_k to the join points (increasing, else no certificate) and
+    each part certified against its piece: phi is continuous (it maps s_k to the
+    join) and increasing.  A single-piece range whose fitted cubic does not certify
+    also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
+    """
+    parts = _parts_many(requests)
+    fits = moment_cubics(
+        [(r[0], pr, r[3]) for pr, r in zip(parts, requests)], tol)
+    plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
+    sampled = [0.0 if f is None else f[1] for f in fits]
+    # a cubic whose sampled distance already exceeds tol well is not certified: its
+    # sampled distance is reported (the search only needs to know it fails)
+    # a cubic whose sampled distance is below the request's ``need`` share of tol is
+    # not certified either: the search will try a longer one (a provisional result)
+    short = [f is not None and len(r) > 4 and e < r[4] * tol
+             for f, e, r in zip(fits, sampled, requests)]
+    skip = [e > SCREEN * tol or sh for e, sh in zip(sampled, short)]
+    feet = _join_feet(plans, skip)
+    subs, pieces, cut_list = [], [], []
+    for r, (parts, cubic) in enumerate(plans):
+        cuts = None
+        if cubic is not None and not skip[r]:
+            cuts = np.concatenate([[0.0], feet.get(r, []), [1.0]])
+            if np.all(np.diff(cuts) > 0):
+                subs += [p[3] for p in parts]
+                pieces.append(cubic[None] if len(parts) == 1 else bz.subsegment_many(
+                    np.repeat(cubic[None], len(parts), axis=0), cuts[:-1], cuts[1:]))
+            else:
+                cuts = None
+        cut_list.append(cuts)
+    res = certify_many(subs, np.concatenate(pieces), tol) if subs else []
+    out, i = [], 0
+    for r, ((parts, cubic), cuts) in enumerate(zip(plans, cut_list)):
+        mine = []
+        if cubic is not None and cuts is not None:
+            mine, i = res[i:i + len(parts)], i + len(parts)
+        if short[r]:
+            out.append((cubic, sampled[r], None))
+            continue
+        fallback = sampled[r] if skip[r] else np.inf
+        out.append(_chosen_fit(parts, cubic, cuts, mine, fallback, requests[r][3], tol))
+    return out
+
+
+def _chosen_fit(parts, cubic, cuts, certified, fallback, ends, tol):
+    """One range's result (cubic, bound, panels) of :func:`_fit_ranges`: the moment
+    fit with the worst bound of its certified parts (``fallback`` when it was not
+    certified), and for a single piece that fails tol also the same-parameter fit
+    of :func:`fit_cubic`; the smaller bound wins.  Panels map back to chain
+    parameters T."""
+    cands = []
+    if cubic is not None:
+        bound, panels = fallback, []
+        if cuts is not None:
+            bound = max(b for b, _ in certified)
+            for j, (_, pj) in enumerate(certified):
+                s0, s1 = cuts[j], cuts[j + 1]
+                panels += [(s0 + a * (s1 - s0), s0 + b * (s1 - s0), (j, f)) for a, b, f in pj]
+        cands.append((cubic, bound, panels))
+    if len(parts) == 1 and (not cands or cands[0][1] > tol):
+        sub = parts[0][3]
+        c, bound = fit_cubic(sub)
+        c[0], c[-1] = ends
+        if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
+            bound = same_param_bound(sub, c)
+        cands.append((c, bound, [(0.0, 1.0, (0, np.array([[0.0, 1.0], [1.0, 1.0]])))]))
+    if not cands:
+        return (None, np.inf, None)
+    cubic, bound, panels = min(cands, key=lambda c: c[1])
+    return (cubic, bound, tuple(
+        (a, b, affine_reparam(f, parts[j][0] + parts[j][1], parts[j][2] - parts[j][1]))
+        for a, b, (j, f) in panels))
+
+
+def _drive(searches, tol):
+    """Run search generators in lockstep and return their results in order.
+
+    A search (:func:`_search`) yields a list of fit requests and is sent back their
+    results; the pending requests of all searches are fitted and certified together
+    (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
+    call per fit."""
+    results = [None] * len(searches)
+    pending = {}
+    for i, g in enumerate(searches):
+        try:
+            pending[i] = next(g)
+        except StopIteration as stop:
+            results[i] = stop.value
+    while pending:
+        order = [(i, len(reqs)) for i, reqs in pending.items()]
+        fits = _fit_ranges([r for reqs in pending.values() for r in reqs], tol)
+        pending, k = {}, 0
+        for i, n in order:
+            try:
+                pending[i] = searches[i].send(fits[k:k + n])
+            except StopIteration as stop:
+                results[i] = stop.value
+            k += n
+    return results
+
+
+def _exact_cubic(piece):
+    """(4, 2) control points of a polynomial piece of degree <= 3, else None."""
+    if len(piece) > 4 or not pc.is_polynomial(piece):
+        return None
+    return bz.to_degree(pc.cartesian(piece), 3)
+
+
+def cubic_segments(piece, tol, max_depth=16):
+    """Certified cubics covering a piece: a list of :class:`CubicFit`.
+
+    Fit k has parameter interval [t0, t1] (consecutive, from 0 to 1), a (4, 2)
+    cubic C, its ``bound`` <= tol and ``reparam`` (panels of a continuous increasing
+    piecewise-polynomial phi from t0 to t1, see :class:`CubicFit`) with
+
+        max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
+
+    (certified, :func:`cubic_bound` with ``reparam``): the Fréchet and hence the
+    Hausdorff distance between C and R on [t0, t1] are <= tol.  Exact pieces
+    (polynomial, degree <= 3) give one fit with bound 0.  Raises as
+    :func:`piece_to_cubics`.
+    """
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    piece = check_piece(piece)
+    exact = _exact_cubic(piece)
+    if exact is not None:
+        return [CubicFit(0.0, 1.0, exact, 0.0, ((0.0, 1.0, np.array([[0.0, 1.0], [1.0, 1.0]])),))]
+    return chain_segments([piece], tol, max_depth)
+
+
+def chain_segments(pieces, tol, max_depth=16):
+    """Certified cubics covering consecutive pieces as one curve: a list of CubicFit.
+
+    The pieces (end of one = start of the next) form one curve of parameter T in
+    [0, K], piece k on [k, k + 1]; cubics may span joins.  Fit intervals [t0, t1]
+    and the values of its ``reparam`` panels are such T, and
+
+        max_{s in [0,1]} |R(phi(s)) - C(s)| <= bound <= tol
+
+    with R the chain and phi continuous and increasing: the Fréchet (hence
+    Hausdorff) distance between each cubic and the chain on [t0, t1] is <= tol.
+    Spanning a join pays where the join is G1 (tangent continuous: one smooth curve
+    split into pieces, as sums produce); at corners the fits fail and the search
+    ends segments near them, so callers split chains at corners
+    (:func:`loop_to_beziers` does).  Raises as :func:`piece_to_cubics`.
+    """
+    return chains_segments([pieces], tol, max_depth)[0]
+
+
+def chains_segments(chains, tol, max_depth=16):
+    """:func:`chain_segments` of several chains, searched in lockstep (:func:`_drive`)."""
+    if not (tol > 0 and math.isfinite(tol)):
+        raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    chains = [Chain(p) for p in chains]
+    banks = {}                      # one stack per degree of all pieces, for the fitter
+    for c in chains:
+        c.banks, c.where = banks, []
+        for p in c.pieces:
+            banks.setdefault(len(p), []).append(p)
+            c.where.append((len(p), len(banks[len(p)]) - 1))
+    for n in banks:
+        banks[n] = np.array(banks[n], float)
+    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol)
+
+
+def _search(chain, tol, min_width):
+    """The segment search of one chain, a generator for :func:`_drive`: yields lists
+    of fit requests ``(chain, t0, t1, (start, end))``, is sent their results, and
+    returns the chain's list of CubicFit.
+
+    Segments are found greedily from the start (:func:`_next_segment`); then one
+    segment fewer is tried while the segments' bounds say it may fit
+    (:func:`_balanced_cuts`), and after a short last segment one fewer of equal
+    arc length."""
+    out = []
+    t0, start, width = 0.0, pc.start(chain.pieces[0]), min(float(chain.k), 2.0)
+    while t0 < chain.k:
+        t1, cubic, bound, reparam, end = yield from _next_segment(
+            chain, t0, start, width, tol, min_width)
+        out.append(CubicFit(t0, t1, cubic, bound, reparam))
+        width = t1 - t0
+        t0, start = t1, end
+    # the greedy search stops each segment a little short of its longest reach: try
+    # one segment fewer, cut where the greedy segments' bounds say it may fit
+    while len(out) >= 2:
+        cuts = _balanced_cuts(chain, out, tol)
+        fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
+        if fewer is None:
+            break
+        out = fewer
+    widths = [seg.t1 - seg.t0 for seg in out]
+    if len(out) == 2 and widths[-1] < 0.5 * widths[0]:
+        # a short last one is left: try one cubic for the whole chain (for more
+        # segments, n - 1 of equal arc length rarely fit where the model said no)
+        t, cum = _arclength_table(chain)
+        if cum[-1] > 0:
+            fewer = yield from _split_at(
+                chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t), tol)
+            out = out if fewer is None else fewer
+    return out
+
+
+#: Error model of :func:`_balanced_cuts`: a cubic's bound grows like the P-th power
+#: of the arc length it spans.
+ERROR_POWER = 5.0
+#: One segment fewer is tried when the greedy segments' shares add up to at most this
+#: many segments fewer than there are (the greedy segments stop short of their reach).
+FEWER_SLACK = 1.0
+
+
+def _arclength_table(chain):
+    """(T, cumulative arc length) at the knots of the chain's arc-length table."""
+    tl, tr, sl, sr, _, _ = chain.arc_table()
+    return np.append(tl, tr[-1]), np.append(sl, sr[-1])
+
+
+def _balanced_cuts(chain, segs, tol):
+    """Cuts of len(segs) - 1 segments, or None (not plausible).
+
+    Segment i of ``segs`` (bound b_i over arc length L_i) counts as d_i = (b_i /
+    tol)^(1/P) of a segment that just reaches tol (model bound ~ L^P, P =
+    :data:`ERROR_POWER`), spread evenly over its arc length.  When the d_i add up to
+    at most len(segs) - 1, the cuts are placed at equal shares of that sum (equal arc
+    lengths where the curve is equally hard); the caller fits and certifies them
+    (:func:`_split_at`) and keeps ``segs`` if any fails."""
+    n = len(segs) - 1
+    d = np.array([(max(seg.bound, 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
+                  for seg in segs])
+    if not (n >= 1 and d.sum() <= len(segs) - FEWER_SLACK):
+        return None
+    t, cum = _arclength_table(chain)
+    if not cum[-1] > 0:
+        return None
+    edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
+    hard = np.concatenate([[0.0], np.cumsum(d)])
+    return np.interp(np.interp(np.linspace(0.0, hard[-1], n + 1), hard, edges), cum, t)
+
+
+def _split_at(chain, cuts, tol):
+    """Certified segments between the chain parameters ``cuts`` (all fitted in one
+    request list), or None if one fails; a generator step of :func:`_search`."""
+    cuts = np.array(cuts, float)
+    cuts[0], cuts[-1] = 0.0, float(chain.k)
+    if np.any(np.diff(cuts) <= 0):
+        return None
+    points = [pc.start(chain.pieces[0])] + [chain.point(float(t)) for t in cuts[1:]]
+    fits = yield [(chain, float(t0), float(t1), (p0, p1))
+                  for t0, t1, p0, p1 in zip(cuts[:-1], cuts[1:], points[:-1], points[1:])]
+    if not all(bound <= tol for _, bound, _ in fits):
+        return None
+    return [CubicFit(float(t0), float(t1), cubic, bound, reparam)
+            for t0, t1, (cubic, bound, reparam) in zip(cuts[:-1], cuts[1:], fits)]
+
+
+#: The search stops at a certified segment whose bound is at least this share of tol
+#: (higher: longer segments, more fits).  Equal to PROVISIONAL, so that a try that is
+#: certified at all ends the first pass (tries sampled below PROVISIONAL tol are not
+#: certified); bench/export_profile.py counts the fits and certificates it saves.
+ACCEPT = 0.7
+
+
+#: The search for a segment's end stops once the bracket (longest certified, shortest
+#: failed end) is this narrow relative to the certified width.
+BRACKET_REL = 0.02
+
+
+#: The model of :func:`_next_try`: bound ~ width^p, p from the last two fits kept in
+#: [P_MIN, P_MAX] (ERROR_POWER without them; widths closer than SAME_WIDTH relative
+#: give no slope), the next width aimed at AIM tol.
+P_MIN, P_MAX = 2.0, 8.0
+SAME_WIDTH = 0.01
+AIM = 0.9
+#: The next width is kept within these factors of the last one; after a fit with no
+#: finite bound it is SHRINK times the last.
+STEP_MIN, STEP_MAX = 0.125, 4.0
+SHRINK = 0.5
+
+
+def _next_try(t0, w, bound, last, good, bad, top, tol):
+    """The next end to try after a fit of width w with ``bound`` (``last``: the
+    previous (width, bound); ``good``: the longest certified fit; ``bad``: the
+    shortest failed end), or None when the bracket is tight enough.  The model is
+    bound ~ width^p with p from the last two fits (P_MIN <= p <= P_MAX,
+    ERROR_POWER without them), aimed at AIM tol, the step kept within STEP_MIN to
+    STEP_MAX times the width and inside the bracket (bisecting it otherwise)."""
+    p = ERROR_POWER
+    if (last is not None and abs(last[0] - w) > SAME_WIDTH * w and last[1] > 0 and bound > 0
+            and math.isfinite(bound) and math.isfinite(last[1])):
+        p = min(P_MAX, max(P_MIN, math.log(bound / last[1]) / math.log(w / last[0])))
+    if not math.isfinite(bound):
+        ratio = SHRINK
+    else:
+        ratio = (AIM * tol / bound) ** (1.0 / p) if bound > 0 else STEP_MAX
+    target = min(top, t0 + w * min(STEP_MAX, max(STEP_MIN, ratio)))
+    lo = good[0] if good is not None else t0
+    hi = bad if bad is not None else top
+    if bad is not None and not lo < target < hi:
+        target = 0.5 * (lo + hi)
+    if good is not None and (target <= lo
+                             or (bad is not None and hi - lo <= BRACKET_REL * (lo - t0))):
+        return None
+    return target
+
+
+#: A try whose sampled distance is below this share of tol is not certified (the
+#: search extends it anyway); the longest such try is certified once the search
+#: would end on it.
+PROVISIONAL = 0.7
+#: The first try of a segment runs to the chain's end when less than this share of
+#: its width would be left; a pass makes at most MAX_TRIES fits.
+REACH_END = 0.3
+MAX_TRIES = 8
+
+
+def _next_segment(chain, t0, start, width, tol, min_width):
+    """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
+    reparam, end point); a generator step of :func:`_search`.  The first try spans
+    ``width``; later ones follow the model bound ~ width^p, p from the last two fits
+    (2 <= p <= 8, 5 at first), bracketed by the longest certified (or provisional:
+    sampled below PROVISIONAL tol, certified only if the search ends on it) and the
+    shortest failed interval."""
+    top = float(chain.k)
+
+    def attempt(t1, need):
+        end = chain.point(t1)
+        (cubic, bound, reparam), = yield [(chain, t0, t1, (start, end), need)]
+        return (t1, cubic, bound, reparam, end)
+
+    t1 = min(top, t0 + width)
+    if top - t1 < REACH_END * (t1 - t0):
+        t1 = top
+    good, bad, last, fit = None, None, None, None
+    for provisional in (PROVISIONAL, 0.0):
+        for _ in range(MAX_TRIES):
+            fit = yield from attempt(t1, 0.0 if t1 == top else provisional)
+            w, bound = t1 - t0, fit[2]
+            if bound <= tol:
+                good = fit if good is None or t1 > good[0] else good
+                if fit[3] is not None and (t1 == top or bound >= ACCEPT * tol):
+                    break
+            else:
+                bad = t1 if bad is None else min(bad, t1)
+            target = _next_try(t0, w, bound, last, good, bad, top, tol)
+            last = (w, bound)
+            if target is None or target - t0 < min_width:
+                break
+            t1 = target
+        if good is None or good[3] is not None:
+            break
+        # the search ends on a provisional try: certify it; where that fails (the
+        # certificate is loose here), search again certifying every try
+        fit = yield from attempt(good[0], 0.0)
+        if fit[2] <= tol:
+            return fit
+        bad, last = good[0], (good[0] - t0, fit[2])
+        t1 = _next_try(t0, good[0] - t0, fit[2], None, None, bad, top, tol) or 0.5 * (t0 + bad)
+        good = None
+    while good is None:
+        # no certified fit yet: halve the shortest failed interval down to min_width
+        t1 = t0 + 0.5 * (bad - t0)
+        if t1 - t0 < min_width:
+            raise ToleranceNotMetError(
+                "cubic export did not reach tol %.3g on a parameter interval of width "
+                "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
+                piece=chain.pieces[min(int(t0), chain.k - 1)], achieved=fit[2])
+        fit = yield from attempt(t1, 0.0)
+        if fit[2] <= tol:
+            good = fit
+        else:
+            bad = t1
+    return good
+
+
+def piece_to_cubics(piece, tol, max_depth=16):
+    """Polynomial cubics within ``tol`` of a (rational) piece, list of (4, 2) arrays.
+
+    Each returned cubic C_k covers the piece's parameter interval [t_k, t_k+1] with
+    ``max_s |R(phi_k(s)) - C_k(s)| <= tol`` for an increasing polynomial
+    reparametrisation phi_k of [0, 1] onto [t_k, t_k+1] (a-priori bound of
+    :func:`cubic_bound`, not sampled; see :func:`cubic_segments`): the Fréchet
+    distance, and so the Hausdorff distance, between the cubics and the piece is
+    <= tol.  The cubics keep the piece's end points exactly and their joins are exact
+    (G1 where the piece is regular: end tangent directions are matched).
+    Polynomial pieces of degree <= 3 are returned exactly (degree-elevated).  tol is
+    absolute, in the piece's units.
+
+    Raises:
+        ValueError: tol not positive and finite, or weights not positive.
+        ToleranceNotMetError: no cubic certifies on a parameter interval narrower
+            than ``2**-max_depth`` (e.g. tol below floating-point resolution of the
+            coordinates); ``.achieved`` holds its bound.
+    """
+    return [seg.cubic for seg in cubic_segments(piece, tol, max_depth)]

@@ -1,0 +1,105 @@
+"""Feature files (``.fea``) of fonts whose glyphs moved: the explicit anchors of
+mark, mark-to-mark, ligature and cursive statements moved like their glyphs'
+anchors (:func:`move_feature_anchors`), only the numbers rewritten in place so
+the text (comments, layout) is kept.  Read with fontTools.feaLib.
+"""
+
+from ..errors import MorphError, ParseError, one_line
+
+__all__ = ["move_feature_anchors"]
+
+
+def move_feature_anchors(text, glyph_names, offset_of):
+    """Feature-file text with its explicit anchors moved like their glyphs' anchors.
+
+    ``offset_of(glyph_name)`` gives the ``(dx, dy)`` by which that glyph's anchors
+    moved (None: unchanged).  Every ``<anchor x y>`` of a mark class definition
+    (``markClass``), a mark-to-base / ligature / mark-to-mark or cursive statement is
+    moved by the offset of the statement's glyphs (the marks of a ``markClass``, the
+    bases of a ``pos base`` ...); only the numbers are rewritten, the rest of the text
+    (comments, layout) is kept.  Anchors in included files are not moved.
+
+    Raises:
+        ParseError: the text does not parse (fontTools.feaLib; ``.source`` is the text).
+        MorphError: one statement's glyphs moved by different offsets.
+    """
+    import io
+
+    from fontTools.feaLib.parser import Parser
+
+    try:
+        doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
+    except Exception as exc:  # feaLib's FeatureLibError and include errors
+        raise ParseError("cannot parse the features: %s" % one_line(exc), text) from exc
+    moves = []
+    for anchor, glyph_set in _statement_anchors(doc.statements):
+        offset = _common_offset(anchor, glyph_set, offset_of)
+        if offset is not None:
+            moves.append((anchor, offset))
+    return _rewrite_anchors(text, moves)
+
+
+def _statement_anchors(statements):
+    """(anchor, glyph set it belongs to) of every anchor in feaLib statements, blocks
+    included: mark classes (the marks), mark-to-base / -mark / -ligature (the bases),
+    cursive entry and exit (the glyphs)."""
+    from fontTools.feaLib import ast
+
+    for st in statements:
+        if isinstance(st, ast.MarkClassDefinition):
+            yield st.anchor, st.glyphSet()
+        elif isinstance(st, ast.MarkBasePosStatement):
+            yield from ((anchor, st.base.glyphSet()) for anchor, _ in st.marks)
+        elif isinstance(st, ast.MarkMarkPosStatement):
+            yield from ((anchor, st.baseMarks.glyphSet()) for anchor, _ in st.marks)
+        elif isinstance(st, ast.MarkLigPosStatement):
+            yield from ((anchor, st.ligatures.glyphSet())
+                        for component in st.marks for anchor, _ in component)
+        elif isinstance(st, ast.CursivePosStatement):
+            yield st.entryAnchor, st.glyphclass.glyphSet()
+            yield st.exitAnchor, st.glyphclass.glyphSet()
+        if hasattr(st, "statements"):
+            yield from _statement_anchors(st.statements)
+
+
+def _common_offset(anchor, glyph_set, offset_of):
+    """The one offset by which the glyphs of an anchor moved (None: not moved, or a
+    null anchor).  Raises MorphError when they moved by different offsets."""
+    if anchor is None or anchor.x is None:
+        return None
+    offsets = {offset_of(g) for g in glyph_set} - {None}
+    if len(offsets) > 1:
+        raise MorphError("anchor at line %d: its glyphs %s moved by different offsets"
+                         % (anchor.location.line, ", ".join(sorted(glyph_set))))
+    return offsets.pop() if offsets else None
+
+
+def _rewrite_anchors(text, moves):
+    """The feature text with the numbers of each ``anchor x y`` in ``moves`` (anchor,
+    (dx, dy)) rewritten in place; anchors of included files are left alone.
+
+    Raises:
+        MorphError: an anchor not found where feaLib located it.
+    """
+    import re
+
+    lines = text.split("\n")
+    number = r"(-?\d+(?:\.\d+)?)"
+    pattern = re.compile(r"anchor\s+" + number + r"\s+" + number)
+    # later positions first, so earlier columns stay valid
+    for anchor, (dx, dy) in sorted(moves, key=lambda m: (m[0].location.line,
+                                                        m[0].location.column), reverse=True):
+        loc = anchor.location
+        if loc.file != "<features>":
+            continue
+        line = lines[loc.line - 1]
+        m = pattern.match(line, loc.column - 1)
+        if m is None:
+            raise MorphError("cannot find the anchor of line %d in the features" % loc.line)
+        new = "anchor %s %s" % (_fea_number(anchor.x + dx), _fea_number(anchor.y + dy))
+        lines[loc.line - 1] = line[:m.start()] + new + line[m.end():]
+    return "\n".join(lines)
+
+
+def _fea_number(v):
+    return str(int(round(v)))

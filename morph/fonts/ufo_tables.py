@@ -1,0 +1,79 @@
+"""UFO-side tables of a font written from a UFO source (``morph stroke``): the font
+info renamed (:func:`rename_ufo_family`), the OS/2 win metrics grown to cover the
+new outlines (:func:`widen_extent`, :func:`grow_win_metrics`), an in-memory copy of
+the source (:func:`copy_font`).  The compiled-font (``TTFont``) counterparts are in
+:mod:`morph.fonts.tables`.
+"""
+
+import re
+
+import numpy as np
+
+from ..region import region_bbox
+
+__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "widen_extent", "grow_win_metrics"]
+
+#: font info that named or hinted the skeleton's outlines: dropped from the new font
+DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
+              "postscriptFamilyOtherBlues", "postscriptStemSnapH", "postscriptStemSnapV",
+              "postscriptBlueFuzz", "postscriptBlueShift", "postscriptBlueScale",
+              "postscriptForceBold", "openTypeNameUniqueID", "postscriptUniqueID",
+              "postscriptFullName", "openTypeNameCompatibleFullName", "macintoshFONDName",
+              "openTypeNameWWSFamilyName", "openTypeNameWWSSubfamilyName")
+
+
+def rename_ufo_family(info, family):
+    """The UFO font info renamed to ``family``: family names (and the style-map and
+    typographic family where the source had them) and a PostScript name
+    "Family-Style"; the values that named or hinted the old outlines
+    (:data:`DROP_INFO`: unique IDs, full names, blue zones and stems) dropped."""
+    style = info.styleName or "Regular"
+    ps = re.sub(r"[^A-Za-z0-9-]", "", family.replace(" ", "")) + "-" + \
+        re.sub(r"[^A-Za-z0-9]", "", style)
+    info.familyName = family
+    if info.styleMapFamilyName:
+        info.styleMapFamilyName = family
+    if info.openTypeNamePreferredFamilyName:
+        info.openTypeNamePreferredFamilyName = family
+    info.postscriptFontName = ps
+    for key in DROP_INFO:
+        if getattr(info, key, None) is not None:
+            setattr(info, key, None)
+
+
+def copy_font(font):
+    """A full in-memory copy of a ufoLib2 font (the source is never modified)."""
+    import copy
+
+    font.unlazify()
+    return copy.deepcopy(font)
+
+
+def widen_extent(extent, loops):
+    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
+    region (:func:`morph.region.region_bbox`).  The control points bound the region
+    (positive weights: convex hull), so the tight box is computed only when they
+    reach past the extreme found so far: the result is the tight range of all
+    regions, at the cost of a few tight boxes."""
+    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
+    if not pts:
+        return
+    pts = np.concatenate(pts)
+    bottom, top = extent
+    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
+        box = region_bbox(loops)
+        extent[0] = box[1] if bottom is None else min(bottom, box[1])
+        extent[1] = box[3] if top is None else max(top, box[3])
+
+
+def grow_win_metrics(font, bottom, top):
+    """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
+    ``bottom`` and ``top`` are their tight extent (:func:`widen_extent`; None:
+    nothing stroked)."""
+    if top is None:
+        return
+    info = font.info
+    if info.openTypeOS2WinAscent is not None:
+        info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
+    if info.openTypeOS2WinDescent is not None:
+        info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-bottom)))

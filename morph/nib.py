@@ -1,0 +1,76 @@
+"""Nibs: the convex pens of brushed and stroked shapes (paper Fig. 5), in the
+geometry layer, where :func:`morph.stroke.stroke_paths` and the font writers both
+find them.
+
+A nib is a region of one convex loop with the pen point at the origin, swept
+without rotation.  :func:`ellipse_nib` makes an exact ellipse;
+:func:`check_convex_nib` refuses anything else (NibError); :func:`nib_is_symmetric`
+tells a centrally symmetric nib (N = -N), for which a half-turned component of a
+glyph may stay a component; :func:`region_extent` is a nib's (any region's) box.
+"""
+
+import numpy as np
+
+from . import piece as pc
+from .errors import NibError
+
+__all__ = ["ellipse_nib", "check_convex_nib", "nib_is_symmetric", "region_extent"]
+
+
+def ellipse_nib(width, height, angle_deg=0.0):
+    """Exact elliptical nib: width x height (font units), rotated by angle (degrees).
+
+    Raises:
+        NibError: width or height not positive (``.nib`` = the three arguments).
+    """
+    if not (width > 0 and height > 0):
+        raise NibError("nib width and height must be positive, got %g x %g"
+                       % (width, height), (width, height, angle_deg))
+    return [pc.ellipse((0.0, 0.0), width / 2.0, height / 2.0, np.radians(angle_deg))]
+
+
+def check_convex_nib(nib):
+    """Check that the nib is a single convex loop (its Gauss map turns monotonically
+    through 2 pi).
+
+    Raises:
+        NibError: not one loop, or not convex (``.nib`` = the region).
+    """
+    from .gauss import TURN_EPS, gauss_map, turns_convex
+
+    if len(nib) != 1:
+        raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
+    edges = gauss_map(nib[0])
+    if turns_convex(edges):
+        return
+    bad = [e for e in edges if e.sweep < -TURN_EPS]
+    if bad:
+        raise NibError("the nib is not convex: it turns clockwise at %s (only convex "
+                       "nibs are supported)" % (np.round(bad[0].point, 3).tolist(),), nib)
+    raise NibError("the nib is not convex (total turning %.3f rad)"
+                   % sum(e.sweep for e in edges), nib)
+
+
+def region_extent(loops):
+    """Exact bounding box of a region (xmin, ymin, xmax, ymax)."""
+    from .region import region_bbox
+
+    return tuple(float(v) for v in region_bbox(loops))
+
+
+def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
+    """True when the nib is centrally symmetric about the origin (N = -N).
+
+    Checked on the support function h(u) = max_{x in N} x.u: h(u) = h(-u) for
+    ``directions`` unit vectors within ``rel`` times the nib's size, on the nib's
+    boundary flattened within that tolerance (a sampled check).  An ellipse from
+    :func:`ellipse_nib` is symmetric.
+    """
+    x0, y0, x1, y1 = region_extent(nib_region)
+    size = max(x1 - x0, y1 - y0)
+    eps = rel * size
+    pts = np.concatenate([pc.flatten(p, eps)[0] for loop in nib_region for p in loop])
+    ang = np.linspace(0.0, np.pi, directions, endpoint=False)
+    u = np.column_stack([np.cos(ang), np.sin(ang)])
+    d = pts @ u.T
+    return bool(np.all(np.abs(d.max(axis=0) + d.min(axis=0)) <= 4 * eps))

@@ -1,0 +1,371 @@
+"""morph.fonts.variable: variable calligraphic fonts with a nib axis, end to end.
+
+A small variable font is built from the Relief subset and every master and instance
+(instanced by fontTools.varLib.instancer from the compiled font) is compared with the
+exact sum skeleton ⊕ nib computed independently (Clipper on finely flattened inputs,
+tests/oracles/varfont.py)."""
+
+import logging
+
+import numpy as np
+import pytest
+
+from morph.compatible import Ellipse, interpolation_error
+from morph.fonts.variable import (BLEND_SHARE, axis_masters, nib_axis, stroke_variable,
+                                  variable_outputs)
+from tests import RELIEF_SUBSET
+from tests.oracles.varfont import (clipper_stroke, glyph_polygons, skeleton_polylines,
+                                     within)
+
+TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
+ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
+SLACK = 0.05                # flattening and Clipper's integer grid in the reference
+NIBS = ((40, 10, 30), (120, 30, 30))
+GLYPHS = ["a", "s", "period", "eacute"]
+
+
+def test_axis_tag_and_masters():
+    axis = nib_axis(*NIBS)
+    assert (axis.tag, axis.minimum, axis.maximum) == ("NIBW", 40.0, 120.0)
+    assert axis.nib_at(80) == Ellipse(80, 20, 30)
+    assert axis_masters(axis, 0.2) == [40.0, 120.0]     # a uniform scale: exact
+    turned = nib_axis((80, 20, 0), (80, 20, 60))
+    assert turned.tag == "NIBP" and (turned.minimum, turned.maximum) == (0.0, 100.0)
+    values = axis_masters(turned, 0.2)
+    assert len(values) > 8
+    nibs = [turned.nib_at(v) for v in values]
+    assert all(interpolation_error(a, b) <= 0.2 for a, b in zip(nibs[:-1], nibs[1:]))
+    with pytest.raises(ValueError):
+        nib_axis((40, 10, 30), (40, 10, 30))
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, skeleton):
+    for name in ("ufo2ft", "fontTools"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    out = tmp_path_factory.mktemp("var") / "Nib.ttf"
+    stats = stroke_variable(skeleton, out, *NIBS, glyphs=GLYPHS, tol=TOL)
+    return out, stats
+
+
+def _reference(skeleton, name, nib, shift):
+    from morph.parse.ufo import decomposed_paths
+
+    polys = clipper_stroke(skeleton_polylines(decomposed_paths(skeleton, name)), tuple(nib))
+    return [p + np.array([shift, 0.0]) for p in polys]
+
+
+def _instance(path, value):
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    return instancer.instantiateVariableFont(TTFont(str(path)), {"NIBW": value}).getGlyphSet()
+
+
+def test_outputs_and_compatibility(built):
+    from fontTools.designspaceLib import DesignSpaceDocument
+    from fontTools.ttLib import TTFont
+
+    out, stats = built
+    ds_path, masters_dir = variable_outputs(out)
+    assert stats["designspace"] == ds_path and ds_path.is_file() and masters_dir.is_dir()
+    doc = DesignSpaceDocument.fromfile(str(ds_path))
+    assert [a.tag for a in doc.axes] == ["NIBW"] and len(doc.sources) == 2
+    assert all(s.path and (ds_path.parent / s.filename).is_dir() for s in doc.sources)
+    font = TTFont(str(out))
+    assert "gvar" in font and "HVAR" in font and "STAT" in font
+    assert [a.axisTag for a in font["fvar"].axes] == ["NIBW"]
+    glyf = font["glyf"]
+    for name in ("a", "s", "period"):               # overlapping contours: flags set
+        assert glyf[name].flags[0] & 0x40
+    assert glyf["eacute"].isComposite() and glyf["eacute"].components[0].flags & 0x400
+    # the same structure in every master: contours and points
+    m0, m1 = stats["sources"]
+    for name in ("a", "s", "period"):
+        assert [len(c) for c in m0[name].contours] == [len(c) for c in m1[name].contours]
+    # advances grow with the nib
+    ots = pytest.importorskip("ots")
+    r = ots.sanitize(str(out), capture_output=True)
+    assert r.returncode == 0, r.stderr
+    grow = [round(2 * Ellipse(*n).extent()[2]) for n in NIBS]
+    assert m1["a"].width - m0["a"].width == grow[1] - grow[0] == 70
+
+
+def test_masters_and_instances_within_bound(built, skeleton):
+    """At the masters within tol + one rounding; at 9 positions and random ones,
+    instanced from the compiled font, within tol + two roundings of the exact sum
+    with the nib the axis defines there (shifted as the masters' shifts interpolate)."""
+    out, stats = built
+    axis = stats["axis"]
+    values = stats["values"]
+    rng = np.random.default_rng(35)
+    spots = [(v, TOL + ROUND) for v in values] + \
+        [(v, TOL + 2 * ROUND) for v in list(np.linspace(40, 120, 9)) + list(rng.uniform(40, 120, 2))]
+    for k, (v, bound) in enumerate(spots):
+        glyphs = _instance(out, v)
+        nib = axis.nib_at(v)
+        shift = float(np.interp(v, values, [axis.nib_at(x).extent()[2] for x in values]))
+        for name in ("period", "s", "a")[:1 + (k % 3 == 0) + (k % 4 == 0)]:
+            filled = glyph_polygons(glyphs, name)
+            assert within(filled, _reference(skeleton, name, nib, shift), bound + SLACK,
+                          strict=True), (name, v)
+    # the check can fail: the instance at 80 against the sum with a nib 2 bounds wider
+    glyphs = _instance(out, 80.0)
+    bound = TOL + 2 * ROUND + SLACK
+    wide = Ellipse(80 + 4 * bound, 20, 30)
+    assert not within(glyph_polygons(glyphs, "s"), _reference(skeleton, "s", wide, 35.0),
+                      bound, strict=True)
+
+
+def test_cff2_output(tmp_path, skeleton):
+    from fontTools.ttLib import TTFont
+
+    out = tmp_path / "Nib.otf"
+    stats = stroke_variable(skeleton, out, *NIBS, glyphs=["s"], tol=TOL)
+    font = TTFont(str(out))
+    assert "CFF2" in font and "glyf" not in font
+    axis = stats["axis"]
+    nib = axis.nib_at(80.0)
+    assert within(glyph_polygons(_instance(out, 80.0), "s"),
+                  _reference(skeleton, "s", nib, 35.0), TOL + 2 * ROUND + SLACK, strict=True)
+
+
+def test_existing_outputs_need_overwrite(built, skeleton):
+    from morph.errors import MorphError
+
+    out, _ = built
+    with pytest.raises(MorphError, match="exists"):
+        stroke_variable(skeleton, out, *NIBS, glyphs=["s"], tol=TOL)
+
+
+def test_turning_nib_gets_intermediate_masters(tmp_path, skeleton):
+    """A nib that turns as it grows does not interpolate: intermediate masters are
+    added (each interval's blend within its share), and instances between them are
+    within the same bound as on a uniform-scale axis."""
+    nibs = ((40, 10, 30), (120, 30, 45))
+    out = tmp_path / "Turn.ttf"
+    stats = stroke_variable(skeleton, out, *nibs, glyphs=["s"], tol=TOL)
+    values, axis = stats["values"], stats["axis"]
+    assert len(values) > 2
+    assert all(interpolation_error(axis.nib_at(a), axis.nib_at(b)) <= BLEND_SHARE * TOL
+               for a, b in zip(values[:-1], values[1:]))
+    shifts = [axis.nib_at(x).extent()[2] for x in values]
+    for v in np.linspace(40, 120, 9)[1:-1:2]:
+        v = float(v) + 1.3                      # between masters
+        shift = float(np.interp(v, values, shifts))
+        ref = _reference(skeleton, "s", axis.nib_at(v), shift)
+        assert within(glyph_polygons(_instance(out, v), "s"), ref, TOL + 2 * ROUND + SLACK,
+                      strict=True), v
+    # with the two end masters only, the blend misses the turned nib by more
+    ends = [axis.nib_at(values[0]), axis.nib_at(values[-1])]
+    assert interpolation_error(*ends) > 4 * (TOL + 2 * ROUND)
+
+
+def _skeleton_reference(skeleton, name, u, nib, slant=0.15, widen=0.25):
+    """The exact sum at the designspace location u of skeleton_designspace: its
+    own interpolation is the map x' = (1 + u widen) x + u slant y."""
+    from morph.parse.ufo import decomposed_paths
+
+    m = np.array([[1 + widen * u, slant * u], [0.0, 1.0]])
+    lines = [p @ m.T for p in skeleton_polylines(decomposed_paths(skeleton, name))]
+    return [p + np.array([nib.extent()[2], 0.0])
+            for p in clipper_stroke(lines, tuple(nib))]
+
+
+def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
+    """Two skeleton masters x two nib masters: axes and instances kept, every
+    corner and inner location within tol + two roundings of the exact sum (the
+    skeleton interpolated by its own rule, the nib by the axis)."""
+    from fontTools.designspaceLib import DesignSpaceDocument
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from tests.oracles.varfont import skeleton_designspace
+
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
+    out = tmp_path / "Family.ttf"
+    stats = stroke_variable(ds, out, *NIBS, tol=TOL)
+    assert len(stats["masters"]) == 4
+    doc = DesignSpaceDocument.fromfile(str(stats["designspace"]))
+    assert [a.tag for a in doc.axes] == ["wdth", "NIBW"]
+    assert "SemiWide" in [i.styleName for i in doc.instances]
+    font = TTFont(str(out))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wdth", "NIBW"]
+    for u, w in ((0.0, 120.0), (1.0, 40.0), (0.5, 80.0), (0.3, 110.0), (0.9, 55.0)):
+        glyphs = instancer.instantiateVariableFont(font, {"wdth": 100 + 25 * u, "NIBW": w},
+                                                   ).getGlyphSet()
+        nib = Ellipse(w, w / 4, 30)
+        for name in ("s", "period"):
+            ref = _skeleton_reference(skeleton, name, u, nib)
+            assert within(glyph_polygons(glyphs, name), ref, TOL + 2 * ROUND + SLACK,
+                          strict=True), (u, w, name)
+
+
+def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
+    import ufoLib2
+
+    from morph.cli import main
+    from morph.compatible import IncompatibleMasters
+    from tests.oracles.varfont import skeleton_designspace
+
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
+    wide = ufoLib2.Font.open(str(tmp_path / "Skel-Wide.ufo"))
+    pts = wide["s"].contours[0].points
+    del pts[-3:]                                    # one curve fewer
+    wide.save(str(tmp_path / "Skel-Wide.ufo"), overwrite=True)
+    with pytest.raises(IncompatibleMasters, match=r"glyph 's'.*Skel-Wide\.ufo"):
+        stroke_variable(ds, tmp_path / "x.ttf", (80, 20, 30), tol=TOL)
+    result = runner.invoke(main, ["stroke", str(ds), "-o", str(tmp_path / "y.ttf")])
+    assert result.exit_code == 2, result.output
+    line = result.output.strip()
+    assert "glyph 's'" in line and "Skel-Wide.ufo" in line and len(line.splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_specimen_sliders_in_chromium(tmp_path, runner):
+    """The specimen's slider position (set by the page address) reaches the browser's
+    rendering: screenshots at the two ends of the nib axis differ, and each matches
+    Pillow's rendering (FreeType) of the font at that location."""
+    import shutil
+    import subprocess
+
+    from PIL import Image, ImageDraw, ImageFont
+
+    from morph.cli import main
+    from morph.fonts.specimen import SAMPLE_MARGIN, SAMPLE_POS, SAMPLE_PX
+    from tests.fonts.test_specimen import _ink
+
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if browser is None:
+        pytest.skip("no Chromium installed (apt-get install chromium) to open the specimen")
+    text = "Hamburg"
+    out = tmp_path / "Spec.ttf"
+    r = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), *sum(
+        (["--nib", "ellipse:%g,%g,%g" % NIBS[0]], ["--vary-nib", "ellipse:%g,%g,%g" % NIBS[1]]),
+        []), "--glyphs", "H,a,m,b,u,r,g", "--sample", text, "--jobs", "1"])
+    assert r.exit_code == 0, r.output
+    page = out.with_name(out.name + ".html")
+    assert 'type="range" name="NIBW"' in page.read_text()
+    inks = {}
+    for value in (40, 120):
+        shot = tmp_path / ("shot%d.png" % value)
+        cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+               "--disable-background-networking", "--disable-component-update",
+               "--disable-sync", "--user-data-dir=%s" % (tmp_path / ("profile%d" % value)),
+               "--hide-scrollbars", "--force-device-scale-factor=1", "--window-size=1200,400",
+               "--screenshot=%s" % shot, page.as_uri() + "#NIBW=%d" % value]
+        subprocess.run(cmd, capture_output=True, timeout=120, check=False)
+        assert shot.exists(), "Chromium wrote no screenshot"
+        line = Image.open(shot).crop((0, 0, 1200, SAMPLE_POS[1] + SAMPLE_PX + SAMPLE_MARGIN - 4))
+        inks[value] = _ink(line)
+    for value in (40, 120):
+        fnt = ImageFont.truetype(str(out), SAMPLE_PX)
+        fnt.set_variation_by_axes([value])
+        img = Image.new("L", (SAMPLE_PX * len(text) * 2, SAMPLE_PX * 3), 255)
+        ImageDraw.Draw(img).text((SAMPLE_PX // 2, SAMPLE_PX // 2), text, font=fnt, fill=0)
+        pillow = _ink(img)
+        other = inks[160 - value]
+        same, crossed = _near(inks[value], pillow), _near(other, pillow)
+        assert same >= 0.97, (value, same, crossed)             # within 2 px
+        assert crossed < same - 0.1, (value, same, crossed)     # the two positions differ
+        assert abs(inks[value].shape[1] - pillow.shape[1]) <= 3
+
+
+def _near(a, b, px=2):
+    """The share of the ink of each mask within ``px`` pixels of the other's ink (the
+    smaller of the two): anti-aliased hairlines differ by a pixel between renderers."""
+    pytest.importorskip("scipy")
+    from scipy.ndimage import binary_dilation
+
+    h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
+    pa, pb = np.zeros((h, w), bool), np.zeros((h, w), bool)
+    pa[:a.shape[0], :a.shape[1]] = a
+    pb[:b.shape[0], :b.shape[1]] = b
+    grow = np.ones((2 * px + 1, 2 * px + 1), bool)
+    return min((pa & binary_dilation(pb, grow)).sum() / pa.sum(),
+               (pb & binary_dilation(pa, grow)).sum() / pb.sum())
+
+
+#: fontbakery's opentype/fvar/regular_coords_correct FAILs every variable font whose
+#: axes are all private ("Regular" instance not present: it reads the Regular
+#: instance's wght, wdth, slnt, ital or opsz coordinate only); a nib axis is private
+PRIVATE_AXES_ONLY = {("<FontBakeryCheck:opentype/fvar/regular_coords_correct>", "FAIL")}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("suffix", [".ttf", ".otf"])
+def test_fontbakery_adds_no_fail(tmp_path, skeleton, suffix):
+    """check-universal on the variable font has no FAIL that the skeleton compiled as
+    it is (ufo2ft) lacks, but the one fontbakery gives every private-axes-only font;
+    a skeleton designspace (registered wdth) has none at all."""
+    import ufo2ft
+
+    from tests.fonts.test_brush import _fontbakery
+    from tests.oracles.varfont import skeleton_designspace
+
+    pytest.importorskip("fontbakery")
+    for name in ("ufo2ft", "fontTools"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    source = tmp_path / ("Skeleton" + suffix)
+    (ufo2ft.compileOTF if suffix == ".otf" else ufo2ft.compileTTF)(skeleton).save(str(source))
+    out = tmp_path / ("Nib" + suffix)
+    stroke_variable(skeleton, out, *NIBS, tol=TOL)
+    fails = {k for k in _fontbakery(out) - _fontbakery(source) if k[1] != "WARN"}
+    assert fails <= PRIVATE_AXES_ONLY, sorted(fails)
+    if suffix == ".ttf":
+        ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, list(skeleton.keys()))
+        fam = tmp_path / "Family.ttf"
+        # the default family "Relief SingleLine Stroke" plus "SemiWide" would pass
+        # fontbakery's 31 characters: a shorter family, as --family gives
+        stroke_variable(ds, fam, (60, 15, 30), tol=TOL, family_name="Relief Stroke")
+        fails = {k for k in _fontbakery(fam) - _fontbakery(source) if k[1] != "WARN"}
+        assert not fails, sorted(fails)
+
+
+def _serif():
+    pkg = pytest.importorskip("fontpkg_source_serif_4")
+    from pathlib import Path
+
+    return Path(pkg.__file__).parent / "files" / "SourceSerif4[opsz,wght].ttf"
+
+
+@pytest.mark.slow
+def test_brush_variable_keeps_every_axis(tmp_path):
+    """Source Serif 4 (wght, opsz; 9 masters, brushed with the grid refined once: 25)
+    keeping its axes: masters and instances between them within tol + two roundings
+    of the source's own instance there ⊕ the nib (Clipper, tests/oracles/varfont.py);
+    with the source's 9 masters only, an instance between them is not."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.fonts.variable import brush_variable
+    from tests.oracles.varfont import clipper_region_sum
+
+    src = _serif()
+    out = tmp_path / "SerifBrush.ttf"
+    nib = (60, 15, 30)
+    stats = brush_variable(src, out, nib, glyphs=["o", "e"], tol=TOL)
+    assert len(stats["masters"]) == 25 and stats["glyphs"] == 2
+    font, source = TTFont(str(out)), TTFont(str(src))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wght", "opsz"]
+    assert font["glyf"]["o"].flags[0] & 0x40
+    ots = pytest.importorskip("ots")
+    assert ots.sanitize(str(out), capture_output=True).returncode == 0
+    shift = Ellipse(*nib).extent()[2]
+    for loc in ({"wght": 900, "opsz": 60}, {"wght": 200, "opsz": 20},
+                {"wght": 650, "opsz": 30}, {"wght": 330, "opsz": 11}):
+        got = instancer.instantiateVariableFont(font, loc).getGlyphSet()
+        exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
+        for name in ("o", "e"):
+            ref = [p + np.array([shift, 0.0])
+                   for p in clipper_region_sum(glyph_polygons(exact, name), nib)]
+            assert within(glyph_polygons(got, name), ref, TOL + 2 * ROUND + SLACK,
+                          strict=True), (loc, name)
+    coarse = tmp_path / "Coarse.ttf"
+    brush_variable(src, coarse, nib, glyphs=["e"], tol=TOL, split=0)
+    loc = {"wght": 300, "opsz": 12}
+    got = instancer.instantiateVariableFont(TTFont(str(coarse)), loc).getGlyphSet()
+    exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
+    ref = [p + np.array([shift, 0.0])
+           for p in clipper_region_sum(glyph_polygons(exact, "e"), nib)]
+    assert not within(glyph_polygons(got, "e"), ref, TOL + 2 * ROUND + SLACK, strict=True)
