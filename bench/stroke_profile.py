@@ -18,7 +18,7 @@ A timer costs about a microsecond a call, far below the phases' times.
 
 The timers only wrap functions (every module attribute that is the function, so
 ``from .x import f`` call sites are timed too; names that a version of the code
-lacks are skipped); no code of morph is changed.
+lacks, and modules it lacks, are skipped); no code of morph is changed.
 Runs (``--runs``, comma separated ``command:set``):
 
 - ``stroke:relief``: the whole Relief SingleLine UFO (``relief-singleline`` in the
@@ -138,7 +138,10 @@ def install(clock):
     for phase, targets in PHASES:
         for target in targets:
             modname, qual = target.split(":")
-            mod = importlib.import_module(modname)
+            try:
+                mod = importlib.import_module(modname)
+            except ImportError:  # a module of another version of the code
+                continue
             owner = mod
             *path, attr = qual.split(".")
             for p in path:
