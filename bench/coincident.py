@@ -25,10 +25,10 @@ BLOB = [(20, 50), (20, 20), (45, 12), (60, 15), (85, 20), (90, 40), (85, 60), (8
         (50, 92), (35, 80), (20, 70), (20, 60), (20, 50)]
 BLOB_AREA = 3824.5
 
-SCRIPT = ("import sys\nfrom morph.parse import svg_region\nfrom morph import piece as pc\n"
+SCRIPT = ("import sys\nfrom morph.parse import svg_region\nfrom morph import moments as mo\n"
           "from morph.errors import ParseError\n"
           "try:\n    r = svg_region(open(sys.argv[1]).read())\n"
-          "    print(len(r), pc.region_area(r))\n"
+          "    print(len(r), mo.region_area(r))\n"
           "except ParseError:\n    print(0, 0.0)\n")
 
 

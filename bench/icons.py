@@ -73,6 +73,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from morph import moments as mo  # noqa: E402 - after sys.path gets the repo root
 from tests.oracles.icons import (  # noqa: E402 - after sys.path gets the repo root
     GAP, OPS, check_filled, check_op, icon_size, load_case, save_case)
 
@@ -167,7 +168,7 @@ def reduce_case(region, op, s, timeout, log=print):
             continue
         x0, y0, x1, y1 = region_bbox([region[i]])
         corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-        if pc.loop_area(region[i]) < 0:
+        if mo.loop_area(region[i]) < 0:
             corners = corners[::-1]
         box = [pc.line(corners[k], corners[(k + 1) % 4]) for k in range(4)]
         trial = region[:i] + [box] + region[i + 1:]

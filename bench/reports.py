@@ -111,7 +111,8 @@ REPORTS = [
            quick=["--per-set", "2", "--timeout", "60", "--jobs", "1", "-o", "{md}"],
            cost="5-10 min, icon packages fetched with npm", snapshot=True,
            needs=("shapely",)),
-    Report("varfont", "bench.varfont", ["--out", "{md}"],
+    Report("varfont", "bench.varfont", ["--skeleton", "none", "--measure",
+                                        "a,e,g,k,o,s,y,period,H,O,S,eacute", "--out", "{md}"],
            quick=["--skeleton", "none", "--positions", "2", "--random", "0",
                   "--no-fontforge", "--glyphs", "a,s,period", "--out", "{md}"],
            cost="10-20 min", snapshot=True, needs=("scipy",)),
@@ -199,7 +200,7 @@ def check_coincident():
     report's columns."""
     from bench import coincident as C
     from bench.mdtable import cell, tables
-    from morph import piece as pc
+    from morph import moments as mo
     from morph.errors import ParseError
     from morph.parse import svg_region
 
@@ -216,7 +217,7 @@ def check_coincident():
             r = []
         out.append(("coincident.md %s: loops" % name, cell(table, name, "loops"), str(len(r))))
         out.append(("coincident.md %s: area" % name, cell(table, name, "area"),
-                    "%.4f" % (pc.region_area(r) if r else 0.0)))
+                    "%.4f" % (mo.region_area(r) if r else 0.0)))
     return out
 
 

@@ -298,12 +298,6 @@ def _half_matrices(n):
     return left, right
 
 
-def halves_many(c):
-    """de Casteljau at 1/2 of a stack c (k, n+1, ...): (left, right)."""
-    lmat, rmat = _half_matrices(c.shape[1] - 1)
-    return _apply(lmat, c), _apply(rmat, c)
-
-
 def _apply(mat, c):
     """mat applied along axis 1 of a stack c (k, n+1, ...)."""
     c = np.asarray(c, float)
@@ -411,12 +405,6 @@ def _to_power_matrix(n):
         for j in range(n - i + 1):
             m[i + j, i] += bn[i] * bni[j] * (-1) ** j
     return m
-
-
-def to_power(c):
-    """Power-basis coefficients (ascending) of a Bernstein polynomial."""
-    c = np.asarray(c, float)
-    return np.tensordot(_to_power_matrix(len(c) - 1), c, axes=(1, 0))
 
 
 def reduce_exact(c, r=1):

@@ -379,25 +379,6 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
 
 # ------------------------------------------------------------------ whole loops
 
-def convolve_loops(edges_a, edges_b, tol, keep_type3=False, source=(0, 0), method="qac",
-                   pairs=None):
-    """All convolution pieces of two loops' Gauss maps, oriented and typed.
-
-    ``pairs``: the result of ``compatible_pairs(edges_a, edges_b)`` if known (it
-    depends on the angles only).
-    """
-    ta, tb = _EdgeTable([edges_a]), _EdgeTable([edges_b])
-    if pairs is None:
-        table = _pair_table(ta, tb)
-    else:
-        table = tuple(np.array([p[c] for p in pairs], float if c >= 2 else int)
-                      for c in range(5))
-    conv = _convolve_all(ta, tb, table, tol, keep_type3, method)
-    for c in conv:
-        c.source = (source[0], c.source[1], source[1], c.source[3])
-    return conv
-
-
 def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
     """ConvPieces of the pairs of a pair table (those of ``rows`` only, when given),
     typed (Fig. 20), in its order.  tol: one number, or one per row of the table."""

@@ -21,12 +21,15 @@ class MorphError(Exception):
 class ParseError(MorphError):
     """Input (font, glyph, SVG file or path string) could not be read as a shape.
 
-    ``source`` names the input (file path, glyph, path string) the message is about.
+    ``source`` names the input (file path, glyph, path string) the message is about;
+    ``kind`` what is wrong, for a caller's advice (e.g. "stroke": it draws only
+    stroke paint, centre lines).
     """
 
-    def __init__(self, message, source=None):
+    def __init__(self, message, source=None, kind=None):
         super().__init__(message)
         self.source = source
+        self.kind = kind
 
 
 class DegenerateCurveError(MorphError):
@@ -79,13 +82,13 @@ class NibError(MorphError, ValueError):
 class OperandError(MorphError, ValueError):
     """An operand of a sum that is no region: not a list of closed loops of (n+1, 3)
     pieces with positive weights, a negative area, a loop winding the wrong way
-    (:func:`morph.minkowski.check_operand`).  Bad input (exit status 2)."""
+    (:func:`morph.operands.check_operand`).  Bad input (exit status 2)."""
 
 
 class SelfCrossingError(OperandError):
     """An operand loop that crosses itself so that it bounds no region: its own
     winding number beside the crossing is neither 0 nor its orientation's sign (a
-    curl undone by a counter-curl, :func:`morph.region.winding_fault`), or its
+    curl undone by a counter-curl, :func:`morph.operands.winding_fault`), or its
     tangent does not turn exactly once (a figure-8, a pentagram, a part of zero
     width crossing the rest of the loop: :func:`morph.convolve.gauss_pair_of`).
     ``loop`` is its index in its operand."""
@@ -109,7 +112,11 @@ class LimitError(MorphError, ValueError):
 class MorphWarning(UserWarning):
     """Input was read, but part of what it draws is left out on purpose (stroke paint
     of an SVG whose fills make the region).  The command line prints it as one line
-    ``morph: warning: ...`` on stderr and goes on."""
+    ``morph: warning: ...`` on stderr and goes on.  ``kind`` as :class:`ParseError`'s."""
+
+    def __init__(self, message, kind=None):
+        super().__init__(message)
+        self.kind = kind
 
 
 def one_line(exc):

@@ -25,8 +25,10 @@ import numpy as np
 
 from . import bernstein as bz
 from . import piece as pc
+from . import moments as mo
+from . import polyline as pl
 from .errors import DegenerateCurveError
-from .polyline import unique, winding_number
+from .polyline import winding_number
 
 TWO_PI = 2.0 * np.pi
 
@@ -59,21 +61,6 @@ class Edge:
     def sign(self):
         """+1 convex, -1 concave, 0 straight (curve) or no turn."""
         return int(np.sign(self.sweep))
-
-
-def _interior(ts, eps=1e-9):
-    ts = np.asarray(ts, float)
-    return unique(ts[(ts > eps) & (ts < 1.0 - eps)])
-
-
-def inflection_params(piece):
-    """Interior parameters where x'y'' - x''y' changes sign (Def. 3.2)."""
-    return _split_params_many([np.asarray(piece, float)], axes=False)[0]
-
-
-def axis_params(piece):
-    """Interior parameters where the hodograph crosses the x or y axis (Sec. 3.2)."""
-    return _split_params_many([np.asarray(piece, float)], inflections=False)[0]
 
 
 def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
@@ -369,7 +356,7 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     for ks, h in groups:
         o = owner[ks]
         h[..., :2] = (h[..., :2] - origin[o][:, None] * h[..., 2:]) / size[o][:, None, None]
-        terms[ks] = pc.area_terms(list(h))      # about the loop's first point
+        terms[ks] = mo.area_terms(list(h))      # about the loop's first point
         h[..., :2] += shift[o][:, None] * h[..., 2:]
         for j, i in enumerate(ks.tolist()):
             moved[i] = h[j]
@@ -401,7 +388,7 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
         hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
         fine[ks[np.unique(piece[hit])]] = True
     f_idx = np.flatnonzero(fine)
-    f_owner, f_t, f_pts = pc.flat_starts([moved[i] for i in f_idx], 0.1 * eps)
+    f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], 0.1 * eps)
     c_idx = np.flatnonzero(~fine)
     piece_of = np.concatenate([f_idx[f_owner], c_idx])
     t = np.concatenate([f_t, np.zeros(len(c_idx))])

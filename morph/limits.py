@@ -44,7 +44,6 @@ __all__ = [
     "MAX_COORDINATE",
     "POINT_BUDGET",
     "REL_TOL_FLOOR",
-    "check_coordinates",
     "check_tolerance",
     "estimate_points",
     "memory_budget_bytes",
@@ -86,11 +85,6 @@ def region_extent(region):
                             else "a coordinate of %.3g" % mag, MAX_COORDINATE))
     return float(np.max(np.ptp(pts, axis=0))), mag
 
-
-def check_coordinates(*regions):
-    """Raise LimitError if a region has NaN/inf or coordinates beyond MAX_COORDINATE."""
-    for r in regions:
-        region_extent(r)
 
 
 def estimate_points(region, tol):

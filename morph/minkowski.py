@@ -12,11 +12,12 @@ from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pai
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
                      TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
+from .operands import check_operand
 from .packing import Packing, control_box
 from .polyline import unique
-from .region import Region, validated, winding_fault
+from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, deepest_point, loop_areas
+from .trim.holes import Membership, deepest_point
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -144,78 +145,6 @@ def _packed_sums(regions_a, region_b, tol, method):
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
-
-
-def check_operand(region, name):
-    """OperandError (a ValueError) unless ``region`` is a list of closed loops (each
-    piece ending where the next starts, within 1e-7 of the size) of pieces, each an (n+1, 3) array
-    (n >= 1) of homogeneous control points with positive weights, whose signed area
-    is not negative
-    (beyond 1e-9 of its control box squared: a centre line traced out and back has
-    area 0), and which pass :func:`morph.region.winding_fault` (skipped for a
-    validated :class:`morph.region.Region`): no part of negative winding, no loop
-    crossing itself with its own winding other than 0 or +-1 there
-    (SelfCrossingError: a figure-8, a curl undone by a counter-curl); outer loops
-    counter-clockwise, holes clockwise, as :func:`morph.region.orient_region`
-    makes them.  Loops turning other than once are also refused by
-    :func:`morph.convolve.gauss_pair_of`."""
-    for loop in region:
-        if not len(loop):
-            raise OperandError("%s has an empty loop" % name)
-        for p in loop:
-            shape = np.shape(p)
-            if len(shape) != 2 or shape[1] != 3 or shape[0] < 2:
-                raise OperandError("%s: a piece is an (n+1, 3) array of homogeneous control "
-                                   "points (w*x, w*y, w), n >= 1; got shape %s" % (name, shape))
-    pieces = [p for loop in region for p in loop]
-    h = np.concatenate(pieces).astype(float, copy=False)
-    if not np.all(np.isfinite(h)):
-        return  # check_tolerance names it
-    if not np.all(h[:, 2] > 0):
-        raise OperandError("%s has a weight <= 0: rational pieces need positive weights"
-                           % name)
-    pts = h[:, :2] / h[:, 2:]
-    starts, ends = pc.end_points(pieces)
-    # the start of the next piece of the same loop, cyclically
-    sizes = np.array([len(loop) for loop in region])
-    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
-    k = np.arange(len(pieces))
-    nxt = np.where(k + 1 - first == np.repeat(sizes, sizes), first, k + 1)
-    with np.errstate(all="ignore"):
-        size = float(np.max(np.ptp(pts, axis=0)))
-        gap = np.hypot(*(starts[nxt] - ends).T)
-        if np.any(gap > 1e-7 * size):
-            j = int(np.argmax(gap))
-            loop = int(np.searchsorted(np.cumsum(sizes), j, side="right"))
-            raise OperandError("%s: loop %d is not closed: piece %d ends %.3g away from "
-                               "where the next starts" % (name, loop, j - first[j], gap[j]))
-        area = float(np.sum(loop_areas(region)))  # the loops' areas in one batch
-    if area < -1e-9 * size * size:
-        raise OperandError("%s has a negative signed area (%.6g): outer loops must run "
-                           "counter-clockwise and holes clockwise "
-                           "(morph.region.orient_region normalises loops)" % (name, area))
-    if not (isinstance(region, Region) and region.validated):
-        _check_windings(region, name)
-
-
-def _check_windings(region, name):
-    """SelfCrossingError or OperandError naming the loop and a point where
-    :func:`morph.region.winding_fault` finds ``region`` bounds no region."""
-    fault = winding_fault(region)
-    if fault is None:
-        return
-    (x, y), w, loop, crossed = fault
-    if crossed:
-        raise SelfCrossingError(
-            "%s: loop %d crosses itself and winds %d times round (%.6g, %.6g), where a "
-            "loop winds 0 times or once; morph.region.orient_region (with on_crossing="
-            "morph.trim.fill_region) makes a region of it" % (name, loop, w, x, y), loop)
-    which = "loop %d is a hole outside the other loops, or reaching out of them: " % loop \
-        if loop is not None else ""
-    raise OperandError("%s: %sthe winding number near (%.6g, %.6g) is %d, where a region's "
-                       "is 0 or more; morph.region.orient_region (with on_crossing="
-                       "morph.trim.fill_region) makes a region of the loops"
-                       % (name, which, x, y, w))
 
 
 def _not_vanished(loops, tol, which=""):

@@ -12,6 +12,7 @@ glyph may stay a component; :func:`region_extent` is a nib's (any region's) box.
 import numpy as np
 
 from . import piece as pc
+from . import polyline as pl
 from .errors import NibError
 
 __all__ = ["ellipse_nib", "check_convex_nib", "nib_is_symmetric", "region_extent"]
@@ -69,7 +70,7 @@ def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
     x0, y0, x1, y1 = region_extent(nib_region)
     size = max(x1 - x0, y1 - y0)
     eps = rel * size
-    pts = np.concatenate([pc.flatten(p, eps)[0] for loop in nib_region for p in loop])
+    pts = np.concatenate([pl.flatten(p, eps)[0] for loop in nib_region for p in loop])
     ang = np.linspace(0.0, np.pi, directions, endpoint=False)
     u = np.column_stack([np.cos(ang), np.sin(ang)])
     d = pts @ u.T

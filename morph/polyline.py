@@ -1,20 +1,174 @@
 """Polylines of pieces and their crossings: a cheap test, all vectorised.
 
-Pieces are flattened to segments (:func:`morph.piece.flatten_many`), the segments
+Pieces are flattened within a tolerance (:func:`flatten_many`), to segments, the segments
 bucketed on a grid (hashing their bounding boxes) and candidate pairs tested with
 orientation predicates.  A low-level module: ``region`` uses it to tell crossing
 loops, the trimming engine to search crossings on polylines.
 """
 
+import functools
+
 import numpy as np
 
+from . import bernstein as bz
 from . import piece as pc
+
+
+# ------------------------------------------------------------------ flattening
+
+def flatten(piece, tol, max_depth=16):
+    """Polyline through the piece within ``tol`` of it, with parameters.
+
+    Returns (points (m, 2), params (m,)); see :func:`flatten_many`.
+    """
+    return flatten_many([piece], tol, max_depth)[0]
+
+
+def flatten_many(pieces, tol, max_depth=16):
+    """Polylines through many pieces, each within ``tol`` of its piece, with their
+    parameters: a list of (points (m, 2), params (m,)), one per piece.
+
+    Each piece is cut into parts until the control polygon of every part lies
+    within tol of its chord (a bound on the curve's distance, by the convex hull
+    property of positive-weight rational Béziers), so the polyline is within tol of
+    the curve.  A part whose polygon is d > tol from its chord is cut into
+    ceil(sqrt(d / tol)) equal parameter steps at once (the distance of a smooth
+    curve's polygon falls with the square of the step) and checked again.  Parts
+    are never narrower than 2^-max_depth in parameter; at that width they are
+    accepted as they are.  Pieces of one degree are processed together.
+    """
+    owner, ts, starts = flat_starts(pieces, tol, max_depth)
+    bounds = np.searchsorted(owner, np.arange(len(pieces) + 1))
+    out = []
+    for k, p in enumerate(pieces):
+        a, b = bounds[k], bounds[k + 1]
+        out.append((np.vstack([starts[a:b], pc.end(np.asarray(p, float))]),
+                    np.append(ts[a:b], 1.0)))
+    return out
+
+
+def flat_starts(pieces, tol, max_depth=16, keep=None):
+    """The polylines of :func:`flatten_many` without each piece's end point (the next
+    piece's start, in a loop), all in three arrays: (owner (m,), t (m,), points (m,
+    2)), sorted by (owner, t); owner indexes ``pieces``.  Pieces of one degree are
+    processed together.  ``keep(owner, t0, width) -> mask``: parts of the
+    subdivision left out (with all they would be cut into) where False; the vertices
+    of the parts kept are those of the whole flattening."""
+    owners, params, points = [np.zeros(0, np.intp)], [np.zeros(0)], [np.zeros((0, 2))]
+    for ks in pc.by_degree(pieces).values():
+        stack = np.array([np.asarray(pieces[k], float) for k in ks])
+        ks_arr = np.asarray(ks)
+        part_keep = None if keep is None else (lambda o, t, w, ks_arr=ks_arr: keep(ks_arr[o], t, w))
+        owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth, part_keep)
+        owners.append(np.asarray(ks)[owner])
+        params.append(ts)
+        points.append(starts)
+    owner, ts, pts = np.concatenate(owners), np.concatenate(params), np.concatenate(points)
+    order = np.lexsort((ts, owner))
+    return owner[order], ts[order], pts[order]
+
+
+def _flat_params(stack, tol, min_width, keep=None):
+    """(owner, t0, start point) of the flat parts of a stack of pieces (see
+    :func:`flatten_many`); a part's start point is its first control point.
+    ``keep(owner, t0, width)``: the parts to cut further (see :func:`flat_starts`)."""
+    parts, owner = stack, np.arange(len(stack))
+    t0, width = np.zeros(len(stack)), np.ones(len(stack))
+    done_owner, done_t, done_p = [], [], []
+    while len(parts):
+        dist = _chord_distance(parts)
+        flat = (dist <= tol) | (width <= min_width * 1.5)
+        done_owner.append(owner[flat])
+        done_t.append(t0[flat])
+        done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
+        parts, owner, t0, width, dist = (a[~flat] for a in (parts, owner, t0, width, dist))
+        steps = np.ceil(np.sqrt(dist / tol))
+        steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
+        steps = steps.astype(np.int64)
+        order = np.argsort(steps, kind="stable")
+        parts, owner, t0, width, steps = (x[order] for x in (parts, owner, t0, width, steps))
+        rep = np.repeat(np.arange(len(parts)), steps)
+        j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+        if keep is not None:  # the sub-parts a caller needs, before they are cut
+            t_sub = t0[rep] + j / steps[rep] * width[rep]
+            m = keep(owner[rep], t_sub, width[rep] / steps[rep])
+            part_of = np.repeat(np.arange(len(parts)), steps)
+            needed = np.bincount(part_of[m], minlength=len(parts)) > 0
+            parts, owner, t0, width, steps = (x[needed] for x in (parts, owner, t0, width, steps))
+            rep = np.repeat(np.arange(len(parts)), steps)
+            j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+            sub_keep = m[np.repeat(needed, np.bincount(part_of, minlength=len(needed)))]
+        parts = _equal_parts(parts, steps)
+        owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
+        if keep is not None:
+            parts, owner, t0, width = parts[sub_keep], owner[sub_keep], t0[sub_keep], width[sub_keep]
+    return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
+
+
+def _equal_parts(parts, steps):
+    """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
+    parameter steps, in order: one matrix product per distinct step count."""
+    n = parts.shape[1] - 1
+    if not len(parts):
+        return parts
+    out = []
+    bounds = np.flatnonzero(np.diff(steps)) + 1
+    for lo, hi in zip(np.r_[0, bounds], np.r_[bounds, len(steps)]):
+        mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
+        cut = np.einsum("kij,mjc->mkic", mats, parts[lo:hi])
+        out.append(cut.reshape(-1, n + 1, parts.shape[2]))
+    return np.concatenate(out)
+
+
+@functools.lru_cache(maxsize=256)
+def _equal_split_matrices(n, k):
+    """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
+    eye = np.eye(n + 1)
+    t = np.arange(k + 1) / k
+    cols = bz.subsegment_many(np.repeat(eye[None], k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
+                              np.repeat(t[:-1], n + 1), np.repeat(t[1:], n + 1))
+    # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
+    return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
+
+
+def _chord_distance(parts):
+    """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
+    the chord (segment) of its part."""
+    p = parts[..., :2] / parts[..., 2:]
+    a, b = p[:, :1], p[:, -1:]
+    chord = b - a
+    length = np.hypot(chord[..., 0], chord[..., 1])
+    rel = p - a
+    safe = np.where(length > 0, length, 1.0)
+    dist = np.abs(chord[..., 0] * rel[..., 1] - chord[..., 1] * rel[..., 0]) / safe
+    along = (rel[..., 0] * chord[..., 0] + rel[..., 1] * chord[..., 1]) / safe / safe  # no underflow of safe^2
+    to_a = np.hypot(rel[..., 0], rel[..., 1])
+    to_b = np.hypot(*np.moveaxis(p - b, -1, 0))
+    dist = np.where((along < 0) | (length == 0), to_a, dist)
+    dist = np.where((along > 1) & (length > 0), to_b, dist)
+    return dist.max(axis=1)
+
+
+def flatten_loop(pieces, tol):
+    """Closed polyline (without repeating the first point) of a loop within tol."""
+    return flatten_loops([pieces], tol)[0]
+
+
+def flatten_loops(loops, tol):
+    """:func:`flatten_loop` of every loop, all pieces flattened at once."""
+    owner, _, pts = flat_starts([p for loop in loops for p in loop], tol)
+    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])[owner]
+    bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+    return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+# ------------------------------------------------------------------ segments
 
 
 def flatten_segments(pieces, tol):
     """Segments of all pieces: arrays p0 (N,2), p1 (N,2), piece id, t0, t1."""
     p0s, p1s, ids, t0s, t1s = [], [], [], [], []
-    for k, (pts, ts) in enumerate(pc.flatten_many(pieces, tol)):
+    for k, (pts, ts) in enumerate(flatten_many(pieces, tol)):
         if len(pts) < 2:
             continue
         p0s.append(pts[:-1])
@@ -218,7 +372,7 @@ def _touching_chunks(polylines, reach):
 
 def polylines_apart(polylines, tol):
     """True if no two edges of closed ``polylines`` (each within tol of its loop of
-    curves: :func:`morph.piece.flatten_loops`) that share no vertex come within 2 tol
+    curves: :func:`morph.polyline.flatten_loops`) that share no vertex come within 2 tol
     of each other: then the loops neither cross nor touch one another or themselves
     (each arc lies within tol of its edge; a sufficient test, cheap at a coarse tol;
     False says nothing)."""

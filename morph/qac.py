@@ -29,6 +29,7 @@ import numpy as np
 from . import bernstein as bz
 from . import gauss
 from . import piece as pc
+from . import nearest as nr
 
 TINY_SWEEP = 1e-7    # below this common sweep (radians) a pair is treated as straight
 REPARAM_DEGREE = 4   # degree of the parameter map r(s) of :func:`qac_error_bound`
@@ -99,7 +100,7 @@ def qac_parametric_bound_many(c2, q2):
     where the bound peaks.  Loose for cubic C2: it measures the mismatch of the
     parametrisations too, O(h^2) on a piece of size h (see :func:`qac_error_bound`).
     """
-    return pc.distance_bound_many(c2, q2)
+    return nr.distance_bound_many(c2, q2)
 
 
 def qac_parametric_bound(c2, q2):
@@ -116,7 +117,7 @@ def _reparam_maps(c, q):
     basis up to degree 12), coefficients clamped to [0, 1]."""
     pts = np.matmul(bz.basis(2, _FIT_S), q)
     jet = pc.jet2_power_many if c.shape[1] <= 13 else pc.jet2_many
-    sig = pc.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)), jet=jet)
+    sig = nr.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)), jet=jet)
     r = bz.fit_fixed_ends(_FIT_S, sig.T, REPARAM_DEGREE, 0.0, 1.0).T
     fine = np.all(np.isfinite(r), axis=1)
     return np.where(fine[:, None], np.clip(r, 0.0, 1.0), 0.0), fine
@@ -125,7 +126,7 @@ def _reparam_maps(c, q):
 def _composed_ratio(cr, q):
     """Squared-distance certificate of |C2(r(s)) - Q2(s)| for the composed C2(r(s))
     = X / W (rows of cr) against Q2: (bound^2 (k,), s (k,)).  Rational rows by
-    :func:`morph.piece.distance_bound_many`; where W is constant (polynomial C2)
+    :func:`morph.nearest.distance_bound_many`; where W is constant (polynomial C2)
     the same ratio of |X / W - Q2|^2 at the lower degree."""
     x, w = cr[:, :, :2], cr[:, :, 2]
     flat = np.ptp(w, axis=1) <= 1e-14 * np.abs(w[:, 0])      # polynomial C2: W constant
@@ -138,7 +139,7 @@ def _composed_ratio(cr, q):
             a = _sq_norm_many(g)
             ratio[rows], s[rows] = bz.ratio_bound_many(a, np.ones_like(a))
         else:
-            b, s[rows] = pc.distance_bound_many(cr[rows], q[rows])
+            b, s[rows] = nr.distance_bound_many(cr[rows], q[rows])
             ratio[rows] = b * b
     return ratio, s
 
@@ -320,15 +321,6 @@ def convolve_qac_piece(c1, c2, q2=None):
     q = quadratic_approximation(c2) if q2 is None else np.asarray(q2, float)
     h1 = pc.tangent_numerator(c1)
     return _qac_from_numerator(c1[None], h1[None], q[None])[0]
-
-
-def convolve_qac_many(c1, q2, rational):
-    """:func:`convolve_qac_piece` of each row of a stack c1 (k, n+1, 3) (all
-    polynomial, or all rational: ``rational``) with the quadratics q2 (k, 3, 2).
-    Rows whose tangent numerator vanishes at an end (``pc.end_zero_rows``) must go
-    through :func:`convolve_qac_piece` (their numerator has a lower degree)."""
-    c1 = np.asarray(c1, float)
-    return _qac_from_numerator(c1, pc.tangent_numerator_many(c1, rational), q2)
 
 
 def qac_pieces(c1, q2):

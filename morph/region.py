@@ -9,16 +9,19 @@ Everything here is a function on sequences of loops; :class:`Region` is the one
 region type the package returns: its loops, whether they are validated, and the
 error bound achieved.
 
-Polyline work (winding numbers, point tests) uses :func:`morph.piece.flatten`, whose
+Polyline work (winding numbers, point tests) uses :func:`morph.polyline.flatten`, whose
 polylines lie within ``tol`` of the curves; a point closer than that to a boundary may
 be classified either way.
 """
 
 import numpy as np
-import pyclipper
 
 from . import bernstein as bz
+from . import moments as mo
+from . import nearest as nr
 from . import piece as pc
+from . import polyline as pl
+from .moments import region_centroid
 from .polyline import (BoxGrid, distance_to_others, near_point_pairs, polyline_edges,
                        polylines_apart, polylines_touch, project, segment_distance, unique,
                        winding_number, winding_of_others)
@@ -31,7 +34,6 @@ __all__ = [
     "zero_length_mask",
     "loop_bboxes",
     "loop_polyline",
-    "winding_fault",
     "orient_region",
     "polyline_edges",
     "point_in_region",
@@ -65,7 +67,7 @@ class Region(tuple):
       0 outside; outer loops counter-clockwise, holes clockwise): what
       :func:`orient_region`, :func:`morph.trim.fill_region` and the sums return.
       :func:`morph.minkowski.minkowski_sum` takes a validated operand without the
-      winding test (:func:`winding_fault`, ~1-3 ms for a glyph); anything else is
+      winding test (:func:`morph.operands.winding_fault`, ~1-3 ms for a glyph); anything else is
       tested.
     - ``bound``: a certified bound of the Hausdorff distance between the loops and
       the exact shape they approximate (a sum's achieved error, at most its
@@ -97,7 +99,7 @@ class Region(tuple):
 
     @property
     def area(self):
-        return pc.region_area(self)
+        return mo.region_area(self)
 
     @property
     def bbox(self):
@@ -188,7 +190,7 @@ def reverse_loop(loop):
 
 def loop_polyline(loop, tol):
     """Closed polyline within ``tol`` of the loop, shape (m, 2), first point not repeated."""
-    return pc.flatten_loop(loop, tol)
+    return pl.flatten_loop(loop, tol)
 
 
 def region_polylines(loops, tol):
@@ -197,7 +199,7 @@ def region_polylines(loops, tol):
     return [p for p in polys if len(p) >= 3]
 
 
-def _region_scale(loops):
+def region_scale(loops):
     pts = [pc.cartesian(p) for loop in loops for p in loop]
     if not pts:
         return 1.0
@@ -208,7 +210,7 @@ def _region_scale(loops):
 
 # ------------------------------------------------------------------ winding numbers
 
-def _sample_candidates(loop, max_candidates=32):
+def sample_candidates(loop, max_candidates=32):
     """Points on the loop (piece mid-parameter points) used as nesting probes."""
     idx = np.linspace(0, len(loop) - 1, min(len(loop), max_candidates)).round().astype(int)
     return np.concatenate([pc.evaluate(loop[i], 0.5) for i in unique(idx)])
@@ -253,19 +255,19 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
     cleaned, areas = _positive_loops(loops)
     if not cleaned:
         return validated([])
-    scale = _region_scale(cleaned)
+    scale = region_scale(cleaned)
     cleaned, areas = _cancel_coincident(cleaned, areas, fill_rule, scale)
     if not cleaned:
         return validated([])
-    polys = pc.flatten_loops(cleaned, APART * scale)   # shared by both tests below
-    if _loops_cross(cleaned, scale, polys):
+    polys = pl.flatten_loops(cleaned, APART * scale)   # shared by both tests below
+    if loops_cross(cleaned, scale, polys):
         if on_crossing is None:
             raise ValueError("the loops cross or touch: they need a fill "
                              "(on_crossing=morph.trim.fill_region)")
         return validated(on_crossing(cleaned, fill_rule))
     if len(cleaned) == 1:
         return validated([cleaned[0] if areas[0] > 0 else reverse_loop(cleaned[0])])
-    windings = _outside_windings(cleaned, scale, polys)
+    windings = outside_windings(cleaned, scale, polys)
     out = []
     for loop, area, w in zip(cleaned, areas, windings):
         is_outer = _is_outer(w, 1 if area > 0 else -1, fill_rule)
@@ -283,22 +285,22 @@ def _positive_loops(loops):
         loop = clean_loop(loop)
         if not loop:
             continue
-        ext = _region_scale([loop])
-        area = pc.loop_area(loop)
-        if abs(area) > 1e-12 * ext * ext or _loops_cross([loop], ext):
+        ext = region_scale([loop])
+        area = mo.loop_area(loop)
+        if abs(area) > 1e-12 * ext * ext or loops_cross([loop], ext):
             out.append(loop)
             areas.append(area)
     return out, areas
 
 
-def _outside_windings(loops, scale, polys):
+def outside_windings(loops, scale, polys):
     """For each loop, the winding number just outside it: that of all *other* loops
     at a probe point on it (the piece midpoint farthest from the other loops, any
     of those farther than 2 tol = 2 APART x ``scale``), on their polylines ``polys``
     within tol, refined when the probe is closer than 2 tol.  All loops' probes at
     once (Python work per loop only for the rare refinements)."""
     tol = APART * scale
-    cands = [_sample_candidates(loop) for loop in loops]
+    cands = [sample_candidates(loop) for loop in loops]
     owner = np.repeat(np.arange(len(loops)), [len(c) for c in cands])
     cand = np.concatenate(cands)
     dist = distance_to_others(cand, owner, polys, 2 * tol)
@@ -320,117 +322,6 @@ def _is_outer(w, s, fill_rule):
         return w % 2 == 0
     outside, inside = w != 0, (w + s) != 0
     return None if inside == outside else inside
-
-
-def winding_fault(loops):
-    """Where the loops fail to bound a region the sums can take: None, or
-    (point, winding, loop, crossed) with ``point`` (x, y) in the faulty part.
-
-    Two faults: a loop that crosses itself so that its own winding number is
-    other than 0 and its orientation's sign (``crossed`` True, ``loop`` its index,
-    ``winding`` its own: a figure-8 or a curl undone by a counter-curl, which turns
-    once in all); or a part where the winding number of all loops is negative
-    (``crossed`` False, ``loop`` the clockwise loop just around it when known, else
-    None: a hole outside every outer loop or reaching out of its own).  Loops of one
-    direction may overlap or nest (winding 2 or more: the sum is linear in the loops
-    and fills it once); a loop may touch itself or pass through its own crossing
-    with winding 0 or 1 beside it (the boundary of a pinched region).
-
-    Loops whose arcs stay apart (:func:`_loops_cross` says no) are simple: only the
-    winding just outside each clockwise loop is needed (:func:`_outside_windings`,
-    at least 1).  Otherwise the loops are flattened within f = 1e-5 of their size
-    (integer points on a grid of f / 100) and Clipper finds, for each loop that
-    comes near itself, the parts where it winds other than 0 or its sign (its own
-    filled set subtracted from it as a cycle), then the parts of negative winding,
-    each eroded by 3 f so that the slivers where flattened arcs touch vanish: a
-    part thinner than 6 f is not reported.  Parts of zero width wind 0 on both
-    sides and pass (a spike, a slit, a hole sharing an edge with its outer loop, a
-    stroke's centre line traced out and back): the sums take them as traced, like
-    the closed set they bound; one that crosses the rest of its loop makes the
-    loop turn other than once, which :func:`morph.convolve.gauss_pair_of`
-    refuses."""
-    loops = [loop for loop in loops if len(loop)]
-    if not loops:
-        return None
-    scale = _region_scale(loops)
-    polys = pc.flatten_loops(loops, APART * scale)
-    areas = [pc.loop_area(loop) for loop in loops]
-    if not _loops_cross(loops, scale, polys):
-        return _hole_outside(loops, areas, scale, polys)
-    return _crossed_fault(loops, areas, scale, polys)
-
-
-def _hole_outside(loops, areas, scale, polys):
-    """:func:`winding_fault` of loops whose arcs stay apart: a clockwise loop with
-    winding less than 1 just outside it (on its polylines ``polys``), or None."""
-    # a loop of area 0 (a centre line traced out and back) winds round nothing
-    holes = [k for k, a in enumerate(areas) if a < -1e-9 * scale * scale]
-    if not holes:
-        return None
-    outside = _outside_windings(loops, scale, polys) if len(loops) > 1 else [0]
-    for k in holes:
-        if outside[k] < 1:
-            return _sample_candidates(loops[k])[0], outside[k] - 1, k, False
-    return None
-
-
-def _crossed_fault(loops, areas, scale, polys):
-    """:func:`winding_fault` of loops that come near each other or themselves, on
-    Clipper's integer polylines: a loop's own wrong winding first, then a part of
-    negative winding."""
-    fine = 1e-5 * scale
-    grid = fine / 100.0
-    depth = 3 * fine / grid  # the erosion, in grid units
-    lo = np.min(np.concatenate(polys), axis=0)
-    flat = pc.flatten_loops(loops, fine)
-    paths = [np.round((p - lo) / grid).astype(np.int64).tolist() for p in flat]
-    for k, (loop, path) in enumerate(zip(loops, paths)):
-        if len(path) < 3 or not _loops_cross([loop], scale):
-            continue
-        path = path if areas[k] >= 0 else path[::-1]
-        filled = _clipper_union([path], pyclipper.PFT_POSITIVE)
-        core = _clipper_core([path] + [ring[::-1] for ring in filled], pyclipper.PFT_NONZERO,
-                             depth)
-        if core is not None:
-            point = core * grid + lo
-            return point, int(round(winding_number(point[None], [flat[k]])[0])), k, True
-    core = _clipper_core([p for p in paths if len(p) >= 3], pyclipper.PFT_NEGATIVE, depth)
-    if core is None:
-        return None
-    point = core * grid + lo
-    w = int(round(winding_number(point[None], flat)[0]))
-    return point, w, _loop_around(point, loops, areas, flat), False
-
-
-def _clipper_union(paths, fill_type):
-    """Clipper's union of integer paths under ``fill_type`` ([] when every path lies
-    on a line)."""
-    clip = pyclipper.Pyclipper()
-    try:
-        clip.AddPaths(paths, pyclipper.PT_SUBJECT, True)
-    except pyclipper.ClipperException:  # every path on a line: encloses nothing
-        return []
-    return clip.Execute(pyclipper.CT_UNION, fill_type, fill_type)
-
-
-def _clipper_core(paths, fill_type, depth):
-    """A point (float array, grid units) of the union of integer ``paths`` under
-    ``fill_type`` eroded by ``depth`` grid units, or None when nothing is left."""
-    parts = _clipper_union(paths, fill_type)
-    if not parts:
-        return None
-    erode = pyclipper.PyclipperOffset()
-    erode.AddPaths(parts, pyclipper.JT_MITER, pyclipper.ET_CLOSEDPOLYGON)
-    core = erode.Execute(-depth)
-    return np.asarray(core[0][0], float) if core else None
-
-
-def _loop_around(point, loops, areas, flat):
-    """Index of the clockwise loop whose polyline winds round ``point``, or None."""
-    for k, a in enumerate(areas):
-        if a < 0 and len(flat[k]) >= 3 and winding_number(point[None], [flat[k]])[0] < -0.5:
-            return k
-    return None
 
 
 def _cancel_coincident(loops, areas, fill_rule, scale):
@@ -512,7 +403,7 @@ class _LoopProbes:
         """(stacked pieces, segment piece, t0, t1, a, b) of loop k's polyline."""
         if k not in self._flat:
             pieces = [np.asarray(p, float) for p in self.loops[k]]
-            pid, ts, xy = pc.flat_starts(pieces, self.coarse)
+            pid, ts, xy = pl.flat_starts(pieces, self.coarse)
             nxt = np.roll(np.arange(len(pid)), -1)
             t1 = np.where(pid[nxt] == pid, ts[nxt], 1.0)
             self._flat[k] = (pc.stack(pieces), pid, ts, t1, xy, xy[nxt])
@@ -522,7 +413,7 @@ class _LoopProbes:
         """Do all samples of loop k lie within ``within`` of loop ``other``'s curves?
 
         Each sample's distance is the least over Newton's feet on the pieces
-        (:func:`morph.piece.closest_params_many`), started from the projection on
+        (:func:`morph.nearest.closest_params_many`), started from the projection on
         every polyline segment within ``within`` + 2 coarse of it: the segment
         whose parameter range holds a foot lies within coarse of the foot (the
         flattening bound), so a foot within ``within`` is reached from some start.
@@ -538,7 +429,7 @@ class _LoopProbes:
         if len(unique(p)) < len(pts):
             return False  # some sample is far from every segment
         start = t0[s] + u * (t1[s] - t0[s])
-        foot = pc.closest_params_many(stacked[pid[s]], pts[p][:, None, :], start[:, None])
+        foot = nr.closest_params_many(stacked[pid[s]], pts[p][:, None, :], start[:, None])
         q = pc.jet2_many(stacked[pid[s]], foot)[0][:, 0]
         best = np.full(len(pts), np.inf)
         np.minimum.at(best, p, np.hypot(*(q - pts[p]).T))
@@ -547,12 +438,12 @@ class _LoopProbes:
 
 #: Loops whose arcs stay 2 APART x their size apart (polylines within APART x the size,
 #: as :func:`morph.polyline.polylines_apart` tests) cross nowhere: only the others are
-#: flattened within 1e-5 of the size to look for crossings (52 glyphs of the bundled
-#: font read in 190 -> 135 ms).
+#: flattened within 1e-5 of the size to look for crossings (the test that most
+#: glyphs pass cheaply).
 APART = 1e-3
 
 
-def _loops_cross(loops, scale, polys=None):
+def loops_cross(loops, scale, polys=None):
     """True if the loops may cross or touch one another or themselves: their
     polylines within f = 1e-5 of the size come within 2 f of each other anywhere but
     between neighbouring edges (:func:`morph.polyline.polylines_touch`: a crossing
@@ -561,10 +452,10 @@ def _loops_cross(loops, scale, polys=None):
     on the closed polylines ``polys`` within APART x ``scale``, made here when not
     given).  True is conservative: such loops are filled by the general trimming."""
     tol = APART * scale
-    if polylines_apart(pc.flatten_loops(loops, tol) if polys is None else polys, tol):
+    if polylines_apart(pl.flatten_loops(loops, tol) if polys is None else polys, tol):
         return False
     fine = 1e-5 * scale
-    return polylines_touch(pc.flatten_loops(loops, fine), 2.0 * fine)
+    return polylines_touch(pl.flatten_loops(loops, fine), 2.0 * fine)
 
 
 # ------------------------------------------------------------------ measures
@@ -608,50 +499,6 @@ def loop_bboxes(loops):
     np.maximum.at(hi, of, p)
     used = np.bincount(loop_of, minlength=n) > 0
     return np.concatenate([lo, hi], axis=1)[used]
-
-
-def _piece_moments(piece, quad_points=24):
-    """(A, Mx, My) contributions of a piece: 1/2 ∮ x dy - y dx, 1/3 ∮ x (x dy - y dx), ..."""
-    piece = np.asarray(piece, float)
-    if pc.is_polynomial(piece):
-        p = pc.cartesian(piece)
-        if len(p) == 1:
-            return np.zeros(3)
-        d = bz.derivative(p)
-        cross = bz.multiply(p[:, :1], d[:, 1:2])[:, 0] - bz.multiply(p[:, 1:2], d[:, :1])[:, 0]
-        mx = bz.multiply(p[:, :1], cross[:, None])[:, 0]
-        my = bz.multiply(p[:, 1:2], cross[:, None])[:, 0]
-        # the integral over [0, 1] of a Bernstein polynomial is the mean of its coefficients
-        return np.array([np.mean(cross) / 2, np.mean(mx) / 3, np.mean(my) / 3])
-    x, wts = np.polynomial.legendre.leggauss(quad_points)
-    out = np.zeros(3)
-    for lo in (0.0, 0.5):  # two panels: 1e-14 relative for conics and QAC output
-        t = lo + 0.25 * (x + 1.0)
-        pt = pc.evaluate(piece, t)
-        dp = pc.derivative(piece, t)
-        cross = pt[:, 0] * dp[:, 1] - pt[:, 1] * dp[:, 0]
-        out += 0.25 * np.array([np.dot(wts, cross) / 2,
-                                np.dot(wts, pt[:, 0] * cross) / 3,
-                                np.dot(wts, pt[:, 1] * cross) / 3])
-    return out
-
-
-def region_centroid(loops):
-    """Area centroid (cx, cy) of an oriented region (Green's theorem).
-
-    ``A = 1/2 ∮ x dy - y dx``, ``∬ x dA = 1/3 ∮ x (x dy - y dx)``,
-    ``∬ y dA = 1/3 ∮ y (x dy - y dx)``.  Exact on the control points for polynomial
-    pieces (the integrands are Bernstein polynomials; their integral over [0, 1] is the
-    mean of the coefficients); Gauss-Legendre quadrature (2 x 24 nodes) for rational
-    pieces.  Raises ValueError when the region has zero area.
-    """
-    m = np.zeros(3)
-    for loop in loops:
-        for p in loop:
-            m += _piece_moments(p)
-    if m[0] == 0:
-        raise ValueError("region of zero area has no centroid")
-    return np.array([m[1] / m[0], m[2] / m[0]])
 
 
 def point_in_region(points, loops, tol):

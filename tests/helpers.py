@@ -4,6 +4,7 @@ control points and ``tests.oracles.reference`` evaluation (nothing here is under
 import numpy as np
 
 from morph import piece as pc
+from morph import polyline as pl
 from tests.oracles import reference as R
 
 
@@ -15,9 +16,9 @@ def region_size(region):
 
 def loop_polygons(loops, tol):
     """Each loop as one polygon: its pieces evaluated by ``tests.oracles.reference.bezier_eval``
-    at the parameters of ``piece.flatten(p, tol)``, each piece's end point left to the
+    at the parameters of ``polyline.flatten(p, tol)``, each piece's end point left to the
     next piece."""
-    return [np.concatenate([R.bezier_eval(p, pc.flatten(p, tol)[1])[0][:-1] for p in loop])
+    return [np.concatenate([R.bezier_eval(p, pl.flatten(p, tol)[1])[0][:-1] for p in loop])
             for loop in loops]
 
 

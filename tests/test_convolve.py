@@ -30,6 +30,7 @@ from morph import convolve
 from morph import gauss
 from morph import parse
 from morph import piece as pc
+from morph import moments as mo
 from morph import minkowski
 from morph.errors import ToleranceNotMetError
 
@@ -326,7 +327,7 @@ def test_random_polygons_exact():
         assert np.all(w[far & inside] >= 1), k
         loops_sum = minkowski.minkowski_sum(ra, rb, 1e-6)
         # Clipper rounds coordinates to 1e-7: area within perimeter x 1e-7
-        assert pc.region_area(loops_sum) == pytest.approx(ref.area, abs=1e-7 * ref.length), k
+        assert mo.region_area(loops_sum) == pytest.approx(ref.area, abs=1e-7 * ref.length), k
         corners = [np.array([pc.start(p) for p in loop]) for loop in loops_sum]
         assert R.hausdorff(ref, corners, spacing=0.01) <= 1e-6, k
 
@@ -337,7 +338,7 @@ def test_convolution_commutes_and_translates():
 
     def signed_area(conv):
         loops = convolve.chain([c.piece for c in conv], 1e-9 * size)
-        return sum(pc.loop_area(loop) for loop in loops)
+        return sum(mo.loop_area(loop) for loop in loops)
 
     ab = convolve.convolution(ra, rb, 0.1)
     ba = convolve.convolution(rb, ra, 0.1)
@@ -371,7 +372,7 @@ def _convex_check(region_a, region_b, tol, flat_fine, flat_ref, n_samples=400):
     loops = convolve.chain([c.piece for c in conv], 1e-9 * _size(region_a))
     assert len(loops) == 1
     loop = loops[0]
-    assert pc.loop_area(loop) > 0
+    assert mo.loop_area(loop) > 0
     # support function at the result's own outward normal (Eq. 20: right of travel)
     ts = np.linspace(0.0, 1.0, max(3, n_samples // len(loop)))
     pts, tan = [], []
@@ -395,7 +396,7 @@ def _convex_check(region_a, region_b, tol, flat_fine, flat_ref, n_samples=400):
 
 def _outer_loop(ch, font):
     region = parse.glyph_region(ch, font).region
-    outer = [l for l in region if pc.loop_area(l) > 0]
+    outer = [l for l in region if mo.loop_area(l) > 0]
     assert len(outer) == 1
     return [outer[0]]
 
@@ -459,7 +460,7 @@ def test_disk_plus_convex_hull_is_exact(ch, r):
     assert len(loops) == 1
     # area(K) + r perimeter(K) + pi r^2, from the exact rational arcs
     expect = hull.area + r * hull.length + np.pi * r * r
-    assert pc.loop_area(loops[0]) == pytest.approx(expect, rel=1e-12)
+    assert mo.loop_area(loops[0]) == pytest.approx(expect, rel=1e-12)
     # boundary = buffer of the hull (shifted by the centre), to within the buffer's chords
     quad = 1024
     ref = shapely.affinity.translate(hull.buffer(r, quad_segs=quad), 12.0, -3.0)
@@ -493,7 +494,7 @@ def _hole_zones(region_a, region_b, flat):
     zones = []
     for x, y in ((region_a, region_b), (region_b, region_a)):
         for loop in x:
-            if pc.loop_area(loop) < 0:
+            if mo.loop_area(loop) < 0:
                 filled = [[pc.reverse(p) for p in reversed(loop)]]
                 zones.append(R.polygon_minkowski_sum(filled, y, flat))
     return shapely.unary_union(zones) if zones else shapely.GeometryCollection()

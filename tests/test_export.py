@@ -758,7 +758,7 @@ def test_achieved_bound_of_a_rational_sum_leaves_the_rest_to_the_export(seed):
     from svgpathtools import parse_path
 
     from morph.budget import CONV_SHARE
-    from morph.minkowski import minkowski_sum, minkowski_sum_debug
+    from morph.minkowski import minkowski_sum_debug
     from morph.render.svg import svg_path_data
 
     loop, poly = random_cubic_blob(seed, True)
@@ -839,7 +839,7 @@ def test_circle_plus_circle_written_within_tol(tol):
     from svgpathtools import parse_path
 
     from morph.render.svg import svg_path_data
-    from morph.minkowski import minkowski_sum, minkowski_sum_debug
+    from morph.minkowski import minkowski_sum
 
     for r1, r2 in ((10.0, 4.0), (100.0, 37.0)):
         st, et = plan(tol)[:2]

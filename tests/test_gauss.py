@@ -25,6 +25,7 @@ from scipy.optimize import brentq
 from morph import gauss
 from morph import parse
 from morph import piece as pc
+from morph import moments as mo
 from morph.errors import DegenerateCurveError
 
 from tests.oracles import reference as R
@@ -176,7 +177,7 @@ def test_edges_chain_in_position_and_angle(loop):
 def test_curve_edges_cover_the_loop(loop):
     edges = gauss.gauss_map(loop)
     curves = [e.piece for e in edges if e.kind == "curve"]
-    assert pc.loop_area(curves) == pytest.approx(pc.loop_area(loop), rel=1e-12, abs=1e-9)
+    assert mo.loop_area(curves) == pytest.approx(mo.loop_area(loop), rel=1e-12, abs=1e-9)
     size = _size(loop)
     mids = np.array([R.bezier_eval(c, [0.5])[0][0] for c in curves])
     # nearest original piece by dense samples, then the exact distance to it
@@ -277,7 +278,7 @@ def test_split_monotone_splits_at_the_inflection(name):
     ks = np.nonzero(vals[:-1] * vals[1:] < 0)[0]
     assert len(ks) == 1, "test curve must have exactly one inflection"
     t_star = brentq(f, ts[ks[0]], ts[ks[0] + 1], xtol=1e-15)
-    infl = gauss.inflection_params(piece)
+    infl = _inflection_params(piece)
     assert len(infl) == 1 and infl[0] == pytest.approx(t_star, abs=1e-9)
     expected = sorted([t_star] + _axis_crossings(piece))
     parts = gauss.split_monotone(piece)
@@ -302,7 +303,7 @@ def test_split_monotone_splits_at_the_inflection(name):
 def test_flat_point_is_not_an_inflection():
     # x = t, y = (2t - 1)^4: curvature x'y'' - x''y' = 48 (2t - 1)^2 >= 0, double root
     piece = pc.from_points([(i / 4.0, (-1.0) ** i) for i in range(5)])
-    assert gauss.inflection_params(piece).size == 0
+    assert _inflection_params(piece).size == 0
     parts = gauss.split_monotone(piece)
     # only the axis crossing of y' at t = 1/2 (the flat point itself) splits
     assert len(parts) == 2
@@ -317,7 +318,7 @@ def test_interior_cusp_is_split_off_and_carried_as_a_corner():
     assert np.allclose(_junctions(parts), R.bezier_eval(cusp, [0.5])[0], atol=1e-12)
     loop = [cusp, pc.line((1.0, 0.0), (0.5, -1.0)), pc.line((0.5, -1.0), (0.0, 0.0))]
     edges = gauss.gauss_map(loop)
-    area = pc.loop_area(loop)
+    area = mo.loop_area(loop)
     assert gauss.total_turning(edges) == pytest.approx(np.sign(area) * TWO_PI)
     assert any(abs(abs(e.sweep) - np.pi) < 1e-6 for e in edges if e.kind == "vertex")
 
@@ -370,7 +371,7 @@ def test_a_centre_line_running_back_over_itself_is_refused_not_summed_without_a_
     with pytest.raises(SelfCrossingError, match="loop 0 turns 2 times"):
         minkowski_sum([path + [pc.reverse(p) for p in reversed(path)]], disk, 1e-3)
     line = [pc.line((0, 0), (10, 0)), pc.line((10, 0), (0, 0))]
-    assert pc.region_area(minkowski_sum([line], disk, 1e-3)) == pytest.approx(20 + np.pi,
+    assert mo.region_area(minkowski_sum([line], disk, 1e-3)) == pytest.approx(20 + np.pi,
                                                                               abs=1e-2)
 
 
@@ -440,7 +441,7 @@ def test_short_line_forward_and_back_turns_plus_pi_anywhere(offset):
     edges = gauss.gauss_map([pc.line(a, b), pc.line(b, a)])
     ends = [e.sweep for e in edges if e.kind == "vertex" and abs(abs(e.sweep) - np.pi) < 1e-6]
     assert ends == [pytest.approx(np.pi), pytest.approx(np.pi)]
-    assert abs(pc.loop_area([pc.line(a, b), pc.line(b, a)])) == 0.0
+    assert abs(mo.loop_area([pc.line(a, b), pc.line(b, a)])) == 0.0
 
 
 def test_zero_end_derivative_uses_the_limit_tangent():
@@ -529,3 +530,8 @@ def test_a_cusp_whose_sides_cross_a_hair_from_its_point_turns_by_where_they_run(
     tip = [e for e in edges if e.kind == "vertex" and np.allclose(e.point, 0.0)]
     assert len(tip) == 1 and tip[0].sweep == pytest.approx(-(np.pi + eps), abs=1e-9)
     assert gauss.total_turning(edges) == pytest.approx(-2 * np.pi, abs=1e-9)
+
+
+def _inflection_params(piece):
+    """Interior parameters where x'y'' - x''y' changes sign (Def. 3.2)."""
+    return gauss._split_params_many([np.asarray(piece, float)], axes=False)[0]

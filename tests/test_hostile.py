@@ -7,6 +7,7 @@ references (shapely / Clipper of the flattened operands, exact areas of polygons
 import pytest
 
 from morph import piece as pc
+from morph import moments as mo
 from morph.cli import main
 from morph.parse import svg_region
 from morph.minkowski import minkowski_sum
@@ -105,7 +106,7 @@ def test_svg_without_path_but_a_rect_is_drawn(runner, tmp_path):
     """No <path>, but a <rect>: a correct result (the rect)."""
     p = tmp_path / "rect.svg"
     p.write_text(SVG % '<rect x="0" y="0" width="5" height="4"/>')
-    assert abs(pc.region_area(svg_region(str(p))) - 20.0) < 1e-9
+    assert abs(mo.region_area(svg_region(str(p))) - 20.0) < 1e-9
     ok(runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "o.png")]))
 
 
@@ -113,14 +114,14 @@ def test_svg_open_path(runner, tmp_path):
     """A filled open path is filled as if closed (SVG implicit close): a triangle."""
     p = _svg(tmp_path, "open.svg", "M0 0 L10 0 L10 10")
     ok(runner.invoke(main, ["outline", p, "-o", str(tmp_path / "o.png")]))
-    assert abs(pc.region_area(svg_region(p)) - 50.0) < 1e-9
+    assert abs(mo.region_area(svg_region(p)) - 50.0) < 1e-9
 
 
 def test_svg_stroke_only_path(runner, tmp_path):
     """A stroke-only path is a centre line: a region command says so, naming it."""
     p = _svg(tmp_path, "line.svg", "M0 0 L10 0 L10 10", 'id="wire" fill="none" stroke="red"')
     line = error_line(runner.invoke(main, ["outline", p, "-o", str(tmp_path / "o.png")]))
-    assert "stroke-only" in line and "wire" in line
+    assert "stroke-only" in line and "wire" in line and "morph stroke" in line
 
 
 def test_svg_strokes_beside_fills_are_named_in_one_warning(runner, tmp_path):
@@ -139,7 +140,7 @@ def test_svg_strokes_beside_fills_are_named_in_one_warning(runner, tmp_path):
     assert "ring" in lines[0] and "1 more" in lines[0] and "morph stroke" in lines[0]
     with pytest.warns(MorphWarning, match="ring"):
         region = svg_region(str(p))
-    assert abs(pc.region_area(region) - 16 * 3.141592653589793) < 1e-6
+    assert abs(mo.region_area(region) - 16 * 3.141592653589793) < 1e-6
 
 
 def test_svg_strokes_and_fills_of_no_area(runner, tmp_path):
@@ -181,7 +182,7 @@ def _sum_area_via_cli(runner, tmp_path, a, b, tol):
     ok(runner.invoke(main, ["sum", a, b, "--tol", repr(tol), "-o", str(out)]))
     assert out.exists()
     loops = minkowski_sum(svg_region(a), svg_region(b), tol)
-    return pc.region_area(loops), loops
+    return mo.region_area(loops), loops
 
 
 def test_huge_coordinates(runner, tmp_path):
@@ -281,10 +282,10 @@ def _self_intersecting_check(runner, tmp_path, d, attrs=""):
     poly_b = Polygon([(0, 0), (2, 0), (2, -2), (0, -2)])
     parts = getattr(filled, "geoms", [filled])
     ref = unary_union([R.polyline_minkowski_sum(p, poly_b, 1e4) for p in parts])
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     assert abs(area - ref.area) < 1e-3 * ref.area, (area, ref.area)
-    assert (sum(pc.loop_area(l) > 0 for l in loops),
-            sum(pc.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 1e-6)
+    assert (sum(mo.loop_area(l) > 0 for l in loops),
+            sum(mo.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 1e-6)
 
 
 def test_self_intersecting_bow_tie(runner, tmp_path):
@@ -516,7 +517,7 @@ def test_svg_path_without_data_draws_nothing(runner, tmp_path):
     assert "no path or shape that is drawn" in error_line(
         runner.invoke(main, ["outline", str(p), "-o", str(tmp_path / "a.png")]))
     p.write_text(SVG % '<path/><rect width="10" height="20"/>')
-    assert abs(pc.region_area(svg_region(str(p))) - 200) < 1e-9
+    assert abs(mo.region_area(svg_region(str(p))) - 200) < 1e-9
 
 
 def test_svg_argument_that_is_a_folder_or_self_referencing(runner, tmp_path):
@@ -543,7 +544,7 @@ def test_svgz_and_svg_without_suffix_are_read_as_svg(runner, tmp_path):
     for name in ("r.svgz", "drawing"):
         out = tmp_path / (name + ".svg")
         ok(runner.invoke(main, ["outline", str(tmp_path / name), "-o", str(out)]))
-        assert abs(pc.region_area(svg_region(str(out))) - 600) < 1e-6
+        assert abs(mo.region_area(svg_region(str(out))) - 600) < 1e-6
     line = error_line(runner.invoke(main, ["outline", str(tmp_path / "bad.svgz"), "-o",
                                            str(tmp_path / "bad.png")]))
     assert "cannot read SVG" in line
@@ -560,5 +561,5 @@ def test_font_collection_reads_its_first_font(runner, tmp_path):
     path = tmp_path / "pair.ttc"
     col.save(str(path))
     got = glyph_region("g", str(path)).region
-    assert pc.region_area(got) == pytest.approx(pc.region_area(glyph_region("g").region))
+    assert mo.region_area(got) == pytest.approx(mo.region_area(glyph_region("g").region))
     ok(runner.invoke(main, ["outline", "g", "--font", str(path), "-o", str(tmp_path / "g.png")]))

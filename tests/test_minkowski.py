@@ -36,6 +36,8 @@ from shapely.geometry import Polygon
 
 from morph import minkowski, parse
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.parse import glyph_region
 from morph.minkowski import minkowski_sum, minkowski_sum_debug, minkowski_sums
 from tests.oracles import reference as R
@@ -83,11 +85,11 @@ def test_reference_area_and_counts(glyphs, pair):
     a, b = glyphs[pair[0]], glyphs[pair[1]]
     loops = minkowski_sum(a, b, 1e-4 * UPM)
     ref = R.polygon_minkowski_sum(a, b, 0.05)
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     assert abs(area - ref.area) / ref.area < 1e-4
     outer, holes = R.count_outer_and_holes(ref)
-    assert sum(pc.loop_area(l) > 0 for l in loops) == outer
-    assert sum(pc.loop_area(l) < 0 for l in loops) == holes
+    assert sum(mo.loop_area(l) > 0 for l in loops) == outer
+    assert sum(mo.loop_area(l) < 0 for l in loops) == holes
 
 
 def _ring(r_out, r_in):
@@ -107,12 +109,12 @@ def test_small_hole_closes():
     disk = [pc.circle([0, 0], 4.0)]
     tol = 1e-4
     loops = minkowski_sum(ring, disk, tol)
-    assert len(loops) == 1 and pc.loop_area(loops[0]) > 0
+    assert len(loops) == 1 and mo.loop_area(loops[0]) > 0
     # the promise: every boundary point within tol of the circle of radius 14, so
     # the area within tol * perimeter
     r = np.hypot(*np.concatenate([pc.sample(p, 50) for p in loops[0]]).T)
     assert np.abs(r - 14.0).max() <= tol
-    assert abs(pc.region_area(loops) - np.pi * 14.0 ** 2) <= tol * 2 * np.pi * 14.0
+    assert abs(mo.region_area(loops) - np.pi * 14.0 ** 2) <= tol * 2 * np.pi * 14.0
 
 
 def test_large_hole_stays():
@@ -120,7 +122,7 @@ def test_large_hole_stays():
     disk = [pc.circle([0, 0], 2.0)]
     tol = 1e-4
     loops = minkowski_sum(ring, disk, tol)
-    areas = sorted(pc.loop_area(l) for l in loops)
+    areas = sorted(mo.loop_area(l) for l in loops)
     assert len(loops) == 2 and areas[0] < 0 < areas[1]
     # every boundary point within tol of the exact circles: the areas within tol x
     # perimeter (the QAC pieces of two conics are not exact; 0.13 tol measured)
@@ -142,11 +144,11 @@ def test_commutative_and_translation_covariant(glyphs):
     a, b = glyphs["S"], glyphs["g"]
     ab = minkowski_sum(a, b, 0.1)
     ba = minkowski_sum(b, a, 0.1)
-    assert abs(pc.region_area(ab) - pc.region_area(ba)) < 1e-6 * abs(pc.region_area(ab))
+    assert abs(mo.region_area(ab) - mo.region_area(ba)) < 1e-6 * abs(mo.region_area(ab))
     shift = np.array([123.0, -45.0])
     moved = [[pc.translate(p, shift) for p in loop] for loop in a]
     ab2 = minkowski_sum(moved, b, 0.1)
-    assert abs(pc.region_area(ab2) - pc.region_area(ab)) < 1e-6 * abs(pc.region_area(ab))
+    assert abs(mo.region_area(ab2) - mo.region_area(ab)) < 1e-6 * abs(mo.region_area(ab))
     box1 = np.min([pc.bbox(p)[:2] for l in ab for p in l], axis=0)
     box2 = np.min([pc.bbox(p)[:2] for l in ab2 for p in l], axis=0)
     assert np.allclose(box2 - box1, shift, atol=1e-6)
@@ -157,7 +159,7 @@ def test_output_loops_closed_and_simple(glyphs):
     for loop in loops:
         for p, q in zip(loop, loop[1:] + loop[:1]):
             assert np.allclose(pc.end(p), pc.start(q), atol=1e-9)
-        poly = Polygon(pc.flatten_loop(loop, 0.05))
+        poly = Polygon(pl.flatten_loop(loop, 0.05))
         assert poly.is_valid
 
 
@@ -180,10 +182,10 @@ def test_folded_joint_crossing_is_cut():
         for tol in (0.1, 0.25, 10.0):
             loops = minkowski_sum(a, nib, tol)
             ref = R.polygon_minkowski_sum(a, nib, 0.5)
-            assert (sum(pc.loop_area(l) > 0 for l in loops),
-                    sum(pc.loop_area(l) < 0 for l in loops)) == \
+            assert (sum(mo.loop_area(l) > 0 for l in loops),
+                    sum(mo.loop_area(l) < 0 for l in loops)) == \
                 R.count_outer_and_holes(ref, 100 * tol), (ch, tol)
-            assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area, (ch, tol)
+            assert abs(mo.region_area(loops) - ref.area) < 2e-3 * ref.area, (ch, tol)
 
 
 def test_sliver_triangle_at_concave_corner():
@@ -195,7 +197,7 @@ def test_sliver_triangle_at_concave_corner():
     loops = minkowski_sum(a, nib, 0.01)
     ref = R.polygon_minkowski_sum(a, nib, 0.5)
     assert len(loops) == 1
-    assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area
+    assert abs(mo.region_area(loops) - ref.area) < 2e-3 * ref.area
 
 
 def test_thin_ellipse_sum_area_is_exact():
@@ -213,13 +215,13 @@ def test_thin_ellipse_sum_area_is_exact():
     loops = minkowski_sum(a, b, 1e-2)
     flat = R.region_to_shapely(loops, 1e-4)
     # a polygon within 1e-4 of the boundary differs in area by < 1e-4 * perimeter
-    assert abs(pc.region_area(loops) - flat.area) < 1e-4 * flat.length
+    assert abs(mo.region_area(loops) - flat.area) < 1e-4 * flat.length
     ref = R.polygon_minkowski_sum(a, b, 1e-2)
-    assert abs(pc.region_area(loops) - ref.area) < 2e-4 * ref.area
+    assert abs(mo.region_area(loops) - ref.area) < 2e-4 * ref.area
 
 
 def test_ellipse_area_exact():
-    assert abs(pc.region_area([pc.ellipse([3.0, -2.0], 1.0, 53.0, 0.3)]) - np.pi * 53.0) < 1e-9
+    assert abs(mo.region_area([pc.ellipse([3.0, -2.0], 1.0, 53.0, 0.3)]) - np.pi * 53.0) < 1e-9
 
 
 def test_coarse_tolerance_keeps_thin_loops():
@@ -232,7 +234,7 @@ def test_coarse_tolerance_keeps_thin_loops():
     ref = R.polygon_minkowski_sum(a, nib, 0.5)
     assert len(loops) == 1
     assert R.hausdorff(R.region_to_shapely(loops, 1.0), ref, 2.0) <= 100.0 + 0.5 + 1.0
-    assert abs(pc.region_area(loops) - ref.area) < 1e-2 * ref.area
+    assert abs(mo.region_area(loops) - ref.area) < 1e-2 * ref.area
 
 
 # ------------------------------------------------------- sharp corners (error budget)
@@ -320,8 +322,8 @@ def test_minkowski_sum_area_and_topology(a, b):
     ra, rb = parse.glyph_region(a).region, parse.glyph_region(b).region
     loops = minkowski.minkowski_sum(ra, rb, 0.1)
     area = sum(shoelace(p) for p in loop_polygons(loops, 0.002))
-    n_outer = sum(1 for l in loops if pc.loop_area(l) > 0)
-    n_holes = sum(1 for l in loops if pc.loop_area(l) < 0)
+    n_outer = sum(1 for l in loops if mo.loop_area(l) > 0)
+    n_holes = sum(1 for l in loops if mo.loop_area(l) < 0)
     ref_area, ref_outer, ref_holes = REFERENCE_SUMS[(a, b)]
     assert area == pytest.approx(ref_area, rel=1e-4)
     assert (n_outer, n_holes) == (ref_outer, ref_holes)
@@ -366,12 +368,12 @@ def test_minkowski_sum_disk_offsets_match_buffer(shape, r):
         loops = minkowski.minkowski_sum(region, [pc.circle((0.0, 0.0), r)], tol)
         got = R.region_to_shapely(loops, tol) if loops else shapely.Polygon()
         assert R.count_outer_and_holes(got, 1e-6) == R.count_outer_and_holes(ref, 1e-6), \
-            (tol, [pc.loop_area(l) for l in loops])
+            (tol, [mo.loop_area(l) for l in loops])
         pts = np.concatenate([R.bezier_eval(p, np.linspace(0.0, 1.0, 64))[0]
                               for loop in loops for p in loop])
         far = shapely.distance(shapely.points(pts), ref.boundary).max()
         assert far <= tol + slack, (tol, far)
-        area = pc.region_area(loops)
+        area = mo.region_area(loops)
         assert abs(area - ref.area) <= tol * ref.length + slack * ref.length, (tol, area, ref.area)
         if tol == fine:
             assert area == pytest.approx(ref.area, rel=1e-5)
@@ -405,10 +407,10 @@ def test_thin_ellipse_nib(font, ch, rot):
     loops = minkowski_sum(a, b, 0.1)
     ref = R.polygon_minkowski_sum(a, b, 0.5)
     assert loops, "empty sum"
-    assert abs(pc.region_area(loops) - ref.area) < 2e-3 * ref.area, \
-        (pc.region_area(loops), ref.area)
-    assert (sum(pc.loop_area(l) > 0 for l in loops),
-            sum(pc.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 10.0)
+    assert abs(mo.region_area(loops) - ref.area) < 2e-3 * ref.area, \
+        (mo.region_area(loops), ref.area)
+    assert (sum(mo.loop_area(l) > 0 for l in loops),
+            sum(mo.loop_area(l) < 0 for l in loops)) == R.count_outer_and_holes(ref, 10.0)
 
 
 if __name__ == "__main__":
@@ -499,9 +501,9 @@ def test_sums_keep_each_region_in_place_and_its_topology(glyphs):
     together = minkowski.minkowski_sums(regions, b, tol)
     for a, loops in zip(regions, together):
         alone = minkowski_sum(a, b, tol)
-        assert sorted(pc.loop_area(l) > 0 for l in loops) == sorted(
-            pc.loop_area(l) > 0 for l in alone)
-        assert pc.region_area(loops) == pytest.approx(pc.region_area(alone), rel=1e-5)
+        assert sorted(mo.loop_area(l) > 0 for l in loops) == sorted(
+            mo.loop_area(l) > 0 for l in alone)
+        assert mo.region_area(loops) == pytest.approx(mo.region_area(alone), rel=1e-5)
         ba = np.array([pc.bbox(p) for l in loops for p in l])
         bb = np.array([pc.bbox(p) for l in alone for p in l])
         assert np.allclose([ba[:, :2].min(0), ba[:, 2:].max(0)],
@@ -526,9 +528,9 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
     alone_s, dbg = minkowski.minkowski_sum_debug(s, g, TOL)
     n_s = len(dbg["convolution"])
     assert calls[1] == n_s < calls[0]   # the second trim: S's pieces only
-    assert pc.region_area(out_s) == pytest.approx(pc.region_area(alone_s), rel=1e-6)
-    assert pc.region_area(out_o) == pytest.approx(
-        pc.region_area(minkowski.minkowski_sum(o, g, TOL)), rel=1e-6)
+    assert mo.region_area(out_s) == pytest.approx(mo.region_area(alone_s), rel=1e-6)
+    assert mo.region_area(out_o) == pytest.approx(
+        mo.region_area(minkowski.minkowski_sum(o, g, TOL)), rel=1e-6)
 
 
 def test_sums_fall_back_to_one_by_one_beyond_the_precision(glyphs, monkeypatch):
@@ -589,8 +591,8 @@ def test_sums_of_regions_of_very_different_sizes_and_places(glyphs):
     together = minkowski.minkowski_sums(regions, b, tol)
     for a, loops in zip(regions, together):
         alone = minkowski_sum(a, b, tol)
-        assert sorted(pc.loop_area(l) > 0 for l in loops) == sorted(
-            pc.loop_area(l) > 0 for l in alone)
+        assert sorted(mo.loop_area(l) > 0 for l in loops) == sorted(
+            mo.loop_area(l) > 0 for l in alone)
         p, q = R.region_to_shapely(loops, 0.01), R.region_to_shapely(alone, 0.01)
         assert p.boundary.hausdorff_distance(q.boundary) <= 2 * tol
 
@@ -614,7 +616,7 @@ def test_a_sum_thinner_than_its_tolerance_everywhere_is_refused_not_empty():
     assert 0 < tol < 20.0
     out = minkowski_sum(bar, disk, tol)
     exact = box(0, 0, 100, 0.5).buffer(0.1)
-    ours = Polygon(pc.flatten_loop(out[0], 1e-3))
+    ours = Polygon(pl.flatten_loop(out[0], 1e-3))
     assert exact.hausdorff_distance(ours) <= tol
     with pytest.raises(LimitError, match="region 1"):
         minkowski_sums([[pc.circle((0, 0), 50.0)], bar], disk, 20.0)
@@ -680,7 +682,7 @@ def test_malformed_operands_are_refused_naming_the_fault(region, says):
     # a centre line traced out and back (area 0, as strokes pass) is no fault
     out_and_back = [pc.line((0, 0), (1, 0)), pc.line((1, 0), (0, 0))]
     got = minkowski_sum([out_and_back], disk, 1e-3)
-    assert abs(pc.region_area(got) - (2 * 0.25 * 1 + np.pi * 0.25 ** 2)) < 2e-3 * 4
+    assert abs(mo.region_area(got) - (2 * 0.25 * 1 + np.pi * 0.25 ** 2)) < 2e-3 * 4
 
 
 # crosses itself at (2, 1) and turns once, winding 0 or 1 everywhere (random search):
@@ -698,7 +700,7 @@ def test_loops_that_touch_overlap_or_cross_and_still_bound_a_region_are_summed(r
     beside it (a region's boundary traced through a pinch), and loops of one
     direction that overlap or nest (winding 2), pass the winding test, and their sum
     is the nonzero fill grown by the disk (Clipper fill, shapely buffer)."""
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     assert winding_fault(region) is None
     tol, r = 1e-3, 0.3
@@ -727,7 +729,7 @@ def test_the_gauss_map_refuses_a_loop_that_does_not_turn_once():
 def test_real_regions_pass_the_winding_test():
     """No false alarm: every letter of the bundled TrueType and CFF fonts, and sums
     of glyphs (whose loops may touch), as plain lists, pass :func:`winding_fault`."""
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     for font in (None, parse.glyphs.cubic_test_font_path()):
         for ch in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz&%@8":
@@ -791,7 +793,7 @@ def test_a_spike_or_a_slit_is_summed_as_traced(r):
     pytest.importorskip("shapely")
     from shapely.ops import unary_union
 
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     for points in ([(0, 0), (1, 0), (1, 0.5), (1.8, 0.5), (1, 0.5), (1, 1), (0, 1)],
                    [(0, 0), (1, 0), (1, 1), (0.5, 1), (0.5, 0.3), (0.5, 1), (0, 1)]):
@@ -839,7 +841,7 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
 
     from morph.errors import SelfCrossingError
     from morph.polyline import winding_number
-    from morph.region import winding_fault
+    from morph.operands import winding_fault
 
     rng = np.random.default_rng({"integer": 8, "perturbed": 7, "curved": 9}[kind])
     summed = refused = 0
@@ -848,7 +850,7 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
         if drawn is None:
             continue
         region, loops = drawn
-        if pc.region_area(region) <= 0:
+        if mo.region_area(region) <= 0:
             continue
         fault = winding_fault(region)
         if fault is not None:
@@ -856,12 +858,12 @@ def test_random_loops_are_refused_exactly_when_they_bound_no_region(kind):
             point, w, k, crossed = fault
             if crossed:
                 own = winding_number(point[None], [loops[k]])[0]
-                assert own == w and own not in (0, np.sign(pc.loop_area(region[k])))
+                assert own == w and own not in (0, np.sign(mo.loop_area(region[k])))
             elif k is None:
                 assert winding_number(point[None], loops)[0] < 0
             else:
                 others = [p for j, p in enumerate(loops) if j != k]
-                assert pc.loop_area(region[k]) < 0
+                assert mo.loop_area(region[k]) < 0
                 assert winding_number(point[None], others)[0] < 1
             continue
         r, tol = rng.uniform(0.2, 2.0), 1e-3

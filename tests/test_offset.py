@@ -10,6 +10,7 @@ from click.testing import CliRunner
 from shapely.geometry import LineString, MultiLineString, Point
 
 from morph import piece as pc
+from morph import moments as mo
 from morph.cli import main
 from morph.offset import inset_region, offset_region
 from morph.parse import glyph_region, svg_region
@@ -47,7 +48,7 @@ def test_glyph_offset_at_distance_r(char, radius):
     region = glyph_region(char).region
     out = check_offset(region, radius, 0.2)
     assert len(out) == 2  # the hole survives, smaller
-    assert pc.region_area(out) > pc.region_area(region)
+    assert mo.region_area(out) > mo.region_area(region)
 
 
 def test_svg_offset_at_distance_r():
@@ -134,10 +135,10 @@ def test_radius_far_below_tol_returns_the_region():
     for r in (1e-300, 1e-12, -1e-300, -1e-12, -1e-320):
         out = offset_region(o, r, 0.05)
         bound = out.bound
-        assert bound == abs(r) and pc.region_area(out) == pytest.approx(pc.region_area(o))
+        assert bound == abs(r) and mo.region_area(out) == pytest.approx(mo.region_area(o))
     out = offset_region(o, 1e-6, 0.05)  # computed: area grows
     bound = out.bound
-    assert pc.region_area(out) > pc.region_area(o) and bound <= 0.05
+    assert mo.region_area(out) > mo.region_area(o) and bound <= 0.05
 
 
 def _inset_against_shapely(region, radius, tol):
@@ -180,7 +181,7 @@ def test_inset_of_a_square_keeps_its_corners_and_of_an_annulus_its_circles():
     sq = [[pc.line(a, b) for a, b in zip([(0, 0), (100, 0), (100, 100), (0, 100)],
                                          [(100, 0), (100, 100), (0, 100), (0, 0)])]]
     out = inset_region(sq, 10.0, 1e-3)
-    assert len(out) == 1 and pc.region_area(out) == pytest.approx(6400.0, abs=1e-6)
+    assert len(out) == 1 and mo.region_area(out) == pytest.approx(6400.0, abs=1e-6)
     from morph.region import region_bbox, reverse_loop
     assert np.allclose(region_bbox(out), [10, 10, 90, 90], atol=1e-9)
     ring = [pc.circle((0, 0), 50), reverse_loop(pc.circle((0, 0), 20))]
@@ -188,7 +189,7 @@ def test_inset_of_a_square_keeps_its_corners_and_of_an_annulus_its_circles():
     bound = out.bound
     assert 0 < bound <= 1e-4 and len(out) == 2
     perimeter = 2 * np.pi * (45 + 25)
-    assert pc.region_area(out) == pytest.approx(np.pi * (45 ** 2 - 25 ** 2), abs=perimeter * 1e-4)
+    assert mo.region_area(out) == pytest.approx(np.pi * (45 ** 2 - 25 ** 2), abs=perimeter * 1e-4)
     assert len(inset_region(ring, 15.5, 1e-4)) == 0     # the ring is 30 wide
 
 

@@ -8,6 +8,8 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.errors import DegenerateCurveError
 
 T = np.linspace(0.0, 1.0, 101)
@@ -109,15 +111,6 @@ def test_reverse(p):
     assert np.allclose(pc.evaluate(pc.reverse(p), T), pc.evaluate(p, 1 - T), atol=1e-12)
 
 
-@given(rational_pieces())
-def test_normalize_weights_same_curve(p):
-    q = pc.normalize_weights(p)
-    assert np.isclose(q[0, 2], 1.0) and np.isclose(q[-1, 2], 1.0)
-    # same point set, same ends (reparametrised), checked on the ends and the hull
-    assert np.allclose(pc.start(q), pc.start(p)) and np.allclose(pc.end(q), pc.end(p))
-    assert np.allclose(pc.cartesian(q), pc.cartesian(p))
-
-
 @pytest.mark.parametrize("rx, ry, rot, th0, dth", [
     (1.0, 1.0, 0.0, 0.0, 2 * np.pi),
     (3.0, 1.5, 0.4, 0.3, 2.5),
@@ -142,28 +135,9 @@ def test_ellipse_arc_points_on_ellipse_and_tangent_continuous(rx, ry, rot, th0, 
         tb = pc.end_tangents(b)[0]
         assert np.allclose(ta, tb, atol=1e-12)
     # the sweep direction follows the sign of dth
-    area = sum(pc.piece_area_term(a) for a in arcs)
+    area = float(np.sum(mo.area_terms(arcs)))
     e, s0 = pc.end(arcs[-1]), pc.start(arcs[0])
     assert np.sign(area + 0.5 * (e[0] * s0[1] - e[1] * s0[0])) == np.sign(dth)
-
-
-@pytest.mark.parametrize("r", [1.0, 0.37, 250.0])
-def test_circle_area_exact(r):
-    circle = pc.circle((3.0, -4.0), r)
-    assert abs(pc.loop_area(circle) - np.pi * r * r) <= 1e-12 * np.pi * r * r
-    ell = pc.ellipse((0.0, 0.0), 2 * r, r, 0.7)
-    assert abs(pc.loop_area(ell) - 2 * np.pi * r * r) <= 1e-12 * 2 * np.pi * r * r
-
-
-def test_polygon_area_exact_and_orientation():
-    sq = [pc.line((0, 0), (2, 0)), pc.line((2, 0), (2, 3)), pc.line((2, 3), (0, 3)),
-          pc.line((0, 3), (0, 0))]
-    assert pc.loop_area(sq) == 6.0
-    rev = [pc.reverse(p) for p in reversed(sq)]
-    assert pc.loop_area(rev) == -6.0
-    assert pc.region_area([sq, [pc.translate(p, (0.5, 0.5)) for p in
-                                [pc.line((0, 0), (0, 1)), pc.line((0, 1), (1, 1)),
-                                 pc.line((1, 1), (1, 0)), pc.line((1, 0), (0, 0))]]]) == 5.0
 
 
 @given(rational_pieces())
@@ -186,7 +160,7 @@ def test_bbox_contains_curve(p):
 @settings(max_examples=30)
 @given(rational_pieces(max_degree=4), st.sampled_from([1e-1, 1e-2, 1e-3]))
 def test_flatten_within_tol(p, tol):
-    pts, params = pc.flatten(p, tol)
+    pts, params = pl.flatten(p, tol)
     assert params[0] == 0.0 and params[-1] == 1.0 and np.all(np.diff(params) > 0)
     # curve points between consecutive params are within tol of the chord
     for a, b, ta, tb in zip(pts[:-1], pts[1:], params[:-1], params[1:]):
@@ -212,33 +186,6 @@ def test_with_endpoints_moves_only_ends():
     q = pc.with_endpoints(p, (0.5, 0.5), (3.0, 1.0))
     assert np.allclose(pc.start(q), [0.5, 0.5]) and np.allclose(pc.end(q), [3.0, 1.0])
     assert np.array_equal(q[1], p[1]) and np.array_equal(q[:, 2], p[:, 2])
-
-
-def test_flatten_many_equals_flatten():
-    """The batched flattening gives each piece exactly what flatten gives it."""
-    pieces = (pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3)
-              + [pc.cubic((0, 0), (1, 3), (2, -3), (3, 0)), pc.line((0, 0), (5, 1)),
-                 pc.quadratic((0, 0), (1, 2), (2, 0)), pc.cubic((0, 0), (2, 1), (1, 1), (3, 0))])
-    for tol in (1e-1, 1e-3):
-        for p, (q, t) in zip(pieces, pc.flatten_many(pieces, tol)):
-            q2, t2 = pc.flatten(p, tol)
-            assert np.array_equal(t, t2)
-            assert np.allclose(q, q2, atol=1e-12)
-
-
-def test_flat_starts_are_the_polylines_without_their_ends():
-    """flat_starts: every piece's flatten polyline but its end point, all in arrays
-    sorted by (piece, t), pieces of mixed degrees in their given order."""
-    pieces = [pc.line((0, 0), (5, 1)), pc.cubic((5, 1), (6, 3), (7, -3), (8, 0))] \
-        + pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3) + [pc.quadratic((0, 0), (1, 2), (2, 0))]
-    owner, t, pts = pc.flat_starts(pieces, 1e-3)
-    assert np.all(np.diff(owner) >= 0)
-    for k, p in enumerate(pieces):
-        q, tk = pc.flatten(p, 1e-3)
-        assert np.array_equal(t[owner == k], tk[:-1])
-        assert np.allclose(pts[owner == k], q[:-1], atol=1e-12)
-    empty = pc.flat_starts([], 1e-3)
-    assert [len(a) for a in empty] == [0, 0, 0]
 
 
 def test_kind_groups_partition_pieces_by_degree_and_kind():
@@ -285,71 +232,3 @@ def test_jet2_power_many_matches_de_casteljau_jets():
             assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * (1 + np.abs(a).max()))
 
 
-def test_nearest_params_many_against_brute_force():
-    """The foot found is as near as the nearest of 20001 samples (up to the samples'
-    own spacing), for points near and far from random rational pieces."""
-    rng = np.random.default_rng(4)
-    c = _random_rational_stack(rng, 6, 4)
-    pts = rng.uniform(-1.2, 1.2, (6, 15, 2))
-    s = pc.nearest_params_many(c, pts)
-    t = np.linspace(0, 1, 20001)
-    for k in range(len(c)):
-        dense = _plain_eval(c[k], t)
-        brute = np.sqrt(((pts[k][:, None] - dense[None]) ** 2).sum(-1)).min(axis=1)
-        got = np.hypot(*(_plain_eval(c[k], s[k]) - pts[k]).T)
-        slack = np.hypot(*np.diff(dense, axis=0).T).max()
-        # a sampled start may miss a far branch: count, not all must hold
-        assert np.mean(got <= brute + slack) >= 0.95
-        assert np.all(got >= brute - slack - 1e-12)
-
-
-def test_distance_bound_many_certifies_and_is_invariant():
-    """bound >= max over dense samples of |R(s) - Q(s)|, tighter with more panels,
-    unchanged by translating both curves, scaled with them."""
-    rng = np.random.default_rng(5)
-    c = _random_rational_stack(rng, 8, 5)
-    q = np.array([_plain_eval(ck, np.linspace(0, 1, 4)) for ck in c])   # 4 points as
-    q[:, 1:3] += rng.normal(0, 0.05, (8, 2, 2))                          # a rough cubic
-    t = np.linspace(0, 1, 4001)
-    import math
-    bern = np.stack([math.comb(3, i) * t ** i * (1 - t) ** (3 - i) for i in range(4)], 1)
-    b0, _ = pc.distance_bound_many(c, q, 0)
-    b3, _ = pc.distance_bound_many(c, q, 3)
-    for k in range(len(c)):
-        sampled = np.hypot(*(_plain_eval(c[k], t) - bern @ q[k]).T).max()
-        assert b0[k] >= b3[k] >= sampled * (1 - 1e-12)
-        assert b3[k] <= 1.5 * sampled                 # refined: close to the maximum
-    shift = np.array([1e3, -2e3])
-    cs = c.copy()
-    cs[:, :, :2] += cs[:, :, 2:] * shift
-    assert np.allclose(pc.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
-    assert np.allclose(pc.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
-                       rtol=1e-12)
-
-
-def test_flat_starts_keep_gives_the_whole_flattening_where_kept():
-    """flat_starts with ``keep`` (parts left out of the subdivision where False) gives
-    exactly the vertices of the whole flattening inside the kept ranges, and only
-    vertices of the whole flattening."""
-    rng = np.random.default_rng(21)
-    pieces = []
-    for _ in range(30):
-        n = int(rng.integers(3, 6))
-        w = np.ones(n)
-        w[1:-1] = rng.uniform(0.3, 3.0, n - 2)
-        ctrl = rng.uniform(0, 10, (n, 2))
-        pieces.append(np.column_stack([ctrl * w[:, None], w]))
-    lo = rng.uniform(0, 0.8, len(pieces))
-    hi = lo + rng.uniform(0.01, 0.2, len(pieces))
-
-    def keep(owner, t0, width):
-        return (t0 <= hi[owner]) & (t0 + width >= lo[owner])
-
-    full = pc.flat_starts(pieces, 1e-3)
-    part = pc.flat_starts(pieces, 1e-3, keep=keep)
-    whole = {(int(o), float(t)): tuple(p) for o, t, p in zip(*full)}
-    got = {(int(o), float(t)): tuple(p) for o, t, p in zip(*part)}
-    assert all(whole.get(k) == v for k, v in got.items())
-    inside = {k for k in whole if lo[k[0]] < k[1] < hi[k[0]]}
-    assert inside and inside <= set(got)
-    assert len(got) < 0.6 * len(whole)

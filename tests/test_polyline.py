@@ -7,6 +7,7 @@ import shapely
 from shapely.geometry import LineString
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.polyline import (flatten_segments, polylines_apart, polylines_cross, polylines_touch,
                             segment_crossings, segment_pairs)
 
@@ -127,7 +128,7 @@ def test_polylines_apart_is_a_sufficient_test():
     not apart."""
 
     def apart(*loops):
-        return polylines_apart(pc.flatten_loops(list(loops), tol), tol)
+        return polylines_apart(pl.flatten_loops(list(loops), tol), tol)
 
     tol = 1e-2
     rng = np.random.default_rng(11)
@@ -139,8 +140,8 @@ def test_polylines_apart_is_a_sufficient_test():
         c2 = (r1 + r2 + gap) * np.array([np.cos(ang), np.sin(ang)])
         a, b = pc.circle((0.0, 0.0), r1), pc.circle(c2, r2)
         got = apart(a, b)
-        true_gap = shapely.Polygon(pc.flatten_loop(a, 1e-6)).distance(
-            shapely.Polygon(pc.flatten_loop(b, 1e-6)))
+        true_gap = shapely.Polygon(pl.flatten_loop(a, 1e-6)).distance(
+            shapely.Polygon(pl.flatten_loop(b, 1e-6)))
         if got:   # each arc within tol of its segments, the segments over 2 tol apart
             assert true_gap > 0, (gap, true_gap)
         if true_gap > 4 * tol:   # the polylines (within tol) more than 2 tol apart
@@ -197,3 +198,60 @@ def test_polylines_touch_against_shapely_distances():
     assert polylines_touch([square, square + [1, 0]], 1e-12)   # a shared edge
     assert not polylines_touch([square, square + [1.5, 0]], 0.1)
     assert not polylines_touch([square], 1e-12)     # neighbours along a polyline meet
+
+
+# ------------------------------------------------------------------ flattening
+
+def test_flatten_many_equals_flatten():
+    """The batched flattening gives each piece exactly what flatten gives it."""
+    pieces = (pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3)
+              + [pc.cubic((0, 0), (1, 3), (2, -3), (3, 0)), pc.line((0, 0), (5, 1)),
+                 pc.quadratic((0, 0), (1, 2), (2, 0)), pc.cubic((0, 0), (2, 1), (1, 1), (3, 0))])
+    for tol in (1e-1, 1e-3):
+        for p, (q, t) in zip(pieces, pl.flatten_many(pieces, tol)):
+            q2, t2 = pl.flatten(p, tol)
+            assert np.array_equal(t, t2)
+            assert np.allclose(q, q2, atol=1e-12)
+
+
+def test_flat_starts_are_the_polylines_without_their_ends():
+    """flat_starts: every piece's flatten polyline but its end point, all in arrays
+    sorted by (piece, t), pieces of mixed degrees in their given order."""
+    pieces = [pc.line((0, 0), (5, 1)), pc.cubic((5, 1), (6, 3), (7, -3), (8, 0))] \
+        + pc.ellipse([0.0, 0.0], 30.0, 4.0, 0.3) + [pc.quadratic((0, 0), (1, 2), (2, 0))]
+    owner, t, pts = pl.flat_starts(pieces, 1e-3)
+    assert np.all(np.diff(owner) >= 0)
+    for k, p in enumerate(pieces):
+        q, tk = pl.flatten(p, 1e-3)
+        assert np.array_equal(t[owner == k], tk[:-1])
+        assert np.allclose(pts[owner == k], q[:-1], atol=1e-12)
+    empty = pl.flat_starts([], 1e-3)
+    assert [len(a) for a in empty] == [0, 0, 0]
+
+
+def test_flat_starts_keep_gives_the_whole_flattening_where_kept():
+    """flat_starts with ``keep`` (parts left out of the subdivision where False) gives
+    exactly the vertices of the whole flattening inside the kept ranges, and only
+    vertices of the whole flattening."""
+    rng = np.random.default_rng(21)
+    pieces = []
+    for _ in range(30):
+        n = int(rng.integers(3, 6))
+        w = np.ones(n)
+        w[1:-1] = rng.uniform(0.3, 3.0, n - 2)
+        ctrl = rng.uniform(0, 10, (n, 2))
+        pieces.append(np.column_stack([ctrl * w[:, None], w]))
+    lo = rng.uniform(0, 0.8, len(pieces))
+    hi = lo + rng.uniform(0.01, 0.2, len(pieces))
+
+    def keep(owner, t0, width):
+        return (t0 <= hi[owner]) & (t0 + width >= lo[owner])
+
+    full = pl.flat_starts(pieces, 1e-3)
+    part = pl.flat_starts(pieces, 1e-3, keep=keep)
+    whole = {(int(o), float(t)): tuple(p) for o, t, p in zip(*full)}
+    got = {(int(o), float(t)): tuple(p) for o, t, p in zip(*part)}
+    assert all(whole.get(k) == v for k, v in got.items())
+    inside = {k for k in whole if lo[k[0]] < k[1] < hi[k[0]]}
+    assert inside and inside <= set(got)
+    assert len(got) < 0.6 * len(whole)

@@ -27,6 +27,8 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.minkowski import minkowski_sum
 from tests.oracles import reference as R
 
@@ -65,10 +67,10 @@ def blobs(draw, size=100.0):
             w[1:-1] = draw(st.lists(st.floats(0.3, 3.0), min_size=k, max_size=k))
         pieces.append(pc.from_points(cp, w))
     loop = pieces
-    ring = pc.flatten_loop(loop, 0.01)
+    ring = pl.flatten_loop(loop, 0.01)
     poly = Polygon(ring)
     assume(poly.is_valid and poly.area > 1.0)
-    if pc.loop_area(loop) < 0:  # CCW outer
+    if mo.loop_area(loop) < 0:  # CCW outer
         loop = [pc.reverse(p) for p in loop[::-1]]
     off = draw(st.tuples(st.floats(-50, 50), st.floats(-50, 50)))
     return [[pc.translate(p, np.array(off)) for p in loop]]
@@ -89,7 +91,7 @@ shapes = st.one_of(blobs(), blobs(), convex())
 
 
 def _polys(loops):
-    return [pc.flatten_loop(l, TOL / 10) for l in loops]
+    return [pl.flatten_loop(l, TOL / 10) for l in loops]
 
 
 def _interior_points(region, rng, n):
@@ -130,10 +132,10 @@ def test_sum_contains_translates(a, b, seed):
 def test_area_bounds_and_symmetry(a, b):
     ab = minkowski_sum(a, b, TOL)
     ba = minkowski_sum(b, a, TOL)
-    area_ab, area_ba = pc.region_area(ab), pc.region_area(ba)
-    assert area_ab >= max(pc.region_area(a), pc.region_area(b)) - TOL * _perimeter(ab)
+    area_ab, area_ba = mo.region_area(ab), mo.region_area(ba)
+    assert area_ab >= max(mo.region_area(a), mo.region_area(b)) - TOL * _perimeter(ab)
     assert abs(area_ab - area_ba) <= TOL * max(_perimeter(ab), _perimeter(ba))
-    assert sum(pc.loop_area(l) > 0 for l in ab) == sum(pc.loop_area(l) > 0 for l in ba)
+    assert sum(mo.loop_area(l) > 0 for l in ab) == sum(mo.loop_area(l) > 0 for l in ba)
 
 
 @SETTINGS
@@ -143,7 +145,7 @@ def test_translation_covariance(a, b, t):
     ab = minkowski_sum(a, b, TOL)
     moved = [[pc.translate(p, t) for p in l] for l in a]
     ab2 = minkowski_sum(moved, b, TOL)
-    assert abs(pc.region_area(ab2) - pc.region_area(ab)) <= TOL * _perimeter(ab)
+    assert abs(mo.region_area(ab2) - mo.region_area(ab)) <= TOL * _perimeter(ab)
     box1 = np.min([pc.bbox(p)[:2] for l in ab for p in l], axis=0)
     box2 = np.min([pc.bbox(p)[:2] for l in ab2 for p in l], axis=0)
     assert np.allclose(box2 - box1, t, atol=2 * TOL)
@@ -156,11 +158,11 @@ def test_sum_area_matches_polygon_reference(a, b):
     REF_TOL: the fine one costs N·M)."""
     loops = minkowski_sum(a, b, TOL)
     ref = R.polygon_minkowski_sum(a, b, REF_TOL)
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     per = _perimeter(loops)
     assert abs(area - ref.area) <= REF_TOL * per, (area, ref.area)
     outer, holes = R.count_outer_and_holes(ref, min_area=REF_TOL * per)
-    assert sum(pc.loop_area(l) > REF_TOL * per for l in loops) == outer
+    assert sum(mo.loop_area(l) > REF_TOL * per for l in loops) == outer
 
 
 # ---------------------------------------------------------------- real randomness (slow)
@@ -187,9 +189,9 @@ def _rng_blob(rng, size):
             if k and rng.random() < 0.5:
                 w[1:-1] = rng.uniform(0.3, 3.0, k)
             loop.append(pc.from_points(cp, w))
-        poly = Polygon(pc.flatten_loop(loop, 1e-3 * size))
+        poly = Polygon(pl.flatten_loop(loop, 1e-3 * size))
         if poly.is_valid and poly.area > 1e-3 * size * size:
-            return [loop] if pc.loop_area(loop) > 0 else [[pc.reverse(p) for p in loop[::-1]]]
+            return [loop] if mo.loop_area(loop) > 0 else [[pc.reverse(p) for p in loop[::-1]]]
 
 
 def _rotated(region, theta, scale):
@@ -218,13 +220,13 @@ def test_random_rotated_scaled_sums_against_polygon_reference():
         where = "MORPH_SEED=%d case %d" % (seed, case)
         loops = minkowski_sum(a, b, tol)
         x = (_interior_points(a, rng, 6)[:, None, :] + _interior_points(b, rng, 6)[None]).reshape(-1, 2)
-        polys = [pc.flatten_loop(l, tol / 10) for l in loops]
+        polys = [pl.flatten_loop(l, tol / 10) for l in loops]
         inside = R.winding_number(x, polys) != 0
         lines = shapely.MultiLineString([np.vstack([p, p[:1]]) for p in polys])
         assert (inside | (shapely.distance(shapely.points(x), lines) <= 2 * tol)).all(), where
         ref_flat = 5 * tol  # the reference (flattened operands) is within this of exact
         ref = R.polygon_minkowski_sum(a, b, ref_flat)
         per = _perimeter(loops)
-        assert abs(pc.region_area(loops) - ref.area) <= (tol + 2 * ref_flat) * per, where
+        assert abs(mo.region_area(loops) - ref.area) <= (tol + 2 * ref_flat) * per, where
         ba = minkowski_sum(b, a, tol)
-        assert abs(pc.region_area(ba) - pc.region_area(loops)) <= 2 * tol * per, where
+        assert abs(mo.region_area(ba) - mo.region_area(loops)) <= 2 * tol * per, where

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from morph import piece as pc
+from morph import moments as mo
 from morph.region import (Region, clean_loop, loop_bboxes, orient_region, point_in_region,
                           region_bbox, region_centroid, reverse_loop, winding_number,
                           zero_length_mask)
@@ -16,7 +17,7 @@ def square(x0, y0, size, ccw=True):
 
 
 def areas(loops):
-    return sorted(round(pc.loop_area(l), 9) for l in loops)
+    return sorted(round(mo.loop_area(l), 9) for l in loops)
 
 
 @pytest.mark.parametrize("dirs", [(True, True, True), (False, False, False),
@@ -25,7 +26,7 @@ def test_evenodd_nesting_alternates(dirs):
     loops = [square(0, 0, 10, dirs[0]), square(2, 2, 6, dirs[1]), square(4, 4, 2, dirs[2])]
     out = orient_region(loops, "evenodd")
     assert areas(out) == [-36.0, 4.0, 100.0]
-    assert pc.region_area(out) == pytest.approx(68.0)
+    assert mo.region_area(out) == pytest.approx(68.0)
 
 
 @pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
@@ -48,8 +49,8 @@ def test_many_nested_loops_against_a_pixel_count_of_the_rule(rule):
                 filled = (w != 0) if rule == "nonzero" else (w % 2 == 1)
                 truth += filled * (sides[d] ** 2 - sides[d + 1] ** 2)
     out = orient_region(loops, rule)
-    assert pc.region_area(out) == pytest.approx(truth)
-    assert all(pc.loop_area(l) != 0 for l in out)
+    assert mo.region_area(out) == pytest.approx(truth)
+    assert all(mo.loop_area(l) != 0 for l in out)
 
 
 def test_nonzero_opposite_directions_make_a_hole():
@@ -74,7 +75,7 @@ def test_circle_hole_in_circle():
     inner = pc.circle((1, 0), 2.0)  # same direction: nonzero keeps no hole
     assert len(orient_region([outer, inner], "nonzero")) == 1
     out = orient_region([outer, reverse_loop(inner)], "nonzero")
-    assert pc.region_area(out) == pytest.approx(np.pi * 21, rel=1e-12)
+    assert mo.region_area(out) == pytest.approx(np.pi * 21, rel=1e-12)
 
 
 def test_zero_length_pieces_and_zero_area_loops_dropped():
@@ -109,7 +110,7 @@ def test_zero_length_pieces_found_among_mixed_degrees_and_dropped():
     loop = [pc.line((0, 0), (4, 0)), pc.line((4, 0), (4, 0)), pc.line((4, 0), (0, 3)),
             pc.from_points([(0, 3)] * 3), pc.line((0, 3), (0, 0))]
     out = clean_loop(loop)
-    assert len(out) == 3 and abs(pc.loop_area(out) - 6.0) < 1e-12
+    assert len(out) == 3 and abs(mo.loop_area(out) - 6.0) < 1e-12
 
 
 def test_unknown_fill_rule():
@@ -229,7 +230,7 @@ def test_loops_with_equal_boxes_and_areas_but_other_curves_do_not_cancel():
         return [pc.line(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
 
     a, b = loop(top), reverse_loop(loop(bottom))
-    assert pc.loop_area(a) == -pc.loop_area(b) == 98.0
+    assert mo.loop_area(a) == -mo.loop_area(b) == 98.0
     got = orient_region([a, b], "nonzero", on_crossing=fill_region)
     ref = Polygon(top).symmetric_difference(Polygon(bottom))
-    assert abs(pc.region_area(got) - ref.area) < 1e-9 and ref.area == 4.0
+    assert abs(mo.region_area(got) - ref.area) < 1e-9 and ref.area == 4.0

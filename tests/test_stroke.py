@@ -10,6 +10,8 @@ import shapely
 from shapely.geometry import Polygon
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.fonts.brush import ellipse_nib
 from morph.stroke import stroke_paths
 
@@ -19,10 +21,10 @@ SCALE = 1e4  # Clipper integer scale of the reference
 
 def _reference(paths, nib):
     """Union of MinkowskiSum(nib polygon, path polyline) in Clipper (open paths)."""
-    nib_poly = pyclipper.scale_to_clipper(pc.flatten_loop(nib[0], FLAT), SCALE)
+    nib_poly = pyclipper.scale_to_clipper(pl.flatten_loop(nib[0], FLAT), SCALE)
     parts = []
     for pieces, closed in paths:
-        pts = np.concatenate([pc.flatten(p, FLAT)[0] for p in pieces])
+        pts = np.concatenate([pl.flatten(p, FLAT)[0] for p in pieces])
         parts += pyclipper.MinkowskiSum(nib_poly, pyclipper.scale_to_clipper(pts, SCALE), closed)
     clip = pyclipper.Pyclipper()
     clip.AddPaths(parts, pyclipper.PT_SUBJECT, True)
@@ -37,8 +39,8 @@ def _reference(paths, nib):
 
 
 def _ours(loops, tol):
-    outer = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) > 0]
-    holes = [Polygon(pc.flatten_loop(l, tol / 4)) for l in loops if pc.loop_area(l) < 0]
+    outer = [Polygon(pl.flatten_loop(l, tol / 4)) for l in loops if mo.loop_area(l) > 0]
+    holes = [Polygon(pl.flatten_loop(l, tol / 4)) for l in loops if mo.loop_area(l) < 0]
     return shapely.unary_union(outer).difference(shapely.unary_union(holes))
 
 
@@ -74,7 +76,7 @@ def test_polyline_with_sharp_corners_and_a_disk():
 def test_closed_path_keeps_its_counter():
     circle = list(pc.circle((0.0, 0.0), 40.0))
     loops = _check([(circle, True)], ellipse_nib(20, 6, 30), 0.05)
-    assert sorted(np.sign(pc.loop_area(l)) for l in loops) == [-1, 1]
+    assert sorted(np.sign(mo.loop_area(l)) for l in loops) == [-1, 1]
 
 
 def test_paths_are_united_and_dots_are_the_nib():
@@ -83,7 +85,7 @@ def test_paths_are_united_and_dots_are_the_nib():
     loops = _check(cross, nib, 0.05)
     assert len(loops) == 1
     dot = stroke_paths([([pc.line((7.0, 3.0), (7.0, 3.0))], False)], nib, 0.05)
-    assert pc.region_area(dot) == pytest.approx(np.pi * 6 * 2, rel=1e-9)
+    assert mo.region_area(dot) == pytest.approx(np.pi * 6 * 2, rel=1e-9)
 
 
 def test_stroke_many_each_result_against_its_own_reference():
@@ -107,15 +109,15 @@ def test_stroke_many_each_result_against_its_own_reference():
         ours, ref = _ours(loops, tol), _reference(paths, nib)
         assert ours.boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
         assert abs(ours.area - ref.area) <= (tol + 2 * FLAT) * ref.boundary.length
-    assert sorted(np.sign(pc.loop_area(l)) for l in out[3]) == [-1, 1]
+    assert sorted(np.sign(mo.loop_area(l)) for l in out[3]) == [-1, 1]
     # the i: the stem against its reference, the dot the nib at (0, 80)
     stem = [l for l in out[5] if pc.bbox(l[0])[3] < 70]
     dot = [l for l in out[5] if pc.bbox(l[0])[1] > 70]
     assert len(stem) == 1 and len(dot) == 1
     ref = _reference(sets[5][:1], nib)
     assert _ours(stem, tol).boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
-    assert pc.region_area(dot) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
-    assert pc.region_area(out[6]) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
+    assert mo.region_area(dot) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
+    assert mo.region_area(out[6]) == pytest.approx(np.pi * 7 * 2, rel=1e-9)
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -134,7 +136,7 @@ def test_stroke_far_from_the_origin_is_the_stroke_moved(seed):
         moved = [([pc.translate(p, off) for p in pieces], cl) for pieces, cl in paths]
         got = stroke_paths(moved, nib, tol)
         assert len(got) == len(base)
-        assert pc.region_area(got) == pytest.approx(pc.region_area(base), abs=1e-3), off
+        assert mo.region_area(got) == pytest.approx(mo.region_area(base), abs=1e-3), off
 
 
 @pytest.mark.parametrize("points", [[(0, 0), (60, 0), (30, 0)],

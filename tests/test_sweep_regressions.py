@@ -147,7 +147,7 @@ SWEEP_REGRESSIONS = [
     # along its segment, 0.2 units off; snapping it to the junction bent the piece into
     # a hump 1.2 tol high, at 30 of 30 sub-grid shifts).  Fixed: a junction Newton
     # misses takes each piece's nearest point within its segment's range
-    # (piece.nearest_params_in_range)
+    # (morph.nearest.nearest_params_in_range)
     ("nib/cormorant/U/60x8/120.7/0.0319/0.009",
      "straddle: 1 of 212 boundary points farther than tol + 2f inside the sum"),
     # EB Garamond (a font the code was not tuned on), fonts seed 9900:

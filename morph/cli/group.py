@@ -22,8 +22,17 @@ _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
 BAD_INPUT_ERRORS = (ParseError, DegenerateCurveError, LimitError, NibError, OperandError)
 
 
+#: Command-line advice for a library error or warning of this ``kind``
+HINTS = {"stroke": "`morph stroke` sweeps a nib along centre lines"}
+
+
+def _with_hint(message):
+    hint = HINTS.get(getattr(message, "kind", None))
+    return str(message) + ("; " + hint if hint else "")
+
+
 def _error_line(message):
-    text = " ".join(str(message).split())
+    text = " ".join(_with_hint(message).split())
     click.echo("morph: error: %s" % text, err=True)
 
 
@@ -32,7 +41,7 @@ def _warning_line(message, category, filename, lineno, file=None, line=None,
     """``warnings.showwarning`` of the command line: a MorphWarning as one line
     ``morph: warning: ...`` on stderr, anything else as Python shows it."""
     if issubclass(category, MorphWarning):
-        click.echo("morph: warning: %s" % " ".join(str(message).split()), err=True)
+        click.echo("morph: warning: %s" % " ".join(_with_hint(message).split()), err=True)
     else:
         _show(message, category, filename, lineno, file, line)
 

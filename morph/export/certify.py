@@ -26,8 +26,8 @@ The coefficients are first subdivided (de Casteljau, 2^refine panels, default 8)
 the worst panel taken: the same certificate, tighter because Bernstein coefficients
 converge to the polynomial under subdivision.  The curve math is the shared layer's:
 R o phi by :func:`morph.bernstein.compose_many`, the certificate by
-:func:`morph.piece.distance_bound_many`, the feet by
-:func:`morph.piece.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
+:func:`morph.nearest.distance_bound_many`, the feet by
+:func:`morph.nearest.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
 
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
@@ -44,6 +44,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from .. import nearest as nr
 from ..budget import PHI_SHARE
 
 
@@ -124,8 +125,8 @@ def _panels(reparam):
 
 
 def same_param_bound(piece, cubic, refine=REFINE):
-    """:func:`morph.piece.distance_bound_many` of one piece and one cubic."""
-    return float(pc.distance_bound_many(piece[None], np.asarray(cubic, float)[None],
+    """:func:`morph.nearest.distance_bound_many` of one piece and one cubic."""
+    return float(nr.distance_bound_many(piece[None], np.asarray(cubic, float)[None],
                                         refine)[0][0])
 
 
@@ -143,7 +144,7 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
     (:func:`homogeneous_reparam`).  ``cubic`` is a (4, 2) array of Cartesian control
     points.  On each panel R o phi is composed exactly
     (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
-    :func:`morph.piece.distance_bound_many` applied on 2^refine panels (never below
+    :func:`morph.nearest.distance_bound_many` applied on 2^refine panels (never below
     the true maximum, rounding aside); the largest over the panels is returned.
 
     Raises:
@@ -262,14 +263,14 @@ def _reparams(subs, cubics, tol):
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
     homogeneous control points R o mu is R with w_i scaled by c^i, the same curve)
     and kept if it follows better; elsewhere c = 1.  The feet u_j of all
-    pairs come from one batched search (:func:`morph.piece.nearest_params_many`),
+    pairs come from one batched search (:func:`morph.nearest.nearest_params_many`),
     phi from one least-squares solve per degree (:func:`morph.bernstein.
     fit_fixed_ends`, ends fixed at 0 and 1).
     """
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
     u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
     for rows, stack in degree_groups(subs):
-        u[rows] = pc.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
+        u[rows] = nr.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
         p[rows], d[rows], _ = (pc.jet2_power_many if stack.shape[1] <= 13
                                else pc.jet2_many)(stack, u[rows])
     speed = np.hypot(d[..., 0], d[..., 1])
@@ -321,7 +322,7 @@ def certify_many(subs, cubics, tol, depth=3):
     form one continuous increasing phi.  The bound is the certificate of the module
     docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
     then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
-    :func:`morph.piece.distance_bound_many`).  Where it exceeds tol although the
+    :func:`morph.nearest.distance_bound_many`).  Where it exceeds tol although the
     cubic is within tol of the curve at the nodes (the parametrisations differ more
     than a polynomial of degree 9 follows: rational straight pieces, zero end
     derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
@@ -340,7 +341,7 @@ def certify_many(subs, cubics, tol, depth=3):
             cs[rows, None] ** np.arange(n))[:, :, None]         # R o mu: w_i c^i
         if m > 2:
             comp = bz.compose_many(comp, np.array([phis[i] for i in rows]))
-        bound[rows] = pc.distance_bound_many(comp, cubics[rows], REFINE)[0]
+        bound[rows] = nr.distance_bound_many(comp, cubics[rows], REFINE)[0]
     homog = [np.stack([c * f, (c - 1.0) * f + 1.0], axis=1) for f, c in zip(phis, cs)]
     out = [(float(b), [(0.0, 1.0, h)]) for b, h in zip(bound, homog)]
     rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
@@ -349,7 +350,7 @@ def certify_many(subs, cubics, tol, depth=3):
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
     um = np.empty(len(rows))
     for grp, stack in degree_groups([subs[i] for i in rows]):
-        um[grp] = pc.nearest_params_many(stack, mids[grp])[:, 0]
+        um[grp] = nr.nearest_params_many(stack, mids[grp])[:, 0]
     rows, um = rows[(um > 0) & (um < 1)], um[(um > 0) & (um < 1)]
     if not len(rows):
         return out

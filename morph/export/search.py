@@ -35,6 +35,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from .. import nearest as nr
 from ..errors import ToleranceNotMetError
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_many, check_piece, fit_cubic,
                       same_param_bound)
@@ -75,7 +76,7 @@ def _join_feet(plans, skip):
     joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
                       + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
                       for r in multi])
-    s = pc.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
+    s = nr.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
                                joins, iters=6)
     return {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
 

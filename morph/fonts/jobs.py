@@ -181,11 +181,11 @@ def polygon_sum(loops_a, loops_b, tol, closed=True):
     if closed:
         pa = _clipper_paths(region_polylines(loops_a, POLYGON_SHARE * tol))
     else:
-        from .. import piece as pc
+        from .. import polyline as pl
 
         pa = []
         for path in loops_a:
-            flat = pc.flatten_many(path, POLYGON_SHARE * tol)
+            flat = pl.flatten_many(path, POLYGON_SHARE * tol)
             pts = np.concatenate([f[0][:-1] for f in flat] + [flat[-1][0][-1:]])
             pa.extend(_clipper_paths([pts]))
     pb = _clipper_paths(region_polylines(loops_b, POLYGON_SHARE * tol))

@@ -79,6 +79,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import gauss
 from .. import piece as pc
+from .. import nearest as nr
 from .. import qac
 from ..errors import MorphError, ToleranceNotMetError
 from ..subdivide import METHODS, QAC_METHOD, Method, _objects, subdivide, turning_sign
@@ -475,20 +476,9 @@ def _sampled_max(f, n, zooms=2, zoom_samples=17, candidates=2):
     return vbest, tbest
 
 
-def distance_to_curve(q, curve, samples=33, newton=4):
-    """Distances of points q (m, 2) to a piece (min over its parameter in [0, 1]).
-
-    Nearest of ``samples`` uniform samples, then Newton steps on (C(u) - q)·C'(u) = 0,
-    clamped to [0, 1]; the smaller of the sampled and the refined distance is kept.
-    ``curve`` may also be the function returned by :func:`_curve_distance`.
-    """
-    dist = curve if callable(curve) else _curve_distance(curve, samples, newton)
-    return dist(q)
-
-
 def _curve_distance(curve, samples=33, newton=4):
     """q -> distances to the piece: the nearest of ``samples`` uniform samples, then
-    ``newton`` Newton steps to the foot point (:func:`morph.piece.closest_params_many`);
+    ``newton`` Newton steps to the foot point (:func:`morph.nearest.closest_params_many`);
     the smaller of the sampled and the refined distance."""
     c = np.asarray(curve, float)
     us = np.linspace(0.0, 1.0, samples)
@@ -499,7 +489,7 @@ def _curve_distance(curve, samples=33, newton=4):
         d2 = np.sum((q[:, None, :] - cs[None, :, :]) ** 2, axis=2)
         i = np.argmin(d2, axis=1)
         dmin = np.sqrt(d2[np.arange(len(q)), i])
-        u = pc.closest_params_many(c[None], q[None], us[i][None], newton)[0]
+        u = nr.closest_params_many(c[None], q[None], us[i][None], newton)[0]
         return np.minimum(dmin, np.hypot(*(pc.evaluate(c, u) - q).T))
 
     return dist

@@ -61,8 +61,6 @@ _SEP_RE = re.compile(r"\s*,?\s*")
 _WS_RE = re.compile(r"\s*")
 _ARGS = {"M": "nn", "L": "nn", "T": "nn", "H": "n", "V": "n", "C": "nnnnnn",
          "S": "nnnn", "Q": "nnnn", "A": "nnnffnn", "Z": ""}
-_NOT_RENDERED = {"defs", "symbol", "mask", "marker", "clipPath", "pattern",
-                 "linearGradient", "radialGradient", "filter", "metadata", "title", "desc"}
 
 
 # =========================================================================== path data
@@ -660,8 +658,7 @@ def svg_region(source, fill_rule=None, close_tol=None):
         stroke_only = [e for e in elements if e.stroked]
         if stroke_only:
             raise ParseError("%s is stroke-only (fill none): a centre line encloses no "
-                             "region; `morph stroke` sweeps a nib along it"
-                             % stroke_only[0].label, text)
+                             "region" % stroke_only[0].label, text, kind="stroke")
         raise ParseError("%s has no path or shape that is drawn" % where, text)
     parts = []
     for e in filled:
@@ -679,11 +676,12 @@ def svg_region(source, fill_rule=None, close_tol=None):
     stroked = [e for e in elements if e.stroked]
     if not loops:
         raise ParseError("%s fills nothing: no closed path with positive area, or loops "
-                         "whose windings cancel%s" % (where, _strokes_note(stroked)), text)
+                         "whose windings cancel%s" % (where, _strokes_note(stroked)), text,
+                         kind="stroke" if stroked else None)
     if stroked:
         warnings.warn(MorphWarning(
-            "%s is stroked: stroke paint is not part of the region (only fills are); "
-            "`morph stroke` sweeps a nib along centre lines" % _labels(stroked)),
+            "%s is stroked: stroke paint is not part of the region (only fills are)"
+            % _labels(stroked), kind="stroke"),
             stacklevel=2)
     return loops
 
@@ -699,8 +697,7 @@ def _strokes_note(stroked):
     """What the error of a document that fills nothing says about its strokes."""
     if not stroked:
         return ""
-    return ("; what it draws is stroke paint (%s), and `morph stroke` sweeps a nib along "
-            "centre lines" % _labels(stroked))
+    return "; what it draws is stroke paint (%s)" % _labels(stroked)
 
 
 def svg_paths(source, stroked=None):

@@ -10,6 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import piece as pc
+from .. import moments as mo
+from .. import polyline as pl
 from . import frame_bbox
 
 __all__ = ["cspace_figure", "write_frame_stream", "write_frames", "FRAME_FILE",
@@ -23,7 +25,7 @@ ROBOT_STYLE = {"fill": None, "stroke": "#1f5fa8", "stroke_width": 1.2}
 def _boundary_points(loop, tol, count):
     """``count`` points spread evenly by arc length along a loop (on its polyline
     within ``tol``, interpolated along its segments), starting at the loop's start."""
-    poly = pc.flatten_loop(loop, tol)
+    poly = pl.flatten_loop(loop, tol)
     closed = np.vstack([poly, poly[:1]])
     seg = np.hypot(*np.diff(closed, axis=0).T)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
@@ -48,7 +50,7 @@ def cspace_figure(obstacle, robot, cspace, tol, samples=8, reference=(0.0, 0.0),
         shapes.reverse()
     if not cspace or samples <= 0:
         return shapes
-    outer = max(cspace, key=lambda loop: abs(pc.loop_area(loop)))
+    outer = max(cspace, key=lambda loop: abs(mo.loop_area(loop)))
     box = frame_bbox([cspace], margin=0.0)
     dot = 0.012 * max(box[2] - box[0], box[3] - box[1])
     for p in _boundary_points(outer, tol, samples):

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from PIL import Image, ImageColor, ImageDraw
 
-from .. import piece as pc
+from .. import polyline as pl
 from ..region import polyline_edges
 from . import frame_bbox, normalize_shapes
 
@@ -159,7 +159,7 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
     canvas = Image.new("RGBA", (width, height), bg)
     for loops, style in items:
         opacity = style.get("opacity", 1.0)
-        polys = [to_px(pc.flatten_loop(loop, flat_tol)) for loop in loops if loop]
+        polys = [to_px(pl.flatten_loop(loop, flat_tol)) for loop in loops if loop]
         layers = []
         f = _rgba(style.get("fill", fill), opacity)
         if f is not None:

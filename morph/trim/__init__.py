@@ -170,12 +170,14 @@ def _without_sliver_holes(loops, eps):
     merge with their side, :func:`boundary`) and no renderer shows it; the sums
     would take its convolution for a bite.  Islands, however small, are kept."""
     from .. import piece as pc
+    from .. import moments as mo
+    from .. import polyline as pl
 
     out = []
     for loop in loops:
-        area = pc.loop_area(loop)
+        area = mo.loop_area(loop)
         if area < 0:
-            flat = np.concatenate([f[0] for f in pc.flatten_many(loop, eps)])
+            flat = np.concatenate([f[0] for f in pl.flatten_many(loop, eps)])
             length = float(np.sum(np.hypot(*np.diff(flat, axis=0).T)))
             if 2.0 * -area < eps * length:
                 continue
@@ -211,7 +213,7 @@ def unfold_flat_curl(piece, eps):
         return piece
     from .. import piece as pc
 
-    along = (pc.flatten(h, eps / 4.0)[0] - a) @ d
+    along = (pl.flatten(h, eps / 4.0)[0] - a) @ d
     if np.all(np.diff(along) >= 0) or along.min() < -eps or along.max() > length + eps:
         return piece  # no fold, or one reaching past the chord's ends (a spike)
     return pc.line(a, b)

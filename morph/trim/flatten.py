@@ -1,7 +1,7 @@
 """Tagged polylines on an integer grid: the input of the polygon engine.
 
 Every closed loop of rational pieces becomes a closed polyline whose vertices lie
-on the pieces (certified flattening, :func:`morph.piece.flatten_many`: each piece
+on the pieces (certified flattening, :func:`morph.polyline.flatten_many`: each piece
 is within ``eps`` of its polyline by the convex-hull property of positive-weight
 rational Béziers, wherever its topology is decided; within COARSE eps along the
 simple arcs that nothing comes near, :func:`adaptive_starts`), snapped to the
@@ -22,6 +22,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from .. import polyline as pl
 from ..polyline import BoxGrid, touching_edges, unique
 
 #: segments whose topology is certain are flattened this many times coarser
@@ -133,7 +134,7 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     those of the finer flattening, and the lifted boundary follows the exact pieces.
     """
     coarse = COARSE if coarse is None else coarse
-    pid, ts, xy = pc.flat_starts(pieces, coarse * eps)
+    pid, ts, xy = pl.flat_starts(pieces, coarse * eps)
     if coarse <= 1.0 or not len(pid):
         return pid, ts, xy
     loop_of = piece_loop[pid]
@@ -181,7 +182,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         last = np.searchsorted(key, p + t0 + width, side="left") - 1
         return refined[np.maximum(last, first) + 1] - refined[first] > 0
 
-    fp, fts, fxy = pc.flat_starts([pieces[i] for i in of], eps, keep=overlaps)
+    fp, fts, fxy = pl.flat_starts([pieces[i] for i in of], eps, keep=overlaps)
     fp = of[fp]
     fkey = fp * 2.0 + fts
     seg = np.searchsorted(key, fkey, side="right") - 1  # the coarse segment of each
@@ -206,7 +207,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     if gap.any():
         g = np.flatnonzero(gap)
         parts = pc.subsegments(pieces, mp[g], mt[g], t_next[g])
-        owner, s, pts = pc.flat_starts(parts, eps)
+        owner, s, pts = pl.flat_starts(parts, eps)
         inner = s > 0.0
         owner, s, pts = g[owner[inner]], s[inner], pts[inner]
         mp = np.concatenate([mp, mp[owner]])

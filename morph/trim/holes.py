@@ -12,7 +12,8 @@ within a tenth of the point's depth (so the answer is the exact one for x).
 import numpy as np
 import pyclipper
 
-from .. import piece as pc
+from .. import moments as mo
+from .. import polyline as pl
 from ..polyline import min_segment_distance, unique, winding_number
 
 
@@ -127,11 +128,11 @@ class Membership:
 
     def __init__(self, region_a, region_b, depth):
         flat = depth / 10.0
-        pa = pc.flatten_loops(region_a, flat)
-        self.pb = pc.flatten_loops(region_b, flat)
+        pa = pl.flatten_loops(region_a, flat)
+        self.pb = pl.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
-        flat_loop = (np.abs(loop_areas(region_a)) <= 1e-9 * size * size).tolist()
+        flat_loop = (np.abs(mo.loop_areas(region_a)) <= 1e-9 * size * size).tolist()
         self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
         # a degenerate loop P, reverse(P): its first half is the path
         self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]
@@ -169,26 +170,6 @@ class Membership:
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
-
-
-def loop_areas(loops):
-    """:func:`morph.piece.loop_area` of every loop, (k,): the pieces of all loops moved
-    so that each loop's first point is the origin (as ``loop_area`` integrates) and
-    integrated together (:func:`morph.piece.area_terms`, by degree and kind)."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
-    pieces = [p for loop in loops for p in loop]
-    if not pieces:
-        return np.zeros(len(sizes))
-    owner = np.repeat(np.arange(len(sizes)), sizes)
-    origin = pc.end_points([loop[0] for loop in loops if len(loop)])[0]
-    origin = origin[np.cumsum(sizes > 0) - 1][owner]
-    moved = [None] * len(pieces)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
-        h[..., :2] -= origin[ks][:, None] * h[..., 2:]
-        for j, k in enumerate(ks):
-            moved[k] = h[j]
-    return np.bincount(owner, weights=pc.area_terms(moved), minlength=len(sizes))
 
 
 def _add(clip, path, kind, closed):

@@ -17,8 +17,9 @@ along the segment.
 
 import numpy as np
 
-from .. import bernstein as bz
 from .. import piece as pc
+from .. import moments as mo
+from .. import nearest as nr
 from ..polyline import BoxGrid, project, segment_distance, unique
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
@@ -74,9 +75,9 @@ def lift_rings(rings, tg, contract):
         # to the junction would bend the piece that far)
         bad = ~ok
         if bad.any():
-            ta[bad] = pc.nearest_params_in_range(stacked[ia[bad]], guess[bad], t0[k[bad]],
+            ta[bad] = nr.nearest_params_in_range(stacked[ia[bad]], guess[bad], t0[k[bad]],
                                                  t1[k[bad]])
-            tb[bad] = pc.nearest_params_in_range(stacked[ib[bad]], guess[bad],
+            tb[bad] = nr.nearest_params_in_range(stacked[ib[bad]], guess[bad],
                                                  t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
@@ -242,8 +243,8 @@ def _cut_at(run, j, s, u, x):
     head_i, tail_i = pc.subsegment(out[i], 0.0, s), pc.subsegment(out[i], s, 1.0)
     head_k, tail_k = pc.subsegment(out[k], 0.0, u), pc.subsegment(out[k], u, 1.0)
     through_j = [tail_i, out[j], head_k]
-    part = pc.loop_area(through_j)
-    if abs(part) > abs(pc.loop_area(out) - part):
+    part = mo.loop_area(through_j)
+    if abs(part) > abs(mo.loop_area(out) - part):
         out[:] = through_j
         ends[:] = [ends[i], ends[j], x]
         return

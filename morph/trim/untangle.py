@@ -15,6 +15,8 @@ neighbour) are removed first.
 import numpy as np
 
 from .. import piece as pc
+from .. import moments as mo
+from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
@@ -165,7 +167,7 @@ def _union_arcs(la, lb, ca, cb, eps):
     arcs_a = [_arc(la, ca[0], ca[1]), _arc(la, ca[1], ca[0])]
     # on lb, the arc from the crossing la meets first to the other, and back
     arcs_b = [_arc(lb, cb[0], cb[1]), _arc(lb, cb[1], cb[0])]
-    poly_a, poly_b = pc.flatten_loop(la, eps / 10.0), pc.flatten_loop(lb, eps / 10.0)
+    poly_a, poly_b = pl.flatten_loop(la, eps / 10.0), pl.flatten_loop(lb, eps / 10.0)
 
     def outside(arc, poly):
         mid = arc[len(arc) // 2]
@@ -189,7 +191,7 @@ def _split_off(loop, hit, eps, hole_test):
     u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`
     says so."""
     lobe, rest = _split(loop, *hit, 1e-6 * eps)
-    if lobe and rest and abs(pc.loop_area(lobe)) > abs(pc.loop_area(rest)):
+    if lobe and rest and abs(mo.loop_area(lobe)) > abs(mo.loop_area(rest)):
         lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
     keep = [rest]
     if lobe and _keep_lobe(lobe, rest, eps, hole_test):
@@ -504,7 +506,7 @@ def _ray_winding(x, loop, flat):
     meet = np.flatnonzero((box[:, 1] <= x[1]) & (box[:, 3] >= x[1]) & (box[:, 2] >= x[0]))
     if not len(meet):
         return 0
-    polys = [pts for pts, _ in pc.flatten_many([loop[k] for k in meet], flat)]
+    polys = [pts for pts, _ in pl.flatten_many([loop[k] for k in meet], flat)]
     a = np.concatenate([q[:-1] for q in polys])
     b = np.concatenate([q[1:] for q in polys])
     return int(ray_crossings(np.broadcast_to(x, a.shape), a, b).sum())
@@ -517,7 +519,7 @@ def _keep_lobe(lobe, rest, eps, hole_test=None):
     eps around it), which ``hole_test`` may find filled.  A lobe of the opposite
     orientation beside the rest (a twist) or nested with the same one (a curl)
     bounds nothing; nor does one of area below eps^2."""
-    a_lobe, a_rest = pc.loop_area(lobe), pc.loop_area(rest)
+    a_lobe, a_rest = mo.loop_area(lobe), mo.loop_area(rest)
     if abs(a_lobe) <= eps * eps:
         return False
     probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)[0]
@@ -526,5 +528,5 @@ def _keep_lobe(lobe, rest, eps, hole_test=None):
         return not nested
     if not nested:
         return False
-    return hole_test is None or not hole_test(pc.flatten_loop(lobe, eps / 10), [])
+    return hole_test is None or not hole_test(pl.flatten_loop(lobe, eps / 10), [])
 

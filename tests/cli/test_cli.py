@@ -162,11 +162,11 @@ def test_internal_error_exit_1_and_debug(runner, tmp_path, monkeypatch):
     saved = tmp_path / "morph-debug-outline.json"
     assert str(saved) in last
     import json
-    from morph import piece as pc
+    from morph import moments as mo
     from morph.parse import glyph_region
     data = json.loads(saved.read_text())
     loops = [[np.array(p) for p in loop] for loop in data["shapes"][0]["loops"]]
-    assert pc.region_area(loops) == pc.region_area(glyph_region("g").region)
+    assert mo.region_area(loops) == mo.region_area(glyph_region("g").region)
 
 
 @pytest.mark.parametrize("error", ["TopologyError", "ToleranceNotMetError"])

@@ -1,7 +1,7 @@
 """Error and size measures for bench/peers.py that do not trust a coarse polygon.
 
 Nothing here calls ``morph.trim`` (or any of the project's geometry beyond
-``morph.piece.flatten``, used by ``tests.oracles.reference`` to flatten the *inputs*).  Curve
+``morph.polyline.flatten``, used by ``tests.oracles.reference`` to flatten the *inputs*).  Curve
 points, tangents and curvature come from ``tests.oracles.reference.bezier_eval`` (explicit
 Bernstein sums).
 

@@ -15,6 +15,7 @@ shapely = need("shapely", "the exact membership predicate")
 import shapely.affinity  # noqa: E402 - after the check that shapely is installed
 
 from morph import piece as pc  # noqa: E402
+from morph import polyline as pl
 from morph.minkowski import minkowski_sum  # noqa: E402
 from tests.oracles import reference as R  # noqa: E402
 
@@ -49,7 +50,7 @@ def boundary_samples(loops, per_piece=3):
 
 
 def inside(loops, points):
-    polys = [pc.flatten_loop(l, 0.01) for l in loops]
+    polys = [pl.flatten_loop(l, 0.01) for l in loops]
     return R.winding_number(points, polys) != 0
 
 

@@ -1,7 +1,7 @@
 """Independent reference computations that the project's tests compare against.
 
 Nothing here calls the project's geometric algorithms.  The only project code used is
-``morph.piece.flatten`` (to turn input curves into polylines for the polygon
+``morph.polyline.flatten`` (to turn input curves into polylines for the polygon
 references), which is tested on its own; curve points and derivatives are computed here
 from the Bernstein basis directly (``bezier_eval``), so a bug in ``morph.bernstein`` or
 ``morph.piece`` cannot cancel out.
@@ -57,7 +57,7 @@ from scipy.optimize import brentq, minimize_scalar  # noqa: E402 - after the che
 from scipy.special import comb  # noqa: E402
 from shapely.geometry import MultiPolygon, Polygon  # noqa: E402
 
-from morph import piece as mp  # noqa: E402
+from morph import polyline as pl  # noqa: E402
 
 
 # =========================================================================== curves
@@ -320,10 +320,10 @@ def curvature_sign_values(piece, n=501):
 
 def region_polylines(region, tol):
     """Closed polylines (each (m, 2), first point not repeated) of a region's loops,
-    each within tol of its curves (morph.piece.flatten)."""
+    each within tol of its curves (morph.polyline.flatten)."""
     out = []
     for loop in region:
-        pts = [mp.flatten(np.asarray(p, float), tol)[0][:-1] for p in loop]
+        pts = [pl.flatten(np.asarray(p, float), tol)[0][:-1] for p in loop]
         pts = np.concatenate(pts) if pts else np.zeros((0, 2))
         if len(pts) >= 3:
             out.append(pts)

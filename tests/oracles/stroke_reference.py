@@ -1,7 +1,7 @@
 """Independent polygon reference for skeleton strokes (paths ⊕ convex nib), in Clipper.
 
 Nothing here calls the project's stroking or trimming code: the skeleton's pieces and
-the nib's loop are flattened with ``morph.piece.flatten`` (tested on its own), then
+the nib's loop are flattened with ``morph.polyline.flatten`` (tested on its own), then
 
     P ⊕ N = (P ⊕ ∂N) ∪ (p0 + N)
 
@@ -25,13 +25,14 @@ shapely = need("shapely", "the Clipper stroke's polygons")
 from shapely.geometry import MultiPolygon, Polygon  # noqa: E402 - after the check above
 
 from morph import piece as mp  # noqa: E402
+from morph import polyline as pl  # noqa: E402
 from tests.oracles.reference import (_clipper_union, _polygons, default_scale,  # noqa: E402
                                      region_polylines)
 
 
 def path_polyline(pieces, tol):
     """(m, 2) polyline of a path's pieces (joined end to start) within tol."""
-    pts = [mp.flatten(np.asarray(p, float), tol)[0] for p in pieces]
+    pts = [pl.flatten(np.asarray(p, float), tol)[0] for p in pieces]
     out = [pts[0]] + [q[1:] for q in pts[1:]]
     return np.concatenate(out)
 

@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from morph import minkowski as _minkowski
+from morph import moments as mo
+from morph import polyline as pl
 from tests.oracles import need
 
 need("shapely", "the sweeps' exact predicate and polygon references")
@@ -365,7 +367,7 @@ def junction_crossings(loops, tol, limit=3):
 
     out = []
     for k, loop in enumerate(loops):
-        lines = [LineString(pc.flatten(p, tol / 4096)[0]) for p in loop]
+        lines = [LineString(pl.flatten(p, tol / 4096)[0]) for p in loop]
         ends = [np.array([pc.start(p), pc.end(p)]) for p in loop]
         n = len(loop)
         pairs = shapely.STRtree(lines).query(lines, predicate="intersects")
@@ -417,14 +419,14 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     if gap > 1e-9 * size:
         fail.append("open loop: gap %.3g (%.3g tol)" % (gap, gap / tol))
     # simple, no two loops crossing
-    rings = [pc.flatten_loop(l, tol / 64) for l in loops]
+    rings = [pl.flatten_loop(l, tol / 64) for l in loops]
     lines = _closed_lines(rings)
     if not shapely.is_simple(lines) or any(len(r) < 3 for r in rings):
         # polylines within f of the loops can cross where two strands of the loops
         # pass closer than 2f (a hairpin of a piece whose strands are 2e-4 tol apart
         # crossed at tol/1024 while the pieces do not): the finest level decides
         for f in (tol / 1024, tol / 65536):
-            fine = [pc.flatten_loop(l, f) for l in loops]
+            fine = [pl.flatten_loop(l, f) for l in loops]
             lines2 = _closed_lines(fine)
             if shapely.is_simple(lines2) and all(len(r) >= 3 for r in fine):
                 break
@@ -577,7 +579,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
     res["membership_points"] = int(len(x))
     # polygon reference: area, distances, counts
     if ref is not None and not ref.is_empty:
-        area = pc.region_area(loops)
+        area = mo.region_area(loops)
         per = float(ref.length)
         bound = (tol + ref_err) * per
         res["area_diff/bound"] = abs(area - ref.area) / bound
@@ -588,7 +590,7 @@ def verify(loops, oracle, tol, f, size, rng, ref=None, ref_err=0.0, n_boundary=6
         res["ref_to_ours/tol"] = float(ours_index.distance(
             rs[:, 0] if len(rs) <= 20000 else rs[rng.choice(len(rs), 20000, replace=False), 0]
         ).max() / tol) if len(rs) else 0.0
-        res["holes"] = sum(pc.loop_area(l) < 0 for l in loops)
+        res["holes"] = sum(mo.loop_area(l) < 0 for l in loops)
         res["ref_holes"] = sum(len(p.interiors) for p in shapely.get_parts(ref))
     return res
 
@@ -661,7 +663,7 @@ def check(font, a_name, b_name, tol, seed=0):
     if not _closed(loops, 1e-9 * scale + 1e-9):
         res["fail"].append("open loop")
     for k, loop in enumerate(loops):
-        ring = pc.flatten_loop(loop, tol / 4)
+        ring = pl.flatten_loop(loop, tol / 4)
         if len(ring) < 3 or not Polygon(ring).is_valid:
             res["fail"].append("loop %d not simple" % k)
             break
@@ -701,15 +703,15 @@ def check(font, a_name, b_name, tol, seed=0):
     # coarse Clipper reference
     ref = R.polygon_minkowski_sum(a, b, REF_TOL)
     res["ref"] = ref
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     rel = abs(area - ref.area) / ref.area
     res["area_rel"] = rel
     if rel > 2e-3:
         res["fail"].append("area %.6g vs reference %.6g (rel %.2e)" % (area, ref.area, rel))
     min_area = 100 * tol
     ref_counts = R.count_outer_and_holes(ref, min_area)
-    ours_counts = (sum(pc.loop_area(l) > min_area for l in loops),
-                   sum(pc.loop_area(l) < -min_area for l in loops))
+    ours_counts = (sum(mo.loop_area(l) > min_area for l in loops),
+                   sum(mo.loop_area(l) < -min_area for l in loops))
     if ours_counts != ref_counts:
         res["fail"].append("outer/holes %s vs reference %s" % (ours_counts, ref_counts))
     h = R.hausdorff(ours_poly, ref, spacing=2.0)
@@ -956,11 +958,10 @@ def _compare_clipper(loops, ref, ref_err, oracle, tol, f, chk):
     2 THIN tol is allowed; only the others fail."""
     import shapely
 
-    from morph import piece as pc
     from tests.oracles.reference import hausdorff, region_to_shapely
 
     msgs = []
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     bound = (tol + ref_err) * float(ref.length)
     chk["clipper_area_diff/bound"] = abs(area - ref.area) / bound
     if abs(area - ref.area) > bound:

@@ -11,6 +11,8 @@ pytest.importorskip("shapely")
 import shapely
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.errors import ParseError
 from morph.parse import cubic_test_font_path, default_font_path, glyph_region, load_font
 
@@ -49,7 +51,7 @@ def test_glyph_areas_match_shapely_every_letter(font):
     path = FONTS[font]
     for ch in string.ascii_letters:
         g = glyph_region(ch, path)
-        exact = pc.region_area(g.region)
+        exact = mo.region_area(g.region)
         ref = evenodd_area(g.region, 1e-4)
         assert exact > 0, ch
         assert abs(exact - ref) <= 1e-6 * ref, (font, ch, exact, ref)
@@ -60,13 +62,13 @@ def test_glyph_areas_match_shapely_every_letter(font):
                                        ("e", 1), ("l", 0)])
 def test_orientation_outer_ccw_holes_cw(font, ch, holes):
     g = glyph_region(ch, FONTS[font])
-    signs = [np.sign(pc.loop_area(l)) for l in g.region]
+    signs = [np.sign(mo.loop_area(l)) for l in g.region]
     assert signs.count(-1) == holes and signs.count(1) == len(signs) - holes
     # the biggest loop is the outer one; every hole lies inside an outer loop
-    assert pc.loop_area(max(g.region, key=lambda l: abs(pc.loop_area(l)))) > 0
-    outers = [shapely.Polygon(pc.flatten_loop(l, 0.5)) for l in g.region if pc.loop_area(l) > 0]
+    assert mo.loop_area(max(g.region, key=lambda l: abs(mo.loop_area(l)))) > 0
+    outers = [shapely.Polygon(pl.flatten_loop(l, 0.5)) for l in g.region if mo.loop_area(l) > 0]
     for l in g.region:
-        if pc.loop_area(l) < 0:
+        if mo.loop_area(l) < 0:
             probe = shapely.Point(pc.evaluate(l[0], 0.5)[0])
             assert any(o.contains(probe) for o in outers)
 
@@ -82,7 +84,7 @@ def test_glyph_pieces_by_font_kind_and_joins():
                 assert np.array_equal(pc.end(a), pc.start(b))
     assert (tt.name, tt.advance_width, tt.units_per_em) == ("g", 615, 1000)
     # the two fonts are the same design: areas agree to the quadratic/cubic conversion
-    assert pc.region_area(tt.region) == pytest.approx(pc.region_area(cff.region), rel=1e-3)
+    assert mo.region_area(tt.region) == pytest.approx(mo.region_area(cff.region), rel=1e-3)
 
 
 def test_glyph_by_name_and_composite():
@@ -91,7 +93,7 @@ def test_glyph_by_name_and_composite():
     agrave = glyph_region("\u00e0")  # composite: a + grave, decomposed
     a = glyph_region("a")
     assert len(agrave.region) == len(a.region) + 1
-    assert pc.region_area(agrave.region) > pc.region_area(a.region)
+    assert mo.region_area(agrave.region) > mo.region_area(a.region)
 
 
 def test_load_font_cached_and_errors(tmp_path):

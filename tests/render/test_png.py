@@ -10,6 +10,8 @@ from PIL import Image
 
 from tests.imagediff import assert_matches_golden, gray
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.parse import cubic_test_font_path, glyph_region, svg_region
 from morph.region import reverse_loop, translate_region
 from morph.render import frame_bbox, frames_to_gif, render_png, save_animation, svg_document
@@ -56,8 +58,8 @@ def test_holes_render_as_holes(ch):
     img = gray(render_png(loops, size=200))
     scale = 200 / max(frame[2] - frame[0], frame[3] - frame[1])
     for loop in loops:
-        if pc.loop_area(loop) < 0:  # a hole: its centre is background
-            cx, cy = np.mean(pc.flatten_loop(loop, 1.0), axis=0)
+        if mo.loop_area(loop) < 0:  # a hole: its centre is background
+            cx, cy = np.mean(pl.flatten_loop(loop, 1.0), axis=0)
             col = int((cx - frame[0]) * scale)
             row = int((frame[3] - cy) * scale)
             assert img[row, col] == 255, (ch, row, col)

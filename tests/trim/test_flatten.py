@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.trim.flatten import COARSE, tag_loops
 
 
@@ -175,7 +176,7 @@ def _membership(points, loops, rule, flat, reach):
     ``flat``; and whether each point is farther than ``reach`` from those polylines."""
     from morph.polyline import distance_to_others, winding_number
 
-    polys = [pc.flatten_loop(loop, flat) for loop in loops]
+    polys = [pl.flatten_loop(loop, flat) for loop in loops]
     if not polys:
         return np.zeros(len(points), bool), np.ones(len(points), bool)
     w = winding_number(points, polys)
@@ -257,14 +258,14 @@ def test_a_curl_finer_than_the_coarse_flattening_fills_by_the_rule(side, rule):
             pc.line((1, 0), (1, 1)), pc.line((1, 1), (0, 1)), pc.line((0, 1), (0, 0))]
     xs, ys = np.meshgrid(np.linspace(0.5 - 3 * h, 0.5 + 3 * h, 61), np.linspace(-abs(d), abs(d), 81))
     x = np.column_stack([xs.ravel(), ys.ravel()])
-    poly = pc.flatten_loop(loop, 1e-7)
+    poly = pl.flatten_loop(loop, 1e-7)
     w = winding_number(x, [poly])
     lobe = w == (2 if side > 0 else -1)  # the curl's lobe
     deep = lobe & (min_segment_distance(x, poly, np.roll(poly, -1, axis=0)) > 2 * eps)
     assert deep.sum() > 5
     want = (w[deep] % 2 == 1) if rule == "evenodd" else (w[deep] != 0)
     out = boundary([loop], eps, eps, rule)
-    got = winding_number(x[deep], [pc.flatten_loop(lp, 1e-7) for lp in out]) != 0
+    got = winding_number(x[deep], [pl.flatten_loop(lp, 1e-7) for lp in out]) != 0
     assert np.array_equal(got, want)
 
 
@@ -282,4 +283,4 @@ def test_a_lens_thinner_than_the_coarse_flattening_is_kept():
     out = boundary([[upper, lower]], eps, eps, "nonzero")
     x = np.column_stack([np.linspace(0.2, 0.8, 13), np.zeros(13)])
     assert len(out) == 1
-    assert (winding_number(x, [pc.flatten_loop(lp, 1e-7) for lp in out]) != 0).all()
+    assert (winding_number(x, [pl.flatten_loop(lp, 1e-7) for lp in out]) != 0).all()

@@ -8,6 +8,7 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from morph import piece as pc
+from morph import polyline as pl
 from morph.trim.holes import DEPTH_REL, Membership, deepest_point
 
 
@@ -68,7 +69,7 @@ def test_membership_with_an_open_path():
     a = [[path, pc.reverse(path)]]  # a path traced forward and back: a curve
     b = [list(pc.circle((0.0, 0.0), 1.0))]
     member = Membership(a, b, 0.01)
-    line = LineString(pc.flatten(path, 1e-5)[0])
+    line = LineString(pl.flatten(path, 1e-5)[0])
     rng = np.random.default_rng(1)
     for x in rng.uniform([-2, -4], [12, 4], size=(60, 2)):
         d = line.distance(Point(x))
@@ -84,7 +85,7 @@ def test_membership_of_scattered_loops_against_shapely():
     a = [list(pc.circle(c, r)) for c, r in zip(centres, rng.uniform(1, 6, 12))]
     b = [list(pc.circle((0.0, 0.0), 2.0))]
     member = Membership(a, b, 0.01)
-    union = shapely.union_all([Polygon(pc.flatten_loop(loop, 1e-4)) for loop in a])
+    union = shapely.union_all([Polygon(pl.flatten_loop(loop, 1e-4)) for loop in a])
     xs = np.concatenate([rng.uniform(-210, 210, size=(150, 2)),
                          centres + rng.uniform(-9, 9, size=(12, 2))])
     for x in xs:

@@ -5,6 +5,8 @@ import numpy as np
 import pytest
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import nearest as nr
 from morph.trim import boundary
 from morph.trim.lift import newton_crossings
 
@@ -62,7 +64,7 @@ def test_spike_cut_keeps_the_larger_part_when_the_long_side_is_flanked():
     x_cross = 0.019 + (1.161 + 0.729) / (1.161 + 1.087) * (1.064 - 0.019)
     triangle = 0.5 * (x_cross + 0.767) * (1.161 + 0.729)
     assert len(loop) == 3
-    assert pc.loop_area(loop) == pytest.approx(-triangle, rel=1e-9)
+    assert mo.loop_area(loop) == pytest.approx(-triangle, rel=1e-9)
 
 
 def test_boundary_of_two_crossing_circles_is_exact_arcs():
@@ -70,7 +72,7 @@ def test_boundary_of_two_crossing_circles_is_exact_arcs():
     b = list(pc.circle((1.0, 0.0), 1.0))
     loops = boundary([a, b], 1e-4, 1e-4, "nonzero")
     assert len(loops) == 1
-    area = pc.region_area(loops)
+    area = mo.region_area(loops)
     exact = 2 * np.pi - (2 * np.pi / 3 - np.sqrt(3) / 2)  # union of two unit disks
     assert area == pytest.approx(exact, abs=1e-9)
     for loop in loops:
@@ -81,7 +83,7 @@ def test_boundary_of_two_crossing_circles_is_exact_arcs():
 
 
 def test_nearest_in_range_against_dense_sampling():
-    """piece.nearest_params_in_range (where a crossing's Newton fails, each run ends
+    """nr.nearest_params_in_range (where a crossing's Newton fails, each run ends
     at its piece's point nearest to the grid point within its segment's range) against
     the nearest of 20001 samples of the range, on random rational pieces of uneven
     speed."""
@@ -95,7 +97,7 @@ def test_nearest_in_range_against_dense_sampling():
     hi = np.minimum(lo + rng.uniform(0.01, 0.4, m), 1.0)
     mid = np.array([pc.evaluate(stacked[i], 0.5 * (lo[i] + hi[i]))[0] for i in range(m)])
     pts = mid + rng.normal(0, 0.05, (m, 2))
-    s = pc.nearest_params_in_range(stacked, pts, lo, hi)
+    s = nr.nearest_params_in_range(stacked, pts, lo, hi)
     assert np.all((s >= lo) & (s <= hi))
     got = np.hypot(*(np.array([pc.evaluate(stacked[i], s[i])[0] for i in range(m)]) - pts).T)
     dense = np.array([np.hypot(*(pc.evaluate(stacked[i], np.linspace(lo[i], hi[i], 20001))

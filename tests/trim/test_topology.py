@@ -211,8 +211,8 @@ def test_near_coincident_copies_fill_in_seconds():
     # one path element: the parser fills its three subpaths together (winding +1 -1 -1)
     svg = ('<svg xmlns="http://www.w3.org/2000/svg"><path d="%s %s %s"/></svg>'
            % (path(0, False), path(1e-5, True), path(-1e-5, True)))
-    script = ("import sys\nfrom morph.parse import svg_region\nfrom morph import piece as pc\n"
-              "r = svg_region(sys.argv[1])\nprint(len(r), pc.region_area(r))\n")
+    script = ("import sys\nfrom morph.parse import svg_region\nfrom morph import moments as mo\n"
+              "r = svg_region(sys.argv[1])\nprint(len(r), mo.region_area(r))\n")
     out = subprocess.run([sys.executable, "-c", script, svg], capture_output=True, text=True,
                          timeout=60, check=True).stdout.split()
     assert int(out[0]) == 1  # the slivers between the copies are dropped

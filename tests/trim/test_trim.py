@@ -8,6 +8,7 @@ import shapely
 from shapely.geometry import LineString
 
 from morph import piece as pc
+from morph import moments as mo
 from morph.region import orient_region, reverse_loop
 from morph.trim import fill_region
 
@@ -25,11 +26,11 @@ def test_fill_region_overlapping_squares():
 
     loops = [_square(0, 0, 10), _square(5, 5, 10)]
     union = fill_region(loops, "nonzero")
-    assert len(union) == 1 and abs(pc.region_area(union) - 175.0) < 1e-9
+    assert len(union) == 1 and abs(mo.region_area(union) - 175.0) < 1e-9
     xor = fill_region(loops, "evenodd")
-    assert abs(pc.region_area(xor) - 150.0) < 1e-9
+    assert abs(mo.region_area(xor) - 150.0) < 1e-9
     # orient_region routes crossing loops to on_crossing, and refuses them without it
-    assert abs(pc.region_area(orient_region(loops, "nonzero", fill_region)) - 175.0) < 1e-9
+    assert abs(mo.region_area(orient_region(loops, "nonzero", fill_region)) - 175.0) < 1e-9
     with pytest.raises(ValueError, match="cross"):
         orient_region(loops, "nonzero")
 
@@ -41,13 +42,13 @@ def test_fill_region_figure_eight_and_opposite_squares():
               pc.line((20, 0), (0, 10)), pc.line((0, 10), (0, 0))]]
     out = fill_region(eight, "nonzero")
     # both lobes filled, each counter-clockwise
-    assert len(out) == 2 and all(pc.loop_area(l) > 0 for l in out)
+    assert len(out) == 2 and all(mo.loop_area(l) > 0 for l in out)
     # a square and an opposite-direction square inside crossing it: nonzero keeps
     # only where the windings do not cancel
     outer = _square(0, 0, 10)
     inner = reverse_loop(_square(5, 2, 10))
     out = fill_region([outer, inner], "nonzero")
-    assert abs(pc.region_area(out) - (100 + 100 - 2 * 40)) < 1e-9
+    assert abs(mo.region_area(out) - (100 + 100 - 2 * 40)) < 1e-9
 
 
 def _winding(x, pts):
@@ -66,7 +67,7 @@ def test_fill_region_bow_tie_and_star_rules():
     bow = [pc.line((0, 0), (80, 80)), pc.line((80, 80), (80, 0)), pc.line((80, 0), (0, 80)),
            pc.line((0, 80), (0, 0))]
     got = fill_region([bow], "nonzero")
-    assert len(got) == 2 and pc.region_area(got) == pytest.approx(3200.0, rel=1e-9)
+    assert len(got) == 2 and mo.region_area(got) == pytest.approx(3200.0, rel=1e-9)
     star_pts = [(50, 0), (79, 90), (2, 35), (98, 35), (21, 90)]
     star = [pc.line(star_pts[i], star_pts[(i + 1) % 5]) for i in range(5)]
     faces = shapely.polygonize([shapely.unary_union(LineString(star_pts + star_pts[:1]))])
@@ -75,5 +76,5 @@ def test_fill_region_bow_tie_and_star_rules():
     assert len(wind) == 6
     nonzero = sum(a for w, a in wind if w != 0)
     evenodd = sum(a for w, a in wind if w % 2)
-    assert pc.region_area(fill_region([star], "nonzero")) == pytest.approx(nonzero, rel=1e-9)
-    assert pc.region_area(fill_region([star], "evenodd")) == pytest.approx(evenodd, rel=1e-9)
+    assert mo.region_area(fill_region([star], "nonzero")) == pytest.approx(nonzero, rel=1e-9)
+    assert mo.region_area(fill_region([star], "evenodd")) == pytest.approx(evenodd, rel=1e-9)

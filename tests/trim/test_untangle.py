@@ -4,6 +4,8 @@ import pytest
 import numpy as np
 
 from morph import piece as pc
+from morph import moments as mo
+from morph import polyline as pl
 from morph.polyline import polylines_cross
 from morph.trim.untangle import untangle
 
@@ -24,7 +26,7 @@ def test_every_loop_is_untangled_however_many_cross():
     assert not any(polylines_cross(loop, 1e-3) for loop in out)
     # the twist (the clockwise triangle) goes, the counter-clockwise one stays
     assert len(out) == 70
-    assert all(pc.loop_area(loop) > 0 for loop in out)
+    assert all(mo.loop_area(loop) > 0 for loop in out)
     centres = np.array([np.mean([pc.start(p) for p in loop], axis=0) for loop in out])
     assert len(np.unique(np.round(centres // 30.0), axis=0)) == 70   # one per place
 
@@ -77,18 +79,18 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     assert len(out) == 4
     assert np.allclose(pc.end(out[0]), (32.0 / 3.0, 0.0), atol=0.07)  # the turning point
     assert np.allclose(pc.start(out[1]), pc.end(out[0])) and np.allclose(pc.end(out[1]), (20, 0))
-    ring = pc.flatten_loop(out, 1e-4)
+    ring = pl.flatten_loop(out, 1e-4)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
-    assert abs(pc.loop_area(out) - 50.0) < 1e-6
+    assert abs(mo.loop_area(out) - 50.0) < 1e-6
     # legs that coincide and then part without a turn (a veers off towards (14, 6)):
     # cut where they part (y_a = 7e-5, x = 9.2), not further back along a
     veer = pc.cubic((14, 6), (12, 0), (12, 0), (9, 0))
     loop = [veer, pc.line((9, 0), (20, 0)), pc.line((20, 0), (14, 6))]
     out = remove_folds(loop, 0.07)
     assert len(out) == 3 and 9.15 < pc.end(out[0])[0] < 9.25
-    ring = pc.flatten_loop(out, 1e-4)
+    ring = pl.flatten_loop(out, 1e-4)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
-    assert abs(pc.loop_area(out) - pc.loop_area(loop)) < 1e-3
+    assert abs(mo.loop_area(out) - mo.loop_area(loop)) < 1e-3
     # a tip: the legs part at once (a turn of pi, not a spike), kept as it is
     tip = [pc.quadratic((0, 0), (5, 0.1), (10, 0)), pc.quadratic((10, 0), (5, -0.1), (1, -0.5)),
            pc.line((1, -0.5), (0, 0))]
@@ -110,10 +112,10 @@ def test_two_outer_loops_crossing_in_a_lens_become_their_union():
     a, b = pc.circle((0.0, 0.0), 1.0), pc.circle((1.999, 0.0), 1.0)
     out = merge_lenses([a, b], [True, True], 0.01)
     assert len(out) == 1
-    ring = pc.flatten_loop(out[0], 1e-6)
+    ring = pl.flatten_loop(out[0], 1e-6)
     assert LineString(np.vstack([ring, ring[:1]])).is_simple
-    union = Polygon(pc.flatten_loop(a, 1e-6)).union(Polygon(pc.flatten_loop(b, 1e-6)))
-    assert abs(pc.loop_area(out[0]) - union.area) < 1e-5
+    union = Polygon(pl.flatten_loop(a, 1e-6)).union(Polygon(pl.flatten_loop(b, 1e-6)))
+    assert abs(mo.loop_area(out[0]) - union.area) < 1e-5
     assert len(merge_lenses([a, b], [True, False], 0.01)) == 2
     # only the pairs said to be near are searched (boundary passes those whose rings
     # come within twice the lift's error)
@@ -171,10 +173,10 @@ def test_a_comb_of_spikes_folds_back_to_its_square():
              pc.line((100, 100), (0, 100)), pc.line((0, 100), (0, 0)), pc.line((0, 0), (0.5, 0)),
              pc.line((0.5, 0), (0.5, 10))]
     out = remove_folds(loop, 1e-3)
-    assert abs(pc.loop_area(out) - 10000.0) < 1e-9
+    assert abs(mo.loop_area(out) - 10000.0) < 1e-9
     first, last = pc.end_tangents_many(out)
     assert (np.einsum("ij,ij->i", last, np.roll(first, -1, axis=0)) > FOLD_COS).all()
-    ring = pc.flatten_loop(out, 1e-6)
+    ring = pl.flatten_loop(out, 1e-6)
     on_edge = (np.isclose(ring[:, 1], 0) | np.isclose(ring[:, 1], 100)
                | np.isclose(ring[:, 0], 0) | np.isclose(ring[:, 0], 100))
     assert on_edge.all()
@@ -207,7 +209,7 @@ def test_ray_winding_equals_the_winding_number_of_the_whole_flattened_loop():
     for _ in range(30):
         loop = _random_curved_loop(rng, int(rng.integers(3, 12)))
         flat = 10.0 ** rng.uniform(-4, -1)
-        poly = pc.flatten_loop(loop, flat)
+        poly = pl.flatten_loop(loop, flat)
         probes = np.vstack([rng.uniform(-12, 12, (60, 2)), poly[rng.integers(0, len(poly), 10)],
                             np.column_stack([rng.uniform(-12, 12, 10), poly[:10, 1]])])
         want = winding_number(probes, [poly])
