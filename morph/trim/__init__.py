@@ -212,6 +212,7 @@ def unfold_flat_curl(piece, eps):
     if np.max(np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])) > eps:
         return piece
     from .. import piece as pc
+    from .. import polyline as pl
 
     along = (pl.flatten(h, eps / 4.0)[0] - a) @ d
     if np.all(np.diff(along) >= 0) or along.min() < -eps or along.max() > length + eps:
