@@ -169,7 +169,6 @@ def _without_sliver_holes(loops, eps):
     hole that thin is below the fill's resolution (features thinner than 2 eps may
     merge with their side, :func:`boundary`) and no renderer shows it; the sums
     would take its convolution for a bite.  Islands, however small, are kept."""
-    from .. import piece as pc
     from .. import moments as mo
     from .. import polyline as pl
 
@@ -212,6 +211,7 @@ def unfold_flat_curl(piece, eps):
     if np.max(np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])) > eps:
         return piece
     from .. import piece as pc
+    from .. import polyline as pl
 
     along = (pl.flatten(h, eps / 4.0)[0] - a) @ d
     if np.all(np.diff(along) >= 0) or along.min() < -eps or along.max() > length + eps:
