@@ -120,7 +120,12 @@ def check_case(o, pieces, tol):
             problems.append("bound %.6g > tol %.6g" % (seg.bound, tol))
         for s0, s1, phi in seg.reparam:
             s = np.linspace(s0, s1, 1025)
-            u = o.bernstein(np.asarray(phi)[:, None], (s - s0) / (s1 - s0))[:, 0]
+            ph, x = np.asarray(phi, float), (s - s0) / (s1 - s0)
+            if ph.ndim == 2:   # homogeneous [numerator, weight]: a Möbius factor
+                v = o.bernstein(ph, x)
+                u = v[:, 0] / v[:, 1]
+            else:
+                u = o.bernstein(ph[:, None], x)[:, 0]
             err = float(np.hypot(*(chain_point(u) - o.bernstein(seg.cubic, s)).T).max())
             cert = max(cert, err / (seg.bound + 1e-13 * coords))
             if err > seg.bound * (1 + 1e-9) + 1e-13 * coords:

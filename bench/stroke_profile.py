@@ -65,7 +65,8 @@ PHASES = [
                         "morph.trim:_near_pairs"]),
     ("corner pass", ["morph.minkowski:_tip_tolerances"]),
     ("export fit", ["morph.export:loops_to_beziers", "morph.export:loops_to_quadratics"]),
-    ("certificate", ["morph.export:_reparams", "morph.export:_certify_many"]),
+    ("certificate", ["morph.export:_reparams", "morph.export:_certify_many",
+                     "morph.export.certify:_reparams", "morph.export.certify:certify_many"]),
     ("font tables", ["morph.fonts.tables:contours_from_regions",
                      "morph.fonts.stroke:_write_strokes", "morph.fonts.stroke:_open_copy",
                      "morph.fonts.stroke:_move_furniture", "morph.fonts.ufo_tables:grow_win_metrics",
@@ -409,6 +410,7 @@ def main(argv=None):
     if opt.from_json:   # a report of phases measured before (a --json of a run)
         saved = json.loads(Path(opt.from_json).read_text())
         rows, measured = saved["rows"], saved["measured"]
+        measured += "  This report: `python -m bench.stroke_profile%s`." % argline
     else:
         rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
         measured = measured_line(argline, time.perf_counter() - t0, rows)

@@ -363,13 +363,42 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     area = np.bincount(owner, weights=terms, minlength=len(loops))
     sign = np.where(np.abs(area) > 1e-9, np.sign(area), 1.0)
     eps = 1e-6
-    ends = np.cumsum(counts[loops])
-    polys = pl.flatten_loops([moved[a:b] for a, b in zip(ends - counts[loops], ends)], 0.1 * eps)
     where = np.searchsorted(loops, loop_of[open_cusps])
     tips = pc.end_points([curves[i] for i in open_cusps])[1]
     tips = (tips - origin[where]) / size[where][:, None] + shift[where]
     ways = ways / np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
-    outside = np.round(winding_number(tips + eps * ways, polys)) == 0
+    probes = tips + eps * ways
+    # only the pieces whose control box holds a probe of their loop are flattened
+    # finely (within a tenth of eps); the others become their chord: the region
+    # between a piece and its chord lies in the piece's control hull, so no probe
+    # outside that hull changes its winding number when the piece is replaced by
+    # its chord (the probe's winding is the exact loop's wherever the fine
+    # flattening's is)
+    fine = np.zeros(len(sel), bool)
+    by_loop = np.argsort(where, kind="stable")
+    count = np.bincount(where, minlength=len(loops))
+    first_probe = np.cumsum(count) - count
+    for ks, h in groups:
+        x = h[..., :2] / h[..., 2:]
+        blo, bhi = x.min(axis=1) - 0.1 * eps, x.max(axis=1) + 0.1 * eps
+        n = count[owner[ks]]                     # (piece, probe of its loop) pairs
+        piece = np.repeat(np.arange(len(ks)), n)
+        probe = by_loop[np.repeat(first_probe[owner[ks]], n) + np.arange(n.sum())
+                        - np.repeat(np.cumsum(n) - n, n)]
+        hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
+        fine[ks[np.unique(piece[hit])]] = True
+    f_idx = np.flatnonzero(fine)
+    f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], 0.1 * eps)
+    c_idx = np.flatnonzero(~fine)
+    piece_of = np.concatenate([f_idx[f_owner], c_idx])
+    t = np.concatenate([f_t, np.zeros(len(c_idx))])
+    pts = np.concatenate([f_pts, pc.end_points([moved[i] for i in c_idx])[0]
+                          if len(c_idx) else np.zeros((0, 2))])
+    order = np.lexsort((t, piece_of))       # the loops' pieces in order, each's vertices
+    bounds = np.searchsorted(owner[piece_of[order]], np.arange(len(loops) + 1))
+    pts = pts[order]
+    polys = [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    outside = np.round(winding_number(probes, polys)) == 0
     return np.where(outside, np.pi, -np.pi) * sign[where]
 
 

@@ -44,6 +44,12 @@ integer rounding of the compiled font (<= 0.71 unit for the masters' points and
 again for an instance's).  The gvar deltas are not IUP-optimised (``optimizeGvar``
 off): IUP's 0.5-unit tolerance would come on top of the bound.
 
+A variable TrueType font brushed keeping its axes (:func:`brush_variable`) is the same
+construction on filled glyphs (:func:`morph.compatible.region_elements`): every master
+of the source, and intermediate ones on its master grid (the nib part of distant
+masters does not interpolate), ⊕ the nib, fitted with common breaks, written into the
+glyf/gvar of a copy of the source.
+
 Metrics as in the static stroke (:mod:`morph.fonts.stroke`): each master's
 outlines shift right by its nib's left extent and the advances grow by the nib's
 width (rounded), zero-width marks keep advance 0 and shift left by the width;
@@ -657,16 +663,37 @@ def _write(out_path, vf, doc, masters, names, ds_path, masters_dir):
 
 # ====================================================================== brush
 
-def _master_locations(font):
-    """Normalized locations of a glyf/gvar font's masters: the default and the peak
-    of every region its glyph variations use."""
+def _master_locations(font, split=1):
+    """Normalized locations of the brushed masters of a glyf/gvar font: the default,
+    the peak of every region its glyph variations use, and with ``split`` > 0 the
+    grid between them refined 2**split times along every axis (the source's own
+    interpolation gives the skeleton there; the nib part does not interpolate
+    between distant masters: a normal that turns between two masters moves its nib
+    point along an arc, not a chord)."""
+    import itertools
+
     peaks = set()
     for variations in font["gvar"].variations.values():
         for v in variations:
             peaks.add(tuple(sorted((tag, float(t[1])) for tag, t in v.axes.items())))
     tags = [a.axisTag for a in font["fvar"].axes]
-    return [{t: 0.0 for t in tags}] + [{**{t: 0.0 for t in tags}, **dict(p)}
+    locs = [{t: 0.0 for t in tags}] + [{**{t: 0.0 for t in tags}, **dict(p)}
                                        for p in sorted(peaks)]
+    if split > 0:
+        values = {t: sorted({loc[t] for loc in locs}) for t in tags}
+        grid = {}
+        for t in tags:
+            vs = values[t]
+            fine = set(vs)
+            for a, b in zip(vs[:-1], vs[1:]):
+                fine.update(a + (b - a) * k / 2 ** split for k in range(1, 2 ** split))
+            grid[t] = sorted(fine)
+        seen = {tuple(loc[t] for t in tags) for loc in locs}
+        for combo in itertools.product(*(grid[t] for t in tags)):
+            if combo not in seen:
+                seen.add(combo)
+                locs.append(dict(zip(tags, combo)))
+    return locs
 
 
 def _region_loops(glyph_set, name):
@@ -713,7 +740,7 @@ def _brush_glyph_job(args):
 
 
 def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, jobs=1,
-                   progress=None):
+                   progress=None, split=1):
     """Brush a variable TrueType font keeping its axes: every master of every chosen
     glyph ⊕ the nib, as untrimmed overlapping contours fitted compatibly across the
     masters (:func:`morph.compatible.region_elements`), converted to quadratics with
@@ -726,7 +753,9 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     ``glyphs``: glyph names (None: every glyph with contours; composites are
     decomposed); ``tol``: font units (fit FIT_SHARE, quadratics CU2QU_SHARE, the rest
     the masters' own interpolation of the nib part, measured, not bounded: a
-    source's masters are not a nib scale).  Returns a dict: ``masters``
+    source's masters are not a nib scale); ``split``: intermediate masters, the
+    source's master grid refined 2**split times per axis (:func:`_master_locations`;
+    Source Serif 4 with split 1: 25 masters instead of 9).  Returns a dict: ``masters``
     (normalized locations), ``glyphs``, ``fit_seconds``, ``font``.
 
     Raises:
@@ -745,7 +774,7 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     if "fvar" not in font or "gvar" not in font or "glyf" not in font:
         raise MorphError("%s is not a TrueType variable font (glyf/gvar)" % src)
     nib = Ellipse(*map(float, nib))
-    locs = _master_locations(font)
+    locs = _master_locations(font, split)
     tags = [a.axisTag for a in font["fvar"].axes]
     sets = [font.getGlyphSet(location=loc, normalized=True) for loc in locs]
     glyf = font["glyf"]

@@ -274,6 +274,7 @@ def test_specimen_sliders_in_chromium(tmp_path, runner):
 def _near(a, b, px=2):
     """The share of the ink of each mask within ``px`` pixels of the other's ink (the
     smaller of the two): anti-aliased hairlines differ by a pixel between renderers."""
+    pytest.importorskip("scipy")
     from scipy.ndimage import binary_dilation
 
     h, w = max(a.shape[0], b.shape[0]), max(a.shape[1], b.shape[1])
@@ -319,3 +320,52 @@ def test_fontbakery_adds_no_fail(tmp_path, skeleton, suffix):
         stroke_variable(ds, fam, (60, 15, 30), tol=TOL, family_name="Relief Stroke")
         fails = {k for k in _fontbakery(fam) - _fontbakery(source) if k[1] != "WARN"}
         assert not fails, sorted(fails)
+
+
+def _serif():
+    pkg = pytest.importorskip("fontpkg_source_serif_4")
+    from pathlib import Path
+
+    return Path(pkg.__file__).parent / "files" / "SourceSerif4[opsz,wght].ttf"
+
+
+@pytest.mark.slow
+def test_brush_variable_keeps_every_axis(tmp_path):
+    """Source Serif 4 (wght, opsz; 9 masters, brushed with the grid refined once: 25)
+    keeping its axes: masters and instances between them within tol + two roundings
+    of the source's own instance there ⊕ the nib (Clipper, tests/oracles/varfont.py);
+    with the source's 9 masters only, an instance between them is not."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.fonts.variable import brush_variable
+    from tests.oracles.varfont import clipper_region_sum
+
+    src = _serif()
+    out = tmp_path / "SerifBrush.ttf"
+    nib = (60, 15, 30)
+    stats = brush_variable(src, out, nib, glyphs=["o", "e"], tol=TOL)
+    assert len(stats["masters"]) == 25 and stats["glyphs"] == 2
+    font, source = TTFont(str(out)), TTFont(str(src))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wght", "opsz"]
+    assert font["glyf"]["o"].flags[0] & 0x40
+    ots = pytest.importorskip("ots")
+    assert ots.sanitize(str(out), capture_output=True).returncode == 0
+    shift = Ellipse(*nib).extent()[2]
+    for loc in ({"wght": 900, "opsz": 60}, {"wght": 200, "opsz": 20},
+                {"wght": 650, "opsz": 30}, {"wght": 330, "opsz": 11}):
+        got = instancer.instantiateVariableFont(font, loc).getGlyphSet()
+        exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
+        for name in ("o", "e"):
+            ref = [p + np.array([shift, 0.0])
+                   for p in clipper_region_sum(glyph_polygons(exact, name), nib)]
+            assert within(glyph_polygons(got, name), ref, TOL + 2 * ROUND + SLACK,
+                          strict=True), (loc, name)
+    coarse = tmp_path / "Coarse.ttf"
+    brush_variable(src, coarse, nib, glyphs=["e"], tol=TOL, split=0)
+    loc = {"wght": 300, "opsz": 12}
+    got = instancer.instantiateVariableFont(TTFont(str(coarse)), loc).getGlyphSet()
+    exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
+    ref = [p + np.array([shift, 0.0])
+           for p in clipper_region_sum(glyph_polygons(exact, "e"), nib)]
+    assert not within(glyph_polygons(got, "e"), ref, TOL + 2 * ROUND + SLACK, strict=True)
