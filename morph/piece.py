@@ -538,14 +538,6 @@ def end_tangents_many(pieces, rel=1e-12, strict=True):
     return first, last
 
 
-def region_area(loops):
-    """Signed area of a region, :func:`morph.moments.region_area` (also reachable
-    here, where the README's example finds it)."""
-    from .moments import region_area
-
-    return region_area(loops)
-
-
 def sample(piece, n):
     """n points at uniform parameters (including both ends)."""
     return evaluate(piece, np.linspace(0.0, 1.0, n))

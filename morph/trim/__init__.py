@@ -169,7 +169,6 @@ def _without_sliver_holes(loops, eps):
     hole that thin is below the fill's resolution (features thinner than 2 eps may
     merge with their side, :func:`boundary`) and no renderer shows it; the sums
     would take its convolution for a bite.  Islands, however small, are kept."""
-    from .. import piece as pc
     from .. import moments as mo
     from .. import polyline as pl
 
