@@ -107,7 +107,7 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
     from ..errors import MorphError
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
-    from ..fonts.variable import brush_variable
+    from ..fonts.variable_brush import brush_variable
     from ..parse.glyphs import glyph_name
 
     if nib_svg:

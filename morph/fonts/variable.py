@@ -44,11 +44,12 @@ integer rounding of the compiled font (<= 0.71 unit for the masters' points and
 again for an instance's).  The gvar deltas are not IUP-optimised (``optimizeGvar``
 off): IUP's 0.5-unit tolerance would come on top of the bound.
 
-A variable TrueType font brushed keeping its axes (:func:`brush_variable`) is the same
-construction on filled glyphs (:func:`morph.compatible.region_elements`): every master
-of the source, and intermediate ones on its master grid (the nib part of distant
-masters does not interpolate), ⊕ the nib, fitted with common breaks, written into the
-glyf/gvar of a copy of the source.
+A variable TrueType font brushed keeping its axes
+(:func:`morph.fonts.variable_brush.brush_variable`) is the same construction on filled
+glyphs (:func:`morph.compatible.region_elements`): every master of the source, and
+intermediate ones on its master grid (the nib part of distant masters does not
+interpolate), ⊕ the nib, fitted with common breaks, written into the glyf/gvar of a
+copy of the source.
 
 Metrics as in the static stroke (:mod:`morph.fonts.stroke`): each master's
 outlines shift right by its nib's left extent and the advances grow by the nib's
@@ -67,8 +68,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, region_elements, \
-    skeleton_elements
+from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, skeleton_elements
 from ..errors import MorphError, ParseError, one_line
 
 __all__ = ["NibAxis", "nib_axis", "axis_masters", "stroke_variable", "variable_outputs",
@@ -563,14 +563,7 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     t_start = time.perf_counter()
     out_path = Path(out_path)
     kind = out_path.suffix.lower()
-    if kind not in (".ttf", ".otf"):
-        raise ValueError("a variable font is a .ttf or .otf, got %s" % out_path)
-    if not tol > 0:
-        raise ValueError("tol must be positive, got %r" % (tol,))
-    ds_path, masters_dir = variable_outputs(out_path)
-    for p in (out_path, ds_path, masters_dir):
-        if p.exists() and not overwrite:
-            raise MorphError("%s exists (pass overwrite=True to replace it)" % p)
+    ds_path, masters_dir = _check_outputs(out_path, tol, overwrite)
     skel = read_skeleton(src)
     if nib_max is None and len(skel.fonts) < 2:
         raise ValueError("a variable font needs a nib axis or several skeleton masters")
@@ -595,7 +588,38 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     fit_seconds = sum(r[2] for r in results)
     family = family_name or "%s %s" % (font.info.familyName or "Morph",
                                         "Nib" if axis is not None else "Stroke")
-    done = set(stroked) | set(followed)
+    masters, names = _masters_of(skel, axis, fitted, nibs, results,
+                                 set(stroked) | set(followed), family, out_path, masters_dir)
+    doc = _designspace(skel, axis, fitted, masters, names, family)
+    upm = float(font.info.unitsPerEm or 1000)
+    vf = _compile(doc, kind, CU2QU_SHARE * tol / upm)
+    set_overlap_flags(vf)
+    _write(out_path, vf, doc, masters, names, ds_path, masters_dir)
+    points = sum(len(c) for g in masters[0] for c in g.contours)
+    return {"axis": axis, "values": values if axis else [], "designspace": ds_path,
+            "masters": [ds_path.parent / n for n in names], "glyphs": len(stroked),
+            "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
+            "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
+            "fitted": fitted}
+
+
+def _check_outputs(out_path, tol, overwrite):
+    """(designspace path, masters folder) of a variable font written to ``out_path``,
+    after checking the suffix, ``tol`` and that nothing is overwritten unasked."""
+    if out_path.suffix.lower() not in (".ttf", ".otf"):
+        raise ValueError("a variable font is a .ttf or .otf, got %s" % out_path)
+    if not tol > 0:
+        raise ValueError("tol must be positive, got %r" % (tol,))
+    ds_path, masters_dir = variable_outputs(out_path)
+    for p in (out_path, ds_path, masters_dir):
+        if p.exists() and not overwrite:
+            raise MorphError("%s exists (pass overwrite=True to replace it)" % p)
+    return ds_path, masters_dir
+
+
+def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, masters_dir):
+    """(master ufoLib2 fonts, their file names relative to the designspace): one per
+    (skeleton master, nib value) of ``fitted``, styled by both, win metrics shared."""
     masters, names = [], []
     for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
@@ -612,17 +636,7 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
         names = ["%s/%s-%d.ufo" % (masters_dir.name, out_path.stem, k)
                  for k in range(len(names))]
     _grow_win(masters)
-    doc = _designspace(skel, axis, fitted, masters, names, family)
-    upm = float(font.info.unitsPerEm or 1000)
-    vf = _compile(doc, kind, CU2QU_SHARE * tol / upm)
-    set_overlap_flags(vf)
-    _write(out_path, vf, doc, masters, names, ds_path, masters_dir)
-    points = sum(len(c) for g in masters[0] for c in g.contours)
-    return {"axis": axis, "values": values if axis else [], "designspace": ds_path,
-            "masters": [ds_path.parent / n for n in names], "glyphs": len(stroked),
-            "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
-            "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
-            "fitted": fitted}
+    return masters, names
 
 
 def _file_part(style):
@@ -659,173 +673,3 @@ def _write(out_path, vf, doc, masters, names, ds_path, masters_dir):
         os.replace(str(tmp / out_path.name), str(out_path))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-
-
-# ====================================================================== brush
-
-def _master_locations(font, split=1):
-    """Normalized locations of the brushed masters of a glyf/gvar font: the default,
-    the peak of every region its glyph variations use, and with ``split`` > 0 the
-    grid between them refined 2**split times along every axis (the source's own
-    interpolation gives the skeleton there; the nib part does not interpolate
-    between distant masters: a normal that turns between two masters moves its nib
-    point along an arc, not a chord)."""
-    import itertools
-
-    peaks = set()
-    for variations in font["gvar"].variations.values():
-        for v in variations:
-            peaks.add(tuple(sorted((tag, float(t[1])) for tag, t in v.axes.items())))
-    tags = [a.axisTag for a in font["fvar"].axes]
-    locs = [{t: 0.0 for t in tags}] + [{**{t: 0.0 for t in tags}, **dict(p)}
-                                       for p in sorted(peaks)]
-    if split > 0:
-        values = {t: sorted({loc[t] for loc in locs}) for t in tags}
-        grid = {}
-        for t in tags:
-            vs = values[t]
-            fine = set(vs)
-            for a, b in zip(vs[:-1], vs[1:]):
-                fine.update(a + (b - a) * k / 2 ** split for k in range(1, 2 ** split))
-            grid[t] = sorted(fine)
-        seen = {tuple(loc[t] for t in tags) for loc in locs}
-        for combo in itertools.product(*(grid[t] for t in tags)):
-            if combo not in seen:
-                seen.add(combo)
-                locs.append(dict(zip(tags, combo)))
-    return locs
-
-
-def _region_loops(glyph_set, name):
-    """A glyph's contours at one master as closed loops of cartesian pieces, turned
-    counter-clockwise for the outer ones (TrueType draws them clockwise)."""
-    from ..parse.pens import record_contours
-
-    contours = record_contours(glyph_set[name].draw, "glyph %r" % name, glyph_set)
-    loops = []
-    for c in contours:
-        pieces = [np.asarray(p, float) for p in c.pieces]
-        pieces = [p[:, :2] / p[:, 2:] if p.shape[1] == 3 else p for p in pieces]
-        if pieces and np.any(pieces[-1][-1] != pieces[0][0]):
-            pieces.append(np.array([pieces[-1][-1], pieces[0][0]]))
-        if pieces:
-            loops.append([p[::-1] for p in reversed(pieces)])
-    return loops
-
-
-def _brush_glyph_job(args):
-    """(name, per-master quadratic contours or None, CPU s) of one glyph ⊕ nib at
-    every master, converted to quadratics compatibly (cu2qu on the masters' curves
-    together)."""
-    from fontTools.cu2qu import curves_to_quadratic
-
-    name, loops_by_master, nib, fit_tol, q_tol = args
-    t0 = time.process_time()
-    if not loops_by_master[0]:
-        return name, None, 0.0
-    fits = fit_elements(region_elements(loops_by_master, "glyph %r" % name),
-                        [nib] * len(loops_by_master), list(range(len(loops_by_master))),
-                        fit_tol)
-    out = [[] for _ in fits]
-    for k in range(len(fits[0])):
-        per = [[] for _ in fits]
-        for j in range(len(fits[0][k])):
-            curves = [[tuple(p) for p in fits[m][k][j]] for m in range(len(fits))]
-            splines = curves_to_quadratic(curves, [q_tol] * len(curves))
-            for m, s in enumerate(splines):
-                per[m].append(s)
-        for m in range(len(fits)):
-            out[m].append(per[m])
-    return name, out, time.process_time() - t0
-
-
-def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, jobs=1,
-                   progress=None, split=1):
-    """Brush a variable TrueType font keeping its axes: every master of every chosen
-    glyph ⊕ the nib, as untrimmed overlapping contours fitted compatibly across the
-    masters (:func:`morph.compatible.region_elements`), converted to quadratics with
-    cu2qu on all masters at once; the glyf/gvar of a copy of the source are
-    replaced (its layout, names, STAT and avar kept; the advance variations carried
-    by gvar's phantom points, HVAR dropped), the outlines shifted right by the nib's
-    left extent, advances grown by its width, GPOS anchors moved along.
-
-    ``src``: a variable ``.ttf`` (glyf/gvar); ``nib``: (width, height, angle);
-    ``glyphs``: glyph names (None: every glyph with contours; composites are
-    decomposed); ``tol``: font units (fit FIT_SHARE, quadratics CU2QU_SHARE, the rest
-    the masters' own interpolation of the nib part, measured, not bounded: a
-    source's masters are not a nib scale); ``split``: intermediate masters, the
-    source's master grid refined 2**split times per axis (:func:`_master_locations`;
-    Source Serif 4 with split 1: 25 masters instead of 9).  Returns a dict: ``masters``
-    (normalized locations), ``glyphs``, ``fit_seconds``, ``font``.
-
-    Raises:
-        MorphError: not a glyf/gvar variable font; IncompatibleMasters: cannot happen
-            for a valid variable font (its masters share their points).
-    """
-    from fontTools.pens.ttGlyphPen import TTGlyphPen
-    from fontTools.ttLib import TTFont
-    from fontTools.ttLib.tables.TupleVariation import TupleVariation
-    from fontTools.varLib.models import VariationModel
-
-    from .jobs import run_jobs
-    from .tables import move_anchors, rename_family, save_font
-
-    font = TTFont(str(src))
-    if "fvar" not in font or "gvar" not in font or "glyf" not in font:
-        raise MorphError("%s is not a TrueType variable font (glyf/gvar)" % src)
-    nib = Ellipse(*map(float, nib))
-    locs = _master_locations(font, split)
-    tags = [a.axisTag for a in font["fvar"].axes]
-    sets = [font.getGlyphSet(location=loc, normalized=True) for loc in locs]
-    glyf = font["glyf"]
-    names = [n for n in font.getGlyphOrder()
-             if (glyphs is None or n in glyphs) and glyf[n].numberOfContours != 0]
-    work = [(n, [_region_loops(gs, n) for gs in sets], nib, FIT_SHARE * tol,
-             CU2QU_SHARE * tol) for n in names]
-    report = None if progress is None else (lambda k, r: progress(r[0]))
-    results = run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
-    hx = float(nib.extent()[2])
-    grow = int(round(2 * hx))
-    model = VariationModel(locs, tags)
-    gvar, hmtx = font["gvar"], font["hmtx"]
-    shifts = {}
-    for name, contours, _ in results:
-        if contours is None:
-            continue
-        width0 = hmtx[name][0]
-        shift = hx - (grow if width0 == 0 else 0)
-        shifts[name] = (shift, 0.0)
-        coords = []
-        for m, per in enumerate(contours):
-            pen = TTGlyphPen(None)
-            for splines in per:
-                pen.moveTo(_rnd(splines[0][0], shift))
-                for s in splines:
-                    pen.qCurveTo(*[_rnd(p, shift) for p in s[1:]])
-                pen.closePath()
-            g = pen.glyph(dropImpliedOnCurves=False)
-            adv = sets[m][name].width + (grow if width0 else 0)
-            pts = list(g.coordinates) + [(0, 0), (adv, 0), (0, 0), (0, 0)]
-            coords.append(np.array(pts, float))
-            if m == 0:
-                glyph0, adv0 = g, adv
-        glyf[name] = glyph0
-        glyph0.recalcBounds(glyf)
-        hmtx[name] = (int(adv0), glyph0.xMin)
-        deltas, supports = model.getDeltas(coords), model.supports
-        gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, np.round(p))) for p in d])
-                                 for d, sup in zip(deltas[1:], supports[1:])
-                                 if np.any(np.round(d) != 0)]
-    if "HVAR" in font:
-        del font["HVAR"]
-    move_anchors(font, shifts)
-    if family_name:
-        rename_family(font, family_name)
-    set_overlap_flags(font)
-    save_font(font, out_path)
-    return {"masters": locs, "glyphs": len(shifts),
-            "fit_seconds": sum(r[2] for r in results), "font": font}
-
-
-def _rnd(p, shift):
-    return (int(round(p[0] + shift)), int(round(p[1])))

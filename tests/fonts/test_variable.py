@@ -338,7 +338,7 @@ def test_brush_variable_keeps_every_axis(tmp_path):
     from fontTools.ttLib import TTFont
     from fontTools.varLib import instancer
 
-    from morph.fonts.variable import brush_variable
+    from morph.fonts.variable_brush import brush_variable
     from tests.oracles.varfont import clipper_region_sum
 
     src = _serif()
