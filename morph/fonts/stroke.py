@@ -101,7 +101,9 @@ def stroke_glyph_region(paths, nib_region, tol, stroker=None):
     return stroker(paths, nib_region, tol)
 
 
-def _keep_component(component, symmetric):
+def keep_component(component, symmetric):
+    """True for a component kept as a component: a translation, or with a centrally
+    symmetric nib a half turn (the stroke commutes with both)."""
     m = tuple(float(v) for v in tuple(component.transformation)[:4])
     return m == (1.0, 0.0, 0.0, 1.0) or (symmetric and m == (-1.0, 0.0, 0.0, -1.0))
 
@@ -117,10 +119,12 @@ def stroke_plan(font, glyphs, nib_region):
         ParseError: a character or name the font lacks.
     """
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    return _plan(font, chosen, nib_is_symmetric(nib_region))
+    return plan_components(font, chosen, nib_is_symmetric(nib_region))
 
 
-def _plan(font, chosen, symmetric):
+def plan_components(font, chosen, symmetric):
+    """:func:`stroke_plan` of the chosen glyph names, ``symmetric``: the nib is
+    centrally symmetric (:func:`keep_component`)."""
     from ..parse.ufo import component_cycle
 
     cycle = component_cycle(font, chosen)
@@ -139,7 +143,7 @@ def _plan(font, chosen, symmetric):
         seen.add(n)
         stroked.append(n)
         for c in font[n].components:
-            if _keep_component(c, symmetric) and c.baseGlyph not in seen:
+            if keep_component(c, symmetric) and c.baseGlyph not in seen:
                 todo.append(c.baseGlyph)
     followed = []
     changed = True
@@ -148,7 +152,7 @@ def _plan(font, chosen, symmetric):
         for g in font:
             if g.name in seen or g.contours or not g.components:
                 continue
-            if all(_keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
+            if all(keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
                 seen.add(g.name)
                 followed.append(g.name)
                 changed = True
@@ -307,7 +311,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     font = _open_copy(src)
     symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    stroked, followed = _plan(font, chosen, symmetric)
+    stroked, followed = plan_components(font, chosen, symmetric)
     place = _placement(font, stroked + followed, nib_region)
     work, decomposed = _stroke_work(font, stroked, symmetric, nib_region,
                                     budget.plan(tol, kind == ".ttf"),
@@ -405,7 +409,7 @@ def _stroke_work(font, stroked, symmetric, nib_region, tols, shifts, stroker):
         g = font[n]
         paths = glyph_paths(g)
         for c in g.components:
-            if not _keep_component(c, symmetric):
+            if not keep_component(c, symmetric):
                 paths.extend(component_paths(font, c))
                 decomposed += 1
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
@@ -439,7 +443,7 @@ def _move_furniture(font, names, place, symmetric):
         s = place.shifts[n]
         kept = []
         for c in g.components:
-            if _keep_component(c, symmetric):  # the others are in the stroke
+            if keep_component(c, symmetric):  # the others are in the stroke
                 xx, xy, yx, yy, dx, dy = tuple(c.transformation)
                 sb = place.shifts[c.baseGlyph]
                 c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)

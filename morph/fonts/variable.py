@@ -159,8 +159,9 @@ def variable_outputs(out_path):
 def _keep_component(component):
     """A component kept as a component: a translation, or a half turn (an ellipse is
     centrally symmetric, so the stroke commutes with both)."""
-    m = tuple(float(v) for v in tuple(component.transformation)[:4])
-    return m in ((1.0, 0.0, 0.0, 1.0), (-1.0, 0.0, 0.0, -1.0))
+    from .stroke import keep_component
+
+    return keep_component(component, True)
 
 
 def _glyph_job(args):
@@ -177,35 +178,11 @@ def _glyph_job(args):
 
 
 def _plan(font, chosen):
-    """(glyphs stroked, composites that follow): the chosen glyphs and the bases of
-    their kept components; composites not chosen whose kept components all use
-    stroked glyphs (eacute for e and acutecomb)."""
-    from ..parse.ufo import component_cycle
+    """(glyphs stroked, composites that follow) for an elliptical nib
+    (:func:`morph.fonts.stroke.plan_components`)."""
+    from .stroke import plan_components
 
-    cycle = component_cycle(font, chosen)
-    if cycle:
-        raise ParseError("glyph %r uses itself through its components: %s"
-                         % (cycle[0], " => ".join(cycle)), cycle[0])
-    stroked, seen, todo = [], set(), list(chosen)
-    while todo:
-        n = todo.pop(0)
-        if n in seen:
-            continue
-        if n not in font:
-            raise ParseError("component base glyph %r is missing from the UFO" % n, n)
-        seen.add(n)
-        stroked.append(n)
-        todo += [c.baseGlyph for c in font[n].components if _keep_component(c)]
-    followed, changed = [], True
-    while changed:
-        changed = False
-        for g in font:
-            if g.name not in seen and not g.contours and g.components and \
-                    all(_keep_component(c) and c.baseGlyph in seen for c in g.components):
-                seen.add(g.name)
-                followed.append(g.name)
-                changed = True
-    return stroked, followed
+    return plan_components(font, chosen, True)
 
 
 def _work(fonts, stroked, nibs, owners, tol):
