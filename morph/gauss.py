@@ -374,19 +374,8 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     # outside that hull changes its winding number when the piece is replaced by
     # its chord (the probe's winding is the exact loop's wherever the fine
     # flattening's is)
-    fine = np.zeros(len(sel), bool)
-    by_loop = np.argsort(where, kind="stable")
-    count = np.bincount(where, minlength=len(loops))
-    first_probe = np.cumsum(count) - count
-    for ks, h in groups:
-        x = h[..., :2] / h[..., 2:]
-        blo, bhi = x.min(axis=1) - 0.1 * eps, x.max(axis=1) + 0.1 * eps
-        n = count[owner[ks]]                     # (piece, probe of its loop) pairs
-        piece = np.repeat(np.arange(len(ks)), n)
-        probe = by_loop[np.repeat(first_probe[owner[ks]], n) + np.arange(n.sum())
-                        - np.repeat(np.cumsum(n) - n, n)]
-        hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
-        fine[ks[np.unique(piece[hit])]] = True
+    fine = _boxes_holding_probes(groups, owner, probes, where, len(sel), len(loops),
+                                 0.1 * eps)
     f_idx = np.flatnonzero(fine)
     f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], 0.1 * eps)
     c_idx = np.flatnonzero(~fine)
@@ -400,6 +389,26 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     polys = [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
     outside = np.round(winding_number(probes, polys)) == 0
     return np.where(outside, np.pi, -np.pi) * sign[where]
+
+
+def _boxes_holding_probes(groups, owner, probes, where, n_pieces, n_loops, margin):
+    """(n_pieces,) bools: the pieces whose control box, grown by ``margin``, holds a
+    probe of their own loop (``owner``: each piece's loop, ``where``: each probe's);
+    ``groups``: (indices, stacked homogeneous control points) per degree."""
+    fine = np.zeros(n_pieces, bool)
+    by_loop = np.argsort(where, kind="stable")
+    count = np.bincount(where, minlength=n_loops)
+    first_probe = np.cumsum(count) - count
+    for ks, h in groups:
+        x = h[..., :2] / h[..., 2:]
+        blo, bhi = x.min(axis=1) - margin, x.max(axis=1) + margin
+        n = count[owner[ks]]                     # (piece, probe of its loop) pairs
+        piece = np.repeat(np.arange(len(ks)), n)
+        probe = by_loop[np.repeat(first_probe[owner[ks]], n) + np.arange(n.sum())
+                        - np.repeat(np.cumsum(n) - n, n)]
+        hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
+        fine[ks[np.unique(piece[hit])]] = True
+    return fine
 
 
 def _cusp_sides(c_ins, c_outs):
