@@ -342,13 +342,7 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     sel = [curves[i] for i in idx]
     groups = [(np.asarray(ks), np.array([sel[i] for i in ks], float))
               for ks in pc.by_degree(sel).values()]
-    lo = np.full((len(loops), 2), np.inf)
-    hi = np.full((len(loops), 2), -np.inf)
-    for ks, h in groups:
-        x = h[..., :2] / h[..., 2:]
-        np.minimum.at(lo, owner[ks], x.min(axis=1))
-        np.maximum.at(hi, owner[ks], x.max(axis=1))
-    size = np.maximum(np.max(hi - lo, axis=1), 1e-300)
+    size = _loop_sizes(groups, owner, len(loops))
     first = [curves[begin[j]] for j in loops]
     origin = pc.end_points(first)[0]
     shift = np.column_stack([np.zeros(len(loops)), 4.0 * np.arange(len(loops))])
@@ -376,19 +370,39 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     # flattening's is)
     fine = _boxes_holding_probes(groups, owner, probes, where, len(sel), len(loops),
                                  0.1 * eps)
+    polys = _loop_polylines(moved, owner, fine, len(loops), 0.1 * eps)
+    outside = np.round(winding_number(probes, polys)) == 0
+    return np.where(outside, np.pi, -np.pi) * sign[where]
+
+
+def _loop_sizes(groups, owner, n_loops):
+    """(n_loops,) the larger side of each loop's control-point box (``owner``: each
+    piece's loop; ``groups``: (indices, stacked homogeneous control points) per
+    degree)."""
+    lo = np.full((n_loops, 2), np.inf)
+    hi = np.full((n_loops, 2), -np.inf)
+    for ks, h in groups:
+        x = h[..., :2] / h[..., 2:]
+        np.minimum.at(lo, owner[ks], x.min(axis=1))
+        np.maximum.at(hi, owner[ks], x.max(axis=1))
+    return np.maximum(np.max(hi - lo, axis=1), 1e-300)
+
+
+def _loop_polylines(moved, owner, fine, n_loops, tol):
+    """Each loop as one polyline: its ``fine`` pieces flattened within ``tol``, the
+    others by their start point only (their chord)."""
     f_idx = np.flatnonzero(fine)
-    f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], 0.1 * eps)
+    f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], tol)
     c_idx = np.flatnonzero(~fine)
     piece_of = np.concatenate([f_idx[f_owner], c_idx])
     t = np.concatenate([f_t, np.zeros(len(c_idx))])
     pts = np.concatenate([f_pts, pc.end_points([moved[i] for i in c_idx])[0]
                           if len(c_idx) else np.zeros((0, 2))])
     order = np.lexsort((t, piece_of))       # the loops' pieces in order, each's vertices
-    bounds = np.searchsorted(owner[piece_of[order]], np.arange(len(loops) + 1))
+    bounds = np.searchsorted(owner[piece_of[order]], np.arange(n_loops + 1))
     pts = pts[order]
     polys = [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
-    outside = np.round(winding_number(probes, polys)) == 0
-    return np.where(outside, np.pi, -np.pi) * sign[where]
+    return polys
 
 
 def _boxes_holding_probes(groups, owner, probes, where, n_pieces, n_loops, margin):
