@@ -542,14 +542,7 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     kind = out_path.suffix.lower()
     ds_path, masters_dir = _check_outputs(out_path, tol, overwrite)
     skel = read_skeleton(src)
-    if nib_max is None and len(skel.fonts) < 2:
-        raise ValueError("a variable font needs a nib axis or several skeleton masters")
-    axis = None if nib_max is None else nib_axis(nib_min, nib_max)
-    values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
-    nibs_v = [Ellipse(*map(float, nib_min))] if axis is None else \
-        [axis.nib_at(v) for v in values]
-    fitted = [(s, v) for s in range(len(skel.fonts)) for v in values]
-    nibs = [nibs_v[values.index(v)] for _, v in fitted]
+    axis, values, fitted, nibs = _fitted_masters(skel, nib_min, nib_max, tol)
     owners = [s for s, _ in fitted]
     font = skel.fonts[skel.default]
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
@@ -578,6 +571,20 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
             "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
             "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
             "fitted": fitted}
+
+
+def _fitted_masters(skel, nib_min, nib_max, tol):
+    """(axis or None, the nib axis's master values, (skeleton master, nib value) per
+    fitted master, the nib of each): every skeleton master at every nib master, the
+    nib masters as many as keep an instance within BLEND_SHARE of tol."""
+    if nib_max is None and len(skel.fonts) < 2:
+        raise ValueError("a variable font needs a nib axis or several skeleton masters")
+    axis = None if nib_max is None else nib_axis(nib_min, nib_max)
+    values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
+    nibs_v = [Ellipse(*map(float, nib_min))] if axis is None else \
+        [axis.nib_at(v) for v in values]
+    fitted = [(s, v) for s in range(len(skel.fonts)) for v in values]
+    return axis, values, fitted, [nibs_v[values.index(v)] for _, v in fitted]
 
 
 def _check_outputs(out_path, tol, overwrite):
