@@ -98,16 +98,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
       morph brush Variable.ttf -o VariableBrush.ttf --nib ellipse:60,15,30
     """
-    import io
-    import time
-
-    from fontTools.ttLib import TTFont
-
-    from ..fonts.brush import brush_font, open_source
+    from ..fonts.tables import FONT_SUFFIXES
     from ..nib import ellipse_nib
-    from ..fonts.jobs import default_jobs
-    from ..fonts.specimen import write_sample_image, write_specimen
-    from ..fonts.tables import FONT_SUFFIXES, font_bytes, outline_glyphs
     from ..parse import svg_region
 
     src = _brush_source(font_file)
@@ -119,6 +111,25 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     if location is None and is_variable_truetype(src):   # every axis kept
         return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
                                   png, page, _parse_nib)
+    return _brush_static(src, location, out, nib_region, items, tol, family, composites,
+                         jobs, sample, png, page)
+
+
+def _brush_static(src, location, out, nib_region, items, tol, family, composites, jobs,
+                  sample, png, page):
+    """The static brush of ``morph brush``: the source (a variable font at
+    ``location``) brushed into ``out``, its sample PNG and specimen written; the
+    exit status (1 when glyphs fell back)."""
+    import io
+    import time
+
+    from fontTools.ttLib import TTFont
+
+    from ..fonts.brush import brush_font, open_source
+    from ..fonts.jobs import default_jobs
+    from ..fonts.specimen import write_sample_image, write_specimen
+    from ..fonts.tables import font_bytes, outline_glyphs
+
     source = open_source(src, location)  # static: a variable font at --location
     source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
