@@ -130,9 +130,23 @@ def _region_loops(glyph_set, name):
     return loops
 
 
+def _signed_area(loops):
+    """Signed area of loops of pieces, their control polygons' (the sign of a glyph's
+    total area is its outer contours' direction)."""
+    total = 0.0
+    for loop in loops:
+        pts = np.vstack([p[:-1] for p in loop])
+        x, y = pts[:, 0], pts[:, 1]
+        total += 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return total
+
+
 def _counter_clockwise(loops_by_master, reverse):
-    """Loops turned so that outer ones run counter-clockwise (``reverse``: the source
-    draws them clockwise, TrueType's convention)."""
+    """Loops turned so that outer ones run counter-clockwise: ``reverse`` when the
+    glyph's area at the default master is negative (TrueType draws outer contours
+    clockwise, CFF counter-clockwise; a font that does not follow its convention
+    is read by the sign of the area)."""
+    reverse = _signed_area(loops_by_master[0]) < 0
     if not reverse:
         return loops_by_master
     return [[[p[::-1] for p in reversed(loop)] for loop in loops] for loops in loops_by_master]
@@ -294,7 +308,7 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     for t in ("HVAR", "VVAR"):
         if t in font:
             del font[t]
-    _move_anchors(font, shifts, axis, values, tags, model if axis else None)
+    _move_anchors(font, shifts, axis, values, tags)
     if family_name:
         rename_family(font, family_name)
     set_overlap_flags(font)
@@ -522,23 +536,22 @@ def _add_stat(font, axis, values):
 
 # ------------------------------------------------------------------ anchors
 
-def _move_anchors(font, shifts, axis, values, tags, model):
+def _move_anchors(font, shifts, axis, values, tags):
     """GPOS anchors and GDEF carets moved by the default master's shifts, and where
     the shift varies along the nib axis given the variation (see the module
     docstring)."""
     from .tables import move_anchors
 
+    if axis is not None and axis.tag != "GRAD":
+        per_master = {}
+        for name, (s0, _) in shifts.items():
+            width0 = font["hmtx"][name][0]
+            per = [_shift(axis.nib_at(v), width0, axis)[0] for v in values]
+            if any(abs(x - s0) > 1e-9 for x in per):
+                per_master[name] = per
+        if per_master:
+            _vary_anchors(font, per_master, axis, values, tags)
     move_anchors(font, shifts)
-    if axis is None or axis.tag == "GRAD":
-        return
-    nib_deltas = {}
-    for name, (s0, _) in shifts.items():
-        width0 = font["hmtx"][name][0]
-        per = [_shift(axis.nib_at(v), width0, axis)[0] - s0 for v in values]
-        if any(round(d) for d in per):
-            nib_deltas[name] = per
-    if nib_deltas:
-        _vary_anchors(font, nib_deltas, axis, values, tags)
 
 
 def _anchor_slots(font):
@@ -570,12 +583,13 @@ def _anchor_slots(font):
                                ("EntryAnchor", "ExitAnchor"))
 
 
-def _vary_anchors(font, nib_deltas, axis, values, tags):
-    """Anchors of the glyphs in ``nib_deltas`` (x shift at every nib master minus the
-    default's) given an x variation along the nib axis: format 3 anchors whose
-    XDeviceTable indexes a row of GDEF's item variation store with the nib deltas (a
-    1-D model over the nib masters) and, for an anchor that varied already, its own
-    deltas of the source's regions copied into the same row."""
+def _vary_anchors(font, shifts, axis, values, tags):
+    """Anchors of the glyphs in ``shifts`` (their x shift at every nib master) given
+    an x variation along the nib axis, before they move by the default's shift: the
+    anchor at x goes to round(x + shift) at every nib master; format 3 anchors whose
+    XDeviceTable indexes a row of GDEF's item variation store with the deltas of
+    those (a 1-D model over the nib masters) and, for an anchor that varied already,
+    its own deltas of the source's regions copied into the same row."""
     from fontTools.varLib.builder import (buildVarData, buildVarDevTable, buildVarRegion,
                                           buildVarRegionList, buildVarStore)
     from fontTools.varLib.models import VariationModel
@@ -607,7 +621,7 @@ def _vary_anchors(font, nib_deltas, axis, values, tags):
     rows = {}                   # (old var index or None, nib deltas) -> new var index
     datas = {}                  # old outer index or None -> (VarData index, rows list)
     for g, rec, attr in list(_anchor_slots(font)):
-        if g not in nib_deltas:
+        if g not in shifts:
             continue
         anchors = getattr(rec, attr)
         many = isinstance(anchors, list)
@@ -616,7 +630,8 @@ def _vary_anchors(font, nib_deltas, axis, values, tags):
             if a is None:
                 new.append(None)
                 continue
-            d = [int(round(x)) for x in model.getDeltas(list(nib_deltas[g]))[1:]]
+            at = [round(a.XCoordinate + x) for x in shifts[g]]
+            d = [int(round(x)) for x in model.getDeltas([x - at[0] for x in at])[1:]]
             old = None
             if a.Format == 3 and a.XDeviceTable is not None and \
                     a.XDeviceTable.DeltaFormat == 0x8000:
