@@ -24,6 +24,9 @@ TOL = 0.5
 ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
 SLACK = 0.05                # flattening and Clipper's integer grid in the reference
 BOUND = TOL + 2 * ROUND + SLACK
+#: the pinhole a swallowtail's cusp opens when the two roundings (a master's and an
+#: instance's) move it: a loop at most 2 x 0.71 units across, so <= 2 unit²
+PINHOLE = (2 * ROUND) ** 2
 #: an anchor: rounded at every master (0.5, and so between them) and rounded again
 #: by the instancer (0.5)
 ANCHOR = 1.0
@@ -70,7 +73,8 @@ def _check(out, src, loc, nib_of, shift_nib_of=None, glyphs=GLYPHS):
     for name in glyphs:
         ref = [p + np.array([_shift(shift_nib, sgs[name].width), 0.0])
                for p in clipper_region_sum(glyph_polygons(sgs, name), tuple(nib))]
-        assert within(glyph_polygons(gs, name), ref, BOUND, strict=True), (loc, name)
+        assert within(glyph_polygons(gs, name), ref, BOUND, strict=True, area=PINHOLE), \
+            (loc, name)
     # each anchor within ANCHOR of the source's moved by its glyph's shift
     for a0, a1, width in zip(mark_anchor(source, "e"), mark_anchor(inst, "e"), (1, 0)):
         want = a0[0] + _shift(shift_nib, width)
