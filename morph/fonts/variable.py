@@ -618,7 +618,7 @@ def _check_outputs(out_path, tol, overwrite):
 def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, masters_dir):
     """(master ufoLib2 fonts, their file names relative to the designspace): one per
     (skeleton master, nib value) of ``fitted``, styled by both, win metrics shared."""
-    masters, names = [], []
+    masters, names, offsets = [], [], []
     for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
         parts = [(skel.fonts[s].info.styleName or "") if skel.axes else "",
@@ -626,15 +626,39 @@ def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, maste
         if parts[0] and parts[1] == "Regular":
             parts[1] = ""
         style = " ".join(x for x in parts if x)
-        m, _ = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
+        m, shifts = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
         masters.append(m)
+        offsets.append(shifts)
         names.append("%s/%s-%s.ufo" % (masters_dir.name, out_path.stem,
                                        _file_part(style or "Regular")))
     if len(set(names)) < len(names):
         names = ["%s/%s-%d.ufo" % (masters_dir.name, out_path.stem, k)
                  for k in range(len(names))]
     _grow_win(masters)
+    _vary_features(skel, axis, fitted, masters, offsets)
     return masters, names
+
+
+def _vary_features(skel, axis, fitted, masters, offsets):
+    """The explicit anchors of the default skeleton's feature file (the one ufo2ft
+    compiles) moved like their glyphs at every master: variable anchors where the
+    shift differs between masters (:func:`morph.fonts.fea.vary_feature_anchors`),
+    written into every master."""
+    from .fea import vary_feature_anchors
+
+    text = skel.fonts[skel.default].features.text or ""
+    if "anchor" not in text:
+        return
+    per = []
+    for (s, v), shifts in zip(fitted, offsets):
+        loc = {ax.tag: float(ax.map_backward(skel.locations[s].get(
+            ax.name, ax.map_forward(ax.default)))) for ax in skel.axes}
+        if axis is not None:
+            loc[axis.tag] = v
+        per.append((loc, lambda g, sh=shifts: (sh[g], 0.0) if g in sh else None))
+    new = vary_feature_anchors(text, masters[0].keys(), per)
+    for m in masters:
+        m.features.text = new
 
 
 def _file_part(style):

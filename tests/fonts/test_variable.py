@@ -25,7 +25,7 @@ SLACK = 0.05                # flattening and Clipper's integer grid in the refer
 #: (tests/oracles/varfont.py's within ignores leftover parts smaller than this)
 PINHOLE = (2 * ROUND) ** 2
 NIBS = ((40, 10, 30), (120, 30, 30))
-GLYPHS = ["a", "s", "period", "eacute"]
+GLYPHS = ["a", "s", "period", "eacute", "acutecomb"]
 
 
 def test_axis_tag_and_masters():
@@ -122,6 +122,29 @@ def test_masters_and_instances_within_bound(built, skeleton):
     wide = Ellipse(80 + 4 * bound, 20, 30)
     assert not within(glyph_polygons(glyphs, "s"), _reference(skeleton, "s", wide, 35.0),
                       bound, strict=True)
+
+
+def test_feature_file_anchors_move_per_master(built, skeleton):
+    """The skeleton's feature file places acutecomb on a by explicit anchors: they
+    become variable anchors moving with the outlines, so at 9 positions of the nib
+    axis each anchor is its skeleton value plus its glyph's shift there (a: right by
+    the nib's left extent, the zero-width acutecomb: left by it), within the
+    masters' and the instance's rounding."""
+    from fontTools.varLib import instancer
+    from fontTools.ttLib import TTFont
+
+    from tests.fonts.varsources import mark_anchor
+
+    out, stats = built
+    text = stats["sources"][0].features.text
+    assert "pos base a <anchor (NIBW=40:" in text
+    assert skeleton["acutecomb"].width == 0
+    font = TTFont(str(out))
+    for v in np.linspace(40, 120, 9):
+        hx = stats["axis"].nib_at(v).extent()[2]
+        base, mark = mark_anchor(instancer.instantiateVariableFont(font, {"NIBW": v}), "a")
+        assert abs(base[0] - (281 + hx)) <= 1.0 and base[1] == 555, (v, base)
+        assert abs(mark[0] - (78 - hx)) <= 1.0 and mark[1] == 555, (v, mark)
 
 
 def test_cff2_output(tmp_path, skeleton):
