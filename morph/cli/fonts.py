@@ -36,7 +36,8 @@ def _parse_nib(spec):
 @click.argument("font_file", metavar="FONT", required=False, default="default")
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
-                   "source's; the suffix picks the container). Also written next to it: "
+                   "source's, a variable output's TrueType; the suffix picks the "
+                   "container). Also written next to it: "
                    "OUTPUT.png (sample image) and OUTPUT.html (specimen), e.g. X.ttf.png "
                    "and X.ttf.html for -o X.ttf.")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
