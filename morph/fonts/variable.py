@@ -37,7 +37,9 @@ Error budget (``tol`` font units, before integer rounding), every share measured
   nib the axis defines there (:func:`morph.compatible.interpolation_error` of the
   two masters' nibs); intermediate masters are added until it holds.  A uniform
   scale (same aspect and angle) needs none: the masters' cubics are c + s H and
-  interpolate exactly.
+  interpolate exactly.  A skeleton designspace's masters get intermediate ones too
+  (:mod:`morph.fonts.variable_skeleton`: the nib does not follow the skeleton's
+  interpolation); with an inexact nib axis as well, each gets half the share.
 
 So every master and every instance is within tol of the exact sum before the
 integer rounding of the compiled font (<= 0.71 unit for the masters' points and
@@ -54,7 +56,9 @@ copy of the source.
 Metrics as in the static stroke (:mod:`morph.fonts.stroke`): each master's
 outlines shift right by its nib's left extent and the advances grow by the nib's
 width (rounded), zero-width marks keep advance 0 and shift left by the width;
-anchors move with the outlines (the nib is centred: its centre adds nothing), kept
+anchors move with the outlines (the nib is centred: its centre adds nothing; the
+explicit anchors of the default skeleton's feature file, the one ufo2ft compiles,
+become variable anchors, :func:`morph.fonts.fea.vary_feature_anchors`), kept
 components are re-placed, scaled / turned components decomposed and stroked.
 """
 
