@@ -232,8 +232,31 @@ PHI_DEGREES = (3, 5, 7, 9)
 #: Largest |log c| of the Möbius factor of :func:`_reparams`.
 MOEBIUS_LOG = 5.0
 #: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
-#: within about tol of the piece: a coarse start is in Newton's basin).
+#: within about tol of the piece: a coarse start is in Newton's basin), where the
+#: fitter gives no start; Newton steps from either start.
 REPARAM_SAMPLES = 33
+REPARAM_ITERS = 4
+
+
+def start_at_nodes(s, u):
+    """Starting feet for :func:`_reparams` from the fitter's samples: rows of
+    parameters s (k, m) on the cubic paired with parameters u (m,) on the piece
+    (where the fitter's rays from R(u_j) met the cubic), completed by the shared end
+    points (0, 0) and (1, 1), sorted by s and interpolated linearly at the nodes:
+    (k, 24), NaN rows where a row of s has a NaN.  Only a start: Newton's iteration
+    then finds the feet of the nodes themselves."""
+    k = len(s)
+    ss = np.concatenate([np.zeros((k, 1)), np.clip(s, 0.0, 1.0), np.ones((k, 1))], axis=1)
+    uu = np.broadcast_to(np.concatenate([[0.0], u, [1.0]]), ss.shape)
+    order = np.argsort(ss, axis=1, kind="stable")
+    ss = np.take_along_axis(ss, order, axis=1)
+    uu = np.take_along_axis(uu, order, axis=1)
+    j = np.clip((ss[:, :, None] <= _NODES[None, None]).sum(axis=1) - 1, 0, ss.shape[1] - 2)
+    s0, s1 = np.take_along_axis(ss, j, 1), np.take_along_axis(ss, j + 1, 1)
+    u0, u1 = np.take_along_axis(uu, j, 1), np.take_along_axis(uu, j + 1, 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(s1 > s0, (_NODES[None] - s0) / (s1 - s0), 0.5)
+    return np.clip(u0 + np.clip(w, 0.0, 1.0) * (u1 - u0), 0.0, 1.0)
 
 
 def _moebius(u):
@@ -250,7 +273,7 @@ def _moebius(u):
     return np.where(np.abs(mid) > 0.05, np.exp(mid), 1.0)
 
 
-def _reparams(groups, cubics, tol):
+def _reparams(groups, cubics, tol, start=None):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
     ``groups``: the sub-pieces by degree, [(rows, stack)] (:func:`degree_groups`).
@@ -265,16 +288,26 @@ def _reparams(groups, cubics, tol):
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
     homogeneous control points R o mu is R with w_i scaled by c^i, the same curve)
     and kept if it follows better; elsewhere c = 1.  The feet u_j of all
-    pairs come from one batched search per degree
-    (:func:`morph.nearest.nearest_params_many`), phi from one least-squares solve per
-    degree (:func:`morph.bernstein.fit_fixed_ends`, ends fixed at 0 and 1).
+    pairs come from one batched Newton search per degree
+    (:func:`morph.nearest.closest_params_many`) started at ``start`` (k, 24), the
+    feet the fitter already found (:func:`start_at_nodes`), or, for rows without
+    one (NaN), at the nearest of dense samples of the piece
+    (:func:`morph.nearest.nearest_params_many`); phi from one least-squares solve
+    per degree (:func:`morph.bernstein.fit_fixed_ends`, ends fixed at 0 and 1).
     """
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
     u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
     for rows, stack in groups:
-        u[rows] = nr.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
-        p[rows], d[rows], _ = (pc.jet2_power_many if stack.shape[1] <= 13
-                               else pc.jet2_many)(stack, u[rows])
+        jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
+        known = (np.all(np.isfinite(start[rows]), axis=1) if start is not None
+                 else np.zeros(len(rows), bool))
+        if known.any():
+            u[rows[known]] = nr.closest_params_many(stack[known], pts[rows[known]],
+                                                    start[rows[known]], REPARAM_ITERS, jet)
+        if not known.all():
+            u[rows[~known]] = nr.nearest_params_many(stack[~known], pts[rows[~known]],
+                                                     samples=REPARAM_SAMPLES)
+        p[rows], d[rows], _ = jet(stack, u[rows])
     speed = np.hypot(d[..., 0], d[..., 1])
     normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
     c = np.ones(len(cubics))
@@ -355,9 +388,10 @@ def certify_many(subs, cubics, tol, depth=3):
     return [(float(b), res.panels(i)) for i, b in enumerate(res.bound)]
 
 
-def certify_batch(groups, cubics, tol, depth=3):
+def certify_batch(groups, cubics, tol, depth=3, start=None):
     """:class:`Certified` bounds of cubics (k, 4, 2) against the sub-pieces
-    ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``).
+    ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
+    ``start``: starting feet of the nodes (:func:`_reparams`), or None.
 
     The bound is the certificate of the module
     docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
@@ -371,7 +405,7 @@ def certify_batch(groups, cubics, tol, depth=3):
     cubic farther than tol from the curve at a node is not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, size, cs, normal = _reparams(groups, cubics, tol)
+    phis, size, cs, normal = _reparams(groups, cubics, tol, start)
     bound = normal.copy()
     for rows, stack in groups:
         n = stack.shape[1]

@@ -190,9 +190,17 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
-    err = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req, parts.b - parts.a) * length[cr]
+    err, s, owner, si = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
+                                      parts.b - parts.a)
+    err = err * length[cr]
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
-    return _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts, ends, chord)
+    cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
+                                               ends, chord)
+    # the picked cubics' parameters at the samples' rays: the certificate's start
+    feet = np.full(sam["q"].shape[0] * sam["q"].shape[1], np.nan)
+    mine = pick[cr[owner]] == owner
+    feet[si[mine]] = s[mine]
+    return cubic, dist, fitted, feet.reshape(sam["q"].shape[:2])
 
 
 #: Parts of fit ranges (arrays, sorted by range): range ``req``, global piece ``gid``
@@ -331,7 +339,7 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     cubic[:, 0], cubic[:, -1] = starts, ends
     fitted = (has | short) & np.all(np.isfinite(cubic), axis=(1, 2))
     dist = np.where(has, err[np.maximum(pick, 0)] if len(err) else 0.0, 0.0)
-    return cubic, dist, fitted
+    return cubic, dist, fitted, pick
 
 
 def _d1_of(d0, rows, area, ta):
@@ -350,9 +358,12 @@ _POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]
 def _ray_distance(ctrl, cr, q, dq, req, width):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
-    the sample's share of the range's arc length, s clipped to [0, 1]."""
+    the sample's share of the range's arc length, s clipped to [0, 1].  Also the
+    parameters s where the rays meet the cubics, each with its candidate and its
+    sample (flat index into q): (distance (C,), s (S,), candidate (S,), sample (S,)).
+    """
     if not len(cr):
-        return np.zeros(0)
+        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int)
     m = q.shape[1]
     pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
     speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
@@ -381,4 +392,4 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     dist = np.hypot(*(c - p).T)
     out = np.zeros(len(cr))
     np.maximum.at(out, owner, dist)
-    return out
+    return out, s[:, 0], owner, si

@@ -39,8 +39,8 @@ from .. import nearest as nr
 from ..errors import ToleranceNotMetError
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
-                      same_param_bound)
-from .fit import Parts, make_chains, moment_cubics
+                      same_param_bound, start_at_nodes)
+from .fit import Parts, _quadrature, make_chains, moment_cubics
 
 
 def _parts(requests):
@@ -114,7 +114,7 @@ def _fit_ranges(requests, tol):
     ends = np.array([r[3][1] for r in requests], float)
     need = np.array([r[4] if len(r) > 4 else 0.0 for r in requests], float)
     tiny = np.array([r[0].tiny for r in requests], float)
-    cubics, sampled, fitted = moment_cubics(bank, parts, starts, ends, tiny, tol)
+    cubics, sampled, fitted, rays = moment_cubics(bank, parts, starts, ends, tiny, tol)
     nparts = np.bincount(parts.req, minlength=n)
     first = np.searchsorted(parts.req, np.arange(n))
     # a cubic whose sampled distance already exceeds tol well is not certified: its
@@ -130,8 +130,16 @@ def _fit_ranges(requests, tol):
     if len(multi):
         at, count = _join_feet(parts, multi)
         joins = bank.first[parts.gid[at]]
-        feet = nr.nearest_params_many(np.concatenate(
-            [cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2), joins, iters=6)
+        homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
+        # Newton from between the rays of the nodes next to the join (the fitter's)
+        guess = 0.5 * (rays[at - 1, -1] + rays[at, 0])
+        feet = np.empty(at.shape)
+        known = np.all(np.isfinite(guess), axis=1)
+        if known.any():
+            feet[known] = nr.closest_params_many(homog[known], joins[known], guess[known],
+                                                 iters=6, jet=pc.jet2_power_many)
+        if not known.all():
+            feet[~known] = nr.nearest_params_many(homog[~known], joins[~known], iters=6)
         ok = np.arange(at.shape[1])[None] < count[:, None]
         s0[at[ok]] = feet[ok]
         s1[at[ok] - 1] = feet[ok]
@@ -146,7 +154,10 @@ def _fit_ranges(requests, tol):
         pieces = cubics[parts.req[sel]]
         if not one.all():
             pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
-        cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol)
+        # the certificate starts from the feet the fitter found (its rays)
+        span = (s1 - s0)[sel, None]
+        start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
+        cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
         worst = np.full(n, -np.inf)
         np.maximum.at(worst, parts.req[sel], cert.bound)
         bound = np.where(todo, worst, bound)
