@@ -40,7 +40,7 @@ from ..errors import ToleranceNotMetError
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound, start_at_nodes)
-from .fit import Parts, _quadrature, make_chains, moment_cubics
+from .fit import Parts, _quadrature, arc_tables, make_chains, moment_cubics
 
 
 def _parts(requests):
@@ -222,13 +222,15 @@ class _Reparam:
         return tuple(out)
 
 
-def _drive(searches, tol):
+def _drive(searches, tol, chains):
     """Run search generators in lockstep and return their results in order.
 
     A search (:func:`_search`) yields a list of fit requests and is sent back their
     results; the pending requests of all searches are fitted and certified together
     (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
-    call per fit."""
+    call per fit.  A search that needs its chain's arc-length table yields
+    :data:`NEED_ARC` instead: the tables of all that asked are made in one batch
+    (:func:`arc_tables`, ``chains[i]`` is search i's chain) and the searches resumed."""
     results = [None] * len(searches)
     pending = {}
     for i, g in enumerate(searches):
@@ -237,6 +239,16 @@ def _drive(searches, tol):
         except StopIteration as stop:
             results[i] = stop.value
     while pending:
+        arcs = [i for i, v in pending.items() if v is NEED_ARC]
+        if arcs:
+            arc_tables([chains[i] for i in arcs])
+            for i in arcs:
+                try:
+                    pending[i] = searches[i].send(None)
+                except StopIteration as stop:
+                    results[i] = stop.value
+                    del pending[i]
+            continue
         order = [(i, len(reqs)) for i, reqs in pending.items()]
         fits = _fit_ranges([r for reqs in pending.values() for r in reqs], tol)
         pending, k = {}, 0
@@ -316,7 +328,7 @@ def runs_segments(bank, runs, tol, max_depth=16):
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
-    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol)
+    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol, chains)
 
 
 def _search(chain, tol, min_width):
@@ -339,7 +351,7 @@ def _search(chain, tol, min_width):
     # the greedy search stops each segment a little short of its longest reach: try
     # one segment fewer, cut where the greedy segments' bounds say it may fit
     while len(out) >= 2:
-        cuts = _balanced_cuts(chain, out, tol)
+        cuts = yield from _balanced_cuts(chain, out, tol)
         fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
         if fewer is None:
             break
@@ -348,7 +360,7 @@ def _search(chain, tol, min_width):
     if len(out) == 2 and widths[-1] < 0.5 * widths[0]:
         # a short last one is left: try one cubic for the whole chain (for more
         # segments, n - 1 of equal arc length rarely fit where the model said no)
-        t, cum = _arclength_table(chain)
+        t, cum = yield from _arclength_table(chain)
         if cum[-1] > 0:
             fewer = yield from _split_at(
                 chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t), tol)
@@ -364,8 +376,16 @@ ERROR_POWER = 5.0
 FEWER_SLACK = 1.0
 
 
+#: What a search yields when it needs its chain's arc-length table: :func:`_drive`
+#: makes the tables of all searches that asked in one batch (:func:`arc_tables`).
+NEED_ARC = "arc table"
+
+
 def _arclength_table(chain):
-    """(T, cumulative arc length) at the knots of the chain's arc-length table."""
+    """(T, cumulative arc length) at the knots of the chain's arc-length table; a
+    generator step (yields :data:`NEED_ARC` when the table is not made yet)."""
+    if chain._arc is None:
+        yield NEED_ARC
     tl, tr, sl, sr, _, _ = chain.arc_table()
     return np.append(tl, tr[-1]), np.append(sl, sr[-1])
 
@@ -384,7 +404,7 @@ def _balanced_cuts(chain, segs, tol):
                   for seg in segs])
     if not (n >= 1 and d.sum() <= len(segs) - FEWER_SLACK):
         return None
-    t, cum = _arclength_table(chain)
+    t, cum = yield from _arclength_table(chain)
     if not cum[-1] > 0:
         return None
     edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
