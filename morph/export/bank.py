@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 
 
@@ -83,6 +84,23 @@ class Bank:
         p, d = np.empty((len(t), 2)), np.empty((len(t), 2))
         for rows, h in self.gather(gids):
             p[rows], d[rows] = pc.jet_rows(h, t[rows])
+        return p, d
+
+
+    def jet_grid(self, gids, t):
+        """Points and first derivatives of every piece ``gids`` at the same parameters
+        t (q,): arrays (len(gids), q, 2); the Bernstein bases at t made once per
+        degree (what :meth:`jet` computes, without a basis row per evaluation)."""
+        gids = np.asarray(gids, int)
+        t = np.asarray(t, float)
+        p, d = np.empty((len(gids), len(t), 2)), np.empty((len(gids), len(t), 2))
+        for rows, h in self.gather(gids):
+            n = h.shape[1] - 1
+            val = np.einsum("qi,pij->pqj", bz.basis(n, t), h)
+            dval = np.einsum("qi,pij->pqj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+            w = val[..., 2:3]
+            p[rows] = val[..., :2] / w
+            d[rows] = (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
         return p, d
 
 

@@ -73,10 +73,10 @@ def arc_tables(chains):
     gids = np.concatenate([c.gids for c in chains])
     total = len(gids)
     bank = chains[0].bank
-    _, d = bank.jet(np.repeat(gids, len(q)), np.tile(q, total))
-    seg = (np.hypot(*d.T).reshape(total, m, len(x)) @ w) * 0.5 / m
-    _, dk = bank.jet(np.repeat(gids, m + 1), np.tile(knots, total))
-    speed = np.hypot(*dk.T).reshape(total, m + 1)
+    _, d = bank.jet_grid(gids, q)
+    seg = (np.hypot(d[..., 0], d[..., 1]).reshape(total, m, len(x)) @ w) * 0.5 / m
+    _, dk = bank.jet_grid(gids, knots)
+    speed = np.hypot(dk[..., 0], dk[..., 1])
     at = 0
     for c in chains:
         sg, sp = seg[at:at + c.k], speed[at:at + c.k]
@@ -234,7 +234,12 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     quad = _quadrature()
     m = len(quad.gx)
     params = lo[:, None] + width[:, None] * quad.gx[None]
-    p, d = bank.jet(np.repeat(gid, m), params.ravel())
+    p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
+    whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
+    p[whole], d[whole] = bank.jet_grid(gid[whole], quad.gx)
+    cut = np.nonzero(~whole)[0]
+    pc_, dc_ = bank.jet(np.repeat(gid[cut], m), params[cut].ravel())
+    p[cut], d[cut] = pc_.reshape(-1, m, 2), dc_.reshape(-1, m, 2)
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
