@@ -233,7 +233,9 @@ PHI_DEGREES = (3, 5, 7, 9)
 MOEBIUS_LOG = 5.0
 #: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
 #: within about tol of the piece: a coarse start is in Newton's basin), where the
-#: fitter gives no start; Newton steps from either start.
+#: fitter gives no start; Newton steps from either start (from the fitter's, 2 steps
+#: give the same outlines on the bench sets but leave a straight rational piece of
+#: uneven speed two cubics at tol 1e-8).
 REPARAM_SAMPLES = 33
 REPARAM_ITERS = 4
 
