@@ -67,6 +67,15 @@ class Bank:
             self.t_first[rows], self.t_last[rows] = _end_tangents(x)
         self.line = (sizes == 2) & self.poly
 
+    def cartesian(self, gids):
+        """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
+        (one division per degree)."""
+        gids = np.asarray(gids, int)
+        out = np.empty(len(gids), object)
+        for rows, h in self.gather(gids):
+            out[rows] = list(h[..., :2] / h[..., 2:])
+        return list(out)
+
     def gather(self, gids):
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""

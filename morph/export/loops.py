@@ -17,7 +17,6 @@ import math
 import numpy as np
 
 from .. import bernstein as bz
-from .. import piece as pc
 from .bank import plan_runs
 from .search import runs_segments
 
@@ -90,12 +89,15 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     bank, plans = plan_runs(loops, join_angle, wrap)
     fitted = iter(runs_segments(bank, [r for plan in plans for r, e in plan if not e],
                                 tol, max_depth))
+    exact = [r for plan in plans for r, e in plan if e]
+    # exact already: no fitting (lines stay lines, quadratics quadratics)
+    written = iter(bank.cartesian(np.concatenate(exact)) if exact else [])
     out = []
     for plan in plans:
         beziers = []
         for run, e in plan:
-            if e:     # exact already: no fitting (lines stay lines, quadratics quadratics)
-                beziers.extend(pc.cartesian(bank.pieces[g]) for g in run)
+            if e:
+                beziers.extend(next(written) for _ in run)
             else:
                 beziers.extend(seg.cubic for seg in next(fitted))
         out.append(beziers)
