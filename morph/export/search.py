@@ -6,27 +6,35 @@ certified bound is <= tol is looked for with a few fits (error predicted from th
 previous fits as ~ h^p, a segment accepted once its bound reaches 0.7 tol), then one
 segment fewer is tried while the segments' bounds say it may fit (cuts at equal
 shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
-after a short last segment.  The searches of all runs of a loop go in lockstep
+after a short last segment.  The searches of all runs go in lockstep
 (:func:`_drive`), over all loops of a region or of many glyphs
-(:func:`loops_to_beziers`): each round fits the pending ranges of every run in one
-batch (:func:`morph.export.fit.moment_cubics`, no callbacks), certifies all their cubics in one
-batch (:func:`morph.export.certify.certify_many`; a cubic whose sampled distance exceeds SCREEN tol
-is not certified, nor is a try whose sampled distance is below PROVISIONAL tol:
-the search extends it anyway, and certifies it only if it ends there).  bench/export.py compares the cubic counts with kurbo's
-and with the classic circle cubic.  Where the fit
-finds no cubic, or its cubic does not certify, the same-parameter fit of
-:func:`morph.export.certify.fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
-one certifies.
+(:func:`morph.export.loops.loops_to_beziers`: the pieces of the whole batch live in
+one :class:`morph.export.bank.Bank`, one stack per degree): each round fits the
+pending ranges of every run with a few array calls
+(:func:`morph.export.fit.moment_cubics`: all ranges' parts sampled in one
+evaluation per degree, all candidates measured at once) and certifies all their
+cubics in one batch (:func:`morph.export.certify.certify_batch`, started from the
+feet the fitter's rays found: the pieces are not sampled again; a cubic whose
+sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
+distance is below PROVISIONAL tol: the search extends it anyway, and certifies it
+only if it ends there).  bench/export.py compares the cubic counts with kurbo's and
+with the classic circle cubic.  Where the fit finds no cubic, or its cubic does not
+certify, the same-parameter fit of :func:`morph.export.certify.fit_cubic` (Hermite /
+least squares) is tried, and the interval shrinks until one certifies.
 
 **The protocol of a search.**  A search is a generator (:func:`_search` and its
 steps :func:`_next_segment`, :func:`_split_at`, composed with ``yield from``): it
 yields a list of fit requests ``(chain, t0, t1, (start, end)[, need])`` and is sent
 back the list of their results ``(cubic, bound, panels)`` (:func:`_fit_ranges`), in
-order; its return value (``StopIteration.value``) is the chain's list of
+order, or it yields :data:`NEED_ARC` when it needs its chain's arc-length table
+(made for all searches that ask in one batch); its return value
+(``StopIteration.value``) is the chain's list of
 :class:`~morph.export.certify.CubicFit`.  :func:`_drive` advances every search to
 its next yield, fits all pending requests of all searches in one batch, sends each
 search its share, and repeats until every search has returned.  A generator keeps
-the search's state (bracket, last fit) in its local variables between rounds.
+the search's state (bracket, last fit) in its local variables between rounds: the
+numerical work is O(rounds) array calls; what remains per search and round is the
+scalar bookkeeping of its bracket (a few microseconds).
 """
 
 import math
