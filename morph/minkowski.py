@@ -17,7 +17,7 @@ from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, deepest_point
+from .trim.holes import Membership, deepest_points
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -316,15 +316,24 @@ class _HoleTest:
         self.log = []
 
     def __call__(self, ring, islands):
-        x, depth = deepest_point(ring, islands, enough=HOLE_DEPTH * self.tol)
-        # flattenings fine enough for the depth, never coarser than tol, reused
-        key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)), -3, 0)
-        if key not in self.cache:
-            self.cache[key] = Membership(self.a, self.b, key)
-        # no point inside (a hole of no area outside its islands): it stays a hole
-        filled = bool(depth > 0.0) and self.cache[key](x)
-        self.log.append((x, depth, filled))
-        return filled
+        return self.many([(ring, islands)])[0]
+
+    def many(self, holes):
+        """The test of every (ring, islands) of ``holes``, the deepest points found
+        together (:func:`morph.trim.holes.deepest_points`)."""
+        points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
+        out = []
+        for x, depth in zip(points, depths.tolist()):
+            # flattenings fine enough for the depth, never coarser than tol, reused
+            key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)),
+                                            -3, 0)
+            if key not in self.cache:
+                self.cache[key] = Membership(self.a, self.b, key)
+            # no point inside (a hole of no area outside its islands): it stays a hole
+            filled = bool(depth > 0.0) and self.cache[key](x)
+            self.log.append((x, depth, filled))
+            out.append(filled)
+        return out
 
 
 __all__ = ["minkowski_sum", "minkowski_sum_debug", "minkowski_sums", "check_operand",
