@@ -5,6 +5,7 @@
 
 import numpy as np
 
+from . import moments as mo
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
@@ -313,6 +314,7 @@ class _HoleTest:
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
         self.cache = {}
+        self.areas = None  # the loop areas of A, for every Membership
         self.log = []
 
     def __call__(self, ring, islands):
@@ -328,7 +330,9 @@ class _HoleTest:
             key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)),
                                             -3, 0)
             if key not in self.cache:
-                self.cache[key] = Membership(self.a, self.b, key)
+                if self.areas is None:
+                    self.areas = mo.loop_areas(self.a)
+                self.cache[key] = Membership(self.a, self.b, key, self.areas)
             # no point inside (a hole of no area outside its islands): it stays a hole
             filled = bool(depth > 0.0) and self.cache[key](x)
             self.log.append((x, depth, filled))

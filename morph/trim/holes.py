@@ -301,13 +301,16 @@ class Membership:
     steps, so that neither collapses).  Loops of A with no area (paths traced
     forward and back, as strokes are) count as curves: open paths in Clipper."""
 
-    def __init__(self, region_a, region_b, depth):
+    def __init__(self, region_a, region_b, depth, areas=None):
+        """``areas``: the loops' areas (:func:`morph.moments.loop_areas` of
+        region_a) when known: the same for every depth."""
         flat = depth / 10.0
         pa = pl.flatten_loops(region_a, flat)
         self.pb = pl.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
-        flat_loop = (np.abs(mo.loop_areas(region_a)) <= 1e-9 * size * size).tolist()
+        areas = mo.loop_areas(region_a) if areas is None else areas
+        flat_loop = (np.abs(areas) <= 1e-9 * size * size).tolist()
         self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
         # a degenerate loop P, reverse(P): its first half is the path
         self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]
