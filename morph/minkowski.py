@@ -13,7 +13,7 @@ from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pai
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
                      TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
-from .operands import check_operand
+from .operands import check_operand, check_operands
 from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
@@ -100,13 +100,15 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     if not region_b:
         raise OperandError("region_b is empty: both regions must have at least one loop")
     check_operand(region_b, "region_b")
-    points = []
-    for i, a in enumerate(regions_a):
-        if not a:
-            raise OperandError("region %d is empty: both regions must have at least one loop"
-                               % i)
-        check_operand(a, "region %d" % i)
-        points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
+    # all regions' pieces checked together; what region by region raises first (the
+    # regions before an empty one, then the empty one)
+    empty = [i for i, a in enumerate(regions_a) if not a]
+    upto = empty[0] if empty else len(regions_a)
+    points = check_operands(regions_a[:upto], ["region %d" % i for i in range(upto)],
+                            region_b, tol, "minkowski sum")
+    if empty:
+        raise OperandError("region %d is empty: both regions must have at least one loop"
+                           % upto)
     out = []
     for group in _budget_groups(points, point_budget()):
         try:
