@@ -402,8 +402,14 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
     seconds = time.perf_counter() - t0
-    sample = _covered_sample(out if page else stats["font"], sample)
-    write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
+    if page:
+        shown = out
+    else:  # a .ufo: the glyphs the sample may show, compiled (not the whole font)
+        from ..fonts.stream import sample_font
+
+        shown = sample_font(out, sample)
+    sample = _covered_sample(shown, sample)
+    write_sample_image(shown, sample, png)
     if page:
         write_specimen(out, None, sample=sample)
     click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"

@@ -420,6 +420,8 @@ class _StreamedGlyphs:
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
         self.store.clear()
+        if "CFF " in otf:  # ufo2ft's subroutinizing save set the bounds (head, hhea,
+            otf.recalcBBoxes = False  # OS/2): not again from each charstring
         otf.save(str(self.tmp))
 
 
