@@ -22,8 +22,8 @@ they are made by the same pens in the same order:
 Composites: a TrueType glyph of components only stays a composite (ufo2ft draws its
 shell); a glyph with components and contours, and every CFF glyph with components,
 is decomposed here as ufo2ft's ``DecomposeComponentsFilter`` does it (the glyph's
-own contours, then each component's nested components and then its contours,
-transformed), from the stored outlines.
+own contours, then each component's base drawn the same way, transformed), from
+the stored outlines.
 
 The source is read the same way (:class:`SkeletonSource`): one pass over the glyphs
 for their shells, then each glyph's contours read again when its chunk is prepared,
@@ -244,7 +244,7 @@ def _stored_compilers():
     class Stored:
         """The part both flavors share: ``store`` (glyph name -> (data, bounds)) and
         the decomposition of a glyph from the stored outlines, in the order of
-        ufo2ft's DecomposeComponentsFilter."""
+        ufo2ft's DecomposeComponentsFilter (fontTools' DecomposingFilterPointPen)."""
 
         store = {}
 
@@ -258,12 +258,10 @@ def _stored_compilers():
                 self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
 
         def nested(self, name, pen):
-            shell = self.shell(name)
-            if shell is None:
-                return
-            for c in shell.components:
-                self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-            self.draw_stored(name, pen)
+            """A component's base as fontTools' decomposing point pen draws it:
+            its own contours, then its components, recursively."""
+            if self.shell(name) is not None:
+                self.decomposed(name, pen)
 
     class BoundedCharString(T2CharString):
         """A charstring whose bounds were computed where it was compiled (the
