@@ -61,7 +61,7 @@ def lift_rings(rings, tg, contract):
         ids = np.concatenate([pid[k], pid[nx[k]]])
         used = unique(ids)
         inv = np.searchsorted(used, ids)
-        stacked = pc.stack([tg.pieces[i] for i in used])
+        stacked = pc.stack(pc.Pieces.of(tg.pieces).take(used))
         ia, ib = inv[:len(k)], inv[len(k):]
         # a polyline crossing is off the exact one by up to (eps + grid / sqrt 2) /
         # sin(alpha / 2) at an angle alpha: far along a shallow crossing
@@ -113,8 +113,9 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     row = np.concatenate([e_last, np.full(len(e), -1)])
     order = np.argsort(ring, kind="stable")          # by ring, runs in ring order
     ring, piece_id, ta, tb, row = ring[order], piece_id[order], ta[order], tb[order], row[order]
-    cut = pc.subsegments(pieces, piece_id, ta, tb)
+    cut = pc.subsegments(pieces, piece_id, ta, tb, packed=True)
     starts, stops = pc.end_points(cut)
+    cut = cut.rows()
     ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
     # junctions at joints (no crossing point): the mean of the two runs' ends
     per = np.bincount(ring, minlength=n_rings)
@@ -157,14 +158,13 @@ def _close_all(runs, contract):
 def _with_endpoints_many(pieces, p0, p1):
     """:func:`morph.piece.with_endpoints` of many pieces (first and last control
     points moved to p0[k] and p1[k]), those of one degree at once."""
-    out = [None] * len(pieces)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    out = []
+    for ks, h in pc.degree_groups(pieces):
+        h = h.copy()
         h[:, 0, :2] = p0[ks] * h[:, 0, 2:]
         h[:, -1, :2] = p1[ks] * h[:, -1, 2:]
-        for j, k in enumerate(ks):
-            out[k] = h[j]
-    return out
+        out.append((ks, h))
+    return pc.Pieces(out, len(pieces)).rows()
 
 
 def _close(out, ends, contract):
