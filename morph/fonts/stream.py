@@ -420,6 +420,6 @@ def sample_font(path, text, length=15):
         name = wanted.pop()
         if name in out or name not in src:
             continue
-        out.insertGlyph(src[name], copy=True)
+        out.layers.defaultLayer.insertGlyph(src[name], copy=True)
         wanted.extend(c.baseGlyph for c in src[name].components)
     return out
