@@ -25,6 +25,7 @@ result is polygonal: correct to tol, but made of short lines where the exact met
 writes a few curves (several times more points, no smooth joins).
 """
 
+import itertools
 import os
 
 import numpy as np
@@ -50,16 +51,18 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True):
     """``[func(a) for a in args]``, computed by ``jobs`` processes, in input order.
 
     ``func`` must be a module-level function (it is pickled by reference) and its
-    arguments and results picklable.  ``jobs <= 1`` (or one job) runs in this
-    process.  ``progress(index, result)`` is called in this process as each job
-    finishes (in completion order).  ``keep=False`` streams: each result is dropped
-    once ``progress`` has had it (the list returned holds None), so that memory
-    does not grow with the number of jobs.  An exception raised by ``func``
-    propagates; a job whose worker process died is run again here, and all of them
-    when no process pool can be started.
+    arguments and results picklable.  ``args``: any iterable; it is consumed as the
+    processes need work (at most ``2 * jobs`` jobs ahead of the results), so a
+    generator's arguments are made as they are needed, not all first.  ``jobs <= 1``
+    (or one job) runs in this process.  ``progress(index, result)`` is called in
+    this process as each job finishes (in completion order).  ``keep=False``
+    streams: each result is dropped once ``progress`` has had it (the list returned
+    holds None), so that memory does not grow with the number of jobs.  An
+    exception raised by ``func`` propagates; a job whose worker process died is run
+    again here, and all of them when no process pool can be started.
     """
-    args = list(args)
-    results = [None] * len(args)
+    args = iter(args)
+    results = []
     jobs = int(jobs or 1)
 
     def done(k, result):
@@ -68,31 +71,52 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True):
         if keep:
             results[k] = result
 
-    if jobs <= 1 or len(args) <= 1:
+    first = list(itertools.islice(args, 2))
+    args = itertools.chain(first, args)
+    if jobs <= 1 or len(first) <= 1:
         for k, a in enumerate(args):
+            results.append(None)
             done(k, func(a))
         return results
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
 
-    lost = []
+    lost = []  # (index, argument) of the jobs whose worker died: run here
     try:
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(args)))
+        pool = ProcessPoolExecutor(max_workers=jobs)
     except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
         return run_jobs(func, args, jobs=1, progress=progress, keep=keep)
     with pool:
-        futures = {pool.submit(func, a): k for k, a in enumerate(args)}
-        for fut in as_completed(futures):
-            k = futures.pop(fut)            # the future, and its result, go when done
+        pending = {}                      # future -> (index, argument), while it runs
+        for k, a in enumerate(args):
+            results.append(None)
             try:
-                result = fut.result()
-            except BrokenProcessPool:
-                lost.append(k)
+                pending[pool.submit(func, a)] = (k, a)
+            except BrokenProcessPool:     # a worker died: the pool takes no more
+                lost.append((k, a))
                 continue
-            done(k, result)
-    for k in sorted(lost):
-        done(k, func(args[k]))
+            while len(pending) >= 2 * jobs:
+                _collect(pending, wait(pending, return_when=FIRST_COMPLETED)[0], done, lost)
+        while pending:
+            _collect(pending, wait(pending, return_when=FIRST_COMPLETED)[0], done, lost)
+    for k, a in sorted(lost, key=lambda ka: ka[0]):
+        done(k, func(a))
     return results
+
+
+def _collect(pending, finished, done, lost):
+    """Hand the ``finished`` futures' results to ``done`` (index, result) and drop
+    them from ``pending``; a job whose worker died goes to ``lost``."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    for fut in finished:
+        k, a = pending.pop(fut)           # the future, and its result, go when done
+        try:
+            result = fut.result()
+        except BrokenProcessPool:
+            lost.append((k, a))
+            continue
+        done(k, result)
 
 
 #: At most this many glyphs per job of :func:`run_glyph_jobs` (their curve
@@ -113,20 +137,25 @@ def glyph_chunks(work, size=CHUNK):
     return [work[a:b] for a, b in zip(edges, edges[1:])]
 
 
-def run_glyph_jobs(func, work, jobs=1, each=None, keep=True):
+def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None):
     """The font writers' job runner: ``func`` (module-level, a list of glyph jobs ->
     a list of their results) over ``work`` in :func:`glyph_chunks`, computed by
-    ``jobs`` processes (:func:`run_jobs`).  ``each(result)`` is called in this
-    process for every glyph's result, in input order within a chunk, as its chunk
-    is done.  Returns the results in input order, or with ``keep=False`` nothing
-    (each chunk's results dropped once ``each`` had them: memory does not grow with
-    the number of glyphs)."""
+    ``jobs`` processes (:func:`run_jobs`).  ``prepare`` (None: the chunks as they
+    are) makes a chunk's jobs from its part of ``work`` in this process, when the
+    processes need it (e.g. ``work`` glyph names, the jobs their outlines read then).
+    ``each(result)`` is called in this process for every glyph's result, in input
+    order within a chunk, as its chunk is done.  Returns the results in input order,
+    or with ``keep=False`` nothing (each chunk's results dropped once ``each`` had
+    them: memory does not grow with the number of glyphs)."""
     def done(index, results):
         if each is not None:
             for r in results:
                 each(r)
 
-    chunks = run_jobs(func, glyph_chunks(work), jobs=jobs, keep=keep, progress=done)
+    chunks = glyph_chunks(work)
+    if prepare is not None:
+        chunks = (prepare(c) for c in chunks)
+    chunks = run_jobs(func, chunks, jobs=jobs, keep=keep, progress=done)
     return [r for rs in chunks for r in rs] if keep else None
 
 
