@@ -2,6 +2,7 @@
 glyphs, with the stroking taken out.
 
     python -m bench.font_writer [--sizes 300,3000,30000] [--kinds .otf,.ttf,.ufo]
+                                [--runs 300:.otf,30000:.ttf,...]
                                 [--before PATH_TO_ANOTHER_CHECKOUT] [--before-sizes 300,3000]
                                 [--md bench/font_writer.md | --no-write]
 
@@ -143,6 +144,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="300,3000,30000")
     ap.add_argument("--kinds", default=".otf,.ttf,.ufo")
+    ap.add_argument("--runs", help="size:kind,... instead of every size with every kind")
     ap.add_argument("--before", help="another checkout's root, run as the writer before")
     ap.add_argument("--before-label", default="the writer before")
     ap.add_argument("--before-sizes", default="300,3000")
@@ -155,11 +157,12 @@ def main(argv=None):
         return 0
     argv = sys.argv[1:] if argv is None else argv
     kinds = opt.kinds.split(",")
-    for kind in kinds:  # record before any run is timed
+    for kind in set(kinds) | {r.split(":")[1] for r in (opt.runs or "").split(",") if r}:  # record before any run is timed
         _recorded(kind)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        plan = [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds]
+        plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(","))]
+                if opt.runs else [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds])
         if opt.before:
             plan += [(opt.before, int(n), k) for n in opt.before_sizes.split(",") for k in kinds]
         for checkout, n, kind in plan:

@@ -22,8 +22,8 @@ they are made by the same pens in the same order:
 Composites: a TrueType glyph of components only stays a composite (ufo2ft draws its
 shell); a glyph with components and contours, and every CFF glyph with components,
 is decomposed here as ufo2ft's ``DecomposeComponentsFilter`` does it (the glyph's
-own contours, then each component's nested components and then its contours,
-transformed), from the stored outlines.
+own contours, then each component's base drawn the same way, transformed), from
+the stored outlines.
 
 The source is read the same way (:class:`SkeletonSource`): one pass over the glyphs
 for their shells, then each glyph's contours read again when its chunk is prepared,
@@ -228,123 +228,6 @@ class SkeletonSource:
 
 # =========================================================================== compiled font
 
-def _stored_compilers():
-    """ufo2ft's outline compilers, taking stored outlines (built lazily: ufo2ft is
-    imported only when a font is compiled)."""
-    from fontTools.misc.psCharStrings import T2CharString
-    from fontTools.misc.roundTools import otRound
-    from fontTools.pens.pointPen import PointToSegmentPen, SegmentToPointPen
-    from fontTools.pens.recordingPen import RecordingPointPen
-    from fontTools.pens.t2CharStringPen import T2CharStringPen
-    from fontTools.pens.transformPen import TransformPointPen
-    from fontTools.pens.ttGlyphPen import TTGlyphPointPen
-    from fontTools.ttLib.tables._g_l_y_f import Glyph
-    from ufo2ft.outlineCompiler import OutlineOTFCompiler, OutlineTTFCompiler
-
-    class Stored:
-        """The part both flavors share: ``store`` (glyph name -> (data, bounds)) and
-        the decomposition of a glyph from the stored outlines, in the order of
-        ufo2ft's DecomposeComponentsFilter."""
-
-        store = {}
-
-        def shell(self, name):
-            return self.ufo[name] if name in self.ufo else None
-
-        def decomposed(self, name, pen):
-            """``name``'s own stored contours, then its components decomposed."""
-            self.draw_stored(name, pen)
-            for c in self.shell(name).components:
-                self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-
-        def nested(self, name, pen):
-            shell = self.shell(name)
-            if shell is None:
-                return
-            for c in shell.components:
-                self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-            self.draw_stored(name, pen)
-
-    class BoundedCharString(T2CharString):
-        """A charstring whose bounds were computed where it was compiled (the
-        worker: ``calcBounds`` of the same program): fontTools asks a CFF font's
-        charstrings for their bounds for the font box, head and hhea on every save,
-        which would decompile each one in Python."""
-
-        bounds = None
-
-        def calcBounds(self, glyphSet):
-            return self.bounds
-
-    class StoredCFF(Stored, OutlineOTFCompiler):
-        def draw_stored(self, name, pen):
-            if name in self.store:
-                cs = T2CharString(bytecode=self.store[name][0], private=_NO_WIDTHS,
-                                  globalSubrs=[])
-                cs.draw(SegmentToPointPen(pen))
-
-        def compileGlyphs(self):
-            default, nominal = self.getDefaultAndNominalWidths()
-            private = SimpleNamespace(defaultWidthX=default, nominalWidthX=nominal)
-            out = {}
-            for name in self.glyphOrder:
-                glyph, shell = self.allGlyphs[name], self.shell(name)
-                if shell is not None and shell.components:
-                    rec = RecordingPointPen()
-                    self.decomposed(name, rec)
-                    width = None if glyph.width == default else otRound(glyph.width - nominal)
-                    pen = T2CharStringPen(width, self.allGlyphs,
-                                          roundTolerance=self.roundTolerance)
-                    rec.replay(PointToSegmentPen(pen))
-                    out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
-                elif name in self.store:
-                    out[name] = BoundedCharString(
-                        bytecode=width_prefix(glyph.width, default, nominal)
-                        + self.store[name][0])
-                    out[name].bounds = self.store[name][1]
-                else:
-                    out[name] = self.getCharStringForGlyph(glyph, private)
-            return out
-
-        def makeGlyphsBoundingBoxes(self):
-            from ufo2ft.outlineCompiler import BoundingBox
-
-            boxes = {}
-            charstrings = self.getCompiledGlyphs()
-            for name, cs in charstrings.items():
-                box = cs.calcBounds(charstrings)  # ufo2ft's rounding of its bounds
-                box = None if box is None else tuple(otRound(v) for v in box)
-                box = None if box == (0, 0, 0, 0) else box
-                boxes[name] = None if box is None else BoundingBox(*box)
-            return boxes
-
-    class StoredGlyf(Stored, OutlineTTFCompiler):
-        def draw_stored(self, name, pen):
-            if name in self.store and self.store[name][0]:
-                g = Glyph(self.store[name][0])
-                g.expand(None)
-                g.drawPoints(pen, None)
-
-        def compileGlyphs(self):
-            ttglyphs = super().compileGlyphs()  # shells: components, empty glyphs
-            for name in self.glyphOrder:
-                shell = self.shell(name)
-                if not self.store.get(name, (b"",))[0]:  # no contours: ufo2ft's own
-                    continue
-                if shell is not None and shell.components:  # mixed: decomposed
-                    pen = TTGlyphPointPen(self.allGlyphs)
-                    self.decomposed(name, pen)
-                    ttglyphs[name] = pen.glyph(dropImpliedOnCurves=self.dropImpliedOnCurves,
-                                               round=otRound)
-                else:
-                    g = Glyph(self.store[name][0])
-                    g.expand(None)
-                    ttglyphs[name] = g
-            return ttglyphs
-
-    return StoredCFF, StoredGlyf
-
-
 def compile_stored(font, store, kind, **options):
     """The ``TTFont`` ufo2ft compiles from ``font`` (shells, see the module docstring)
     with the stored outlines ``store`` (glyph name -> :func:`compile_outline`'s
@@ -352,8 +235,9 @@ def compile_stored(font, store, kind, **options):
     ``options`` go to ufo2ft's ``compileOTF`` / ``compileTTF``."""
     import ufo2ft
 
-    cff, glyf = _stored_compilers()
-    base = cff if kind == ".otf" else glyf
+    from .stored import StoredCFF, StoredGlyf
+
+    base = StoredCFF if kind == ".otf" else StoredGlyf
     compiler = type(base.__name__, (base,), {"store": store})
     if kind == ".otf":
         return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, **options)
@@ -422,6 +306,6 @@ def sample_font(path, text, length=15):
         name = wanted.pop()
         if name in out or name not in src:
             continue
-        out.insertGlyph(src[name], copy=True)
+        out.layers.defaultLayer.insertGlyph(src[name], copy=True)
         wanted.extend(c.baseGlyph for c in src[name].components)
     return out
