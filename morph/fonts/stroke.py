@@ -381,13 +381,14 @@ def _streamed_chunk(flavor, chunk):
     """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
     ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
     ``flavor``; for None the contours themselves), ``contours`` and ``points``
-    (counts) and ``extent`` (the lowest and highest y of its region); the region is
-    not sent back."""
+    (counts) and ``extent`` (the lowest and highest y of the chunk's regions, one
+    list for all its glyphs: a region's tight box is computed only where its control
+    points reach past the chunk's extremes so far); the regions are not sent back."""
     from .stream import compile_outline
 
     out = _chunk_job(chunk)
+    extent = [None, None]
     for r in out:
-        extent = [None, None]
         widen_extent(extent, r.pop("region"))
         contours = r["contours"]
         r.update(extent=extent, contours=len(contours),
