@@ -144,7 +144,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="300,3000,30000")
     ap.add_argument("--kinds", default=".otf,.ttf,.ufo")
-    ap.add_argument("--runs", help="size:kind,... instead of every size with every kind")
+    ap.add_argument("--runs", help="size:kind,... instead of every size with every kind "
+                                   "('': none, e.g. only --before)")
     ap.add_argument("--before", help="another checkout's root, run as the writer before")
     ap.add_argument("--before-label", default="the writer before")
     ap.add_argument("--before-sizes", default="300,3000")
@@ -161,8 +162,9 @@ def main(argv=None):
         _recorded(kind)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(","))]
-                if opt.runs else [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds])
+        plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(",") if r)]
+                if opt.runs is not None
+                else [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds])
         if opt.before:
             plan += [(opt.before, int(n), k) for n in opt.before_sizes.split(",") for k in kinds]
         for checkout, n, kind in plan:
