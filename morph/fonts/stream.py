@@ -38,7 +38,7 @@ from types import SimpleNamespace
 from .tables import draw_contours
 
 __all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph"]
+           "UfoGlyphWriter", "shell_glyph", "sample_font"]
 
 
 # =========================================================================== worker side
