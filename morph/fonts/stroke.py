@@ -277,7 +277,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                progress=None, stroker=None, overwrite=False, jobs=1):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
-    ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
+    ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
+    :class:`morph.fonts.stream.SkeletonSource` of either (its shell font is used).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
     ``.otf`` or ``.ttf`` (compiled with ufo2ft).  ``nib_region``: a convex region in
     font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the pen point at its
@@ -344,7 +345,7 @@ def _font_plan(src, nib_region, glyphs, family_name, kind):
     (:func:`_finish_shells`)."""
     from .stream import SkeletonSource
 
-    source = SkeletonSource(src)
+    source = src if isinstance(src, SkeletonSource) else SkeletonSource(src)
     font = source.shell_font()
     symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
