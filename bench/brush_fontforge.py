@@ -168,13 +168,14 @@ def main(argv=None):
              opt.ref_tol), "",
           "| tool | ms / glyph (mean) | ms / glyph (median) | points / glyph | worst error | "
           "mean error | glyphs over 1 unit |", "|---|---|---|---|---|---|---|"]
+    worst = lambda e: "%.2f (%s)" % (max(e), names[int(np.argmax(e))])  # noqa: E731
     for r in rows:
         e = r["errs"]
         md.append("| %s | %.1f | %s | %s | %s | %s | %s |" % (
             r["tool"], r["ms"], "-" if r["median"] is None else "%.1f" % r["median"],
             "-" if r["points"] is None else "%.0f" % r["points"],
-            "-" if e is None else "%.2f" % max(e), "-" if e is None else "%.3f" % np.mean(e),
-            "-" if e is None else sum(1 for v in e if v > 1.0)))
+            "-" if e is None else worst(e), "-" if e is None else "%.3f" % np.mean(e),
+            "-" if e is None else ", ".join(n for n, v in zip(names, e) if v > 1.0) or "0"))
     md += ["", "The command's last line: `%s`." % line,
            "FontForge printed \"Internal Error\" %s times."
            % ", ".join(str(r.get("internal", 0)) for r in rows[2:]),

@@ -139,12 +139,11 @@ def run(n, kind, tmp, checkout=None):
 def main(argv=None):
     import tempfile
 
-    from bench.stroke_profile import code_version, shown_args
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="300,3000,30000")
     ap.add_argument("--kinds", default=".otf,.ttf,.ufo")
-    ap.add_argument("--runs", help="size:kind,... instead of every size with every kind")
+    ap.add_argument("--runs", help="size:kind,... instead of every size with every kind "
+                                   "('': none, e.g. only --before)")
     ap.add_argument("--before", help="another checkout's root, run as the writer before")
     ap.add_argument("--before-label", default="the writer before")
     ap.add_argument("--before-sizes", default="300,3000")
@@ -157,12 +156,14 @@ def main(argv=None):
         return 0
     argv = sys.argv[1:] if argv is None else argv
     kinds = opt.kinds.split(",")
-    for kind in set(kinds) | {r.split(":")[1] for r in (opt.runs or "").split(",") if r}:  # record before any run is timed
+    # the strokes recorded before any run is timed
+    for kind in set(kinds) | {r.split(":")[1] for r in (opt.runs or "").split(",") if r}:
         _recorded(kind)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(","))]
-                if opt.runs else [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds])
+        plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(",") if r)]
+                if opt.runs is not None
+                else [(None, int(n), k) for n in opt.sizes.split(",") for k in kinds])
         if opt.before:
             plan += [(opt.before, int(n), k) for n in opt.before_sizes.split(",") for k in kinds]
         for checkout, n, kind in plan:
@@ -171,16 +172,27 @@ def main(argv=None):
             r["who"] = opt.before_label if checkout else "streamed (this checkout)"
             print(r, flush=True)
             rows.append(r)
+            text = markdown(rows, argv, len(plan))  # after every run: a long run's rows
+            if not opt.no_write:                     # are kept if it is stopped
+                Path(opt.md).write_text(text)
+    print(text)
+    return 0
+
+
+def markdown(rows, argv, planned):
+    from bench.stroke_profile import code_version, shown_args
+
     md = ["# The font writer of `morph stroke` against the font's size (bench/font_writer.py)",
           "",
-          "Command: `python -m bench.font_writer%s`; measured %s UTC at %s.  Machine: %d "
-          "CPUs shared with other jobs (load average %s at the end): CPU times, not wall "
-          "times.  The stroking is replaced by recorded strokes of the hanzi-300 glyphs "
-          "(see the script's docstring): the writer alone, `--jobs 1`, one process."
+          "Command: `python -m bench.font_writer%s`; measured %s UTC at %s (%d of %d runs "
+          "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): "
+          "CPU times, not wall times.  The stroking is replaced by recorded strokes of the "
+          "hanzi-300 glyphs (see the script's docstring): the writer alone, `--jobs 1`, "
+          "one process."
           % ("".join(" " + a for a in shown_args(argv)),
-             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-             os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg())), "",
-          "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
+             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(), len(rows),
+             planned, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg())),
+          "", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
           "output MB |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
@@ -190,11 +202,7 @@ def main(argv=None):
         md.append("| %s | %s | %d | %.0f | %.1f | %.2f | %d | %.1f |"
                   % (r["who"], r["kind"], r["n"], r["mb"], r["cpu"], 1000 * r["cpu"] / r["n"],
                      r["points"], r["size"]))
-    text = "\n".join(md) + "\n"
-    print(text)
-    if not opt.no_write:
-        Path(opt.md).write_text(text)
-    return 0
+    return "\n".join(md) + "\n"
 
 
 if __name__ == "__main__":

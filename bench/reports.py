@@ -96,8 +96,8 @@ REPORTS = [
            quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
     Report("font_writer", "bench.font_writer",
-           ["--runs", "300:.otf,300:.ttf,300:.ufo,3000:.otf,3000:.ttf,3000:.ufo,30000:.otf,"
-            "30000:.ttf", "--md", "{md}"],
+           ["--runs", "300:.otf,300:.ttf,300:.ufo,3000:.otf,3000:.ttf,3000:.ufo,30000:.ttf,"
+            "30000:.otf", "--md", "{md}"],
            quick=["--runs", "300:.otf", "--md", "{md}"],
            cost="20-40 min (the writer alone), skeleton sets fetched with npm", snapshot=True),
     Report("stroke_profile_stream", "bench.stroke_profile",

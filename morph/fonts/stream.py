@@ -38,7 +38,7 @@ from types import SimpleNamespace
 from .tables import draw_contours
 
 __all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph"]
+           "UfoGlyphWriter", "shell_glyph", "sample_font"]
 
 
 # =========================================================================== worker side
@@ -196,7 +196,13 @@ class SkeletonSource:
         return glyph, pen
 
     def shell_font(self):
-        """The font to write (see the class docstring); read once, glyph by glyph."""
+        """The font to write (see the class docstring); read once, glyph by glyph, on
+        the first call (later calls return the same font)."""
+        if getattr(self, "_shells", None) is None:
+            self._shells = self._shell_font()
+        return self._shells
+
+    def _shell_font(self):
         import ufoLib2
 
         src = self.font

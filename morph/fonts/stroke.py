@@ -277,7 +277,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
                progress=None, stroker=None, overwrite=False, jobs=1):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
-    ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
+    ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
+    :class:`morph.fonts.stream.SkeletonSource` of either (its shell font is used).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
     ``.otf`` or ``.ttf`` (compiled with ufo2ft).  ``nib_region``: a convex region in
     font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the pen point at its
@@ -344,7 +345,7 @@ def _font_plan(src, nib_region, glyphs, family_name, kind):
     (:func:`_finish_shells`)."""
     from .stream import SkeletonSource
 
-    source = SkeletonSource(src)
+    source = src if isinstance(src, SkeletonSource) else SkeletonSource(src)
     font = source.shell_font()
     symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
@@ -381,13 +382,14 @@ def _streamed_chunk(flavor, chunk):
     """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
     ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
     ``flavor``; for None the contours themselves), ``contours`` and ``points``
-    (counts) and ``extent`` (the lowest and highest y of its region); the region is
-    not sent back."""
+    (counts) and ``extent`` (the lowest and highest y of the chunk's regions, one
+    list for all its glyphs: a region's tight box is computed only where its control
+    points reach past the chunk's extremes so far); the regions are not sent back."""
     from .stream import compile_outline
 
     out = _chunk_job(chunk)
+    extent = [None, None]
     for r in out:
-        extent = [None, None]
         widen_extent(extent, r.pop("region"))
         contours = r["contours"]
         r.update(extent=extent, contours=len(contours),
