@@ -423,10 +423,13 @@ def _write_empty(font, model, widths, owners, name):
 def _set_variations(gvar, model, name, coords):
     from fontTools.ttLib.tables.TupleVariation import TupleVariation
 
-    deltas, supports = model.getDeltas(coords), model.supports
-    gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, np.round(p))) for p in d])
-                             for d, sup in zip(deltas[1:], supports[1:])
-                             if np.any(np.round(d) != 0)]
+    # rounded as they are computed, each against the rounded ones before it, so that
+    # every master is its own rounded outline (rounding the exact deltas afterwards
+    # would add up to one rounding per region over a master)
+    deltas = model.getDeltas(coords, round=np.round)
+    gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, p)) for p in d])
+                             for d, sup in zip(deltas[1:], model.supports[1:])
+                             if np.any(d != 0)]
 
 
 def _rnd(p, shift):
@@ -670,7 +673,7 @@ def _vary_anchors(font, shifts, axis, values, tags):
                 new.append(None)
                 continue
             at = [round(a.XCoordinate + x) for x in shifts[g]]
-            d = [int(round(x)) for x in model.getDeltas([x - at[0] for x in at])[1:]]
+            d = [int(x) for x in model.getDeltas([x - at[0] for x in at], round=round)[1:]]
             old = None
             if a.Format == 3 and a.XDeviceTable is not None and \
                     a.XDeviceTable.DeltaFormat == 0x8000:

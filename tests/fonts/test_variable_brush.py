@@ -112,6 +112,26 @@ def test_static_source_gets_a_nib_axis(sources, tmp_path):
                       [p + np.array([35.0, 0.0]) for p in ref], BOUND, strict=True)
 
 
+def test_turning_nib_gets_intermediate_masters(sources, tmp_path):
+    """A nib that turns (NIBP): intermediate nib masters until each interval's blend
+    is within its share, and 9 positions within the bound; the many masters' glyph
+    deltas are rounded against each other, so each master is its own rounded
+    outline (rounding exact deltas afterwards adds one rounding per region)."""
+    from morph.compatible import interpolation_error
+    from morph.fonts.variable import BLEND_SHARE
+
+    out = tmp_path / "Turn.ttf"
+    stats = brush_variable(sources["ttf"], out, (80, 20, 0), nib_max=(80, 20, 40),
+                           glyphs=["n", "e", "acutecomb"], tol=TOL)
+    axis, values = stats["axis"], stats["nib_values"]
+    assert axis.tag == "NIBP" and len(values) > 8
+    assert all(interpolation_error(axis.nib_at(a), axis.nib_at(b)) <= BLEND_SHARE * TOL
+               for a, b in zip(values[:-1], values[1:]))
+    for v in np.linspace(0, 100, 9):
+        _check(out, sources["ttf"], {"NIBP": float(v)}, lambda loc: axis.nib_at(loc["NIBP"]),
+               glyphs=("n",))
+
+
 def test_grade_axis_keeps_the_advances(sources, tmp_path):
     """Two growing disks on a static CFF font: the registered GRAD axis (0 to the
     diameter's growth per 1000 em), TrueType output, advances and anchors those of
