@@ -138,7 +138,7 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
-                           composites=composites, jobs=jobs)
+                           composites=composites, jobs=jobs, partial=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
@@ -400,7 +400,8 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         # the path, not the open font: stroke_ufo then reads the UFO whole instead of
         # deep-copying this one (5 ms a glyph)
         stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
-                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
+                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
+                           partial=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled

@@ -29,6 +29,7 @@ search its share, and repeats until every search has returned.  A generator keep
 the search's state (bracket, last fit) in its local variables between rounds.
 """
 
+import contextlib
 import math
 
 import numpy as np
@@ -166,6 +167,24 @@ def _chosen_fit(parts, cubic, cuts, certified, fallback, ends, tol):
         for a, b, (j, f) in panels))
 
 
+#: ``callback(searches done, searches)`` after every round of :func:`_drive` while
+#: set (:func:`observe_searches`): the font jobs' progress within a batch
+_observer = None
+
+
+@contextlib.contextmanager
+def observe_searches(callback):
+    """Within the ``with`` block, :func:`_drive` calls ``callback(done, total)``
+    after each round: how many of its searches have ended (a batch's conversion
+    done so far, for progress reports)."""
+    global _observer
+    before, _observer = _observer, callback
+    try:
+        yield
+    finally:
+        _observer = before
+
+
 def _drive(searches, tol):
     """Run search generators in lockstep and return their results in order.
 
@@ -173,6 +192,7 @@ def _drive(searches, tol):
     results; the pending requests of all searches are fitted and certified together
     (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
     call per fit."""
+    observer = _observer
     results = [None] * len(searches)
     pending = {}
     for i, g in enumerate(searches):
@@ -190,6 +210,8 @@ def _drive(searches, tol):
             except StopIteration as stop:
                 results[i] = stop.value
             k += n
+        if observer is not None:
+            observer(len(searches) - len(pending), len(searches))
     return results
 
 

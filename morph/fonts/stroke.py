@@ -69,7 +69,8 @@ from ..parse.ufo import glyph_names_for
 from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
-from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
+from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
+                   glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import copy_font, grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
@@ -189,9 +190,10 @@ def _chunk_job(chunk):
     t0 = time.process_time()
     tol, quadratic = _outline_tolerance(chunk[0][3])
     try:
-        contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
-                                         [chunk[k][4] for k in good], reverse=False,
-                                         splines=True)
+        with converting(len(good)):
+            contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
+                                             [chunk[k][4] for k in good], reverse=False,
+                                             splines=True)
     except MorphError:
         contours = None
     if contours is not None:
@@ -256,6 +258,7 @@ def _stroked_regions(chunk):
         except MorphError:  # glyph by glyph, as they were (only a MorphError: the ladder)
             regions = None
         if regions is not None:
+            glyph_progress(SUM_SHARE * len(chunk))
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
             share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
             return [(r, None, float(s)) for r, s in zip(regions, share)]
@@ -267,11 +270,12 @@ def _stroked_regions(chunk):
         except MorphError as exc:
             region, error = None, exc
         out.append((region, error, time.process_time() - t0))
+        glyph_progress(SUM_SHARE)
     return out
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1):
+               progress=None, stroker=None, overwrite=False, jobs=1, partial=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
     ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
@@ -281,7 +285,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     pen point at its origin.  ``glyphs``: characters or glyph names (None: every
     glyph).  ``tol``: outline tolerance in font units before integer rounding (see
     the module docstring for the budget).  ``family_name``: default "<family>
-    Stroke".  ``progress(name)`` is called after each stroked glyph.  ``stroker``:
+    Stroke".  ``progress(name)`` is called after each stroked glyph, ``partial(units)``
+    with the glyphs' worth of work reported by chunks in flight
+    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``:
     a function ``(paths, nib_region, tol) -> region`` (default
     :func:`morph.stroke.stroke_paths`).  ``overwrite``: replace an existing output.
     ``jobs``: worker processes for the strokes (1: in this process).
@@ -321,7 +327,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
              "extent": [None, None]}
     run_glyph_jobs(_chunk_job, work, jobs=jobs, keep=False,
-                   each=_writer(font, kind == ".ttf", stats, progress))
+                   each=_writer(font, kind == ".ttf", stats, progress), partial=partial)
     _move_furniture(font, stroked + followed, place, symmetric)
     stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
                  composites=sum(1 for n in stroked + followed if font[n].components),
