@@ -7,8 +7,8 @@ from pathlib import Path
 import click
 
 from .group import main
-from .variable import (VARY_NIB_HELP, brush_variable_cli, is_variable_truetype,
-                       stroke_variable_cli)
+from .variable import (BRUSH_VARY_NIB_HELP, VARY_NIB_HELP, brush_variable_cli,
+                       is_variable_truetype, stroke_variable_cli)
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
                       progress_bar, report_written, resolve_output, tol_option, write_image)
 
@@ -64,9 +64,11 @@ def _parse_nib(spec):
 @click.option("--jobs", type=click.IntRange(min=1), default=None,
               help="Processes computing the glyphs (default: the number of CPUs). The "
                    "font does not depend on it.")
+@click.option("--vary-nib", default=None, metavar="ellipse:W,H,ANGLE",
+              help=BRUSH_VARY_NIB_HELP)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing outputs.")
 def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composites, location,
-          jobs, force):
+          jobs, vary_nib, force):
     """Sweep the glyphs of FONT with a fixed calligraphic nib (Fig. 5).
 
     Every chosen glyph is replaced by glyph ⊕ nib (the nib keeps its orientation),
@@ -79,10 +81,12 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     in the new font with Pillow) and OUTPUT.html (a specimen: waterfall and all
     characters, source and result side by side).
 
-    A variable FONT without --location keeps every axis: each master's glyphs
-    are brushed as untrimmed, overlapping contours compatible across the
-    masters (overlap flags set), its layout kept.  Static outputs are trimmed:
-    one outline, free of overlaps.
+    A variable FONT (glyf/gvar or CFF2) without --location keeps every axis:
+    each master's glyphs are brushed as untrimmed, overlapping contours
+    compatible across the masters (overlap flags set), its layout kept; the
+    output is TrueType (.ttf, .woff2, .woff).  --vary-nib adds a nib axis, to a
+    static FONT (or FONT at --location) too.  Static outputs are trimmed: one
+    outline, free of overlaps.
 
     A glyph whose sum fails is computed again at --tol/8, then with the nib turned
     by a tiny angle (within --tol); if that fails too it is written by a polygon
@@ -97,6 +101,7 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
       morph brush MyFont.otf -o Brushed.woff2 --nib ellipse:120,20,-30 --glyphs a-z
       morph brush Variable.ttf --location wght=700 -o BoldBrush.ttf --jobs 4
       morph brush Variable.ttf -o VariableBrush.ttf --nib ellipse:60,15,30
+      morph brush MyFont.otf -o Graded.ttf --nib ellipse:20,20 --vary-nib ellipse:50,50
     """
     from ..fonts.tables import FONT_SUFFIXES
     from ..nib import ellipse_nib
@@ -108,9 +113,9 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
-    if location is None and is_variable_truetype(src):   # every axis kept
+    if vary_nib is not None or (location is None and is_variable_truetype(src)):
         return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
-                                  png, page, _parse_nib)
+                                  png, page, _parse_nib, vary_nib, location)
     return _brush_static(src, location, out, nib_region, items, tol, family, composites,
                          jobs, sample, png, page)
 
@@ -138,7 +143,7 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
-                           composites=composites, jobs=jobs, partial=bar.partial)
+                           composites=composites, jobs=jobs, in_flight=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
@@ -401,7 +406,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         # deep-copying this one (5 ms a glyph)
         stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
-                           partial=bar.partial)
+                           in_flight=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out if page else stats["font"], sample)
     write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled

@@ -17,6 +17,17 @@ VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its m
                  "free of overlaps.")
 
 
+BRUSH_VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its "
+                       "default) to this one, ellipse:W,H,ANGLE, for a static FONT too (a "
+                       "variable FONT keeps its axes and gets this one after them). Two "
+                       "disks, the second larger, make the registered grade axis GRAD "
+                       "(user value: the diameter's growth in units per 1000 em; the "
+                       "advances stay those of the --nib disk, so no text reflows); "
+                       "other nibs NIBW (the nib width) or NIBP (percent of the way). The "
+                       "output is TrueType (.ttf, .woff2, .woff) with overlapping "
+                       "contours (overlap flags set).")
+
+
 def parse_vary_nib(spec, parse_nib):
     """(width, height, angle) of --vary-nib; InputError (exit 2) for a bad one."""
     try:
@@ -87,6 +98,19 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
     return 0
 
 
+def _read_font(path):
+    from fontTools.ttLib import TTFont
+
+    from ..errors import ParseError, one_line
+
+    try:
+        font = TTFont(str(path))
+        font["head"]
+    except Exception as exc:  # fontTools raises many types for garbage input
+        raise ParseError("cannot read font %s: %s" % (path, one_line(exc)), str(path)) from exc
+    return font
+
+
 def is_variable_truetype(path):
     """True for a font file with fvar (a variable font)."""
     from fontTools.ttLib import TTFont
@@ -98,25 +122,35 @@ def is_variable_truetype(path):
 
 
 def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample, png, page,
-                       parse_nib):
-    """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept."""
+                       parse_nib, vary_nib=None, location=None):
+    """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept;
+    ``--vary-nib``: a nib axis added (to FONT at --location for a variable FONT with
+    a location)."""
     import time
 
-    from fontTools.ttLib import TTFont
-
     from ..errors import MorphError
+    from ..fonts.brush import open_source
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.variable_brush import brush_variable
     from ..parse.glyphs import glyph_name
 
     if nib_svg:
-        raise InputError("brushing a variable font keeping its axes needs an elliptical "
-                         "--nib, not --nib-svg (or give --location for a static instance)")
-    font = TTFont(str(src), lazy=True)
-    if "gvar" not in font:
-        raise InputError("%s is a CFF2 variable font: only TrueType (glyf/gvar) sources "
-                         "keep their axes; give --location for a static instance" % src)
+        raise InputError("a variable brushed font (a variable FONT keeping its axes, or "
+                         "--vary-nib) needs an elliptical --nib, not --nib-svg (give "
+                         "--location for a static instance)")
+    if out.suffix.lower() == ".otf":
+        raise InputError("a variable brushed font is written as TrueType (glyf/gvar: the "
+                         "overlapping contours of all masters are converted to quadratics "
+                         "together): use -o %s.ttf (or .woff2, .woff), not .otf" % out.stem)
+    nib = parse_nib(nib)
+    nib_max = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
+    if nib_max is not None and tuple(map(float, nib)) == tuple(map(float, nib_max)):
+        raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
+    try:       # a variable FONT at --location: its static instance gets the nib axis
+        font = open_source(src, location) if location else _read_font(src)
+    except MorphError as exc:
+        raise InputError(str(exc)) from exc
     names = None
     if items is not None:
         try:
@@ -127,15 +161,16 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
     try:
-        stats = brush_variable(src, out, parse_nib(nib), names, tol=tol * upm,
-                               family_name=family, jobs=jobs)
+        stats = brush_variable(font, out, nib, names, tol=tol * upm, family_name=family,
+                               jobs=jobs, nib_max=nib_max)
     except (MorphError, ValueError) as exc:
         raise InputError("%s: %s" % (src, exc)) from exc
     write_sample_image(out, sample, png)
     write_specimen(out, None, sample=sample)
-    click.echo("wrote %s (variable, axes %s kept, %s, %s brushed, %.1f s), sample %s and "
-               "specimen %s" % (out, ", ".join(a.axisTag for a in stats["font"]["fvar"].axes),
-                                count(len(stats["masters"]), "master"),
+    axes = ["%s %g..%g" % (a.axisTag, a.minValue, a.maxValue)
+            for a in stats["font"]["fvar"].axes]
+    click.echo("wrote %s (variable, axes %s, %s, %s brushed, %.1f s), sample %s and "
+               "specimen %s" % (out, ", ".join(axes), count(len(stats["masters"]), "master"),
                                 count(stats["glyphs"], "glyph"), time.perf_counter() - t0,
                                 png, page))
     return 0

@@ -395,7 +395,7 @@ def open_source(font_path, location=None):
 
 def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
                progress=None, method="qac", composites="follow", location=None, jobs=1,
-               partial=None):
+               in_flight=None):
     """Write a copy of the font with each chosen glyph replaced by glyph ⊕ nib.
 
     ``font_path``: a TrueType (glyf) or CFF OpenType font, a ``TTFont`` (changed in
@@ -406,7 +406,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     with an outline.  ``tol``: total outline tolerance in font units (half for the
     sum, half for the curve conversion).  ``family_name``: the new family name
     (default: "<family> Brush").  ``progress(name)`` is called after each swept
-    glyph; ``partial(units)`` with the glyphs' worth of work reported by chunks in
+    glyph; ``in_flight(units)`` with the glyphs' worth of work reported by chunks in
     flight (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``composites``: "follow" or
     "sweep" (see the module docstring).  ``jobs``:
     processes computing the sums (:func:`morph.fonts.jobs.run_glyph_jobs`; the result does
@@ -443,7 +443,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
              writer.quadratic) for n in order]
     chosen = set(names)
     results = run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
-                             each=_chosen_progress(progress, chosen), partial=partial)
+                             each=_chosen_progress(progress, chosen), in_flight=in_flight)
     stats, moves = _store_outlines(font, writer, results, chosen, extent)
     stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
                  base_not_chosen=unchosen)

@@ -31,6 +31,7 @@ result is polygonal: correct to tol, but made of short lines where the exact met
 writes a few curves (several times more points, no smooth joins).
 """
 
+import itertools
 import os
 
 import numpy as np
@@ -137,19 +138,21 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
     """``[func(a) for a in args]``, computed by ``jobs`` processes, in input order.
 
     ``func`` must be a module-level function (it is pickled by reference) and its
-    arguments and results picklable.  ``jobs <= 1`` (or one job) runs in this
-    process.  ``progress(index, result)`` is called in this process as each job
-    finishes (in completion order).  ``partial(index, units)`` is called in this
-    process (from a thread of its own when there are workers) for every
-    :func:`glyph_progress` a job makes while it runs; such a message may come after
-    the job's ``progress``.  ``keep=False`` streams: each result is dropped
-    once ``progress`` has had it (the list returned holds None), so that memory
-    does not grow with the number of jobs.  An exception raised by ``func``
-    propagates; a job whose worker process died is run again here, and all of them
-    when no process pool can be started.
+    arguments and results picklable.  ``args``: any iterable; it is consumed as the
+    processes need work (at most ``2 * jobs`` jobs ahead of the results), so a
+    generator's arguments are made as they are needed, not all first.  ``jobs <= 1``
+    (or one job) runs in this process.  ``progress(index, result)`` is called in
+    this process as each job finishes (in completion order).  ``partial(index,
+    units)`` is called in this process (from a thread of its own when there are
+    workers) for every :func:`glyph_progress` a job makes while it runs; such a
+    message may come after the job's ``progress``.  ``keep=False`` streams: each
+    result is dropped once ``progress`` has had it (the list returned holds None), so
+    that memory does not grow with the number of jobs.  An exception raised by
+    ``func`` propagates; a job whose worker process died is run again here, and all
+    of them when no process pool can be started.
     """
-    args = list(args)
-    results = [None] * len(args)
+    args = iter(args)
+    results = []
     jobs = int(jobs or 1)
 
     def done(k, result):
@@ -158,20 +161,23 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
         if keep:
             results[k] = result
 
-    if jobs <= 1 or len(args) <= 1:
+    first = list(itertools.islice(args, 2))
+    args = itertools.chain(first, args)
+    if jobs <= 1 or len(first) <= 1:
         for k, a in enumerate(args):
+            results.append(None)
             done(k, _local_call(func, k, a, partial))
         return results
     import functools
     import multiprocessing
     import threading
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
 
-    lost = []
+    lost = []  # (index, argument) of the jobs whose worker died: run here
     try:
         queue = multiprocessing.SimpleQueue() if partial is not None else None
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(args)), initializer=_init_worker,
+        pool = ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
                                    initargs=(queue,))
     except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
         return run_jobs(func, args, jobs=1, progress=progress, keep=keep, partial=partial)
@@ -182,25 +188,44 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
                 partial(*message)
         listener = threading.Thread(target=listen, daemon=True)
         listener.start()
+    call = functools.partial(_queued_call, func)
     try:
         with pool:
-            call = functools.partial(_queued_call, func)
-            futures = {pool.submit(call, k, a): k for k, a in enumerate(args)}
-            for fut in as_completed(futures):
-                k = futures.pop(fut)            # the future, and its result, go when done
+            pending = {}                  # future -> (index, argument), while it runs
+            for k, a in enumerate(args):
+                results.append(None)
                 try:
-                    result = fut.result()
-                except BrokenProcessPool:
-                    lost.append(k)
+                    pending[pool.submit(call, k, a)] = (k, a)
+                except BrokenProcessPool:  # a worker died: the pool takes no more
+                    lost.append((k, a))
                     continue
-                done(k, result)
+                while len(pending) >= 2 * jobs:
+                    _collect(pending, wait(pending, return_when=FIRST_COMPLETED)[0], done,
+                             lost)
+            while pending:
+                _collect(pending, wait(pending, return_when=FIRST_COMPLETED)[0], done, lost)
     finally:
         if listener is not None:        # the workers are gone: their messages are in
             queue.put(None)
             listener.join()
-    for k in sorted(lost):
-        done(k, _local_call(func, k, args[k], partial))
+    for k, a in sorted(lost, key=lambda ka: ka[0]):
+        done(k, _local_call(func, k, a, partial))
     return results
+
+
+def _collect(pending, finished, done, lost):
+    """Hand the ``finished`` futures' results to ``done`` (index, result) and drop
+    them from ``pending``; a job whose worker died goes to ``lost``."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    for fut in finished:
+        k, a = pending.pop(fut)           # the future, and its result, go when done
+        try:
+            result = fut.result()
+        except BrokenProcessPool:
+            lost.append((k, a))
+            continue
+        done(k, result)
 
 
 #: At most this many glyphs per job of :func:`run_glyph_jobs` (their curve
@@ -221,17 +246,20 @@ def glyph_chunks(work, size=CHUNK):
     return [work[a:b] for a, b in zip(edges, edges[1:])]
 
 
-def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, partial=None):
+def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_flight=None):
     """The font writers' job runner: ``func`` (module-level, a list of glyph jobs ->
     a list of their results) over ``work`` in :func:`glyph_chunks`, computed by
-    ``jobs`` processes (:func:`run_jobs`).  ``each(result)`` is called in this
-    process for every glyph's result, in input order within a chunk, as its chunk
-    is done.  ``partial(units)``: the change in the glyphs' worth of work that
-    chunks not yet done have reported (:func:`glyph_progress`): positive as they
-    report, minus a chunk's reports just before its glyphs go to ``each``; a
-    progress display adds it to the glyphs done.  Returns the results in input
-    order, or with ``keep=False`` nothing (each chunk's results dropped once
-    ``each`` had them: memory does not grow with the number of glyphs)."""
+    ``jobs`` processes (:func:`run_jobs`).  ``prepare`` (None: the chunks as they
+    are) makes a chunk's jobs from its part of ``work`` in this process, when the
+    processes need it (e.g. ``work`` glyph names, the jobs their outlines read then).
+    ``each(result)`` is called in this process for every glyph's result, in input
+    order within a chunk, as its chunk is done.  ``in_flight(units)``: the change in
+    the glyphs' worth of work that chunks not yet done have reported
+    (:func:`glyph_progress`): positive as they report, minus a chunk's reports just
+    before its glyphs go to ``each``; a progress display adds it to the glyphs done.
+    Returns the results in input order, or with ``keep=False`` nothing (each chunk's
+    results dropped once ``each`` had them: memory does not grow with the number of
+    glyphs)."""
     import threading
 
     lock = threading.Lock()
@@ -242,21 +270,24 @@ def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, partial=None):
             if index in finished:   # a late message of a chunk done already
                 return
             reported[index] = reported.get(index, 0.0) + units
-            partial(units)
+            in_flight(units)
 
     def done(index, results):
-        if partial is not None:
+        if in_flight is not None:
             with lock:
                 finished.add(index)
                 units = reported.pop(index, 0.0)
                 if units:
-                    partial(-units)
+                    in_flight(-units)
         if each is not None:
             for r in results:
                 each(r)
 
-    chunks = run_jobs(func, glyph_chunks(work), jobs=jobs, keep=keep, progress=done,
-                      partial=part if partial is not None else None)
+    chunks = glyph_chunks(work)
+    if prepare is not None:
+        chunks = (prepare(c) for c in chunks)
+    chunks = run_jobs(func, chunks, jobs=jobs, keep=keep, progress=done,
+                      partial=part if in_flight is not None else None)
     return [r for rs in chunks for r in rs] if keep else None
 
 

@@ -58,6 +58,7 @@ the source is lost.
 
 import time
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -71,7 +72,7 @@ from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
-from .ufo_tables import copy_font, grow_win_metrics, rename_ufo_family, widen_extent
+from .ufo_tables import grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
@@ -123,9 +124,10 @@ def stroke_plan(font, glyphs, nib_region):
     return plan_components(font, chosen, nib_is_symmetric(nib_region))
 
 
-def plan_components(font, chosen, symmetric):
+def plan_components(font, chosen, symmetric, contour_counts=None):
     """:func:`stroke_plan` of the chosen glyph names, ``symmetric``: the nib is
-    centrally symmetric (:func:`keep_component`)."""
+    centrally symmetric (:func:`keep_component`).  ``contour_counts``: glyph name ->
+    its number of contours, for a font of shells (None: the glyphs' own)."""
     from ..parse.ufo import component_cycle
 
     cycle = component_cycle(font, chosen)
@@ -151,7 +153,8 @@ def plan_components(font, chosen, symmetric):
     while changed:
         changed = False
         for g in font:
-            if g.name in seen or g.contours or not g.components:
+            own = contour_counts[g.name] if contour_counts is not None else len(g.contours)
+            if g.name in seen or own or not g.components:
                 continue
             if all(keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
                 seen.add(g.name)
@@ -275,22 +278,27 @@ def _stroked_regions(chunk):
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1, partial=None):
+               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
     ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
-    ``.otf`` or ``.ttf`` (compiled with ufo2ft from that copy).  ``nib_region``:
-    a convex region in font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the
-    pen point at its origin.  ``glyphs``: characters or glyph names (None: every
-    glyph).  ``tol``: outline tolerance in font units before integer rounding (see
-    the module docstring for the budget).  ``family_name``: default "<family>
-    Stroke".  ``progress(name)`` is called after each stroked glyph, ``partial(units)``
-    with the glyphs' worth of work reported by chunks in flight
-    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``:
-    a function ``(paths, nib_region, tol) -> region`` (default
-    :func:`morph.stroke.stroke_paths`).  ``overwrite``: replace an existing output.
-    ``jobs``: worker processes for the strokes (1: in this process).
+    ``.otf`` or ``.ttf`` (compiled with ufo2ft).  ``nib_region``: a convex region in
+    font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the pen point at its
+    origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
+    outline tolerance in font units before integer rounding (see the module
+    docstring for the budget).  ``family_name``: default "<family> Stroke".
+    ``progress(name)`` is called after each stroked glyph, ``in_flight(units)`` with
+    the glyphs' worth of work reported by chunks not yet done
+    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
+    ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
+    ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
+    strokes (1: in this process).
+
+    The font is streamed (:mod:`morph.fonts.stream`): the skeletons are read chunk
+    by chunk as the workers need them, each stroked glyph comes back compiled (CFF
+    charstring or glyf bytes; for a UFO its .glif is written at once), so memory
+    does not grow with the glyphs' outlines.
 
     Returns a dict: ``glyphs`` (stroked: chosen and their bases), ``followed``
     (composites kept without being chosen), ``composites`` (written glyphs that keep
@@ -299,9 +307,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font) and ``font`` (the stroked ``ufoLib2.Font``).  The
-    glyphs are streamed: each chunk is drawn into the font when it is done and its
-    regions are not kept.
+    glyph does not stop the font) and ``font`` (the written ``ufoLib2.Font``'s
+    font data and glyph shells: metrics, anchors, components, no contours).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -311,44 +318,130 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             feature anchors whose glyphs moved by different offsets.
         ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
     """
+    from .stream import SkeletonSource
+    from .tables import save_atomically
+
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    font = _open_copy(src)
+    source = SkeletonSource(src)
+    font = source.shell_font()
     symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    stroked, followed = plan_components(font, chosen, symmetric)
+    stroked, followed = plan_components(font, chosen, symmetric, source.contour_counts)
     place = _placement(font, stroked + followed, nib_region)
-    work, decomposed = _stroke_work(font, stroked, symmetric, nib_region,
-                                    budget.plan(tol, kind == ".ttf"),
-                                    place.shifts, stroker)
-    # streamed: each chunk's glyphs are drawn into the font as it comes and its
-    # regions dropped, so that memory does not grow with the number of glyphs
-    stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
-             "extent": [None, None]}
-    run_glyph_jobs(_chunk_job, work, jobs=jobs, keep=False,
-                   each=_writer(font, kind == ".ttf", stats, progress), partial=partial)
-    _move_furniture(font, stroked + followed, place, symmetric)
-    stats.update(glyphs=len(stroked), followed=len(followed), decomposed=decomposed,
-                 composites=sum(1 for n in stroked + followed if font[n].components),
-                 emptied=_empty_unstroked(font, set(stroked) | set(followed), kind))
-    _move_feature_file(font, place)
+    stats = _finish_shells(font, source, stroked, followed, place, symmetric, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    grow_win_metrics(font, *stats.pop("extent"))
-    _save(font, out_path, kind, tol, overwrite)
-    stats["seconds"] = time.perf_counter() - t_start
-    stats["font"] = font
+    tols = budget.plan(tol, kind == ".ttf")
+
+    def prepare(names):
+        return _stroke_work(source, names, symmetric, nib_region, tols, place.shifts, stroker)
+
+    def write(tmp):
+        sink = _StreamedGlyphs(font, kind, tmp, progress)
+        run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), stroked, jobs=jobs,
+                       keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
+        grow_win_metrics(font, *sink.extent)
+        sink.finish(out_path, tol)
+        stats.update(sink.stats)
+
+    save_atomically(out_path, write, overwrite)
+    stats.update(glyphs=len(stroked), followed=len(followed), font=font,
+                 seconds=time.perf_counter() - t_start)
     return stats
 
 
-def _writer(font, quadratic, stats, progress):
-    """A :func:`morph.fonts.jobs.run_glyph_jobs` callback writing each glyph as its
-    chunk is done (:func:`_write_strokes`), then ``progress(name)``."""
-    def write(result):
-        _write_strokes(font, [result], quadratic, stats)
-        if progress is not None:
-            progress(result["name"])
-    return write
+#: what a worker compiles a stroked glyph to, by output (None: the UFO's contours)
+_FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
+
+
+def _streamed_chunk(flavor, chunk):
+    """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
+    ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
+    ``flavor``; for None the contours themselves), ``contours`` and ``points``
+    (counts) and ``extent`` (the lowest and highest y of its region); the region is
+    not sent back."""
+    from .stream import compile_outline
+
+    out = _chunk_job(chunk)
+    for r in out:
+        extent = [None, None]
+        widen_extent(extent, r.pop("region"))
+        contours = r["contours"]
+        r.update(extent=extent, contours=len(contours),
+                 points=sum(len(q) - 1 for segs in contours for q in segs),
+                 outline=contours if flavor is None else compile_outline(contours, flavor))
+    return out
+
+
+class _StreamedGlyphs:
+    """The main process's end of the stream: each stroked glyph's result
+    (:func:`_streamed_chunk`) counted in ``stats``, its y range in ``extent``, its
+    outline kept as bytes (``.otf``, ``.ttf``) or written to the UFO at ``tmp`` at
+    once (:class:`morph.fonts.stream.UfoGlyphWriter`); ``progress(name)`` after
+    each.  :meth:`finish` writes the font."""
+
+    def __init__(self, font, kind, tmp, progress):
+        from .stream import UfoGlyphWriter
+
+        self.font, self.kind, self.tmp, self.progress = font, kind, tmp, progress
+        self.ufo = UfoGlyphWriter(font, tmp) if kind == ".ufo" else None
+        self.store = {}
+        self.extent = [None, None]
+        self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
+
+    def add(self, r):
+        st = self.stats
+        st["stroke_seconds"] += r["seconds"]
+        st["contours"] += r["contours"]
+        st["points"] += r["points"]
+        if r["fallback"]:
+            st["fallback"][r["name"]] = r["fallback"]
+        bottom, top = r["extent"]
+        if top is not None:
+            self.extent = [bottom if self.extent[0] is None else min(self.extent[0], bottom),
+                           top if self.extent[1] is None else max(self.extent[1], top)]
+        if self.ufo is not None:
+            self.ufo.write(r["name"], r["outline"])
+        else:
+            self.store[r["name"]] = r["outline"]
+        if self.progress is not None:
+            self.progress(r["name"])
+
+    def finish(self, out_path, tol):
+        """The UFO's font info rewritten, or the font compiled by ufo2ft from the
+        shells and the stored outlines and saved."""
+        if self.ufo is not None:
+            self.ufo.finish()
+            return
+        from .stream import compile_stored
+
+        options = {}
+        if self.kind == ".ttf":
+            upm = self.font.info.unitsPerEm or 1000
+            options["cubicConversionError"] = budget.plan(tol, True).cu2qu / upm
+        try:
+            otf = compile_stored(self.font, self.store, self.kind, **options)
+        except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
+            raise MorphError("ufo2ft could not compile %s: %s"
+                             % (Path(out_path).name, one_line(exc))) from exc
+        self.store.clear()
+        otf.save(str(self.tmp))
+
+
+def _finish_shells(font, source, stroked, followed, place, symmetric, kind):
+    """The shells' final furniture before any glyph is stroked (a UFO output writes
+    them first): components, anchors, guidelines and advances moved, the glyphs not
+    chosen emptied, the feature file's anchors moved.  Returns the first statistics:
+    ``decomposed``, ``composites``, ``emptied``."""
+    written = stroked + followed
+    decomposed = sum(1 for n in stroked for c in font[n].components
+                     if not keep_component(c, symmetric))
+    _move_furniture(font, written, place, symmetric)
+    emptied = _empty_unstroked(font, source, set(written), kind)
+    _move_feature_file(font, place)
+    return {"decomposed": decomposed, "emptied": emptied,
+            "composites": sum(1 for n in written if font[n].components)}
 
 
 def _checked_output(out_path, tol, overwrite):
@@ -367,15 +460,6 @@ def _checked_output(out_path, tol, overwrite):
     if out_path.exists() and not overwrite:
         raise MorphError("%s exists (pass overwrite=True to replace it)" % out_path)
     return out_path, kind
-
-
-def _open_copy(src):
-    """A ufoLib2 font to change: a copy of an open font, or the UFO at ``src`` read whole."""
-    import ufoLib2
-
-    from ..parse.ufo import load_ufo
-
-    return copy_font(src) if isinstance(src, ufoLib2.Font) else load_ufo(src, lazy=False)
 
 
 @dataclass(frozen=True)
@@ -405,40 +489,21 @@ def _placement(font, names, nib_region):
     return _Placement(shifts, grow, centre)
 
 
-def _stroke_work(font, stroked, symmetric, nib_region, tols, shifts, stroker):
-    """(jobs for :func:`_glyph_job`, number of components decomposed): the paths of
-    every stroked glyph, its own contours and the components that cannot be kept."""
+def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
+    """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
+    each, its own contours and the components that cannot be kept, read from the
+    source now (:class:`morph.fonts.stream.SkeletonSource`)."""
     from ..parse.ufo import component_paths, glyph_paths
 
-    work, decomposed = [], 0
-    for n in stroked:
-        g = font[n]
+    work = []
+    for n in names:
+        g = source[n]
         paths = glyph_paths(g)
         for c in g.components:
             if not keep_component(c, symmetric):
-                paths.extend(component_paths(font, c))
-                decomposed += 1
+                paths.extend(component_paths(source, c))
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
-    return work, decomposed
-
-
-def _write_strokes(font, results, quadratic, stats):
-    """Draw the jobs' contours (TrueType splines for a .ttf) into their glyphs; add
-    what was written to ``stats`` (contours, points, fallback, stroke_seconds, and
-    ``extent``: the lowest and highest y of the stroked regions so far)."""
-    from .tables import draw_contours
-
-    stats["stroke_seconds"] += sum(r["seconds"] for r in results)
-    for r in results:
-        g = font[r["name"]]
-        g.clearContours()
-        draw_contours(g.getPen(), r["contours"], quadratic)
-        stats["contours"] += len(r["contours"])
-        stats["points"] += sum(len(q) - 1 for segs in r["contours"] for q in segs)
-        widen_extent(stats["extent"], r["region"])
-        if r["fallback"]:
-            stats["fallback"][r["name"]] = r["fallback"]
-    return stats
+    return work
 
 
 def _move_furniture(font, names, place, symmetric):
@@ -466,15 +531,18 @@ def _move_furniture(font, names, place, symmetric):
             g.width = g.width + place.grow
 
 
-def _empty_unstroked(font, done, kind):
+def _empty_unstroked(font, source, done, kind):
     """Clear the skeletons of the glyphs not written anew (an open skeleton cannot be
     filled; a written UFO must compile), keeping their advances; in a ``.ufo`` output
-    their skeletons go to the :data:`SKELETON_LAYER` layer.  How many were cleared."""
-    emptied = [g for g in font if g.name not in done and (g.contours or g.components)]
+    their skeletons go to the :data:`SKELETON_LAYER` layer.  ``font``: the shells
+    (no contours: ``source.contour_counts`` tells which had some).  How many were
+    cleared."""
+    emptied = [g for g in font if g.name not in done
+               and (source.contour_counts.get(g.name) or g.components)]
     if emptied and kind == ".ufo":
         layer = font.layers.get(SKELETON_LAYER) or font.layers.newLayer(SKELETON_LAYER)
         for g in emptied:
-            layer.insertGlyph(g, overwrite=True, copy=True)
+            layer.insertGlyph(source[g.name], overwrite=True, copy=True)
     for g in emptied:
         g.clearContours()
         g.clearComponents()
@@ -495,29 +563,3 @@ def _outline_tolerance(budget):
     splits it the same way), so that ufo2ft has nothing to convert and every point is
     rounded to an integer once."""
     return budget.export, budget.cu2qu > 0
-
-
-def _save(font, out_path, kind, tol, overwrite):
-    """Save the UFO or compile it with ufo2ft, atomically
-    (:func:`morph.fonts.tables.save_atomically`)."""
-    from .tables import save_atomically
-
-    def write(tmp):
-        if kind == ".ufo":
-            font.save(str(tmp), overwrite=True)
-            return
-        import ufo2ft
-
-        try:
-            if kind == ".otf":
-                otf = ufo2ft.compileOTF(font)
-            else:
-                upm = font.info.unitsPerEm or 1000
-                otf = ufo2ft.compileTTF(font,
-                                        cubicConversionError=budget.plan(tol, True).cu2qu / upm)
-        except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
-            raise MorphError("ufo2ft could not compile %s: %s"
-                             % (Path(out_path).name, one_line(exc))) from exc
-        otf.save(str(tmp))
-
-    save_atomically(out_path, write, overwrite)

@@ -111,7 +111,7 @@ def test_progress_moves_within_a_chunk(jobs):
             arrived.append(result)
             if len(arrived) in edges:
                 bar.update(len(arrived) - bar.done)
-        got = run_glyph_jobs(_slow_chunk, work, jobs=jobs, each=each, partial=partial)
+        got = run_glyph_jobs(_slow_chunk, work, jobs=jobs, each=each, in_flight=partial)
     assert got == work
     counts = _counts(out.getvalue())
     assert counts == sorted(counts) and counts[-1] == 40
@@ -132,7 +132,7 @@ def test_stroke_jobs_report_sums_and_conversion(skeleton, tmp_path, jobs):
     names = ["a", "b", "c", "o", "s", "e", "n", "h"]
     flight = []
     stats = stroke_ufo(skeleton, tmp_path / "s.ufo", ellipse_nib(60, 20, 30), glyphs=names,
-                       tol=1.0, jobs=jobs, partial=flight.append)
+                       tol=1.0, jobs=jobs, in_flight=flight.append)
     n = stats["glyphs"]
     chunks = len(glyph_chunks(list(range(n))))
     positive = [u for u in flight if u > 0]

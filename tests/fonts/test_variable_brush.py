@@ -1,0 +1,196 @@
+"""morph.fonts.variable_brush: brushed variable fonts from static, variable glyf/gvar
+and CFF2 sources, with and without a nib axis, end to end.
+
+Small sources with mark positioning are built from the bundled Noto Sans
+(tests/fonts/varsources.py).  Every brushed font is instanced by fontTools'
+instancer at 9 positions per axis (the others at their defaults) and at random
+points, and each instance's glyphs are compared with the exact sum at that
+location (the source instanced by its own interpolation, ⊕ the nib the axis
+defines there, by Clipper: tests/oracles/varfont.py).  Mark anchors are checked to
+move with the outlines at every position."""
+
+import logging
+
+import numpy as np
+import pytest
+
+from morph.compatible import Ellipse
+from morph.fonts.variable_brush import brush_variable, grade_axis
+from tests.fonts.varsources import (mark_anchor, mark_font, source_instance, to_cff,
+                                    variable_mark_font)
+from tests.oracles.varfont import clipper_region_sum, glyph_polygons, within
+
+TOL = 0.5
+ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
+SLACK = 0.05                # flattening and Clipper's integer grid in the reference
+BOUND = TOL + 2 * ROUND + SLACK
+#: an anchor: rounded at every master (0.5, and so between them) and rounded again
+#: by the instancer (0.5)
+ANCHOR = 1.0
+NIBS = ((40, 10, 30), (120, 30, 30))
+GLYPHS = ("o", "e", "acutecomb")
+
+
+@pytest.fixture(scope="module")
+def sources(tmp_path_factory):
+    from fontTools.ttLib import TTFont
+
+    for name in ("fontTools", "ufo2ft"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    d = tmp_path_factory.mktemp("vbsrc")
+    static = mark_font(d)
+    otf = d / "Mark.otf"
+    to_cff(TTFont(str(static))).save(str(otf))
+    return {"ttf": static, "otf": otf, "var": variable_mark_font(d),
+            "cff2": variable_mark_font(d, cff2=True)}
+
+
+def _instance(path, loc):
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    return instancer.instantiateVariableFont(TTFont(str(path)), loc)
+
+
+def _shift(nib, width):
+    """The outlines' shift: right by the nib's left extent; a zero-width mark left."""
+    hx = nib.extent()[2]
+    return hx if width else -hx
+
+
+def _check(out, src, loc, nib_of, shift_nib_of=None, glyphs=GLYPHS):
+    """Every glyph of the instance of ``out`` at ``loc`` within BOUND of the source's
+    instance ⊕ the nib there; the mark offset on e moved by the outlines' shifts."""
+    inst = _instance(out, loc)
+    src_loc = {t: v for t, v in loc.items() if t not in ("NIBW", "NIBP", "GRAD")}
+    source = source_instance(src, src_loc)
+    nib = nib_of(loc)
+    shift_nib = (shift_nib_of or nib_of)(loc)
+    gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
+    for name in glyphs:
+        ref = [p + np.array([_shift(shift_nib, sgs[name].width), 0.0])
+               for p in clipper_region_sum(glyph_polygons(sgs, name), tuple(nib))]
+        assert within(glyph_polygons(gs, name), ref, BOUND, strict=True), (loc, name)
+    # each anchor within ANCHOR of the source's moved by its glyph's shift
+    for a0, a1, width in zip(mark_anchor(source, "e"), mark_anchor(inst, "e"), (1, 0)):
+        want = a0[0] + _shift(shift_nib, width)
+        assert abs(a1[0] - want) <= ANCHOR and a1[1] == a0[1], (loc, a0, a1, want)
+    return inst
+
+
+def _nibw(loc):
+    w = loc.get("NIBW", 40.0)
+    return Ellipse(w, w / 4.0, 30.0)
+
+
+def test_static_source_gets_a_nib_axis(sources, tmp_path):
+    """A static TrueType font with --vary-nib: one NIBW axis, two masters (a uniform
+    scale needs no intermediate one), every position within the bound, anchors moved
+    with the outlines at every position (they vary along the axis)."""
+    from fontTools.ttLib import TTFont
+
+    out = tmp_path / "StaticNib.ttf"
+    stats = brush_variable(sources["ttf"], out, NIBS[0], nib_max=NIBS[1], tol=TOL)
+    assert stats["nib_values"] == [40.0, 120.0] and len(stats["masters"]) == 2
+    font = TTFont(str(out))
+    assert [a.axisTag for a in font["fvar"].axes] == ["NIBW"]
+    assert "STAT" in font and "gvar" in font and font["glyf"]["o"].flags[0] & 0x40
+    ots = pytest.importorskip("ots")
+    assert ots.sanitize(str(out), capture_output=True).returncode == 0
+    rng = np.random.default_rng(35)
+    for w in list(np.linspace(40, 120, 9)) + list(rng.uniform(40, 120, 2)):
+        _check(out, sources["ttf"], {"NIBW": float(w)}, _nibw)
+    # the check can fail: the instance at 80 against the sum with a nib 4 bounds wider
+    inst = _instance(out, {"NIBW": 80.0})
+    sgs = TTFont(str(sources["ttf"])).getGlyphSet()
+    ref = clipper_region_sum(glyph_polygons(sgs, "o"), (80 + 4 * BOUND, 20, 30))
+    assert not within(glyph_polygons(inst.getGlyphSet(), "o"),
+                      [p + np.array([35.0, 0.0]) for p in ref], BOUND, strict=True)
+
+
+def test_grade_axis_keeps_the_advances(sources, tmp_path):
+    """Two growing disks on a static CFF font: the registered GRAD axis (0 to the
+    diameter's growth per 1000 em), TrueType output, advances and anchors those of
+    the default disk at every position, outlines within the bound of glyph ⊕ disk."""
+    from fontTools.ttLib import TTFont
+
+    assert grade_axis((20, 20, 0), (50, 50, 0), 1000).maximum == 30.0
+    assert grade_axis((20, 10, 0), (50, 50, 0), 1000) is None
+    out = tmp_path / "Grade.ttf"
+    stats = brush_variable(sources["otf"], out, (20, 20, 0), nib_max=(50, 50, 0), tol=TOL)
+    assert stats["axis"].tag == "GRAD" and len(stats["masters"]) == 2
+    font = TTFont(str(out))
+    assert "glyf" in font and "CFF " not in font
+    axis = font["fvar"].axes[0]
+    assert (axis.axisTag, axis.minValue, axis.defaultValue, axis.maxValue) == \
+        ("GRAD", 0.0, 0.0, 30.0)
+    ots = pytest.importorskip("ots")
+    assert ots.sanitize(str(out), capture_output=True).returncode == 0
+    widths = None
+    for g in np.linspace(0, 30, 9):
+        inst = _check(out, sources["otf"], {"GRAD": float(g)},
+                      lambda loc: Ellipse(20 + loc["GRAD"], 20 + loc["GRAD"], 0),
+                      lambda loc: Ellipse(20, 20, 0))
+        w = [inst["hmtx"][n][0] for n in inst.getGlyphOrder()]
+        assert widths is None or w == widths
+        widths = w
+
+
+def test_variable_cff2_source_keeps_its_axis(sources, tmp_path):
+    """A CFF2 variable font, read through fontTools at each master location: its wght
+    axis kept (TrueType output), 9 positions within the bound, anchors moved."""
+    from fontTools.ttLib import TTFont
+
+    out = tmp_path / "Cff2Brush.ttf"
+    stats = brush_variable(sources["cff2"], out, NIBS[0], tol=TOL)
+    assert len(stats["source_masters"]) == 3        # the ends and one between them
+    font = TTFont(str(out))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wght"]
+    assert "glyf" in font and "gvar" in font and "CFF2" not in font
+    ots = pytest.importorskip("ots")
+    assert ots.sanitize(str(out), capture_output=True).returncode == 0
+    for w in np.linspace(400, 700, 9):
+        _check(out, sources["cff2"], {"wght": float(w)}, lambda loc: Ellipse(*NIBS[0]))
+
+
+@pytest.mark.parametrize("kind", ["var", "cff2"])
+def test_variable_source_gets_a_nib_axis(sources, tmp_path, kind):
+    """A variable source (glyf/gvar, CFF2) with --vary-nib: wght kept, NIBW after it;
+    9 positions along each axis and random points of the plane within the bound,
+    anchors (varying with wght in the source) moved with the outlines everywhere."""
+    from fontTools.ttLib import TTFont
+
+    out = tmp_path / ("Nib%s.ttf" % kind)
+    stats = brush_variable(sources[kind], out, NIBS[0], nib_max=NIBS[1], tol=TOL)
+    assert len(stats["masters"]) == 3 * 2
+    font = TTFont(str(out))
+    assert [a.axisTag for a in font["fvar"].axes] == ["wght", "NIBW"]
+    assert [i.coordinates for i in font["fvar"].instances] == [] or \
+        all(i.coordinates["NIBW"] == 40 for i in font["fvar"].instances)
+    rng = np.random.default_rng(7)
+    spots = [{"wght": float(w), "NIBW": 40.0} for w in np.linspace(400, 700, 9)] + \
+        [{"wght": 400.0, "NIBW": float(v)} for v in np.linspace(40, 120, 9)] + \
+        [{"wght": float(rng.uniform(400, 700)), "NIBW": float(rng.uniform(40, 120))}
+         for _ in range(3)]
+    for k, loc in enumerate(spots):
+        _check(out, sources[kind], loc, _nibw, glyphs=GLYPHS[k % 3:k % 3 + 1] + ("acutecomb",))
+
+
+def test_brush_vary_nib_cli(sources, tmp_path, runner):
+    from fontTools.ttLib import TTFont
+
+    from morph.cli import main
+
+    out = tmp_path / "Cli.ttf"
+    r = runner.invoke(main, ["brush", str(sources["otf"]), "-o", str(out), "--nib",
+                             "ellipse:20,20", "--vary-nib", "ellipse:50,50", "--jobs", "1"])
+    assert r.exit_code == 0, r.output
+    assert "GRAD 0..30" in r.output
+    assert [a.axisTag for a in TTFont(str(out))["fvar"].axes] == ["GRAD"]
+    for args, message in (
+            (["-o", str(tmp_path / "x.otf"), "--vary-nib", "ellipse:50,50"], "TrueType"),
+            (["-o", str(tmp_path / "y.ttf"), "--vary-nib", "ellipse:80,30,30"], "two nibs"),
+            (["-o", str(tmp_path / "z.ttf"), "--vary-nib", "circle"], "--vary-nib")):
+        r = runner.invoke(main, ["brush", str(sources["otf"]), *args])
+        assert r.exit_code == 2 and message in r.output, r.output
+        assert len(r.output.strip().splitlines()) == 1
