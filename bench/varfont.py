@@ -20,6 +20,14 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
 4. FontForge's Expand Stroke (Debian python3-fontforge, bench/fontforge_stroke.py)
    at the two nibs: glyphs whose two results have the same contours and segment
    types (what varLib needs), and whether varLib builds from them.
+5. Skeleton designspaces (the subset's glyphs slanted and widened in a second
+   master, tests/oracles/varfont.py): the blend error estimate between the given
+   masters, the intermediate skeleton masters added, and the measured instance
+   error (instancer against Clipper) of the font with and without them.
+6. Brushed variable fonts from small mark fonts (tests/fonts/varsources.py): static
+   TrueType / CFF sources with a nib axis (NIBW, GRAD, NIBP), variable glyf/gvar and
+   CFF2 sources with and without one: masters, CPU time, the measured instance
+   error at 9 positions per axis, and the mark anchors' largest error.
 
 Writes a Markdown report stamped with the command, commit and date it was made at
 (:func:`bench.stamp.stamp`); ``python -m bench.reports --only varfont`` remakes it.
@@ -185,6 +193,126 @@ def _varlib_build(results, sk):
         return "%s: %s" % (type(exc).__name__, str(exc).splitlines()[0][:160])
 
 
+SLANTS = ((0.15, 0.25), (0.6, 0.5))
+DS_GLYPHS = ["a", "s", "o", "period"]
+
+
+def skeleton_designspaces(subset, folder, positions):
+    """Section 5: per (slant, widen) and nib: masters and measured instance errors with
+    and without the intermediate skeleton masters."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.compatible import Ellipse
+    from morph.fonts import variable_skeleton
+    from morph.parse.ufo import decomposed_paths, load_ufo
+    from tests.oracles.varfont import skeleton_designspace
+
+    sk = load_ufo(subset, lazy=False)
+    real = variable_skeleton.refine_skeleton
+    rows = []
+    for slant, widen in SLANTS:
+        sub = folder / ("ds%g" % slant)
+        sub.mkdir(exist_ok=True)
+        ds = skeleton_designspace(sub, subset, DS_GLYPHS, slant=slant, widen=widen)
+        for nibs in (((120, 30, 30), None), (NIB_MIN, NIB_MAX)):
+            row = {"slant": slant, "widen": widen, "nibs": nibs}
+            for kind in ("given", "refined"):
+                if kind == "given":
+                    variable_skeleton.refine_skeleton = \
+                        lambda s, n, b, budget, k, c=(): real(s, n, b, float("inf"), k, c)
+                try:
+                    c0 = time.process_time()
+                    out = sub / ("%s%d.ttf" % (kind, len(rows)))
+                    st = stroke_variable(ds, out, nibs[0], nibs[1], tol=TOL, overwrite=True)
+                    cpu = time.process_time() - c0
+                finally:
+                    variable_skeleton.refine_skeleton = real
+                vf = TTFont(str(out))
+                worst = (0.0, "")
+                for u in np.linspace(0, 1, positions):
+                    loc = {"wdth": 100 + 25 * u}
+                    nib = Ellipse(*nibs[0])
+                    if nibs[1] is not None:
+                        loc["NIBW"] = NIB_MAX[0]
+                        nib = Ellipse(*NIB_MAX)
+                    gs = instancer.instantiateVariableFont(vf, loc).getGlyphSet()
+                    m = np.array([[1 + widen * u, slant * u], [0.0, 1.0]])
+                    for n in DS_GLYPHS:
+                        lines = [p @ m.T for p in skeleton_polylines(decomposed_paths(sk, n))]
+                        ref = [p + np.array([nib.extent()[2], 0.0])
+                               for p in clipper_stroke(lines, tuple(nib))]
+                        d = sum_distance(glyph_polygons(gs, n), ref, strict=True, area=2.0)
+                        worst = max(worst, (d, "%s at wdth %g" % (n, 100 + 25 * u)))
+                row[kind] = {"masters": len(st["masters"]), "report": st["skeleton"],
+                             "cpu": cpu, "worst": worst}
+            rows.append(row)
+    return rows
+
+
+def brushed_fonts(folder, positions):
+    """Section 6: the small mark fonts brushed with and without nib axes."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.compatible import Ellipse
+    from morph.fonts.variable_brush import brush_variable
+    from tests.fonts.varsources import (mark_anchor, mark_font, source_instance, to_cff,
+                                        variable_mark_font)
+    from tests.oracles.varfont import clipper_region_sum
+
+    static = mark_font(folder)
+    otf = folder / "Mark.otf"
+    to_cff(TTFont(str(static))).save(str(otf))
+    var, cff2 = variable_mark_font(folder), variable_mark_font(folder, cff2=True)
+    cases = [("static TTF", static, NIB_MIN, NIB_MAX), ("static CFF", otf, (20, 20, 0),
+                                                       (50, 50, 0)),
+             ("static TTF, turning nib", static, (80, 20, 0), (80, 20, 60)),
+             ("variable TTF", var, NIB_MIN, None), ("variable TTF", var, NIB_MIN, NIB_MAX),
+             ("variable CFF2", cff2, NIB_MIN, None), ("variable CFF2", cff2, NIB_MIN, NIB_MAX)]
+    rows = []
+    for label, src, lo, hi in cases:
+        out = folder / ("Brush%d.ttf" % len(rows))
+        c0 = time.process_time()
+        st = brush_variable(src, out, lo, nib_max=hi, tol=TOL)
+        cpu = time.process_time() - c0
+        vf = TTFont(str(out))
+        axes = vf["fvar"].axes
+        spots = []
+        for a in axes:
+            for v in np.linspace(a.minValue, a.maxValue, positions):
+                spots.append({a.axisTag: float(v)})
+        worst, anchor, holes = (0.0, ""), 0.0, 0
+        for loc in spots:
+            inst = instancer.instantiateVariableFont(vf, loc)
+            src_loc = {t: v for t, v in loc.items() if t == "wght"}
+            source = source_instance(src, src_loc)
+            axis = st["axis"]
+            v = loc.get(axis.tag, axis.minimum) if axis else None
+            nib = axis.nib_at(v) if axis else Ellipse(*lo)
+            shift_nib = axis.nib_min if axis and axis.tag == "GRAD" else nib
+            gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
+            for n in ("o", "e", "n", "acutecomb"):
+                hx = shift_nib.extent()[2] * (1 if sgs[n].width else -1)
+                ref = [p + np.array([hx, 0.0])
+                       for p in clipper_region_sum(glyph_polygons(sgs, n), tuple(nib))]
+                got = glyph_polygons(gs, n)
+                d = sum_distance(got, ref, strict=True, area=2.0)
+                worst = max(worst, (d, "%s at %s" % (n, ", ".join(
+                    "%s %g" % kv for kv in loc.items()))))
+                holes += len([a for a in pinholes(got, ref) if a > 1e-3])
+            for a0, a1, w in zip(mark_anchor(source, "e"), mark_anchor(inst, "e"), (1, 0)):
+                want = a0[0] + shift_nib.extent()[2] * (1 if w else -1)
+                anchor = max(anchor, abs(a1[0] - want))
+        rows.append({"label": label, "axes": ", ".join("%s %g..%g" % (a.axisTag, a.minValue,
+                                                                     a.maxValue) for a in axes),
+                     "nibs": (lo, hi), "masters": len(st["masters"]), "cpu": cpu,
+                     "per": 1000 * st["fit_seconds"] / max(1, st["glyphs"]) /
+                     len(st["masters"]), "worst": worst, "anchor": anchor,
+                     "positions": len(spots), "pinholes": holes})
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--skeleton", default=str(ROOT.parent.parent / "shared" / "data" /
@@ -272,6 +400,40 @@ def main():
                      "masters: %s. morph's masters are compatible by construction (every "
                      "glyph)." % (ff["glyphs"], ff["same"], ff["contours_differ"],
                                   ff["varlib"]))
+    lines += ["", "## 5. Skeleton designspaces: intermediate skeleton masters", "",
+              "The subset's glyphs %s in a Regular master and a Wide master (x' = (1 + "
+              "widen) x + slant y). Bound: tol + 2 x 0.71 = %.2f units; the blend share "
+              "of tol %.2f units (halved when the nib axis is inexact too). Estimate: the "
+              "nib parts' blend at equal parameter (an upper bound); measured: instancer "
+              "against Clipper at %d positions of wdth (NIBW at its maximum), the least d "
+              "with erode(S, d) ⊆ F ⊆ dilate(S, d), pinholes < 2 unit² aside."
+              % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions), "",
+              "| slant, widen | nibs | estimate before | skeleton masters | estimate after | "
+              "measured, given masters | measured, with intermediate | CPU s (given / "
+              "refined) |", "|---|---|---|---|---|---|---|---|"]
+    for r in skeleton_designspaces(args.subset, folder, args.positions):
+        g, f = r["given"], r["refined"]
+        rep = f["report"]
+        lines.append("| %g, %g | %s | %.2f | 2 + %d | %.2f | %.2f (%s) | %.2f (%s) | %.1f / "
+                     "%.1f |" % (r["slant"], r["widen"], " -> ".join(
+                         str(tuple(n)) for n in r["nibs"] if n is not None),
+                         rep["errors_before"]["Width"], rep["added"], rep["error"],
+                         g["worst"][0], g["worst"][1], f["worst"][0], f["worst"][1],
+                         g["cpu"], f["cpu"]))
+    lines += ["", "## 6. Brushed variable fonts (small mark fonts: o, e, n, acutecomb)", "",
+              "Each axis at %d positions (the others at their defaults), instancer against "
+              "the source's instance ⊕ the nib there (Clipper), pinholes < 2 unit² aside; "
+              "anchors: the largest distance of the e / acutecomb mark anchors from the "
+              "source's moved by their glyph's shift (rounding: <= 1 unit)."
+              % args.positions, "",
+              "| source | nibs | axes | masters | CPU s | fit ms per glyph per master | "
+              "max d | where | pinholes | anchor error |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in brushed_fonts(folder, args.positions):
+        lines.append("| %s | %s | %s | %d | %.1f | %.1f | %.3f | %s | %d | %.1f |" % (
+            r["label"], " -> ".join(str(tuple(n)) for n in r["nibs"] if n is not None),
+            r["axes"], r["masters"], r["cpu"], r["per"], r["worst"][0], r["worst"][1],
+            r["pinholes"], r["anchor"]))
     lines[2] = stamp(seconds=time.perf_counter() - t_start)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

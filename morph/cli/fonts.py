@@ -36,7 +36,8 @@ def _parse_nib(spec):
 @click.argument("font_file", metavar="FONT", required=False, default="default")
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output font: .ttf, .otf, .woff2 or .woff (the outline format is the "
-                   "source's; the suffix picks the container). Also written next to it: "
+                   "source's, a variable output's TrueType; the suffix picks the "
+                   "container). Also written next to it: "
                    "OUTPUT.png (sample image) and OUTPUT.html (specimen), e.g. X.ttf.png "
                    "and X.ttf.html for -o X.ttf.")
 @click.option("--nib", default="ellipse:80,30,30", show_default=True,
@@ -408,8 +409,14 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
                            in_flight=bar.partial)
     seconds = time.perf_counter() - t0
-    sample = _covered_sample(out if page else stats["font"], sample)
-    write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
+    if page:
+        shown = out
+    else:  # a .ufo: the glyphs the sample may show, compiled (not the whole font)
+        from ..fonts.stream import sample_font
+
+        shown = sample_font(out, sample)
+    sample = _covered_sample(shown, sample)
+    write_sample_image(shown, sample, png)
     if page:
         write_specimen(out, None, sample=sample)
     click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"

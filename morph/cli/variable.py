@@ -13,8 +13,12 @@ VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its m
                  "overlapping contours (filled nonzero, overlap flags set); OUT.designspace "
                  "and the master UFOs in OUT-masters/ are written next to it. The axis is "
                  "NIBW (the nib width in font units) when the width grows, else NIBP (0 to "
-                 "100 percent of the way). Static outputs (no --vary-nib) are trimmed and "
-                 "free of overlaps.")
+                 "100 percent of the way). Intermediate masters are added where an "
+                 "instance would miss the exact sum by more than its share of --tol (a "
+                 "nib that turns or changes aspect; a skeleton designspace whose "
+                 "interpolation turns the strokes); a nib that only grows needs none. "
+                 "Explicit feature-file anchors become variable anchors. Static outputs "
+                 "(no --vary-nib) are trimmed and free of overlaps.")
 
 
 BRUSH_VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its "

@@ -6,7 +6,7 @@ the text (comments, layout) is kept.  Read with fontTools.feaLib.
 
 from ..errors import MorphError, ParseError, one_line
 
-__all__ = ["move_feature_anchors"]
+__all__ = ["move_feature_anchors", "vary_feature_anchors"]
 
 
 def move_feature_anchors(text, glyph_names, offset_of):
@@ -23,20 +23,64 @@ def move_feature_anchors(text, glyph_names, offset_of):
         ParseError: the text does not parse (fontTools.feaLib; ``.source`` is the text).
         MorphError: one statement's glyphs moved by different offsets.
     """
+    moves = []
+    for anchor, glyph_set in _statement_anchors(_parse(text, glyph_names).statements):
+        offset = _common_offset(anchor, glyph_set, offset_of)
+        if offset is not None:
+            moves.append((anchor, "anchor %s %s" % (_fea_number(anchor.x + offset[0]),
+                                                    _fea_number(anchor.y + offset[1]))))
+    return _rewrite_anchors(text, moves)
+
+
+def vary_feature_anchors(text, glyph_names, masters):
+    """Feature-file text of a variable font whose glyphs moved by other offsets at
+    each master: every explicit anchor (as :func:`move_feature_anchors` finds them)
+    whose glyphs moved differently between the masters becomes a variable anchor,
+    ``<anchor (TAG=v,...:x ...) (TAG=v,...:y ...)>`` with one value per master (feaLib's
+    variable scalars, user coordinates; compiled by ufo2ft's variable compilers into
+    GPOS anchors with deltas), one that moved alike at every master is moved as
+    :func:`move_feature_anchors` moves it.
+
+    ``masters``: ``(location, offset_of)`` per master, ``location`` a dict axis tag
+    -> user value, ``offset_of`` as for :func:`move_feature_anchors`.
+
+    Raises:
+        ParseError, MorphError: as :func:`move_feature_anchors`.
+    """
+    moves = []
+    for anchor, glyph_set in _statement_anchors(_parse(text, glyph_names).statements):
+        offsets = [_common_offset(anchor, glyph_set, off) or (0.0, 0.0)
+                   for _, off in masters]
+        if all(o == (0.0, 0.0) for o in offsets):
+            continue
+        xs = [_fea_number(anchor.x + o[0]) for o in offsets]
+        ys = [_fea_number(anchor.y + o[1]) for o in offsets]
+        moves.append((anchor, "anchor %s %s" % (_scalar(masters, xs), _scalar(masters, ys))))
+    return _rewrite_anchors(text, moves)
+
+
+def _scalar(masters, values):
+    """A number, or feaLib's variable scalar of one value per master."""
+    if len(set(values)) == 1:
+        return values[0]
+    return "(%s)" % " ".join("%s:%s" % (",".join("%s=%s" % (tag, _fea_location(v))
+                                                 for tag, v in loc.items()), value)
+                             for (loc, _), value in zip(masters, values))
+
+
+def _fea_location(v):
+    return ("%.4f" % v).rstrip("0").rstrip(".")
+
+
+def _parse(text, glyph_names):
     import io
 
     from fontTools.feaLib.parser import Parser
 
     try:
-        doc = Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
+        return Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
     except Exception as exc:  # feaLib's FeatureLibError and include errors
         raise ParseError("cannot parse the features: %s" % one_line(exc), text) from exc
-    moves = []
-    for anchor, glyph_set in _statement_anchors(doc.statements):
-        offset = _common_offset(anchor, glyph_set, offset_of)
-        if offset is not None:
-            moves.append((anchor, offset))
-    return _rewrite_anchors(text, moves)
 
 
 def _statement_anchors(statements):
@@ -75,8 +119,8 @@ def _common_offset(anchor, glyph_set, offset_of):
 
 
 def _rewrite_anchors(text, moves):
-    """The feature text with the numbers of each ``anchor x y`` in ``moves`` (anchor,
-    (dx, dy)) rewritten in place; anchors of included files are left alone.
+    """The feature text with each ``anchor x y`` in ``moves`` (anchor, its new text)
+    rewritten in place; anchors of included files are left alone.
 
     Raises:
         MorphError: an anchor not found where feaLib located it.
@@ -87,8 +131,8 @@ def _rewrite_anchors(text, moves):
     number = r"(-?\d+(?:\.\d+)?)"
     pattern = re.compile(r"anchor\s+" + number + r"\s+" + number)
     # later positions first, so earlier columns stay valid
-    for anchor, (dx, dy) in sorted(moves, key=lambda m: (m[0].location.line,
-                                                        m[0].location.column), reverse=True):
+    for anchor, new in sorted(moves, key=lambda m: (m[0].location.line,
+                                                   m[0].location.column), reverse=True):
         loc = anchor.location
         if loc.file != "<features>":
             continue
@@ -96,7 +140,6 @@ def _rewrite_anchors(text, moves):
         m = pattern.match(line, loc.column - 1)
         if m is None:
             raise MorphError("cannot find the anchor of line %d in the features" % loc.line)
-        new = "anchor %s %s" % (_fea_number(anchor.x + dx), _fea_number(anchor.y + dy))
         lines[loc.line - 1] = line[:m.start()] + new + line[m.end():]
     return "\n".join(lines)
 

@@ -28,7 +28,7 @@ import html
 import unicodedata
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "sample_locations", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
@@ -112,14 +112,90 @@ def sample_text(font, text, length=OWN_SAMPLE_LENGTH):
     return "".join(own), True
 
 
+def sample_locations(font_file):
+    """(label, axis values in fvar order) of the rows of a variable font's sample
+    image: one axis: its minimum, middle and maximum; several: the default, then
+    every axis at its minimum and maximum (the others at their defaults).  None for
+    a static font."""
+    import io
+
+    from fontTools.ttLib import TTFont
+
+    data = font_file if isinstance(font_file, bytes) else Path(font_file).read_bytes()
+    font = TTFont(io.BytesIO(data), lazy=True)
+    if "fvar" not in font:
+        return None
+    axes = font["fvar"].axes
+    default = [a.defaultValue for a in axes]
+
+    def label(values):
+        return ", ".join("%s %g" % (a.axisTag, round(v, 2)) for a, v in zip(axes, values))
+
+    if len(axes) == 1:
+        a = axes[0]
+        spots = [[a.minValue], [0.5 * (a.minValue + a.maxValue)], [a.maxValue]]
+    else:
+        spots = [default]
+        for k, a in enumerate(axes):
+            for v in (a.minValue, a.maxValue):
+                if v != a.defaultValue:
+                    spots.append(default[:k] + [v] + default[k + 1:])
+        corner = [a.maxValue for a in axes]
+        if corner not in spots:
+            spots.append(corner)
+    return [(label(v), v) for v in spots]
+
+
+def _variable_sample(data, text, png, px, spots):
+    """The sample image of a variable font: one line per location of ``spots``
+    (:func:`sample_locations`), each under a small label naming it, set by Pillow
+    (FreeType's instance at that location)."""
+    import io
+
+    from PIL import Image, ImageDraw, ImageFont
+
+    pad = px // 4
+    small = ImageFont.load_default(size=max(10, px // 6))
+    rows = []
+    for name, values in spots:
+        fnt = ImageFont.truetype(io.BytesIO(data), px)
+        fnt.set_variation_by_axes(values)
+        rows.append((name, fnt, fnt.getbbox(text)))
+    left = min(b[0] for _, _, b in rows)
+    width = max(b[2] for _, _, b in rows) - left
+    lab_h = small.getbbox("Ag")[3] + pad // 2
+    heights = [b[3] - b[1] for _, _, b in rows]
+    width = max(width, max(small.getbbox(n)[2] for n, _, _ in rows))
+    img = Image.new("RGB", (width + 2 * pad, sum(lab_h + h + pad for h in heights) + pad),
+                    "white")
+    draw = ImageDraw.Draw(img)
+    y = pad
+    for (name, fnt, box), h in zip(rows, heights):
+        draw.text((pad, y), name, font=small, fill=(110, 110, 110))
+        y += lab_h
+        draw.text((pad - left, y - box[1]), text, font=fnt, fill="black")
+        y += h + pad
+    img.save(str(png))
+    return img
+
+
 def write_sample_image(font, text, png, px=SAMPLE_PX):
     """Set ``text`` in a font with Pillow at ``px`` pixels, black on white with a
     quarter-size margin, and save it to ``png``; returns the image.  ``font``: a
     path or binary file object of a font file (.ttf, .otf, .woff, .woff2), a
-    fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft)."""
+    fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).  A variable font
+    is shown at a few axis positions (:func:`sample_locations`), one labelled line
+    each."""
     from PIL import Image, ImageDraw, ImageFont
 
-    fnt = ImageFont.truetype(_sfnt_file(font), px)
+    src = _sfnt_file(font)
+    data = src.read() if hasattr(src, "read") else Path(src).read_bytes()
+    spots = sample_locations(data)
+    if spots:
+        return _variable_sample(data, text, png, px, spots)
+    import io
+
+    fnt = ImageFont.truetype(io.BytesIO(data), px)
     left, top, right, bottom = fnt.getbbox(text)
     pad = px // 4
     img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")

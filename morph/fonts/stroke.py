@@ -318,12 +318,39 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             feature anchors whose glyphs moved by different offsets.
         ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
     """
-    from .stream import SkeletonSource
     from .tables import save_atomically
 
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
+    plan = _font_plan(src, nib_region, glyphs, family_name, kind)
+    save_atomically(out_path, lambda tmp: _write_streamed(
+        plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs, in_flight),
+        overwrite)
+    plan.stats.update(glyphs=len(plan.stroked), followed=len(plan.followed), font=plan.font,
+                      seconds=time.perf_counter() - t_start)
+    return plan.stats
+
+
+@dataclass
+class _FontPlan:
+    """What :func:`stroke_ufo` writes (:func:`_font_plan`)."""
+
+    source: object     # morph.fonts.stream.SkeletonSource
+    font: object       # the shells (ufoLib2.Font), final furniture
+    stroked: list
+    followed: list
+    place: object      # _Placement
+    symmetric: bool
+    stats: dict
+
+
+def _font_plan(src, nib_region, glyphs, family_name, kind):
+    """The source, the font of shells with its final furniture and names, the glyphs
+    to stroke and those that follow, where they go; the first statistics
+    (:func:`_finish_shells`)."""
+    from .stream import SkeletonSource
+
     source = SkeletonSource(src)
     font = source.shell_font()
     symmetric = nib_is_symmetric(nib_region)
@@ -332,23 +359,26 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     place = _placement(font, stroked + followed, nib_region)
     stats = _finish_shells(font, source, stroked, followed, place, symmetric, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    return _FontPlan(source, font, stroked, followed, place, symmetric, stats)
+
+
+def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
+                    in_flight=None):
+    """Stroke the plan's glyphs chunk by chunk (each chunk's jobs read from the source
+    when a process needs them) and write the font at ``tmp`` as they come
+    (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
     tols = budget.plan(tol, kind == ".ttf")
 
     def prepare(names):
-        return _stroke_work(source, names, symmetric, nib_region, tols, place.shifts, stroker)
+        return _stroke_work(plan.source, names, plan.symmetric, nib_region, tols,
+                            plan.place.shifts, stroker)
 
-    def write(tmp):
-        sink = _StreamedGlyphs(font, kind, tmp, progress)
-        run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), stroked, jobs=jobs,
-                       keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
-        grow_win_metrics(font, *sink.extent)
-        sink.finish(out_path, tol)
-        stats.update(sink.stats)
-
-    save_atomically(out_path, write, overwrite)
-    stats.update(glyphs=len(stroked), followed=len(followed), font=font,
-                 seconds=time.perf_counter() - t_start)
-    return stats
+    sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
+    run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked, jobs=jobs,
+                   keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
+    grow_win_metrics(plan.font, *sink.extent)
+    sink.finish(out_path, tol)
+    plan.stats.update(sink.stats)
 
 
 #: what a worker compiles a stroked glyph to, by output (None: the UFO's contours)
@@ -426,6 +456,8 @@ class _StreamedGlyphs:
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
         self.store.clear()
+        if "CFF " in otf:  # ufo2ft's subroutinizing save set the bounds (head, hhea,
+            otf.recalcBBoxes = False  # OS/2): not again from each charstring
         otf.save(str(self.tmp))
 
 

@@ -373,7 +373,8 @@ def _labelled(ax, skel):
         return ax
     default = skel.locations[skel.default]
     named = {}              # user value -> the style of a master or instance there
-    places = [(loc, f.info.styleName) for loc, f in zip(skel.locations, skel.fonts)]
+    places = [(loc, f.info.styleName) for loc, f in zip(skel.locations[:skel.given],
+                                                         skel.fonts[:skel.given])]
     places += [(dict(i.location or {}), i.styleName) for i in skel.instances]
     for loc, style in places:
         if ax.name not in loc:
@@ -393,7 +394,9 @@ def _labelled(ax, skel):
 class Skeleton:
     """Skeleton masters: ``fonts`` (ufoLib2), their design ``locations`` (axis name
     -> value), the designspace ``axes`` and ``instances`` (none for one UFO), the
-    ``default`` master's index, ``labels`` (file names, for messages)."""
+    ``default`` master's index, ``labels`` (file names, for messages), ``given``:
+    how many of the masters the designspace has (None: all; the others are
+    intermediate ones, :mod:`morph.fonts.variable_skeleton`)."""
 
     fonts: list
     locations: list
@@ -401,6 +404,7 @@ class Skeleton:
     instances: list
     default: int
     labels: list
+    given: int = None
 
     @property
     def default_style(self):
@@ -542,13 +546,14 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     kind = out_path.suffix.lower()
     ds_path, masters_dir = _check_outputs(out_path, tol, overwrite)
     skel = read_skeleton(src)
-    axis, values, fitted, nibs = _fitted_masters(skel, nib_min, nib_max, tol)
-    owners = [s for s, _ in fitted]
     font = skel.fonts[skel.default]
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen)
     try:
         _check_glyphs(skel, stroked + followed)
+        skel, axis, values, fitted, nibs, refined = _fitted_masters(skel, nib_min, nib_max,
+                                                                     tol, stroked, followed)
+        owners = [s for s, _ in fitted]
         report = None if progress is None else (lambda k, r: progress(r[0]))
         results = run_jobs(_glyph_job, list(_work(skel.fonts, stroked, nibs, owners,
                                                   FIT_SHARE * tol)),
@@ -570,21 +575,30 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
             "masters": [ds_path.parent / n for n in names], "glyphs": len(stroked),
             "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
             "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
-            "fitted": fitted}
+            "fitted": fitted, "skeleton": refined}
 
 
-def _fitted_masters(skel, nib_min, nib_max, tol):
-    """(axis or None, the nib axis's master values, (skeleton master, nib value) per
-    fitted master, the nib of each): every skeleton master at every nib master, the
-    nib masters as many as keep an instance within BLEND_SHARE of tol."""
+def _fitted_masters(skel, nib_min, nib_max, tol, stroked, followed=()):
+    """(skeleton with its intermediate masters, axis or None, the nib axis's master
+    values, (skeleton master, nib value) per fitted master, the nib of each, the
+    skeleton refinement's report): every skeleton master at every nib master, as
+    many of each as keep an instance within BLEND_SHARE of tol (split in halves
+    when both the nib axis and the skeleton's interpolation are inexact)."""
+    from .variable_skeleton import refine_skeleton
+
     if nib_max is None and len(skel.fonts) < 2:
         raise ValueError("a variable font needs a nib axis or several skeleton masters")
     axis = None if nib_max is None else nib_axis(nib_min, nib_max)
-    values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
+    both = axis is not None and len(skel.fonts) > 1 and \
+        interpolation_error(axis.nib_min, axis.nib_max) > 1e-9 * axis.nib_max.width
+    share = BLEND_SHARE * tol / (2.0 if both else 1.0)
+    values = [None] if axis is None else axis_masters(axis, share)
     nibs_v = [Ellipse(*map(float, nib_min))] if axis is None else \
         [axis.nib_at(v) for v in values]
+    ends = [nibs_v[0], nibs_v[-1]]
+    skel, refined = refine_skeleton(skel, stroked, ends, share, _keep_component, followed)
     fitted = [(s, v) for s in range(len(skel.fonts)) for v in values]
-    return axis, values, fitted, [nibs_v[values.index(v)] for _, v in fitted]
+    return skel, axis, values, fitted, [nibs_v[values.index(v)] for _, v in fitted], refined
 
 
 def _check_outputs(out_path, tol, overwrite):
@@ -604,7 +618,7 @@ def _check_outputs(out_path, tol, overwrite):
 def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, masters_dir):
     """(master ufoLib2 fonts, their file names relative to the designspace): one per
     (skeleton master, nib value) of ``fitted``, styled by both, win metrics shared."""
-    masters, names = [], []
+    masters, names, offsets = [], [], []
     for k, ((s, v), nib) in enumerate(zip(fitted, nibs)):
         per = {name: loops[k] for name, loops, _ in results}
         parts = [(skel.fonts[s].info.styleName or "") if skel.axes else "",
@@ -612,15 +626,39 @@ def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, maste
         if parts[0] and parts[1] == "Regular":
             parts[1] = ""
         style = " ".join(x for x in parts if x)
-        m, _ = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
+        m, shifts = _master(skel.fonts[s], per, nib, done, family, style or "Regular")
         masters.append(m)
+        offsets.append(shifts)
         names.append("%s/%s-%s.ufo" % (masters_dir.name, out_path.stem,
                                        _file_part(style or "Regular")))
     if len(set(names)) < len(names):
         names = ["%s/%s-%d.ufo" % (masters_dir.name, out_path.stem, k)
                  for k in range(len(names))]
     _grow_win(masters)
+    _vary_features(skel, axis, fitted, masters, offsets)
     return masters, names
+
+
+def _vary_features(skel, axis, fitted, masters, offsets):
+    """The explicit anchors of the default skeleton's feature file (the one ufo2ft
+    compiles) moved like their glyphs at every master: variable anchors where the
+    shift differs between masters (:func:`morph.fonts.fea.vary_feature_anchors`),
+    written into every master."""
+    from .fea import vary_feature_anchors
+
+    text = skel.fonts[skel.default].features.text or ""
+    if "anchor" not in text:
+        return
+    per = []
+    for (s, v), shifts in zip(fitted, offsets):
+        loc = {ax.tag: float(ax.map_backward(skel.locations[s].get(
+            ax.name, ax.map_forward(ax.default)))) for ax in skel.axes}
+        if axis is not None:
+            loc[axis.tag] = v
+        per.append((loc, lambda g, sh=shifts: (sh[g], 0.0) if g in sh else None))
+    new = vary_feature_anchors(text, masters[0].keys(), per)
+    for m in masters:
+        m.features.text = new
 
 
 def _file_part(style):

@@ -40,6 +40,7 @@ variation of the source's axes).
 """
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -113,9 +114,8 @@ def source_locations(font, split=1):
 
 
 def _region_loops(glyph_set, name):
-    """A glyph's contours at one master as closed loops of cartesian pieces, turned
-    counter-clockwise for the outer ones (TrueType draws them clockwise, CFF
-    counter-clockwise: ``reverse``)."""
+    """A glyph's contours at one master as closed loops of cartesian pieces, in the
+    font's direction (:func:`_counter_clockwise` turns them)."""
     from ..parse.pens import record_contours
 
     contours = record_contours(glyph_set[name].draw, "glyph %r" % name, glyph_set)
@@ -141,13 +141,12 @@ def _signed_area(loops):
     return total
 
 
-def _counter_clockwise(loops_by_master, reverse):
-    """Loops turned so that outer ones run counter-clockwise: ``reverse`` when the
+def _counter_clockwise(loops_by_master):
+    """Loops turned so that outer ones run counter-clockwise: reversed when the
     glyph's area at the default master is negative (TrueType draws outer contours
     clockwise, CFF counter-clockwise; a font that does not follow its convention
     is read by the sign of the area)."""
-    reverse = _signed_area(loops_by_master[0]) < 0
-    if not reverse:
+    if _signed_area(loops_by_master[0]) >= 0:
         return loops_by_master
     return [[[p[::-1] for p in reversed(loop)] for loop in loops] for loops in loops_by_master]
 
@@ -181,11 +180,11 @@ def _brush_glyph_job(args):
     loops at every source master ⊕ the nib of every fitted master (``nibs``, the
     source master of each: ``owners``), or with ``nibs`` None the glyph itself at
     every fitted master (a glyph converted, not brushed)."""
-    name, loops_by_source, nibs, owners, fit_tol, q_tol, reverse = args
+    name, loops_by_source, nibs, owners, fit_tol, q_tol = args
     t0 = time.process_time()
     if not loops_by_source[0]:
         return name, None, 0.0
-    loops_by_source = _counter_clockwise(loops_by_source, reverse)
+    loops_by_source = _counter_clockwise(loops_by_source)
     if nibs is None:
         fits = [[np.array([_cubic(p) for p in loop]) for loop in loops_by_source[o]]
                 for o in owners]
@@ -247,6 +246,49 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
                          "contours are converted to quadratics compatibly): write .ttf, "
                          ".woff2 or .woff, not .otf")
     font = _open(src)
+    kind = _outline_kind(font, src, nib_max)
+    plan = _plan(font, nib, nib_max, tol, split, grade)
+    sets = [font.getGlyphSet(location=loc, normalized=True) if loc else font.getGlyphSet()
+            for loc in plan.src_locs]
+    order = font.getGlyphOrder()
+    chosen = _chosen(font, kind, glyphs, order)
+    convert = [n for n in order if kind == "cff" and n not in chosen]
+    brush = set(chosen)
+    # made as the workers need them (run_jobs consumes a generator lazily)
+    work = ((n, [_region_loops(gs, n) for gs in sets], plan.nibs if n in brush else None,
+             plan.owners, FIT_SHARE * tol, CU2QU_SHARE * tol) for n in chosen + convert)
+    report = None if progress is None else (lambda k, r: progress(r[0]))
+    results = run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
+    written = [n for n, contours, _ in results if contours is not None]
+    widths = [{n: gs[n].width for n in (order if kind == "cff" else written)} for gs in sets]
+    if kind == "cff":
+        _truetype_tables(font)
+    if plan.axis is not None:
+        _add_nib_axis(font, plan.axis, plan.values)
+    shifts = _write_glyphs(font, plan, results, brush, widths)
+    if kind == "cff":
+        model = VariationModel(plan.locs, plan.tags)
+        for name in set(order) - set(written):
+            _write_empty(font, model, widths, plan.owners, name)
+    for t in ("HVAR", "VVAR"):
+        if t in font:
+            del font[t]
+    _move_anchors(font, shifts, plan.axis, plan.values, plan.tags)
+    if family_name:
+        rename_family(font, family_name)
+    set_overlap_flags(font)
+    save_font(font, out_path)
+    return {"masters": plan.locs, "source_masters": plan.src_locs, "nib_values": plan.values,
+            "axis": plan.axis, "glyphs": len(shifts),
+            "fit_seconds": sum(r[2] for r in results), "font": font}
+
+
+def _outline_kind(font, src, nib_max):
+    """"glyf" or "cff" (CFF or CFF2) for a font a variable brush can read.
+
+    Raises:
+        MorphError: other outlines, a static font without a nib axis, fvar without
+            gvar."""
     kind = "glyf" if "glyf" in font else ("cff" if ("CFF2" in font or "CFF " in font)
                                           else None)
     if kind is None:
@@ -256,65 +298,62 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
                          "(--vary-nib)" % (src,))
     if kind == "glyf" and "fvar" in font and "gvar" not in font:
         raise MorphError("%s has fvar but no gvar" % (src,))
-    upm = font["head"].unitsPerEm
+    return kind
+
+
+@dataclass
+class _Plan:
+    """The fitted masters of a variable brush: the nib ``axis`` (or None) and its
+    master ``values``, the source masters' normalized locations ``src_locs``, per
+    fitted master its source master (``owners``), nib (``nibs``) and normalized
+    location over ``tags`` (``locs``)."""
+
+    axis: object
+    values: list
+    src_locs: list
+    owners: list
+    nibs: list
+    tags: list
+    locs: list
+
+
+def _plan(font, nib, nib_max, tol, split, grade):
     nib = Ellipse(*map(float, nib))
     axis = None
     if nib_max is not None:
+        upm = font["head"].unitsPerEm
         axis = (grade and grade_axis(nib, nib_max, upm)) or nib_axis(nib, nib_max)
     values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
     nibs_v = [nib] if axis is None else [axis.nib_at(v) for v in values]
     src_locs = source_locations(font, split)
     src_tags = [a.axisTag for a in font["fvar"].axes] if "fvar" in font else []
     fitted = [(s, k) for k in range(len(values)) for s in range(len(src_locs))]
-    owners = [s for s, _ in fitted]
-    nibs = [nibs_v[k] for _, k in fitted]
-    tags = src_tags + ([axis.tag] if axis else [])
     locs = [{**src_locs[s], **({axis.tag: axis.fraction(values[k])} if axis else {})}
             for s, k in fitted]
-    sets = [font.getGlyphSet(location=loc, normalized=True) if loc else font.getGlyphSet()
-            for loc in src_locs]
-    order = font.getGlyphOrder()
-    chosen = _chosen(font, kind, glyphs, order)
-    convert = [n for n in order if kind == "cff" and n not in chosen]
-    reverse = kind == "glyf"
-    work = [(n, [_region_loops(gs, n) for gs in sets], nibs, owners, FIT_SHARE * tol,
-             CU2QU_SHARE * tol, reverse) for n in chosen]
-    work += [(n, [_region_loops(gs, n) for gs in sets], None, owners, 0.0,
-              CU2QU_SHARE * tol, reverse) for n in convert]
-    report = None if progress is None else (lambda k, r: progress(r[0]))
-    results = run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
-    written = [n for n, contours, _ in results if contours is not None]
-    widths = [{n: gs[n].width for n in (order if kind == "cff" else written)} for gs in sets]
-    if kind == "cff":
-        _truetype_tables(font)
-    if axis is not None:
-        _add_nib_axis(font, axis, values)
-    elif "gvar" not in font:
-        raise MorphError("internal: a variable source without glyph variations")
-    model = VariationModel(locs, tags)
-    widths0 = {n: font["hmtx"][n][0] for n in order}
+    return _Plan(axis, values, src_locs, [s for s, _ in fitted],
+                 [nibs_v[k] for _, k in fitted], src_tags + ([axis.tag] if axis else []),
+                 locs)
+
+
+def _write_glyphs(font, plan, results, brushed, widths):
+    """Every glyph of ``results`` written at every fitted master (brushed ones shifted
+    by their nib, converted CFF glyphs as they are); returns the brushed glyphs'
+    default shifts."""
+    from fontTools.varLib.models import VariationModel
+
+    model = VariationModel(plan.locs, plan.tags)
     shifts = {}
-    brushed = set(chosen)
     for name, contours, _ in results:
-        if name in brushed and contours is not None:
-            shifts[name] = _write_glyph(font, model, widths, owners, nibs, name, contours,
-                                        widths0[name], axis)
-        elif contours is not None:          # a CFF glyph converted, not brushed
-            _write_glyph(font, model, widths, owners, None, name, contours, widths0[name],
+        if contours is None:
+            continue
+        width0 = font["hmtx"][name][0]
+        if name in brushed:
+            shifts[name] = _write_glyph(font, model, widths, plan.owners, plan.nibs, name,
+                                        contours, width0, plan.axis)
+        else:                                       # a CFF glyph converted, not brushed
+            _write_glyph(font, model, widths, plan.owners, None, name, contours, width0,
                          None)
-    if kind == "cff":
-        for name in set(order) - set(written):
-            _write_empty(font, model, widths, owners, name)
-    for t in ("HVAR", "VVAR"):
-        if t in font:
-            del font[t]
-    _move_anchors(font, shifts, axis, values, tags)
-    if family_name:
-        rename_family(font, family_name)
-    set_overlap_flags(font)
-    save_font(font, out_path)
-    return {"masters": locs, "source_masters": src_locs, "nib_values": values, "axis": axis,
-            "glyphs": len(shifts), "fit_seconds": sum(r[2] for r in results), "font": font}
+    return shifts
 
 
 def _chosen(font, kind, glyphs, order):

@@ -65,13 +65,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
         return []
     rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)
     if hole_test is not None:
-        filled = []
-        for i, r in enumerate(rings):
-            if r.hole:
-                islands = [tg.to_float(x.q) for x in rings if x.parent == i]
-                if hole_test(tg.to_float(r.q), islands):
-                    filled.append(i)
-        rings = fill_holes(rings, filled)
+        rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
     out, of_ring = lift_rings([r.q for r in rings], tg, contract)
     outer = [not rings[k].hole for k in of_ring]
     # each lifted loop lies within eps + grid + contract of its ring: loops whose
@@ -82,6 +76,23 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     if untangle:
         out = untangle_loops(out, eps, hole_test=hole_test)
     return out
+
+
+def _filled_holes(rings, tg, hole_test):
+    """Indices of the hole rings that ``hole_test`` finds filled: all holes in one
+    call of its ``many`` method ([(ring, islands)] -> bools) where it has one, else
+    one call per hole."""
+    holes = [i for i, r in enumerate(rings) if r.hole]
+    if not holes:
+        return []
+    children = {}
+    for k, r in enumerate(rings):
+        children.setdefault(r.parent, []).append(k)
+    args = [(tg.to_float(rings[i].q), [tg.to_float(rings[k].q) for k in children.get(i, [])])
+            for i in holes]
+    many = getattr(hole_test, "many", None)
+    filled = many(args) if many is not None else [hole_test(*a) for a in args]
+    return [i for i, f in zip(holes, filled) if f]
 
 
 def _near_pairs(polylines, reach):

@@ -20,8 +20,12 @@ from tests.oracles.varfont import (clipper_stroke, glyph_polygons, skeleton_poly
 TOL = 0.5                   # font units: the CLI's default 5e-4 em at 1000 upm
 ROUND = 0.5 * 2 ** 0.5      # one integer rounding of a point
 SLACK = 0.05                # flattening and Clipper's integer grid in the reference
+#: the pinhole a swallowtail's cusp opens when the two roundings (a master's and an
+#: instance's) move it: a loop at most 2 x 0.71 units across, so <= 2 unit²
+#: (tests/oracles/varfont.py's within ignores leftover parts smaller than this)
+PINHOLE = (2 * ROUND) ** 2
 NIBS = ((40, 10, 30), (120, 30, 30))
-GLYPHS = ["a", "s", "period", "eacute"]
+GLYPHS = ["a", "s", "period", "eacute", "acutecomb"]
 
 
 def test_axis_tag_and_masters():
@@ -94,8 +98,11 @@ def test_outputs_and_compatibility(built):
 def test_masters_and_instances_within_bound(built, skeleton):
     """At the masters within tol + one rounding; at 9 positions and random ones,
     instanced from the compiled font, within tol + two roundings of the exact sum
-    with the nib the axis defines there (shifted as the masters' shifts interpolate)."""
+    with the nib the axis defines there (shifted as the masters' shifts interpolate).
+    A nib-size axis needs no intermediate master."""
     out, stats = built
+    assert stats["values"] == [40.0, 120.0] and len(stats["masters"]) == 2
+    assert stats["skeleton"]["added"] == 0
     axis = stats["axis"]
     values = stats["values"]
     rng = np.random.default_rng(35)
@@ -115,6 +122,29 @@ def test_masters_and_instances_within_bound(built, skeleton):
     wide = Ellipse(80 + 4 * bound, 20, 30)
     assert not within(glyph_polygons(glyphs, "s"), _reference(skeleton, "s", wide, 35.0),
                       bound, strict=True)
+
+
+def test_feature_file_anchors_move_per_master(built, skeleton):
+    """The skeleton's feature file places acutecomb on a by explicit anchors: they
+    become variable anchors moving with the outlines, so at 9 positions of the nib
+    axis each anchor is its skeleton value plus its glyph's shift there (a: right by
+    the nib's left extent, the zero-width acutecomb: left by it), within the
+    masters' and the instance's rounding."""
+    from fontTools.varLib import instancer
+    from fontTools.ttLib import TTFont
+
+    from tests.fonts.varsources import mark_anchor
+
+    out, stats = built
+    text = stats["sources"][0].features.text
+    assert "pos base a <anchor (NIBW=40:" in text
+    assert skeleton["acutecomb"].width == 0
+    font = TTFont(str(out))
+    for v in np.linspace(40, 120, 9):
+        hx = stats["axis"].nib_at(v).extent()[2]
+        base, mark = mark_anchor(instancer.instantiateVariableFont(font, {"NIBW": v}), "a")
+        assert abs(base[0] - (281 + hx)) <= 1.0 and base[1] == 555, (v, base)
+        assert abs(mark[0] - (78 - hx)) <= 1.0 and mark[1] == 555, (v, mark)
 
 
 def test_cff2_output(tmp_path, skeleton):
@@ -185,7 +215,10 @@ def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
     ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
     out = tmp_path / "Family.ttf"
     stats = stroke_variable(ds, out, *NIBS, tol=TOL)
-    assert len(stats["masters"]) == 4
+    # the nib-size axis needs no intermediate master; the skeleton's slant does
+    assert stats["values"] == [40.0, 120.0]
+    added = stats["skeleton"]["added"]
+    assert added > 0 and len(stats["masters"]) == 2 * (2 + added)
     doc = DesignSpaceDocument.fromfile(str(stats["designspace"]))
     assert [a.tag for a in doc.axes] == ["wdth", "NIBW"]
     assert "SemiWide" in [i.styleName for i in doc.instances]
@@ -199,6 +232,52 @@ def test_skeleton_designspace_with_nib_axis(tmp_path, skeleton):
             ref = _skeleton_reference(skeleton, name, u, nib)
             assert within(glyph_polygons(glyphs, name), ref, TOL + 2 * ROUND + SLACK,
                           strict=True), (u, w, name)
+
+
+def test_skeleton_masters_added_until_the_bound_holds(tmp_path, skeleton, monkeypatch):
+    """A skeleton designspace whose second master slants and widens the centre lines
+    a lot: between the two given masters an instance misses the exact sum by more
+    than the bound (the nib points of turned normals do not blend linearly), so
+    intermediate skeleton masters are added (the skeleton's own interpolation) until
+    the measured blend error is within its share; then 9 positions along the axis
+    and random ones are within the bound."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.fonts import variable_skeleton
+    from tests.oracles.varfont import skeleton_designspace
+
+    slant, widen, nib = 0.6, 0.5, Ellipse(120, 30, 30)
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"], slant=slant,
+                              widen=widen)
+    bound = TOL + 2 * ROUND + SLACK
+    out = tmp_path / "Slanted.ttf"
+    stats = stroke_variable(ds, out, tuple(nib), tol=TOL)
+    report = stats["skeleton"]
+    assert report["errors_before"]["Width"] > bound
+    assert report["added"] > 0 and report["error"] <= BLEND_SHARE * TOL
+    assert len(stats["masters"]) == 2 + report["added"]
+    font = TTFont(str(out))
+    rng = np.random.default_rng(36)
+    for u in list(np.linspace(0, 1, 9)) + list(rng.uniform(0, 1, 2)):
+        glyphs = instancer.instantiateVariableFont(font, {"wdth": 100 + 25 * u}).getGlyphSet()
+        for name in ("s", "period"):
+            ref = _skeleton_reference(skeleton, name, u, nib, slant, widen)
+            assert within(glyph_polygons(glyphs, name), ref, bound, strict=True,
+                          area=PINHOLE), (u, name)
+    # the same font from the two given masters only: an instance between them fails
+    coarse = tmp_path / "Coarse.ttf"
+    real = variable_skeleton.refine_skeleton
+    monkeypatch.setattr(variable_skeleton, "refine_skeleton",
+                        lambda skel, names, nibs, budget, keep, carry=():
+                        real(skel, names, nibs, float("inf"), keep, carry))
+    stats = stroke_variable(ds, coarse, tuple(nib), glyphs=["s"], tol=TOL)
+    assert len(stats["masters"]) == 2
+    glyphs = instancer.instantiateVariableFont(TTFont(str(coarse)),
+                                               {"wdth": 100 + 25 * 0.375}).getGlyphSet()
+    assert not within(glyph_polygons(glyphs, "s"),
+                      _skeleton_reference(skeleton, "s", 0.375, nib, slant, widen), bound,
+                      strict=True, area=PINHOLE)
 
 
 def test_incompatible_skeleton_masters_are_named(tmp_path, runner):
