@@ -367,7 +367,7 @@ def evaluation_rows():
         title = block.splitlines()[0].lstrip("# ").strip()
         m = re.search(r"(\d+) of (\d+) jobs run, (\d+) failed", block)
         if m:
-            rows.append(("sweep: " + title, m.group(2), m.group(3), _when(block)))
+            rows.append(("sweep: " + title, m.group(1), m.group(3), _when(block)))  # run
     icons = (BENCH / "icons.md").read_text(encoding="utf-8")
     for t in tables(icons)[:1]:
         col = {name: k for k, name in enumerate(t[0])}

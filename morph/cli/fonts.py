@@ -144,7 +144,7 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
-                           composites=composites, jobs=jobs)
+                           composites=composites, jobs=jobs, in_flight=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
@@ -405,7 +405,8 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     t0 = time.perf_counter()
     with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
         stats = stroke_ufo(source, out, nib_region, items, tol=tol * upm, family_name=family,
-                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
+                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
+                           in_flight=bar.partial)
     seconds = time.perf_counter() - t0
     if page:
         shown = out

@@ -37,6 +37,7 @@ numerical work is O(rounds) array calls; what remains per search and round is th
 scalar bookkeeping of its bracket (a few microseconds).
 """
 
+import contextlib
 import math
 
 import numpy as np
@@ -231,6 +232,24 @@ class _Reparam:
         return tuple(out)
 
 
+#: ``callback(searches done, searches)`` after every round of :func:`_drive` while
+#: set (:func:`observe_searches`): the font jobs' progress within a batch
+_observer = None
+
+
+@contextlib.contextmanager
+def observe_searches(callback):
+    """Within the ``with`` block, :func:`_drive` calls ``callback(done, total)``
+    after each round: how many of its searches have ended (a batch's conversion
+    done so far, for progress reports)."""
+    global _observer
+    before, _observer = _observer, callback
+    try:
+        yield
+    finally:
+        _observer = before
+
+
 def _drive(searches, tol, chains):
     """Run search generators in lockstep and return their results in order.
 
@@ -240,6 +259,7 @@ def _drive(searches, tol, chains):
     call per fit.  A search that needs its chain's arc-length table yields
     :data:`NEED_ARC` instead: the tables of all that asked are made in one batch
     (:func:`arc_tables`, ``chains[i]`` is search i's chain) and the searches resumed."""
+    observer = _observer
     results = [None] * len(searches)
     pending = {}
     for i, g in enumerate(searches):
@@ -267,6 +287,8 @@ def _drive(searches, tol, chains):
             except StopIteration as stop:
                 results[i] = stop.value
             k += n
+        if observer is not None:
+            observer(len(searches) - len(pending), len(searches))
     return results
 
 

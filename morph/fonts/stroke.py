@@ -70,7 +70,8 @@ from ..parse.ufo import glyph_names_for
 from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
-from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
+from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
+                   glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
@@ -192,9 +193,10 @@ def _chunk_job(chunk):
     t0 = time.process_time()
     tol, quadratic = _outline_tolerance(chunk[0][3])
     try:
-        contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
-                                         [chunk[k][4] for k in good], reverse=False,
-                                         splines=True)
+        with converting(len(good)):
+            contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
+                                             [chunk[k][4] for k in good], reverse=False,
+                                             splines=True)
     except MorphError:
         contours = None
     if contours is not None:
@@ -259,6 +261,7 @@ def _stroked_regions(chunk):
         except MorphError:  # glyph by glyph, as they were (only a MorphError: the ladder)
             regions = None
         if regions is not None:
+            glyph_progress(SUM_SHARE * len(chunk))
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
             share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
             return [(r, None, float(s)) for r, s in zip(regions, share)]
@@ -270,11 +273,12 @@ def _stroked_regions(chunk):
         except MorphError as exc:
             region, error = None, exc
         out.append((region, error, time.process_time() - t0))
+        glyph_progress(SUM_SHARE)
     return out
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1):
+               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
     ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
@@ -285,7 +289,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
     outline tolerance in font units before integer rounding (see the module
     docstring for the budget).  ``family_name``: default "<family> Stroke".
-    ``progress(name)`` is called after each stroked glyph.  ``stroker``: a function
+    ``progress(name)`` is called after each stroked glyph, ``in_flight(units)`` with
+    the glyphs' worth of work reported by chunks not yet done
+    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
     ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
     ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
     strokes (1: in this process).
@@ -320,7 +326,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     check_convex_nib(nib_region)
     plan = _font_plan(src, nib_region, glyphs, family_name, kind)
     save_atomically(out_path, lambda tmp: _write_streamed(
-        plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs), overwrite)
+        plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs, in_flight),
+        overwrite)
     plan.stats.update(glyphs=len(plan.stroked), followed=len(plan.followed), font=plan.font,
                       seconds=time.perf_counter() - t_start)
     return plan.stats
@@ -356,7 +363,8 @@ def _font_plan(src, nib_region, glyphs, family_name, kind):
     return _FontPlan(source, font, stroked, followed, place, symmetric, stats)
 
 
-def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs):
+def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
+                    in_flight=None):
     """Stroke the plan's glyphs chunk by chunk (each chunk's jobs read from the source
     when a process needs them) and write the font at ``tmp`` as they come
     (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
@@ -368,7 +376,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
 
     sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
     run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked, jobs=jobs,
-                   keep=False, each=sink.add, prepare=prepare)
+                   keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
     grow_win_metrics(plan.font, *sink.extent)
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
