@@ -335,7 +335,7 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     the horizontal rays of one loop's probes (:func:`morph.polyline.
     winding_number`) meet no other loop.  ``ways``: the unit end tangents of the
     curves ``open_cusps``."""
-    loops = np.unique(loop_of[open_cusps])
+    loops = pl.unique(loop_of[open_cusps])
     begin = np.cumsum(counts) - counts
     idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
     owner = np.repeat(np.arange(len(loops)), counts[loops])
@@ -420,7 +420,7 @@ def _boxes_holding_probes(groups, owner, probes, where, n_pieces, n_loops, margi
         probe = by_loop[np.repeat(first_probe[owner[ks]], n) + np.arange(n.sum())
                         - np.repeat(np.cumsum(n) - n, n)]
         hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
-        fine[ks[np.unique(piece[hit])]] = True
+        fine[ks[pl.unique(piece[hit])]] = True
     return fine
 
 

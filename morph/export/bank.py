@@ -15,6 +15,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from ..polyline import unique
 
 
 class Bank:
@@ -53,7 +54,7 @@ class Bank:
         self.t_first, self.t_last = np.zeros((g, 2)), np.zeros((g, 2))
         self.lo, self.hi = np.empty((g, 2)), np.empty((g, 2))
         self.scale = np.empty(g)
-        for n in np.unique(sizes).tolist():
+        for n in unique(sizes).tolist():
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
             h = flat[offsets[rows][:, None] + np.arange(n)[None]]      # (k, n, 3)
@@ -81,7 +82,7 @@ class Bank:
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
         out = []
-        for n in np.unique(self.deg[gids]).tolist():
+        for n in unique(self.deg[gids]).tolist():
             rows = np.nonzero(self.deg[gids] == n)[0]
             out.append((rows, self.stacks[n][self.idx[gids[rows]]]))
         return out

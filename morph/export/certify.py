@@ -45,6 +45,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
+from ..polyline import unique
 from ..budget import PHI_SHARE
 
 
@@ -412,7 +413,7 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
     for rows, stack in groups:
         n = stack.shape[1]
         near = normal[rows] <= tol
-        for m in np.unique(size[rows[near]]).tolist():
+        for m in unique(size[rows[near]]).tolist():
             sel = np.nonzero(near & (size[rows] == m))[0]
             r = rows[sel]
             comp = stack[sel] * (cs[r, None] ** np.arange(n))[:, :, None]   # R o mu: w_i c^i

@@ -344,7 +344,9 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     n = len(starts)
     valid = np.nonzero(score < acc[cr])[0]
     valid = valid[np.lexsort((valid, score[valid], cr[valid]))]
-    ranges, at = np.unique(cr[valid], return_index=True)
+    sorted_cr = cr[valid]      # sorted: each range's first entry is its pick
+    at = np.flatnonzero(np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)])
+    ranges = sorted_cr[at]
     pick = np.full(n, -1)
     pick[ranges] = valid[at]
     has = pick >= 0

@@ -36,7 +36,8 @@ themselves or each other at single points.
 
 import numpy as np
 
-from ..polyline import BoxGrid, _cell_pairs, near_segments, polyline_edges, polylines_cross
+from ..polyline import (BoxGrid, _cell_pairs, near_segments, polyline_edges, polylines_cross,
+                        unique)
 from ..region import validated
 from .flatten import tag_loops
 from .lift import lift_rings
@@ -205,7 +206,7 @@ def _apart_groups(loops, margin):
         new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
         changed = bool(np.any(new != group))
         group = new
-    return [list(np.flatnonzero(group == g)) for g in np.unique(group)]
+    return [list(np.flatnonzero(group == g)) for g in unique(group)]
 
 
 def _without_sliver_holes(loops, eps):
