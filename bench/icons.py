@@ -47,7 +47,7 @@ CPU, not wall time, so that other work on a shared machine does not make hangs) 
 For the stroke set, ``svg_region`` must refuse each icon with the stroke-only line
 and ``svg_paths`` must give its centre lines (open subpaths stay open).
 
-    python -m bench.icons [--per-set 150] [--timeout 60] [--jobs 2] [-o bench/icons.md]
+    python -m bench.icons [--per-set 150] [--seed S] [--timeout 60] [--jobs 2] [-o bench/icons.md]
     python -m bench.icons --reduce ICON.svg --op offset|ellipse|inset --save tests/data/icons/X.json
     python -m bench.icons --case tests/data/icons/X.json     # rerun a saved reproducer
 
@@ -94,10 +94,15 @@ def fetch(pkg, dest):
     return folder, out
 
 
-def choose(files, n):
+def choose(files, n, seed=None):
+    """``n`` of ``files``: evenly spaced in name order (the icons earlier runs
+    checked), or with ``seed`` a random sample of them (icons nobody looked at)."""
     files = sorted(files)
     if len(files) <= n:
         return files
+    if seed is not None:
+        idx = np.random.default_rng(seed).choice(len(files), n, replace=False)
+        return [files[i] for i in sorted(idx)]
     idx = np.linspace(0, len(files) - 1, n).round().astype(int)
     return [files[i] for i in np.unique(idx)]
 
@@ -288,6 +293,8 @@ def kind_of(pkg):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--per-set", type=int, default=150)
+    ap.add_argument("--seed", type=int, default=None, help="a random sample of each set "
+                    "(default: evenly spaced in name order)")
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("-o", "--output", default=str(ROOT / "bench" / "icons.md"))
@@ -337,7 +344,7 @@ def main(argv=None):
         for pkg, (pattern, kind) in SETS.items():
             folder, tgz = fetch(pkg, tmp)
             versions[pkg] = tgz
-            for f in choose(glob.glob(str(folder / pattern)), args.per_set):
+            for f in choose(glob.glob(str(folder / pattern)), args.per_set, args.seed):
                 jobs.append((pkg, kind, f))
         t_all = time.perf_counter()
         with ThreadPoolExecutor(args.jobs) as pool:  # each job forks its own process
@@ -352,13 +359,14 @@ def main(argv=None):
         total = time.perf_counter() - t_all
 
     lines = ["# Real icons: parse, offset, ⊕ ellipse, inset (bench/icons.py)", "",
-             "`python -m bench.icons --per-set %d --timeout %g --jobs %d` (%.0f s wall). "
+             "`python -m bench.icons --per-set %d%s --timeout %g --jobs %d` (%.0f s wall). "
              "Packages: %s. tol = 1e-3 of the icon's size; offset radius 0.05 size; "
              "ellipse 0.04 x 0.015 size at 30°; inset radius 0.02 size. Pass (see the script's docstring): our boundary "
              "within 1.25 tol of the polygon reference's, the reference's within 1.25 tol of "
              "ours except in gaps narrower than %.2g tol, loop and hole counts between the "
              "reference's and those of its closing over such gaps and opening at such necks."
-             % (args.per_set, args.timeout, args.jobs, total, ", ".join(versions.values()), 2 * GAP),
+             % (args.per_set, "" if args.seed is None else " --seed %d" % args.seed,
+                args.timeout, args.jobs, total, ", ".join(versions.values()), 2 * GAP),
              "", "CPU s/icon: the icon's whole process (parse, offset, ellipse sum, inset, "
              "polygon references and checks); engine CPU s: the three operations only. "
              "err/tol: our boundary's distance to the reference's (the certified direction); "

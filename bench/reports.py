@@ -95,6 +95,21 @@ REPORTS = [
     Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
            quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
+    Report("font_writer", "bench.font_writer",
+           ["--runs", "300:.otf,300:.ttf,300:.ufo,3000:.otf,3000:.ttf,3000:.ufo,30000:.ttf,"
+            "30000:.otf", "--md", "{md}"],
+           quick=["--runs", "300:.otf", "--md", "{md}"],
+           cost="20-40 min (the writer alone), skeleton sets fetched with npm", snapshot=True),
+    Report("stroke_profile_stream", "bench.stroke_profile",
+           ["--runs", "stroke:hanzi-300", "--repeat", "1", "--before",
+            "bench/stroke_profile.json", "--before-label",
+            "the profile before streaming (bench/stroke_profile.json)", "--md", "{md}"],
+           quick=["--runs", "stroke:hershey-sans", "--repeat", "1", "--before",
+                  "bench/stroke_profile.json", "--md", "{md}"],
+           cost="5-10 min, skeleton sets fetched with npm", snapshot=True),
+    Report("brush_fontforge", "bench.brush_fontforge", ["--md", "{md}"],
+           quick=["--glyphs", "A-C", "--ff-accuracy", "1", "--md", "{md}"], cost="2-5 min",
+           snapshot=True, needs=("shapely",)),
     Report("brush", "bench.brush", ["--fonts", "ttf,cff,ebg", "--nibs", "80,30,30;60,8,30",
                                     "--compare-jobs", "--fontbakery", "--md", "{md}"],
            quick=["--fonts", "ttf", "--glyphs", "A-C", "--md", "{md}"], cost="5-10 min",
@@ -352,7 +367,7 @@ def evaluation_rows():
         title = block.splitlines()[0].lstrip("# ").strip()
         m = re.search(r"(\d+) of (\d+) jobs run, (\d+) failed", block)
         if m:
-            rows.append(("sweep: " + title, m.group(2), m.group(3), _when(block)))
+            rows.append(("sweep: " + title, m.group(1), m.group(3), _when(block)))  # run
     icons = (BENCH / "icons.md").read_text(encoding="utf-8")
     for t in tables(icons)[:1]:
         col = {name: k for k, name in enumerate(t[0])}

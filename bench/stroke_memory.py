@@ -82,7 +82,6 @@ def run(ufo, jobs, out):
 
 def main(argv=None):
     from bench.skeletons import skeleton_ufo
-    from bench.stroke_profile import code_version, shown_args
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", default="hanzi-300,hanzi-3000")
@@ -103,14 +102,25 @@ def main(argv=None):
             r.update(set=s, jobs=int(j), glyphs=glyphs)
             print(r, flush=True)
             rows.append(r)
+            text = markdown(rows, argv, len(pairs))  # after every run: a long run's
+            if not opt.no_write:                     # rows are kept if it is stopped
+                Path(opt.md).write_text(text)
+    print(text)
+    return 0
+
+
+def markdown(rows, argv, planned):
+    from bench.stroke_profile import code_version, shown_args
+
     md = ["# Peak memory of `morph stroke` against the font's size (bench/stroke_memory.py)",
           "",
-          "Command: `python -m bench.stroke_memory%s`; measured %s UTC at %s.  Machine: "
-          "%d CPUs shared with other jobs (load average %s at the end): wall times are "
-          "upper bounds." % ("".join(" " + a for a in shown_args(argv)),
-                             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-                             os.cpu_count() or 1,
-                             ", ".join("%.1f" % v for v in os.getloadavg())), "",
+          "Command: `python -m bench.stroke_memory%s`; measured %s UTC at %s (%d of %d runs "
+          "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): "
+          "wall times are upper bounds." % ("".join(" " + a for a in shown_args(argv)),
+                                           time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+                                           code_version(), len(rows), planned,
+                                           os.cpu_count() or 1,
+                                           ", ".join("%.1f" % v for v in os.getloadavg())), "",
           "| set | glyphs | --jobs | peak RSS, command process MB | peak RSS, process tree MB "
           "(sampled) | CPU s (tree) | CPU ms / glyph | wall s | exit |",
           "|---|---|---|---|---|---|---|---|---|"]
@@ -121,11 +131,7 @@ def main(argv=None):
     md += ["", "The commands' last lines:", ""] + ["- %s --jobs %d: `%s`" % (r["set"], r["jobs"],
                                                                           r["line"])
                                                    for r in rows]
-    text = "\n".join(md) + "\n"
-    print(text)
-    if not opt.no_write:
-        Path(opt.md).write_text(text)
-    return 0
+    return "\n".join(md) + "\n"
 
 
 if __name__ == "__main__":

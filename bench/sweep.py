@@ -16,7 +16,9 @@ a-z x a-z (``lower``) in the bundled TrueType font (``ttf``) and its CFF version
 nibs (disk r=30, thin ellipse 60x8 rotated 30 degrees, square 40x40; font units), at
 ``--tol`` em; checked by ``tests.oracles.sweep.check`` (straddle against the exact
 predicate ``tests.oracles.membership.Oracle``, membership at random points, a coarse
-Clipper sum).
+Clipper sum; where the coarse sum's boundary is beyond its limit, one flattened 25
+times finer decides: a coarse reference's thin notch runs on past its tip,
+``tests.oracles.sweep.reference_distance``).
 
 ``random``: ``--n`` jobs drawn with ``--seed`` (printed; random if not given): a glyph
 of a font (``--fonts``, default ttf,cff,lobster,cormorant,amiri: the bundled Noto Sans
@@ -416,7 +418,8 @@ def summarize(mode, results, todo, elapsed, command, seed, workers, timeout):
         pr = [r for r in results if r["spec"].startswith("pair/")]
         if pr:
             w = max(pr, key=lambda r: r.get("error", 0.0))
-            lines.append("Pairs: worst Hausdorff to the coarse Clipper reference %.4g units "
+            lines.append("Pairs: worst Hausdorff to the Clipper reference (coarse, or 25 "
+                         "times finer where the coarse one is beyond its limit) %.4g units "
                          "(`%s`)." % (w.get("error", 0.0), w["spec"]))
             lines.append("")
     # time per job, by group

@@ -571,13 +571,13 @@ def chain(pieces, tol):
     joins = 0.5 * (ends + starts[succ])        # join i: end of i, start of succ[i]
     pred = np.empty(n, np.int64)
     pred[succ] = np.arange(n)
-    snapped = [None] * n
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    groups = []
+    for ks, h in pc.degree_groups(pieces):
+        h = h.copy()
         h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
-        for j, k in enumerate(ks):
-            snapped[k] = h[j]
+        groups.append((ks, h))
+    snapped = pc.Pieces(groups, n).rows()
     bounds = np.flatnonzero(np.diff(first[order])) + 1
     return [[snapped[k] for k in part] for part in np.split(order, bounds)]
 

@@ -335,13 +335,12 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     the horizontal rays of one loop's probes (:func:`morph.polyline.
     winding_number`) meet no other loop.  ``ways``: the unit end tangents of the
     curves ``open_cusps``."""
-    loops = np.unique(loop_of[open_cusps])
+    loops = pl.unique(loop_of[open_cusps])
     begin = np.cumsum(counts) - counts
     idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
     owner = np.repeat(np.arange(len(loops)), counts[loops])
     sel = [curves[i] for i in idx]
-    groups = [(np.asarray(ks), np.array([sel[i] for i in ks], float))
-              for ks in pc.by_degree(sel).values()]
+    groups = [(ks, h.copy()) for ks, h in pc.degree_groups(sel)]
     size = _loop_sizes(groups, owner, len(loops))
     first = [curves[begin[j]] for j in loops]
     origin = pc.end_points(first)[0]
@@ -421,7 +420,7 @@ def _boxes_holding_probes(groups, owner, probes, where, n_pieces, n_loops, margi
         probe = by_loop[np.repeat(first_probe[owner[ks]], n) + np.arange(n.sum())
                         - np.repeat(np.cumsum(n) - n, n)]
         hit = ((probes[probe] >= blo[piece]) & (probes[probe] <= bhi[piece])).all(axis=1)
-        fine[ks[np.unique(piece[hit])]] = True
+        fine[ks[pl.unique(piece[hit])]] = True
     return fine
 
 
@@ -463,8 +462,8 @@ def _cusp_sides(c_ins, c_outs):
 def _points_at(pieces, t):
     """Points of many pieces at one parameter t, (k, 2): pieces of one degree at once."""
     out = np.zeros((len(pieces), 2))
-    for n, ks in pc.by_degree(pieces).items():
-        h = np.array([pieces[i] for i in ks], float)
+    for ks, h in pc.degree_groups(pieces):
+        n = h.shape[1]
         v = np.einsum("j,kjc->kc", bz.basis(n - 1, np.array([t]))[0], h)
         out[ks] = v[:, :2] / v[:, 2:]
     return out

@@ -5,6 +5,7 @@
 
 import numpy as np
 
+from . import moments as mo
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
@@ -12,12 +13,12 @@ from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pai
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
                      TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
-from .operands import check_operand
+from .operands import check_operand, check_operands
 from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, deepest_point
+from .trim.holes import Membership, deepest_points
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -99,13 +100,15 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     if not region_b:
         raise OperandError("region_b is empty: both regions must have at least one loop")
     check_operand(region_b, "region_b")
-    points = []
-    for i, a in enumerate(regions_a):
-        if not a:
-            raise OperandError("region %d is empty: both regions must have at least one loop"
-                               % i)
-        check_operand(a, "region %d" % i)
-        points.append(check_tolerance(tol, a, region_b, operation="minkowski sum"))
+    # all regions' pieces checked together; what region by region raises first (the
+    # regions before an empty one, then the empty one)
+    empty = [i for i, a in enumerate(regions_a) if not a]
+    upto = empty[0] if empty else len(regions_a)
+    points = check_operands(regions_a[:upto], ["region %d" % i for i in range(upto)],
+                            region_b, tol, "minkowski sum")
+    if empty:
+        raise OperandError("region %d is empty: both regions must have at least one loop"
+                           % upto)
     out = []
     for group in _budget_groups(points, point_budget()):
         try:
@@ -313,18 +316,30 @@ class _HoleTest:
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
         self.cache = {}
+        self.areas = None  # the loop areas of A, for every Membership
         self.log = []
 
     def __call__(self, ring, islands):
-        x, depth = deepest_point(ring, islands, enough=HOLE_DEPTH * self.tol)
-        # flattenings fine enough for the depth, never coarser than tol, reused
-        key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)), -3, 0)
-        if key not in self.cache:
-            self.cache[key] = Membership(self.a, self.b, key)
-        # no point inside (a hole of no area outside its islands): it stays a hole
-        filled = bool(depth > 0.0) and self.cache[key](x)
-        self.log.append((x, depth, filled))
-        return filled
+        return self.many([(ring, islands)])[0]
+
+    def many(self, holes):
+        """The test of every (ring, islands) of ``holes``, the deepest points found
+        together (:func:`morph.trim.holes.deepest_points`)."""
+        points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
+        out = []
+        for x, depth in zip(points, depths.tolist()):
+            # flattenings fine enough for the depth, never coarser than tol, reused
+            key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)),
+                                            -3, 0)
+            if key not in self.cache:
+                if self.areas is None:
+                    self.areas = mo.loop_areas(self.a)
+                self.cache[key] = Membership(self.a, self.b, key, self.areas)
+            # no point inside (a hole of no area outside its islands): it stays a hole
+            filled = bool(depth > 0.0) and self.cache[key](x)
+            self.log.append((x, depth, filled))
+            out.append(filled)
+        return out
 
 
 __all__ = ["minkowski_sum", "minkowski_sum_debug", "minkowski_sums", "check_operand",

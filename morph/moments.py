@@ -17,7 +17,7 @@ import functools
 import numpy as np
 
 from . import bernstein as bz
-from .piece import by_degree, end_points, jet_many, kind_groups, start
+from .piece import Pieces, degree_groups, end_points, jet_many, kind_groups, start
 
 __all__ = ["area_terms", "moment_terms", "loop_area", "loop_areas", "region_area",
            "region_centroid"]
@@ -50,12 +50,12 @@ def loop_areas(loops):
     owner = np.repeat(np.arange(len(sizes)), sizes)
     origin = end_points([loop[0] for loop in loops if len(loop)])[0]
     origin = origin[np.cumsum(sizes > 0) - 1][owner]
-    moved = [None] * len(pieces)
-    for ks in by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    groups = []
+    for ks, h in degree_groups(pieces):
+        h = h.copy()
         h[..., :2] -= origin[ks][:, None] * h[..., 2:]
-        for j, k in enumerate(ks):
-            moved[k] = h[j]
+        groups.append((ks, h))
+    moved = Pieces(groups, len(pieces)).rows()
     return np.bincount(owner, weights=area_terms(moved), minlength=len(sizes))
 
 

@@ -18,7 +18,7 @@ from .polyline import winding_number
 from .region import (APART, Region, loops_cross, outside_windings, region_scale,
                      sample_candidates)
 
-__all__ = ["check_operand", "winding_fault"]
+__all__ = ["check_operand", "check_operands", "winding_fault"]
 
 
 def check_operand(region, name):
@@ -71,6 +71,113 @@ def check_operand(region, name):
                            "(morph.region.orient_region normalises loops)" % (name, area))
     if not (isinstance(region, Region) and region.validated):
         _check_windings(region, name)
+
+
+def check_operands(regions, names, region_b, tol, operation):
+    """[:func:`morph.limits.check_tolerance` (tol, region, region_b)] of every region
+    after its :func:`check_operand`, raising what region by region would raise first.
+
+    The pieces of all regions are checked together (shapes, finite values, weights,
+    closed loops, areas, extents, estimated points: a few array calls for a font's
+    chunk); a region that any of these flags, or that is not a validated
+    :class:`morph.region.Region` (the winding test), is then checked on its own, in
+    order, by the functions themselves, so that the first error and its message
+    are theirs.  ``region_b`` must have passed :func:`check_operand`."""
+    from . import limits as lm
+
+    regions = list(regions)
+    n = len(regions)
+    if not n:
+        return []
+    try:
+        tol_ok = float(tol) > 0 and np.isfinite(float(tol))
+    except (TypeError, ValueError):
+        tol_ok = False
+    if not tol_ok:   # check_tolerance names it
+        return _one_by_one(regions, names, region_b, tol, operation, range(n))
+    tol = float(tol)
+    loops = [loop for r in regions for loop in r]
+    region_of_loop = np.repeat(np.arange(n), [len(r) for r in regions])
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    pieces = [p for loop in loops for p in loop]
+    flag = np.zeros(n, bool)
+    flag[region_of_loop[sizes == 0]] = True
+    ok_shape = set(map(np.shape, pieces))
+    if any(len(s) != 2 or s[1] != 3 or s[0] < 2 for s in ok_shape) or not pieces:
+        return _one_by_one(regions, names, region_b, tol, operation, range(n))
+    region_of = np.repeat(region_of_loop, sizes)
+    packed = pc.Pieces.of(pieces)
+    rows = np.zeros(n, np.int64)
+    np.add.at(rows, region_of, 1)
+    big = np.zeros(n)
+    # weights, finite values and the control points' extent of each region
+    lo, hi = np.full((n, 2), np.inf), np.full((n, 2), -np.inf)
+    mag = np.zeros(n)
+    bad = np.zeros(n, bool)
+    for ks, h in packed.groups:
+        r = region_of[ks]
+        with np.errstate(all="ignore"):
+            x = h[..., :2] / h[..., 2:]
+        fin = np.isfinite(h).all(axis=(1, 2)) & np.isfinite(x).all(axis=(1, 2))
+        bad[r[~fin]] = True
+        bad[r[~(h[..., 2] > 0).all(axis=1)]] = True
+        np.minimum.at(lo, r, np.where(fin[:, None], x.min(axis=1), np.inf))
+        np.maximum.at(hi, r, np.where(fin[:, None], x.max(axis=1), -np.inf))
+        np.maximum.at(mag, r, np.where(fin, np.abs(x).max(axis=(1, 2)), 0.0))
+    flag |= bad | (mag > lm.MAX_COORDINATE)
+    size = np.where(np.isfinite(hi - lo).all(axis=1), (hi - lo).max(axis=1), 0.0)
+    # closed loops: each piece ends where the next of its loop starts
+    starts, ends = pc.end_points(packed)
+    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    k = np.arange(len(pieces))
+    nxt = np.where(k + 1 - first == np.repeat(sizes, sizes), first, k + 1)
+    with np.errstate(all="ignore"):
+        gap = np.hypot(*(starts[nxt] - ends).T)
+        np.maximum.at(big, region_of, np.nan_to_num(gap, nan=np.inf))
+        flag |= big > 1e-7 * size
+        area = np.bincount(region_of_loop, weights=mo.loop_areas(loops), minlength=n)
+        # summed in another order than check_operand's: flagged with room to spare
+        flag |= ~(area >= -0.5e-9 * size * size)
+    # the tolerance: the extents with B's, and the estimated points
+    b_size, b_mag = lm.region_extent(region_b)
+    tot_size, tot_mag = size + b_size, mag + b_mag
+    floor = np.maximum(lm.REL_TOL_FLOOR * tot_size, lm.precision_floor(tot_mag))
+    points = _estimate_points_many(packed, region_of, n, tol) + lm.estimate_points(region_b, tol)
+    flag |= ((tot_size > 0) & (tol > tot_size)) | (tol < floor) | (points > lm.point_budget())
+    check = [i for i in range(n) if flag[i] or not (
+        isinstance(regions[i], Region) and regions[i].validated)]
+    out = points.tolist()
+    for i, p in zip(check, _one_by_one(regions, names, region_b, tol, operation, check)):
+        out[i] = p
+    return out
+
+
+def _one_by_one(regions, names, region_b, tol, operation, which):
+    """check_operand and check_tolerance of the regions ``which``, in order."""
+    from .limits import check_tolerance
+
+    out = []
+    for i in which:
+        check_operand(regions[i], names[i])
+        out.append(check_tolerance(tol, regions[i], region_b, operation=operation))
+    return out
+
+
+def _estimate_points_many(packed, region_of, n, tol):
+    """:func:`morph.limits.estimate_points` of each region (its pieces: ``region_of``)
+    at once: (n,) floats (sums of integers: the same in any order)."""
+    out = np.zeros(n)
+    for ks, h, _ in pc.kind_groups(packed):
+        d = h.shape[1] - 1
+        if d < 2:
+            np.add.at(out, region_of[ks], 1.0)
+            continue
+        with np.errstate(all="ignore"):
+            c = h[..., :2] / h[..., 2:]
+            dd = np.abs(np.diff(c, 2, axis=1)).max(axis=(1, 2)) * d * (d - 1)
+            steps = np.ceil(np.sqrt(dd / (8.0 * tol)))
+        np.add.at(out, region_of[ks], np.where(dd > 0, steps, 1.0))
+    return out
 
 
 def _check_windings(region, name):

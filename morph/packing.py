@@ -84,12 +84,12 @@ def _translated(loops, offsets):
     sizes = [len(loop) for loop in loops]
     pieces = [p for loop in loops for p in loop]
     shift = np.repeat(np.asarray(offsets, float).reshape(-1, 2), sizes, axis=0)
-    moved = [None] * len(pieces)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    groups = []
+    for ks, h in pc.degree_groups(pieces):
+        h = h.copy()
         h[..., :2] += shift[ks][:, None] * h[..., 2:]
-        for j, k in enumerate(ks):
-            moved[k] = h[j]
+        groups.append((ks, h))
+    moved = pc.Pieces(groups, len(pieces)).rows()
     bounds = np.cumsum([0] + sizes)
     return [moved[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 

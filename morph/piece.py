@@ -138,10 +138,11 @@ def stack(pieces):
     Degree elevation is exact on homogeneous control points, so one array holds
     pieces of mixed degree for the batched evaluations below.
     """
-    deg = max(len(p) for p in pieces) - 1
+    groups = degree_groups(pieces)
+    deg = max(h.shape[1] for _, h in groups) - 1
     out = np.empty((len(pieces), deg + 1, 3))
-    for n, ks in by_degree(pieces).items():
-        out[ks] = bz.elevate_many(np.array([pieces[k] for k in ks], float), deg + 1 - n)
+    for ks, h in groups:
+        out[ks] = bz.elevate_many(h, deg + 1 - h.shape[1])
     return out
 
 
@@ -384,15 +385,20 @@ def subsegment(piece, t0, t1):
     return bz.subsegment(piece, t0, t1)
 
 
-def subsegments(pieces, idx, t0, t1):
+def subsegments(pieces, idx, t0, t1, packed=False):
     """pieces[idx[k]] restricted to [t0[k], t1[k]] (reversed where t1 < t0), a list
-    (those of one degree at once)."""
-    out = [None] * len(idx)
-    for ks in by_degree([pieces[i] for i in idx]).values():
-        h = np.array([pieces[idx[k]] for k in ks], float)
-        for k, c in zip(ks, bz.subsegment_many(h, np.asarray(t0)[ks], np.asarray(t1)[ks])):
-            out[k] = c
-    return out
+    (those of one degree at once); with ``packed`` a :class:`Pieces`."""
+    idx = np.asarray(idx, np.int64)
+    t0, t1 = np.asarray(t0, float), np.asarray(t1, float)
+    out = []
+    if isinstance(pieces, Pieces):
+        src = pieces.take(idx).groups
+    else:
+        src = degree_groups([pieces[i] for i in idx.tolist()])
+    for ks, h in src:
+        out.append((ks, bz.subsegment_many(h, t0[ks], t1[ks])))
+    result = Pieces(out, len(idx))
+    return result if packed else result.rows()
 
 
 def elevate(piece, r=1):
@@ -430,12 +436,100 @@ def bbox(piece):
 
 
 def by_degree(pieces):
-    """{number of control points: indices} of a list of pieces (the groups that batched
-    functions stack)."""
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault(len(p), []).append(k)
-    return groups
+    """{number of control points: indices (int64 array, ascending)} of a list of
+    pieces (the groups that batched functions stack), the groups in the order of
+    their first piece.  A :class:`Pieces` knows its groups; for a list the lengths
+    are read in one C-level pass and grouped by a stable sort (no per-piece Python
+    statement: a chunk of a font holds tens of thousands of pieces)."""
+    if isinstance(pieces, Pieces):
+        return {int(h.shape[1]): ks for ks, h in pieces.groups}
+    n = len(pieces)
+    if n == 0:
+        return {}
+    lens = np.fromiter(map(len, pieces), np.int64, n)
+    if not (lens != lens[0]).any():
+        return {int(lens[0]): np.arange(n)}
+    order = np.argsort(lens, kind="stable")
+    parts = np.split(order, np.flatnonzero(np.diff(lens[order])) + 1)
+    parts.sort(key=lambda ks: ks[0])
+    return {int(lens[ks[0]]): ks for ks in parts}
+
+
+def degree_groups(pieces):
+    """[(indices (k,), stack (k, n+1, 3))] of the pieces by number of control points
+    (:func:`by_degree`), the stacks built once: those of a :class:`Pieces` as they
+    are (no copy), a list's gathered."""
+    if isinstance(pieces, Pieces):
+        return pieces.groups
+    return [(ks, _gather(pieces, ks)) for ks in by_degree(pieces).values()]
+
+
+def _gather(pieces, ks):
+    """np.array of pieces[ks] (one degree): (k, n+1, 3) floats."""
+    if len(ks) == len(pieces):
+        return np.array(pieces, float)
+    return np.array([pieces[k] for k in ks.tolist()], float)
+
+
+class Pieces:
+    """A sequence of pieces held as one stack per degree: ``groups`` [(indices,
+    stack (k, n+1, 3))], the indices of all groups a partition of range(len).
+
+    What the batched functions of this module (and of :mod:`morph.polyline`,
+    :mod:`morph.trim`) take for a list of pieces without stacking it again: a
+    chunk of a font's convolution is tens of thousands of pieces, and gathering
+    a list into stacks costs about a microsecond a piece each time.  Indexing and
+    iterating give the rows of the stacks (views: treat them as read-only), in
+    order, made once when first asked for."""
+
+    __slots__ = ("groups", "_n", "_rows")
+
+    def __init__(self, groups, n):
+        self.groups = [(np.asarray(ks, np.int64), h) for ks, h in groups]
+        self._n = int(n)
+        self._rows = None
+
+    @classmethod
+    def of(cls, pieces):
+        """``pieces`` as a :class:`Pieces` (itself when it is one)."""
+        if isinstance(pieces, Pieces):
+            return pieces
+        return cls(degree_groups(pieces), len(pieces))
+
+    def __len__(self):
+        return self._n
+
+    def rows(self):
+        """The pieces as a list (views of the stacks), in order."""
+        if self._rows is None:
+            out = [None] * self._n
+            for ks, h in self.groups:
+                for k, row in zip(ks.tolist(), h):
+                    out[k] = row
+            self._rows = out
+        return self._rows
+
+    def __getitem__(self, k):
+        return self.rows()[k]
+
+    def __iter__(self):
+        return iter(self.rows())
+
+    def take(self, idx):
+        """The pieces ``idx`` (an index array), as a :class:`Pieces`."""
+        idx = np.asarray(idx, np.int64)
+        group = np.empty(self._n, np.int64)
+        row = np.empty(self._n, np.int64)
+        for g, (ks, _) in enumerate(self.groups):
+            group[ks] = g
+            row[ks] = np.arange(len(ks))
+        gi = group[idx]
+        out = []
+        for g, (_, h) in enumerate(self.groups):
+            sel = np.flatnonzero(gi == g)
+            if len(sel):
+                out.append((sel, h[row[idx[sel]]]))
+        return Pieces(out, len(idx))
 
 
 def kind_groups(pieces):
@@ -443,10 +537,8 @@ def kind_groups(pieces):
     functions: a list of (indices (k,), stack (k, n+1, 3), rational), ``rational``
     False where every piece of the group is polynomial (:func:`is_polynomial`)."""
     out = []
-    for ks in by_degree(pieces).values():
-        stack = np.array([pieces[k] for k in ks], float)
+    for ks, stack in degree_groups(pieces):
         rational = ~is_polynomial_many(stack)
-        ks = np.asarray(ks)
         for kind in (False, True):
             if (rational == kind).any():
                 out.append((ks[rational == kind], stack[rational == kind], kind))
@@ -456,8 +548,7 @@ def kind_groups(pieces):
 def bboxes(pieces):
     """:func:`bbox` of many pieces (those of one degree at once): (k, 4)."""
     out = np.zeros((len(pieces), 4))
-    for ks in by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h in degree_groups(pieces):
         p = h[:, :, :2] / h[:, :, 2:]
         out[ks] = np.concatenate([p.min(axis=1), p.max(axis=1)], axis=1)
     return out
@@ -466,8 +557,7 @@ def bboxes(pieces):
 def end_points(pieces):
     """(starts, ends), (k, 2) each: the first and last points of many pieces."""
     starts, ends = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
-    for ks in by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h in degree_groups(pieces):
         starts[ks], ends[ks] = h[:, 0, :2] / h[:, 0, 2:], h[:, -1, :2] / h[:, -1, 2:]
     return starts, ends
 
@@ -480,8 +570,7 @@ def length_bound(piece):
 def length_bounds(pieces):
     """:func:`length_bound` of many pieces (those of one degree at once): (k,)."""
     out = np.zeros(len(pieces))
-    for ks in by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h in degree_groups(pieces):
         d = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
         out[ks] = np.hypot(d[..., 0], d[..., 1]).sum(axis=1)
     return out
@@ -516,11 +605,7 @@ def end_tangents_many(pieces, rel=1e-12, strict=True):
     at once.  A piece whose control points all coincide raises
     DegenerateCurveError (``strict``) or gets zero vectors."""
     first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
-    groups = {}
-    for k, p in enumerate(pieces):
-        groups.setdefault(len(p), []).append(k)
-    for ks in groups.values():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h in degree_groups(pieces):
         x = h[..., :2] / h[..., 2:]
         d = np.diff(x, axis=1)
         n = np.hypot(d[..., 0], d[..., 1])

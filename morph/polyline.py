@@ -55,9 +55,8 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
     subdivision left out (with all they would be cut into) where False; the vertices
     of the parts kept are those of the whole flattening."""
     owners, params, points = [np.zeros(0, np.intp)], [np.zeros(0)], [np.zeros((0, 2))]
-    for ks in pc.by_degree(pieces).values():
-        stack = np.array([np.asarray(pieces[k], float) for k in ks])
-        ks_arr = np.asarray(ks)
+    for ks_arr, stack in pc.degree_groups(pieces):
+        ks = ks_arr
         part_keep = None if keep is None else (lambda o, t, w, ks_arr=ks_arr: keep(ks_arr[o], t, w))
         owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth, part_keep)
         owners.append(np.asarray(ks)[owner])

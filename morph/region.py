@@ -145,8 +145,7 @@ def zero_length_mask(pieces, rtol=1e-12):
     """:func:`is_zero_length` of many pieces (those of one degree at once): (k,) bools:
     all Cartesian control points within rtol max(1, max |coordinate|) of the first."""
     out = np.zeros(len(pieces), bool)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    for ks, h in pc.degree_groups(pieces):
         p = h[:, :, :2] / h[:, :, 2:]
         scale = np.maximum(1.0, np.abs(p).max(axis=(1, 2)))
         out[ks] = np.all(np.abs(p - p[:, :1]) <= rtol * scale[:, None, None], axis=(1, 2))

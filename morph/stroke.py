@@ -117,20 +117,16 @@ def _piece_boxes(pieces):
     """(lo, hi) (k, 2) each: the smallest and largest Cartesian control point
     coordinates of every piece, by degree groups."""
     lo, hi = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
-    for ks in pc.by_degree(pieces).values():
-        x = pc.cartesian(np.array([pieces[k] for k in ks], float))
+    for ks, h in pc.degree_groups(pieces):
+        x = pc.cartesian(h)
         lo[ks], hi[ks] = x.min(axis=1), x.max(axis=1)
     return lo, hi
 
 
 def _reversed_many(pieces):
     """Each piece traversed the other way (:func:`morph.piece.reverse`), by degree."""
-    out = [None] * len(pieces)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)[:, ::-1].copy()
-        for j, k in enumerate(ks):
-            out[k] = h[j]
-    return out
+    return pc.Pieces([(ks, h[:, ::-1].copy()) for ks, h in pc.degree_groups(pieces)],
+                     len(pieces)).rows()
 
 
 __all__ = ["stroke_paths", "stroke_many", "path_loop"]

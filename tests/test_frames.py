@@ -212,6 +212,27 @@ def test_frames_are_written_as_they_are_done(tmp_path):
         "frame-000.png", "frame-000.svg", "frame-001.png", "frame-001.svg"]
 
 
+def test_frame_curves_are_fitted_in_batches(tmp_path, monkeypatch):
+    """write_frame_stream converts the curves of FRAME_BATCH frames in one batch (a
+    round's array calls serve all of them): 20 frames, two batches of 16 and 4
+    frames' loops; every frame written."""
+    from morph.render import figures, svg, write_frame_stream
+
+    calls = []
+    real = svg.loops_to_beziers
+
+    def counted(loops, *args, **kwargs):
+        calls.append(len(loops))
+        return real(loops, *args, **kwargs)
+
+    monkeypatch.setattr(svg, "loops_to_beziers", counted)
+    frames = [([pc.circle((0.0, 0.0), 1.0 + k / 10)], 1e-3) for k in range(20)]
+    write_frame_stream(tmp_path, iter(frames), (-3.0, -3.0, 3.0, 3.0), size=32)
+    # (each frame's writer then meets its fitted Béziers: one loop, written as it is)
+    assert [n for n in calls if n > 1] == [figures.FRAME_BATCH, 20 - figures.FRAME_BATCH]
+    assert len(list(tmp_path.glob("frame-*.svg"))) == 20
+
+
 def test_glyph_command_refuses_an_animation_beyond_memory(tmp_path, monkeypatch):
     """The animation's frames stay in memory: frames x size^2 bytes (GIF) against a
     quarter of the memory budget (here 1 GB); one line, nothing written."""

@@ -918,3 +918,58 @@ def test_tiny_handle_against_a_flat_joint(seed):
             loops, debug = minkowski_sum_debug(x, y, tol)
             assert loops.bound <= tol and len(debug["convolution"]) < 100
             check_loops(loops, x, y, tol, 2e-3, rng, n_random=30, max_boundary=40)
+
+
+def test_operand_checks_of_many_regions_raise_what_one_by_one_raises():
+    """check_operands checks all regions' pieces together and raises what
+    check_operand then check_tolerance, region by region, raise first (the same
+    type and message), and returns the same estimated points where all pass.
+    Faults: an open loop, a weight <= 0, a negative area, a NaN, a tolerance
+    coarser than a region, each placed after valid regions and before others."""
+    from morph.errors import MorphError
+    from morph.limits import check_tolerance
+    from morph.operands import check_operand, check_operands
+    from morph.region import validated
+
+    sq = polygon_region([(0, 0), (10, 0), (10, 10), (0, 10)])
+    b = polygon_region([(0, 0), (1, 0), (1, 1), (0, 1)])
+    good = [validated(glyph_region(c).region) for c in "oTa"] + [sq, validated(sq)]
+
+    def one_by_one(regions, tol):
+        out = []
+        for i, r in enumerate(regions):
+            check_operand(r, "region %d" % i)
+            out.append(check_tolerance(tol, r, b, operation="minkowski sum"))
+        return out
+
+    def outcome(f, regions, tol):
+        try:
+            return f(regions, tol)
+        except MorphError as exc:
+            return type(exc), str(exc)
+
+    def batched(regions, tol):
+        return check_operands(regions, ["region %d" % i for i in range(len(regions))], b, tol,
+                              "minkowski sum")
+
+    opened = [[pc.line((0, 0), (10, 0)), pc.line((10, 0), (10, 10)), pc.line((10, 10), (0, 9))]]
+    weight = [[p.copy() for p in loop] for loop in sq]
+    weight[0][1][0, 2] = -1.0
+    negative = [[pc.reverse(p) for p in reversed(loop)] for loop in sq]
+    nan = [[p.copy() for p in loop] for loop in sq]
+    nan[0][0][0, 0] = np.nan
+    # marked validated: only the batched checks can flag them (no winding test)
+    faults = [validated(f) for f in (opened, weight, negative, nan)]
+    assert outcome(batched, good, 0.5) == outcome(one_by_one, good, 0.5)
+    assert isinstance(outcome(batched, good, 0.5), list)
+    for k, bad in enumerate(faults):
+        for at in (0, 2, len(good)):
+            regions = good[:at] + [bad] + good[at:] + [faults[(k + 1) % len(faults)]]
+            want = outcome(one_by_one, regions, 0.5)
+            assert outcome(batched, regions, 0.5) == want
+            assert isinstance(want, tuple), want  # a fault was raised
+    # a tolerance larger than a small region: the LimitError of that region
+    tiny = polygon_region([(0, 0), (0.01, 0), (0.01, 0.01), (0, 0.01)])
+    regions = good[:2] + [validated(tiny)] + [faults[0]]
+    assert isinstance(outcome(one_by_one, regions, 5.0), tuple)
+    assert outcome(batched, regions, 5.0) == outcome(one_by_one, regions, 5.0)

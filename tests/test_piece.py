@@ -232,3 +232,58 @@ def test_jet2_power_many_matches_de_casteljau_jets():
             assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * (1 + np.abs(a).max()))
 
 
+
+
+def _mixed_pieces(rng, k):
+    """k pieces of degrees 1-4 in random order, some rational."""
+    out = []
+    for n in rng.integers(1, 5, k):
+        pts = rng.uniform(-3, 3, (n + 1, 2))
+        w = rng.uniform(0.5, 2.0, n + 1) if rng.random() < 0.5 else None
+        out.append(pc.from_points(pts, w))
+    return out
+
+
+def test_by_degree_groups_each_piece_once_in_first_seen_order():
+    """The vectorised grouping against a plain dict built piece by piece: the same
+    keys in the same order (first piece of each degree), the same indices."""
+    rng = np.random.default_rng(3)
+    for k in (0, 1, 7, 300):
+        pieces = _mixed_pieces(rng, k)
+        plain = {}
+        for i, p in enumerate(pieces):
+            plain.setdefault(len(p), []).append(i)
+        got = pc.by_degree(pieces)
+        assert list(got) == list(plain)
+        assert all(list(got[n]) == plain[n] for n in plain)
+    same = [pc.line((0, 0), (1, k)) for k in range(5)]
+    assert list(pc.by_degree(same)[2]) == list(range(5))
+
+
+def test_packed_pieces_match_the_list():
+    """A Pieces holds the same control points in the same order as the list it was
+    made of; take() picks rows by index (repeats allowed); the batched functions
+    give the same bits on the packed form and on the list; subsegments packed or
+    not agree with the one-piece subsegment."""
+    rng = np.random.default_rng(4)
+    pieces = _mixed_pieces(rng, 200)
+    packed = pc.Pieces.of(pieces)
+    assert len(packed) == len(pieces) and pc.Pieces.of(packed) is packed
+    assert all(np.array_equal(a, b) for a, b in zip(packed, pieces))
+    idx = rng.integers(0, len(pieces), 120)
+    sub = packed.take(idx)
+    assert all(np.array_equal(sub[j], pieces[i]) for j, i in enumerate(idx))
+    for f in (pc.bboxes, pc.length_bounds, pc.stack):
+        assert np.array_equal(f(packed), f(pieces))
+    for a, b in zip(pc.end_points(packed), pc.end_points(pieces)):
+        assert np.array_equal(a, b)
+    t0, t1 = rng.uniform(0, 1, len(idx)), rng.uniform(0, 1, len(idx))
+    one = [pc.subsegment(pieces[i], a, b) for i, a, b in zip(idx, t0, t1)]
+    for got in (pc.subsegments(pieces, idx, t0, t1), pc.subsegments(packed, idx, t0, t1),
+                pc.subsegments(packed, idx, t0, t1, packed=True)):
+        assert len(got) == len(one)
+        assert all(np.allclose(a, b, rtol=0, atol=1e-12) for a, b in zip(got, one))
+    # a displaced row is seen (the comparison can fail)
+    moved = [p.copy() for p in pieces]
+    moved[17][0, 0] += 1e-9
+    assert not np.array_equal(pc.end_points(pc.Pieces.of(moved))[0], pc.end_points(packed)[0])

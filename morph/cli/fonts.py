@@ -144,7 +144,7 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     with progress_bar(total, "glyphs", "morph brush") as bar:
         stats = brush_font(source, out, nib_region, items, tol=tol * source["head"].unitsPerEm,
                            family_name=family, progress=lambda name: bar.update(1),
-                           composites=composites, jobs=jobs)
+                           composites=composites, jobs=jobs, in_flight=bar.partial)
     seconds = time.perf_counter() - t0
     sample = _covered_sample(out, sample)
     write_sample_image(out, sample, png)
@@ -388,12 +388,13 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
 
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
+    from ..fonts.stream import SkeletonSource
     from ..fonts.stroke import stroke_plan, stroke_ufo
-    from ..parse.ufo import load_ufo
 
     out = _stroke_output(output, force)
     png, page = _companions(out, force, specimen=out.suffix.lower() != ".ufo")
-    font = load_ufo(src)
+    source = SkeletonSource(src)  # read once: the glyphs' shells, not their outlines
+    font = source.shell_font()
     upm = float(font.info.unitsPerEm or 1000)
     nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
     items = _glyph_items(glyphs)
@@ -403,13 +404,18 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
     with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
-        # the path, not the open font: stroke_ufo then reads the UFO whole instead of
-        # deep-copying this one (5 ms a glyph)
-        stats = stroke_ufo(src, out, nib_region, items, tol=tol * upm, family_name=family,
-                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs)
+        stats = stroke_ufo(source, out, nib_region, items, tol=tol * upm, family_name=family,
+                           progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
+                           in_flight=bar.partial)
     seconds = time.perf_counter() - t0
-    sample = _covered_sample(out if page else stats["font"], sample)
-    write_sample_image(out if page else stats["font"], sample, png)  # a .ufo: compiled
+    if page:
+        shown = out
+    else:  # a .ufo: the glyphs the sample may show, compiled (not the whole font)
+        from ..fonts.stream import sample_font
+
+        shown = sample_font(out, sample)
+    sample = _covered_sample(shown, sample)
+    write_sample_image(shown, sample, png)
     if page:
         write_specimen(out, None, sample=sample)
     click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"

@@ -287,14 +287,19 @@ class Progress:
     """Work done, counted in items (glyphs, frames), on stderr.
 
     ``update(n)`` adds ``n`` items done (a batch of glyphs finishing together adds
-    each).  The status says the items done of all, the percentage, the time
-    elapsed, and once something is done the time left: the time per item done so
-    far times the items left (no estimate before the first item: a rate from
-    nothing done is no rate).  On a terminal the line is redrawn in place, at most
-    every :data:`REDRAW_SECONDS`; otherwise (a pipe, a log) a line is printed every
-    :data:`STATUS_SECONDS`, and a last one at the end when any was (a short run
-    prints nothing).  A background thread keeps
-    the clock, so a long first batch still shows the time passing.
+    each).  ``partial(units)`` adds (or, negative, takes back) work in flight: the
+    items' worth that unfinished batches have reported (a chunk of glyphs whose
+    sums are done, :func:`morph.fonts.jobs.glyph_progress`); it is taken back as
+    the batch's items are added.  The count shown is the items done plus the work
+    in flight, in whole items, and never goes back.  The status says that count of
+    all, the percentage, the time elapsed, and once something is done the time
+    left: the time per item done so far times the items left (no estimate before
+    the first item: a rate from nothing done is no rate); when everything is done
+    but the command still works (writing, compiling), it says so.  On a terminal
+    the line is redrawn in place, at most every :data:`REDRAW_SECONDS`; otherwise
+    (a pipe, a log) a line is printed every :data:`STATUS_SECONDS`, and a last one
+    at the end when any was (a short run prints nothing).  A background thread
+    keeps the clock, so a long first batch still shows the time passing.
     """
 
     def __init__(self, total, label, command="morph", stream=None, tty=None, interval=None):
@@ -307,6 +312,8 @@ class Progress:
         self.interval = (interval if interval is not None
                          else REDRAW_SECONDS if self.tty else STATUS_SECONDS)
         self.done = 0
+        self.flight = 0.0       # work in flight (partial), in items
+        self._best = 0.0        # the most work shown so far: the count never goes back
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._tick, daemon=True)
@@ -333,16 +340,32 @@ class Progress:
         if self.tty:
             self._show()
 
-    def status(self):
+    def partial(self, units):
+        with self._lock:
+            self.flight = max(0.0, self.flight + units)
+        if self.tty and units > 0:
+            self._show()
+
+    def work(self):
+        """Items' worth done: the items done plus the work in flight, never less
+        than shown before, at most the total."""
+        with self._lock:
+            self._best = max(self._best, min(float(self.total), self.done + self.flight))
+            return self._best
+
+    def status(self, final=False):
         """The status text: ``3/141 glyphs (2 %), 4 s, about 180 s left``."""
         import time
 
         elapsed = time.monotonic() - self._start
-        done, total = self.done, max(self.total, 1)
+        work, total = self.work(), max(self.total, 1)
+        done = int(work + 1e-9)
         text = "%d/%d %s (%d %%), %.0f s" % (done, self.total, self.label,
-                                             100 * done // total, elapsed)
-        if 0 < done < self.total:
-            text += ", about %.0f s left" % (elapsed / done * (self.total - done))
+                                             int(100 * work / total + 1e-9), elapsed)
+        if 0 < work < self.total:
+            text += ", about %.0f s left" % (elapsed / work * (self.total - work))
+        elif work >= self.total and not final:
+            text += ", finishing"
         return text
 
     def _tick(self):
@@ -350,8 +373,8 @@ class Progress:
             self._show()
 
     def _show(self, final=False):
+        line = "%s: %s" % (self.command, self.status(final))
         with self._lock:
-            line = "%s: %s" % (self.command, self.status())
             if self.tty:
                 self.stream.write("\r\033[K" + line + ("\n" if final else ""))
             else:

@@ -45,6 +45,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
+from ..polyline import unique
 from ..budget import PHI_SHARE
 
 
@@ -232,8 +233,33 @@ PHI_DEGREES = (3, 5, 7, 9)
 #: Largest |log c| of the Möbius factor of :func:`_reparams`.
 MOEBIUS_LOG = 5.0
 #: Dense samples of the closest-point start of :func:`_reparams` (the cubic is
-#: within about tol of the piece: a coarse start is in Newton's basin).
+#: within about tol of the piece: a coarse start is in Newton's basin), where the
+#: fitter gives no start; Newton steps from either start (from the fitter's, 2 steps
+#: give the same outlines on the bench sets but leave a straight rational piece of
+#: uneven speed two cubics at tol 1e-8).
 REPARAM_SAMPLES = 33
+REPARAM_ITERS = 4
+
+
+def start_at_nodes(s, u):
+    """Starting feet for :func:`_reparams` from the fitter's samples: rows of
+    parameters s (k, m) on the cubic paired with parameters u (m,) on the piece
+    (where the fitter's rays from R(u_j) met the cubic), completed by the shared end
+    points (0, 0) and (1, 1), sorted by s and interpolated linearly at the nodes:
+    (k, 24), NaN rows where a row of s has a NaN.  Only a start: Newton's iteration
+    then finds the feet of the nodes themselves."""
+    k = len(s)
+    ss = np.concatenate([np.zeros((k, 1)), np.clip(s, 0.0, 1.0), np.ones((k, 1))], axis=1)
+    uu = np.broadcast_to(np.concatenate([[0.0], u, [1.0]]), ss.shape)
+    order = np.argsort(ss, axis=1, kind="stable")
+    ss = np.take_along_axis(ss, order, axis=1)
+    uu = np.take_along_axis(uu, order, axis=1)
+    j = np.clip((ss[:, :, None] <= _NODES[None, None]).sum(axis=1) - 1, 0, ss.shape[1] - 2)
+    s0, s1 = np.take_along_axis(ss, j, 1), np.take_along_axis(ss, j + 1, 1)
+    u0, u1 = np.take_along_axis(uu, j, 1), np.take_along_axis(uu, j + 1, 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(s1 > s0, (_NODES[None] - s0) / (s1 - s0), 0.5)
+    return np.clip(u0 + np.clip(w, 0.0, 1.0) * (u1 - u0), 0.0, 1.0)
 
 
 def _moebius(u):
@@ -250,11 +276,13 @@ def _moebius(u):
     return np.where(np.abs(mid) > 0.05, np.exp(mid), 1.0)
 
 
-def _reparams(subs, cubics, tol):
+def _reparams(groups, cubics, tol, start=None):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
-    Returns ``(phis, c, normal)``: for each (sub-piece, cubic) pair phi's increasing
-    Bernstein coefficients of the lowest degree in 1, 3, 5, 7, 9 whose tangential
+    ``groups``: the sub-pieces by degree, [(rows, stack)] (:func:`degree_groups`).
+    Returns ``(phis, size, c, normal)``: for each (sub-piece, cubic) pair phi's
+    increasing Bernstein coefficients (``phis`` (k, 10), the first ``size`` of a row
+    used) of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
     PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
     distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).  Where no
@@ -263,40 +291,53 @@ def _reparams(subs, cubics, tol):
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
     homogeneous control points R o mu is R with w_i scaled by c^i, the same curve)
     and kept if it follows better; elsewhere c = 1.  The feet u_j of all
-    pairs come from one batched search (:func:`morph.nearest.nearest_params_many`),
-    phi from one least-squares solve per degree (:func:`morph.bernstein.
-    fit_fixed_ends`, ends fixed at 0 and 1).
+    pairs come from one batched Newton search per degree
+    (:func:`morph.nearest.closest_params_many`) started at ``start`` (k, 24), the
+    feet the fitter already found (:func:`start_at_nodes`), or, for rows without
+    one (NaN), at the nearest of dense samples of the piece
+    (:func:`morph.nearest.nearest_params_many`); phi from one least-squares solve
+    per degree (:func:`morph.bernstein.fit_fixed_ends`, ends fixed at 0 and 1).
     """
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
     u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
-    for rows, stack in degree_groups(subs):
-        u[rows] = nr.nearest_params_many(stack, pts[rows], samples=REPARAM_SAMPLES)
-        p[rows], d[rows], _ = (pc.jet2_power_many if stack.shape[1] <= 13
-                               else pc.jet2_many)(stack, u[rows])
+    for rows, stack in groups:
+        jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
+        known = (np.all(np.isfinite(start[rows]), axis=1) if start is not None
+                 else np.zeros(len(rows), bool))
+        if known.any():
+            u[rows[known]] = nr.closest_params_many(stack[known], pts[rows[known]],
+                                                    start[rows[known]], REPARAM_ITERS, jet)
+        if not known.all():
+            u[rows[~known]] = nr.nearest_params_many(stack[~known], pts[rows[~known]],
+                                                     samples=REPARAM_SAMPLES)
+        p[rows], d[rows], _ = jet(stack, u[rows])
     speed = np.hypot(d[..., 0], d[..., 1])
     normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
-    c = np.ones(len(subs))
-    phis, miss = _phi_fits(u, speed, tol)
+    c = np.ones(len(cubics))
+    phis, size, miss = _phi_fits(u, speed, tol)
     retry = np.nonzero(miss > PHI_SHARE * tol)[0]
     cm = _moebius(u[retry])
     retry, cm = retry[cm != 1.0], cm[cm != 1.0]
     if len(retry):
         v = u[retry] / (cm[:, None] - (cm[:, None] - 1.0) * u[retry])     # mu^-1(u)
         dv = speed[retry] * cm[:, None] / ((cm[:, None] - 1.0) * v + 1.0) ** 2
-        again, miss2 = _phi_fits(v, dv, tol)
-        for j in np.nonzero(miss2 < miss[retry])[0]:
-            i = retry[j]
-            phis[i], c[i], miss[i] = again[j], cm[j], miss2[j]
-    return phis, c, normal
+        again, asize, miss2 = _phi_fits(v, dv, tol)
+        better = miss2 < miss[retry]
+        i = retry[better]
+        phis[i], size[i], c[i], miss[i] = again[better], asize[better], cm[better], miss2[better]
+    return phis, size, c, normal
 
 
 def _phi_fits(v, speed, tol):
     """Per row the increasing Bernstein coefficients of phi fitted to the feet v
     (k, 24) at the nodes, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - v_j| speed_j is below PHI_SHARE * tol (else the increasing
-    one of least mismatch), and that mismatch: (list of arrays, (k,))."""
+    one of least mismatch), and that mismatch: (coefficients (k, 10), their number
+    (k,), mismatch (k,))."""
     miss = (np.abs(_NODES - v) * speed).max(axis=1)
-    phis = [np.array([0.0, 1.0])] * len(v)
+    phis = np.zeros((len(v), PHI_DEGREES[-1] + 1))
+    phis[:, 1] = 1.0
+    size = np.full(len(v), 2)
     todo = miss > PHI_SHARE * tol
     for m in PHI_DEGREES:
         rows = np.nonzero(todo)[0]
@@ -305,10 +346,35 @@ def _phi_fits(v, speed, tol):
         phi = bz.fit_fixed_ends(_NODES, v[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
         err = (np.abs(phi @ bz.basis(m, _NODES).T - v[rows]) * speed[rows]).max(axis=1)
-        for j in np.nonzero(mono & (err < miss[rows]))[0]:
-            phis[rows[j]], miss[rows[j]] = phi[j], err[j]
+        better = mono & (err < miss[rows])
+        i = rows[better]
+        phis[i] = 0.0
+        phis[i, :m + 1], size[i], miss[i] = phi[better], m + 1, err[better]
         todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
-    return phis, miss
+    return phis, size, miss
+
+
+class Certified:
+    """The certificates of a batch of (sub-piece, cubic) pairs (:func:`certify_batch`):
+    ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
+    made only when asked for (writers of outlines need the bounds, not the maps)."""
+
+    __slots__ = ("bound", "phis", "size", "c", "halves")
+
+    def __init__(self, bound, phis, size, c):
+        self.bound, self.phis, self.size, self.c = bound, phis, size, c
+        self.halves = {}            # pair -> (Certified of the halves, left, right, u)
+
+    def panels(self, i):
+        """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
+        :func:`certify_many`)."""
+        if i in self.halves:
+            sub, jl, jr, u = self.halves[i]
+            return ([(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u)) for a, b, f in sub.panels(jl)]
+                    + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
+                       for a, b, f in sub.panels(jr)])
+        f, c = self.phis[i, :self.size[i]], self.c[i]
+        return [(0.0, 1.0, np.stack([c * f, (c - 1.0) * f + 1.0], axis=1))]
 
 
 def certify_many(subs, cubics, tol, depth=3):
@@ -319,7 +385,18 @@ def certify_many(subs, cubics, tol, depth=3):
     is the rational Bézier function with homogeneous coefficients phi (m+1, 2) in
     the local variable (s - s0) / (s1 - s0), values in the sub-piece's [0, 1]: the
     Möbius map of :func:`_reparams` composed with its polynomial; together they
-    form one continuous increasing phi.  The bound is the certificate of the module
+    form one continuous increasing phi.  See :func:`certify_batch` (the same on
+    sub-pieces grouped by degree, panels on demand)."""
+    res = certify_batch(degree_groups(subs), np.asarray(cubics, float), tol, depth)
+    return [(float(b), res.panels(i)) for i, b in enumerate(res.bound)]
+
+
+def certify_batch(groups, cubics, tol, depth=3, start=None):
+    """:class:`Certified` bounds of cubics (k, 4, 2) against the sub-pieces
+    ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
+    ``start``: starting feet of the nodes (:func:`_reparams`), or None.
+
+    The bound is the certificate of the module
     docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
     then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
     :func:`morph.nearest.distance_bound_many`).  Where it exceeds tol although the
@@ -331,38 +408,61 @@ def certify_many(subs, cubics, tol, depth=3):
     cubic farther than tol from the curve at a node is not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, cs, normal = _reparams(subs, cubics, tol)
+    phis, size, cs, normal = _reparams(groups, cubics, tol, start)
     bound = normal.copy()
-    groups = {}
-    for i in np.nonzero(normal <= tol)[0]:
-        groups.setdefault((len(subs[i]), len(phis[i])), []).append(i)
-    for (n, m), rows in groups.items():
-        comp = np.array([subs[i] for i in rows]) * (
-            cs[rows, None] ** np.arange(n))[:, :, None]         # R o mu: w_i c^i
-        if m > 2:
-            comp = bz.compose_many(comp, np.array([phis[i] for i in rows]))
-        bound[rows] = nr.distance_bound_many(comp, cubics[rows], REFINE)[0]
-    homog = [np.stack([c * f, (c - 1.0) * f + 1.0], axis=1) for f, c in zip(phis, cs)]
-    out = [(float(b), [(0.0, 1.0, h)]) for b, h in zip(bound, homog)]
+    for rows, stack in groups:
+        n = stack.shape[1]
+        near = normal[rows] <= tol
+        for m in unique(size[rows[near]]).tolist():
+            sel = np.nonzero(near & (size[rows] == m))[0]
+            r = rows[sel]
+            comp = stack[sel] * (cs[r, None] ** np.arange(n))[:, :, None]   # R o mu: w_i c^i
+            if m > 2:
+                comp = bz.compose_many(comp, phis[r, :m])
+            bound[r] = nr.distance_bound_many(comp, cubics[r], REFINE)[0]
+    out = Certified(bound, phis, size, cs)
     rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
     if not len(rows):
         return out
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
     um = np.empty(len(rows))
-    for grp, stack in degree_groups([subs[i] for i in rows]):
-        um[grp] = nr.nearest_params_many(stack, mids[grp])[:, 0]
-    rows, um = rows[(um > 0) & (um < 1)], um[(um > 0) & (um < 1)]
-    if not len(rows):
+    where = np.full(len(cubics), -1)
+    where[rows] = np.arange(len(rows))
+    halves = []
+    for grp, stack in groups:
+        sel = np.nonzero(where[grp] >= 0)[0]
+        if len(sel):
+            j = where[grp[sel]]
+            um[j] = nr.nearest_params_many(stack[sel], mids[j])[:, 0]
+            halves.append((j, stack[sel]))
+    inside = (um > 0) & (um < 1)
+    if not inside.any():
         return out
-    left, right = bz.split_many(cubics[rows], np.full(len(rows), 0.5))
-    halves = [pc.split(subs[i], u) for i, u in zip(rows, um)]
-    res = certify_many([h[0] for h in halves] + [h[1] for h in halves],
-                        np.concatenate([left, right]), tol, depth - 1)
-    for j, (i, u) in enumerate(zip(rows, um)):
-        (b0, p0), (b1, p1) = res[j], res[len(rows) + j]
-        if max(b0, b1) < out[i][0]:
-            out[i] = (max(b0, b1),
-                      [(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u)) for a, b, f in p0]
-                      + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
-                         for a, b, f in p1])
+    keep = np.nonzero(inside)[0]                    # positions among rows
+    renum = np.full(len(rows), -1)
+    renum[keep] = np.arange(len(keep))
+    left, right = bz.split_many(cubics[rows[keep]], np.full(len(keep), 0.5))
+    sub_groups = []
+    for j, stack in halves:
+        ok = inside[j]
+        if ok.any():
+            lo, hi = bz.split_many(stack[ok], um[j[ok]])
+            pos = renum[j[ok]]
+            sub_groups += [(pos, lo), (len(keep) + pos, hi)]
+    res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1)
+    b = np.maximum(res.bound[:len(keep)], res.bound[len(keep):])
+    for j in np.nonzero(b < bound[rows[keep]])[0].tolist():
+        i = int(rows[keep[j]])
+        bound[i] = b[j]
+        out.halves[i] = (res, j, len(keep) + j, float(um[keep[j]]))
     return out
+
+
+def _merged(groups):
+    """[(rows, stack)] with one entry per degree (the rows of equal-degree entries
+    concatenated)."""
+    by = {}
+    for rows, stack in groups:
+        by.setdefault(stack.shape[1], []).append((rows, stack))
+    return [(np.concatenate([r for r, _ in g]), np.concatenate([s for _, s in g]))
+            for g in by.values()]

@@ -13,7 +13,6 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from .certify import check_piece
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -24,47 +23,83 @@ ARC_INTERVALS = 32
 class Chain:
     """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
 
-    Set up once per chain, used by every fit on it: its pieces, where they sit in
-    the per-degree stacks of the batch (``banks``, ``where``: set by
-    :func:`chains_segments`) and an arc-length table (:meth:`arc_table`):
-    ARC_INTERVALS equal parameter intervals per piece with their lengths and the
-    speeds at their ends.
+    Set up for all chains of a batch at once (:func:`make_chains`): the pieces live
+    in a :class:`morph.export.bank.Bank` (``bank``), piece k of the chain is the
+    bank's global piece ``gids[k]``, and ``off`` is where the chain's pieces start in
+    the batch's concatenation of all chains' ``gids`` (``bank.order``); ``tiny`` is
+    1e-12 of the chain's extent.  The arc-length table (:meth:`arc_table`) is made
+    on first use: ARC_INTERVALS equal parameter intervals per piece with their
+    lengths and the speeds at their ends.
     """
 
-    def __init__(self, pieces):
-        self.pieces = [check_piece(p) for p in pieces]
-        self.k = len(self.pieces)
-        self.stack = pc.stack(self.pieces)
-        p = np.vstack([pc.cartesian(q) for q in self.pieces])
-        self.tiny = 1e-12 * max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+    __slots__ = ("bank", "gids", "off", "k", "tiny", "_arc")
+
+    def __init__(self, bank, gids, off, tiny):
+        self.bank, self.gids, self.off, self.tiny = bank, gids, off, tiny
+        self.k = len(gids)
         self._arc = None
+
+    def piece(self, k):
+        return self.bank.pieces[self.gids[k]]
+
+    @property
+    def pieces(self):
+        return [self.bank.pieces[g] for g in self.gids]
 
     def point(self, t):
         if t >= self.k:
-            return pc.end(self.pieces[-1])
+            return self.bank.last[self.gids[-1]]
         k = int(math.floor(t))
         if t == k:
-            return pc.start(self.pieces[k])
-        return pc.evaluate(self.pieces[k], t - k)[0]
+            return self.bank.first[self.gids[k]]
+        return pc.evaluate(self.piece(k), t - k)[0]
 
     def arc_table(self):
         """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
         pieces, in order) its chain parameters, cumulative arc lengths and speeds
-        |dP/dT| at both ends; arrays of K * ARC_INTERVALS."""
+        |dP/dT| at both ends; arrays of K * ARC_INTERVALS (:func:`arc_tables`)."""
         if self._arc is None:
-            m, (x, w) = ARC_INTERVALS, _quadrature().gl8
-            knots = np.linspace(0.0, 1.0, m + 1)
-            q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
-            ks = np.arange(self.k)
-            _, d = pc.jet_many(self.stack, np.repeat(ks, len(q)), np.tile(q, self.k))
-            seg = (np.hypot(*d.T).reshape(self.k, m, len(x)) @ w) * 0.5 / m
-            _, dk = pc.jet_many(self.stack, np.repeat(ks, m + 1), np.tile(knots, self.k))
-            speed = np.hypot(*dk.T).reshape(self.k, m + 1)
-            cum = np.concatenate([[0.0], np.cumsum(seg.ravel())])
-            tl = (ks[:, None] + knots[None, :-1]).ravel()
-            self._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], speed[:, :-1].ravel(),
-                         speed[:, 1:].ravel())
+            arc_tables([self])
         return self._arc
+
+
+def arc_tables(chains):
+    """Make the arc-length tables of chains (:meth:`Chain.arc_table`), the speeds of
+    all their pieces in one evaluation per degree: lengths of ARC_INTERVALS equal
+    parameter intervals per piece by the 8-point Gauss-Legendre rule on each."""
+    m, (x, w) = ARC_INTERVALS, _quadrature().gl8
+    knots = np.linspace(0.0, 1.0, m + 1)
+    q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+    gids = np.concatenate([c.gids for c in chains])
+    total = len(gids)
+    bank = chains[0].bank
+    _, d = bank.jet_grid(gids, q)
+    seg = (np.hypot(d[..., 0], d[..., 1]).reshape(total, m, len(x)) @ w) * 0.5 / m
+    _, dk = bank.jet_grid(gids, knots)
+    speed = np.hypot(dk[..., 0], dk[..., 1])
+    at = 0
+    for c in chains:
+        sg, sp = seg[at:at + c.k], speed[at:at + c.k]
+        at += c.k
+        cum = np.concatenate([[0.0], np.cumsum(sg.ravel())])
+        tl = (np.arange(c.k)[:, None] + knots[None, :-1]).ravel()
+        c._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], sp[:, :-1].ravel(), sp[:, 1:].ravel())
+
+
+def make_chains(bank, runs):
+    """:class:`Chain` objects of the runs (arrays of global piece ids of ``bank``),
+    with their extents for ``tiny`` in one reduction; sets ``bank.order`` (all
+    runs' ids, concatenated) and ``bank.chain_k`` (each run's piece count)."""
+    sizes = np.fromiter(map(len, runs), int, len(runs))
+    order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
+    offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
+    bank.order = order
+    if not len(runs):
+        return []
+    lo = np.minimum.reduceat(bank.lo[order], offs)
+    hi = np.maximum.reduceat(bank.hi[order], offs)
+    tiny = (1e-12 * np.maximum(np.maximum(hi - lo, 0.0).max(axis=1), 1e-300)).tolist()
+    return [Chain(bank, g, o, t) for g, o, t in zip(runs, offs.tolist(), tiny)]
 
 def _limit_tangent(piece, t, sign, tiny):
     """Direction of travel of a piece at t where its derivative vanishes: the first
@@ -123,10 +158,12 @@ def _frame(v, chord, chord2):
                     axis=-1) / chord2[..., None]
 
 
-def moment_cubics(items, tol):
-    """Fitted cubics for many chain ranges at once (no callbacks): for each item
-    ``(chain, parts, (start, end))`` a (4, 2) cubic with those end points and its
-    sampled distance (below), or None.
+def moment_cubics(bank, parts, starts, ends, tiny, tol):
+    """Fitted cubics for many chain ranges at once: range r runs from ``starts[r]``
+    to ``ends[r]`` over the parts of :class:`Parts` ``parts`` with ``req == r``
+    (pieces of ``bank``, each restricted to its [a, b]); ``tiny[r]``: below this a
+    derivative counts as zero.  Returns (cubics (n, 4, 2), sampled distance (n,),
+    fitted (n,) bool): where ``fitted`` is False no cubic was accepted.
 
     R. Levien's area-and-moment fit, as kurbo's ``fit_to_cubic`` does it (kurbo's
     fit.rs): in the frame where the chord runs from (0, 0) to (1, 0), the cubic
@@ -145,11 +182,9 @@ def moment_cubics(items, tol):
     at most FIT_SLACK tol).  A chord shorter than that gets its straight line.
     Nothing here is a certificate: the caller certifies (:func:`certify_many`).
     """
-    n = len(items)
+    n = len(starts)
     if not n:
-        return []
-    starts = np.array([e[0] for _, _, e in items], float)
-    ends = np.array([e[1] for _, _, e in items], float)
+        return np.zeros((0, 4, 2)), np.zeros(0), np.zeros(0, bool)
     chord = ends - starts
     chord2 = (chord * chord).sum(1)
     length = np.sqrt(chord2)
@@ -157,7 +192,7 @@ def moment_cubics(items, tol):
     short = length <= acc
     good = ~short & (chord2 > 0)
     safe2 = np.where(good, chord2, 1.0)
-    sam = _range_samples(items, starts, chord, safe2)
+    sam = _range_samples(bank, parts, starts, chord, safe2, tiny)
     ta, tm = _cubic_integrals(sam["t0"], sam["t1"])
     cr, cd0, cd1 = _handle_candidates(sam["area"], sam["moment"], ta, tm, good)
     t0, t1 = sam["t0"], sam["t1"]
@@ -167,45 +202,51 @@ def moment_cubics(items, tol):
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
-    err = _ray_distance(ctrl, cr, sam["q"], sam["dq"], sam["req"], sam["width"]) * length[cr]
+    err, s, owner, si = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
+                                      parts.b - parts.a)
+    err = err * length[cr]
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
-    return _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts, ends, chord)
+    cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
+                                               ends, chord)
+    # the picked cubics' parameters at the samples' rays: the certificate's start
+    feet = np.full(sam["q"].shape[0] * sam["q"].shape[1], np.nan)
+    mine = pick[cr[owner]] == owner
+    feet[si[mine]] = s[mine]
+    return cubic, dist, fitted, feet.reshape(sam["q"].shape[:2])
 
 
-def _range_samples(items, starts, chord, safe2):
+#: Parts of fit ranges (arrays, sorted by range): range ``req``, global piece ``gid``
+#: of the bank, restricted to its parameters [a, b].
+Parts = namedtuple("Parts", "req gid a b")
+
+
+def _range_samples(bank, parts, starts, chord, safe2, tiny):
     """The ranges' samples for :func:`moment_cubics`, in the chord frames: 16
-    Gauss-Legendre nodes on each part (one evaluation for all), their points ``q``
-    and derivatives ``dq`` (P, 16, 2) with the owning range ``req`` and the parts'
-    parameter ``width``; each range's ``area`` and ``moment`` (Gauss-Legendre sums)
-    and its unit end tangents ``t0``, ``t1`` (one-sided limits where the derivative
-    vanishes)."""
-    n = len(items)
-    banks = items[0][0].banks
-    req, deg, idx, lo, width, first, last = [], [], [], [], [], [], []
-    for r, (chain, parts, _) in enumerate(items):
-        first.append(len(idx))
-        for k, a, b, _ in parts:
-            req.append(r)
-            deg.append(chain.where[k][0])
-            idx.append(chain.where[k][1])
-            lo.append(a)
-            width.append(b - a)
-        last.append(len(idx) - 1)
-    req, deg, idx = np.array(req), np.array(deg), np.array(idx)
-    lo, width = np.array(lo), np.array(width)
-    first, last = np.array(first), np.array(last)
+    Gauss-Legendre nodes on each part (one evaluation per degree for all), their
+    points ``q`` and derivatives ``dq`` (P, 16, 2); each range's ``area`` and
+    ``moment`` (Gauss-Legendre sums) and its unit end tangents ``t0``, ``t1``
+    (one-sided limits where the derivative vanishes)."""
+    n = len(starts)
+    req, gid, lo = parts.req, parts.gid, parts.a
+    width = parts.b - parts.a
+    first = np.searchsorted(req, np.arange(n))
+    last = np.searchsorted(req, np.arange(n), side="right") - 1
     quad = _quadrature()
     m = len(quad.gx)
     params = lo[:, None] + width[:, None] * quad.gx[None]
-    p, d = _bank_jet(banks, np.repeat(deg, m), np.repeat(idx, m), params.ravel())
+    p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
+    whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
+    p[whole], d[whole] = bank.jet_grid(gid[whole], quad.gx)
+    cut = np.nonzero(~whole)[0]
+    pc_, dc_ = bank.jet(np.repeat(gid[cut], m), params[cut].ravel())
+    p[cut], d[cut] = pc_.reshape(-1, m, 2), dc_.reshape(-1, m, 2)
     ends_at = np.concatenate([first, last])
-    _, de = _bank_jet(banks, deg[ends_at], idx[ends_at],
-                      np.concatenate([lo[first], lo[last] + width[last]]))
-    for j in np.nonzero(np.hypot(*de.T) <= np.array([c.tiny for c, _, _ in items] * 2))[0]:
+    _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
+    for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
-        chain, parts, _ = items[r]
-        k, a, b, _ = parts[0] if sign > 0 else parts[-1]
-        de[j] = _limit_tangent(chain.pieces[k], a if sign > 0 else b, sign, chain.tiny)
+        i = first[r] if sign > 0 else last[r]
+        de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else parts.b[i],
+                               sign, tiny[r])
     q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
                safe2[req][:, None])                                # (P, m, 2)
     dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
@@ -214,7 +255,7 @@ def _range_samples(items, starts, chord, safe2):
     t1 = _frame(de[n:], chord, safe2)
     t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
     t1 /= np.maximum(np.hypot(*t1.T), 1e-300)[:, None]
-    return {"q": q, "dq": dq, "req": req, "width": width, "t0": t0, "t1": t1,
+    return {"q": q, "dq": dq, "t0": t0, "t1": t1,
             "area": np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n),
             "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
 
@@ -284,11 +325,11 @@ def _handle_candidates(area, moment, ta, tm, good):
     cr = np.concatenate([rr, rn, rt])
     cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
     thirds = np.arange(len(cr)) >= len(cr) - len(rt)
-    keep = np.zeros(len(cr), bool)
-    count = {}
-    for i, r in enumerate(cr.tolist()):                   # at most MAX_CANDIDATES per range
-        count[r] = count.get(r, 0) + 1
-        keep[i] = count[r] <= MAX_CANDIDATES
+    # at most MAX_CANDIDATES per range, the first ones in the order above
+    by = np.argsort(cr, kind="stable")
+    rank = np.empty(len(cr), int)
+    rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
+    keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
     cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
@@ -296,42 +337,28 @@ def _handle_candidates(area, moment, ta, tm, good):
 
 
 def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
-    """Per range the candidate of least score below its acceptance distance, mapped
-    back from the chord frame (the straight cubic for a short chord), with its
-    sampled distance; None where none is accepted."""
+    """Per range the candidate of least score below its acceptance distance (the
+    first of equal scores), mapped back from the chord frame (the straight cubic for
+    a short chord), with its sampled distance: (cubics, err, fitted) as
+    :func:`moment_cubics` returns them."""
     n = len(starts)
-    out = [None] * n
-    best = np.full(n, np.inf)
+    valid = np.nonzero(score < acc[cr])[0]
+    valid = valid[np.lexsort((valid, score[valid], cr[valid]))]
+    sorted_cr = cr[valid]      # sorted: each range's first entry is its pick
+    at = np.flatnonzero(np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)])
+    ranges = sorted_cr[at]
     pick = np.full(n, -1)
-    for i in np.argsort(score, kind="stable"):
-        r = cr[i]
-        if pick[r] < 0 and score[i] < acc[r]:
-            pick[r], best[r] = i, score[i]
-    for r in range(n):
-        if pick[r] >= 0:
-            c = ctrl[pick[r]]
-            cubic = (starts[r] + c[:, :1] * chord[r]
-                     + c[:, 1:] * np.array([-chord[r, 1], chord[r, 0]]))
-        elif short[r]:
-            cubic = np.array([starts[r], starts[r] + chord[r] / 3.0,
-                              ends[r] - chord[r] / 3.0, ends[r]])
-        else:
-            continue
-        cubic[0], cubic[-1] = starts[r], ends[r]
-        if np.all(np.isfinite(cubic)):
-            out[r] = (cubic, float(err[pick[r]]) if pick[r] >= 0 else 0.0)
-    return out
-
-
-def _bank_jet(banks, deg, idx, t):
-    """:func:`morph.piece.jet_many` of pieces ``banks[deg[i]][idx[i]]`` at ``t[i]``:
-    each degree evaluated at its own degree (the result of a piece does not depend
-    on the other pieces of a batch)."""
-    p, d = np.empty((len(t), 2)), np.empty((len(t), 2))
-    for g in np.unique(deg):
-        rows = np.nonzero(deg == g)[0]
-        p[rows], d[rows] = pc.jet_many(banks[g], idx[rows], t[rows])
-    return p, d
+    pick[ranges] = valid[at]
+    has = pick >= 0
+    c = ctrl[np.maximum(pick, 0)]                                  # (n, 4, 2)
+    normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
+    cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
+    line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
+    cubic = np.where(has[:, None, None], cubic, line)
+    cubic[:, 0], cubic[:, -1] = starts, ends
+    fitted = (has | short) & np.all(np.isfinite(cubic), axis=(1, 2))
+    dist = np.where(has, err[np.maximum(pick, 0)] if len(err) else 0.0, 0.0)
+    return cubic, dist, fitted, pick
 
 
 def _d1_of(d0, rows, area, ta):
@@ -350,9 +377,12 @@ _POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]
 def _ray_distance(ctrl, cr, q, dq, req, width):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
-    the sample's share of the range's arc length, s clipped to [0, 1]."""
+    the sample's share of the range's arc length, s clipped to [0, 1].  Also the
+    parameters s where the rays meet the cubics, each with its candidate and its
+    sample (flat index into q): (distance (C,), s (S,), candidate (S,), sample (S,)).
+    """
     if not len(cr):
-        return np.zeros(0)
+        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int)
     m = q.shape[1]
     pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
     speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
@@ -381,4 +411,4 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     dist = np.hypot(*(c - p).T)
     out = np.zeros(len(cr))
     np.maximum.at(out, owner, dist)
-    return out
+    return out, s[:, 0], owner, si

@@ -17,36 +17,13 @@ import math
 import numpy as np
 
 from .. import bernstein as bz
-from .. import piece as pc
-from .certify import check_piece
-from .search import chains_segments
+from .bank import plan_runs
+from .search import runs_segments
 
 
 #: Joins whose tangent directions differ by less than this angle (radians) are smooth:
 #: the loop exporters let cubics span them.
 JOIN_ANGLE = 1e-6
-
-
-def _smooth_flags(pieces, angle):
-    """Whether each join of consecutive pieces is smooth (see :func:`smooth_runs`):
-    entry i for piece i to piece i + 1, the last for the closing join (last piece
-    to first); all pieces' end tangents in one batch (a piece without a direction
-    joins nothing smoothly)."""
-    first, last = pc.end_tangents_many(pieces, strict=False)
-    nxt = np.roll(np.arange(len(pieces)), -1)
-    a, b = last, first[nxt]
-    cart = [pc.cartesian(p) for p in pieces]
-    start = np.array([c[0] for c in cart])
-    end = np.array([c[-1] for c in cart])
-    scale = np.array([np.abs(c).max() for c in cart])
-    gap = np.hypot(*(end - start[nxt]).T)
-    return (((a * b).sum(axis=1) > 0)
-            & (np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) <= math.sin(angle))
-            & (gap <= 1e-12 * (1.0 + np.maximum(scale, scale[nxt]))))
-
-
-def _smooth_join(p, q, angle):
-    return bool(_smooth_flags([np.asarray(p, float), np.asarray(q, float)], angle)[0])
 
 
 def smooth_runs(pieces, join_angle=JOIN_ANGLE):
@@ -59,34 +36,14 @@ def smooth_runs(pieces, join_angle=JOIN_ANGLE):
     ``join_angle <= 0``: every piece is a run of its own (fitting piece by piece:
     about 4 times less CPU than spanning joins, about twice the cubics).
     Returns a list of lists of pieces, in order (a closed loop is not wrapped
-    around: its first run starts at its first piece).
+    around: its first run starts at its first piece).  :func:`morph.export.bank.
+    plan_runs` does this for every loop of a batch at once.
     """
     pieces = [np.asarray(p, float) for p in pieces]
     if not pieces:
         return []
-    line = [len(p) == 2 and pc.is_polynomial(p) for p in pieces]
-    smooth = (_smooth_flags(pieces, join_angle) if join_angle > 0
-              else np.zeros(len(pieces), bool))
-    runs = []
-    for i, p in enumerate(pieces):
-        if runs and not line[i] and not line[i - 1] and smooth[i - 1]:
-            runs[-1].append(p)
-        else:
-            runs.append([p])
-    return runs
-
-
-def _wrap_runs(runs, join_angle):
-    """Runs of a closed loop with the last run joined to the first when the loop's
-    closing join is smooth (the loop's start is then not a break of the fit)."""
-    if len(runs) < 2:
-        return runs
-    last, first = runs[-1][-1], runs[0][0]
-    if any(len(p) == 2 and pc.is_polynomial(p) for p in (last, first)):
-        return runs
-    if not _smooth_join(last, first, join_angle):
-        return runs
-    return [runs[-1] + runs[0]] + runs[1:-1]
+    _, (runs,) = plan_runs([pieces], join_angle, wrap=False)
+    return [[pieces[g] for g in run] for run, _ in runs]
 
 
 def loop_to_beziers(loop, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False):
@@ -129,21 +86,18 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     """
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    plans = []
-    for loop in loops:
-        runs = smooth_runs(loop, join_angle)
-        if wrap and join_angle > 0:
-            runs = _wrap_runs(runs, join_angle)
-        plans.append([(run, all(len(p) <= 4 and pc.is_polynomial(check_piece(p)) for p in run))
-                      for run in runs])
-    fitted = iter(chains_segments([r for plan in plans for r, e in plan if not e],
-                                   tol, max_depth))
+    bank, plans = plan_runs(loops, join_angle, wrap)
+    fitted = iter(runs_segments(bank, [r for plan in plans for r, e in plan if not e],
+                                tol, max_depth))
+    exact = [r for plan in plans for r, e in plan if e]
+    # exact already: no fitting (lines stay lines, quadratics quadratics)
+    written = iter(bank.cartesian(np.concatenate(exact)) if exact else [])
     out = []
     for plan in plans:
         beziers = []
         for run, e in plan:
             if e:
-                beziers.extend(pc.cartesian(p) for p in run)   # exact already: no fitting
+                beziers.extend(next(written) for _ in run)
             else:
                 beziers.extend(seg.cubic for seg in next(fitted))
         out.append(beziers)

@@ -6,29 +6,38 @@ certified bound is <= tol is looked for with a few fits (error predicted from th
 previous fits as ~ h^p, a segment accepted once its bound reaches 0.7 tol), then one
 segment fewer is tried while the segments' bounds say it may fit (cuts at equal
 shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
-after a short last segment.  The searches of all runs of a loop go in lockstep
+after a short last segment.  The searches of all runs go in lockstep
 (:func:`_drive`), over all loops of a region or of many glyphs
-(:func:`loops_to_beziers`): each round fits the pending ranges of every run in one
-batch (:func:`morph.export.fit.moment_cubics`, no callbacks), certifies all their cubics in one
-batch (:func:`morph.export.certify.certify_many`; a cubic whose sampled distance exceeds SCREEN tol
-is not certified, nor is a try whose sampled distance is below PROVISIONAL tol:
-the search extends it anyway, and certifies it only if it ends there).  bench/export.py compares the cubic counts with kurbo's
-and with the classic circle cubic.  Where the fit
-finds no cubic, or its cubic does not certify, the same-parameter fit of
-:func:`morph.export.certify.fit_cubic` (Hermite / least squares) is tried, and the interval shrinks until
-one certifies.
+(:func:`morph.export.loops.loops_to_beziers`: the pieces of the whole batch live in
+one :class:`morph.export.bank.Bank`, one stack per degree): each round fits the
+pending ranges of every run with a few array calls
+(:func:`morph.export.fit.moment_cubics`: all ranges' parts sampled in one
+evaluation per degree, all candidates measured at once) and certifies all their
+cubics in one batch (:func:`morph.export.certify.certify_batch`, started from the
+feet the fitter's rays found: the pieces are not sampled again; a cubic whose
+sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
+distance is below PROVISIONAL tol: the search extends it anyway, and certifies it
+only if it ends there).  bench/export.py compares the cubic counts with kurbo's and
+with the classic circle cubic.  Where the fit finds no cubic, or its cubic does not
+certify, the same-parameter fit of :func:`morph.export.certify.fit_cubic` (Hermite /
+least squares) is tried, and the interval shrinks until one certifies.
 
 **The protocol of a search.**  A search is a generator (:func:`_search` and its
 steps :func:`_next_segment`, :func:`_split_at`, composed with ``yield from``): it
 yields a list of fit requests ``(chain, t0, t1, (start, end)[, need])`` and is sent
 back the list of their results ``(cubic, bound, panels)`` (:func:`_fit_ranges`), in
-order; its return value (``StopIteration.value``) is the chain's list of
+order, or it yields :data:`NEED_ARC` when it needs its chain's arc-length table
+(made for all searches that ask in one batch); its return value
+(``StopIteration.value``) is the chain's list of
 :class:`~morph.export.certify.CubicFit`.  :func:`_drive` advances every search to
 its next yield, fits all pending requests of all searches in one batch, sends each
 search its share, and repeats until every search has returned.  A generator keeps
-the search's state (bracket, last fit) in its local variables between rounds.
+the search's state (bracket, last fit) in its local variables between rounds: the
+numerical work is O(rounds) array calls; what remains per search and round is the
+scalar bookkeeping of its bracket (a few microseconds).
 """
 
+import contextlib
 import math
 
 import numpy as np
@@ -37,58 +46,68 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
 from ..errors import ToleranceNotMetError
-from .certify import (SCREEN, CubicFit, affine_reparam, certify_many, check_piece, fit_cubic,
-                      same_param_bound)
-from .fit import Chain, moment_cubics
+from .bank import Bank
+from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
+                      same_param_bound, start_at_nodes)
+from .fit import Parts, _quadrature, arc_tables, make_chains, moment_cubics
 
 
-def _parts_many(requests):
-    """For every request ``(chain, t0, t1, ends)`` its parts ``[(k, a, b, sub)]``:
-    piece k of the chain restricted to its local [a, b] (``sub``) covers [t0, t1];
-    the sub-pieces of all requests cut in one de Casteljau call per degree."""
-    out, todo = [], {}
-    for chain, t0, t1, *_ in requests:
-        parts = []
-        for k in range(int(math.floor(t0)), min(chain.k, int(math.ceil(t1)))):
-            a, b = max(t0 - k, 0.0), min(t1 - k, 1.0)
-            if b > a:
-                p = chain.pieces[k]
-                parts.append([k, a, b, p])
-                if (a, b) != (0.0, 1.0):
-                    todo.setdefault(len(p), []).append(parts[-1])
-        out.append(parts)
-    for rows in todo.values():
-        subs = bz.subsegment_many(np.array([r[3] for r in rows]), [r[1] for r in rows],
-                                  [r[2] for r in rows])
-        for r, sub in zip(rows, subs):
-            r[3] = sub
-    return [[tuple(p) for p in parts] for parts in out]
+def _parts(requests):
+    """The parts of every request ``(chain, t0, t1, ends[, need])``: piece k of the
+    chain restricted to its local [a, b] covers [t0, t1] (:class:`Parts`, in request
+    order), as arrays for all requests at once."""
+    chains = [r[0] for r in requests]
+    t0 = np.array([r[1] for r in requests], float)
+    t1 = np.array([r[2] for r in requests], float)
+    kk = np.array([c.k for c in chains])
+    off = np.array([c.off for c in chains])
+    k0 = np.floor(t0).astype(int)
+    k1 = np.minimum(kk, np.ceil(t1).astype(int))
+    cnt = np.maximum(k1 - k0, 0)
+    req = np.repeat(np.arange(len(requests)), cnt)
+    k = np.repeat(k0, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    a = np.maximum(t0[req] - k, 0.0)
+    b = np.minimum(t1[req] - k, 1.0)
+    keep = b > a
+    req, k, a, b = req[keep], k[keep], a[keep], b[keep]
+    bank = chains[0].bank
+    return Parts(req, bank.order[off[req] + k], a, b), k
 
 
-def _join_feet(plans, skip):
-    """{range: parameters on its fitted cubic nearest to the joins of its parts}, for
-    the multi-part ranges not skipped, all at once (padded to one count)."""
-    multi = [r for r, (parts, cubic) in enumerate(plans)
-             if cubic is not None and len(parts) > 1 and not skip[r]]
-    if not multi:
-        return {}
-    n = max(len(plans[r][0]) - 1 for r in multi)
-    joins = np.array([[pc.start(p[3]) for p in plans[r][0][1:]]
-                      + [pc.start(plans[r][0][-1][3])] * (n + 1 - len(plans[r][0]))
-                      for r in multi])
-    s = nr.nearest_params_many(np.array([pc.from_points(plans[r][1]) for r in multi]),
-                               joins, iters=6)
-    return {r: s[i, :len(plans[r][0]) - 1] for i, r in enumerate(multi)}
+def _sub_groups(bank, parts, sel):
+    """The sub-pieces of the parts ``sel`` (piece restricted to [a, b]) by degree,
+    [(positions in sel, stack)]: one de Casteljau call per degree."""
+    out = []
+    for rows, h in bank.gather(parts.gid[sel]):
+        a, b = parts.a[sel[rows]], parts.b[sel[rows]]
+        cut = (a != 0.0) | (b != 1.0)
+        if cut.any():
+            h = h.copy()
+            h[cut] = bz.subsegment_many(h[cut], a[cut], b[cut])
+        out.append((rows, h))
+    return out
+
+
+def _join_feet(parts, multi):
+    """Where the joins of the ranges ``multi`` sit among the parts (the start points of
+    every part but the first), padded to one count with each range's last join:
+    (positions (r, n), count of joins (r,)); their feet on the fitted cubics are
+    found in one call for all."""
+    first = np.searchsorted(parts.req, multi)
+    count = np.searchsorted(parts.req, multi, side="right") - first - 1
+    col = np.minimum(np.arange(int(count.max()))[None], count[:, None] - 1)
+    return first[:, None] + 1 + col, count
 
 
 def _fit_ranges(requests, tol):
     """Best certified cubics for many chain ranges at once: for each request
     ``(chain, t0, t1, (start, end)[, need])`` a result (cubic, bound, panels); where
     the fitted cubic's sampled distance is below ``need`` tol it is returned as is,
-    not certified: (cubic, sampled distance, None).
+    not certified: (cubic, sampled distance, None).  ``panels`` is a
+    :class:`_Reparam` (made into panels on demand).
 
     All ranges are fitted in one call (:func:`moment_cubics`); then every part of
-    every fitted cubic is certified in one batch (:func:`certify_many`), except
+    every fitted cubic is certified in one batch (:func:`certify_batch`), except
     cubics whose sampled distance exceeds SCREEN tol (their sampled distance is
     returned as the bound: they fail).  Panels
     carry chain parameters T.  Across joins of a chain the cubic is cut at the
@@ -97,82 +116,150 @@ def _fit_ranges(requests, tol):
     join) and increasing.  A single-piece range whose fitted cubic does not certify
     also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
     """
-    parts = _parts_many(requests)
-    fits = moment_cubics(
-        [(r[0], pr, r[3]) for pr, r in zip(parts, requests)], tol)
-    plans = [(pr, None if f is None else f[0]) for pr, f in zip(parts, fits)]
-    sampled = [0.0 if f is None else f[1] for f in fits]
+    n = len(requests)
+    bank = requests[0][0].bank
+    parts, ks = _parts(requests)
+    starts = np.array([r[3][0] for r in requests], float)
+    ends = np.array([r[3][1] for r in requests], float)
+    need = np.array([r[4] if len(r) > 4 else 0.0 for r in requests], float)
+    tiny = np.array([r[0].tiny for r in requests], float)
+    cubics, sampled, fitted, rays = moment_cubics(bank, parts, starts, ends, tiny, tol)
+    nparts = np.bincount(parts.req, minlength=n)
+    first = np.searchsorted(parts.req, np.arange(n))
     # a cubic whose sampled distance already exceeds tol well is not certified: its
-    # sampled distance is reported (the search only needs to know it fails)
-    # a cubic whose sampled distance is below the request's ``need`` share of tol is
-    # not certified either: the search will try a longer one (a provisional result)
-    short = [f is not None and len(r) > 4 and e < r[4] * tol
-             for f, e, r in zip(fits, sampled, requests)]
-    skip = [e > SCREEN * tol or sh for e, sh in zip(sampled, short)]
-    feet = _join_feet(plans, skip)
-    subs, pieces, cut_list = [], [], []
-    for r, (parts, cubic) in enumerate(plans):
-        cuts = None
-        if cubic is not None and not skip[r]:
-            cuts = np.concatenate([[0.0], feet.get(r, []), [1.0]])
-            if np.all(np.diff(cuts) > 0):
-                subs += [p[3] for p in parts]
-                pieces.append(cubic[None] if len(parts) == 1 else bz.subsegment_many(
-                    np.repeat(cubic[None], len(parts), axis=0), cuts[:-1], cuts[1:]))
-            else:
-                cuts = None
-        cut_list.append(cuts)
-    res = certify_many(subs, np.concatenate(pieces), tol) if subs else []
-    out, i = [], 0
-    for r, ((parts, cubic), cuts) in enumerate(zip(plans, cut_list)):
-        mine = []
-        if cubic is not None and cuts is not None:
-            mine, i = res[i:i + len(parts)], i + len(parts)
-        if short[r]:
-            out.append((cubic, sampled[r], None))
+    # sampled distance is reported (the search only needs to know it fails); one
+    # whose sampled distance is below the request's ``need`` share of tol is not
+    # certified either: the search will try a longer one (a provisional result)
+    short = fitted & (sampled < need * tol)
+    skip = (sampled > SCREEN * tol) | short
+    todo = fitted & ~skip
+    # the parts' cuts on the cubic: 0, the feet of the joins, 1
+    s0, s1 = np.zeros(len(parts.req)), np.ones(len(parts.req))
+    multi = np.nonzero(todo & (nparts > 1))[0]
+    if len(multi):
+        at, count = _join_feet(parts, multi)
+        joins = bank.first[parts.gid[at]]
+        homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
+        # Newton from between the rays of the nodes next to the join (the fitter's:
+        # close, so 3 steps where a start from 65 samples took 6)
+        guess = 0.5 * (rays[at - 1, -1] + rays[at, 0])
+        feet = np.empty(at.shape)
+        known = np.all(np.isfinite(guess), axis=1)
+        if known.any():
+            feet[known] = nr.closest_params_many(homog[known], joins[known], guess[known],
+                                                 iters=3, jet=pc.jet2_power_many)
+        if not known.all():
+            feet[~known] = nr.nearest_params_many(homog[~known], joins[~known], iters=6)
+        ok = np.arange(at.shape[1])[None] < count[:, None]
+        s0[at[ok]] = feet[ok]
+        s1[at[ok] - 1] = feet[ok]
+    cut_ok = np.ones(n, bool)
+    np.logical_and.at(cut_ok, parts.req, s1 > s0)
+    todo &= cut_ok
+    sel = np.nonzero(todo[parts.req])[0]
+    bound = np.where(skip, sampled, np.inf)
+    cert = None
+    if len(sel):
+        one = nparts[parts.req[sel]] == 1
+        pieces = cubics[parts.req[sel]]
+        if not one.all():
+            pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
+        # the certificate starts from the feet the fitter found (its rays)
+        span = (s1 - s0)[sel, None]
+        start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
+        cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
+        worst = np.full(n, -np.inf)
+        np.maximum.at(worst, parts.req[sel], cert.bound)
+        bound = np.where(todo, worst, bound)
+    where = np.full(len(parts.req), -1)
+    where[sel] = np.arange(len(sel))
+    # a single piece whose fit fails tol: the same-parameter fit too (the smaller wins)
+    retry = np.nonzero((nparts == 1) & (~fitted | (bound > tol)) & ~short)[0]
+    alt = {}
+    if len(retry):
+        for (rows, h) in _sub_groups(bank, parts, first[retry]):
+            for j, sub in zip(rows.tolist(), h):
+                r = int(retry[j])
+                c, b = fit_cubic(sub)
+                c[0], c[-1] = starts[r], ends[r]
+                if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
+                    b = same_param_bound(sub, c)
+                alt[r] = (c, b)
+    out = []
+    bound_l, fitted_l, short_l = bound.tolist(), fitted.tolist(), short.tolist()
+    sampled_l, first_l, nparts_l = sampled.tolist(), first.tolist(), nparts.tolist()
+    for r in range(n):
+        if short_l[r]:
+            out.append((cubics[r], sampled_l[r], None))
             continue
-        fallback = sampled[r] if skip[r] else np.inf
-        out.append(_chosen_fit(parts, cubic, cuts, mine, fallback, requests[r][3], tol))
+        lo, hi = first_l[r], first_l[r] + nparts_l[r]
+        rep = _Reparam(cert, where, parts, ks, s0, s1, lo, hi, None)
+        best = (cubics[r], bound_l[r], rep) if fitted_l[r] else (None, np.inf, None)
+        if r in alt and alt[r][1] < best[1]:
+            rep = _Reparam(None, None, parts, ks, s0, s1, lo, hi, True)
+            best = (alt[r][0], alt[r][1], rep)
+        out.append(best)
     return out
 
 
-def _chosen_fit(parts, cubic, cuts, certified, fallback, ends, tol):
-    """One range's result (cubic, bound, panels) of :func:`_fit_ranges`: the moment
-    fit with the worst bound of its certified parts (``fallback`` when it was not
-    certified), and for a single piece that fails tol also the same-parameter fit
-    of :func:`fit_cubic`; the smaller bound wins.  Panels map back to chain
-    parameters T."""
-    cands = []
-    if cubic is not None:
-        bound, panels = fallback, []
-        if cuts is not None:
-            bound = max(b for b, _ in certified)
-            for j, (_, pj) in enumerate(certified):
-                s0, s1 = cuts[j], cuts[j + 1]
-                panels += [(s0 + a * (s1 - s0), s0 + b * (s1 - s0), (j, f)) for a, b, f in pj]
-        cands.append((cubic, bound, panels))
-    if len(parts) == 1 and (not cands or cands[0][1] > tol):
-        sub = parts[0][3]
-        c, bound = fit_cubic(sub)
-        c[0], c[-1] = ends
-        if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
-            bound = same_param_bound(sub, c)
-        cands.append((c, bound, [(0.0, 1.0, (0, np.array([[0.0, 1.0], [1.0, 1.0]])))]))
-    if not cands:
-        return (None, np.inf, None)
-    cubic, bound, panels = min(cands, key=lambda c: c[1])
-    return (cubic, bound, tuple(
-        (a, b, affine_reparam(f, parts[j][0] + parts[j][1], parts[j][2] - parts[j][1]))
-        for a, b, (j, f) in panels))
+class _Reparam:
+    """The panels of one result of :func:`_fit_ranges`, made on demand
+    (:meth:`panels`): those of the certificates of its parts, each mapped to chain
+    parameters T (``same``: the same-parameter fit, phi the identity on each
+    part)."""
+
+    __slots__ = ("cert", "where", "parts", "ks", "s0", "s1", "lo", "hi", "same")
+
+    def __init__(self, cert, where, parts, ks, s0, s1, lo, hi, same):
+        self.cert, self.where, self.parts, self.ks = cert, where, parts, ks
+        self.s0, self.s1, self.lo, self.hi, self.same = s0, s1, lo, hi, same
+
+    def panels(self):
+        if self.same:
+            i = self.lo
+            f = np.array([[0.0, 1.0], [1.0, 1.0]])
+            a, b = float(self.parts.a[i]), float(self.parts.b[i])
+            return ((0.0, 1.0, affine_reparam(f, self.ks[i] + a, b - a)),)
+        if self.cert is None or self.where[self.lo] < 0:
+            return ()
+        out = []
+        for i in range(self.lo, self.hi):
+            s0, s1 = float(self.s0[i]), float(self.s1[i])
+            a, b = float(self.parts.a[i]), float(self.parts.b[i])
+            for p, q, f in self.cert.panels(int(self.where[i])):
+                out.append((s0 + p * (s1 - s0), s0 + q * (s1 - s0),
+                            affine_reparam(f, self.ks[i] + a, b - a)))
+        return tuple(out)
 
 
-def _drive(searches, tol):
+#: ``callback(searches done, searches)`` after every round of :func:`_drive` while
+#: set (:func:`observe_searches`): the font jobs' progress within a batch
+_observer = None
+
+
+@contextlib.contextmanager
+def observe_searches(callback):
+    """Within the ``with`` block, :func:`_drive` calls ``callback(done, total)``
+    after each round: how many of its searches have ended (a batch's conversion
+    done so far, for progress reports)."""
+    global _observer
+    before, _observer = _observer, callback
+    try:
+        yield
+    finally:
+        _observer = before
+
+
+def _drive(searches, tol, chains):
     """Run search generators in lockstep and return their results in order.
 
     A search (:func:`_search`) yields a list of fit requests and is sent back their
     results; the pending requests of all searches are fitted and certified together
     (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
-    call per fit."""
+    call per fit.  A search that needs its chain's arc-length table yields
+    :data:`NEED_ARC` instead: the tables of all that asked are made in one batch
+    (:func:`arc_tables`, ``chains[i]`` is search i's chain) and the searches resumed."""
+    observer = _observer
     results = [None] * len(searches)
     pending = {}
     for i, g in enumerate(searches):
@@ -181,6 +268,16 @@ def _drive(searches, tol):
         except StopIteration as stop:
             results[i] = stop.value
     while pending:
+        arcs = [i for i, v in pending.items() if v is NEED_ARC]
+        if arcs:
+            arc_tables([chains[i] for i in arcs])
+            for i in arcs:
+                try:
+                    pending[i] = searches[i].send(None)
+                except StopIteration as stop:
+                    results[i] = stop.value
+                    del pending[i]
+            continue
         order = [(i, len(reqs)) for i, reqs in pending.items()]
         fits = _fit_ranges([r for reqs in pending.values() for r in reqs], tol)
         pending, k = {}, 0
@@ -190,6 +287,8 @@ def _drive(searches, tol):
             except StopIteration as stop:
                 results[i] = stop.value
             k += n
+        if observer is not None:
+            observer(len(searches) - len(pending), len(searches))
     return results
 
 
@@ -244,18 +343,23 @@ def chain_segments(pieces, tol, max_depth=16):
 
 def chains_segments(chains, tol, max_depth=16):
     """:func:`chain_segments` of several chains, searched in lockstep (:func:`_drive`)."""
+    sizes = [len(c) for c in chains]
+    bank = Bank([p for c in chains for p in c])
+    offs = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+    runs = [np.arange(a, b) for a, b in zip(offs[:-1], offs[1:])]
+    return [[seg._replace(reparam=seg.reparam.panels()) for seg in segs]
+            for segs in runs_segments(bank, runs, tol, max_depth)]
+
+
+def runs_segments(bank, runs, tol, max_depth=16):
+    """:func:`chains_segments` of runs of the pieces of a :class:`Bank` (arrays of
+    global piece ids), searched in lockstep (:func:`_drive`).  The CubicFits'
+    ``reparam`` is a :class:`_Reparam`: its ``panels()`` are the panels (made on
+    demand: writers need the cubics, not the maps)."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    chains = [Chain(p) for p in chains]
-    banks = {}                      # one stack per degree of all pieces, for the fitter
-    for c in chains:
-        c.banks, c.where = banks, []
-        for p in c.pieces:
-            banks.setdefault(len(p), []).append(p)
-            c.where.append((len(p), len(banks[len(p)]) - 1))
-    for n in banks:
-        banks[n] = np.array(banks[n], float)
-    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol)
+    chains = make_chains(bank, runs)
+    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol, chains)
 
 
 def _search(chain, tol, min_width):
@@ -268,7 +372,7 @@ def _search(chain, tol, min_width):
     (:func:`_balanced_cuts`), and after a short last segment one fewer of equal
     arc length."""
     out = []
-    t0, start, width = 0.0, pc.start(chain.pieces[0]), min(float(chain.k), 2.0)
+    t0, start, width = 0.0, chain.point(0.0), min(float(chain.k), 2.0)
     while t0 < chain.k:
         t1, cubic, bound, reparam, end = yield from _next_segment(
             chain, t0, start, width, tol, min_width)
@@ -278,7 +382,7 @@ def _search(chain, tol, min_width):
     # the greedy search stops each segment a little short of its longest reach: try
     # one segment fewer, cut where the greedy segments' bounds say it may fit
     while len(out) >= 2:
-        cuts = _balanced_cuts(chain, out, tol)
+        cuts = yield from _balanced_cuts(chain, out, tol)
         fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
         if fewer is None:
             break
@@ -287,7 +391,7 @@ def _search(chain, tol, min_width):
     if len(out) == 2 and widths[-1] < 0.5 * widths[0]:
         # a short last one is left: try one cubic for the whole chain (for more
         # segments, n - 1 of equal arc length rarely fit where the model said no)
-        t, cum = _arclength_table(chain)
+        t, cum = yield from _arclength_table(chain)
         if cum[-1] > 0:
             fewer = yield from _split_at(
                 chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t), tol)
@@ -303,8 +407,16 @@ ERROR_POWER = 5.0
 FEWER_SLACK = 1.0
 
 
+#: What a search yields when it needs its chain's arc-length table: :func:`_drive`
+#: makes the tables of all searches that asked in one batch (:func:`arc_tables`).
+NEED_ARC = "arc table"
+
+
 def _arclength_table(chain):
-    """(T, cumulative arc length) at the knots of the chain's arc-length table."""
+    """(T, cumulative arc length) at the knots of the chain's arc-length table; a
+    generator step (yields :data:`NEED_ARC` when the table is not made yet)."""
+    if chain._arc is None:
+        yield NEED_ARC
     tl, tr, sl, sr, _, _ = chain.arc_table()
     return np.append(tl, tr[-1]), np.append(sl, sr[-1])
 
@@ -323,7 +435,7 @@ def _balanced_cuts(chain, segs, tol):
                   for seg in segs])
     if not (n >= 1 and d.sum() <= len(segs) - FEWER_SLACK):
         return None
-    t, cum = _arclength_table(chain)
+    t, cum = yield from _arclength_table(chain)
     if not cum[-1] > 0:
         return None
     edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
@@ -338,7 +450,7 @@ def _split_at(chain, cuts, tol):
     cuts[0], cuts[-1] = 0.0, float(chain.k)
     if np.any(np.diff(cuts) <= 0):
         return None
-    points = [pc.start(chain.pieces[0])] + [chain.point(float(t)) for t in cuts[1:]]
+    points = [chain.point(0.0)] + [chain.point(float(t)) for t in cuts[1:]]
     fits = yield [(chain, float(t0), float(t1), (p0, p1))
                   for t0, t1, p0, p1 in zip(cuts[:-1], cuts[1:], points[:-1], points[1:])]
     if not all(bound <= tol for _, bound, _ in fits):
@@ -457,7 +569,7 @@ def _next_segment(chain, t0, start, width, tol, min_width):
             raise ToleranceNotMetError(
                 "cubic export did not reach tol %.3g on a parameter interval of width "
                 "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
-                piece=chain.pieces[min(int(t0), chain.k - 1)], achieved=fit[2])
+                piece=chain.piece(min(int(t0), chain.k - 1)), achieved=fit[2])
         fit = yield from attempt(t1, 0.0)
         if fit[2] <= tol:
             good = fit

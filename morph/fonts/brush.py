@@ -291,7 +291,7 @@ def sweep_glyphs(jobs):
     same way, so the results are :func:`sweep_glyph`'s.  Only a MorphError moves a
     glyph down the ladder (:func:`morph.fonts.jobs.fallback_ladder`)."""
     from ..errors import MorphError
-    from .jobs import error_text
+    from .jobs import converting, error_text
     from .tables import contours_from_loops, contours_from_regions
 
     out = [None] * len(jobs)
@@ -302,9 +302,10 @@ def sweep_glyphs(jobs):
     if done:
         tol, quadratic = jobs[done[0][0]][3], jobs[done[0][0]][6]
         try:
-            contours = contours_from_regions([loops for _, loops in done], plan(tol).export,
-                                             quadratic, [jobs[k][5] for k, _ in done],
-                                             splines=True)
+            with converting(len(done)):
+                contours = contours_from_regions([loops for _, loops in done],
+                                                 plan(tol).export, quadratic,
+                                                 [jobs[k][5] for k, _ in done], splines=True)
         except MorphError:  # glyph by glyph below
             contours = None
         for i, (k, loops) in enumerate(done):
@@ -328,15 +329,17 @@ def _first_sums(jobs, todo, out):
     ``out``."""
     from ..errors import MorphError
     from ..minkowski import minkowski_sum, minkowski_sums
-    from .jobs import error_text
+    from .jobs import SUM_SHARE, error_text, glyph_progress
 
     if not todo:
         return []
     _, sum_tol, pen = next(iter(_attempts(jobs[todo[0]][2], jobs[todo[0]][3])))
     method = jobs[todo[0]][4]
     try:
-        return list(zip(todo, minkowski_sums([jobs[k][1] for k in todo], pen, sum_tol,
+        done = list(zip(todo, minkowski_sums([jobs[k][1] for k in todo], pen, sum_tol,
                                              method=method)))
+        glyph_progress(SUM_SHARE * len(todo))
+        return done
     except MorphError:  # glyph by glyph below
         pass
     done = []
@@ -345,6 +348,7 @@ def _first_sums(jobs, todo, out):
             done.append((k, minkowski_sum(jobs[k][1], pen, sum_tol, method=method)))
         except MorphError as exc:  # the next attempts
             out[k] = _sweep(jobs[k], 1, error_text(exc))
+        glyph_progress(SUM_SHARE)
     return done
 
 
@@ -390,7 +394,8 @@ def open_source(font_path, location=None):
 
 
 def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, method="qac", composites="follow", location=None, jobs=1):
+               progress=None, method="qac", composites="follow", location=None, jobs=1,
+               in_flight=None):
     """Write a copy of the font with each chosen glyph replaced by glyph ⊕ nib.
 
     ``font_path``: a TrueType (glyf) or CFF OpenType font, a ``TTFont`` (changed in
@@ -401,7 +406,9 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     with an outline.  ``tol``: total outline tolerance in font units (half for the
     sum, half for the curve conversion).  ``family_name``: the new family name
     (default: "<family> Brush").  ``progress(name)`` is called after each swept
-    glyph.  ``composites``: "follow" or "sweep" (see the module docstring).  ``jobs``:
+    glyph; ``in_flight(units)`` with the glyphs' worth of work reported by chunks in
+    flight (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``composites``: "follow" or
+    "sweep" (see the module docstring).  ``jobs``:
     processes computing the sums (:func:`morph.fonts.jobs.run_glyph_jobs`; the result does
     not depend on it).  ``out_path``: .ttf/.otf/.woff2/.woff (the flavor; the outline
     format is the source's).
@@ -436,7 +443,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
              writer.quadratic) for n in order]
     chosen = set(names)
     results = run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
-                             each=_chosen_progress(progress, chosen))
+                             each=_chosen_progress(progress, chosen), in_flight=in_flight)
     stats, moves = _store_outlines(font, writer, results, chosen, extent)
     stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
                  base_not_chosen=unchosen)

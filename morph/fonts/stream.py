@@ -13,18 +13,17 @@ kerning and mark features, GDEF and post tables come from ufo2ft as they did; th
 glyph programs are the bytes ufo2ft would have made from the same contours, because
 they are made by the same pens in the same order:
 
-- CFF: ``T2CharStringPen`` fed through the point round trip of a ufoLib2 glyph
-  (``SegmentToPointPen`` -> ``PointToSegmentPen``), specialized (ufo2ft's
-  ``optimizeCFF``); the advance is prepended when the font's nominal and default
-  widths are known (:func:`width_prefix`, what the pen does);
-- TrueType: ``TTGlyphPointPen`` behind ``Cu2QuPointPen`` reversing the direction,
-  as ufo2ft's cubic-to-quadratic filter (the contours are quadratic already).
+- CFF: ``T2CharStringPen``, specialized (ufo2ft's ``optimizeCFF``); the advance is
+  prepended when the font's nominal and default widths are known
+  (:func:`width_prefix`, what the pen does);
+- TrueType: ``TTGlyphPen`` behind a contour reversal, as ufo2ft's
+  cubic-to-quadratic filter reverses them (the contours are quadratic already).
 
 Composites: a TrueType glyph of components only stays a composite (ufo2ft draws its
 shell); a glyph with components and contours, and every CFF glyph with components,
 is decomposed here as ufo2ft's ``DecomposeComponentsFilter`` does it (the glyph's
-own contours, then each component's nested components and then its contours,
-transformed), from the stored outlines.
+own contours, then each component's base drawn the same way, transformed), from
+the stored outlines.
 
 The source is read the same way (:class:`SkeletonSource`): one pass over the glyphs
 for their shells, then each glyph's contours read again when its chunk is prepared,
@@ -39,7 +38,7 @@ from types import SimpleNamespace
 from .tables import draw_contours
 
 __all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph"]
+           "UfoGlyphWriter", "shell_glyph", "sample_font"]
 
 
 # =========================================================================== worker side
@@ -55,28 +54,34 @@ def compile_outline(contours, flavor):
     ``flavor``: ``"cff"`` (cubic contours; ``data`` the Type 2 charstring's bytes
     without the advance, see :func:`width_prefix`) or ``"glyf"`` (quadratic splines
     in the UFO's direction; ``data`` the compiled ``glyf`` glyph, reversed).
-    ``bounds``: (xMin, yMin, xMax, yMax) as ufo2ft rounds them, None when empty.
+    ``bounds``: (xMin, yMin, xMax, yMax), None when empty: for CFF the outline's
+    tight box (``BoundsPen``, what the charstring's ``calcBounds`` computes), for
+    glyf the glyph's (integers).  The contours are drawn straight into the
+    segment pens: the same bytes as ufo2ft's drawing of a ufoLib2 glyph's points
+    (tests/fonts/test_stream.py compares them).
     """
-    from fontTools.pens.pointPen import PointToSegmentPen, SegmentToPointPen
+    from fontTools.misc.roundTools import otRound
+    from fontTools.pens.recordingPen import RecordingPen
 
+    outline = RecordingPen()
+    draw_contours(outline, contours, flavor == "glyf")
     if flavor == "cff":
-        from fontTools.misc.roundTools import otRound
+        from fontTools.pens.boundsPen import BoundsPen
         from fontTools.pens.t2CharStringPen import T2CharStringPen
 
         pen = T2CharStringPen(None, None, roundTolerance=0.5)
-        draw_contours(SegmentToPointPen(PointToSegmentPen(pen)), contours, False)
+        outline.replay(pen)
         cs = pen.getCharString(_NO_WIDTHS, optimize=True)
-        box = cs.calcBounds(None)
-        box = None if box is None else tuple(otRound(v) for v in box)
         cs.compile()
-        return bytes(cs.bytecode), (None if box == (0, 0, 0, 0) else box)
-    from fontTools.misc.roundTools import otRound
-    from fontTools.pens.cu2quPen import Cu2QuPointPen as _Cu2Qu
-    from fontTools.pens.ttGlyphPen import TTGlyphPointPen
+        box = BoundsPen(None)
+        outline.replay(box)
+        return bytes(cs.bytecode), (None if box.bounds is None
+                                    else tuple(float(v) for v in box.bounds))
+    from fontTools.pens.reverseContourPen import ReverseContourPen
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
 
-    pen = TTGlyphPointPen(None)
-    draw_contours(SegmentToPointPen(_Cu2Qu(pen, 1.0, reverse_direction=True,
-                                           all_quadratic=True)), contours, True)
+    pen = TTGlyphPen(None)
+    outline.replay(ReverseContourPen(pen))
     g = pen.glyph(dropImpliedOnCurves=False, round=otRound)
     if not g.numberOfContours:
         return b"", None
@@ -191,7 +196,13 @@ class SkeletonSource:
         return glyph, pen
 
     def shell_font(self):
-        """The font to write (see the class docstring); read once, glyph by glyph."""
+        """The font to write (see the class docstring); read once, glyph by glyph, on
+        the first call (later calls return the same font)."""
+        if getattr(self, "_shells", None) is None:
+            self._shells = self._shell_font()
+        return self._shells
+
+    def _shell_font(self):
         import ufoLib2
 
         src = self.font
@@ -223,117 +234,6 @@ class SkeletonSource:
 
 # =========================================================================== compiled font
 
-def _stored_compilers():
-    """ufo2ft's outline compilers, taking stored outlines (built lazily: ufo2ft is
-    imported only when a font is compiled)."""
-    from fontTools.misc.psCharStrings import T2CharString
-    from fontTools.misc.roundTools import otRound
-    from fontTools.pens.pointPen import PointToSegmentPen, SegmentToPointPen
-    from fontTools.pens.recordingPen import RecordingPointPen
-    from fontTools.pens.t2CharStringPen import T2CharStringPen
-    from fontTools.pens.transformPen import TransformPointPen
-    from fontTools.pens.ttGlyphPen import TTGlyphPointPen
-    from fontTools.misc.transform import Identity
-    from fontTools.ttLib.tables._g_l_y_f import Glyph
-    from ufo2ft.outlineCompiler import OutlineOTFCompiler, OutlineTTFCompiler
-
-    class Stored:
-        """The part both flavors share: ``store`` (glyph name -> (data, bounds)) and
-        the decomposition of a glyph from the stored outlines, in the order of
-        ufo2ft's DecomposeComponentsFilter."""
-
-        store = {}
-
-        def shell(self, name):
-            return self.ufo[name] if name in self.ufo else None
-
-        def decomposed(self, name, pen):
-            """``name``'s own stored contours, then its components decomposed."""
-            self.draw_stored(name, pen)
-            for c in self.shell(name).components:
-                self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-
-        def nested(self, name, pen):
-            shell = self.shell(name)
-            if shell is None:
-                return
-            for c in shell.components:
-                self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-            self.draw_stored(name, pen)
-
-    class StoredCFF(Stored, OutlineOTFCompiler):
-        def draw_stored(self, name, pen):
-            if name in self.store:
-                cs = T2CharString(bytecode=self.store[name][0], private=_NO_WIDTHS,
-                                  globalSubrs=[])
-                cs.draw(SegmentToPointPen(pen))
-
-        def compileGlyphs(self):
-            default, nominal = self.getDefaultAndNominalWidths()
-            private = SimpleNamespace(defaultWidthX=default, nominalWidthX=nominal)
-            out = {}
-            for name in self.glyphOrder:
-                glyph, shell = self.allGlyphs[name], self.shell(name)
-                if shell is not None and shell.components:
-                    rec = RecordingPointPen()
-                    self.decomposed(name, rec)
-                    width = None if glyph.width == default else otRound(glyph.width - nominal)
-                    pen = T2CharStringPen(width, self.allGlyphs,
-                                          roundTolerance=self.roundTolerance)
-                    rec.replay(PointToSegmentPen(pen))
-                    out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
-                elif name in self.store:
-                    out[name] = T2CharString(
-                        bytecode=width_prefix(glyph.width, default, nominal)
-                        + self.store[name][0])
-                else:
-                    out[name] = self.getCharStringForGlyph(glyph, private)
-            return out
-
-        def makeGlyphsBoundingBoxes(self):
-            from ufo2ft.outlineCompiler import BoundingBox
-
-            boxes = {}
-            charstrings = self.getCompiledGlyphs()
-            for name, cs in charstrings.items():
-                shell = self.shell(name)
-                if name in self.store and not (shell is not None and shell.components):
-                    box = self.store[name][1]
-                else:
-                    box = cs.calcBounds(charstrings)
-                    box = None if box is None else tuple(otRound(v) for v in box)
-                    box = None if box == (0, 0, 0, 0) else box
-                boxes[name] = None if box is None else BoundingBox(*box)
-            return boxes
-
-    class StoredGlyf(Stored, OutlineTTFCompiler):
-        def draw_stored(self, name, pen):
-            if name in self.store and self.store[name][0]:
-                g = Glyph(self.store[name][0])
-                g.expand(None)
-                g.drawPoints(pen, None)
-
-        def compileGlyphs(self):
-            ttglyphs = super().compileGlyphs()  # shells: components, empty glyphs
-            for name in self.glyphOrder:
-                shell = self.shell(name)
-                if not self.store.get(name, (b"",))[0]:  # no contours: ufo2ft's own
-                    continue
-                if shell is not None and shell.components:  # mixed: decomposed
-                    pen = TTGlyphPointPen(self.allGlyphs)
-                    self.decomposed(name, pen)
-                    ttglyphs[name] = pen.glyph(dropImpliedOnCurves=self.dropImpliedOnCurves,
-                                               round=otRound)
-                else:
-                    g = Glyph(self.store[name][0])
-                    g.expand(None)
-                    ttglyphs[name] = g
-            return ttglyphs
-
-    del Identity
-    return StoredCFF, StoredGlyf
-
-
 def compile_stored(font, store, kind, **options):
     """The ``TTFont`` ufo2ft compiles from ``font`` (shells, see the module docstring)
     with the stored outlines ``store`` (glyph name -> :func:`compile_outline`'s
@@ -341,8 +241,9 @@ def compile_stored(font, store, kind, **options):
     ``options`` go to ufo2ft's ``compileOTF`` / ``compileTTF``."""
     import ufo2ft
 
-    cff, glyf = _stored_compilers()
-    base = cff if kind == ".otf" else glyf
+    from .stored import StoredCFF, StoredGlyf
+
+    base = StoredCFF if kind == ".otf" else StoredGlyf
     compiler = type(base.__name__, (base,), {"store": store})
     if kind == ".otf":
         return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, **options)
@@ -377,3 +278,40 @@ class UfoGlyphWriter:
 
     def finish(self):
         self.writer.writeInfo(self.font.info)
+
+
+def sample_font(path, text, length=15):
+    """A small ufoLib2 font of the UFO at ``path`` for its sample image
+    (:func:`morph.fonts.specimen.sample_text` and ``write_sample_image`` take it as
+    they took the whole font, and pick the same text): the glyphs of ``text``'s
+    characters and of the font's first ``length`` characters with ink (in code
+    point order, as ``sample_text`` picks them), with their components' bases and
+    the font info; only those glyphs are read."""
+    import unicodedata
+
+    import ufoLib2
+    from fontTools.ufoLib import UFOReader
+
+    src = ufoLib2.Font.open(str(path), lazy=True)
+    codes = UFOReader(str(path), validate=False).getGlyphSet(validateRead=False).getUnicodes()
+    cmap = {}
+    for name in src.keys():
+        for u in codes.get(name, ()):
+            cmap.setdefault(u, name)
+    wanted = [cmap[ord(ch)] for ch in text if ord(ch) in cmap]
+    own = 0
+    for code in sorted(cmap):
+        if own == length:
+            break
+        if unicodedata.category(chr(code))[0] not in ("C", "Z") \
+                and src[cmap[code]].getBounds(src) is not None:
+            wanted.append(cmap[code])
+            own += 1
+    out = ufoLib2.Font(info=copy.deepcopy(src.info))
+    while wanted:
+        name = wanted.pop()
+        if name in out or name not in src:
+            continue
+        out.layers.defaultLayer.insertGlyph(src[name], copy=True)
+        wanted.extend(c.baseGlyph for c in src[name].components)
+    return out

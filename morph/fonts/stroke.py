@@ -70,7 +70,8 @@ from ..parse.ufo import glyph_names_for
 from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
-from .jobs import CHUNK, glyph_chunks, run_glyph_jobs  # noqa: F401 (CHUNK re-exported)
+from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
+                   glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import grow_win_metrics, rename_ufo_family, widen_extent
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
@@ -192,9 +193,10 @@ def _chunk_job(chunk):
     t0 = time.process_time()
     tol, quadratic = _outline_tolerance(chunk[0][3])
     try:
-        contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
-                                         [chunk[k][4] for k in good], reverse=False,
-                                         splines=True)
+        with converting(len(good)):
+            contours = contours_from_regions([out[k]["region"] for k in good], tol, quadratic,
+                                             [chunk[k][4] for k in good], reverse=False,
+                                             splines=True)
     except MorphError:
         contours = None
     if contours is not None:
@@ -259,6 +261,7 @@ def _stroked_regions(chunk):
         except MorphError:  # glyph by glyph, as they were (only a MorphError: the ladder)
             regions = None
         if regions is not None:
+            glyph_progress(SUM_SHARE * len(chunk))
             sizes = np.array([sum(len(lp) for lp in r) for r in regions], float)
             share = (time.process_time() - t0) * sizes / max(sizes.sum(), 1.0)
             return [(r, None, float(s)) for r, s in zip(regions, share)]
@@ -270,21 +273,25 @@ def _stroked_regions(chunk):
         except MorphError as exc:
             region, error = None, exc
         out.append((region, error, time.process_time() - t0))
+        glyph_progress(SUM_SHARE)
     return out
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1):
+               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
-    ``src``: a skeleton ``.ufo`` folder (or an open ``ufoLib2.Font``, not modified).
+    ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
+    :class:`morph.fonts.stream.SkeletonSource` of either (its shell font is used).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
     ``.otf`` or ``.ttf`` (compiled with ufo2ft).  ``nib_region``: a convex region in
     font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the pen point at its
     origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
     outline tolerance in font units before integer rounding (see the module
     docstring for the budget).  ``family_name``: default "<family> Stroke".
-    ``progress(name)`` is called after each stroked glyph.  ``stroker``: a function
+    ``progress(name)`` is called after each stroked glyph, ``in_flight(units)`` with
+    the glyphs' worth of work reported by chunks not yet done
+    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
     ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
     ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
     strokes (1: in this process).
@@ -312,13 +319,40 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
             feature anchors whose glyphs moved by different offsets.
         ValueError: tol <= 0 or an output suffix other than .ufo/.otf/.ttf.
     """
-    from .stream import SkeletonSource
     from .tables import save_atomically
 
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    source = SkeletonSource(src)
+    plan = _font_plan(src, nib_region, glyphs, family_name, kind)
+    save_atomically(out_path, lambda tmp: _write_streamed(
+        plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs, in_flight),
+        overwrite)
+    plan.stats.update(glyphs=len(plan.stroked), followed=len(plan.followed), font=plan.font,
+                      seconds=time.perf_counter() - t_start)
+    return plan.stats
+
+
+@dataclass
+class _FontPlan:
+    """What :func:`stroke_ufo` writes (:func:`_font_plan`)."""
+
+    source: object     # morph.fonts.stream.SkeletonSource
+    font: object       # the shells (ufoLib2.Font), final furniture
+    stroked: list
+    followed: list
+    place: object      # _Placement
+    symmetric: bool
+    stats: dict
+
+
+def _font_plan(src, nib_region, glyphs, family_name, kind):
+    """The source, the font of shells with its final furniture and names, the glyphs
+    to stroke and those that follow, where they go; the first statistics
+    (:func:`_finish_shells`)."""
+    from .stream import SkeletonSource
+
+    source = src if isinstance(src, SkeletonSource) else SkeletonSource(src)
     font = source.shell_font()
     symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
@@ -326,23 +360,26 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     place = _placement(font, stroked + followed, nib_region)
     stats = _finish_shells(font, source, stroked, followed, place, symmetric, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
+    return _FontPlan(source, font, stroked, followed, place, symmetric, stats)
+
+
+def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
+                    in_flight=None):
+    """Stroke the plan's glyphs chunk by chunk (each chunk's jobs read from the source
+    when a process needs them) and write the font at ``tmp`` as they come
+    (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
     tols = budget.plan(tol, kind == ".ttf")
 
     def prepare(names):
-        return _stroke_work(source, names, symmetric, nib_region, tols, place.shifts, stroker)
+        return _stroke_work(plan.source, names, plan.symmetric, nib_region, tols,
+                            plan.place.shifts, stroker)
 
-    def write(tmp):
-        sink = _StreamedGlyphs(font, kind, tmp, progress)
-        run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), stroked, jobs=jobs,
-                       keep=False, each=sink.add, prepare=prepare)
-        grow_win_metrics(font, *sink.extent)
-        sink.finish(out_path, tol)
-        stats.update(sink.stats)
-
-    save_atomically(out_path, write, overwrite)
-    stats.update(glyphs=len(stroked), followed=len(followed), font=font,
-                 seconds=time.perf_counter() - t_start)
-    return stats
+    sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
+    run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked, jobs=jobs,
+                   keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
+    grow_win_metrics(plan.font, *sink.extent)
+    sink.finish(out_path, tol)
+    plan.stats.update(sink.stats)
 
 
 #: what a worker compiles a stroked glyph to, by output (None: the UFO's contours)
@@ -353,13 +390,14 @@ def _streamed_chunk(flavor, chunk):
     """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
     ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
     ``flavor``; for None the contours themselves), ``contours`` and ``points``
-    (counts) and ``extent`` (the lowest and highest y of its region); the region is
-    not sent back."""
+    (counts) and ``extent`` (the lowest and highest y of the chunk's regions, one
+    list for all its glyphs: a region's tight box is computed only where its control
+    points reach past the chunk's extremes so far); the regions are not sent back."""
     from .stream import compile_outline
 
     out = _chunk_job(chunk)
+    extent = [None, None]
     for r in out:
-        extent = [None, None]
         widen_extent(extent, r.pop("region"))
         contours = r["contours"]
         r.update(extent=extent, contours=len(contours),
@@ -420,6 +458,8 @@ class _StreamedGlyphs:
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
         self.store.clear()
+        if "CFF " in otf:  # ufo2ft's subroutinizing save set the bounds (head, hhea,
+            otf.recalcBBoxes = False  # OS/2): not again from each charstring
         otf.save(str(self.tmp))
 
 

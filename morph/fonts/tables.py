@@ -213,31 +213,7 @@ def clean_contour(segs, spike=3.0, splines=False):
     work = _rounded_segments(_exact_joins(segs), splines)
     changed = True
     while changed and work:
-        changed = False
-        out = []
-        for s in work:
-            if out and len(s) == 2 and len(out[-1]) == 2 and _collinear_lines(out[-1], s):
-                out[-1] = np.array([out[-1][0], s[1]])
-                changed = True
-                continue
-            if (out and _same(out[-1][0], s[-1]) and _same(out[-1][-1], s[0])
-                    and np.hypot(*(s[0] - s[-1])) <= spike):
-                out.pop()  # p -> q -> p spike
-                changed = True
-                continue
-            out.append(s)
-        # the closing join (last segment -> first) gets the same treatment
-        if len(out) >= 2:
-            a, b = out[-1], out[0]
-            if len(a) == 2 and len(b) == 2 and _collinear_lines(a, b):
-                out[0] = np.array([a[0], b[1]])
-                out.pop()
-                changed = True
-            elif (_same(a[0], b[-1]) and _same(a[-1], b[0])
-                  and np.hypot(*(b[0] - b[-1])) <= spike and len(out) > 2):
-                out = out[1:-1]
-                changed = True
-        work = out
+        work, changed = _merge_and_despike(work, spike)
     if len(work) < 2 or (len(work) == 2 and len(work[0]) == 2 and len(work[1]) == 2):
         return []
     # the segments must still chain (spike removal joins p .. p)
@@ -245,6 +221,37 @@ def clean_contour(segs, spike=3.0, splines=False):
         if not _same(a[-1], b[0]):  # pragma: no cover - exact joins, each step keeps them
             raise MorphError("contour cleaning broke the chain at %s" % (a[-1].tolist(),))
     return work
+
+
+def _merge_and_despike(work, spike):
+    """One pass of :func:`clean_contour` over rounded segments: consecutive collinear
+    lines merged, p -> q -> p spikes shorter than ``spike`` removed, the closing
+    join (last segment -> first) included.  Returns (segments, whether anything
+    changed)."""
+    changed = False
+    out = []
+    for s in work:
+        if out and len(s) == 2 and len(out[-1]) == 2 and _collinear_lines(out[-1], s):
+            out[-1] = np.array([out[-1][0], s[1]])
+            changed = True
+            continue
+        if (out and _same(out[-1][0], s[-1]) and _same(out[-1][-1], s[0])
+                and np.hypot(*(s[0] - s[-1])) <= spike):
+            out.pop()  # p -> q -> p spike
+            changed = True
+            continue
+        out.append(s)
+    if len(out) >= 2:
+        a, b = out[-1], out[0]
+        if len(a) == 2 and len(b) == 2 and _collinear_lines(a, b):
+            out[0] = np.array([a[0], b[1]])
+            out.pop()
+            changed = True
+        elif (_same(a[0], b[-1]) and _same(a[-1], b[0])
+              and np.hypot(*(b[0] - b[-1])) <= spike and len(out) > 2):
+            out = out[1:-1]
+            changed = True
+    return out, changed
 
 
 def draw_contours(pen, contours, quadratic):

@@ -93,22 +93,54 @@ def stale_frame_files(folder, count, animation="gif"):
                   if p.is_file() and FRAME_FILE.fullmatch(p.name) and p.name not in keep)
 
 
-def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="gif"):
-    """:func:`write_frames` of (region, tol) pairs from any iterable, each frame's
-    files written as it arrives (e.g. from :func:`morph.frames.iter_frames`, in the
-    box of :func:`morph.frames.frames_bbox`): a long sequence is on disk as far as
-    it got, and only the animation's frames stay in memory (palette images for a
-    GIF).  Returns the folder."""
-    from .png import gif_frame, render_png, save_animation
-    from .svg import write_svg
+#: :func:`write_frame_stream` converts the SVG curves of this many frames at a time
+#: in one batch (:func:`morph.render.svg.fitted_regions`), and holds at most as many
+#: regions besides the animation's images
+FRAME_BATCH = 16
 
+
+def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="gif"):
+    """:func:`write_frames` of (region, tol) pairs from any iterable (e.g. from
+    :func:`morph.frames.iter_frames`, in the box of :func:`morph.frames.frames_bbox`),
+    written in groups of :data:`FRAME_BATCH` frames as they arrive, each group's
+    SVG curves fitted in one batch: a long sequence is on disk as far as it got
+    (a sequence that raises has the frames before it written first), and only the
+    animation's frames stay in memory (palette images for a GIF) besides one
+    group's regions.  Returns the folder."""
     folder = Path(folder)
     images = []
-    for k, (region, t) in enumerate(frames):
+    frames, group = iter(frames), []
+    while True:
+        try:
+            group.append(next(frames))
+        except StopIteration:
+            break
+        except BaseException:
+            _write_group(folder, len(images), group, bbox, size, animation)
+            raise
+        if len(group) == FRAME_BATCH:
+            images += _write_group(folder, len(images), group, bbox, size, animation)
+            group = []
+    images += _write_group(folder, len(images), group, bbox, size, animation)
+    from .png import save_animation
+
+    save_animation(images, str(folder / ("morph." + animation)), duration=duration)
+    return folder
+
+
+def _write_group(folder, first, group, bbox, size, animation):
+    """Write frames ``first``, ... of (region, tol) pairs ``group`` (their curves
+    fitted in one batch); returns their animation images."""
+    from .png import gif_frame, render_png
+    from .svg import document_tol, fitted_regions, write_svg
+
+    tols = [document_tol([region], t, bbox=bbox) for region, t in group]
+    images = []
+    for k, ((region, _), t, fitted) in enumerate(
+            zip(group, tols, fitted_regions([r for r, _ in group], tols)), first):
         stem = folder / ("frame-%03d" % k)
-        write_svg(str(stem) + ".svg", [region], bbox=bbox, size=size, tol=t)
+        write_svg(str(stem) + ".svg", [fitted], bbox=bbox, size=size, tol=t)
         image = render_png([region], size=size, bbox=bbox)
         image.save(str(stem) + ".png")
         images.append(gif_frame(image) if animation == "gif" else image)
-    save_animation(images, str(folder / ("morph." + animation)), duration=duration)
-    return folder
+    return images

@@ -36,7 +36,8 @@ themselves or each other at single points.
 
 import numpy as np
 
-from ..polyline import near_segments, polyline_edges, polylines_cross
+from ..polyline import (BoxGrid, _cell_pairs, near_segments, polyline_edges, polylines_cross,
+                        unique)
 from ..region import validated
 from .flatten import tag_loops
 from .lift import lift_rings
@@ -65,13 +66,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
         return []
     rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)
     if hole_test is not None:
-        filled = []
-        for i, r in enumerate(rings):
-            if r.hole:
-                islands = [tg.to_float(x.q) for x in rings if x.parent == i]
-                if hole_test(tg.to_float(r.q), islands):
-                    filled.append(i)
-        rings = fill_holes(rings, filled)
+        rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
     out, of_ring = lift_rings([r.q for r in rings], tg, contract)
     outer = [not rings[k].hole for k in of_ring]
     # each lifted loop lies within eps + grid + contract of its ring: loops whose
@@ -84,18 +79,70 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     return out
 
 
+def _filled_holes(rings, tg, hole_test):
+    """Indices of the hole rings that ``hole_test`` finds filled: all holes in one
+    call of its ``many`` method ([(ring, islands)] -> bools) where it has one, else
+    one call per hole."""
+    holes = [i for i, r in enumerate(rings) if r.hole]
+    if not holes:
+        return []
+    children = {}
+    for k, r in enumerate(rings):
+        children.setdefault(r.parent, []).append(k)
+    args = [(tg.to_float(rings[i].q), [tg.to_float(rings[k].q) for k in children.get(i, [])])
+            for i in holes]
+    many = getattr(hole_test, "many", None)
+    filled = many(args) if many is not None else [hole_test(*a) for a in args]
+    return [i for i, f in zip(holes, filled) if f]
+
+
 def _near_pairs(polylines, reach):
     """Index pairs (i < j) of closed polylines that come within ``reach`` of each
-    other (empty polylines are none's neighbours)."""
+    other (empty polylines are none's neighbours).
+
+    Only edges that can be that near another polyline are compared: two edges
+    within ``reach`` of each other have a midpoint within reach / 2 of both, in the
+    boxes of their polylines grown by reach / 2 (so those boxes overlap) and in the
+    edges' own boxes grown as much; so only the edges whose grown box meets the
+    overlap of their polyline's grown box with another's go to
+    :func:`morph.polyline.near_segments` (a chunk of a font is mostly glyphs apart
+    from each other, and the rings of one glyph meet each other's boxes only in
+    part)."""
     sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], dtype=np.int64)
     if np.count_nonzero(sizes) < 2:
         return set()
-    a, b = polyline_edges([p for p in polylines if len(p) >= 2])
-    owner = np.repeat(np.flatnonzero(sizes), sizes[sizes > 0])
-    pairs = near_segments(a, b, reach)
+    has = np.flatnonzero(sizes)
+    half = 0.5 * reach
+    lo = np.array([np.min(polylines[k], axis=0) for k in has]) - half
+    hi = np.array([np.max(polylines[k], axis=0) for k in has]) + half
+    pairs = _cell_pairs(BoxGrid(lo, hi))
     if not len(pairs):
         return set()
-    i, j = owner[pairs[:, 0]], owner[pairs[:, 1]]
+    # the overlaps of the grown boxes, as (polyline, box) rows sorted by polyline
+    ring = pairs.T.ravel()
+    blo = np.tile(np.maximum(lo[pairs[:, 0]], lo[pairs[:, 1]]), (2, 1))
+    bhi = np.tile(np.minimum(hi[pairs[:, 0]], hi[pairs[:, 1]]), (2, 1))
+    order = np.argsort(ring, kind="stable")
+    blo, bhi = blo[order], bhi[order]
+    cnt = np.bincount(ring, minlength=len(has))
+    first = np.cumsum(cnt) - cnt
+    close = np.flatnonzero(cnt)
+    a, b = polyline_edges([polylines[k] for k in has[close]])
+    owner = np.repeat(close, sizes[has[close]])               # index into has
+    per = cnt[owner]
+    e = np.repeat(np.arange(len(a)), per)
+    box = first[owner][e] + (np.arange(len(e)) - np.repeat(np.cumsum(per) - per, per))
+    elo, ehi = np.minimum(a, b)[e] - half, np.maximum(a, b)[e] + half
+    meets = np.all((elo <= bhi[box]) & (ehi >= blo[box]), axis=1)
+    keep = np.zeros(len(a), bool)
+    keep[e[meets]] = True
+    if not keep.any():
+        return set()
+    a, b, owner = a[keep], b[keep], has[owner[keep]]
+    found = near_segments(a, b, reach)
+    if not len(found):
+        return set()
+    i, j = owner[found[:, 0]], owner[found[:, 1]]
     keep = i != j
     return {(int(min(x, y)), int(max(x, y))) for x, y in zip(i[keep], j[keep])}
 
@@ -159,7 +206,7 @@ def _apart_groups(loops, margin):
         new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
         changed = bool(np.any(new != group))
         group = new
-    return [list(np.flatnonzero(group == g)) for g in np.unique(group)]
+    return [list(np.flatnonzero(group == g)) for g in unique(group)]
 
 
 def _without_sliver_holes(loops, eps):

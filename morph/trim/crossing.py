@@ -9,7 +9,7 @@ from .. import piece as pc
 from ..polyline import segment_pairs, unique
 
 
-def uncertain_pairs(loops):
+def uncertain_pairs(loops, pieces=None):
     """Pairs (i, j), i <= j, of pieces (indices into the loops' pieces in order) of
     one loop that may cross or touch away from a shared end: their control boxes
     overlap and no monotone chain holds both.
@@ -18,8 +18,10 @@ def uncertain_pairs(loops):
     (:func:`morph.piece.tangent_cones`, corners included) is monotone along the
     cone's bisector, so it is a simple arc: two of its pieces meet at most at a
     shared end.  Either way round the loop from i to j may be that chain.
+    ``pieces``: the loops' pieces in order when known (a :class:`morph.piece.Pieces`).
     """
-    pieces = [p for loop in loops for p in loop]
+    if pieces is None:
+        pieces = [p for loop in loops for p in loop]
     sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])

@@ -76,7 +76,7 @@ def tag_loops(loops, eps, grid, origin=None):
     collapse to fewer than three grid points are dropped (their area is below
     grid^2 times their vertex count).
     """
-    pieces = [np.asarray(p, float) for loop in loops for p in loop]
+    pieces = pc.Pieces.of([p for loop in loops for p in loop])
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
     piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
@@ -182,7 +182,8 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         last = np.searchsorted(key, p + t0 + width, side="left") - 1
         return refined[np.maximum(last, first) + 1] - refined[first] > 0
 
-    fp, fts, fxy = pl.flat_starts([pieces[i] for i in of], eps, keep=overlaps)
+    fp, fts, fxy = pl.flat_starts(pieces.take(of) if isinstance(pieces, pc.Pieces)
+                                  else [pieces[i] for i in of], eps, keep=overlaps)
     fp = of[fp]
     fkey = fp * 2.0 + fts
     seg = np.searchsorted(key, fkey, side="right") - 1  # the coarse segment of each
@@ -221,13 +222,14 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
 def _segment_parts(pieces, pid, t0, t1):
     """(segments, their parts) by degree: each segment's piece restricted to its
     range [t0, t1], a stack (k, n+1, 3) of the segments k of one degree."""
-    deg = np.array([len(p) for p in pieces])
-    for n in unique(deg):
-        of = np.flatnonzero(deg == n)
-        stack = np.array([pieces[i] for i in of], float)
-        row = np.full(len(pieces), -1)
+    group = np.zeros(len(pieces), np.int64)
+    row = np.zeros(len(pieces), np.int64)
+    groups = pc.degree_groups(pieces)
+    for g, (of, _) in enumerate(groups):
+        group[of] = g
         row[of] = np.arange(len(of))
-        k = np.flatnonzero(deg[pid] == n)
+    for g, (_, stack) in sorted(enumerate(groups), key=lambda x: x[1][1].shape[1]):
+        k = np.flatnonzero(group[pid] == g)
         yield k, bz.subsegment_many(stack[row[pid[k]]], t0[k], t1[k])
 
 
@@ -316,19 +318,33 @@ def _line_crosses_square(a, b, c):
 
 def _merge_equal(q, is_start, loop_of):
     """Indices to keep: one vertex per run of equal consecutive grid points of a loop
-    (cyclic), the last piece start in the run if any, else its first vertex."""
-    keep = []
-    bounds = np.flatnonzero(np.diff(loop_of)) + 1
-    for a, b in zip(np.concatenate([[0], bounds]), np.concatenate([bounds, [len(q)]])):
-        lq = q[a:b]
-        same = np.all(lq == np.roll(lq, 1, axis=0), axis=1)
-        if same.all():
-            continue  # the whole loop is one grid point
-        r = int(np.argmin(same))  # a run begins here
-        order = np.roll(np.arange(a, b), -r)
-        same = np.roll(same, -r)
-        run_first = np.flatnonzero(~same)
-        cand = np.where(is_start[order], np.arange(len(order)), -1)
-        best = np.maximum.reduceat(cand, run_first)
-        keep.append(order[np.where(best >= 0, best, run_first)])
-    return np.sort(np.concatenate(keep)) if keep else np.zeros(0, np.int64)
+    (cyclic), the last piece start in the run if any, else its first vertex.  All
+    loops at once: a vertex's run is that of the last run start at or before it in
+    its loop, or the loop's last run (wrapping round) before the loop's first run
+    start; a loop that is one grid point has no run start and is dropped."""
+    n = len(q)
+    if not n:
+        return np.zeros(0, np.int64)
+    _, prv, starts = _links(loop_of)
+    size = np.diff(starts)
+    loop = np.repeat(np.arange(len(size)), size)
+    begins = ~np.all(q == q[prv], axis=1)            # a run begins at this vertex
+    if not begins.any():
+        return np.zeros(0, np.int64)
+    count = np.cumsum(begins)                        # run starts up to and with i
+    before = np.concatenate([[0], count])[starts[:-1]]  # ... before each loop
+    total = count[starts[1:] - 1] - before           # run starts of each loop
+    own = count - before[loop]                       # ... of the loop, up to i
+    live = total[loop] > 0
+    run = np.where(own > 0, count, before[loop] + total[loop]) - 1
+    run_start = np.flatnonzero(begins)               # run r begins at run_start[r]
+    idx = np.arange(n)
+    r0 = run_start[np.where(live, run, 0)]
+    key = np.where(live, (idx - r0) % size[loop], 0)  # position along its run
+    best = np.full(len(run_start), -1, np.int64)
+    sel = live & is_start
+    np.maximum.at(best, run[sel], key[sel])
+    runs = np.arange(len(run_start))
+    rl = loop[run_start]
+    keep = starts[rl] + (run_start - starts[rl] + np.maximum(best, 0)) % size[rl]
+    return np.sort(keep[runs])

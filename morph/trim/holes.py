@@ -41,6 +41,181 @@ def deepest_point(ring, islands, grid_n=12, rounds=8, enough=np.inf):
     return _search(ring, islands, grid_n, rounds, enough)
 
 
+def deepest_points(holes, grid_n=12, rounds=8, enough=np.inf):
+    """:func:`deepest_point` of many holes at once: ``holes`` a list of (ring,
+    islands), returns (points (h, 2), depths (h,)), the same numbers as one call per
+    hole.  Every round of the grid search runs on all holes still searching in a
+    few array calls (candidates x their hole's edges); a hole whose first round
+    finds no candidate inside (a thin hole between the grid points) is searched
+    on its own (:func:`_search`, with its scanline fallback)."""
+    n = len(holes)
+    best, depth = np.zeros((n, 2)), np.full(n, -np.inf)
+    polys = [[ring] + list(islands) for ring, islands in holes]
+    k = [max(1, -(-sum(len(p) for p in ps) // COARSE_VERTICES)) for ps in polys]
+    thin = [h for h in range(n) if k[h] > 1]
+    if thin:
+        x, _ = _search_many([[p[::k[h]] for p in polys[h]] for h in thin], grid_n, rounds,
+                            enough)
+        d = _depths(x, [polys[h] for h in thin])
+        ok = d > 0.0
+        best[np.array(thin)[ok]], depth[np.array(thin)[ok]] = x[ok], d[ok]
+    rest = [h for h in range(n) if not depth[h] > 0.0]
+    if rest:
+        best[rest], depth[rest] = _search_many([polys[h] for h in rest], grid_n, rounds,
+                                               enough)
+    return best, depth
+
+
+def _search_many(polys, grid_n, rounds, enough):
+    """:func:`_search` of many holes (``polys[h]``: the ring, then its islands), the
+    rounds of all holes together; (points (h, 2), depths (h,))."""
+    n = len(polys)
+    sizes = [[len(p) for p in ps] for ps in polys]
+    n_poly = np.array([len(ps) for ps in polys], np.int64)
+    flat = [p for ps in polys for p in ps]
+    a = np.concatenate(flat)
+    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
+    e_count = np.array([sum(sz) for sz in sizes], np.int64)
+    e_start = np.cumsum(e_count) - e_count
+    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
+                             [z for sz in sizes for z in sz])  # 0: the ring
+    rings = [ps[0] for ps in polys]
+    lo = np.array([r.min(axis=0) for r in rings])
+    hi = np.array([r.max(axis=0) for r in rings])
+    center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    best, depth = center.copy(), np.full(n, -np.inf)
+    g = np.linspace(-1.0, 1.0, grid_n)
+    unit = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    c = len(unit)
+    active = np.ones(n, bool)
+    alone = []
+    for r in range(rounds):
+        act = np.flatnonzero(active)
+        if not len(act):
+            break
+        cand = (center[act, None, :] + unit[None] * half[act, None, :]).reshape(-1, 2)
+        hole = np.repeat(act, c)                       # the hole of each candidate
+        inside = _inside_own(cand, hole, a, b, e_start, e_count, poly_of_edge, n_poly, grid_n)
+        dist = _row_distance(cand, hole, inside, a, b, e_start, e_count, grid_n)
+        dist = dist.reshape(len(act), c)
+        any_in = inside.reshape(len(act), c).any(axis=1)
+        if r == 0 and not any_in.all():
+            alone += act[~any_in].tolist()             # thin holes: searched on their own
+            active[act[~any_in]] = False
+        i = np.argmax(dist, axis=1)
+        di = dist[np.arange(len(act)), i]
+        better = any_in & (di > depth[act])
+        cand = cand.reshape(len(act), c, 2)
+        up = act[better]
+        best[up], depth[up] = cand[better, i[better]], di[better]
+        go = act[active[act]]
+        center[go], half[go] = best[go], half[go] * (4.0 / grid_n)
+        stop = (np.hypot(half[go, 0], half[go, 1]) <= DEPTH_REL * depth[go]) | (depth[go] >= enough)
+        active[go[stop]] = False
+    for h in alone:
+        best[h], depth[h] = _search(polys[h][0], polys[h][1:], grid_n, rounds, enough)
+    return best, depth
+
+
+def _pairs(owner, e_start, e_count):
+    """(point, edge) index pairs of every point with every edge of its own hole
+    (``owner[i]``: point i's hole; hole h's edges e_start[h] .. + e_count[h]),
+    grouped by point, edges in order."""
+    per = e_count[owner]
+    pt = np.repeat(np.arange(len(owner)), per)
+    off = np.arange(len(pt)) - np.repeat(np.cumsum(per) - per, per)
+    return pt, e_start[owner][pt] + off
+
+
+def _inside_own(pts, owner, a, b, e_start, e_count, poly_of_edge, n_poly, row=1):
+    """Whether each point is inside its hole's ring (odd winding) and inside none of
+    its islands (even winding), as :func:`_search` tests with one winding number
+    per polygon.  The points come in rows of ``row`` at one height (a search
+    grid's rows): each row is paired with its hole's edges first, and only the
+    edges spanning its height (the only ones :func:`morph.polyline.ray_crossings`
+    can count) with the row's points."""
+    rows = np.arange(0, len(pts), row)
+    rp, e = _pairs(owner[rows], e_start, e_count)
+    y = pts[rows[rp], 1]
+    span = (a[e, 1] <= y) != (b[e, 1] <= y)
+    rp, e = rp[span], e[span]
+    pt = (rows[rp][:, None] + np.arange(row)).ravel()
+    e = np.repeat(e, row)
+    sign = pl.ray_crossings(pts[pt], a[e], b[e])
+    hit = sign != 0
+    pt, poly, sign = pt[hit], poly_of_edge[e[hit]], sign[hit]
+    # winding number per (point, polygon) met: sums over the sorted keys
+    key = pt * int(n_poly.max()) + poly
+    order = np.argsort(key, kind="stable")
+    key, sign = key[order], sign[order]
+    first = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]]))
+    odd = np.add.reduceat(sign, first) % 2 == 1 if len(key) else np.zeros(0, bool)
+    kpt, kpoly = pt[order][first], poly[order][first]
+    in_ring = np.zeros(len(pts), bool)
+    in_ring[kpt[odd & (kpoly == 0)]] = True
+    in_island = np.zeros(len(pts), bool)
+    in_island[kpt[odd & (kpoly > 0)]] = True
+    return in_ring & ~in_island
+
+
+def _row_distance(pts, owner, inside, a, b, e_start, e_count, row):
+    """Distance from each point ``inside`` to the nearest edge of its own hole's
+    polygons (-inf for the others), the points in rows of ``row`` at one height.
+    Exactly that minimum, on fewer pairs: a point's distance to the edges spanning
+    its row's height bounds its minimum (an inside point has such an edge), and an
+    edge farther in height from the row than the largest bound of the row's
+    inside points cannot be nearest to any of them."""
+    out = np.full(len(pts), -np.inf)
+    if not inside.any():
+        return out
+    rows = np.arange(0, len(pts), row)
+    rp, e = _pairs(owner[rows], e_start, e_count)
+    y = pts[rows[rp], 1]
+    lo_y, hi_y = np.minimum(a[e, 1], b[e, 1]), np.maximum(a[e, 1], b[e, 1])
+    dy = np.maximum(np.maximum(lo_y - y, y - hi_y), 0.0)
+    # bounds: distances to the spanning edges
+    span = dy == 0.0
+    pt = (rows[rp[span]][:, None] + np.arange(row)).ravel()
+    es = np.repeat(e[span], row)
+    keep = inside[pt]
+    pt, es = pt[keep], es[keep]
+    bound = np.full(len(pts), np.inf)
+    np.minimum.at(bound, pt, pl.segment_distance(pts[pt], a[es], b[es]))
+    row_bound = np.where(inside, bound, -np.inf).reshape(-1, row).max(axis=1)
+    near = dy <= row_bound[rp]
+    pt = (rows[rp[near]][:, None] + np.arange(row)).ravel()
+    en = np.repeat(e[near], row)
+    keep = inside[pt]
+    pt, en = pt[keep], en[keep]
+    d = pl.segment_distance(pts[pt], a[en], b[en])
+    best = np.full(len(pts), np.inf)
+    np.minimum.at(best, pt, d)
+    out[inside] = best[inside]
+    return out
+
+
+def _own_distance(pts, owner, a, b, e_start, e_count):
+    """Distance from each point to the nearest edge of its own hole's polygons."""
+    pt, e = _pairs(owner, e_start, e_count)
+    d = pl.segment_distance(pts[pt], a[e], b[e])
+    return np.minimum.reduceat(d, np.cumsum(e_count[owner]) - e_count[owner])
+
+
+def _depths(x, polys):
+    """:func:`_depth` of one point per hole (``polys[h]``: ring, then islands)."""
+    n_poly = np.array([len(ps) for ps in polys], np.int64)
+    flat = [p for ps in polys for p in ps]
+    a = np.concatenate(flat)
+    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
+    e_count = np.array([sum(len(p) for p in ps) for ps in polys], np.int64)
+    e_start = np.cumsum(e_count) - e_count
+    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
+                             [len(p) for p in flat])
+    owner = np.arange(len(polys))
+    inside = _inside_own(x, owner, a, b, e_start, e_count, poly_of_edge, n_poly)
+    return np.where(inside, _own_distance(x, owner, a, b, e_start, e_count), -1.0)
+
+
 def _depth(x, ring, islands):
     """Distance from x to the polygons' edges; -1 when x is not inside ring or is
     inside an island."""
@@ -126,13 +301,16 @@ class Membership:
     steps, so that neither collapses).  Loops of A with no area (paths traced
     forward and back, as strokes are) count as curves: open paths in Clipper."""
 
-    def __init__(self, region_a, region_b, depth):
+    def __init__(self, region_a, region_b, depth, areas=None):
+        """``areas``: the loops' areas (:func:`morph.moments.loop_areas` of
+        region_a) when known: the same for every depth."""
         flat = depth / 10.0
         pa = pl.flatten_loops(region_a, flat)
         self.pb = pl.flatten_loops(region_b, flat)
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
-        flat_loop = (np.abs(mo.loop_areas(region_a)) <= 1e-9 * size * size).tolist()
+        areas = mo.loop_areas(region_a) if areas is None else areas
+        flat_loop = (np.abs(areas) <= 1e-9 * size * size).tolist()
         self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
         # a degenerate loop P, reverse(P): its first half is the path
         self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]

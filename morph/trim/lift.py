@@ -61,7 +61,7 @@ def lift_rings(rings, tg, contract):
         ids = np.concatenate([pid[k], pid[nx[k]]])
         used = unique(ids)
         inv = np.searchsorted(used, ids)
-        stacked = pc.stack([tg.pieces[i] for i in used])
+        stacked = pc.stack(pc.Pieces.of(tg.pieces).take(used))
         ia, ib = inv[:len(k)], inv[len(k):]
         # a polyline crossing is off the exact one by up to (eps + grid / sqrt 2) /
         # sin(alpha / 2) at an angle alpha: far along a shallow crossing
@@ -81,16 +81,22 @@ def lift_rings(rings, tg, contract):
                                                  t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
-    runs = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
-    _cut_spikes(runs, 2.0 * tg.grid * MATCH_UNITS)
-    out = _close_all(runs, contract)
+    flat = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
+    reach = 2.0 * tg.grid * MATCH_UNITS
+    flagged = _spike_triples(flat, reach)
+    if flagged:  # rare: the rings' runs as lists, cut one by one
+        runs = _as_runs(flat)
+        _cut_flagged(runs, flagged, reach)
+        flat = _flat_runs(runs)
+    out = _close_all(flat, contract)
     kept = [k for k, loop in enumerate(out) if loop]
     return [out[k] for k in kept], kept
 
 
 def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
-    """Per ring: its runs as sub-pieces and the junction point after each (crossings
-    from Newton; at joints the mean of the two ends).  All rings at once: a run
+    """The runs of all rings held flat: (sub-pieces (a :class:`morph.piece.Pieces`),
+    the junction point after each (N, 2) (crossings from Newton; at joints the mean
+    of the two ends), the number of runs of each ring).  All rings at once: a run
     goes from the edge after one junction (an edge whose successor ``nx`` is not
     its continuation) to the next junction of its ring, cyclically; a ring without
     junction is one whole piece.  The runs are cut in one call
@@ -113,7 +119,7 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     row = np.concatenate([e_last, np.full(len(e), -1)])
     order = np.argsort(ring, kind="stable")          # by ring, runs in ring order
     ring, piece_id, ta, tb, row = ring[order], piece_id[order], ta[order], tb[order], row[order]
-    cut = pc.subsegments(pieces, piece_id, ta, tb)
+    cut = pc.subsegments(pieces, piece_id, ta, tb, packed=True)
     starts, stops = pc.end_points(cut)
     ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
     # junctions at joints (no crossing point): the mean of the two runs' ends
@@ -123,48 +129,70 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     after = np.where(k + 1 == base[ring] + per[ring], base[ring], k + 1)
     gap = np.isnan(ends).any(axis=1)
     ends[gap] = 0.5 * (stops[gap] + starts[after[gap]])
-    bounds = np.append(base, len(ring)).tolist()
-    return [(cut[bounds[r]:bounds[r + 1]], list(ends[bounds[r]:bounds[r + 1]]))
-            for r in range(n_rings)]
+    return cut, ends, per
 
 
-def _close_all(runs, contract):
-    """:func:`_close` of every ring's runs: the first round (lengths, snapping to the
-    junctions, lengths again) for all rings at once; the rings where snapping leaves
-    a short run go on one by one."""
-    sizes = np.array([len(out) for out, _ in runs], np.int64)
+def _as_runs(flat):
+    """Runs held flat (pieces, junction ends (N, 2), runs per ring) as per ring
+    [(pieces, ends)], lists."""
+    pieces, ends, per = flat
+    rows = list(pieces)
+    bounds = np.append(np.cumsum(per) - per, len(rows)).tolist()
+    return [(rows[bounds[r]:bounds[r + 1]], list(ends[bounds[r]:bounds[r + 1]]))
+            for r in range(len(per))]
+
+
+def _flat_runs(runs):
+    """:func:`_as_runs` undone: (pieces, ends (N, 2), runs per ring)."""
     pieces = [p for out, _ in runs for p in out]
-    if not pieces:
-        return [[] for _ in runs]
-    ring = np.repeat(np.arange(len(runs)), sizes)
     ends = np.array([e for _, ends in runs for e in ends], float).reshape(-1, 2)
+    return pieces, ends, np.array([len(out) for out, _ in runs], np.int64)
+
+
+def _close_all(flat, contract):
+    """:func:`_close` of every ring's runs (held flat: pieces, junction ends (N, 2),
+    runs per ring): the first round (lengths, snapping to the junctions, lengths
+    again) for all rings at once; the rings where snapping leaves a short run go on
+    one by one."""
+    pieces, ends, per_ring = flat
+    n_rings = len(per_ring)
+    if not len(pieces):
+        return [[] for _ in range(n_rings)]
+    pieces = pc.Pieces.of(pieces)
+    ring = np.repeat(np.arange(n_rings), per_ring)
     keep = pc.length_bounds(pieces) >= contract
     idx = np.flatnonzero(keep)
     kr = ring[idx]
-    per = np.bincount(kr, minlength=len(runs))
+    per = np.bincount(kr, minlength=n_rings)
     base = np.cumsum(per) - per
     k = np.arange(len(idx))
     before = np.where(k == base[kr], base[kr] + per[kr] - 1, k - 1)
-    snapped = _with_endpoints_many([pieces[j] for j in idx], ends[idx[before]], ends[idx])
-    after = pc.length_bounds(snapped) if snapped else np.zeros(0)
+    snapped = _with_endpoints_many(pieces.take(idx), ends[idx[before]], ends[idx],
+                                   packed=True)
+    after = pc.length_bounds(snapped) if len(idx) else np.zeros(0)
     short = np.bincount(kr, weights=((after < contract) | (after == 0.0)),
-                        minlength=len(runs)) > 0
+                        minlength=n_rings) > 0
+    rows = snapped.rows()
     bounds = np.append(base, len(idx)).tolist()
-    return [_close(*runs[r], contract) if short[r] else snapped[bounds[r]:bounds[r + 1]]
-            for r in range(len(runs))]
+    if short.any():
+        first = np.append(np.cumsum(per_ring) - per_ring, len(ring)).tolist()
+        whole = pieces.rows()
+    return [_close(whole[first[r]:first[r + 1]], list(ends[first[r]:first[r + 1]]), contract)
+            if short[r] else rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)]
 
 
-def _with_endpoints_many(pieces, p0, p1):
+def _with_endpoints_many(pieces, p0, p1, packed=False):
     """:func:`morph.piece.with_endpoints` of many pieces (first and last control
-    points moved to p0[k] and p1[k]), those of one degree at once."""
-    out = [None] * len(pieces)
-    for ks in pc.by_degree(pieces).values():
-        h = np.array([pieces[k] for k in ks], float)
+    points moved to p0[k] and p1[k]), those of one degree at once: a list (with
+    ``packed`` a :class:`morph.piece.Pieces`)."""
+    out = []
+    for ks, h in pc.degree_groups(pieces):
+        h = h.copy()
         h[:, 0, :2] = p0[ks] * h[:, 0, 2:]
         h[:, -1, :2] = p1[ks] * h[:, -1, 2:]
-        for j, k in enumerate(ks):
-            out[k] = h[j]
-    return out
+        out.append((ks, h))
+    out = pc.Pieces(out, len(pieces))
+    return out if packed else out.rows()
 
 
 def _close(out, ends, contract):
@@ -184,25 +212,47 @@ def _close(out, ends, contract):
         ends = [ends[j] for j, s in zip(keep, short) if not s]
 
 
-def _cut_spikes(runs, reach):
-    """Runs between two neighbours that cross each other, cut out (in place).
+def _spike_triples(flat, reach):
+    """The runs (ring r, run j) between two neighbours that cross each other: spikes.
 
     Near-tangent pieces turn the polylines' small normal error into a long
     tangential one, so a ring can take a run just past the exact crossing of its
-    neighbours: a spike that makes the loop cross itself.  All runs are checked at
-    once (Newton from the ends of the two neighbours at the run, within the run's
-    length + ``reach``); where the neighbours cross, they are cut there and the run
-    goes.  A real short piece between neighbours that do not cross (a nib's tip)
-    stays.
-    """
-    tri = [(r, j) for r, (out, _) in enumerate(runs) if len(out) >= 3 for j in range(len(out))]
-    if not tri:
-        return
-    ok = _neighbours_cross(runs, tri, reach)
-    flagged = {t for t, hit in zip(tri, ok) if hit}
-    # cut from the last run back, so that the indices still to visit stay valid (a
-    # cut changes runs j - 1 and j + 1 only); each cut is checked again first
-    for r, j in sorted(flagged, reverse=True):
+    neighbours: a spike that makes the loop cross itself.  All runs of rings of
+    three or more are checked at once (Newton from the ends of the two neighbours
+    at the run, within the run's length + ``reach``), on the runs held flat
+    (pieces, junction ends, runs per ring: :func:`_ring_runs`).  A real short piece
+    between neighbours that do not cross (a nib's tip) is not one."""
+    pieces, ends, per = flat
+    ring = np.repeat(np.arange(len(per)), per)
+    base = np.cumsum(per) - per
+    i = np.flatnonzero(per[ring] >= 3)
+    if not len(i):
+        return []
+    r = ring[i]
+    j = i - base[r]
+    prev, nxt = base[r] + (j - 1) % per[r], base[r] + (j + 1) % per[r]
+    pieces = pc.Pieces.of(pieces)
+    lim = pc.length_bounds(pieces.take(i)) + reach
+    stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
+    m = len(i)
+    ia, ib = np.arange(m), np.arange(m, 2 * m)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim,
+                                1e-6 * reach)
+    ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
+    return list(zip(r[ok].tolist(), j[ok].tolist()))
+
+
+def _cut_spikes(runs, reach):
+    """The spikes of rings' runs given as lists ([(pieces, ends)] per ring) cut out
+    in place (:func:`_spike_triples`, :func:`_cut_flagged`)."""
+    _cut_flagged(runs, _spike_triples(_flat_runs(runs), reach), reach)
+
+
+def _cut_flagged(runs, flagged, reach):
+    """The spikes of :func:`_spike_triples` cut out of the rings' runs (lists, in
+    place): from the last run back, so that the indices still to visit stay valid
+    (a cut changes runs j - 1 and j + 1 only); each cut is checked again first."""
+    for r, j in sorted(set(flagged), reverse=True):
         out, _ = runs[r]
         if len(out) >= 3 and j < len(out):
             _neighbours_cross(runs, [(r, j)], reach, apply=True)

@@ -208,11 +208,11 @@ def _first_crossings(loops, eps):
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
     (pieces that nearly coincide)."""
-    pieces = [p for loop in loops for p in loop]
+    pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    suspects = uncertain_pairs(loops)  # the other pairs cannot cross
+    suspects = uncertain_pairs(loops, pieces)  # the other pairs cannot cross
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
@@ -224,7 +224,7 @@ def _first_crossings(loops, eps):
     ids = np.concatenate([pa, pb, near[0], near[1]])
     used = unique(ids)
     inv = np.searchsorted(used, ids)
-    stacked = pc.stack([pieces[q] for q in used])
+    stacked = pc.stack(pieces.take(used))
     n_sub = len(pa)
     guess = np.concatenate([pc.jet_many(stacked, inv[:n_sub], ta)[0], near[4]])
     pa, pb = np.concatenate([pa, near[0]]), np.concatenate([pb, near[1]])
@@ -268,7 +268,8 @@ def _polyline_crossings(pieces, suspects, flat):
     pairs = np.zeros((0, 2), int)
     if len(suspects):
         used = unique(suspects)
-        p0, p1, ids, t0, t1 = flatten_segments([pieces[k] for k in used], flat)
+        p0, p1, ids, t0, t1 = flatten_segments(pieces.take(used) if isinstance(
+            pieces, pc.Pieces) else [pieces[k] for k in used], flat)
         ids = used[ids]
         pairs = segment_pairs(p0, p1, ids, True)
     if len(pairs):

@@ -243,6 +243,28 @@ def test_progress_off_a_terminal_prints_status_lines(runner, tmp_path, monkeypat
     assert status and "/2 glyphs" in status[0] and status[-1].startswith("morph brush: 2/2")
 
 
+def test_progress_piped_stroke_counts_rise_to_the_total(runner, tmp_path, monkeypatch):
+    """A piped stroke of a small font with two workers: the status lines' counts
+    never go back, reach the total, and move inside the chunks (the workers report
+    their work as they go, not only when a chunk is done)."""
+    import re
+
+    from morph.cli import options
+    from morph.fonts.jobs import glyph_chunks
+    from tests import RELIEF_SUBSET
+
+    monkeypatch.setattr(options, "STATUS_SECONDS", 0.01)
+    res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(tmp_path / "s.ufo"),
+                               "--jobs", "2"])
+    assert res.exit_code == 0, res.output
+    lines = re.findall(r"^morph stroke: (\d+)/(\d+) glyphs", res.stderr, re.M)
+    counts, total = [int(c) for c, _ in lines], int(lines[0][1])
+    assert counts == sorted(counts) and counts[-1] == total
+    chunks = glyph_chunks(list(range(total)))
+    assert len(chunks) == 2     # the counts a chunk's arrival alone can give, either first:
+    assert set(counts) - ({0, total} | {len(c) for c in chunks})
+
+
 def test_progress_eta_from_work_done():
     """The time left is the time per item done so far times the items left, shown
     once something is done; items reported in bursts (a batch of glyphs finishing

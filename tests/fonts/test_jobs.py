@@ -64,3 +64,97 @@ def test_glyph_chunks_equal_bounded_and_two_for_small_fonts(n, size, count):
     if chunks:
         sizes = [len(c) for c in chunks]
         assert max(sizes) <= size and max(sizes) - min(sizes) <= 1
+
+
+# ----------------------------------------------------------------- progress within a job
+
+def _slow_chunk(chunk):
+    """A fake slow job: each glyph takes 20 ms and reports itself done."""
+    import time
+
+    from morph.fonts.jobs import glyph_progress
+
+    out = []
+    for x in chunk:
+        time.sleep(0.02)
+        glyph_progress(1.0)
+        out.append(x)
+    return out
+
+
+def _counts(text):
+    import re
+
+    return [int(m) for m in re.findall(r"^x: (\d+)/", text, re.M)]
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_progress_moves_within_a_chunk(jobs):
+    """Status lines of a slow job show counts inside its chunk (the job's own
+    reports), never going back, ending at the total; each chunk's reports are taken
+    back as its glyphs arrive, so nothing is counted twice."""
+    import io
+
+    from morph.cli.options import Progress
+    from morph.fonts.jobs import glyph_chunks, run_glyph_jobs
+
+    work = list(range(40))
+    edges = {0, 40} | {sum(map(len, glyph_chunks(work)[:k])) for k in range(3)}
+    out = io.StringIO()
+    flight, arrived = [], []
+    with Progress(len(work), "glyphs", "x", stream=out, tty=False, interval=0.003) as bar:
+        def partial(units):
+            flight.append(units)
+            bar.partial(units)
+
+        def each(result):   # a chunk's glyphs counted at once: only reports fall inside
+            arrived.append(result)
+            if len(arrived) in edges:
+                bar.update(len(arrived) - bar.done)
+        got = run_glyph_jobs(_slow_chunk, work, jobs=jobs, each=each, in_flight=partial)
+    assert got == work
+    counts = _counts(out.getvalue())
+    assert counts == sorted(counts) and counts[-1] == 40
+    assert set(counts) - edges, "no count inside a chunk: %s" % sorted(set(counts))
+    assert sum(u for u in flight if u > 0) == pytest.approx(40)
+    assert sum(flight) == pytest.approx(0.0)   # all taken back: 40 done, none in flight
+    assert bar.flight == pytest.approx(0.0)
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_stroke_jobs_report_sums_and_conversion(skeleton, tmp_path, jobs):
+    """The stroke's chunk jobs report their work as it is done: SUM_SHARE per glyph
+    once the strokes are done, the rest as the batched conversion's searches end;
+    in all each glyph's worth once, several reports per chunk, all taken back."""
+    from morph.fonts.jobs import SUM_SHARE, glyph_chunks
+    from morph.fonts.stroke import stroke_ufo
+
+    names = ["a", "b", "c", "o", "s", "e", "n", "h"]
+    flight = []
+    stats = stroke_ufo(skeleton, tmp_path / "s.ufo", ellipse_nib(60, 20, 30), glyphs=names,
+                       tol=1.0, jobs=jobs, in_flight=flight.append)
+    n = stats["glyphs"]
+    chunks = len(glyph_chunks(list(range(n))))
+    positive = [u for u in flight if u > 0]
+    assert sum(positive) == pytest.approx(n)
+    assert len(positive) > 2 * chunks          # more than one report per chunk
+    assert any(u == pytest.approx(SUM_SHARE * len(c)) for u in positive
+               for c in glyph_chunks(list(range(n))))
+    assert sum(flight) == pytest.approx(0.0)
+
+
+def test_progress_count_never_goes_back_and_says_finishing():
+    import io
+
+    from morph.cli.options import Progress
+
+    with Progress(10, "glyphs", "x", stream=io.StringIO(), tty=False, interval=60) as bar:
+        bar.partial(2.5)
+        assert bar.status().startswith("2/10 glyphs (25 %)")
+        bar.partial(-2.5)               # taken back before its glyphs are added
+        assert bar.status().startswith("2/10 glyphs (25 %)")
+        bar.update(3)
+        assert bar.status().startswith("3/10 glyphs (30 %)")
+        bar.update(7)
+        assert bar.status().endswith("finishing")
+        assert not bar.status(final=True).endswith("finishing")

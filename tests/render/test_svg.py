@@ -112,3 +112,39 @@ def test_write_svg_document(tmp_path):
     from morph.parse import svg_elements
     rect, glyph = svg_elements(out)
     assert glyph.filled and glyph.stroked and len(glyph.subpaths) == 2
+
+
+def test_frames_fitted_in_one_batch_stay_within_each_tolerance():
+    """fitted_regions converts several regions' curves in one batch; each region's
+    SVG written from its fitted Béziers at its own tol is within that tol of the
+    region: circles (rational arcs, which must be fitted) at random centres, radii
+    and tolerances, the written path read back by an independent parser and its
+    points' distance to the exact circle measured (moving them by 2 tol fails)."""
+    from math import comb
+
+    from morph.render.svg import fitted_regions
+
+    rng = np.random.default_rng(7)
+    regions, tols, circles = [], [], []
+    for _ in range(6):
+        c, r = rng.uniform(-50, 50, 2), 10.0 ** rng.uniform(-1, 2)
+        hole = r * rng.uniform(0.2, 0.8)
+        regions.append([pc.circle(c, r), reverse_loop(pc.circle(c, hole))])
+        tols.append(r * 10.0 ** rng.uniform(-5, -2))
+        circles.append((c, r, hole))
+    fitted = fitted_regions(regions, tols)
+    for loops, tol, (c, r, hole) in zip(fitted, tols, circles):
+        assert all(len(p) <= 4 and np.all(p[:, 2] == 1.0) for loop in loops for p in loop)
+        d = svg_path_data(loops, tol)
+        assert d.count("C") + d.count("S") == sum(map(len, loops))   # written as they are
+        t = np.linspace(0.0, 1.0, 41)[:, None]
+        worst, moved = 0.0, 0.0
+        for b in _written_beziers(d):
+            n = len(b) - 1
+            pts = sum(comb(n, k) * t ** k * (1 - t) ** (n - k) * b[k] for k in range(n + 1))
+            rho = np.hypot(*(pts - c).T)
+            err = np.minimum(abs(rho - r), abs(rho - hole))
+            worst = max(worst, err.max())
+            rho2 = np.hypot(*(pts + [2 * tol, 0.0] - c).T)
+            moved = max(moved, np.minimum(abs(rho2 - r), abs(rho2 - hole)).max())
+        assert worst <= tol and moved > tol

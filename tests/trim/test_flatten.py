@@ -284,3 +284,44 @@ def test_a_lens_thinner_than_the_coarse_flattening_is_kept():
     x = np.column_stack([np.linspace(0.2, 0.8, 13), np.zeros(13)])
     assert len(out) == 1
     assert (winding_number(x, [pl.flatten_loop(lp, 1e-7) for lp in out]) != 0).all()
+
+
+def _merge_equal_loop_by_loop(q, is_start, loop_of):
+    """The rule of _merge_equal written loop by loop (the reference)."""
+    keep = []
+    bounds = np.flatnonzero(np.diff(loop_of)) + 1
+    for a, b in zip(np.concatenate([[0], bounds]), np.concatenate([bounds, [len(q)]])):
+        lq = q[a:b]
+        same = np.all(lq == np.roll(lq, 1, axis=0), axis=1)
+        if same.all():
+            continue
+        r = int(np.argmin(same))
+        order = np.roll(np.arange(a, b), -r)
+        same = np.roll(same, -r)
+        run_first = np.flatnonzero(~same)
+        cand = np.where(is_start[order], np.arange(len(order)), -1)
+        best = np.maximum.reduceat(cand, run_first)
+        keep.append(order[np.where(best >= 0, best, run_first)])
+    return np.sort(np.concatenate(keep)) if keep else np.zeros(0, np.int64)
+
+
+def test_merge_equal_all_loops_at_once_matches_loop_by_loop():
+    """Runs of equal grid points (wrapping round the loop's end, whole loops of one
+    point, single-vertex loops) merged all at once as the loop-by-loop rule does;
+    a wrong choice in one run is seen."""
+    from morph.trim.flatten import _merge_equal
+
+    rng = np.random.default_rng(11)
+    for trial in range(200):
+        sizes = rng.integers(1, 9, rng.integers(1, 6))
+        loop_of = np.repeat(np.arange(len(sizes)), sizes)
+        q = rng.integers(0, 2, (len(loop_of), 2)) if trial % 2 else \
+            np.repeat(rng.integers(0, 3, (len(loop_of), 2)), 1, axis=0)
+        q = np.where(rng.random((len(q), 1)) < 0.4, 0, q)   # many equal neighbours
+        is_start = rng.random(len(q)) < 0.3
+        want = _merge_equal_loop_by_loop(q, is_start, loop_of)
+        assert np.array_equal(_merge_equal(q, is_start, loop_of), want)
+    q = np.array([[0, 0], [0, 0], [1, 0], [1, 0], [0, 1]])
+    got = _merge_equal(q, np.array([False, True, False, False, False]), np.zeros(5, int))
+    assert list(got) == [1, 2, 4]
+    assert not np.array_equal(got, [0, 2, 4])

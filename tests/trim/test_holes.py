@@ -93,3 +93,45 @@ def test_membership_of_scattered_loops_against_shapely():
         if abs(d - 2.0) > 0.05:
             assert member(x) == (d < 2.0), (x, d)
 
+
+
+def _star(rng, c, r, n, inner=0.5):
+    """A star-shaped polygon (clockwise when ``cw``) round c: n vertices at radii
+    between inner r and r."""
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    rad = r * rng.uniform(inner, 1.0, n)
+    return np.c_[rad * np.cos(t), rad * np.sin(t)] + c
+
+
+def test_deepest_points_together_are_those_of_one_hole_at_a_time():
+    """All holes' grid searches in one batch give the very points and depths of
+    :func:`deepest_point` called hole by hole: star-shaped holes with and without
+    islands, large ones (the search on thinned polygons first), thin annuli (the
+    first round finds no point inside: the scanline fallback), on integer grid
+    vertices as the trimming gives them, with and without ``enough``.  The
+    comparison sees a point moved by one ulp."""
+    from morph.trim.holes import deepest_points
+
+    rng = np.random.default_rng(5)
+    holes = []
+    for k in range(40):
+        c = rng.uniform(-500, 500, 2)
+        r = rng.uniform(5, 60)
+        ring = _star(rng, c, r, int(rng.integers(3, 40 if k % 5 else 700)))
+        if k % 7 == 0:
+            ring = np.rint(ring)
+        islands = []
+        if k % 3 == 0:
+            islands = [_star(rng, c, 0.3 * r, 12, inner=0.9)]
+        if k % 11 == 5:   # an annulus narrower than the grid's cells
+            t = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+            ring = np.c_[r * np.cos(t), r * np.sin(t)] + c
+            islands = [np.c_[(r - 0.05) * np.cos(t + 0.01), (r - 0.05) * np.sin(t + 0.01)] + c]
+        holes.append((ring, islands))
+    for enough in (np.inf, 4.0):
+        x, d = deepest_points(holes, enough=enough)
+        for h, (ring, islands) in enumerate(holes):
+            x1, d1 = deepest_point(ring, islands, enough=enough)
+            assert np.array_equal(x[h], x1) and d[h] == d1, h
+    assert not np.array_equal(np.nextafter(x[0], np.inf), deepest_point(*holes[0], enough=4.0)[0])
+    assert deepest_points([], enough=1.0)[0].shape == (0, 2)

@@ -134,7 +134,7 @@ def test_near_ring_pairs_match_shapely_distances():
 
     from morph.trim import _near_pairs
 
-    for seed in range(4):
+    for seed in range(12):  # boxes apart, boxes overlapping with rings apart, rings near
         rng = np.random.default_rng(seed)
         polys = []
         for _ in range(7):

@@ -1,0 +1,195 @@
+"""All the pieces of an export batch as per-degree arrays (a *bank*), and the loop
+plan (corners, smooth runs) computed on them for every loop at once.
+
+The exporters get lists of loops of (n+1, 3) pieces.  They are concatenated once
+(one ``np.concatenate``) and gathered into one stack per degree; every per-piece
+quantity the export needs (checks, polynomial and line flags, end points, end
+tangents, sizes, which joins are smooth) is then an array operation over the stacks,
+not a Python loop over the pieces.  A piece keeps its *global* index (its position
+in the concatenation); ``deg[g]`` and ``idx[g]`` say where it sits in the stacks.
+"""
+
+import math
+
+import numpy as np
+
+from .. import bernstein as bz
+from .. import piece as pc
+from ..polyline import unique
+
+
+class Bank:
+    """Pieces of mixed degree as one stack per degree.
+
+    ``stacks[n]``: (k_n, n, 3) homogeneous control points of the pieces with n
+    control points; ``deg[g]``, ``idx[g]``: the stack and the row of global piece g;
+    ``pieces[g]``: the piece itself (as given, checked).  Per piece (arrays over g):
+    ``poly`` (weights equal to 1e-12: polynomial), ``first`` and ``last`` (end
+    points), ``t_first`` and ``t_last`` (unit end tangents, zero for a piece
+    without a direction), ``lo`` and ``hi`` (bounding box corners) and ``scale``
+    (largest absolute Cartesian coordinate).
+    """
+
+    def __init__(self, pieces):
+        pieces = list(pieces)
+        self.pieces = pieces
+        g = len(pieces)
+        sizes = np.fromiter(map(len, pieces), int, g)
+        try:
+            flat = np.concatenate(pieces, axis=0).astype(float) if g else np.zeros((0, 3))
+            bad = flat.ndim != 2 or flat.shape[1] != 3 or np.any(sizes < 2)
+        except ValueError:
+            bad = True
+        if bad or not np.all(np.isfinite(flat)) or np.any(flat[:, 2] <= 0):
+            from .certify import check_piece
+
+            for p in pieces:           # the first bad piece names the error
+                check_piece(p)
+        offsets = np.concatenate([[0], np.cumsum(sizes)])
+        self.deg = sizes
+        self.idx = np.empty(g, int)
+        self.stacks = {}
+        self.poly = np.empty(g, bool)
+        self.first, self.last = np.empty((g, 2)), np.empty((g, 2))
+        self.t_first, self.t_last = np.zeros((g, 2)), np.zeros((g, 2))
+        self.lo, self.hi = np.empty((g, 2)), np.empty((g, 2))
+        self.scale = np.empty(g)
+        for n in unique(sizes).tolist():
+            rows = np.nonzero(sizes == n)[0]
+            self.idx[rows] = np.arange(len(rows))
+            h = flat[offsets[rows][:, None] + np.arange(n)[None]]      # (k, n, 3)
+            self.stacks[n] = h
+            w = h[..., 2]
+            self.poly[rows] = np.all(np.abs(w - w[:, :1]) <= 1e-12 * np.abs(w[:, :1]), axis=1)
+            x = h[..., :2] / h[..., 2:]
+            self.first[rows], self.last[rows] = x[:, 0], x[:, -1]
+            self.lo[rows], self.hi[rows] = x.min(axis=1), x.max(axis=1)
+            self.scale[rows] = np.abs(x).max(axis=(1, 2))
+            self.t_first[rows], self.t_last[rows] = _end_tangents(x)
+        self.line = (sizes == 2) & self.poly
+
+    def cartesian(self, gids):
+        """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
+        (one division per degree)."""
+        gids = np.asarray(gids, int)
+        out = np.empty(len(gids), object)
+        for rows, h in self.gather(gids):
+            out[rows] = list(h[..., :2] / h[..., 2:])
+        return list(out)
+
+    def gather(self, gids):
+        """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
+        and their control points (k, n, 3)."""
+        gids = np.asarray(gids, int)
+        out = []
+        for n in unique(self.deg[gids]).tolist():
+            rows = np.nonzero(self.deg[gids] == n)[0]
+            out.append((rows, self.stacks[n][self.idx[gids[rows]]]))
+        return out
+
+    def jet(self, gids, t):
+        """Points and first derivatives of pieces ``gids`` at parameters ``t`` (one
+        evaluation per degree: a piece's result does not depend on the batch)."""
+        gids = np.asarray(gids, int)
+        p, d = np.empty((len(t), 2)), np.empty((len(t), 2))
+        for rows, h in self.gather(gids):
+            p[rows], d[rows] = pc.jet_rows(h, t[rows])
+        return p, d
+
+
+    def jet_grid(self, gids, t):
+        """Points and first derivatives of every piece ``gids`` at the same parameters
+        t (q,): arrays (len(gids), q, 2); the Bernstein bases at t made once per
+        degree (what :meth:`jet` computes, without a basis row per evaluation)."""
+        gids = np.asarray(gids, int)
+        t = np.asarray(t, float)
+        p, d = np.empty((len(gids), len(t), 2)), np.empty((len(gids), len(t), 2))
+        for rows, h in self.gather(gids):
+            n = h.shape[1] - 1
+            val = np.einsum("qi,pij->pqj", bz.basis(n, t), h)
+            dval = np.einsum("qi,pij->pqj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+            w = val[..., 2:3]
+            p[rows] = val[..., :2] / w
+            d[rows] = (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
+        return p, d
+
+
+def _end_tangents(x, rel=1e-12):
+    """:func:`morph.piece.end_tangents_many` (not strict) of Cartesian control points
+    x (k, n, 2) of one degree: along the first and the last control-point
+    difference longer than ``rel`` times the piece's size; zero vectors where all
+    control points coincide."""
+    d = np.diff(x, axis=1)
+    n = np.hypot(d[..., 0], d[..., 1])
+    size = np.ptp(x, axis=1).max(axis=1)
+    ok = n > rel * size[:, None]
+    dead = ~ok.any(axis=1) | (size <= 1e-300)
+    i0 = np.argmax(ok, axis=1)
+    i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
+    r = np.arange(len(x))
+    out = []
+    for i in (i0, i1):
+        length = np.where(dead, 1.0, n[r, i])
+        out.append(np.where(dead[:, None], 0.0, d[r, i] / length[:, None]))
+    return out
+
+
+def smooth_joins(bank, starts, counts, angle):
+    """Per global piece whether its join to the next piece of its loop is smooth
+    (the last piece of a loop: its closing join to the loop's first piece): the
+    pieces meet within 1e-12 of the coordinates and their tangent directions differ
+    by less than ``angle`` radians.  ``starts``, ``counts``: each loop's first
+    global piece and number of pieces (the loops' pieces consecutive)."""
+    g = len(bank.deg)
+    nxt = np.arange(1, g + 1)
+    ends = starts + counts - 1
+    nxt[ends[counts > 0]] = starts[counts > 0]
+    a, b = bank.t_last, bank.t_first[nxt]
+    gap = np.hypot(*(bank.last - bank.first[nxt]).T)
+    return (((a * b).sum(axis=1) > 0)
+            & (np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) <= math.sin(angle))
+            & (gap <= 1e-12 * (1.0 + np.maximum(bank.scale, bank.scale[nxt]))))
+
+
+def plan_runs(loops, join_angle, wrap):
+    """The runs of every loop, computed for all loops at once: (bank, runs) with
+    ``runs`` a list per loop of (global piece ids, exact) in order.
+
+    A loop is split where a join is not smooth (:func:`smooth_joins`) and around
+    every line (a polynomial piece of degree 1 is a run of its own); with ``wrap``
+    and ``join_angle > 0`` a loop's last run and first are one when its closing join
+    is smooth and neither end piece is a line.  ``exact``: every piece of the run is
+    polynomial of degree <= 3 (written as it is, not fitted)."""
+    counts = np.fromiter(map(len, loops), int, len(loops))
+    bank = Bank([p for loop in loops for p in loop])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
+    g = len(bank.deg)
+    smooth = (smooth_joins(bank, starts, counts, join_angle) if join_angle > 0
+              else np.zeros(g, bool))
+    cont = np.zeros(g, bool)                       # piece i continues the run of i - 1
+    if g > 1:
+        cont[1:] = ~bank.line[1:] & ~bank.line[:-1] & smooth[:-1]
+    cont[starts[counts > 0]] = False
+    heads = np.nonzero(~cont)[0]                   # first piece of every run
+    tails = np.append(heads[1:], g)
+    fine = bank.poly & (bank.deg <= 4)
+    bad_before = np.concatenate([[0], np.cumsum(~fine)])
+    run_exact = (bad_before[tails] - bad_before[heads]) == 0
+    loop_of = np.repeat(np.arange(len(loops)), counts)[heads] if g else np.zeros(0, int)
+    first_run = np.searchsorted(loop_of, np.arange(len(loops)))
+    last_run = np.searchsorted(loop_of, np.arange(len(loops)), side="right") - 1
+    merge = np.zeros(len(loops), bool)
+    if wrap and join_angle > 0 and g:
+        ends = starts + counts - 1
+        merge = ((last_run - first_run >= 1) & ~bank.line[np.maximum(ends, 0)]
+                 & ~bank.line[np.minimum(starts, g - 1)] & smooth[np.maximum(ends, 0)])
+    heads, tails, run_exact = heads.tolist(), tails.tolist(), run_exact.tolist()
+    runs = []
+    for i in range(len(loops)):
+        mine = [(np.arange(heads[j], tails[j]), run_exact[j])
+                for j in range(first_run[i], last_run[i] + 1)]
+        if merge[i]:
+            (a, ea), (b, eb) = mine[-1], mine[0]
+            mine = [(np.concatenate([a, b]), ea and eb)] + mine[1:-1]
+        runs.append(mine)
+    return bank, runs

@@ -1,0 +1,130 @@
+"""ufo2ft's outline compilers taking the stored outlines of a streamed font
+(:func:`morph.fonts.stream.compile_stored`): the glyph programs are the bytes the
+workers compiled (:func:`morph.fonts.stream.compile_outline`), the glyphs with
+components decomposed here as ufo2ft decomposes them; everything else is ufo2ft's.
+Imported only when a font is compiled (ufo2ft is a heavy import)."""
+
+__all__ = ["StoredCFF", "StoredGlyf"]
+
+from types import SimpleNamespace
+
+from fontTools.misc.psCharStrings import T2CharString
+from fontTools.misc.roundTools import otRound
+from fontTools.pens.pointPen import PointToSegmentPen, SegmentToPointPen
+from fontTools.pens.recordingPen import RecordingPointPen
+from fontTools.pens.t2CharStringPen import T2CharStringPen
+from fontTools.pens.transformPen import TransformPointPen
+from fontTools.pens.ttGlyphPen import TTGlyphPointPen
+from fontTools.ttLib.tables._g_l_y_f import Glyph
+from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCompiler
+
+from .stream import _NO_WIDTHS, width_prefix
+
+
+class Stored:
+    """The part both flavors share: ``store`` (glyph name -> (data, bounds)) and
+    the decomposition of a glyph from the stored outlines, in the order of
+    ufo2ft's DecomposeComponentsFilter (fontTools' DecomposingFilterPointPen)."""
+
+    store = {}
+
+    def shell(self, name):
+        return self.ufo[name] if name in self.ufo else None
+
+    def decomposed(self, name, pen):
+        """``name``'s own stored contours, then its components decomposed."""
+        self.draw_stored(name, pen)
+        for c in self.shell(name).components:
+            self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
+
+    def nested(self, name, pen):
+        """A component's base as fontTools' decomposing point pen draws it:
+        its own contours, then its components, recursively."""
+        if self.shell(name) is not None:
+            self.decomposed(name, pen)
+
+
+class BoundedCharString(T2CharString):
+    """A charstring whose bounds were computed where it was compiled (the
+    worker: ``calcBounds`` of the same program): fontTools asks a CFF font's
+    charstrings for their bounds for the font box, head and hhea on every save,
+    which would decompile each one in Python."""
+
+    bounds = None
+
+    def calcBounds(self, glyphSet):
+        return self.bounds
+
+
+class StoredCFF(Stored, OutlineOTFCompiler):
+    """CFF: a stored charstring gets the advance prepended (the widths ufo2ft chose);
+    a glyph with components is decomposed and drawn with ufo2ft's pen."""
+
+    def draw_stored(self, name, pen):
+        if name in self.store:
+            cs = T2CharString(bytecode=self.store[name][0], private=_NO_WIDTHS,
+                              globalSubrs=[])
+            cs.draw(SegmentToPointPen(pen))
+
+    def compileGlyphs(self):
+        default, nominal = self.getDefaultAndNominalWidths()
+        private = SimpleNamespace(defaultWidthX=default, nominalWidthX=nominal)
+        out = {}
+        for name in self.glyphOrder:
+            glyph, shell = self.allGlyphs[name], self.shell(name)
+            if shell is not None and shell.components:
+                rec = RecordingPointPen()
+                self.decomposed(name, rec)
+                width = None if glyph.width == default else otRound(glyph.width - nominal)
+                pen = T2CharStringPen(width, self.allGlyphs,
+                                      roundTolerance=self.roundTolerance)
+                rec.replay(PointToSegmentPen(pen))
+                out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
+            elif name in self.store:
+                out[name] = BoundedCharString(
+                    bytecode=width_prefix(glyph.width, default, nominal)
+                    + self.store[name][0])
+                out[name].bounds = self.store[name][1]
+            else:
+                out[name] = self.getCharStringForGlyph(glyph, private)
+        return out
+
+    def makeGlyphsBoundingBoxes(self):
+        """ufo2ft's rounded boxes, from each charstring's bounds (stored or
+        computed for the decomposed and ufo2ft's own)."""
+        boxes = {}
+        charstrings = self.getCompiledGlyphs()
+        for name, cs in charstrings.items():
+            box = cs.calcBounds(charstrings)  # ufo2ft's rounding of its bounds
+            box = None if box is None else tuple(otRound(v) for v in box)
+            box = None if box == (0, 0, 0, 0) else box
+            boxes[name] = None if box is None else BoundingBox(*box)
+        return boxes
+
+
+class StoredGlyf(Stored, OutlineTTFCompiler):
+    """TrueType: a stored glyph is unpacked from its bytes; a composite of
+    components only is ufo2ft's; one with contours too is decomposed here."""
+
+    def draw_stored(self, name, pen):
+        if name in self.store and self.store[name][0]:
+            g = Glyph(self.store[name][0])
+            g.expand(None)
+            g.drawPoints(pen, None)
+
+    def compileGlyphs(self):
+        ttglyphs = super().compileGlyphs()  # shells: components, empty glyphs
+        for name in self.glyphOrder:
+            shell = self.shell(name)
+            if not self.store.get(name, (b"",))[0]:  # no contours: ufo2ft's own
+                continue
+            if shell is not None and shell.components:  # mixed: decomposed
+                pen = TTGlyphPointPen(self.allGlyphs)
+                self.decomposed(name, pen)
+                ttglyphs[name] = pen.glyph(dropImpliedOnCurves=self.dropImpliedOnCurves,
+                                           round=otRound)
+            else:
+                g = Glyph(self.store[name][0])
+                g.expand(None)
+                ttglyphs[name] = g
+        return ttglyphs

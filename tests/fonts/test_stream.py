@@ -1,0 +1,195 @@
+"""Streamed font building (morph.fonts.stream, used by morph.fonts.stroke.stroke_ufo).
+
+The reference for the written fonts is the writer the streaming replaced: ufo2ft
+compiling the whole font held as a ufoLib2 font (``ufo2ft.compileOTF`` /
+``compileTTF`` of the written UFO, whose glyphs hold the stroked contours; for the
+TrueType font the UFO's cubic contours replaced by the same chunks' quadratic ones).
+Every table must be byte-identical (``head`` but for its time stamps and checksum):
+outlines, composites (kept in TrueType, decomposed in CFF, a glyph with contours and
+components decomposed in TrueType too), metrics, names, OS/2, features.
+
+Memory: the main process keeps a few bytes a point; the test measures the growth of
+the memory held while glyphs stream in (tracemalloc) from 100 to 300 glyphs of 300
+points, the stroke replaced by fixed contours, so that only the writer is measured.
+"""
+
+import copy
+import tracemalloc
+
+import numpy as np
+import pytest
+import ufoLib2
+from fontTools.ttLib import TTFont
+
+from morph.budget import plan
+from morph.fonts.brush import ellipse_nib
+from morph.fonts.stroke import stroke_ufo
+
+NIB = (90.0, 20.0, 30.0)
+GLYPHS = ["o", "eacute", "i", "nine", "ordfeminine", "omixed", "onested"]
+
+
+def _source(skeleton):
+    """The Relief subset with a glyph of contours and a kept component (``omixed``)
+    and a composite nesting it (``onested``)."""
+    font = copy.deepcopy(skeleton)
+    g = font.newGlyph("omixed")
+    g.width = 700
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint((100, 600), "move")
+    pen.addPoint((500, 700), "line")
+    pen.endPath()
+    pen.addComponent("o", (1, 0, 0, 1, 50, 0))
+    n = font.newGlyph("onested")
+    n.width = 800
+    n.getPointPen().addComponent("omixed", (1, 0, 0, 1, 10, 20))
+    n.getPointPen().addComponent("acutecomb", (1, 0, 0, 1, 200, 0))
+    return font
+
+
+def _same_tables(path, ref):
+    """Every table of the font at ``path`` byte-identical to ``ref``'s (a TTFont),
+    head but for its time stamps and checksum."""
+    import io
+
+    buf = io.BytesIO()
+    ref.save(buf)
+    buf.seek(0)
+    a, b = TTFont(str(path)), TTFont(buf)
+    assert sorted(a.reader.keys()) == sorted(b.reader.keys())
+    for tag in a.reader.keys():
+        if tag != "head":
+            assert a.reader[tag] == b.reader[tag], tag
+    skip = {"modified", "created", "checkSumAdjustment"}
+    ha, hb = a["head"], b["head"]
+    assert {k: v for k, v in vars(ha).items() if k not in skip} == \
+        {k: v for k, v in vars(hb).items() if k not in skip}
+
+
+@pytest.fixture(scope="module")
+def streamed(skeleton, tmp_path_factory):
+    src = _source(skeleton)
+    out = tmp_path_factory.mktemp("stream")
+    stats = {s: stroke_ufo(src, out / ("S" + s), ellipse_nib(*NIB), GLYPHS, tol=0.5)
+             for s in (".ufo", ".otf", ".ttf")}
+    return src, out, stats
+
+
+def test_streamed_otf_equals_ufo2ft_of_the_whole_font(streamed):
+    import ufo2ft
+
+    src, out, stats = streamed
+    assert not stats[".otf"]["fallback"] and stats[".otf"]["decomposed"] == 1
+    ufo = ufoLib2.Font.open(out / "S.ufo")
+    assert ufo["omixed"].contours and [c.baseGlyph for c in ufo["omixed"].components] == ["o"]
+    _same_tables(out / "S.otf", ufo2ft.compileOTF(ufo))
+
+
+def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
+    """The reference UFO holds the TrueType run's quadratic contours (the same
+    chunks stroked again with the .ttf budget)."""
+    import ufo2ft
+
+    from morph.fonts.jobs import glyph_chunks
+    from morph.fonts.stream import SkeletonSource
+    from morph.fonts.stroke import _chunk_job, _placement, _stroke_work, plan_components
+    from morph.fonts.tables import draw_contours
+
+    src, out, stats = streamed
+    source = SkeletonSource(src)
+    shells = source.shell_font()
+    nib = ellipse_nib(*NIB)
+    stroked, followed = plan_components(shells, GLYPHS, True, source.contour_counts)
+    shifts = _placement(shells, stroked + followed, nib).shifts
+    ref = ufoLib2.Font.open(out / "S.ufo")
+    for chunk in glyph_chunks(stroked):
+        for r in _chunk_job(_stroke_work(source, chunk, True, nib, plan(0.5, True), shifts,
+                                         None)):
+            g = ref[r["name"]]
+            g.clearContours()
+            draw_contours(g.getPen(), r["contours"], True)
+    ttf = TTFont(str(out / "S.ttf"))
+    assert ttf["glyf"]["eacute"].isComposite() and ttf["glyf"]["onested"].isComposite()
+    assert not ttf["glyf"]["omixed"].isComposite()  # contours + component: decomposed
+    _same_tables(out / "S.ttf", ufo2ft.compileTTF(
+        ref, cubicConversionError=plan(0.5, True).cu2qu / (ref.info.unitsPerEm or 1000)))
+
+
+def test_streamed_ufo_keeps_the_font(streamed, skeleton):
+    src, out, stats = streamed
+    ufo = ufoLib2.Font.open(out / "S.ufo")
+    assert set(ufo.keys()) == set(src.keys())
+    assert dict(ufo.kerning) == dict(skeleton.kerning) and ufo.features.text
+    assert stats[".ufo"]["points"] == sum(len(c) for g in ufo for c in g.contours)
+    assert ufo.layers["skeleton"]["B"].contours and not ufo["B"].contours
+
+
+# =========================================================================== memory
+
+def _ring_contours():
+    """Two rings of 50 cubic segments each (300 points): a glyph's integer contours."""
+    t = np.linspace(0.0, 2.0 * np.pi, 51)
+    out = []
+    for r, sign in ((250.0, 1.0), (150.0, -1.0)):
+        p = np.c_[300 + r * np.cos(sign * t), 300 + r * np.sin(sign * t)]
+        d = np.c_[-np.sin(sign * t), np.cos(sign * t)] * sign * r * (t[1] - t[0]) / 3.0
+        out.append([np.round(np.array([p[k], p[k] + d[k], p[k + 1] - d[k + 1], p[k + 1]]))
+                    for k in range(50)])
+    for c in out:
+        c[-1][-1] = c[0][0]
+    return out
+
+
+def _skeleton(n):
+    font = ufoLib2.Font()
+    font.info.unitsPerEm = 1000
+    font.info.familyName = "Rings"
+    for k in range(n):
+        g = font.newGlyph("uni%04X" % (0x4E00 + k))
+        g.width, g.unicodes = 600, [0x4E00 + k]
+        pen = g.getPointPen()
+        pen.beginPath()
+        pen.addPoint((100, 100), "move")
+        pen.addPoint((500, 500), "line")
+        pen.endPath()
+    return font
+
+
+def test_main_process_memory_per_glyph_stays_flat(tmp_path, monkeypatch):
+    """The memory the writer holds while glyphs stream in grows by less than 12 KB a
+    glyph of 300 points (the compiled charstring: 0.6 KB; the glyph's shell, its
+    result's counts ...); the ufoLib2 points the writer kept before, until ufo2ft
+    compiled the font, cost ~70 KB a glyph of this size (fails this test)."""
+    import morph.fonts.stroke as stroke
+
+    contours = _ring_contours()
+
+    def chunk_job(chunk):
+        return [{"name": job[0], "contours": contours, "region": [], "fallback": None,
+                 "seconds": 0.0} for job in chunk]
+
+    monkeypatch.setattr(stroke, "_chunk_job", chunk_job)
+    nib = ellipse_nib(*NIB)
+
+    def held(n):
+        """The most memory held while the glyphs stream in (at each glyph's progress
+        call: the outlines written so far, the shells), above that before the call."""
+        src = _skeleton(n)
+        seen = []
+        tracemalloc.start()
+        try:
+            stroke_ufo(src, tmp_path / ("r%d.otf" % n), nib, tol=0.5, overwrite=True,
+                       progress=lambda name: seen.append(tracemalloc.get_traced_memory()[0]))
+        finally:
+            tracemalloc.stop()
+        return max(seen)
+
+    stroke_ufo(_skeleton(4), tmp_path / "warm.otf", nib, tol=0.5)  # imports, caches
+    small, large = held(100), held(300)
+    per_glyph = (large - small) / (300 - 100)
+    print("memory held grows by %.1f KB a glyph (%.1f -> %.1f MB)"
+          % (per_glyph / 1e3, small / 1e6, large / 1e6))
+    assert per_glyph < 12e3, per_glyph
+    font = TTFont(str(tmp_path / "r300.otf"))
+    assert font["CFF "].cff.topDictIndex[0].CharStrings["uni4E00"].calcBounds(None) is not None

@@ -1,0 +1,210 @@
+"""The batched export (all loops of many glyphs in per-degree arrays, the certificate
+started from the fitter's rays) against independent computations.
+
+The oracles are those of tests/test_export.py: exact closest distances to rational
+and Bézier curves (roots of the closest-point polynomial), plain Bernstein sums, the
+circle's own formula.  Every check is shown to fail on a curve displaced by twice
+the tolerance.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from morph import piece as pc
+from morph.export import certify as certify_mod
+from morph.export import loop_to_beziers, loops_to_beziers
+from morph.export.bank import Bank, plan_runs
+from morph.export.fit import Parts, _quadrature, moment_cubics
+from morph.export.search import chains_segments
+from tests.test_export import bernstein, closest_distances, rational, reparam_values
+
+
+def circle_loop(center, r, n, start=0.0, elevate=()):
+    """A circle as n rational quadratic arcs starting at angle ``start``; the arcs
+    listed in ``elevate`` degree-elevated (exactly) by one, so that one smooth run
+    holds pieces of two degrees."""
+    arcs = [pc.ellipse_arc(center, r, r, 0.0, start + 2 * math.pi * k / n, 2 * math.pi / n)[0]
+            for k in range(n)]
+    return [pc.elevate(a) if k in elevate else a for k, a in enumerate(arcs)]
+
+
+def slot_loop(x0, length, r):
+    """A stadium (two lines, two half circles of two arcs each): runs 1, 2, 1, 2."""
+    return ([pc.line((x0, -r), (x0 + length, -r))]
+            + pc.ellipse_arc((x0 + length, 0), r, r, 0.0, -np.pi / 2, np.pi)
+            + [pc.line((x0 + length, r), (x0, r))]
+            + pc.ellipse_arc((x0, 0), r, r, 0.0, np.pi / 2, np.pi))
+
+
+def d_loop(x0):
+    """A D shape starting in the middle of its arc: wrapped, the arc is one run."""
+    upper = pc.ellipse_arc((x0, 0), 1.0, 1.0, 0.0, 0.0, np.pi / 2)
+    lower = pc.ellipse_arc((x0, 0), 1.0, 1.0, 0.0, -np.pi / 2, np.pi / 2)
+    return upper + [pc.line((x0, 1), (x0, -1))] + lower
+
+
+def batch():
+    return [circle_loop((0.0, 0.0), 3.0, 7, 0.3, elevate=(2, 5)), slot_loop(10.0, 4.0, 1.5),
+            d_loop(20.0), circle_loop((30.0, 5.0), 0.5, 4), [pc.line((0, 0), (1, 0)),
+                                                             pc.line((1, 0), (0, 1)),
+                                                             pc.line((0, 1), (0, 0))]]
+
+
+def test_plan_runs_of_a_batch_are_the_loops_known_runs():
+    """The runs planned for all loops at once are those each loop has by
+    construction: the stadium splits at its four lines' ends (1, 2, 1, 2), the D at
+    its corners (wrapped: the arc halves are one run), a circle is one run (its
+    start is a smooth join: wrapped, nothing is split), mixed degrees in one run, a
+    triangle is three lines (exact); an arc turned by 0.01 rad is a corner at both
+    its ends."""
+    _, runs = plan_runs(batch(), 1e-6, wrap=True)
+    sizes = [[len(r) for r, _ in loop] for loop in runs]
+    assert sizes == [[7], [1, 2, 1, 2], [2, 1], [4], [1, 1, 1]]
+    assert [[e for _, e in loop] for loop in runs][4] == [True, True, True]
+    assert [e for _, e in runs[1]] == [True, False, True, False]
+    _, plain = plan_runs(batch(), 1e-6, wrap=False)
+    assert [[len(r) for r, _ in loop] for loop in plain][2] == [1, 1, 1]
+    # a corner: a circle whose fourth arc is turned by 0.01 rad is split there
+    arcs = circle_loop((0.0, 0.0), 1.0, 6)
+    arcs[3] = pc.transform(arcs[3], np.array([[math.cos(0.01), -math.sin(0.01), 0.0],
+                                              [math.sin(0.01), math.cos(0.01), 0.0]]))
+    arcs[3] = pc.translate(arcs[3], pc.end(arcs[2]) - pc.start(arcs[3]))
+    _, (split,) = plan_runs([arcs], 1e-6, wrap=True)
+    assert [r.tolist() for r, _ in split] == [[4, 5, 0, 1, 2], [3]]
+
+
+def test_bank_names_a_bad_piece():
+    good = pc.line((0, 0), (1, 0))
+    bad = np.array([[0.0, 0.0, 1.0], [1.0, 1.0, -1.0], [2.0, 0.0, 1.0]])
+    with pytest.raises(ValueError, match="positive weights"):
+        Bank([good, bad])
+    with pytest.raises(ValueError, match="finite"):
+        Bank([good, np.array([[0.0, 0.0, 1.0], [np.nan, 0.0, 1.0]])])
+
+
+def _two_sided(beziers, loop):
+    """Two-sided Hausdorff distance (on samples, exact closest points) between the
+    written curves and the loop's exact pieces."""
+    pts = np.vstack([bernstein(b, np.linspace(0, 1, 33)) for b in beziers])
+    back = np.vstack([rational(p)(np.linspace(0, 1, 33)) for p in loop])
+    return max(closest_distances(pts, loop).max(), closest_distances(back, beziers).max())
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-5])
+def test_batched_loops_within_tol_as_loop_by_loop(tol):
+    """All loops in one batch: each written loop is within tol of its exact loop
+    (two-sided, exact closest points), closed end to start, with as many curves as
+    the loop fitted alone; one curve displaced by 2 tol fails the same check."""
+    loops = batch()
+    together = loops_to_beziers(loops, tol, wrap=True)
+    for loop, out in zip(loops, together):
+        alone = loop_to_beziers(loop, tol, wrap=True)
+        assert len(out) == len(alone)
+        for a, b in zip(out, out[1:] + out[:1]):
+            assert np.allclose(a[-1], b[0], atol=1e-12)
+        assert _two_sided(out, loop) <= tol * (1 + 1e-9)
+    # the oracle can fail: a cubic of the first circle pushed outward by 2 tol
+    out = [b.copy() for b in together[0]]
+    k = next(i for i, b in enumerate(out) if len(b) == 4)
+    mid = bernstein(out[k], [0.5])[0]
+    out[k][1:3] += 2.0 * tol * mid / np.hypot(*mid) * 4.0 / 3.0
+    assert _two_sided(out, loops[0]) > tol
+
+
+def _ray_fit(pieces, tol):
+    """The fitter's cubic for one whole chain as one range, with its rays' feet."""
+    bank = Bank(pieces)
+    n = len(pieces)
+    parts = Parts(np.zeros(n, int), np.arange(n), np.zeros(n), np.ones(n))
+    starts, ends = bank.first[:1], bank.last[-1:]
+    cubic, dist, fitted, rays = moment_cubics(bank, parts, starts, ends, np.array([1e-12]), tol)
+    assert fitted[0]
+    return bank, cubic[0], rays
+
+
+def test_certificate_from_the_fitters_rays_is_a_certificate():
+    """An eighth of a circle (one rational piece): the certificate started from the
+    fitter's rays gives the same bound as the one started from dense samples (the
+    feet Newton finds are the same), the bound is >= |R(phi(s)) - C(s)| on dense
+    samples (plain Bernstein sums), and the cubic displaced by 2 tol does not
+    certify (its bound > tol), from either start."""
+    tol = 1e-3
+    arc = pc.ellipse_arc((0.0, 0.0), 10.0, 10.0, 0.0, 0.2, math.pi / 4)[0]
+    bank, cubic, rays = _ray_fit([arc], tol)
+    start = certify_mod.start_at_nodes(rays, _quadrature().gx)
+    assert np.all(np.isfinite(start))
+    groups = [(np.array([0]), arc[None])]
+    fast = certify_mod.certify_batch(groups, cubic[None], tol, start=start)
+    dense = certify_mod.certify_batch(groups, cubic[None], tol)
+    assert fast.bound[0] <= tol
+    assert fast.bound[0] == pytest.approx(dense.bound[0], rel=1e-6)
+    for s0, s1, phi in fast.panels(0):
+        s = np.linspace(s0, s1, 2001)
+        u = reparam_values(phi, (s - s0) / (s1 - s0))
+        err = np.hypot(*(rational(arc)(u) - bernstein(cubic, s)).T).max()
+        assert err <= fast.bound[0] * (1 + 1e-9)
+    # a start far from the feet (reversed) may give a looser bound, never a wrong one
+    wrong = certify_mod.certify_batch(groups, cubic[None], tol, start=start[:, ::-1].copy())
+    for s0, s1, phi in wrong.panels(0):
+        s = np.linspace(s0, s1, 2001)
+        u = reparam_values(phi, (s - s0) / (s1 - s0))
+        err = np.hypot(*(rational(arc)(u) - bernstein(cubic, s)).T).max()
+        assert err <= wrong.bound[0] * (1 + 1e-9)
+    # displaced by 2 tol along the normal at the middle: no certificate
+    mid = bernstein(cubic, [0.5])[0]
+    moved = cubic.copy()
+    moved[1:3] += 2.0 * tol * mid / np.hypot(*mid) * 4.0 / 3.0
+    for s in (start, None):
+        assert certify_mod.certify_batch(groups, moved[None], tol, start=s).bound[0] > tol
+
+
+def test_rays_start_near_the_true_feet():
+    """The starting feet built from the fitter's rays are within a small share of the
+    parameter range of the exact feet of the cubic's nodes on the piece (closest
+    points from dense sampling and ternary refinement here, not Newton)."""
+    tol = 1e-3
+    arc = pc.ellipse_arc((0.0, 0.0), 5.0, 3.0, 0.4, 0.0, 1.4)[0]
+    _, cubic, rays = _ray_fit([arc], tol)
+    start = certify_mod.start_at_nodes(rays, _quadrature().gx)[0]
+    nodes = bernstein(cubic, certify_mod._NODES)
+    t = np.linspace(0, 1, 20001)
+    curve = rational(arc)(t)
+    true = t[np.argmin(((nodes[:, None] - curve[None]) ** 2).sum(-1), axis=1)]
+    assert np.abs(start - true).max() < 0.02
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_chains_segments_panels_certified(seed):
+    """Many G1 chains of mixed degree searched in one batch: every segment's bound
+    holds on dense samples of |R(phi(s)) - C(s)| of its panels (R by plain Bernstein
+    sums) and is <= tol; shifting the cubic by 2 tol breaks that sampled check."""
+    rng = np.random.default_rng(seed)
+    tol = 1e-4
+    chains = []
+    for _ in range(4):
+        radii = rng.uniform(0.5, 3.0, rng.integers(2, 5))
+        pieces, p, ang = [], np.array([0.0, 0.0]), rng.uniform(0, 6)
+        for r in radii:
+            c = p - r * np.array([math.cos(ang), math.sin(ang)])
+            arc = pc.ellipse_arc(tuple(c), r, r, 0.0, ang, 0.8)[0]
+            pieces.append(pc.elevate(arc) if rng.random() < 0.4 else arc)
+            ang += 0.8
+            p = c + r * np.array([math.cos(ang), math.sin(ang)])
+        chains.append(pieces)
+    for pieces, segs in zip(chains, chains_segments(chains, tol)):
+        assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+        for seg in segs:
+            assert seg.bound <= tol and seg.reparam
+            worst = moved = 0.0
+            for s0, s1, phi in seg.reparam:
+                s = np.linspace(s0, s1, 257)
+                t = reparam_values(phi, (s - s0) / (s1 - s0))
+                k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
+                r = rational(pieces[k])(np.clip(t - k, 0, 1))
+                worst = max(worst, np.hypot(*(r - bernstein(seg.cubic, s)).T).max())
+                moved = max(moved, np.hypot(*(r - bernstein(seg.cubic + [0, 2 * tol], s)).T)
+                            .max())
+            assert worst <= seg.bound * (1 + 1e-9) + 1e-13
+            assert moved > tol
