@@ -77,6 +77,25 @@ def build_mark_font(path):
     return path
 
 
+def widen_glyf(font, factor=WIDE):
+    """Scale a TrueType font's outlines, component offsets and advances by ``factor``
+    in x, in place, rounded to integers: the wide master of the test fonts."""
+    glyf, hmtx = font["glyf"], font["hmtx"]
+    for name in font.getGlyphOrder():
+        g = glyf[name]
+        if g.isComposite():
+            for c in g.components:
+                c.x = int(round(c.x * factor))
+        elif g.numberOfContours > 0:
+            coords = np.array(g.coordinates, float)
+            coords[:, 0] = np.round(coords[:, 0] * factor)
+            g.coordinates = type(g.coordinates)([tuple(map(int, p)) for p in coords])
+            g.recalcBounds(glyf)
+        adv, lsb = hmtx[name]
+        hmtx[name] = (int(round(adv * factor)), int(round(lsb * factor)))
+    return font
+
+
 def build_variable_font(folder):
     """Write the two-master variable font into ``folder``; returns its path."""
     from fontTools.designspaceLib import AxisDescriptor, DesignSpaceDocument, SourceDescriptor
@@ -89,18 +108,7 @@ def build_variable_font(folder):
         if tag in font:
             del font[tag]
     font.save(str(regular))
-    glyf, hmtx = font["glyf"], font["hmtx"]
-    for name in font.getGlyphOrder():
-        g = glyf[name]
-        if g.isComposite():
-            for c in g.components:
-                c.x = int(round(c.x * WIDE))
-        elif g.numberOfContours > 0:
-            coords = np.array(g.coordinates, float)
-            coords[:, 0] = np.round(coords[:, 0] * WIDE)
-            g.coordinates = type(g.coordinates)([tuple(map(int, p)) for p in coords])
-        adv, lsb = hmtx[name]
-        hmtx[name] = (int(round(adv * WIDE)), int(round(lsb * WIDE)))
+    widen_glyf(font)
     font.save(str(wide))
     doc = DesignSpaceDocument()
     axis = AxisDescriptor()

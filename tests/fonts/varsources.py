@@ -5,9 +5,7 @@ master's outlines, advances and GPOS anchors scaled 1.25x horizontally) as
 glyf/gvar and as CFF2, compiled by varLib from those masters (so their anchors
 vary with wght)."""
 
-import numpy as np
-
-from tests.fontfixtures import build_mark_font
+from tests.fontfixtures import build_mark_font, widen_glyf
 
 WIDE = 1.25
 GLYPHS = ["o", "e", "n", "acutecomb"]
@@ -67,19 +65,7 @@ def _wide(font):
     """The wght=700 master: outlines, advances and GPOS anchors x 1.25."""
     from morph.fonts.tables import _lookup_subtables
 
-    glyf, hmtx = font["glyf"], font["hmtx"]
-    for name in font.getGlyphOrder():
-        g = glyf[name]
-        if g.isComposite():
-            for c in g.components:
-                c.x = int(round(c.x * WIDE))
-        elif g.numberOfContours > 0:
-            coords = np.array(g.coordinates, float)
-            coords[:, 0] = np.round(coords[:, 0] * WIDE)
-            g.coordinates = type(g.coordinates)([tuple(map(int, p)) for p in coords])
-            g.recalcBounds(glyf)
-        adv, lsb = hmtx[name]
-        hmtx[name] = (int(round(adv * WIDE)), int(round(lsb * WIDE)))
+    widen_glyf(font, WIDE)
     seen = set()
     for st in _lookup_subtables(font):
         for a in _anchors(st):
