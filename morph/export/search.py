@@ -133,26 +133,7 @@ def _fit_ranges(requests, tol):
     short = fitted & (sampled < need * tol)
     skip = (sampled > SCREEN * tol) | short
     todo = fitted & ~skip
-    # the parts' cuts on the cubic: 0, the feet of the joins, 1
-    s0, s1 = np.zeros(len(parts.req)), np.ones(len(parts.req))
-    multi = np.nonzero(todo & (nparts > 1))[0]
-    if len(multi):
-        at, count = _join_feet(parts, multi)
-        joins = bank.first[parts.gid[at]]
-        homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
-        # Newton from between the rays of the nodes next to the join (the fitter's:
-        # close, so 3 steps where a start from 65 samples took 6)
-        guess = 0.5 * (rays[at - 1, -1] + rays[at, 0])
-        feet = np.empty(at.shape)
-        known = np.all(np.isfinite(guess), axis=1)
-        if known.any():
-            feet[known] = nr.closest_params_many(homog[known], joins[known], guess[known],
-                                                 iters=3, jet=pc.jet2_power_many)
-        if not known.all():
-            feet[~known] = nr.nearest_params_many(homog[~known], joins[~known], iters=6)
-        ok = np.arange(at.shape[1])[None] < count[:, None]
-        s0[at[ok]] = feet[ok]
-        s1[at[ok] - 1] = feet[ok]
+    s0, s1 = _part_cuts(bank, parts, cubics, rays, np.nonzero(todo & (nparts > 1))[0])
     cut_ok = np.ones(n, bool)
     np.logical_and.at(cut_ok, parts.req, s1 > s0)
     todo &= cut_ok
@@ -175,16 +156,7 @@ def _fit_ranges(requests, tol):
     where[sel] = np.arange(len(sel))
     # a single piece whose fit fails tol: the same-parameter fit too (the smaller wins)
     retry = np.nonzero((nparts == 1) & (~fitted | (bound > tol)) & ~short)[0]
-    alt = {}
-    if len(retry):
-        for (rows, h) in _sub_groups(bank, parts, first[retry]):
-            for j, sub in zip(rows.tolist(), h):
-                r = int(retry[j])
-                c, b = fit_cubic(sub)
-                c[0], c[-1] = starts[r], ends[r]
-                if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
-                    b = same_param_bound(sub, c)
-                alt[r] = (c, b)
+    alt = _same_param_fits(bank, parts, first, retry, starts, ends)
     out = []
     bound_l, fitted_l, short_l = bound.tolist(), fitted.tolist(), short.tolist()
     sampled_l, first_l, nparts_l = sampled.tolist(), first.tolist(), nparts.tolist()
@@ -200,6 +172,50 @@ def _fit_ranges(requests, tol):
             best = (alt[r][0], alt[r][1], rep)
         out.append(best)
     return out
+
+
+def _part_cuts(bank, parts, cubics, rays, multi):
+    """(s0, s1): where each part of a fitted cubic starts and ends on it: 0, the
+    feet of the joins (the cubic's closest points to its pieces' join points), 1.
+    ``multi``: the requests of more than one piece whose cubic is certified."""
+    s0, s1 = np.zeros(len(parts.req)), np.ones(len(parts.req))
+    if not len(multi):
+        return s0, s1
+    at, count = _join_feet(parts, multi)
+    joins = bank.first[parts.gid[at]]
+    homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
+    # Newton from between the rays of the nodes next to the join (the fitter's:
+    # close, so 3 steps where a start from 65 samples took 6)
+    guess = 0.5 * (rays[at - 1, -1] + rays[at, 0])
+    feet = np.empty(at.shape)
+    known = np.all(np.isfinite(guess), axis=1)
+    if known.any():
+        feet[known] = nr.closest_params_many(homog[known], joins[known], guess[known],
+                                             iters=3, jet=pc.jet2_power_many)
+    if not known.all():
+        feet[~known] = nr.nearest_params_many(homog[~known], joins[~known], iters=6)
+    ok = np.arange(at.shape[1])[None] < count[:, None]
+    s0[at[ok]] = feet[ok]
+    s1[at[ok] - 1] = feet[ok]
+    return s0, s1
+
+
+def _same_param_fits(bank, parts, first, retry, starts, ends):
+    """{request: (cubic, bound)}: the same-parameter fit (:func:`fit_cubic`) of each
+    single-piece request in ``retry``, its ends those asked for (then bounded by
+    :func:`same_param_bound`)."""
+    alt = {}
+    if not len(retry):
+        return alt
+    for (rows, h) in _sub_groups(bank, parts, first[retry]):
+        for j, sub in zip(rows.tolist(), h):
+            r = int(retry[j])
+            c, b = fit_cubic(sub)
+            c[0], c[-1] = starts[r], ends[r]
+            if not np.array_equal(c[[0, -1]], pc.cartesian(sub)[[0, -1]]):
+                b = same_param_bound(sub, c)
+            alt[r] = (c, b)
+    return alt
 
 
 class _Reparam:
