@@ -110,20 +110,7 @@ def check_operands(regions, names, region_b, tol, operation):
     rows = np.zeros(n, np.int64)
     np.add.at(rows, region_of, 1)
     big = np.zeros(n)
-    # weights, finite values and the control points' extent of each region
-    lo, hi = np.full((n, 2), np.inf), np.full((n, 2), -np.inf)
-    mag = np.zeros(n)
-    bad = np.zeros(n, bool)
-    for ks, h in packed.groups:
-        r = region_of[ks]
-        with np.errstate(all="ignore"):
-            x = h[..., :2] / h[..., 2:]
-        fin = np.isfinite(h).all(axis=(1, 2)) & np.isfinite(x).all(axis=(1, 2))
-        bad[r[~fin]] = True
-        bad[r[~(h[..., 2] > 0).all(axis=1)]] = True
-        np.minimum.at(lo, r, np.where(fin[:, None], x.min(axis=1), np.inf))
-        np.maximum.at(hi, r, np.where(fin[:, None], x.max(axis=1), -np.inf))
-        np.maximum.at(mag, r, np.where(fin, np.abs(x).max(axis=(1, 2)), 0.0))
+    bad, lo, hi, mag = _control_extents(packed, region_of, n)
     flag |= bad | (mag > lm.MAX_COORDINATE)
     size = np.where(np.isfinite(hi - lo).all(axis=1), (hi - lo).max(axis=1), 0.0)
     # closed loops: each piece ends where the next of its loop starts
@@ -150,6 +137,27 @@ def check_operands(regions, names, region_b, tol, operation):
     for i, p in zip(check, _one_by_one(regions, names, region_b, tol, operation, check)):
         out[i] = p
     return out
+
+
+def _control_extents(packed, region_of, n):
+    """(bad, lo, hi, mag) per region of ``n``: whether any piece has a non-finite
+    value or a weight not > 0, and the finite control points' box and largest
+    coordinate.  ``packed``: a :class:`morph.piece.Pieces`; ``region_of``: each
+    piece's region."""
+    lo, hi = np.full((n, 2), np.inf), np.full((n, 2), -np.inf)
+    mag = np.zeros(n)
+    bad = np.zeros(n, bool)
+    for ks, h in packed.groups:
+        r = region_of[ks]
+        with np.errstate(all="ignore"):
+            x = h[..., :2] / h[..., 2:]
+        fin = np.isfinite(h).all(axis=(1, 2)) & np.isfinite(x).all(axis=(1, 2))
+        bad[r[~fin]] = True
+        bad[r[~(h[..., 2] > 0).all(axis=1)]] = True
+        np.minimum.at(lo, r, np.where(fin[:, None], x.min(axis=1), np.inf))
+        np.maximum.at(hi, r, np.where(fin[:, None], x.max(axis=1), -np.inf))
+        np.maximum.at(mag, r, np.where(fin, np.abs(x).max(axis=(1, 2)), 0.0))
+    return bad, lo, hi, mag
 
 
 def _one_by_one(regions, names, region_b, tol, operation, which):
