@@ -168,7 +168,11 @@ def main(argv=None):
              opt.ref_tol), "",
           "| tool | ms / glyph (mean) | ms / glyph (median) | points / glyph | worst error | "
           "mean error | glyphs over 1 unit |", "|---|---|---|---|---|---|---|"]
-    worst = lambda e: "%.2f (%s)" % (max(e), names[int(np.argmax(e))])  # noqa: E731
+
+    def worst(e):
+        """The largest error and its glyph's name."""
+        return "%.2f (%s)" % (max(e), names[int(np.argmax(e))])
+
     for r in rows:
         e = r["errs"]
         md.append("| %s | %.1f | %s | %s | %s | %s | %s |" % (
