@@ -458,8 +458,9 @@ class _StreamedGlyphs:
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
         self.store.clear()
-        if "CFF " in otf:  # ufo2ft's subroutinizing save set the bounds (head, hhea,
-            otf.recalcBBoxes = False  # OS/2): not again from each charstring
+        # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
+        # the stored glyphs' headers for glyf): not again from every glyph decoded
+        otf.recalcBBoxes = False
         otf.save(str(self.tmp))
 
 

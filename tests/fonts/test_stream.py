@@ -116,6 +116,32 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
         ref, cubicConversionError=plan(0.5, True).cu2qu / (ref.info.unitsPerEm or 1000)))
 
 
+def test_streamed_ttf_keeps_stored_glyphs_as_bytes(streamed, tmp_path, monkeypatch):
+    """The stored glyphs stay their compiled bytes through ufo2ft's glyf table, maxp
+    and boxes (expanded, a glyph of 300 points held ~6 KB more until the font was
+    saved, so the TrueType writer's memory grew with the font); a glyph whose
+    source asks for TrueType flags (overlap) is expanded and gets them."""
+    from fontTools.ttLib.tables._g_l_y_f import flagOverlapSimple
+
+    from morph.fonts import stored
+
+    kept = {}
+    setup = stored.StoredGlyf.setupTable_glyf
+
+    def spy(self):
+        setup(self)
+        kept.update({n: hasattr(g, "data") for n, g in self.otf["glyf"].glyphs.items()})
+
+    monkeypatch.setattr(stored.StoredGlyf, "setupTable_glyf", spy)
+    src = copy.deepcopy(streamed[0])
+    src["o"].lib["public.truetype.overlap"] = True
+    stroke_ufo(src, tmp_path / "S.ttf", ellipse_nib(*NIB), GLYPHS, tol=0.5)
+    assert kept["six"] and kept["e"] and kept["ordfeminine"]   # stroked: bytes
+    assert not kept["o"] and not kept["eacute"]  # asks for flags; a composite: ufo2ft's
+    glyf = TTFont(str(tmp_path / "S.ttf"))["glyf"]
+    assert glyf["o"].flags[0] & flagOverlapSimple and not glyf["six"].flags[0] & flagOverlapSimple
+
+
 def test_streamed_ufo_keeps_the_font(streamed, skeleton):
     src, out, stats = streamed
     ufo = ufoLib2.Font.open(out / "S.ufo")
