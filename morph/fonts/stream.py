@@ -27,7 +27,8 @@ the stored outlines.
 
 The source is read the same way (:class:`SkeletonSource`): one pass over the glyphs
 for their shells, then each glyph's contours read again when its chunk is prepared,
-and dropped.  A UFO output is written glyph by glyph (:class:`UfoGlyphWriter`): the
+and dropped (by the worker that strokes the chunk, :func:`worker_source`, when the
+source is a UFO on disk and there are workers).  A UFO output is written glyph by glyph (:class:`UfoGlyphWriter`): the
 shells are saved first by ufoLib2 (info, kerning, groups, features, lib, layers,
 data), then each stroked glyph's ``.glif`` is rewritten as it arrives.
 """
@@ -38,7 +39,7 @@ from types import SimpleNamespace
 from .tables import draw_contours
 
 __all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph", "sample_font"]
+           "UfoGlyphWriter", "shell_glyph", "sample_font", "worker_source"]
 
 
 # =========================================================================== worker side
@@ -267,6 +268,20 @@ class SkeletonSource:
                                                                   one_line(exc)),
                              name) from exc
         return glyph, contours
+
+
+_WORKER_SOURCE = {}  # (path, token) -> SkeletonSource: the one this process reads
+
+
+def worker_source(path, token):
+    """The :class:`SkeletonSource` of the UFO at ``path`` for the run ``token``,
+    opened once in this process (a worker reads its chunks' skeletons itself); a
+    new token (a new run: the UFO may have changed) opens it again."""
+    source = _WORKER_SOURCE.get((path, token))
+    if source is None:
+        _WORKER_SOURCE.clear()
+        source = _WORKER_SOURCE[path, token] = SkeletonSource(path)
+    return source
 
 
 #: a GLIF component's transformation attributes and their defaults, in order
