@@ -396,19 +396,31 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
     ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
     ``start``: starting feet of the nodes (:func:`_reparams`), or None.
 
-    The bound is the certificate of the module
-    docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
-    then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
-    :func:`morph.nearest.distance_bound_many`).  Where it exceeds tol although the
+    The bound is the certificate of the module docstring on the exact composition
+    R o mu o phi (:func:`_composed_bounds`).  Where it exceeds tol although the
     cubic is within tol of the curve at the nodes (the parametrisations differ more
     than a polynomial of degree 9 follows: rational straight pieces, zero end
-    derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
-    sub-piece at the foot of C(1/2), and the halves certified alone, ``depth``
-    times.  A bound <= tol is certified; above tol it may be a sampled distance (a
-    cubic farther than tol from the curve at a node is not composed at all).
+    derivatives) the cubic is halved and the halves certified alone
+    (:func:`_halved`), ``depth`` times.  A bound <= tol is certified; above tol it
+    may be a sampled distance (a cubic farther than tol from the curve at a node is
+    not composed at all).
     """
     cubics = np.asarray(cubics, float)
     phis, size, cs, normal = _reparams(groups, cubics, tol, start)
+    bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
+    out = Certified(bound, phis, size, cs)
+    if depth > 0:
+        _halved(groups, cubics, out, np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0],
+                tol, depth)
+    return out
+
+
+def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):
+    """Per pair the certificate on R o mu o phi: R with its weights scaled by c^i (the
+    Möbius map), composed with phi (:func:`morph.bernstein.compose_many`, one call
+    per degree of the pieces and of phi), bounded by
+    :func:`morph.nearest.distance_bound_many`; pairs whose foot distance ``normal``
+    already exceeds tol keep it (they fail without a composition)."""
     bound = normal.copy()
     for rows, stack in groups:
         n = stack.shape[1]
@@ -420,10 +432,17 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
             if m > 2:
                 comp = bz.compose_many(comp, phis[r, :m])
             bound[r] = nr.distance_bound_many(comp, cubics[r], REFINE)[0]
-    out = Certified(bound, phis, size, cs)
-    rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
+    return bound
+
+
+def _halved(groups, cubics, out, rows, tol, depth):
+    """Certify the pairs ``rows`` of ``out`` (a :class:`Certified`) again as halves:
+    the cubic split exactly at s = 1/2 (de Casteljau), the sub-piece at the foot u of
+    C(1/2) (Newton from dense samples; pairs whose foot is an end are left), each
+    half certified alone (:func:`certify_batch`, ``depth - 1``); the worse half's
+    bound replaces the pair's where it is smaller (``out`` updated in place)."""
     if not len(rows):
-        return out
+        return
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
     um = np.empty(len(rows))
     where = np.full(len(cubics), -1)
@@ -435,27 +454,24 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
             j = where[grp[sel]]
             um[j] = nr.nearest_params_many(stack[sel], mids[j])[:, 0]
             halves.append((j, stack[sel]))
-    inside = (um > 0) & (um < 1)
-    if not inside.any():
-        return out
-    keep = np.nonzero(inside)[0]                    # positions among rows
+    keep = np.nonzero((um > 0) & (um < 1))[0]                      # positions among rows
+    if not len(keep):
+        return
     renum = np.full(len(rows), -1)
     renum[keep] = np.arange(len(keep))
     left, right = bz.split_many(cubics[rows[keep]], np.full(len(keep), 0.5))
     sub_groups = []
     for j, stack in halves:
-        ok = inside[j]
+        ok = renum[j] >= 0
         if ok.any():
             lo, hi = bz.split_many(stack[ok], um[j[ok]])
-            pos = renum[j[ok]]
-            sub_groups += [(pos, lo), (len(keep) + pos, hi)]
+            sub_groups += [(renum[j[ok]], lo), (len(keep) + renum[j[ok]], hi)]
     res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1)
     b = np.maximum(res.bound[:len(keep)], res.bound[len(keep):])
-    for j in np.nonzero(b < bound[rows[keep]])[0].tolist():
+    for j in np.nonzero(b < out.bound[rows[keep]])[0].tolist():
         i = int(rows[keep[j]])
-        bound[i] = b[j]
+        out.bound[i] = b[j]
         out.halves[i] = (res, j, len(keep) + j, float(um[keep[j]]))
-    return out
 
 
 def _merged(groups):

@@ -106,15 +106,11 @@ def _fit_ranges(requests, tol):
     not certified: (cubic, sampled distance, None).  ``panels`` is a
     :class:`_Reparam` (made into panels on demand).
 
-    All ranges are fitted in one call (:func:`moment_cubics`); then every part of
-    every fitted cubic is certified in one batch (:func:`certify_batch`), except
-    cubics whose sampled distance exceeds SCREEN tol (their sampled distance is
-    returned as the bound: they fail).  Panels
-    carry chain parameters T.  Across joins of a chain the cubic is cut at the
-    closest points s_k to the join points (increasing, else no certificate) and
-    each part certified against its piece: phi is continuous (it maps s_k to the
-    join) and increasing.  A single-piece range whose fitted cubic does not certify
-    also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
+    All ranges are fitted in one call (:func:`moment_cubics`) and screened by their
+    sampled distances (:func:`_screened`); every part of every cubic left is
+    certified in one batch (:func:`_certified_parts`).  A single-piece range whose
+    fitted cubic does not certify also gets the same-parameter fit of
+    :func:`fit_cubic`; the smaller bound wins (:func:`_results`).
     """
     n = len(requests)
     bank = requests[0][0].bank
@@ -125,52 +121,78 @@ def _fit_ranges(requests, tol):
     tiny = np.array([r[0].tiny for r in requests], float)
     cubics, sampled, fitted, rays = moment_cubics(bank, parts, starts, ends, tiny, tol)
     nparts = np.bincount(parts.req, minlength=n)
-    first = np.searchsorted(parts.req, np.arange(n))
-    # a cubic whose sampled distance already exceeds tol well is not certified: its
-    # sampled distance is reported (the search only needs to know it fails); one
-    # whose sampled distance is below the request's ``need`` share of tol is not
-    # certified either: the search will try a longer one (a provisional result)
-    short = fitted & (sampled < need * tol)
-    skip = (sampled > SCREEN * tol) | short
+    short, skip = _screened(sampled, fitted, need, tol)
     todo = fitted & ~skip
     s0, s1 = _part_cuts(bank, parts, cubics, rays, np.nonzero(todo & (nparts > 1))[0])
     cut_ok = np.ones(n, bool)
     np.logical_and.at(cut_ok, parts.req, s1 > s0)
     todo &= cut_ok
-    sel = np.nonzero(todo[parts.req])[0]
-    bound = np.where(skip, sampled, np.inf)
-    cert = None
-    if len(sel):
-        one = nparts[parts.req[sel]] == 1
-        pieces = cubics[parts.req[sel]]
-        if not one.all():
-            pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
-        # the certificate starts from the feet the fitter found (its rays)
-        span = (s1 - s0)[sel, None]
-        start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
-        cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
-        worst = np.full(n, -np.inf)
-        np.maximum.at(worst, parts.req[sel], cert.bound)
-        bound = np.where(todo, worst, bound)
-    where = np.full(len(parts.req), -1)
-    where[sel] = np.arange(len(sel))
+    bound, cert, where = _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol)
+    bound = np.where(skip, sampled, bound)
+    first = np.searchsorted(parts.req, np.arange(n))
     # a single piece whose fit fails tol: the same-parameter fit too (the smaller wins)
     retry = np.nonzero((nparts == 1) & (~fitted | (bound > tol)) & ~short)[0]
     alt = _same_param_fits(bank, parts, first, retry, starts, ends)
+    return _results(cubics, bound, fitted, short, sampled, alt,
+                    (cert, where, parts, ks, s0, s1), first, nparts)
+
+
+def _screened(sampled, fitted, need, tol):
+    """(short, skip) per range: which fits are not certified.  A cubic whose sampled
+    distance exceeds SCREEN tol fails anyway (the sampled distance is nearly a lower
+    bound of the certified one: it is reported, the search only needs to know it
+    fails); one whose sampled distance is below the request's ``need`` share of tol
+    is ``short``, a provisional result (the search will try a longer one)."""
+    short = fitted & (sampled < need * tol)
+    return short, (sampled > SCREEN * tol) | short
+
+
+def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
+    """Certify every part of the ranges ``todo`` in one batch (:func:`certify_batch`):
+    the cubic cut at [s0, s1] of the part (the feet of the join points: phi is
+    continuous, mapping s_k to the join, and increasing) against the part's piece,
+    started from the feet the fitter's rays found (the pieces are not sampled
+    again).  Returns (bound per range: the worst of its parts, inf where not
+    certified; the :class:`Certified` batch or None; each part's row in it, -1
+    where not certified)."""
+    n = len(todo)
+    sel = np.nonzero(todo[parts.req])[0]
+    where = np.full(len(parts.req), -1)
+    where[sel] = np.arange(len(sel))
+    bound = np.full(n, np.inf)
+    if not len(sel):
+        return bound, None, where
+    one = nparts[parts.req[sel]] == 1
+    pieces = cubics[parts.req[sel]]
+    if not one.all():
+        pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
+    span = (s1 - s0)[sel, None]
+    start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
+    cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
+    worst = np.full(n, -np.inf)
+    np.maximum.at(worst, parts.req[sel], cert.bound)
+    return np.where(todo, worst, bound), cert, where
+
+
+def _results(cubics, bound, fitted, short, sampled, alt, maps, first, nparts):
+    """The results of :func:`_fit_ranges` in request order: (cubic, sampled, None)
+    for a short fit, else the better of the fitted cubic (None, inf where nothing
+    was fitted) and the same-parameter fit ``alt`` ({request: (cubic, bound)}), with
+    its :class:`_Reparam` (``maps``: the batch's certificate and part cuts)."""
     out = []
     bound_l, fitted_l, short_l = bound.tolist(), fitted.tolist(), short.tolist()
     sampled_l, first_l, nparts_l = sampled.tolist(), first.tolist(), nparts.tolist()
-    for r in range(n):
+    for r in range(len(cubics)):
         if short_l[r]:
             out.append((cubics[r], sampled_l[r], None))
             continue
         lo, hi = first_l[r], first_l[r] + nparts_l[r]
-        rep = _Reparam(cert, where, parts, ks, s0, s1, lo, hi, None)
-        best = (cubics[r], bound_l[r], rep) if fitted_l[r] else (None, np.inf, None)
-        if r in alt and alt[r][1] < best[1]:
-            rep = _Reparam(None, None, parts, ks, s0, s1, lo, hi, True)
-            best = (alt[r][0], alt[r][1], rep)
-        out.append(best)
+        if r in alt and alt[r][1] < (bound_l[r] if fitted_l[r] else np.inf):
+            out.append((alt[r][0], alt[r][1], _Reparam(*maps, lo, hi, True)))
+        elif fitted_l[r]:
+            out.append((cubics[r], bound_l[r], _Reparam(*maps, lo, hi, None)))
+        else:
+            out.append((None, np.inf, None))
     return out
 
 
