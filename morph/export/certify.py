@@ -280,12 +280,13 @@ def _reparams(groups, cubics, tol, start=None):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
     ``groups``: the sub-pieces by degree, [(rows, stack)] (:func:`degree_groups`).
-    Returns ``(phis, size, c, normal)``: for each (sub-piece, cubic) pair phi's
+    Returns ``(phis, size, c, normal, u)``: for each (sub-piece, cubic) pair phi's
     increasing Bernstein coefficients (``phis`` (k, 10), the first ``size`` of a row
     used) of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
     PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
-    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).  Where no
+    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat), and the feet
+    u (k, 24) themselves.  Where no
     polynomial follows the feet that closely (a rational piece whose speed varies by
     30x along it: QAC pieces of a stroke), phi is fitted again in the parameter v
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
@@ -325,7 +326,7 @@ def _reparams(groups, cubics, tol, start=None):
         better = miss2 < miss[retry]
         i = retry[better]
         phis[i], size[i], c[i], miss[i] = again[better], asize[better], cm[better], miss2[better]
-    return phis, size, c, normal
+    return phis, size, c, normal, u
 
 
 def _phi_fits(v, speed, tol):
@@ -406,12 +407,12 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
     not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, size, cs, normal = _reparams(groups, cubics, tol, start)
+    phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start)
     bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
     out = Certified(bound, phis, size, cs)
     if depth > 0:
         _halved(groups, cubics, out, np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0],
-                tol, depth)
+                feet, tol, depth)
     return out
 
 
@@ -435,15 +436,18 @@ def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):
     return bound
 
 
-def _halved(groups, cubics, out, rows, tol, depth):
+def _halved(groups, cubics, out, rows, feet, tol, depth):
     """Certify the pairs ``rows`` of ``out`` (a :class:`Certified`) again as halves:
     the cubic split exactly at s = 1/2 (de Casteljau), the sub-piece at the foot u of
-    C(1/2) (Newton from dense samples; pairs whose foot is an end are left), each
-    half certified alone (:func:`certify_batch`, ``depth - 1``); the worse half's
-    bound replaces the pair's where it is smaller (``out`` updated in place)."""
+    C(1/2) (pairs whose foot is an end are left), each half certified alone
+    (:func:`certify_batch`, ``depth - 1``); the worse half's bound replaces the
+    pair's where it is smaller (``out`` updated in place).  The feet of the
+    parent's nodes (``feet``, (k, 24)) start every Newton search of the halves
+    (:func:`_half_starts`): nothing is sampled again."""
     if not len(rows):
         return
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
+    guess = _half_starts(feet[rows])
     um = np.empty(len(rows))
     where = np.full(len(cubics), -1)
     where[rows] = np.arange(len(rows))
@@ -452,7 +456,9 @@ def _halved(groups, cubics, out, rows, tol, depth):
         sel = np.nonzero(where[grp] >= 0)[0]
         if len(sel):
             j = where[grp[sel]]
-            um[j] = nr.nearest_params_many(stack[sel], mids[j])[:, 0]
+            jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
+            um[j] = nr.closest_params_many(stack[sel], mids[j], guess[j, 24:25],
+                                           REPARAM_ITERS, jet)[:, 0]
             halves.append((j, stack[sel]))
     keep = np.nonzero((um > 0) & (um < 1))[0]                      # positions among rows
     if not len(keep):
@@ -466,12 +472,29 @@ def _halved(groups, cubics, out, rows, tol, depth):
         if ok.any():
             lo, hi = bz.split_many(stack[ok], um[j[ok]])
             sub_groups += [(renum[j[ok]], lo), (len(keep) + renum[j[ok]], hi)]
-    res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1)
+    u, g = um[keep, None], guess[keep]
+    start = np.concatenate([np.clip(g[:, :24] / u, 0.0, 1.0),
+                            np.clip((g[:, 25:] - u) / (1.0 - u), 0.0, 1.0)])
+    res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1,
+                        start=start)
     b = np.maximum(res.bound[:len(keep)], res.bound[len(keep):])
     for j in np.nonzero(b < out.bound[rows[keep]])[0].tolist():
         i = int(rows[keep[j]])
         out.bound[i] = b[j]
         out.halves[i] = (res, j, len(keep) + j, float(um[keep[j]]))
+
+
+def _half_starts(feet):
+    """The parent's feet (k, 24) at the nodes, read (linearly between the nodes, with
+    0 at 0 and 1 at 1) at the parameters of the halves' nodes and at 1/2:
+    (k, 49) = [left half's 24, at 1/2, right half's 24], in the parent piece's
+    parameter (the caller maps them into each half's)."""
+    s = np.concatenate([0.5 * _NODES, [0.5], 0.5 + 0.5 * _NODES])
+    x = np.concatenate([[0.0], _NODES, [1.0]])
+    u = np.concatenate([np.zeros((len(feet), 1)), feet, np.ones((len(feet), 1))], axis=1)
+    j = np.clip(np.searchsorted(x, s, side="right") - 1, 0, len(x) - 2)
+    w = (s - x[j]) / (x[j + 1] - x[j])
+    return u[:, j] * (1.0 - w) + u[:, j + 1] * w
 
 
 def _merged(groups):
