@@ -358,22 +358,28 @@ def _phi_fits(v, speed, tol):
 class Certified:
     """The certificates of a batch of (sub-piece, cubic) pairs (:func:`certify_batch`):
     ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
-    made only when asked for (writers of outlines need the bounds, not the maps)."""
+    made only when asked for (writers of outlines need the bounds, not the maps).
+    A pair certified as halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are
+    rows half[i] and half[i] + ``sub_n`` of ``sub`` (the Certified of all halved
+    pairs of the batch), the sub-piece cut at ``half_u[i]``."""
 
-    __slots__ = ("bound", "phis", "size", "c", "halves")
+    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n")
 
     def __init__(self, bound, phis, size, c):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
-        self.halves = {}            # pair -> (Certified of the halves, left, right, u)
+        self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
+        self.sub, self.sub_n = None, 0
 
     def panels(self, i):
         """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
         :func:`certify_many`)."""
-        if i in self.halves:
-            sub, jl, jr, u = self.halves[i]
-            return ([(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u)) for a, b, f in sub.panels(jl)]
+        j = int(self.half[i])
+        if j >= 0:
+            u = float(self.half_u[i])
+            return ([(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u))
+                     for a, b, f in self.sub.panels(j)]
                     + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
-                       for a, b, f in sub.panels(jr)])
+                       for a, b, f in self.sub.panels(j + self.sub_n)])
         f, c = self.phis[i, :self.size[i]], self.c[i]
         return [(0.0, 1.0, np.stack([c * f, (c - 1.0) * f + 1.0], axis=1))]
 
@@ -441,7 +447,7 @@ def _halved(groups, cubics, out, rows, feet, tol, depth):
     the cubic split exactly at s = 1/2 (de Casteljau), the sub-piece at the foot u of
     C(1/2) (pairs whose foot is an end are left), each half certified alone
     (:func:`certify_batch`, ``depth - 1``); the worse half's bound replaces the
-    pair's where it is smaller (``out`` updated in place).  The feet of the
+    pair's where it is smaller (``out`` updated in place: ``half``, ``half_u``, ``sub``).  The feet of the
     parent's nodes (``feet``, (k, 24)) start every Newton search of the halves
     (:func:`_half_starts`): nothing is sampled again."""
     if not len(rows):
@@ -478,10 +484,10 @@ def _halved(groups, cubics, out, rows, feet, tol, depth):
     res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1,
                         start=start)
     b = np.maximum(res.bound[:len(keep)], res.bound[len(keep):])
-    for j in np.nonzero(b < out.bound[rows[keep]])[0].tolist():
-        i = int(rows[keep[j]])
-        out.bound[i] = b[j]
-        out.halves[i] = (res, j, len(keep) + j, float(um[keep[j]]))
+    won = np.nonzero(b < out.bound[rows[keep]])[0]
+    i = rows[keep[won]]
+    out.bound[i], out.half[i], out.half_u[i] = b[won], won, um[keep[won]]
+    out.sub, out.sub_n = res, len(keep)
 
 
 def _half_starts(feet):

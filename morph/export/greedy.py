@@ -187,7 +187,7 @@ class Greedy:
         check = has_good & ~self.good_cert[ended] & (self.passno[ended] == 0)
         self.mode[ended[check]] = CERTIFY
         self.t1[ended[check]] = self.good[ended[check]]
-        self._halve(ended[~has_good], bound[stop][~has_good], enter=True)
+        self._halve(ended[~has_good], bound[stop][~has_good])
         return ended[has_good & ~check]
 
     def _refused(self, rows, t1, bound):
@@ -203,7 +203,7 @@ class Greedy:
         self.good[rows], self.good_cert[rows] = np.nan, False
         self.t1[rows] = target
 
-    def _halve(self, rows, bound, enter=False):
+    def _halve(self, rows, bound):
         """No certified fit yet: try half the shortest failed interval, down to the
         minimal width (then ``fail``)."""
         t0 = self.t0[rows]
