@@ -447,9 +447,9 @@ def _halved(groups, cubics, out, rows, feet, tol, depth):
     the cubic split exactly at s = 1/2 (de Casteljau), the sub-piece at the foot u of
     C(1/2) (pairs whose foot is an end are left), each half certified alone
     (:func:`certify_batch`, ``depth - 1``); the worse half's bound replaces the
-    pair's where it is smaller (``out`` updated in place: ``half``, ``half_u``, ``sub``).  The feet of the
-    parent's nodes (``feet``, (k, 24)) start every Newton search of the halves
-    (:func:`_half_starts`): nothing is sampled again."""
+    pair's where it is smaller (``out`` updated in place: ``half``, ``half_u``,
+    ``sub``).  The feet of the parent's nodes (``feet``, (k, 24)) start every
+    Newton search of the halves (:func:`_half_starts`): nothing is sampled again."""
     if not len(rows):
         return
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
