@@ -161,7 +161,7 @@ def _not_vanished(loops, tol, which=""):
                          "most %.3g" % (which, tol, tol / 10), tol / 10)
 
 
-def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
+def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None):
     """(boundary, debug) of A ⊕ B (:func:`minkowski_sum` after its checks).
 
     ``slot_of(points)``: which independent part (:class:`morph.packing.Packing`) each
@@ -172,7 +172,7 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
         names = ("region_a", "region_b")
         gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b, names))
     conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair)
-    member = _HoleTest(region_a, region_b, tol)
+    member = member or _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
         slot = slot_of(pc.end_points([c.piece for c in conv])[0])
