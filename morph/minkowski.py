@@ -166,6 +166,9 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None)
 
     ``slot_of(points)``: which independent part (:class:`morph.packing.Packing`) each
     point is in; the corner pass then trims again only the parts it refines.
+    ``member``: the hole test of :func:`morph.trim.boundary` (default
+    :class:`_HoleTest` of A and B; packed frames, whose B differs per part, pass
+    one that tests each hole with its own part's operands).
     """
     slot_of = slot_of or (lambda pts: np.zeros(len(pts), np.int64))
     if gauss_pair is None or gauss_pair.table is None:
