@@ -124,7 +124,7 @@ def _frame_groups(a, b, alphas, tol):
 
 
 def _packed_frames(a, b, alphas, tol, method, base):
-    """The frames (1 - t) A ⊕ t B for t in ``alphas`` as one packed sum.
+    """The frames (1 - t) A ⊕ t B for t in ``alphas`` as one packed sum, in order.
 
     Frame k's scaled A is moved to slot k of a :class:`morph.packing.Packing`
     (cells wider than every scaled A by B's control box, which holds every t B, plus
@@ -133,31 +133,36 @@ def _packed_frames(a, b, alphas, tol, method, base):
     table of compatible pairs is ``base``'s, one copy per frame with the edge
     indices of that frame's maps, so only pairs of one frame are convolved.  Holes
     are tested per frame (:class:`_SlotHoleTest`); each frame's ``bound`` is the
-    error its own pieces achieved (:func:`morph.minkowski._achieved_bound`).  Where
-    the packed coordinates would be too large for tol, or the packed sum raises,
-    the frames are summed one by one (a frame's error is then its own sum's).
+    error its own pieces achieved (:func:`morph.minkowski._achieved_bound`).  The
+    budget of every frame is its own sum's; what the sum decides for all its pairs
+    at once is decided for the group (the first round falls back to the whole
+    convolution share, and the corner pass stops, when a pair of any frame cannot
+    be subdivided that far).  Where the packed coordinates would be too large for
+    tol, or the packed sum raises, the frames are summed one by one: a frame that
+    raises then does so after the frames before it, with its own sum's error.
     """
     from . import minkowski as mk
     from .packing import Packing, control_box
 
-    if len(alphas) < 2:
-        return [_one_frame(a, b, t, tol, method, base) for t in alphas]
-    regions_a = [scale_region(a, 1.0 - t) for t in alphas]
-    regions_b = [scale_region(b, t) for t in alphas]
-    layout = Packing(regions_a, control_box(b), mk.PACK_GAP * tol)
-    if not fits_precision(tol, layout.packed, b):
-        return [_one_frame(a, b, t, tol, method, base) for t in alphas]
-    pair = _packed_gauss_pair(base, alphas, layout.offsets)
-    na = len(a)
-    member = _SlotHoleTest([(layout.packed[k * na:(k + 1) * na], rb)
-                            for k, rb in enumerate(regions_b)], tol, layout)
-    try:
-        out, debug = mk._sum(layout.packed, None, tol, method, pair, layout.slot_of,
-                             member=member)
-        frames = _split_frames(out, debug["convolution"], layout, tol, method)
-    except MorphError:
-        return [_one_frame(a, b, t, tol, method, base) for t in alphas]
-    return frames
+    frames = None
+    if len(alphas) >= 2:
+        regions_a = [scale_region(a, 1.0 - t) for t in alphas]
+        regions_b = [scale_region(b, t) for t in alphas]
+        layout = Packing(regions_a, control_box(b), mk.PACK_GAP * tol)
+        if fits_precision(tol, layout.packed, b):
+            pair = _packed_gauss_pair(base, alphas, layout.offsets)
+            na = len(a)
+            member = _SlotHoleTest([(layout.packed[k * na:(k + 1) * na], rb)
+                                    for k, rb in enumerate(regions_b)], tol, layout)
+            try:
+                out, debug = mk._sum(layout.packed, None, tol, method, pair, layout.slot_of,
+                                     member=member)
+                frames = _split_frames(out, debug["convolution"], layout, tol, method)
+            except MorphError:
+                frames = None
+    if frames is None:
+        frames = (_one_frame(a, b, t, tol, method, base) for t in alphas)
+    yield from frames
 
 
 def _packed_gauss_pair(base, alphas, offsets):

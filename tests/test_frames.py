@@ -327,3 +327,28 @@ def test_glyph_command_refuses_an_animation_beyond_memory(tmp_path, monkeypatch)
     res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "--size", "1024",
                                     "--animation", "apng", "-o", str(out)])
     assert res.exit_code == 0, res.output
+
+
+def test_a_frame_that_raises_comes_after_the_frames_before_it(monkeypatch):
+    """When a packed group of frames raises, its frames are summed one by one: the
+    frames before the one that fails still arrive, then its own error."""
+    from morph import frames
+    from morph.errors import LimitError
+
+    def packed_fails(*args):
+        raise LimitError("the packed sum failed")
+
+    real = frames._one_frame
+
+    def third_fails(a, b, t, *args):
+        if abs(t - 3 / 7) < 1e-12:
+            raise LimitError("frame 3 failed")
+        return real(a, b, t, *args)
+
+    monkeypatch.setattr(frames, "_split_frames", packed_fails)
+    monkeypatch.setattr(frames, "_one_frame", third_fails)
+    got = []
+    with pytest.raises(LimitError, match="frame 3"):
+        for f in iter_frames(glyph_region("T").region, glyph_region("M").region, 8, 1.0):
+            got.append(f)
+    assert len(got) == 3 and got[0].bound == 0.0 and all(f.bound > 0 for f in got[1:])
