@@ -67,7 +67,6 @@ from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
-from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
@@ -184,7 +183,9 @@ def _chunk_job(chunk):
     each round's array calls).  If the batch raises, each glyph is converted alone,
     so that only the failing one falls back to the polygon stroke.  A glyph's
     ``seconds`` is its stroke's CPU time plus its share of the batch (by its number
-    of pieces)."""
+    of pieces).  A glyph's ``region`` stays where it was stroked: its contours are
+    moved by its placement offset, the pieces are not (the offset is horizontal,
+    :func:`_stroke_work`, and only the region's y extent is used)."""
     from .tables import contours_from_loops, contours_from_regions
 
     out = [{"name": job[0], "contours": None, "region": r, "fallback": e, "seconds": s}
@@ -220,7 +221,6 @@ def _chunk_job(chunk):
             t0 = time.process_time()
             r["contours"], r["region"], r["fallback"] = _polygon_stroke(job, r["fallback"])
             r["seconds"] += time.process_time() - t0
-        r["region"] = translate_region(r["region"], job[4])
     return out
 
 
@@ -536,6 +536,7 @@ def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
         for c in g.components:
             if not keep_component(c, symmetric):
                 paths.extend(component_paths(source, c))
+        # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
     return work
 
