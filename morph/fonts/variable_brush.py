@@ -615,28 +615,12 @@ def _vary_anchors(font, shifts, axis, values, tags):
     XDeviceTable indexes a row of GDEF's item variation store with the deltas of
     those (a 1-D model over the nib masters) and, for an anchor that varied already,
     its own deltas of the source's regions copied into the same row."""
-    from fontTools.varLib.builder import (buildVarData, buildVarDevTable, buildVarRegion,
-                                          buildVarRegionList, buildVarStore)
+    from fontTools.varLib.builder import buildVarData, buildVarDevTable, buildVarRegion
     from fontTools.varLib.models import VariationModel
-    from fontTools.ttLib import newTable
     from fontTools.ttLib.tables import otTables as ot
 
     model = VariationModel([{axis.tag: axis.fraction(v)} for v in values], [axis.tag])
-    if "GDEF" not in font:
-        gdef = font["GDEF"] = newTable("GDEF")
-        gdef.table = ot.GDEF()
-        gdef.table.Version = 0x00010003
-        for attr in ("GlyphClassDef", "AttachList", "LigCaretList", "MarkAttachClassDef",
-                     "MarkGlyphSetsDef"):
-            setattr(gdef.table, attr, None)
-    gdef = font["GDEF"].table
-    if getattr(gdef, "VarStore", None) is None:
-        gdef.Version = 0x00010003
-        for attr in ("MarkGlyphSetsDef",):
-            if not hasattr(gdef, attr):
-                setattr(gdef, attr, None)
-        gdef.VarStore = buildVarStore(buildVarRegionList([], tags), [])
-    store = gdef.VarStore
+    store = _gdef_store(font, tags)
     first = len(store.VarRegionList.Region)
     nib_regions = []
     for sup in model.supports[1:]:
@@ -671,6 +655,28 @@ def _vary_anchors(font, shifts, axis, values, tags):
             new.append(b)
         setattr(rec, attr, new if many else new[0])
     store.VarDataCount = len(store.VarData)
+
+
+def _gdef_store(font, tags):
+    """GDEF's item variation store (GDEF 1.3 made, or added, where there is none)."""
+    from fontTools.varLib.builder import buildVarRegionList, buildVarStore
+    from fontTools.ttLib import newTable
+    from fontTools.ttLib.tables import otTables as ot
+
+    if "GDEF" not in font:
+        gdef = font["GDEF"] = newTable("GDEF")
+        gdef.table = ot.GDEF()
+        gdef.table.Version = 0x00010003
+        for attr in ("GlyphClassDef", "AttachList", "LigCaretList", "MarkAttachClassDef",
+                     "MarkGlyphSetsDef"):
+            setattr(gdef.table, attr, None)
+    gdef = font["GDEF"].table
+    if getattr(gdef, "VarStore", None) is None:
+        gdef.Version = 0x00010003
+        if not hasattr(gdef, "MarkGlyphSetsDef"):
+            gdef.MarkGlyphSetsDef = None
+        gdef.VarStore = buildVarStore(buildVarRegionList([], tags), [])
+    return gdef.VarStore
 
 
 def _add_row(store, datas, old, deltas, nib_regions, build):

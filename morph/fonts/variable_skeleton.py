@@ -15,7 +15,7 @@ the outlines), at u = 1/4, 1/2, 3/4, with each nib of the nib axis.
 axis, at the grid's other nodes; :func:`morph.fonts.variable_grid.refine_grid`)
 whose error exceeds the budget, until all hold, and makes the new masters as instances of the skeleton's own interpolation
 (fontTools' ``VariationModel`` over the masters' normalized locations: points,
-anchors, advances and component offsets), so the compiled font interpolates the
+anchors, advances, component offsets and kerning), so the compiled font interpolates the
 skeleton as the designspace does and the nib part within the budget.
 """
 
@@ -109,15 +109,26 @@ class _Interpolator:
                         "master 0 (%d numbers against %d)" % (n, m, len(v), len(vals[0])),
                         "points")
             self.deltas[n] = self.model.getDeltas(vals)
+        # kerning: every pair of any master (0 where a master lacks it)
+        pairs = sorted(set().union(*(f.kerning.keys() for f in skel.fonts)))
+        self.pairs = pairs
+        self.kerning = self.model.getDeltas([np.array([f.kerning.get(p, 0.0) for p in pairs],
+                                                      float) for f in skel.fonts]) \
+            if pairs else None
 
     def values(self, name, loc):
         return self.model.interpolateFromDeltas(loc, self.deltas[name])
 
     def font(self, loc, style):
-        """A copy of the default master with the glyphs at ``loc``."""
+        """A copy of the default master with the glyphs and the kerning at ``loc``."""
         f = copy.deepcopy(self.skel.fonts[self.skel.default])
         for n in self.names:
             _set_glyph_values(f[n], self.values(n, loc))
+        if self.kerning is not None:
+            values = self.model.interpolateFromDeltas(loc, self.kerning)
+            f.kerning.clear()
+            f.kerning.update({p: round(float(v), 3) for p, v in zip(self.pairs, values)
+                              if round(float(v), 3) != 0})
         f.info.styleName = style
         return f
 
