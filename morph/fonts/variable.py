@@ -79,7 +79,8 @@ from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, 
 from ..errors import MorphError, ParseError, one_line
 
 __all__ = ["NibAxis", "nib_axis", "axis_masters", "stroke_variable", "variable_outputs",
-           "set_overlap_flags", "read_skeleton", "Skeleton", "FIT_SHARE", "CU2QU_SHARE", "BLEND_SHARE"]
+           "set_overlap_flags", "read_skeleton", "Skeleton", "FIT_SHARE", "CU2QU_SHARE",
+           "BLEND_SHARE"]
 
 FIT_SHARE = 0.4
 CU2QU_SHARE = 0.2

@@ -13,10 +13,11 @@ and of the corner arcs at equal nib parameter: upper bounds of the distance betw
 the outlines), at u = 1/4, 1/2, 3/4, with each nib of the nib axis.
 :func:`refine_skeleton` halves every interval of the skeleton masters' grid (per
 axis, at the grid's other nodes; :func:`morph.fonts.variable_grid.refine_grid`)
-whose error exceeds the budget, until all hold, and makes the new masters as instances of the skeleton's own interpolation
-(fontTools' ``VariationModel`` over the masters' normalized locations: points,
-anchors, advances, component offsets and kerning), so the compiled font interpolates the
-skeleton as the designspace does and the nib part within the budget.
+whose error exceeds the budget, until all hold, and makes the new masters as
+instances of the skeleton's own interpolation (fontTools' ``VariationModel`` over
+the masters' normalized locations: points, anchors, advances, component offsets and
+kerning), so the compiled font interpolates the skeleton as the designspace does
+and the nib part within the budget.
 """
 
 import copy
