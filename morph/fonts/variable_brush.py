@@ -216,7 +216,7 @@ def _write_truetype(font, kind, plan, results, brushed, widths):
     first; its glyphs without contours get their advances at every master); the nib
     axis added; HVAR / VVAR dropped (gvar's phantom points carry the advances).
     Returns the brushed glyphs' default shifts."""
-    from fontTools.varLib.models import VariationModel
+    from .variable_grid import grid_model
 
     if kind == "cff":
         _truetype_tables(font)
@@ -224,7 +224,7 @@ def _write_truetype(font, kind, plan, results, brushed, widths):
         _add_nib_axis(font, plan.axis, plan.values)
     shifts = _write_glyphs(font, plan, results, brushed, widths)
     if kind == "cff":
-        model = VariationModel(plan.locs, plan.tags)
+        model = grid_model(plan.locs, plan.tags)
         written = {n for n, contours, _ in results if contours is not None}
         for name in set(font.getGlyphOrder()) - written:
             _write_empty(font, model, widths, plan.owners, name)
@@ -322,9 +322,9 @@ def _write_glyphs(font, plan, results, brushed, widths):
     """Every glyph of ``results`` written at every fitted master (brushed ones shifted
     by their nib, converted CFF glyphs as they are); returns the brushed glyphs'
     default shifts."""
-    from fontTools.varLib.models import VariationModel
+    from .variable_grid import grid_model
 
-    model = VariationModel(plan.locs, plan.tags)
+    model = grid_model(plan.locs, plan.tags)
     shifts = {}
     for name, contours, _ in results:
         if contours is None:
@@ -406,9 +406,8 @@ def _write_empty(font, model, widths, owners, name):
 def _set_variations(gvar, model, name, coords):
     from fontTools.ttLib.tables.TupleVariation import TupleVariation
 
-    # rounded as they are computed, each against the rounded ones before it, so that
-    # every master is its own rounded outline (rounding the exact deltas afterwards
-    # would add up to one rounding per region over a master)
+    # integer masters on the grid model's tents: integer deltas, every master exactly
+    # its own rounded outline (the rounding only drops the floats' noise)
     deltas = model.getDeltas(coords, round=np.round)
     gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, p)) for p in d])
                              for d, sup in zip(deltas[1:], model.supports[1:])

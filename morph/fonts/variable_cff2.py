@@ -3,11 +3,11 @@ blended CFF2 charstrings, the advances as HVAR.
 
 Each master's contours are drawn with their points rounded to integers (as the
 TrueType output's are), merged into one charstring per glyph by fontTools'
-``CFF2CharStringMergePen`` over the masters' ``VariationModel``: the charstring's
-coordinates are relative, so a rounded delta would carry its error along the
-contour (4 units measured on a 10-master font); the deltas are kept exact
-(integers where they are, 16.16 fixed where the model's weights make them
-fractional), so that every master is its own rounded outline; into a CFF2 table whose one
+``CFF2CharStringMergePen`` over the masters' grid model
+(:func:`morph.fonts.variable_grid.grid_model`: integer deltas, every master
+exactly its own rounded outline; the charstring's coordinates are relative, so a
+master reproduced within a rounding per coordinate would carry that error along
+the contour), into a CFF2 table whose one
 variation store holds the model's regions (vsindex 0 for every glyph).  The
 overlapping contours need no flag: CFF2 charstrings are filled nonzero.  The
 advances vary through HVAR (CFF2 has no phantom points), built by fontTools
@@ -31,9 +31,9 @@ def write_cff2(font, plan, results, moved, widths):
     seconds) of every glyph; ``moved``: per brushed glyph, (x shift, advance growth)
     at every master; ``widths``: per source master, the advances.  Returns the
     brushed glyphs' default shifts ((x, 0) each) for the anchors."""
-    from fontTools.varLib.models import VariationModel
+    from .variable_grid import grid_model
 
-    model = VariationModel(plan.locs, plan.tags)
+    model = grid_model(plan.locs, plan.tags)
     contours = {name: c for name, c, _ in results if c is not None}
     n = len(plan.locs)
     charstrings, advances, lsbs = {}, {}, {}

@@ -81,3 +81,37 @@ def refine_grid(grid, errors_of, budget, limit, subject, advice):
     return grid, {"axes": {a: len(v) for a, v in grid.items()},
                   "error": max(worst.values(), default=0.0), "errors_before": before,
                   "budget": budget}
+
+
+def grid_model(locations, tags):
+    """fontTools' ``VariationModel`` over masters on a product grid (normalized
+    ``locations``, axis ``tags``), its supports made the tents between neighbouring
+    grid values (each master's region runs from the grid value before it to the one
+    after it on every axis it is off-default on).
+
+    The interpolation is the same, multilinear on every cell of the grid; but every
+    master's region is 0 or 1 at every other master (fontTools' own supports run on
+    to the axis' end, so a master between others weighs 1/3 or 1/2 at them), so the
+    deltas of integer masters are integers and every master is exactly its own
+    rounded outline, with no rounding of the deltas: rounded deltas would reproduce
+    a master only within 0.5 unit per coordinate, and in a CFF2 charstring, whose
+    coordinates are relative, that error would run on along the contour."""
+    from fontTools.varLib.models import VariationModel
+
+    model = VariationModel(locations, tags)
+    values = {t: sorted({0.0} | {float(loc.get(t, 0.0)) for loc in locations}) for t in tags}
+    supports = []
+    for loc in model.locations:
+        support = {}
+        for t, c in loc.items():
+            if c == 0:
+                continue
+            vs = values[t]
+            i = vs.index(c)
+            before = vs[i - 1] if i > 0 else c
+            after = vs[i + 1] if i + 1 < len(vs) else c
+            support[t] = (before, c, after)
+        supports.append(support)
+    model.supports = supports
+    model._computeDeltaWeights()
+    return model

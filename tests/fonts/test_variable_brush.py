@@ -363,3 +363,19 @@ def test_variable_sample_image_shows_axis_positions(sources, tmp_path):
     assert lines[0].shape[1] + 10 < lines[2].shape[1]        # the nib grows
     assert "fvar" not in TTFont(str(sources["ttf"]))          # a static font: one line
     assert sample_locations(sources["ttf"].read_bytes()) is None
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("suffix", [".ttf", ".otf"])
+def test_fontbakery_adds_no_fail(sources, tmp_path, suffix):
+    """check-universal on the variable source brushed with a nib axis (.ttf glyf/gvar,
+    .otf CFF2) has no FAIL the source lacks but the one fontbakery gives the
+    registered-axes check of a private nib axis' Regular instance."""
+    pytest.importorskip("fontbakery")
+    from tests.fonts.test_brush import _fontbakery
+    from tests.fonts.test_variable import PRIVATE_AXES_ONLY
+
+    out = tmp_path / ("FB" + suffix)
+    brush_variable(sources["var"], out, NIBS[0], nib_max=NIBS[1], tol=TOL)
+    fails = {k for k in _fontbakery(out) - _fontbakery(sources["var"]) if k[1] != "WARN"}
+    assert fails <= PRIVATE_AXES_ONLY, sorted(fails)
