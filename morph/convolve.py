@@ -241,55 +241,190 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
     """
     ta, tb = _EdgeTable([[ea]]), _EdgeTable([[eb]])
     pairs = tuple(np.array([x]) for x in (0, 0, lo, hi, shift))
-    return _convolve_table(ta, tb, pairs, tol, max_depth, method)
+    return list(_convolve_table(ta, tb, pairs, tol, max_depth, method))
+
+
+class ConvPieces:
+    """Convolution pieces held as arrays, one row per piece: ``pieces`` a
+    :class:`morph.piece.Pieces` (one stack per degree), ``bound`` (n,), ``kind``
+    (n,) names (object array), ``type`` (n,) ints, ``row`` (n,) the pair's row in the
+    table of compatible pairs, ``source`` (n, 4) (loop in A, edge, loop in B, edge).
+    A chunk of a font's convolution is tens of thousands of pieces: a sum keeps them
+    packed from the convolution through chaining (:func:`chain` takes ``pieces``)
+    and the corner pass, and makes no object per piece.  To read them one by one it
+    is a sequence of :class:`ConvPiece` (made on first use)."""
+
+    __slots__ = ("pieces", "bound", "kind", "type", "row", "source", "_objects")
+
+    def __init__(self, pieces, bound, kind, type_, row, source):
+        self.pieces, self.bound, self.kind = pieces, bound, kind
+        self.type, self.row, self.source = type_, row, source
+        self._objects = None
+
+    def __len__(self):
+        return len(self.pieces)
+
+    def __iter__(self):
+        return iter(self.objects())
+
+    def __getitem__(self, k):
+        return self.objects()[k]
+
+    @classmethod
+    def empty(cls):
+        return cls(pc.Pieces([], 0), np.zeros(0), np.zeros(0, object), np.zeros(0, int),
+                   np.zeros(0, int), np.zeros((0, 4), int))
+
+    def take(self, idx):
+        """The pieces ``idx`` (indices or a boolean mask), in that order."""
+        idx = np.asarray(idx)
+        if idx.dtype == bool:
+            idx = np.flatnonzero(idx)
+        taken = self.pieces.take(idx)
+        # the stacks in the order of their first piece, as a list's stacks are
+        taken = pc.Pieces(sorted(taken.groups, key=lambda g: g[0][0]), len(taken))
+        return ConvPieces(taken, self.bound[idx], self.kind[idx], self.type[idx],
+                          self.row[idx], self.source[idx])
+
+    @staticmethod
+    def concat(parts):
+        """The pieces of ``parts`` (ConvPieces) one after the other."""
+        parts = [p for p in parts if len(p)]
+        if not parts:
+            return ConvPieces.empty()
+        if len(parts) == 1:
+            return parts[0]
+        return ConvPieces(_concat_pieces([p.pieces for p in parts]),
+                          *(np.concatenate([getattr(p, f) for p in parts])
+                            for f in ("bound", "kind", "type", "row", "source")))
+
+    def objects(self):
+        """The pieces as a list of :class:`ConvPiece` (made once)."""
+        if self._objects is None:
+            bound, kind, typ = self.bound.tolist(), self.kind.tolist(), self.type.tolist()
+            row, source = self.row.tolist(), [tuple(s) for s in self.source.tolist()]
+            self._objects = [ConvPiece(p, bound[k], kind[k], typ[k], source[k], row[k])
+                             for k, p in enumerate(self.pieces.rows())]
+        return self._objects
+
+
+def _concat_pieces(parts):
+    """:class:`morph.piece.Pieces` of several, one after the other (one stack per
+    degree, each stack's rows in ascending order as a list's stacks are)."""
+    by, offset = {}, 0
+    for p in parts:
+        for ks, h in p.groups:
+            by.setdefault(h.shape[1], []).append((ks + offset, h))
+        offset += len(p)
+    groups = []
+    for m in sorted(by, key=lambda m: min(int(ks.min()) for ks, _ in by[m])):
+        ks = np.concatenate([k for k, _ in by[m]])
+        h = np.concatenate([x for _, x in by[m]])
+        order = np.argsort(ks, kind="stable")
+        groups.append((ks[order], h[order]))
+    return pc.Pieces(groups, offset)
+
+
+class _Produced:
+    """Convolution pieces as the pair handlers produce them: parts of (pair
+    positions, sort keys, stack of one degree, bounds, kinds, production ranks);
+    :meth:`packed` sorts them by (pair position, key), ties in the order produced
+    (each pair's pieces in travel order)."""
+
+    def __init__(self):
+        self.parts = []
+        self.count = 0
+
+    def add(self, pos, key, stack, bound, kind, seq=None):
+        """Pieces ``stack`` (one degree); ``seq``: their ranks among the pieces
+        produced since ``count`` (None: in the order given), ``count`` then moves on
+        (by ``len(stack)``; the caller sets it past a batch given in parts)."""
+        n = len(stack)
+        seq = self.count + (np.arange(n) if seq is None else np.asarray(seq, np.int64))
+        self.count += n
+        if n:
+            self.parts.append((np.asarray(pos, np.int64),
+                               np.broadcast_to(np.asarray(key, float), (n,)),
+                               np.asarray(stack, float),
+                               np.broadcast_to(np.asarray(bound, float), (n,)),
+                               np.broadcast_to(np.asarray(kind, object), (n,)), seq))
+
+    def packed(self):
+        """:class:`ConvPieces` in order, ``row`` the pair positions."""
+        if not self.parts:
+            return ConvPieces.empty()
+        pos, key, seq = (np.concatenate([p[c] for p in self.parts]) for c in (0, 1, 5))
+        order = np.lexsort((seq, key, pos))
+        where = np.empty(len(order), np.int64)
+        where[order] = np.arange(len(order))
+        start = np.cumsum([0] + [len(p[0]) for p in self.parts])
+        pieces = _placed(self.parts, where, start)
+        bound = np.concatenate([p[3] for p in self.parts])[order]
+        kind = np.concatenate([p[4] for p in self.parts])[order]
+        return ConvPieces(pieces, bound, kind, np.zeros(len(order), int), pos[order],
+                          np.zeros((len(order), 4), int))
+
+
+def _placed(parts, where, start):
+    """:class:`morph.piece.Pieces` of the parts' stacks, part row r of part p going to
+    ``where[start[p] + r]``."""
+    by = {}
+    for p, a, b in zip(parts, start[:-1], start[1:]):
+        by.setdefault(p[2].shape[1], []).append((where[a:b], p[2]))
+    groups = []
+    for m, lst in by.items():
+        ks = np.concatenate([k for k, _ in lst])
+        h = np.concatenate([x for _, x in lst]) if len(lst) > 1 else lst[0][1]
+        order = np.argsort(ks, kind="stable")
+        groups.append((ks[order], h[order]))
+    groups.sort(key=lambda g: g[0][0])
+    return pc.Pieces(groups, len(where))
 
 
 def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     """Convolution pieces of the pairs (i, j, lo, hi, k) of two edge tables, all at
-    once: :class:`ConvPiece` (``row``: the pair's position) in the pairs' order,
+    once: :class:`ConvPieces` (``row``: the pair's position) in the pairs' order,
     each pair's pieces in travel order (the cases of the module docstring).  tol:
     one number, or one per pair."""
     i, j, lo, hi, k = pairs
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
-    out = (_line_pairs(ta, tb, i, j, lo, off) + _vertex_pairs(ta, tb, i, j, lo, hi, off)
-           + _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method))
-    order = sorted(range(len(out)), key=lambda r: (out[r][0], out[r][1]))
-    for r in order:
-        out[r][2].row = int(out[r][0])
-    return [out[r][2] for r in order]
+    out = _Produced()
+    _line_pairs(out, ta, tb, i, j, lo, off)
+    _vertex_pairs(out, ta, tb, i, j, lo, hi, off)
+    _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method)
+    return out.packed()
 
 
-def _stack_out(pos, stack, forward):
-    """Exact pieces of a stack as (pair position, sort key 0, ConvPiece "translate")."""
-    return [(pos[r], 0.0, ConvPiece(p if forward[r] else p[::-1].copy(), 0.0, "translate"))
-            for r, p in enumerate(stack)]
+def _stack_out(out, pos, stack, forward):
+    """Exact pieces of a stack (sort key 0, kind "translate"), reversed where not
+    ``forward``."""
+    st = stack.copy() if forward.all() else np.where(forward[:, None, None], stack,
+                                                     stack[:, ::-1])
+    out.add(pos, 0.0, st, 0.0, "translate")
 
 
-def _line_pairs(ta, tb, i, j, lo, off):
+def _line_pairs(out, ta, tb, i, j, lo, off):
     """Pairs with a straight edge: the segment translated by the other edge's point
     at its angle, its direction by the other edge's sign."""
-    out = []
     a_line, b_line = ta.straight[i], tb.straight[j]
     pos = np.nonzero(a_line)[0]
     if len(pos):
         pts = tb.points_at(j[pos], lo[pos] - off[pos])
         for rows, st in ta.pieces(i[pos]):
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, pts[rows]), tb.sign[j[p]] > 0)
+            _stack_out(out, p, _translate_many(st, pts[rows]), tb.sign[j[p]] > 0)
     pos = np.nonzero(b_line & ~a_line)[0]
     if len(pos):
         pts = ta.points_at(i[pos], lo[pos])
         for rows, st in tb.pieces(j[pos]):
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, pts[rows]), ta.sign[i[p]] > 0)
-    return out
+            _stack_out(out, p, _translate_many(st, pts[rows]), ta.sign[i[p]] > 0)
 
 
-def _vertex_pairs(ta, tb, i, j, lo, hi, off):
+def _vertex_pairs(out, ta, tb, i, j, lo, hi, off):
     """Curve + vertex pairs: the restricted curve translated by the vertex, its
     direction by the vertex's sign."""
-    out = []
     for t_c, t_v, ic, iv, shift in ((ta, tb, i, j, np.zeros_like(off)), (tb, ta, j, i, off)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         if not len(pos):
@@ -299,25 +434,24 @@ def _vertex_pairs(ta, tb, i, j, lo, hi, off):
                               t_c.params(cc, hi[pos] - shift[pos]))
         for rows, st in subs:
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, t_v.point[iv[p]]), t_v.sign[iv[p]] > 0)
-    return out
+            _stack_out(out, p, _translate_many(st, t_v.point[iv[p]]), t_v.sign[iv[p]] > 0)
 
 
-def _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method):
+def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method):
     """Curve + curve pairs: QAC (:func:`_qac_pairs`) or another method of Sec. 4
     (:func:`_method_range`, pair by pair)."""
     pos = np.nonzero(ta.curved[i] & tb.curved[j])[0]
     if not len(pos):
-        return []
+        return
     if method == "qac":
-        return _qac_pairs(ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol,
-                          max_depth)
-    out = []
+        _qac_pairs(out, ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol,
+                   max_depth)
+        return
     for p in pos:
         pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p],
                                float(tol[p]), max_depth, method)
-        out += [(p, float(r), c) for r, c in enumerate(pieces)]
-    return out
+        for r, c in enumerate(pieces):
+            out.add([p], float(r), np.asarray(c.piece, float)[None], c.bound, c.kind)
 
 
 def _method_range(ea, eb, lo, hi, off, tol, depth, method):
@@ -342,21 +476,21 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
-def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
+def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
     together: each pair restricted to its common angle range, then the driver
     :func:`morph.subdivide.subdivide_nodes` with :mod:`morph.qac`'s callables (role
     choice, a-priori bound, split where it peaks), one batch per pair of piece
-    degrees.  Returns [(pair position, sort key, piece, kind, bound)]; the key
-    orders each pair's pieces along its travel direction (increasing angle when the
-    two edges turn the same way), a piece runs along A's edge, reversed when B is
-    concave (Figs. 18-19).
+    degrees.  Adds to ``out`` (:class:`_Produced`) each piece with its pair
+    position and a sort key that orders each pair's pieces along its travel
+    direction (increasing angle when the two edges turn the same way); a piece runs
+    along A's edge, reversed when B is concave (Figs. 18-19).
     """
     tol = tol[pos]
     ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
     tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
-    out = []
+    names = np.array(qac.KIND_NAMES, object)
     for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
         rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
         nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
@@ -369,19 +503,22 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
             nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, float(tol[rows].min()),
             max_depth)
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
-        for r, piece in enumerate(pieces):
-            out.append((done["pos"][r], key[r],
-                        ConvPiece(_oriented(piece, done["sb"][r] > 0), float(bounds[r]),
-                                  qac.KIND_NAMES[done["kind"][r]])))
-    return out
-
+        forward = done["sb"] > 0
+        base = out.count
+        for ks, st in pc.degree_groups(pieces):
+            st = np.where(forward[ks][:, None, None], st, st[:, ::-1])
+            out.count = base
+            out.add(done["pos"][ks], key[ks], st, np.asarray(bounds, float)[ks],
+                    names[done["kind"][ks]], seq=ks)
+        out.count = base + len(pieces)
 
 
 # ------------------------------------------------------------------ whole loops
 
 def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
-    """ConvPieces of the pairs of a pair table (those of ``rows`` only, when given),
-    typed (Fig. 20), in its order.  tol: one number, or one per row of the table."""
+    """:class:`ConvPieces` of the pairs of a pair table (those of ``rows`` only, when
+    given), typed (Fig. 20), in its order.  tol: one number, or one per row of the
+    table."""
     row = np.arange(len(table[0])) if rows is None else np.asarray(rows, int)
     tol = np.broadcast_to(np.asarray(tol, float), (len(table[0]),))[row]
     table = tuple(np.asarray(x)[row] for x in table)
@@ -392,17 +529,18 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
         table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
         i, j = table[0], table[1]
     out = _convolve_table(ta, tb, table, tol, method=method)
-    la, ia, lb, ib = ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]
-    for c in out:
-        p = c.row
-        c.type, c.row = int(typ[p]), int(row[p])
-        c.source = (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p]))
+    p = out.row
+    out.type = np.asarray(typ, int)[p]
+    out.source = np.stack([ta.loop[i][p], ta.index[i][p], tb.loop[j][p], tb.index[j][p]],
+                          axis=1).astype(int).reshape(-1, 4)
+    out.row = row[p]
     return out
 
 
 def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None,
                 rows=None):
-    """Convolution pieces of two regions (lists of loops), Sec. 3.3.
+    """Convolution pieces of two regions (lists of loops), Sec. 3.3, as
+    :class:`ConvPieces` (arrays; a sequence of :class:`ConvPiece` to read).
 
     Each returned piece P has max distance to the exact convolution curve <= tol
     (a-priori bound of Eqs. 39-40; see :func:`morph.qac.qac_error_bound`); normals are exact
@@ -423,7 +561,7 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pa
         raise ValueError("tol must be positive, got %r" % (tol,))
     if gauss_pair is None:
         gauss_pair = gauss_pair_of(region_a, region_b)
-    ta, tb = _EdgeTable(gauss_pair.maps_a), _EdgeTable(gauss_pair.maps_b)
+    ta, tb = gauss_pair.edge_tables()
     table = gauss_pair.table if gauss_pair.table is not None else _pair_table(ta, tb)
     return _convolve_all(ta, tb, table, tol, keep_type3, method, rows)
 
@@ -439,6 +577,13 @@ class GaussPair:
     maps_a: list
     maps_b: list
     table: object = None
+    tables: object = None
+
+    def edge_tables(self):
+        """(the edge table of A, of B) (:class:`_EdgeTable`), made once."""
+        if self.tables is None:
+            self.tables = (_EdgeTable(self.maps_a), _EdgeTable(self.maps_b))
+        return self.tables
 
 
 def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
@@ -463,8 +608,8 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
 
 def with_pair_table(pair):
     """The :class:`GaussPair` with its table of compatible pairs computed."""
-    table = _pair_table(_EdgeTable(pair.maps_a), _EdgeTable(pair.maps_b))
-    return GaussPair(pair.maps_a, pair.maps_b, table)
+    ta, tb = pair.edge_tables()
+    return GaussPair(pair.maps_a, pair.maps_b, _pair_table(ta, tb), (ta, tb))
 
 
 def crossing_rows(gauss_pair, reach):
@@ -546,6 +691,7 @@ def scaled_gauss_pair(base, factor_a, factor_b):
 
 def chain(pieces, tol):
     """Join oriented pieces end to start into closed loops (lists of arrays).
+    ``pieces``: a list, or a :class:`morph.piece.Pieces` (used as it is).
 
     Each end is paired with a start closer than ``tol`` (nearest pairs first, each
     start used once; found by hashing the points on a grid of cell ``tol``), and the
@@ -555,7 +701,8 @@ def chain(pieces, tol):
     """
     from .errors import TopologyError
 
-    pieces = [np.asarray(p, float) for p in pieces]
+    pieces = pieces if isinstance(pieces, pc.Pieces) else \
+        pc.Pieces.of([np.asarray(p, float) for p in pieces])
     n = len(pieces)
     if n == 0:
         return []
@@ -564,7 +711,7 @@ def chain(pieces, tol):
     succ = _nearest_first(e, s, d, n)
     if (succ < 0).any():
         at = ends[np.argmax(succ < 0)]
-        raise TopologyError("open convolution chain at %s" % (at,), loops=pieces, point=at)
+        raise TopologyError("open convolution chain at %s" % (at,), loops=pieces.rows(), point=at)
     first, rank = _cycles(succ)
     order = np.lexsort((rank, first))          # loops by their lowest piece, in travel order
     # each join snapped to the mean of the end and the start meeting there
