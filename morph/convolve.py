@@ -29,7 +29,6 @@ edge of B with A's [lo, hi), and two parallel segments never pair directly.  Thi
 keeps the pieces of one loop pair chained end to end.
 """
 
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -58,7 +57,8 @@ class _EdgeTable:
 
     def __init__(self, maps):
         edges = [e for m in maps for e in m]
-        self.edges = edges
+        self._edges = edges
+        self.n_loops = len(maps)
         self.loop = np.repeat(np.arange(len(maps)), [len(m) for m in maps])
         self.index = np.concatenate([np.arange(len(m)) for m in maps]) if maps else np.zeros(0, int)
         is_curve = np.array([e.kind == "curve" for e in edges], bool)
@@ -85,6 +85,43 @@ class _EdgeTable:
         self.stacks = {d: np.array(lst) for d, lst in lists.items()}
         self.h = self._tangent_numerators()
 
+    @classmethod
+    def of_gauss(cls, g):
+        """The table of a :class:`morph.gauss.GaussTable` (the same arrays as of its
+        :class:`morph.gauss.Edge` lists, made without them)."""
+        self = cls.__new__(cls)
+        self._edges, self._gauss = None, g
+        self.n_loops = g.n_loops
+        self.loop, self.index = g.loop, g.index
+        is_curve = g.curve
+        self.theta, self.sweep = g.theta, g.sweep
+        self.lo = np.minimum(self.theta, self.theta + self.sweep)
+        self.hi = np.maximum(self.theta, self.theta + self.sweep)
+        self.sign = np.sign(self.sweep).astype(int)
+        self.point = g.point
+        self.vertex = ~is_curve
+        self.straight = is_curve & (self.sweep == 0.0)
+        self.curved = is_curve & (self.sweep != 0.0)
+        n = len(g)
+        self.deg = np.full(n, -1)
+        self.slot = np.zeros(n, int)
+        self.stacks = {}
+        edge_of = np.flatnonzero(is_curve)          # curve k is edge edge_of[k]
+        for ks, h in g.curves.groups:               # ks ascending: edge order
+            d = h.shape[1] - 1
+            self.deg[edge_of[ks]] = d
+            self.slot[edge_of[ks]] = np.arange(len(ks))
+            self.stacks[d] = h
+        self.h = self._tangent_numerators()
+        return self
+
+    @property
+    def edges(self):
+        """The :class:`morph.gauss.Edge` objects, in table order (made when asked)."""
+        if self._edges is None:
+            self._edges = [e for m in self._gauss.maps() for e in m]
+        return self._edges
+
     def pieces(self, idx):
         """Stacks of the pieces of edges idx, grouped by degree: [(rows, stack)]."""
         out = []
@@ -102,13 +139,18 @@ class _EdgeTable:
             for sel, rational in ((poly, False), (~poly, True)):
                 if sel.any():
                     h = pc.tangent_numerator_many(st[sel], rational)
-                    hs = list(h)
-                    for r in np.nonzero(pc.end_zero_rows(h))[0]:
+                    redo = np.nonzero(pc.end_zero_rows(h))[0]
+                    hs = list(h) if len(redo) else h
+                    for r in redo:
                         hs[r] = pc.tangent_numerator(st[sel][r])   # ends divided out
                     parts.append((idx[rows[sel]], hs))
         deg = max([len(h) - 1 for _, hs in parts for h in hs], default=0)
-        out = np.zeros((len(self.edges), deg + 1, 2))
+        out = np.zeros((len(self.loop), deg + 1, 2))
         for ids, hs in parts:
+            if isinstance(hs, np.ndarray) and hs.shape[1] in (1, deg + 1):
+                # elevating degree 0 to deg multiplies by exactly 1 (bz.to_degree)
+                out[ids] = hs
+                continue
             for i, h in zip(ids, hs):
                 out[i] = bz.to_degree(h, deg)
         return out
@@ -568,21 +610,38 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pa
 
 # ------------------------------------------------- Gauss maps shared by scaled copies
 
-@dataclass
 class GaussPair:
-    """The Gauss maps of two operands (one list of edges per loop) and their table of
-    compatible pairs (None: not computed yet).  Tangent angles do not change under
-    scaling, so frames of scaled copies share one table (:func:`scaled_gauss_pair`)."""
+    """The Gauss maps of two operands (one list of edges per loop: ``maps_a``,
+    ``maps_b``) and their table of compatible pairs (``table``, None: not computed
+    yet).  Tangent angles do not change under scaling, so frames of scaled copies
+    share one table (:func:`scaled_gauss_pair`).  Made from Gauss tables
+    (:func:`gauss_pair_of`), the edge tables come from their arrays and the
+    :class:`morph.gauss.Edge` lists are made only when read."""
 
-    maps_a: list
-    maps_b: list
-    table: object = None
-    tables: object = None
+    def __init__(self, maps_a=None, maps_b=None, table=None, tables=None, gauss=None):
+        self._maps = [maps_a, maps_b]
+        self.table, self.tables, self.gauss = table, tables, gauss
+
+    @property
+    def maps_a(self):
+        return self._side(0)
+
+    @property
+    def maps_b(self):
+        return self._side(1)
+
+    def _side(self, k):
+        if self._maps[k] is None:
+            self._maps[k] = self.gauss[k].maps()
+        return self._maps[k]
 
     def edge_tables(self):
         """(the edge table of A, of B) (:class:`_EdgeTable`), made once."""
         if self.tables is None:
-            self.tables = (_EdgeTable(self.maps_a), _EdgeTable(self.maps_b))
+            if self.gauss is not None:
+                self.tables = tuple(_EdgeTable.of_gauss(g) for g in self.gauss)
+            else:
+                self.tables = (_EdgeTable(self.maps_a), _EdgeTable(self.maps_b))
         return self.tables
 
 
@@ -594,22 +653,22 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
     turning number of a simple closed curve, Hopf's Umlaufsatz): a figure-8 (0) or a
     curl (+-4 pi) crosses itself, and its convolution would bound no sum.  The
     message names the region by ``names``."""
-    maps = gauss.gauss_maps(list(region_a) + list(region_b))
-    for k, edges in enumerate(maps):
-        turns = gauss.total_turning(edges) / (2.0 * np.pi)
+    g = gauss.gauss_table(list(region_a) + list(region_b))
+    for k, total in enumerate(g.turnings()):
+        turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:
             which, loop = (0, k) if k < len(region_a) else (1, k - len(region_a))
             raise SelfCrossingError(
                 "%s: loop %d turns %.3g times, not once: it crosses itself; pass the loops "
                 "through morph.region.orient_region (with on_crossing=morph.trim.fill_region)"
                 % (names[which], loop, turns), loop)
-    return GaussPair(maps[:len(region_a)], maps[len(region_a):])
+    return GaussPair(gauss=tuple(g.split(len(region_a))))
 
 
 def with_pair_table(pair):
     """The :class:`GaussPair` with its table of compatible pairs computed."""
     ta, tb = pair.edge_tables()
-    return GaussPair(pair.maps_a, pair.maps_b, _pair_table(ta, tb), (ta, tb))
+    return GaussPair(pair._maps[0], pair._maps[1], _pair_table(ta, tb), (ta, tb), pair.gauss)
 
 
 def crossing_rows(gauss_pair, reach):
@@ -624,14 +683,11 @@ def crossing_rows(gauss_pair, reach):
     theirs.  The rows of every other loop are flagged.  Conservative: a row flagged
     in vain only costs work."""
     i, j = gauss_pair.table[0], gauss_pair.table[1]
-    ta_loop = np.repeat(np.arange(len(gauss_pair.maps_a)), [len(m) for m in gauss_pair.maps_a])
-    tb_loop = np.repeat(np.arange(len(gauss_pair.maps_b)), [len(m) for m in gauss_pair.maps_b])
-    la, lb = ta_loop[i], tb_loop[j]
-    na, nb = len(gauss_pair.maps_a), len(gauss_pair.maps_b)
-    convex = (np.array([gauss.turns_convex(m) for m in gauss_pair.maps_a])[:, None]
-              & np.array([gauss.turns_convex(m) for m in gauss_pair.maps_b])[None, :])
-    box = (_loop_boxes(gauss_pair.maps_a)[:, None, :]
-           + _loop_boxes(gauss_pair.maps_b)[None, :, :]).reshape(-1, 4)
+    ta, tb = gauss_pair.edge_tables()
+    la, lb = ta.loop[i], tb.loop[j]
+    na, nb = ta.n_loops, tb.n_loops
+    convex = _turn_convex(ta)[:, None] & _turn_convex(tb)[None, :]
+    box = (_loop_boxes(ta)[:, None, :] + _loop_boxes(tb)[None, :, :]).reshape(-1, 4)
     box[:, :2] -= reach
     box[:, 2:] += reach
     used = np.zeros(na * nb, bool)
@@ -640,6 +696,16 @@ def crossing_rows(gauss_pair, reach):
     alone = np.ones(na * nb, bool)
     alone[ids] = _isolated(box[ids])
     return ~(convex.ravel() & alone)[la * nb + lb]
+
+
+def _turn_convex(t):
+    """:func:`morph.gauss.turns_convex` of each loop of an edge table (each loop's
+    sweeps summed as that function sums them)."""
+    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1)).tolist()
+    sweep = t.sweep
+    return np.array([bool(np.all(sweep[a:b] >= -gauss.TURN_EPS)
+                          and abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS)
+                     for a, b in zip(bounds[:-1], bounds[1:])], bool)
 
 
 def _isolated(box):
@@ -658,16 +724,20 @@ def _isolated(box):
     return out
 
 
-def _loop_boxes(maps):
-    """(xmin, ymin, xmax, ymax) of each loop of a Gauss map table: its curve edges'
+def _loop_boxes(t):
+    """(xmin, ymin, xmax, ymax) of each loop of an edge table: its curve edges'
     control points and its corners."""
-    out = np.empty((len(maps), 4))
-    for k, m in enumerate(maps):
-        pts = [pc.cartesian(e.piece) if e.kind == "curve" else np.asarray(e.point, float)[None]
-               for e in m]
-        p = np.concatenate(pts)
-        out[k] = [p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()]
-    return out
+    lo = np.full((t.n_loops, 2), np.inf)
+    hi = np.full((t.n_loops, 2), -np.inf)
+    for d, h in t.stacks.items():
+        edges = np.flatnonzero(t.deg == d)      # in slot order
+        x = h[:, :, :2] / h[:, :, 2:]
+        np.minimum.at(lo, t.loop[edges], x.min(axis=1))
+        np.maximum.at(hi, t.loop[edges], x.max(axis=1))
+    v = np.flatnonzero(t.vertex)
+    np.minimum.at(lo, t.loop[v], t.point[v])
+    np.maximum.at(hi, t.loop[v], t.point[v])
+    return np.concatenate([lo, hi], axis=1)
 
 
 def scale_edges(edges, factor):

@@ -19,6 +19,7 @@ angles is the same as working with normals: the outward normal is the tangent tu
 by -90 degrees (Eq. 20).
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -240,10 +241,78 @@ def gauss_map(loop, angle_tol=1e-10):
 
 
 def gauss_maps(loops, angle_tol=1e-10):
-    """:func:`gauss_map` of each loop, all loops at once: the pieces split, their end
-    tangents and points found, the turns at the joins and the sides of the cusps
-    resolved in array calls over every loop (:func:`_corner_turns_many`); only the
-    :class:`Edge` objects are made one by one."""
+    """:func:`gauss_map` of each loop, all loops at once (:func:`gauss_table`), as
+    lists of :class:`Edge`."""
+    return gauss_table(loops, angle_tol).maps()
+
+
+class GaussTable:
+    """The Gauss maps of several loops as arrays, one row per edge, the loops' edges
+    one after another, each loop's in its order (what :func:`gauss_maps` lists as
+    :class:`Edge` objects).
+
+    ``loop``, ``index``: each edge's loop and its position there; ``curve``: curve
+    edges (the others are vertices); ``theta``, ``sweep``: lifted start angle and
+    signed sweep; ``point``: a curve's start point, a vertex's position;
+    ``piece_of``: a curve edge's row in ``curves`` (-1 for a vertex); ``curves``: the
+    monotone pieces (a :class:`morph.piece.Pieces`, in edge order); ``n_loops``."""
+
+    def __init__(self, loop, index, curve, theta, sweep, point, piece_of, curves, n_loops):
+        self.loop, self.index, self.curve = loop, index, curve
+        self.theta, self.sweep, self.point = theta, sweep, point
+        self.piece_of, self.curves, self.n_loops = piece_of, curves, n_loops
+
+    def __len__(self):
+        return len(self.loop)
+
+    def maps(self):
+        """The :class:`Edge` lists of the loops."""
+        rows = self.curves.rows()
+        out = [[] for _ in range(self.n_loops)]
+        theta, sweep = self.theta.tolist(), self.sweep.tolist()
+        for e, (lp, c, k) in enumerate(zip(self.loop.tolist(), self.curve.tolist(),
+                                           self.piece_of.tolist())):
+            out[lp].append(Edge("curve", rows[k], self.point[e], theta[e], sweep[e]) if c
+                           else Edge("vertex", None, self.point[e], theta[e], sweep[e]))
+        return out
+
+    def split(self, n):
+        """(the table of loops [0, n), the table of the others), renumbered."""
+        e = int(np.searchsorted(self.loop, n))
+        c = int(self.curve[:e].sum())
+        parts = []
+        for es, cs, lo in ((slice(0, e), np.arange(0, c), 0),
+                           (slice(e, None), np.arange(c, len(self.curves)), n)):
+            piece_of = self.piece_of[es]
+            parts.append(GaussTable(self.loop[es] - lo, self.index[es], self.curve[es],
+                                    self.theta[es], self.sweep[es], self.point[es],
+                                    np.where(piece_of >= 0, piece_of - cs[:1].sum(), -1),
+                                    _taken(self.curves, cs),
+                                    (n if lo == 0 else self.n_loops - n)))
+        return parts
+
+    def turnings(self):
+        """Each loop's total turning (:func:`total_turning`: the sweeps summed in
+        order)."""
+        sweep = self.sweep.tolist()
+        bounds = np.searchsorted(self.loop, np.arange(self.n_loops + 1)).tolist()
+        return [float(sum(sweep[a:b])) for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def _taken(pieces, idx):
+    """``pieces.take(idx)`` with the stacks in the order of their first piece (as a
+    list's stacks are)."""
+    t = pieces.take(idx)
+    return pc.Pieces(sorted(t.groups, key=lambda g: g[0][0]), len(t))
+
+
+def gauss_table(loops, angle_tol=1e-10):
+    """:func:`gauss_map` of each loop, all loops at once, as a :class:`GaussTable`:
+    the pieces split, their end tangents and points found, the turns at the joins
+    and the sides of the cusps resolved in array calls over every loop
+    (:func:`_corner_turns_many`); only the lifting of the angles along each loop
+    (a running sum, the same float operations as one loop at a time) visits the
+    edges one by one."""
     sizes = [len(loop) for loop in loops]
     parts = split_monotone_many([p for loop in loops for p in loop])
     curves, counts, k = [], [], 0
@@ -255,7 +324,10 @@ def gauss_maps(loops, angle_tol=1e-10):
         counts.append(len(loop_curves))
         k += n
     if not curves:
-        return []
+        z = np.zeros(0)
+        return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
+                          np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), len(loops))
+    curves = pc.Pieces.of(curves)
     counts = np.array(counts)
     first, last = pc.end_tangents_many(curves)
     a0 = np.arctan2(first[:, 1], first[:, 0])
@@ -263,22 +335,51 @@ def gauss_maps(loops, angle_tol=1e-10):
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
     turns = _corner_turns_many(curves, counts, a0, sweep, last)
     starts, ends = pc.end_points(curves)
-    a0, sweep, turns = a0.tolist(), sweep.tolist(), turns.tolist()
-    out, lo = [], 0
-    for n in counts.tolist():
-        edges = []
+    vertex = np.abs(turns) >= angle_tol
+    theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
+                               counts.tolist())
+    # edge positions: each curve, then its vertex where it has one
+    nc = len(a0)
+    pos_c = np.arange(nc) + np.concatenate([[0], np.cumsum(vertex)[:-1]])
+    n_edges = nc + int(vertex.sum())
+    curve = np.zeros(n_edges, bool)
+    curve[pos_c] = True
+    pos_v = pos_c[vertex] + 1
+    theta = np.empty(n_edges)
+    theta[pos_c], theta[pos_v] = theta_c, np.asarray(theta_v)[vertex]
+    sw = np.empty(n_edges)
+    sw[pos_c], sw[pos_v] = sweep, turns[vertex]
+    point = np.empty((n_edges, 2))
+    point[pos_c], point[pos_v] = starts, ends[vertex]
+    piece_of = np.full(n_edges, -1)
+    piece_of[pos_c] = np.arange(nc)
+    loop_of_curve = np.repeat(np.arange(len(counts)), counts)
+    loop = np.empty(n_edges, np.int64)
+    loop[pos_c], loop[pos_v] = loop_of_curve, loop_of_curve[vertex]
+    per_loop = np.bincount(loop, minlength=len(counts))
+    index = np.arange(n_edges) - np.repeat(np.cumsum(per_loop) - per_loop, per_loop)
+    return GaussTable(loop, index, curve, theta, sw, point, piece_of, curves, len(loops))
+
+
+def _lifted(a0, sweep, turns, vertex, counts):
+    """(theta of each curve edge, theta of its vertex edge (0.0 where none)): the
+    lifted angles along each loop, each start angle moved by whole turns to continue
+    the previous edge's end (:func:`_wrap`, with math.ceil: the same numbers)."""
+    theta_c, theta_v = [0.0] * len(a0), [0.0] * len(a0)
+    lo = 0
+    for n in counts:
         theta = a0[lo]
         for i in range(lo, lo + n):
             if i > lo:
-                theta = theta + _wrap(a0[i] - theta)  # keep lifted angle continuous
-            edges.append(Edge("curve", curves[i], starts[i], theta, sweep[i]))
+                d = a0[i] - theta
+                theta = theta + (d - TWO_PI * math.ceil((d - np.pi) / TWO_PI))
+            theta_c[i] = theta
             theta = theta + sweep[i]
-            if abs(turns[i]) >= angle_tol:
-                edges.append(Edge("vertex", None, ends[i], theta, turns[i]))
+            if vertex[i]:
+                theta_v[i] = theta
                 theta = theta + turns[i]
-        out.append(edges)
         lo += n
-    return out
+    return theta_c, theta_v
 
 
 #: a turn within this of pi is a cusp (radians), its side read from the curves
