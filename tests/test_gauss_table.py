@@ -155,13 +155,13 @@ def test_stroke_convolution_is_the_pairs_one_by_one():
     and source."""
     a, b = _regions()["stroke"], ellipse_nib(30, 8, 30)
     pair = convolve.with_pair_table(convolve.gauss_pair_of(a, b))
-    conv = convolve.convolution(a, b, 0.01, gauss_pair=pair)
+    conv = convolve.convolution(a, b, 1e-4, gauss_pair=pair)
     ta, tb = pair.edge_tables()
     i, j, lo, hi, k = pair.table
     ref = []
     for r in range(len(i)):
         for c in convolve.convolve_edges(ta.edges[i[r]], tb.edges[j[r]], lo[r], hi[r], k[r],
-                                         0.01):
+                                         1e-4):
             ref.append((r, c))
     assert len(conv) == len(ref) > 50
     kinds = set()
@@ -197,3 +197,22 @@ def test_conv_pieces_take_concat_and_chain():
     listed = convolve.chain([c.piece for c in objs], 1e-6)
     assert [[p.tobytes() for p in lp] for lp in packed] == \
         [[p.tobytes() for p in lp] for lp in listed]
+
+
+def test_subdivided_pairs_come_in_travel_order():
+    """Pairs split over several levels of Algorithm 4.1 (two ellipses, tight tol):
+    each pair's pieces in the order of the pair computed alone, end to start."""
+    a, b = [pc.ellipse((0, 0), 5.0, 1.0, 0.3)], [pc.ellipse((0, 0), 3.0, 0.2, -0.7)]
+    pair = convolve.with_pair_table(convolve.gauss_pair_of(a, b))
+    conv = convolve.convolution(a, b, 1e-6, gauss_pair=pair)
+    ta, tb = pair.edge_tables()
+    i, j, lo, hi, k = pair.table
+    ref = [c for r in range(len(i))
+           for c in convolve.convolve_edges(ta.edges[i[r]], tb.edges[j[r]], lo[r], hi[r], k[r],
+                                            1e-6)]
+    assert len(conv) == len(ref) > len(i)        # pairs cut into several pieces
+    for c, c_ref in zip(conv, ref):
+        assert np.allclose(pc.cartesian(c.piece), pc.cartesian(c_ref.piece), atol=1e-9)
+    starts, ends = pc.end_points(conv.pieces)
+    same = conv.row[1:] == conv.row[:-1]           # consecutive pieces of one pair join
+    assert same.any() and np.allclose(ends[:-1][same], starts[1:][same], atol=1e-9)
