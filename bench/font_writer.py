@@ -29,7 +29,6 @@ import pickle
 import resource
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -180,20 +179,15 @@ def main(argv=None):
 
 
 def markdown(rows, argv, planned):
-    from bench.stroke_profile import code_version, shown_args
+    from bench.proctree import measured_header
 
-    md = ["# The font writer of `morph stroke` against the font's size (bench/font_writer.py)",
-          "",
-          "Command: `python -m bench.font_writer%s`; measured %s UTC at %s (%d of %d runs "
-          "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): "
-          "CPU times, not wall times.  The stroking is replaced by recorded strokes of the "
-          "hanzi-300 glyphs (see the script's docstring): the writer alone, `--jobs 1`, "
-          "one process."
-          % ("".join(" " + a for a in shown_args(argv)),
-             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(), len(rows),
-             planned, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg())),
-          "", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
-          "output MB |", "|---|---|---|---|---|---|---|---|"]
+    md = measured_header(
+        "The font writer of `morph stroke` against the font's size", "font_writer", argv,
+        len(rows), planned, "CPU times, not wall times.  The stroking is replaced by recorded "
+        "strokes of the hanzi-300 glyphs (see the script's docstring): the writer alone, "
+        "`--jobs 1`, one process.")
+    md += ["", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
+           "output MB |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
             md.append("| %s | %s | %d | failed: %s | | | | |" % (r["who"], r["kind"], r["n"],
