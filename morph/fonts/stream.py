@@ -182,6 +182,17 @@ class SkeletonSource:
             return self.open_font[name]
         return self._read(name, None)[0]
 
+    def glif_data(self, name):
+        """The ``.glif`` bytes of glyph ``name`` of a UFO on disk (None for an open
+        font, or a glyph the glyph set cannot give: the reader then reads it the
+        ufoLib2 way, which names the defect)."""
+        if self._glyph_set is None:
+            return None
+        try:
+            return self._glyph_set.getGLIF(name)
+        except Exception:  # noqa: BLE001 - read again (and judged) by _read
+            return None
+
     def _read(self, name, pen_of):
         from ufoLib2.objects import Glyph
 
