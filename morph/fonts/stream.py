@@ -267,8 +267,6 @@ class SkeletonSource:
         from fontTools.ufoLib.glifLib import readGlyphFromString
         from ufoLib2.objects import Glyph
 
-        from ..errors import ParseError, one_line
-
         glyph = Glyph(name)
         try:
             text = self._glif(name)
@@ -285,12 +283,9 @@ class SkeletonSource:
                     pen.addComponent(element.get("base"), tuple(
                         _number(element.get(key, default)) for key, default in _TRANSFORM),
                         identifier=element.get("identifier"))
-        except ParseError:
-            raise
-        except Exception as exc:  # glifLib and the XML parser raise several types
-            raise ParseError("cannot read glyph %r of %s: %s" % (name, self.path,
-                                                                  one_line(exc)),
-                             name) from exc
+        except Exception:  # noqa: BLE001 - a .glif the plain read cannot take is glifLib's to judge
+            shell, pen = self._read(name, _ShellPen)  # its error names the defect
+            return shell, pen.contours
         return glyph, contours
 
 
