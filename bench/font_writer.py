@@ -29,7 +29,6 @@ import pickle
 import resource
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -159,7 +158,9 @@ def main(argv=None):
     # the strokes recorded before any run is timed
     for kind in set(kinds) | {r.split(":")[1] for r in (opt.runs or "").split(",") if r}:
         _recorded(kind)
-    rows = []
+    from bench.proctree import started
+
+    rows, begun = [], started()
     with tempfile.TemporaryDirectory() as tmp:
         plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(",") if r)]
                 if opt.runs is not None
@@ -172,28 +173,23 @@ def main(argv=None):
             r["who"] = opt.before_label if checkout else "streamed (this checkout)"
             print(r, flush=True)
             rows.append(r)
-            text = markdown(rows, argv, len(plan))  # after every run: a long run's rows
+            text = markdown(rows, argv, len(plan), begun)  # after every run: a long run's rows
             if not opt.no_write:                     # are kept if it is stopped
                 Path(opt.md).write_text(text)
     print(text)
     return 0
 
 
-def markdown(rows, argv, planned):
-    from bench.stroke_profile import code_version, shown_args
+def markdown(rows, argv, planned, begun):
+    from bench.proctree import measured_header
 
-    md = ["# The font writer of `morph stroke` against the font's size (bench/font_writer.py)",
-          "",
-          "Command: `python -m bench.font_writer%s`; measured %s UTC at %s (%d of %d runs "
-          "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): "
-          "CPU times, not wall times.  The stroking is replaced by recorded strokes of the "
-          "hanzi-300 glyphs (see the script's docstring): the writer alone, `--jobs 1`, "
-          "one process."
-          % ("".join(" " + a for a in shown_args(argv)),
-             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(), len(rows),
-             planned, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg())),
-          "", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
-          "output MB |", "|---|---|---|---|---|---|---|---|"]
+    md = measured_header(
+        "The font writer of `morph stroke` against the font's size", "font_writer", argv,
+        len(rows), planned, "CPU times, not wall times.  The stroking is replaced by recorded "
+        "strokes of the hanzi-300 glyphs (see the script's docstring): the writer alone, "
+        "`--jobs 1`, one process.", begun)
+    md += ["", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
+           "output MB |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "error" in r:
             md.append("| %s | %s | %d | failed: %s | | | | |" % (r["who"], r["kind"], r["n"],

@@ -14,15 +14,15 @@ CPU time (process_time) of those steps is measured.  Output JSON: ``{name:
 bench/fontforge_stroke.py (lists of 2 or 4 points).
 """
 
+import functools
 import json
 import math
 import sys
-import time
 
 import fontforge
 
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from fontforge_stroke import segments_of  # noqa: E402 - this folder first
+from fontforge_stroke import write_timed  # noqa: E402 - this folder first
 
 
 def _largest(layer):
@@ -33,39 +33,39 @@ def _largest(layer):
     return max(layer, key=area)
 
 
-def main():
-    job = json.load(sys.stdin)
+def _brush(g, original, w, h, angle, acc):
+    g.stroke("elliptical", w, h, math.radians(angle), "nib", "nib", accuracy=acc,
+             removeoverlap="layer")
+    layer = g.foreground
+    # the fill added in the band's orientation (FontForge writes outer contours
+    # clockwise, the CFF source has them counter-clockwise): else the nonzero
+    # union cancels the inside instead of filling it
+    if len(layer) and len(original):
+        flip = _largest(layer).isClockwise() != _largest(original).isClockwise()
+    else:
+        flip = False
+    for c in original:
+        c = c.dup()
+        if flip:
+            c.reverseDirection()
+        layer += c
+    g.foreground = layer
+    g.removeOverlap()
+
+
+def _brush_steps(job):
     font = fontforge.open(job["font"])
     font.is_quadratic = False
     w, h, angle = (float(v) for v in job["nib"])
     acc = float(job["accuracy"])
-    out = {}
     for name in job["glyphs"]:
         g = font[name]
         original = g.foreground.dup()
-        t0 = time.process_time()
-        g.stroke("elliptical", w, h, math.radians(angle), "nib", "nib", accuracy=acc,
-                 removeoverlap="layer")
-        layer = g.foreground
-        # the fill added in the band's orientation (FontForge writes outer contours
-        # clockwise, the CFF source has them counter-clockwise): else the nonzero
-        # union cancels the inside instead of filling it
-        if len(layer) and len(original):
-            flip = _largest(layer).isClockwise() != _largest(original).isClockwise()
-        else:
-            flip = False
-        for c in original:
-            c = c.dup()
-            if flip:
-                c.reverseDirection()
-            layer += c
-        g.foreground = layer
-        g.removeOverlap()
-        seconds = time.process_time() - t0
-        layer = g.foreground
-        out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
-                     "contours": [segments_of(c) for c in layer]}
-    json.dump(out, sys.stdout)
+        yield name, g, functools.partial(_brush, g, original, w, h, angle, acc)
+
+
+def main():
+    write_timed(_brush_steps(json.load(sys.stdin)))
 
 
 if __name__ == "__main__":

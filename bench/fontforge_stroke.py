@@ -16,6 +16,7 @@ font units); the CPU time of that call alone is measured (process_time).  Output
 segments as above (quadratic segments do not occur: FontForge strokes in cubics).
 """
 
+import functools
 import json
 import math
 import sys
@@ -61,28 +62,42 @@ def segments_of(contour):
     return segs
 
 
-def main():
-    job = json.load(sys.stdin)
+def write_timed(steps):
+    """Run every ``(name, glyph, step)`` of ``steps`` (``step()`` changes ``glyph``'s
+    outline; whatever the iteration does before yielding it is not timed) and write
+    the output JSON of the module docstring to stdout: the CPU time (process_time)
+    of ``step()`` alone, the points and the contours of the glyph after it."""
+    out = {}
+    for name, glyph, step in steps:
+        t0 = time.process_time()
+        step()
+        seconds = time.process_time() - t0
+        layer = glyph.foreground
+        out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
+                     "contours": [segments_of(c) for c in layer]}
+    json.dump(out, sys.stdout)
+
+
+def _stroke_steps(job):
     font = fontforge.font()
     font.em = 1000
     nib = job["nib"]
     acc = float(job["accuracy"])
-    out = {}
     for k, (name, paths) in enumerate(job["glyphs"].items()):
         g = font.createChar(-1, "g%d" % k)
         draw(g, paths)
-        t0 = time.process_time()
         if nib[0] == "elliptical":
-            g.stroke("elliptical", float(nib[1]), float(nib[2]), math.radians(float(nib[3])),
-                     "nib", "nib", accuracy=acc, removeoverlap="layer")
+            yield name, g, functools.partial(
+                g.stroke, "elliptical", float(nib[1]), float(nib[2]),
+                math.radians(float(nib[3])), "nib", "nib", accuracy=acc,
+                removeoverlap="layer")
         else:
-            g.stroke("circular", float(nib[1]), "nib", "nib", accuracy=acc,
-                     removeoverlap="layer")
-        seconds = time.process_time() - t0
-        layer = g.foreground
-        out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
-                     "contours": [segments_of(c) for c in layer]}
-    json.dump(out, sys.stdout)
+            yield name, g, functools.partial(g.stroke, "circular", float(nib[1]), "nib", "nib",
+                                             accuracy=acc, removeoverlap="layer")
+
+
+def main():
+    write_timed(_stroke_steps(json.load(sys.stdin)))
 
 
 if __name__ == "__main__":

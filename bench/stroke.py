@@ -334,7 +334,8 @@ def _time_command(ufo, out_path):
                                    PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT)))
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    lines = (proc.stdout + proc.stderr).strip().splitlines()
+    # the command's own last line ("wrote ..."), not its progress line on stderr
+    lines = (proc.stdout.strip() or proc.stderr.strip()).splitlines()
     return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
 
 
@@ -419,9 +420,32 @@ def skeleton_set(name, opt, workdir):
     return out
 
 
+def measured_set(name, opt, workdir):
+    """:func:`skeleton_set` with the line saying when, at which commit and at which
+    load it was measured; with ``--sets-json DIR``, a set saved there (NAME.json) is
+    reported as it was measured, and a set measured now is saved there, so that
+    long sets can be measured in runs of their own and reported together."""
+    saved = Path(opt.sets_json) / (name + ".json") if opt.sets_json else None
+    if saved is not None and saved.exists():
+        print("%s: as measured before (%s)" % (name, saved), flush=True)
+        return json.loads(saved.read_text())
+    t0 = time.perf_counter()
+    st = skeleton_set(name, opt, workdir)
+    st["measured"] = ("measured %s UTC at %s in %.0f s (`python -m bench.stroke --only-sets "
+                      "--sets %s`), load average %s at the end"
+                      % (time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+                         time.perf_counter() - t0, name,
+                         ", ".join("%.1f" % v for v in os.getloadavg())))
+    if saved is not None:
+        saved.parent.mkdir(parents=True, exist_ok=True)
+        saved.write_text(json.dumps(st, default=float))
+    return st
+
+
 def sets_markdown(opt, sets, elapsed):
     md = ["# Stroke speed and accuracy on skeleton sets (bench/stroke.py, part 3)", "",
-          "Command: `python -m bench.stroke --only-sets%s` (code: %s; %s UTC; %.0f s). "
+          "Command: `python -m bench.stroke --only-sets%s` (report written at %s; %s UTC; "
+          "%.0f s; each set below says when, at which commit and load it was measured). "
           "Machine: %d CPUs shared with other jobs (load average %s at the end): every time "
           "is CPU time (process_time, or the kernel's user + sys of a child process), "
           "which the load inflates less than wall time, but does inflate (caches, "
@@ -450,6 +474,7 @@ def sets_markdown(opt, sets, elapsed):
     for st in sets:
         md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
                                                                st["upm"], st["tol"]), "",
+               "This set: %s." % st["measured"], "",
                "| tool | setting | command ms / glyph | chunks ms / glyph | "
                "median ms / glyph | mean ms / glyph | points / glyph | worst error | "
                "mean error | over |", "|---|---|---|---|---|---|---|---|---|---|"]
@@ -571,12 +596,16 @@ def main(argv=None):
     ap.add_argument("--ff-accuracy-sets", default="1,0.25")
     ap.add_argument("--only-sets", action="store_true", help="part 3 only")
     ap.add_argument("--sets-md", default=str(ROOT / "bench" / "stroke_sets.md"))
+    ap.add_argument("--sets-json", help="a folder: sets saved there are reported as "
+                                        "measured then, sets measured now are saved there")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
     from bench.stroke_profile import shown_args
 
-    opt.set_argline = "".join(" " + a for a in shown_args(argv) if a != "--only-sets")
+    opt.set_argline = "".join(" " + a for a in shown_args(argv, ("--md", "--sets-md",
+                                                                 "--sets-json"))
+                              if a != "--only-sets")
     import logging
 
     for name in ("ufo2ft", "fontTools"):
@@ -584,7 +613,7 @@ def main(argv=None):
     t_start = time.perf_counter()
     if opt.sets:
         with tempfile.TemporaryDirectory() as tmp:
-            sets = [skeleton_set(s, opt, tmp) for s in opt.sets.split(",")]
+            sets = [measured_set(s, opt, tmp) for s in opt.sets.split(",")]
         text = sets_markdown(opt, sets, time.perf_counter() - t_start)
         print(text)
         if not opt.no_write:

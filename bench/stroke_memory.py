@@ -9,75 +9,29 @@ evenly over hanzi-writer-data; fetched at bench time).  Measured: the peak resid
 memory of the command's process (its ``VmHWM``, read from ``/proc`` while it runs) and of its
 whole process tree (the command and its workers: the sum of their ``VmRSS`` from
 ``/proc``, sampled every 0.1 s, so a peak shorter than that may be missed), the
-CPU time of the tree (user + sys of every process, from the kernel) and the wall
-time.  The machine is shared, so the wall time is an upper bound.
+CPU time of the tree (user + sys of every process, from the kernel), the command
+process's own CPU time, the wall time, and the serial head and tail: how long the
+command worked before its first worker did and after its last one had finished
+(:func:`bench.proctree.watch`).  The machine is shared, so the wall time is an
+upper bound.
 """
 
 import argparse
 import os
-import resource
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _tree_rss_kb(pid):
-    """Sum of VmRSS (kB) of ``pid`` and its descendants (Linux /proc)."""
-    children = {}
-    for d in os.listdir("/proc"):
-        if not d.isdigit():
-            continue
-        try:
-            with open("/proc/%s/stat" % d) as f:
-                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
-        except (OSError, ValueError, IndexError):
-            continue
-        children.setdefault(ppid, []).append(int(d))
-    total, todo = 0, [pid]
-    while todo:
-        p = todo.pop()
-        todo += children.get(p, [])
-        try:
-            with open("/proc/%d/status" % p) as f:
-                for line in f:
-                    if line.startswith("VmRSS:"):
-                        total += int(line.split()[1])
-        except OSError:
-            pass
-    return total
-
-
 def run(ufo, jobs, out):
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
+    from bench.proctree import watch
+
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1",
                PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT))
-    proc = subprocess.Popen([sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o",
-                             str(out), "--jobs", str(jobs), "--force"], cwd=str(Path(out).parent),
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            text=True)
-    peak = hwm = 0
-    while proc.poll() is None:
-        peak = max(peak, _tree_rss_kb(proc.pid))
-        try:
-            with open("/proc/%d/status" % proc.pid) as f:
-                hwm = max([hwm] + [int(line.split()[1]) for line in f
-                                   if line.startswith("VmHWM:")])
-        except OSError:
-            pass
-        time.sleep(0.1)
-    text = proc.stdout.read()
-    wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    lines = text.strip().splitlines()
-    return {"cpu": cpu, "wall": wall, "tree_mb": peak / 1024.0,
-            "max_mb": hwm / 1024.0, "line": lines[-1] if lines else "",
-            "rc": proc.returncode}
+    return watch([sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o", str(out),
+                  "--jobs", str(jobs), "--force"], env=env, cwd=str(Path(out).parent))
 
 
 def main(argv=None):
@@ -91,7 +45,9 @@ def main(argv=None):
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
-    rows = []
+    from bench.proctree import started
+
+    rows, begun = [], started()
     pairs = ([p.split(":") for p in opt.pairs.split(",")] if opt.pairs else
              [(s, j) for s in opt.sets.split(",") for j in opt.jobs.split(",")])
     with tempfile.TemporaryDirectory() as tmp:
@@ -100,37 +56,36 @@ def main(argv=None):
             glyphs = sum(1 for _ in (ufo / "glyphs").glob("*.glif"))
             r = run(ufo, int(j), Path(tmp) / (s + ".otf"))
             r.update(set=s, jobs=int(j), glyphs=glyphs)
-            print(r, flush=True)
+            print({k: v for k, v in r.items() if k != "output"}, flush=True)
             rows.append(r)
-            text = markdown(rows, argv, len(pairs))  # after every run: a long run's
+            text = markdown(rows, argv, len(pairs), begun)  # after every run: a long run's
             if not opt.no_write:                     # rows are kept if it is stopped
                 Path(opt.md).write_text(text)
     print(text)
     return 0
 
 
-def markdown(rows, argv, planned):
-    from bench.stroke_profile import code_version, shown_args
+def markdown(rows, argv, planned, begun):
+    from bench.proctree import measured_header
 
-    md = ["# Peak memory of `morph stroke` against the font's size (bench/stroke_memory.py)",
-          "",
-          "Command: `python -m bench.stroke_memory%s`; measured %s UTC at %s (%d of %d runs "
-          "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): "
-          "wall times are upper bounds." % ("".join(" " + a for a in shown_args(argv)),
-                                           time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
-                                           code_version(), len(rows), planned,
-                                           os.cpu_count() or 1,
-                                           ", ".join("%.1f" % v for v in os.getloadavg())), "",
-          "| set | glyphs | --jobs | peak RSS, command process MB | peak RSS, process tree MB "
-          "(sampled) | CPU s (tree) | CPU ms / glyph | wall s | exit |",
-          "|---|---|---|---|---|---|---|---|---|"]
+    md = measured_header("Peak memory of `morph stroke` against the font's size",
+                         "stroke_memory", argv, len(rows), planned,
+                         "wall times are upper bounds.", begun)
+    md += ["", "| set | glyphs | --jobs | peak RSS, command process MB | peak RSS, process tree "
+           "MB (sampled) | CPU s (tree) | CPU ms / glyph | command process CPU s (sampled) | "
+           "wall s | serial head s | serial tail s | exit |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        md.append("| %s | %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %d |"
+        md.append("| %s | %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %.1f | %s | %s | %d |"
                   % (r["set"], r["glyphs"], r["jobs"], r["max_mb"], r["tree_mb"], r["cpu"],
-                     1000 * r["cpu"] / max(1, r["glyphs"]), r["wall"], r["rc"]))
-    md += ["", "The commands' last lines:", ""] + ["- %s --jobs %d: `%s`" % (r["set"], r["jobs"],
-                                                                          r["line"])
-                                                   for r in rows]
+                     1000 * r["cpu"] / max(1, r["glyphs"]), r["main_cpu"], r["wall"],
+                     "-" if r["head"] is None else "%.1f" % r["head"],
+                     "-" if r["tail"] is None else "%.1f" % r["tail"], r["rc"]))
+    md += ["", "The serial head is the time before the first worker gains CPU time (reading "
+           "the source's glyph shells, the plan), the tail the time after the last one "
+           "did (compiling and saving the font, the sample and specimen); with `--jobs 1` "
+           "there are no workers.", "", "The commands' last lines:", ""]
+    md += ["- %s --jobs %d: `%s`" % (r["set"], r["jobs"], r["line"]) for r in rows]
     return "\n".join(md) + "\n"
 
 

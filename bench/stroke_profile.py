@@ -2,6 +2,7 @@
 
     python -m bench.stroke_profile [--runs stroke:relief,stroke:hanzi-300,...]
                                    [--repeat 3] [--md bench/stroke_profile.md | --no-write]
+                                   [--explain-other]
 
 Each run is the command itself (``morph.cli.main`` with ``--jobs 1``), in a fresh
 Python process (``python -m bench.stroke_profile --worker``), with timers wrapped
@@ -12,9 +13,14 @@ trimming rounds of a sum (:func:`morph.minkowski._sum`) and under the corner pas
 convolution counts there.  Imports done during the run (fontTools, ufo2ft, Pillow
 ... are imported lazily) count as ``imports (lazy)``; ``startup`` is the process's
 CPU time before the command starts (interpreter and ``import morph.cli``, from
-``resource.getrusage``).  The phases add up to the process's CPU time; the rest,
-not inside any timed function, is ``other`` (the CLI, the job loop, packing).
-A timer costs about a microsecond a call, far below the phases' times.
+``resource.getrusage``).  ``packing + rounds`` is the batched sums' own work:
+a chunk's glyphs packed into one sum and split again, the result regions checked,
+the trimming rounds' bookkeeping; ``trim: rest`` the trimming's own work between
+its parts.  The phases add up to the process's CPU time; the rest, not inside any
+timed function, is ``other`` (the CLI, the job loop, the sample text's choice);
+``--explain-other`` samples the stacks of that time and lists them, to find what
+the phase map misses.  A timer costs about a microsecond a call, far below the
+phases' times.
 
 The timers only wrap functions (every module attribute that is the function, so
 ``from .x import f`` call sites are timed too; names that a version of the code
@@ -68,7 +74,13 @@ PHASES = [
     ("trim: lift", ["morph.trim.lift:lift_rings"]),
     ("trim: untangle", ["morph.trim.untangle:merge_lenses", "morph.trim.untangle:untangle",
                         "morph.trim:_near_pairs"]),
+    ("trim: rest", ["morph.minkowski:_trimmed", "morph.trim:boundary"]),
     ("corner pass", ["morph.minkowski:_tip_tolerances"]),
+    ("packing + rounds", ["morph.stroke:stroke_many", "morph.minkowski:minkowski_sums",
+                          "morph.minkowski:_packed_sums", "morph.minkowski:_sum",
+                          "morph.packing:Packing.__init__",
+                          "morph.packing:Packing.split", "morph.packing:Packing.slot_of",
+                          "morph.limits:fits_precision"]),
     ("export fit", ["morph.export:loops_to_beziers", "morph.export:loops_to_quadratics"]),
     ("certificate", ["morph.export:_reparams", "morph.export:_certify_many",
                      "morph.export.certify:_reparams", "morph.export.certify:certify_many",
@@ -78,6 +90,7 @@ PHASES = [
                      "morph.fonts.stroke:_move_furniture", "morph.fonts.ufo_tables:grow_win_metrics",
                      "morph.fonts.brush:_store_outlines", "morph.fonts.stroke:_finish_shells",
                      "morph.fonts.stroke:_StreamedGlyphs.add",
+                     "morph.fonts.stroke:_streamed_chunk", "morph.fonts.ufo_tables:widen_extent",
                      "morph.fonts.stream:UfoGlyphWriter.write"]),
     ("compile", ["morph.fonts.stroke:_save", "morph.fonts.tables:save_font",
                  "morph.fonts.stream:compile_outline", "morph.fonts.stroke:_StreamedGlyphs.finish"]),
@@ -86,7 +99,8 @@ PHASES = [
 ]
 STICKY = "corner pass"
 ORDER = (["startup"] + [p for p, _ in PHASES] + ["imports (lazy)", "other"])
-TRIM = ("trim: flatten", "trim: Clipper", "trim: holes", "trim: lift", "trim: untangle")
+TRIM = ("trim: flatten", "trim: Clipper", "trim: holes", "trim: lift", "trim: untangle",
+        "trim: rest")
 
 
 # =========================================================================== timers
@@ -246,8 +260,35 @@ def run_args(run, out_dir):
     raise SystemExit("unknown run %r" % run)
 
 
-def worker(args_json):
-    """One run in this (fresh) process; prints the phases as JSON."""
+def _sample_other(clock, interval=0.002):
+    """Sample the stack every ``interval`` s of CPU while the clock is in ``other``:
+    a Counter of the innermost three morph functions of each sample (innermost
+    first), to find what the phase map misses (``--explain-other``)."""
+    import collections
+    import signal
+
+    counts = collections.Counter()
+
+    def handler(sig, frame):
+        if clock.stack[-1] != "other":
+            return
+        names = []
+        while frame is not None and len(names) < 3:
+            if frame.f_globals.get("__name__", "").startswith("morph"):
+                code = frame.f_code
+                names.append("%s:%s" % (frame.f_globals["__name__"],
+                                         getattr(code, "co_qualname", code.co_name)))
+            frame = frame.f_back
+        counts[" < ".join(names) or "(no morph function)"] += 1
+
+    signal.signal(signal.SIGPROF, handler)
+    signal.setitimer(signal.ITIMER_PROF, interval, interval)
+    return counts
+
+
+def worker(args_json, explain=False):
+    """One run in this (fresh) process; prints the phases as JSON (with ``explain``,
+    also the sampled stacks of ``other``: :func:`_sample_other`)."""
     start = resource.getrusage(resource.RUSAGE_SELF)
     startup_cpu = start.ru_utime + start.ru_stime
     c0 = time.process_time()
@@ -262,6 +303,7 @@ def worker(args_json):
     from contextlib import redirect_stdout
 
     clock.last = time.process_time()
+    samples = _sample_other(clock) if explain else None
     out = io.StringIO()
     with redirect_stdout(out):
         try:
@@ -269,12 +311,17 @@ def worker(args_json):
         except SystemExit:
             pass
     clock._charge()
+    if samples is not None:
+        import signal
+
+        signal.setitimer(signal.ITIMER_PROF, 0, 0)
     spent = dict(clock.spent)
     spent["startup"] = startup_cpu
     end = resource.getrusage(resource.RUSAGE_SELF)
     text = out.getvalue()
     json.dump({"spent": spent, "total": end.ru_utime + end.ru_stime,
-               "maxrss_kb": end.ru_maxrss, "message": text.strip().splitlines()[-1:]},
+               "maxrss_kb": end.ru_maxrss, "message": text.strip().splitlines()[-1:],
+               "other_samples": samples.most_common(25) if samples is not None else None},
               sys.stdout)
 
 
@@ -288,13 +335,14 @@ def glyph_count(message):
     return int(m.group(1)) if m else 0
 
 
-def measure(run, repeat):
+def measure(run, repeat, explain=False):
     with tempfile.TemporaryDirectory() as tmp:
         args, what = run_args(run, tmp)
         results = []
         for _ in range(repeat):
             proc = subprocess.run([sys.executable, "-m", "bench.stroke_profile", "--worker",
-                                   json.dumps(args)], capture_output=True, text=True,
+                                   json.dumps(args)] + (["--explain-other"] if explain else []),
+                                  capture_output=True, text=True,
                                   cwd=tmp, env=dict(os.environ, OPENBLAS_NUM_THREADS="1",
                                                     PYTHONPATH=os.environ.get("PYTHONPATH")
                                                     or str(ROOT)))
@@ -308,7 +356,7 @@ def measure(run, repeat):
     return {"run": run, "what": what, "glyphs": n, "message": msg, "phases": phases,
             "total": statistics.median(r["total"] for r in results),
             "maxrss_mb": max(r["maxrss_kb"] for r in results) / 1024.0,
-            "repeat": repeat}
+            "repeat": repeat, "other_samples": results[0].get("other_samples")}
 
 
 def code_version():
@@ -361,7 +409,24 @@ def markdown(rows, argline, elapsed, measured=None):
     md.append("| peak RSS MB | %s |" % " | ".join("%.0f" % r["maxrss_mb"] for r in rows))
     md += ["", "The commands' own lines:", ""] + ["- %s: `%s`" % (r["run"], r["message"])
                                                   for r in rows]
+    md += other_samples_md(rows)
     return "\n".join(md) + "\n"
+
+
+def other_samples_md(rows):
+    """With ``--explain-other``: the innermost morph functions (and two callers) of
+    the stack samples taken while the clock was in ``other``, per run (the first
+    process of each)."""
+    md = []
+    for r in rows:
+        samples = r.get("other_samples")
+        if not samples:
+            continue
+        total = sum(n for _, n in samples)
+        md += ["", "`other` of %s, sampled every 2 ms of CPU (%d samples; innermost first):"
+               % (r["run"], total), ""]
+        md += ["- %.0f %%: `%s`" % (100.0 * n / total, where) for where, n in samples[:12]]
+    return md
 
 
 def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before")):
@@ -402,6 +467,8 @@ def compare(rows, before, label, path):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker")
+    ap.add_argument("--explain-other", action="store_true",
+                    help="sample the stacks of the time no phase holds and list them")
     ap.add_argument("--runs", default="stroke:relief,stroke:hershey-sans,stroke:hershey-script,"
                                       "stroke:hanzi-300,brush:noto")
     ap.add_argument("--repeat", type=int, default=3)
@@ -415,7 +482,7 @@ def main(argv=None):
                                         "instead of measuring")
     opt = ap.parse_args(argv)
     if opt.worker:
-        return worker(opt.worker)
+        return worker(opt.worker, opt.explain_other)
     argv = sys.argv[1:] if argv is None else argv
     argline = "".join(" " + a for a in shown_args(argv))
     t0 = time.perf_counter()
@@ -424,7 +491,7 @@ def main(argv=None):
         rows, measured = saved["rows"], saved["measured"]
         measured += "  This report: `python -m bench.stroke_profile%s`." % argline
     else:
-        rows = [measure(run, opt.repeat) for run in opt.runs.split(",")]
+        rows = [measure(run, opt.repeat, opt.explain_other) for run in opt.runs.split(",")]
         measured = measured_line(argline, time.perf_counter() - t0, rows)
     text = markdown(rows, argline, 0.0, measured)
     if opt.before and os.path.exists(opt.before):

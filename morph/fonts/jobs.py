@@ -153,7 +153,6 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
     """
     args = iter(args)
     results = []
-    jobs = int(jobs or 1)
 
     def done(k, result):
         if progress is not None:
@@ -163,24 +162,48 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
 
     first = list(itertools.islice(args, 2))
     args = itertools.chain(first, args)
-    if jobs <= 1 or len(first) <= 1:
+    pool = _pool(int(jobs or 1), partial) if len(first) > 1 else None
+    if pool is None:                     # one process, or no process pool here
         for k, a in enumerate(args):
             results.append(None)
             done(k, _local_call(func, k, a, partial))
         return results
-    import functools
-    import multiprocessing
-    import threading
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-    from concurrent.futures.process import BrokenProcessPool
+    lost = _pooled(pool, func, args, int(jobs), results, done, partial)
+    for k, a in sorted(lost, key=lambda ka: ka[0]):
+        done(k, _local_call(func, k, a, partial))
+    return results
 
-    lost = []  # (index, argument) of the jobs whose worker died: run here
+
+def _pool(jobs, partial):
+    """``(ProcessPoolExecutor, queue)`` of ``jobs`` workers, the queue (None without
+    ``partial``) carrying their :func:`glyph_progress` to this process; None for one
+    job or where no process pool can be started."""
+    if jobs <= 1:
+        return None
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
     try:
         queue = multiprocessing.SimpleQueue() if partial is not None else None
-        pool = ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
-                                   initargs=(queue,))
-    except (OSError, NotImplementedError, ImportError):  # no process pool here: serially
-        return run_jobs(func, args, jobs=1, progress=progress, keep=keep, partial=partial)
+        return ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
+                                   initargs=(queue,)), queue
+    except (OSError, NotImplementedError, ImportError):
+        return None
+
+
+def _pooled(pool, func, args, jobs, results, done, partial):
+    """The jobs of ``args`` submitted to the pool (``pool`` from :func:`_pool`) as
+    its workers need them, at most ``2 * jobs`` in flight; each result handed to
+    ``done(index, result)`` as it comes, the progress messages to ``partial`` by a
+    listening thread.  Returns the (index, argument) of the jobs whose worker died,
+    for the caller to run."""
+    import functools
+    import threading
+    from concurrent.futures import FIRST_COMPLETED, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    pool, queue = pool
+    lost = []
     listener = None
     if queue is not None:
         def listen():
@@ -208,9 +231,7 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
         if listener is not None:        # the workers are gone: their messages are in
             queue.put(None)
             listener.join()
-    for k, a in sorted(lost, key=lambda ka: ka[0]):
-        done(k, _local_call(func, k, a, partial))
-    return results
+    return lost
 
 
 def _collect(pending, finished, done, lost):

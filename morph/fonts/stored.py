@@ -6,6 +6,7 @@ Imported only when a font is compiled (ufo2ft is a heavy import)."""
 
 __all__ = ["StoredCFF", "StoredGlyf"]
 
+import struct
 from types import SimpleNamespace
 
 from fontTools.misc.psCharStrings import T2CharString
@@ -15,6 +16,7 @@ from fontTools.pens.recordingPen import RecordingPointPen
 from fontTools.pens.t2CharStringPen import T2CharStringPen
 from fontTools.pens.transformPen import TransformPointPen
 from fontTools.pens.ttGlyphPen import TTGlyphPointPen
+from fontTools.ttLib import newTable
 from fontTools.ttLib.tables._g_l_y_f import Glyph
 from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCompiler
 
@@ -102,9 +104,51 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         return boxes
 
 
+class _Header:
+    """What ``maxp.recalc`` and the boxes read of a stored simple glyph, from its
+    bytes without decoding its points: the header (contours, box) and the number
+    of points (the last contour's end + 1)."""
+
+    def __init__(self, data):
+        self.numberOfContours, self.xMin, self.yMin, self.xMax, self.yMax = \
+            struct.unpack(">hhhhh", data[:10])
+        n = self.numberOfContours
+        self.points = struct.unpack(">H", data[8 + 2 * n:10 + 2 * n])[0] + 1
+
+    def getMaxpValues(self):
+        return self.points, self.numberOfContours
+
+    def isComposite(self):
+        return False
+
+
+class _Expanded(dict):
+    """The compiled glyphs as a glyf table lends them to a composite's bounds and
+    maxp values: a stored glyph as a :class:`_Header` (``headers``) or a decoded
+    copy (``headers=False``), the stored bytes left as they are."""
+
+    def __init__(self, glyphs, headers=True):
+        super().__init__(glyphs)
+        self.headers = headers
+
+    def __getitem__(self, name):
+        g = dict.__getitem__(self, name)
+        if not hasattr(g, "data"):
+            return g
+        if self.headers:
+            return _Header(g.data)
+        g = Glyph(g.data)
+        g.expand(None)
+        return g
+
+
 class StoredGlyf(Stored, OutlineTTFCompiler):
-    """TrueType: a stored glyph is unpacked from its bytes; a composite of
-    components only is ufo2ft's; one with contours too is decomposed here."""
+    """TrueType: a stored glyph stays its bytes (a ``Glyph`` not expanded, whose
+    bytes the ``glyf`` table writes as they are: the font is saved without
+    recomputing the boxes, set here from the stored headers as fontTools would);
+    a composite of components only is ufo2ft's; one with contours too is
+    decomposed here.  Expanded glyphs cost ~30 bytes a point (coordinate and flag
+    arrays) until the font is saved, the bytes ~4."""
 
     def draw_stored(self, name, pen):
         if name in self.store and self.store[name][0]:
@@ -124,7 +168,64 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
                 ttglyphs[name] = pen.glyph(dropImpliedOnCurves=self.dropImpliedOnCurves,
                                            round=otRound)
             else:
-                g = Glyph(self.store[name][0])
-                g.expand(None)
-                ttglyphs[name] = g
+                ttglyphs[name] = Glyph(self.store[name][0])
         return ttglyphs
+
+    def makeGlyphsBoundingBoxes(self):
+        """ufo2ft's boxes: a stored glyph's from its header, the others'
+        recomputed (a composite's from its bases, stored ones decoded apart)."""
+        boxes = {}
+        ttglyphs = self.getCompiledGlyphs()
+        decoded = _Expanded(ttglyphs, headers=False)
+        for name, g in ttglyphs.items():
+            if hasattr(g, "data"):
+                g = _Header(g.data)
+            else:
+                g.recalcBounds(decoded)
+            box = BoundingBox(g.xMin, g.yMin, g.xMax, g.yMax)
+            boxes[name] = None if box == (0, 0, 0, 0) else box
+        return boxes
+
+    def setupTable_glyf(self):
+        """ufo2ft's glyf table (:meth:`OutlineTTFCompiler.setupTable_glyf`) with the
+        stored glyphs kept as bytes: glyph instructions (a source glyph's TrueType
+        program or overlap flag) compiled for ufo2ft's glyphs and for a stored
+        glyph whose source asks for them (expanded then), maxp from the
+        headers."""
+        if not {"glyf", "loca"}.issubset(self.tables):
+            return
+        self.otf["loca"] = newTable("loca")
+        self.otf["glyf"] = glyf = newTable("glyf")
+        glyf.glyphs = {}
+        glyf.glyphOrder = self.glyphOrder
+        ttglyphs = self.getCompiledGlyphs()
+        depths = self.getMaxComponentDepths()
+        for name in sorted(self.glyphOrder, key=lambda n: depths.get(n, 0)):
+            g = ttglyphs[name]
+            if hasattr(g, "data") and _asks_for_instructions(self.shell(name)):
+                g.expand(glyf)
+            if not hasattr(g, "data"):
+                self.instructionCompiler.compileGlyphInstructions(g, name)
+            glyf.glyphs[name] = g
+        if "maxp" in self.otf:
+            self.otf["maxp"].recalc(_HeaderFont(self.otf, _Expanded(glyf.glyphs)))
+
+
+def _asks_for_instructions(shell):
+    from ufo2ft.constants import TRUETYPE_INSTRUCTIONS_KEY, TRUETYPE_OVERLAP_KEY
+
+    return shell is not None and (TRUETYPE_INSTRUCTIONS_KEY in shell.lib
+                                  or TRUETYPE_OVERLAP_KEY in shell.lib)
+
+
+class _HeaderFont:
+    """The font as ``maxp.recalc`` reads it, its glyf table :class:`_Expanded`."""
+
+    def __init__(self, otf, glyf):
+        self.otf, self.glyf = otf, glyf
+
+    def __getitem__(self, tag):
+        return self.glyf if tag == "glyf" else self.otf[tag]
+
+    def getGlyphOrder(self):
+        return self.otf.getGlyphOrder()

@@ -67,7 +67,6 @@ from .. import budget
 from .. import piece as pc
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
-from ..region import translate_region
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
@@ -184,7 +183,9 @@ def _chunk_job(chunk):
     each round's array calls).  If the batch raises, each glyph is converted alone,
     so that only the failing one falls back to the polygon stroke.  A glyph's
     ``seconds`` is its stroke's CPU time plus its share of the batch (by its number
-    of pieces)."""
+    of pieces).  A glyph's ``region`` stays where it was stroked: its contours are
+    moved by its placement offset, the pieces are not (the offset is horizontal,
+    :func:`_stroke_work`, and only the region's y extent is used)."""
     from .tables import contours_from_loops, contours_from_regions
 
     out = [{"name": job[0], "contours": None, "region": r, "fallback": e, "seconds": s}
@@ -220,7 +221,6 @@ def _chunk_job(chunk):
             t0 = time.process_time()
             r["contours"], r["region"], r["fallback"] = _polygon_stroke(job, r["fallback"])
             r["seconds"] += time.process_time() - t0
-        r["region"] = translate_region(r["region"], job[4])
     return out
 
 
@@ -375,11 +375,31 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                             plan.place.shifts, stroker)
 
     sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
-    run_glyph_jobs(partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked, jobs=jobs,
-                   keep=False, each=sink.add, prepare=prepare, in_flight=in_flight)
+    func, work = partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked
+    if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
+        import uuid
+
+        func = partial(_read_and_stroke, _FLAVORS[kind], (plan.source.path, uuid.uuid4().hex),
+                       plan.symmetric, nib_region, tols, stroker)
+        work, prepare = [(n, plan.place.shifts[n]) for n in plan.stroked], None
+    run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
+                   in_flight=in_flight)
     grow_win_metrics(plan.font, *sink.extent)
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
+
+
+def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk):
+    """:func:`_streamed_chunk` of ``chunk`` ((glyph name, shift) pairs), its jobs read
+    in this process (a worker) from ``source`` (the UFO's path and the run's token,
+    :func:`morph.fonts.stream.worker_source`): the calling process neither reads
+    the skeletons nor sends them (it did 3.5 ms a hanzi glyph of a run's serial
+    work, reading and pickling)."""
+    from .stream import worker_source
+
+    return _streamed_chunk(flavor, _stroke_work(worker_source(*source), [n for n, _ in chunk],
+                                                symmetric, nib_region, tols, dict(chunk),
+                                                stroker))
 
 
 #: what a worker compiles a stroked glyph to, by output (None: the UFO's contours)
@@ -458,8 +478,9 @@ class _StreamedGlyphs:
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
         self.store.clear()
-        if "CFF " in otf:  # ufo2ft's subroutinizing save set the bounds (head, hhea,
-            otf.recalcBBoxes = False  # OS/2): not again from each charstring
+        # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
+        # the stored glyphs' headers for glyf): not again from every glyph decoded
+        otf.recalcBBoxes = False
         otf.save(str(self.tmp))
 
 
@@ -526,16 +547,24 @@ def _placement(font, names, nib_region):
 def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
     """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
     each, its own contours and the components that cannot be kept, read from the
-    source now (:class:`morph.fonts.stream.SkeletonSource`)."""
+    source now (:class:`morph.fonts.stream.SkeletonSource`): the chunk's ``.glif``
+    files by :func:`morph.parse.glif.skeleton_outlines` (the same paths, all pieces
+    built together), a glyph it leaves (or an open font's) by ufoLib2."""
+    from ..parse.glif import skeleton_outlines
     from ..parse.ufo import component_paths, glyph_paths
 
+    read = getattr(source, "glif_data", None)
+    outlines = skeleton_outlines([read(n) for n in names]) if read else [None] * len(names)
     work = []
-    for n in names:
-        g = source[n]
-        paths = glyph_paths(g)
-        for c in g.components:
+    for n, outline in zip(names, outlines):
+        if outline is None:  # an open font, or a glyph the array reader leaves to ufoLib2
+            g = source[n]
+            outline = glyph_paths(g), g.components
+        paths, components = outline
+        for c in components:
             if not keep_component(c, symmetric):
                 paths.extend(component_paths(source, c))
+        # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
     return work
 

@@ -116,6 +116,61 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
         ref, cubicConversionError=plan(0.5, True).cu2qu / (ref.info.unitsPerEm or 1000)))
 
 
+def test_streamed_ttf_keeps_stored_glyphs_as_bytes(streamed, tmp_path, monkeypatch):
+    """The stored glyphs stay their compiled bytes through ufo2ft's glyf table, maxp
+    and boxes (expanded, a glyph of 300 points held ~6 KB more until the font was
+    saved, so the TrueType writer's memory grew with the font); a glyph whose
+    source asks for TrueType flags (overlap) is expanded and gets them."""
+    from fontTools.ttLib.tables._g_l_y_f import flagOverlapSimple
+
+    from morph.fonts import stored
+
+    kept = {}
+    setup = stored.StoredGlyf.setupTable_glyf
+
+    def spy(self):
+        setup(self)
+        kept.update({n: hasattr(g, "data") for n, g in self.otf["glyf"].glyphs.items()})
+
+    monkeypatch.setattr(stored.StoredGlyf, "setupTable_glyf", spy)
+    src = copy.deepcopy(streamed[0])
+    src["o"].lib["public.truetype.overlap"] = True
+    stroke_ufo(src, tmp_path / "S.ttf", ellipse_nib(*NIB), GLYPHS, tol=0.5)
+    assert kept["six"] and kept["e"] and kept["ordfeminine"]   # stroked: bytes
+    assert not kept["o"] and not kept["eacute"]  # asks for flags; a composite: ufo2ft's
+    glyf = TTFont(str(tmp_path / "S.ttf"))["glyf"]
+    assert glyf["o"].flags[0] & flagOverlapSimple and not glyf["six"].flags[0] & flagOverlapSimple
+
+
+def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path):
+    """With workers and a UFO on disk, each worker reads its chunks' skeletons: the
+    font is the one the calling process writes from the same source read by
+    itself (jobs=1), table for table."""
+    src, out, _ = streamed
+    ufo = tmp_path / "src.ufo"
+    src.save(str(ufo))
+    stroke_ufo(str(ufo), tmp_path / "one.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=1)
+    stroke_ufo(str(ufo), tmp_path / "two.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=2)
+    _same_tables(tmp_path / "two.otf", TTFont(str(tmp_path / "one.otf")))
+
+
+def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path):
+    """A .glif whose points do not parse passes the shell pass (it reads no point)
+    and fails in the worker that reads it: the command says which glyph, exit 2."""
+    from click.testing import CliRunner
+
+    from morph.cli import main
+
+    ufo = tmp_path / "bad.ufo"
+    streamed[0].save(str(ufo))
+    glif = next((ufo / "glyphs").glob("o.glif"))
+    glif.write_text(glif.read_text().replace('x="', 'x="q', 1))
+    res = CliRunner().invoke(main, ["stroke", str(ufo), "-o", str(tmp_path / "x.otf"),
+                                    "--glyphs", ",".join(GLYPHS), "--jobs", "2"])
+    assert res.exit_code == 2, res.output
+    assert "'o'" in res.output and res.output.strip().count("\n") == 0, res.output
+
+
 def test_streamed_ufo_keeps_the_font(streamed, skeleton):
     src, out, stats = streamed
     ufo = ufoLib2.Font.open(out / "S.ufo")
