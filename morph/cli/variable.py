@@ -173,8 +173,8 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
     axes = ["%s %g..%g" % (a.axisTag, a.minValue, a.maxValue)
             for a in stats["font"]["fvar"].axes]
     rep = stats["refinement"]
-    added = "" if not rep or not rep["added"] else " (%d intermediate source masters)" \
-        % rep["added"]
+    added = "" if not rep or not rep["added"] else \
+        " (%s)" % count(rep["added"], "intermediate source master")
     click.echo("wrote %s (variable, axes %s, %s%s, %s brushed, %.1f s), sample %s and "
                "specimen %s" % (out, ", ".join(axes), count(len(stats["masters"]), "master"),
                                 added, count(stats["glyphs"], "glyph"),

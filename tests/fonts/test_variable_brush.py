@@ -262,8 +262,8 @@ def test_no_source_master_where_the_blend_holds(sources, tmp_path):
 def test_cff2_output(sources, tmp_path):
     """``.otf``: the same masters as CFF2 (blended charstrings, HVAR): ots passes;
     fontTools' instances at 9 positions per axis and random ones within the bound of
-    the exact sum, and within a rounding of the .ttf's instance there; advances and
-    anchors as the .ttf's."""
+    the exact sum, and within the roundings and the quadratic conversion of the
+    .ttf's instance there; anchors as the .ttf's, advances within a rounding."""
     from fontTools.ttLib import TTFont
 
     out, ttf = tmp_path / "Nib.otf", tmp_path / "Nib.ttf"
@@ -285,7 +285,9 @@ def test_cff2_output(sources, tmp_path):
     for k, loc in enumerate(spots):
         inst = _check(out, sources["var"], loc, _nibw, glyphs=GLYPHS[k % 3:k % 3 + 1])
         other = _instance(ttf, loc)
-        assert [inst["hmtx"][n][0] for n in GLYPHS] == [other["hmtx"][n][0] for n in GLYPHS]
+        # the same interpolated advance, rounded by HVAR's instancer and by gvar's
+        # phantom points: a tie may go either way
+        assert all(abs(inst["hmtx"][n][0] - other["hmtx"][n][0]) <= 1 for n in GLYPHS)
         assert mark_anchor(inst, "e") == mark_anchor(other, "e")
         for name in GLYPHS[k % 3:k % 3 + 1]:
             a, b = glyph_polygons(inst.getGlyphSet(), name), \
