@@ -513,10 +513,11 @@ def compose_many(c, r, d=None):
     if n == 0:
         return c.copy()
     u = 1.0 - r if d is None else np.asarray(d, float) - r
-    pr, pu = [None, r], [None, u]
+    both = np.concatenate([r, u])                            # powers of r and u together
+    pw = [None, both]
     for _ in range(2, n + 1):
-        pr.append(multiply_many(pr[-1], r))
-        pu.append(multiply_many(pu[-1], u))
+        pw.append(multiply_many(pw[-1], both))
+    pr, pu = [None] + [p[:k] for p in pw[1:]], [None] + [p[k:] for p in pw[1:]]
     binom = _binomials(n)
     rows = [pu[n]] + [binom[i] * multiply_many(pr[i], pu[n - i]) for i in range(1, n)]
     basis = np.stack(rows + [pr[n]], axis=2)                 # (k, n m + 1, n + 1)
