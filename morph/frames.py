@@ -196,16 +196,16 @@ def _split_frames(out, conv, layout, tol, method):
 
     f = len(layout.offsets)
     slot = layout.slot_of(np.array([pc.start(loop[0]) for loop in out]).reshape(-1, 2))
-    pieces = pc.end_points([c.piece for c in conv])[0] if conv else np.zeros((0, 2))
-    conv_slot = layout.slot_of(pieces)
+    # conv: the last round's pieces (:class:`morph.convolve.ConvPieces`), all frames'
+    starts = pc.end_points(conv.pieces)[0] if len(conv) else np.zeros((0, 2))
+    conv_slot = layout.slot_of(starts)
     if (slot < 0).any():
         raise ValueError("a loop of the packed frames lies outside every slot")
     frames = []
     for k in range(f):
         loops = [loop for loop, s in zip(out, slot) if s == k]
         mk._not_vanished(loops, tol, " of frame %d" % k)
-        bound = mk._achieved_bound(loops, [c for c, s in zip(conv, conv_slot) if s == k],
-                                   tol, method)
+        bound = mk._achieved_bound(loops, conv.take(conv_slot == k), tol, method)
         frames.append(validated(translate_region(loops, -layout.offsets[k]), bound))
     return frames
 
