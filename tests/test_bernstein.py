@@ -227,3 +227,62 @@ def _to_power(c):
     """Power-basis coefficients (ascending) of a Bernstein polynomial."""
     c = np.asarray(c, float)
     return np.tensordot(bz._to_power_matrix(len(c) - 1), c, axes=(1, 0))
+
+
+def _exact_product_error(a, b, prod):
+    """Largest error of ``prod`` (k, m+n+1) against the exact Bernstein product of the
+    rows of a (k, m+1) and b (k, n+1), in units of the rounding scale
+    sum_{i+j=q} C(m,i) C(n,j) / C(m+n,q) |a_i b_j| (exact rational arithmetic)."""
+    from fractions import Fraction
+    from math import comb
+    m, n = a.shape[1] - 1, b.shape[1] - 1
+    worst = 0.0
+    for ar, br, pr in zip(a, b, prod):
+        fa, fb = [Fraction(x) for x in ar], [Fraction(x) for x in br]
+        for q in range(m + n + 1):
+            exact, scale = Fraction(0), Fraction(0)
+            for i in range(max(0, q - n), min(m, q) + 1):
+                term = Fraction(comb(m, i) * comb(n, q - i), comb(m + n, q)) * fa[i] * fb[q - i]
+                exact += term
+                scale += abs(term)
+            err = abs(Fraction(pr[q]) - exact)
+            worst = max(worst, float(err / scale) if scale else float(err != 0) * np.inf)
+    return worst
+
+
+# product degrees on both sides of both crossovers of multiply_many
+PRODUCT_DEGREES = [(0, 0), (1, 0), (1, 1), (2, 3), (6, 1), (5, 9), (9, 6), (20, 21),
+                   (41, 3), (54, 6), (57, 57)]
+
+
+@pytest.mark.parametrize("method", ["scatter", "direct", None])
+def test_product_methods_match_exact(method):
+    rng = np.random.default_rng(38)
+    for m, n in PRODUCT_DEGREES + [tuple(rng.integers(0, 60, 2)) for _ in range(4)]:
+        a = rng.normal(size=(3, m + 1)) * 10.0 ** rng.integers(-3, 4, (3, 1))
+        b = rng.normal(size=(3, n + 1))
+        prod = bz.multiply_many(a, b, method)
+        assert prod.shape == (3, m + n + 1)
+        assert _exact_product_error(a, b, prod) < 1e-13, (m, n)
+        # with trailing axes (moved into the stack by the direct product)
+        xy = np.stack([a, 2.0 * a], axis=2)
+        prod2 = bz.multiply_many(xy, b[:, :, None], method)
+        assert prod2.shape == (3, m + n + 1, 2)
+        assert _exact_product_error(2.0 * a, b, prod2[:, :, 1]) < 1e-13, (m, n)
+
+
+def test_exact_product_check_catches_an_off_by_one_weight(monkeypatch):
+    """The oracle above fails a product whose weights are shifted by one place."""
+    rng = np.random.default_rng(1)
+    a, b = rng.normal(size=(2, 31)), rng.normal(size=(2, 5))
+    good = bz.multiply_many(a, b, "direct")
+    assert _exact_product_error(a, b, good) < 1e-13
+    idx, w = bz._toeplitz(30, 4)
+    bad_idx = idx.copy()
+    bad_idx[17, 2] -= 1                                  # a_14 paired with b_2 at q = 17
+    monkeypatch.setattr(bz, "_toeplitz", lambda m, n: (bad_idx, w))
+    assert _exact_product_error(a, b, bz.multiply_many(a, b, "direct")) > 1e-3
+    s = bz._scatter(30, 4).copy()
+    s[[17, 18]] = s[[18, 17]]                            # two output rows swapped
+    monkeypatch.setattr(bz, "_scatter", lambda m, n: s)
+    assert _exact_product_error(a, b, bz.multiply_many(a, b, "scatter")) > 1e-3
