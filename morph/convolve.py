@@ -29,7 +29,6 @@ edge of B with A's [lo, hi), and two parallel segments never pair directly.  Thi
 keeps the pieces of one loop pair chained end to end.
 """
 
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -58,7 +57,8 @@ class _EdgeTable:
 
     def __init__(self, maps):
         edges = [e for m in maps for e in m]
-        self.edges = edges
+        self._edges = edges
+        self.n_loops = len(maps)
         self.loop = np.repeat(np.arange(len(maps)), [len(m) for m in maps])
         self.index = np.concatenate([np.arange(len(m)) for m in maps]) if maps else np.zeros(0, int)
         is_curve = np.array([e.kind == "curve" for e in edges], bool)
@@ -85,6 +85,43 @@ class _EdgeTable:
         self.stacks = {d: np.array(lst) for d, lst in lists.items()}
         self.h = self._tangent_numerators()
 
+    @classmethod
+    def of_gauss(cls, g):
+        """The table of a :class:`morph.gauss.GaussTable` (the same arrays as of its
+        :class:`morph.gauss.Edge` lists, made without them)."""
+        self = cls.__new__(cls)
+        self._edges, self._gauss = None, g
+        self.n_loops = g.n_loops
+        self.loop, self.index = g.loop, g.index
+        is_curve = g.curve
+        self.theta, self.sweep = g.theta, g.sweep
+        self.lo = np.minimum(self.theta, self.theta + self.sweep)
+        self.hi = np.maximum(self.theta, self.theta + self.sweep)
+        self.sign = np.sign(self.sweep).astype(int)
+        self.point = g.point
+        self.vertex = ~is_curve
+        self.straight = is_curve & (self.sweep == 0.0)
+        self.curved = is_curve & (self.sweep != 0.0)
+        n = len(g)
+        self.deg = np.full(n, -1)
+        self.slot = np.zeros(n, int)
+        self.stacks = {}
+        edge_of = np.flatnonzero(is_curve)          # curve k is edge edge_of[k]
+        for ks, h in g.curves.groups:               # ks ascending: edge order
+            d = h.shape[1] - 1
+            self.deg[edge_of[ks]] = d
+            self.slot[edge_of[ks]] = np.arange(len(ks))
+            self.stacks[d] = h
+        self.h = self._tangent_numerators()
+        return self
+
+    @property
+    def edges(self):
+        """The :class:`morph.gauss.Edge` objects, in table order (made when asked)."""
+        if self._edges is None:
+            self._edges = [e for m in self._gauss.maps() for e in m]
+        return self._edges
+
     def pieces(self, idx):
         """Stacks of the pieces of edges idx, grouped by degree: [(rows, stack)]."""
         out = []
@@ -102,13 +139,18 @@ class _EdgeTable:
             for sel, rational in ((poly, False), (~poly, True)):
                 if sel.any():
                     h = pc.tangent_numerator_many(st[sel], rational)
-                    hs = list(h)
-                    for r in np.nonzero(pc.end_zero_rows(h))[0]:
+                    redo = np.nonzero(pc.end_zero_rows(h))[0]
+                    hs = list(h) if len(redo) else h
+                    for r in redo:
                         hs[r] = pc.tangent_numerator(st[sel][r])   # ends divided out
                     parts.append((idx[rows[sel]], hs))
         deg = max([len(h) - 1 for _, hs in parts for h in hs], default=0)
-        out = np.zeros((len(self.edges), deg + 1, 2))
+        out = np.zeros((len(self.loop), deg + 1, 2))
         for ids, hs in parts:
+            if isinstance(hs, np.ndarray) and hs.shape[1] in (1, deg + 1):
+                # elevating degree 0 to deg multiplies by exactly 1 (bz.to_degree)
+                out[ids] = hs
+                continue
             for i, h in zip(ids, hs):
                 out[i] = bz.to_degree(h, deg)
         return out
@@ -241,55 +283,190 @@ def convolve_edges(ea, eb, lo, hi, shift, tol, max_depth=30, method="qac"):
     """
     ta, tb = _EdgeTable([[ea]]), _EdgeTable([[eb]])
     pairs = tuple(np.array([x]) for x in (0, 0, lo, hi, shift))
-    return _convolve_table(ta, tb, pairs, tol, max_depth, method)
+    return list(_convolve_table(ta, tb, pairs, tol, max_depth, method))
+
+
+class ConvPieces:
+    """Convolution pieces held as arrays, one row per piece: ``pieces`` a
+    :class:`morph.piece.Pieces` (one stack per degree), ``bound`` (n,), ``kind``
+    (n,) names (object array), ``type`` (n,) ints, ``row`` (n,) the pair's row in the
+    table of compatible pairs, ``source`` (n, 4) (loop in A, edge, loop in B, edge).
+    A chunk of a font's convolution is tens of thousands of pieces: a sum keeps them
+    packed from the convolution through chaining (:func:`chain` takes ``pieces``)
+    and the corner pass, and makes no object per piece.  To read them one by one it
+    is a sequence of :class:`ConvPiece` (made on first use)."""
+
+    __slots__ = ("pieces", "bound", "kind", "type", "row", "source", "_objects")
+
+    def __init__(self, pieces, bound, kind, type_, row, source):
+        self.pieces, self.bound, self.kind = pieces, bound, kind
+        self.type, self.row, self.source = type_, row, source
+        self._objects = None
+
+    def __len__(self):
+        return len(self.pieces)
+
+    def __iter__(self):
+        return iter(self.objects())
+
+    def __getitem__(self, k):
+        return self.objects()[k]
+
+    @classmethod
+    def empty(cls):
+        return cls(pc.Pieces([], 0), np.zeros(0), np.zeros(0, object), np.zeros(0, int),
+                   np.zeros(0, int), np.zeros((0, 4), int))
+
+    def take(self, idx):
+        """The pieces ``idx`` (indices or a boolean mask), in that order."""
+        idx = np.asarray(idx)
+        if idx.dtype == bool:
+            idx = np.flatnonzero(idx)
+        taken = self.pieces.take(idx)
+        # the stacks in the order of their first piece, as a list's stacks are
+        taken = pc.Pieces(sorted(taken.groups, key=lambda g: g[0][0]), len(taken))
+        return ConvPieces(taken, self.bound[idx], self.kind[idx], self.type[idx],
+                          self.row[idx], self.source[idx])
+
+    @staticmethod
+    def concat(parts):
+        """The pieces of ``parts`` (ConvPieces) one after the other."""
+        parts = [p for p in parts if len(p)]
+        if not parts:
+            return ConvPieces.empty()
+        if len(parts) == 1:
+            return parts[0]
+        return ConvPieces(_concat_pieces([p.pieces for p in parts]),
+                          *(np.concatenate([getattr(p, f) for p in parts])
+                            for f in ("bound", "kind", "type", "row", "source")))
+
+    def objects(self):
+        """The pieces as a list of :class:`ConvPiece` (made once)."""
+        if self._objects is None:
+            bound, kind, typ = self.bound.tolist(), self.kind.tolist(), self.type.tolist()
+            row, source = self.row.tolist(), [tuple(s) for s in self.source.tolist()]
+            self._objects = [ConvPiece(p, bound[k], kind[k], typ[k], source[k], row[k])
+                             for k, p in enumerate(self.pieces.rows())]
+        return self._objects
+
+
+def _concat_pieces(parts):
+    """:class:`morph.piece.Pieces` of several, one after the other (one stack per
+    degree, each stack's rows in ascending order as a list's stacks are)."""
+    by, offset = {}, 0
+    for p in parts:
+        for ks, h in p.groups:
+            by.setdefault(h.shape[1], []).append((ks + offset, h))
+        offset += len(p)
+    groups = []
+    for m in sorted(by, key=lambda m: min(int(ks.min()) for ks, _ in by[m])):
+        ks = np.concatenate([k for k, _ in by[m]])
+        h = np.concatenate([x for _, x in by[m]])
+        order = np.argsort(ks, kind="stable")
+        groups.append((ks[order], h[order]))
+    return pc.Pieces(groups, offset)
+
+
+class _Produced:
+    """Convolution pieces as the pair handlers produce them: parts of (pair
+    positions, sort keys, stack of one degree, bounds, kinds, production ranks);
+    :meth:`packed` sorts them by (pair position, key), ties in the order produced
+    (each pair's pieces in travel order)."""
+
+    def __init__(self):
+        self.parts = []
+        self.count = 0
+
+    def add(self, pos, key, stack, bound, kind, seq=None):
+        """Pieces ``stack`` (one degree); ``seq``: their ranks among the pieces
+        produced since ``count`` (None: in the order given), ``count`` then moves on
+        (by ``len(stack)``; the caller sets it past a batch given in parts)."""
+        n = len(stack)
+        seq = self.count + (np.arange(n) if seq is None else np.asarray(seq, np.int64))
+        self.count += n
+        if n:
+            self.parts.append((np.asarray(pos, np.int64),
+                               np.broadcast_to(np.asarray(key, float), (n,)),
+                               np.asarray(stack, float),
+                               np.broadcast_to(np.asarray(bound, float), (n,)),
+                               np.broadcast_to(np.asarray(kind, object), (n,)), seq))
+
+    def packed(self):
+        """:class:`ConvPieces` in order, ``row`` the pair positions."""
+        if not self.parts:
+            return ConvPieces.empty()
+        pos, key, seq = (np.concatenate([p[c] for p in self.parts]) for c in (0, 1, 5))
+        order = np.lexsort((seq, key, pos))
+        where = np.empty(len(order), np.int64)
+        where[order] = np.arange(len(order))
+        start = np.cumsum([0] + [len(p[0]) for p in self.parts])
+        pieces = _placed(self.parts, where, start)
+        bound = np.concatenate([p[3] for p in self.parts])[order]
+        kind = np.concatenate([p[4] for p in self.parts])[order]
+        return ConvPieces(pieces, bound, kind, np.zeros(len(order), int), pos[order],
+                          np.zeros((len(order), 4), int))
+
+
+def _placed(parts, where, start):
+    """:class:`morph.piece.Pieces` of the parts' stacks, part row r of part p going to
+    ``where[start[p] + r]``."""
+    by = {}
+    for p, a, b in zip(parts, start[:-1], start[1:]):
+        by.setdefault(p[2].shape[1], []).append((where[a:b], p[2]))
+    groups = []
+    for m, lst in by.items():
+        ks = np.concatenate([k for k, _ in lst])
+        h = np.concatenate([x for _, x in lst]) if len(lst) > 1 else lst[0][1]
+        order = np.argsort(ks, kind="stable")
+        groups.append((ks[order], h[order]))
+    groups.sort(key=lambda g: g[0][0])
+    return pc.Pieces(groups, len(where))
 
 
 def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     """Convolution pieces of the pairs (i, j, lo, hi, k) of two edge tables, all at
-    once: :class:`ConvPiece` (``row``: the pair's position) in the pairs' order,
+    once: :class:`ConvPieces` (``row``: the pair's position) in the pairs' order,
     each pair's pieces in travel order (the cases of the module docstring).  tol:
     one number, or one per pair."""
     i, j, lo, hi, k = pairs
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
-    out = (_line_pairs(ta, tb, i, j, lo, off) + _vertex_pairs(ta, tb, i, j, lo, hi, off)
-           + _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method))
-    order = sorted(range(len(out)), key=lambda r: (out[r][0], out[r][1]))
-    for r in order:
-        out[r][2].row = int(out[r][0])
-    return [out[r][2] for r in order]
+    out = _Produced()
+    _line_pairs(out, ta, tb, i, j, lo, off)
+    _vertex_pairs(out, ta, tb, i, j, lo, hi, off)
+    _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method)
+    return out.packed()
 
 
-def _stack_out(pos, stack, forward):
-    """Exact pieces of a stack as (pair position, sort key 0, ConvPiece "translate")."""
-    return [(pos[r], 0.0, ConvPiece(p if forward[r] else p[::-1].copy(), 0.0, "translate"))
-            for r, p in enumerate(stack)]
+def _stack_out(out, pos, stack, forward):
+    """Exact pieces of a stack (sort key 0, kind "translate"), reversed where not
+    ``forward``."""
+    st = stack.copy() if forward.all() else np.where(forward[:, None, None], stack,
+                                                     stack[:, ::-1])
+    out.add(pos, 0.0, st, 0.0, "translate")
 
 
-def _line_pairs(ta, tb, i, j, lo, off):
+def _line_pairs(out, ta, tb, i, j, lo, off):
     """Pairs with a straight edge: the segment translated by the other edge's point
     at its angle, its direction by the other edge's sign."""
-    out = []
     a_line, b_line = ta.straight[i], tb.straight[j]
     pos = np.nonzero(a_line)[0]
     if len(pos):
         pts = tb.points_at(j[pos], lo[pos] - off[pos])
         for rows, st in ta.pieces(i[pos]):
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, pts[rows]), tb.sign[j[p]] > 0)
+            _stack_out(out, p, _translate_many(st, pts[rows]), tb.sign[j[p]] > 0)
     pos = np.nonzero(b_line & ~a_line)[0]
     if len(pos):
         pts = ta.points_at(i[pos], lo[pos])
         for rows, st in tb.pieces(j[pos]):
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, pts[rows]), ta.sign[i[p]] > 0)
-    return out
+            _stack_out(out, p, _translate_many(st, pts[rows]), ta.sign[i[p]] > 0)
 
 
-def _vertex_pairs(ta, tb, i, j, lo, hi, off):
+def _vertex_pairs(out, ta, tb, i, j, lo, hi, off):
     """Curve + vertex pairs: the restricted curve translated by the vertex, its
     direction by the vertex's sign."""
-    out = []
     for t_c, t_v, ic, iv, shift in ((ta, tb, i, j, np.zeros_like(off)), (tb, ta, j, i, off)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         if not len(pos):
@@ -299,25 +476,24 @@ def _vertex_pairs(ta, tb, i, j, lo, hi, off):
                               t_c.params(cc, hi[pos] - shift[pos]))
         for rows, st in subs:
             p = pos[rows]
-            out += _stack_out(p, _translate_many(st, t_v.point[iv[p]]), t_v.sign[iv[p]] > 0)
-    return out
+            _stack_out(out, p, _translate_many(st, t_v.point[iv[p]]), t_v.sign[iv[p]] > 0)
 
 
-def _curve_pairs(ta, tb, i, j, lo, hi, off, tol, max_depth, method):
+def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method):
     """Curve + curve pairs: QAC (:func:`_qac_pairs`) or another method of Sec. 4
     (:func:`_method_range`, pair by pair)."""
     pos = np.nonzero(ta.curved[i] & tb.curved[j])[0]
     if not len(pos):
-        return []
+        return
     if method == "qac":
-        return _qac_pairs(ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol,
-                          max_depth)
-    out = []
+        _qac_pairs(out, ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol,
+                   max_depth)
+        return
     for p in pos:
         pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p],
                                float(tol[p]), max_depth, method)
-        out += [(p, float(r), c) for r, c in enumerate(pieces)]
-    return out
+        for r, c in enumerate(pieces):
+            out.add([p], float(r), np.asarray(c.piece, float)[None], c.bound, c.kind)
 
 
 def _method_range(ea, eb, lo, hi, off, tol, depth, method):
@@ -342,21 +518,21 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
-def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
+def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
     together: each pair restricted to its common angle range, then the driver
     :func:`morph.subdivide.subdivide_nodes` with :mod:`morph.qac`'s callables (role
     choice, a-priori bound, split where it peaks), one batch per pair of piece
-    degrees.  Returns [(pair position, sort key, piece, kind, bound)]; the key
-    orders each pair's pieces along its travel direction (increasing angle when the
-    two edges turn the same way), a piece runs along A's edge, reversed when B is
-    concave (Figs. 18-19).
+    degrees.  Adds to ``out`` (:class:`_Produced`) each piece with its pair
+    position and a sort key that orders each pair's pieces along its travel
+    direction (increasing angle when the two edges turn the same way); a piece runs
+    along A's edge, reversed when B is concave (Figs. 18-19).
     """
     tol = tol[pos]
     ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
     tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
-    out = []
+    names = np.array(qac.KIND_NAMES, object)
     for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
         rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
         nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
@@ -369,19 +545,22 @@ def _qac_pairs(ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
             nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, float(tol[rows].min()),
             max_depth)
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
-        for r, piece in enumerate(pieces):
-            out.append((done["pos"][r], key[r],
-                        ConvPiece(_oriented(piece, done["sb"][r] > 0), float(bounds[r]),
-                                  qac.KIND_NAMES[done["kind"][r]])))
-    return out
-
+        forward = done["sb"] > 0
+        base = out.count
+        for ks, st in pc.degree_groups(pieces):
+            st = np.where(forward[ks][:, None, None], st, st[:, ::-1])
+            out.count = base
+            out.add(done["pos"][ks], key[ks], st, np.asarray(bounds, float)[ks],
+                    names[done["kind"][ks]], seq=ks)
+        out.count = base + len(pieces)
 
 
 # ------------------------------------------------------------------ whole loops
 
 def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
-    """ConvPieces of the pairs of a pair table (those of ``rows`` only, when given),
-    typed (Fig. 20), in its order.  tol: one number, or one per row of the table."""
+    """:class:`ConvPieces` of the pairs of a pair table (those of ``rows`` only, when
+    given), typed (Fig. 20), in its order.  tol: one number, or one per row of the
+    table."""
     row = np.arange(len(table[0])) if rows is None else np.asarray(rows, int)
     tol = np.broadcast_to(np.asarray(tol, float), (len(table[0]),))[row]
     table = tuple(np.asarray(x)[row] for x in table)
@@ -392,17 +571,18 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
         table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
         i, j = table[0], table[1]
     out = _convolve_table(ta, tb, table, tol, method=method)
-    la, ia, lb, ib = ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]
-    for c in out:
-        p = c.row
-        c.type, c.row = int(typ[p]), int(row[p])
-        c.source = (int(la[p]), int(ia[p]), int(lb[p]), int(ib[p]))
+    p = out.row
+    out.type = np.asarray(typ, int)[p]
+    out.source = np.stack([ta.loop[i][p], ta.index[i][p], tb.loop[j][p], tb.index[j][p]],
+                          axis=1).astype(int).reshape(-1, 4)
+    out.row = row[p]
     return out
 
 
 def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pair=None,
                 rows=None):
-    """Convolution pieces of two regions (lists of loops), Sec. 3.3.
+    """Convolution pieces of two regions (lists of loops), Sec. 3.3, as
+    :class:`ConvPieces` (arrays; a sequence of :class:`ConvPiece` to read).
 
     Each returned piece P has max distance to the exact convolution curve <= tol
     (a-priori bound of Eqs. 39-40; see :func:`morph.qac.qac_error_bound`); normals are exact
@@ -423,22 +603,46 @@ def convolution(region_a, region_b, tol, keep_type3=True, method="qac", gauss_pa
         raise ValueError("tol must be positive, got %r" % (tol,))
     if gauss_pair is None:
         gauss_pair = gauss_pair_of(region_a, region_b)
-    ta, tb = _EdgeTable(gauss_pair.maps_a), _EdgeTable(gauss_pair.maps_b)
+    ta, tb = gauss_pair.edge_tables()
     table = gauss_pair.table if gauss_pair.table is not None else _pair_table(ta, tb)
     return _convolve_all(ta, tb, table, tol, keep_type3, method, rows)
 
 
 # ------------------------------------------------- Gauss maps shared by scaled copies
 
-@dataclass
 class GaussPair:
-    """The Gauss maps of two operands (one list of edges per loop) and their table of
-    compatible pairs (None: not computed yet).  Tangent angles do not change under
-    scaling, so frames of scaled copies share one table (:func:`scaled_gauss_pair`)."""
+    """The Gauss maps of two operands (one list of edges per loop: ``maps_a``,
+    ``maps_b``) and their table of compatible pairs (``table``, None: not computed
+    yet).  Tangent angles do not change under scaling, so frames of scaled copies
+    share one table (:func:`scaled_gauss_pair`).  Made from Gauss tables
+    (:func:`gauss_pair_of`), the edge tables come from their arrays and the
+    :class:`morph.gauss.Edge` lists are made only when read."""
 
-    maps_a: list
-    maps_b: list
-    table: object = None
+    def __init__(self, maps_a=None, maps_b=None, table=None, tables=None, gauss=None):
+        self._maps = [maps_a, maps_b]
+        self.table, self.tables, self.gauss = table, tables, gauss
+
+    @property
+    def maps_a(self):
+        return self._side(0)
+
+    @property
+    def maps_b(self):
+        return self._side(1)
+
+    def _side(self, k):
+        if self._maps[k] is None:
+            self._maps[k] = self.gauss[k].maps()
+        return self._maps[k]
+
+    def edge_tables(self):
+        """(the edge table of A, of B) (:class:`_EdgeTable`), made once."""
+        if self.tables is None:
+            if self.gauss is not None:
+                self.tables = tuple(_EdgeTable.of_gauss(g) for g in self.gauss)
+            else:
+                self.tables = (_EdgeTable(self.maps_a), _EdgeTable(self.maps_b))
+        return self.tables
 
 
 def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
@@ -449,22 +653,22 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
     turning number of a simple closed curve, Hopf's Umlaufsatz): a figure-8 (0) or a
     curl (+-4 pi) crosses itself, and its convolution would bound no sum.  The
     message names the region by ``names``."""
-    maps = gauss.gauss_maps(list(region_a) + list(region_b))
-    for k, edges in enumerate(maps):
-        turns = gauss.total_turning(edges) / (2.0 * np.pi)
+    g = gauss.gauss_table(list(region_a) + list(region_b))
+    for k, total in enumerate(g.turnings()):
+        turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:
             which, loop = (0, k) if k < len(region_a) else (1, k - len(region_a))
             raise SelfCrossingError(
                 "%s: loop %d turns %.3g times, not once: it crosses itself; pass the loops "
                 "through morph.region.orient_region (with on_crossing=morph.trim.fill_region)"
                 % (names[which], loop, turns), loop)
-    return GaussPair(maps[:len(region_a)], maps[len(region_a):])
+    return GaussPair(gauss=tuple(g.split(len(region_a))))
 
 
 def with_pair_table(pair):
     """The :class:`GaussPair` with its table of compatible pairs computed."""
-    table = _pair_table(_EdgeTable(pair.maps_a), _EdgeTable(pair.maps_b))
-    return GaussPair(pair.maps_a, pair.maps_b, table)
+    ta, tb = pair.edge_tables()
+    return GaussPair(pair._maps[0], pair._maps[1], _pair_table(ta, tb), (ta, tb), pair.gauss)
 
 
 def crossing_rows(gauss_pair, reach):
@@ -479,14 +683,11 @@ def crossing_rows(gauss_pair, reach):
     theirs.  The rows of every other loop are flagged.  Conservative: a row flagged
     in vain only costs work."""
     i, j = gauss_pair.table[0], gauss_pair.table[1]
-    ta_loop = np.repeat(np.arange(len(gauss_pair.maps_a)), [len(m) for m in gauss_pair.maps_a])
-    tb_loop = np.repeat(np.arange(len(gauss_pair.maps_b)), [len(m) for m in gauss_pair.maps_b])
-    la, lb = ta_loop[i], tb_loop[j]
-    na, nb = len(gauss_pair.maps_a), len(gauss_pair.maps_b)
-    convex = (np.array([gauss.turns_convex(m) for m in gauss_pair.maps_a])[:, None]
-              & np.array([gauss.turns_convex(m) for m in gauss_pair.maps_b])[None, :])
-    box = (_loop_boxes(gauss_pair.maps_a)[:, None, :]
-           + _loop_boxes(gauss_pair.maps_b)[None, :, :]).reshape(-1, 4)
+    ta, tb = gauss_pair.edge_tables()
+    la, lb = ta.loop[i], tb.loop[j]
+    na, nb = ta.n_loops, tb.n_loops
+    convex = _turn_convex(ta)[:, None] & _turn_convex(tb)[None, :]
+    box = (_loop_boxes(ta)[:, None, :] + _loop_boxes(tb)[None, :, :]).reshape(-1, 4)
     box[:, :2] -= reach
     box[:, 2:] += reach
     used = np.zeros(na * nb, bool)
@@ -495,6 +696,16 @@ def crossing_rows(gauss_pair, reach):
     alone = np.ones(na * nb, bool)
     alone[ids] = _isolated(box[ids])
     return ~(convex.ravel() & alone)[la * nb + lb]
+
+
+def _turn_convex(t):
+    """:func:`morph.gauss.turns_convex` of each loop of an edge table (each loop's
+    sweeps summed as that function sums them)."""
+    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1)).tolist()
+    sweep = t.sweep
+    return np.array([bool(np.all(sweep[a:b] >= -gauss.TURN_EPS)
+                          and abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS)
+                     for a, b in zip(bounds[:-1], bounds[1:])], bool)
 
 
 def _isolated(box):
@@ -513,16 +724,20 @@ def _isolated(box):
     return out
 
 
-def _loop_boxes(maps):
-    """(xmin, ymin, xmax, ymax) of each loop of a Gauss map table: its curve edges'
+def _loop_boxes(t):
+    """(xmin, ymin, xmax, ymax) of each loop of an edge table: its curve edges'
     control points and its corners."""
-    out = np.empty((len(maps), 4))
-    for k, m in enumerate(maps):
-        pts = [pc.cartesian(e.piece) if e.kind == "curve" else np.asarray(e.point, float)[None]
-               for e in m]
-        p = np.concatenate(pts)
-        out[k] = [p[:, 0].min(), p[:, 1].min(), p[:, 0].max(), p[:, 1].max()]
-    return out
+    lo = np.full((t.n_loops, 2), np.inf)
+    hi = np.full((t.n_loops, 2), -np.inf)
+    for d, h in t.stacks.items():
+        edges = np.flatnonzero(t.deg == d)      # in slot order
+        x = h[:, :, :2] / h[:, :, 2:]
+        np.minimum.at(lo, t.loop[edges], x.min(axis=1))
+        np.maximum.at(hi, t.loop[edges], x.max(axis=1))
+    v = np.flatnonzero(t.vertex)
+    np.minimum.at(lo, t.loop[v], t.point[v])
+    np.maximum.at(hi, t.loop[v], t.point[v])
+    return np.concatenate([lo, hi], axis=1)
 
 
 def scale_edges(edges, factor):
@@ -546,6 +761,7 @@ def scaled_gauss_pair(base, factor_a, factor_b):
 
 def chain(pieces, tol):
     """Join oriented pieces end to start into closed loops (lists of arrays).
+    ``pieces``: a list, or a :class:`morph.piece.Pieces` (used as it is).
 
     Each end is paired with a start closer than ``tol`` (nearest pairs first, each
     start used once; found by hashing the points on a grid of cell ``tol``), and the
@@ -555,7 +771,8 @@ def chain(pieces, tol):
     """
     from .errors import TopologyError
 
-    pieces = [np.asarray(p, float) for p in pieces]
+    pieces = pieces if isinstance(pieces, pc.Pieces) else \
+        pc.Pieces.of([np.asarray(p, float) for p in pieces])
     n = len(pieces)
     if n == 0:
         return []
@@ -564,7 +781,7 @@ def chain(pieces, tol):
     succ = _nearest_first(e, s, d, n)
     if (succ < 0).any():
         at = ends[np.argmax(succ < 0)]
-        raise TopologyError("open convolution chain at %s" % (at,), loops=pieces, point=at)
+        raise TopologyError("open convolution chain at %s" % (at,), loops=pieces.rows(), point=at)
     first, rank = _cycles(succ)
     order = np.lexsort((rank, first))          # loops by their lowest piece, in travel order
     # each join snapped to the mean of the end and the start meeting there

@@ -19,6 +19,7 @@ angles is the same as working with normals: the outward normal is the tangent tu
 by -90 degrees (Eq. 20).
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,6 +72,17 @@ def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
     handled together: one batched root finder call per polynomial family
     (:func:`morph.bernstein.roots_many`)."""
     out = [np.empty(0)] * len(pieces)
+    o, r = _split_params_arrays(pieces, inflections, axes, eps)
+    bounds = np.searchsorted(o, np.arange(len(pieces) + 1))
+    for k in np.flatnonzero(np.diff(bounds)).tolist():
+        out[k] = r[bounds[k]:bounds[k + 1]]
+    return out
+
+
+def _split_params_arrays(pieces, inflections=True, axes=True, eps=1e-9):
+    """The split parameters of :func:`_split_params_many` as two arrays (piece,
+    parameter), sorted by piece, then parameter."""
+    own, par = [np.zeros(0, np.int64)], [np.zeros(0)]
     for ks, stack, rational in pc.kind_groups(pieces):
         h = pc.tangent_numerator_many(stack, rational)
         owners, ts = [], []
@@ -95,11 +107,64 @@ def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
         o, r = o[order], r[order]
         keep = np.ones(len(r), bool)
         keep[1:] = (o[1:] != o[:-1]) | (r[1:] != r[:-1])
-        o, r = o[keep], r[keep]
-        bounds = np.searchsorted(o, np.arange(len(ks) + 1))
-        for i, k in enumerate(ks):
-            out[k] = r[bounds[i]:bounds[i + 1]]
-    return out
+        own.append(np.asarray(ks)[o[keep]])
+        par.append(r[keep])
+    o, r = np.concatenate(own), np.concatenate(par)
+    order = np.lexsort((r, o))
+    return o[order], r[order]
+
+
+def _monotone_parts(pieces, check=True):
+    """:func:`split_monotone_many` of a :class:`morph.piece.Pieces` as arrays: (the
+    kept parts of every piece, in order, as a Pieces; the piece of each part).  Only
+    the pieces that are cut are visited one by one."""
+    o, r = _split_params_arrays(pieces)
+    if not len(o):
+        parts, owner = pieces, np.arange(len(pieces))
+    else:
+        cut = pl.unique(o)
+        bounds = np.searchsorted(o, np.append(cut, cut[-1] + 1)) if len(cut) else [0]
+        rows = pieces.rows()
+        extra = [pc.split_at(rows[k], r[a:b])
+                 for k, a, b in zip(cut.tolist(), bounds[:-1].tolist(), bounds[1:].tolist())]
+        n_parts = np.ones(len(pieces), np.int64)
+        n_parts[cut] = [len(x) for x in extra]
+        owner = np.repeat(np.arange(len(pieces)), n_parts)
+        first = np.cumsum(n_parts) - n_parts
+        whole = np.ones(len(pieces), bool)
+        whole[cut] = False
+        groups = []
+        for ks, h in pieces.groups:
+            w = whole[ks]
+            if w.any():
+                groups.append((first[ks[w]], h[w]))
+        new = [q for x in extra for q in x]
+        at = np.concatenate([first[k] + np.arange(len(x)) for k, x in zip(cut.tolist(), extra)])
+        for ks, h in pc.degree_groups(new):
+            groups.append((at[ks], h))
+        parts = _merged(groups, int(n_parts.sum()))
+    keep = _kept_many(parts, check)
+    if keep.all():
+        return parts, owner
+    idx = np.flatnonzero(keep)
+    return _taken(parts, idx), owner[idx]
+
+
+def _merged(groups, n):
+    """A :class:`morph.piece.Pieces` of (indices, stack) parts, those of one degree
+    joined, each stack's rows in ascending order, the stacks in the order of their
+    first piece (as a list's stacks are)."""
+    by = {}
+    for ks, h in groups:
+        by.setdefault(h.shape[1], []).append((ks, h))
+    out = []
+    for lst in by.values():
+        ks = np.concatenate([k for k, _ in lst])
+        h = np.concatenate([x for _, x in lst]) if len(lst) > 1 else lst[0][1]
+        order = np.argsort(ks, kind="stable")
+        out.append((ks[order], h[order]))
+    out.sort(key=lambda g: g[0][0])
+    return pc.Pieces(out, n)
 
 
 def split_monotone(piece):
@@ -240,45 +305,142 @@ def gauss_map(loop, angle_tol=1e-10):
 
 
 def gauss_maps(loops, angle_tol=1e-10):
-    """:func:`gauss_map` of each loop, all loops at once: the pieces split, their end
-    tangents and points found, the turns at the joins and the sides of the cusps
-    resolved in array calls over every loop (:func:`_corner_turns_many`); only the
-    :class:`Edge` objects are made one by one."""
+    """:func:`gauss_map` of each loop, all loops at once (:func:`gauss_table`), as
+    lists of :class:`Edge`."""
+    return gauss_table(loops, angle_tol).maps()
+
+
+class GaussTable:
+    """The Gauss maps of several loops as arrays, one row per edge, the loops' edges
+    one after another, each loop's in its order (what :func:`gauss_maps` lists as
+    :class:`Edge` objects).
+
+    ``loop``, ``index``: each edge's loop and its position there; ``curve``: curve
+    edges (the others are vertices); ``theta``, ``sweep``: lifted start angle and
+    signed sweep; ``point``: a curve's start point, a vertex's position;
+    ``piece_of``: a curve edge's row in ``curves`` (-1 for a vertex); ``curves``: the
+    monotone pieces (a :class:`morph.piece.Pieces`, in edge order); ``n_loops``."""
+
+    def __init__(self, loop, index, curve, theta, sweep, point, piece_of, curves, n_loops):
+        self.loop, self.index, self.curve = loop, index, curve
+        self.theta, self.sweep, self.point = theta, sweep, point
+        self.piece_of, self.curves, self.n_loops = piece_of, curves, n_loops
+
+    def __len__(self):
+        return len(self.loop)
+
+    def maps(self):
+        """The :class:`Edge` lists of the loops."""
+        rows = self.curves.rows()
+        out = [[] for _ in range(self.n_loops)]
+        theta, sweep = self.theta.tolist(), self.sweep.tolist()
+        for e, (lp, c, k) in enumerate(zip(self.loop.tolist(), self.curve.tolist(),
+                                           self.piece_of.tolist())):
+            out[lp].append(Edge("curve", rows[k], self.point[e], theta[e], sweep[e]) if c
+                           else Edge("vertex", None, self.point[e], theta[e], sweep[e]))
+        return out
+
+    def split(self, n):
+        """(the table of loops [0, n), the table of the others), renumbered."""
+        e = int(np.searchsorted(self.loop, n))
+        c = int(self.curve[:e].sum())
+        parts = []
+        for es, cs, lo in ((slice(0, e), np.arange(0, c), 0),
+                           (slice(e, None), np.arange(c, len(self.curves)), n)):
+            piece_of = self.piece_of[es]
+            parts.append(GaussTable(self.loop[es] - lo, self.index[es], self.curve[es],
+                                    self.theta[es], self.sweep[es], self.point[es],
+                                    np.where(piece_of >= 0, piece_of - cs[:1].sum(), -1),
+                                    _taken(self.curves, cs),
+                                    (n if lo == 0 else self.n_loops - n)))
+        return parts
+
+    def turnings(self):
+        """Each loop's total turning (:func:`total_turning`: the sweeps summed in
+        order)."""
+        sweep = self.sweep.tolist()
+        bounds = np.searchsorted(self.loop, np.arange(self.n_loops + 1)).tolist()
+        return [float(sum(sweep[a:b])) for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def _taken(pieces, idx):
+    """``pieces.take(idx)`` with the stacks in the order of their first piece (as a
+    list's stacks are)."""
+    t = pieces.take(idx)
+    return pc.Pieces(sorted(t.groups, key=lambda g: g[0][0]), len(t))
+
+
+def gauss_table(loops, angle_tol=1e-10):
+    """:func:`gauss_map` of each loop, all loops at once, as a :class:`GaussTable`:
+    the pieces split, their end tangents and points found, the turns at the joins
+    and the sides of the cusps resolved in array calls over every loop
+    (:func:`_corner_turns_many`); only the lifting of the angles along each loop
+    (a running sum, the same float operations as one loop at a time) visits the
+    edges one by one."""
     sizes = [len(loop) for loop in loops]
-    parts = split_monotone_many([p for loop in loops for p in loop])
-    curves, counts, k = [], [], 0
-    for n in sizes:
-        loop_curves = [q for ps in parts[k:k + n] for q in ps]
-        if not loop_curves:
+    if not sum(sizes):
+        if loops:
             raise DegenerateCurveError("loop has no curve of nonzero length", None)
-        curves += loop_curves
-        counts.append(len(loop_curves))
-        k += n
-    if not curves:
-        return []
-    counts = np.array(counts)
+        z = np.zeros(0)
+        return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
+                          np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), 0)
+    curves, owner = _monotone_parts(pc.Pieces.of([np.asarray(p, float) for loop in loops
+                                                  for p in loop]))
+    counts = np.bincount(np.repeat(np.arange(len(loops)), sizes)[owner],
+                         minlength=len(loops))
+    if (counts == 0).any():
+        raise DegenerateCurveError("loop has no curve of nonzero length", None)
     first, last = pc.end_tangents_many(curves)
     a0 = np.arctan2(first[:, 1], first[:, 0])
     sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
     turns = _corner_turns_many(curves, counts, a0, sweep, last)
     starts, ends = pc.end_points(curves)
-    a0, sweep, turns = a0.tolist(), sweep.tolist(), turns.tolist()
-    out, lo = [], 0
-    for n in counts.tolist():
-        edges = []
+    vertex = np.abs(turns) >= angle_tol
+    theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
+                               counts.tolist())
+    # edge positions: each curve, then its vertex where it has one
+    nc = len(a0)
+    pos_c = np.arange(nc) + np.concatenate([[0], np.cumsum(vertex)[:-1]])
+    n_edges = nc + int(vertex.sum())
+    curve = np.zeros(n_edges, bool)
+    curve[pos_c] = True
+    pos_v = pos_c[vertex] + 1
+    theta = np.empty(n_edges)
+    theta[pos_c], theta[pos_v] = theta_c, np.asarray(theta_v)[vertex]
+    sw = np.empty(n_edges)
+    sw[pos_c], sw[pos_v] = sweep, turns[vertex]
+    point = np.empty((n_edges, 2))
+    point[pos_c], point[pos_v] = starts, ends[vertex]
+    piece_of = np.full(n_edges, -1)
+    piece_of[pos_c] = np.arange(nc)
+    loop_of_curve = np.repeat(np.arange(len(counts)), counts)
+    loop = np.empty(n_edges, np.int64)
+    loop[pos_c], loop[pos_v] = loop_of_curve, loop_of_curve[vertex]
+    per_loop = np.bincount(loop, minlength=len(counts))
+    index = np.arange(n_edges) - np.repeat(np.cumsum(per_loop) - per_loop, per_loop)
+    return GaussTable(loop, index, curve, theta, sw, point, piece_of, curves, len(loops))
+
+
+def _lifted(a0, sweep, turns, vertex, counts):
+    """(theta of each curve edge, theta of its vertex edge (0.0 where none)): the
+    lifted angles along each loop, each start angle moved by whole turns to continue
+    the previous edge's end (:func:`_wrap`, with math.ceil: the same numbers)."""
+    theta_c, theta_v = [0.0] * len(a0), [0.0] * len(a0)
+    lo = 0
+    for n in counts:
         theta = a0[lo]
         for i in range(lo, lo + n):
             if i > lo:
-                theta = theta + _wrap(a0[i] - theta)  # keep lifted angle continuous
-            edges.append(Edge("curve", curves[i], starts[i], theta, sweep[i]))
+                d = a0[i] - theta
+                theta = theta + (d - TWO_PI * math.ceil((d - np.pi) / TWO_PI))
+            theta_c[i] = theta
             theta = theta + sweep[i]
-            if abs(turns[i]) >= angle_tol:
-                edges.append(Edge("vertex", None, ends[i], theta, turns[i]))
+            if vertex[i]:
+                theta_v[i] = theta
                 theta = theta + turns[i]
-        out.append(edges)
         lo += n
-    return out
+    return theta_c, theta_v
 
 
 #: a turn within this of pi is a cusp (radians), its side read from the curves
@@ -305,7 +467,7 @@ def _corner_turns_many(curves, counts, a0, sweep, last):
     cusp = np.flatnonzero(np.abs(turns) > np.pi - CUSP_ANGLE)
     if not len(cusp):
         return turns
-    side = _cusp_sides([curves[i] for i in cusp], [curves[i] for i in nxt[cusp]])
+    side = _cusp_sides(_taken(curves, cusp), _taken(curves, nxt[cusp]))
     flip = (side != 0) & (side * turns[cusp] < 0)  # the same tangents, turned the other way
     turns[cusp[flip]] += side[flip] * TWO_PI
     open_cusps = cusp[side == 0]
@@ -335,29 +497,28 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     the horizontal rays of one loop's probes (:func:`morph.polyline.
     winding_number`) meet no other loop.  ``ways``: the unit end tangents of the
     curves ``open_cusps``."""
+    curves = pc.Pieces.of(curves)
     loops = pl.unique(loop_of[open_cusps])
     begin = np.cumsum(counts) - counts
     idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
     owner = np.repeat(np.arange(len(loops)), counts[loops])
-    sel = [curves[i] for i in idx]
-    groups = [(ks, h.copy()) for ks, h in pc.degree_groups(sel)]
+    groups = [(ks, h.copy()) for ks, h in _taken(curves, idx).groups]
     size = _loop_sizes(groups, owner, len(loops))
-    first = [curves[begin[j]] for j in loops]
-    origin = pc.end_points(first)[0]
+    origin = pc.end_points(_taken(curves, begin[loops]))[0]
     shift = np.column_stack([np.zeros(len(loops)), 4.0 * np.arange(len(loops))])
-    moved, terms = [None] * len(sel), np.zeros(len(sel))
+    terms = np.zeros(len(idx))
     for ks, h in groups:
         o = owner[ks]
         h[..., :2] = (h[..., :2] - origin[o][:, None] * h[..., 2:]) / size[o][:, None, None]
-        terms[ks] = mo.area_terms(list(h))      # about the loop's first point
+        # about the loop's first point
+        terms[ks] = mo.area_terms(pc.Pieces([(np.arange(len(h)), h.copy())], len(h)))
         h[..., :2] += shift[o][:, None] * h[..., 2:]
-        for j, i in enumerate(ks.tolist()):
-            moved[i] = h[j]
+    moved = pc.Pieces(groups, len(idx))
     area = np.bincount(owner, weights=terms, minlength=len(loops))
     sign = np.where(np.abs(area) > 1e-9, np.sign(area), 1.0)
     eps = 1e-6
     where = np.searchsorted(loops, loop_of[open_cusps])
-    tips = pc.end_points([curves[i] for i in open_cusps])[1]
+    tips = pc.end_points(_taken(curves, open_cusps))[1]
     tips = (tips - origin[where]) / size[where][:, None] + shift[where]
     ways = ways / np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
     probes = tips + eps * ways
@@ -367,7 +528,7 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     # outside that hull changes its winding number when the piece is replaced by
     # its chord (the probe's winding is the exact loop's wherever the fine
     # flattening's is)
-    fine = _boxes_holding_probes(groups, owner, probes, where, len(sel), len(loops),
+    fine = _boxes_holding_probes(groups, owner, probes, where, len(idx), len(loops),
                                  0.1 * eps)
     polys = _loop_polylines(moved, owner, fine, len(loops), 0.1 * eps)
     outside = np.round(winding_number(probes, polys)) == 0
@@ -391,11 +552,11 @@ def _loop_polylines(moved, owner, fine, n_loops, tol):
     """Each loop as one polyline: its ``fine`` pieces flattened within ``tol``, the
     others by their start point only (their chord)."""
     f_idx = np.flatnonzero(fine)
-    f_owner, f_t, f_pts = pl.flat_starts([moved[i] for i in f_idx], tol)
+    f_owner, f_t, f_pts = pl.flat_starts(_taken(moved, f_idx), tol)
     c_idx = np.flatnonzero(~fine)
     piece_of = np.concatenate([f_idx[f_owner], c_idx])
     t = np.concatenate([f_t, np.zeros(len(c_idx))])
-    pts = np.concatenate([f_pts, pc.end_points([moved[i] for i in c_idx])[0]
+    pts = np.concatenate([f_pts, pc.end_points(_taken(moved, c_idx))[0]
                           if len(c_idx) else np.zeros((0, 2))])
     order = np.lexsort((t, piece_of))       # the loops' pieces in order, each's vertices
     bounds = np.searchsorted(owner[piece_of[order]], np.arange(n_loops + 1))
@@ -439,10 +600,10 @@ def _cusp_sides(c_ins, c_outs):
     path traced back on itself would otherwise seem to turn to a random side).
     All cusps at once, the curves evaluated by degree groups (:func:`_points_at`).
     """
+    c_ins, c_outs = pc.Pieces.of(c_ins), pc.Pieces.of(c_outs)
     k = len(c_ins)
     x = pc.end_points(c_ins)[1]
-    c_ins = [pc.translate(c, -p) for c, p in zip(c_ins, x)]
-    c_outs = [pc.translate(c, -p) for c, p in zip(c_outs, x)]
+    c_ins, c_outs = _moved(c_ins, -x), _moved(c_outs, -x)
     back = -pc.end_tangents_many(c_ins)[1]
     side = np.zeros(k, np.int64)
     todo = np.ones(k, bool)
@@ -457,6 +618,18 @@ def _cusp_sides(c_ins, c_outs):
         if not todo.any():
             break
     return side
+
+
+def _moved(pieces, offsets):
+    """Each piece moved by its offset (k, 2) (:func:`morph.piece.translate`: the same
+    operations, pieces of one degree at once), as a :class:`morph.piece.Pieces`."""
+    groups = []
+    for ks, h in pieces.groups:
+        h = h.copy()
+        h[:, :, 0] += offsets[ks, 0][:, None] * h[:, :, 2]
+        h[:, :, 1] += offsets[ks, 1][:, None] * h[:, :, 2]
+        groups.append((ks, h))
+    return pc.Pieces(groups, len(pieces))
 
 
 def _points_at(pieces, t):

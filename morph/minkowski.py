@@ -9,7 +9,8 @@ from . import moments as mo
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
-from .convolve import chain, convolution, crossing_rows, gauss_pair_of, with_pair_table
+from .convolve import (ConvPieces, chain, convolution, crossing_rows, gauss_pair_of,
+                       with_pair_table)
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
                      TopologyError)
 from .limits import check_tolerance, fits_precision, point_budget
@@ -67,7 +68,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
 
 def minkowski_sum_debug(region_a, region_b, tol, method="qac", gauss_pair=None):
     """(:func:`minkowski_sum`, debug): debug["convolution"] the convolution pieces
-    (:class:`morph.subdivide.ConvPiece`) of the last round, "loops" their chains,
+    of the last round (:class:`morph.convolve.ConvPieces`, a sequence of
+    :class:`morph.subdivide.ConvPiece`), "loops" their chains,
     "holes" the hole tests made ((point, depth, filled) each)."""
     if not region_a or not region_b:
         raise OperandError("both regions must have at least one loop")
@@ -161,22 +163,25 @@ def _not_vanished(loops, tol, which=""):
                          "most %.3g" % (which, tol, tol / 10), tol / 10)
 
 
-def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
+def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None):
     """(boundary, debug) of A ⊕ B (:func:`minkowski_sum` after its checks).
 
     ``slot_of(points)``: which independent part (:class:`morph.packing.Packing`) each
     point is in; the corner pass then trims again only the parts it refines.
+    ``member``: the hole test of :func:`morph.trim.boundary` (default
+    :class:`_HoleTest` of A and B; packed frames, whose B differs per part, pass
+    one that tests each hole with its own part's operands).
     """
     slot_of = slot_of or (lambda pts: np.zeros(len(pts), np.int64))
     if gauss_pair is None or gauss_pair.table is None:
         names = ("region_a", "region_b")
         gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b, names))
     conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair)
-    member = _HoleTest(region_a, region_b, tol)
+    member = member or _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
-        slot = slot_of(pc.end_points([c.piece for c in conv])[0])
-        part = [c for c, s in zip(conv, slot) if redo is None or s in redo]
+        slot = slot_of(pc.end_points(conv.pieces)[0])
+        part = conv if redo is None else conv.take(np.isin(slot, sorted(redo)))
         loops, out = _trimmed(part, tol, member)
         for s in (unique(slot) if redo is None else redo):
             done[int(s)] = []
@@ -193,8 +198,9 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
                                 gauss_pair=gauss_pair, rows=rows)
         except ToleranceNotMetError:
             break  # a pair that cannot be refined that far: the corner keeps its error
-        redo = set(int(s) for c, s in zip(conv, slot) if c.row in finer)
-        conv = [c for c in conv if c.row not in finer] + again
+        refined = np.isin(conv.row, rows)
+        redo = set(slot[refined].tolist())
+        conv = ConvPieces.concat([conv.take(~refined), again])
     out = [loop for s in sorted(done) for loop in done[s]]
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
 
@@ -222,7 +228,7 @@ def _trimmed(conv, tol, member):
     # ends of consecutive pieces agree to rounding in most places, but where a
     # tangent angle is solved at high curvature they can be a few 1e-9 of the size
     # apart: ends within a hundredth of tol are joined (inside the contraction share)
-    loops = chain([c.piece for c in conv], 0.01 * tol)
+    loops = chain(conv.pieces, 0.01 * tol)
     grid = GRID_SHARE * np.sqrt(2.0) * tol
     return loops, boundary(loops, FLAT_SHARE * tol, grid, "positive", member,
                            CONTRACT_SHARE * tol)
@@ -242,11 +248,11 @@ def _tip_tolerances(out, conv, tol):
     superset: the corner was found on polylines within (FLAT_SHARE + GRID_SHARE) tol
     of them).  Returns {table row: tolerance} for the pairs to approximate again.
     """
-    bounds = np.array([c.bound for c in conv])
+    bounds = conv.bound
     worst = float(bounds.max(initial=0.0))
     if worst <= 0 or not out:
         return {}
-    rows = np.array([c.row for c in conv])
+    rows = conv.row
     finer = {}
     for cos_half, near in _corners_near(out, conv, tol, worst / (CONV_SHARE * tol)):
         want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half, TIP_FLOOR)
@@ -264,7 +270,7 @@ def _corners_near(out, conv, tol, below=1.0):
     sharp = np.nonzero(cos_half < below)[0]
     if not len(sharp):
         return
-    boxes = pc.bboxes([c.piece for c in conv])
+    boxes = pc.bboxes(conv.pieces)
     reach = TIP_REACH * tol
     for k in sharp:
         x, y = pts[k]
@@ -282,7 +288,7 @@ def _achieved_bound(out, conv, tol, method):
     it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
     if method != "qac":
         return float(tol)
-    bounds = np.array([c.bound for c in conv])
+    bounds = conv.bound
     err = float(bounds.max(initial=0.0))
     if err > 0 and out:
         for cos_half, near in _corners_near(out, conv, tol):

@@ -547,14 +547,21 @@ def _placement(font, names, nib_region):
 def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
     """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
     each, its own contours and the components that cannot be kept, read from the
-    source now (:class:`morph.fonts.stream.SkeletonSource`)."""
+    source now (:class:`morph.fonts.stream.SkeletonSource`): the chunk's ``.glif``
+    files by :func:`morph.parse.glif.skeleton_outlines` (the same paths, all pieces
+    built together), a glyph it leaves (or an open font's) by ufoLib2."""
+    from ..parse.glif import skeleton_outlines
     from ..parse.ufo import component_paths, glyph_paths
 
+    read = getattr(source, "glif_data", None)
+    outlines = skeleton_outlines([read(n) for n in names]) if read else [None] * len(names)
     work = []
-    for n in names:
-        g = source[n]
-        paths = glyph_paths(g)
-        for c in g.components:
+    for n, outline in zip(names, outlines):
+        if outline is None:  # an open font, or a glyph the array reader leaves to ufoLib2
+            g = source[n]
+            outline = glyph_paths(g), g.components
+        paths, components = outline
+        for c in components:
             if not keep_component(c, symmetric):
                 paths.extend(component_paths(source, c))
         # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)

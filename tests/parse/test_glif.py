@@ -1,0 +1,190 @@
+"""morph.parse.glif: skeleton outlines read straight from .glif data give the same
+paths, to the bit, as ufoLib2 and fontTools' pens (morph.parse.ufo.glyph_paths), or
+decline the glyph (None) where the pens would mean something else."""
+
+import numpy as np
+import pytest
+import ufoLib2
+
+from morph.errors import ParseError
+from morph.fonts.stream import SkeletonSource
+from morph.parse.glif import glif_outline, skeleton_outlines
+from morph.parse.ufo import glyph_paths
+from tests import RELIEF_SUBSET
+
+
+def _same_paths(a, b):
+    """Equal paths: the same pieces (shape, dtype, every bit) and closed flags."""
+    if len(a) != len(b):
+        return False
+    for (pa, ca), (pb, cb) in zip(a, b):
+        if ca != cb or len(pa) != len(pb):
+            return False
+        for x, y in zip(pa, pb):
+            x, y = np.asarray(x), np.asarray(y)
+            if x.shape != y.shape or x.dtype != y.dtype or x.tobytes() != y.tobytes():
+                return False
+    return True
+
+
+def _components(comps):
+    return [(c.baseGlyph, tuple(float(v) for v in tuple(c.transformation))) for c in comps]
+
+
+def _both(ufo_path, names):
+    """(fast, ufoLib2) outlines of the glyphs ``names`` of the UFO at ``ufo_path``."""
+    src = SkeletonSource(ufo_path)
+    fast = skeleton_outlines([src.glif_data(n) for n in names])
+    slow = []
+    for n in names:
+        g = src[n]
+        slow.append((glyph_paths(g), g.components))
+    return fast, slow
+
+
+def _draw(contours, components=()):
+    """A draw function: contours as [(points [(x, y, type)])] on a point pen."""
+    def draw(pp):
+        for points in contours:
+            pp.beginPath()
+            for x, y, t in points:
+                pp.addPoint((x, y), t)
+            pp.endPath()
+        for base, m in components:
+            pp.addComponent(base, m)
+    return draw
+
+
+#: glyphs the fast reader reads: name -> (contours, components)
+READ = {
+    "open_lines": ([[(0, 0, "move"), (10.5, 3, "line"), (20, -7.25, "line")]], []),
+    "open_cubic": ([[(0, 0, "move"), (10, 40, None), (60, 40, None), (70, 0, "curve"),
+                     (90, 0, "line")]], []),
+    "open_quad": ([[(0, 0, "move"), (50, 100, None), (100, 0, "qcurve")]], []),
+    "closed_lines": ([[(0, 0, "line"), (100, 0, "line"), (100, 100, "line"),
+                       (0, 100, "line")]], []),
+    "closed_dup_end": ([[(0, 0, "line"), (100, 0, "line"), (100, 100, "line"),
+                         (0, 0, "line")]], []),
+    # starts with off-curve points: read cyclically from the first on-curve point
+    "closed_rotated": ([[(10, 40, None), (60, 40, None), (70, 0, "curve"), (0, 0, "line"),
+                         (5, -30, "line")]], []),
+    "closed_curve_first": ([[(0, 0, "curve"), (0, 50, None), (50, 100, None),
+                             (100, 100, "curve"), (100, 50, None), (50, 0, None)]], []),
+    "dot": ([[(10, 20, "move")]], []),
+    "closed_dot": ([[(10, 20, "line")]], []),
+    "zero_pieces": ([[(5, 5, "move"), (5, 5, "line"), (5, 5, "line")]], []),
+    "zero_inside": ([[(0, 0, "move"), (10, 0, "line"), (10, 0, "line"), (10, 0, None),
+                      (10, 0, None), (10, 0, "curve"), (20, 5, "line")]], []),
+    "several": ([[(0, 0, "move"), (1, 1, "line")], [(3, 3, "move")],
+                 [(0, 0, "line"), (9, 0, "line"), (9, 9, "line")]],
+                [("open_lines", (1, 0, 0, 1, 30, 40)), ("dot", (-1, 0, 0, -1, 0, 0))]),
+    "components_only": ([], [("open_quad", (0.5, 0, 0, 0.5, 1.25, 0))]),
+    "empty": ([], []),
+}
+
+#: glyphs it declines (the pens split or refuse them)
+DECLINED = {
+    "tt_run": [[(0, 0, "move"), (50, 100, None), (150, 100, None), (200, 0, "qcurve")]],
+    "super_cubic": [[(0, 0, "move"), (10, 40, None), (30, 50, None), (60, 40, None),
+                     (70, 0, "curve")]],
+    "curve_one_off": [[(0, 0, "move"), (10, 40, None), (70, 0, "curve")]],
+    "all_off": [[(0, 0, None), (100, 0, None), (100, 100, None)]],
+    "huge": [[(0, 0, "move"), (1e300, 0, "line")]],
+}
+
+
+@pytest.fixture(scope="module")
+def crafted(tmp_path_factory):
+    path = tmp_path_factory.mktemp("glif") / "crafted.ufo"
+    font = ufoLib2.Font()
+    for name, (contours, components) in READ.items():
+        g = font.newGlyph(name)
+        _draw(contours, components)(g.getPointPen())
+    for name, contours in DECLINED.items():
+        g = font.newGlyph(name)
+        _draw(contours)(g.getPointPen())
+    font.save(path, validate=False)  # the unusual glyphs too
+    return path
+
+
+def test_read_glyphs_are_the_pens_paths(crafted):
+    names = list(READ)
+    fast, slow = _both(crafted, names)
+    for name, f, (paths, comps) in zip(names, fast, slow):
+        assert f is not None, name
+        assert _same_paths(f[0], paths), name
+        assert _components(f[1]) == _components(comps), name
+
+
+def test_closed_contour_is_read_from_its_first_on_curve_point(crafted):
+    (f,), ((paths, _),) = _both(crafted, ["closed_rotated"])
+    pieces, closed = f[0][0]
+    assert closed and [len(p) for p in pieces] == [2, 2, 4]
+    assert np.array_equal(pieces[0][0, :2], [70, 0])    # the first on-curve point
+    assert _same_paths(f[0], paths)
+
+
+def test_unusual_glyphs_are_declined(crafted):
+    names = list(DECLINED)
+    src = SkeletonSource(crafted)
+    assert skeleton_outlines([src.glif_data(n) for n in names]) == [None] * len(names)
+
+
+@pytest.mark.parametrize("data", [
+    b"<glyph name='a' format='1'><outline><contour><point x='0' y='0' type='move'/>"
+    b"</contour></outline></glyph>",                                     # format 1
+    b"<glyph name='a' format='2'><outline><contour><point x='0' y='0' type='move'/>"
+    b"<point x='5' y='0' type='move'/></contour></outline></glyph>",     # move inside
+    b"<glyph name='a' format='2'><outline><contour><point x='0' y='0' type='move'/>"
+    b"<point x='5' y='0' type='line'/><point x='6' y='1'/></contour></outline></glyph>",
+    b"<glyph name='a' format='2'><outline><contour><point x='0' y='0' type='move'/>"
+    b"<point x='nan' y='0' type='line'/></contour></outline></glyph>",
+    b"<glyph name='a' format='2'><outline><contour><point x='zero' y='0' type='move'/>"
+    b"</contour></outline></glyph>",
+    b"<glyph name='a' format='2'><outline><contour><point y='0' type='move'/>"
+    b"</contour></outline></glyph>",
+    b"<glyph name='a' format='2'><outline><thing/></outline></glyph>",
+    b"<glyph name='a' format='2'><outline/><outline/></glyph>",
+    b"<glyph name='a' format='2'><outline><component/></outline></glyph>",
+    b"<glyph name='a' format='2'><outline><contour>",                    # bad XML
+    b"<notaglyph format='2'/>",
+])
+def test_declined_data(data):
+    assert skeleton_outlines([data]) == [None]
+
+
+def test_comments_and_identifiers_do_not_matter():
+    data = (b"<?xml version='1.0'?><glyph name='a' format='2'><!-- c --><outline>"
+            b"<contour identifier='c1'><!-- c --><point x='0' y='0' type='move' name='n'/>"
+            b"<point x='3' y='4' type='line' smooth='no' identifier='p1'/></contour>"
+            b"</outline></glyph>")
+    (paths, comps), = skeleton_outlines([data])
+    (pieces, closed), = paths
+    assert not closed and comps == []
+    assert np.array_equal(pieces[0], [[0, 0, 1], [3, 4, 1]])
+    assert glif_outline(data) is not None
+
+
+def test_relief_subset_is_read_the_same(tmp_path):
+    src = SkeletonSource(RELIEF_SUBSET)
+    names = src.keys()
+    fast, slow = _both(RELIEF_SUBSET, names)
+    assert all(f is not None for f in fast)
+    for name, f, (paths, comps) in zip(names, fast, slow):
+        assert _same_paths(f[0], paths), name
+        assert _components(f[1]) == _components(comps), name
+
+
+def test_stroke_work_falls_back_to_ufolib2(crafted):
+    """The stroke's jobs: a declined glyph is read by ufoLib2 (same paths as the
+    pens), a read one by the array reader."""
+    from morph.fonts.stroke import _stroke_work
+
+    src = SkeletonSource(crafted)
+    names = ["open_cubic", "tt_run", "super_cubic", "closed_rotated"]
+    work = _stroke_work(src, names, True, None, None, {n: 0 for n in names}, None)
+    for name, job in zip(names, work):
+        assert _same_paths(job[1], glyph_paths(src[name])), name
+    with pytest.raises(ParseError, match="glyph 'huge' has a coordinate"):
+        _stroke_work(src, ["open_cubic", "huge"], True, None, None, {"open_cubic": 0, "huge": 0},
+                     None)
