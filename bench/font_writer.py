@@ -158,7 +158,9 @@ def main(argv=None):
     # the strokes recorded before any run is timed
     for kind in set(kinds) | {r.split(":")[1] for r in (opt.runs or "").split(",") if r}:
         _recorded(kind)
-    rows = []
+    from bench.proctree import started
+
+    rows, begun = [], started()
     with tempfile.TemporaryDirectory() as tmp:
         plan = ([(None, int(n), k) for n, k in (r.split(":") for r in opt.runs.split(",") if r)]
                 if opt.runs is not None
@@ -171,21 +173,21 @@ def main(argv=None):
             r["who"] = opt.before_label if checkout else "streamed (this checkout)"
             print(r, flush=True)
             rows.append(r)
-            text = markdown(rows, argv, len(plan))  # after every run: a long run's rows
+            text = markdown(rows, argv, len(plan), begun)  # after every run: a long run's rows
             if not opt.no_write:                     # are kept if it is stopped
                 Path(opt.md).write_text(text)
     print(text)
     return 0
 
 
-def markdown(rows, argv, planned):
+def markdown(rows, argv, planned, begun):
     from bench.proctree import measured_header
 
     md = measured_header(
         "The font writer of `morph stroke` against the font's size", "font_writer", argv,
         len(rows), planned, "CPU times, not wall times.  The stroking is replaced by recorded "
         "strokes of the hanzi-300 glyphs (see the script's docstring): the writer alone, "
-        "`--jobs 1`, one process.")
+        "`--jobs 1`, one process.", begun)
     md += ["", "| writer | output | glyphs | peak RSS MB | CPU s | CPU ms / glyph | points | "
            "output MB |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:

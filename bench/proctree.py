@@ -16,7 +16,7 @@ import os
 import subprocess
 import time
 
-__all__ = ["watch", "measured_header"]
+__all__ = ["watch", "measured_header", "started"]
 
 _TICK = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
 
@@ -119,16 +119,25 @@ def watch(cmd, env=None, cwd=None, interval=0.1):
             "line": lines[-1] if lines else "", "output": text, "rc": proc.returncode}
 
 
-def measured_header(title, script, argv, done, planned, note):
+def measured_header(title, script, argv, done, planned, note, started):
     """A report's title and its first line: the command (``python -m bench.SCRIPT``
     and ``argv`` without output paths), when (UTC) and at which commit it was
-    measured, how many of the planned runs are in it, the machine and its load,
-    and ``note`` (what the times mean)."""
-    from bench.stroke_profile import code_version, shown_args
+    measured (``started``: :func:`started`'s value when the runs began), how many
+    of the planned runs are in it, the machine and its load, and ``note`` (what
+    the times mean)."""
+    from bench.stroke_profile import shown_args
 
     return ["# %s (bench/%s.py)" % (title, script), "",
-            "Command: `python -m bench.%s%s`; measured %s UTC at %s (%d of %d runs done).  "
-            "Machine: %d CPUs shared with other jobs (load average %s at the end): %s"
-            % (script, "".join(" " + a for a in shown_args(argv)),
-               time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(), done, planned,
+            "Command: `python -m bench.%s%s`; measured %s to %s UTC at %s (%d of %d runs "
+            "done).  Machine: %d CPUs shared with other jobs (load average %s at the end): %s"
+            % (script, "".join(" " + a for a in shown_args(argv)), started[0],
+               time.strftime("%H:%M", time.gmtime()), started[1], done, planned,
                os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()), note)]
+
+
+def started():
+    """(UTC date and time, code version) as the runs begin: the code measured is the
+    code at the start (a commit made while a long run goes on is not in it)."""
+    from bench.stroke_profile import code_version
+
+    return time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version()

@@ -334,7 +334,8 @@ def _time_command(ufo, out_path):
                                    PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT)))
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    lines = (proc.stdout + proc.stderr).strip().splitlines()
+    # the command's own last line ("wrote ..."), not its progress line on stderr
+    lines = (proc.stdout.strip() or proc.stderr.strip()).splitlines()
     return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
 
 

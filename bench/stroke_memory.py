@@ -45,7 +45,9 @@ def main(argv=None):
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
-    rows = []
+    from bench.proctree import started
+
+    rows, begun = [], started()
     pairs = ([p.split(":") for p in opt.pairs.split(",")] if opt.pairs else
              [(s, j) for s in opt.sets.split(",") for j in opt.jobs.split(",")])
     with tempfile.TemporaryDirectory() as tmp:
@@ -56,19 +58,19 @@ def main(argv=None):
             r.update(set=s, jobs=int(j), glyphs=glyphs)
             print({k: v for k, v in r.items() if k != "output"}, flush=True)
             rows.append(r)
-            text = markdown(rows, argv, len(pairs))  # after every run: a long run's
+            text = markdown(rows, argv, len(pairs), begun)  # after every run: a long run's
             if not opt.no_write:                     # rows are kept if it is stopped
                 Path(opt.md).write_text(text)
     print(text)
     return 0
 
 
-def markdown(rows, argv, planned):
+def markdown(rows, argv, planned, begun):
     from bench.proctree import measured_header
 
     md = measured_header("Peak memory of `morph stroke` against the font's size",
                          "stroke_memory", argv, len(rows), planned,
-                         "wall times are upper bounds.")
+                         "wall times are upper bounds.", begun)
     md += ["", "| set | glyphs | --jobs | peak RSS, command process MB | peak RSS, process tree "
            "MB (sampled) | CPU s (tree) | CPU ms / glyph | command process CPU s (sampled) | "
            "wall s | serial head s | serial tail s | exit |",

@@ -1,7 +1,8 @@
 """Variable calligraphic fonts (morph.fonts.variable): cost, size, instance error, and
 whether FontForge's Expand Stroke gives interpolation-compatible masters.
 
-    python -m bench.varfont [--skeleton UFO|none] [--subset UFO] [--out bench/varfont.md]
+    python -m bench.varfont [--part all|stroke|brush] [--skeleton UFO|none] [--subset UFO]
+                            [--out bench/varfont.md]
                             [--positions 9] [--random 3] [--jobs 1] [--no-fontforge]
                             [--glyphs a,s,period] [--measure a,s,period]
 
@@ -26,8 +27,10 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
    error (instancer against Clipper) of the font with and without them.
 6. Brushed variable fonts from small mark fonts (tests/fonts/varsources.py): static
    TrueType / CFF sources with a nib axis (NIBW, GRAD, NIBP), variable glyf/gvar and
-   CFF2 sources with and without one: masters, CPU time, the measured instance
-   error at 9 positions per axis, and the mark anchors' largest error.
+   CFF2 sources with and without one, written as .ttf and .otf (CFF2), with the
+   intermediate source masters and without them: masters, the blend before and
+   after, size, CPU time, the measured instance error at 9 positions per axis and
+   random points, and the mark anchors' largest error.
 
 Writes a Markdown report stamped with the command, commit and date it was made at
 (:func:`bench.stamp.stamp`); ``python -m bench.reports --only varfont`` remakes it.
@@ -250,66 +253,98 @@ def skeleton_designspaces(subset, folder, positions):
     return rows
 
 
-def brushed_fonts(folder, positions):
-    """Section 6: the small mark fonts brushed with and without nib axes."""
-    from fontTools.ttLib import TTFont
+def _brushed_error(vf, st, src, lo, spots):
+    """(worst (d, where), largest anchor error, pinholes) of a brushed font's
+    instances at ``spots`` against the source's instance ⊕ the nib there."""
     from fontTools.varLib import instancer
 
     from morph.compatible import Ellipse
-    from morph.fonts.variable_brush import brush_variable
-    from tests.fonts.varsources import (mark_anchor, mark_font, source_instance, to_cff,
-                                        variable_mark_font)
+    from tests.fonts.varsources import mark_anchor, source_instance
     from tests.oracles.varfont import clipper_region_sum
+
+    worst, anchor, holes = (0.0, ""), 0.0, 0
+    for loc in spots:
+        inst = instancer.instantiateVariableFont(vf, loc)
+        source = source_instance(src, {t: v for t, v in loc.items() if t == "wght"})
+        axis = st["axis"]
+        v = loc.get(axis.tag, axis.minimum) if axis else None
+        nib = axis.nib_at(v) if axis else Ellipse(*lo)
+        shift_nib = axis.nib_min if axis and axis.tag == "GRAD" else nib
+        gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
+        for n in ("o", "e", "n", "acutecomb"):
+            hx = shift_nib.extent()[2] * (1 if sgs[n].width else -1)
+            ref = [p + np.array([hx, 0.0])
+                   for p in clipper_region_sum(glyph_polygons(sgs, n), tuple(nib))]
+            got = glyph_polygons(gs, n)
+            d = sum_distance(got, ref, strict=True, area=2.0, hi=30.0)
+            worst = max(worst, (d, "%s at %s" % (n, ", ".join(
+                "%s %.4g" % kv for kv in loc.items()))))
+            holes += len([a for a in pinholes(got, ref) if a > 1e-3])
+        for a0, a1, w in zip(mark_anchor(source, "e"), mark_anchor(inst, "e"), (1, 0)):
+            want = a0[0] + shift_nib.extent()[2] * (1 if w else -1)
+            anchor = max(anchor, abs(a1[0] - want))
+    return worst, anchor, holes
+
+
+def _spots(axes, positions, randoms, rng):
+    """``positions`` per axis (the others at their defaults) and ``randoms`` random
+    points of the design space, user coordinates."""
+    spots = [{a.axisTag: float(v)} for a in axes
+             for v in np.linspace(a.minValue, a.maxValue, positions)]
+    if len(axes) > 1 or randoms:
+        spots += [{a.axisTag: float(rng.uniform(a.minValue, a.maxValue)) for a in axes}
+                  for _ in range(randoms)]
+    return spots
+
+
+def brushed_fonts(folder, positions, randoms, count=None):
+    """Section 6: the small mark fonts brushed with and without nib axes, as .ttf
+    and .otf, with the source masters refined and (for the variable sources) not."""
+    from fontTools.ttLib import TTFont
+
+    from morph.fonts.variable_brush import brush_variable
+    from tests.fonts.varsources import mark_font, to_cff, variable_mark_font
 
     static = mark_font(folder)
     otf = folder / "Mark.otf"
     to_cff(TTFont(str(static))).save(str(otf))
     var, cff2 = variable_mark_font(folder), variable_mark_font(folder, cff2=True)
-    cases = [("static TTF", static, NIB_MIN, NIB_MAX), ("static CFF", otf, (20, 20, 0),
-                                                       (50, 50, 0)),
-             ("static TTF, turning nib", static, (80, 20, 0), (80, 20, 60)),
-             ("variable TTF", var, NIB_MIN, None), ("variable TTF", var, NIB_MIN, NIB_MAX),
-             ("variable CFF2", cff2, NIB_MIN, None), ("variable CFF2", cff2, NIB_MIN, NIB_MAX)]
+    tall = variable_mark_font(folder, scale=(1.0, 2.0))
+    cases = [("static TTF", static, NIB_MIN, NIB_MAX, ".ttf"),
+             ("static TTF", static, NIB_MIN, NIB_MAX, ".otf"),
+             ("static CFF", otf, (20, 20, 0), (50, 50, 0), ".ttf"),
+             ("static TTF, turning nib", static, (80, 20, 0), (80, 20, 60), ".ttf"),
+             ("variable TTF", var, NIB_MIN, None, ".ttf"),
+             ("variable TTF", var, NIB_MIN, NIB_MAX, ".ttf"),
+             ("variable TTF", var, NIB_MIN, NIB_MAX, ".otf"),
+             ("variable CFF2", cff2, NIB_MIN, None, ".ttf"),
+             ("variable CFF2", cff2, NIB_MIN, NIB_MAX, ".otf"),
+             ("variable TTF, tall wght master", tall, (80, 20, 30), None, ".ttf")]
     rows = []
-    for label, src, lo, hi in cases:
-        out = folder / ("Brush%d.ttf" % len(rows))
-        c0 = time.process_time()
-        st = brush_variable(src, out, lo, nib_max=hi, tol=TOL)
-        cpu = time.process_time() - c0
-        vf = TTFont(str(out))
-        axes = vf["fvar"].axes
-        spots = []
-        for a in axes:
-            for v in np.linspace(a.minValue, a.maxValue, positions):
-                spots.append({a.axisTag: float(v)})
-        worst, anchor, holes = (0.0, ""), 0.0, 0
-        for loc in spots:
-            inst = instancer.instantiateVariableFont(vf, loc)
-            src_loc = {t: v for t, v in loc.items() if t == "wght"}
-            source = source_instance(src, src_loc)
-            axis = st["axis"]
-            v = loc.get(axis.tag, axis.minimum) if axis else None
-            nib = axis.nib_at(v) if axis else Ellipse(*lo)
-            shift_nib = axis.nib_min if axis and axis.tag == "GRAD" else nib
-            gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
-            for n in ("o", "e", "n", "acutecomb"):
-                hx = shift_nib.extent()[2] * (1 if sgs[n].width else -1)
-                ref = [p + np.array([hx, 0.0])
-                       for p in clipper_region_sum(glyph_polygons(sgs, n), tuple(nib))]
-                got = glyph_polygons(gs, n)
-                d = sum_distance(got, ref, strict=True, area=2.0)
-                worst = max(worst, (d, "%s at %s" % (n, ", ".join(
-                    "%s %g" % kv for kv in loc.items()))))
-                holes += len([a for a in pinholes(got, ref) if a > 1e-3])
-            for a0, a1, w in zip(mark_anchor(source, "e"), mark_anchor(inst, "e"), (1, 0)):
-                want = a0[0] + shift_nib.extent()[2] * (1 if w else -1)
-                anchor = max(anchor, abs(a1[0] - want))
-        rows.append({"label": label, "axes": ", ".join("%s %g..%g" % (a.axisTag, a.minValue,
-                                                                     a.maxValue) for a in axes),
-                     "nibs": (lo, hi), "masters": len(st["masters"]), "cpu": cpu,
-                     "per": 1000 * st["fit_seconds"] / max(1, st["glyphs"]) /
-                     len(st["masters"]), "worst": worst, "anchor": anchor,
-                     "positions": len(spots), "pinholes": holes})
+    rng = np.random.default_rng(35)
+    for label, src, lo, hi, suffix in cases[:count]:
+        for refine in ((True, False) if "variable" in label else (True,)):
+            out = folder / ("Brush%d%s" % (len(rows), suffix))
+            c0 = time.process_time()
+            st = brush_variable(src, out, lo, nib_max=hi, tol=TOL, refine=refine)
+            cpu = time.process_time() - c0
+            vf = TTFont(str(out))
+            axes = vf["fvar"].axes
+            spots = _spots(axes, positions, randoms, rng)
+            worst, anchor, holes = _brushed_error(vf, st, src, lo, spots)
+            rep = st["refinement"]
+            rows.append({"label": label + ("" if refine else ", source masters only"),
+                         "suffix": suffix, "size": out.stat().st_size,
+                         "axes": ", ".join("%s %g..%g" % (a.axisTag, a.minValue, a.maxValue)
+                                           for a in axes),
+                         "nibs": (lo, hi), "masters": len(st["masters"]),
+                         "sources": "-" if rep is None else "%d + %d" % (rep["given"],
+                                                                        rep["added"]),
+                         "blend": "-" if rep is None else "%.2f / %.2f" % (
+                             max(rep["errors_before"].values()), rep["error"]),
+                         "cpu": cpu, "per": 1000 * st["fit_seconds"] / max(1, st["glyphs"]) /
+                         len(st["masters"]), "worst": worst, "anchor": anchor,
+                         "positions": len(spots), "pinholes": holes})
     return rows
 
 
@@ -319,15 +354,24 @@ def main():
                                               "relief-singleline" / "Relief-SingleLine.ufo"))
     ap.add_argument("--subset", default=str(ROOT / "tests" / "data" / "relief" /
                                             "Relief-SingleLine-subset.ufo"))
-    ap.add_argument("--out", default=str(ROOT / "bench" / "varfont.md"))
+    ap.add_argument("--out", default=None,
+                    help="the report (default bench/varfont.md, with --part brush "
+                         "bench/varfont_brush.md)")
+    ap.add_argument("--part", choices=("all", "stroke", "brush"), default="all",
+                    help="sections 1-5 (stroke), 6 (brush) or all")
     ap.add_argument("--positions", type=int, default=9)
     ap.add_argument("--random", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--cases", type=int, default=None,
+                    help="section 6: the first this many brushed cases (default: all)")
     ap.add_argument("--no-fontforge", action="store_true")
     ap.add_argument("--glyphs", default=None, help="glyph names of the subset (default: all)")
     ap.add_argument("--measure", default=None,
                     help="glyphs whose instances are measured (default: --glyphs)")
     args = ap.parse_args()
+    if args.out is None:
+        args.out = str(ROOT / "bench" / ("varfont_brush.md" if args.part == "brush"
+                                         else "varfont.md"))
     glyphs = None if args.glyphs is None else args.glyphs.split(",")
     measured = glyphs if args.measure is None else args.measure.split(",")
     for name in ("ufo2ft", "fontTools"):
@@ -340,100 +384,111 @@ def main():
              "STAMP", "",
              "CPU times are process_time (the machine is shared); tol %g font units." % TOL,
              ""]
-    whole = None
-    if Path(args.skeleton).is_dir():
-        whole = whole_font(args.skeleton, folder, args.jobs)
-        r = whole[".ttf"]
-        lines += ["## 1. Relief SingleLine (%d glyphs), nib axis %s -> %s" % (
-            r["glyphs"], NIB_MIN, NIB_MAX), "",
-            "| output | masters | fit CPU s | per glyph per master | whole call CPU s | "
-            "size |", "|---|---|---|---|---|---|"]
-        for suffix, r in whole.items():
-            lines.append("| %s | %d | %.1f | %.1f ms | %.1f | %d bytes |" % (
-                suffix, r["masters"], r["fit"], 1000 * r["fit"] / r["glyphs"] / r["masters"],
-                r["cpu"], r["size"]))
-        lines.append("")
-    var_path = folder / "SubsetNib.ttf"
-    c0 = time.process_time()
-    st = stroke_variable(args.subset, var_path, NIB_MIN, NIB_MAX, glyphs=glyphs, tol=TOL,
-                         overwrite=True)
-    var_cpu = time.process_time() - c0
-    statics = static_fonts(args.subset, folder, glyphs)
-    lines += ["## 2. Relief subset (%d glyphs): variable against static" % st["glyphs"], "",
-              "Compatible fit: %.1f CPU s for %d glyphs x %d masters, %.1f ms per glyph per "
-              "master." % (st["fit_seconds"], st["glyphs"], len(st["masters"]),
-                           1000 * st["fit_seconds"] / st["glyphs"] / len(st["masters"])), "",
-              "| font | size | CPU s |", "|---|---|---|",
-              "| variable TTF (2 masters, overlapping, no IUP) | %d | %.1f |" % (
-                  var_path.stat().st_size, var_cpu)]
-    for r in statics:
-        lines.append("| static TTF, nib %s (trimmed) | %d | %.1f |" % (
-            r["nib"], r["size"], r["cpu"]))
-    lines += ["", "Instances (fontTools.varLib.instancer) against the exact sum, every glyph: "
-              "the least d with erode(S, d) ⊆ F ⊆ dilate(S, d) (pinholes < 1 unit² aside), "
-              "and the pinholes (> 0.001 unit²) the rounded outline leaves at swallowtail "
-              "cusps. Bound: tol + 2 x 0.71 (the masters' and the instance's integer "
-              "rounding) = %.2f units." % (TOL + 2 ** 0.5), ""]
-    rows, count = instance_errors(args.subset, var_path, args.positions, args.random,
-                                  measured)
-    lines += ["| NIBW | max d | glyph | pinholes | largest pinhole (unit²) |",
-              "|---|---|---|---|---|"]
-    for r in rows:
-        lines.append("| %.2f | %.3f | %s | %d | %.3f |" % (r["value"], r["max"], r["glyph"],
-                                                          r["pinholes"], r["largest_pinhole"]))
-    lines += ["", "Largest over %d glyphs x %d locations: %.3f units." % (
-        count, len(rows), max(r["max"] for r in rows)), ""]
-    lines += ["## 3. Masters a nib axis needs (blend share %.2f units)" % (0.4 * TOL), "",
-              "| from | to | tag | masters |", "|---|---|---|---|"]
-    for a, b, tag, n in masters_needed():
-        lines.append("| %s | %s | %s | %d |" % (a, b, tag, n))
-    ff = None if args.no_fontforge else fontforge_compat(args.subset, glyphs)
-    lines += ["", "## 4. FontForge Expand Stroke at the two nibs", ""]
-    if ff is None:
-        lines.append("Not measured (--no-fontforge, or no %s with python3-fontforge)."
-                     % SYSTEM_PYTHON)
-    elif "error" in ff:
-        lines.append("FontForge failed: %s" % ff["error"])
-    else:
-        lines.append("Of %d glyphs, %d have the same contours and segment types at both "
-                     "nibs (%d differ in the number of contours); varLib on FontForge's two "
-                     "masters: %s. morph's masters are compatible by construction (every "
-                     "glyph)." % (ff["glyphs"], ff["same"], ff["contours_differ"],
-                                  ff["varlib"]))
-    lines += ["", "## 5. Skeleton designspaces: intermediate skeleton masters", "",
-              "The subset's glyphs %s in a Regular master and a Wide master (x' = (1 + "
-              "widen) x + slant y). Bound: tol + 2 x 0.71 = %.2f units; the blend share "
-              "of tol %.2f units (halved when the nib axis is inexact too). Estimate: the "
-              "nib parts' blend at equal parameter (an upper bound); measured: instancer "
-              "against Clipper at %d positions of wdth (NIBW at its maximum), the least d "
-              "with erode(S, d) ⊆ F ⊆ dilate(S, d), pinholes < 2 unit² aside."
-              % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions), "",
-              "| slant, widen | nibs | estimate before | skeleton masters | estimate after | "
-              "measured, given masters | measured, with intermediate | CPU s (given / "
-              "refined) |", "|---|---|---|---|---|---|---|---|"]
-    for r in skeleton_designspaces(args.subset, folder, args.positions):
-        g, f = r["given"], r["refined"]
-        rep = f["report"]
-        lines.append("| %g, %g | %s | %.2f | 2 + %d | %.2f | %.2f (%s) | %.2f (%s) | %.1f / "
-                     "%.1f |" % (r["slant"], r["widen"], " -> ".join(
-                         str(tuple(n)) for n in r["nibs"] if n is not None),
-                         rep["errors_before"]["Width"], rep["added"], rep["error"],
-                         g["worst"][0], g["worst"][1], f["worst"][0], f["worst"][1],
-                         g["cpu"], f["cpu"]))
-    lines += ["", "## 6. Brushed variable fonts (small mark fonts: o, e, n, acutecomb)", "",
-              "Each axis at %d positions (the others at their defaults), instancer against "
-              "the source's instance ⊕ the nib there (Clipper), pinholes < 2 unit² aside; "
-              "anchors: the largest distance of the e / acutecomb mark anchors from the "
-              "source's moved by their glyph's shift (rounding: <= 1 unit)."
-              % args.positions, "",
-              "| source | nibs | axes | masters | CPU s | fit ms per glyph per master | "
-              "max d | where | pinholes | anchor error |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
-    for r in brushed_fonts(folder, args.positions):
-        lines.append("| %s | %s | %s | %d | %.1f | %.1f | %.3f | %s | %d | %.1f |" % (
-            r["label"], " -> ".join(str(tuple(n)) for n in r["nibs"] if n is not None),
-            r["axes"], r["masters"], r["cpu"], r["per"], r["worst"][0], r["worst"][1],
-            r["pinholes"], r["anchor"]))
+    if args.part in ("all", "stroke"):
+        whole = None
+        if Path(args.skeleton).is_dir():
+            whole = whole_font(args.skeleton, folder, args.jobs)
+            r = whole[".ttf"]
+            lines += ["## 1. Relief SingleLine (%d glyphs), nib axis %s -> %s" % (
+                r["glyphs"], NIB_MIN, NIB_MAX), "",
+                "| output | masters | fit CPU s | per glyph per master | whole call CPU s | "
+                "size |", "|---|---|---|---|---|---|"]
+            for suffix, r in whole.items():
+                lines.append("| %s | %d | %.1f | %.1f ms | %.1f | %d bytes |" % (
+                    suffix, r["masters"], r["fit"], 1000 * r["fit"] / r["glyphs"] / r["masters"],
+                    r["cpu"], r["size"]))
+            lines.append("")
+        var_path = folder / "SubsetNib.ttf"
+        c0 = time.process_time()
+        st = stroke_variable(args.subset, var_path, NIB_MIN, NIB_MAX, glyphs=glyphs, tol=TOL,
+                             overwrite=True)
+        var_cpu = time.process_time() - c0
+        statics = static_fonts(args.subset, folder, glyphs)
+        lines += ["## 2. Relief subset (%d glyphs): variable against static" % st["glyphs"], "",
+                  "Compatible fit: %.1f CPU s for %d glyphs x %d masters, %.1f ms per glyph per "
+                  "master." % (st["fit_seconds"], st["glyphs"], len(st["masters"]),
+                               1000 * st["fit_seconds"] / st["glyphs"] / len(st["masters"])), "",
+                  "| font | size | CPU s |", "|---|---|---|",
+                  "| variable TTF (2 masters, overlapping, no IUP) | %d | %.1f |" % (
+                      var_path.stat().st_size, var_cpu)]
+        for r in statics:
+            lines.append("| static TTF, nib %s (trimmed) | %d | %.1f |" % (
+                r["nib"], r["size"], r["cpu"]))
+        lines += ["", "Instances (fontTools.varLib.instancer) against the exact sum, every glyph: "
+                  "the least d with erode(S, d) ⊆ F ⊆ dilate(S, d) (pinholes < 1 unit² aside), "
+                  "and the pinholes (> 0.001 unit²) the rounded outline leaves at swallowtail "
+                  "cusps. Bound: tol + 2 x 0.71 (the masters' and the instance's integer "
+                  "rounding) = %.2f units." % (TOL + 2 ** 0.5), ""]
+        rows, count = instance_errors(args.subset, var_path, args.positions, args.random,
+                                      measured)
+        lines += ["| NIBW | max d | glyph | pinholes | largest pinhole (unit²) |",
+                  "|---|---|---|---|---|"]
+        for r in rows:
+            lines.append("| %.2f | %.3f | %s | %d | %.3f |" % (r["value"], r["max"], r["glyph"],
+                                                              r["pinholes"], r["largest_pinhole"]))
+        lines += ["", "Largest over %d glyphs x %d locations: %.3f units." % (
+            count, len(rows), max(r["max"] for r in rows)), ""]
+        lines += ["## 3. Masters a nib axis needs (blend share %.2f units)" % (0.4 * TOL), "",
+                  "| from | to | tag | masters |", "|---|---|---|---|"]
+        for a, b, tag, n in masters_needed():
+            lines.append("| %s | %s | %s | %d |" % (a, b, tag, n))
+        ff = None if args.no_fontforge else fontforge_compat(args.subset, glyphs)
+        lines += ["", "## 4. FontForge Expand Stroke at the two nibs", ""]
+        if ff is None:
+            lines.append("Not measured (--no-fontforge, or no %s with python3-fontforge)."
+                         % SYSTEM_PYTHON)
+        elif "error" in ff:
+            lines.append("FontForge failed: %s" % ff["error"])
+        else:
+            lines.append("Of %d glyphs, %d have the same contours and segment types at both "
+                         "nibs (%d differ in the number of contours); varLib on FontForge's two "
+                         "masters: %s. morph's masters are compatible by construction (every "
+                         "glyph)." % (ff["glyphs"], ff["same"], ff["contours_differ"],
+                                      ff["varlib"]))
+        lines += ["", "## 5. Skeleton designspaces: intermediate skeleton masters", "",
+                  "The subset's glyphs %s in a Regular master and a Wide master (x' = (1 + "
+                  "widen) x + slant y). Bound: tol + 2 x 0.71 = %.2f units; the blend share "
+                  "of tol %.2f units (halved when the nib axis is inexact too). Estimate: the "
+                  "nib parts' blend at equal parameter (an upper bound); measured: instancer "
+                  "against Clipper at %d positions of wdth (NIBW at its maximum), the least d "
+                  "with erode(S, d) ⊆ F ⊆ dilate(S, d), pinholes < 2 unit² aside."
+                  % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions), "",
+                  "| slant, widen | nibs | estimate before | skeleton masters | estimate after | "
+                  "measured, given masters | measured, with intermediate | CPU s (given / "
+                  "refined) |", "|---|---|---|---|---|---|---|---|"]
+        for r in skeleton_designspaces(args.subset, folder, args.positions):
+            g, f = r["given"], r["refined"]
+            rep = f["report"]
+            lines.append("| %g, %g | %s | %.2f | 2 + %d | %.2f | %.2f (%s) | %.2f (%s) | %.1f / "
+                         "%.1f |" % (r["slant"], r["widen"], " -> ".join(
+                             str(tuple(n)) for n in r["nibs"] if n is not None),
+                             rep["errors_before"]["Width"], rep["added"], rep["error"],
+                             g["worst"][0], g["worst"][1], f["worst"][0], f["worst"][1],
+                             g["cpu"], f["cpu"]))
+    if args.part in ("all", "brush"):
+        lines += ["", "## 6. Brushed variable fonts (small mark fonts: o, e, n, acutecomb)", "",
+                  "Each axis at %d positions (the others at their defaults) and %d random "
+                  "points (fontTools' instancer) against the source's instance ⊕ the nib "
+                  "there (Clipper), pinholes < 2 unit² aside; bound: tol + 2 x 0.71 = %.2f "
+                  "units per 1000 em. Source masters: the source's grid (every region's "
+                  "start, peak and end) + the intermediate ones added until the blend (the "
+                  "filled outlines' distance between the blend of two masters and the exact "
+                  "sum at 1/4, 1/2, 3/4 of the way) is within its share of tol (%.2f units, "
+                  "halved with an inexact nib axis); blend: before / after. Anchors: the "
+                  "largest distance of the e / acutecomb mark anchors from the source's moved "
+                  "by their glyph's shift (rounding: <= 1 unit)."
+                  % (args.positions, args.random, TOL + 2 ** 0.5, 0.4 * TOL), "",
+                  "| source | output | nibs | axes | masters | source masters | blend | size | "
+                  "CPU s | fit ms per glyph per master | max d | where | pinholes | anchor "
+                  "error |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in brushed_fonts(folder, args.positions, args.random, args.cases):
+            lines.append("| %s | %s | %s | %s | %d | %s | %s | %d | %.1f | %.1f | %.3f | %s | %d "
+                         "| %.1f |" % (
+                             r["label"], r["suffix"], " -> ".join(
+                                 str(tuple(n)) for n in r["nibs"] if n is not None),
+                             r["axes"], r["masters"], r["sources"], r["blend"], r["size"],
+                             r["cpu"], r["per"], r["worst"][0], r["worst"][1], r["pinholes"],
+                             r["anchor"]))
     lines[2] = stamp(seconds=time.perf_counter() - t_start)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

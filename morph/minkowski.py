@@ -163,18 +163,21 @@ def _not_vanished(loops, tol, which=""):
                          "most %.3g" % (which, tol, tol / 10), tol / 10)
 
 
-def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None):
+def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None):
     """(boundary, debug) of A ⊕ B (:func:`minkowski_sum` after its checks).
 
     ``slot_of(points)``: which independent part (:class:`morph.packing.Packing`) each
     point is in; the corner pass then trims again only the parts it refines.
+    ``member``: the hole test of :func:`morph.trim.boundary` (default
+    :class:`_HoleTest` of A and B; packed frames, whose B differs per part, pass
+    one that tests each hole with its own part's operands).
     """
     slot_of = slot_of or (lambda pts: np.zeros(len(pts), np.int64))
     if gauss_pair is None or gauss_pair.table is None:
         names = ("region_a", "region_b")
         gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b, names))
     conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair)
-    member = _HoleTest(region_a, region_b, tol)
+    member = member or _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
         slot = slot_of(pc.end_points(conv.pieces)[0])

@@ -909,21 +909,21 @@ def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkey
     Where that certificate fails (forced here, once per segment start), the segment
     is searched again certifying every try: every returned cubic is certified (its
     panels sampled densely against its bound, R by plain Bernstein sums)."""
-    real = search_mod._fit_ranges
+    real = search_mod._fit_batch
     provisional, refused = set(), []
 
-    def refusing(requests, tol):
-        out = real(requests, tol)
-        for k, (r, o) in enumerate(zip(requests, out)):
-            key = (id(r[0]), r[1], r[2])
-            if o[2] is None:
+    def refusing(chains, req, tol):
+        out = real(chains, req, tol)
+        for k in range(len(req.chain)):
+            key = (int(req.chain[k]), float(req.t0[k]), float(req.t1[k]))
+            if out.kind[k] == search_mod.SHORT:
                 provisional.add(key)
-            elif key in provisional and len(r) > 4 and r[4] == 0.0 and r[1] not in refused:
-                refused.append(r[1])
-                out[k] = (o[0], 2.0 * tol, o[2])
+            elif key in provisional and req.need[k] == 0.0 and key[1] not in refused:
+                refused.append(key[1])
+                out.bound[k] = 2.0 * tol
         return out
 
-    monkeypatch.setattr(search_mod, "_fit_ranges", refusing)
+    monkeypatch.setattr(search_mod, "_fit_batch", refusing)
     pieces = g1_arcs([1, 3, 0.5, 2, 1])
     segs = chain_segments(pieces, tol)
     assert refused, "no search ended on a provisional try"

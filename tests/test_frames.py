@@ -112,8 +112,9 @@ def test_sum_command_missing_glyph_is_one_line(tmp_path):
 
 @pytest.mark.parametrize("a, b, cff", [("T", "M", False), ("S", "g", True)])
 def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
-    """morph_frames computes the Gauss maps and compatible pairs once (cache=True).
-    The convolution pieces are those of independent sums to rounding (1e-12 of the
+    """morph_frames computes the Gauss maps and compatible pairs once (cache=True;
+    here each frame summed alone, batch=False: test_packed_frames_... checks the
+    packed sums).  The convolution pieces are those of independent sums to rounding (1e-12 of the
     size); the trimmed frames agree to 1e-6 of the size: cutting at near-tangent
     crossings amplifies that rounding (a shift e becomes e / sin(angle))."""
     from morph import convolve
@@ -134,13 +135,94 @@ def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
         assert c0.piece.shape == c1.piece.shape
         assert np.abs(pc.cartesian(c0.piece) - pc.cartesian(c1.piece)).max() <= 1e-12 * size
     plain = morph_frames(ra, rb, 4, 1.0, cache=False)
-    cached = morph_frames(ra, rb, 4, 1.0, cache=True)
+    cached = morph_frames(ra, rb, 4, 1.0, cache=True, batch=False)
     assert len(plain) == len(cached)
     for f0, f1 in zip(plain, cached):
         assert [len(loop) for loop in f0] == [len(loop) for loop in f1]
         for p, q in zip([p for loop in f0 for p in loop], [q for loop in f1 for q in loop]):
             assert p.shape == q.shape
             assert np.abs(pc.cartesian(p) - pc.cartesian(q)).max() <= 1e-6 * size
+
+def _frame_faults(frame, a, b, tol, rng):
+    """How many of a frame's boundary samples (24, mid-piece) have no point of the
+    exact sum (1 - a) A ⊕ a B, or no point outside it, within tol (probed at the two
+    normal points and 24 around, tests.oracles.membership.straddle), plus how many of
+    20 random points in its box the exact membership predicate x ∈ A ⊕ B ⇔
+    A ∩ (x − B) ≠ ∅ places on the other side of the frame's boundary."""
+    from tests.oracles.membership import Oracle, boundary_samples, inside, straddle
+
+    oracle = Oracle(a, b, 1e-3)
+    pts, nrm = boundary_samples(frame)
+    pick = rng.choice(len(pts), min(24, len(pts)), replace=False)
+    probes = straddle(oracle, pts[pick], nrm[pick], tol)
+    box = region_bbox(frame)
+    x = rng.uniform(box[:2] - 20 * tol, box[2:] + 20 * tol, size=(20, 2))
+    return int(np.sum(probes.all(axis=1) | ~probes.any(axis=1))
+               + np.sum(inside(frame, x) != oracle(x)))
+
+
+@pytest.mark.parametrize("a, b, tol, cff", [("T", "M", 1.0, False), ("S", "g", 0.5, True)])
+def test_packed_frames_are_the_frames_summed_one_by_one(a, b, tol, cff, monkeypatch):
+    """iter_frames sums the inner frames together, moved apart (one packed sum of
+    up to FRAME_GROUP frames).  Each packed frame k is (1 - a) A ⊕ a B at its own a
+    by the exact membership predicate (:func:`_frame_faults`: its boundary within tol
+    of the exact one, random points on the right side), and it is the frame summed
+    alone: the same loops of as many pieces, the same achieved bound, and within
+    the two bounds of each other (Hausdorff; each is within its bound of the exact
+    frame).  Not to rounding: the integer grid on which the trimming decides the
+    topology has another phase in the packed sum (its origin is the centre of all
+    the frames' polylines), so where two convolution segments nearly coincide (the
+    horizontal stems of T and M) the junction between them can move along them,
+    within the trimming's shares (0.13 tol here).  The check fails a frame moved by
+    2 tol, and a frame checked at its neighbour's a.  Groups of 3 frames
+    (FRAME_GROUP is 8) keep the oracle's work small: 7 frames are the two
+    operands, a group of 3 and one of 2."""
+    from morph import frames
+    from morph.parse import cubic_test_font_path
+    from morph.region import translate_region
+    from tests.oracles.reference import hausdorff, region_to_shapely
+
+    font = cubic_test_font_path() if cff else None
+    ra, rb = glyph_region(a, font).region, glyph_region(b, font).region
+    monkeypatch.setattr(frames, "FRAME_GROUP", 3)
+    n = 7
+    packed = morph_frames(ra, rb, n, tol)
+    alone = morph_frames(ra, rb, n, tol, batch=False)
+    ca, cb = centered(ra), centered(rb)
+    operands = [(scale_region(ca, 1.0 - t), scale_region(cb, t))
+                for t in np.linspace(0.0, 1.0, n)]
+    rng = np.random.default_rng(7)
+    for k in range(1, n - 1):
+        f, g = packed[k], alone[k]
+        assert _frame_faults(f, *operands[k], tol, rng) == 0, k
+        assert [len(loop) for loop in f] == [len(loop) for loop in g], k
+        assert abs(f.bound - g.bound) <= 1e-9 * tol, k
+        # sampled every tol / 2: at most tol / 4 short of the distance
+        assert hausdorff(region_to_shapely(f, tol / 20), region_to_shapely(g, tol / 20),
+                         spacing=tol / 2) <= f.bound + g.bound, k
+    assert _frame_faults(translate_region(packed[3], (2 * tol, 0.0)), *operands[3], tol,
+                         rng) > 0
+    assert _frame_faults(packed[4], *operands[3], tol, rng) > 0
+
+
+def test_packed_frames_test_holes_at_their_own_scale():
+    """(1 - a) R ⊕ a D of a ring R (radii 10 and 4) and a disk D (radius 3) is a ring
+    of radii 10 (1 - a) + 3 a and 4 (1 - a) - 3 a, or a disk once a >= 4/7: the
+    disk's convolution with the hole leaves a cell of winding 0 that the exact
+    membership test fills (Sec. 6).  Every packed frame has its hole exactly when
+    it should, and its area (within tol times the perimeters): each hole is
+    tested with its own frame's operands, not another frame's."""
+    from morph.region import reverse_loop
+
+    ring = [pc.circle((0.0, 0.0), 10.0), reverse_loop(pc.circle((0.0, 0.0), 4.0))]
+    disk = [pc.circle((0.0, 0.0), 3.0)]
+    n, tol = 7, 1e-3
+    for f, a in zip(morph_frames(ring, disk, n, tol), np.linspace(0.0, 1.0, n)):
+        outer, inner = 10.0 * (1 - a) + 3.0 * a, 4.0 * (1 - a) - 3.0 * a
+        assert len(f) == (2 if inner > 0 else 1), a
+        area = np.pi * (outer ** 2 - max(inner, 0.0) ** 2)
+        assert abs(mo.region_area(f) - area) <= tol * 2 * np.pi * (outer + max(inner, 0.0))
+
 
 def test_frames_report_the_error_each_achieved(tm_frames):
     """Each frame's bound: 0 for the operands, (0, tol] for the sums."""
@@ -245,3 +327,28 @@ def test_glyph_command_refuses_an_animation_beyond_memory(tmp_path, monkeypatch)
     res = CliRunner().invoke(main, ["glyph", "T", "M", "--frames", "3", "--size", "1024",
                                     "--animation", "apng", "-o", str(out)])
     assert res.exit_code == 0, res.output
+
+
+def test_a_frame_that_raises_comes_after_the_frames_before_it(monkeypatch):
+    """When a packed group of frames raises, its frames are summed one by one: the
+    frames before the one that fails still arrive, then its own error."""
+    from morph import frames
+    from morph.errors import LimitError
+
+    def packed_fails(*args):
+        raise LimitError("the packed sum failed")
+
+    real = frames._one_frame
+
+    def third_fails(a, b, t, *args):
+        if abs(t - 3 / 7) < 1e-12:
+            raise LimitError("frame 3 failed")
+        return real(a, b, t, *args)
+
+    monkeypatch.setattr(frames, "_split_frames", packed_fails)
+    monkeypatch.setattr(frames, "_one_frame", third_fails)
+    got = []
+    with pytest.raises(LimitError, match="frame 3"):
+        for f in iter_frames(glyph_region("T").region, glyph_region("M").region, 8, 1.0):
+            got.append(f)
+    assert len(got) == 3 and got[0].bound == 0.0 and all(f.bound > 0 for f in got[1:])

@@ -84,8 +84,8 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
 
     A variable FONT (glyf/gvar or CFF2) without --location keeps every axis:
     each master's glyphs are brushed as untrimmed, overlapping contours
-    compatible across the masters (overlap flags set), its layout kept; the
-    output is TrueType (.ttf, .woff2, .woff).  --vary-nib adds a nib axis, to a
+    compatible across the masters, its layout kept; the output is TrueType
+    (.ttf, .woff2, .woff: overlap flags set) or CFF2 (.otf).  --vary-nib adds a nib axis, to a
     static FONT (or FONT at --location) too.  Static outputs are trimmed: one
     outline, free of overlaps.
 

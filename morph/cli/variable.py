@@ -28,8 +28,11 @@ BRUSH_VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib 
                        "(user value: the diameter's growth in units per 1000 em; the "
                        "advances stay those of the --nib disk, so no text reflows); "
                        "other nibs NIBW (the nib width) or NIBP (percent of the way). The "
-                       "output is TrueType (.ttf, .woff2, .woff) with overlapping "
-                       "contours (overlap flags set).")
+                       "output keeps overlapping contours: TrueType (.ttf, .woff2, .woff: "
+                       "glyf/gvar, overlap flags set) or CFF2 (.otf). Intermediate masters "
+                       "are added where an instance would miss the exact sum by more than "
+                       "its share of --tol (a nib that turns or changes aspect; a variable "
+                       "FONT whose interpolation turns the outlines).")
 
 
 def parse_vary_nib(spec, parse_nib):
@@ -143,10 +146,6 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
         raise InputError("a variable brushed font (a variable FONT keeping its axes, or "
                          "--vary-nib) needs an elliptical --nib, not --nib-svg (give "
                          "--location for a static instance)")
-    if out.suffix.lower() == ".otf":
-        raise InputError("a variable brushed font is written as TrueType (glyf/gvar: the "
-                         "overlapping contours of all masters are converted to quadratics "
-                         "together): use -o %s.ttf (or .woff2, .woff), not .otf" % out.stem)
     nib = parse_nib(nib)
     nib_max = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
     if nib_max is not None and tuple(map(float, nib)) == tuple(map(float, nib_max)):
@@ -173,8 +172,11 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
     write_specimen(out, None, sample=sample)
     axes = ["%s %g..%g" % (a.axisTag, a.minValue, a.maxValue)
             for a in stats["font"]["fvar"].axes]
-    click.echo("wrote %s (variable, axes %s, %s, %s brushed, %.1f s), sample %s and "
+    rep = stats["refinement"]
+    added = "" if not rep or not rep["added"] else \
+        " (%s)" % count(rep["added"], "intermediate source master")
+    click.echo("wrote %s (variable, axes %s, %s%s, %s brushed, %.1f s), sample %s and "
                "specimen %s" % (out, ", ".join(axes), count(len(stats["masters"]), "master"),
-                                count(stats["glyphs"], "glyph"), time.perf_counter() - t0,
-                                png, page))
+                                added, count(stats["glyphs"], "glyph"),
+                                time.perf_counter() - t0, png, page))
     return 0

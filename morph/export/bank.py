@@ -106,8 +106,8 @@ class Bank:
         p, d = np.empty((len(gids), len(t), 2)), np.empty((len(gids), len(t), 2))
         for rows, h in self.gather(gids):
             n = h.shape[1] - 1
-            val = np.einsum("qi,pij->pqj", bz.basis(n, t), h)
-            dval = np.einsum("qi,pij->pqj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+            val = np.matmul(bz.basis(n, t), h)                      # (p, q, 3)
+            dval = np.matmul(bz.basis(n - 1, t), n * np.diff(h, axis=1))
             w = val[..., 2:3]
             p[rows] = val[..., :2] / w
             d[rows] = (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2

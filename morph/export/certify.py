@@ -280,12 +280,13 @@ def _reparams(groups, cubics, tol, start=None):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
     ``groups``: the sub-pieces by degree, [(rows, stack)] (:func:`degree_groups`).
-    Returns ``(phis, size, c, normal)``: for each (sub-piece, cubic) pair phi's
+    Returns ``(phis, size, c, normal, u)``: for each (sub-piece, cubic) pair phi's
     increasing Bernstein coefficients (``phis`` (k, 10), the first ``size`` of a row
     used) of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
     PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
-    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat).  Where no
+    distance |R(u_j) - C(s_j)| (what no reparametrisation can beat), and the feet
+    u (k, 24) themselves.  Where no
     polynomial follows the feet that closely (a rational piece whose speed varies by
     30x along it: QAC pieces of a stroke), phi is fitted again in the parameter v
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
@@ -325,7 +326,7 @@ def _reparams(groups, cubics, tol, start=None):
         better = miss2 < miss[retry]
         i = retry[better]
         phis[i], size[i], c[i], miss[i] = again[better], asize[better], cm[better], miss2[better]
-    return phis, size, c, normal
+    return phis, size, c, normal, u
 
 
 def _phi_fits(v, speed, tol):
@@ -357,22 +358,28 @@ def _phi_fits(v, speed, tol):
 class Certified:
     """The certificates of a batch of (sub-piece, cubic) pairs (:func:`certify_batch`):
     ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
-    made only when asked for (writers of outlines need the bounds, not the maps)."""
+    made only when asked for (writers of outlines need the bounds, not the maps).
+    A pair certified as halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are
+    rows half[i] and half[i] + ``sub_n`` of ``sub`` (the Certified of all halved
+    pairs of the batch), the sub-piece cut at ``half_u[i]``."""
 
-    __slots__ = ("bound", "phis", "size", "c", "halves")
+    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n")
 
     def __init__(self, bound, phis, size, c):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
-        self.halves = {}            # pair -> (Certified of the halves, left, right, u)
+        self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
+        self.sub, self.sub_n = None, 0
 
     def panels(self, i):
         """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
         :func:`certify_many`)."""
-        if i in self.halves:
-            sub, jl, jr, u = self.halves[i]
-            return ([(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u)) for a, b, f in sub.panels(jl)]
+        j = int(self.half[i])
+        if j >= 0:
+            u = float(self.half_u[i])
+            return ([(0.5 * a, 0.5 * b, affine_reparam(f, 0.0, u))
+                     for a, b, f in self.sub.panels(j)]
                     + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
-                       for a, b, f in sub.panels(jr)])
+                       for a, b, f in self.sub.panels(j + self.sub_n)])
         f, c = self.phis[i, :self.size[i]], self.c[i]
         return [(0.0, 1.0, np.stack([c * f, (c - 1.0) * f + 1.0], axis=1))]
 
@@ -396,19 +403,31 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
     ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
     ``start``: starting feet of the nodes (:func:`_reparams`), or None.
 
-    The bound is the certificate of the module
-    docstring on the exact composition R o mu o phi (R with weights scaled by c^i,
-    then :func:`morph.bernstein.compose_many`, one call per pair of degrees, then
-    :func:`morph.nearest.distance_bound_many`).  Where it exceeds tol although the
+    The bound is the certificate of the module docstring on the exact composition
+    R o mu o phi (:func:`_composed_bounds`).  Where it exceeds tol although the
     cubic is within tol of the curve at the nodes (the parametrisations differ more
     than a polynomial of degree 9 follows: rational straight pieces, zero end
-    derivatives) the cubic is halved exactly at s = 1/2 (de Casteljau), the
-    sub-piece at the foot of C(1/2), and the halves certified alone, ``depth``
-    times.  A bound <= tol is certified; above tol it may be a sampled distance (a
-    cubic farther than tol from the curve at a node is not composed at all).
+    derivatives) the cubic is halved and the halves certified alone
+    (:func:`_halved`), ``depth`` times.  A bound <= tol is certified; above tol it
+    may be a sampled distance (a cubic farther than tol from the curve at a node is
+    not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, size, cs, normal = _reparams(groups, cubics, tol, start)
+    phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start)
+    bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
+    out = Certified(bound, phis, size, cs)
+    if depth > 0:
+        _halved(groups, cubics, out, np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0],
+                feet, tol, depth)
+    return out
+
+
+def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):
+    """Per pair the certificate on R o mu o phi: R with its weights scaled by c^i (the
+    Möbius map), composed with phi (:func:`morph.bernstein.compose_many`, one call
+    per degree of the pieces and of phi), bounded by
+    :func:`morph.nearest.distance_bound_many`; pairs whose foot distance ``normal``
+    already exceeds tol keep it (they fail without a composition)."""
     bound = normal.copy()
     for rows, stack in groups:
         n = stack.shape[1]
@@ -420,11 +439,21 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
             if m > 2:
                 comp = bz.compose_many(comp, phis[r, :m])
             bound[r] = nr.distance_bound_many(comp, cubics[r], REFINE)[0]
-    out = Certified(bound, phis, size, cs)
-    rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0] if depth > 0 else []
+    return bound
+
+
+def _halved(groups, cubics, out, rows, feet, tol, depth):
+    """Certify the pairs ``rows`` of ``out`` (a :class:`Certified`) again as halves:
+    the cubic split exactly at s = 1/2 (de Casteljau), the sub-piece at the foot u of
+    C(1/2) (pairs whose foot is an end are left), each half certified alone
+    (:func:`certify_batch`, ``depth - 1``); the worse half's bound replaces the
+    pair's where it is smaller (``out`` updated in place: ``half``, ``half_u``,
+    ``sub``).  The feet of the parent's nodes (``feet``, (k, 24)) start every
+    Newton search of the halves (:func:`_half_starts`): nothing is sampled again."""
     if not len(rows):
-        return out
+        return
     mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
+    guess = _half_starts(feet[rows])
     um = np.empty(len(rows))
     where = np.full(len(cubics), -1)
     where[rows] = np.arange(len(rows))
@@ -433,29 +462,45 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
         sel = np.nonzero(where[grp] >= 0)[0]
         if len(sel):
             j = where[grp[sel]]
-            um[j] = nr.nearest_params_many(stack[sel], mids[j])[:, 0]
+            jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
+            um[j] = nr.closest_params_many(stack[sel], mids[j], guess[j, 24:25],
+                                           REPARAM_ITERS, jet)[:, 0]
             halves.append((j, stack[sel]))
-    inside = (um > 0) & (um < 1)
-    if not inside.any():
-        return out
-    keep = np.nonzero(inside)[0]                    # positions among rows
+    keep = np.nonzero((um > 0) & (um < 1))[0]                      # positions among rows
+    if not len(keep):
+        return
     renum = np.full(len(rows), -1)
     renum[keep] = np.arange(len(keep))
     left, right = bz.split_many(cubics[rows[keep]], np.full(len(keep), 0.5))
     sub_groups = []
     for j, stack in halves:
-        ok = inside[j]
+        ok = renum[j] >= 0
         if ok.any():
             lo, hi = bz.split_many(stack[ok], um[j[ok]])
-            pos = renum[j[ok]]
-            sub_groups += [(pos, lo), (len(keep) + pos, hi)]
-    res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1)
+            sub_groups += [(renum[j[ok]], lo), (len(keep) + renum[j[ok]], hi)]
+    u, g = um[keep, None], guess[keep]
+    start = np.concatenate([np.clip(g[:, :24] / u, 0.0, 1.0),
+                            np.clip((g[:, 25:] - u) / (1.0 - u), 0.0, 1.0)])
+    res = certify_batch(_merged(sub_groups), np.concatenate([left, right]), tol, depth - 1,
+                        start=start)
     b = np.maximum(res.bound[:len(keep)], res.bound[len(keep):])
-    for j in np.nonzero(b < bound[rows[keep]])[0].tolist():
-        i = int(rows[keep[j]])
-        bound[i] = b[j]
-        out.halves[i] = (res, j, len(keep) + j, float(um[keep[j]]))
-    return out
+    won = np.nonzero(b < out.bound[rows[keep]])[0]
+    i = rows[keep[won]]
+    out.bound[i], out.half[i], out.half_u[i] = b[won], won, um[keep[won]]
+    out.sub, out.sub_n = res, len(keep)
+
+
+def _half_starts(feet):
+    """The parent's feet (k, 24) at the nodes, read (linearly between the nodes, with
+    0 at 0 and 1 at 1) at the parameters of the halves' nodes and at 1/2:
+    (k, 49) = [left half's 24, at 1/2, right half's 24], in the parent piece's
+    parameter (the caller maps them into each half's)."""
+    s = np.concatenate([0.5 * _NODES, [0.5], 0.5 + 0.5 * _NODES])
+    x = np.concatenate([[0.0], _NODES, [1.0]])
+    u = np.concatenate([np.zeros((len(feet), 1)), feet, np.ones((len(feet), 1))], axis=1)
+    j = np.clip(np.searchsorted(x, s, side="right") - 1, 0, len(x) - 2)
+    w = (s - x[j]) / (x[j + 1] - x[j])
+    return u[:, j] * (1.0 - w) + u[:, j + 1] * w
 
 
 def _merged(groups):

@@ -286,9 +286,13 @@ def _handle_candidates(area, moment, ta, tm, good):
     n = len(area)
 
     def resid(d0, d1, rows=slice(None)):
-        mm = np.stack([np.ones_like(d0), d0, d1], -1)
-        nn = np.stack([d0, d1], -1)
-        return np.einsum("rga,rgb,rgc,rabc->rg", mm, nn, mm, tm[rows]) - moment[rows, None]
+        # sum_abc m_a n_b m_c tm_abc: the c sum as one stacked matrix product first
+        # (a four-operand einsum loops in C over every index at once, ~3x slower)
+        mm = np.stack([np.ones_like(d0), d0, d1], -1)              # (r, g, 3)
+        nn = np.stack([d0, d1], -1)                                 # (r, g, 2)
+        t = tm[rows].reshape(-1, 6, 3).transpose(0, 2, 1)           # (r, c, ab)
+        q = np.matmul(mm, t).reshape(mm.shape[:2] + (3, 2))
+        return np.einsum("rga,rgab,rgb->rg", mm, q, nn) - moment[rows, None]
 
     d0 = np.broadcast_to(_D0_GRID[None], (n, len(_D0_GRID)))
     d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)

@@ -22,23 +22,27 @@ with the classic circle cubic.  Where the fit finds no cubic, or its cubic does 
 certify, the same-parameter fit of :func:`morph.export.certify.fit_cubic` (Hermite /
 least squares) is tried, and the interval shrinks until one certifies.
 
-**The protocol of a search.**  A search is a generator (:func:`_search` and its
-steps :func:`_next_segment`, :func:`_split_at`, composed with ``yield from``): it
-yields a list of fit requests ``(chain, t0, t1, (start, end)[, need])`` and is sent
-back the list of their results ``(cubic, bound, panels)`` (:func:`_fit_ranges`), in
-order, or it yields :data:`NEED_ARC` when it needs its chain's arc-length table
-(made for all searches that ask in one batch); its return value
+**Two stages.**  The greedy search of every chain is one array state machine
+(:class:`morph.export.greedy.Greedy`): each chain's range, try, bracket and mode are
+rows of arrays, a round asks one fit of every chain still searching, and one numpy
+step takes all their results; no Python step runs per chain and round.  A chain the
+greedy search leaves with two segments or more is refined by a generator
+(:func:`_refine` and its steps :func:`_balanced_cuts`, :func:`_split_at`, composed
+with ``yield from``): it yields a list of fit requests ``(chain, t0, t1, (start,
+end))`` and is sent back the list of their results ``(cubic, bound, panels)``
+(:meth:`_Fits.result`), in order, or it yields :data:`NEED_ARC` when it needs its
+chain's arc-length table (made for all that ask in one batch); its return value
 (``StopIteration.value``) is the chain's list of
-:class:`~morph.export.certify.CubicFit`.  :func:`_drive` advances every search to
-its next yield, fits all pending requests of all searches in one batch, sends each
-search its share, and repeats until every search has returned.  A generator keeps
-the search's state (bracket, last fit) in its local variables between rounds: the
-numerical work is O(rounds) array calls; what remains per search and round is the
-scalar bookkeeping of its bracket (a few microseconds).
+:class:`~morph.export.certify.CubicFit`.  :func:`_drive` fits the requests of the
+machine and of the generators of a round together (:func:`_fit_batch`, arrays in,
+arrays out), and repeats until every chain is done.  The numerical work is O(rounds)
+array calls; the refining generators run only for chains of several segments, one
+Python step per such chain and round.
 """
 
 import contextlib
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -50,28 +54,24 @@ from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound, start_at_nodes)
 from .fit import Parts, _quadrature, arc_tables, make_chains, moment_cubics
+from .greedy import DONE, ERROR_POWER, Greedy
 
 
-def _parts(requests):
-    """The parts of every request ``(chain, t0, t1, ends[, need])``: piece k of the
-    chain restricted to its local [a, b] covers [t0, t1] (:class:`Parts`, in request
-    order), as arrays for all requests at once."""
-    chains = [r[0] for r in requests]
-    t0 = np.array([r[1] for r in requests], float)
-    t1 = np.array([r[2] for r in requests], float)
-    kk = np.array([c.k for c in chains])
-    off = np.array([c.off for c in chains])
+def _parts(chains, chain, t0, t1):
+    """The parts of every request (chain ``chain[r]`` on [t0[r], t1[r]]): piece k of
+    the chain restricted to its local [a, b] covers [t0, t1] (:class:`Parts`, in
+    request order), as arrays for all requests at once; and each part's k."""
+    kk, off = chains.k[chain], chains.off[chain]
     k0 = np.floor(t0).astype(int)
     k1 = np.minimum(kk, np.ceil(t1).astype(int))
     cnt = np.maximum(k1 - k0, 0)
-    req = np.repeat(np.arange(len(requests)), cnt)
+    req = np.repeat(np.arange(len(chain)), cnt)
     k = np.repeat(k0, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
     a = np.maximum(t0[req] - k, 0.0)
     b = np.minimum(t1[req] - k, 1.0)
     keep = b > a
     req, k, a, b = req[keep], k[keep], a[keep], b[keep]
-    bank = chains[0].bank
-    return Parts(req, bank.order[off[req] + k], a, b), k
+    return Parts(req, chains.bank.order[off[req] + k], a, b), k
 
 
 def _sub_groups(bank, parts, sel):
@@ -99,79 +99,127 @@ def _join_feet(parts, multi):
     return first[:, None] + 1 + col, count
 
 
-def _fit_ranges(requests, tol):
-    """Best certified cubics for many chain ranges at once: for each request
-    ``(chain, t0, t1, (start, end)[, need])`` a result (cubic, bound, panels); where
-    the fitted cubic's sampled distance is below ``need`` tol it is returned as is,
-    not certified: (cubic, sampled distance, None).  ``panels`` is a
-    :class:`_Reparam` (made into panels on demand).
+#: The fits of a round as arrays (:func:`_fit_batch`): chain (index into the batch's
+#: chains), the range [t0, t1] of chain parameters, its end points, and ``need``: a
+#: fit sampled below need tol is returned provisional, not certified.
+Requests = namedtuple("Requests", "chain t0 t1 start end need")
 
-    All ranges are fitted in one call (:func:`moment_cubics`); then every part of
-    every fitted cubic is certified in one batch (:func:`certify_batch`), except
-    cubics whose sampled distance exceeds SCREEN tol (their sampled distance is
-    returned as the bound: they fail).  Panels
-    carry chain parameters T.  Across joins of a chain the cubic is cut at the
-    closest points s_k to the join points (increasing, else no certificate) and
-    each part certified against its piece: phi is continuous (it maps s_k to the
-    join) and increasing.  A single-piece range whose fitted cubic does not certify
-    also gets the same-parameter fit of :func:`fit_cubic`; the smaller bound wins.
+#: What a fit of :class:`_Fits` is: provisional (sampled below its need, not
+#: certified), the fitted cubic (certified where its bound <= tol), the same-parameter
+#: fit, nothing fitted.
+SHORT, FITTED, SAME, NONE = 0, 1, 2, 3
+
+
+def _fit_batch(chains, req, tol):
+    """Best certified cubics for many chain ranges at once (:class:`Requests`): a
+    :class:`_Fits` (per request a cubic, its bound, whether it is certified, its
+    panels on demand); where the fitted cubic's sampled distance is below ``need``
+    tol it is returned as is, provisional: its sampled distance, not certified.
+
+    All ranges are fitted in one call (:func:`moment_cubics`) and screened by their
+    sampled distances (:func:`_screened`); every part of every cubic left is
+    certified in one batch (:func:`_certified_parts`).  A single-piece range whose
+    fitted cubic does not certify also gets the same-parameter fit of
+    :func:`fit_cubic`; the smaller bound wins (:func:`_results`).
     """
-    n = len(requests)
-    bank = requests[0][0].bank
-    parts, ks = _parts(requests)
-    starts = np.array([r[3][0] for r in requests], float)
-    ends = np.array([r[3][1] for r in requests], float)
-    need = np.array([r[4] if len(r) > 4 else 0.0 for r in requests], float)
-    tiny = np.array([r[0].tiny for r in requests], float)
-    cubics, sampled, fitted, rays = moment_cubics(bank, parts, starts, ends, tiny, tol)
+    n = len(req.chain)
+    bank = chains.bank
+    parts, ks = _parts(chains, req.chain, req.t0, req.t1)
+    cubics, sampled, fitted, rays = moment_cubics(bank, parts, req.start, req.end,
+                                                  chains.tiny[req.chain], tol)
     nparts = np.bincount(parts.req, minlength=n)
-    first = np.searchsorted(parts.req, np.arange(n))
-    # a cubic whose sampled distance already exceeds tol well is not certified: its
-    # sampled distance is reported (the search only needs to know it fails); one
-    # whose sampled distance is below the request's ``need`` share of tol is not
-    # certified either: the search will try a longer one (a provisional result)
-    short = fitted & (sampled < need * tol)
-    skip = (sampled > SCREEN * tol) | short
+    short, skip = _screened(sampled, fitted, req.need, tol)
     todo = fitted & ~skip
     s0, s1 = _part_cuts(bank, parts, cubics, rays, np.nonzero(todo & (nparts > 1))[0])
     cut_ok = np.ones(n, bool)
     np.logical_and.at(cut_ok, parts.req, s1 > s0)
     todo &= cut_ok
-    sel = np.nonzero(todo[parts.req])[0]
-    bound = np.where(skip, sampled, np.inf)
-    cert = None
-    if len(sel):
-        one = nparts[parts.req[sel]] == 1
-        pieces = cubics[parts.req[sel]]
-        if not one.all():
-            pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
-        # the certificate starts from the feet the fitter found (its rays)
-        span = (s1 - s0)[sel, None]
-        start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
-        cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
-        worst = np.full(n, -np.inf)
-        np.maximum.at(worst, parts.req[sel], cert.bound)
-        bound = np.where(todo, worst, bound)
-    where = np.full(len(parts.req), -1)
-    where[sel] = np.arange(len(sel))
+    bound, cert, where = _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol)
+    bound = np.where(skip, sampled, bound)
+    first = np.searchsorted(parts.req, np.arange(n))
     # a single piece whose fit fails tol: the same-parameter fit too (the smaller wins)
     retry = np.nonzero((nparts == 1) & (~fitted | (bound > tol)) & ~short)[0]
-    alt = _same_param_fits(bank, parts, first, retry, starts, ends)
-    out = []
-    bound_l, fitted_l, short_l = bound.tolist(), fitted.tolist(), short.tolist()
-    sampled_l, first_l, nparts_l = sampled.tolist(), first.tolist(), nparts.tolist()
-    for r in range(n):
-        if short_l[r]:
-            out.append((cubics[r], sampled_l[r], None))
-            continue
-        lo, hi = first_l[r], first_l[r] + nparts_l[r]
-        rep = _Reparam(cert, where, parts, ks, s0, s1, lo, hi, None)
-        best = (cubics[r], bound_l[r], rep) if fitted_l[r] else (None, np.inf, None)
-        if r in alt and alt[r][1] < best[1]:
-            rep = _Reparam(None, None, parts, ks, s0, s1, lo, hi, True)
-            best = (alt[r][0], alt[r][1], rep)
-        out.append(best)
-    return out
+    alt = _same_param_fits(bank, parts, first, retry, req.start, req.end)
+    return _results(cubics, bound, fitted, short, alt, (cert, where, parts, ks, s0, s1),
+                    first, nparts)
+
+
+def _screened(sampled, fitted, need, tol):
+    """(short, skip) per range: which fits are not certified.  A cubic whose sampled
+    distance exceeds SCREEN tol fails anyway (the sampled distance is nearly a lower
+    bound of the certified one: it is reported, the search only needs to know it
+    fails); one whose sampled distance is below the request's ``need`` share of tol
+    is ``short``, a provisional result (the search will try a longer one)."""
+    short = fitted & (sampled < need * tol)
+    return short, (sampled > SCREEN * tol) | short
+
+
+def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
+    """Certify every part of the ranges ``todo`` in one batch (:func:`certify_batch`):
+    the cubic cut at [s0, s1] of the part (the feet of the join points: phi is
+    continuous, mapping s_k to the join, and increasing) against the part's piece,
+    started from the feet the fitter's rays found (the pieces are not sampled
+    again).  Returns (bound per range: the worst of its parts, inf where not
+    certified; the :class:`Certified` batch or None; each part's row in it, -1
+    where not certified)."""
+    n = len(todo)
+    sel = np.nonzero(todo[parts.req])[0]
+    where = np.full(len(parts.req), -1)
+    where[sel] = np.arange(len(sel))
+    bound = np.full(n, np.inf)
+    if not len(sel):
+        return bound, None, where
+    one = nparts[parts.req[sel]] == 1
+    pieces = cubics[parts.req[sel]]
+    if not one.all():
+        pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
+    span = (s1 - s0)[sel, None]
+    start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
+    cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
+    worst = np.full(n, -np.inf)
+    np.maximum.at(worst, parts.req[sel], cert.bound)
+    return np.where(todo, worst, bound), cert, where
+
+
+def _results(cubics, bound, fitted, short, alt, maps, first, nparts):
+    """The :class:`_Fits` of :func:`_fit_batch`: a short fit is provisional (its
+    ``bound`` the sampled distance); else the better of the fitted cubic (NaN, inf
+    where nothing was fitted) and the same-parameter fit ``alt`` ({request:
+    (cubic, bound)}); ``maps``: the batch's certificate and part cuts (panels)."""
+    kind = np.where(short, SHORT, np.where(fitted, FITTED, NONE))
+    cubic = np.where((kind == NONE)[:, None, None], np.nan, cubics)
+    bound = np.where(kind == NONE, np.inf, bound)
+    for r, (c, b) in alt.items():
+        if b < bound[r]:
+            kind[r], cubic[r], bound[r] = SAME, c, b
+    return _Fits(cubic, bound, kind, maps, first, nparts)
+
+
+class _Fits:
+    """The results of one round of fits (:func:`_fit_batch`), arrays in request
+    order: ``cubic`` (n, 4, 2), ``bound`` (n,), ``kind`` (SHORT, FITTED, SAME or
+    NONE), ``cert`` (a certified bound: FITTED or SAME); :meth:`reparam` makes a
+    request's :class:`_Reparam` (only for the segments written)."""
+
+    __slots__ = ("cubic", "bound", "kind", "cert", "maps", "first", "nparts")
+
+    def __init__(self, cubic, bound, kind, maps, first, nparts):
+        self.cubic, self.bound, self.kind, self.maps = cubic, bound, kind, maps
+        self.cert = (kind == FITTED) | (kind == SAME)
+        self.first, self.nparts = first, nparts
+
+    def reparam(self, r):
+        if not self.cert[r]:
+            return None
+        lo = int(self.first[r])
+        return _Reparam(*self.maps, lo, lo + int(self.nparts[r]), True if self.kind[r] == SAME
+                        else None)
+
+    def result(self, r):
+        """Request r as (cubic or None, bound, reparam or None): the protocol of the
+        generator steps (:func:`_split_at`)."""
+        return (None if self.kind[r] == NONE else self.cubic[r], float(self.bound[r]),
+                self.reparam(r))
 
 
 def _part_cuts(bank, parts, cubics, rays, multi):
@@ -219,7 +267,7 @@ def _same_param_fits(bank, parts, first, retry, starts, ends):
 
 
 class _Reparam:
-    """The panels of one result of :func:`_fit_ranges`, made on demand
+    """The panels of one result of :func:`_fit_batch`, made on demand
     (:meth:`panels`): those of the certificates of its parts, each mapped to chain
     parameters T (``same``: the same-parameter fit, phi the identity on each
     part)."""
@@ -266,46 +314,136 @@ def observe_searches(callback):
         _observer = before
 
 
-def _drive(searches, tol, chains):
-    """Run search generators in lockstep and return their results in order.
+#: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
+#: pieces start in ``bank.order``), ``tiny`` (1e-12 of its extent), and the
+#: :class:`morph.export.bank.Bank`.
+ChainArrays = namedtuple("ChainArrays", "bank k off tiny")
 
-    A search (:func:`_search`) yields a list of fit requests and is sent back their
-    results; the pending requests of all searches are fitted and certified together
-    (:func:`_fit_ranges`), so the numerical work is one batch per round, not one
-    call per fit.  A search that needs its chain's arc-length table yields
-    :data:`NEED_ARC` instead: the tables of all that asked are made in one batch
-    (:func:`arc_tables`, ``chains[i]`` is search i's chain) and the searches resumed."""
-    observer = _observer
-    results = [None] * len(searches)
-    pending = {}
-    for i, g in enumerate(searches):
-        try:
-            pending[i] = next(g)
-        except StopIteration as stop:
-            results[i] = stop.value
-    while pending:
-        arcs = [i for i, v in pending.items() if v is NEED_ARC]
-        if arcs:
-            arc_tables([chains[i] for i in arcs])
-            for i in arcs:
-                try:
-                    pending[i] = searches[i].send(None)
-                except StopIteration as stop:
-                    results[i] = stop.value
-                    del pending[i]
-            continue
-        order = [(i, len(reqs)) for i, reqs in pending.items()]
-        fits = _fit_ranges([r for reqs in pending.values() for r in reqs], tol)
-        pending, k = {}, 0
-        for i, n in order:
+
+def _chain_points(chains, chain, t):
+    """The points of chains ``chain`` at chain parameters t (one evaluation per
+    degree): a piece's first control point at an integer t, the chain's last at its
+    end."""
+    bank, k = chains.bank, chains.k[chain]
+    kk = np.minimum(np.floor(t).astype(int), k - 1)
+    gid = bank.order[chains.off[chain] + kk]
+    local = t - kk
+    p, _ = bank.jet(gid, np.minimum(local, 1.0))
+    p = np.where((local == 0.0)[:, None], bank.first[gid], p)
+    return np.where((t >= k)[:, None], bank.last[gid], p)
+
+
+def _drive(chains, tol, min_width):
+    """The segment searches of all chains, run together; their CubicFit lists in order.
+
+    The greedy search of every chain is one array state machine
+    (:class:`morph.export.greedy.Greedy`); a chain it leaves with two segments or
+    more is refined by a generator (:func:`_refine`: one segment fewer where the
+    bounds say it may fit), which yields lists of fit requests and is sent their
+    results, or yields :data:`NEED_ARC` for its chain's arc-length table (made for
+    all that ask in one batch).  Each round fits and certifies the requests of the
+    machine and of the generators together (:func:`_fit_batch`): the numerical work
+    is one batch per round, and no Python step runs per chain and round in the
+    greedy search."""
+    arrays = ChainArrays(chains[0].bank, np.array([c.k for c in chains]),
+                         np.array([c.off for c in chains]), np.array([c.tiny for c in chains]))
+
+    def fail(row, t0, width, bound):
+        chain = chains[row]
+        raise ToleranceNotMetError(
+            "cubic export did not reach tol %.3g on a parameter interval of width "
+            "%.3g (bound %.3g)" % (tol, width, bound),
+            piece=chain.piece(min(int(t0), chain.k - 1)), achieved=bound)
+
+    greedy = Greedy(arrays.k, _chain_points(arrays, np.arange(len(chains)), np.zeros(len(chains))),
+                    tol, min_width, fail)
+    segs, results, refining, rounds = [[] for _ in chains], [None] * len(chains), {}, []
+    while greedy.active.any() or refining:
+        _serve_arcs(refining, chains, results)
+        rows, t0, t1, start, need = greedy.requests()
+        asked = [(i, reqs, gen) for i, (reqs, gen) in refining.items()]
+        req = _requests(arrays, rows, t0, t1, start, need, asked)
+        fits = _fit_batch(arrays, req, tol)
+        rounds.append(fits)
+        k = len(rows)
+        at = np.stack([np.full(k, len(rounds) - 1), np.arange(k)], axis=1)
+        acc = greedy.update(rows, req.end[:k], (fits.cubic[:k], fits.bound[:k], fits.cert[:k]),
+                            at)
+        _write_segments(acc, segs, rounds)
+        refining = _resume(asked, fits, k, results)
+        for r in acc[0][greedy.mode[acc[0]] == DONE].tolist():
+            if len(segs[r]) < 2:
+                results[r] = segs[r]
+            else:
+                _start_refine(r, _refine(chains[r], segs[r], tol), refining, results)
+        if _observer is not None:
+            _observer(sum(r is not None for r in results), len(chains))
+    return results
+
+
+def _requests(arrays, rows, t0, t1, start, need, asked):
+    """The round's :class:`Requests`: the greedy machine's (``rows`` ...), then those
+    of the refining generators (``asked``: [(chain, [(chain, t0, t1, (start, end))],
+    generator)]); the machine's end points evaluated for all at once."""
+    n = [len(reqs) for _, reqs, _ in asked]
+    flat = [r for _, reqs, _ in asked for r in reqs]
+    chain = np.concatenate([rows, np.repeat([i for i, _, _ in asked], n).astype(int)])
+    g_t0 = np.array([r[1] for r in flat], float)
+    g_t1 = np.array([r[2] for r in flat], float)
+    ends = [np.array([r[3][j] for r in flat], float).reshape(-1, 2) for j in (0, 1)]
+    end = _chain_points(arrays, rows, t1)
+    return Requests(chain, np.concatenate([t0, g_t0]), np.concatenate([t1, g_t1]),
+                    np.concatenate([start, ends[0]]), np.concatenate([end, ends[1]]),
+                    np.concatenate([need, np.zeros(len(flat))]))
+
+
+def _write_segments(acc, segs, rounds):
+    """Append the segments the greedy machine accepted in a round to their chains'
+    lists, as CubicFit (the panels of the fit of round ``at[0]``, request ``at[1]``,
+    made on demand)."""
+    rows, t0, t1, cubic, bound, at = acc
+    for j, r in enumerate(rows.tolist()):
+        segs[r].append(CubicFit(float(t0[j]), float(t1[j]), cubic[j], float(bound[j]),
+                                rounds[at[j, 0]].reparam(int(at[j, 1]))))
+
+
+def _start_refine(r, gen, refining, results):
+    """Run a refining generator to its first yield (``refining[r]``), or store its
+    result."""
+    try:
+        refining[r] = next(gen), gen
+    except StopIteration as stop:
+        results[r] = stop.value
+
+
+def _serve_arcs(refining, chains, results):
+    """Make the arc-length tables of every generator that asked (one batch) and
+    resume them, until none asks."""
+    while True:
+        arcs = [i for i, (v, _) in refining.items() if v is NEED_ARC]
+        if not arcs:
+            return
+        arc_tables([chains[i] for i in arcs])
+        for i in arcs:
+            gen = refining.pop(i)[1]
             try:
-                pending[i] = searches[i].send(fits[k:k + n])
+                refining[i] = gen.send(None), gen
             except StopIteration as stop:
                 results[i] = stop.value
-            k += n
-        if observer is not None:
-            observer(len(searches) - len(pending), len(searches))
-    return results
+
+
+def _resume(asked, fits, k, results):
+    """Send each refining generator of ``asked`` ([(chain, requests, generator)]) its
+    share of the round's results (from request k on, in order); returns those still
+    running: {chain: (next yield, generator)}."""
+    out = {}
+    for i, reqs, gen in asked:
+        try:
+            out[i] = gen.send([fits.result(j) for j in range(k, k + len(reqs))]), gen
+        except StopIteration as stop:
+            results[i] = stop.value
+        k += len(reqs)
+    return out
 
 
 def _exact_cubic(piece):
@@ -375,28 +513,17 @@ def runs_segments(bank, runs, tol, max_depth=16):
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
-    return _drive([_search(c, tol, 2.0 ** -max_depth) for c in chains], tol, chains)
+    return _drive(chains, tol, 2.0 ** -max_depth) if chains else []
 
 
-def _search(chain, tol, min_width):
-    """The segment search of one chain, a generator for :func:`_drive`: yields lists
-    of fit requests ``(chain, t0, t1, (start, end))``, is sent their results, and
-    returns the chain's list of CubicFit.
-
-    Segments are found greedily from the start (:func:`_next_segment`); then one
-    segment fewer is tried while the segments' bounds say it may fit
+def _refine(chain, out, tol):
+    """Refine the greedy segments ``out`` of a chain, a generator for :func:`_drive`:
+    yields lists of fit requests ``(chain, t0, t1, (start, end))`` (or
+    :data:`NEED_ARC`), is sent their results, and returns the chain's list of
+    CubicFit.  The greedy search stops each segment a little short of its longest
+    reach: one segment fewer is tried while the segments' bounds say it may fit
     (:func:`_balanced_cuts`), and after a short last segment one fewer of equal
     arc length."""
-    out = []
-    t0, start, width = 0.0, chain.point(0.0), min(float(chain.k), 2.0)
-    while t0 < chain.k:
-        t1, cubic, bound, reparam, end = yield from _next_segment(
-            chain, t0, start, width, tol, min_width)
-        out.append(CubicFit(t0, t1, cubic, bound, reparam))
-        width = t1 - t0
-        t0, start = t1, end
-    # the greedy search stops each segment a little short of its longest reach: try
-    # one segment fewer, cut where the greedy segments' bounds say it may fit
     while len(out) >= 2:
         cuts = yield from _balanced_cuts(chain, out, tol)
         fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
@@ -415,9 +542,6 @@ def _search(chain, tol, min_width):
     return out
 
 
-#: Error model of :func:`_balanced_cuts`: a cubic's bound grows like the P-th power
-#: of the arc length it spans.
-ERROR_POWER = 5.0
 #: One segment fewer is tried when the greedy segments' shares add up to at most this
 #: many segments fewer than there are (the greedy segments stop short of their reach).
 FEWER_SLACK = 1.0
@@ -461,7 +585,7 @@ def _balanced_cuts(chain, segs, tol):
 
 def _split_at(chain, cuts, tol):
     """Certified segments between the chain parameters ``cuts`` (all fitted in one
-    request list), or None if one fails; a generator step of :func:`_search`."""
+    request list), or None if one fails; a generator step of :func:`_refine`."""
     cuts = np.array(cuts, float)
     cuts[0], cuts[-1] = 0.0, float(chain.k)
     if np.any(np.diff(cuts) <= 0):
@@ -473,125 +597,6 @@ def _split_at(chain, cuts, tol):
         return None
     return [CubicFit(float(t0), float(t1), cubic, bound, reparam)
             for t0, t1, (cubic, bound, reparam) in zip(cuts[:-1], cuts[1:], fits)]
-
-
-#: The search stops at a certified segment whose bound is at least this share of tol
-#: (higher: longer segments, more fits).  Equal to PROVISIONAL, so that a try that is
-#: certified at all ends the first pass (tries sampled below PROVISIONAL tol are not
-#: certified); bench/export_profile.py counts the fits and certificates it saves.
-ACCEPT = 0.7
-
-
-#: The search for a segment's end stops once the bracket (longest certified, shortest
-#: failed end) is this narrow relative to the certified width.
-BRACKET_REL = 0.02
-
-
-#: The model of :func:`_next_try`: bound ~ width^p, p from the last two fits kept in
-#: [P_MIN, P_MAX] (ERROR_POWER without them; widths closer than SAME_WIDTH relative
-#: give no slope), the next width aimed at AIM tol.
-P_MIN, P_MAX = 2.0, 8.0
-SAME_WIDTH = 0.01
-AIM = 0.9
-#: The next width is kept within these factors of the last one; after a fit with no
-#: finite bound it is SHRINK times the last.
-STEP_MIN, STEP_MAX = 0.125, 4.0
-SHRINK = 0.5
-
-
-def _next_try(t0, w, bound, last, good, bad, top, tol):
-    """The next end to try after a fit of width w with ``bound`` (``last``: the
-    previous (width, bound); ``good``: the longest certified fit; ``bad``: the
-    shortest failed end), or None when the bracket is tight enough.  The model is
-    bound ~ width^p with p from the last two fits (P_MIN <= p <= P_MAX,
-    ERROR_POWER without them), aimed at AIM tol, the step kept within STEP_MIN to
-    STEP_MAX times the width and inside the bracket (bisecting it otherwise)."""
-    p = ERROR_POWER
-    if (last is not None and abs(last[0] - w) > SAME_WIDTH * w and last[1] > 0 and bound > 0
-            and math.isfinite(bound) and math.isfinite(last[1])):
-        p = min(P_MAX, max(P_MIN, math.log(bound / last[1]) / math.log(w / last[0])))
-    if not math.isfinite(bound):
-        ratio = SHRINK
-    else:
-        ratio = (AIM * tol / bound) ** (1.0 / p) if bound > 0 else STEP_MAX
-    target = min(top, t0 + w * min(STEP_MAX, max(STEP_MIN, ratio)))
-    lo = good[0] if good is not None else t0
-    hi = bad if bad is not None else top
-    if bad is not None and not lo < target < hi:
-        target = 0.5 * (lo + hi)
-    if good is not None and (target <= lo
-                             or (bad is not None and hi - lo <= BRACKET_REL * (lo - t0))):
-        return None
-    return target
-
-
-#: A try whose sampled distance is below this share of tol is not certified (the
-#: search extends it anyway); the longest such try is certified once the search
-#: would end on it.
-PROVISIONAL = 0.7
-#: The first try of a segment runs to the chain's end when less than this share of
-#: its width would be left; a pass makes at most MAX_TRIES fits.
-REACH_END = 0.3
-MAX_TRIES = 8
-
-
-def _next_segment(chain, t0, start, width, tol, min_width):
-    """The longest certified segment from t0 found with a few fits: (t1, cubic, bound,
-    reparam, end point); a generator step of :func:`_search`.  The first try spans
-    ``width``; later ones follow the model bound ~ width^p, p from the last two fits
-    (2 <= p <= 8, 5 at first), bracketed by the longest certified (or provisional:
-    sampled below PROVISIONAL tol, certified only if the search ends on it) and the
-    shortest failed interval."""
-    top = float(chain.k)
-
-    def attempt(t1, need):
-        end = chain.point(t1)
-        (cubic, bound, reparam), = yield [(chain, t0, t1, (start, end), need)]
-        return (t1, cubic, bound, reparam, end)
-
-    t1 = min(top, t0 + width)
-    if top - t1 < REACH_END * (t1 - t0):
-        t1 = top
-    good, bad, last, fit = None, None, None, None
-    for provisional in (PROVISIONAL, 0.0):
-        for _ in range(MAX_TRIES):
-            fit = yield from attempt(t1, 0.0 if t1 == top else provisional)
-            w, bound = t1 - t0, fit[2]
-            if bound <= tol:
-                good = fit if good is None or t1 > good[0] else good
-                if fit[3] is not None and (t1 == top or bound >= ACCEPT * tol):
-                    break
-            else:
-                bad = t1 if bad is None else min(bad, t1)
-            target = _next_try(t0, w, bound, last, good, bad, top, tol)
-            last = (w, bound)
-            if target is None or target - t0 < min_width:
-                break
-            t1 = target
-        if good is None or good[3] is not None:
-            break
-        # the search ends on a provisional try: certify it; where that fails (the
-        # certificate is loose here), search again certifying every try
-        fit = yield from attempt(good[0], 0.0)
-        if fit[2] <= tol:
-            return fit
-        bad, last = good[0], (good[0] - t0, fit[2])
-        t1 = _next_try(t0, good[0] - t0, fit[2], None, None, bad, top, tol) or 0.5 * (t0 + bad)
-        good = None
-    while good is None:
-        # no certified fit yet: halve the shortest failed interval down to min_width
-        t1 = t0 + 0.5 * (bad - t0)
-        if t1 - t0 < min_width:
-            raise ToleranceNotMetError(
-                "cubic export did not reach tol %.3g on a parameter interval of width "
-                "%.3g (bound %.3g)" % (tol, bad - t0, fit[2]),
-                piece=chain.piece(min(int(t0), chain.k - 1)), achieved=fit[2])
-        fit = yield from attempt(t1, 0.0)
-        if fit[2] <= tol:
-            good = fit
-        else:
-            bad = t1
-    return good
 
 
 def piece_to_cubics(piece, tol, max_depth=16):

@@ -35,28 +35,51 @@ def move_feature_anchors(text, glyph_names, offset_of):
 def vary_feature_anchors(text, glyph_names, masters):
     """Feature-file text of a variable font whose glyphs moved by other offsets at
     each master: every explicit anchor (as :func:`move_feature_anchors` finds them)
-    whose glyphs moved differently between the masters becomes a variable anchor,
-    ``<anchor (TAG=v,...:x ...) (TAG=v,...:y ...)>`` with one value per master (feaLib's
+    whose glyphs moved differently between the masters, or whose value differs
+    between the masters' own feature files, becomes a variable anchor, ``<anchor
+    (TAG=v,...:x ...) (TAG=v,...:y ...)>`` with one value per master (feaLib's
     variable scalars, user coordinates; compiled by ufo2ft's variable compilers into
     GPOS anchors with deltas), one that moved alike at every master is moved as
     :func:`move_feature_anchors` moves it.
 
-    ``masters``: ``(location, offset_of)`` per master, ``location`` a dict axis tag
-    -> user value, ``offset_of`` as for :func:`move_feature_anchors`.
+    ``masters``: ``(location, offset_of)`` or ``(location, offset_of, own_text)`` per
+    master, ``location`` a dict axis tag -> user value, ``offset_of`` as for
+    :func:`move_feature_anchors`, ``own_text`` the master's own feature file (None:
+    ``text``): its anchors, in the same statements as ``text``'s, give that master's
+    values.
 
     Raises:
-        ParseError, MorphError: as :func:`move_feature_anchors`.
+        ParseError, MorphError: as :func:`move_feature_anchors`; MorphError: a
+            master's feature file whose anchors are not those of ``text``.
     """
+    anchors = list(_statement_anchors(_parse(text, glyph_names).statements))
+    own = [_own_anchors(m[2] if len(m) > 2 else None, len(anchors), glyph_names, k)
+           for k, m in enumerate(masters)]
     moves = []
-    for anchor, glyph_set in _statement_anchors(_parse(text, glyph_names).statements):
-        offsets = [_common_offset(anchor, glyph_set, off) or (0.0, 0.0)
-                   for _, off in masters]
-        if all(o == (0.0, 0.0) for o in offsets):
+    for i, (anchor, glyph_set) in enumerate(anchors):
+        if anchor is None or anchor.x is None:
             continue
-        xs = [_fea_number(anchor.x + o[0]) for o in offsets]
-        ys = [_fea_number(anchor.y + o[1]) for o in offsets]
+        offsets = [_common_offset(anchor, glyph_set, m[1]) or (0.0, 0.0) for m in masters]
+        at = [anchor if o is None else o[i][0] for o in own]
+        if all(o == (0.0, 0.0) for o in offsets) and \
+                all((a.x, a.y) == (anchor.x, anchor.y) for a in at):
+            continue
+        xs = [_fea_number(a.x + o[0]) for a, o in zip(at, offsets)]
+        ys = [_fea_number(a.y + o[1]) for a, o in zip(at, offsets)]
         moves.append((anchor, "anchor %s %s" % (_scalar(masters, xs), _scalar(masters, ys))))
     return _rewrite_anchors(text, moves)
+
+
+def _own_anchors(text, count, glyph_names, k):
+    """A master's own feature-file anchors (None: no text of its own)."""
+    if text is None:
+        return None
+    found = list(_statement_anchors(_parse(text, glyph_names).statements))
+    if len(found) != count:
+        raise MorphError("the feature file of master %d has %d anchors, the default's %d: "
+                         "masters' feature files must differ in anchor values only"
+                         % (k, len(found), count))
+    return found
 
 
 def _scalar(masters, values):
@@ -64,8 +87,8 @@ def _scalar(masters, values):
     if len(set(values)) == 1:
         return values[0]
     return "(%s)" % " ".join("%s:%s" % (",".join("%s=%s" % (tag, _fea_location(v))
-                                                 for tag, v in loc.items()), value)
-                             for (loc, _), value in zip(masters, values))
+                                                 for tag, v in m[0].items()), value)
+                             for m, value in zip(masters, values))
 
 
 def _fea_location(v):

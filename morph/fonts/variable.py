@@ -58,7 +58,10 @@ outlines shift right by its nib's left extent and the advances grow by the nib's
 width (rounded), zero-width marks keep advance 0 and shift left by the width;
 anchors move with the outlines (the nib is centred: its centre adds nothing; the
 explicit anchors of the default skeleton's feature file, the one ufo2ft compiles,
-become variable anchors, :func:`morph.fonts.fea.vary_feature_anchors`), kept
+become variable anchors, :func:`morph.fonts.fea.vary_feature_anchors`, with each
+master's own values where the masters' feature files differ; each master's UFO
+kerning and glyph anchors are its own, compiled into variable GPOS by ufo2ft's
+feature writers), kept
 components are re-placed, scaled / turned components decomposed and stroked.
 """
 
@@ -76,7 +79,8 @@ from ..compatible import Ellipse, blend_nib, fit_elements, interpolation_error, 
 from ..errors import MorphError, ParseError, one_line
 
 __all__ = ["NibAxis", "nib_axis", "axis_masters", "stroke_variable", "variable_outputs",
-           "set_overlap_flags", "read_skeleton", "Skeleton", "FIT_SHARE", "CU2QU_SHARE", "BLEND_SHARE"]
+           "set_overlap_flags", "read_skeleton", "Skeleton", "FIT_SHARE", "CU2QU_SHARE",
+           "BLEND_SHARE"]
 
 FIT_SHARE = 0.4
 CU2QU_SHARE = 0.2
@@ -541,9 +545,7 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
         MorphError: outputs exist without ``overwrite``, ufo2ft fails; ValueError:
             a bad suffix, tol <= 0, equal nibs.
     """
-    from ..compatible import IncompatibleMasters
     from ..parse.ufo import glyph_names_for
-    from .jobs import run_jobs
 
     t_start = time.perf_counter()
     out_path = Path(out_path)
@@ -553,17 +555,8 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
     font = skel.fonts[skel.default]
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
     stroked, followed = _plan(font, chosen)
-    try:
-        _check_glyphs(skel, stroked + followed)
-        skel, axis, values, fitted, nibs, refined = _fitted_masters(skel, nib_min, nib_max,
-                                                                     tol, stroked, followed)
-        owners = [s for s, _ in fitted]
-        report = None if progress is None else (lambda k, r: progress(r[0]))
-        results = run_jobs(_glyph_job, list(_work(skel.fonts, stroked, nibs, owners,
-                                                  FIT_SHARE * tol)),
-                           jobs=jobs, progress=report)
-    except IncompatibleMasters as exc:
-        raise IncompatibleMasters(_name_masters(str(exc), skel.labels), exc.what) from None
+    skel, axis, values, fitted, nibs, refined, results = _stroke_masters(
+        skel, stroked, followed, nib_min, nib_max, tol, jobs, progress)
     fit_seconds = sum(r[2] for r in results)
     family = family_name or "%s %s" % (font.info.familyName or "Morph",
                                         "Nib" if axis is not None else "Stroke")
@@ -580,6 +573,30 @@ def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,
             "followed": len(followed), "points": points, "fit_seconds": fit_seconds,
             "seconds": time.perf_counter() - t_start, "font": vf, "sources": masters,
             "fitted": fitted, "skeleton": refined}
+
+
+def _stroke_masters(skel, stroked, followed, nib_min, nib_max, tol, jobs, progress):
+    """The masters chosen (:func:`_fitted_masters`) and every stroked glyph fitted at
+    all of them (run_jobs of :func:`_glyph_job`): (skeleton with its intermediate
+    masters, axis, nib values, fitted, nibs, skeleton report, results).
+
+    Raises:
+        IncompatibleMasters: naming the glyph, what differs and the master's file."""
+    from ..compatible import IncompatibleMasters
+    from .jobs import run_jobs
+
+    try:
+        _check_glyphs(skel, stroked + followed)
+        skel, axis, values, fitted, nibs, refined = _fitted_masters(skel, nib_min, nib_max,
+                                                                     tol, stroked, followed)
+        owners = [s for s, _ in fitted]
+        report = None if progress is None else (lambda k, r: progress(r[0]))
+        results = run_jobs(_glyph_job, list(_work(skel.fonts, stroked, nibs, owners,
+                                                  FIT_SHARE * tol)),
+                           jobs=jobs, progress=report)
+    except IncompatibleMasters as exc:
+        raise IncompatibleMasters(_name_masters(str(exc), skel.labels), exc.what) from None
+    return skel, axis, values, fitted, nibs, refined, results
 
 
 def _fitted_masters(skel, nib_min, nib_max, tol, stroked, followed=()):
@@ -644,22 +661,28 @@ def _masters_of(skel, axis, fitted, nibs, results, done, family, out_path, maste
 
 
 def _vary_features(skel, axis, fitted, masters, offsets):
-    """The explicit anchors of the default skeleton's feature file (the one ufo2ft
-    compiles) moved like their glyphs at every master: variable anchors where the
-    shift differs between masters (:func:`morph.fonts.fea.vary_feature_anchors`),
-    written into every master."""
+    """The explicit anchors of the skeleton masters' feature files (ufo2ft compiles
+    the default's) moved like their glyphs at every master and given each master's
+    own values: variable anchors where they differ between masters
+    (:func:`morph.fonts.fea.vary_feature_anchors`), written into every master.  The
+    intermediate skeleton masters are left to the variable anchors' own
+    interpolation over the designspace's masters (the skeleton's, as theirs are)."""
     from .fea import vary_feature_anchors
 
     text = skel.fonts[skel.default].features.text or ""
     if "anchor" not in text:
         return
+    given = skel.given or len(skel.fonts)
     per = []
     for (s, v), shifts in zip(fitted, offsets):
+        if s >= given:
+            continue
         loc = {ax.tag: float(ax.map_backward(skel.locations[s].get(
             ax.name, ax.map_forward(ax.default)))) for ax in skel.axes}
         if axis is not None:
             loc[axis.tag] = v
-        per.append((loc, lambda g, sh=shifts: (sh[g], 0.0) if g in sh else None))
+        own = None if s == skel.default else (skel.fonts[s].features.text or "")
+        per.append((loc, lambda g, sh=shifts: (sh[g], 0.0) if g in sh else None, own))
     new = vary_feature_anchors(text, masters[0].keys(), per)
     for m in masters:
         m.features.text = new

@@ -1,24 +1,32 @@
 """Variable brushed fonts: a compiled font's glyphs ⊕ elliptical nibs as a variable
-TrueType font, with the source's axes (a variable source) and an optional nib axis.
+font, with the source's axes (a variable source) and an optional nib axis.
 
-Every master of the source (and intermediate ones on its master grid: the nib part
-of distant masters does not interpolate) is brushed by every nib master, as untrimmed
-overlapping contours fitted with common breaks across all of them
-(:func:`morph.compatible.region_elements`), converted to quadratics compatibly
-(cu2qu on all masters' curves at once) and written into the glyf/gvar of a copy of
-the source, the glyph variations computed by fontTools' ``VariationModel`` over the
-masters' locations.  The error budget and the overlap flags are those of
-:mod:`morph.fonts.variable`.
+Every master of the source, and intermediate ones where the source's interpolation
+and the nib do not commute (:mod:`morph.fonts.variable_sources`: added until the
+blend of every brushed glyph is within its share of tol), is brushed by every nib
+master, as untrimmed overlapping contours fitted with common breaks across all of
+them (:func:`morph.compatible.region_elements`).  Written into a copy of the
+source, the glyph variations computed by fontTools' ``VariationModel`` over the
+masters' locations:
+
+- TrueType (``.ttf``, ``.woff2``, ``.woff``): the cubics converted to quadratics
+  compatibly (cu2qu on all masters' curves at once) into glyf/gvar, the advances
+  by gvar's phantom points, the overlap flags set;
+- CFF2 (``.otf``): the cubics as fitted, in blended charstrings, the advances by
+  HVAR (:mod:`morph.fonts.variable_cff2`); CFF2 fills nonzero, no flag needed.
+
+The error budget is that of :mod:`morph.fonts.variable`.
 
 Sources:
 
 - a variable TrueType font (glyf/gvar): its axes, avar, STAT, named instances and
-  layout are kept; its masters are the peaks of its gvar regions;
+  layout are kept; its grid of masters holds every region's start, peak and end;
 - a variable CFF2 font: read through fontTools' glyph set at each master location
-  (the peaks of its CFF2 variation regions); the output is TrueType: the CFF2 table
-  is replaced by glyf/loca/gvar (every glyph converted compatibly, the ones not
+  (its variation regions' coordinates); for TrueType output the CFF2 table is
+  replaced by glyf/loca/gvar (every glyph converted compatibly, the ones not
   brushed too), maxp/head/post made TrueType's;
-- a static font (.ttf or .otf) with a nib axis: fvar, gvar and STAT are added.
+- a static font (.ttf or .otf) with a nib axis: fvar, STAT and gvar or CFF2's
+  variation store are added.
 
 The nib axis (``nib_max``) is :func:`morph.fonts.variable.nib_axis`'s (NIBW / NIBP),
 appended to the source's axes: every region of the source's item variation stores
@@ -44,12 +52,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..compatible import Ellipse, fit_elements, region_elements
+from ..compatible import Ellipse, fit_elements, interpolation_error, region_elements
 from ..errors import MorphError, ParseError
 from .variable import BLEND_SHARE, CU2QU_SHARE, FIT_SHARE, NibAxis, axis_masters, nib_axis, \
     set_overlap_flags
+from .variable_sources import counter_clockwise, refine_sources, region_loops
 
-__all__ = ["brush_variable", "grade_axis", "source_locations"]
+__all__ = ["brush_variable", "grade_axis"]
 
 
 def grade_axis(nib_min, nib_max, upm):
@@ -61,94 +70,6 @@ def grade_axis(nib_min, nib_max, upm):
         return None
     grow = (b.width - a.width) * 1000.0 / upm
     return NibAxis("GRAD", "Grade", 0.0, round(grow, 3), a, b)
-
-
-def _region_peaks(store):
-    """Peaks (tag index -> peak) of the regions of an item variation store."""
-    out = set()
-    for region in store.VarRegionList.Region:
-        out.add(tuple((k, float(ax.PeakCoord)) for k, ax in enumerate(region.VarRegionAxis)
-                      if ax.PeakCoord != 0))
-    return out
-
-
-def source_locations(font, split=1):
-    """Normalized locations of the brushed masters of a variable font (glyf/gvar or
-    CFF2): the default, the peak of every region its glyph variations use, and with
-    ``split`` > 0 the grid between them refined 2**split times along every axis (the
-    source's own interpolation gives the glyphs there; the nib part does not
-    interpolate between distant masters: a normal that turns between two masters
-    moves its nib point along an arc, not a chord).  ``[{}]`` for a static font."""
-    import itertools
-
-    if "fvar" not in font:
-        return [{}]
-    tags = [a.axisTag for a in font["fvar"].axes]
-    peaks = set()
-    if "gvar" in font:
-        for variations in font["gvar"].variations.values():
-            for v in variations:
-                peaks.add(tuple(sorted((tag, float(t[1])) for tag, t in v.axes.items())))
-    elif "CFF2" in font:
-        store = font["CFF2"].cff.topDictIndex[0].VarStore
-        if store is not None:
-            peaks = {tuple(sorted((tags[k], p) for k, p in peak))
-                     for peak in _region_peaks(store.otVarStore)}
-    locs = [{t: 0.0 for t in tags}] + [{**{t: 0.0 for t in tags}, **dict(p)}
-                                       for p in sorted(peaks) if p]
-    if split > 0:
-        values = {t: sorted({loc[t] for loc in locs}) for t in tags}
-        grid = {}
-        for t in tags:
-            vs = values[t]
-            fine = set(vs)
-            for a, b in zip(vs[:-1], vs[1:]):
-                fine.update(a + (b - a) * k / 2 ** split for k in range(1, 2 ** split))
-            grid[t] = sorted(fine)
-        seen = {tuple(loc[t] for t in tags) for loc in locs}
-        for combo in itertools.product(*(grid[t] for t in tags)):
-            if combo not in seen:
-                seen.add(combo)
-                locs.append(dict(zip(tags, combo)))
-    return locs
-
-
-def _region_loops(glyph_set, name):
-    """A glyph's contours at one master as closed loops of cartesian pieces, in the
-    font's direction (:func:`_counter_clockwise` turns them)."""
-    from ..parse.pens import record_contours
-
-    contours = record_contours(glyph_set[name].draw, "glyph %r" % name, glyph_set)
-    loops = []
-    for c in contours:
-        pieces = [np.asarray(p, float) for p in c.pieces]
-        pieces = [p[:, :2] / p[:, 2:] if p.shape[1] == 3 else p for p in pieces]
-        if pieces and np.any(pieces[-1][-1] != pieces[0][0]):
-            pieces.append(np.array([pieces[-1][-1], pieces[0][0]]))
-        if pieces:
-            loops.append(pieces)
-    return loops
-
-
-def _signed_area(loops):
-    """Signed area of loops of pieces, their control polygons' (the sign of a glyph's
-    total area is its outer contours' direction)."""
-    total = 0.0
-    for loop in loops:
-        pts = np.vstack([p[:-1] for p in loop])
-        x, y = pts[:, 0], pts[:, 1]
-        total += 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
-    return total
-
-
-def _counter_clockwise(loops_by_master):
-    """Loops turned so that outer ones run counter-clockwise: reversed when the
-    glyph's area at the default master is negative (TrueType draws outer contours
-    clockwise, CFF counter-clockwise; a font that does not follow its convention
-    is read by the sign of the area)."""
-    if _signed_area(loops_by_master[0]) >= 0:
-        return loops_by_master
-    return [[[p[::-1] for p in reversed(loop)] for loop in loops] for loops in loops_by_master]
 
 
 def _to_quadratic(fits, q_tol):
@@ -176,22 +97,24 @@ def _cubic(piece):
 
 
 def _brush_glyph_job(args):
-    """(name, per fitted master quadratic contours or None, CPU s) of one glyph: its
-    loops at every source master ⊕ the nib of every fitted master (``nibs``, the
-    source master of each: ``owners``), or with ``nibs`` None the glyph itself at
-    every fitted master (a glyph converted, not brushed)."""
+    """(name, per fitted master contours or None, CPU s) of one glyph: its loops at
+    every source master ⊕ the nib of every fitted master (``nibs``, the source
+    master of each: ``owners``), or with ``nibs`` None the glyph itself at every
+    fitted master (a glyph converted, not brushed).  Contours: quadratic splines
+    (cu2qu within ``q_tol``), or with ``q_tol`` None cubics ((k, 4, 2) arrays)."""
     name, loops_by_source, nibs, owners, fit_tol, q_tol = args
     t0 = time.process_time()
     if not loops_by_source[0]:
         return name, None, 0.0
-    loops_by_source = _counter_clockwise(loops_by_source)
+    loops_by_source = counter_clockwise(loops_by_source)
     if nibs is None:
         fits = [[np.array([_cubic(p) for p in loop]) for loop in loops_by_source[o]]
                 for o in owners]
     else:
         fits = fit_elements(region_elements(loops_by_source, "glyph %r" % name), nibs, owners,
                             fit_tol)
-    return name, _to_quadratic(fits, q_tol), time.process_time() - t0
+    out = fits if q_tol is None else _to_quadratic(fits, q_tol)
+    return name, out, time.process_time() - t0
 
 
 def _open(src):
@@ -208,79 +131,131 @@ def _open(src):
 
 
 def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, jobs=1,
-                   progress=None, split=1, nib_max=None, grade=True):
-    """Brush a font into a variable TrueType font: every master of every chosen glyph
-    ⊕ the nib (and with ``nib_max`` every nib master of the nib axis), as untrimmed
-    overlapping contours fitted compatibly across the masters, converted to
-    quadratics with cu2qu on all masters at once, written into the glyf/gvar of a
-    copy of the source (its layout, names, STAT and avar kept; the advance variations
-    carried by gvar's phantom points, HVAR dropped); the outlines shifted right by
-    the nib's left extent, advances grown by its width, GPOS anchors moved along at
-    every master (see the module docstring).
+                   progress=None, refine=True, nib_max=None, grade=True):
+    """Brush a font into a variable font: every master of every chosen glyph ⊕ the
+    nib (with ``nib_max`` every nib master of the nib axis) as untrimmed overlapping
+    contours fitted compatibly across the masters, written into a copy of the source
+    (its layout, names, STAT and avar kept): ``.ttf`` / ``.woff2`` / ``.woff``
+    glyf/gvar (quadratics by cu2qu on all masters at once, advances by gvar's
+    phantom points), ``.otf`` CFF2 (cubics as fitted, advances by HVAR); outlines
+    shifted right by the nib's left extent, advances grown by its width, GPOS
+    anchors moved along at every master (see the module docstring).
 
-    ``src``: a path or ``TTFont``: a variable font (glyf/gvar or CFF2), or with
-    ``nib_max`` a static one; ``nib``, ``nib_max``: (width, height, angle);
-    ``glyphs``: glyph names (None: every glyph with contours; composites are
-    decomposed); ``tol``: font units (fit FIT_SHARE, quadratics CU2QU_SHARE, a nib
-    axis' blend BLEND_SHARE; the source's own masters' interpolation of the nib part
-    is measured, not bounded: a source's masters are not a nib scale); ``split``:
-    intermediate source masters, the master grid refined 2**split times per axis
-    (:func:`source_locations`; Source Serif 4 with split 1: 25 masters instead of
-    9); ``grade``: two growing disks make a GRAD axis (:func:`grade_axis`).
-    Returns a dict: ``masters`` (normalized locations of the fitted masters),
-    ``source_masters``, ``nib_values``, ``axis`` (:class:`NibAxis` or None),
+    ``src``: a path or ``TTFont``, variable (glyf/gvar or CFF2) or, with ``nib_max``,
+    static; ``nib``, ``nib_max``: (width, height, angle); ``glyphs``: names (None:
+    every glyph with contours; composites decomposed); ``tol``: font units, FIT_SHARE
+    fit, CU2QU_SHARE quadratics, BLEND_SHARE an instance's blend (halved between the
+    nib axis and the source's axes when both are inexact); ``refine``: intermediate
+    source masters until the blend holds (:func:`refine_sources`; False: the
+    source's grid only); ``grade``: two growing disks make GRAD (:func:`grade_axis`).
+    Returns a dict: ``masters`` (normalized locations), ``source_masters``,
+    ``nib_values``, ``axis``, ``refinement`` (refine_sources' report or None),
     ``glyphs``, ``fit_seconds``, ``font``.
 
     Raises:
         ParseError: an unreadable font; MorphError: a static font without a nib axis,
-            an outline format other than glyf or CFF/CFF2, a bad output suffix;
+            outlines other than glyf or CFF/CFF2, a bad suffix, too many masters;
             ValueError: equal nibs.
     """
-    from fontTools.varLib.models import VariationModel
-
-    from .jobs import run_jobs
-    from .tables import rename_family, save_font
-
-    if str(out_path).lower().endswith(".otf"):
-        raise MorphError("a variable brushed font is TrueType (glyf/gvar: the overlapping "
-                         "contours are converted to quadratics compatibly): write .ttf, "
-                         ".woff2 or .woff, not .otf")
+    cff2 = _output_format(out_path) == "cff2"
     font = _open(src)
     kind = _outline_kind(font, src, nib_max)
-    plan = _plan(font, nib, nib_max, tol, split, grade)
-    sets = [font.getGlyphSet(location=loc, normalized=True) if loc else font.getGlyphSet()
-            for loc in plan.src_locs]
     order = font.getGlyphOrder()
     chosen = _chosen(font, kind, glyphs, order)
-    convert = [n for n in order if kind == "cff" and n not in chosen]
+    plan = _plan(font, nib, nib_max, tol, refine, grade, chosen)
+    every = kind == "cff" or cff2           # every glyph's outlines written anew
+    convert = [n for n in order if n not in set(chosen)] if every else []
+    sets = [font.getGlyphSet(location=loc, normalized=True) if loc else font.getGlyphSet()
+            for loc in plan.src_locs]
+    results = _brush_glyphs(sets, plan, chosen, convert, tol, jobs, progress, cff2)
+    names = order if every else [n for n, c, _ in results if c is not None]
+    widths = [{n: gs[n].width for n in names} for gs in sets]
+    write = _write_cff2 if cff2 else _write_truetype
+    shifts = write(font, kind, plan, results, set(chosen), widths)
+    _move_anchors(font, shifts, plan.axis, plan.values, plan.tags)
+    if family_name:
+        from .tables import rename_family
+
+        rename_family(font, family_name)
+    _save(font, out_path, cff2)
+    return {"masters": plan.locs, "source_masters": plan.src_locs, "nib_values": plan.values,
+            "axis": plan.axis, "refinement": plan.report, "glyphs": len(shifts),
+            "fit_seconds": sum(r[2] for r in results), "font": font}
+
+
+def _output_format(out_path):
+    """"truetype" (.ttf, .woff2, .woff) or "cff2" (.otf) for a variable brushed font.
+
+    Raises:
+        MorphError: another suffix."""
+    suffix = str(out_path).lower().rsplit(".", 1)[-1]
+    if suffix == "otf":
+        return "cff2"
+    if suffix in ("ttf", "woff2", "woff"):
+        return "truetype"
+    raise MorphError("a variable brushed font is .ttf, .woff2, .woff (glyf/gvar) or .otf "
+                     "(CFF2), got %s" % out_path)
+
+
+def _brush_glyphs(sets, plan, chosen, convert, tol, jobs, progress, cff2):
+    """run_jobs of :func:`_brush_glyph_job` over the glyphs brushed (``chosen``) and
+    converted (``convert``): each glyph's loops read from the source masters' glyph
+    ``sets`` as the workers need them (run_jobs consumes the generator lazily)."""
+    from .jobs import run_jobs
+
     brush = set(chosen)
-    # made as the workers need them (run_jobs consumes a generator lazily)
-    work = ((n, [_region_loops(gs, n) for gs in sets], plan.nibs if n in brush else None,
-             plan.owners, FIT_SHARE * tol, CU2QU_SHARE * tol) for n in chosen + convert)
+    q_tol = None if cff2 else CU2QU_SHARE * tol
+    work = ((n, [region_loops(gs, n) for gs in sets], plan.nibs if n in brush else None,
+             plan.owners, FIT_SHARE * tol, q_tol) for n in chosen + convert)
     report = None if progress is None else (lambda k, r: progress(r[0]))
-    results = run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
-    written = [n for n, contours, _ in results if contours is not None]
-    widths = [{n: gs[n].width for n in (order if kind == "cff" else written)} for gs in sets]
+    return run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
+
+
+def _write_truetype(font, kind, plan, results, brushed, widths):
+    """The results written as glyf/gvar into ``font`` (a CFF source made TrueType
+    first; its glyphs without contours get their advances at every master); the nib
+    axis added; HVAR / VVAR dropped (gvar's phantom points carry the advances).
+    Returns the brushed glyphs' default shifts."""
+    from .variable_grid import grid_model
+
     if kind == "cff":
         _truetype_tables(font)
     if plan.axis is not None:
         _add_nib_axis(font, plan.axis, plan.values)
-    shifts = _write_glyphs(font, plan, results, brush, widths)
+    shifts = _write_glyphs(font, plan, results, brushed, widths)
     if kind == "cff":
-        model = VariationModel(plan.locs, plan.tags)
-        for name in set(order) - set(written):
+        model = grid_model(plan.locs, plan.tags)
+        written = {n for n, contours, _ in results if contours is not None}
+        for name in set(font.getGlyphOrder()) - written:
             _write_empty(font, model, widths, plan.owners, name)
     for t in ("HVAR", "VVAR"):
         if t in font:
             del font[t]
-    _move_anchors(font, shifts, plan.axis, plan.values, plan.tags)
-    if family_name:
-        rename_family(font, family_name)
     set_overlap_flags(font)
+    return shifts
+
+
+def _write_cff2(font, kind, plan, results, brushed, widths):
+    """The results written as a CFF2 table with HVAR (:mod:`morph.fonts.variable_cff2`),
+    the nib axis added.  Returns the brushed glyphs' default shifts."""
+    from .variable_cff2 import write_cff2
+
+    if plan.axis is not None:
+        _add_nib_axis(font, plan.axis, plan.values)
+    moved = {}
+    for name, contours, _ in results:
+        if contours is not None and name in brushed:
+            width0 = int(round(widths[0][name]))
+            moved[name] = [_shift(n, width0, plan.axis) for n in plan.nibs]
+    return write_cff2(font, plan, results, moved, widths)
+
+
+def _save(font, out_path, cff2):
+    from .tables import save_font
+
+    if cff2:
+        font.sfntVersion = "OTTO"
     save_font(font, out_path)
-    return {"masters": plan.locs, "source_masters": plan.src_locs, "nib_values": plan.values,
-            "axis": plan.axis, "glyphs": len(shifts),
-            "fit_seconds": sum(r[2] for r in results), "font": font}
 
 
 def _outline_kind(font, src, nib_max):
@@ -304,9 +279,9 @@ def _outline_kind(font, src, nib_max):
 @dataclass
 class _Plan:
     """The fitted masters of a variable brush: the nib ``axis`` (or None) and its
-    master ``values``, the source masters' normalized locations ``src_locs``, per
-    fitted master its source master (``owners``), nib (``nibs``) and normalized
-    location over ``tags`` (``locs``)."""
+    master ``values``, the source masters' normalized locations ``src_locs`` and
+    their refinement ``report``, per fitted master its source master (``owners``),
+    nib (``nibs``) and normalized location over ``tags`` (``locs``)."""
 
     axis: object
     values: list
@@ -315,33 +290,41 @@ class _Plan:
     nibs: list
     tags: list
     locs: list
+    report: dict = None
 
 
-def _plan(font, nib, nib_max, tol, split, grade):
+def _plan(font, nib, nib_max, tol, refine, grade, chosen):
+    """The :class:`_Plan`: nib masters within their share of the blend budget
+    (:func:`axis_masters`), source masters within theirs (:func:`refine_sources`,
+    over the brushed glyphs and every nib master); each gets half of BLEND_SHARE
+    when both the nib axis and a variable source's axes are inexact."""
     nib = Ellipse(*map(float, nib))
     axis = None
     if nib_max is not None:
         upm = font["head"].unitsPerEm
         axis = (grade and grade_axis(nib, nib_max, upm)) or nib_axis(nib, nib_max)
-    values = [None] if axis is None else axis_masters(axis, BLEND_SHARE * tol)
+    both = axis is not None and "fvar" in font and \
+        interpolation_error(axis.nib_min, axis.nib_max) > 1e-9 * axis.nib_max.width
+    share = BLEND_SHARE * tol / (2.0 if both else 1.0)
+    values = [None] if axis is None else axis_masters(axis, share)
     nibs_v = [nib] if axis is None else [axis.nib_at(v) for v in values]
-    src_locs = source_locations(font, split)
+    src_locs, report = refine_sources(font, chosen, nibs_v, share, refine)
     src_tags = [a.axisTag for a in font["fvar"].axes] if "fvar" in font else []
     fitted = [(s, k) for k in range(len(values)) for s in range(len(src_locs))]
     locs = [{**src_locs[s], **({axis.tag: axis.fraction(values[k])} if axis else {})}
             for s, k in fitted]
     return _Plan(axis, values, src_locs, [s for s, _ in fitted],
                  [nibs_v[k] for _, k in fitted], src_tags + ([axis.tag] if axis else []),
-                 locs)
+                 locs, report)
 
 
 def _write_glyphs(font, plan, results, brushed, widths):
     """Every glyph of ``results`` written at every fitted master (brushed ones shifted
     by their nib, converted CFF glyphs as they are); returns the brushed glyphs'
     default shifts."""
-    from fontTools.varLib.models import VariationModel
+    from .variable_grid import grid_model
 
-    model = VariationModel(plan.locs, plan.tags)
+    model = grid_model(plan.locs, plan.tags)
     shifts = {}
     for name, contours, _ in results:
         if contours is None:
@@ -423,9 +406,8 @@ def _write_empty(font, model, widths, owners, name):
 def _set_variations(gvar, model, name, coords):
     from fontTools.ttLib.tables.TupleVariation import TupleVariation
 
-    # rounded as they are computed, each against the rounded ones before it, so that
-    # every master is its own rounded outline (rounding the exact deltas afterwards
-    # would add up to one rounding per region over a master)
+    # integer masters on the grid model's tents: integer deltas, every master exactly
+    # its own rounded outline (the rounding only drops the floats' noise)
     deltas = model.getDeltas(coords, round=np.round)
     gvar.variations[name] = [TupleVariation(sup, [tuple(map(int, p)) for p in d])
                              for d, sup in zip(deltas[1:], model.supports[1:])
@@ -632,28 +614,12 @@ def _vary_anchors(font, shifts, axis, values, tags):
     XDeviceTable indexes a row of GDEF's item variation store with the deltas of
     those (a 1-D model over the nib masters) and, for an anchor that varied already,
     its own deltas of the source's regions copied into the same row."""
-    from fontTools.varLib.builder import (buildVarData, buildVarDevTable, buildVarRegion,
-                                          buildVarRegionList, buildVarStore)
+    from fontTools.varLib.builder import buildVarData, buildVarDevTable, buildVarRegion
     from fontTools.varLib.models import VariationModel
-    from fontTools.ttLib import newTable
     from fontTools.ttLib.tables import otTables as ot
 
     model = VariationModel([{axis.tag: axis.fraction(v)} for v in values], [axis.tag])
-    if "GDEF" not in font:
-        gdef = font["GDEF"] = newTable("GDEF")
-        gdef.table = ot.GDEF()
-        gdef.table.Version = 0x00010003
-        for attr in ("GlyphClassDef", "AttachList", "LigCaretList", "MarkAttachClassDef",
-                     "MarkGlyphSetsDef"):
-            setattr(gdef.table, attr, None)
-    gdef = font["GDEF"].table
-    if getattr(gdef, "VarStore", None) is None:
-        gdef.Version = 0x00010003
-        for attr in ("MarkGlyphSetsDef",):
-            if not hasattr(gdef, attr):
-                setattr(gdef, attr, None)
-        gdef.VarStore = buildVarStore(buildVarRegionList([], tags), [])
-    store = gdef.VarStore
+    store = _gdef_store(font, tags)
     first = len(store.VarRegionList.Region)
     nib_regions = []
     for sup in model.supports[1:]:
@@ -688,6 +654,28 @@ def _vary_anchors(font, shifts, axis, values, tags):
             new.append(b)
         setattr(rec, attr, new if many else new[0])
     store.VarDataCount = len(store.VarData)
+
+
+def _gdef_store(font, tags):
+    """GDEF's item variation store (GDEF 1.3 made, or added, where there is none)."""
+    from fontTools.varLib.builder import buildVarRegionList, buildVarStore
+    from fontTools.ttLib import newTable
+    from fontTools.ttLib.tables import otTables as ot
+
+    if "GDEF" not in font:
+        gdef = font["GDEF"] = newTable("GDEF")
+        gdef.table = ot.GDEF()
+        gdef.table.Version = 0x00010003
+        for attr in ("GlyphClassDef", "AttachList", "LigCaretList", "MarkAttachClassDef",
+                     "MarkGlyphSetsDef"):
+            setattr(gdef.table, attr, None)
+    gdef = font["GDEF"].table
+    if getattr(gdef, "VarStore", None) is None:
+        gdef.Version = 0x00010003
+        if not hasattr(gdef, "MarkGlyphSetsDef"):
+            gdef.MarkGlyphSetsDef = None
+        gdef.VarStore = buildVarStore(buildVarRegionList([], tags), [])
+    return gdef.VarStore
 
 
 def _add_row(store, datas, old, deltas, nib_regions, build):

@@ -12,11 +12,12 @@ every element of every stroked glyph (the nib part of pieces at equal parameter,
 and of the corner arcs at equal nib parameter: upper bounds of the distance between
 the outlines), at u = 1/4, 1/2, 3/4, with each nib of the nib axis.
 :func:`refine_skeleton` halves every interval of the skeleton masters' grid (per
-axis, at the grid's other nodes) whose error exceeds the budget, until all hold,
-and makes the new masters as instances of the skeleton's own interpolation
-(fontTools' ``VariationModel`` over the masters' normalized locations: points,
-anchors, advances and component offsets), so the compiled font interpolates the
-skeleton as the designspace does and the nib part within the budget.
+axis, at the grid's other nodes; :func:`morph.fonts.variable_grid.refine_grid`)
+whose error exceeds the budget, until all hold, and makes the new masters as
+instances of the skeleton's own interpolation (fontTools' ``VariationModel`` over
+the masters' normalized locations: points, anchors, advances, component offsets and
+kerning), so the compiled font interpolates the skeleton as the designspace does
+and the nib part within the budget.
 """
 
 import copy
@@ -24,8 +25,6 @@ import itertools
 from dataclasses import replace
 
 import numpy as np
-
-from ..errors import MorphError
 
 __all__ = ["blend_error", "refine_skeleton", "normalized_locations", "MAX_SKELETON_MASTERS"]
 
@@ -111,15 +110,26 @@ class _Interpolator:
                         "master 0 (%d numbers against %d)" % (n, m, len(v), len(vals[0])),
                         "points")
             self.deltas[n] = self.model.getDeltas(vals)
+        # kerning: every pair of any master (0 where a master lacks it)
+        pairs = sorted(set().union(*(f.kerning.keys() for f in skel.fonts)))
+        self.pairs = pairs
+        self.kerning = self.model.getDeltas([np.array([f.kerning.get(p, 0.0) for p in pairs],
+                                                      float) for f in skel.fonts]) \
+            if pairs else None
 
     def values(self, name, loc):
         return self.model.interpolateFromDeltas(loc, self.deltas[name])
 
     def font(self, loc, style):
-        """A copy of the default master with the glyphs at ``loc``."""
+        """A copy of the default master with the glyphs and the kerning at ``loc``."""
         f = copy.deepcopy(self.skel.fonts[self.skel.default])
         for n in self.names:
             _set_glyph_values(f[n], self.values(n, loc))
+        if self.kerning is not None:
+            values = self.model.interpolateFromDeltas(loc, self.kerning)
+            f.kerning.clear()
+            f.kerning.update({p: round(float(v), 3) for p, v in zip(self.pairs, values)
+                              if round(float(v), 3) != 0})
         f.info.styleName = style
         return f
 
@@ -158,25 +168,40 @@ def blend_error(paths_a, paths_b, paths_us, nibs, label="glyph"):
 def refine_skeleton(skel, names, nibs, budget, keep, carry=()):
     """(refined :class:`~morph.fonts.variable.Skeleton`, report) for a designspace
     skeleton: its masters' grid (every axis' master coordinates, the full product)
-    with intervals halved until :func:`blend_error` of every stroked glyph
-    (``names``; components kept as components by ``keep`` are not stroked here) and
-    nib (``nibs``) is within ``budget`` along every axis at every node of the other
-    axes; the glyphs ``carry`` (composites that follow) are interpolated into the
-    new masters too.  The given masters stay first (their indices unchanged); the new ones are
+    with intervals halved (:func:`morph.fonts.variable_grid.refine_grid`) until
+    :func:`blend_error` of every stroked glyph (``names``; components kept as
+    components by ``keep`` are not stroked here) and nib (``nibs``) is within
+    ``budget`` along every axis at every node of the other axes; the glyphs
+    ``carry`` (composites that follow) are interpolated into the new masters too.
+    The given masters stay first (their indices unchanged); the new ones are
     instances of the skeleton's own interpolation, styled by their user location.
-    Report: ``{"axes": {axis name: number of grid values}, "added": masters added,
-    "error": the largest blend error left, "errors_before": per axis, the largest
-    error between the given masters}``.  A skeleton of one master is returned as
-    it is.
+    Report: refine_grid's (``axes``, ``error``, ``errors_before``, ``budget``) and
+    ``added``, the masters added.  A skeleton of one master is returned as it is.
 
     Raises:
         MorphError: more than :data:`MAX_SKELETON_MASTERS` masters would be needed.
     """
+    from .variable_grid import grid_size, refine_grid
+
     if len(skel.fonts) < 2 or not skel.axes:
-        return skel, {"axes": {}, "added": 0, "error": 0.0, "errors_before": {}}
+        return skel, {"axes": {}, "added": 0, "error": 0.0, "errors_before": {},
+                      "budget": budget}
     interp = _Interpolator(skel, list(names) + [n for n in carry if n not in names])
     axes = [ax.name for ax in skel.axes]
     grid = {a: sorted({round(loc[a], 12) for loc in interp.locs}) for a in axes}
+    edge_error = _edge_errors(interp, axes, names, nibs, keep)
+    grid, report = refine_grid(grid, lambda edges: [edge_error(*e) for e in edges], budget,
+                               MAX_SKELETON_MASTERS, "the skeleton designspace",
+                               "the nib does not follow its interpolation: use masters "
+                               "closer in shape or a smaller nib")
+    report["added"] = grid_size(grid) - len(skel.fonts)
+    return _with_grid(skel, interp, grid), report
+
+
+def _edge_errors(interp, axes, names, nibs, keep):
+    """edge_error(axis, lo, hi, others): the largest :func:`blend_error` of the glyphs
+    ``names`` between the skeleton's instances at lo and hi along ``axis`` (the
+    other axes at ``others``, (axis, value) pairs; instances cached by location)."""
     cache = {}
 
     def paths_at(loc):
@@ -187,43 +212,14 @@ def refine_skeleton(skel, names, nibs, budget, keep, carry=()):
         return cache[key]
 
     def edge_error(a, lo, hi, others):
+        others = dict(others)
         pa = paths_at({**others, a: lo})
         pb = paths_at({**others, a: hi})
         pus = [paths_at({**others, a: lo + u * (hi - lo)}) for u in FRACTIONS]
         return max((blend_error(pa[n], pb[n], [p[n] for p in pus], nibs, "glyph %r" % n)
                     for n in names if pa[n]), default=0.0)
 
-    errors = {}
-
-    def worst_on(a, lo, hi):
-        rest = [b for b in axes if b != a]
-        key = (a, lo, hi, tuple(tuple(grid[b]) for b in rest))
-        if key not in errors:
-            errors[key] = max(edge_error(a, lo, hi, dict(zip(rest, combo)))
-                              for combo in itertools.product(*(grid[b] for b in rest)))
-        return errors[key]
-
-    before = {a: max(worst_on(a, lo, hi) for lo, hi in zip(grid[a][:-1], grid[a][1:]))
-              for a in axes if len(grid[a]) > 1}
-    while True:
-        bad = [(a, lo, hi) for a in axes for lo, hi in zip(grid[a][:-1], grid[a][1:])
-               if worst_on(a, lo, hi) > budget]
-        if not bad:
-            break
-        for a, lo, hi in bad:
-            grid[a] = sorted(set(grid[a]) | {round(0.5 * (lo + hi), 12)})
-        if int(np.prod([len(v) for v in grid.values()])) > MAX_SKELETON_MASTERS:
-            raise MorphError("the skeleton designspace needs more than %d masters to keep "
-                             "instances within %g units of the exact sum (the nib does not "
-                             "follow its interpolation): use masters closer in shape or a "
-                             "smaller nib" % (MAX_SKELETON_MASTERS, budget))
-    worst = max((worst_on(a, lo, hi) for a in axes
-                 for lo, hi in zip(grid[a][:-1], grid[a][1:])), default=0.0)
-    return _with_grid(skel, interp, grid), {
-        "axes": {a: len(grid[a]) for a in axes},
-        "added": int(np.prod([len(v) for v in grid.values()])) - len(skel.fonts),
-        "error": worst,
-        "errors_before": before}
+    return edge_error
 
 
 def _with_grid(skel, interp, grid):

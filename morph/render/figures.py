@@ -130,8 +130,11 @@ def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="
 
 def _write_group(folder, first, group, bbox, size, animation):
     """Write frames ``first``, ... of (region, tol) pairs ``group`` (their curves
-    fitted in one batch); returns their animation images."""
-    from .png import gif_frame, render_png
+    fitted in one batch); returns their animation images.  A frame's PNG is
+    written from its palette image when it has at most 256 colours (one fill on a
+    background: :func:`morph.render.png.exact_palette`, the same pixels), which is
+    also its GIF frame."""
+    from .png import exact_palette, gif_frame, render_png
     from .svg import document_tol, fitted_regions, write_svg
 
     tols = [document_tol([region], t, bbox=bbox) for region, t in group]
@@ -141,6 +144,9 @@ def _write_group(folder, first, group, bbox, size, animation):
         stem = folder / ("frame-%03d" % k)
         write_svg(str(stem) + ".svg", [fitted], bbox=bbox, size=size, tol=t)
         image = render_png([region], size=size, bbox=bbox)
-        image.save(str(stem) + ".png")
-        images.append(gif_frame(image) if animation == "gif" else image)
+        small = exact_palette(image)
+        (image if small is None else small).save(str(stem) + ".png")
+        if animation == "gif":
+            image = gif_frame(image) if small is None else small
+        images.append(image)
     return images

@@ -13,7 +13,7 @@ winding rule sees the clockwise hole loops.  Strokes are drawn with
 import math
 
 import numpy as np
-from PIL import Image, ImageColor, ImageDraw
+from PIL import Image, ImageColor
 
 from .. import polyline as pl
 from ..region import polyline_edges
@@ -23,7 +23,7 @@ from . import frame_bbox, normalize_shapes
 MAX_SAMPLES = 1 << 28
 
 __all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
-           "coverage_counts"]
+           "coverage_counts", "exact_palette", "gif_frame"]
 
 
 def _rgba(color, opacity=1.0):
@@ -166,6 +166,8 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
             layers.append((f, coverage_counts(polys, height, width, k)))
         st = _rgba(style.get("stroke", stroke), opacity)
         if st is not None:
+            from PIL import ImageDraw  # strokes only: it imports ImageFont
+
             img = Image.new("L", (big_w, big_h), 0)
             draw = ImageDraw.Draw(img)
             lw = max(1, int(round(style.get("stroke_width", stroke_width) * k)))
@@ -210,19 +212,27 @@ def _flatten_rgb(image):
     return image.convert("RGB")
 
 
-def gif_frame(image):
-    """An image as a GIF frame: composited on white; an image of at most 256 colours
-    (one fill anti-aliased on a background has supersample**2 + 1) keeps them
-    exactly, in a palette of its own colours; others get an adaptive 256-colour
-    palette (median cut)."""
-    rgb = _flatten_rgb(image)
-    colors = rgb.getcolors(256)
+def exact_palette(image):
+    """An RGB image of at most 256 colours (one fill anti-aliased on a background
+    has supersample**2 + 1) as a palette image of its own colours: the same pixels
+    in a byte each, which a PNG stores in a third of the time and space of RGB;
+    None for an image of more colours (or not RGB)."""
+    colors = image.getcolors(256) if image.mode == "RGB" else None
     if colors is None:
-        return rgb.convert("P", palette=Image.Palette.ADAPTIVE)
+        return None
     flat = [c for _, color in colors for c in color]
     palette = Image.new("P", (1, 1))
     palette.putpalette(flat + flat[:3] * (256 - len(colors)))
-    return rgb.quantize(palette=palette, dither=Image.Dither.NONE)
+    return image.quantize(palette=palette, dither=Image.Dither.NONE)
+
+
+def gif_frame(image):
+    """An image as a GIF frame: composited on white; an image of at most 256 colours
+    keeps them exactly, in a palette of its own colours (:func:`exact_palette`);
+    others get an adaptive 256-colour palette (median cut)."""
+    rgb = _flatten_rgb(image)
+    frame = exact_palette(rgb)
+    return rgb.convert("P", palette=Image.Palette.ADAPTIVE) if frame is None else frame
 
 
 def frames_to_gif(images, path, duration=50, loop=0):
@@ -235,8 +245,11 @@ def frames_to_gif(images, path, duration=50, loop=0):
     frames = [im if im.mode == "P" else gif_frame(im) for im in images]
     if not frames:
         raise ValueError("no frames to write")
-    frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:],
-                   duration=duration, loop=loop, disposal=2)
+    # a .gif path names the format: Pillow then loads the GIF plugin alone (with
+    # format= it loads five, JPEG's among them: ~10 ms of every frame command)
+    named = str(path).lower().endswith(".gif")
+    frames[0].save(path, format=None if named else "GIF", save_all=True,
+                   append_images=frames[1:], duration=duration, loop=loop, disposal=2)
     return path
 
 

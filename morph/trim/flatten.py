@@ -3,8 +3,9 @@
 Every closed loop of rational pieces becomes a closed polyline whose vertices lie
 on the pieces (certified flattening, :func:`morph.polyline.flatten_many`: each piece
 is within ``eps`` of its polyline by the convex-hull property of positive-weight
-rational Béziers, wherever its topology is decided; within COARSE eps along the
-simple arcs that nothing comes near, :func:`adaptive_starts`), snapped to the
+rational Béziers, wherever its topology is decided; within up to COARSE eps
+along the simple arcs that nothing comes near, the nearer something comes the
+finer, :func:`adaptive_starts`), snapped to the
 integer grid ``round((p - origin) / grid)``.
 Each vertex keeps its tag (piece index, parameter t); each segment runs from its
 vertex to the next one of its loop and carries the parameter range [t0, t1] on the
@@ -23,15 +24,21 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import BoxGrid, touching_edges, unique
+from ..polyline import BoxGrid, _cell_pair_chunks, _within, unique
 
-#: segments whose topology is certain are flattened this many times coarser
+#: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
 COARSE = 32.0
 #: the tangents of a coarse part lie within this angle of its chord
 CONE = np.radians(25.0)
 #: a coarse segment's chord turns by at most this into its neighbours'
 TURN = np.radians(30.0)
+#: the parts not certain at one level are flattened this many times finer and
+#: tested again (:func:`adaptive_starts`, :func:`_levels`): 32 eps, 8 eps, then
+#: eps.  A part is cut only as finely as what comes near it needs: 29 % fewer
+#: vertices than one step from COARSE to eps on chunks of CJK strokes, whose caps
+#: and joins turn too fast for COARSE eps but not for 8 eps
+LEVEL_STEP = 4.0
 
 
 @dataclass
@@ -109,12 +116,14 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     """The vertices of closed polylines through loops of pieces (``piece_loop``: the
     loop of each piece, loops stored one after another), as :func:`morph.piece.
     flat_starts` gives them: (piece, t, point), sorted by (piece, t).  Within ``eps``
-    where the topology is decided, within ``coarse`` eps elsewhere (None:
+    where the topology is decided, within up to ``coarse`` eps elsewhere (None:
     :data:`COARSE`; 1: within eps everywhere).
 
     The loops are flattened within e = ``coarse`` eps first; each segment's part of
     its piece lies in the segment grown by e (a capsule).  A segment's part is cut
-    finer, within eps, unless its topology is certain at e:
+    finer, within e / LEVEL_STEP (:func:`_levels`; after the last level within eps), unless
+    its topology is certain at e; the parts cut are tested again at their new
+    tolerance, and so on down to eps.  Certain at e means:
 
     - no segment of another part (not its neighbour along the loop) comes within
       2 e + 2 (eps + grid) of it: the two parts, their polylines at either
@@ -132,32 +141,64 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     Where all of this holds, the parts are simple arcs that neither cross nor come
     near any other: the winding numbers away from them, hence the filled set, are
     those of the finer flattening, and the lifted boundary follows the exact pieces.
+
+    A later level tests its segments against each other only: a part decided at a
+    coarser level e' was farther than 2 e' + 2 (eps + grid) from every segment of
+    that level but its neighbours, so more than 2 (eps + grid) from their parts,
+    and the finer segments cut from those lie within e'' <= e' of their parts; a
+    part cut from a decided part's neighbour lies on the far side of their shared
+    vertex (the two arcs advance along their mean chord), as do its chords.
     """
     coarse = COARSE if coarse is None else coarse
-    pid, ts, xy = pl.flat_starts(pieces, coarse * eps)
+    levels = _levels(coarse)
+    pid, ts, xy = pl.flat_starts(pieces, levels[0] * eps)
     if coarse <= 1.0 or not len(pid):
         return pid, ts, xy
-    loop_of = piece_loop[pid]
-    nxt, prv, starts = _links(loop_of)
+    pending = np.ones(len(pid), bool)   # segments flattened at the level's tolerance
+    for k, level in enumerate(levels):
+        loop_of = piece_loop[pid]
+        nxt, prv, starts = _links(loop_of)
+        fine = _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending,
+                          level * eps, eps, grid)
+        if not fine.any():
+            break
+        finer = levels[k + 1] if k + 1 < len(levels) else 1.0
+        pid, ts, xy, pending = _refined(pieces, pid, ts, xy, fine, prv, finer * eps)
+        if finer <= 1.0:
+            break
+    return pid, ts, xy
+
+
+def _levels(coarse):
+    """The tolerances (in eps) at which :func:`adaptive_starts` tests the parts it
+    has not decided yet: ``coarse``, then LEVEL_STEP times finer each time while
+    that is at least LEVEL_STEP eps (32 and 8 eps); the parts the last level leaves
+    go to eps untested.  A level nearer eps does not pay: at 2 eps a test of all the
+    parts left decided a quarter of them on Hershey script strokes, and cost more
+    than the vertices it saved."""
+    out = [float(coarse)]
+    while out[-1] / LEVEL_STEP >= LEVEL_STEP:
+        out.append(out[-1] / LEVEL_STEP)
+    return out
+
+
+def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, grid):
+    """The segments (mask) among the ``pending`` ones (flattened within e) whose
+    topology is not certain at e (:func:`adaptive_starts`); the others were decided
+    at a coarser level and are simple arcs apart from everything but their
+    neighbours (which their own test proved, for every finer polyline of those)."""
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
     chord = xy[nxt] - xy
     length = np.hypot(chord[:, 0], chord[:, 1])
     turn_cos = np.einsum("ij,ij->i", chord, chord[nxt]) / np.maximum(length * length[nxt], 1e-300)
     smooth = (turn_cos >= np.cos(TURN)) & (length > 0) & (length[nxt] > 0)
-    # touching_edges numbers the edges of the polylines of two or more vertices
-    many = np.diff(starts) >= 2
-    polys = [xy[a:b] for a, b, m in zip(starts[:-1], starts[1:], many) if m]
-    edge = np.flatnonzero(many[loop_of])
+    todo = np.flatnonzero(pending)
     near = np.zeros(len(pid), bool)
-    reach = 2.0 * coarse * eps + 2.0 * (eps + grid)
-    near[edge[touching_edges(polys, reach).ravel()]] = True
-    arc = np.zeros(len(pid), bool)
-    for k, parts in _segment_parts(pieces, pid, ts, t_end):
-        arc[k] = _in_cone(parts, chord[k], np.cos(CONE))
-    fine = near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv])
-    if not fine.any():
-        return pid, ts, xy
-    return _refined(pieces, pid, ts, xy, fine, prv, eps)
+    near[todo] = _near_others(xy, nxt, todo, 2.0 * e + 2.0 * (eps + grid))
+    arc = ~pending   # decided parts are arcs in their chords' cones
+    for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
+        arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
+    return pending & (near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv]))
 
 
 def _refined(pieces, pid, ts, xy, fine, prv, eps):
@@ -169,7 +210,8 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     vertices inside a stretch go, and where a coarse vertex bounds a stretch the
     part between it and the nearest vertex of the finer flattening is flattened
     within eps on its own (a chord to a point inside a flat part could leave it
-    farther than eps)."""
+    farther than eps).  Returns (piece, t, point, whether the segment from the
+    vertex is one of the refined ones)."""
     of = unique(pid[fine])
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
@@ -214,9 +256,31 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         mp = np.concatenate([mp, mp[owner]])
         mt = np.concatenate([mt, mt[owner] + s * (t_next[owner] - mt[owner])])
         mx = np.concatenate([mx, pts])
+        mseg = np.concatenate([mseg, mseg[owner]])
         order = np.lexsort((mt, mp))
-        mp, mt, mx = mp[order], mt[order], mx[order]
-    return mp, mt, mx
+        mp, mt, mx, mseg = mp[order], mt[order], mx[order], mseg[order]
+    return mp, mt, mx, fine[mseg]
+
+
+def _near_others(xy, nxt, todo, reach):
+    """Whether each segment ``todo`` (from vertex k to ``nxt[k]``) comes within
+    ``reach`` of another of them that is not its neighbour along its loop
+    (crossing, touching or nearer), (len(todo),) bool; a segment that shares only a
+    point with another (a loop's vertex visited twice) is near it.  The loops of
+    one vertex have no segment (as in :func:`morph.polyline.touching_edges`)."""
+    near = np.zeros(len(todo), bool)
+    has = np.flatnonzero(nxt[todo] != todo)
+    if len(has) < 2:
+        return near
+    seg = todo[has]
+    a, b = xy[seg], xy[nxt[seg]]
+    grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
+    for pairs in _cell_pair_chunks(grid):
+        i, j = seg[pairs[:, 0]], seg[pairs[:, 1]]
+        pairs = pairs[(nxt[i] != j) & (nxt[j] != i)]
+        if len(pairs):
+            near[has[pairs[_within(a, b, pairs, reach)].ravel()]] = True
+    return near
 
 
 def _segment_parts(pieces, pid, t0, t1):

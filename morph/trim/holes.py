@@ -310,13 +310,18 @@ class Membership:
         size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
         self.grid = min(depth / 20.0, size / 1000.0)
         areas = mo.loop_areas(region_a) if areas is None else areas
-        flat_loop = (np.abs(areas) <= 1e-9 * size * size).tolist()
-        self.pa = [self._int(p) for p, f in zip(pa, flat_loop) if not f]
-        # a degenerate loop P, reverse(P): its first half is the path
-        self.curves = [self._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1]
-                       for p, f in zip(pa, flat_loop) if f]
-        self.box_a = _boxes(self.pa)
-        self.box_c = _boxes(self.curves)
+        flat_loop = np.abs(np.asarray(areas, float)) <= 1e-9 * size * size
+        # all loops rounded at once; a degenerate loop P, reverse(P): its first half
+        # (len(P) // 2 + 1 points, at most all of them) is the path
+        sizes = np.array([len(p) for p in pa], np.int64)
+        q = self._int(np.concatenate(pa))
+        rows = np.split(q, np.cumsum(sizes)[:-1])
+        closed, curves = np.flatnonzero(~flat_loop), np.flatnonzero(flat_loop)
+        self.pa = [rows[k] for k in closed]
+        self.curves = [rows[k][:sizes[k] // 2 + 1] for k in curves]
+        self.box_a = _boxes_of(q, np.cumsum(sizes)[closed] - sizes[closed], sizes[closed])
+        self.box_c = _boxes_of(q, np.cumsum(sizes)[curves] - sizes[curves],
+                               sizes[curves] // 2 + 1)
         pts_b = np.concatenate(self.pb)
         self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
 
@@ -359,11 +364,15 @@ def _add(clip, path, kind, closed):
         return False
 
 
-def _boxes(polys):
-    """(k, 4) integer boxes (xmin, ymin, xmax, ymax) of polygons."""
-    if not polys:
+def _boxes_of(q, first, count):
+    """(k, 4) integer boxes (xmin, ymin, xmax, ymax) of the polygons
+    q[first[k]:first[k] + count[k]] (count >= 1), all at once."""
+    if not len(first):
         return np.zeros((0, 4), np.int64)
-    return np.array([np.concatenate([p.min(axis=0), p.max(axis=0)]) for p in polys])
+    idx = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
+    at = np.cumsum(count) - count
+    rows = q[idx]
+    return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
 
 def _meeting(polys, boxes, lo, hi):

@@ -432,9 +432,16 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     ha, hb = stacked[ia], stacked[ib]
     n = stacked.shape[1] - 1
     dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
+    # a row whose step leaves (s, u) as they are is at a fixed point of the
+    # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
+    # the others go on; the result is the same bits as iterating every row
+    live = np.arange(len(s))
     for _ in range(iters):
-        pa, da = pc.jet_rows(ha, s, dha)
-        pb, db = pc.jet_rows(hb, u, dhb)
+        if not len(live):
+            break
+        sl, ul = s[live], u[live]
+        pa, da = pc.jet_rows(ha[live], sl, dha[live])
+        pb, db = pc.jet_rows(hb[live], ul, dhb[live])
         f = pa - pb
         det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
         safe = np.where(np.abs(det) > 1e-300, det, 1.0)
@@ -442,8 +449,9 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
         ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
         du = np.where(np.abs(det) > 1e-300, du, 0.0)
-        s = np.clip(s - ds, 0.0, 1.0)
-        u = np.clip(u - du, 0.0, 1.0)
+        s2, u2 = np.clip(sl - ds, 0.0, 1.0), np.clip(ul - du, 0.0, 1.0)
+        s[live], u[live] = s2, u2
+        live = live[(s2 != sl) | (u2 != ul)]
     pa, da = pc.jet_rows(ha, s, dha)
     pb, db = pc.jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)

@@ -377,3 +377,26 @@ def test_debug_file_goes_where_morph_debug_says(runner, tmp_path, monkeypatch):
     assert res.exit_code == 1 and str(dumps) in res.stderr
     assert [p.name for p in dumps.iterdir()] == ["morph-debug-sum.json"]
     assert not list(work.iterdir())
+
+
+# =========================================================================== 14: test summary
+
+def test_the_readme_test_command_prints_its_summary():
+    """The README's test command, with pyproject's addopts, ends with the "N passed"
+    line (two -q together hide it): run here on one small test file, without -n."""
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    cmd = re.search(r"python -m pytest([^\n`]*)", (root / "README.md").read_text())
+    flags = cmd.group(1).split()
+    for k in range(len(flags) - 1, -1, -1):  # the workers (-n N): one file needs none
+        if flags[k] == "-n":
+            del flags[k:k + 2]
+    res = subprocess.run([sys.executable, "-m", "pytest", *flags, "-p", "no:randomly",
+                          "-p", "no:cacheprovider", "tests/test_init.py"], cwd=root,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert re.search(r"^\d+ passed", res.stdout, re.M), res.stdout

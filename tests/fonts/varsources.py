@@ -61,17 +61,31 @@ def to_cff(font):
     return font
 
 
-def _wide(font):
-    """The wght=700 master: outlines, advances and GPOS anchors x 1.25."""
+def _wide(font, scale=(WIDE, 1.0)):
+    """The wght=700 master: outlines, advances and GPOS anchors scaled by ``scale``
+    (x, y; default 1.25 x), rounded to integers."""
+    import numpy as np
+
     from morph.fonts.tables import _lookup_subtables
 
-    widen_glyf(font, WIDE)
+    sx, sy = scale
+    widen_glyf(font, sx)
+    if sy != 1.0:
+        glyf = font["glyf"]
+        for name in font.getGlyphOrder():
+            g = glyf[name]
+            if g.numberOfContours > 0:
+                c = np.array(g.coordinates, float)
+                c[:, 1] = np.round(c[:, 1] * sy)
+                g.coordinates = type(g.coordinates)([tuple(map(int, p)) for p in c])
+                g.recalcBounds(glyf)
     seen = set()
     for st in _lookup_subtables(font):
         for a in _anchors(st):
             if id(a) not in seen:
                 seen.add(id(a))
-                a.XCoordinate = int(round(a.XCoordinate * WIDE))
+                a.XCoordinate = int(round(a.XCoordinate * sx))
+                a.YCoordinate = int(round(a.YCoordinate * sy))
     return font
 
 
@@ -87,8 +101,9 @@ def _anchors(st):
     return [a for a in recs if a is not None]
 
 
-def variable_mark_font(folder, cff2=False):
-    """The two-master variable mark font (glyf/gvar, or CFF2): a path."""
+def variable_mark_font(folder, cff2=False, scale=(WIDE, 1.0)):
+    """The two-master variable mark font (glyf/gvar, or CFF2): a path; the wght=700
+    master is the Regular one scaled by ``scale`` (x, y)."""
     from fontTools.designspaceLib import AxisDescriptor, DesignSpaceDocument, SourceDescriptor
     from fontTools.ttLib import TTFont
     from fontTools.varLib import build
@@ -99,7 +114,7 @@ def variable_mark_font(folder, cff2=False):
     for style, wide in (("Regular", False), ("Wide", True)):
         font = TTFont(str(base))
         if wide:
-            _wide(font)
+            _wide(font, scale)
         if cff2:
             to_cff(font)
         p = folder / ("Mark-%s%s" % (style, suffix))
@@ -115,6 +130,8 @@ def variable_mark_font(folder, cff2=False):
         doc.addSource(src)
     var, _, _ = build(doc, optimize=False)
     out = folder / ("MarkVar" + suffix)
+    out = out.with_name("%s-%g-%g%s" % (out.stem, scale[0], scale[1], out.suffix)) \
+        if tuple(scale) != (WIDE, 1.0) else out
     var.save(str(out))
     return out
 

@@ -136,10 +136,13 @@ def _segment_gaps(tg, centre, radius):
     return np.abs(np.hypot(mid[:, 0] - centre[0], mid[:, 1] - centre[1]) - radius)
 
 
-def test_parts_near_another_loop_are_flattened_within_eps():
-    """Two circles 0.5 eps apart at one point: every segment whose middle comes
-    within 2 COARSE eps of the other circle is within eps (+ rounding) of its own;
-    away from the meeting point the segments are coarse."""
+def test_parts_near_another_loop_are_flattened_finer_the_nearer_they_are():
+    """Two circles 0.5 eps apart at one point: where they meet the segments are
+    within eps (+ rounding) of their own circle; elsewhere a segment is never
+    farther from its own circle than it is from the other one (a part decided at
+    tolerance e is more than 2 e + 2 (eps + grid) from every other part), so the
+    flattening coarsens level by level away from the meeting point, to COARSE eps
+    on the far side."""
     eps, grid = 1e-4, 1e-5
     ca, cb = (0.0, 0.0), (2.0 + 0.5 * eps, 0.0)
     a, b = pc.circle(ca, 1.0), pc.circle(cb, 1.0)
@@ -147,10 +150,14 @@ def test_parts_near_another_loop_are_flattened_within_eps():
     first = tg.piece < len(a)
     own = np.where(first, _segment_gaps(tg, ca, 1.0), _segment_gaps(tg, cb, 1.0))
     other = np.where(first, _segment_gaps(tg, cb, 1.0), _segment_gaps(tg, ca, 1.0))
-    near = other < 2 * COARSE * eps
-    assert near.sum() > 10
-    assert own[near].max() <= eps + grid
-    assert own[~near].max() > 4 * eps
+    close = other < 8 * eps
+    assert close.sum() >= 8
+    assert own[close].max() <= eps + grid
+    assert np.all(own <= np.maximum(eps, other) + grid)
+    # the intermediate levels are used: coarser than eps, yet within 2 COARSE eps
+    mid = (other < 2 * COARSE * eps) & (own > 1.5 * (eps + grid))
+    assert mid.sum() > 2
+    assert own[other > 2 * COARSE * eps].max() > 4 * eps
 
 
 def _random_loops(rng):
@@ -200,10 +207,12 @@ def test_adaptive_flattening_fills_by_the_rule(monkeypatch):
         eps = 10.0 ** rng.uniform(-4, -2.5)
         x = rng.uniform(-3, 13, (5000, 2))
         want, far = _membership(x, loops, rule, 0.1 * eps, 3 * (eps + eps))
-        for coarse in (F.COARSE, 1.0):
+        # the levels of 4 (32, 8, 2 eps), one step from COARSE to eps, eps everywhere
+        for coarse, step in ((F.COARSE, F.LEVEL_STEP), (F.COARSE, F.COARSE), (1.0, 2.0)):
             monkeypatch.setattr(F, "COARSE", coarse)
+            monkeypatch.setattr(F, "LEVEL_STEP", step)
             got, _ = _membership(x, boundary(loops, eps, eps, rule), "nonzero", 0.1 * eps, 0.0)
-            assert np.array_equal(got[far], want[far]), (trial, coarse)
+            assert np.array_equal(got[far], want[far]), (trial, coarse, step)
         monkeypatch.undo()
 
 
@@ -325,3 +334,119 @@ def test_merge_equal_all_loops_at_once_matches_loop_by_loop():
     got = _merge_equal(q, np.array([False, True, False, False, False]), np.zeros(5, int))
     assert list(got) == [1, 2, 4]
     assert not np.array_equal(got, [0, 2, 4])
+
+
+def _random_polylines(rng):
+    """Closed polylines (1-5, 1-30 vertices) of random walks: crossings, touches,
+    repeated vertices and near contacts at every scale."""
+    polys = []
+    for _ in range(int(rng.integers(1, 6))):
+        n = int(rng.integers(1, 31))
+        steps = rng.normal(0, 1, (n, 2)) * rng.choice([0.01, 0.3, 2.0], (n, 1))
+        p = np.cumsum(steps, axis=0) + rng.uniform(-3, 3, 2)
+        if n > 3 and rng.random() < 0.3:
+            p[int(rng.integers(2, n))] = p[0]  # a vertex visited twice
+        polys.append(p)
+    return polys
+
+
+def test_near_others_matches_touching_edges():
+    """The level test's near pairs (:func:`_near_others`, on the segments of the
+    vertex arrays, all pending) are those of :func:`morph.polyline.touching_edges`
+    (edges not consecutive along their polyline that cross, touch or come within
+    reach), on random polylines; and on a subset of pending segments, the pairs
+    among them.  Exempting also the pairs two apart along a loop is seen."""
+    from morph.trim.flatten import _links, _near_others
+
+    def near(polys, reach, exempt_two=False):
+        xy = np.concatenate(polys)
+        loop_of = np.repeat(np.arange(len(polys)), [len(p) for p in polys])
+        nxt, _, _ = _links(loop_of)
+        todo = np.arange(len(xy))
+        if not exempt_two:
+            return _near_others(xy, nxt, todo, reach)
+        weak = np.array(nxt)
+        return _near_others(xy, weak[weak], todo, reach) & _near_others(xy, nxt, todo, reach)
+
+    rng = np.random.default_rng(21)
+    hits = differ = 0
+    for _ in range(300):
+        polys = _random_polylines(rng)
+        reach = 10.0 ** rng.uniform(-3, 0)
+        many = [p for p in polys if len(p) >= 2]
+        sizes = np.array([len(p) for p in polys])
+        edge = np.flatnonzero(np.repeat(sizes >= 2, sizes))   # edges of touching_edges
+        want = np.zeros(len(edge), bool)
+        want[pl.touching_edges(many, reach).ravel()] = True
+        got = near(polys, reach)
+        assert np.array_equal(got[edge], want)
+        hits += int(want.sum())
+        if len(edge):
+            differ += not np.array_equal(near(polys, reach, exempt_two=True)[edge], want)
+    assert hits > 1000 and differ > 10
+
+    # a subset of the segments: the pairs among them only
+    from morph.trim.flatten import _near_others as near_others
+
+    polys = _random_polylines(np.random.default_rng(4))
+    xy = np.concatenate(polys)
+    loop_of = np.repeat(np.arange(len(polys)), [len(p) for p in polys])
+    from morph.trim.flatten import _links as links
+
+    nxt, _, _ = links(loop_of)
+    full = near_others(xy, nxt, np.arange(len(xy)), 0.5)
+    todo = np.flatnonzero(full)[::2]
+    sub = near_others(xy, nxt, todo, 0.5)
+    ref = np.zeros(len(todo), bool)
+    for x, i in enumerate(todo):
+        for j in todo:
+            if i != j and nxt[i] != j and nxt[j] != i:
+                a, b, c, d = xy[i], xy[nxt[i]], xy[j], xy[nxt[j]]
+                gap = min(pl.segment_distance(a[None], c[None], d[None])[0],
+                          pl.segment_distance(b[None], c[None], d[None])[0],
+                          pl.segment_distance(c[None], a[None], b[None])[0],
+                          pl.segment_distance(d[None], a[None], b[None])[0])
+                cross = len(pl.segment_crossings(np.array([a, c]), np.array([b, d]),
+                                                 np.array([[0, 1]]))[0]) > 0
+                ref[x] |= gap <= 0.5 or cross
+    assert np.array_equal(sub, ref) and ref.any() and not ref.all()
+
+
+def test_levels_flatten_no_finer_than_their_test_needs():
+    """Every vertex of the adaptive flattening lies on its piece (the tags), every
+    segment within COARSE eps of its part (its control points' chord distance), and
+    the levels cut fewer vertices than one step from COARSE to eps, which cuts fewer
+    than eps everywhere, on loops that turn and meet: a glyph sum's convolution
+    loops."""
+    import morph.trim.flatten as F
+    from morph.convolve import chain, convolution, gauss_pair_of, with_pair_table
+    from morph.parse import glyph_region
+
+    a, b = glyph_region("S").region, glyph_region("o").region
+    gp = with_pair_table(gauss_pair_of(a, b, ("a", "b")))
+    tol = 0.5
+    conv = convolution(a, b, 0.5 * tol, keep_type3=True, gauss_pair=gp)
+    loops = chain([c.piece for c in conv], 0.01 * tol)
+    pieces = pc.Pieces.of([p for loop in loops for p in loop])
+    piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+    eps, grid = 0.35 * tol, 0.1 * np.sqrt(2) * tol
+    pid, ts, xy = F.adaptive_starts(pieces, piece_loop, eps, grid)
+    rows = pieces.rows()
+    pts = np.array([pc.evaluate(rows[k], t)[0] for k, t in zip(pid, ts)])
+    assert np.abs(pts - xy).max() <= 1e-9 * np.abs(xy).max()
+    loop_of = piece_loop[pid]
+    nxt = F._links(loop_of)[0]
+    t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
+    err = np.zeros(len(pid))
+    for k, parts in F._segment_parts(pieces, pid, ts, t_end):
+        err[k] = pl._chord_distance(parts)
+    assert err.max() <= F.COARSE * eps * (1 + 1e-9)
+    assert np.sum(err > eps * (1 + 1e-9)) > 10   # some parts are decided coarser
+    one = F.LEVEL_STEP
+    F.LEVEL_STEP = F.COARSE
+    try:
+        pid1, _, _ = F.adaptive_starts(pieces, piece_loop, eps, grid)
+    finally:
+        F.LEVEL_STEP = one
+    fine, _, _ = pl.flat_starts(pieces, eps)
+    assert len(pid) < len(pid1) < len(fine)

@@ -135,3 +135,47 @@ def test_deepest_points_together_are_those_of_one_hole_at_a_time():
             assert np.array_equal(x[h], x1) and d[h] == d1, h
     assert not np.array_equal(np.nextafter(x[0], np.inf), deepest_point(*holes[0], enough=4.0)[0])
     assert deepest_points([], enough=1.0)[0].shape == (0, 2)
+
+
+def _membership_loop_by_loop(m, region_a, depth, areas):
+    """The rounded loops, paths and boxes of :class:`Membership` written loop by
+    loop (the reference for the arrays it builds them with)."""
+    pa = pl.flatten_loops(region_a, depth / 10.0)
+    size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, m.pb))
+    flat = (np.abs(areas) <= 1e-9 * size * size).tolist()
+    closed = [m._int(p) for p, f in zip(pa, flat) if not f]
+    curves = [m._int(np.vstack([p, p[:1]]))[:len(p) // 2 + 1] for p, f in zip(pa, flat) if f]
+
+    def boxes(polys):
+        if not polys:
+            return np.zeros((0, 4), np.int64)
+        return np.array([np.concatenate([p.min(axis=0), p.max(axis=0)]) for p in polys])
+
+    return closed, curves, boxes(closed), boxes(curves)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_membership_rounds_all_loops_at_once_as_loop_by_loop(seed):
+    """The operand's loops rounded, split into closed loops and paths (traced forward
+    and back: their first half) and boxed all at once, as loop by loop: random
+    polygons and strokes, at a few depths (a path cut one point short, its far end
+    left out of it and of its box, is seen)."""
+    from morph import moments as mo
+
+    rng = np.random.default_rng(seed)
+    region = []
+    for _ in range(int(rng.integers(3, 12))):
+        pts = rng.uniform(-50, 50, (int(rng.integers(2, 7)), 2)) + rng.uniform(-500, 500, 2)
+        if rng.random() < 0.5:   # a stroke: there and back, no area
+            pts = np.vstack([pts, pts[-2:0:-1] + rng.normal(0, 1e-9, (len(pts) - 2, 2))])
+        region.append([pc.line(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))])
+    nib = [list(pc.circle((0.0, 0.0), 5.0))]
+    areas = mo.loop_areas(region)
+    for depth in (0.05, 0.4, 3.0):
+        m = Membership(region, nib, depth, areas)
+        closed, curves, box_a, box_c = _membership_loop_by_loop(m, region, depth, areas)
+        assert len(m.pa) == len(closed) and len(m.curves) == len(curves) and curves
+        assert all(np.array_equal(a, b) for a, b in zip(m.pa, closed))
+        assert all(np.array_equal(a, b) for a, b in zip(m.curves, curves))
+        assert np.array_equal(m.box_a, box_a) and np.array_equal(m.box_c, box_c)
+        assert box_a.dtype == m.box_a.dtype == np.int64

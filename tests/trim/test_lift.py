@@ -113,3 +113,51 @@ def test_nearest_in_range_against_dense_sampling():
     naive = np.hypot(*(np.array([pc.evaluate(stacked[i], t[i])[0] for i in range(m)])
                        - pts).T)
     assert (naive - dense).max() > 0.05
+
+
+def _newton_every_row(stacked, ia, ta, ib, tb, iters=12):
+    """The iteration of :func:`newton_crossings` on every row every time (the
+    reference for the one that drops rows at a fixed point)."""
+    s, u = np.array(ta, float), np.array(tb, float)
+    ha, hb = stacked[ia], stacked[ib]
+    n = stacked.shape[1] - 1
+    dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
+    for _ in range(iters):
+        pa, da = pc.jet_rows(ha, s, dha)
+        pb, db = pc.jet_rows(hb, u, dhb)
+        f = pa - pb
+        det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
+        safe = np.where(np.abs(det) > 1e-300, det, 1.0)
+        ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
+        du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
+        ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
+        du = np.where(np.abs(det) > 1e-300, du, 0.0)
+        s = np.clip(s - ds, 0.0, 1.0)
+        u = np.clip(u - du, 0.0, 1.0)
+    return s, u
+
+
+@pytest.mark.parametrize("iters", [12, 3])
+def test_newton_dropping_rows_at_fixed_points_gives_the_same_bits(iters):
+    """Rows leave the batch once a step leaves them where they are (converged to
+    the last bit, or clamped at an end): s and u are the same bits as iterating
+    every row (random crossing, touching, parallel and far apart cubic pairs;
+    many rows converge early, many keep moving to the end)."""
+    import morph.trim.lift as L
+
+    rng = np.random.default_rng(17)
+    m = 3000
+    pts = rng.uniform(-1, 1, (2 * m, 4, 2))
+    pts[m:] += rng.choice([0.0, 0.05, 3.0], (m, 1, 1))   # some far apart
+    pts[m:m // 4 + m] = pts[:m // 4] + 1e-9                # some near-coincident
+    w = rng.uniform(0.5, 2.0, (2 * m, 4, 1))
+    w[:, [0, -1]] = 1.0
+    stacked = np.concatenate([pts * w, w], axis=2)
+    ia, ib = np.arange(m), np.arange(m, 2 * m)
+    ta, tb = rng.choice([0.0, 1.0, 0.5], m), rng.uniform(0, 1, m)
+    want = _newton_every_row(stacked, ia, ta, ib, tb, iters)
+    got = L.newton_crossings(stacked, ia, ta, ib, tb, np.zeros((m, 2)), 1.0, 1e-9, iters=iters)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
+    moved = _newton_every_row(stacked, ia, ta, ib, tb, iters - 1)
+    still = (moved[0] != want[0]) | (moved[1] != want[1])
+    assert 0.1 * m < still.sum() < 0.9 * m   # both kinds of rows occur
