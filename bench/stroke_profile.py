@@ -373,12 +373,15 @@ def code_version():
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
 
 
-def measured_line(argline, elapsed, rows):
+def measured_line(argline, elapsed, rows, version=None):
+    """The report's first line; ``version``: the code measured (:func:`code_version`
+    as the runs began; None: now)."""
     return ("Command: `python -m bench.stroke_profile%s`; measured %s UTC at %s (%.0f s). "
             "Machine: %d CPUs shared with other jobs (load average %s at the end), so CPU "
             "time (process_time), the median of %d fresh processes per run, not wall time."
-            % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-               elapsed, os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
+            % (argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+               version or code_version(), elapsed, os.cpu_count() or 1,
+               ", ".join("%.1f" % v for v in os.getloadavg()),
                rows[0]["repeat"] if rows else 0))
 
 
@@ -491,8 +494,9 @@ def main(argv=None):
         rows, measured = saved["rows"], saved["measured"]
         measured += "  This report: `python -m bench.stroke_profile%s`." % argline
     else:
+        version = code_version()    # the code measured: a commit made meanwhile is not
         rows = [measure(run, opt.repeat, opt.explain_other) for run in opt.runs.split(",")]
-        measured = measured_line(argline, time.perf_counter() - t0, rows)
+        measured = measured_line(argline, time.perf_counter() - t0, rows, version)
     text = markdown(rows, argline, 0.0, measured)
     if opt.before and os.path.exists(opt.before):
         before = json.loads(Path(opt.before).read_text())

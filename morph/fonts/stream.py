@@ -189,7 +189,7 @@ class SkeletonSource:
         if self._glyph_set is None:
             return None
         try:
-            return self._glyph_set.getGLIF(name)
+            return self._glif(name)
         except Exception:  # noqa: BLE001 - read again (and judged) by _read
             return None
 
