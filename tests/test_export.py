@@ -61,6 +61,21 @@ def reparam_values(phi, s):
     return h[:, 0] / h[:, 1]
 
 
+def sampled_panel_error(pieces, seg, shift):
+    """(worst, moved): the largest |R(phi(s)) - C(s)| over dense samples of every
+    panel of ``seg`` (a chain segment of the rational ``pieces``; R by plain
+    Bernstein sums), for the segment's cubic and for the cubic moved by ``shift``."""
+    worst = moved = 0.0
+    for s0, s1, phi in seg.reparam:
+        s = np.linspace(s0, s1, 257)
+        t = reparam_values(phi, (s - s0) / (s1 - s0))
+        k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
+        r = rational(pieces[k])(np.clip(t - k, 0, 1))
+        worst = max(worst, np.hypot(*(r - bernstein(seg.cubic, s)).T).max())
+        moved = max(moved, np.hypot(*(r - bernstein(seg.cubic + shift, s)).T).max())
+    return worst, moved
+
+
 def ellipse(center, rx, ry, rot, th0, dth):
     """Point function of an ellipse arc, t in [0, 1] -> angle th0 + t dth (trig formula)."""
     c, s = math.cos(rot), math.sin(rot)

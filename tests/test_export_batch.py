@@ -18,7 +18,8 @@ from morph.export import loop_to_beziers, loops_to_beziers
 from morph.export.bank import Bank, plan_runs
 from morph.export.fit import Parts, _quadrature, moment_cubics
 from morph.export.search import chains_segments
-from tests.test_export import bernstein, closest_distances, rational, reparam_values
+from tests.test_export import (bernstein, closest_distances, rational, reparam_values,
+                                sampled_panel_error)
 
 
 def circle_loop(center, r, n, start=0.0, elevate=()):
@@ -197,14 +198,6 @@ def test_chains_segments_panels_certified(seed):
         assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
         for seg in segs:
             assert seg.bound <= tol and seg.reparam
-            worst = moved = 0.0
-            for s0, s1, phi in seg.reparam:
-                s = np.linspace(s0, s1, 257)
-                t = reparam_values(phi, (s - s0) / (s1 - s0))
-                k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
-                r = rational(pieces[k])(np.clip(t - k, 0, 1))
-                worst = max(worst, np.hypot(*(r - bernstein(seg.cubic, s)).T).max())
-                moved = max(moved, np.hypot(*(r - bernstein(seg.cubic + [0, 2 * tol], s)).T)
-                            .max())
+            worst, moved = sampled_panel_error(pieces, seg, [0, 2 * tol])
             assert worst <= seg.bound * (1 + 1e-9) + 1e-13
             assert moved > tol

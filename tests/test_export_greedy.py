@@ -17,7 +17,8 @@ from morph.errors import ToleranceNotMetError
 from morph.export import certify as certify_mod
 from morph.export import greedy
 from morph.export.search import chain_segments, chains_segments
-from tests.test_export import bernstein, closest_distances, rational, reparam_values
+from tests.test_export import (bernstein, closest_distances, rational, reparam_values,
+                                sampled_panel_error)
 
 
 def _model(t0, w, bound, last, good, bad, top, tol):
@@ -139,15 +140,7 @@ def test_the_panels_of_every_segment_hold_their_bound():
     chains = [g1_chain(rng, 5) for _ in range(3)]
     for pieces, segs in zip(chains, chains_segments(chains, tol)):
         for seg in segs:
-            worst = moved = 0.0
-            for s0, s1, phi in seg.reparam:
-                s = np.linspace(s0, s1, 257)
-                t = reparam_values(phi, (s - s0) / (s1 - s0))
-                k = min(int(np.floor(t.min() + 1e-12)), len(pieces) - 1)
-                r = rational(pieces[k])(np.clip(t - k, 0, 1))
-                worst = max(worst, np.hypot(*(r - bernstein(seg.cubic, s)).T).max())
-                moved = max(moved, np.hypot(*(r - bernstein(seg.cubic + [2 * tol, 0], s)).T)
-                            .max())
+            worst, moved = sampled_panel_error(pieces, seg, [2 * tol, 0])
             assert worst <= seg.bound * (1 + 1e-9) + 1e-13 and seg.bound <= tol
             assert moved > tol
 
