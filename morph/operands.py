@@ -96,6 +96,35 @@ def check_operands(regions, names, region_b, tol, operation):
     if not tol_ok:   # check_tolerance names it
         return _one_by_one(regions, names, region_b, tol, operation, range(n))
     tol = float(tol)
+    checked = _piece_flags(regions)
+    if checked is None:
+        return _one_by_one(regions, names, region_b, tol, operation, range(n))
+    flag, size, mag, packed, region_of = checked
+    # the tolerance: the extents with B's, and the estimated points
+    b_size, b_mag = lm.region_extent(region_b)
+    tot_size, tot_mag = size + b_size, mag + b_mag
+    floor = np.maximum(lm.REL_TOL_FLOOR * tot_size, lm.precision_floor(tot_mag))
+    points = _estimate_points_many(packed, region_of, n, tol) + lm.estimate_points(region_b, tol)
+    flag |= ((tot_size > 0) & (tol > tot_size)) | (tol < floor) | (points > lm.point_budget())
+    check = [i for i in range(n) if flag[i] or not (
+        isinstance(regions[i], Region) and regions[i].validated)]
+    out = points.tolist()
+    for i, p in zip(check, _one_by_one(regions, names, region_b, tol, operation, check)):
+        out[i] = p
+    return out
+
+
+def _piece_flags(regions):
+    """What the pieces of all ``regions`` show at once, for :func:`check_operands`:
+    ``(flag, size, mag, packed, region_of)``, where ``flag`` marks each region with an
+    empty loop, a non-finite or too large control point, a loop that does not close
+    (gap over 1e-7 of its size) or a negative area, ``size``/``mag`` are each
+    region's extent and largest coordinate, ``packed`` the stacked pieces and
+    ``region_of`` each piece's region; None where some piece is not a (k >= 2, 3)
+    array (the functions themselves then name it)."""
+    from . import limits as lm
+
+    n = len(regions)
     loops = [loop for r in regions for loop in r]
     region_of_loop = np.repeat(np.arange(n), [len(r) for r in regions])
     sizes = np.array([len(loop) for loop in loops], np.int64)
@@ -104,11 +133,9 @@ def check_operands(regions, names, region_b, tol, operation):
     flag[region_of_loop[sizes == 0]] = True
     ok_shape = set(map(np.shape, pieces))
     if any(len(s) != 2 or s[1] != 3 or s[0] < 2 for s in ok_shape) or not pieces:
-        return _one_by_one(regions, names, region_b, tol, operation, range(n))
+        return None
     region_of = np.repeat(region_of_loop, sizes)
     packed = pc.Pieces.of(pieces)
-    rows = np.zeros(n, np.int64)
-    np.add.at(rows, region_of, 1)
     big = np.zeros(n)
     bad, lo, hi, mag = _control_extents(packed, region_of, n)
     flag |= bad | (mag > lm.MAX_COORDINATE)
@@ -125,18 +152,7 @@ def check_operands(regions, names, region_b, tol, operation):
         area = np.bincount(region_of_loop, weights=mo.loop_areas(loops), minlength=n)
         # summed in another order than check_operand's: flagged with room to spare
         flag |= ~(area >= -0.5e-9 * size * size)
-    # the tolerance: the extents with B's, and the estimated points
-    b_size, b_mag = lm.region_extent(region_b)
-    tot_size, tot_mag = size + b_size, mag + b_mag
-    floor = np.maximum(lm.REL_TOL_FLOOR * tot_size, lm.precision_floor(tot_mag))
-    points = _estimate_points_many(packed, region_of, n, tol) + lm.estimate_points(region_b, tol)
-    flag |= ((tot_size > 0) & (tol > tot_size)) | (tol < floor) | (points > lm.point_budget())
-    check = [i for i in range(n) if flag[i] or not (
-        isinstance(regions[i], Region) and regions[i].validated)]
-    out = points.tolist()
-    for i, p in zip(check, _one_by_one(regions, names, region_b, tol, operation, check)):
-        out[i] = p
-    return out
+    return flag, size, mag, packed, region_of
 
 
 def _control_extents(packed, region_of, n):

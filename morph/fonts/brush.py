@@ -426,7 +426,6 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
         ValueError: ``composites`` not "follow" or "sweep"; an output suffix other
             than .ttf, .otf, .woff2, .woff; a variable font not instantiated.
     """
-    from .jobs import run_glyph_jobs
     from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_writer,
                          rename_family, save_font)
 
@@ -436,14 +435,9 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     extent = region_extent(nib_region)
     names, follow, extra, unchosen = _brush_plan(font, glyphs, composites)
     family_name = family_name or _default_family(font)
-    order = names + extra
-    sources = _source_regions(font, order)  # all read before anything is changed
-    hmtx = font["hmtx"]
-    args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
-             writer.quadratic) for n in order]
     chosen = set(names)
-    results = run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
-                             each=_chosen_progress(progress, chosen), in_flight=in_flight)
+    results = _sweep_font(font, names + extra, chosen, nib_region, tol, method,
+                          writer.quadratic, jobs, progress, in_flight)
     stats, moves = _store_outlines(font, writer, results, chosen, extent)
     stats.update(followed=len(follow), decomposed=len([n for n in extra if n not in unchosen]),
                  base_not_chosen=unchosen)
@@ -454,6 +448,22 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     finish_font(font)
     save_font(font, out_path)
     return stats
+
+
+def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, progress,
+                in_flight):
+    """The swept glyphs of ``order`` (:func:`sweep_glyphs` results, in order), every
+    source outline read before anything is changed; each outline is moved by
+    :func:`_outline_shift`; ``progress`` is called for the ``chosen`` ones."""
+    from .jobs import run_glyph_jobs
+
+    sources = _source_regions(font, order)
+    hmtx = font["hmtx"]
+    extent = region_extent(nib_region)
+    args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
+             quadratic) for n in order]
+    return run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
+                          each=_chosen_progress(progress, chosen), in_flight=in_flight)
 
 
 def _brush_plan(font, glyphs, composites):

@@ -196,6 +196,14 @@ def skeleton_outlines(datas):
             sid = np.array([k for k, o in enumerate(order) if o is not None and o[0] == m],
                            np.int64)
             _stack(pts, np.array(lst, np.int64).reshape(-1, m), sid, piece, zero)
+    return _glyph_paths(outlines, pts, bad, base, starts, nsegs, piece, zero)
+
+
+def _glyph_paths(outlines, pts, bad, base, starts, nsegs, piece, zero):
+    """Per glyph of :func:`skeleton_outlines` its ``(paths, components)`` from the
+    pieces built for all (``piece``, in segment order; zero-length ones, ``zero``,
+    dropped; a contour left empty is one zero-length open line at its start), or
+    None where the fast reader declined or a point is ``bad``."""
     out, c, f = [], 0, 0
     for o in outlines:
         if o is None:

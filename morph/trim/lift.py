@@ -53,7 +53,24 @@ def lift_rings(rings, tg, contract):
     cont = (pid == pid[nx]) & (fwd == f_n) & ((s_n == seg) | ((s_n == step) & ends_match))
     joint = ~cont & (fwd == f_n) & (s_n == step)
     cross = ~cont & ~joint
-    # crossings: Newton on the exact pieces, in one batch
+    point = _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq)
+    flat = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
+    reach = 2.0 * tg.grid * MATCH_UNITS
+    flagged = _spike_triples(flat, reach)
+    if flagged:  # rare: the rings' runs as lists, cut one by one
+        runs = _as_runs(flat)
+        _cut_flagged(runs, flagged, reach)
+        flat = _flat_runs(runs)
+    out = _close_all(flat, contract)
+    kept = [k for k, loop in enumerate(out) if loop]
+    return [out[k] for k in kept], kept
+
+
+def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
+    """The junction point after each ring edge ``i`` where ``cross[i]`` (the edge and
+    the next lie on different pieces that cross there; NaN elsewhere), by Newton on
+    the exact pieces in one batch; the crossing parameters are written into ``tq``
+    (of edge i) and ``tp`` (of the next edge) in place."""
     k = np.flatnonzero(cross)
     guess = tg.to_float(v[nx[k]])
     point = np.full((len(v), 2), np.nan)  # junction point after edge i
@@ -81,16 +98,7 @@ def lift_rings(rings, tg, contract):
                                                  t0[nx[k[bad]]], t1[nx[k[bad]]])
         tq[k], tp[nx[k]] = ta, tb
         point[k] = np.where(ok[:, None], pc.jet_many(stacked, ia, ta)[0], guess)
-    flat = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
-    reach = 2.0 * tg.grid * MATCH_UNITS
-    flagged = _spike_triples(flat, reach)
-    if flagged:  # rare: the rings' runs as lists, cut one by one
-        runs = _as_runs(flat)
-        _cut_flagged(runs, flagged, reach)
-        flat = _flat_runs(runs)
-    out = _close_all(flat, contract)
-    kept = [k for k, loop in enumerate(out) if loop]
-    return [out[k] for k in kept], kept
+    return point
 
 
 def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
@@ -415,6 +423,22 @@ def _fit(p, q, a, b):
     return np.maximum(segment_distance(p, a, b), segment_distance(q, a, b)), fwd
 
 
+def newton_step(ha, dha, s, hb, dhb, u):
+    """One Newton step on F(s, u) = A(s) - B(u) for rows of stacked homogeneous
+    pieces ``ha``, ``hb`` (their hodographs ``dha``, ``dhb``), kept in [0, 1]^2; a
+    row whose Jacobian is singular stays where it is."""
+    pa, da = pc.jet_rows(ha, s, dha)
+    pb, db = pc.jet_rows(hb, u, dhb)
+    f = pa - pb
+    det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
+    safe = np.where(np.abs(det) > 1e-300, det, 1.0)
+    ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
+    du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
+    ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
+    du = np.where(np.abs(det) > 1e-300, du, 0.0)
+    return np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+
+
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0):
     """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
 
@@ -440,16 +464,7 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         if not len(live):
             break
         sl, ul = s[live], u[live]
-        pa, da = pc.jet_rows(ha[live], sl, dha[live])
-        pb, db = pc.jet_rows(hb[live], ul, dhb[live])
-        f = pa - pb
-        det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
-        safe = np.where(np.abs(det) > 1e-300, det, 1.0)
-        ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
-        du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
-        ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
-        du = np.where(np.abs(det) > 1e-300, du, 0.0)
-        s2, u2 = np.clip(sl - ds, 0.0, 1.0), np.clip(ul - du, 0.0, 1.0)
+        s2, u2 = newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
         s[live], u[live] = s2, u2
         live = live[(s2 != sl) | (u2 != ul)]
     pa, da = pc.jet_rows(ha, s, dha)

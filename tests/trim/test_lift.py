@@ -117,23 +117,16 @@ def test_nearest_in_range_against_dense_sampling():
 
 def _newton_every_row(stacked, ia, ta, ib, tb, iters=12):
     """The iteration of :func:`newton_crossings` on every row every time (the
-    reference for the one that drops rows at a fixed point)."""
+    reference for the one that drops rows at a fixed point; the step itself is
+    :func:`morph.trim.lift.newton_step`, shared)."""
+    from morph.trim.lift import newton_step
+
     s, u = np.array(ta, float), np.array(tb, float)
     ha, hb = stacked[ia], stacked[ib]
     n = stacked.shape[1] - 1
     dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
     for _ in range(iters):
-        pa, da = pc.jet_rows(ha, s, dha)
-        pb, db = pc.jet_rows(hb, u, dhb)
-        f = pa - pb
-        det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
-        safe = np.where(np.abs(det) > 1e-300, det, 1.0)
-        ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
-        du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
-        ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
-        du = np.where(np.abs(det) > 1e-300, du, 0.0)
-        s = np.clip(s - ds, 0.0, 1.0)
-        u = np.clip(u - du, 0.0, 1.0)
+        s, u = newton_step(ha, dha, s, hb, dhb, u)
     return s, u
 
 
