@@ -95,6 +95,10 @@ REPORTS = [
     Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
            quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
+    Report("stroke_memory_all", "bench.stroke_memory", ["--pairs", "hanzi-all:2", "--md", "{md}"],
+           quick=["--pairs", "hershey-sans:2", "--md", "{md}"],
+           cost="4-10 min on an idle machine (every Make Me a Hanzi character), fetched with npm",
+           snapshot=True),
     Report("font_writer", "bench.font_writer",
            ["--runs", "300:.otf,300:.ttf,300:.ufo,3000:.otf,3000:.ttf,3000:.ufo,30000:.ttf,"
             "30000:.otf", "--md", "{md}"],
