@@ -370,18 +370,18 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
     tols = budget.plan(tol, kind == ".ttf")
 
-    def prepare(names):
-        return _stroke_work(plan.source, names, plan.symmetric, nib_region, tols,
-                            plan.place.shifts, stroker)
-
     sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
-    func, work = partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked
     if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
         import uuid
 
         func = partial(_read_and_stroke, _FLAVORS[kind], (plan.source.path, uuid.uuid4().hex),
                        plan.symmetric, nib_region, tols, stroker)
         work, prepare = [(n, plan.place.shifts[n]) for n in plan.stroked], None
+    else:  # this process reads each chunk's skeletons as the chunk is due
+        func, work = partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked
+        prepare = partial(_stroke_work, plan.source, symmetric=plan.symmetric,
+                          nib_region=nib_region, tols=tols, shifts=plan.place.shifts,
+                          stroker=stroker)
     run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
                    in_flight=in_flight)
     grow_win_metrics(plan.font, *sink.extent)
