@@ -12,7 +12,8 @@ at ends and corners, so that the result is the Minkowski sum path ⊕ nib; FontF
 "round" cap is a half-disk across the stroke, larger than a broad nib),
 ``removeoverlap="layer"`` (FontForge's default), ``accuracy=A`` (its target error in
 font units); the CPU time of that call alone is measured (process_time).  Output JSON:
-``{name: {"seconds": s, "points": n, "contours": [[segment, ...], ...]}}`` with
+``{name: {"seconds": s, "points": n, "contours": [[segment, ...], ...], "bbox": [xmin,
+ymin, xmax, ymax]}}`` (FontForge's own bounding box of the result, curves included) with
 segments as above (quadratic segments do not occur: FontForge strokes in cubics).
 """
 
@@ -66,7 +67,8 @@ def write_timed(steps):
     """Run every ``(name, glyph, step)`` of ``steps`` (``step()`` changes ``glyph``'s
     outline; whatever the iteration does before yielding it is not timed) and write
     the output JSON of the module docstring to stdout: the CPU time (process_time)
-    of ``step()`` alone, the points and the contours of the glyph after it."""
+    of ``step()`` alone, the points, the contours and the bounding box of the glyph
+    after it."""
     out = {}
     for name, glyph, step in steps:
         t0 = time.process_time()
@@ -74,7 +76,8 @@ def write_timed(steps):
         seconds = time.process_time() - t0
         layer = glyph.foreground
         out[name] = {"seconds": seconds, "points": sum(len(c) for c in layer),
-                     "contours": [segments_of(c) for c in layer]}
+                     "contours": [segments_of(c) for c in layer],
+                     "bbox": list(glyph.boundingBox())}
     json.dump(out, sys.stdout)
 
 
