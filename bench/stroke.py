@@ -33,8 +33,11 @@ of :mod:`bench.skeletons`, fetched at bench time; ``--only-sets`` runs only this
 writes bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
 (mean) and glyph by glyph (median and mean), points per glyph, the worst error of
-the unrounded outlines and of the written font against the Clipper reference, and
-FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it.
+the unrounded outlines and of the written font against the Clipper reference (gaps
+narrower than the engine's documented narrow-feature limit excused alike for every
+tool, :func:`excused_error`; the raw error beside it), and FontForge's Expand Stroke
+(``--ff-accuracy-sets``) beside it.  ``bench/stroke_exact.py`` checks a written font
+again with the exact membership predicate, without Clipper.
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
