@@ -332,20 +332,20 @@ class _HoleTest:
         """The test of every (ring, islands) of ``holes``, the deepest points found
         together (:func:`morph.trim.holes.deepest_points`)."""
         points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
-        out = []
-        for x, depth in zip(points, depths.tolist()):
-            # flattenings fine enough for the depth, never coarser than tol, reused
-            key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)),
-                                            -3, 0)
+        # flattenings fine enough for the depth, never coarser than tol, reused
+        keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
+                                         -3, 0)
+        # no point inside (a hole of no area outside its islands): it stays a hole
+        filled = np.zeros(len(points), bool)
+        for key in unique(keys[depths > 0.0]).tolist():
             if key not in self.cache:
                 if self.areas is None:
                     self.areas = mo.loop_areas(self.a)
                 self.cache[key] = Membership(self.a, self.b, key, self.areas)
-            # no point inside (a hole of no area outside its islands): it stays a hole
-            filled = bool(depth > 0.0) and self.cache[key](x)
-            self.log.append((x, depth, filled))
-            out.append(filled)
-        return out
+            at = np.flatnonzero((keys == key) & (depths > 0.0))
+            filled[at] = self.cache[key].many(points[at])
+        self.log.extend(zip(points, depths.tolist(), filled.tolist()))
+        return filled.tolist()
 
 
 __all__ = ["minkowski_sum", "minkowski_sum_debug", "minkowski_sums", "check_operand",
