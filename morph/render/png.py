@@ -22,7 +22,7 @@ from . import frame_bbox, normalize_shapes
 #: coverage samples per image, at most (supersample lowered to fit): 2^28
 MAX_SAMPLES = 1 << 28
 
-__all__ = ["render_png", "render_palette", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
+__all__ = ["render_png", "render_palette", "render_palettes", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
            "coverage_counts", "exact_palette", "gif_frame"]
 
 
@@ -224,27 +224,45 @@ def render_palette(region, size=512, margin=0.05, fill="black", background="whit
     the same Pillow compositing on a row of those levels.  No canvas is composited
     and converted, and no colours are collected (:func:`exact_palette`): what a
     frame's PNG and GIF frame are."""
-    bg, f = _rgba(background), _rgba(fill)
-    if bg is None or bg[3] != 255:
-        raise ValueError("render_palette needs an opaque background, got %r" % (background,))
     items = normalize_shapes(region)
     if len(items) != 1 or items[0][1]:
         raise ValueError("render_palette draws one region, without a style")
-    width, height, k, to_px, flat_tol = _raster(items, size, margin, bbox, supersample)
+    return render_palettes([items[0][0]], size, margin, fill, background, bbox,
+                           supersample)[0]
+
+
+def render_palettes(regions, size=512, margin=0.05, fill="black", background="white",
+                    bbox=None, supersample=4):
+    """:func:`render_palette` of each of ``regions`` (lists of loops), all in one
+    frame (``bbox``, else the union of their boxes, grown by ``margin``), their
+    loops flattened in one batch: the frames of an animation."""
+    bg, f = _rgba(background), _rgba(fill)
+    if bg is None or bg[3] != 255:
+        raise ValueError("render_palette needs an opaque background, got %r" % (background,))
+    regions = [[loop for loop in r if loop] for r in regions]
+    if bbox is None:
+        bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    width, height, k, to_px, flat_tol = _raster(None, size, margin, bbox, supersample)
     if f is None:
-        index, palette = np.zeros((height, width), np.uint8), Image.new("RGB", (1, 1), bg[:3])
+        alpha, index = np.zeros(1, np.uint8), [np.zeros((height, width), np.uint8)] * len(regions)
     else:
-        hits = _fill_counts(items[0][0], width, height, k, to_px, flat_tol)[1]
+        polys = iter(pl.flatten_loops([loop for r in regions for loop in r], flat_tol))
+        hits = [coverage_counts([to_px(next(polys)) for _ in r], height, width, k)
+                for r in regions]
         if k * k < 256:
-            index, alpha = hits.astype(np.uint8), _alpha(np.arange(k * k + 1), f, k)
+            alpha, index = _alpha(np.arange(k * k + 1), f, k), [h.astype(np.uint8) for h in hits]
         else:
-            index, alpha = _alpha(hits, f, k), np.arange(256, dtype=np.uint8)
-        palette = Image.new("RGBA", (len(alpha), 1), bg)
+            alpha, index = np.arange(256, dtype=np.uint8), [_alpha(h, f, k) for h in hits]
+    palette = Image.new("RGBA", (len(alpha), 1), bg)
+    if f is not None:
         palette.alpha_composite(_layer(f, alpha[None]))
-        palette = palette.convert("RGB")
-    image = Image.fromarray(index, "L")
-    image.putpalette(palette.tobytes())
-    return image
+    palette = palette.convert("RGB").tobytes()
+    images = []
+    for ix in index:
+        image = Image.fromarray(ix, "L")
+        image.putpalette(palette)
+        images.append(image)
+    return images
 
 
 def _box_sum(mask, k):
