@@ -19,7 +19,7 @@ import numpy as np
 from . import convolve
 from . import gauss
 from . import piece as pc
-from .errors import MorphError, ToleranceNotMetError
+from .errors import MorphError, OperandError, ToleranceNotMetError
 from .limits import check_tolerance, fits_precision, point_budget
 from .minkowski import minkowski_sum
 from .operands import check_operand
@@ -110,6 +110,8 @@ def _one_frame(a, b, alpha, tol, method, base, blend=None):
     if blend is None:
         return minkowski_sum(ra, rb, tol, method=method, gauss_pair=pair)
     # minkowski_sum's checks and result, the sum with the blended first round
+    if not ra or not rb:
+        raise OperandError("both regions must have at least one loop")
     check_operand(ra, "region_a")
     check_operand(rb, "region_b")
     check_tolerance(tol, ra, rb, operation="minkowski sum")
