@@ -384,12 +384,18 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     the sample's share of the range's arc length, s clipped to [0, 1].  Also the
     parameters s where the rays meet the cubics, each with its candidate and its
     sample (flat index into q): (distance (C,), s (S,), candidate (S,), sample (S,)).
+
+    Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
+    (a reduction over an axis of length 2 costs numpy several times the products
+    themselves); the candidates' samples are consecutive, so the largest distance
+    of each is one ``maximum.reduceat``.
     """
     if not len(cr):
         return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int)
     m = q.shape[1]
-    pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
-    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
+    qx, qy = q[..., 0].ravel(), q[..., 1].ravel()
+    tx, ty = dq[..., 0].ravel(), dq[..., 1].ravel()
+    speed = np.hypot(tx, ty) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
     sreq = np.repeat(req, m)
     cum = np.cumsum(speed)
     tot = np.bincount(sreq, speed)
@@ -398,21 +404,25 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
     cnt = np.bincount(sreq, minlength=len(tot))
     counts = cnt[cr]
+    first = np.cumsum(counts) - counts
     owner = np.repeat(np.arange(len(cr)), counts)
-    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    si = start[cr][owner] + offs
-    power = np.matmul(_POWER3, ctrl)[owner]                       # (S, 4, 2): C(s) = sum a_k s^k
-    p, t = pts[si], tan[si]
+    si = np.repeat(start[cr] - first, counts) + np.arange(counts.sum())
+    power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
+    ax = np.ascontiguousarray(power[..., 0])[owner]               # (S, 4) each
+    ay = np.ascontiguousarray(power[..., 1])[owner]
+    px, py, ux, uy = qx[si], qy[si], tx[si], ty[si]
     s = frac[si]
-    g = (power * t[:, None]).sum(2)                               # (C(s) - p) . t, power form
-    g[:, 0] -= (p * t).sum(1)
+    g = ax * ux[:, None] + ay * uy[:, None]                       # (C(s) - p) . t, power form
+    g0, g1, g2, g3 = g[:, 0] - (px * ux + py * uy), g[:, 1], g[:, 2], g[:, 3]
     for _ in range(5):
-        gv = ((g[:, 3] * s + g[:, 2]) * s + g[:, 1]) * s + g[:, 0]
-        gd = (3.0 * g[:, 3] * s + 2.0 * g[:, 2]) * s + g[:, 1]
+        gv = ((g3 * s + g2) * s + g1) * s + g0
+        gd = (3.0 * g3 * s + 2.0 * g2) * s + g1
         s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
-    s = s[:, None]
-    c = ((power[:, 3] * s + power[:, 2]) * s + power[:, 1]) * s + power[:, 0]
-    dist = np.hypot(*(c - p).T)
+    cx = ((ax[:, 3] * s + ax[:, 2]) * s + ax[:, 1]) * s + ax[:, 0]
+    cy = ((ay[:, 3] * s + ay[:, 2]) * s + ay[:, 1]) * s + ay[:, 0]
+    dist = np.hypot(cx - px, cy - py)
     out = np.zeros(len(cr))
-    np.maximum.at(out, owner, dist)
-    return out, s[:, 0], owner, si
+    some = counts > 0
+    if some.any():
+        out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
+    return out, s, owner, si
