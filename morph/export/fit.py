@@ -20,86 +20,28 @@ from .. import piece as pc
 ARC_INTERVALS = 32
 
 
-class Chain:
-    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
-
-    Set up for all chains of a batch at once (:func:`make_chains`): the pieces live
-    in a :class:`morph.export.bank.Bank` (``bank``), piece k of the chain is the
-    bank's global piece ``gids[k]``, and ``off`` is where the chain's pieces start in
-    the batch's concatenation of all chains' ``gids`` (``bank.order``); ``tiny`` is
-    1e-12 of the chain's extent.  The arc-length table (:meth:`arc_table`) is made
-    on first use: ARC_INTERVALS equal parameter intervals per piece with their
-    lengths and the speeds at their ends.
-    """
-
-    __slots__ = ("bank", "gids", "off", "k", "tiny", "_arc")
-
-    def __init__(self, bank, gids, off, tiny):
-        self.bank, self.gids, self.off, self.tiny = bank, gids, off, tiny
-        self.k = len(gids)
-        self._arc = None
-
-    def piece(self, k):
-        return self.bank.pieces[self.gids[k]]
-
-    @property
-    def pieces(self):
-        return [self.bank.pieces[g] for g in self.gids]
-
-    def point(self, t):
-        if t >= self.k:
-            return self.bank.last[self.gids[-1]]
-        k = int(math.floor(t))
-        if t == k:
-            return self.bank.first[self.gids[k]]
-        return pc.evaluate(self.piece(k), t - k)[0]
-
-    def arc_table(self):
-        """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
-        pieces, in order) its chain parameters, cumulative arc lengths and speeds
-        |dP/dT| at both ends; arrays of K * ARC_INTERVALS (:func:`arc_tables`)."""
-        if self._arc is None:
-            arc_tables([self])
-        return self._arc
-
-
-def arc_tables(chains):
-    """Make the arc-length tables of chains (:meth:`Chain.arc_table`), the speeds of
-    all their pieces in one evaluation per degree: lengths of ARC_INTERVALS equal
-    parameter intervals per piece by the 8-point Gauss-Legendre rule on each."""
-    m, (x, w) = ARC_INTERVALS, _quadrature().gl8
-    knots = np.linspace(0.0, 1.0, m + 1)
-    q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
-    gids = np.concatenate([c.gids for c in chains])
-    total = len(gids)
-    bank = chains[0].bank
-    _, d = bank.jet_grid(gids, q)
-    seg = (np.hypot(d[..., 0], d[..., 1]).reshape(total, m, len(x)) @ w) * 0.5 / m
-    _, dk = bank.jet_grid(gids, knots)
-    speed = np.hypot(dk[..., 0], dk[..., 1])
-    at = 0
-    for c in chains:
-        sg, sp = seg[at:at + c.k], speed[at:at + c.k]
-        at += c.k
-        cum = np.concatenate([[0.0], np.cumsum(sg.ravel())])
-        tl = (np.arange(c.k)[:, None] + knots[None, :-1]).ravel()
-        c._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], sp[:, :-1].ravel(), sp[:, 1:].ravel())
+#: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
+#: pieces start in ``bank.order``), ``tiny`` (1e-12 of its extent), and the
+#: :class:`morph.export.bank.Bank`.  Chain c is one curve of parameter T in [0, k[c]]:
+#: piece j of it, the bank's global piece ``bank.order[off[c] + j]``, on [j, j + 1].
+ChainArrays = namedtuple("ChainArrays", "bank k off tiny")
 
 
 def make_chains(bank, runs):
-    """:class:`Chain` objects of the runs (arrays of global piece ids of ``bank``),
-    with their extents for ``tiny`` in one reduction; sets ``bank.order`` (all
-    runs' ids, concatenated) and ``bank.chain_k`` (each run's piece count)."""
+    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``),
+    their extents for ``tiny`` in one reduction; sets ``bank.order`` (all runs' ids,
+    concatenated)."""
     sizes = np.fromiter(map(len, runs), int, len(runs))
     order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
     offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     bank.order = order
     if not len(runs):
-        return []
+        return ChainArrays(bank, sizes, offs, np.zeros(0))
     lo = np.minimum.reduceat(bank.lo[order], offs)
     hi = np.maximum.reduceat(bank.hi[order], offs)
-    tiny = (1e-12 * np.maximum(np.maximum(hi - lo, 0.0).max(axis=1), 1e-300)).tolist()
-    return [Chain(bank, g, o, t) for g, o, t in zip(runs, offs.tolist(), tiny)]
+    tiny = 1e-12 * np.maximum(np.maximum(hi - lo, 0.0).max(axis=1), 1e-300)
+    return ChainArrays(bank, sizes, offs, tiny)
+
 
 def _limit_tangent(piece, t, sign, tiny):
     """Direction of travel of a piece at t where its derivative vanishes: the first
