@@ -21,10 +21,11 @@ ARC_INTERVALS = 32
 
 
 #: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
-#: pieces start in ``bank.order``), ``tiny`` (1e-12 of its extent), and the
-#: :class:`morph.export.bank.Bank`.  Chain c is one curve of parameter T in [0, k[c]]:
+#: pieces start in ``bank.order``), ``extent`` (the larger side of the bounding box
+#: of its control points: 0 for a chain that is one point), ``tiny`` (1e-12 of its
+#: extent), and the :class:`morph.export.bank.Bank`.  Chain c is one curve of parameter T in [0, k[c]]:
 #: piece j of it, the bank's global piece ``bank.order[off[c] + j]``, on [j, j + 1].
-ChainArrays = namedtuple("ChainArrays", "bank k off tiny")
+ChainArrays = namedtuple("ChainArrays", "bank k off extent tiny")
 
 
 def make_chains(bank, runs):
@@ -36,11 +37,11 @@ def make_chains(bank, runs):
     offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     bank.order = order
     if not len(runs):
-        return ChainArrays(bank, sizes, offs, np.zeros(0))
+        return ChainArrays(bank, sizes, offs, np.zeros(0), np.zeros(0))
     lo = np.minimum.reduceat(bank.lo[order], offs)
     hi = np.maximum.reduceat(bank.hi[order], offs)
-    tiny = 1e-12 * np.maximum(np.maximum(hi - lo, 0.0).max(axis=1), 1e-300)
-    return ChainArrays(bank, sizes, offs, tiny)
+    extent = np.maximum(hi - lo, 0.0).max(axis=1)
+    return ChainArrays(bank, sizes, offs, extent, 1e-12 * np.maximum(extent, 1e-300))
 
 
 def _limit_tangent(piece, t, sign, tiny):

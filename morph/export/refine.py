@@ -286,15 +286,16 @@ class Refine:
 
     def _whole(self, rows, start, count):
         """Of ``rows`` (phase CHECK), those left with two segments, the last shorter
-        than SHORT_LAST of the first, whose chain has a positive arc length go to
-        WHOLE: one segment is fitted to the whole chain; the others are done.
+        than SHORT_LAST of the first, whose chain has a positive arc length (is not
+        one point) go to WHOLE: one segment is fitted to the whole chain; the others
+        are done.
         Returns the rows asked."""
         self.phase[rows] = DONE
         rows = rows[count[rows] == 2]
         w = self.t1 - self.t0
         rows = rows[w[start[rows] + 1] < SHORT_LAST * w[start[rows]]]
-        self._arcs(rows)
-        rows = rows[self._length(rows) > 0]
+        # a positive arc length: a chain that is not one point (no table needed)
+        rows = rows[self.chains.extent[self.chain[rows]] > 0]
         self.phase[rows] = WHOLE
         return rows
 

@@ -211,12 +211,6 @@ class _Fits:
         return _Reparam(*self.maps, lo, lo + int(self.nparts[r]), True if self.kind[r] == SAME
                         else None)
 
-    def result(self, r):
-        """Request r as (cubic or None, bound, reparam or None): the protocol of the
-        generator steps (:func:`_split_at`)."""
-        return (None if self.kind[r] == NONE else self.cubic[r], float(self.bound[r]),
-                self.reparam(r))
-
 
 def _part_cuts(bank, parts, cubics, rays, multi):
     """(s0, s1): where each part of a fitted cubic starts and ends on it: 0, the
@@ -416,8 +410,21 @@ def _cubic_fits(n, final, rounds):
                                   np.asarray(t1)[order].tolist(), np.asarray(bound)[order].tolist(),
                                   np.asarray(at).reshape(-1, 2)[order].tolist()):
         fits = rounds[r]
-        out[c].append(CubicFit(a, b, fits.cubic[j], e, fits.reparam(j)))
+        out[c].append(CubicFit(a, b, fits.cubic[j], e, _Panels(fits, j)))
     return out
+
+
+class _Panels:
+    """The panels of request j of a round's :class:`_Fits`, made when asked for
+    (:meth:`panels`; writers of outlines need the cubics only)."""
+
+    __slots__ = ("fits", "j")
+
+    def __init__(self, fits, j):
+        self.fits, self.j = fits, j
+
+    def panels(self):
+        return self.fits.reparam(self.j).panels()
 
 
 
@@ -483,8 +490,8 @@ def chains_segments(chains, tol, max_depth=16):
 def runs_segments(bank, runs, tol, max_depth=16):
     """:func:`chains_segments` of runs of the pieces of a :class:`Bank` (arrays of
     global piece ids), searched in lockstep (:func:`_drive`).  The CubicFits'
-    ``reparam`` is a :class:`_Reparam`: its ``panels()`` are the panels (made on
-    demand: writers need the cubics, not the maps)."""
+    ``reparam`` has a method ``panels()`` that makes the panels (on demand: writers
+    need the cubics, not the maps)."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
