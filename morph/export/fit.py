@@ -97,8 +97,11 @@ MAX_CANDIDATES = 6
 def _frame(v, chord, chord2):
     """Vectors v (..., 2) in the unit-chord frame: x along the chord, y to its left,
     divided by the chord length (``chord`` (..., 2), ``chord2`` its squared length)."""
-    return np.stack([(v * chord).sum(-1), chord[..., 0] * v[..., 1] - chord[..., 1] * v[..., 0]],
-                    axis=-1) / chord2[..., None]
+    vx, vy, cx, cy = v[..., 0], v[..., 1], chord[..., 0], chord[..., 1]
+    out = np.empty(np.broadcast_shapes(v.shape, chord.shape))
+    np.divide(vx * cx + vy * cy, chord2, out=out[..., 0])
+    np.divide(cx * vy - cy * vx, chord2, out=out[..., 1])
+    return out
 
 
 def moment_cubics(bank, parts, starts, ends, tiny, tol):
