@@ -161,3 +161,41 @@ def test_refined_segments_hold_tol_and_never_add_segments():
     d = bernstein(moved, [0.51])[0] - bernstein(moved, [0.49])[0]
     moved[1:3] += 2.0 * tol * np.array([-d[1], d[0]]) / math.hypot(*d) * 4.0 / 3.0
     assert closest_distances(bernstein(moved, s), pieces).max() > tol
+
+
+def test_a_broken_fit_fails_the_certificate(monkeypatch):
+    """The fitter's cubics displaced by 3 tol (inner control points along the chord's
+    normal: the midpoint moves 3 tol) but reported with the fitter's own sampled
+    distances and rays: not one of them certifies within tol (the certificate bounds
+    the cubic it is given, from the fitter's feet, not the fitter's word), over ranges
+    across a join (no same-parameter fallback there); the same requests unbroken
+    certify."""
+    from morph.export import search as search_mod
+
+    rng = np.random.default_rng(12)
+    pieces = [g1_chain(rng, 3) for _ in range(6)]
+    bank = Bank([p for c in pieces for p in c])
+    chains = make_chains(bank, [np.arange(3 * i, 3 * i + 3) for i in range(6)])
+    tol = 0.02
+    chain = np.repeat(np.arange(6), 3)
+    t0 = np.tile([0.5, 0.75, 1.25], 6)
+    t1 = t0 + 1.0
+    req = search_mod.Requests(chain, t0, t1, search_mod._chain_points(chains, chain, t0),
+                              search_mod._chain_points(chains, chain, t1),
+                              np.zeros(len(chain)))
+    good = search_mod._fit_batch(chains, req, tol)
+    assert np.all(good.kind == search_mod.FITTED) and np.all(good.bound <= tol)
+    real = search_mod.moment_cubics
+
+    def broken(*args):
+        cubic, dist, fitted, rays = real(*args)
+        chord = cubic[:, 3] - cubic[:, 0]
+        normal = np.stack([-chord[:, 1], chord[:, 0]], 1) / np.hypot(*chord.T)[:, None]
+        cubic = cubic.copy()
+        cubic[:, 1:3] += (3.0 * tol * 4.0 / 3.0) * normal[:, None]
+        return cubic, dist, fitted, rays
+
+    monkeypatch.setattr(search_mod, "moment_cubics", broken)
+    bad = search_mod._fit_batch(chains, req, tol)
+    assert np.all(bad.kind == search_mod.FITTED)
+    assert np.all(bad.bound > tol) and not np.any(bad.cert & (bad.bound <= tol))
