@@ -210,17 +210,36 @@ def _cubic_integrals(t0, t1):
     """Area and moment of the frame cubics K + d0 U + d1 V (end tangents t0, t1) as
     polynomials in (d0, d1): ``ta`` (n, 2, 3) area terms d_b m_c and ``tm``
     (n, 3, 2, 3) moment terms m_a d_b m_c, m = (1, d0, d1) (exact Bernstein
-    integrals of :func:`_quadrature`)."""
+    integrals of :func:`_quadrature`):
+
+        ta[b, c] = sum_jk y_b[j] x_c[k] i2[j, k]
+        tm[a, b, c] = sum_ijk x_a[i] y_b[j] x_c[k] i3[i, j, k]
+
+    with the control points x_K = (0, 0, 1, 1), x_U = (0, cos th0, 0, 0), x_V = (0, 0,
+    -cos th1, 0), y_U = (0, sin th0, 0, 0), y_V = (0, 0, sin th1, 0).  Only the
+    terms whose control points are not zero by construction are summed (in the order
+    of the indices, products left to right, from 0: the very numbers of the whole
+    sums, whose other terms are zeros), a few vector operations a term."""
     n = len(t0)
     c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
-    zero, one = np.zeros(n), np.ones(n)
-    xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
-                   np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
-    ys = np.stack([np.stack([zero, s0, zero, zero], 1),
-                   np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
+    xs = ({2: 1.0, 3: 1.0}, {1: c0}, {2: -c1})                      # K, U, V
+    ys = ({1: s0}, {2: s1})                                         # U, V
     quad = _quadrature()
-    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, quad.i2)
-    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, quad.i3)
+    ta, tm = np.empty((n, 2, 3)), np.empty((n, 3, 2, 3))
+    for b, yb in enumerate(ys):
+        for c, xc in enumerate(xs):
+            acc = np.zeros(n)
+            for j, y in yb.items():
+                for k, x in xc.items():
+                    acc = acc + (y * x) * quad.i2[j, k]
+            ta[:, b, c] = acc
+            for a, xa in enumerate(xs):
+                acc = np.zeros(n)
+                for i, u in xa.items():
+                    for j, y in yb.items():
+                        for k, x in xc.items():
+                            acc = acc + ((u * y) * x) * quad.i3[i, j, k]
+                tm[:, a, b, c] = acc
     return ta, tm
 
 
