@@ -16,15 +16,16 @@ from .. import piece as pc
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
-#: Gauss-Legendre on each).
+#: Gauss-Legendre on each; :func:`morph.export.refine.arc_lengths`).
 ARC_INTERVALS = 32
 
 
 #: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
 #: pieces start in ``bank.order``), ``extent`` (the larger side of the bounding box
 #: of its control points: 0 for a chain that is one point), ``tiny`` (1e-12 of its
-#: extent), and the :class:`morph.export.bank.Bank`.  Chain c is one curve of parameter T in [0, k[c]]:
-#: piece j of it, the bank's global piece ``bank.order[off[c] + j]``, on [j, j + 1].
+#: extent), and the :class:`morph.export.bank.Bank`.  Chain c is one curve of
+#: parameter T in [0, k[c]]: piece j of it, the bank's global piece
+#: ``bank.order[off[c] + j]``, on [j, j + 1].
 ChainArrays = namedtuple("ChainArrays", "bank k off extent tiny")
 
 
