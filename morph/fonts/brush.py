@@ -463,7 +463,16 @@ def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, p
     args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
              quadratic) for n in order]
     return run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
-                          each=_chosen_progress(progress, chosen), in_flight=in_flight)
+                          each=_chosen_progress(progress, chosen), in_flight=in_flight,
+                          preload=_WORKER_MODULES + (_QUADRATIC if quadratic else ()))
+
+
+#: what :func:`sweep_glyphs` imports as it runs (the sums, the curve fitting and its
+#: quadrature nodes; cu2qu for TrueType outlines), imported before worker processes
+#: are forked so that they share them (:func:`morph.fonts.jobs.preload_modules`)
+_WORKER_MODULES = ("morph.minkowski", "morph.fonts.tables", "morph.export",
+                   "numpy.polynomial.legendre")
+_QUADRATIC = ("fontTools.cu2qu",)
 
 
 def _brush_plan(font, glyphs, composites):
