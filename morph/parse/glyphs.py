@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError, one_line
-from ..region import orient_region, without_zero_length
+from ..region import orient_regions, without_zero_length
 from ..trim import fill_region
 from .pens import RawContour, closing_line, record_contours
 from .shape import Shape
@@ -36,6 +36,7 @@ __all__ = [
     "load_font",
     "parse_location",
     "read_glyph",
+    "read_glyphs",
 ]
 
 _FONT_DIR = Path(__file__).resolve().parent.parent / "fonts" / "data"
@@ -272,9 +273,56 @@ def read_glyph(font, name, source=None, location=None):
     Raises:
         ParseError: no such glyph; a glyph without contours; an open contour.
     """
+    shape = read_glyphs(font, [name], location, [source])[0]
+    if isinstance(shape, ParseError):
+        raise shape
+    return shape
+
+
+def read_glyphs(font, names, location=None, sources=None):
+    """:func:`read_glyph` of each of the glyphs ``names`` of an open ``TTFont``, the
+    contours of all oriented together (:func:`morph.region.orient_regions`: the
+    same regions, a fraction of the time of one glyph after another).  Returns one
+    item per name: its :class:`~morph.parse.shape.Shape`, or the
+    :class:`~morph.errors.ParseError` that :func:`read_glyph` raises for it (no
+    such glyph, no contours, an open contour), so that one glyph does not stop the
+    others.  ``sources``: what was asked for, one per name (default: the names)."""
     label = _font_label(font)
-    source = name if source is None else source
     glyph_set = font.getGlyphSet(location=location) if location else font.getGlyphSet()
+    sources = list(names) if sources is None else [n if s is None else s
+                                                   for n, s in zip(names, sources)]
+    out, todo = [], []
+    for name, source in zip(names, sources):
+        try:
+            out.append(_glyph_loops(glyph_set, name, source, label))
+            todo.append(len(out) - 1)
+        except ParseError as exc:
+            out.append(exc)
+    regions = orient_regions([out[k] for k in todo], "nonzero", on_crossing=fill_region)
+    for k, loops in zip(todo, regions):
+        name, source = names[k], sources[k]
+        if not loops:
+            out[k] = ParseError("glyph %r of font %s is empty (no contours)" % (name, label),
+                                source)
+            continue
+        advance, lsb = font["hmtx"][name]
+        if location:  # the advance at the location, rounded as an instance's; lsb: the outline's
+            from fontTools.misc.roundTools import otRound
+
+            from ..region import region_bbox
+
+            advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
+        out[k] = Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
+    return out
+
+
+def _glyph_loops(glyph_set, name, source, label):
+    """The closed loops of glyph ``name`` (:func:`_filled_loop` of its contours), not
+    yet oriented.
+
+    Raises:
+        ParseError: no such glyph; a glyph that cannot be drawn; an open contour.
+    """
     where = "glyph %r of font %s" % (name, label)
     if name not in glyph_set:
         raise ParseError("font %s has no glyph named %r" % (label, name), source)
@@ -285,15 +333,4 @@ def read_glyph(font, name, source=None, location=None):
     except Exception as exc:
         raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, one_line(exc)),
                          source) from exc
-    loops = [loop for loop in (_filled_loop(c, where) for c in contours) if loop]
-    loops = orient_region(loops, "nonzero", on_crossing=fill_region)
-    if not loops:
-        raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
-    advance, lsb = font["hmtx"][name]
-    if location:  # the advance at the location, rounded as an instance's; lsb: the outline's
-        from fontTools.misc.roundTools import otRound
-
-        from ..region import region_bbox
-
-        advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
-    return Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
+    return [loop for loop in (_filled_loop(c, where) for c in contours) if loop]
