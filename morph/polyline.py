@@ -545,7 +545,12 @@ def polyline_edges(polylines):
     polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
     if not polys:
         return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.concatenate(polys), np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+    a = np.concatenate(polys)
+    sizes = np.array([len(p) for p in polys], np.int64)
+    last = np.cumsum(sizes) - 1
+    following = np.arange(1, len(a) + 1)
+    following[last] = last - sizes + 1   # each polyline closed: its last point to its first
+    return a, a[following]
 
 
 def winding_number(points, polylines, chunk=2_000_000):
