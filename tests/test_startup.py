@@ -109,12 +109,11 @@ print(main(json.loads(sys.argv[1]), standalone_mode=False))
 
 @pytest.mark.skipif(sys.platform != "linux", reason="workers are forked on Linux only")
 @pytest.mark.parametrize("argv", [
-    ["brush", "{font}.otf", "--glyphs", "a-d", "-o", "b.otf"],
-    ["brush", "{font}.ttf", "--glyphs", "a-d", "-o", "b.ttf"],
+    ["brush", "{font}.ttf", "--glyphs", "a-b", "-o", "b.ttf"],
     ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"), "--glyphs",
-     "a-d", "-o", "s.otf"],
+     "a-b", "-o", "s.otf"],
     ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"), "--glyphs",
-     "a-d", "-o", "s.ttf"]])
+     "a-b", "-o", "s.ttf"]])
 def test_font_workers_import_nothing_themselves(tmp_path, argv):
     """brush and stroke import their workers' modules before forking them
     (morph.fonts.jobs.preload_modules): a worker's jobs import no module."""
