@@ -150,8 +150,8 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     source's grid only); ``grade``: two growing disks make GRAD (:func:`grade_axis`).
     Returns a dict: ``masters`` (normalized locations of every fitted master of
     the font), ``source_masters``, ``glyph_masters`` (per written glyph, its own
-    fitted masters), ``nib_values``, ``axis``, ``refinement`` (refine_sources' report or None),
-    ``glyphs``, ``fit_seconds``, ``font``.
+    fitted masters' count), ``nib_values``, ``axis``, ``refinement``
+    (refine_sources' report or None), ``glyphs``, ``fit_seconds``, ``font``.
 
     Raises:
         ParseError: an unreadable font; MorphError: a static font without a nib axis,
@@ -219,7 +219,8 @@ def _output_format(out_path):
 def _brush_glyphs(sets, plan, chosen, convert, tol, jobs, progress, cff2):
     """run_jobs of :func:`_brush_glyph_job` over the glyphs brushed (``chosen``) and
     converted (``convert``): each glyph's loops read from its own source masters'
-    glyph ``sets`` (:class:`_GlyphSets`) as the workers need them (run_jobs consumes the generator lazily)."""
+    glyph ``sets`` (:class:`_GlyphSets`) as the workers need them (run_jobs consumes
+    the generator lazily)."""
     from .jobs import run_jobs
 
     brush = set(chosen)
