@@ -2,12 +2,13 @@
 font, with the source's axes (a variable source) and an optional nib axis.
 
 Every master of the source, and intermediate ones where the source's interpolation
-and the nib do not commute (:mod:`morph.fonts.variable_sources`: added until the
-blend of every brushed glyph is within its share of tol), is brushed by every nib
-master, as untrimmed overlapping contours fitted with common breaks across all of
-them (:func:`morph.compatible.region_elements`).  Written into a copy of the
-source, the glyph variations computed by fontTools' ``VariationModel`` over the
-masters' locations:
+and the nib do not commute (:mod:`morph.fonts.variable_sources`: added glyph by
+glyph until the glyph's blend is within its share of tol; each glyph has its own
+masters, the sparse masters of a designspace), is brushed by every nib master, as
+untrimmed overlapping contours fitted with common breaks across all of them
+(:func:`morph.compatible.region_elements`).  Written into a copy of the source,
+each glyph's variations computed by fontTools' ``VariationModel`` over its own
+masters' locations (:func:`morph.fonts.variable_grid.grid_model`'s tents):
 
 - TrueType (``.ttf``, ``.woff2``, ``.woff``): the cubics converted to quadratics
   compatibly (cu2qu on all masters' curves at once) into glyf/gvar, the advances
