@@ -158,6 +158,13 @@ SWEEP_REGRESSIONS = [
     # parameters now give an empty range (trim.flatten.tag_loops)
     ("pair/ebg/w/i/0.0001",
      "straddle: 1 of 150 boundary points farther than tol + 2f inside the sum"),
+    # stroke mode: the flattening's refinement dropped a coarse vertex between two
+    # refined segments where the finer flattening had its own vertex (8 eps and eps
+    # flattenings of a piece both cut at 1/2): chords 3.4 eps from parts said within
+    # eps, beside a crossing.  A refined stretch now keeps that vertex
+    # (trim.flatten._refined)
+    ("stroke/relief/nine/80x30/27.2/0.366/0.0089",
+     "straddle: 1 of 124 boundary points farther than tol + 2f inside the sum (1.04 tol)"),
 ]
 
 # cases whose check takes more than ~3 s on one core (loaded machine)

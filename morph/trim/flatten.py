@@ -142,12 +142,26 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     near any other: the winding numbers away from them, hence the filled set, are
     those of the finer flattening, and the lifted boundary follows the exact pieces.
 
-    A later level tests its segments against each other only: a part decided at a
-    coarser level e' was farther than 2 e' + 2 (eps + grid) from every segment of
-    that level but its neighbours, so more than 2 (eps + grid) from their parts,
-    and the finer segments cut from those lie within e'' <= e' of their parts; a
-    part cut from a decided part's neighbour lies on the far side of their shared
-    vertex (the two arcs advance along their mean chord), as do its chords.
+    What the result guarantees (tests/trim/test_flatten.py checks both):
+
+    1. every segment's part lies within the tolerance of the level that decided it
+       (e for a part decided at level e, eps for the parts the last level leaves):
+       a refined stretch takes every vertex of its pieces' flattening at the finer
+       tolerance (:func:`_refined`);
+    2. a part decided at level e is farther than e + 2 (eps + grid) from the part
+       of every segment still pending at that level, those cut from its two
+       neighbours at that level excepted (they lie beyond the shared vertex: the
+       arcs advance along their mean chord).  Parts decided at a coarser level
+       were held to that level's test.
+
+    So a level tests its pending segments among themselves only.  A part's later
+    polylines have their vertices on the part and their chords in its convex
+    hull, so they stay inside every capsule the part was in: two segments tested
+    at level e' apart by more than 2 e' + 2 (eps + grid) have capsules of radius e'
+    more than 2 (eps + grid) apart, and so have everything cut from them later and
+    those cuts rounded to the grid.  The reach 2 e + 2 (eps + grid) of level e
+    bounds the flattening error e of both segments tested, plus eps + grid for
+    each side's lifted loop (within eps + grid of its rounded polyline).
     """
     coarse = COARSE if coarse is None else coarse
     levels = _levels(coarse)
@@ -210,8 +224,11 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     vertices inside a stretch go, and where a coarse vertex bounds a stretch the
     part between it and the nearest vertex of the finer flattening is flattened
     within eps on its own (a chord to a point inside a flat part could leave it
-    farther than eps).  Returns (piece, t, point, whether the segment from the
-    vertex is one of the refined ones)."""
+    farther than eps).  Where the finer flattening has a vertex at a coarse vertex
+    that goes (one between two refined segments, inside its piece), the finer
+    vertex stays: every segment of a refined stretch is a segment of that
+    flattening or of a gap's, within eps of its part.  Returns (piece, t, point,
+    whether the segment from the vertex is one of the refined ones)."""
     of = unique(pid[fine])
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
@@ -229,8 +246,9 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     fp = of[fp]
     fkey = fp * 2.0 + fts
     seg = np.searchsorted(key, fkey, side="right") - 1  # the coarse segment of each
-    take = fine[seg] & (fts > ts[seg])
     keep = ~(fine & fine[prv] & (ts > 0.0))  # coarse vertices between refined segments go
+    # the finer vertices inside refined segments, and those at a coarse vertex that goes
+    take = fine[seg] & ((fts > ts[seg]) | ~keep[seg])
     at = np.searchsorted(fkey, key)
     on_fine = (at < len(fkey)) & (fkey[np.minimum(at, len(fkey) - 1)] == key)
     # the merged polyline: (piece, t, point, a coarse vertex off the finer flattening's)

@@ -412,6 +412,163 @@ def test_near_others_matches_touching_edges():
     assert np.array_equal(sub, ref) and ref.any() and not ref.all()
 
 
+def _sum_loops(a, b, tol):
+    """The chained convolution loops of glyph a + glyph b (loops that turn and meet,
+    with swallowtails and near contacts), as (pieces, loop of each piece)."""
+    from morph.convolve import chain, convolution, gauss_pair_of, with_pair_table
+    from morph.parse import glyph_region
+
+    ra, rb = glyph_region(a).region, glyph_region(b).region
+    gp = with_pair_table(gauss_pair_of(ra, rb, ("a", "b")))
+    conv = convolution(ra, rb, 0.5 * tol, keep_type3=True, gauss_pair=gp)
+    loops = chain([c.piece for c in conv], 0.01 * tol)
+    pieces = pc.Pieces.of([p for loop in loops for p in loop])
+    return pieces, np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+
+
+def _ends(pid, ts, nxt):
+    return np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
+
+
+def _part_points(rows, pid, t0, t1, n=65):
+    """n points of each segment's part, evenly in parameter: (segments, n, 2)."""
+    u = np.linspace(0.0, 1.0, n)
+    return np.array([pc.evaluate(rows[k], a + (b - a) * u) for k, a, b in zip(pid, t0, t1)])
+
+
+def _to_segment(x, a, b):
+    """Distances of points x (..., 2) from the segment a-b."""
+    d = b - a
+    u = np.clip(((x - a) @ d) / max(float(d @ d), 1e-300), 0.0, 1.0)
+    return np.hypot(*np.moveaxis(x - a - u[..., None] * d, -1, 0))
+
+
+def test_refined_stretches_are_within_the_finer_tolerance():
+    """:func:`_refined` on coarse flattenings (8 eps) of random loops and glyph-sum
+    loops, random segments marked: every segment it marks refined is within eps of
+    its part (65 points of the part against the chord), every vertex of the
+    pieces' own flattening within eps inside a marked segment is kept (also one at
+    a coarse vertex between two marked segments: the 8 eps and eps flattenings of a
+    piece cut at 1/2 share it), and the unmarked segments are left as they were."""
+    import morph.trim.flatten as F
+
+    rng = np.random.default_rng(17)
+    cases = [_random_loops(rng) for _ in range(12)]
+    cases = [(pc.Pieces.of([p for lp in loops for p in lp]),
+              np.repeat(np.arange(len(loops)), [len(lp) for lp in loops]), 10.0 ** rng.uniform(-3, -2))
+             for loops in cases]
+    cases.append(_sum_loops("S", "o", 0.5) + (0.175,))
+    shared = 0
+    for pieces, piece_loop, eps in cases:
+        rows = pieces.rows()
+        pid, ts, xy = pl.flat_starts(pieces, 8 * eps)
+        nxt, prv, _ = F._links(piece_loop[pid])
+        fine = rng.random(len(pid)) < 0.5
+        mp, mt, mx, refined = F._refined(pieces, pid, ts, xy, fine, prv, eps)
+        mn = F._links(piece_loop[mp])[0]
+        me = _ends(mp, mt, mn)
+        pts = _part_points(rows, mp, mt, me)
+        err = np.array([_to_segment(p, mx[k], mx[mn[k]]).max() for k, p in enumerate(pts)])
+        assert err[refined].max() <= eps * (1 + 1e-9)
+        # the unmarked coarse segments, unchanged
+        coarse = set(zip(pid[~fine].tolist(), ts[~fine].tolist(), _ends(pid, ts, nxt)[~fine].tolist()))
+        got = set(zip(mp[~refined].tolist(), mt[~refined].tolist(), me[~refined].tolist()))
+        assert coarse == got
+        # every vertex of the flattening within eps inside a marked segment is kept
+        fp, fts, _ = pl.flat_starts(pieces, eps)
+        seg = np.searchsorted(pid * 2.0 + ts, fp * 2.0 + fts, side="right") - 1
+        inside = fine[seg] & ((fts > ts[seg]) | (fine[prv[seg]] & (ts[seg] > 0.0)))
+        have = set(zip(mp.tolist(), mt.tolist()))
+        assert all((p, t) in have for p, t in zip(fp[inside].tolist(), fts[inside].tolist()))
+        shared += int(np.sum(inside & (fts == ts[seg])))
+    assert shared > 10   # coarse vertices shared with the finer flattening occurred
+
+
+def _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid):
+    """:func:`adaptive_starts` with each level's test recorded: (piece, t, point) of
+    the result, and per level (e, the segments' (piece, t0, t1), nxt, prv, pending,
+    not certain)."""
+    import morph.trim.flatten as F
+
+    levels, test = [], F._uncertain
+
+    def recorded(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, grid):
+        fine = test(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, grid)
+        levels.append((e, list(zip(pid.tolist(), ts.tolist(), _ends(pid, ts, nxt).tolist())),
+                       nxt, prv, pending, fine))
+        return fine
+
+    monkeypatch.setattr(F, "_uncertain", recorded)
+    out = F.adaptive_starts(pieces, piece_loop, eps, grid)
+    monkeypatch.undo()
+    return out, levels
+
+
+def _level_violations(pieces, piece_loop, eps, grid, result, levels):
+    """The two guarantees of :func:`adaptive_starts`, measured on 65 points of each
+    part: (segments farther from their part than the tolerance of the level that
+    decided them (eps if none did), pairs (decided, other) nearer than
+    e + 2 (eps + grid) where the other segment was still pending at level e and is
+    not cut from the decided one's neighbours at that level), and how many
+    segments each level decided."""
+    import morph.trim.flatten as F
+
+    pid, ts, xy = result
+    nxt = F._links(piece_loop[pid])[0]
+    ends = _ends(pid, ts, nxt)
+    index = {s: i for i, s in enumerate(zip(pid.tolist(), ts.tolist(), ends.tolist()))}
+    tol = np.full(len(pid), eps)
+    level = np.full(len(pid), len(levels))      # the level that decided each segment
+    decided = []
+    for k, (e, segs, lnxt, lprv, pending, fine) in enumerate(levels):
+        for i in np.flatnonzero(pending & ~fine):
+            j = index[segs[i]]       # a decided segment stays as it is
+            tol[j], level[j] = e, k
+            decided.append((j, k, e, [segs[lnxt[i]], segs[lprv[i]]]))
+    pts = _part_points(pieces.rows(), pid, ts, ends)
+    err = np.array([_to_segment(p, xy[k], xy[nxt[k]]).max() for k, p in enumerate(pts)])
+    far_off = np.flatnonzero(err > tol * (1 + 1e-9))
+    near = []
+    for j, k, e, neighbours in decided:
+        other = level >= k
+        other[j] = False
+        for p, a, b in neighbours:
+            other &= ~((pid == p) & (ts >= a) & (ends <= b))
+        x = np.flatnonzero(other)
+        d = _to_segment(pts[x], xy[j], xy[nxt[j]]).min(axis=1)
+        near += [(j, int(i)) for i in x[d <= e + 2 * (eps + grid)]]
+    return far_off, near, np.bincount(level, minlength=len(levels) + 1)
+
+
+def test_levels_keep_their_guarantees(monkeypatch):
+    """:func:`adaptive_starts` on glyph-sum convolution loops (swallowtails, cusps,
+    near contacts): every segment is within the tolerance of the level that
+    decided it (eps where none did); a part decided at level e is farther than
+    e + 2 (eps + grid) from every part still pending at that level, but those cut
+    from its neighbours there.  Every level decides some parts.  The second check
+    fails when the levels test a quarter of their reach; the first failed when a
+    refined stretch dropped the finer vertex at a coarse vertex between two
+    refined segments (segments 2-17 eps from parts said within eps or 8 eps)."""
+    import morph.trim.flatten as F
+
+    tol = 0.5
+    eps, grid = 0.35 * tol, 0.1 * np.sqrt(2) * tol
+    for a, b in [("S", "o"), ("k", "B")]:
+        pieces, piece_loop = _sum_loops(a, b, tol)
+        result, levels = _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid)
+        assert [e / eps for e, *_ in levels] == [F.COARSE, F.COARSE / F.LEVEL_STEP]
+        far_off, near, per_level = _level_violations(pieces, piece_loop, eps, grid, result, levels)
+        assert not len(far_off) and not near, (a, b, far_off, near)
+        assert np.all(per_level[:-1] > 10), per_level
+
+    # the near check can fail: levels testing a quarter of their reach
+    near_others = F._near_others
+    monkeypatch.setattr(F, "_near_others", lambda xy, nxt, todo, reach:
+                        near_others(xy, nxt, todo, 0.25 * reach))
+    result, levels = _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid)
+    assert _level_violations(pieces, piece_loop, eps, grid, result, levels)[1]
+
+
 def test_levels_flatten_no_finer_than_their_test_needs():
     """Every vertex of the adaptive flattening lies on its piece (the tags), every
     segment within COARSE eps of its part (its control points' chord distance), and
