@@ -281,6 +281,48 @@ def test_skeleton_masters_added_until_the_bound_holds(tmp_path, skeleton, monkey
                       strict=True, area=PINHOLE)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("suffix", [".ttf", ".otf"])
+def test_several_masters_on_both_axes(tmp_path, skeleton, suffix):
+    """A skeleton designspace with intermediate skeleton masters (three or more on
+    wdth) and a nib axis whose aspect changes (three or more nib masters): ufo2ft
+    compiles it with fontTools' own variation model, where a master between others
+    weighs 1/2 or 1/3 at its neighbours and the deltas are rounded (.ttf), or
+    CFF2's relative coordinates are blended (.otf).  At 9 positions per axis (the
+    other at its middle) and random points the instance is within tol + two
+    roundings of the exact sum; against the sum with the nib 4 bounds wider it is
+    not (the check can fail)."""
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from tests.oracles.varfont import skeleton_designspace
+
+    ds = skeleton_designspace(tmp_path, RELIEF_SUBSET, ["s", "period"])
+    out = tmp_path / ("Both" + suffix)
+    stats = stroke_variable(ds, out, (40, 10, 30), (120, 20, 30), tol=TOL)
+    axis = stats["axis"]
+    assert len(stats["values"]) >= 3 and 2 + stats["skeleton"]["added"] >= 3
+    font = TTFont(str(out))
+    bound = TOL + 2 * ROUND + SLACK
+    rng = np.random.default_rng(41)
+    spots = [(float(u), 80.0) for u in np.linspace(0, 1, 9)] + \
+        [(0.5, float(w)) for w in np.linspace(40, 120, 9)] + \
+        [(float(rng.uniform(0, 1)), float(rng.uniform(40, 120))) for _ in range(4)]
+    for u, w in spots:
+        glyphs = instancer.instantiateVariableFont(font, {"wdth": 100 + 25 * u, "NIBW": w},
+                                                   ).getGlyphSet()
+        for name in ("s", "period"):
+            ref = _skeleton_reference(skeleton, name, u, axis.nib_at(w))
+            assert within(glyph_polygons(glyphs, name), ref, bound, strict=True,
+                          area=PINHOLE), (u, w, name)
+    wide = axis.nib_at(80)
+    wide = Ellipse(wide.width + 4 * bound, wide.height, wide.angle)
+    glyphs = instancer.instantiateVariableFont(font, {"wdth": 112.5, "NIBW": 80}).getGlyphSet()
+    assert not within(glyph_polygons(glyphs, "s"),
+                      _skeleton_reference(skeleton, "s", 0.5, wide), bound, strict=True,
+                      area=PINHOLE)
+
+
 def test_features_and_kerning_per_master(tmp_path):
     """Skeleton masters whose feature files place acutecomb on a at other anchors and
     whose kerning of a-s differs: the variable font's GPOS varies with them (ufo2ft
