@@ -50,9 +50,8 @@ supports are the grid's tents (:class:`morph.fonts.variable_grid.grid_supports`)
 fontTools' own let a master between others weigh 1/2 or 1/3 at its neighbours, so
 its rounded deltas reproduce a master only within 0.5 unit per coordinate, and in
 CFF2's relative charstring coordinates that error runs on along the contour
-(measured: a .otf with several masters on both axes had an instance outside tol +
-two roundings of the exact sum, tests/fonts/test_variable.py); with the tents every
-master is exactly its own rounded outline.
+(so the bound above would need a third rounding); with the tents every master is
+exactly its own rounded outline.
 
 A variable TrueType font brushed keeping its axes
 (:func:`morph.fonts.variable_brush.brush_variable`) is the same construction on filled
