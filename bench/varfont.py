@@ -63,6 +63,18 @@ NIB_MIN, NIB_MAX = (40.0, 10.0, 30.0), (120.0, 30.0, 30.0)
 TOL = 0.5
 
 
+def instance_glyphs(vf, loc):
+    """The glyph set of a variable font's instance at a user location: fontTools'
+    instancer for glyf/gvar; for CFF2 fontTools' own blend evaluation at the location
+    (HarfBuzz matches it; the instancer's static CFF of a glyph with many blends can
+    differ from both by many units)."""
+    from fontTools.varLib import instancer
+
+    if "CFF2" in vf:
+        return vf.getGlyphSet(location=loc)
+    return instancer.instantiateVariableFont(vf, loc).getGlyphSet()
+
+
 def whole_font(skeleton, folder, jobs):
     rows = {}
     for suffix in (".ttf", ".otf"):
@@ -224,7 +236,6 @@ def skeleton_designspaces(subset, folder, positions, randoms):
     and without the intermediate skeleton masters (.ttf; the nib axis with three or
     more masters on both axes as .otf too)."""
     from fontTools.ttLib import TTFont
-    from fontTools.varLib import instancer
 
     from morph.compatible import Ellipse
     from morph.fonts import variable_skeleton
@@ -262,7 +273,7 @@ def skeleton_designspaces(subset, folder, positions, randoms):
                     if axis is not None:
                         loc[axis.tag] = v
                         nib = axis.nib_at(v)
-                    gs = instancer.instantiateVariableFont(vf, loc).getGlyphSet()
+                    gs = instance_glyphs(vf, loc)
                     m = np.array([[1 + widen * u, slant * u], [0.0, 1.0]])
                     for n in DS_GLYPHS:
                         lines = [p @ m.T for p in skeleton_polylines(decomposed_paths(sk, n))]
@@ -290,13 +301,13 @@ def _brushed_error(vf, st, src, lo, spots):
 
     worst, anchor, holes = (0.0, ""), 0.0, 0
     for loc in spots:
-        inst = instancer.instantiateVariableFont(vf, loc)
+        inst = instancer.instantiateVariableFont(vf, loc)       # its anchors
         source = source_instance(src, {t: v for t, v in loc.items() if t == "wght"})
         axis = st["axis"]
         v = loc.get(axis.tag, axis.minimum) if axis else None
         nib = axis.nib_at(v) if axis else Ellipse(*lo)
         shift_nib = axis.nib_min if axis and axis.tag == "GRAD" else nib
-        gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
+        gs, sgs = instance_glyphs(vf, loc), source.getGlyphSet()
         for n in ("o", "e", "n", "acutecomb"):
             hx = shift_nib.extent()[2] * (1 if sgs[n].width else -1)
             ref = [p + np.array([hx, 0.0])
@@ -421,7 +432,7 @@ def serif_brush(folder, glyphs, positions, randoms):
         spots = _spots(vf["fvar"].axes, positions, randoms, rng)
         worst = (0.0, "")
         for loc in spots:
-            got = instancer.instantiateVariableFont(vf, loc).getGlyphSet()
+            got = instance_glyphs(vf, loc)
             exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
             for n in glyphs:
                 ref = [p + np.array([shift, 0.0])
@@ -560,7 +571,9 @@ def main():
                   "1/3 at its neighbours, so the rounded deltas reproduce each master only "
                   "within 0.5 unit per coordinate, and CFF2's relative coordinates carry "
                   "that along the contour; the rows with %s -> %s (several masters on both "
-                  "axes, .ttf and .otf) measure what that costs."
+                  "axes, .ttf and .otf) measure them compiled with the grid's tents instead "
+                  "(every master exact). A .otf's instance is fontTools' CFF2 blend "
+                  "evaluation at the location (the instancer's static CFF can differ)."
                   % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions,
                      args.positions, args.random, NIB_MIN, NIB_NARROW), "",
                   "| slant, widen | nibs | output | estimate before | skeleton masters | nib "
