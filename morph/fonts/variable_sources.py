@@ -248,16 +248,22 @@ def refine_sources(font, names, nibs, budget, refine=True):
                                    MAX_SOURCE_MASTERS, "glyph %r of the variable source" % name,
                                    "the nib does not follow its interpolation: use a "
                                    "smaller nib or a larger tolerance")
-        own = []
-        for loc in _locations(refined):
-            k = index.setdefault(_key(loc), len(locations))
-            if k == len(locations):
-                locations.append(loc)
-            own.append(k)
-        per_glyph[name] = own
+        per_glyph[name] = own = _indices(_locations(refined), index, locations)
         _merge_report(report, rep, name, len(own), given)
     report["added"] = len(locations) - given
     return locations, per_glyph, report
+
+
+def _indices(own, index, locations):
+    """The indices of the locations ``own`` in ``locations``, those not there yet
+    appended (``index``: each location's key -> its index, kept up to date)."""
+    out = []
+    for loc in own:
+        k = index.setdefault(_key(loc), len(locations))
+        if k == len(locations):
+            locations.append(loc)
+        out.append(k)
+    return out
 
 
 def _key(loc):
