@@ -137,7 +137,8 @@ REPORTS = [
            cost="10-20 min", snapshot=True, needs=("scipy",)),
     Report("varfont_brush", "bench.varfont", ["--part", "brush", "--out", "{md}"],
            quick=["--part", "brush", "--positions", "2", "--random", "0", "--cases", "1",
-                  "--out", "{md}"], cost="10-20 min", snapshot=True, needs=("scipy",)),
+                  "--serif", "", "--out", "{md}"], cost="20-40 min", snapshot=True,
+           needs=("scipy",)),
     Report("sweep", "bench.sweep", cost="hours (each mode a section)", snapshot=True,
            needs=("shapely", "fontpkg_lobster", "fontpkg_cormorant", "fontpkg_amiri"),
            runs=[["--mode", m, "--md", "{md}"] + extra for m, extra in (

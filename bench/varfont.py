@@ -31,6 +31,9 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
    intermediate source masters and without them: masters, the blend before and
    after, size, CPU time, the measured instance error at 9 positions per axis and
    random points, and the mark anchors' largest error.
+7. Source Serif 4's variable font cut to o and e, brushed keeping its axes (each
+   glyph its own source masters): masters per glyph, CPU time, size, ots, and the
+   measured instance error at 9 positions per axis and random points.
 
 Writes a Markdown report stamped with the command, commit and date it was made at
 (:func:`bench.stamp.stamp`); ``python -m bench.reports --only varfont`` remakes it.
@@ -58,6 +61,18 @@ from tests.oracles.varfont import (clipper_stroke, glyph_polygons, pinholes,  # 
 SYSTEM_PYTHON = "/usr/bin/python3"
 NIB_MIN, NIB_MAX = (40.0, 10.0, 30.0), (120.0, 30.0, 30.0)
 TOL = 0.5
+
+
+def instance_glyphs(vf, loc):
+    """The glyph set of a variable font's instance at a user location: fontTools'
+    instancer for glyf/gvar; for CFF2 fontTools' own blend evaluation at the location
+    (HarfBuzz matches it; the instancer's static CFF of a glyph with many blends can
+    differ from both by many units)."""
+    from fontTools.varLib import instancer
+
+    if "CFF2" in vf:
+        return vf.getGlyphSet(location=loc)
+    return instancer.instantiateVariableFont(vf, loc).getGlyphSet()
 
 
 def whole_font(skeleton, folder, jobs):
@@ -200,11 +215,27 @@ SLANTS = ((0.15, 0.25), (0.6, 0.5))
 DS_GLYPHS = ["a", "s", "o", "period"]
 
 
-def skeleton_designspaces(subset, folder, positions):
+NIB_NARROW = (120.0, 20.0, 30.0)
+
+
+def _skeleton_spots(axis, positions, randoms, rng):
+    """(wdth u, nib axis value or None) of section 5's instances: ``positions`` along
+    wdth (the nib axis at its maximum), ``positions`` along the nib axis (wdth at
+    its middle) and ``randoms`` random points of the plane."""
+    us = np.linspace(0, 1, positions)
+    if axis is None:
+        return [(float(u), None) for u in list(us) + list(rng.uniform(0, 1, randoms))]
+    vs = np.linspace(axis.minimum, axis.maximum, positions)
+    return [(float(u), axis.maximum) for u in us] + [(0.5, float(v)) for v in vs] + \
+        [(float(rng.uniform(0, 1)), float(rng.uniform(axis.minimum, axis.maximum)))
+         for _ in range(randoms)]
+
+
+def skeleton_designspaces(subset, folder, positions, randoms):
     """Section 5: per (slant, widen) and nib: masters and measured instance errors with
-    and without the intermediate skeleton masters."""
+    and without the intermediate skeleton masters (.ttf; the nib axis with three or
+    more masters on both axes as .otf too)."""
     from fontTools.ttLib import TTFont
-    from fontTools.varLib import instancer
 
     from morph.compatible import Ellipse
     from morph.fonts import variable_skeleton
@@ -218,37 +249,43 @@ def skeleton_designspaces(subset, folder, positions):
         sub = folder / ("ds%g" % slant)
         sub.mkdir(exist_ok=True)
         ds = skeleton_designspace(sub, subset, DS_GLYPHS, slant=slant, widen=widen)
-        for nibs in (((120, 30, 30), None), (NIB_MIN, NIB_MAX)):
-            row = {"slant": slant, "widen": widen, "nibs": nibs}
+        for nibs, suffix in ((((120, 30, 30), None), ".ttf"), ((NIB_MIN, NIB_MAX), ".ttf"),
+                             ((NIB_MIN, NIB_NARROW), ".ttf"), ((NIB_MIN, NIB_NARROW), ".otf")):
+            row = {"slant": slant, "widen": widen, "nibs": nibs, "suffix": suffix}
             for kind in ("given", "refined"):
                 if kind == "given":
                     variable_skeleton.refine_skeleton = \
                         lambda s, n, b, budget, k, c=(): real(s, n, b, float("inf"), k, c)
                 try:
                     c0 = time.process_time()
-                    out = sub / ("%s%d.ttf" % (kind, len(rows)))
+                    out = sub / ("%s%d%s" % (kind, len(rows), suffix))
                     st = stroke_variable(ds, out, nibs[0], nibs[1], tol=TOL, overwrite=True)
                     cpu = time.process_time() - c0
                 finally:
                     variable_skeleton.refine_skeleton = real
                 vf = TTFont(str(out))
+                axis = st["axis"]
                 worst = (0.0, "")
-                for u in np.linspace(0, 1, positions):
+                rng = np.random.default_rng(35)
+                for u, v in _skeleton_spots(axis, positions, randoms, rng):
                     loc = {"wdth": 100 + 25 * u}
                     nib = Ellipse(*nibs[0])
-                    if nibs[1] is not None:
-                        loc["NIBW"] = NIB_MAX[0]
-                        nib = Ellipse(*NIB_MAX)
-                    gs = instancer.instantiateVariableFont(vf, loc).getGlyphSet()
+                    if axis is not None:
+                        loc[axis.tag] = v
+                        nib = axis.nib_at(v)
+                    gs = instance_glyphs(vf, loc)
                     m = np.array([[1 + widen * u, slant * u], [0.0, 1.0]])
                     for n in DS_GLYPHS:
                         lines = [p @ m.T for p in skeleton_polylines(decomposed_paths(sk, n))]
                         ref = [p + np.array([nib.extent()[2], 0.0])
                                for p in clipper_stroke(lines, tuple(nib))]
-                        d = sum_distance(glyph_polygons(gs, n), ref, strict=True, area=2.0)
-                        worst = max(worst, (d, "%s at wdth %g" % (n, 100 + 25 * u)))
+                        d = sum_distance(glyph_polygons(gs, n), ref, strict=True, area=2.0,
+                                         hi=6.0)
+                        worst = max(worst, (d, "%s at %s" % (n, ", ".join(
+                            "%s %.5g" % kv for kv in loc.items()))))
                 row[kind] = {"masters": len(st["masters"]), "report": st["skeleton"],
-                             "cpu": cpu, "worst": worst}
+                             "nib_masters": len(st["values"]) or 1, "cpu": cpu,
+                             "worst": worst}
             rows.append(row)
     return rows
 
@@ -264,13 +301,13 @@ def _brushed_error(vf, st, src, lo, spots):
 
     worst, anchor, holes = (0.0, ""), 0.0, 0
     for loc in spots:
-        inst = instancer.instantiateVariableFont(vf, loc)
+        inst = instancer.instantiateVariableFont(vf, loc)       # its anchors
         source = source_instance(src, {t: v for t, v in loc.items() if t == "wght"})
         axis = st["axis"]
         v = loc.get(axis.tag, axis.minimum) if axis else None
         nib = axis.nib_at(v) if axis else Ellipse(*lo)
         shift_nib = axis.nib_min if axis and axis.tag == "GRAD" else nib
-        gs, sgs = inst.getGlyphSet(), source.getGlyphSet()
+        gs, sgs = instance_glyphs(vf, loc), source.getGlyphSet()
         for n in ("o", "e", "n", "acutecomb"):
             hx = shift_nib.extent()[2] * (1 if sgs[n].width else -1)
             ref = [p + np.array([hx, 0.0])
@@ -338,14 +375,88 @@ def brushed_fonts(folder, positions, randoms, count=None):
                          "axes": ", ".join("%s %g..%g" % (a.axisTag, a.minValue, a.maxValue)
                                            for a in axes),
                          "nibs": (lo, hi), "masters": len(st["masters"]),
-                         "sources": "-" if rep is None else "%d + %d" % (rep["given"],
-                                                                        rep["added"]),
+                         "sources": "-" if rep is None else "%d + %d (most %d, %s)" % (
+                             rep["given"], rep["added"], rep["most"], rep["hardest"] or "-"),
                          "blend": "-" if rep is None else "%.2f / %.2f" % (
                              max(rep["errors_before"].values()), rep["error"]),
                          "cpu": cpu, "per": 1000 * st["fit_seconds"] / max(1, st["glyphs"]) /
                          len(st["masters"]), "worst": worst, "anchor": anchor,
                          "positions": len(spots), "pinholes": holes})
     return rows
+
+
+SERIF_NIB = (60.0, 15.0, 30.0)
+
+
+def serif_brush(folder, glyphs, positions, randoms):
+    """Section 7: Source Serif 4's variable font (fontpkg-source-serif-4) cut to
+    ``glyphs`` and brushed keeping wght and opsz, as .ttf and .otf: each glyph's own
+    source masters, CPU time, size, ots, and the instances at ``positions`` per axis
+    (the other at its default) and ``randoms`` random points against the source's
+    instance ⊕ the nib (Clipper).  None when the package is missing."""
+    from fontTools import subset
+    from fontTools.ttLib import TTFont
+    from fontTools.varLib import instancer
+
+    from morph.compatible import Ellipse
+    from morph.fonts.variable_brush import brush_variable
+    from tests.oracles.varfont import clipper_region_sum
+
+    try:
+        import fontpkg_source_serif_4 as pkg
+    except ImportError:
+        return None
+    font = TTFont(str(Path(pkg.__file__).parent / "files" / "SourceSerif4[opsz,wght].ttf"))
+    opts = subset.Options()
+    opts.glyph_names, opts.notdef_outline = True, True
+    sub = subset.Subsetter(opts)
+    sub.populate(glyphs=glyphs)
+    sub.subset(font)
+    src = folder / "SerifCut.ttf"
+    font.save(str(src))
+    source = TTFont(str(src))
+    shift = Ellipse(*SERIF_NIB).extent()[2]
+    rows = []
+    for suffix in (".ttf", ".otf"):
+        out = folder / ("SerifBrush" + suffix)
+        c0 = time.process_time()
+        try:
+            st = brush_variable(src, out, SERIF_NIB, glyphs=glyphs, tol=TOL)
+        except Exception as exc:            # noqa: BLE001 - reported as it is
+            rows.append({"suffix": suffix, "error": "%s: %s" % (type(exc).__name__, exc)})
+            continue
+        cpu = time.process_time() - c0
+        ots = _ots(out)
+        vf = TTFont(str(out))
+        rng = np.random.default_rng(35)
+        spots = _spots(vf["fvar"].axes, positions, randoms, rng)
+        worst = (0.0, "")
+        for loc in spots:
+            got = instance_glyphs(vf, loc)
+            exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
+            for n in glyphs:
+                ref = [p + np.array([shift, 0.0])
+                       for p in clipper_region_sum(glyph_polygons(exact, n), SERIF_NIB)]
+                d = sum_distance(glyph_polygons(got, n), ref, strict=True, area=2.0, hi=6.0)
+                worst = max(worst, (d, "%s at %s" % (n, ", ".join(
+                    "%s %.4g" % kv for kv in loc.items()))))
+        rows.append({"suffix": suffix, "cpu": cpu, "fit": st["fit_seconds"],
+                     "size": out.stat().st_size, "ots": ots, "report": st["refinement"],
+                     "glyph_masters": st["glyph_masters"], "masters": len(st["masters"]),
+                     "positions": len(spots), "worst": worst})
+    return rows
+
+
+def _ots(path):
+    """ots-sanitize's verdict on a font: "passes", the first line of its complaint,
+    or "not run" (no ots module)."""
+    try:
+        import ots
+    except ImportError:
+        return "not run"
+    r = ots.sanitize(str(path), capture_output=True)
+    return "passes" if r.returncode == 0 else \
+        (r.stderr.decode(errors="replace").strip().splitlines() or ["fails"])[0][:100]
 
 
 def main():
@@ -358,13 +469,15 @@ def main():
                     help="the report (default bench/varfont.md, with --part brush "
                          "bench/varfont_brush.md)")
     ap.add_argument("--part", choices=("all", "stroke", "brush"), default="all",
-                    help="sections 1-5 (stroke), 6 (brush) or all")
+                    help="sections 1-5 (stroke), 6-7 (brush) or all")
     ap.add_argument("--positions", type=int, default=9)
     ap.add_argument("--random", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--cases", type=int, default=None,
                     help="section 6: the first this many brushed cases (default: all)")
     ap.add_argument("--no-fontforge", action="store_true")
+    ap.add_argument("--serif", default="o,e",
+                    help="section 7: the Source Serif 4 glyphs brushed ('' to skip)")
     ap.add_argument("--glyphs", default=None, help="glyph names of the subset (default: all)")
     ap.add_argument("--measure", default=None,
                     help="glyphs whose instances are measured (default: --glyphs)")
@@ -450,31 +563,45 @@ def main():
                   "widen) x + slant y). Bound: tol + 2 x 0.71 = %.2f units; the blend share "
                   "of tol %.2f units (halved when the nib axis is inexact too). Estimate: the "
                   "nib parts' blend at equal parameter (an upper bound); measured: instancer "
-                  "against Clipper at %d positions of wdth (NIBW at its maximum), the least d "
-                  "with erode(S, d) ⊆ F ⊆ dilate(S, d), pinholes < 2 unit² aside."
-                  % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions), "",
-                  "| slant, widen | nibs | estimate before | skeleton masters | estimate after | "
-                  "measured, given masters | measured, with intermediate | CPU s (given / "
-                  "refined) |", "|---|---|---|---|---|---|---|---|"]
-        for r in skeleton_designspaces(args.subset, folder, args.positions):
+                  "against Clipper at %d positions of wdth (the nib axis at its maximum), %d "
+                  "of the nib axis (wdth 112.5) and %d random points, the least d with "
+                  "erode(S, d) ⊆ F ⊆ dilate(S, d), pinholes < 2 unit² aside. ufo2ft "
+                  "compiles the designspace with the grid's tents as the variation "
+                  "model's supports (fontTools' own weigh a master between others 1/2 or "
+                  "1/3 at its neighbours, and the rounded deltas then reproduce a master "
+                  "only within 0.5 unit per coordinate): every master is exact. The rows "
+                  "with %s -> %s have several masters on both axes (.ttf and .otf). A "
+                  ".otf's instance is fontTools' CFF2 blend evaluation at the location "
+                  "(the instancer's static CFF can differ)."
+                  % (", ".join(DS_GLYPHS), TOL + 2 ** 0.5, 0.4 * TOL, args.positions,
+                     args.positions, args.random, NIB_MIN, NIB_NARROW), "",
+                  "| slant, widen | nibs | output | estimate before | skeleton masters | nib "
+                  "masters | estimate after | measured, given masters | measured, with "
+                  "intermediate | CPU s (given / refined) |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for r in skeleton_designspaces(args.subset, folder, args.positions, args.random):
             g, f = r["given"], r["refined"]
             rep = f["report"]
-            lines.append("| %g, %g | %s | %.2f | 2 + %d | %.2f | %.2f (%s) | %.2f (%s) | %.1f / "
-                         "%.1f |" % (r["slant"], r["widen"], " -> ".join(
-                             str(tuple(n)) for n in r["nibs"] if n is not None),
-                             rep["errors_before"]["Width"], rep["added"], rep["error"],
-                             g["worst"][0], g["worst"][1], f["worst"][0], f["worst"][1],
-                             g["cpu"], f["cpu"]))
+            lines.append("| %g, %g | %s | %s | %.2f | 2 + %d | %d | %.2f | %.2f (%s) | %.2f "
+                         "(%s) | %.1f / %.1f |" % (
+                             r["slant"], r["widen"], " -> ".join(
+                                 str(tuple(n)) for n in r["nibs"] if n is not None),
+                             r["suffix"], rep["errors_before"]["Width"], rep["added"],
+                             f["nib_masters"], rep["error"], g["worst"][0], g["worst"][1],
+                             f["worst"][0], f["worst"][1], g["cpu"], f["cpu"]))
     if args.part in ("all", "brush"):
         lines += ["", "## 6. Brushed variable fonts (small mark fonts: o, e, n, acutecomb)", "",
                   "Each axis at %d positions (the others at their defaults) and %d random "
                   "points (fontTools' instancer) against the source's instance ⊕ the nib "
                   "there (Clipper), pinholes < 2 unit² aside; bound: tol + 2 x 0.71 = %.2f "
                   "units per 1000 em. Source masters: the source's grid (every region's "
-                  "start, peak and end) + the intermediate ones added until the blend (the "
+                  "start, peak and end) + the intermediate ones added, each glyph its own, "
+                  "until its blend (the "
                   "filled outlines' distance between the blend of two masters and the exact "
                   "sum at 1/4, 1/2, 3/4 of the way) is within its share of tol (%.2f units, "
-                  "halved with an inexact nib axis); blend: before / after. Anchors: the "
+                  "halved with an inexact nib axis); source masters: given + added over "
+                  "all glyphs (the most one glyph has, and which); blend: before / after. "
+                  "Anchors: the "
                   "largest distance of the e / acutecomb mark anchors from the source's moved "
                   "by their glyph's shift (rounding: <= 1 unit)."
                   % (args.positions, args.random, TOL + 2 ** 0.5, 0.4 * TOL), "",
@@ -489,6 +616,38 @@ def main():
                              r["axes"], r["masters"], r["sources"], r["blend"], r["size"],
                              r["cpu"], r["per"], r["worst"][0], r["worst"][1], r["pinholes"],
                              r["anchor"]))
+        serif = [g for g in args.serif.split(",") if g]
+        rows = serif_brush(folder, serif, args.positions, args.random) if serif else None
+        done = [r for r in (rows or []) if "error" not in r]
+        if done:
+            rep = done[0]["report"]
+            lines += ["", "## 7. Source Serif 4 (wght, opsz) cut to %s, nib %s" % (
+                ", ".join(serif), SERIF_NIB), "",
+                "The source's variable font (9 masters: wght and opsz at -1, 0, 1) brushed "
+                "keeping its axes. Each glyph refines its own grid of source masters "
+                "until its blend is within %.2f units, and the font stores each glyph's "
+                "variations over its own masters (gvar tuples per glyph; CFF2 a VarData "
+                "per glyph, chosen by vsindex; HVAR rows per glyph), so a glyph whose "
+                "outline turns fast between the source's masters adds masters to itself "
+                "only. Masters per glyph: %s (given %d, %d locations added over all "
+                "glyphs; blend before refining %s, after %.3f). Instances: %d positions "
+                "per axis and %d random points (fontTools' instancer) against the source's "
+                "own instance there ⊕ the nib (Clipper), pinholes < 2 unit² aside; bound: "
+                "tol + 2 x 0.71 = %.2f units per 1000 em." % (
+                    0.4 * TOL, ", ".join("%s %d" % kv for kv in
+                                         done[0]["glyph_masters"].items()),
+                    rep["given"], rep["added"], ", ".join(
+                        "%s %.1f" % kv for kv in rep["errors_before"].items()), rep["error"],
+                    args.positions, args.random, TOL + 2 ** 0.5), "",
+                "| output | masters (all glyphs) | CPU s (whole call) | fit CPU s | size | "
+                "ots-sanitize | max d | where |", "|---|---|---|---|---|---|---|---|"]
+            for r in rows:
+                if "error" in r:
+                    lines.append("| %s | %s | | | | | | |" % (r["suffix"], r["error"][:200]))
+                    continue
+                lines.append("| %s | %d | %.1f | %.1f | %d | %s | %.3f | %s |" % (
+                    r["suffix"], r["masters"], r["cpu"], r["fit"], r["size"], r["ots"],
+                    r["worst"][0], r["worst"][1]))
     lines[2] = stamp(seconds=time.perf_counter() - t_start)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -8,6 +8,10 @@ one frame is one Minkowski sum of scaled copies: the Gauss maps of A and B and t
 table of compatible pairs are computed once (:func:`morph.convolve.scaled_gauss_pair`),
 and the inner frames are summed several at a time, moved apart as one packed sum
 (:func:`_packed_frames`), so that every phase's array calls serve a group of frames.
+Every convolution piece is linear in the positions of its two operands' points (its
+weights depend on tangent directions only), so the first round's pieces of every
+frame are blends (1 - a) P_A + a P_B of two fixed sets, made once
+(:class:`_Blend`).
 """
 
 import numpy as np
@@ -15,7 +19,7 @@ import numpy as np
 from . import convolve
 from . import gauss
 from . import piece as pc
-from .errors import MorphError
+from .errors import MorphError, OperandError, ToleranceNotMetError
 from .limits import check_tolerance, fits_precision, point_budget
 from .minkowski import minkowski_sum
 from .operands import check_operand
@@ -40,7 +44,7 @@ def centered(loops):
 
 
 def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=True,
-                 batch=True):
+                 batch=True, blend=True):
     """The n regions (1 - a) A ⊕ a B for a = 0, 1/(n-1), ..., 1, both centred.
 
     tol is absolute (input units) and applies to every frame as in
@@ -50,21 +54,24 @@ def morph_frames(region_a, region_b, n, tol, progress=None, method="qac", cache=
     depend on the scale factors, are computed once for all frames
     (:func:`morph.convolve.scaled_gauss_pair`); with ``batch`` too, up to
     :data:`FRAME_GROUP` inner frames are summed as one packed sum
-    (:func:`_packed_frames`), each held to the budget of its own sum.  Each frame is a
+    (:func:`_packed_frames`), each held to the budget of its own sum; with ``blend``
+    (and ``cache``, method "qac") too, every frame's first-round convolution is a
+    blend of two sets made once (:class:`_Blend`).  Each frame is a
     :class:`morph.region.Region` whose ``bound`` is the error it achieved (at most tol;
     0 for the end frames, which are the operands), what
     :meth:`morph.budget.Budget.after` takes.  :func:`iter_frames` gives the same
     frames one at a time.  Raises ValueError for n < 2.
     """
     frames = []
-    for k, out in enumerate(iter_frames(region_a, region_b, n, tol, method, cache, batch)):
+    for k, out in enumerate(iter_frames(region_a, region_b, n, tol, method, cache, batch,
+                                        blend)):
         frames.append(out)
         if progress is not None:
             progress(k)
     return frames
 
 
-def iter_frames(region_a, region_b, n, tol, method="qac", cache=True, batch=True):
+def iter_frames(region_a, region_b, n, tol, method="qac", cache=True, batch=True, blend=True):
     """The frames of :func:`morph_frames`, in order, as they are done: a writer can
     store each frame as it arrives, holding at most one group of :data:`FRAME_GROUP`
     frames in memory.  A frame whose sum raises is preceded by every frame before it."""
@@ -76,12 +83,14 @@ def iter_frames(region_a, region_b, n, tol, method="qac", cache=True, batch=True
     yield _operand(a)
     if len(alphas):
         base = convolve.with_pair_table(convolve.gauss_pair_of(a, b)) if cache else None
+        blend = _Blend(base, alphas) if blend and base is not None and method == "qac" \
+            else None
         if base is not None and batch:
             for group in _frame_groups(a, b, alphas, tol):
-                yield from _packed_frames(a, b, alphas[group], tol, method, base)
+                yield from _packed_frames(a, b, alphas[group], tol, method, base, blend)
         else:
             for alpha in alphas:
-                yield _one_frame(a, b, alpha, tol, method, base)
+                yield _one_frame(a, b, alpha, tol, method, base, blend)
     yield _operand(b)
 
 
@@ -90,12 +99,26 @@ def _operand(end):
     return Region._make(end, isinstance(end, Region) and end.validated, 0.0)
 
 
-def _one_frame(a, b, alpha, tol, method, base):
+def _one_frame(a, b, alpha, tol, method, base, blend=None):
     """Frame (1 - alpha) A ⊕ alpha B as a sum of its own (``base``: the shared Gauss
-    maps, or None)."""
+    maps, or None), its first round's convolution blended by ``blend`` when given
+    (a :class:`_Blend` of ``base``: the frame is then the one a packed sum gives)."""
+    from . import minkowski as mk
+
     pair = None if base is None else convolve.scaled_gauss_pair(base, 1.0 - alpha, alpha)
-    return minkowski_sum(scale_region(a, 1.0 - alpha), scale_region(b, alpha), tol,
-                         method=method, gauss_pair=pair)
+    ra, rb = scale_region(a, 1.0 - alpha), scale_region(b, alpha)
+    if blend is None:
+        return minkowski_sum(ra, rb, tol, method=method, gauss_pair=pair)
+    # minkowski_sum's checks and result, the sum with the blended first round
+    if not ra or not rb:
+        raise OperandError("both regions must have at least one loop")
+    check_operand(ra, "region_a")
+    check_operand(rb, "region_b")
+    check_tolerance(tol, ra, rb, operation="minkowski sum")
+    out, debug = mk._sum(ra, rb, tol, method, pair, first=lambda row_tol: blend.frames(
+        row_tol, np.array([alpha]), np.zeros((1, 2)), pair))
+    mk._not_vanished(out, tol)
+    return validated(out, mk._achieved_bound(out, debug["convolution"], tol, method))
 
 
 def _frame_groups(a, b, alphas, tol):
@@ -123,7 +146,7 @@ def _frame_groups(a, b, alphas, tol):
     return [np.array(g) for g in groups]
 
 
-def _packed_frames(a, b, alphas, tol, method, base):
+def _packed_frames(a, b, alphas, tol, method, base, blend=None):
     """The frames (1 - t) A ⊕ t B for t in ``alphas`` as one packed sum, in order.
 
     Frame k's scaled A is moved to slot k of a :class:`morph.packing.Packing`
@@ -140,6 +163,8 @@ def _packed_frames(a, b, alphas, tol, method, base):
     be subdivided that far).  Where the packed coordinates would be too large for
     tol, or the packed sum raises, the frames are summed one by one: a frame that
     raises then does so after the frames before it, with its own sum's error.
+    ``blend`` (a :class:`_Blend` of ``base``): the first round's convolution is
+    blended from its two fixed sets instead of approximated frame by frame.
     """
     from . import minkowski as mk
     from .packing import Packing, control_box
@@ -154,14 +179,16 @@ def _packed_frames(a, b, alphas, tol, method, base):
             na = len(a)
             member = _SlotHoleTest([(layout.packed[k * na:(k + 1) * na], rb)
                                     for k, rb in enumerate(regions_b)], tol, layout)
+            first = None if blend is None else (
+                lambda row_tol: blend.frames(row_tol, alphas, layout.offsets, pair))
             try:
                 out, debug = mk._sum(layout.packed, None, tol, method, pair, layout.slot_of,
-                                     member=member)
+                                     member=member, first=first)
                 frames = _split_frames(out, debug["convolution"], layout, tol, method)
             except MorphError:
                 frames = None
     if frames is None:
-        frames = (_one_frame(a, b, t, tol, method, base) for t in alphas)
+        frames = (_one_frame(a, b, t, tol, method, base, blend) for t in alphas)
     yield from frames
 
 
@@ -180,6 +207,249 @@ def _packed_gauss_pair(base, alphas, offsets):
     table = ((i[None, :] + na * step).ravel(), (j[None, :] + nb * step).ravel(),
              np.tile(lo, f), np.tile(hi, f), np.tile(k, f))
     return convolve.GaussPair(maps_a, maps_b, table)
+
+
+class _Blend:
+    """The first-round convolution pieces of every frame (1 - a) A ⊕ a B as blends of
+    two fixed sets, made once from the unit operands' Gauss maps and pair table
+    (``base``, a :class:`morph.convolve.GaussPair`).
+
+    A convolution piece is (X, W) in homogeneous coordinates.  Its weights W depend
+    only on tangent directions, which scaling keeps, and X is a sum of a term of
+    A's points and one of B's (:func:`morph.qac.qac_parts` for QAC; a translated
+    edge, corner or chord is a sum of points of the two), so the frame's piece is
+    ((1 - a) X_A + a X_B + W o, W) for the sub-pair the unit operands' subdivision
+    accepted, o the frame's offset in the packing.  Its error is (1 - a) e_A + a e_B:
+    QAC replaces one side by a quadratic (e on that side, scaled with it), a corner
+    drops the short side, a chord both sagittas.  So the unit operands are
+    subdivided once, within ``row_tol / f`` with f = max(a, 1 - a) over the frames
+    (every frame within ``row_tol``), and each group of frames is one array
+    expression over the two sets.  Inner frames get pieces up to 1 / f finer than
+    their own subdivision would make (a quarter power more QAC pieces).
+    """
+
+    def __init__(self, base, alphas):
+        self.base = base
+        self.scale = float(np.max(np.maximum(alphas, 1.0 - alphas)))
+        self.sets = {}
+
+    def frames(self, row_tol, alphas, offsets, pair):
+        """:class:`morph.convolve.ConvPieces` of the frames ``alphas`` moved by
+        ``offsets``, as the convolution of their packed pair ``pair`` (frame k's
+        table rows after frame k - 1's) at ``row_tol`` (one per row of ``pair``'s
+        table) gives them: in its row order, each piece within its row's tolerance.
+        Where the unit operands cannot be subdivided that far, that convolution."""
+        f, n = len(alphas), len(self.base.table[0])
+        want = np.asarray(row_tol, float).reshape(f, n).min(axis=0)
+        key = want.tobytes()
+        if key not in self.sets:
+            try:
+                self.sets[key] = _unit_sets(self.base, want / self.scale)
+            except ToleranceNotMetError:
+                self.sets[key] = None
+        sets = self.sets[key]
+        if sets is None:
+            return convolve.convolution(None, None, row_tol, keep_type3=True,
+                                        gauss_pair=pair)
+        return _blended(sets, self.base, np.asarray(alphas, float),
+                        np.asarray(offsets, float))
+
+
+def _unit_sets(base, tol, max_depth=30):
+    """The two sets of :class:`_Blend` for the pairs of ``base``'s table, each row
+    within its ``tol`` for both operands at unit scale: a
+    :class:`morph.convolve.ConvPieces` whose pieces have 7 columns (X_A, X_B, W,
+    e_A, e_B; the errors repeated along the rows) in the order the convolution
+    gives its pieces (:func:`morph.convolve._convolve_table`)."""
+    ta, tb = base.edge_tables()
+    i, j, lo, hi, k = base.table
+    tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
+    off = gauss.TWO_PI * np.asarray(k, float)
+    out = convolve._Produced()
+    # a straight edge + the other's point at its angle (as convolve._line_pairs)
+    pos = np.flatnonzero(ta.straight[i])
+    if len(pos):
+        pts = tb.points_at(j[pos], lo[pos] - off[pos])
+        for rows, st in ta.pieces(i[pos]):
+            p = pos[rows]
+            _add_moved(out, p, st, pts[rows], True, tb.sign[j[p]] > 0)
+    pos = np.flatnonzero(tb.straight[j] & ~ta.straight[i])
+    if len(pos):
+        pts = ta.points_at(i[pos], lo[pos])
+        for rows, st in tb.pieces(j[pos]):
+            p = pos[rows]
+            _add_moved(out, p, st, pts[rows], False, ta.sign[i[p]] > 0)
+    # a curve + a vertex (as convolve._vertex_pairs)
+    for t_c, t_v, ic, iv, shift, of_a in ((ta, tb, i, j, np.zeros_like(off), True),
+                                          (tb, ta, j, i, off, False)):
+        pos = np.flatnonzero(t_c.curved[ic] & t_v.vertex[iv])
+        if not len(pos):
+            continue
+        cc = ic[pos]
+        subs = t_c.restricted(cc, t_c.params(cc, lo[pos] - shift[pos]),
+                              t_c.params(cc, hi[pos] - shift[pos]))
+        for rows, st in subs:
+            p = pos[rows]
+            _add_moved(out, p, st, t_v.point[iv[p]], of_a, t_v.sign[iv[p]] > 0)
+    pos = np.flatnonzero(ta.curved[i] & tb.curved[j])
+    if len(pos):
+        _curve_sets(out, ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol[pos],
+                    max_depth)
+    return out.packed()
+
+
+def _add_moved(out, pos, stack, points, curve_of_a, forward):
+    """Pieces of a curve ``stack`` moved by ``points`` (one per row) as 7-column sets:
+    the curve's term on its operand's side, the points' on the other, error 0;
+    reversed where not ``forward``."""
+    w = stack[:, :, 2:3]
+    moved = points[:, None, :] * w
+    xa, xb = (stack[:, :, :2], moved) if curve_of_a else (moved, stack[:, :, :2])
+    st = np.concatenate([xa, xb, w, np.zeros(w.shape[:2] + (2,))], axis=2)
+    st = np.where(forward[:, None, None], st, st[:, ::-1])
+    out.add(pos, 0.0, st, 0.0, "translate")
+
+
+def _curve_sets(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
+    """Curve + curve pairs: Algorithm 4.1 as :func:`morph.convolve._qac_pairs` runs
+    it (the same nodes, bounds and splits), each accepted node's piece as its two
+    terms (:func:`_node_sets`) with its error on the side it comes from."""
+    from . import qac
+    from .subdivide import subdivide_nodes
+
+    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
+    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
+    ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
+    names = np.array(qac.KIND_NAMES, object)
+    for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
+        rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
+        nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
+                 "cb": tb.restricted(j[rows], tb_lo[rows], tb_hi[rows])[0][1],
+                 "ha": ha[rows], "hb": hb[rows], "sa": ta.sign[i[rows]],
+                 "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
+                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
+                 "tol": tol[rows]}
+        done, pieces, bounds = subdivide_nodes(nodes, _node_sets, qac.bound_nodes,
+                                               qac.split_nodes, float(tol[rows].min()),
+                                               max_depth)
+        bounds = np.asarray(bounds, float)
+        # the error's side: QAC's C2 or a corner's short piece is A's where swap
+        e_a = np.where(done["swap"], bounds, 0.0)
+        e_b = np.where(done["swap"], 0.0, bounds)
+        chord = np.flatnonzero(done["kind"] == qac.CHORD)
+        if len(chord):
+            e_a[chord] = qac._sagitta_many(done["ca"][chord])
+            e_b[chord] = qac._sagitta_many(done["cb"][chord])
+        key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
+        forward = done["sb"] > 0
+        start = out.count
+        for ks, st in pc.degree_groups(pieces):
+            st = np.where(forward[ks][:, None, None], st, st[:, ::-1])
+            err = np.broadcast_to(np.stack([e_a[ks], e_b[ks]], axis=1)[:, None, :],
+                                  st.shape[:2] + (2,))
+            out.count = start
+            out.add(done["pos"][ks], key[ks], np.concatenate([st, err], axis=2), bounds[ks],
+                    names[done["kind"][ks]], seq=ks)
+        out.count = start + len(pieces)
+
+
+def _node_sets(nodes):
+    """:func:`morph.qac.piece_nodes` as two terms: each accepted node's piece along
+    ca as (X_A, X_B, W) (n+1, 5), None where a QAC piece has a weight <= 0.  A
+    corner or chord is built twice, once with B's points at the origin and once
+    with A's (the weights kept): both are linear in the points."""
+    from . import qac
+
+    ca, cb, sa, sb = nodes["ca"], nodes["cb"], nodes["sa"], nodes["sb"]
+    kind, swap = nodes["kind"], nodes["swap"]
+    out = [None] * len(ca)
+    bare_a, bare_b = _at_origin(ca), _at_origin(cb)
+    for r in np.flatnonzero(kind == qac.CORNER):
+        out[r] = _two_terms(qac._corner_piece(ca[r], bare_b[r], sa[r], sb[r], swap[r]),
+                            qac._corner_piece(bare_a[r], cb[r], sa[r], sb[r], swap[r]))
+    for r in np.flatnonzero(kind == qac.CHORD):
+        out[r] = _two_terms(qac.chord_piece(ca[r], bare_b[r], sa[r], sb[r])[0],
+                            qac.chord_piece(bare_a[r], cb[r], sa[r], sb[r])[0])
+    for sw in (False, True):
+        sel = np.flatnonzero((kind == qac.QAC) & (swap == sw))
+        if not len(sel):
+            continue
+        c1 = (cb if sw else ca)[sel]
+        for r, (x1, xq, w) in zip(sel, _qac_terms(c1, nodes["q2"][sel])):
+            if not np.all(w > 0):
+                continue
+            # C1 is B's where swap (QAC's role): its term is B's
+            piece = np.concatenate([xq, x1, w[:, None]] if sw else [x1, xq, w[:, None]],
+                                   axis=1)
+            out[r] = piece[::-1].copy() if (sw and sa[r] != sb[r]) else piece
+    return out
+
+
+def _qac_terms(c1, q2):
+    """(X1, XQ, W) of :func:`morph.qac.qac_parts` for each row of a stack c1 with
+    quadratics q2, as :func:`morph.qac.qac_pieces` makes the pieces (rows whose
+    tangent numerator vanishes at an end with their ends divided out)."""
+    from . import qac
+
+    out = [None] * len(c1)
+    poly = pc.is_polynomial_many(c1)
+    for sel, rational in ((poly, False), (~poly, True)):
+        rows = np.flatnonzero(sel)
+        if not len(rows):
+            continue
+        h = pc.tangent_numerator_many(c1[rows], rational)
+        odd = pc.end_zero_rows(h)
+        x1, xq, w = qac.qac_parts(c1[rows], h, q2[rows])
+        for r, row in enumerate(rows):
+            if odd[r]:
+                h1 = pc.tangent_numerator(c1[row])
+                one = qac.qac_parts(c1[row][None], h1[None], q2[row][None])
+                out[row] = tuple(x[0] for x in one)
+            else:
+                out[row] = (x1[r], xq[r], w[r])
+    return out
+
+
+def _at_origin(stack):
+    """A stack of pieces with every point at the origin, the weights kept."""
+    out = np.zeros_like(stack)
+    out[:, :, 2] = stack[:, :, 2]
+    return out
+
+
+def _two_terms(piece_a, piece_b):
+    """(X_A, X_B, W) of a piece built once from A's points and once from B's."""
+    return np.concatenate([piece_a[:, :2], piece_b[:, :2], piece_a[:, 2:]], axis=1)
+
+
+def _blended(sets, base, alphas, offsets):
+    """The 7-column ``sets`` of :func:`_unit_sets` blended for each frame (``alphas``,
+    ``offsets``): :class:`morph.convolve.ConvPieces` of the frames one after the
+    other, as the convolution of their packed pair gives them (rows, loops and
+    edges numbered frame by frame)."""
+    ta, tb = base.edge_tables()
+    f, n, m = len(alphas), len(sets), len(base.table[0])
+    a = alphas[:, None, None, None]
+    groups, e = [], np.zeros((n, 2))
+    for ks, h in sets.pieces.groups:
+        w = h[None, :, :, 4:5]
+        x = (1.0 - a) * h[None, :, :, 0:2] + a * h[None, :, :, 2:4] \
+            + offsets[:, None, None, :] * w
+        st = np.concatenate([x, np.broadcast_to(w, x.shape[:3] + (1,))], axis=3)
+        groups.append(((np.arange(f)[:, None] * n + ks[None]).ravel(),
+                       st.reshape((-1,) + st.shape[2:])))
+        e[ks] = h[:, 0, 5:7]
+    bound = ((1.0 - alphas)[:, None] * e[None, :, 0] + alphas[:, None] * e[None, :, 1]).ravel()
+    i, j = base.table[0][sets.row], base.table[1][sets.row]
+    typ = convolve.pair_type(ta.sign[i], tb.sign[j], ta.vertex[i], tb.vertex[j])
+    frame = np.repeat(np.arange(f), n)
+    source = np.tile(np.stack([ta.loop[i], ta.index[i], tb.loop[j], tb.index[j]], axis=1),
+                     (f, 1)).astype(int)
+    source[:, 0] += frame * ta.n_loops
+    source[:, 2] += frame * tb.n_loops
+    return convolve.ConvPieces(pc.Pieces(groups, f * n), bound, np.tile(sets.kind, f),
+                               np.tile(np.asarray(typ, int), f),
+                               (frame * m + np.tile(sets.row, f)).astype(int), source)
 
 
 def _moved_edges(edges, offset):

@@ -163,20 +163,21 @@ def _not_vanished(loops, tol, which=""):
                          "most %.3g" % (which, tol, tol / 10), tol / 10)
 
 
-def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None):
+def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None, first=None):
     """(boundary, debug) of A ⊕ B (:func:`minkowski_sum` after its checks).
 
     ``slot_of(points)``: which independent part (:class:`morph.packing.Packing`) each
     point is in; the corner pass then trims again only the parts it refines.
     ``member``: the hole test of :func:`morph.trim.boundary` (default
     :class:`_HoleTest` of A and B; packed frames, whose B differs per part, pass
-    one that tests each hole with its own part's operands).
+    one that tests each hole with its own part's operands).  ``first``: the first
+    round's convolution, as :func:`_first_round` takes it.
     """
     slot_of = slot_of or (lambda pts: np.zeros(len(pts), np.int64))
     if gauss_pair is None or gauss_pair.table is None:
         names = ("region_a", "region_b")
         gauss_pair = with_pair_table(gauss_pair or gauss_pair_of(region_a, region_b, names))
-    conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair)
+    conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair, first)
     member = member or _HoleTest(region_a, region_b, tol)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
@@ -205,17 +206,21 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None)
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
 
 
-def _first_round(region_a, region_b, tol, method, gauss_pair):
+def _first_round(region_a, region_b, tol, method, gauss_pair, first=None):
     """(convolution pieces, per-row tolerances) of the first round: rows whose pieces
     may cross a non-neighbouring row's (:func:`morph.convolve.crossing_rows`, the only
     ones that can meet at a corner) within FIRST_SHARE of the convolution budget,
     the others within the whole budget; the whole budget everywhere where the pairs
-    cannot be subdivided that far (the corner pass then refines what it needs)."""
+    cannot be subdivided that far (the corner pass then refines what it needs).
+    ``first(row_tol)``, when given, is that convolution made another way (packed
+    frames blend theirs from two fixed sets, :mod:`morph.frames`)."""
     budget = CONV_SHARE * tol
     fine = crossing_rows(gauss_pair, tol)
     for share in (FIRST_SHARE, 1.0):
         row_tol = np.where(fine, share * budget, budget)
         try:
+            if first is not None:
+                return first(row_tol), row_tol
             return convolution(region_a, region_b, row_tol, keep_type3=True,
                                method=method, gauss_pair=gauss_pair), row_tol
         except ToleranceNotMetError:
@@ -332,20 +337,20 @@ class _HoleTest:
         """The test of every (ring, islands) of ``holes``, the deepest points found
         together (:func:`morph.trim.holes.deepest_points`)."""
         points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
-        out = []
-        for x, depth in zip(points, depths.tolist()):
-            # flattenings fine enough for the depth, never coarser than tol, reused
-            key = self.tol * 2.0 ** np.clip(np.floor(np.log2(max(depth, 1e-300) / self.tol)),
-                                            -3, 0)
+        # flattenings fine enough for the depth, never coarser than tol, reused
+        keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
+                                         -3, 0)
+        # no point inside (a hole of no area outside its islands): it stays a hole
+        filled = np.zeros(len(points), bool)
+        for key in unique(keys[depths > 0.0]).tolist():
             if key not in self.cache:
                 if self.areas is None:
                     self.areas = mo.loop_areas(self.a)
                 self.cache[key] = Membership(self.a, self.b, key, self.areas)
-            # no point inside (a hole of no area outside its islands): it stays a hole
-            filled = bool(depth > 0.0) and self.cache[key](x)
-            self.log.append((x, depth, filled))
-            out.append(filled)
-        return out
+            at = np.flatnonzero((keys == key) & (depths > 0.0))
+            filled[at] = self.cache[key].many(points[at])
+        self.log.extend(zip(points, depths.tolist(), filled.tolist()))
+        return filled.tolist()
 
 
 __all__ = ["minkowski_sum", "minkowski_sum_debug", "minkowski_sums", "check_operand",

@@ -15,7 +15,7 @@ from . import bernstein as bz
 from .piece import jet2_many, jet2_power_many
 
 __all__ = ["closest_params_many", "nearest_params_many", "nearest_params_in_range",
-           "distance_bound_many"]
+           "distance_bound_many", "PowerJets"]
 
 
 def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
@@ -23,21 +23,77 @@ def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
     by Newton's iteration on f(s) = (P(s) - p) . P'(s) = 0 from the parameters s
     (k, m): s -= f / f' with f' = |P'|^2 + (P - p) . P'' (a step is skipped where
     f' <= 0 or it is not finite), clipped to [0, 1], ``iters`` times.  ``jet``
-    evaluates P, P', P'' (:func:`jet2_many` or :func:`jet2_power_many`).
+    evaluates P, P', P'' (:func:`jet2_many` or :func:`jet2_power_many`; the latter's
+    power coefficients are made once for all the steps, :class:`PowerJets`).
 
     A local search: it finds the nearest point only from a start in its basin (the
     callers start from the nearest of dense samples or from a close guess).
     """
     s = np.array(s, float)
+    if jet is jet2_power_many and np.shape(c)[1] > 2:
+        jets = PowerJets(c)
+        ptx, pty = pts[..., 0], pts[..., 1]
+        for _ in range(iters):
+            (px, py), (dx, dy), (ddx, ddy) = jets(s)
+            ex, ey = px - ptx, py - pty
+            f = ex * dx + ey * dy
+            fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
+            s = _newton_step(s, f, fp)
+        return s
     for _ in range(iters):
         p, d, dd = jet(c, s)
         diff = p - pts
         f = np.sum(diff * d, axis=2)
         fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = np.where(fp > 0, f / np.where(fp > 0, fp, 1.0), 0.0)
-        s = np.clip(s - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+        s = _newton_step(s, f, fp)
     return s
+
+
+def _newton_step(s, f, fp):
+    """s - f / fp clipped to [0, 1]; no step where fp <= 0 or the step is not finite."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.where(fp > 0, f / np.where(fp > 0, fp, 1.0), 0.0)
+    return np.clip(s - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+
+
+class PowerJets:
+    """P, P' and P'' of a stack of pieces c (k, n+1, 3), n >= 2, at parameters s (k, m)
+    again and again (a Newton iteration): :func:`morph.piece.jet2_power_many`'s
+    arithmetic, its power coefficients made once, x and y returned apart
+    (``((x, y), (x', y'), (x'', y''))``, each (k, m)), and s^0 = 1, s^1 = s written
+    rather than raised (the same values: a power that is exact is returned exact).
+    """
+
+    def __init__(self, c):
+        c = np.asarray(c, float)
+        n = c.shape[1] - 1
+        self.n = n
+        self.j = np.arange(n + 1, dtype=float)
+        self.a = np.matmul(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
+        self.a1 = self.a[:, 1:] * self.j[1:, None]
+        self.a2 = self.a1[:, 1:] * self.j[1:-1, None]
+
+    def __call__(self, s, second=True):
+        n = self.n
+        v = np.empty(np.shape(s) + (n + 1,))
+        v[..., 0] = 1.0
+        v[..., 1] = s
+        # a materialised exponent array: numpy squares where it sees one exponent 2
+        # (s * s), which differs from pow(s, 2) in the last bit now and then
+        exps = np.empty(v[..., 2:].shape)
+        exps[...] = self.j[2:]
+        np.power(np.asarray(s)[..., None], exps, out=v[..., 2:])
+        h, h1 = np.matmul(v, self.a), np.matmul(v[..., :n], self.a1)
+        w, w1 = h[..., 2], h1[..., 2]
+        px, py = h[..., 0] / w, h[..., 1] / w
+        p1x, p1y = (h1[..., 0] - w1 * px) / w, (h1[..., 1] - w1 * py) / w
+        if not second:
+            return (px, py), (p1x, p1y)
+        h2 = np.matmul(v[..., :n - 1], self.a2)
+        w2 = h2[..., 2]
+        p2x = (h2[..., 0] - 2.0 * w1 * p1x - w2 * px) / w
+        p2y = (h2[..., 1] - 2.0 * w1 * p1y - w2 * py) / w
+        return (px, py), (p1x, p1y), (p2x, p2y)
 
 
 @functools.lru_cache(maxsize=64)

@@ -53,12 +53,15 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
     2)), sorted by (owner, t); owner indexes ``pieces``.  Pieces of one degree are
     processed together.  ``keep(owner, t0, width) -> mask``: parts of the
     subdivision left out (with all they would be cut into) where False; the vertices
-    of the parts kept are those of the whole flattening."""
+    of the parts kept are those of the whole flattening.  ``tol``: a number, or one
+    per piece (an array: the pieces of many regions, each flattened within its own)."""
     owners, params, points = [np.zeros(0, np.intp)], [np.zeros(0)], [np.zeros((0, 2))]
+    tols = np.asarray(tol, float)
     for ks_arr, stack in pc.degree_groups(pieces):
         ks = ks_arr
         part_keep = None if keep is None else (lambda o, t, w, ks_arr=ks_arr: keep(ks_arr[o], t, w))
-        owner, ts, starts = _flat_params(stack, tol, 2.0 ** -max_depth, part_keep)
+        owner, ts, starts = _flat_params(stack, tols[ks] if tols.ndim else tol,
+                                         2.0 ** -max_depth, part_keep)
         owners.append(np.asarray(ks)[owner])
         params.append(ts)
         points.append(starts)
@@ -70,18 +73,21 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
 def _flat_params(stack, tol, min_width, keep=None):
     """(owner, t0, start point) of the flat parts of a stack of pieces (see
     :func:`flatten_many`); a part's start point is its first control point.
-    ``keep(owner, t0, width)``: the parts to cut further (see :func:`flat_starts`)."""
+    ``keep(owner, t0, width)``: the parts to cut further (see :func:`flat_starts`).
+    ``tol``: a number, or an array of one per piece of the stack."""
     parts, owner = stack, np.arange(len(stack))
     t0, width = np.zeros(len(stack)), np.ones(len(stack))
     done_owner, done_t, done_p = [], [], []
+    per_piece = np.ndim(tol) > 0
     while len(parts):
         dist = _chord_distance(parts)
-        flat = (dist <= tol) | (width <= min_width * 1.5)
+        part_tol = tol[owner] if per_piece else tol
+        flat = (dist <= part_tol) | (width <= min_width * 1.5)
         done_owner.append(owner[flat])
         done_t.append(t0[flat])
         done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
         parts, owner, t0, width, dist = (a[~flat] for a in (parts, owner, t0, width, dist))
-        steps = np.ceil(np.sqrt(dist / tol))
+        steps = np.ceil(np.sqrt(dist / (tol[owner] if per_piece else tol)))
         steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
         steps = steps.astype(np.int64)
         order = np.argsort(steps, kind="stable")
@@ -154,9 +160,13 @@ def flatten_loop(pieces, tol):
 
 
 def flatten_loops(loops, tol):
-    """:func:`flatten_loop` of every loop, all pieces flattened at once."""
-    owner, _, pts = flat_starts([p for loop in loops for p in loop], tol)
-    loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])[owner]
+    """:func:`flatten_loop` of every loop, all pieces flattened at once; ``tol``: a
+    number, or one per loop."""
+    sizes = [len(loop) for loop in loops]
+    tols = np.asarray(tol, float)
+    owner, _, pts = flat_starts([p for loop in loops for p in loop],
+                                np.repeat(tols, sizes) if tols.ndim else tol)
+    loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
     bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
     return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
@@ -395,6 +405,113 @@ def near_segments(p0, p1, reach):
     return np.stack([keys // n, keys % n], axis=1)
 
 
+class GroupGrid:
+    """Axis-aligned boxes of many sets at once (box k in set ``group[k]``), hashed
+    on a grid whose cells are those of each set: about twice its median box's larger
+    side, at least 2^-20 of its extent (so that a cell index fits 21 bits), doubled
+    while its boxes would cover more than 8 cells per box on average (as
+    :class:`BoxGrid` of the set alone); a cell's key holds its set, so sets that lie
+    on top of each other (the glyphs of a font) do not meet in a cell.  ``span``: each
+    set's extent (the larger side of its boxes' bounding box, BoxGrid's
+    ``span.max()``); ``keys`` and ``items`` as BoxGrid's."""
+
+    def __init__(self, lo, hi, group, sets):
+        self.lo, self.hi = lo, hi
+        self.group = group = np.asarray(group, np.int64)
+        glo, ghi = np.full((sets, 2), np.inf), np.full((sets, 2), -np.inf)
+        np.minimum.at(glo, group, lo)
+        np.maximum.at(ghi, group, hi)
+        self.span = np.maximum(ghi - glo, 1e-300).max(axis=1)
+        self.origin = np.where(np.isfinite(glo), glo, 0.0)
+        lengths = np.maximum(hi - lo, 0).max(axis=1)
+        count = np.bincount(group, minlength=sets)
+        order = np.lexsort((lengths, group))
+        first = np.searchsorted(group[order], np.arange(sets))
+        last = max(len(order) - 1, 0)
+        median = np.zeros(sets)
+        if len(order):
+            m0 = order[np.minimum(first + (count - 1) // 2, last)]
+            m1 = order[np.minimum(first + count // 2, last)]
+            median = np.where(count > 0, 0.5 * (lengths[m0] + lengths[m1]), 0.0)
+        self.cell = np.where(count > 0, np.maximum(2.0 * median, self.span * 2.0 ** -20), 1.0)
+        while True:
+            c0, c1 = self._cell(lo, group), self._cell(hi, group)
+            nx = c1[:, 0] - c0[:, 0] + 1
+            covered = nx * (c1[:, 1] - c0[:, 1] + 1)
+            over = np.bincount(group, weights=covered, minlength=sets) > 8 * count + 64
+            if not over.any():
+                break
+            self.cell[over] *= 2.0
+        item = np.repeat(np.arange(len(lo)), covered)
+        offs = _ranks(covered)
+        key = self._key(group[item], c0[item, 0] + offs % nx[item], c0[item, 1] + offs // nx[item])
+        order = np.argsort(key, kind="stable")
+        self.keys, self.items = key[order], item[order]
+
+    def _cell(self, x, group):
+        return np.floor((x - self.origin[group]) / self.cell[group][:, None]).astype(np.int64)
+
+    @staticmethod
+    def _key(group, cx, cy):
+        return (group << 42) + (np.clip(cx, -1, 1 << 20) << 21) + np.clip(cy, -1, 1 << 20)
+
+    def at_points(self, points, group):
+        """(point index, box index) of every box of the point's set (``group[k]``)
+        whose cell holds the point: a superset of the boxes that contain it."""
+        group = np.asarray(group, np.int64)
+        c = self._cell(np.asarray(points, float), group)
+        k = self._key(group, c[:, 0], c[:, 1])
+        lo = np.searchsorted(self.keys, k, "left")
+        cnt = np.searchsorted(self.keys, k, "right") - lo
+        pt = np.repeat(np.arange(len(k)), cnt)
+        box = self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+        same = self.group[box] == group[pt]
+        return pt[same], box[same]
+
+    def pairs(self):
+        """Index pairs (i < j) of boxes of one set that share a cell and overlap
+        (within 1e-12 of the set's extent, as :func:`_cell_pairs`)."""
+        key, seg = self.keys, self.items
+        bounds = np.flatnonzero(np.diff(key)) + 1
+        ends = np.repeat(np.concatenate([bounds, [len(key)]]),
+                         np.diff(np.concatenate([[0], bounds, [len(key)]])))
+        cnt = ends - np.arange(len(key)) - 1
+        first = np.repeat(np.arange(len(key)), cnt)
+        a, b = seg[first], seg[first + 1 + _ranks(cnt)]
+        n = len(self.lo)
+        keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
+        i, j = keys // n, keys % n
+        lo, hi = self.lo, self.hi
+        slack = 1e-12 * self.span[self.group[i]][:, None]
+        keep = ((self.group[i] == self.group[j]) & np.all(lo[i] <= hi[j] + slack, axis=1)
+                & np.all(lo[j] <= hi[i] + slack, axis=1))
+        return np.stack([i[keep], j[keep]], axis=1)
+
+
+def near_segment_pairs_grouped(p0, p1, group, reach):
+    """:func:`near_segments` of many sets of segments at once: segment k belongs to
+    set ``group[k]``, ``reach`` is one per set, and only pairs of one set are looked
+    at (:class:`GroupGrid`).  Returns index pairs (i < j), shape (k, 2): the pairs
+    :func:`near_segments` finds in each set alone (its rule for segments that share
+    a vertex, at 1e-12 of the set's extent)."""
+    p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+    group = np.asarray(group, np.int64)
+    reach = np.asarray(reach, float)
+    if len(p0) < 2:
+        return np.zeros((0, 2), np.int64)
+    half = 0.5 * reach[group][:, None]
+    grid = GroupGrid(np.minimum(p0, p1) - half, np.maximum(p0, p1) + half, group, len(reach))
+    pairs = grid.pairs()
+    i, j = pairs[:, 0], pairs[:, 1]
+    join = 1e-12 * grid.span[group[i]]
+    chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
+               | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
+    pairs = pairs[~chained]
+    if not len(pairs):
+        return pairs
+    return pairs[_within(p0, p1, pairs, reach[group[pairs[:, 0]]])]
+
+
 def _near_segment_chunks(p0, p1, reach):
     """The pairs of :func:`near_segments`, chunk by chunk of candidates
     (:func:`_cell_pair_chunks`)."""
@@ -428,7 +545,12 @@ def polyline_edges(polylines):
     polys = [np.asarray(p, float) for p in polylines if len(p) >= 2]
     if not polys:
         return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.concatenate(polys), np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+    a = np.concatenate(polys)
+    sizes = np.array([len(p) for p in polys], np.int64)
+    last = np.cumsum(sizes) - 1
+    following = np.arange(1, len(a) + 1)
+    following[last] = last - sizes + 1   # each polyline closed: its last point to its first
+    return a, a[following]
 
 
 def winding_number(points, polylines, chunk=2_000_000):
@@ -477,6 +599,52 @@ def winding_of_others(points, owner, polylines, chunk=2_000_000):
         k = k + s
         sign = ray_crossings(pts[k], a[e], b[e]) * (owner[k] != edge_owner[e])
         out += np.bincount(k, weights=sign, minlength=len(pts)).astype(int)
+    return out
+
+
+def winding_of_others_grouped(points, owner, polylines, group, sets):
+    """:func:`winding_of_others` for polylines of many sets at once: polyline m
+    belongs to set ``group[m]``; point k counts the polylines of its own polyline's
+    set (``group[owner[k]]``) other than ``owner[k]``.  The edges that span a
+    point's height are found on horizontal slabs (a :class:`GroupGrid` of their
+    y-ranges): the same crossings, so the same numbers."""
+    pts = np.atleast_2d(np.asarray(points, float))
+    a, b, edge_owner = _owned_edges(polylines)
+    out = np.zeros(len(pts), int)
+    if not len(a) or not len(pts):
+        return out
+    group = np.asarray(group, np.int64)
+    owner = np.asarray(owner, np.int64)
+    zero = np.zeros((len(a), 1))
+    ys = np.stack([a[:, 1], b[:, 1]], axis=1)
+    grid = GroupGrid(np.hstack([zero, ys.min(axis=1, keepdims=True)]),
+                     np.hstack([zero, ys.max(axis=1, keepdims=True)]), group[edge_owner], sets)
+    probe = np.stack([np.zeros(len(pts)), pts[:, 1]], axis=1)
+    k, e = grid.at_points(probe, group[owner])
+    sign = ray_crossings(pts[k], a[e], b[e]) * (owner[k] != edge_owner[e])
+    return np.bincount(k, weights=sign, minlength=len(pts)).astype(int)
+
+
+def distance_to_others_grouped(points, owner, polylines, group, reach):
+    """:func:`distance_to_others` for polylines of many sets at once (polyline m in
+    set ``group[m]``, ``reach`` one per set): from point k to the edges of the
+    polylines of its own polyline's set other than ``owner[k]``."""
+    pts = np.atleast_2d(np.asarray(points, float))
+    a, b, edge_owner = _owned_edges(polylines)
+    out = np.full(len(pts), np.inf)
+    if not len(a) or not len(pts):
+        return out
+    group = np.asarray(group, np.int64)
+    owner = np.asarray(owner, np.int64)
+    reach = np.asarray(reach, float)
+    r = reach[group[edge_owner]][:, None]
+    grid = GroupGrid(np.minimum(a, b) - r, np.maximum(a, b) + r, group[edge_owner], len(reach))
+    k, e = grid.at_points(pts, group[owner])
+    keep = owner[k] != edge_owner[e]
+    k, e = k[keep], e[keep]
+    d = segment_distance(pts[k], a[e], b[e])
+    near = d <= reach[group[owner[k]]]
+    np.minimum.at(out, k[near], d[near])
     return out
 
 

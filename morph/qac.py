@@ -260,6 +260,18 @@ def choose_roles(ca, cb, tol=None):
 def _qac_from_numerator(c1, h1, q):
     """C1(t) + Q2(s(t)) for stacks c1 (k, n+1, 3), tangent numerators h1 (k, m+1, 2)
     of C1 and quadratics q (k, 3, 2) (:func:`convolve_qac_piece`)."""
+    x1, xq, w = qac_parts(c1, h1, q)
+    return np.concatenate([x1 + xq, w[:, :, None]], axis=2)
+
+
+def qac_parts(c1, h1, q):
+    """The two terms of :func:`_qac_from_numerator`'s piece and its weights:
+    (X1 (k, m+1, 2), XQ (k, m+1, 2), W (k, m+1)), the piece (X1 + XQ, W).  X1 is
+    C1's term (C1's control points times D^2), XQ is Q2's (C1's weights times the
+    D^2 Q2(N / D)), and W does not depend on where the points of C1 or Q2 are, only
+    on the directions of C1's tangents and Q2's legs: C1 scaled by a and Q2 by b
+    (a, b > 0) give the piece (a X1 + b XQ, W) up to a common factor of its rows
+    (what frames of scaled copies blend, :mod:`morph.frames`)."""
     d0, d1 = q[:, 1] - q[:, 0], q[:, 2] - q[:, 1]
     num = h1[:, :, 0] * d0[:, None, 1] - h1[:, :, 1] * d0[:, None, 0]   # Eq. 36 numerator
     dd = d0 - d1
@@ -274,10 +286,8 @@ def _qac_from_numerator(c1, h1, q):
     qpart = (m0[:, :, None] * q[:, None, 0] + m1[:, :, None] * q[:, None, 1]
              + m2[:, :, None] * q[:, None, 2])
     w1 = c1[:, :, 2]
-    x = (bz.multiply_many(c1[:, :, :2], dsq[:, :, None])
-         + bz.multiply_many(w1[:, :, None], qpart))
-    w = bz.multiply_many(w1, dsq)
-    return np.concatenate([x, w[:, :, None]], axis=2)
+    return (bz.multiply_many(c1[:, :, :2], dsq[:, :, None]),
+            bz.multiply_many(w1[:, :, None], qpart), bz.multiply_many(w1, dsq))
 
 
 def _exact_end_params(num, den):

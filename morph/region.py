@@ -35,6 +35,7 @@ __all__ = [
     "loop_bboxes",
     "loop_polyline",
     "orient_region",
+    "orient_regions",
     "polyline_edges",
     "point_in_region",
     "region_bbox",
@@ -273,6 +274,264 @@ def orient_region(loops, fill_rule="nonzero", on_crossing=None):
         if is_outer is not None:
             out.append(loop if (area > 0) == is_outer else reverse_loop(loop))
     return validated(out)
+
+
+def orient_regions(regions, fill_rule="nonzero", on_crossing=None):
+    """:func:`orient_region` of each of many regions (e.g. the glyphs of a chunk of a
+    font): the same validated :class:`Region` each, to the bit, with the work of the
+    common case done on arrays that hold the pieces of all of them.
+
+    Every loop is cleaned (:func:`clean_loop`: zero-length pieces dropped, joins
+    snapped), measured (extent, signed area) and flattened within APART x its
+    region's size at once; the regions whose polylines are apart
+    (:func:`morph.polyline.polylines_apart`, all regions in one grid) and whose
+    loops all have an area and none a coincident twin (loop boxes and areas within
+    1e-9 of the size, as :func:`_cancel_coincident` looks for them) are oriented by
+    the winding numbers just outside their loops (:func:`outside_windings`, all
+    probes at once).  The others (crossing or touching loops, a loop of no area,
+    coincident loops: rare in fonts) go through :func:`orient_region` one by one.
+    Raises as :func:`orient_region`.
+    """
+    if fill_rule not in FILL_RULES:
+        raise ValueError("fill_rule must be one of %s, got %r" % (FILL_RULES, fill_rule))
+    regions = list(regions)
+    out = [None] * len(regions)
+    b = _LoopBatch(regions)
+    for g in b.slow:
+        out[g] = orient_region(regions[g], fill_rule, on_crossing)
+    for g in b.empty:
+        out[g] = validated([])
+    windings = b.outside_windings()
+    for g in b.fast:
+        loops = b.region_loops(g)
+        if len(loops) == 1:
+            k = loops[0]
+            out[g] = validated([b.loop(k) if b.kept_area[k] > 0 else reverse_loop(b.loop(k))])
+            continue
+        kept = []
+        for k in loops:
+            positive = b.kept_area[k] > 0
+            is_outer = _is_outer(int(windings[k]), 1 if positive else -1, fill_rule)
+            if is_outer is not None:
+                kept.append(b.loop(k) if positive == is_outer else reverse_loop(b.loop(k)))
+        out[g] = validated(kept)
+    return out
+
+
+class _LoopBatch:
+    """The loops of many regions cleaned, measured and flattened together, for
+    :func:`orient_regions`: which regions take the common way (``fast``), which
+    are left empty (``empty``) and which :func:`orient_region` handles (``slow``).
+
+    The arithmetic is that of the one-region functions, element by element: the
+    cleaned pieces (:func:`clean_loop`), each loop's extent (:func:`region_scale`)
+    and signed area (:func:`morph.moments.loop_area`, summed by ``np.sum`` per loop),
+    each region's size and polylines (:func:`morph.polyline.flatten_loops` within
+    APART x the size): the same numbers, so the same decisions and pieces."""
+
+    def __init__(self, regions):
+        loops = [loop for region in regions for loop in region]
+        self.nreg = len(regions)
+        region_of = np.repeat(np.arange(len(regions)), [len(r) for r in regions])
+        self._clean(loops)
+        nonempty = self.sizes > 0
+        self.lo, self.hi = self._extents()
+        ext = np.maximum((self.hi - self.lo).max(axis=1), 1e-300)
+        self.area = self._areas()
+        positive = np.abs(self.area) > 1e-12 * ext * ext
+        # a loop of (nearly) no area is kept only if it crosses itself: orient_region decides
+        slow = np.zeros(len(regions), bool)
+        slow[region_of[nonempty & ~positive]] = True
+        kept = np.flatnonzero(nonempty & positive & ~slow[region_of])
+        self.kept, self.region_of = kept, region_of[kept]
+        self.kept_area = self.area[kept]
+        count = np.bincount(self.region_of, minlength=len(regions))
+        self.empty = np.flatnonzero((count == 0) & ~slow).tolist()
+        lo = np.full((len(regions), 2), np.inf)
+        hi = np.full((len(regions), 2), -np.inf)
+        np.minimum.at(lo, self.region_of, self.lo[kept])
+        np.maximum.at(hi, self.region_of, self.hi[kept])
+        scale = np.ones(len(regions))
+        has = count > 0
+        scale[has] = np.maximum((hi[has] - lo[has]).max(axis=1), 1e-300)
+        self.scale = scale
+        slow |= self._coincident_candidates(count)
+        self.polys = pl.flatten_loops([self.loop(k) for k in kept.tolist()],
+                                      APART * scale[self.region_of])
+        slow |= ~self._apart()
+        self.slow = np.flatnonzero(slow).tolist()
+        self.fast = np.flatnonzero(has & ~slow).tolist()
+        self._loops_of = np.split(np.arange(len(kept)),
+                                  np.searchsorted(self.region_of, np.arange(1, len(regions))))
+
+    # ----------------------------------------------------------------- cleaning
+
+    def _clean(self, loops):
+        """:func:`clean_loop` of every loop: ``pieces`` (the cleaned pieces, rows of
+        per-degree stacks), ``sizes`` (pieces per loop) and ``first`` (index of each
+        loop's first piece)."""
+        pieces = [p for loop in loops for p in loop]
+        loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+        keep = ~zero_length_mask(pieces) if pieces else np.zeros(0, bool)
+        idx = np.flatnonzero(keep)
+        loop_of = loop_of[idx]
+        self.sizes = np.bincount(loop_of, minlength=len(loops))
+        self.first = np.cumsum(self.sizes) - self.sizes
+        kept = [pieces[i] for i in idx.tolist()]
+        starts, ends = pc.end_points(kept)
+        pos = np.arange(len(kept))
+        last = self.first[loop_of] + self.sizes[loop_of] - 1
+        following = np.where(pos == last, self.first[loop_of], pos + 1)
+        joins = 0.5 * (ends + starts[following])
+        preceding = np.where(pos == self.first[loop_of], last, pos - 1)
+        before = joins[preceding]
+        groups = []
+        for ks, h in pc.degree_groups(kept):
+            h = np.array(h, float)
+            h[:, 0, :2] = before[ks] * h[:, 0, 2:]
+            h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
+            groups.append((ks, h))
+        self.groups = groups
+        self.pieces = pc.Pieces(groups, len(kept)).rows()
+        self.loop_of = loop_of
+
+    def loop(self, k):
+        """The cleaned pieces of kept loop ``k`` (an index into ``kept``), a list."""
+        j = int(self.kept[k])
+        return self.pieces[self.first[j]:self.first[j] + self.sizes[j]]
+
+    def region_loops(self, g):
+        """Indices (into ``kept``) of region g's kept loops, in order."""
+        return self._loops_of[g].tolist()
+
+    # ---------------------------------------------------------------- measures
+
+    def _extents(self):
+        """Lowest and highest control point (x, y) of each loop (inf / -inf for
+        loops without pieces): :func:`region_scale` of one loop is the larger side."""
+        n = len(self.sizes)
+        lo = np.full((n, 2), np.inf)
+        hi = np.full((n, 2), -np.inf)
+        for ks, h in self.groups:
+            c = h[:, :, :2] / h[:, :, 2:3]
+            np.minimum.at(lo, self.loop_of[ks], c.min(axis=1))
+            np.maximum.at(hi, self.loop_of[ks], c.max(axis=1))
+        return lo, hi
+
+    def _areas(self):
+        """:func:`morph.moments.loop_area` of each loop (0 without pieces): the
+        area terms of every piece about its loop's first point, summed by loop."""
+        n = len(self.sizes)
+        if not len(self.pieces):
+            return np.zeros(n)
+        origin = np.zeros((n, 2))
+        has = self.sizes > 0
+        origin[has] = pc.end_points([self.pieces[i] for i in self.first[has].tolist()])[0]
+        origin = origin[self.loop_of]
+        moved = []
+        for ks, h in self.groups:
+            h = h.copy()
+            h[:, :, :2] -= origin[ks][:, None] * h[:, :, 2:]
+            moved.append((ks, h))
+        terms = mo.area_terms(pc.Pieces(moved, len(self.pieces)))
+        bounds = np.append(self.first, len(terms))
+        return np.array([float(np.sum(terms[a:b])) if b > a else 0.0
+                         for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist())])
+
+    def _coincident_candidates(self, count):
+        """Regions with a pair of kept loops that :func:`_cancel_coincident` would
+        compare (tight boxes within 10 eps, |areas| within 1e-9 of each other, eps =
+        1e-9 x the region's size): all pairs of loops of one region at once."""
+        out = np.zeros(self.nreg, bool)
+        many = count >= 2
+        if not many.any():
+            return out
+        sel = np.flatnonzero(many[self.region_of])
+        boxes = loop_bboxes([self.loop(k) for k in sel.tolist()])
+        reg = self.region_of[sel]
+        size = np.abs(self.kept_area[sel])
+        end = np.searchsorted(reg, reg, side="right")
+        cnt = end - np.arange(len(sel)) - 1
+        i = np.repeat(np.arange(len(sel)), cnt)
+        j = i + 1 + (np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt))
+        eps = 1e-9 * self.scale[reg[i]]
+        near = ((np.abs(boxes[i] - boxes[j]).max(axis=1) <= 10 * eps)
+                & (np.abs(size[i] - size[j]) <= 1e-9 * np.maximum(size[i], size[j])))
+        out[reg[i[near]]] = True
+        return out
+
+    def _apart(self):
+        """:func:`morph.polyline.polylines_apart` of each region's polylines at tol =
+        APART x its size (True for a region without loops)."""
+        from .polyline import near_segment_pairs_grouped
+
+        sizes = np.array([len(p) for p in self.polys], np.int64)
+        a, b = polyline_edges(self.polys)
+        edge_region = np.repeat(self.region_of, np.where(sizes >= 2, sizes, 0))
+        tol = APART * self.scale
+        near = near_segment_pairs_grouped(a, b, edge_region, 2.0 * tol)
+        out = np.ones(self.nreg, bool)
+        out[edge_region[near[:, 0]]] = False
+        return out
+
+    def outside_windings(self):
+        """:func:`outside_windings` of the kept loops of the ``fast`` regions with two
+        loops or more (others: 0), all probes at once: the same candidates (piece
+        mid-points, :func:`sample_candidates`), distances and winding numbers, each
+        region's loops counting only one another (:class:`morph.polyline.GroupGrid`)."""
+        from .polyline import distance_to_others_grouped, winding_of_others_grouped
+
+        out = np.zeros(len(self.kept), int)
+        count = np.bincount(self.region_of, minlength=self.nreg)
+        regions = [g for g in self.fast if count[g] >= 2]
+        if not regions:
+            return out
+        loops = np.concatenate([self._loops_of[g] for g in regions])
+        tol = APART * self.scale
+        cand, owner = self._candidates(loops)
+        dist = distance_to_others_grouped(cand, owner, self.polys, self.region_of, 2 * tol)
+        order = np.lexsort((dist, owner))  # per loop, its farthest candidate last
+        best = order[np.searchsorted(owner[order], loops, side="right") - 1]
+        out[loops] = winding_of_others_grouped(cand[best], loops, self.polys, self.region_of,
+                                               self.nreg)
+        region = self.region_of[loops]
+        for i in np.flatnonzero(dist[best] < 2 * tol[region]).tolist():
+            k, g = int(loops[i]), int(region[i])
+            fine = max(0.25 * dist[best[i]], 1e-7 * self.scale[g])
+            others = [loop_polyline(self.loop(j), fine) for j in self.region_loops(g) if j != k]
+            out[k] = int(winding_number(cand[best[i]:best[i] + 1], others)[0])
+        return out
+
+    def _candidates(self, loops):
+        """:func:`sample_candidates` of the kept loops ``loops`` (ascending): the
+        points and the loop of each, in order.  The pieces are those of
+        ``np.linspace(0, n - 1, min(n, 32)).round()`` (numpy's arithmetic), each
+        evaluated at 1/2 as :func:`morph.piece.evaluate` does (the basis row times the
+        control points, one matrix product per piece)."""
+        n = self.sizes[self.kept[loops]]
+        m = np.minimum(n, 32)
+        owner = np.repeat(loops, m)
+        i = _ranks_of(m)
+        step = np.where(m > 1, (n - 1) / np.maximum(m - 1, 1), 0.0)
+        idx = (i * step[np.repeat(np.arange(len(loops)), m)])
+        idx[np.cumsum(m) - 1] = (n - 1)   # linspace ends at stop exactly
+        idx = np.where(np.repeat(n <= 32, m), i, idx.round()).astype(np.int64)
+        distinct = np.ones(len(idx), bool)
+        distinct[1:] = (idx[1:] != idx[:-1]) | (owner[1:] != owner[:-1])
+        owner, idx = owner[distinct], idx[distinct]
+        piece = self.first[self.kept[owner]] + idx
+        chosen = [self.pieces[k] for k in piece.tolist()]
+        pts = np.zeros((len(chosen), 2))
+        for ks, h in pc.degree_groups(chosen):
+            row = bz.basis(h.shape[1] - 1, [0.5])
+            v = np.matmul(row, h)[:, 0]
+            pts[ks] = v[:, :2] / v[:, 2:3]
+        return pts, owner
+
+
+def _ranks_of(counts):
+    """0, 1, .., counts[0]-1, 0, 1, .., counts[1]-1, ..."""
+    return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
 
 
 def _positive_loops(loops):

@@ -201,3 +201,45 @@ def test_chains_segments_panels_certified(seed):
             worst, moved = sampled_panel_error(pieces, seg, [0, 2 * tol])
             assert worst <= seg.bound * (1 + 1e-9) + 1e-13
             assert moved > tol
+
+
+def test_cubic_integrals_are_the_bernstein_sums_and_the_curves_moments():
+    """The fitter's area and moment polynomials: the same numbers as the whole
+    Bernstein sums over every index (np.einsum of the documented formula: the terms
+    left out are zeros), and, for handle lengths (d0, d1), the signed area int y dx
+    and moment int x y dx of the frame cubic itself (Gauss-Legendre on the cubic,
+    exact for these degrees); a moment off by 1 % of its size fails the check."""
+    from morph.export.fit import _cubic_integrals
+
+    rng = np.random.default_rng(21)
+    n = 500
+    a0, a1 = rng.uniform(-3, 3, n), rng.uniform(-3, 3, n)
+    t0 = np.stack([np.cos(a0), np.sin(a0)], 1)
+    t1 = np.stack([np.cos(a1), np.sin(a1)], 1)
+    t0[0], t1[0] = [1.0, 0.0], [1.0, 0.0]                          # straight: zeros
+    ta, tm = _cubic_integrals(t0, t1)
+    c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
+    zero, one = np.zeros(n), np.ones(n)
+    xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
+                   np.stack([zero, zero, -c1, zero], 1)], 1)
+    ys = np.stack([np.stack([zero, s0, zero, zero], 1), np.stack([zero, zero, s1, zero], 1)], 1)
+    quad = _quadrature()
+    assert np.array_equal(ta, np.einsum("rbj,rck,jk->rbc", ys, xs, quad.i2))
+    assert np.array_equal(tm, np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, quad.i3))
+    d0, d1 = rng.uniform(0.1, 1.5, n), rng.uniform(0.1, 1.5, n)
+    ctrl = np.zeros((n, 4, 2))
+    ctrl[:, 1] = d0[:, None] * t0
+    ctrl[:, 2] = [1.0, 0.0] - d1[:, None] * t1
+    ctrl[:, 3] = [1.0, 0.0]
+    x, w = np.polynomial.legendre.leggauss(12)
+    s = 0.5 + 0.5 * x
+    p = np.stack([bernstein(c, s) for c in ctrl])
+    dp = np.stack([bernstein(3.0 * np.diff(c, axis=0), s) for c in ctrl])
+    area = (0.5 * w * p[..., 1] * dp[..., 0]).sum(1)
+    moment = (0.5 * w * p[..., 0] * p[..., 1] * dp[..., 0]).sum(1)
+    m = np.stack([one, d0, d1], 1)
+    dd = np.stack([d0, d1], 1)
+    assert np.allclose(np.einsum("rb,rbc,rc->r", dd, ta, m), area, rtol=0, atol=1e-12)
+    got = np.einsum("ra,rb,rc,rabc->r", m, dd, m, tm)
+    assert np.allclose(got, moment, rtol=0, atol=1e-12)
+    assert not np.allclose(got * 1.01, moment, rtol=0, atol=1e-12)

@@ -113,8 +113,9 @@ def test_sum_command_missing_glyph_is_one_line(tmp_path):
 @pytest.mark.parametrize("a, b, cff", [("T", "M", False), ("S", "g", True)])
 def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
     """morph_frames computes the Gauss maps and compatible pairs once (cache=True;
-    here each frame summed alone, batch=False: test_packed_frames_... checks the
-    packed sums).  The convolution pieces are those of independent sums to rounding (1e-12 of the
+    here each frame summed alone, batch=False, and approximated on its own,
+    blend=False: test_packed_frames_... checks the packed sums, test_blended_...
+    the blended convolution).  The convolution pieces are those of independent sums to rounding (1e-12 of the
     size); the trimmed frames agree to 1e-6 of the size: cutting at near-tangent
     crossings amplifies that rounding (a shift e becomes e / sin(angle))."""
     from morph import convolve
@@ -135,13 +136,123 @@ def test_cached_gauss_maps_give_the_same_frames(a, b, cff):
         assert c0.piece.shape == c1.piece.shape
         assert np.abs(pc.cartesian(c0.piece) - pc.cartesian(c1.piece)).max() <= 1e-12 * size
     plain = morph_frames(ra, rb, 4, 1.0, cache=False)
-    cached = morph_frames(ra, rb, 4, 1.0, cache=True, batch=False)
+    cached = morph_frames(ra, rb, 4, 1.0, cache=True, batch=False, blend=False)
     assert len(plain) == len(cached)
     for f0, f1 in zip(plain, cached):
         assert [len(loop) for loop in f0] == [len(loop) for loop in f1]
         for p, q in zip([p for loop in f0 for p in loop], [q for loop in f1 for q in loop]):
             assert p.shape == q.shape
             assert np.abs(pc.cartesian(p) - pc.cartesian(q)).max() <= 1e-6 * size
+
+def _bundled(name):
+    from pathlib import Path
+
+    import morph
+    from morph.parse import svg_region
+
+    return svg_region(str(Path(morph.__file__).parent / "data" / name))
+
+
+def _chain_gaps(conv, ref):
+    """The largest gap of each table row's chain of pieces in ``conv`` (between
+    consecutive pieces, and between its first start and last end and those of the
+    same row in ``ref``: the exact sums of the pair's end points)."""
+    worst = 0.0
+    for r in np.unique(ref.row):
+        ends = []
+        for c in (conv, ref):
+            idx = np.flatnonzero(c.row == r)
+            starts = np.array([pc.start(c.pieces[k]) for k in idx])
+            stops = np.array([pc.end(c.pieces[k]) for k in idx])
+            worst = max(worst, float(np.abs(starts[1:] - stops[:-1]).max(initial=0.0)))
+            ends.append(np.concatenate([starts[0], stops[-1]]))
+        worst = max(worst, float(np.abs(ends[0] - ends[1]).max()))
+    return worst
+
+
+@pytest.mark.parametrize("case", ["bird-butterfly", "S-g", "arc-bird"])
+def test_blended_convolution_is_each_frames_convolution(case, monkeypatch):
+    """The first round of packed frames blends every frame's convolution pieces
+    from two sets made once on the unit operands (morph.frames._Blend): frame a's
+    piece is ((1 - a) X_A + a X_B + W o, W), o its offset.  For three frames moved
+    apart, against the convolution of their own Gauss maps (each pair subdivided at
+    its frame's scale): every table row has pieces, of its type and edges, chained
+    end to start between the same end points (the exact sums of the pair's end
+    points), each within its row's tolerance.  And every sub-pair the unit
+    operands accepted, scaled and moved to a frame and made by morph.qac's own
+    piece_nodes, is the blended piece (the same points at 9 parameters, to
+    1e-9 of the size): the weights depend on tangent directions only and the
+    points are linear in the operands'.  Bird and butterfly (polynomial cubics,
+    the bundled morph), a CFF S and g, an SVG with elliptic arcs (rational conics)
+    and the bird.  Blends taken at a + 0.03, or with the two terms swapped, fail."""
+    from morph import convolve, qac, subdivide
+    from morph import frames as fr
+    from morph.parse import cubic_test_font_path, svg_region
+
+    if case == "bird-butterfly":
+        ra, rb = _bundled("bird.svg"), _bundled("butterfly.svg")
+    elif case == "S-g":
+        font = cubic_test_font_path()
+        ra, rb = glyph_region("S", font).region, glyph_region("g", font).region
+    else:
+        ra = svg_region('<svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 A 50 30 20 '
+                        '1 1 60 40 L 30 80 Z"/></svg>')
+        rb = _bundled("bird.svg")
+    ra, rb = centered(ra), centered(rb)
+    base = convolve.with_pair_table(convolve.gauss_pair_of(ra, rb))
+    alphas = np.array([0.2, 0.55, 0.9])
+    size = float(max(np.ptp(region_bbox(ra)), np.ptp(region_bbox(rb))))
+    offsets = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 3.0]]) * size
+    pair = fr._packed_gauss_pair(base, alphas, offsets)
+    tol = 1e-3 * size
+    row_tol = np.full(len(pair.table[0]), tol)
+    accepted = []
+    real = subdivide.subdivide_nodes
+
+    def keep(*args, **kwargs):
+        out = real(*args, **kwargs)
+        accepted.append(out[0])
+        return out
+
+    monkeypatch.setattr(subdivide, "subdivide_nodes", keep)
+    got = fr._Blend(base, alphas).frames(row_tol, alphas, offsets, pair)
+    monkeypatch.setattr(subdivide, "subdivide_nodes", real)
+    want = convolve.convolution(None, None, row_tol, keep_type3=True, gauss_pair=pair)
+    assert np.array_equal(np.unique(got.row), np.unique(want.row))
+    assert np.all(got.bound <= row_tol[got.row])
+    for field in ("type", "source"):
+        g, w = getattr(got, field), getattr(want, field)
+        for r in np.unique(want.row):
+            assert (g[got.row == r] == w[want.row == r][0]).all(), field
+    assert _chain_gaps(got, want) <= 1e-9 * size
+    wrong = fr._Blend(base, alphas + 0.03).frames(row_tol, alphas + 0.03, offsets, pair)
+    assert _chain_gaps(wrong, want) > 1e-3 * size
+
+    def moved(stack, f, o):
+        out = stack * [f, f, 1.0]
+        out[..., :2] += o * stack[..., 2:]
+        return out
+
+    t = np.linspace(0.0, 1.0, 9)
+    for swap_terms in (False, True):
+        worst = 0.0
+        for nodes in accepted:
+            terms = fr._node_sets(nodes)
+            for alpha, o in zip(alphas, offsets):
+                fa, fb = 1.0 - alpha, alpha
+                scaled = dict(nodes, ca=moved(nodes["ca"], fa, o), cb=moved(nodes["cb"], fb, 0.0))
+                on_a = nodes["swap"][:, None, None]   # C2 (replaced by q2) is A's piece
+                scaled["q2"] = np.where(on_a, fa * nodes["q2"] + o, fb * nodes["q2"])
+                for h, own in zip(terms, qac.piece_nodes(scaled)):
+                    assert (h is None) == (own is None)
+                    if h is None:
+                        continue
+                    xa, xb = (h[:, 2:4], h[:, 0:2]) if swap_terms else (h[:, 0:2], h[:, 2:4])
+                    blend = np.column_stack([fa * xa + fb * xb + o * h[:, 4:], h[:, 4]])
+                    worst = max(worst, float(np.abs(pc.evaluate(blend, t)
+                                                    - pc.evaluate(own, t)).max()))
+        assert (worst > 1e-3 * size) if swap_terms else (worst <= 1e-9 * size), worst
+
 
 def _frame_faults(frame, a, b, tol, rng):
     """How many of a frame's boundary samples (24, mid-piece) have no point of the

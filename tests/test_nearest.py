@@ -46,3 +46,30 @@ def test_distance_bound_many_certifies_and_is_invariant():
     assert np.allclose(nr.distance_bound_many(cs, q + shift, 3)[0], b3, rtol=1e-9)
     assert np.allclose(nr.distance_bound_many(c * [7.0, 7.0, 1.0], 7.0 * q, 3)[0], 7.0 * b3,
                        rtol=1e-12)
+
+
+def test_power_jets_equal_jet2_power_many_bit_for_bit():
+    """PowerJets (power coefficients made once, x and y apart) gives the very values of
+    piece.jet2_power_many, degrees 2 to 12, so that the Newton searches of the
+    export certificate find the same feet; and the jets are right (against the
+    plain evaluation and its finite differences)."""
+    from morph import piece as pc
+
+    rng = np.random.default_rng(11)
+    for n in range(2, 13):
+        c = _random_rational_stack(rng, 7, n)
+        s = rng.uniform(0, 1, (7, 24))
+        s[0, :3] = [0.0, 1.0, 0.5]
+        want = pc.jet2_power_many(c, s)
+        got = nr.PowerJets(c)(s)
+        for w, (gx, gy) in zip(want, got):
+            assert np.array_equal(w[..., 0], gx) and np.array_equal(w[..., 1], gy)
+        (px, py), (dx, dy) = nr.PowerJets(c)(s, second=False)
+        assert np.array_equal(px, got[0][0]) and np.array_equal(dy, got[1][1])
+    c = _random_rational_stack(rng, 3, 4)
+    t, h = np.linspace(0.2, 0.8, 5), 1e-6
+    (px, py), (dx, dy), _ = nr.PowerJets(c)(np.tile(t, (3, 1)))
+    for k in range(3):
+        assert np.allclose(np.stack([px[k], py[k]], 1), _plain_eval(c[k], t), atol=1e-9)
+        fd = (_plain_eval(c[k], t + h) - _plain_eval(c[k], t - h)) / (2 * h)
+        assert np.allclose(np.stack([dx[k], dy[k]], 1), fd, rtol=1e-5, atol=1e-5)

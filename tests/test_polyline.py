@@ -255,3 +255,58 @@ def test_flat_starts_keep_gives_the_whole_flattening_where_kept():
     inside = {k for k in whole if lo[k[0]] < k[1] < hi[k[0]]}
     assert inside and inside <= set(got)
     assert len(got) < 0.6 * len(whole)
+
+
+def _superposed_sets(seed, sets=6):
+    """Closed random polylines in ``sets`` sets that lie on top of each other (as the
+    glyphs of a font do), each set a few polylines, and the set of each."""
+    rng = np.random.default_rng(seed)
+    polys, group = [], []
+    for g in range(sets):
+        for _ in range(int(rng.integers(1, 4))):
+            c = rng.uniform(0, 10, 2)
+            r = rng.uniform(1, 4)
+            t = np.sort(rng.uniform(0, 2 * np.pi, int(rng.integers(3, 12))))
+            polys.append(c + (r * rng.uniform(0.5, 1.0, len(t)))[:, None]
+                         * np.stack([np.cos(t), np.sin(t)], axis=1))
+            group.append(g)
+    return polys, np.array(group)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_grouped_searches_equal_each_set_alone(seed):
+    """near_segment_pairs_grouped, distance_to_others_grouped and
+    winding_of_others_grouped: what near_segments, distance_to_others and
+    winding_of_others find in each set alone, every set in one grid."""
+    from morph.polyline import (distance_to_others, distance_to_others_grouped,
+                                near_segment_pairs_grouped, near_segments, polyline_edges,
+                                winding_of_others, winding_of_others_grouped)
+
+    polys, group = _superposed_sets(seed)
+    sets = int(group.max()) + 1
+    reach = np.linspace(0.3, 2.0, sets)
+    a, b = polyline_edges(polys)
+    edge_set = np.repeat(group, [len(p) for p in polys])
+    got = {tuple(p) for p in near_segment_pairs_grouped(a, b, edge_set, reach).tolist()}
+    want = set()
+    for g in range(sets):
+        idx = np.flatnonzero(edge_set == g)
+        want |= {(int(idx[i]), int(idx[j]))
+                 for i, j in near_segments(a[idx], b[idx], reach[g]).tolist()}
+    assert got == want and len(want) > 0
+    rng = np.random.default_rng(seed)
+    owner = np.repeat(np.arange(len(polys)), 5)
+    pts = np.concatenate([np.vstack([p[rng.integers(0, len(p), 2)] + rng.normal(0, 0.3, (2, 2)),
+                                     rng.uniform(0, 10, (3, 2))]) for p in polys])
+    dist = distance_to_others_grouped(pts, owner, polys, group, reach)
+    wind = winding_of_others_grouped(pts, owner, polys, group, sets)
+    for g in range(sets):
+        mine = np.flatnonzero(group == g)
+        local = np.full(len(polys), -1)
+        local[mine] = np.arange(len(mine))
+        sel = np.flatnonzero(group[owner] == g)
+        others = [polys[m] for m in mine]
+        assert np.array_equal(dist[sel], distance_to_others(pts[sel], local[owner[sel]],
+                                                            others, reach[g]))
+        assert np.array_equal(wind[sel], winding_of_others(pts[sel], local[owner[sel]], others))
+    assert np.isfinite(dist).any() and (wind != 0).any()

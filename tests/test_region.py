@@ -234,3 +234,80 @@ def test_loops_with_equal_boxes_and_areas_but_other_curves_do_not_cancel():
     got = orient_region([a, b], "nonzero", on_crossing=fill_region)
     ref = Polygon(top).symmetric_difference(Polygon(bottom))
     assert abs(mo.region_area(got) - ref.area) < 1e-9 and ref.area == 4.0
+
+
+def _same_region(a, b):
+    """Two regions equal to the bit: loops, pieces, their shapes and every float."""
+    return (len(a) == len(b) and a.validated == b.validated and a.bound == b.bound
+            and all(len(la) == len(lb) and all(p.shape == q.shape and np.array_equal(p, q)
+                                                 and (p.tobytes() == np.ascontiguousarray(q).tobytes())
+                                                 for p, q in zip(la, lb))
+                    for la, lb in zip(a, b)))
+
+
+def _cases():
+    """Regions for orient_regions: glyphs (lines, quadratics, cubics), nested squares
+    of random directions, circles (rational pieces), and the ones orient_region
+    handles alone: crossing loops, coincident loops, a loop of no area, nothing."""
+    from morph.parse import cubic_test_font_path, default_font_path, glyph_name, load_font
+    from morph.parse.glyphs import _glyph_loops
+
+    out = []
+    for path in (default_font_path(), cubic_test_font_path()):
+        font = load_font(path)
+        glyphs = font.getGlyphSet()
+        for name in ["a", "B", "O", "percent", "g", "eight", "ampersand", "i", "Q", "period"]:
+            out.append(_glyph_loops(glyphs, glyph_name(font, name), name, "test"))
+    rng = np.random.default_rng(5)
+    for _ in range(12):
+        depth = int(rng.integers(1, 4))
+        out.append([square(d, d, 8 - 2 * d, bool(rng.integers(0, 2))) for d in range(depth)])
+    out.append([list(pc.circle((0, 0), 5)), reverse_loop(list(pc.circle((0, 0), 2)))])
+    fast = len(out)
+    out.append([square(0, 0, 4), square(2, 2, 4)])                 # crossing
+    out.append([square(0, 0, 4), square(0, 0, 4), square(10, 0, 1)])  # coincident
+    flat = [pc.line((0, 0), (4, 0)), pc.line((4, 0), (0, 0))]
+    out.append([square(0, 0, 4), flat])                             # a loop of no area
+    out.append([])
+    out.append([[pc.line((1, 1), (1, 1))]])                          # only zero-length
+    return out, fast
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_orient_regions_is_orient_region_of_each_to_the_bit(rule):
+    from morph.region import _LoopBatch, orient_regions
+    from morph.trim import fill_region
+
+    regions, fast = _cases()
+    got = orient_regions(regions, rule, on_crossing=fill_region)
+    for k, region in enumerate(regions):
+        assert _same_region(got[k], orient_region(region, rule, on_crossing=fill_region)), k
+    batch = _LoopBatch(regions)
+    assert set(batch.fast) == set(range(fast))  # the common cases took the batched way
+    assert set(batch.slow) == {fast, fast + 1, fast + 2}
+    # and a region put wrong is seen: a hole turned the other way is not the same
+    hole = got[0][1] if len(got[0]) > 1 else None
+    if hole is not None:
+        wrong = Region._make([got[0][0], reverse_loop(hole)] + list(got[0][2:]), True)
+        assert not _same_region(wrong, got[0])
+
+
+def test_orient_regions_of_nested_squares_against_a_pixel_count():
+    """The batched way alone (all regions take it), against the rule's count."""
+    from morph.region import _LoopBatch, orient_regions
+
+    rng = np.random.default_rng(11)
+    regions, truth = [], []
+    for _ in range(40):
+        depth = int(rng.integers(1, 4))
+        dirs = rng.integers(0, 2, depth).astype(bool)
+        regions.append([square(d, d, 8 - 2 * d, bool(dirs[d])) for d in range(depth)])
+        w, sides, filled = 0, [8 - 2 * d for d in range(depth)] + [0], 0.0
+        for d in range(depth):
+            w += 1 if dirs[d] else -1
+            filled += (w != 0) * (sides[d] ** 2 - sides[d + 1] ** 2)
+        truth.append(filled)
+    assert _LoopBatch(regions).fast == list(range(40))
+    for region, area in zip(orient_regions(regions), truth):
+        assert mo.region_area(region) == pytest.approx(area)
+        assert region.validated

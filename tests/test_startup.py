@@ -82,3 +82,48 @@ def test_png_and_svg_input_load_what_they_need(tmp_path):
 def test_a_blas_thread_count_the_user_set_is_kept(tmp_path):
     _, _, blas = _modules_after([], tmp_path, {"OPENBLAS_NUM_THREADS": "2"})
     assert blas == "2"
+
+
+# Workers forked for --jobs share what the calling process imported before the fork;
+# a module each worker imports itself costs its import once per worker.  The probe
+# records, in every worker, the modules its jobs imported.
+_WORKER_PROBE = r"""
+import json, os, sys
+import morph.fonts.jobs as jobs
+
+call = jobs._queued_call
+
+def recorded(func, k, arg):
+    before = set(sys.modules)
+    try:
+        return call(func, k, arg)
+    finally:
+        with open(os.path.join(sys.argv[2], "worker-%d-%d.json" % (os.getpid(), k)), "w") as f:
+            json.dump(sorted(set(sys.modules) - before), f)
+
+jobs._queued_call = recorded
+from morph.cli import main
+print(main(json.loads(sys.argv[1]), standalone_mode=False))
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="workers are forked on Linux only")
+@pytest.mark.parametrize("argv", [
+    ["brush", "{font}.ttf", "--glyphs", "a-b", "-o", "b.ttf"],
+    ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"), "--glyphs",
+     "a-b", "-o", "s.otf"],
+    ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"), "--glyphs",
+     "a-b", "-o", "s.ttf"]])
+def test_font_workers_import_nothing_themselves(tmp_path, argv):
+    """brush and stroke import their workers' modules before forking them
+    (morph.fonts.jobs.preload_modules): a worker's jobs import no module."""
+    font = str(ROOT / "morph/fonts/data/NotoSans-Regular")
+    argv = [a.format(font=font) for a in argv] + ["--jobs", "2"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _WORKER_PROBE, json.dumps(argv), str(tmp_path)],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    reports = sorted(tmp_path.glob("worker-*.json"))
+    assert len(reports) == 2  # two chunks, in the workers
+    for report in reports:
+        assert json.loads(report.read_text()) == [], report.name

@@ -4,7 +4,8 @@ SVG path data and font outlines hold polynomial cubics (CFF, SVG) or quadratics
 (TrueType); the pipeline's pieces are rational.  Each rational piece is covered by
 few cubics, fitted by kurbo's method (:mod:`.fit`) and every one *certified* against
 the exact piece, never only sampled (:mod:`.certify`); the segments are found by a
-greedy search run for all pieces of all loops in lockstep (:mod:`.search`), on the
+greedy search run for all pieces of all loops in lockstep (:mod:`.search`,
+:mod:`.greedy`; then one segment fewer where it may fit, :mod:`.refine`), on the
 pieces of the whole batch held as one array per degree (:mod:`.bank`); loops
 are split at corners only so that cubics span smooth joins (:mod:`.loops`), and
 TrueType quadratics come from the cubics by cu2qu (:mod:`.quadratic`).  Writers pass

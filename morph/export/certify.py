@@ -300,7 +300,7 @@ def _reparams(groups, cubics, tol, start=None):
     per degree (:func:`morph.bernstein.fit_fixed_ends`, ends fixed at 0 and 1).
     """
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
-    u, p, d = np.empty(pts.shape[:2]), np.empty(pts.shape), np.empty(pts.shape)
+    u, speed, gap = np.empty(pts.shape[:2]), np.empty(pts.shape[:2]), np.empty(pts.shape[:2])
     for rows, stack in groups:
         jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
         known = (np.all(np.isfinite(start[rows]), axis=1) if start is not None
@@ -311,9 +311,14 @@ def _reparams(groups, cubics, tol, start=None):
         if not known.all():
             u[rows[~known]] = nr.nearest_params_many(stack[~known], pts[rows[~known]],
                                                      samples=REPARAM_SAMPLES)
-        p[rows], d[rows], _ = jet(stack, u[rows])
-    speed = np.hypot(d[..., 0], d[..., 1])
-    normal = np.hypot(*np.moveaxis(p - pts, -1, 0)).max(axis=1)
+        if jet is pc.jet2_power_many and stack.shape[1] > 2:
+            (px, py), (dx, dy) = nr.PowerJets(stack)(u[rows], second=False)
+        else:
+            p, d, _ = jet(stack, u[rows])
+            (px, py), (dx, dy) = np.moveaxis(p, -1, 0), np.moveaxis(d, -1, 0)
+        speed[rows] = np.hypot(dx, dy)
+        gap[rows] = np.hypot(px - pts[rows, :, 0], py - pts[rows, :, 1])
+    normal = gap.max(axis=1)
     c = np.ones(len(cubics))
     phis, size, miss = _phi_fits(u, speed, tol)
     retry = np.nonzero(miss > PHI_SHARE * tol)[0]

@@ -16,90 +16,34 @@ from .. import piece as pc
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
-#: Gauss-Legendre on each).
+#: Gauss-Legendre on each; :func:`morph.export.refine.arc_lengths`).
 ARC_INTERVALS = 32
 
 
-class Chain:
-    """Consecutive pieces as one curve: parameter T in [0, K], piece k on [k, k + 1].
-
-    Set up for all chains of a batch at once (:func:`make_chains`): the pieces live
-    in a :class:`morph.export.bank.Bank` (``bank``), piece k of the chain is the
-    bank's global piece ``gids[k]``, and ``off`` is where the chain's pieces start in
-    the batch's concatenation of all chains' ``gids`` (``bank.order``); ``tiny`` is
-    1e-12 of the chain's extent.  The arc-length table (:meth:`arc_table`) is made
-    on first use: ARC_INTERVALS equal parameter intervals per piece with their
-    lengths and the speeds at their ends.
-    """
-
-    __slots__ = ("bank", "gids", "off", "k", "tiny", "_arc")
-
-    def __init__(self, bank, gids, off, tiny):
-        self.bank, self.gids, self.off, self.tiny = bank, gids, off, tiny
-        self.k = len(gids)
-        self._arc = None
-
-    def piece(self, k):
-        return self.bank.pieces[self.gids[k]]
-
-    @property
-    def pieces(self):
-        return [self.bank.pieces[g] for g in self.gids]
-
-    def point(self, t):
-        if t >= self.k:
-            return self.bank.last[self.gids[-1]]
-        k = int(math.floor(t))
-        if t == k:
-            return self.bank.first[self.gids[k]]
-        return pc.evaluate(self.piece(k), t - k)[0]
-
-    def arc_table(self):
-        """(T_left, T_right, s_left, s_right, v_left, v_right): per interval (all
-        pieces, in order) its chain parameters, cumulative arc lengths and speeds
-        |dP/dT| at both ends; arrays of K * ARC_INTERVALS (:func:`arc_tables`)."""
-        if self._arc is None:
-            arc_tables([self])
-        return self._arc
-
-
-def arc_tables(chains):
-    """Make the arc-length tables of chains (:meth:`Chain.arc_table`), the speeds of
-    all their pieces in one evaluation per degree: lengths of ARC_INTERVALS equal
-    parameter intervals per piece by the 8-point Gauss-Legendre rule on each."""
-    m, (x, w) = ARC_INTERVALS, _quadrature().gl8
-    knots = np.linspace(0.0, 1.0, m + 1)
-    q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
-    gids = np.concatenate([c.gids for c in chains])
-    total = len(gids)
-    bank = chains[0].bank
-    _, d = bank.jet_grid(gids, q)
-    seg = (np.hypot(d[..., 0], d[..., 1]).reshape(total, m, len(x)) @ w) * 0.5 / m
-    _, dk = bank.jet_grid(gids, knots)
-    speed = np.hypot(dk[..., 0], dk[..., 1])
-    at = 0
-    for c in chains:
-        sg, sp = seg[at:at + c.k], speed[at:at + c.k]
-        at += c.k
-        cum = np.concatenate([[0.0], np.cumsum(sg.ravel())])
-        tl = (np.arange(c.k)[:, None] + knots[None, :-1]).ravel()
-        c._arc = (tl, tl + 1.0 / m, cum[:-1], cum[1:], sp[:, :-1].ravel(), sp[:, 1:].ravel())
+#: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
+#: pieces start in ``bank.order``), ``extent`` (the larger side of the bounding box
+#: of its control points: 0 for a chain that is one point), ``tiny`` (1e-12 of its
+#: extent), and the :class:`morph.export.bank.Bank`.  Chain c is one curve of
+#: parameter T in [0, k[c]]: piece j of it, the bank's global piece
+#: ``bank.order[off[c] + j]``, on [j, j + 1].
+ChainArrays = namedtuple("ChainArrays", "bank k off extent tiny")
 
 
 def make_chains(bank, runs):
-    """:class:`Chain` objects of the runs (arrays of global piece ids of ``bank``),
-    with their extents for ``tiny`` in one reduction; sets ``bank.order`` (all
-    runs' ids, concatenated) and ``bank.chain_k`` (each run's piece count)."""
+    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``),
+    their extents for ``tiny`` in one reduction; sets ``bank.order`` (all runs' ids,
+    concatenated)."""
     sizes = np.fromiter(map(len, runs), int, len(runs))
     order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
     offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     bank.order = order
     if not len(runs):
-        return []
+        return ChainArrays(bank, sizes, offs, np.zeros(0), np.zeros(0))
     lo = np.minimum.reduceat(bank.lo[order], offs)
     hi = np.maximum.reduceat(bank.hi[order], offs)
-    tiny = (1e-12 * np.maximum(np.maximum(hi - lo, 0.0).max(axis=1), 1e-300)).tolist()
-    return [Chain(bank, g, o, t) for g, o, t in zip(runs, offs.tolist(), tiny)]
+    extent = np.maximum(hi - lo, 0.0).max(axis=1)
+    return ChainArrays(bank, sizes, offs, extent, 1e-12 * np.maximum(extent, 1e-300))
+
 
 def _limit_tangent(piece, t, sign, tiny):
     """Direction of travel of a piece at t where its derivative vanishes: the first
@@ -154,8 +98,11 @@ MAX_CANDIDATES = 6
 def _frame(v, chord, chord2):
     """Vectors v (..., 2) in the unit-chord frame: x along the chord, y to its left,
     divided by the chord length (``chord`` (..., 2), ``chord2`` its squared length)."""
-    return np.stack([(v * chord).sum(-1), chord[..., 0] * v[..., 1] - chord[..., 1] * v[..., 0]],
-                    axis=-1) / chord2[..., None]
+    vx, vy, cx, cy = v[..., 0], v[..., 1], chord[..., 0], chord[..., 1]
+    out = np.empty(np.broadcast_shapes(v.shape, chord.shape))
+    np.divide(vx * cx + vy * cy, chord2, out=out[..., 0])
+    np.divide(cx * vy - cy * vx, chord2, out=out[..., 1])
+    return out
 
 
 def moment_cubics(bank, parts, starts, ends, tiny, tol):
@@ -264,17 +211,36 @@ def _cubic_integrals(t0, t1):
     """Area and moment of the frame cubics K + d0 U + d1 V (end tangents t0, t1) as
     polynomials in (d0, d1): ``ta`` (n, 2, 3) area terms d_b m_c and ``tm``
     (n, 3, 2, 3) moment terms m_a d_b m_c, m = (1, d0, d1) (exact Bernstein
-    integrals of :func:`_quadrature`)."""
+    integrals of :func:`_quadrature`):
+
+        ta[b, c] = sum_jk y_b[j] x_c[k] i2[j, k]
+        tm[a, b, c] = sum_ijk x_a[i] y_b[j] x_c[k] i3[i, j, k]
+
+    with the control points x_K = (0, 0, 1, 1), x_U = (0, cos th0, 0, 0), x_V = (0, 0,
+    -cos th1, 0), y_U = (0, sin th0, 0, 0), y_V = (0, 0, sin th1, 0).  Only the
+    terms whose control points are not zero by construction are summed (in the order
+    of the indices, products left to right, from 0: the very numbers of the whole
+    sums, whose other terms are zeros), a few vector operations a term."""
     n = len(t0)
     c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
-    zero, one = np.zeros(n), np.ones(n)
-    xs = np.stack([np.stack([zero, zero, one, one], 1), np.stack([zero, c0, zero, zero], 1),
-                   np.stack([zero, zero, -c1, zero], 1)], 1)       # (n, 3, 4): K, U, V
-    ys = np.stack([np.stack([zero, s0, zero, zero], 1),
-                   np.stack([zero, zero, s1, zero], 1)], 1)        # (n, 2, 4): U, V
+    xs = ({2: 1.0, 3: 1.0}, {1: c0}, {2: -c1})                      # K, U, V
+    ys = ({1: s0}, {2: s1})                                         # U, V
     quad = _quadrature()
-    ta = np.einsum("rbj,rck,jk->rbc", ys, xs, quad.i2)
-    tm = np.einsum("rai,rbj,rck,ijk->rabc", xs, ys, xs, quad.i3)
+    ta, tm = np.empty((n, 2, 3)), np.empty((n, 3, 2, 3))
+    for b, yb in enumerate(ys):
+        for c, xc in enumerate(xs):
+            acc = np.zeros(n)
+            for j, y in yb.items():
+                for k, x in xc.items():
+                    acc = acc + (y * x) * quad.i2[j, k]
+            ta[:, b, c] = acc
+            for a, xa in enumerate(xs):
+                acc = np.zeros(n)
+                for i, u in xa.items():
+                    for j, y in yb.items():
+                        for k, x in xc.items():
+                            acc = acc + ((u * y) * x) * quad.i3[i, j, k]
+                tm[:, a, b, c] = acc
     return ta, tm
 
 
@@ -384,12 +350,18 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     the sample's share of the range's arc length, s clipped to [0, 1].  Also the
     parameters s where the rays meet the cubics, each with its candidate and its
     sample (flat index into q): (distance (C,), s (S,), candidate (S,), sample (S,)).
+
+    Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
+    (a reduction over an axis of length 2 costs numpy several times the products
+    themselves); the candidates' samples are consecutive, so the largest distance
+    of each is one ``maximum.reduceat``.
     """
     if not len(cr):
         return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int)
     m = q.shape[1]
-    pts, tan = q.reshape(-1, 2), dq.reshape(-1, 2)
-    speed = np.hypot(*tan.T) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
+    qx, qy = q[..., 0].ravel(), q[..., 1].ravel()
+    tx, ty = dq[..., 0].ravel(), dq[..., 1].ravel()
+    speed = np.hypot(tx, ty) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
     sreq = np.repeat(req, m)
     cum = np.cumsum(speed)
     tot = np.bincount(sreq, speed)
@@ -398,21 +370,25 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
     cnt = np.bincount(sreq, minlength=len(tot))
     counts = cnt[cr]
+    first = np.cumsum(counts) - counts
     owner = np.repeat(np.arange(len(cr)), counts)
-    offs = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    si = start[cr][owner] + offs
-    power = np.matmul(_POWER3, ctrl)[owner]                       # (S, 4, 2): C(s) = sum a_k s^k
-    p, t = pts[si], tan[si]
+    si = np.repeat(start[cr] - first, counts) + np.arange(counts.sum())
+    power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
+    ax = np.ascontiguousarray(power[..., 0])[owner]               # (S, 4) each
+    ay = np.ascontiguousarray(power[..., 1])[owner]
+    px, py, ux, uy = qx[si], qy[si], tx[si], ty[si]
     s = frac[si]
-    g = (power * t[:, None]).sum(2)                               # (C(s) - p) . t, power form
-    g[:, 0] -= (p * t).sum(1)
+    g = ax * ux[:, None] + ay * uy[:, None]                       # (C(s) - p) . t, power form
+    g0, g1, g2, g3 = g[:, 0] - (px * ux + py * uy), g[:, 1], g[:, 2], g[:, 3]
     for _ in range(5):
-        gv = ((g[:, 3] * s + g[:, 2]) * s + g[:, 1]) * s + g[:, 0]
-        gd = (3.0 * g[:, 3] * s + 2.0 * g[:, 2]) * s + g[:, 1]
+        gv = ((g3 * s + g2) * s + g1) * s + g0
+        gd = (3.0 * g3 * s + 2.0 * g2) * s + g1
         s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
-    s = s[:, None]
-    c = ((power[:, 3] * s + power[:, 2]) * s + power[:, 1]) * s + power[:, 0]
-    dist = np.hypot(*(c - p).T)
+    cx = ((ax[:, 3] * s + ax[:, 2]) * s + ax[:, 1]) * s + ax[:, 0]
+    cy = ((ay[:, 3] * s + ay[:, 2]) * s + ay[:, 1]) * s + ay[:, 0]
+    dist = np.hypot(cx - px, cy - py)
     out = np.zeros(len(cr))
-    np.maximum.at(out, owner, dist)
-    return out, s[:, 0], owner, si
+    some = counts > 0
+    if some.any():
+        out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
+    return out, s, owner, si

@@ -5,8 +5,8 @@ segments are chosen greedily from the start: the longest parameter interval whos
 certified bound is <= tol is looked for with a few fits (error predicted from the
 previous fits as ~ h^p, a segment accepted once its bound reaches 0.7 tol), then one
 segment fewer is tried while the segments' bounds say it may fit (cuts at equal
-shares of the modelled difficulty, :func:`_balanced_cuts`), or of equal arc length
-after a short last segment.  The searches of all runs go in lockstep
+shares of the modelled difficulty), or one for the whole run after a short last
+segment (:mod:`morph.export.refine`).  The searches of all runs go in lockstep
 (:func:`_drive`), over all loops of a region or of many glyphs
 (:func:`morph.export.loops.loops_to_beziers`: the pieces of the whole batch live in
 one :class:`morph.export.bank.Bank`, one stack per degree): each round fits the
@@ -25,19 +25,14 @@ least squares) is tried, and the interval shrinks until one certifies.
 **Two stages.**  The greedy search of every chain is one array state machine
 (:class:`morph.export.greedy.Greedy`): each chain's range, try, bracket and mode are
 rows of arrays, a round asks one fit of every chain still searching, and one numpy
-step takes all their results; no Python step runs per chain and round.  A chain the
-greedy search leaves with two segments or more is refined by a generator
-(:func:`_refine` and its steps :func:`_balanced_cuts`, :func:`_split_at`, composed
-with ``yield from``): it yields a list of fit requests ``(chain, t0, t1, (start,
-end))`` and is sent back the list of their results ``(cubic, bound, panels)``
-(:meth:`_Fits.result`), in order, or it yields :data:`NEED_ARC` when it needs its
-chain's arc-length table (made for all that ask in one batch); its return value
-(``StopIteration.value``) is the chain's list of
-:class:`~morph.export.certify.CubicFit`.  :func:`_drive` fits the requests of the
-machine and of the generators of a round together (:func:`_fit_batch`, arrays in,
-arrays out), and repeats until every chain is done.  The numerical work is O(rounds)
-array calls; the refining generators run only for chains of several segments, one
-Python step per such chain and round.
+step takes all their results.  A chain the greedy search leaves with two segments or
+more is refined by a second one (:class:`morph.export.refine.Refine`: one segment
+fewer where the bounds say it may fit), its chains rows of arrays too.
+:func:`_drive` fits the requests of both machines of a round together
+(:func:`_fit_batch`, arrays in, arrays out), and repeats until every chain is done:
+the numerical work is O(rounds) array calls, and no Python step runs per chain and
+round; the accepted segments stay arrays until each chain's list of
+:class:`~morph.export.certify.CubicFit` is made at the end.
 """
 
 import contextlib
@@ -53,8 +48,9 @@ from ..errors import ToleranceNotMetError
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound, start_at_nodes)
-from .fit import Parts, _quadrature, arc_tables, make_chains, moment_cubics
-from .greedy import DONE, ERROR_POWER, Greedy
+from .fit import Parts, _quadrature, make_chains, moment_cubics
+from .greedy import DONE, Greedy
+from .refine import Refine
 
 
 def _parts(chains, chain, t0, t1):
@@ -215,12 +211,6 @@ class _Fits:
         return _Reparam(*self.maps, lo, lo + int(self.nparts[r]), True if self.kind[r] == SAME
                         else None)
 
-    def result(self, r):
-        """Request r as (cubic or None, bound, reparam or None): the protocol of the
-        generator steps (:func:`_split_at`)."""
-        return (None if self.kind[r] == NONE else self.cubic[r], float(self.bound[r]),
-                self.reparam(r))
-
 
 def _part_cuts(bank, parts, cubics, rays, multi):
     """(s0, s1): where each part of a fitted cubic starts and ends on it: 0, the
@@ -314,12 +304,6 @@ def observe_searches(callback):
         _observer = before
 
 
-#: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
-#: pieces start in ``bank.order``), ``tiny`` (1e-12 of its extent), and the
-#: :class:`morph.export.bank.Bank`.
-ChainArrays = namedtuple("ChainArrays", "bank k off tiny")
-
-
 def _chain_points(chains, chain, t):
     """The points of chains ``chain`` at chain parameters t (one evaluation per
     degree): a piece's first control point at an integer t, the chain's last at its
@@ -334,116 +318,114 @@ def _chain_points(chains, chain, t):
 
 
 def _drive(chains, tol, min_width):
-    """The segment searches of all chains, run together; their CubicFit lists in order.
+    """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
+    together; their CubicFit lists in order.
 
     The greedy search of every chain is one array state machine
     (:class:`morph.export.greedy.Greedy`); a chain it leaves with two segments or
-    more is refined by a generator (:func:`_refine`: one segment fewer where the
-    bounds say it may fit), which yields lists of fit requests and is sent their
-    results, or yields :data:`NEED_ARC` for its chain's arc-length table (made for
-    all that ask in one batch).  Each round fits and certifies the requests of the
-    machine and of the generators together (:func:`_fit_batch`): the numerical work
-    is one batch per round, and no Python step runs per chain and round in the
-    greedy search."""
-    arrays = ChainArrays(chains[0].bank, np.array([c.k for c in chains]),
-                         np.array([c.off for c in chains]), np.array([c.tiny for c in chains]))
+    more is refined by another (:class:`morph.export.refine.Refine`: one segment
+    fewer where the bounds say it may fit).  Each round fits and certifies the
+    requests of both together (:func:`_fit_batch`): the numerical work is one batch
+    per round, and no Python step runs per chain and round.  The accepted segments
+    are kept as arrays (chain, t0, t1, bound, and the round and request of their fit)
+    until the end, where each chain's list of CubicFit is made."""
+    bank, n = chains.bank, len(chains.k)
 
     def fail(row, t0, width, bound):
-        chain = chains[row]
+        piece = bank.pieces[bank.order[chains.off[row] + min(int(t0), int(chains.k[row]) - 1)]]
         raise ToleranceNotMetError(
             "cubic export did not reach tol %.3g on a parameter interval of width "
-            "%.3g (bound %.3g)" % (tol, width, bound),
-            piece=chain.piece(min(int(t0), chain.k - 1)), achieved=bound)
+            "%.3g (bound %.3g)" % (tol, width, bound), piece=piece, achieved=bound)
 
-    greedy = Greedy(arrays.k, _chain_points(arrays, np.arange(len(chains)), np.zeros(len(chains))),
-                    tol, min_width, fail)
-    segs, results, refining, rounds = [[] for _ in chains], [None] * len(chains), {}, []
-    while greedy.active.any() or refining:
-        _serve_arcs(refining, chains, results)
+    greedy = Greedy(chains.k, _chain_points(chains, np.arange(n), np.zeros(n)), tol,
+                    min_width, fail)
+    refine = Refine(chains, tol)
+    found = _Segments()                   # the greedy segments of chains still searching
+    final, rounds, done = [], [], 0
+    while greedy.active.any() or refine.active:
         rows, t0, t1, start, need = greedy.requests()
-        asked = [(i, reqs, gen) for i, (reqs, gen) in refining.items()]
-        req = _requests(arrays, rows, t0, t1, start, need, asked)
-        fits = _fit_batch(arrays, req, tol)
-        rounds.append(fits)
+        more = refine.requests()
+        end = _chain_points(chains, rows, t1)
         k = len(rows)
-        at = np.stack([np.full(k, len(rounds) - 1), np.arange(k)], axis=1)
-        acc = greedy.update(rows, req.end[:k], (fits.cubic[:k], fits.bound[:k], fits.cert[:k]),
-                            at)
-        _write_segments(acc, segs, rounds)
-        refining = _resume(asked, fits, k, results)
-        for r in acc[0][greedy.mode[acc[0]] == DONE].tolist():
-            if len(segs[r]) < 2:
-                results[r] = segs[r]
-            else:
-                _start_refine(r, _refine(chains[r], segs[r], tol), refining, results)
+        req = Requests(*(np.concatenate(x) for x in zip(
+            (rows, t0, t1, start, end, need), more + (np.zeros(len(more[0])),))))
+        if len(req.chain):
+            fits = _fit_batch(chains, req, tol)
+            rounds.append(fits)
+            at = np.stack([np.full(k, len(rounds) - 1), np.arange(k)], axis=1)
+            acc = greedy.update(rows, end, (fits.cubic[:k], fits.bound[:k], fits.cert[:k]),
+                                at)
+            found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
+            if len(more[0]):
+                refine.update(fits, k, len(rounds) - 1)
+            ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
+            seg = found.take(ended)
+            many = np.bincount(seg[0], minlength=n)[ended] >= 2
+            refine.add(ended[many], *_segments_of(seg, ended[many]))
+            final.append(_segments_of(seg, ended[~many]))
+            done += int((~many).sum())
+        out = refine.finished()
+        final.append(out[1:])
+        done += len(out[0])
         if _observer is not None:
-            _observer(sum(r is not None for r in results), len(chains))
-    return results
+            _observer(done, n)
+    return _cubic_fits(n, final, rounds)
 
 
-def _requests(arrays, rows, t0, t1, start, need, asked):
-    """The round's :class:`Requests`: the greedy machine's (``rows`` ...), then those
-    of the refining generators (``asked``: [(chain, [(chain, t0, t1, (start, end))],
-    generator)]); the machine's end points evaluated for all at once."""
-    n = [len(reqs) for _, reqs, _ in asked]
-    flat = [r for _, reqs, _ in asked for r in reqs]
-    chain = np.concatenate([rows, np.repeat([i for i, _, _ in asked], n).astype(int)])
-    g_t0 = np.array([r[1] for r in flat], float)
-    g_t1 = np.array([r[2] for r in flat], float)
-    ends = [np.array([r[3][j] for r in flat], float).reshape(-1, 2) for j in (0, 1)]
-    end = _chain_points(arrays, rows, t1)
-    return Requests(chain, np.concatenate([t0, g_t0]), np.concatenate([t1, g_t1]),
-                    np.concatenate([start, ends[0]]), np.concatenate([end, ends[1]]),
-                    np.concatenate([need, np.zeros(len(flat))]))
+class _Segments:
+    """Segments accepted by the greedy search, kept as flat arrays until their chain's
+    search ends: chain, t0, t1, bound, at (round, request)."""
+
+    def __init__(self):
+        self.parts = []
+
+    def add(self, chain, t0, t1, bound, at):
+        self.parts.append((chain, t0, t1, bound, at))
+
+    def take(self, chains):
+        """The segments of ``chains`` (all their searches ended), removed: flat arrays
+        sorted by chain, then t0."""
+        chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
+        mine = np.isin(chain, chains)
+        self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
+        order = np.argsort(chain[mine], kind="stable")    # a chain's segments in t0 order
+        return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
 
 
-def _write_segments(acc, segs, rounds):
-    """Append the segments the greedy machine accepted in a round to their chains'
-    lists, as CubicFit (the panels of the fit of round ``at[0]``, request ``at[1]``,
-    made on demand)."""
-    rows, t0, t1, cubic, bound, at = acc
-    for j, r in enumerate(rows.tolist()):
-        segs[r].append(CubicFit(float(t0[j]), float(t1[j]), cubic[j], float(bound[j]),
-                                rounds[at[j, 0]].reparam(int(at[j, 1]))))
+def _segments_of(seg, chains):
+    """The segments of ``chains`` of the arrays ``seg`` (chain, t0, t1, bound, at)."""
+    mine = np.isin(seg[0], chains)
+    return tuple(x[mine] for x in seg)
 
 
-def _start_refine(r, gen, refining, results):
-    """Run a refining generator to its first yield (``refining[r]``), or store its
-    result."""
-    try:
-        refining[r] = next(gen), gen
-    except StopIteration as stop:
-        results[r] = stop.value
-
-
-def _serve_arcs(refining, chains, results):
-    """Make the arc-length tables of every generator that asked (one batch) and
-    resume them, until none asks."""
-    while True:
-        arcs = [i for i, (v, _) in refining.items() if v is NEED_ARC]
-        if not arcs:
-            return
-        arc_tables([chains[i] for i in arcs])
-        for i in arcs:
-            gen = refining.pop(i)[1]
-            try:
-                refining[i] = gen.send(None), gen
-            except StopIteration as stop:
-                results[i] = stop.value
-
-
-def _resume(asked, fits, k, results):
-    """Send each refining generator of ``asked`` ([(chain, requests, generator)]) its
-    share of the round's results (from request k on, in order); returns those still
-    running: {chain: (next yield, generator)}."""
-    out = {}
-    for i, reqs, gen in asked:
-        try:
-            out[i] = gen.send([fits.result(j) for j in range(k, k + len(reqs))]), gen
-        except StopIteration as stop:
-            results[i] = stop.value
-        k += len(reqs)
+def _cubic_fits(n, final, rounds):
+    """Each chain's list of CubicFit from the segments' arrays ``final`` ([(chain, t0,
+    t1, bound, at)], each chain's segments in one entry, in order): the cubic of the
+    fit that made each (round, request) and its panels on demand."""
+    chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*final)) if final else \
+        ((),) * 5
+    order = np.argsort(chain, kind="stable")
+    out = [[] for _ in range(n)]
+    for c, a, b, e, (r, j) in zip(np.asarray(chain)[order].tolist(), np.asarray(t0)[order].tolist(),
+                                  np.asarray(t1)[order].tolist(), np.asarray(bound)[order].tolist(),
+                                  np.asarray(at).reshape(-1, 2)[order].tolist()):
+        fits = rounds[r]
+        out[c].append(CubicFit(a, b, fits.cubic[j], e, _Panels(fits, j)))
     return out
+
+
+class _Panels:
+    """The panels of request j of a round's :class:`_Fits`, made when asked for
+    (:meth:`panels`; writers of outlines need the cubics only)."""
+
+    __slots__ = ("fits", "j")
+
+    def __init__(self, fits, j):
+        self.fits, self.j = fits, j
+
+    def panels(self):
+        return self.fits.reparam(self.j).panels()
+
 
 
 def _exact_cubic(piece):
@@ -508,95 +490,12 @@ def chains_segments(chains, tol, max_depth=16):
 def runs_segments(bank, runs, tol, max_depth=16):
     """:func:`chains_segments` of runs of the pieces of a :class:`Bank` (arrays of
     global piece ids), searched in lockstep (:func:`_drive`).  The CubicFits'
-    ``reparam`` is a :class:`_Reparam`: its ``panels()`` are the panels (made on
-    demand: writers need the cubics, not the maps)."""
+    ``reparam`` has a method ``panels()`` that makes the panels (on demand: writers
+    need the cubics, not the maps)."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
-    return _drive(chains, tol, 2.0 ** -max_depth) if chains else []
-
-
-def _refine(chain, out, tol):
-    """Refine the greedy segments ``out`` of a chain, a generator for :func:`_drive`:
-    yields lists of fit requests ``(chain, t0, t1, (start, end))`` (or
-    :data:`NEED_ARC`), is sent their results, and returns the chain's list of
-    CubicFit.  The greedy search stops each segment a little short of its longest
-    reach: one segment fewer is tried while the segments' bounds say it may fit
-    (:func:`_balanced_cuts`), and after a short last segment one fewer of equal
-    arc length."""
-    while len(out) >= 2:
-        cuts = yield from _balanced_cuts(chain, out, tol)
-        fewer = None if cuts is None else (yield from _split_at(chain, cuts, tol))
-        if fewer is None:
-            break
-        out = fewer
-    widths = [seg.t1 - seg.t0 for seg in out]
-    if len(out) == 2 and widths[-1] < 0.5 * widths[0]:
-        # a short last one is left: try one cubic for the whole chain (for more
-        # segments, n - 1 of equal arc length rarely fit where the model said no)
-        t, cum = yield from _arclength_table(chain)
-        if cum[-1] > 0:
-            fewer = yield from _split_at(
-                chain, np.interp(np.linspace(0.0, cum[-1], len(out)), cum, t), tol)
-            out = out if fewer is None else fewer
-    return out
-
-
-#: One segment fewer is tried when the greedy segments' shares add up to at most this
-#: many segments fewer than there are (the greedy segments stop short of their reach).
-FEWER_SLACK = 1.0
-
-
-#: What a search yields when it needs its chain's arc-length table: :func:`_drive`
-#: makes the tables of all searches that asked in one batch (:func:`arc_tables`).
-NEED_ARC = "arc table"
-
-
-def _arclength_table(chain):
-    """(T, cumulative arc length) at the knots of the chain's arc-length table; a
-    generator step (yields :data:`NEED_ARC` when the table is not made yet)."""
-    if chain._arc is None:
-        yield NEED_ARC
-    tl, tr, sl, sr, _, _ = chain.arc_table()
-    return np.append(tl, tr[-1]), np.append(sl, sr[-1])
-
-
-def _balanced_cuts(chain, segs, tol):
-    """Cuts of len(segs) - 1 segments, or None (not plausible).
-
-    Segment i of ``segs`` (bound b_i over arc length L_i) counts as d_i = (b_i /
-    tol)^(1/P) of a segment that just reaches tol (model bound ~ L^P, P =
-    :data:`ERROR_POWER`), spread evenly over its arc length.  When the d_i add up to
-    at most len(segs) - 1, the cuts are placed at equal shares of that sum (equal arc
-    lengths where the curve is equally hard); the caller fits and certifies them
-    (:func:`_split_at`) and keeps ``segs`` if any fails."""
-    n = len(segs) - 1
-    d = np.array([(max(seg.bound, 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
-                  for seg in segs])
-    if not (n >= 1 and d.sum() <= len(segs) - FEWER_SLACK):
-        return None
-    t, cum = yield from _arclength_table(chain)
-    if not cum[-1] > 0:
-        return None
-    edges = np.interp([segs[0].t0] + [seg.t1 for seg in segs], t, cum)
-    hard = np.concatenate([[0.0], np.cumsum(d)])
-    return np.interp(np.interp(np.linspace(0.0, hard[-1], n + 1), hard, edges), cum, t)
-
-
-def _split_at(chain, cuts, tol):
-    """Certified segments between the chain parameters ``cuts`` (all fitted in one
-    request list), or None if one fails; a generator step of :func:`_refine`."""
-    cuts = np.array(cuts, float)
-    cuts[0], cuts[-1] = 0.0, float(chain.k)
-    if np.any(np.diff(cuts) <= 0):
-        return None
-    points = [chain.point(0.0)] + [chain.point(float(t)) for t in cuts[1:]]
-    fits = yield [(chain, float(t0), float(t1), (p0, p1))
-                  for t0, t1, p0, p1 in zip(cuts[:-1], cuts[1:], points[:-1], points[1:])]
-    if not all(bound <= tol for _, bound, _ in fits):
-        return None
-    return [CubicFit(float(t0), float(t1), cubic, bound, reparam)
-            for t0, t1, (cubic, bound, reparam) in zip(cuts[:-1], cuts[1:], fits)]
+    return _drive(chains, tol, 2.0 ** -max_depth) if len(chains.k) else []
 
 
 def piece_to_cubics(piece, tol, max_depth=16):

@@ -353,17 +353,13 @@ def _first_sums(jobs, todo, out):
 
 
 def _source_regions(font, names):
-    """{name: region} of the glyphs' outlines in font units; [] for a glyph without
-    contours (a space: its metrics only)."""
-    from ..parse import read_glyph
+    """{name: region} of the glyphs' outlines in font units, read together
+    (:func:`morph.parse.read_glyphs`); [] for a glyph without contours (a space: its
+    metrics only)."""
+    from ..parse import read_glyphs
 
-    out = {}
-    for n in names:
-        try:
-            out[n] = read_glyph(font, n).region
-        except ParseError:
-            out[n] = []
-    return out
+    return {n: ([] if isinstance(shape, ParseError) else shape.region)
+            for n, shape in zip(names, read_glyphs(font, names))}
 
 
 def open_source(font_path, location=None):
@@ -452,18 +448,31 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
 
 def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, progress,
                 in_flight):
-    """The swept glyphs of ``order`` (:func:`sweep_glyphs` results, in order), every
-    source outline read before anything is changed; each outline is moved by
-    :func:`_outline_shift`; ``progress`` is called for the ``chosen`` ones."""
+    """The swept glyphs of ``order`` (:func:`sweep_glyphs` results, in order); each
+    outline is moved by :func:`_outline_shift`; ``progress`` is called for the
+    ``chosen`` ones.  The source outlines of a chunk of glyphs are read together as
+    the chunk is due (:func:`_source_regions`), all before anything is changed (the
+    font is changed once every glyph is swept)."""
     from .jobs import run_glyph_jobs
 
-    sources = _source_regions(font, order)
     hmtx = font["hmtx"]
     extent = region_extent(nib_region)
-    args = [(n, sources[n], nib_region, tol, method, (_outline_shift(hmtx[n][0], extent), 0.0),
-             quadratic) for n in order]
-    return run_glyph_jobs(sweep_glyphs, args, jobs=jobs,
-                          each=_chosen_progress(progress, chosen), in_flight=in_flight)
+
+    def jobs_of(names):
+        sources = _source_regions(font, names)
+        return [(n, sources[n], nib_region, tol, method,
+                 (_outline_shift(hmtx[n][0], extent), 0.0), quadratic) for n in names]
+    return run_glyph_jobs(sweep_glyphs, order, jobs=jobs, prepare=jobs_of,
+                          each=_chosen_progress(progress, chosen), in_flight=in_flight,
+                          preload=_WORKER_MODULES + (_QUADRATIC if quadratic else ()))
+
+
+#: what :func:`sweep_glyphs` imports as it runs (the sums, the curve fitting and its
+#: quadrature nodes; cu2qu for TrueType outlines), imported before worker processes
+#: are forked so that they share them (:func:`morph.fonts.jobs.preload_modules`)
+_WORKER_MODULES = ("morph.minkowski", "morph.fonts.tables", "morph.export",
+                   "numpy.polynomial.legendre")
+_QUADRATIC = ("fontTools.cu2qu",)
 
 
 def _brush_plan(font, glyphs, composites):

@@ -134,7 +134,7 @@ def _local_call(func, k, arg, partial):
         _REPORT = before
 
 
-def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
+def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None, preload=()):
     """``[func(a) for a in args]``, computed by ``jobs`` processes, in input order.
 
     ``func`` must be a module-level function (it is pickled by reference) and its
@@ -149,7 +149,9 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
     result is dropped once ``progress`` has had it (the list returned holds None), so
     that memory does not grow with the number of jobs.  An exception raised by
     ``func`` propagates; a job whose worker process died is run again here, and all
-    of them when no process pool can be started.
+    of them when no process pool can be started.  ``preload``: names of the modules
+    ``func`` imports as it runs, imported here before the workers start
+    (:func:`preload_modules`).
     """
     args = iter(args)
     results = []
@@ -162,7 +164,7 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
 
     first = list(itertools.islice(args, 2))
     args = itertools.chain(first, args)
-    pool = _pool(int(jobs or 1), partial) if len(first) > 1 else None
+    pool = _pool(int(jobs or 1), partial, preload) if len(first) > 1 else None
     if pool is None:                     # one process, or no process pool here
         for k, a in enumerate(args):
             results.append(None)
@@ -174,14 +176,32 @@ def run_jobs(func, args, jobs=1, progress=None, keep=True, partial=None):
     return results
 
 
-def _pool(jobs, partial):
+def preload_modules(names):
+    """Import the modules ``names`` in this process when its worker processes are
+    forked (the start method on Linux up to Python 3.13): the workers then share
+    them, where each would import them itself (a stroke worker's geometry, curve
+    fitting and CFF modules: about 70 ms of CPU per worker, the calling process
+    needing most of them later anyway).  Under another start method the workers
+    start from a fresh interpreter and import what they need: nothing is done."""
+    import importlib
+    import multiprocessing
+
+    if names and multiprocessing.get_start_method() == "fork":
+        for name in names:
+            importlib.import_module(name)
+
+
+def _pool(jobs, partial, preload=()):
     """``(ProcessPoolExecutor, queue)`` of ``jobs`` workers, the queue (None without
     ``partial``) carrying their :func:`glyph_progress` to this process; None for one
-    job or where no process pool can be started."""
+    job or where no process pool can be started.  The modules ``preload`` are
+    imported first (:func:`preload_modules`)."""
     if jobs <= 1:
         return None
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
+
+    preload_modules(preload)
 
     try:
         queue = multiprocessing.SimpleQueue() if partial is not None else None
@@ -267,7 +287,8 @@ def glyph_chunks(work, size=CHUNK):
     return [work[a:b] for a, b in zip(edges, edges[1:])]
 
 
-def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_flight=None):
+def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_flight=None,
+                   preload=()):
     """The font writers' job runner: ``func`` (module-level, a list of glyph jobs ->
     a list of their results) over ``work`` in :func:`glyph_chunks`, computed by
     ``jobs`` processes (:func:`run_jobs`).  ``prepare`` (None: the chunks as they
@@ -280,7 +301,8 @@ def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_fl
     before its glyphs go to ``each``; a progress display adds it to the glyphs done.
     Returns the results in input order, or with ``keep=False`` nothing (each chunk's
     results dropped once ``each`` had them: memory does not grow with the number of
-    glyphs)."""
+    glyphs).  ``preload``: the modules ``func`` imports, imported here before the
+    processes start (:func:`preload_modules`)."""
     import threading
 
     lock = threading.Lock()
@@ -308,7 +330,7 @@ def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_fl
     if prepare is not None:
         chunks = (prepare(c) for c in chunks)
     chunks = run_jobs(func, chunks, jobs=jobs, keep=keep, progress=done,
-                      partial=part if in_flight is not None else None)
+                      partial=part if in_flight is not None else None, preload=preload)
     return [r for rs in chunks for r in rs] if keep else None
 
 

@@ -383,7 +383,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                           nib_region=nib_region, tols=tols, shifts=plan.place.shifts,
                           stroker=stroker)
     run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
-                   in_flight=in_flight)
+                   in_flight=in_flight, preload=_WORKER_MODULES + _COMPILERS.get(kind, ()))
     grow_win_metrics(plan.font, *sink.extent)
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
@@ -404,6 +404,17 @@ def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk
 
 #: what a worker compiles a stroked glyph to, by output (None: the UFO's contours)
 _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
+
+#: what a chunk job imports as it runs (reading the skeletons, the strokes, the
+#: curve fitting and its quadrature nodes), and by output what
+#: :func:`morph.fonts.stream.compile_outline` imports: imported before worker
+#: processes are forked so that they share them
+#: (:func:`morph.fonts.jobs.preload_modules`)
+_WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
+                   "morph.fonts.stream", "numpy.polynomial.legendre")
+_COMPILERS = {".otf": ("fontTools.pens.t2CharStringPen", "fontTools.pens.boundsPen"),
+              ".ttf": ("fontTools.pens.ttGlyphPen", "fontTools.pens.reverseContourPen",
+                       "fontTools.cu2qu")}
 
 
 def _streamed_chunk(flavor, chunk):

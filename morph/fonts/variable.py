@@ -44,7 +44,14 @@ Error budget (``tol`` font units, before integer rounding), every share measured
 So every master and every instance is within tol of the exact sum before the
 integer rounding of the compiled font (<= 0.71 unit for the masters' points and
 again for an instance's).  The gvar deltas are not IUP-optimised (``optimizeGvar``
-off): IUP's 0.5-unit tolerance would come on top of the bound.
+off): IUP's 0.5-unit tolerance would come on top of the bound.  The masters fill a
+product grid (the skeleton's masters times the nib axis'), and the variation model's
+supports are the grid's tents (:class:`morph.fonts.variable_grid.grid_supports`):
+fontTools' own let a master between others weigh 1/2 or 1/3 at its neighbours, so
+its rounded deltas reproduce a master only within 0.5 unit per coordinate, and in
+CFF2's relative charstring coordinates that error runs on along the contour
+(so the bound above would need a third rounding); with the tents every master is
+exactly its own rounded outline.
 
 A variable TrueType font brushed keeping its axes
 (:func:`morph.fonts.variable_brush.brush_variable`) is the same construction on filled
@@ -505,13 +512,19 @@ def set_overlap_flags(ttfont):
 
 
 def _compile(doc, kind, cu2qu_error_em):
+    """The designspace compiled by ufo2ft, its variation models given the grid's tents
+    (:class:`morph.fonts.variable_grid.grid_supports`: the masters, a product grid,
+    reproduced exactly by integer deltas)."""
     import ufo2ft
 
+    from .variable_grid import grid_supports
+
     try:
-        if kind == ".otf":
-            return ufo2ft.compileVariableCFF2(doc, optimizeCFF=False)
-        return ufo2ft.compileVariableTTF(doc, cubicConversionError=cu2qu_error_em,
-                                         optimizeGvar=False)
+        with grid_supports():
+            if kind == ".otf":
+                return ufo2ft.compileVariableCFF2(doc, optimizeCFF=False)
+            return ufo2ft.compileVariableTTF(doc, cubicConversionError=cu2qu_error_em,
+                                             optimizeGvar=False)
     except Exception as exc:
         raise MorphError("ufo2ft could not compile the variable font: %s"
                          % one_line(exc)) from exc

@@ -2,12 +2,13 @@
 font, with the source's axes (a variable source) and an optional nib axis.
 
 Every master of the source, and intermediate ones where the source's interpolation
-and the nib do not commute (:mod:`morph.fonts.variable_sources`: added until the
-blend of every brushed glyph is within its share of tol), is brushed by every nib
-master, as untrimmed overlapping contours fitted with common breaks across all of
-them (:func:`morph.compatible.region_elements`).  Written into a copy of the
-source, the glyph variations computed by fontTools' ``VariationModel`` over the
-masters' locations:
+and the nib do not commute (:mod:`morph.fonts.variable_sources`: added glyph by
+glyph until the glyph's blend is within its share of tol; each glyph has its own
+masters, the sparse masters of a designspace), is brushed by every nib master, as
+untrimmed overlapping contours fitted with common breaks across all of them
+(:func:`morph.compatible.region_elements`).  Written into a copy of the source,
+each glyph's variations computed by fontTools' ``VariationModel`` over its own
+masters' locations (:func:`morph.fonts.variable_grid.grid_model`'s tents):
 
 - TrueType (``.ttf``, ``.woff2``, ``.woff``): the cubics converted to quadratics
   compatibly (cu2qu on all masters' curves at once) into glyf/gvar, the advances
@@ -148,9 +149,10 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     nib axis and the source's axes when both are inexact); ``refine``: intermediate
     source masters until the blend holds (:func:`refine_sources`; False: the
     source's grid only); ``grade``: two growing disks make GRAD (:func:`grade_axis`).
-    Returns a dict: ``masters`` (normalized locations), ``source_masters``,
-    ``nib_values``, ``axis``, ``refinement`` (refine_sources' report or None),
-    ``glyphs``, ``fit_seconds``, ``font``.
+    Returns a dict: ``masters`` (normalized locations of every fitted master of
+    the font), ``source_masters``, ``glyph_masters`` (per written glyph, its own
+    fitted masters' count), ``nib_values``, ``axis``, ``refinement``
+    (refine_sources' report or None), ``glyphs``, ``fit_seconds``, ``font``.
 
     Raises:
         ParseError: an unreadable font; MorphError: a static font without a nib axis,
@@ -165,11 +167,9 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
     plan = _plan(font, nib, nib_max, tol, refine, grade, chosen)
     every = kind == "cff" or cff2           # every glyph's outlines written anew
     convert = [n for n in order if n not in set(chosen)] if every else []
-    sets = [font.getGlyphSet(location=loc, normalized=True) if loc else font.getGlyphSet()
-            for loc in plan.src_locs]
+    sets = _GlyphSets(font, plan.src_locs)
     results = _brush_glyphs(sets, plan, chosen, convert, tol, jobs, progress, cff2)
-    names = order if every else [n for n, c, _ in results if c is not None]
-    widths = [{n: gs[n].width for n in names} for gs in sets]
+    widths = sets.width
     write = _write_cff2 if cff2 else _write_truetype
     shifts = write(font, kind, plan, results, set(chosen), widths)
     _move_anchors(font, shifts, plan.axis, plan.values, plan.tags)
@@ -178,9 +178,29 @@ def brush_variable(src, out_path, nib, glyphs=None, tol=0.5, family_name=None, j
 
         rename_family(font, family_name)
     _save(font, out_path, cff2)
-    return {"masters": plan.locs, "source_masters": plan.src_locs, "nib_values": plan.values,
-            "axis": plan.axis, "refinement": plan.report, "glyphs": len(shifts),
-            "fit_seconds": sum(r[2] for r in results), "font": font}
+    return {"masters": plan.all_masters(), "source_masters": plan.src_locs,
+            "glyph_masters": {n: len(plan.masters(n).locs) for n in shifts},
+            "nib_values": plan.values, "axis": plan.axis, "refinement": plan.report,
+            "glyphs": len(shifts), "fit_seconds": sum(r[2] for r in results), "font": font}
+
+
+class _GlyphSets:
+    """The source's glyph sets at the plan's source master locations, made as they are
+    first asked for (a glyph reads only its own masters)."""
+
+    def __init__(self, font, locations):
+        self.font, self.locations, self.sets = font, locations, {}
+
+    def __getitem__(self, s):
+        if s not in self.sets:
+            loc = self.locations[s]
+            self.sets[s] = self.font.getGlyphSet(location=loc, normalized=True) if loc \
+                else self.font.getGlyphSet()
+        return self.sets[s]
+
+    def width(self, s, name):
+        """The advance of glyph ``name`` at source master ``s``."""
+        return self[s][name].width
 
 
 def _output_format(out_path):
@@ -199,14 +219,19 @@ def _output_format(out_path):
 
 def _brush_glyphs(sets, plan, chosen, convert, tol, jobs, progress, cff2):
     """run_jobs of :func:`_brush_glyph_job` over the glyphs brushed (``chosen``) and
-    converted (``convert``): each glyph's loops read from the source masters' glyph
-    ``sets`` as the workers need them (run_jobs consumes the generator lazily)."""
+    converted (``convert``): each glyph's loops read from its own source masters'
+    glyph ``sets`` (:class:`_GlyphSets`) as the workers need them (run_jobs consumes
+    the generator lazily)."""
     from .jobs import run_jobs
 
     brush = set(chosen)
     q_tol = None if cff2 else CU2QU_SHARE * tol
-    work = ((n, [region_loops(gs, n) for gs in sets], plan.nibs if n in brush else None,
-             plan.owners, FIT_SHARE * tol, q_tol) for n in chosen + convert)
+    def job(n):
+        m = plan.masters(n)
+        return (n, [region_loops(sets[s], n) for s in m.sources],
+                m.nibs if n in brush else None, m.owners, FIT_SHARE * tol, q_tol)
+
+    work = (job(n) for n in chosen + convert)
     report = None if progress is None else (lambda k, r: progress(r[0]))
     return run_jobs(_brush_glyph_job, work, jobs=jobs, progress=report)
 
@@ -216,18 +241,15 @@ def _write_truetype(font, kind, plan, results, brushed, widths):
     first; its glyphs without contours get their advances at every master); the nib
     axis added; HVAR / VVAR dropped (gvar's phantom points carry the advances).
     Returns the brushed glyphs' default shifts."""
-    from .variable_grid import grid_model
-
     if kind == "cff":
         _truetype_tables(font)
     if plan.axis is not None:
         _add_nib_axis(font, plan.axis, plan.values)
     shifts = _write_glyphs(font, plan, results, brushed, widths)
     if kind == "cff":
-        model = grid_model(plan.locs, plan.tags)
         written = {n for n, contours, _ in results if contours is not None}
         for name in set(font.getGlyphOrder()) - written:
-            _write_empty(font, model, widths, plan.owners, name)
+            _write_empty(font, plan.masters(name), widths, name)
     for t in ("HVAR", "VVAR"):
         if t in font:
             del font[t]
@@ -245,8 +267,8 @@ def _write_cff2(font, kind, plan, results, brushed, widths):
     moved = {}
     for name, contours, _ in results:
         if contours is not None and name in brushed:
-            width0 = int(round(widths[0][name]))
-            moved[name] = [_shift(n, width0, plan.axis) for n in plan.nibs]
+            width0 = int(round(widths(0, name)))
+            moved[name] = [_shift(n, width0, plan.axis) for n in plan.masters(name).nibs]
     return write_cff2(font, plan, results, moved, widths)
 
 
@@ -278,25 +300,77 @@ def _outline_kind(font, src, nib_max):
 
 @dataclass
 class _Plan:
-    """The fitted masters of a variable brush: the nib ``axis`` (or None) and its
-    master ``values``, the source masters' normalized locations ``src_locs`` and
-    their refinement ``report``, per fitted master its source master (``owners``),
-    nib (``nibs``) and normalized location over ``tags`` (``locs``)."""
+    """The fitted masters of a variable brush: the nib ``axis`` (or None), its master
+    ``values`` and their nibs ``nibs_v``, the source masters' normalized locations
+    ``src_locs`` (every glyph's, the source's grid first: ``given`` of them), each
+    glyph's own source masters (``per_glyph``: indices into ``src_locs``; a glyph not
+    in it, one converted and not brushed, has the source's grid) and the
+    refinement's ``report``.  :meth:`masters` gives a glyph's fitted masters."""
 
     axis: object
     values: list
+    nibs_v: list
     src_locs: list
+    given: int
+    per_glyph: dict
+    tags: list
+    report: dict = None
+
+    def __post_init__(self):
+        self._masters = {}
+
+    def sources(self, name):
+        return self.per_glyph.get(name) or list(range(self.given))
+
+    def masters(self, name):
+        """The fitted masters of glyph ``name`` (:class:`_Masters`; the same object
+        for glyphs with the same source masters)."""
+        key = tuple(self.sources(name))
+        if key not in self._masters:
+            fitted = [(j, k) for k in range(len(self.values)) for j in range(len(key))]
+            locs = [{**self.src_locs[key[j]],
+                     **({self.axis.tag: self.axis.fraction(self.values[k])} if self.axis
+                        else {})} for j, k in fitted]
+            self._masters[key] = _Masters(list(key), [j for j, _ in fitted],
+                                          [self.nibs_v[k] for _, k in fitted], locs,
+                                          _grid_model(locs, self.tags))
+        return self._masters[key]
+
+    def all_masters(self):
+        """Every fitted location of the font (every source master at every nib
+        master)."""
+        return [{**loc, **({self.axis.tag: self.axis.fraction(v)} if self.axis else {})}
+                for v in self.values for loc in self.src_locs]
+
+
+@dataclass
+class _Masters:
+    """One glyph's fitted masters: its source masters (``sources``, indices into the
+    plan's ``src_locs``), per fitted master the position of its source master among
+    them (``owners``), its nib (``nibs``) and normalized location (``locs``), and
+    the variation ``model`` over them (:func:`morph.fonts.variable_grid.grid_model`)."""
+
+    sources: list
     owners: list
     nibs: list
-    tags: list
     locs: list
-    report: dict = None
+    model: object
+
+    def source(self, m):
+        """The plan's source master of fitted master ``m``."""
+        return self.sources[self.owners[m]]
+
+
+def _grid_model(locs, tags):
+    from .variable_grid import grid_model
+
+    return grid_model(locs, tags)
 
 
 def _plan(font, nib, nib_max, tol, refine, grade, chosen):
     """The :class:`_Plan`: nib masters within their share of the blend budget
-    (:func:`axis_masters`), source masters within theirs (:func:`refine_sources`,
-    over the brushed glyphs and every nib master); each gets half of BLEND_SHARE
+    (:func:`axis_masters`), each brushed glyph's source masters within theirs
+    (:func:`refine_sources`, with every nib master); each gets half of BLEND_SHARE
     when both the nib axis and a variable source's axes are inexact."""
     nib = Ellipse(*map(float, nib))
     axis = None
@@ -308,33 +382,27 @@ def _plan(font, nib, nib_max, tol, refine, grade, chosen):
     share = BLEND_SHARE * tol / (2.0 if both else 1.0)
     values = [None] if axis is None else axis_masters(axis, share)
     nibs_v = [nib] if axis is None else [axis.nib_at(v) for v in values]
-    src_locs, report = refine_sources(font, chosen, nibs_v, share, refine)
+    src_locs, per_glyph, report = refine_sources(font, chosen, nibs_v, share, refine)
     src_tags = [a.axisTag for a in font["fvar"].axes] if "fvar" in font else []
-    fitted = [(s, k) for k in range(len(values)) for s in range(len(src_locs))]
-    locs = [{**src_locs[s], **({axis.tag: axis.fraction(values[k])} if axis else {})}
-            for s, k in fitted]
-    return _Plan(axis, values, src_locs, [s for s, _ in fitted],
-                 [nibs_v[k] for _, k in fitted], src_tags + ([axis.tag] if axis else []),
-                 locs, report)
+    given = 1 if report is None else report["given"]
+    return _Plan(axis, values, nibs_v, src_locs, given, per_glyph,
+                 src_tags + ([axis.tag] if axis else []), report)
 
 
 def _write_glyphs(font, plan, results, brushed, widths):
     """Every glyph of ``results`` written at every fitted master (brushed ones shifted
     by their nib, converted CFF glyphs as they are); returns the brushed glyphs'
     default shifts."""
-    from .variable_grid import grid_model
-
-    model = grid_model(plan.locs, plan.tags)
     shifts = {}
     for name, contours, _ in results:
         if contours is None:
             continue
         width0 = font["hmtx"][name][0]
         if name in brushed:
-            shifts[name] = _write_glyph(font, model, widths, plan.owners, plan.nibs, name,
+            shifts[name] = _write_glyph(font, plan.masters(name), widths, True, name,
                                         contours, width0, plan.axis)
         else:                                       # a CFF glyph converted, not brushed
-            _write_glyph(font, model, widths, plan.owners, None, name, contours, width0,
+            _write_glyph(font, plan.masters(name), widths, False, name, contours, width0,
                          None)
     return shifts
 
@@ -360,18 +428,19 @@ def _shift(nib, width0, axis):
     return hx - (grow if width0 == 0 else 0), (grow if width0 else 0)
 
 
-def _write_glyph(font, model, widths, owners, nibs, name, contours, width0, axis):
-    """Glyph ``name``'s quadratic contours of every fitted master written into the
-    glyf (default master), hmtx and gvar (the other masters' deltas by ``model``,
-    advances through the phantom points) of ``font``, shifted as :func:`_shift` says
-    (``nibs`` None: not brushed, not shifted).  Returns the default master's shift
+def _write_glyph(font, masters, widths, brushed, name, contours, width0, axis):
+    """Glyph ``name``'s quadratic contours of each of its fitted ``masters``
+    (:class:`_Masters`) written into the glyf (default master), hmtx and gvar (the
+    other masters' deltas by the glyph's own model, its regions those of its own
+    masters; advances through the phantom points) of ``font``, shifted as
+    :func:`_shift` says (``brushed`` False: not shifted).  Returns the default master's shift
     (x, y) for the anchors."""
     from fontTools.pens.ttGlyphPen import TTGlyphPen
 
     glyf, gvar, hmtx = font["glyf"], font["gvar"], font["hmtx"]
     coords = []
     for m, per in enumerate(contours):
-        shift, grow = (0.0, 0) if nibs is None else _shift(nibs[m], width0, axis)
+        shift, grow = (0.0, 0) if not brushed else _shift(masters.nibs[m], width0, axis)
         pen = TTGlyphPen(None)
         for splines in per:
             pen.moveTo(_rnd(splines[0][0], shift))
@@ -379,7 +448,7 @@ def _write_glyph(font, model, widths, owners, nibs, name, contours, width0, axis
                 pen.qCurveTo(*[_rnd(p, shift) for p in s[1:]])
             pen.closePath()
         g = pen.glyph(dropImpliedOnCurves=False)
-        adv = widths[owners[m]][name] + grow
+        adv = widths(masters.source(m), name) + grow
         pts = list(g.coordinates) + [(0, 0), (int(round(adv)), 0), (0, 0), (0, 0)]
         coords.append(np.array(pts, float))
         if m == 0:
@@ -387,20 +456,20 @@ def _write_glyph(font, model, widths, owners, nibs, name, contours, width0, axis
     glyf[name] = glyph0
     glyph0.recalcBounds(glyf)
     hmtx[name] = (int(round(adv0)), glyph0.xMin)
-    _set_variations(gvar, model, name, coords)
+    _set_variations(gvar, masters.model, name, coords)
     return (shift0, 0.0)
 
 
-def _write_empty(font, model, widths, owners, name):
+def _write_empty(font, masters, widths, name):
     """A glyph without contours (a space) of a converted CFF font: its advance at
     every master."""
     from fontTools.ttLib.tables._g_l_y_f import Glyph
 
     font["glyf"][name] = Glyph()
-    coords = [np.array([(0, 0), (int(round(widths[o][name])), 0), (0, 0), (0, 0)], float)
-              for o in owners]
+    coords = [np.array([(0, 0), (int(round(widths(masters.source(m), name))), 0), (0, 0),
+                        (0, 0)], float) for m in range(len(masters.locs))]
     font["hmtx"][name] = (int(round(coords[0][1][0])), 0)
-    _set_variations(font["gvar"], model, name, coords)
+    _set_variations(font["gvar"], masters.model, name, coords)
 
 
 def _set_variations(gvar, model, name, coords):

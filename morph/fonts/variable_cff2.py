@@ -3,12 +3,13 @@ blended CFF2 charstrings, the advances as HVAR.
 
 Each master's contours are drawn with their points rounded to integers (as the
 TrueType output's are), merged into one charstring per glyph by fontTools'
-``CFF2CharStringMergePen`` over the masters' grid model
+``CFF2CharStringMergePen`` over the glyph's own masters' grid model
 (:func:`morph.fonts.variable_grid.grid_model`: integer deltas, every master
 exactly its own rounded outline; the charstring's coordinates are relative, so a
 master reproduced within a rounding per coordinate would carry that error along
-the contour), into a CFF2 table whose one
-variation store holds the model's regions (vsindex 0 for every glyph).  The
+the contour), into a CFF2 table whose variation store holds every glyph's
+regions, one VarData per distinct set of glyph masters (the charstring's
+``vsindex`` picks it).  The
 overlapping contours need no flag: CFF2 charstrings are filled nonzero.  The
 advances vary through HVAR (CFF2 has no phantom points), built by fontTools
 varLib's HVAR builder from the same model.
@@ -26,27 +27,30 @@ _TRUETYPE = ("glyf", "loca", "gvar", "CFF ", "CFF2", "VORG", "fpgm", "prep", "cv
 def write_cff2(font, plan, results, moved, widths):
     """Replace the outlines of ``font`` by a CFF2 table and HVAR.
 
-    ``plan``: the brush's fitted masters (``locs`` over ``tags``, ``owners``: each
-    master's source master); ``results``: (name, per master cubic contours or None,
-    seconds) of every glyph; ``moved``: per brushed glyph, (x shift, advance growth)
-    at every master; ``widths``: per source master, the advances.  Returns the
-    brushed glyphs' default shifts ((x, 0) each) for the anchors."""
-    from .variable_grid import grid_model
-
-    model = grid_model(plan.locs, plan.tags)
+    ``plan``: the brush's plan (``plan.masters(name)``: a glyph's own fitted
+    masters, their locations, source masters and grid model); ``results``: (name,
+    per master cubic contours or None, seconds) of every glyph; ``moved``: per
+    brushed glyph, (x shift, advance growth) at each of its masters; ``widths(s,
+    name)``: the advance at source master ``s``.  Every glyph's blends run over its
+    own masters' regions: one VarData per distinct set of masters, chosen by the
+    charstring's ``vsindex``.  Returns the brushed glyphs' default shifts ((x, 0)
+    each) for the anchors."""
     contours = {name: c for name, c, _ in results if c is not None}
-    n = len(plan.locs)
-    charstrings, advances, lsbs = {}, {}, {}
+    charstrings, advances, lsbs, models = {}, {}, {}, {}
     for name in font.getGlyphOrder():
+        masters = plan.masters(name)
+        n = len(masters.locs)
         shift = moved.get(name, [(0.0, 0)] * n)
         per = contours.get(name)
-        charstrings[name], lsbs[name] = _charstring(name, per, [s for s, _ in shift], model)
-        advances[name] = [int(round(widths[o][name])) + shift[m][1]
-                          for m, o in enumerate(plan.owners)]
-    _cff2_table(font, charstrings, model)
+        charstrings[name], lsbs[name] = _charstring(name, per, [s for s, _ in shift],
+                                                    masters.model)
+        models[name] = masters.model
+        advances[name] = [int(round(widths(masters.source(m), name))) + shift[m][1]
+                          for m in range(n)]
+    _cff2_table(font, charstrings, models, plan.tags)
     for name in font.getGlyphOrder():
         font["hmtx"][name] = (advances[name][0], lsbs[name])
-    _hvar(font, model, advances, plan.tags)
+    _hvar(font, models, advances, plan.tags)
     return {name: (shift[0][0], 0.0) for name, shift in moved.items()}
 
 
@@ -73,18 +77,45 @@ def _charstring(name, per, shifts, model):
     return cs, (int(bounds.bounds[0]) if bounds.bounds else 0)
 
 
-def _cff2_table(font, charstrings, model):
-    """The font's outline tables replaced by a CFF2 table of ``charstrings`` with the
-    model's regions as its variation store; maxp 0.5, post format 2 (the glyph names
-    kept: CFF2 has none of its own)."""
+def _region_key(support):
+    return tuple(sorted((t, tuple(float(v) for v in r)) for t, r in support.items()))
+
+
+def _cff2_table(font, charstrings, models, tags):
+    """The font's outline tables replaced by a CFF2 table of ``charstrings``; its
+    variation store holds every glyph model's regions, one VarData per distinct
+    model (its regions in the model's order), each charstring prefixed by its
+    model's ``vsindex`` (none for VarData 0); maxp 0.5, post format 2 (the glyph
+    names kept: CFF2 has none of its own)."""
+    from fontTools.cffLib import VarStoreData
     from fontTools.fontBuilder import FontBuilder
+    from fontTools.varLib.builder import buildVarData, buildVarRegionList, buildVarStore
 
     for tag in _TRUETYPE:
         if tag in font:
             del font[tag]
+    regions, datas, vsindex = {}, [], {}
+    for name in font.getGlyphOrder():
+        model = models[name]
+        if id(model) not in vsindex:
+            keys = [_region_key(s) for s in model.supports[1:]]
+            for k, s in zip(keys, model.supports[1:]):
+                regions.setdefault(k, (len(regions), s))
+            vsindex[id(model)] = len(datas)
+            datas.append(buildVarData([regions[k][0] for k in keys], None, optimize=False))
+        k = vsindex[id(model)]
+        if k:
+            charstrings[name].program[:0] = [k, "vsindex"]
     fb = FontBuilder(font=font)
     fb.isTTF = False
-    fb.setupCFF2(charstrings, regions=model.supports[1:])
+    fb.setupCFF2(charstrings)
+    region_list = buildVarRegionList([s for _, s in sorted(regions.values(),
+                                                           key=lambda r: r[0])], tags)
+    store = VarStoreData(otVarStore=buildVarStore(region_list, datas))
+    top = font["CFF2"].cff.topDictIndex[0]
+    top.VarStore = store
+    for fd in top.FDArray:
+        fd.Private.vstore = store
     font["maxp"].tableVersion = 0x00005000
     post = font["post"]
     post.formatType = 2.0
@@ -92,12 +123,14 @@ def _cff2_table(font, charstrings, model):
     font.sfntVersion = "OTTO"
 
 
-def _hvar(font, model, advances, tags):
-    """HVAR of the advances at every master (varLib's builder: a direct store when
-    every glyph uses the one model)."""
+def _hvar(font, models, advances, tags):
+    """HVAR of the advances at each glyph's masters, over its own model (varLib's
+    builder: a direct store when every glyph uses the one model, else rows mapped per
+    glyph)."""
     from fontTools import varLib
 
     def metrics():
-        return {n: model.getDeltasAndSupports(a, round=round) for n, a in advances.items()}, {}
+        return {n: models[n].getDeltasAndSupports(a, round=round)
+                for n, a in advances.items()}, {}
 
     varLib._add_VHVAR(font, tags, varLib.HVAR_FIELDS, metrics)

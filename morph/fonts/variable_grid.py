@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import MorphError
 
-__all__ = ["grid_edges", "refine_grid", "grid_size"]
+__all__ = ["grid_edges", "refine_grid", "grid_size", "grid_model", "grid_supports"]
 
 
 def grid_size(grid):
@@ -99,7 +99,25 @@ def grid_model(locations, tags):
     from fontTools.varLib.models import VariationModel
 
     model = VariationModel(locations, tags)
-    values = {t: sorted({0.0} | {float(loc.get(t, 0.0)) for loc in locations}) for t in tags}
+    _grid_tents(model)
+    return model
+
+
+def _is_product(locations):
+    """Do normalized ``locations`` (fontTools' form: zero coordinates left out) fill
+    the full product of their per-axis values?"""
+    tags = sorted({t for loc in locations for t in loc})
+    values = [sorted({0.0} | {float(loc.get(t, 0.0)) for loc in locations}) for t in tags]
+    have = {tuple(float(loc.get(t, 0.0)) for t in tags) for loc in locations}
+    return len(have) == len(locations) == int(np.prod([len(v) for v in values]))
+
+
+def _grid_tents(model):
+    """``model``'s supports made the tents between neighbouring grid values (see
+    :func:`grid_model`), its delta weights recomputed."""
+    tags = sorted({t for loc in model.locations for t in loc})
+    values = {t: sorted({0.0} | {float(loc.get(t, 0.0)) for loc in model.locations})
+              for t in tags}
     supports = []
     for loc in model.locations:
         support = {}
@@ -114,4 +132,40 @@ def grid_model(locations, tags):
         supports.append(support)
     model.supports = supports
     model._computeDeltaWeights()
-    return model
+
+
+def _grid_variation_model():
+    """A ``VariationModel`` subclass whose models over masters on a full product grid
+    get :func:`grid_model`'s tents (other sets of masters: fontTools' supports)."""
+    from fontTools.varLib.models import VariationModel
+
+    class GridVariationModel(VariationModel):
+        def __init__(self, locations, *args, **kwargs):
+            super().__init__(locations, *args, **kwargs)
+            if _is_product(self.locations):
+                _grid_tents(self)
+
+    return GridVariationModel
+
+
+class grid_supports:
+    """Within this context fontTools' varLib (and ufo2ft, which compiles through it)
+    builds its variation models with :func:`grid_model`'s tents wherever the masters
+    fill a product grid: the masters of a stroked designspace (the skeleton's grid
+    times the nib axis' masters) are then reproduced exactly by integer deltas, in
+    gvar and in CFF2's relative charstring coordinates alike.  It replaces
+    ``fontTools.varLib.models.VariationModel`` (the name varLib and its sub-models
+    look up) and restores it on exit."""
+
+    def __enter__(self):
+        from fontTools.varLib import models
+
+        self._real = models.VariationModel
+        models.VariationModel = _grid_variation_model()
+        return self
+
+    def __exit__(self, *exc):
+        from fontTools.varLib import models
+
+        models.VariationModel = self._real
+        return False

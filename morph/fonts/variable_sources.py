@@ -15,18 +15,22 @@ master), the distance between the blended outline point and the exact one at equ
 parameter (an upper bound of the distance between the curves), at u = 1/4, 1/2,
 3/4 and with every nib of the nib axis.  :func:`refine_sources` halves the grid's
 intervals (:func:`morph.fonts.variable_grid.refine_grid`) until it is within the
-budget for every brushed glyph.
+budget, glyph by glyph: each glyph gets its own grid (its variations are stored over
+its own masters), so a glyph whose outline turns fast between the source's masters
+does not multiply the masters of every other glyph.
 """
 
 import numpy as np
 
-from .variable_grid import grid_size, refine_grid
+from .variable_grid import refine_grid
 
 __all__ = ["source_grid", "refine_sources", "region_blend_error", "region_loops",
            "counter_clockwise", "MAX_SOURCE_MASTERS"]
 
-#: at most this many source masters after refinement (before the nib axis)
-MAX_SOURCE_MASTERS = 129
+#: at most this many source masters of one glyph after refinement (before the nib
+#: axis): a bound on one glyph's cost (its fit at every master, its gvar tuples, at
+#: most 4095, and its CFF2 blends), not the font's
+MAX_SOURCE_MASTERS = 257
 
 #: fractions of an interval at which the blend is measured
 FRACTIONS = (0.25, 0.5, 0.75)
@@ -187,20 +191,33 @@ def _to_polylines(points, polygons, chunk=512):
 
 
 def refine_sources(font, names, nibs, budget, refine=True):
-    """(normalized locations of the source masters, the default first; report) of a
-    font brushed into a variable font: the product of :func:`source_grid`, with
-    intervals halved until :func:`region_blend_error` of every glyph of ``names``
-    with every nib of ``nibs`` is within ``budget`` along every axis at every node
-    of the other axes (``refine`` False: the grid as it is, its errors measured).
-    Report: :func:`morph.fonts.variable_grid.refine_grid`'s, and ``given`` (the
-    source grid's masters) and ``added``.  ``([{}], None)`` for a static font.
+    """(normalized locations of the source masters, the default first; per glyph of
+    ``names`` the indices of its own masters among them; report) of a font brushed
+    into a variable font.
+
+    Every glyph gets its own master grid: the product of :func:`source_grid`, with
+    intervals halved until :func:`region_blend_error` of that glyph with every nib
+    of ``nibs`` is within ``budget`` along every axis at every node of the other
+    axes (``refine`` False: the grid as it is, its errors measured).  The variable
+    font stores each glyph's variations over its own masters (gvar's tuples are per
+    glyph; CFF2 selects a VarData per glyph by vsindex; HVAR maps each glyph to its
+    own row): the sparse masters of a designspace, where a glyph is absent from the
+    intermediate masters it does not need.  So a glyph whose outline turns fast
+    between the source's masters adds masters to itself only, and the cost is the
+    sum of the glyphs' own grids, not the product of every glyph's refinements.
+    Report: ``given`` (the source grid's masters), ``added`` (locations added over
+    all glyphs), ``axes`` (values per axis, the most any glyph has), ``error`` (the
+    largest blend error left), ``errors_before`` (per axis, the largest before
+    refining), ``budget``, ``most`` (the most masters of one glyph) and
+    ``hardest`` (that glyph), ``refined`` (glyphs given masters of their own).
+    ``([{}], {name: [0]}, None)`` for a static font.
 
     Raises:
-        MorphError: more than :data:`MAX_SOURCE_MASTERS` would be needed.
+        MorphError: a glyph would need more than :data:`MAX_SOURCE_MASTERS` masters.
     """
     grid = source_grid(font)
     if not grid:
-        return [{}], None
+        return [{}], {n: [0] for n in names}, None
     sets = {}
 
     def glyph_set(loc):
@@ -209,21 +226,57 @@ def refine_sources(font, names, nibs, budget, refine=True):
             sets[key] = font.getGlyphSet(location=dict(key), normalized=True)
         return sets[key]
 
-    def errors_of(edges):
-        worst = [0.0] * len(edges)
-        for name in names:                  # one glyph's loops in memory at a time
+    def errors_of(name):
+        def errors(edges):
+            worst = [0.0] * len(edges)
             for k, (a, lo, hi, others) in enumerate(edges):
                 at = [{**dict(others), a: lo + u * (hi - lo)} for u in (0.0, 1.0) + FRACTIONS]
                 loops = [region_loops(glyph_set(loc), name) for loc in at]
                 if loops[0]:
-                    worst[k] = max(worst[k], region_blend_error(
-                        loops, nibs, "glyph %r" % name, near=budget))
-        return worst
+                    worst[k] = region_blend_error(loops, nibs, "glyph %r" % name, near=budget)
+            return worst
+        return errors
 
-    given = grid_size(grid)
-    refined, report = refine_grid(grid, errors_of, budget if refine else float("inf"),
-                                  MAX_SOURCE_MASTERS, "the variable source",
-                                  "the nib does not follow its interpolation: use a "
-                                  "smaller nib or a larger tolerance")
-    report.update(given=given, added=grid_size(refined) - given)
-    return _locations(refined), report
+    locations = _locations(grid)
+    index = {_key(loc): k for k, loc in enumerate(locations)}
+    given = len(locations)
+    per_glyph, report = {}, {"given": given, "budget": budget, "error": 0.0,
+                             "errors_before": {}, "axes": {a: len(v) for a, v in grid.items()},
+                             "most": given, "hardest": None, "refined": 0}
+    for name in names:
+        refined, rep = refine_grid(grid, errors_of(name), budget if refine else float("inf"),
+                                   MAX_SOURCE_MASTERS, "glyph %r of the variable source" % name,
+                                   "the nib does not follow its interpolation: use a "
+                                   "smaller nib or a larger tolerance")
+        per_glyph[name] = own = _indices(_locations(refined), index, locations)
+        _merge_report(report, rep, name, len(own), given)
+    report["added"] = len(locations) - given
+    return locations, per_glyph, report
+
+
+def _indices(own, index, locations):
+    """The indices of the locations ``own`` in ``locations``, those not there yet
+    appended (``index``: each location's key -> its index, kept up to date)."""
+    out = []
+    for loc in own:
+        k = index.setdefault(_key(loc), len(locations))
+        if k == len(locations):
+            locations.append(loc)
+        out.append(k)
+    return out
+
+
+def _key(loc):
+    return tuple(sorted((t, round(float(v), 12)) for t, v in loc.items()))
+
+
+def _merge_report(report, rep, name, masters, given):
+    """One glyph's refine_grid report folded into the font's."""
+    report["error"] = max(report["error"], rep["error"])
+    for a, v in rep["errors_before"].items():
+        report["errors_before"][a] = max(report["errors_before"].get(a, 0.0), v)
+    for a, v in rep["axes"].items():
+        report["axes"][a] = max(report["axes"][a], v)
+    if masters > report["most"]:
+        report["most"], report["hardest"] = masters, name
+    report["refined"] += masters > given

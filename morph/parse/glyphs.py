@@ -20,9 +20,9 @@ import numpy as np
 
 from .. import piece as pc
 from ..errors import ParseError, one_line
-from ..region import orient_region, without_zero_length
+from ..region import orient_regions, without_zero_length, zero_length_mask
 from ..trim import fill_region
-from .pens import RawContour, closing_line, record_contours
+from .pens import RawContour, closing_line, record_contours, record_segments
 from .shape import Shape
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "load_font",
     "parse_location",
     "read_glyph",
+    "read_glyphs",
 ]
 
 _FONT_DIR = Path(__file__).resolve().parent.parent / "fonts" / "data"
@@ -272,28 +273,123 @@ def read_glyph(font, name, source=None, location=None):
     Raises:
         ParseError: no such glyph; a glyph without contours; an open contour.
     """
+    shape = read_glyphs(font, [name], location, [source])[0]
+    if isinstance(shape, ParseError):
+        raise shape
+    return shape
+
+
+def read_glyphs(font, names, location=None, sources=None):
+    """:func:`read_glyph` of each of the glyphs ``names`` of an open ``TTFont``, the
+    contours of all oriented together (:func:`morph.region.orient_regions`: the
+    same regions, a fraction of the time of one glyph after another).  Returns one
+    item per name: its :class:`~morph.parse.shape.Shape`, or the
+    :class:`~morph.errors.ParseError` that :func:`read_glyph` raises for it (no
+    such glyph, no contours, an open contour), so that one glyph does not stop the
+    others.  ``sources``: what was asked for, one per name (default: the names)."""
     label = _font_label(font)
-    source = name if source is None else source
     glyph_set = font.getGlyphSet(location=location) if location else font.getGlyphSet()
+    sources = list(names) if sources is None else [n if s is None else s
+                                                   for n, s in zip(names, sources)]
+    out, todo = [], []
+    for name, source in zip(names, sources):
+        try:
+            out.append(_glyph_segments(glyph_set, name, source, label))
+            todo.append(len(out) - 1)
+        except ParseError as exc:
+            out.append(exc)
+    loops = _filled_loops([out[k] for k in todo],
+                          ["glyph %r of font %s" % (names[k], label) for k in todo])
+    for k, item in zip(todo, loops):
+        out[k] = item
+    todo = [k for k in todo if not isinstance(out[k], ParseError)]
+    regions = orient_regions([out[k] for k in todo], "nonzero", on_crossing=fill_region)
+    for k, loops in zip(todo, regions):
+        name, source = names[k], sources[k]
+        if not loops:
+            out[k] = ParseError("glyph %r of font %s is empty (no contours)" % (name, label),
+                                source)
+            continue
+        advance, lsb = font["hmtx"][name]
+        if location:  # the advance at the location, rounded as an instance's; lsb: the outline's
+            from fontTools.misc.roundTools import otRound
+
+            from ..region import region_bbox
+
+            advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
+        out[k] = Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
+    return out
+
+
+def _glyph_loops(glyph_set, name, source, label):
+    """The closed loops of glyph ``name`` (:func:`_filled_loop` of its contours), not
+    yet oriented.
+
+    Raises:
+        ParseError: no such glyph; a glyph that cannot be drawn; an open contour.
+    """
+    loops = _filled_loops([_glyph_segments(glyph_set, name, source, label)],
+                          ["glyph %r of font %s" % (name, label)])[0]
+    if isinstance(loops, ParseError):
+        raise loops
+    return loops
+
+
+def _glyph_segments(glyph_set, name, source, label):
+    """The contours of glyph ``name`` as drawn (:func:`.pens.record_segments`).
+
+    Raises:
+        ParseError: no such glyph; a glyph that cannot be drawn.
+    """
     where = "glyph %r of font %s" % (name, label)
     if name not in glyph_set:
         raise ParseError("font %s has no glyph named %r" % (label, name), source)
     try:
-        contours = record_contours(glyph_set[name].draw, where, glyph_set)
+        return record_segments(glyph_set[name].draw, where, glyph_set)
     except ParseError:
         raise
     except Exception as exc:
         raise ParseError("cannot draw glyph %r of font %s: %s" % (name, label, one_line(exc)),
                          source) from exc
-    loops = [loop for loop in (_filled_loop(c, where) for c in contours) if loop]
-    loops = orient_region(loops, "nonzero", on_crossing=fill_region)
-    if not loops:
-        raise ParseError("glyph %r of font %s is empty (no contours)" % (name, label), source)
-    advance, lsb = font["hmtx"][name]
-    if location:  # the advance at the location, rounded as an instance's; lsb: the outline's
-        from fontTools.misc.roundTools import otRound
 
-        from ..region import region_bbox
 
-        advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
-    return Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
+def _filled_loops(glyphs, labels):
+    """:func:`_filled_loop` of every contour of many glyphs (their
+    :func:`.pens.record_segments`), the pieces of all built at once, one stack per
+    degree (weights 1, as :func:`morph.piece.from_points` makes them; a loop's
+    pieces are rows of the stacks).  Per glyph its loops (contours left empty
+    dropped), or the ParseError of its first open contour (``labels[g]`` names it)."""
+    contours = [c for g in glyphs for c in g]
+    segments = [seg for c in contours for seg in c.pieces]
+    sizes = np.array([len(c.pieces) for c in contours], np.int64)
+    groups = []
+    by_length = {}
+    for k, seg in enumerate(segments):
+        by_length.setdefault(len(seg), []).append(k)
+    for m, ks in by_length.items():
+        h = np.ones((len(ks), m, 3))
+        h[:, :, :2] = [segments[k] for k in ks]
+        groups.append((np.array(ks, np.int64), h))
+    pieces = pc.Pieces(groups, len(segments))
+    zero = zero_length_mask(pieces) if len(segments) else np.zeros(0, bool)
+    rows = pieces.rows()
+    bounds = np.concatenate([[0], np.cumsum(sizes)]).tolist()
+    zero = zero.tolist()
+    out, c = [], 0
+    for g, glyph in enumerate(glyphs):
+        loops, error = [], None
+        for contour in glyph:
+            a, b = bounds[c], bounds[c + 1]
+            c += 1
+            kept = [rows[k] for k in range(a, b) if not zero[k]]
+            if not kept or error is not None:
+                continue
+            start = np.asarray(contour.start, float)
+            if not np.array_equal(pc.end(kept[-1]), start):
+                if not contour.closed:
+                    error = ParseError("%s has an open contour" % labels[g], labels[g])
+                    continue
+                kept.append(pc.line(pc.end(kept[-1]), start))
+            loops.append(kept)
+        out.append(error if error is not None else loops)
+    return out

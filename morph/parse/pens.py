@@ -24,7 +24,7 @@ from .. import piece as pc
 from ..errors import ParseError
 from ..limits import MAX_COORDINATE
 
-__all__ = ["RawContour", "record_contours", "closing_line", "draw_paths"]
+__all__ = ["RawContour", "record_contours", "record_segments", "closing_line", "draw_paths"]
 
 
 @dataclass
@@ -58,20 +58,24 @@ def _pen_class():
     class RecordingPen(BasePen):
         """Segment pen -> ``self.contours``, a list of :class:`RawContour`."""
 
-        def __init__(self, glyph_set, label):
+        def __init__(self, glyph_set, label, raw=False):
             super().__init__(glyph_set)
             self.contours = []
             self.label = label
+            self.raw = raw
             self._pieces = None
             self._start = None
 
         def _moveTo(self, pt):
             self._finish(closed=False)
             self._pieces = []
-            self._start = np.asarray(pt, float)
+            self._start = pt if self.raw else np.asarray(pt, float)
 
         def _add(self, points):
-            self._pieces.append(pc.from_points([self._getCurrentPoint()] + list(points)))
+            if self.raw:
+                self._pieces.append((self._getCurrentPoint(),) + tuple(points))
+            else:
+                self._pieces.append(pc.from_points([self._getCurrentPoint()] + list(points)))
 
         def _lineTo(self, pt):
             self._add([pt])
@@ -117,13 +121,36 @@ def record_contours(draw, label, glyph_set=None):
     draw(pen)
     pen._finish(closed=False)  # a contour drawn without closePath/endPath
     for c in pen.contours:
-        pts = np.concatenate([np.ravel(c.start)] + [np.ravel(p) for p in c.pieces])
-        if not np.all(np.isfinite(pts)):
-            raise ParseError("%s has a non-finite point" % label, label)
-        if np.max(np.abs(pts)) > MAX_COORDINATE:
-            raise ParseError("%s has a coordinate of %.3g; morph computes with |coordinates| "
-                             "up to %g" % (label, np.max(np.abs(pts)), MAX_COORDINATE), label)
+        _check_coordinates(np.concatenate([np.ravel(c.start)] + [np.ravel(p) for p in c.pieces]),
+                           label)
     return pen.contours
+
+
+def record_segments(draw, label, glyph_set=None):
+    """:func:`record_contours` without the arrays: each contour as a
+    :class:`RawContour` whose ``pieces`` are the segments' points as drawn (tuples of
+    (x, y), the segment's start first: 2 for a line, 3 for a quadratic, 4 for a
+    cubic) and whose ``start`` is the (x, y) of its ``moveTo``; a caller reading many
+    glyphs builds all their pieces at once (:func:`morph.parse.read_glyphs`).
+
+    Raises:
+        ParseError: as :func:`record_contours`.
+    """
+    pen = _pen_class()(glyph_set, label, raw=True)
+    draw(pen)
+    pen._finish(closed=False)
+    for c in pen.contours:  # in record_contours' order: the same error first
+        _check_coordinates(np.array([c.start] + [p for seg in c.pieces for p in seg], float),
+                           label)
+    return pen.contours
+
+
+def _check_coordinates(pts, label):
+    if not np.all(np.isfinite(pts)):
+        raise ParseError("%s has a non-finite point" % label, label)
+    if np.max(np.abs(pts)) > MAX_COORDINATE:
+        raise ParseError("%s has a coordinate of %.3g; morph computes with |coordinates| "
+                         "up to %g" % (label, np.max(np.abs(pts)), MAX_COORDINATE), label)
 
 
 def draw_paths(pen, paths):

@@ -130,23 +130,22 @@ def write_frame_stream(folder, frames, bbox, size=512, duration=120, animation="
 
 def _write_group(folder, first, group, bbox, size, animation):
     """Write frames ``first``, ... of (region, tol) pairs ``group`` (their curves
-    fitted in one batch); returns their animation images.  A frame's PNG is
-    written from its palette image when it has at most 256 colours (one fill on a
-    background: :func:`morph.render.png.exact_palette`, the same pixels), which is
-    also its GIF frame."""
-    from .png import exact_palette, gif_frame, render_png
+    fitted in one batch, their images drawn in one batch); returns their animation
+    images.  A frame's PNG is its
+    palette image (:func:`morph.render.png.render_palettes`: one fill on a white
+    background has supersample**2 + 1 colours, a byte a pixel), which is also its
+    GIF frame; an APNG frame is its RGB image, the same pixels."""
+    from .png import render_palettes
     from .svg import document_tol, fitted_regions, write_svg
 
     tols = [document_tol([region], t, bbox=bbox) for region, t in group]
+    regions = [r for r, _ in group]
     images = []
-    for k, ((region, _), t, fitted) in enumerate(
-            zip(group, tols, fitted_regions([r for r, _ in group], tols)), first):
+    for k, (t, fitted, image) in enumerate(
+            zip(tols, fitted_regions(regions, tols),
+                render_palettes(regions, size=size, bbox=bbox) if group else []), first):
         stem = folder / ("frame-%03d" % k)
         write_svg(str(stem) + ".svg", [fitted], bbox=bbox, size=size, tol=t)
-        image = render_png([region], size=size, bbox=bbox)
-        small = exact_palette(image)
-        (image if small is None else small).save(str(stem) + ".png")
-        if animation == "gif":
-            image = gif_frame(image) if small is None else small
-        images.append(image)
+        image.save(str(stem) + ".png")
+        images.append(image if animation == "gif" else image.convert("RGB"))
     return images

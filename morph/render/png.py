@@ -22,7 +22,7 @@ from . import frame_bbox, normalize_shapes
 #: coverage samples per image, at most (supersample lowered to fit): 2^28
 MAX_SAMPLES = 1 << 28
 
-__all__ = ["render_png", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
+__all__ = ["render_png", "render_palette", "render_palettes", "write_png", "frames_to_gif", "save_animation", "coverage_mask",
            "coverage_counts", "exact_palette", "gif_frame"]
 
 
@@ -92,23 +92,27 @@ def coverage_counts(polylines, height, width, k):
     samples between two crossings with a nonzero winding after the first (a row's
     directions add up to 0, so one running sum serves every row).  A run [u, v) of
     samples adds k per pixel from pixel u // k on, less u % k in that pixel, and takes
-    the same off from v; these steps are gathered per output row and one cumulative
-    sum over (height, width + 1) counts turns them into the counts, (height, width)
-    uint16."""
+    the same off from v: as steps of a running sum along the output row, k - u % k
+    at pixel u // k and u % k at the next, -(k - v % k) at v // k and -(v % k) at
+    the next.  The steps are gathered in one count per pixel of (height, width + 2)
+    (the next pixel of the last column stays in its row) and one cumulative sum
+    in int32 turns them into the counts, (height, width) uint16."""
     big_h, big_w = height * k, width * k
     rows, cols, direction = _row_crossings(polylines, big_h, big_w)
-    out = np.zeros((height, width + 1), np.int64)
-    if len(rows) > 1:
-        order = np.lexsort((cols, rows))
-        rows, cols = rows[order], cols[order]
-        winding = np.cumsum(direction[order])
-        run = np.flatnonzero(winding[:-1] != 0)  # [cols[i], cols[i + 1]) is covered
-        u, v = cols[run], cols[run + 1]
-        base = (rows[run] // k) * (width + 1)
-        steps = np.concatenate([base + u // k, base + v // k])
-        slope = np.bincount(steps, np.repeat([k, -k], len(run)), out.size)
-        point = np.bincount(steps, np.concatenate([-(u % k), v % k]), out.size)
-        out = np.cumsum(slope.reshape(out.shape), axis=1) + point.reshape(out.shape)
+    if len(rows) < 2:
+        return np.zeros((height, width), np.uint16)
+    order = np.lexsort((cols, rows))
+    rows, cols = rows[order], cols[order]
+    winding = np.cumsum(direction[order])
+    run = np.flatnonzero(winding[:-1] != 0)  # [cols[i], cols[i + 1]) is covered
+    u, v = cols[run], cols[run + 1]
+    at_u = (rows[run] // k) * (width + 2) + u // k
+    at_v = (rows[run] // k) * (width + 2) + v // k
+    ru, rv = u % k, v % k
+    steps = np.bincount(np.concatenate([at_u, at_u + 1, at_v, at_v + 1]),
+                        np.concatenate([k - ru, ru, rv - k, -rv]), height * (width + 2))
+    # int32 (a count is at most k^2): numpy's float64 cumsum along rows is 7 times slower
+    out = np.cumsum(steps.reshape(height, width + 2).astype(np.int32), axis=1, dtype=np.int32)
     return out[:, :width].astype(np.uint16)
 
 
@@ -127,6 +131,48 @@ def _fit(size, frame):
     return width, height, scale, (cx, cy)
 
 
+def _raster(items, size, margin, bbox, supersample):
+    """(width, height, k, to_px, flat_tol) of a render: the frame (``bbox`` or the
+    shapes' union box, grown by ``margin``) fitted to ``size`` and centred, ``k``
+    samples per pixel along each axis (lowered to at most MAX_SAMPLES samples),
+    ``to_px`` the map of region points to sample coordinates and ``flat_tol`` the
+    flattening of 0.1 sample in region units."""
+    frame = frame_bbox(items, bbox, margin)
+    width, height, scale, (cx, cy) = _fit(size, frame)
+    k = int(supersample)
+    if k < 1:
+        raise ValueError("supersample must be >= 1, got %r" % (supersample,))
+    # at most MAX_SAMPLES coverage samples (4 at 512 and 4096 px, 2 at 8192 px): the
+    # sample mask and its winding sums stay within a few GB at the largest sizes
+    k = max(1, min(k, int(math.sqrt(MAX_SAMPLES / (width * height)))))
+    big_w, big_h, s = width * k, height * k, scale * k
+
+    def to_px(points):
+        return np.column_stack([(points[:, 0] - cx) * s + big_w / 2.0,
+                                (cy - points[:, 1]) * s + big_h / 2.0])
+
+    return width, height, k, to_px, 0.1 / s
+
+
+def _fill_counts(loops, width, height, k, to_px, flat_tol):
+    """Covered samples of each pixel (:func:`coverage_counts`) of a region's fill."""
+    polys = [to_px(pl.flatten_loop(loop, flat_tol)) for loop in loops if loop]
+    return polys, coverage_counts(polys, height, width, k)
+
+
+def _alpha(hits, color, k):
+    """The box filter: the share of covered samples times the colour's alpha,
+    rounded to 0-255 (uint8)."""
+    return ((hits.astype(np.uint32) * (2 * color[3]) + k * k) // (2 * k * k)).astype(np.uint8)
+
+
+def _layer(color, alpha):
+    """An RGBA image of ``color`` with the alpha channel ``alpha`` (2-d uint8)."""
+    layer = Image.new("RGBA", (alpha.shape[1], alpha.shape[0]), color[:3] + (0,))
+    layer.putalpha(Image.fromarray(alpha, "L"))
+    return layer
+
+
 def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_width=1.0,
                background="white", bbox=None, supersample=4):
     """Anti-aliased image of shapes (see :mod:`morph.render` for the shapes forms).
@@ -140,35 +186,23 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
     background is None, else RGB.
     """
     items = normalize_shapes(shapes)
-    frame = frame_bbox(items, bbox, margin)
-    width, height, scale, (cx, cy) = _fit(size, frame)
-    k = int(supersample)
-    if k < 1:
-        raise ValueError("supersample must be >= 1, got %r" % (supersample,))
-    # at most MAX_SAMPLES coverage samples (4 at 512 and 4096 px, 2 at 8192 px): the
-    # sample mask and its winding sums stay within a few GB at the largest sizes
-    k = max(1, min(k, int(math.sqrt(MAX_SAMPLES / (width * height)))))
-    big_w, big_h, s = width * k, height * k, scale * k
-    flat_tol = 0.1 / s
-
-    def to_px(points):
-        return np.column_stack([(points[:, 0] - cx) * s + big_w / 2.0,
-                                (cy - points[:, 1]) * s + big_h / 2.0])
-
+    width, height, k, to_px, flat_tol = _raster(items, size, margin, bbox, supersample)
     bg = _rgba(background) if background is not None else (0, 0, 0, 0)
     canvas = Image.new("RGBA", (width, height), bg)
     for loops, style in items:
         opacity = style.get("opacity", 1.0)
-        polys = [to_px(pl.flatten_loop(loop, flat_tol)) for loop in loops if loop]
-        layers = []
         f = _rgba(style.get("fill", fill), opacity)
+        layers = []
         if f is not None:
-            layers.append((f, coverage_counts(polys, height, width, k)))
+            polys, hits = _fill_counts(loops, width, height, k, to_px, flat_tol)
+            layers.append((f, hits))
+        else:
+            polys = [to_px(pl.flatten_loop(loop, flat_tol)) for loop in loops if loop]
         st = _rgba(style.get("stroke", stroke), opacity)
         if st is not None:
             from PIL import ImageDraw  # strokes only: it imports ImageFont
 
-            img = Image.new("L", (big_w, big_h), 0)
+            img = Image.new("L", (width * k, height * k), 0)
             draw = ImageDraw.Draw(img)
             lw = max(1, int(round(style.get("stroke_width", stroke_width) * k)))
             for p in polys:
@@ -176,13 +210,59 @@ def render_png(shapes, size=512, margin=0.05, fill="black", stroke=None, stroke_
                 draw.line(pts, fill=255, width=lw, joint="curve")
             layers.append((st, _box_sum((np.asarray(img) > 127).view(np.uint8), k)))
         for color, hits in layers:
-            # box filter: the share of covered samples, times the colour's alpha,
-            # rounded to 0-255; "over" compositing with straight alpha (Pillow)
-            alpha = (hits.astype(np.uint32) * (2 * color[3]) + k * k) // (2 * k * k)
-            layer = Image.new("RGBA", (width, height), color[:3] + (0,))
-            layer.putalpha(Image.fromarray(alpha.astype(np.uint8), "L"))
-            canvas.alpha_composite(layer)
+            # "over" compositing with straight alpha (Pillow)
+            canvas.alpha_composite(_layer(color, _alpha(hits, color, k)))
     return canvas if background is None else canvas.convert("RGB")
+
+
+def render_palette(region, size=512, margin=0.05, fill="black", background="white",
+                   bbox=None, supersample=4):
+    """:func:`render_png` of one filled region on an opaque background as a palette
+    image ("P"), the same RGB pixels in a byte each: a pixel's index is how many of
+    its k x k samples are covered (0 ... k^2; past 256 levels, the alpha they give,
+    0 ... 255) and the palette holds the colour render_png composes for it, made by
+    the same Pillow compositing on a row of those levels.  No canvas is composited
+    and converted, and no colours are collected (:func:`exact_palette`): what a
+    frame's PNG and GIF frame are."""
+    items = normalize_shapes(region)
+    if len(items) != 1 or items[0][1]:
+        raise ValueError("render_palette draws one region, without a style")
+    return render_palettes([items[0][0]], size, margin, fill, background, bbox,
+                           supersample)[0]
+
+
+def render_palettes(regions, size=512, margin=0.05, fill="black", background="white",
+                    bbox=None, supersample=4):
+    """:func:`render_palette` of each of ``regions`` (lists of loops), all in one
+    frame (``bbox``, else the union of their boxes, grown by ``margin``), their
+    loops flattened in one batch: the frames of an animation."""
+    bg, f = _rgba(background), _rgba(fill)
+    if bg is None or bg[3] != 255:
+        raise ValueError("render_palette needs an opaque background, got %r" % (background,))
+    regions = [[loop for loop in r if loop] for r in regions]
+    if bbox is None:
+        bbox = frame_bbox([r for r in regions if r], margin=0.0)
+    width, height, k, to_px, flat_tol = _raster(None, size, margin, bbox, supersample)
+    if f is None:
+        alpha, index = np.zeros(1, np.uint8), [np.zeros((height, width), np.uint8)] * len(regions)
+    else:
+        polys = iter(pl.flatten_loops([loop for r in regions for loop in r], flat_tol))
+        hits = [coverage_counts([to_px(next(polys)) for _ in r], height, width, k)
+                for r in regions]
+        if k * k < 256:
+            alpha, index = _alpha(np.arange(k * k + 1), f, k), [h.astype(np.uint8) for h in hits]
+        else:
+            alpha, index = np.arange(256, dtype=np.uint8), [_alpha(h, f, k) for h in hits]
+    palette = Image.new("RGBA", (len(alpha), 1), bg)
+    if f is not None:
+        palette.alpha_composite(_layer(f, alpha[None]))
+    palette = palette.convert("RGB").tobytes()
+    images = []
+    for ix in index:
+        image = Image.fromarray(ix, "L")
+        image.putpalette(palette)
+        images.append(image)
+    return images
 
 
 def _box_sum(mask, k):
@@ -216,14 +296,19 @@ def exact_palette(image):
     """An RGB image of at most 256 colours (one fill anti-aliased on a background
     has supersample**2 + 1) as a palette image of its own colours: the same pixels
     in a byte each, which a PNG stores in a third of the time and space of RGB;
-    None for an image of more colours (or not RGB)."""
+    None for an image of more colours (or not RGB).  Each pixel's index is found
+    by its colour in the sorted table of the image's colours (Pillow's quantize to
+    a given palette is not exact: it moved greys by up to 3 levels)."""
     colors = image.getcolors(256) if image.mode == "RGB" else None
     if colors is None:
         return None
-    flat = [c for _, color in colors for c in color]
-    palette = Image.new("P", (1, 1))
-    palette.putpalette(flat + flat[:3] * (256 - len(colors)))
-    return image.quantize(palette=palette, dither=Image.Dither.NONE)
+    rgb = np.asarray(image).astype(np.uint32)
+    key = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    table = np.array(sorted((r << 16) | (g << 8) | b for _, (r, g, b) in colors), np.uint32)
+    out = Image.fromarray(np.searchsorted(table, key).astype(np.uint8), "L")
+    out.putpalette(np.stack([table >> 16, (table >> 8) & 255, table & 255], axis=1)
+                   .astype(np.uint8).tobytes())
+    return out
 
 
 def gif_frame(image):

@@ -15,6 +15,27 @@ vanishes and its neighbours meet at the grid point).  Segments are then routed
 through the grid points of the other vertices whose pixels they cross (snap
 rounding with the vertices' pixels hot): two segments closer than a grid step keep
 their order or coincide, where rounding their ends on their own could swap them.
+
+The levels of :func:`adaptive_starts` guarantee (tests/trim/test_flatten.py checks both):
+
+1. every segment's part lies within the tolerance of the level that decided it
+   (e for a part decided at level e, eps for the parts the last level leaves):
+   a refined stretch takes every vertex of its pieces' flattening at the finer
+   tolerance (:func:`_refined`);
+2. a part decided at level e is farther than e + 2 (eps + grid) from the part
+   of every segment still pending at that level, those cut from its two
+   neighbours at that level excepted (they lie beyond the shared vertex: the
+   arcs advance along their mean chord).  Parts decided at a coarser level
+   were held to that level's test.
+
+So a level tests its pending segments among themselves only.  A part's later
+polylines have their vertices on the part and their chords in its convex
+hull, so they stay inside every capsule the part was in: two segments tested
+at level e' apart by more than 2 e' + 2 (eps + grid) have capsules of radius e'
+more than 2 (eps + grid) apart, and so have everything cut from them later and
+those cuts rounded to the grid.  The reach 2 e + 2 (eps + grid) of level e
+bounds the flattening error e of both segments tested, plus eps + grid for
+each side's lifted loop (within eps + grid of its rounded polyline).
 """
 
 from dataclasses import dataclass
@@ -142,26 +163,8 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     near any other: the winding numbers away from them, hence the filled set, are
     those of the finer flattening, and the lifted boundary follows the exact pieces.
 
-    What the result guarantees (tests/trim/test_flatten.py checks both):
-
-    1. every segment's part lies within the tolerance of the level that decided it
-       (e for a part decided at level e, eps for the parts the last level leaves):
-       a refined stretch takes every vertex of its pieces' flattening at the finer
-       tolerance (:func:`_refined`);
-    2. a part decided at level e is farther than e + 2 (eps + grid) from the part
-       of every segment still pending at that level, those cut from its two
-       neighbours at that level excepted (they lie beyond the shared vertex: the
-       arcs advance along their mean chord).  Parts decided at a coarser level
-       were held to that level's test.
-
-    So a level tests its pending segments among themselves only.  A part's later
-    polylines have their vertices on the part and their chords in its convex
-    hull, so they stay inside every capsule the part was in: two segments tested
-    at level e' apart by more than 2 e' + 2 (eps + grid) have capsules of radius e'
-    more than 2 (eps + grid) apart, and so have everything cut from them later and
-    those cuts rounded to the grid.  The reach 2 e + 2 (eps + grid) of level e
-    bounds the flattening error e of both segments tested, plus eps + grid for
-    each side's lifted loop (within eps + grid of its rounded polyline).
+    What the result guarantees, and why a level tests its pending segments among
+    themselves only: the module's docstring.
     """
     coarse = COARSE if coarse is None else coarse
     levels = _levels(coarse)

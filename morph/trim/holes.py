@@ -324,18 +324,41 @@ class Membership:
                                sizes[curves] // 2 + 1)
         pts_b = np.concatenate(self.pb)
         self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
+        self._closed_ok = np.array([len(p) >= 3 for p in self.pa], bool)
+        self._curve_ok = np.array([len(c) >= 2 for c in self.curves], bool)
+        self._pa_lists, self._curve_lists = [None] * len(self.pa), [None] * len(self.curves)
 
     def _int(self, pts):
         return np.rint(pts / self.grid).astype(np.int64)
 
     def __call__(self, x):
-        # only the loops of A whose boxes meet the box of x - B can meet x - B
-        lo = self._int(np.asarray(x) - self.box_b[2:]) - 1
-        hi = self._int(np.asarray(x) - self.box_b[:2]) + 1
-        closed = [p.tolist() for p in _meeting(self.pa, self.box_a, lo, hi) if len(p) >= 3]
-        curves = [c.tolist() for c in _meeting(self.curves, self.box_c, lo, hi) if len(c) >= 2]
-        if not closed and not curves:
+        return bool(self.many(np.asarray(x, float)[None])[0])
+
+    def many(self, points):
+        """Membership of each of ``points`` (k, 2): one Clipper intersection per
+        point, of x - B with the loops of A whose boxes meet the box of x - B (found
+        for all the points at once; each loop converted to Clipper's lists once)."""
+        x = np.asarray(points, float).reshape(-1, 2)
+        lo = self._int(x - self.box_b[2:]) - 1
+        hi = self._int(x - self.box_b[:2]) + 1
+        closed, c0 = _meeting_many(self.box_a, lo, hi, self._closed_ok)
+        curves, k0 = _meeting_many(self.box_c, lo, hi, self._curve_ok)
+        c0, k0 = c0.tolist(), k0.tolist()
+        return np.array([self._meets(x[i], closed[c0[i]:c0[i + 1]], curves[k0[i]:k0[i + 1]])
+                         for i in range(len(x))], bool)
+
+    def _listed(self, polys, cache, k):
+        if cache[k] is None:
+            cache[k] = polys[k].tolist()
+        return cache[k]
+
+    def _meets(self, x, closed_ids, curve_ids):
+        """Whether A meets x - B, given the loops of A (indices into ``pa`` and
+        ``curves``) that can."""
+        if not len(closed_ids) and not len(curve_ids):
             return False
+        closed = [self._listed(self.pa, self._pa_lists, k) for k in closed_ids]
+        curves = [self._listed(self.curves, self._curve_lists, k) for k in curve_ids]
         clip = pyclipper.Pyclipper()
         for c in closed:
             if not _add(clip, c, pyclipper.PT_SUBJECT, True):
@@ -345,7 +368,7 @@ class Membership:
             # the flattening's depth / 10 of it)
             _add(clip, c, pyclipper.PT_SUBJECT, False) or _add(
                 clip, [c[0], [c[0][0] + 1, c[0][1]]], pyclipper.PT_SUBJECT, False)
-        moved = [self._int(np.asarray(x) - p) for p in self.pb]
+        moved = [self._int(x - p) for p in self.pb]
         if not any([_add(clip, p.tolist(), pyclipper.PT_CLIP, True) for p in moved if len(p) >= 3]):
             return False  # x - B rounds to no area
         tree = clip.Execute2(pyclipper.CT_INTERSECTION, pyclipper.PFT_NONZERO,
@@ -375,9 +398,20 @@ def _boxes_of(q, first, count):
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
 
-def _meeting(polys, boxes, lo, hi):
-    """The polygons whose boxes meet the box [lo, hi]."""
-    if not len(polys):
-        return []
-    hit = np.all(boxes[:, :2] <= hi, axis=1) & np.all(boxes[:, 2:] >= lo, axis=1)
-    return [polys[k] for k in np.flatnonzero(hit)]
+def _meeting_many(boxes, lo, hi, ok, block=1 << 18):
+    """For each box [lo[i], hi[i]], the ``ok`` boxes among ``boxes`` (k, 4) that
+    meet it, found in blocks of about ``block`` box pairs: (ids, first), box i's
+    ascending in ids[first[i]:first[i + 1]]."""
+    cand = np.flatnonzero(ok)
+    counts = np.zeros(len(lo), np.int64)
+    found = []
+    if len(cand):
+        b = boxes[cand]
+        step = max(1, block // len(cand))
+        for s in range(0, len(lo), step):
+            l, h = lo[s:s + step, None, :], hi[s:s + step, None, :]
+            hit = np.all(b[None, :, :2] <= h, axis=2) & np.all(b[None, :, 2:] >= l, axis=2)
+            counts[s:s + step] = hit.sum(axis=1)
+            found.append(cand[np.nonzero(hit)[1]])
+    ids = np.concatenate(found) if found else np.zeros(0, np.int64)
+    return ids, np.concatenate([[0], np.cumsum(counts)])

@@ -265,6 +265,22 @@ def test_progress_piped_stroke_counts_rise_to_the_total(runner, tmp_path, monkey
     assert set(counts) - ({0, total} | {len(c) for c in chunks})
 
 
+def test_progress_frames_count_the_free_first_frame_with_the_next(runner, tmp_path, monkeypatch):
+    """The first frame is operand A itself and costs nothing: a piped run's status
+    lines never show it alone (a time left measured on it promised ~30x the run),
+    and the counts rise to the total."""
+    import re
+
+    from morph.cli import options
+
+    monkeypatch.setattr(options, "STATUS_SECONDS", 0.005)
+    res = runner.invoke(main, ["glyph", "T", "M", "--frames", "4", "-o", str(tmp_path / "f")])
+    assert res.exit_code == 0, res.output
+    counts = [int(c) for c in re.findall(r"^morph glyph: (\d+)/4 frames", res.stderr, re.M)]
+    assert counts and counts == sorted(counts) and counts[-1] == 4
+    assert 1 not in counts
+
+
 def test_progress_eta_from_work_done():
     """The time left is the time per item done so far times the items left, shown
     once something is done; items reported in bursts (a batch of glyphs finishing

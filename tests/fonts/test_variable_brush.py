@@ -48,7 +48,8 @@ def sources(tmp_path_factory):
     return {"ttf": static, "otf": otf, "var": variable_mark_font(d),
             "cff2": variable_mark_font(d, cff2=True),
             "tall": variable_mark_font(d, scale=(1.0, 2.0)),
-            "big": variable_mark_font(d, scale=(1.25, 1.25))}
+            "big": variable_mark_font(d, scale=(1.25, 1.25)),
+            "tall_o": variable_mark_font(d, scale=(1.25, 2.5), only=("o",))}
 
 
 def _instance(path, loc):
@@ -244,6 +245,29 @@ def test_source_masters_added_until_the_bound_holds(sources, tmp_path):
                            lambda loc: Ellipse(*nib), glyphs) for w in spots)
 
 
+def test_each_glyph_gets_its_own_source_masters(sources, tmp_path):
+    """A variable source whose wght master makes o twice as tall as wide and scales e
+    and n uniformly: o gets intermediate source masters, e and n keep the source's
+    two (each glyph's variations over its own masters: one gvar tuple over the whole
+    wght tent, not the tents of o's grid), and 9 positions and random ones are
+    within the bound for all three."""
+    from fontTools.ttLib import TTFont
+
+    nib, glyphs = (80, 20, 30), ("o", "e", "n")
+    out = tmp_path / "TallO.ttf"
+    stats = brush_variable(sources["tall_o"], out, nib, glyphs=list(glyphs), tol=TOL)
+    rep, masters = stats["refinement"], stats["glyph_masters"]
+    assert rep["hardest"] == "o" and masters["o"] == rep["most"] == 2 + rep["added"] > 2
+    assert masters["e"] == masters["n"] == 2 and rep["refined"] == 1
+    gvar = TTFont(str(out))["gvar"].variations
+    assert [v.axes for v in gvar["e"]] == [{"wght": (0.0, 1.0, 1.0)}]
+    assert len(gvar["o"]) == masters["o"] - 1
+    rng = np.random.default_rng(39)
+    for w in list(np.linspace(400, 700, 9)) + list(rng.uniform(400, 700, 2)):
+        assert _within(out, sources["tall_o"], {"wght": float(w)}, lambda loc: Ellipse(*nib),
+                       glyphs), w
+
+
 def test_no_source_master_where_the_blend_holds(sources, tmp_path):
     """A variable source whose wght master is the Regular one scaled uniformly keeps
     the normals (up to the integer rounding of its points): its two masters blend
@@ -272,8 +296,11 @@ def test_cff2_output(sources, tmp_path):
     font = TTFont(str(out))
     assert "CFF2" in font and "HVAR" in font and "glyf" not in font
     assert [a.axisTag for a in font["fvar"].axes] == ["wght", "NIBW"]
-    assert len(font["CFF2"].cff.topDictIndex[0].VarStore.otVarStore.VarRegionList.Region) \
-        == len(stats["masters"]) - 1
+    # one VarData per glyph's own set of masters: its regions those of its masters
+    store = font["CFF2"].cff.topDictIndex[0].VarStore.otVarStore
+    assert {len(d.VarRegionIndex) + 1 for d in store.VarData} >= \
+        set(stats["glyph_masters"].values())
+    assert max(stats["glyph_masters"].values()) == len(stats["masters"])
     ots = pytest.importorskip("ots")
     r = ots.sanitize(str(out), capture_output=True)
     assert r.returncode == 0, r.stderr

@@ -61,9 +61,10 @@ def to_cff(font):
     return font
 
 
-def _wide(font, scale=(WIDE, 1.0)):
+def _wide(font, scale=(WIDE, 1.0), only=None):
     """The wght=700 master: outlines, advances and GPOS anchors scaled by ``scale``
-    (x, y; default 1.25 x), rounded to integers."""
+    (x, y; default 1.25 x), rounded to integers; with ``only`` (glyph names) the
+    other glyphs' outlines are scaled uniformly, by x's scale in y too."""
     import numpy as np
 
     from morph.fonts.tables import _lookup_subtables
@@ -76,7 +77,7 @@ def _wide(font, scale=(WIDE, 1.0)):
             g = glyf[name]
             if g.numberOfContours > 0:
                 c = np.array(g.coordinates, float)
-                c[:, 1] = np.round(c[:, 1] * sy)
+                c[:, 1] = np.round(c[:, 1] * (sy if only is None or name in only else sx))
                 g.coordinates = type(g.coordinates)([tuple(map(int, p)) for p in c])
                 g.recalcBounds(glyf)
     seen = set()
@@ -101,9 +102,10 @@ def _anchors(st):
     return [a for a in recs if a is not None]
 
 
-def variable_mark_font(folder, cff2=False, scale=(WIDE, 1.0)):
+def variable_mark_font(folder, cff2=False, scale=(WIDE, 1.0), only=None):
     """The two-master variable mark font (glyf/gvar, or CFF2): a path; the wght=700
-    master is the Regular one scaled by ``scale`` (x, y)."""
+    master is the Regular one scaled by ``scale`` (x, y; with ``only``, the other
+    glyphs uniformly by x's)."""
     from fontTools.designspaceLib import AxisDescriptor, DesignSpaceDocument, SourceDescriptor
     from fontTools.ttLib import TTFont
     from fontTools.varLib import build
@@ -114,7 +116,7 @@ def variable_mark_font(folder, cff2=False, scale=(WIDE, 1.0)):
     for style, wide in (("Regular", False), ("Wide", True)):
         font = TTFont(str(base))
         if wide:
-            _wide(font, scale)
+            _wide(font, scale, only)
         if cff2:
             to_cff(font)
         p = folder / ("Mark-%s%s" % (style, suffix))
@@ -130,7 +132,8 @@ def variable_mark_font(folder, cff2=False, scale=(WIDE, 1.0)):
         doc.addSource(src)
     var, _, _ = build(doc, optimize=False)
     out = folder / ("MarkVar" + suffix)
-    out = out.with_name("%s-%g-%g%s" % (out.stem, scale[0], scale[1], out.suffix)) \
+    out = out.with_name("%s-%g-%g%s%s" % (out.stem, scale[0], scale[1],
+                                           "-" + "-".join(only) if only else "", out.suffix)) \
         if tuple(scale) != (WIDE, 1.0) else out
     var.save(str(out))
     return out

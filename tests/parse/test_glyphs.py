@@ -116,3 +116,36 @@ def test_missing_and_empty_glyphs():
         glyph_region(" ")
     with pytest.raises(ParseError):
         glyph_region("")
+
+
+@pytest.mark.parametrize("font", sorted(FONTS))
+def test_read_glyphs_is_the_one_glyph_reader_of_each_to_the_bit(font):
+    """read_glyphs (pieces of all glyphs built at once, contours oriented together)
+    gives, glyph by glyph, what the one-glyph way gives: the pen's pieces one by one
+    (record_contours), _filled_loop, orient_region; the errors of the bad names
+    returned in their places, the others read."""
+    from morph.parse import read_glyphs
+    from morph.parse.glyphs import _filled_loop, glyph_name
+    from morph.parse.pens import record_contours
+    from morph.region import orient_region
+    from morph.trim import fill_region
+
+    f = load_font(FONTS[font])
+    names = [glyph_name(f, c) for c in string.ascii_letters + string.digits + "&%@\u00e0"]
+    names = names + ["space", "notaglyphname"] + names[:3]
+    got = read_glyphs(f, names)
+    glyphs = f.getGlyphSet()
+    for name, shape in zip(names, got):
+        if name in ("space", "notaglyphname"):
+            assert isinstance(shape, ParseError)
+            assert ("empty" if name == "space" else "no glyph named") in str(shape)
+            continue
+        contours = record_contours(glyphs[name].draw, name, glyphs)
+        loops = [lp for lp in (_filled_loop(c, name) for c in contours) if lp]
+        want = orient_region(loops, "nonzero", on_crossing=fill_region)
+        assert len(shape.region) == len(want) and shape.region.validated, name
+        for la, lb in zip(shape.region, want):
+            assert len(la) == len(lb)
+            assert all(p.shape == q.shape and p.tobytes() == np.ascontiguousarray(q).tobytes()
+                       for p, q in zip(la, lb)), name
+        assert (shape.advance_width, shape.lsb) == tuple(f["hmtx"][name])

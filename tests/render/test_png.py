@@ -15,7 +15,8 @@ from morph import polyline as pl
 from morph.parse import cubic_test_font_path, glyph_region, svg_region
 from morph.region import reverse_loop, translate_region
 from morph.render import frame_bbox, frames_to_gif, render_png, save_animation, svg_document
-from morph.render.png import _box_sum, coverage_counts, coverage_mask, gif_frame
+from morph.render.png import (_box_sum, coverage_counts, coverage_mask, gif_frame,
+                              render_palette)
 
 SVG_NS = 'xmlns="http://www.w3.org/2000/svg"'
 ARC_SVG = ('<svg %s><path d="M 0 0 A 50 30 20 1 1 60 40 L 30 80 Z '
@@ -132,6 +133,9 @@ def test_gif_frames_keep_the_colours_of_a_frame():
     frame = gif_frame(img)
     assert frame.mode == "P"
     assert np.array_equal(np.asarray(frame.convert("RGB")), np.asarray(img))
+    greys = np.repeat(np.arange(256, dtype=np.uint8).reshape(16, 16, 1), 3, axis=2)
+    frame = gif_frame(Image.fromarray(greys, "RGB"))  # 256 colours, one level apart
+    assert frame.mode == "P" and np.array_equal(np.asarray(frame.convert("RGB")), greys)
     ramp = np.zeros((40, 40, 3), np.uint8)
     ramp[..., 0] = np.arange(40)[:, None] * 6
     ramp[..., 1] = np.arange(40)[None, :] * 6
@@ -140,6 +144,40 @@ def test_gif_frames_keep_the_colours_of_a_frame():
     frame = gif_frame(many)
     assert frame.mode == "P" and len(frame.getcolors(256)) <= 256
     assert np.abs(np.asarray(frame.convert("RGB"), int) - ramp.astype(int)).mean() < 8
+
+
+def test_palette_render_has_the_pixels_of_the_full_render():
+    """render_palette (a frame's PNG and GIF frame: the count of covered samples per
+    pixel, with a palette of the k^2 + 1 composited colours) gives render_png's RGB
+    pixels exactly: a glyph with holes, a CFF glyph, a fill with alpha on a coloured
+    background, supersampling 1, 3, 4 and the fallback past 256 levels (16 x 16);
+    a fill of "none" is the background.  A palette made with the wrong alpha
+    rounding (floor) fails it."""
+    import morph.render.png as P
+
+    cases = [(glyph_region("g").region, {}), (glyph_region("B", cubic_test_font_path()).region,
+                                              {"supersample": 3}),
+             (svg_region(ARC_SVG), {"fill": (40, 90, 200, 150), "background": "#f0e0a0",
+                                    "supersample": 1}),
+             (glyph_region("a").region, {"fill": "none"}),
+             (glyph_region("&").region, {"size": 40, "supersample": 16})]
+    for region, kw in cases:
+        size = kw.pop("size", 96)
+        bbox = frame_bbox([region], margin=0.1)
+        want = np.asarray(render_png([region], size=size, bbox=bbox, **kw))
+        got = render_palette([region], size=size, bbox=bbox, **kw)
+        assert got.mode == "P", kw
+        assert np.array_equal(np.asarray(got.convert("RGB")), want), kw
+    with pytest.raises(ValueError):
+        render_palette([glyph_region("g").region], background=None)
+    region = glyph_region("g").region
+    real = P._alpha
+    try:
+        P._alpha = lambda hits, color, k: (hits.astype(np.uint32) * color[3] // (k * k)).astype(np.uint8)
+        got = np.asarray(render_palette([region], size=96).convert("RGB"))
+    finally:
+        P._alpha = real
+    assert not np.array_equal(got, np.asarray(render_png([region], size=96)))
 
 
 def test_fixed_bbox_frames_align():

@@ -88,10 +88,35 @@ def test_membership_of_scattered_loops_against_shapely():
     union = shapely.union_all([Polygon(pl.flatten_loop(loop, 1e-4)) for loop in a])
     xs = np.concatenate([rng.uniform(-210, 210, size=(150, 2)),
                          centres + rng.uniform(-9, 9, size=(12, 2))])
-    for x in xs:
-        d = union.distance(Point(x))
-        if abs(d - 2.0) > 0.05:
-            assert member(x) == (d < 2.0), (x, d)
+    d = np.array([union.distance(Point(x)) for x in xs])
+    clear = np.abs(d - 2.0) > 0.05
+    for x, dx in zip(xs[clear], d[clear]):
+        assert member(x) == (dx < 2.0), (x, dx)
+    # all the points at once (their loops found together), as one at a time
+    got = member.many(xs)
+    assert np.array_equal(got[clear], d[clear] < 2.0) and got[clear].any()
+
+
+def test_meeting_boxes_found_in_blocks_as_one_by_one():
+    """:func:`morph.trim.holes._meeting_many`: the boxes meeting each query box
+    (touching counts), only those marked ok, in blocks of a few pairs, as a loop
+    over the queries finds them; a query meeting nothing has none."""
+    from morph.trim.holes import _meeting_many
+
+    rng = np.random.default_rng(3)
+    lo = rng.integers(0, 100, (40, 2))
+    boxes = np.concatenate([lo, lo + rng.integers(0, 30, (40, 2))], axis=1)
+    ok = rng.random(40) < 0.7
+    qlo = rng.integers(-20, 120, (25, 2))
+    qhi = qlo + rng.integers(0, 25, (25, 2))
+    qlo[0], qhi[0] = (500, 500), (510, 510)   # far from every box
+    for block in (7, 1 << 18):
+        ids, first = _meeting_many(boxes, qlo, qhi, ok, block)
+        for i in range(len(qlo)):
+            want = [k for k in range(40) if ok[k] and np.all(boxes[k, :2] <= qhi[i])
+                    and np.all(boxes[k, 2:] >= qlo[i])]
+            assert ids[first[i]:first[i + 1]].tolist() == want
+        assert first[1] == first[0] and len(ids) > 25
 
 
 

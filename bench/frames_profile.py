@@ -1,0 +1,172 @@
+"""The frame commands' CPU time: whole processes, and where a process spends it.
+
+    python bench/frames_profile.py                      # 7 runs of each command
+    python bench/frames_profile.py --against ../other   # alternated with another checkout
+    python bench/frames_profile.py --phases             # CPU of each phase, in one process
+
+The commands are the bundled morph and the README's glyph morph,
+
+    morph svg morph/data/bird.svg morph/data/butterfly.svg --frames 10
+    morph glyph T M --frames 10
+
+each into a fresh temporary folder.  A process's CPU is its user + system time from
+rusage; it runs with bytecode cached in a private folder (as after a pip install) and
+again without bytecode (PYTHONDONTWRITEBYTECODE, as this machine's shells set it:
+every module compiled again).  With ``--against ROOT`` the same commands of the
+checkout at ROOT (its own ``morph`` package) run in turn with this one's, run by run,
+so that a drift of a shared machine's speed touches both; the median of the run-by-run
+ratios is reported.  ``--phases`` times the phases of the svg command inside one warm
+process (imports done): the sums' convolution and trimming, the SVG export, the PNG
+and animation writers.  Output: markdown tables on stdout; CPU time only (a shared
+machine's wall time says little).
+"""
+
+import argparse
+import functools
+import importlib
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "morph" / "data"
+COMMANDS = {
+    "svg bird butterfly --frames 10": ["svg", str(DATA / "bird.svg"), str(DATA / "butterfly.svg"),
+                                       "--frames", "10"],
+    "glyph T M --frames 10": ["glyph", "T", "M", "--frames", "10"],
+}
+#: (module, function) timed by --phases, in the order shown
+PHASES = [("morph.minkowski", "_first_round", "convolution (first round)"),
+          ("morph.minkowski", "_trimmed", "trimming"),
+          ("morph.render.svg", "fitted_regions", "SVG export: cubic fit"),
+          ("morph.render.svg", "write_svg", "SVG export: writing"),
+          ("morph.render.png", "render_palettes", "PNG: drawing"),
+          ("morph.render.png", "save_animation", "animation")]
+
+
+def cpu_of(cmd, env, cwd):
+    """CPU seconds (user + system) of one child process; raises when it fails."""
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    p = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if p.returncode != 0:
+        raise RuntimeError("%s failed (%d): %s" % (" ".join(cmd), p.returncode, p.stderr[-500:]))
+    return (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+
+
+def environments(root):
+    """{"bytecode cached": env, "no bytecode": env} running the morph of ``root``."""
+    base = dict(os.environ, PYTHONPATH=str(root))
+    cached = dict(base, PYTHONPYCACHEPREFIX=tempfile.mkdtemp(prefix="frames-pycache-"))
+    cached.pop("PYTHONDONTWRITEBYTECODE", None)
+    return {"bytecode cached": cached, "no bytecode": dict(base, PYTHONDONTWRITEBYTECODE="1")}
+
+
+def processes(roots, runs):
+    """{(command, setting, root): [CPU s per run]}, the roots alternated run by run."""
+    out = {}
+    envs = {r: environments(r) for r in roots}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, args in COMMANDS.items():
+            for setting in ("bytecode cached", "no bytecode"):
+                for i in range(runs + 1):       # run 0 warms the cache and the page cache
+                    order = roots if i % 2 else roots[::-1]
+                    for r in order:
+                        folder = os.path.join(tmp, "frames")
+                        shutil.rmtree(folder, ignore_errors=True)
+                        cmd = [sys.executable, "-m", "morph.cli"] + args + ["-o", folder]
+                        t = cpu_of(cmd, envs[r][setting], tmp)
+                        if i:
+                            out.setdefault((name, setting, r), []).append(t)
+    return out
+
+
+def phases(runs):
+    """{phase: median CPU s} of the svg command in this process, after one warm-up run,
+    and "whole command"."""
+    sys.path.insert(0, str(ROOT))   # this checkout's morph
+    import morph.cli
+
+    spent = {}
+
+    def timed(module, name, label):
+        m = importlib.import_module(module)
+        f = getattr(m, name)
+
+        @functools.wraps(f)
+        def wrapper(*args, **kwargs):
+            t = time.process_time()
+            try:
+                return f(*args, **kwargs)
+            finally:
+                spent[label] = spent.get(label, 0.0) + time.process_time() - t
+        setattr(m, name, wrapper)
+
+    with tempfile.TemporaryDirectory() as tmp:
+        args = COMMANDS["svg bird butterfly --frames 10"] + ["-o", os.path.join(tmp, "f")]
+
+        def once():
+            shutil.rmtree(os.path.join(tmp, "f"), ignore_errors=True)
+            t = time.process_time()
+            morph.cli.main(args, standalone_mode=False)
+            return time.process_time() - t
+
+        once()
+        for spec in PHASES:
+            timed(*spec)
+        rows = {}
+        for _ in range(runs):
+            spent.clear()
+            whole = once()
+            for label, t in list(spent.items()) + [("whole command", whole)]:
+                rows.setdefault(label, []).append(t)
+    return {k: statistics.median(v) for k, v in rows.items()}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--runs", type=int, default=7)
+    ap.add_argument("--against", type=Path, help="another checkout's root, run alternately")
+    ap.add_argument("--phases", action="store_true",
+                    help="instead: CPU of each phase of the svg command in one warm process")
+    args = ap.parse_args(argv)
+    if args.phases:
+        import contextlib
+        import io
+
+        with contextlib.redirect_stdout(io.StringIO()):
+            got = phases(args.runs)
+        print("| phase of `morph svg bird butterfly --frames 10` (warm process) | CPU ms |")
+        print("|---|---|")
+        for label, t in got.items():
+            print("| %s | %.0f |" % (label, t * 1e3))
+        return 0
+    roots = [ROOT] + ([args.against.resolve()] if args.against else [])
+    got = processes(roots, args.runs)
+    head = "| command | bytecode | CPU s (median, min) |"
+    if args.against:
+        head += " %s: CPU s (median, min) | ratio (median of runs) |" % args.against.name
+    print(head)
+    print("|---|---|---|" + ("---|---|" if args.against else ""))
+    for name in COMMANDS:
+        for setting in ("bytecode cached", "no bytecode"):
+            mine = got[(name, setting, ROOT)]
+            line = "| %s | %s | %.2f, %.2f |" % (name, setting, statistics.median(mine),
+                                                 min(mine))
+            if args.against:
+                other = got[(name, setting, roots[1])]
+                line += " %.2f, %.2f | %.2f |" % (
+                    statistics.median(other), min(other),
+                    statistics.median([x / y for x, y in zip(mine, other)]))
+            print(line, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

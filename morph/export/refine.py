@@ -1,0 +1,338 @@
+"""The "one segment fewer" refinement of every chain of a batch, as arrays.
+
+The greedy search (:mod:`.greedy`) stops each segment a little short of its longest
+reach.  A chain it leaves with two segments or more is refined: while the segments'
+bounds say that one segment fewer may fit, that many segments are fitted between
+cuts at equal shares of the modelled difficulty (:meth:`Refine._fewer`) and kept if
+every one certifies; then a chain left with two segments, the last shorter than
+SHORT_LAST of the first, gets one try of a single segment over the whole chain
+(:meth:`Refine._whole`).
+
+:class:`Refine` holds every refining chain as a row of arrays (its phase; its
+segments in one flat array sorted by row; its arc-length table in another); a round
+asks the fits of every row that has a plan (:meth:`Refine.requests`) and one numpy
+step takes all their results (:meth:`Refine.update`).  No Python step runs per chain
+and round: per-row sums and running sums are taken on the rows of equal length
+stacked (:func:`per_row`), interpolation in each row's own table by one vectorised
+search (:func:`interp_rows`), both with numpy's own arithmetic, so a chain's cuts
+are the very numbers that chain alone gives.
+"""
+
+import numpy as np
+
+from .. import bernstein as bz
+from ..polyline import unique
+from .fit import ARC_INTERVALS, _quadrature
+from .greedy import ERROR_POWER
+
+#: One segment fewer is tried when the greedy segments' shares add up to at most this
+#: many segments fewer than there are (the greedy segments stop short of their reach).
+FEWER_SLACK = 1.0
+#: A chain left with two segments whose last is shorter than this share of the first
+#: gets one try of a single segment for the whole chain (for more segments, n - 1 of
+#: equal arc length rarely fit where the model said no).
+SHORT_LAST = 0.5
+
+#: Phases of a row: plan one segment fewer; check for a short last segment; waiting
+#: for the fits of one segment fewer; waiting for the fit of the whole chain; done.
+PLAN, CHECK, FEWER, WHOLE, DONE = 0, 1, 2, 3, 4
+
+
+def ranges(start, count):
+    """The concatenated index ranges [start, start + count), as one array."""
+    return np.repeat(start - (np.cumsum(count) - count), count) + np.arange(count.sum())
+
+
+def per_row(values, start, count, func):
+    """``func(block, axis=1)`` of each row's block ``values[start:start + count]``, the
+    rows of equal count stacked (a sum or a running sum along a row is then the same
+    arithmetic as on the row alone): [(rows, result)] over the distinct counts."""
+    out = []
+    for c in unique(count).tolist():
+        rows = np.nonzero(count == c)[0]
+        out.append((rows, func(values[start[rows][:, None] + np.arange(c)[None]], axis=1)))
+    return out
+
+
+def spaced_rows(stop, num):
+    """``np.linspace(0, stop[r], num[r])`` of every row r (num >= 2), concatenated: j
+    (stop / (num - 1)), the last one stop itself (numpy's arithmetic)."""
+    j = np.arange(int(num.sum())) - np.repeat(np.cumsum(num) - num, num)
+    return np.where(j == np.repeat(num, num) - 1, np.repeat(stop, num),
+                    j * np.repeat(stop / (num - 1), num))
+
+
+def interp_rows(x, row, lo, hi, xp, fp):
+    """``np.interp(x[i], xp[lo[r]:hi[r]], fp[lo[r]:hi[r]])`` with r = row[i], for every
+    i at once (each row's xp increasing, at least two long): the last knot j with
+    xp[j] <= x by one bisection of all rows together, then numpy's formula (the end
+    values outside, fp[j] at a knot, else slope (x - xp[j]) + fp[j], the slope
+    (fp[j+1] - fp[j]) / (xp[j+1] - xp[j]); from the right knot where that is NaN), so
+    the values are np.interp's, bit for bit."""
+    a, b = lo[row], hi[row]
+    left, right = a.copy(), b.copy()
+    while True:
+        live = left < right
+        if not live.any():
+            break
+        mid = (left + right) >> 1
+        go = live & (xp[np.where(live, mid, a)] <= x)
+        left = np.where(go, mid + 1, left)
+        right = np.where(live & ~go, mid, right)
+    j = left - 1                                   # a - 1: below the first knot
+    jj = np.clip(j, a, b - 2)
+    x0, x1, y0, y1 = xp[jj], xp[jj + 1], fp[jj], fp[jj + 1]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        slope = (y1 - y0) / (x1 - x0)
+        res = slope * (x - x0) + y0
+        nan = np.isnan(res)
+        if nan.any():
+            alt = slope * (x - x1) + y1
+            res = np.where(nan, np.where(np.isnan(alt) & (y0 == y1), y0, alt), res)
+    at = np.maximum(j, a)
+    res = np.where((j >= a) & (xp[at] == x), fp[at], res)
+    res = np.where(j >= b - 1, fp[b - 1], res)
+    res = np.where(j < a, fp[a], res)
+    return np.where(np.isnan(x), x, res)
+
+
+def arc_lengths(bank, off, k):
+    """Arc-length tables of chains (chain c: the pieces ``bank.order[off[c]:off[c] +
+    k[c]]``), flat: chain c's block [lo[c], hi[c]) holds the knots T = i /
+    ARC_INTERVALS, i = 0 ... k ARC_INTERVALS (ARC_INTERVALS equal parameter intervals
+    per piece) and the arc lengths s from the chain's start to them; the lengths of
+    the intervals by the 8-point Gauss-Legendre rule on each, the speeds of all
+    pieces in one evaluation per degree.  Returns (T, s, lo, hi)."""
+    m, (x, w) = ARC_INTERVALS, _quadrature().gl8
+    knots = np.linspace(0.0, 1.0, m + 1)
+    q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+    gids = bank.order[ranges(off, k)]
+    _, d = bank.jet_grid(gids, q)
+    seg = ((np.hypot(d[..., 0], d[..., 1]).reshape(len(gids), m, len(x)) @ w) * 0.5 / m).ravel()
+    size = k * m + 1
+    hi = np.cumsum(size)
+    lo = hi - size
+    s = np.zeros(int(hi[-1]) if len(hi) else 0)
+    for rows, cum in per_row(seg, (np.cumsum(k) - k) * m, k * m, np.cumsum):
+        s[(lo[rows][:, None] + 1 + np.arange(cum.shape[1])).ravel()] = cum.ravel()
+    t = (np.arange(len(s)) - np.repeat(lo, size)) / float(m)
+    return t, s, lo, hi
+
+
+def chain_points(chains, chain, t):
+    """Points of chains ``chain`` at chain parameters t (piece k on [k, k + 1]): a
+    piece's first control point at an integer t, the chain's last point at its end,
+    else the piece evaluated at t - floor(t) (:func:`morph.bernstein.basis`, one
+    product per row: the values :func:`morph.piece.evaluate` gives the piece alone),
+    one gather per degree."""
+    bank = chains.bank
+    k, off = chains.k[chain], chains.off[chain]
+    kk = np.floor(t).astype(int)
+    end = t >= k
+    gid = bank.order[off + np.minimum(kk, k - 1)]
+    out = np.where(end[:, None], bank.last[gid], bank.first[gid])
+    inner = np.nonzero(~end & (t != kk))[0]
+    local = t[inner] - kk[inner]
+    for rows, h in bank.gather(gid[inner]):
+        v = np.matmul(bz.basis(h.shape[1] - 1, local[rows])[:, None, :], h)[:, 0]
+        out[inner[rows]] = v[:, :2] / v[:, 2:3]
+    return out
+
+
+class Refine:
+    """The refinement of the chains of a batch (see the module docstring) as rows of
+    arrays: ``chain`` (each row's chain), ``phase``; the rows' segments in flat arrays
+    sorted by row (``seg_row``, ``t0``, ``t1``, ``bound``, and ``at``: the (round,
+    request) of the fit that made each); their arc-length tables (``arc_lo``,
+    ``arc_hi``: each row's block of ``arc_t``, ``arc_s``; -1 until made).
+
+    :meth:`add` hands over chains the greedy search left with two segments or more,
+    :meth:`requests` gives the round's fits, :meth:`update` takes their results,
+    :meth:`finished` returns the segments of the rows done and drops them.
+    ``chains``: the batch's :class:`~morph.export.fit.ChainArrays`."""
+
+    def __init__(self, chains, tol):
+        self.chains, self.tol = chains, tol
+        self.chain = np.zeros(0, int)
+        self.phase = np.zeros(0, int)
+        self.arc_lo, self.arc_hi = np.zeros(0, int), np.zeros(0, int)
+        self.seg_row = np.zeros(0, int)
+        self.t0, self.t1, self.bound = np.zeros(0), np.zeros(0), np.zeros(0)
+        self.at = np.zeros((0, 2), int)
+        self.arc_t, self.arc_s = np.zeros(0), np.zeros(0)
+        self.asked = None
+
+    @property
+    def active(self):
+        return bool(len(self.chain))
+
+    def add(self, chain, seg_chain, t0, t1, bound, at):
+        """Hand over the chains ``chain`` (increasing) and their segments (flat, sorted
+        by chain and t0)."""
+        if not len(chain):
+            return
+        row = len(self.chain) + np.searchsorted(chain, seg_chain)
+        self.chain = np.concatenate([self.chain, chain])
+        self.phase = np.concatenate([self.phase, np.full(len(chain), PLAN)])
+        self.arc_lo = np.concatenate([self.arc_lo, np.full(len(chain), -1)])
+        self.arc_hi = np.concatenate([self.arc_hi, np.full(len(chain), -1)])
+        self._put(row, t0, t1, bound, at)
+
+    def _put(self, row, t0, t1, bound, at):
+        """Segments of the rows ``row`` (sorted) replace those the rows had."""
+        keep = ~np.isin(self.seg_row, row)
+        rows = np.concatenate([self.seg_row[keep], row])
+        order = np.argsort(rows, kind="stable")
+        self.seg_row = rows[order]
+        self.t0 = np.concatenate([self.t0[keep], t0])[order]
+        self.t1 = np.concatenate([self.t1[keep], t1])[order]
+        self.bound = np.concatenate([self.bound[keep], bound])[order]
+        self.at = np.concatenate([self.at[keep], at])[order]
+
+    def _blocks(self):
+        count = np.bincount(self.seg_row, minlength=len(self.chain))
+        return np.cumsum(count) - count, count
+
+    def _arcs(self, rows):
+        """Make the arc-length tables of those rows that have none, in one batch
+        (:func:`morph.export.fit.arc_lengths`)."""
+        rows = rows[self.arc_lo[rows] < 0]
+        if not len(rows):
+            return
+        c = self.chain[rows]
+        t, s, lo, hi = arc_lengths(self.chains.bank, self.chains.off[c], self.chains.k[c])
+        self.arc_lo[rows], self.arc_hi[rows] = lo + len(self.arc_t), hi + len(self.arc_t)
+        self.arc_t = np.concatenate([self.arc_t, t])
+        self.arc_s = np.concatenate([self.arc_s, s])
+
+    def _length(self, rows):
+        """Arc length of the rows' chains (their tables made)."""
+        return self.arc_s[self.arc_hi[rows] - 1]
+
+    def requests(self):
+        """Plan every row that can (:meth:`_fewer`, :meth:`_whole`) and return the
+        round's fits: arrays (chain, t0, t1, start, end)."""
+        start, count = self._blocks()
+        fewer, cuts = self._fewer(np.nonzero(self.phase == PLAN)[0], start, count)
+        whole = self._whole(np.nonzero(self.phase == CHECK)[0], start, count)
+        n = count[fewer] - 1                                        # segments asked
+        row = np.concatenate([np.repeat(fewer, n), whole])
+        first = ranges(np.cumsum(n + 1) - (n + 1), n)               # each one's cut
+        t0 = np.concatenate([cuts[first], np.zeros(len(whole))])
+        t1 = np.concatenate([cuts[first + 1],
+                             self.chains.k[self.chain[whole]].astype(float)])
+        chain = self.chain[row]
+        end = chain_points(self.chains, chain, t1)
+        head = np.ones(len(row), bool)                              # a row's first fit
+        head[1:] = row[1:] != row[:-1]
+        begin = np.empty_like(end)
+        begin[~head] = end[np.nonzero(~head)[0] - 1]                # where the last ended
+        begin[head] = chain_points(self.chains, chain[head], np.zeros(int(head.sum())))
+        self.asked = (row, t0, t1)
+        return chain, t0, t1, begin, end
+
+    def _fewer(self, rows, start, count):
+        """Plan one segment fewer for ``rows`` (phase PLAN; two segments or more).
+
+        Segment i (bound b_i) counts as d_i = (b_i / tol)^(1/P) of a segment that
+        just reaches tol (model bound ~ L^P, P = ERROR_POWER), spread evenly over its
+        arc length; when the d_i add up to at most count - FEWER_SLACK, count - 1
+        segments are cut at equal shares of that sum (equal arc lengths where the
+        curve is equally hard), their ends at 0 and the chain's end.  Rows for which
+        that is implausible (or the cuts do not increase) go on to CHECK; the others
+        to FEWER.  Returns (rows asked, their cuts: count per row, flat)."""
+        if not len(rows):
+            return rows, np.zeros(0)
+        tol, cnt = self.tol, count[rows]
+        seg = ranges(start[rows], cnt)
+        d = (np.maximum(self.bound[seg], 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
+        at = np.cumsum(cnt) - cnt                                   # each row's d
+        total = np.empty(len(rows))
+        for r, s in per_row(d, at, cnt, np.sum):
+            total[r] = s
+        ok = total <= cnt - FEWER_SLACK
+        self._arcs(rows[ok])
+        ok[ok] = self._length(rows[ok]) > 0
+        sel = np.nonzero(ok)[0]
+        n, rs = cnt[sel], rows[sel]
+        # per row: the arc lengths at the n + 1 segment ends, the running sums of d
+        e_at = np.cumsum(n + 1) - (n + 1)
+        where = np.repeat(np.arange(len(sel)), n + 1)
+        inner = np.ones(int((n + 1).sum()), bool)
+        inner[e_at] = False
+        ends_t = np.empty(len(inner))
+        ends_t[e_at] = self.t0[start[rs]]
+        ends_t[inner] = self.t1[ranges(start[rs], n)]
+        lo, hi = self.arc_lo[rs], self.arc_hi[rs]
+        edges = interp_rows(ends_t, where, lo, hi, self.arc_t, self.arc_s)
+        hard = np.zeros(len(inner))
+        for r, c in per_row(d, at[sel], n, np.cumsum):
+            hard[(e_at[r][:, None] + 1 + np.arange(c.shape[1])).ravel()] = c.ravel()
+        row_c = np.repeat(np.arange(len(sel)), n)
+        share = interp_rows(spaced_rows(hard[e_at + n], n), row_c, e_at, e_at + n + 1, hard,
+                            edges)
+        cuts = interp_rows(share, row_c, lo, hi, self.arc_s, self.arc_t)
+        c_at = np.cumsum(n) - n
+        cuts[c_at] = 0.0
+        cuts[c_at + n - 1] = self.chains.k[self.chain[rs]]
+        step = np.diff(cuts)
+        same = row_c[1:] == row_c[:-1]
+        bad = np.zeros(len(sel), bool)
+        bad[row_c[1:][same & (step <= 0)]] = True
+        self.phase[rows[~ok]] = CHECK
+        self.phase[rs[bad]] = CHECK
+        self.phase[rs[~bad]] = FEWER
+        return rs[~bad], cuts[~bad[row_c]]
+
+    def _whole(self, rows, start, count):
+        """Of ``rows`` (phase CHECK), those left with two segments, the last shorter
+        than SHORT_LAST of the first, whose chain has a positive arc length (is not
+        one point) go to WHOLE: one segment is fitted to the whole chain; the others
+        are done.
+        Returns the rows asked."""
+        self.phase[rows] = DONE
+        rows = rows[count[rows] == 2]
+        w = self.t1 - self.t0
+        rows = rows[w[start[rows] + 1] < SHORT_LAST * w[start[rows]]]
+        # a positive arc length: a chain that is not one point (no table needed)
+        rows = rows[self.chains.extent[self.chain[rows]] > 0]
+        self.phase[rows] = WHOLE
+        return rows
+
+    def update(self, fits, offset, round_no):
+        """Take the results of :meth:`requests` (``fits``, a round's
+        :class:`~morph.export.search._Fits`, from request ``offset`` on, made in round
+        ``round_no``): a row whose every fit certifies within tol takes them as its
+        segments.  Rows of one segment fewer then plan again (to CHECK when it failed,
+        done when one segment is left); whole-chain rows are done."""
+        row, t0, t1 = self.asked
+        self.asked = None
+        j = offset + np.arange(len(row))
+        bound = fits.bound[j]
+        won = np.zeros(len(self.chain), bool)
+        won[row] = True
+        won[row[~(bound <= self.tol)]] = False
+        take = won[row]
+        at = np.stack([np.full(len(row), round_no), j], axis=1)
+        self._put(row[take], t0[take], t1[take], bound[take], at[take])
+        _, count = self._blocks()
+        fewer, whole = self.phase == FEWER, self.phase == WHOLE
+        self.phase[fewer & won] = np.where(count[fewer & won] >= 2, PLAN, DONE)
+        self.phase[fewer & ~won] = CHECK
+        self.phase[whole] = DONE
+
+    def finished(self):
+        """The rows done, dropped: (chains, segment chains, t0, t1, bound, at), the
+        segments sorted by chain and t0."""
+        done = self.phase == DONE
+        seg = done[self.seg_row]
+        out = (self.chain[done], self.chain[self.seg_row[seg]], self.t0[seg], self.t1[seg],
+               self.bound[seg], self.at[seg])
+        if done.any():
+            renum = np.cumsum(~done) - 1
+            self.seg_row = renum[self.seg_row[~seg]]
+            self.t0, self.t1, self.bound = self.t0[~seg], self.t1[~seg], self.bound[~seg]
+            self.at = self.at[~seg]
+            self.chain, self.phase = self.chain[~done], self.phase[~done]
+            self.arc_lo, self.arc_hi = self.arc_lo[~done], self.arc_hi[~done]
+        return out
