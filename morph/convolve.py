@@ -518,6 +518,27 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
+def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of):
+    """Algorithm 4.1's subdivision of curve + curve pairs (tables ``ta``, ``tb``; pair
+    rows ``i``, ``j`` over the angle ranges [lo, hi], B's angles shifted by ``off``;
+    ``tol`` per row), one batch per pair of piece degrees: yields the
+    :func:`morph.subdivide.subdivide_nodes` result (accepted nodes, their
+    ``piece_of`` results, bounds) of each batch."""
+    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
+    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
+    ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
+    for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
+        rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
+        nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
+                 "cb": tb.restricted(j[rows], tb_lo[rows], tb_hi[rows])[0][1],
+                 "ha": ha[rows], "hb": hb[rows], "sa": ta.sign[i[rows]],
+                 "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
+                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
+                 "tol": tol[rows]}
+        yield subdivide_nodes(nodes, piece_of, qac.bound_nodes, qac.split_nodes,
+                              float(tol[rows].min()), max_depth)
+
+
 def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
     together: each pair restricted to its common angle range, then the driver
@@ -528,22 +549,9 @@ def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     direction (increasing angle when the two edges turn the same way); a piece runs
     along A's edge, reversed when B is concave (Figs. 18-19).
     """
-    tol = tol[pos]
-    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
-    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
-    ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
     names = np.array(qac.KIND_NAMES, object)
-    for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
-        rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
-        nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
-                 "cb": tb.restricted(j[rows], tb_lo[rows], tb_hi[rows])[0][1],
-                 "ha": ha[rows], "hb": hb[rows], "sa": ta.sign[i[rows]],
-                 "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
-                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
-                 "tol": tol[rows]}
-        done, pieces, bounds = subdivide_nodes(
-            nodes, qac.piece_nodes, qac.bound_nodes, qac.split_nodes, float(tol[rows].min()),
-            max_depth)
+    for done, pieces, bounds in qac_batches(ta, tb, pos, i, j, lo, hi, off, tol[pos],
+                                            max_depth, qac.piece_nodes):
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         forward = done["sb"] > 0
         base = out.count

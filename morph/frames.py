@@ -315,23 +315,10 @@ def _curve_sets(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     it (the same nodes, bounds and splits), each accepted node's piece as its two
     terms (:func:`_node_sets`) with its error on the side it comes from."""
     from . import qac
-    from .subdivide import subdivide_nodes
 
-    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
-    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
-    ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
     names = np.array(qac.KIND_NAMES, object)
-    for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
-        rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
-        nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
-                 "cb": tb.restricted(j[rows], tb_lo[rows], tb_hi[rows])[0][1],
-                 "ha": ha[rows], "hb": hb[rows], "sa": ta.sign[i[rows]],
-                 "sb": tb.sign[j[rows]], "lo": lo[rows], "hi": hi[rows],
-                 "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
-                 "tol": tol[rows]}
-        done, pieces, bounds = subdivide_nodes(nodes, _node_sets, qac.bound_nodes,
-                                               qac.split_nodes, float(tol[rows].min()),
-                                               max_depth)
+    for done, pieces, bounds in convolve.qac_batches(ta, tb, pos, i, j, lo, hi, off, tol,
+                                                     max_depth, _node_sets):
         bounds = np.asarray(bounds, float)
         # the error's side: QAC's C2 or a corner's short piece is A's where swap
         e_a = np.where(done["swap"], bounds, 0.0)
