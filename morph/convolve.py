@@ -432,8 +432,8 @@ def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
     out = _Produced()
-    _line_pairs(out, ta, tb, i, j, lo, off)
-    _vertex_pairs(out, ta, tb, i, j, lo, hi, off)
+    for p, st, points, _, forward in translated_batches(ta, tb, i, j, lo, hi, off):
+        _stack_out(out, p, _translate_many(st, points), forward)
     _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method)
     return out.packed()
 
@@ -446,28 +446,26 @@ def _stack_out(out, pos, stack, forward):
     out.add(pos, 0.0, st, 0.0, "translate")
 
 
-def _line_pairs(out, ta, tb, i, j, lo, off):
-    """Pairs with a straight edge: the segment translated by the other edge's point
-    at its angle, its direction by the other edge's sign."""
-    a_line, b_line = ta.straight[i], tb.straight[j]
-    pos = np.nonzero(a_line)[0]
+def translated_batches(ta, tb, i, j, lo, hi, off):
+    """The pairs whose convolution is one edge translated: a straight edge moved by
+    the other edge's point at its angle, and a curve (restricted to the pair's angle
+    range) moved by a vertex.  Yields (pair rows, the moved edge's piece stack, the
+    points, one per row, whether the moved edge is A's, whether each piece runs
+    forward: the other edge's sign)."""
+    pos = np.nonzero(ta.straight[i])[0]
     if len(pos):
         pts = tb.points_at(j[pos], lo[pos] - off[pos])
         for rows, st in ta.pieces(i[pos]):
             p = pos[rows]
-            _stack_out(out, p, _translate_many(st, pts[rows]), tb.sign[j[p]] > 0)
-    pos = np.nonzero(b_line & ~a_line)[0]
+            yield p, st, pts[rows], True, tb.sign[j[p]] > 0
+    pos = np.nonzero(tb.straight[j] & ~ta.straight[i])[0]
     if len(pos):
         pts = ta.points_at(i[pos], lo[pos])
         for rows, st in tb.pieces(j[pos]):
             p = pos[rows]
-            _stack_out(out, p, _translate_many(st, pts[rows]), ta.sign[i[p]] > 0)
-
-
-def _vertex_pairs(out, ta, tb, i, j, lo, hi, off):
-    """Curve + vertex pairs: the restricted curve translated by the vertex, its
-    direction by the vertex's sign."""
-    for t_c, t_v, ic, iv, shift in ((ta, tb, i, j, np.zeros_like(off)), (tb, ta, j, i, off)):
+            yield p, st, pts[rows], False, ta.sign[i[p]] > 0
+    for t_c, t_v, ic, iv, shift, of_a in ((ta, tb, i, j, np.zeros_like(off), True),
+                                          (tb, ta, j, i, off, False)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         if not len(pos):
             continue
@@ -476,7 +474,7 @@ def _vertex_pairs(out, ta, tb, i, j, lo, hi, off):
                               t_c.params(cc, hi[pos] - shift[pos]))
         for rows, st in subs:
             p = pos[rows]
-            _stack_out(out, p, _translate_many(st, t_v.point[iv[p]]), t_v.sign[iv[p]] > 0)
+            yield p, st, t_v.point[iv[p]], of_a, t_v.sign[iv[p]] > 0
 
 
 def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method):

@@ -266,31 +266,8 @@ def _unit_sets(base, tol, max_depth=30):
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
     out = convolve._Produced()
-    # a straight edge + the other's point at its angle (as convolve._line_pairs)
-    pos = np.flatnonzero(ta.straight[i])
-    if len(pos):
-        pts = tb.points_at(j[pos], lo[pos] - off[pos])
-        for rows, st in ta.pieces(i[pos]):
-            p = pos[rows]
-            _add_moved(out, p, st, pts[rows], True, tb.sign[j[p]] > 0)
-    pos = np.flatnonzero(tb.straight[j] & ~ta.straight[i])
-    if len(pos):
-        pts = ta.points_at(i[pos], lo[pos])
-        for rows, st in tb.pieces(j[pos]):
-            p = pos[rows]
-            _add_moved(out, p, st, pts[rows], False, ta.sign[i[p]] > 0)
-    # a curve + a vertex (as convolve._vertex_pairs)
-    for t_c, t_v, ic, iv, shift, of_a in ((ta, tb, i, j, np.zeros_like(off), True),
-                                          (tb, ta, j, i, off, False)):
-        pos = np.flatnonzero(t_c.curved[ic] & t_v.vertex[iv])
-        if not len(pos):
-            continue
-        cc = ic[pos]
-        subs = t_c.restricted(cc, t_c.params(cc, lo[pos] - shift[pos]),
-                              t_c.params(cc, hi[pos] - shift[pos]))
-        for rows, st in subs:
-            p = pos[rows]
-            _add_moved(out, p, st, t_v.point[iv[p]], of_a, t_v.sign[iv[p]] > 0)
+    for p, st, points, of_a, forward in convolve.translated_batches(ta, tb, i, j, lo, hi, off):
+        _add_moved(out, p, st, points, of_a, forward)
     pos = np.flatnonzero(ta.curved[i] & tb.curved[j])
     if len(pos):
         _curve_sets(out, ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol[pos],
