@@ -14,9 +14,9 @@ from pathlib import Path
 
 from ..errors import ParseError
 from . import glyphs
-from .glyphs import (cubic_test_font_path, default_font_path, font_display_name,  # noqa: F401
-                     full_location, glyph_name, glyph_region, instantiate_font,
-                     load_font, parse_location, read_glyph, read_glyphs)
+from .glyphs import (  # noqa: F401 - re-exported
+    cubic_test_font_path, default_font_path, font_display_name, full_location, glyph_name,
+    glyph_region, instantiate_font, load_font, parse_location, read_glyph, read_glyphs)
 from .shape import Shape, em_to_units
 
 #: names of :mod:`.svg` (its ``__all__``), imported on first use (PEP 562): reading a

@@ -22,7 +22,7 @@ from .. import piece as pc
 from ..errors import ParseError, one_line
 from ..region import orient_regions, without_zero_length, zero_length_mask
 from ..trim import fill_region
-from .pens import RawContour, closing_line, record_contours, record_segments
+from .pens import RawContour, closing_line, record_segments
 from .shape import Shape
 
 __all__ = [
