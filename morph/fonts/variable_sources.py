@@ -210,10 +210,8 @@ def refine_sources(font, names, nibs, budget, refine=True):
     largest blend error left), ``errors_before`` (per axis, the largest before
     refining), ``budget``, ``most`` (the most masters of one glyph) and
     ``hardest`` (that glyph), ``refined`` (glyphs given masters of their own).
-    ``([{}], {name: [0]}, None)`` for a static font.
-
-    Raises:
-        MorphError: a glyph would need more than :data:`MAX_SOURCE_MASTERS` masters.
+    ``([{}], {name: [0]}, None)`` for a static font.  Raises MorphError where a glyph
+    would need more than :data:`MAX_SOURCE_MASTERS` masters.
     """
     grid = source_grid(font)
     if not grid:

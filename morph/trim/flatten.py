@@ -222,16 +222,13 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     """The coarse vertices (piece, t, point) with the segments marked ``fine`` cut
     within eps: a refined stretch takes the vertices of its pieces' own flattening
     within eps (where two parts run close, both polylines are the ones flattening
-    within eps everywhere gives: near-coincident pieces cross as rarely; only the
-    parts of that subdivision that meet a refined segment are cut), the coarse
-    vertices inside a stretch go, and where a coarse vertex bounds a stretch the
-    part between it and the nearest vertex of the finer flattening is flattened
-    within eps on its own (a chord to a point inside a flat part could leave it
-    farther than eps).  Where the finer flattening has a vertex at a coarse vertex
-    that goes (one between two refined segments, inside its piece), the finer
-    vertex stays: every segment of a refined stretch is a segment of that
-    flattening or of a gap's, within eps of its part.  Returns (piece, t, point,
-    whether the segment from the vertex is one of the refined ones)."""
+    within eps everywhere gives, so near-coincident pieces cross as rarely; only
+    the parts that meet a refined segment are cut); the coarse vertices inside a
+    stretch go, but a finer vertex at one of them stays; where a coarse vertex
+    bounds a stretch, the part between it and the nearest finer vertex is flattened
+    within eps on its own.  So every segment of a refined stretch is within eps of
+    its part.  Returns (piece, t, point, whether the segment from the vertex is one
+    of the refined ones)."""
     of = unique(pid[fine])
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
