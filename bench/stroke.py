@@ -566,11 +566,15 @@ def sets_markdown(opt, sets, elapsed):
                              worst, r["mean_err"], over, raw))
         for r in st["rows"]:
             if "worst_bbox" in r and r["max_err"] > 10 * limit:
+                apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
                 md += ["", "%s %s's worst glyph %s: FontForge's own bounding box of its "
-                       "result (`glyph.boundingBox()`) is %s, the reference's %s: the "
-                       "error is in FontForge's outline (a stray curve), not in the "
-                       "measure." % (r["tool"], r["setting"], r["worst_glyph"],
-                                     _box(r["worst_bbox"]), _box(r["worst_ref_bbox"]))]
+                       "result (`glyph.boundingBox()`) is %s, the reference's %s: %s"
+                       % (r["tool"], r["setting"], r["worst_glyph"], _box(r["worst_bbox"]),
+                          _box(r["worst_ref_bbox"]),
+                          "the error is in FontForge's outline (a curve beyond the exact "
+                          "stroke's extent), not in the measure." if apart else
+                          "the boxes agree, so the error lies inside the stroke's extent."
+                          )]
         if not all("raw_errs" in r for r in st["rows"]):
             md += ["", "(raw): this set was measured before the narrow-gap excuse; its errors "
                    "are raw."]
