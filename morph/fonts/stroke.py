@@ -69,6 +69,7 @@ import numpy as np
 
 from .. import budget
 from .. import piece as pc
+from .. import polyline as pl
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
@@ -136,61 +137,148 @@ def stroke_plan(font, glyphs, nib_region, tol=0.5):
 
 def separate_components(font, source, nib_region, tol, contour_counts=None):
     """A function ``kept(name)``: for each component of glyph ``name`` whether it is
-    kept as a component (True) or decomposed and stroked with the glyph (False).
+    kept as a component (True) or decomposed and stroked with the glyph (False)
+    (:class:`_Separation`).  ``font``: the glyphs' components (shells will do),
+    ``source``: their contours, ``contour_counts`` name -> number of contours
+    (None: ``font``'s own)."""
+    return _Separation(font, source, nib_region, tol, contour_counts)
+
+
+class _Separation:
+    """Which components of a glyph are kept (see :func:`separate_components`).
 
     A component is kept when the stroke commutes with its transformation
-    (:func:`keep_component`) and its stroke cannot come within 2 (``tol`` +
-    :data:`ROUNDING`) of the stroke of any other part of the glyph (its own
-    contours, its other components): the skeletons' control boxes, grown by the
-    nib's extent, are that far apart.  Each written outline is within ``tol`` plus
-    the rounding of its exact stroke, so two kept parts are written as outlines that
-    do not overlap, as the one trimmed outline of a static font must not; closer
-    parts are stroked together and trimmed as one.  ``font``: the glyphs'
-    components (shells will do), ``source``: their contours (read only for the
-    boxes of component bases), ``contour_counts`` name -> number of contours (None:
-    ``font``'s own).  The answers are kept (every glyph is asked several times)."""
-    symmetric = nib_is_symmetric(nib_region)
-    nx0, ny0, nx1, ny1 = region_extent(nib_region)
-    gap = 2.0 * (tol + ROUNDING)
-    boxes, answers = {}, {}
+    (:func:`keep_component`) and its stroke cannot come within ``gap`` = 2 (``tol``
+    + :data:`ROUNDING`) of the stroke of any other part of the glyph (its own
+    contours, its other components).  Each written outline is within ``tol`` plus
+    the rounding of its exact stroke, so kept parts are written as outlines that do
+    not overlap, as the one trimmed outline of a static font must not; nearer parts
+    are stroked together and trimmed as one.
 
-    def own(name):
-        count = contour_counts[name] if contour_counts is not None else len(font[name].contours)
+    Two parts' strokes P ⊕ N and Q ⊕ N are that far apart when no p - q (p in P, q
+    in Q) lies in (N - N) grown by ``gap``.  First the skeletons' control boxes,
+    grown by the nib's extent; where those are nearer, points of the skeletons at
+    most ``step`` apart, within ``step`` / 4 of the curves, against the polygon of
+    (N - N)'s support in :data:`DIRECTIONS` directions (which holds N - N), grown
+    by ``gap`` + 2 ``step`` (a curve point is within 3/4 step of a sample point);
+    ``step`` is an eighth of the nib's larger extent.  Both tests may find parts
+    near that are not (the glyph is then stroked whole, as it would be without
+    components), never the other way.  The answers are kept."""
+
+    #: the directions of the support polygon of N - N
+    DIRECTIONS = 64
+
+    def __init__(self, font, source, nib_region, tol, contour_counts=None):
+        self.font, self.source, self.counts = font, source, contour_counts
+        self.symmetric = nib_is_symmetric(nib_region)
+        self.extent = region_extent(nib_region)
+        nx0, ny0, nx1, ny1 = self.extent
+        self.step = max(nx1 - nx0, ny1 - ny0) / 8.0
+        self.gap = 2.0 * (tol + ROUNDING)
+        ang = np.linspace(0.0, 2.0 * np.pi, self.DIRECTIONS, endpoint=False)
+        self.u = np.column_stack([np.cos(ang), np.sin(ang)])
+        eps = self.step / 64.0
+        pts = np.concatenate([pl.flatten(p, eps)[0] for loop in nib_region for p in loop])
+        d = pts @ self.u.T  # support of N - N: h(u) + h(-u), within 2 eps of the chords'
+        self.reach = d.max(axis=0) - d.min(axis=0) + 2.0 * eps + self.gap + 2.0 * self.step
+        self.boxes, self.answers, self.paths, self.points = {}, {}, {}, {}
+
+    def __call__(self, name):
+        if name not in self.answers:
+            comps = self.font[name].components
+            parts = [(self._own_box(name), None)] + [
+                (_moved_box(self._box(c.baseGlyph), c.transformation), c) for c in comps]
+            near = [[False] * len(parts) for _ in parts]
+            for i in range(1, len(parts)):
+                for j in range(i):
+                    near[i][j] = near[j][i] = self._near(name, parts[i], parts[j])
+            self.answers[name] = tuple(keep_component(c, self.symmetric) and not any(near[i])
+                                       for i, (_, c) in enumerate(parts) if i)
+        return self.answers[name]
+
+    def _own_box(self, name):
+        count = (self.counts[name] if self.counts is not None
+                 else len(self.font[name].contours))
         if not count:
             return None
-        xy = np.array([(p.x, p.y) for c in source[name].contours for p in c], float)
+        xy = np.concatenate([pc.cartesian(p) for pieces, _ in self._paths(name)
+                             for p in pieces] or [np.zeros((0, 2))])
         return (*xy.min(axis=0), *xy.max(axis=0)) if len(xy) else None
 
-    def box(name):  # the control box of the glyph's skeleton, components included
-        if name not in font:  # a missing base: the plan names it
+    def _paths(self, name):
+        """The glyph's own skeleton paths, read once."""
+        from ..parse.ufo import glyph_paths
+
+        if name not in self.paths:
+            count = (self.counts[name] if self.counts is not None
+                     else len(self.font[name].contours))
+            self.paths[name] = glyph_paths(self.source[name]) if count else []
+        return self.paths[name]
+
+    def _box(self, name):  # the control box of a glyph's skeleton, components included
+        if name not in self.font:  # a missing base: the plan names it
             return None
-        if name not in boxes:
-            boxes[name] = None  # a cycle (refused by the plan) ends here
-            parts = [own(name)] + [_moved_box(box(c.baseGlyph), c.transformation)
-                                   for c in font[name].components]
-            boxes[name] = _union_box([b for b in parts if b is not None])
-        return boxes[name]
+        if name not in self.boxes:
+            self.boxes[name] = None  # a cycle (refused by the plan) ends here
+            parts = [self._own_box(name)] + [_moved_box(self._box(c.baseGlyph), c.transformation)
+                                             for c in self.font[name].components]
+            self.boxes[name] = _union_box([b for b in parts if b is not None])
+        return self.boxes[name]
 
-    def apart(a, b):
-        return (a is None or b is None or a[0] + nx0 - gap > b[2] + nx1
-                or b[0] + nx0 - gap > a[2] + nx1 or a[1] + ny0 - gap > b[3] + ny1
-                or b[1] + ny0 - gap > a[3] + ny1)
+    def _near(self, name, part_a, part_b):
+        (a, ca), (b, cb) = part_a, part_b
+        if a is None or b is None:
+            return False
+        nx0, ny0, nx1, ny1 = self.extent
+        g = self.gap
+        if (a[0] + nx0 - g > b[2] + nx1 or b[0] + nx0 - g > a[2] + nx1
+                or a[1] + ny0 - g > b[3] + ny1 or b[1] + ny0 - g > a[3] + ny1):
+            return False
+        pa, pb = self._part_points(name, ca), self._part_points(name, cb)
+        r = self.reach.max()  # a pair farther apart than this in x or y is not near
+        pa = pa[np.all((pa >= np.array(b[:2]) - r) & (pa <= np.array(b[2:]) + r), axis=1)]
+        pb = pb[np.all((pb >= np.array(a[:2]) - r) & (pb <= np.array(a[2:]) + r), axis=1)]
+        pa, pb = pa @ self.u.T, pb @ self.u.T
+        rows = max(1, 2 ** 22 // max(1, len(pb) * self.DIRECTIONS))
+        return any(np.any(np.all(pa[k:k + rows, None, :] - pb[None, :, :] <= self.reach,
+                                 axis=2)) for k in range(0, len(pa), rows))
 
-    def kept(name):
-        if name not in answers:
-            comps = font[name].components
-            if not comps:
-                answers[name] = ()
-                return ()
-            parts = [_moved_box(box(c.baseGlyph), c.transformation) for c in comps]
-            mine = own(name)
-            answers[name] = tuple(
-                keep_component(c, symmetric) and apart(parts[i], mine)
-                and all(apart(parts[i], b) for j, b in enumerate(parts) if j != i)
-                for i, c in enumerate(comps))
-        return answers[name]
+    def _part_points(self, name, component):
+        """Points of a part's skeleton (the glyph's own contours for None), at most
+        ``step`` apart and within ``step`` / 4 of the curves: a component's are its
+        base glyph's moved, unless its transformation stretches some direction (it
+        would stretch the spacing too), then its paths' own."""
+        from ..parse.ufo import component_paths
 
-    return kept
+        if component is None:
+            return self._dense(self._paths(name))
+        m = np.array(tuple(component.transformation), float)
+        if np.linalg.norm(m[:4].reshape(2, 2), 2) > 1.0 + 1e-12:
+            return self._dense(component_paths(self.source, component))
+        pts = self._glyph_points(component.baseGlyph)
+        return pts @ m[:4].reshape(2, 2) + m[4:]
+
+    def _glyph_points(self, name):
+        """:meth:`_part_points` of a whole glyph, components included, kept."""
+        if name not in self.points:
+            self.points[name] = np.zeros((0, 2))  # a cycle (refused by the plan) ends here
+            self.points[name] = np.concatenate(
+                [self._dense(self._paths(name))]
+                + [self._part_points(name, c) for c in self.font[name].components])
+        return self.points[name]
+
+    def _dense(self, paths):
+        """Points of ``paths`` at most ``step`` apart, within ``step`` / 4 of them."""
+        pieces = [p for ps, _ in paths for p in ps]
+        out = [np.zeros((0, 2))]
+        for pts, _ in pl.flatten_many(pieces, self.step / 4.0) if pieces else ():
+            seg = np.diff(pts, axis=0)
+            k = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / self.step)).astype(int)
+            t = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
+            out.append(np.repeat(pts[:-1], k, axis=0)
+                       + np.repeat(seg / k[:, None], k, axis=0) * t[:, None])
+            out.append(pts[-1:])
+        return np.concatenate(out)
 
 
 def _moved_box(b, transformation):
