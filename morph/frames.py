@@ -126,14 +126,23 @@ def _frame_groups(a, b, alphas, tol):
     frames whose operands' estimated polyline points (what
     :func:`morph.limits.check_tolerance` returns) fit the point budget of one sum.
     A frame whose operands or tolerance :func:`morph.minkowski.minkowski_sum` refuses
-    is a group of its own: its own sum raises, after the frames before it."""
+    is a group of its own: its own sum raises, after the frames before it.  The
+    operands' checks (:func:`morph.operands.check_operand`: closed loops, signed
+    area, weights, windings) compare lengths with lengths and areas with areas, so a
+    scaled copy passes them exactly when its operand does: they are made once, on
+    A and B."""
+    try:
+        check_operand(a, "region_a")
+        check_operand(b, "region_b")
+        operands_ok = True
+    except MorphError:
+        operands_ok = False
     points = []
     for t in alphas:
-        ra, rb = scale_region(a, 1.0 - t), scale_region(b, t)
         try:
-            check_operand(ra, "region_a")
-            check_operand(rb, "region_b")
-            points.append(check_tolerance(tol, ra, rb, operation="minkowski sum"))
+            points.append(check_tolerance(tol, scale_region(a, 1.0 - t), scale_region(b, t),
+                                          operation="minkowski sum")
+                          if operands_ok else np.inf)
         except MorphError:
             points.append(np.inf)
     groups, total, budget = [[]], 0.0, point_budget()
