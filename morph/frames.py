@@ -434,8 +434,10 @@ def _moved_edges(edges, offset):
 
 def _split_frames(out, conv, layout, tol, method):
     """The packed sum's loops, one validated region per frame moved back, each with
-    the bound its own convolution pieces achieved."""
+    the bound its own convolution pieces achieved (all frames' bounds in one
+    :func:`morph.minkowski._achieved_bounds`, all loops moved back at once)."""
     from . import minkowski as mk
+    from .packing import _translated
 
     f = len(layout.offsets)
     slot = layout.slot_of(np.array([pc.start(loop[0]) for loop in out]).reshape(-1, 2))
@@ -444,12 +446,13 @@ def _split_frames(out, conv, layout, tol, method):
     conv_slot = layout.slot_of(starts)
     if (slot < 0).any():
         raise ValueError("a loop of the packed frames lies outside every slot")
+    bounds = mk._achieved_bounds(out, conv, tol, method, slot, conv_slot, f)
+    moved = _translated(out, -layout.offsets[slot]) if out else []
     frames = []
     for k in range(f):
-        loops = [loop for loop, s in zip(out, slot) if s == k]
+        loops = [loop for loop, s in zip(moved, slot) if s == k]
         mk._not_vanished(loops, tol, " of frame %d" % k)
-        bound = mk._achieved_bound(loops, conv.take(conv_slot == k), tol, method)
-        frames.append(validated(translate_region(loops, -layout.offsets[k]), bound))
+        frames.append(validated(loops, bounds[k]))
     return frames
 
 
