@@ -38,13 +38,17 @@ the OS/2 win ascent / descent grow to cover the new glyphs (no clipping).  PostS
 hinting values of the skeleton (blue zones, stems) are dropped: they described
 hairlines.
 
-Composites stay composites: a component is kept when the stroke commutes with its
-transformation M (M (g ⊕ N) = M g ⊕ N, i.e. M N = N: a translation, or a 180-degree
-rotation with a centrally symmetric nib); its base glyph is stroked once, and the
-component offset corrected for the two glyphs' shifts (o' = o + s_composite -
-M s_base).  Scaled, flipped or rotated components (fractions, superiors, mirrored
-punctuation) are decomposed and stroked inside the composite, because scaling the
-stroked base would scale the nib too.
+Composites stay composites where that keeps the outline one trimmed outline: a
+component is kept when the stroke commutes with its transformation M (M (g ⊕ N) =
+M g ⊕ N, i.e. M N = N: a translation, or a 180-degree rotation with a centrally
+symmetric nib) and its stroke stays apart from the stroke of the rest of the glyph
+(:func:`separate_components`); its base glyph is stroked once, and the component
+offset corrected for the two glyphs' shifts (o' = o + s_composite - M s_base).
+Scaled, flipped or rotated components (fractions, superiors, mirrored punctuation)
+are decomposed and stroked inside the composite, because scaling the stroked base
+would scale the nib too; so is a component whose stroke may meet another part's
+(e.g. a g drawn as an o component and a tail): kept, the two strokes would be
+written as outlines that overlap.
 
 Which glyphs.  ``glyphs`` (None: all) are stroked, with the base glyphs of their kept
 components, and the composites not chosen that use only stroked glyphs through kept
@@ -109,8 +113,14 @@ def keep_component(component, symmetric):
     return m == (1.0, 0.0, 0.0, 1.0) or (symmetric and m == (-1.0, 0.0, 0.0, -1.0))
 
 
-def stroke_plan(font, glyphs, nib_region):
-    """``(stroked, followed)`` glyph names of a ufoLib2 font for :func:`stroke_ufo`.
+#: at most how far (font units) integer rounding moves a written point (half the
+#: diagonal of the unit grid cell, :func:`morph.fonts.tables.contours_from_loops`)
+ROUNDING = 0.5 ** 0.5
+
+
+def stroke_plan(font, glyphs, nib_region, tol=0.5):
+    """``(stroked, followed)`` glyph names of a ufoLib2 font for :func:`stroke_ufo`
+    at outline tolerance ``tol`` (font units).
 
     ``stroked``: the chosen glyphs (``glyphs``: characters or names, None: all) and
     the base glyphs of their kept components; ``followed``: composites not chosen
@@ -120,15 +130,100 @@ def stroke_plan(font, glyphs, nib_region):
         ParseError: a character or name the font lacks.
     """
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    return plan_components(font, chosen, nib_is_symmetric(nib_region))
+    kept = separate_components(font, font, nib_region, tol)
+    return plan_components(font, chosen, kept=kept)
 
 
-def plan_components(font, chosen, symmetric, contour_counts=None):
-    """:func:`stroke_plan` of the chosen glyph names, ``symmetric``: the nib is
-    centrally symmetric (:func:`keep_component`).  ``contour_counts``: glyph name ->
-    its number of contours, for a font of shells (None: the glyphs' own)."""
+def separate_components(font, source, nib_region, tol, contour_counts=None):
+    """A function ``kept(name)``: for each component of glyph ``name`` whether it is
+    kept as a component (True) or decomposed and stroked with the glyph (False).
+
+    A component is kept when the stroke commutes with its transformation
+    (:func:`keep_component`) and its stroke cannot come within 2 (``tol`` +
+    :data:`ROUNDING`) of the stroke of any other part of the glyph (its own
+    contours, its other components): the skeletons' control boxes, grown by the
+    nib's extent, are that far apart.  Each written outline is within ``tol`` plus
+    the rounding of its exact stroke, so two kept parts are written as outlines that
+    do not overlap, as the one trimmed outline of a static font must not; closer
+    parts are stroked together and trimmed as one.  ``font``: the glyphs'
+    components (shells will do), ``source``: their contours (read only for the
+    boxes of component bases), ``contour_counts`` name -> number of contours (None:
+    ``font``'s own).  The answers are kept (every glyph is asked several times)."""
+    symmetric = nib_is_symmetric(nib_region)
+    nx0, ny0, nx1, ny1 = region_extent(nib_region)
+    gap = 2.0 * (tol + ROUNDING)
+    boxes, answers = {}, {}
+
+    def own(name):
+        count = contour_counts[name] if contour_counts is not None else len(font[name].contours)
+        if not count:
+            return None
+        xy = np.array([(p.x, p.y) for c in source[name].contours for p in c], float)
+        return (*xy.min(axis=0), *xy.max(axis=0)) if len(xy) else None
+
+    def box(name):  # the control box of the glyph's skeleton, components included
+        if name not in font:  # a missing base: the plan names it
+            return None
+        if name not in boxes:
+            boxes[name] = None  # a cycle (refused by the plan) ends here
+            parts = [own(name)] + [_moved_box(box(c.baseGlyph), c.transformation)
+                                   for c in font[name].components]
+            boxes[name] = _union_box([b for b in parts if b is not None])
+        return boxes[name]
+
+    def apart(a, b):
+        return (a is None or b is None or a[0] + nx0 - gap > b[2] + nx1
+                or b[0] + nx0 - gap > a[2] + nx1 or a[1] + ny0 - gap > b[3] + ny1
+                or b[1] + ny0 - gap > a[3] + ny1)
+
+    def kept(name):
+        if name not in answers:
+            comps = font[name].components
+            if not comps:
+                answers[name] = ()
+                return ()
+            parts = [_moved_box(box(c.baseGlyph), c.transformation) for c in comps]
+            mine = own(name)
+            answers[name] = tuple(
+                keep_component(c, symmetric) and apart(parts[i], mine)
+                and all(apart(parts[i], b) for j, b in enumerate(parts) if j != i)
+                for i, c in enumerate(comps))
+        return answers[name]
+
+    return kept
+
+
+def _moved_box(b, transformation):
+    """The box of box ``b`` under an affine ``transformation`` (xx, xy, yx, yy, dx,
+    dy); None for None."""
+    if b is None:
+        return None
+    xx, xy, yx, yy, dx, dy = (float(v) for v in tuple(transformation))
+    corners = np.array([(b[0], b[1]), (b[2], b[1]), (b[0], b[3]), (b[2], b[3])])
+    x = corners[:, 0] * xx + corners[:, 1] * yx + dx
+    y = corners[:, 0] * xy + corners[:, 1] * yy + dy
+    return (x.min(), y.min(), x.max(), y.max())
+
+
+def _union_box(boxes):
+    """The box holding all ``boxes`` (None for none)."""
+    if not boxes:
+        return None
+    b = np.array(boxes, float)
+    return (*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))
+
+
+def plan_components(font, chosen, symmetric=True, contour_counts=None, kept=None):
+    """:func:`stroke_plan` of the chosen glyph names.  ``kept(name)``: for each of the
+    glyph's components whether it is kept (:func:`separate_components`; None: those
+    :func:`keep_component` keeps, ``symmetric``: the nib is centrally symmetric).
+    ``contour_counts``: glyph name -> its number of contours, for a font of shells
+    (None: the glyphs' own)."""
     from ..parse.ufo import component_cycle
 
+    if kept is None:
+        def kept(name):
+            return tuple(keep_component(c, symmetric) for c in font[name].components)
     cycle = component_cycle(font, chosen)
     if cycle:
         raise ParseError("glyph %r uses itself through its components: %s"
@@ -144,8 +239,8 @@ def plan_components(font, chosen, symmetric, contour_counts=None):
             raise ParseError("component base glyph %r is missing from the UFO" % n, n)
         seen.add(n)
         stroked.append(n)
-        for c in font[n].components:
-            if keep_component(c, symmetric) and c.baseGlyph not in seen:
+        for c, keep in zip(font[n].components, kept(n)):
+            if keep and c.baseGlyph not in seen:
                 todo.append(c.baseGlyph)
     followed = []
     changed = True
@@ -155,7 +250,7 @@ def plan_components(font, chosen, symmetric, contour_counts=None):
             own = contour_counts[g.name] if contour_counts is not None else len(g.contours)
             if g.name in seen or own or not g.components:
                 continue
-            if all(keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
+            if all(keep and c.baseGlyph in seen for c, keep in zip(g.components, kept(g.name))):
                 seen.add(g.name)
                 followed.append(g.name)
                 changed = True
@@ -278,7 +373,8 @@ def _stroked_regions(chunk):
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None):
+               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None,
+               planned=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
     ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
@@ -294,7 +390,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
     ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
     ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
-    strokes (1: in this process).
+    strokes (1: in this process).  ``planned(n)`` is called with the number of
+    glyphs to stroke once they are known (before any is stroked).
 
     The font is streamed (:mod:`morph.fonts.stream`): the skeletons are read chunk
     by chunk as the workers need them, each stroked glyph comes back compiled (CFF
@@ -324,7 +421,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    plan = _font_plan(src, nib_region, glyphs, family_name, kind)
+    plan = _font_plan(src, nib_region, glyphs, family_name, kind, tol)
+    if planned is not None:
+        planned(len(plan.stroked))
     save_atomically(out_path, lambda tmp: _write_streamed(
         plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs, in_flight),
         overwrite)
@@ -342,11 +441,11 @@ class _FontPlan:
     stroked: list
     followed: list
     place: object      # _Placement
-    symmetric: bool
+    kept: dict         # glyph name -> for each component, whether it is kept
     stats: dict
 
 
-def _font_plan(src, nib_region, glyphs, family_name, kind):
+def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
     """The source, the font of shells with its final furniture and names, the glyphs
     to stroke and those that follow, where they go; the first statistics
     (:func:`_finish_shells`)."""
@@ -354,13 +453,15 @@ def _font_plan(src, nib_region, glyphs, family_name, kind):
 
     source = src if isinstance(src, SkeletonSource) else SkeletonSource(src)
     font = source.shell_font()
-    symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    stroked, followed = plan_components(font, chosen, symmetric, source.contour_counts)
+    keep = separate_components(font, source, nib_region, tol, source.contour_counts)
+    stroked, followed = plan_components(font, chosen, contour_counts=source.contour_counts,
+                                        kept=keep)
+    kept = {n: keep(n) for n in stroked + followed if font[n].components}
     place = _placement(font, stroked + followed, nib_region)
-    stats = _finish_shells(font, source, stroked, followed, place, symmetric, kind)
+    stats = _finish_shells(font, source, stroked, followed, place, kept, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    return _FontPlan(source, font, stroked, followed, place, symmetric, stats)
+    return _FontPlan(source, font, stroked, followed, place, kept, stats)
 
 
 def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
@@ -375,11 +476,11 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
         import uuid
 
         func = partial(_read_and_stroke, _FLAVORS[kind], (plan.source.path, uuid.uuid4().hex),
-                       plan.symmetric, nib_region, tols, stroker)
+                       plan.kept, nib_region, tols, stroker)
         work, prepare = [(n, plan.place.shifts[n]) for n in plan.stroked], None
     else:  # this process reads each chunk's skeletons as the chunk is due
         func, work = partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked
-        prepare = partial(_stroke_work, plan.source, symmetric=plan.symmetric,
+        prepare = partial(_stroke_work, plan.source, kept=plan.kept,
                           nib_region=nib_region, tols=tols, shifts=plan.place.shifts,
                           stroker=stroker)
     run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
@@ -389,7 +490,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     plan.stats.update(sink.stats)
 
 
-def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk):
+def _read_and_stroke(flavor, source, kept, nib_region, tols, stroker, chunk):
     """:func:`_streamed_chunk` of ``chunk`` ((glyph name, shift) pairs), its jobs read
     in this process (a worker) from ``source`` (the UFO's path and the run's token,
     :func:`morph.fonts.stream.worker_source`): the calling process neither reads
@@ -398,7 +499,7 @@ def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk
     from .stream import worker_source
 
     return _streamed_chunk(flavor, _stroke_work(worker_source(*source), [n for n, _ in chunk],
-                                                symmetric, nib_region, tols, dict(chunk),
+                                                kept, nib_region, tols, dict(chunk),
                                                 stroker))
 
 
@@ -495,15 +596,14 @@ class _StreamedGlyphs:
         otf.save(str(self.tmp))
 
 
-def _finish_shells(font, source, stroked, followed, place, symmetric, kind):
+def _finish_shells(font, source, stroked, followed, place, kept, kind):
     """The shells' final furniture before any glyph is stroked (a UFO output writes
     them first): components, anchors, guidelines and advances moved, the glyphs not
     chosen emptied, the feature file's anchors moved.  Returns the first statistics:
     ``decomposed``, ``composites``, ``emptied``."""
     written = stroked + followed
-    decomposed = sum(1 for n in stroked for c in font[n].components
-                     if not keep_component(c, symmetric))
-    _move_furniture(font, written, place, symmetric)
+    decomposed = sum(1 for n in stroked for keep in kept.get(n, ()) if not keep)
+    _move_furniture(font, written, place, kept)
     emptied = _empty_unstroked(font, source, set(written), kind)
     _move_feature_file(font, place)
     return {"decomposed": decomposed, "emptied": emptied,
@@ -555,7 +655,7 @@ def _placement(font, names, nib_region):
     return _Placement(shifts, grow, centre)
 
 
-def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
+def _stroke_work(source, names, kept, nib_region, tols, shifts, stroker):
     """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
     each, its own contours and the components that cannot be kept, read from the
     source now (:class:`morph.fonts.stream.SkeletonSource`): the chunk's ``.glif``
@@ -572,28 +672,28 @@ def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
             g = source[n]
             outline = glyph_paths(g), g.components
         paths, components = outline
-        for c in components:
-            if not keep_component(c, symmetric):
+        for c, keep in zip(components, kept.get(n, ())):
+            if not keep:
                 paths.extend(component_paths(source, c))
         # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
     return work
 
 
-def _move_furniture(font, names, place, symmetric):
+def _move_furniture(font, names, place, kept):
     """Kept components re-placed (o' = o + s_composite - M s_base), anchors and
     vertical guidelines moved, advances grown, for the written glyphs ``names``."""
     for n in names:
         g = font[n]
         s = place.shifts[n]
-        kept = []
-        for c in g.components:
-            if keep_component(c, symmetric):  # the others are in the stroke
+        placed = []
+        for c, keep in zip(g.components, kept.get(n, ())):
+            if keep:  # the others are in the stroke
                 xx, xy, yx, yy, dx, dy = tuple(c.transformation)
                 sb = place.shifts[c.baseGlyph]
                 c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
-                kept.append(c)
-        g.components[:] = kept
+                placed.append(c)
+        g.components[:] = placed
         dx, dy = place.anchor_offset(n)
         for a in g.anchors:
             a.x += dx
