@@ -31,14 +31,15 @@ GLYPHS = ["o", "eacute", "i", "nine", "ordfeminine", "omixed", "onested"]
 
 def _source(skeleton):
     """The Relief subset with a glyph of contours and a kept component (``omixed``)
-    and a composite nesting it (``onested``)."""
+    and a composite nesting it (``onested``), their parts' strokes apart (nearer
+    parts are decomposed, :func:`morph.fonts.stroke.separate_components`)."""
     font = copy.deepcopy(skeleton)
     g = font.newGlyph("omixed")
     g.width = 700
     pen = g.getPointPen()
     pen.beginPath()
-    pen.addPoint((100, 600), "move")
-    pen.addPoint((500, 700), "line")
+    pen.addPoint((100, 1000), "move")
+    pen.addPoint((500, 1100), "line")
     pen.endPath()
     pen.addComponent("o", (1, 0, 0, 1, 50, 0))
     n = font.newGlyph("onested")
@@ -93,18 +94,22 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
 
     from morph.fonts.jobs import glyph_chunks
     from morph.fonts.stream import SkeletonSource
-    from morph.fonts.stroke import _chunk_job, _placement, _stroke_work, plan_components
+    from morph.fonts.stroke import (_chunk_job, _placement, _stroke_work, plan_components,
+                                    separate_components)
     from morph.fonts.tables import draw_contours
 
     src, out, stats = streamed
     source = SkeletonSource(src)
     shells = source.shell_font()
     nib = ellipse_nib(*NIB)
-    stroked, followed = plan_components(shells, GLYPHS, True, source.contour_counts)
+    keep = separate_components(shells, source, nib, 0.5, source.contour_counts)
+    stroked, followed = plan_components(shells, GLYPHS, contour_counts=source.contour_counts,
+                                        kept=keep)
+    kept = {n: keep(n) for n in stroked + followed}
     shifts = _placement(shells, stroked + followed, nib).shifts
     ref = ufoLib2.Font.open(out / "S.ufo")
     for chunk in glyph_chunks(stroked):
-        for r in _chunk_job(_stroke_work(source, chunk, True, nib, plan(0.5, True), shifts,
+        for r in _chunk_job(_stroke_work(source, chunk, kept, nib, plan(0.5, True), shifts,
                                          None)):
             g = ref[r["name"]]
             g.clearContours()
