@@ -241,11 +241,24 @@ def _spike_triples(flat, reach):
     prev, nxt = base[r] + (j - 1) % per[r], base[r] + (j + 1) % per[r]
     pieces = pc.Pieces.of(pieces)
     lim = pc.length_bounds(pieces.take(i)) + reach
+    atol = 1e-6 * reach
+    # a crossing Newton accepts lies on the neighbour before (in its control box),
+    # within atol of the one after (in its box grown by atol) and within lim of the
+    # junction: rows whose three boxes (grown by atol, far above rounding) share no
+    # point cannot have one, and are not iterated
+    box = pc.bboxes(pieces.take(np.concatenate([prev, nxt])))
+    m = len(i)
+    g = np.concatenate([ends[i] - lim[:, None], ends[i] + lim[:, None]], axis=1)
+    lo = np.maximum(np.maximum(box[:m, :2], box[m:, :2]) - atol, g[:, :2])
+    hi = np.minimum(np.minimum(box[:m, 2:], box[m:, 2:]) + atol, g[:, 2:])
+    maybe = np.flatnonzero(np.all(lo <= hi, axis=1))
+    if not len(maybe):
+        return []
+    i, r, j, prev, nxt, lim = i[maybe], r[maybe], j[maybe], prev[maybe], nxt[maybe], lim[maybe]
     stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim,
-                                1e-6 * reach)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     return list(zip(r[ok].tolist(), j[ok].tolist()))
 
