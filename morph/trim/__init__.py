@@ -133,7 +133,9 @@ def _near_pairs(polylines, reach):
     e = np.repeat(np.arange(len(a)), per)
     box = first[owner][e] + (np.arange(len(e)) - np.repeat(np.cumsum(per) - per, per))
     elo, ehi = np.minimum(a, b)[e] - half, np.maximum(a, b)[e] + half
-    meets = np.all((elo <= bhi[box]) & (ehi >= blo[box]), axis=1)
+    bh, bl = bhi[box], blo[box]
+    meets = ((elo[:, 0] <= bh[:, 0]) & (elo[:, 1] <= bh[:, 1])
+             & (ehi[:, 0] >= bl[:, 0]) & (ehi[:, 1] >= bl[:, 1]))
     keep = np.zeros(len(a), bool)
     keep[e[meets]] = True
     if not keep.any():

@@ -127,7 +127,9 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
         size_a = np.hypot(*(hi_a - lo_a).T)
         size_b = np.hypot(*(hi_b - lo_b).T)
         slack = 1e-9 * res
-        meet = np.all(lo_a <= hi_b + slack, axis=1) & np.all(lo_b <= hi_a + slack, axis=1)
+        ha, hb = hi_a + slack, hi_b + slack
+        meet = ((lo_a[:, 0] <= hb[:, 0]) & (lo_a[:, 1] <= hb[:, 1])
+                & (lo_b[:, 0] <= ha[:, 0]) & (lo_b[:, 1] <= ha[:, 1]))
         kind = it["kind"]
         small = (size_a <= res) & (size_b <= res)
         narrow = np.zeros(len(kind), bool)

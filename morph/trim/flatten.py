@@ -45,7 +45,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import BoxGrid, _cell_pair_chunks, _within, unique
+from ..polyline import BoxGrid, _cell_pair_chunks, _within, col_max, col_min, unique
 
 #: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
@@ -111,7 +111,7 @@ def tag_loops(loops, eps, grid, origin=None):
     pid, ts, xy = adaptive_starts(pieces, piece_loop, eps, grid)
     loop_of = piece_loop[pid]
     if origin is None:
-        origin = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+        origin = 0.5 * (col_min(xy) + col_max(xy))
     origin = np.asarray(origin, float)
     q = np.rint((xy - origin) / grid).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
@@ -410,7 +410,7 @@ def _merge_equal(q, is_start, loop_of):
     _, prv, starts = _links(loop_of)
     size = np.diff(starts)
     loop = np.repeat(np.arange(len(size)), size)
-    begins = ~np.all(q == q[prv], axis=1)            # a run begins at this vertex
+    begins = (q[:, 0] != q[prv, 0]) | (q[:, 1] != q[prv, 1])  # a run begins at this vertex
     if not begins.any():
         return np.zeros(0, np.int64)
     count = np.cumsum(begins)                        # run starts up to and with i

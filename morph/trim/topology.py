@@ -91,7 +91,9 @@ def _without_lone_slivers(flat, thin):
     hi = np.maximum.reduceat(q, starts)
     p, b = BoxGrid(lo[thin_ids], hi[thin_ids]).at_points(q[starts])
     t = thin_ids[b]
-    holds = (p != t) & np.all(lo[p] >= lo[t], axis=1) & np.all(hi[p] <= hi[t], axis=1)
+    lp, lt, hp, ht = lo[p], lo[t], hi[p], hi[t]
+    holds = ((p != t) & (lp[:, 0] >= lt[:, 0]) & (lp[:, 1] >= lt[:, 1])
+             & (hp[:, 0] <= ht[:, 0]) & (hp[:, 1] <= ht[:, 1]))
     drop = np.zeros(len(flat), bool)
     drop[thin_ids] = True
     drop[t[holds]] = False
