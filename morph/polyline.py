@@ -138,20 +138,25 @@ def _equal_split_matrices(n, k):
 
 def _chord_distance(parts):
     """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
-    the chord (segment) of its part."""
-    p = parts[..., :2] / parts[..., 2:]
-    a, b = p[:, :1], p[:, -1:]
-    chord = b - a
-    length = np.hypot(chord[..., 0], chord[..., 1])
-    rel = p - a
+    the chord (segment) of its part.  The inner control points one at a time, on
+    (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
+    by row)."""
+    w = parts[..., 2]
+    px, py = parts[..., 0] / w, parts[..., 1] / w
+    ax, ay, bx, by = px[:, 0], py[:, 0], px[:, -1], py[:, -1]
+    cx, cy = bx - ax, by - ay
+    length = np.hypot(cx, cy)
     safe = np.where(length > 0, length, 1.0)
-    dist = np.abs(chord[..., 0] * rel[..., 1] - chord[..., 1] * rel[..., 0]) / safe
-    along = (rel[..., 0] * chord[..., 0] + rel[..., 1] * chord[..., 1]) / safe / safe  # no underflow of safe^2
-    to_a = np.hypot(rel[..., 0], rel[..., 1])
-    to_b = np.hypot(*np.moveaxis(p - b, -1, 0))
-    dist = np.where((along < 0) | (length == 0), to_a, dist)
-    dist = np.where((along > 1) & (length > 0), to_b, dist)
-    return dist.max(axis=1)
+    before_a = length == 0
+    out = np.zeros(len(parts))
+    for j in range(1, parts.shape[1] - 1):
+        rx, ry = px[:, j] - ax, py[:, j] - ay
+        dist = np.abs(cx * ry - cy * rx) / safe
+        along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
+        dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
+        dist = np.where((along > 1) & ~before_a, np.hypot(px[:, j] - bx, py[:, j] - by), dist)
+        np.maximum(out, dist, out=out)
+    return out
 
 
 def flatten_loop(pieces, tol):
