@@ -113,8 +113,13 @@ def _near_pairs(polylines, reach):
         return set()
     has = np.flatnonzero(sizes)
     half = 0.5 * reach
-    lo = np.array([np.min(polylines[k], axis=0) for k in has]) - half
-    hi = np.array([np.max(polylines[k], axis=0) for k in has]) + half
+    # each polyline's box, all at once: (x, y) columns reduced at the polylines' starts
+    pts = np.concatenate([np.asarray(polylines[k], float) for k in has])
+    at = np.cumsum(sizes[has]) - sizes[has]
+    lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
+                  axis=1) - half
+    hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
+                  axis=1) + half
     pairs = _cell_pairs(BoxGrid(lo, hi))
     if not len(pairs):
         return set()
