@@ -142,6 +142,7 @@ def _nested_rings(flat, sizes=None, q=None):
         down = (p1[:, 1] <= v[:, 1]) & (p0[:, 1] > v[:, 1]) & (cross < 0)
         wind = np.bincount(pair, weights=up.astype(float) - down, minlength=len(a))
         a, b = a[wind != 0], b[wind != 0]
+    if len(a):
         # the innermost container: the smallest by area
         order = np.lexsort((np.abs(area[b]), a))
         a, b = a[order], b[order]

@@ -171,6 +171,11 @@ def test_nested_rings_as_the_tree_pass(seed):
             for k, r in enumerate(rings)} == _tree_rings(flat)
     assert sum(r.hole for r in rings) >= 2 and any(
         r.parent >= 0 and rings[r.parent].parent >= 0 for r in rings)
+    # a ring inside another's box, not inside it: both at the top
+    ell = [[0, 0], [100, 0], [100, 10], [10, 10], [10, 100], [0, 100]]
+    box = [[50, 50], [60, 50], [60, 60], [50, 60]]
+    got = _nested_rings([ell, box])
+    assert [r.parent for r in got] == [-1, -1] and not any(r.hole for r in got)
     # a ring through one grid point twice: the tree pass decides
     bow = [[0, 0], [10, 0], [10, 10], [20, 10], [20, 20], [10, 20], [10, 10], [0, 10]]
     assert _nested_rings([bow]) is None
