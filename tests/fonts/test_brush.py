@@ -389,8 +389,9 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
     _assert_sum(src, out, "T")
 
 
-def test_jobs_give_the_same_font(tmp_path):
+def test_jobs_give_the_same_font(tmp_path, monkeypatch):
     """--jobs 2 (a process pool) writes the same outlines, metrics and anchors as 1."""
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     outs = []
     for jobs in (1, 2):
         out = tmp_path / ("j%d.ttf" % jobs)
