@@ -14,8 +14,8 @@ pending ranges of every run with a few array calls
 (:func:`morph.export.fit.moment_cubics`: all ranges' parts sampled in one
 evaluation per degree, all candidates measured at once) and certifies all their
 cubics in one batch (:func:`morph.export.certify.certify_batch`, phi fitted to the
-pairs of parameters the fitter's rays found: the pieces are not sampled again; a cubic whose
-sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
+pairs of parameters the fitter's rays found: the pieces are not sampled again; a
+cubic whose sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
 distance is below PROVISIONAL tol: the search extends it anyway, and certifies it
 only if it ends there).  bench/export.py compares the cubic counts with kurbo's and
 with the classic circle cubic.  Where the fit finds no cubic, or its cubic does not
@@ -154,8 +154,9 @@ def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
     """Certify every part of the ranges ``todo`` in one batch (:func:`certify_batch`):
     the cubic cut at [s0, s1] of the part (the feet of the join points: phi is
     continuous, mapping s_k to the join, and increasing) against the part's piece,
-    phi fitted to the pairs of parameters the fitter's rays found (:class:`morph.
-    export.fit.Rays`, mapped to the cut: the pieces are not sampled again).  Returns (bound per range: the worst of its parts, inf where not
+    phi fitted to the pairs of parameters the fitter's rays found
+    (:class:`morph.export.fit.Rays`, mapped to the cut: the pieces are not sampled
+    again).  Returns (bound per range: the worst of its parts, inf where not
     certified; the :class:`Certified` batch or None; each part's row in it, -1
     where not certified)."""
     n = len(todo)
