@@ -147,25 +147,27 @@ def test_streamed_ttf_keeps_stored_glyphs_as_bytes(streamed, tmp_path, monkeypat
     assert glyf["o"].flags[0] & flagOverlapSimple and not glyf["six"].flags[0] & flagOverlapSimple
 
 
-def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path):
+def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path, monkeypatch):
     """With workers and a UFO on disk, each worker reads its chunks' skeletons: the
     font is the one the calling process writes from the same source read by
     itself (jobs=1), table for table."""
     src, out, _ = streamed
     ufo = tmp_path / "src.ufo"
     src.save(str(ufo))
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     stroke_ufo(str(ufo), tmp_path / "one.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=1)
     stroke_ufo(str(ufo), tmp_path / "two.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=2)
     _same_tables(tmp_path / "two.otf", TTFont(str(tmp_path / "one.otf")))
 
 
-def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path):
+def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monkeypatch):
     """A .glif whose points do not parse passes the shell pass (it reads no point)
     and fails in the worker that reads it: the command says which glyph, exit 2."""
     from click.testing import CliRunner
 
     from morph.cli import main
 
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     ufo = tmp_path / "bad.ufo"
     streamed[0].save(str(ufo))
     glif = next((ufo / "glyphs").glob("o.glif"))
