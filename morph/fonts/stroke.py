@@ -186,6 +186,8 @@ class _Separation:
     def __call__(self, name):
         if name not in self.answers:
             comps = self.font[name].components
+            if not comps:  # nothing to decide: its contours are not read
+                return ()
             parts = [(self._own_box(name), None)] + [
                 (_moved_box(self._box(c.baseGlyph), c.transformation), c) for c in comps]
             near = [[False] * len(parts) for _ in parts]
