@@ -63,6 +63,9 @@ from tests.oracles.reference import winding_number  # noqa: E402
 
 #: Integer coordinates move a point by at most sqrt(2)/2 font units.
 ROUNDING = 0.71
+#: Faces smaller than this (font units²) are the noding's floating-point noise where two
+#: contours touch (1e-27 seen), not overlaps: a lens this small is under 1e-4 units wide.
+NOISE_AREA = 1e-9
 #: Flattening of the written curves (font units): an overlap's width is measured within
 #: about twice this.
 FLAT = 0.01
@@ -184,28 +187,37 @@ def _signed_area(pts):
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def polygon_overlaps(contours, sign=None, flat=FLAT):
-    """[:class:`Overlap`] of closed polylines ``contours`` filled by the nonzero rule
-    (see the module doc); ``sign``: the outer contours' orientation (+1
-    counter-clockwise), by default the sign of the total signed area."""
+def faces(contours, sign=None):
+    """(faces, w s) of closed polylines ``contours``: the faces of their arrangement
+    (shapely polygons, those over NOISE_AREA) and each face's winding number times
+    the outer contours' orientation ``sign`` (+1 counter-clockwise; by default the
+    sign of the total signed area)."""
     contours = [np.asarray(c, float) for c in contours if len(c) >= 3]
     if not contours:
-        return []
+        return np.array([], dtype=object), np.array([], dtype=np.int64)
     if sign is None:
         sign = 1 if sum(_signed_area(c) for c in contours) >= 0 else -1
     rings = [shapely.LineString(np.vstack([c, c[:1]])) for c in contours]
     noded = shapely.union_all(rings)
-    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
-    faces = faces[shapely.area(faces) > 0]
-    if not len(faces):
-        return []
-    pts = shapely.get_coordinates(shapely.point_on_surface(faces))
-    ws = sign * winding_number(pts, contours)
+    found = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
+    found = found[shapely.area(found) > NOISE_AREA]
+    if not len(found):
+        return found, np.array([], dtype=np.int64)
+    pts = shapely.get_coordinates(shapely.point_on_surface(found))
+    return found, sign * winding_number(pts, contours)
+
+
+def polygon_overlaps(contours, sign=None, flat=FLAT):
+    """[:class:`Overlap`] of closed polylines ``contours`` filled by the nonzero rule
+    (see the module doc); ``sign``: the outer contours' orientation (+1
+    counter-clockwise), by default the sign of the total signed area."""
+    found, ws = faces(contours, sign)
     bad = (ws >= 2) | (ws < 0)
     if not bad.any():
         return []
-    weight = np.where(ws >= 2, ws - 1, -(np.abs(ws) + 1)) * shapely.area(faces)
-    merged = shapely.get_parts(shapely.union_all(faces[bad]))
+    pts = shapely.get_coordinates(shapely.point_on_surface(found))
+    weight = np.where(ws >= 2, ws - 1, -(np.abs(ws) + 1)) * shapely.area(found)
+    merged = shapely.get_parts(shapely.union_all(found[bad]))
     out = []
     for part in merged:
         inside = shapely.contains_xy(part, pts[:, 0], pts[:, 1]) & bad
@@ -230,13 +242,20 @@ def pathops_excess(drawing, sign):
     return sign * total - pathops.simplify(path).area
 
 
-def glyph_overlaps(name, drawing, flat=FLAT):
-    """:class:`GlyphOverlaps` of one glyph (a recording pen's drawing)."""
+def flattened(drawing, flat=FLAT):
+    """The closed polylines ((n, 2) arrays) of a recording pen's drawing, each within
+    ``flat`` of its curves."""
     pen = _FlatteningPen(flat)
     drawing.replay(pen)
-    sign = 1 if sum(_signed_area(c) for c in pen.contours) >= 0 else -1
-    return GlyphOverlaps(name, len(pen.contours), polygon_overlaps(pen.contours, sign, flat),
-                         pathops_excess(drawing, sign) if pen.contours else 0.0)
+    return pen.contours
+
+
+def glyph_overlaps(name, drawing, flat=FLAT):
+    """:class:`GlyphOverlaps` of one glyph (a recording pen's drawing)."""
+    contours = flattened(drawing, flat)
+    sign = 1 if sum(_signed_area(c) for c in contours) >= 0 else -1
+    return GlyphOverlaps(name, len(contours), polygon_overlaps(contours, sign, flat),
+                         pathops_excess(drawing, sign) if contours else 0.0)
 
 
 def font_overlaps(path, names=None, flat=FLAT):
