@@ -351,7 +351,11 @@ def markdown(rows, unr, ctl, argv, elapsed):
                "The same sets stroked in process as `morph stroke` strokes them "
                "(`bench.stroke.run_morph`: the command's chunks, `stroke_many` at the "
                "geometry share of tol, `loops_to_beziers` at the export share), the "
-               "contours checked before any rounding.  Bound here: 2 tol (no rounding).", "",
+               "contours checked before any rounding.  Bound here: 2 tol (no rounding).  "
+               "Glyphs drawn by their own contours (with or without components); "
+               "`run_morph` strokes a glyph's paths and its components' together, so a "
+               "composite is trimmed as one outline here, where the command keeps its "
+               "components as components.", "",
                "| set | glyphs | tol | glyphs with an overlap | over 2 tol | widest overlap "
                "(glyph) | largest overlap area (glyph) | total area | pathops check | "
                "failures |",
