@@ -1,6 +1,6 @@
 """Peak memory of ``morph stroke`` against the number of glyphs (hanzi medians).
 
-    python -m bench.stroke_memory [--sets hanzi-300,hanzi-3000] [--jobs 1,2]
+    python -m bench.stroke_memory [--sets hanzi-300,hanzi-3000] [--jobs 1,2] [--keep DIR]
                                   [--md bench/stroke_memory.md | --no-write]
 
 Each run is the command ``morph stroke SET.ufo -o OUT.otf --jobs J --force`` on a
@@ -43,6 +43,8 @@ def main(argv=None):
     ap.add_argument("--jobs", default="1,2")
     ap.add_argument("--pairs", help="set:jobs,... instead of every set with every --jobs")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_memory.md"))
+    ap.add_argument("--keep", help="write the fonts into this folder and keep them (e.g. "
+                    "for bench.stroke_overlaps --written)")
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
@@ -56,7 +58,9 @@ def main(argv=None):
             ufo = skeleton_ufo(s)
             glyphs = sum(1 for _ in (ufo / "glyphs").glob("*.glif"))
             load = os.getloadavg()[0]
-            r = run(ufo, int(j), Path(tmp) / (s + ".otf"))
+            out = Path(opt.keep or tmp) / (s + ".otf")
+            out.parent.mkdir(parents=True, exist_ok=True)
+            r = run(ufo, int(j), out)
             r.update(set=s, jobs=int(j), glyphs=glyphs, load=(load, os.getloadavg()[0]))
             print({k: v for k, v in r.items() if k != "output"}, flush=True)
             rows.append(r)

@@ -2,6 +2,7 @@
 
     python -m bench.stroke_overlaps [--runs SET:FORMAT,...] [--unrounded SET,...]
                                     [--jobs 1] [--keep DIR] [--strict]
+                                    [--written SET:JOBS:PATH,...]
                                     [--md bench/stroke_overlaps.md | --no-write]
 
 Static outputs of ``morph stroke`` and ``morph brush`` are trimmed: one outline per
@@ -92,23 +93,31 @@ def units_per_em(path):
     return float(TTFont(str(path))["head"].unitsPerEm)
 
 
-def check_run(name, fmt, workdir, jobs):
-    """Write set ``name`` as ``fmt`` with the command and check every glyph."""
+def check_run(name, fmt, workdir, jobs, written=None):
+    """Write set ``name`` as ``fmt`` with the command and check every glyph;
+    ``written``: a font the command wrote before (e.g. ``bench.stroke_memory
+    --keep``), checked as it is."""
     from morph.cli.options import FONT_TOL
     from tests.oracles.overlaps import font_overlaps, overlap_bound
 
-    out = Path(workdir) / ("%s.%s" % (name, fmt))
-    cmd = command(name, fmt, out, jobs)
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1",
-               PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT))
-    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=str(workdir))
-    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-    lines = (proc.stdout + proc.stderr).strip().splitlines()
-    row = {"set": name, "format": fmt, "command": shown(cmd), "rc": proc.returncode,
-           "line": lines[-1] if lines else "", "command_cpu": cpu, "path": str(out)}
-    if proc.returncode not in (0, 1) or not out.exists():
+    if written:
+        out = Path(written)
+        row = {"set": name, "format": fmt, "command": shown(command(name, fmt, out, jobs))
+               .replace(" --force", ""), "rc": 0, "line": "", "written": True,
+               "command_cpu": float("nan"), "path": str(out)}
+    else:
+        out = Path(workdir) / ("%s.%s" % (name, fmt))
+        cmd = command(name, fmt, out, jobs)
+        env = dict(os.environ, OPENBLAS_NUM_THREADS="1",
+                   PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT))
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=str(workdir))
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+        lines = (proc.stdout + proc.stderr).strip().splitlines()
+        row = {"set": name, "format": fmt, "command": shown(cmd), "rc": proc.returncode,
+               "line": lines[-1] if lines else "", "command_cpu": cpu, "path": str(out)}
+    if row["rc"] not in (0, 1) or not out.exists():
         row["glyphs"] = None
         return row
     upm = units_per_em(out)
@@ -299,6 +308,10 @@ def summary(results, bound):
             "max_excess": max((abs(g.excess) for g in results), default=0.0)}
 
 
+def _cpu(v):
+    return "-" if v != v else "%.1f" % v
+
+
 def _g(g, what):
     return "-" if g is None else "%.3f (%s)" % (getattr(g, what), g.name)
 
@@ -340,11 +353,13 @@ def markdown(rows, unr, ctl, argv, elapsed):
                          r["command_cpu"], r["rc"]))
             continue
         s = summary(r["results"], r["bound"])
-        md.append("| %s | %s | `%s` | %d | %d | %d | %.2f | %s | %s | %.3f | %.1e | %.1f "
+        md.append("| %s | %s | `%s`%s | %d | %d | %d | %.2f | %s | %s | %.3f | %.1e | %s "
                   "| %.1f | %d |"
-                  % (r["set"], r["format"], r["command"], r["glyphs"], s["with"], s["over"],
+                  % (r["set"], r["format"], r["command"],
+                     " (written before, checked as it is)" if r.get("written") else "",
+                     r["glyphs"], s["with"], s["over"],
                      r["bound"], _g(s["widest"], "width"), _g(s["largest"], "area"),
-                     s["total_area"], s["disagree"], r["command_cpu"], r["check_cpu"],
+                     s["total_area"], s["disagree"], _cpu(r["command_cpu"]), r["check_cpu"],
                      r["rc"]))
     if unr:
         md += ["", "## Before rounding (in process)", "",
@@ -438,6 +453,9 @@ def main(argv=None):
     ap.add_argument("--unrounded", default=DEFAULT_UNROUNDED,
                     help="sets also checked in process before rounding ('' for none)")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--written", help="SET:JOBS:PATH,...: fonts the command wrote before "
+                    "(with --jobs JOBS), checked as they are (e.g. hanzi-all from "
+                    "bench.stroke_memory --keep)")
     ap.add_argument("--keep", help="write the fonts into this folder (kept)")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_overlaps.md"))
     ap.add_argument("--png", help="the figure, written with the report (default: the "
@@ -447,7 +465,11 @@ def main(argv=None):
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
-    shown_argv = [a for a in argv if a not in ("--no-write", "--strict")]
+    shown_argv = [a or "''" for a in argv if a not in ("--no-write", "--strict")]
+    if "--written" in shown_argv:  # the fonts' names, not the machine's paths
+        i = shown_argv.index("--written") + 1
+        shown_argv[i] = ",".join(w.rsplit(":", 1)[0] + ":" + Path(w.rsplit(":", 1)[1]).name
+                                 for w in shown_argv[i].split(",") if w)
     for flag in ("--md", "--keep", "--png"):
         if flag in shown_argv:
             i = shown_argv.index(flag)
@@ -457,9 +479,13 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         workdir = Path(opt.keep or tmp)
         workdir.mkdir(parents=True, exist_ok=True)
-        for run in opt.runs.split(","):
-            name, fmt = run.split(":")
-            r = check_run(name, fmt, workdir, opt.jobs)
+        runs = [(r.split(":")[0], r.split(":")[1], None) for r in opt.runs.split(",") if r]
+        for w in filter(None, (opt.written or "").split(",")):
+            name, jobs, path = w.split(":", 2)
+            runs.append((name, Path(path).suffix[1:], (int(jobs), path)))
+        for name, fmt, written in runs:
+            r = (check_run(name, fmt, workdir, written[0], written[1]) if written else
+                 check_run(name, fmt, workdir, opt.jobs))
             if r.get("glyphs") is not None:
                 s = summary(r["results"], r["bound"])
                 print("%s.%s: %d glyphs, %d with an overlap, %d over %.2f; widest %s"
