@@ -99,6 +99,11 @@ REPORTS = [
            quick=["--pairs", "hershey-sans:2", "--md", "{md}"],
            cost="4-10 min on an idle machine (every Make Me a Hanzi character), fetched with npm",
            snapshot=True),
+    Report("stroke_overlaps", "bench.stroke_overlaps", ["--md", "{md}"],
+           quick=["--runs", "hershey-sans:otf,noto-brush:ttf", "--unrounded", "", "--md",
+                  "{md}"],
+           cost="5-10 min, skeleton sets fetched with npm", snapshot=True,
+           needs=("shapely", "pathops")),
     Report("font_writer", "bench.font_writer",
            ["--runs", "300:.otf,300:.ttf,300:.ufo,3000:.otf,3000:.ttf,3000:.ufo,30000:.ttf,"
             "30000:.otf", "--md", "{md}"],

@@ -436,7 +436,7 @@ def other_samples_md(rows):
     return md
 
 
-def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before")):
+def shown_args(argv, outputs=("--md", "--json", "--sets-md", "--before", "--keep")):
     """The command-line arguments without the output-file options (their paths are
     the machine's, not the measurement's)."""
     out, skip = [], False

@@ -13,6 +13,8 @@ imports this package, nothing under tests/ imports bench/.
 - :mod:`tests.oracles.icons`: the icon cases' checks against polygon references;
 - :mod:`tests.oracles.varfont`: variable-font checks (the nib's ellipse
   metric, Clipper strokes of flattened skeletons, boundary distances);
+- :mod:`tests.oracles.overlaps`: overlaps between the contours of a written glyph
+  (doubly covered faces, their area and width; pathops' exact excess area);
 - :mod:`tests.oracles.measure`: a certified upper bound of a result's distance to the
   exact sum (for comparing peers at equal measured error).
 
