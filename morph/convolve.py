@@ -801,8 +801,9 @@ def chain(pieces, tol):
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
         groups.append((ks, h))
     snapped = pc.Pieces(groups, n).rows()
-    bounds = np.flatnonzero(np.diff(first[order])) + 1
-    return [[snapped[k] for k in part] for part in np.split(order, bounds)]
+    ordered = list(map(snapped.__getitem__, order.tolist()))
+    bounds = [0] + (np.flatnonzero(np.diff(first[order])) + 1).tolist() + [n]
+    return [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
 def _nearest_first(e, s, d, n):
