@@ -849,25 +849,29 @@ def _cycles(succ):
 
 
 def _near_pairs(a, b, tol):
-    """Index pairs (i, j, distance) with |a_i - b_j| <= tol (grid hashing, cell tol)."""
+    """Index pairs (i, j, distance) with |a_i - b_j| <= tol (grid hashing, cell tol):
+    for each of the three columns of cells round a point, the three cells of the
+    column are consecutive keys, found by one pair of searches; the pairs are listed
+    cell by cell of the 3 x 3 neighbourhood (then by i, then by key), as nine
+    searches would list them."""
     cell_a = np.floor(a / tol).astype(np.int64)
     cell_b = np.floor(b / tol).astype(np.int64)
     keys_b = cell_b[:, 0] * 3_000_017 + cell_b[:, 1]
     order = np.argsort(keys_b, kind="stable")
     sorted_keys = keys_b[order]
-    ii, jj = [], []
+    ii, jj, cc = [], [], []
     for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1] + dy
-            lo = np.searchsorted(sorted_keys, k, "left")
-            hi = np.searchsorted(sorted_keys, k, "right")
-            cnt = hi - lo
-            ii.append(np.repeat(np.arange(len(a)), cnt))
-            jj.append(order[np.repeat(lo, cnt) + np.arange(cnt.sum())
-                            - np.repeat(np.cumsum(cnt) - cnt, cnt)])
-    i, j = np.concatenate(ii), np.concatenate(jj)
+        k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1]
+        lo = np.searchsorted(sorted_keys, k - 1, "left")
+        hi = np.searchsorted(sorted_keys, k + 1, "right")
+        cnt = hi - lo
+        i = np.repeat(np.arange(len(a)), cnt)
+        at = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        ii.append(i)
+        jj.append(order[at])
+        cc.append(3 * (dx + 1) + 1 + (sorted_keys[at] - k[i]))   # the cell (dx, dy)
+    i, j, c = np.concatenate(ii), np.concatenate(jj), np.concatenate(cc)
     d = np.hypot(*(a[i] - b[j]).T)
-    near = d <= tol
+    near = np.flatnonzero(d <= tol)
+    near = near[np.argsort(c[near], kind="stable")]
     return i[near], j[near], d[near]
-
-
