@@ -123,12 +123,10 @@ def _monotone_parts(pieces, check=True):
         parts, owner = pieces, np.arange(len(pieces))
     else:
         cut = pl.unique(o)
-        bounds = np.searchsorted(o, np.append(cut, cut[-1] + 1)) if len(cut) else [0]
-        rows = pieces.rows()
-        extra = [pc.split_at(rows[k], r[a:b])
-                 for k, a, b in zip(cut.tolist(), bounds[:-1].tolist(), bounds[1:].tolist())]
+        bounds = np.searchsorted(o, np.append(cut, cut[-1] + 1))
+        n_cuts = np.diff(bounds)
         n_parts = np.ones(len(pieces), np.int64)
-        n_parts[cut] = [len(x) for x in extra]
+        n_parts[cut] = n_cuts + 1
         owner = np.repeat(np.arange(len(pieces)), n_parts)
         first = np.cumsum(n_parts) - n_parts
         whole = np.ones(len(pieces), bool)
@@ -138,10 +136,20 @@ def _monotone_parts(pieces, check=True):
             w = whole[ks]
             if w.any():
                 groups.append((first[ks[w]], h[w]))
-        new = [q for x in extra for q in x]
-        at = np.concatenate([first[k] + np.arange(len(x)) for k, x in zip(cut.tolist(), extra)])
-        for ks, h in pc.degree_groups(new):
-            groups.append((at[ks], h))
+        # the cut pieces split at their parameters in rounds, the j-th cut of every
+        # piece with one at once (:func:`morph.piece.split_at`'s steps, the same
+        # float operations)
+        for sel, h in pieces.take(cut).groups:
+            m = n_cuts[sel]
+            ts = r[bounds[sel][:, None] + np.minimum(np.arange(m.max()), m[:, None] - 1)]
+            rest, prev = h.copy(), np.zeros(len(sel))
+            for j in range(int(m.max())):
+                on = np.flatnonzero(m > j)
+                t = ts[on, j]
+                left, rest[on] = bz.split_many(rest[on], (t - prev[on]) / (1.0 - prev[on]))
+                prev[on] = t
+                groups.append((first[cut[sel[on]]] + j, left))
+            groups.append((first[cut[sel]] + m, rest))
         parts = _merged(groups, int(n_parts.sum()))
     keep = _kept_many(parts, check)
     if keep.all():
