@@ -707,11 +707,27 @@ def crossing_rows(gauss_pair, reach):
 def _turn_convex(t):
     """:func:`morph.gauss.turns_convex` of each loop of an edge table (each loop's
     sweeps summed as that function sums them)."""
-    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1)).tolist()
+    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1))
     sweep = t.sweep
-    return np.array([bool(np.all(sweep[a:b] >= -gauss.TURN_EPS)
-                          and abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS)
-                     for a, b in zip(bounds[:-1], bounds[1:])], bool)
+    has = bounds[1:] > bounds[:-1]
+    out = np.zeros(t.n_loops, bool)
+    if not has.any():
+        return out
+    at = bounds[:-1][has]
+    low = np.minimum.reduceat(sweep, at) >= -gauss.TURN_EPS
+    # the sums in one call, in another order than a slice's sum: two orders of n
+    # terms differ by at most 2 (n - 1) u sum |sweep| (u the unit roundoff); a loop
+    # whose total is within that (doubled) of the threshold is summed again as
+    # turns_convex sums it, so the answer is the same
+    total = np.add.reduceat(sweep, at)
+    off = np.abs(total - gauss.TWO_PI) - gauss.TURN_TOTAL_EPS
+    out[has] = low & (off <= 0)
+    slack = 4.0 * np.finfo(float).eps * np.diff(bounds)[has] * np.add.reduceat(np.abs(sweep), at)
+    near = np.flatnonzero(low & (np.abs(off) <= slack + 1e-300))
+    for k in np.flatnonzero(has)[near].tolist():
+        a, b = bounds[k], bounds[k + 1]
+        out[k] = abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS
+    return out
 
 
 def _isolated(box):

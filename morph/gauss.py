@@ -21,6 +21,7 @@ by -90 degrees (Eq. 20).
 
 import math
 from dataclasses import dataclass
+from itertools import chain
 
 import numpy as np
 
@@ -392,8 +393,7 @@ def gauss_table(loops, angle_tol=1e-10):
         z = np.zeros(0)
         return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
                           np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), 0)
-    curves, owner = _monotone_parts(pc.Pieces.of([np.asarray(p, float) for loop in loops
-                                                  for p in loop]))
+    curves, owner = _monotone_parts(pc.Pieces.of(list(chain.from_iterable(loops))))
     counts = np.bincount(np.repeat(np.arange(len(loops)), sizes)[owner],
                          minlength=len(loops))
     if (counts == 0).any():
