@@ -508,8 +508,9 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     curves = pc.Pieces.of(curves)
     loops = pl.unique(loop_of[open_cusps])
     begin = np.cumsum(counts) - counts
-    idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
     owner = np.repeat(np.arange(len(loops)), counts[loops])
+    within = np.cumsum(counts[loops]) - counts[loops]
+    idx = begin[loops][owner] + np.arange(len(owner)) - within[owner]
     groups = [(ks, h.copy()) for ks, h in _taken(curves, idx).groups]
     size = _loop_sizes(groups, owner, len(loops))
     origin = pc.end_points(_taken(curves, begin[loops]))[0]
