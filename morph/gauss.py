@@ -117,8 +117,8 @@ def _split_params_arrays(pieces, inflections=True, axes=True, eps=1e-9):
 
 def _monotone_parts(pieces, check=True):
     """:func:`split_monotone_many` of a :class:`morph.piece.Pieces` as arrays: (the
-    kept parts of every piece, in order, as a Pieces; the piece of each part).  Only
-    the pieces that are cut are visited one by one."""
+    kept parts of every piece, in order, as a Pieces; the piece of each part).  The
+    cut pieces are split in rounds, the j-th cut of every one at once."""
     o, r = _split_params_arrays(pieces)
     if not len(o):
         parts, owner = pieces, np.arange(len(pieces))
