@@ -707,11 +707,27 @@ def crossing_rows(gauss_pair, reach):
 def _turn_convex(t):
     """:func:`morph.gauss.turns_convex` of each loop of an edge table (each loop's
     sweeps summed as that function sums them)."""
-    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1)).tolist()
+    bounds = np.searchsorted(t.loop, np.arange(t.n_loops + 1))
     sweep = t.sweep
-    return np.array([bool(np.all(sweep[a:b] >= -gauss.TURN_EPS)
-                          and abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS)
-                     for a, b in zip(bounds[:-1], bounds[1:])], bool)
+    has = bounds[1:] > bounds[:-1]
+    out = np.zeros(t.n_loops, bool)
+    if not has.any():
+        return out
+    at = bounds[:-1][has]
+    low = np.minimum.reduceat(sweep, at) >= -gauss.TURN_EPS
+    # the sums in one call, in another order than a slice's sum: two orders of n
+    # terms differ by at most 2 (n - 1) u sum |sweep| (u the unit roundoff); a loop
+    # whose total is within that (doubled) of the threshold is summed again as
+    # turns_convex sums it, so the answer is the same
+    total = np.add.reduceat(sweep, at)
+    off = np.abs(total - gauss.TWO_PI) - gauss.TURN_TOTAL_EPS
+    out[has] = low & (off <= 0)
+    slack = 4.0 * np.finfo(float).eps * np.diff(bounds)[has] * np.add.reduceat(np.abs(sweep), at)
+    near = np.flatnonzero(low & (np.abs(off) <= slack + 1e-300))
+    for k in np.flatnonzero(has)[near].tolist():
+        a, b = bounds[k], bounds[k + 1]
+        out[k] = abs(sweep[a:b].sum() - gauss.TWO_PI) <= gauss.TURN_TOTAL_EPS
+    return out
 
 
 def _isolated(box):
@@ -801,8 +817,9 @@ def chain(pieces, tol):
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
         groups.append((ks, h))
     snapped = pc.Pieces(groups, n).rows()
-    bounds = np.flatnonzero(np.diff(first[order])) + 1
-    return [[snapped[k] for k in part] for part in np.split(order, bounds)]
+    ordered = list(map(snapped.__getitem__, order.tolist()))
+    bounds = [0] + (np.flatnonzero(np.diff(first[order])) + 1).tolist() + [n]
+    return [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
 def _nearest_first(e, s, d, n):
@@ -848,25 +865,29 @@ def _cycles(succ):
 
 
 def _near_pairs(a, b, tol):
-    """Index pairs (i, j, distance) with |a_i - b_j| <= tol (grid hashing, cell tol)."""
+    """Index pairs (i, j, distance) with |a_i - b_j| <= tol (grid hashing, cell tol):
+    for each of the three columns of cells round a point, the three cells of the
+    column are consecutive keys, found by one pair of searches; the pairs are listed
+    cell by cell of the 3 x 3 neighbourhood (then by i, then by key), as nine
+    searches would list them."""
     cell_a = np.floor(a / tol).astype(np.int64)
     cell_b = np.floor(b / tol).astype(np.int64)
     keys_b = cell_b[:, 0] * 3_000_017 + cell_b[:, 1]
     order = np.argsort(keys_b, kind="stable")
     sorted_keys = keys_b[order]
-    ii, jj = [], []
+    ii, jj, cc = [], [], []
     for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1] + dy
-            lo = np.searchsorted(sorted_keys, k, "left")
-            hi = np.searchsorted(sorted_keys, k, "right")
-            cnt = hi - lo
-            ii.append(np.repeat(np.arange(len(a)), cnt))
-            jj.append(order[np.repeat(lo, cnt) + np.arange(cnt.sum())
-                            - np.repeat(np.cumsum(cnt) - cnt, cnt)])
-    i, j = np.concatenate(ii), np.concatenate(jj)
+        k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1]
+        lo = np.searchsorted(sorted_keys, k - 1, "left")
+        hi = np.searchsorted(sorted_keys, k + 1, "right")
+        cnt = hi - lo
+        i = np.repeat(np.arange(len(a)), cnt)
+        at = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        ii.append(i)
+        jj.append(order[at])
+        cc.append(3 * (dx + 1) + 1 + (sorted_keys[at] - k[i]))   # the cell (dx, dy)
+    i, j, c = np.concatenate(ii), np.concatenate(jj), np.concatenate(cc)
     d = np.hypot(*(a[i] - b[j]).T)
-    near = d <= tol
+    near = np.flatnonzero(d <= tol)
+    near = near[np.argsort(c[near], kind="stable")]
     return i[near], j[near], d[near]
-
-

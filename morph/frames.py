@@ -330,38 +330,90 @@ def _node_sets(nodes):
     """:func:`morph.qac.piece_nodes` as two terms: each accepted node's piece along
     ca as (X_A, X_B, W) (n+1, 5), None where a QAC piece has a weight <= 0.  A
     corner or chord is built twice, once with B's points at the origin and once
-    with A's (the weights kept): both are linear in the points."""
+    with A's (the weights kept): both are linear in the points.  The nodes of each
+    kind (and role) at once, with :mod:`morph.qac`'s operations row by row."""
     from . import qac
 
     ca, cb, sa, sb = nodes["ca"], nodes["cb"], nodes["sa"], nodes["sb"]
     kind, swap = nodes["kind"], nodes["swap"]
     out = [None] * len(ca)
-    bare_a, bare_b = _at_origin(ca), _at_origin(cb)
-    for r in np.flatnonzero(kind == qac.CORNER):
-        out[r] = _two_terms(qac._corner_piece(ca[r], bare_b[r], sa[r], sb[r], swap[r]),
-                            qac._corner_piece(bare_a[r], cb[r], sa[r], sb[r], swap[r]))
-    for r in np.flatnonzero(kind == qac.CHORD):
-        out[r] = _two_terms(qac.chord_piece(ca[r], bare_b[r], sa[r], sb[r])[0],
-                            qac.chord_piece(bare_a[r], cb[r], sa[r], sb[r])[0])
+    for long_is_b in (False, True):
+        rows = np.flatnonzero((kind == qac.CORNER) & (swap == long_is_b))
+        if len(rows):
+            a, b, same = ca[rows], cb[rows], sa[rows] == sb[rows]
+            _put(out, rows, _two_term_stack(
+                _corner_pieces(a, _at_origin(b), same, long_is_b),
+                _corner_pieces(_at_origin(a), b, same, long_is_b)))
+    rows = np.flatnonzero(kind == qac.CHORD)
+    if len(rows):
+        a, b, same = ca[rows], cb[rows], sa[rows] == sb[rows]
+        _put(out, rows, _two_term_stack(_chord_pieces(a, _at_origin(b), same),
+                                        _chord_pieces(_at_origin(a), b, same)))
     for sw in (False, True):
         sel = np.flatnonzero((kind == qac.QAC) & (swap == sw))
-        if not len(sel):
-            continue
-        c1 = (cb if sw else ca)[sel]
-        for r, (x1, xq, w) in zip(sel, _qac_terms(c1, nodes["q2"][sel])):
-            if not np.all(w > 0):
-                continue
-            # C1 is B's where swap (QAC's role): its term is B's
-            piece = np.concatenate([xq, x1, w[:, None]] if sw else [x1, xq, w[:, None]],
-                                   axis=1)
-            out[r] = piece[::-1].copy() if (sw and sa[r] != sb[r]) else piece
+        if len(sel):
+            c1 = (cb if sw else ca)[sel]
+            # C1 is B's where swap (QAC's role): its term is B's; reversed where C1
+            # = cb runs against ca
+            back = sw & (sa[sel] != sb[sel])
+            for r, piece in zip(sel.tolist(), _qac_sets(c1, nodes["q2"][sel], sw, back)):
+                out[r] = piece
     return out
 
 
-def _qac_terms(c1, q2):
-    """(X1, XQ, W) of :func:`morph.qac.qac_parts` for each row of a stack c1 with
-    quadratics q2, as :func:`morph.qac.qac_pieces` makes the pieces (rows whose
-    tangent numerator vanishes at an end with their ends divided out)."""
+def _put(out, rows, stack):
+    """out[rows[k]] = stack[k] (its rows, views), in one C-level pass."""
+    list(map(out.__setitem__, rows.tolist(), stack))
+
+
+def _ends(stack):
+    """(start, end) points (k, 2) of a stack of pieces (:func:`morph.piece.start`,
+    :func:`morph.piece.end` row by row)."""
+    return stack[:, 0, :2] / stack[:, 0, 2:], stack[:, -1, :2] / stack[:, -1, 2:]
+
+
+def _corner_pieces(ca, cb, same, long_is_b):
+    """:func:`morph.qac._corner_piece` of rows of stacks (``same``: sa == sb), the
+    same operations row by row."""
+    short, long_ = (ca, cb) if long_is_b else (cb, ca)
+    s0, s1 = _ends(short)
+    m0 = np.where(same[:, None], s0, s1)
+    m1 = np.where(same[:, None], s1, s0)
+    moved = np.array(long_, float)
+    moved[:, :, 0] += s0[:, 0:1] * moved[:, :, 2]
+    moved[:, :, 1] += s0[:, 1:2] * moved[:, :, 2]
+    l0, l1 = _ends(long_)
+    moved[:, 0, :2] = (l0 + m0) * moved[:, 0, 2:]
+    moved[:, -1, :2] = (l1 + m1) * moved[:, -1, 2:]
+    if long_is_b:
+        moved[~same] = moved[~same][:, ::-1]
+    return moved
+
+
+def _chord_pieces(ca, cb, same):
+    """The pieces of :func:`morph.qac.chord_piece` of rows of stacks (``same``:
+    sa == sb): lines (k, 2, 3)."""
+    a0, a1 = _ends(ca)
+    c0, c1 = _ends(cb)
+    b0 = np.where(same[:, None], c0, c1)
+    b1 = np.where(same[:, None], c1, c0)
+    out = np.ones((len(ca), 2, 3))
+    out[:, 0, :2], out[:, 1, :2] = a0 + b0, a1 + b1
+    return out
+
+
+def _two_term_stack(piece_a, piece_b):
+    """(X_A, X_B, W) of pieces built once from A's points and once from B's, rows of
+    stacks: (k, n+1, 5)."""
+    return np.concatenate([piece_a[..., :2], piece_b[..., :2], piece_a[..., 2:]], axis=2)
+
+
+def _qac_sets(c1, q2, sw, back):
+    """The QAC pieces of :func:`morph.qac.qac_parts` for each row of a stack c1 with
+    quadratics q2 as (X1, XQ, W) (XQ first where ``sw``), as
+    :func:`morph.qac.qac_pieces` makes them (rows whose tangent numerator vanishes
+    at an end with their ends divided out), reversed where ``back``; None where a
+    weight is <= 0.  A list."""
     from . import qac
 
     out = [None] * len(c1)
@@ -373,13 +425,18 @@ def _qac_terms(c1, q2):
         h = pc.tangent_numerator_many(c1[rows], rational)
         odd = pc.end_zero_rows(h)
         x1, xq, w = qac.qac_parts(c1[rows], h, q2[rows])
-        for r, row in enumerate(rows):
-            if odd[r]:
-                h1 = pc.tangent_numerator(c1[row])
-                one = qac.qac_parts(c1[row][None], h1[None], q2[row][None])
-                out[row] = tuple(x[0] for x in one)
-            else:
-                out[row] = (x1[r], xq[r], w[r])
+        st = np.concatenate([xq, x1, w[:, :, None]] if sw else [x1, xq, w[:, :, None]], axis=2)
+        st[back[rows]] = st[back[rows]][:, ::-1]
+        good = (w > 0).all(axis=1) & ~odd
+        _put(out, rows[good], st[good])
+        for row in rows[odd].tolist():
+            h1 = pc.tangent_numerator(c1[row])
+            x1r, xqr, wr = (x[0] for x in qac.qac_parts(c1[row][None], h1[None],
+                                                        q2[row][None]))
+            if np.all(wr > 0):
+                piece = np.concatenate([xqr, x1r, wr[:, None]] if sw else
+                                       [x1r, xqr, wr[:, None]], axis=1)
+                out[row] = piece[::-1].copy() if back[row] else piece
     return out
 
 
@@ -388,11 +445,6 @@ def _at_origin(stack):
     out = np.zeros_like(stack)
     out[:, :, 2] = stack[:, :, 2]
     return out
-
-
-def _two_terms(piece_a, piece_b):
-    """(X_A, X_B, W) of a piece built once from A's points and once from B's."""
-    return np.concatenate([piece_a[:, :2], piece_b[:, :2], piece_a[:, 2:]], axis=1)
 
 
 def _blended(sets, base, alphas, offsets):

@@ -21,6 +21,7 @@ by -90 degrees (Eq. 20).
 
 import math
 from dataclasses import dataclass
+from itertools import chain
 
 import numpy as np
 
@@ -116,19 +117,17 @@ def _split_params_arrays(pieces, inflections=True, axes=True, eps=1e-9):
 
 def _monotone_parts(pieces, check=True):
     """:func:`split_monotone_many` of a :class:`morph.piece.Pieces` as arrays: (the
-    kept parts of every piece, in order, as a Pieces; the piece of each part).  Only
-    the pieces that are cut are visited one by one."""
+    kept parts of every piece, in order, as a Pieces; the piece of each part).  The
+    cut pieces are split in rounds, the j-th cut of every one at once."""
     o, r = _split_params_arrays(pieces)
     if not len(o):
         parts, owner = pieces, np.arange(len(pieces))
     else:
         cut = pl.unique(o)
-        bounds = np.searchsorted(o, np.append(cut, cut[-1] + 1)) if len(cut) else [0]
-        rows = pieces.rows()
-        extra = [pc.split_at(rows[k], r[a:b])
-                 for k, a, b in zip(cut.tolist(), bounds[:-1].tolist(), bounds[1:].tolist())]
+        bounds = np.searchsorted(o, np.append(cut, cut[-1] + 1))
+        n_cuts = np.diff(bounds)
         n_parts = np.ones(len(pieces), np.int64)
-        n_parts[cut] = [len(x) for x in extra]
+        n_parts[cut] = n_cuts + 1
         owner = np.repeat(np.arange(len(pieces)), n_parts)
         first = np.cumsum(n_parts) - n_parts
         whole = np.ones(len(pieces), bool)
@@ -138,10 +137,20 @@ def _monotone_parts(pieces, check=True):
             w = whole[ks]
             if w.any():
                 groups.append((first[ks[w]], h[w]))
-        new = [q for x in extra for q in x]
-        at = np.concatenate([first[k] + np.arange(len(x)) for k, x in zip(cut.tolist(), extra)])
-        for ks, h in pc.degree_groups(new):
-            groups.append((at[ks], h))
+        # the cut pieces split at their parameters in rounds, the j-th cut of every
+        # piece with one at once (:func:`morph.piece.split_at`'s steps, the same
+        # float operations)
+        for sel, h in pieces.take(cut).groups:
+            m = n_cuts[sel]
+            ts = r[bounds[sel][:, None] + np.minimum(np.arange(m.max()), m[:, None] - 1)]
+            rest, prev = h.copy(), np.zeros(len(sel))
+            for j in range(int(m.max())):
+                on = np.flatnonzero(m > j)
+                t = ts[on, j]
+                left, rest[on] = bz.split_many(rest[on], (t - prev[on]) / (1.0 - prev[on]))
+                prev[on] = t
+                groups.append((first[cut[sel[on]]] + j, left))
+            groups.append((first[cut[sel]] + m, rest))
         parts = _merged(groups, int(n_parts.sum()))
     keep = _kept_many(parts, check)
     if keep.all():
@@ -384,8 +393,7 @@ def gauss_table(loops, angle_tol=1e-10):
         z = np.zeros(0)
         return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
                           np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), 0)
-    curves, owner = _monotone_parts(pc.Pieces.of([np.asarray(p, float) for loop in loops
-                                                  for p in loop]))
+    curves, owner = _monotone_parts(pc.Pieces.of(list(chain.from_iterable(loops))))
     counts = np.bincount(np.repeat(np.arange(len(loops)), sizes)[owner],
                          minlength=len(loops))
     if (counts == 0).any():
@@ -500,8 +508,9 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     curves = pc.Pieces.of(curves)
     loops = pl.unique(loop_of[open_cusps])
     begin = np.cumsum(counts) - counts
-    idx = np.concatenate([np.arange(begin[j], begin[j] + counts[j]) for j in loops])
     owner = np.repeat(np.arange(len(loops)), counts[loops])
+    within = np.cumsum(counts[loops]) - counts[loops]
+    idx = begin[loops][owner] + np.arange(len(owner)) - within[owner]
     groups = [(ks, h.copy()) for ks, h in _taken(curves, idx).groups]
     size = _loop_sizes(groups, owner, len(loops))
     origin = pc.end_points(_taken(curves, begin[loops]))[0]

@@ -146,7 +146,7 @@ def _packed_sums(regions_a, region_b, tol, method):
     out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
     # each result's bound is tol, the sum's guarantee (the achieved error is not
     # tracked per packed region)
-    out = [validated(loops, tol) for loops in layout.split(out)]
+    out = [validated(loops, tol, frozen=True) for loops in layout.split(out)]
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out

@@ -13,6 +13,7 @@ centroids carry the same contract: ~1e-13 relative to the piece's extent.
 """
 
 import functools
+import itertools
 
 import numpy as np
 
@@ -39,13 +40,16 @@ def loop_area(pieces, quad_points=QUAD_POINTS):
     return float(np.sum(area_terms(pieces, quad_points, origin=start(pieces[0]))))
 
 
-def loop_areas(loops):
+def loop_areas(loops, pieces=None):
     """:func:`loop_area` of every loop, (k,): the pieces of all loops moved
     so that each loop's first point is the origin (as ``loop_area`` integrates) and
-    integrated together (:func:`area_terms`, by degree and kind)."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
-    pieces = [p for loop in loops for p in loop]
-    if not pieces:
+    integrated together (:func:`area_terms`, by degree and kind).  ``pieces``: the
+    loops' pieces in order as a :class:`morph.piece.Pieces` when the caller has
+    them stacked already."""
+    sizes = np.fromiter(map(len, loops), np.int64, len(loops))
+    if pieces is None:
+        pieces = list(itertools.chain.from_iterable(loops))
+    if not len(pieces):
         return np.zeros(len(sizes))
     owner = np.repeat(np.arange(len(sizes)), sizes)
     origin = end_points([loop[0] for loop in loops if len(loop)])[0]
@@ -55,7 +59,7 @@ def loop_areas(loops):
         h = h.copy()
         h[..., :2] -= origin[ks][:, None] * h[..., 2:]
         groups.append((ks, h))
-    moved = Pieces(groups, len(pieces)).rows()
+    moved = Pieces(groups, len(pieces))
     return np.bincount(owner, weights=area_terms(moved), minlength=len(sizes))
 
 

@@ -7,6 +7,8 @@ its own winding other than 0 or its sign): :class:`morph.errors.OperandError`, b
 input.  A validated :class:`morph.region.Region` skips the winding test.
 """
 
+from itertools import chain
+
 import numpy as np
 import pyclipper
 
@@ -125,17 +127,23 @@ def _piece_flags(regions):
     from . import limits as lm
 
     n = len(regions)
-    loops = [loop for r in regions for loop in r]
-    region_of_loop = np.repeat(np.arange(n), [len(r) for r in regions])
-    sizes = np.array([len(loop) for loop in loops], np.int64)
-    pieces = [p for loop in loops for p in loop]
+    loops = list(chain.from_iterable(regions))
+    region_of_loop = np.repeat(np.arange(n), np.fromiter(map(len, regions), np.int64, n))
+    sizes = np.fromiter(map(len, loops), np.int64, len(loops))
+    pieces = list(chain.from_iterable(loops))
     flag = np.zeros(n, bool)
     flag[region_of_loop[sizes == 0]] = True
-    ok_shape = set(map(np.shape, pieces))
-    if any(len(s) != 2 or s[1] != 3 or s[0] < 2 for s in ok_shape) or not pieces:
+    if not pieces:
+        return None
+    # the pieces stacked by number of rows: every stack (k, rows >= 2, 3) exactly
+    # when every piece is a (rows >= 2, 3) array
+    try:
+        packed = pc.Pieces.of(pieces)
+    except (TypeError, ValueError):
+        return None
+    if any(h.ndim != 3 or h.shape[1] < 2 or h.shape[2] != 3 for _, h in packed.groups):
         return None
     region_of = np.repeat(region_of_loop, sizes)
-    packed = pc.Pieces.of(pieces)
     big = np.zeros(n)
     bad, lo, hi, mag = _control_extents(packed, region_of, n)
     flag |= bad | (mag > lm.MAX_COORDINATE)
@@ -149,7 +157,8 @@ def _piece_flags(regions):
         gap = np.hypot(*(starts[nxt] - ends).T)
         np.maximum.at(big, region_of, np.nan_to_num(gap, nan=np.inf))
         flag |= big > 1e-7 * size
-        area = np.bincount(region_of_loop, weights=mo.loop_areas(loops), minlength=n)
+        area = np.bincount(region_of_loop, weights=mo.loop_areas(loops, packed),
+                           minlength=n)
         # summed in another order than check_operand's: flagged with room to spare
         flag |= ~(area >= -0.5e-9 * size * size)
     return flag, size, mag, packed, region_of

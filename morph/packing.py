@@ -12,6 +12,8 @@ origin, which every decision of the sum must tolerate anyway; see
 and splits a result by slot and moves it back.
 """
 
+from itertools import chain
+
 import numpy as np
 
 from . import piece as pc
@@ -37,7 +39,7 @@ class Packing:
     """
 
     def __init__(self, regions, reach, margin):
-        boxes = np.array([control_box(r) for r in regions])
+        boxes = _control_boxes(regions)
         reach = np.asarray(reach, float)
         margin = np.broadcast_to(np.asarray(margin, float), (2,))
         pitch = (boxes[:, 2:] - boxes[:, :2]).max(axis=0) + (reach[2:] - reach[:2]) + margin
@@ -65,32 +67,46 @@ class Packing:
 
     def split(self, loops):
         """Loops (of pieces, in packed coordinates) sorted into one list per region by
-        the slot of their first point, moved back.  Raises ValueError for a loop in
-        no slot."""
+        the slot of their first point, moved back; the pieces are read-only rows of
+        new stacks (what :func:`morph.region.validated` takes as ``frozen``).  Raises
+        ValueError for a loop in no slot."""
         out = [[] for _ in self.offsets]
         if not loops:
             return out
-        slots = self.slot_of([pc.start(np.asarray(loop[0], float)) for loop in loops])
+        slots = self.slot_of(pc.end_points([loop[0] for loop in loops])[0])
         if (slots < 0).any():
             raise ValueError("a loop of the packed result lies outside every slot")
-        for loop, s in zip(_translated(loops, -self.offsets[slots]), slots):
+        for loop, s in zip(_translated(loops, -self.offsets[slots], frozen=True),
+                           slots.tolist()):
             out[s].append(loop)
         return out
 
 
-def _translated(loops, offsets):
+def _control_boxes(regions):
+    """:func:`control_box` of each region, (n, 4): the boxes of all their pieces in
+    one call, reduced per region."""
+    sizes = [sum(map(len, r)) for r in regions]
+    boxes = pc.bboxes(list(chain.from_iterable(chain.from_iterable(regions))))
+    start = np.cumsum([0] + sizes[:-1])
+    return np.concatenate([np.minimum.reduceat(boxes[:, :2], start, axis=0),
+                           np.maximum.reduceat(boxes[:, 2:], start, axis=0)], axis=1)
+
+
+def _translated(loops, offsets, frozen=False):
     """Each loop moved by its offset (:func:`morph.piece.translate`, exact on
-    homogeneous points), the pieces of one degree at once."""
+    homogeneous points), the pieces of one degree at once (``frozen``: the new
+    stacks made read-only, so their rows are)."""
     sizes = [len(loop) for loop in loops]
-    pieces = [p for loop in loops for p in loop]
+    pieces = list(chain.from_iterable(loops))
     shift = np.repeat(np.asarray(offsets, float).reshape(-1, 2), sizes, axis=0)
     groups = []
     for ks, h in pc.degree_groups(pieces):
         h = h.copy()
         h[..., :2] += shift[ks][:, None] * h[..., 2:]
+        h.flags.writeable = not frozen
         groups.append((ks, h))
     moved = pc.Pieces(groups, len(pieces)).rows()
-    bounds = np.cumsum([0] + sizes)
+    bounds = np.cumsum([0] + sizes).tolist()
     return [moved[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 

@@ -10,6 +10,7 @@ control points ``(x_i, y_i)``, which bounding boxes and hull tests rely on.
 """
 
 import functools
+import itertools
 
 import numpy as np
 
@@ -468,7 +469,7 @@ def _gather(pieces, ks):
     """np.array of pieces[ks] (one degree): (k, n+1, 3) floats."""
     if len(ks) == len(pieces):
         return np.array(pieces, float)
-    return np.array([pieces[k] for k in ks.tolist()], float)
+    return np.array(list(map(pieces.__getitem__, ks.tolist())), float)
 
 
 class Pieces:
@@ -502,11 +503,16 @@ class Pieces:
     def rows(self):
         """The pieces as a list (views of the stacks), in order."""
         if self._rows is None:
-            out = [None] * self._n
-            for ks, h in self.groups:
-                for k, row in zip(ks.tolist(), h):
-                    out[k] = row
-            self._rows = out
+            # the stacks' rows one group after another (iterating a stack makes its
+            # row views in C), then put in order by one gather: no per-piece statement
+            rows = list(itertools.chain.from_iterable(h for _, h in self.groups))
+            order = np.concatenate([ks for ks, _ in self.groups]) if self.groups else \
+                np.zeros(0, np.int64)
+            if (order != np.arange(len(order))).any():
+                where = np.empty(self._n, np.int64)
+                where[order] = np.arange(len(order))
+                rows = list(map(rows.__getitem__, where.tolist()))
+            self._rows = rows
         return self._rows
 
     def __getitem__(self, k):

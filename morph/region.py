@@ -85,9 +85,12 @@ class Region(tuple):
         return cls._make(loops, False, bound)
 
     @classmethod
-    def _make(cls, loops, validated, bound=None):
-        """A region marked ``validated`` by the function that proved it (package use)."""
-        obj = tuple.__new__(cls, (tuple(_frozen(p) for p in loop) for loop in loops))
+    def _make(cls, loops, validated, bound=None, frozen=False):
+        """A region marked ``validated`` by the function that proved it (package use).
+        ``frozen``: the caller made every piece a read-only float array already (rows
+        of read-only stacks), so they are taken as they are, with no per-piece call."""
+        obj = tuple.__new__(cls, map(tuple, loops) if frozen else
+                            (tuple(map(_frozen, loop)) for loop in loops))
         object.__setattr__(obj, "validated", bool(validated))
         object.__setattr__(obj, "bound", None if bound is None else float(bound))
         return obj
@@ -129,10 +132,11 @@ class Region(tuple):
             "" if self.bound is None else ", bound=%.3g" % self.bound)
 
 
-def validated(loops, bound=None):
+def validated(loops, bound=None, frozen=False):
     """``loops`` as a validated :class:`Region` (package use: the caller has proved
-    they bound a region, e.g. :func:`orient_region`)."""
-    return Region._make(loops, True, bound)
+    they bound a region, e.g. :func:`orient_region`; ``frozen``: as
+    :meth:`Region._make`)."""
+    return Region._make(loops, True, bound, frozen)
 
 
 # ------------------------------------------------------------------ single loops

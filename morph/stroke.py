@@ -10,6 +10,8 @@ not its inside); a zero-length path (a dot) gives the nib itself.  Paths of one
 call are united (a glyph is the union of its strokes).
 """
 
+from itertools import chain
+
 import numpy as np
 
 from . import piece as pc
@@ -51,7 +53,8 @@ def stroke_many(path_sets, nib_region, tol):
     # a path traced out and back winds 0 round every point off it, whatever it
     # crosses: the loops pass the operand's winding test by construction, so they
     # go in marked as such (that test cost 10-17 % of a stroke font's CPU time)
-    sums = minkowski_sums([validated(loops[k]) for k in has], nib_region, tol)
+    sums = minkowski_sums([validated(loops[k], frozen=True) for k in has], nib_region,
+                          tol)
     out = [[] for _ in path_sets]
     for k, region in zip(has, sums):
         out[k] = region
@@ -75,24 +78,28 @@ def _loops_and_dots_many(path_sets, nib_region):
     tangents and reversed copies in array calls by degree; only the parts are
     visited one by one."""
     paths = [(k, pieces) for k, ps in enumerate(path_sets) for pieces, _ in ps]
-    pieces = [np.asarray(p, float) for _, ps in paths for p in ps]
+    raw = list(chain.from_iterable(ps for _, ps in paths))
+    # every piece gathered once into stacks by degree; the loops are made of the rows
+    # of read-only stacks (what :func:`morph.region.validated` takes as ``frozen``)
+    table = pc.Pieces(pc.degree_groups(raw), len(raw))
     nib = [np.asarray(p, float) for loop in nib_region for p in loop]
     n_sets = len(path_sets)
     path_of = np.repeat(np.arange(len(paths)), [len(ps) for _, ps in paths]).astype(np.int64)
-    set_of = np.array([k for k, _ in paths], np.int64)[path_of] if len(pieces) else \
+    set_of = np.array([k for k, _ in paths], np.int64)[path_of] if len(raw) else \
         np.zeros(0, np.int64)
-    lo, hi = _piece_boxes(pieces)
+    lo, hi = _piece_boxes(table)
     nlo, nhi = _piece_boxes(nib)
     set_lo = np.tile(nlo.min(axis=0), (n_sets, 1))
     set_hi = np.tile(nhi.max(axis=0), (n_sets, 1))
     np.minimum.at(set_lo, set_of, lo)
     np.maximum.at(set_hi, set_of, hi)
     size = np.maximum((set_hi - set_lo).max(axis=1), 1e-300)          # :func:`_size`
-    long = ~((hi - lo).max(axis=1) <= 1e-12 * size[set_of]) if len(pieces) else \
+    long = ~((hi - lo).max(axis=1) <= 1e-12 * size[set_of]) if len(raw) else \
         np.zeros(0, bool)                                              # :func:`_is_point`
     idx = np.flatnonzero(long)
-    first, last = pc.end_tangents_many([pieces[i] for i in idx]) if len(idx) else (None, None)
-    back = _reversed_many([pieces[i] for i in idx])
+    kept = pc.Pieces(_frozen_groups(table.take(idx).groups), len(idx))
+    first, last = pc.end_tangents_many(kept) if len(idx) else (None, None)
+    back = _reversed_many(kept)
     # a cut before long piece m where the path turns back on itself from piece m - 1
     same = path_of[idx[1:]] == path_of[idx[:-1]]
     cos = np.einsum("ij,ij->i", last[:-1], first[1:]) if len(idx) > 1 else np.zeros(0)
@@ -102,14 +109,15 @@ def _loops_and_dots_many(path_sets, nib_region):
         cut[0] = True
     loops, dots = [[] for _ in range(n_sets)], [[] for _ in range(n_sets)]
     starts = np.flatnonzero(cut).tolist() + [len(idx)]
-    for a, b in zip(starts[:-1], starts[1:]):       # the parts, in path order
-        part = [pieces[i] for i in idx[a:b].tolist()]
-        loops[set_of[idx[a]]].append(part + back[a:b][::-1])
+    forward = kept.rows()
+    part_set = set_of[idx[starts[:-1]]].tolist() if len(idx) else []
+    for a, b, k in zip(starts[:-1], starts[1:], part_set):      # the parts, in path order
+        loops[k].append(forward[a:b] + back[a:b][::-1])
     bounds = np.cumsum([0] + [len(ps) for _, ps in paths])
     has_long = np.bincount(path_of[idx], minlength=len(paths)) > 0 if len(paths) else []
     for j, (k, ps) in enumerate(paths):
         if not has_long[j] and len(ps):
-            dots[k].append(pc.start(pieces[bounds[j]]))
+            dots[k].append(pc.start(np.asarray(raw[bounds[j]], float)))
     return loops, dots
 
 
@@ -124,9 +132,25 @@ def _piece_boxes(pieces):
 
 
 def _reversed_many(pieces):
-    """Each piece traversed the other way (:func:`morph.piece.reverse`), by degree."""
-    return pc.Pieces([(ks, h[:, ::-1].copy()) for ks, h in pc.degree_groups(pieces)],
+    """Each piece traversed the other way (:func:`morph.piece.reverse`), by degree, as
+    read-only rows."""
+    return pc.Pieces(_frozen_groups((ks, h[:, ::-1].copy())
+                                    for ks, h in pc.degree_groups(pieces)),
                      len(pieces)).rows()
+
+
+def _frozen_groups(groups):
+    """(indices, stack) groups with each stack made read-only (its own copy when it
+    was not a new array), so that the rows are."""
+    out = []
+    for ks, h in groups:
+        if h.flags.owndata or h.base is None:
+            h.flags.writeable = False
+        else:
+            h = h.copy()
+            h.flags.writeable = False
+        out.append((ks, h))
+    return out
 
 
 __all__ = ["stroke_paths", "stroke_many", "path_loop"]
