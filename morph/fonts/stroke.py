@@ -406,15 +406,13 @@ def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk
 _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 
 #: what a chunk job imports as it runs (reading the skeletons, the strokes, the
-#: curve fitting and its quadrature nodes), and by output what
-#: :func:`morph.fonts.stream.compile_outline` imports: imported before worker
+#: curve fitting and its quadrature nodes), and by output what the quadratic
+#: conversion imports: imported before worker
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
                    "morph.fonts.stream", "numpy.polynomial.legendre")
-_COMPILERS = {".otf": ("fontTools.pens.t2CharStringPen", "fontTools.pens.boundsPen"),
-              ".ttf": ("fontTools.pens.ttGlyphPen", "fontTools.pens.reverseContourPen",
-                       "fontTools.cu2qu")}
+_COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
 def _streamed_chunk(flavor, chunk):
@@ -424,16 +422,17 @@ def _streamed_chunk(flavor, chunk):
     (counts) and ``extent`` (the lowest and highest y of the chunk's regions, one
     list for all its glyphs: a region's tight box is computed only where its control
     points reach past the chunk's extremes so far); the regions are not sent back."""
-    from .stream import compile_outline
+    from .stream import compile_outlines
+    from .tables import Outline
 
     out = _chunk_job(chunk)
+    outlines = [Outline.from_contours(r["contours"]) for r in out]
+    compiled = outlines if flavor is None else compile_outlines(outlines, flavor)
     extent = [None, None]
-    for r in out:
+    for r, outline, done in zip(out, outlines, compiled):
         widen_extent(extent, r.pop("region"))
-        contours = r["contours"]
-        r.update(extent=extent, contours=len(contours),
-                 points=sum(len(q) - 1 for segs in contours for q in segs),
-                 outline=contours if flavor is None else compile_outline(contours, flavor))
+        r.update(extent=extent, contours=len(outline), points=outline.point_count(),
+                 outline=done)
     return out
 
 
