@@ -41,8 +41,9 @@ import numpy as np
 
 from .tables import draw_contours
 
-__all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph", "sample_font", "worker_source"]
+__all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
+           "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
+           "worker_source"]
 
 
 # =========================================================================== worker side
@@ -91,6 +92,15 @@ def compile_outlines(outlines, flavor):
     done = both.cff() if flavor == "cff" else both.glyf()
     return [d if d is not None else _compile_with_pens(o, flavor)
             for d, o in zip(done, outlines)]
+
+
+def outline_bounds(outlines):
+    """The tight boxes of cubic integer outlines (what :func:`compile_outlines`
+    gives a CFF glyph), None for an empty one."""
+    from .tables import Outline
+
+    outlines = [Outline.from_contours(c) for c in outlines]
+    return _Batch(outlines)._cubic_bounds() if outlines else []
 
 
 def _compile_with_pens(contours, flavor, optimize=False):
@@ -598,12 +608,15 @@ def compile_stored(font, store, kind, **options):
     ``options`` go to ufo2ft's ``compileOTF`` / ``compileTTF``."""
     import ufo2ft
 
-    from .stored import StoredCFF, StoredGlyf
+    from .stored import StoredCFF, StoredGlyf, StoredPostProcessor
 
     base = StoredCFF if kind == ".otf" else StoredGlyf
-    compiler = type(base.__name__, (base,), {"store": store})
+    bounds = {}
+    compiler = type(base.__name__, (base,), {"store": store, "bounds": bounds})
     if kind == ".otf":
-        return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, **options)
+        post = type(StoredPostProcessor.__name__, (StoredPostProcessor,), {"bounds": bounds})
+        return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, postProcessorClass=post,
+                                 **options)
     return ufo2ft.compileTTF(font, outlineCompilerClass=compiler, **options)
 
 
