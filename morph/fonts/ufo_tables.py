@@ -1,6 +1,6 @@
 """UFO-side tables of a font written from a UFO source (``morph stroke``): the font
 info renamed (:func:`rename_ufo_family`), the OS/2 win metrics grown to cover the
-new outlines (:func:`widen_extent`, :func:`grow_win_metrics`), an in-memory copy of
+new outlines (:func:`outline_extent`, :func:`grow_win_metrics`), an in-memory copy of
 the source (:func:`copy_font`).  The compiled-font (``TTFont``) counterparts are in
 :mod:`morph.fonts.tables`.
 """
@@ -11,7 +11,8 @@ import numpy as np
 
 from ..region import region_bbox
 
-__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "widen_extent", "grow_win_metrics"]
+__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "widen_extent", "outline_extent",
+           "grow_win_metrics"]
 
 #: font info that named or hinted the skeleton's outlines: dropped from the new font
 DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
@@ -66,10 +67,19 @@ def widen_extent(extent, loops):
         extent[1] = box[3] if top is None else max(top, box[3])
 
 
+def outline_extent(boxes):
+    """[bottom, top] of glyph boxes (xMin, yMin, xMax, yMax; None: empty), [None,
+    None] for none: the y range :func:`grow_win_metrics` covers."""
+    ys = [(b[1], b[3]) for b in boxes if b is not None]
+    if not ys:
+        return [None, None]
+    return [min(y[0] for y in ys), max(y[1] for y in ys)]
+
+
 def grow_win_metrics(font, bottom, top):
     """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
-    ``bottom`` and ``top`` are their tight extent (:func:`widen_extent`; None:
-    nothing stroked)."""
+    ``bottom`` and ``top`` are the extent of the written glyphs
+    (:func:`outline_extent`; None: nothing stroked)."""
     if top is None:
         return
     info = font.info
