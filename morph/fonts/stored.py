@@ -30,13 +30,25 @@ class Stored:
     ufo2ft's DecomposeComponentsFilter (fontTools' DecomposingFilterPointPen)."""
 
     store = {}
+    _drawn = None   # glyph name -> its stored contours recorded, while compiling
 
     def shell(self, name):
         return self.ufo[name] if name in self.ufo else None
 
+    def draw_own(self, name, pen):
+        """``name``'s stored contours, decoded once per compilation (a base glyph
+        is drawn into every composite using it)."""
+        if self._drawn is None:
+            self._drawn = {}
+        rec = self._drawn.get(name)
+        if rec is None:
+            rec = self._drawn[name] = RecordingPointPen()
+            self.draw_stored(name, rec)
+        rec.replay(pen)
+
     def decomposed(self, name, pen):
         """``name``'s own stored contours, then its components decomposed."""
-        self.draw_stored(name, pen)
+        self.draw_own(name, pen)
         for c in self.shell(name).components:
             self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
 
@@ -94,6 +106,7 @@ class StoredCFF(Stored, OutlineOTFCompiler):
                 out[name].bounds = self.store[name][1]
             else:
                 out[name] = self.getCharStringForGlyph(glyph, private)
+        self._drawn = None
         for name, cs in out.items():     # each glyph's bounds computed once
             if not isinstance(cs, BoundedCharString):
                 bounds = cs.calcBounds(out)
@@ -203,6 +216,7 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
                                            round=otRound)
             else:
                 ttglyphs[name] = Glyph(self.store[name][0])
+        self._drawn = None
         return ttglyphs
 
     def makeGlyphsBoundingBoxes(self):
