@@ -544,20 +544,20 @@ class SkeletonSource:
         .glif's data but its outline by glifLib, the outline's contours counted
         and its components read from the XML tree (in GLIF 2, a component is
         one element, a contour one element of points: reading every point was
-        60 % of the shells' time).  A GLIF 1 glyph (whose anchors are contours
-        of one point) is read whole."""
+        60 % of the shells' time); the XML is parsed once, for both.  A GLIF 1
+        glyph (whose anchors are contours of one point) is read whole."""
         from fontTools.misc import etree
-        from fontTools.ufoLib.glifLib import readGlyphFromString
         from ufoLib2.objects import Glyph
 
         glyph = Glyph(name)
         try:
             text = self._glif(name)
             root = etree.fromstring(text)
-            if root.get("format", "2").split(".")[0] == "1":
+            if root.get("format", "2").split(".")[0] == "1" or root.tag != "glyph" \
+                    or (root.text or "").strip():
                 shell, pen = self._read(name, _ShellPen)
                 return shell, pen.contours
-            readGlyphFromString(text, glyph, None, validate=False)
+            _glyph_from_tree(root, text, glyph)
             pen, contours = glyph.getPointPen(), 0
             for element in root.iterfind("outline/*"):
                 if element.tag == "contour":
@@ -584,6 +584,20 @@ def worker_source(path, token):
         _WORKER_SOURCE.clear()
         source = _WORKER_SOURCE[path, token] = SkeletonSource(path)
     return source
+
+
+def _glyph_from_tree(root, text, glyph):
+    """glifLib's reading of a .glif's data but its outline into ``glyph``, from the
+    XML tree ``root`` already parsed (glifLib's reader of a tree; where this
+    fontTools lacks it, from the text, parsed again)."""
+    try:
+        from fontTools.ufoLib.glifLib import _readGlyphFromTree
+    except ImportError:  # pragma: no cover - another fontTools
+        from fontTools.ufoLib.glifLib import readGlyphFromString
+
+        readGlyphFromString(text, glyph, None, validate=False)
+        return
+    _readGlyphFromTree(root, glyph, None, validate=False)
 
 
 #: a GLIF component's transformation attributes and their defaults, in order
