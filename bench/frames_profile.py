@@ -3,6 +3,7 @@
     python bench/frames_profile.py                      # 7 runs of each command
     python bench/frames_profile.py --against ../other   # alternated with another checkout
     python bench/frames_profile.py --phases             # CPU of each phase, in one process
+    python bench/frames_profile.py --flattening         # what sharing flattenings would give
 
 The commands are the bundled morph and the README's glyph morph,
 
@@ -17,8 +18,13 @@ checkout at ROOT (its own ``morph`` package) run in turn with this one's, run by
 so that a drift of a shared machine's speed touches both; the median of the run-by-run
 ratios is reported.  ``--phases`` times the phases of the svg command inside one warm
 process (imports done): the sums' convolution and trimming, the SVG export, the PNG
-and animation writers.  Output: markdown tables on stdout; CPU time only (a shared
-machine's wall time says little).
+and animation writers.  ``--flattening`` measures what the trimming of the packed
+frames flattens (the largest phase): the polyline vertices of the frames' convolution
+pieces flattened uniformly at the trimming's three levels, against what one subdivision
+shared by every frame would make (each blended piece cut as finely as its finest
+frame needs: a bound that holds for every a), and the trimming's own vertices by
+the pieces' pair type (Fig. 20; type 3 never reaches the boundary).  Output: markdown
+tables on stdout; CPU time only (a shared machine's wall time says little).
 """
 
 import argparse
@@ -129,13 +135,86 @@ def phases(runs):
     return {k: statistics.median(v) for k, v in rows.items()}
 
 
+def flattening():
+    """(rows of the uniform flattening table, {pair type: trimming vertices}) of the
+    svg command's packed frames (one group of 8 inner frames)."""
+    sys.path.insert(0, str(ROOT))
+    import numpy as np
+
+    import morph.minkowski as mk
+    import morph.trim as trim
+    from morph import piece as pc
+    from morph import polyline as pl
+    from morph.budget import plan
+    from morph.frames import morph_frames
+    from morph.parse import load_shape
+
+    got = {}
+    trimmed, tag_loops = mk._trimmed, trim.tag_loops
+
+    def keep_conv(conv, tol, member):
+        got["conv"], got["tol"] = conv, tol
+        return trimmed(conv, tol, member)
+
+    def keep_tags(loops, *args, **kwargs):
+        tg = tag_loops(loops, *args, **kwargs)
+        got["loops"], got["tags"] = loops, tg
+        return tg
+
+    mk._trimmed, trim.tag_loops = keep_conv, keep_tags
+    try:
+        a, b = (load_shape(str(DATA / n)) for n in ("bird.svg", "butterfly.svg"))
+        morph_frames(a.region, b.region, 10, plan(a.tolerance(None, b.region)).geometry)
+    finally:
+        mk._trimmed, trim.tag_loops = trimmed, tag_loops
+    conv, tol = got["conv"], got["tol"]
+    eps = mk.FLAT_SHARE * tol
+    frames = 8
+    rows = []
+    for level in (32.0, 8.0, 1.0):
+        t = time.process_time()
+        owner = pl.flat_starts(conv.pieces, level * eps)[0]
+        cpu = time.process_time() - t
+        count = np.bincount(owner, minlength=len(conv)).reshape(frames, -1)
+        rows.append((level, count.sum(), cpu, frames * count.max(axis=0).sum()))
+    # the chained pieces are the convolution's with their ends snapped: matched to
+    # their pair type by their end points (rounded)
+    starts, ends = pc.end_points(conv.pieces)
+    kind = {(tuple(np.round(s, 6)), tuple(np.round(e, 6))): int(k)
+            for s, e, k in zip(starts, ends, conv.type)}
+    flat = [q for loop in got["loops"] for q in loop]
+    cs, ce = pc.end_points(flat)
+    of = np.array([kind.get((tuple(np.round(s, 6)), tuple(np.round(e, 6))), 0)
+                   for s, e in zip(cs, ce)])
+    per_type = np.bincount(of[got["tags"].piece], minlength=4)
+    return rows, {"type 1": per_type[1], "type 2": per_type[2], "type 3": per_type[3],
+                  "unmatched": per_type[0]}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--against", type=Path, help="another checkout's root, run alternately")
     ap.add_argument("--phases", action="store_true",
                     help="instead: CPU of each phase of the svg command in one warm process")
+    ap.add_argument("--flattening", action="store_true",
+                    help="instead: the packed frames' flattening, own against shared")
     args = ap.parse_args(argv)
+    if args.flattening:
+        rows, per_type = flattening()
+        print("| level (eps) | vertices, each frame its own | CPU ms | one subdivision for "
+              "all frames | ratio |")
+        print("|---|---|---|---|---|")
+        for level, own, cpu, shared in rows:
+            print("| %g | %d | %.0f | %d | %.2f |" % (level, own, cpu * 1e3, shared,
+                                                    shared / own))
+        total = sum(per_type.values())
+        print()
+        print("| trimming vertices of pieces of | count | share |")
+        print("|---|---|---|")
+        for name, n in per_type.items():
+            print("| %s | %d | %.0f %% |" % (name, n, 100.0 * n / total))
+        return 0
     if args.phases:
         import contextlib
         import io

@@ -126,14 +126,23 @@ def _frame_groups(a, b, alphas, tol):
     frames whose operands' estimated polyline points (what
     :func:`morph.limits.check_tolerance` returns) fit the point budget of one sum.
     A frame whose operands or tolerance :func:`morph.minkowski.minkowski_sum` refuses
-    is a group of its own: its own sum raises, after the frames before it."""
+    is a group of its own: its own sum raises, after the frames before it.  The
+    operands' checks (:func:`morph.operands.check_operand`: closed loops, signed
+    area, weights, windings) compare lengths with lengths and areas with areas, so a
+    scaled copy passes them exactly when its operand does: they are made once, on
+    A and B."""
+    try:
+        check_operand(a, "region_a")
+        check_operand(b, "region_b")
+        operands_ok = True
+    except MorphError:
+        operands_ok = False
     points = []
     for t in alphas:
-        ra, rb = scale_region(a, 1.0 - t), scale_region(b, t)
         try:
-            check_operand(ra, "region_a")
-            check_operand(rb, "region_b")
-            points.append(check_tolerance(tol, ra, rb, operation="minkowski sum"))
+            points.append(check_tolerance(tol, scale_region(a, 1.0 - t), scale_region(b, t),
+                                          operation="minkowski sum")
+                          if operands_ok else np.inf)
         except MorphError:
             points.append(np.inf)
     groups, total, budget = [[]], 0.0, point_budget()
@@ -425,8 +434,10 @@ def _moved_edges(edges, offset):
 
 def _split_frames(out, conv, layout, tol, method):
     """The packed sum's loops, one validated region per frame moved back, each with
-    the bound its own convolution pieces achieved."""
+    the bound its own convolution pieces achieved (all frames' bounds in one
+    :func:`morph.minkowski._achieved_bounds`, all loops moved back at once)."""
     from . import minkowski as mk
+    from .packing import _translated
 
     f = len(layout.offsets)
     slot = layout.slot_of(np.array([pc.start(loop[0]) for loop in out]).reshape(-1, 2))
@@ -435,12 +446,13 @@ def _split_frames(out, conv, layout, tol, method):
     conv_slot = layout.slot_of(starts)
     if (slot < 0).any():
         raise ValueError("a loop of the packed frames lies outside every slot")
+    bounds = mk._achieved_bounds(out, conv, tol, method, slot, conv_slot, f)
+    moved = _translated(out, -layout.offsets[slot]) if out else []
     frames = []
     for k in range(f):
-        loops = [loop for loop, s in zip(out, slot) if s == k]
+        loops = [loop for loop, s in zip(moved, slot) if s == k]
         mk._not_vanished(loops, tol, " of frame %d" % k)
-        bound = mk._achieved_bound(loops, conv.take(conv_slot == k), tol, method)
-        frames.append(validated(translate_region(loops, -layout.offsets[k]), bound))
+        frames.append(validated(loops, bounds[k]))
     return frames
 
 

@@ -291,15 +291,46 @@ def _achieved_bound(out, conv, tol, method):
     least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
     pieces through it.  Only QAC bounds are a-priori bounds: for the other methods
     it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
+    return float(_achieved_bounds(out, conv, tol, method)[0])
+
+
+def _achieved_bounds(out, conv, tol, method, out_part=None, conv_part=None, parts=1):
+    """:func:`_achieved_bound` of each of ``parts`` independent sums at once (the
+    frames of a packed sum): loop i of ``out`` belongs to part ``out_part[i]``,
+    piece k of ``conv`` to ``conv_part[k]`` (None: all to part 0); a junction is
+    compared with the pieces of its own part only.  (parts,) floats."""
     if method != "qac":
-        return float(tol)
+        return np.full(parts, float(tol))
+    out_part = np.zeros(len(out), np.int64) if out_part is None else np.asarray(out_part)
+    conv_part = np.zeros(len(conv), np.int64) if conv_part is None else np.asarray(conv_part)
     bounds = conv.bound
-    err = float(bounds.max(initial=0.0))
-    if err > 0 and out:
-        for cos_half, near in _corners_near(out, conv, tol):
-            if near.any():
-                err = max(err, float(bounds[near].max()) / max(cos_half, TIP_FLOOR))
-    return min(float(tol), (1.0 - CONV_SHARE) * tol + err)
+    err = np.zeros(parts)
+    np.maximum.at(err, conv_part, bounds)
+    if out:
+        pts, cos_half = _corners(out)
+        part_of = np.repeat(out_part, [len(loop) for loop in out])
+        boxes = pc.bboxes(conv.pieces)
+        lo, hi = boxes[:, :2] - TIP_REACH * tol, boxes[:, 2:] + TIP_REACH * tol
+        for p in np.flatnonzero(err > 0):
+            sharp = np.flatnonzero((part_of == p) & (cos_half < 1.0))
+            mine = np.flatnonzero(conv_part == p)
+            step = max(1, _BLOCK // max(len(mine), 1))
+            for c in range(0, len(sharp), step):
+                k = sharp[c:c + step]
+                x, y = pts[k, 0:1], pts[k, 1:2]
+                near = ((lo[mine, 0] <= x) & (x <= hi[mine, 0])
+                        & (lo[mine, 1] <= y) & (y <= hi[mine, 1]))
+                has = near.any(axis=1)
+                if has.any():
+                    worst = np.where(near[has], bounds[mine], -np.inf).max(axis=1)
+                    err[p] = max(err[p], np.max(worst / np.maximum(cos_half[k[has]],
+                                                                   TIP_FLOOR)))
+    return np.minimum(float(tol), (1.0 - CONV_SHARE) * tol + err)
+
+
+#: :func:`_achieved_bounds` compares junctions with pieces in blocks of about this
+#: many (junction, piece) pairs
+_BLOCK = 1 << 20
 
 
 def _corners(out):
@@ -309,7 +340,7 @@ def _corners(out):
     nxt += np.repeat(np.cumsum([0] + [len(loop) for loop in out[:-1]]), [len(l) for l in out])
     first, last = pc.end_tangents_many(pieces, strict=False)
     dot = np.einsum("ij,ij->i", last, first[nxt])
-    pts = np.array([pc.end(p) for p in pieces])
+    pts = pc.end_points(pieces)[1]
     return pts, np.sqrt(np.clip(0.5 * (1.0 + dot), 0.0, 1.0))
 
 

@@ -307,7 +307,9 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
     kerning, groups and features are kept, anchors move with the outlines,
     advances grow by the nib width (side bearings kept), composites stay
     composites (a scaled, mirrored or turned component is decomposed and
-    stroked; a half turn is kept when the nib is centrally symmetric).
+    stroked; a half turn is kept when the nib is centrally symmetric; so is a
+    component whose stroke could meet the rest of the glyph's, which is then
+    trimmed with it into one outline).
     A glyph whose exact stroke fails is written by a polygon fallback (Clipper,
     within --tol, made of lines); the font is written anyway, those glyphs are
     named on one line and the exit status is 1.
@@ -389,7 +391,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.stream import SkeletonSource
-    from ..fonts.stroke import stroke_plan, stroke_ufo
+    from ..fonts.stroke import stroke_ufo
 
     out = _stroke_output(output, force)
     png, page = _companions(out, force, specimen=out.suffix.lower() != ".ufo")
@@ -400,13 +402,12 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     items = _glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):  # feature-merging notes are not errors
         logging.getLogger(name).setLevel(logging.ERROR)
-    todo, _ = stroke_plan(font, items, nib_region)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
-    with progress_bar(len(todo), "glyphs", "morph stroke") as bar:
+    with progress_bar(len(font), "glyphs", "morph stroke") as bar:
         stats = stroke_ufo(source, out, nib_region, items, tol=tol * upm, family_name=family,
                            progress=lambda name: bar.update(1), overwrite=force, jobs=jobs,
-                           in_flight=bar.partial)
+                           in_flight=bar.partial, planned=bar.set_total)
     seconds = time.perf_counter() - t0
     if page:
         shown = out

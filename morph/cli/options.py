@@ -340,6 +340,11 @@ class Progress:
         if self.tty:
             self._show()
 
+    def set_total(self, total):
+        """The number of items, once known (a plan made after the bar started)."""
+        with self._lock:
+            self.total = int(total)
+
     def partial(self, units):
         with self._lock:
             self.flight = max(0.0, self.flight + units)

@@ -38,13 +38,17 @@ the OS/2 win ascent / descent grow to cover the new glyphs (no clipping).  PostS
 hinting values of the skeleton (blue zones, stems) are dropped: they described
 hairlines.
 
-Composites stay composites: a component is kept when the stroke commutes with its
-transformation M (M (g ⊕ N) = M g ⊕ N, i.e. M N = N: a translation, or a 180-degree
-rotation with a centrally symmetric nib); its base glyph is stroked once, and the
-component offset corrected for the two glyphs' shifts (o' = o + s_composite -
-M s_base).  Scaled, flipped or rotated components (fractions, superiors, mirrored
-punctuation) are decomposed and stroked inside the composite, because scaling the
-stroked base would scale the nib too.
+Composites stay composites where that keeps the outline one trimmed outline: a
+component is kept when the stroke commutes with its transformation M (M (g ⊕ N) =
+M g ⊕ N, i.e. M N = N: a translation, or a 180-degree rotation with a centrally
+symmetric nib) and its stroke stays apart from the stroke of the rest of the glyph
+(:func:`separate_components`); its base glyph is stroked once, and the component
+offset corrected for the two glyphs' shifts (o' = o + s_composite - M s_base).
+Scaled, flipped or rotated components (fractions, superiors, mirrored punctuation)
+are decomposed and stroked inside the composite, because scaling the stroked base
+would scale the nib too; so is a component whose stroke may meet another part's
+(e.g. a g drawn as an o component and a tail): kept, the two strokes would be
+written as outlines that overlap.
 
 Which glyphs.  ``glyphs`` (None: all) are stroked, with the base glyphs of their kept
 components, and the composites not chosen that use only stroked glyphs through kept
@@ -65,6 +69,7 @@ import numpy as np
 
 from .. import budget
 from .. import piece as pc
+from .. import polyline as pl
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
@@ -109,8 +114,14 @@ def keep_component(component, symmetric):
     return m == (1.0, 0.0, 0.0, 1.0) or (symmetric and m == (-1.0, 0.0, 0.0, -1.0))
 
 
-def stroke_plan(font, glyphs, nib_region):
-    """``(stroked, followed)`` glyph names of a ufoLib2 font for :func:`stroke_ufo`.
+#: at most how far (font units) integer rounding moves a written point (half the
+#: diagonal of the unit grid cell, :func:`morph.fonts.tables.contours_from_loops`)
+ROUNDING = 0.5 ** 0.5
+
+
+def stroke_plan(font, glyphs, nib_region, tol=0.5):
+    """``(stroked, followed)`` glyph names of a ufoLib2 font for :func:`stroke_ufo`
+    at outline tolerance ``tol`` (font units).
 
     ``stroked``: the chosen glyphs (``glyphs``: characters or names, None: all) and
     the base glyphs of their kept components; ``followed``: composites not chosen
@@ -120,15 +131,187 @@ def stroke_plan(font, glyphs, nib_region):
         ParseError: a character or name the font lacks.
     """
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    return plan_components(font, chosen, nib_is_symmetric(nib_region))
+    kept = separate_components(font, font, nib_region, tol)
+    return plan_components(font, chosen, kept=kept)
 
 
-def plan_components(font, chosen, symmetric, contour_counts=None):
-    """:func:`stroke_plan` of the chosen glyph names, ``symmetric``: the nib is
-    centrally symmetric (:func:`keep_component`).  ``contour_counts``: glyph name ->
-    its number of contours, for a font of shells (None: the glyphs' own)."""
+def separate_components(font, source, nib_region, tol, contour_counts=None):
+    """A function ``kept(name)``: for each component of glyph ``name`` whether it is
+    kept as a component (True) or decomposed and stroked with the glyph (False)
+    (:class:`_Separation`).  ``font``: the glyphs' components (shells will do),
+    ``source``: their contours, ``contour_counts`` name -> number of contours
+    (None: ``font``'s own)."""
+    return _Separation(font, source, nib_region, tol, contour_counts)
+
+
+class _Separation:
+    """Which components of a glyph are kept (see :func:`separate_components`).
+
+    A component is kept when the stroke commutes with its transformation
+    (:func:`keep_component`) and its stroke cannot come within ``gap`` = 2 (``tol``
+    + :data:`ROUNDING`) of the stroke of any other part of the glyph (its own
+    contours, its other components).  Each written outline is within ``tol`` plus
+    the rounding of its exact stroke, so kept parts are written as outlines that do
+    not overlap, as the one trimmed outline of a static font must not; nearer parts
+    are stroked together and trimmed as one.
+
+    Two parts' strokes P ⊕ N and Q ⊕ N are that far apart when no p - q (p in P, q
+    in Q) lies in (N - N) grown by ``gap``.  First the skeletons' control boxes,
+    grown by the nib's extent; where those are nearer, points of the skeletons at
+    most ``step`` apart, within ``step`` / 4 of the curves, against the polygon of
+    (N - N)'s support in :data:`DIRECTIONS` directions (which holds N - N), grown
+    by ``gap`` + 2 ``step`` (a curve point is within 3/4 step of a sample point);
+    ``step`` is an eighth of the nib's larger extent.  Both tests may find parts
+    near that are not (the glyph is then stroked whole, as it would be without
+    components), never the other way.  The answers are kept."""
+
+    #: the directions of the support polygon of N - N
+    DIRECTIONS = 64
+
+    def __init__(self, font, source, nib_region, tol, contour_counts=None):
+        self.font, self.source, self.counts = font, source, contour_counts
+        self.symmetric = nib_is_symmetric(nib_region)
+        self.extent = region_extent(nib_region)
+        nx0, ny0, nx1, ny1 = self.extent
+        self.step = max(nx1 - nx0, ny1 - ny0) / 8.0
+        self.gap = 2.0 * (tol + ROUNDING)
+        ang = np.linspace(0.0, 2.0 * np.pi, self.DIRECTIONS, endpoint=False)
+        self.u = np.column_stack([np.cos(ang), np.sin(ang)])
+        eps = self.step / 64.0
+        pts = np.concatenate([pl.flatten(p, eps)[0] for loop in nib_region for p in loop])
+        d = pts @ self.u.T  # support of N - N: h(u) + h(-u), within 2 eps of the chords'
+        self.reach = d.max(axis=0) - d.min(axis=0) + 2.0 * eps + self.gap + 2.0 * self.step
+        self.boxes, self.answers, self.paths, self.points = {}, {}, {}, {}
+
+    def __call__(self, name):
+        if name not in self.answers:
+            comps = self.font[name].components
+            parts = [(self._own_box(name), None)] + [
+                (_moved_box(self._box(c.baseGlyph), c.transformation), c) for c in comps]
+            near = [[False] * len(parts) for _ in parts]
+            for i in range(1, len(parts)):
+                for j in range(i):
+                    near[i][j] = near[j][i] = self._near(name, parts[i], parts[j])
+            self.answers[name] = tuple(keep_component(c, self.symmetric) and not any(near[i])
+                                       for i, (_, c) in enumerate(parts) if i)
+        return self.answers[name]
+
+    def _own_box(self, name):
+        count = (self.counts[name] if self.counts is not None
+                 else len(self.font[name].contours))
+        if not count:
+            return None
+        xy = np.concatenate([pc.cartesian(p) for pieces, _ in self._paths(name)
+                             for p in pieces] or [np.zeros((0, 2))])
+        return (*xy.min(axis=0), *xy.max(axis=0)) if len(xy) else None
+
+    def _paths(self, name):
+        """The glyph's own skeleton paths, read once."""
+        from ..parse.ufo import glyph_paths
+
+        if name not in self.paths:
+            count = (self.counts[name] if self.counts is not None
+                     else len(self.font[name].contours))
+            self.paths[name] = glyph_paths(self.source[name]) if count else []
+        return self.paths[name]
+
+    def _box(self, name):  # the control box of a glyph's skeleton, components included
+        if name not in self.font:  # a missing base: the plan names it
+            return None
+        if name not in self.boxes:
+            self.boxes[name] = None  # a cycle (refused by the plan) ends here
+            parts = [self._own_box(name)] + [_moved_box(self._box(c.baseGlyph), c.transformation)
+                                             for c in self.font[name].components]
+            self.boxes[name] = _union_box([b for b in parts if b is not None])
+        return self.boxes[name]
+
+    def _near(self, name, part_a, part_b):
+        (a, ca), (b, cb) = part_a, part_b
+        if a is None or b is None:
+            return False
+        nx0, ny0, nx1, ny1 = self.extent
+        g = self.gap
+        if (a[0] + nx0 - g > b[2] + nx1 or b[0] + nx0 - g > a[2] + nx1
+                or a[1] + ny0 - g > b[3] + ny1 or b[1] + ny0 - g > a[3] + ny1):
+            return False
+        pa, pb = self._part_points(name, ca), self._part_points(name, cb)
+        r = self.reach.max()  # a pair farther apart than this in x or y is not near
+        pa = pa[np.all((pa >= np.array(b[:2]) - r) & (pa <= np.array(b[2:]) + r), axis=1)]
+        pb = pb[np.all((pb >= np.array(a[:2]) - r) & (pb <= np.array(a[2:]) + r), axis=1)]
+        pa, pb = pa @ self.u.T, pb @ self.u.T
+        rows = max(1, 2 ** 22 // max(1, len(pb) * self.DIRECTIONS))
+        return any(np.any(np.all(pa[k:k + rows, None, :] - pb[None, :, :] <= self.reach,
+                                 axis=2)) for k in range(0, len(pa), rows))
+
+    def _part_points(self, name, component):
+        """Points of a part's skeleton (the glyph's own contours for None), at most
+        ``step`` apart and within ``step`` / 4 of the curves: a component's are its
+        base glyph's moved, unless its transformation stretches some direction (it
+        would stretch the spacing too), then its paths' own."""
+        from ..parse.ufo import component_paths
+
+        if component is None:
+            return self._dense(self._paths(name))
+        m = np.array(tuple(component.transformation), float)
+        if np.linalg.norm(m[:4].reshape(2, 2), 2) > 1.0 + 1e-12:
+            return self._dense(component_paths(self.source, component))
+        pts = self._glyph_points(component.baseGlyph)
+        return pts @ m[:4].reshape(2, 2) + m[4:]
+
+    def _glyph_points(self, name):
+        """:meth:`_part_points` of a whole glyph, components included, kept."""
+        if name not in self.points:
+            self.points[name] = np.zeros((0, 2))  # a cycle (refused by the plan) ends here
+            self.points[name] = np.concatenate(
+                [self._dense(self._paths(name))]
+                + [self._part_points(name, c) for c in self.font[name].components])
+        return self.points[name]
+
+    def _dense(self, paths):
+        """Points of ``paths`` at most ``step`` apart, within ``step`` / 4 of them."""
+        pieces = [p for ps, _ in paths for p in ps]
+        out = [np.zeros((0, 2))]
+        for pts, _ in pl.flatten_many(pieces, self.step / 4.0) if pieces else ():
+            seg = np.diff(pts, axis=0)
+            k = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / self.step)).astype(int)
+            t = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
+            out.append(np.repeat(pts[:-1], k, axis=0)
+                       + np.repeat(seg / k[:, None], k, axis=0) * t[:, None])
+            out.append(pts[-1:])
+        return np.concatenate(out)
+
+
+def _moved_box(b, transformation):
+    """The box of box ``b`` under an affine ``transformation`` (xx, xy, yx, yy, dx,
+    dy); None for None."""
+    if b is None:
+        return None
+    xx, xy, yx, yy, dx, dy = (float(v) for v in tuple(transformation))
+    corners = np.array([(b[0], b[1]), (b[2], b[1]), (b[0], b[3]), (b[2], b[3])])
+    x = corners[:, 0] * xx + corners[:, 1] * yx + dx
+    y = corners[:, 0] * xy + corners[:, 1] * yy + dy
+    return (x.min(), y.min(), x.max(), y.max())
+
+
+def _union_box(boxes):
+    """The box holding all ``boxes`` (None for none)."""
+    if not boxes:
+        return None
+    b = np.array(boxes, float)
+    return (*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))
+
+
+def plan_components(font, chosen, symmetric=True, contour_counts=None, kept=None):
+    """:func:`stroke_plan` of the chosen glyph names.  ``kept(name)``: for each of the
+    glyph's components whether it is kept (:func:`separate_components`; None: those
+    :func:`keep_component` keeps, ``symmetric``: the nib is centrally symmetric).
+    ``contour_counts``: glyph name -> its number of contours, for a font of shells
+    (None: the glyphs' own)."""
     from ..parse.ufo import component_cycle
 
+    if kept is None:
+        def kept(name):
+            return tuple(keep_component(c, symmetric) for c in font[name].components)
     cycle = component_cycle(font, chosen)
     if cycle:
         raise ParseError("glyph %r uses itself through its components: %s"
@@ -144,8 +327,8 @@ def plan_components(font, chosen, symmetric, contour_counts=None):
             raise ParseError("component base glyph %r is missing from the UFO" % n, n)
         seen.add(n)
         stroked.append(n)
-        for c in font[n].components:
-            if keep_component(c, symmetric) and c.baseGlyph not in seen:
+        for c, keep in zip(font[n].components, kept(n)):
+            if keep and c.baseGlyph not in seen:
                 todo.append(c.baseGlyph)
     followed = []
     changed = True
@@ -155,7 +338,7 @@ def plan_components(font, chosen, symmetric, contour_counts=None):
             own = contour_counts[g.name] if contour_counts is not None else len(g.contours)
             if g.name in seen or own or not g.components:
                 continue
-            if all(keep_component(c, symmetric) and c.baseGlyph in seen for c in g.components):
+            if all(keep and c.baseGlyph in seen for c, keep in zip(g.components, kept(g.name))):
                 seen.add(g.name)
                 followed.append(g.name)
                 changed = True
@@ -278,7 +461,8 @@ def _stroked_regions(chunk):
 
 
 def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None,
-               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None):
+               progress=None, stroker=None, overwrite=False, jobs=1, in_flight=None,
+               planned=None):
     """Write a calligraphic font: every chosen skeleton glyph of ``src`` ⊕ nib.
 
     ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
@@ -294,7 +478,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
     ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
     ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
-    strokes (1: in this process).
+    strokes (1: in this process).  ``planned(n)`` is called with the number of
+    glyphs to stroke once they are known (before any is stroked).
 
     The font is streamed (:mod:`morph.fonts.stream`): the skeletons are read chunk
     by chunk as the workers need them, each stroked glyph comes back compiled (CFF
@@ -324,7 +509,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    plan = _font_plan(src, nib_region, glyphs, family_name, kind)
+    plan = _font_plan(src, nib_region, glyphs, family_name, kind, tol)
+    if planned is not None:
+        planned(len(plan.stroked))
     save_atomically(out_path, lambda tmp: _write_streamed(
         plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs, in_flight),
         overwrite)
@@ -342,11 +529,11 @@ class _FontPlan:
     stroked: list
     followed: list
     place: object      # _Placement
-    symmetric: bool
+    kept: dict         # glyph name -> for each component, whether it is kept
     stats: dict
 
 
-def _font_plan(src, nib_region, glyphs, family_name, kind):
+def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
     """The source, the font of shells with its final furniture and names, the glyphs
     to stroke and those that follow, where they go; the first statistics
     (:func:`_finish_shells`)."""
@@ -354,13 +541,15 @@ def _font_plan(src, nib_region, glyphs, family_name, kind):
 
     source = src if isinstance(src, SkeletonSource) else SkeletonSource(src)
     font = source.shell_font()
-    symmetric = nib_is_symmetric(nib_region)
     chosen = list(font.keys()) if glyphs is None else glyph_names_for(font, glyphs)
-    stroked, followed = plan_components(font, chosen, symmetric, source.contour_counts)
+    keep = separate_components(font, source, nib_region, tol, source.contour_counts)
+    stroked, followed = plan_components(font, chosen, contour_counts=source.contour_counts,
+                                        kept=keep)
+    kept = {n: keep(n) for n in stroked + followed if font[n].components}
     place = _placement(font, stroked + followed, nib_region)
-    stats = _finish_shells(font, source, stroked, followed, place, symmetric, kind)
+    stats = _finish_shells(font, source, stroked, followed, place, kept, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    return _FontPlan(source, font, stroked, followed, place, symmetric, stats)
+    return _FontPlan(source, font, stroked, followed, place, kept, stats)
 
 
 def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
@@ -375,11 +564,11 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
         import uuid
 
         func = partial(_read_and_stroke, _FLAVORS[kind], (plan.source.path, uuid.uuid4().hex),
-                       plan.symmetric, nib_region, tols, stroker)
+                       plan.kept, nib_region, tols, stroker)
         work, prepare = [(n, plan.place.shifts[n]) for n in plan.stroked], None
     else:  # this process reads each chunk's skeletons as the chunk is due
         func, work = partial(_streamed_chunk, _FLAVORS[kind]), plan.stroked
-        prepare = partial(_stroke_work, plan.source, symmetric=plan.symmetric,
+        prepare = partial(_stroke_work, plan.source, kept=plan.kept,
                           nib_region=nib_region, tols=tols, shifts=plan.place.shifts,
                           stroker=stroker)
     run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
@@ -389,7 +578,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     plan.stats.update(sink.stats)
 
 
-def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk):
+def _read_and_stroke(flavor, source, kept, nib_region, tols, stroker, chunk):
     """:func:`_streamed_chunk` of ``chunk`` ((glyph name, shift) pairs), its jobs read
     in this process (a worker) from ``source`` (the UFO's path and the run's token,
     :func:`morph.fonts.stream.worker_source`): the calling process neither reads
@@ -398,7 +587,7 @@ def _read_and_stroke(flavor, source, symmetric, nib_region, tols, stroker, chunk
     from .stream import worker_source
 
     return _streamed_chunk(flavor, _stroke_work(worker_source(*source), [n for n, _ in chunk],
-                                                symmetric, nib_region, tols, dict(chunk),
+                                                kept, nib_region, tols, dict(chunk),
                                                 stroker))
 
 
@@ -499,15 +688,14 @@ class _StreamedGlyphs:
         otf.save(str(self.tmp))
 
 
-def _finish_shells(font, source, stroked, followed, place, symmetric, kind):
+def _finish_shells(font, source, stroked, followed, place, kept, kind):
     """The shells' final furniture before any glyph is stroked (a UFO output writes
     them first): components, anchors, guidelines and advances moved, the glyphs not
     chosen emptied, the feature file's anchors moved.  Returns the first statistics:
     ``decomposed``, ``composites``, ``emptied``."""
     written = stroked + followed
-    decomposed = sum(1 for n in stroked for c in font[n].components
-                     if not keep_component(c, symmetric))
-    _move_furniture(font, written, place, symmetric)
+    decomposed = sum(1 for n in stroked for keep in kept.get(n, ()) if not keep)
+    _move_furniture(font, written, place, kept)
     emptied = _empty_unstroked(font, source, set(written), kind)
     _move_feature_file(font, place)
     return {"decomposed": decomposed, "emptied": emptied,
@@ -559,7 +747,7 @@ def _placement(font, names, nib_region):
     return _Placement(shifts, grow, centre)
 
 
-def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
+def _stroke_work(source, names, kept, nib_region, tols, shifts, stroker):
     """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
     each, its own contours and the components that cannot be kept, read from the
     source now (:class:`morph.fonts.stream.SkeletonSource`): the chunk's ``.glif``
@@ -576,28 +764,28 @@ def _stroke_work(source, names, symmetric, nib_region, tols, shifts, stroker):
             g = source[n]
             outline = glyph_paths(g), g.components
         paths, components = outline
-        for c in components:
-            if not keep_component(c, symmetric):
+        for c, keep in zip(components, kept.get(n, ())):
+            if not keep:
                 paths.extend(component_paths(source, c))
         # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
     return work
 
 
-def _move_furniture(font, names, place, symmetric):
+def _move_furniture(font, names, place, kept):
     """Kept components re-placed (o' = o + s_composite - M s_base), anchors and
     vertical guidelines moved, advances grown, for the written glyphs ``names``."""
     for n in names:
         g = font[n]
         s = place.shifts[n]
-        kept = []
-        for c in g.components:
-            if keep_component(c, symmetric):  # the others are in the stroke
+        placed = []
+        for c, keep in zip(g.components, kept.get(n, ())):
+            if keep:  # the others are in the stroke
                 xx, xy, yx, yy, dx, dy = tuple(c.transformation)
                 sb = place.shifts[c.baseGlyph]
                 c.transformation = (xx, xy, yx, yy, dx + s - xx * sb, dy - xy * sb)
-                kept.append(c)
-        g.components[:] = kept
+                placed.append(c)
+        g.components[:] = placed
         dx, dy = place.anchor_offset(n)
         for a in g.anchors:
             a.x += dx

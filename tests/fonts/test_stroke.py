@@ -86,6 +86,46 @@ def test_nib_symmetry():
     assert not nib_is_symmetric(off_centre)
 
 
+def _line_glyph(font, name, lines=(), components=()):
+    g = font.newGlyph(name)
+    g.width = 600
+    pen = g.getPen()
+    for (x0, y0), (x1, y1) in lines:
+        pen.moveTo((x0, y0))
+        pen.lineTo((x1, y1))
+        pen.endPath()
+    for base, (dx, dy) in components:
+        pen.addComponent(base, (1, 0, 0, 1, dx, dy))
+    return g
+
+
+@pytest.mark.parametrize("gap", [1.0, 3.0])
+def test_components_whose_strokes_meet_are_decomposed(tmp_path, gap):
+    """A translated component is kept only where its stroke stays 2 (tol + rounding)
+    away from the rest of the glyph's; nearer, the parts are stroked as one outline
+    (kept, the written strokes would overlap).  ``gap`` times the nib's height apart:
+    gap 1 the strokes just meet, gap 3 they are well apart."""
+    n = nib()
+    _, ny0, _, ny1 = region_extent(n)
+    dy = gap * (ny1 - ny0)
+    font = ufoLib2.Font()
+    font.info.unitsPerEm = 1000
+    _line_glyph(font, "bar", [((0, 0), (300, 0))])
+    _line_glyph(font, "own", [((0, dy), (300, dy))], [("bar", (0, 0))])
+    _line_glyph(font, "two", [], [("bar", (0, 0)), ("bar", (150, dy))])
+    stroked, followed = stroke_plan(font, ["own", "two"], n)
+    out = tmp_path / "parts.ufo"
+    stats = stroke_ufo(font, out, n, ["own", "two"], tol=0.5)
+    f = ufoLib2.Font.open(out)
+    kept = gap > 2
+    assert ("bar" in stroked) == kept
+    assert stats["decomposed"] == (0 if kept else 3)
+    for name in ("own", "two"):
+        assert bool(f[name].components) == kept, name
+    if not kept:  # one trimmed outline each
+        assert len(f["own"].contours) == 1 and len(f["two"].contours) == 1
+
+
 def test_font_plumbing_with_polygon_stroker(skeleton, tmp_path):
     """Metrics, components, anchors, features, kerning: independent of the geometry."""
     n = nib()
