@@ -144,12 +144,6 @@ class Outline:
         contour_of = np.repeat(np.arange(len(self.counts)), self.counts)
         return np.cumsum(self.sizes) - self.sizes + contour_of
 
-    def contour_ends(self):
-        """Index in ``points`` of each contour's last point (its start, repeated)."""
-        contour_of = np.repeat(np.arange(len(self.counts)), self.counts)
-        per = np.bincount(contour_of, self.sizes, minlength=len(self.counts))
-        return np.cumsum(per.astype(np.int64) + 1) - 1
-
     def point_count(self):
         """The number of points of the contours as fonts count them (a contour's
         closing point once)."""
@@ -176,12 +170,12 @@ class Outline:
             at += n
 
     def __eq__(self, other):
-        if isinstance(other, Outline):
-            other = list(other)
-        if not isinstance(other, (list, tuple)) or len(other) != len(self):
-            return NotImplemented if not isinstance(other, (list, tuple)) else False
-        return all(len(a) == len(b) and all(np.array_equal(p, q) for p, q in zip(a, b))
-                   for a, b in zip(self, other))
+        """Equal to an outline, or to contour lists, with the same segments."""
+        if not isinstance(other, (Outline, list, tuple)):
+            return NotImplemented
+        return len(other) == len(self) and all(
+            len(a) == len(b) and all(np.array_equal(p, q) for p, q in zip(a, b))
+            for a, b in zip(self, other))
 
     __hash__ = None
 

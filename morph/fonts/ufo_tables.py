@@ -9,10 +9,7 @@ import re
 
 import numpy as np
 
-from ..region import region_bbox
-
-__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "widen_extent", "outline_extent",
-           "grow_win_metrics"]
+__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "outline_extent", "grow_win_metrics"]
 
 #: font info that named or hinted the skeleton's outlines: dropped from the new font
 DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
@@ -48,23 +45,6 @@ def copy_font(font):
 
     font.unlazify()
     return copy.deepcopy(font)
-
-
-def widen_extent(extent, loops):
-    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
-    region (:func:`morph.region.region_bbox`).  The control points bound the region
-    (positive weights: convex hull), so the tight box is computed only when they
-    reach past the extreme found so far: the result is the tight range of all
-    regions, at the cost of a few tight boxes."""
-    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
-    if not pts:
-        return
-    pts = np.concatenate(pts)
-    bottom, top = extent
-    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
-        box = region_bbox(loops)
-        extent[0] = box[1] if bottom is None else min(bottom, box[1])
-        extent[1] = box[3] if top is None else max(top, box[3])
 
 
 def outline_extent(boxes):
