@@ -44,7 +44,7 @@ def _source(skeleton):
     n = font.newGlyph("onested")
     n.width = 800
     n.getPointPen().addComponent("omixed", (1, 0, 0, 1, 10, 20))
-    n.getPointPen().addComponent("acutecomb", (1, 0, 0, 1, 200, 0))
+    n.getPointPen().addComponent("acutecomb", (1, 0, 0, 1, 900, 0))  # apart: kept
     return font
 
 
@@ -93,18 +93,22 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
 
     from morph.fonts.jobs import glyph_chunks
     from morph.fonts.stream import SkeletonSource
-    from morph.fonts.stroke import _chunk_job, _placement, _stroke_work, plan_components
+    from morph.fonts.stroke import (_chunk_job, _placement, _stroke_work, plan_components,
+                                    separate_components)
     from morph.fonts.tables import draw_contours
 
     src, out, stats = streamed
     source = SkeletonSource(src)
     shells = source.shell_font()
     nib = ellipse_nib(*NIB)
-    stroked, followed = plan_components(shells, GLYPHS, True, source.contour_counts)
+    keep = separate_components(shells, source, nib, 0.5, source.contour_counts)
+    stroked, followed = plan_components(shells, GLYPHS, contour_counts=source.contour_counts,
+                                        kept=keep)
+    kept = {n: keep(n) for n in stroked + followed if shells[n].components}
     shifts = _placement(shells, stroked + followed, nib).shifts
     ref = ufoLib2.Font.open(out / "S.ufo")
     for chunk in glyph_chunks(stroked):
-        for r in _chunk_job(_stroke_work(source, chunk, True, nib, plan(0.5, True), shifts,
+        for r in _chunk_job(_stroke_work(source, chunk, kept, nib, plan(0.5, True), shifts,
                                          None)):
             g = ref[r["name"]]
             g.clearContours()
