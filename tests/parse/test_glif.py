@@ -182,9 +182,9 @@ def test_stroke_work_falls_back_to_ufolib2(crafted):
 
     src = SkeletonSource(crafted)
     names = ["open_cubic", "tt_run", "super_cubic", "closed_rotated"]
-    work = _stroke_work(src, names, True, None, None, {n: 0 for n in names}, None)
+    work = _stroke_work(src, names, {}, None, None, {n: 0 for n in names}, None)
     for name, job in zip(names, work):
         assert _same_paths(job[1], glyph_paths(src[name])), name
     with pytest.raises(ParseError, match="glyph 'huge' has a coordinate"):
-        _stroke_work(src, ["open_cubic", "huge"], True, None, None, {"open_cubic": 0, "huge": 0},
+        _stroke_work(src, ["open_cubic", "huge"], {}, None, None, {"open_cubic": 0, "huge": 0},
                      None)
