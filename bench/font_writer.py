@@ -57,7 +57,7 @@ def _recorded(kind):
     tols = budget.plan(0.5 * 1.024, flavor == "ttf")
     out = {}
     for chunk in glyph_chunks(names):
-        work = _stroke_work(source, chunk, True, nib, tols, {n: 0 for n in chunk}, None)
+        work = _stroke_work(source, chunk, {}, nib, tols, {n: 0 for n in chunk}, None)
         for r in _chunk_job(work):
             out[names.index(r["name"])] = {"contours": r["contours"], "region": [],
                                            "fallback": None, "seconds": r["seconds"]}

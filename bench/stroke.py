@@ -43,8 +43,9 @@ Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
 of a shared machine) of the stroking calls alone, single core.  morph is timed as
 the ``morph stroke`` command works (``morph.fonts.stroke._chunk_job``): the glyphs
-in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (96, at least two
-chunks: 62 glyphs are two chunks of 31), the glyphs of a chunk stroked together
+in the command's chunks of at most ``morph.fonts.stroke.CHUNK`` (96; two chunks
+from 96 glyphs on, one below: ``morph.fonts.jobs.glyph_chunks``), the glyphs of a
+chunk stroked together
 (``stroke_many`` at the geometry share of ``plan(tol)[:2]``: its CPU time
 divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
@@ -176,8 +177,9 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 
 def run_morph(font, names, spec, tols, refs, judge=None):
     """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
-    one process): the glyphs in the command's chunks of at most ``CHUNK`` (96, at
-    least two chunks), the glyphs of a chunk stroked together (``stroke_many``), then
+    one process): the glyphs in the command's chunks of at most ``CHUNK`` (96; two
+    chunks from 96 glyphs on, one below), the glyphs of a chunk stroked together
+    (``stroke_many``), then
     all loops of the chunk exported in one ``loops_to_beziers(..., export_tol,
     wrap=True)`` call and split back per glyph.  Per glyph: the chunk's stroke and
     export CPU times divided by its number of glyphs, and their sum (the ms compared

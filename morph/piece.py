@@ -549,8 +549,16 @@ def bboxes(pieces):
     """:func:`bbox` of many pieces (those of one degree at once): (k, 4)."""
     out = np.zeros((len(pieces), 4))
     for ks, h in degree_groups(pieces):
-        p = h[:, :, :2] / h[:, :, 2:]
-        out[ks] = np.concatenate([p.min(axis=1), p.max(axis=1)], axis=1)
+        # control points one at a time on (k,) columns: numpy reduces a short axis
+        # row by row
+        x, y = h[:, :, 0] / h[:, :, 2], h[:, :, 1] / h[:, :, 2]
+        x0, y0, x1, y1 = x[:, 0].copy(), y[:, 0].copy(), x[:, 0].copy(), y[:, 0].copy()
+        for j in range(1, h.shape[1]):
+            np.minimum(x0, x[:, j], out=x0)
+            np.minimum(y0, y[:, j], out=y0)
+            np.maximum(x1, x[:, j], out=x1)
+            np.maximum(y1, y[:, j], out=y1)
+        out[ks] = np.stack([x0, y0, x1, y1], axis=1)
     return out
 
 

@@ -134,7 +134,7 @@ def test_certificate_from_the_fitters_rays_is_a_certificate():
     tol = 1e-3
     arc = pc.ellipse_arc((0.0, 0.0), 10.0, 10.0, 0.0, 0.2, math.pi / 4)[0]
     bank, cubic, rays = _ray_fit([arc], tol)
-    start = certify_mod.start_at_nodes(rays, _quadrature().gx)
+    start = certify_mod.start_at_nodes(rays.feet, _quadrature().gx)
     assert np.all(np.isfinite(start))
     groups = [(np.array([0]), arc[None])]
     fast = certify_mod.certify_batch(groups, cubic[None], tol, start=start)
@@ -168,12 +168,52 @@ def test_rays_start_near_the_true_feet():
     tol = 1e-3
     arc = pc.ellipse_arc((0.0, 0.0), 5.0, 3.0, 0.4, 0.0, 1.4)[0]
     _, cubic, rays = _ray_fit([arc], tol)
-    start = certify_mod.start_at_nodes(rays, _quadrature().gx)[0]
+    start = certify_mod.start_at_nodes(rays.feet, _quadrature().gx)[0]
     nodes = bernstein(cubic, certify_mod._NODES)
     t = np.linspace(0, 1, 20001)
     curve = rational(arc)(t)
     true = t[np.argmin(((nodes[:, None] - curve[None]) ** 2).sum(-1), axis=1)]
     assert np.abs(start - true).max() < 0.02
+
+
+def test_certificate_from_the_fitters_pairs_is_a_certificate(monkeypatch):
+    """phi fitted to the pairs of parameters the fitter's rays found (the piece not
+    evaluated again): on an ellipse arc and on a rational piece of uneven speed (a
+    Möbius map needed), the bound is >= |R(phi(s)) - C(s)| on dense samples, within
+    tol and close to the bound from Newton's feet; the cubic displaced by 2 tol
+    along its middle normal does not certify."""
+    tol = 1e-3
+    arc = pc.ellipse_arc((0.0, 0.0), 5.0, 3.0, 0.4, 0.0, 1.4)[0]
+    uneven = arc.copy()
+    uneven *= np.array([1.0, 3.0, 9.0])[:, None]   # the same curve, weights c^i
+    for piece in (arc, uneven):
+        bank, cubic, rays = _ray_fit([piece], tol)
+        gx = _quadrature().gx
+        pairs = (rays.feet, gx, rays.speed, rays.gap)
+        assert np.all(np.isfinite(rays.feet)) and np.all(rays.gap <= tol)
+        groups = [(np.array([0]), piece[None])]
+        with monkeypatch.context() as m:   # phi from the pairs alone: no Newton search
+            m.setattr(certify_mod, "_newton_reparams", None)
+            res = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs)
+        assert (res.c[0] != 1.0) == (piece is uneven)
+        newton = certify_mod.certify_batch(groups, cubic[None], tol,
+                                           start=certify_mod.start_at_nodes(rays.feet, gx))
+        assert res.bound[0] <= tol
+        assert res.bound[0] <= 2.0 * newton.bound[0]
+        for s0, s1, phi in res.panels(0):
+            s = np.linspace(s0, s1, 4001)
+            u = reparam_values(phi, (s - s0) / (s1 - s0))
+            err = np.hypot(*(rational(piece)(u) - bernstein(cubic, s)).T).max()
+            assert err <= res.bound[0] * (1 + 1e-9)
+        # the speed and the gaps are the piece's own (independent evaluation)
+        pts = rational(piece)(gx)
+        assert np.allclose(np.hypot(*(bernstein(cubic, rays.feet[0]) - pts).T), rays.gap[0],
+                           rtol=1e-9, atol=1e-12)
+        mid = bernstein(cubic, [0.5])[0] - bernstein(cubic, [0.5 - 1e-6])[0]
+        normal = np.array([-mid[1], mid[0]]) / np.hypot(*mid)
+        moved = cubic.copy()
+        moved[1:3] += 2.0 * tol * normal * 4.0 / 3.0
+        assert certify_mod.certify_batch(groups, moved[None], tol, pairs=pairs).bound[0] > tol
 
 
 @pytest.mark.parametrize("seed", [0, 1])

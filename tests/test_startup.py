@@ -91,6 +91,8 @@ _WORKER_PROBE = r"""
 import json, os, sys
 import morph.fonts.jobs as jobs
 
+jobs.MIN_SPLIT = 1   # two chunks of the two glyphs: two workers
+
 call = jobs._queued_call
 
 def recorded(func, k, arg):

@@ -262,12 +262,13 @@ def start_at_nodes(s, u):
     return np.clip(u0 + np.clip(w, 0.0, 1.0) * (u1 - u0), 0.0, 1.0)
 
 
-def _moebius(u):
+def _moebius(u, s=_NODES):
     """Per row the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) of [0, 1]
-    closest to the feet u (k, 24) at the nodes: the median over the nodes of
-    log(u (1 - s) / (s (1 - u))), c = 1 where it is within 5 % of 1 (or undefined)."""
+    closest to the feet u (k, 24) at the nodes s (or (k, n) at each row's own s):
+    the median over the nodes of log(u (1 - s) / (s (1 - u))), c = 1 where it is
+    within 5 % of 1 (or undefined)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        logs = np.log(u * (1.0 - _NODES) / (_NODES * (1.0 - u)))
+        logs = np.log(u * (1.0 - s) / (s * (1.0 - u)))
     fine = np.isfinite(logs)
     logs = np.sort(np.where(fine, logs, np.inf), axis=1)         # undefined ones last
     count = fine.sum(axis=1)
@@ -276,7 +277,7 @@ def _moebius(u):
     return np.where(np.abs(mid) > 0.05, np.exp(mid), 1.0)
 
 
-def _reparams(groups, cubics, tol, start=None):
+def _reparams(groups, cubics, tol, start=None, pairs=None):
     """phi: [0,1] -> [0,1] matching each cubic C(s) to its closest points R(phi(s)).
 
     ``groups``: the sub-pieces by degree, [(rows, stack)] (:func:`degree_groups`).
@@ -298,7 +299,42 @@ def _reparams(groups, cubics, tol, start=None):
     one (NaN), at the nearest of dense samples of the piece
     (:func:`morph.nearest.nearest_params_many`); phi from one least-squares solve
     per degree (:func:`morph.bernstein.fit_fixed_ends`, ends fixed at 0 and 1).
+
+    ``pairs`` = (s (k, n), u (n,), speed (k, n), gap (k, n)): what the fitter's rays
+    found (:class:`morph.export.fit.Rays`): the ray from the piece's point R(u_j)
+    along its normal meets the cubic at C(s_j), |C(s_j) - R(u_j)| = gap, |R'(u_j)| =
+    speed.  A row with them gets phi fitted to those pairs (:func:`_phi_fits` at
+    its own s_j), its ``normal`` the largest gap and its feet at the nodes read off
+    the pairs (:func:`start_at_nodes`): nothing is evaluated on the piece.  Only
+    where no polynomial phi follows the pairs within PHI_SHARE * tol does the row
+    take the Newton search above, started from those feet.  Either way phi is only
+    the map the certificate composes with: the bound (:func:`_composed_bounds`)
+    holds for any increasing phi.
     """
+    k = len(cubics)
+    if pairs is not None:
+        ps, pu, pspeed, pgap = pairs
+        u = start_at_nodes(ps, pu)
+        known = np.all(np.isfinite(ps), axis=1) & np.all(np.isfinite(pgap), axis=1)
+        pu = np.broadcast_to(pu, ps.shape)
+        phis, size, miss = _phi_fits(pu, pspeed, tol, at=ps)
+        normal = np.where(known, np.max(np.where(known[:, None], pgap, 0.0), axis=1), np.inf)
+        c = np.ones(k)
+        _moebius_fits(pu, pspeed, tol, phis, size, c, miss, known, ps)
+        rest = ~known | (miss > PHI_SHARE * tol)
+        if rest.any():
+            i = np.nonzero(rest)[0]
+            where = np.full(k, -1)
+            where[i] = np.arange(len(i))
+            sub = [(where[r[rest[r]]], st[rest[r]]) for r, st in groups if rest[r].any()]
+            ri = _newton_reparams(sub, cubics[i], tol, np.where(known[i, None], u[i], np.nan))
+            phis[i], size[i], c[i], normal[i], u[i] = ri
+        return phis, size, c, normal, u
+    return _newton_reparams(groups, cubics, tol, start)
+
+
+def _newton_reparams(groups, cubics, tol, start=None):
+    """:func:`_reparams` with the feet found by Newton's iteration on the pieces."""
     pts = np.matmul(_NODE_BASIS, cubics)                        # (k, 24, 2)
     u, speed, gap = np.empty(pts.shape[:2]), np.empty(pts.shape[:2]), np.empty(pts.shape[:2])
     for rows, stack in groups:
@@ -321,25 +357,43 @@ def _reparams(groups, cubics, tol, start=None):
     normal = gap.max(axis=1)
     c = np.ones(len(cubics))
     phis, size, miss = _phi_fits(u, speed, tol)
-    retry = np.nonzero(miss > PHI_SHARE * tol)[0]
-    cm = _moebius(u[retry])
-    retry, cm = retry[cm != 1.0], cm[cm != 1.0]
-    if len(retry):
-        v = u[retry] / (cm[:, None] - (cm[:, None] - 1.0) * u[retry])     # mu^-1(u)
-        dv = speed[retry] * cm[:, None] / ((cm[:, None] - 1.0) * v + 1.0) ** 2
-        again, asize, miss2 = _phi_fits(v, dv, tol)
-        better = miss2 < miss[retry]
-        i = retry[better]
-        phis[i], size[i], c[i], miss[i] = again[better], asize[better], cm[better], miss2[better]
+    _moebius_fits(u, speed, tol, phis, size, c, miss)
     return phis, size, c, normal, u
 
 
-def _phi_fits(v, speed, tol):
+def _moebius_fits(u, speed, tol, phis, size, c, miss, rows=None, at=None):
+    """Where phi misses the feet u by more than PHI_SHARE * tol, fit it again in the
+    parameter v of the Möbius map u = mu(v) (:func:`_moebius`) and keep it where it
+    follows better: ``phis``, ``size``, ``c``, ``miss`` updated in place.  ``rows``:
+    a mask of the rows to try (None: all); ``at``: each row's own parameters s_j
+    (None: the nodes)."""
+    bad = miss > PHI_SHARE * tol
+    if rows is not None:
+        bad &= rows
+    retry = np.nonzero(bad)[0]
+    s = _NODES if at is None else at[retry]
+    cm = _moebius(u[retry], s)
+    keep = cm != 1.0
+    retry, cm = retry[keep], cm[keep]
+    if not len(retry):
+        return
+    v = u[retry] / (cm[:, None] - (cm[:, None] - 1.0) * u[retry])     # mu^-1(u)
+    dv = speed[retry] * cm[:, None] / ((cm[:, None] - 1.0) * v + 1.0) ** 2
+    again, asize, miss2 = _phi_fits(v, dv, tol, at=None if at is None else at[retry])
+    better = miss2 < miss[retry]
+    i = retry[better]
+    phis[i], size[i], c[i], miss[i] = again[better], asize[better], cm[better], miss2[better]
+
+
+def _phi_fits(v, speed, tol, at=None):
     """Per row the increasing Bernstein coefficients of phi fitted to the feet v
     (k, 24) at the nodes, of the lowest degree in 1, 3, 5, 7, 9 whose tangential
     mismatch |phi(s_j) - v_j| speed_j is below PHI_SHARE * tol (else the increasing
     one of least mismatch), and that mismatch: (coefficients (k, 10), their number
-    (k,), mismatch (k,))."""
+    (k,), mismatch (k,)).  ``at`` (k, n): each row's own parameters s_j instead of
+    the nodes (:func:`_fit_at`; rows with a NaN get the identity, mismatch inf)."""
+    if at is not None:
+        return _phi_fits_at(v, speed, tol, at)
     miss = (np.abs(_NODES - v) * speed).max(axis=1)
     phis = np.zeros((len(v), PHI_DEGREES[-1] + 1))
     phis[:, 1] = 1.0
@@ -352,6 +406,45 @@ def _phi_fits(v, speed, tol):
         phi = bz.fit_fixed_ends(_NODES, v[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
         err = (np.abs(phi @ bz.basis(m, _NODES).T - v[rows]) * speed[rows]).max(axis=1)
+        better = mono & (err < miss[rows])
+        i = rows[better]
+        phis[i] = 0.0
+        phis[i, :m + 1], size[i], miss[i] = phi[better], m + 1, err[better]
+        todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
+    return phis, size, miss
+
+
+def _phi_fits_at(v, speed, tol, at):
+    """:func:`_phi_fits` with every row's values v_j at its own parameters s_j
+    (``at``): each degree's least squares (ends fixed at 0 and 1) solved for all
+    rows at once by their normal equations."""
+    k, n = v.shape
+    ok = np.all(np.isfinite(at), axis=1) & np.all(np.isfinite(speed), axis=1)
+    s = np.where(ok[:, None], at, 0.0)
+    miss = np.where(ok, (np.abs(s - v) * np.where(ok[:, None], speed, 0.0)).max(axis=1),
+                    np.inf)
+    phis = np.zeros((k, PHI_DEGREES[-1] + 1))
+    phis[:, 1] = 1.0
+    size = np.full(k, 2)
+    todo = ok & (miss > PHI_SHARE * tol)
+    for m in PHI_DEGREES:
+        rows = np.nonzero(todo)[0]
+        if not len(rows):
+            break
+        b = bz.basis(m, s[rows].ravel()).reshape(len(rows), n, m + 1)
+        a = b[:, :, 1:-1]
+        rhs = v[rows] - b[:, :, -1]
+        ata = np.matmul(a.transpose(0, 2, 1), a)
+        atb = np.matmul(a.transpose(0, 2, 1), rhs[:, :, None])
+        # a row whose s_j crowd (an ill-posed fit) gets a tiny ridge, not an error
+        ata += (1e-12 * np.trace(ata, axis1=1, axis2=2))[:, None, None] * np.eye(m - 1)
+        try:
+            inner = np.linalg.solve(ata, atb)[:, :, 0]
+        except np.linalg.LinAlgError:
+            break
+        phi = np.concatenate([np.zeros((len(rows), 1)), inner, np.ones((len(rows), 1))], 1)
+        mono = np.all(np.diff(phi, axis=1) > 0, axis=1) & np.all(np.isfinite(phi), axis=1)
+        err = (np.abs(np.matmul(b, phi[:, :, None])[:, :, 0] - v[rows]) * speed[rows]).max(axis=1)
         better = mono & (err < miss[rows])
         i = rows[better]
         phis[i] = 0.0
@@ -403,10 +496,12 @@ def certify_many(subs, cubics, tol, depth=3):
     return [(float(b), res.panels(i)) for i, b in enumerate(res.bound)]
 
 
-def certify_batch(groups, cubics, tol, depth=3, start=None):
+def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
     """:class:`Certified` bounds of cubics (k, 4, 2) against the sub-pieces
     ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
-    ``start``: starting feet of the nodes (:func:`_reparams`), or None.
+    ``start``: starting feet of the nodes (:func:`_reparams`), or None; ``pairs``:
+    the fitter's rays (:func:`_reparams`: phi fitted to them, the pieces not
+    evaluated), or None.
 
     The bound is the certificate of the module docstring on the exact composition
     R o mu o phi (:func:`_composed_bounds`).  Where it exceeds tol although the
@@ -418,7 +513,7 @@ def certify_batch(groups, cubics, tol, depth=3, start=None):
     not composed at all).
     """
     cubics = np.asarray(cubics, float)
-    phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start)
+    phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start, pairs)
     bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
     out = Certified(bound, phis, size, cs)
     if depth > 0:

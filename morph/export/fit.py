@@ -128,10 +128,13 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     handles, kept if below the acceptance distance (half the chord, at least tol,
     at most FIT_SLACK tol).  A chord shorter than that gets its straight line.
     Nothing here is a certificate: the caller certifies (:func:`certify_many`).
+    The fourth result, :class:`Rays`, holds what the rays of the picked cubics found
+    at every sample, for the certificate to start from.
     """
     n = len(starts)
     if not n:
-        return np.zeros((0, 4, 2)), np.zeros(0), np.zeros(0, bool)
+        return np.zeros((0, 4, 2)), np.zeros(0), np.zeros(0, bool), \
+            Rays(np.zeros((0, 16)), np.zeros((0, 16)), np.zeros((0, 16)))
     chord = ends - starts
     chord2 = (chord * chord).sum(1)
     length = np.sqrt(chord2)
@@ -149,17 +152,31 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
-    err, s, owner, si = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
-                                      parts.b - parts.a)
+    err, s, owner, si, ray = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
+                                           parts.b - parts.a)
     err = err * length[cr]
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
     cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
                                                ends, chord)
-    # the picked cubics' parameters at the samples' rays: the certificate's start
-    feet = np.full(sam["q"].shape[0] * sam["q"].shape[1], np.nan)
+    # the picked cubics' parameters at the samples' rays, the rays' lengths and the
+    # pieces' speeds there: what the certificate starts from
+    shape = sam["q"].shape[:2]
+    feet, gap = np.full(shape[0] * shape[1], np.nan), np.full(shape[0] * shape[1], np.nan)
     mine = pick[cr[owner]] == owner
     feet[si[mine]] = s[mine]
-    return cubic, dist, fitted, feet.reshape(sam["q"].shape[:2])
+    gap[si[mine]] = ray[mine] * length[cr[owner[mine]]]
+    speed = np.hypot(sam["dq"][..., 0], sam["dq"][..., 1]) * (length[parts.req] * (
+        parts.b - parts.a))[:, None]
+    return cubic, dist, fitted, Rays(feet.reshape(shape), gap.reshape(shape), speed)
+
+
+#: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
+#: samples at the 16-point Gauss-Legendre nodes u_j of the part's own parameter:
+#: ``feet`` the parameters s_j on the picked cubic where the ray along the piece's
+#: normal at the sample meets it, ``gap`` the ray's length |C(s_j) - R(u_j)|,
+#: ``speed`` |dR/du| in the part's parameter (NaN feet and gaps where the range's
+#: cubic was not picked).
+Rays = namedtuple("Rays", "feet gap speed")
 
 
 #: Parts of fit ranges (arrays, sorted by range): range ``req``, global piece ``gid``
@@ -349,7 +366,8 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
     the sample's share of the range's arc length, s clipped to [0, 1].  Also the
     parameters s where the rays meet the cubics, each with its candidate and its
-    sample (flat index into q): (distance (C,), s (S,), candidate (S,), sample (S,)).
+    sample (flat index into q), and each ray's length: (distance (C,), s (S,),
+    candidate (S,), sample (S,), length (S,)).
 
     Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
     (a reduction over an axis of length 2 costs numpy several times the products
@@ -357,7 +375,7 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     of each is one ``maximum.reduceat``.
     """
     if not len(cr):
-        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int)
+        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int), np.zeros(0)
     m = q.shape[1]
     qx, qy = q[..., 0].ravel(), q[..., 1].ravel()
     tx, ty = dq[..., 0].ravel(), dq[..., 1].ravel()
@@ -391,4 +409,4 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     some = counts > 0
     if some.any():
         out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
-    return out, s, owner, si
+    return out, s, owner, si, dist

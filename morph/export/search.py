@@ -13,9 +13,9 @@ one :class:`morph.export.bank.Bank`, one stack per degree): each round fits the
 pending ranges of every run with a few array calls
 (:func:`morph.export.fit.moment_cubics`: all ranges' parts sampled in one
 evaluation per degree, all candidates measured at once) and certifies all their
-cubics in one batch (:func:`morph.export.certify.certify_batch`, started from the
-feet the fitter's rays found: the pieces are not sampled again; a cubic whose
-sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
+cubics in one batch (:func:`morph.export.certify.certify_batch`, phi fitted to the
+pairs of parameters the fitter's rays found: the pieces are not sampled again; a
+cubic whose sampled distance exceeds SCREEN tol is not certified, nor is a try whose sampled
 distance is below PROVISIONAL tol: the search extends it anyway, and certifies it
 only if it ends there).  bench/export.py compares the cubic counts with kurbo's and
 with the classic circle cubic.  Where the fit finds no cubic, or its cubic does not
@@ -154,7 +154,8 @@ def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
     """Certify every part of the ranges ``todo`` in one batch (:func:`certify_batch`):
     the cubic cut at [s0, s1] of the part (the feet of the join points: phi is
     continuous, mapping s_k to the join, and increasing) against the part's piece,
-    started from the feet the fitter's rays found (the pieces are not sampled
+    phi fitted to the pairs of parameters the fitter's rays found
+    (:class:`morph.export.fit.Rays`, mapped to the cut: the pieces are not sampled
     again).  Returns (bound per range: the worst of its parts, inf where not
     certified; the :class:`Certified` batch or None; each part's row in it, -1
     where not certified)."""
@@ -170,8 +171,9 @@ def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
     if not one.all():
         pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
     span = (s1 - s0)[sel, None]
-    start = start_at_nodes((rays[sel] - s0[sel, None]) / span, _quadrature().gx)
-    cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol, start=start)
+    feet = np.clip((rays.feet[sel] - s0[sel, None]) / span, 0.0, 1.0)
+    cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol,
+                         pairs=(feet, _quadrature().gx, rays.speed[sel], rays.gap[sel]))
     worst = np.full(n, -np.inf)
     np.maximum.at(worst, parts.req[sel], cert.bound)
     return np.where(todo, worst, bound), cert, where
@@ -224,7 +226,7 @@ def _part_cuts(bank, parts, cubics, rays, multi):
     homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
     # Newton from between the rays of the nodes next to the join (the fitter's:
     # close, so 3 steps where a start from 65 samples took 6)
-    guess = 0.5 * (rays[at - 1, -1] + rays[at, 0])
+    guess = 0.5 * (rays.feet[at - 1, -1] + rays.feet[at, 0])
     feet = np.empty(at.shape)
     known = np.all(np.isfinite(guess), axis=1)
     if known.any():

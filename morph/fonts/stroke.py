@@ -764,7 +764,7 @@ def _stroke_work(source, names, kept, nib_region, tols, shifts, stroker):
             g = source[n]
             outline = glyph_paths(g), g.components
         paths, components = outline
-        for c, keep in zip(components, kept.get(n, ())):
+        for c, keep in zip(components, kept[n] if components else ()):
             if not keep:
                 paths.extend(component_paths(source, c))
         # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)

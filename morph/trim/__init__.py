@@ -113,8 +113,13 @@ def _near_pairs(polylines, reach):
         return set()
     has = np.flatnonzero(sizes)
     half = 0.5 * reach
-    lo = np.array([np.min(polylines[k], axis=0) for k in has]) - half
-    hi = np.array([np.max(polylines[k], axis=0) for k in has]) + half
+    # each polyline's box, all at once: (x, y) columns reduced at the polylines' starts
+    pts = np.concatenate([np.asarray(polylines[k], float) for k in has])
+    at = np.cumsum(sizes[has]) - sizes[has]
+    lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
+                  axis=1) - half
+    hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
+                  axis=1) + half
     pairs = _cell_pairs(BoxGrid(lo, hi))
     if not len(pairs):
         return set()
@@ -133,7 +138,9 @@ def _near_pairs(polylines, reach):
     e = np.repeat(np.arange(len(a)), per)
     box = first[owner][e] + (np.arange(len(e)) - np.repeat(np.cumsum(per) - per, per))
     elo, ehi = np.minimum(a, b)[e] - half, np.maximum(a, b)[e] + half
-    meets = np.all((elo <= bhi[box]) & (ehi >= blo[box]), axis=1)
+    bh, bl = bhi[box], blo[box]
+    meets = ((elo[:, 0] <= bh[:, 0]) & (elo[:, 1] <= bh[:, 1])
+             & (ehi[:, 0] >= bl[:, 0]) & (ehi[:, 1] >= bl[:, 1]))
     keep = np.zeros(len(a), bool)
     keep[e[meets]] = True
     if not keep.any():

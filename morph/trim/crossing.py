@@ -9,7 +9,7 @@ from .. import piece as pc
 from ..polyline import segment_pairs, unique
 
 
-def uncertain_pairs(loops, pieces=None):
+def uncertain_pairs(loops, pieces=None, cones=None):
     """Pairs (i, j), i <= j, of pieces (indices into the loops' pieces in order) of
     one loop that may cross or touch away from a shared end: their control boxes
     overlap and no monotone chain holds both.
@@ -18,7 +18,8 @@ def uncertain_pairs(loops, pieces=None):
     (:func:`morph.piece.tangent_cones`, corners included) is monotone along the
     cone's bisector, so it is a simple arc: two of its pieces meet at most at a
     shared end.  Either way round the loop from i to j may be that chain.
-    ``pieces``: the loops' pieces in order when known (a :class:`morph.piece.Pieces`).
+    ``pieces``: the loops' pieces in order when known (a :class:`morph.piece.Pieces`);
+    ``cones``: their :func:`morph.piece.tangent_cones` when known.
     """
     if pieces is None:
         pieces = [p for loop in loops for p in loop]
@@ -26,7 +27,7 @@ def uncertain_pairs(loops, pieces=None):
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     local = np.arange(len(pieces)) - first[owner]
-    start, lo, hi, end = pc.tangent_cones(pieces)
+    start, lo, hi, end = cones if cones is not None else pc.tangent_cones(pieces)
     nxt = first[owner] + (local + 1) % sizes[owner]
     turn = end + np.angle(np.exp(1j * (start[nxt] - start - end)))
     csum = np.cumsum(turn) - turn
@@ -127,7 +128,9 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
         size_a = np.hypot(*(hi_a - lo_a).T)
         size_b = np.hypot(*(hi_b - lo_b).T)
         slack = 1e-9 * res
-        meet = np.all(lo_a <= hi_b + slack, axis=1) & np.all(lo_b <= hi_a + slack, axis=1)
+        ha, hb = hi_a + slack, hi_b + slack
+        meet = ((lo_a[:, 0] <= hb[:, 0]) & (lo_a[:, 1] <= hb[:, 1])
+                & (lo_b[:, 0] <= ha[:, 0]) & (lo_b[:, 1] <= ha[:, 1]))
         kind = it["kind"]
         small = (size_a <= res) & (size_b <= res)
         narrow = np.zeros(len(kind), bool)

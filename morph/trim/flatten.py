@@ -45,7 +45,8 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import BoxGrid, _cell_pair_chunks, _within, unique
+from ..polyline import (BoxGrid, _cell_pair_chunks, _sorted_entries, _within, col_max, col_min,
+                        unique)
 
 #: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
@@ -111,7 +112,7 @@ def tag_loops(loops, eps, grid, origin=None):
     pid, ts, xy = adaptive_starts(pieces, piece_loop, eps, grid)
     loop_of = piece_loop[pid]
     if origin is None:
-        origin = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+        origin = 0.5 * (col_min(xy) + col_max(xy))
     origin = np.asarray(origin, float)
     q = np.rint((xy - origin) / grid).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
@@ -368,23 +369,38 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     u = np.clip(np.einsum("ij,ij->i", c - a[s], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),
                 0.0, 1.0)
     t_end = np.where((pid[nxt[s]] == pid[s]) & (ts[nxt[s]] > ts[s]), ts[nxt[s]], 1.0)
-    # the new vertices after their segment's start, in order along it
+    # the new vertices after their segment's start, in order along it: only they are
+    # sorted (by segment, then u, ties in the order found), each vertex then moved
+    # on by the new ones before it
     n = len(q)
-    order = np.lexsort((np.concatenate([np.zeros(n), u]),
-                        np.concatenate([np.zeros(n, np.int8), np.ones(len(s), np.int8)]),
-                        np.concatenate([np.arange(n), s])))
-    q = np.concatenate([q, hot[h]])[order]
-    pid = np.concatenate([pid, pid[s]])[order]
-    ts = np.concatenate([ts, ts[s] + u * (t_end - ts[s])])[order]
-    loop_of = np.concatenate([loop_of, loop_of[s]])[order]
+    new = np.lexsort((u, s))
+    s, u, h = s[new], u[new], h[new]
+    added = np.bincount(s, minlength=n)
+    before = np.cumsum(added) - added               # new vertices before vertex i's
+    at_old = np.arange(n) + before
+    at_new = s + 1 + before[s] + (np.arange(len(s)) - np.searchsorted(s, s))
+    out = np.empty(n + len(s), np.int64)
+    out[at_old], out[at_new] = np.arange(n), n + np.arange(len(s))
+    q = np.concatenate([q, hot[h]])[out]
+    pid = np.concatenate([pid, pid[s]])[out]
+    ts = np.concatenate([ts, ts[s] + u * (t_end[new] - ts[s])])[out]
+    loop_of = np.concatenate([loop_of, loop_of[s]])[out]
     return q, pid, ts, loop_of
 
 
 def _unique_rows(q):
-    """(distinct rows of an (n, 2) integer array, the index of each row among them)."""
-    o = np.lexsort((q[:, 1], q[:, 0]))
+    """(distinct rows of an (n, 2) integer array, the index of each row among them).
+    The rows in (x, y) order: as one integer key sorted with its index where that
+    fits 62 bits (the order of a stable lexsort), else by lexsort."""
+    lo, hi = col_min(q), col_max(q)
+    height = int(hi[1]) - int(lo[1]) + 1
+    if len(q) and (int(hi[0]) - int(lo[0]) + 1) * height * len(q) < 2 ** 62:
+        _, o = _sorted_entries((q[:, 0] - lo[0]) * height + (q[:, 1] - lo[1]),
+                               np.arange(len(q)), len(q))
+    else:
+        o = np.lexsort((q[:, 1], q[:, 0]))
     r = q[o]
-    new = np.concatenate(([True], np.any(r[1:] != r[:-1], axis=1)))
+    new = np.concatenate(([True], (r[1:, 0] != r[:-1, 0]) | (r[1:, 1] != r[:-1, 1])))
     of = np.empty(len(q), np.int64)
     of[o] = np.cumsum(new) - 1
     return r[new], of
@@ -410,7 +426,7 @@ def _merge_equal(q, is_start, loop_of):
     _, prv, starts = _links(loop_of)
     size = np.diff(starts)
     loop = np.repeat(np.arange(len(size)), size)
-    begins = ~np.all(q == q[prv], axis=1)            # a run begins at this vertex
+    begins = (q[:, 0] != q[prv, 0]) | (q[:, 1] != q[prv, 1])  # a run begins at this vertex
     if not begins.any():
         return np.zeros(0, np.int64)
     count = np.cumsum(begins)                        # run starts up to and with i

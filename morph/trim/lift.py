@@ -20,7 +20,8 @@ import numpy as np
 from .. import piece as pc
 from .. import moments as mo
 from .. import nearest as nr
-from ..polyline import BoxGrid, project, segment_distance, unique
+from ..polyline import (BoxGrid, _sorted_entries, col_max, col_min, project, segment_distance,
+                        unique)
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
@@ -241,11 +242,24 @@ def _spike_triples(flat, reach):
     prev, nxt = base[r] + (j - 1) % per[r], base[r] + (j + 1) % per[r]
     pieces = pc.Pieces.of(pieces)
     lim = pc.length_bounds(pieces.take(i)) + reach
+    atol = 1e-6 * reach
+    # a crossing Newton accepts lies on the neighbour before (in its control box),
+    # within atol of the one after (in its box grown by atol) and within lim of the
+    # junction: rows whose three boxes (grown by atol, far above rounding) share no
+    # point cannot have one, and are not iterated
+    box = pc.bboxes(pieces.take(np.concatenate([prev, nxt])))
+    m = len(i)
+    g = np.concatenate([ends[i] - lim[:, None], ends[i] + lim[:, None]], axis=1)
+    lo = np.maximum(np.maximum(box[:m, :2], box[m:, :2]) - atol, g[:, :2])
+    hi = np.minimum(np.minimum(box[:m, 2:], box[m:, 2:]) + atol, g[:, 2:])
+    maybe = np.flatnonzero((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1]))
+    if not len(maybe):
+        return []
+    i, r, j, prev, nxt, lim = i[maybe], r[maybe], j[maybe], prev[maybe], nxt[maybe], lim[maybe]
     stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim,
-                                1e-6 * reach)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     return list(zip(r[ok].tolist(), j[ok].tolist()))
 
@@ -318,8 +332,11 @@ def _edge_segments(p, q, tg):
     other grid point: those are read off directly; the rest are matched by
     :func:`_matched_segments`."""
     keys = _as_keys(tg.q, tg.q)
-    order = np.argsort(keys, kind="stable")
-    sk = keys[order]
+    if keys.dtype.names is None:  # integer keys: sorted with their indices as one integer
+        sk, order = _sorted_entries(keys, np.arange(len(keys)), len(keys))
+    else:
+        order = np.argsort(keys, kind="stable")
+        sk = keys[order]
     ip, iq = _unique_vertex(sk, order, _as_keys(p, tg.q)), _unique_vertex(sk, order, _as_keys(q, tg.q))
     seg = np.zeros(len(p), np.int64)
     direction = np.ones(len(p), bool)
@@ -329,7 +346,7 @@ def _edge_segments(p, q, tg):
     direction[against] = False
     rest = np.flatnonzero(~(along | against))
     if len(rest):
-        seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg)
+        seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg, (sk, order))
     return seg, direction
 
 
@@ -340,11 +357,11 @@ def _unique_vertex(sorted_keys, order, kp):
     return np.where(hi - lo == 1, order[np.minimum(lo, len(order) - 1)], -1)
 
 
-def _matched_segments(p, q, tg):
+def _matched_segments(p, q, tg, sorted_keys):
     """:func:`_edge_segments` by candidates: segments at the edges' end vertices, the
     best fitting one; edges between crossings by a search over all segments."""
     sa, sb = tg.q, tg.q[tg.nxt]
-    cand_e, cand_s = _vertex_candidates(p, q, tg)
+    cand_e, cand_s = _vertex_candidates(p, q, tg, sorted_keys)
     best, seg, direction = _best_fits(len(p), cand_e, cand_s, *_fit(
         p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
     lost = np.flatnonzero(best > MATCH_UNITS)
@@ -383,11 +400,10 @@ def _best_fits(n, e, s, score, fwd):
     return best, seg, direction
 
 
-def _vertex_candidates(p, q, tg):
-    """(edge, segment) pairs from exact grid matches of the edges' end vertices."""
-    keys = _as_keys(tg.q, tg.q)
-    order = np.argsort(keys, kind="stable")
-    sk = keys[order]
+def _vertex_candidates(p, q, tg, sorted_keys):
+    """(edge, segment) pairs from exact grid matches of the edges' end vertices;
+    ``sorted_keys``: (the keys of the input vertices sorted, their order)."""
+    sk, order = sorted_keys
     es, ss = [], []
     for pts, rel in ((p, (lambda i: i, tg.prv.__getitem__)),
                      (q, (tg.prv.__getitem__, lambda i: i))):
@@ -408,18 +424,19 @@ def _as_keys(q, ref):
     (-1 outside it: such a point matches no vertex of ``ref``); structured
     (x, y) keys where the box has more than 2^62 points."""
     q = np.ascontiguousarray(q, np.int64)
-    lo, hi = ref.min(axis=0), ref.max(axis=0)
+    lo, hi = col_min(ref), col_max(ref)
     height = int(hi[1]) - int(lo[1]) + 1
     if (int(hi[0]) - int(lo[0]) + 1) * height >= 2 ** 62:
         return q.view([("x", np.int64), ("y", np.int64)]).ravel()
-    inside = np.all((q >= lo) & (q <= hi), axis=1)
+    inside = (q[:, 0] >= lo[0]) & (q[:, 0] <= hi[0]) & (q[:, 1] >= lo[1]) & (q[:, 1] <= hi[1])
     return np.where(inside, (q[:, 0] - lo[0]) * height + (q[:, 1] - lo[1]), -1)
 
 
 def _fit(p, q, a, b):
     """Largest distance of p and q to segment ab, and whether p -> q runs along it."""
     ab = b - a
-    fwd = np.sum((q - p) * ab, axis=-1) >= 0
+    pq = q - p
+    fwd = pq[..., 0] * ab[..., 0] + pq[..., 1] * ab[..., 1] >= 0
     return np.maximum(segment_distance(p, a, b), segment_distance(q, a, b)), fwd
 
 

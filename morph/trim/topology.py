@@ -55,10 +55,16 @@ def filled_rings(paths, fill_rule, thin=0.0):
     ft = FILL_TYPES[fill_rule]
     clip = _clipper(paths)
     flat = clip.Execute(pyclipper.CT_UNION, ft, ft) if clip else []
-    if thin > 0.0 and flat:
-        flat = _without_lone_slivers(flat, thin)
     if not flat:
         return []
+    sizes, q = _flat_arrays(flat)
+    if thin > 0.0:
+        flat, sizes, q = _without_lone_slivers(flat, thin, sizes, q)
+    if not flat:
+        return []
+    rings = _nested_rings(flat, sizes, q)
+    if rings is not None:
+        return rings
     tree = _clipper(flat).Execute2(
         pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     rings = []
@@ -71,31 +77,129 @@ def filled_rings(paths, fill_rule, thin=0.0):
     return rings
 
 
-def _without_lone_slivers(flat, thin):
+def _flat_arrays(flat):
+    """(sizes (k,), vertices (n, 2) int64) of Clipper's rings (lists of points)."""
+    sizes = np.fromiter(map(len, flat), np.int64, len(flat))
+    q = np.fromiter(chain.from_iterable(chain.from_iterable(flat)), np.int64,
+                    2 * int(sizes.sum())).reshape(-1, 2)
+    return sizes, q
+
+
+def _nested_rings(flat, sizes=None, q=None):
+    """The PolyTree of Clipper's flat rings (which overlap nowhere) without the tree
+    pass, where no ring visits a grid point twice and no two rings share one (the
+    tree pass would split such rings apart); None where they do, or where the test
+    point of a ring lies on another ring (then the tree pass decides).
+
+    A ring's parent is the smallest ring (by area) around its first vertex: rings
+    neither cross nor touch, so a ring lies inside another wherever one of its
+    vertices does.  Winding numbers are exact on the integer vertices (products
+    below 2^62).  Holes are the clockwise rings, which must be those at odd depth.
+    Rings come parents first, the last top-level ring first (the tree walk's order
+    on Clipper's children).  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat`` when
+    known.
+    """
+    if q is None:
+        sizes, q = _flat_arrays(flat)
+    if not len(q) or int(np.abs(q).max()) >= 2 ** 30:
+        return None
+    lo_q, hi_q = q.min(axis=0), q.max(axis=0)
+    height = int(hi_q[1] - lo_q[1]) + 1
+    if (int(hi_q[0] - lo_q[0]) + 1) * height * len(q) >= 2 ** 62:
+        return None
+    # every grid point once over all rings
+    keys = np.sort(((q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])))
+    if np.any(keys[1:] == keys[:-1]):
+        return None
+    starts = np.cumsum(sizes) - sizes
+    area, _ = ring_measures(np.split(q, starts[1:]))
+    lo = np.stack([np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts)], 1)
+    hi = np.stack([np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts)], 1)
+    # candidate (ring a, ring b around it): b's box holds a's
+    a, b = BoxGrid(lo.astype(float), hi.astype(float)).at_points(q[starts].astype(float))
+    la, lb, ha, hb = lo[a], lo[b], hi[a], hi[b]
+    keep = ((a != b) & (lb[:, 0] <= la[:, 0]) & (lb[:, 1] <= la[:, 1])
+            & (hb[:, 0] >= ha[:, 0]) & (hb[:, 1] >= ha[:, 1]))
+    a, b = a[keep], b[keep]
+    parent = np.full(len(flat), -1, np.int64)
+    if len(a):
+        # winding number of a's first vertex about ring b: every edge of b
+        per = sizes[b]
+        pair = np.repeat(np.arange(len(a)), per)
+        e = np.repeat(starts[b], per) + (np.arange(per.sum()) - np.repeat(np.cumsum(per) - per, per))
+        last = np.repeat(starts[b] + per - 1, per)
+        e1 = np.where(e == last, np.repeat(starts[b], per), e + 1)
+        p0, p1, v = q[e], q[e1], q[starts[a]][pair]
+        cross = ((p1[:, 0] - p0[:, 0]) * (v[:, 1] - p0[:, 1])
+                 - (p1[:, 1] - p0[:, 1]) * (v[:, 0] - p0[:, 0]))
+        on = ((cross == 0) & (np.minimum(p0[:, 0], p1[:, 0]) <= v[:, 0])
+              & (np.maximum(p0[:, 0], p1[:, 0]) >= v[:, 0])
+              & (np.minimum(p0[:, 1], p1[:, 1]) <= v[:, 1])
+              & (np.maximum(p0[:, 1], p1[:, 1]) >= v[:, 1]))
+        if on.any():
+            return None
+        up = (p0[:, 1] <= v[:, 1]) & (p1[:, 1] > v[:, 1]) & (cross > 0)
+        down = (p1[:, 1] <= v[:, 1]) & (p0[:, 1] > v[:, 1]) & (cross < 0)
+        wind = np.bincount(pair, weights=up.astype(float) - down, minlength=len(a))
+        a, b = a[wind != 0], b[wind != 0]
+    if len(a):
+        # the innermost container: the smallest by area
+        order = np.lexsort((np.abs(area[b]), a))
+        a, b = a[order], b[order]
+        first = np.concatenate([[True], a[1:] != a[:-1]])
+        parent[a[first]] = b[first]
+    # depth by following parents (a chain of nested rings is short)
+    depth = np.zeros(len(flat), np.int64)
+    up_ = parent.copy()
+    while np.any(up_ >= 0):
+        depth += up_ >= 0
+        up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
+    hole = area < 0
+    if np.any(hole != (depth % 2 == 1)):
+        return None
+    children = [[] for _ in flat]
+    top = []
+    for k, p in enumerate(parent.tolist()):
+        (children[p] if p >= 0 else top).append(k)
+    rings, index = [], {}
+    stack = [(k, -1) for k in top]
+    rows = np.split(q, starts[1:])
+    hole_l = hole.tolist()
+    while stack:
+        k, p = stack.pop()
+        rings.append(Ring(rows[k], hole_l[k], p))
+        me = len(rings) - 1
+        stack.extend((c, me) for c in children[k])
+    return rings
+
+
+def _without_lone_slivers(flat, thin, sizes, q):
     """Clipper's flat rings without those thinner than ``thin`` units that hold no
     other ring (no ring's box inside theirs).  The flat rings wind once around what
     they fill, so without such a ring T the points inside T wind one less (T an
     outer ring: T empty) or one more (T a hole: T filled), and nothing else
     changes: the tree pass then gives what :func:`drop_slivers` leaves of the full
     tree.  A thin ring holding others stays for :func:`drop_slivers`, which drops
-    what it holds with it."""
-    sizes = np.fromiter(map(len, flat), np.int64, len(flat))
-    q = np.fromiter(chain.from_iterable(chain.from_iterable(flat)), float,
-                    2 * int(sizes.sum())).reshape(-1, 2)
+    what it holds with it.  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat``;
+    returns (flat, sizes, q) of the rings kept."""
+    q_int, q = q, q.astype(float)
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     area, perimeter = ring_measures(np.split(q, starts[1:]))
     thin_ids = np.flatnonzero(2.0 * np.abs(area) <= thin * perimeter)
     if len(thin_ids) == 0:
-        return flat
+        return flat, sizes, q_int
     lo = np.minimum.reduceat(q, starts)
     hi = np.maximum.reduceat(q, starts)
     p, b = BoxGrid(lo[thin_ids], hi[thin_ids]).at_points(q[starts])
     t = thin_ids[b]
-    holds = (p != t) & np.all(lo[p] >= lo[t], axis=1) & np.all(hi[p] <= hi[t], axis=1)
+    lp, lt, hp, ht = lo[p], lo[t], hi[p], hi[t]
+    holds = ((p != t) & (lp[:, 0] >= lt[:, 0]) & (lp[:, 1] >= lt[:, 1])
+             & (hp[:, 0] <= ht[:, 0]) & (hp[:, 1] <= ht[:, 1]))
     drop = np.zeros(len(flat), bool)
     drop[thin_ids] = True
     drop[t[holds]] = False
-    return [f for f, gone in zip(flat, drop) if not gone]
+    return ([f for f, gone in zip(flat, drop) if not gone], sizes[~drop],
+            q_int[np.repeat(~drop, sizes)])
 
 
 def _as_lists(paths):

@@ -38,10 +38,21 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
         idx = [k for k, a in enumerate(active) if a]
         if not idx:
             break
-        for k, f in zip(idx, _may_fold([out[k] for k in idx])):
+        # the active loops' pieces stacked and their tangent cones taken once for
+        # the fold test and the crossing search, again only where a fold was cut
+        pieces = pc.Pieces.of([p for k in idx for p in out[k]])
+        cones = pc.tangent_cones(pieces)
+        cut = False
+        for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)):
             if f:
-                out[k] = remove_folds(out[k], 2.0 * eps)
-        hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps).items()}
+                loop = remove_folds(out[k], 2.0 * eps)
+                cut |= len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k]))
+                out[k] = loop
+        if cut:
+            pieces = pc.Pieces.of([p for k in idx for p in out[k]])
+            cones = pc.tangent_cones(pieces)
+        hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
+                                                       cones).items()}
         new_out, new_active = [], []
         for k, loop in enumerate(out):
             hit = hits.get(k)
@@ -199,7 +210,7 @@ def _split_off(loop, hit, eps, hole_test):
     return [k for k in keep if k]
 
 
-def _first_crossings(loops, eps):
+def _first_crossings(loops, eps, pieces=None, cones=None):
     """{loop: (piece i, s, piece j, u, point)}: one crossing of two pieces of each
     loop that has one, away from their shared ends (i < j, or i == j for a piece
     crossing itself), refined on the exact pieces.
@@ -207,12 +218,14 @@ def _first_crossings(loops, eps):
     Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
-    (pieces that nearly coincide)."""
-    pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
+    (pieces that nearly coincide).  ``pieces`` (a :class:`morph.piece.Pieces`) and
+    ``cones`` (their tangent cones): the loops' pieces in order, when known."""
+    if pieces is None:
+        pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    suspects = uncertain_pairs(loops, pieces)  # the other pairs cannot cross
+    suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
@@ -289,17 +302,19 @@ def _polyline_crossings(pieces, suspects, flat):
 FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
 
 
-def _may_fold(loops):
+def _may_fold(loops, cones=None):
     """Per loop: whether some join turns by nearly pi (see :func:`remove_folds`; all
-    joins at once, with a margin over its test)."""
-    pieces = [p for loop in loops for p in loop]
-    if not pieces:
+    joins at once, with a margin over its test); ``cones``: the
+    :func:`morph.piece.tangent_cones` of the loops' pieces in order when known."""
+    n = sum(len(loop) for loop in loops)
+    if not n:
         return [False] * len(loops)
-    start, _, _, end = pc.tangent_cones(pieces)
+    start, _, _, end = cones if cones is not None else pc.tangent_cones(
+        [p for loop in loops for p in loop])
     sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    nxt = first[owner] + (np.arange(len(pieces)) - first[owner] + 1) % sizes[owner]
+    nxt = first[owner] + (np.arange(n) - first[owner] + 1) % sizes[owner]
     fold = np.cos(start[nxt] - start - end) <= FOLD_COS + 1e-6
     return np.bincount(owner, weights=fold, minlength=len(loops)) > 0
 

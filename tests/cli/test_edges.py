@@ -254,6 +254,7 @@ def test_progress_piped_stroke_counts_rise_to_the_total(runner, tmp_path, monkey
     from tests import RELIEF_SUBSET
 
     monkeypatch.setattr(options, "STATUS_SECONDS", 0.01)
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: two workers
     res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(tmp_path / "s.ufo"),
                                "--jobs", "2"])
     assert res.exit_code == 0, res.output

@@ -316,14 +316,20 @@ def test_fallback_keeps_the_font(tmp_path, monkeypatch):
     the CLI writes the font and exits 1 naming it."""
     import morph.minkowski
 
-    real = morph.minkowski.minkowski_sum
+    real, real_many = morph.minkowski.minkowski_sum, morph.minkowski.minkowski_sums
 
     def flaky(a, b, tol, *args, **kw):
         if len(a) == 2:  # 'o' (two loops) fails, 'T' (one loop) works
             raise TopologyError("no closed loop (test)")
         return real(a, b, tol, *args, **kw)
 
+    def flaky_many(regions, b, tol, *args, **kw):  # a chunk's sums, as one: 'o' fails it
+        if any(len(a) == 2 for a in regions):
+            raise TopologyError("no closed loop (test)")
+        return real_many(regions, b, tol, *args, **kw)
+
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", flaky)
+    monkeypatch.setattr(morph.minkowski, "minkowski_sums", flaky_many)
     src, out = default_font_path(), tmp_path / "f.ttf"
     stats = brush_font(src, out, ellipse_nib(*NIB), ["o", "T"], tol=0.5)
     assert list(stats["fallback"]) == ["o"]
@@ -375,13 +381,20 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
     assert g.numberOfContours == 2 and not all(g.flags[k] & 1 for k in range(len(g.flags)))
 
     nib = ellipse_nib(*NIB)
+    real_many = morph.minkowski.minkowski_sums
 
     def only_turned(a, b, tol, *args, **kw):  # fails for the nib as given, at any tolerance
         if b is nib:
             raise TopologyError("tangent nib (test)")
         return real(a, b, tol, *args, **kw)
 
+    def only_turned_many(regions, b, tol, *args, **kw):   # a chunk's sums, as one
+        if b is nib:
+            raise TopologyError("tangent nib (test)")
+        return real_many(regions, b, tol, *args, **kw)
+
     monkeypatch.setattr(morph.minkowski, "minkowski_sum", only_turned)
+    monkeypatch.setattr(morph.minkowski, "minkowski_sums", only_turned_many)
     out = tmp_path / "turned.ttf"  # a new path: glyph_region caches fonts by path
     stats = brush_font(src, out, nib, ["o", "T"], tol=0.5)
     assert {n: k for n, (k, _) in stats["fallback"].items()} == {"o": "rotated", "T": "rotated"}
@@ -389,8 +402,9 @@ def test_fallback_retry_at_finer_tolerance(tmp_path, monkeypatch):
     _assert_sum(src, out, "T")
 
 
-def test_jobs_give_the_same_font(tmp_path):
+def test_jobs_give_the_same_font(tmp_path, monkeypatch):
     """--jobs 2 (a process pool) writes the same outlines, metrics and anchors as 1."""
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     outs = []
     for jobs in (1, 2):
         out = tmp_path / ("j%d.ttf" % jobs)

@@ -51,9 +51,9 @@ def test_run_jobs_streams_without_keeping_results(jobs):
     assert got == {k: k * k for k in range(5)}
 
 
-@pytest.mark.parametrize("n, size, count", [(0, 96, 0), (1, 96, 1), (2, 96, 2), (52, 96, 2),
-                                            (96, 96, 2), (193, 96, 3), (584, 96, 7),
-                                            (584, 48, 13)])
+@pytest.mark.parametrize("n, size, count", [(0, 96, 0), (1, 96, 1), (2, 96, 1), (52, 96, 1),
+                                            (95, 96, 1), (96, 96, 2), (150, 96, 2),
+                                            (193, 96, 3), (584, 96, 7), (584, 48, 13)])
 def test_glyph_chunks_equal_bounded_and_two_for_small_fonts(n, size, count):
     from morph.fonts.brush import glyph_chunks
 
@@ -89,7 +89,7 @@ def _counts(text):
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
-def test_progress_moves_within_a_chunk(jobs):
+def test_progress_moves_within_a_chunk(jobs, monkeypatch):
     """Status lines of a slow job show counts inside its chunk (the job's own
     reports), never going back, ending at the total; each chunk's reports are taken
     back as its glyphs arrive, so nothing is counted twice."""
@@ -98,6 +98,7 @@ def test_progress_moves_within_a_chunk(jobs):
     from morph.cli.options import Progress
     from morph.fonts.jobs import glyph_chunks, run_glyph_jobs
 
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     work = list(range(40))
     edges = {0, 40} | {sum(map(len, glyph_chunks(work)[:k])) for k in range(3)}
     out = io.StringIO()
@@ -122,13 +123,14 @@ def test_progress_moves_within_a_chunk(jobs):
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
-def test_stroke_jobs_report_sums_and_conversion(skeleton, tmp_path, jobs):
+def test_stroke_jobs_report_sums_and_conversion(skeleton, tmp_path, jobs, monkeypatch):
     """The stroke's chunk jobs report their work as it is done: SUM_SHARE per glyph
     once the strokes are done, the rest as the batched conversion's searches end;
     in all each glyph's worth once, several reports per chunk, all taken back."""
     from morph.fonts.jobs import SUM_SHARE, glyph_chunks
     from morph.fonts.stroke import stroke_ufo
 
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     names = ["a", "b", "c", "o", "s", "e", "n", "h"]
     flight = []
     stats = stroke_ufo(skeleton, tmp_path / "s.ufo", ellipse_nib(60, 20, 30), glyphs=names,

@@ -31,14 +31,15 @@ GLYPHS = ["o", "eacute", "i", "nine", "ordfeminine", "omixed", "onested"]
 
 def _source(skeleton):
     """The Relief subset with a glyph of contours and a kept component (``omixed``)
-    and a composite nesting it (``onested``)."""
+    and a composite nesting it (``onested``), their parts' strokes apart (nearer
+    parts are decomposed, :func:`morph.fonts.stroke.separate_components`)."""
     font = copy.deepcopy(skeleton)
     g = font.newGlyph("omixed")
     g.width = 700
     pen = g.getPointPen()
     pen.beginPath()
-    pen.addPoint((100, 600), "move")
-    pen.addPoint((500, 700), "line")
+    pen.addPoint((100, 1000), "move")
+    pen.addPoint((500, 1100), "line")
     pen.endPath()
     pen.addComponent("o", (1, 0, 0, 1, 50, 0))
     n = font.newGlyph("onested")
@@ -104,7 +105,7 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
     keep = separate_components(shells, source, nib, 0.5, source.contour_counts)
     stroked, followed = plan_components(shells, GLYPHS, contour_counts=source.contour_counts,
                                         kept=keep)
-    kept = {n: keep(n) for n in stroked + followed if shells[n].components}
+    kept = {n: keep(n) for n in stroked + followed}
     shifts = _placement(shells, stroked + followed, nib).shifts
     ref = ufoLib2.Font.open(out / "S.ufo")
     for chunk in glyph_chunks(stroked):
@@ -146,25 +147,27 @@ def test_streamed_ttf_keeps_stored_glyphs_as_bytes(streamed, tmp_path, monkeypat
     assert glyf["o"].flags[0] & flagOverlapSimple and not glyf["six"].flags[0] & flagOverlapSimple
 
 
-def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path):
+def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path, monkeypatch):
     """With workers and a UFO on disk, each worker reads its chunks' skeletons: the
     font is the one the calling process writes from the same source read by
     itself (jobs=1), table for table."""
     src, out, _ = streamed
     ufo = tmp_path / "src.ufo"
     src.save(str(ufo))
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     stroke_ufo(str(ufo), tmp_path / "one.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=1)
     stroke_ufo(str(ufo), tmp_path / "two.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=2)
     _same_tables(tmp_path / "two.otf", TTFont(str(tmp_path / "one.otf")))
 
 
-def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path):
+def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monkeypatch):
     """A .glif whose points do not parse passes the shell pass (it reads no point)
     and fails in the worker that reads it: the command says which glyph, exit 2."""
     from click.testing import CliRunner
 
     from morph.cli import main
 
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
     ufo = tmp_path / "bad.ufo"
     streamed[0].save(str(ufo))
     glif = next((ufo / "glyphs").glob("o.glif"))

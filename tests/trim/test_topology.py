@@ -119,6 +119,72 @@ def test_two_pass_rings_fill_and_nest_as_clipper(rule, seed):
     assert sum(r.hole for r in rings) >= 1 and len(rings) >= 4
 
 
+
+def _tree_rings(flat):
+    """(vertex set, hole, parent's vertex set) of each ring of Clipper's PolyTree
+    of flat rings: the tree pass that _nested_rings stands in for."""
+    import pyclipper
+
+    clip = pyclipper.Pyclipper()
+    clip.AddPaths(flat, pyclipper.PT_SUBJECT, True)
+    tree = clip.Execute2(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    out, stack = set(), [(child, None) for child in tree.Childs]
+    while stack:
+        node, parent = stack.pop()
+        key = frozenset(map(tuple, node.Contour))
+        out.add((key, bool(node.IsHole), parent))
+        stack.extend((child, key) for child in node.Childs)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_nested_rings_as_the_tree_pass(seed):
+    """_nested_rings (the nesting of Clipper's flat rings from exact winding numbers)
+    gives the rings, hole flags and parents of Clipper's PolyTree pass, parents
+    before children, on random overlapping polygons with nested squares of both
+    directions; it gives up (None) where a ring visits a grid point twice (two
+    squares meeting at a corner), and filled_rings then gives the tree pass's."""
+    import pyclipper
+
+    from morph.trim.topology import _nested_rings
+
+    rng = np.random.default_rng(seed)
+    # simple star-shaped polygons overlapping on a fine lattice (crossings rarely
+    # round onto one grid point), rings around holes among them
+    paths = []
+    for _ in range(10):
+        ang = np.sort(rng.uniform(0, 2 * np.pi, 12))
+        r = rng.uniform(4000, 20000, 12)
+        c = rng.uniform(10000, 50000, 2)
+        paths.append(np.rint(c + r[:, None] * np.c_[np.cos(ang), np.sin(ang)]).astype(int).tolist())
+    for k, s in enumerate((50, 40, 30, 20, 10)):
+        sq = (np.array([[0, 0], [s, 0], [s, s], [0, s]]) + 70 + (50 - s) // 2) * 1000
+        paths.append((sq if k % 2 == 0 else sq[::-1]).tolist())
+    clip = pyclipper.Pyclipper()
+    clip.AddPaths(paths, pyclipper.PT_SUBJECT, True)
+    flat = clip.Execute(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
+    rings = _nested_rings(flat)
+    assert rings is not None and len(rings) == len(flat)
+    keys = [frozenset(map(tuple, r.q.tolist())) for r in rings]
+    assert all(r.parent < k for k, r in enumerate(rings))
+    assert {(keys[k], r.hole, keys[r.parent] if r.parent >= 0 else None)
+            for k, r in enumerate(rings)} == _tree_rings(flat)
+    assert sum(r.hole for r in rings) >= 2 and any(
+        r.parent >= 0 and rings[r.parent].parent >= 0 for r in rings)
+    # a ring inside another's box, not inside it: both at the top
+    ell = [[0, 0], [100, 0], [100, 10], [10, 10], [10, 100], [0, 100]]
+    box = [[50, 50], [60, 50], [60, 60], [50, 60]]
+    got = _nested_rings([ell, box])
+    assert [r.parent for r in got] == [-1, -1] and not any(r.hole for r in got)
+    # a ring through one grid point twice: the tree pass decides
+    bow = [[0, 0], [10, 0], [10, 10], [20, 10], [20, 20], [10, 20], [10, 10], [0, 10]]
+    assert _nested_rings([bow]) is None
+    got = filled_rings([np.array(bow)], "nonzero")
+    keys = [frozenset(map(tuple, r.q.tolist())) for r in got]
+    assert {(keys[k], r.hole, keys[r.parent] if r.parent >= 0 else None)
+            for k, r in enumerate(got)} == _tree_rings([bow])
+
+
 def _comb(x0, y0, teeth):
     """An integer comb: a base 10 high with ``teeth`` teeth 1 wide and 80 long (12
     teeth: mean width 1.29 units, a thin ring with a fat base)."""
