@@ -97,7 +97,8 @@ PHASES = [
                      "morph.fonts.stroke:_streamed_chunk", "morph.fonts.ufo_tables:widen_extent",
                      "morph.fonts.stream:UfoGlyphWriter.write"]),
     ("compile", ["morph.fonts.stroke:_save", "morph.fonts.tables:save_font",
-                 "morph.fonts.stream:compile_outline", "morph.fonts.stroke:_StreamedGlyphs.finish"]),
+                 "morph.fonts.stream:compile_outline", "morph.fonts.stream:compile_outlines",
+                 "morph.fonts.stroke:_StreamedGlyphs.finish"]),
     ("sample + specimen", ["morph.fonts.specimen:write_sample_image",
                            "morph.fonts.specimen:write_specimen"]),
 ]

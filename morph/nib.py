@@ -66,12 +66,39 @@ def nib_is_symmetric(nib_region, rel=1e-7, directions=360):
     ``directions`` unit vectors within ``rel`` times the nib's size, on the nib's
     boundary flattened within that tolerance (a sampled check).  An ellipse from
     :func:`ellipse_nib` is symmetric.
+
+    First, without flattening: when the half turn maps every piece onto a piece
+    (:func:`_pieces_map_to_pieces`, e.g. the quarters of an ellipse), the nib is
+    symmetric within ``rel`` and the sampled check would say so too; a nib whose
+    pieces do not pair up that way gets the sampled check.
     """
     x0, y0, x1, y1 = region_extent(nib_region)
     size = max(x1 - x0, y1 - y0)
     eps = rel * size
+    if _pieces_map_to_pieces(nib_region, eps):
+        return True
     pts = np.concatenate([pl.flatten(p, eps)[0] for loop in nib_region for p in loop])
     ang = np.linspace(0.0, np.pi, directions, endpoint=False)
     u = np.column_stack([np.cos(ang), np.sin(ang)])
     d = pts @ u.T
     return bool(np.all(np.abs(d.max(axis=0) + d.min(axis=0)) <= 4 * eps))
+
+
+def _pieces_map_to_pieces(nib_region, eps):
+    """True when every piece p of the region has a piece q with the same weights
+    (relative to its first) whose control points are those of -p within ``eps``:
+    then the boundary's half turn lies within ``eps`` of the boundary (a rational
+    Bézier curve with positive weights is a convex combination of its control
+    points), so N = -N within ``eps``."""
+    pieces = [np.asarray(p, float) for loop in nib_region for p in loop]
+    if not pieces or any(p.ndim != 2 or p.shape[1] != 3 or (p[:, 2] <= 0).any()
+                         for p in pieces):
+        return False
+    points = [p[:, :2] / p[:, 2:] for p in pieces]
+    weights = [p[:, 2] / p[0, 2] for p in pieces]
+    for cp, wp in zip(points, weights):
+        if not any(len(cq) == len(cp) and np.abs(cq + cp).max() <= eps
+                   and np.abs(wq - wp).max() <= 1e-12 * len(wp)
+                   for cq, wq in zip(points, weights)):
+            return False
+    return True

@@ -33,3 +33,25 @@ def test_nib_helpers():
     assert not nib_is_symmetric(_polygon([(0, 0), (10, 0), (0, 10)]))
     with pytest.raises(NibError):
         ellipse_nib(0, 1)
+
+
+def test_nib_symmetry_with_and_without_pieces_that_pair_up():
+    """The half turn maps an ellipse's quarters and a centred square's sides onto
+    pieces of the nib (no flattening needed); a centred square whose sides are cut
+    unevenly does not pair up and is judged by the sampled support function (still
+    symmetric); an ellipse off the origin, or a square with one corner moved by
+    ten times the tolerance, is not symmetric either way."""
+    from morph.nib import _pieces_map_to_pieces
+
+    for args in [(90, 20, 30), (31, 7, 77.3), (50, 50, 0)]:
+        n = ellipse_nib(*args)
+        assert _pieces_map_to_pieces(n, 1e-7 * args[0]) and nib_is_symmetric(n)
+    square = [(-10, -10), (10, -10), (10, 10), (-10, 10)]
+    assert _pieces_map_to_pieces(_polygon(square), 1e-6) and nib_is_symmetric(_polygon(square))
+    cut = [(-10, -10), (3, -10), (10, -10), (10, 10), (-10, 10)]
+    assert not _pieces_map_to_pieces(_polygon(cut), 1e-6) and nib_is_symmetric(_polygon(cut))
+    off = [pc.ellipse((3.0, 0.0), 45.0, 10.0, 0.5)]
+    assert not nib_is_symmetric(off)
+    moved = [(-10, -10), (10, -10), (10, 10 + 10 * 2e-6), (-10, 10)]
+    assert not _pieces_map_to_pieces(_polygon(moved), 2e-6)
+    assert not nib_is_symmetric(_polygon(moved))

@@ -26,6 +26,7 @@ script.
 import base64
 import html
 import unicodedata
+from functools import partial
 from pathlib import Path
 
 __all__ = ["write_specimen", "write_sample_image", "sample_locations", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
@@ -73,19 +74,47 @@ def _ink_test(font):
             for u in g.unicodes:
                 cmap.setdefault(u, g.name)
         return cmap, lambda name: font[name].getBounds(font) is not None
-    from fontTools.pens.boundsPen import ControlBoundsPen
     from fontTools.ttLib import TTFont
 
     if not hasattr(font, "getGlyphSet"):
         font = TTFont(str(font), lazy=True)
-    glyph_set = font.getGlyphSet()
+    return font.getBestCmap() or {}, partial(_has_ink, font, font.getGlyphSet())
 
-    def has_ink(name):
-        pen = ControlBoundsPen(glyph_set)
-        glyph_set[name].draw(pen)
-        return pen.bounds is not None
 
-    return font.getBestCmap() or {}, has_ink
+#: Type 2 operators that start a contour
+_MOVETOS = {"rmoveto", "hmoveto", "vmoveto"}
+
+
+def _has_ink(font, glyph_set, name):
+    """Whether glyph ``name`` of a ``TTFont`` draws anything (its control box is
+    not empty), told from its data where the data says it: a glyf glyph by its
+    number of contours (a composite by its components'), a CFF charstring by a
+    moveto among its operators (none, and no subroutine call: nothing drawn);
+    otherwise drawn into a control-box pen."""
+    if "glyf" in font:
+        glyf = font["glyf"]
+        glyph = glyf.glyphs[name] if name in getattr(glyf, "glyphs", {}) else glyf[name]
+        data = getattr(glyph, "data", None)   # not expanded: its header says
+        contours = (int.from_bytes(data[:2], "big", signed=True) if data else 0
+                    ) if data is not None else glyph.numberOfContours
+        if contours > 0:
+            return True
+        if contours == 0:
+            return False
+        return any(_has_ink(font, glyph_set, c.glyphName) for c in glyf[name].components)
+    if "CFF " in font:
+        cs = font["CFF "].cff.topDictIndex[0].CharStrings[name]
+        cs.decompile()
+        ops = {t for t in cs.program if isinstance(t, str)}
+        if ops & _MOVETOS:
+            return True
+        if not ops & {"callsubr", "callgsubr"}:
+            return False
+    from fontTools.pens.boundsPen import ControlBoundsPen
+
+    pen = ControlBoundsPen(glyph_set)
+    glyph_set[name].draw(pen)
+    return pen.bounds is not None
 
 
 def sample_text(font, text, length=OWN_SAMPLE_LENGTH):

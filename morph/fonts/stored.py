@@ -4,7 +4,7 @@ workers compiled (:func:`morph.fonts.stream.compile_outline`), the glyphs with
 components decomposed here as ufo2ft decomposes them; everything else is ufo2ft's.
 Imported only when a font is compiled (ufo2ft is a heavy import)."""
 
-__all__ = ["StoredCFF", "StoredGlyf"]
+__all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor"]
 
 import struct
 from types import SimpleNamespace
@@ -19,6 +19,7 @@ from fontTools.pens.ttGlyphPen import TTGlyphPointPen
 from fontTools.ttLib import newTable
 from fontTools.ttLib.tables._g_l_y_f import Glyph
 from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCompiler
+from ufo2ft.postProcessor import PostProcessor
 
 from .stream import _NO_WIDTHS, width_prefix
 
@@ -29,13 +30,25 @@ class Stored:
     ufo2ft's DecomposeComponentsFilter (fontTools' DecomposingFilterPointPen)."""
 
     store = {}
+    _drawn = None   # glyph name -> its stored contours recorded, while compiling
 
     def shell(self, name):
         return self.ufo[name] if name in self.ufo else None
 
+    def draw_own(self, name, pen):
+        """``name``'s stored contours, decoded once per compilation (a base glyph
+        is drawn into every composite using it)."""
+        if self._drawn is None:
+            self._drawn = {}
+        rec = self._drawn.get(name)
+        if rec is None:
+            rec = self._drawn[name] = RecordingPointPen()
+            self.draw_stored(name, rec)
+        rec.replay(pen)
+
     def decomposed(self, name, pen):
         """``name``'s own stored contours, then its components decomposed."""
-        self.draw_stored(name, pen)
+        self.draw_own(name, pen)
         for c in self.shell(name).components:
             self.nested(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
 
@@ -68,6 +81,10 @@ class StoredCFF(Stored, OutlineOTFCompiler):
                               globalSubrs=[])
             cs.draw(SegmentToPointPen(pen))
 
+    #: glyph name -> the bounds of its charstring (every glyph's, as compiled),
+    #: shared with :class:`StoredPostProcessor`
+    bounds = {}
+
     def compileGlyphs(self):
         default, nominal = self.getDefaultAndNominalWidths()
         private = SimpleNamespace(defaultWidthX=default, nominalWidthX=nominal)
@@ -89,6 +106,13 @@ class StoredCFF(Stored, OutlineOTFCompiler):
                 out[name].bounds = self.store[name][1]
             else:
                 out[name] = self.getCharStringForGlyph(glyph, private)
+        self._drawn = None
+        for name, cs in out.items():     # each glyph's bounds computed once
+            if not isinstance(cs, BoundedCharString):
+                bounds = cs.calcBounds(out)
+                cs.__class__ = BoundedCharString
+                cs.bounds = bounds
+            self.bounds[name] = cs.bounds
         return out
 
     def makeGlyphsBoundingBoxes(self):
@@ -102,6 +126,29 @@ class StoredCFF(Stored, OutlineOTFCompiler):
             box = None if box == (0, 0, 0, 0) else box
             boxes[name] = None if box is None else BoundingBox(*box)
         return boxes
+
+
+class StoredPostProcessor(PostProcessor):
+    """ufo2ft's post-processor; after the subroutinizer has replaced the CFF
+    table (every charstring rewritten by ``tx`` from its path), the new
+    charstrings answer ``calcBounds`` with their glyphs' bounds as compiled
+    (:attr:`StoredCFF.bounds`, the same paths): the saves that follow (the font
+    reloaded for production glyph names) set the font box, head and hhea from
+    them instead of decompiling and drawing every glyph twice."""
+
+    bounds = {}
+
+    def process_cff(self, **kwargs):
+        super().process_cff(**kwargs)
+        if "CFF " not in self.otf or not self.bounds:
+            return
+        charstrings = self.otf["CFF "].cff.topDictIndex[0].CharStrings
+        for name in self.otf.getGlyphOrder():
+            if name in self.bounds and name in charstrings:
+                cs = charstrings[name]
+                if type(cs) is T2CharString:
+                    cs.__class__ = BoundedCharString
+                    cs.bounds = self.bounds[name]
 
 
 class _Header:
@@ -169,6 +216,7 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
                                            round=otRound)
             else:
                 ttglyphs[name] = Glyph(self.store[name][0])
+        self._drawn = None
         return ttglyphs
 
     def makeGlyphsBoundingBoxes(self):

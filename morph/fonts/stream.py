@@ -37,10 +37,13 @@ import copy
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
+
 from .tables import draw_contours
 
-__all__ = ["compile_outline", "width_prefix", "SkeletonSource", "compile_stored",
-           "UfoGlyphWriter", "shell_glyph", "sample_font", "worker_source"]
+__all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
+           "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
+           "worker_source"]
 
 
 # =========================================================================== worker side
@@ -50,18 +53,59 @@ _NO_WIDTHS = SimpleNamespace(defaultWidthX=0, nominalWidthX=0)
 
 
 def compile_outline(contours, flavor):
-    """``(data, bounds)`` of integer contours (:func:`morph.fonts.tables.contours_from_loops`)
-    compiled as ufo2ft compiles them from a UFO glyph holding those contours.
+    """``(data, bounds)`` of integer contours (an :class:`morph.fonts.tables.Outline`,
+    or the contour lists of :func:`morph.fonts.tables.clean_contour`) compiled for
+    the font ufo2ft compiles from a UFO glyph holding those contours: see
+    :func:`compile_outlines`, of which this is one glyph's."""
+    return compile_outlines([contours], flavor)[0]
 
-    ``flavor``: ``"cff"`` (cubic contours; ``data`` the Type 2 charstring's bytes
-    without the advance, see :func:`width_prefix`) or ``"glyf"`` (quadratic splines
-    in the UFO's direction; ``data`` the compiled ``glyf`` glyph, reversed).
-    ``bounds``: (xMin, yMin, xMax, yMax), None when empty: for CFF the outline's
-    tight box (``BoundsPen``, what the charstring's ``calcBounds`` computes), for
-    glyf the glyph's (integers).  The contours are drawn straight into the
-    segment pens: the same bytes as ufo2ft's drawing of a ufoLib2 glyph's points
-    (tests/fonts/test_stream.py compares them).
+
+def compile_outlines(outlines, flavor):
+    """:func:`compile_outline` of several glyphs: their point arrays are encoded
+    together, with array operations, not drawn point by point.
+
+    ``flavor``: ``"cff"`` (cubic contours; ``data`` a Type 2 charstring without the
+    advance, see :func:`width_prefix`) or ``"glyf"`` (quadratic splines in the UFO's
+    direction; ``data`` the compiled ``glyf`` glyph, reversed).  ``bounds``: (xMin,
+    yMin, xMax, yMax), None when empty: for CFF the outline's tight box (what
+    ``BoundsPen`` and so the charstring's ``calcBounds`` compute, the same
+    arithmetic), for glyf the glyph's (integers).
+
+    - glyf: the bytes fontTools' ``TTGlyphPen`` and ``Glyph.compile`` make of the
+      contours drawn through a ``ReverseContourPen`` (ufo2ft's drawing);
+    - CFF: the charstring ``T2CharStringPen`` makes unspecialized (one operator a
+      segment: rmoveto, rlineto, rrcurveto).  ufo2ft's subroutinizer (cffsubr's
+      ``tx``) rewrites every charstring of the font from its path, so the font
+      written is the one the specialized charstrings gave, byte for byte; the
+      specializer's Python was most of a glyph's compile time.
+
+    Both are tested against the pens (tests/fonts/test_stream.py).  A glyph the
+    arrays do not take (a coordinate beyond 16 bits, a segment the flavor cannot
+    draw) is drawn with the pens, which raise what they raise.
     """
+    from .tables import Outline
+
+    outlines = [Outline.from_contours(c) for c in outlines]
+    if not outlines:
+        return []
+    both = _Batch(outlines)
+    done = both.cff() if flavor == "cff" else both.glyf()
+    return [d if d is not None else _compile_with_pens(o, flavor)
+            for d, o in zip(done, outlines)]
+
+
+def outline_bounds(outlines):
+    """The tight boxes of cubic integer outlines (what :func:`compile_outlines`
+    gives a CFF glyph), None for an empty one."""
+    from .tables import Outline
+
+    outlines = [Outline.from_contours(c) for c in outlines]
+    return _Batch(outlines)._cubic_bounds() if outlines else []
+
+
+def _compile_with_pens(contours, flavor, optimize=False):
+    """:func:`compile_outline` drawn with fontTools' pens (``optimize``: the CFF
+    charstring specialized, as ufo2ft writes it before subroutinizing)."""
     from fontTools.misc.roundTools import otRound
     from fontTools.pens.recordingPen import RecordingPen
 
@@ -73,7 +117,7 @@ def compile_outline(contours, flavor):
 
         pen = T2CharStringPen(None, None, roundTolerance=0.5)
         outline.replay(pen)
-        cs = pen.getCharString(_NO_WIDTHS, optimize=True)
+        cs = pen.getCharString(_NO_WIDTHS, optimize=optimize)
         cs.compile()
         box = BoundsPen(None)
         outline.replay(box)
@@ -90,6 +134,245 @@ def compile_outline(contours, flavor):
     g.recalcBounds(None)
     box = (g.xMin, g.yMin, g.xMax, g.yMax)
     return g.compile(None), (None if box == (0, 0, 0, 0) else box)
+
+
+#: Type 2 operators
+_RMOVETO, _RLINETO, _RRCURVETO, _ENDCHAR = 21, 5, 8, 14
+
+
+def _firsts(counts):
+    return np.cumsum(counts) - counts
+
+
+def _packed(tokens, sizes):
+    """The bytes of rows ``tokens`` (n, k), each its first ``sizes`` bytes."""
+    return tokens[np.arange(tokens.shape[1]) < sizes[:, None]].astype(np.uint8).tobytes()
+
+
+def _split(data, sizes):
+    at = np.concatenate([[0], np.cumsum(sizes)]).tolist()
+    return [data[a:b] for a, b in zip(at[:-1], at[1:])]
+
+
+class _Batch:
+    """The outlines of several glyphs as one set of arrays (points, segments,
+    contours, each with its glyph)."""
+
+    def __init__(self, outlines):
+        self.n = len(outlines)
+        self.points = np.concatenate([o.points for o in outlines]).astype(np.int64)
+        self.sizes = np.concatenate([o.sizes for o in outlines])
+        self.counts = np.concatenate([o.counts for o in outlines])
+        g_contours = np.array([len(o.counts) for o in outlines], np.int64)
+        self.g_points = np.array([len(o.points) for o in outlines], np.int64)
+        self.contour_glyph = np.repeat(np.arange(self.n), g_contours)
+        self.g_contours = g_contours
+        self.point_glyph = np.repeat(np.arange(self.n), self.g_points)
+        seg_contour = np.repeat(np.arange(len(self.counts)), self.counts)
+        self.seg_glyph = self.contour_glyph[seg_contour]
+        self.seg_first = np.cumsum(self.sizes) - self.sizes + seg_contour
+        per = np.bincount(seg_contour, self.sizes, minlength=len(self.counts)).astype(np.int64)
+        self.ends = np.cumsum(per + 1) - 1
+        self.starts = self.ends - per
+        self.last_seg = np.cumsum(self.counts) - 1
+
+    def _bad(self, point_bad=None, seg_bad=None):
+        bad = np.zeros(self.n, bool)
+        if point_bad is not None:
+            bad[self.point_glyph[point_bad]] = True
+        if seg_bad is not None:
+            bad[self.seg_glyph[seg_bad]] = True
+        return bad
+
+    def cff(self):
+        """[(charstring bytes without the advance, tight bounds) or None], as
+        ``T2CharStringPen`` (unspecialized) and ``BoundsPen`` make them from
+        :func:`morph.fonts.tables.draw_contours`: a contour's closing line is
+        left implied.  None for a glyph the arrays do not take."""
+        p, sizes = self.points, self.sizes
+        op = np.zeros(len(p), np.int64)
+        op[self.starts] = _RMOVETO
+        op[self.seg_first + sizes] = np.where(sizes == 1, _RLINETO, _RRCURVETO)
+        drawn = np.ones(len(p), bool)
+        drawn[self.ends[sizes[self.last_seg] == 1]] = False   # the implied closing line
+        d, dg = p[drawn], self.point_glyph[drawn]
+        delta = np.diff(d, axis=0, prepend=np.zeros((1, 2), np.int64))
+        lead = np.ones(len(d), bool)
+        lead[1:] = dg[1:] != dg[:-1]
+        delta[lead] = d[lead]                   # each glyph from (0, 0)
+        bad = self._bad(seg_bad=~np.isin(sizes, (1, 3)))
+        bad[dg[(np.abs(delta) > 32767).any(axis=1)]] = True
+        nb, nsize = _t2_numbers(np.clip(delta, -32767, 32767).reshape(-1))
+        n_drawn = np.bincount(dg, minlength=self.n)
+        at = 3 * np.arange(len(d)) + dg           # each glyph's tokens, then endchar
+        end_at = 3 * np.cumsum(n_drawn) + np.arange(self.n)
+        tok = np.zeros((3 * len(d) + self.n, 3), np.int64)
+        size = np.zeros(len(tok), np.int64)
+        tok[at], size[at] = nb[0::2], nsize[0::2]
+        tok[at + 1], size[at + 1] = nb[1::2], nsize[1::2]
+        ops = op[drawn]
+        tok[at + 2, 0], size[at + 2] = ops, ops > 0
+        tok[end_at, 0], size[end_at] = _ENDCHAR, 1
+        glyph_of_tok = np.repeat(np.arange(self.n), 3 * n_drawn + 1)
+        data = _split(_packed(tok, size), np.bincount(glyph_of_tok, size, self.n).astype(int))
+        bounds = self._cubic_bounds()
+        return [None if b else (x, box) for x, box, b in zip(data, bounds, bad)]
+
+    def _cubic_bounds(self):
+        """Each glyph's tight box as ``BoundsPen`` computes it: the on-curve
+        points, and the extremes of each cubic whose control points reach past
+        them (fontTools' ``calcCubicBounds``, the same arithmetic)."""
+        p = self.points
+        cubic = np.flatnonzero(self.sizes == 3)
+        first = self.seg_first[cubic]
+        on = np.ones(len(p), bool)
+        on[first + 1] = on[first + 2] = False
+        lo = np.full((self.n, 2), np.inf)
+        hi = np.full((self.n, 2), -np.inf)
+        np.minimum.at(lo, self.point_glyph[on], p[on])
+        np.maximum.at(hi, self.point_glyph[on], p[on])
+        glyph = self.seg_glyph[cubic]
+        c = p[first[:, None] + np.arange(4)].astype(float)
+        out = ((c[:, 1:3] < lo[glyph, None]) | (c[:, 1:3] > hi[glyph, None])).any(axis=(1, 2))
+        c, glyph = c[out], glyph[out]
+        if len(c):
+            p1, p2, p3, p4 = c[:, 0], c[:, 1], c[:, 2], c[:, 3]
+            cc = (p2 - p1) * 3.0
+            bb = (p3 - p2) * 3.0 - cc
+            aa = p4 - p1 - cc - bb
+            qa, qb = aa * 3.0, bb * 2.0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                linear = np.abs(qa) < 1e-10
+                lin_root = np.where(np.abs(qb) >= 1e-10, -cc / qb, np.nan)
+                dd = qb * qb - 4.0 * qa * cc
+                rdd = np.sqrt(np.where(dd >= 0.0, dd, np.nan))
+                t = np.concatenate([np.where(linear, lin_root, (-qb + rdd) / 2.0 / qa),
+                                    np.where(linear, np.nan, (-qb - rdd) / 2.0 / qa)],
+                                   axis=1)     # (k, 4): the roots of x' and of y'
+            t = np.where((t >= 0) & (t < 1), t, np.nan)[:, :, None]
+            aa, bb, cc, p1 = aa[:, None], bb[:, None], cc[:, None], p1[:, None]
+            val = aa * t * t * t + bb * t * t + cc * t + p1     # (k, root, axis)
+            ok = ~np.isnan(t[:, :, 0])
+            rows, _ = np.nonzero(ok)
+            np.minimum.at(lo, glyph[rows], val[ok])
+            np.maximum.at(hi, glyph[rows], val[ok])
+        return [None if not np.isfinite(a[0]) else
+                (float(a[0]), float(a[1]), float(b[0]), float(b[1]))
+                for a, b in zip(lo.tolist(), hi.tolist())]
+
+    def glyf(self):
+        """[(``glyf`` glyph bytes, integer box) or None] of quadratic outlines in
+        the UFO's direction, as ``TTGlyphPen`` behind a ``ReverseContourPen``
+        draws them and ``Glyph.compile`` packs them (greedy flag repeats, short
+        or same coordinates).  None for a glyph the arrays do not take."""
+        import struct
+
+        p = self.points
+        on = np.zeros(len(p), bool)
+        on[self.starts] = True
+        on[self.seg_first + self.sizes] = True
+        # each contour reversed, its start kept first, its closing point dropped
+        n = self.ends - self.starts
+        owner = np.repeat(np.arange(len(n)), n)
+        k = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+        idx = np.where(k == 0, self.starts[owner], self.ends[owner] - k)
+        q, flags = p[idx], on[idx].astype(np.int64)
+        qg = self.contour_glyph[owner]
+        bad = np.zeros(self.n, bool)
+        bad[qg[(np.abs(q) > 32767).any(axis=1)]] = True
+        delta = np.diff(q, axis=0, prepend=np.zeros((1, 2), np.int64))
+        lead = np.ones(len(q), bool)
+        lead[1:] = qg[1:] != qg[:-1]
+        delta[lead] = q[lead]
+        xs, xb, xn = _glyf_axis(delta[:, 0], 0x02, 0x10)
+        ys, yb, yn = _glyf_axis(delta[:, 1], 0x04, 0x20)
+        flags = flags | xs | ys
+        fb, fn = _repeated_flags(flags, lead, qg)
+        xb = _split(xb, np.bincount(qg, xn, self.n).astype(int))
+        yb = _split(yb, np.bincount(qg, yn, self.n).astype(int))
+        fb = _split(fb, np.bincount(fn[0], fn[1], self.n).astype(int))
+        npts = np.bincount(qg, minlength=self.n)
+        lo = np.full((self.n, 2), 1 << 40)
+        hi = np.full((self.n, 2), -(1 << 40))
+        np.minimum.at(lo, qg, q)
+        np.maximum.at(hi, qg, q)
+        end_pts = np.cumsum(n) - np.repeat(_firsts(np.bincount(qg, minlength=self.n)),
+                                           self.g_contours) - 1
+        ends_b = _split(np.clip(end_pts, 0, 0xFFFF).astype(">u2").tobytes(),
+                        2 * self.g_contours)
+        out = []
+        for g in range(self.n):
+            if bad[g] or npts[g] > 0xFFFF:
+                out.append(None)
+            elif not self.g_contours[g]:
+                out.append((b"", None))
+            else:
+                box = (int(lo[g, 0]), int(lo[g, 1]), int(hi[g, 0]), int(hi[g, 1]))
+                out.append((struct.pack(">hhhhh", int(self.g_contours[g]), *box) + ends_b[g]
+                            + b"\x00\x00" + fb[g] + xb[g] + yb[g],
+                            None if box == (0, 0, 0, 0) else box))
+        return out
+
+
+def _t2_numbers(v):
+    """(bytes (n, 3), lengths) of Type 2 integers of at most 16 bits (fontTools'
+    ``encodeIntT2``)."""
+    out = np.zeros((len(v), 3), np.int64)
+    size = np.full(len(v), 3, np.int64)
+    small = np.abs(v) <= 107
+    pos = (v >= 108) & (v <= 1131)
+    neg = (v <= -108) & (v >= -1131)
+    out[small, 0] = v[small] + 139
+    size[small] = 1
+    w = v[pos] - 108
+    out[pos, 0], out[pos, 1] = (w >> 8) + 247, w & 0xFF
+    w = -v[neg] - 108
+    out[neg, 0], out[neg, 1] = (w >> 8) + 251, w & 0xFF
+    size[pos | neg] = 2
+    big = ~(small | pos | neg)
+    w = v[big] & 0xFFFF
+    out[big, 0], out[big, 1], out[big, 2] = 28, w >> 8, w & 0xFF
+    return out, size
+
+
+def _glyf_axis(d, short, same):
+    """(flag bits, bytes, byte count per point) of one coordinate's deltas, as
+    fontTools' greedy packing writes them."""
+    flag = np.zeros(len(d), np.int64)
+    small = (d != 0) & (np.abs(d) <= 255)
+    flag[d == 0] = same
+    flag[small] = short
+    flag[small & (d > 0)] |= same
+    wide = (d != 0) & ~small
+    nbytes = np.where(small, 1, np.where(wide, 2, 0))
+    out = np.zeros((len(d), 2), np.int64)
+    out[small, 0] = np.abs(d[small])
+    w = d[wide] & 0xFFFF
+    out[wide, 0], out[wide, 1] = w >> 8, w & 0xFF
+    return flag, _packed(out, nbytes), nbytes
+
+
+def _repeated_flags(flags, lead, glyph):
+    """fontTools' greedy flag bytes of glyphs whose points start where ``lead``
+    (``glyph``: each point's glyph):
+    a run of equal flags in groups of at most 256, a group of g >= 3 written as
+    (flag | REPEAT, g - 1), a shorter one flag by flag.  Returns (bytes,
+    (glyph index, byte count) per group)."""
+    change = lead.copy()
+    change[1:] |= flags[1:] != flags[:-1]
+    run_start = np.flatnonzero(change)
+    run_len = np.diff(np.append(run_start, len(flags)))
+    run_glyph = glyph[run_start]
+    ngroups = (run_len + 255) // 256
+    g_flag = np.repeat(flags[run_start], ngroups)
+    g_run = np.repeat(np.arange(len(run_len)), ngroups)
+    g_k = np.arange(ngroups.sum()) - np.repeat(_firsts(ngroups), ngroups)
+    g_len = np.minimum(256, run_len[g_run] - 256 * g_k)
+    out = np.zeros((len(g_len), 2), np.int64)
+    size = np.minimum(g_len, 2)
+    out[:, 0] = np.where(g_len >= 3, g_flag | 0x08, g_flag)
+    out[:, 1] = np.where(g_len >= 3, g_len - 1, g_flag)
+    return _packed(out, size), (run_glyph[g_run], size)
 
 
 def width_prefix(width, default, nominal):
@@ -261,20 +544,20 @@ class SkeletonSource:
         .glif's data but its outline by glifLib, the outline's contours counted
         and its components read from the XML tree (in GLIF 2, a component is
         one element, a contour one element of points: reading every point was
-        60 % of the shells' time).  A GLIF 1 glyph (whose anchors are contours
-        of one point) is read whole."""
+        60 % of the shells' time); the XML is parsed once, for both.  A GLIF 1
+        glyph (whose anchors are contours of one point) is read whole."""
         from fontTools.misc import etree
-        from fontTools.ufoLib.glifLib import readGlyphFromString
         from ufoLib2.objects import Glyph
 
         glyph = Glyph(name)
         try:
             text = self._glif(name)
             root = etree.fromstring(text)
-            if root.get("format", "2").split(".")[0] == "1":
+            if root.get("format", "2").split(".")[0] == "1" or root.tag != "glyph" \
+                    or (root.text or "").strip():
                 shell, pen = self._read(name, _ShellPen)
                 return shell, pen.contours
-            readGlyphFromString(text, glyph, None, validate=False)
+            _glyph_from_tree(root, text, glyph)
             pen, contours = glyph.getPointPen(), 0
             for element in root.iterfind("outline/*"):
                 if element.tag == "contour":
@@ -303,6 +586,20 @@ def worker_source(path, token):
     return source
 
 
+def _glyph_from_tree(root, text, glyph):
+    """glifLib's reading of a .glif's data but its outline into ``glyph``, from the
+    XML tree ``root`` already parsed (glifLib's reader of a tree; where this
+    fontTools lacks it, from the text, parsed again)."""
+    try:
+        from fontTools.ufoLib.glifLib import _readGlyphFromTree
+    except ImportError:  # pragma: no cover - another fontTools
+        from fontTools.ufoLib.glifLib import readGlyphFromString
+
+        readGlyphFromString(text, glyph, None, validate=False)
+        return
+    _readGlyphFromTree(root, glyph, None, validate=False)
+
+
 #: a GLIF component's transformation attributes and their defaults, in order
 _TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1"),
               ("xOffset", "0"), ("yOffset", "0"))
@@ -325,12 +622,15 @@ def compile_stored(font, store, kind, **options):
     ``options`` go to ufo2ft's ``compileOTF`` / ``compileTTF``."""
     import ufo2ft
 
-    from .stored import StoredCFF, StoredGlyf
+    from .stored import StoredCFF, StoredGlyf, StoredPostProcessor
 
     base = StoredCFF if kind == ".otf" else StoredGlyf
-    compiler = type(base.__name__, (base,), {"store": store})
+    bounds = {}
+    compiler = type(base.__name__, (base,), {"store": store, "bounds": bounds})
     if kind == ".otf":
-        return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, **options)
+        post = type(StoredPostProcessor.__name__, (StoredPostProcessor,), {"bounds": bounds})
+        return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, postProcessorClass=post,
+                                 **options)
     return ufo2ft.compileTTF(font, outlineCompilerClass=compiler, **options)
 
 

@@ -76,7 +76,7 @@ from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
-from .ufo_tables import grow_win_metrics, rename_ufo_family, widen_extent
+from .ufo_tables import grow_win_metrics, outline_extent, rename_ufo_family
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]
@@ -597,34 +597,38 @@ def _read_and_stroke(flavor, source, kept, nib_region, tols, stroker, chunk):
 _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 
 #: what a chunk job imports as it runs (reading the skeletons, the strokes, the
-#: curve fitting and its quadrature nodes), and by output what
-#: :func:`morph.fonts.stream.compile_outline` imports: imported before worker
+#: curve fitting and its quadrature nodes), and by output what the quadratic
+#: conversion imports: imported before worker
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
                    "morph.fonts.stream", "numpy.polynomial.legendre")
-_COMPILERS = {".otf": ("fontTools.pens.t2CharStringPen", "fontTools.pens.boundsPen"),
-              ".ttf": ("fontTools.pens.ttGlyphPen", "fontTools.pens.reverseContourPen",
-                       "fontTools.cu2qu")}
+_COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
 def _streamed_chunk(flavor, chunk):
     """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
     ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
     ``flavor``; for None the contours themselves), ``contours`` and ``points``
-    (counts) and ``extent`` (the lowest and highest y of the chunk's regions, one
-    list for all its glyphs: a region's tight box is computed only where its control
-    points reach past the chunk's extremes so far); the regions are not sent back."""
-    from .stream import compile_outline
+    (counts) and ``extent`` (the lowest and highest y of the chunk's written
+    outlines, one list for all its glyphs, from the boxes the compilation computes:
+    CFF and UFO cubics their tight boxes, glyf its points' boxes); the regions are
+    not sent back."""
+    from .stream import compile_outlines, outline_bounds
+    from .tables import Outline
 
     out = _chunk_job(chunk)
-    extent = [None, None]
-    for r in out:
-        widen_extent(extent, r.pop("region"))
-        contours = r["contours"]
-        r.update(extent=extent, contours=len(contours),
-                 points=sum(len(q) - 1 for segs in contours for q in segs),
-                 outline=contours if flavor is None else compile_outline(contours, flavor))
+    outlines = [Outline.from_contours(r["contours"]) for r in out]
+    if flavor is None:
+        compiled, boxes = outlines, outline_bounds(outlines)
+    else:
+        compiled = compile_outlines(outlines, flavor)
+        boxes = [box for _, box in compiled]
+    extent = outline_extent(boxes)
+    for r, outline, done in zip(out, outlines, compiled):
+        del r["region"]
+        r.update(extent=extent, contours=len(outline), points=outline.point_count(),
+                 outline=done)
     return out
 
 

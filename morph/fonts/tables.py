@@ -29,7 +29,7 @@ from ..errors import MorphError, ParseError
 from ..region import reverse_loop
 
 __all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "contours_from_regions",
-           "clean_contour",
+           "Outline", "integer_outlines", "clean_contour",
            "draw_contours", "outline_glyphs", "move_anchors", "grow_vertical_metrics",
            "rename_family", "finish_font", "save_font", "FONT_SUFFIXES"]
 
@@ -62,14 +62,16 @@ def contours_from_loops(loops, tol, quadratic, offset=(0.0, 0.0), reverse=None,
 
 def contours_from_regions(regions, tol, quadratic, offsets=None, reverse=None,
                           splines=False):
-    """:func:`contours_from_loops` of several regions (glyphs) at once: a list of
-    contour lists.  The loops of all regions are converted in one batch
-    (:func:`morph.export.loops_to_beziers`: the segment searches of every loop go in
-    lockstep and each round is fitted and certified with a few array calls).  The
-    fits are those of region by region up to rounding (batched array calls may
-    round differently: callers that must be reproducible batch the same regions
-    together every time).  ``offsets``: one per region (None: zero); ``reverse`` and
-    ``splines`` as :func:`contours_from_loops`.
+    """:func:`contours_from_loops` of several regions (glyphs) at once: one
+    :class:`Outline` (a sequence of contours) per region.  The loops of all regions
+    are converted in one batch (:func:`morph.export.loops_to_beziers`: the segment
+    searches of every loop go in lockstep and each round is fitted and certified
+    with a few array calls), then rounded and cleaned together
+    (:func:`integer_outlines`).  The fits are those of region by region up to
+    rounding (batched array calls may round differently: callers that must be
+    reproducible batch the same regions together every time).  ``offsets``: one
+    per region (None: zero); ``reverse`` and ``splines`` as
+    :func:`contours_from_loops`.
 
     Raises:
         ToleranceNotMetError: as the converters (for the whole batch).
@@ -81,23 +83,286 @@ def contours_from_regions(regions, tol, quadratic, offsets=None, reverse=None,
     flip = quadratic if reverse is None else reverse
     loops = [reverse_loop(loop) if flip else loop for loops in regions for loop in loops]
     # cubics span the smooth joins
-    converted = iter(loops_to_quadratics(loops, tol, wrap=True, splines=splines) if quadratic
-                     else loops_to_beziers(loops, tol, wrap=True))
+    converted = (loops_to_quadratics(loops, tol, wrap=True, splines=splines) if quadratic
+                 else loops_to_beziers(loops, tol, wrap=True))
+    return integer_outlines(converted, [len(r) for r in regions], offsets, quadratic,
+                            splines)
+
+
+class Outline:
+    """A glyph's integer contours held as three arrays, the form the font writers
+    encode without drawing point by point (:func:`morph.fonts.stream.compile_outline`).
+
+    ``points``: (P, 2) float array of integer values: each contour's start point,
+    then each of its segments' points after the first (its last segment ends on the
+    start point, repeated); ``sizes``: per segment the number of points after its
+    first (1 line, 2 quadratic, 3 cubic, more: a TrueType spline); ``counts``: per
+    contour its number of segments.  It is also the sequence of contours of
+    :func:`clean_contour` (each a list of ``(k, 2)`` arrays, views of ``points``),
+    so every consumer of those lists takes it.
+    """
+
+    __slots__ = ("points", "sizes", "counts")
+
+    def __init__(self, points, sizes, counts):
+        self.points = np.asarray(points, float).reshape(-1, 2)
+        self.sizes = np.asarray(sizes, np.int64).reshape(-1)
+        self.counts = np.asarray(counts, np.int64).reshape(-1)
+
+    @classmethod
+    def from_contours(cls, contours):
+        """The outline of contours given as lists of segments (an :class:`Outline`
+        as it is)."""
+        if isinstance(contours, Outline):
+            return contours
+        points, sizes, counts = [], [], []
+        for segs in contours:
+            segs = [np.asarray(q, float) for q in segs]
+            if not segs:
+                continue
+            points.append(segs[0][:1])
+            for q in segs:
+                points.append(q[1:])
+                sizes.append(len(q) - 1)
+            counts.append(len(segs))
+        return cls(np.concatenate(points) if points else np.zeros((0, 2)), sizes, counts)
+
+    def __getstate__(self):
+        return self.points, self.sizes, self.counts
+
+    def __setstate__(self, state):
+        self.points, self.sizes, self.counts = state
+
+    def __len__(self):
+        return len(self.counts)
+
+    def __bool__(self):
+        return len(self.counts) > 0
+
+    def segment_starts(self):
+        """Index in ``points`` of each segment's first point."""
+        contour_of = np.repeat(np.arange(len(self.counts)), self.counts)
+        return np.cumsum(self.sizes) - self.sizes + contour_of
+
+    def point_count(self):
+        """The number of points of the contours as fonts count them (a contour's
+        closing point once)."""
+        return len(self.points) - len(self.counts)
+
+    def _segments(self, starts, at, n):
+        return [self.points[a:a + m + 1]
+                for a, m in zip(starts[at:at + n].tolist(), self.sizes[at:at + n].tolist())]
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return [self[i] for i in range(*k.indices(len(self)))]
+        n = len(self.counts)
+        k = k + n if k < 0 else k
+        if not 0 <= k < n:
+            raise IndexError("contour index out of range")
+        return self._segments(self.segment_starts(), int(self.counts[:k].sum()),
+                              int(self.counts[k]))
+
+    def __iter__(self):
+        starts, at = self.segment_starts(), 0
+        for n in self.counts.tolist():
+            yield self._segments(starts, at, n)
+            at += n
+
+    def __eq__(self, other):
+        """Equal to an outline, or to contour lists, with the same segments."""
+        if not isinstance(other, (Outline, list, tuple)):
+            return NotImplemented
+        return len(other) == len(self) and all(
+            len(a) == len(b) and all(np.array_equal(p, q) for p, q in zip(a, b))
+            for a, b in zip(self, other))
+
+    __hash__ = None
+
+    def __repr__(self):
+        return "Outline(%d contours, %d points)" % (len(self), self.point_count())
+
+
+def _same_rows(a, b):
+    return (a[..., 0] == b[..., 0]) & (a[..., 1] == b[..., 1])
+
+
+def _steps(frm, to):
+    """:func:`_step` of rows."""
+    d = to - frm
+    n = np.abs(d).max(axis=-1, keepdims=True)
+    out = d.copy()
+    np.divide(d, n, out=out, where=n > 0)
+    return np.where(n > 0, np.round(out), d)
+
+
+def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
+    """The converted loops of several glyphs as :class:`Outline` objects, rounded
+    and cleaned as :func:`clean_contour` cleans each contour, for all the glyphs'
+    segments with a few array operations.
+
+    ``converted``: one list of segments per loop (the converters' output), the
+    loops of glyph g the next ``counts[g]``; ``offsets``: a translation per glyph;
+    ``quadratic``: TrueType (else CFF: a quadratic segment is raised to a cubic,
+    exactly); ``splines``: segments of 4 points or more are TrueType splines.
+
+    The joins are set exact, every point rounded, zero-length segments dropped and
+    segments simplified (:func:`_simplify_segment`) as arrays.  A contour that has
+    something more to clean (collinear consecutive lines, a spike, fewer than three
+    segments left, a spline whose rounded points repeat) is a rare defect: it is
+    cleaned by :func:`clean_contour` itself, so the result is the same contour by
+    contour.
+    """
+    splines = bool(splines and quadratic)
+    loops = [list(loop) for loop in converted]
+    if not quadratic:
+        for loop in loops:
+            for k, q in enumerate(loop):
+                if len(q) == 3:
+                    loop[k] = bz.to_degree(np.asarray(q, float), 3)  # exact (CFF)
+    nloops = len(loops)
+    loop_glyph = np.repeat(np.arange(len(counts)), counts)
+    segs = [q for loop in loops for q in loop]
+    nseg_loop = np.fromiter(map(len, loops), np.int64, nloops)
+    lens = np.fromiter(map(len, segs), np.int64, len(segs))
+    off = np.asarray(offsets, float).reshape(-1, 2)
+    if segs:
+        pts = np.concatenate([np.asarray(q, float).reshape(-1, 2) for q in segs])
+        seg_loop = np.repeat(np.arange(nloops), nseg_loop)
+        pts = pts + np.repeat(off[loop_glyph[seg_loop]], lens, axis=0)
+    else:
+        pts = np.zeros((0, 2))
+        seg_loop = np.zeros(0, np.int64)
+    raw = pts.copy()                            # for the contours clean_contour takes
+    first = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)[:len(segs)]
+    last = first + lens - 1
+    loop_first = np.concatenate([[0], np.cumsum(nseg_loop)[:-1]]).astype(np.int64)
+    # exact joins: a segment starts where the one before it (cyclically) ends
+    prev = np.arange(len(segs)) - 1
+    starts_loop = loop_first[seg_loop] == np.arange(len(segs))
+    prev[starts_loop] = (loop_first + nseg_loop - 1)[seg_loop[starts_loop]]
+    if len(segs):
+        pts[first] = pts[last[prev]]
+    r = np.round(pts) + 0.0
+    seg_of_pt = np.repeat(np.arange(len(segs)), lens)
+    slow_loop = np.zeros(nloops, bool)
+    is_spline = (lens >= 4) & splines
+    inner_pt = (np.arange(len(r)) != first[seg_of_pt]) & (np.arange(len(r)) != last[seg_of_pt])
+    if splines and len(r) > 1:
+        repeat = np.zeros(len(r), bool)     # point i equals point i + 1 of its segment
+        repeat[:-1] = _same_rows(r[1:], r[:-1]) & (np.arange(len(r) - 1) != last[seg_of_pt[:-1]])
+        rep_seg = np.logical_or.reduceat(repeat, first) if len(segs) else repeat[:0]
+        slow_loop[seg_loop[rep_seg & is_spline]] = True
+    slow_loop[seg_loop[(lens > 4) & ~is_spline]] = True    # no such segment is written
+    slow_loop[seg_loop[lens < 2]] = True
+    # zero-length segments, and those whose control points all sit on an end: lines
+    if len(segs):
+        at_first = _same_rows(r, r[first[seg_of_pt]])
+        zero = np.logical_and.reduceat(at_first, first)
+        off_ends = inner_pt & ~at_first & ~_same_rows(r, r[last[seg_of_pt]])
+        has_inner = np.logical_or.reduceat(off_ends, first)
+    else:
+        zero = has_inner = np.zeros(0, bool)
+    line = (lens == 2) | ~has_inner
+    cubic = (lens == 4) & ~is_spline & ~zero & ~line
+    if cubic.any():   # retracted handles moved one unit (see _simplify_segment)
+        idx = first[cubic][:, None] + np.arange(4)
+        s = r[idx]
+        m = _same_rows(s[:, 1], s[:, 0])
+        s[m, 1] = s[m, 0] + _steps(s[m, 0], s[m, 2])
+        m = _same_rows(s[:, 2], s[:, 3])
+        s[m, 2] = s[m, 3] + _steps(s[m, 3], s[m, 1])
+        m = _same_rows(s[:, 1], s[:, 2])
+        s[m, 2] = s[m, 2] + _steps(s[m, 2], s[m, 3])
+        chord = (_same_rows(s[:, 0], s[:, 1]) | _same_rows(s[:, 1], s[:, 2])
+                 | _same_rows(s[:, 2], s[:, 3]))
+        r[idx] = s
+        line[np.flatnonzero(cubic)[chord]] = True
+        zero[np.flatnonzero(cubic)[chord & _same_rows(s[:, 0], s[:, 3])]] = True
+    kept = ~zero
+    # the kept segments of each loop, and each one's successor (cyclically)
+    ks = np.flatnonzero(kept)
+    kloop = seg_loop[ks]
+    nkept = np.bincount(kloop, minlength=nloops)
+    slow_loop |= nkept < 3
+    if len(ks):
+        kfirst = np.concatenate([[0], np.cumsum(nkept)[:-1]])
+        pos = np.arange(len(ks)) - kfirst[kloop]
+        nxt = np.where(pos + 1 < nkept[kloop], np.arange(len(ks)) + 1, kfirst[kloop])
+        a, b = ks, ks[nxt]
+        a0, a1, b0, b1 = r[first[a]], r[last[a]], r[first[b]], r[last[b]]
+        u, v = a1 - a0, b1 - b0
+        collinear = (line[a] & line[b] & (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0] == 0)
+                     & (u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1] > 0))
+        spiked = _same_rows(a0, b1) & (np.hypot(*(b0 - b1).T) <= spike)
+        slow_loop[kloop[spiked]] = True
+        # a run of collinear lines is one line (its inner ends are not written); a
+        # run through the contour's start, or the whole contour, is left to
+        # clean_contour, and so is a spike that the merged lines make
+        wraps = collinear & (nxt <= np.arange(len(ks)))
+        slow_loop[kloop[wraps]] = True
+        slow_loop[np.bincount(kloop, ~collinear, minlength=nloops) < 3] = True
+        merged = ks[collinear]
+        ks2 = ks[~collinear]
+        kloop2 = seg_loop[ks2]
+        n2 = np.bincount(kloop2, minlength=nloops)
+        if len(ks2):
+            k2first = np.concatenate([[0], np.cumsum(n2)[:-1]])
+            pos2 = np.arange(len(ks2)) - k2first[kloop2]
+            before = np.where(pos2 > 0, np.arange(len(ks2)) - 1, k2first[kloop2] + n2[kloop2] - 1)
+            after = np.where(pos2 + 1 < n2[kloop2], np.arange(len(ks2)) + 1, k2first[kloop2])
+            a0, a1, b1 = r[last[ks2[before]]], r[last[ks2]], r[last[ks2[after]]]
+            spiked = _same_rows(a0, b1) & (np.hypot(*(a1 - b1).T) <= spike)
+            slow_loop[kloop2[spiked]] = True
+    else:
+        merged = ks
+    line[merged] = True
+    kept_out = kept.copy()
+    kept_out[merged] = False
+    # the points written: a kept segment's after its first (a line's last only),
+    # and each fast contour's start
+    fast_seg = kept_out & ~slow_loop[seg_loop]
+    take = np.zeros(len(r), bool)
+    whole = fast_seg & ~line
+    take[inner_pt & whole[seg_of_pt]] = True
+    take[last[fast_seg]] = True
+    fk = ks[~slow_loop[kloop]] if len(ks) else ks
+    if len(fk):
+        lead = np.ones(len(fk), bool)
+        lead[1:] = seg_loop[fk[1:]] != seg_loop[fk[:-1]]
+        take[first[fk[lead]]] = True
+    out_pts = r[take]
+    out_sizes = np.where(line, 1, lens - 1)[fast_seg]
+    fast_loop = ~slow_loop & (nseg_loop > 0)
+    loop_npts = np.zeros(nloops, np.int64)
+    loop_npts[fast_loop] = 1 + np.bincount(seg_loop[fast_seg], out_sizes,
+                                           minlength=nloops)[fast_loop].astype(np.int64)
+    loop_nseg = np.bincount(seg_loop[fast_seg], minlength=nloops)
+    pt_at = np.concatenate([[0], np.cumsum(loop_npts)])
+    sz_at = np.concatenate([[0], np.cumsum(loop_nseg)])
     out = []
-    for loops, offset in zip(regions, offsets):
-        off = np.asarray(offset, float)
+    loop_at = 0
+    for g, n in enumerate(counts):
+        lo, hi = loop_at, loop_at + n
+        loop_at = hi
+        if not slow_loop[lo:hi].any():
+            keep = np.flatnonzero(fast_loop[lo:hi]) + lo
+            out.append(Outline(out_pts[pt_at[lo]:pt_at[hi]], out_sizes[sz_at[lo]:sz_at[hi]],
+                               loop_nseg[keep]))
+            continue
         contours = []
-        for _ in loops:
-            segs = []
-            for q in next(converted):
-                q = np.asarray(q, float)
-                if not quadratic and len(q) == 3:
-                    q = bz.to_degree(q, 3)  # a polynomial quadratic piece, exactly (CFF)
-                segs.append(q + off)
-            contour = clean_contour(segs, splines=splines)
-            if contour:
-                contours.append(contour)
-        out.append(contours)
+        for k in range(lo, hi):
+            if fast_loop[k]:
+                contours.append(Outline(out_pts[pt_at[k]:pt_at[k + 1]],
+                                        out_sizes[sz_at[k]:sz_at[k + 1]], [loop_nseg[k]])[0])
+            elif slow_loop[k]:
+                a0 = loop_first[k]
+                contour = clean_contour([raw[first[j]:last[j] + 1]
+                                         for j in range(a0, a0 + nseg_loop[k])],
+                                        spike=spike, splines=splines)
+                if contour:
+                    contours.append(contour)
+        out.append(Outline.from_contours(contours))
     return out
 
 
@@ -155,7 +420,7 @@ def _simplify_segment(s, spline=False):
     with both handles retracted is a line; a single retracted handle (or two equal
     handles) is moved one unit toward the next control point, which moves the curve
     by at most 4/9 unit; a cubic so short that this still leaves two equal points
-    becomes its chord.
+    becomes its chord (None when its ends are equal: a loop of a unit or two).
     """
     if all(_same(q, s[0]) for q in s[1:]):
         return None
@@ -174,7 +439,7 @@ def _simplify_segment(s, spline=False):
     if _same(s[1], s[2]):
         s[2] = s[2] + _step(s[2], s[3])
     if any(_same(a, b) for a, b in zip(s, s[1:])):  # a curve of a unit or two: its chord
-        return np.array([s[0], s[-1]])
+        return None if _same(s[0], s[-1]) else np.array([s[0], s[-1]])
     return s
 
 

@@ -1,6 +1,6 @@
 """UFO-side tables of a font written from a UFO source (``morph stroke``): the font
 info renamed (:func:`rename_ufo_family`), the OS/2 win metrics grown to cover the
-new outlines (:func:`widen_extent`, :func:`grow_win_metrics`), an in-memory copy of
+new outlines (:func:`outline_extent`, :func:`grow_win_metrics`), an in-memory copy of
 the source (:func:`copy_font`).  The compiled-font (``TTFont``) counterparts are in
 :mod:`morph.fonts.tables`.
 """
@@ -9,9 +9,7 @@ import re
 
 import numpy as np
 
-from ..region import region_bbox
-
-__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "widen_extent", "grow_win_metrics"]
+__all__ = ["DROP_INFO", "rename_ufo_family", "copy_font", "outline_extent", "grow_win_metrics"]
 
 #: font info that named or hinted the skeleton's outlines: dropped from the new font
 DROP_INFO = ("postscriptBlueValues", "postscriptOtherBlues", "postscriptFamilyBlues",
@@ -49,27 +47,19 @@ def copy_font(font):
     return copy.deepcopy(font)
 
 
-def widen_extent(extent, loops):
-    """``extent`` [bottom, top] (None: nothing yet) widened to the tight y range of a
-    region (:func:`morph.region.region_bbox`).  The control points bound the region
-    (positive weights: convex hull), so the tight box is computed only when they
-    reach past the extreme found so far: the result is the tight range of all
-    regions, at the cost of a few tight boxes."""
-    pts = [p[:, 1] / p[:, 2] for loop in loops for p in loop]
-    if not pts:
-        return
-    pts = np.concatenate(pts)
-    bottom, top = extent
-    if (top is None or pts.max() > top) or (bottom is None or pts.min() < bottom):
-        box = region_bbox(loops)
-        extent[0] = box[1] if bottom is None else min(bottom, box[1])
-        extent[1] = box[3] if top is None else max(top, box[3])
+def outline_extent(boxes):
+    """[bottom, top] of glyph boxes (xMin, yMin, xMax, yMax; None: empty), [None,
+    None] for none: the y range :func:`grow_win_metrics` covers."""
+    ys = [(b[1], b[3]) for b in boxes if b is not None]
+    if not ys:
+        return [None, None]
+    return [min(y[0] for y in ys), max(y[1] for y in ys)]
 
 
 def grow_win_metrics(font, bottom, top):
     """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
-    ``bottom`` and ``top`` are their tight extent (:func:`widen_extent`; None:
-    nothing stroked)."""
+    ``bottom`` and ``top`` are the extent of the written glyphs
+    (:func:`outline_extent`; None: nothing stroked)."""
     if top is None:
         return
     info = font.info

@@ -7,6 +7,7 @@ must be where Pillow puts it, and not where the source font would put it.
 
 import shutil
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from morph.cli import main
 from morph.fonts.specimen import (SAMPLE_MARGIN, SAMPLE_POS, SAMPLE_PX, WATERFALL,
                                   write_specimen)
 from morph.parse import default_font_path
+from tests import RELIEF_SUBSET
 
 TEXT = "Hamburg"
 
@@ -111,3 +113,33 @@ def test_specimen_in_chromium(brushed, tmp_path):
     assert source < result - 0.1, (result, source)  # it is the new font, not the source
     w_browser, w_pillow = browser_ink.shape[1], _ink(_pillow(ttf, TEXT)).shape[1]
     assert abs(w_browser - w_pillow) <= 3
+
+
+@pytest.mark.parametrize("suffix", ["ttf", "otf"])
+def test_ink_test_reads_the_data_as_a_control_box_pen_draws(suffix, tmp_path):
+    """Whether a glyph has ink, told from its glyf header (a composite by its
+    components) or its charstring's operators, is what drawing it into a
+    control-box pen says, for every glyph of the bundled font (composites and
+    empty glyphs among them) and of a stroked CFF font (subroutinized by tx)."""
+    from fontTools.pens.boundsPen import ControlBoundsPen
+
+    from morph.fonts.specimen import _ink_test
+
+    paths = [Path(default_font_path()).with_suffix("." + suffix)]
+    if suffix == "otf":
+        out = tmp_path / "s.otf"
+        r = CliRunner().invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(out), "--glyphs",
+                                      "a,o,eacute", "--jobs", "1"])
+        assert r.exit_code == 0, r.output
+        paths.append(out)
+    for path in paths:
+        font = TTFont(str(path), lazy=True)
+        glyph_set = font.getGlyphSet()
+        _, has_ink = _ink_test(font)
+        kinds = set()
+        for name in font.getGlyphOrder():
+            pen = ControlBoundsPen(glyph_set)
+            glyph_set[name].draw(pen)
+            kinds.add(pen.bounds is not None)
+            assert has_ink(name) == (pen.bounds is not None), (path.name, name)
+        assert kinds == {True, False}

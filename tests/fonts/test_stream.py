@@ -45,7 +45,7 @@ def _source(skeleton):
     n = font.newGlyph("onested")
     n.width = 800
     n.getPointPen().addComponent("omixed", (1, 0, 0, 1, 10, 20))
-    n.getPointPen().addComponent("acutecomb", (1, 0, 0, 1, 200, 0))
+    n.getPointPen().addComponent("acutecomb", (1, 0, 0, 1, 900, 0))  # apart: kept
     return font
 
 
@@ -185,6 +185,43 @@ def test_streamed_ufo_keeps_the_font(streamed, skeleton):
     assert dict(ufo.kerning) == dict(skeleton.kerning) and ufo.features.text
     assert stats[".ufo"]["points"] == sum(len(c) for g in ufo for c in g.contours)
     assert ufo.layers["skeleton"]["B"].contours and not ufo["B"].contours
+
+
+def test_win_metrics_cover_the_written_outlines(skeleton, tmp_path):
+    """OS/2 win ascent / descent grow to the extent of the stroked glyphs as
+    written, where the source's values fall short: the ceiling of their tight
+    boxes' top and bottom (CFF, UFO), of their points' boxes (glyf)."""
+    import math
+
+    from fontTools.pens.boundsPen import BoundsPen
+
+    src = _source(skeleton)
+    src.info.openTypeOS2WinAscent, src.info.openTypeOS2WinDescent = 300, 10
+    for suffix in (".ufo", ".otf", ".ttf"):
+        stroke_ufo(src, tmp_path / ("W" + suffix), ellipse_nib(*NIB), GLYPHS, tol=0.5)
+    ufo = ufoLib2.Font.open(tmp_path / "W.ufo")
+    # the glyphs with contours of their own (omixed's component only moves o in x)
+    stroked = [g.name for g in ufo if g.contours]
+    assert len(stroked) >= 4 and "omixed" in stroked
+    otf, ttf = TTFont(str(tmp_path / "W.otf")), TTFont(str(tmp_path / "W.ttf"))
+    glyphs = otf.getGlyphSet()
+
+    def tight(name):
+        pen = BoundsPen(glyphs)
+        glyphs[name].draw(pen)
+        return pen.bounds
+
+    boxes = {".ufo": [ufo[n].getBounds(ufo) for n in stroked],
+             ".otf": [tight(n) for n in stroked],
+             ".ttf": [(ttf["glyf"][n].yMin, ttf["glyf"][n].yMax) for n in stroked]}
+    wins = {".ufo": (ufo.info.openTypeOS2WinAscent, ufo.info.openTypeOS2WinDescent),
+            ".otf": (otf["OS/2"].usWinAscent, otf["OS/2"].usWinDescent),
+            ".ttf": (ttf["OS/2"].usWinAscent, ttf["OS/2"].usWinDescent)}
+    for suffix, bx in boxes.items():
+        ys = [(b[0], b[1]) if suffix == ".ttf" else (b[1], b[3]) for b in bx]
+        top, bottom = max(y[1] for y in ys), min(y[0] for y in ys)
+        assert top > 300 and bottom < -10
+        assert wins[suffix] == (math.ceil(top), math.ceil(-bottom)), suffix
 
 
 # =========================================================================== memory
