@@ -59,11 +59,17 @@ def outline_extent(boxes):
 def grow_win_metrics(font, bottom, top):
     """OS/2 win ascent / descent grown to cover the stroked outlines (no clipping):
     ``bottom`` and ``top`` are the extent of the written glyphs
-    (:func:`outline_extent`; None: nothing stroked)."""
+    (:func:`outline_extent`; None: nothing stroked).  A value the source leaves
+    unset is grown from the one ufo2ft would compile (from the ascender and
+    descender), and then set."""
     if top is None:
         return
+    from ufo2ft.fontInfoData import getAttrWithFallback
+
     info = font.info
-    if info.openTypeOS2WinAscent is not None:
-        info.openTypeOS2WinAscent = max(info.openTypeOS2WinAscent, int(np.ceil(top)))
-    if info.openTypeOS2WinDescent is not None:
-        info.openTypeOS2WinDescent = max(info.openTypeOS2WinDescent, int(np.ceil(-bottom)))
+    ascent = getAttrWithFallback(info, "openTypeOS2WinAscent")
+    descent = getAttrWithFallback(info, "openTypeOS2WinDescent")
+    if max(ascent, int(np.ceil(top))) != ascent or info.openTypeOS2WinAscent is not None:
+        info.openTypeOS2WinAscent = max(ascent, int(np.ceil(top)))
+    if max(descent, int(np.ceil(-bottom))) != descent or info.openTypeOS2WinDescent is not None:
+        info.openTypeOS2WinDescent = max(descent, int(np.ceil(-bottom)))

@@ -187,16 +187,24 @@ def test_streamed_ufo_keeps_the_font(streamed, skeleton):
     assert ufo.layers["skeleton"]["B"].contours and not ufo["B"].contours
 
 
-def test_win_metrics_cover_the_written_outlines(skeleton, tmp_path):
+@pytest.mark.parametrize("unset", [False, True])
+def test_win_metrics_cover_the_written_outlines(skeleton, tmp_path, unset):
     """OS/2 win ascent / descent grow to the extent of the stroked glyphs as
     written, where the source's values fall short: the ceiling of their tight
-    boxes' top and bottom (CFF, UFO), of their points' boxes (glyf)."""
+    boxes' top and bottom (CFF, UFO), of their points' boxes (glyf).  ``unset``:
+    the source leaves them to ufo2ft's defaults (from the ascender and descender),
+    which fall short too."""
     import math
 
     from fontTools.pens.boundsPen import BoundsPen
 
     src = _source(skeleton)
-    src.info.openTypeOS2WinAscent, src.info.openTypeOS2WinDescent = 300, 10
+    if unset:
+        src.info.openTypeOS2WinAscent = src.info.openTypeOS2WinDescent = None
+        src.info.ascender, src.info.descender = 200, -10
+        src.info.openTypeOS2TypoLineGap = src.info.openTypeHheaLineGap = 0
+    else:
+        src.info.openTypeOS2WinAscent, src.info.openTypeOS2WinDescent = 300, 10
     for suffix in (".ufo", ".otf", ".ttf"):
         stroke_ufo(src, tmp_path / ("W" + suffix), ellipse_nib(*NIB), GLYPHS, tol=0.5)
     ufo = ufoLib2.Font.open(tmp_path / "W.ufo")
