@@ -406,12 +406,19 @@ def _phi_fits(v, speed, tol, at=None):
         phi = bz.fit_fixed_ends(_NODES, v[rows].T, m, 0.0, 1.0).T   # (r, m + 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1)
         err = (np.abs(phi @ bz.basis(m, _NODES).T - v[rows]) * speed[rows]).max(axis=1)
-        better = mono & (err < miss[rows])
-        i = rows[better]
-        phis[i] = 0.0
-        phis[i, :m + 1], size[i], miss[i] = phi[better], m + 1, err[better]
-        todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
+        _take_better(phis, size, miss, todo, rows, phi, mono, err, tol)
     return phis, size, miss
+
+
+def _take_better(phis, size, miss, todo, rows, phi, mono, err, tol):
+    """The rows ``rows`` whose fit ``phi`` (one degree, ``err`` its error) is
+    increasing and nearer than their best so far take it (in ``phis``, ``size``,
+    ``miss``); those within ``PHI_SHARE`` tol leave ``todo``."""
+    better = mono & (err < miss[rows])
+    i = rows[better]
+    phis[i] = 0.0
+    phis[i, :phi.shape[1]], size[i], miss[i] = phi[better], phi.shape[1], err[better]
+    todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
 
 
 def _phi_fits_at(v, speed, tol, at):
@@ -445,11 +452,7 @@ def _phi_fits_at(v, speed, tol, at):
         phi = np.concatenate([np.zeros((len(rows), 1)), inner, np.ones((len(rows), 1))], 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1) & np.all(np.isfinite(phi), axis=1)
         err = (np.abs(np.matmul(b, phi[:, :, None])[:, :, 0] - v[rows]) * speed[rows]).max(axis=1)
-        better = mono & (err < miss[rows])
-        i = rows[better]
-        phis[i] = 0.0
-        phis[i, :m + 1], size[i], miss[i] = phi[better], m + 1, err[better]
-        todo[rows[mono & (err <= PHI_SHARE * tol)]] = False
+        _take_better(phis, size, miss, todo, rows, phi, mono, err, tol)
     return phis, size, miss
 
 
