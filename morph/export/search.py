@@ -47,7 +47,7 @@ from .. import nearest as nr
 from ..errors import ToleranceNotMetError
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
-                      same_param_bound, start_at_nodes)
+                      same_param_bound)
 from .fit import Parts, _quadrature, make_chains, moment_cubics
 from .greedy import DONE, Greedy
 from .refine import Refine

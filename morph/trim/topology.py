@@ -161,7 +161,7 @@ def _nested_rings(flat, sizes=None, q=None):
     top = []
     for k, p in enumerate(parent.tolist()):
         (children[p] if p >= 0 else top).append(k)
-    rings, index = [], {}
+    rings = []
     stack = [(k, -1) for k in top]
     rows = np.split(q, starts[1:])
     hole_l = hole.tolist()
