@@ -213,59 +213,80 @@ def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
     cleaned by :func:`clean_contour` itself, so the result is the same contour by
     contour.
     """
-    splines = bool(splines and quadratic)
+    c = _chunk_segments(converted, counts, offsets, quadratic, bool(splines and quadratic))
+    _simplified_segments(c)
+    _merged_lines(c, spike)
+    return _glyph_outlines(c, counts, spike)
+
+
+def _chunk_segments(converted, counts, offsets, quadratic, splines):
+    """:func:`integer_outlines`' chunk as arrays: every segment's points moved by its
+    glyph's offset, the joins exact and rounded (``r``), the raw points kept for
+    :func:`clean_contour`; the loops of a rare defect marked ``slow_loop``."""
+    from types import SimpleNamespace
+
     loops = [list(loop) for loop in converted]
     if not quadratic:
         for loop in loops:
             for k, q in enumerate(loop):
                 if len(q) == 3:
                     loop[k] = bz.to_degree(np.asarray(q, float), 3)  # exact (CFF)
-    nloops = len(loops)
+    c = SimpleNamespace(splines=splines)
+    c.nloops = nloops = len(loops)
     loop_glyph = np.repeat(np.arange(len(counts)), counts)
     segs = [q for loop in loops for q in loop]
-    nseg_loop = np.fromiter(map(len, loops), np.int64, nloops)
-    lens = np.fromiter(map(len, segs), np.int64, len(segs))
+    c.nsegs = nsegs = len(segs)
+    c.nseg_loop = np.fromiter(map(len, loops), np.int64, nloops)
+    c.lens = lens = np.fromiter(map(len, segs), np.int64, nsegs)
     off = np.asarray(offsets, float).reshape(-1, 2)
     if segs:
         pts = np.concatenate([np.asarray(q, float).reshape(-1, 2) for q in segs])
-        seg_loop = np.repeat(np.arange(nloops), nseg_loop)
-        pts = pts + np.repeat(off[loop_glyph[seg_loop]], lens, axis=0)
+        c.seg_loop = np.repeat(np.arange(nloops), c.nseg_loop)
+        pts = pts + np.repeat(off[loop_glyph[c.seg_loop]], lens, axis=0)
     else:
         pts = np.zeros((0, 2))
-        seg_loop = np.zeros(0, np.int64)
-    raw = pts.copy()                            # for the contours clean_contour takes
-    first = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)[:len(segs)]
-    last = first + lens - 1
-    loop_first = np.concatenate([[0], np.cumsum(nseg_loop)[:-1]]).astype(np.int64)
+        c.seg_loop = np.zeros(0, np.int64)
+    c.raw = pts.copy()                          # for the contours clean_contour takes
+    c.first = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)[:nsegs]
+    c.last = c.first + lens - 1
+    c.loop_first = np.concatenate([[0], np.cumsum(c.nseg_loop)[:-1]]).astype(np.int64)
     # exact joins: a segment starts where the one before it (cyclically) ends
-    prev = np.arange(len(segs)) - 1
-    starts_loop = loop_first[seg_loop] == np.arange(len(segs))
-    prev[starts_loop] = (loop_first + nseg_loop - 1)[seg_loop[starts_loop]]
-    if len(segs):
-        pts[first] = pts[last[prev]]
-    r = np.round(pts) + 0.0
-    seg_of_pt = np.repeat(np.arange(len(segs)), lens)
-    slow_loop = np.zeros(nloops, bool)
-    is_spline = (lens >= 4) & splines
-    inner_pt = (np.arange(len(r)) != first[seg_of_pt]) & (np.arange(len(r)) != last[seg_of_pt])
+    prev = np.arange(nsegs) - 1
+    starts_loop = c.loop_first[c.seg_loop] == np.arange(nsegs)
+    prev[starts_loop] = (c.loop_first + c.nseg_loop - 1)[c.seg_loop[starts_loop]]
+    if nsegs:
+        pts[c.first] = pts[c.last[prev]]
+    c.r = r = np.round(pts) + 0.0
+    c.seg_of_pt = np.repeat(np.arange(nsegs), lens)
+    c.slow_loop = np.zeros(nloops, bool)
+    c.is_spline = (lens >= 4) & splines
+    at = np.arange(len(r))
+    c.inner_pt = (at != c.first[c.seg_of_pt]) & (at != c.last[c.seg_of_pt])
     if splines and len(r) > 1:
         repeat = np.zeros(len(r), bool)     # point i equals point i + 1 of its segment
-        repeat[:-1] = _same_rows(r[1:], r[:-1]) & (np.arange(len(r) - 1) != last[seg_of_pt[:-1]])
-        rep_seg = np.logical_or.reduceat(repeat, first) if len(segs) else repeat[:0]
-        slow_loop[seg_loop[rep_seg & is_spline]] = True
-    slow_loop[seg_loop[(lens > 4) & ~is_spline]] = True    # no such segment is written
-    slow_loop[seg_loop[lens < 2]] = True
-    # zero-length segments, and those whose control points all sit on an end: lines
-    if len(segs):
+        repeat[:-1] = _same_rows(r[1:], r[:-1]) & (at[:-1] != c.last[c.seg_of_pt[:-1]])
+        rep_seg = np.logical_or.reduceat(repeat, c.first) if nsegs else repeat[:0]
+        c.slow_loop[c.seg_loop[rep_seg & c.is_spline]] = True
+    c.slow_loop[c.seg_loop[(lens > 4) & ~c.is_spline]] = True    # no such segment is written
+    c.slow_loop[c.seg_loop[lens < 2]] = True
+    return c
+
+
+def _simplified_segments(c):
+    """Zero-length segments (``c.zero``) and those whose control points all sit on
+    an end, lines (``c.line``); cubics' retracted handles moved one unit
+    (:func:`_simplify_segment`), in ``c.r``."""
+    r, first, last, seg_of_pt = c.r, c.first, c.last, c.seg_of_pt
+    if c.nsegs:
         at_first = _same_rows(r, r[first[seg_of_pt]])
-        zero = np.logical_and.reduceat(at_first, first)
-        off_ends = inner_pt & ~at_first & ~_same_rows(r, r[last[seg_of_pt]])
+        c.zero = np.logical_and.reduceat(at_first, first)
+        off_ends = c.inner_pt & ~at_first & ~_same_rows(r, r[last[seg_of_pt]])
         has_inner = np.logical_or.reduceat(off_ends, first)
     else:
-        zero = has_inner = np.zeros(0, bool)
-    line = (lens == 2) | ~has_inner
-    cubic = (lens == 4) & ~is_spline & ~zero & ~line
-    if cubic.any():   # retracted handles moved one unit (see _simplify_segment)
+        c.zero = has_inner = np.zeros(0, bool)
+    c.line = (c.lens == 2) | ~has_inner
+    cubic = (c.lens == 4) & ~c.is_spline & ~c.zero & ~c.line
+    if cubic.any():
         idx = first[cubic][:, None] + np.arange(4)
         s = r[idx]
         m = _same_rows(s[:, 1], s[:, 0])
@@ -277,14 +298,23 @@ def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
         chord = (_same_rows(s[:, 0], s[:, 1]) | _same_rows(s[:, 1], s[:, 2])
                  | _same_rows(s[:, 2], s[:, 3]))
         r[idx] = s
-        line[np.flatnonzero(cubic)[chord]] = True
-        zero[np.flatnonzero(cubic)[chord & _same_rows(s[:, 0], s[:, 3])]] = True
-    kept = ~zero
-    # the kept segments of each loop, and each one's successor (cyclically)
-    ks = np.flatnonzero(kept)
-    kloop = seg_loop[ks]
+        c.line[np.flatnonzero(cubic)[chord]] = True
+        c.zero[np.flatnonzero(cubic)[chord & _same_rows(s[:, 0], s[:, 3])]] = True
+
+
+def _merged_lines(c, spike):
+    """The kept segments (``c.ks``, their loops ``c.kloop``) and those written
+    (``c.kept_out``): a run of collinear lines is one line (its inner ends are not
+    written); a run through the contour's start, or the whole contour, is left to
+    clean_contour (``c.slow_loop``), and so is a spike, or one the merged lines
+    make."""
+    r, first, last, seg_loop, nloops = c.r, c.first, c.last, c.seg_loop, c.nloops
+    kept = ~c.zero
+    c.ks = ks = np.flatnonzero(kept)
+    c.kloop = kloop = seg_loop[ks]
     nkept = np.bincount(kloop, minlength=nloops)
-    slow_loop |= nkept < 3
+    c.slow_loop |= nkept < 3
+    merged = ks
     if len(ks):
         kfirst = np.concatenate([[0], np.cumsum(nkept)[:-1]])
         pos = np.arange(len(ks)) - kfirst[kloop]
@@ -292,16 +322,13 @@ def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
         a, b = ks, ks[nxt]
         a0, a1, b0, b1 = r[first[a]], r[last[a]], r[first[b]], r[last[b]]
         u, v = a1 - a0, b1 - b0
-        collinear = (line[a] & line[b] & (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0] == 0)
+        collinear = (c.line[a] & c.line[b] & (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0] == 0)
                      & (u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1] > 0))
         spiked = _same_rows(a0, b1) & (np.hypot(*(b0 - b1).T) <= spike)
-        slow_loop[kloop[spiked]] = True
-        # a run of collinear lines is one line (its inner ends are not written); a
-        # run through the contour's start, or the whole contour, is left to
-        # clean_contour, and so is a spike that the merged lines make
+        c.slow_loop[kloop[spiked]] = True
         wraps = collinear & (nxt <= np.arange(len(ks)))
-        slow_loop[kloop[wraps]] = True
-        slow_loop[np.bincount(kloop, ~collinear, minlength=nloops) < 3] = True
+        c.slow_loop[kloop[wraps]] = True
+        c.slow_loop[np.bincount(kloop, ~collinear, minlength=nloops) < 3] = True
         merged = ks[collinear]
         ks2 = ks[~collinear]
         kloop2 = seg_loop[ks2]
@@ -313,36 +340,39 @@ def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
             after = np.where(pos2 + 1 < n2[kloop2], np.arange(len(ks2)) + 1, k2first[kloop2])
             a0, a1, b1 = r[last[ks2[before]]], r[last[ks2]], r[last[ks2[after]]]
             spiked = _same_rows(a0, b1) & (np.hypot(*(a1 - b1).T) <= spike)
-            slow_loop[kloop2[spiked]] = True
-    else:
-        merged = ks
-    line[merged] = True
-    kept_out = kept.copy()
-    kept_out[merged] = False
-    # the points written: a kept segment's after its first (a line's last only),
-    # and each fast contour's start
-    fast_seg = kept_out & ~slow_loop[seg_loop]
-    take = np.zeros(len(r), bool)
-    whole = fast_seg & ~line
-    take[inner_pt & whole[seg_of_pt]] = True
+            c.slow_loop[kloop2[spiked]] = True
+    c.line[merged] = True
+    c.kept_out = kept.copy()
+    c.kept_out[merged] = False
+
+
+def _glyph_outlines(c, counts, spike):
+    """The :class:`Outline` of each glyph: the points written (a kept segment's
+    after its first, a line's last only, and each fast contour's start), the slow
+    contours cleaned by :func:`clean_contour`."""
+    slow_loop, seg_loop, first, last, ks = c.slow_loop, c.seg_loop, c.first, c.last, c.ks
+    fast_seg = c.kept_out & ~slow_loop[seg_loop]
+    take = np.zeros(len(c.r), bool)
+    whole = fast_seg & ~c.line
+    take[c.inner_pt & whole[c.seg_of_pt]] = True
     take[last[fast_seg]] = True
-    fk = ks[~slow_loop[kloop]] if len(ks) else ks
+    fk = ks[~slow_loop[c.kloop]] if len(ks) else ks
     if len(fk):
         lead = np.ones(len(fk), bool)
         lead[1:] = seg_loop[fk[1:]] != seg_loop[fk[:-1]]
         take[first[fk[lead]]] = True
-    out_pts = r[take]
-    out_sizes = np.where(line, 1, lens - 1)[fast_seg]
-    fast_loop = ~slow_loop & (nseg_loop > 0)
-    loop_npts = np.zeros(nloops, np.int64)
+    out_pts = c.r[take]
+    out_sizes = np.where(c.line, 1, c.lens - 1)[fast_seg]
+    fast_loop = ~slow_loop & (c.nseg_loop > 0)
+    loop_npts = np.zeros(c.nloops, np.int64)
     loop_npts[fast_loop] = 1 + np.bincount(seg_loop[fast_seg], out_sizes,
-                                           minlength=nloops)[fast_loop].astype(np.int64)
-    loop_nseg = np.bincount(seg_loop[fast_seg], minlength=nloops)
+                                           minlength=c.nloops)[fast_loop].astype(np.int64)
+    loop_nseg = np.bincount(seg_loop[fast_seg], minlength=c.nloops)
     pt_at = np.concatenate([[0], np.cumsum(loop_npts)])
     sz_at = np.concatenate([[0], np.cumsum(loop_nseg)])
     out = []
     loop_at = 0
-    for g, n in enumerate(counts):
+    for n in counts:
         lo, hi = loop_at, loop_at + n
         loop_at = hi
         if not slow_loop[lo:hi].any():
@@ -356,10 +386,10 @@ def integer_outlines(converted, counts, offsets, quadratic, splines, spike=3.0):
                 contours.append(Outline(out_pts[pt_at[k]:pt_at[k + 1]],
                                         out_sizes[sz_at[k]:sz_at[k + 1]], [loop_nseg[k]])[0])
             elif slow_loop[k]:
-                a0 = loop_first[k]
-                contour = clean_contour([raw[first[j]:last[j] + 1]
-                                         for j in range(a0, a0 + nseg_loop[k])],
-                                        spike=spike, splines=splines)
+                a0 = c.loop_first[k]
+                contour = clean_contour([c.raw[first[j]:last[j] + 1]
+                                         for j in range(a0, a0 + c.nseg_loop[k])],
+                                        spike=spike, splines=c.splines)
                 if contour:
                     contours.append(contour)
         out.append(Outline.from_contours(contours))
