@@ -113,6 +113,52 @@ def _nested_rings(flat, sizes=None, q=None):
         return None
     starts = np.cumsum(sizes) - sizes
     area, _ = ring_measures(np.split(q, starts[1:]))
+    found = _containers(q, sizes, starts)
+    if found is None:
+        return None
+    a, b = found
+    parent = np.full(len(flat), -1, np.int64)
+    if len(a):
+        # the innermost container: the smallest by area
+        order = np.lexsort((np.abs(area[b]), a))
+        a, b = a[order], b[order]
+        first = np.concatenate([[True], a[1:] != a[:-1]])
+        parent[a[first]] = b[first]
+    # depth by following parents (a chain of nested rings is short)
+    depth = np.zeros(len(flat), np.int64)
+    up_ = parent.copy()
+    while np.any(up_ >= 0):
+        depth += up_ >= 0
+        up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
+    hole = area < 0
+    if np.any(hole != (depth % 2 == 1)):
+        return None
+    return _tree_order(np.split(q, starts[1:]), parent, hole)
+
+
+def _tree_order(rows, parent, hole):
+    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices and
+    ``hole`` flags, parents first, the last top-level ring first (the tree walk's
+    order on Clipper's children), each naming its parent's place in the list."""
+    children = [[] for _ in rows]
+    top = []
+    for k, p in enumerate(parent.tolist()):
+        (children[p] if p >= 0 else top).append(k)
+    rings = []
+    stack = [(k, -1) for k in top]
+    hole_l = hole.tolist()
+    while stack:
+        k, p = stack.pop()
+        rings.append(Ring(rows[k], hole_l[k], p))
+        me = len(rings) - 1
+        stack.extend((c, me) for c in children[k])
+    return rings
+
+
+def _containers(q, sizes, starts):
+    """(a, b): the pairs of rings (``q`` their integer vertices, ``sizes``,
+    ``starts``) where ring b winds around ring a's first vertex; None when that
+    vertex lies on ring b (then the tree pass decides)."""
     lo = np.stack([np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts)], 1)
     hi = np.stack([np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts)], 1)
     # candidate (ring a, ring b around it): b's box holds a's
@@ -121,7 +167,6 @@ def _nested_rings(flat, sizes=None, q=None):
     keep = ((a != b) & (lb[:, 0] <= la[:, 0]) & (lb[:, 1] <= la[:, 1])
             & (hb[:, 0] >= ha[:, 0]) & (hb[:, 1] >= ha[:, 1]))
     a, b = a[keep], b[keep]
-    parent = np.full(len(flat), -1, np.int64)
     if len(a):
         # winding number of a's first vertex about ring b: every edge of b
         per = sizes[b]
@@ -142,35 +187,7 @@ def _nested_rings(flat, sizes=None, q=None):
         down = (p1[:, 1] <= v[:, 1]) & (p0[:, 1] > v[:, 1]) & (cross < 0)
         wind = np.bincount(pair, weights=up.astype(float) - down, minlength=len(a))
         a, b = a[wind != 0], b[wind != 0]
-    if len(a):
-        # the innermost container: the smallest by area
-        order = np.lexsort((np.abs(area[b]), a))
-        a, b = a[order], b[order]
-        first = np.concatenate([[True], a[1:] != a[:-1]])
-        parent[a[first]] = b[first]
-    # depth by following parents (a chain of nested rings is short)
-    depth = np.zeros(len(flat), np.int64)
-    up_ = parent.copy()
-    while np.any(up_ >= 0):
-        depth += up_ >= 0
-        up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
-    hole = area < 0
-    if np.any(hole != (depth % 2 == 1)):
-        return None
-    children = [[] for _ in flat]
-    top = []
-    for k, p in enumerate(parent.tolist()):
-        (children[p] if p >= 0 else top).append(k)
-    rings = []
-    stack = [(k, -1) for k in top]
-    rows = np.split(q, starts[1:])
-    hole_l = hole.tolist()
-    while stack:
-        k, p = stack.pop()
-        rings.append(Ring(rows[k], hole_l[k], p))
-        me = len(rings) - 1
-        stack.extend((c, me) for c in children[k])
-    return rings
+    return a, b
 
 
 def _without_lone_slivers(flat, thin, sizes, q):
