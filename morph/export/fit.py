@@ -158,8 +158,13 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
     cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
                                                ends, chord)
-    # the picked cubics' parameters at the samples' rays, the rays' lengths and the
-    # pieces' speeds there: what the certificate starts from
+    return cubic, dist, fitted, _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray)
+
+
+def _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray):
+    """:class:`Rays` of the picked cubics: their parameters at the samples' rays,
+    the rays' lengths and the pieces' speeds there (what the certificate starts
+    from); NaN where no picked cubic's ray reached a sample."""
     shape = sam["q"].shape[:2]
     feet, gap = np.full(shape[0] * shape[1], np.nan), np.full(shape[0] * shape[1], np.nan)
     mine = pick[cr[owner]] == owner
@@ -167,7 +172,7 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     gap[si[mine]] = ray[mine] * length[cr[owner[mine]]]
     speed = np.hypot(sam["dq"][..., 0], sam["dq"][..., 1]) * (length[parts.req] * (
         parts.b - parts.a))[:, None]
-    return cubic, dist, fitted, Rays(feet.reshape(shape), gap.reshape(shape), speed)
+    return Rays(feet.reshape(shape), gap.reshape(shape), speed)
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
