@@ -57,9 +57,9 @@ shapely = need("shapely", "the overlap check's faces")
 pathops = need("pathops", "the overlap check's exact areas")
 
 from fontTools.pens.basePen import BasePen  # noqa: E402 - after the optional imports
-from fontTools.pens.recordingPen import DecomposingRecordingPen  # noqa: E402 - after the optional imports
+from fontTools.pens.recordingPen import DecomposingRecordingPen  # noqa: E402 - as above
 
-from tests.oracles.reference import winding_number  # noqa: E402 - after the optional imports
+from tests.oracles.reference import winding_number  # noqa: E402 - as above
 
 #: Integer coordinates move a point by at most sqrt(2)/2 font units.
 ROUNDING = 0.71
