@@ -171,7 +171,8 @@ def _containers(q, sizes, starts):
         # winding number of a's first vertex about ring b: every edge of b
         per = sizes[b]
         pair = np.repeat(np.arange(len(a)), per)
-        e = np.repeat(starts[b], per) + (np.arange(per.sum()) - np.repeat(np.cumsum(per) - per, per))
+        e = np.repeat(starts[b], per) + (np.arange(per.sum())
+                                         - np.repeat(np.cumsum(per) - per, per))
         last = np.repeat(starts[b] + per - 1, per)
         e1 = np.where(e == last, np.repeat(starts[b], per), e + 1)
         p0, p1, v = q[e], q[e1], q[starts[a]][pair]
