@@ -44,6 +44,7 @@ def write_cff2(font, plan, results, moved, widths):
         per = contours.get(name)
         charstrings[name], lsbs[name] = _charstring(name, per, [s for s, _ in shift],
                                                     masters.model)
+        _check_length(name, charstrings[name], n)
         models[name] = masters.model
         advances[name] = [int(round(widths(masters.source(m), name))) + shift[m][1]
                           for m in range(n)]
@@ -75,6 +76,28 @@ def _charstring(name, per, shifts, model):
                 p.closePath()
     cs = pen.getCharString(var_model=model, optimize=True)
     return cs, (int(bounds.bounds[0]) if bounds.bounds else 0)
+
+
+#: the longest charstring readers take (the Type 2 charstring limit; ots-sanitize
+#: refuses a CFF2 font with a longer one)
+MAX_CHARSTRING = 65535
+
+
+def _check_length(name, charstring, masters):
+    """Raise MorphError when glyph ``name``'s blended charstring is longer than
+    :data:`MAX_CHARSTRING` bytes (every coordinate carries a delta per master
+    beyond the default: a glyph with many masters can pass it)."""
+    from fontTools.misc.psCharStrings import T2CharString
+
+    from ..errors import MorphError
+
+    probe = T2CharString(program=list(charstring.program))  # the font's is compiled later
+    probe.compile(isCFF2=True)
+    size = len(probe.bytecode)
+    if size > MAX_CHARSTRING:
+        raise MorphError("glyph %r needs %d masters and a CFF2 charstring of %d bytes, more "
+                         "than the %d a reader takes; write a TrueType variable font (.ttf) "
+                         "instead" % (name, masters, size, MAX_CHARSTRING))
 
 
 def _region_key(support):
