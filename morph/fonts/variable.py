@@ -514,20 +514,25 @@ def set_overlap_flags(ttfont):
 def _compile(doc, kind, cu2qu_error_em):
     """The designspace compiled by ufo2ft, its variation models given the grid's tents
     (:class:`morph.fonts.variable_grid.grid_supports`: the masters, a product grid,
-    reproduced exactly by integer deltas)."""
+    reproduced exactly by integer deltas); a CFF2 charstring longer than a reader
+    takes split into subroutines (:func:`morph.fonts.variable_cff2.split_long_charstrings`)."""
     import ufo2ft
 
+    from .variable_cff2 import split_long_charstrings
     from .variable_grid import grid_supports
 
     try:
         with grid_supports():
             if kind == ".otf":
-                return ufo2ft.compileVariableCFF2(doc, optimizeCFF=False)
-            return ufo2ft.compileVariableTTF(doc, cubicConversionError=cu2qu_error_em,
-                                             optimizeGvar=False)
+                font = ufo2ft.compileVariableCFF2(doc, optimizeCFF=False)
+            else:
+                return ufo2ft.compileVariableTTF(doc, cubicConversionError=cu2qu_error_em,
+                                                 optimizeGvar=False)
     except Exception as exc:
         raise MorphError("ufo2ft could not compile the variable font: %s"
                          % one_line(exc)) from exc
+    split_long_charstrings(font)
+    return font
 
 
 def stroke_variable(src, out_path, nib_min, nib_max=None, glyphs=None, tol=0.5,

@@ -409,20 +409,3 @@ def test_fontbakery_adds_no_fail(sources, tmp_path, suffix):
     fails = {k for k in _fontbakery(out) - _fontbakery(sources["var"]) if k[1] != "WARN"}
     assert fails <= PRIVATE_AXES_ONLY, sorted(fails)
 
-
-def test_cff2_charstring_longer_than_readers_take_is_refused():
-    """A glyph whose blended charstring passes 65,535 bytes (ots-sanitize and the
-    readers refuse such a CFF2: a glyph of 154 masters made 334 KB) is one clear
-    error naming the glyph, not a font no browser loads; the check leaves the
-    font's charstring to be compiled with its vsindex later."""
-    from fontTools.misc.psCharStrings import T2CharString
-
-    from morph.errors import MorphError
-    from morph.fonts.variable_cff2 import MAX_CHARSTRING, _check_length
-
-    short = T2CharString(program=[10, 20, "rmoveto", 30, 40, "rlineto"])
-    _check_length("a", short, 2)
-    assert short.bytecode is None
-    long_ = T2CharString(program=[1000, 1000, "rlineto"] * (MAX_CHARSTRING // 5 + 1))
-    with pytest.raises(MorphError, match="glyph 'e' needs 154 masters .* TrueType"):
-        _check_length("e", long_, 154)
