@@ -1,7 +1,7 @@
 """Variable calligraphic fonts (morph.fonts.variable): cost, size, instance error, and
 whether FontForge's Expand Stroke gives interpolation-compatible masters.
 
-    python -m bench.varfont [--part all|stroke|brush] [--skeleton UFO|none] [--subset UFO]
+    python -m bench.varfont [--part all|stroke|brush|serif] [--skeleton UFO|none] [--subset UFO]
                             [--out bench/varfont.md]
                             [--positions 9] [--random 3] [--jobs 1] [--no-fontforge]
                             [--glyphs a,s,period] [--measure a,s,period]
@@ -32,8 +32,10 @@ whether FontForge's Expand Stroke gives interpolation-compatible masters.
    after, size, CPU time, the measured instance error at 9 positions per axis and
    random points, and the mark anchors' largest error.
 7. Source Serif 4's variable font cut to o and e, brushed keeping its axes (each
-   glyph its own source masters): masters per glyph, CPU time, size, ots, and the
-   measured instance error at 9 positions per axis and random points.
+   glyph its own source masters): masters per glyph, CPU time, size, ots, the
+   CFF2 charstrings (a glyph's blended program past 65,535 bytes split into
+   subroutines), and the measured instance error at 9 positions per axis and random
+   points.  ``--part serif`` remakes this section alone in the existing report.
 
 Writes a Markdown report stamped with the command, commit and date it was made at
 (:func:`bench.stamp.stamp`); ``python -m bench.reports --only varfont`` remakes it.
@@ -430,21 +432,114 @@ def serif_brush(folder, glyphs, positions, randoms):
         vf = TTFont(str(out))
         rng = np.random.default_rng(35)
         spots = _spots(vf["fvar"].axes, positions, randoms, rng)
-        worst = (0.0, "")
+        worst, by_instancer = (0.0, ""), (0.0, "")
         for loc in spots:
-            got = instance_glyphs(vf, loc)
+            got = [instance_glyphs(vf, loc)]
+            if suffix == ".otf":            # and the instancer's static font
+                got.append(instancer.instantiateVariableFont(TTFont(str(out)),
+                                                             loc).getGlyphSet())
             exact = instancer.instantiateVariableFont(source, loc).getGlyphSet()
             for n in glyphs:
                 ref = [p + np.array([shift, 0.0])
                        for p in clipper_region_sum(glyph_polygons(exact, n), SERIF_NIB)]
-                d = sum_distance(glyph_polygons(got, n), ref, strict=True, area=2.0, hi=6.0)
-                worst = max(worst, (d, "%s at %s" % (n, ", ".join(
-                    "%s %.4g" % kv for kv in loc.items()))))
+                where = "%s at %s" % (n, ", ".join("%s %.4g" % kv for kv in loc.items()))
+                d = [sum_distance(glyph_polygons(g, n), ref, strict=True, area=2.0, hi=6.0)
+                     for g in got]
+                worst = max(worst, (d[0], where))
+                by_instancer = max(by_instancer, (d[-1], where))
         rows.append({"suffix": suffix, "cpu": cpu, "fit": st["fit_seconds"],
                      "size": out.stat().st_size, "ots": ots, "report": st["refinement"],
                      "glyph_masters": st["glyph_masters"], "masters": len(st["masters"]),
-                     "positions": len(spots), "worst": worst})
+                     "positions": len(spots), "worst": worst,
+                     "instancer": by_instancer if suffix == ".otf" else None,
+                     "charstrings": _charstrings(TTFont(str(out))) if suffix == ".otf" else None})
     return rows
+
+
+def _charstrings(vf):
+    """Per glyph of a CFF2 font: (its charstring's bytes, the bytes of the local
+    subroutines it calls, their count), and the longest subroutine."""
+    top = vf["CFF2"].cff.topDictIndex[0]
+    private = top.FDArray[0].Private
+    subrs = [len(s.bytecode) for s in (getattr(private, "Subrs", None) or [])]
+    bias = 107 if len(subrs) < 1240 else (1131 if len(subrs) < 33900 else 32768)
+    out = {}
+    for name in vf.getGlyphOrder():
+        cs = top.CharStrings[name]
+        size = len(cs.bytecode)
+        cs.decompile()
+        called = [t for t, op in zip(cs.program, cs.program[1:]) if op == "callsubr"]
+        out[name] = (size, sum(subrs[c + bias] for c in called), len(called))
+    return out, max(subrs, default=0)
+
+
+def serif_section(rows, serif, args):
+    """Section 7's Markdown lines from :func:`serif_brush`'s ``rows`` (none when it
+    was skipped or every output failed)."""
+    done = [r for r in (rows or []) if "error" not in r]
+    if not done:
+        return []
+    rep = done[0]["report"]
+    lines = ["", "## 7. Source Serif 4 (wght, opsz) cut to %s, nib %s" % (
+        ", ".join(serif), SERIF_NIB), "",
+        "The source's variable font (9 masters: wght and opsz at -1, 0, 1) brushed "
+        "keeping its axes. Each glyph refines its own grid of source masters "
+        "until its blend is within %.2f units, and the font stores each glyph's "
+        "variations over its own masters (gvar tuples per glyph; CFF2 a VarData "
+        "per glyph, chosen by vsindex; HVAR rows per glyph), so a glyph whose "
+        "outline turns fast between the source's masters adds masters to itself "
+        "only. Masters per glyph: %s (given %d, %d locations added over all "
+        "glyphs; blend before refining %s, after %.3f). Instances: %d positions "
+        "per axis and %d random points against the source's own instance there ⊕ "
+        "the nib (Clipper), pinholes < 2 unit² aside; bound: tol + 2 x 0.71 = %.2f "
+        "units per 1000 em. A .ttf's instance is fontTools' instancer's; a .otf's "
+        "is fontTools' CFF2 blend evaluation at the location (max d), and the "
+        "instancer's static font (max d, instancer)." % (
+            0.4 * TOL, ", ".join("%s %d" % kv for kv in done[0]["glyph_masters"].items()),
+            rep["given"], rep["added"], ", ".join(
+                "%s %.1f" % kv for kv in rep["errors_before"].items()), rep["error"],
+            args.positions, args.random, TOL + 2 ** 0.5), ""]
+    cff2 = [r for r in done if r["charstrings"]]
+    if cff2:
+        per, longest = cff2[0]["charstrings"]
+        lines += ["CFF2 charstrings (bytes; a blended program past 65,535 bytes, the most "
+                  "a reader takes, is split into local subroutines the charstring "
+                  "calls): %s; %s." % ("; ".join(
+                      "%s %d" % (n, size) + (" calling %d subroutines of %d bytes in all" % (
+                          count, called) if count else "")
+                      for n, (size, called, count) in per.items()),
+                      "the longest subroutine %d bytes" % longest if longest
+                      else "no subroutines"), ""]
+    lines += ["| output | masters (all glyphs) | CPU s (whole call) | fit CPU s | size | "
+              "ots-sanitize | max d | where | max d, instancer | where |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "error" in r:
+            lines.append("| %s | %s | | | | | | | | |" % (r["suffix"], r["error"][:200]))
+            continue
+        inst = r["instancer"]
+        lines.append("| %s | %d | %.1f | %.1f | %d | %s | %.3f | %s | %s | %s |" % (
+            r["suffix"], r["masters"], r["cpu"], r["fit"], r["size"], r["ots"],
+            r["worst"][0], r["worst"][1], "-" if inst is None else "%.3f" % inst[0],
+            "-" if inst is None else inst[1]))
+    return lines
+
+
+def _splice_section(path, lines, seconds):
+    """Section 7 (``lines``, from its heading) written into the report at ``path`` in
+    place of the one there (at its end; appended when it has none), stamped with how
+    and when it alone was made."""
+    from bench.stamp import stamp
+
+    at = next(k for k, line in enumerate(lines) if line.startswith("## 7."))
+    section = lines[at:at + 2] + ["Section 7 alone: " + stamp(seconds=seconds), ""] + \
+        lines[at + 2:]
+    old = path.read_text().rstrip("\n").split("\n") if path.exists() else []
+    keep = next((k for k, line in enumerate(old) if line.startswith("## 7.")), len(old))
+    while keep and not old[keep - 1].strip():
+        keep -= 1
+    path.write_text("\n".join(old[:keep] + [""] + section) + "\n")
+    print("\n".join(section))
 
 
 def _ots(path):
@@ -468,8 +563,9 @@ def main():
     ap.add_argument("--out", default=None,
                     help="the report (default bench/varfont.md, with --part brush "
                          "bench/varfont_brush.md)")
-    ap.add_argument("--part", choices=("all", "stroke", "brush"), default="all",
-                    help="sections 1-5 (stroke), 6-7 (brush) or all")
+    ap.add_argument("--part", choices=("all", "stroke", "brush", "serif"), default="all",
+                    help="sections 1-5 (stroke), 6-7 (brush), all, or section 7 alone "
+                         "(serif: written into the existing report in place of its own)")
     ap.add_argument("--positions", type=int, default=9)
     ap.add_argument("--random", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=1)
@@ -483,7 +579,7 @@ def main():
                     help="glyphs whose instances are measured (default: --glyphs)")
     args = ap.parse_args()
     if args.out is None:
-        args.out = str(ROOT / "bench" / ("varfont_brush.md" if args.part == "brush"
+        args.out = str(ROOT / "bench" / ("varfont_brush.md" if args.part in ("brush", "serif")
                                          else "varfont.md"))
     glyphs = None if args.glyphs is None else args.glyphs.split(",")
     measured = glyphs if args.measure is None else args.measure.split(",")
@@ -616,38 +712,17 @@ def main():
                              r["axes"], r["masters"], r["sources"], r["blend"], r["size"],
                              r["cpu"], r["per"], r["worst"][0], r["worst"][1], r["pinholes"],
                              r["anchor"]))
+    if args.part in ("all", "brush", "serif"):
         serif = [g for g in args.serif.split(",") if g]
         rows = serif_brush(folder, serif, args.positions, args.random) if serif else None
-        done = [r for r in (rows or []) if "error" not in r]
-        if done:
-            rep = done[0]["report"]
-            lines += ["", "## 7. Source Serif 4 (wght, opsz) cut to %s, nib %s" % (
-                ", ".join(serif), SERIF_NIB), "",
-                "The source's variable font (9 masters: wght and opsz at -1, 0, 1) brushed "
-                "keeping its axes. Each glyph refines its own grid of source masters "
-                "until its blend is within %.2f units, and the font stores each glyph's "
-                "variations over its own masters (gvar tuples per glyph; CFF2 a VarData "
-                "per glyph, chosen by vsindex; HVAR rows per glyph), so a glyph whose "
-                "outline turns fast between the source's masters adds masters to itself "
-                "only. Masters per glyph: %s (given %d, %d locations added over all "
-                "glyphs; blend before refining %s, after %.3f). Instances: %d positions "
-                "per axis and %d random points (fontTools' instancer) against the source's "
-                "own instance there ⊕ the nib (Clipper), pinholes < 2 unit² aside; bound: "
-                "tol + 2 x 0.71 = %.2f units per 1000 em." % (
-                    0.4 * TOL, ", ".join("%s %d" % kv for kv in
-                                         done[0]["glyph_masters"].items()),
-                    rep["given"], rep["added"], ", ".join(
-                        "%s %.1f" % kv for kv in rep["errors_before"].items()), rep["error"],
-                    args.positions, args.random, TOL + 2 ** 0.5), "",
-                "| output | masters (all glyphs) | CPU s (whole call) | fit CPU s | size | "
-                "ots-sanitize | max d | where |", "|---|---|---|---|---|---|---|---|"]
-            for r in rows:
-                if "error" in r:
-                    lines.append("| %s | %s | | | | | | |" % (r["suffix"], r["error"][:200]))
-                    continue
-                lines.append("| %s | %d | %.1f | %.1f | %d | %s | %.3f | %s |" % (
-                    r["suffix"], r["masters"], r["cpu"], r["fit"], r["size"], r["ots"],
-                    r["worst"][0], r["worst"][1]))
+        lines += serif_section(rows, serif, args)
+    if args.part == "serif":
+        if not any(line.startswith("## 7.") for line in lines):
+            sys.exit("section 7 not made: %s" % (rows or "no glyphs (--serif) or no "
+                                                 "fontpkg-source-serif-4"))
+        _splice_section(Path(args.out), lines, time.perf_counter() - t_start)
+        print("fonts in %s" % folder)
+        return
     lines[2] = stamp(seconds=time.perf_counter() - t_start)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
