@@ -13,6 +13,11 @@ regions, one VarData per distinct set of glyph masters (the charstring's
 overlapping contours need no flag: CFF2 charstrings are filled nonzero.  The
 advances vary through HVAR (CFF2 has no phantom points), built by fontTools
 varLib's HVAR builder from the same model.
+
+Every coordinate carries a delta per master beyond the default, so a glyph with
+many masters can pass the 65,535 bytes a reader takes for a charstring: its program
+is then split into local subroutines (:func:`split_long_charstrings`, which the
+TrueType-free stroke output uses too).
 """
 
 import numpy as np
@@ -90,7 +95,7 @@ def _charstring(name, per, shifts, model):
 
 
 #: the longest charstring or subroutine a reader takes, in bytes (the Type 2 limit;
-#: ots-sanitize, and so the browsers, refuse a CFF2 font with a longer one)
+#: ots-sanitize refuses a CFF2 font with a longer one)
 MAX_CHARSTRING = 65535
 
 #: the most masters a glyph's CFF2 charstring can blend: a curve's sixth operand
