@@ -17,7 +17,7 @@ varLib's HVAR builder from the same model.
 Every coordinate carries a delta per master beyond the default, so a glyph with
 many masters can pass the 65,535 bytes a reader takes for a charstring: its program
 is then split into local subroutines (:func:`split_long_charstrings`, which the
-TrueType-free stroke output uses too).
+stroke command's CFF2 output goes through too).
 """
 
 import numpy as np
