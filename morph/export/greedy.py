@@ -94,12 +94,10 @@ class Greedy:
     The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
     (round, request): its panels are made only for the segments written."""
 
-    def __init__(self, top, first, tol, min_width, fail, active=True, begin=None, stop=None):
+    def __init__(self, top, first, tol, min_width, fail):
         n = len(top)
         self.top, self.tol, self.min_width, self.fail = np.asarray(top, float), tol, min_width, fail
-        self.begin = np.zeros(n) if begin is None else np.asarray(begin, float)
-        self.stop = self.top if stop is None else np.asarray(stop, float)
-        self.t0, self.t1, self.start = self.begin.copy(), np.zeros(n), np.array(first, float)
+        self.t0, self.t1, self.start = np.zeros(n), np.zeros(n), np.array(first, float)
         self.width = np.minimum(self.top, 2.0)
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
         self.bad, self.last_w, self.last_b = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
@@ -107,19 +105,7 @@ class Greedy:
         self.good, self.good_b, self.good_cert = np.full(n, np.nan), np.zeros(n), np.zeros(n, bool)
         self.good_at, self.good_end, self.good_cubic = np.zeros((n, 2), int), np.zeros((n, 2)), \
             np.zeros((n, 4, 2))
-        self.first = self.start.copy()
-        active = np.broadcast_to(np.asarray(active, bool), (n,))
-        self.mode[~active] = DONE
-        self._new_segments(np.nonzero(active)[0])
-
-    def activate(self, rows):
-        """Start the search of the chains ``rows`` (made with ``active=False``, or
-        done) from their start."""
-        if not len(rows):
-            return
-        self.t0[rows], self.start[rows] = self.begin[rows], self.first[rows]
-        self.width[rows] = np.minimum(self.top[rows], 2.0)
-        self._new_segments(rows)
+        self._new_segments(np.arange(n))
 
     @property
     def active(self):
@@ -173,7 +159,7 @@ class Greedy:
         r, t1a, ca, ba, ata, ea = (np.concatenate(x) for x in zip(*acc))
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
         self.width[r], self.t0[r], self.start[r] = t1a - self.t0[r], t1a, ea
-        finished = t1a >= self.stop[r]
+        finished = t1a >= self.top[r]
         self.mode[r[finished]] = DONE
         self._new_segments(r[~finished])
         return out

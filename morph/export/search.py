@@ -199,12 +199,11 @@ class _Fits:
     NONE), ``cert`` (a certified bound: FITTED or SAME); :meth:`reparam` makes a
     request's :class:`_Reparam` (only for the segments written)."""
 
-    __slots__ = ("cubic", "bound", "kind", "cert", "provisional", "maps", "first", "nparts")
+    __slots__ = ("cubic", "bound", "kind", "cert", "maps", "first", "nparts")
 
     def __init__(self, cubic, bound, kind, maps, first, nparts):
         self.cubic, self.bound, self.kind, self.maps = cubic, bound, kind, maps
         self.cert = (kind == FITTED) | (kind == SAME)
-        self.provisional = kind == SHORT
         self.first, self.nparts = first, nparts
 
     def reparam(self, r):
@@ -320,87 +319,38 @@ def _chain_points(chains, chain, t):
     return np.where((t >= k)[:, None], bank.last[gid], p)
 
 
-#: Chains at least 1.5 PART pieces long are searched in parts of about PART pieces,
-#: all parts at once (:func:`_drive`); the stitched result has the greedy search's
-#: count of segments (:class:`_Stitch`).  Brushed and stroked outlines' cubics span
-#: 2 to 3 pieces of a long smooth run: a part holds 2 or 3 segments.
-PART = 7.0
-
-
-def _chain_parts(k):
-    """The parts of chains of k pieces: (chain, begin, stop) per part, chains in
-    order: ``round(k / PART)`` (at least one) equal parameter intervals per chain."""
-    num = np.maximum(1, np.floor(np.asarray(k, float) / PART + 0.5)).astype(int)
-    chain = np.repeat(np.arange(len(k)), num)
-    j = np.arange(int(num.sum())) - np.repeat(np.cumsum(num) - num, num)
-    size = (np.asarray(k, float) / num)[chain]
-    begin = j * size
-    stop = np.where(j == num[chain] - 1, np.asarray(k, float)[chain], (j + 1) * size)
-    return chain, begin, stop, num
-
-
 def _drive(chains, tol, min_width):
     """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
     together; their CubicFit lists in order.
 
-    Each chain is cut into parts (:func:`_chain_parts`) and every part searched by
-    the greedy search (:class:`morph.export.greedy.Greedy`, one row per part), from
-    the part's start until a segment ends at or past the next part's start (the
-    last part: the chain's end); the parts of a chain are then stitched
-    (:class:`_Stitch`: one refit where two parts overlap), which gives the count of
-    segments of one greedy search of the whole chain in the rounds of one part.  A
-    chain left with two segments or more is refined (:class:`morph.export.refine.
-    Refine`: one segment fewer where the bounds say it may fit).  Each round fits and
-    certifies the requests of all machines together (:func:`_fit_batch`): the
-    numerical work is one batch per round, and no Python step runs per chain and
-    round.  The accepted segments are kept as arrays (chain, t0, t1, bound, and the
-    round and request of their fit) until the end, where each chain's list of
-    CubicFit is made."""
+    The greedy search of every chain is one array state machine
+    (:class:`morph.export.greedy.Greedy`); a chain it leaves with two segments or
+    more is refined by another (:class:`morph.export.refine.Refine`: one segment
+    fewer where the bounds say it may fit).  Each round fits and certifies the
+    requests of both together (:func:`_fit_batch`): the numerical work is one batch
+    per round, and no Python step runs per chain and round.  The accepted segments
+    are kept as arrays (chain, t0, t1, bound, and the round and request of their fit)
+    until the end, where each chain's list of CubicFit is made."""
     bank, n = chains.bank, len(chains.k)
-    pchain, begin, stop, num = _chain_parts(chains.k)
-    # one spare row per chain of several parts: its whole-chain search where a
-    # stitch does not certify
-    multi = np.nonzero(num > 1)[0]
-    spare = len(pchain) + np.arange(len(multi))
-    spare_of = np.full(n, -1)
-    spare_of[multi] = spare
-    pchain = np.concatenate([pchain, multi])
-    begin = np.concatenate([begin, np.zeros(len(multi))])
-    stop = np.concatenate([stop, chains.k[multi].astype(float)])
-    active = np.arange(len(pchain)) < len(pchain) - len(multi)
 
     def fail(row, t0, width, bound):
-        c = int(pchain[row])
-        piece = bank.pieces[bank.order[chains.off[c] + min(int(t0), int(chains.k[c]) - 1)]]
+        piece = bank.pieces[bank.order[chains.off[row] + min(int(t0), int(chains.k[row]) - 1)]]
         raise ToleranceNotMetError(
             "cubic export did not reach tol %.3g on a parameter interval of width "
             "%.3g (bound %.3g)" % (tol, width, bound), piece=piece, achieved=bound)
 
-    greedy = Greedy(chains.k[pchain], _chain_points(chains, pchain, begin), tol, min_width,
-                    fail, active=active, begin=begin, stop=stop)
+    greedy = Greedy(chains.k, _chain_points(chains, np.arange(n), np.zeros(n)), tol,
+                    min_width, fail)
     refine = Refine(chains, tol)
-    stitch = _Stitch(chains, num, tol)
-    found = _Segments()                   # the greedy segments of parts still searching
+    found = _Segments()                   # the greedy segments of chains still searching
     final, rounds, done = [], [], 0
-
-    def finished(seg, ended):
-        """Chains ``ended`` and their segments: to the refinement or done."""
-        nonlocal done
-        many = np.bincount(seg[0], minlength=n)[ended] >= 2
-        refine.add(ended[many], *_segments_of(seg, ended[many]))
-        final.append(_segments_of(seg, ended[~many]))
-        done += int((~many).sum())
-
-    while greedy.active.any() or refine.active or stitch.active:
+    while greedy.active.any() or refine.active:
         rows, t0, t1, start, need = greedy.requests()
-        crow = pchain[rows]
         more = refine.requests()
-        joins = stitch.requests()
-        end = _chain_points(chains, crow, t1)
+        end = _chain_points(chains, rows, t1)
         k = len(rows)
         req = Requests(*(np.concatenate(x) for x in zip(
-            (crow, t0, t1, start, end, need), more + (np.zeros(len(more[0])),),
-            _stitch_points(chains, joins))))
+            (rows, t0, t1, start, end, need), more + (np.zeros(len(more[0])),))))
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
@@ -410,135 +360,18 @@ def _drive(chains, tol, min_width):
             found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
-            if len(joins[0]):
-                seg, ended, again = stitch.update(fits, k + len(more[0]), len(rounds) - 1)
-                finished(seg, ended)
-                greedy.activate(spare_of[again])
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
             seg = found.take(ended)
-            seg = (pchain[seg[0]],) + seg[1:]
-            whole = num[pchain[ended]] == 1
-            whole |= ended >= len(pchain) - len(multi)          # a spare: the whole chain
-            finished(_segments_of(seg, pchain[ended[whole]]), np.sort(pchain[ended[whole]]))
-            stitch.add(_segments_of(seg, pchain[ended[~whole]]), pchain[ended[~whole]])
+            many = np.bincount(seg[0], minlength=n)[ended] >= 2
+            refine.add(ended[many], *_segments_of(seg, ended[many]))
+            final.append(_segments_of(seg, ended[~many]))
+            done += int((~many).sum())
         out = refine.finished()
         final.append(out[1:])
         done += len(out[0])
         if _observer is not None:
             _observer(done, n)
     return _cubic_fits(n, final, rounds)
-
-
-def _stitch_points(chains, joins):
-    """(chain, t0, t1, start, end, need) of the stitch requests (chain, t0, t1)."""
-    chain, t0, t1 = joins
-    return (chain, t0, t1, _chain_points(chains, chain, t0), _chain_points(chains, chain, t1),
-            np.zeros(len(chain)))
-
-
-class _Stitch:
-    """The parts of chains searched in parts (:func:`_drive`), stitched.
-
-    Part i's greedy search stops at its first segment that ends at or past the start
-    p of part i + 1, at e >= p; part i + 1's search began at p.  Its segments that end
-    at or before e are dropped, and the first that ends after it, [a, b] with a < e,
-    becomes [e, b] (refitted and certified; where a == e it is kept as it is).  The
-    search that reach monotone: a sub-interval of an interval that fits fits too, and
-    a greedy search from a later start ends each segment no earlier; so [e, b] fits
-    and the stitched chain has the segment count of one greedy search over the whole
-    chain.  Where a stitch does not certify after all, the chain is searched again
-    whole (``again``).  A chain's segments wait here until all its parts are done;
-    the stitching itself runs once per chain (Python, over its parts), the refits
-    of all chains in one round."""
-
-    def __init__(self, chains, num, tol):
-        self.chains, self.num, self.tol = chains, num, tol
-        self.parts_done = np.zeros(len(num), int)
-        self.wait = {}                   # chain: [(t0, t1, bound, at)] of its parts
-        self.paths = {}                  # chain: stitched segments, None at a refit
-        self.asked = ([], [], [])        # refits: chain, t0, t1
-        self.slots = []                  # refits: (chain, position in its path)
-
-    @property
-    def active(self):
-        return bool(self.wait) or bool(self.paths)
-
-    def add(self, seg, chains):
-        """Segments (chain, t0, t1, bound, at) of parts just done."""
-        for c in chains.tolist():
-            self.parts_done[c] += 1
-        for c, t0, t1, b, at in zip(seg[0].tolist(), seg[1].tolist(), seg[2].tolist(),
-                                    seg[3].tolist(), seg[4].tolist()):
-            self.wait.setdefault(c, []).append((t0, t1, b, at))
-        for c in np.unique(chains).tolist():
-            if self.parts_done[c] == self.num[c]:
-                self._stitched(c, sorted(self.wait.pop(c)))
-
-    def _stitched(self, c, segs):
-        """The path of chain c from its parts' segments (sorted by t0, then t1)."""
-        path, e = [], 0.0
-        for t0, t1, b, at in segs:
-            if t1 <= e:
-                continue
-            if t0 < e:
-                # [e, t1]; and the merge of the segment before with it, when there is one
-                prev = path[-1] if path and path[-1] is not None else None
-                self.asked[0].extend([c] * (2 if prev else 1))
-                self.asked[1].extend([e] + ([prev[0]] if prev else []))
-                self.asked[2].extend([t1] * (2 if prev else 1))
-                self.slots.append((c, len(path)))
-                if prev:
-                    self.slots.append((c, -len(path)))
-                path.append(None)
-            else:
-                path.append((t0, t1, b, at))
-            e = t1
-        self.paths[c] = path
-
-    def requests(self):
-        chain, t0, t1 = (np.array(x, dtype=d) for x, d in zip(self.asked, (int, float, float)))
-        return chain, t0, t1
-
-    def update(self, fits, offset, round_no):
-        """Take the refits; returns (segments of the chains done, those chains,
-        chains whose stitch failed: to be searched whole)."""
-        chain, t0, t1 = self.requests()
-        j = offset + np.arange(len(chain))
-        bad, merged = set(), []
-        for i, (c, pos) in enumerate(self.slots):
-            fit = (float(t0[i]), float(t1[i]), float(fits.bound[j[i]]), [round_no, int(j[i])])
-            good = fits.cert[j[i]] and fits.bound[j[i]] <= self.tol
-            if pos < 0:                      # the merge of -pos - 1 and -pos
-                if good:
-                    merged.append((c, -pos, fit))
-            elif good:
-                self.paths[c][pos] = fit
-            else:
-                bad.add(c)
-        for c, pos, fit in merged:          # one segment for two
-            path = self.paths[c]
-            path[pos - 1], path[pos] = fit, "gone"
-            bad.discard(c)
-        for c in list(self.paths):
-            self.paths[c] = [p for p in self.paths[c] if p != "gone"]
-        self.asked, self.slots = ([], [], []), []
-        out, ended = [], []
-        for c in sorted(self.paths):
-            if c in bad:
-                continue
-            path = self.paths[c]
-            if any(p is None for p in path):
-                continue
-            ended.append(c)
-            out.extend((c,) + p for p in path)
-        for c in ended:
-            del self.paths[c]
-        for c in bad:
-            del self.paths[c]
-        seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out]),
-               np.array([o[2] for o in out]), np.array([o[3] for o in out]),
-               np.array([o[4] for o in out], int).reshape(-1, 2))
-        return seg, np.array(ended, int), np.array(sorted(bad), int)
 
 
 class _Segments:
