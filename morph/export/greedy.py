@@ -90,13 +90,15 @@ class Greedy:
     ``min_width``: the narrowest interval tried; ``fail(row, t0, width, bound)``:
     raises the error of a chain where no interval certifies.  :meth:`requests`
     gives the fits of a round, :meth:`update` takes their results and returns the
-    segments accepted in the round; :attr:`active` says which chains still search.
-    The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
+    segments accepted in the round; :attr:`active` says which chains still search
+    (``active``: which start searching; :meth:`activate` starts the others;
+    :meth:`cap` moves a chain's end nearer, where a search from the other end has
+    come).  The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
     (round, request): its panels are made only for the segments written."""
 
-    def __init__(self, top, first, tol, min_width, fail):
+    def __init__(self, top, first, tol, min_width, fail, active=True):
         n = len(top)
-        self.top, self.tol, self.min_width, self.fail = np.asarray(top, float), tol, min_width, fail
+        self.top, self.tol, self.min_width, self.fail = np.array(top, float), tol, min_width, fail
         self.t0, self.t1, self.start = np.zeros(n), np.zeros(n), np.array(first, float)
         self.width = np.minimum(self.top, 2.0)
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
@@ -105,11 +107,40 @@ class Greedy:
         self.good, self.good_b, self.good_cert = np.full(n, np.nan), np.zeros(n), np.zeros(n, bool)
         self.good_at, self.good_end, self.good_cubic = np.zeros((n, 2), int), np.zeros((n, 2)), \
             np.zeros((n, 4, 2))
-        self._new_segments(np.arange(n))
+        self.first = self.start.copy()
+        active = np.broadcast_to(np.asarray(active, bool), (n,))
+        self.mode[~active] = DONE
+        self._new_segments(np.nonzero(active)[0])
+
+    def activate(self, rows):
+        """Start the search of the chains ``rows`` (made inactive: ``active`` False)
+        from their start."""
+        if not len(rows):
+            return
+        self.t0[rows], self.start[rows] = 0.0, self.first[rows]
+        self.width[rows] = np.minimum(self.top[rows], 2.0)
+        self._new_segments(rows)
 
     @property
     def active(self):
         return self.mode != DONE
+
+    def cap(self, rows, top):
+        """Lower the end of the chains ``rows`` to ``top`` (a search from the other end
+        has come that far): tries past it are moved onto it, brackets past it
+        dropped; the search ends at it."""
+        rows, top = np.asarray(rows, int), np.asarray(top, float)
+        lower = top < self.top[rows]
+        rows, top = rows[lower], top[lower]
+        if not len(rows):
+            return
+        self.top[rows] = top
+        past = self.t1[rows] > top
+        r = rows[past]
+        self.t1[r] = top[past]
+        self.mode[r[self.mode[r] != HALVE]] = TRY
+        self.good[r[self.good[r] > self.top[r]]] = np.nan
+        self.bad[r[self.bad[r] > self.top[r]]] = np.nan
 
     def _new_segments(self, rows):
         """Start the segment search of ``rows`` at their t0: the first try spans the
