@@ -25,7 +25,9 @@ least squares) is tried, and the interval shrinks until one certifies.
 **Two stages.**  The greedy search of every chain is one array state machine
 (:class:`morph.export.greedy.Greedy`): each chain's range, try, bracket and mode are
 rows of arrays, a round asks one fit of every chain still searching, and one numpy
-step takes all their results.  A chain the greedy search leaves with two segments or
+step takes all their results.  A long chain is searched from both ends at once (two
+rows, each stopping where the other has come; :class:`_Join` joins them), which
+halves its rounds.  A chain the greedy search leaves with two segments or
 more is refined by a second one (:class:`morph.export.refine.Refine`: one segment
 fewer where the bounds say it may fit), its chains rows of arrays too.
 :func:`_drive` fits the requests of both machines of a round together
@@ -397,18 +399,22 @@ def _drive(chains, tol, min_width):
         start = start.copy()
         start[rev] = pts[len(rows):]
         tried = np.where(rev[:, None], start, end)          # the point at the row's end
+        # the two searches of a chain trying the same range (the gap between them):
+        # one fit for both
+        own = _same_ranges(crow, rev, a, b, need)
         more = refine.requests()
         joins = join.requests()
-        k = len(rows)
+        mine = np.nonzero(own == np.arange(len(rows)))[0]
+        k = len(mine)
         req = Requests(*(np.concatenate(x) for x in zip(
-            (crow, a, b, start, end, need), more + (np.zeros(len(more[0])),),
-            _join_points(chains, joins))))
+            (crow[mine], a[mine], b[mine], start[mine], end[mine], need[mine]),
+            more + (np.zeros(len(more[0])),), _join_points(chains, joins))))
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
-            at = np.stack([np.full(k, len(rounds) - 1), np.arange(k)], axis=1)
-            acc = greedy.update(rows, tried, (fits.cubic[:k], fits.bound[:k], fits.cert[:k]),
-                                at)
+            j = np.searchsorted(mine, own)
+            at = np.stack([np.full(len(rows), len(rounds) - 1), j], axis=1)
+            acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
             found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
@@ -446,6 +452,22 @@ def _drive(chains, tol, min_width):
         if _observer is not None:
             _observer(done, n)
     return _cubic_fits(n, final, rounds)
+
+
+def _same_ranges(crow, rev, a, b, need):
+    """For each greedy request, the request whose fit it takes: itself, or for a
+    backward row the forward row of its chain asking the same range with the same
+    ``need`` (the rows are sorted, forward rows first)."""
+    own = np.arange(len(crow))
+    fwd = np.full(int(crow.max()) + 1 if len(crow) else 0, -1)
+    fwd[crow[~rev]] = np.nonzero(~rev)[0]
+    r = np.nonzero(rev)[0]
+    f = fwd[crow[r]]
+    same = (f >= 0)
+    same[same] = (a[f[same]] == a[r[same]]) & (b[f[same]] == b[r[same]]) & (
+        need[f[same]] == need[r[same]])
+    own[r[same]] = f[same]
+    return own
 
 
 def _join_points(chains, joins):
