@@ -53,6 +53,13 @@ SHRINK = 0.5
 #: its width would be left; a pass makes at most MAX_TRIES fits.
 REACH_END = 0.3
 MAX_TRIES = 8
+#: A bracket (longest fitting end, shortest failing one) narrower than this share of
+#: the failing width with a join of two pieces inside tries the join itself next,
+#: certified at once, and a join that fits ends the segment: where the error jumps
+#: within a bracket it jumps at a join (the curvature of a sum jumps there: a cubic
+#: spans the join of a nib's arc and a glyph's curve only with its end near it), and
+#: bisecting the jump costs a round a halving.
+SNAP = 0.3
 
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
 #: on, halving the shortest failed interval (no certified fit yet), done.
@@ -102,6 +109,7 @@ class Greedy:
         self.t0, self.t1, self.start = np.zeros(n), np.zeros(n), np.array(first, float)
         self.width = np.minimum(self.top, 2.0)
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
+        self.snap = np.zeros(n, bool)
         self.bad, self.last_w, self.last_b = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
         # the longest certified (or provisional) fit: end, bound, certified, where, cubic
         self.good, self.good_b, self.good_cert = np.full(n, np.nan), np.zeros(n), np.zeros(n, bool)
@@ -146,6 +154,7 @@ class Greedy:
         """Start the segment search of ``rows`` at their t0: the first try spans the
         previous segment's width, to the chain's end when little would be left."""
         self.mode[rows], self.passno[rows], self.tries[rows] = TRY, 0, 0
+        self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
         self.bad[rows], self.last_w[rows], self.last_b[rows] = np.nan, np.nan, np.nan
         t0, top = self.t0[rows], self.top[rows]
@@ -159,7 +168,7 @@ class Greedy:
         rows = np.nonzero(self.active)[0]
         t1 = self.t1[rows]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
-                        & (t1 != self.top[rows]), PROVISIONAL, 0.0)
+                        & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
         return rows, self.t0[rows], t1, self.start[rows], need
 
     def update(self, rows, end, fits, at):
@@ -208,9 +217,17 @@ class Greedy:
                             self.good[rows], self.bad[rows], top, self.tol)
         self.last_w[rows], self.last_b[rows] = t1 - t0, bound
         self.tries[rows] += 1
-        accept &= (t1 == top) | (bound >= ACCEPT * self.tol)
+        accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows]
         stop = (accept | np.isnan(target) | (target - t0 < self.min_width)
                 | (self.tries[rows] >= MAX_TRIES))
+        # a narrow bracket over a join: try the join
+        good, bad = self.good[rows], self.bad[rows]
+        join = np.floor(np.where(np.isnan(good), t0, good)) + 1.0
+        snap = (~stop & ~np.isnan(bad) & (join < bad) & (join > t0)
+                & (bad - np.where(np.isnan(good), t0, good) <= SNAP * (bad - t0))
+                & ~self.snap[rows])
+        target = np.where(snap, join, target)
+        self.snap[rows] = snap
         self.t1[rows[~stop]] = target[~stop]
         ended = rows[stop]
         has_good = ~np.isnan(self.good[ended])
