@@ -11,12 +11,18 @@ aim the next end (:func:`next_tries`, the model bound ~ width^p), start the next
 segment.  No Python step runs per chain and round; what remains per segment is
 writing it out (a :class:`~morph.export.certify.CubicFit`).
 
+A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
+search of the same chain from its other end has come that far,
+:func:`morph.export.search._drive`).
+
 The search of one segment: the first try spans the previous segment's width (the
 chain's end when less than REACH_END of it would be left); a try is accepted once it
 is certified with a bound of at least ACCEPT tol (or reaches the chain's end);
 otherwise the next end follows the model bound ~ width^p (p from the last two fits,
 within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
-narrower than BRACKET_REL of the width or MAX_TRIES fits were made.  Tries sampled
+narrower than BRACKET_REL of the width or MAX_TRIES fits were made; a bracket
+narrower than SNAP of the failing width with a join of two pieces inside tries the
+join next, certified at once, and ends there if it fits.  Tries sampled
 below PROVISIONAL tol are not certified (the search extends them anyway); when the
 search ends on one, it is certified, and where that fails the segment is searched
 again certifying every try.  With no certified fit at all the shortest failed
