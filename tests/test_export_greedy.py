@@ -272,3 +272,27 @@ def test_a_join_that_does_not_certify_searches_the_chain_again(monkeypatch):
         assert len(segs) == len(alone)
         assert np.allclose([(s.t0, s.t1) for s in segs], [(s.t0, s.t1) for s in alone],
                            rtol=0, atol=1e-9)
+
+
+def test_a_round_of_chords_shorter_than_tol_is_fitted():
+    """A round whose every range is shorter than tol (the gap two searches of a chain
+    leave between them can be) gets straight cubics, certified within tol and within
+    tol of the range by exact closest distances; moved by 2 tol they are not."""
+    from morph.export.bank import Bank
+    from morph.export.fit import make_chains
+
+    tol = 0.1
+    arc = pc.ellipse_arc((0.0, 0.0), 1.0, 1.0, 0.0, 0.0, 1.0)[0]
+    chains = make_chains(Bank([arc]), [np.array([0])])
+    t0, t1 = np.array([0.40015583]), np.array([0.45])
+    pts = search._chain_points(chains, np.zeros(2, int), np.concatenate([t0, t1]))
+    assert np.hypot(*(pts[1] - pts[0])) < tol
+    req = search.Requests(np.zeros(1, int), t0, t1, pts[:1], pts[1:], np.zeros(1))
+    out = search._fit_batch(chains, req, tol)
+    assert out.cert[0] and out.bound[0] <= tol
+    assert np.allclose(out.cubic[0][[0, -1]], pts)
+    sub = pc.subsegment(arc, 0.40015583, 0.45)
+    s = np.linspace(0, 1, 41)
+    assert closest_distances(bernstein(out.cubic[0], s), [sub]).max() <= tol
+    moved = out.cubic[0] + np.array([0.0, 2.0 * tol])
+    assert closest_distances(bernstein(moved, s), [sub]).max() > tol
