@@ -266,6 +266,26 @@ def _cubic_integrals(t0, t1):
     return ta, tm
 
 
+def _monomial_coefficients(tm):
+    """(n, 9): the moment terms m_a n_b m_c tm[a, b, c] (m = (1, d0, d1), n = (d0,
+    d1)) summed into the coefficients of the monomials d0^i d1^j of
+    :data:`_MONOMIAL_POWERS` (additions in a fixed order, row by row: a range's
+    coefficients do not depend on the batch, as a BLAS product's may)."""
+    em = [(0, 0), (1, 0), (0, 1)]
+    out = np.zeros((len(tm), len(_MONOMIAL_POWERS)))
+    for a in range(3):
+        for b in range(2):
+            for c in range(3):
+                i = em[a][0] + (1 - b) + em[c][0]
+                j = em[a][1] + b + em[c][1]
+                out[:, _MONOMIAL_POWERS.index((i, j))] += tm[:, a, b, c]
+    return out
+
+
+#: The monomials d0^i d1^j of the frame cubic's moment (:func:`_handle_candidates`).
+_MONOMIAL_POWERS = [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2), (3, 0), (2, 1), (1, 2), (0, 3)]
+
+
 def _handle_candidates(area, moment, ta, tm, good):
     """Candidate handle lengths (range, d0, d1) of :func:`moment_cubics`: the roots
     of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
@@ -273,19 +293,19 @@ def _handle_candidates(area, moment, ta, tm, good):
     nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
     n = len(area)
 
-    def resid(d0, d1, rows=slice(None)):
-        # sum_abc m_a n_b m_c tm_abc: the c sum as one stacked matrix product first
-        # (a four-operand einsum loops in C over every index at once, ~3x slower)
-        mm = np.stack([np.ones_like(d0), d0, d1], -1)              # (r, g, 3)
-        nn = np.stack([d0, d1], -1)                                 # (r, g, 2)
-        t = tm[rows].reshape(-1, 6, 3).transpose(0, 2, 1)           # (r, c, ab)
-        q = np.matmul(mm, t).reshape(mm.shape[:2] + (3, 2))
-        return np.einsum("rga,rgab,rgb->rg", mm, q, nn) - moment[rows, None]
+    cf = _monomial_coefficients(tm)
 
-    d0 = np.broadcast_to(_D0_GRID[None], (n, len(_D0_GRID)))
-    d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)
+    def resid(d0, d1, c):
+        # the moment as the cubic polynomial of (d0, d1) with coefficients c
+        inner = c[..., 4] + c[..., 7] * d0 + c[..., 8] * d1
+        inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
+        return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
+
+    d0 = _D0_GRID[None]
+    d1 = _d1_of(d0, area[:, None], ta[:, None])
     ok = np.isfinite(d1) & (d1 > 0)
-    f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
+    f = resid(d0, np.where(ok, d1, 0.0), cf[:, None]) - moment[:, None]
+    f[~ok] = np.nan
     cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
     cross &= good[:, None]
     rr, gg = np.nonzero(cross)
@@ -293,7 +313,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     fa, fb = f[rr, gg], f[rr, gg + 1]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x[:, None], _d1_of(x, rr, area, ta)[:, None], rr)[:, 0]
+        fx = resid(x, _d1_of(x, area[rr], ta[rr]), cf[rr]) - moment[rr]
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
@@ -323,7 +343,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], ta[cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -342,7 +362,8 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     pick = np.full(n, -1)
     pick[ranges] = valid[at]
     has = pick >= 0
-    c = ctrl[np.maximum(pick, 0)]                                  # (n, 4, 2)
+    # (a round whose ranges are all short chords has no candidate at all)
+    c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))
     normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
     line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
@@ -353,17 +374,24 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     return cubic, dist, fitted, pick
 
 
-def _d1_of(d0, rows, area, ta):
-    """d1 from the area equation (linear in d1) for handle lengths d0 of the ranges
-    ``rows`` (arrays of one shape)."""
-    num = area[rows] - d0 * ta[rows, 0, 0] - d0 * d0 * ta[rows, 0, 1]
-    den = ta[rows, 1, 0] + d0 * (ta[rows, 0, 2] + ta[rows, 1, 1])
+def _d1_of(d0, area, ta):
+    """d1 from the area equation (linear in d1) for handle lengths d0, with the
+    ranges' ``area`` and ``ta`` (:func:`_cubic_integrals`) gathered (or broadcast)
+    to d0's shape."""
+    num = area - d0 * (ta[..., 0, 0] + d0 * ta[..., 0, 1])
+    den = ta[..., 1, 0] + d0 * (ta[..., 0, 2] + ta[..., 1, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
         return num / den
 
 
 #: Power coefficients of a cubic from its Bernstein coefficients.
 _POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]])
+
+
+#: Rows of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
+#: each) stay in a core's cache through Newton's iterations, where arrays of all the
+#: rows of a round (millions) would be read from memory at every operation.
+RAY_BLOCK = 8192
 
 
 def _ray_distance(ctrl, cr, q, dq, req, width):
@@ -376,8 +404,9 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
 
     Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
     (a reduction over an axis of length 2 costs numpy several times the products
-    themselves); the candidates' samples are consecutive, so the largest distance
-    of each is one ``maximum.reduceat``.
+    themselves), done in blocks of RAY_BLOCK rows (:func:`_rays`); the candidates'
+    samples are consecutive, so the largest distance of each is one
+    ``maximum.reduceat``.
     """
     if not len(cr):
         return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int), np.zeros(0)
@@ -397,21 +426,58 @@ def _ray_distance(ctrl, cr, q, dq, req, width):
     owner = np.repeat(np.arange(len(cr)), counts)
     si = np.repeat(start[cr] - first, counts) + np.arange(counts.sum())
     power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
-    ax = np.ascontiguousarray(power[..., 0])[owner]               # (S, 4) each
-    ay = np.ascontiguousarray(power[..., 1])[owner]
-    px, py, ux, uy = qx[si], qy[si], tx[si], ty[si]
-    s = frac[si]
-    g = ax * ux[:, None] + ay * uy[:, None]                       # (C(s) - p) . t, power form
-    g0, g1, g2, g3 = g[:, 0] - (px * ux + py * uy), g[:, 1], g[:, 2], g[:, 3]
-    for _ in range(5):
-        gv = ((g3 * s + g2) * s + g1) * s + g0
-        gd = (3.0 * g3 * s + 2.0 * g2) * s + g1
-        s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
-    cx = ((ax[:, 3] * s + ax[:, 2]) * s + ax[:, 1]) * s + ax[:, 0]
-    cy = ((ay[:, 3] * s + ay[:, 2]) * s + ay[:, 1]) * s + ay[:, 0]
-    dist = np.hypot(cx - px, cy - py)
+    ax = np.ascontiguousarray(power[..., 0].T)                    # (4, C) each
+    ay = np.ascontiguousarray(power[..., 1].T)
+    s, dist = np.empty(len(si)), np.empty(len(si))
+    for lo in range(0, len(si), RAY_BLOCK):
+        hi = min(lo + RAY_BLOCK, len(si))
+        o, i = owner[lo:hi], si[lo:hi]
+        _rays(ax[:, o], ay[:, o], qx[i], qy[i], tx[i], ty[i], frac[i], s[lo:hi], dist[lo:hi])
     out = np.zeros(len(cr))
     some = counts > 0
     if some.any():
         out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
     return out, s, owner, si, dist
+
+
+def _rays(ax, ay, px, py, ux, uy, s, s_out, dist_out):
+    """One block of :func:`_ray_distance`: rays from the points (px, py) along the
+    normals of the tangents (ux, uy) to the cubics of power coefficients ax, ay
+    (4, b) each, Newton from s; writes the parameters met and the rays' lengths."""
+    a0, a1, a2, a3 = ax
+    b0, b1, b2, b3 = ay
+    g0 = a0 * ux + b0 * uy - (px * ux + py * uy)                  # (C(s) - p) . t, power form
+    g1, g2, g3 = a1 * ux + b1 * uy, a2 * ux + b2 * uy, a3 * ux + b3 * uy
+    h2, h3 = 2.0 * g2, 3.0 * g3
+    gv, gd = np.empty_like(s), np.empty_like(s)
+    for _ in range(5):
+        np.multiply(g3, s, out=gv)
+        gv += g2
+        gv *= s
+        gv += g1
+        gv *= s
+        gv += g0
+        np.multiply(h3, s, out=gd)
+        gd += h2
+        gd *= s
+        gd += g1
+        np.copyto(gd, 1e-300, where=~(np.abs(gd) > 1e-300))
+        np.divide(gv, gd, out=gv)
+        np.subtract(s, gv, out=s)
+        np.clip(s, 0.0, 1.0, out=s)
+    s_out[:] = s
+    np.multiply(a3, s, out=gv)
+    gv += a2
+    gv *= s
+    gv += a1
+    gv *= s
+    gv += a0
+    gv -= px
+    np.multiply(b3, s, out=gd)
+    gd += b2
+    gd *= s
+    gd += b1
+    gd *= s
+    gd += b0
+    gd -= py
+    np.hypot(gv, gd, out=dist_out)
