@@ -30,14 +30,17 @@ ChainArrays = namedtuple("ChainArrays", "bank k off extent tiny")
 
 
 def make_chains(bank, runs):
-    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``),
-    their extents for ``tiny`` in one reduction; sets ``bank.order`` (all runs' ids,
-    concatenated)."""
-    sizes = np.fromiter(map(len, runs), int, len(runs))
-    order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
+    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``, or
+    a :class:`morph.export.bank.RunArrays`), their extents for ``tiny`` in one
+    reduction; sets ``bank.order`` (all runs' ids, concatenated)."""
+    if isinstance(runs, tuple):                # RunArrays: the ids already concatenated
+        sizes, order = runs.sizes, runs.order.astype(int)
+    else:
+        sizes = np.fromiter(map(len, runs), int, len(runs))
+        order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
     offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     bank.order = order
-    if not len(runs):
+    if not len(sizes):
         return ChainArrays(bank, sizes, offs, np.zeros(0), np.zeros(0))
     lo = np.minimum.reduceat(bank.lo[order], offs)
     hi = np.maximum.reduceat(bank.hi[order], offs)
