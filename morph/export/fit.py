@@ -155,27 +155,33 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
-    err, s, owner, si, ray = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
-                                           parts.b - parts.a)
-    err = err * length[cr]
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
+    err, rays = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req, parts.b - parts.a,
+                              length[cr], scale, acc[cr])
+    err = err * length[cr]
     cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
                                                ends, chord)
-    return cubic, dist, fitted, _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray)
+    return cubic, dist, fitted, _picked_rays(sam, parts, length, cr, pick, rays)
 
 
-def _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray):
+def _picked_rays(sam, parts, length, cr, pick, rays):
     """:class:`Rays` of the picked cubics: their parameters at the samples' rays,
     the rays' lengths and the pieces' speeds there (what the certificate starts
-    from); NaN where no picked cubic's ray reached a sample."""
+    from); NaN where no picked cubic's ray reached a sample.  ``rays``: the
+    (candidate, part, stages) of :func:`_ray_distance`."""
     shape = sam["q"].shape[:2]
-    feet, gap = np.full(shape[0] * shape[1], np.nan), np.full(shape[0] * shape[1], np.nan)
-    mine = pick[cr[owner]] == owner
-    feet[si[mine]] = s[mine]
-    gap[si[mine]] = ray[mine] * length[cr[owner[mine]]]
+    feet, gap = np.full(shape, np.nan), np.full(shape, np.nan)
+    cand, part, stages = rays
+    for pairs, cols, s, ray in stages:
+        mine = np.nonzero(pick[cr[cand[pairs]]] == cand[pairs])[0]
+        rows = part[pairs[mine]]
+        f, g = feet[:, cols], gap[:, cols]
+        f[rows] = s[mine]
+        g[rows] = ray[mine] * length[cr[cand[pairs[mine]]]][:, None]
+        feet[:, cols], gap[:, cols] = f, g
     speed = np.hypot(sam["dq"][..., 0], sam["dq"][..., 1]) * (length[parts.req] * (
         parts.b - parts.a))[:, None]
-    return Rays(feet.reshape(shape), gap.reshape(shape), speed)
+    return Rays(feet, gap, speed)
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -395,58 +401,101 @@ _POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]
 #: each) stay in a core's cache through Newton's iterations, where arrays of all the
 #: rows of a round (millions) would be read from memory at every operation.
 RAY_BLOCK = 8192
+#: The samples (of the 16 of a part) whose rays every candidate gets first: their
+#: largest distance is a lower bound of the candidate's sampled distance, which
+#: rules out most candidates before the other samples are measured.
+COARSE = np.array([1, 5, 10, 14])
+_FINE = np.setdiff1d(np.arange(16), COARSE)
 
 
-def _ray_distance(ctrl, cr, q, dq, req, width):
+def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
-    the sample's share of the range's arc length, s clipped to [0, 1].  Also the
-    parameters s where the rays meet the cubics, each with its candidate and its
-    sample (flat index into q), and each ray's length: (distance (C,), s (S,),
-    candidate (S,), sample (S,), length (S,)).
+    the sample's share of the range's arc length, s clipped to [0, 1].  ``length``,
+    ``scale``, ``acc``: each candidate's chord length, handle penalty and acceptance
+    distance (the pick of :func:`_picked_cubics`: least ``err * length * scale``
+    below ``acc``).  Returns (distance (C,), rays): rays = (candidate (N,), part (N,),
+    stages) for the (candidate, part) pairs, ``stages`` a list of (pairs, columns,
+    s, length): the parameters s where the rays from the samples ``columns`` of
+    those pairs met the cubic, and the rays' lengths (the rays cast, see below).
 
-    Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
-    (a reduction over an axis of length 2 costs numpy several times the products
-    themselves), done in blocks of RAY_BLOCK rows (:func:`_rays`); the candidates'
-    samples are consecutive, so the largest distance of each is one
-    ``maximum.reduceat``.
+    Only what can change the pick is measured: every candidate's rays at the
+    COARSE samples first (a lower bound of its distance); a candidate whose bound
+    already fails ``acc`` is dropped; of the others, the one of least bound in each
+    range is measured at every sample, and the rest only where their bound does not
+    exceed its score.  The distance of a dropped candidate is inf: the pick is the
+    one all samples of all candidates give, and its rays are all cast.  Each ray is
+    computed alone (:func:`_rays`), so its result does not depend on the others.
     """
-    if not len(cr):
-        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int), np.zeros(0)
     m = q.shape[1]
-    qx, qy = q[..., 0].ravel(), q[..., 1].ravel()
-    tx, ty = dq[..., 0].ravel(), dq[..., 1].ravel()
-    speed = np.hypot(tx, ty) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
+    speed = np.hypot(dq[..., 0], dq[..., 1]).ravel() * np.repeat(width, m) * np.tile(
+        _quadrature().gw, len(width))
     sreq = np.repeat(req, m)
     cum = np.cumsum(speed)
     tot = np.bincount(sreq, speed)
     base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
-    frac = (cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)
-    start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
-    cnt = np.bincount(sreq, minlength=len(tot))
-    counts = cnt[cr]
+    frac = ((cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)).reshape(-1, m)
+    nreq = len(tot)
+    counts = np.bincount(req, minlength=nreq)[cr]                 # pairs of each candidate
     first = np.cumsum(counts) - counts
-    owner = np.repeat(np.arange(len(cr)), counts)
-    si = np.repeat(start[cr] - first, counts) + np.arange(counts.sum())
+    cand = np.repeat(np.arange(len(cr)), counts)
+    part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
+            + np.arange(int(counts.sum())))
     power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
-    ax = np.ascontiguousarray(power[..., 0].T)                    # (4, C) each
-    ay = np.ascontiguousarray(power[..., 1].T)
-    s, dist = np.empty(len(si)), np.empty(len(si))
-    for lo in range(0, len(si), RAY_BLOCK):
-        hi = min(lo + RAY_BLOCK, len(si))
-        o, i = owner[lo:hi], si[lo:hi]
-        _rays(ax[:, o], ay[:, o], qx[i], qy[i], tx[i], ty[i], frac[i], s[lo:hi], dist[lo:hi])
-    out = np.zeros(len(cr))
-    some = counts > 0
-    if some.any():
-        out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
-    return out, s, owner, si, dist
+    ax = np.ascontiguousarray(power[..., 0].T)[:, cand]           # (4, N) each
+    ay = np.ascontiguousarray(power[..., 1].T)[:, cand]
+    worst = np.zeros(len(cand))                                   # largest ray of a pair
+    stages = []
+
+    def cast(pairs, cols):
+        # the samples' columns gathered once, then whole rows per block
+        cq = [np.ascontiguousarray(x[:, cols]) for x in (q[..., 0], q[..., 1], dq[..., 0],
+                                                          dq[..., 1], frac)]
+        s, ray = np.empty((len(pairs), len(cols))), np.empty((len(pairs), len(cols)))
+        step = max(RAY_BLOCK // len(cols), 1)
+        for lo in range(0, len(pairs), step):
+            b = pairs[lo:lo + step]
+            p = part[b]
+            s[lo:lo + step], ray[lo:lo + step] = _rays(ax[:, b, None], ay[:, b, None],
+                                                       *(x[p] for x in cq))
+        # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
+        worst[pairs] = np.maximum(worst[pairs], ray.max(axis=1))
+        stages.append((pairs, cols, s, ray))
+
+    def dist_of(cands):
+        out = np.zeros(len(cr))
+        some = counts > 0
+        if some.any():
+            out[some] = np.maximum(np.maximum.reduceat(worst, first[some]), 0.0)
+        return out[cands]
+
+    if not len(cr):
+        return np.zeros(0), (cand, part, stages)
+    cast(np.arange(len(cand)), COARSE)
+    bound = dist_of(slice(None)) * length * scale
+    alive = ~(bound >= acc)
+    # per range the live candidate of least bound (the first of equal ones)
+    live = np.nonzero(alive)[0]
+    live = live[np.lexsort((live, bound[live], cr[live]))]
+    best = live[np.concatenate(([True], cr[live][1:] != cr[live][:-1]))[:len(live)]]
+    done = np.zeros(len(cr), bool)
+    done[best] = True
+    cast(np.nonzero(done[cand])[0], _FINE)
+    full = np.full(nreq, np.nan)
+    full[cr[best]] = dist_of(best) * length[best] * scale[best]
+    others = alive & ~done & ~(bound > full[cr])
+    cast(np.nonzero(others[cand])[0], _FINE)
+    done |= others
+    err = np.full(len(cr), np.inf)
+    err[done] = dist_of(done)
+    return err, (cand, part, stages)
 
 
-def _rays(ax, ay, px, py, ux, uy, s, s_out, dist_out):
-    """One block of :func:`_ray_distance`: rays from the points (px, py) along the
-    normals of the tangents (ux, uy) to the cubics of power coefficients ax, ay
-    (4, b) each, Newton from s; writes the parameters met and the rays' lengths."""
+def _rays(ax, ay, px, py, ux, uy, s):
+    """Rays from the points (px, py) along the normals of the tangents (ux, uy) to
+    the cubics of power coefficients ax, ay (4, ...) each, Newton from s (updated in
+    place): (the parameters met, the rays' lengths), one block of
+    :func:`_ray_distance`, every operation elementwise."""
     a0, a1, a2, a3 = ax
     b0, b1, b2, b3 = ay
     g0 = a0 * ux + b0 * uy - (px * ux + py * uy)                  # (C(s) - p) . t, power form
@@ -468,7 +517,6 @@ def _rays(ax, ay, px, py, ux, uy, s, s_out, dist_out):
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
         np.clip(s, 0.0, 1.0, out=s)
-    s_out[:] = s
     np.multiply(a3, s, out=gv)
     gv += a2
     gv *= s
@@ -483,4 +531,4 @@ def _rays(ax, ay, px, py, ux, uy, s, s_out, dist_out):
     gd *= s
     gd += b0
     gd -= py
-    np.hypot(gv, gd, out=dist_out)
+    return s, np.hypot(gv, gd, out=gd)
