@@ -68,6 +68,7 @@ class Bank:
             self.scale[rows] = np.abs(x).max(axis=(1, 2))
             self.t_first[rows], self.t_last[rows] = _end_tangents(x)
         self.line = (sizes == 2) & self.poly
+        self._nodes = None              # node_jets' cache
 
     def cartesian(self, gids):
         """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
@@ -113,6 +114,25 @@ class Bank:
             p[rows] = val[..., :2] / w
             d[rows] = (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
         return p, d
+
+
+    def node_jets(self, gids, t):
+        """:meth:`jet_grid` of pieces ``gids`` at parameters t, each piece evaluated once
+        per bank: the fitter samples every whole piece of a range at the same nodes,
+        round after round (a piece's result does not depend on the batch, so a
+        cached one is the one a round would compute)."""
+        gids = np.asarray(gids, int)
+        t = np.asarray(t, float)
+        if self._nodes is None or not np.array_equal(self._nodes[0], t):
+            g = len(self.deg)
+            self._nodes = (t, np.zeros(g, bool), np.empty((g, len(t), 2)),
+                           np.empty((g, len(t), 2)))
+        _, have, p, d = self._nodes
+        need = np.unique(gids[~have[gids]])
+        if len(need):
+            p[need], d[need] = self.jet_grid(need, t)
+            have[need] = True
+        return p[gids], d[gids]
 
 
 def _end_tangents(x, rel=1e-12):

@@ -214,7 +214,7 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     params = lo[:, None] + width[:, None] * quad.gx[None]
     p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
-    p[whole], d[whole] = bank.jet_grid(gid[whole], quad.gx)
+    p[whole], d[whole] = bank.node_jets(gid[whole], quad.gx)
     cut = np.nonzero(~whole)[0]
     pc_, dc_ = bank.jet(np.repeat(gid[cut], m), params[cut].ravel())
     p[cut], d[cut] = pc_.reshape(-1, m, 2), dc_.reshape(-1, m, 2)
@@ -310,16 +310,8 @@ def _handle_candidates(area, moment, ta, tm, good):
         inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
-    d0 = _D0_GRID[None]
-    d1 = _d1_of(d0, area[:, None], ta[:, None])
-    ok = np.isfinite(d1) & (d1 > 0)
-    f = resid(d0, np.where(ok, d1, 0.0), cf[:, None]) - moment[:, None]
-    f[~ok] = np.nan
-    cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
-    cross &= good[:, None]
-    rr, gg = np.nonzero(cross)
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, ta, cf, good, resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
-    fa, fb = f[rr, gg], f[rr, gg + 1]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
         fx = resid(x, _d1_of(x, area[rr], ta[rr]), cf[rr]) - moment[rr]
@@ -327,22 +319,12 @@ def _handle_candidates(area, moment, ta, tm, good):
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
     roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
-    # local minima of |f| that do not cross zero (kurbo: the real part of a complex
-    # root pair, a near-double root): the grid points where |f| is least
-    af = np.where(ok, np.abs(f), np.inf)
-    dip = np.zeros_like(ok)
-    dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
-    dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
-    near = np.zeros_like(ok)
-    near[:, :-1] |= cross
-    near[:, 1:] |= cross
-    dip &= ~near & good[:, None]
-    rn, gn = np.nonzero(dip)
     none = np.zeros(n, bool)
     none[rn] = True
+    none[rr] = True
     # nothing solves (e.g. a straight range: area and moment vanish): handles of a
     # third, the straight cubic when the tangents run along the chord
-    rt = np.nonzero(good & ~np.any(cross, 1) & ~none)[0]
+    rt = np.nonzero(good & ~none)[0]
     cr = np.concatenate([rr, rn, rt])
     cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
     thirds = np.arange(len(cr)) >= len(cr) - len(rt)
@@ -355,6 +337,43 @@ def _handle_candidates(area, moment, ta, tm, good):
     cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], ta[cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
+
+
+#: Ranges per block of :func:`_grid_scan` (its arrays of 80 grid values a range stay
+#: in a core's cache).
+GRID_BLOCK = 512
+
+
+def _grid_scan(area, moment, ta, cf, good, resid):
+    """The moment residual on :data:`_D0_GRID` for every range, in blocks of
+    GRID_BLOCK ranges: its sign changes (range, grid index, residual at both ends)
+    and the grid points of locally least |residual| that are not next to one
+    (range, grid index), for the ranges ``good``; where d1 is not finite and
+    positive the residual is undefined."""
+    out = [[] for _ in range(6)]
+    d0 = _D0_GRID[None]
+    for lo in range(0, len(area), GRID_BLOCK):
+        blk = slice(lo, lo + GRID_BLOCK)
+        d1 = _d1_of(d0, area[blk, None], ta[blk, None])
+        ok = np.isfinite(d1) & (d1 > 0)
+        f = resid(d0, np.where(ok, d1, 0.0), cf[blk, None]) - moment[blk, None]
+        f[~ok] = np.nan
+        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
+        cross &= good[blk, None]
+        r, g = np.nonzero(cross)
+        # local minima of |f| that do not cross zero (kurbo: the real part of a
+        # complex root pair, a near-double root): the grid points where |f| is least
+        af = np.where(ok, np.abs(f), np.inf)
+        dip = np.zeros_like(ok)
+        dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
+        dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
+        dip[:, :-1] &= ~cross
+        dip[:, 1:] &= ~cross
+        dip &= good[blk, None]
+        rd, gd = np.nonzero(dip)
+        for acc, x in zip(out, (r + lo, g, f[r, g], f[r, g + 1], rd + lo, gd)):
+            acc.append(x)
+    return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
 
 
 def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
