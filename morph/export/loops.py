@@ -93,13 +93,15 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
                                                 runs.exact[fit], runs.loop[fit]),
                                 tol, max_depth))
     # exact already: no fitting (lines stay lines, quadratics quadratics)
-    written = iter(bank.cartesian(runs.order[piece_exact]))
+    written = bank.cartesian(runs.order[piece_exact])
+    at = 0
     out = [[] for _ in loops]
     for i, e, k in zip(runs.loop.tolist(), runs.exact.tolist(), runs.sizes.tolist()):
         if e:
-            out[i].extend(next(written) for _ in range(k))
+            out[i] += written[at:at + k]
+            at += k
         else:
-            out[i].extend(seg.cubic for seg in next(fitted))
+            out[i] += [seg.cubic for seg in next(fitted)]
     return out
 
 
