@@ -128,7 +128,7 @@ class Bank:
             self._nodes = (t, np.zeros(g, bool), np.empty((g, len(t), 2)),
                            np.empty((g, len(t), 2)))
         _, have, p, d = self._nodes
-        need = np.unique(gids[~have[gids]])
+        need = unique(gids[~have[gids]])
         if len(need):
             p[need], d[need] = self.jet_grid(need, t)
             have[need] = True

@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from .bank import RunArrays
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -33,7 +34,7 @@ def make_chains(bank, runs):
     """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``, or
     a :class:`morph.export.bank.RunArrays`), their extents for ``tiny`` in one
     reduction; sets ``bank.order`` (all runs' ids, concatenated)."""
-    if isinstance(runs, tuple):                # RunArrays: the ids already concatenated
+    if isinstance(runs, RunArrays):            # the ids already concatenated
         sizes, order = runs.sizes, runs.order.astype(int)
     else:
         sizes = np.fromiter(map(len, runs), int, len(runs))
@@ -424,7 +425,7 @@ RAY_BLOCK = 8192
 #: largest distance is a lower bound of the candidate's sampled distance, which
 #: rules out most candidates before the other samples are measured.
 COARSE = np.array([1, 5, 10, 14])
-_FINE = np.setdiff1d(np.arange(16), COARSE)
+_FINE = np.array([j for j in range(16) if j not in COARSE])
 
 
 def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
