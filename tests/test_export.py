@@ -304,6 +304,11 @@ NEAR_CUSP = np.array([[0.60170205, 0.64801511, 1.00758605],
 @settings(max_examples=15, deadline=None)
 @given(rational_pieces(), st.sampled_from(TOLS))
 @example(NEAR_CUSP, 1e-4)
+# a round whose only range is a chord shorter than tol: no candidate cubic at all
+@example(np.array([[-0.96610136, -0.53972601, 2.84597519], [0.05733327, 0.00490942, 0.38356267],
+                   [0.31694496, 0.34396791, 2.46793792], [1.44074617, -1.59268217, 1.92553129],
+                   [0.19933447, 0.26336805, 0.41104083], [0.50811421, -0.21572428, 1.19747841]]),
+         0.01)
 def test_random_rational_pieces_within_tol(piece, tol):
     check_chain(piece, cubic_segments(piece, tol), tol)
 
