@@ -47,6 +47,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
 from ..errors import ToleranceNotMetError
+from ..polyline import member, unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
@@ -427,13 +428,13 @@ def _drive(chains, tol, min_width):
             greedy.cap(bwd_of[both], top[both] - greedy.t0[both])
             fwd = two[greedy.mode[two] != DONE]
             met = fwd[greedy.t0[fwd] >= top[fwd] - greedy.t0[bwd_of[fwd]]]
-            met = np.union1d(met, two[(greedy.mode[two] == DONE)
-                                      & (greedy.mode[bwd_of[two]] != DONE)])
-            met = np.union1d(met, two[(greedy.mode[two] != DONE)
-                                      & (greedy.mode[bwd_of[two]] == DONE)])
+            # (polyline.unique, not np.union1d/np.unique/np.isin: those import
+            # numpy.ma, which font workers must not pay for)
+            met = unique(np.concatenate([met, two[(greedy.mode[two] == DONE)
+                                                  != (greedy.mode[bwd_of[two]] == DONE)]]))
             greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
-            ended = np.union1d(ended, np.concatenate([met, bwd_of[met]]))
+            ended = unique(np.concatenate([ended, met, bwd_of[met]]))
             seg = found.take(ended)
             rc = rchain[seg[0]]
             flip = back[seg[0]]
@@ -441,8 +442,8 @@ def _drive(chains, tol, min_width):
                    np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
             # the chains of a forward or backward row of a two-way search: joined;
             # the others (one-way, or searched again whole) are done
-            joined = np.unique(rchain[ended[(spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
-            alone = np.sort(rchain[ended[~np.isin(rchain[ended], joined)]])
+            joined = unique(rchain[ended[(spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
+            alone = np.sort(rchain[ended[~member(rchain[ended], joined)]])
             finished(_segments_of(seg, alone), alone)
             join.add(_segments_of(seg, joined), joined, greedy.t0[joined])
             finished(*join.ready())
@@ -619,7 +620,7 @@ class _Segments:
         """The segments of ``chains`` (all their searches ended), removed: flat arrays
         sorted by chain, then t0."""
         chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
-        mine = np.isin(chain, chains)
+        mine = member(chain, unique(chains))
         self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
         order = np.argsort(chain[mine], kind="stable")    # a chain's segments in t0 order
         return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
@@ -627,7 +628,7 @@ class _Segments:
 
 def _segments_of(seg, chains):
     """The segments of ``chains`` of the arrays ``seg`` (chain, t0, t1, bound, at)."""
-    mine = np.isin(seg[0], chains)
+    mine = member(seg[0], unique(chains))
     return tuple(x[mine] for x in seg)
 
 
