@@ -379,13 +379,14 @@ def _taken(pieces, idx):
     return pc.Pieces(sorted(t.groups, key=lambda g: g[0][0]), len(t))
 
 
-def gauss_table(loops, angle_tol=1e-10):
+def gauss_table(loops, angle_tol=1e-10, pieces=None):
     """:func:`gauss_map` of each loop, all loops at once, as a :class:`GaussTable`:
     the pieces split, their end tangents and points found, the turns at the joins
     and the sides of the cusps resolved in array calls over every loop
     (:func:`_corner_turns_many`); only the lifting of the angles along each loop
     (a running sum, the same float operations as one loop at a time) visits the
-    edges one by one."""
+    edges one by one.  ``pieces``: the loops' pieces in order, stacked (a
+    :class:`morph.piece.Pieces`; None: stacked here)."""
     sizes = [len(loop) for loop in loops]
     if not sum(sizes):
         if loops:
@@ -393,7 +394,9 @@ def gauss_table(loops, angle_tol=1e-10):
         z = np.zeros(0)
         return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
                           np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), 0)
-    curves, owner = _monotone_parts(pc.Pieces.of(list(chain.from_iterable(loops))))
+    if pieces is None:
+        pieces = pc.Pieces.of(list(chain.from_iterable(loops)))
+    curves, owner = _monotone_parts(pieces)
     counts = np.bincount(np.repeat(np.arange(len(loops)), sizes)[owner],
                          minlength=len(loops))
     if (counts == 0).any():
@@ -689,8 +692,26 @@ def angle_params(h, theta):
     t = np.where(np.abs(f0) <= 1e-14 * scale, 0.0, t)
     inner = (f0 * f1 < 0) & (np.abs(f0) > 1e-14 * scale) & (np.abs(f1) > 1e-14 * scale)
     if inner.any():
-        t[inner] = bz.solve_bracketed(f[inner])
+        t[inner] = _solved_once(f[inner])
     return t
+
+
+def _solved_once(f):
+    """:func:`morph.bernstein.solve_bracketed` of the rows of ``f``, each distinct
+    row (to the bit) solved once: a font's strokes share directions (a third to a
+    half of a hanzi chunk's rows repeat), and a row's root depends on the row
+    alone."""
+    if len(f) < 64:
+        return bz.solve_bracketed(f)
+    bits = np.ascontiguousarray(f).view(np.int64)      # rows equal to the bit
+    order = np.lexsort(bits.T[::-1])
+    step = np.ones(len(f), bool)
+    step[1:] = (bits[order[1:]] != bits[order[:-1]]).any(axis=1)
+    if step.all():
+        return bz.solve_bracketed(f)
+    group = np.empty(len(f), np.int64)
+    group[order] = np.cumsum(step) - 1
+    return bz.solve_bracketed(f[order[step]])[group]
 
 
 def restrict(edge, lo, hi):

@@ -521,6 +521,24 @@ class Pieces:
     def __iter__(self):
         return iter(self.rows())
 
+    def then(self, more):
+        """These pieces followed by ``more`` (a list of pieces), as a :class:`Pieces`:
+        the groups :func:`degree_groups` makes of the whole list (by number of
+        control points, in the order of their first piece, indices ascending),
+        ``more`` gathered alone (a region's pieces followed by a nib's few)."""
+        n = self._n
+        more = degree_groups(more)
+        mine = {int(h.shape[1]): (ks, h) for ks, h in self.groups}
+        out = []
+        for ks, h in self.groups:
+            extra = [(n + k2, h2) for k2, h2 in more if h2.shape[1] == h.shape[1]]
+            if extra:
+                ks = np.concatenate([ks] + [k2 for k2, _ in extra])
+                h = np.concatenate([h] + [h2 for _, h2 in extra])
+            out.append((ks, h))
+        out += [(n + k2, h2) for k2, h2 in more if int(h2.shape[1]) not in mine]
+        return Pieces(out, n + sum(len(k2) for k2, _ in more))
+
     def take(self, idx):
         """The pieces ``idx`` (an index array), as a :class:`Pieces`."""
         idx = np.asarray(idx, np.int64)
