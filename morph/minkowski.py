@@ -81,7 +81,7 @@ def minkowski_sum_debug(region_a, region_b, tol, method="qac", gauss_pair=None):
     return validated(out, _achieved_bound(out, debug["convolution"], tol, method)), debug
 
 
-def minkowski_sums(regions_a, region_b, tol, method="qac"):
+def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None):
     """[A ⊕ B for A in regions_a]: :func:`minkowski_sum` of every region with one
     region B, as one computation (a font's glyphs with one nib).
 
@@ -96,7 +96,9 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     check_tolerance`) fit the budget of one sum; regions whose packed coordinates
     would be too large for ``tol`` (:func:`morph.limits.fits_precision`) are summed
     one by one.  Raises as :func:`minkowski_sum` (OperandError naming the
-    index of an empty region).
+    index of an empty region).  ``stacked``: the pieces of all of ``regions_a`` in
+    order as a :class:`morph.piece.Pieces`, where the caller has them (None:
+    gathered here, once, for the checks, the packing and the Gauss map).
     """
     regions_a = list(regions_a)
     if not region_b:
@@ -106,7 +108,8 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     # regions before an empty one, then the empty one)
     empty = [i for i, a in enumerate(regions_a) if not a]
     upto = empty[0] if empty else len(regions_a)
-    stacked = _stacked(regions_a[:upto])
+    if stacked is None or empty:
+        stacked = _stacked(regions_a[:upto])
     points = check_operands(regions_a[:upto], ["region %d" % i for i in range(upto)],
                             region_b, tol, "minkowski sum", stacked)
     if empty:

@@ -30,7 +30,7 @@ def _stroke_loops():
         ([pc.quadratic((0, 0), (50, 100), (100, 0)), pc.line((100, 0), (0, 0))], True),
         ([pc.line((5, 5), (200, 40))], False),
     ]
-    loops, _ = _loops_and_dots_many([paths], ellipse_nib(30, 8, 30))
+    loops, _, _ = _loops_and_dots_many([paths], ellipse_nib(30, 8, 30))
     return list(loops[0])
 
 
