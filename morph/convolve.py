@@ -651,7 +651,8 @@ class GaussPair:
         return self.tables
 
 
-def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a=None):
+def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a=None,
+                  traced=False):
     """:class:`GaussPair` of two regions, the compatible pairs not computed yet.
 
     Raises SelfCrossingError (a ValueError) for a loop whose tangent does not turn
@@ -659,10 +660,13 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a
     turning number of a simple closed curve, Hopf's Umlaufsatz): a figure-8 (0) or a
     curl (+-4 pi) crosses itself, and its convolution would bound no sum.  The
     message names the region by ``names``.  ``pieces_a``: A's pieces in order,
-    stacked (a :class:`morph.piece.Pieces`, e.g. a packing's; None: stacked here)."""
+    stacked (a :class:`morph.piece.Pieces`, e.g. a packing's; None: stacked here).
+    ``traced``: A's loops are paths traced out and back (a stroke's: the tips of
+    such a loop are known, :func:`morph.gauss.gauss_table`)."""
     pieces = None if pieces_a is None else \
         pieces_a.then([p for loop in region_b for p in loop])
-    g = gauss.gauss_table(list(region_a) + list(region_b), pieces=pieces)
+    g = gauss.gauss_table(list(region_a) + list(region_b), pieces=pieces,
+                          traced=len(region_a) if traced else 0)
     for k, total in enumerate(g.turnings()):
         turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:

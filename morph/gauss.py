@@ -379,14 +379,16 @@ def _taken(pieces, idx):
     return pc.Pieces(sorted(t.groups, key=lambda g: g[0][0]), len(t))
 
 
-def gauss_table(loops, angle_tol=1e-10, pieces=None):
+def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     """:func:`gauss_map` of each loop, all loops at once, as a :class:`GaussTable`:
     the pieces split, their end tangents and points found, the turns at the joins
     and the sides of the cusps resolved in array calls over every loop
     (:func:`_corner_turns_many`); only the lifting of the angles along each loop
     (a running sum, the same float operations as one loop at a time) visits the
     edges one by one.  ``pieces``: the loops' pieces in order, stacked (a
-    :class:`morph.piece.Pieces`; None: stacked here)."""
+    :class:`morph.piece.Pieces`; None: stacked here).  ``traced``: the first
+    ``traced`` loops are paths traced out and back (:func:`morph.stroke.path_loop`),
+    whose open cusps are known (:func:`_corner_turns_many`)."""
     sizes = [len(loop) for loop in loops]
     if not sum(sizes):
         if loops:
@@ -405,7 +407,7 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None):
     a0 = np.arctan2(first[:, 1], first[:, 0])
     sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
-    turns = _corner_turns_many(curves, counts, a0, sweep, last)
+    turns = _corner_turns_many(curves, counts, a0, sweep, last, traced)
     starts, ends = pc.end_points(curves)
     vertex = np.abs(turns) >= angle_tol
     theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
@@ -465,12 +467,18 @@ def _lifted(a0, sweep, turns, vertex, counts):
 CUSP_ANGLE = 1e-3
 
 
-def _corner_turns_many(curves, counts, a0, sweep, last):
+def _corner_turns_many(curves, counts, a0, sweep, last, traced=0):
     """Turn at the end of each curve (the loops' curves one after the other,
     ``counts`` per loop), cusps resolved (see :func:`gauss_map`): the turns of all
     loops at once, the sides of all near-cusps at once (:func:`_cusp_sides`), the
     open cusps of all loops at once (:func:`_open_cusp_turns_many`).  ``a0``,
-    ``sweep``: start angle and sweep of each curve; ``last``: its unit end tangent."""
+    ``sweep``: start angle and sweep of each curve; ``last``: its unit end tangent.
+    The open cusps of the first ``traced`` loops, paths traced out and back, turn
+    +pi without that test: such a loop winds 0 round every point off its trace
+    (the probe beyond a tip is outside) and has area 0 (counts as counter-
+    clockwise), so its tips stick out, which is what the test would find (it was
+    half of the Gauss map's time of a stroke font, the winding numbers of probes
+    at every stroke's two ends)."""
     first_of = np.repeat(np.cumsum(counts) - counts, counts)
     k = np.arange(len(curves))
     nxt = np.where(k + 1 - first_of == np.repeat(counts, counts), first_of, k + 1)
@@ -484,6 +492,10 @@ def _corner_turns_many(curves, counts, a0, sweep, last):
     open_cusps = cusp[side == 0]
     if len(open_cusps):
         loop_of = np.repeat(np.arange(len(counts)), counts)
+        tip = loop_of[open_cusps] < traced
+        turns[open_cusps[tip]] = np.pi
+        open_cusps = open_cusps[~tip]
+    if len(open_cusps):
         turns[open_cusps] = _open_cusp_turns_many(curves, counts, loop_of, open_cusps,
                                                   last[open_cusps])
     return turns

@@ -81,7 +81,7 @@ def minkowski_sum_debug(region_a, region_b, tol, method="qac", gauss_pair=None):
     return validated(out, _achieved_bound(out, debug["convolution"], tol, method)), debug
 
 
-def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None):
+def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None, traced=False):
     """[A ⊕ B for A in regions_a]: :func:`minkowski_sum` of every region with one
     region B, as one computation (a font's glyphs with one nib).
 
@@ -99,6 +99,9 @@ def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None):
     index of an empty region).  ``stacked``: the pieces of all of ``regions_a`` in
     order as a :class:`morph.piece.Pieces`, where the caller has them (None:
     gathered here, once, for the checks, the packing and the Gauss map).
+    ``traced``: every loop of ``regions_a`` is a path traced out and back
+    (:func:`morph.stroke.path_loop`), whose tips the Gauss map then knows
+    (:func:`morph.gauss.gauss_table`).
     """
     regions_a = list(regions_a)
     if not region_b:
@@ -120,7 +123,7 @@ def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None):
     for group in groups:
         try:
             out += _packed_sums([regions_a[i] for i in group], region_b, tol, method,
-                                stacked if len(groups) == 1 else None)
+                                stacked if len(groups) == 1 else None, traced)
         except SelfCrossingError:
             # name the loop's region, not its index in the packed region
             for i in group:
@@ -152,15 +155,16 @@ def _stacked(regions):
         return None
 
 
-def _packed_sums(regions_a, region_b, tol, method, stacked=None):
+def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
     """:func:`minkowski_sums` of regions already checked, as one packed sum
-    (``stacked``: their pieces, :func:`_stacked`, or None)."""
+    (``stacked``: their pieces, :func:`_stacked`, or None; ``traced``: as there)."""
     if len(regions_a) < 2:
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked)
     if not fits_precision(tol, layout.pieces, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
-    pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces)
+    pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
+                         traced)
     out, _ = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
     # each result's bound is tol, the sum's guarantee (the achieved error is not
     # tracked per packed region)

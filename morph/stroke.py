@@ -55,7 +55,7 @@ def stroke_many(path_sets, nib_region, tol):
     # crosses: the loops pass the operand's winding test by construction, so they
     # go in marked as such (that test cost 10-17 % of a stroke font's CPU time)
     sums = minkowski_sums([validated(loops[k], frozen=True) for k in has], nib_region,
-                          tol, stacked=stacked)
+                          tol, stacked=stacked, traced=True)
     out = [[] for _ in path_sets]
     for k, region in zip(has, sums):
         out[k] = region
