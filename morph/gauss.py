@@ -259,9 +259,13 @@ def _kept_many(parts, check=True):
         if not check or not ok.any():
             continue
         tn = pc.tangent_numerator_many(h[ok], rational)
-        v = np.einsum("sj,kjd->ksd", bz.basis(tn.shape[1] - 1, CUSP_SAMPLES), tn)
         scale = np.abs(tn).max(axis=(1, 2))
-        bad = (scale == 0.0) | (np.hypot(v[..., 0], v[..., 1]).min(axis=1) < 1e-10 * scale)
+        if tn.shape[1] == 1:    # a constant (a line's): its value at every sample
+            least = np.hypot(tn[:, 0, 0], tn[:, 0, 1])
+        else:
+            v = np.einsum("sj,kjd->ksd", bz.basis(tn.shape[1] - 1, CUSP_SAMPLES), tn)
+            least = np.hypot(v[..., 0], v[..., 1]).min(axis=1)
+        bad = (scale == 0.0) | (least < 1e-10 * scale)
         if bad.any():
             part = h[ok][np.argmax(bad)]
             _check_no_cusp(part)  # the one-part test names the defect
