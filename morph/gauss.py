@@ -253,8 +253,10 @@ def _kept_many(parts, check=True):
     keep = np.zeros(len(parts), bool)
     for ks, h, rational in pc.kind_groups(parts):
         x = h[..., :2] / h[..., 2:]
-        size = np.ptp(x, axis=1).max(axis=1)
-        ok = ~(size < 1e-12 * np.maximum(1.0, np.abs(x).max(axis=(1, 2))))
+        lo, hi = pc.column_extremes(x)
+        size = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
+        biggest = np.maximum(-lo, hi).max(axis=1)           # the largest |coordinate|
+        ok = ~(size < 1e-12 * np.maximum(1.0, biggest))
         keep[ks] = ok
         if not check or not ok.any():
             continue

@@ -146,8 +146,7 @@ def _piece_boxes(pieces):
     coordinates of every piece, by degree groups."""
     lo, hi = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
     for ks, h in pc.degree_groups(pieces):
-        x = pc.cartesian(h)
-        lo[ks], hi[ks] = x.min(axis=1), x.max(axis=1)
+        lo[ks], hi[ks] = pc.column_extremes(pc.cartesian(h))
     return lo, hi
 
 

@@ -310,3 +310,21 @@ def test_pieces_then_groups_as_the_whole_list(split):
     mixed = pc.Pieces.of(lines).then(curves + lines[:1])
     assert [h.shape[1] for _, h in mixed.groups] == [2, 4]
     assert np.array_equal(mixed.groups[0][0], [0, 1, 2, 3, 4, 7])
+
+
+def test_column_extremes_equal_numpys_reductions():
+    """column_extremes gives min and max over the control points to the bit
+    (numpy's short-axis reduction is what it replaces), and the spans and largest
+    |coordinate| derived from them equal np.ptp's and np.abs().max's."""
+    rng = np.random.default_rng(0)
+    for n in (1, 2, 3, 4, 7):
+        x = rng.normal(size=(500, n, 2)) * rng.uniform(0, 1e3, (500, 1, 1))
+        x[::7] = np.abs(x[::7])
+        x[::11] = -np.abs(x[::11])
+        lo, hi = pc.column_extremes(x)
+        assert np.array_equal(lo, x.min(axis=1)) and np.array_equal(hi, x.max(axis=1))
+        assert np.array_equal(np.maximum(-lo, hi).max(axis=1), np.abs(x).max(axis=(1, 2)))
+        assert np.array_equal(np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1]),
+                              np.ptp(x, axis=1).max(axis=1))
+    x[3, 0, 1] = np.nan
+    assert np.isnan(pc.column_extremes(x)[0][3, 1])
