@@ -171,8 +171,16 @@ class _EdgeTable:
         sizes = [len(idx) for idx, _ in requests]
         if not sum(sizes):
             return [np.zeros(0) for _ in requests]
-        t = self.params(np.concatenate([np.asarray(idx, np.int64) for idx, _ in requests]),
-                        np.concatenate([np.asarray(a, float) for _, a in requests]))
+        idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
+        angle = np.concatenate([np.asarray(a, float) for _, a in requests])
+        # each (edge, angle) pair (the angle to the bit) once
+        key = np.stack([idx, angle.view(np.int64)], axis=1)
+        order = np.lexsort((key[:, 1], key[:, 0]))
+        step = np.ones(len(idx), bool)
+        step[1:] = (key[order[1:]] != key[order[:-1]]).any(axis=1)
+        group = np.empty(len(idx), np.int64)
+        group[order] = np.cumsum(step) - 1
+        t = self.params(idx[order[step]], angle[order[step]])[group]
         return np.split(t, np.cumsum(sizes)[:-1])
 
     def restricted(self, idx, t_lo, t_hi):
