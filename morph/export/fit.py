@@ -342,7 +342,7 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     pick = np.full(n, -1)
     pick[ranges] = valid[at]
     has = pick >= 0
-    c = ctrl[np.maximum(pick, 0)]                                  # (n, 4, 2)
+    c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))   # (n, 4, 2)
     normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
     line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
