@@ -307,3 +307,42 @@ def test_main_process_memory_per_glyph_stays_flat(tmp_path, monkeypatch):
     assert per_glyph < 12e3, per_glyph
     font = TTFont(str(tmp_path / "r300.otf"))
     assert font["CFF "].cff.topDictIndex[0].CharStrings["uni4E00"].calcBounds(None) is not None
+
+
+def test_shells_read_without_points_equal_the_full_read(skeleton, tmp_path):
+    """A shell read from a .glif with its outline cut out (only its contours
+    counted) equals the one read from the whole XML: data, components, contour
+    counts; the outlines that cannot be cut safely (components, a comment, two
+    outline elements) are read whole."""
+    from morph.fonts import stream
+    from morph.fonts.stream import SkeletonSource
+
+    ufo = tmp_path / "src.ufo"
+    _source(skeleton).save(str(ufo))
+    glyphs = ufo / "glyphs"
+    o = next(glyphs.glob("o.glif"))
+    text = o.read_bytes()
+    (glyphs / "o.glif").write_bytes(text.replace(b"<outline>", b"<outline><contour/>", 1))
+    plain = stream._without_outline(o.read_bytes())
+    assert plain[1] is not None and b"<point" not in plain[0]
+    assert plain[1] == o.read_bytes().count(b"<contour")
+    for kept in (b"<!-- <outline> -->" + text, text.replace(b"<outline>", b"<outline>"
+                                                            b"<component base='i'/>", 1)):
+        assert stream._without_outline(kept) == (kept, None)
+
+    def shells(cut):
+        saved = stream._without_outline
+        stream._without_outline = cut
+        try:
+            source = SkeletonSource(str(ufo))
+            font = source.shell_font()
+            return [(g.name, g.width, list(g.unicodes), g.lib, len(g.anchors),
+                     [(c.baseGlyph, tuple(c.transformation)) for c in g.components],
+                     source.contour_counts[g.name]) for g in font]
+        finally:
+            stream._without_outline = saved
+
+    cut = shells(stream._without_outline)
+    assert cut == shells(lambda text: (text, None))
+    assert dict((s[0], s[-1]) for s in cut)["o"] == plain[1]
+    assert any(s[5] for s in cut) and any(s[-1] > 1 for s in cut)
