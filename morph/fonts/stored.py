@@ -128,6 +128,12 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         return boxes
 
 
+#: the tables the subroutinizer's save leaves out (:meth:`StoredPostProcessor.
+#: _subroutinize_with_cffsubr`): layout tables, which read no other table and are
+#: the most costly to compile
+_NOT_FOR_TX = frozenset(("GDEF", "GPOS", "GSUB"))
+
+
 class StoredPostProcessor(PostProcessor):
     """ufo2ft's post-processor; after the subroutinizer has replaced the CFF
     table (every charstring rewritten by ``tx`` from its path), the new
@@ -137,6 +143,27 @@ class StoredPostProcessor(PostProcessor):
     them instead of decompiling and drawing every glyph twice."""
 
     bounds = {}
+
+    @classmethod
+    def _subroutinize_with_cffsubr(cls, otf, cffVersion):
+        """cffsubr's subroutinizer, which saves the whole font for ``tx``, given the
+        font without its layout tables (:data:`_NOT_FOR_TX`; ``tx`` reads the CFF
+        and cmap tables): they would be compiled only to be compiled again when
+        the font is reloaded or saved.  The other tables are the font's own, so
+        that the save sets their boxes and metrics as it did."""
+        import cffsubr
+        from fontTools.ttLib import TTFont
+
+        if "CFF " not in otf or cffVersion != 1:
+            return super()._subroutinize_with_cffsubr(otf, cffVersion)
+        rest = TTFont(sfntVersion=otf.sfntVersion, recalcBBoxes=otf.recalcBBoxes,
+                      recalcTimestamp=otf.recalcTimestamp)
+        rest.setGlyphOrder(otf.getGlyphOrder())
+        for tag in otf.keys():
+            if tag != "GlyphOrder" and tag not in _NOT_FOR_TX:
+                rest[tag] = otf[tag]
+        cffsubr.subroutinize(rest, cff_version=cffVersion, keep_glyph_names=False)
+        otf["CFF "] = rest["CFF "]
 
     def process_cff(self, **kwargs):
         super().process_cff(**kwargs)
