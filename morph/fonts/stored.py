@@ -71,6 +71,41 @@ class BoundedCharString(T2CharString):
         return self.bounds
 
 
+class _BoundedT2Pen(T2CharStringPen):
+    """fontTools' charstring pen that also draws the points it writes (rounded as it
+    rounds them) into a ``BoundsPen`` (``bounds``): the calls the charstring's
+    ``calcBounds`` would make, from its decoded program, give the same bounds."""
+
+    def __init__(self, *args, **kwargs):
+        from fontTools.pens.boundsPen import BoundsPen
+
+        super().__init__(*args, **kwargs)
+        self.bounds = BoundsPen(None)
+
+    def _rounded(self, pt):
+        return self.round(pt[0]), self.round(pt[1])
+
+    def _moveTo(self, pt):
+        super()._moveTo(pt)
+        self.bounds.moveTo(self._rounded(pt))
+
+    def _lineTo(self, pt):
+        super()._lineTo(pt)
+        self.bounds.lineTo(self._rounded(pt))
+
+    def _curveToOne(self, pt1, pt2, pt3):
+        super()._curveToOne(pt1, pt2, pt3)
+        self.bounds.curveTo(self._rounded(pt1), self._rounded(pt2), self._rounded(pt3))
+
+    def _closePath(self):
+        super()._closePath()
+        self.bounds.closePath()
+
+    def _endPath(self):
+        super()._endPath()
+        self.bounds.endPath()
+
+
 class StoredCFF(Stored, OutlineOTFCompiler):
     """CFF: a stored charstring gets the advance prepended (the widths ufo2ft chose);
     a glyph with components is decomposed and drawn with ufo2ft's pen."""
@@ -92,13 +127,12 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         for name in self.glyphOrder:
             glyph, shell = self.allGlyphs[name], self.shell(name)
             if shell is not None and shell.components:
-                rec = RecordingPointPen()
-                self.decomposed(name, rec)
                 width = None if glyph.width == default else otRound(glyph.width - nominal)
-                pen = T2CharStringPen(width, self.allGlyphs,
-                                      roundTolerance=self.roundTolerance)
-                rec.replay(PointToSegmentPen(pen))
+                pen = _BoundedT2Pen(width, self.allGlyphs, roundTolerance=self.roundTolerance)
+                self.decomposed(name, PointToSegmentPen(pen))
                 out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
+                out[name].__class__ = BoundedCharString
+                out[name].bounds = pen.bounds.bounds
             elif name in self.store:
                 out[name] = BoundedCharString(
                     bytecode=width_prefix(glyph.width, default, nominal)
