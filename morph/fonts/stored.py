@@ -4,7 +4,7 @@ workers compiled (:func:`morph.fonts.stream.compile_outline`), the glyphs with
 components decomposed here as ufo2ft decomposes them; everything else is ufo2ft's.
 Imported only when a font is compiled (ufo2ft is a heavy import)."""
 
-__all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor"]
+__all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor", "parsed_feature_compiler"]
 
 import struct
 from types import SimpleNamespace
@@ -338,3 +338,35 @@ class _HeaderFont:
 
     def getGlyphOrder(self):
         return self.otf.getGlyphOrder()
+
+
+def parsed_feature_compiler(font, tree):
+    """ufo2ft's feature compiler class for ``font`` whose feature file is the feaLib
+    tree ``tree`` (as ufo2ft would parse it, parsed already where its anchors were
+    moved): ufo2ft's feature writers complete that tree instead of one parsed again.
+    The tables are built as ufo2ft builds them, from the completed tree written out
+    and parsed (built from the tree itself, mark classes come out otherwise).  None
+    where ufo2ft would not use its feature compiler (MTI feature files)."""
+    from ufo2ft.constants import MTI_FEATURES_PREFIX
+    from ufo2ft.featureCompiler import (FeatureCompiler, describe_ufo,
+                                        warn_about_miscased_insertion_markers)
+
+    if any(fn.startswith(MTI_FEATURES_PREFIX) and fn.endswith(".mti")
+           for fn in font.data.fileNames):
+        return None
+
+    class ParsedFeatureCompiler(FeatureCompiler):
+        def setupFeatures(self):
+            """ufo2ft's ``setupFeatures`` on the tree given (the font's own, when an
+            include directory is asked for or no writer runs)."""
+            if self.feaIncludeDir is not None or not self.featureWriters:
+                return super().setupFeatures()
+            if any(writer.mode == "skip" for writer in self.featureWriters):
+                markers = {writer.insertFeatureMarker for writer in self.featureWriters
+                           if writer.insertFeatureMarker is not None}
+                warn_about_miscased_insertion_markers(describe_ufo(self.ufo), tree, markers)
+            for writer in self.featureWriters:
+                writer.write(self.ufo, tree, compiler=self)
+            self.features = tree.asFea()
+
+    return ParsedFeatureCompiler

@@ -74,7 +74,7 @@ from .. import polyline as pl
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
-from .fea import move_feature_anchors  # noqa: F401 (re-exported)
+from .fea import move_feature_anchors, moved_features  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import grow_win_metrics, outline_extent, rename_ufo_family
@@ -669,6 +669,7 @@ class _FontPlan:
     place: object      # _Placement
     kept: dict         # glyph name -> for each component, whether it is kept
     stats: dict
+    features: object = None   # feaLib's tree of the moved feature file (_move_feature_file)
 
 
 def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
@@ -685,9 +686,9 @@ def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
                                         kept=keep)
     kept = {n: keep(n) for n in stroked + followed if font[n].components}
     place = _placement(font, stroked + followed, nib_region)
-    stats = _finish_shells(font, source, stroked, followed, place, kept, kind)
+    stats, features = _finish_shells(font, source, stroked, followed, place, kept, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    return _FontPlan(source, font, stroked, followed, place, kept, stats)
+    return _FontPlan(source, font, stroked, followed, place, kept, stats, features)
 
 
 def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
@@ -697,7 +698,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
     tols = budget.plan(tol, kind == ".ttf")
 
-    sink = _StreamedGlyphs(plan.font, kind, tmp, progress)
+    sink = _StreamedGlyphs(plan.font, kind, tmp, progress, plan.features)
     if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
         import uuid
 
@@ -775,10 +776,11 @@ class _StreamedGlyphs:
     once (:class:`morph.fonts.stream.UfoGlyphWriter`); ``progress(name)`` after
     each.  :meth:`finish` writes the font."""
 
-    def __init__(self, font, kind, tmp, progress):
+    def __init__(self, font, kind, tmp, progress, features=None):
         from .stream import UfoGlyphWriter
 
         self.font, self.kind, self.tmp, self.progress = font, kind, tmp, progress
+        self.features = features   # the font's feature file parsed (None: ufo2ft parses it)
         self.ufo = UfoGlyphWriter(font, tmp) if kind == ".ufo" else None
         self.store = {}
         self.extent = [None, None]
@@ -815,7 +817,8 @@ class _StreamedGlyphs:
             upm = self.font.info.unitsPerEm or 1000
             options["cubicConversionError"] = budget.plan(tol, True).cu2qu / upm
         try:
-            otf = compile_stored(self.font, self.store, self.kind, **options)
+            otf = compile_stored(self.font, self.store, self.kind, features=self.features,
+                                 **options)
         except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
@@ -829,15 +832,16 @@ class _StreamedGlyphs:
 def _finish_shells(font, source, stroked, followed, place, kept, kind):
     """The shells' final furniture before any glyph is stroked (a UFO output writes
     them first): components, anchors, guidelines and advances moved, the glyphs not
-    chosen emptied, the feature file's anchors moved.  Returns the first statistics:
-    ``decomposed``, ``composites``, ``emptied``."""
+    chosen emptied, the feature file's anchors moved.  Returns the first statistics
+    (``decomposed``, ``composites``, ``emptied``) and the moved feature file's feaLib
+    tree (:func:`_move_feature_file`)."""
     written = stroked + followed
     decomposed = sum(1 for n in stroked for keep in kept.get(n, ()) if not keep)
     _move_furniture(font, written, place, kept)
     emptied = _empty_unstroked(font, source, set(written), kind)
-    _move_feature_file(font, place)
+    features = _move_feature_file(font, place)
     return {"decomposed": decomposed, "emptied": emptied,
-            "composites": sum(1 for n in written if font[n].components)}
+            "composites": sum(1 for n in written if font[n].components)}, features
 
 
 def _checked_output(out_path, tol, overwrite):
@@ -954,10 +958,14 @@ def _empty_unstroked(font, source, done, kind):
 
 
 def _move_feature_file(font, place):
-    """The feature file's explicit anchors moved like their glyphs' anchors."""
+    """The feature file's explicit anchors moved like their glyphs' anchors; returns
+    feaLib's tree of the moved file, parsed here once for the compiler too (None:
+    nothing moved, or a file with includes: :func:`morph.fonts.fea.moved_features`)."""
     if "anchor" in (font.features.text or ""):
-        font.features.text = move_feature_anchors(font.features.text, font.keys(),
+        font.features.text, tree = moved_features(font.features.text, font.keys(),
                                                   place.anchor_offset)
+        return tree
+    return None
 
 
 def _outline_tolerance(budget):
