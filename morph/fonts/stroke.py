@@ -237,7 +237,7 @@ class _Separation:
         with components, each component's base), read on the first question in one
         batch (:func:`morph.parse.glif.skeleton_outlines`, all pieces built
         together; a glyph it leaves, or an open font's, by ufoLib2), and their
-        points (:meth:`_dense`) all flattened together."""
+        points (:meth:`_dense_many`) all flattened together."""
         if self.dense is not None:
             return
         from ..parse.glif import skeleton_outlines
