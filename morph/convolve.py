@@ -163,6 +163,26 @@ class _EdgeTable:
         t = np.where(np.abs(angle - (self.theta[idx] + self.sweep[idx])) < 1e-13, 1.0, t)
         return np.where(np.abs(angle - self.theta[idx]) < 1e-13, 0.0, t)
 
+    def params_many(self, requests):
+        """:meth:`params` of each ``(idx, angle)`` of ``requests``, all in one call: an
+        angle several requests share (a stroke's straight edge and the ends of its
+        two vertices' ranges meet the nib at its direction) is solved once
+        (:func:`morph.gauss.angle_params`; each row's result is its own)."""
+        sizes = [len(idx) for idx, _ in requests]
+        if not sum(sizes):
+            return [np.zeros(0) for _ in requests]
+        idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
+        angle = np.concatenate([np.asarray(a, float) for _, a in requests])
+        # each (edge, angle) pair (the angle to the bit) once
+        key = np.stack([idx, angle.view(np.int64)], axis=1)
+        order = np.lexsort((key[:, 1], key[:, 0]))
+        step = np.ones(len(idx), bool)
+        step[1:] = (key[order[1:]] != key[order[:-1]]).any(axis=1)
+        group = np.empty(len(idx), np.int64)
+        group[order] = np.cumsum(step) - 1
+        t = self.params(idx[order[step]], angle[order[step]])[group]
+        return np.split(t, np.cumsum(sizes)[:-1])
+
     def restricted(self, idx, t_lo, t_hi):
         """Sub-pieces of the curved edges idx between the parameters at their angles
         lo and hi, in each edge's direction: [(rows, stack)] by degree."""
@@ -183,12 +203,14 @@ class _EdgeTable:
         conv = self.sweep[idx] > 0
         return np.where(conv, t_lo, t_hi), np.where(conv, t_hi, t_lo)
 
-    def points_at(self, idx, angle):
-        """Point of each edge idx with tangent angle ``angle`` (:func:`gauss.point_at_angle`)."""
+    def points_at(self, idx, angle, t=None):
+        """Point of each edge idx with tangent angle ``angle`` (:func:`gauss.point_at_angle`);
+        ``t``: the parameters of its curved ones (:meth:`params`), where known."""
         pts = self.point[idx].copy()
         cur = np.nonzero(self.curved[idx])[0]
         if len(cur):
-            t = self.params(idx[cur], angle[cur])
+            if t is None:
+                t = self.params(idx[cur], angle[cur])
             for rows, st in self.pieces(idx[cur]):
                 v = bz.evaluate_many(st, t[rows])
                 pts[cur[rows]] = v[:, :2] / v[:, 2:3]
@@ -451,27 +473,39 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
     the other edge's point at its angle, and a curve (restricted to the pair's angle
     range) moved by a vertex.  Yields (pair rows, the moved edge's piece stack, the
     points, one per row, whether the moved edge is A's, whether each piece runs
-    forward: the other edge's sign)."""
-    pos = np.nonzero(ta.straight[i])[0]
-    if len(pos):
-        pts = tb.points_at(j[pos], lo[pos] - off[pos])
-        for rows, st in ta.pieces(i[pos]):
-            p = pos[rows]
+    forward: the other edge's sign).  The parameters solved on each table's curves
+    (the points at the straight edges' angles, the ends of the ranges at the
+    vertices) are solved in one call per table (:meth:`_EdgeTable.params_many`)."""
+    pos_a = np.nonzero(ta.straight[i])[0]                  # B's point moves A's edge
+    pos_b = np.nonzero(tb.straight[j] & ~ta.straight[i])[0]
+    ang_a, ang_b = lo[pos_a] - off[pos_a], lo[pos_b]
+    cur_a = np.nonzero(tb.curved[j[pos_a]])[0]
+    cur_b = np.nonzero(ta.curved[i[pos_b]])[0]
+    ranges = []                                            # a curve moved by a vertex
+    for t_c, t_v, ic, iv, shift in ((ta, tb, i, j, np.zeros_like(off)),
+                                    (tb, ta, j, i, off)):
+        pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
+        ranges.append((ic[pos], lo[pos] - shift[pos], hi[pos] - shift[pos]))
+    t_pa, t_lo_b, t_hi_b = tb.params_many([(j[pos_a][cur_a], ang_a[cur_a]),
+                                           ranges[1][:2], (ranges[1][0], ranges[1][2])])
+    t_pb, t_lo_a, t_hi_a = ta.params_many([(i[pos_b][cur_b], ang_b[cur_b]),
+                                           ranges[0][:2], (ranges[0][0], ranges[0][2])])
+    if len(pos_a):
+        pts = tb.points_at(j[pos_a], ang_a, t_pa)
+        for rows, st in ta.pieces(i[pos_a]):
+            p = pos_a[rows]
             yield p, st, pts[rows], True, tb.sign[j[p]] > 0
-    pos = np.nonzero(tb.straight[j] & ~ta.straight[i])[0]
-    if len(pos):
-        pts = ta.points_at(i[pos], lo[pos])
-        for rows, st in tb.pieces(j[pos]):
-            p = pos[rows]
+    if len(pos_b):
+        pts = ta.points_at(i[pos_b], ang_b, t_pb)
+        for rows, st in tb.pieces(j[pos_b]):
+            p = pos_b[rows]
             yield p, st, pts[rows], False, ta.sign[i[p]] > 0
-    for t_c, t_v, ic, iv, shift, of_a in ((ta, tb, i, j, np.zeros_like(off), True),
-                                          (tb, ta, j, i, off, False)):
+    for t_c, t_v, ic, iv, t_lo, t_hi, of_a in ((ta, tb, i, j, t_lo_a, t_hi_a, True),
+                                               (tb, ta, j, i, t_lo_b, t_hi_b, False)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         if not len(pos):
             continue
-        cc = ic[pos]
-        subs = t_c.restricted(cc, t_c.params(cc, lo[pos] - shift[pos]),
-                              t_c.params(cc, hi[pos] - shift[pos]))
+        subs = t_c.restricted(ic[pos], t_lo, t_hi)
         for rows, st in subs:
             p = pos[rows]
             yield p, st, t_v.point[iv[p]], of_a, t_v.sign[iv[p]] > 0
@@ -522,8 +556,8 @@ def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of):
     ``tol`` per row), one batch per pair of piece degrees: yields the
     :func:`morph.subdivide.subdivide_nodes` result (accepted nodes, their
     ``piece_of`` results, bounds) of each batch."""
-    ta_lo, ta_hi = ta.params(i, lo), ta.params(i, hi)
-    tb_lo, tb_hi = tb.params(j, lo - off), tb.params(j, hi - off)
+    ta_lo, ta_hi = ta.params_many([(i, lo), (i, hi)])
+    tb_lo, tb_hi = tb.params_many([(j, lo - off), (j, hi - off)])
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
     for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
         rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
@@ -651,15 +685,22 @@ class GaussPair:
         return self.tables
 
 
-def gauss_pair_of(region_a, region_b, names=("operand A", "operand B")):
+def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a=None,
+                  traced=False):
     """:class:`GaussPair` of two regions, the compatible pairs not computed yet.
 
     Raises SelfCrossingError (a ValueError) for a loop whose tangent does not turn
     through +-2 pi (the
     turning number of a simple closed curve, Hopf's Umlaufsatz): a figure-8 (0) or a
     curl (+-4 pi) crosses itself, and its convolution would bound no sum.  The
-    message names the region by ``names``."""
-    g = gauss.gauss_table(list(region_a) + list(region_b))
+    message names the region by ``names``.  ``pieces_a``: A's pieces in order,
+    stacked (a :class:`morph.piece.Pieces`, e.g. a packing's; None: stacked here).
+    ``traced``: A's loops are paths traced out and back (a stroke's: the tips of
+    such a loop are known, :func:`morph.gauss.gauss_table`)."""
+    pieces = None if pieces_a is None else \
+        pieces_a.then([p for loop in region_b for p in loop])
+    g = gauss.gauss_table(list(region_a) + list(region_b), pieces=pieces,
+                          traced=len(region_a) if traced else 0)
     for k, total in enumerate(g.turnings()):
         turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:

@@ -253,15 +253,21 @@ def _kept_many(parts, check=True):
     keep = np.zeros(len(parts), bool)
     for ks, h, rational in pc.kind_groups(parts):
         x = h[..., :2] / h[..., 2:]
-        size = np.ptp(x, axis=1).max(axis=1)
-        ok = ~(size < 1e-12 * np.maximum(1.0, np.abs(x).max(axis=(1, 2))))
+        lo, hi = pc.column_extremes(x)
+        size = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
+        biggest = np.maximum(-lo, hi).max(axis=1)           # the largest |coordinate|
+        ok = ~(size < 1e-12 * np.maximum(1.0, biggest))
         keep[ks] = ok
         if not check or not ok.any():
             continue
         tn = pc.tangent_numerator_many(h[ok], rational)
-        v = np.einsum("sj,kjd->ksd", bz.basis(tn.shape[1] - 1, CUSP_SAMPLES), tn)
         scale = np.abs(tn).max(axis=(1, 2))
-        bad = (scale == 0.0) | (np.hypot(v[..., 0], v[..., 1]).min(axis=1) < 1e-10 * scale)
+        if tn.shape[1] == 1:    # a constant (a line's): its value at every sample
+            least = np.hypot(tn[:, 0, 0], tn[:, 0, 1])
+        else:
+            v = np.einsum("sj,kjd->ksd", bz.basis(tn.shape[1] - 1, CUSP_SAMPLES), tn)
+            least = np.hypot(v[..., 0], v[..., 1]).min(axis=1)
+        bad = (scale == 0.0) | (least < 1e-10 * scale)
         if bad.any():
             part = h[ok][np.argmax(bad)]
             _check_no_cusp(part)  # the one-part test names the defect
@@ -379,13 +385,16 @@ def _taken(pieces, idx):
     return pc.Pieces(sorted(t.groups, key=lambda g: g[0][0]), len(t))
 
 
-def gauss_table(loops, angle_tol=1e-10):
+def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     """:func:`gauss_map` of each loop, all loops at once, as a :class:`GaussTable`:
     the pieces split, their end tangents and points found, the turns at the joins
     and the sides of the cusps resolved in array calls over every loop
     (:func:`_corner_turns_many`); only the lifting of the angles along each loop
     (a running sum, the same float operations as one loop at a time) visits the
-    edges one by one."""
+    edges one by one.  ``pieces``: the loops' pieces in order, stacked (a
+    :class:`morph.piece.Pieces`; None: stacked here).  ``traced``: the first
+    ``traced`` loops are paths traced out and back (:func:`morph.stroke.path_loop`),
+    whose open cusps are known (:func:`_corner_turns_many`)."""
     sizes = [len(loop) for loop in loops]
     if not sum(sizes):
         if loops:
@@ -393,7 +402,9 @@ def gauss_table(loops, angle_tol=1e-10):
         z = np.zeros(0)
         return GaussTable(z.astype(int), z.astype(int), z.astype(bool), z, z,
                           np.zeros((0, 2)), z.astype(int), pc.Pieces([], 0), 0)
-    curves, owner = _monotone_parts(pc.Pieces.of(list(chain.from_iterable(loops))))
+    if pieces is None:
+        pieces = pc.Pieces.of(list(chain.from_iterable(loops)))
+    curves, owner = _monotone_parts(pieces)
     counts = np.bincount(np.repeat(np.arange(len(loops)), sizes)[owner],
                          minlength=len(loops))
     if (counts == 0).any():
@@ -402,7 +413,7 @@ def gauss_table(loops, angle_tol=1e-10):
     a0 = np.arctan2(first[:, 1], first[:, 0])
     sweep = _wrap(np.arctan2(last[:, 1], last[:, 0]) - a0)
     sweep = np.where(np.abs(sweep) < angle_tol, 0.0, sweep)
-    turns = _corner_turns_many(curves, counts, a0, sweep, last)
+    turns = _corner_turns_many(curves, counts, a0, sweep, last, traced)
     starts, ends = pc.end_points(curves)
     vertex = np.abs(turns) >= angle_tol
     theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
@@ -462,12 +473,18 @@ def _lifted(a0, sweep, turns, vertex, counts):
 CUSP_ANGLE = 1e-3
 
 
-def _corner_turns_many(curves, counts, a0, sweep, last):
+def _corner_turns_many(curves, counts, a0, sweep, last, traced=0):
     """Turn at the end of each curve (the loops' curves one after the other,
     ``counts`` per loop), cusps resolved (see :func:`gauss_map`): the turns of all
     loops at once, the sides of all near-cusps at once (:func:`_cusp_sides`), the
     open cusps of all loops at once (:func:`_open_cusp_turns_many`).  ``a0``,
-    ``sweep``: start angle and sweep of each curve; ``last``: its unit end tangent."""
+    ``sweep``: start angle and sweep of each curve; ``last``: its unit end tangent.
+    The open cusps of the first ``traced`` loops, paths traced out and back, turn
+    +pi without that test: such a loop winds 0 round every point off its trace
+    (the probe beyond a tip is outside) and has area 0 (counts as counter-
+    clockwise), so its tips stick out, which is what the test would find (it was
+    half of the Gauss map's time of a stroke font, the winding numbers of probes
+    at every stroke's two ends)."""
     first_of = np.repeat(np.cumsum(counts) - counts, counts)
     k = np.arange(len(curves))
     nxt = np.where(k + 1 - first_of == np.repeat(counts, counts), first_of, k + 1)
@@ -481,6 +498,10 @@ def _corner_turns_many(curves, counts, a0, sweep, last):
     open_cusps = cusp[side == 0]
     if len(open_cusps):
         loop_of = np.repeat(np.arange(len(counts)), counts)
+        tip = loop_of[open_cusps] < traced
+        turns[open_cusps[tip]] = np.pi
+        open_cusps = open_cusps[~tip]
+    if len(open_cusps):
         turns[open_cusps] = _open_cusp_turns_many(curves, counts, loop_of, open_cusps,
                                                   last[open_cusps])
     return turns
@@ -689,8 +710,26 @@ def angle_params(h, theta):
     t = np.where(np.abs(f0) <= 1e-14 * scale, 0.0, t)
     inner = (f0 * f1 < 0) & (np.abs(f0) > 1e-14 * scale) & (np.abs(f1) > 1e-14 * scale)
     if inner.any():
-        t[inner] = bz.solve_bracketed(f[inner])
+        t[inner] = _solved_once(f[inner])
     return t
+
+
+def _solved_once(f):
+    """:func:`morph.bernstein.solve_bracketed` of the rows of ``f``, each distinct
+    row (to the bit) solved once: a font's strokes share directions (a third to a
+    half of a hanzi chunk's rows repeat), and a row's root depends on the row
+    alone."""
+    if len(f) < 64:
+        return bz.solve_bracketed(f)
+    bits = np.ascontiguousarray(f).view(np.int64)      # rows equal to the bit
+    order = np.lexsort(bits.T[::-1])
+    step = np.ones(len(f), bool)
+    step[1:] = (bits[order[1:]] != bits[order[:-1]]).any(axis=1)
+    if step.all():
+        return bz.solve_bracketed(f)
+    group = np.empty(len(f), np.int64)
+    group[order] = np.cumsum(step) - 1
+    return bz.solve_bracketed(f[order[step]])[group]
 
 
 def restrict(edge, lo, hi):

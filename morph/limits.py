@@ -70,8 +70,9 @@ def point_budget():
 def region_extent(region):
     """(size, magnitude) of a region from its control points (a hull bound): size is
     the larger side of the control-point box, magnitude the largest |coordinate|.
-    Raises LimitError for NaN/inf or coordinates beyond MAX_COORDINATE."""
-    pieces = [p for loop in region for p in loop]
+    Raises LimitError for NaN/inf or coordinates beyond MAX_COORDINATE.  ``region``
+    may also be its pieces stacked (a :class:`morph.piece.Pieces`)."""
+    pieces = region if isinstance(region, pc.Pieces) else [p for loop in region for p in loop]
     if not pieces:
         return 0.0, 0.0
     pts = np.concatenate([(h[..., :2] / h[..., 2:]).reshape(-1, 2)

@@ -81,7 +81,7 @@ def minkowski_sum_debug(region_a, region_b, tol, method="qac", gauss_pair=None):
     return validated(out, _achieved_bound(out, debug["convolution"], tol, method)), debug
 
 
-def minkowski_sums(regions_a, region_b, tol, method="qac"):
+def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None, traced=False):
     """[A ⊕ B for A in regions_a]: :func:`minkowski_sum` of every region with one
     region B, as one computation (a font's glyphs with one nib).
 
@@ -96,7 +96,12 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     check_tolerance`) fit the budget of one sum; regions whose packed coordinates
     would be too large for ``tol`` (:func:`morph.limits.fits_precision`) are summed
     one by one.  Raises as :func:`minkowski_sum` (OperandError naming the
-    index of an empty region).
+    index of an empty region).  ``stacked``: the pieces of all of ``regions_a`` in
+    order as a :class:`morph.piece.Pieces`, where the caller has them (None:
+    gathered here, once, for the checks, the packing and the Gauss map).
+    ``traced``: every loop of ``regions_a`` is a path traced out and back
+    (:func:`morph.stroke.path_loop`), whose tips the Gauss map then knows
+    (:func:`morph.gauss.gauss_table`).
     """
     regions_a = list(regions_a)
     if not region_b:
@@ -106,15 +111,19 @@ def minkowski_sums(regions_a, region_b, tol, method="qac"):
     # regions before an empty one, then the empty one)
     empty = [i for i, a in enumerate(regions_a) if not a]
     upto = empty[0] if empty else len(regions_a)
+    if stacked is None or empty:
+        stacked = _stacked(regions_a[:upto])
     points = check_operands(regions_a[:upto], ["region %d" % i for i in range(upto)],
-                            region_b, tol, "minkowski sum")
+                            region_b, tol, "minkowski sum", stacked)
     if empty:
         raise OperandError("region %d is empty: both regions must have at least one loop"
                            % upto)
     out = []
-    for group in _budget_groups(points, point_budget()):
+    groups = _budget_groups(points, point_budget())
+    for group in groups:
         try:
-            out += _packed_sums([regions_a[i] for i in group], region_b, tol, method)
+            out += _packed_sums([regions_a[i] for i in group], region_b, tol, method,
+                                stacked if len(groups) == 1 else None, traced)
         except SelfCrossingError:
             # name the loop's region, not its index in the packed region
             for i in group:
@@ -136,14 +145,27 @@ def _budget_groups(points, budget):
     return groups if groups[-1] else []
 
 
-def _packed_sums(regions_a, region_b, tol, method):
-    """:func:`minkowski_sums` of regions already checked, as one packed sum."""
+def _stacked(regions):
+    """The pieces of ``regions`` in order as a :class:`morph.piece.Pieces` (gathered
+    once for the operand checks, the packing and the Gauss maps), or None where
+    they cannot be stacked (the checks then name the bad piece)."""
+    try:
+        return pc.Pieces.of([p for r in regions for loop in r for p in loop])
+    except (TypeError, ValueError):
+        return None
+
+
+def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
+    """:func:`minkowski_sums` of regions already checked, as one packed sum
+    (``stacked``: their pieces, :func:`_stacked`, or None; ``traced``: as there)."""
     if len(regions_a) < 2:
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
-    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol)
-    if not fits_precision(tol, layout.packed, region_b):
+    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked)
+    if not fits_precision(tol, layout.pieces, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
-    out, _ = _sum(layout.packed, region_b, tol, method, None, layout.slot_of)
+    pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
+                         traced)
+    out, _ = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
     # each result's bound is tol, the sum's guarantee (the achieved error is not
     # tracked per packed region)
     out = [validated(loops, tol, frozen=True) for loops in layout.split(out)]

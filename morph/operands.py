@@ -75,7 +75,7 @@ def check_operand(region, name):
         _check_windings(region, name)
 
 
-def check_operands(regions, names, region_b, tol, operation):
+def check_operands(regions, names, region_b, tol, operation, pieces=None):
     """[:func:`morph.limits.check_tolerance` (tol, region, region_b)] of every region
     after its :func:`check_operand`, raising what region by region would raise first.
 
@@ -84,7 +84,9 @@ def check_operands(regions, names, region_b, tol, operation):
     chunk); a region that any of these flags, or that is not a validated
     :class:`morph.region.Region` (the winding test), is then checked on its own, in
     order, by the functions themselves, so that the first error and its message
-    are theirs.  ``region_b`` must have passed :func:`check_operand`."""
+    are theirs.  ``region_b`` must have passed :func:`check_operand`.  ``pieces``:
+    the regions' pieces in order, stacked (a :class:`morph.piece.Pieces`; None:
+    stacked here)."""
     from . import limits as lm
 
     regions = list(regions)
@@ -98,7 +100,7 @@ def check_operands(regions, names, region_b, tol, operation):
     if not tol_ok:   # check_tolerance names it
         return _one_by_one(regions, names, region_b, tol, operation, range(n))
     tol = float(tol)
-    checked = _piece_flags(regions)
+    checked = _piece_flags(regions, pieces)
     if checked is None:
         return _one_by_one(regions, names, region_b, tol, operation, range(n))
     flag, size, mag, packed, region_of = checked
@@ -116,14 +118,15 @@ def check_operands(regions, names, region_b, tol, operation):
     return out
 
 
-def _piece_flags(regions):
+def _piece_flags(regions, stacked=None):
     """What the pieces of all ``regions`` show at once, for :func:`check_operands`:
     ``(flag, size, mag, packed, region_of)``, where ``flag`` marks each region with an
     empty loop, a non-finite or too large control point, a loop that does not close
     (gap over 1e-7 of its size) or a negative area, ``size``/``mag`` are each
     region's extent and largest coordinate, ``packed`` the stacked pieces and
     ``region_of`` each piece's region; None where some piece is not a (k >= 2, 3)
-    array (the functions themselves then name it)."""
+    array (the functions themselves then name it).  ``stacked``: the pieces as a
+    :class:`morph.piece.Pieces` already (None: stacked here)."""
     from . import limits as lm
 
     n = len(regions)
@@ -138,7 +141,7 @@ def _piece_flags(regions):
     # the pieces stacked by number of rows: every stack (k, rows >= 2, 3) exactly
     # when every piece is a (rows >= 2, 3) array
     try:
-        packed = pc.Pieces.of(pieces)
+        packed = pc.Pieces.of(pieces) if stacked is None else stacked
     except (TypeError, ValueError):
         return None
     if any(h.ndim != 3 or h.shape[1] < 2 or h.shape[2] != 3 for _, h in packed.groups):

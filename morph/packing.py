@@ -36,10 +36,16 @@ class Packing:
     ``packed`` all their loops, in order; ``slot_boxes[i]`` the box of region i
     moved, plus ``reach``, widened by ``margin`` / 4 on every side: the slot boxes
     are ``margin`` / 2 apart, and the moved regions ``reach``'s size plus ``margin``.
+    ``pieces``: the regions' pieces in order as a :class:`morph.piece.Pieces`, when
+    the caller has them stacked (None: stacked here, once for the boxes and the
+    moves); ``self.pieces`` is the moved pieces' (``packed``'s) stacks, for the
+    functions that take the packed region's pieces stacked.
     """
 
-    def __init__(self, regions, reach, margin):
-        boxes = _control_boxes(regions)
+    def __init__(self, regions, reach, margin, pieces=None):
+        if pieces is None:
+            pieces = pc.Pieces.of([p for r in regions for loop in r for p in loop])
+        boxes = _control_boxes(regions, pieces)
         reach = np.asarray(reach, float)
         margin = np.broadcast_to(np.asarray(margin, float), (2,))
         pitch = (boxes[:, 2:] - boxes[:, :2]).max(axis=0) + (reach[2:] - reach[:2]) + margin
@@ -47,8 +53,10 @@ class Packing:
         cell = np.stack([np.arange(len(regions)) % cols, np.arange(len(regions)) // cols], 1)
         corner = cell * pitch - 0.5 * pitch * [cols, -(-len(regions) // cols)]
         self.offsets = corner - boxes[:, :2]
-        self.packed = _translated([loop for r in regions for loop in r],
-                                  np.repeat(self.offsets, [len(r) for r in regions], axis=0))
+        self.packed, self.pieces = _translated(
+            [loop for r in regions for loop in r],
+            np.repeat(self.offsets, [len(r) for r in regions], axis=0), pieces=pieces,
+            stacks=True)
         lo, hi = corner + reach[:2] - 0.25 * margin, boxes[:, 2:] + self.offsets + reach[2:]
         self.slot_boxes = np.concatenate([lo, hi + 0.25 * margin], axis=1)
         self.pitch, self.cols = pitch, cols
@@ -82,22 +90,28 @@ class Packing:
         return out
 
 
-def _control_boxes(regions):
+def _control_boxes(regions, pieces=None):
     """:func:`control_box` of each region, (n, 4): the boxes of all their pieces in
-    one call, reduced per region."""
+    one call, reduced per region (``pieces``: theirs stacked, as :class:`Packing`
+    takes them)."""
     sizes = [sum(map(len, r)) for r in regions]
-    boxes = pc.bboxes(list(chain.from_iterable(chain.from_iterable(regions))))
+    if pieces is None:
+        pieces = list(chain.from_iterable(chain.from_iterable(regions)))
+    boxes = pc.bboxes(pieces)
     start = np.cumsum([0] + sizes[:-1])
     return np.concatenate([np.minimum.reduceat(boxes[:, :2], start, axis=0),
                            np.maximum.reduceat(boxes[:, 2:], start, axis=0)], axis=1)
 
 
-def _translated(loops, offsets, frozen=False):
+def _translated(loops, offsets, frozen=False, pieces=None, stacks=False):
     """Each loop moved by its offset (:func:`morph.piece.translate`, exact on
     homogeneous points), the pieces of one degree at once (``frozen``: the new
-    stacks made read-only, so their rows are)."""
+    stacks made read-only, so their rows are).  ``pieces``: the loops' pieces
+    stacked (a :class:`morph.piece.Pieces`; None: stacked here).  With ``stacks``,
+    (loops, the moved pieces as a :class:`morph.piece.Pieces`)."""
     sizes = [len(loop) for loop in loops]
-    pieces = list(chain.from_iterable(loops))
+    if pieces is None:
+        pieces = list(chain.from_iterable(loops))
     shift = np.repeat(np.asarray(offsets, float).reshape(-1, 2), sizes, axis=0)
     groups = []
     for ks, h in pc.degree_groups(pieces):
@@ -105,9 +119,11 @@ def _translated(loops, offsets, frozen=False):
         h[..., :2] += shift[ks][:, None] * h[..., 2:]
         h.flags.writeable = not frozen
         groups.append((ks, h))
-    moved = pc.Pieces(groups, len(pieces)).rows()
+    table = pc.Pieces(groups, len(pieces))
+    moved = table.rows()
     bounds = np.cumsum([0] + sizes).tolist()
-    return [moved[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    out = [moved[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    return (out, table) if stacks else out
 
 
 __all__ = ["Packing", "control_box"]

@@ -521,6 +521,24 @@ class Pieces:
     def __iter__(self):
         return iter(self.rows())
 
+    def then(self, more):
+        """These pieces followed by ``more`` (a list of pieces), as a :class:`Pieces`:
+        the groups :func:`degree_groups` makes of the whole list (by number of
+        control points, in the order of their first piece, indices ascending),
+        ``more`` gathered alone (a region's pieces followed by a nib's few)."""
+        n = self._n
+        more = degree_groups(more)
+        mine = {int(h.shape[1]): (ks, h) for ks, h in self.groups}
+        out = []
+        for ks, h in self.groups:
+            extra = [(n + k2, h2) for k2, h2 in more if h2.shape[1] == h.shape[1]]
+            if extra:
+                ks = np.concatenate([ks] + [k2 for k2, _ in extra])
+                h = np.concatenate([h] + [h2 for _, h2 in extra])
+            out.append((ks, h))
+        out += [(n + k2, h2) for k2, h2 in more if int(h2.shape[1]) not in mine]
+        return Pieces(out, n + sum(len(k2) for k2, _ in more))
+
     def take(self, idx):
         """The pieces ``idx`` (an index array), as a :class:`Pieces`."""
         idx = np.asarray(idx, np.int64)
@@ -612,6 +630,16 @@ def end_tangents(piece, eps=1e-12):
     return first[0], last[0]
 
 
+def column_extremes(x):
+    """(min, max) over axis 1 of a stack (k, m, ...) (the control points of pieces),
+    one control point at a time: numpy reduces a short middle axis row by row, at
+    several times the cost; the same values."""
+    lo = hi = x[:, 0]
+    for i in range(1, x.shape[1]):
+        lo, hi = np.minimum(lo, x[:, i]), np.maximum(hi, x[:, i])
+    return lo, hi
+
+
 def end_tangents_many(pieces, rel=1e-12, strict=True):
     """Unit tangents at t = 0 and t = 1 of each piece, (k, 2) each: along the first
     and the last control-point difference longer than ``rel`` times the piece's
@@ -623,7 +651,8 @@ def end_tangents_many(pieces, rel=1e-12, strict=True):
         x = h[..., :2] / h[..., 2:]
         d = np.diff(x, axis=1)
         n = np.hypot(d[..., 0], d[..., 1])
-        size = np.ptp(x, axis=1).max(axis=1)
+        lo, hi = column_extremes(x)
+        size = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
         ok = n > rel * size[:, None]
         dead = ~ok.any(axis=1) | (size <= 1e-300)
         if strict and dead.any():

@@ -204,6 +204,16 @@ def unique(values):
     return a
 
 
+def member(values, sorted_set):
+    """Whether each of ``values`` is in ``sorted_set`` (a sorted array without NaN):
+    ``np.isin(values, sorted_set)``, which imports ``numpy.ma`` (:func:`unique`)."""
+    values = np.asarray(values)
+    if not len(sorted_set):
+        return np.zeros(values.shape, bool)
+    at = np.minimum(np.searchsorted(sorted_set, values), len(sorted_set) - 1)
+    return sorted_set[at] == values
+
+
 class BoxGrid:
     """Axis-aligned boxes hashed on a uniform grid, for all-at-once candidate searches.
 

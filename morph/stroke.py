@@ -48,13 +48,14 @@ def stroke_many(path_sets, nib_region, tol):
     if not nib_region:
         raise ValueError("the nib is empty")
     check_convex_nib(nib_region)  # NibError: a path ⊕ a non-convex nib is no pen's stroke
-    loops, dots = _loops_and_dots_many(path_sets, nib_region) if path_sets else ((), ())
+    loops, dots, stacked = _loops_and_dots_many(path_sets, nib_region) if path_sets else \
+        ((), (), None)
     has = [k for k, lp in enumerate(loops) if lp]
     # a path traced out and back winds 0 round every point off it, whatever it
     # crosses: the loops pass the operand's winding test by construction, so they
     # go in marked as such (that test cost 10-17 % of a stroke font's CPU time)
     sums = minkowski_sums([validated(loops[k], frozen=True) for k in has], nib_region,
-                          tol)
+                          tol, stacked=stacked, traced=True)
     out = [[] for _ in path_sets]
     for k, region in zip(has, sums):
         out[k] = region
@@ -67,7 +68,9 @@ def stroke_many(path_sets, nib_region, tol):
 
 def _loops_and_dots_many(path_sets, nib_region):
     """(degenerate loops of each set of paths, start points of its zero-length
-    paths): pieces shorter than 1e-12 of their set's size (with the nib's) are
+    paths, the pieces of all the loops in order stacked (a :class:`morph.piece.
+    Pieces`, taken from the forward and reversed stacks: what
+    :func:`morph.minkowski.minkowski_sums` would gather from the loops)): pieces shorter than 1e-12 of their set's size (with the nib's) are
     dropped; a path with none left is a dot.  Each path is cut where it turns back
     on itself (a turn within CUSP_ANGLE of pi between consecutive pieces): the
     parts' sums with the nib unite to the path's (a sum distributes over a union),
@@ -99,7 +102,8 @@ def _loops_and_dots_many(path_sets, nib_region):
     idx = np.flatnonzero(long)
     kept = pc.Pieces(_frozen_groups(table.take(idx).groups), len(idx))
     first, last = pc.end_tangents_many(kept) if len(idx) else (None, None)
-    back = _reversed_many(kept)
+    reversed_ = _reversed_many(kept)
+    back = reversed_.rows()
     # a cut before long piece m where the path turns back on itself from piece m - 1
     same = path_of[idx[1:]] == path_of[idx[:-1]]
     cos = np.einsum("ij,ij->i", last[:-1], first[1:]) if len(idx) > 1 else np.zeros(0)
@@ -118,7 +122,23 @@ def _loops_and_dots_many(path_sets, nib_region):
     for j, (k, ps) in enumerate(paths):
         if not has_long[j] and len(ps):
             dots[k].append(pc.start(np.asarray(raw[bounds[j]], float)))
-    return loops, dots
+    return loops, dots, _loop_stacks(kept, reversed_, starts)
+
+
+def _loop_stacks(kept, reversed_, starts):
+    """The pieces of all the loops of :func:`_loops_and_dots_many` in order (the
+    parts in path order, sets in order: each part's pieces forward, then reversed
+    backward) as one :class:`morph.piece.Pieces`, taken from the stacks of the
+    pieces (``kept``) and of their reversals (``reversed_``)."""
+    a = np.asarray(starts[:-1], np.int64)
+    length = np.asarray(starts[1:], np.int64) - a
+    n = len(kept)
+    both = pc.Pieces([(np.concatenate([ks, n + kr]), np.concatenate([h, hr]))
+                      for (ks, h), (kr, hr) in zip(kept.groups, reversed_.groups)], 2 * n)
+    part = np.repeat(np.arange(len(a)), 2 * length)
+    j = np.arange(len(part)) - np.repeat(np.cumsum(2 * length) - 2 * length, 2 * length)
+    ln, start = length[part], a[part]
+    return both.take(np.where(j < ln, start + j, n + start + 2 * ln - 1 - j))
 
 
 def _piece_boxes(pieces):
@@ -126,17 +146,16 @@ def _piece_boxes(pieces):
     coordinates of every piece, by degree groups."""
     lo, hi = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
     for ks, h in pc.degree_groups(pieces):
-        x = pc.cartesian(h)
-        lo[ks], hi[ks] = x.min(axis=1), x.max(axis=1)
+        lo[ks], hi[ks] = pc.column_extremes(pc.cartesian(h))
     return lo, hi
 
 
 def _reversed_many(pieces):
     """Each piece traversed the other way (:func:`morph.piece.reverse`), by degree, as
-    read-only rows."""
+    a :class:`morph.piece.Pieces` of read-only stacks."""
     return pc.Pieces(_frozen_groups((ks, h[:, ::-1].copy())
                                     for ks, h in pc.degree_groups(pieces)),
-                     len(pieces)).rows()
+                     len(pieces))
 
 
 def _frozen_groups(groups):

@@ -19,6 +19,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from morph.export import certify as certify_mod
+from morph.export import greedy as greedy_mod
 from morph.export import search as search_mod
 from morph import piece as pc
 from morph.errors import ToleranceNotMetError
@@ -303,6 +304,11 @@ NEAR_CUSP = np.array([[0.60170205, 0.64801511, 1.00758605],
 @settings(max_examples=15, deadline=None)
 @given(rational_pieces(), st.sampled_from(TOLS))
 @example(NEAR_CUSP, 1e-4)
+# a round whose only range is a chord shorter than tol: no candidate cubic at all
+@example(np.array([[-0.96610136, -0.53972601, 2.84597519], [0.05733327, 0.00490942, 0.38356267],
+                   [0.31694496, 0.34396791, 2.46793792], [1.44074617, -1.59268217, 1.92553129],
+                   [0.19933447, 0.26336805, 0.41104083], [0.50811421, -0.21572428, 1.19747841]]),
+         0.01)
 def test_random_rational_pieces_within_tol(piece, tol):
     check_chain(piece, cubic_segments(piece, tol), tol)
 
@@ -939,6 +945,10 @@ def test_a_provisional_end_whose_certificate_fails_is_searched_again(tol, monkey
         return out
 
     monkeypatch.setattr(search_mod, "_fit_batch", refusing)
+    # a join tried on a narrow bracket is certified at once (greedy.SNAP): on these
+    # arcs, whose curvature jumps at every join, no search would end on a provisional
+    # try
+    monkeypatch.setattr(greedy_mod, "SNAP", 0.0)
     pieces = g1_arcs([1, 3, 0.5, 2, 1])
     segs = chain_segments(pieces, tol)
     assert refused, "no search ended on a provisional try"

@@ -20,6 +20,7 @@ from morph.export.fit import Parts, _quadrature, moment_cubics
 from morph.export.search import chains_segments
 from tests.test_export import (bernstein, closest_distances, rational, reparam_values,
                                 sampled_panel_error)
+from tests.test_export_greedy import g1_chain
 
 
 def circle_loop(center, r, n, start=0.0, elevate=()):
@@ -283,3 +284,82 @@ def test_cubic_integrals_are_the_bernstein_sums_and_the_curves_moments():
     got = np.einsum("ra,rb,rc,rabc->r", m, dd, m, tm)
     assert np.allclose(got, moment, rtol=0, atol=1e-12)
     assert not np.allclose(got * 1.01, moment, rtol=0, atol=1e-12)
+
+
+def test_pruned_rays_pick_what_every_ray_picks(monkeypatch):
+    """The fitter casts every candidate's rays at four samples first and the rest
+    only for candidates that can still be picked (:func:`morph.export.fit.
+    _ray_distance`).  On every round of a batch of G1 chains, each range's pick, its
+    sampled distance and the rays kept for the certificate are those of casting
+    every ray of every candidate (each candidate measured alone, nothing to rule it
+    out), a candidate measured is measured exactly so, and some candidates were
+    dropped (the pruning was exercised)."""
+    from morph.export import fit as fit_mod
+
+    real = fit_mod._ray_distance
+    seen = {"rounds": 0, "dropped": 0, "others": 0}
+
+    def checked(ctrl, cr, q, dq, req, width, length, scale, acc):
+        err, rays = real(ctrl, cr, q, dq, req, width, length, scale, acc)
+        cand, _, stages = rays
+        every = _every_ray(real, ctrl, cr, q, dq, req, width, length)
+        full = np.array([d for d, _ in every])
+        measured = np.isfinite(err)
+        assert np.array_equal(err[measured], full[measured])
+        score_all, score = full * length * scale, err * length * scale
+        for r in np.unique(cr):
+            mine = np.nonzero(cr == r)[0]
+            picks = []
+            for sc in (score_all, score):
+                ok = mine[sc[mine] < acc[mine]]
+                picks.append(ok[np.argmin(sc[ok])] if len(ok) else -1)
+            assert picks[0] == picks[1]
+            if picks[0] >= 0:                  # the pick's rays: all cast, as alone
+                rows = np.nonzero(cand == picks[0])[0]
+                have = np.full((len(rows), q.shape[1]), np.nan)
+                for pairs, cols, s, _ in stages:
+                    at = np.nonzero(np.isin(pairs, rows))[0]
+                    have[np.ix_(np.searchsorted(rows, pairs[at]), cols)] = s[at]
+                assert np.array_equal(have, every[picks[0]][1])
+        seen["rounds"] += 1
+        seen["dropped"] += int((~measured).sum())
+        seen["others"] += int(measured.sum()) - len(np.unique(cr[measured]))
+        return err, rays
+
+    monkeypatch.setattr(fit_mod, "_ray_distance", checked)
+    rng = np.random.default_rng(7)
+    chains_segments([g1_chain(rng, int(rng.integers(1, 9))) for _ in range(12)], 1e-3)
+    # some candidates dropped, some measured besides their range's best
+    assert seen["rounds"] > 3 and seen["dropped"] > 0 and seen["others"] > 0
+
+
+def _every_ray(real, ctrl, cr, q, dq, req, width, length):
+    """Per candidate (distance, s (its parts, 16)) with every ray cast: the
+    candidate measured alone with an infinite acceptance distance."""
+    out = []
+    for c in range(len(cr)):
+        err, (cand, _, stages) = real(ctrl[c:c + 1], cr[c:c + 1], q, dq, req, width,
+                                      length[c:c + 1], np.ones(1), np.full(1, np.inf))
+        s = np.full((len(cand), q.shape[1]), np.nan)
+        for pairs, cols, ss, _ in stages:
+            s[np.ix_(pairs, cols)] = ss
+        assert not np.isnan(s).any()
+        out.append((err[0], s))
+    return out
+
+
+def test_node_jets_are_the_jets_of_the_pieces():
+    """The bank's samples at the fitter's nodes, made once per piece and kept, are
+    the points and derivatives of :meth:`Bank.jet` at those parameters (to
+    rounding), whatever the order and repetition in which pieces are asked for."""
+    bank = Bank([p for loop in batch() for p in loop])
+    t = _quadrature().gx
+    gids = np.array([3, 1, 3, 7, 0])
+    p1, d1 = bank.node_jets(gids, t)
+    p2, d2 = bank.node_jets(np.array([7, 2, 1]), t)
+    assert np.array_equal(p2[0], p1[3]) and np.array_equal(p2[2], p1[1])
+    for g, p, d in zip(gids, p1, d1):
+        pe, de = bank.jet(np.full(len(t), g), t)
+        assert np.allclose(p, pe, rtol=0, atol=1e-12) and np.allclose(d, de, rtol=1e-12,
+                                                                       atol=1e-12)
+    assert not np.allclose(p1[0], p1[1])

@@ -16,6 +16,7 @@ from morph import piece as pc
 from morph.errors import ToleranceNotMetError
 from morph.export import certify as certify_mod
 from morph.export import greedy
+from morph.export import search
 from morph.export.search import chain_segments, chains_segments
 from tests.test_export import (bernstein, closest_distances, rational, reparam_values,
                                 sampled_panel_error)
@@ -194,3 +195,104 @@ def test_halves_certified_from_the_parents_feet():
     assert closest_distances(pts, [BRUSH_PIECE]).max() <= res.bound[0] * (1 + 1e-9)
     moved = BRUSH_CUBIC + [0.0, 2 * tol]
     assert certify_mod.certify_batch(groups, moved[None], tol).bound[0] > tol
+
+
+def _rounds(monkeypatch):
+    """Count the rounds of the search (calls of its batch fit)."""
+    calls = [0]
+    fit = search._fit_batch
+
+    def counted(*args):
+        calls[0] += 1
+        return fit(*args)
+
+    monkeypatch.setattr(search, "_fit_batch", counted)
+    return calls
+
+
+def test_search_from_both_ends_joins_exactly(monkeypatch):
+    """Chains of 6 to 16 pieces searched from both ends at once take fewer rounds than
+    searched from the start alone, and no more segments in all (at most one more on a
+    chain: both stop short of their reach, as the greedy search does); the segments
+    cover [0, K] end to start exactly, each certified within tol and within tol of
+    its chain by exact closest distances (a cubic displaced by 2 tol is not)."""
+    rng = np.random.default_rng(5)
+    tol = 1e-3
+    chains = [g1_chain(rng, int(rng.integers(6, 17))) for _ in range(10)]
+    calls = _rounds(monkeypatch)
+    both = chains_segments(chains, tol)
+    rounds_both, calls[0] = calls[0], 0
+    monkeypatch.setattr(search, "BOTH_WAYS", math.inf)
+    one = chains_segments(chains, tol)
+    assert rounds_both < calls[0]
+    assert sum(map(len, both)) <= sum(map(len, one))
+    for pieces, segs, alone in zip(chains, both, one):
+        assert len(segs) <= len(alone) + 1
+        assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+        for a, b in zip(segs, segs[1:]):
+            assert a.t1 == b.t0 and np.array_equal(a.cubic[-1], b.cubic[0])
+        assert all(s.bound <= tol for s in segs)
+        assert _hausdorff([s.cubic for s in segs], pieces) <= tol * (1 + 1e-9)
+    pieces, segs = chains[0], both[0]
+    moved = [s.cubic.copy() for s in segs]
+    d = bernstein(moved[-1], [0.51])[0] - bernstein(moved[-1], [0.49])[0]
+    moved[-1][1:3] += 2.0 * tol * np.array([-d[1], d[0]]) / math.hypot(*d) * 4.0 / 3.0
+    assert _hausdorff(moved, pieces) > tol
+
+
+def test_a_join_that_does_not_certify_searches_the_chain_again(monkeypatch):
+    """Where the join of the two searches does not certify (forced here: every refit
+    of the join reported failed, and every join made to need one), the chain is
+    searched again from its start alone: the segments of the one-way search (its ends
+    to 1e-9: batched array calls round differently)."""
+    rng = np.random.default_rng(9)
+    tol = 1e-3
+    chains = [g1_chain(rng, 10) for _ in range(3)]
+    monkeypatch.setattr(search, "BOTH_WAYS", math.inf)
+    one = chains_segments(chains, tol)
+    monkeypatch.undo()
+    path = search._Join._path
+
+    def overlapping(self, c, segs, f):
+        path(self, c, segs, f)
+        self._ask(c, 0, 0, 0.0, self.paths[c][0][1])       # a refit for every join
+        self.paths[c][0] = None
+
+    def failing(self, fits, offset, round_no):
+        bad = np.unique(self.requests()[0])
+        self.asked, self.slots, self.pending = ([], [], []), [], set()
+        for c in bad.tolist():
+            del self.paths[c]
+        return bad
+
+    monkeypatch.setattr(search._Join, "_path", overlapping)
+    monkeypatch.setattr(search._Join, "update", failing)
+    again = chains_segments(chains, tol)
+    for segs, alone in zip(again, one):
+        assert len(segs) == len(alone)
+        assert np.allclose([(s.t0, s.t1) for s in segs], [(s.t0, s.t1) for s in alone],
+                           rtol=0, atol=1e-9)
+
+
+def test_a_round_of_chords_shorter_than_tol_is_fitted():
+    """A round whose every range is shorter than tol (the gap two searches of a chain
+    leave between them can be) gets straight cubics, certified within tol and within
+    tol of the range by exact closest distances; moved by 2 tol they are not."""
+    from morph.export.bank import Bank
+    from morph.export.fit import make_chains
+
+    tol = 0.1
+    arc = pc.ellipse_arc((0.0, 0.0), 1.0, 1.0, 0.0, 0.0, 1.0)[0]
+    chains = make_chains(Bank([arc]), [np.array([0])])
+    t0, t1 = np.array([0.40015583]), np.array([0.45])
+    pts = search._chain_points(chains, np.zeros(2, int), np.concatenate([t0, t1]))
+    assert np.hypot(*(pts[1] - pts[0])) < tol
+    req = search.Requests(np.zeros(1, int), t0, t1, pts[:1], pts[1:], np.zeros(1))
+    out = search._fit_batch(chains, req, tol)
+    assert out.cert[0] and out.bound[0] <= tol
+    assert np.allclose(out.cubic[0][[0, -1]], pts)
+    sub = pc.subsegment(arc, 0.40015583, 0.45)
+    s = np.linspace(0, 1, 41)
+    assert closest_distances(bernstein(out.cubic[0], s), [sub]).max() <= tol
+    moved = out.cubic[0] + np.array([0.0, 2.0 * tol])
+    assert closest_distances(bernstein(moved, s), [sub]).max() > tol

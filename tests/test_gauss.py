@@ -535,3 +535,25 @@ def test_a_cusp_whose_sides_cross_a_hair_from_its_point_turns_by_where_they_run(
 def _inflection_params(piece):
     """Interior parameters where x'y'' - x''y' changes sign (Def. 3.2)."""
     return gauss._split_params_many([np.asarray(piece, float)], axes=False)[0]
+
+
+def test_repeated_rows_are_solved_once_to_the_same_bits():
+    """angle_params solves each distinct row once (_solved_once): the roots equal
+    solve_bracketed row by row, to the bit, with rows repeated, rows differing in
+    one bit and a -0.0 against a 0.0 kept apart."""
+    from morph import bernstein as bz
+    from morph.gauss import _solved_once
+
+    rng = np.random.default_rng(3)
+    base = np.stack([rng.uniform(0.1, 1, 50), rng.uniform(-1, 1, 50),
+                     -rng.uniform(0.1, 1, 50)], axis=1)
+    rows = base[rng.integers(0, 50, 300)]
+    near = rows[:5].copy()
+    near[:, 1] = np.nextafter(near[:, 1], 2.0)          # one bit apart
+    signed = np.array([[1.0, 0.0, -1.0], [1.0, -0.0, -1.0]])
+    f = np.concatenate([rows, near, signed])
+    got = _solved_once(f)
+    want = np.array([bz.solve_bracketed(r[None])[0] for r in f])
+    assert np.array_equal(got, want)
+    # the comparison can fail: a root displaced by one ulp is seen
+    assert not np.array_equal(np.nextafter(got, 2.0), want)

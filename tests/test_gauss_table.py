@@ -30,7 +30,7 @@ def _stroke_loops():
         ([pc.quadratic((0, 0), (50, 100), (100, 0)), pc.line((100, 0), (0, 0))], True),
         ([pc.line((5, 5), (200, 40))], False),
     ]
-    loops, _ = _loops_and_dots_many([paths], ellipse_nib(30, 8, 30))
+    loops, _, _ = _loops_and_dots_many([paths], ellipse_nib(30, 8, 30))
     return list(loops[0])
 
 
@@ -216,3 +216,29 @@ def test_subdivided_pairs_come_in_travel_order():
     starts, ends = pc.end_points(conv.pieces)
     same = conv.row[1:] == conv.row[:-1]           # consecutive pieces of one pair join
     assert same.any() and np.allclose(ends[:-1][same], starts[1:][same], atol=1e-9)
+
+
+def test_traced_loops_tips_equal_the_winding_test():
+    """gauss_table(traced=n): the open cusps of the first n loops (paths traced out
+    and back) turn +pi without the probe test; every turn, angle and edge of the
+    table equals the full test's, to the bit, on stroke loops (lines, curves, a
+    turn-back, a closed path) followed by a loop that is not traced (a circle, and
+    a glyph's loops with it); a loop that is not traced keeps the test (a loop
+    with a slit cut into it: its open cusp turns -pi, which +pi would not match)."""
+    loops = _stroke_loops()
+    tail = [pc.circle((3.0, -1.0), 2.0)] + list(parse.glyph_region("g").region)
+    full = gauss.gauss_table(loops + tail)
+    fast = gauss.gauss_table(loops + tail, traced=len(loops))
+    for name in ("loop", "index", "curve", "theta", "sweep", "point", "piece_of"):
+        assert np.array_equal(getattr(full, name), getattr(fast, name)), name
+    assert (np.isclose(np.abs(full.sweep[~full.curve]), np.pi)).sum() >= 2 * len(loops) - 1
+    # a square with a slit cut into it from its right side: the slit's tip is
+    # reflex, -pi, found by the test (traced=0), not assumed
+    slit = [pc.line((0, 0), (10, 0)), pc.line((10, 0), (10, 4)), pc.line((10, 4), (5, 4)),
+            pc.line((5, 4), (10, 4)), pc.line((10, 4), (10, 10)), pc.line((10, 10), (0, 10)),
+            pc.line((0, 10), (0, 0))]
+    tested = gauss.gauss_table([slit])
+    assumed = gauss.gauss_table([slit], traced=1)
+    tip = ~tested.curve & np.isclose(np.abs(tested.sweep), np.pi)
+    assert np.allclose(tested.sweep[tip], -np.pi)
+    assert not np.array_equal(tested.sweep, assumed.sweep)

@@ -553,9 +553,9 @@ def test_sums_pack_groups_within_the_point_budget(glyphs, monkeypatch):
     packed = []
     real = minkowski._packed_sums
 
-    def spy(group, b, tol, method):
+    def spy(group, b, tol, method, *stacks):
         packed.append(len(group))
-        return real(group, b, tol, method)
+        return real(group, b, tol, method, *stacks)
 
     monkeypatch.setattr(minkowski, "_packed_sums", spy)
     out = minkowski.minkowski_sums(regions, glyphs["x"], 1.0)

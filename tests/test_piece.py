@@ -287,3 +287,44 @@ def test_packed_pieces_match_the_list():
     moved = [p.copy() for p in pieces]
     moved[17][0, 0] += 1e-9
     assert not np.array_equal(pc.end_points(pc.Pieces.of(moved))[0], pc.end_points(packed)[0])
+
+
+@pytest.mark.parametrize("split", [0, 1, 37, 150, 200])
+def test_pieces_then_groups_as_the_whole_list(split):
+    """Pieces.of(a).then(b) has the groups, indices and stacks of Pieces.of(a + b):
+    the degrees in the order of their first piece, a degree only b has after a's,
+    every stack to the bit (what the Gauss map of a packed region with a nib
+    takes)."""
+    rng = np.random.default_rng(9)
+    pieces = _mixed_pieces(rng, 200)
+    more = pieces[split:]
+    head = pieces[:split]
+    got = pc.Pieces.of(head).then(more)
+    want = pc.Pieces.of(pieces)
+    assert len(got) == len(want) and len(got.groups) == len(want.groups)
+    for (ka, ha), (kb, hb) in zip(got.groups, want.groups):
+        assert np.array_equal(ka, kb) and np.array_equal(ha, hb)
+    # only lines first, then a curve: the curve's degree comes after
+    lines = [p for p in pieces if len(p) == 2][:5]
+    curves = [p for p in pieces if len(p) == 4][:2]
+    mixed = pc.Pieces.of(lines).then(curves + lines[:1])
+    assert [h.shape[1] for _, h in mixed.groups] == [2, 4]
+    assert np.array_equal(mixed.groups[0][0], [0, 1, 2, 3, 4, 7])
+
+
+def test_column_extremes_equal_numpys_reductions():
+    """column_extremes gives min and max over the control points to the bit
+    (numpy's short-axis reduction is what it replaces), and the spans and largest
+    |coordinate| derived from them equal np.ptp's and np.abs().max's."""
+    rng = np.random.default_rng(0)
+    for n in (1, 2, 3, 4, 7):
+        x = rng.normal(size=(500, n, 2)) * rng.uniform(0, 1e3, (500, 1, 1))
+        x[::7] = np.abs(x[::7])
+        x[::11] = -np.abs(x[::11])
+        lo, hi = pc.column_extremes(x)
+        assert np.array_equal(lo, x.min(axis=1)) and np.array_equal(hi, x.max(axis=1))
+        assert np.array_equal(np.maximum(-lo, hi).max(axis=1), np.abs(x).max(axis=(1, 2)))
+        assert np.array_equal(np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1]),
+                              np.ptp(x, axis=1).max(axis=1))
+    x[3, 0, 1] = np.nan
+    assert np.isnan(pc.column_extremes(x)[0][3, 1])

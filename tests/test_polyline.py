@@ -310,3 +310,15 @@ def test_grouped_searches_equal_each_set_alone(seed):
                                                             others, reach[g]))
         assert np.array_equal(wind[sel], winding_of_others(pts[sel], local[owner[sel]], others))
     assert np.isfinite(dist).any() and (wind != 0).any()
+
+
+def test_member_and_unique_match_numpy():
+    """``member`` and ``unique`` (kept off numpy.ma's import) give numpy's isin and
+    unique on random integers with repeats, empty sets and values past both ends."""
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        values = rng.integers(-5, 30, rng.integers(0, 40))
+        pool = rng.integers(0, 25, rng.integers(0, 20))
+        s = pl.unique(pool)
+        assert np.array_equal(s, np.unique(pool))
+        assert np.array_equal(pl.member(values, s), np.isin(values, pool))

@@ -153,3 +153,32 @@ def test_a_path_running_back_over_itself_is_stroked_exactly(points):
     ours, ref = _ours(loops, tol), _reference([(pieces, False)], nib)
     assert ours.boundary.hausdorff_distance(ref.boundary) <= tol + 2 * FLAT + tol / 4
     assert abs(ours.area - ref.area) <= (tol + 2 * FLAT) * ref.boundary.length
+
+
+def test_loop_stacks_hold_the_loops_pieces_in_order():
+    """The stacks _loops_and_dots_many hands to minkowski_sums are the pieces of
+    its loops, set by set, loop by loop, to the bit (what the sum would gather
+    from the loops); sets of lines, curves, a path turning back on itself, a dot
+    and an empty set."""
+    from morph.stroke import _loops_and_dots_many
+
+    rng = np.random.default_rng(5)
+
+    def path(n, closed=False):
+        pts = rng.uniform(0, 500, (n + 1, 2))
+        pieces = [pc.from_points(pts[i:i + 2]) if rng.random() < 0.6 else
+                  pc.from_points(np.array([pts[i], pts[i] + rng.uniform(-50, 50, 2),
+                                           pts[i + 1]]))
+                  for i in range(n)]
+        return pieces, closed
+
+    back = [pc.line((0, 0), (100, 0)), pc.line((100, 0), (10, 0))]     # turns back
+    dot = [pc.line((5, 5), (5, 5))]
+    sets = [[path(4), path(1)], [], [(back, False)], [(dot, False)], [path(6, True)]]
+    loops, dots, stacked = _loops_and_dots_many(sets, ellipse_nib(30, 8, 30))
+    pieces = [p for k in range(len(sets)) for loop in loops[k] for p in loop]
+    assert len(stacked) == len(pieces) and dots[3] and not loops[1]
+    want = pc.Pieces.of(pieces)
+    assert [(ks.tolist(), h.tobytes()) for ks, h in stacked.groups] == \
+        [(ks.tolist(), h.tobytes()) for ks, h in want.groups]
+    assert all(np.array_equal(a, b) for a, b in zip(stacked, pieces))

@@ -10,6 +10,7 @@ in the concatenation); ``deg[g]`` and ``idx[g]`` say where it sits in the stacks
 """
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -67,6 +68,7 @@ class Bank:
             self.scale[rows] = np.abs(x).max(axis=(1, 2))
             self.t_first[rows], self.t_last[rows] = _end_tangents(x)
         self.line = (sizes == 2) & self.poly
+        self._nodes = None              # node_jets' cache
 
     def cartesian(self, gids):
         """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
@@ -114,6 +116,25 @@ class Bank:
         return p, d
 
 
+    def node_jets(self, gids, t):
+        """:meth:`jet_grid` of pieces ``gids`` at parameters t, each piece evaluated once
+        per bank: the fitter samples every whole piece of a range at the same nodes,
+        round after round (a piece's result does not depend on the batch, so a
+        cached one is the one a round would compute)."""
+        gids = np.asarray(gids, int)
+        t = np.asarray(t, float)
+        if self._nodes is None or not np.array_equal(self._nodes[0], t):
+            g = len(self.deg)
+            self._nodes = (t, np.zeros(g, bool), np.empty((g, len(t), 2)),
+                           np.empty((g, len(t), 2)))
+        _, have, p, d = self._nodes
+        need = unique(gids[~have[gids]])
+        if len(need):
+            p[need], d[need] = self.jet_grid(need, t)
+            have[need] = True
+        return p[gids], d[gids]
+
+
 def _end_tangents(x, rel=1e-12):
     """:func:`morph.piece.end_tangents_many` (not strict) of Cartesian control points
     x (k, n, 2) of one degree: along the first and the last control-point
@@ -151,14 +172,22 @@ def smooth_joins(bank, starts, counts, angle):
             & (gap <= 1e-12 * (1.0 + np.maximum(bank.scale, bank.scale[nxt]))))
 
 
-def plan_runs(loops, join_angle, wrap):
-    """The runs of every loop, computed for all loops at once: (bank, runs) with
-    ``runs`` a list per loop of (global piece ids, exact) in order.
+#: The runs of a batch as arrays (:func:`plan_run_arrays`): ``order`` the global piece
+#: ids of all runs concatenated, ``sizes`` each run's number of pieces, ``exact``
+#: whether it is written as it is, ``loop`` the loop it belongs to (runs in loop
+#: order, each loop's in order).
+RunArrays = namedtuple("RunArrays", "order sizes exact loop")
+
+
+def plan_run_arrays(loops, join_angle, wrap):
+    """The runs of every loop, computed for all loops at once: (bank,
+    :class:`RunArrays`), no Python step per run.
 
     A loop is split where a join is not smooth (:func:`smooth_joins`) and around
     every line (a polynomial piece of degree 1 is a run of its own); with ``wrap``
     and ``join_angle > 0`` a loop's last run and first are one when its closing join
-    is smooth and neither end piece is a line.  ``exact``: every piece of the run is
+    is smooth and neither end piece is a line (that run is the loop's first: the
+    last run's pieces, then the first's).  ``exact``: every piece of the run is
     polynomial of degree <= 3 (written as it is, not fitted)."""
     counts = np.fromiter(map(len, loops), int, len(loops))
     bank = Bank([p for loop in loops for p in loop])
@@ -183,13 +212,35 @@ def plan_runs(loops, join_angle, wrap):
         ends = starts + counts - 1
         merge = ((last_run - first_run >= 1) & ~bank.line[np.maximum(ends, 0)]
                  & ~bank.line[np.minimum(starts, g - 1)] & smooth[np.maximum(ends, 0)])
-    heads, tails, run_exact = heads.tolist(), tails.tolist(), run_exact.tolist()
-    runs = []
-    for i in range(len(loops)):
-        mine = [(np.arange(heads[j], tails[j]), run_exact[j])
-                for j in range(first_run[i], last_run[i] + 1)]
-        if merge[i]:
-            (a, ea), (b, eb) = mine[-1], mine[0]
-            mine = [(np.concatenate([a, b]), ea and eb)] + mine[1:-1]
-        runs.append(mine)
-    return bank, runs
+    # a merged loop: its last run moves to the place of its first, which follows it
+    key = np.arange(len(heads), dtype=float)
+    key[last_run[merge]] = first_run[merge] - 0.5
+    keep = np.ones(len(heads), bool)
+    keep[first_run[merge]] = False
+    primary = np.nonzero(keep)[0]
+    primary = primary[np.argsort(key[primary], kind="stable")]
+    second = np.full(len(heads), -1)
+    second[last_run[merge]] = first_run[merge]
+    second = second[primary]
+    # the runs' segments (primary, then its second where merged) and their pieces
+    seg = np.stack([primary, second], axis=1).ravel()
+    seg = seg[seg >= 0]
+    length = tails[seg] - heads[seg]
+    order = (np.repeat(heads[seg] - (np.cumsum(length) - length), length)
+             + np.arange(int(length.sum())))
+    has = second >= 0
+    sizes = tails[primary] - heads[primary]
+    sizes[has] += tails[second[has]] - heads[second[has]]
+    exact = run_exact[primary] & np.where(has, run_exact[np.maximum(second, 0)], True)
+    return bank, RunArrays(order, sizes, exact, loop_of[primary])
+
+
+def plan_runs(loops, join_angle, wrap):
+    """:func:`plan_run_arrays` as (bank, runs) with ``runs`` a list per loop of
+    (global piece ids, exact) in order."""
+    bank, runs = plan_run_arrays(loops, join_angle, wrap)
+    parts = np.split(runs.order, np.cumsum(runs.sizes)[:-1]) if len(runs.sizes) else []
+    out = [[] for _ in loops]
+    for ids, e, i in zip(parts, runs.exact.tolist(), runs.loop.tolist()):
+        out[i].append((ids, e))
+    return bank, out

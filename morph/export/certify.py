@@ -287,7 +287,8 @@ def _reparams(groups, cubics, tol, start=None, pairs=None):
     mismatch |phi(s_j) - u_j| |R'(u_j)| at 24 Chebyshev nodes s_j is below
     PHI_SHARE * tol (:func:`_phi_fits`), a Möbius factor c, and the largest foot
     distance |R(u_j) - C(s_j)| (what no reparametrisation can beat), and the feet
-    u (k, 24) themselves.  Where no
+    u (k, 24) themselves (NaN on the rows phi was fitted to the fitter's pairs:
+    :func:`certify_batch` reads them off the pairs where it needs them).  Where no
     polynomial follows the feet that closely (a rational piece whose speed varies by
     30x along it: QAC pieces of a stroke), phi is fitted again in the parameter v
     of a Möbius map u = mu(v) = c v / ((c - 1) v + 1) (:func:`_moebius`; on
@@ -314,7 +315,7 @@ def _reparams(groups, cubics, tol, start=None, pairs=None):
     k = len(cubics)
     if pairs is not None:
         ps, pu, pspeed, pgap = pairs
-        u = start_at_nodes(ps, pu)
+        u = np.full((k, len(_NODES)), np.nan)      # read off the pairs where needed
         known = np.all(np.isfinite(ps), axis=1) & np.all(np.isfinite(pgap), axis=1)
         pu = np.broadcast_to(pu, ps.shape)
         phis, size, miss = _phi_fits(pu, pspeed, tol, at=ps)
@@ -327,7 +328,8 @@ def _reparams(groups, cubics, tol, start=None, pairs=None):
             where = np.full(k, -1)
             where[i] = np.arange(len(i))
             sub = [(where[r[rest[r]]], st[rest[r]]) for r, st in groups if rest[r].any()]
-            ri = _newton_reparams(sub, cubics[i], tol, np.where(known[i, None], u[i], np.nan))
+            start = np.where(known[i, None], start_at_nodes(ps[i], pu[0]), np.nan)
+            ri = _newton_reparams(sub, cubics[i], tol, start)
             phis[i], size[i], c[i], normal[i], u[i] = ri
         return phis, size, c, normal, u
     return _newton_reparams(groups, cubics, tol, start)
@@ -445,10 +447,17 @@ def _phi_fits_at(v, speed, tol, at):
         atb = np.matmul(a.transpose(0, 2, 1), rhs[:, :, None])
         # a row whose s_j crowd (an ill-posed fit) gets a tiny ridge, not an error
         ata += (1e-12 * np.trace(ata, axis1=1, axis2=2))[:, None, None] * np.eye(m - 1)
-        try:
-            inner = np.linalg.solve(ata, atb)[:, :, 0]
-        except np.linalg.LinAlgError:
-            break
+        if m == 3:                     # two unknowns: Cramer's rule, elementwise
+            (a00, a01), (a10, a11) = ata[:, 0].T, ata[:, 1].T
+            b0, b1 = atb[:, 0, 0], atb[:, 1, 0]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                det = a00 * a11 - a01 * a10
+                inner = np.stack([(a11 * b0 - a01 * b1) / det, (a00 * b1 - a10 * b0) / det], 1)
+        else:
+            try:
+                inner = np.linalg.solve(ata, atb)[:, :, 0]
+            except np.linalg.LinAlgError:
+                break
         phi = np.concatenate([np.zeros((len(rows), 1)), inner, np.ones((len(rows), 1))], 1)
         mono = np.all(np.diff(phi, axis=1) > 0, axis=1) & np.all(np.isfinite(phi), axis=1)
         err = (np.abs(np.matmul(b, phi[:, :, None])[:, :, 0] - v[rows]) * speed[rows]).max(axis=1)
@@ -520,8 +529,11 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
     bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
     out = Certified(bound, phis, size, cs)
     if depth > 0:
-        _halved(groups, cubics, out, np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0],
-                feet, tol, depth)
+        rows = np.nonzero((bound > tol) & (normal <= 0.95 * tol))[0]
+        if pairs is not None:                    # their feet at the nodes, from the pairs
+            bare = rows[np.isnan(feet[rows]).any(axis=1)]
+            feet[bare] = start_at_nodes(pairs[0][bare], pairs[1])
+        _halved(groups, cubics, out, rows, feet, tol, depth)
     return out
 
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from .bank import RunArrays
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -30,14 +31,17 @@ ChainArrays = namedtuple("ChainArrays", "bank k off extent tiny")
 
 
 def make_chains(bank, runs):
-    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``),
-    their extents for ``tiny`` in one reduction; sets ``bank.order`` (all runs' ids,
-    concatenated)."""
-    sizes = np.fromiter(map(len, runs), int, len(runs))
-    order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
+    """The :class:`ChainArrays` of the runs (arrays of global piece ids of ``bank``, or
+    a :class:`morph.export.bank.RunArrays`), their extents for ``tiny`` in one
+    reduction; sets ``bank.order`` (all runs' ids, concatenated)."""
+    if isinstance(runs, RunArrays):            # the ids already concatenated
+        sizes, order = runs.sizes, runs.order.astype(int)
+    else:
+        sizes = np.fromiter(map(len, runs), int, len(runs))
+        order = np.concatenate(runs).astype(int) if runs else np.zeros(0, int)
     offs = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     bank.order = order
-    if not len(runs):
+    if not len(sizes):
         return ChainArrays(bank, sizes, offs, np.zeros(0), np.zeros(0))
     lo = np.minimum.reduceat(bank.lo[order], offs)
     hi = np.maximum.reduceat(bank.hi[order], offs)
@@ -152,27 +156,33 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
-    err, s, owner, si, ray = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req,
-                                           parts.b - parts.a)
-    err = err * length[cr]
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
+    err, rays = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req, parts.b - parts.a,
+                              length[cr], scale, acc[cr])
+    err = err * length[cr]
     cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
                                                ends, chord)
-    return cubic, dist, fitted, _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray)
+    return cubic, dist, fitted, _picked_rays(sam, parts, length, cr, pick, rays)
 
 
-def _picked_rays(sam, parts, length, cr, pick, owner, si, s, ray):
+def _picked_rays(sam, parts, length, cr, pick, rays):
     """:class:`Rays` of the picked cubics: their parameters at the samples' rays,
     the rays' lengths and the pieces' speeds there (what the certificate starts
-    from); NaN where no picked cubic's ray reached a sample."""
+    from); NaN where no picked cubic's ray reached a sample.  ``rays``: the
+    (candidate, part, stages) of :func:`_ray_distance`."""
     shape = sam["q"].shape[:2]
-    feet, gap = np.full(shape[0] * shape[1], np.nan), np.full(shape[0] * shape[1], np.nan)
-    mine = pick[cr[owner]] == owner
-    feet[si[mine]] = s[mine]
-    gap[si[mine]] = ray[mine] * length[cr[owner[mine]]]
+    feet, gap = np.full(shape, np.nan), np.full(shape, np.nan)
+    cand, part, stages = rays
+    for pairs, cols, s, ray in stages:
+        mine = np.nonzero(pick[cr[cand[pairs]]] == cand[pairs])[0]
+        rows = part[pairs[mine]]
+        f, g = feet[:, cols], gap[:, cols]
+        f[rows] = s[mine]
+        g[rows] = ray[mine] * length[cr[cand[pairs[mine]]]][:, None]
+        feet[:, cols], gap[:, cols] = f, g
     speed = np.hypot(sam["dq"][..., 0], sam["dq"][..., 1]) * (length[parts.req] * (
         parts.b - parts.a))[:, None]
-    return Rays(feet.reshape(shape), gap.reshape(shape), speed)
+    return Rays(feet, gap, speed)
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -205,7 +215,7 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     params = lo[:, None] + width[:, None] * quad.gx[None]
     p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
-    p[whole], d[whole] = bank.jet_grid(gid[whole], quad.gx)
+    p[whole], d[whole] = bank.node_jets(gid[whole], quad.gx)
     cut = np.nonzero(~whole)[0]
     pc_, dc_ = bank.jet(np.repeat(gid[cut], m), params[cut].ravel())
     p[cut], d[cut] = pc_.reshape(-1, m, 2), dc_.reshape(-1, m, 2)
@@ -266,6 +276,26 @@ def _cubic_integrals(t0, t1):
     return ta, tm
 
 
+def _monomial_coefficients(tm):
+    """(n, 9): the moment terms m_a n_b m_c tm[a, b, c] (m = (1, d0, d1), n = (d0,
+    d1)) summed into the coefficients of the monomials d0^i d1^j of
+    :data:`_MONOMIAL_POWERS` (additions in a fixed order, row by row: a range's
+    coefficients do not depend on the batch, as a BLAS product's may)."""
+    em = [(0, 0), (1, 0), (0, 1)]
+    out = np.zeros((len(tm), len(_MONOMIAL_POWERS)))
+    for a in range(3):
+        for b in range(2):
+            for c in range(3):
+                i = em[a][0] + (1 - b) + em[c][0]
+                j = em[a][1] + b + em[c][1]
+                out[:, _MONOMIAL_POWERS.index((i, j))] += tm[:, a, b, c]
+    return out
+
+
+#: The monomials d0^i d1^j of the frame cubic's moment (:func:`_handle_candidates`).
+_MONOMIAL_POWERS = [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2), (3, 0), (2, 1), (1, 2), (0, 3)]
+
+
 def _handle_candidates(area, moment, ta, tm, good):
     """Candidate handle lengths (range, d0, d1) of :func:`moment_cubics`: the roots
     of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
@@ -273,47 +303,29 @@ def _handle_candidates(area, moment, ta, tm, good):
     nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
     n = len(area)
 
-    def resid(d0, d1, rows=slice(None)):
-        # sum_abc m_a n_b m_c tm_abc: the c sum as one stacked matrix product first
-        # (a four-operand einsum loops in C over every index at once, ~3x slower)
-        mm = np.stack([np.ones_like(d0), d0, d1], -1)              # (r, g, 3)
-        nn = np.stack([d0, d1], -1)                                 # (r, g, 2)
-        t = tm[rows].reshape(-1, 6, 3).transpose(0, 2, 1)           # (r, c, ab)
-        q = np.matmul(mm, t).reshape(mm.shape[:2] + (3, 2))
-        return np.einsum("rga,rgab,rgb->rg", mm, q, nn) - moment[rows, None]
+    cf = _monomial_coefficients(tm)
 
-    d0 = np.broadcast_to(_D0_GRID[None], (n, len(_D0_GRID)))
-    d1 = _d1_of(d0, np.arange(n)[:, None], area, ta)
-    ok = np.isfinite(d1) & (d1 > 0)
-    f = np.where(ok, resid(d0, np.where(ok, d1, 0.0)), np.nan)
-    cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
-    cross &= good[:, None]
-    rr, gg = np.nonzero(cross)
+    def resid(d0, d1, c):
+        # the moment as the cubic polynomial of (d0, d1) with coefficients c
+        inner = c[..., 4] + c[..., 7] * d0 + c[..., 8] * d1
+        inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
+        return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
+
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, ta, cf, good, resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
-    fa, fb = f[rr, gg], f[rr, gg + 1]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x[:, None], _d1_of(x, rr, area, ta)[:, None], rr)[:, 0]
+        fx = resid(x, _d1_of(x, area[rr], ta[rr]), cf[rr]) - moment[rr]
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
     roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
-    # local minima of |f| that do not cross zero (kurbo: the real part of a complex
-    # root pair, a near-double root): the grid points where |f| is least
-    af = np.where(ok, np.abs(f), np.inf)
-    dip = np.zeros_like(ok)
-    dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
-    dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
-    near = np.zeros_like(ok)
-    near[:, :-1] |= cross
-    near[:, 1:] |= cross
-    dip &= ~near & good[:, None]
-    rn, gn = np.nonzero(dip)
     none = np.zeros(n, bool)
     none[rn] = True
+    none[rr] = True
     # nothing solves (e.g. a straight range: area and moment vanish): handles of a
     # third, the straight cubic when the tangents run along the chord
-    rt = np.nonzero(good & ~np.any(cross, 1) & ~none)[0]
+    rt = np.nonzero(good & ~none)[0]
     cr = np.concatenate([rr, rn, rt])
     cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
     thirds = np.arange(len(cr)) >= len(cr) - len(rt)
@@ -323,9 +335,46 @@ def _handle_candidates(area, moment, ta, tm, good):
     rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, cr, area, ta))
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], ta[cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
+
+
+#: Ranges per block of :func:`_grid_scan` (its arrays of 80 grid values a range stay
+#: in a core's cache).
+GRID_BLOCK = 512
+
+
+def _grid_scan(area, moment, ta, cf, good, resid):
+    """The moment residual on :data:`_D0_GRID` for every range, in blocks of
+    GRID_BLOCK ranges: its sign changes (range, grid index, residual at both ends)
+    and the grid points of locally least |residual| that are not next to one
+    (range, grid index), for the ranges ``good``; where d1 is not finite and
+    positive the residual is undefined."""
+    out = [[] for _ in range(6)]
+    d0 = _D0_GRID[None]
+    for lo in range(0, len(area), GRID_BLOCK):
+        blk = slice(lo, lo + GRID_BLOCK)
+        d1 = _d1_of(d0, area[blk, None], ta[blk, None])
+        ok = np.isfinite(d1) & (d1 > 0)
+        f = resid(d0, np.where(ok, d1, 0.0), cf[blk, None]) - moment[blk, None]
+        f[~ok] = np.nan
+        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
+        cross &= good[blk, None]
+        r, g = np.nonzero(cross)
+        # local minima of |f| that do not cross zero (kurbo: the real part of a
+        # complex root pair, a near-double root): the grid points where |f| is least
+        af = np.where(ok, np.abs(f), np.inf)
+        dip = np.zeros_like(ok)
+        dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
+        dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
+        dip[:, :-1] &= ~cross
+        dip[:, 1:] &= ~cross
+        dip &= good[blk, None]
+        rd, gd = np.nonzero(dip)
+        for acc, x in zip(out, (r + lo, g, f[r, g], f[r, g + 1], rd + lo, gd)):
+            acc.append(x)
+    return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
 
 
 def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
@@ -342,7 +391,7 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     pick = np.full(n, -1)
     pick[ranges] = valid[at]
     has = pick >= 0
-    c = ctrl[np.maximum(pick, 0)]                                  # (n, 4, 2)
+    c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))   # (n, 4, 2)
     normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
     line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
@@ -353,11 +402,12 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     return cubic, dist, fitted, pick
 
 
-def _d1_of(d0, rows, area, ta):
-    """d1 from the area equation (linear in d1) for handle lengths d0 of the ranges
-    ``rows`` (arrays of one shape)."""
-    num = area[rows] - d0 * ta[rows, 0, 0] - d0 * d0 * ta[rows, 0, 1]
-    den = ta[rows, 1, 0] + d0 * (ta[rows, 0, 2] + ta[rows, 1, 1])
+def _d1_of(d0, area, ta):
+    """d1 from the area equation (linear in d1) for handle lengths d0, with the
+    ranges' ``area`` and ``ta`` (:func:`_cubic_integrals`) gathered (or broadcast)
+    to d0's shape."""
+    num = area - d0 * (ta[..., 0, 0] + d0 * ta[..., 0, 1])
+    den = ta[..., 1, 0] + d0 * (ta[..., 0, 2] + ta[..., 1, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
         return num / den
 
@@ -366,52 +416,138 @@ def _d1_of(d0, rows, area, ta):
 _POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]])
 
 
-def _ray_distance(ctrl, cr, q, dq, req, width):
+#: Rows of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
+#: each) stay in a core's cache through Newton's iterations, where arrays of all the
+#: rows of a round (millions) would be read from memory at every operation.
+RAY_BLOCK = 8192
+#: The samples (of the 16 of a part) whose rays every candidate gets first: their
+#: largest distance is a lower bound of the candidate's sampled distance, which
+#: rules out most candidates before the other samples are measured.
+COARSE = np.array([1, 5, 10, 14])
+_FINE = np.array([j for j in range(16) if j not in COARSE])
+
+
+def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
-    the sample's share of the range's arc length, s clipped to [0, 1].  Also the
-    parameters s where the rays meet the cubics, each with its candidate and its
-    sample (flat index into q), and each ray's length: (distance (C,), s (S,),
-    candidate (S,), sample (S,), length (S,)).
+    the sample's share of the range's arc length, s clipped to [0, 1].  ``length``,
+    ``scale``, ``acc``: each candidate's chord length, handle penalty and acceptance
+    distance (the pick of :func:`_picked_cubics`: least ``err * length * scale``
+    below ``acc``).  Returns (distance (C,), rays): rays = (candidate (N,), part (N,),
+    stages) for the (candidate, part) pairs, ``stages`` a list of (pairs, columns,
+    s, length): the parameters s where the rays from the samples ``columns`` of
+    those pairs met the cubic, and the rays' lengths (the rays cast, see below).
 
-    Every (candidate, sample) pair is a row of one-dimensional arrays, x and y apart
-    (a reduction over an axis of length 2 costs numpy several times the products
-    themselves); the candidates' samples are consecutive, so the largest distance
-    of each is one ``maximum.reduceat``.
+    Only what can change the pick is measured: every candidate's rays at the
+    COARSE samples first (a lower bound of its distance); a candidate whose bound
+    already fails ``acc`` is dropped; of the others, the one of least bound in each
+    range is measured at every sample, and the rest only where their bound does not
+    exceed its score.  The distance of a dropped candidate is inf: the pick is the
+    one all samples of all candidates give, and its rays are all cast.  Each ray is
+    computed alone (:func:`_rays`), so its result does not depend on the others.
     """
-    if not len(cr):
-        return np.zeros(0), np.zeros(0), np.zeros(0, int), np.zeros(0, int), np.zeros(0)
     m = q.shape[1]
-    qx, qy = q[..., 0].ravel(), q[..., 1].ravel()
-    tx, ty = dq[..., 0].ravel(), dq[..., 1].ravel()
-    speed = np.hypot(tx, ty) * np.repeat(width, m) * np.tile(_quadrature().gw, len(width))
+    speed = np.hypot(dq[..., 0], dq[..., 1]).ravel() * np.repeat(width, m) * np.tile(
+        _quadrature().gw, len(width))
     sreq = np.repeat(req, m)
     cum = np.cumsum(speed)
     tot = np.bincount(sreq, speed)
     base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
-    frac = (cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)
-    start = np.searchsorted(sreq, np.arange(len(tot)))           # samples grouped by range
-    cnt = np.bincount(sreq, minlength=len(tot))
-    counts = cnt[cr]
+    frac = ((cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)).reshape(-1, m)
+    nreq = len(tot)
+    counts = np.bincount(req, minlength=nreq)[cr]                 # pairs of each candidate
     first = np.cumsum(counts) - counts
-    owner = np.repeat(np.arange(len(cr)), counts)
-    si = np.repeat(start[cr] - first, counts) + np.arange(counts.sum())
+    cand = np.repeat(np.arange(len(cr)), counts)
+    part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
+            + np.arange(int(counts.sum())))
     power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
-    ax = np.ascontiguousarray(power[..., 0])[owner]               # (S, 4) each
-    ay = np.ascontiguousarray(power[..., 1])[owner]
-    px, py, ux, uy = qx[si], qy[si], tx[si], ty[si]
-    s = frac[si]
-    g = ax * ux[:, None] + ay * uy[:, None]                       # (C(s) - p) . t, power form
-    g0, g1, g2, g3 = g[:, 0] - (px * ux + py * uy), g[:, 1], g[:, 2], g[:, 3]
+    ax = np.ascontiguousarray(power[..., 0].T)[:, cand]           # (4, N) each
+    ay = np.ascontiguousarray(power[..., 1].T)[:, cand]
+    worst = np.zeros(len(cand))                                   # largest ray of a pair
+    stages = []
+
+    def cast(pairs, cols):
+        # the samples' columns gathered once, then whole rows per block
+        cq = [np.ascontiguousarray(x[:, cols]) for x in (q[..., 0], q[..., 1], dq[..., 0],
+                                                          dq[..., 1], frac)]
+        s, ray = np.empty((len(pairs), len(cols))), np.empty((len(pairs), len(cols)))
+        step = max(RAY_BLOCK // len(cols), 1)
+        for lo in range(0, len(pairs), step):
+            b = pairs[lo:lo + step]
+            p = part[b]
+            s[lo:lo + step], ray[lo:lo + step] = _rays(ax[:, b, None], ay[:, b, None],
+                                                       *(x[p] for x in cq))
+        # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
+        worst[pairs] = np.maximum(worst[pairs], ray.max(axis=1))
+        stages.append((pairs, cols, s, ray))
+
+    def dist_of(cands):
+        out = np.zeros(len(cr))
+        some = counts > 0
+        if some.any():
+            out[some] = np.maximum(np.maximum.reduceat(worst, first[some]), 0.0)
+        return out[cands]
+
+    if not len(cr):
+        return np.zeros(0), (cand, part, stages)
+    cast(np.arange(len(cand)), COARSE)
+    bound = dist_of(slice(None)) * length * scale
+    alive = ~(bound >= acc)
+    # per range the live candidate of least bound (the first of equal ones)
+    live = np.nonzero(alive)[0]
+    live = live[np.lexsort((live, bound[live], cr[live]))]
+    best = live[np.concatenate(([True], cr[live][1:] != cr[live][:-1]))[:len(live)]]
+    done = np.zeros(len(cr), bool)
+    done[best] = True
+    cast(np.nonzero(done[cand])[0], _FINE)
+    full = np.full(nreq, np.nan)
+    full[cr[best]] = dist_of(best) * length[best] * scale[best]
+    others = alive & ~done & ~(bound > full[cr])
+    cast(np.nonzero(others[cand])[0], _FINE)
+    done |= others
+    err = np.full(len(cr), np.inf)
+    err[done] = dist_of(done)
+    return err, (cand, part, stages)
+
+
+def _rays(ax, ay, px, py, ux, uy, s):
+    """Rays from the points (px, py) along the normals of the tangents (ux, uy) to
+    the cubics of power coefficients ax, ay (4, ...) each, Newton from s (updated in
+    place): (the parameters met, the rays' lengths), one block of
+    :func:`_ray_distance`, every operation elementwise."""
+    a0, a1, a2, a3 = ax
+    b0, b1, b2, b3 = ay
+    g0 = a0 * ux + b0 * uy - (px * ux + py * uy)                  # (C(s) - p) . t, power form
+    g1, g2, g3 = a1 * ux + b1 * uy, a2 * ux + b2 * uy, a3 * ux + b3 * uy
+    h2, h3 = 2.0 * g2, 3.0 * g3
+    gv, gd = np.empty_like(s), np.empty_like(s)
     for _ in range(5):
-        gv = ((g3 * s + g2) * s + g1) * s + g0
-        gd = (3.0 * g3 * s + 2.0 * g2) * s + g1
-        s = np.clip(s - gv / np.where(np.abs(gd) > 1e-300, gd, 1e-300), 0.0, 1.0)
-    cx = ((ax[:, 3] * s + ax[:, 2]) * s + ax[:, 1]) * s + ax[:, 0]
-    cy = ((ay[:, 3] * s + ay[:, 2]) * s + ay[:, 1]) * s + ay[:, 0]
-    dist = np.hypot(cx - px, cy - py)
-    out = np.zeros(len(cr))
-    some = counts > 0
-    if some.any():
-        out[some] = np.maximum(np.maximum.reduceat(dist, first[some]), 0.0)
-    return out, s, owner, si, dist
+        np.multiply(g3, s, out=gv)
+        gv += g2
+        gv *= s
+        gv += g1
+        gv *= s
+        gv += g0
+        np.multiply(h3, s, out=gd)
+        gd += h2
+        gd *= s
+        gd += g1
+        np.copyto(gd, 1e-300, where=~(np.abs(gd) > 1e-300))
+        np.divide(gv, gd, out=gv)
+        np.subtract(s, gv, out=s)
+        np.clip(s, 0.0, 1.0, out=s)
+    np.multiply(a3, s, out=gv)
+    gv += a2
+    gv *= s
+    gv += a1
+    gv *= s
+    gv += a0
+    gv -= px
+    np.multiply(b3, s, out=gd)
+    gd += b2
+    gd *= s
+    gd += b1
+    gd *= s
+    gd += b0
+    gd -= py
+    return s, np.hypot(gv, gd, out=gd)

@@ -11,12 +11,18 @@ aim the next end (:func:`next_tries`, the model bound ~ width^p), start the next
 segment.  No Python step runs per chain and round; what remains per segment is
 writing it out (a :class:`~morph.export.certify.CubicFit`).
 
+A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
+search of the same chain from its other end has come that far,
+:func:`morph.export.search._drive`).
+
 The search of one segment: the first try spans the previous segment's width (the
 chain's end when less than REACH_END of it would be left); a try is accepted once it
 is certified with a bound of at least ACCEPT tol (or reaches the chain's end);
 otherwise the next end follows the model bound ~ width^p (p from the last two fits,
 within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
-narrower than BRACKET_REL of the width or MAX_TRIES fits were made.  Tries sampled
+narrower than BRACKET_REL of the width or MAX_TRIES fits were made; a bracket
+narrower than SNAP of the failing width with a join of two pieces inside tries the
+join next, certified at once, and ends there if it fits.  Tries sampled
 below PROVISIONAL tol are not certified (the search extends them anyway); when the
 search ends on one, it is certified, and where that fails the segment is searched
 again certifying every try.  With no certified fit at all the shortest failed
@@ -53,6 +59,13 @@ SHRINK = 0.5
 #: its width would be left; a pass makes at most MAX_TRIES fits.
 REACH_END = 0.3
 MAX_TRIES = 8
+#: A bracket (longest fitting end, shortest failing one) narrower than this share of
+#: the failing width with a join of two pieces inside tries the join itself next,
+#: certified at once, and a join that fits ends the segment: where the error jumps
+#: within a bracket it jumps at a join (the curvature of a sum jumps there: a cubic
+#: spans the join of a nib's arc and a glyph's curve only with its end near it), and
+#: bisecting the jump costs a round a halving.
+SNAP = 0.3
 
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
 #: on, halving the shortest failed interval (no certified fit yet), done.
@@ -90,31 +103,64 @@ class Greedy:
     ``min_width``: the narrowest interval tried; ``fail(row, t0, width, bound)``:
     raises the error of a chain where no interval certifies.  :meth:`requests`
     gives the fits of a round, :meth:`update` takes their results and returns the
-    segments accepted in the round; :attr:`active` says which chains still search.
-    The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
+    segments accepted in the round; :attr:`active` says which chains still search
+    (``active``: which start searching; :meth:`activate` starts the others;
+    :meth:`cap` moves a chain's end nearer, where a search from the other end has
+    come).  The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
     (round, request): its panels are made only for the segments written."""
 
-    def __init__(self, top, first, tol, min_width, fail):
+    def __init__(self, top, first, tol, min_width, fail, active=True):
         n = len(top)
-        self.top, self.tol, self.min_width, self.fail = np.asarray(top, float), tol, min_width, fail
+        self.top, self.tol, self.min_width, self.fail = np.array(top, float), tol, min_width, fail
         self.t0, self.t1, self.start = np.zeros(n), np.zeros(n), np.array(first, float)
         self.width = np.minimum(self.top, 2.0)
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
+        self.snap = np.zeros(n, bool)
         self.bad, self.last_w, self.last_b = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
         # the longest certified (or provisional) fit: end, bound, certified, where, cubic
         self.good, self.good_b, self.good_cert = np.full(n, np.nan), np.zeros(n), np.zeros(n, bool)
         self.good_at, self.good_end, self.good_cubic = np.zeros((n, 2), int), np.zeros((n, 2)), \
             np.zeros((n, 4, 2))
-        self._new_segments(np.arange(n))
+        self.first = self.start.copy()
+        active = np.broadcast_to(np.asarray(active, bool), (n,))
+        self.mode[~active] = DONE
+        self._new_segments(np.nonzero(active)[0])
+
+    def activate(self, rows):
+        """Start the search of the chains ``rows`` (made inactive: ``active`` False)
+        from their start."""
+        if not len(rows):
+            return
+        self.t0[rows], self.start[rows] = 0.0, self.first[rows]
+        self.width[rows] = np.minimum(self.top[rows], 2.0)
+        self._new_segments(rows)
 
     @property
     def active(self):
         return self.mode != DONE
 
+    def cap(self, rows, top):
+        """Lower the end of the chains ``rows`` to ``top`` (a search from the other end
+        has come that far): tries past it are moved onto it, brackets past it
+        dropped; the search ends at it."""
+        rows, top = np.asarray(rows, int), np.asarray(top, float)
+        lower = top < self.top[rows]
+        rows, top = rows[lower], top[lower]
+        if not len(rows):
+            return
+        self.top[rows] = top
+        past = self.t1[rows] > top
+        r = rows[past]
+        self.t1[r] = top[past]
+        self.mode[r[self.mode[r] != HALVE]] = TRY
+        self.good[r[self.good[r] > self.top[r]]] = np.nan
+        self.bad[r[self.bad[r] > self.top[r]]] = np.nan
+
     def _new_segments(self, rows):
         """Start the segment search of ``rows`` at their t0: the first try spans the
         previous segment's width, to the chain's end when little would be left."""
         self.mode[rows], self.passno[rows], self.tries[rows] = TRY, 0, 0
+        self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
         self.bad[rows], self.last_w[rows], self.last_b[rows] = np.nan, np.nan, np.nan
         t0, top = self.t0[rows], self.top[rows]
@@ -128,7 +174,7 @@ class Greedy:
         rows = np.nonzero(self.active)[0]
         t1 = self.t1[rows]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
-                        & (t1 != self.top[rows]), PROVISIONAL, 0.0)
+                        & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
         return rows, self.t0[rows], t1, self.start[rows], need
 
     def update(self, rows, end, fits, at):
@@ -177,9 +223,17 @@ class Greedy:
                             self.good[rows], self.bad[rows], top, self.tol)
         self.last_w[rows], self.last_b[rows] = t1 - t0, bound
         self.tries[rows] += 1
-        accept &= (t1 == top) | (bound >= ACCEPT * self.tol)
+        accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows]
         stop = (accept | np.isnan(target) | (target - t0 < self.min_width)
                 | (self.tries[rows] >= MAX_TRIES))
+        # a narrow bracket over a join: try the join
+        good, bad = self.good[rows], self.bad[rows]
+        join = np.floor(np.where(np.isnan(good), t0, good)) + 1.0
+        snap = (~stop & ~np.isnan(bad) & (join < bad) & (join > t0)
+                & (bad - np.where(np.isnan(good), t0, good) <= SNAP * (bad - t0))
+                & ~self.snap[rows])
+        target = np.where(snap, join, target)
+        self.snap[rows] = snap
         self.t1[rows[~stop]] = target[~stop]
         ended = rows[stop]
         has_good = ~np.isnan(self.good[ended])

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from .. import bernstein as bz
-from .bank import plan_runs
+from .bank import RunArrays, plan_run_arrays, plan_runs
 from .search import runs_segments
 
 
@@ -86,21 +86,22 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     """
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
-    bank, plans = plan_runs(loops, join_angle, wrap)
-    fitted = iter(runs_segments(bank, [r for plan in plans for r, e in plan if not e],
+    bank, runs = plan_run_arrays(loops, join_angle, wrap)
+    piece_exact = np.repeat(runs.exact, runs.sizes)
+    fit = ~runs.exact
+    fitted = iter(runs_segments(bank, RunArrays(runs.order[~piece_exact], runs.sizes[fit],
+                                                runs.exact[fit], runs.loop[fit]),
                                 tol, max_depth))
-    exact = [r for plan in plans for r, e in plan if e]
     # exact already: no fitting (lines stay lines, quadratics quadratics)
-    written = iter(bank.cartesian(np.concatenate(exact)) if exact else [])
-    out = []
-    for plan in plans:
-        beziers = []
-        for run, e in plan:
-            if e:
-                beziers.extend(next(written) for _ in run)
-            else:
-                beziers.extend(seg.cubic for seg in next(fitted))
-        out.append(beziers)
+    written = bank.cartesian(runs.order[piece_exact])
+    at = 0
+    out = [[] for _ in loops]
+    for i, e, k in zip(runs.loop.tolist(), runs.exact.tolist(), runs.sizes.tolist()):
+        if e:
+            out[i] += written[at:at + k]
+            at += k
+        else:
+            out[i] += [seg.cubic for seg in next(fitted)]
     return out
 
 

@@ -21,7 +21,7 @@ are the very numbers that chain alone gives.
 import numpy as np
 
 from .. import bernstein as bz
-from ..polyline import unique
+from ..polyline import member, unique
 from .fit import ARC_INTERVALS, _quadrature
 from .greedy import ERROR_POWER
 
@@ -180,7 +180,7 @@ class Refine:
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
-        keep = ~np.isin(self.seg_row, row)
+        keep = ~member(self.seg_row, row)
         rows = np.concatenate([self.seg_row[keep], row])
         order = np.argsort(rows, kind="stable")
         self.seg_row = rows[order]

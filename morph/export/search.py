@@ -25,7 +25,9 @@ least squares) is tried, and the interval shrinks until one certifies.
 **Two stages.**  The greedy search of every chain is one array state machine
 (:class:`morph.export.greedy.Greedy`): each chain's range, try, bracket and mode are
 rows of arrays, a round asks one fit of every chain still searching, and one numpy
-step takes all their results.  A chain the greedy search leaves with two segments or
+step takes all their results.  A long chain is searched from both ends at once (two
+rows, each stopping where the other has come; :class:`_Join` joins them), which
+halves its rounds.  A chain the greedy search leaves with two segments or
 more is refined by a second one (:class:`morph.export.refine.Refine`: one segment
 fewer where the bounds say it may fit), its chains rows of arrays too.
 :func:`_drive` fits the requests of both machines of a round together
@@ -45,6 +47,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
 from ..errors import ToleranceNotMetError
+from ..polyline import member, unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
@@ -199,11 +202,12 @@ class _Fits:
     NONE), ``cert`` (a certified bound: FITTED or SAME); :meth:`reparam` makes a
     request's :class:`_Reparam` (only for the segments written)."""
 
-    __slots__ = ("cubic", "bound", "kind", "cert", "maps", "first", "nparts")
+    __slots__ = ("cubic", "bound", "kind", "cert", "provisional", "maps", "first", "nparts")
 
     def __init__(self, cubic, bound, kind, maps, first, nparts):
         self.cubic, self.bound, self.kind, self.maps = cubic, bound, kind, maps
         self.cert = (kind == FITTED) | (kind == SAME)
+        self.provisional = kind == SHORT
         self.first, self.nparts = first, nparts
 
     def reparam(self, r):
@@ -319,59 +323,287 @@ def _chain_points(chains, chain, t):
     return np.where((t >= k)[:, None], bank.last[gid], p)
 
 
+#: Chains at least this many pieces long are searched from both ends at once
+#: (:func:`_drive`); their cubics span 2 to 3 pieces of a brushed or stroked
+#: outline's long smooth runs.
+BOTH_WAYS = 6.0
+
+
 def _drive(chains, tol, min_width):
     """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
     together; their CubicFit lists in order.
 
-    The greedy search of every chain is one array state machine
-    (:class:`morph.export.greedy.Greedy`); a chain it leaves with two segments or
-    more is refined by another (:class:`morph.export.refine.Refine`: one segment
-    fewer where the bounds say it may fit).  Each round fits and certifies the
-    requests of both together (:func:`_fit_batch`): the numerical work is one batch
-    per round, and no Python step runs per chain and round.  The accepted segments
-    are kept as arrays (chain, t0, t1, bound, and the round and request of their fit)
-    until the end, where each chain's list of CubicFit is made."""
+    Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
+    from its start, and a chain of BOTH_WAYS pieces or more also from its end (a
+    second row of the greedy machine, in the reversed parameter K - T), until the
+    two meet; the two halves are then joined (:class:`_Join`: one refit where they
+    overlap, and one segment for two where that fits).  A search from both ends
+    needs about half the rounds of one from the start, for the same count of
+    segments: the greedy search's reach is monotone (a segment from a later start
+    ends no earlier), so the fewest segments a + c with the forward search's a-th
+    end past the backward search's c-th start is the fewest of any cover.  A
+    chain left with two segments or more is refined (:class:`morph.export.refine.
+    Refine`: one segment fewer where the bounds say it may fit).  Each round fits
+    and certifies the requests of all machines together (:func:`_fit_batch`): the
+    numerical work is one batch per round, and no Python step runs per chain and
+    round (the join runs once per chain).  The accepted segments are kept as arrays
+    (chain, t0, t1, bound, and the round and request of their fit) until the end,
+    where each chain's list of CubicFit is made."""
     bank, n = chains.bank, len(chains.k)
+    top = chains.k.astype(float)
+    two = np.nonzero(top >= BOTH_WAYS)[0]
+    m = len(two)
+    # rows: forward of every chain, backward of the long ones, a spare forward row
+    # of each long one (its whole-chain search where a join does not certify)
+    rchain = np.concatenate([np.arange(n), two, two])
+    back = np.zeros(n + 2 * m, bool)
+    back[n:n + m] = True
+    bwd_of = np.full(n, -1)
+    bwd_of[two] = n + np.arange(m)
+    spare_of = np.full(n, -1)
+    spare_of[two] = n + m + np.arange(m)
+    start_t = np.where(back, top[rchain], 0.0)
 
     def fail(row, t0, width, bound):
-        piece = bank.pieces[bank.order[chains.off[row] + min(int(t0), int(chains.k[row]) - 1)]]
+        c = int(rchain[row])
+        if back[row]:
+            t0 = top[c] - t0 - width
+        piece = bank.pieces[bank.order[chains.off[c] + min(int(t0), int(chains.k[c]) - 1)]]
         raise ToleranceNotMetError(
             "cubic export did not reach tol %.3g on a parameter interval of width "
             "%.3g (bound %.3g)" % (tol, width, bound), piece=piece, achieved=bound)
 
-    greedy = Greedy(chains.k, _chain_points(chains, np.arange(n), np.zeros(n)), tol,
-                    min_width, fail)
+    greedy = Greedy(top[rchain], _chain_points(chains, rchain, start_t), tol, min_width,
+                    fail, active=np.arange(n + 2 * m) < n + m)
     refine = Refine(chains, tol)
-    found = _Segments()                   # the greedy segments of chains still searching
+    join = _Join(tol)
+    found = _Segments()                   # the greedy segments of rows still searching
     final, rounds, done = [], [], 0
-    while greedy.active.any() or refine.active:
+
+    def finished(seg, ended):
+        """Chains ``ended`` and their segments: to the refinement or done."""
+        nonlocal done
+        many = np.bincount(seg[0], minlength=n)[ended] >= 2
+        refine.add(ended[many], *_segments_of(seg, ended[many]))
+        final.append(_segments_of(seg, ended[~many]))
+        done += int((~many).sum())
+
+    while greedy.active.any() or refine.active or join.active:
         rows, t0, t1, start, need = greedy.requests()
+        crow, rev = rchain[rows], back[rows]
+        # a backward row's range [u0, u1] is the chain's [K - u1, K - u0]
+        a = np.where(rev, top[crow] - t1, t0)
+        b = np.where(rev, top[crow] - t0, t1)
+        pts = _chain_points(chains, np.concatenate([crow, crow[rev]]),
+                            np.concatenate([b, a[rev]]))
+        end = pts[:len(rows)]
+        start = start.copy()
+        start[rev] = pts[len(rows):]
+        tried = np.where(rev[:, None], start, end)          # the point at the row's end
+        # the two searches of a chain trying the same range (the gap between them):
+        # one fit for both
+        own = _same_ranges(crow, rev, a, b, need)
         more = refine.requests()
-        end = _chain_points(chains, rows, t1)
-        k = len(rows)
+        joins = join.requests()
+        mine = np.nonzero(own == np.arange(len(rows)))[0]
+        k = len(mine)
         req = Requests(*(np.concatenate(x) for x in zip(
-            (rows, t0, t1, start, end, need), more + (np.zeros(len(more[0])),))))
+            (crow[mine], a[mine], b[mine], start[mine], end[mine], need[mine]),
+            more + (np.zeros(len(more[0])),), _join_points(chains, joins))))
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
-            at = np.stack([np.full(k, len(rounds) - 1), np.arange(k)], axis=1)
-            acc = greedy.update(rows, end, (fits.cubic[:k], fits.bound[:k], fits.cert[:k]),
-                                at)
+            j = np.searchsorted(mine, own)
+            at = np.stack([np.full(len(rows), len(rounds) - 1), j], axis=1)
+            acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
             found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
+            if len(joins[0]):
+                greedy.activate(spare_of[join.update(fits, k + len(more[0]), len(rounds) - 1)])
+            # each search of a chain ends where the other has come; when they meet both
+            # stop and the chain is joined
+            both = two[(greedy.mode[two] != DONE) & (greedy.mode[bwd_of[two]] != DONE)]
+            greedy.cap(both, top[both] - greedy.t0[bwd_of[both]])
+            greedy.cap(bwd_of[both], top[both] - greedy.t0[both])
+            fwd = two[greedy.mode[two] != DONE]
+            met = fwd[greedy.t0[fwd] >= top[fwd] - greedy.t0[bwd_of[fwd]]]
+            # (polyline.unique, not np.union1d/np.unique/np.isin: those import
+            # numpy.ma, which font workers must not pay for)
+            met = unique(np.concatenate([met, two[(greedy.mode[two] == DONE)
+                                                  != (greedy.mode[bwd_of[two]] == DONE)]]))
+            greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
+            ended = unique(np.concatenate([ended, met, bwd_of[met]]))
             seg = found.take(ended)
-            many = np.bincount(seg[0], minlength=n)[ended] >= 2
-            refine.add(ended[many], *_segments_of(seg, ended[many]))
-            final.append(_segments_of(seg, ended[~many]))
-            done += int((~many).sum())
+            rc = rchain[seg[0]]
+            flip = back[seg[0]]
+            seg = (rc, np.where(flip, top[rc] - seg[2], seg[1]),
+                   np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
+            # the chains of a forward or backward row of a two-way search: joined;
+            # the others (one-way, or searched again whole) are done
+            joined = unique(rchain[ended[(spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
+            alone = np.sort(rchain[ended[~member(rchain[ended], joined)]])
+            finished(_segments_of(seg, alone), alone)
+            join.add(_segments_of(seg, joined), joined, greedy.t0[joined])
+            finished(*join.ready())
         out = refine.finished()
         final.append(out[1:])
         done += len(out[0])
         if _observer is not None:
             _observer(done, n)
     return _cubic_fits(n, final, rounds)
+
+
+def _same_ranges(crow, rev, a, b, need):
+    """For each greedy request, the request whose fit it takes: itself, or for a
+    backward row the forward row of its chain asking the same range with the same
+    ``need`` (the rows are sorted, forward rows first)."""
+    own = np.arange(len(crow))
+    fwd = np.full(int(crow.max()) + 1 if len(crow) else 0, -1)
+    fwd[crow[~rev]] = np.nonzero(~rev)[0]
+    r = np.nonzero(rev)[0]
+    f = fwd[crow[r]]
+    same = (f >= 0)
+    same[same] = (a[f[same]] == a[r[same]]) & (b[f[same]] == b[r[same]]) & (
+        need[f[same]] == need[r[same]])
+    own[r[same]] = f[same]
+    return own
+
+
+def _join_points(chains, joins):
+    """(chain, t0, t1, start, end, need) of the refits of :class:`_Join` (chain, t0,
+    t1): certified (need 0)."""
+    chain, t0, t1 = joins
+    return (chain, t0, t1, _chain_points(chains, chain, t0), _chain_points(chains, chain, t1),
+            np.zeros(len(chain)))
+
+
+class _Join:
+    """The chains searched from both ends (:func:`_drive`), joined where the searches
+    met.
+
+    Each search ends where the other has come (:meth:`morph.export.greedy.Greedy.cap`),
+    so that the forward search's last segment ends where the backward search's last
+    one begins, and the chain's segments are those of the two.  Where both moved in
+    the same round and overlap, the path keeps the segments in order of their starts
+    and refits the first one that begins before the end e of the path so far from e
+    ([a, b] with a < e becomes [e, b]: a part of an interval that fits; refitted and
+    certified), trying one segment for it and the next ([e, next end]) or for it and
+    the one before; segments that end before e are dropped.  Where the searches met
+    end to end, one segment for the two meeting there is tried too (the two searches
+    stop a little short of their reach, like the greedy search; the refinement
+    tries one fewer over the whole chain).  Where a refit does not certify after all,
+    the chain is searched again whole from its start (:meth:`update` returns it).
+    The paths are made once per chain (Python, over its segments); the refits of all
+    chains of a round are one batch."""
+
+    def __init__(self, tol):
+        self.tol = tol
+        self.paths = {}                  # chain: segments (t0, t1, bound, at), None at a refit
+        self.asked = ([], [], [])        # refits: chain, t0, t1
+        self.slots = []                  # refits: (chain, (position in its path, kind))
+        self.pending = set()             # chains with refits asked
+
+    @property
+    def active(self):
+        return bool(self.paths)
+
+    def add(self, seg, chains, met):
+        """The segments (chain, t0, t1, bound, at; chain parameters) of ``chains``
+        whose searches ended, ``met``: where each one's forward search ended."""
+        by = {}
+        for c, t0, t1, b, at in zip(seg[0].tolist(), seg[1].tolist(), seg[2].tolist(),
+                                    seg[3].tolist(), seg[4].tolist()):
+            by.setdefault(c, []).append((t0, t1, b, at))
+        for c, f in zip(chains.tolist(), met.tolist()):
+            self._path(c, sorted(by.get(c, [])), f)
+
+    def _path(self, c, segs, f):
+        """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
+        its forward search ended."""
+        path, e = [], 0.0
+        for i, (t0, t1, b, at) in enumerate(segs):
+            if t1 <= e:
+                continue
+            if t0 < e:
+                self._ask(c, len(path), 0, e, t1)
+                if i + 1 < len(segs) and segs[i + 1][0] == t1:
+                    self._ask(c, len(path), 1, e, segs[i + 1][1])
+                if path and path[-1] is not None:
+                    self._ask(c, len(path), -1, path[-1][0], t1)
+                path.append(None)
+            else:
+                path.append((t0, t1, b, at))
+            e = t1
+        for i in range(len(path) - 1):          # met end to end: one for the two
+            if path[i] is not None and path[i + 1] is not None and path[i][1] == f:
+                self._ask(c, i, 1, path[i][0], path[i + 1][1])
+        self.paths[c] = path
+
+    def _ask(self, c, pos, kind, t0, t1):
+        """Ask the fit of [t0, t1] for path position ``pos`` of chain c: ``kind`` 0
+        fills it, 1 replaces it and the next, -1 it and the one before."""
+        self.pending.add(c)
+        self.asked[0].append(c)
+        self.asked[1].append(t0)
+        self.asked[2].append(t1)
+        self.slots.append((c, pos, kind))
+
+    def requests(self):
+        """(chain, t0, t1) of the refits asked."""
+        return (np.array(self.asked[0], int), np.array(self.asked[1], float),
+                np.array(self.asked[2], float))
+
+    def update(self, fits, offset, round_no):
+        """Take the refits (``fits`` a round's :class:`_Fits`, these requests from
+        ``offset`` on, made in round ``round_no``); returns the chains whose path has
+        a refit that does not certify (dropped here: to be searched again whole)."""
+        chain, t0, t1 = self.requests()
+        j = offset + np.arange(len(chain))
+        good = fits.cert[j] & (fits.bound[j] <= self.tol)
+        bad, gains = set(), {}
+        for i, (c, pos, kind) in enumerate(self.slots):
+            fit = (float(t0[i]), float(t1[i]), float(fits.bound[j[i]]), [round_no, int(j[i])])
+            if kind:
+                if good[i] and (c, pos) not in gains:
+                    gains[c, pos] = (kind, fit)
+            elif good[i]:
+                self.paths[c][pos] = fit
+            else:
+                bad.add(c)
+        # one segment for two, the later positions of a path first
+        for (c, pos), (kind, fit) in sorted(gains.items(), key=lambda g: (g[0][0], -g[0][1])):
+            path = self.paths[c]
+            if kind > 0 and pos + 1 < len(path) and path[pos + 1] is not None:
+                path[pos:pos + 2] = [fit]
+            elif kind < 0 and pos > 0 and path[pos - 1] is not None:
+                path[pos - 1:pos + 1] = [fit]
+            else:
+                continue
+            if all(p is not None for p in path):
+                bad.discard(c)
+        self.asked, self.slots, self.pending = ([], [], []), [], set()
+        for c in bad:
+            del self.paths[c]
+        return np.array(sorted(bad), int)
+
+    def ready(self):
+        """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
+        chains whose paths are complete, removed."""
+        out, ended = [], []
+        for c in sorted(self.paths):
+            path = self.paths[c]
+            if c in self.pending or any(p is None for p in path):
+                continue
+            ended.append(c)
+            out.extend((c,) + p for p in path)
+        for c in ended:
+            del self.paths[c]
+        seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out], float),
+               np.array([o[2] for o in out], float), np.array([o[3] for o in out], float),
+               np.array([o[4] for o in out], int).reshape(-1, 2))
+        return seg, np.array(ended, int)
 
 
 class _Segments:
@@ -388,7 +620,7 @@ class _Segments:
         """The segments of ``chains`` (all their searches ended), removed: flat arrays
         sorted by chain, then t0."""
         chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
-        mine = np.isin(chain, chains)
+        mine = member(chain, unique(chains))
         self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
         order = np.argsort(chain[mine], kind="stable")    # a chain's segments in t0 order
         return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
@@ -396,7 +628,7 @@ class _Segments:
 
 def _segments_of(seg, chains):
     """The segments of ``chains`` of the arrays ``seg`` (chain, t0, t1, bound, at)."""
-    mine = np.isin(seg[0], chains)
+    mine = member(seg[0], unique(chains))
     return tuple(x[mine] for x in seg)
 
 

@@ -698,7 +698,9 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     (:class:`_StreamedGlyphs`); the statistics go to ``plan.stats``."""
     tols = budget.plan(tol, kind == ".ttf")
 
-    sink = _StreamedGlyphs(plan.font, kind, tmp, progress, plan.features)
+    sink = _StreamedGlyphs(plan.font, kind, tmp, progress,
+                           [n for n in plan.stroked + plan.followed if plan.font[n].components],
+                           plan.features)
     if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
         import uuid
 
@@ -712,7 +714,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                           stroker=stroker)
     run_glyph_jobs(func, work, jobs=jobs, keep=False, each=sink.add, prepare=prepare,
                    in_flight=in_flight, preload=_WORKER_MODULES + _COMPILERS.get(kind, ()))
-    grow_win_metrics(plan.font, *sink.extent)
+    grow_win_metrics(plan.font, *sink.written_extent())
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
 
@@ -747,10 +749,9 @@ def _streamed_chunk(flavor, chunk):
     """:func:`_chunk_job` of a chunk, then what the main process keeps of each glyph:
     ``outline`` (:func:`morph.fonts.stream.compile_outline` of its contours in
     ``flavor``; for None the contours themselves), ``contours`` and ``points``
-    (counts) and ``extent`` (the lowest and highest y of the chunk's written
-    outlines, one list for all its glyphs, from the boxes the compilation computes:
-    CFF and UFO cubics their tight boxes, glyf its points' boxes); the regions are
-    not sent back."""
+    (counts) and ``box`` (xMin, yMin, xMax, yMax of the written outline, None for
+    none, from the boxes the compilation computes: CFF and UFO cubics their tight
+    boxes, glyf its points' boxes); the regions are not sent back."""
     from .stream import compile_outlines, outline_bounds
     from .tables import Outline
 
@@ -761,11 +762,9 @@ def _streamed_chunk(flavor, chunk):
     else:
         compiled = compile_outlines(outlines, flavor)
         boxes = [box for _, box in compiled]
-    extent = outline_extent(boxes)
-    for r, outline, done in zip(out, outlines, compiled):
+    for r, outline, done, box in zip(out, outlines, compiled, boxes):
         del r["region"]
-        r.update(extent=extent, contours=len(outline), points=outline.point_count(),
-                 outline=done)
+        r.update(box=box, contours=len(outline), points=outline.point_count(), outline=done)
     return out
 
 
@@ -774,9 +773,11 @@ class _StreamedGlyphs:
     (:func:`_streamed_chunk`) counted in ``stats``, its y range in ``extent``, its
     outline kept as bytes (``.otf``, ``.ttf``) or written to the UFO at ``tmp`` at
     once (:class:`morph.fonts.stream.UfoGlyphWriter`); ``progress(name)`` after
-    each.  :meth:`finish` writes the font."""
+    each.  The boxes of the glyphs that ``composites`` (the written glyphs with
+    components) place are kept for :meth:`written_extent`.  :meth:`finish` writes
+    the font."""
 
-    def __init__(self, font, kind, tmp, progress, features=None):
+    def __init__(self, font, kind, tmp, progress, composites=(), features=None):
         from .stream import UfoGlyphWriter
 
         self.font, self.kind, self.tmp, self.progress = font, kind, tmp, progress
@@ -784,6 +785,8 @@ class _StreamedGlyphs:
         self.ufo = UfoGlyphWriter(font, tmp) if kind == ".ufo" else None
         self.store = {}
         self.extent = [None, None]
+        self.composites = list(composites)
+        self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
         self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
 
     def add(self, r):
@@ -793,16 +796,29 @@ class _StreamedGlyphs:
         st["points"] += r["points"]
         if r["fallback"]:
             st["fallback"][r["name"]] = r["fallback"]
-        bottom, top = r["extent"]
-        if top is not None:
-            self.extent = [bottom if self.extent[0] is None else min(self.extent[0], bottom),
-                           top if self.extent[1] is None else max(self.extent[1], top)]
+        self._grow(r["box"])
+        if r["name"] in self.boxes:
+            self.boxes[r["name"]] = r["box"]
         if self.ufo is not None:
             self.ufo.write(r["name"], r["outline"])
         else:
             self.store[r["name"]] = r["outline"]
         if self.progress is not None:
             self.progress(r["name"])
+
+    def _grow(self, box):
+        if box is not None:
+            bottom, top = box[1], box[3]
+            self.extent = [bottom if self.extent[0] is None else min(self.extent[0], bottom),
+                           top if self.extent[1] is None else max(self.extent[1], top)]
+
+    def written_extent(self):
+        """[bottom, top] of every written glyph: the stroked outlines and the
+        composites, whose components may move their bases above or below them."""
+        memo = {}
+        for name in self.composites:
+            self._grow(_composite_box(self.font, name, self.boxes, memo))
+        return self.extent
 
     def finish(self, out_path, tol):
         """The UFO's font info rewritten, or the font compiled by ufo2ft from the
@@ -827,6 +843,39 @@ class _StreamedGlyphs:
         # the stored glyphs' headers for glyf): not again from every glyph decoded
         otf.recalcBBoxes = False
         otf.save(str(self.tmp))
+
+
+def _placed_bases(font, composites):
+    """The glyphs the components of ``composites`` place, through nested
+    composites."""
+    seen, todo = set(), [c.baseGlyph for n in composites for c in font[n].components]
+    while todo:
+        name = todo.pop()
+        if name not in seen and name in font:
+            seen.add(name)
+            todo.extend(c.baseGlyph for c in font[name].components)
+    return seen
+
+
+def _composite_box(font, name, own, memo):
+    """The box of glyph ``name`` as written: its own outline's (``own``, None or
+    absent for none) and those of its components' bases, each through its
+    transformation (the transformed corners bound the transformed outline).
+    ``memo`` holds the boxes found so far."""
+    if name not in memo:
+        memo[name] = None  # a component cycle is refused upstream; this ends one anyway
+        boxes = [own.get(name)]
+        for comp in font[name].components:
+            base = _composite_box(font, comp.baseGlyph, own, memo) \
+                if comp.baseGlyph in font else None
+            if base is not None:
+                xx, xy, yx, yy, dx, dy = comp.transformation
+                cx, cy = np.meshgrid([base[0], base[2]], [base[1], base[3]])
+                tx, ty = xx * cx + yx * cy + dx, xy * cx + yy * cy + dy
+                boxes.append((tx.min(), ty.min(), tx.max(), ty.max()))
+        boxes = np.array([b for b in boxes if b is not None], float).reshape(-1, 4)
+        memo[name] = None if not len(boxes) else (*boxes[:, :2].min(0), *boxes[:, 2:].max(0))
+    return memo[name]
 
 
 def _finish_shells(font, source, stroked, followed, place, kept, kind):

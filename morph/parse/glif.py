@@ -188,8 +188,9 @@ def skeleton_outlines(datas):
     zero = np.zeros(len(order), bool)
     # line-only runs: point i to i + 1
     if line_runs:
-        sid = np.concatenate([np.arange(s, s + m) for s, _, m in line_runs])
-        first = np.concatenate([np.arange(b, b + m) for _, b, m in line_runs])
+        s, b, m = np.array(line_runs, np.int64).reshape(-1, 3).T
+        step = np.arange(m.sum()) - np.repeat(np.cumsum(m) - m, m)   # 0..m-1 per run
+        sid, first = np.repeat(s, m) + step, np.repeat(b, m) + step
         _stack(pts, np.stack([first, first + 1], axis=1), sid, piece, zero)
     for m, lst in segs.items():
         if lst:
@@ -205,15 +206,18 @@ def _glyph_paths(outlines, pts, bad, base, starts, nsegs, piece, zero):
     dropped; a contour left empty is one zero-length open line at its start), or
     None where the fast reader declined or a point is ``bad``."""
     out, c, f = [], 0, 0
+    # each contour's points follow the previous contour's: one reduction flags them
+    bad = np.logical_or.reduceat(bad, base).tolist() if base else []
+    zero = zero.tolist()
     for o in outlines:
         if o is None:
             out.append(None)
             continue
         paths, broken = [], False
-        for points, _, _, closed in o[0]:
-            b, m = base[c], nsegs[c]
-            broken |= bool(bad[b:b + len(points)].any())
-            kept = [p for p, z in zip(piece[f:f + m], zero[f:f + m].tolist()) if not z]
+        for _, _, _, closed in o[0]:
+            m = nsegs[c]
+            broken |= bad[c]
+            kept = [p for p, z in zip(piece[f:f + m], zero[f:f + m]) if not z]
             if kept:
                 paths.append((kept, closed))
             else:

@@ -97,6 +97,7 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
     from morph.fonts.stroke import (_chunk_job, _placement, _stroke_work, plan_components,
                                     separate_components)
     from morph.fonts.tables import draw_contours
+    from morph.fonts.ufo_tables import grow_win_metrics, outline_extent
 
     src, out, stats = streamed
     source = SkeletonSource(src)
@@ -114,6 +115,12 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
             g = ref[r["name"]]
             g.clearContours()
             draw_contours(g.getPen(), r["contours"], True)
+    # the win metrics cover each output's own outlines: the quadratics' here, whose
+    # extent can differ from the .ufo's cubics by the integer rounding
+    for attr in ("openTypeOS2WinAscent", "openTypeOS2WinDescent"):
+        setattr(ref.info, attr, getattr(src.info, attr))
+    boxes = [ref[n].getControlBounds(ref) for n in ref.keys()]
+    grow_win_metrics(ref, *outline_extent(boxes))
     ttf = TTFont(str(out / "S.ttf"))
     assert ttf["glyf"]["eacute"].isComposite() and ttf["glyf"]["onested"].isComposite()
     assert not ttf["glyf"]["omixed"].isComposite()  # contours + component: decomposed
@@ -189,9 +196,10 @@ def test_streamed_ufo_keeps_the_font(streamed, skeleton):
 
 @pytest.mark.parametrize("unset", [False, True])
 def test_win_metrics_cover_the_written_outlines(skeleton, tmp_path, unset):
-    """OS/2 win ascent / descent grow to the extent of the stroked glyphs as
-    written, where the source's values fall short: the ceiling of their tight
-    boxes' top and bottom (CFF, UFO), of their points' boxes (glyf).  ``unset``:
+    """OS/2 win ascent / descent grow to the extent of the glyphs as written,
+    where the source's values fall short: the ceiling of their tight boxes' top and
+    bottom (CFF, UFO), of their points' boxes (glyf), composites included
+    (``onested`` places ``omixed`` 20 units higher).  ``unset``:
     the source leaves them to ufo2ft's defaults (from the ascender and descender),
     which fall short too."""
     import math
@@ -208,9 +216,8 @@ def test_win_metrics_cover_the_written_outlines(skeleton, tmp_path, unset):
     for suffix in (".ufo", ".otf", ".ttf"):
         stroke_ufo(src, tmp_path / ("W" + suffix), ellipse_nib(*NIB), GLYPHS, tol=0.5)
     ufo = ufoLib2.Font.open(tmp_path / "W.ufo")
-    # the glyphs with contours of their own (omixed's component only moves o in x)
-    stroked = [g.name for g in ufo if g.contours]
-    assert len(stroked) >= 4 and "omixed" in stroked
+    stroked = [g.name for g in ufo if g.contours or g.components]
+    assert len(stroked) >= 4 and {"omixed", "onested"} <= set(stroked)
     otf, ttf = TTFont(str(tmp_path / "W.otf")), TTFont(str(tmp_path / "W.ttf"))
     glyphs = otf.getGlyphSet()
 
@@ -300,3 +307,42 @@ def test_main_process_memory_per_glyph_stays_flat(tmp_path, monkeypatch):
     assert per_glyph < 12e3, per_glyph
     font = TTFont(str(tmp_path / "r300.otf"))
     assert font["CFF "].cff.topDictIndex[0].CharStrings["uni4E00"].calcBounds(None) is not None
+
+
+def test_shells_read_without_points_equal_the_full_read(skeleton, tmp_path):
+    """A shell read from a .glif with its outline cut out (only its contours
+    counted) equals the one read from the whole XML: data, components, contour
+    counts; the outlines that cannot be cut safely (components, a comment, two
+    outline elements) are read whole."""
+    from morph.fonts import stream
+    from morph.fonts.stream import SkeletonSource
+
+    ufo = tmp_path / "src.ufo"
+    _source(skeleton).save(str(ufo))
+    glyphs = ufo / "glyphs"
+    o = next(glyphs.glob("o.glif"))
+    text = o.read_bytes()
+    (glyphs / "o.glif").write_bytes(text.replace(b"<outline>", b"<outline><contour/>", 1))
+    plain = stream._without_outline(o.read_bytes())
+    assert plain[1] is not None and b"<point" not in plain[0]
+    assert plain[1] == o.read_bytes().count(b"<contour")
+    for kept in (b"<!-- <outline> -->" + text, text.replace(b"<outline>", b"<outline>"
+                                                            b"<component base='i'/>", 1)):
+        assert stream._without_outline(kept) == (kept, None)
+
+    def shells(cut):
+        saved = stream._without_outline
+        stream._without_outline = cut
+        try:
+            source = SkeletonSource(str(ufo))
+            font = source.shell_font()
+            return [(g.name, g.width, list(g.unicodes), g.lib, len(g.anchors),
+                     [(c.baseGlyph, tuple(c.transformation)) for c in g.components],
+                     source.contour_counts[g.name]) for g in font]
+        finally:
+            stream._without_outline = saved
+
+    cut = shells(stream._without_outline)
+    assert cut == shells(lambda text: (text, None))
+    assert dict((s[0], s[-1]) for s in cut)["o"] == plain[1]
+    assert any(s[5] for s in cut) and any(s[-1] > 1 for s in cut)
