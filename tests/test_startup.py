@@ -129,3 +129,22 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
     assert len(reports) == 2  # two chunks, in the workers
     for report in reports:
         assert json.loads(report.read_text()) == [], report.name
+
+
+#: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
+NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
+                        "fontTools.ufoLib", "cffsubr")
+
+
+@pytest.mark.parametrize("out", ["b.ttf", "b.otf"])
+def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
+    """``morph brush`` writes the source font's tables itself: ufo2ft (whose import
+    brings fontTools.varLib and its variable compilers), ufoLib2 and the
+    subroutinizer stay unloaded for a static font; the sample and specimen load
+    Pillow."""
+    code, mods, _ = _modules_after(["brush", "--glyphs", "A", "-o", out, "--jobs", "1"],
+                                   tmp_path)
+    assert code == 0 and (tmp_path / out).stat().st_size > 0
+    for name in NOT_FOR_STATIC_BRUSH:
+        assert not _loaded(mods, name), name
+    assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")

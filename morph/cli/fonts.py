@@ -126,18 +126,15 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     """The static brush of ``morph brush``: the source (a variable font at
     ``location``) brushed into ``out``, its sample PNG and specimen written; the
     exit status (1 when glyphs fell back)."""
-    import io
     import time
-
-    from fontTools.ttLib import TTFont
 
     from ..fonts.brush import brush_font, open_source
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
-    from ..fonts.tables import font_bytes, outline_glyphs
+    from ..fonts.tables import outline_glyphs
 
     source = open_source(src, location)  # static: a variable font at --location
-    source_copy = TTFont(io.BytesIO(font_bytes(source)))  # as it was, for the specimen
+    source_copy = _source_copy(src, location, source)  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
     t0 = time.perf_counter()
@@ -153,6 +150,24 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
                % (out, count(stats["glyphs"], "glyph"), count(stats["contours"], "contour"),
                   seconds, count(jobs, "job"), png, page))
     return _brush_status(stats)
+
+
+def _source_copy(src, location, source):
+    """The source as it was, for the specimen (``brush_font`` changes ``source``): a
+    static font file read again (its bytes, nothing compiled), a variable font's
+    instance compiled to bytes and read back."""
+    import io
+
+    from fontTools.ttLib import TTFont
+
+    from ..fonts.tables import font_bytes
+    from ..parse import default_font_path
+
+    if not location and not hasattr(src, "getGlyphSet"):
+        copy = TTFont(io.BytesIO(Path(default_font_path() if src is None else src).read_bytes()))
+        if "fvar" not in copy:
+            return copy
+    return TTFont(io.BytesIO(font_bytes(source)))
 
 
 def _brush_status(stats):

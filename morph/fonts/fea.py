@@ -6,7 +6,7 @@ the text (comments, layout) is kept.  Read with fontTools.feaLib.
 
 from ..errors import MorphError, ParseError, one_line
 
-__all__ = ["move_feature_anchors", "vary_feature_anchors"]
+__all__ = ["move_feature_anchors", "moved_features", "vary_feature_anchors"]
 
 
 def move_feature_anchors(text, glyph_names, offset_of):
@@ -23,13 +23,33 @@ def move_feature_anchors(text, glyph_names, offset_of):
         ParseError: the text does not parse (fontTools.feaLib; ``.source`` is the text).
         MorphError: one statement's glyphs moved by different offsets.
     """
+    return moved_features(text, glyph_names, offset_of)[0]
+
+
+def moved_features(text, glyph_names, offset_of):
+    """``(text, tree)``: :func:`move_feature_anchors`'s text, and feaLib's syntax tree
+    of it: the text's tree with the same anchors moved to the same numbers, so that
+    a compiler need not parse the text again; None for a text that includes files
+    (its includes are resolved where the font is, not here).
+
+    Raises:
+        ParseError, MorphError: as :func:`move_feature_anchors`.
+    """
+    import re
+
+    tree = _parse(text, glyph_names)
     moves = []
-    for anchor, glyph_set in _statement_anchors(_parse(text, glyph_names).statements):
+    for anchor, glyph_set in _statement_anchors(tree.statements):
         offset = _common_offset(anchor, glyph_set, offset_of)
         if offset is not None:
-            moves.append((anchor, "anchor %s %s" % (_fea_number(anchor.x + offset[0]),
-                                                    _fea_number(anchor.y + offset[1]))))
-    return _rewrite_anchors(text, moves)
+            moves.append((anchor, _fea_number(anchor.x + offset[0]),
+                          _fea_number(anchor.y + offset[1])))
+    text = _rewrite_anchors(text, [(a, "anchor %s %s" % (x, y)) for a, x, y in moves])
+    if re.search(r"\binclude\s*\(", text):
+        return text, None
+    for anchor, x, y in moves:   # as the rewritten text parses
+        anchor.x, anchor.y = int(x), int(y)
+    return text, tree
 
 
 def vary_feature_anchors(text, glyph_names, masters):

@@ -4,7 +4,7 @@ workers compiled (:func:`morph.fonts.stream.compile_outline`), the glyphs with
 components decomposed here as ufo2ft decomposes them; everything else is ufo2ft's.
 Imported only when a font is compiled (ufo2ft is a heavy import)."""
 
-__all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor"]
+__all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor", "parsed_feature_compiler"]
 
 import struct
 from types import SimpleNamespace
@@ -71,6 +71,41 @@ class BoundedCharString(T2CharString):
         return self.bounds
 
 
+class _BoundedT2Pen(T2CharStringPen):
+    """fontTools' charstring pen that also draws the points it writes (rounded as it
+    rounds them) into a ``BoundsPen`` (``bounds``): the calls the charstring's
+    ``calcBounds`` would make, from its decoded program, give the same bounds."""
+
+    def __init__(self, *args, **kwargs):
+        from fontTools.pens.boundsPen import BoundsPen
+
+        super().__init__(*args, **kwargs)
+        self.bounds = BoundsPen(None)
+
+    def _rounded(self, pt):
+        return self.round(pt[0]), self.round(pt[1])
+
+    def _moveTo(self, pt):
+        super()._moveTo(pt)
+        self.bounds.moveTo(self._rounded(pt))
+
+    def _lineTo(self, pt):
+        super()._lineTo(pt)
+        self.bounds.lineTo(self._rounded(pt))
+
+    def _curveToOne(self, pt1, pt2, pt3):
+        super()._curveToOne(pt1, pt2, pt3)
+        self.bounds.curveTo(self._rounded(pt1), self._rounded(pt2), self._rounded(pt3))
+
+    def _closePath(self):
+        super()._closePath()
+        self.bounds.closePath()
+
+    def _endPath(self):
+        super()._endPath()
+        self.bounds.endPath()
+
+
 class StoredCFF(Stored, OutlineOTFCompiler):
     """CFF: a stored charstring gets the advance prepended (the widths ufo2ft chose);
     a glyph with components is decomposed and drawn with ufo2ft's pen."""
@@ -92,13 +127,12 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         for name in self.glyphOrder:
             glyph, shell = self.allGlyphs[name], self.shell(name)
             if shell is not None and shell.components:
-                rec = RecordingPointPen()
-                self.decomposed(name, rec)
                 width = None if glyph.width == default else otRound(glyph.width - nominal)
-                pen = T2CharStringPen(width, self.allGlyphs,
-                                      roundTolerance=self.roundTolerance)
-                rec.replay(PointToSegmentPen(pen))
+                pen = _BoundedT2Pen(width, self.allGlyphs, roundTolerance=self.roundTolerance)
+                self.decomposed(name, PointToSegmentPen(pen))
                 out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
+                out[name].__class__ = BoundedCharString
+                out[name].bounds = pen.bounds.bounds
             elif name in self.store:
                 out[name] = BoundedCharString(
                     bytecode=width_prefix(glyph.width, default, nominal)
@@ -128,6 +162,12 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         return boxes
 
 
+#: the tables the subroutinizer's save leaves out (:meth:`StoredPostProcessor.
+#: _subroutinize_with_cffsubr`): layout tables, which read no other table and are
+#: the most costly to compile
+_NOT_FOR_TX = frozenset(("GDEF", "GPOS", "GSUB"))
+
+
 class StoredPostProcessor(PostProcessor):
     """ufo2ft's post-processor; after the subroutinizer has replaced the CFF
     table (every charstring rewritten by ``tx`` from its path), the new
@@ -137,6 +177,27 @@ class StoredPostProcessor(PostProcessor):
     them instead of decompiling and drawing every glyph twice."""
 
     bounds = {}
+
+    @classmethod
+    def _subroutinize_with_cffsubr(cls, otf, cffVersion):
+        """cffsubr's subroutinizer, which saves the whole font for ``tx``, given the
+        font without its layout tables (:data:`_NOT_FOR_TX`; ``tx`` reads the CFF
+        and cmap tables): they would be compiled only to be compiled again when
+        the font is reloaded or saved.  The other tables are the font's own, so
+        that the save sets their boxes and metrics as it did."""
+        import cffsubr
+        from fontTools.ttLib import TTFont
+
+        if "CFF " not in otf or cffVersion != 1:
+            return super()._subroutinize_with_cffsubr(otf, cffVersion)
+        rest = TTFont(sfntVersion=otf.sfntVersion, recalcBBoxes=otf.recalcBBoxes,
+                      recalcTimestamp=otf.recalcTimestamp)
+        rest.setGlyphOrder(otf.getGlyphOrder())
+        for tag in otf.keys():
+            if tag != "GlyphOrder" and tag not in _NOT_FOR_TX:
+                rest[tag] = otf[tag]
+        cffsubr.subroutinize(rest, cff_version=cffVersion, keep_glyph_names=False)
+        otf["CFF "] = rest["CFF "]
 
     def process_cff(self, **kwargs):
         super().process_cff(**kwargs)
@@ -277,3 +338,35 @@ class _HeaderFont:
 
     def getGlyphOrder(self):
         return self.otf.getGlyphOrder()
+
+
+def parsed_feature_compiler(font, tree):
+    """ufo2ft's feature compiler class for ``font`` whose feature file is the feaLib
+    tree ``tree`` (as ufo2ft would parse it, parsed already where its anchors were
+    moved): ufo2ft's feature writers complete that tree instead of one parsed again.
+    The tables are built as ufo2ft builds them, from the completed tree written out
+    and parsed (built from the tree itself, mark classes come out otherwise).  None
+    where ufo2ft would not use its feature compiler (MTI feature files)."""
+    from ufo2ft.constants import MTI_FEATURES_PREFIX
+    from ufo2ft.featureCompiler import (FeatureCompiler, describe_ufo,
+                                        warn_about_miscased_insertion_markers)
+
+    if any(fn.startswith(MTI_FEATURES_PREFIX) and fn.endswith(".mti")
+           for fn in font.data.fileNames):
+        return None
+
+    class ParsedFeatureCompiler(FeatureCompiler):
+        def setupFeatures(self):
+            """ufo2ft's ``setupFeatures`` on the tree given (the font's own, when an
+            include directory is asked for or no writer runs)."""
+            if self.feaIncludeDir is not None or not self.featureWriters:
+                return super().setupFeatures()
+            if any(writer.mode == "skip" for writer in self.featureWriters):
+                markers = {writer.insertFeatureMarker for writer in self.featureWriters
+                           if writer.insertFeatureMarker is not None}
+                warn_about_miscased_insertion_markers(describe_ufo(self.ufo), tree, markers)
+            for writer in self.featureWriters:
+                writer.write(self.ufo, tree, compiler=self)
+            self.features = tree.asFea()
+
+    return ParsedFeatureCompiler

@@ -640,14 +640,19 @@ def _number(text):
 
 # =========================================================================== compiled font
 
-def compile_stored(font, store, kind, **options):
+def compile_stored(font, store, kind, features=None, **options):
     """The ``TTFont`` ufo2ft compiles from ``font`` (shells, see the module docstring)
     with the stored outlines ``store`` (glyph name -> :func:`compile_outline`'s
     ``(data, bounds)``, of the flavor of ``kind``: ``.otf`` CFF, ``.ttf`` glyf);
+    ``features``: feaLib's tree of ``font``'s feature file, parsed already (None:
+    ufo2ft parses it; :func:`morph.fonts.stored.parsed_feature_compiler`);
     ``options`` go to ufo2ft's ``compileOTF`` / ``compileTTF``."""
     import ufo2ft
 
-    from .stored import StoredCFF, StoredGlyf, StoredPostProcessor
+    from .stored import StoredCFF, StoredGlyf, StoredPostProcessor, parsed_feature_compiler
+
+    if features is not None and "featureCompilerClass" not in options:
+        options["featureCompilerClass"] = parsed_feature_compiler(font, features)
 
     base = StoredCFF if kind == ".otf" else StoredGlyf
     bounds = {}

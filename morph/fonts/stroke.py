@@ -62,6 +62,7 @@ the source is lost.
 
 import time
 from dataclasses import dataclass
+import functools
 from functools import partial
 from pathlib import Path
 
@@ -73,7 +74,7 @@ from .. import polyline as pl
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
-from .fea import move_feature_anchors  # noqa: F401 (re-exported)
+from .fea import move_feature_anchors, moved_features  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import grow_win_metrics, outline_extent, rename_ufo_family
@@ -182,39 +183,101 @@ class _Separation:
         d = pts @ self.u.T  # support of N - N: h(u) + h(-u), within 2 eps of the chords'
         self.reach = d.max(axis=0) - d.min(axis=0) + 2.0 * eps + self.gap + 2.0 * self.step
         self.boxes, self.answers, self.paths, self.points = {}, {}, {}, {}
+        self.dense = None  # glyph name -> its points (_dense_many), once read
 
     def __call__(self, name):
+        if not self.font[name].components:  # nothing to decide: its contours are not read
+            return ()
         if name not in self.answers:
-            comps = self.font[name].components
-            if not comps:  # nothing to decide: its contours are not read
-                return ()
-            parts = [(self._own_box(name), None)] + [
-                (_moved_box(self._box(c.baseGlyph), c.transformation), c) for c in comps]
-            near = [[False] * len(parts) for _ in parts]
-            for i in range(1, len(parts)):
-                for j in range(i):
-                    near[i][j] = near[j][i] = self._near(name, parts[i], parts[j])
-            self.answers[name] = tuple(keep_component(c, self.symmetric) and not any(near[i])
-                                       for i, (_, c) in enumerate(parts) if i)
+            self._decide_all()
         return self.answers[name]
 
+    def _decide_all(self):
+        """The answers of every glyph with components, decided together on the first
+        question: the parts' boxes (each component's its base's moved, all at once),
+        the box test of every pair of parts of every glyph at once, then the point
+        test (:meth:`_points_near`) of the pairs whose boxes meet, but of a pair
+        whose two parts are already known near."""
+        self._read_all()
+        names = [g.name for g in self.font if g.components]
+        comps = [list(self.font[n].components) for n in names]
+        flat = [c for cs in comps for c in cs]
+        moved = _moved_boxes([self._box(c.baseGlyph) for c in flat],
+                             [tuple(c.transformation) for c in flat])
+        boxes, at, k = [], [], 0
+        for n, cs in zip(names, comps):
+            at.append(len(boxes))
+            boxes.append(self._own_box(n))
+            boxes.extend(moved[k:k + len(cs)])
+            k += len(cs)
+        first, second, glyph = [], [], []
+        for g, (o, cs) in enumerate(zip(at, comps)):
+            i, j = _pairs(len(cs) + 1)
+            first.append(i + o)
+            second.append(j + o)
+            glyph.append(np.full(len(i), g))
+        first, second = np.concatenate(first), np.concatenate(second)
+        glyph = np.concatenate(glyph)
+        meet = self._boxes_meet(boxes, first, second)
+        near = np.zeros(len(boxes), bool)
+        for g, i, j in zip(glyph[meet].tolist(), first[meet].tolist(), second[meet].tolist()):
+            if near[i] and near[j]:
+                continue
+            o, n = at[g], names[g]
+            pi, pj = (self._part_points(n, comps[g][x - o - 1] if x > o else None)
+                      for x in (i, j))
+            if self._points_near(pi, boxes[i], pj, boxes[j]):
+                near[i] = near[j] = True
+        for n, o, cs in zip(names, at, comps):
+            self.answers[n] = tuple(keep_component(c, self.symmetric) and not near[o + 1 + x]
+                                    for x, c in enumerate(cs))
+
+    def _read_all(self):
+        """The skeleton paths of every glyph a separation can ask for (each glyph
+        with components, each component's base), read on the first question in one
+        batch (:func:`morph.parse.glif.skeleton_outlines`, all pieces built
+        together; a glyph it leaves, or an open font's, by ufoLib2), and their
+        points (:meth:`_dense_many`) all flattened together."""
+        if self.dense is not None:
+            return
+        from ..parse.glif import skeleton_outlines
+        from ..parse.ufo import glyph_paths
+
+        need = {}
+        for g in self.font:
+            if g.components:
+                need[g.name] = None
+                for c in g.components:
+                    if c.baseGlyph in self.font:
+                        need[c.baseGlyph] = None
+        names = [n for n in need if self._count(n)]
+        for n in need:
+            self.paths[n] = []
+        read = getattr(self.source, "glif_data", None)
+        outlines = (skeleton_outlines([read(n) for n in names]) if read
+                    else [None] * len(names))
+        for n, outline in zip(names, outlines):
+            self.paths[n] = outline[0] if outline is not None else glyph_paths(self.source[n])
+        self.dense = dict(zip(names, self._dense_many([self.paths[n] for n in names])))
+
+    def _count(self, name):
+        return (self.counts[name] if self.counts is not None
+                else len(self.font[name].contours))
+
     def _own_box(self, name):
-        count = (self.counts[name] if self.counts is not None
-                 else len(self.font[name].contours))
-        if not count:
+        if not self._count(name):
             return None
         xy = np.concatenate([pc.cartesian(p) for pieces, _ in self._paths(name)
                              for p in pieces] or [np.zeros((0, 2))])
         return (*xy.min(axis=0), *xy.max(axis=0)) if len(xy) else None
 
     def _paths(self, name):
-        """The glyph's own skeleton paths, read once."""
+        """The glyph's own skeleton paths, read once (:meth:`_read_all` reads them
+        all)."""
         from ..parse.ufo import glyph_paths
 
         if name not in self.paths:
-            count = (self.counts[name] if self.counts is not None
-                     else len(self.font[name].contours))
-            self.paths[name] = glyph_paths(self.source[name]) if count else []
+            self.paths[name] = glyph_paths(self.source[name]) if self._count(name) else []
         return self.paths[name]
 
     def _box(self, name):  # the control box of a glyph's skeleton, components included
@@ -227,23 +290,40 @@ class _Separation:
             self.boxes[name] = _union_box([b for b in parts if b is not None])
         return self.boxes[name]
 
-    def _near(self, name, part_a, part_b):
-        (a, ca), (b, cb) = part_a, part_b
-        if a is None or b is None:
-            return False
+    def _boxes_meet(self, boxes, first, second):
+        """For each pair (``first[k]``, ``second[k]``) of parts, whether their control
+        boxes grown by the nib's extent and ``gap`` meet (a part without a box meets
+        nothing), all tested at once."""
+        live = np.array([b is not None for b in boxes])
+        b = np.array([bx if bx is not None else (0.0, 0.0, 0.0, 0.0) for bx in boxes],
+                     float).reshape(-1, 4)
         nx0, ny0, nx1, ny1 = self.extent
         g = self.gap
-        if (a[0] + nx0 - g > b[2] + nx1 or b[0] + nx0 - g > a[2] + nx1
-                or a[1] + ny0 - g > b[3] + ny1 or b[1] + ny0 - g > a[3] + ny1):
-            return False
-        pa, pb = self._part_points(name, ca), self._part_points(name, cb)
+        p, q = b[first], b[second]
+        apart = ((p[:, 0] + nx0 - g > q[:, 2] + nx1) | (q[:, 0] + nx0 - g > p[:, 2] + nx1)
+                 | (p[:, 1] + ny0 - g > q[:, 3] + ny1) | (q[:, 1] + ny0 - g > p[:, 3] + ny1))
+        return ~apart & live[first] & live[second]
+
+    def _points_near(self, pa, a, pb, b):
+        """Whether some difference of points ``pa`` (box ``a``) and ``pb`` (box
+        ``b``) lies in the grown support polygon of N - N.  The polygon lies in the
+        disc of radius max reach / cos(pi / DIRECTIONS) (a difference d in it has
+        d . u <= reach(u) for the direction u nearest its own, within that angle), so
+        only the pairs in that disc are tested against all the directions."""
         r = self.reach.max()  # a pair farther apart than this in x or y is not near
         pa = pa[np.all((pa >= np.array(b[:2]) - r) & (pa <= np.array(b[2:]) + r), axis=1)]
         pb = pb[np.all((pb >= np.array(a[:2]) - r) & (pb <= np.array(a[2:]) + r), axis=1)]
-        pa, pb = pa @ self.u.T, pb @ self.u.T
-        rows = max(1, 2 ** 22 // max(1, len(pb) * self.DIRECTIONS))
-        return any(np.any(np.all(pa[k:k + rows, None, :] - pb[None, :, :] <= self.reach,
-                                 axis=2)) for k in range(0, len(pa), rows))
+        if not len(pa) or not len(pb):
+            return False
+        disc = (r / np.cos(np.pi / self.DIRECTIONS)) ** 2 * (1.0 + 1e-9)
+        rows = max(1, 2 ** 22 // len(pb))
+        for k in range(0, len(pa), rows):
+            d = pa[k:k + rows, None, :] - pb[None, :, :]
+            i, j = np.nonzero(d[..., 0] ** 2 + d[..., 1] ** 2 <= disc)
+            if len(i) and np.any(np.all((pa[k + i] @ self.u.T) - (pb[j] @ self.u.T)
+                                        <= self.reach, axis=1)):
+                return True
+        return False
 
     def _part_points(self, name, component):
         """Points of a part's skeleton (the glyph's own contours for None), at most
@@ -253,34 +333,69 @@ class _Separation:
         from ..parse.ufo import component_paths
 
         if component is None:
-            return self._dense(self._paths(name))
+            return self._own_points(name)
         m = np.array(tuple(component.transformation), float)
-        if np.linalg.norm(m[:4].reshape(2, 2), 2) > 1.0 + 1e-12:
-            return self._dense(component_paths(self.source, component))
+        if _stretches(m[:4]):
+            return self._dense_many([component_paths(self.source, component)])[0]
         pts = self._glyph_points(component.baseGlyph)
         return pts @ m[:4].reshape(2, 2) + m[4:]
+
+    def _own_points(self, name):
+        if name not in self.dense:
+            self.dense[name] = self._dense_many([self._paths(name)])[0]
+        return self.dense[name]
 
     def _glyph_points(self, name):
         """:meth:`_part_points` of a whole glyph, components included, kept."""
         if name not in self.points:
             self.points[name] = np.zeros((0, 2))  # a cycle (refused by the plan) ends here
             self.points[name] = np.concatenate(
-                [self._dense(self._paths(name))]
+                [self._own_points(name)]
                 + [self._part_points(name, c) for c in self.font[name].components])
         return self.points[name]
 
-    def _dense(self, paths):
-        """Points of ``paths`` at most ``step`` apart, within ``step`` / 4 of them."""
-        pieces = [p for ps, _ in paths for p in ps]
-        out = [np.zeros((0, 2))]
-        for pts, _ in pl.flatten_many(pieces, self.step / 4.0) if pieces else ():
-            seg = np.diff(pts, axis=0)
-            k = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / self.step)).astype(int)
-            t = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
-            out.append(np.repeat(pts[:-1], k, axis=0)
-                       + np.repeat(seg / k[:, None], k, axis=0) * t[:, None])
-            out.append(pts[-1:])
-        return np.concatenate(out)
+    def _dense_many(self, glyph_paths):
+        """Points of each glyph's ``paths`` at most ``step`` apart, within ``step`` / 4
+        of them, the pieces of all flattened together (:func:`morph.polyline.
+        flat_starts`): each flat segment cut into equal steps, its end point once."""
+        pieces = [p for paths in glyph_paths for ps, _ in paths for p in ps]
+        glyph_of = np.repeat(np.arange(len(glyph_paths)),
+                             [sum(len(ps) for ps, _ in paths) for paths in glyph_paths])
+        if not pieces:
+            return [np.zeros((0, 2)) for _ in glyph_paths]
+        owner, _, starts = pl.flat_starts(pieces, self.step / 4.0)
+        ends = np.array([pc.end(np.asarray(p, float)) for p in pieces])
+        # each piece's polyline: its starts then its end; segments within a piece
+        pts = np.concatenate([starts, ends])
+        who = np.concatenate([owner, np.arange(len(pieces))])
+        last = np.concatenate([np.zeros(len(owner), bool), np.ones(len(pieces), bool)])
+        order = np.lexsort((last, who))
+        pts, who, last = pts[order], who[order], last[order]
+        seg = pts[1:] - pts[:-1]
+        inner = ~last[:-1]     # a segment from a start to the next point of its piece
+        seg, a = seg[inner], pts[:-1][inner]
+        k = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / self.step)).astype(int)
+        t = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
+        dense = np.repeat(a, k, axis=0) + np.repeat(seg / k[:, None], k, axis=0) * t[:, None]
+        dense_who = np.repeat(who[:-1][inner], k)
+        out_pts = np.concatenate([dense, pts[last]])
+        out_glyph = glyph_of[np.concatenate([dense_who, who[last]])]
+        out_pts = out_pts[np.argsort(out_glyph, kind="stable")]
+        cuts = np.searchsorted(np.sort(out_glyph), np.arange(1, len(glyph_paths)))
+        return np.split(out_pts, cuts)
+
+
+def _stretches(m):
+    """Whether the 2 x 2 matrix ``m`` (xx, xy, yx, yy) stretches some direction
+    (its largest singular value above 1 + 1e-12): sigma^2 = (F + sqrt(F^2 -
+    4 det^2)) / 2, F the sum of the squares."""
+    xx, xy, yx, yy = (float(v) for v in m)
+    if (xx, xy, yx, yy) == (1.0, 0.0, 0.0, 1.0):
+        return False
+    f = xx * xx + xy * xy + yx * yx + yy * yy
+    det = xx * yy - xy * yx
+    s2 = 0.5 * (f + np.sqrt(max(0.0, f * f - 4.0 * det * det)))
+    return bool(np.sqrt(s2) > 1.0 + 1e-12)
 
 
 def _moved_box(b, transformation):
@@ -293,6 +408,27 @@ def _moved_box(b, transformation):
     x = corners[:, 0] * xx + corners[:, 1] * yx + dx
     y = corners[:, 0] * xy + corners[:, 1] * yy + dy
     return (x.min(), y.min(), x.max(), y.max())
+
+
+def _moved_boxes(boxes, transformations):
+    """:func:`_moved_box` of many boxes (None stays None), all at once: the same
+    arithmetic on the four corners."""
+    live = [b is not None for b in boxes]
+    b = np.array([bx if bx is not None else (0.0, 0.0, 0.0, 0.0) for bx in boxes],
+                 float).reshape(-1, 4)
+    t = np.array(transformations, float).reshape(-1, 6)
+    cx = b[:, [0, 2, 0, 2]]
+    cy = b[:, [1, 1, 3, 3]]
+    x = cx * t[:, 0, None] + cy * t[:, 2, None] + t[:, 4, None]
+    y = cx * t[:, 1, None] + cy * t[:, 3, None] + t[:, 5, None]
+    out = np.column_stack([x.min(axis=1), y.min(axis=1), x.max(axis=1), y.max(axis=1)])
+    return [tuple(row) if ok else None for row, ok in zip(out.tolist(), live)]
+
+
+@functools.lru_cache(maxsize=None)
+def _pairs(k):
+    """The pairs (i, j), i < j < k, as two index arrays."""
+    return np.triu_indices(k, 1)
 
 
 def _union_box(boxes):
@@ -533,6 +669,7 @@ class _FontPlan:
     place: object      # _Placement
     kept: dict         # glyph name -> for each component, whether it is kept
     stats: dict
+    features: object = None   # feaLib's tree of the moved feature file (_move_feature_file)
 
 
 def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
@@ -549,9 +686,9 @@ def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
                                         kept=keep)
     kept = {n: keep(n) for n in stroked + followed if font[n].components}
     place = _placement(font, stroked + followed, nib_region)
-    stats = _finish_shells(font, source, stroked, followed, place, kept, kind)
+    stats, features = _finish_shells(font, source, stroked, followed, place, kept, kind)
     rename_ufo_family(font.info, family_name or "%s Stroke" % (font.info.familyName or "Morph"))
-    return _FontPlan(source, font, stroked, followed, place, kept, stats)
+    return _FontPlan(source, font, stroked, followed, place, kept, stats, features)
 
 
 def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroker, jobs,
@@ -562,7 +699,8 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     tols = budget.plan(tol, kind == ".ttf")
 
     sink = _StreamedGlyphs(plan.font, kind, tmp, progress,
-                           [n for n in plan.stroked + plan.followed if plan.font[n].components])
+                           [n for n in plan.stroked + plan.followed if plan.font[n].components],
+                           plan.features)
     if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
         import uuid
 
@@ -639,10 +777,11 @@ class _StreamedGlyphs:
     components) place are kept for :meth:`written_extent`.  :meth:`finish` writes
     the font."""
 
-    def __init__(self, font, kind, tmp, progress, composites=()):
+    def __init__(self, font, kind, tmp, progress, composites=(), features=None):
         from .stream import UfoGlyphWriter
 
         self.font, self.kind, self.tmp, self.progress = font, kind, tmp, progress
+        self.features = features   # the font's feature file parsed (None: ufo2ft parses it)
         self.ufo = UfoGlyphWriter(font, tmp) if kind == ".ufo" else None
         self.store = {}
         self.extent = [None, None]
@@ -694,7 +833,8 @@ class _StreamedGlyphs:
             upm = self.font.info.unitsPerEm or 1000
             options["cubicConversionError"] = budget.plan(tol, True).cu2qu / upm
         try:
-            otf = compile_stored(self.font, self.store, self.kind, **options)
+            otf = compile_stored(self.font, self.store, self.kind, features=self.features,
+                                 **options)
         except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
             raise MorphError("ufo2ft could not compile %s: %s"
                              % (Path(out_path).name, one_line(exc))) from exc
@@ -741,15 +881,16 @@ def _composite_box(font, name, own, memo):
 def _finish_shells(font, source, stroked, followed, place, kept, kind):
     """The shells' final furniture before any glyph is stroked (a UFO output writes
     them first): components, anchors, guidelines and advances moved, the glyphs not
-    chosen emptied, the feature file's anchors moved.  Returns the first statistics:
-    ``decomposed``, ``composites``, ``emptied``."""
+    chosen emptied, the feature file's anchors moved.  Returns the first statistics
+    (``decomposed``, ``composites``, ``emptied``) and the moved feature file's feaLib
+    tree (:func:`_move_feature_file`)."""
     written = stroked + followed
     decomposed = sum(1 for n in stroked for keep in kept.get(n, ()) if not keep)
     _move_furniture(font, written, place, kept)
     emptied = _empty_unstroked(font, source, set(written), kind)
-    _move_feature_file(font, place)
+    features = _move_feature_file(font, place)
     return {"decomposed": decomposed, "emptied": emptied,
-            "composites": sum(1 for n in written if font[n].components)}
+            "composites": sum(1 for n in written if font[n].components)}, features
 
 
 def _checked_output(out_path, tol, overwrite):
@@ -866,10 +1007,14 @@ def _empty_unstroked(font, source, done, kind):
 
 
 def _move_feature_file(font, place):
-    """The feature file's explicit anchors moved like their glyphs' anchors."""
+    """The feature file's explicit anchors moved like their glyphs' anchors; returns
+    feaLib's tree of the moved file, parsed here once for the compiler too (None:
+    nothing moved, or a file with includes: :func:`morph.fonts.fea.moved_features`)."""
     if "anchor" in (font.features.text or ""):
-        font.features.text = move_feature_anchors(font.features.text, font.keys(),
+        font.features.text, tree = moved_features(font.features.text, font.keys(),
                                                   place.anchor_offset)
+        return tree
+    return None
 
 
 def _outline_tolerance(budget):

@@ -21,7 +21,7 @@ from fontTools.ttLib import TTFont
 from morph.cli import main
 from morph.errors import MorphError, ParseError
 from morph.fonts.brush import ellipse_nib, region_extent
-from morph.fonts.fea import move_feature_anchors
+from morph.fonts.fea import move_feature_anchors, moved_features
 from morph.fonts.stroke import stroke_plan, stroke_ufo
 from morph.nib import nib_is_symmetric
 from morph.parse import glyph_region
@@ -76,6 +76,28 @@ def test_move_feature_anchors():
     with pytest.raises(ParseError, match="cannot parse") as info:
         move_feature_anchors(bad, ["a"], offsets.get)
     assert info.value.source == bad
+
+
+def test_moved_features_tree_is_the_moved_text_parsed(tmp_path):
+    """The tree handed to the compiler (parsed once, anchors moved in it) is the one
+    feaLib makes of the moved text; a text that includes files gets no tree (its
+    includes resolve where the font is); a tree whose anchors were not moved fails."""
+    import io
+
+    from fontTools.feaLib.parser import Parser
+
+    names = ["acutecomb", "e", "o", "c", "x"]
+    offsets = {"acutecomb": (-40, 0), "e": (39.4, 0), "o": (39, 0), "c": (39, 0)}
+    text, tree = moved_features(FEA, names, offsets.get)
+    assert text == move_feature_anchors(FEA, names, offsets.get)
+    parsed = Parser(io.StringIO(text), glyphNames=set(names)).parse()
+    assert tree.asFea() == parsed.asFea()
+    unmoved = Parser(io.StringIO(FEA), glyphNames=set(names)).parse()
+    assert unmoved.asFea() != parsed.asFea()   # the comparison can fail
+    (tmp_path / "more.fea").write_text("languagesystem DFLT dflt;\n")
+    included = "include(%s);\n%s" % (tmp_path / "more.fea", FEA)
+    text, tree = moved_features(included, names, offsets.get)
+    assert tree is None and "<anchor 38 555>" in text
 
 
 # =========================================================================== plumbing
