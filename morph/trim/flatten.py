@@ -227,15 +227,19 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     length = np.hypot(chord[:, 0], chord[:, 1])
     todo = np.flatnonzero(pending)
     arc = ~pending   # decided parts are arcs in their chords' cones
+    line = np.zeros(len(pid), bool)
     for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
-        arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
+        if parts.shape[1] == 2:   # lines: their own chords
+            arc[todo[k]] = line[todo[k]] = True
+        else:
+            arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
     arc &= length > 0
     # the turn from each segment's chord into the next one's, in [-pi, pi)
     angle = np.arctan2(chord[:, 1], chord[:, 0])
     turn = (angle[nxt] - angle + np.pi) % (2.0 * np.pi) - np.pi
     smooth = np.abs(turn) <= TURN
     near = np.zeros(len(pid), bool)
-    near[todo] = _near_others(xy, nxt, todo, 2.0 * e + 2.0 * (eps + grid), arc, turn)
+    near[todo] = _near_others(xy, nxt, todo, 2.0 * e + 2.0 * (eps + grid), arc, turn, line)
     return pending & (near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv]))
 
 
@@ -301,14 +305,18 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     return mp, mt, mx, fine[mseg]
 
 
-def _near_others(xy, nxt, todo, reach, arc=None, turn=None):
+def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     """Whether each segment ``todo`` (from vertex k to ``nxt[k]``) comes within
     ``reach`` of another of them that is not its neighbour along its loop
     (crossing, touching or nearer), (len(todo),) bool; a segment that shares only a
     point with another (a loop's vertex visited twice) is near it.  The loops of
     one vertex have no segment (as in :func:`morph.polyline.touching_edges`).
     With ``arc`` and ``turn`` (every segment's, :func:`_uncertain`), pairs that a
-    monotone chain joins (:func:`_monotone_chains`) are not near either."""
+    monotone chain joins (:func:`_monotone_chains`) are not near either; with
+    ``line`` (whether each segment is a whole line piece's part), nor are two
+    lines: a line's polyline at every level is the line, so two lines and their
+    lifts are where they are, whatever their distance (their rounding is the hot
+    pixels' business)."""
     near = np.zeros(len(todo), bool)
     has = np.flatnonzero(nxt[todo] != todo)
     if len(has) < 2:
@@ -318,7 +326,10 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None):
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
     for pairs in _cell_pair_chunks(grid):
         i, j = seg[pairs[:, 0]], seg[pairs[:, 1]]
-        pairs = pairs[(nxt[i] != j) & (nxt[j] != i)]
+        keep = (nxt[i] != j) & (nxt[j] != i)
+        if line is not None:
+            keep &= ~(line[i] & line[j])
+        pairs = pairs[keep]
         if len(pairs):
             pairs = pairs[_within(a, b, pairs, reach)]
         if len(pairs) and arc is not None:

@@ -533,7 +533,8 @@ def _level_violations(pieces, piece_loop, eps, grid, result, levels):
     not cut from the decided one's neighbours at that level, nor joined to the
     decided one along their loop by parts that advance along one direction (their
     sampled steps within less than 180 degrees: such a chain meets itself nowhere,
-    at any level)), and how many segments each level decided."""
+    at any level), nor both parts of lines (exact at every level)), and how many
+    segments each level decided."""
     import morph.trim.flatten as F
 
     pid, ts, xy = result
@@ -551,10 +552,13 @@ def _level_violations(pieces, piece_loop, eps, grid, result, levels):
     pts = _part_points(pieces.rows(), pid, ts, ends)
     err = np.array([_to_segment(p, xy[k], xy[nxt[k]]).max() for k, p in enumerate(pts)])
     far_off = np.flatnonzero(err > tol * (1 + 1e-9))
+    line = np.array([len(pieces.rows()[p]) == 2 for p in pid])
     near = []
     for j, k, e, neighbours in decided:
         other = level >= k
         other[j] = False
+        if line[j]:
+            other &= ~line   # two lines: their polylines are the lines at every level
         for p, a, b in neighbours:
             other &= ~((pid == p) & (ts >= a) & (ends <= b))
         x = np.flatnonzero(other)
@@ -589,8 +593,8 @@ def test_levels_keep_their_guarantees(monkeypatch):
 
     # the near check can fail: levels testing a quarter of their reach
     near_others = F._near_others
-    monkeypatch.setattr(F, "_near_others", lambda xy, nxt, todo, reach, *chains:
-                        near_others(xy, nxt, todo, 0.25 * reach, *chains))
+    monkeypatch.setattr(F, "_near_others", lambda xy, nxt, todo, reach, *rest:
+                        near_others(xy, nxt, todo, 0.25 * reach, *rest))
     result, levels = _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid)
     assert _level_violations(pieces, piece_loop, eps, grid, result, levels)[1]
     monkeypatch.undo()
