@@ -152,9 +152,9 @@ def flattening():
     got = {}
     trimmed, tag_loops = mk._trimmed, trim.tag_loops
 
-    def keep_conv(conv, tol, member):
+    def keep_conv(conv, tol, member, *inside):
         got["conv"], got["tol"] = conv, tol
-        return trimmed(conv, tol, member)
+        return trimmed(conv, tol, member, *inside)
 
     def keep_tags(loops, *args, **kwargs):
         tg = tag_loops(loops, *args, **kwargs)

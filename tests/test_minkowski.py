@@ -518,9 +518,9 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
     calls = []
     trimmed = minkowski._trimmed
 
-    def spy(conv, tol, member):
+    def spy(conv, tol, member, *inside):
         calls.append(len(conv))
-        return trimmed(conv, tol, member)
+        return trimmed(conv, tol, member, *inside)
 
     monkeypatch.setattr(minkowski, "_trimmed", spy)
     out_s, out_o = minkowski.minkowski_sums([s, o], g, TOL)

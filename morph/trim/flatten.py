@@ -25,7 +25,10 @@ The levels of :func:`adaptive_starts` guarantee (tests/trim/test_flatten.py chec
 2. a part decided at level e is farther than e + 2 (eps + grid) from the part
    of every segment still pending at that level, those cut from its two
    neighbours at that level excepted (they lie beyond the shared vertex: the
-   arcs advance along their mean chord).  Parts decided at a coarser level
+   arcs advance along one direction), and those cut from the parts a monotone
+   chain joins it to along its loop (:func:`_monotone_chains`: the chain, and
+   every polyline with its vertices on it in order, advances along one
+   direction, so it meets itself nowhere).  Parts decided at a coarser level
    were held to that level's test.
 
 So a level tests its pending segments among themselves only.  A part's later
@@ -51,10 +54,19 @@ from ..polyline import (BoxGrid, _cell_pair_chunks, _sorted_entries, _within, co
 #: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
 COARSE = 32.0
-#: the tangents of a coarse part lie within this angle of its chord
-CONE = np.radians(25.0)
-#: a coarse segment's chord turns by at most this into its neighbours'
-TURN = np.radians(30.0)
+#: the tangents of a coarse part lie within this angle of its chord (an arc of a
+#: circle flattened within e passes where its radius is at least e / (1 - cos CONE),
+#: 4.3 e)
+CONE = np.radians(40.0)
+#: a chain of arcs in their chords' cones whose chords' directions span at most
+#: this advances along one direction (:func:`_monotone_chains`): its tangents span
+#: at most CHAIN + 2 CONE = 175 degrees, below 180
+CHAIN = np.radians(95.0)
+#: the longest chain (in segments from one part to the other) looked along
+CHAIN_STEPS = 4
+#: a coarse segment's chord turns by at most this into its neighbours' (a part and
+#: its neighbour are a chain; a circle's chords within its cone turn by 2 CONE)
+TURN = CHAIN
 #: the parts not certain at one level are flattened this many times finer and
 #: tested again (:func:`adaptive_starts`, :func:`_levels`): 32 eps, 8 eps, then
 #: eps.  A part is cut only as finely as what comes near it needs: 29 % fewer
@@ -147,7 +159,8 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
     its topology is certain at e; the parts cut are tested again at their new
     tolerance, and so on down to eps.  Certain at e means:
 
-    - no segment of another part (not its neighbour along the loop) comes within
+    - no segment of another part (not its neighbour along the loop, nor joined to
+      it by a monotone chain of arcs, :func:`_monotone_chains`) comes within
       2 e + 2 (eps + grid) of it: the two parts, their polylines at either
       tolerance and those polylines rounded to the grid stay apart (the lifted
       loops, within eps + grid + contraction of their rings, too);
@@ -155,10 +168,13 @@ def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
       legs do, and a positive-weight rational's hodograph is in their cone): the
       part is a simple arc, without a cusp; its neighbours' parts are such arcs too;
     - its chord turns by at most TURN into each neighbour's: with TURN + 2 CONE
-      below 90 degrees the two arcs advance along the mean chord direction, so they
-      meet only at their shared vertex.  (A closed polyline turning at most TURN at
-      every vertex has more than 180 / TURN = 6 segments: the directions of fewer
-      would lie within a half-plane.  Smaller loops are cut within eps.)
+      below 180 degrees the two arcs' tangents lie within an open half-plane of
+      directions, so the arcs advance along its middle direction and meet only at
+      their shared vertex.  (A closed polyline turning at most TURN at every
+      vertex has at least 4 segments: the turns of a closed polyline add up to a
+      multiple of 360 degrees, and three turns of at most 95 degrees that add up
+      to 0 leave the directions within 95 degrees, where they cannot close.
+      Smaller loops are cut within eps.)
 
     Where all of this holds, the parts are simple arcs that neither cross nor come
     near any other: the winding numbers away from them, hence the filled set, are
@@ -204,18 +220,26 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     """The segments (mask) among the ``pending`` ones (flattened within e) whose
     topology is not certain at e (:func:`adaptive_starts`); the others were decided
     at a coarser level and are simple arcs apart from everything but their
-    neighbours (which their own test proved, for every finer polyline of those)."""
+    neighbours and the parts a monotone chain joins them to (which their own test
+    proved, for every finer polyline of those)."""
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
     chord = xy[nxt] - xy
     length = np.hypot(chord[:, 0], chord[:, 1])
-    turn_cos = np.einsum("ij,ij->i", chord, chord[nxt]) / np.maximum(length * length[nxt], 1e-300)
-    smooth = (turn_cos >= np.cos(TURN)) & (length > 0) & (length[nxt] > 0)
     todo = np.flatnonzero(pending)
-    near = np.zeros(len(pid), bool)
-    near[todo] = _near_others(xy, nxt, todo, 2.0 * e + 2.0 * (eps + grid))
     arc = ~pending   # decided parts are arcs in their chords' cones
+    line = np.zeros(len(pid), bool)
     for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
-        arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
+        if parts.shape[1] == 2:   # lines: their own chords
+            arc[todo[k]] = line[todo[k]] = True
+        else:
+            arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
+    arc &= length > 0
+    # the turn from each segment's chord into the next one's, in [-pi, pi)
+    angle = np.arctan2(chord[:, 1], chord[:, 0])
+    turn = (angle[nxt] - angle + np.pi) % (2.0 * np.pi) - np.pi
+    smooth = np.abs(turn) <= TURN
+    near = np.zeros(len(pid), bool)
+    near[todo] = _near_others(xy, nxt, todo, 2.0 * e + 2.0 * (eps + grid), arc, turn, line)
     return pending & (near | ~(arc & arc[nxt] & arc[prv] & smooth & smooth[prv]))
 
 
@@ -281,12 +305,18 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     return mp, mt, mx, fine[mseg]
 
 
-def _near_others(xy, nxt, todo, reach):
+def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     """Whether each segment ``todo`` (from vertex k to ``nxt[k]``) comes within
     ``reach`` of another of them that is not its neighbour along its loop
     (crossing, touching or nearer), (len(todo),) bool; a segment that shares only a
     point with another (a loop's vertex visited twice) is near it.  The loops of
-    one vertex have no segment (as in :func:`morph.polyline.touching_edges`)."""
+    one vertex have no segment (as in :func:`morph.polyline.touching_edges`).
+    With ``arc`` and ``turn`` (every segment's, :func:`_uncertain`), pairs that a
+    monotone chain joins (:func:`_monotone_chains`) are not near either; with
+    ``line`` (whether each segment is a whole line piece's part), nor are two
+    lines: a line's polyline at every level is the line, so two lines and their
+    lifts are where they are, whatever their distance (their rounding is the hot
+    pixels' business)."""
     near = np.zeros(len(todo), bool)
     has = np.flatnonzero(nxt[todo] != todo)
     if len(has) < 2:
@@ -296,10 +326,40 @@ def _near_others(xy, nxt, todo, reach):
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
     for pairs in _cell_pair_chunks(grid):
         i, j = seg[pairs[:, 0]], seg[pairs[:, 1]]
-        pairs = pairs[(nxt[i] != j) & (nxt[j] != i)]
+        keep = (nxt[i] != j) & (nxt[j] != i)
+        if line is not None:
+            keep &= ~(line[i] & line[j])
+        pairs = pairs[keep]
         if len(pairs):
-            near[has[pairs[_within(a, b, pairs, reach)].ravel()]] = True
+            pairs = pairs[_within(a, b, pairs, reach)]
+        if len(pairs) and arc is not None:
+            pairs = pairs[~_monotone_chains(seg[pairs[:, 0]], seg[pairs[:, 1]], nxt, arc, turn)]
+        if len(pairs):
+            near[has[pairs.ravel()]] = True
     return near
+
+
+def _monotone_chains(i, j, nxt, arc, turn):
+    """Whether segment j follows segment i along their loop (or i follows j) within
+    CHAIN_STEPS steps through segments that are all arcs in their chords' cones
+    (``arc``), the chords' directions from the first to the last spanning at most
+    CHAIN (``turn``: each chord's turn into the next).  Such a chain's tangents lie
+    within CHAIN + 2 CONE < 180 degrees, within CHAIN / 2 + CONE of the middle
+    direction d: the chain advances along d, and so does every polyline with its
+    vertices on the chain, in order (each chord lies in the cone of its part's
+    tangents); it meets itself nowhere, nor do the parts it joins, at any level, nor
+    the lifted loops (sub-pieces of it)."""
+    out = np.zeros(len(i), bool)
+    for x, y in ((i, j), (j, i)):
+        cur, ok = x, arc[x]
+        acc = lo = hi = np.zeros(len(x))
+        for _ in range(CHAIN_STEPS):
+            acc = acc + turn[cur]
+            cur = nxt[cur]
+            lo, hi = np.minimum(lo, acc), np.maximum(hi, acc)
+            ok = ok & arc[cur] & (hi - lo <= CHAIN)
+            out |= ok & (cur == y)
+    return out
 
 
 def _segment_parts(pieces, pid, t0, t1):

@@ -504,12 +504,36 @@ def _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid):
     return out, levels
 
 
+def _monotone_between(pts, nxt, i, j, steps=64):
+    """Whether the parts from segment i to segment j along their loop (or from j to
+    i), at most ``steps`` segments, advance along one direction: the directions
+    of the steps between their sampled points (``pts``, (segments, n, 2)) lie
+    within less than 180 degrees of each other (unwrapped along the chain)."""
+    for a, b in ((i, j), (j, i)):
+        chain, k = [a], a
+        while k != b and len(chain) <= steps:
+            k = nxt[k]
+            chain.append(k)
+        if k != b:
+            continue
+        x = np.concatenate([pts[c] for c in chain])
+        d = np.diff(x, axis=0)
+        d = d[np.hypot(d[:, 0], d[:, 1]) > 0]
+        ang = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        if ang.max() - ang.min() < np.pi:
+            return True
+    return False
+
+
 def _level_violations(pieces, piece_loop, eps, grid, result, levels):
     """The two guarantees of :func:`adaptive_starts`, measured on 65 points of each
     part: (segments farther from their part than the tolerance of the level that
     decided them (eps if none did), pairs (decided, other) nearer than
     e + 2 (eps + grid) where the other segment was still pending at level e and is
-    not cut from the decided one's neighbours at that level), and how many
+    not cut from the decided one's neighbours at that level, nor joined to the
+    decided one along their loop by parts that advance along one direction (their
+    sampled steps within less than 180 degrees: such a chain meets itself nowhere,
+    at any level), nor both parts of lines (exact at every level)), and how many
     segments each level decided."""
     import morph.trim.flatten as F
 
@@ -528,15 +552,19 @@ def _level_violations(pieces, piece_loop, eps, grid, result, levels):
     pts = _part_points(pieces.rows(), pid, ts, ends)
     err = np.array([_to_segment(p, xy[k], xy[nxt[k]]).max() for k, p in enumerate(pts)])
     far_off = np.flatnonzero(err > tol * (1 + 1e-9))
+    line = np.array([len(pieces.rows()[p]) == 2 for p in pid])
     near = []
     for j, k, e, neighbours in decided:
         other = level >= k
         other[j] = False
+        if line[j]:
+            other &= ~line   # two lines: their polylines are the lines at every level
         for p, a, b in neighbours:
             other &= ~((pid == p) & (ts >= a) & (ends <= b))
         x = np.flatnonzero(other)
         d = _to_segment(pts[x], xy[j], xy[nxt[j]]).min(axis=1)
-        near += [(j, int(i)) for i in x[d <= e + 2 * (eps + grid)]]
+        near += [(j, int(i)) for i in x[d <= e + 2 * (eps + grid)]
+                 if not _monotone_between(pts, nxt, j, int(i))]
     return far_off, near, np.bincount(level, minlength=len(levels) + 1)
 
 
@@ -545,8 +573,10 @@ def test_levels_keep_their_guarantees(monkeypatch):
     near contacts): every segment is within the tolerance of the level that
     decided it (eps where none did); a part decided at level e is farther than
     e + 2 (eps + grid) from every part still pending at that level, but those cut
-    from its neighbours there.  Every level decides some parts.  The second check
-    fails when the levels test a quarter of their reach; the first failed when a
+    from its neighbours there and those a chain of parts advancing along one
+    direction joins to it.  Every level decides some parts.  The second check
+    fails when the levels test a quarter of their reach, or take chains that turn
+    through 300 degrees for monotone; the first failed when a
     refined stretch dropped the finer vertex at a coarse vertex between two
     refined segments (segments 2-17 eps from parts said within eps or 8 eps)."""
     import morph.trim.flatten as F
@@ -563,9 +593,16 @@ def test_levels_keep_their_guarantees(monkeypatch):
 
     # the near check can fail: levels testing a quarter of their reach
     near_others = F._near_others
-    monkeypatch.setattr(F, "_near_others", lambda xy, nxt, todo, reach:
-                        near_others(xy, nxt, todo, 0.25 * reach))
+    monkeypatch.setattr(F, "_near_others", lambda xy, nxt, todo, reach, *rest:
+                        near_others(xy, nxt, todo, 0.25 * reach, *rest))
     result, levels = _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid)
+    assert _level_violations(pieces, piece_loop, eps, grid, result, levels)[1]
+    monkeypatch.undo()
+    # and so can the chains': chains whose chords turn through up to 300 degrees
+    monkeypatch.setattr(F, "CHAIN", np.radians(300.0))
+    monkeypatch.setattr(F, "CHAIN_STEPS", 8)
+    result, levels = _levels_recorded(monkeypatch, pieces, piece_loop, eps, grid)
+    monkeypatch.undo()
     assert _level_violations(pieces, piece_loop, eps, grid, result, levels)[1]
 
 
