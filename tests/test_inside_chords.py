@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 shapely = pytest.importorskip("shapely")
-import shapely.affinity  # noqa: E402
-from shapely.geometry import LineString, Polygon  # noqa: E402
+import shapely.affinity  # noqa: E402 - after the importorskip above
+from shapely.geometry import LineString, Polygon  # noqa: E402 - after the importorskip above
 
 from morph import minkowski as mk
 from morph import piece as pc

@@ -427,6 +427,59 @@ COARSE = np.array([1, 5, 10, 14])
 _FINE = np.array([j for j in range(16) if j not in COARSE])
 
 
+class _RayCaster:
+    """The rays of :func:`_ray_distance`: each candidate's (candidate, part) pairs
+    (``cand``, ``part``), the parts' samples' shares of their range's arc length,
+    :meth:`cast` casting the rays of some pairs at some sample columns (recorded in
+    ``stages``), :meth:`dist_of` the candidates' largest rays so far."""
+
+    def __init__(self, ctrl, cr, q, dq, req, width):
+        m = q.shape[1]
+        speed = np.hypot(dq[..., 0], dq[..., 1]).ravel() * np.repeat(width, m) * np.tile(
+            _quadrature().gw, len(width))
+        sreq = np.repeat(req, m)
+        cum = np.cumsum(speed)
+        tot = np.bincount(sreq, speed)
+        base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
+        frac = ((cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)).reshape(-1, m)
+        self.nreq = nreq = len(tot)
+        self.counts = counts = np.bincount(req, minlength=nreq)[cr]   # pairs of each candidate
+        self.first = first = np.cumsum(counts) - counts
+        self.cand = np.repeat(np.arange(len(cr)), counts)
+        self.part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
+                     + np.arange(int(counts.sum())))
+        power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
+        self.ax = np.ascontiguousarray(power[..., 0].T)[:, self.cand]  # (4, N) each
+        self.ay = np.ascontiguousarray(power[..., 1].T)[:, self.cand]
+        self.worst = np.zeros(len(self.cand))                         # largest ray of a pair
+        self.stages, self.samples, self.ncand = [], (q, dq, frac), len(cr)
+
+    def cast(self, pairs, cols):
+        """The rays of ``pairs`` from the sample columns ``cols``."""
+        q, dq, frac = self.samples
+        # the samples' columns gathered once, then whole rows per block
+        cq = [np.ascontiguousarray(x[:, cols]) for x in (q[..., 0], q[..., 1], dq[..., 0],
+                                                          dq[..., 1], frac)]
+        s, ray = np.empty((len(pairs), len(cols))), np.empty((len(pairs), len(cols)))
+        step = max(RAY_BLOCK // len(cols), 1)
+        for lo in range(0, len(pairs), step):
+            b = pairs[lo:lo + step]
+            p = self.part[b]
+            s[lo:lo + step], ray[lo:lo + step] = _rays(
+                self.ax[:, b, None], self.ay[:, b, None], *(x[p] for x in cq))
+        # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
+        self.worst[pairs] = np.maximum(self.worst[pairs], ray.max(axis=1))
+        self.stages.append((pairs, cols, s, ray))
+
+    def dist_of(self, cands):
+        """The largest ray cast so far of each candidate ``cands`` (index or mask)."""
+        out = np.zeros(self.ncand)
+        some = self.counts > 0
+        if some.any():
+            out[some] = np.maximum(np.maximum.reduceat(self.worst, self.first[some]), 0.0)
+        return out[cands]
+
+
 def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
@@ -446,48 +499,9 @@ def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     one all samples of all candidates give, and its rays are all cast.  Each ray is
     computed alone (:func:`_rays`), so its result does not depend on the others.
     """
-    m = q.shape[1]
-    speed = np.hypot(dq[..., 0], dq[..., 1]).ravel() * np.repeat(width, m) * np.tile(
-        _quadrature().gw, len(width))
-    sreq = np.repeat(req, m)
-    cum = np.cumsum(speed)
-    tot = np.bincount(sreq, speed)
-    base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
-    frac = ((cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)).reshape(-1, m)
-    nreq = len(tot)
-    counts = np.bincount(req, minlength=nreq)[cr]                 # pairs of each candidate
-    first = np.cumsum(counts) - counts
-    cand = np.repeat(np.arange(len(cr)), counts)
-    part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
-            + np.arange(int(counts.sum())))
-    power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
-    ax = np.ascontiguousarray(power[..., 0].T)[:, cand]           # (4, N) each
-    ay = np.ascontiguousarray(power[..., 1].T)[:, cand]
-    worst = np.zeros(len(cand))                                   # largest ray of a pair
-    stages = []
-
-    def cast(pairs, cols):
-        # the samples' columns gathered once, then whole rows per block
-        cq = [np.ascontiguousarray(x[:, cols]) for x in (q[..., 0], q[..., 1], dq[..., 0],
-                                                          dq[..., 1], frac)]
-        s, ray = np.empty((len(pairs), len(cols))), np.empty((len(pairs), len(cols)))
-        step = max(RAY_BLOCK // len(cols), 1)
-        for lo in range(0, len(pairs), step):
-            b = pairs[lo:lo + step]
-            p = part[b]
-            s[lo:lo + step], ray[lo:lo + step] = _rays(ax[:, b, None], ay[:, b, None],
-                                                       *(x[p] for x in cq))
-        # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
-        worst[pairs] = np.maximum(worst[pairs], ray.max(axis=1))
-        stages.append((pairs, cols, s, ray))
-
-    def dist_of(cands):
-        out = np.zeros(len(cr))
-        some = counts > 0
-        if some.any():
-            out[some] = np.maximum(np.maximum.reduceat(worst, first[some]), 0.0)
-        return out[cands]
-
+    rc = _RayCaster(ctrl, cr, q, dq, req, width)
+    cand, part, stages, dist_of, cast = rc.cand, rc.part, rc.stages, rc.dist_of, rc.cast
+    nreq = rc.nreq
     if not len(cr):
         return np.zeros(0), (cand, part, stages)
     cast(np.arange(len(cand)), COARSE)

@@ -40,6 +40,7 @@ round; the accepted segments stay arrays until each chain's list of
 import contextlib
 import math
 from collections import namedtuple
+from functools import partial
 
 import numpy as np
 
@@ -329,52 +330,123 @@ def _chain_points(chains, chain, t):
 BOTH_WAYS = 6.0
 
 
-def _drive(chains, tol, min_width):
-    """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
-    together; their CubicFit lists in order.
+class _Rows:
+    """The rows of :func:`_drive`'s greedy machine: the forward search of every chain,
+    the backward search of the chains of BOTH_WAYS pieces or more (``two``), and a
+    spare forward row of each of those (its whole-chain search where a join does not
+    certify).  A backward row's parameter u is the chain's K - u.
 
-    Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
-    from its start, and a chain of BOTH_WAYS pieces or more also from its end (a
-    second row of the greedy machine, in the reversed parameter K - T), until the
-    two meet; the two halves are then joined (:class:`_Join`: one refit where they
-    overlap, and one segment for two where that fits).  A search from both ends
-    needs about half the rounds of one from the start, for the same count of
-    segments: the greedy search's reach is monotone (a segment from a later start
-    ends no earlier), so the fewest segments a + c with the forward search's a-th
-    end past the backward search's c-th start is the fewest of any cover.  A
-    chain left with two segments or more is refined (:class:`morph.export.refine.
-    Refine`: one segment fewer where the bounds say it may fit).  Each round fits
-    and certifies the requests of all machines together (:func:`_fit_batch`): the
-    numerical work is one batch per round, and no Python step runs per chain and
-    round (the join runs once per chain).  The accepted segments are kept as arrays
-    (chain, t0, t1, bound, and the round and request of their fit) until the end,
-    where each chain's list of CubicFit is made."""
-    bank, n = chains.bank, len(chains.k)
-    top = chains.k.astype(float)
-    two = np.nonzero(top >= BOTH_WAYS)[0]
-    m = len(two)
-    # rows: forward of every chain, backward of the long ones, a spare forward row
-    # of each long one (its whole-chain search where a join does not certify)
-    rchain = np.concatenate([np.arange(n), two, two])
-    back = np.zeros(n + 2 * m, bool)
-    back[n:n + m] = True
-    bwd_of = np.full(n, -1)
-    bwd_of[two] = n + np.arange(m)
-    spare_of = np.full(n, -1)
-    spare_of[two] = n + m + np.arange(m)
-    start_t = np.where(back, top[rchain], 0.0)
+    A search from both ends needs about half the rounds of one from the start, for
+    the same count of segments: the greedy search's reach is monotone (a segment from
+    a later start ends no earlier), so the fewest segments a + c with the forward
+    search's a-th end past the backward search's c-th start is the fewest of any
+    cover."""
 
-    def fail(row, t0, width, bound):
-        c = int(rchain[row])
-        if back[row]:
-            t0 = top[c] - t0 - width
+    def __init__(self, chains):
+        self.n = n = len(chains.k)
+        self.top = top = chains.k.astype(float)
+        self.two = two = np.nonzero(top >= BOTH_WAYS)[0]
+        self.m = m = len(two)
+        self.rchain = np.concatenate([np.arange(n), two, two])
+        self.back = np.zeros(n + 2 * m, bool)
+        self.back[n:n + m] = True
+        self.bwd_of = np.full(n, -1)
+        self.bwd_of[two] = n + np.arange(m)
+        self.spare_of = np.full(n, -1)
+        self.spare_of[two] = n + m + np.arange(m)
+        self.start_t = np.where(self.back, top[self.rchain], 0.0)
+
+    def ranges(self, chains, greedy):
+        """The greedy rows' requests in the chains' parameters: (rows, chain, reversed,
+        a, b, start point, end point, the point at the row's end, need)."""
+        rows, t0, t1, start, need = greedy.requests()
+        crow, rev = self.rchain[rows], self.back[rows]
+        # a backward row's range [u0, u1] is the chain's [K - u1, K - u0]
+        a = np.where(rev, self.top[crow] - t1, t0)
+        b = np.where(rev, self.top[crow] - t0, t1)
+        pts = _chain_points(chains, np.concatenate([crow, crow[rev]]),
+                            np.concatenate([b, a[rev]]))
+        end = pts[:len(rows)]
+        start = start.copy()
+        start[rev] = pts[len(rows):]
+        tried = np.where(rev[:, None], start, end)
+        return rows, crow, rev, a, b, start, end, tried, need
+
+    def requests(self, chains, greedy, refine, join):
+        """A round's requests: the greedy rows' (:meth:`ranges`; the two searches of
+        a chain trying the same range, the gap between them, get one fit), then the
+        refinement's and the joins'.  Returns (rows, the points at the rows' ends, each
+        row's request among the rows, the rows with a request of their own, the
+        refinement's requests, the joins', Requests)."""
+        rows, crow, rev, a, b, start, end, tried, need = self.ranges(chains, greedy)
+        own = _same_ranges(crow, rev, a, b, need)
+        more = refine.requests()
+        joins = join.requests()
+        mine = np.nonzero(own == np.arange(len(rows)))[0]
+        req = Requests(*(np.concatenate(x) for x in zip(
+            (crow[mine], a[mine], b[mine], start[mine], end[mine], need[mine]),
+            more + (np.zeros(len(more[0])),), _join_points(chains, joins))))
+        return rows, tried, own, mine, more, joins, req
+
+    def fail(self, chains, tol, row, t0, width, bound):
+        """Raise ToleranceNotMetError for row ``row``'s interval [t0, t0 + width]."""
+        c = int(self.rchain[row])
+        if self.back[row]:
+            t0 = self.top[c] - t0 - width
+        bank = chains.bank
         piece = bank.pieces[bank.order[chains.off[c] + min(int(t0), int(chains.k[c]) - 1)]]
         raise ToleranceNotMetError(
             "cubic export did not reach tol %.3g on a parameter interval of width "
             "%.3g (bound %.3g)" % (tol, width, bound), piece=piece, achieved=bound)
 
-    greedy = Greedy(top[rchain], _chain_points(chains, rchain, start_t), tol, min_width,
-                    fail, active=np.arange(n + 2 * m) < n + m)
+    def meet(self, greedy):
+        """Each search of a chain capped where the other has come; the chains whose
+        two searches met (or one of which is done) marked done, returned."""
+        two, bwd_of, top = self.two, self.bwd_of, self.top
+        both = two[(greedy.mode[two] != DONE) & (greedy.mode[bwd_of[two]] != DONE)]
+        greedy.cap(both, top[both] - greedy.t0[bwd_of[both]])
+        greedy.cap(bwd_of[both], top[both] - greedy.t0[both])
+        fwd = two[greedy.mode[two] != DONE]
+        met = fwd[greedy.t0[fwd] >= top[fwd] - greedy.t0[bwd_of[fwd]]]
+        # (polyline.unique, not np.union1d/np.unique/np.isin: those import
+        # numpy.ma, which font workers must not pay for)
+        met = unique(np.concatenate([met, two[(greedy.mode[two] == DONE)
+                                              != (greedy.mode[bwd_of[two]] == DONE)]]))
+        greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
+        return met
+
+    def ended(self, found, ended):
+        """The segments of the ended rows in their chains' parameters, and the ended
+        chains: (segments, joined, alone); joined: those of a forward or backward row
+        of a two-way search, alone: the others (one-way, or searched again whole)."""
+        rchain, back, top, n, m = self.rchain, self.back, self.top, self.n, self.m
+        seg = found.take(ended)
+        rc = rchain[seg[0]]
+        flip = back[seg[0]]
+        seg = (rc, np.where(flip, top[rc] - seg[2], seg[1]),
+               np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
+        joined = unique(rchain[ended[(self.spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
+        alone = np.sort(rchain[ended[~member(rchain[ended], joined)]])
+        return seg, joined, alone
+
+
+def _drive(chains, tol, min_width):
+    """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
+    together; their CubicFit lists in order.
+
+    Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
+    from its start, and a chain of BOTH_WAYS pieces or more also from its end, until
+    the two meet (:class:`_Rows`); the halves are then joined (:class:`_Join`).  A
+    chain left with two segments or more is refined (:class:`morph.export.refine.
+    Refine`).  Each round fits and certifies the requests of all machines together
+    (:func:`_fit_batch`): no Python step runs per chain and round (the join runs once
+    per chain).  The accepted segments are kept as arrays (chain, t0, t1, bound, and
+    the round and request of their fit) until the end."""
+    n = len(chains.k)
+    lay = _Rows(chains)
+    greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
+                    min_width, partial(lay.fail, chains, tol),
+                    active=np.arange(n + 2 * lay.m) < n + lay.m)
     refine = Refine(chains, tol)
     join = _Join(tol)
     found = _Segments()                   # the greedy segments of rows still searching
@@ -389,27 +461,8 @@ def _drive(chains, tol, min_width):
         done += int((~many).sum())
 
     while greedy.active.any() or refine.active or join.active:
-        rows, t0, t1, start, need = greedy.requests()
-        crow, rev = rchain[rows], back[rows]
-        # a backward row's range [u0, u1] is the chain's [K - u1, K - u0]
-        a = np.where(rev, top[crow] - t1, t0)
-        b = np.where(rev, top[crow] - t0, t1)
-        pts = _chain_points(chains, np.concatenate([crow, crow[rev]]),
-                            np.concatenate([b, a[rev]]))
-        end = pts[:len(rows)]
-        start = start.copy()
-        start[rev] = pts[len(rows):]
-        tried = np.where(rev[:, None], start, end)          # the point at the row's end
-        # the two searches of a chain trying the same range (the gap between them):
-        # one fit for both
-        own = _same_ranges(crow, rev, a, b, need)
-        more = refine.requests()
-        joins = join.requests()
-        mine = np.nonzero(own == np.arange(len(rows)))[0]
+        rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
         k = len(mine)
-        req = Requests(*(np.concatenate(x) for x in zip(
-            (crow[mine], a[mine], b[mine], start[mine], end[mine], need[mine]),
-            more + (np.zeros(len(more[0])),), _join_points(chains, joins))))
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
@@ -420,30 +473,12 @@ def _drive(chains, tol, min_width):
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
             if len(joins[0]):
-                greedy.activate(spare_of[join.update(fits, k + len(more[0]), len(rounds) - 1)])
-            # each search of a chain ends where the other has come; when they meet both
-            # stop and the chain is joined
-            both = two[(greedy.mode[two] != DONE) & (greedy.mode[bwd_of[two]] != DONE)]
-            greedy.cap(both, top[both] - greedy.t0[bwd_of[both]])
-            greedy.cap(bwd_of[both], top[both] - greedy.t0[both])
-            fwd = two[greedy.mode[two] != DONE]
-            met = fwd[greedy.t0[fwd] >= top[fwd] - greedy.t0[bwd_of[fwd]]]
-            # (polyline.unique, not np.union1d/np.unique/np.isin: those import
-            # numpy.ma, which font workers must not pay for)
-            met = unique(np.concatenate([met, two[(greedy.mode[two] == DONE)
-                                                  != (greedy.mode[bwd_of[two]] == DONE)]]))
-            greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
+                greedy.activate(lay.spare_of[join.update(fits, k + len(more[0]),
+                                                         len(rounds) - 1)])
+            met = lay.meet(greedy)
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
-            ended = unique(np.concatenate([ended, met, bwd_of[met]]))
-            seg = found.take(ended)
-            rc = rchain[seg[0]]
-            flip = back[seg[0]]
-            seg = (rc, np.where(flip, top[rc] - seg[2], seg[1]),
-                   np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
-            # the chains of a forward or backward row of a two-way search: joined;
-            # the others (one-way, or searched again whole) are done
-            joined = unique(rchain[ended[(spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
-            alone = np.sort(rchain[ended[~member(rchain[ended], joined)]])
+            seg, joined, alone = lay.ended(found, unique(np.concatenate(
+                [ended, met, lay.bwd_of[met]])))
             finished(_segments_of(seg, alone), alone)
             join.add(_segments_of(seg, joined), joined, greedy.t0[joined])
             finished(*join.ready())

@@ -77,7 +77,7 @@ from ..nib import check_convex_nib, nib_is_symmetric, region_extent
 from .fea import move_feature_anchors, moved_features  # noqa: F401 (re-exported)
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
-from .ufo_tables import grow_win_metrics, outline_extent, rename_ufo_family
+from .ufo_tables import grow_win_metrics, rename_ufo_family
 
 __all__ = ["stroke_ufo", "stroke_plan", "stroke_glyph_region", "nib_is_symmetric",
            "move_feature_anchors", "DEFAULT_NIB", "SKELETON_LAYER"]

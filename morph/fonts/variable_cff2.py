@@ -139,9 +139,6 @@ def split_long_charstrings(font, limit=MAX_CHARSTRING):
             ``limit`` (the operand stack of 513 keeps a blended curve within
             about 15 KB): what no CFF2 font can hold.
     """
-    from fontTools.cffLib import SubrsIndex
-    from fontTools.misc.psCharStrings import T2CharString
-
     from ..errors import MorphError
 
     cff = font["CFF2"].cff
@@ -168,21 +165,31 @@ def split_long_charstrings(font, limit=MAX_CHARSTRING):
         split[name] = sum(sizes)
         cs.program = head + [("subr", first + k) for k in range(len(pieces))]
     for private, programs in parts.values():
-        if len(programs) > MAX_SUBRS:
-            raise MorphError("%d subroutines of split charstrings, more than the %d a "
-                             "Private dict addresses" % (len(programs), MAX_SUBRS))
-        bias = _bias(len(programs))
-        subrs = SubrsIndex(private=private, globalSubrs=cff.GlobalSubrs, isCFF2=True)
-        for program in programs:
-            subrs.append(T2CharString(program=program, private=private,
-                                      globalSubrs=cff.GlobalSubrs))
-        private.Subrs = subrs
-        for name in split:
-            cs = charstrings[name]
-            if cs.private is private:
-                cs.program = [t for tok in cs.program for t in (
-                    (tok[1] - bias, "callsubr") if isinstance(tok, tuple) else (tok,))]
+        _install_subrs(cff, private, programs, [charstrings[n] for n in split])
     return split
+
+
+def _install_subrs(cff, private, programs, split):
+    """``programs`` made the local subroutines of ``private``, and the ("subr", k)
+    calls of the charstrings ``split`` that use it made biased ``callsubr``s."""
+    from fontTools.cffLib import SubrsIndex
+    from fontTools.misc.psCharStrings import T2CharString
+
+    from ..errors import MorphError
+
+    if len(programs) > MAX_SUBRS:
+        raise MorphError("%d subroutines of split charstrings, more than the %d a "
+                         "Private dict addresses" % (len(programs), MAX_SUBRS))
+    bias = _bias(len(programs))
+    subrs = SubrsIndex(private=private, globalSubrs=cff.GlobalSubrs, isCFF2=True)
+    for program in programs:
+        subrs.append(T2CharString(program=program, private=private,
+                                  globalSubrs=cff.GlobalSubrs))
+    private.Subrs = subrs
+    for cs in split:
+        if cs.private is private:
+            cs.program = [t for tok in cs.program for t in (
+                (tok[1] - bias, "callsubr") if isinstance(tok, tuple) else (tok,))]
 
 
 def _cut(name, cs, sizes, limit):
