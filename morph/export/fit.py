@@ -536,12 +536,7 @@ def _rays(ax, ay, px, py, ux, uy, s):
     h2, h3 = 2.0 * g2, 3.0 * g3
     gv, gd = np.empty_like(s), np.empty_like(s)
     for _ in range(5):
-        np.multiply(g3, s, out=gv)
-        gv += g2
-        gv *= s
-        gv += g1
-        gv *= s
-        gv += g0
+        _horner3(g3, g2, g1, g0, s, gv)
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
@@ -550,18 +545,20 @@ def _rays(ax, ay, px, py, ux, uy, s):
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
         np.clip(s, 0.0, 1.0, out=s)
-    np.multiply(a3, s, out=gv)
-    gv += a2
-    gv *= s
-    gv += a1
-    gv *= s
-    gv += a0
+    _horner3(a3, a2, a1, a0, s, gv)
     gv -= px
-    np.multiply(b3, s, out=gd)
-    gd += b2
-    gd *= s
-    gd += b1
-    gd *= s
-    gd += b0
+    _horner3(b3, b2, b1, b0, s, gd)
     gd -= py
     return s, np.hypot(gv, gd, out=gd)
+
+
+def _horner3(c3, c2, c1, c0, s, out):
+    """``out`` = ((c3 s + c2) s + c1) s + c0, in place (the operations and their
+    order, so the bits, of the written-out form)."""
+    np.multiply(c3, s, out=out)
+    out += c2
+    out *= s
+    out += c1
+    out *= s
+    out += c0
+    return out
