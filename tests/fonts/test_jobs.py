@@ -117,7 +117,11 @@ def test_progress_moves_within_a_chunk(jobs, monkeypatch):
     counts = _counts(out.getvalue())
     assert counts == sorted(counts) and counts[-1] == 40
     assert set(counts) - edges, "no count inside a chunk: %s" % sorted(set(counts))
-    assert sum(u for u in flight if u > 0) == pytest.approx(40)
+    reported = sum(u for u in flight if u > 0)
+    if jobs == 1:   # reports are calls: every one arrives before its chunk's glyphs
+        assert reported == pytest.approx(40)
+    else:           # a worker's report may come after its chunk's result (two pipes):
+        assert 0 < reported <= 40 + 1e-9   # dropped then, never counted twice
     assert sum(flight) == pytest.approx(0.0)   # all taken back: 40 done, none in flight
     assert bar.flight == pytest.approx(0.0)
 
