@@ -25,6 +25,17 @@ def bounds(font, name):
     return pen.bounds
 
 
+def finish_tables(fb, names, family, width, ascent, descent):
+    """The tables every small test font built with FontBuilder needs after its
+    outlines: hmtx (``width`` for every glyph of ``names``, lsb 0), hhea, name,
+    OS/2 and post."""
+    fb.setupHorizontalMetrics({n: (width, 0) for n in names})
+    fb.setupHorizontalHeader(ascent=ascent, descent=descent)
+    fb.setupNameTable({"familyName": family, "styleName": "Regular"})
+    fb.setupOS2()
+    fb.setupPost()
+
+
 def _add_mark(font, name, source, code):
     """A zero-width combining mark: ``source``'s outline centred on x = 0."""
     gs = font.getGlyphSet()

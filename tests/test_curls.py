@@ -14,6 +14,7 @@ from morph.minkowski import minkowski_sum
 from morph.region import orient_region, region_bbox
 from morph.trim import fill_region
 from tests.oracles import reference as R
+from tests.fontfixtures import finish_tables
 
 
 def _blob(rng, n=8):
@@ -100,11 +101,7 @@ def _curled_font(path, seeds):
             pen.closePath()
         charstrings[name] = pen.getCharString()
     fb.setupCFF("Curls", {"FullName": "Curls"}, charstrings, {})
-    fb.setupHorizontalMetrics({n: (1000, 0) for n in [".notdef"] + names})
-    fb.setupHorizontalHeader(ascent=900, descent=-100)
-    fb.setupNameTable({"familyName": "Curls", "styleName": "Regular"})
-    fb.setupOS2()
-    fb.setupPost()
+    finish_tables(fb, [".notdef"] + names, "Curls", 1000, 900, -100)
     fb.save(str(path))
     return names
 

@@ -16,6 +16,7 @@ from fontTools.pens.ttGlyphPen import TTGlyphPen
 from morph.fonts.brush import brush_font, ellipse_nib
 from morph.fonts.stroke import stroke_ufo
 from tests import RELIEF_SUBSET
+from tests.fontfixtures import finish_tables
 from tests.oracles.overlaps import (FLAT, ROUNDING, font_overlaps, glyph_overlaps,
                                     overlap_bound)
 
@@ -51,11 +52,7 @@ def write_font(path, glyphs):
         drawing(*glyphs.get(name, [])).replay(pen)
         outlines[name] = pen.glyph()
     fb.setupGlyf(outlines)
-    fb.setupHorizontalMetrics({n: (600, 0) for n in order})
-    fb.setupHorizontalHeader(ascent=800, descent=-200)
-    fb.setupNameTable({"familyName": "Overlaps", "styleName": "Regular"})
-    fb.setupOS2()
-    fb.setupPost()
+    finish_tables(fb, order, "Overlaps", 600, 800, -200)
     fb.save(str(path))
     return path
 

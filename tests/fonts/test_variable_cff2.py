@@ -13,6 +13,7 @@ import pytest
 from morph.errors import MorphError
 from morph.fonts import variable_cff2
 from morph.fonts.variable_cff2 import MAX_CHARSTRING, split_long_charstrings, write_cff2
+from tests.fontfixtures import finish_tables
 
 #: masters along wght and cubics of the synthetic glyph "e"
 MASTERS, CUBICS = 41, 400
@@ -36,11 +37,7 @@ def _font(split=True, masters=MASTERS, cubics=CUBICS):
     fb.setupGlyphOrder(names)
     fb.setupCharacterMap({0x6F: "o", 0x65: "e"})
     fb.setupGlyf({n: TTGlyphPen(None).glyph() for n in names})
-    fb.setupHorizontalMetrics({n: (600, 0) for n in names})
-    fb.setupHorizontalHeader(ascent=800, descent=-200)
-    fb.setupNameTable({"familyName": "Split", "styleName": "Regular"})
-    fb.setupOS2()
-    fb.setupPost()
+    finish_tables(fb, names, "Split", 600, 800, -200)
     fb.setupFvar([("wght", 100, 400, 900, "Weight")], [])
     grid = [{}, {"wght": -1.0}, {"wght": 1.0}]
     locs = grid + [{"wght": float(v)} for v in np.linspace(-1, 1, masters)
