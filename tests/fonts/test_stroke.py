@@ -263,7 +263,6 @@ def holes(geom):
 def test_compiled_font_loads_sanitizes_renders(skeleton, tmp_path, suffix):
     """ufo2ft output: fontTools reads it, ots-sanitize passes it, Pillow renders it
     at 9 to 300 px; TrueType keeps the composites."""
-    pytest.importorskip("ots")
     import ots
     from PIL import Image, ImageDraw, ImageFont
 

@@ -89,7 +89,7 @@ def test_outputs_and_compatibility(built):
     for name in ("a", "s", "period"):
         assert [len(c) for c in m0[name].contours] == [len(c) for c in m1[name].contours]
     # advances grow with the nib
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     r = ots.sanitize(str(out), capture_output=True)
     assert r.returncode == 0, r.stderr
     grow = [round(2 * Ellipse(*n).extent()[2]) for n in NIBS]
@@ -554,7 +554,7 @@ def test_brush_variable_keeps_every_axis(tmp_path):
     assert len(font["gvar"].variations["o"]) <= masters["o"] - 1
     assert [a.axisTag for a in font["fvar"].axes] == ["wght", "opsz"]
     assert font["glyf"]["o"].flags[0] & 0x40 and font["glyf"]["e"].flags[0] & 0x40
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     assert ots.sanitize(str(out), capture_output=True).returncode == 0
     shift = Ellipse(*nib).extent()[2]
 

@@ -115,7 +115,7 @@ def test_static_source_gets_a_nib_axis(sources, tmp_path):
     font = TTFont(str(out))
     assert [a.axisTag for a in font["fvar"].axes] == ["NIBW"]
     assert "STAT" in font and "gvar" in font and font["glyf"]["o"].flags[0] & 0x40
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     assert ots.sanitize(str(out), capture_output=True).returncode == 0
     rng = np.random.default_rng(35)
     for w in list(np.linspace(40, 120, 9)) + list(rng.uniform(40, 120, 2)):
@@ -163,7 +163,7 @@ def test_grade_axis_keeps_the_advances(sources, tmp_path):
     axis = font["fvar"].axes[0]
     assert (axis.axisTag, axis.minValue, axis.defaultValue, axis.maxValue) == \
         ("GRAD", 0.0, 0.0, 30.0)
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     assert ots.sanitize(str(out), capture_output=True).returncode == 0
     widths = None
     for g in np.linspace(0, 30, 9):
@@ -188,7 +188,7 @@ def test_variable_cff2_source_keeps_its_axis(sources, tmp_path):
     font = TTFont(str(out))
     assert [a.axisTag for a in font["fvar"].axes] == ["wght"]
     assert "glyf" in font and "gvar" in font and "CFF2" not in font
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     assert ots.sanitize(str(out), capture_output=True).returncode == 0
     for w in np.linspace(400, 700, 9):
         _check(out, sources["cff2"], {"wght": float(w)}, lambda loc: Ellipse(*NIBS[0]))
@@ -301,7 +301,7 @@ def test_cff2_output(sources, tmp_path):
     assert {len(d.VarRegionIndex) + 1 for d in store.VarData} >= \
         set(stats["glyph_masters"].values())
     assert max(stats["glyph_masters"].values()) == len(stats["masters"])
-    ots = pytest.importorskip("ots")
+    import ots  # a test extra: missing, the test fails rather than skips
     r = ots.sanitize(str(out), capture_output=True)
     assert r.returncode == 0, r.stderr
     rng = np.random.default_rng(38)
