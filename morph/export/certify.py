@@ -38,6 +38,8 @@ same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in 
 coefficient products), the bound is rigorous.
 """
 
+import functools
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -70,6 +72,10 @@ def check_piece(piece):
 
 #: de Casteljau halvings of the certificate's coefficients (2^REFINE panels).
 REFINE = 3
+#: de Casteljau halvings of each panel of the certificate on the fitter's rays
+#: (:func:`hull_bound` on the panels of :func:`_panel_bounds`, a ninth of the cubic
+#: each).
+PANEL_REFINE = 2
 
 
 def homogeneous_reparam(phi):
@@ -146,7 +152,10 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
     points.  On each panel R o phi is composed exactly
     (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
     :func:`morph.nearest.distance_bound_many` applied on 2^refine panels (never below
-    the true maximum, rounding aside); the largest over the panels is returned.
+    the true maximum, rounding aside); on a panel whose phi is a Möbius map (degree
+    1, as the panels of :func:`_panel_bounds`) the smaller of that and
+    :func:`hull_bound` (PANEL_REFINE halvings), both certificates; the largest over
+    the panels is returned.  A :class:`CubicFit`'s stated bound is never below it.
 
     Raises:
         ValueError: bad piece (shape, weights) or a reparam that is not increasing.
@@ -164,7 +173,10 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
         h = _normalized_reparam(phi, t0, t1)
         comp = bz.compose_many(sub[None], h[None, :, 0], h[None, :, 1])[0]
         c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
-        worst = max(worst, same_param_bound(comp, c, refine))
+        bound = same_param_bound(comp, c, refine)
+        if len(h) == 2:         # a Möbius panel (:func:`_panel_bounds`): its own certificate too
+            bound = min(bound, float(hull_bound(comp[None], c[None])[0]))
+        worst = max(worst, bound)
     return worst
 
 
@@ -469,20 +481,37 @@ class Certified:
     """The certificates of a batch of (sub-piece, cubic) pairs (:func:`certify_batch`):
     ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
     made only when asked for (writers of outlines need the bounds, not the maps).
-    A pair certified as halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are
-    rows half[i] and half[i] + ``sub_n`` of ``sub`` (the Certified of all halved
-    pairs of the batch), the sub-piece cut at ``half_u[i]``."""
 
-    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n")
+    A pair certified on the fitter's ray pairs (:func:`_panel_bounds`) has ``cuts[i]``
+    (the cubic's parameters s_j of its panels' ends, the piece's ``nodes`` u_j) and
+    ``moebius[i]`` (each panel's Möbius factor).  A pair certified by the composed
+    map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as halves (:func:`_halved`)
+    has ``half[i]`` >= 0: its halves are rows half[i] and half[i] + ``sub_n`` of ``sub``
+    (the Certified of all halved pairs of the batch), the sub-piece cut at
+    ``half_u[i]``.  ``other[i]`` >= 0: the pair's certificate is row other[i] of
+    ``rest`` (a Certified of the pairs the ray panels did not certify)."""
 
-    def __init__(self, bound, phis, size, c):
+    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n",
+                 "cuts", "nodes", "moebius", "other", "rest")
+
+    def __init__(self, bound, phis=None, size=None, c=None):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
         self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
         self.sub, self.sub_n = None, 0
+        self.cuts = self.nodes = self.moebius = self.rest = None
+        self.other = np.full(len(bound), -1)
 
     def panels(self, i):
         """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
         :func:`certify_many`)."""
+        j = int(self.other[i])
+        if j >= 0:
+            return self.rest.panels(j)
+        if self.cuts is not None:
+            s, u, c = self.cuts[i], self.nodes, self.moebius[i]
+            return [(float(s[p]), float(s[p + 1]),
+                     affine_reparam(np.array([[0.0, 1.0], [c[p], c[p]]]), u[p], u[p + 1] - u[p]))
+                    for p in range(len(c))]
         j = int(self.half[i])
         if j >= 0:
             u = float(self.half_u[i])
@@ -508,7 +537,7 @@ def certify_many(subs, cubics, tol, depth=3):
     return [(float(b), res.panels(i)) for i, b in enumerate(res.bound)]
 
 
-def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
+def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None, panel=True):
     """:class:`Certified` bounds of cubics (k, 4, 2) against the sub-pieces
     ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
     ``start``: starting feet of the nodes (:func:`_reparams`), or None; ``pairs``:
@@ -525,6 +554,8 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
     not composed at all).
     """
     cubics = np.asarray(cubics, float)
+    if pairs is not None and panel and PANEL_RAYS:
+        return _ray_certified(groups, cubics, tol, depth, pairs)
     phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start, pairs)
     bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
     out = Certified(bound, phis, size, cs)
@@ -535,6 +566,156 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
             feet[bare] = start_at_nodes(pairs[0][bare], pairs[1])
         _halved(groups, cubics, out, rows, feet, tol, depth)
     return out
+
+
+#: Certify on the fitter's ray pairs (:func:`_ray_certified`) where
+#: :func:`certify_batch` is given them (False: the composed map everywhere).
+PANEL_RAYS = True
+
+
+def _ray_certified(groups, cubics, tol, depth, pairs):
+    """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
+    panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
+    composed); the pairs whose panels do not certify (bound above tol, or rays out
+    of order) are certified again by the composed map (:func:`certify_batch`
+    without the panels) and keep the smaller bound."""
+    ps, pu, pspeed, pgap = pairs
+    pu = np.asarray(pu, float)
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu)
+    out = Certified(bound)
+    out.cuts, out.moebius = cuts, moeb
+    out.nodes = np.concatenate([[0.0], pu[1::2], [1.0]])
+    rest = np.nonzero(~(bound <= tol))[0]
+    if not len(rest):
+        return out
+    where = np.full(len(cubics), -1)
+    where[rest] = np.arange(len(rest))
+    sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
+           if (where[r] >= 0).any()]
+    again = certify_batch(sub, cubics[rest], tol, depth,
+                          pairs=(ps[rest], pu, pspeed[rest], pgap[rest]), panel=False)
+    won = again.bound < bound[rest]
+    out.bound[rest[won]] = again.bound[won]
+    out.other[rest[won]] = where[rest[won]]
+    out.rest = again
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _cut_matrices(n, cuts):
+    """(P, n+1, n+1): the maps of Bernstein coefficients of degree n onto the panels
+    [cuts[p], cuts[p + 1]] (de Casteljau, as :func:`morph.bernstein.subsegment_many`)."""
+    cuts = np.array(cuts)
+    eye = np.broadcast_to(np.eye(n + 1), (len(cuts) - 1, n + 1, n + 1))
+    return bz.subsegment_many(eye, cuts[:-1], cuts[1:])
+
+
+def _panel_bounds(groups, cubics, s, u, refine=None):
+    """Certified bounds of cubics against sub-pieces on panels cut at matched pairs of
+    parameters: the cubic's s_j (``s`` (k, 2 m), per pair) with the piece's u_j
+    (``u`` (2 m,), increasing, the same for all pairs).  The odd pairs (j = 1, 3,
+    ...), completed by (0, 0) and (1, 1), end the m + 1 panels; the even pair inside
+    a panel fixes its map.
+
+    phi maps [s_j, s_j+2] onto [u_j, u_j+2] by a Möbius map mu(v) = c v / ((c - 1) v
+    + 1) of the local parameters, c chosen so that mu takes the panel's inner pair
+    to each other (or, where there is none or it is out of place, so that mu's end
+    derivatives c and 1 / c are in the ratio of |C'| / |R'| at the panel's ends:
+    :func:`_panel_moebius`): on each panel R o phi is the sub-piece R|[u_j, u_j+2]
+    with its weights scaled by c^i (degree n, as the piece: nothing is composed),
+    and :func:`hull_bound` (2^refine halvings) bounds |R(phi(s)) - C(s)| on the
+    panel against C|[s_j, s_j+2].  Any continuous increasing phi gives a bound: the
+    pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
+    tight one.  Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1));
+    bound inf where the cuts s_j are not strictly increasing in (0, 1)."""
+    refine = PANEL_REFINE if refine is None else refine
+    k = len(s)
+    u = np.asarray(u, float)
+    cuts = np.concatenate([np.zeros((k, 1)), s[:, 1::2], np.ones((k, 1))], axis=1)
+    ucut = np.concatenate([[0.0], u[1::2], [1.0]])
+    ok = np.all(np.isfinite(cuts), axis=1)
+    ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
+    npan = cuts.shape[1] - 1
+    # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v = (s[:, 0::2] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+        w = (u[0::2] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+        inner = w * (1.0 - v) / (v * (1.0 - w))
+    inner = np.concatenate([inner, np.full((k, npan - inner.shape[1]), np.nan)], axis=1)
+    lim = math.exp(MOEBIUS_LOG)
+    inner = np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
+    bound = np.full(k, np.inf)
+    moeb = np.ones((k, npan))
+    uc = tuple(ucut.tolist())
+    for rows, stack in groups:
+        r = rows[ok[rows]]
+        if not len(r):
+            continue
+        n = stack.shape[1] - 1
+        sub = np.einsum("pij,kjd->kpid", _cut_matrices(n, uc), stack[ok[rows]])
+        sub = sub.reshape(len(r) * npan, n + 1, 3)
+        cub = bz.subsegment_many(np.repeat(cubics[r], npan, axis=0), cuts[r, :-1].ravel(),
+                                 cuts[r, 1:].ravel())
+        c = inner[r].ravel()
+        bad = np.isnan(c)
+        if bad.any():
+            c[bad] = _panel_moebius(sub[bad], cub[bad])
+        sub *= (c[:, None] ** np.arange(n + 1))[:, :, None]
+        bound[r] = hull_bound(sub, cub, refine).reshape(-1, npan).max(axis=1)
+        moeb[r] = c.reshape(-1, npan)
+    return bound, cuts, moeb
+
+
+def hull_bound(c, q, halvings=PANEL_REFINE):
+    """Certified bound of max_s |R_k(s) - Q_k(s)| (same parameter s in [0, 1]) for
+    rational pieces c (k, n+1, 3) with positive weights and polynomial curves q
+    (k, m+1, 2), without squaring: (k,).
+
+    E = X - W Q (degree n + m, X and W elevated by m) and W are Bernstein polynomials
+    of one degree with coefficients e_i (vectors) and w_i > 0, so
+
+        |E(s)| <= sum_i |e_i| B_i(s) <= max_i (|e_i| / w_i) sum_i w_i B_i(s)
+
+    (triangle inequality, then the mediant inequality): |R - Q| = |E| / W <= max_i
+    |e_i| / w_i, taken on each of 2^halvings equal panels (de Casteljau), which
+    tightens it as Bernstein coefficients converge to the polynomial.  Degree n + m,
+    where the squared certificate (:func:`morph.nearest.distance_bound_many`) works at
+    2 (n + m); both are rigorous up to rounding (relative ~1e-15 of the
+    coefficients; both curves are first translated by R's start point).  inf where a
+    weight coefficient is not positive."""
+    c = np.asarray(c, float)
+    q = np.asarray(q, float)
+    m = q.shape[1] - 1
+    origin = c[:, :1, :2] / c[:, :1, 2:]
+    w = c[:, :, 2]
+    h = np.empty(c.shape[:1] + (c.shape[1] + m, 3))
+    h[:, :, :2] = (bz.elevate_many(c[:, :, :2] - w[:, :, None] * origin, m)
+                   - bz.multiply_many(w, q - origin))
+    h[:, :, 2] = bz.elevate_many(w, m)
+    h = bz.panels_many(h, halvings)
+    wt = h[..., 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.hypot(h[..., 0], h[..., 1]) / np.where(wt > 0, wt, 1.0)
+    return np.where(np.all(wt > 0, axis=1), r.max(axis=1), np.inf)
+
+
+def _panel_moebius(sub, cub):
+    """Per panel the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) whose end
+    derivatives (c at 0, 1 / c at 1) are in the ratio of |C'| / |R'| at the panel's
+    two ends (the derivatives of the feet map there): c = 1 where a speed is zero;
+    |log c| at most MOEBIUS_LOG."""
+    n = sub.shape[1] - 1
+    w = sub[:, :, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r0 = n * w[:, 1] / w[:, 0] * np.hypot(*(sub[:, 1, :2] / w[:, 1:2]
+                                               - sub[:, 0, :2] / w[:, :1]).T)
+        r1 = n * w[:, -2] / w[:, -1] * np.hypot(*(sub[:, -1, :2] / w[:, -1:]
+                                                 - sub[:, -2, :2] / w[:, -2:-1]).T)
+        c0 = np.hypot(*(cub[:, 1] - cub[:, 0]).T)
+        c1 = np.hypot(*(cub[:, -1] - cub[:, -2]).T)
+        c = np.sqrt((c0 * r1) / (c1 * r0))
+    fine = np.isfinite(c) & (c > 0)
+    return np.where(fine, np.clip(c, math.exp(-MOEBIUS_LOG), math.exp(MOEBIUS_LOG)), 1.0)
 
 
 def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):
