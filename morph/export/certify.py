@@ -571,6 +571,9 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None, panel=Tr
 #: Certify on the fitter's ray pairs (:func:`_ray_certified`) where
 #: :func:`certify_batch` is given them (False: the composed map everywhere).
 PANEL_RAYS = True
+#: Pieces of lower degree keep the composed map (conics: a phi of degree 3 composes
+#: to degree 6, cheaper than nine panels; bench/export_rounds.py on the hanzi set).
+PANEL_DEGREE = 3
 
 
 def _ray_certified(groups, cubics, tol, depth, pairs):
@@ -578,14 +581,23 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
     composed); the pairs whose panels do not certify (bound above tol, or rays out
     of order) are certified again by the composed map (:func:`certify_batch`
-    without the panels) and keep the smaller bound."""
+    without the panels) and keep the smaller bound.  Pairs whose parameters already
+    match (phi = identity within PHI_SHARE tol at the pairs, as :func:`_phi_fits`
+    decides) take the composed map's same-parameter certificate alone: one panel of
+    the piece's own degree, cheaper than nine; so do pieces of degree below
+    PANEL_DEGREE, whose compositions stay of low degree."""
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu)
+    with np.errstate(invalid="ignore"):
+        same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+    for rows, stack in groups:
+        if stack.shape[1] - 1 < PANEL_DEGREE:
+            same[rows] = True
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~same)
     out = Certified(bound)
     out.cuts, out.moebius = cuts, moeb
     out.nodes = np.concatenate([[0.0], pu[1::2], [1.0]])
-    rest = np.nonzero(~(bound <= tol))[0]
+    rest = np.nonzero(same | ~(bound <= tol))[0]
     if not len(rest):
         return out
     where = np.full(len(cubics), -1)
@@ -610,7 +622,7 @@ def _cut_matrices(n, cuts):
     return bz.subsegment_many(eye, cuts[:-1], cuts[1:])
 
 
-def _panel_bounds(groups, cubics, s, u, refine=None):
+def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
     """Certified bounds of cubics against sub-pieces on panels cut at matched pairs of
     parameters: the cubic's s_j (``s`` (k, 2 m), per pair) with the piece's u_j
     (``u`` (2 m,), increasing, the same for all pairs).  The odd pairs (j = 1, 3,
@@ -627,13 +639,16 @@ def _panel_bounds(groups, cubics, s, u, refine=None):
     panel against C|[s_j, s_j+2].  Any continuous increasing phi gives a bound: the
     pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
     tight one.  Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1));
-    bound inf where the cuts s_j are not strictly increasing in (0, 1)."""
+    bound inf where the cuts s_j are not strictly increasing in (0, 1) and on the
+    rows not in ``todo`` (a mask; None: all)."""
     refine = PANEL_REFINE if refine is None else refine
     k = len(s)
     u = np.asarray(u, float)
     cuts = np.concatenate([np.zeros((k, 1)), s[:, 1::2], np.ones((k, 1))], axis=1)
     ucut = np.concatenate([[0.0], u[1::2], [1.0]])
     ok = np.all(np.isfinite(cuts), axis=1)
+    if todo is not None:
+        ok &= todo
     ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
     npan = cuts.shape[1] - 1
     # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
