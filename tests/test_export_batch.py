@@ -197,6 +197,7 @@ def test_certificate_from_the_fitters_pairs_is_a_certificate(monkeypatch):
             m.setattr(certify_mod, "_newton_reparams", None)
             composed = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs,
                                                  panel=False)
+            m.setattr(certify_mod, "PANEL_DEGREE", 2)      # a conic on the ray panels too
             paneled = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs)
         assert (composed.c[0] != 1.0) == (piece is uneven)
         # the ray panels certify the arc; the uneven piece, whose feet no Möbius map
