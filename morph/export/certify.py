@@ -482,9 +482,9 @@ class Certified:
     ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
     made only when asked for (writers of outlines need the bounds, not the maps).
 
-    A pair certified on the fitter's ray pairs (:func:`_panel_bounds`) has ``cuts[i]``
-    (the cubic's parameters s_j of its panels' ends, the piece's ``nodes`` u_j) and
-    ``moebius[i]`` (each panel's Möbius factor).  A pair certified by the composed
+    A pair certified on the fitter's ray pairs (:func:`_panel_bounds`: ``paneled[i]``)
+    has ``cuts[i]`` (the cubic's parameters s_j of its panels' ends, the piece's
+    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor).  A pair certified by the composed
     map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as halves (:func:`_halved`)
     has ``half[i]`` >= 0: its halves are rows half[i] and half[i] + ``sub_n`` of ``sub``
     (the Certified of all halved pairs of the batch), the sub-piece cut at
@@ -492,13 +492,13 @@ class Certified:
     ``rest`` (a Certified of the pairs the ray panels did not certify)."""
 
     __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n",
-                 "cuts", "nodes", "moebius", "other", "rest")
+                 "paneled", "cuts", "nodes", "moebius", "other", "rest")
 
     def __init__(self, bound, phis=None, size=None, c=None):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
         self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
         self.sub, self.sub_n = None, 0
-        self.cuts = self.nodes = self.moebius = self.rest = None
+        self.paneled = self.cuts = self.nodes = self.moebius = self.rest = None
         self.other = np.full(len(bound), -1)
 
     def panels(self, i):
@@ -507,7 +507,7 @@ class Certified:
         j = int(self.other[i])
         if j >= 0:
             return self.rest.panels(j)
-        if self.cuts is not None:
+        if self.paneled is not None and self.paneled[i]:
             s, u, c = self.cuts[i], self.nodes, self.moebius[i]
             return [(float(s[p]), float(s[p + 1]),
                      affine_reparam(np.array([[0.0, 1.0], [c[p], c[p]]]), u[p], u[p + 1] - u[p]))
@@ -571,9 +571,13 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None, panel=Tr
 #: Certify on the fitter's ray pairs (:func:`_ray_certified`) where
 #: :func:`certify_batch` is given them (False: the composed map everywhere).
 PANEL_RAYS = True
-#: Pieces of lower degree keep the composed map (conics: a phi of degree 3 composes
-#: to degree 6, cheaper than nine panels; bench/export_rounds.py on the hanzi set).
-PANEL_DEGREE = 3
+#: Pieces of lower degree (lines) keep the composed map.  Conics take the panels
+#: too: as fast as composing on the hanzi set, faster on Relief
+#: (bench/export_rounds.py).
+PANEL_DEGREE = 2
+#: Every PANEL_STEP-th of the fitter's 16 ray pairs ends a panel of
+#: :func:`_panel_bounds` (the one halfway between fixes its map): 2, nine panels.
+PANEL_STEP = 2
 
 
 def _ray_certified(groups, cubics, tol, depth, pairs):
@@ -583,21 +587,28 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     of order) are certified again by the composed map (:func:`certify_batch`
     without the panels) and keep the smaller bound.  Pairs whose parameters already
     match (phi = identity within PHI_SHARE tol at the pairs, as :func:`_phi_fits`
-    decides) take the composed map's same-parameter certificate alone: one panel of
-    the piece's own degree, cheaper than nine; so do pieces of degree below
-    PANEL_DEGREE, whose compositions stay of low degree."""
+    decides) take the same-parameter certificate (:func:`morph.nearest.
+    distance_bound_many`, as the composed map does with that phi): one panel of the
+    piece's own degree, cheaper than nine.  Pieces of degree below PANEL_DEGREE,
+    whose compositions stay of low degree, take the composed map."""
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
     with np.errstate(invalid="ignore"):
         same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+    low = np.zeros(len(cubics), bool)
     for rows, stack in groups:
-        if stack.shape[1] - 1 < PANEL_DEGREE:
-            same[rows] = True
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~same)
-    out = Certified(bound)
+        low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low))
+    for rows, stack in groups:          # phi = identity: the same-parameter certificate
+        sel = np.nonzero(same[rows])[0]
+        if len(sel):
+            bound[rows[sel]] = nr.distance_bound_many(stack[sel], cubics[rows[sel]], REFINE)[0]
+    out = Certified(bound, np.tile(np.eye(1, PHI_DEGREES[-1] + 1, 1), (len(bound), 1)),
+                    np.full(len(bound), 2), np.ones(len(bound)))
+    out.paneled = ~(same | low)
     out.cuts, out.moebius = cuts, moeb
-    out.nodes = np.concatenate([[0.0], pu[1::2], [1.0]])
-    rest = np.nonzero(same | ~(bound <= tol))[0]
+    out.nodes = np.concatenate([[0.0], pu[PANEL_STEP - 1::PANEL_STEP], [1.0]])
+    rest = np.nonzero(~(bound <= tol))[0]
     if not len(rest):
         return out
     where = np.full(len(cubics), -1)
@@ -611,15 +622,6 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     out.other[rest[won]] = where[rest[won]]
     out.rest = again
     return out
-
-
-@functools.lru_cache(maxsize=None)
-def _cut_matrices(n, cuts):
-    """(P, n+1, n+1): the maps of Bernstein coefficients of degree n onto the panels
-    [cuts[p], cuts[p + 1]] (de Casteljau, as :func:`morph.bernstein.subsegment_many`)."""
-    cuts = np.array(cuts)
-    eye = np.broadcast_to(np.eye(n + 1), (len(cuts) - 1, n + 1, n + 1))
-    return bz.subsegment_many(eye, cuts[:-1], cuts[1:])
 
 
 def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
@@ -644,8 +646,10 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
     refine = PANEL_REFINE if refine is None else refine
     k = len(s)
     u = np.asarray(u, float)
-    cuts = np.concatenate([np.zeros((k, 1)), s[:, 1::2], np.ones((k, 1))], axis=1)
-    ucut = np.concatenate([[0.0], u[1::2], [1.0]])
+    end, mid = slice(PANEL_STEP - 1, None, PANEL_STEP), slice(PANEL_STEP // 2 - 1, None,
+                                                              PANEL_STEP)
+    cuts = np.concatenate([np.zeros((k, 1)), s[:, end], np.ones((k, 1))], axis=1)
+    ucut = np.concatenate([[0.0], u[end], [1.0]])
     ok = np.all(np.isfinite(cuts), axis=1)
     if todo is not None:
         ok &= todo
@@ -653,8 +657,8 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
     npan = cuts.shape[1] - 1
     # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
     with np.errstate(divide="ignore", invalid="ignore"):
-        v = (s[:, 0::2] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
-        w = (u[0::2] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+        v = (s[:, mid] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+        w = (u[mid] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
         inner = w * (1.0 - v) / (v * (1.0 - w))
     inner = np.concatenate([inner, np.full((k, npan - inner.shape[1]), np.nan)], axis=1)
     lim = math.exp(MOEBIUS_LOG)
@@ -666,25 +670,83 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
         r = rows[ok[rows]]
         if not len(r):
             continue
-        n = stack.shape[1] - 1
-        sub = np.einsum("pij,kjd->kpid", _cut_matrices(n, uc), stack[ok[rows]])
-        sub = sub.reshape(len(r) * npan, n + 1, 3)
-        cub = bz.subsegment_many(np.repeat(cubics[r], npan, axis=0), cuts[r, :-1].ravel(),
-                                 cuts[r, 1:].ravel())
-        c = inner[r].ravel()
-        bad = np.isnan(c)
-        if bad.any():
-            c[bad] = _panel_moebius(sub[bad], cub[bad])
-        sub *= (c[:, None] ** np.arange(n + 1))[:, :, None]
-        bound[r] = hull_bound(sub, cub, refine).reshape(-1, npan).max(axis=1)
-        moeb[r] = c.reshape(-1, npan)
+        kr, n = len(r), stack.shape[1] - 1
+        # coefficient-major arrays, panel rows in (panel, pair) order: one matrix
+        # product cuts every piece into its panels
+        st = stack[ok[rows]].transpose(1, 0, 2).reshape(n + 1, 3 * kr)
+        sub = (_cut_matrices(n, uc) @ st).reshape(npan, n + 1, kr, 3)
+        sub = sub.transpose(1, 0, 2, 3).reshape(n + 1, npan * kr, 3)
+        cub = _cubic_panels(cubics[r], cuts[r])
+        c = inner[r].T.ravel()
+        bad = np.nonzero(np.isnan(c))[0]
+        if len(bad):
+            c[bad] = _panel_moebius(sub[:, bad], cub[:, bad])
+        power = np.ones((n + 1, len(c)))                          # c^i: R o mu
+        power[1:] = np.cumprod(np.broadcast_to(c, (n, len(c))), axis=0)
+        sub *= power[:, :, None]
+        bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
+        moeb[r] = c.reshape(npan, kr).T
     return bound, cuts, moeb
+
+
+@functools.lru_cache(maxsize=None)
+def _cut_matrices(n, cuts):
+    """(P (n+1), n+1): the maps of Bernstein coefficients of degree n onto the P panels
+    [cuts[p], cuts[p + 1]], stacked (de Casteljau, as
+    :func:`morph.bernstein.subsegment_many`)."""
+    cuts = np.array(cuts)
+    eye = np.broadcast_to(np.eye(n + 1), (len(cuts) - 1, n + 1, n + 1))
+    return bz.subsegment_many(eye, cuts[:-1], cuts[1:]).reshape(-1, n + 1)
+
+
+def _cubic_panels(cubics, cuts):
+    """The cubics (k, 4, 2) on the panels [cuts[:, p], cuts[:, p + 1]] (k, P + 1):
+    (4, P k, 2) control points, coefficient-major, rows in (panel, cubic) order.
+    The control points of C on [a, b] are its blossom's values C(a, a, a), C(a, a,
+    b), C(a, b, b), C(b, b, b): de Casteljau's second level at every cut, shared by
+    the two panels that meet there, and one more step."""
+    t = cuts.T[:, :, None]                                           # (P + 1, k, 1)
+    q = cubics.transpose(1, 0, 2)[:, None]                           # (4, 1, k, 2)
+    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]
+    l2 = [l1[0] + t * (l1[1] - l1[0]), l1[1] + t * (l1[2] - l1[1])]
+    point = l2[0] + t * (l2[1] - l2[0])
+    a, b = t[:-1], t[1:]
+    out = np.stack([point[:-1], l2[0][:-1] + b * (l2[1][:-1] - l2[0][:-1]),
+                    l2[0][1:] + a * (l2[1][1:] - l2[0][1:]), point[1:]])
+    return out.reshape(4, -1, 2)
+
+
+@functools.lru_cache(maxsize=None)
+def _hull_matrices(n, m, halvings):
+    """The linear maps of :func:`hull_bound`: (elevation of degree n by m, then the
+    2^halvings panels; the Bernstein product of degrees n and m from the products
+    w_i q_j, then the panels)."""
+    panels = bz._panel_matrices(n + m, halvings)
+    return panels @ bz._elevation_matrix(n, m), panels @ bz._scatter(n, m)
+
+
+def _hull_rows(c, q, halvings):
+    """:func:`hull_bound` of coefficient-major arrays: c (n+1, K, 3), q (m+1, K, 2)."""
+    n, m, k = c.shape[0] - 1, q.shape[0] - 1, c.shape[1]
+    elev, prod = _hull_matrices(n, m, halvings)
+    origin = c[0, :, :2] / c[0, :, 2:]                               # (K, 2)
+    w = c[:, :, 2]
+    x = c.copy()
+    x[:, :, :2] -= w[:, :, None] * origin
+    h = (elev @ x.reshape(n + 1, 3 * k)).reshape(-1, k, 3)
+    outer = w[:, None, :, None] * (q - origin)[None]                 # (n+1, m+1, K, 2)
+    h[:, :, :2] -= (prod @ outer.reshape((n + 1) * (m + 1), 2 * k)).reshape(-1, k, 2)
+    wt = h[:, :, 2]
+    ok = np.all(wt > 0, axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r2 = (h[:, :, 0] * h[:, :, 0] + h[:, :, 1] * h[:, :, 1]) / (wt * wt)
+    return np.where(ok, np.sqrt(r2.max(axis=0)), np.inf)
 
 
 def hull_bound(c, q, halvings=PANEL_REFINE):
     """Certified bound of max_s |R_k(s) - Q_k(s)| (same parameter s in [0, 1]) for
     rational pieces c (k, n+1, 3) with positive weights and polynomial curves q
-    (k, m+1, 2), without squaring: (k,).
+    (k, m+1, 2), without squaring a polynomial: (k,).
 
     E = X - W Q (degree n + m, X and W elevated by m) and W are Bernstein polynomials
     of one degree with coefficients e_i (vectors) and w_i > 0, so
@@ -696,38 +758,28 @@ def hull_bound(c, q, halvings=PANEL_REFINE):
     tightens it as Bernstein coefficients converge to the polynomial.  Degree n + m,
     where the squared certificate (:func:`morph.nearest.distance_bound_many`) works at
     2 (n + m); both are rigorous up to rounding (relative ~1e-15 of the
-    coefficients; both curves are first translated by R's start point).  inf where a
-    weight coefficient is not positive."""
+    coefficients; both curves are first translated by R's start point).  The
+    elevation, the product and the panels are one matrix each, applied to all rows
+    at once.  inf where a weight coefficient is not positive."""
     c = np.asarray(c, float)
     q = np.asarray(q, float)
-    m = q.shape[1] - 1
-    origin = c[:, :1, :2] / c[:, :1, 2:]
-    w = c[:, :, 2]
-    h = np.empty(c.shape[:1] + (c.shape[1] + m, 3))
-    h[:, :, :2] = (bz.elevate_many(c[:, :, :2] - w[:, :, None] * origin, m)
-                   - bz.multiply_many(w, q - origin))
-    h[:, :, 2] = bz.elevate_many(w, m)
-    h = bz.panels_many(h, halvings)
-    wt = h[..., 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.hypot(h[..., 0], h[..., 1]) / np.where(wt > 0, wt, 1.0)
-    return np.where(np.all(wt > 0, axis=1), r.max(axis=1), np.inf)
+    return _hull_rows(c.transpose(1, 0, 2), q.transpose(1, 0, 2), halvings)
 
 
 def _panel_moebius(sub, cub):
     """Per panel the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) whose end
     derivatives (c at 0, 1 / c at 1) are in the ratio of |C'| / |R'| at the panel's
     two ends (the derivatives of the feet map there): c = 1 where a speed is zero;
-    |log c| at most MOEBIUS_LOG."""
-    n = sub.shape[1] - 1
+    |log c| at most MOEBIUS_LOG.  ``sub`` (n+1, K, 3), ``cub`` (4, K, 2):
+    coefficient-major."""
+    n = sub.shape[0] - 1
     w = sub[:, :, 2]
+    p = sub[:, :, :2] / w[:, :, None]
     with np.errstate(divide="ignore", invalid="ignore"):
-        r0 = n * w[:, 1] / w[:, 0] * np.hypot(*(sub[:, 1, :2] / w[:, 1:2]
-                                               - sub[:, 0, :2] / w[:, :1]).T)
-        r1 = n * w[:, -2] / w[:, -1] * np.hypot(*(sub[:, -1, :2] / w[:, -1:]
-                                                 - sub[:, -2, :2] / w[:, -2:-1]).T)
-        c0 = np.hypot(*(cub[:, 1] - cub[:, 0]).T)
-        c1 = np.hypot(*(cub[:, -1] - cub[:, -2]).T)
+        r0 = n * w[1] / w[0] * np.hypot(*(p[1] - p[0]).T)
+        r1 = n * w[-2] / w[-1] * np.hypot(*(p[-1] - p[-2]).T)
+        c0 = np.hypot(*(cub[1] - cub[0]).T)
+        c1 = np.hypot(*(cub[-1] - cub[-2]).T)
         c = np.sqrt((c0 * r1) / (c1 * r0))
     fine = np.isfinite(c) & (c > 0)
     return np.where(fine, np.clip(c, math.exp(-MOEBIUS_LOG), math.exp(MOEBIUS_LOG)), 1.0)
