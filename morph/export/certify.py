@@ -578,23 +578,30 @@ PANEL_DEGREE = 2
 #: Every PANEL_STEP-th of the fitter's 16 ray pairs ends a panel of
 #: :func:`_panel_bounds` (the one halfway between fixes its map): 2, nine panels.
 PANEL_STEP = 2
+#: A pair whose panels do not certify is tried by the composed map too where the
+#: rays' largest gap is at most this share of tol (as :func:`certify_batch` halves
+#: only below it): a gap is nearly a lower bound of the Fréchet distance, so above
+#: it no reparametrisation certifies much below the gap.
+FALLBACK_GAP = 0.95
 
 
 def _ray_certified(groups, cubics, tol, depth, pairs):
     """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
     panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
-    composed); the pairs whose panels do not certify (bound above tol, or rays out
-    of order) are certified again by the composed map (:func:`certify_batch`
-    without the panels) and keep the smaller bound.  Pairs whose parameters already
-    match (phi = identity within PHI_SHARE tol at the pairs, as :func:`_phi_fits`
-    decides) take the same-parameter certificate (:func:`morph.nearest.
-    distance_bound_many`, as the composed map does with that phi): one panel of the
-    piece's own degree, cheaper than nine.  Pieces of degree below PANEL_DEGREE,
-    whose compositions stay of low degree, take the composed map."""
+    composed).  Pairs whose parameters already match (phi = identity within
+    PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take the same-parameter
+    certificate instead (:func:`morph.nearest.distance_bound_many`, as the composed
+    map does with that phi): one panel of the piece's own degree, cheaper than nine;
+    pieces of degree below PANEL_DEGREE take the composed map.  Where the bound
+    exceeds tol although the rays' gaps are within FALLBACK_GAP tol (a feet map no
+    Möbius map per panel follows, rays out of order) the composed map of
+    :func:`certify_batch` is tried as well and the smaller bound kept; above that,
+    no map does much better than the gaps, and the pair fails as it is."""
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
     with np.errstate(invalid="ignore"):
         same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+        gap = pgap.max(axis=1)
     low = np.zeros(len(cubics), bool)
     for rows, stack in groups:
         low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
@@ -608,7 +615,7 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     out.paneled = ~(same | low)
     out.cuts, out.moebius = cuts, moeb
     out.nodes = np.concatenate([[0.0], pu[PANEL_STEP - 1::PANEL_STEP], [1.0]])
-    rest = np.nonzero(~(bound <= tol))[0]
+    rest = np.nonzero(~(bound <= tol) & ~(gap > FALLBACK_GAP * tol))[0]
     if not len(rest):
         return out
     where = np.full(len(cubics), -1)
@@ -624,12 +631,12 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     return out
 
 
-def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
+def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
     """Certified bounds of cubics against sub-pieces on panels cut at matched pairs of
     parameters: the cubic's s_j (``s`` (k, 2 m), per pair) with the piece's u_j
-    (``u`` (2 m,), increasing, the same for all pairs).  The odd pairs (j = 1, 3,
-    ...), completed by (0, 0) and (1, 1), end the m + 1 panels; the even pair inside
-    a panel fixes its map.
+    (``u`` (2 m,), increasing, the same for all pairs).  Every ``step``-th pair
+    (PANEL_STEP: 2, the odd pairs j = 1, 3, ...), completed by (0, 0) and (1, 1),
+    ends a panel; the pair halfway inside a panel fixes its map.
 
     phi maps [s_j, s_j+2] onto [u_j, u_j+2] by a Möbius map mu(v) = c v / ((c - 1) v
     + 1) of the local parameters, c chosen so that mu takes the panel's inner pair
@@ -640,14 +647,16 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
     and :func:`hull_bound` (2^refine halvings) bounds |R(phi(s)) - C(s)| on the
     panel against C|[s_j, s_j+2].  Any continuous increasing phi gives a bound: the
     pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
-    tight one.  Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1));
-    bound inf where the cuts s_j are not strictly increasing in (0, 1) and on the
-    rows not in ``todo`` (a mask; None: all)."""
+    tight one.  Pairs out of order are moved into it first (:func:`_ordered_pairs`).
+    Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1)); bound inf where
+    the cuts s_j are still not strictly increasing in (0, 1) and on the rows not in
+    ``todo`` (a mask; None: all)."""
     refine = PANEL_REFINE if refine is None else refine
     k = len(s)
     u = np.asarray(u, float)
-    end, mid = slice(PANEL_STEP - 1, None, PANEL_STEP), slice(PANEL_STEP // 2 - 1, None,
-                                                              PANEL_STEP)
+    step = PANEL_STEP if step is None else step
+    end, mid = slice(step - 1, None, step), slice(step // 2 - 1, None, step)
+    s = _ordered_pairs(s, u)
     cuts = np.concatenate([np.zeros((k, 1)), s[:, end], np.ones((k, 1))], axis=1)
     ucut = np.concatenate([[0.0], u[end], [1.0]])
     ok = np.all(np.isfinite(cuts), axis=1)
@@ -656,11 +665,12 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
     ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
     npan = cuts.shape[1] - 1
     # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = (s[:, mid] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
-        w = (u[mid] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
-        inner = w * (1.0 - v) / (v * (1.0 - w))
-    inner = np.concatenate([inner, np.full((k, npan - inner.shape[1]), np.nan)], axis=1)
+    inner = np.full((k, npan), np.nan)
+    if step > 1:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = (s[:, mid] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+            w = (u[mid] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+            inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
     lim = math.exp(MOEBIUS_LOG)
     inner = np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
     bound = np.full(k, np.inf)
@@ -687,6 +697,31 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None):
         bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
         moeb[r] = c.reshape(npan, kr).T
     return bound, cuts, moeb
+
+
+def _ordered_pairs(s, u):
+    """The cubic's parameters s (k, m) of the pairs, those out of order replaced: a
+    pair is kept where its s_j lies strictly between every s before it (and 0) and
+    every s after it (and 1); the others (NaN, clipped to an end by the fitter's rays,
+    crossing a neighbour) get s interpolated linearly in u (m,) between the nearest
+    kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
+    kept pairs keep it tight."""
+    k, m = s.shape
+    ext = np.concatenate([np.zeros((k, 1)), s, np.ones((k, 1))], axis=1)
+    with np.errstate(invalid="ignore"):
+        before = np.fmax.accumulate(ext, axis=1)
+        after = np.fmin.accumulate(ext[:, ::-1], axis=1)[:, ::-1]
+        keep = np.ones(ext.shape, bool)
+        keep[:, 1:-1] = (ext[:, 1:-1] > before[:, :-2]) & (ext[:, 1:-1] < after[:, 2:])
+    if keep.all():
+        return s
+    ue = np.concatenate([[0.0], u, [1.0]])
+    col = np.arange(m + 2)
+    prev = np.maximum.accumulate(np.where(keep, col, 0), axis=1)
+    nxt = np.minimum.accumulate(np.where(keep, col, m + 1)[:, ::-1], axis=1)[:, ::-1]
+    a, b = np.take_along_axis(ext, prev, 1), np.take_along_axis(ext, nxt, 1)
+    frac = (ue - ue[prev]) / np.where(nxt > prev, ue[nxt] - ue[prev], 1.0)
+    return np.where(keep, ext, a + frac * (b - a))[:, 1:-1]
 
 
 @functools.lru_cache(maxsize=None)
