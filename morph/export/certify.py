@@ -682,19 +682,19 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
         if not len(r):
             continue
         kr, n = len(r), stack.shape[1] - 1
-        # coefficient-major arrays, panel rows in (panel, pair) order: one matrix
-        # product cuts every piece into its panels
+        # coordinate-major arrays (coordinate, coefficient, row), the rows in (panel,
+        # pair) order: one matrix product cuts every piece into its panels
         st = stack[ok[rows]].transpose(1, 0, 2).reshape(n + 1, 3 * kr)
         sub = (_cut_matrices(n, uc) @ st).reshape(npan, n + 1, kr, 3)
-        sub = sub.transpose(1, 0, 2, 3).reshape(n + 1, npan * kr, 3)
+        sub = sub.transpose(3, 1, 0, 2).reshape(3, n + 1, npan * kr)
         cub = _cubic_panels(cubics[r], cuts[r])
         c = inner[r].T.ravel()
         bad = np.nonzero(np.isnan(c))[0]
         if len(bad):
-            c[bad] = _panel_moebius(sub[:, bad], cub[:, bad])
+            c[bad] = _panel_moebius(sub[:, :, bad], cub[:, :, bad])
         power = np.ones((n + 1, len(c)))                          # c^i: R o mu
         power[1:] = np.cumprod(np.broadcast_to(c, (n, len(c))), axis=0)
-        sub *= power[:, :, None]
+        sub *= power
         bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
         moeb[r] = c.reshape(npan, kr).T
     return bound, cuts, moeb
@@ -737,7 +737,7 @@ def _cut_matrices(n, cuts):
 
 def _cubic_panels(cubics, cuts):
     """The cubics (k, 4, 2) on the panels [cuts[:, p], cuts[:, p + 1]] (k, P + 1):
-    (4, P k, 2) control points, coefficient-major, rows in (panel, cubic) order.
+    (2, 4, P k) control points, coordinate-major, rows in (panel, cubic) order.
     The control points of C on [a, b] are its blossom's values C(a, a, a), C(a, a,
     b), C(a, b, b), C(b, b, b): de Casteljau's second level at every cut, shared by
     the two panels that meet there, and one more step."""
@@ -749,33 +749,32 @@ def _cubic_panels(cubics, cuts):
     a, b = t[:-1], t[1:]
     out = np.stack([point[:-1], l2[0][:-1] + b * (l2[1][:-1] - l2[0][:-1]),
                     l2[0][1:] + a * (l2[1][1:] - l2[0][1:]), point[1:]])
-    return out.reshape(4, -1, 2)
+    return np.ascontiguousarray(out.reshape(4, -1, 2).transpose(2, 0, 1))
 
 
 @functools.lru_cache(maxsize=None)
 def _hull_matrices(n, m, halvings):
-    """The linear maps of :func:`hull_bound`: (elevation of degree n by m, then the
+    """The linear maps of :func:`hull_bound`: the elevation of degree n by m, then the
     2^halvings panels; the Bernstein product of degrees n and m from the products
-    w_i q_j, then the panels)."""
+    w_i q_j, then the panels."""
     panels = bz._panel_matrices(n + m, halvings)
     return panels @ bz._elevation_matrix(n, m), panels @ bz._scatter(n, m)
 
 
 def _hull_rows(c, q, halvings):
-    """:func:`hull_bound` of coefficient-major arrays: c (n+1, K, 3), q (m+1, K, 2)."""
-    n, m, k = c.shape[0] - 1, q.shape[0] - 1, c.shape[1]
+    """:func:`hull_bound` of coordinate-major arrays: c (3, n+1, K), q (2, m+1, K)."""
+    n, m, k = c.shape[1] - 1, q.shape[1] - 1, c.shape[2]
     elev, prod = _hull_matrices(n, m, halvings)
-    origin = c[0, :, :2] / c[0, :, 2:]                               # (K, 2)
-    w = c[:, :, 2]
-    x = c.copy()
-    x[:, :, :2] -= w[:, :, None] * origin
-    h = (elev @ x.reshape(n + 1, 3 * k)).reshape(-1, k, 3)
-    outer = w[:, None, :, None] * (q - origin)[None]                 # (n+1, m+1, K, 2)
-    h[:, :, :2] -= (prod @ outer.reshape((n + 1) * (m + 1), 2 * k)).reshape(-1, k, 2)
-    wt = h[:, :, 2]
-    ok = np.all(wt > 0, axis=0)
+    w = c[2]
+    h = np.empty((3, elev.shape[0], k))
+    np.matmul(elev, w, out=h[2])
+    for d in (0, 1):                    # E = X - W Q, both translated by R's start
+        o = c[d, 0] / w[0]
+        np.matmul(elev, c[d] - w * o, out=h[d])
+        h[d] -= prod @ (w[:, None] * (q[d] - o)[None]).reshape((n + 1) * (m + 1), k)
+    ok = np.all(h[2] > 0, axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        r2 = (h[:, :, 0] * h[:, :, 0] + h[:, :, 1] * h[:, :, 1]) / (wt * wt)
+        r2 = (h[0] * h[0] + h[1] * h[1]) / (h[2] * h[2])
     return np.where(ok, np.sqrt(r2.max(axis=0)), np.inf)
 
 
@@ -795,27 +794,29 @@ def hull_bound(c, q, halvings=PANEL_REFINE):
     where the squared certificate (:func:`morph.nearest.distance_bound_many`) works at
     2 (n + m); both are rigorous up to rounding (relative ~1e-15 of the
     coefficients; both curves are first translated by R's start point).  The
-    elevation, the product and the panels are one matrix each, applied to all rows
-    at once.  inf where a weight coefficient is not positive."""
+    elevation and the product, each followed by the panels, are one matrix product
+    per coordinate for all rows at once.  inf where a weight coefficient is not
+    positive."""
     c = np.asarray(c, float)
     q = np.asarray(q, float)
-    return _hull_rows(c.transpose(1, 0, 2), q.transpose(1, 0, 2), halvings)
+    return _hull_rows(np.ascontiguousarray(c.transpose(2, 1, 0)),
+                      np.ascontiguousarray(q.transpose(2, 1, 0)), halvings)
 
 
 def _panel_moebius(sub, cub):
     """Per panel the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) whose end
     derivatives (c at 0, 1 / c at 1) are in the ratio of |C'| / |R'| at the panel's
     two ends (the derivatives of the feet map there): c = 1 where a speed is zero;
-    |log c| at most MOEBIUS_LOG.  ``sub`` (n+1, K, 3), ``cub`` (4, K, 2):
-    coefficient-major."""
-    n = sub.shape[0] - 1
-    w = sub[:, :, 2]
-    p = sub[:, :, :2] / w[:, :, None]
+    |log c| at most MOEBIUS_LOG.  ``sub`` (3, n+1, K), ``cub`` (2, 4, K):
+    coordinate-major."""
+    n = sub.shape[1] - 1
+    w = sub[2]
+    p = sub[:2] / w
     with np.errstate(divide="ignore", invalid="ignore"):
-        r0 = n * w[1] / w[0] * np.hypot(*(p[1] - p[0]).T)
-        r1 = n * w[-2] / w[-1] * np.hypot(*(p[-1] - p[-2]).T)
-        c0 = np.hypot(*(cub[1] - cub[0]).T)
-        c1 = np.hypot(*(cub[-1] - cub[-2]).T)
+        r0 = n * w[1] / w[0] * np.hypot(*(p[:, 1] - p[:, 0]))
+        r1 = n * w[-2] / w[-1] * np.hypot(*(p[:, -1] - p[:, -2]))
+        c0 = np.hypot(*(cub[:, 1] - cub[:, 0]))
+        c1 = np.hypot(*(cub[:, -1] - cub[:, -2]))
         c = np.sqrt((c0 * r1) / (c1 * r0))
     fine = np.isfinite(c) & (c > 0)
     return np.where(fine, np.clip(c, math.exp(-MOEBIUS_LOG), math.exp(MOEBIUS_LOG)), 1.0)
