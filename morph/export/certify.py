@@ -29,6 +29,15 @@ R o phi by :func:`morph.bernstein.compose_many`, the certificate by
 :func:`morph.nearest.distance_bound_many`, the feet by
 :func:`morph.nearest.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
 
+**The certificate on the fitter's rays.**  Where the fitter's rays give matched
+pairs (s_j on C, u_j on R, on one normal of R), :func:`certify_batch` cuts the pair
+at every other one into nine panels and maps each [s_j, s_j+2] onto [u_j, u_j+2] by a
+Möbius map (:func:`_panel_bounds`): R o mu is R with its weights scaled by c^i, of
+R's own degree, so nothing is composed; the bound on each panel squares nothing
+either (:func:`hull_bound`: ``|E| <= sum |e_i| B_i <= max_i (|e_i| / w_i) W``).  The
+panels' phi is continuous and increasing, so the bound is a Fréchet bound as above.
+The composed map remains for pairs the panels do not certify.
+
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
 [a, b], hence the Hausdorff distance: every point of C is within b of R([a, b]) and

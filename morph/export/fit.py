@@ -218,7 +218,7 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        p[i], d[i] = _grid_jets(bz.subsegment_many(h, lo[i], parts.b[i]), quad.gx)
+        p[i], d[i] = _node_jets(bz.subsegment_many(h, lo[i], parts.b[i]))
         d[i] /= width[i, None, None]
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
@@ -240,13 +240,20 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
             "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
 
 
-def _grid_jets(h, t):
-    """Points and derivatives (k, q, 2) of the rational pieces h (k, n+1, 3) at the
-    same parameters t (q,): one basis per call, as :meth:`morph.export.bank.Bank.
-    jet_grid`."""
+@functools.lru_cache(maxsize=None)
+def _node_bases(n):
+    """The Bernstein bases of degrees n and n - 1 at the 16-point Gauss-Legendre nodes."""
+    gx = _quadrature().gx
+    return bz.basis(n, gx), bz.basis(n - 1, gx)
+
+
+def _node_jets(h):
+    """Points and derivatives (k, 16, 2) of the rational pieces h (k, n+1, 3) at the
+    16-point Gauss-Legendre nodes, as :meth:`morph.export.bank.Bank.jet_grid`."""
     n = h.shape[1] - 1
-    val = np.matmul(bz.basis(n, t), h)
-    dval = np.matmul(bz.basis(n - 1, t), n * np.diff(h, axis=1))
+    b, db = _node_bases(n)
+    val = np.matmul(b, h)
+    dval = np.matmul(db, n * np.diff(h, axis=1))
     w = val[..., 2:3]
     return val[..., :2] / w, (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
 
