@@ -84,7 +84,8 @@ def test_panel_bound_holds_on_dense_samples(seed, monkeypatch):
                                                   cubic[None], rays.feet, _quadrature().gx)
         alone = certify_mod.Certified(b)
         alone.paneled, alone.cuts, alone.moebius = np.ones(1, bool), cuts, moeb
-        alone.nodes = np.concatenate([[0.0], _quadrature().gx[certify_mod.PANEL_STEP - 1::certify_mod.PANEL_STEP], [1.0]])
+        step = certify_mod.PANEL_STEP
+        alone.nodes = np.concatenate([[0.0], _quadrature().gx[step - 1::step], [1.0]])
         worst = sampled(piece, cubic, alone.panels(0))
         assert worst <= b[0] * (1 + 1e-9) + 1e-12
         assert b[0] <= 1.1 * worst + 1e-12

@@ -494,12 +494,13 @@ class Certified:
 
     A pair certified on the fitter's ray pairs (:func:`_panel_bounds`: ``paneled[i]``)
     has ``cuts[i]`` (the cubic's parameters s_j of its panels' ends, the piece's
-    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor).  A pair certified by the composed
-    map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as halves (:func:`_halved`)
-    has ``half[i]`` >= 0: its halves are rows half[i] and half[i] + ``sub_n`` of ``sub``
-    (the Certified of all halved pairs of the batch), the sub-piece cut at
-    ``half_u[i]``.  ``other[i]`` >= 0: the pair's certificate is row other[i] of
-    ``rest`` (a Certified of the pairs the ray panels did not certify)."""
+    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor).  A pair certified
+    by the composed map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as
+    halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are rows half[i] and
+    half[i] + ``sub_n`` of ``sub`` (the Certified of all halved pairs of the batch),
+    the sub-piece cut at ``half_u[i]``.  ``other[i]`` >= 0: the pair's certificate
+    is row other[i] of ``rest`` (a Certified of the pairs the ray panels did not
+    certify)."""
 
     __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n",
                  "paneled", "cuts", "nodes", "moebius", "other", "rest")
