@@ -108,16 +108,19 @@ class Tagged:
         return [self.q[a:b] for a, b in zip(self.starts[:-1], self.starts[1:])]
 
 
-def tag_loops(loops, eps, grid, origin=None):
+def tag_loops(loops, eps, grid, origin=None, pieces=None):
     """:class:`Tagged` polylines of closed loops of pieces (see the module docstring).
 
     eps: flattening bound where the topology is decided (absolute; COARSE eps along
     simple arcs apart from everything, :func:`adaptive_starts`); grid: size of one
     integer unit.  Loops that
     collapse to fewer than three grid points are dropped (their area is below
-    grid^2 times their vertex count).
+    grid^2 times their vertex count).  ``pieces``: the loops' pieces one loop after
+    another as a :class:`morph.piece.Pieces`, where the caller has them (else they
+    are stacked here).
     """
-    pieces = pc.Pieces.of([p for loop in loops for p in loop])
+    if pieces is None:
+        pieces = pc.Pieces.of([p for loop in loops for p in loop])
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
     piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
