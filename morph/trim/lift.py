@@ -17,6 +17,7 @@ along the segment.
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 from .. import moments as mo
 from .. import nearest as nr
@@ -26,6 +27,9 @@ from ..polyline import (BoxGrid, _sorted_entries, col_max, col_min, project, seg
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
 MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allowance
+#: Newton rows whose step moves their points by at most this share of the accepted
+#: error leave the iteration (:func:`newton_crossings`)
+SETTLE = 1e-6
 
 
 def lift_rings(rings, tg, contract):
@@ -85,7 +89,8 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
         # sin(alpha / 2) at an angle alpha: far along a shallow crossing
         ta, tb, ok = newton_crossings(stacked, ia, tq[k], ib, tp[nx[k]], guess,
                                       reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid,
-                                      shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)))
+                                      shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)),
+                                      settle=SETTLE * 0.01 * tg.grid)
         # where Newton did not converge the junction stays on the grid point, and each
         # run ends at its piece's point nearest to it within its segment's range (not
         # at the parameter interpolated along the segment: where the piece's speed
@@ -259,7 +264,8 @@ def _spike_triples(flat, reach):
     stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol,
+                                settle=SETTLE * atol)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     return list(zip(r[ok].tolist(), j[ok].tolist()))
 
@@ -444,8 +450,14 @@ def newton_step(ha, dha, s, hb, dhb, u):
     """One Newton step on F(s, u) = A(s) - B(u) for rows of stacked homogeneous
     pieces ``ha``, ``hb`` (their hodographs ``dha``, ``dhb``), kept in [0, 1]^2; a
     row whose Jacobian is singular stays where it is."""
-    pa, da = pc.jet_rows(ha, s, dha)
-    pb, db = pc.jet_rows(hb, u, dhb)
+    return _newton_step(ha, dha, s, hb, dhb, u)[:2]
+
+
+def _newton_step(ha, dha, s, hb, dhb, u):
+    """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
+    |B'| |du|, the larger)."""
+    pa, da = _jet_rows(ha, s, dha)
+    pb, db = _jet_rows(hb, u, dhb)
     f = pa - pb
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
     safe = np.where(np.abs(det) > 1e-300, det, 1.0)
@@ -453,10 +465,39 @@ def newton_step(ha, dha, s, hb, dhb, u):
     du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
     ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
     du = np.where(np.abs(det) > 1e-300, du, 0.0)
-    return np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+    s2, u2 = np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+    moved = np.maximum(np.hypot(da[:, 0], da[:, 1]) * np.abs(s2 - s),
+                       np.hypot(db[:, 0], db[:, 1]) * np.abs(u2 - u))
+    return s2, u2, moved
 
 
-def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0):
+def _jet_rows(h, t, dh):
+    """:func:`morph.piece.jet_rows` of rows h (m, n+1, 3) at t with their hodographs
+    dh: the Bernstein sums written out one control point at a time, the powers of t
+    and 1 - t by products (a third of the time of the basis by powers and einsum,
+    which a Newton iteration pays every step)."""
+    val, dval = _bernstein_sum(h, t), _bernstein_sum(dh, t)
+    w = val[:, 2:3]
+    return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+
+
+def _bernstein_sum(c, t):
+    """sum_i C(n, i) t^i (1 - t)^(n - i) c[:, i] of rows c (m, n+1, k), (m, k)."""
+    n = c.shape[1] - 1
+    s = 1.0 - t
+    tp, sp = [np.ones_like(t)], [np.ones_like(t)]
+    for _ in range(n):
+        tp.append(tp[-1] * t)
+        sp.append(sp[-1] * s)
+    binom = bz._binomials(n)
+    out = (binom[0] * sp[n])[:, None] * c[:, 0]
+    for i in range(1, n + 1):
+        out += (binom[i] * tp[i] * sp[n - i])[:, None] * c[:, i]
+    return out
+
+
+def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
+                     settle=0.0):
     """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
 
     ``stacked``: pieces from :func:`morph.piece.stack`; A = stacked[ia[i]],
@@ -465,7 +506,11 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     lies within ``reach`` + ``shallow`` / sin(alpha / 2) of ``guess``, alpha the
     angle between the two pieces there (two lines each moved by d across cross
     up to d / sin(alpha / 2) from where they did), the allowance only for
-    crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.
+    crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.  A row leaves
+    the iteration once a step leaves (s, u) as they are, and with ``settle`` > 0
+    once a step moves both points by at most ``settle`` (what is left is rounding
+    noise: the next step of a converging iteration is far smaller still; where the
+    pieces lie far from the origin the iterates wander by ~1e-13 for ever).
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
@@ -475,17 +520,21 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
     # a row whose step leaves (s, u) as they are is at a fixed point of the
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
-    # the others go on; the result is the same bits as iterating every row
+    # the others go on; without ``settle`` the result is the same bits as iterating
+    # every row
     live = np.arange(len(s))
     for _ in range(iters):
         if not len(live):
             break
         sl, ul = s[live], u[live]
-        s2, u2 = newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
+        s2, u2, moved = _newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
         s[live], u[live] = s2, u2
-        live = live[(s2 != sl) | (u2 != ul)]
-    pa, da = pc.jet_rows(ha, s, dha)
-    pb, db = pc.jet_rows(hb, u, dhb)
+        going = (s2 != sl) | (u2 != ul)
+        if settle > 0.0:
+            going &= moved > settle
+        live = live[going]
+    pa, da = _jet_rows(ha, s, dha)
+    pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
