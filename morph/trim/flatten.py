@@ -376,7 +376,12 @@ def _segment_parts(pieces, pid, t0, t1):
         row[of] = np.arange(len(of))
     for g, (_, stack) in sorted(enumerate(groups), key=lambda x: x[1][1].shape[1]):
         k = np.flatnonzero(group[pid] == g)
-        yield k, bz.subsegment_many(stack[row[pid[k]]], t0[k], t1[k])
+        parts = stack[row[pid[k]]]
+        # a segment over its whole piece (most at the coarse level) is the piece
+        cut = np.flatnonzero((t0[k] != 0.0) | (t1[k] != 1.0))
+        if len(cut):
+            parts[cut] = bz.subsegment_many(parts[cut], t0[k[cut]], t1[k[cut]])
+        yield k, parts
 
 
 def _in_cone(parts, chord, cos_max):
