@@ -422,13 +422,16 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     a, b = x, x[nxt]
     grid = BoxGrid(np.minimum(a, b) - 0.5, np.maximum(a, b) + 0.5)
     hot, hot_of = _unique_rows(q)
-    h, s = grid.at_points(hot.astype(float))
-    c = hot[h].astype(float)
+    hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
+    h, s = grid.at_points(np.stack([hx, hy], axis=1))
     # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
-    keep = np.flatnonzero((grid.lo[s, 0] < c[:, 0]) & (grid.hi[s, 0] > c[:, 0])
-                          & (grid.lo[s, 1] < c[:, 1]) & (grid.hi[s, 1] > c[:, 1])
+    # (on coordinate columns: gathering rows of (n, 2) arrays costs several times more)
+    cx, cy = hx[h], hy[h]
+    keep = np.flatnonzero((grid.lo[:, 0].copy()[s] < cx) & (grid.hi[:, 0].copy()[s] > cx)
+                          & (grid.lo[:, 1].copy()[s] < cy) & (grid.hi[:, 1].copy()[s] > cy)
                           & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
-    h, s, c = h[keep], s[keep], c[keep]
+    h, s = h[keep], s[keep]
+    c = np.stack([cx[keep], cy[keep]], axis=1)
     keep = _line_crosses_square(a[s], b[s], c)
     h, s, c = h[keep], s[keep], c[keep]
     if not len(s):
