@@ -66,8 +66,22 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
         params.append(ts)
         points.append(starts)
     owner, ts, pts = np.concatenate(owners), np.concatenate(params), np.concatenate(points)
-    order = np.lexsort((ts, owner))
+    order = piece_order(owner, ts)
     return owner[order], ts[order], pts[order]
+
+
+def piece_order(owner, t):
+    """``np.lexsort((t, owner))`` for piece indices ``owner`` >= 0 and parameters t
+    in [0, 1]: a stable argsort of the one float owner * 2 + t (one pass, and a
+    merge where the input is sorted runs, as the vertices of a flattening and the
+    ones added to it are: a few times faster than lexsort's two), checked in one
+    pass to be in (owner, t) order; lexsort where it is not (parameters of one
+    piece nearer than the float's resolution there)."""
+    order = np.argsort(owner * 2.0 + t, kind="stable")
+    o, s = owner[order], t[order]
+    if len(o) < 2 or bool(((o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1]))).all()):
+        return order
+    return np.lexsort((t, owner))
 
 
 def _flat_params(stack, tol, min_width, keep=None):

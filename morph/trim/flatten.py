@@ -285,7 +285,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     mx = np.concatenate([xy[keep], fxy[take]])
     loose = np.concatenate([~on_fine[keep], np.zeros(take.sum(), bool)])
     mseg = np.concatenate([np.flatnonzero(keep), seg[take]])
-    order = np.lexsort((mt, mp))
+    order = pl.piece_order(mp, mt)
     mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
     # gaps: a chord within a refined segment with a loose end (to the next vertex of
     # its piece, or to the piece's end)
@@ -303,7 +303,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         mt = np.concatenate([mt, mt[owner] + s * (t_next[owner] - mt[owner])])
         mx = np.concatenate([mx, pts])
         mseg = np.concatenate([mseg, mseg[owner]])
-        order = np.lexsort((mt, mp))
+        order = pl.piece_order(mp, mt)
         mp, mt, mx, mseg = mp[order], mt[order], mx[order], mseg[order]
     return mp, mt, mx, fine[mseg]
 
