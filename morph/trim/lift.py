@@ -46,7 +46,7 @@ def lift_rings(rings, tg, contract):
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first
-    seg, fwd = _edge_segments(v, v[nx], tg)
+    seg, fwd = _edge_segments(v, v[nx], tg, nx)
     a, b = tg.q[seg].astype(float), tg.q[tg.nxt[seg]].astype(float)
     u_p, u_q = project(v, a, b), project(v[nx], a, b)
     t0, t1 = tg.t0[seg], tg.t1[seg]
@@ -331,19 +331,21 @@ def _cut_at(run, j, s, u, x):
     del out[j], ends[j]
 
 
-def _edge_segments(p, q, tg):
+def _edge_segments(p, q, tg, nx=None):
     """Input segment and direction (True: along the segment) of each edge p -> q.
 
     Most edges are input segments whose two ends are input vertices found at no
     other grid point: those are read off directly; the rest are matched by
-    :func:`_matched_segments`."""
+    :func:`_matched_segments`.  ``nx``: where q = p[nx] (the edges of closed
+    rings), each vertex is looked up once."""
     keys = _as_keys(tg.q, tg.q)
     if keys.dtype.names is None:  # integer keys: sorted with their indices as one integer
         sk, order = _sorted_entries(keys, np.arange(len(keys)), len(keys))
     else:
         order = np.argsort(keys, kind="stable")
         sk = keys[order]
-    ip, iq = _unique_vertex(sk, order, _as_keys(p, tg.q)), _unique_vertex(sk, order, _as_keys(q, tg.q))
+    ip = _unique_vertex(sk, order, _as_keys(p, tg.q))
+    iq = ip[nx] if nx is not None else _unique_vertex(sk, order, _as_keys(q, tg.q))
     seg = np.zeros(len(p), np.int64)
     direction = np.ones(len(p), bool)
     along = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(ip, 0)] == iq)
@@ -357,10 +359,14 @@ def _edge_segments(p, q, tg):
 
 
 def _unique_vertex(sorted_keys, order, kp):
-    """Index of the input vertex at each key, -1 where there is none or several."""
-    lo = np.searchsorted(sorted_keys, kp, "left")
-    hi = np.searchsorted(sorted_keys, kp, "right")
-    return np.where(hi - lo == 1, order[np.minimum(lo, len(order) - 1)], -1)
+    """Index of the input vertex at each key, -1 where there is none or several
+    (one search: the key at its place, and not the one after it)."""
+    n = len(sorted_keys)
+    if not n:
+        return np.full(len(kp), -1, np.int64)
+    lo = np.minimum(np.searchsorted(sorted_keys, kp, "left"), n - 1)
+    one = (sorted_keys[lo] == kp) & ((lo == n - 1) | (sorted_keys[np.minimum(lo + 1, n - 1)] != kp))
+    return np.where(one, order[lo], -1)
 
 
 def _matched_segments(p, q, tg, sorted_keys):
@@ -400,9 +406,15 @@ def _best_fits(n, e, s, score, fwd):
     best = np.full(n, np.inf)
     seg = np.zeros(n, np.int64)
     direction = np.ones(n, bool)
-    order = np.lexsort((score, e))
-    take = order[np.r_[True, np.diff(e[order]) != 0]] if len(order) else order
-    best[e[take]], seg[e[take]], direction[e[take]] = score[take], s[take], fwd[take]
+    # each edge's least score, then its first candidate at that score (ties go to
+    # the first, as a stable sort by (edge, score) takes them): two unbuffered
+    # reductions, no sort
+    np.fmin.at(best, e, score)
+    hit = np.flatnonzero(score == best[e])
+    first = np.full(n, len(e))
+    np.minimum.at(first, e[hit], hit)
+    take = first[first < len(e)]
+    seg[e[take]], direction[e[take]] = s[take], fwd[take]
     return best, seg, direction
 
 
