@@ -134,9 +134,27 @@ def _equal_parts(parts, steps):
     bounds = np.flatnonzero(np.diff(steps)) + 1
     for lo, hi in zip(np.r_[0, bounds], np.r_[bounds, len(steps)]):
         mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
-        cut = np.einsum("kij,mjc->mkic", mats, parts[lo:hi])
-        out.append(cut.reshape(-1, n + 1, parts.shape[2]))
+        out.append(_apply_rows(mats, parts[lo:hi]))
     return np.concatenate(out)
+
+
+def _apply_rows(mats, parts):
+    """einsum("kij,mjc->mkic", mats, parts) reshaped to (m k, n+1, c): each part's
+    control points through each matrix, the sum over j in order (the same bits as
+    einsum's) on the parts held coordinate-first, one long vector per (j, c)
+    (einsum's inner loops run over the 3 coordinates); a few parts by einsum."""
+    k, rows, _ = mats.shape
+    if len(parts) < 64:   # a few parts cut into many steps: one einsum call
+        return np.einsum("kij,mjc->mkic", mats, parts).reshape(-1, rows, parts.shape[2])
+    pts = parts.transpose(1, 2, 0).copy()        # (n+1, c, m)
+    out = np.empty((k, rows) + pts.shape[1:])
+    for a in range(k):
+        for i in range(rows):
+            acc = mats[a, i, 0] * pts[0]
+            for j in range(1, pts.shape[0]):
+                acc = acc + mats[a, i, j] * pts[j]
+            out[a, i] = acc
+    return out.transpose(3, 0, 1, 2).reshape(-1, rows, parts.shape[2])
 
 
 @functools.lru_cache(maxsize=256)
