@@ -73,6 +73,12 @@ TURN = CHAIN
 #: vertices than one step from COARSE to eps on chunks of CJK strokes, whose caps
 #: and joins turn too fast for COARSE eps but not for 8 eps
 LEVEL_STEP = 4.0
+#: the snap rounding's grid holds the segments' boxes grown by this many grid units:
+#: half a pixel for the hot pixels, and enough for the lift's search for the
+#: segments within 2 grid units of a ring's vertex (its MATCH_UNITS, plus half a
+#: unit: the segments cut and rounded stay within their unrounded boxes grown by
+#: that), which then needs no grid of its own
+SEGMENT_REACH = 2.5
 
 
 @dataclass
@@ -99,6 +105,12 @@ class Tagged:
     grid: float
     pieces: list
     eps: float = 0.0
+    #: the snap rounding's grid of the segments before hot pixels cut them (boxes of
+    #: their unrounded ends grown by SEGMENT_REACH grid units), the index of each
+    #: one's first segment after, and how many it became (None: no grid)
+    seg_grid: object = None
+    seg_first: np.ndarray = None
+    seg_count: np.ndarray = None
 
     def to_float(self, q):
         return self.origin + self.grid * np.asarray(q, float)
@@ -137,8 +149,10 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
     ok = counts[loop_of] >= 3
     q, pid, ts, loop_of, xy = q[ok], pid[ok], ts[ok], loop_of[ok], xy[ok]
     nxt, prv, starts = _links(loop_of)
+    cuts = (None, None, None)
     if len(q):
-        q, pid, ts, loop_of = _through_hot_pixels(q, (xy - origin) / grid, pid, ts, loop_of, nxt)
+        q, pid, ts, loop_of, cuts = _through_hot_pixels(q, (xy - origin) / grid, pid, ts,
+                                                         loop_of, nxt)
         nxt, prv, starts = _links(loop_of)
     # a segment ends at its next vertex's parameter on the same piece, 1 at a piece's
     # last vertex; a vertex put on a segment at its start (a hot pixel beside it)
@@ -146,7 +160,8 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
     # a one-unit edge as the whole rest of the piece)
     same = (pid[nxt] == pid) & (ts[nxt] >= ts)
     t1 = np.where(same, ts[nxt], 1.0)
-    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
+    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps),
+                  *cuts)
 
 
 def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
@@ -418,24 +433,31 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     their order.  x: unrounded positions in grid units; a vertex put on a segment
     gets that segment's piece and a parameter interpolated along it.  The rounded
     polyline stays within sqrt(2) / 2 grid units of the unrounded one.
+
+    Returns (q, pid, ts, loop_of) after the cuts and (the grid of the segments
+    before, the index of each one's first segment after, how many it became): the
+    lift looks up the segments near a point in that grid (:data:`SEGMENT_REACH`).
     """
     a, b = x, x[nxt]
-    grid = BoxGrid(np.minimum(a, b) - 0.5, np.maximum(a, b) + 0.5)
+    grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
     hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
     h, s = grid.at_points(np.stack([hx, hy], axis=1))
     # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
     # (on coordinate columns: gathering rows of (n, 2) arrays costs several times more)
     cx, cy = hx[h], hy[h]
-    keep = np.flatnonzero((grid.lo[:, 0].copy()[s] < cx) & (grid.hi[:, 0].copy()[s] > cx)
-                          & (grid.lo[:, 1].copy()[s] < cy) & (grid.hi[:, 1].copy()[s] > cy)
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    lo_x, lo_y = np.minimum(ax, bx) - 0.5, np.minimum(ay, by) - 0.5
+    hi_x, hi_y = np.maximum(ax, bx) + 0.5, np.maximum(ay, by) + 0.5
+    keep = np.flatnonzero((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
                           & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
     h, s = h[keep], s[keep]
     c = np.stack([cx[keep], cy[keep]], axis=1)
     keep = _line_crosses_square(a[s], b[s], c)
     h, s, c = h[keep], s[keep], c[keep]
+    n = len(q)
     if not len(s):
-        return q, pid, ts, loop_of
+        return q, pid, ts, loop_of, (grid, np.arange(n), np.ones(n, np.int64))
     d = b[s] - a[s]
     u = np.clip(np.einsum("ij,ij->i", c - a[s], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),
                 0.0, 1.0)
@@ -443,7 +465,6 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     # the new vertices after their segment's start, in order along it: only they are
     # sorted (by segment, then u, ties in the order found), each vertex then moved
     # on by the new ones before it
-    n = len(q)
     new = np.lexsort((u, s))
     s, u, h = s[new], u[new], h[new]
     added = np.bincount(s, minlength=n)
@@ -456,7 +477,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     pid = np.concatenate([pid, pid[s]])[out]
     ts = np.concatenate([ts, ts[s] + u * (t_end[new] - ts[s])])[out]
     loop_of = np.concatenate([loop_of, loop_of[s]])[out]
-    return q, pid, ts, loop_of
+    return q, pid, ts, loop_of, (grid, at_old, added + 1)
 
 
 def _unique_rows(q):

@@ -21,7 +21,8 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import moments as mo
 from .. import nearest as nr
-from ..polyline import (BoxGrid, _sorted_entries, col_max, col_min, project, segment_distance,
+from .flatten import SEGMENT_REACH
+from ..polyline import (BoxGrid, _ranks, _sorted_entries, col_max, col_min, project, segment_distance,
                         unique)
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
@@ -378,18 +379,29 @@ def _matched_segments(p, q, tg, sorted_keys):
         p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
     lost = np.flatnonzero(best > MATCH_UNITS)
     if len(lost):
-        s, f = _nearest_segments(p[lost], q[lost], sa, sb)
+        s, f = _nearest_segments(p[lost], q[lost], sa, sb, tg)
         seg[lost], direction[lost] = s, f
     return seg, direction
 
 
-def _nearest_segments(p, q, sa, sb):
+def _nearest_segments(p, q, sa, sb, tg=None):
     """For edges p -> q: the segment sa -> sb that fits both ends best, and whether
     the edge runs along it.  Candidates are the segments whose boxes, widened by
-    MATCH_UNITS, hold p (:class:`morph.polyline.BoxGrid`); an edge with no candidate
-    within MATCH_UNITS is matched against every segment."""
-    grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
-    e, s = grid.at_points(p)
+    MATCH_UNITS, hold p (:class:`morph.polyline.BoxGrid`), in ascending order for
+    each edge; an edge with no candidate within MATCH_UNITS is matched against every
+    segment.  With ``tg``'s snap-rounding grid (:attr:`.flatten.Tagged.seg_grid`,
+    boxes grown by SEGMENT_REACH >= MATCH_UNITS + 1/2) the candidates are the
+    segments cut from the ones it gives, and no grid is built here: every segment
+    within MATCH_UNITS of p is among them, and the best fit is the first of those
+    with the least score either way."""
+    if tg is not None and tg.seg_grid is not None:
+        e, old = tg.seg_grid.at_points(p)
+        cnt = tg.seg_count[old]
+        e = np.repeat(e, cnt)
+        s = np.repeat(tg.seg_first[old], cnt) + _ranks(cnt)
+    else:
+        grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
+        e, s = grid.at_points(p)
     best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
     far = np.flatnonzero(best > MATCH_UNITS)
     for chunk in np.array_split(far, max(1, len(far) // 64)):

@@ -236,3 +236,25 @@ def test_newton_rows_that_settle_stop_within_a_hair_of_the_fixed_point():
     a1 = pc.jet_many(stacked, ia, s1)[0]
     assert np.hypot(*(a0 - a1)[ok0].T).max() <= 10 * settle
     assert sum(steps) < 0.7 * full
+
+
+def test_nearest_segments_from_the_snap_rounding_grid_are_a_grid_of_their_own():
+    """The lift's search for the segments near an edge, on the snap rounding's grid
+    (segments before hot pixels cut them, grown by SEGMENT_REACH), gives what a grid
+    of the cut segments gives, on loops of near-coincident and crossing circles
+    (many hot pixels) with edges from random grid points."""
+    from morph.trim.flatten import SEGMENT_REACH, tag_loops
+
+    assert L.MATCH_UNITS + 0.5 <= SEGMENT_REACH
+    loops = [pc.circle((0.0, 0.0), 1.0), pc.circle((0.003, 0.0), 1.0),
+             pc.circle((1.2, 0.3), 0.8), [pc.reverse(p) for p in pc.circle((0.5, 0.1), 0.4)]]
+    tg = tag_loops(loops, 1e-3, 1e-3)
+    assert tg.seg_grid is not None and (tg.seg_count > 1).any()
+    rng = np.random.default_rng(53)
+    k = rng.integers(0, len(tg.q), 400)
+    p = tg.q[k] + rng.integers(-4, 5, (400, 2))
+    q = tg.q[tg.nxt[k]] + rng.integers(-4, 5, (400, 2))
+    sa, sb = tg.q, tg.q[tg.nxt]
+    got = L._nearest_segments(p.astype(float), q.astype(float), sa, sb, tg)
+    want = L._nearest_segments(p.astype(float), q.astype(float), sa, sb)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
