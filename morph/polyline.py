@@ -294,15 +294,40 @@ class BoxGrid:
         """(point index, box index) of every box whose cell holds the point: a
         superset of the boxes that contain it."""
         c = self._cell(np.asarray(points, float))
-        k = _key(c[:, 0], c[:, 1])
-        lo = np.searchsorted(self.keys, k, "left")
-        cnt = np.searchsorted(self.keys, k, "right") - lo
-        pt = np.repeat(np.arange(len(k)), cnt)
+        lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
+        cnt = hi - lo
+        pt = np.repeat(np.arange(len(c)), cnt)
         return pt, self.items[np.repeat(lo, cnt) + _ranks(cnt)]
 
 
 def _key(cx, cy):
     return cx * 1_000_003 + cy
+
+
+def search_sorted(sorted_keys, k, side="left"):
+    """np.searchsorted(sorted_keys, k, side), the queries sorted first where there
+    are many (:func:`_search_both`)."""
+    if len(k) < 256:
+        return np.searchsorted(sorted_keys, k, side)
+    order = np.argsort(k)
+    out = np.empty(len(k), np.int64)
+    out[order] = np.searchsorted(sorted_keys, k[order], side)
+    return out
+
+
+def _search_both(sorted_keys, k):
+    """(np.searchsorted(sorted_keys, k, "left"), ... "right"): the queries sorted
+    first, where there are many (binary searches in the order of the keys walk the
+    array's cache lines in order: a quarter of the time of searching in any order,
+    sort included)."""
+    if len(k) < 256:
+        return np.searchsorted(sorted_keys, k, "left"), np.searchsorted(sorted_keys, k, "right")
+    order = np.argsort(k)
+    ks = k[order]
+    lo, hi = np.empty(len(k), np.int64), np.empty(len(k), np.int64)
+    lo[order] = np.searchsorted(sorted_keys, ks, "left")
+    hi[order] = np.searchsorted(sorted_keys, ks, "right")
+    return lo, hi
 
 
 def col_min(x):

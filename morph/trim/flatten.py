@@ -280,8 +280,8 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     def overlaps(owner, t0, width):
         """Parts of the pieces' subdivision that meet a refined segment."""
         p = of[owner] * 2.0
-        first = np.searchsorted(key, p + t0, side="right") - 1
-        last = np.searchsorted(key, p + t0 + width, side="left") - 1
+        first = pl.search_sorted(key, p + t0, side="right") - 1
+        last = pl.search_sorted(key, p + t0 + width, side="left") - 1
         return refined[np.maximum(last, first) + 1] - refined[first] > 0
 
     fp, fts, fxy = pl.flat_starts(pieces.take(of) if isinstance(pieces, pc.Pieces)
