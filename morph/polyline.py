@@ -377,6 +377,12 @@ def _cell_pairs(grid):
 
 
 def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
+    """:func:`_cell_pair_columns` as (k, 2) arrays."""
+    for i, j in _cell_pair_columns(grid, limit, first):
+        yield np.stack([i, j], axis=1)
+
+
+def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     """The pairs of :func:`_cell_pairs` in chunks of cells holding about ``first``,
     4 ``first``, 16 ``first``, ... candidate pairs, at most ``limit``: a caller that
     needs one pair stops at the first chunk that has it, having paid for little more
@@ -418,7 +424,7 @@ def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
         keep = ((lo_x[i] <= hi_x[j]) & (lo_y[i] <= hi_y[j])
                 & (lo_x[j] <= hi_x[i]) & (lo_y[j] <= hi_y[i])
                 & (_key(np.maximum(cx[i], cx[j]), np.maximum(cy[i], cy[j])) == key[first]))
-        yield np.stack([i[keep], j[keep]], axis=1)
+        yield i[keep], j[keep]
 
 
 def segment_crossings(p0, p1, pairs):
@@ -645,9 +651,19 @@ def _within(p0, p1, pairs, reach):
     distances of :func:`segment_distance`, the same arithmetic on contiguous
     coordinate columns (gathering rows of (n, 2) arrays and reducing their short
     last axis cost several times as much)."""
-    i, j = pairs[:, 0], pairs[:, 1]
-    x0, y0 = np.ascontiguousarray(p0[:, 0]), np.ascontiguousarray(p0[:, 1])
-    x1, y1 = np.ascontiguousarray(p1[:, 0]), np.ascontiguousarray(p1[:, 1])
+    return _within_columns(_columns(p0, p1), pairs[:, 0], pairs[:, 1], reach)
+
+
+def _columns(p0, p1):
+    """The coordinates of segments p0[k] p1[k] as four contiguous columns."""
+    return (np.ascontiguousarray(p0[:, 0]), np.ascontiguousarray(p0[:, 1]),
+            np.ascontiguousarray(p1[:, 0]), np.ascontiguousarray(p1[:, 1]))
+
+
+def _within_columns(cols, i, j, reach):
+    """:func:`_within` of the pairs (i[k], j[k]) of segments given as columns
+    (:func:`_columns`)."""
+    x0, y0, x1, y1 = cols
     ax, ay, bx, by = x0[i], y0[i], x1[i], y1[i]
     cx, cy, dx, dy = x0[j], y0[j], x1[j], y1[j]
     rx, ry = bx - ax, by - ay

@@ -48,8 +48,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import (BoxGrid, _cell_pair_chunks, _sorted_entries, _within, col_max, col_min,
-                        unique)
+from ..polyline import BoxGrid, _sorted_entries, col_max, col_min, unique
 
 #: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
@@ -342,18 +341,21 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     seg = todo[has]
     a, b = xy[seg], xy[nxt[seg]]
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
-    for pairs in _cell_pair_chunks(grid):
-        i, j = seg[pairs[:, 0]], seg[pairs[:, 1]]
+    cols = pl._columns(a, b)
+    for ki, kj in pl._cell_pair_columns(grid):
+        i, j = seg[ki], seg[kj]
         keep = (nxt[i] != j) & (nxt[j] != i)
         if line is not None:
             keep &= ~(line[i] & line[j])
-        pairs = pairs[keep]
-        if len(pairs):
-            pairs = pairs[_within(a, b, pairs, reach)]
-        if len(pairs) and arc is not None:
-            pairs = pairs[~_monotone_chains(seg[pairs[:, 0]], seg[pairs[:, 1]], nxt, arc, turn)]
-        if len(pairs):
-            near[has[pairs.ravel()]] = True
+        ki, kj, i, j = ki[keep], kj[keep], i[keep], j[keep]
+        if len(ki):
+            keep = pl._within_columns(cols, ki, kj, reach)
+            ki, kj, i, j = ki[keep], kj[keep], i[keep], j[keep]
+        if len(ki) and arc is not None:
+            keep = ~_monotone_chains(i, j, nxt, arc, turn)
+            ki, kj = ki[keep], kj[keep]
+        near[has[ki]] = True
+        near[has[kj]] = True
     return near
 
 
