@@ -410,7 +410,9 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
 
     out = _stroke_output(output, force)
     png, page = _companions(out, force, specimen=out.suffix.lower() != ".ufo")
-    source = SkeletonSource(src)  # read once: the glyphs' shells, not their outlines
+    # read once: the glyphs' shells, not their outlines; without ufoLib2 for a compiled
+    # font where the UFO allows it (morph.parse.light_ufo)
+    source = SkeletonSource(src, light=out.suffix.lower() != ".ufo")
     font = source.shell_font()
     upm = float(font.info.unitsPerEm or 1000)
     nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)

@@ -741,7 +741,7 @@ _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
-                   "morph.fonts.stream", "numpy.polynomial.legendre")
+                   "morph.fonts.stream", "numpy.polynomial.legendre", "morph.parse.light_ufo")
 _COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
@@ -832,12 +832,19 @@ class _StreamedGlyphs:
         if self.kind == ".ttf":
             upm = self.font.info.unitsPerEm or 1000
             options["cubicConversionError"] = budget.plan(tol, True).cu2qu / upm
+        light = getattr(self.font, "light", False)  # tables without ufo2ft
         try:
-            otf = compile_stored(self.font, self.store, self.kind, features=self.features,
-                                 **options)
+            if light:
+                from .tables_static import compile_static
+
+                otf = compile_static(self.font, self.store, self.kind, features=self.features)
+            else:
+                otf = compile_stored(self.font, self.store, self.kind,
+                                     features=self.features, **options)
         except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
-            raise MorphError("ufo2ft could not compile %s: %s"
-                             % (Path(out_path).name, one_line(exc))) from exc
+            raise MorphError("%s could not compile %s: %s"
+                             % ("feaLib" if light else "ufo2ft", Path(out_path).name,
+                                one_line(exc))) from exc
         self.store.clear()
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
         # the stored glyphs' headers for glyf): not again from every glyph decoded
