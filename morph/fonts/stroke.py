@@ -631,7 +631,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font) and ``font`` (the written ``ufoLib2.Font``'s
+    glyph does not stop the font), ``inked`` (the glyphs that draw something, when
+    the font keeps no composite; else None) and ``font`` (the written ``ufoLib2.Font``'s
     font data and glyph shells: metrics, anchors, components, no contours).
 
     Raises:
@@ -717,6 +718,9 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     grow_win_metrics(plan.font, *sink.written_extent())
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
+    # which glyphs draw something, where that is the stroked glyphs with an outline
+    # (no composite), for the sample's choice without reading the font's outlines
+    plan.stats["inked"] = None if sink.composites else frozenset(sink.inked)
 
 
 def _read_and_stroke(flavor, source, kept, nib_region, tols, stroker, chunk):
@@ -788,6 +792,7 @@ class _StreamedGlyphs:
         self.composites = list(composites)
         self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
         self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
+        self.inked = set()   # the stroked glyphs with an outline
 
     def add(self, r):
         st = self.stats
@@ -797,6 +802,8 @@ class _StreamedGlyphs:
         if r["fallback"]:
             st["fallback"][r["name"]] = r["fallback"]
         self._grow(r["box"])
+        if r["box"] is not None:
+            self.inked.add(r["name"])
         if r["name"] in self.boxes:
             self.boxes[r["name"]] = r["box"]
         if self.ufo is not None:

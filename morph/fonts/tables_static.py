@@ -1,5 +1,5 @@
-"""The tables of a static font compiled from a UFO without ufo2ft: the same tables,
-byte for byte, that ufo2ft's ``compileOTF`` / ``compileTTF`` write through
+"""The tables of a static font compiled from a UFO without ufo2ft: the tables
+ufo2ft's ``compileOTF`` / ``compileTTF`` write through
 :func:`morph.fonts.stream.compile_stored`, for the fonts that need nothing else of
 ufo2ft (read by :mod:`morph.parse.light_ufo`: no kerning, groups, anchors or
 components, no lib key ufo2ft reads, a feature file feaLib compiles as it is).
@@ -12,23 +12,30 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
 ``instructionCompiler``, ``postProcessor``; MIT licence):
 
 - :func:`info_value` is ufo2ft's ``getAttrWithFallback`` (the same fallbacks);
-- head, hmtx, hhea, name, maxp, cmap, OS/2, post, then CFF (subroutinized by
-  cffsubr as ufo2ft does, :func:`subroutinize`) or glyf / loca (and gasp from the
-  info); the glyph programs are the stored bytes of
+- head, hmtx, hhea, name, maxp, cmap, OS/2, post, then CFF or glyf / loca (and gasp
+  from the info); the glyph programs are the stored bytes of
   :func:`morph.fonts.stream.compile_outlines`, the other glyphs (the ``.notdef``
-  ufo2ft adds, empty glyphs) drawn with the pens ufo2ft draws them with;
+  ufo2ft adds, empty glyphs) drawn as ufo2ft's pens draw them;
+- the CFF table is subroutinized by cffsubr's ``tx`` as ufo2ft has it done; the
+  table ``tx`` reads is written here and its output kept as ``tx`` wrote it
+  (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
+  ``tx`` set as it sets them;
+- the name table is written here where all its records are Windows Unicode ones;
 - the feature file is parsed and written out again as ufo2ft does (its feature
   writers add nothing to a font without kerning and anchors) and built by feaLib.
 
-tests/fonts/test_tables_static.py compiles fonts both ways and compares every
-table's bytes (head but its time stamps and checksum).
+So neither fontTools.cffLib nor fontTools' OpenType layout table classes (which
+its name table module loads) are imported for such a font: another tenth of a
+second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
+ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
+``tx`` output.  tests/fonts/test_tables_static.py compiles fonts both ways and
+compares them so.
 """
 
 import math
 import os
 import time
 from collections import namedtuple
-from types import SimpleNamespace
 import struct
 
 __all__ = ["info_value", "compile_static", "subroutinize", "BoundedCharString",
@@ -379,6 +386,101 @@ class HeaderFont:
 
 # =========================================================================== compile
 
+def full_name(info):
+    """The full name ufo2ft writes (name ID 4): the typographic family and
+    subfamily."""
+    return ("%s %s" % (info_value(info, "openTypeNamePreferredFamilyName"),
+                       info_value(info, "openTypeNamePreferredSubfamilyName"))).strip()
+
+
+def _name_bytes(records):
+    """A format 0 name table of Windows Unicode ``records`` ((platform, encoding,
+    language, name ID) -> string) as fontTools compiles one: records sorted by
+    those four numbers, UTF-16BE strings, each distinct string stored once."""
+    keys = sorted(records)
+    data = [struct.pack(">HHH", 0, len(keys), 6 + 12 * len(keys))]
+    strings, at = [], {}
+    size = 0
+    for key in keys:
+        text = records[key].encode("utf_16_be")
+        if text not in at:
+            at[text] = size
+            strings.append(text)
+            size += len(text)
+        data.append(struct.pack(">HHHHHH", *key, len(text), at[text]))
+    return b"".join(data + strings)
+
+
+def _raw_font_class():
+    """fontTools' ``TTFont`` that saves a table held as raw bytes (a
+    ``DefaultTable``, here the CFF table ``tx`` wrote) as it is, without importing
+    the table's class for its dependencies (``TTFont._writeTable``; for the CFF
+    table that is fontTools.cffLib): no table depends on the CFF table when the
+    boxes are not recomputed.  Where fontTools has no such method the font saves
+    as any other (importing the class)."""
+    global _RAW_FONT
+    if _RAW_FONT is None:
+        from fontTools.ttLib import TTFont
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        class RawTablesFont(TTFont):
+            def _writeTable(self, tag, writer, done, *args, **kwargs):
+                table = self.tables.get(tag)
+                if type(table) is DefaultTable and tag not in done and not self.recalcBBoxes:
+                    done.append(tag)
+                    writer[tag] = table.data
+                    return None
+                return super()._writeTable(tag, writer, done, *args, **kwargs)
+
+        _RAW_FONT = RawTablesFont
+    return _RAW_FONT
+
+
+_RAW_FONT = None
+
+
+def _optimize_widths():
+    """fontTools' ``optimizeWidths`` (the CFF default and nominal widths ufo2ft
+    chooses), its module loaded by itself: importing it as
+    ``fontTools.cffLib.width`` runs ``fontTools.cffLib``'s ``__init__``, which loads
+    the OpenType layout table classes (a tenth of a second) this writer does not
+    otherwise need.  The module imports only ``fontTools.ttLib`` and the standard
+    library; where loading it alone fails, it is imported as usual."""
+    import sys
+
+    module = sys.modules.get("fontTools.cffLib.width") or sys.modules.get(_WIDTH_MODULE)
+    if module is None:
+        try:
+            import importlib.util
+
+            import fontTools
+
+            path = os.path.join(os.path.dirname(fontTools.__file__), "cffLib", "width.py")
+            spec = importlib.util.spec_from_file_location(_WIDTH_MODULE, path)
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            sys.modules[_WIDTH_MODULE] = module
+        except Exception:  # noqa: BLE001 - another fontTools: its own import
+            from fontTools.cffLib import width as module
+    return module.optimizeWidths
+
+
+_WIDTH_MODULE = "morph._fonttools_cff_width"
+
+
+def _index(items):
+    """A CFF INDEX of the byte strings ``items``."""
+    if not items:
+        return b"\0\0"
+    ends = [1]
+    for item in items:
+        ends.append(ends[-1] + len(item))
+    size = 1 if ends[-1] < 1 << 8 else 2 if ends[-1] < 1 << 16 else 3 if ends[-1] < 1 << 24 \
+        else 4
+    return (struct.pack(">HB", len(items), size)
+            + b"".join(e.to_bytes(size, "big") for e in ends) + b"".join(items))
+
+
 Box = namedtuple("BoundingBox", ["xMin", "yMin", "xMax", "yMax"])
 
 
@@ -426,6 +528,39 @@ class _Notdef:
 
         self.draw(SegmentToPointPen(pen, guessSmooth=False))
 
+    def charstring(self, prefix):
+        """(Type 2 program, bounds) of :meth:`draw` (CFF: not reversed), one
+        ``rmoveto`` / ``rlineto`` a segment, after ``prefix`` (the advance)."""
+        from fontTools.misc.psCharStrings import encodeIntT2
+
+        class Pen:
+            def __init__(self):
+                self.code, self.at, self.points = [prefix], (0, 0), []
+
+            def _to(self, p, op):
+                self.code += [encodeIntT2(p[0] - self.at[0]), encodeIntT2(p[1] - self.at[1]),
+                              bytes([op])]
+                self.at = p
+                self.points.append(p)
+
+            def moveTo(self, p):
+                self._to(p, _RMOVETO)
+
+            def lineTo(self, p):
+                self._to(p, _RLINETO)
+
+            def closePath(self):
+                pass
+
+        pen = Pen()
+        self.draw(pen)
+        xs, ys = [p[0] for p in pen.points], [p[1] for p in pen.points]
+        return b"".join(pen.code) + bytes([_ENDCHAR]), (min(xs), min(ys), max(xs), max(ys))
+
+
+#: Type 2 operators
+_RMOVETO, _RLINETO, _ENDCHAR = 21, 5, 14
+
 
 def compile_static(font, store, kind, features=None):
     """The ``TTFont`` ufo2ft compiles from the light font of shells ``font``
@@ -439,8 +574,6 @@ def compile_static(font, store, kind, features=None):
 
 class _Compiler:
     def __init__(self, font, store, cff):
-        from fontTools.ttLib import TTFont
-
         self.ufo, self.info, self.store, self.cff = font, font.info, store, cff
         glyphs = {g.name: g for g in font}
         if ".notdef" not in glyphs:
@@ -460,14 +593,18 @@ class _Compiler:
                     raise ValueError("cannot map '%s' to U+%04X; already mapped to '%s'"
                                      % (name, u, self.cmap[u]))
                 self.cmap[u] = name
-        self.otf = TTFont(sfntVersion="OTTO" if cff else "\000\001\000\000")
+        self.otf = _raw_font_class()(sfntVersion="OTTO" if cff else "\000\001\000\000")
         self.bounds = {}   # CFF: glyph name -> its charstring's bounds
 
     def compile(self, features):
         otf = self.otf
         otf.setGlyphOrder(self.order)
-        self.compiled = self._cff_glyphs() if self.cff else self._glyf_glyphs()
-        self.boxes = self._cff_boxes() if self.cff else self._glyf_boxes()
+        if self.cff:
+            self.programs = self._cff_programs()
+            self.boxes = self._cff_boxes()
+        else:
+            self.compiled = self._glyf_glyphs()
+            self.boxes = self._glyf_boxes()
         self.font_box = self._font_box()
         self._head()
         self._hmtx()
@@ -477,14 +614,12 @@ class _Compiler:
         self._cmap()
         self._os2()
         self._post()
-        if self.cff:
-            self._cff_table()
-        else:
+        if not self.cff:
             self._glyf_table()
             self._gasp()
         self._features(features)
         if self.cff:
-            subroutinize(otf, self.bounds)
+            self._cff()
         else:
             from fontTools.ttLib.standardGlyphOrder import standardGlyphOrder
 
@@ -499,9 +634,7 @@ class _Compiler:
         if getattr(self, "_default_nominal", None) is None:
             info = self.info
             if info.postscriptDefaultWidthX is None and info.postscriptNominalWidthX is None:
-                from fontTools.cffLib.width import optimizeWidths
-
-                self._default_nominal = optimizeWidths(
+                self._default_nominal = _optimize_widths()(
                     [_ot_round(g.width) for g in self.glyphs.values()])
             else:
                 self._default_nominal = (
@@ -509,38 +642,34 @@ class _Compiler:
                     _ot_round(info_value(info, "postscriptNominalWidthX")))
         return self._default_nominal
 
-    def _cff_glyphs(self):
-        from fontTools.pens.t2CharStringPen import T2CharStringPen
-
+    def _cff_programs(self):
+        """glyph name -> (Type 2 program with its advance, bounds): the stored
+        charstrings (unspecialized, :func:`morph.fonts.stream.compile_outlines`),
+        ``endchar`` for an empty glyph, the ``.notdef`` rectangles drawn as
+        ``T2CharStringPen`` draws them (its segments, unspecialized: the
+        subroutinizer rewrites every charstring from its path, so that the font is
+        the one the specialized charstrings give); the bounds as a charstring's
+        ``calcBounds``."""
         from .stream import width_prefix
 
         default, nominal = self._widths()
-        private = SimpleNamespace(defaultWidthX=default, nominalWidthX=nominal)
         out = {}
         for name in self.order:
             glyph = self.glyphs[name]
+            prefix = width_prefix(glyph.width, default, nominal)
             if name in self.store:
                 data, bounds = self.store[name]
-                out[name] = BoundedCharString(
-                    bytecode=width_prefix(glyph.width, default, nominal) + data)
-                out[name].bounds = bounds
-                continue
-            width = glyph.width
-            width = None if width == default else _ot_round(width - nominal)
-            pen = T2CharStringPen(width, self.glyphs, roundTolerance=0.5)
-            if isinstance(glyph, _Notdef):
-                glyph.draw(pen)
-            out[name] = pen.getCharString(private, None, optimize=True)
-        for name, cs in out.items():
-            if not is_bounded(cs):
-                as_bounded(cs, cs.calcBounds(out))
-            self.bounds[name] = cs.bounds
+                out[name] = (prefix + data, bounds)
+            elif isinstance(glyph, _Notdef):
+                out[name] = glyph.charstring(prefix)
+            else:
+                out[name] = (prefix + bytes([_ENDCHAR]), None)
+        self.bounds = {name: b for name, (_, b) in out.items()}
         return out
 
     def _cff_boxes(self):
         boxes = {}
-        for name, cs in self.compiled.items():
-            box = cs.calcBounds(self.compiled)
+        for name, (_, box) in self.programs.items():
             box = None if box is None else Box(*(_ot_round(v) for v in box))
             boxes[name] = None if box == (0, 0, 0, 0) else box
         return boxes
@@ -664,15 +793,12 @@ class _Compiler:
         hhea.numberOfHMetrics = n
 
     def _name(self):
-        from fontTools.ttLib import newTable
-
+        """ufo2ft's name records (Windows, English, Unicode BMP or full) and the info's
+        own records over them.  Where all are Windows Unicode ones the table is
+        written here (fontTools' encoding: records sorted, equal strings stored
+        once) and kept as bytes: fontTools' name table module loads its OpenType
+        layout table classes (a tenth of a second); else fontTools builds it."""
         info = self.info
-        name = self.otf["name"] = newTable("name")
-        name.names = []
-        family = info_value(info, "styleMapFamilyName")
-        style = info_value(info, "styleMapStyleName").title()
-        pref_family = info_value(info, "openTypeNamePreferredFamilyName")
-        pref_sub = info_value(info, "openTypeNamePreferredSubfamilyName")
         values = {0: "copyright", 3: "openTypeNameUniqueID", 5: "openTypeNameVersion",
                   6: "postscriptFontName", 7: "trademark", 8: "openTypeNameManufacturer",
                   9: "openTypeNameDesigner", 10: "openTypeNameDescription",
@@ -681,23 +807,37 @@ class _Compiler:
                   18: "openTypeNameCompatibleFullName", 19: "openTypeNameSampleText",
                   21: "openTypeNameWWSFamilyName", 22: "openTypeNameWWSSubfamilyName"}
         values = {k: info_value(info, v) for k, v in values.items()}
-        values.update({1: family, 2: style, 4: ("%s %s" % (pref_family, pref_sub)).strip(),
-                       16: pref_family, 17: pref_sub})
+        values.update({1: info_value(info, "styleMapFamilyName"),
+                       2: info_value(info, "styleMapStyleName").title(),
+                       4: full_name(info),
+                       16: info_value(info, "openTypeNamePreferredFamilyName"),
+                       17: info_value(info, "openTypeNamePreferredSubfamilyName")})
         if values[1] == values[16] and values[2] == values[17]:
             del values[16], values[17]
         if values[6]:
             values[6] = normalize_for_postscript(values[6])
+        records = {}   # (platform, encoding, language, name ID) -> string, set in order
         for name_id in sorted(values):
             value = values[name_id]
-            if not value:
-                continue
-            enc = 10 if any(ord(c) > 0xFFFF for c in value) else 1
-            if name.getName(name_id, 3, enc, 0x409):
-                continue
-            name.setName(value, name_id, 3, enc, 0x409)
-        for record in info_value(info, "openTypeNameRecords"):
-            name.setName(record["string"], record["nameID"], record["platformID"],
-                         record["encodingID"], record["languageID"])
+            if value:
+                enc = 10 if any(ord(c) > 0xFFFF for c in value) else 1
+                records.setdefault((3, enc, 0x409, name_id), value)
+        for r in info_value(info, "openTypeNameRecords"):
+            records[(r["platformID"], r["encodingID"], r["languageID"], r["nameID"])] = \
+                r["string"]
+        if all(k[0] == 3 and k[1] in (1, 10) and isinstance(v, str)
+               for k, v in records.items()):
+            from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+            table = self.otf["name"] = DefaultTable("name")
+            table.data = _name_bytes(records)
+            return
+        from fontTools.ttLib import newTable
+
+        name = self.otf["name"] = newTable("name")
+        name.names = []
+        for (platform, enc, lang, name_id), value in records.items():
+            name.setName(value, name_id, platform, enc, lang)
 
     def _maxp(self):
         from fontTools.ttLib import newTable
@@ -834,6 +974,179 @@ class _Compiler:
             post.mapping = {}
             post.glyphOrder = self.order
 
+    def _cff(self):
+        """The CFF table, subroutinized as ufo2ft does it (cffsubr's ``tx`` given the
+        font without its layout tables).  Where cffsubr has its ``tx`` runner on bytes,
+        the table ``tx`` reads is written here (:meth:`_cff_bytes`) and its output
+        kept as ``tx`` wrote it: no fontTools.cffLib (and its OpenType table
+        classes) is imported.  ``tx`` writes the same table from it (it re-encodes
+        every dict, string and charstring); fontTools would re-encode its output
+        on saving, so this table equals ufo2ft's as decompiled (ttx), not byte for
+        byte.  The boxes the font save would recompute from the CFF table before
+        ``tx`` (:meth:`_as_saved`) are set as it sets them.  Otherwise the table
+        is built with fontTools.cffLib and :func:`subroutinize` d."""
+        import cffsubr
+
+        run_tx = getattr(cffsubr, "_tx_subroutinize", None)
+        if run_tx is None:   # pragma: no cover - another cffsubr
+            self._cff_table()
+            subroutinize(self.otf, self.bounds)
+            return
+        import io
+
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        box = self._as_saved()
+        table = DefaultTable("CFF ")
+        table.data = self._cff_bytes(box)
+        rest = _raw_font_class()(sfntVersion="OTTO", recalcBBoxes=False)
+        rest.setGlyphOrder(self.order)
+        for tag in self.otf.keys():
+            if tag != "GlyphOrder" and tag not in NOT_FOR_TX:
+                rest[tag] = self.otf[tag]
+        rest["CFF "] = table
+        buf = io.BytesIO()
+        rest.save(buf)
+        out = DefaultTable("CFF ")
+        out.data = run_tx(buf.getvalue(), "CFF ")
+        self.otf["CFF "] = out
+
+    def _as_saved(self):
+        """What fontTools' save of the font (``recalcBBoxes``) before ``tx`` sets
+        from the CFF table: its FontBBox (the union of the charstrings' bounds,
+        out to integers), head's box from it, hhea's extents from the bounds' widths
+        (out to integers) and hmtx.  Returns the FontBBox."""
+        bounds = [b for b in self.bounds.values() if b is not None]
+        if bounds:
+            box = [math.floor(min(b[0] for b in bounds)), math.floor(min(b[1] for b in bounds)),
+                   math.ceil(max(b[2] for b in bounds)), math.ceil(max(b[3] for b in bounds))]
+        else:
+            box = [0, 0, 0, 0]
+        head = self.otf["head"]
+        head.xMin, head.yMin, head.xMax, head.yMax = box
+        hhea, hmtx = self.otf["hhea"], self.otf["hmtx"]
+        hhea.advanceWidthMax = max(adv for adv, _ in hmtx.metrics.values())
+        lefts, rights, extents = [], [], []
+        for name in self.order:
+            b = self.bounds[name]
+            if b is None:
+                continue
+            width = int(math.ceil(b[2]) - math.floor(b[0]))
+            advance, left = hmtx[name]
+            lefts.append(left)
+            rights.append(advance - left - width)
+            extents.append(left + width)
+        hhea.minLeftSideBearing = min(lefts) if lefts else 0
+        hhea.minRightSideBearing = min(rights) if rights else 0
+        hhea.xMaxExtent = max(extents) if extents else 0
+        return box
+
+    def _cff_bytes(self, font_box):
+        """A CFF 1 table of the font (name-keyed, no subroutines), with the top and
+        private dict values ufo2ft gives fontTools (those equal to the CFF defaults
+        left out, as fontTools leaves them), every string a custom one."""
+        from fontTools.misc.psCharStrings import encodeFloat, encodeIntCFF
+
+        info = self.info
+        strings = {}
+
+        def sid(text):
+            return 391 + strings.setdefault(text, len(strings))
+
+        def num(v):
+            return encodeFloat(v) if isinstance(v, float) else encodeIntCFF(int(v))
+
+        def entry(op, *values):
+            return b"".join(num(v) for v in values) + bytes(op)
+
+        def text(op, value):
+            return encodeIntCFF(sid(value)) + bytes(op)
+
+        def offset(op, *values):  # fixed-size numbers: the dict's length does not move
+            return b"".join(b"\x1d" + struct.pack(">l", v) for v in values) + bytes(op)
+
+        top = [text([0], "%d.%d" % (info_value(info, "versionMajor"),
+                                    info_value(info, "versionMinor")))]
+        for op, key in (([1], "trademark"), ([12, 0], "copyright")):
+            value = info_value(info, key)
+            if value:
+                value = normalize_for_postscript(value.replace("\u00a9", "Copyright"))
+            top.append(text(op, "" if value is None else value))
+        top.append(text([2], info_value(info, "postscriptFullName")))
+        top.append(text([3], info_value(info, "openTypeNamePreferredFamilyName")))
+        weight = info_value(info, "postscriptWeightName")
+        if weight is not None:
+            top.append(text([4], weight))
+        upm = _ot_round(info_value(info, "unitsPerEm"))
+        for op, value, default in (
+                ([12, 1], int(info_value(info, "postscriptIsFixedPitch")), 0),
+                ([12, 2], float(info_value(info, "italicAngle")), 0),
+                ([12, 3], _ot_round(info_value(info, "postscriptUnderlinePosition")), -100),
+                ([12, 4], _ot_round(info_value(info, "postscriptUnderlineThickness")), 50)):
+            if value != default:
+                top.append(entry(op, value))
+        matrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
+        if matrix != [0.001, 0, 0, 0.001, 0, 0]:
+            top.append(entry([12, 7], *matrix))
+        if list(font_box) != [0, 0, 0, 0]:
+            top.append(entry([5], *font_box))
+        private = self._private_dict(entry)
+        names = [sid(n) for n in self.order[1:]]
+        charset = b"\0" + struct.pack(">%dH" % len(names), *names)
+        charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
+        name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
+
+        def top_index(at_charset, at_charstrings, at_private):
+            return _index([b"".join(top) + offset([15], at_charset)
+                           + offset([17], at_charstrings)
+                           + offset([18], len(private), at_private)])
+
+        size = len(top_index(0, 0, 0))
+        string_index = _index([t.encode("latin-1") for t in strings])
+        at_charset = 4 + len(name_index) + size + len(string_index) + 2
+        at_charstrings = at_charset + len(charset)
+        at_private = at_charstrings + len(charstrings)
+        return b"".join([bytes([1, 0, 4, 4]), name_index,
+                         top_index(at_charset, at_charstrings, at_private), string_index,
+                         b"\0\0", charset, charstrings, private])
+
+    def _private_dict(self, entry):
+        """The private dict's bytes: the advances' default and nominal widths, the
+        hinting values where the info has blue zones (as ufo2ft writes them)."""
+        info = self.info
+
+        def rounded(key):
+            v = info_value(info, key)
+            return [_ot_round(i) for i in v] if isinstance(v, list) else v
+
+        def delta(values):
+            return [b - a for a, b in zip([0] + values[:-1], values)]
+
+        out = []
+        blues = [(op, rounded("postscript" + k)) for op, k in (
+            ([6], "BlueValues"), ([7], "OtherBlues"), ([8], "FamilyBlues"),
+            ([9], "FamilyOtherBlues"))]
+        if any(v for _, v in blues):
+            out += [entry(op, *delta(v)) for op, v in blues if v]
+            for op, value, default in (
+                    ([12, 9], info_value(info, "postscriptBlueScale"), 0.039625),
+                    ([12, 10], _ot_round(info_value(info, "postscriptBlueShift")), 7),
+                    ([12, 11], _ot_round(info_value(info, "postscriptBlueFuzz")), 1),
+                    ([12, 14], int(bool(info_value(info, "postscriptForceBold"))), 0)):
+                if value != default:
+                    out.append(entry(op, value))
+        stems_h, stems_v = rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
+        if stems_h and stems_v:
+            out += [entry([10], stems_h[0]), entry([11], stems_v[0]),
+                    entry([12, 12], *delta(sorted(stems_h))),
+                    entry([12, 13], *delta(sorted(stems_v)))]
+        default, nominal = self._widths()
+        if default:
+            out.append(entry([20], default))
+        if nominal:
+            out.append(entry([21], nominal))
+        return b"".join(out)
+
     def _cff_table(self):
         from fontTools.cffLib import (CharStrings, GlobalSubrsIndex, IndexedStrings,
                                       PrivateDict, SubrsIndex, TopDict, TopDictIndex)
@@ -906,8 +1219,9 @@ class _Compiler:
             private.rawDict["StemSnapV"] = sorted(stems_v)
             private.rawDict["StdVW"] = stems_v[0]
         for name in self.order:
-            cs = self.compiled[name]
-            cs.private, cs.globalSubrs = private, subrs
+            data, bounds = self.programs[name]
+            cs = BoundedCharString(bytecode=data, private=private, globalSubrs=subrs)
+            cs.bounds = bounds
             if name in charstrings:
                 index.items[charstrings.charStrings[name]] = cs
             else:

@@ -5,12 +5,11 @@ ufoLib2 and ufo2ft are a fifth of a second of imports in every process; a small
 stroke font (a hundred Hershey glyphs) spends more on them than on its strokes.
 For a font that needs nothing of ufo2ft but its table building (no kerning, no
 groups, no anchors, no components, nothing in the libs that ufo2ft reads, a feature
-file feaLib compiles by itself) this module reads the UFO with the standard library:
-the plists with :mod:`plistlib`, each ``.glif``'s shell (advance, unicodes,
+file feaLib compiles by itself) this module reads the UFO without them: the plists with :mod:`plistlib`, each ``.glif``'s shell (advance, unicodes,
 guidelines, note, lib; the outline's contours only counted, their points read later
-by :mod:`morph.parse.glif`) with :mod:`xml.etree.ElementTree`.  The objects have the
-attributes of ufoLib2's the stroke pipeline uses (duck-typed: :class:`LightFont`,
-:class:`LightGlyph`, :class:`LightInfo`).
+by :mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The
+objects have the attributes of ufoLib2's that the stroke pipeline uses (duck-typed:
+:class:`LightFont`, :class:`LightGlyph`, :class:`LightInfo`).
 
 Whatever this reader does not take (another UFO version, a GLIF 1 glyph, an image,
 a component, an anchor, a lib key ufo2ft reads, a ``data`` folder, a feature file with
@@ -228,7 +227,7 @@ def glif_shell(name, data):
     Raises:
         NotLight: anything else (components, anchors, an image, GLIF 1, bad XML).
     """
-    from xml.etree import ElementTree
+    from fontTools.misc import etree   # lxml where installed, as glifLib and .glif read
 
     a = data.find(b"<outline")
     contours = 0
@@ -243,8 +242,8 @@ def glif_shell(name, data):
         if b >= 0:
             data = data[:a] + data[b + 10:]
     try:
-        root = ElementTree.fromstring(data)
-    except ElementTree.ParseError as exc:
+        root = etree.fromstring(data)
+    except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
     if root.tag != "glyph" or root.get("format", "2").split(".")[0] != "2" \
             or root.get("name") != name or (root.text or "").strip():
@@ -281,9 +280,9 @@ def glif_shell(name, data):
 
 
 def _lib(element):
-    from xml.etree import ElementTree
+    from fontTools.misc import etree
 
     if len(element) != 1 or element[0].tag != "dict":
         raise ValueError("lib is not one dict")
-    text = b'<plist version="1.0">' + ElementTree.tostring(element[0]) + b"</plist>"
+    text = b'<plist version="1.0">' + etree.tostring(element[0]) + b"</plist>"
     return plistlib.loads(text)
