@@ -37,45 +37,9 @@ from morph.fonts.stream import SkeletonSource
 from morph.fonts.stroke import stroke_ufo
 from morph.parse.light_ufo import LightFont
 from tests import RELIEF_SUBSET
+from tests.fontfixtures import hershey_like, skeleton_line as _line
 
 NIB = (90.0, 20.0, 30.0)
-
-
-def _line(glyph, *points, closed=False):
-    pen = glyph.getPointPen()
-    pen.beginPath()
-    for i, p in enumerate(points):
-        pen.addPoint(p, "line" if (i or closed) else "move")
-    pen.endPath()
-
-
-def hershey_like():
-    font = ufoLib2.Font()
-    font.info.familyName, font.info.styleName = "Hershey Like", "Regular"
-    font.info.unitsPerEm = 1000.0
-    font.info.ascender, font.info.descender = 800, -200
-    font.info.capHeight, font.info.xHeight = 700, 500
-    for name, code, width in (("A", 0x41, 567.0), ("period", 0x2E, 200), ("O", 0x4F, 600),
-                              ("l", 0x6C, 250.5), ("dotless", None, 300),
-                              ("gravecomb", 0x300, 0)):
-        g = font.newGlyph(name)
-        g.width = width
-        if code is not None:
-            g.unicodes = [code]
-        if name == "A":
-            _line(g, (378, 662), (126, 0))
-            _line(g, (378, 662), (630, 0))
-            _line(g, (220, 220), (536, 220))
-        elif name == "period":
-            _line(g, (100, 0))                     # a dot: one point
-        elif name == "O":
-            _line(g, (100, 100), (500, 100), (500, 600), (100, 600), closed=True)
-        elif name == "gravecomb":
-            _line(g, (-150, 700), (-80, 600))
-        else:
-            _line(g, (125, 0), (125.5, 700))
-    font.lib["public.glyphOrder"] = ["A", "O", "l"]   # the rest sorted by name
-    return font
 
 
 def cjk_like():
