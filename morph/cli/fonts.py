@@ -434,7 +434,8 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
 
         shown = sample_font(out, sample)
     ink = name = None
-    if page and stats["inked"] is not None:  # the written glyphs' cmap and ink, known
+    if page and getattr(stats["font"], "light", False) and stats["inked"] is not None:
+        # the written glyphs' cmap, ink and name, known (the font's CFF table unread)
         from ..fonts.tables_static import full_name
 
         ink = ({u: g.name for g in stats["font"] for u in g.unicodes},

@@ -632,8 +632,11 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
     glyph does not stop the font), ``inked`` (the glyphs that draw something, when
-    the font keeps no composite; else None) and ``font`` (the written ``ufoLib2.Font``'s
-    font data and glyph shells: metrics, anchors, components, no contours).
+    the font keeps no composite; else None) and ``font`` (the written font's data and
+    glyph shells: metrics, anchors, components, no contours; a ``ufoLib2.Font``, or
+    for a source opened light (:class:`morph.fonts.stream.SkeletonSource`) a
+    :class:`morph.parse.light_ufo.LightFont`, whose tables are built without
+    ufo2ft).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -850,7 +853,7 @@ class _StreamedGlyphs:
                                      features=self.features, **options)
         except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
             raise MorphError("%s could not compile %s: %s"
-                             % ("feaLib" if light else "ufo2ft", Path(out_path).name,
+                             % ("morph" if light else "ufo2ft", Path(out_path).name,
                                 one_line(exc))) from exc
         self.store.clear()
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,

@@ -411,6 +411,14 @@ def _name_bytes(records):
     return b"".join(data + strings)
 
 
+def _tx_runner():
+    """cffsubr's function running ``tx`` on a font's bytes (CFF table bytes back),
+    None where this cffsubr has none."""
+    import cffsubr
+
+    return getattr(cffsubr, "_tx_subroutinize", None)
+
+
 def _raw_font_class():
     """fontTools' ``TTFont`` that saves a table held as raw bytes (a
     ``DefaultTable``, here the CFF table ``tx`` wrote) as it is, without importing
@@ -568,8 +576,11 @@ def compile_static(font, store, kind, features=None):
     (glyph name -> :func:`morph.fonts.stream.compile_outline`'s ``(data, bounds)``:
     CFF charstrings without advance for ``.otf``, glyf bytes for ``.ttf``);
     ``features``: feaLib's tree of the feature file, parsed already (None: parsed
-    here).  See the module docstring."""
-    return _Compiler(font, store, kind == ".otf").compile(features)
+    here).  See the module docstring.  The font's boxes are final: it is to be
+    saved as it is (``recalcBBoxes`` off; the CFF table is ``tx``'s bytes)."""
+    otf = _Compiler(font, store, kind == ".otf").compile(features)
+    otf.recalcBBoxes = False
+    return otf
 
 
 class _Compiler:
@@ -985,10 +996,8 @@ class _Compiler:
         byte.  The boxes the font save would recompute from the CFF table before
         ``tx`` (:meth:`_as_saved`) are set as it sets them.  Otherwise the table
         is built with fontTools.cffLib and :func:`subroutinize` d."""
-        import cffsubr
-
-        run_tx = getattr(cffsubr, "_tx_subroutinize", None)
-        if run_tx is None:   # pragma: no cover - another cffsubr
+        run_tx = _tx_runner()
+        if run_tx is None:  # another cffsubr
             self._cff_table()
             subroutinize(self.otf, self.bounds)
             return

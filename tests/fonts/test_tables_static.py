@@ -266,3 +266,16 @@ def test_shells_read_light_equal_ufolib2s(saved):
                 (gb.width, gb.height, gb.unicodes, dict(gb.lib)), name
         assert a.glyphOrder == b.glyphOrder and a.features.text == (b.features.text or "")
 
+
+
+def test_without_cffsubrs_tx_runner_the_cff_table_is_fontTools(saved, tmp_path, monkeypatch):
+    """Where cffsubr lacks its runner of ``tx`` on bytes, the CFF table is built with
+    fontTools.cffLib and subroutinized through cffsubr's public call: then every
+    table is ufo2ft's byte for byte."""
+    from morph.fonts import tables_static
+
+    monkeypatch.setattr(tables_static, "_tx_runner", lambda: None)
+    (_, a), (_, b) = _both_ways(saved["cjk"], tmp_path, ".otf")
+    fa, fb = TTFont(str(a)), TTFont(str(b))
+    assert fa.reader["CFF "] == fb.reader["CFF "]
+    _same_tables(a, b)
