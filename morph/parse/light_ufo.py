@@ -132,6 +132,103 @@ class LightFont:
         return self._glyphs[name]
 
 
+# the UFO 3 font info attributes by value type (fontTools.ufoLib's
+# fontInfoAttributesVersion3ValueData): a value of another type, or one of the checks
+# of _info_checked failing, leaves the font to ufoLib2, whose validation names it
+_STR = ("familyName styleName styleMapFamilyName styleMapStyleName copyright trademark "
+        "note openTypeHeadCreated openTypeNameDesigner openTypeNameDesignerURL "
+        "openTypeNameManufacturer openTypeNameManufacturerURL openTypeNameLicense "
+        "openTypeNameLicenseURL openTypeNameVersion openTypeNameUniqueID "
+        "openTypeNameDescription openTypeNamePreferredFamilyName "
+        "openTypeNamePreferredSubfamilyName openTypeNameCompatibleFullName "
+        "openTypeNameSampleText openTypeNameWWSFamilyName openTypeNameWWSSubfamilyName "
+        "openTypeOS2VendorID postscriptFontName postscriptFullName postscriptWeightName "
+        "postscriptDefaultCharacter macintoshFONDName").split()
+_INT = ("versionMajor versionMinor year openTypeHeadLowestRecPPEM openTypeHheaAscender "
+        "openTypeHheaDescender openTypeHheaLineGap openTypeHheaCaretSlopeRise "
+        "openTypeHheaCaretSlopeRun openTypeHheaCaretOffset openTypeOS2WidthClass "
+        "openTypeOS2WeightClass openTypeOS2TypoAscender openTypeOS2TypoDescender "
+        "openTypeOS2TypoLineGap openTypeOS2WinAscent openTypeOS2WinDescent "
+        "openTypeOS2SubscriptXSize openTypeOS2SubscriptYSize openTypeOS2SubscriptXOffset "
+        "openTypeOS2SubscriptYOffset openTypeOS2SuperscriptXSize "
+        "openTypeOS2SuperscriptYSize openTypeOS2SuperscriptXOffset "
+        "openTypeOS2SuperscriptYOffset openTypeOS2StrikeoutSize "
+        "openTypeOS2StrikeoutPosition openTypeVheaVertTypoAscender "
+        "openTypeVheaVertTypoDescender openTypeVheaVertTypoLineGap "
+        "openTypeVheaCaretSlopeRise openTypeVheaCaretSlopeRun openTypeVheaCaretOffset "
+        "postscriptUniqueID postscriptWindowsCharacterSet macintoshFONDFamilyID").split()
+_NUMBER = ("unitsPerEm descender xHeight capHeight ascender italicAngle "
+           "postscriptSlantAngle postscriptUnderlineThickness postscriptUnderlinePosition "
+           "postscriptBlueFuzz postscriptBlueShift postscriptBlueScale "
+           "postscriptDefaultWidthX postscriptNominalWidthX").split()
+_BOOL = ("postscriptIsFixedPitch", "postscriptForceBold")
+_INT_LISTS = {"openTypeHeadFlags": range(15), "openTypeOS2Selection": (1, 2, 3, 4, 7, 8, 9),
+              "openTypeOS2Panose": None, "openTypeOS2FamilyClass": None,
+              "openTypeOS2UnicodeRanges": range(128), "openTypeOS2CodePageRanges": range(64),
+              "openTypeOS2Type": (0, 1, 2, 3, 8, 9)}
+_NUMBER_LISTS = ("postscriptBlueValues postscriptOtherBlues postscriptFamilyBlues "
+                 "postscriptFamilyOtherBlues postscriptStemSnapH postscriptStemSnapV").split()
+_NON_NEGATIVE = ("versionMinor", "unitsPerEm", "openTypeHeadLowestRecPPEM",
+                 "openTypeOS2WeightClass", "openTypeOS2WinAscent", "openTypeOS2WinDescent")
+_CREATED = re.compile(r"\d{4}/\d{2}/\d{2} \d{2}:\d{2}:\d{2}$")
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _info_checked(info):
+    """``info`` (the fontinfo.plist's dict) where every value is of its attribute's
+    type and passes the checks here; else NotLight."""
+    for key, v in info.items():
+        if key in _STR:
+            ok = isinstance(v, str)
+        elif key in _INT:
+            ok = isinstance(v, int) and not isinstance(v, bool)
+        elif key in _NUMBER:
+            ok = _is_number(v)
+        elif key in _BOOL:
+            ok = isinstance(v, bool)
+        elif key in _INT_LISTS:
+            allowed = _INT_LISTS[key]
+            ok = isinstance(v, list) and all(
+                isinstance(i, int) and not isinstance(i, bool)
+                and (allowed is None or i in allowed) for i in v)
+        elif key in _NUMBER_LISTS:
+            ok = isinstance(v, list) and all(_is_number(i) for i in v)
+        elif key == "openTypeNameRecords":
+            ok = isinstance(v, list) and all(
+                isinstance(r, dict) and set(r) == {"nameID", "platformID", "encodingID",
+                                                   "languageID", "string"}
+                and isinstance(r["string"], str)
+                and all(isinstance(r[k], int) and r[k] >= 0 for k in r if k != "string")
+                for r in v)
+        elif key == "openTypeGaspRangeRecords":
+            ok = isinstance(v, list) and all(
+                isinstance(r, dict) and set(r) == {"rangeMaxPPEM", "rangeGaspBehavior"}
+                and isinstance(r["rangeMaxPPEM"], int)
+                and isinstance(r["rangeGaspBehavior"], list)
+                and all(b in (0, 1, 2, 3) for b in r["rangeGaspBehavior"]) for r in v)
+        elif key == "guidelines":
+            ok = isinstance(v, list) and all(
+                isinstance(g, dict) and all(_is_number(g[k]) for k in ("x", "y", "angle")
+                                            if k in g) for g in v)
+        else:   # WOFF metadata, unknown keys: ufoLib2's to read and judge
+            ok = False
+        if ok and key in _NON_NEGATIVE:
+            ok = v >= 0
+        if not ok:
+            raise NotLight("font info %s" % key)
+    checks = ((info.get("styleMapStyleName"), ("regular", "italic", "bold", "bold italic")),
+              (info.get("openTypeOS2WidthClass"), range(1, 10)))
+    if any(v is not None and v not in allowed for v, allowed in checks) \
+            or len(info.get("openTypeOS2Panose", [0] * 10)) != 10 \
+            or len(info.get("openTypeOS2FamilyClass", [0, 0])) != 2 \
+            or not _CREATED.match(info.get("openTypeHeadCreated", "2000/01/01 00:00:00")):
+        raise NotLight("font info values")
+    return info
+
+
 def _plist(path, default):
     if not os.path.exists(path):
         return default
@@ -187,10 +284,14 @@ def read_light_font(path, glif, contour_counts):
                 text = f.read().decode("utf-8")
     except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
         raise NotLight("plists: %s" % exc) from exc
-    if not isinstance(info, dict) or not isinstance(lib, dict):
+    order = lib.get("public.glyphOrder", []) if isinstance(lib, dict) else None
+    if not isinstance(info, dict) or not isinstance(lib, dict) \
+            or not all(isinstance(k, str) for k in lib) \
+            or not isinstance(order, list) or not all(isinstance(n, str) for n in order):
         raise NotLight("fontinfo or lib not a dict")
+    _info_checked(info)
     upm = info.get("unitsPerEm")
-    if upm is not None and not (isinstance(upm, (int, float)) and 0 < upm < float("inf")):
+    if upm is not None and not 0 < upm < float("inf"):
         raise NotLight("unitsPerEm %r" % (upm,))
     if groups or kerning:
         raise NotLight("kerning or groups")

@@ -279,3 +279,26 @@ def test_without_cffsubrs_tx_runner_the_cff_table_is_fontTools(saved, tmp_path, 
     fa, fb = TTFont(str(a)), TTFont(str(b))
     assert fa.reader["CFF "] == fb.reader["CFF "]
     _same_tables(a, b)
+
+
+@pytest.mark.parametrize("key,value", [
+    ("unitsPerEm", "1000"), ("unitsPerEm", -1000), ("openTypeOS2WidthClass", 12),
+    ("styleMapStyleName", "Bold"), ("openTypeOS2Panose", [2, 11]),
+    ("openTypeHeadCreated", "yesterday"), ("openTypeOS2Selection", [5]),
+    ("postscriptIsFixedPitch", 1), ("openTypeNameRecords", [{"nameID": 1}])])
+def test_font_info_ufolib2_refuses_is_refused_as_before(tmp_path, key, value):
+    """Font info that ufoLib2's validation refuses is not read light: the source is
+    read by ufoLib2, which names the defect (one ParseError) as before."""
+    import plistlib
+
+    from morph.errors import ParseError
+
+    hershey_like().save(tmp_path / "s.ufo")
+    path = tmp_path / "s.ufo" / "fontinfo.plist"
+    info = plistlib.loads(path.read_bytes())
+    info[key] = value
+    path.write_bytes(plistlib.dumps(info))
+    with pytest.raises(ParseError, match="cannot read UFO"):
+        SkeletonSource(tmp_path / "s.ufo", light=True).shell_font()
+    with pytest.raises(ParseError, match="cannot read UFO"):
+        SkeletonSource(tmp_path / "s.ufo")
