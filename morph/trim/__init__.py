@@ -41,7 +41,7 @@ from ..polyline import (BoxGrid, _cell_pairs, near_segments, polyline_edges, pol
 from ..region import validated
 from .flatten import tag_loops
 from .lift import lift_rings
-from .topology import drop_slivers, fill_holes, filled_rings
+from .topology import drop_slivers, fill_holes, packed_filled_rings
 from .untangle import merge_lenses, untangle as untangle_loops
 
 __all__ = ["boundary", "fill_region", "polylines_cross"]
@@ -64,7 +64,8 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     tg = tag_loops(loops, eps, grid)
     if len(tg.q) == 0:
         return []
-    rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)
+    rings = drop_slivers(packed_filled_rings(np.diff(tg.starts), tg.q, fill_rule, THIN_UNITS),
+                         THIN_UNITS)
     if hole_test is not None:
         rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
     out, of_ring = lift_rings([r.q for r in rings], tg, contract)
