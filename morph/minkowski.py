@@ -19,7 +19,7 @@ from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, deepest_points
+from .trim.holes import Membership, points_deep_enough
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -448,9 +448,10 @@ class _HoleTest:
         return self.many([(ring, islands)])[0]
 
     def many(self, holes):
-        """The test of every (ring, islands) of ``holes``, the deepest points found
-        together (:func:`morph.trim.holes.deepest_points`)."""
-        points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
+        """The test of every (ring, islands) of ``holes``, at points HOLE_DEPTH tol
+        deep where there are such, found together
+        (:func:`morph.trim.holes.points_deep_enough`)."""
+        points, depths = points_deep_enough(holes, HOLE_DEPTH * self.tol)
         # flattenings fine enough for the depth, never coarser than tol, reused
         keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
                                          -3, 0)

@@ -3,10 +3,12 @@
 Winding numbers of the convolution curve are positive exactly on points of A ⊕ B
 that some convolution loop surrounds; a cell with winding <= 0 can still lie in the
 sum (a hole of one operand smaller than the other: the weak spot of Sec. 6, and of
-CGAL's exact sums).  So every hole ring is tested at one interior point x, as deep
-inside the hole as a grid search finds (a pole of inaccessibility in the manner of
-polylabel): x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅, evaluated by Clipper on A and B flattened
-within a tenth of the point's depth (so the answer is the exact one for x).
+CGAL's exact sums).  So every hole ring is tested at one interior point x, deep
+inside the hole (a grid search, in the manner of polylabel's pole of
+inaccessibility, stopped once the point is deep enough for the test): x ∈ A ⊕ B ⇔
+A ∩ (x − B) ≠ ∅, evaluated on A and B flattened within a tenth of the point's depth
+(so the answer is the exact one for x) and rounded to a grid: exact integer
+predicates where the two are apart, Clipper's intersection elsewhere.
 """
 
 import numpy as np
@@ -14,7 +16,7 @@ import pyclipper
 
 from .. import moments as mo
 from .. import polyline as pl
-from ..polyline import min_segment_distance, unique, winding_number
+from ..polyline import BoxGrid, _cell_pairs, min_segment_distance, unique, winding_number
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -64,6 +66,24 @@ def deepest_points(holes, grid_n=12, rounds=8, enough=np.inf):
         best[rest], depth[rest] = _search_many([polys[h] for h in rest], grid_n, rounds,
                                                enough)
     return best, depth
+
+
+#: Candidates per side of :func:`points_deep_enough`'s first, coarse grid.
+COARSE_GRID = 4
+
+
+def points_deep_enough(holes, enough):
+    """A point inside each hole (``holes``: [(ring, islands)]) and its depth, at
+    least ``enough`` deep where the hole has such a point within reach of the
+    search: a coarse grid (COARSE_GRID candidates a side, one round) first, which
+    finds one in most holes of a glyph (the hole test needs no deeper point:
+    every point that deep gets the same answer), then :func:`deepest_points` for
+    the others (a sixth of the candidates for the most of them)."""
+    x, depth = deepest_points(holes, grid_n=COARSE_GRID, rounds=1, enough=enough)
+    rest = np.flatnonzero(~(depth >= enough))
+    if len(rest):
+        x[rest], depth[rest] = deepest_points([holes[h] for h in rest], enough=enough)
+    return x, depth
 
 
 def _search_many(polys, grid_n, rounds, enough):
@@ -299,34 +319,58 @@ class Membership:
     boundary candidates: A and B flattened within depth / 10 and intersected by
     Clipper on a grid of depth / 20 (finer for operands smaller than 1000 grid
     steps, so that neither collapses).  Loops of A with no area (paths traced
-    forward and back, as strokes are) count as curves: open paths in Clipper."""
+    forward and back, as strokes are) count as curves: open paths in Clipper.
+
+    Most points of a hole are tested with no Clipper call: where the rounded loops
+    of A and the rounded x − B are apart (:meth:`_apart`, exact integer
+    predicates on the very polygons Clipper would get), Clipper's intersection is
+    empty; only the other points go to Clipper."""
 
     def __init__(self, region_a, region_b, depth, areas=None):
         """``areas``: the loops' areas (:func:`morph.moments.loop_areas` of
         region_a) when known: the same for every depth."""
         flat = depth / 10.0
-        pa = pl.flatten_loops(region_a, flat)
+        sizes_a = [len(loop) for loop in region_a]
+        owner, _, pts = pl.flat_starts([p for loop in region_a for p in loop], flat)
+        loop_of = np.repeat(np.arange(len(region_a)), sizes_a)[owner]
+        bounds = np.searchsorted(loop_of, np.arange(len(region_a) + 1))
         self.pb = pl.flatten_loops(region_b, flat)
-        size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
+        pts_b = np.concatenate(self.pb)
+        size = min(float(np.ptp(pts, axis=0).max()), float(np.ptp(pts_b, axis=0).max()))
         self.grid = min(depth / 20.0, size / 1000.0)
         areas = mo.loop_areas(region_a) if areas is None else areas
         flat_loop = np.abs(np.asarray(areas, float)) <= 1e-9 * size * size
         # all loops rounded at once; a degenerate loop P, reverse(P): its first half
         # (len(P) // 2 + 1 points, at most all of them) is the path
-        sizes = np.array([len(p) for p in pa], np.int64)
-        q = self._int(np.concatenate(pa))
-        rows = np.split(q, np.cumsum(sizes)[:-1])
+        sizes = np.diff(bounds)
+        self._q = q = self._int(pts)
         closed, curves = np.flatnonzero(~flat_loop), np.flatnonzero(flat_loop)
-        self.pa = [rows[k] for k in closed]
-        self.curves = [rows[k][:sizes[k] // 2 + 1] for k in curves]
-        self.box_a = _boxes_of(q, np.cumsum(sizes)[closed] - sizes[closed], sizes[closed])
-        self.box_c = _boxes_of(q, np.cumsum(sizes)[curves] - sizes[curves],
-                               sizes[curves] // 2 + 1)
-        pts_b = np.concatenate(self.pb)
+        self._first = np.concatenate([bounds[closed], bounds[curves]])
+        self._count = np.concatenate([sizes[closed], sizes[curves] // 2 + 1])
+        self._n_closed = len(closed)
+        self.box_a = _boxes_of(q, bounds[closed], sizes[closed])
+        self.box_c = _boxes_of(q, bounds[curves], sizes[curves] // 2 + 1)
         self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
-        self._closed_ok = np.array([len(p) >= 3 for p in self.pa], bool)
-        self._curve_ok = np.array([len(c) >= 2 for c in self.curves], bool)
-        self._pa_lists, self._curve_lists = [None] * len(self.pa), [None] * len(self.curves)
+        self._b_sizes = np.array([len(p) for p in self.pb], np.int64)
+        self._pts_b = pts_b
+        self._closed_ok = sizes[closed] >= 3
+        self._curve_ok = sizes[curves] // 2 + 1 >= 2
+        n = len(closed) + len(curves)
+        self._lists = [None] * n
+        self._segments = None
+
+    @property
+    def pa(self):
+        """The closed loops of A, rounded: (m, 2) integer arrays."""
+        return [self._part(k) for k in range(self._n_closed)]
+
+    @property
+    def curves(self):
+        """The paths of A (loops with no area: their first half), rounded."""
+        return [self._part(k) for k in range(self._n_closed, len(self._first))]
+
+    def _part(self, k):
+        return self._q[self._first[k]:self._first[k] + self._count[k]]
 
     def _int(self, pts):
         return np.rint(pts / self.grid).astype(np.int64)
@@ -335,30 +379,133 @@ class Membership:
         return bool(self.many(np.asarray(x, float)[None])[0])
 
     def many(self, points):
-        """Membership of each of ``points`` (k, 2): one Clipper intersection per
-        point, of x - B with the loops of A whose boxes meet the box of x - B (found
-        for all the points at once; each loop converted to Clipper's lists once)."""
+        """Membership of each of ``points`` (k, 2): the loops of A whose boxes meet
+        the box of x - B found for all the points at once; the points where they
+        are apart from x - B (:meth:`_apart`, all at once) are outside; one
+        Clipper intersection for each other point (each loop converted to
+        Clipper's lists once)."""
         x = np.asarray(points, float).reshape(-1, 2)
         lo = self._int(x - self.box_b[2:]) - 1
         hi = self._int(x - self.box_b[:2]) + 1
         closed, c0 = _meeting_many(self.box_a, lo, hi, self._closed_ok)
         curves, k0 = _meeting_many(self.box_c, lo, hi, self._curve_ok)
+        out = np.zeros(len(x), bool)
+        # (point, part) pairs: parts are the closed loops, then the paths
+        n_c, n_k = np.diff(c0), np.diff(k0)
+        pt = np.concatenate([np.repeat(np.arange(len(x)), n_c), np.repeat(np.arange(len(x)), n_k)])
+        part = np.concatenate([closed, curves + self._n_closed])
+        test = np.flatnonzero((n_c + n_k) > 0)
+        if not len(test):
+            return out
+        order = np.argsort(pt, kind="stable")
+        pt, part = pt[order], part[order]
+        apart = self._apart(x, pt, part)
         c0, k0 = c0.tolist(), k0.tolist()
-        return np.array([self._meets(x[i], closed[c0[i]:c0[i + 1]], curves[k0[i]:k0[i + 1]])
-                         for i in range(len(x))], bool)
+        for i in test[~apart[test]].tolist():
+            out[i] = self._meets(x[i], closed[c0[i]:c0[i + 1]], curves[k0[i]:k0[i + 1]])
+        return out
 
-    def _listed(self, polys, cache, k):
-        if cache[k] is None:
-            cache[k] = polys[k].tolist()
-        return cache[k]
+    def _apart(self, x, pt, part):
+        """Whether the rounded x − B of each point is apart from the rounded parts
+        of A paired with it (``pt``, ``part``: the pairs, by point): no edge of one
+        meets (touching counts) a segment of the other, a vertex of each part lies
+        outside x − B, and a vertex of each loop of x − B outside each closed part
+        (winding numbers, the nonzero rule Clipper fills with).  The boundaries
+        meeting nowhere, each boundary loop (connected) lies on one side of the
+        other operand, the side of its vertex: so apart means an empty
+        intersection, a Clipper result with no area and no path, exactly.  All
+        tests are on the integers Clipper gets (products below 2^63); only
+        segments within the disc around x that holds x − B (plus two units:
+        float distances, exact far beyond that) are tested against its edges.
+        False for every point where the integers are too large for that."""
+        n = len(x)
+        segs = self._segment_table()
+        qb = np.rint((x[:, None, :] - self._pts_b[None]) / self.grid).astype(np.int64)
+        if (max(int(np.abs(qb).max(initial=0)), int(np.abs(self._q).max(initial=0)))
+                >= 2 ** 29):
+            return np.zeros(n, bool)
+        # x − B's edges: per B loop of >= 3 points (those Clipper gets), cyclic
+        b_first = np.cumsum(self._b_sizes) - self._b_sizes
+        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
+        nxt = np.arange(len(self._pts_b)) + 1
+        nxt[b_first + self._b_sizes - 1] = b_first
+        e0, e1 = qb[:, use], qb[:, nxt[use]]                     # (n, m, 2)
+        rep_b = qb[:, b_first[self._b_sizes >= 3]]                # a vertex per loop
+        centre = x / self.grid
+        reach = np.sqrt(((qb[:, use] - centre[:, None]) ** 2).sum(axis=2)).max(axis=1,
+                                                                                 initial=0.0) + 2.0
+        blocked = np.zeros(n, bool)
+        # segments of the paired parts near the disc: contacts with x − B's edges
+        s_first, s_count = segs["first"][part], segs["count"][part]
+        sp = np.repeat(np.arange(len(part)), s_count)
+        s = np.repeat(s_first, s_count) + _ranks(s_count)
+        p_of = pt[sp]
+        d = pl.segment_distance(centre[p_of], segs["a"][s].astype(float),
+                                segs["b"][s].astype(float))
+        near = d <= reach[p_of]
+        s, p_of, sp = s[near], p_of[near], sp[near]
+        m = e0.shape[1]
+        if len(s) and m:
+            si = np.repeat(s, m)
+            pi = np.repeat(p_of, m)
+            ei = np.tile(np.arange(m), len(s))
+            touch = _segments_meet(segs["a"][si], segs["b"][si], e0[pi, ei], e1[pi, ei])
+            blocked[pi[touch]] = True
+        # a vertex of each part near the disc, outside x − B
+        near_pair = unique(sp)
+        if len(near_pair) and m:
+            v = self._q[self._first[part[near_pair]]]
+            blocked[pt[near_pair][_winding(v, pt[near_pair], e0, e1) != 0]] = True
+        # a vertex of each loop of x − B outside each closed part
+        closed_pair = np.flatnonzero(part < self._n_closed)
+        if len(closed_pair) and rep_b.shape[1]:
+            cp = np.repeat(closed_pair, rep_b.shape[1])
+            v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
+            k = part[cp]
+            count = self._count[k]
+            row = np.repeat(np.arange(len(cp)), count)
+            e = np.repeat(self._first[k], count) + _ranks(count)
+            e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
+                              np.repeat(self._first[k], count), e + 1)
+            wind = np.bincount(row, weights=_crossing_signs(
+                v[row], self._q[e], self._q[e_next]), minlength=len(cp))
+            blocked[pt[cp[wind != 0]]] = True
+        return ~blocked
+
+    def _segment_table(self):
+        """Every part's segments as Clipper gets them: a closed loop's edges (with
+        the closing one), a path's segments, a path on one grid point as a segment
+        of one unit (:meth:`_meets`); {"a", "b": (s, 2) ends, "first", "count":
+        each part's}."""
+        if self._segments is None:
+            first, count, q = self._first, self._count, self._q
+            closed = np.arange(len(first)) < self._n_closed
+            n_seg = np.where(closed, count, count - 1)
+            i = np.repeat(first, n_seg) + _ranks(n_seg)
+            last = np.repeat(first + count - 1, n_seg)
+            j = np.where(i == last, np.repeat(first, n_seg), i + 1)
+            a, b = q[i], q[j]
+            # a path whose points are all one grid point: a unit segment from it
+            lo = _boxes_of(q, first, count)
+            dot = ~closed & np.all(lo[:, :2] == lo[:, 2:], axis=1)
+            unit = np.repeat(dot, n_seg)
+            b = np.where(unit[:, None], a + np.array([1, 0]), b)
+            self._segments = {"a": a, "b": b, "first": np.cumsum(n_seg) - n_seg,
+                              "count": n_seg}
+        return self._segments
+
+    def _listed(self, k):
+        if self._lists[k] is None:
+            self._lists[k] = self._part(k).tolist()
+        return self._lists[k]
 
     def _meets(self, x, closed_ids, curve_ids):
         """Whether A meets x - B, given the loops of A (indices into ``pa`` and
         ``curves``) that can."""
         if not len(closed_ids) and not len(curve_ids):
             return False
-        closed = [self._listed(self.pa, self._pa_lists, k) for k in closed_ids]
-        curves = [self._listed(self.curves, self._curve_lists, k) for k in curve_ids]
+        closed = [self._listed(k) for k in closed_ids]
+        curves = [self._listed(self._n_closed + k) for k in curve_ids]
         clip = pyclipper.Pyclipper()
         for c in closed:
             if not _add(clip, c, pyclipper.PT_SUBJECT, True):
@@ -376,6 +523,46 @@ class Membership:
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
+
+
+def _ranks(counts):
+    """0 .. c - 1 for each count c, concatenated."""
+    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+
+
+def _orient(a, b, c):
+    """The sign of (b − a) x (c − a), integer points (n, 2) each."""
+    return np.sign((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                   - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def _segments_meet(a, b, c, d):
+    """Whether closed integer segments ab and cd share a point (touching and
+    overlapping count), exactly."""
+    boxes = (np.all(np.minimum(a, b) <= np.maximum(c, d), axis=1)
+             & np.all(np.minimum(c, d) <= np.maximum(a, b), axis=1))
+    return (boxes & (_orient(a, b, c) * _orient(a, b, d) <= 0)
+            & (_orient(c, d, a) * _orient(c, d, b) <= 0))
+
+
+def _crossing_signs(v, a, b):
+    """+1 / -1 where edge ab crosses the ray from v to the right upwards /
+    downwards (half-open in y), else 0: their sum is the winding number of v, a
+    point on no edge, exactly (integers)."""
+    o = _orient(a, b, v)
+    up = (a[:, 1] <= v[:, 1]) & (b[:, 1] > v[:, 1]) & (o > 0)
+    down = (b[:, 1] <= v[:, 1]) & (a[:, 1] > v[:, 1]) & (o < 0)
+    return up.astype(np.int64) - down
+
+
+def _winding(v, row, e0, e1):
+    """Winding numbers of points ``v`` (k, 2) about the edges e0[row[k]] ->
+    e1[row[k]] ((n, m, 2) each)."""
+    m = e0.shape[1]
+    r = np.repeat(row, m)
+    e = np.tile(np.arange(m), len(v))
+    signs = _crossing_signs(np.repeat(v, m, axis=0), e0[r, e], e1[r, e])
+    return signs.reshape(len(v), m).sum(axis=1)
 
 
 def _add(clip, path, kind, closed):
@@ -398,20 +585,21 @@ def _boxes_of(q, first, count):
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
 
-def _meeting_many(boxes, lo, hi, ok, block=1 << 18):
+def _meeting_many(boxes, lo, hi, ok):
     """For each box [lo[i], hi[i]], the ``ok`` boxes among ``boxes`` (k, 4) that
-    meet it, found in blocks of about ``block`` box pairs: (ids, first), box i's
-    ascending in ids[first[i]:first[i + 1]]."""
+    meet it (touching counts), found through a grid of all the boxes
+    (:func:`morph.polyline._cell_pairs`, a superset) and checked on the integers:
+    (ids, first), box i's ascending in ids[first[i]:first[i + 1]]."""
     cand = np.flatnonzero(ok)
-    counts = np.zeros(len(lo), np.int64)
-    found = []
-    if len(cand):
-        b = boxes[cand]
-        step = max(1, block // len(cand))
-        for s in range(0, len(lo), step):
-            l, h = lo[s:s + step, None, :], hi[s:s + step, None, :]
-            hit = np.all(b[None, :, :2] <= h, axis=2) & np.all(b[None, :, 2:] >= l, axis=2)
-            counts[s:s + step] = hit.sum(axis=1)
-            found.append(cand[np.nonzero(hit)[1]])
-    ids = np.concatenate(found) if found else np.zeros(0, np.int64)
-    return ids, np.concatenate([[0], np.cumsum(counts)])
+    n = len(lo)
+    if not len(cand) or not n:
+        return np.zeros(0, np.int64), np.zeros(n + 1, np.int64)
+    pairs = _cell_pairs(BoxGrid(np.concatenate([lo, boxes[cand, :2]]).astype(float),
+                                np.concatenate([hi, boxes[cand, 2:]]).astype(float)))
+    i, j = pairs[:, 0], pairs[:, 1]
+    cross = (i < n) & (j >= n)
+    q, k = i[cross], cand[j[cross] - n]
+    meet = np.all(boxes[k, :2] <= hi[q], axis=1) & np.all(boxes[k, 2:] >= lo[q], axis=1)
+    q, k = q[meet], k[meet]
+    order = np.lexsort((k, q))
+    return k[order], np.concatenate([[0], np.cumsum(np.bincount(q, minlength=n))])
