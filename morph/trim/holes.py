@@ -78,30 +78,51 @@ def points_deep_enough(holes, enough):
     search: a coarse grid (COARSE_GRID candidates a side, one round) first, which
     finds one in most holes of a glyph (the hole test needs no deeper point:
     every point that deep gets the same answer), then :func:`deepest_points` for
-    the others (a sixth of the candidates for the most of them)."""
-    x, depth = deepest_points(holes, grid_n=COARSE_GRID, rounds=1, enough=enough)
+    the others (a ninth of the candidates for the most of them).  The coarse
+    grid runs on the polygons as they are (few candidates: no thinning) and
+    leaves the holes it finds no candidate inside to the second search."""
+    if not holes:
+        return np.zeros((0, 2)), np.zeros(0)
+    x, depth = _search_many([[ring] + list(islands) for ring, islands in holes], COARSE_GRID,
+                            1, enough, alone_search=False)
     rest = np.flatnonzero(~(depth >= enough))
     if len(rest):
         x[rest], depth[rest] = deepest_points([holes[h] for h in rest], enough=enough)
     return x, depth
 
 
-def _search_many(polys, grid_n, rounds, enough):
-    """:func:`_search` of many holes (``polys[h]``: the ring, then its islands), the
-    rounds of all holes together; (points (h, 2), depths (h,))."""
-    n = len(polys)
-    sizes = [[len(p) for p in ps] for ps in polys]
-    n_poly = np.array([len(ps) for ps in polys], np.int64)
+def _packed(polys):
+    """The polygons of every hole (``polys[h]``: the ring, then its islands) packed:
+    (edge starts a, ends b (e, 2), each hole's first edge and edge count, each
+    edge's polygon within its hole (0: the ring), polygons per hole, each
+    polygon's size)."""
+    n_poly = np.fromiter(map(len, polys), np.int64, len(polys))
     flat = [p for ps in polys for p in ps]
+    size = np.fromiter(map(len, flat), np.int64, len(flat))
     a = np.concatenate(flat)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
-    e_count = np.array([sum(sz) for sz in sizes], np.int64)
+    first = np.cumsum(size) - size
+    nxt = np.arange(len(a)) + 1
+    nxt[first + size - 1] = first
+    hole_first = np.cumsum(n_poly) - n_poly
+    e_count = np.add.reduceat(size, hole_first) if len(size) else np.zeros(0, np.int64)
     e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
-                             [z for sz in sizes for z in sz])  # 0: the ring
-    rings = [ps[0] for ps in polys]
-    lo = np.array([r.min(axis=0) for r in rings])
-    hi = np.array([r.max(axis=0) for r in rings])
+    poly_of_edge = np.repeat(np.arange(len(flat)) - np.repeat(hole_first, n_poly), size)
+    return a, a[nxt], e_start, e_count, poly_of_edge, n_poly, size
+
+
+def _search_many(polys, grid_n, rounds, enough, alone_search=True):
+    """:func:`_search` of many holes (``polys[h]``: the ring, then its islands), the
+    rounds of all holes together; (points (h, 2), depths (h,)).  ``alone_search``
+    False: holes whose first round finds no candidate inside get none (depth
+    -inf) instead of their own search."""
+    n = len(polys)
+    a, b, e_start, e_count, poly_of_edge, n_poly, size = _packed(polys)
+    # each ring's box (the ring comes first among its hole's polygons)
+    ring_size = size[np.cumsum(n_poly) - n_poly]
+    bounds = np.stack([e_start, e_start + ring_size], axis=1).ravel()
+    padded = np.concatenate([a, a[:1]])
+    lo = np.minimum.reduceat(padded, bounds)[::2]
+    hi = np.maximum.reduceat(padded, bounds)[::2]
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center.copy(), np.full(n, -np.inf)
     g = np.linspace(-1.0, 1.0, grid_n)
@@ -120,7 +141,8 @@ def _search_many(polys, grid_n, rounds, enough):
         dist = dist.reshape(len(act), c)
         any_in = inside.reshape(len(act), c).any(axis=1)
         if r == 0 and not any_in.all():
-            alone += act[~any_in].tolist()             # thin holes: searched on their own
+            if alone_search:
+                alone += act[~any_in].tolist()         # thin holes: searched on their own
             active[act[~any_in]] = False
         i = np.argmax(dist, axis=1)
         di = dist[np.arange(len(act)), i]
@@ -223,14 +245,7 @@ def _own_distance(pts, owner, a, b, e_start, e_count):
 
 def _depths(x, polys):
     """:func:`_depth` of one point per hole (``polys[h]``: ring, then islands)."""
-    n_poly = np.array([len(ps) for ps in polys], np.int64)
-    flat = [p for ps in polys for p in ps]
-    a = np.concatenate(flat)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
-    e_count = np.array([sum(len(p) for p in ps) for ps in polys], np.int64)
-    e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
-                             [len(p) for p in flat])
+    a, b, e_start, e_count, poly_of_edge, n_poly, _ = _packed(polys)
     owner = np.arange(len(polys))
     inside = _inside_own(x, owner, a, b, e_start, e_count, poly_of_edge, n_poly)
     return np.where(inside, _own_distance(x, owner, a, b, e_start, e_count), -1.0)

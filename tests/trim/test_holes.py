@@ -256,3 +256,37 @@ def test_membership_without_clipper_where_apart_as_clipper(nib, monkeypatch):
         (ho._orient(a, b_, c) * ho._orient(a, b_, d) < 0)
         & (ho._orient(c, d, a) * ho._orient(c, d, b_) < 0)))
     assert not np.array_equal(Membership(region, b, 1.0).many(xs), want)
+
+
+def test_points_deep_enough_are_inside_and_deep_enough_or_the_deepest():
+    """points_deep_enough: each point lies inside its hole at the depth it reports
+    (measured again on the polygons); it is at least ``enough`` deep where the
+    full search (deepest_point) gets that deep, and is the full search's point
+    elsewhere (thin annuli: the coarse grid finds nothing inside them)."""
+    from morph.trim.holes import _depth, points_deep_enough
+
+    rng = np.random.default_rng(9)
+    holes = []
+    for k in range(30):
+        c = rng.uniform(-500, 500, 2)
+        r = rng.uniform(5, 60)
+        ring = _star(rng, c, r, int(rng.integers(3, 40)))
+        islands = [_star(rng, c, 0.3 * r, 12, inner=0.9)] if k % 3 == 0 else []
+        if k % 7 == 5:
+            t = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+            ring = np.c_[r * np.cos(t), r * np.sin(t)] + c
+            islands = [np.c_[(r - 0.05) * np.cos(t + 0.01), (r - 0.05) * np.sin(t + 0.01)] + c]
+        holes.append((ring, islands))
+    for enough in (2.0, 6.0):
+        x, d = points_deep_enough(holes, enough)
+        coarse = 0
+        for h, (ring, islands) in enumerate(holes):
+            assert d[h] == _depth(x[h], ring, islands) and d[h] > 0, h
+            x1, d1 = deepest_point(ring, islands, enough=enough)
+            if d1 >= enough:
+                assert d[h] >= enough
+                coarse += not np.array_equal(x[h], x1)
+            else:
+                assert np.array_equal(x[h], x1) and d[h] == d1, h
+        assert coarse > 5 and (d < enough).any()
+    assert points_deep_enough([], 1.0)[0].shape == (0, 2)
