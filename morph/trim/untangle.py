@@ -232,7 +232,8 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     loop that has one, away from their shared ends (i < j, or i == j for a piece
     crossing itself), refined on the exact pieces.
 
-    Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
+    Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) and
+    whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
     (pieces that nearly coincide).  ``pieces`` (a :class:`morph.piece.Pieces`) and
@@ -243,6 +244,8 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
+    if len(suspects):
+        suspects = suspects[~_hulls_apart(pieces, suspects)]
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
@@ -277,6 +280,33 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
         x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
         hits[li] = (i, si, j, wj, x)
     return hits
+
+
+def _hulls_apart(pieces, pairs):
+    """Whether the convex hulls of the control points of each pair of pieces
+    (``pieces`` a :class:`morph.piece.Pieces`, ``pairs`` (k, 2) indices) are
+    apart: a piece with positive weights lies in that hull, so two such pieces
+    cannot meet.  Separating axes: the normals of every line through two control
+    points of either piece (the hulls' edges among them), a gap of more than 1e-9
+    of the projections' size (rounding far below the crossings' 1e-6 eps).
+
+    Most pairs that no monotone chain holds are the two sides of a stroke where it
+    turns round its end: boxes overlap, hulls do not."""
+    used = unique(pairs)
+    inv = np.searchsorted(used, pairs)
+    h = pc.stack(pc.Pieces.of(pieces).take(used))
+    positive = np.all(h[..., 2] > 0.0, axis=1)
+    x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
+    i, j = np.triu_indices(x.shape[1], 1)
+    d = x[:, j] - x[:, i]
+    normal = np.stack([-d[..., 1], d[..., 0]], axis=-1)
+    axes = np.concatenate([normal[inv[:, 0]], normal[inv[:, 1]]], axis=1)
+    pa = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 0]])
+    pb = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 1]])
+    size = np.abs(pa).max(axis=2) + np.abs(pb).max(axis=2)
+    gap = np.maximum(pb.min(axis=2) - pa.max(axis=2), pa.min(axis=2) - pb.max(axis=2))
+    apart = np.any(gap > 1e-9 * size, axis=1)
+    return apart & positive[inv[:, 0]] & positive[inv[:, 1]]
 
 
 def _oriented(pairs, owner, first, sizes):
