@@ -19,7 +19,7 @@ from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, points_deep_enough
+from .trim.holes import Membership, control_boxes, points_deep_enough
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -441,7 +441,8 @@ class _HoleTest:
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
         self.cache = {}
-        self.areas = None  # the loop areas of A, for every Membership
+        self.areas = None  # the loop areas of A, for every Membership (NaN: not yet)
+        self.boxes = None  # the control boxes of A's loops
         self.log = []
 
     def __call__(self, ring, islands):
@@ -460,8 +461,9 @@ class _HoleTest:
         for key in unique(keys[depths > 0.0]).tolist():
             if key not in self.cache:
                 if self.areas is None:
-                    self.areas = mo.loop_areas(self.a)
-                self.cache[key] = Membership(self.a, self.b, key, self.areas)
+                    self.areas = np.full(len(self.a), np.nan)
+                    self.boxes = control_boxes(self.a)
+                self.cache[key] = Membership(self.a, self.b, key, self.areas, self.boxes)
             at = np.flatnonzero((keys == key) & (depths > 0.0))
             filled[at] = self.cache[key].many(points[at])
         self.log.extend(zip(points, depths.tolist(), filled.tolist()))

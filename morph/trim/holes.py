@@ -15,6 +15,7 @@ import numpy as np
 import pyclipper
 
 from .. import moments as mo
+from .. import piece as pc
 from .. import polyline as pl
 from ..polyline import BoxGrid, _cell_pairs, min_segment_distance, unique, winding_number
 
@@ -339,50 +340,97 @@ class Membership:
     Most points of a hole are tested with no Clipper call: where the rounded loops
     of A and the rounded x − B are apart (:meth:`_apart`, exact integer
     predicates on the very polygons Clipper would get), Clipper's intersection is
-    empty; only the other points go to Clipper."""
+    empty; only the other points go to Clipper.  A loop of A is flattened, rounded
+    and measured when a point first needs it (its control box meets the box of
+    x − B): the holes of a chunk of glyphs come near a fifth of its strokes."""
 
-    def __init__(self, region_a, region_b, depth, areas=None):
+    def __init__(self, region_a, region_b, depth, areas=None, boxes=None):
         """``areas``: the loops' areas (:func:`morph.moments.loop_areas` of
-        region_a) when known: the same for every depth."""
-        flat = depth / 10.0
-        sizes_a = [len(loop) for loop in region_a]
-        owner, _, pts = pl.flat_starts([p for loop in region_a for p in loop], flat)
-        loop_of = np.repeat(np.arange(len(region_a)), sizes_a)[owner]
-        bounds = np.searchsorted(loop_of, np.arange(len(region_a) + 1))
-        self.pb = pl.flatten_loops(region_b, flat)
+        region_a) when known: the same for every depth; NaN where unknown (filled
+        in as they are measured).  ``boxes``: :func:`control_boxes` of region_a
+        when known."""
+        self.flat = depth / 10.0
+        self.region_a = region_a
+        self.pb = pl.flatten_loops(region_b, self.flat)
         pts_b = np.concatenate(self.pb)
-        size = min(float(np.ptp(pts, axis=0).max()), float(np.ptp(pts_b, axis=0).max()))
+        sizes = np.fromiter(map(len, region_a), np.int64, len(region_a))
+        self._ctrl = control_boxes(region_a) if boxes is None else boxes
+        live = self._ctrl[sizes > 0]
+        # the operands' extents: A's control boxes hold its loops
+        size_a = float(max(live[:, 2].max() - live[:, 0].min(), live[:, 3].max() - live[:, 1].min()))
+        size = min(size_a, float(np.ptp(pts_b, axis=0).max()))
         self.grid = min(depth / 20.0, size / 1000.0)
-        areas = mo.loop_areas(region_a) if areas is None else areas
-        flat_loop = np.abs(np.asarray(areas, float)) <= 1e-9 * size * size
-        # all loops rounded at once; a degenerate loop P, reverse(P): its first half
-        # (len(P) // 2 + 1 points, at most all of them) is the path
-        sizes = np.diff(bounds)
-        self._q = q = self._int(pts)
-        closed, curves = np.flatnonzero(~flat_loop), np.flatnonzero(flat_loop)
-        self._first = np.concatenate([bounds[closed], bounds[curves]])
-        self._count = np.concatenate([sizes[closed], sizes[curves] // 2 + 1])
-        self._n_closed = len(closed)
-        self.box_a = _boxes_of(q, bounds[closed], sizes[closed])
-        self.box_c = _boxes_of(q, bounds[curves], sizes[curves] // 2 + 1)
+        self._flat_area = 1e-9 * size * size
+        self._areas = np.full(len(region_a), np.nan) if areas is None else areas
+        self._sizes = sizes
         self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
         self._b_sizes = np.array([len(p) for p in self.pb], np.int64)
         self._pts_b = pts_b
-        self._closed_ok = sizes[closed] >= 3
-        self._curve_ok = sizes[curves] // 2 + 1 >= 2
-        n = len(closed) + len(curves)
-        self._lists = [None] * n
-        self._segments = None
+        # per loop of A, once prepared (:meth:`_prepare`): its rounded points
+        # (``_q[_first[k]:_first[k] + _count[k]]``; a path: its first half),
+        # whether it is closed, whether Clipper takes it, its integer box
+        n = len(region_a)
+        self._ready = np.zeros(n, bool)
+        self._q = np.zeros((0, 2), np.int64)
+        self._first = np.zeros(n, np.int64)
+        self._count = np.zeros(n, np.int64)
+        self._closed = np.zeros(n, bool)
+        self._ok = np.zeros(n, bool)
+        self._box = np.zeros((n, 4), np.int64)
+        self._lists = {}
+
+    def _prepare(self, loops):
+        """Flatten, round and measure the loops of A (indices) not done yet, all at
+        once."""
+        loops = loops[~self._ready[loops]]
+        if not len(loops):
+            return
+        region = [self.region_a[k] for k in loops.tolist()]
+        unknown = np.isnan(self._areas[loops])
+        if unknown.any():
+            self._areas[loops[unknown]] = mo.loop_areas([region[i] for i in
+                                                         np.flatnonzero(unknown).tolist()])
+        sizes = self._sizes[loops]
+        owner, _, pts = pl.flat_starts([p for loop in region for p in loop], self.flat)
+        loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+        bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+        n_pts = np.diff(bounds)
+        closed = ~(np.abs(self._areas[loops]) <= self._flat_area)
+        # a degenerate loop P, reverse(P): its first half (len(P) // 2 + 1 points, at
+        # most all of them) is the path
+        count = np.where(closed, n_pts, n_pts // 2 + 1)
+        base = len(self._q)
+        self._q = np.concatenate([self._q, self._int(pts)])
+        self._first[loops] = base + bounds[:-1]
+        self._count[loops] = count
+        self._closed[loops] = closed
+        self._ok[loops] = np.where(closed, n_pts >= 3, count >= 2)
+        self._box[loops] = _boxes_of(self._q, base + bounds[:-1], np.maximum(count, 1))
+        self._ready[loops] = True
+
+    def _all(self):
+        self._prepare(np.arange(len(self.region_a)))
+        return np.flatnonzero(self._closed), np.flatnonzero(~self._closed)
 
     @property
     def pa(self):
         """The closed loops of A, rounded: (m, 2) integer arrays."""
-        return [self._part(k) for k in range(self._n_closed)]
+        return [self._part(k) for k in self._all()[0]]
 
     @property
     def curves(self):
         """The paths of A (loops with no area: their first half), rounded."""
-        return [self._part(k) for k in range(self._n_closed, len(self._first))]
+        return [self._part(k) for k in self._all()[1]]
+
+    @property
+    def box_a(self):
+        """The integer boxes (xmin, ymin, xmax, ymax) of :attr:`pa`."""
+        return self._box[self._all()[0]]
+
+    @property
+    def box_c(self):
+        """The integer boxes of :attr:`curves`."""
+        return self._box[self._all()[1]]
 
     def _part(self, k):
         return self._q[self._first[k]:self._first[k] + self._count[k]]
@@ -395,29 +443,31 @@ class Membership:
 
     def many(self, points):
         """Membership of each of ``points`` (k, 2): the loops of A whose boxes meet
-        the box of x - B found for all the points at once; the points where they
-        are apart from x - B (:meth:`_apart`, all at once) are outside; one
-        Clipper intersection for each other point (each loop converted to
-        Clipper's lists once)."""
+        the box of x - B found for all the points at once (control boxes first,
+        then the rounded loops'); the points where they are apart from x - B
+        (:meth:`_apart`, all at once) are outside; one Clipper intersection for
+        each other point (each loop converted to Clipper's lists once)."""
         x = np.asarray(points, float).reshape(-1, 2)
+        out = np.zeros(len(x), bool)
+        if not len(x):
+            return out
         lo = self._int(x - self.box_b[2:]) - 1
         hi = self._int(x - self.box_b[:2]) + 1
-        closed, c0 = _meeting_many(self.box_a, lo, hi, self._closed_ok)
-        curves, k0 = _meeting_many(self.box_c, lo, hi, self._curve_ok)
-        out = np.zeros(len(x), bool)
-        # (point, part) pairs: parts are the closed loops, then the paths
-        n_c, n_k = np.diff(c0), np.diff(k0)
-        pt = np.concatenate([np.repeat(np.arange(len(x)), n_c), np.repeat(np.arange(len(x)), n_k)])
-        part = np.concatenate([closed, curves + self._n_closed])
-        test = np.flatnonzero((n_c + n_k) > 0)
+        # control boxes, on the grid and grown by a unit: they hold the rounded loops
+        ctrl = np.concatenate([np.floor(self._ctrl[:, :2] / self.grid) - 1,
+                               np.ceil(self._ctrl[:, 2:] / self.grid) + 1], axis=1)
+        near, _ = _meeting_many(ctrl, lo.astype(float), hi.astype(float), self._sizes > 0)
+        self._prepare(unique(near))
+        part, first = _meeting_many(self._box, lo, hi, self._ok & self._ready)
+        pt = np.repeat(np.arange(len(x)), np.diff(first))
+        test = np.flatnonzero(np.diff(first) > 0)
         if not len(test):
             return out
-        order = np.argsort(pt, kind="stable")
-        pt, part = pt[order], part[order]
         apart = self._apart(x, pt, part)
-        c0, k0 = c0.tolist(), k0.tolist()
+        first = first.tolist()
         for i in test[~apart[test]].tolist():
-            out[i] = self._meets(x[i], closed[c0[i]:c0[i + 1]], curves[k0[i]:k0[i + 1]])
+            ids = part[first[i]:first[i + 1]]
+            out[i] = self._meets(x[i], ids[self._closed[ids]], ids[~self._closed[ids]])
         return out
 
     def _apart(self, x, pt, part):
@@ -434,7 +484,8 @@ class Membership:
         float distances, exact far beyond that) are tested against its edges.
         False for every point where the integers are too large for that."""
         n = len(x)
-        segs = self._segment_table()
+        used = unique(part)
+        segs = self._segment_table(used)
         qb = np.rint((x[:, None, :] - self._pts_b[None]) / self.grid).astype(np.int64)
         if (max(int(np.abs(qb).max(initial=0)), int(np.abs(self._q).max(initial=0)))
                 >= 2 ** 29):
@@ -451,10 +502,16 @@ class Membership:
                                                                                  initial=0.0) + 2.0
         blocked = np.zeros(n, bool)
         # segments of the paired parts near the disc: contacts with x − B's edges
-        s_first, s_count = segs["first"][part], segs["count"][part]
+        at = np.searchsorted(used, part)
+        s_first, s_count = segs["first"][at], segs["count"][at]
         sp = np.repeat(np.arange(len(part)), s_count)
         s = np.repeat(s_first, s_count) + _ranks(s_count)
         p_of = pt[sp]
+        # the segments whose boxes come within reach first, then their distances
+        c, r = centre[p_of], reach[p_of]
+        lo_s, hi_s = segs["lo"][s], segs["hi"][s]
+        box = np.all((lo_s - r[:, None] <= c) & (c <= hi_s + r[:, None]), axis=1)
+        s, p_of, sp = s[box], p_of[box], sp[box]
         d = pl.segment_distance(centre[p_of], segs["a"][s].astype(float),
                                 segs["b"][s].astype(float))
         near = d <= reach[p_of]
@@ -472,7 +529,7 @@ class Membership:
             v = self._q[self._first[part[near_pair]]]
             blocked[pt[near_pair][_winding(v, pt[near_pair], e0, e1) != 0]] = True
         # a vertex of each loop of x − B outside each closed part
-        closed_pair = np.flatnonzero(part < self._n_closed)
+        closed_pair = np.flatnonzero(self._closed[part])
         if len(closed_pair) and rep_b.shape[1]:
             cp = np.repeat(closed_pair, rep_b.shape[1])
             v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
@@ -487,40 +544,37 @@ class Membership:
             blocked[pt[cp[wind != 0]]] = True
         return ~blocked
 
-    def _segment_table(self):
-        """Every part's segments as Clipper gets them: a closed loop's edges (with
-        the closing one), a path's segments, a path on one grid point as a segment
-        of one unit (:meth:`_meets`); {"a", "b": (s, 2) ends, "first", "count":
-        each part's}."""
-        if self._segments is None:
-            first, count, q = self._first, self._count, self._q
-            closed = np.arange(len(first)) < self._n_closed
-            n_seg = np.where(closed, count, count - 1)
-            i = np.repeat(first, n_seg) + _ranks(n_seg)
-            last = np.repeat(first + count - 1, n_seg)
-            j = np.where(i == last, np.repeat(first, n_seg), i + 1)
-            a, b = q[i], q[j]
-            # a path whose points are all one grid point: a unit segment from it
-            lo = _boxes_of(q, first, count)
-            dot = ~closed & np.all(lo[:, :2] == lo[:, 2:], axis=1)
-            unit = np.repeat(dot, n_seg)
-            b = np.where(unit[:, None], a + np.array([1, 0]), b)
-            self._segments = {"a": a, "b": b, "first": np.cumsum(n_seg) - n_seg,
-                              "count": n_seg}
-        return self._segments
+    def _segment_table(self, parts):
+        """The segments of loops ``parts`` (ascending) as Clipper gets them: a
+        closed loop's edges (with the closing one), a path's segments, a path on
+        one grid point as a segment of one unit (:meth:`_meets`); {"a", "b": (s,
+        2) ends, "first", "count": each part's}."""
+        first, count, q = self._first[parts], self._count[parts], self._q
+        closed = self._closed[parts]
+        n_seg = np.where(closed, count, count - 1)
+        i = np.repeat(first, n_seg) + _ranks(n_seg)
+        last = np.repeat(first + count - 1, n_seg)
+        j = np.where(i == last, np.repeat(first, n_seg), i + 1)
+        a, b = q[i], q[j]
+        # a path whose points are all one grid point: a unit segment from it
+        box = self._box[parts]
+        dot = ~closed & np.all(box[:, :2] == box[:, 2:], axis=1)
+        b = np.where(np.repeat(dot, n_seg)[:, None], a + np.array([1, 0]), b)
+        return {"a": a, "b": b, "lo": np.minimum(a, b), "hi": np.maximum(a, b),
+                "first": np.cumsum(n_seg) - n_seg, "count": n_seg}
 
     def _listed(self, k):
-        if self._lists[k] is None:
+        if k not in self._lists:
             self._lists[k] = self._part(k).tolist()
         return self._lists[k]
 
     def _meets(self, x, closed_ids, curve_ids):
-        """Whether A meets x - B, given the loops of A (indices into ``pa`` and
-        ``curves``) that can."""
+        """Whether A meets x - B, given the loops of A (indices into region_a, the
+        closed ones and the paths) that can."""
         if not len(closed_ids) and not len(curve_ids):
             return False
         closed = [self._listed(k) for k in closed_ids]
-        curves = [self._listed(self._n_closed + k) for k in curve_ids]
+        curves = [self._listed(k) for k in curve_ids]
         clip = pyclipper.Pyclipper()
         for c in closed:
             if not _add(clip, c, pyclipper.PT_SUBJECT, True):
@@ -538,6 +592,19 @@ class Membership:
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
+
+
+def control_boxes(region):
+    """(k, 4) boxes (xmin, ymin, xmax, ymax) of the control points of each loop of
+    ``region`` (zeros for an empty loop), all at once: each holds its loop."""
+    sizes = np.fromiter(map(len, region), np.int64, len(region))
+    out = np.zeros((len(region), 4))
+    at = (np.cumsum(sizes) - sizes)[sizes > 0]
+    if len(at):
+        box = pc.bboxes([p for loop in region for p in loop])
+        out[sizes > 0] = np.concatenate(
+            [np.minimum.reduceat(box[:, :2], at), np.maximum.reduceat(box[:, 2:], at)], axis=1)
+    return out
 
 
 def _ranks(counts):

@@ -238,7 +238,7 @@ def test_membership_without_clipper_where_apart_as_clipper(nib, monkeypatch):
     m = Membership(region, b, 1.0)   # grid 0.05: the points below are on it
     xs = np.rint(rng.uniform([-35, -25], [55, 45], (500, 2)) / m.grid) * m.grid
     xs[:40] = np.rint(np.array([[20.0, -15.0]]) + rng.integers(-3, 4, (40, 2)))  # round the dot
-    every = np.arange(len(m.pa)), np.arange(len(m.curves))
+    every = m._all()  # the closed loops and the paths of A, all of them
     want = np.array([m._meets(x, *every) for x in xs])
     assert np.array_equal(m.many(xs), want)
     assert 0.1 < want.mean() < 0.9
