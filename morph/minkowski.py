@@ -5,7 +5,6 @@
 
 import numpy as np
 
-from . import moments as mo
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)

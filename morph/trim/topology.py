@@ -29,11 +29,13 @@ FILL_TYPES = {
 class Ring:
     """One boundary ring of the filled set: integer vertices (m, 2), filled side on
     its left (outer rings counter-clockwise, holes clockwise), ``parent`` the index
-    of the ring that directly encloses it (-1 for none)."""
+    of the ring that directly encloses it (-1 for none), ``group`` the apart group
+    of paths it came from (:func:`_union`; -1 where not known)."""
 
     q: np.ndarray
     hole: bool
     parent: int
+    group: int = -1
 
 
 def filled_rings(paths, fill_rule, thin=0.0):
@@ -58,22 +60,25 @@ def filled_rings(paths, fill_rule, thin=0.0):
                                np.concatenate(paths), fill_rule, thin)
 
 
-def packed_filled_rings(sizes, q, fill_rule, thin=0.0):
+def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     """:func:`filled_rings` of paths packed as ``sizes`` (k,) and integer vertices
-    ``q`` (n, 2)."""
+    ``q`` (n, 2); ``gap``: the grid units that part two apart groups of paths
+    (:func:`_union`; at least APART_GAP): rings of two groups are farther apart
+    than that."""
     keep = sizes >= 3
     if not keep.all():
         sizes, q = sizes[keep], q[np.repeat(keep, sizes)]
     if not len(sizes):
         return []
-    sizes, q = _union(sizes, q, FILL_TYPES[fill_rule])
+    sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
     if not len(sizes):
         return []
     if thin > 0.0:
-        sizes, q = _without_lone_slivers(thin, sizes, q)
+        kept = _without_lone_slivers(thin, sizes, q)
+        sizes, q, group = sizes[kept], q[np.repeat(kept, sizes)], group[kept]
     if not len(sizes):
         return []
-    rings = _nested_rings(None, sizes, q)
+    rings = _nested_rings(None, sizes, q, group)
     if rings is not None:
         return rings
     tree = _clipper(_packed_lists(sizes, q)).Execute2(
@@ -93,10 +98,11 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0):
 APART_GAP = 4
 
 
-def _union(sizes, q, ft):
+def _union(sizes, q, ft, gap=APART_GAP):
     """Clipper's union of closed integer paths (``sizes`` (k,), vertices ``q`` (n, 2))
-    under fill type ``ft``, as flat rings (sizes, vertices), in order of their top
-    (largest y, then smallest x there) from the highest down.
+    under fill type ``ft``, as flat rings (sizes, vertices, the group of paths each
+    came from), in order of their top (largest y, then smallest x there) from the
+    highest down.  Groups: boxes more than ``gap`` units apart.
 
     Clipper sweeps a horizontal line over the paths, and its work at each step
     grows with the edges the line crosses: a chunk of glyphs laid out in a grid
@@ -110,7 +116,7 @@ def _union(sizes, q, ft):
     a property of each ring alone."""
     starts = np.cumsum(sizes) - sizes
     lo, hi = np.minimum.reduceat(q, starts), np.maximum.reduceat(q, starts)
-    group = _apart_groups(lo, hi, APART_GAP)
+    group = _apart_groups(lo, hi, gap)
     g = int(group.max()) + 1
     glo = np.full((g, 2), np.iinfo(np.int64).max)
     ghi = np.full((g, 2), np.iinfo(np.int64).min)
@@ -130,7 +136,7 @@ def _union(sizes, q, ft):
         flat += rings
         ring_group += [k] * len(rings)
     if not flat:
-        return np.zeros(0, np.int64), np.zeros((0, 2), np.int64)
+        return np.zeros(0, np.int64), np.zeros((0, 2), np.int64), np.zeros(0, np.int64)
     f_sizes, f_q = _flat_arrays(flat)
     f_starts = np.cumsum(f_sizes) - f_sizes
     f_q += np.repeat(shift[ring_group], f_sizes, axis=0)
@@ -140,7 +146,7 @@ def _union(sizes, q, ft):
     top_x = np.minimum.reduceat(np.where(at_top, f_q[:, 0], np.iinfo(np.int64).max), f_starts)
     order = np.lexsort((top_x, -top_y))
     rows = np.repeat(f_starts[order], f_sizes[order]) + _ranks(f_sizes[order])
-    return f_sizes[order], f_q[rows]
+    return f_sizes[order], f_q[rows], np.asarray(ring_group, np.int64)[order]
 
 
 def _ranks(counts):
@@ -178,7 +184,7 @@ def _flat_arrays(flat):
     return sizes, q
 
 
-def _nested_rings(flat, sizes=None, q=None):
+def _nested_rings(flat, sizes=None, q=None, group=None):
     """The PolyTree of Clipper's flat rings (which overlap nowhere) without the tree
     pass, where no ring visits a grid point twice and no two rings share one (the
     tree pass would split such rings apart); None where they do, or where the test
@@ -190,7 +196,7 @@ def _nested_rings(flat, sizes=None, q=None):
     below 2^62).  Holes are the clockwise rings, which must be those at odd depth.
     Rings come parents first, the last top-level ring first (the tree walk's order
     on Clipper's children).  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat`` when
-    known (then ``flat`` is not used).
+    known (then ``flat`` is not used); ``group``: each ring's group when known.
     """
     if q is None:
         sizes, q = _flat_arrays(flat)
@@ -227,12 +233,14 @@ def _nested_rings(flat, sizes=None, q=None):
     hole = area < 0
     if np.any(hole != (depth % 2 == 1)):
         return None
-    return _tree_order(np.split(q, starts[1:]), parent, hole)
+    ends = np.cumsum(sizes).tolist()
+    rows = [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
+    return _tree_order(rows, parent, hole, np.full(n, -1) if group is None else group)
 
 
-def _tree_order(rows, parent, hole):
-    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices and
-    ``hole`` flags, parents first, the last top-level ring first (the tree walk's
+def _tree_order(rows, parent, hole, group):
+    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices,
+    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring first (the tree walk's
     order on Clipper's children), each naming its parent's place in the list."""
     children = [[] for _ in rows]
     top = []
@@ -240,10 +248,10 @@ def _tree_order(rows, parent, hole):
         (children[p] if p >= 0 else top).append(k)
     rings = []
     stack = [(k, -1) for k in top]
-    hole_l = hole.tolist()
+    hole_l, group_l = hole.tolist(), np.asarray(group).tolist()
     while stack:
         k, p = stack.pop()
-        rings.append(Ring(rows[k], hole_l[k], p))
+        rings.append(Ring(rows[k], hole_l[k], p, group_l[k]))
         me = len(rings) - 1
         stack.extend((c, me) for c in children[k])
     return rings
@@ -292,13 +300,13 @@ def _without_lone_slivers(thin, sizes, q):
     inside T wind one less (T an outer ring: T empty) or one more (T a hole: T
     filled), and nothing else changes: the tree pass then gives what
     :func:`drop_slivers` leaves of the full tree.  A thin ring holding others stays
-    for :func:`drop_slivers`, which drops what it holds with it.  Returns (sizes, q)
-    of the rings kept."""
+    for :func:`drop_slivers`, which drops what it holds with it.  Returns which
+    rings are kept (a mask)."""
     starts = np.cumsum(sizes) - sizes
     area, perimeter = packed_measures(sizes, q)
     thin_ids = np.flatnonzero(2.0 * np.abs(area) <= thin * perimeter)
     if len(thin_ids) == 0:
-        return sizes, q
+        return np.ones(len(sizes), bool)
     qf = q.astype(float)
     lo = np.minimum.reduceat(qf, starts)
     hi = np.maximum.reduceat(qf, starts)
@@ -310,7 +318,7 @@ def _without_lone_slivers(thin, sizes, q):
     drop = np.zeros(len(sizes), bool)
     drop[thin_ids] = True
     drop[t[holds]] = False
-    return sizes[~drop], q[np.repeat(~drop, sizes)]
+    return ~drop
 
 
 def _as_lists(paths):
@@ -400,7 +408,7 @@ def fill_holes(rings, filled):
         while p in dead:
             p = rings[p].parent
         new_parent[i] = p
-    out = [Ring(r.q, r.hole, new_parent[i]) for i, r in enumerate(rings)]
+    out = [Ring(r.q, r.hole, new_parent[i], r.group) for i, r in enumerate(rings)]
     return _reindex(out, dead)
 
 
@@ -411,4 +419,4 @@ def _reindex(rings, dead):
         if i not in dead:
             index[i] = len(out)
             out.append(r)
-    return [Ring(r.q, r.hole, index.get(r.parent, -1)) for r in out]
+    return [Ring(r.q, r.hole, index.get(r.parent, -1), r.group) for r in out]
