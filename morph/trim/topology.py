@@ -5,9 +5,13 @@ coordinates with exact predicates, so the planar subdivision is consistent every
 time: no angle sorting, no float ties.  Collinear vertices are preserved, so every
 input vertex on the boundary stays a vertex of the output, and every output edge
 lies on one input segment (its ends are input vertices or crossings rounded to the
-grid, within half a unit of both segments).  Rings may touch themselves at a
+grid: within half a unit of both segments where they cross at an angle; Clipper
+finds crossings in floating point, and those of nearly parallel segments came out
+up to 10 units off on hanzi, which the lifting's Newton refinement absorbs).  Rings may touch themselves at a
 vertex (Clipper's StrictlySimple would split them, at 20-30 times the cost): the
-lifting identifies every edge on its own, so it does not need them apart.
+lifting identifies every edge on its own, so it does not need them apart.  Each
+group of paths apart from the others (a glyph of a chunk, a stroke apart from the
+rest of its glyph) is united on its own, near the origin (:func:`_union`).
 """
 
 from dataclasses import dataclass
