@@ -357,7 +357,8 @@ class Membership:
         self._ctrl = control_boxes(region_a) if boxes is None else boxes
         live = self._ctrl[sizes > 0]
         # the operands' extents: A's control boxes hold its loops
-        size_a = float(max(live[:, 2].max() - live[:, 0].min(), live[:, 3].max() - live[:, 1].min()))
+        size_a = float(max(live[:, 2].max() - live[:, 0].min(),
+                           live[:, 3].max() - live[:, 1].min()))
         size = min(size_a, float(np.ptp(pts_b, axis=0).max()))
         self.grid = min(depth / 20.0, size / 1000.0)
         self._flat_area = 1e-9 * size * size

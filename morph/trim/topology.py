@@ -7,11 +7,12 @@ input vertex on the boundary stays a vertex of the output, and every output edge
 lies on one input segment (its ends are input vertices or crossings rounded to the
 grid: within half a unit of both segments where they cross at an angle; Clipper
 finds crossings in floating point, and those of nearly parallel segments came out
-up to 10 units off on hanzi, which the lifting's Newton refinement absorbs).  Rings may touch themselves at a
-vertex (Clipper's StrictlySimple would split them, at 20-30 times the cost): the
-lifting identifies every edge on its own, so it does not need them apart.  Each
-group of paths apart from the others (a glyph of a chunk, a stroke apart from the
-rest of its glyph) is united on its own, near the origin (:func:`_union`).
+up to 10 units off on hanzi, which the lifting's Newton refinement absorbs).
+Rings may touch themselves at a vertex (Clipper's StrictlySimple would split them,
+at 20-30 times the cost): the lifting identifies every edge on its own, so it
+does not need them apart.  Each group of paths apart from the others (a glyph of a
+chunk, a stroke apart from the rest of its glyph) is united on its own, near the
+origin (:func:`_union`).
 """
 
 from dataclasses import dataclass
@@ -244,8 +245,9 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
 
 def _tree_order(rows, parent, hole, group):
     """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices,
-    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring first (the tree walk's
-    order on Clipper's children), each naming its parent's place in the list."""
+    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring
+    first (the tree walk's order on Clipper's children), each naming its parent's
+    place in the list."""
     children = [[] for _ in rows]
     top = []
     for k, p in enumerate(parent.tolist()):
