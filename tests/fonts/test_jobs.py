@@ -66,6 +66,45 @@ def test_glyph_chunks_equal_bounded_and_two_for_small_fonts(n, size, count):
         assert max(sizes) <= size and max(sizes) - min(sizes) <= 1
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_glyph_chunks_by_weight_equal_bounded_in_order(seed):
+    """Weighted chunks: the glyphs in order, as many chunks as the weight needs at
+    ``size`` each (two from MIN_SPLIT glyphs on), each chunk's weight within one
+    glyph's of an equal share; a glyph of weight 0 costs nothing."""
+    from morph.fonts.jobs import MIN_SPLIT, glyph_chunks
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 900))
+    weights = rng.choice([0.0, 1 / 12, 2 / 12, 9 / 12, 1.0, 3.0], n)
+    work = list(range(n))
+    for size in (8, 96, 1000):
+        chunks = glyph_chunks(work, size, weights)
+        assert [g for c in chunks for g in c] == work
+        total = weights.sum()
+        assert len(chunks) == min(n, max(int(np.ceil(total / size)), min(2, n // MIN_SPLIT)))
+        share, heaviest = total / len(chunks), weights.max()
+        for c in chunks:
+            assert c and abs(weights[c].sum() - share) <= heaviest + 1e-9
+
+
+def test_glyph_chunks_by_weight_light_glyphs_share_a_chunk():
+    """321 light glyphs (Relief's: 534 contours, a twelfth of a glyph each) are two
+    chunks of half the font, not four of 96 glyphs at most; 3000 glyphs of weight 1
+    are chunked as by their number; weights must be one per glyph, finite, >= 0."""
+    from morph.fonts.jobs import glyph_chunks
+
+    light = np.repeat([1 / 12, 2 / 12, 3 / 12], [130, 169, 22])
+    # half of 534 contours: 130 of one and 68 of two (266), the nearer edge (tie: the first)
+    assert [len(c) for c in glyph_chunks(list(range(321)), weights=light)] == [198, 123]
+    assert [len(c) for c in glyph_chunks(list(range(321)))] == [80, 80, 81, 80]
+    assert [len(c) for c in glyph_chunks(list(range(3000)), weights=np.ones(3000))] == \
+        [len(c) for c in glyph_chunks(list(range(3000)))]
+    assert glyph_chunks([], weights=[]) == []
+    for bad in ([1.0], [1.0, -1.0, 1.0], [1.0, np.nan]):
+        with pytest.raises(ValueError, match="weights"):
+            glyph_chunks([1, 2], weights=bad)
+
+
 # ----------------------------------------------------------------- progress within a job
 
 def _slow_chunk(chunk):
