@@ -278,9 +278,11 @@ def _collect(pending, finished, done, lost):
 #: not depend on it (:func:`glyph_chunks`).
 CHUNK = 96
 #: A font is cut in two chunks (two processes share it) only when each gets at least
-#: this many glyphs: a batch's export rounds cost about the same however few glyphs
-#: share them (62 brushed Noto Sans letters and digits: 15.5 ms of export CPU a glyph
-#: in two batches of 31, 11.1 in one), so a smaller font is one chunk, one batch.
+#: this many glyphs (or glyphs' worth of weight): a batch's export rounds cost about
+#: the same however few glyphs share them (62 brushed Noto Sans letters and digits:
+#: 15.5 ms of export CPU a glyph in two batches of 31, 11.1 in one; Relief's 321
+#: glyphs with contours, 45 glyphs' worth: 4.5-4.9 s of CPU for the whole font in two
+#: chunks, 4.3 in one), so a smaller font is one chunk, one batch.
 MIN_SPLIT = CHUNK // 2
 
 
@@ -291,16 +293,17 @@ def glyph_chunks(work, size=CHUNK, weights=None):
     batches, hence the font, do not depend on the number of processes.
 
     ``weights`` (one per glyph, in glyphs of average work; None: 1 each): the
-    chunks are of equal weight (within one glyph's), at most ``size`` in weight, so
-    that memory stays bounded however light or heavy the glyphs (a stroke font's
-    glyphs weigh their skeleton contours, :func:`morph.fonts.stroke.
-    _stroke_weights`); the two-chunk rule still counts glyphs."""
+    chunks are of equal weight (within one glyph's), at most ``size`` in weight, and
+    two when each gets :data:`MIN_SPLIT` in weight, so that as many glyphs share a
+    batch as memory allows however light or heavy they are (a stroke font's glyphs
+    weigh their skeleton contours, :func:`morph.fonts.stroke._stroke_weights`)."""
     n = len(work)
     w = np.ones(n) if weights is None else np.asarray(weights, float)
     cum = np.concatenate([[0.0], np.cumsum(w)])
     if w.shape != (n,) or not np.all(np.isfinite(w)) or np.any(w < 0):
         raise ValueError("glyph_chunks: weights must be one finite weight >= 0 per glyph")
-    count = min(n, max(int(math.ceil(cum[-1] / size)), min(2, n // max(MIN_SPLIT, 1))))
+    halves = int(cum[-1] // MIN_SPLIT) if MIN_SPLIT > 0 else 2
+    count = min(n, max(int(math.ceil(cum[-1] / size)), min(2, halves)))
     if not count:
         return []
     # edge i: the glyph boundary where the weight so far is nearest to i / count of it

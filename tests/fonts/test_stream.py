@@ -23,7 +23,7 @@ from fontTools.ttLib import TTFont
 
 from morph.budget import plan
 from morph.fonts.brush import ellipse_nib
-from morph.fonts.stroke import stroke_ufo
+from morph.fonts.stroke import CONTOURS_PER_GLYPH, stroke_ufo
 
 NIB = (90.0, 20.0, 30.0)
 GLYPHS = ["o", "eacute", "i", "nine", "ordfeminine", "omixed", "onested"]
@@ -163,7 +163,8 @@ def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path, monkeyp
     src, out, _ = streamed
     ufo = tmp_path / "src.ufo"
     src.save(str(ufo))
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
+    # two chunks (workers for jobs=2): a chunk splits from two contours' weight on
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
     stroke_ufo(str(ufo), tmp_path / "one.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=1)
     stroke_ufo(str(ufo), tmp_path / "two.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=2)
     _same_tables(tmp_path / "two.otf", TTFont(str(tmp_path / "one.otf")))
@@ -224,7 +225,8 @@ def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monk
 
     from morph.cli import main
 
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
+    # two chunks (workers for jobs=2): a chunk splits from two contours' weight on
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
     ufo = tmp_path / "bad.ufo"
     streamed[0].save(str(ufo))
     glif = next((ufo / "glyphs").glob("o.glif"))
