@@ -927,13 +927,15 @@ def _composite_box(font, name, own, memo):
         for comp in font[name].components:
             base = _composite_box(font, comp.baseGlyph, own, memo) \
                 if comp.baseGlyph in font else None
-            if base is not None:
-                xx, xy, yx, yy, dx, dy = comp.transformation
-                cx, cy = np.meshgrid([base[0], base[2]], [base[1], base[3]])
-                tx, ty = xx * cx + yx * cy + dx, xy * cx + yy * cy + dy
-                boxes.append((tx.min(), ty.min(), tx.max(), ty.max()))
-        boxes = np.array([b for b in boxes if b is not None], float).reshape(-1, 4)
-        memo[name] = None if not len(boxes) else (*boxes[:, :2].min(0), *boxes[:, 2:].max(0))
+            if base is not None:   # a few numbers: Python's arithmetic, not numpy's calls
+                xx, xy, yx, yy, dx, dy = (float(v) for v in comp.transformation)
+                corners = [(x, y) for x in (base[0], base[2]) for y in (base[1], base[3])]
+                tx = [xx * x + yx * y + dx for x, y in corners]
+                ty = [xy * x + yy * y + dy for x, y in corners]
+                boxes.append((min(tx), min(ty), max(tx), max(ty)))
+        boxes = [b for b in boxes if b is not None]
+        memo[name] = None if not boxes else (min(b[0] for b in boxes), min(b[1] for b in boxes),
+                                             max(b[2] for b in boxes), max(b[3] for b in boxes))
     return memo[name]
 
 
