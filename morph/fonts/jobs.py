@@ -303,7 +303,7 @@ def glyph_chunks(work, size=CHUNK, weights=None):
     if w.shape != (n,) or not np.all(np.isfinite(w)) or np.any(w < 0):
         raise ValueError("glyph_chunks: weights must be one finite weight >= 0 per glyph")
     halves = int(cum[-1] // MIN_SPLIT) if MIN_SPLIT > 0 else 2
-    count = min(n, max(int(math.ceil(cum[-1] / size)), min(2, halves)))
+    count = min(n, max(1, int(math.ceil(cum[-1] / size)), min(2, halves)))
     if not count:
         return []
     # edge i: the glyph boundary where the weight so far is nearest to i / count of it

@@ -733,8 +733,8 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     allows share an export batch, whose rounds cost about the same however many
     glyphs share them: Relief's 263 composites of kept components made its 321
     glyphs with contours 7 batches of 46, where one batch holds them now (45 glyphs'
-    worth of contours; 2.1 ms of fit and certificate a glyph in one batch, against
-    4.0 in 7).  The others are written empty here (their components are in the
+    worth of contours; 1.9 ms of CPU a glyph for fit and certificate in one batch,
+    against 3.7 in 7, bench/stroke_profile.py).  The others are written empty here (their components are in the
     shells), not counted by ``progress``.
     """
     tols = budget.plan(tol, kind == ".ttf")

@@ -82,7 +82,7 @@ def test_glyph_chunks_by_weight_equal_bounded_in_order(seed):
         assert [g for c in chunks for g in c] == work
         total = weights.sum()
         two = 2 if total >= 2 * MIN_SPLIT else 1
-        assert len(chunks) == min(n, max(int(np.ceil(total / size)), two))
+        assert len(chunks) == min(n, max(1, int(np.ceil(total / size)), two))
         share, heaviest = total / len(chunks), weights.max()
         for c in chunks:
             assert c and abs(weights[c].sum() - share) <= heaviest + 1e-9
@@ -106,6 +106,7 @@ def test_glyph_chunks_by_weight_light_glyphs_share_a_chunk(monkeypatch):
     assert [len(c) for c in glyph_chunks(list(range(3000)), weights=np.ones(3000))] == \
         [len(c) for c in glyph_chunks(list(range(3000)))]
     assert glyph_chunks([], weights=[]) == []
+    assert glyph_chunks([1, 2, 3], weights=[0.0, 0.0, 0.0]) == [[1, 2, 3]]   # none lost
     for bad in ([1.0], [1.0, -1.0, 1.0], [1.0, np.nan]):
         with pytest.raises(ValueError, match="weights"):
             glyph_chunks([1, 2], weights=bad)
