@@ -91,7 +91,8 @@ _WORKER_PROBE = r"""
 import json, os, sys
 import morph.fonts.jobs as jobs
 
-jobs.MIN_SPLIT = 1   # two chunks of the two glyphs: two workers
+# two chunks of the two glyphs, two workers: a split from a contour's weight on
+jobs.MIN_SPLIT = 1 / 12   # (morph.fonts.stroke.CONTOURS_PER_GLYPH)
 
 call = jobs._queued_call
 

@@ -32,6 +32,7 @@ writes a few curves (several times more points, no smooth joins).
 """
 
 import itertools
+import math
 import os
 
 import numpy as np
@@ -273,28 +274,50 @@ def _collect(pending, finished, done, lost):
 #: conversions go in one batch: a batch's rounds cost the same however many glyphs
 #: share them, so its cost per glyph falls with its size: 62 stroked Relief glyphs
 #: 26 / 19 / 13 ms each in batches of 16 / 48 / 124); equal chunks by the number of
-#: glyphs alone, not by the number of processes: the font does not depend on it
-#: (:func:`glyph_chunks`).
+#: glyphs alone (or by their weights), not by the number of processes: the font does
+#: not depend on it (:func:`glyph_chunks`).
 CHUNK = 96
 #: A font is cut in two chunks (two processes share it) only when each gets at least
-#: this many glyphs: a batch's export rounds cost about the same however few glyphs
-#: share them (62 brushed Noto Sans letters and digits: 15.5 ms of export CPU a glyph
-#: in two batches of 31, 11.1 in one), so a smaller font is one chunk, one batch.
+#: this many glyphs (or glyphs' worth of weight): a batch's export rounds cost about
+#: the same however few glyphs share them (62 brushed Noto Sans letters and digits:
+#: 15.5 ms of export CPU a glyph in two batches of 31, 11.1 in one; Relief's 321
+#: glyphs with contours, 45 glyphs' worth: 4.5-4.9 s of CPU for the whole font in two
+#: chunks, 4.3 in one), so a smaller font is one chunk, one batch.
 MIN_SPLIT = CHUNK // 2
 
 
-def glyph_chunks(work, size=CHUNK):
+def glyph_chunks(work, size=CHUNK, weights=None):
     """``work`` in consecutive chunks of equal length (within one), at most ``size``
     each; two chunks rather than one (so that two processes share the font) when
     each gets at least :data:`MIN_SPLIT` glyphs.  By the number of glyphs alone: the
-    batches, hence the font, do not depend on the number of processes."""
-    count = max(-(-len(work) // size), min(2, len(work) // max(MIN_SPLIT, 1)))
-    edges = [round(i * len(work) / count) for i in range(count + 1)] if count else [0]
+    batches, hence the font, do not depend on the number of processes.
+
+    ``weights`` (one per glyph, in glyphs of average work; None: 1 each): the
+    chunks are of equal weight (within one glyph's), at most ``size`` in weight, and
+    two when each gets :data:`MIN_SPLIT` in weight, so that as many glyphs share a
+    batch as memory allows however light or heavy they are (a stroke font's glyphs
+    weigh their skeleton contours, :func:`morph.fonts.stroke._stroke_weights`)."""
+    n = len(work)
+    w = np.ones(n) if weights is None else np.asarray(weights, float)
+    cum = np.concatenate([[0.0], np.cumsum(w)])
+    if w.shape != (n,) or not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise ValueError("glyph_chunks: weights must be one finite weight >= 0 per glyph")
+    halves = int(cum[-1] // MIN_SPLIT) if MIN_SPLIT > 0 else 2
+    count = min(n, max(1, int(math.ceil(cum[-1] / size)), min(2, halves)))
+    if not count:
+        return []
+    # edge i: the glyph boundary where the weight so far is nearest to i / count of it
+    # (a tie to the even boundary: with weights 1, Python's round(i n / count))
+    goal = cum[-1] * np.arange(1, count) / count
+    right = np.clip(np.searchsorted(cum, goal), 1, n)
+    below, above = goal - cum[right - 1], cum[right] - goal
+    edges = np.where((below < above) | ((below == above) & (right % 2 == 1)), right - 1, right)
+    edges = [0] + sorted(set(edges.tolist()) - {0, n}) + [n]
     return [work[a:b] for a, b in zip(edges, edges[1:])]
 
 
 def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_flight=None,
-                   preload=()):
+                   preload=(), weights=None):
     """The font writers' job runner: ``func`` (module-level, a list of glyph jobs ->
     a list of their results) over ``work`` in :func:`glyph_chunks`, computed by
     ``jobs`` processes (:func:`run_jobs`).  ``prepare`` (None: the chunks as they
@@ -308,7 +331,8 @@ def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_fl
     Returns the results in input order, or with ``keep=False`` nothing (each chunk's
     results dropped once ``each`` had them: memory does not grow with the number of
     glyphs).  ``preload``: the modules ``func`` imports, imported here before the
-    processes start (:func:`preload_modules`)."""
+    processes start (:func:`preload_modules`).  ``weights``: the glyphs' weights for
+    :func:`glyph_chunks` (None: the glyphs counted)."""
     import threading
 
     lock = threading.Lock()
@@ -332,7 +356,7 @@ def run_glyph_jobs(func, work, jobs=1, each=None, keep=True, prepare=None, in_fl
             for r in results:
                 each(r)
 
-    chunks = glyph_chunks(work)
+    chunks = glyph_chunks(work, weights=weights)
     if prepare is not None:
         chunks = (prepare(c) for c in chunks)
     chunks = run_jobs(func, chunks, jobs=jobs, keep=keep, progress=done,

@@ -250,18 +250,24 @@ def test_progress_piped_stroke_counts_rise_to_the_total(runner, tmp_path, monkey
     import re
 
     from morph.cli import options
-    from morph.fonts.jobs import glyph_chunks
+    from morph.fonts import jobs
+    from morph.fonts.stroke import CONTOURS_PER_GLYPH
     from tests import RELIEF_SUBSET
 
     monkeypatch.setattr(options, "STATUS_SECONDS", 0.01)
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: two workers
+    # two chunks, two workers: a split from two contours' weight on
+    monkeypatch.setattr(jobs, "MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
+    chunks = []     # the stroke's chunks (the glyphs with contours to stroke)
+    split = jobs.glyph_chunks
+    monkeypatch.setattr(jobs, "glyph_chunks",
+                        lambda *a, **k: _spied(chunks, split(*a, **k), k))
     res = runner.invoke(main, ["stroke", str(RELIEF_SUBSET), "-o", str(tmp_path / "s.ufo"),
                                "--jobs", "2"])
     assert res.exit_code == 0, res.output
     lines = re.findall(r"^morph stroke: (\d+)/(\d+) glyphs", res.stderr, re.M)
-    counts, total = [int(c) for c, _ in lines], int(lines[0][1])
-    assert counts == sorted(counts) and counts[-1] == total
-    chunks = glyph_chunks(list(range(total)))
+    # the total: the glyphs with contours to stroke, once planned (the whole font before)
+    counts, total = [int(c) for c, _ in lines], int(lines[-1][1])
+    assert counts == sorted(counts) and counts[-1] == total == sum(map(len, chunks))
     assert len(chunks) == 2     # the counts a chunk's arrival alone can give, either first:
     assert set(counts) - ({0, total} | {len(c) for c in chunks})
 
@@ -417,3 +423,11 @@ def test_the_readme_test_command_prints_its_summary():
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stdout + res.stderr
     assert re.search(r"^\d+ passed", res.stdout, re.M), res.stdout
+
+
+def _spied(seen, chunks, kwargs):
+    """``chunks`` (of :func:`morph.fonts.jobs.glyph_chunks`), added to ``seen`` when
+    weighted: the stroke's chunks of the glyphs with contours to stroke."""
+    if kwargs.get("weights") is not None:
+        seen.extend(chunks)
+    return chunks

@@ -66,6 +66,52 @@ def test_glyph_chunks_equal_bounded_and_two_for_small_fonts(n, size, count):
         assert max(sizes) <= size and max(sizes) - min(sizes) <= 1
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_glyph_chunks_by_weight_equal_bounded_in_order(seed):
+    """Weighted chunks: the glyphs in order, as many chunks as the weight needs at
+    ``size`` each (two from twice MIN_SPLIT in weight on), each chunk's weight within
+    one glyph's of an equal share; a glyph of weight 0 costs nothing."""
+    from morph.fonts.jobs import MIN_SPLIT, glyph_chunks
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 900))
+    weights = rng.choice([0.0, 1 / 12, 2 / 12, 9 / 12, 1.0, 3.0], n)
+    work = list(range(n))
+    for size in (8, 96, 1000):
+        chunks = glyph_chunks(work, size, weights)
+        assert [g for c in chunks for g in c] == work
+        total = weights.sum()
+        two = 2 if total >= 2 * MIN_SPLIT else 1
+        assert len(chunks) == min(n, max(1, int(np.ceil(total / size)), two))
+        share, heaviest = total / len(chunks), weights.max()
+        for c in chunks:
+            assert c and abs(weights[c].sum() - share) <= heaviest + 1e-9
+
+
+def test_glyph_chunks_by_weight_light_glyphs_share_a_chunk(monkeypatch):
+    """321 light glyphs (Relief's: 534 contours, 45 glyphs' worth at a twelfth of a
+    glyph a contour) are one chunk, where by their number they would be four; two
+    when each half weighs MIN_SPLIT; 3000 glyphs of weight 1 are chunked as by their
+    number; weights must be one per glyph, finite, >= 0."""
+    from morph.fonts.jobs import glyph_chunks
+
+    light = np.repeat([1 / 12, 2 / 12, 3 / 12], [130, 169, 22])
+    work = list(range(321))
+    assert [len(c) for c in glyph_chunks(work, weights=light)] == [321]
+    assert [len(c) for c in glyph_chunks(work)] == [80, 80, 81, 80]
+    assert [len(c) for c in glyph_chunks(work, weights=light * 3)] == [198, 123]
+    # halves of 534 contours: 130 of one and 68 of two (266), the nearer edge (tie: first)
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)
+    assert [len(c) for c in glyph_chunks(work, weights=light)] == [198, 123]
+    assert [len(c) for c in glyph_chunks(list(range(3000)), weights=np.ones(3000))] == \
+        [len(c) for c in glyph_chunks(list(range(3000)))]
+    assert glyph_chunks([], weights=[]) == []
+    assert glyph_chunks([1, 2, 3], weights=[0.0, 0.0, 0.0]) == [[1, 2, 3]]   # none lost
+    for bad in ([1.0], [1.0, -1.0, 1.0], [1.0, np.nan]):
+        with pytest.raises(ValueError, match="weights"):
+            glyph_chunks([1, 2], weights=bad)
+
+
 # ----------------------------------------------------------------- progress within a job
 
 def _slow_chunk(chunk):
@@ -131,21 +177,26 @@ def test_stroke_jobs_report_sums_and_conversion(skeleton, tmp_path, jobs, monkey
     """The stroke's chunk jobs report their work as it is done: SUM_SHARE per glyph
     once the strokes are done, the rest as the batched conversion's searches end;
     in all each glyph's worth once, several reports per chunk, all taken back."""
-    from morph.fonts.jobs import SUM_SHARE, glyph_chunks
-    from morph.fonts.stroke import stroke_ufo
+    from morph.fonts import jobs as jobs_module
+    from morph.fonts.jobs import SUM_SHARE
+    from morph.fonts.stroke import CONTOURS_PER_GLYPH, stroke_ufo
 
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
+    # two chunks (workers for jobs=2): a chunk splits from two contours' weight on
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
+    chunks = []
+    split = jobs_module.glyph_chunks
+    monkeypatch.setattr(jobs_module, "glyph_chunks",
+                        lambda *a, **k: _spied(chunks, split(*a, **k), k))
     names = ["a", "b", "c", "o", "s", "e", "n", "h"]
     flight = []
     stats = stroke_ufo(skeleton, tmp_path / "s.ufo", ellipse_nib(60, 20, 30), glyphs=names,
                        tol=1.0, jobs=jobs, in_flight=flight.append)
     n = stats["glyphs"]
-    chunks = len(glyph_chunks(list(range(n))))
+    assert len(chunks) == 2 and sum(map(len, chunks)) == n   # every glyph has contours
     positive = [u for u in flight if u > 0]
     assert sum(positive) == pytest.approx(n)
-    assert len(positive) > 2 * chunks          # more than one report per chunk
-    assert any(u == pytest.approx(SUM_SHARE * len(c)) for u in positive
-               for c in glyph_chunks(list(range(n))))
+    assert len(positive) > 2 * len(chunks)      # more than one report per chunk
+    assert any(u == pytest.approx(SUM_SHARE * len(c)) for u in positive for c in chunks)
     assert sum(flight) == pytest.approx(0.0)
 
 
@@ -164,3 +215,11 @@ def test_progress_count_never_goes_back_and_says_finishing():
         bar.update(7)
         assert bar.status().endswith("finishing")
         assert not bar.status(final=True).endswith("finishing")
+
+
+def _spied(seen, chunks, kwargs):
+    """``chunks`` (of :func:`morph.fonts.jobs.glyph_chunks`), added to ``seen`` when
+    weighted: the stroke's chunks of the glyphs with contours to stroke."""
+    if kwargs.get("weights") is not None:
+        seen.extend(chunks)
+    return chunks

@@ -23,7 +23,7 @@ from fontTools.ttLib import TTFont
 
 from morph.budget import plan
 from morph.fonts.brush import ellipse_nib
-from morph.fonts.stroke import stroke_ufo
+from morph.fonts.stroke import CONTOURS_PER_GLYPH, stroke_ufo
 
 NIB = (90.0, 20.0, 30.0)
 GLYPHS = ["o", "eacute", "i", "nine", "ordfeminine", "omixed", "onested"]
@@ -94,8 +94,8 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
 
     from morph.fonts.jobs import glyph_chunks
     from morph.fonts.stream import SkeletonSource
-    from morph.fonts.stroke import (_chunk_job, _placement, _stroke_work, plan_components,
-                                    separate_components)
+    from morph.fonts.stroke import (_chunk_job, _placement, _stroke_weights, _stroke_work,
+                                    plan_components, separate_components)
     from morph.fonts.tables import draw_contours
     from morph.fonts.ufo_tables import grow_win_metrics, outline_extent
 
@@ -107,9 +107,11 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
     stroked, followed = plan_components(shells, GLYPHS, contour_counts=source.contour_counts,
                                         kept=keep)
     kept = {n: keep(n) for n in stroked + followed}
+    weights = _stroke_weights(shells, stroked, kept, source.contour_counts)
     shifts = _placement(shells, stroked + followed, nib).shifts
     ref = ufoLib2.Font.open(out / "S.ufo")
-    for chunk in glyph_chunks(stroked):
+    inked = [n for n in stroked if weights[n]]      # the others have no contour to draw
+    for chunk in glyph_chunks(inked, weights=[weights[n] for n in inked]):
         for r in _chunk_job(_stroke_work(source, chunk, kept, nib, plan(0.5, True), shifts,
                                          None)):
             g = ref[r["name"]]
@@ -161,10 +163,59 @@ def test_workers_read_the_skeletons_of_a_ufo_on_disk(streamed, tmp_path, monkeyp
     src, out, _ = streamed
     ufo = tmp_path / "src.ufo"
     src.save(str(ufo))
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
+    # two chunks (workers for jobs=2): a chunk splits from two contours' weight on
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
     stroke_ufo(str(ufo), tmp_path / "one.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=1)
     stroke_ufo(str(ufo), tmp_path / "two.otf", ellipse_nib(*NIB), GLYPHS, tol=0.5, jobs=2)
     _same_tables(tmp_path / "two.otf", TTFont(str(tmp_path / "one.otf")))
+
+
+@pytest.mark.parametrize("flavor", ["cff", "glyf", None])
+def test_glyphs_with_nothing_to_stroke_stay_out_of_the_chunks(streamed, flavor, tmp_path,
+                                                              monkeypatch):
+    """Only glyphs with contours to stroke (own, or of components not kept) go to
+    the chunks, which are by their contours; a composite of kept components
+    (eacute, onested) is written here as the chunk job writes it: the same compiled
+    outline, box and counts."""
+    from morph.fonts import stroke
+    from morph.fonts.jobs import run_glyph_jobs
+    from morph.fonts.stream import SkeletonSource
+
+    src = streamed[0]
+    source = SkeletonSource(src)
+    shells = source.shell_font()
+    nib = ellipse_nib(*NIB)
+    keep = stroke.separate_components(shells, source, nib, 0.5, source.contour_counts)
+    stroked, followed = stroke.plan_components(shells, GLYPHS, kept=keep,
+                                               contour_counts=source.contour_counts)
+    kept = {n: keep(n) for n in stroked + followed if shells[n].components}
+    weights = stroke._stroke_weights(shells, stroked, kept, source.contour_counts)
+    # omixed: a line and a kept o; ordfeminine decomposes its scaled a (2 contours)
+    assert weights["eacute"] == weights["onested"] == 0
+    assert weights["omixed"] == 1 / stroke.CONTOURS_PER_GLYPH
+    assert weights["ordfeminine"] * stroke.CONTOURS_PER_GLYPH == \
+        source.contour_counts["ordfeminine"] + source.contour_counts["a"]
+    blank = [n for n in stroked if not weights[n]]
+    assert {"eacute", "onested"} <= set(blank)
+    shifts = stroke._placement(shells, stroked + followed, nib).shifts
+    jobs = stroke._stroke_work(source, blank, kept, nib, plan(0.5), shifts, None)
+    by_job = stroke._streamed_chunk(flavor, jobs)
+    here = stroke._blank_results(flavor, blank)
+    for a, b in zip(by_job, here):
+        assert a["contours"] == b["contours"] == 0 and a["points"] == b["points"] == 0
+        assert a["box"] == b["box"] is None and a["fallback"] is b["fallback"] is None
+        assert a["outline"] == b["outline"] if flavor else not len(a["outline"])
+
+    seen = []
+
+    def spy(func, work, **kw):
+        seen.append((list(work), kw["weights"]))
+        return run_glyph_jobs(func, work, **kw)
+
+    monkeypatch.setattr(stroke, "run_glyph_jobs", spy)
+    stroke_ufo(src, tmp_path / "spied.otf", nib, GLYPHS, tol=0.5)
+    (work, w), = seen
+    assert work == [n for n in stroked if weights[n]] and w == [weights[n] for n in work]
 
 
 def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monkeypatch):
@@ -174,7 +225,8 @@ def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monk
 
     from morph.cli import main
 
-    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1)   # two chunks: workers for jobs=2
+    # two chunks (workers for jobs=2): a chunk splits from two contours' weight on
+    monkeypatch.setattr("morph.fonts.jobs.MIN_SPLIT", 1 / CONTOURS_PER_GLYPH)
     ufo = tmp_path / "bad.ufo"
     streamed[0].save(str(ufo))
     glif = next((ufo / "glyphs").glob("o.glif"))
