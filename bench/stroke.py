@@ -84,7 +84,7 @@ from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # no
 from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
-from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import count_outer_and_holes, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
 from tests.oracles.icons import GAP  # noqa: E402 - after sys.path gets the repo root
 from tests.oracles.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
@@ -134,9 +134,44 @@ def segments_to_region(contours):
     return loops
 
 
+def linework_distances(points, line):
+    """Distances of ``points`` (m, 2) to the linework ``line``: the same numbers as
+    ``shapely.distance(shapely.points(points), line)`` (GEOS's point-segment distance,
+    minimised over the segments), found through an STRtree of the segments instead of
+    every point against every segment (3-5 times faster on a hanzi's ~30,000
+    samples)."""
+    pts = shapely.points(np.asarray(points, float).reshape(-1, 2))
+    parts = shapely.get_parts(line)
+    if len(pts) == 0:
+        return np.zeros(0)
+    if not len(parts) or not all(shapely.get_type_id(parts) == 1):  # not only LineStrings
+        return shapely.distance(pts, line)
+    segs = []
+    for part in parts:
+        c = shapely.get_coordinates(part)
+        segs.append(np.stack([c[:-1], c[1:]], 1))
+    segs = np.concatenate(segs)
+    if not len(segs):
+        return shapely.distance(pts, line)
+    tree = shapely.STRtree(shapely.linestrings(segs))
+    _, dist = tree.query_nearest(pts, return_distance=True, all_matches=False)
+    return dist
+
+
+def boundary_hausdorff(got, ref, spacing=SPACING):
+    """``tests.oracles.reference.hausdorff(got, ref, spacing)`` (two-sided, boundaries
+    sampled every ``spacing``) through :func:`linework_distances`."""
+    from tests.oracles.reference import _linework, _sample_points
+
+    ga, gr = _linework(got), _linework(ref)
+    fwd = linework_distances(_sample_points(ga, spacing), gr)
+    back = linework_distances(_sample_points(gr, spacing), ga)
+    return max(float(fwd.max()) if len(fwd) else 0.0, float(back.max()) if len(back) else 0.0)
+
+
 def measure(contours, ref):
     got = region_to_shapely(segments_to_region(contours), MEASURE_FLAT)
-    return hausdorff(got, ref, SPACING), got
+    return boundary_hausdorff(got, ref, SPACING), got
 
 
 # =========================================================================== part 1
@@ -159,7 +194,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
             shift = int(round(-x0)) - (grow if font[n].width == 0 else 0)
             ref = shapely.affinity.translate(refs[n], shift, 0.0)
             got = region_to_shapely(glyph_region(n, font=str(path)).region, MEASURE_FLAT)
-            d = hausdorff(got, ref, SPACING)
+            d = boundary_hausdorff(got, ref, SPACING)
             h_got, h_ref = count_outer_and_holes(got, 1.0), count_outer_and_holes(ref, 1.0)
             area_ok = all(abs(a - b) <= per * limit
                           for (a, _), (b, per) in zip(holes(got), holes(ref)))
@@ -245,31 +280,71 @@ def _failure(stage, name, tol, exc, tb):
 
 def run_fontforge(font, names, spec, accuracies, refs, judge=None):
     """FontForge's rows (``bench/fontforge_stroke.py``), a glyph measured by
-    ``judge`` as in :func:`run_morph` (its tol argument: the setting's accuracy)."""
+    ``judge`` as in :func:`run_morph` (its tol argument: the setting's accuracy).
+
+    FontForge's results of a whole set at one accuracy (outlines, each glyph's CPU
+    time of ``glyph.stroke``, and the worker process's own CPU time: Python's
+    startup, ``import fontforge``, drawing, stroking, writing the JSON) come from
+    the bench cache (:mod:`bench.peer_cache`) when measured before on the same
+    skeletons (their numbers, not their names), nib, accuracy, FontForge version and
+    worker script; so do the errors ``judge`` gave them, when the judge has a
+    ``key`` (its parameters, references and source).  Each row says when, at which
+    commit and with which FontForge it was measured (``row["measured"]``)."""
+    import resource
+
+    from bench import peer_cache
+
     judge = judge or _plain_judge(refs)
-    if not os.path.exists(SYSTEM_PYTHON):
-        return [], "no %s" % SYSTEM_PYTHON
+    version = peer_cache.fontforge_version()
+    if version is None:
+        return [], "no fontforge module in %s" % SYSTEM_PYTHON
     glyphs = {}
     for n in names:
         glyphs[n] = [[[pc.cartesian(p).tolist() for p in pieces], closed]
                      for pieces, closed in decomposed_paths(font, n)]
     nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
            else ["circular", spec[1]])
+    worker = peer_cache.file_digest("bench/fontforge_stroke.py")
     rows = []
     for acc in accuracies:
-        job = json.dumps({"nib": nib, "accuracy": acc, "glyphs": glyphs})
-        proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
-                              input=job, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
-        res = json.loads(proc.stdout)
+        job = {"nib": nib, "accuracy": acc, "glyphs": glyphs}
+        key = peer_cache.digest("fontforge-stroke", job, version, worker)
+        hit = peer_cache.get("fontforge-stroke", key)
+        fresh = hit is None
+        if fresh:
+            prov = peer_cache.provenance(version)
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
+                                  input=json.dumps(job), capture_output=True, text=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            if proc.returncode != 0:
+                return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
+            hit = peer_cache.put("fontforge-stroke", key, {"value": {
+                "results": json.loads(proc.stdout),
+                "process_cpu": (after.ru_utime - before.ru_utime)
+                + (after.ru_stime - before.ru_stime),
+                "internal_errors": proc.stderr.count("Internal Error")}, "provenance": prov})
+        res = hit["value"]["results"]
+        judged = None
+        jkey = getattr(judge, "key", None)
+        if jkey is not None:
+            jkey = peer_cache.digest("fontforge-judged", key, jkey)
+            judged = (peer_cache.get("fontforge-judged", jkey) or {}).get("value")
+        if judged is None:
+            judged = {n: tuple(judge(res[n]["contours"], n, acc)) for n in names}
+            if jkey is not None:
+                peer_cache.put("fontforge-judged", jkey,
+                               {"value": judged, "provenance": peer_cache.provenance(version)})
         secs, points, errs = [], [], []
         for n in names:
             r = res[n]
             secs.append(r["seconds"])
             points.append(r["points"])
-            errs.append((n,) + tuple(judge(r["contours"], n, acc)))
+            errs.append((n,) + tuple(judged[n]))
         row = summary("FontForge", "accuracy %g" % acc, secs, points, errs, [])
+        row["process_ms"] = 1000 * hit["value"]["process_cpu"] / len(names)
+        row["internal_errors"] = hit["value"]["internal_errors"]
+        row["measured"] = peer_cache.measured_note([hit["provenance"]], int(fresh))
         if row["worst_glyph"] and "bbox" in res[row["worst_glyph"]]:
             # FontForge's own box of its worst glyph beside the reference's: a stray
             # curve far outside the glyph is in FontForge's outline, not in the measure
@@ -277,6 +352,32 @@ def run_fontforge(font, names, spec, accuracies, refs, judge=None):
             row["worst_ref_bbox"] = list(refs[row["worst_glyph"]].bounds)
         rows.append(row)
     return rows, ""
+
+
+def references(font, names, spec, ref_tol):
+    """({glyph: Clipper reference}, {glyph: cache key}, note): the references
+    (:func:`tests.oracles.stroke_reference.stroke_polygon`) of the glyphs stroked
+    with the nib ``spec``, each from the bench cache (:mod:`bench.peer_cache`) when
+    made before from the same skeleton (its numbers), nib outline, ``ref_tol`` and
+    oracle version; the note says when, at which commits they were made."""
+    from bench import peer_cache
+
+    nib = nib_region(spec)
+    version = peer_cache.oracle_version()
+    nib_key = [np.asarray(p, float) for p in nib[0]]
+    refs, keys, provs, fresh = {}, {}, [], 0
+    for n in names:
+        paths = decomposed_paths(font, n)
+        key = peer_cache.digest("stroke-reference",
+                                [([np.asarray(p, float) for p in pieces], bool(closed))
+                                 for pieces, closed in paths], nib_key, ref_tol, version)
+        wkb, prov, new = peer_cache.cached(
+            "stroke-reference", key,
+            lambda: shapely.to_wkb(stroke_polygon(paths, nib, ref_tol)), version)
+        refs[n], keys[n] = shapely.from_wkb(wkb), key
+        provs.append(prov)
+        fresh += new
+    return refs, keys, peer_cache.measured_note(provs, fresh)
 
 
 def _skia_contours(path):
@@ -309,10 +410,28 @@ def run_skia(font, names, diameter, scales, refs):
     return rows
 
 
-def _plain_judge(refs):
+def _judge_key(kind, keys, *params):
+    """The cache key of a judge (:mod:`bench.peer_cache`): its kind and parameters,
+    the keys of its references, and the source of the measure."""
+    from bench import peer_cache
+
+    if keys is None:
+        return None
+    return peer_cache.digest(kind, sorted(keys.items()), params, MEASURE_FLAT, SPACING,
+                             peer_cache.source_digest(excused_error, linework_distances,
+                                                      boundary_hausdorff, measure,
+                                                      segments_to_region),
+                             peer_cache.file_digest("tests/oracles/reference.py"))
+
+
+def _plain_judge(refs, keys=None):
+    """A ``judge``: :func:`measure` against ``refs`` (error and raw error the same);
+    ``keys``: the references' cache keys, which let FontForge's judged errors be
+    cached."""
     def judge(contours, name, tol):
         e = measure(contours, refs[name])[0]
         return e, e
+    judge.key = _judge_key("plain", keys)
     return judge
 
 
@@ -356,11 +475,11 @@ def equal_error(rows):
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
 
 
-def _time_command(ufo, out_path, first_glyph):
-    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1`` in a
-    fresh process (its own user + sys time, from the kernel's child accounting), with
-    its bytecode cached as after a pip install (:mod:`bench.pycache`: an untimed run
-    of ``first_glyph`` alone fills the cache)."""
+def _time_command(ufo, out_path, first_glyph, extra=()):
+    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1
+    [extra]`` in a fresh process (its own user + sys time, from the kernel's child
+    accounting), with its bytecode cached as after a pip install (:mod:`bench.pycache`:
+    an untimed run of ``first_glyph`` alone fills the cache)."""
     import resource
 
     from bench.pycache import cached_env
@@ -368,8 +487,14 @@ def _time_command(ufo, out_path, first_glyph):
     env = cached_env("stroke-pycache-", OPENBLAS_NUM_THREADS="1")
     command = [sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o", str(out_path),
                "--jobs", "1", "--force"]
-    subprocess.run(command + ["--glyphs", first_glyph], capture_output=True,
+    extra = list(extra)
+    warm = []   # extra without its --glyphs choice: the warm-up strokes first_glyph
+    for k, a in enumerate(extra):
+        if a != "--glyphs" and (k == 0 or extra[k - 1] != "--glyphs"):
+            warm.append(a)
+    subprocess.run(command + warm + ["--glyphs", first_glyph], capture_output=True,
                    cwd=str(Path(out_path).parent), env=env)
+    command += extra
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run(command, capture_output=True, text=True,
                           cwd=str(Path(out_path).parent), env=env)
@@ -388,12 +513,13 @@ def excused_error(got, ref, tol, r):
     a gap or hole narrower than 2 r, which the engine may fill) are not measured in
     the error; the raw error measures them; ``narrow``: some were excused.  Our
     boundary is always measured in full."""
-    from tests.oracles.reference import _linework, _sample_points, max_boundary_distance
+    from tests.oracles.reference import _linework, _sample_points
 
     ga, gr = _linework(got), _linework(ref)
-    fwd = max_boundary_distance(_sample_points(ga, SPACING), gr)
+    fwd = linework_distances(_sample_points(ga, SPACING), gr)
+    fwd = float(fwd.max()) if len(fwd) else 0.0
     pts = _sample_points(gr, SPACING)
-    back = shapely.distance(shapely.points(pts), ga)
+    back = linework_distances(pts, ga)
     raw = max(fwd, float(back.max()) if len(back) else 0.0)
     far = np.flatnonzero(back > tol)
     narrow = False
@@ -406,14 +532,15 @@ def excused_error(got, ref, tol, r):
     return max(fwd, float(back.max()) if len(back) else 0.0), raw, narrow
 
 
-def _narrow_judge(refs, tol):
+def _narrow_judge(refs, tol, keys=None):
     """A ``judge`` for :func:`run_morph` / :func:`run_fontforge` on unrounded outlines:
     :func:`excused_error` with the engine's documented narrow-feature limit
     (r = GAP tol: gaps narrower than 2 GAP tol may close, ``minkowski_sum``), the
-    same excuse for every tool."""
+    same excuse for every tool; ``keys`` as for :func:`_plain_judge`."""
     def judge(contours, name, _):
         got = region_to_shapely(segments_to_region(contours), MEASURE_FLAT)
         return excused_error(got, refs[name], tol, GAP * tol)[:2]
+    judge.key = _judge_key("narrow", keys, tol, GAP)
     return judge
 
 
@@ -448,11 +575,12 @@ def skeleton_set(name, opt, workdir):
     nib = nib_region(spec)
     tol = opt.set_tol * upm
     t0 = time.process_time()
-    refs = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
-    print("%s: %d glyphs, references %.1f s" % (name, len(names), time.process_time() - t0),
+    refs, keys, ref_note = references(font, names, spec, opt.ref_tol)
+    print("%s: %d glyphs, references %.1f s (%s)" % (name, len(names),
+                                                     time.process_time() - t0, ref_note),
           flush=True)
     out = {"name": name, "glyphs": len(names), "upm": upm, "tol": tol, "nib": spec,
-           "rows": []}
+           "rows": [], "reference_measured": ref_note}
     # the command, as users run it
     otf = Path(workdir) / (name + ".otf")
     cpu, rss, line, rc = _time_command(ufo, otf, names[0])
@@ -469,7 +597,7 @@ def skeleton_set(name, opt, workdir):
           % (name, cpu, 1000 * cpu / len(names), rss, out["written_worst"]), flush=True)
     # in-process, as the command strokes chunks (a chunk's glyphs are computed
     # together: its CPU time divided by its glyphs is each glyph's)
-    judge = _narrow_judge(refs, tol)
+    judge = _narrow_judge(refs, tol, keys)
     out["rows"] += run_morph(font, names, spec, [tol], refs, judge)
     ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
                             refs, judge)
