@@ -111,6 +111,12 @@ def code_version():
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
 
 
+def nib_axes(spec):
+    """(width, height, angle in degrees) of a nib spec, as ``morph stroke --nib``
+    takes them (a disk: an ellipse of equal axes)."""
+    return tuple(spec[1:4]) if spec[0] == "ellipse" else (spec[1], spec[1], 0.0)
+
+
 def nib_region(spec):
     if spec[0] == "ellipse":
         return ellipse_nib(*spec[1:])
@@ -587,6 +593,7 @@ def skeleton_set(name, opt, workdir):
     x0 = region_extent(nib)[0]
     written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
                        if rc in (0, 1) else ({}, []))
+    line = line.replace(str(workdir) + os.sep, "")   # no machine path in the report
     out.update(command_cpu=cpu, command_rss=rss, command_line=line, command_rc=rc,
                written_worst=max(written.values()) if written else float("nan"),
                written_worst_glyph=max(written, key=written.get) if written else "",
@@ -632,6 +639,11 @@ def measured_set(name, opt, workdir):
     return st
 
 
+def _ms(v):
+    """A time in ms for a table cell ("" when not measured)."""
+    return "" if v is None else "%.1f" % v
+
+
 def _box(b):
     return "(%.0f, %.0f)-(%.0f, %.0f)" % tuple(b)
 
@@ -653,13 +665,18 @@ def sets_markdown(opt, sets, elapsed):
           "Hanzi, Arphic licence; spread evenly over the code points).  Nib: `morph "
           "stroke`'s default (ellipse 90 x 20 at 30 degrees per 1000 units per em), tol "
           "%g em (the command's default)." % opt.set_tol, "",
-          "Columns: **command** = the whole `morph stroke SET.ufo -o SET.otf --jobs 1` "
-          "process (startup, parse, stroke, export, font tables, compile, sample image and "
-          "specimen) divided by the glyphs; **chunks** = `stroke_many` + "
-          "`loops_to_beziers` by the command's chunks, in process (a chunk's glyphs are "
-          "computed together, so morph has a mean per glyph, not a median); FontForge = "
+          "Columns, two kinds of time, each the same for both tools: **in process** = "
+          "the computation alone: for morph `stroke_many` + `loops_to_beziers` by the "
+          "command's chunks (`bench.stroke.run_morph`; a chunk's glyphs are computed "
+          "together, so morph has a mean per glyph, not a median: compare it with "
+          "FontForge's mean; FontForge's median is beside it), for FontForge "
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
-          "in FontForge's Python (`bench/fontforge_stroke.py`), per glyph.  Errors: "
+          "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
+          "command** = a whole process divided by the glyphs: for morph `morph stroke "
+          "SET.ufo -o SET.otf --jobs 1` (startup, parse, stroke, export, font tables, "
+          "compile, sample image and specimen), for FontForge its worker process (Python's "
+          "startup, `import fontforge`, drawing the skeletons, stroking, writing the "
+          "outlines as JSON; no font file).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -668,15 +685,46 @@ def sets_markdown(opt, sets, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.ref_tol, SPACING, GAP, opt.ref_tol), ""]
+          % (opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
+          "The Clipper references and FontForge's results (outlines, times, and their "
+          "errors) do not depend on morph's code: they come from the bench cache "
+          "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
+          "tolerance and the peer's version) when measured before; each set says when, "
+          "at which commit and with which FontForge they were measured.  morph is "
+          "measured in every run."]
+    md += ["", "## Summary", "",
+           "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
+           "mean (median); whole command: `morph stroke` against FontForge's worker "
+           "process.", "",
+           "| set | FontForge setting | in process: morph | in process: FontForge mean "
+           "(median) | whole command: morph | whole command: FontForge | points: morph / "
+           "FontForge | worst error: morph / FontForge |",
+           "|---|---|---|---|---|---|---|---|"]
+    for st in sets:
+        m = next((r for r in st["rows"] if r["tool"] == "morph"), None)
+        for r in st["rows"]:
+            if r["tool"] == "morph" or m is None:
+                continue
+            md.append("| %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | %.3f / %.3f |"
+                      % (st["name"], r["setting"], m["ms"], r["ms"], r["median_ms"],
+                         1000 * st["command_cpu"] / st["glyphs"], _ms(r.get("process_ms")),
+                         m["points"], r["points"], m["max_err"], r["max_err"]))
+    md.append("")
     for st in sets:
         md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
                                                                st["upm"], st["tol"]), "",
-               "This set: %s." % st["measured"], "",
-               "| tool | setting | command ms / glyph | chunks ms / glyph | "
-               "median ms / glyph | mean ms / glyph | points / glyph | worst error | "
+               "morph: %s." % st["measured"], ""]
+        if st.get("reference_measured"):
+            md += ["Clipper reference: %s." % st["reference_measured"], ""]
+        ff = ["%s: %s, \"Internal Error\" printed %d times"
+              % (r["setting"], r["measured"], r.get("internal_errors", 0))
+              for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
+        if ff:
+            md += ["FontForge %s." % "; ".join(ff), ""]
+        md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
+               "glyph | whole command ms / glyph | points / glyph | worst error | "
                "mean error | over | raw worst | raw over |",
-               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
         limit = st["tol"] + opt.ref_tol
         for r in st["rows"]:
             over = sum(e > limit for e in r["errs"])
@@ -687,13 +735,14 @@ def sets_markdown(opt, sets, elapsed):
             else:  # measured before the narrow-gap excuse: raw
                 worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
             if r["tool"] == "morph":
-                md.append("| morph | tol %.3g | %.1f | %.1f | | | %.0f | %s | %.3f | %d %s"
-                          % (st["tol"], 1000 * st["command_cpu"] / st["glyphs"], r["ms"],
+                md.append("| morph | tol %.3g | %.1f | (chunks) | %.1f | %.0f | %s | %.3f | %d %s"
+                          % (st["tol"], r["ms"], 1000 * st["command_cpu"] / st["glyphs"],
                              r["points"], worst, r["mean_err"], over, raw))
             else:
-                md.append("| %s | %s | | | %.1f | %.1f | %.0f | %s | %.3f | %d %s"
-                          % (r["tool"], r["setting"], r["median_ms"], r["ms"], r["points"],
-                             worst, r["mean_err"], over, raw))
+                md.append("| %s | %s | %.1f | %.1f | %s | %.0f | %s | %.3f | %d %s"
+                          % (r["tool"], r["setting"], r["ms"], r["median_ms"],
+                             _ms(r.get("process_ms")), r["points"], worst, r["mean_err"],
+                             over, raw))
         for r in st["rows"]:
             if "worst_bbox" in r and r["max_err"] > 10 * limit:
                 apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
@@ -727,12 +776,28 @@ def sets_markdown(opt, sets, elapsed):
 
 def markdown(opt, names, acc, peers, notes, elapsed):
     md = ["# Calligraphic fonts from skeletons (bench/stroke.py)", "",
-          "Command: `python -m bench.stroke%s` (code: %s; %.0f s)."
-          % (opt.argline, code_version(), elapsed), "",
+          "Command: `python -m bench.stroke%s`; morph measured %s UTC at %s (%.0f s)."
+          % (opt.argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+             elapsed), "",
           "Skeleton: Relief SingleLine subset (tests/data/relief, SIL OFL), %d glyphs (%s), "
-          "upm 1000, every contour an open cubic path.  Machine: %d CPUs, load average %s "
-          "at the end." % (len(names), opt.glyphs, os.cpu_count() or 1,
-                           ", ".join("%.1f" % v for v in os.getloadavg())), ""]
+          "upm 1000, every contour an open cubic path.  Machine: %d CPUs shared with other "
+          "jobs, load average %s at the end: every time is CPU time (process_time, or the "
+          "kernel's user + sys of a child process)." % (
+              len(names), opt.glyphs, os.cpu_count() or 1,
+              ", ".join("%.1f" % v for v in os.getloadavg())), "",
+          "Times, two kinds, each the same for morph and FontForge: **in process** = the "
+          "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
+          "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
+          "compare it with FontForge's mean; FontForge: `glyph.stroke` glyph by glyph; "
+          "Skia: stroke + conic conversion + simplify); **whole command** = a whole "
+          "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
+          "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
+          "included; FontForge: its worker process, Python's startup, `import fontforge`, "
+          "drawing, stroking and writing the outlines as JSON).  The Clipper references "
+          "and FontForge's results and errors come from the bench cache "
+          "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
+          "tolerance and peer version; the notes at the end say when and at which commit "
+          "they were measured.  morph is measured in every run." % opt.glyphs, ""]
     if acc:
         md += ["## Accuracy of the written fonts", "",
                "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
@@ -769,17 +834,21 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     tracebacks = []
     for title, rows in peers:
         md += ["## %s" % title, "",
-               "| tool | setting | ms / glyph | morph: stroke + export ms | points / glyph | "
-               "max Hausdorff | mean | failures |", "|---|---|---|---|---|---|---|---|"]
+               "| tool | setting | in process: mean ms / glyph | in process: median ms / "
+               "glyph | whole command ms / glyph | morph: stroke + export ms | "
+               "points / glyph | max Hausdorff | mean | failures |",
+               "|---|---|---|---|---|---|---|---|---|---|"]
         for r in rows:
             split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
                      if "stroke_ms" in r else "")
-            md.append("| %s | %s | %.1f | %s | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], split, r["points"], r["max_err"],
-                         r["mean_err"], ", ".join(r["fails"]) or "0"))
+            median = "(chunks)" if r["tool"] == "morph" else "%.1f" % r["median_ms"]
+            whole = _ms(r.get("command_ms", r.get("process_ms")))
+            md.append("| %s | %s | %.1f | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], median, whole, split, r["points"],
+                         r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
             tracebacks += r.get("tracebacks", [])
         md += ["", "At equal measured error (morph's fewest-points setting whose worst "
-               "error is no larger than the peer's):", "",
+               "error is no larger than the peer's; ms: in process, means):", "",
                "| peer | peer error | peer points | peer ms | morph setting | morph error | "
                "morph points | morph ms |", "|---|---|---|---|---|---|---|---|"]
         for r, m in equal_error(rows):
@@ -793,7 +862,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
         md.append("")
     if tracebacks:
         md += ["## morph failures", ""] + ["- " + t for t in tracebacks] + [""]
-    md += notes
+    if notes:
+        md += ["## When the cached figures were measured", ""] + ["- " + n for n in notes] + [""]
     return "\n".join(md) + "\n"
 
 
@@ -842,11 +912,11 @@ def main(argv=None):
     font = load_ufo(SUBSET, lazy=False)
     names = glyph_names_for(font, parse_glyph_spec(opt.glyphs))
     notes = []
-    refs = {}
+    refs, keys = {}, {}
     for spec in (BROAD, ROUND):
-        nib = nib_region(spec)
-        refs[spec] = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
-        print("reference %s: %d glyphs" % (spec[0], len(names)), flush=True)
+        refs[spec], keys[spec], note = references(font, names, spec, opt.ref_tol)
+        notes.append("Clipper reference, %s nib: %s." % (spec[0], note))
+        print("reference %s: %d glyphs, %s" % (spec[0], len(names), note), flush=True)
     acc = {}
     if not opt.no_accuracy:
         with tempfile.TemporaryDirectory() as tmp:
@@ -859,9 +929,21 @@ def main(argv=None):
         for spec, title in ((BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
                             (ROUND, "Round nib: disk of diameter 60")):
             rows = run_morph(font, names, spec, tols, refs[spec])
-            ff, why = run_fontforge(font, names, spec, accs, refs[spec])
+            with tempfile.TemporaryDirectory() as tmp:
+                for r, tol in zip(rows, tols):
+                    cpu, _, line, rc = _time_command(
+                        SUBSET, Path(tmp) / "relief.otf", names[0],
+                        ["--glyphs", opt.glyphs, "--tol", repr(tol / 1000.0),
+                         "--nib", "ellipse:%g,%g,%g" % nib_axes(spec)])
+                    r["command_ms"] = 1000 * cpu / len(names) if rc in (0, 1) else None
+            ff, why = run_fontforge(font, names, spec, accs, refs[spec],
+                                    _plain_judge(refs[spec], keys[spec]))
             if why:
                 notes.append("FontForge not run (%s)." % why)
+            for r in ff:
+                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %d times."
+                             % (title.split(":")[0].lower(), r["setting"], r["measured"],
+                                r["internal_errors"]))
             rows += ff
             if spec is ROUND:
                 rows += run_skia(font, names, spec[1], scales, refs[spec])
