@@ -16,7 +16,9 @@ written curves flattened within 0.02, boundaries sampled every 0.25 unit) agains
 ``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
 o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
-Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
+Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs
+(each morph row also timed as the whole ``morph stroke`` command at its tol and nib,
+each FontForge row as its whole worker process):
 
 - broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
@@ -32,12 +34,21 @@ Part 3, skeleton sets (``--sets``, default hershey-sans, hershey-script, hanzi-3
 of :mod:`bench.skeletons`, fetched at bench time; ``--only-sets`` runs only this part;
 writes bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
-(mean) and glyph by glyph (median and mean), points per glyph, the worst error of
+(a mean: a chunk's glyphs are computed together), points per glyph, the worst error of
 the unrounded outlines and of the written font against the Clipper reference (gaps
 narrower than the engine's documented narrow-feature limit excused alike for every
 tool, :func:`excused_error`; the raw error beside it), and FontForge's Expand Stroke
-(``--ff-accuracy-sets``) beside it.  ``bench/stroke_exact.py`` checks a written font
-again with the exact membership predicate, without Clipper.
+(``--ff-accuracy-sets``) beside it: in process (mean and median per glyph) and its
+whole worker process.  ``bench/stroke_exact.py`` checks a written font again with the
+exact membership predicate, without Clipper.
+
+The Clipper references and FontForge's results (outlines, CPU times, and their errors
+against the references) do not depend on morph's code: they are kept in the bench
+cache (:mod:`bench.peer_cache`) keyed by the skeletons' numbers, the nib, the
+tolerance and the peer's version, so that a remade report measures only morph again;
+the reports say when, at which commit and with which FontForge each was measured.
+Distances are GEOS's point-to-segment distances through an STRtree
+(:func:`linework_distances`, the same numbers as ``shapely.distance``).
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
