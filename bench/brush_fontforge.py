@@ -234,9 +234,10 @@ def main(argv=None):
                          "whole": 1000 * value["process_cpu"] / len(names),
                          "points": float(np.mean([res[n]["points"] for n in names])),
                          "errs": ferrs})
-            notes.append("FontForge, accuracy %g: %s; it printed \"Internal Error\" %d "
-                         "times." % (acc, peer_cache.measured_note([prov], int(fresh)),
-                                     value["internal_errors"]))
+            n_int = value["internal_errors"]
+            notes.append("FontForge, accuracy %g: %s; it printed \"Internal Error\" %s."
+                         % (acc, peer_cache.measured_note([prov], int(fresh)),
+                            "once" if n_int == 1 else "%d times" % n_int))
             print(rows[-1]["tool"], acc, rows[-1]["ms"], max(ferrs), flush=True)
     md = ["# `morph brush` against FontForge's Expand Stroke + Remove Overlap "
           "(bench/brush_fontforge.py)", "",

@@ -650,6 +650,11 @@ def measured_set(name, opt, workdir):
     return st
 
 
+def _times(n):
+    """"once", "N times"."""
+    return "once" if n == 1 else "%d times" % n
+
+
 def _ms(v):
     """A time in ms for a table cell ("" when not measured)."""
     return "" if v is None else "%.1f" % v
@@ -727,8 +732,8 @@ def sets_markdown(opt, sets, elapsed):
                "morph: %s." % st["measured"], ""]
         if st.get("reference_measured"):
             md += ["Clipper reference: %s." % st["reference_measured"], ""]
-        ff = ["%s: %s, \"Internal Error\" printed %d times"
-              % (r["setting"], r["measured"], r.get("internal_errors", 0))
+        ff = ["%s: %s, \"Internal Error\" printed %s"
+              % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
               for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
         if ff:
             md += ["FontForge %s." % "; ".join(ff), ""]
@@ -952,9 +957,9 @@ def main(argv=None):
             if why:
                 notes.append("FontForge not run (%s)." % why)
             for r in ff:
-                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %d times."
+                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s."
                              % (title.split(":")[0].lower(), r["setting"], r["measured"],
-                                r["internal_errors"]))
+                                _times(r["internal_errors"])))
             rows += ff
             if spec is ROUND:
                 rows += run_skia(font, names, spec[1], scales, refs[spec])

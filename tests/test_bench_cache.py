@@ -44,8 +44,10 @@ def _edited(dy):
 
 def test_digest_tells_contents_and_structures_apart():
     a = [np.array([[0.0, 1.0], [2.0, 3.0]])]
-    assert peer_cache.digest(a, 0.5) == peer_cache.digest([np.array([[0.0, 1.0], [2.0, 3.0]])], 0.5)
-    assert peer_cache.digest(a, 0.5) != peer_cache.digest([np.array([[0.0, 1.0], [2.0, 3.0001]])], 0.5)
+    same = [np.array([[0.0, 1.0], [2.0, 3.0]])]
+    moved = [np.array([[0.0, 1.0], [2.0, 3.0001]])]
+    assert peer_cache.digest(a, 0.5) == peer_cache.digest(same, 0.5)
+    assert peer_cache.digest(a, 0.5) != peer_cache.digest(moved, 0.5)
     assert peer_cache.digest(a, 0.5) != peer_cache.digest(a, 0.25)
     assert peer_cache.digest([1, [2, 3]]) != peer_cache.digest([[1, 2], 3])
     assert peer_cache.digest("ab", "c") != peer_cache.digest("a", "bc")
