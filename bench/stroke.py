@@ -2,6 +2,8 @@
 
     python -m bench.stroke [--glyphs A-Z,a-z,0-9] [--tol 0.5] [--ref-tol 0.02]
                            [--no-peers] [--md bench/stroke.md | --no-write]
+    python -m bench.stroke --only-sets [--sets hershey-sans,hershey-script,hanzi-300]
+                           [--sets-md bench/stroke_sets.md]
 
 Skeleton: the Relief SingleLine subset in tests/data/relief (every contour an open
 cubic path, upm 1000; SIL OFL).  Part 1, the issue's criterion: every chosen glyph
@@ -30,9 +32,10 @@ each FontForge row as its whole worker process):
   ``simplify`` to remove overlaps), at scale factors 1, 4, 16 (the path is scaled up
   before stroking and the result down: Skia's own precision knob is fixed).
 
-Part 3, skeleton sets (``--sets``, default hershey-sans, hershey-script, hanzi-300
-of :mod:`bench.skeletons`, fetched at bench time; ``--only-sets`` runs only this part;
-writes bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
+Part 3, skeleton sets (``--sets``, default with ``--only-sets``: hershey-sans,
+hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
+``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
+bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
 (a mean: a chunk's glyphs are computed together), points per glyph, the worst error of
 the unrounded outlines and of the written font against the Clipper reference (gaps
@@ -895,8 +898,9 @@ def main(argv=None):
     ap.add_argument("--no-accuracy", action="store_true")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
     ap.add_argument("--no-write", action="store_true")
-    ap.add_argument("--sets", default=",".join(SETS),
-                    help="skeleton sets of bench/skeletons.py for part 3 ('' skips it)")
+    ap.add_argument("--sets", default=None,
+                    help="skeleton sets of bench/skeletons.py for part 3 (default: %s with "
+                         "--only-sets, none without)" % ",".join(SETS))
     ap.add_argument("--set-tol", type=float, default=0.0005, help="em, part 3")
     ap.add_argument("--ff-accuracy-sets", default="1,0.25")
     ap.add_argument("--only-sets", action="store_true", help="part 3 only")
@@ -904,6 +908,8 @@ def main(argv=None):
     ap.add_argument("--sets-json", help="a folder: sets saved there are reported as "
                                         "measured then, sets measured now are saved there")
     opt = ap.parse_args(argv)
+    if opt.sets is None:
+        opt.sets = ",".join(SETS) if opt.only_sets else ""
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
     from bench.stroke_profile import shown_args
