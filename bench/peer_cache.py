@@ -185,3 +185,101 @@ def cached(kind, key, compute, peer):
     value = compute()
     put(kind, key, {"value": value, "provenance": prov})
     return value, prov, True
+
+
+# ------------------------------------------------------------------------ self-check
+
+def check(folder):
+    """Check that the cache misses when its input changes, in a fresh cache under
+    ``folder``: two glyphs' references and FontForge's results are made, then read
+    back from the cache; a glyph with one point moved by 1 unit, another tolerance and
+    another nib are made again.  [(what, passed)]."""
+    from bench import stroke as bs
+    from bench.skeletons import write_ufo
+    from morph.parse.ufo import load_ufo
+
+    os.environ["MORPH_BENCH_CACHE"] = str(Path(folder) / "cache")
+    spec = ("ellipse", 90.0, 20.0, 30.0)
+    glyphs = [("a", 0x61, 500.0, [[(100.0, 0.0), (100.0, 400.0), (300.0, 500.0)]]),
+              ("b", 0x62, 500.0, [[(50.0, 50.0), (400.0, 50.0)],
+                                  [(200.0, 0.0), (200.0, 300.0)]])]
+    moved = [glyphs[0], glyphs[1][:3] + ([glyphs[1][3][0], [(200.0, 0.0), (200.0, 301.0)]],)]
+
+    def font(name, gl):
+        path = Path(folder) / name
+        write_ufo(path, "Cache Check", gl, 1000.0)
+        return load_ufo(path, lazy=False)
+
+    made = []
+    real = bs.stroke_polygon
+
+    def counted(paths, nib, tol):
+        made.append(len(paths))
+        return real(paths, nib, tol)
+
+    out = []
+    a = np.array([[0.0, 1.0], [2.0, 3.0]])
+    out.append(("digest: equal numbers alike, a moved number, another tol, another "
+                "nesting apart", digest([a], 0.5) == digest([a.copy()], 0.5)
+                and digest([a], 0.5) != digest([a + [[0, 0], [0, 1e-4]]], 0.5)
+                and digest([a], 0.5) != digest([a], 0.25)
+                and digest([1, [2, 3]]) != digest([[1, 2], 3])
+                and digest("ab", "c") != digest("a", "bc")))
+    bs.stroke_polygon = counted
+    try:
+        one, two = font("one.ufo", glyphs), font("two.ufo", moved)
+        refs, keys, note = bs.references(one, ["a", "b"], spec, 0.05)
+        out.append(("references: made the first time", len(made) == 2
+                    and note.endswith("(all now)")))
+        again, keys2, note = bs.references(one, ["a", "b"], spec, 0.05)
+        out.append(("references: read back the second time, the same polygons",
+                    len(made) == 2 and keys2 == keys and note.endswith("(all from the cache)")
+                    and all(again[n].equals_exact(refs[n], 0.0) for n in "ab")))
+        refs3, keys3, note = bs.references(two, ["a", "b"], spec, 0.05)
+        out.append(("references: the glyph with a point moved 1 unit made again, 1 unit "
+                    "taller; the other read back", len(made) == 3
+                    and note.endswith("(1 from the cache, 1 now)")
+                    and keys3["a"] == keys["a"] and keys3["b"] != keys["b"]
+                    and abs(refs3["b"].bounds[3] - refs["b"].bounds[3] - 1.0) < 0.05))
+        bs.references(one, ["a"], spec, 0.04)
+        bs.references(one, ["a"], ("ellipse", 90.0, 20.0, 31.0), 0.05)
+        out.append(("references: another tol, another nib made again", len(made) == 5))
+    finally:
+        bs.stroke_polygon = real
+    if fontforge_version() is None:
+        out.append(("FontForge: not installed, its cache not checked", True))
+        return out
+    judge = bs._plain_judge(refs, keys)
+    rows, why = bs.run_fontforge(one, ["a", "b"], spec, [1.0], refs, judge)
+    out.append(("FontForge: measured the first time", not why
+                and rows[0]["measured"].endswith("(all now)")))
+    again, _ = bs.run_fontforge(one, ["a", "b"], spec, [1.0], refs, judge)
+    out.append(("FontForge: read back the second time, the same times and errors",
+                again[0]["measured"].endswith("(all from the cache)")
+                and again[0]["errs"] == rows[0]["errs"] and again[0]["ms"] == rows[0]["ms"]))
+    new, _ = bs.run_fontforge(two, ["a", "b"], spec, [1.0], refs3,
+                              bs._plain_judge(refs3, keys3))
+    out.append(("FontForge: the set with a point moved measured again, its outline "
+                "following the edit", new[0]["measured"].endswith("(all now)")
+                and new[0]["errs"][1] <= 1.25))
+    return out
+
+
+def main(argv=None):
+    import argparse
+    import sys
+    import tempfile
+
+    ap = argparse.ArgumentParser(description="Check that the bench cache of peer figures "
+                                             "misses when its input changes.")
+    ap.add_argument("--check", action="store_true", required=True)
+    ap.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        rows = check(tmp)
+    for what, ok in rows:
+        print("%s %s" % ("ok  " if ok else "FAIL", what))
+    sys.exit(0 if all(ok for _, ok in rows) else 1)
+
+
+if __name__ == "__main__":
+    main()
