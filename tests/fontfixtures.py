@@ -6,6 +6,8 @@
 - :func:`build_variable_font`: a two-master variable font (axis wght 400-700):
   the default master is Noto Sans, the wght=700 master the same outlines scaled
   1.25x horizontally (advances too), built with designspaceLib + varLib.
+- :func:`hershey_like`: a small skeleton UFO (ufoLib2) of single-stroke glyphs with
+  nothing that needs ufo2ft's feature writers.
 """
 
 import numpy as np
@@ -133,3 +135,46 @@ def build_variable_font(folder):
     out = folder / "Var[wght].ttf"
     var.save(str(out))
     return out
+
+
+def skeleton_line(glyph, *points, closed=False):
+    """A skeleton contour of lines through ``points`` (open: its first point a move)."""
+    pen = glyph.getPointPen()
+    pen.beginPath()
+    for i, p in enumerate(points):
+        pen.addPoint(p, "line" if (i or closed) else "move")
+    pen.endPath()
+
+
+def hershey_like():
+    """A ufoLib2 skeleton font like the Hershey single-stroke sans: open lines, a
+    dot, a closed loop, a glyph without unicode, a zero-width mark, a float
+    unitsPerEm, minimal font info; nothing that needs ufo2ft's feature writers."""
+    import ufoLib2
+
+    font = ufoLib2.Font()
+    font.info.familyName, font.info.styleName = "Hershey Like", "Regular"
+    font.info.unitsPerEm = 1000.0
+    font.info.ascender, font.info.descender = 800, -200
+    font.info.capHeight, font.info.xHeight = 700, 500
+    for name, code, width in (("A", 0x41, 567.0), ("period", 0x2E, 200), ("O", 0x4F, 600),
+                              ("l", 0x6C, 250.5), ("dotless", None, 300),
+                              ("gravecomb", 0x300, 0)):
+        g = font.newGlyph(name)
+        g.width = width
+        if code is not None:
+            g.unicodes = [code]
+        if name == "A":
+            skeleton_line(g, (378, 662), (126, 0))
+            skeleton_line(g, (378, 662), (630, 0))
+            skeleton_line(g, (220, 220), (536, 220))
+        elif name == "period":
+            skeleton_line(g, (100, 0))                     # a dot: one point
+        elif name == "O":
+            skeleton_line(g, (100, 100), (500, 100), (500, 600), (100, 600), closed=True)
+        elif name == "gravecomb":
+            skeleton_line(g, (-150, 700), (-80, 600))
+        else:
+            skeleton_line(g, (125, 0), (125.5, 700))
+    font.lib["public.glyphOrder"] = ["A", "O", "l"]   # the rest sorted by name
+    return font

@@ -148,3 +148,57 @@ def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
     for name in NOT_FOR_STATIC_BRUSH:
         assert not _loaded(mods, name), name
     assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")
+
+
+#: what ``morph stroke`` never needs for a static font of a skeleton without kerning,
+#: anchors or components (morph.fonts.tables_static): ufo2ft, ufoLib2 and the UFO
+#: library, the variable-font stack, fontTools' CFF library and its OpenType layout
+#: classes, feaLib (no feature file)
+NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH if m != "cffsubr") + (
+    "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib")
+
+
+def _plain_skeleton(folder):
+    from tests.fontfixtures import hershey_like
+
+    hershey_like().save(folder / "h.ufo")
+    return "h.ufo"
+
+
+@pytest.mark.parametrize("out", ["s.otf", "s.ttf"])
+def test_static_stroke_of_a_plain_skeleton_loads_no_ufo_compiler(tmp_path, out):
+    """``morph stroke`` of a skeleton that needs no feature writer reads the UFO and
+    writes the font's tables itself; the subroutinizer (cffsubr's ``tx``) runs for
+    a CFF font only; the sample loads Pillow."""
+    argv = ["stroke", _plain_skeleton(tmp_path), "-o", out, "--jobs", "1"]
+    code, mods, _ = _modules_after(argv, tmp_path)
+    assert code == 0 and (tmp_path / out).stat().st_size > 0
+    for name in NOT_FOR_PLAIN_STROKE:
+        assert not _loaded(mods, name), name
+    assert _loaded(mods, "cffsubr") == out.endswith(".otf")
+    assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")
+
+
+def test_stroke_of_a_skeleton_with_kerning_and_anchors_uses_ufo2ft(tmp_path):
+    """The other side: the Relief subset (kerning, anchors, composites) is compiled
+    by ufo2ft."""
+    argv = ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"),
+            "--glyphs", "a", "-o", "s.otf", "--jobs", "1"]
+    code, mods, _ = _modules_after(argv, tmp_path)
+    assert code == 0 and _loaded(mods, "ufo2ft") and _loaded(mods, "ufoLib2")
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="workers are forked on Linux only")
+@pytest.mark.parametrize("out", ["s.otf", "s.ttf"])
+def test_plain_stroke_workers_import_nothing_themselves(tmp_path, out):
+    """The workers of a plain skeleton's stroke read its .glif files without
+    ufoLib2, with what the calling process imported before forking them."""
+    argv = ["stroke", _plain_skeleton(tmp_path), "-o", out, "--jobs", "2"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _WORKER_PROBE, json.dumps(argv), str(tmp_path)],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    reports = sorted(tmp_path.glob("worker-*.json"))
+    assert len(reports) == 2
+    for report in reports:
+        assert json.loads(report.read_text()) == [], report.name

@@ -213,12 +213,13 @@ def _companions(out, force, specimen=True):
     return png, page
 
 
-def _covered_sample(font, sample):
+def _covered_sample(font, sample, ink=None):
     """--sample when the written font draws it, else its own characters
-    (:func:`morph.fonts.specimen.sample_text`), with a note on stderr."""
+    (:func:`morph.fonts.specimen.sample_text`, ``ink`` its argument), with a note on
+    stderr."""
     from ..fonts.specimen import sample_text
 
-    text, changed = sample_text(font, sample)
+    text, changed = sample_text(font, sample, ink=ink)
     if changed:
         click.echo("note: the font does not draw every character of the sample %r: the "
                    "sample image and specimen show its own characters %r" % (sample, text),
@@ -410,7 +411,9 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
 
     out = _stroke_output(output, force)
     png, page = _companions(out, force, specimen=out.suffix.lower() != ".ufo")
-    source = SkeletonSource(src)  # read once: the glyphs' shells, not their outlines
+    # read once: the glyphs' shells, not their outlines; without ufoLib2 for a compiled
+    # font where the UFO allows it (morph.parse.light_ufo)
+    source = SkeletonSource(src, light=out.suffix.lower() != ".ufo")
     font = source.shell_font()
     upm = float(font.info.unitsPerEm or 1000)
     nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
@@ -430,10 +433,19 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
         from ..fonts.stream import sample_font
 
         shown = sample_font(out, sample)
-    sample = _covered_sample(shown, sample)
+    ink = name = None
+    if page and getattr(stats["font"], "light", False) and stats["inked"] is not None:
+        # the written glyphs' cmap, ink and name, known (the font's CFF table unread)
+        from ..fonts.tables_static import full_name
+
+        ink = ({u: g.name for g in stats["font"] for u in g.unicodes},
+               stats["inked"].__contains__)
+        name = full_name(stats["font"].info)
+    sample = _covered_sample(shown, sample, ink)
     write_sample_image(shown, sample, png)
     if page:
-        write_specimen(out, None, sample=sample)
+        write_specimen(out, None, sample=sample, cmap=None if ink is None else ink[0],
+                       display_name=name)
     click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"
                % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
                   count(stats["composites"], "composite"), count(stats["points"], "point"),

@@ -119,13 +119,15 @@ def _has_ink(font, glyph_set, name):
     return pen.bounds is not None
 
 
-def sample_text(font, text, length=OWN_SAMPLE_LENGTH):
+def sample_text(font, text, length=OWN_SAMPLE_LENGTH, ink=None):
     """``(text, changed)``: the sample ``text`` when the font draws every character
     of it (a space needs a glyph, others ink too), else the font's own characters
     that have ink, in cmap order, at most ``length`` of them (``changed`` True): a
     CJK skeleton font gets a sample of its own ideographs, not 15 .notdef boxes.
-    ``font``: a ``TTFont``, a font file's path or a ufoLib2 font."""
-    cmap, has_ink = _ink_test(font)
+    ``font``: a ``TTFont``, a font file's path or a ufoLib2 font.  ``ink``: ``(cmap
+    {code point: glyph name}, has_ink(glyph name))`` where the caller knows them (the
+    writer of the font), else None: read from the font (its cmap and outlines)."""
+    cmap, has_ink = _ink_test(font) if ink is None else ink
 
     def covered(ch):
         name = cmap.get(ord(ch))
@@ -257,9 +259,10 @@ def _font_format(path):
         Path(path).suffix.lower(), "truetype")
 
 
-def _cells(font, source_font):
-    """(char, glyph name) of every encoded character with ink in either font."""
-    cmap = font.getBestCmap() or {}
+def _cells(font, source_font, cmap=None):
+    """(char, glyph name) of every encoded character with ink in either font
+    (``cmap``: the font's, where the caller knows it)."""
+    cmap = (font.getBestCmap() or {}) if cmap is None else cmap
     src = (source_font.getBestCmap() or {}) if source_font is not None else {}
     out = []
     for code in sorted(set(cmap) | set(src)):
@@ -333,11 +336,11 @@ def _waterfall_rows(sample, with_source):
     return rows
 
 
-def _char_cells(font, source_font):
+def _char_cells(font, source_font, cmap=None):
     """Grid cells: each encoded character in the source (if any) and the result."""
     esc = html.escape
     cells = []
-    for ch, name in _cells(font, source_font):
+    for ch, name in _cells(font, source_font, cmap):
         src = ('<span class="g src">%s</span>' % esc(ch)) if source_font is not None else ""
         cells.append('<div class="cell">%s<span class="g res">%s</span>'
                      '<div class="n">%s U+%04X</div></div>'
@@ -346,12 +349,14 @@ def _char_cells(font, source_font):
 
 
 def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_path=None,
-                   title=None):
+                   title=None, cmap=None, display_name=None):
     """Write the specimen of the font at ``font_path`` (see the module docstring).
 
     ``source_font``: the source as a ``TTFont`` (embedded as WOFF) or
-    None (result only).  ``html_path``: default :func:`specimen_path`.  Returns the
-    path written.
+    None (result only).  ``html_path``: default :func:`specimen_path`.  ``cmap``
+    (the font's {code point: glyph name}) and ``display_name`` (its full name),
+    where the writer knows them; None: read from the font (a CFF font's glyph
+    names are in its CFF table).  Returns the path written.
     """
     from fontTools.ttLib import TTFont
 
@@ -361,7 +366,7 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
     font_path = Path(font_path)
     html_path = specimen_path(font_path) if html_path is None else Path(html_path)
     font = TTFont(str(font_path), lazy=True)
-    family = font_display_name(font, font_path.stem)
+    family = display_name or font_display_name(font, font_path.stem)
     if source_font is not None:
         head = ("source: %s (left) &middot; result: %s, %s (right)"
                 % (esc(font_display_name(source_font, "source")), esc(family), esc(font_path.name)))
@@ -369,7 +374,7 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
         head = "%s, %s" % (esc(family), esc(font_path.name))
     css = _CSS % {"faces": _font_faces(font_path, source_font), "x": SAMPLE_POS[0],
                   "y": SAMPLE_POS[1], "px": SAMPLE_PX, "room": SAMPLE_PX + SAMPLE_MARGIN}
-    cells = _char_cells(font, source_font)
+    cells = _char_cells(font, source_font, cmap)
     head += _axis_sliders(font)
     doc = _PAGE % {"title": esc(title or "%s: morph specimen" % family), "css": css,
                    "sample": esc(sample), "head": head,

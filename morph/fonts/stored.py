@@ -6,7 +6,6 @@ Imported only when a font is compiled (ufo2ft is a heavy import)."""
 
 __all__ = ["StoredCFF", "StoredGlyf", "StoredPostProcessor", "parsed_feature_compiler"]
 
-import struct
 from types import SimpleNamespace
 
 from fontTools.misc.psCharStrings import T2CharString
@@ -22,6 +21,8 @@ from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCo
 from ufo2ft.postProcessor import PostProcessor
 
 from .stream import _NO_WIDTHS, width_prefix
+from .tables_static import (BoundedCharString, Expanded, Header, HeaderFont, as_bounded,
+                            bound_charstrings, is_bounded, subroutinize)
 
 
 class Stored:
@@ -57,18 +58,6 @@ class Stored:
         its own contours, then its components, recursively."""
         if self.shell(name) is not None:
             self.decomposed(name, pen)
-
-
-class BoundedCharString(T2CharString):
-    """A charstring whose bounds were computed where it was compiled (the
-    worker: ``calcBounds`` of the same program): fontTools asks a CFF font's
-    charstrings for their bounds for the font box, head and hhea on every save,
-    which would decompile each one in Python."""
-
-    bounds = None
-
-    def calcBounds(self, glyphSet):
-        return self.bounds
 
 
 class _BoundedT2Pen(T2CharStringPen):
@@ -130,9 +119,9 @@ class StoredCFF(Stored, OutlineOTFCompiler):
                 width = None if glyph.width == default else otRound(glyph.width - nominal)
                 pen = _BoundedT2Pen(width, self.allGlyphs, roundTolerance=self.roundTolerance)
                 self.decomposed(name, PointToSegmentPen(pen))
-                out[name] = pen.getCharString(private, None, optimize=self.optimizeCFF)
-                out[name].__class__ = BoundedCharString
-                out[name].bounds = pen.bounds.bounds
+                out[name] = as_bounded(
+                    pen.getCharString(private, None, optimize=self.optimizeCFF),
+                    pen.bounds.bounds)
             elif name in self.store:
                 out[name] = BoundedCharString(
                     bytecode=width_prefix(glyph.width, default, nominal)
@@ -142,10 +131,8 @@ class StoredCFF(Stored, OutlineOTFCompiler):
                 out[name] = self.getCharStringForGlyph(glyph, private)
         self._drawn = None
         for name, cs in out.items():     # each glyph's bounds computed once
-            if not isinstance(cs, BoundedCharString):
-                bounds = cs.calcBounds(out)
-                cs.__class__ = BoundedCharString
-                cs.bounds = bounds
+            if not is_bounded(cs):
+                as_bounded(cs, cs.calcBounds(out))
             self.bounds[name] = cs.bounds
         return out
 
@@ -162,12 +149,6 @@ class StoredCFF(Stored, OutlineOTFCompiler):
         return boxes
 
 
-#: the tables the subroutinizer's save leaves out (:meth:`StoredPostProcessor.
-#: _subroutinize_with_cffsubr`): layout tables, which read no other table and are
-#: the most costly to compile
-_NOT_FOR_TX = frozenset(("GDEF", "GPOS", "GSUB"))
-
-
 class StoredPostProcessor(PostProcessor):
     """ufo2ft's post-processor; after the subroutinizer has replaced the CFF
     table (every charstring rewritten by ``tx`` from its path), the new
@@ -180,74 +161,15 @@ class StoredPostProcessor(PostProcessor):
 
     @classmethod
     def _subroutinize_with_cffsubr(cls, otf, cffVersion):
-        """cffsubr's subroutinizer, which saves the whole font for ``tx``, given the
-        font without its layout tables (:data:`_NOT_FOR_TX`; ``tx`` reads the CFF
-        and cmap tables): they would be compiled only to be compiled again when
-        the font is reloaded or saved.  The other tables are the font's own, so
-        that the save sets their boxes and metrics as it did."""
-        import cffsubr
-        from fontTools.ttLib import TTFont
-
+        """cffsubr's subroutinizer given the font without its layout tables
+        (:func:`morph.fonts.tables_static.subroutinize`)."""
         if "CFF " not in otf or cffVersion != 1:
             return super()._subroutinize_with_cffsubr(otf, cffVersion)
-        rest = TTFont(sfntVersion=otf.sfntVersion, recalcBBoxes=otf.recalcBBoxes,
-                      recalcTimestamp=otf.recalcTimestamp)
-        rest.setGlyphOrder(otf.getGlyphOrder())
-        for tag in otf.keys():
-            if tag != "GlyphOrder" and tag not in _NOT_FOR_TX:
-                rest[tag] = otf[tag]
-        cffsubr.subroutinize(rest, cff_version=cffVersion, keep_glyph_names=False)
-        otf["CFF "] = rest["CFF "]
+        subroutinize(otf, cls.bounds)
 
     def process_cff(self, **kwargs):
         super().process_cff(**kwargs)
-        if "CFF " not in self.otf or not self.bounds:
-            return
-        charstrings = self.otf["CFF "].cff.topDictIndex[0].CharStrings
-        for name in self.otf.getGlyphOrder():
-            if name in self.bounds and name in charstrings:
-                cs = charstrings[name]
-                if type(cs) is T2CharString:
-                    cs.__class__ = BoundedCharString
-                    cs.bounds = self.bounds[name]
-
-
-class _Header:
-    """What ``maxp.recalc`` and the boxes read of a stored simple glyph, from its
-    bytes without decoding its points: the header (contours, box) and the number
-    of points (the last contour's end + 1)."""
-
-    def __init__(self, data):
-        self.numberOfContours, self.xMin, self.yMin, self.xMax, self.yMax = \
-            struct.unpack(">hhhhh", data[:10])
-        n = self.numberOfContours
-        self.points = struct.unpack(">H", data[8 + 2 * n:10 + 2 * n])[0] + 1
-
-    def getMaxpValues(self):
-        return self.points, self.numberOfContours
-
-    def isComposite(self):
-        return False
-
-
-class _Expanded(dict):
-    """The compiled glyphs as a glyf table lends them to a composite's bounds and
-    maxp values: a stored glyph as a :class:`_Header` (``headers``) or a decoded
-    copy (``headers=False``), the stored bytes left as they are."""
-
-    def __init__(self, glyphs, headers=True):
-        super().__init__(glyphs)
-        self.headers = headers
-
-    def __getitem__(self, name):
-        g = dict.__getitem__(self, name)
-        if not hasattr(g, "data"):
-            return g
-        if self.headers:
-            return _Header(g.data)
-        g = Glyph(g.data)
-        g.expand(None)
-        return g
+        bound_charstrings(self.otf, self.bounds)
 
 
 class StoredGlyf(Stored, OutlineTTFCompiler):
@@ -285,10 +207,10 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
         recomputed (a composite's from its bases, stored ones decoded apart)."""
         boxes = {}
         ttglyphs = self.getCompiledGlyphs()
-        decoded = _Expanded(ttglyphs, headers=False)
+        decoded = Expanded(ttglyphs, headers=False)
         for name, g in ttglyphs.items():
             if hasattr(g, "data"):
-                g = _Header(g.data)
+                g = Header(g.data)
             else:
                 g.recalcBounds(decoded)
             box = BoundingBox(g.xMin, g.yMin, g.xMax, g.yMax)
@@ -317,7 +239,7 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
                 self.instructionCompiler.compileGlyphInstructions(g, name)
             glyf.glyphs[name] = g
         if "maxp" in self.otf:
-            self.otf["maxp"].recalc(_HeaderFont(self.otf, _Expanded(glyf.glyphs)))
+            self.otf["maxp"].recalc(HeaderFont(self.otf, Expanded(glyf.glyphs)))
 
 
 def _asks_for_instructions(shell):
@@ -325,19 +247,6 @@ def _asks_for_instructions(shell):
 
     return shell is not None and (TRUETYPE_INSTRUCTIONS_KEY in shell.lib
                                   or TRUETYPE_OVERLAP_KEY in shell.lib)
-
-
-class _HeaderFont:
-    """The font as ``maxp.recalc`` reads it, its glyf table :class:`_Expanded`."""
-
-    def __init__(self, otf, glyf):
-        self.otf, self.glyf = otf, glyf
-
-    def __getitem__(self, tag):
-        return self.glyf if tag == "glyf" else self.otf[tag]
-
-    def getGlyphOrder(self):
-        return self.otf.getGlyphOrder()
 
 
 def parsed_feature_compiler(font, tree):

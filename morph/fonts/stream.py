@@ -433,30 +433,57 @@ class SkeletonSource:
     every default-layer glyph a shell (:func:`shell_glyph`), and ``contour_counts``
     how many contours each source glyph had.
 
+    ``light`` (a path only): the UFO is first read without ufoLib2
+    (:mod:`morph.parse.light_ufo`: its plists and each glyph's shell), for a compiled
+    output; a UFO that reader does not take is read as above when the shells are
+    asked for.  A worker reads its glyphs' ``.glif`` files this way.
+
     Raises:
         ParseError: a UFO that cannot be read, a glyph that does not parse.
     """
 
-    def __init__(self, src):
-        import ufoLib2
+    def __init__(self, src, light=False):
+        self.path = None if _is_open_font(src) else str(src)
+        self.open_font = src if self.path is None else None
+        self.font = self._glyph_set = self._glyph_dir = self._contents = self._shells = None
+        self.contour_counts = {}
+        if self.path is not None and light:
+            from ..parse.light_ufo import NotLight, read_contents
 
+            try:
+                folder, self._contents = read_contents(self.path)
+            except NotLight:
+                light = False
+            else:
+                self._glyph_dir = Path(folder)
+                self._names = set(self._contents)
+                self._keys = list(self._contents)
+        self.light = light and self.path is not None
+        if not self.light:
+            self._open()
+
+    def _open(self):
+        """The font read by ufoLib2 (lazily: its glyphs read when asked) and the
+        glyph set of a UFO on disk (fontTools.ufoLib)."""
         from ..parse.ufo import load_ufo
 
-        self.open_font = src if isinstance(src, ufoLib2.Font) else None
-        self.font = self.open_font or load_ufo(src, lazy=True)
-        self.path = None if self.open_font is not None else str(src)
-        self._glyph_set = self._glyph_dir = None
+        self.font = self.open_font or load_ufo(self.path, lazy=True)
         if self.path is not None:
+            self._reader()
+        self._names = set(self.font.keys())
+        self._keys = list(self.font.keys())
+
+    def _reader(self):
+        if self._glyph_set is None:
             from fontTools.ufoLib import UFOReader
 
             reader = UFOReader(self.path, validate=False)
-            self._glyph_set = reader.getGlyphSet(self.font.layers.defaultLayer.name,
+            self._glyph_set = reader.getGlyphSet(reader.getDefaultLayerName(),
                                                  validateRead=False)
-        self._names = set(self.font.keys())
-        self.contour_counts = {}
+        return self._glyph_set
 
     def keys(self):
-        return list(self.font.keys())
+        return list(self._keys)
 
     def __contains__(self, name):
         return name in self._names
@@ -470,7 +497,7 @@ class SkeletonSource:
         """The ``.glif`` bytes of glyph ``name`` of a UFO on disk (None for an open
         font, or a glyph the glyph set cannot give: the reader then reads it the
         ufoLib2 way, which names the defect)."""
-        if self._glyph_set is None:
+        if self.path is None:
             return None
         try:
             return self._glif(name)
@@ -485,7 +512,7 @@ class SkeletonSource:
         glyph = Glyph(name)
         pen = pen_of(glyph) if pen_of else glyph.getPointPen()
         try:
-            self._glyph_set.readGlyph(name, glyph, pen, validate=False)
+            self._reader().readGlyph(name, glyph, pen, validate=False)
         except Exception as exc:  # glifLib raises several types for a bad .glif
             raise ParseError("cannot read glyph %r of %s: %s" % (name, self.path,
                                                                   one_line(exc)),
@@ -494,9 +521,22 @@ class SkeletonSource:
 
     def shell_font(self):
         """The font to write (see the class docstring); read once, glyph by glyph, on
-        the first call (later calls return the same font)."""
-        if getattr(self, "_shells", None) is None:
-            self._shells = self._shell_font()
+        the first call (later calls return the same font).  A source opened
+        ``light`` gives a :class:`morph.parse.light_ufo.LightFont` (no ufoLib2; its
+        tables built without ufo2ft, :mod:`morph.fonts.tables_static`) where the
+        UFO allows it, else the ufoLib2 font."""
+        if self._shells is None:
+            if self.light:
+                from ..parse.light_ufo import NotLight, read_light_font
+
+                try:
+                    self._shells = read_light_font(self.path, self._glif, self.contour_counts)
+                except NotLight:
+                    self.light = False
+                    self.contour_counts.clear()
+                    self._open()
+            if self._shells is None:
+                self._shells = self._shell_font()
         return self._shells
 
     def _shell_font(self):
@@ -537,8 +577,9 @@ class SkeletonSource:
             folder = Path(self.path) / "glyphs"
             self._glyph_dir = folder if folder.is_dir() else False
         if self._glyph_dir is False:
-            return self._glyph_set.getGLIF(name)
-        return (self._glyph_dir / self._glyph_set.contents[name]).read_bytes()
+            return self._reader().getGLIF(name)
+        contents = self._contents if self._contents is not None else self._reader().contents
+        return (self._glyph_dir / contents[name]).read_bytes()
 
     def _read_shell(self, name):
         """(shell, number of contours) of glyph ``name``, its points not read: the
@@ -575,6 +616,11 @@ class SkeletonSource:
         return glyph, contours
 
 
+def _is_open_font(src):
+    """Whether ``src`` is an open font (ufoLib2's), not a path."""
+    return not isinstance(src, (str, bytes)) and not hasattr(src, "__fspath__")
+
+
 _WORKER_SOURCE = {}  # (path, token) -> SkeletonSource: the one this process reads
 
 
@@ -585,7 +631,7 @@ def worker_source(path, token):
     source = _WORKER_SOURCE.get((path, token))
     if source is None:
         _WORKER_SOURCE.clear()
-        source = _WORKER_SOURCE[path, token] = SkeletonSource(path)
+        source = _WORKER_SOURCE[path, token] = SkeletonSource(path, light=True)
     return source
 
 

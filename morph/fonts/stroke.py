@@ -631,8 +631,12 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font) and ``font`` (the written ``ufoLib2.Font``'s
-    font data and glyph shells: metrics, anchors, components, no contours).
+    glyph does not stop the font), ``inked`` (the glyphs that draw something, when
+    the font keeps no composite; else None) and ``font`` (the written font's data and
+    glyph shells: metrics, anchors, components, no contours; a ``ufoLib2.Font``, or
+    for a source opened light (:class:`morph.fonts.stream.SkeletonSource`) a
+    :class:`morph.parse.light_ufo.LightFont`, whose tables are built without
+    ufo2ft).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -717,6 +721,9 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     grow_win_metrics(plan.font, *sink.written_extent())
     sink.finish(out_path, tol)
     plan.stats.update(sink.stats)
+    # which glyphs draw something, where that is the stroked glyphs with an outline
+    # (no composite), for the sample's choice without reading the font's outlines
+    plan.stats["inked"] = None if sink.composites else frozenset(sink.inked)
 
 
 def _read_and_stroke(flavor, source, kept, nib_region, tols, stroker, chunk):
@@ -741,7 +748,7 @@ _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
-                   "morph.fonts.stream", "numpy.polynomial.legendre")
+                   "morph.fonts.stream", "numpy.polynomial.legendre", "morph.parse.light_ufo")
 _COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
@@ -788,6 +795,7 @@ class _StreamedGlyphs:
         self.composites = list(composites)
         self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
         self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
+        self.inked = set()   # the stroked glyphs with an outline
 
     def add(self, r):
         st = self.stats
@@ -797,6 +805,8 @@ class _StreamedGlyphs:
         if r["fallback"]:
             st["fallback"][r["name"]] = r["fallback"]
         self._grow(r["box"])
+        if r["box"] is not None:
+            self.inked.add(r["name"])
         if r["name"] in self.boxes:
             self.boxes[r["name"]] = r["box"]
         if self.ufo is not None:
@@ -832,12 +842,19 @@ class _StreamedGlyphs:
         if self.kind == ".ttf":
             upm = self.font.info.unitsPerEm or 1000
             options["cubicConversionError"] = budget.plan(tol, True).cu2qu / upm
+        light = getattr(self.font, "light", False)  # tables without ufo2ft
         try:
-            otf = compile_stored(self.font, self.store, self.kind, features=self.features,
-                                 **options)
+            if light:
+                from .tables_static import compile_static
+
+                otf = compile_static(self.font, self.store, self.kind, features=self.features)
+            else:
+                otf = compile_stored(self.font, self.store, self.kind,
+                                     features=self.features, **options)
         except Exception as exc:  # ufo2ft and feaLib raise many types for a source they refuse
-            raise MorphError("ufo2ft could not compile %s: %s"
-                             % (Path(out_path).name, one_line(exc))) from exc
+            raise MorphError("%s could not compile %s: %s"
+                             % ("morph" if light else "ufo2ft", Path(out_path).name,
+                                one_line(exc))) from exc
         self.store.clear()
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
         # the stored glyphs' headers for glyf): not again from every glyph decoded

@@ -64,11 +64,11 @@ def grow_win_metrics(font, bottom, top):
     descender), and then set."""
     if top is None:
         return
-    from ufo2ft.fontInfoData import getAttrWithFallback
+    from .tables_static import info_value  # ufo2ft's fallbacks, without importing ufo2ft
 
     info = font.info
-    ascent = getAttrWithFallback(info, "openTypeOS2WinAscent")
-    descent = getAttrWithFallback(info, "openTypeOS2WinDescent")
+    ascent = info_value(info, "openTypeOS2WinAscent")
+    descent = info_value(info, "openTypeOS2WinDescent")
     if max(ascent, int(np.ceil(top))) != ascent or info.openTypeOS2WinAscent is not None:
         info.openTypeOS2WinAscent = max(ascent, int(np.ceil(top)))
     if max(descent, int(np.ceil(-bottom))) != descent or info.openTypeOS2WinDescent is not None:

@@ -1,0 +1,1289 @@
+"""The tables of a static font compiled from a UFO without ufo2ft: the tables
+ufo2ft's ``compileOTF`` / ``compileTTF`` write through
+:func:`morph.fonts.stream.compile_stored`, for the fonts that need nothing else of
+ufo2ft (read by :mod:`morph.parse.light_ufo`: no kerning, groups, anchors or
+components, no lib key ufo2ft reads, a feature file feaLib compiles as it is).
+
+ufo2ft's import costs a fifth of a second (its ``__init__`` loads its variable-font
+compilers and fontTools.varLib; ufoLib2 comes with it), more than the strokes of a
+hundred-glyph font.  What it does for such a font is table building from the font
+info with fallbacks, and that is done here with fontTools' tables, in ufo2ft's order
+and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
+``instructionCompiler``, ``postProcessor``; MIT licence):
+
+- :func:`info_value` is ufo2ft's ``getAttrWithFallback`` (the same fallbacks);
+- head, hmtx, hhea, name, maxp, cmap, OS/2, post, then CFF or glyf / loca (and gasp
+  from the info); the glyph programs are the stored bytes of
+  :func:`morph.fonts.stream.compile_outlines`, the other glyphs (the ``.notdef``
+  ufo2ft adds, empty glyphs) drawn as ufo2ft's pens draw them;
+- the CFF table is subroutinized by cffsubr's ``tx`` as ufo2ft has it done; the
+  table ``tx`` reads is written here and its output kept as ``tx`` wrote it
+  (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
+  ``tx`` set as it sets them;
+- the name table is written here where all its records are Windows Unicode ones;
+- the feature file is parsed and written out again as ufo2ft does (its feature
+  writers add nothing to a font without kerning and anchors) and built by feaLib.
+
+So neither fontTools.cffLib nor fontTools' OpenType layout table classes (which
+its name table module loads) are imported for such a font: another tenth of a
+second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
+ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
+``tx`` output.  tests/fonts/test_tables_static.py compiles fonts both ways and
+compares them so.
+"""
+
+import math
+import os
+import time
+from collections import namedtuple
+import struct
+
+__all__ = ["info_value", "compile_static", "subroutinize", "BoundedCharString",
+           "NOT_FOR_TX"]
+
+# =========================================================================== font info
+
+
+def _upm(info):
+    return info_value(info, "unitsPerEm")
+
+
+def _ot_round(value):
+    return int(math.floor(value + 0.5))
+
+
+_STYLE_MAP = ("regular", "bold", "italic", "bold italic")
+_DATE_FORMAT = "%Y/%m/%d %H:%M:%S"
+
+
+def _date_now():
+    return time.strftime(_DATE_FORMAT, time.gmtime())
+
+
+def _created(info):
+    if "SOURCE_DATE_EPOCH" in os.environ:
+        from datetime import datetime, timezone
+
+        t = datetime.fromtimestamp(int(os.environ["SOURCE_DATE_EPOCH"]), timezone.utc)
+        return t.strftime(_DATE_FORMAT)
+    return _date_now()
+
+
+def _style_map_family(info):
+    family = info_value(info, "openTypeNamePreferredFamilyName")
+    style = info.styleMapStyleName
+    if not style:
+        style = info_value(info, "openTypeNamePreferredSubfamilyName")
+    if style is None or style.lower() in _STYLE_MAP:
+        style = ""
+    return (family + " " + style).strip()
+
+
+def _style_map_style(info):
+    style = info_value(info, "openTypeNamePreferredSubfamilyName")
+    if style is None or style.strip().lower() not in _STYLE_MAP:
+        return "regular"
+    return style.strip().lower()
+
+
+def _slope_rise(info):
+    angle = info_value(info, "italicAngle")
+    if angle != 0 and getattr(info, "openTypeHheaCaretSlopeRun", None) is not None:
+        return _ot_round(info.openTypeHheaCaretSlopeRun / math.tan(math.radians(-angle)))
+    return _upm(info)
+
+
+def _slope_run(info):
+    angle = info_value(info, "italicAngle")
+    if angle != 0:
+        rise = info_value(info, "openTypeHheaCaretSlopeRise")
+        return _ot_round(math.tan(math.radians(-angle)) * rise)
+    return 0
+
+
+def _name_version(info):
+    return "Version %d.%s" % (info_value(info, "versionMajor"),
+                              str(info_value(info, "versionMinor")).zfill(3))
+
+
+def _unique_id(info):
+    version = info_value(info, "openTypeNameVersion").replace("Version ", "")
+    return "%s;%s;%s" % (version, info_value(info, "openTypeOS2VendorID"),
+                         info_value(info, "postscriptFontName"))
+
+
+def _typo_line_gap(info):
+    return max(int(_upm(info) * 1.2) - info_value(info, "ascender")
+               + info_value(info, "descender"), 0)
+
+
+_PS_EXCEPTIONS = set("[](){}<>/%")
+_PS_ALLOWED = {chr(i) for i in range(33, 127)}
+
+
+def normalize_for_postscript(s, allow_spaces=True):
+    """ufo2ft's ``normalizeStringForPostscript``."""
+    import unicodedata
+
+    out = []
+    for c in s:
+        if c == " " and not allow_spaces:
+            continue
+        if c in _PS_EXCEPTIONS:
+            continue
+        if c not in _PS_ALLOWED:
+            c = unicodedata.normalize("NFKD", c)
+            if not set(c) < _PS_ALLOWED:
+                c = c.encode("ascii", errors="replace").decode()
+        out.append(c)
+    return "".join(out)
+
+
+def _ps_font_name(info):
+    return normalize_for_postscript("%s-%s" % (
+        info_value(info, "openTypeNamePreferredFamilyName"),
+        info_value(info, "openTypeNamePreferredSubfamilyName")), allow_spaces=False)
+
+
+def _blue_scale(info):
+    zone = 0
+    for blues in (info_value(info, "postscriptBlueValues"),
+                  info_value(info, "postscriptOtherBlues")):
+        if blues:
+            for x, y in zip(blues[:-1:2], blues[1::2]):
+                zone = max(zone, abs(y - x))
+    return 3 / (4 * zone) if zone else 0.039625
+
+
+_STATIC = dict(
+    versionMajor=0, versionMinor=0, copyright=None, trademark=None, familyName="New Font",
+    styleName="Regular", unitsPerEm=1000, italicAngle=0, year=None, note=None,
+    openTypeHeadLowestRecPPEM=6, openTypeHeadFlags=[0, 1], openTypeHheaLineGap=0,
+    openTypeHheaCaretOffset=0, openTypeNameDesigner=None, openTypeNameDesignerURL=None,
+    openTypeNameManufacturer=None, openTypeNameManufacturerURL=None,
+    openTypeNameLicense=None, openTypeNameLicenseURL=None, openTypeNameDescription=None,
+    openTypeNameCompatibleFullName=None, openTypeNameSampleText=None,
+    openTypeNameRecords=[], openTypeOS2WidthClass=5, openTypeOS2WeightClass=400,
+    openTypeOS2Selection=[], openTypeOS2VendorID="NONE",
+    openTypeOS2Panose=[0, 0, 0, 0, 0, 0, 0, 0, 0, 0], openTypeOS2FamilyClass=[0, 0],
+    openTypeOS2UnicodeRanges=None, openTypeOS2CodePageRanges=None, openTypeOS2Type=[2],
+    openTypeOS2SubscriptXSize=None, openTypeOS2SubscriptYSize=None,
+    openTypeOS2SubscriptXOffset=None, openTypeOS2SubscriptYOffset=None,
+    openTypeOS2SuperscriptXSize=None, openTypeOS2SuperscriptYSize=None,
+    openTypeOS2SuperscriptXOffset=None, openTypeOS2SuperscriptYOffset=None,
+    openTypeOS2StrikeoutSize=None, openTypeOS2StrikeoutPosition=None,
+    openTypeVheaVertTypoAscender=None, openTypeVheaVertTypoDescender=None,
+    openTypeVheaVertTypoLineGap=None, openTypeVheaCaretSlopeRise=0,
+    openTypeVheaCaretSlopeRun=1, openTypeVheaCaretOffset=0, postscriptUniqueID=None,
+    postscriptWeightName=None, postscriptIsFixedPitch=False, postscriptBlueValues=[],
+    postscriptOtherBlues=[], postscriptFamilyBlues=[], postscriptFamilyOtherBlues=[],
+    postscriptStemSnapH=[], postscriptStemSnapV=[], postscriptBlueFuzz=0,
+    postscriptBlueShift=7, postscriptForceBold=0, postscriptDefaultWidthX=200,
+    postscriptNominalWidthX=0, postscriptDefaultCharacter=None,
+    postscriptWindowsCharacterSet=None, macintoshFONDFamilyID=None, macintoshFONDName=None)
+
+_SPECIAL = dict(
+    ascender=lambda i: _ot_round(_upm(i) * 0.8),
+    descender=lambda i: -_ot_round(_upm(i) * 0.2),
+    capHeight=lambda i: _ot_round(_upm(i) * 0.7),
+    xHeight=lambda i: _ot_round(_upm(i) * 0.5),
+    styleMapFamilyName=_style_map_family,
+    styleMapStyleName=_style_map_style,
+    openTypeHeadCreated=_created,
+    openTypeHheaAscender=lambda i: info_value(i, "ascender")
+    + info_value(i, "openTypeOS2TypoLineGap"),
+    openTypeHheaDescender=lambda i: info_value(i, "descender"),
+    openTypeHheaCaretSlopeRise=_slope_rise,
+    openTypeHheaCaretSlopeRun=_slope_run,
+    openTypeNameVersion=_name_version,
+    openTypeNameUniqueID=_unique_id,
+    openTypeNamePreferredFamilyName=lambda i: info_value(i, "familyName"),
+    openTypeNamePreferredSubfamilyName=lambda i: info_value(i, "styleName"),
+    openTypeNameWWSFamilyName=lambda i: None,
+    openTypeNameWWSSubfamilyName=lambda i: None,
+    openTypeOS2TypoAscender=lambda i: info_value(i, "ascender"),
+    openTypeOS2TypoDescender=lambda i: info_value(i, "descender"),
+    openTypeOS2TypoLineGap=_typo_line_gap,
+    openTypeOS2WinAscent=lambda i: info_value(i, "ascender")
+    + info_value(i, "openTypeOS2TypoLineGap"),
+    openTypeOS2WinDescent=lambda i: abs(info_value(i, "descender")),
+    postscriptFontName=_ps_font_name,
+    postscriptFullName=lambda i: "%s %s" % (
+        info_value(i, "openTypeNamePreferredFamilyName"),
+        info_value(i, "openTypeNamePreferredSubfamilyName")),
+    postscriptSlantAngle=lambda i: info_value(i, "italicAngle"),
+    postscriptUnderlineThickness=lambda i: _upm(i) * 0.05,
+    postscriptUnderlinePosition=lambda i: _upm(i) * -0.075,
+    postscriptBlueScale=_blue_scale)
+
+
+def info_value(info, attr):
+    """The font info's ``attr``, or where it is unset (None) the value ufo2ft
+    compiles in its place (its ``getAttrWithFallback``: the same static values and
+    derived ones)."""
+    value = getattr(info, attr, None)
+    if value is not None:
+        return value
+    if attr in _SPECIAL:
+        return _SPECIAL[attr](info)
+    return _STATIC[attr]
+
+
+def _int_list_to_num(values, start, length):
+    """ufo2ft's ``intListToNum``: the bits ``values`` (in [start, start + length))
+    as an integer."""
+    return sum(1 << (i - start) for i in set(values) if start <= i < start + length)
+
+
+def _time_value(date):
+    import calendar
+
+    try:
+        return calendar.timegm(time.strptime(date, _DATE_FORMAT))
+    except ValueError:
+        return 0
+
+
+# =========================================================================== shared with stored.py
+
+def _t2():
+    from fontTools.misc.psCharStrings import T2CharString
+
+    return T2CharString
+
+
+class _BoundedMixin:
+    bounds = None
+
+    def calcBounds(self, glyphSet):
+        return self.bounds
+
+
+def _bounded_class():
+    global _BOUNDED
+    if _BOUNDED is None:
+        _BOUNDED = type("BoundedCharString", (_BoundedMixin, _t2()), {"__doc__": (
+            "A charstring whose bounds were computed where it was compiled (the worker: "
+            "``calcBounds`` of the same program): fontTools asks a CFF font's charstrings "
+            "for their bounds for the font box, head and hhea on every save, which would "
+            "decompile each one in Python.")})
+    return _BOUNDED
+
+
+_BOUNDED = None
+
+
+def BoundedCharString(*args, **kwargs):  # noqa: N802 - a class made on first use
+    """A T2 charstring answering ``calcBounds`` with its ``bounds`` (see
+    :func:`_bounded_class`)."""
+    return _bounded_class()(*args, **kwargs)
+
+
+def as_bounded(cs, bounds):
+    """``cs`` made a bounded charstring with ``bounds``."""
+    cs.__class__ = _bounded_class()
+    cs.bounds = bounds
+    return cs
+
+
+def is_bounded(cs):
+    return _BOUNDED is not None and isinstance(cs, _BOUNDED)
+
+
+#: the tables the subroutinizer's save leaves out (:func:`subroutinize`): layout
+#: tables, which read no other table and are the most costly to compile
+NOT_FOR_TX = frozenset(("GDEF", "GPOS", "GSUB"))
+
+
+def subroutinize(otf, bounds):
+    """ufo2ft's subroutinizing of a CFF 1 font (cffsubr's ``tx``, which saves the
+    whole font), given the font without its layout tables (:data:`NOT_FOR_TX`; ``tx``
+    reads the CFF and cmap tables): they would be compiled only to be compiled
+    again when the font is saved.  The other tables are the font's own, so that the
+    save sets their boxes and metrics as ufo2ft's does.  The new charstrings then
+    answer ``calcBounds`` with ``bounds`` (glyph name -> the bounds of its
+    charstring as compiled: the same paths)."""
+    import cffsubr
+    from fontTools.ttLib import TTFont
+
+    rest = TTFont(sfntVersion=otf.sfntVersion, recalcBBoxes=otf.recalcBBoxes,
+                  recalcTimestamp=otf.recalcTimestamp)
+    rest.setGlyphOrder(otf.getGlyphOrder())
+    for tag in otf.keys():
+        if tag != "GlyphOrder" and tag not in NOT_FOR_TX:
+            rest[tag] = otf[tag]
+    cffsubr.subroutinize(rest, cff_version=1, keep_glyph_names=False)
+    otf["CFF "] = rest["CFF "]
+    bound_charstrings(otf, bounds)
+
+
+def bound_charstrings(otf, bounds):
+    """The CFF charstrings of ``otf`` (plain ones) answer ``calcBounds`` with
+    ``bounds``."""
+    if "CFF " not in otf or not bounds:
+        return
+    t2 = _t2()
+    charstrings = otf["CFF "].cff.topDictIndex[0].CharStrings
+    for name in otf.getGlyphOrder():
+        if name in bounds and name in charstrings:
+            cs = charstrings[name]
+            if type(cs) is t2:
+                as_bounded(cs, bounds[name])
+
+
+class Header:
+    """What ``maxp.recalc`` and the boxes read of a stored simple glyph, from its
+    bytes without decoding its points: the header (contours, box) and the number
+    of points (the last contour's end + 1)."""
+
+    def __init__(self, data):
+        self.numberOfContours, self.xMin, self.yMin, self.xMax, self.yMax = \
+            struct.unpack(">hhhhh", data[:10])
+        n = self.numberOfContours
+        self.points = struct.unpack(">H", data[8 + 2 * n:10 + 2 * n])[0] + 1
+
+    def getMaxpValues(self):
+        return self.points, self.numberOfContours
+
+    def isComposite(self):
+        return False
+
+
+class Expanded(dict):
+    """The compiled glyphs as a glyf table lends them to a composite's bounds and
+    maxp values: a stored glyph as a :class:`Header` (``headers``) or a decoded
+    copy (``headers=False``), the stored bytes left as they are."""
+
+    def __init__(self, glyphs, headers=True):
+        super().__init__(glyphs)
+        self.headers = headers
+
+    def __getitem__(self, name):
+        from fontTools.ttLib.tables._g_l_y_f import Glyph
+
+        g = dict.__getitem__(self, name)
+        if not hasattr(g, "data"):
+            return g
+        if self.headers:
+            return Header(g.data)
+        g = Glyph(g.data)
+        g.expand(None)
+        return g
+
+
+class HeaderFont:
+    """The font as ``maxp.recalc`` reads it, its glyf table :class:`Expanded`."""
+
+    def __init__(self, otf, glyf):
+        self.otf, self.glyf = otf, glyf
+
+    def __getitem__(self, tag):
+        return self.glyf if tag == "glyf" else self.otf[tag]
+
+    def getGlyphOrder(self):
+        return self.otf.getGlyphOrder()
+
+
+# =========================================================================== compile
+
+def full_name(info):
+    """The full name ufo2ft writes (name ID 4): the typographic family and
+    subfamily."""
+    return ("%s %s" % (info_value(info, "openTypeNamePreferredFamilyName"),
+                       info_value(info, "openTypeNamePreferredSubfamilyName"))).strip()
+
+
+def _name_bytes(records):
+    """A format 0 name table of Windows Unicode ``records`` ((platform, encoding,
+    language, name ID) -> string) as fontTools compiles one: records sorted by
+    those four numbers, UTF-16BE strings, each distinct string stored once."""
+    keys = sorted(records)
+    data = [struct.pack(">HHH", 0, len(keys), 6 + 12 * len(keys))]
+    strings, at = [], {}
+    size = 0
+    for key in keys:
+        text = records[key].encode("utf_16_be")
+        if text not in at:
+            at[text] = size
+            strings.append(text)
+            size += len(text)
+        data.append(struct.pack(">HHHHHH", *key, len(text), at[text]))
+    return b"".join(data + strings)
+
+
+def _tx_runner():
+    """cffsubr's function running ``tx`` on a font's bytes (CFF table bytes back),
+    None where this cffsubr has none."""
+    import cffsubr
+
+    return getattr(cffsubr, "_tx_subroutinize", None)
+
+
+def _raw_font_class():
+    """fontTools' ``TTFont`` that saves a table held as raw bytes (a
+    ``DefaultTable``, here the CFF table ``tx`` wrote) as it is, without importing
+    the table's class for its dependencies (``TTFont._writeTable``; for the CFF
+    table that is fontTools.cffLib): no table depends on the CFF table when the
+    boxes are not recomputed.  Where fontTools has no such method the font saves
+    as any other (importing the class)."""
+    global _RAW_FONT
+    if _RAW_FONT is None:
+        from fontTools.ttLib import TTFont
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        class RawTablesFont(TTFont):
+            def _writeTable(self, tag, writer, done, *args, **kwargs):
+                table = self.tables.get(tag)
+                if type(table) is DefaultTable and tag not in done and not self.recalcBBoxes:
+                    done.append(tag)
+                    writer[tag] = table.data
+                    return None
+                return super()._writeTable(tag, writer, done, *args, **kwargs)
+
+        _RAW_FONT = RawTablesFont
+    return _RAW_FONT
+
+
+_RAW_FONT = None
+
+
+def _optimize_widths():
+    """fontTools' ``optimizeWidths`` (the CFF default and nominal widths ufo2ft
+    chooses), its module loaded by itself: importing it as
+    ``fontTools.cffLib.width`` runs ``fontTools.cffLib``'s ``__init__``, which loads
+    the OpenType layout table classes (a tenth of a second) this writer does not
+    otherwise need.  The module imports only ``fontTools.ttLib`` and the standard
+    library; where loading it alone fails, it is imported as usual."""
+    import sys
+
+    module = sys.modules.get("fontTools.cffLib.width") or sys.modules.get(_WIDTH_MODULE)
+    if module is None:
+        try:
+            import importlib.util
+
+            import fontTools
+
+            path = os.path.join(os.path.dirname(fontTools.__file__), "cffLib", "width.py")
+            spec = importlib.util.spec_from_file_location(_WIDTH_MODULE, path)
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            sys.modules[_WIDTH_MODULE] = module
+        except Exception:  # noqa: BLE001 - another fontTools: its own import
+            from fontTools.cffLib import width as module
+    return module.optimizeWidths
+
+
+_WIDTH_MODULE = "morph._fonttools_cff_width"
+
+
+def _index(items):
+    """A CFF INDEX of the byte strings ``items``."""
+    if not items:
+        return b"\0\0"
+    ends = [1]
+    for item in items:
+        ends.append(ends[-1] + len(item))
+    size = 1 if ends[-1] < 1 << 8 else 2 if ends[-1] < 1 << 16 else 3 if ends[-1] < 1 << 24 \
+        else 4
+    return (struct.pack(">HB", len(items), size)
+            + b"".join(e.to_bytes(size, "big") for e in ends) + b"".join(items))
+
+
+Box = namedtuple("BoundingBox", ["xMin", "yMin", "xMax", "yMax"])
+
+
+class _Notdef:
+    """ufo2ft's ``.notdef`` stub: two rectangles (the em box's width half the em,
+    between descender and ascender, a twentieth of the em thick)."""
+
+    def __init__(self, info, reverse):
+        self.name = ".notdef"
+        upm = _ot_round(info_value(info, "unitsPerEm"))
+        self.upm, self.reverse = upm, reverse
+        self.ascender = _ot_round(info_value(info, "ascender"))
+        self.descender = _ot_round(info_value(info, "descender"))
+        self.width = _ot_round(upm * 0.5)
+        self.unicodes, self.components, self.anchors, self.lib = [], [], [], {}
+
+    @property
+    def height(self):
+        return self.ascender - self.descender
+
+    def draw(self, pen):
+        if self.reverse:
+            from fontTools.pens.reverseContourPen import ReverseContourPen
+
+            pen = ReverseContourPen(pen)
+        width = _ot_round(self.upm * 0.5)
+        stroke = _ot_round(self.upm * 0.05)
+        x0, x1, y0, y1 = stroke, width - stroke, self.descender, self.ascender
+        pen.moveTo((x0, y0))
+        pen.lineTo((x1, y0))
+        pen.lineTo((x1, y1))
+        pen.lineTo((x0, y1))
+        pen.lineTo((x0, y0))
+        pen.closePath()
+        x0, x1, y1, y0 = x0 + stroke, x1 - stroke, y1 - stroke, y0 + stroke
+        pen.moveTo((x0, y0))
+        pen.lineTo((x0, y1))
+        pen.lineTo((x1, y1))
+        pen.lineTo((x1, y0))
+        pen.lineTo((x0, y0))
+        pen.closePath()
+
+    def drawPoints(self, pen):
+        from fontTools.pens.pointPen import SegmentToPointPen
+
+        self.draw(SegmentToPointPen(pen, guessSmooth=False))
+
+    def charstring(self, prefix):
+        """(Type 2 program, bounds) of :meth:`draw` (CFF: not reversed), one
+        ``rmoveto`` / ``rlineto`` a segment, after ``prefix`` (the advance)."""
+        from fontTools.misc.psCharStrings import encodeIntT2
+
+        class Pen:
+            def __init__(self):
+                self.code, self.at, self.points = [prefix], (0, 0), []
+
+            def _to(self, p, op):
+                self.code += [encodeIntT2(p[0] - self.at[0]), encodeIntT2(p[1] - self.at[1]),
+                              bytes([op])]
+                self.at = p
+                self.points.append(p)
+
+            def moveTo(self, p):
+                self._to(p, _RMOVETO)
+
+            def lineTo(self, p):
+                self._to(p, _RLINETO)
+
+            def closePath(self):
+                pass
+
+        pen = Pen()
+        self.draw(pen)
+        xs, ys = [p[0] for p in pen.points], [p[1] for p in pen.points]
+        return b"".join(pen.code) + bytes([_ENDCHAR]), (min(xs), min(ys), max(xs), max(ys))
+
+
+#: Type 2 operators
+_RMOVETO, _RLINETO, _ENDCHAR = 21, 5, 14
+
+
+def compile_static(font, store, kind, features=None):
+    """The ``TTFont`` ufo2ft compiles from the light font of shells ``font``
+    (:class:`morph.parse.light_ufo.LightFont`) with the stored outlines ``store``
+    (glyph name -> :func:`morph.fonts.stream.compile_outline`'s ``(data, bounds)``:
+    CFF charstrings without advance for ``.otf``, glyf bytes for ``.ttf``);
+    ``features``: feaLib's tree of the feature file, parsed already (None: parsed
+    here).  See the module docstring.  The font's boxes are final: it is to be
+    saved as it is (``recalcBBoxes`` off; the CFF table is ``tx``'s bytes)."""
+    otf = _Compiler(font, store, kind == ".otf").compile(features)
+    otf.recalcBBoxes = False
+    return otf
+
+
+class _Compiler:
+    def __init__(self, font, store, cff):
+        self.ufo, self.info, self.store, self.cff = font, font.info, store, cff
+        glyphs = {g.name: g for g in font}
+        if ".notdef" not in glyphs:
+            glyphs[".notdef"] = _Notdef(self.info, reverse=not cff)
+        self.glyphs = glyphs
+        order = [".notdef"]
+        names = set(glyphs) - {".notdef"}
+        for name in font.glyphOrder:
+            if name in names:
+                names.remove(name)
+                order.append(name)
+        self.order = order + sorted(names)
+        self.cmap = {}
+        for name in self.order:
+            for u in glyphs[name].unicodes:
+                if u in self.cmap:
+                    raise ValueError("cannot map '%s' to U+%04X; already mapped to '%s'"
+                                     % (name, u, self.cmap[u]))
+                self.cmap[u] = name
+        self.otf = _raw_font_class()(sfntVersion="OTTO" if cff else "\000\001\000\000")
+        self.bounds = {}   # CFF: glyph name -> its charstring's bounds
+
+    def compile(self, features):
+        otf = self.otf
+        otf.setGlyphOrder(self.order)
+        if self.cff:
+            self.programs = self._cff_programs()
+            self.boxes = self._cff_boxes()
+        else:
+            self.compiled = self._glyf_glyphs()
+            self.boxes = self._glyf_boxes()
+        self.font_box = self._font_box()
+        self._head()
+        self._hmtx()
+        self._hhea()
+        self._name()
+        self._maxp()
+        self._cmap()
+        self._os2()
+        self._post()
+        if not self.cff:
+            self._glyf_table()
+            self._gasp()
+        self._features(features)
+        if self.cff:
+            self._cff()
+        else:
+            from fontTools.ttLib.standardGlyphOrder import standardGlyphOrder
+
+            post = otf["post"]      # ufo2ft's post-processor: format 2 names again
+            post.extraNames = [g for g in otf.getGlyphOrder() if g not in standardGlyphOrder]
+            post.mapping = {}
+        return otf
+
+    # ------------------------------------------------------------------ glyphs
+
+    def _widths(self):
+        if getattr(self, "_default_nominal", None) is None:
+            info = self.info
+            if info.postscriptDefaultWidthX is None and info.postscriptNominalWidthX is None:
+                self._default_nominal = _optimize_widths()(
+                    [_ot_round(g.width) for g in self.glyphs.values()])
+            else:
+                self._default_nominal = (
+                    _ot_round(info_value(info, "postscriptDefaultWidthX")),
+                    _ot_round(info_value(info, "postscriptNominalWidthX")))
+        return self._default_nominal
+
+    def _cff_programs(self):
+        """glyph name -> (Type 2 program with its advance, bounds): the stored
+        charstrings (unspecialized, :func:`morph.fonts.stream.compile_outlines`),
+        ``endchar`` for an empty glyph, the ``.notdef`` rectangles drawn as
+        ``T2CharStringPen`` draws them (its segments, unspecialized: the
+        subroutinizer rewrites every charstring from its path, so that the font is
+        the one the specialized charstrings give); the bounds as a charstring's
+        ``calcBounds``."""
+        from .stream import width_prefix
+
+        default, nominal = self._widths()
+        out = {}
+        for name in self.order:
+            glyph = self.glyphs[name]
+            prefix = width_prefix(glyph.width, default, nominal)
+            if name in self.store:
+                data, bounds = self.store[name]
+                out[name] = (prefix + data, bounds)
+            elif isinstance(glyph, _Notdef):
+                out[name] = glyph.charstring(prefix)
+            else:
+                out[name] = (prefix + bytes([_ENDCHAR]), None)
+        self.bounds = {name: b for name, (_, b) in out.items()}
+        return out
+
+    def _cff_boxes(self):
+        boxes = {}
+        for name, (_, box) in self.programs.items():
+            box = None if box is None else Box(*(_ot_round(v) for v in box))
+            boxes[name] = None if box == (0, 0, 0, 0) else box
+        return boxes
+
+    def _glyf_glyphs(self):
+        from fontTools.pens.ttGlyphPen import TTGlyphPointPen
+        from fontTools.ttLib.tables._g_l_y_f import Glyph
+
+        out = {}
+        for name in self.order:
+            data = self.store.get(name, (b"",))[0]
+            if data:
+                out[name] = Glyph(data)
+                continue
+            pen = TTGlyphPointPen(self.glyphs)
+            if isinstance(self.glyphs[name], _Notdef):
+                self.glyphs[name].drawPoints(pen)
+            out[name] = pen.glyph(dropImpliedOnCurves=False, round=_ot_round)
+        return out
+
+    def _glyf_boxes(self):
+        boxes = {}
+        decoded = Expanded(self.compiled, headers=False)
+        for name, g in self.compiled.items():
+            if hasattr(g, "data"):
+                g = Header(g.data)
+            else:
+                g.recalcBounds(decoded)
+            box = Box(g.xMin, g.yMin, g.xMax, g.yMax)
+            boxes[name] = None if box == (0, 0, 0, 0) else box
+        return boxes
+
+    def _font_box(self):
+        from fontTools.misc.arrayTools import unionRect
+
+        box = None
+        for b in self.boxes.values():
+            if b is not None:
+                box = b if box is None else unionRect(box, b)
+        return Box(0, 0, 0, 0) if box is None else box
+
+    # ------------------------------------------------------------------ tables
+
+    def _head(self):
+        from fontTools.ttLib import newTable
+        from fontTools.ttLib.tables._h_e_a_d import mac_epoch_diff
+
+        info = self.info
+        head = self.otf["head"] = newTable("head")
+        head.checkSumAdjustment = 0
+        head.tableVersion = 1.0
+        head.magicNumber = 0x5F0F3CF5
+        full = float("%d.%03d" % (info_value(info, "versionMajor"),
+                                  info_value(info, "versionMinor")))
+        head.fontRevision = round(full, 3)
+        head.unitsPerEm = _ot_round(info_value(info, "unitsPerEm"))
+        head.created = _time_value(info_value(info, "openTypeHeadCreated")) - mac_epoch_diff
+        head.modified = _time_value(_date_now()) - mac_epoch_diff
+        x0, y0, x1, y1 = self.font_box
+        head.xMin, head.yMin, head.xMax, head.yMax = (_ot_round(x0), _ot_round(y0),
+                                                      _ot_round(x1), _ot_round(y1))
+        style = info_value(info, "styleMapStyleName")
+        head.macStyle = _int_list_to_num({"bold": [0], "bold italic": [0, 1],
+                                          "italic": [1]}.get(style, []), 0, 16)
+        head.flags = _int_list_to_num(info_value(info, "openTypeHeadFlags"), 0, 16)
+        head.lowestRecPPEM = _ot_round(info_value(info, "openTypeHeadLowestRecPPEM"))
+        head.fontDirectionHint = 2
+        head.indexToLocFormat = 0
+        head.glyphDataFormat = 0
+
+    def _hmtx(self):
+        from fontTools.ttLib import newTable
+
+        hmtx = self.otf["hmtx"] = newTable("hmtx")
+        hmtx.metrics = {}
+        for name, glyph in self.glyphs.items():
+            width = _ot_round(glyph.width)
+            if width < 0:
+                raise ValueError("The width should not be negative: '%s'" % name)
+            box = self.boxes[name]
+            hmtx[name] = (width, box.xMin if box else 0)
+
+    def _hhea(self):
+        from fontTools.ttLib import newTable
+
+        info = self.info
+        hhea = self.otf["hhea"] = newTable("hhea")
+        hhea.tableVersion = 0x00010000
+        for attr, key in (("ascent", "Ascender"), ("descent", "Descender"),
+                          ("lineGap", "LineGap"), ("caretSlopeRise", "CaretSlopeRise"),
+                          ("caretSlopeRun", "CaretSlopeRun"),
+                          ("caretOffset", "CaretOffset")):
+            setattr(hhea, attr, _ot_round(info_value(info, "openTypeHhea" + key)))
+        hmtx = self.otf["hmtx"]
+        advances, lefts, rights, extents = [], [], [], []
+        for name in self.order:
+            advance, left = hmtx[name]
+            advances.append(advance)
+            box = self.boxes[name]
+            if box is None:
+                continue
+            size = box.xMax - box.xMin
+            lefts.append(left)
+            rights.append(advance - left - size)
+            extents.append(left + size)
+        hhea.advanceWidthMax = max(advances) if advances else 0
+        hhea.minLeftSideBearing = min(lefts) if lefts else 0
+        hhea.minRightSideBearing = min(rights) if rights else 0
+        hhea.xMaxExtent = max(extents) if extents else 0
+        for i in range(4):
+            setattr(hhea, "reserved%i" % i, 0)
+        hhea.metricDataFormat = 0
+        n = len(advances)
+        if n > 1:
+            last = advances[-1]
+            while advances[n - 2] == last:
+                n -= 1
+                if n <= 1:
+                    n = 1
+                    break
+        hhea.numberOfHMetrics = n
+
+    def _name(self):
+        """ufo2ft's name records (Windows, English, Unicode BMP or full) and the info's
+        own records over them.  Where all are Windows Unicode ones the table is
+        written here (fontTools' encoding: records sorted, equal strings stored
+        once) and kept as bytes: fontTools' name table module loads its OpenType
+        layout table classes (a tenth of a second); else fontTools builds it."""
+        info = self.info
+        values = {0: "copyright", 3: "openTypeNameUniqueID", 5: "openTypeNameVersion",
+                  6: "postscriptFontName", 7: "trademark", 8: "openTypeNameManufacturer",
+                  9: "openTypeNameDesigner", 10: "openTypeNameDescription",
+                  11: "openTypeNameManufacturerURL", 12: "openTypeNameDesignerURL",
+                  13: "openTypeNameLicense", 14: "openTypeNameLicenseURL",
+                  18: "openTypeNameCompatibleFullName", 19: "openTypeNameSampleText",
+                  21: "openTypeNameWWSFamilyName", 22: "openTypeNameWWSSubfamilyName"}
+        values = {k: info_value(info, v) for k, v in values.items()}
+        values.update({1: info_value(info, "styleMapFamilyName"),
+                       2: info_value(info, "styleMapStyleName").title(),
+                       4: full_name(info),
+                       16: info_value(info, "openTypeNamePreferredFamilyName"),
+                       17: info_value(info, "openTypeNamePreferredSubfamilyName")})
+        if values[1] == values[16] and values[2] == values[17]:
+            del values[16], values[17]
+        if values[6]:
+            values[6] = normalize_for_postscript(values[6])
+        records = {}   # (platform, encoding, language, name ID) -> string, set in order
+        for name_id in sorted(values):
+            value = values[name_id]
+            if value:
+                enc = 10 if any(ord(c) > 0xFFFF for c in value) else 1
+                records.setdefault((3, enc, 0x409, name_id), value)
+        for r in info_value(info, "openTypeNameRecords"):
+            records[(r["platformID"], r["encodingID"], r["languageID"], r["nameID"])] = \
+                r["string"]
+        if all(k[0] == 3 and k[1] in (1, 10) and isinstance(v, str)
+               for k, v in records.items()):
+            from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+            table = self.otf["name"] = DefaultTable("name")
+            table.data = _name_bytes(records)
+            return
+        from fontTools.ttLib import newTable
+
+        name = self.otf["name"] = newTable("name")
+        name.names = []
+        for (platform, enc, lang, name_id), value in records.items():
+            name.setName(value, name_id, platform, enc, lang)
+
+    def _maxp(self):
+        from fontTools.ttLib import newTable
+
+        maxp = self.otf["maxp"] = newTable("maxp")
+        maxp.numGlyphs = len(self.order)
+        if self.cff:
+            maxp.tableVersion = 0x00005000
+            return
+        maxp.tableVersion = 0x00010000
+        maxp.maxZones = 1
+        for attr in ("maxTwilightPoints", "maxStorage", "maxFunctionDefs",
+                     "maxInstructionDefs", "maxStackElements", "maxSizeOfInstructions",
+                     "maxComponentElements", "maxComponentDepth"):
+            setattr(maxp, attr, 0)
+
+    def _cmap(self):
+        from fontTools.ttLib import newTable
+        from fontTools.ttLib.tables._c_m_a_p import cmap_format_4, cmap_format_12
+
+        cmap = self.otf["cmap"] = newTable("cmap")
+        cmap.tableVersion = 0
+        cmap.tables = []
+        non_bmp = {k: v for k, v in self.cmap.items() if k > 65535}
+        bmp = {k: v for k, v in self.cmap.items() if k <= 65535} if non_bmp \
+            else dict(self.cmap)
+        if bmp:
+            for platform, enc in ((0, 3), (3, 1)):
+                t = cmap_format_4(4)
+                t.platformID, t.platEncID, t.language, t.cmap = platform, enc, 0, bmp
+                cmap.tables.append(t)
+        if non_bmp:
+            non_bmp.update(bmp)
+            for platform, enc in ((0, 4), (3, 10)):
+                t = cmap_format_12(12)
+                t.platformID, t.platEncID, t.language, t.cmap = platform, enc, 0, non_bmp
+                cmap.tables.append(t)
+
+    def _os2(self):
+        from fontTools.ttLib import newTable
+        from fontTools.ttLib.tables.O_S_2f_2 import Panose
+
+        info = self.info
+        os2 = self.otf["OS/2"] = newTable("OS/2")
+        os2.version = 0x0004
+        os2.recalcAvgCharWidth(self.otf)
+        os2.xAvgCharWidth = max(min(os2.xAvgCharWidth, 0x7FFF), -0x8000)
+        os2.usWeightClass = info_value(info, "openTypeOS2WeightClass")
+        os2.usWidthClass = info_value(info, "openTypeOS2WidthClass")
+        os2.fsType = _int_list_to_num(info_value(info, "openTypeOS2Type"), 0, 16)
+        upm = info_value(info, "unitsPerEm")
+        angle = float(info_value(info, "italicAngle"))
+        x_height = info_value(info, "xHeight")
+
+        def shift(offset):
+            return offset * math.tan(math.radians(-angle)) if angle else 0
+
+        def value(attr, default):
+            v = info_value(info, attr)
+            return _ot_round(default() if v is None else v)
+
+        os2.ySubscriptXSize = value("openTypeOS2SubscriptXSize", lambda: upm * 0.65)
+        os2.ySubscriptYSize = value("openTypeOS2SubscriptYSize", lambda: upm * 0.6)
+        os2.ySubscriptYOffset = value("openTypeOS2SubscriptYOffset", lambda: upm * 0.075)
+        os2.ySubscriptXOffset = value("openTypeOS2SubscriptXOffset",
+                                      lambda: shift(-os2.ySubscriptYOffset))
+        os2.ySuperscriptXSize = value("openTypeOS2SuperscriptXSize",
+                                      lambda: os2.ySubscriptXSize)
+        os2.ySuperscriptYSize = value("openTypeOS2SuperscriptYSize",
+                                      lambda: os2.ySubscriptYSize)
+        os2.ySuperscriptYOffset = value("openTypeOS2SuperscriptYOffset", lambda: upm * 0.35)
+        os2.ySuperscriptXOffset = value("openTypeOS2SuperscriptXOffset",
+                                        lambda: shift(os2.ySuperscriptYOffset))
+        os2.yStrikeoutSize = value("openTypeOS2StrikeoutSize",
+                                   lambda: info_value(info, "postscriptUnderlineThickness"))
+        os2.yStrikeoutPosition = value("openTypeOS2StrikeoutPosition",
+                                       lambda: x_height * 0.6 if x_height else upm * 0.22)
+        cls, sub = info_value(info, "openTypeOS2FamilyClass")
+        os2.sFamilyClass = (cls << 8) + sub
+        data = info_value(info, "openTypeOS2Panose")
+        panose = Panose()
+        for attr, v in zip(("bFamilyType", "bSerifStyle", "bWeight", "bProportion",
+                            "bContrast", "bStrokeVariation", "bArmStyle", "bLetterForm",
+                            "bMidline", "bXHeight"), data):
+            setattr(panose, attr, v)
+        os2.panose = panose
+        ranges = info_value(info, "openTypeOS2UnicodeRanges")
+        if ranges is not None:
+            for i in range(4):
+                setattr(os2, "ulUnicodeRange%d" % (i + 1), _int_list_to_num(ranges, 32 * i, 32))
+        else:
+            os2.recalcUnicodeRanges(self.otf)
+        pages = info_value(info, "openTypeOS2CodePageRanges")
+        if pages is not None:
+            os2.ulCodePageRange1 = _int_list_to_num(pages, 0, 32)
+            os2.ulCodePageRange2 = _int_list_to_num(pages, 32, 32)
+        else:
+            os2.recalcCodePageRanges(self.otf)
+        os2.achVendID = info_value(info, "openTypeOS2VendorID").ljust(4)
+        os2.sxHeight = _ot_round(info_value(info, "xHeight"))
+        os2.sCapHeight = _ot_round(info_value(info, "capHeight"))
+        os2.sTypoAscender = _ot_round(info_value(info, "openTypeOS2TypoAscender"))
+        os2.sTypoDescender = _ot_round(info_value(info, "openTypeOS2TypoDescender"))
+        os2.sTypoLineGap = _ot_round(info_value(info, "openTypeOS2TypoLineGap"))
+        os2.usWinAscent = _ot_round(info_value(info, "openTypeOS2WinAscent"))
+        os2.usWinDescent = _ot_round(info_value(info, "openTypeOS2WinDescent"))
+        selection = list(info_value(info, "openTypeOS2Selection"))
+        selection += {"regular": [6], "bold": [5], "italic": [0],
+                      "bold italic": [0, 5]}.get(info_value(info, "styleMapStyleName"), [])
+        os2.fsSelection = _int_list_to_num(selection, 0, 16)
+        codes = list(self.cmap)
+        first, last = (min(codes), max(codes)) if codes else (0xFFFF, 0xFFFF)
+        os2.fsFirstCharIndex, os2.fsLastCharIndex = first, min(last, 0xFFFF)
+        os2.usBreakChar = 32
+        os2.usDefaultChar = 0
+        os2.usMaxContext = 0
+
+    def _post(self):
+        from fontTools.ttLib import newTable
+
+        info = self.info
+        post = self.otf["post"] = newTable("post")
+        post.formatType = 3.0
+        post.italicAngle = float(info_value(info, "italicAngle"))
+        post.underlinePosition = _ot_round(info_value(info, "postscriptUnderlinePosition"))
+        post.underlineThickness = _ot_round(info_value(info, "postscriptUnderlineThickness"))
+        post.isFixedPitch = int(info_value(info, "postscriptIsFixedPitch"))
+        post.minMemType42 = post.maxMemType42 = post.minMemType1 = post.maxMemType1 = 0
+        if not self.cff:
+            from fontTools.ttLib.standardGlyphOrder import standardGlyphOrder
+
+            post.formatType = 2.0
+            post.extraNames = [g for g in self.order if g not in standardGlyphOrder]
+            post.mapping = {}
+            post.glyphOrder = self.order
+
+    def _cff(self):
+        """The CFF table, subroutinized as ufo2ft does it (cffsubr's ``tx`` given the
+        font without its layout tables).  Where cffsubr has its ``tx`` runner on bytes,
+        the table ``tx`` reads is written here (:meth:`_cff_bytes`) and its output
+        kept as ``tx`` wrote it: no fontTools.cffLib (and its OpenType table
+        classes) is imported.  ``tx`` writes the same table from it (it re-encodes
+        every dict, string and charstring); fontTools would re-encode its output
+        on saving, so this table equals ufo2ft's as decompiled (ttx), not byte for
+        byte.  The boxes the font save would recompute from the CFF table before
+        ``tx`` (:meth:`_as_saved`) are set as it sets them.  Otherwise the table
+        is built with fontTools.cffLib and :func:`subroutinize` d."""
+        run_tx = _tx_runner()
+        if run_tx is None:  # another cffsubr
+            self._cff_table()
+            subroutinize(self.otf, self.bounds)
+            return
+        import io
+
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        box = self._as_saved()
+        table = DefaultTable("CFF ")
+        table.data = self._cff_bytes(box)
+        rest = _raw_font_class()(sfntVersion="OTTO", recalcBBoxes=False)
+        rest.setGlyphOrder(self.order)
+        for tag in self.otf.keys():
+            if tag != "GlyphOrder" and tag not in NOT_FOR_TX:
+                rest[tag] = self.otf[tag]
+        rest["CFF "] = table
+        buf = io.BytesIO()
+        rest.save(buf)
+        out = DefaultTable("CFF ")
+        out.data = run_tx(buf.getvalue(), "CFF ")
+        self.otf["CFF "] = out
+
+    def _as_saved(self):
+        """What fontTools' save of the font (``recalcBBoxes``) before ``tx`` sets
+        from the CFF table: its FontBBox (the union of the charstrings' bounds,
+        out to integers), head's box from it, hhea's extents from the bounds' widths
+        (out to integers) and hmtx.  Returns the FontBBox."""
+        bounds = [b for b in self.bounds.values() if b is not None]
+        if bounds:
+            box = [math.floor(min(b[0] for b in bounds)), math.floor(min(b[1] for b in bounds)),
+                   math.ceil(max(b[2] for b in bounds)), math.ceil(max(b[3] for b in bounds))]
+        else:
+            box = [0, 0, 0, 0]
+        head = self.otf["head"]
+        head.xMin, head.yMin, head.xMax, head.yMax = box
+        hhea, hmtx = self.otf["hhea"], self.otf["hmtx"]
+        hhea.advanceWidthMax = max(adv for adv, _ in hmtx.metrics.values())
+        lefts, rights, extents = [], [], []
+        for name in self.order:
+            b = self.bounds[name]
+            if b is None:
+                continue
+            width = int(math.ceil(b[2]) - math.floor(b[0]))
+            advance, left = hmtx[name]
+            lefts.append(left)
+            rights.append(advance - left - width)
+            extents.append(left + width)
+        hhea.minLeftSideBearing = min(lefts) if lefts else 0
+        hhea.minRightSideBearing = min(rights) if rights else 0
+        hhea.xMaxExtent = max(extents) if extents else 0
+        return box
+
+    def _cff_bytes(self, font_box):
+        """A CFF 1 table of the font (name-keyed, no subroutines), with the top and
+        private dict values ufo2ft gives fontTools (those equal to the CFF defaults
+        left out, as fontTools leaves them), every string a custom one."""
+        from fontTools.misc.psCharStrings import encodeFloat, encodeIntCFF
+
+        info = self.info
+        strings = {}
+
+        def sid(text):
+            return 391 + strings.setdefault(text, len(strings))
+
+        def num(v):
+            return encodeFloat(v) if isinstance(v, float) else encodeIntCFF(int(v))
+
+        def entry(op, *values):
+            return b"".join(num(v) for v in values) + bytes(op)
+
+        def text(op, value):
+            return encodeIntCFF(sid(value)) + bytes(op)
+
+        def offset(op, *values):  # fixed-size numbers: the dict's length does not move
+            return b"".join(b"\x1d" + struct.pack(">l", v) for v in values) + bytes(op)
+
+        top = [text([0], "%d.%d" % (info_value(info, "versionMajor"),
+                                    info_value(info, "versionMinor")))]
+        for op, key in (([1], "trademark"), ([12, 0], "copyright")):
+            value = info_value(info, key)
+            if value:
+                value = normalize_for_postscript(value.replace("\u00a9", "Copyright"))
+            top.append(text(op, "" if value is None else value))
+        top.append(text([2], info_value(info, "postscriptFullName")))
+        top.append(text([3], info_value(info, "openTypeNamePreferredFamilyName")))
+        weight = info_value(info, "postscriptWeightName")
+        if weight is not None:
+            top.append(text([4], weight))
+        upm = _ot_round(info_value(info, "unitsPerEm"))
+        for op, value, default in (
+                ([12, 1], int(info_value(info, "postscriptIsFixedPitch")), 0),
+                ([12, 2], float(info_value(info, "italicAngle")), 0),
+                ([12, 3], _ot_round(info_value(info, "postscriptUnderlinePosition")), -100),
+                ([12, 4], _ot_round(info_value(info, "postscriptUnderlineThickness")), 50)):
+            if value != default:
+                top.append(entry(op, value))
+        matrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
+        if matrix != [0.001, 0, 0, 0.001, 0, 0]:
+            top.append(entry([12, 7], *matrix))
+        if list(font_box) != [0, 0, 0, 0]:
+            top.append(entry([5], *font_box))
+        private = self._private_dict(entry)
+        names = [sid(n) for n in self.order[1:]]
+        charset = b"\0" + struct.pack(">%dH" % len(names), *names)
+        charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
+        name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
+
+        def top_index(at_charset, at_charstrings, at_private):
+            return _index([b"".join(top) + offset([15], at_charset)
+                           + offset([17], at_charstrings)
+                           + offset([18], len(private), at_private)])
+
+        size = len(top_index(0, 0, 0))
+        string_index = _index([t.encode("latin-1") for t in strings])
+        at_charset = 4 + len(name_index) + size + len(string_index) + 2
+        at_charstrings = at_charset + len(charset)
+        at_private = at_charstrings + len(charstrings)
+        return b"".join([bytes([1, 0, 4, 4]), name_index,
+                         top_index(at_charset, at_charstrings, at_private), string_index,
+                         b"\0\0", charset, charstrings, private])
+
+    def _private_dict(self, entry):
+        """The private dict's bytes: the advances' default and nominal widths, the
+        hinting values where the info has blue zones (as ufo2ft writes them)."""
+        info = self.info
+
+        def rounded(key):
+            v = info_value(info, key)
+            return [_ot_round(i) for i in v] if isinstance(v, list) else v
+
+        def delta(values):
+            return [b - a for a, b in zip([0] + values[:-1], values)]
+
+        out = []
+        blues = [(op, rounded("postscript" + k)) for op, k in (
+            ([6], "BlueValues"), ([7], "OtherBlues"), ([8], "FamilyBlues"),
+            ([9], "FamilyOtherBlues"))]
+        if any(v for _, v in blues):
+            out += [entry(op, *delta(v)) for op, v in blues if v]
+            for op, value, default in (
+                    ([12, 9], info_value(info, "postscriptBlueScale"), 0.039625),
+                    ([12, 10], _ot_round(info_value(info, "postscriptBlueShift")), 7),
+                    ([12, 11], _ot_round(info_value(info, "postscriptBlueFuzz")), 1),
+                    ([12, 14], int(bool(info_value(info, "postscriptForceBold"))), 0)):
+                if value != default:
+                    out.append(entry(op, value))
+        stems_h, stems_v = rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
+        if stems_h and stems_v:
+            out += [entry([10], stems_h[0]), entry([11], stems_v[0]),
+                    entry([12, 12], *delta(sorted(stems_h))),
+                    entry([12, 13], *delta(sorted(stems_v)))]
+        default, nominal = self._widths()
+        if default:
+            out.append(entry([20], default))
+        if nominal:
+            out.append(entry([21], nominal))
+        return b"".join(out)
+
+    def _cff_table(self):
+        from fontTools.cffLib import (CharStrings, GlobalSubrsIndex, IndexedStrings,
+                                      PrivateDict, SubrsIndex, TopDict, TopDictIndex)
+        from fontTools.ttLib import newTable
+
+        info = self.info
+        table = self.otf["CFF "] = newTable("CFF ")
+        cff = table.cff
+        cff.otFont = self.otf
+        cff.major, cff.minor, cff.hdrSize, cff.offSize = 1, 0, 4, 4
+        cff.fontNames = []
+        strings = cff.strings = IndexedStrings()
+        private = PrivateDict(strings=strings)
+        private.rawDict.update(private.defaults)
+        subrs = GlobalSubrsIndex(private=private)
+        top = TopDict(GlobalSubrs=subrs, strings=strings)
+        top.Private = private
+        charstrings = top.CharStrings = CharStrings(
+            file=None, charset=None, globalSubrs=subrs, private=private, fdSelect=None,
+            fdArray=None)
+        charstrings.charStringsAreIndexed = True
+        top.charset = []
+        index = charstrings.charStringsIndex = SubrsIndex(private=private, globalSubrs=subrs)
+        cff.topDictIndex = TopDictIndex()
+        cff.topDictIndex.append(top)
+        cff.topDictIndex.strings = strings
+        cff.GlobalSubrs = subrs
+        cff.fontNames.append(info_value(info, "postscriptFontName"))
+        top.version = "%d.%d" % (info_value(info, "versionMajor"),
+                                 info_value(info, "versionMinor"))
+        for attr, key in (("Notice", "trademark"), ("Copyright", "copyright")):
+            text = info_value(info, key)
+            if text:
+                text = normalize_for_postscript(text.replace("\u00a9", "Copyright"))
+            setattr(top, attr, "" if text is None else text)
+        top.FullName = info_value(info, "postscriptFullName")
+        top.FamilyName = info_value(info, "openTypeNamePreferredFamilyName")
+        top.Weight = info_value(info, "postscriptWeightName")
+        top.isFixedPitch = int(info_value(info, "postscriptIsFixedPitch"))
+        top.ItalicAngle = float(info_value(info, "italicAngle"))
+        top.UnderlinePosition = _ot_round(info_value(info, "postscriptUnderlinePosition"))
+        top.UnderlineThickness = _ot_round(info_value(info, "postscriptUnderlineThickness"))
+        upm = _ot_round(info_value(info, "unitsPerEm"))
+        top.FontMatrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
+        default, nominal = self._widths()
+        if default:
+            private.rawDict["defaultWidthX"] = default
+        if nominal:
+            private.rawDict["nominalWidthX"] = nominal
+
+        def rounded(key):
+            v = info_value(info, key)
+            return [_ot_round(i) for i in v] if isinstance(v, list) else v
+
+        blues = {k: rounded("postscript" + k) for k in ("BlueValues", "OtherBlues",
+                                                        "FamilyBlues", "FamilyOtherBlues")}
+        stems_h, stems_v = rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
+        if any(blues.values()):
+            raw = private.rawDict
+            raw["BlueFuzz"] = _ot_round(info_value(info, "postscriptBlueFuzz"))
+            raw["BlueShift"] = _ot_round(info_value(info, "postscriptBlueShift"))
+            raw["BlueScale"] = info_value(info, "postscriptBlueScale")
+            raw["ForceBold"] = info_value(info, "postscriptForceBold")
+            for k, v in blues.items():
+                if v:
+                    raw[k] = v
+        if stems_h and stems_v:
+            private.rawDict["StemSnapH"] = sorted(stems_h)
+            private.rawDict["StdHW"] = stems_h[0]
+            private.rawDict["StemSnapV"] = sorted(stems_v)
+            private.rawDict["StdVW"] = stems_v[0]
+        for name in self.order:
+            data, bounds = self.programs[name]
+            cs = BoundedCharString(bytecode=data, private=private, globalSubrs=subrs)
+            cs.bounds = bounds
+            if name in charstrings:
+                index.items[charstrings.charStrings[name]] = cs
+            else:
+                index.append(cs)
+                charstrings.charStrings[name] = len(top.charset)
+                top.charset.append(name)
+        top.FontBBox = self.font_box
+
+    def _glyf_table(self):
+        from fontTools.ttLib import newTable
+
+        self.otf["loca"] = newTable("loca")
+        glyf = self.otf["glyf"] = newTable("glyf")
+        glyf.glyphs = {}
+        glyf.glyphOrder = self.order
+        for name in self.order:
+            glyf.glyphs[name] = self.compiled[name]
+        maxp = self.otf["maxp"]
+        maxp.recalc(HeaderFont(self.otf, Expanded(glyf.glyphs)))
+        maxp.maxSizeOfInstructions = max(
+            (len(g.program.getBytecode()) for g in glyf.glyphs.values()
+             if hasattr(g, "program")), default=0)
+
+    def _gasp(self):
+        records = self.info.openTypeGaspRangeRecords
+        if not records:
+            return
+        from fontTools.ttLib import newTable
+
+        gasp = self.otf["gasp"] = newTable("gasp")
+        gasp.gaspRange = {r["rangeMaxPPEM"]: _int_list_to_num(r["rangeGaspBehavior"], 0, 4)
+                          for r in records}
+
+    def _features(self, tree):
+        """The feature file as ufo2ft compiles it: parsed (with the font's glyph names,
+        includes from the UFO's folder), written out, built by feaLib."""
+        text = self.ufo.features.text or ""
+        if not text:
+            return
+        if tree is None:
+            from io import StringIO
+
+            from fontTools.feaLib.parser import Parser
+
+            buf = StringIO(text)
+            include = None
+            if self.ufo.path is not None:
+                path = os.path.normpath(self.ufo.path)
+                buf.name = os.path.join(path, "features.fea")
+                include = os.path.normpath(os.path.dirname(path) or ".")
+            tree = Parser(buf, set(self.ufo.keys()), includeDir=include).parse()
+        fea = tree.asFea()
+        if fea:
+            from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
+
+            addOpenTypeFeaturesFromString(self.otf, fea, filename=None)

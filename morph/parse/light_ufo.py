@@ -1,0 +1,389 @@
+"""A UFO read without ufoLib2, for the fonts :mod:`morph.fonts.tables_static`
+compiles without ufo2ft.
+
+ufoLib2 and ufo2ft are a fifth of a second of imports in every process; a small
+stroke font (a hundred Hershey glyphs) spends more on them than on its strokes.
+For a font that needs nothing of ufo2ft but its table building (no kerning, no
+groups, no anchors, no components, nothing in the libs that ufo2ft reads, a feature
+file feaLib compiles by itself) this module reads the UFO without them: the plists with :mod:`plistlib`, each ``.glif``'s shell (advance, unicodes,
+guidelines, note, lib; the outline's contours only counted, their points read later
+by :mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The
+objects have the attributes of ufoLib2's that the stroke pipeline uses (duck-typed:
+:class:`LightFont`, :class:`LightGlyph`, :class:`LightInfo`).
+
+Whatever this reader does not take (another UFO version, a GLIF 1 glyph, an image,
+a component, an anchor, a lib key ufo2ft reads, a ``data`` folder, a feature file with
+``include``, a glyph the plain XML read refuses) raises :class:`NotLight`: the caller
+reads the font with ufoLib2 and compiles it with ufo2ft, which judge it as before.
+"""
+
+import os
+import plistlib
+import re
+
+__all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
+           "read_contents", "read_light_font", "glif_shell"]
+
+
+class NotLight(Exception):
+    """The UFO holds something only ufoLib2 and ufo2ft handle (the message says
+    what)."""
+
+
+#: font lib keys ufo2ft does not read: the glyph order; anything else under these
+#: prefixes may change what ufo2ft compiles
+_UFO2FT_LIB_PREFIXES = ("public.", "com.github.googlei18n.ufo2ft", "com.github.fonttools",
+                        "com.nagwa.", "com.schriftgestaltung.Don't use Production Names")
+_FONT_LIB_OK = frozenset(("public.glyphOrder",))
+_GLYPH_LIB_OK = frozenset(("public.markColor",))
+
+#: the three vertical metrics with which ufo2ft writes vhea / vmtx (not done here)
+_VERTICAL = ("openTypeVheaVertTypoAscender", "openTypeVheaVertTypoDescender",
+             "openTypeVheaVertTypoLineGap")
+
+
+class LightInfo:
+    """The font info: the fontinfo.plist's values as attributes, None for one the
+    plist lacks (as ufoLib2's ``Info``)."""
+
+    def __init__(self, values=None):
+        self.__dict__.update(values or {})
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return None
+
+
+class LightFeatures:
+    """The feature file's text (``features.text``, "" for none)."""
+
+    def __init__(self, text=""):
+        self.text = text
+
+
+class LightGuideline:
+    def __init__(self, x=None, y=None, angle=None, name=None, color=None, identifier=None):
+        self.x, self.y, self.angle = x, y, angle
+        self.name, self.color, self.identifier = name, color, identifier
+
+
+class LightGlyph:
+    """A glyph's shell: ``name``, ``width``, ``height``, ``unicodes`` (``unicode``
+    the first), ``guidelines``, ``lib``, ``note``; no contours (their number is the
+    reader's ``contour_counts``), no anchors and no components (a glyph with either
+    is not read light)."""
+
+    def __init__(self, name, width=0, height=0, unicodes=None, guidelines=None, lib=None,
+                 note=None):
+        self.name, self.width, self.height = name, width, height
+        self.unicodes = list(unicodes or [])
+        self.guidelines = list(guidelines or [])
+        self.lib = dict(lib or {})
+        self.note = note
+        self.anchors = []
+        self.components = []
+        self.contours = []
+
+    @property
+    def unicode(self):
+        return self.unicodes[0] if self.unicodes else None
+
+    def clearContours(self):
+        self.contours = []
+
+    def clearComponents(self):
+        self.components = []
+
+    def __len__(self):
+        return len(self.contours)
+
+
+class LightFont:
+    """The font of shells (:func:`read_light_font`): ``info``, ``lib``, ``groups``,
+    ``kerning`` (empty), ``features``, ``path``; its glyphs by name in the order of
+    the default layer's contents.plist (ufoLib2's), ``glyphOrder`` from the lib.
+    ``light`` tells the writers to build the tables without ufo2ft."""
+
+    light = True
+
+    def __init__(self, path, info, lib, features, glyphs):
+        self.path, self.info, self.lib, self.features = path, info, lib, features
+        self.groups, self.kerning = {}, {}
+        self._glyphs = glyphs
+
+    @property
+    def glyphOrder(self):
+        return list(self.lib.get("public.glyphOrder", []))
+
+    def keys(self):
+        return list(self._glyphs)
+
+    def __iter__(self):
+        return iter(self._glyphs.values())
+
+    def __len__(self):
+        return len(self._glyphs)
+
+    def __contains__(self, name):
+        return name in self._glyphs
+
+    def __getitem__(self, name):
+        return self._glyphs[name]
+
+
+# the UFO 3 font info attributes by value type (fontTools.ufoLib's
+# fontInfoAttributesVersion3ValueData): a value of another type, or one of the checks
+# of _info_checked failing, leaves the font to ufoLib2, whose validation names it
+_STR = ("familyName styleName styleMapFamilyName styleMapStyleName copyright trademark "
+        "note openTypeHeadCreated openTypeNameDesigner openTypeNameDesignerURL "
+        "openTypeNameManufacturer openTypeNameManufacturerURL openTypeNameLicense "
+        "openTypeNameLicenseURL openTypeNameVersion openTypeNameUniqueID "
+        "openTypeNameDescription openTypeNamePreferredFamilyName "
+        "openTypeNamePreferredSubfamilyName openTypeNameCompatibleFullName "
+        "openTypeNameSampleText openTypeNameWWSFamilyName openTypeNameWWSSubfamilyName "
+        "openTypeOS2VendorID postscriptFontName postscriptFullName postscriptWeightName "
+        "postscriptDefaultCharacter macintoshFONDName").split()
+_INT = ("versionMajor versionMinor year openTypeHeadLowestRecPPEM openTypeHheaAscender "
+        "openTypeHheaDescender openTypeHheaLineGap openTypeHheaCaretSlopeRise "
+        "openTypeHheaCaretSlopeRun openTypeHheaCaretOffset openTypeOS2WidthClass "
+        "openTypeOS2WeightClass openTypeOS2TypoAscender openTypeOS2TypoDescender "
+        "openTypeOS2TypoLineGap openTypeOS2WinAscent openTypeOS2WinDescent "
+        "openTypeOS2SubscriptXSize openTypeOS2SubscriptYSize openTypeOS2SubscriptXOffset "
+        "openTypeOS2SubscriptYOffset openTypeOS2SuperscriptXSize "
+        "openTypeOS2SuperscriptYSize openTypeOS2SuperscriptXOffset "
+        "openTypeOS2SuperscriptYOffset openTypeOS2StrikeoutSize "
+        "openTypeOS2StrikeoutPosition openTypeVheaVertTypoAscender "
+        "openTypeVheaVertTypoDescender openTypeVheaVertTypoLineGap "
+        "openTypeVheaCaretSlopeRise openTypeVheaCaretSlopeRun openTypeVheaCaretOffset "
+        "postscriptUniqueID postscriptWindowsCharacterSet macintoshFONDFamilyID").split()
+_NUMBER = ("unitsPerEm descender xHeight capHeight ascender italicAngle "
+           "postscriptSlantAngle postscriptUnderlineThickness postscriptUnderlinePosition "
+           "postscriptBlueFuzz postscriptBlueShift postscriptBlueScale "
+           "postscriptDefaultWidthX postscriptNominalWidthX").split()
+_BOOL = ("postscriptIsFixedPitch", "postscriptForceBold")
+_INT_LISTS = {"openTypeHeadFlags": range(15), "openTypeOS2Selection": (1, 2, 3, 4, 7, 8, 9),
+              "openTypeOS2Panose": None, "openTypeOS2FamilyClass": None,
+              "openTypeOS2UnicodeRanges": range(128), "openTypeOS2CodePageRanges": range(64),
+              "openTypeOS2Type": (0, 1, 2, 3, 8, 9)}
+_NUMBER_LISTS = ("postscriptBlueValues postscriptOtherBlues postscriptFamilyBlues "
+                 "postscriptFamilyOtherBlues postscriptStemSnapH postscriptStemSnapV").split()
+_NON_NEGATIVE = ("versionMinor", "unitsPerEm", "openTypeHeadLowestRecPPEM",
+                 "openTypeOS2WeightClass", "openTypeOS2WinAscent", "openTypeOS2WinDescent")
+_CREATED = re.compile(r"\d{4}/\d{2}/\d{2} \d{2}:\d{2}:\d{2}$")
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _info_checked(info):
+    """``info`` (the fontinfo.plist's dict) where every value is of its attribute's
+    type and passes the checks here; else NotLight."""
+    for key, v in info.items():
+        if key in _STR:
+            ok = isinstance(v, str)
+        elif key in _INT:
+            ok = isinstance(v, int) and not isinstance(v, bool)
+        elif key in _NUMBER:
+            ok = _is_number(v)
+        elif key in _BOOL:
+            ok = isinstance(v, bool)
+        elif key in _INT_LISTS:
+            allowed = _INT_LISTS[key]
+            ok = isinstance(v, list) and all(
+                isinstance(i, int) and not isinstance(i, bool)
+                and (allowed is None or i in allowed) for i in v)
+        elif key in _NUMBER_LISTS:
+            ok = isinstance(v, list) and all(_is_number(i) for i in v)
+        elif key == "openTypeNameRecords":
+            ok = isinstance(v, list) and all(
+                isinstance(r, dict) and set(r) == {"nameID", "platformID", "encodingID",
+                                                   "languageID", "string"}
+                and isinstance(r["string"], str)
+                and all(isinstance(r[k], int) and r[k] >= 0 for k in r if k != "string")
+                for r in v)
+        elif key == "openTypeGaspRangeRecords":
+            ok = isinstance(v, list) and all(
+                isinstance(r, dict) and set(r) == {"rangeMaxPPEM", "rangeGaspBehavior"}
+                and isinstance(r["rangeMaxPPEM"], int)
+                and isinstance(r["rangeGaspBehavior"], list)
+                and all(b in (0, 1, 2, 3) for b in r["rangeGaspBehavior"]) for r in v)
+        elif key == "guidelines":
+            ok = isinstance(v, list) and all(
+                isinstance(g, dict) and all(_is_number(g[k]) for k in ("x", "y", "angle")
+                                            if k in g) for g in v)
+        else:   # WOFF metadata, unknown keys: ufoLib2's to read and judge
+            ok = False
+        if ok and key in _NON_NEGATIVE:
+            ok = v >= 0
+        if not ok:
+            raise NotLight("font info %s" % key)
+    checks = ((info.get("styleMapStyleName"), ("regular", "italic", "bold", "bold italic")),
+              (info.get("openTypeOS2WidthClass"), range(1, 10)))
+    if any(v is not None and v not in allowed for v, allowed in checks) \
+            or len(info.get("openTypeOS2Panose", [0] * 10)) != 10 \
+            or len(info.get("openTypeOS2FamilyClass", [0, 0])) != 2 \
+            or not _CREATED.match(info.get("openTypeHeadCreated", "2000/01/01 00:00:00")):
+        raise NotLight("font info values")
+    return info
+
+
+def _plist(path, default):
+    if not os.path.exists(path):
+        return default
+    with open(path, "rb") as f:
+        return plistlib.load(f)
+
+
+def read_contents(path):
+    """``(glyphs folder, contents)`` of a UFO's default layer: the folder's path and
+    its contents.plist (glyph name -> file name, in the file's order).
+
+    Raises:
+        NotLight: not a UFO 3 this reader takes (the caller reads it with ufoLib2).
+    """
+    try:
+        meta = _plist(os.path.join(path, "metainfo.plist"), None)
+        if not isinstance(meta, dict) or meta.get("formatVersion") != 3:
+            raise NotLight("not a UFO 3")
+        layers = _plist(os.path.join(path, "layercontents.plist"), [["public.default",
+                                                                    "glyphs"]])
+        if "glyphs" not in [d for _, d in layers]:   # the default layer's, by the spec
+            raise NotLight("no default layer folder 'glyphs'")
+        folder = os.path.join(path, "glyphs")
+        contents = _plist(os.path.join(folder, "contents.plist"), None)
+    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+        raise NotLight("plists: %s" % exc) from exc
+    if not isinstance(contents, dict):
+        raise NotLight("no contents.plist")
+    return folder, contents
+
+
+def read_light_font(path, glif, contour_counts):
+    """The :class:`LightFont` of the UFO at ``path``, every glyph's shell read from
+    its ``.glif`` bytes (``glif(name)``); ``contour_counts`` (a dict) gets each
+    glyph's number of contours.
+
+    Raises:
+        NotLight: the font needs ufoLib2 / ufo2ft (see the module docstring).
+    """
+    _folder, contents = read_contents(path)
+    if os.path.isdir(os.path.join(path, "data")) and any(
+            files for _, _, files in os.walk(os.path.join(path, "data"))):
+        raise NotLight("data folder")
+    try:
+        info = _plist(os.path.join(path, "fontinfo.plist"), {})
+        lib = _plist(os.path.join(path, "lib.plist"), {})
+        groups = _plist(os.path.join(path, "groups.plist"), {})
+        kerning = _plist(os.path.join(path, "kerning.plist"), {})
+        fea = os.path.join(path, "features.fea")
+        text = ""
+        if os.path.exists(fea):
+            with open(fea, "rb") as f:
+                text = f.read().decode("utf-8")
+    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+        raise NotLight("plists: %s" % exc) from exc
+    order = lib.get("public.glyphOrder", []) if isinstance(lib, dict) else None
+    if not isinstance(info, dict) or not isinstance(lib, dict) \
+            or not all(isinstance(k, str) for k in lib) \
+            or not isinstance(order, list) or not all(isinstance(n, str) for n in order):
+        raise NotLight("fontinfo or lib not a dict")
+    _info_checked(info)
+    upm = info.get("unitsPerEm")
+    if upm is not None and not 0 < upm < float("inf"):
+        raise NotLight("unitsPerEm %r" % (upm,))
+    if groups or kerning:
+        raise NotLight("kerning or groups")
+    for key in lib:
+        if key not in _FONT_LIB_OK and key.startswith(_UFO2FT_LIB_PREFIXES):
+            raise NotLight("font lib key %s" % key)
+    if all(info.get(k) is not None for k in _VERTICAL):
+        raise NotLight("vertical metrics")
+    if re.search(r"\binclude\s*\(", text):
+        raise NotLight("feature file includes")
+    glyphs = {}
+    for name in contents:
+        glyph, count = glif_shell(name, glif(name))
+        glyphs[name] = glyph
+        contour_counts[name] = count
+    return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs)
+
+
+def _number(text):
+    """A GLIF number: an int where it is one, else a float (as glifLib reads it)."""
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
+
+
+_CONTOUR = re.compile(rb"<contour[\s/>]")
+
+
+def glif_shell(name, data):
+    """``(LightGlyph, number of contours)`` of a GLIF 2 glyph's bytes, read as glifLib
+    reads them (advance, unicodes without repeats, guidelines, note, lib).
+
+    Raises:
+        NotLight: anything else (components, anchors, an image, GLIF 1, bad XML).
+    """
+    from fontTools.misc import etree   # lxml where installed, as glifLib and .glif read
+
+    a = data.find(b"<outline")
+    contours = 0
+    if a >= 0:
+        if data.count(b"<outline") != 1 or b"<!--" in data or b"<![CDATA[" in data:
+            raise NotLight("glyph %r: outline not plain" % name)
+        b = data.find(b"</outline>", a)
+        inner = data[a:b] if b >= 0 else data[a:]
+        if b"<component" in inner:
+            raise NotLight("glyph %r: components" % name)
+        contours = len(_CONTOUR.findall(inner))
+        if b >= 0:
+            data = data[:a] + data[b + 10:]
+    try:
+        root = etree.fromstring(data)
+    except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
+        raise NotLight("glyph %r: %s" % (name, exc)) from exc
+    if root.tag != "glyph" or root.get("format", "2").split(".")[0] != "2" \
+            or root.get("name") != name or (root.text or "").strip():
+        raise NotLight("glyph %r: not a GLIF 2 glyph of that name" % name)
+    glyph = LightGlyph(name)
+    try:
+        for el in root:
+            tag = el.tag
+            if tag == "advance":
+                glyph.width = _number(el.get("width", "0"))
+                glyph.height = _number(el.get("height", "0"))
+            elif tag == "unicode":
+                u = int(el.get("hex"), 16)
+                if u not in glyph.unicodes:
+                    glyph.unicodes.append(u)
+            elif tag == "guideline":
+                glyph.guidelines.append(LightGuideline(
+                    **{k: (_number(v) if k in ("x", "y", "angle") else v)
+                       for k, v in el.attrib.items()}))
+            elif tag == "note":
+                glyph.note = el.text
+            elif tag == "lib":
+                glyph.lib = _lib(el)
+            elif tag == "outline" and not len(el):
+                pass
+            else:  # anchor, image, anything unknown
+                raise NotLight("glyph %r: <%s>" % (name, tag))
+    except (TypeError, ValueError) as exc:
+        raise NotLight("glyph %r: %s" % (name, exc)) from exc
+    for key in glyph.lib:
+        if key not in _GLYPH_LIB_OK and key.startswith(_UFO2FT_LIB_PREFIXES):
+            raise NotLight("glyph %r: lib key %s" % (name, key))
+    return glyph, contours
+
+
+def _lib(element):
+    from fontTools.misc import etree
+
+    if len(element) != 1 or element[0].tag != "dict":
+        raise ValueError("lib is not one dict")
+    text = b'<plist version="1.0">' + etree.tostring(element[0]) + b"</plist>"
+    return plistlib.loads(text)
