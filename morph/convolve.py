@@ -822,9 +822,12 @@ def scaled_gauss_pair(base, factor_a, factor_b):
                      [scale_edges(e, factor_b) for e in base.maps_b], base.table)
 
 
-def chain(pieces, tol):
+def chain(pieces, tol, packed=False):
     """Join oriented pieces end to start into closed loops (lists of arrays).
-    ``pieces``: a list, or a :class:`morph.piece.Pieces` (used as it is).
+    ``pieces``: a list, or a :class:`morph.piece.Pieces` (used as it is).  With
+    ``packed``: (loops, the loops' pieces one loop after another as a
+    :class:`morph.piece.Pieces`, which the trimming takes without stacking the
+    rows again).
 
     Each end is paired with a start closer than ``tol`` (nearest pairs first, each
     start used once; found by hashing the points on a grid of cell ``tol``), and the
@@ -838,7 +841,7 @@ def chain(pieces, tol):
         pc.Pieces.of([np.asarray(p, float) for p in pieces])
     n = len(pieces)
     if n == 0:
-        return []
+        return ([], pc.Pieces([], 0)) if packed else []
     starts, ends = pc.end_points(pieces)
     e, s, d = _near_pairs(ends, starts, tol)
     succ = _nearest_first(e, s, d, n)
@@ -857,10 +860,11 @@ def chain(pieces, tol):
         h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
         groups.append((ks, h))
-    snapped = pc.Pieces(groups, n).rows()
-    ordered = list(map(snapped.__getitem__, order.tolist()))
+    snapped = pc.Pieces(groups, n)
+    ordered = list(map(snapped.rows().__getitem__, order.tolist()))
     bounds = [0] + (np.flatnonzero(np.diff(first[order])) + 1).tolist() + [n]
-    return [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    loops = [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    return (loops, snapped.take(order)) if packed else loops
 
 
 def _nearest_first(e, s, d, n):

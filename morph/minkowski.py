@@ -316,10 +316,10 @@ def _trimmed(conv, tol, member, inside=None):
     # ends of consecutive pieces agree to rounding in most places, but where a
     # tangent angle is solved at high curvature they can be a few 1e-9 of the size
     # apart: ends within a hundredth of tol are joined (inside the contraction share)
-    loops = chain(pieces, 0.01 * tol)
+    loops, packed = chain(pieces, 0.01 * tol, packed=True)
     grid = GRID_SHARE * np.sqrt(2.0) * tol
     return loops, boundary(loops, FLAT_SHARE * tol, grid, "positive", member,
-                           CONTRACT_SHARE * tol)
+                           CONTRACT_SHARE * tol, pieces=packed)
 
 
 def _tip_tolerances(out, conv, tol):

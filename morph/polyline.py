@@ -66,8 +66,22 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
         params.append(ts)
         points.append(starts)
     owner, ts, pts = np.concatenate(owners), np.concatenate(params), np.concatenate(points)
-    order = np.lexsort((ts, owner))
+    order = piece_order(owner, ts)
     return owner[order], ts[order], pts[order]
+
+
+def piece_order(owner, t):
+    """``np.lexsort((t, owner))`` for piece indices ``owner`` >= 0 and parameters t
+    in [0, 1]: a stable argsort of the one float owner * 2 + t (one pass, and a
+    merge where the input is sorted runs, as the vertices of a flattening and the
+    ones added to it are: a few times faster than lexsort's two), checked in one
+    pass to be in (owner, t) order; lexsort where it is not (parameters of one
+    piece nearer than the float's resolution there)."""
+    order = np.argsort(owner * 2.0 + t, kind="stable")
+    o, s = owner[order], t[order]
+    if len(o) < 2 or bool(((o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1]))).all()):
+        return order
+    return np.lexsort((t, owner))
 
 
 def _flat_params(stack, tol, min_width, keep=None):
@@ -120,9 +134,27 @@ def _equal_parts(parts, steps):
     bounds = np.flatnonzero(np.diff(steps)) + 1
     for lo, hi in zip(np.r_[0, bounds], np.r_[bounds, len(steps)]):
         mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
-        cut = np.einsum("kij,mjc->mkic", mats, parts[lo:hi])
-        out.append(cut.reshape(-1, n + 1, parts.shape[2]))
+        out.append(_apply_rows(mats, parts[lo:hi]))
     return np.concatenate(out)
+
+
+def _apply_rows(mats, parts):
+    """einsum("kij,mjc->mkic", mats, parts) reshaped to (m k, n+1, c): each part's
+    control points through each matrix, the sum over j in order (the same bits as
+    einsum's) on the parts held coordinate-first, one long vector per (j, c)
+    (einsum's inner loops run over the 3 coordinates); a few parts by einsum."""
+    k, rows, _ = mats.shape
+    if len(parts) < 64:   # a few parts cut into many steps: one einsum call
+        return np.einsum("kij,mjc->mkic", mats, parts).reshape(-1, rows, parts.shape[2])
+    pts = parts.transpose(1, 2, 0).copy()        # (n+1, c, m)
+    out = np.empty((k, rows) + pts.shape[1:])
+    for a in range(k):
+        for i in range(rows):
+            acc = mats[a, i, 0] * pts[0]
+            for j in range(1, pts.shape[0]):
+                acc = acc + mats[a, i, j] * pts[j]
+            out[a, i] = acc
+    return out.transpose(3, 0, 1, 2).reshape(-1, rows, parts.shape[2])
 
 
 @functools.lru_cache(maxsize=256)
@@ -240,9 +272,19 @@ class BoxGrid:
             if counts.sum() <= 8 * n + 64:
                 break
             self.cell *= 2.0
-        item = np.repeat(np.arange(n), counts)
-        offs = _ranks(counts)  # the cells covered by each box, row by row
-        key = _key(c0[item, 0] + offs % nx[item], c0[item, 1] + offs // nx[item])
+        self.c0 = c0
+        # each box's first cell, then the further cells of the boxes that cover more
+        # (row by row): the divisions only for those
+        multi = np.flatnonzero(counts > 1)
+        key = _key(c0[:, 0], c0[:, 1])
+        item = np.arange(n)
+        if len(multi):
+            more = counts[multi] - 1
+            box = np.repeat(multi, more)
+            offs = _ranks(more) + 1
+            width = nx[box]
+            key = np.concatenate([key, _key(c0[box, 0] + offs % width, c0[box, 1] + offs // width)])
+            item = np.concatenate([item, box])
         self.keys, self.items = _sorted_entries(key, item, n)
 
     def _cell(self, x):
@@ -252,15 +294,40 @@ class BoxGrid:
         """(point index, box index) of every box whose cell holds the point: a
         superset of the boxes that contain it."""
         c = self._cell(np.asarray(points, float))
-        k = _key(c[:, 0], c[:, 1])
-        lo = np.searchsorted(self.keys, k, "left")
-        cnt = np.searchsorted(self.keys, k, "right") - lo
-        pt = np.repeat(np.arange(len(k)), cnt)
+        lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
+        cnt = hi - lo
+        pt = np.repeat(np.arange(len(c)), cnt)
         return pt, self.items[np.repeat(lo, cnt) + _ranks(cnt)]
 
 
 def _key(cx, cy):
     return cx * 1_000_003 + cy
+
+
+def search_sorted(sorted_keys, k, side="left"):
+    """np.searchsorted(sorted_keys, k, side), the queries sorted first where there
+    are many (:func:`_search_both`)."""
+    if len(k) < 256:
+        return np.searchsorted(sorted_keys, k, side)
+    order = np.argsort(k)
+    out = np.empty(len(k), np.int64)
+    out[order] = np.searchsorted(sorted_keys, k[order], side)
+    return out
+
+
+def _search_both(sorted_keys, k):
+    """(np.searchsorted(sorted_keys, k, "left"), ... "right"): the queries sorted
+    first, where there are many (binary searches in the order of the keys walk the
+    array's cache lines in order: a quarter of the time of searching in any order,
+    sort included)."""
+    if len(k) < 256:
+        return np.searchsorted(sorted_keys, k, "left"), np.searchsorted(sorted_keys, k, "right")
+    order = np.argsort(k)
+    ks = k[order]
+    lo, hi = np.empty(len(k), np.int64), np.empty(len(k), np.int64)
+    lo[order] = np.searchsorted(sorted_keys, ks, "left")
+    hi[order] = np.searchsorted(sorted_keys, ks, "right")
+    return lo, hi
 
 
 def col_min(x):
@@ -276,16 +343,16 @@ def col_max(x):
 
 def _sorted_entries(key, item, n):
     """(keys, items) of a grid's (cell key, box) entries sorted by key, each key's
-    boxes in ascending order (``item`` is ascending: a stable sort by key).  Both
-    as one integer (key - min) * n + item sorted by value, a third of the time of
-    a stable argsort, where that fits 62 bits; the argsort where it does not."""
+    boxes in ascending order (items below ``n``).  Both as one integer (key - min)
+    * n + item sorted by value, a third of the time of a stable argsort, where that
+    fits 62 bits; a lexsort where it does not."""
     if not len(key):
         return key, item
     k0 = int(key.min())
     if (int(key.max()) - k0 + 1) * max(n, 1) < 2 ** 62:
         both = np.sort((key - k0) * n + item)
         return both // n + k0, both % n
-    order = np.argsort(key, kind="stable")
+    order = np.lexsort((item, key))
     return key[order], item[order]
 
 
@@ -310,12 +377,20 @@ def _cell_pairs(grid):
 
 
 def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
+    """:func:`_cell_pair_columns` as (k, 2) arrays."""
+    for i, j in _cell_pair_columns(grid, limit, first):
+        yield np.stack([i, j], axis=1)
+
+
+def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     """The pairs of :func:`_cell_pairs` in chunks of cells holding about ``first``,
-    4 ``first``, 16 ``first``, ... candidate pairs, at most ``limit`` (a pair sharing
-    cells of two chunks comes in both): a caller that needs one pair stops at the
-    first chunk that has it, having paid for little more than that chunk."""
+    4 ``first``, 16 ``first``, ... candidate pairs, at most ``limit``: a caller that
+    needs one pair stops at the first chunk that has it, having paid for little more
+    than that chunk.  Each pair comes once, from the first cell the two boxes share
+    (the one at the larger of their first cells' columns and rows: a pair of boxes
+    that share a cell share that one), without sorting the pairs found; only where
+    two cells' keys coincide (more than 10^6 rows) can a pair come twice."""
     lo, hi = grid.lo, grid.hi
-    n = len(lo)
     key, seg = grid.keys, grid.items
     # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
     bounds = np.flatnonzero(np.diff(key)) + 1
@@ -334,19 +409,22 @@ def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
     cut = starts[np.searchsorted(before, marks).clip(0, len(starts) - 1)]
     borders = unique(np.concatenate([[0], cut, [len(key)]]))
     slack = 1e-12 * grid.span.max()
+    # the boxes' columns as contiguous arrays: gathering from them is several times
+    # faster than gathering rows of (n, 2) arrays
+    lo_x, lo_y = np.ascontiguousarray(lo[:, 0]), np.ascontiguousarray(lo[:, 1])
+    hi_x, hi_y = hi[:, 0] + slack, hi[:, 1] + slack
+    cx, cy = np.ascontiguousarray(grid.c0[:, 0]), np.ascontiguousarray(grid.c0[:, 1])
     for s0, s1 in zip(borders[:-1], borders[1:]):
         c = cnt[s0:s1]
         if c.sum() == 0:
             continue
         first = s0 + np.repeat(np.arange(s1 - s0), c)
         second = first + 1 + _ranks(c)
-        a, b = seg[first], seg[second]
-        pair_keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
-        i, j = pair_keys // n, pair_keys % n
-        li, lj, hi_, hj = lo[i], lo[j], hi[i] + slack, hi[j] + slack
-        keep = ((li[:, 0] <= hj[:, 0]) & (li[:, 1] <= hj[:, 1])
-                & (lj[:, 0] <= hi_[:, 0]) & (lj[:, 1] <= hi_[:, 1]))
-        yield np.stack([i[keep], j[keep]], axis=1)
+        i, j = seg[first], seg[second]   # i < j: a run's boxes are ascending
+        keep = ((lo_x[i] <= hi_x[j]) & (lo_y[i] <= hi_y[j])
+                & (lo_x[j] <= hi_x[i]) & (lo_y[j] <= hi_y[i])
+                & (_key(np.maximum(cx[i], cx[j]), np.maximum(cy[i], cy[j])) == key[first]))
+        yield i[keep], j[keep]
 
 
 def segment_crossings(p0, p1, pairs):
@@ -568,15 +646,49 @@ def _near_segment_chunks(p0, p1, reach):
 
 
 def _within(p0, p1, pairs, reach):
-    """Mask of the segment pairs (i, j) that cross or come within ``reach``."""
-    i, j = pairs[:, 0], pairs[:, 1]
-    hit = np.zeros(len(pairs), bool)
-    hit[segment_crossings(p0, p1, pairs)[0]] = True
-    gap = np.minimum(np.minimum(segment_distance(p0[i], p0[j], p1[j]),
-                                segment_distance(p1[i], p0[j], p1[j])),
-                     np.minimum(segment_distance(p0[j], p0[i], p1[i]),
-                                segment_distance(p1[j], p0[i], p1[i])))
+    """Mask of the segment pairs (i, j) that cross or come within ``reach``: the
+    crossings of :func:`segment_crossings` and the least of the four end-to-segment
+    distances of :func:`segment_distance`, the same arithmetic on contiguous
+    coordinate columns (gathering rows of (n, 2) arrays and reducing their short
+    last axis cost several times as much)."""
+    return _within_columns(_columns(p0, p1), pairs[:, 0], pairs[:, 1], reach)
+
+
+def _columns(p0, p1):
+    """The coordinates of segments p0[k] p1[k] as four contiguous columns."""
+    return (np.ascontiguousarray(p0[:, 0]), np.ascontiguousarray(p0[:, 1]),
+            np.ascontiguousarray(p1[:, 0]), np.ascontiguousarray(p1[:, 1]))
+
+
+def _within_columns(cols, i, j, reach):
+    """:func:`_within` of the pairs (i[k], j[k]) of segments given as columns
+    (:func:`_columns`)."""
+    x0, y0, x1, y1 = cols
+    ax, ay, bx, by = x0[i], y0[i], x1[i], y1[i]
+    cx, cy, dx, dy = x0[j], y0[j], x1[j], y1[j]
+    rx, ry = bx - ax, by - ay
+    sx, sy = dx - cx, dy - cy
+    qx, qy = cx - ax, cy - ay
+    den = rx * sy - ry * sx
+    ok = np.abs(den) > 1e-300
+    den_safe = np.where(ok, den, 1.0)
+    u = (qx * sy - qy * sx) / den_safe
+    v = (qx * ry - qy * rx) / den_safe
+    eps = 1e-9
+    hit = ok & (u >= -eps) & (u <= 1 + eps) & (v >= -eps) & (v <= 1 + eps)
+    gap = np.minimum(np.minimum(_point_segment(ax, ay, cx, cy, sx, sy),
+                                _point_segment(bx, by, cx, cy, sx, sy)),
+                     np.minimum(_point_segment(cx, cy, ax, ay, rx, ry),
+                                _point_segment(dx, dy, ax, ay, rx, ry)))
     return hit | (gap <= reach)
+
+
+def _point_segment(px, py, ax, ay, abx, aby):
+    """:func:`segment_distance` from points (px, py) to segments from (ax, ay) along
+    (abx, aby), on columns."""
+    ll = np.maximum(abx * abx + aby * aby, 1e-300)
+    t = np.clip(((px - ax) * abx + (py - ay) * aby) / ll, 0.0, 1.0)
+    return np.hypot(ax + t * abx - px, ay + t * aby - py)
 
 
 def polyline_edges(polylines):

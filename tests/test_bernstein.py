@@ -286,3 +286,24 @@ def test_exact_product_check_catches_an_off_by_one_weight(monkeypatch):
     s[[17, 18]] = s[[18, 17]]                            # two output rows swapped
     monkeypatch.setattr(bz, "_scatter", lambda m, n: s)
     assert _exact_product_error(a, b, bz.multiply_many(a, b, "scatter")) > 1e-3
+
+
+def test_subsegment_many_over_whole_ranges_is_the_rows_and_the_splits():
+    """Rows over [0, 1] (or [1, 0], reversed) come out as themselves, which is what
+    the two de Casteljau splits give them; the other rows of the same call are
+    split as before."""
+    rng = np.random.default_rng(59)
+    c = rng.uniform(-5, 5, (60, 4, 3))
+    t0, t1 = rng.uniform(0, 1, 60), rng.uniform(0, 1, 60)
+    t0[::3], t1[::3] = 0.0, 1.0
+    t0[1::6], t1[1::6] = 1.0, 0.0
+    got = bz.subsegment_many(c, t0, t1)
+    rev = t1 < t0
+    a, b = np.where(rev, t1, t0), np.where(rev, t0, t1)
+    _, right = bz.split_many(c, a)
+    left, _ = bz.split_many(right, np.where(a >= 1.0, 1.0, (b - a) / (1.0 - a)))
+    left[rev] = left[rev][:, ::-1]
+    assert np.array_equal(got, left)
+    whole = (a == 0.0) & (b == 1.0)
+    assert np.array_equal(got[whole & ~rev], c[whole & ~rev])
+    assert np.array_equal(got[whole & rev], c[whole & rev][:, ::-1])

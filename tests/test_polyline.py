@@ -322,3 +322,87 @@ def test_member_and_unique_match_numpy():
         s = pl.unique(pool)
         assert np.array_equal(s, np.unique(pool))
         assert np.array_equal(pl.member(values, s), np.isin(values, pool))
+
+
+def _farthest_from_polyline(piece, pts, samples=4001):
+    """The largest distance of the piece (densely sampled) from the polyline pts."""
+    curve = pc.evaluate(np.asarray(piece, float), np.linspace(0.0, 1.0, samples))
+    return float(pl.min_segment_distance(curve, pts[:-1], pts[1:]).max())
+
+
+def test_flattening_is_within_tol_and_cuts_a_part_the_curve_leaves_by_more(monkeypatch):
+    """flatten is a certified bound: densely sampled, every piece (rational quadratics
+    and cubics with heavy inner weights, whose curves come within 10 % of their
+    control polygons) lies within tol of its polyline.  A part whose curve leaves
+    its chord by more than tol is cut: a rational quadratic whose arc is 1.05 tol
+    from its chord (its middle control point 1.16 tol) gets inner vertices.  The
+    check can fail: with the control-polygon bound loosened to 0.8 of itself that
+    arc is taken as its chord, 1.05 tol away.  (The random pieces alone would not
+    show it: their parts are cut into ceil(sqrt(d / tol)) steps, most well inside
+    tol.)"""
+    rng = np.random.default_rng(29)
+    pieces = []
+    for _ in range(60):
+        n = int(rng.integers(3, 5))
+        pts = rng.uniform(0, 10, (n, 2))
+        w = np.concatenate([[1.0], rng.uniform(1.0, 12.0, n - 2), [1.0]])
+        pieces.append(pc.from_points(pts, w))
+    w = 10.0   # arc height w / (1 + w) of the middle control point's distance
+    arc = pc.from_points([(0.0, 0.0), (1.0, 1.05 * (1 + w) / w), (2.0, 0.0)], [1.0, w, 1.0])
+
+    def worst(tol):
+        return max(_farthest_from_polyline(p, q) / tol
+                   for p, (q, _) in zip(pieces, pl.flatten_many(pieces, tol)))
+
+    for tol in (0.3, 0.03):
+        assert worst(tol) <= 1.0 + 1e-9
+    q, t = pl.flatten(arc, 1.0)
+    assert len(q) > 2 and _farthest_from_polyline(arc, q) <= 1.0 + 1e-9
+    assert _farthest_from_polyline(arc, q[[0, -1]]) > 1.0   # the chord alone is too far
+
+    loose = pl._chord_distance
+    monkeypatch.setattr(pl, "_chord_distance", lambda parts: 0.8 * loose(parts))
+    q = pl.flatten(arc, 1.0)[0]
+    assert len(q) == 2 and _farthest_from_polyline(arc, q) > 1.0
+
+
+def test_piece_order_is_lexsort():
+    """piece_order gives np.lexsort((t, owner)) on sorted runs, shuffled input, ties
+    and parameters nearer than the float key resolves (its fallback)."""
+    rng = np.random.default_rng(31)
+    for case in range(40):
+        n = int(rng.integers(0, 300))
+        owner = rng.integers(0, 50000 if case % 2 else 20, n)
+        t = rng.choice([0.0, 0.25, 0.5], n) if case % 3 == 0 else rng.uniform(0, 1, n)
+        if case % 4 == 1 and n > 1:   # two parameters of one piece 1e-15 apart
+            owner[1], t[1] = owner[0], t[0] + 1e-15 if t[0] < 0.5 else t[0] - 1e-15
+            owner[:2], t[:2] = owner[1::-1].copy(), t[1::-1].copy()
+        if case % 5 == 0:
+            o = np.lexsort((t, owner))
+            owner, t = owner[o], t[o]
+            cut = n // 3
+            owner = np.concatenate([owner[cut:], owner[:cut]])
+            t = np.concatenate([t[cut:], t[:cut]])
+        assert np.array_equal(pl.piece_order(owner, t), np.lexsort((t, owner)))
+
+
+def test_within_on_columns_is_the_crossing_and_distance_test():
+    """_within (on coordinate columns) gives exactly what segment_crossings and the
+    four segment_distance values give, on random segments with shared, collinear
+    and degenerate ones."""
+    rng = np.random.default_rng(37)
+    p0 = rng.integers(0, 12, (400, 2)).astype(float)
+    p1 = p0 + rng.integers(-3, 4, (400, 2))
+    p1[::17] = p0[::17]
+    pairs = np.stack(np.triu_indices(400, 1), axis=1)[::7]
+    i, j = pairs[:, 0], pairs[:, 1]
+    for reach in (0.0, 0.7, np.full(len(pairs), 1.3)):
+        hit = np.zeros(len(pairs), bool)
+        hit[segment_crossings(p0, p1, pairs)[0]] = True
+        gap = np.minimum(np.minimum(pl.segment_distance(p0[i], p0[j], p1[j]),
+                                    pl.segment_distance(p1[i], p0[j], p1[j])),
+                         np.minimum(pl.segment_distance(p0[j], p0[i], p1[i]),
+                                    pl.segment_distance(p1[j], p0[i], p1[i])))
+        want = hit | (gap <= reach)
+        assert np.array_equal(pl._within(p0, p1, pairs, reach), want)
+        assert 0 < want.sum() < len(want)

@@ -50,9 +50,11 @@ THIN_UNITS = 1.5  # rings rounded apart by at most one grid step per vertex
 
 
 def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0,
-             untangle=True):
+             untangle=True, pieces=None):
     """The region filled by closed ``loops`` of pieces under ``fill_rule``, as loops
-    of rational pieces (outer counter-clockwise, holes clockwise).
+    of rational pieces (outer counter-clockwise, holes clockwise).  ``pieces``: the
+    loops' pieces one loop after another as a :class:`morph.piece.Pieces`, where the
+    caller has them (:func:`morph.convolve.chain`).
 
     ``hole_test(ring, islands) -> bool`` (float polygons of a hole ring and of the
     rings directly inside it) says whether a hole is in fact filled.  See the
@@ -61,7 +63,7 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     loops = [list(loop) for loop in loops if len(loop)]
     if not loops:
         return []
-    tg = tag_loops(loops, eps, grid)
+    tg = tag_loops(loops, eps, grid, pieces=pieces)
     if len(tg.q) == 0:
         return []
     rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)

@@ -48,8 +48,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import (BoxGrid, _cell_pair_chunks, _sorted_entries, _within, col_max, col_min,
-                        unique)
+from ..polyline import BoxGrid, _sorted_entries, col_max, col_min, unique
 
 #: segments whose topology is certain are flattened up to this many times coarser
 #: (:func:`adaptive_starts`)
@@ -73,6 +72,12 @@ TURN = CHAIN
 #: vertices than one step from COARSE to eps on chunks of CJK strokes, whose caps
 #: and joins turn too fast for COARSE eps but not for 8 eps
 LEVEL_STEP = 4.0
+#: the snap rounding's grid holds the segments' boxes grown by this many grid units:
+#: half a pixel for the hot pixels, and enough for the lift's search for the
+#: segments within 2 grid units of a ring's vertex (its MATCH_UNITS, plus half a
+#: unit: the segments cut and rounded stay within their unrounded boxes grown by
+#: that), which then needs no grid of its own
+SEGMENT_REACH = 2.5
 
 
 @dataclass
@@ -99,6 +104,12 @@ class Tagged:
     grid: float
     pieces: list
     eps: float = 0.0
+    #: the snap rounding's grid of the segments before hot pixels cut them (boxes of
+    #: their unrounded ends grown by SEGMENT_REACH grid units), the index of each
+    #: one's first segment after, and how many it became (None: no grid)
+    seg_grid: object = None
+    seg_first: np.ndarray = None
+    seg_count: np.ndarray = None
 
     def to_float(self, q):
         return self.origin + self.grid * np.asarray(q, float)
@@ -108,16 +119,19 @@ class Tagged:
         return [self.q[a:b] for a, b in zip(self.starts[:-1], self.starts[1:])]
 
 
-def tag_loops(loops, eps, grid, origin=None):
+def tag_loops(loops, eps, grid, origin=None, pieces=None):
     """:class:`Tagged` polylines of closed loops of pieces (see the module docstring).
 
     eps: flattening bound where the topology is decided (absolute; COARSE eps along
     simple arcs apart from everything, :func:`adaptive_starts`); grid: size of one
     integer unit.  Loops that
     collapse to fewer than three grid points are dropped (their area is below
-    grid^2 times their vertex count).
+    grid^2 times their vertex count).  ``pieces``: the loops' pieces one loop after
+    another as a :class:`morph.piece.Pieces`, where the caller has them (else they
+    are stacked here).
     """
-    pieces = pc.Pieces.of([p for loop in loops for p in loop])
+    if pieces is None:
+        pieces = pc.Pieces.of([p for loop in loops for p in loop])
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
     piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
@@ -134,8 +148,10 @@ def tag_loops(loops, eps, grid, origin=None):
     ok = counts[loop_of] >= 3
     q, pid, ts, loop_of, xy = q[ok], pid[ok], ts[ok], loop_of[ok], xy[ok]
     nxt, prv, starts = _links(loop_of)
+    cuts = (None, None, None)
     if len(q):
-        q, pid, ts, loop_of = _through_hot_pixels(q, (xy - origin) / grid, pid, ts, loop_of, nxt)
+        q, pid, ts, loop_of, cuts = _through_hot_pixels(q, (xy - origin) / grid, pid, ts,
+                                                         loop_of, nxt)
         nxt, prv, starts = _links(loop_of)
     # a segment ends at its next vertex's parameter on the same piece, 1 at a piece's
     # last vertex; a vertex put on a segment at its start (a hot pixel beside it)
@@ -143,7 +159,8 @@ def tag_loops(loops, eps, grid, origin=None):
     # a one-unit edge as the whole rest of the piece)
     same = (pid[nxt] == pid) & (ts[nxt] >= ts)
     t1 = np.where(same, ts[nxt], 1.0)
-    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps))
+    return Tagged(q, pid, ts, t1, nxt, prv, starts, origin, float(grid), pieces, float(eps),
+                  *cuts)
 
 
 def adaptive_starts(pieces, piece_loop, eps, grid, coarse=None):
@@ -262,8 +279,8 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     def overlaps(owner, t0, width):
         """Parts of the pieces' subdivision that meet a refined segment."""
         p = of[owner] * 2.0
-        first = np.searchsorted(key, p + t0, side="right") - 1
-        last = np.searchsorted(key, p + t0 + width, side="left") - 1
+        first = pl.search_sorted(key, p + t0, side="right") - 1
+        last = pl.search_sorted(key, p + t0 + width, side="left") - 1
         return refined[np.maximum(last, first) + 1] - refined[first] > 0
 
     fp, fts, fxy = pl.flat_starts(pieces.take(of) if isinstance(pieces, pc.Pieces)
@@ -282,7 +299,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     mx = np.concatenate([xy[keep], fxy[take]])
     loose = np.concatenate([~on_fine[keep], np.zeros(take.sum(), bool)])
     mseg = np.concatenate([np.flatnonzero(keep), seg[take]])
-    order = np.lexsort((mt, mp))
+    order = pl.piece_order(mp, mt)
     mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
     # gaps: a chord within a refined segment with a loose end (to the next vertex of
     # its piece, or to the piece's end)
@@ -300,7 +317,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         mt = np.concatenate([mt, mt[owner] + s * (t_next[owner] - mt[owner])])
         mx = np.concatenate([mx, pts])
         mseg = np.concatenate([mseg, mseg[owner]])
-        order = np.lexsort((mt, mp))
+        order = pl.piece_order(mp, mt)
         mp, mt, mx, mseg = mp[order], mt[order], mx[order], mseg[order]
     return mp, mt, mx, fine[mseg]
 
@@ -324,18 +341,21 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     seg = todo[has]
     a, b = xy[seg], xy[nxt[seg]]
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
-    for pairs in _cell_pair_chunks(grid):
-        i, j = seg[pairs[:, 0]], seg[pairs[:, 1]]
+    cols = pl._columns(a, b)
+    for ki, kj in pl._cell_pair_columns(grid):
+        i, j = seg[ki], seg[kj]
         keep = (nxt[i] != j) & (nxt[j] != i)
         if line is not None:
             keep &= ~(line[i] & line[j])
-        pairs = pairs[keep]
-        if len(pairs):
-            pairs = pairs[_within(a, b, pairs, reach)]
-        if len(pairs) and arc is not None:
-            pairs = pairs[~_monotone_chains(seg[pairs[:, 0]], seg[pairs[:, 1]], nxt, arc, turn)]
-        if len(pairs):
-            near[has[pairs.ravel()]] = True
+        ki, kj, i, j = ki[keep], kj[keep], i[keep], j[keep]
+        if len(ki):
+            keep = pl._within_columns(cols, ki, kj, reach)
+            ki, kj, i, j = ki[keep], kj[keep], i[keep], j[keep]
+        if len(ki) and arc is not None:
+            keep = ~_monotone_chains(i, j, nxt, arc, turn)
+            ki, kj = ki[keep], kj[keep]
+        near[has[ki]] = True
+        near[has[kj]] = True
     return near
 
 
@@ -373,7 +393,12 @@ def _segment_parts(pieces, pid, t0, t1):
         row[of] = np.arange(len(of))
     for g, (_, stack) in sorted(enumerate(groups), key=lambda x: x[1][1].shape[1]):
         k = np.flatnonzero(group[pid] == g)
-        yield k, bz.subsegment_many(stack[row[pid[k]]], t0[k], t1[k])
+        parts = stack[row[pid[k]]]
+        # a segment over its whole piece (most at the coarse level) is the piece
+        cut = np.flatnonzero((t0[k] != 0.0) | (t1[k] != 1.0))
+        if len(cut):
+            parts[cut] = bz.subsegment_many(parts[cut], t0[k[cut]], t1[k[cut]])
+        yield k, parts
 
 
 def _in_cone(parts, chord, cos_max):
@@ -410,21 +435,31 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     their order.  x: unrounded positions in grid units; a vertex put on a segment
     gets that segment's piece and a parameter interpolated along it.  The rounded
     polyline stays within sqrt(2) / 2 grid units of the unrounded one.
+
+    Returns (q, pid, ts, loop_of) after the cuts and (the grid of the segments
+    before, the index of each one's first segment after, how many it became): the
+    lift looks up the segments near a point in that grid (:data:`SEGMENT_REACH`).
     """
     a, b = x, x[nxt]
-    grid = BoxGrid(np.minimum(a, b) - 0.5, np.maximum(a, b) + 0.5)
+    grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
-    h, s = grid.at_points(hot.astype(float))
-    c = hot[h].astype(float)
+    hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
+    h, s = grid.at_points(np.stack([hx, hy], axis=1))
     # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
-    keep = np.flatnonzero((grid.lo[s, 0] < c[:, 0]) & (grid.hi[s, 0] > c[:, 0])
-                          & (grid.lo[s, 1] < c[:, 1]) & (grid.hi[s, 1] > c[:, 1])
+    # (on coordinate columns: gathering rows of (n, 2) arrays costs several times more)
+    cx, cy = hx[h], hy[h]
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    lo_x, lo_y = np.minimum(ax, bx) - 0.5, np.minimum(ay, by) - 0.5
+    hi_x, hi_y = np.maximum(ax, bx) + 0.5, np.maximum(ay, by) + 0.5
+    keep = np.flatnonzero((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
                           & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
-    h, s, c = h[keep], s[keep], c[keep]
+    h, s = h[keep], s[keep]
+    c = np.stack([cx[keep], cy[keep]], axis=1)
     keep = _line_crosses_square(a[s], b[s], c)
     h, s, c = h[keep], s[keep], c[keep]
+    n = len(q)
     if not len(s):
-        return q, pid, ts, loop_of
+        return q, pid, ts, loop_of, (grid, np.arange(n), np.ones(n, np.int64))
     d = b[s] - a[s]
     u = np.clip(np.einsum("ij,ij->i", c - a[s], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),
                 0.0, 1.0)
@@ -432,7 +467,6 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     # the new vertices after their segment's start, in order along it: only they are
     # sorted (by segment, then u, ties in the order found), each vertex then moved
     # on by the new ones before it
-    n = len(q)
     new = np.lexsort((u, s))
     s, u, h = s[new], u[new], h[new]
     added = np.bincount(s, minlength=n)
@@ -445,7 +479,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     pid = np.concatenate([pid, pid[s]])[out]
     ts = np.concatenate([ts, ts[s] + u * (t_end[new] - ts[s])])[out]
     loop_of = np.concatenate([loop_of, loop_of[s]])[out]
-    return q, pid, ts, loop_of
+    return q, pid, ts, loop_of, (grid, at_old, added + 1)
 
 
 def _unique_rows(q):

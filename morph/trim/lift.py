@@ -17,15 +17,20 @@ along the segment.
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 from .. import moments as mo
 from .. import nearest as nr
-from ..polyline import (BoxGrid, _sorted_entries, col_max, col_min, project, segment_distance,
+from .flatten import SEGMENT_REACH
+from ..polyline import (BoxGrid, _ranks, _sorted_entries, col_max, col_min, project, segment_distance,
                         unique)
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
 MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allowance
+#: Newton rows whose step moves their points by at most this share of the accepted
+#: error leave the iteration (:func:`newton_crossings`)
+SETTLE = 1e-6
 
 
 def lift_rings(rings, tg, contract):
@@ -42,7 +47,7 @@ def lift_rings(rings, tg, contract):
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first
-    seg, fwd = _edge_segments(v, v[nx], tg)
+    seg, fwd = _edge_segments(v, v[nx], tg, nx)
     a, b = tg.q[seg].astype(float), tg.q[tg.nxt[seg]].astype(float)
     u_p, u_q = project(v, a, b), project(v[nx], a, b)
     t0, t1 = tg.t0[seg], tg.t1[seg]
@@ -85,7 +90,8 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
         # sin(alpha / 2) at an angle alpha: far along a shallow crossing
         ta, tb, ok = newton_crossings(stacked, ia, tq[k], ib, tp[nx[k]], guess,
                                       reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid,
-                                      shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)))
+                                      shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)),
+                                      settle=SETTLE * 0.01 * tg.grid)
         # where Newton did not converge the junction stays on the grid point, and each
         # run ends at its piece's point nearest to it within its segment's range (not
         # at the parameter interpolated along the segment: where the piece's speed
@@ -259,7 +265,8 @@ def _spike_triples(flat, reach):
     stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol,
+                                settle=SETTLE * atol)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     return list(zip(r[ok].tolist(), j[ok].tolist()))
 
@@ -325,19 +332,21 @@ def _cut_at(run, j, s, u, x):
     del out[j], ends[j]
 
 
-def _edge_segments(p, q, tg):
+def _edge_segments(p, q, tg, nx=None):
     """Input segment and direction (True: along the segment) of each edge p -> q.
 
     Most edges are input segments whose two ends are input vertices found at no
     other grid point: those are read off directly; the rest are matched by
-    :func:`_matched_segments`."""
+    :func:`_matched_segments`.  ``nx``: where q = p[nx] (the edges of closed
+    rings), each vertex is looked up once."""
     keys = _as_keys(tg.q, tg.q)
     if keys.dtype.names is None:  # integer keys: sorted with their indices as one integer
         sk, order = _sorted_entries(keys, np.arange(len(keys)), len(keys))
     else:
         order = np.argsort(keys, kind="stable")
         sk = keys[order]
-    ip, iq = _unique_vertex(sk, order, _as_keys(p, tg.q)), _unique_vertex(sk, order, _as_keys(q, tg.q))
+    ip = _unique_vertex(sk, order, _as_keys(p, tg.q))
+    iq = ip[nx] if nx is not None else _unique_vertex(sk, order, _as_keys(q, tg.q))
     seg = np.zeros(len(p), np.int64)
     direction = np.ones(len(p), bool)
     along = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(ip, 0)] == iq)
@@ -351,10 +360,14 @@ def _edge_segments(p, q, tg):
 
 
 def _unique_vertex(sorted_keys, order, kp):
-    """Index of the input vertex at each key, -1 where there is none or several."""
-    lo = np.searchsorted(sorted_keys, kp, "left")
-    hi = np.searchsorted(sorted_keys, kp, "right")
-    return np.where(hi - lo == 1, order[np.minimum(lo, len(order) - 1)], -1)
+    """Index of the input vertex at each key, -1 where there is none or several
+    (one search: the key at its place, and not the one after it)."""
+    n = len(sorted_keys)
+    if not n:
+        return np.full(len(kp), -1, np.int64)
+    lo = np.minimum(np.searchsorted(sorted_keys, kp, "left"), n - 1)
+    one = (sorted_keys[lo] == kp) & ((lo == n - 1) | (sorted_keys[np.minimum(lo + 1, n - 1)] != kp))
+    return np.where(one, order[lo], -1)
 
 
 def _matched_segments(p, q, tg, sorted_keys):
@@ -366,18 +379,29 @@ def _matched_segments(p, q, tg, sorted_keys):
         p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
     lost = np.flatnonzero(best > MATCH_UNITS)
     if len(lost):
-        s, f = _nearest_segments(p[lost], q[lost], sa, sb)
+        s, f = _nearest_segments(p[lost], q[lost], sa, sb, tg)
         seg[lost], direction[lost] = s, f
     return seg, direction
 
 
-def _nearest_segments(p, q, sa, sb):
+def _nearest_segments(p, q, sa, sb, tg=None):
     """For edges p -> q: the segment sa -> sb that fits both ends best, and whether
     the edge runs along it.  Candidates are the segments whose boxes, widened by
-    MATCH_UNITS, hold p (:class:`morph.polyline.BoxGrid`); an edge with no candidate
-    within MATCH_UNITS is matched against every segment."""
-    grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
-    e, s = grid.at_points(p)
+    MATCH_UNITS, hold p (:class:`morph.polyline.BoxGrid`), in ascending order for
+    each edge; an edge with no candidate within MATCH_UNITS is matched against every
+    segment.  With ``tg``'s snap-rounding grid (:attr:`.flatten.Tagged.seg_grid`,
+    boxes grown by SEGMENT_REACH >= MATCH_UNITS + 1/2) the candidates are the
+    segments cut from the ones it gives, and no grid is built here: every segment
+    within MATCH_UNITS of p is among them, and the best fit is the first of those
+    with the least score either way."""
+    if tg is not None and tg.seg_grid is not None:
+        e, old = tg.seg_grid.at_points(p)
+        cnt = tg.seg_count[old]
+        e = np.repeat(e, cnt)
+        s = np.repeat(tg.seg_first[old], cnt) + _ranks(cnt)
+    else:
+        grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
+        e, s = grid.at_points(p)
     best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
     far = np.flatnonzero(best > MATCH_UNITS)
     for chunk in np.array_split(far, max(1, len(far) // 64)):
@@ -394,9 +418,15 @@ def _best_fits(n, e, s, score, fwd):
     best = np.full(n, np.inf)
     seg = np.zeros(n, np.int64)
     direction = np.ones(n, bool)
-    order = np.lexsort((score, e))
-    take = order[np.r_[True, np.diff(e[order]) != 0]] if len(order) else order
-    best[e[take]], seg[e[take]], direction[e[take]] = score[take], s[take], fwd[take]
+    # each edge's least score, then its first candidate at that score (ties go to
+    # the first, as a stable sort by (edge, score) takes them): two unbuffered
+    # reductions, no sort
+    np.fmin.at(best, e, score)
+    hit = np.flatnonzero(score == best[e])
+    first = np.full(n, len(e))
+    np.minimum.at(first, e[hit], hit)
+    take = first[first < len(e)]
+    seg[e[take]], direction[e[take]] = s[take], fwd[take]
     return best, seg, direction
 
 
@@ -444,8 +474,14 @@ def newton_step(ha, dha, s, hb, dhb, u):
     """One Newton step on F(s, u) = A(s) - B(u) for rows of stacked homogeneous
     pieces ``ha``, ``hb`` (their hodographs ``dha``, ``dhb``), kept in [0, 1]^2; a
     row whose Jacobian is singular stays where it is."""
-    pa, da = pc.jet_rows(ha, s, dha)
-    pb, db = pc.jet_rows(hb, u, dhb)
+    return _newton_step(ha, dha, s, hb, dhb, u)[:2]
+
+
+def _newton_step(ha, dha, s, hb, dhb, u):
+    """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
+    |B'| |du|, the larger)."""
+    pa, da = _jet_rows(ha, s, dha)
+    pb, db = _jet_rows(hb, u, dhb)
     f = pa - pb
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
     safe = np.where(np.abs(det) > 1e-300, det, 1.0)
@@ -453,10 +489,39 @@ def newton_step(ha, dha, s, hb, dhb, u):
     du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
     ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
     du = np.where(np.abs(det) > 1e-300, du, 0.0)
-    return np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+    s2, u2 = np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+    moved = np.maximum(np.hypot(da[:, 0], da[:, 1]) * np.abs(s2 - s),
+                       np.hypot(db[:, 0], db[:, 1]) * np.abs(u2 - u))
+    return s2, u2, moved
 
 
-def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0):
+def _jet_rows(h, t, dh):
+    """:func:`morph.piece.jet_rows` of rows h (m, n+1, 3) at t with their hodographs
+    dh: the Bernstein sums written out one control point at a time, the powers of t
+    and 1 - t by products (a third of the time of the basis by powers and einsum,
+    which a Newton iteration pays every step)."""
+    val, dval = _bernstein_sum(h, t), _bernstein_sum(dh, t)
+    w = val[:, 2:3]
+    return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+
+
+def _bernstein_sum(c, t):
+    """sum_i C(n, i) t^i (1 - t)^(n - i) c[:, i] of rows c (m, n+1, k), (m, k)."""
+    n = c.shape[1] - 1
+    s = 1.0 - t
+    tp, sp = [np.ones_like(t)], [np.ones_like(t)]
+    for _ in range(n):
+        tp.append(tp[-1] * t)
+        sp.append(sp[-1] * s)
+    binom = bz._binomials(n)
+    out = (binom[0] * sp[n])[:, None] * c[:, 0]
+    for i in range(1, n + 1):
+        out += (binom[i] * tp[i] * sp[n - i])[:, None] * c[:, i]
+    return out
+
+
+def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
+                     settle=0.0):
     """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
 
     ``stacked``: pieces from :func:`morph.piece.stack`; A = stacked[ia[i]],
@@ -465,7 +530,11 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     lies within ``reach`` + ``shallow`` / sin(alpha / 2) of ``guess``, alpha the
     angle between the two pieces there (two lines each moved by d across cross
     up to d / sin(alpha / 2) from where they did), the allowance only for
-    crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.
+    crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.  A row leaves
+    the iteration once a step leaves (s, u) as they are, and with ``settle`` > 0
+    once a step moves both points by at most ``settle`` (what is left is rounding
+    noise: the next step of a converging iteration is far smaller still; where the
+    pieces lie far from the origin the iterates wander by ~1e-13 for ever).
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
@@ -475,17 +544,21 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
     # a row whose step leaves (s, u) as they are is at a fixed point of the
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
-    # the others go on; the result is the same bits as iterating every row
+    # the others go on; without ``settle`` the result is the same bits as iterating
+    # every row
     live = np.arange(len(s))
     for _ in range(iters):
         if not len(live):
             break
         sl, ul = s[live], u[live]
-        s2, u2 = newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
+        s2, u2, moved = _newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
         s[live], u[live] = s2, u2
-        live = live[(s2 != sl) | (u2 != ul)]
-    pa, da = pc.jet_rows(ha, s, dha)
-    pb, db = pc.jet_rows(hb, u, dhb)
+        going = (s2 != sl) | (u2 != ul)
+        if settle > 0.0:
+            going &= moved > settle
+        live = live[going]
+    pa, da = _jet_rows(ha, s, dha)
+    pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))

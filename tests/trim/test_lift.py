@@ -8,6 +8,7 @@ from morph import piece as pc
 from morph import moments as mo
 from morph import nearest as nr
 from morph.trim import boundary
+from morph.trim import lift as L
 from morph.trim.lift import newton_crossings
 
 
@@ -154,3 +155,106 @@ def test_newton_dropping_rows_at_fixed_points_gives_the_same_bits(iters):
     moved = _newton_every_row(stacked, ia, ta, ib, tb, iters - 1)
     still = (moved[0] != want[0]) | (moved[1] != want[1])
     assert 0.1 * m < still.sum() < 0.9 * m   # both kinds of rows occur
+
+
+def test_best_fits_take_each_edges_first_least_score():
+    """_best_fits (two unbuffered reductions) takes what a stable sort by (edge,
+    score) takes first: each edge's least score, ties to the first candidate; edges
+    without candidates keep score inf and segment 0."""
+    rng = np.random.default_rng(41)
+    for _ in range(30):
+        n, m = int(rng.integers(1, 40)), int(rng.integers(0, 200))
+        e = rng.integers(0, n, m)
+        score = rng.choice([0.5, 1.0, 2.0], m) if m % 2 else rng.uniform(0, 3, m)
+        s, fwd = rng.integers(0, 1000, m), rng.random(m) < 0.5
+        best, seg, direction = L._best_fits(n, e, s, score, fwd)
+        want_best, want_seg, want_dir = np.full(n, np.inf), np.zeros(n, np.int64), np.ones(n, bool)
+        order = np.lexsort((score, e))
+        take = order[np.r_[True, np.diff(e[order]) != 0]] if m else order
+        want_best[e[take]], want_seg[e[take]], want_dir[e[take]] = score[take], s[take], fwd[take]
+        assert np.array_equal(best, want_best) and np.array_equal(seg, want_seg)
+        assert np.array_equal(direction, want_dir)
+
+
+def test_unique_vertex_finds_keys_met_once():
+    """_unique_vertex (one search) gives the vertex of keys found exactly once, -1
+    for keys found never or several times, past both ends included."""
+    rng = np.random.default_rng(43)
+    keys = rng.integers(0, 60, 80)
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    probe = rng.integers(-5, 70, 300)
+    got = L._unique_vertex(sk, order, probe)
+    count = np.array([(keys == k).sum() for k in probe])
+    want = np.array([int(np.flatnonzero(keys == k)[0]) if c == 1 else -1
+                     for k, c in zip(probe, count)])
+    assert np.array_equal(got, want) and (want >= 0).any() and (count > 1).any()
+    assert np.array_equal(L._unique_vertex(sk[:0], order[:0], probe), np.full(300, -1))
+
+
+def test_newton_rows_that_settle_stop_within_a_hair_of_the_fixed_point():
+    """With ``settle``, rows leave once a step moves them by at most that: the
+    crossings found (ok) are the same rows, their points within 10 settle of the
+    iteration run to its fixed points, in fewer row-steps; pieces far from the
+    origin, whose iterates never reach a fixed point, included."""
+    import morph.trim.lift as lift
+
+    rng = np.random.default_rng(47)
+    m = 2000
+    pts = rng.uniform(-1, 1, (m, 3, 2)) + 5e4          # far from the origin
+    w = rng.uniform(0.5, 2.0, (m, 3, 1))
+    w[:, [0, -1]] = 1.0
+    arcs = np.concatenate([pts * w, w], axis=2)
+    # straight pieces through a point of each arc, at random angles: real crossings
+    s_true = rng.uniform(0.2, 0.8, m)
+    x = pc.jet_many(arcs, np.arange(m), s_true)[0]
+    v = rng.normal(0, 1, (m, 2))
+    lines = np.ones((m, 3, 3))
+    lines[:, :, :2] = x[:, None] + np.array([-1.0, 0.0, 1.0])[None, :, None] * v[:, None]
+    stacked = np.concatenate([arcs, lines])
+    ia, ib = np.arange(m), np.arange(m, 2 * m)
+    ta, tb = s_true + rng.uniform(-0.05, 0.05, m), 0.5 + rng.uniform(-0.05, 0.05, m)
+    steps = []
+    real = lift._newton_step
+
+    def counted(*a):
+        steps.append(len(a[2]))
+        return real(*a)
+
+    lift._newton_step = counted
+    try:
+        s0, u0, ok0 = lift.newton_crossings(stacked, ia, ta, ib, tb, x, 1.0, 1e-6)
+        full = sum(steps)
+        steps.clear()
+        settle = 1e-9
+        s1, u1, ok1 = lift.newton_crossings(stacked, ia, ta, ib, tb, x, 1.0, 1e-6,
+                                            settle=settle)
+    finally:
+        lift._newton_step = real
+    assert np.array_equal(ok0, ok1) and ok0.sum() > 0.9 * m
+    a0 = pc.jet_many(stacked, ia, s0)[0]
+    a1 = pc.jet_many(stacked, ia, s1)[0]
+    assert np.hypot(*(a0 - a1)[ok0].T).max() <= 10 * settle
+    assert sum(steps) < 0.7 * full
+
+
+def test_nearest_segments_from_the_snap_rounding_grid_are_a_grid_of_their_own():
+    """The lift's search for the segments near an edge, on the snap rounding's grid
+    (segments before hot pixels cut them, grown by SEGMENT_REACH), gives what a grid
+    of the cut segments gives, on loops of near-coincident and crossing circles
+    (many hot pixels) with edges from random grid points."""
+    from morph.trim.flatten import SEGMENT_REACH, tag_loops
+
+    assert L.MATCH_UNITS + 0.5 <= SEGMENT_REACH
+    loops = [pc.circle((0.0, 0.0), 1.0), pc.circle((0.003, 0.0), 1.0),
+             pc.circle((1.2, 0.3), 0.8), [pc.reverse(p) for p in pc.circle((0.5, 0.1), 0.4)]]
+    tg = tag_loops(loops, 1e-3, 1e-3)
+    assert tg.seg_grid is not None and (tg.seg_count > 1).any()
+    rng = np.random.default_rng(53)
+    k = rng.integers(0, len(tg.q), 400)
+    p = tg.q[k] + rng.integers(-4, 5, (400, 2))
+    q = tg.q[tg.nxt[k]] + rng.integers(-4, 5, (400, 2))
+    sa, sb = tg.q, tg.q[tg.nxt]
+    got = L._nearest_segments(p.astype(float), q.astype(float), sa, sb, tg)
+    want = L._nearest_segments(p.astype(float), q.astype(float), sa, sb)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
