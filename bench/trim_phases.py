@@ -6,7 +6,7 @@
 Each set is stroked once (``morph stroke --jobs 1``, the command's own chunks) with
 :func:`morph.trim.boundary` recorded; then every recorded call is trimmed again
 ``--repeat`` times, timing each phase exclusively (CPU time, ``time.process_time``):
-flatten (``tag_loops``), Clipper (``filled_rings``, ``drop_slivers``), holes
+flatten (``tag_loops``), Clipper (``packed_filled_rings``, ``drop_slivers``), holes
 (``_filled_holes``, ``fill_holes``), lift (``lift_rings``), untangle (``merge_lenses``,
 ``untangle``, ``_near_pairs``).  Printed: ms per glyph, each phase's minimum over the
 repeats, and the polyline vertices of the flattening.  ``--levels``: the flattening's
@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 GLYPHS = {}
-PHASES = {"flatten": ["tag_loops"], "Clipper": ["filled_rings", "drop_slivers"],
+PHASES = {"flatten": ["tag_loops"], "Clipper": ["packed_filled_rings", "drop_slivers"],
           "holes": ["_filled_holes", "fill_holes"], "lift": ["lift_rings"],
           "untangle": ["merge_lenses", "untangle_loops", "_near_pairs"]}
 

@@ -555,6 +555,13 @@ def _panel_matrices(n, halvings):
     return np.concatenate(mats)
 
 
+def panels_many(c, halvings):
+    """A stack c (k, n+1, ...) on 2^halvings equal panels (de Casteljau), stacked left
+    to right along axis 1: (k, 2^halvings (n+1), ...)."""
+    c = np.asarray(c, float)
+    return _apply(_panel_matrices(c.shape[1] - 1, halvings), c)
+
+
 def ratio_bound_many(a, b, halvings=1):
     """Certified upper bound of max_s a(s) / b(s) on [0, 1], row by row.
 

@@ -5,7 +5,6 @@
 
 import numpy as np
 
-from . import moments as mo
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
@@ -19,7 +18,7 @@ from .packing import Packing, control_box
 from .polyline import unique
 from .region import validated
 from .trim import boundary
-from .trim.holes import Membership, deepest_points
+from .trim.holes import Membership, control_boxes, points_deep_enough
 
 #: Rounds of finer approximation at sharp corners (wedge tips, :func:`_tip_tolerances`).
 TIP_ROUNDS = 3
@@ -441,16 +440,18 @@ class _HoleTest:
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
         self.cache = {}
-        self.areas = None  # the loop areas of A, for every Membership
+        self.areas = None  # the loop areas of A, for every Membership (NaN: not yet)
+        self.boxes = None  # the control boxes of A's loops
         self.log = []
 
     def __call__(self, ring, islands):
         return self.many([(ring, islands)])[0]
 
     def many(self, holes):
-        """The test of every (ring, islands) of ``holes``, the deepest points found
-        together (:func:`morph.trim.holes.deepest_points`)."""
-        points, depths = deepest_points(holes, enough=HOLE_DEPTH * self.tol)
+        """The test of every (ring, islands) of ``holes``, at points HOLE_DEPTH tol
+        deep where there are such, found together
+        (:func:`morph.trim.holes.points_deep_enough`)."""
+        points, depths = points_deep_enough(holes, HOLE_DEPTH * self.tol)
         # flattenings fine enough for the depth, never coarser than tol, reused
         keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
                                          -3, 0)
@@ -459,8 +460,9 @@ class _HoleTest:
         for key in unique(keys[depths > 0.0]).tolist():
             if key not in self.cache:
                 if self.areas is None:
-                    self.areas = mo.loop_areas(self.a)
-                self.cache[key] = Membership(self.a, self.b, key, self.areas)
+                    self.areas = np.full(len(self.a), np.nan)
+                    self.boxes = control_boxes(self.a)
+                self.cache[key] = Membership(self.a, self.b, key, self.areas, self.boxes)
             at = np.flatnonzero((keys == key) & (depths > 0.0))
             filled[at] = self.cache[key].many(points[at])
         self.log.extend(zip(points, depths.tolist(), filled.tolist()))

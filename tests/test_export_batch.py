@@ -195,17 +195,24 @@ def test_certificate_from_the_fitters_pairs_is_a_certificate(monkeypatch):
         groups = [(np.array([0]), piece[None])]
         with monkeypatch.context() as m:   # phi from the pairs alone: no Newton search
             m.setattr(certify_mod, "_newton_reparams", None)
-            res = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs)
-        assert (res.c[0] != 1.0) == (piece is uneven)
+            composed = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs,
+                                                 panel=False)
+            m.setattr(certify_mod, "PANEL_DEGREE", 2)      # a conic on the ray panels too
+            paneled = certify_mod.certify_batch(groups, cubic[None], tol, pairs=pairs)
+        assert (composed.c[0] != 1.0) == (piece is uneven)
+        # the ray panels certify the arc; the uneven piece, whose feet no Möbius map
+        # per panel follows within tol, falls back to the composed map
+        assert paneled.cuts is not None and (paneled.other[0] < 0 or piece is uneven)
         newton = certify_mod.certify_batch(groups, cubic[None], tol,
                                            start=certify_mod.start_at_nodes(rays.feet, gx))
-        assert res.bound[0] <= tol
-        assert res.bound[0] <= 2.0 * newton.bound[0]
-        for s0, s1, phi in res.panels(0):
-            s = np.linspace(s0, s1, 4001)
-            u = reparam_values(phi, (s - s0) / (s1 - s0))
-            err = np.hypot(*(rational(piece)(u) - bernstein(cubic, s)).T).max()
-            assert err <= res.bound[0] * (1 + 1e-9)
+        for res in (composed, paneled):
+            assert res.bound[0] <= tol
+            assert res.bound[0] <= 2.0 * newton.bound[0]
+            for s0, s1, phi in res.panels(0):
+                s = np.linspace(s0, s1, 4001)
+                u = reparam_values(phi, (s - s0) / (s1 - s0))
+                err = np.hypot(*(rational(piece)(u) - bernstein(cubic, s)).T).max()
+                assert err <= res.bound[0] * (1 + 1e-9)
         # the speed and the gaps are the piece's own (independent evaluation)
         pts = rational(piece)(gx)
         assert np.allclose(np.hypot(*(bernstein(cubic, rays.feet[0]) - pts).T), rays.gap[0],

@@ -29,6 +29,15 @@ R o phi by :func:`morph.bernstein.compose_many`, the certificate by
 :func:`morph.nearest.distance_bound_many`, the feet by
 :func:`morph.nearest.nearest_params_many`, phi by :func:`morph.bernstein.fit_fixed_ends`.
 
+**The certificate on the fitter's rays.**  Where the fitter's rays give matched
+pairs (s_j on C, u_j on R, on one normal of R), :func:`certify_batch` cuts the pair
+at every other one into nine panels and maps each [s_j, s_j+2] onto [u_j, u_j+2] by a
+Möbius map (:func:`_panel_bounds`): R o mu is R with its weights scaled by c^i, of
+R's own degree, so nothing is composed; the bound on each panel squares nothing
+either (:func:`hull_bound`: ``|E| <= sum |e_i| B_i <= max_i (|e_i| / w_i) W``).  The
+panels' phi is continuous and increasing, so the bound is a Fréchet bound as above.
+The composed map remains for pairs the panels do not certify.
+
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
 [a, b], hence the Hausdorff distance: every point of C is within b of R([a, b]) and
@@ -38,6 +47,8 @@ same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in 
 coefficient products), the bound is rigorous.
 """
 
+import functools
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -70,6 +81,11 @@ def check_piece(piece):
 
 #: de Casteljau halvings of the certificate's coefficients (2^REFINE panels).
 REFINE = 3
+#: de Casteljau halvings of each panel of the certificate on the fitter's rays
+#: (:func:`hull_bound` on the panels of :func:`_panel_bounds`, a ninth of the cubic
+#: each): within 2 % of the squared certificate at two halvings on the brush
+#: pairs (one halving: 28 % at worst).
+PANEL_REFINE = 2
 
 
 def homogeneous_reparam(phi):
@@ -146,7 +162,10 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
     points.  On each panel R o phi is composed exactly
     (:func:`morph.bernstein.compose`) and the coefficient-ratio certificate
     :func:`morph.nearest.distance_bound_many` applied on 2^refine panels (never below
-    the true maximum, rounding aside); the largest over the panels is returned.
+    the true maximum, rounding aside); on a panel whose phi is a Möbius map (degree
+    1, as the panels of :func:`_panel_bounds`) the smaller of that and
+    :func:`hull_bound` (PANEL_REFINE halvings), both certificates; the largest over
+    the panels is returned.  A :class:`CubicFit`'s stated bound is never below it.
 
     Raises:
         ValueError: bad piece (shape, weights) or a reparam that is not increasing.
@@ -164,7 +183,10 @@ def cubic_bound(piece, cubic, reparam=None, refine=REFINE):
         h = _normalized_reparam(phi, t0, t1)
         comp = bz.compose_many(sub[None], h[None, :, 0], h[None, :, 1])[0]
         c = cubic if (s0, s1) == (0.0, 1.0) else bz.subsegment(cubic, s0, s1)
-        worst = max(worst, same_param_bound(comp, c, refine))
+        bound = same_param_bound(comp, c, refine)
+        if len(h) == 2:         # a Möbius panel (:func:`_panel_bounds`): its own certificate too
+            bound = min(bound, float(hull_bound(comp[None], c[None])[0]))
+        worst = max(worst, bound)
     return worst
 
 
@@ -469,20 +491,38 @@ class Certified:
     """The certificates of a batch of (sub-piece, cubic) pairs (:func:`certify_batch`):
     ``bound`` (k,) and, on demand, pair i's panels (:meth:`panels`).  The panels are
     made only when asked for (writers of outlines need the bounds, not the maps).
-    A pair certified as halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are
-    rows half[i] and half[i] + ``sub_n`` of ``sub`` (the Certified of all halved
-    pairs of the batch), the sub-piece cut at ``half_u[i]``."""
 
-    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n")
+    A pair certified on the fitter's ray pairs (:func:`_panel_bounds`: ``paneled[i]``)
+    has ``cuts[i]`` (the cubic's parameters s_j of its panels' ends, the piece's
+    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor).  A pair certified
+    by the composed map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as
+    halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are rows half[i] and
+    half[i] + ``sub_n`` of ``sub`` (the Certified of all halved pairs of the batch),
+    the sub-piece cut at ``half_u[i]``.  ``other[i]`` >= 0: the pair's certificate
+    is row other[i] of ``rest`` (a Certified of the pairs the ray panels did not
+    certify)."""
 
-    def __init__(self, bound, phis, size, c):
+    __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n",
+                 "paneled", "cuts", "nodes", "moebius", "other", "rest")
+
+    def __init__(self, bound, phis=None, size=None, c=None):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
         self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
         self.sub, self.sub_n = None, 0
+        self.paneled = self.cuts = self.nodes = self.moebius = self.rest = None
+        self.other = np.full(len(bound), -1)
 
     def panels(self, i):
         """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
         :func:`certify_many`)."""
+        j = int(self.other[i])
+        if j >= 0:
+            return self.rest.panels(j)
+        if self.paneled is not None and self.paneled[i]:
+            s, u, c = self.cuts[i], self.nodes, self.moebius[i]
+            return [(float(s[p]), float(s[p + 1]),
+                     affine_reparam(np.array([[0.0, 1.0], [c[p], c[p]]]), u[p], u[p + 1] - u[p]))
+                    for p in range(len(c))]
         j = int(self.half[i])
         if j >= 0:
             u = float(self.half_u[i])
@@ -508,7 +548,7 @@ def certify_many(subs, cubics, tol, depth=3):
     return [(float(b), res.panels(i)) for i, b in enumerate(res.bound)]
 
 
-def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
+def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None, panel=True):
     """:class:`Certified` bounds of cubics (k, 4, 2) against the sub-pieces
     ``groups`` ([(rows, stack)] by degree: pair ``rows[j]`` is ``stack[j]``);
     ``start``: starting feet of the nodes (:func:`_reparams`), or None; ``pairs``:
@@ -525,6 +565,8 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
     not composed at all).
     """
     cubics = np.asarray(cubics, float)
+    if pairs is not None and panel and PANEL_RAYS:
+        return _ray_certified(groups, cubics, tol, depth, pairs)
     phis, size, cs, normal, feet = _reparams(groups, cubics, tol, start, pairs)
     bound = _composed_bounds(groups, cubics, phis, size, cs, normal, tol)
     out = Certified(bound, phis, size, cs)
@@ -535,6 +577,259 @@ def certify_batch(groups, cubics, tol, depth=3, start=None, pairs=None):
             feet[bare] = start_at_nodes(pairs[0][bare], pairs[1])
         _halved(groups, cubics, out, rows, feet, tol, depth)
     return out
+
+
+#: Certify on the fitter's ray pairs (:func:`_ray_certified`) where
+#: :func:`certify_batch` is given them (False: the composed map everywhere).
+PANEL_RAYS = True
+#: Pieces of lower degree (lines) keep the composed map.  Conics take the panels
+#: too: as fast as composing on the hanzi set, faster on Relief
+#: (bench/export_rounds.py).
+PANEL_DEGREE = 2
+#: Every PANEL_STEP-th of the fitter's 16 ray pairs ends a panel of
+#: :func:`_panel_bounds` (the one halfway between fixes its map): 2, nine panels.
+PANEL_STEP = 2
+#: A pair whose panels do not certify is tried by the composed map too where the
+#: rays' largest gap is at most this share of tol (as :func:`certify_batch` halves
+#: only below it): a gap is nearly a lower bound of the Fréchet distance, so above
+#: it no reparametrisation certifies much below the gap.
+FALLBACK_GAP = 0.95
+
+
+def _ray_certified(groups, cubics, tol, depth, pairs):
+    """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
+    panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
+    composed).  Pairs whose parameters already match (phi = identity within
+    PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take the same-parameter
+    certificate instead (:func:`morph.nearest.distance_bound_many`, as the composed
+    map does with that phi): one panel of the piece's own degree, cheaper than nine;
+    pieces of degree below PANEL_DEGREE take the composed map.  Where the bound
+    exceeds tol although the rays' gaps are within FALLBACK_GAP tol (a feet map no
+    Möbius map per panel follows, rays out of order) the composed map of
+    :func:`certify_batch` is tried as well and the smaller bound kept; above that,
+    no map does much better than the gaps, and the pair fails as it is."""
+    ps, pu, pspeed, pgap = pairs
+    pu = np.asarray(pu, float)
+    with np.errstate(invalid="ignore"):
+        same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+        gap = pgap.max(axis=1)
+    low = np.zeros(len(cubics), bool)
+    for rows, stack in groups:
+        low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low))
+    for rows, stack in groups:          # phi = identity: the same-parameter certificate
+        sel = np.nonzero(same[rows])[0]
+        if len(sel):
+            bound[rows[sel]] = nr.distance_bound_many(stack[sel], cubics[rows[sel]], REFINE)[0]
+    out = Certified(bound, np.tile(np.eye(1, PHI_DEGREES[-1] + 1, 1), (len(bound), 1)),
+                    np.full(len(bound), 2), np.ones(len(bound)))
+    out.paneled = ~(same | low)
+    out.cuts, out.moebius = cuts, moeb
+    out.nodes = np.concatenate([[0.0], pu[PANEL_STEP - 1::PANEL_STEP], [1.0]])
+    rest = np.nonzero(~(bound <= tol) & ~(gap > FALLBACK_GAP * tol))[0]
+    if not len(rest):
+        return out
+    where = np.full(len(cubics), -1)
+    where[rest] = np.arange(len(rest))
+    sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
+           if (where[r] >= 0).any()]
+    again = certify_batch(sub, cubics[rest], tol, depth,
+                          pairs=(ps[rest], pu, pspeed[rest], pgap[rest]), panel=False)
+    won = again.bound < bound[rest]
+    out.bound[rest[won]] = again.bound[won]
+    out.other[rest[won]] = where[rest[won]]
+    out.rest = again
+    return out
+
+
+def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
+    """Certified bounds of cubics against sub-pieces on panels cut at matched pairs of
+    parameters: the cubic's s_j (``s`` (k, 2 m), per pair) with the piece's u_j
+    (``u`` (2 m,), increasing, the same for all pairs).  Every ``step``-th pair
+    (PANEL_STEP: 2, the odd pairs j = 1, 3, ...), completed by (0, 0) and (1, 1),
+    ends a panel; the pair halfway inside a panel fixes its map.
+
+    phi maps [s_j, s_j+2] onto [u_j, u_j+2] by a Möbius map mu(v) = c v / ((c - 1) v
+    + 1) of the local parameters, c chosen so that mu takes the panel's inner pair
+    to each other (or, where there is none or it is out of place, so that mu's end
+    derivatives c and 1 / c are in the ratio of |C'| / |R'| at the panel's ends:
+    :func:`_panel_moebius`): on each panel R o phi is the sub-piece R|[u_j, u_j+2]
+    with its weights scaled by c^i (degree n, as the piece: nothing is composed),
+    and :func:`hull_bound` (2^refine halvings) bounds |R(phi(s)) - C(s)| on the
+    panel against C|[s_j, s_j+2].  Any continuous increasing phi gives a bound: the
+    pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
+    tight one.  Pairs out of order are moved into it first (:func:`_ordered_pairs`).
+    Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1)); bound inf where
+    the cuts s_j are still not strictly increasing in (0, 1) and on the rows not in
+    ``todo`` (a mask; None: all)."""
+    refine = PANEL_REFINE if refine is None else refine
+    k = len(s)
+    u = np.asarray(u, float)
+    step = PANEL_STEP if step is None else step
+    end, mid = slice(step - 1, None, step), slice(step // 2 - 1, None, step)
+    s = _ordered_pairs(s, u)
+    cuts = np.concatenate([np.zeros((k, 1)), s[:, end], np.ones((k, 1))], axis=1)
+    ucut = np.concatenate([[0.0], u[end], [1.0]])
+    ok = np.all(np.isfinite(cuts), axis=1)
+    if todo is not None:
+        ok &= todo
+    ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
+    npan = cuts.shape[1] - 1
+    # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
+    inner = np.full((k, npan), np.nan)
+    if step > 1:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = (s[:, mid] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+            w = (u[mid] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+            inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
+    lim = math.exp(MOEBIUS_LOG)
+    inner = np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
+    bound = np.full(k, np.inf)
+    moeb = np.ones((k, npan))
+    uc = tuple(ucut.tolist())
+    for rows, stack in groups:
+        r = rows[ok[rows]]
+        if not len(r):
+            continue
+        kr, n = len(r), stack.shape[1] - 1
+        # coordinate-major arrays (coordinate, coefficient, row), the rows in (panel,
+        # pair) order: one matrix product cuts every piece into its panels
+        st = stack[ok[rows]].transpose(1, 0, 2).reshape(n + 1, 3 * kr)
+        sub = (_cut_matrices(n, uc) @ st).reshape(npan, n + 1, kr, 3)
+        sub = sub.transpose(3, 1, 0, 2).reshape(3, n + 1, npan * kr)
+        cub = _cubic_panels(cubics[r], cuts[r])
+        c = inner[r].T.ravel()
+        bad = np.nonzero(np.isnan(c))[0]
+        if len(bad):
+            c[bad] = _panel_moebius(sub[:, :, bad], cub[:, :, bad])
+        power = np.ones((n + 1, len(c)))                          # c^i: R o mu
+        power[1:] = np.cumprod(np.broadcast_to(c, (n, len(c))), axis=0)
+        sub *= power
+        bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
+        moeb[r] = c.reshape(npan, kr).T
+    return bound, cuts, moeb
+
+
+def _ordered_pairs(s, u):
+    """The cubic's parameters s (k, m) of the pairs, those out of order replaced: a
+    pair is kept where its s_j lies strictly between every s before it (and 0) and
+    every s after it (and 1); the others (NaN, clipped to an end by the fitter's rays,
+    crossing a neighbour) get s interpolated linearly in u (m,) between the nearest
+    kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
+    kept pairs keep it tight."""
+    k, m = s.shape
+    ext = np.concatenate([np.zeros((k, 1)), s, np.ones((k, 1))], axis=1)
+    with np.errstate(invalid="ignore"):
+        before = np.fmax.accumulate(ext, axis=1)
+        after = np.fmin.accumulate(ext[:, ::-1], axis=1)[:, ::-1]
+        keep = np.ones(ext.shape, bool)
+        keep[:, 1:-1] = (ext[:, 1:-1] > before[:, :-2]) & (ext[:, 1:-1] < after[:, 2:])
+    if keep.all():
+        return s
+    ue = np.concatenate([[0.0], u, [1.0]])
+    col = np.arange(m + 2)
+    prev = np.maximum.accumulate(np.where(keep, col, 0), axis=1)
+    nxt = np.minimum.accumulate(np.where(keep, col, m + 1)[:, ::-1], axis=1)[:, ::-1]
+    a, b = np.take_along_axis(ext, prev, 1), np.take_along_axis(ext, nxt, 1)
+    frac = (ue - ue[prev]) / np.where(nxt > prev, ue[nxt] - ue[prev], 1.0)
+    return np.where(keep, ext, a + frac * (b - a))[:, 1:-1]
+
+
+@functools.lru_cache(maxsize=None)
+def _cut_matrices(n, cuts):
+    """(P (n+1), n+1): the maps of Bernstein coefficients of degree n onto the P panels
+    [cuts[p], cuts[p + 1]], stacked (de Casteljau, as
+    :func:`morph.bernstein.subsegment_many`)."""
+    cuts = np.array(cuts)
+    eye = np.broadcast_to(np.eye(n + 1), (len(cuts) - 1, n + 1, n + 1))
+    return bz.subsegment_many(eye, cuts[:-1], cuts[1:]).reshape(-1, n + 1)
+
+
+def _cubic_panels(cubics, cuts):
+    """The cubics (k, 4, 2) on the panels [cuts[:, p], cuts[:, p + 1]] (k, P + 1):
+    (2, 4, P k) control points, coordinate-major, rows in (panel, cubic) order.
+    The control points of C on [a, b] are its blossom's values C(a, a, a), C(a, a,
+    b), C(a, b, b), C(b, b, b): de Casteljau's second level at every cut, shared by
+    the two panels that meet there, and one more step."""
+    t = cuts.T[:, :, None]                                           # (P + 1, k, 1)
+    q = cubics.transpose(1, 0, 2)[:, None]                           # (4, 1, k, 2)
+    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]
+    l2 = [l1[0] + t * (l1[1] - l1[0]), l1[1] + t * (l1[2] - l1[1])]
+    point = l2[0] + t * (l2[1] - l2[0])
+    a, b = t[:-1], t[1:]
+    out = np.stack([point[:-1], l2[0][:-1] + b * (l2[1][:-1] - l2[0][:-1]),
+                    l2[0][1:] + a * (l2[1][1:] - l2[0][1:]), point[1:]])
+    return np.ascontiguousarray(out.reshape(4, -1, 2).transpose(2, 0, 1))
+
+
+@functools.lru_cache(maxsize=None)
+def _hull_matrices(n, m, halvings):
+    """The linear maps of :func:`hull_bound`: the elevation of degree n by m, then the
+    2^halvings panels; the Bernstein product of degrees n and m from the products
+    w_i q_j, then the panels."""
+    panels = bz._panel_matrices(n + m, halvings)
+    return panels @ bz._elevation_matrix(n, m), panels @ bz._scatter(n, m)
+
+
+def _hull_rows(c, q, halvings):
+    """:func:`hull_bound` of coordinate-major arrays: c (3, n+1, K), q (2, m+1, K)."""
+    n, m, k = c.shape[1] - 1, q.shape[1] - 1, c.shape[2]
+    elev, prod = _hull_matrices(n, m, halvings)
+    w = c[2]
+    h = np.empty((3, elev.shape[0], k))
+    np.matmul(elev, w, out=h[2])
+    for d in (0, 1):                    # E = X - W Q, both translated by R's start
+        o = c[d, 0] / w[0]
+        np.matmul(elev, c[d] - w * o, out=h[d])
+        h[d] -= prod @ (w[:, None] * (q[d] - o)[None]).reshape((n + 1) * (m + 1), k)
+    ok = np.all(h[2] > 0, axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r2 = (h[0] * h[0] + h[1] * h[1]) / (h[2] * h[2])
+    return np.where(ok, np.sqrt(r2.max(axis=0)), np.inf)
+
+
+def hull_bound(c, q, halvings=PANEL_REFINE):
+    """Certified bound of max_s |R_k(s) - Q_k(s)| (same parameter s in [0, 1]) for
+    rational pieces c (k, n+1, 3) with positive weights and polynomial curves q
+    (k, m+1, 2), without squaring a polynomial: (k,).
+
+    E = X - W Q (degree n + m, X and W elevated by m) and W are Bernstein polynomials
+    of one degree with coefficients e_i (vectors) and w_i > 0, so
+
+        |E(s)| <= sum_i |e_i| B_i(s) <= max_i (|e_i| / w_i) sum_i w_i B_i(s)
+
+    (triangle inequality, then the mediant inequality): |R - Q| = |E| / W <= max_i
+    |e_i| / w_i, taken on each of 2^halvings equal panels (de Casteljau), which
+    tightens it as Bernstein coefficients converge to the polynomial.  Degree n + m,
+    where the squared certificate (:func:`morph.nearest.distance_bound_many`) works at
+    2 (n + m); both are rigorous up to rounding (relative ~1e-15 of the
+    coefficients; both curves are first translated by R's start point).  The
+    elevation and the product, each followed by the panels, are one matrix product
+    per coordinate for all rows at once.  inf where a weight coefficient is not
+    positive."""
+    c = np.asarray(c, float)
+    q = np.asarray(q, float)
+    return _hull_rows(np.ascontiguousarray(c.transpose(2, 1, 0)),
+                      np.ascontiguousarray(q.transpose(2, 1, 0)), halvings)
+
+
+def _panel_moebius(sub, cub):
+    """Per panel the factor c of the Möbius map mu(v) = c v / ((c - 1) v + 1) whose end
+    derivatives (c at 0, 1 / c at 1) are in the ratio of |C'| / |R'| at the panel's
+    two ends (the derivatives of the feet map there): c = 1 where a speed is zero;
+    |log c| at most MOEBIUS_LOG.  ``sub`` (3, n+1, K), ``cub`` (2, 4, K):
+    coordinate-major."""
+    n = sub.shape[1] - 1
+    w = sub[2]
+    p = sub[:2] / w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r0 = n * w[1] / w[0] * np.hypot(*(p[:, 1] - p[:, 0]))
+        r1 = n * w[-2] / w[-1] * np.hypot(*(p[:, -1] - p[:, -2]))
+        c0 = np.hypot(*(cub[:, 1] - cub[:, 0]))
+        c1 = np.hypot(*(cub[:, -1] - cub[:, -2]))
+        c = np.sqrt((c0 * r1) / (c1 * r0))
+    fine = np.isfinite(c) & (c > 0)
+    return np.where(fine, np.clip(c, math.exp(-MOEBIUS_LOG), math.exp(MOEBIUS_LOG)), 1.0)
 
 
 def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):

@@ -212,13 +212,14 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     last = np.searchsorted(req, np.arange(n), side="right") - 1
     quad = _quadrature()
     m = len(quad.gx)
-    params = lo[:, None] + width[:, None] * quad.gx[None]
     p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
     p[whole], d[whole] = bank.node_jets(gid[whole], quad.gx)
-    cut = np.nonzero(~whole)[0]
-    pc_, dc_ = bank.jet(np.repeat(gid[cut], m), params[cut].ravel())
-    p[cut], d[cut] = pc_.reshape(-1, m, 2), dc_.reshape(-1, m, 2)
+    cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
+    for rows, h in bank.gather(gid[cut]):
+        i = cut[rows]
+        p[i], d[i] = _node_jets(bz.subsegment_many(h, lo[i], parts.b[i]))
+        d[i] /= width[i, None, None]
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
@@ -237,6 +238,24 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     return {"q": q, "dq": dq, "t0": t0, "t1": t1,
             "area": np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n),
             "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
+
+
+@functools.lru_cache(maxsize=None)
+def _node_bases(n):
+    """The Bernstein bases of degrees n and n - 1 at the 16-point Gauss-Legendre nodes."""
+    gx = _quadrature().gx
+    return bz.basis(n, gx), bz.basis(n - 1, gx)
+
+
+def _node_jets(h):
+    """Points and derivatives (k, 16, 2) of the rational pieces h (k, n+1, 3) at the
+    16-point Gauss-Legendre nodes, as :meth:`morph.export.bank.Bank.jet_grid`."""
+    n = h.shape[1] - 1
+    b, db = _node_bases(n)
+    val = np.matmul(b, h)
+    dval = np.matmul(db, n * np.diff(h, axis=1))
+    w = val[..., 2:3]
+    return val[..., :2] / w, (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
 
 
 def _cubic_integrals(t0, t1):

@@ -24,8 +24,9 @@ def _cubics_to_quadratics(cubics, tol, splines=False):
 
     out = []
     for cubic in cubics:
-        try:
-            spline = curve_to_quadratic([tuple(p) for p in cubic], tol, all_quadratic=True)
+        try:        # Python floats: cu2qu converts numpy scalars slowly, one by one
+            spline = curve_to_quadratic(np.asarray(cubic, float).tolist(), tol,
+                                        all_quadratic=True)
         except Cu2QuError as exc:
             raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g"
                                        % tol, piece=cubic) from exc
@@ -34,10 +35,8 @@ def _cubics_to_quadratics(cubics, tol, splines=False):
             out.append(spline)
             continue
         offs = spline[1:-1]
-        ons = [spline[0]] + [0.5 * (offs[i] + offs[i + 1]) for i in range(len(offs) - 1)] \
-            + [spline[-1]]
-        for i, off in enumerate(offs):
-            out.append(np.array([ons[i], off, ons[i + 1]]))
+        ons = np.concatenate([spline[:1], 0.5 * (offs[:-1] + offs[1:]), spline[-1:]])
+        out.extend(np.stack([ons[:-1], offs, ons[1:]], axis=1))
     return out
 
 

@@ -54,7 +54,7 @@ from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_pie
                       same_param_bound)
 from .fit import Parts, _quadrature, make_chains, moment_cubics
 from .greedy import DONE, Greedy
-from .refine import Refine
+from .refine import Refine, chain_points
 
 
 def _parts(chains, chain, t0, t1):
@@ -312,16 +312,10 @@ def observe_searches(callback):
 
 
 def _chain_points(chains, chain, t):
-    """The points of chains ``chain`` at chain parameters t (one evaluation per
-    degree): a piece's first control point at an integer t, the chain's last at its
-    end."""
-    bank, k = chains.bank, chains.k[chain]
-    kk = np.minimum(np.floor(t).astype(int), k - 1)
-    gid = bank.order[chains.off[chain] + kk]
-    local = t - kk
-    p, _ = bank.jet(gid, np.minimum(local, 1.0))
-    p = np.where((local == 0.0)[:, None], bank.first[gid], p)
-    return np.where((t >= k)[:, None], bank.last[gid], p)
+    """The points of chains ``chain`` at chain parameters t: a piece's first control
+    point at an integer t, the chain's last at its end, else the piece evaluated
+    (:func:`morph.export.refine.chain_points`, the points alone: no derivatives)."""
+    return chain_points(chains, chain, t)
 
 
 #: Chains at least this many pieces long are searched from both ends at once

@@ -41,7 +41,7 @@ from ..polyline import (BoxGrid, _cell_pairs, near_segments, polyline_edges, pol
 from ..region import validated
 from .flatten import tag_loops
 from .lift import lift_rings
-from .topology import drop_slivers, fill_holes, filled_rings
+from .topology import drop_slivers, fill_holes, packed_filled_rings
 from .untangle import merge_lenses, untangle as untangle_loops
 
 __all__ = ["boundary", "fill_region", "polylines_cross"]
@@ -66,15 +66,18 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
     tg = tag_loops(loops, eps, grid, pieces=pieces)
     if len(tg.q) == 0:
         return []
-    rings = drop_slivers(filled_rings(tg.paths(), fill_rule, THIN_UNITS), THIN_UNITS)
+    # each lifted loop lies within eps + grid + contract of its ring: loops whose
+    # rings stay farther apart than twice that cannot cross; groups of paths united
+    # apart (topology.packed_filled_rings) are farther apart than that
+    reach = 2.0 * (eps + grid + contract)
+    rings = drop_slivers(packed_filled_rings(np.diff(tg.starts), tg.q, fill_rule, THIN_UNITS,
+                                             int(np.ceil(reach / grid)) + 1), THIN_UNITS)
     if hole_test is not None:
         rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
     out, of_ring = lift_rings([r.q for r in rings], tg, contract)
     outer = [not rings[k].hole for k in of_ring]
-    # each lifted loop lies within eps + grid + contract of its ring: loops whose
-    # rings stay farther apart than twice that cannot cross
     near = _near_pairs([tg.to_float(rings[k].q) if o else [] for k, o in zip(of_ring, outer)],
-                       2.0 * (eps + grid + contract))
+                       reach, np.array([rings[k].group for k in of_ring], np.int64))
     out = merge_lenses(out, outer, eps, near)
     if untangle:
         out = untangle_loops(out, eps, hole_test=hole_test)
@@ -98,9 +101,10 @@ def _filled_holes(rings, tg, hole_test):
     return [i for i, f in zip(holes, filled) if f]
 
 
-def _near_pairs(polylines, reach):
+def _near_pairs(polylines, reach, group=None):
     """Index pairs (i < j) of closed polylines that come within ``reach`` of each
-    other (empty polylines are none's neighbours).
+    other (empty polylines are none's neighbours); ``group``: numbers such that
+    polylines of two groups (both >= 0) are farther apart than ``reach``.
 
     Only edges that can be that near another polyline are compared: two edges
     within ``reach`` of each other have a midpoint within reach / 2 of both, in the
@@ -123,6 +127,10 @@ def _near_pairs(polylines, reach):
     hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
                   axis=1) + half
     pairs = _cell_pairs(BoxGrid(lo, hi))
+    if group is not None and len(pairs):
+        g = group[has]
+        gi, gj = g[pairs[:, 0]], g[pairs[:, 1]]
+        pairs = pairs[(gi == gj) | (gi < 0) | (gj < 0)]
     if not len(pairs):
         return set()
     # the overlaps of the grown boxes, as (polyline, box) rows sorted by polyline

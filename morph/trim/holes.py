@@ -3,18 +3,21 @@
 Winding numbers of the convolution curve are positive exactly on points of A ⊕ B
 that some convolution loop surrounds; a cell with winding <= 0 can still lie in the
 sum (a hole of one operand smaller than the other: the weak spot of Sec. 6, and of
-CGAL's exact sums).  So every hole ring is tested at one interior point x, as deep
-inside the hole as a grid search finds (a pole of inaccessibility in the manner of
-polylabel): x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅, evaluated by Clipper on A and B flattened
-within a tenth of the point's depth (so the answer is the exact one for x).
+CGAL's exact sums).  So every hole ring is tested at one interior point x, deep
+inside the hole (a grid search, in the manner of polylabel's pole of
+inaccessibility, stopped once the point is deep enough for the test): x ∈ A ⊕ B ⇔
+A ∩ (x − B) ≠ ∅, evaluated on A and B flattened within a tenth of the point's depth
+(so the answer is the exact one for x) and rounded to a grid: exact integer
+predicates where the two are apart, Clipper's intersection elsewhere.
 """
 
 import numpy as np
 import pyclipper
 
 from .. import moments as mo
+from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import min_segment_distance, unique, winding_number
+from ..polyline import BoxGrid, _cell_pairs, min_segment_distance, unique, winding_number
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -66,22 +69,61 @@ def deepest_points(holes, grid_n=12, rounds=8, enough=np.inf):
     return best, depth
 
 
-def _search_many(polys, grid_n, rounds, enough):
-    """:func:`_search` of many holes (``polys[h]``: the ring, then its islands), the
-    rounds of all holes together; (points (h, 2), depths (h,))."""
-    n = len(polys)
-    sizes = [[len(p) for p in ps] for ps in polys]
-    n_poly = np.array([len(ps) for ps in polys], np.int64)
+#: Candidates per side of :func:`points_deep_enough`'s first, coarse grid.
+COARSE_GRID = 4
+
+
+def points_deep_enough(holes, enough):
+    """A point inside each hole (``holes``: [(ring, islands)]) and its depth, at
+    least ``enough`` deep where the hole has such a point within reach of the
+    search: a coarse grid (COARSE_GRID candidates a side, one round) first, which
+    finds one in most holes of a glyph (the hole test needs no deeper point:
+    every point that deep gets the same answer), then :func:`deepest_points` for
+    the others (a ninth of the candidates for the most of them).  The coarse
+    grid runs on the polygons as they are (few candidates: no thinning) and
+    leaves the holes it finds no candidate inside to the second search."""
+    if not holes:
+        return np.zeros((0, 2)), np.zeros(0)
+    x, depth = _search_many([[ring] + list(islands) for ring, islands in holes], COARSE_GRID,
+                            1, enough, alone_search=False)
+    rest = np.flatnonzero(~(depth >= enough))
+    if len(rest):
+        x[rest], depth[rest] = deepest_points([holes[h] for h in rest], enough=enough)
+    return x, depth
+
+
+def _packed(polys):
+    """The polygons of every hole (``polys[h]``: the ring, then its islands) packed:
+    (edge starts a, ends b (e, 2), each hole's first edge and edge count, each
+    edge's polygon within its hole (0: the ring), polygons per hole, each
+    polygon's size)."""
+    n_poly = np.fromiter(map(len, polys), np.int64, len(polys))
     flat = [p for ps in polys for p in ps]
+    size = np.fromiter(map(len, flat), np.int64, len(flat))
     a = np.concatenate(flat)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
-    e_count = np.array([sum(sz) for sz in sizes], np.int64)
+    first = np.cumsum(size) - size
+    nxt = np.arange(len(a)) + 1
+    nxt[first + size - 1] = first
+    hole_first = np.cumsum(n_poly) - n_poly
+    e_count = np.add.reduceat(size, hole_first) if len(size) else np.zeros(0, np.int64)
     e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
-                             [z for sz in sizes for z in sz])  # 0: the ring
-    rings = [ps[0] for ps in polys]
-    lo = np.array([r.min(axis=0) for r in rings])
-    hi = np.array([r.max(axis=0) for r in rings])
+    poly_of_edge = np.repeat(np.arange(len(flat)) - np.repeat(hole_first, n_poly), size)
+    return a, a[nxt], e_start, e_count, poly_of_edge, n_poly, size
+
+
+def _search_many(polys, grid_n, rounds, enough, alone_search=True):
+    """:func:`_search` of many holes (``polys[h]``: the ring, then its islands), the
+    rounds of all holes together; (points (h, 2), depths (h,)).  ``alone_search``
+    False: holes whose first round finds no candidate inside get none (depth
+    -inf) instead of their own search."""
+    n = len(polys)
+    a, b, e_start, e_count, poly_of_edge, n_poly, size = _packed(polys)
+    # each ring's box (the ring comes first among its hole's polygons)
+    ring_size = size[np.cumsum(n_poly) - n_poly]
+    bounds = np.stack([e_start, e_start + ring_size], axis=1).ravel()
+    padded = np.concatenate([a, a[:1]])
+    lo = np.minimum.reduceat(padded, bounds)[::2]
+    hi = np.maximum.reduceat(padded, bounds)[::2]
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center.copy(), np.full(n, -np.inf)
     g = np.linspace(-1.0, 1.0, grid_n)
@@ -100,7 +142,8 @@ def _search_many(polys, grid_n, rounds, enough):
         dist = dist.reshape(len(act), c)
         any_in = inside.reshape(len(act), c).any(axis=1)
         if r == 0 and not any_in.all():
-            alone += act[~any_in].tolist()             # thin holes: searched on their own
+            if alone_search:
+                alone += act[~any_in].tolist()         # thin holes: searched on their own
             active[act[~any_in]] = False
         i = np.argmax(dist, axis=1)
         di = dist[np.arange(len(act)), i]
@@ -203,14 +246,7 @@ def _own_distance(pts, owner, a, b, e_start, e_count):
 
 def _depths(x, polys):
     """:func:`_depth` of one point per hole (``polys[h]``: ring, then islands)."""
-    n_poly = np.array([len(ps) for ps in polys], np.int64)
-    flat = [p for ps in polys for p in ps]
-    a = np.concatenate(flat)
-    b = np.concatenate([np.roll(p, -1, axis=0) for p in flat])
-    e_count = np.array([sum(len(p) for p in ps) for ps in polys], np.int64)
-    e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.concatenate([np.arange(m) for m in n_poly]),
-                             [len(p) for p in flat])
+    a, b, e_start, e_count, poly_of_edge, n_poly, _ = _packed(polys)
     owner = np.arange(len(polys))
     inside = _inside_own(x, owner, a, b, e_start, e_count, poly_of_edge, n_poly)
     return np.where(inside, _own_distance(x, owner, a, b, e_start, e_count), -1.0)
@@ -299,34 +335,106 @@ class Membership:
     boundary candidates: A and B flattened within depth / 10 and intersected by
     Clipper on a grid of depth / 20 (finer for operands smaller than 1000 grid
     steps, so that neither collapses).  Loops of A with no area (paths traced
-    forward and back, as strokes are) count as curves: open paths in Clipper."""
+    forward and back, as strokes are) count as curves: open paths in Clipper.
 
-    def __init__(self, region_a, region_b, depth, areas=None):
+    Most points of a hole are tested with no Clipper call: where the rounded loops
+    of A and the rounded x − B are apart (:meth:`_apart`, exact integer
+    predicates on the very polygons Clipper would get), Clipper's intersection is
+    empty; only the other points go to Clipper.  A loop of A is flattened, rounded
+    and measured when a point first needs it (its control box meets the box of
+    x − B): the holes of a chunk of glyphs come near a fifth of its strokes."""
+
+    def __init__(self, region_a, region_b, depth, areas=None, boxes=None):
         """``areas``: the loops' areas (:func:`morph.moments.loop_areas` of
-        region_a) when known: the same for every depth."""
-        flat = depth / 10.0
-        pa = pl.flatten_loops(region_a, flat)
-        self.pb = pl.flatten_loops(region_b, flat)
-        size = min(float(np.ptp(np.concatenate(p), axis=0).max()) for p in (pa, self.pb))
-        self.grid = min(depth / 20.0, size / 1000.0)
-        areas = mo.loop_areas(region_a) if areas is None else areas
-        flat_loop = np.abs(np.asarray(areas, float)) <= 1e-9 * size * size
-        # all loops rounded at once; a degenerate loop P, reverse(P): its first half
-        # (len(P) // 2 + 1 points, at most all of them) is the path
-        sizes = np.array([len(p) for p in pa], np.int64)
-        q = self._int(np.concatenate(pa))
-        rows = np.split(q, np.cumsum(sizes)[:-1])
-        closed, curves = np.flatnonzero(~flat_loop), np.flatnonzero(flat_loop)
-        self.pa = [rows[k] for k in closed]
-        self.curves = [rows[k][:sizes[k] // 2 + 1] for k in curves]
-        self.box_a = _boxes_of(q, np.cumsum(sizes)[closed] - sizes[closed], sizes[closed])
-        self.box_c = _boxes_of(q, np.cumsum(sizes)[curves] - sizes[curves],
-                               sizes[curves] // 2 + 1)
+        region_a) when known: the same for every depth; NaN where unknown (filled
+        in as they are measured).  ``boxes``: :func:`control_boxes` of region_a
+        when known."""
+        self.flat = depth / 10.0
+        self.region_a = region_a
+        self.pb = pl.flatten_loops(region_b, self.flat)
         pts_b = np.concatenate(self.pb)
+        sizes = np.fromiter(map(len, region_a), np.int64, len(region_a))
+        self._ctrl = control_boxes(region_a) if boxes is None else boxes
+        live = self._ctrl[sizes > 0]
+        # the operands' extents: A's control boxes hold its loops
+        size_a = float(max(live[:, 2].max() - live[:, 0].min(),
+                           live[:, 3].max() - live[:, 1].min()))
+        size = min(size_a, float(np.ptp(pts_b, axis=0).max()))
+        self.grid = min(depth / 20.0, size / 1000.0)
+        self._flat_area = 1e-9 * size * size
+        self._areas = np.full(len(region_a), np.nan) if areas is None else areas
+        self._sizes = sizes
         self.box_b = np.concatenate([pts_b.min(axis=0), pts_b.max(axis=0)])
-        self._closed_ok = np.array([len(p) >= 3 for p in self.pa], bool)
-        self._curve_ok = np.array([len(c) >= 2 for c in self.curves], bool)
-        self._pa_lists, self._curve_lists = [None] * len(self.pa), [None] * len(self.curves)
+        self._b_sizes = np.array([len(p) for p in self.pb], np.int64)
+        self._pts_b = pts_b
+        # per loop of A, once prepared (:meth:`_prepare`): its rounded points
+        # (``_q[_first[k]:_first[k] + _count[k]]``; a path: its first half),
+        # whether it is closed, whether Clipper takes it, its integer box
+        n = len(region_a)
+        self._ready = np.zeros(n, bool)
+        self._q = np.zeros((0, 2), np.int64)
+        self._first = np.zeros(n, np.int64)
+        self._count = np.zeros(n, np.int64)
+        self._closed = np.zeros(n, bool)
+        self._ok = np.zeros(n, bool)
+        self._box = np.zeros((n, 4), np.int64)
+        self._lists = {}
+
+    def _prepare(self, loops):
+        """Flatten, round and measure the loops of A (indices) not done yet, all at
+        once."""
+        loops = loops[~self._ready[loops]]
+        if not len(loops):
+            return
+        region = [self.region_a[k] for k in loops.tolist()]
+        unknown = np.isnan(self._areas[loops])
+        if unknown.any():
+            self._areas[loops[unknown]] = mo.loop_areas([region[i] for i in
+                                                         np.flatnonzero(unknown).tolist()])
+        sizes = self._sizes[loops]
+        owner, _, pts = pl.flat_starts([p for loop in region for p in loop], self.flat)
+        loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+        bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+        n_pts = np.diff(bounds)
+        closed = ~(np.abs(self._areas[loops]) <= self._flat_area)
+        # a degenerate loop P, reverse(P): its first half (len(P) // 2 + 1 points, at
+        # most all of them) is the path
+        count = np.where(closed, n_pts, n_pts // 2 + 1)
+        base = len(self._q)
+        self._q = np.concatenate([self._q, self._int(pts)])
+        self._first[loops] = base + bounds[:-1]
+        self._count[loops] = count
+        self._closed[loops] = closed
+        self._ok[loops] = np.where(closed, n_pts >= 3, count >= 2)
+        self._box[loops] = _boxes_of(self._q, base + bounds[:-1], np.maximum(count, 1))
+        self._ready[loops] = True
+
+    def _all(self):
+        self._prepare(np.arange(len(self.region_a)))
+        return np.flatnonzero(self._closed), np.flatnonzero(~self._closed)
+
+    @property
+    def pa(self):
+        """The closed loops of A, rounded: (m, 2) integer arrays."""
+        return [self._part(k) for k in self._all()[0]]
+
+    @property
+    def curves(self):
+        """The paths of A (loops with no area: their first half), rounded."""
+        return [self._part(k) for k in self._all()[1]]
+
+    @property
+    def box_a(self):
+        """The integer boxes (xmin, ymin, xmax, ymax) of :attr:`pa`."""
+        return self._box[self._all()[0]]
+
+    @property
+    def box_c(self):
+        """The integer boxes of :attr:`curves`."""
+        return self._box[self._all()[1]]
+
+    def _part(self, k):
+        return self._q[self._first[k]:self._first[k] + self._count[k]]
 
     def _int(self, pts):
         return np.rint(pts / self.grid).astype(np.int64)
@@ -335,30 +443,139 @@ class Membership:
         return bool(self.many(np.asarray(x, float)[None])[0])
 
     def many(self, points):
-        """Membership of each of ``points`` (k, 2): one Clipper intersection per
-        point, of x - B with the loops of A whose boxes meet the box of x - B (found
-        for all the points at once; each loop converted to Clipper's lists once)."""
+        """Membership of each of ``points`` (k, 2): the loops of A whose boxes meet
+        the box of x - B found for all the points at once (control boxes first,
+        then the rounded loops'); the points where they are apart from x - B
+        (:meth:`_apart`, all at once) are outside; one Clipper intersection for
+        each other point (each loop converted to Clipper's lists once)."""
         x = np.asarray(points, float).reshape(-1, 2)
+        out = np.zeros(len(x), bool)
+        if not len(x):
+            return out
         lo = self._int(x - self.box_b[2:]) - 1
         hi = self._int(x - self.box_b[:2]) + 1
-        closed, c0 = _meeting_many(self.box_a, lo, hi, self._closed_ok)
-        curves, k0 = _meeting_many(self.box_c, lo, hi, self._curve_ok)
-        c0, k0 = c0.tolist(), k0.tolist()
-        return np.array([self._meets(x[i], closed[c0[i]:c0[i + 1]], curves[k0[i]:k0[i + 1]])
-                         for i in range(len(x))], bool)
+        # control boxes, on the grid and grown by a unit: they hold the rounded loops
+        ctrl = np.concatenate([np.floor(self._ctrl[:, :2] / self.grid) - 1,
+                               np.ceil(self._ctrl[:, 2:] / self.grid) + 1], axis=1)
+        near, _ = _meeting_many(ctrl, lo.astype(float), hi.astype(float), self._sizes > 0)
+        self._prepare(unique(near))
+        part, first = _meeting_many(self._box, lo, hi, self._ok & self._ready)
+        pt = np.repeat(np.arange(len(x)), np.diff(first))
+        test = np.flatnonzero(np.diff(first) > 0)
+        if not len(test):
+            return out
+        apart = self._apart(x, pt, part)
+        first = first.tolist()
+        for i in test[~apart[test]].tolist():
+            ids = part[first[i]:first[i + 1]]
+            out[i] = self._meets(x[i], ids[self._closed[ids]], ids[~self._closed[ids]])
+        return out
 
-    def _listed(self, polys, cache, k):
-        if cache[k] is None:
-            cache[k] = polys[k].tolist()
-        return cache[k]
+    def _apart(self, x, pt, part):
+        """Whether the rounded x − B of each point is apart from the rounded parts
+        of A paired with it (``pt``, ``part``: the pairs, by point): no edge of one
+        meets (touching counts) a segment of the other, a vertex of each part lies
+        outside x − B, and a vertex of each loop of x − B outside each closed part
+        (winding numbers, the nonzero rule Clipper fills with).  The boundaries
+        meeting nowhere, each boundary loop (connected) lies on one side of the
+        other operand, the side of its vertex: so apart means an empty
+        intersection, a Clipper result with no area and no path, exactly.  All
+        tests are on the integers Clipper gets (products below 2^63); only
+        segments within the disc around x that holds x − B (plus two units:
+        float distances, exact far beyond that) are tested against its edges.
+        False for every point where the integers are too large for that."""
+        n = len(x)
+        used = unique(part)
+        segs = self._segment_table(used)
+        qb = np.rint((x[:, None, :] - self._pts_b[None]) / self.grid).astype(np.int64)
+        if (max(int(np.abs(qb).max(initial=0)), int(np.abs(self._q).max(initial=0)))
+                >= 2 ** 29):
+            return np.zeros(n, bool)
+        # x − B's edges: per B loop of >= 3 points (those Clipper gets), cyclic
+        b_first = np.cumsum(self._b_sizes) - self._b_sizes
+        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
+        nxt = np.arange(len(self._pts_b)) + 1
+        nxt[b_first + self._b_sizes - 1] = b_first
+        e0, e1 = qb[:, use], qb[:, nxt[use]]                     # (n, m, 2)
+        rep_b = qb[:, b_first[self._b_sizes >= 3]]                # a vertex per loop
+        centre = x / self.grid
+        reach = np.sqrt(((qb[:, use] - centre[:, None]) ** 2).sum(axis=2)).max(axis=1,
+                                                                                 initial=0.0) + 2.0
+        blocked = np.zeros(n, bool)
+        # segments of the paired parts near the disc: contacts with x − B's edges
+        at = np.searchsorted(used, part)
+        s_first, s_count = segs["first"][at], segs["count"][at]
+        sp = np.repeat(np.arange(len(part)), s_count)
+        s = np.repeat(s_first, s_count) + _ranks(s_count)
+        p_of = pt[sp]
+        # the segments whose boxes come within reach first, then their distances
+        c, r = centre[p_of], reach[p_of]
+        lo_s, hi_s = segs["lo"][s], segs["hi"][s]
+        box = np.all((lo_s - r[:, None] <= c) & (c <= hi_s + r[:, None]), axis=1)
+        s, p_of, sp = s[box], p_of[box], sp[box]
+        d = pl.segment_distance(centre[p_of], segs["a"][s].astype(float),
+                                segs["b"][s].astype(float))
+        near = d <= reach[p_of]
+        s, p_of, sp = s[near], p_of[near], sp[near]
+        m = e0.shape[1]
+        if len(s) and m:
+            si = np.repeat(s, m)
+            pi = np.repeat(p_of, m)
+            ei = np.tile(np.arange(m), len(s))
+            touch = _segments_meet(segs["a"][si], segs["b"][si], e0[pi, ei], e1[pi, ei])
+            blocked[pi[touch]] = True
+        # a vertex of each part near the disc, outside x − B
+        near_pair = unique(sp)
+        if len(near_pair) and m:
+            v = self._q[self._first[part[near_pair]]]
+            blocked[pt[near_pair][_winding(v, pt[near_pair], e0, e1) != 0]] = True
+        # a vertex of each loop of x − B outside each closed part
+        closed_pair = np.flatnonzero(self._closed[part])
+        if len(closed_pair) and rep_b.shape[1]:
+            cp = np.repeat(closed_pair, rep_b.shape[1])
+            v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
+            k = part[cp]
+            count = self._count[k]
+            row = np.repeat(np.arange(len(cp)), count)
+            e = np.repeat(self._first[k], count) + _ranks(count)
+            e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
+                              np.repeat(self._first[k], count), e + 1)
+            wind = np.bincount(row, weights=_crossing_signs(
+                v[row], self._q[e], self._q[e_next]), minlength=len(cp))
+            blocked[pt[cp[wind != 0]]] = True
+        return ~blocked
+
+    def _segment_table(self, parts):
+        """The segments of loops ``parts`` (ascending) as Clipper gets them: a
+        closed loop's edges (with the closing one), a path's segments, a path on
+        one grid point as a segment of one unit (:meth:`_meets`); {"a", "b": (s,
+        2) ends, "first", "count": each part's}."""
+        first, count, q = self._first[parts], self._count[parts], self._q
+        closed = self._closed[parts]
+        n_seg = np.where(closed, count, count - 1)
+        i = np.repeat(first, n_seg) + _ranks(n_seg)
+        last = np.repeat(first + count - 1, n_seg)
+        j = np.where(i == last, np.repeat(first, n_seg), i + 1)
+        a, b = q[i], q[j]
+        # a path whose points are all one grid point: a unit segment from it
+        box = self._box[parts]
+        dot = ~closed & np.all(box[:, :2] == box[:, 2:], axis=1)
+        b = np.where(np.repeat(dot, n_seg)[:, None], a + np.array([1, 0]), b)
+        return {"a": a, "b": b, "lo": np.minimum(a, b), "hi": np.maximum(a, b),
+                "first": np.cumsum(n_seg) - n_seg, "count": n_seg}
+
+    def _listed(self, k):
+        if k not in self._lists:
+            self._lists[k] = self._part(k).tolist()
+        return self._lists[k]
 
     def _meets(self, x, closed_ids, curve_ids):
-        """Whether A meets x - B, given the loops of A (indices into ``pa`` and
-        ``curves``) that can."""
+        """Whether A meets x - B, given the loops of A (indices into region_a, the
+        closed ones and the paths) that can."""
         if not len(closed_ids) and not len(curve_ids):
             return False
-        closed = [self._listed(self.pa, self._pa_lists, k) for k in closed_ids]
-        curves = [self._listed(self.curves, self._curve_lists, k) for k in curve_ids]
+        closed = [self._listed(k) for k in closed_ids]
+        curves = [self._listed(k) for k in curve_ids]
         clip = pyclipper.Pyclipper()
         for c in closed:
             if not _add(clip, c, pyclipper.PT_SUBJECT, True):
@@ -376,6 +593,59 @@ class Membership:
         if pyclipper.OpenPathsFromPolyTree(tree):
             return True
         return any(abs(pyclipper.Area(p)) > 0 for p in pyclipper.ClosedPathsFromPolyTree(tree))
+
+
+def control_boxes(region):
+    """(k, 4) boxes (xmin, ymin, xmax, ymax) of the control points of each loop of
+    ``region`` (zeros for an empty loop), all at once: each holds its loop."""
+    sizes = np.fromiter(map(len, region), np.int64, len(region))
+    out = np.zeros((len(region), 4))
+    at = (np.cumsum(sizes) - sizes)[sizes > 0]
+    if len(at):
+        box = pc.bboxes([p for loop in region for p in loop])
+        out[sizes > 0] = np.concatenate(
+            [np.minimum.reduceat(box[:, :2], at), np.maximum.reduceat(box[:, 2:], at)], axis=1)
+    return out
+
+
+def _ranks(counts):
+    """0 .. c - 1 for each count c, concatenated."""
+    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+
+
+def _orient(a, b, c):
+    """The sign of (b − a) x (c − a), integer points (n, 2) each."""
+    return np.sign((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                   - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def _segments_meet(a, b, c, d):
+    """Whether closed integer segments ab and cd share a point (touching and
+    overlapping count), exactly."""
+    boxes = (np.all(np.minimum(a, b) <= np.maximum(c, d), axis=1)
+             & np.all(np.minimum(c, d) <= np.maximum(a, b), axis=1))
+    return (boxes & (_orient(a, b, c) * _orient(a, b, d) <= 0)
+            & (_orient(c, d, a) * _orient(c, d, b) <= 0))
+
+
+def _crossing_signs(v, a, b):
+    """+1 / -1 where edge ab crosses the ray from v to the right upwards /
+    downwards (half-open in y), else 0: their sum is the winding number of v, a
+    point on no edge, exactly (integers)."""
+    o = _orient(a, b, v)
+    up = (a[:, 1] <= v[:, 1]) & (b[:, 1] > v[:, 1]) & (o > 0)
+    down = (b[:, 1] <= v[:, 1]) & (a[:, 1] > v[:, 1]) & (o < 0)
+    return up.astype(np.int64) - down
+
+
+def _winding(v, row, e0, e1):
+    """Winding numbers of points ``v`` (k, 2) about the edges e0[row[k]] ->
+    e1[row[k]] ((n, m, 2) each)."""
+    m = e0.shape[1]
+    r = np.repeat(row, m)
+    e = np.tile(np.arange(m), len(v))
+    signs = _crossing_signs(np.repeat(v, m, axis=0), e0[r, e], e1[r, e])
+    return signs.reshape(len(v), m).sum(axis=1)
 
 
 def _add(clip, path, kind, closed):
@@ -398,20 +668,21 @@ def _boxes_of(q, first, count):
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
 
-def _meeting_many(boxes, lo, hi, ok, block=1 << 18):
+def _meeting_many(boxes, lo, hi, ok):
     """For each box [lo[i], hi[i]], the ``ok`` boxes among ``boxes`` (k, 4) that
-    meet it, found in blocks of about ``block`` box pairs: (ids, first), box i's
-    ascending in ids[first[i]:first[i + 1]]."""
+    meet it (touching counts), found through a grid of all the boxes
+    (:func:`morph.polyline._cell_pairs`, a superset) and checked on the integers:
+    (ids, first), box i's ascending in ids[first[i]:first[i + 1]]."""
     cand = np.flatnonzero(ok)
-    counts = np.zeros(len(lo), np.int64)
-    found = []
-    if len(cand):
-        b = boxes[cand]
-        step = max(1, block // len(cand))
-        for s in range(0, len(lo), step):
-            l, h = lo[s:s + step, None, :], hi[s:s + step, None, :]
-            hit = np.all(b[None, :, :2] <= h, axis=2) & np.all(b[None, :, 2:] >= l, axis=2)
-            counts[s:s + step] = hit.sum(axis=1)
-            found.append(cand[np.nonzero(hit)[1]])
-    ids = np.concatenate(found) if found else np.zeros(0, np.int64)
-    return ids, np.concatenate([[0], np.cumsum(counts)])
+    n = len(lo)
+    if not len(cand) or not n:
+        return np.zeros(0, np.int64), np.zeros(n + 1, np.int64)
+    pairs = _cell_pairs(BoxGrid(np.concatenate([lo, boxes[cand, :2]]).astype(float),
+                                np.concatenate([hi, boxes[cand, 2:]]).astype(float)))
+    i, j = pairs[:, 0], pairs[:, 1]
+    cross = (i < n) & (j >= n)
+    q, k = i[cross], cand[j[cross] - n]
+    meet = np.all(boxes[k, :2] <= hi[q], axis=1) & np.all(boxes[k, 2:] >= lo[q], axis=1)
+    q, k = q[meet], k[meet]
+    order = np.lexsort((k, q))
+    return k[order], np.concatenate([[0], np.cumsum(np.bincount(q, minlength=n))])

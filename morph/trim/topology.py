@@ -5,9 +5,14 @@ coordinates with exact predicates, so the planar subdivision is consistent every
 time: no angle sorting, no float ties.  Collinear vertices are preserved, so every
 input vertex on the boundary stays a vertex of the output, and every output edge
 lies on one input segment (its ends are input vertices or crossings rounded to the
-grid, within half a unit of both segments).  Rings may touch themselves at a
-vertex (Clipper's StrictlySimple would split them, at 20-30 times the cost): the
-lifting identifies every edge on its own, so it does not need them apart.
+grid: within half a unit of both segments where they cross at an angle; Clipper
+finds crossings in floating point, and those of nearly parallel segments came out
+up to 10 units off on hanzi, which the lifting's Newton refinement absorbs).
+Rings may touch themselves at a vertex (Clipper's StrictlySimple would split them,
+at 20-30 times the cost): the lifting identifies every edge on its own, so it
+does not need them apart.  Each group of paths apart from the others (a glyph of a
+chunk, a stroke apart from the rest of its glyph) is united on its own, near the
+origin (:func:`_union`).
 """
 
 from dataclasses import dataclass
@@ -16,7 +21,7 @@ from itertools import chain
 import numpy as np
 import pyclipper
 
-from ..polyline import BoxGrid
+from ..polyline import BoxGrid, _cell_pairs, unique
 
 FILL_TYPES = {
     "positive": pyclipper.PFT_POSITIVE,
@@ -29,11 +34,13 @@ FILL_TYPES = {
 class Ring:
     """One boundary ring of the filled set: integer vertices (m, 2), filled side on
     its left (outer rings counter-clockwise, holes clockwise), ``parent`` the index
-    of the ring that directly encloses it (-1 for none)."""
+    of the ring that directly encloses it (-1 for none), ``group`` the apart group
+    of paths it came from (:func:`_union`; -1 where not known)."""
 
     q: np.ndarray
     hole: bool
     parent: int
+    group: int = -1
 
 
 def filled_rings(paths, fill_rule, thin=0.0):
@@ -42,30 +49,44 @@ def filled_rings(paths, fill_rule, thin=0.0):
     rings of the union thinner than ``thin`` grid units (mean width, as in
     :func:`drop_slivers`) left out with everything inside them.
 
-    Two passes: the union as flat rings first, then the PolyTree of those rings
-    (which overlap nowhere).  Clipper 6 builds its tree while it joins edges, at a
-    cost of (joins x rings x ring size): near-coincident input loops (many joins,
-    many slivers) took minutes in one pass, and ~1 s in two.  Thin rings with no
-    other ring inside go before the tree pass, where they would be most of its
-    joins (3.4 s of 3.7 s for three copies of a blob 1e-7 of its size apart).
+    Two passes: the union as flat rings first (:func:`_union`, on the paths'
+    apart groups stacked in a column), then the PolyTree of those rings (which
+    overlap nowhere; :func:`_nested_rings` in numpy where no ring visits a grid
+    point twice).  Clipper 6 builds its tree while it joins edges, at a cost of
+    (joins x rings x ring size): near-coincident input loops (many joins, many
+    slivers) took minutes in one pass, and ~1 s in two.  Thin rings with no other
+    ring inside go before the tree pass, where they would be most of its joins (3.4
+    s of 3.7 s for three copies of a blob 1e-7 of its size apart).
     """
-    paths = _as_lists([p for p in paths if len(p) >= 3])
+    paths = [np.asarray(p, np.int64).reshape(-1, 2) for p in paths]
     if not paths:
         return []
-    ft = FILL_TYPES[fill_rule]
-    clip = _clipper(paths)
-    flat = clip.Execute(pyclipper.CT_UNION, ft, ft) if clip else []
-    if not flat:
+    return packed_filled_rings(np.array([len(p) for p in paths], np.int64),
+                               np.concatenate(paths), fill_rule, thin)
+
+
+def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
+    """:func:`filled_rings` of paths packed as ``sizes`` (k,) and integer vertices
+    ``q`` (n, 2); ``gap``: the grid units that part two apart groups of paths
+    (:func:`_union`; at least APART_GAP): rings of two groups are farther apart
+    than that."""
+    keep = sizes >= 3
+    if not keep.all():
+        sizes, q = sizes[keep], q[np.repeat(keep, sizes)]
+    if not len(sizes):
         return []
-    sizes, q = _flat_arrays(flat)
+    sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
+    if not len(sizes):
+        return []
     if thin > 0.0:
-        flat, sizes, q = _without_lone_slivers(flat, thin, sizes, q)
-    if not flat:
+        kept = _without_lone_slivers(thin, sizes, q)
+        sizes, q, group = sizes[kept], q[np.repeat(kept, sizes)], group[kept]
+    if not len(sizes):
         return []
-    rings = _nested_rings(flat, sizes, q)
+    rings = _nested_rings(None, sizes, q, group)
     if rings is not None:
         return rings
-    tree = _clipper(flat).Execute2(
+    tree = _clipper(_packed_lists(sizes, q)).Execute2(
         pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     rings = []
     stack = [(child, -1) for child in tree.Childs]
@@ -77,6 +98,89 @@ def filled_rings(paths, fill_rule, thin=0.0):
     return rings
 
 
+#: Grid units between two groups of paths united apart: groups farther apart than
+#: this (boxes grown by half of it do not meet) share no point of their union.
+APART_GAP = 4
+
+
+def _union(sizes, q, ft, gap=APART_GAP):
+    """Clipper's union of closed integer paths (``sizes`` (k,), vertices ``q`` (n, 2))
+    under fill type ``ft``, as flat rings (sizes, vertices, the group of paths each
+    came from), in order of their top (largest y, then smallest x there) from the
+    highest down.  Groups: boxes more than ``gap`` units apart.
+
+    Clipper sweeps a horizontal line over the paths, and its work at each step
+    grows with the edges the line crosses: a chunk of glyphs laid out in a grid
+    puts a whole row of glyphs on every line (3 times the time of the glyphs on
+    their own on hanzi).  So each group of paths apart from the others
+    (:func:`_apart_groups`: the union of one shares no point with another's) is
+    united on its own, moved by an integer offset to the origin (Clipper rounds
+    the crossings of nearly parallel edges with an error that grows with the
+    coordinates: smaller ones round them closer), and its rings moved back.  The
+    order of the rings (Clipper's own depends on the layout) is that of their tops,
+    a property of each ring alone."""
+    starts = np.cumsum(sizes) - sizes
+    lo, hi = np.minimum.reduceat(q, starts), np.maximum.reduceat(q, starts)
+    group = _apart_groups(lo, hi, gap)
+    g = int(group.max()) + 1
+    glo = np.full((g, 2), np.iinfo(np.int64).max)
+    ghi = np.full((g, 2), np.iinfo(np.int64).min)
+    np.minimum.at(glo, group, lo)
+    np.maximum.at(ghi, group, hi)
+    shift = (glo + ghi) // 2
+    # the paths in group order, each group's moved to the origin
+    order = np.argsort(group, kind="stable")
+    rows = np.repeat(starts[order], sizes[order]) + _ranks(sizes[order])
+    moved = q[rows] - np.repeat(shift[group[order]], sizes[order], axis=0)
+    lists = _packed_lists(sizes[order], moved)
+    ends = np.cumsum(np.bincount(group, minlength=g)).tolist()
+    flat, ring_group = [], []
+    for k, (a, b) in enumerate(zip([0] + ends[:-1], ends)):
+        clip = _clipper(lists[a:b])
+        rings = clip.Execute(pyclipper.CT_UNION, ft, ft) if clip else []
+        flat += rings
+        ring_group += [k] * len(rings)
+    if not flat:
+        return np.zeros(0, np.int64), np.zeros((0, 2), np.int64), np.zeros(0, np.int64)
+    f_sizes, f_q = _flat_arrays(flat)
+    f_starts = np.cumsum(f_sizes) - f_sizes
+    f_q += np.repeat(shift[ring_group], f_sizes, axis=0)
+    # each ring's top: its largest y, the smallest x at that height
+    top_y = np.maximum.reduceat(f_q[:, 1], f_starts)
+    at_top = f_q[:, 1] == np.repeat(top_y, f_sizes)
+    top_x = np.minimum.reduceat(np.where(at_top, f_q[:, 0], np.iinfo(np.int64).max), f_starts)
+    order = np.lexsort((top_x, -top_y))
+    rows = np.repeat(f_starts[order], f_sizes[order]) + _ranks(f_sizes[order])
+    return f_sizes[order], f_q[rows], np.asarray(ring_group, np.int64)[order]
+
+
+def _ranks(counts):
+    """0 .. c - 1 for each count c, concatenated."""
+    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+
+
+def _apart_groups(lo, hi, gap):
+    """Group labels 0 .. g - 1 of boxes (lo, hi (k, 2) integer corners): the
+    connected components of the boxes grown by ``gap`` / 2 that overlap, so boxes
+    of two groups are more than ``gap`` apart in x or in y."""
+    k = len(lo)
+    label = np.arange(k)
+    if k > 1:
+        pairs = _cell_pairs(BoxGrid(lo - 0.5 * gap, hi + 0.5 * gap))
+        if len(pairs):
+            i, j = pairs[:, 0], pairs[:, 1]
+            while True:  # each box takes the smallest label it is joined to
+                m = np.minimum(label[i], label[j])
+                new = label.copy()
+                np.minimum.at(new, i, m)
+                np.minimum.at(new, j, m)
+                new = new[new]  # and its label's label
+                if np.array_equal(new, label):
+                    break
+                label = new
+    return np.searchsorted(unique(label), label)
+
+
 def _flat_arrays(flat):
     """(sizes (k,), vertices (n, 2) int64) of Clipper's rings (lists of points)."""
     sizes = np.fromiter(map(len, flat), np.int64, len(flat))
@@ -85,7 +189,7 @@ def _flat_arrays(flat):
     return sizes, q
 
 
-def _nested_rings(flat, sizes=None, q=None):
+def _nested_rings(flat, sizes=None, q=None, group=None):
     """The PolyTree of Clipper's flat rings (which overlap nowhere) without the tree
     pass, where no ring visits a grid point twice and no two rings share one (the
     tree pass would split such rings apart); None where they do, or where the test
@@ -97,10 +201,11 @@ def _nested_rings(flat, sizes=None, q=None):
     below 2^62).  Holes are the clockwise rings, which must be those at odd depth.
     Rings come parents first, the last top-level ring first (the tree walk's order
     on Clipper's children).  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat`` when
-    known.
+    known (then ``flat`` is not used); ``group``: each ring's group when known.
     """
     if q is None:
         sizes, q = _flat_arrays(flat)
+    n = len(sizes)
     if not len(q) or int(np.abs(q).max()) >= 2 ** 30:
         return None
     lo_q, hi_q = q.min(axis=0), q.max(axis=0)
@@ -112,12 +217,12 @@ def _nested_rings(flat, sizes=None, q=None):
     if np.any(keys[1:] == keys[:-1]):
         return None
     starts = np.cumsum(sizes) - sizes
-    area, _ = ring_measures(np.split(q, starts[1:]))
+    area, _ = packed_measures(sizes, q)
     found = _containers(q, sizes, starts)
     if found is None:
         return None
     a, b = found
-    parent = np.full(len(flat), -1, np.int64)
+    parent = np.full(n, -1, np.int64)
     if len(a):
         # the innermost container: the smallest by area
         order = np.lexsort((np.abs(area[b]), a))
@@ -125,7 +230,7 @@ def _nested_rings(flat, sizes=None, q=None):
         first = np.concatenate([[True], a[1:] != a[:-1]])
         parent[a[first]] = b[first]
     # depth by following parents (a chain of nested rings is short)
-    depth = np.zeros(len(flat), np.int64)
+    depth = np.zeros(n, np.int64)
     up_ = parent.copy()
     while np.any(up_ >= 0):
         depth += up_ >= 0
@@ -133,23 +238,26 @@ def _nested_rings(flat, sizes=None, q=None):
     hole = area < 0
     if np.any(hole != (depth % 2 == 1)):
         return None
-    return _tree_order(np.split(q, starts[1:]), parent, hole)
+    ends = np.cumsum(sizes).tolist()
+    rows = [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
+    return _tree_order(rows, parent, hole, np.full(n, -1) if group is None else group)
 
 
-def _tree_order(rows, parent, hole):
-    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices and
-    ``hole`` flags, parents first, the last top-level ring first (the tree walk's
-    order on Clipper's children), each naming its parent's place in the list."""
+def _tree_order(rows, parent, hole, group):
+    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices,
+    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring
+    first (the tree walk's order on Clipper's children), each naming its parent's
+    place in the list."""
     children = [[] for _ in rows]
     top = []
     for k, p in enumerate(parent.tolist()):
         (children[p] if p >= 0 else top).append(k)
     rings = []
     stack = [(k, -1) for k in top]
-    hole_l = hole.tolist()
+    hole_l, group_l = hole.tolist(), np.asarray(group).tolist()
     while stack:
         k, p = stack.pop()
-        rings.append(Ring(rows[k], hole_l[k], p))
+        rings.append(Ring(rows[k], hole_l[k], p, group_l[k]))
         me = len(rings) - 1
         stack.extend((c, me) for c in children[k])
     return rings
@@ -191,44 +299,48 @@ def _containers(q, sizes, starts):
     return a, b
 
 
-def _without_lone_slivers(flat, thin, sizes, q):
-    """Clipper's flat rings without those thinner than ``thin`` units that hold no
-    other ring (no ring's box inside theirs).  The flat rings wind once around what
-    they fill, so without such a ring T the points inside T wind one less (T an
-    outer ring: T empty) or one more (T a hole: T filled), and nothing else
-    changes: the tree pass then gives what :func:`drop_slivers` leaves of the full
-    tree.  A thin ring holding others stays for :func:`drop_slivers`, which drops
-    what it holds with it.  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat``;
-    returns (flat, sizes, q) of the rings kept."""
-    q_int, q = q, q.astype(float)
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    area, perimeter = ring_measures(np.split(q, starts[1:]))
+def _without_lone_slivers(thin, sizes, q):
+    """Clipper's flat rings (``sizes``, integer vertices ``q``) without those thinner
+    than ``thin`` units that hold no other ring (no ring's box inside theirs).  The
+    flat rings wind once around what they fill, so without such a ring T the points
+    inside T wind one less (T an outer ring: T empty) or one more (T a hole: T
+    filled), and nothing else changes: the tree pass then gives what
+    :func:`drop_slivers` leaves of the full tree.  A thin ring holding others stays
+    for :func:`drop_slivers`, which drops what it holds with it.  Returns which
+    rings are kept (a mask)."""
+    starts = np.cumsum(sizes) - sizes
+    area, perimeter = packed_measures(sizes, q)
     thin_ids = np.flatnonzero(2.0 * np.abs(area) <= thin * perimeter)
     if len(thin_ids) == 0:
-        return flat, sizes, q_int
-    lo = np.minimum.reduceat(q, starts)
-    hi = np.maximum.reduceat(q, starts)
-    p, b = BoxGrid(lo[thin_ids], hi[thin_ids]).at_points(q[starts])
+        return np.ones(len(sizes), bool)
+    qf = q.astype(float)
+    lo = np.minimum.reduceat(qf, starts)
+    hi = np.maximum.reduceat(qf, starts)
+    p, b = BoxGrid(lo[thin_ids], hi[thin_ids]).at_points(qf[starts])
     t = thin_ids[b]
     lp, lt, hp, ht = lo[p], lo[t], hi[p], hi[t]
     holds = ((p != t) & (lp[:, 0] >= lt[:, 0]) & (lp[:, 1] >= lt[:, 1])
              & (hp[:, 0] <= ht[:, 0]) & (hp[:, 1] <= ht[:, 1]))
-    drop = np.zeros(len(flat), bool)
+    drop = np.zeros(len(sizes), bool)
     drop[thin_ids] = True
     drop[t[holds]] = False
-    return ([f for f, gone in zip(flat, drop) if not gone], sizes[~drop],
-            q_int[np.repeat(~drop, sizes)])
+    return ~drop
 
 
 def _as_lists(paths):
     """Integer paths as lists of (x, y) (pyclipper's input): the arrays among them
-    converted in one call, each coordinate column to a list and the two zipped
-    (a third of the time of nested lists)."""
+    converted in one call (:func:`_packed_lists`)."""
     if not paths or not all(hasattr(p, "tolist") for p in paths):
         return [p.tolist() if hasattr(p, "tolist") else p for p in paths]
-    q = np.concatenate(paths)
+    return _packed_lists(np.array([len(p) for p in paths], np.int64), np.concatenate(paths))
+
+
+def _packed_lists(sizes, q):
+    """Paths packed as ``sizes`` and vertices ``q`` as lists of (x, y): each
+    coordinate column to a list and the two zipped (a third of the time of nested
+    lists)."""
     flat = list(zip(q[:, 0].tolist(), q[:, 1].tolist()))
-    ends = np.cumsum([len(p) for p in paths]).tolist()
+    ends = np.cumsum(sizes).tolist()
     return [flat[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
@@ -274,8 +386,12 @@ def drop_slivers(rings, width):
 def ring_measures(rings):
     """(signed areas, perimeters) of integer rings, (k,) each, all at once (the
     areas exact: integer products and sums below 2^53)."""
-    sizes = np.array([len(q) for q in rings], np.int64)
-    q = np.concatenate(rings).astype(float, copy=False)
+    return packed_measures(np.array([len(q) for q in rings], np.int64), np.concatenate(rings))
+
+
+def packed_measures(sizes, q):
+    """:func:`ring_measures` of rings packed as ``sizes`` (k,) and vertices ``q``."""
+    q = q.astype(float, copy=False)
     starts = np.cumsum(sizes) - sizes
     nxt = np.arange(len(q)) + 1
     nxt[starts + sizes - 1] = starts
@@ -298,7 +414,7 @@ def fill_holes(rings, filled):
         while p in dead:
             p = rings[p].parent
         new_parent[i] = p
-    out = [Ring(r.q, r.hole, new_parent[i]) for i, r in enumerate(rings)]
+    out = [Ring(r.q, r.hole, new_parent[i], r.group) for i, r in enumerate(rings)]
     return _reindex(out, dead)
 
 
@@ -309,4 +425,4 @@ def _reindex(rings, dead):
         if i not in dead:
             index[i] = len(out)
             out.append(r)
-    return [Ring(r.q, r.hole, index.get(r.parent, -1)) for r in out]
+    return [Ring(r.q, r.hole, index.get(r.parent, -1), r.group) for r in out]

@@ -14,6 +14,7 @@ neighbour) are removed first.
 
 import numpy as np
 
+from .. import bernstein as bz
 from .. import piece as pc
 from .. import moments as mo
 from .. import polyline as pl
@@ -39,18 +40,19 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
         if not idx:
             break
         # the active loops' pieces stacked and their tangent cones taken once for
-        # the fold test and the crossing search, again only where a fold was cut
+        # the fold test and the crossing search; where folds were cut, the cut
+        # loops' again, put after the others (the search is loop by loop)
+        sizes = [len(out[k]) for k in idx]
         pieces = pc.Pieces.of([p for k in idx for p in out[k]])
         cones = pc.tangent_cones(pieces)
-        cut = False
-        for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)):
-            if f:
-                loop = remove_folds(out[k], 2.0 * eps)
-                cut |= len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k]))
+        may = [k for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)) if f]
+        cut = []
+        for k, loop in zip(may, remove_folds_many([out[k] for k in may], 2.0 * eps)):
+            if len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k])):
                 out[k] = loop
+                cut.append(k)
         if cut:
-            pieces = pc.Pieces.of([p for k in idx for p in out[k]])
-            cones = pc.tangent_cones(pieces)
+            pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
         hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
                                                        cones).items()}
         new_out, new_active = [], []
@@ -61,6 +63,21 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
             new_active += [hit is not None] * len(parts)
         out, active = new_out, new_active
     return out
+
+
+def _recut(pieces, cones, idx, sizes, out, cut):
+    """(pieces, cones, loop order) of the loops ``idx`` (their pieces stacked in
+    ``pieces``, ``sizes`` pieces each, with tangent ``cones``) after the loops
+    ``cut`` got new pieces (in ``out``): the other loops' pieces and cones as they
+    were, then the cut loops', gathered and measured alone."""
+    cut_set = set(cut)
+    kept = np.array([k not in cut_set for k in idx])
+    rows = np.flatnonzero(np.repeat(kept, sizes))
+    new = [p for k in cut for p in out[k]]
+    new_cones = pc.tangent_cones(new)
+    cones = tuple(np.concatenate([c[rows], n]) for c, n in zip(cones, new_cones))
+    order = [k for k in idx if k not in cut_set] + list(cut)
+    return pieces.take(rows).then(new), cones, order
 
 
 def merge_lenses(loops, outer, eps, near=None, max_rounds=64):
@@ -215,7 +232,8 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     loop that has one, away from their shared ends (i < j, or i == j for a piece
     crossing itself), refined on the exact pieces.
 
-    Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) are
+    Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) and
+    whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
     (pieces that nearly coincide).  ``pieces`` (a :class:`morph.piece.Pieces`) and
@@ -226,6 +244,8 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
+    if len(suspects):
+        suspects = suspects[~_hulls_apart(pieces, suspects)]
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
@@ -260,6 +280,33 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
         x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
         hits[li] = (i, si, j, wj, x)
     return hits
+
+
+def _hulls_apart(pieces, pairs):
+    """Whether the convex hulls of the control points of each pair of pieces
+    (``pieces`` a :class:`morph.piece.Pieces`, ``pairs`` (k, 2) indices) are
+    apart: a piece with positive weights lies in that hull, so two such pieces
+    cannot meet.  Separating axes: the normals of every line through two control
+    points of either piece (the hulls' edges among them), a gap of more than 1e-9
+    of the projections' size (rounding far below the crossings' 1e-6 eps).
+
+    Most pairs that no monotone chain holds are the two sides of a stroke where it
+    turns round its end: boxes overlap, hulls do not."""
+    used = unique(pairs)
+    inv = np.searchsorted(used, pairs)
+    h = pc.stack(pc.Pieces.of(pieces).take(used))
+    positive = np.all(h[..., 2] > 0.0, axis=1)
+    x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
+    i, j = np.triu_indices(x.shape[1], 1)
+    d = x[:, j] - x[:, i]
+    normal = np.stack([-d[..., 1], d[..., 0]], axis=-1)
+    axes = np.concatenate([normal[inv[:, 0]], normal[inv[:, 1]]], axis=1)
+    pa = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 0]])
+    pb = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 1]])
+    size = np.abs(pa).max(axis=2) + np.abs(pb).max(axis=2)
+    gap = np.maximum(pb.min(axis=2) - pa.max(axis=2), pa.min(axis=2) - pb.max(axis=2))
+    apart = np.any(gap > 1e-9 * size, axis=1)
+    return apart & positive[inv[:, 0]] & positive[inv[:, 1]]
 
 
 def _oriented(pairs, owner, first, sizes):
@@ -334,57 +381,138 @@ def remove_folds(loop, width):
     collinear vertices, and legs that coincide hide any crossing on them from the
     polylines and from subdivision (the crossing search gives such pairs up).
 
-    Each pass finds every fold at once (:func:`_fold_joins`) and cuts those that
-    share no piece, from the last to the first (earlier indices stay valid; a fold
-    at the wrap, piece -1 to piece 0, is cut alone in its pass); a fold left as it
-    is (legs neither close nor zipped) is not looked at again while its two pieces
-    are unchanged (:func:`_snap` keeps a piece whose ends stay).  Passes repeat
-    until no fold is left to cut."""
-    loop = list(loop)
-    left = {}  # (id(a), id(b)) -> (a, b) of folds left as they are (kept alive: ids unique)
-    while len(loop) >= 3:
-        folds = [i for i in _fold_joins(loop)
-                 if (id(loop[i]), id(loop[(i + 1) % len(loop)])) not in left]
-        if not folds:
-            break
-        if folds[-1] == len(loop) - 1:
-            folds = folds[-1:]  # its cut may delete piece 0 and move every index
-        changed, taken = False, set()
-        for i in reversed(folds):
-            if i + 1 in taken:
-                continue  # shares piece i + 1 with a fold cut in this pass
-            j = (i + 1) % len(loop)
-            a, b = loop[i], loop[j]
-            cut = _fold_cut(a, b, width)
-            if cut is None:
-                left[(id(a), id(b))] = (a, b)
+    Each pass finds every fold at once and cuts those that share no piece, from
+    the last to the first (earlier indices stay valid; a fold at the wrap, piece -1
+    to piece 0, is cut alone in its pass); a fold left as it is (legs neither close
+    nor zipped) is not looked at again while its two pieces are unchanged
+    (:func:`_snap` keeps a piece whose ends stay).  Passes repeat until no fold is
+    left to cut.  :func:`remove_folds_many` of one loop."""
+    return remove_folds_many([loop], width)[0]
+
+
+def remove_folds_many(loops, width):
+    """:func:`remove_folds` of every loop, each pass over all loops at once: the
+    joins of all their pieces tested together (:func:`_fold_joins_many`), the
+    cuts of all the folds found computed together (:func:`_fold_cuts`), then
+    applied loop by loop as :func:`remove_folds` says (the cuts of one pass use
+    the pieces as the pass found them: a fold whose second piece a later fold's
+    cut changed is skipped)."""
+    out = [list(loop) for loop in loops]
+    left = [{} for _ in out]  # per loop: (id(a), id(b)) -> (a, b) of folds left as they are
+    todo = [k for k, loop in enumerate(out) if len(loop) >= 3]
+    while todo:
+        plan, jobs = [], []
+        for k, folds in zip(todo, _fold_joins_many([out[k] for k in todo])):
+            loop, n = out[k], len(out[k])
+            folds = [i for i in folds if (id(loop[i]), id(loop[(i + 1) % n])) not in left[k]]
+            if not folds:
                 continue
-            loop = _cut_fold(loop, i, j, *cut)
-            taken.add(i)
-            changed = True
-        if changed:
-            loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
-    return loop
+            if folds[-1] == n - 1:
+                folds = folds[-1:]  # its cut may delete piece 0 and move every index
+            plan.append((k, folds, len(jobs)))
+            jobs += [(loop[i], loop[(i + 1) % n]) for i in folds]
+        if not jobs:
+            break
+        cuts = _fold_cuts(jobs, width)
+        todo = []
+        for k, folds, at in plan:
+            loop = out[k]
+            changed, taken = False, set()
+            for f in range(len(folds) - 1, -1, -1):
+                i = folds[f]
+                if i + 1 in taken:
+                    continue  # shares piece i + 1 with a fold cut in this pass
+                j = (i + 1) % len(loop)
+                cut = cuts[at + f]
+                if cut is None:
+                    a, b = jobs[at + f]
+                    left[k][(id(a), id(b))] = (a, b)
+                    continue
+                loop = _cut_fold(loop, i, j, *cut)
+                taken.add(i)
+                changed = True
+            if changed:
+                loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
+                if len(loop) >= 3:
+                    todo.append(k)
+            out[k] = loop
+    return out
 
 
-def _fold_joins(loop):
-    """Indices i of the joins (piece i, piece i + 1, cyclic) that turn by nearly pi:
-    unit end tangents with dot product at most FOLD_COS, all joins at once."""
-    first, last = pc.end_tangents_many(loop)
-    dots = np.einsum("ij,ij->i", last, np.roll(first, -1, axis=0))
-    return np.flatnonzero(dots <= FOLD_COS).tolist()
+def _fold_joins_many(loops):
+    """Per loop: the indices i of the joins (piece i, piece i + 1, cyclic) that turn
+    by nearly pi (unit end tangents with dot product at most FOLD_COS), the joins
+    of all loops at once."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    first, last = pc.end_tangents_many([p for loop in loops for p in loop])
+    starts = np.cumsum(sizes) - sizes
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    at = np.arange(len(owner)) - starts[owner]
+    nxt = starts[owner] + (at + 1) % sizes[owner]
+    fold = np.flatnonzero(np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS)
+    per = [[] for _ in loops]
+    for o, i in zip(owner[fold].tolist(), at[fold].tolist()):
+        per[o].append(i)
+    return per
 
 
-def _fold_cut(a, b, width):
-    """Where to cut the fold at the join of ``a`` (ending) and ``b`` (starting), as
-    :func:`_cut_fold`'s (s, u), or None to leave it (see :func:`remove_folds`)."""
-    la, lb = pc.length_bound(a), pc.length_bound(b)
-    short, long_ = (a, b) if la <= lb else (b, a)
-    near, t_near = _closest(long_, pc.evaluate(short, np.linspace(0.0, 1.0, 9)))
-    if near.max() <= width:
-        return (0.0, t_near[0]) if la <= lb else (t_near[-1], 1.0)
-    zipped = _zip(a, b, COINCIDE * width, width)
-    return None if zipped is None else _parting(a, b, *zipped)
+def _fold_cuts(jobs, width):
+    """Where to cut each fold (a ending, b starting) of ``jobs``, as
+    :func:`_cut_fold`'s (s, u), or None to leave it (see :func:`remove_folds`): the
+    shorter leg within ``width`` of the longer at nine points goes, the longer cut
+    at its point closest to the shorter's far end (the closest points of all folds
+    found at once, :func:`_closest_many`); else where the legs part, if they are
+    zipped (:func:`_zip`, :func:`_parting`, fold by fold)."""
+    a_s, b_s = [a for a, _ in jobs], [b for _, b in jobs]
+    la, lb = pc.length_bounds(a_s), pc.length_bounds(b_s)
+    a_short = la <= lb
+    shorts = [a if s else b for a, b, s in zip(a_s, b_s, a_short)]
+    longs = [b if s else a for a, b, s in zip(a_s, b_s, a_short)]
+    pts = _evaluate_many(shorts, np.linspace(0.0, 1.0, 9))
+    near, t_near = _closest_many(longs, pts)
+    out = []
+    for f, (a, b) in enumerate(jobs):
+        if near[f].max() <= width:
+            out.append((0.0, t_near[f, 0]) if a_short[f] else (t_near[f, -1], 1.0))
+            continue
+        zipped = _zip(a, b, COINCIDE * width, width)
+        out.append(None if zipped is None else _parting(a, b, *zipped))
+    return out
+
+
+def _evaluate_many(pieces, t):
+    """:func:`morph.piece.evaluate` of each piece at the parameters ``t``: (k, m, 2),
+    the pieces of one degree at once (the same products, row by row)."""
+    out = np.zeros((len(pieces), len(t), 2))
+    for ks, h in pc.degree_groups(pieces):
+        v = bz.basis(h.shape[1] - 1, t) @ h
+        out[ks] = v[..., :2] / v[..., 2:3]
+    return out
+
+
+def _closest_many(pieces, points, samples=257):
+    """:func:`_closest` of each piece and its points ((k, m, 2)): distances and
+    parameters (k, m), the pieces of one degree at once."""
+    k, m = points.shape[:2]
+    dist, param = np.zeros((k, m)), np.zeros((k, m))
+    t = np.linspace(0.0, 1.0, samples)
+    for ks, h in pc.degree_groups(pieces):
+        curve = bz.basis(h.shape[1] - 1, t) @ h
+        curve = curve[..., :2] / curve[..., 2:3]
+        pts = points[ks]
+        d2 = ((pts[:, :, None, :] - curve[:, None, :, :]) ** 2).sum(axis=3)
+        u = t[np.argmin(d2, axis=2)].ravel()
+        idx = np.repeat(np.arange(len(ks)), m)
+        flat = pts.reshape(-1, 2)
+        for _ in range(8):
+            x, dx = pc.jet_many(h, idx, u)
+            r = x - flat
+            step = (r * dx).sum(axis=1) / np.maximum((dx * dx).sum(axis=1), 1e-300)
+            u = np.clip(u - step, 0.0, 1.0)
+        x, _ = pc.jet_many(h, idx, u)
+        dist[ks] = np.hypot(*(x - flat).T).reshape(-1, m)
+        param[ks] = u.reshape(-1, m)
+    return dist, param
 
 
 #: Legs of a fold closer than this share of remove_folds' width coincide (:func:`_zip`).

@@ -97,27 +97,30 @@ def test_membership_of_scattered_loops_against_shapely():
     assert np.array_equal(got[clear], d[clear] < 2.0) and got[clear].any()
 
 
-def test_meeting_boxes_found_in_blocks_as_one_by_one():
+def test_meeting_boxes_found_through_a_grid_as_one_by_one():
     """:func:`morph.trim.holes._meeting_many`: the boxes meeting each query box
-    (touching counts), only those marked ok, in blocks of a few pairs, as a loop
-    over the queries finds them; a query meeting nothing has none."""
+    (touching counts), only those marked ok, found through a grid of all the
+    boxes, as a loop over the queries finds them; a query meeting nothing has
+    none."""
     from morph.trim.holes import _meeting_many
 
     rng = np.random.default_rng(3)
     lo = rng.integers(0, 100, (40, 2))
     boxes = np.concatenate([lo, lo + rng.integers(0, 30, (40, 2))], axis=1)
+    boxes[5] = [20, 20, 20, 20]          # a point
+    boxes[6] = [0, 50, 100, 50]          # a line
     ok = rng.random(40) < 0.7
+    ok[5] = ok[6] = True
     qlo = rng.integers(-20, 120, (25, 2))
     qhi = qlo + rng.integers(0, 25, (25, 2))
     qlo[0], qhi[0] = (500, 500), (510, 510)   # far from every box
-    for block in (7, 1 << 18):
-        ids, first = _meeting_many(boxes, qlo, qhi, ok, block)
-        for i in range(len(qlo)):
-            want = [k for k in range(40) if ok[k] and np.all(boxes[k, :2] <= qhi[i])
-                    and np.all(boxes[k, 2:] >= qlo[i])]
-            assert ids[first[i]:first[i + 1]].tolist() == want
-        assert first[1] == first[0] and len(ids) > 25
-
+    qlo[1], qhi[1] = (10, 20), (20, 30)       # touching the point box at a corner
+    ids, first = _meeting_many(boxes, qlo, qhi, ok)
+    for i in range(len(qlo)):
+        want = [k for k in range(40) if ok[k] and np.all(boxes[k, :2] <= qhi[i])
+                and np.all(boxes[k, 2:] >= qlo[i])]
+        assert ids[first[i]:first[i + 1]].tolist() == want
+    assert first[1] == first[0] and len(ids) > 25 and 5 in ids[first[1]:first[2]]
 
 
 def _star(rng, c, r, n, inner=0.5):
@@ -204,3 +207,86 @@ def test_membership_rounds_all_loops_at_once_as_loop_by_loop(seed):
         assert all(np.array_equal(a, b) for a, b in zip(m.curves, curves))
         assert np.array_equal(m.box_a, box_a) and np.array_equal(m.box_c, box_c)
         assert box_a.dtype == m.box_a.dtype == np.int64
+
+
+@pytest.mark.parametrize("nib", ["square", "circle"])
+def test_membership_without_clipper_where_apart_as_clipper(nib, monkeypatch):
+    """Membership.many answers the points where the rounded loops of A and x − B
+    are apart without Clipper (:meth:`Membership._apart`): on every point it gives
+    Clipper's answer on all the loops (closed polygons, strokes traced there and
+    back, a stroke that rounds to one point), on points of the predicate's own
+    grid, so that many touch a loop exactly.  Most points are decided apart, and
+    a contact test that missed touching segments would be seen (square nib)."""
+    import morph.trim.holes as ho
+
+    rng = np.random.default_rng(11 if nib == "square" else 12)
+    region = []
+    for c in ((0, 0), (30, 5), (10, 30)):
+        p = np.rint(_star(rng, np.array(c, float), 8.0, 9))
+        region.append([pc.line(p[k], p[(k + 1) % len(p)]) for k in range(len(p))])
+    for c in ((-20, 20), (40, 30)):
+        p = np.rint(np.array(c, float) + rng.uniform(-10, 10, (4, 2)))
+        path = [pc.line(p[k], p[k + 1]) for k in range(3)]
+        region.append(path + [pc.reverse(q) for q in path[::-1]])
+    dot = pc.line((20.0, -15.0), (20.0 + 1e-9, -15.0))
+    region.append([dot, pc.reverse(dot)])
+    if nib == "square":
+        s = [(-2, -2), (2, -2), (2, 2), (-2, 2)]
+        b = [[pc.line(s[k], s[(k + 1) % 4]) for k in range(4)]]
+    else:
+        b = [list(pc.circle((0.0, 0.0), 2.5))]
+    m = Membership(region, b, 1.0)   # grid 0.05: the points below are on it
+    xs = np.rint(rng.uniform([-35, -25], [55, 45], (500, 2)) / m.grid) * m.grid
+    xs[:40] = np.rint(np.array([[20.0, -15.0]]) + rng.integers(-3, 4, (40, 2)))  # round the dot
+    every = m._all()  # the closed loops and the paths of A, all of them
+    want = np.array([m._meets(x, *every) for x in xs])
+    assert np.array_equal(m.many(xs), want)
+    assert 0.1 < want.mean() < 0.9
+    # how many the numpy test decided, and what a contact test blind to touching gives
+    calls = []
+    orig = ho.Membership._meets
+    monkeypatch.setattr(ho.Membership, "_meets",
+                        lambda self, *a: calls.append(1) or orig(self, *a))
+    m2 = Membership(region, b, 1.0)
+    m2.many(xs)
+    assert len(calls) < 0.5 * len(xs)
+    if nib != "square":
+        return  # the square's sides lie on the grid: they touch the loops exactly
+    monkeypatch.setattr(ho, "_segments_meet", lambda a, b_, c, d: (
+        (ho._orient(a, b_, c) * ho._orient(a, b_, d) < 0)
+        & (ho._orient(c, d, a) * ho._orient(c, d, b_) < 0)))
+    assert not np.array_equal(Membership(region, b, 1.0).many(xs), want)
+
+
+def test_points_deep_enough_are_inside_and_deep_enough_or_the_deepest():
+    """points_deep_enough: each point lies inside its hole at the depth it reports
+    (measured again on the polygons); it is at least ``enough`` deep where the
+    full search (deepest_point) gets that deep, and is the full search's point
+    elsewhere (thin annuli: the coarse grid finds nothing inside them)."""
+    from morph.trim.holes import _depth, points_deep_enough
+
+    rng = np.random.default_rng(9)
+    holes = []
+    for k in range(30):
+        c = rng.uniform(-500, 500, 2)
+        r = rng.uniform(5, 60)
+        ring = _star(rng, c, r, int(rng.integers(3, 40)))
+        islands = [_star(rng, c, 0.3 * r, 12, inner=0.9)] if k % 3 == 0 else []
+        if k % 7 == 5:
+            t = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+            ring = np.c_[r * np.cos(t), r * np.sin(t)] + c
+            islands = [np.c_[(r - 0.05) * np.cos(t + 0.01), (r - 0.05) * np.sin(t + 0.01)] + c]
+        holes.append((ring, islands))
+    for enough in (2.0, 6.0):
+        x, d = points_deep_enough(holes, enough)
+        coarse = 0
+        for h, (ring, islands) in enumerate(holes):
+            assert d[h] == _depth(x[h], ring, islands) and d[h] > 0, h
+            x1, d1 = deepest_point(ring, islands, enough=enough)
+            if d1 >= enough:
+                assert d[h] >= enough
+                coarse += not np.array_equal(x[h], x1)
+            else:
+                assert np.array_equal(x[h], x1) and d[h] == d1, h
+        assert coarse > 5 and (d < enough).any()
+    assert points_deep_enough([], 1.0)[0].shape == (0, 2)

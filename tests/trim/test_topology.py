@@ -283,3 +283,54 @@ def test_near_coincident_copies_fill_in_seconds():
                          timeout=60, check=True).stdout.split()
     assert int(out[0]) == 1  # the slivers between the copies are dropped
     assert abs(float(out[1]) - 3824.5) < 0.01  # the blob's area, within the slivers'
+
+
+@pytest.mark.parametrize("rule", ["positive", "nonzero", "evenodd"])
+def test_groups_apart_united_alone_fill_as_one_union(rule):
+    """filled_rings unites each group of paths apart from the others on its own,
+    moved to the origin (topology._union): on a 5 x 5 grid of cells of random
+    overlapping polygons (a chunk of glyphs), with two cells 3 units apart (within
+    APART_GAP: one group) and two just farther (two groups), it fills what
+    Clipper's one-pass union of all paths fills (at 20,000 points more than 2 units
+    from either's rings), the groups' boxes are more than the gap apart, and the
+    flat rings come from the highest top down."""
+    from morph.trim.topology import APART_GAP, FILL_TYPES, _apart_groups, _union
+
+    rng = np.random.default_rng(21)
+    paths = []
+    for cx in range(5):
+        for cy in range(5):
+            base = np.array([cx * 3000, cy * 2000])
+            for _ in range(3):
+                paths.append(base + rng.integers(0, 900, (int(rng.integers(3, 9)), 2)))
+    near = np.array([[20000, 0], [20300, 0], [20300, 300], [20000, 300]])
+    paths += [near, near + [303, 0]]                         # 3 units apart: one group
+    paths += [near + [0, 1000], near + [300 + APART_GAP + 1, 1000]]  # apart
+    rings = filled_rings(paths, rule)
+    pts = np.c_[rng.uniform(-100, 21000, 20000), rng.uniform(-100, 10000, 20000)]
+    got = winding_number(pts, [r.q.astype(float) for r in rings])
+    ref, gap = _one_pass_fill(paths, rule, pts)
+    q = [r.q.astype(float) for r in rings]
+    far = (gap > 2) & (min_segment_distance(pts, *_edges(q)) > 2)
+    assert far.sum() > 15000 and set(np.unique(got[far])) <= {0, 1}
+    assert np.array_equal((got == 1)[far], ref[far])
+    # probes inside the four squares: filled, the first two in one ring
+    probes = np.array([[20150, 150], [20453, 150], [20150, 1150], [20458, 1150]], float)
+    assert np.all(winding_number(probes, q) == 1)
+    # the groups: 25 cells (some may join inside a cell), the near pair one group
+    lo = np.array([p.min(axis=0) for p in paths])
+    hi = np.array([p.max(axis=0) for p in paths])
+    group = _apart_groups(lo, hi, APART_GAP)
+    assert group[-4] == group[-3] and group[-2] != group[-1]
+    for g in range(group.max() + 1):
+        for h in range(g + 1, group.max() + 1):
+            a, b = group == g, group == h
+            sep = np.maximum(lo[b].min(axis=0) - hi[a].max(axis=0),
+                             lo[a].min(axis=0) - hi[b].max(axis=0))
+            assert sep.max() > APART_GAP
+    # the flat rings from the highest top down, ties from the left
+    sizes = np.array([len(p) for p in paths])
+    f_sizes, f_q, _ = _union(sizes, np.concatenate(paths).astype(np.int64), FILL_TYPES[rule])
+    rows = np.split(f_q, np.cumsum(f_sizes)[:-1])
+    tops = [(-r[:, 1].max(), r[r[:, 1] == r[:, 1].max(), 0].min()) for r in rows]
+    assert tops == sorted(tops) and len(tops) > 20

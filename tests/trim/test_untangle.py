@@ -237,3 +237,43 @@ def test_snap_joins_every_piece_to_its_neighbours_and_drops_short_ones():
         for p, q in zip(kept, out):
             assert np.allclose(pc.cartesian(p)[1:-1], pc.cartesian(q)[1:-1], atol=0, rtol=0)
         assert not any(pc.length_bound(p) <= 1e-7 for p in out)
+
+
+def test_hulls_apart_only_where_the_pieces_are():
+    """_hulls_apart (the control polygons' hulls apart along some axis) on random
+    pairs of cubics and rational conics: every pair it calls apart is apart on
+    polylines within 1e-5 (shapely distance positive), no pair whose polylines
+    meet is called apart, and it calls most of the far pairs apart; a conic with a
+    negative weight (no hull property) is never apart."""
+    shapely = pytest.importorskip("shapely")
+    from morph.trim.untangle import _hulls_apart
+
+    rng = np.random.default_rng(4)
+    pieces = []
+    for k in range(60):
+        c = rng.uniform(0, 40, 2)
+        p = c + rng.uniform(-6, 6, (4, 2))
+        if k % 3:
+            pieces.append(pc.cubic(*p))
+        else:
+            h = np.c_[p[:3], np.ones(3)]
+            h[1] *= rng.uniform(0.3, 3.0)
+            pieces.append(h)
+    neg = np.c_[np.array([[50.0, 0], [60, 10], [70, 0]]), [1.0, -0.5, 1.0]]
+    neg[1, :2] *= -0.5
+    pieces.append(neg)
+    i, j = np.triu_indices(len(pieces), 1)
+    pairs = np.stack([i, j], axis=1)
+    apart = _hulls_apart(pc.Pieces.of(pieces), pairs)
+    lines = [shapely.LineString(pl.flatten(p, 1e-5)[0]) for p in pieces]
+    meeting = far = 0
+    for (a, b), sep in zip(pairs, apart):
+        d = lines[a].distance(lines[b])
+        if sep:
+            assert d > 0.0, (a, b)
+        if d == 0.0:
+            meeting += 1
+            assert not sep, (a, b)
+        far += d > 3.0
+    assert meeting > 20 and apart.sum() > 0.8 * far
+    assert not apart[(pairs == len(pieces) - 1).any(axis=1)].any()
