@@ -68,11 +68,30 @@ def run_command(src, chars, nib, tol, out):
 
 
 def morph_in_process(src, chars, nib, tol, out):
-    from morph.fonts.brush import brush_font, ellipse_nib
+    """(CPU seconds of ``brush_font``, CPU seconds of its sweep alone, stats): the
+    sweep (``morph.fonts.brush._sweep_font``: the sums and the certified export of
+    the glyphs by the command's chunks, ``jobs=1``) is timed inside the call."""
+    from morph.fonts import brush
 
-    t0 = time.process_time()
-    stats = brush_font(str(src), str(out), ellipse_nib(*nib), chars, tol=tol, jobs=1)
-    return time.process_time() - t0, stats
+    swept = []
+    sweep = brush._sweep_font
+
+    def timed_sweep(*args, **kwargs):
+        t0 = time.process_time()
+        try:
+            return sweep(*args, **kwargs)
+        finally:
+            swept.append(time.process_time() - t0)
+
+    brush._sweep_font = timed_sweep
+    try:
+        t0 = time.process_time()
+        stats = brush.brush_font(str(src), str(out), brush.ellipse_nib(*nib), chars, tol=tol,
+                                 jobs=1)
+        total = time.process_time() - t0
+    finally:
+        brush._sweep_font = sweep
+    return total, sum(swept), stats
 
 
 def written_points(out, names):
@@ -89,22 +108,71 @@ def written_points(out, names):
 
 
 def run_fontforge(src, names, nib, accuracy):
+    """(FontForge's results, the cache entry's provenance, measured now): from the
+    bench cache (:mod:`bench.peer_cache`) when measured before on the same font file
+    (its bytes), glyphs, nib, accuracy, FontForge version and worker scripts; the
+    worker process's own CPU time is kept too."""
+    from bench import peer_cache
+
+    version = peer_cache.fontforge_version()
+    if version is None:
+        raise RuntimeError("no fontforge module in %s" % SYSTEM_PYTHON)
+    key = peer_cache.digest("fontforge-brush", Path(src).read_bytes(), list(names),
+                            list(nib), accuracy, version,
+                            peer_cache.file_digest("bench/fontforge_brush.py",
+                                                   "bench/fontforge_stroke.py"))
+    hit = peer_cache.get("fontforge-brush", key)
+    if hit is not None:
+        return hit["value"], hit["provenance"], key, False
+    prov = peer_cache.provenance(version)
     job = json.dumps({"font": str(src), "nib": list(nib), "accuracy": accuracy,
                       "glyphs": names})
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_brush.py")],
                           input=job, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode != 0:
         raise RuntimeError("FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:])
-    return json.loads(proc.stdout), proc.stderr
+    value = {"results": json.loads(proc.stdout),
+             "process_cpu": (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
+             "internal_errors": proc.stderr.count("Internal Error")}
+    peer_cache.put("fontforge-brush", key, {"value": value, "provenance": prov})
+    return value, prov, key, True
+
+
+def brush_references(src, chars, names, nib, ref_tol):
+    """({glyph: Clipper sum of the source glyph and the nib}, {glyph: key}, note), each
+    from the bench cache when made before from the same font file, glyph, nib outline,
+    ``ref_tol`` and oracle version."""
+    from bench import peer_cache
+    from morph.parse import glyph_region
+    from tests.oracles.reference import polygon_minkowski_sum
+
+    import shapely
+
+    version = peer_cache.oracle_version()
+    font_key = peer_cache.digest(Path(src).read_bytes())
+    nib_key = [np.asarray(p, float) for p in nib[0]]
+    refs, keys, provs, fresh = {}, {}, [], 0
+    for c, n in zip(chars, names):
+        key = peer_cache.digest("brush-reference", font_key, c, n, nib_key, ref_tol, version)
+        wkb, prov, new = peer_cache.cached(
+            "brush-reference", key, lambda: shapely.to_wkb(polygon_minkowski_sum(
+                glyph_region(c, font=str(src)).region, nib, ref_tol)), version)
+        refs[n], keys[n] = shapely.from_wkb(wkb), key
+        provs.append(prov)
+        fresh += new
+    return refs, keys, peer_cache.measured_note(provs, fresh)
 
 
 def main(argv=None):
-    from bench.stroke import segments_to_region
+    from bench import peer_cache
+    from bench.stroke import boundary_hausdorff, segments_to_region
     from bench.stroke_profile import code_version, shown_args
     from morph.fonts.brush import ellipse_nib, region_extent
     from morph.parse import cubic_test_font_path, glyph_region
     from morph.region import translate_region
-    from tests.oracles.reference import hausdorff, polygon_minkowski_sum, region_to_shapely
+    from tests.oracles.reference import region_to_shapely
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--glyphs", default="A-Z,a-z,0-9")
@@ -116,6 +184,7 @@ def main(argv=None):
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
+    t_start = time.perf_counter()
     src = cubic_test_font_path()
     chars = _chars(opt.glyphs)
     nib_spec = tuple(float(v) for v in opt.nib.split(","))
@@ -125,49 +194,78 @@ def main(argv=None):
     cmap = TTFont(str(src)).getBestCmap()
     names = [cmap[ord(c)] for c in chars]
     x0 = region_extent(nib)[0]
-    refs = {n: polygon_minkowski_sum(glyph_region(c, font=str(src)).region, nib, opt.ref_tol)
-            for c, n in zip(chars, names)}
-    rows = []
+    refs, ref_keys, ref_note = brush_references(src, chars, names, nib, opt.ref_tol)
+    version = code_version()
+    rows, notes = [], []
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "brush.otf"
         cmd_cpu, line = run_command(src, chars, nib_spec, opt.tol, Path(tmp) / "cmd.otf")
-        cpu, stats = morph_in_process(src, chars, nib_spec, opt.tol, out)
+        line = line.replace(str(tmp) + os.sep, "")   # no machine path in the report
+        cpu, sweep_cpu, stats = morph_in_process(src, chars, nib_spec, opt.tol, out)
         errs = []
         for c, n in zip(chars, names):
             got = region_to_shapely(translate_region(glyph_region(c, font=str(out)).region,
                                                      (x0, 0.0)), 0.05)
-            errs.append(hausdorff(got, refs[n], 0.5))
+            errs.append(boundary_hausdorff(got, refs[n], 0.5))
         pts = written_points(out, names)
-        rows.append({"tool": "morph brush (whole command, --jobs 1)", "ms": 1000 * cmd_cpu
-                     / len(names), "median": None, "points": None, "errs": None})
-        rows.append({"tool": "morph brush_font (in process)", "ms": 1000 * cpu / len(names),
-                     "median": None, "points": float(np.mean(pts)), "errs": errs,
+        rows.append({"tool": "morph", "setting": "tol %g" % opt.tol,
+                     "ms": 1000 * sweep_cpu / len(names), "median": None,
+                     "whole": 1000 * cmd_cpu / len(names), "brush_font": 1000 * cpu / len(names),
+                     "points": float(np.mean(pts)), "errs": errs,
                      "fallback": len(stats["fallback"])})
+        judge_src = peer_cache.source_digest(boundary_hausdorff, segments_to_region)
         for acc in [float(a) for a in opt.ff_accuracy.split(",")]:
-            res, log = run_fontforge(src, names, nib_spec, acc)
+            value, prov, key, fresh = run_fontforge(src, names, nib_spec, acc)
+            res = value["results"]
+            jkey = peer_cache.digest("fontforge-brush-judged", key, sorted(ref_keys.items()),
+                                     0.05, 0.5, judge_src,
+                                     peer_cache.file_digest("tests/oracles/reference.py"))
+            ferrs = (peer_cache.get("fontforge-brush-judged", jkey) or {}).get("value")
+            if ferrs is None:
+                ferrs = [boundary_hausdorff(region_to_shapely(segments_to_region(
+                    res[n]["contours"]), 0.05), refs[n], 0.5) for n in names]
+                peer_cache.put("fontforge-brush-judged", jkey, {
+                    "value": ferrs, "provenance": peer_cache.provenance(prov["peer"])})
             secs = [res[n]["seconds"] for n in names]
-            ferrs = [hausdorff(region_to_shapely(segments_to_region(res[n]["contours"]),
-                                                 0.05), refs[n], 0.5) for n in names]
-            rows.append({"tool": "FontForge Expand Stroke + Remove Overlap, accuracy %g" % acc,
+            rows.append({"tool": "FontForge Expand Stroke + Remove Overlap",
+                         "setting": "accuracy %g" % acc,
                          "ms": 1000 * float(np.mean(secs)),
                          "median": 1000 * float(np.median(secs)),
+                         "whole": 1000 * value["process_cpu"] / len(names),
                          "points": float(np.mean([res[n]["points"] for n in names])),
-                         "errs": ferrs, "internal": log.count("Internal Error")})
-            print(rows[-1]["tool"], rows[-1]["ms"], max(ferrs), flush=True)
+                         "errs": ferrs})
+            n_int = value["internal_errors"]
+            notes.append("FontForge, accuracy %g: %s; it printed \"Internal Error\" %s."
+                         % (acc, peer_cache.measured_note([prov], int(fresh)),
+                            "once" if n_int == 1 else "%d times" % n_int))
+            print(rows[-1]["tool"], acc, rows[-1]["ms"], max(ferrs), flush=True)
     md = ["# `morph brush` against FontForge's Expand Stroke + Remove Overlap "
           "(bench/brush_fontforge.py)", "",
-          "Command: `python -m bench.brush_fontforge%s`; measured %s UTC at %s.  Machine: "
-          "%d CPUs shared with other jobs (load average %s at the end): CPU times, not "
-          "wall times.  Source: Noto Sans (CFF), %d glyphs (%s); nib ellipse %g x %g at "
-          "%g degrees; morph at --tol %g units; errors against the Clipper reference "
-          "(ref-tol %g)."
+          "Command: `python -m bench.brush_fontforge%s`; morph measured %s UTC at %s "
+          "(%.0f s).  Machine: %d CPUs shared with other jobs (load average %s at the "
+          "end): CPU times, not wall times.  Source: Noto Sans (CFF), %d glyphs (%s); nib "
+          "ellipse %g x %g at %g degrees; morph at --tol %g units; errors against the "
+          "Clipper reference (ref-tol %g)."
           % ("".join(" " + a for a in shown_args(argv)),
-             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-             os.cpu_count() or 1, ", ".join("%.1f" % v for v in os.getloadavg()),
-             len(names), opt.glyphs, nib_spec[0], nib_spec[1], nib_spec[2], opt.tol,
-             opt.ref_tol), "",
-          "| tool | ms / glyph (mean) | ms / glyph (median) | points / glyph | worst error | "
-          "mean error | glyphs over 1 unit |", "|---|---|---|---|---|---|---|"]
+             time.strftime("%Y-%m-%d %H:%M", time.gmtime()), version,
+             time.perf_counter() - t_start, os.cpu_count() or 1,
+             ", ".join("%.1f" % v for v in os.getloadavg()), len(names), opt.glyphs,
+             nib_spec[0], nib_spec[1], nib_spec[2], opt.tol, opt.ref_tol), "",
+          "Times, two kinds, each the same for both tools: **in process** = the "
+          "computation alone (morph: `morph.fonts.brush._sweep_font`, the sums and the "
+          "certified export by the command's chunks, whose glyphs are computed together, "
+          "so a mean per glyph and no median: compare it with FontForge's mean; "
+          "FontForge: Expand Stroke, the outline added back and Remove Overlap, glyph by "
+          "glyph); **whole command** = a whole process divided by the glyphs (morph: "
+          "`morph brush NotoSans.otf -o OUT.otf --glyphs ... --jobs 1`, startup, reading, "
+          "the sweep, tables, saving, sample image and specimen; FontForge: its worker "
+          "process, Python's startup, `import fontforge`, opening the font and converting "
+          "it to cubics, the brush, writing the outlines as JSON).  morph's "
+          "`brush_font` in process (reading the source, the sweep, saving the font): "
+          "%.1f ms / glyph." % rows[0]["brush_font"], "",
+          "| tool | setting | in process: mean ms / glyph | in process: median ms / glyph | "
+          "whole command ms / glyph | points / glyph | worst error | mean error | "
+          "glyphs over 1 unit |", "|---|---|---|---|---|---|---|---|---|"]
 
     def worst(e):
         """The largest error and its glyph's name."""
@@ -175,17 +273,19 @@ def main(argv=None):
 
     for r in rows:
         e = r["errs"]
-        md.append("| %s | %.1f | %s | %s | %s | %s | %s |" % (
-            r["tool"], r["ms"], "-" if r["median"] is None else "%.1f" % r["median"],
-            "-" if r["points"] is None else "%.0f" % r["points"],
-            "-" if e is None else worst(e), "-" if e is None else "%.3f" % np.mean(e),
-            "-" if e is None else ", ".join(n for n, v in zip(names, e) if v > 1.0) or "0"))
-    md += ["", "The command's last line: `%s`." % line,
-           "FontForge printed \"Internal Error\" %s times."
-           % ", ".join(str(r.get("internal", 0)) for r in rows[2:]),
-           "morph's in-process time includes reading the source and saving the font; "
-           "FontForge's is its two calls per glyph only (opening the font and converting "
-           "it to cubics not counted)."]
+        md.append("| %s | %s | %.1f | %s | %.1f | %.0f | %s | %.3f | %s |" % (
+            r["tool"], r["setting"], r["ms"],
+            "(chunks)" if r["median"] is None else "%.1f" % r["median"], r["whole"],
+            r["points"], worst(e), np.mean(e),
+            ", ".join(n for n, v in zip(names, e) if v > 1.0) or "0"))
+    md += ["", "morph's points and errors are of the saved font (integer coordinates, read "
+           "back), FontForge's of its outlines as it returns them (unrounded).  The "
+           "command's last line: `%s`." % line, "",
+           "The Clipper references and FontForge's results (outlines, times, errors) do "
+           "not depend on morph's code; they come from the bench cache "
+           "(`bench/peer_cache.py`, keyed by the font file's bytes, the glyphs, the nib, "
+           "the tolerance and the peer's version) when measured before:", "",
+           "- Clipper reference: %s." % ref_note] + ["- " + n for n in notes]
     text = "\n".join(md) + "\n"
     print(text)
     if not opt.no_write:

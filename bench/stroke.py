@@ -2,6 +2,8 @@
 
     python -m bench.stroke [--glyphs A-Z,a-z,0-9] [--tol 0.5] [--ref-tol 0.02]
                            [--no-peers] [--md bench/stroke.md | --no-write]
+    python -m bench.stroke --only-sets [--sets hershey-sans,hershey-script,hanzi-300]
+                           [--sets-md bench/stroke_sets.md]
 
 Skeleton: the Relief SingleLine subset in tests/data/relief (every contour an open
 cubic path, upm 1000; SIL OFL).  Part 1, the issue's criterion: every chosen glyph
@@ -16,7 +18,9 @@ written curves flattened within 0.02, boundaries sampled every 0.25 unit) agains
 ``tol + 0.71`` (integer rounding) ``+ ref-tol``; number of holes equal (counters of
 o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
-Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs:
+Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs
+(each morph row also timed as the whole ``morph stroke`` command at its tol and nib,
+each FontForge row as its whole worker process):
 
 - broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
@@ -28,16 +32,26 @@ Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same gl
   ``simplify`` to remove overlaps), at scale factors 1, 4, 16 (the path is scaled up
   before stroking and the result down: Skia's own precision knob is fixed).
 
-Part 3, skeleton sets (``--sets``, default hershey-sans, hershey-script, hanzi-300
-of :mod:`bench.skeletons`, fetched at bench time; ``--only-sets`` runs only this part;
-writes bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
+Part 3, skeleton sets (``--sets``, default with ``--only-sets``: hershey-sans,
+hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
+``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
+bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
-(mean) and glyph by glyph (median and mean), points per glyph, the worst error of
+(a mean: a chunk's glyphs are computed together), points per glyph, the worst error of
 the unrounded outlines and of the written font against the Clipper reference (gaps
 narrower than the engine's documented narrow-feature limit excused alike for every
 tool, :func:`excused_error`; the raw error beside it), and FontForge's Expand Stroke
-(``--ff-accuracy-sets``) beside it.  ``bench/stroke_exact.py`` checks a written font
-again with the exact membership predicate, without Clipper.
+(``--ff-accuracy-sets``) beside it: in process (mean and median per glyph) and its
+whole worker process.  ``bench/stroke_exact.py`` checks a written font again with the
+exact membership predicate, without Clipper.
+
+The Clipper references and FontForge's results (outlines, CPU times, and their errors
+against the references) do not depend on morph's code: they are kept in the bench
+cache (:mod:`bench.peer_cache`) keyed by the skeletons' numbers, the nib, the
+tolerance and the peer's version, so that a remade report measures only morph again;
+the reports say when, at which commit and with which FontForge each was measured.
+Distances are GEOS's point-to-segment distances through an STRtree
+(:func:`linework_distances`, the same numbers as ``shapely.distance``).
 
 Outputs are compared unrounded (floats) with the polygon reference by the same
 Hausdorff measure; ms per glyph are the CPU time (process_time, robust to the load
@@ -84,7 +98,7 @@ from morph.fonts.brush import ellipse_nib, parse_glyph_spec, region_extent  # no
 from morph.parse import glyph_region  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.pens import closing_line, draw_paths, record_contours  # noqa: E402 - after sys.path gets the repo root
 from morph.parse.ufo import decomposed_paths, glyph_names_for, load_ufo  # noqa: E402 - after sys.path gets the repo root
-from tests.oracles.reference import count_outer_and_holes, hausdorff, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
+from tests.oracles.reference import count_outer_and_holes, region_to_shapely  # noqa: E402 - after sys.path gets the repo root
 from tests.oracles.icons import GAP  # noqa: E402 - after sys.path gets the repo root
 from tests.oracles.stroke_reference import stroke_polygon  # noqa: E402 - after sys.path gets the repo root
 
@@ -111,6 +125,12 @@ def code_version():
     return "commit %s%s" % (head or "?", " + uncommitted changes in morph/" if dirty else "")
 
 
+def nib_axes(spec):
+    """(width, height, angle in degrees) of a nib spec, as ``morph stroke --nib``
+    takes them (a disk: an ellipse of equal axes)."""
+    return tuple(spec[1:4]) if spec[0] == "ellipse" else (spec[1], spec[1], 0.0)
+
+
 def nib_region(spec):
     if spec[0] == "ellipse":
         return ellipse_nib(*spec[1:])
@@ -134,9 +154,44 @@ def segments_to_region(contours):
     return loops
 
 
+def linework_distances(points, line):
+    """Distances of ``points`` (m, 2) to the linework ``line``: the same numbers as
+    ``shapely.distance(shapely.points(points), line)`` (GEOS's point-segment distance,
+    minimised over the segments), found through an STRtree of the segments instead of
+    every point against every segment (3-5 times faster on a hanzi's ~30,000
+    samples)."""
+    pts = shapely.points(np.asarray(points, float).reshape(-1, 2))
+    parts = shapely.get_parts(line)
+    if len(pts) == 0:
+        return np.zeros(0)
+    if not len(parts) or not all(shapely.get_type_id(parts) == 1):  # not only LineStrings
+        return shapely.distance(pts, line)
+    segs = []
+    for part in parts:
+        c = shapely.get_coordinates(part)
+        segs.append(np.stack([c[:-1], c[1:]], 1))
+    segs = np.concatenate(segs)
+    if not len(segs):
+        return shapely.distance(pts, line)
+    tree = shapely.STRtree(shapely.linestrings(segs))
+    _, dist = tree.query_nearest(pts, return_distance=True, all_matches=False)
+    return dist
+
+
+def boundary_hausdorff(got, ref, spacing=SPACING):
+    """``tests.oracles.reference.hausdorff(got, ref, spacing)`` (two-sided, boundaries
+    sampled every ``spacing``) through :func:`linework_distances`."""
+    from tests.oracles.reference import _linework, _sample_points
+
+    ga, gr = _linework(got), _linework(ref)
+    fwd = linework_distances(_sample_points(ga, spacing), gr)
+    back = linework_distances(_sample_points(gr, spacing), ga)
+    return max(float(fwd.max()) if len(fwd) else 0.0, float(back.max()) if len(back) else 0.0)
+
+
 def measure(contours, ref):
     got = region_to_shapely(segments_to_region(contours), MEASURE_FLAT)
-    return hausdorff(got, ref, SPACING), got
+    return boundary_hausdorff(got, ref, SPACING), got
 
 
 # =========================================================================== part 1
@@ -159,7 +214,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
             shift = int(round(-x0)) - (grow if font[n].width == 0 else 0)
             ref = shapely.affinity.translate(refs[n], shift, 0.0)
             got = region_to_shapely(glyph_region(n, font=str(path)).region, MEASURE_FLAT)
-            d = hausdorff(got, ref, SPACING)
+            d = boundary_hausdorff(got, ref, SPACING)
             h_got, h_ref = count_outer_and_holes(got, 1.0), count_outer_and_holes(ref, 1.0)
             area_ok = all(abs(a - b) <= per * limit
                           for (a, _), (b, per) in zip(holes(got), holes(ref)))
@@ -245,31 +300,71 @@ def _failure(stage, name, tol, exc, tb):
 
 def run_fontforge(font, names, spec, accuracies, refs, judge=None):
     """FontForge's rows (``bench/fontforge_stroke.py``), a glyph measured by
-    ``judge`` as in :func:`run_morph` (its tol argument: the setting's accuracy)."""
+    ``judge`` as in :func:`run_morph` (its tol argument: the setting's accuracy).
+
+    FontForge's results of a whole set at one accuracy (outlines, each glyph's CPU
+    time of ``glyph.stroke``, and the worker process's own CPU time: Python's
+    startup, ``import fontforge``, drawing, stroking, writing the JSON) come from
+    the bench cache (:mod:`bench.peer_cache`) when measured before on the same
+    skeletons (their numbers, not their names), nib, accuracy, FontForge version and
+    worker script; so do the errors ``judge`` gave them, when the judge has a
+    ``key`` (its parameters, references and source).  Each row says when, at which
+    commit and with which FontForge it was measured (``row["measured"]``)."""
+    import resource
+
+    from bench import peer_cache
+
     judge = judge or _plain_judge(refs)
-    if not os.path.exists(SYSTEM_PYTHON):
-        return [], "no %s" % SYSTEM_PYTHON
+    version = peer_cache.fontforge_version()
+    if version is None:
+        return [], "no fontforge module in %s" % SYSTEM_PYTHON
     glyphs = {}
     for n in names:
         glyphs[n] = [[[pc.cartesian(p).tolist() for p in pieces], closed]
                      for pieces, closed in decomposed_paths(font, n)]
     nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
            else ["circular", spec[1]])
+    worker = peer_cache.file_digest("bench/fontforge_stroke.py")
     rows = []
     for acc in accuracies:
-        job = json.dumps({"nib": nib, "accuracy": acc, "glyphs": glyphs})
-        proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
-                              input=job, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
-        res = json.loads(proc.stdout)
+        job = {"nib": nib, "accuracy": acc, "glyphs": glyphs}
+        key = peer_cache.digest("fontforge-stroke", job, version, worker)
+        hit = peer_cache.get("fontforge-stroke", key)
+        fresh = hit is None
+        if fresh:
+            prov = peer_cache.provenance(version)
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
+                                  input=json.dumps(job), capture_output=True, text=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            if proc.returncode != 0:
+                return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
+            hit = peer_cache.put("fontforge-stroke", key, {"value": {
+                "results": json.loads(proc.stdout),
+                "process_cpu": (after.ru_utime - before.ru_utime)
+                + (after.ru_stime - before.ru_stime),
+                "internal_errors": proc.stderr.count("Internal Error")}, "provenance": prov})
+        res = hit["value"]["results"]
+        judged = None
+        jkey = getattr(judge, "key", None)
+        if jkey is not None:
+            jkey = peer_cache.digest("fontforge-judged", key, jkey)
+            judged = (peer_cache.get("fontforge-judged", jkey) or {}).get("value")
+        if judged is None:
+            judged = {n: tuple(judge(res[n]["contours"], n, acc)) for n in names}
+            if jkey is not None:
+                peer_cache.put("fontforge-judged", jkey,
+                               {"value": judged, "provenance": peer_cache.provenance(version)})
         secs, points, errs = [], [], []
         for n in names:
             r = res[n]
             secs.append(r["seconds"])
             points.append(r["points"])
-            errs.append((n,) + tuple(judge(r["contours"], n, acc)))
+            errs.append((n,) + tuple(judged[n]))
         row = summary("FontForge", "accuracy %g" % acc, secs, points, errs, [])
+        row["process_ms"] = 1000 * hit["value"]["process_cpu"] / len(names)
+        row["internal_errors"] = hit["value"]["internal_errors"]
+        row["measured"] = peer_cache.measured_note([hit["provenance"]], int(fresh))
         if row["worst_glyph"] and "bbox" in res[row["worst_glyph"]]:
             # FontForge's own box of its worst glyph beside the reference's: a stray
             # curve far outside the glyph is in FontForge's outline, not in the measure
@@ -277,6 +372,32 @@ def run_fontforge(font, names, spec, accuracies, refs, judge=None):
             row["worst_ref_bbox"] = list(refs[row["worst_glyph"]].bounds)
         rows.append(row)
     return rows, ""
+
+
+def references(font, names, spec, ref_tol):
+    """({glyph: Clipper reference}, {glyph: cache key}, note): the references
+    (:func:`tests.oracles.stroke_reference.stroke_polygon`) of the glyphs stroked
+    with the nib ``spec``, each from the bench cache (:mod:`bench.peer_cache`) when
+    made before from the same skeleton (its numbers), nib outline, ``ref_tol`` and
+    oracle version; the note says when, at which commits they were made."""
+    from bench import peer_cache
+
+    nib = nib_region(spec)
+    version = peer_cache.oracle_version()
+    nib_key = [np.asarray(p, float) for p in nib[0]]
+    refs, keys, provs, fresh = {}, {}, [], 0
+    for n in names:
+        paths = decomposed_paths(font, n)
+        key = peer_cache.digest("stroke-reference",
+                                [([np.asarray(p, float) for p in pieces], bool(closed))
+                                 for pieces, closed in paths], nib_key, ref_tol, version)
+        wkb, prov, new = peer_cache.cached(
+            "stroke-reference", key,
+            lambda: shapely.to_wkb(stroke_polygon(paths, nib, ref_tol)), version)
+        refs[n], keys[n] = shapely.from_wkb(wkb), key
+        provs.append(prov)
+        fresh += new
+    return refs, keys, peer_cache.measured_note(provs, fresh)
 
 
 def _skia_contours(path):
@@ -309,10 +430,28 @@ def run_skia(font, names, diameter, scales, refs):
     return rows
 
 
-def _plain_judge(refs):
+def _judge_key(kind, keys, *params):
+    """The cache key of a judge (:mod:`bench.peer_cache`): its kind and parameters,
+    the keys of its references, and the source of the measure."""
+    from bench import peer_cache
+
+    if keys is None:
+        return None
+    return peer_cache.digest(kind, sorted(keys.items()), params, MEASURE_FLAT, SPACING,
+                             peer_cache.source_digest(excused_error, linework_distances,
+                                                      boundary_hausdorff, measure,
+                                                      segments_to_region),
+                             peer_cache.file_digest("tests/oracles/reference.py"))
+
+
+def _plain_judge(refs, keys=None):
+    """A ``judge``: :func:`measure` against ``refs`` (error and raw error the same);
+    ``keys``: the references' cache keys, which let FontForge's judged errors be
+    cached."""
     def judge(contours, name, tol):
         e = measure(contours, refs[name])[0]
         return e, e
+    judge.key = _judge_key("plain", keys)
     return judge
 
 
@@ -356,11 +495,11 @@ def equal_error(rows):
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
 
 
-def _time_command(ufo, out_path, first_glyph):
-    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1`` in a
-    fresh process (its own user + sys time, from the kernel's child accounting), with
-    its bytecode cached as after a pip install (:mod:`bench.pycache`: an untimed run
-    of ``first_glyph`` alone fills the cache)."""
+def _time_command(ufo, out_path, first_glyph, extra=()):
+    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1
+    [extra]`` in a fresh process (its own user + sys time, from the kernel's child
+    accounting), with its bytecode cached as after a pip install (:mod:`bench.pycache`:
+    an untimed run of ``first_glyph`` alone fills the cache)."""
     import resource
 
     from bench.pycache import cached_env
@@ -368,8 +507,14 @@ def _time_command(ufo, out_path, first_glyph):
     env = cached_env("stroke-pycache-", OPENBLAS_NUM_THREADS="1")
     command = [sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o", str(out_path),
                "--jobs", "1", "--force"]
-    subprocess.run(command + ["--glyphs", first_glyph], capture_output=True,
+    extra = list(extra)
+    warm = []   # extra without its --glyphs choice: the warm-up strokes first_glyph
+    for k, a in enumerate(extra):
+        if a != "--glyphs" and (k == 0 or extra[k - 1] != "--glyphs"):
+            warm.append(a)
+    subprocess.run(command + warm + ["--glyphs", first_glyph], capture_output=True,
                    cwd=str(Path(out_path).parent), env=env)
+    command += extra
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run(command, capture_output=True, text=True,
                           cwd=str(Path(out_path).parent), env=env)
@@ -388,12 +533,13 @@ def excused_error(got, ref, tol, r):
     a gap or hole narrower than 2 r, which the engine may fill) are not measured in
     the error; the raw error measures them; ``narrow``: some were excused.  Our
     boundary is always measured in full."""
-    from tests.oracles.reference import _linework, _sample_points, max_boundary_distance
+    from tests.oracles.reference import _linework, _sample_points
 
     ga, gr = _linework(got), _linework(ref)
-    fwd = max_boundary_distance(_sample_points(ga, SPACING), gr)
+    fwd = linework_distances(_sample_points(ga, SPACING), gr)
+    fwd = float(fwd.max()) if len(fwd) else 0.0
     pts = _sample_points(gr, SPACING)
-    back = shapely.distance(shapely.points(pts), ga)
+    back = linework_distances(pts, ga)
     raw = max(fwd, float(back.max()) if len(back) else 0.0)
     far = np.flatnonzero(back > tol)
     narrow = False
@@ -406,14 +552,15 @@ def excused_error(got, ref, tol, r):
     return max(fwd, float(back.max()) if len(back) else 0.0), raw, narrow
 
 
-def _narrow_judge(refs, tol):
+def _narrow_judge(refs, tol, keys=None):
     """A ``judge`` for :func:`run_morph` / :func:`run_fontforge` on unrounded outlines:
     :func:`excused_error` with the engine's documented narrow-feature limit
     (r = GAP tol: gaps narrower than 2 GAP tol may close, ``minkowski_sum``), the
-    same excuse for every tool."""
+    same excuse for every tool; ``keys`` as for :func:`_plain_judge`."""
     def judge(contours, name, _):
         got = region_to_shapely(segments_to_region(contours), MEASURE_FLAT)
         return excused_error(got, refs[name], tol, GAP * tol)[:2]
+    judge.key = _judge_key("narrow", keys, tol, GAP)
     return judge
 
 
@@ -448,17 +595,19 @@ def skeleton_set(name, opt, workdir):
     nib = nib_region(spec)
     tol = opt.set_tol * upm
     t0 = time.process_time()
-    refs = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
-    print("%s: %d glyphs, references %.1f s" % (name, len(names), time.process_time() - t0),
+    refs, keys, ref_note = references(font, names, spec, opt.ref_tol)
+    print("%s: %d glyphs, references %.1f s (%s)" % (name, len(names),
+                                                     time.process_time() - t0, ref_note),
           flush=True)
     out = {"name": name, "glyphs": len(names), "upm": upm, "tol": tol, "nib": spec,
-           "rows": []}
+           "rows": [], "reference_measured": ref_note}
     # the command, as users run it
     otf = Path(workdir) / (name + ".otf")
     cpu, rss, line, rc = _time_command(ufo, otf, names[0])
     x0 = region_extent(nib)[0]
     written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
                        if rc in (0, 1) else ({}, []))
+    line = line.replace(str(workdir) + os.sep, "")   # no machine path in the report
     out.update(command_cpu=cpu, command_rss=rss, command_line=line, command_rc=rc,
                written_worst=max(written.values()) if written else float("nan"),
                written_worst_glyph=max(written, key=written.get) if written else "",
@@ -469,7 +618,7 @@ def skeleton_set(name, opt, workdir):
           % (name, cpu, 1000 * cpu / len(names), rss, out["written_worst"]), flush=True)
     # in-process, as the command strokes chunks (a chunk's glyphs are computed
     # together: its CPU time divided by its glyphs is each glyph's)
-    judge = _narrow_judge(refs, tol)
+    judge = _narrow_judge(refs, tol, keys)
     out["rows"] += run_morph(font, names, spec, [tol], refs, judge)
     ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
                             refs, judge)
@@ -504,6 +653,16 @@ def measured_set(name, opt, workdir):
     return st
 
 
+def _times(n):
+    """"once", "N times"."""
+    return "once" if n == 1 else "%d times" % n
+
+
+def _ms(v):
+    """A time in ms for a table cell ("" when not measured)."""
+    return "" if v is None else "%.1f" % v
+
+
 def _box(b):
     return "(%.0f, %.0f)-(%.0f, %.0f)" % tuple(b)
 
@@ -525,13 +684,18 @@ def sets_markdown(opt, sets, elapsed):
           "Hanzi, Arphic licence; spread evenly over the code points).  Nib: `morph "
           "stroke`'s default (ellipse 90 x 20 at 30 degrees per 1000 units per em), tol "
           "%g em (the command's default)." % opt.set_tol, "",
-          "Columns: **command** = the whole `morph stroke SET.ufo -o SET.otf --jobs 1` "
-          "process (startup, parse, stroke, export, font tables, compile, sample image and "
-          "specimen) divided by the glyphs; **chunks** = `stroke_many` + "
-          "`loops_to_beziers` by the command's chunks, in process (a chunk's glyphs are "
-          "computed together, so morph has a mean per glyph, not a median); FontForge = "
+          "Columns, two kinds of time, each the same for both tools: **in process** = "
+          "the computation alone: for morph `stroke_many` + `loops_to_beziers` by the "
+          "command's chunks (`bench.stroke.run_morph`; a chunk's glyphs are computed "
+          "together, so morph has a mean per glyph, not a median: compare it with "
+          "FontForge's mean; FontForge's median is beside it), for FontForge "
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
-          "in FontForge's Python (`bench/fontforge_stroke.py`), per glyph.  Errors: "
+          "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
+          "command** = a whole process divided by the glyphs: for morph `morph stroke "
+          "SET.ufo -o SET.otf --jobs 1` (startup, parse, stroke, export, font tables, "
+          "compile, sample image and specimen), for FontForge its worker process (Python's "
+          "startup, `import fontforge`, drawing the skeletons, stroking, writing the "
+          "outlines as JSON; no font file).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -540,15 +704,46 @@ def sets_markdown(opt, sets, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.ref_tol, SPACING, GAP, opt.ref_tol), ""]
+          % (opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
+          "The Clipper references and FontForge's results (outlines, times, and their "
+          "errors) do not depend on morph's code: they come from the bench cache "
+          "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
+          "tolerance and the peer's version) when measured before; each set says when, "
+          "at which commit and with which FontForge they were measured.  morph is "
+          "measured in every run."]
+    md += ["", "## Summary", "",
+           "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
+           "mean (median); whole command: `morph stroke` against FontForge's worker "
+           "process.", "",
+           "| set | FontForge setting | in process: morph | in process: FontForge mean "
+           "(median) | whole command: morph | whole command: FontForge | points: morph / "
+           "FontForge | worst error: morph / FontForge |",
+           "|---|---|---|---|---|---|---|---|"]
+    for st in sets:
+        m = next((r for r in st["rows"] if r["tool"] == "morph"), None)
+        for r in st["rows"]:
+            if r["tool"] == "morph" or m is None:
+                continue
+            md.append("| %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | %.3f / %.3f |"
+                      % (st["name"], r["setting"], m["ms"], r["ms"], r["median_ms"],
+                         1000 * st["command_cpu"] / st["glyphs"], _ms(r.get("process_ms")),
+                         m["points"], r["points"], m["max_err"], r["max_err"]))
+    md.append("")
     for st in sets:
         md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
                                                                st["upm"], st["tol"]), "",
-               "This set: %s." % st["measured"], "",
-               "| tool | setting | command ms / glyph | chunks ms / glyph | "
-               "median ms / glyph | mean ms / glyph | points / glyph | worst error | "
+               "morph: %s." % st["measured"], ""]
+        if st.get("reference_measured"):
+            md += ["Clipper reference: %s." % st["reference_measured"], ""]
+        ff = ["%s: %s, \"Internal Error\" printed %s"
+              % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
+              for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
+        if ff:
+            md += ["FontForge %s." % "; ".join(ff), ""]
+        md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
+               "glyph | whole command ms / glyph | points / glyph | worst error | "
                "mean error | over | raw worst | raw over |",
-               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
         limit = st["tol"] + opt.ref_tol
         for r in st["rows"]:
             over = sum(e > limit for e in r["errs"])
@@ -559,13 +754,14 @@ def sets_markdown(opt, sets, elapsed):
             else:  # measured before the narrow-gap excuse: raw
                 worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
             if r["tool"] == "morph":
-                md.append("| morph | tol %.3g | %.1f | %.1f | | | %.0f | %s | %.3f | %d %s"
-                          % (st["tol"], 1000 * st["command_cpu"] / st["glyphs"], r["ms"],
+                md.append("| morph | tol %.3g | %.1f | (chunks) | %.1f | %.0f | %s | %.3f | %d %s"
+                          % (st["tol"], r["ms"], 1000 * st["command_cpu"] / st["glyphs"],
                              r["points"], worst, r["mean_err"], over, raw))
             else:
-                md.append("| %s | %s | | | %.1f | %.1f | %.0f | %s | %.3f | %d %s"
-                          % (r["tool"], r["setting"], r["median_ms"], r["ms"], r["points"],
-                             worst, r["mean_err"], over, raw))
+                md.append("| %s | %s | %.1f | %.1f | %s | %.0f | %s | %.3f | %d %s"
+                          % (r["tool"], r["setting"], r["ms"], r["median_ms"],
+                             _ms(r.get("process_ms")), r["points"], worst, r["mean_err"],
+                             over, raw))
         for r in st["rows"]:
             if "worst_bbox" in r and r["max_err"] > 10 * limit:
                 apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
@@ -599,12 +795,28 @@ def sets_markdown(opt, sets, elapsed):
 
 def markdown(opt, names, acc, peers, notes, elapsed):
     md = ["# Calligraphic fonts from skeletons (bench/stroke.py)", "",
-          "Command: `python -m bench.stroke%s` (code: %s; %.0f s)."
-          % (opt.argline, code_version(), elapsed), "",
+          "Command: `python -m bench.stroke%s`; morph measured %s UTC at %s (%.0f s)."
+          % (opt.argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+             elapsed), "",
           "Skeleton: Relief SingleLine subset (tests/data/relief, SIL OFL), %d glyphs (%s), "
-          "upm 1000, every contour an open cubic path.  Machine: %d CPUs, load average %s "
-          "at the end." % (len(names), opt.glyphs, os.cpu_count() or 1,
-                           ", ".join("%.1f" % v for v in os.getloadavg())), ""]
+          "upm 1000, every contour an open cubic path.  Machine: %d CPUs shared with other "
+          "jobs, load average %s at the end: every time is CPU time (process_time, or the "
+          "kernel's user + sys of a child process)." % (
+              len(names), opt.glyphs, os.cpu_count() or 1,
+              ", ".join("%.1f" % v for v in os.getloadavg())), "",
+          "Times, two kinds, each the same for morph and FontForge: **in process** = the "
+          "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
+          "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
+          "compare it with FontForge's mean; FontForge: `glyph.stroke` glyph by glyph; "
+          "Skia: stroke + conic conversion + simplify); **whole command** = a whole "
+          "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
+          "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
+          "included; FontForge: its worker process, Python's startup, `import fontforge`, "
+          "drawing, stroking and writing the outlines as JSON).  The Clipper references "
+          "and FontForge's results and errors come from the bench cache "
+          "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
+          "tolerance and peer version; the notes at the end say when and at which commit "
+          "they were measured.  morph is measured in every run." % opt.glyphs, ""]
     if acc:
         md += ["## Accuracy of the written fonts", "",
                "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
@@ -641,17 +853,21 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     tracebacks = []
     for title, rows in peers:
         md += ["## %s" % title, "",
-               "| tool | setting | ms / glyph | morph: stroke + export ms | points / glyph | "
-               "max Hausdorff | mean | failures |", "|---|---|---|---|---|---|---|---|"]
+               "| tool | setting | in process: mean ms / glyph | in process: median ms / "
+               "glyph | whole command ms / glyph | morph: stroke + export ms | "
+               "points / glyph | max Hausdorff | mean | failures |",
+               "|---|---|---|---|---|---|---|---|---|---|"]
         for r in rows:
             split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
                      if "stroke_ms" in r else "")
-            md.append("| %s | %s | %.1f | %s | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], split, r["points"], r["max_err"],
-                         r["mean_err"], ", ".join(r["fails"]) or "0"))
+            median = "(chunks)" if r["tool"] == "morph" else "%.1f" % r["median_ms"]
+            whole = _ms(r.get("command_ms", r.get("process_ms")))
+            md.append("| %s | %s | %.1f | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], median, whole, split, r["points"],
+                         r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
             tracebacks += r.get("tracebacks", [])
         md += ["", "At equal measured error (morph's fewest-points setting whose worst "
-               "error is no larger than the peer's):", "",
+               "error is no larger than the peer's; ms: in process, means):", "",
                "| peer | peer error | peer points | peer ms | morph setting | morph error | "
                "morph points | morph ms |", "|---|---|---|---|---|---|---|---|"]
         for r, m in equal_error(rows):
@@ -665,7 +881,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
         md.append("")
     if tracebacks:
         md += ["## morph failures", ""] + ["- " + t for t in tracebacks] + [""]
-    md += notes
+    if notes:
+        md += ["## When the cached figures were measured", ""] + ["- " + n for n in notes] + [""]
     return "\n".join(md) + "\n"
 
 
@@ -681,8 +898,9 @@ def main(argv=None):
     ap.add_argument("--no-accuracy", action="store_true")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
     ap.add_argument("--no-write", action="store_true")
-    ap.add_argument("--sets", default=",".join(SETS),
-                    help="skeleton sets of bench/skeletons.py for part 3 ('' skips it)")
+    ap.add_argument("--sets", default=None,
+                    help="skeleton sets of bench/skeletons.py for part 3 (default: %s with "
+                         "--only-sets, none without)" % ",".join(SETS))
     ap.add_argument("--set-tol", type=float, default=0.0005, help="em, part 3")
     ap.add_argument("--ff-accuracy-sets", default="1,0.25")
     ap.add_argument("--only-sets", action="store_true", help="part 3 only")
@@ -690,6 +908,8 @@ def main(argv=None):
     ap.add_argument("--sets-json", help="a folder: sets saved there are reported as "
                                         "measured then, sets measured now are saved there")
     opt = ap.parse_args(argv)
+    if opt.sets is None:
+        opt.sets = ",".join(SETS) if opt.only_sets else ""
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
     from bench.stroke_profile import shown_args
@@ -714,11 +934,11 @@ def main(argv=None):
     font = load_ufo(SUBSET, lazy=False)
     names = glyph_names_for(font, parse_glyph_spec(opt.glyphs))
     notes = []
-    refs = {}
+    refs, keys = {}, {}
     for spec in (BROAD, ROUND):
-        nib = nib_region(spec)
-        refs[spec] = {n: stroke_polygon(decomposed_paths(font, n), nib, opt.ref_tol) for n in names}
-        print("reference %s: %d glyphs" % (spec[0], len(names)), flush=True)
+        refs[spec], keys[spec], note = references(font, names, spec, opt.ref_tol)
+        notes.append("Clipper reference, %s nib: %s." % (spec[0], note))
+        print("reference %s: %d glyphs, %s" % (spec[0], len(names), note), flush=True)
     acc = {}
     if not opt.no_accuracy:
         with tempfile.TemporaryDirectory() as tmp:
@@ -731,9 +951,21 @@ def main(argv=None):
         for spec, title in ((BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
                             (ROUND, "Round nib: disk of diameter 60")):
             rows = run_morph(font, names, spec, tols, refs[spec])
-            ff, why = run_fontforge(font, names, spec, accs, refs[spec])
+            with tempfile.TemporaryDirectory() as tmp:
+                for r, tol in zip(rows, tols):
+                    cpu, _, line, rc = _time_command(
+                        SUBSET, Path(tmp) / "relief.otf", names[0],
+                        ["--glyphs", opt.glyphs, "--tol", repr(tol / 1000.0),
+                         "--nib", "ellipse:%g,%g,%g" % nib_axes(spec)])
+                    r["command_ms"] = 1000 * cpu / len(names) if rc in (0, 1) else None
+            ff, why = run_fontforge(font, names, spec, accs, refs[spec],
+                                    _plain_judge(refs[spec], keys[spec]))
             if why:
                 notes.append("FontForge not run (%s)." % why)
+            for r in ff:
+                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s."
+                             % (title.split(":")[0].lower(), r["setting"], r["measured"],
+                                _times(r["internal_errors"])))
             rows += ff
             if spec is ROUND:
                 rows += run_skia(font, names, spec[1], scales, refs[spec])
