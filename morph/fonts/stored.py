@@ -21,8 +21,8 @@ from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCo
 from ufo2ft.postProcessor import PostProcessor
 
 from .stream import _NO_WIDTHS, width_prefix
-from .tables_static import (BoundedCharString, Expanded, Header, HeaderFont, as_bounded,
-                            bound_charstrings, is_bounded, subroutinize)
+from .tables_static import (BoundedCharString, Expanded, HeaderFont, as_bounded,
+                            bound_charstrings, glyf_boxes, is_bounded, subroutinize)
 
 
 class Stored:
@@ -205,17 +205,7 @@ class StoredGlyf(Stored, OutlineTTFCompiler):
     def makeGlyphsBoundingBoxes(self):
         """ufo2ft's boxes: a stored glyph's from its header, the others'
         recomputed (a composite's from its bases, stored ones decoded apart)."""
-        boxes = {}
-        ttglyphs = self.getCompiledGlyphs()
-        decoded = Expanded(ttglyphs, headers=False)
-        for name, g in ttglyphs.items():
-            if hasattr(g, "data"):
-                g = Header(g.data)
-            else:
-                g.recalcBounds(decoded)
-            box = BoundingBox(g.xMin, g.yMin, g.xMax, g.yMax)
-            boxes[name] = None if box == (0, 0, 0, 0) else box
-        return boxes
+        return glyf_boxes(self.getCompiledGlyphs(), BoundingBox)
 
     def setupTable_glyf(self):
         """ufo2ft's glyf table (:meth:`OutlineTTFCompiler.setupTable_glyf`) with the

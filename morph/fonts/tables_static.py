@@ -492,6 +492,47 @@ def _index(items):
 Box = namedtuple("BoundingBox", ["xMin", "yMin", "xMax", "yMax"])
 
 
+def glyf_boxes(compiled, box_type):
+    """ufo2ft's glyph boxes of the compiled glyf glyphs ``compiled`` (name -> glyph),
+    as ``box_type`` (None for an empty glyph): a stored glyph's from its header, the
+    others' recomputed (a composite's from its bases, stored ones decoded apart)."""
+    boxes = {}
+    decoded = Expanded(compiled, headers=False)
+    for name, g in compiled.items():
+        if hasattr(g, "data"):
+            g = Header(g.data)
+        else:
+            g.recalcBounds(decoded)
+        box = box_type(g.xMin, g.yMin, g.xMax, g.yMax)
+        boxes[name] = None if box == (0, 0, 0, 0) else box
+    return boxes
+
+
+def _set_side_bearings(hhea, hmtx, order, widths):
+    """hhea's minLeftSideBearing, minRightSideBearing and xMaxExtent over the glyphs
+    of ``order`` with ink (``widths``: name -> ink width, None for an empty glyph)."""
+    lefts, rights, extents = [], [], []
+    for name in order:
+        width = widths[name]
+        if width is None:
+            continue
+        advance, left = hmtx[name]
+        lefts.append(left)
+        rights.append(advance - left - width)
+        extents.append(left + width)
+    hhea.minLeftSideBearing = min(lefts) if lefts else 0
+    hhea.minRightSideBearing = min(rights) if rights else 0
+    hhea.xMaxExtent = max(extents) if extents else 0
+
+
+def _closed(pen, corners):
+    """A closed polygon through ``corners``, its start repeated as ufo2ft draws it."""
+    pen.moveTo(corners[0])
+    for p in corners[1:] + corners[:1]:
+        pen.lineTo(p)
+    pen.closePath()
+
+
 class _Notdef:
     """ufo2ft's ``.notdef`` stub: two rectangles (the em box's width half the em,
     between descender and ascender, a twentieth of the em thick)."""
@@ -517,19 +558,9 @@ class _Notdef:
         width = _ot_round(self.upm * 0.5)
         stroke = _ot_round(self.upm * 0.05)
         x0, x1, y0, y1 = stroke, width - stroke, self.descender, self.ascender
-        pen.moveTo((x0, y0))
-        pen.lineTo((x1, y0))
-        pen.lineTo((x1, y1))
-        pen.lineTo((x0, y1))
-        pen.lineTo((x0, y0))
-        pen.closePath()
+        _closed(pen, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
         x0, x1, y1, y0 = x0 + stroke, x1 - stroke, y1 - stroke, y0 + stroke
-        pen.moveTo((x0, y0))
-        pen.lineTo((x0, y1))
-        pen.lineTo((x1, y1))
-        pen.lineTo((x1, y0))
-        pen.lineTo((x0, y0))
-        pen.closePath()
+        _closed(pen, [(x0, y0), (x0, y1), (x1, y1), (x1, y0)])
 
     def drawPoints(self, pen):
         from fontTools.pens.pointPen import SegmentToPointPen
@@ -702,16 +733,7 @@ class _Compiler:
         return out
 
     def _glyf_boxes(self):
-        boxes = {}
-        decoded = Expanded(self.compiled, headers=False)
-        for name, g in self.compiled.items():
-            if hasattr(g, "data"):
-                g = Header(g.data)
-            else:
-                g.recalcBounds(decoded)
-            box = Box(g.xMin, g.yMin, g.xMax, g.yMax)
-            boxes[name] = None if box == (0, 0, 0, 0) else box
-        return boxes
+        return glyf_boxes(self.compiled, Box)
 
     def _font_box(self):
         from fontTools.misc.arrayTools import unionRect
@@ -775,21 +797,11 @@ class _Compiler:
                           ("caretOffset", "CaretOffset")):
             setattr(hhea, attr, _ot_round(info_value(info, "openTypeHhea" + key)))
         hmtx = self.otf["hmtx"]
-        advances, lefts, rights, extents = [], [], [], []
-        for name in self.order:
-            advance, left = hmtx[name]
-            advances.append(advance)
-            box = self.boxes[name]
-            if box is None:
-                continue
-            size = box.xMax - box.xMin
-            lefts.append(left)
-            rights.append(advance - left - size)
-            extents.append(left + size)
+        advances = [hmtx[name][0] for name in self.order]
         hhea.advanceWidthMax = max(advances) if advances else 0
-        hhea.minLeftSideBearing = min(lefts) if lefts else 0
-        hhea.minRightSideBearing = min(rights) if rights else 0
-        hhea.xMaxExtent = max(extents) if extents else 0
+        _set_side_bearings(hhea, hmtx, self.order, {
+            name: None if box is None else box.xMax - box.xMin
+            for name, box in self.boxes.items()})
         for i in range(4):
             setattr(hhea, "reserved%i" % i, 0)
         hhea.metricDataFormat = 0
@@ -1035,19 +1047,9 @@ class _Compiler:
         head.xMin, head.yMin, head.xMax, head.yMax = box
         hhea, hmtx = self.otf["hhea"], self.otf["hmtx"]
         hhea.advanceWidthMax = max(adv for adv, _ in hmtx.metrics.values())
-        lefts, rights, extents = [], [], []
-        for name in self.order:
-            b = self.bounds[name]
-            if b is None:
-                continue
-            width = int(math.ceil(b[2]) - math.floor(b[0]))
-            advance, left = hmtx[name]
-            lefts.append(left)
-            rights.append(advance - left - width)
-            extents.append(left + width)
-        hhea.minLeftSideBearing = min(lefts) if lefts else 0
-        hhea.minRightSideBearing = min(rights) if rights else 0
-        hhea.xMaxExtent = max(extents) if extents else 0
+        _set_side_bearings(hhea, hmtx, self.order, {
+            name: None if b is None else int(math.ceil(b[2]) - math.floor(b[0]))
+            for name, b in self.bounds.items()})
         return box
 
     def _cff_bytes(self, font_box):

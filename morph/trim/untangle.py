@@ -504,13 +504,8 @@ def _closest_many(pieces, points, samples=257):
         u = t[np.argmin(d2, axis=2)].ravel()
         idx = np.repeat(np.arange(len(ks)), m)
         flat = pts.reshape(-1, 2)
-        for _ in range(8):
-            x, dx = pc.jet_many(h, idx, u)
-            r = x - flat
-            step = (r * dx).sum(axis=1) / np.maximum((dx * dx).sum(axis=1), 1e-300)
-            u = np.clip(u - step, 0.0, 1.0)
-        x, _ = pc.jet_many(h, idx, u)
-        dist[ks] = np.hypot(*(x - flat).T).reshape(-1, m)
+        d, u = _newton_nearest(h, idx, u, flat)
+        dist[ks] = d.reshape(-1, m)
         param[ks] = u.reshape(-1, m)
     return dist, param
 
@@ -598,6 +593,13 @@ def _closest(piece, points, samples=257):
     u = t[np.argmin(d2, axis=1)]
     stacked = pc.stack([piece])
     idx = np.zeros(len(points), int)
+    return _newton_nearest(stacked, idx, u, points)
+
+
+def _newton_nearest(stacked, idx, u, points):
+    """Distances from ``points`` to the pieces ``stacked[idx]`` and the parameters of
+    the nearest points: 8 Newton steps on the squared distance from ``u`` (a dense
+    sample's nearest), kept in [0, 1]."""
     for _ in range(8):
         x, dx = pc.jet_many(stacked, idx, u)
         r = x - points
