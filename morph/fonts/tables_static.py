@@ -508,6 +508,66 @@ def glyf_boxes(compiled, box_type):
     return boxes
 
 
+def _os2_script_metrics(os2, info):
+    """OS/2's sub- and superscript sizes and offsets and strikeout, with ufo2ft's
+    fallbacks (offsets slanted by the italic angle)."""
+    upm = info_value(info, "unitsPerEm")
+    angle = float(info_value(info, "italicAngle"))
+    x_height = info_value(info, "xHeight")
+
+    def shift(offset):
+        return offset * math.tan(math.radians(-angle)) if angle else 0
+
+    def value(attr, default):
+        v = info_value(info, attr)
+        return _ot_round(default() if v is None else v)
+
+    os2.ySubscriptXSize = value("openTypeOS2SubscriptXSize", lambda: upm * 0.65)
+    os2.ySubscriptYSize = value("openTypeOS2SubscriptYSize", lambda: upm * 0.6)
+    os2.ySubscriptYOffset = value("openTypeOS2SubscriptYOffset", lambda: upm * 0.075)
+    os2.ySubscriptXOffset = value("openTypeOS2SubscriptXOffset",
+                                  lambda: shift(-os2.ySubscriptYOffset))
+    os2.ySuperscriptXSize = value("openTypeOS2SuperscriptXSize",
+                                  lambda: os2.ySubscriptXSize)
+    os2.ySuperscriptYSize = value("openTypeOS2SuperscriptYSize",
+                                  lambda: os2.ySubscriptYSize)
+    os2.ySuperscriptYOffset = value("openTypeOS2SuperscriptYOffset", lambda: upm * 0.35)
+    os2.ySuperscriptXOffset = value("openTypeOS2SuperscriptXOffset",
+                                    lambda: shift(os2.ySuperscriptYOffset))
+    os2.yStrikeoutSize = value("openTypeOS2StrikeoutSize",
+                               lambda: info_value(info, "postscriptUnderlineThickness"))
+    os2.yStrikeoutPosition = value("openTypeOS2StrikeoutPosition",
+                                   lambda: x_height * 0.6 if x_height else upm * 0.22)
+
+
+class _CffDictWriter:
+    """CFF dict entries as bytes, with the custom strings they name (SIDs from 391,
+    in order of first use)."""
+
+    def __init__(self):
+        self.strings = {}
+
+    def sid(self, text):
+        return 391 + self.strings.setdefault(text, len(self.strings))
+
+    @staticmethod
+    def entry(op, *values):
+        from fontTools.misc.psCharStrings import encodeFloat, encodeIntCFF
+
+        return b"".join(encodeFloat(v) if isinstance(v, float) else encodeIntCFF(int(v))
+                        for v in values) + bytes(op)
+
+    def text(self, op, value):
+        from fontTools.misc.psCharStrings import encodeIntCFF
+
+        return encodeIntCFF(self.sid(value)) + bytes(op)
+
+    @staticmethod
+    def offset(op, *values):
+        """Fixed-size numbers: the dict's length does not move with them."""
+        return b"".join(b"\x1d" + struct.pack(">l", v) for v in values) + bytes(op)
+
+
 def _set_side_bearings(hhea, hmtx, order, widths):
     """hhea's minLeftSideBearing, minRightSideBearing and xMaxExtent over the glyphs
     of ``order`` with ink (``widths``: name -> ink width, None for an empty glyph)."""
@@ -901,7 +961,6 @@ class _Compiler:
 
     def _os2(self):
         from fontTools.ttLib import newTable
-        from fontTools.ttLib.tables.O_S_2f_2 import Panose
 
         info = self.info
         os2 = self.otf["OS/2"] = newTable("OS/2")
@@ -911,33 +970,33 @@ class _Compiler:
         os2.usWeightClass = info_value(info, "openTypeOS2WeightClass")
         os2.usWidthClass = info_value(info, "openTypeOS2WidthClass")
         os2.fsType = _int_list_to_num(info_value(info, "openTypeOS2Type"), 0, 16)
-        upm = info_value(info, "unitsPerEm")
-        angle = float(info_value(info, "italicAngle"))
-        x_height = info_value(info, "xHeight")
+        _os2_script_metrics(os2, info)
+        self._os2_classes(os2)
+        os2.achVendID = info_value(info, "openTypeOS2VendorID").ljust(4)
+        os2.sxHeight = _ot_round(info_value(info, "xHeight"))
+        os2.sCapHeight = _ot_round(info_value(info, "capHeight"))
+        os2.sTypoAscender = _ot_round(info_value(info, "openTypeOS2TypoAscender"))
+        os2.sTypoDescender = _ot_round(info_value(info, "openTypeOS2TypoDescender"))
+        os2.sTypoLineGap = _ot_round(info_value(info, "openTypeOS2TypoLineGap"))
+        os2.usWinAscent = _ot_round(info_value(info, "openTypeOS2WinAscent"))
+        os2.usWinDescent = _ot_round(info_value(info, "openTypeOS2WinDescent"))
+        selection = list(info_value(info, "openTypeOS2Selection"))
+        selection += {"regular": [6], "bold": [5], "italic": [0],
+                      "bold italic": [0, 5]}.get(info_value(info, "styleMapStyleName"), [])
+        os2.fsSelection = _int_list_to_num(selection, 0, 16)
+        codes = list(self.cmap)
+        first, last = (min(codes), max(codes)) if codes else (0xFFFF, 0xFFFF)
+        os2.fsFirstCharIndex, os2.fsLastCharIndex = first, min(last, 0xFFFF)
+        os2.usBreakChar = 32
+        os2.usDefaultChar = 0
+        os2.usMaxContext = 0
 
-        def shift(offset):
-            return offset * math.tan(math.radians(-angle)) if angle else 0
+    def _os2_classes(self, os2):
+        """OS/2's family class, PANOSE and Unicode / code page ranges: the font
+        info's, or the ranges fontTools finds in the cmap."""
+        from fontTools.ttLib.tables.O_S_2f_2 import Panose
 
-        def value(attr, default):
-            v = info_value(info, attr)
-            return _ot_round(default() if v is None else v)
-
-        os2.ySubscriptXSize = value("openTypeOS2SubscriptXSize", lambda: upm * 0.65)
-        os2.ySubscriptYSize = value("openTypeOS2SubscriptYSize", lambda: upm * 0.6)
-        os2.ySubscriptYOffset = value("openTypeOS2SubscriptYOffset", lambda: upm * 0.075)
-        os2.ySubscriptXOffset = value("openTypeOS2SubscriptXOffset",
-                                      lambda: shift(-os2.ySubscriptYOffset))
-        os2.ySuperscriptXSize = value("openTypeOS2SuperscriptXSize",
-                                      lambda: os2.ySubscriptXSize)
-        os2.ySuperscriptYSize = value("openTypeOS2SuperscriptYSize",
-                                      lambda: os2.ySubscriptYSize)
-        os2.ySuperscriptYOffset = value("openTypeOS2SuperscriptYOffset", lambda: upm * 0.35)
-        os2.ySuperscriptXOffset = value("openTypeOS2SuperscriptXOffset",
-                                        lambda: shift(os2.ySuperscriptYOffset))
-        os2.yStrikeoutSize = value("openTypeOS2StrikeoutSize",
-                                   lambda: info_value(info, "postscriptUnderlineThickness"))
-        os2.yStrikeoutPosition = value("openTypeOS2StrikeoutPosition",
-                                       lambda: x_height * 0.6 if x_height else upm * 0.22)
+        info = self.info
         cls, sub = info_value(info, "openTypeOS2FamilyClass")
         os2.sFamilyClass = (cls << 8) + sub
         data = info_value(info, "openTypeOS2Panose")
@@ -959,24 +1018,6 @@ class _Compiler:
             os2.ulCodePageRange2 = _int_list_to_num(pages, 32, 32)
         else:
             os2.recalcCodePageRanges(self.otf)
-        os2.achVendID = info_value(info, "openTypeOS2VendorID").ljust(4)
-        os2.sxHeight = _ot_round(info_value(info, "xHeight"))
-        os2.sCapHeight = _ot_round(info_value(info, "capHeight"))
-        os2.sTypoAscender = _ot_round(info_value(info, "openTypeOS2TypoAscender"))
-        os2.sTypoDescender = _ot_round(info_value(info, "openTypeOS2TypoDescender"))
-        os2.sTypoLineGap = _ot_round(info_value(info, "openTypeOS2TypoLineGap"))
-        os2.usWinAscent = _ot_round(info_value(info, "openTypeOS2WinAscent"))
-        os2.usWinDescent = _ot_round(info_value(info, "openTypeOS2WinDescent"))
-        selection = list(info_value(info, "openTypeOS2Selection"))
-        selection += {"regular": [6], "bold": [5], "italic": [0],
-                      "bold italic": [0, 5]}.get(info_value(info, "styleMapStyleName"), [])
-        os2.fsSelection = _int_list_to_num(selection, 0, 16)
-        codes = list(self.cmap)
-        first, last = (min(codes), max(codes)) if codes else (0xFFFF, 0xFFFF)
-        os2.fsFirstCharIndex, os2.fsLastCharIndex = first, min(last, 0xFFFF)
-        os2.usBreakChar = 32
-        os2.usDefaultChar = 0
-        os2.usMaxContext = 0
 
     def _post(self):
         from fontTools.ttLib import newTable
@@ -1056,26 +1097,33 @@ class _Compiler:
         """A CFF 1 table of the font (name-keyed, no subroutines), with the top and
         private dict values ufo2ft gives fontTools (those equal to the CFF defaults
         left out, as fontTools leaves them), every string a custom one."""
-        from fontTools.misc.psCharStrings import encodeFloat, encodeIntCFF
-
         info = self.info
-        strings = {}
+        w = _CffDictWriter()
+        sid, offset = w.sid, w.offset
+        top = self._cff_top(w, font_box)
+        private = self._private_dict(w.entry)
+        names = [sid(n) for n in self.order[1:]]
+        charset = b"\0" + struct.pack(">%dH" % len(names), *names)
+        charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
+        name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
 
-        def sid(text):
-            return 391 + strings.setdefault(text, len(strings))
+        def top_index(at_charset, at_charstrings, at_private):
+            return _index([b"".join(top) + offset([15], at_charset)
+                           + offset([17], at_charstrings)
+                           + offset([18], len(private), at_private)])
 
-        def num(v):
-            return encodeFloat(v) if isinstance(v, float) else encodeIntCFF(int(v))
+        size = len(top_index(0, 0, 0))
+        string_index = _index([t.encode("latin-1") for t in w.strings])
+        at_charset = 4 + len(name_index) + size + len(string_index) + 2
+        at_charstrings = at_charset + len(charset)
+        at_private = at_charstrings + len(charstrings)
+        return b"".join([bytes([1, 0, 4, 4]), name_index,
+                         top_index(at_charset, at_charstrings, at_private), string_index,
+                         b"\0\0", charset, charstrings, private])
 
-        def entry(op, *values):
-            return b"".join(num(v) for v in values) + bytes(op)
-
-        def text(op, value):
-            return encodeIntCFF(sid(value)) + bytes(op)
-
-        def offset(op, *values):  # fixed-size numbers: the dict's length does not move
-            return b"".join(b"\x1d" + struct.pack(">l", v) for v in values) + bytes(op)
-
+    def _cff_top(self, w, font_box):
+        """The top dict's entries but the offsets (``w``: a :class:`_CffDictWriter`)."""
+        info, text, entry = self.info, w.text, w.entry
         top = [text([0], "%d.%d" % (info_value(info, "versionMajor"),
                                     info_value(info, "versionMinor")))]
         for op, key in (([1], "trademark"), ([12, 0], "copyright")):
@@ -1101,42 +1149,30 @@ class _Compiler:
             top.append(entry([12, 7], *matrix))
         if list(font_box) != [0, 0, 0, 0]:
             top.append(entry([5], *font_box))
-        private = self._private_dict(entry)
-        names = [sid(n) for n in self.order[1:]]
-        charset = b"\0" + struct.pack(">%dH" % len(names), *names)
-        charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
-        name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
+        return top
 
-        def top_index(at_charset, at_charstrings, at_private):
-            return _index([b"".join(top) + offset([15], at_charset)
-                           + offset([17], at_charstrings)
-                           + offset([18], len(private), at_private)])
+    def _hints(self):
+        """The info's blue zones (BlueValues, OtherBlues, FamilyBlues,
+        FamilyOtherBlues: rounded lists or None) and its H and V stem snaps, rounded."""
+        def rounded(key):
+            v = info_value(self.info, key)
+            return [_ot_round(i) for i in v] if isinstance(v, list) else v
 
-        size = len(top_index(0, 0, 0))
-        string_index = _index([t.encode("latin-1") for t in strings])
-        at_charset = 4 + len(name_index) + size + len(string_index) + 2
-        at_charstrings = at_charset + len(charset)
-        at_private = at_charstrings + len(charstrings)
-        return b"".join([bytes([1, 0, 4, 4]), name_index,
-                         top_index(at_charset, at_charstrings, at_private), string_index,
-                         b"\0\0", charset, charstrings, private])
+        blues = {k: rounded("postscript" + k) for k in ("BlueValues", "OtherBlues",
+                                                        "FamilyBlues", "FamilyOtherBlues")}
+        return blues, rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
 
     def _private_dict(self, entry):
         """The private dict's bytes: the advances' default and nominal widths, the
         hinting values where the info has blue zones (as ufo2ft writes them)."""
         info = self.info
 
-        def rounded(key):
-            v = info_value(info, key)
-            return [_ot_round(i) for i in v] if isinstance(v, list) else v
-
         def delta(values):
             return [b - a for a, b in zip([0] + values[:-1], values)]
 
         out = []
-        blues = [(op, rounded("postscript" + k)) for op, k in (
-            ([6], "BlueValues"), ([7], "OtherBlues"), ([8], "FamilyBlues"),
-            ([9], "FamilyOtherBlues"))]
+        zones, stems_h, stems_v = self._hints()
+        blues = list(zip(([6], [7], [8], [9]), zones.values()))
         if any(v for _, v in blues):
             out += [entry(op, *delta(v)) for op, v in blues if v]
             for op, value, default in (
@@ -1146,7 +1182,6 @@ class _Compiler:
                     ([12, 14], int(bool(info_value(info, "postscriptForceBold"))), 0)):
                 if value != default:
                     out.append(entry(op, value))
-        stems_h, stems_v = rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
         if stems_h and stems_v:
             out += [entry([10], stems_h[0]), entry([11], stems_v[0]),
                     entry([12, 12], *delta(sorted(stems_h))),
@@ -1180,7 +1215,7 @@ class _Compiler:
             fdArray=None)
         charstrings.charStringsAreIndexed = True
         top.charset = []
-        index = charstrings.charStringsIndex = SubrsIndex(private=private, globalSubrs=subrs)
+        charstrings.charStringsIndex = SubrsIndex(private=private, globalSubrs=subrs)
         cff.topDictIndex = TopDictIndex()
         cff.topDictIndex.append(top)
         cff.topDictIndex.strings = strings
@@ -1207,14 +1242,7 @@ class _Compiler:
             private.rawDict["defaultWidthX"] = default
         if nominal:
             private.rawDict["nominalWidthX"] = nominal
-
-        def rounded(key):
-            v = info_value(info, key)
-            return [_ot_round(i) for i in v] if isinstance(v, list) else v
-
-        blues = {k: rounded("postscript" + k) for k in ("BlueValues", "OtherBlues",
-                                                        "FamilyBlues", "FamilyOtherBlues")}
-        stems_h, stems_v = rounded("postscriptStemSnapH"), rounded("postscriptStemSnapV")
+        blues, stems_h, stems_v = self._hints()
         if any(blues.values()):
             raw = private.rawDict
             raw["BlueFuzz"] = _ot_round(info_value(info, "postscriptBlueFuzz"))
@@ -1229,6 +1257,13 @@ class _Compiler:
             private.rawDict["StdHW"] = stems_h[0]
             private.rawDict["StemSnapV"] = sorted(stems_v)
             private.rawDict["StdVW"] = stems_v[0]
+        self._fill_charstrings(top, private, subrs)
+        top.FontBBox = self.font_box
+
+    def _fill_charstrings(self, top, private, subrs):
+        """The glyph programs into ``top``'s CharStrings, in glyph order."""
+        charstrings = top.CharStrings
+        index = charstrings.charStringsIndex
         for name in self.order:
             data, bounds = self.programs[name]
             cs = BoundedCharString(bytecode=data, private=private, globalSubrs=subrs)
@@ -1239,7 +1274,6 @@ class _Compiler:
                 index.append(cs)
                 charstrings.charStrings[name] = len(top.charset)
                 top.charset.append(name)
-        top.FontBBox = self.font_box
 
     def _glyf_table(self):
         from fontTools.ttLib import newTable

@@ -26,6 +26,9 @@ from ..polyline import (BoxGrid, _ranks, _sorted_entries, col_max, col_min, proj
                         unique)
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
+# The snap-rounding grid's segment boxes reach far enough to hold every segment
+# within MATCH_UNITS of a point (half a unit more for the point's own rounding).
+assert SEGMENT_REACH >= MATCH_UNITS + 0.5
 PARAM_EPS = 1e-9  # parameters this close to 0 or 1 are a piece's end
 MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allowance
 #: Newton rows whose step moves their points by at most this share of the accepted
