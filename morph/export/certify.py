@@ -675,15 +675,8 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
         ok &= todo
     ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
     npan = cuts.shape[1] - 1
-    # the inner pairs' Möbius factors: mu(v) = w for the pair's local parameters v, w
-    inner = np.full((k, npan), np.nan)
-    if step > 1:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            v = (s[:, mid] - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
-            w = (u[mid] - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
-            inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
-    lim = math.exp(MOEBIUS_LOG)
-    inner = np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
+    inner = _inner_moebius(s[:, mid], u[mid], cuts, ucut) if step > 1 \
+        else np.full((k, npan), np.nan)
     bound = np.full(k, np.inf)
     moeb = np.ones((k, npan))
     uc = tuple(ucut.tolist())
@@ -708,6 +701,20 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
         bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
         moeb[r] = c.reshape(npan, kr).T
     return bound, cuts, moeb
+
+
+def _inner_moebius(s_mid, u_mid, cuts, ucut):
+    """The Möbius factors c of the panels (``cuts`` (k, panels + 1) on the cubic,
+    ``ucut`` on the piece) that take each panel's inner pair (``s_mid``, ``u_mid``) to
+    each other: mu(v) = w for the pair's local parameters v, w; NaN where there is no
+    inner pair or c is beyond exp(+-MOEBIUS_LOG)."""
+    inner = np.full((len(cuts), cuts.shape[1] - 1), np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v = (s_mid - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+        w = (u_mid - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+        inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
+    lim = math.exp(MOEBIUS_LOG)
+    return np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
 
 
 def _ordered_pairs(s, u):

@@ -606,16 +606,14 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     ``src``: a skeleton ``.ufo`` folder, an open ``ufoLib2.Font`` (not modified) or a
     :class:`morph.fonts.stream.SkeletonSource` of either (its shell font is used).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
-    ``.otf`` or ``.ttf`` (compiled with ufo2ft).  ``nib_region``: a convex region in
-    font units (e.g. :func:`morph.fonts.brush.ellipse_nib`), the pen point at its
-    origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
+    ``.otf`` or ``.ttf`` (ufo2ft's tables).  ``nib_region``: a convex region in font
+    units (:func:`morph.fonts.brush.ellipse_nib`), the pen point at its origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
     outline tolerance in font units before integer rounding (see the module
     docstring for the budget).  ``family_name``: default "<family> Stroke".
     ``progress(name)`` is called after each glyph with contours to stroke (those
-    without, composites of kept components, are written at no cost and not
-    counted), ``in_flight(units)`` with
-    the glyphs' worth of work reported by chunks not yet done
-    (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
+    without, composites of kept components, are written at no cost and not counted),
+    ``in_flight(units)`` with the glyphs' worth of work reported by chunks not yet
+    done (:func:`morph.fonts.jobs.run_glyph_jobs`).  ``stroker``: a function
     ``(paths, nib_region, tol) -> region`` (default :func:`morph.stroke.stroke_paths`).
     ``overwrite``: replace an existing output.  ``jobs``: worker processes for the
     strokes (1: in this process).  ``planned(n)`` is called with the number of
@@ -635,10 +633,8 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
     glyph does not stop the font), ``inked`` (the glyphs that draw something, when
     the font keeps no composite; else None) and ``font`` (the written font's data and
-    glyph shells: metrics, anchors, components, no contours; a ``ufoLib2.Font``, or
-    for a source opened light (:class:`morph.fonts.stream.SkeletonSource`) a
-    :class:`morph.parse.light_ufo.LightFont`, whose tables are built without
-    ufo2ft).
+    glyph shells, no contours: a ``ufoLib2.Font``, or a
+    :class:`morph.parse.light_ufo.LightFont` for a source opened light).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad

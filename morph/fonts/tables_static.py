@@ -540,6 +540,27 @@ def _os2_script_metrics(os2, info):
                                    lambda: x_height * 0.6 if x_height else upm * 0.22)
 
 
+def _cff_top_fields(top, info):
+    """A cffLib top dict's names, version and metrics from the font info, as ufo2ft
+    sets them."""
+    top.version = "%d.%d" % (info_value(info, "versionMajor"),
+                             info_value(info, "versionMinor"))
+    for attr, key in (("Notice", "trademark"), ("Copyright", "copyright")):
+        text = info_value(info, key)
+        if text:
+            text = normalize_for_postscript(text.replace("\u00a9", "Copyright"))
+        setattr(top, attr, "" if text is None else text)
+    top.FullName = info_value(info, "postscriptFullName")
+    top.FamilyName = info_value(info, "openTypeNamePreferredFamilyName")
+    top.Weight = info_value(info, "postscriptWeightName")
+    top.isFixedPitch = int(info_value(info, "postscriptIsFixedPitch"))
+    top.ItalicAngle = float(info_value(info, "italicAngle"))
+    top.UnderlinePosition = _ot_round(info_value(info, "postscriptUnderlinePosition"))
+    top.UnderlineThickness = _ot_round(info_value(info, "postscriptUnderlineThickness"))
+    upm = _ot_round(info_value(info, "unitsPerEm"))
+    top.FontMatrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
+
+
 class _CffDictWriter:
     """CFF dict entries as bytes, with the custom strings they name (SIDs from 391,
     in order of first use)."""
@@ -1221,22 +1242,7 @@ class _Compiler:
         cff.topDictIndex.strings = strings
         cff.GlobalSubrs = subrs
         cff.fontNames.append(info_value(info, "postscriptFontName"))
-        top.version = "%d.%d" % (info_value(info, "versionMajor"),
-                                 info_value(info, "versionMinor"))
-        for attr, key in (("Notice", "trademark"), ("Copyright", "copyright")):
-            text = info_value(info, key)
-            if text:
-                text = normalize_for_postscript(text.replace("\u00a9", "Copyright"))
-            setattr(top, attr, "" if text is None else text)
-        top.FullName = info_value(info, "postscriptFullName")
-        top.FamilyName = info_value(info, "openTypeNamePreferredFamilyName")
-        top.Weight = info_value(info, "postscriptWeightName")
-        top.isFixedPitch = int(info_value(info, "postscriptIsFixedPitch"))
-        top.ItalicAngle = float(info_value(info, "italicAngle"))
-        top.UnderlinePosition = _ot_round(info_value(info, "postscriptUnderlinePosition"))
-        top.UnderlineThickness = _ot_round(info_value(info, "postscriptUnderlineThickness"))
-        upm = _ot_round(info_value(info, "unitsPerEm"))
-        top.FontMatrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
+        _cff_top_fields(top, info)
         default, nominal = self._widths()
         if default:
             private.rawDict["defaultWidthX"] = default

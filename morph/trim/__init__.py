@@ -101,6 +101,18 @@ def _filled_holes(rings, tg, hole_test):
     return [i for i, f in zip(holes, filled) if f]
 
 
+def _grown_boxes(polylines, sizes, grow):
+    """The boxes (lo, hi) of the non-empty ``polylines`` (``sizes`` their lengths),
+    grown by ``grow``: all at once, (x, y) columns reduced at the polylines' starts."""
+    pts = np.concatenate([np.asarray(p, float) for p in polylines])
+    at = np.cumsum(sizes) - sizes
+    lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
+                  axis=1) - grow
+    hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
+                  axis=1) + grow
+    return lo, hi
+
+
 def _near_pairs(polylines, reach, group=None):
     """Index pairs (i < j) of closed polylines that come within ``reach`` of each
     other (empty polylines are none's neighbours); ``group``: numbers such that
@@ -119,13 +131,7 @@ def _near_pairs(polylines, reach, group=None):
         return set()
     has = np.flatnonzero(sizes)
     half = 0.5 * reach
-    # each polyline's box, all at once: (x, y) columns reduced at the polylines' starts
-    pts = np.concatenate([np.asarray(polylines[k], float) for k in has])
-    at = np.cumsum(sizes[has]) - sizes[has]
-    lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
-                  axis=1) - half
-    hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
-                  axis=1) + half
+    lo, hi = _grown_boxes([polylines[k] for k in has], sizes[has], half)
     pairs = _cell_pairs(BoxGrid(lo, hi))
     if group is not None and len(pairs):
         g = group[has]

@@ -491,16 +491,10 @@ class Membership:
         if (max(int(np.abs(qb).max(initial=0)), int(np.abs(self._q).max(initial=0)))
                 >= 2 ** 29):
             return np.zeros(n, bool)
-        # x − B's edges: per B loop of >= 3 points (those Clipper gets), cyclic
-        b_first = np.cumsum(self._b_sizes) - self._b_sizes
-        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
-        nxt = np.arange(len(self._pts_b)) + 1
-        nxt[b_first + self._b_sizes - 1] = b_first
-        e0, e1 = qb[:, use], qb[:, nxt[use]]                     # (n, m, 2)
-        rep_b = qb[:, b_first[self._b_sizes >= 3]]                # a vertex per loop
+        e0, e1, rep_b = self._edges_of_b(qb)
         centre = x / self.grid
-        reach = np.sqrt(((qb[:, use] - centre[:, None]) ** 2).sum(axis=2)).max(axis=1,
-                                                                                 initial=0.0) + 2.0
+        reach = np.sqrt(((e0 - centre[:, None]) ** 2).sum(axis=2)).max(axis=1,
+                                                                       initial=0.0) + 2.0
         blocked = np.zeros(n, bool)
         # segments of the paired parts near the disc: contacts with x − B's edges
         at = np.searchsorted(used, part)
@@ -530,20 +524,35 @@ class Membership:
             v = self._q[self._first[part[near_pair]]]
             blocked[pt[near_pair][_winding(v, pt[near_pair], e0, e1) != 0]] = True
         # a vertex of each loop of x − B outside each closed part
-        closed_pair = np.flatnonzero(self._closed[part])
-        if len(closed_pair) and rep_b.shape[1]:
-            cp = np.repeat(closed_pair, rep_b.shape[1])
-            v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
-            k = part[cp]
-            count = self._count[k]
-            row = np.repeat(np.arange(len(cp)), count)
-            e = np.repeat(self._first[k], count) + _ranks(count)
-            e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
-                              np.repeat(self._first[k], count), e + 1)
-            wind = np.bincount(row, weights=_crossing_signs(
-                v[row], self._q[e], self._q[e_next]), minlength=len(cp))
-            blocked[pt[cp[wind != 0]]] = True
+        blocked[self._inside_closed(pt, part, rep_b)] = True
         return ~blocked
+
+    def _edges_of_b(self, qb):
+        """x − B's edges (e0, e1: (n, m, 2)) over its loops of >= 3 points (those
+        Clipper gets), cyclic, and a vertex of each such loop (n, loops, 2)."""
+        b_first = np.cumsum(self._b_sizes) - self._b_sizes
+        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
+        nxt = np.arange(len(self._pts_b)) + 1
+        nxt[b_first + self._b_sizes - 1] = b_first
+        return qb[:, use], qb[:, nxt[use]], qb[:, b_first[self._b_sizes >= 3]]
+
+    def _inside_closed(self, pt, part, rep_b):
+        """The points (indices into ``pt``'s numbering) a vertex of whose x − B loop
+        (``rep_b``) lies inside a closed part paired with them (nonzero winding)."""
+        closed_pair = np.flatnonzero(self._closed[part])
+        if not (len(closed_pair) and rep_b.shape[1]):
+            return np.zeros(0, np.int64)
+        cp = np.repeat(closed_pair, rep_b.shape[1])
+        v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
+        k = part[cp]
+        count = self._count[k]
+        row = np.repeat(np.arange(len(cp)), count)
+        e = np.repeat(self._first[k], count) + _ranks(count)
+        e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
+                          np.repeat(self._first[k], count), e + 1)
+        wind = np.bincount(row, weights=_crossing_signs(
+            v[row], self._q[e], self._q[e_next]), minlength=len(cp))
+        return pt[cp[wind != 0]]
 
     def _segment_table(self, parts):
         """The segments of loops ``parts`` (ascending) as Clipper gets them: a
