@@ -12,14 +12,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_bench_cache_misses_an_edited_glyph():
-    pytest.importorskip("shapely", reason="the Clipper reference's polygons need shapely")
-    pytest.importorskip("pyclipper", reason="the Clipper reference needs pyclipper")
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     res = subprocess.run([sys.executable, "-m", "bench.peer_cache", "--check"], cwd=ROOT,
                          env=env, capture_output=True, text=True, timeout=300)

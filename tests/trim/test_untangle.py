@@ -1,6 +1,5 @@
 """morph.trim.untangle: lobes cut where the exact pieces of a lifted loop cross."""
 
-import pytest
 import numpy as np
 
 from morph import piece as pc
@@ -68,7 +67,6 @@ def test_a_hook_the_next_piece_runs_along_is_zipped_off():
     leaves the outgoing leg.  remove_folds cuts both where the legs part (the
     hook's turning point) and the loop is simple, of the triangle's area; the
     swallowtail-like fold of legs that part at once (a tip) is left alone."""
-    pytest.importorskip("shapely")
     from shapely.geometry import LineString
 
     from morph.trim.untangle import remove_folds
@@ -104,7 +102,6 @@ def test_two_outer_loops_crossing_in_a_lens_become_their_union():
     union keeps as two rings when it is under a grid step): merge_lenses gives one
     simple loop of the union's area (shapely, flattened within 1e-6); holes, and
     loops that do not cross, are left as they are."""
-    pytest.importorskip("shapely")
     from shapely.geometry import LineString, Polygon
 
     from morph.trim.untangle import merge_lenses
@@ -129,7 +126,6 @@ def test_near_ring_pairs_match_shapely_distances():
     """trim._near_pairs (which rings merge_lenses searches): exactly the pairs of
     closed polylines within reach of each other, by shapely's distances, on random
     circles; empty polylines have no neighbours."""
-    pytest.importorskip("shapely")
     from shapely.geometry import LinearRing
 
     from morph.trim import _near_pairs
@@ -155,7 +151,6 @@ def test_a_comb_of_spikes_folds_back_to_its_square():
     (its last piece runs up, its first back down): remove_folds leaves the square,
     every join turning by less than the fold angle and every point on the square's
     boundary, of area 10,000 (shapely: a simple ring)."""
-    pytest.importorskip("shapely")
     from shapely.geometry import LineString
 
     from morph.trim.untangle import FOLD_COS, remove_folds
@@ -245,7 +240,7 @@ def test_hulls_apart_only_where_the_pieces_are():
     polylines within 1e-5 (shapely distance positive), no pair whose polylines
     meet is called apart, and it calls most of the far pairs apart; a conic with a
     negative weight (no hull property) is never apart."""
-    shapely = pytest.importorskip("shapely")
+    import shapely
     from morph.trim.untangle import _hulls_apart
 
     rng = np.random.default_rng(4)
