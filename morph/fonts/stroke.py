@@ -74,7 +74,7 @@ from .. import polyline as pl
 from ..errors import MorphError, ParseError, one_line
 from ..parse.ufo import glyph_names_for
 from ..nib import check_convex_nib, nib_is_symmetric, region_extent
-from .fea import move_feature_anchors, moved_features  # noqa: F401 (re-exported)
+from .fea import move_feature_anchors, moved_features
 from .jobs import (CHUNK, SUM_SHARE, converting,  # noqa: F401 (CHUNK re-exported)
                    glyph_chunks, glyph_progress, run_glyph_jobs)
 from .ufo_tables import grow_win_metrics, rename_ufo_family
@@ -607,9 +607,10 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     :class:`morph.fonts.stream.SkeletonSource` of either (its shell font is used).
     ``out_path``: ``.ufo`` (a copy of the source with the outlines replaced),
     ``.otf`` or ``.ttf`` (ufo2ft's tables).  ``nib_region``: a convex region in font
-    units (:func:`morph.fonts.brush.ellipse_nib`), the pen point at its origin.  ``glyphs``: characters or glyph names (None: every glyph).  ``tol``:
-    outline tolerance in font units before integer rounding (see the module
-    docstring for the budget).  ``family_name``: default "<family> Stroke".
+    units (:func:`morph.fonts.brush.ellipse_nib`), the pen point at its origin.
+    ``glyphs``: characters or glyph names (None: every glyph).  ``tol``: outline
+    tolerance in font units before integer rounding (the module docstring gives
+    the budget).  ``family_name``: default "<family> Stroke".
     ``progress(name)`` is called after each glyph with contours to stroke (those
     without, composites of kept components, are written at no cost and not counted),
     ``in_flight(units)`` with the glyphs' worth of work reported by chunks not yet
@@ -633,8 +634,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
     glyph does not stop the font), ``inked`` (the glyphs that draw something, when
     the font keeps no composite; else None) and ``font`` (the written font's data and
-    glyph shells, no contours: a ``ufoLib2.Font``, or a
-    :class:`morph.parse.light_ufo.LightFont` for a source opened light).
+    glyph shells: a ``ufoLib2.Font`` or, opened light, a ``light_ufo.LightFont``).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -731,11 +731,11 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     with something to stroke (weight > 0, :func:`_stroke_weights`) go to the chunks,
     chunked by their weights (skeleton contours), so that as many glyphs as memory
     allows share an export batch, whose rounds cost about the same however many
-    glyphs share them: Relief's 263 composites of kept components made its 321
-    glyphs with contours 7 batches of 46, where one batch holds them now (45 glyphs'
-    worth of contours; 1.9 ms of CPU a glyph for fit and certificate in one batch,
-    against 3.7 in 7, bench/stroke_profile.py).  The others are written empty here (their components are in the
-    shells), not counted by ``progress``.
+    glyphs share them (Relief's 321 glyphs with contours weigh 45 glyphs' worth and
+    are one batch: fit and certificate cost 1.9 ms of CPU a glyph, against 3.7 when
+    counted by glyphs in 7 batches, bench/stroke_profile.py).  The others, composites
+    of kept components, are written empty here (their components are in the shells)
+    and not counted by ``progress``.
     """
     tols = budget.plan(tol, kind == ".ttf")
 

@@ -468,7 +468,7 @@ def _optimize_widths():
             module = importlib.util.module_from_spec(spec)
             spec.loader.exec_module(module)
             sys.modules[_WIDTH_MODULE] = module
-        except Exception:  # noqa: BLE001 - another fontTools: its own import
+        except Exception:  # noqa: BLE001 - any failure loading width.py alone (a fontTools laid out otherwise) falls back to the plain import
             from fontTools.cffLib import width as module
     return module.optimizeWidths
 
