@@ -19,6 +19,8 @@ Sets (each a skeleton UFO: every contour an open polyline, y up):
   are with advance 1024.  The N characters are spread evenly over the package's
   characters sorted by code point (index ``round(k (M - 1) / (N - 1))``), so 300 and
   3000 are samples of the same mix; ``hanzi-all`` is every character (9574).
+- ``hanzi-variants-N``: N distinct glyphs (up to 65,535) made of the hanzi under
+  affine maps, for fonts larger than the real set (:mod:`bench.skeleton_variants`).
 
 The packages are fetched with ``npm pack`` (the npm registry) into the cache
 (default ``bench/cache/``, git-ignored; ``MORPH_BENCH_CACHE`` or ``--cache``
@@ -172,6 +174,10 @@ def skeleton_ufo(name, cache=None):
     path = cache / (name + ".ufo")
     if (path / "metainfo.plist").exists():
         return path
+    if name.startswith("hanzi-variants-"):
+        from bench.skeleton_variants import variants_ufo
+
+        return variants_ufo(int(name.rsplit("-", 1)[1]), cache=cache)
     if name in HERSHEY:
         glyphs, upm = hershey_glyphs(HERSHEY[name], cache)
         family = "Hershey %s Skeleton" % name.split("-")[1].title()
@@ -181,7 +187,7 @@ def skeleton_ufo(name, cache=None):
         family = "Hanzi Medians %s" % name.split("-")[1]
     else:
         raise SystemExit("bench.skeletons: unknown set %r (hershey-sans, hershey-script, "
-                         "hanzi-N, hanzi-all)" % name)
+                         "hanzi-N, hanzi-all, hanzi-variants-N)" % name)
     return write_ufo(path, family, glyphs, upm)
 
 
