@@ -73,7 +73,9 @@ def watch(cmd, env=None, cwd=None, interval=0.1):
     Returns a dict: ``wall`` s, ``cpu`` (the tree's CPU s, from the kernel's
     accounting of the waited-for children, not sampled), ``main_cpu`` and
     ``workers_cpu`` (sampled, see the module docstring), ``tree_mb`` (peak of the
-    summed RSS), ``max_mb`` (the command process's VmHWM), ``head`` and ``tail``
+    summed RSS), ``max_mb`` (the command process's VmHWM), ``child_mb`` (the peak
+    RSS of any one descendant: a worker, a compiler's subprocess), ``main_rss``
+    ([(s, MB)]: the command process's RSS at every sample), ``head`` and ``tail``
     (s: before the first and after the last sample in which a descendant gained
     CPU time; None without descendants that worked), ``line`` (the output's last
     line), ``output`` and ``rc``."""
@@ -88,14 +90,16 @@ def watch(cmd, env=None, cwd=None, interval=0.1):
     chunks = []
     reader = threading.Thread(target=lambda: chunks.append(proc.stdout.read()), daemon=True)
     reader.start()
-    peak = hwm = 0
-    main_cpu, workers = 0.0, {}
+    peak = hwm = child = 0
+    main_cpu, workers, samples = 0.0, {}, []
     first = last = None
     while proc.poll() is None:
         now = time.perf_counter() - t0
         tree = _tree(proc.pid)
         peak = max(peak, sum(rss for rss, _ in tree.values()))
+        child = max([child] + [rss for p, (rss, _) in tree.items() if p != proc.pid])
         hwm = max(hwm, _hwm_kb(proc.pid))
+        samples.append((now, tree.get(proc.pid, (0, 0.0))[0] / 1024.0))
         if proc.pid in tree:
             main_cpu = tree[proc.pid][1]
         gained = False
@@ -115,7 +119,8 @@ def watch(cmd, env=None, cwd=None, interval=0.1):
     lines = text.strip().splitlines()
     return {"cpu": cpu, "wall": wall, "main_cpu": main_cpu,
             "workers_cpu": sum(workers.values()), "tree_mb": peak / 1024.0,
-            "max_mb": hwm / 1024.0, "head": first, "tail": None if last is None else wall - last,
+            "max_mb": hwm / 1024.0, "child_mb": child / 1024.0, "main_rss": samples,
+            "head": first, "tail": None if last is None else wall - last,
             "line": lines[-1] if lines else "", "output": text, "rc": proc.returncode}
 
 
