@@ -777,9 +777,10 @@ class _Compiler:
 
         default, nominal = self._widths()
         out = {}
+        self.prefixes = {}      # glyph name -> its program's advance bytes
         for name in self.order:
             glyph = self.glyphs[name]
-            prefix = width_prefix(glyph.width, default, nominal)
+            prefix = self.prefixes[name] = width_prefix(glyph.width, default, nominal)
             if name in self.store:
                 data, bounds = self.store[name]
                 out[name] = (prefix + data, bounds)
@@ -1079,9 +1080,16 @@ class _Compiler:
 
         from fontTools.ttLib.tables.DefaultTable import DefaultTable
 
+        from .subrs import font_subroutines
+
         box = self._as_saved()
         table = DefaultTable("CFF ")
-        table.data = self._cff_bytes(box)
+        grouped = font_subroutines([self.programs[n][0] for n in self.order],
+                                   [self.prefixes[n] for n in self.order])
+        table.data = self._cff_bytes(box, grouped)
+        if grouped is not None:   # a large font: subroutinized in groups, not by one tx
+            self.otf["CFF "] = table
+            return
         rest = _raw_font_class()(sfntVersion="OTTO", recalcBBoxes=False)
         rest.setGlyphOrder(self.order)
         for tag in self.otf.keys():
@@ -1114,18 +1122,23 @@ class _Compiler:
             for name, b in self.bounds.items()})
         return box
 
-    def _cff_bytes(self, font_box):
-        """A CFF 1 table of the font (name-keyed, no subroutines), with the top and
-        private dict values ufo2ft gives fontTools (those equal to the CFF defaults
-        left out, as fontTools leaves them), every string a custom one."""
+    def _cff_bytes(self, font_box, subrs=None):
+        """A CFF 1 table of the font (name-keyed), with the top and private dict
+        values ufo2ft gives fontTools (those equal to the CFF defaults left out, as
+        fontTools leaves them), every string a custom one; ``subrs``: no subroutines
+        (None) or (global subroutines, local ones, charstrings in glyph order)."""
         info = self.info
         w = _CffDictWriter()
         sid, offset = w.sid, w.offset
         top = self._cff_top(w, font_box)
         private = self._private_dict(w.entry)
+        gsubrs, lsubrs, programs = subrs or ([], [], [self.programs[n][0] for n in self.order])
+        if lsubrs:      # the local subroutines right after the private dict
+            private += offset([19], len(private) + 6)
         names = [sid(n) for n in self.order[1:]]
         charset = b"\0" + struct.pack(">%dH" % len(names), *names)
-        charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
+        charstrings = _index(programs)
+        global_index = _index(gsubrs)
         name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
 
         def top_index(at_charset, at_charstrings, at_private):
@@ -1135,12 +1148,13 @@ class _Compiler:
 
         size = len(top_index(0, 0, 0))
         string_index = _index([t.encode("latin-1") for t in w.strings])
-        at_charset = 4 + len(name_index) + size + len(string_index) + 2
+        at_charset = 4 + len(name_index) + size + len(string_index) + len(global_index)
         at_charstrings = at_charset + len(charset)
         at_private = at_charstrings + len(charstrings)
         return b"".join([bytes([1, 0, 4, 4]), name_index,
                          top_index(at_charset, at_charstrings, at_private), string_index,
-                         b"\0\0", charset, charstrings, private])
+                         global_index, charset, charstrings, private,
+                         _index(lsubrs) if lsubrs else b""])
 
     def _cff_top(self, w, font_box):
         """The top dict's entries but the offsets (``w``: a :class:`_CffDictWriter`)."""

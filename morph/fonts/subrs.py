@@ -1,0 +1,252 @@
+"""Subroutinizing a large CFF font in groups of glyphs, so that the subroutinizer's
+memory does not grow with the font.
+
+ufo2ft subroutinizes a CFF font with cffsubr's ``tx`` over the whole font; ``tx``
+holds about 70 bytes for every byte of charstrings it reads (146 MB for 3,000
+stroked hanzi, 2.2 MB of unspecialized charstrings; 475 MB for 9,574, 6.9 MB).  A font whose
+charstrings pass :data:`GROUP_BYTES` is therefore subroutinized in consecutive
+groups of glyphs of at most that many bytes each (:func:`grouped_subroutines`):
+
+- each group is a small name-keyed CFF of its glyphs' programs without their
+  advances (every glyph of the default width 0, so that ``tx`` writes no width),
+  given to ``tx`` with at most :data:`MAX_SUBRS` / groups subroutines in each of its
+  two INDEXes (``tx``'s own bound for a whole font, shared out);
+- the groups' global and local subroutines are laid end to end in the font's two
+  INDEXes, every ``callgsubr`` and ``callsubr`` operand moved to its subroutine's
+  new number (the operands are found by walking the programs' tokens with array
+  operations, :func:`_tokens`; a program of hints, which no stroked or brushed glyph
+  has, is refused: the caller then subroutinizes the whole font);
+- each charstring is given its advance back in front (the caller's width prefix
+  for the font's default and nominal widths): the width is the first operand of a
+  program's first stack-clearing operator, and a subroutine call keeps the
+  argument stack, so a width put before a call is read as the width.
+
+Subroutines are shared within a group only, so the font is a little larger than
+one ``tx`` run over it would write; its glyphs draw the same paths.  The groups
+depend on the glyphs' programs and order alone (not on ``--jobs``).
+"""
+
+import io
+import subprocess
+
+import numpy as np
+
+__all__ = ["GROUP_BYTES", "MAX_SUBRS", "font_subroutines", "grouped_subroutines", "NotGrouped"]
+
+#: The most charstring bytes (unspecialized programs) ``tx`` subroutinizes at once:
+#: 239 MB of ``tx``'s memory for 3.4 MB (two groups of the 9,574 stroked hanzi, whose
+#: font is then 4.6 % larger than one ``tx`` run makes it; 146 MB for 2.2 MB).
+GROUP_BYTES = 4_000_000
+#: ``tx``'s bound on the subroutines of one INDEX (its ``-maxs`` default), shared by
+#: the groups so that the font has no more than a whole-font run could give it.
+MAX_SUBRS = 32765
+
+_CALLSUBR, _CALLGSUBR, _ENDCHAR = 10, 29, 14
+#: hint operators (hstem, vstem, hintmask, cntrmask, hstemhm, vstemhm): a hintmask's
+#: mask bytes depend on the stems before it, which the token walk does not count
+_HINTS = (1, 3, 18, 19, 20, 23)
+#: the length of a token by its first byte (an operand or an operator)
+_TOKEN = np.ones(256, np.int64)
+_TOKEN[12] = 2                    # escape: a two-byte operator
+_TOKEN[28] = 3                    # shortint
+_TOKEN[247:255] = 2
+_TOKEN[255] = 5                   # 16.16 fixed
+
+
+class NotGrouped(Exception):
+    """The programs cannot be subroutinized in groups (hints, a subroutinizer that
+    wrote something else than expected): subroutinize the whole font."""
+
+
+def font_subroutines(programs, prefixes, limit=None):
+    """:func:`grouped_subroutines` of a font's charstrings ``programs`` (in glyph
+    order, each starting with its width prefix, ``prefixes``) when they hold more
+    than ``limit`` bytes (None: :data:`GROUP_BYTES`), else None (the caller has
+    ``tx`` subroutinize the whole font, as ufo2ft does); None too when the programs
+    cannot be grouped (:class:`NotGrouped`)."""
+    limit = GROUP_BYTES if limit is None else limit
+    if sum(len(p) for p in programs) <= limit:
+        return None
+    bodies = [p[len(x):] for p, x in zip(programs, prefixes)]
+    try:
+        return grouped_subroutines(bodies, prefixes, limit=limit)
+    except NotGrouped:
+        return None
+
+
+def groups(sizes, limit=GROUP_BYTES):
+    """Consecutive groups (start, stop) of programs of ``sizes`` bytes, each at most
+    ``limit`` bytes (or one program), the same number of bytes within a program."""
+    cum = np.concatenate([[0], np.cumsum(sizes)])
+    count = max(1, int(-(-cum[-1] // limit)))
+    edges = np.searchsorted(cum, cum[-1] * np.arange(1, count) / count)
+    edges = sorted(set(np.clip(edges, 1, len(sizes) - 1).tolist()) | {0, len(sizes)})
+    return list(zip(edges[:-1], edges[1:]))
+
+
+def grouped_subroutines(bodies, prefixes, run_tx=None, limit=GROUP_BYTES):
+    """(global subroutines, local subroutines, charstrings) of a name-keyed CFF font
+    whose glyphs (in order, ``.notdef`` first) have the Type 2 programs ``bodies``
+    without their advances and the width prefixes ``prefixes``
+    (:func:`morph.fonts.stream.width_prefix` for the font's default and nominal
+    widths), subroutinized in groups (module docstring).  ``run_tx(args, path)``
+    runs ``tx`` (None: cffsubr's).  Raises :class:`NotGrouped` when the programs
+    do not allow it."""
+    spans = groups([len(b) for b in bodies], limit)
+    budget = max(1, MAX_SUBRS // len(spans))
+    parts = [_subroutinized_group(bodies[a:b], budget, run_tx) for a, b in spans]
+    n_global = sum(len(g) for g, _, _ in parts)
+    n_local = sum(len(loc) for _, loc, _ in parts)
+    if max(n_global, n_local) > 65535:
+        raise NotGrouped("more subroutines than an INDEX holds")
+    out_global, out_local, out_chars = [], [], []
+    for (a, _), (gsubrs, lsubrs, chars) in zip(spans, parts):
+        moved = _renumbered(gsubrs + lsubrs + chars,
+                            (len(gsubrs), len(out_global), n_global),
+                            (len(lsubrs), len(out_local), n_local))
+        out_global += moved[:len(gsubrs)]
+        out_local += moved[len(gsubrs):len(gsubrs) + len(lsubrs)]
+        out_chars += [prefixes[a + k] + c for k, c in enumerate(moved[len(gsubrs) + len(lsubrs):])]
+    return out_global, out_local, out_chars
+
+
+def bias(count):
+    """The Type 2 subroutine number bias of an INDEX of ``count`` subroutines."""
+    return 107 if count < 1240 else 1131 if count < 33900 else 32768
+
+
+def _group_cff(bodies):
+    """A name-keyed CFF table of ``bodies`` (glyphs g1, g2 ... after an empty
+    ``.notdef``), no advances (default and nominal width 0), nothing else."""
+    from .tables_static import _CffDictWriter, _index
+
+    w = _CffDictWriter()
+    names = [w.sid("g%d" % k) for k in range(1, len(bodies) + 1)]
+    charset = b"\0" + np.asarray(names, ">u2").tobytes()
+    charstrings = _index([bytes([_ENDCHAR])] + list(bodies))
+    name_index = _index([b"Group"])
+    strings = _index([t.encode("latin-1") for t in w.strings])
+
+    def top(at_charset, at_charstrings, at_private):
+        return _index([w.offset([15], at_charset) + w.offset([17], at_charstrings)
+                       + w.offset([18], 0, at_private)])
+
+    at_charset = 4 + len(name_index) + len(top(0, 0, 0)) + len(strings) + 2
+    at_charstrings = at_charset + len(charset)
+    at_private = at_charstrings + len(charstrings)
+    return b"".join([bytes([1, 0, 4, 4]), name_index,
+                     top(at_charset, at_charstrings, at_private), strings, b"\0\0",
+                     charset, charstrings])
+
+
+def _tx(args, path):
+    """``tx`` (cffsubr's) on the file ``path``; its output's bytes."""
+    import cffsubr
+
+    try:
+        return cffsubr._run_embedded_tx(*args, path, check=True, stdout=subprocess.PIPE,
+                                        stderr=subprocess.PIPE).stdout
+    except subprocess.CalledProcessError as exc:
+        raise NotGrouped("tx: %s" % exc.stderr.decode(errors="replace").strip()) from exc
+
+
+def _subroutinized_group(bodies, budget, run_tx=None):
+    """(global subroutines, local subroutines, charstrings) ``tx`` makes of one
+    group's programs (at most ``budget`` subroutines in each INDEX), as bytes."""
+    import os
+    import tempfile
+
+    from fontTools.cffLib import CFFFontSet
+
+    with tempfile.NamedTemporaryFile(prefix="morph-tx-", delete=False) as f:
+        f.write(_group_cff(bodies))
+    try:
+        data = (run_tx or _tx)(["-cff", "+S", "+b", "-maxs", str(budget)], f.name)
+    finally:
+        os.remove(f.name)
+    cff = CFFFontSet()
+    cff.decompile(io.BytesIO(data), None)
+    top = cff.topDictIndex[0]
+    private = top.Private
+    if getattr(private, "defaultWidthX", 0) != 0 or top.charset[1:] != [
+            "g%d" % k for k in range(1, len(bodies) + 1)]:
+        raise NotGrouped("tx changed the group's widths or glyph order")
+    index = top.CharStrings.charStringsIndex
+
+    def raw(items):
+        return [bytes(items[k].bytecode) for k in range(len(items))]
+
+    lsubrs = raw(private.Subrs) if "Subrs" in private.rawDict else []
+    return raw(cff.GlobalSubrs), lsubrs, raw(index)[1:]
+
+
+def _tokens(data, starts, ends):
+    """The first byte of every token of the programs ``data[starts[i]:ends[i]]``, in
+    order: each program walked one token a step, all programs at once."""
+    pos, end = starts[starts < ends], ends[starts < ends]
+    out = []
+    while len(pos):
+        out.append(pos)
+        pos = pos + _TOKEN[data[pos]]
+        keep = pos < end
+        pos, end = pos[keep], end[keep]
+    return np.sort(np.concatenate(out)) if out else np.zeros(0, np.int64)
+
+
+def _numbers(data, at):
+    """The integer operands whose tokens start at ``at`` (one, two or three bytes)."""
+    b0 = data[at].astype(np.int64)
+    b1 = data[np.minimum(at + 1, len(data) - 1)].astype(np.int64)
+    b2 = data[np.minimum(at + 2, len(data) - 1)].astype(np.int64)
+    short = (b1 << 8) | b2
+    return np.select([(b0 >= 32) & (b0 <= 246), (b0 >= 247) & (b0 <= 250),
+                      (b0 >= 251) & (b0 <= 254), b0 == 28],
+                     [b0 - 139, (b0 - 247) * 256 + b1 + 108, -(b0 - 251) * 256 - b1 - 108,
+                      short - ((short >> 15) << 16)])
+
+
+def _encoded(values):
+    """(bytes, lengths) of Type 2 integer operands ``values`` (|v| < 32768)."""
+    v = np.asarray(values, np.int64)
+    one, two = np.abs(v) <= 107, (np.abs(v) >= 108) & (np.abs(v) <= 1131)
+    size = np.where(one, 1, np.where(two, 2, 3))
+    out = np.zeros((len(v), 3), np.int64)
+    m = np.abs(v) - 108
+    out[:, 0] = np.where(one, v + 139, np.where(two, np.where(v > 0, 247, 251) + (m >> 8), 28))
+    out[:, 1] = np.where(two, m & 255, (v >> 8) & 255)
+    out[:, 2] = v & 255
+    return out[np.arange(3) < size[:, None]].astype(np.uint8), size
+
+
+def _renumbered(programs, glob, local):
+    """``programs`` (bytes) with every subroutine call's number moved: ``glob`` and
+    ``local`` are (the group's count, its first subroutine's number in the font,
+    the font's count) of the global and local subroutines."""
+    sizes = np.array([len(p) for p in programs], np.int64)
+    ends = np.cumsum(sizes)
+    starts = ends - sizes
+    data = np.frombuffer(b"".join(programs), np.uint8)
+    tok = _tokens(data, starts, ends)
+    if np.isin(data[tok], _HINTS).any():
+        raise NotGrouped("a program with hints")
+    calls = np.flatnonzero(np.isin(data[tok], (_CALLSUBR, _CALLGSUBR)))
+    if not len(calls):
+        return list(programs)
+    at, owner = tok[calls - 1], np.searchsorted(ends, tok[calls], side="right")
+    lead = data[at]
+    if (calls == 0).any() or (at < starts[owner]).any() or ((lead < 32) & (lead != 28)).any():
+        raise NotGrouped("a subroutine call whose number is not its operand")
+    is_global = data[tok[calls]] == _CALLGSUBR
+    count, first, total = (np.where(is_global, g, lo) for g, lo in zip(glob, local))
+    new = _numbers(data, at) + np.vectorize(bias)(count) + first - np.vectorize(bias)(total)
+    code, size = _encoded(new)
+    old = _TOKEN[lead]
+    keep = np.ones(len(data), bool)
+    for k in range(3):                         # drop the old operands' bytes
+        keep[at[old > k] + k] = False
+    kept_before = np.cumsum(keep) - keep       # kept bytes before each position
+    merged = np.insert(data[keep], np.repeat(kept_before[at], size), code)
+    grown = np.bincount(owner, size - old, len(programs)).astype(np.int64)
+    new_ends = np.cumsum(sizes + grown)
+    blob = merged.tobytes()
+    return [blob[a:b] for a, b in zip((new_ends - sizes - grown).tolist(), new_ends.tolist())]
