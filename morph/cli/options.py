@@ -319,6 +319,7 @@ class Progress:
         self._thread = threading.Thread(target=self._tick, daemon=True)
         self._start = None
         self._shown = False
+        self._drawn = float("-inf")   # when the line was last drawn (monotonic s)
 
     def __enter__(self):
         import time
@@ -338,7 +339,7 @@ class Progress:
         with self._lock:
             self.done = min(self.total, self.done + n)
         if self.tty:
-            self._show()
+            self._redraw()
 
     def set_total(self, total):
         """The number of items, once known (a plan made after the bar started)."""
@@ -349,7 +350,7 @@ class Progress:
         with self._lock:
             self.flight = max(0.0, self.flight + units)
         if self.tty and units > 0:
-            self._show()
+            self._redraw()
 
     def work(self):
         """Items' worth done: the items done plus the work in flight, never less
@@ -377,9 +378,21 @@ class Progress:
         while not self._stop.wait(self.interval):
             self._show()
 
+    def _redraw(self):
+        """Draw the line on a terminal unless it was drawn less than ``interval``
+        ago: a chunk of glyphs done together, or a 30,000-glyph font, is not a
+        redraw per glyph."""
+        import time
+
+        if time.monotonic() - self._drawn >= self.interval:
+            self._show()
+
     def _show(self, final=False):
+        import time
+
         line = "%s: %s" % (self.command, self.status(final))
         with self._lock:
+            self._drawn = time.monotonic()
             if self.tty:
                 self.stream.write("\r\033[K" + line + ("\n" if final else ""))
             else:

@@ -310,6 +310,26 @@ def test_progress_eta_from_work_done():
     assert out.getvalue() == ""  # nothing shown in under a minute off a terminal
 
 
+def test_progress_on_a_terminal_redraws_at_most_every_interval():
+    """On a terminal a glyph done is not a redraw: 30,000 glyphs done within the
+    interval draw the line once as they start and once at the end (a redraw per
+    glyph was 30,001 lines of output)."""
+    import io
+
+    from morph.cli.options import Progress
+
+    out = io.StringIO()
+    with Progress(30000, "glyphs", "morph stroke", stream=out, tty=True, interval=60) as bar:
+        for _ in range(30000):
+            bar.update(1)
+            bar.partial(0.5)
+            bar.partial(-0.5)
+    lines = out.getvalue().split("\r\033[K")[1:]
+    assert len(lines) == 2, len(lines)
+    assert lines[-1].startswith("morph stroke: 30000/30000 glyphs (100 %)")
+    assert lines[-1].endswith("\n")
+
+
 # =========================================================================== 6: --location
 
 def test_location_draws_the_glyph_without_instancing_the_font(tmp_path, monkeypatch):
