@@ -100,6 +100,12 @@ REPORTS = [
            quick=["--pairs", "hershey-sans:2", "--md", "{md}"],
            cost="4-10 min on an idle machine (every Make Me a Hanzi character), fetched with npm",
            snapshot=True),
+    Report("stroke_memory_sizes", "bench.stroke_memory",
+           ["--pairs", "hanzi-300:1,hanzi-300:2,hanzi-3000:1,hanzi-3000:2,hanzi-all:2,"
+            "hanzi-variants-30000:2", "--nice", "10", "--md", "{md}"],
+           quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
+           cost="15 min of CPU (~800 s: 30,000 glyphs take 500), skeleton sets fetched with npm",
+           snapshot=True),
     Report("stroke_overlaps", "bench.stroke_overlaps", ["--md", "{md}"],
            quick=["--runs", "hershey-sans:otf,noto-brush:ttf", "--unrounded", "", "--md",
                   "{md}"],
