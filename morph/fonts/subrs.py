@@ -143,9 +143,12 @@ def _tx(args, path):
     """``tx`` (cffsubr's) on the file ``path``; its output's bytes."""
     import cffsubr
 
+    run = getattr(cffsubr, "_run_embedded_tx", None)
+    if run is None:  # another cffsubr: the caller has it subroutinize the whole font
+        raise NotGrouped("this cffsubr does not run tx with arguments")
     try:
-        return cffsubr._run_embedded_tx(*args, path, check=True, stdout=subprocess.PIPE,
-                                        stderr=subprocess.PIPE).stdout
+        return run(*args, path, check=True, stdout=subprocess.PIPE,
+                   stderr=subprocess.PIPE).stdout
     except subprocess.CalledProcessError as exc:
         raise NotGrouped("tx: %s" % exc.stderr.decode(errors="replace").strip()) from exc
 
