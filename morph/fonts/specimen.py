@@ -123,7 +123,8 @@ def sample_text(font, text, length=OWN_SAMPLE_LENGTH, ink=None):
     """``(text, changed)``: the sample ``text`` when the font draws every character
     of it (a space needs a glyph, others ink too), else the font's own characters
     that have ink, in cmap order, at most ``length`` of them (``changed`` True): a
-    CJK skeleton font gets a sample of its own ideographs, not 15 .notdef boxes.
+    CJK skeleton font gets a sample of its own ideographs, not 15 .notdef boxes;
+    private use characters come after the others (an icon font's are all it has).
     ``font``: a ``TTFont``, a font file's path or a ufoLib2 font.  ``ink``: ``(cmap
     {code point: glyph name}, has_ink(glyph name))`` where the caller knows them (the
     writer of the font), else None: read from the font (its cmap and outlines)."""
@@ -135,14 +136,16 @@ def sample_text(font, text, length=OWN_SAMPLE_LENGTH, ink=None):
 
     if text and all(covered(ch) for ch in text):
         return text, False
-    own = []
+    own, private = [], []      # private use characters only where too few others
     for code in sorted(cmap):
         ch = chr(code)
-        if unicodedata.category(ch)[0] not in ("C", "Z") and has_ink(cmap[code]):
-            own.append(ch)
+        kind = unicodedata.category(ch)
+        if (kind[0] not in ("C", "Z") or kind == "Co" and len(private) < length) \
+                and has_ink(cmap[code]):
+            (private if kind == "Co" else own).append(ch)
             if len(own) == length:
                 break
-    return "".join(own), True
+    return "".join(own + private[:length - len(own)]), True
 
 
 def sample_locations(font_file):

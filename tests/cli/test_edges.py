@@ -402,6 +402,19 @@ def test_sample_text_kept_when_covered():
     assert changed and "一" not in text and text.startswith("!")  # its own, cmap order
 
 
+def test_sample_text_of_private_use_glyphs_after_the_others():
+    """A font of private use characters only (an icon font, Plane 15 glyphs) is
+    sampled with them, not with nothing; where there are others they come first."""
+    from morph.fonts.specimen import sample_text
+
+    pua = {0xF0000 + k: "u%05X" % (0xF0000 + k) for k in range(40)}
+    text, changed = sample_text(None, "Hamburg", ink=(pua, lambda name: True))
+    assert changed and text == "".join(chr(0xF0000 + k) for k in range(15))
+    mixed = {**pua, **{ord(c): c for c in "abc"}}
+    text, _ = sample_text(None, "Hamburg", ink=(mixed, lambda name: True))
+    assert text == "abc" + "".join(chr(0xF0000 + k) for k in range(12))
+
+
 def test_debug_file_goes_where_morph_debug_says(runner, tmp_path, monkeypatch):
     """MORPH_DEBUG naming a folder puts the debug file there, not in the working
     folder (MORPH_DEBUG=1: the working folder, as documented)."""
