@@ -53,6 +53,7 @@ from bench.stamp import commit, machine  # noqa: E402 - after sys.path
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 NIBS = {"broad": ("ellipse", 90.0, 20.0, 30.0), "round": ("disk", 60.0)}
+NIB_NAMES = {"broad": "ellipse 90 x 20 at 30 degrees", "round": "disk of diameter 60"}
 #: the phases a stroke_many + loops_to_beziers pass runs (startup, parse of the
 #: UFO, font tables, compile, sample are not in it)
 SHOWN = [p for p in ORDER if p not in ("startup", "font tables", "compile",
@@ -164,10 +165,14 @@ def markdown(nib_name, rows, argline, elapsed, repeat):
           "shared with other jobs." % (argline, commit(("morph", "bench")),
                                        time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
                                        machine(), elapsed, repeat), "",
-          "Relief SingleLine subset, %d glyphs (%d skeleton pieces), %s nib %s, "
+          "Relief SingleLine subset, %d glyphs (%d skeleton pieces), %s nib (%s), "
           "`stroke_many` + `loops_to_beziers` of all glyphs in one chunk, as "
-          "`bench/stroke.py` times them.  See the script's docstring for the columns."
-          % (rows[0]["glyphs"], rows[0]["pieces"], nib_name, NIBS[nib_name]), ""]
+          "`bench/stroke.py` times them.  See the script's docstring for the columns: "
+          "a chunk of n glyphs costs about *fixed* + n x *added*, from the times of the "
+          "62 glyphs and of the first 31; on a loaded machine these two carry the noise "
+          "of a difference (a small negative value is noise).  The calls are counted, "
+          "not timed: they do not depend on the load."
+          % (rows[0]["glyphs"], rows[0]["pieces"], nib_name, NIB_NAMES[nib_name]), ""]
     for r in rows:
         md += ["### tol %g" % r["tol"], "",
                "| phase | ms / glyph | ms per added glyph | ms per chunk (fixed) | "
