@@ -65,9 +65,10 @@ divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
 wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
 time divided by the chunk's glyphs is each glyph's export ms) and split back per
-glyph; the row's ms / glyph is stroke + export.  Each chunk is computed
-``--morph-repeat`` times (3) and each of the two times is the median of its passes:
-a single pass of 62 glyphs scattered by half on a loaded machine.  FontForge: ``glyph.stroke``
+glyph; the row's ms / glyph is stroke + export.  Every chunk at every tolerance is
+computed ``--morph-repeat`` times (3), in passes over all the settings, and each of
+the two times is the median of its passes: a single pass of 62 glyphs scattered by
+half on a loaded machine, and a busy spell then falls on one pass of every setting.  FontForge: ``glyph.stroke``
 inside FontForge; Skia: stroke + conic conversion + simplify.  Points per glyph
 are on- and off-curve points of the output contours (morph: lines and quadratics
 as the exporter returns them), the error is measured glyph by glyph.  A morph
@@ -238,24 +239,24 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
     chunks from 96 glyphs on, one below), the glyphs of a chunk stroked together
     (``stroke_many``), then
     all loops of the chunk exported in one ``loops_to_beziers(..., export_tol,
-    wrap=True)`` call and split back per glyph.  Each chunk is computed ``repeat``
-    times (:func:`_timed_chunk`): per glyph, the median of its chunk's stroke and of
-    its export CPU times, divided by the chunk's glyphs, and their sum (the ms
-    compared with the peers).  ``judge(contours, name, tol) -> (error, raw error)``
-    measures a glyph (default: :func:`measure` against ``refs``, both the same)."""
-    from morph.budget import plan
+    wrap=True)`` call and split back per glyph.  Every chunk at every tolerance is
+    computed ``repeat`` times, in passes over all of them (:func:`_timed_passes`): per
+    glyph, the median of its chunk's stroke and of its export CPU times, divided by
+    the chunk's glyphs, and their sum (the ms compared with the peers).
+    ``judge(contours, name, tol) -> (error, raw error)`` measures a glyph (default:
+    :func:`measure` against ``refs``, both the same)."""
     from morph.fonts.brush import glyph_chunks
     from morph.fonts.stroke import CHUNK
 
-    nib = nib_region(spec)
     judge = judge or _plain_judge(refs)
+    chunks = [(c, [decomposed_paths(font, n) for n in c])
+              for c in glyph_chunks(list(names), CHUNK)]
+    timed = _timed_passes(chunks, nib_region(spec), tols, repeat)
     rows = []
     for tol in tols:
-        geometry, export = plan(tol)[:2]
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
-        for chunk in glyph_chunks(list(names), CHUNK):
-            sets = [decomposed_paths(font, n) for n in chunk]
-            got = _timed_chunk(chunk, sets, nib, geometry, export, tol, repeat)
+        for chunk, _ in chunks:
+            got = timed[tol, chunk[0]]
             if isinstance(got, dict):
                 fails.append(got)
                 continue
@@ -277,36 +278,58 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
     return rows
 
 
-def _timed_chunk(chunk, sets, nib, geometry, export, tol, repeat):
-    """(regions, converted loops, stroke CPU s, export CPU s) of one chunk of glyphs
-    ``chunk`` with skeleton paths ``sets``: ``stroke_many`` then ``loops_to_beziers``
-    of all its loops, ``repeat`` passes, each time the median of the passes (a single
-    pass of a few dozen glyphs scatters by half on a loaded machine); the results of
-    the first pass (the passes compute the same).  A failure: the :func:`_failure`
-    of the first pass that raised."""
+def _timed_passes(chunks, nib, tols, repeat):
+    """{(tol, first glyph of the chunk): (regions, converted loops, stroke CPU s,
+    export CPU s)} of every chunk ``(names, skeleton paths)`` at every tolerance, or
+    the :func:`_failure` of its first failed pass.  ``repeat`` passes, each over every
+    tolerance and chunk in turn (:func:`_timed_chunk`), each time the median of the
+    passes: a busy spell of a loaded machine then falls on one pass of every setting,
+    not on all the passes of one (a single pass of 62 glyphs scattered by half); the
+    results of the first pass (the passes compute the same)."""
+    from morph.budget import plan
+
+    times = {}
+    for _ in range(max(1, repeat)):
+        for tol in tols:
+            geometry, export = plan(tol)[:2]
+            for chunk, sets in chunks:
+                key = (tol, chunk[0])
+                if isinstance(times.get(key), dict):
+                    continue
+                got = _timed_chunk(chunk, sets, nib, geometry, export, tol)
+                if isinstance(got, dict):
+                    times[key] = got
+                    continue
+                first = times.setdefault(key, [got[:2], [], []])
+                first[1].append(got[2])
+                first[2].append(got[3])
+    return {k: v if isinstance(v, dict) else v[0] + (float(np.median(v[1])),
+                                                      float(np.median(v[2])))
+            for k, v in times.items()}
+
+
+def _timed_chunk(chunk, sets, nib, geometry, export, tol):
+    """(regions, converted loops, stroke CPU s, export CPU s) of one pass over a chunk
+    of glyphs ``chunk`` with skeleton paths ``sets``: ``stroke_many`` then
+    ``loops_to_beziers`` of all its loops; a failure: its :func:`_failure`."""
     import traceback
 
     from morph.export import loops_to_beziers
     from morph.stroke import stroke_many
 
-    stroke_t, export_t, first = [], [], None
-    for _ in range(max(1, repeat)):
-        t0 = time.process_time()
-        try:
-            regions = stroke_many(sets, nib, geometry)
-        except Exception as exc:  # noqa: BLE001 - reported, not worked around
-            return _failure("stroke of the chunk %s-%s" % (chunk[0], chunk[-1]),
-                            None, tol, exc, traceback.format_exc())
-        t1 = time.process_time()
-        try:
-            converted = loops_to_beziers([lp for r in regions for lp in r], export, wrap=True)
-        except Exception as exc:  # noqa: BLE001 - reported, not worked around
-            return _failure("export of the chunk %s-%s" % (chunk[0], chunk[-1]),
-                            None, tol, exc, traceback.format_exc())
-        stroke_t.append(t1 - t0)
-        export_t.append(time.process_time() - t1)
-        first = first or (regions, converted)
-    return first + (float(np.median(stroke_t)), float(np.median(export_t)))
+    t0 = time.process_time()
+    try:
+        regions = stroke_many(sets, nib, geometry)
+    except Exception as exc:  # noqa: BLE001 - reported, not worked around
+        return _failure("stroke of the chunk %s-%s" % (chunk[0], chunk[-1]),
+                        None, tol, exc, traceback.format_exc())
+    t1 = time.process_time()
+    try:
+        converted = loops_to_beziers([lp for r in regions for lp in r], export, wrap=True)
+    except Exception as exc:  # noqa: BLE001 - reported, not worked around
+        return _failure("export of the chunk %s-%s" % (chunk[0], chunk[-1]),
+                        None, tol, exc, traceback.format_exc())
+    return regions, converted, t1 - t0, time.process_time() - t1
 
 
 def _failure(stage, name, tol, exc, tb):
@@ -827,8 +850,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "Times, two kinds, each the same for morph and FontForge: **in process** = the "
           "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
           "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
-          "compare it with FontForge's mean; each chunk computed %d times, the median of "
-          "its passes' CPU times; FontForge: `glyph.stroke` glyph by glyph; "
+          "compare it with FontForge's mean; each chunk computed %d times in passes over "
+          "all the settings, the median of its passes' CPU times; FontForge: `glyph.stroke` glyph by glyph; "
           "Skia: stroke + conic conversion + simplify); **whole command** = a whole "
           "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
           "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
