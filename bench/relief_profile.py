@@ -1,7 +1,7 @@
 """Where the milliseconds of a Relief glyph go in process, per phase, and how many
 Python calls each phase makes per glyph.
 
-    python -m bench.relief_profile [--tols 0.5,0.25] [--nib broad|round] [--repeat 5]
+    python -m bench.relief_profile [--tols 4,2,0.5,0.25] [--nib broad|round] [--repeat 5]
                                    [--md bench/relief_profile.md | --no-write]
 
 What is measured is what ``bench/stroke.py`` times in process: the Relief SingleLine
@@ -221,7 +221,7 @@ def _cells(r, p):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--tols", default="0.5,0.25")
+    ap.add_argument("--tols", default="4,2,0.5,0.25")
     ap.add_argument("--nib", default="broad", choices=sorted(NIBS))
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--md", default=str(ROOT / "bench" / "relief_profile.md"))
