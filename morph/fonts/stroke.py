@@ -902,7 +902,8 @@ class _StreamedGlyphs:
             if light:
                 from .tables_static import compile_static
 
-                otf = compile_static(self.font, self.store, self.kind, features=self.features)
+                otf = compile_static(self.font, self.store, self.kind,
+                                     features=self.features, **options)
             else:
                 otf = compile_stored(self.font, self.store, self.kind,
                                      features=self.features, **options)
