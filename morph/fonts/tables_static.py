@@ -735,14 +735,93 @@ class _Decomposer:
     each component's base (its own contours, then its components, recursively)
     through the component's transformation, into ``T2CharStringPen`` (rounding
     0.5, specialized).  ``shells``: every glyph of the font (those not exported
-    too: their outlines are drawn into the glyphs that use them)."""
+    too: their outlines are drawn into the glyphs that use them).
+
+    :meth:`__call__` does what that chain of pens does without the pens: each
+    glyph's own contours go once through the chain's segment pen
+    (``PointToSegmentPen``: the segments it draws, the closing line it leaves
+    implied) untransformed (:meth:`_segments`), then every point through each
+    transformation in turn, as ``TransformPointPen`` computes it, rounded and made
+    relative as ``T2CharStringPen`` makes it.  The segment pen's choices depend on
+    point types and on which points coincide, which an invertible transformation
+    keeps; for a singular one the pens themselves draw the glyph
+    (:meth:`with_pens`, also the reference of the tests)."""
 
     def __init__(self, shells, store):
-        self.shells, self.store, self.drawn = shells, store, {}
+        self.shells, self.store, self.drawn, self.segments = shells, store, {}, {}
 
     def __call__(self, name, width):
         """(program, bounds) of glyph ``name`` with the advance ``width`` (the
         charstring's, None for the default width)."""
+        from fontTools.misc.roundTools import otRound
+        from fontTools.pens.boundsPen import BoundsPen
+
+        commands, bounds, at = [], BoundsPen(None), [0, 0]
+
+        def rel(pt):
+            x, y = otRound(pt[0]), otRound(pt[1])
+            d = [x - at[0], y - at[1]]
+            at[:] = x, y
+            return d, (x, y)
+
+        try:
+            segments = list(self._placed(name, ()))
+        except _Singular:
+            return self.with_pens(name, width)
+        for op, pts in segments:
+            if op == "moveTo":
+                d, p = rel(pts[0])
+                commands.append(("rmoveto", d))
+                bounds.moveTo(p)
+            elif op == "lineTo":
+                d, p = rel(pts[0])
+                commands.append(("rlineto", d))
+                bounds.lineTo(p)
+            elif op == "curveTo" and len(pts) == 3:
+                (d1, p1), (d2, p2), (d3, p3) = rel(pts[0]), rel(pts[1]), rel(pts[2])
+                commands.append(("rrcurveto", d1 + d2 + d3))
+                bounds.curveTo(p1, p2, p3)
+            elif op == "closePath":
+                bounds.closePath()
+            elif op == "endPath":
+                bounds.endPath()
+            else:       # a segment T2CharStringPen would split: the pens draw it
+                return self.with_pens(name, width)
+        return _t2_program(commands, width), bounds.bounds
+
+    def _placed(self, name, transforms):
+        """The segments of ``name`` decomposed, each point through ``transforms``
+        (innermost first) as ``TransformPointPen`` maps it.
+
+        Raises:
+            _Singular: a component's transformation is singular.
+        """
+        for op, pts in self._segments(name):
+            for t in transforms:
+                xx, xy, yx, yy, dx, dy = t
+                pts = [(xx * x + yx * y + dx, xy * x + yy * y + dy) for x, y in pts]
+            yield op, pts
+        for c in self.shells[name].components:
+            if c.baseGlyph in self.shells:
+                t = tuple(c.transformation)
+                if t[0] * t[3] - t[1] * t[2] == 0:
+                    raise _Singular
+                yield from self._placed(c.baseGlyph, (t,) + transforms)
+
+    def _segments(self, name):
+        """``name``'s own stored contours as the chain's segment pen draws them."""
+        seg = self.segments.get(name)
+        if seg is None:
+            from fontTools.pens.pointPen import PointToSegmentPen
+            from fontTools.pens.recordingPen import RecordingPen
+
+            rec = RecordingPen()
+            self._own(name, PointToSegmentPen(rec))
+            seg = self.segments[name] = [(op, list(args)) for op, args in rec.value]
+        return seg
+
+    def with_pens(self, name, width):
+        """:meth:`__call__` drawn by the chain of pens itself."""
         from fontTools.pens.pointPen import PointToSegmentPen
 
         pen = bounded_t2_pen(width, None, roundTolerance=0.5)
@@ -775,6 +854,27 @@ class _Decomposer:
         for c in self.shells[name].components:
             if c.baseGlyph in self.shells:
                 self._decomposed(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
+
+
+class _Singular(Exception):
+    """A component's transformation is singular (see :class:`_Decomposer`)."""
+
+
+def _t2_program(commands, width):
+    """The Type 2 program ``T2CharStringPen.getCharString`` makes of its commands
+    (specialized, the advance ``width`` first where not None, ``endchar``)."""
+    from fontTools.cffLib.specializer import commandsToProgram, specializeCommands
+    from fontTools.misc.psCharStrings import T2CharString
+    from fontTools.misc.roundTools import otRound
+
+    program = commandsToProgram(specializeCommands(commands, generalizeFirst=False,
+                                                   maxstack=48))
+    if width is not None:
+        program.insert(0, otRound(width))
+    program.append("endchar")
+    cs = T2CharString(program=program)
+    cs.compile()
+    return cs.bytecode
 
 
 #: what ufo2ft strips from a production glyph name, and its longest one
@@ -826,30 +926,44 @@ def compile_static(font, store, kind, features=None, **options):
     ufoLib2 font of the same shells."""
     if features is None and font.features.text:
         features = parse_features(font)
-    if left_to_ufo2ft(font, kind, features) is not None:
+    compiler = _Compiler(font, store, kind == ".otf")
+    reason, kern = left_to_ufo2ft(font, kind, features, compiler.order, compiler.cmap)
+    if reason is not None:
         from ..parse.light_ufo import as_ufolib2
         from .stream import compile_stored
 
         return compile_stored(as_ufolib2(font), store, kind, features=features, **options)
-    otf = _Compiler(font, store, kind == ".otf").compile(features)
+    otf = compiler.compile(features, kern)
     otf.recalcBBoxes = False
     return otf
 
 
-def left_to_ufo2ft(font, kind, tree):
-    """Why the light font ``font`` is compiled by ufo2ft after all (None: it is
-    not): a TrueType font keeping components (ufo2ft's component flags and
-    metrics), or feature writers that would add to the feature file ``tree``
+def left_to_ufo2ft(font, kind, tree, order, cmap):
+    """``(reason, kern)``: why the light font ``font`` is compiled by ufo2ft after
+    all (None: it is not), and the writer of the kern feature ufo2ft would add to
+    the feature file ``tree`` (:class:`morph.fonts.kern_static.KernWriter`; None:
+    none to add).  ``order``: the exported glyphs in the font's order; ``cmap``:
+    code point -> glyph name.  Reasons: a TrueType font keeping components
+    (ufo2ft's component flags and metrics), kerning the kern writer here does not
+    cover, feature writers that would add to the file
     (:func:`morph.fonts.writers_static.writers_add_nothing`)."""
     skip = set(font.lib.get("public.skipExportGlyphs", ()))
     glyphs = [g for g in font if g.name not in skip]
     if kind == ".ttf" and any(g.components for g in glyphs):
-        return "components in a TrueType font"
+        return "components in a TrueType font", None
     if not font.kerning and not any(g.anchors for g in glyphs):
-        return None
-    from .writers_static import writers_add_nothing
+        return None, None
+    from .writers_static import feature_tags, writers_add_nothing
 
-    return writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes})
+    kern = None
+    if font.kerning and "kern" not in feature_tags(tree):
+        from .kern_static import KernWriter
+
+        kern = KernWriter(font, tree, order, cmap)
+        if kern.reason is not None:
+            return kern.reason, None
+    return writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes},
+                               kern_written=kern is not None), kern
 
 
 def parse_features(font):
@@ -894,7 +1008,7 @@ class _Compiler:
         self.bounds = {}   # CFF: glyph name -> its charstring's bounds
         self.names = production_names(font, self.order, glyphs)
 
-    def compile(self, features):
+    def compile(self, features, kern=None):
         otf = self.otf
         otf.setGlyphOrder(self.order)
         if self.cff:
@@ -915,7 +1029,7 @@ class _Compiler:
         if not self.cff:
             self._glyf_table()
             self._gasp()
-        self._features(features)
+        self._features(features, kern)
         if self.cff:
             self._cff()
         else:
@@ -1488,11 +1602,16 @@ class _Compiler:
         gasp.gaspRange = {r["rangeMaxPPEM"]: _int_list_to_num(r["rangeGaspBehavior"], 0, 4)
                           for r in records}
 
-    def _features(self, tree):
+    def _features(self, tree, kern=None):
         """The feature file as ufo2ft compiles it: parsed (:func:`parse_features`),
-        written out, built by feaLib."""
-        if not (self.ufo.features.text or ""):
+        the kern feature ufo2ft's writer would add written in (``kern``: a
+        :class:`morph.fonts.kern_static.KernWriter`), written out, built by
+        feaLib."""
+        written = kern is not None and kern.write()
+        if not (self.ufo.features.text or "") and not written:
             return
+        if written:
+            tree = kern.tree
         fea = (tree if tree is not None else parse_features(self.ufo)).asFea()
         if fea:
             from fontTools.feaLib.builder import addOpenTypeFeaturesFromString

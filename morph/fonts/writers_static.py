@@ -11,7 +11,8 @@ inputs.  :func:`writers_add_nothing` answers from the same inputs, conservativel
 - kerning (kern, dist): no kerning, or a ``kern`` feature in the file and no
   script the 'dist' feature serves (Indic, USE, Khmer, Myanmar) among the scripts
   the kern writer knows the font by (its code points of a single script and the
-  file's ``languagesystem`` scripts);
+  file's ``languagesystem`` scripts); a font with kerning and no kern feature has
+  it written by :mod:`morph.fonts.kern_static` where that covers it;
 - mark attachment (mark, mkmk, abvm, blwm): no anchors, or ``mark`` and ``mkmk``
   features in the file and no above/below-base mark script (Indic, USE, Khmer)
   that the writer would serve: of the file's ``languagesystem`` scripts where it
@@ -25,7 +26,7 @@ inputs.  :func:`writers_add_nothing` answers from the same inputs, conservativel
 
 import re
 
-__all__ = ["writers_add_nothing", "DIST_OR_ABVM_SCRIPTS"]
+__all__ = ["writers_add_nothing", "feature_tags", "DIST_OR_ABVM_SCRIPTS"]
 
 #: ufo2ft.constants' INDIC_SCRIPTS and USE_SCRIPTS, with Khmer and Myanmar: the
 #: scripts of the 'dist' feature (kern writer) and of 'abvm' / 'blwm' (mark writer)
@@ -39,6 +40,11 @@ DIST_OR_ABVM_SCRIPTS = frozenset(
     + ["Nko "])
 
 _MARKER = re.compile(r"automatic\s+code", re.IGNORECASE)
+
+
+def feature_tags(tree):
+    """The tags of the feature blocks of feaLib's tree ``tree`` (None: none)."""
+    return _fea_statements(tree)[0] if tree is not None else set()
 
 
 def _fea_statements(tree):
@@ -60,11 +66,13 @@ def _anchor_names(glyphs):
     return {a.name for g in glyphs for a in g.anchors if a.name}
 
 
-def writers_add_nothing(font, tree, glyphs, codes):
+def writers_add_nothing(font, tree, glyphs, codes, kern_written=False):
     """None where ufo2ft's feature writers would add nothing to the feature file
     ``tree`` (feaLib's parse of ``font``'s, None for no file) of the font whose
     exported glyphs are ``glyphs`` and whose cmap has the code points ``codes``;
-    else the reason (see the module docstring)."""
+    else the reason (see the module docstring).  ``kern_written``: the kern
+    feature ufo2ft would write is written already (:mod:`morph.fonts.kern_static`),
+    so that kerning without a kern feature in the file is no reason."""
     text = font.features.text or ""
     if _MARKER.search(text):
         return "an insertion marker in the feature file"
@@ -74,14 +82,14 @@ def writers_add_nothing(font, tree, glyphs, codes):
         return "ligature caret anchors (GDEF)"
     if "curs" not in tags and any(n.startswith(("entry", "exit")) for n in names):
         return "cursive anchors without a curs feature"
-    if font.kerning and "kern" not in tags:
+    if font.kerning and "kern" not in tags and not kern_written:
         return "kerning without a kern feature"
     if names and not {"mark", "mkmk"} <= tags:
         return "anchors without mark and mkmk features"
     if not font.kerning and not names:
         return None
     fea_iso = _iso_scripts(fea_scripts)
-    if font.kerning and "dist" not in tags and (
+    if font.kerning and "kern" in tags and "dist" not in tags and (
             _known_scripts(codes, fea_iso) & DIST_OR_ABVM_SCRIPTS):
         return "kerning in a script of the dist feature"
     if names and not {"abvm", "blwm"} <= tags and _abvm_scripts(codes, fea_iso):

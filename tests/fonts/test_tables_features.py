@@ -12,9 +12,12 @@ Sources:
   named in the lib) whose feature file is what ufo2ft's feature writers make of it
   (its kern, mark and mkmk features written out): ufo2ft's writers then add
   nothing, and morph builds every table itself (no ufo2ft, no ufoLib2 imported);
-- the Relief subset as it is: its kerning has no kern feature and its anchors no
-  mkmk feature, which ufo2ft's writers would write: the light font is compiled by
-  ufo2ft (from the ufoLib2 font of the same shells), with the same result;
+- the Relief subset as it is: its anchors have no mkmk feature, which ufo2ft's
+  mark writer would write: the light font is compiled by ufo2ft (from the ufoLib2
+  font of the same shells), with the same result;
+- the Relief subset without anchors: kerning and groups and no kern feature, which
+  morph writes as ufo2ft's kern writer does (morph.fonts.kern_static, compared
+  with ufo2ft's in test_kern_static.py);
 - a Hershey-like source with composites (one of a glyph not exported), production
   names (one invalid, one repeated) and one kerning pair with a kern feature.
 
@@ -61,6 +64,15 @@ def relief_as_is():
     return ufoLib2.Font.open(RELIEF_SUBSET, lazy=False)
 
 
+def relief_kerned():
+    """The Relief subset without its glyphs' anchors: kerning and groups with no
+    kern feature in the file, which morph writes (morph.fonts.kern_static)."""
+    font = relief_as_is()
+    for g in font:
+        g.anchors.clear()
+    return font
+
+
 def composites_like():
     """hershey_like with composites (Agrave: A and gravecomb moved; lcross: l and
     the unexported _bar), production names (A -> "A.alt"; "l" -> "l!", invalid
@@ -83,7 +95,7 @@ def composites_like():
     return font
 
 
-SOURCES = {"featured": relief_featured, "as_is": relief_as_is,
+SOURCES = {"featured": relief_featured, "as_is": relief_as_is, "kerned": relief_kerned,
            "composites": composites_like}
 
 
@@ -113,7 +125,8 @@ def ufo2ft_calls(monkeypatch):
 
 @pytest.mark.parametrize("name,kind,by_ufo2ft", [
     ("featured", ".otf", False), ("featured", ".ttf", True),
-    ("as_is", ".otf", True), ("composites", ".otf", False), ("composites", ".ttf", True)])
+    ("as_is", ".otf", True), ("kerned", ".otf", False), ("composites", ".otf", False),
+    ("composites", ".ttf", True)])
 def test_tables_equal_ufo2fts(saved, tmp_path, ufo2ft_calls, name, kind, by_ufo2ft):
     """The light font compiled by morph (or, ``by_ufo2ft``, left to ufo2ft) gives
     ufo2ft's font of the source read by ufoLib2."""
