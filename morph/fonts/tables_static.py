@@ -735,93 +735,14 @@ class _Decomposer:
     each component's base (its own contours, then its components, recursively)
     through the component's transformation, into ``T2CharStringPen`` (rounding
     0.5, specialized).  ``shells``: every glyph of the font (those not exported
-    too: their outlines are drawn into the glyphs that use them).
-
-    :meth:`__call__` does what that chain of pens does without the pens: each
-    glyph's own contours go once through the chain's segment pen
-    (``PointToSegmentPen``: the segments it draws, the closing line it leaves
-    implied) untransformed (:meth:`_segments`), then every point through each
-    transformation in turn, as ``TransformPointPen`` computes it, rounded and made
-    relative as ``T2CharStringPen`` makes it.  The segment pen's choices depend on
-    point types and on which points coincide, which an invertible transformation
-    keeps; for a singular one the pens themselves draw the glyph
-    (:meth:`with_pens`, also the reference of the tests)."""
+    too: their outlines are drawn into the glyphs that use them)."""
 
     def __init__(self, shells, store):
-        self.shells, self.store, self.drawn, self.segments = shells, store, {}, {}
+        self.shells, self.store, self.drawn = shells, store, {}
 
     def __call__(self, name, width):
         """(program, bounds) of glyph ``name`` with the advance ``width`` (the
         charstring's, None for the default width)."""
-        from fontTools.misc.roundTools import otRound
-        from fontTools.pens.boundsPen import BoundsPen
-
-        commands, bounds, at = [], BoundsPen(None), [0, 0]
-
-        def rel(pt):
-            x, y = otRound(pt[0]), otRound(pt[1])
-            d = [x - at[0], y - at[1]]
-            at[:] = x, y
-            return d, (x, y)
-
-        try:
-            segments = list(self._placed(name, ()))
-        except _Singular:
-            return self.with_pens(name, width)
-        for op, pts in segments:
-            if op == "moveTo":
-                d, p = rel(pts[0])
-                commands.append(("rmoveto", d))
-                bounds.moveTo(p)
-            elif op == "lineTo":
-                d, p = rel(pts[0])
-                commands.append(("rlineto", d))
-                bounds.lineTo(p)
-            elif op == "curveTo" and len(pts) == 3:
-                (d1, p1), (d2, p2), (d3, p3) = rel(pts[0]), rel(pts[1]), rel(pts[2])
-                commands.append(("rrcurveto", d1 + d2 + d3))
-                bounds.curveTo(p1, p2, p3)
-            elif op == "closePath":
-                bounds.closePath()
-            elif op == "endPath":
-                bounds.endPath()
-            else:       # a segment T2CharStringPen would split: the pens draw it
-                return self.with_pens(name, width)
-        return _t2_program(commands, width), bounds.bounds
-
-    def _placed(self, name, transforms):
-        """The segments of ``name`` decomposed, each point through ``transforms``
-        (innermost first) as ``TransformPointPen`` maps it.
-
-        Raises:
-            _Singular: a component's transformation is singular.
-        """
-        for op, pts in self._segments(name):
-            for t in transforms:
-                xx, xy, yx, yy, dx, dy = t
-                pts = [(xx * x + yx * y + dx, xy * x + yy * y + dy) for x, y in pts]
-            yield op, pts
-        for c in self.shells[name].components:
-            if c.baseGlyph in self.shells:
-                t = tuple(c.transformation)
-                if t[0] * t[3] - t[1] * t[2] == 0:
-                    raise _Singular
-                yield from self._placed(c.baseGlyph, (t,) + transforms)
-
-    def _segments(self, name):
-        """``name``'s own stored contours as the chain's segment pen draws them."""
-        seg = self.segments.get(name)
-        if seg is None:
-            from fontTools.pens.pointPen import PointToSegmentPen
-            from fontTools.pens.recordingPen import RecordingPen
-
-            rec = RecordingPen()
-            self._own(name, PointToSegmentPen(rec))
-            seg = self.segments[name] = [(op, list(args)) for op, args in rec.value]
-        return seg
-
-    def with_pens(self, name, width):
-        """:meth:`__call__` drawn by the chain of pens itself."""
         from fontTools.pens.pointPen import PointToSegmentPen
 
         pen = bounded_t2_pen(width, None, roundTolerance=0.5)
@@ -854,27 +775,6 @@ class _Decomposer:
         for c in self.shells[name].components:
             if c.baseGlyph in self.shells:
                 self._decomposed(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
-
-
-class _Singular(Exception):
-    """A component's transformation is singular (see :class:`_Decomposer`)."""
-
-
-def _t2_program(commands, width):
-    """The Type 2 program ``T2CharStringPen.getCharString`` makes of its commands
-    (specialized, the advance ``width`` first where not None, ``endchar``)."""
-    from fontTools.cffLib.specializer import commandsToProgram, specializeCommands
-    from fontTools.misc.psCharStrings import T2CharString
-    from fontTools.misc.roundTools import otRound
-
-    program = commandsToProgram(specializeCommands(commands, generalizeFirst=False,
-                                                   maxstack=48))
-    if width is not None:
-        program.insert(0, otRound(width))
-    program.append("endchar")
-    cs = T2CharString(program=program)
-    cs.compile()
-    return cs.bytecode
 
 
 #: what ufo2ft strips from a production glyph name, and its longest one
