@@ -1,8 +1,12 @@
 """The tables of a static font compiled from a UFO without ufo2ft: the tables
 ufo2ft's ``compileOTF`` / ``compileTTF`` write through
-:func:`morph.fonts.stream.compile_stored`, for the fonts that need nothing else of
-ufo2ft (read by :mod:`morph.parse.light_ufo`: no kerning, groups, anchors or
-components, no lib key ufo2ft reads, a feature file feaLib compiles as it is).
+:func:`morph.fonts.stream.compile_stored`, for the fonts read by
+:mod:`morph.parse.light_ufo` that need nothing else of ufo2ft
+(:func:`left_to_ufo2ft`): a CFF font, or a TrueType font keeping no components,
+whose feature file ufo2ft's feature writers would leave as it is
+(:mod:`morph.fonts.writers_static`) or complete with a kern feature that
+:mod:`morph.fonts.kern_static` writes as they do.  The others are compiled by ufo2ft
+from the ufoLib2 font of the same shells (:func:`compile_static`).
 
 ufo2ft's import costs a fifth of a second (its ``__init__`` loads its variable-font
 compilers and fontTools.varLib; ufoLib2 comes with it), more than the strokes of a
@@ -21,15 +25,20 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
   (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
   ``tx`` set as it sets them;
 - the name table is written here where all its records are Windows Unicode ones;
-- the feature file is parsed and written out again as ufo2ft does (its feature
-  writers add nothing to a font without kerning and anchors) and built by feaLib.
+- composites are decomposed into CFF charstrings as ufo2ft's compiler of the
+  stored outlines decomposes them (:class:`_Decomposer`); glyphs the lib names in
+  ``public.skipExportGlyphs`` are drawn into the glyphs that use them and left out;
+  ``public.postscriptNames`` rename the glyphs in the CFF charset or the post table
+  as ufo2ft's post-processor does (:func:`production_names`);
+- the feature file is parsed, completed with the kern feature where ufo2ft's writer
+  would write one, written out again as ufo2ft does and built by feaLib.
 
 So neither fontTools.cffLib nor fontTools' OpenType layout table classes (which
 its name table module loads) are imported for such a font: another tenth of a
 second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
 ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
-``tx`` output.  tests/fonts/test_tables_static.py compiles fonts both ways and
-compares them so.
+``tx`` output.  tests/fonts/test_tables_static.py and test_tables_features.py
+compile fonts both ways and compare them so.
 """
 
 import math
@@ -855,15 +864,15 @@ def left_to_ufo2ft(font, kind, tree, order, cmap):
         return None, None
     from .writers_static import feature_tags, writers_add_nothing
 
-    kern = None
-    if font.kerning and "kern" not in feature_tags(tree):
-        from .kern_static import KernWriter
+    to_write = bool(font.kerning) and "kern" not in feature_tags(tree)
+    reason = writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes},
+                                 kern_written=to_write)
+    if reason is not None or not to_write:
+        return reason, None
+    from .kern_static import KernWriter
 
-        kern = KernWriter(font, tree, order, cmap)
-        if kern.reason is not None:
-            return kern.reason, None
-    return writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes},
-                               kern_written=kern is not None), kern
+    kern = KernWriter(font, tree, order, cmap)
+    return kern.reason, (kern if kern.reason is None else None)
 
 
 def parse_features(font):
