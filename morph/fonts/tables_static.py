@@ -33,9 +33,10 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
 - the feature file is parsed, completed with the kern feature where ufo2ft's writer
   would write one, written out again as ufo2ft does and built by feaLib.
 
-So neither fontTools.cffLib nor fontTools' OpenType layout table classes (which
-its name table module loads) are imported for such a font: another tenth of a
-second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
+So for such a font without composites (whose CFF programs fontTools' charstring pen
+specializes) and layout features, neither fontTools.cffLib nor fontTools'
+OpenType layout table classes (which its name table module loads) are imported:
+another tenth of a second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
 ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
 ``tx`` output.  tests/fonts/test_tables_static.py and test_tables_features.py
 compile fonts both ways and compare them so.
@@ -967,6 +968,7 @@ class _Compiler:
     def _cff_programs(self):
         """glyph name -> (Type 2 program with its advance, bounds): the stored
         charstrings (unspecialized, :func:`morph.fonts.stream.compile_outlines`),
+        a glyph with components decomposed (:class:`_Decomposer`),
         ``endchar`` for an empty glyph, the ``.notdef`` rectangles drawn as
         ``T2CharStringPen`` draws them (its segments, unspecialized: the
         subroutinizer rewrites every charstring from its path, so that the font is

@@ -27,7 +27,8 @@ import plistlib
 import re
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
-           "read_contents", "read_light_font", "glif_shell"]
+           "LightAnchor", "LightComponent", "read_contents", "read_light_font",
+           "glif_shell", "as_ufolib2"]
 
 
 class NotLight(Exception):
