@@ -331,7 +331,11 @@ def read_light_font(path, glif, contour_counts):
         raise NotLight("feature file includes")
     glyphs = {}
     for name in contents:
-        glyph, count = glif_shell(name, glif(name))
+        try:
+            data = glif(name)
+        except OSError as exc:   # a missing or unreadable .glif: ufoLib2's to name
+            raise NotLight("glyph %r: %s" % (name, exc)) from exc
+        glyph, count = glif_shell(name, data)
         glyphs[name] = glyph
         contour_counts[name] = count
     return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs, groups, kerning)
