@@ -235,7 +235,7 @@ def main():
     if opt.worker:
         worker(json.loads(opt.worker))
         return
-    ufo = opt.ufo or relief_ufo()
+    ufo = Path(opt.ufo).resolve() if opt.ufo else relief_ufo()
     t0 = time.time()
     rows = {"morph": measure("morph", ufo, opt.kind, opt.repeat),
             "ufo2ft": measure("ufo2ft", ufo, opt.kind, opt.repeat)}
