@@ -471,7 +471,7 @@ def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, p
 #: quadrature nodes; cu2qu for TrueType outlines), imported before worker processes
 #: are forked so that they share them (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.minkowski", "morph.fonts.tables", "morph.export",
-                   "numpy.polynomial.legendre")
+                   "morph.quadrature")
 _QUADRATIC = ("fontTools.cu2qu",)
 
 
