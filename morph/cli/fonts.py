@@ -243,10 +243,10 @@ def _checked_nib(make):
 def _glyph_items(spec, everything=None):
     """--glyphs as characters and names; None for every glyph (no spec, or the word
     ``everything``).  InputError when it selects nothing."""
-    from ..fonts.brush import parse_glyph_spec
-
     if spec is None or (everything and spec.strip().lower() == everything):
         return None
+    from ..fonts.brush import parse_glyph_spec
+
     items = parse_glyph_spec(spec)
     if not items:
         raise InputError("--glyphs selects no glyph")
