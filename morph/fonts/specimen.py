@@ -39,12 +39,12 @@ SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
 SAMPLE_MARGIN = 72  # CSS px kept free below the sample line (descenders)
 
 
-def _escape(text):
-    """``text`` for HTML text and attribute values: ``&``, ``<``, ``>`` and both
-    quotes as entities (what ``html.escape`` does, without importing the ``html``
-    package and its table of entities)."""
-    return (text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-            .replace('"', "&quot;").replace("'", "&#x27;"))
+def _escape(text, quote=True):
+    """``text`` for HTML text and attribute values: ``&``, ``<``, ``>`` and (with
+    ``quote``) both quotes as entities, what ``html.escape`` does, without importing
+    the ``html`` package and its table of entities."""
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return text.replace('"', "&quot;").replace("'", "&#x27;") if quote else text
 
 
 def save_png(img, png):

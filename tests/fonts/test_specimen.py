@@ -173,3 +173,4 @@ def test_specimen_escapes_as_html_escape():
 
     for text in ("a&b<c>d\"e'f", "&amp;", "plain", "", "<'\">&"):
         assert _escape(text) == html.escape(text, quote=True)
+        assert _escape(text, quote=False) == html.escape(text, quote=False)
