@@ -249,11 +249,11 @@ def _variable_sample(data, text, png, px, spots):
 
 def write_sample_image(font, text, png, px=SAMPLE_PX):
     """Set ``text`` in a font with Pillow at ``px`` pixels, black on white with a
-    quarter-size margin, and save it to ``png``; returns the image.  ``font``: a
-    path or binary file object of a font file (.ttf, .otf, .woff, .woff2), a
-    fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).  A variable font
-    is shown at a few axis positions (:func:`sample_locations`), one labelled line
-    each."""
+    quarter-size margin, and save it to ``png`` (:func:`save_png`); returns the
+    image.  ``font``: a path or binary file object of a font file (.ttf, .otf,
+    .woff, .woff2), a fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).
+    A variable font is shown at a few axis positions (:func:`sample_locations`),
+    one labelled line each."""
     from PIL import Image, ImageDraw, ImageFont
 
     src = _sfnt_file(font)
