@@ -797,7 +797,7 @@ _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
-                   "morph.fonts.stream", "numpy.polynomial.legendre", "morph.parse.light_ufo")
+                   "morph.fonts.stream", "morph.quadrature", "morph.parse.light_ufo")
 _COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
