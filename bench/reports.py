@@ -96,6 +96,8 @@ REPORTS = [
     Report("relief_profile", "bench.relief_profile", ["--md", "{md}"],
            quick=["--tols", "1", "--repeat", "1", "--md", "{md}"], cost="2-4 min",
            snapshot=True),
+    Report("compile_profile", "bench.compile_profile", ["--md", "{md}"],
+           quick=["--repeat", "1", "--md", "{md}"], cost="2-4 min", snapshot=True),
     Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
            quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
