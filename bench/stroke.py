@@ -65,7 +65,10 @@ divided by the chunk's glyphs is each glyph's stroke ms), then
 all loops of the chunk exported in one ``loops_to_beziers(loops, export_tol,
 wrap=True)`` call (the segment searches of all loops in lockstep; the call's CPU
 time divided by the chunk's glyphs is each glyph's export ms) and split back per
-glyph; the row's ms / glyph is stroke + export.  FontForge: ``glyph.stroke``
+glyph; the row's ms / glyph is stroke + export.  Every chunk at every tolerance is
+computed ``--morph-repeat`` times (3), in passes over all the settings, and each of
+the two times is the median of its passes: a single pass of 62 glyphs scattered by
+half on a loaded machine, and a busy spell then falls on one pass of every setting.  FontForge: ``glyph.stroke``
 inside FontForge; Skia: stroke + conic conversion + simplify.  Points per glyph
 are on- and off-curve points of the output contours (morph: lines and quadratics
 as the exporter returns them), the error is measured glyph by glyph.  A morph
@@ -230,55 +233,39 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 
 # =========================================================================== part 2
 
-def run_morph(font, names, spec, tols, refs, judge=None):
+def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
     """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
     one process): the glyphs in the command's chunks of at most ``CHUNK`` (96; two
     chunks from 96 glyphs on, one below), the glyphs of a chunk stroked together
     (``stroke_many``), then
     all loops of the chunk exported in one ``loops_to_beziers(..., export_tol,
-    wrap=True)`` call and split back per glyph.  Per glyph: the chunk's stroke and
-    export CPU times divided by its number of glyphs, and their sum (the ms compared
-    with the peers).  ``judge(contours, name, tol) -> (error, raw error)`` measures a
-    glyph (default: :func:`measure` against ``refs``, both the same)."""
-    import traceback
-
-    from morph.budget import plan
-    from morph.export import loops_to_beziers
+    wrap=True)`` call and split back per glyph.  Every chunk at every tolerance is
+    computed ``repeat`` times, in passes over all of them (:func:`_timed_passes`): per
+    glyph, the median of its chunk's stroke and of its export CPU times, divided by
+    the chunk's glyphs, and their sum (the ms compared with the peers).
+    ``judge(contours, name, tol) -> (error, raw error)`` measures a glyph (default:
+    :func:`measure` against ``refs``, both the same)."""
     from morph.fonts.brush import glyph_chunks
     from morph.fonts.stroke import CHUNK
-    from morph.stroke import stroke_many
 
-    nib = nib_region(spec)
     judge = judge or _plain_judge(refs)
+    chunks = [(c, [decomposed_paths(font, n) for n in c])
+              for c in glyph_chunks(list(names), CHUNK)]
+    timed = _timed_passes(chunks, nib_region(spec), tols, repeat)
     rows = []
     for tol in tols:
-        geometry, export = plan(tol)[:2]
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
-        for chunk in glyph_chunks(list(names), CHUNK):
-            sets = [decomposed_paths(font, n) for n in chunk]
-            t0 = time.process_time()
-            try:
-                regions = stroke_many(sets, nib, geometry)
-            except Exception as exc:  # noqa: BLE001 - reported, not worked around
-                fails.append(_failure("stroke of the chunk %s-%s" % (chunk[0], chunk[-1]),
-                                      None, tol, exc, traceback.format_exc()))
+        for chunk, _ in chunks:
+            got = timed[tol, chunk[0]]
+            if isinstance(got, dict):
+                fails.append(got)
                 continue
-            secs = (time.process_time() - t0) / len(chunk)
-            done = [(n, region, secs) for n, region in zip(chunk, regions)]
-            loops = [loop for _, region, _ in done for loop in region]
-            t0 = time.process_time()
-            try:
-                converted = loops_to_beziers(loops, export, wrap=True)
-            except Exception as exc:  # noqa: BLE001 - reported, not worked around
-                fails.append(_failure("export of the chunk %s-%s" % (done[0][0], done[-1][0]),
-                                      None, tol, exc, traceback.format_exc()))
-                continue
-            share = (time.process_time() - t0) / len(done)
+            regions, converted, secs, share = got
             it = iter(converted)
-            for n, region, secs in done:
+            for n, region in zip(chunk, regions):
                 contours = [next(it) for _ in region]
-                stroke_s.append(secs)
-                export_s.append(share)
+                stroke_s.append(secs / len(chunk))
+                export_s.append(share / len(chunk))
                 points.append(sum(len(s) - 1 for segs in contours for s in segs))
                 errs.append((n,) + tuple(judge(contours, n, tol)))
         row = summary("morph", "tol %g" % tol, [a + b for a, b in zip(stroke_s, export_s)],
@@ -286,8 +273,63 @@ def run_morph(font, names, spec, tols, refs, judge=None):
         row["stroke_ms"] = 1000 * float(np.mean(stroke_s)) if stroke_s else float("nan")
         row["export_ms"] = 1000 * float(np.mean(export_s)) if export_s else float("nan")
         row["tracebacks"] = [f["long"] for f in fails]
+        row["repeat"] = repeat
         rows.append(row)
     return rows
+
+
+def _timed_passes(chunks, nib, tols, repeat):
+    """{(tol, first glyph of the chunk): (regions, converted loops, stroke CPU s,
+    export CPU s)} of every chunk ``(names, skeleton paths)`` at every tolerance, or
+    the :func:`_failure` of its first failed pass.  ``repeat`` passes, each over every
+    tolerance and chunk in turn (:func:`_timed_chunk`), each time the median of the
+    passes: a busy spell of a loaded machine then falls on one pass of every setting,
+    not on all the passes of one (a single pass of 62 glyphs scattered by half); the
+    results of the first pass (the passes compute the same)."""
+    from morph.budget import plan
+
+    times = {}
+    for _ in range(max(1, repeat)):
+        for tol in tols:
+            geometry, export = plan(tol)[:2]
+            for chunk, sets in chunks:
+                key = (tol, chunk[0])
+                if isinstance(times.get(key), dict):
+                    continue
+                got = _timed_chunk(chunk, sets, nib, geometry, export, tol)
+                if isinstance(got, dict):
+                    times[key] = got
+                    continue
+                first = times.setdefault(key, [got[:2], [], []])
+                first[1].append(got[2])
+                first[2].append(got[3])
+    return {k: v if isinstance(v, dict) else v[0] + (float(np.median(v[1])),
+                                                      float(np.median(v[2])))
+            for k, v in times.items()}
+
+
+def _timed_chunk(chunk, sets, nib, geometry, export, tol):
+    """(regions, converted loops, stroke CPU s, export CPU s) of one pass over a chunk
+    of glyphs ``chunk`` with skeleton paths ``sets``: ``stroke_many`` then
+    ``loops_to_beziers`` of all its loops; a failure: its :func:`_failure`."""
+    import traceback
+
+    from morph.export import loops_to_beziers
+    from morph.stroke import stroke_many
+
+    t0 = time.process_time()
+    try:
+        regions = stroke_many(sets, nib, geometry)
+    except Exception as exc:  # noqa: BLE001 - reported, not worked around
+        return _failure("stroke of the chunk %s-%s" % (chunk[0], chunk[-1]),
+                        None, tol, exc, traceback.format_exc())
+    t1 = time.process_time()
+    try:
+        converted = loops_to_beziers([lp for r in regions for lp in r], export, wrap=True)
+    except Exception as exc:  # noqa: BLE001 - reported, not worked around
+        return _failure("export of the chunk %s-%s" % (chunk[0], chunk[-1]),
+                        None, tol, exc, traceback.format_exc())
+    return regions, converted, t1 - t0, time.process_time() - t1
 
 
 def _failure(stage, name, tol, exc, tb):
@@ -619,7 +661,7 @@ def skeleton_set(name, opt, workdir):
     # in-process, as the command strokes chunks (a chunk's glyphs are computed
     # together: its CPU time divided by its glyphs is each glyph's)
     judge = _narrow_judge(refs, tol, keys)
-    out["rows"] += run_morph(font, names, spec, [tol], refs, judge)
+    out["rows"] += run_morph(font, names, spec, [tol], refs, judge, opt.morph_repeat)
     ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
                             refs, judge)
     out["rows"] += ff
@@ -688,7 +730,8 @@ def sets_markdown(opt, sets, elapsed):
           "the computation alone: for morph `stroke_many` + `loops_to_beziers` by the "
           "command's chunks (`bench.stroke.run_morph`; a chunk's glyphs are computed "
           "together, so morph has a mean per glyph, not a median: compare it with "
-          "FontForge's mean; FontForge's median is beside it), for FontForge "
+          "FontForge's mean; FontForge's median is beside it; each chunk computed "
+          "%d times, the median of its passes), for FontForge "
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
           "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
           "command** = a whole process divided by the glyphs: for morph `morph stroke "
@@ -704,7 +747,7 @@ def sets_markdown(opt, sets, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
+          % (opt.morph_repeat, opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
           "The Clipper references and FontForge's results (outlines, times, and their "
           "errors) do not depend on morph's code: they come from the bench cache "
           "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
@@ -807,7 +850,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "Times, two kinds, each the same for morph and FontForge: **in process** = the "
           "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
           "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
-          "compare it with FontForge's mean; FontForge: `glyph.stroke` glyph by glyph; "
+          "compare it with FontForge's mean; each chunk computed %d times in passes over "
+          "all the settings, the median of its passes' CPU times; FontForge: `glyph.stroke` glyph by glyph; "
           "Skia: stroke + conic conversion + simplify); **whole command** = a whole "
           "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
           "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
@@ -816,7 +860,8 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "and FontForge's results and errors come from the bench cache "
           "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
           "tolerance and peer version; the notes at the end say when and at which commit "
-          "they were measured.  morph is measured in every run." % opt.glyphs, ""]
+          "they were measured.  morph is measured in every run."
+          % (opt.morph_repeat, opt.glyphs), ""]
     if acc:
         md += ["## Accuracy of the written fonts", "",
                "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
@@ -898,6 +943,8 @@ def main(argv=None):
     ap.add_argument("--no-accuracy", action="store_true")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--morph-repeat", type=int, default=3,
+                    help="passes of each chunk of morph's in-process rows (the median)")
     ap.add_argument("--sets", default=None,
                     help="skeleton sets of bench/skeletons.py for part 3 (default: %s with "
                          "--only-sets, none without)" % ",".join(SETS))
@@ -950,7 +997,7 @@ def main(argv=None):
         scales = [float(v) for v in opt.skia_scales.split(",")]
         for spec, title in ((BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
                             (ROUND, "Round nib: disk of diameter 60")):
-            rows = run_morph(font, names, spec, tols, refs[spec])
+            rows = run_morph(font, names, spec, tols, refs[spec], repeat=opt.morph_repeat)
             with tempfile.TemporaryDirectory() as tmp:
                 for r, tol in zip(rows, tols):
                     cpu, _, line, rc = _time_command(

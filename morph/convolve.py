@@ -550,12 +550,14 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
-def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of):
+def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of, stacked=False):
     """Algorithm 4.1's subdivision of curve + curve pairs (tables ``ta``, ``tb``; pair
     rows ``i``, ``j`` over the angle ranges [lo, hi], B's angles shifted by ``off``;
     ``tol`` per row), one batch per pair of piece degrees: yields the
     :func:`morph.subdivide.subdivide_nodes` result (accepted nodes, their
-    ``piece_of`` results, bounds) of each batch."""
+    ``piece_of`` results, bounds) of each batch (``stacked``: ``piece_of`` works on
+    arrays, as :func:`morph.qac.piece_stacks`, and the pieces come as a
+    :class:`morph.piece.Pieces`)."""
     ta_lo, ta_hi = ta.params_many([(i, lo), (i, hi)])
     tb_lo, tb_hi = tb.params_many([(j, lo - off), (j, hi - off)])
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
@@ -568,7 +570,7 @@ def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of):
                  "t0": np.zeros(len(rows)), "t1": np.ones(len(rows)), "pos": pos[rows],
                  "tol": tol[rows]}
         yield subdivide_nodes(nodes, piece_of, qac.bound_nodes, qac.split_nodes,
-                              float(tol[rows].min()), max_depth)
+                              float(tol[rows].min()), max_depth, stacked)
 
 
 def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
@@ -583,7 +585,7 @@ def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """
     names = np.array(qac.KIND_NAMES, object)
     for done, pieces, bounds in qac_batches(ta, tb, pos, i, j, lo, hi, off, tol[pos],
-                                            max_depth, qac.piece_nodes):
+                                            max_depth, qac.piece_stacks, stacked=True):
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         forward = done["sb"] > 0
         base = out.count

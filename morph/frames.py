@@ -342,13 +342,13 @@ def _node_sets(nodes):
         if len(rows):
             a, b, same = ca[rows], cb[rows], sa[rows] == sb[rows]
             _put(out, rows, _two_term_stack(
-                _corner_pieces(a, _at_origin(b), same, long_is_b),
-                _corner_pieces(_at_origin(a), b, same, long_is_b)))
+                qac.corner_pieces(a, _at_origin(b), same, long_is_b),
+                qac.corner_pieces(_at_origin(a), b, same, long_is_b)))
     rows = np.flatnonzero(kind == qac.CHORD)
     if len(rows):
         a, b, same = ca[rows], cb[rows], sa[rows] == sb[rows]
-        _put(out, rows, _two_term_stack(_chord_pieces(a, _at_origin(b), same),
-                                        _chord_pieces(_at_origin(a), b, same)))
+        _put(out, rows, _two_term_stack(qac.chord_pieces(a, _at_origin(b), same),
+                                        qac.chord_pieces(_at_origin(a), b, same)))
     for sw in (False, True):
         sel = np.flatnonzero((kind == qac.QAC) & (swap == sw))
         if len(sel):
@@ -364,42 +364,6 @@ def _node_sets(nodes):
 def _put(out, rows, stack):
     """out[rows[k]] = stack[k] (its rows, views), in one C-level pass."""
     list(map(out.__setitem__, rows.tolist(), stack))
-
-
-def _ends(stack):
-    """(start, end) points (k, 2) of a stack of pieces (:func:`morph.piece.start`,
-    :func:`morph.piece.end` row by row)."""
-    return stack[:, 0, :2] / stack[:, 0, 2:], stack[:, -1, :2] / stack[:, -1, 2:]
-
-
-def _corner_pieces(ca, cb, same, long_is_b):
-    """:func:`morph.qac._corner_piece` of rows of stacks (``same``: sa == sb), the
-    same operations row by row."""
-    short, long_ = (ca, cb) if long_is_b else (cb, ca)
-    s0, s1 = _ends(short)
-    m0 = np.where(same[:, None], s0, s1)
-    m1 = np.where(same[:, None], s1, s0)
-    moved = np.array(long_, float)
-    moved[:, :, 0] += s0[:, 0:1] * moved[:, :, 2]
-    moved[:, :, 1] += s0[:, 1:2] * moved[:, :, 2]
-    l0, l1 = _ends(long_)
-    moved[:, 0, :2] = (l0 + m0) * moved[:, 0, 2:]
-    moved[:, -1, :2] = (l1 + m1) * moved[:, -1, 2:]
-    if long_is_b:
-        moved[~same] = moved[~same][:, ::-1]
-    return moved
-
-
-def _chord_pieces(ca, cb, same):
-    """The pieces of :func:`morph.qac.chord_piece` of rows of stacks (``same``:
-    sa == sb): lines (k, 2, 3)."""
-    a0, a1 = _ends(ca)
-    c0, c1 = _ends(cb)
-    b0 = np.where(same[:, None], c0, c1)
-    b1 = np.where(same[:, None], c1, c0)
-    out = np.ones((len(ca), 2, 3))
-    out[:, 0, :2], out[:, 1, :2] = a0 + b0, a1 + b1
-    return out
 
 
 def _two_term_stack(piece_a, piece_b):

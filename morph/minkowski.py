@@ -339,30 +339,32 @@ def _tip_tolerances(out, conv, tol):
     worst = float(bounds.max(initial=0.0))
     if worst <= 0 or not out:
         return {}
-    rows = conv.row
-    finer = {}
-    for cos_half, near in _corners_near(out, conv, tol, worst / (CONV_SHARE * tol)):
-        want = CONV_SHARE * tol * TIP_MARGIN * max(cos_half, TIP_FLOOR)
-        for r in unique(rows[near & (bounds > want)]):
-            finer[int(r)] = min(finer.get(int(r), np.inf), want)
-    return finer
-
-
-def _corners_near(out, conv, tol, below=1.0):
-    """(cos(phi / 2), mask of the pieces of ``conv`` through it) for each junction of
-    ``out`` whose cos(phi / 2) is below ``below``: the pieces whose control-point
-    box comes within TIP_REACH tol of the junction (a superset: the corner was found
-    on polylines within (FLAT_SHARE + GRID_SHARE) tol of them)."""
     pts, cos_half = _corners(out)
-    sharp = np.nonzero(cos_half < below)[0]
+    sharp = np.flatnonzero(cos_half < worst / (CONV_SHARE * tol))
     if not len(sharp):
-        return
-    boxes = pc.bboxes(conv.pieces)
-    reach = TIP_REACH * tol
-    for k in sharp:
-        x, y = pts[k]
-        yield cos_half[k], ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
-                            & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
+        return {}
+    want = CONV_SHARE * tol * TIP_MARGIN * np.maximum(cos_half[sharp], TIP_FLOOR)
+    corner, piece = _corners_near(pts[sharp], pc.bboxes(conv.pieces), TIP_REACH * tol)
+    hit = bounds[piece] > want[corner]
+    rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
+    finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
+    np.minimum.at(finer, at, want[corner[hit]])
+    return dict(zip(rows.tolist(), finer.tolist()))
+
+
+def _corners_near(pts, boxes, reach):
+    """(corner, piece) index pairs: the boxes (k, 4) that come within ``reach`` of
+    the points ``pts`` (j, 2), compared in blocks of about _BLOCK pairs."""
+    step = max(1, _BLOCK // max(len(boxes), 1))
+    corner, piece = [], []
+    for c in range(0, len(pts), step):
+        x, y = pts[c:c + step, 0:1], pts[c:c + step, 1:2]
+        near = ((boxes[:, 0] - reach <= x) & (x <= boxes[:, 2] + reach)
+                & (boxes[:, 1] - reach <= y) & (y <= boxes[:, 3] + reach))
+        i, j = np.nonzero(near)
+        corner.append(i + c)
+        piece.append(j)
+    return np.concatenate(corner), np.concatenate(piece)
 
 
 def _achieved_bound(out, conv, tol, method):
@@ -418,8 +420,10 @@ _BLOCK = 1 << 20
 def _corners(out):
     """Junction points of the loops of ``out`` and cos(phi / 2) of the turn phi there."""
     pieces = [p for loop in out for p in loop]
-    nxt = np.concatenate([np.roll(np.arange(len(loop)), -1) for loop in out])
-    nxt += np.repeat(np.cumsum([0] + [len(loop) for loop in out[:-1]]), [len(l) for l in out])
+    lens = np.fromiter(map(len, out), np.int64, len(out))
+    ends = np.cumsum(lens) - 1
+    nxt = np.arange(1, len(pieces) + 1)      # each piece's successor in its loop
+    nxt[ends] = ends - lens + 1
     first, last = pc.end_tangents_many(pieces, strict=False)
     dot = np.einsum("ij,ij->i", last, first[nxt])
     pts = pc.end_points(pieces)[1]

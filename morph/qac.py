@@ -434,24 +434,105 @@ def chord_piece(ca, cb, sa, sb):
 
 def piece_nodes(nodes):
     """The pieces of nodes accepted by :func:`bound_nodes`, each along ca (its
-    direction of travel): a list, None where a QAC piece has a weight <= 0."""
+    direction of travel): a list, None where a QAC piece has a weight <= 0
+    (:func:`piece_stacks`'s pieces, row views of its stacks)."""
+    ok, groups = piece_stacks(nodes)
+    out = [None] * len(ok)
+    for rows, stack in groups:
+        list(map(out.__setitem__, rows.tolist(), stack))
+    return out
+
+
+def piece_stacks(nodes):
+    """:func:`piece_nodes` on arrays: (ok, groups), ``ok`` (k,) True for the nodes
+    with a piece, ``groups`` [(rows, stack (len(rows), m+1, 3))] their pieces, each
+    node of ``ok`` in one group: the corners (by role), the chords and the QAC pieces
+    (by role and form), each kind built for all its nodes at once
+    (:func:`corner_pieces`, :func:`chord_pieces`, :func:`qac_stacks`)."""
     ca, cb, sa, sb = nodes["ca"], nodes["cb"], nodes["sa"], nodes["sb"]
     kind, swap = nodes["kind"], nodes["swap"]
-    out = [None] * len(ca)
-    for r in np.nonzero(kind == CORNER)[0]:
-        out[r] = _corner_piece(ca[r], cb[r], sa[r], sb[r], swap[r])
-    for r in np.nonzero(kind == CHORD)[0]:
-        out[r] = chord_piece(ca[r], cb[r], sa[r], sb[r])[0]
+    same = sa == sb
+    groups = []
+    for long_is_b in (False, True):
+        rows = np.flatnonzero((kind == CORNER) & (swap == long_is_b))
+        if len(rows):
+            groups.append((rows, corner_pieces(ca[rows], cb[rows], same[rows], long_is_b)))
+    rows = np.flatnonzero(kind == CHORD)
+    if len(rows):
+        groups.append((rows, chord_pieces(ca[rows], cb[rows], same[rows])))
     for sw in (False, True):
-        sel = np.nonzero((kind == QAC) & (swap == sw))[0]
+        sel = np.flatnonzero((kind == QAC) & (swap == sw))
         if not len(sel):
             continue
-        for r, piece in zip(sel, qac_pieces((cb if sw else ca)[sel], nodes["q2"][sel])):
-            if not np.all(piece[:, 2] > 0):
-                continue
+        for rows, stack in qac_stacks((cb if sw else ca)[sel], nodes["q2"][sel]):
             # C1 = cb runs against ca where the two turn opposite ways
-            out[r] = pc.reverse(piece) if (sw and sa[r] != sb[r]) else piece
+            back = ~same[sel[rows]] if sw else np.zeros(len(rows), bool)
+            if back.any():
+                stack[back] = stack[back][:, ::-1]
+            groups.append((sel[rows], stack))
+    ok = np.zeros(len(ca), bool)
+    for rows, _ in groups:
+        ok[rows] = True
+    return ok, groups
+
+
+def _ends(stack):
+    """(start, end) points (k, 2) of a stack of pieces (:func:`morph.piece.start`,
+    :func:`morph.piece.end` row by row)."""
+    return stack[:, 0, :2] / stack[:, 0, 2:], stack[:, -1, :2] / stack[:, -1, 2:]
+
+
+def corner_pieces(ca, cb, same, long_is_b):
+    """:func:`_corner_piece` of the rows of stacks ``ca``, ``cb`` (``same``: sa == sb
+    row by row), the same operations on arrays: (k, n+1, 3)."""
+    short, long_ = (ca, cb) if long_is_b else (cb, ca)
+    s0, s1 = _ends(short)
+    m0 = np.where(same[:, None], s0, s1)
+    m1 = np.where(same[:, None], s1, s0)
+    moved = np.array(long_, float)
+    moved[:, :, 0] += s0[:, 0:1] * moved[:, :, 2]
+    moved[:, :, 1] += s0[:, 1:2] * moved[:, :, 2]
+    l0, l1 = _ends(long_)
+    moved[:, 0, :2] = (l0 + m0) * moved[:, 0, 2:]
+    moved[:, -1, :2] = (l1 + m1) * moved[:, -1, 2:]
+    if long_is_b:
+        moved[~same] = moved[~same][:, ::-1]
+    return moved
+
+
+def chord_pieces(ca, cb, same):
+    """The pieces of :func:`chord_piece` of the rows of stacks (``same``: sa == sb
+    row by row): lines (k, 2, 3)."""
+    a0, a1 = _ends(ca)
+    c0, c1 = _ends(cb)
+    out = np.ones((len(ca), 2, 3))
+    out[:, 0, :2] = a0 + np.where(same[:, None], c0, c1)
+    out[:, 1, :2] = a1 + np.where(same[:, None], c1, c0)
     return out
+
+
+def qac_stacks(c1, q2):
+    """The pieces of :func:`qac_pieces` whose weights are all positive, as groups
+    [(rows of c1, stack)]: the polynomial and the rational rows each in one stack;
+    a row whose tangent numerator vanishes at an end (its zero divided out, a lower
+    degree) in a group of its own."""
+    groups = []
+    poly = pc.is_polynomial_many(c1)
+    for sel, rational in ((poly, False), (~poly, True)):
+        rows = np.flatnonzero(sel)
+        if not len(rows):
+            continue
+        h = pc.tangent_numerator_many(c1[rows], rational)
+        odd = pc.end_zero_rows(h)
+        res = _qac_from_numerator(c1[rows], h, q2[rows])
+        good = (res[:, :, 2] > 0).all(axis=1) & ~odd
+        if good.any():
+            groups.append((rows[good], res[good]))
+        for r in rows[odd].tolist():
+            piece = convolve_qac_piece(c1[r], None, q2[r])
+            if np.all(piece[:, 2] > 0):
+                groups.append((np.array([r]), piece[None]))
+    return groups
 
 
 def role_pair(nodes, r):

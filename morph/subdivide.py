@@ -65,7 +65,7 @@ def _objects(items):
     return out
 
 
-def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
+def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=False):
     """Algorithm 5.1: approximate, bound, split until every bound <= tol.
 
     The one subdivision driver of every method (and of :mod:`morph.convolve`).
@@ -80,28 +80,33 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
       a column ``tol`` in the root nodes gives each root its own tolerance
       (children inherit it, and ``bound`` gets that column instead of ``tol``);
     - ``one_piece(nodes) -> list``: the pieces of the nodes whose error is <= tol
-      (None where the method rejects its piece: that node is split instead);
+      (None where the method rejects its piece: that node is split instead); with
+      ``stacked``, ``one_piece(nodes) -> (ok, groups)`` the same on arrays: ``ok``
+      (k,) the nodes with a piece, ``groups`` [(rows, stack)] their pieces
+      (:func:`morph.qac.piece_stacks`);
     - ``split(nodes, where) -> (left, right)``: the columns of the two children
       of each node; columns it does not return are copied from the parent.
 
     Returns (done, pieces, errors): the accepted nodes (a dict of arrays, level by
-    level), their pieces and errors; the caller orders them.  Raises ValueError for
+    level), their pieces (a list; with ``stacked`` a :class:`morph.piece.Pieces` of
+    the stacks of all levels, :func:`_joined`) and errors; the caller orders them.  Raises ValueError for
     tol <= 0, ToleranceNotMetError (``piece``: the failing sub-pair (ca, cb),
     ``achieved``: its error) when a node still fails after ``max_depth`` halvings.
     """
     if not tol > 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
     nodes = dict(nodes, depth=np.full(len(next(iter(nodes.values()))), max_depth))
-    done, pieces, errors = [], [], []
+    done, pieces, errors, count = [], [], [], 0
     while len(nodes["depth"]):
         limit = nodes["tol"] if "tol" in nodes else tol
         err, where = bound(nodes, limit)
         acc = np.nonzero(err <= limit)[0]
-        got = one_piece(_take(nodes, acc)) if len(acc) else []
+        has, got = _accepted(one_piece, _take(nodes, acc), stacked, count)
         ok = np.zeros(len(err), bool)
-        ok[acc[np.array([p is not None for p in got], bool)]] = True
+        ok[acc[has]] = True
         done.append(_take(nodes, ok))
-        pieces += [p for p in got if p is not None]
+        pieces += got
+        count += len(got) if not stacked else int(has.sum())
         errors.append(err[ok])
         fail = np.nonzero(~ok)[0]
         if not len(fail):
@@ -117,7 +122,39 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24):
         left, right = split(parent, where[fail])
         nodes = _concat([{**parent, **left}, {**parent, **right}])
         nodes["depth"] = nodes["depth"] - 1
+    if stacked:
+        pieces = _joined(pieces, count)
     return _concat(done), pieces, np.concatenate(errors)
+
+
+def _accepted(one_piece, nodes, stacked, count):
+    """(has, pieces) of the nodes of a level whose error is within tol: ``has`` the
+    nodes ``one_piece`` gave a piece; ``pieces`` a list of them, or with ``stacked``
+    [(indices, stack)] with each piece's index among all accepted nodes so far
+    (``count`` before this level)."""
+    if not len(nodes["depth"]):
+        return np.zeros(0, bool), []
+    if not stacked:
+        got = one_piece(nodes)
+        return np.array([p is not None for p in got], bool), [p for p in got if p is not None]
+    has, groups = one_piece(nodes)
+    rank = np.cumsum(has) - 1 + count
+    return has, [(rank[rows], stack) for rows, stack in groups]
+
+
+def _joined(groups, n):
+    """The :class:`morph.piece.Pieces` of ``n`` pieces given as [(indices, stack)]:
+    the stacks with the same number of control points concatenated, their indices
+    ascending."""
+    by = {}
+    for ks, stack in groups:
+        by.setdefault(stack.shape[1], []).append((ks, stack))
+    out = []
+    for parts in by.values():
+        ks = np.concatenate([k for k, _ in parts])
+        order = np.argsort(ks, kind="stable")
+        out.append((ks[order], np.concatenate([h for _, h in parts])[order]))
+    return pc.Pieces(out, n)
 
 
 @dataclass

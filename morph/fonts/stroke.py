@@ -182,7 +182,7 @@ class _Separation:
         pts = np.concatenate([pl.flatten(p, eps)[0] for loop in nib_region for p in loop])
         d = pts @ self.u.T  # support of N - N: h(u) + h(-u), within 2 eps of the chords'
         self.reach = d.max(axis=0) - d.min(axis=0) + 2.0 * eps + self.gap + 2.0 * self.step
-        self.boxes, self.answers, self.paths, self.points = {}, {}, {}, {}
+        self.boxes, self.answers, self.paths, self.points, self.own = {}, {}, {}, {}, {}
         self.dense = None  # glyph name -> its points (_dense_many), once read
 
     def __call__(self, name):
@@ -259,12 +259,15 @@ class _Separation:
         for n, outline in zip(names, outlines):
             self.paths[n] = outline[0] if outline is not None else glyph_paths(self.source[n])
         self.dense = dict(zip(names, self._dense_many([self.paths[n] for n in names])))
+        self.own = dict(zip(names, _control_boxes([self.paths[n] for n in names])))
 
     def _count(self, name):
         return (self.counts[name] if self.counts is not None
                 else len(self.font[name].contours))
 
     def _own_box(self, name):
+        if name in self.own:   # read by :meth:`_read_all`, boxed together
+            return self.own[name]
         if not self._count(name):
             return None
         xy = np.concatenate([pc.cartesian(p) for pieces, _ in self._paths(name)
@@ -429,6 +432,26 @@ def _moved_boxes(boxes, transformations):
 def _pairs(k):
     """The pairs (i, j), i < j < k, as two index arrays."""
     return np.triu_indices(k, 1)
+
+
+def _control_boxes(glyph_paths):
+    """The control box (xmin, ymin, xmax, ymax) of each glyph's skeleton ``paths``
+    (None for no piece), the pieces of all glyphs boxed by degree at once and each
+    glyph's boxes joined by one reduceat."""
+    pieces = [p for paths in glyph_paths for ps, _ in paths for p in ps]
+    count = np.array([sum(len(ps) for ps, _ in paths) for paths in glyph_paths], np.int64)
+    if not pieces:
+        return [None] * len(glyph_paths)
+    lo, hi = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
+    for ks, h in pc.degree_groups(pieces):
+        lo[ks], hi[ks] = pc.column_extremes(pc.cartesian(h))
+    has = count > 0
+    at = (np.cumsum(count) - count)[has]
+    box = np.concatenate([np.minimum.reduceat(lo, at), np.maximum.reduceat(hi, at)], axis=1)
+    out = [None] * len(glyph_paths)
+    for k, b in zip(np.flatnonzero(has).tolist(), box.tolist()):
+        out[k] = tuple(b)
+    return out
 
 
 def _union_box(boxes):
@@ -797,7 +820,7 @@ _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
-                   "morph.fonts.stream", "numpy.polynomial.legendre", "morph.parse.light_ufo")
+                   "morph.fonts.stream", "morph.quadrature", "morph.parse.light_ufo")
 _COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
@@ -902,7 +925,8 @@ class _StreamedGlyphs:
             if light:
                 from .tables_static import compile_static
 
-                otf = compile_static(self.font, self.store, self.kind, features=self.features)
+                otf = compile_static(self.font, self.store, self.kind,
+                                     features=self.features, **options)
             else:
                 otf = compile_stored(self.font, self.store, self.kind,
                                      features=self.features, **options)

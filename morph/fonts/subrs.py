@@ -67,6 +67,8 @@ def font_subroutines(programs, prefixes, limit=None):
     limit = GROUP_BYTES if limit is None else limit
     if sum(len(p) for p in programs) <= limit:
         return None
+    if not all(p.startswith(x) for p, x in zip(programs, prefixes)):
+        return None    # a program whose advance is not written as the prefix
     bodies = [p[len(x):] for p, x in zip(programs, prefixes)]
     try:
         return grouped_subroutines(bodies, prefixes, limit=limit)
