@@ -381,13 +381,7 @@ def _qac_sets(c1, q2, sw, back):
     from . import qac
 
     out = [None] * len(c1)
-    poly = pc.is_polynomial_many(c1)
-    for sel, rational in ((poly, False), (~poly, True)):
-        rows = np.flatnonzero(sel)
-        if not len(rows):
-            continue
-        h = pc.tangent_numerator_many(c1[rows], rational)
-        odd = pc.end_zero_rows(h)
+    for rows, _, h, odd in pc.numerator_groups(c1):
         x1, xq, w = qac.qac_parts(c1[rows], h, q2[rows])
         st = np.concatenate([xq, x1, w[:, :, None]] if sw else [x1, xq, w[:, :, None]], axis=2)
         st[back[rows]] = st[back[rows]][:, ::-1]

@@ -353,6 +353,20 @@ def end_zero_rows(h, rel=1e-12):
             | (np.abs(h[:, -1]).max(axis=1) <= rel * scale))
 
 
+def numerator_groups(stack):
+    """The rows of a stack of pieces (k, n+1, 3) in two groups, polynomial then
+    rational, each as (rows, rational, h, odd): h the group's stacked tangent
+    numerators (:func:`tangent_numerator_many`), odd the rows among them whose
+    numerator vanishes at an end (:func:`end_zero_rows`), which callers build one
+    by one.  Empty groups are left out."""
+    poly = is_polynomial_many(stack)
+    for sel, rational in ((poly, False), (~poly, True)):
+        rows = np.flatnonzero(sel)
+        if len(rows):
+            h = tangent_numerator_many(stack[rows], rational)
+            yield rows, rational, h, end_zero_rows(h)
+
+
 def curvature_numerator_many(h):
     """cross(H, H') of a stack of tangent numerators h (k, m+1, 2): (k, 2m) (as
     :func:`curvature_numerator`; (k, 1) zeros when m = 0)."""

@@ -339,13 +339,7 @@ def qac_pieces(c1, q2):
     Polynomial and rational rows are built together in two stacks; rows whose
     tangent numerator vanishes at an end use the one-piece form."""
     out = [None] * len(c1)
-    poly = pc.is_polynomial_many(c1)
-    for sel, rational in ((poly, False), (~poly, True)):
-        rows = np.nonzero(sel)[0]
-        if not len(rows):
-            continue
-        h = pc.tangent_numerator_many(c1[rows], rational)
-        odd = pc.end_zero_rows(h)
+    for rows, _, h, odd in pc.numerator_groups(c1):
         res = _qac_from_numerator(c1[rows], h, q2[rows])
         for r, row in enumerate(rows):
             out[row] = convolve_qac_piece(c1[row], None, q2[row]) if odd[r] else res[r]
@@ -517,13 +511,7 @@ def qac_stacks(c1, q2):
     a row whose tangent numerator vanishes at an end (its zero divided out, a lower
     degree) in a group of its own."""
     groups = []
-    poly = pc.is_polynomial_many(c1)
-    for sel, rational in ((poly, False), (~poly, True)):
-        rows = np.flatnonzero(sel)
-        if not len(rows):
-            continue
-        h = pc.tangent_numerator_many(c1[rows], rational)
-        odd = pc.end_zero_rows(h)
+    for rows, _, h, odd in pc.numerator_groups(c1):
         res = _qac_from_numerator(c1[rows], h, q2[rows])
         good = (res[:, :, 2] > 0).all(axis=1) & ~odd
         if good.any():
