@@ -55,6 +55,7 @@ class Bank:
         self.t_first, self.t_last = np.zeros((g, 2)), np.zeros((g, 2))
         self.lo, self.hi = np.empty((g, 2)), np.empty((g, 2))
         self.scale = np.empty(g)
+        self.bend = np.zeros(g)
         for n in unique(sizes).tolist():
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
@@ -67,6 +68,7 @@ class Bank:
             self.lo[rows], self.hi[rows] = x.min(axis=1), x.max(axis=1)
             self.scale[rows] = np.abs(x).max(axis=(1, 2))
             self.t_first[rows], self.t_last[rows] = _end_tangents(x)
+            self.bend[rows] = _bend(x)
         self.line = (sizes == 2) & self.poly
         self._nodes = None              # node_jets' cache
 
@@ -133,6 +135,23 @@ class Bank:
             p[need], d[need] = self.jet_grid(need, t)
             have[need] = True
         return p[gids], d[gids]
+
+
+def _bend(x):
+    """L theta^5 of each piece's control polygon x (k, n, 2): its length L and its
+    turning theta (the sum of the absolute angles between consecutive edges), which
+    bound the piece's arc length and turning (variation diminishing).  A cubic
+    fitted to a circular arc of length L turning theta misses it by about c L
+    theta^5 (c a constant): :func:`morph.export.search.first_widths` sums
+    (L theta^5 / tol)^(1/6) over a chain's pieces to guess how many cubics it needs."""
+    e = np.diff(x, axis=1)
+    length = np.hypot(e[..., 0], e[..., 1]).sum(axis=1)
+    if x.shape[1] < 3:
+        return np.zeros(len(x))
+    a, b = e[:, :-1], e[:, 1:]
+    turn = np.abs(np.arctan2(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+                             (a * b).sum(axis=2))).sum(axis=1)
+    return length * turn ** 5
 
 
 def _end_tangents(x, rel=1e-12):

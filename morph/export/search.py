@@ -424,6 +424,31 @@ class _Rows:
         return seg, joined, alone
 
 
+#: A chain's guessed difficulty (:func:`first_widths`) per cubic of its first try:
+#: on the bench sets the chains written as one cubic have a difficulty below 4 (three
+#: in four of them), those of n cubics about 3 n.
+DIFFICULTY = 4.0
+#: The first try spans at most this many pieces: a chain of BOTH_WAYS pieces or more
+#: is searched from both ends, and a failed try over many pieces costs rounds.
+FIRST_MAX = 5.0
+
+
+def first_widths(chains, tol):
+    """The width of each chain's first try: the whole chain where its pieces' guessed
+    difficulty (the sum of (L theta^5 / tol)^(1/6), :func:`morph.export.bank._bend`)
+    is below 2 DIFFICULTY, else the chain cut into floor(difficulty / DIFFICULTY)
+    equal widths; at most FIRST_MAX pieces.  Only a guess: the search moves on from
+    it (most chains of a stroked outline are one cubic, which the whole chain's fit
+    then finds at once instead of growing a segment piece by piece)."""
+    bank = chains.bank
+    if not len(chains.k):
+        return np.zeros(0)
+    d = (bank.bend[bank.order] / tol) ** (1.0 / 6.0)
+    total = np.add.reduceat(d, chains.off) if len(d) else np.zeros(len(chains.k))
+    total = np.where(chains.k > 0, total, 0.0)
+    return np.minimum(chains.k / np.maximum(1.0, np.floor(total / DIFFICULTY)), FIRST_MAX)
+
+
 def _drive(chains, tol, min_width):
     """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
     together; their CubicFit lists in order.
@@ -440,8 +465,10 @@ def _drive(chains, tol, min_width):
     lay = _Rows(chains)
     greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
                     min_width, partial(lay.fail, chains, tol),
-                    active=np.arange(n + 2 * lay.m) < n + lay.m)
-    refine = Refine(chains, tol)
+                    active=np.arange(n + 2 * lay.m) < n + lay.m,
+                    width=first_widths(chains, tol)[lay.rchain])
+    whole_failed = np.zeros(n, bool)
+    refine = Refine(chains, tol, whole_failed)
     join = _Join(tol)
     found = _Segments()                   # the greedy segments of rows still searching
     final, rounds, done = [], [], 0
@@ -460,6 +487,8 @@ def _drive(chains, tol, min_width):
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
+            whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
+            whole_failed[req.chain[whole & ~fits.provisional]] = True
             j = np.searchsorted(mine, own)
             at = np.stack([np.full(len(rows), len(rounds) - 1), j], axis=1)
             acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
