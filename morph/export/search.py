@@ -449,7 +449,7 @@ def first_widths(chains, tol):
     return np.minimum(chains.k / np.maximum(1.0, np.floor(total / DIFFICULTY)), FIRST_MAX)
 
 
-def _drive(chains, tol, min_width):
+def _drive(chains, tol, min_width, cubics_only=False):
     """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
     together; their CubicFit lists in order.
 
@@ -460,7 +460,8 @@ def _drive(chains, tol, min_width):
     Refine`).  Each round fits and certifies the requests of all machines together
     (:func:`_fit_batch`): no Python step runs per chain and round (the join runs once
     per chain).  The accepted segments are kept as arrays (chain, t0, t1, bound, and
-    the round and request of their fit) until the end."""
+    the round and request of their fit) until the end; with ``cubics_only`` each
+    chain's cubics come back as one (m, 4, 2) array (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
     greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
@@ -510,7 +511,7 @@ def _drive(chains, tol, min_width):
         done += len(out[0])
         if _observer is not None:
             _observer(done, n)
-    return _cubic_fits(n, final, rounds)
+    return (_cubic_arrays if cubics_only else _cubic_fits)(n, final, rounds)
 
 
 def _same_ranges(crow, rev, a, b, need):
@@ -706,6 +707,22 @@ def _cubic_fits(n, final, rounds):
     return out
 
 
+def _cubic_arrays(n, final, rounds):
+    """Each chain's cubics as one (m, 4, 2) array, in order, from the segments' arrays
+    ``final`` (as :func:`_cubic_fits`): one gather per round, no object per cubic."""
+    if not final:
+        return [np.zeros((0, 4, 2)) for _ in range(n)]
+    chain, _, _, _, at = (np.concatenate(x) for x in zip(*final))
+    at = at.reshape(-1, 2)
+    cubic = np.empty((len(chain), 4, 2))
+    for r in unique(at[:, 0]).tolist():
+        sel = np.nonzero(at[:, 0] == r)[0]
+        cubic[sel] = rounds[r].cubic[at[sel, 1]]
+    order = np.argsort(chain, kind="stable")
+    counts = np.bincount(chain, minlength=n)
+    return np.split(cubic[order], np.cumsum(counts)[:-1])
+
+
 class _Panels:
     """The panels of request j of a round's :class:`_Fits`, made when asked for
     (:meth:`panels`; writers of outlines need the cubics only)."""
@@ -779,15 +796,16 @@ def chains_segments(chains, tol, max_depth=16):
             for segs in runs_segments(bank, runs, tol, max_depth)]
 
 
-def runs_segments(bank, runs, tol, max_depth=16):
+def runs_segments(bank, runs, tol, max_depth=16, cubics_only=False):
     """:func:`chains_segments` of runs of the pieces of a :class:`Bank` (arrays of
     global piece ids), searched in lockstep (:func:`_drive`).  The CubicFits'
     ``reparam`` has a method ``panels()`` that makes the panels (on demand: writers
-    need the cubics, not the maps)."""
+    need the cubics, not the maps); with ``cubics_only`` each run's cubics come back
+    as one (m, 4, 2) array instead."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
-    return _drive(chains, tol, 2.0 ** -max_depth) if len(chains.k) else []
+    return _drive(chains, tol, 2.0 ** -max_depth, cubics_only) if len(chains.k) else []
 
 
 def piece_to_cubics(piece, tol, max_depth=16):
