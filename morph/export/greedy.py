@@ -130,12 +130,13 @@ class Greedy:
         self.mode[~active] = DONE
         self._new_segments(np.nonzero(active)[0])
 
-    def activate(self, rows):
+    def activate(self, rows, t0=None, start=None):
         """Start the search of the chains ``rows`` (made inactive: ``active`` False)
-        from their start."""
+        from their start, or from the parameters ``t0`` (points ``start``)."""
         if not len(rows):
             return
-        self.t0[rows], self.start[rows] = 0.0, self.first[rows]
+        self.t0[rows] = 0.0 if t0 is None else t0
+        self.start[rows] = self.first[rows] if start is None else start
         self.width[rows] = self.width0[rows]
         self._new_segments(rows)
 
