@@ -100,7 +100,7 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     fitted = iter(fitted)
     out = [[] for _ in loops]
     for i, e in zip(runs.loop.tolist(), runs.exact.tolist()):
-        out[i] += next(exact) if e else list(next(fitted))
+        out[i] += next(exact if e else fitted)
     return out
 
 
