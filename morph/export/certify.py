@@ -86,11 +86,6 @@ REFINE = 3
 #: each): within 2 % of the squared certificate at two halvings on the brush
 #: pairs (one halving: 28 % at worst).
 PANEL_REFINE = 2
-#: The ray panels are bounded at this many halvings first (half the work of
-#: PANEL_REFINE); only the pairs whose bound then exceeds tol get PANEL_REFINE.  Most
-#: pairs certify at the first (a looser bound, still a bound: the search then takes
-#: segments a little shorter where it decides on the bound's size).
-PANEL_REFINE_FIRST = 1
 
 
 def homogeneous_reparam(phi):
@@ -604,7 +599,7 @@ FALLBACK_GAP = 0.95
 def _ray_certified(groups, cubics, tol, depth, pairs):
     """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
     panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
-    composed; PANEL_REFINE_FIRST halvings, PANEL_REFINE where that bound exceeds tol).  Pairs whose parameters already match (phi = identity within
+    composed).  Pairs whose parameters already match (phi = identity within
     PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take the same-parameter
     certificate instead (:func:`morph.nearest.distance_bound_many`, as the composed
     map does with that phi): one panel of the piece's own degree, cheaper than nine;
@@ -621,14 +616,7 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     low = np.zeros(len(cubics), bool)
     for rows, stack in groups:
         low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low),
-                                      refine=PANEL_REFINE_FIRST)
-    # above tol at the first halvings: PANEL_REFINE halvings of the same panels (a
-    # bound never looser: de Casteljau's coefficients are convex combinations)
-    finer = np.isfinite(bound) & (bound > tol)
-    if finer.any():
-        again = _panel_bounds(groups, cubics, ps, pu, finer)[0]
-        bound[finer] = np.minimum(bound[finer], again[finer])
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low))
     for rows, stack in groups:          # phi = identity: the same-parameter certificate
         sel = np.nonzero(same[rows])[0]
         if len(sel):
