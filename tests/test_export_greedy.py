@@ -240,18 +240,19 @@ def test_search_from_both_ends_joins_exactly(monkeypatch):
     assert _hausdorff(moved, pieces) > tol
 
 
-def test_a_join_that_does_not_certify_searches_the_chain_again(monkeypatch):
-    """Where the join of the two searches does not certify (forced here: every refit
-    of the join reported failed, and every join made to need one), the chain is
-    searched again from its start alone: the segments of the one-way search (its ends
-    to 1e-9: batched array calls round differently)."""
+def test_a_join_that_does_not_certify_searches_the_gap_again(monkeypatch):
+    """Where the join of the two searches does not certify (forced here: every join
+    made to need a refit of the path's first segment, every refit reported failed),
+    the path keeps its segments from the failed one's end to the chain's end and the
+    gap before them is searched again: the chain's segments run from 0 to its end,
+    joined end to start, each within tol of the chain by exact closest distances; the
+    last segment is the two-way search's (kept, not searched again)."""
     rng = np.random.default_rng(9)
     tol = 1e-3
     chains = [g1_chain(rng, 10) for _ in range(3)]
-    monkeypatch.setattr(search, "BOTH_WAYS", math.inf)
-    one = chains_segments(chains, tol)
-    monkeypatch.undo()
+    both = chains_segments(chains, tol)
     path = search._Join._path
+    update = search._Join.update
 
     def overlapping(self, c, segs, f):
         path(self, c, segs, f)
@@ -259,19 +260,22 @@ def test_a_join_that_does_not_certify_searches_the_chain_again(monkeypatch):
         self.paths[c][0] = None
 
     def failing(self, fits, offset, round_no):
-        bad = np.unique(self.requests()[0])
-        self.asked, self.slots, self.pending = ([], [], []), [], set()
-        for c in bad.tolist():
-            del self.paths[c]
-        return bad
+        j = offset + np.arange(len(self.requests()[0]))
+        fits.cert = fits.cert.copy()
+        fits.cert[j] = False
+        return update(self, fits, offset, round_no)
 
     monkeypatch.setattr(search._Join, "_path", overlapping)
     monkeypatch.setattr(search._Join, "update", failing)
     again = chains_segments(chains, tol)
-    for segs, alone in zip(again, one):
-        assert len(segs) == len(alone)
-        assert np.allclose([(s.t0, s.t1) for s in segs], [(s.t0, s.t1) for s in alone],
-                           rtol=0, atol=1e-9)
+    for pieces, segs, two in zip(chains, again, both):
+        assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+        for a, b in zip(segs, segs[1:]):
+            assert a.t1 == b.t0 and np.array_equal(a.cubic[-1], b.cubic[0])
+        assert all(s.bound <= tol for s in segs)
+        assert _hausdorff([s.cubic for s in segs], pieces) <= tol * (1 + 1e-9)
+        assert (segs[-1].t0, segs[-1].t1) == (two[-1].t0, two[-1].t1)
+        assert np.array_equal(segs[-1].cubic, two[-1].cubic)
 
 
 def test_a_round_of_chords_shorter_than_tol_is_fitted():

@@ -55,18 +55,24 @@ class Bank:
         self.t_first, self.t_last = np.zeros((g, 2)), np.zeros((g, 2))
         self.lo, self.hi = np.empty((g, 2)), np.empty((g, 2))
         self.scale = np.empty(g)
+        self.bend = np.zeros(g)
         for n in unique(sizes).tolist():
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
             h = flat[offsets[rows][:, None] + np.arange(n)[None]]      # (k, n, 3)
             self.stacks[n] = h
             w = h[..., 2]
-            self.poly[rows] = np.all(np.abs(w - w[:, :1]) <= 1e-12 * np.abs(w[:, :1]), axis=1)
+            self.poly[rows] = _fold(np.logical_and,
+                                    np.abs(w - w[:, :1]) <= 1e-12 * np.abs(w[:, :1]))
             x = h[..., :2] / h[..., 2:]
             self.first[rows], self.last[rows] = x[:, 0], x[:, -1]
-            self.lo[rows], self.hi[rows] = x.min(axis=1), x.max(axis=1)
-            self.scale[rows] = np.abs(x).max(axis=(1, 2))
-            self.t_first[rows], self.t_last[rows] = _end_tangents(x)
+            lo, hi = _fold(np.minimum, x), _fold(np.maximum, x)
+            self.lo[rows], self.hi[rows] = lo, hi
+            self.scale[rows] = np.maximum(np.maximum(np.abs(lo[:, 0]), np.abs(lo[:, 1])),
+                                          np.maximum(np.abs(hi[:, 0]), np.abs(hi[:, 1])))
+            self.t_first[rows], self.t_last[rows] = _end_tangents(x, np.maximum(
+                hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1]))
+            self.bend[rows] = _bend(x)
         self.line = (sizes == 2) & self.poly
         self._nodes = None              # node_jets' cache
 
@@ -135,14 +141,40 @@ class Bank:
         return p[gids], d[gids]
 
 
-def _end_tangents(x, rel=1e-12):
+def _bend(x):
+    """L theta^5 of each piece's control polygon x (k, n, 2): its length L and its
+    turning theta (the sum of the absolute angles between consecutive edges), which
+    bound the piece's arc length and turning (variation diminishing).  A cubic
+    fitted to a circular arc of length L turning theta misses it by about c L
+    theta^5 (c a constant): :func:`morph.export.search.first_widths` sums
+    (L theta^5 / tol)^(1/6) over a chain's pieces to guess how many cubics it needs."""
+    e = np.diff(x, axis=1)
+    length = np.hypot(e[..., 0], e[..., 1]).sum(axis=1)
+    if x.shape[1] < 3:
+        return np.zeros(len(x))
+    a, b = e[:, :-1], e[:, 1:]
+    turn = np.abs(np.arctan2(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+                             (a * b).sum(axis=2))).sum(axis=1)
+    return length * turn ** 5
+
+
+def _fold(func, x):
+    """``func`` (a binary ufunc: minimum, maximum, logical_and) folded over axis 1 of
+    x (k, n, ...), one elementwise call per control point (numpy's reductions over a
+    short middle axis are many times slower; the same values)."""
+    out = x[:, 0].copy()
+    for j in range(1, x.shape[1]):
+        func(out, x[:, j], out=out)
+    return out
+
+
+def _end_tangents(x, size, rel=1e-12):
     """:func:`morph.piece.end_tangents_many` (not strict) of Cartesian control points
-    x (k, n, 2) of one degree: along the first and the last control-point
-    difference longer than ``rel`` times the piece's size; zero vectors where all
-    control points coincide."""
+    x (k, n, 2) of one degree (``size`` the larger side of each one's bounding box):
+    along the first and the last control-point difference longer than ``rel`` times
+    the piece's size; zero vectors where all control points coincide."""
     d = np.diff(x, axis=1)
     n = np.hypot(d[..., 0], d[..., 1])
-    size = np.ptp(x, axis=1).max(axis=1)
     ok = n > rel * size[:, None]
     dead = ~ok.any(axis=1) | (size <= 1e-300)
     i0 = np.argmax(ok, axis=1)

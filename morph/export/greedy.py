@@ -15,7 +15,9 @@ A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
 search of the same chain from its other end has come that far,
 :func:`morph.export.search._drive`).
 
-The search of one segment: the first try spans the previous segment's width (the
+The search of one segment: the first try spans the previous segment's width (a
+chain's first segment: the width its caller guessed, :func:`morph.export.search.
+first_widths`; the
 chain's end when less than REACH_END of it would be left); a try is accepted once it
 is certified with a bound of at least ACCEPT tol (or reaches the chain's end);
 otherwise the next end follows the model bound ~ width^p (p from the last two fits,
@@ -99,7 +101,8 @@ def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
 class Greedy:
     """The greedy search of every chain as arrays (see the module docstring).
 
-    ``top``: each chain's parameter length K; ``first``: its start point;
+    ``top``: each chain's parameter length K; ``first``: its start point; ``width``:
+    the width of its first try (two pieces when None);
     ``min_width``: the narrowest interval tried; ``fail(row, t0, width, bound)``:
     raises the error of a chain where no interval certifies.  :meth:`requests`
     gives the fits of a round, :meth:`update` takes their results and returns the
@@ -109,11 +112,12 @@ class Greedy:
     come).  The fit (and end point) a chain keeps as ``good`` is referred to by ``good_at``
     (round, request): its panels are made only for the segments written."""
 
-    def __init__(self, top, first, tol, min_width, fail, active=True):
+    def __init__(self, top, first, tol, min_width, fail, active=True, width=None):
         n = len(top)
         self.top, self.tol, self.min_width, self.fail = np.array(top, float), tol, min_width, fail
         self.t0, self.t1, self.start = np.zeros(n), np.zeros(n), np.array(first, float)
-        self.width = np.minimum(self.top, 2.0)
+        self.width0 = np.minimum(self.top, 2.0) if width is None else np.array(width, float)
+        self.width = self.width0.copy()
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
         self.snap = np.zeros(n, bool)
         self.bad, self.last_w, self.last_b = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
@@ -126,13 +130,14 @@ class Greedy:
         self.mode[~active] = DONE
         self._new_segments(np.nonzero(active)[0])
 
-    def activate(self, rows):
+    def activate(self, rows, t0=None, start=None):
         """Start the search of the chains ``rows`` (made inactive: ``active`` False)
-        from their start."""
+        from their start, or from the parameters ``t0`` (points ``start``)."""
         if not len(rows):
             return
-        self.t0[rows], self.start[rows] = 0.0, self.first[rows]
-        self.width[rows] = np.minimum(self.top[rows], 2.0)
+        self.t0[rows] = 0.0 if t0 is None else t0
+        self.start[rows] = self.first[rows] if start is None else start
+        self.width[rows] = self.width0[rows]
         self._new_segments(rows)
 
     @property

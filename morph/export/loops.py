@@ -89,19 +89,18 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     bank, runs = plan_run_arrays(loops, join_angle, wrap)
     piece_exact = np.repeat(runs.exact, runs.sizes)
     fit = ~runs.exact
-    fitted = iter(runs_segments(bank, RunArrays(runs.order[~piece_exact], runs.sizes[fit],
-                                                runs.exact[fit], runs.loop[fit]),
-                                tol, max_depth))
-    # exact already: no fitting (lines stay lines, quadratics quadratics)
+    fitted = runs_segments(bank, RunArrays(runs.order[~piece_exact], runs.sizes[fit],
+                                           runs.exact[fit], runs.loop[fit]),
+                           tol, max_depth, cubics_only=True)
+    # exact already: no fitting (lines stay lines, quadratics quadratics); each run's
+    # curves in one list, the runs of a loop concatenated in order
     written = bank.cartesian(runs.order[piece_exact])
-    at = 0
+    ends = np.cumsum(runs.sizes[runs.exact]).tolist()
+    exact = iter([written[a:b] for a, b in zip([0] + ends[:-1], ends)])
+    fitted = iter(fitted)
     out = [[] for _ in loops]
-    for i, e, k in zip(runs.loop.tolist(), runs.exact.tolist(), runs.sizes.tolist()):
-        if e:
-            out[i] += written[at:at + k]
-            at += k
-        else:
-            out[i] += [seg.cubic for seg in next(fitted)]
+    for i, e in zip(runs.loop.tolist(), runs.exact.tolist()):
+        out[i] += next(exact if e else fitted)
     return out
 
 

@@ -6,7 +6,9 @@ bounds say that one segment fewer may fit, that many segments are fitted between
 cuts at equal shares of the modelled difficulty (:meth:`Refine._fewer`) and kept if
 every one certifies; then a chain left with two segments, the last shorter than
 SHORT_LAST of the first, gets one try of a single segment over the whole chain
-(:meth:`Refine._whole`).
+(:meth:`Refine._whole`).  Neither asks again for the fit of a whole chain that was
+made before (by the greedy search's first try) and did not certify: it is the same
+fit, and would fail the same way.
 
 :class:`Refine` holds every refining chain as a row of arrays (its phase; its
 segments in one flat array sorted by row; its arc-length table in another); a round
@@ -151,8 +153,12 @@ class Refine:
     :meth:`finished` returns the segments of the rows done and drops them.
     ``chains``: the batch's :class:`~morph.export.fit.ChainArrays`."""
 
-    def __init__(self, chains, tol):
+    def __init__(self, chains, tol, whole_failed=None):
         self.chains, self.tol = chains, tol
+        # per chain: a fit of the whole chain was made and did not certify (the same
+        # fit again would fail again: no row asks for it)
+        self.whole_failed = (np.zeros(len(chains.k), bool) if whole_failed is None
+                             else whole_failed)
         self.chain = np.zeros(0, int)
         self.phase = np.zeros(0, int)
         self.arc_lo, self.arc_hi = np.zeros(0, int), np.zeros(0, int)
@@ -250,7 +256,7 @@ class Refine:
         total = np.empty(len(rows))
         for r, s in per_row(d, at, cnt, np.sum):
             total[r] = s
-        ok = total <= cnt - FEWER_SLACK
+        ok = (total <= cnt - FEWER_SLACK) & ~((cnt == 2) & self.whole_failed[self.chain[rows]])
         self._arcs(rows[ok])
         ok[ok] = self._length(rows[ok]) > 0
         sel = np.nonzero(ok)[0]
@@ -291,7 +297,7 @@ class Refine:
         are done.
         Returns the rows asked."""
         self.phase[rows] = DONE
-        rows = rows[count[rows] == 2]
+        rows = rows[(count[rows] == 2) & ~self.whole_failed[self.chain[rows]]]
         w = self.t1 - self.t0
         rows = rows[w[start[rows] + 1] < SHORT_LAST * w[start[rows]]]
         # a positive arc length: a chain that is not one point (no table needed)

@@ -327,7 +327,7 @@ BOTH_WAYS = 6.0
 class _Rows:
     """The rows of :func:`_drive`'s greedy machine: the forward search of every chain,
     the backward search of the chains of BOTH_WAYS pieces or more (``two``), and a
-    spare forward row of each of those (its whole-chain search where a join does not
+    spare forward row of each of those (it searches the gap left where a join does not
     certify).  A backward row's parameter u is the chain's K - u.
 
     A search from both ends needs about half the rounds of one from the start, for
@@ -412,7 +412,7 @@ class _Rows:
     def ended(self, found, ended):
         """The segments of the ended rows in their chains' parameters, and the ended
         chains: (segments, joined, alone); joined: those of a forward or backward row
-        of a two-way search, alone: the others (one-way, or searched again whole)."""
+        of a two-way search, alone: the others (one-way, or a gap searched again)."""
         rchain, back, top, n, m = self.rchain, self.back, self.top, self.n, self.m
         seg = found.take(ended)
         rc = rchain[seg[0]]
@@ -424,7 +424,32 @@ class _Rows:
         return seg, joined, alone
 
 
-def _drive(chains, tol, min_width):
+#: A chain's guessed difficulty (:func:`first_widths`) per cubic of its first try:
+#: on the bench sets the chains written as one cubic have a difficulty below 4 (three
+#: in four of them), those of n cubics about 3 n.
+DIFFICULTY = 4.0
+#: The first try spans at most this many pieces: a chain of BOTH_WAYS pieces or more
+#: is searched from both ends, and a failed try over many pieces costs rounds.
+FIRST_MAX = 5.0
+
+
+def first_widths(chains, tol):
+    """The width of each chain's first try: the whole chain where its pieces' guessed
+    difficulty (the sum of (L theta^5 / tol)^(1/6), :func:`morph.export.bank._bend`)
+    is below 2 DIFFICULTY, else the chain cut into floor(difficulty / DIFFICULTY)
+    equal widths; at most FIRST_MAX pieces.  Only a guess: the search moves on from
+    it (most chains of a stroked outline are one cubic, which the whole chain's fit
+    then finds at once instead of growing a segment piece by piece)."""
+    bank = chains.bank
+    if not len(chains.k):
+        return np.zeros(0)
+    d = (bank.bend[bank.order] / tol) ** (1.0 / 6.0)
+    total = np.add.reduceat(d, chains.off) if len(d) else np.zeros(len(chains.k))
+    total = np.where(chains.k > 0, total, 0.0)
+    return np.minimum(chains.k / np.maximum(1.0, np.floor(total / DIFFICULTY)), FIRST_MAX)
+
+
+def _drive(chains, tol, min_width, cubics_only=False):
     """The segment searches of all chains (:class:`morph.export.fit.ChainArrays`), run
     together; their CubicFit lists in order.
 
@@ -435,14 +460,17 @@ def _drive(chains, tol, min_width):
     Refine`).  Each round fits and certifies the requests of all machines together
     (:func:`_fit_batch`): no Python step runs per chain and round (the join runs once
     per chain).  The accepted segments are kept as arrays (chain, t0, t1, bound, and
-    the round and request of their fit) until the end."""
+    the round and request of their fit) until the end; with ``cubics_only`` each
+    chain's cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
     greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
                     min_width, partial(lay.fail, chains, tol),
-                    active=np.arange(n + 2 * lay.m) < n + lay.m)
-    refine = Refine(chains, tol)
-    join = _Join(tol)
+                    active=np.arange(n + 2 * lay.m) < n + lay.m,
+                    width=first_widths(chains, tol)[lay.rchain])
+    whole_failed = np.zeros(n, bool)
+    refine = Refine(chains, tol, whole_failed)
+    join = _Join(tol, lay.top)
     found = _Segments()                   # the greedy segments of rows still searching
     final, rounds, done = [], [], 0
 
@@ -460,6 +488,8 @@ def _drive(chains, tol, min_width):
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
+            whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
+            whole_failed[req.chain[whole & ~fits.provisional]] = True
             j = np.searchsorted(mine, own)
             at = np.stack([np.full(len(rows), len(rounds) - 1), j], axis=1)
             acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
@@ -467,8 +497,13 @@ def _drive(chains, tol, min_width):
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
             if len(joins[0]):
-                greedy.activate(lay.spare_of[join.update(fits, k + len(more[0]),
-                                                         len(rounds) - 1)])
+                # a join that does not certify: the chain's spare row searches the gap
+                # between the path's unbroken start and end, which it keeps
+                bad, kept, gap = join.update(fits, k + len(more[0]), len(rounds) - 1)
+                spare = lay.spare_of[bad]
+                found.add(lay.spare_of[kept[0]], *kept[1:])
+                greedy.activate(spare, gap[:, 0], _chain_points(chains, bad, gap[:, 0]))
+                greedy.cap(spare, gap[:, 1])
             met = lay.meet(greedy)
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
             seg, joined, alone = lay.ended(found, unique(np.concatenate(
@@ -481,7 +516,7 @@ def _drive(chains, tol, min_width):
         done += len(out[0])
         if _observer is not None:
             _observer(done, n)
-    return _cubic_fits(n, final, rounds)
+    return (_cubic_arrays if cubics_only else _cubic_fits)(n, final, rounds)
 
 
 def _same_ranges(crow, rev, a, b, need):
@@ -523,12 +558,14 @@ class _Join:
     end to end, one segment for the two meeting there is tried too (the two searches
     stop a little short of their reach, like the greedy search; the refinement
     tries one fewer over the whole chain).  Where a refit does not certify after all,
-    the chain is searched again whole from its start (:meth:`update` returns it).
+    the path keeps its segments that run unbroken from the chain's start and to its
+    end, and the gap between them is searched again, from its start (:meth:`update`
+    returns it).
     The paths are made once per chain (Python, over its segments); the refits of all
     chains of a round are one batch."""
 
-    def __init__(self, tol):
-        self.tol = tol
+    def __init__(self, tol, top):
+        self.tol, self.top = tol, top      # each chain's parameter length K
         self.paths = {}                  # chain: segments (t0, t1, bound, at), None at a refit
         self.asked = ([], [], [])        # refits: chain, t0, t1
         self.slots = []                  # refits: (chain, (position in its path, kind))
@@ -586,8 +623,10 @@ class _Join:
 
     def update(self, fits, offset, round_no):
         """Take the refits (``fits`` a round's :class:`_Fits`, these requests from
-        ``offset`` on, made in round ``round_no``); returns the chains whose path has
-        a refit that does not certify (dropped here: to be searched again whole)."""
+        ``offset`` on, made in round ``round_no``); returns (the chains whose path has
+        a refit that does not certify, dropped here; the segments (chain, t0, t1,
+        bound, at) of their paths that run unbroken from the chain's start or to its
+        end, kept; the gap (from, to) between those, to be searched again)."""
         chain, t0, t1 = self.requests()
         j = offset + np.arange(len(chain))
         good = fits.cert[j] & (fits.bound[j] <= self.tol)
@@ -613,9 +652,16 @@ class _Join:
             if all(p is not None for p in path):
                 bad.discard(c)
         self.asked, self.slots, self.pending = ([], [], []), [], set()
+        bad = sorted(bad)
+        kept, gaps = [], []
         for c in bad:
-            del self.paths[c]
-        return np.array(sorted(bad), int)
+            lead, trail, gap = _unbroken(self.paths.pop(c), float(self.top[c]))
+            kept += [(c,) + p for p in lead + trail]
+            gaps.append(gap)
+        seg = (np.array([k[0] for k in kept], int), np.array([k[1] for k in kept], float),
+               np.array([k[2] for k in kept], float), np.array([k[3] for k in kept], float),
+               np.array([k[4] for k in kept], int).reshape(-1, 2))
+        return np.array(bad, int), seg, np.array(gaps, float).reshape(-1, 2)
 
     def ready(self):
         """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
@@ -635,6 +681,26 @@ class _Join:
         return seg, np.array(ended, int)
 
 
+def _unbroken(path, top):
+    """The segments of a path (:class:`_Join`) of a chain of parameter length ``top``
+    that follow each other from its start (t = 0) up to the path's first gap or refit,
+    those that follow each other back from its end, and the gap (from, to) they leave
+    (the path has a refit)."""
+    lead, e = [], 0.0
+    for p in path:
+        if p is None or p[0] != e:
+            break
+        lead.append(p)
+        e = p[1]
+    trail, f = [], top
+    for p in path[len(lead):][::-1]:
+        if p is None or p[1] != f:
+            break
+        trail.append(p)
+        f = p[0]
+    return lead, trail[::-1], (e, f)
+
+
 class _Segments:
     """Segments accepted by the greedy search, kept as flat arrays until their chain's
     search ends: chain, t0, t1, bound, at (round, request)."""
@@ -651,7 +717,7 @@ class _Segments:
         chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
         mine = member(chain, unique(chains))
         self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
-        order = np.argsort(chain[mine], kind="stable")    # a chain's segments in t0 order
+        order = np.lexsort((t0[mine], chain[mine]))       # a chain's segments in t0 order
         return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
 
 
@@ -675,6 +741,23 @@ def _cubic_fits(n, final, rounds):
         fits = rounds[r]
         out[c].append(CubicFit(a, b, fits.cubic[j], e, _Panels(fits, j)))
     return out
+
+
+def _cubic_arrays(n, final, rounds):
+    """Each chain's cubics as a list of (4, 2) arrays, in order, from the segments'
+    arrays ``final`` (as :func:`_cubic_fits`): one gather per round, no CubicFit."""
+    if not final:
+        return [[] for _ in range(n)]
+    chain, _, _, _, at = (np.concatenate(x) for x in zip(*final))
+    at = at.reshape(-1, 2)
+    cubic = np.empty((len(chain), 4, 2))
+    for r in unique(at[:, 0]).tolist():
+        sel = np.nonzero(at[:, 0] == r)[0]
+        cubic[sel] = rounds[r].cubic[at[sel, 1]]
+    order = np.argsort(chain, kind="stable")
+    ends = np.cumsum(np.bincount(chain, minlength=n)).tolist()
+    every = list(cubic[order])             # one (4, 2) view per cubic (np.split: 30x slower)
+    return [every[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
 class _Panels:
@@ -750,15 +833,16 @@ def chains_segments(chains, tol, max_depth=16):
             for segs in runs_segments(bank, runs, tol, max_depth)]
 
 
-def runs_segments(bank, runs, tol, max_depth=16):
+def runs_segments(bank, runs, tol, max_depth=16, cubics_only=False):
     """:func:`chains_segments` of runs of the pieces of a :class:`Bank` (arrays of
     global piece ids), searched in lockstep (:func:`_drive`).  The CubicFits'
     ``reparam`` has a method ``panels()`` that makes the panels (on demand: writers
-    need the cubics, not the maps)."""
+    need the cubics, not the maps); with ``cubics_only`` each run's cubics come back
+    as a list of (4, 2) arrays instead."""
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     chains = make_chains(bank, runs)
-    return _drive(chains, tol, 2.0 ** -max_depth) if len(chains.k) else []
+    return _drive(chains, tol, 2.0 ** -max_depth, cubics_only) if len(chains.k) else []
 
 
 def piece_to_cubics(piece, tol, max_depth=16):
