@@ -108,9 +108,11 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
     the candidates at their items' centres and the indices of the pairs given up.
     """
-    stacked = pc.stack(pieces)
+    used = unique(pairs)
+    stacked = stack_rows(pieces, used)
+    inv = np.searchsorted(used, pairs)
     n = len(pairs)
-    it = dict(org=np.arange(n), ia=pairs[:, 0].copy(), ib=pairs[:, 1].copy(),
+    it = dict(org=np.arange(n), ia=inv[:, 0].copy(), ib=inv[:, 1].copy(),
               a0=np.zeros(n), a1=np.ones(n), b0=np.zeros(n), b1=np.ones(n),
               kind=np.asarray(kinds, int).copy())
     found, crowded = [], []
@@ -144,6 +146,21 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
     return org.astype(int), s, u, gave_up
+
+
+def stack_rows(pieces, rows):
+    """``pc.stack(pieces)[rows]`` without stacking the other pieces: the pieces
+    ``rows`` (ascending indices) elevated to the highest degree of all ``pieces``
+    (the same bits: elevation is row by row)."""
+    pieces = pc.Pieces.of(pieces)
+    deg = max((h.shape[1] for _, h in pieces.groups), default=1) - 1
+    out = np.empty((len(rows), deg + 1, 3))
+    for ks, h in pieces.groups:
+        at = np.searchsorted(ks, rows)
+        hit = np.flatnonzero(ks[np.minimum(at, len(ks) - 1)] == rows) if len(ks) else at[:0]
+        if len(hit):
+            out[hit] = bz.elevate_many(h[at[hit]], deg + 1 - h.shape[1])
+    return out
 
 
 def _crowded(counts, pair_items, max_items):
