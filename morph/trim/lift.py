@@ -69,10 +69,8 @@ def lift_rings(rings, tg, contract, packed=False):
     flat = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
     reach = 2.0 * tg.grid * MATCH_UNITS
     flagged = _spike_triples(flat, reach)
-    if flagged:  # rare: the rings' runs as lists, cut one by one
-        runs = _as_runs(flat)
-        _cut_flagged(runs, flagged, reach)
-        flat = _flat_runs(runs)
+    if flagged:  # rare: the flagged rings' runs as lists, cut one by one
+        flat = _with_spikes_cut(flat, flagged, reach)
     out, stacks = _close_all(flat, contract)
     kept = [k for k, loop in enumerate(out) if loop]
     loops = [out[k] for k in kept]
@@ -156,6 +154,37 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     gap = np.isnan(ends).any(axis=1)
     ends[gap] = 0.5 * (stops[gap] + starts[after[gap]])
     return cut, ends, per
+
+
+def _with_spikes_cut(flat, flagged, reach):
+    """The runs held flat (pieces, junction ends, runs per ring) with the spikes
+    ``flagged`` ((ring, run) pairs, :func:`_spike_triples`) cut out: only the rings
+    flagged are taken out as lists and cut (:func:`_cut_flagged`); the others keep
+    their rows of the packed pieces, and the cut rings' pieces are put back in
+    their places (one gather)."""
+    pieces, ends, per = flat
+    pieces = pc.Pieces.of(pieces)
+    base = np.cumsum(per) - per
+    hit = np.zeros(len(per), bool)
+    hit[[r for r, _ in flagged]] = True
+    runs = {}
+    for r in np.flatnonzero(hit).tolist():
+        a, b = int(base[r]), int(base[r] + per[r])
+        runs[r] = (pieces.take(np.arange(a, b)).rows(), list(ends[a:b]))
+    _cut_flagged(runs, flagged, reach)
+    new_per = per.copy()
+    for r, (out, _) in runs.items():
+        new_per[r] = len(out)
+    kept = ~np.repeat(hit, per)
+    new = [p for r in sorted(runs) for p in runs[r][0]]
+    new_ends = np.array([e for r in sorted(runs) for e in runs[r][1]], float).reshape(-1, 2)
+    # the final order: ring by ring, the kept rows first in the stack, then the new
+    cut_row = np.repeat(hit, new_per)
+    where = np.empty(len(cut_row), np.int64)
+    where[~cut_row] = np.arange(int(kept.sum()))
+    where[cut_row] = kept.sum() + np.arange(len(new))
+    both = pieces.take(np.flatnonzero(kept)).then(new)
+    return (both.take(where), np.concatenate([ends[kept], new_ends])[where], new_per)
 
 
 def _as_runs(flat):
