@@ -93,6 +93,8 @@ REPORTS = [
     Report("stroke_profile", "bench.stroke_profile", ["--md", "{md}"],
            quick=["--runs", "stroke:hershey-sans", "--repeat", "1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),
+    Report("compile_profile", "bench.compile_profile", ["--md", "{md}"],
+           quick=["--repeat", "1", "--md", "{md}"], cost="2-4 min", snapshot=True),
     Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],
            quick=["--pairs", "hershey-sans:1", "--md", "{md}"],
            cost="10-20 min, skeleton sets fetched with npm", snapshot=True),

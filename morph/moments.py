@@ -12,13 +12,13 @@ at once, at most MAX_DEPTH halvings and MAX_INTERVALS open intervals.  So areas 
 centroids carry the same contract: ~1e-13 relative to the piece's extent.
 """
 
-import functools
 import itertools
 
 import numpy as np
 
 from . import bernstein as bz
 from .piece import Pieces, degree_groups, end_points, jet_many, kind_groups, start
+from .quadrature import gauss_legendre
 
 __all__ = ["area_terms", "moment_terms", "loop_area", "loop_areas", "region_area",
            "region_centroid"]
@@ -131,7 +131,7 @@ def _adaptive(h, quad_points, integrand, power, max_depth=MAX_DEPTH,
     (all at once), to REL_AGREE of size x reach^power per column (x y' - y x' loses
     digits to |x| |y'|: the agreement asked for is relative to the piece's size
     times its distance from the origin)."""
-    x, wts = _leggauss(quad_points)
+    x, wts = gauss_legendre(quad_points)
     c = h[:, :, :2] / h[:, :, 2:]
     size = np.ptp(c, axis=1).max(axis=1)
     reach = np.maximum(np.abs(c).max(axis=(1, 2)), size)
@@ -161,7 +161,3 @@ def _adaptive(h, quad_points, integrand, power, max_depth=MAX_DEPTH,
         whole = np.concatenate([left[keep], right[keep]])
     return total
 
-
-@functools.lru_cache(maxsize=None)
-def _leggauss(n):
-    return np.polynomial.legendre.leggauss(n)

@@ -132,17 +132,25 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
         assert json.loads(report.read_text()) == [], report.name
 
 
+#: what the font commands never need, each a few ms of every process: numpy's
+#: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
+#: (morph.fonts.specimen.save_png writes the sample), the html package (the specimen
+#: escapes its text itself), the SVG reader and its XML parser (--nib-svg only),
+#: numpy.ma
+NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "html", "xml.etree",
+                         "morph.parse.svg", "numpy.ma")
+
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
-                        "fontTools.ufoLib", "cffsubr")
+                        "fontTools.ufoLib", "cffsubr") + NOT_FOR_FONT_COMMANDS
 
 
 @pytest.mark.parametrize("out", ["b.ttf", "b.otf"])
 def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
     """``morph brush`` writes the source font's tables itself: ufo2ft (whose import
     brings fontTools.varLib and its variable compilers), ufoLib2 and the
-    subroutinizer stay unloaded for a static font; the sample and specimen load
-    Pillow."""
+    subroutinizer stay unloaded for a static font, and so does what no font command
+    needs (NOT_FOR_FONT_COMMANDS); the sample and specimen load Pillow."""
     code, mods, _ = _modules_after(["brush", "--glyphs", "A", "-o", out, "--jobs", "1"],
                                    tmp_path)
     assert code == 0 and (tmp_path / out).stat().st_size > 0
@@ -156,7 +164,8 @@ def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
 #: classes, feaLib (no feature file)
 NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH if m != "cffsubr") + (
-    "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib")
+    "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib",
+    "morph.fonts.brush")
 
 
 def _plain_skeleton(folder):

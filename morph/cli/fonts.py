@@ -106,12 +106,11 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     """
     from ..fonts.tables import FONT_SUFFIXES
     from ..nib import ellipse_nib
-    from ..parse import svg_region
 
     src = _brush_source(font_file)
     out = resolve_output(output, "brush.ttf", force, suffixes=FONT_SUFFIXES)
     png, page = _companions(out, force)
-    nib_region = _checked_nib(lambda: svg_region(nib_svg) if nib_svg
+    nib_region = _checked_nib(lambda: _svg_nib(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
     if vary_nib is not None or (location is None and is_variable_truetype(src)):
@@ -244,10 +243,10 @@ def _checked_nib(make):
 def _glyph_items(spec, everything=None):
     """--glyphs as characters and names; None for every glyph (no spec, or the word
     ``everything``).  InputError when it selects nothing."""
-    from ..fonts.brush import parse_glyph_spec
-
     if spec is None or (everything and spec.strip().lower() == everything):
         return None
+    from ..fonts.brush import parse_glyph_spec
+
     items = parse_glyph_spec(spec)
     if not items:
         raise InputError("--glyphs selects no glyph")
@@ -368,15 +367,22 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
                          "file" % skeleton)
 
 
+def _svg_nib(path):
+    """The nib region of --nib-svg: the SVG reader and its XML parser load for it
+    only."""
+    from ..parse import svg_region
+
+    return svg_region(path)
+
+
 def _stroke_nib(nib, nib_svg, scale):
     """Nib region from --nib-svg, --nib, or the default scaled by ``scale``; checked
     convex (InputError otherwise)."""
     from ..nib import ellipse_nib
-    from ..parse import svg_region
 
     def make():
         if nib_svg:
-            return svg_region(nib_svg)
+            return _svg_nib(nib_svg)
         if nib is None:
             w, h, a = _parse_nib(_STROKE_NIB)
             return ellipse_nib(w * scale, h * scale, a)

@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
+from ..quadrature import gauss_legendre
 from .bank import RunArrays
 
 
@@ -70,18 +71,16 @@ _Quadrature = namedtuple("_Quadrature", "gl8 gx gw i2 i3")
 
 @functools.lru_cache(maxsize=1)
 def _quadrature():
-    """The fitter's constants, made on first use (numpy.polynomial, which gives the
-    Gauss-Legendre rules, takes ~4 ms to import: a process that fits nothing, such
-    as a TrueType sum written exactly, does not pay it): ``gl8`` the 8-point rule on
+    """The fitter's constants, made on first use: ``gl8`` the 8-point rule on
     [-1, 1]; ``gx``, ``gw`` the 16-point rule on [0, 1]; ``i2[j, k]`` = int B_j B_k'
     and ``i3[i, j, k]`` = int B_i B_j B_k' over [0, 1] for the cubic Bernstein basis
     (the 8-point rule, exact for these degrees)."""
-    gl8 = np.polynomial.legendre.leggauss(8)
+    gl8 = gauss_legendre(8)
     x, w = 0.5 + 0.5 * gl8[0], 0.5 * gl8[1]
     b = bz.basis(3, x)                                             # (8, 4)
     diff = 3.0 * (np.eye(3, 4, 1) - np.eye(3, 4))                  # B3_k' in B2
     db = bz.basis(2, x) @ diff
-    gx, gw = np.polynomial.legendre.leggauss(16)
+    gx, gw = gauss_legendre(16)
     return _Quadrature(gl8, 0.5 + 0.5 * gx, 0.5 * gw,
                        np.einsum("g,gj,gk->jk", w, b, db),
                        np.einsum("g,gi,gj,gk->ijk", w, b, b, db))

@@ -471,7 +471,7 @@ def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, p
 #: quadrature nodes; cu2qu for TrueType outlines), imported before worker processes
 #: are forked so that they share them (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.minkowski", "morph.fonts.tables", "morph.export",
-                   "numpy.polynomial.legendre")
+                   "morph.quadrature")
 _QUADRATIC = ("fontTools.cu2qu",)
 
 
@@ -524,15 +524,17 @@ def _store_outlines(font, writer, results, chosen, extent):
     hmtx = font["hmtx"]
     stats = {"glyphs": 0, "contours": 0, "segments": 0, "fallback": {}}
     moves = {}
+    written = [r for r in results if r[1] is not None]  # None: left as in the source
+    advances = {name: _new_advance(hmtx[name][0], extent) for name, *_ in written}
+    lsbs = writer.write_many([(name, contours, advances[name]) for name, contours, *_ in written])
+    for name, lsb in zip(advances, lsbs):
+        moves[name] = _pen_move(hmtx[name][0], extent)
+        hmtx[name] = (advances[name], lsb)
     for name, contours, kind, error in results:
         if kind != "exact":
             stats["fallback"][name] = (kind, error)
-        if contours is None:  # left as in the source
+        if contours is None:
             continue
-        adv, _ = hmtx[name]
-        new_adv = _new_advance(adv, extent)
-        hmtx[name] = (new_adv, writer.write(name, contours, new_adv))
-        moves[name] = _pen_move(adv, extent)
         if name in chosen:
             stats["glyphs"] += 1
             stats["contours"] += len(contours)

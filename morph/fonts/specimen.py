@@ -26,18 +26,53 @@ script.
 """
 
 import base64
-import html
 import unicodedata
 from functools import partial
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "sample_locations", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "save_png", "sample_locations", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
 SAMPLE_PX = 96
 SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
 SAMPLE_MARGIN = 72  # CSS px kept free below the sample line (descenders)
+
+
+def _escape(text, quote=True):
+    """``text`` for HTML text and attribute values: ``&``, ``<``, ``>`` and (with
+    ``quote``) both quotes as entities, what ``html.escape`` does, without importing
+    the ``html`` package and its table of entities."""
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return text.replace('"', "&quot;").replace("'", "&#x27;") if quote else text
+
+
+def save_png(img, png):
+    """Write a Pillow RGB image as an 8-bit PNG file, grayscale when every pixel is
+    gray (the samples are black text on white) and RGB otherwise: the pixels read
+    back are the image's.  The rows are stored unfiltered and deflated by zlib;
+    Pillow's own PNG writer (its plugin import and adaptive filters) takes several
+    times as long for the samples' few hundred kilobytes."""
+    import struct
+    import zlib
+
+    if img.mode != "RGB":
+        raise ValueError("save_png writes RGB images, not %s" % img.mode)
+    width, height = img.size
+    data, color, row = img.tobytes(), 2, 3 * width
+    gray = data[0::3]
+    if data[1::3] == gray and data[2::3] == gray:
+        data, color, row = gray, 0, width
+    rows = b"".join(b"\0" + data[y * row:(y + 1) * row] for y in range(height))
+
+    def chunk(tag, body):
+        return (struct.pack(">I", len(body)) + tag + body
+                + struct.pack(">I", zlib.crc32(tag + body)))
+
+    Path(png).write_bytes(b"\x89PNG\r\n\x1a\n"
+                          + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, color,
+                                                       0, 0, 0))
+                          + chunk(b"IDAT", zlib.compress(rows, 6)) + chunk(b"IEND", b""))
 
 
 def _sfnt_file(font):
@@ -208,17 +243,17 @@ def _variable_sample(data, text, png, px, spots):
         y += lab_h
         draw.text((pad - left, y - box[1]), text, font=fnt, fill="black")
         y += h + pad
-    img.save(str(png))
+    save_png(img, png)
     return img
 
 
 def write_sample_image(font, text, png, px=SAMPLE_PX):
     """Set ``text`` in a font with Pillow at ``px`` pixels, black on white with a
-    quarter-size margin, and save it to ``png``; returns the image.  ``font``: a
-    path or binary file object of a font file (.ttf, .otf, .woff, .woff2), a
-    fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).  A variable font
-    is shown at a few axis positions (:func:`sample_locations`), one labelled line
-    each."""
+    quarter-size margin, and save it to ``png`` (:func:`save_png`); returns the
+    image.  ``font``: a path or binary file object of a font file (.ttf, .otf,
+    .woff, .woff2), a fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).
+    A variable font is shown at a few axis positions (:func:`sample_locations`),
+    one labelled line each."""
     from PIL import Image, ImageDraw, ImageFont
 
     src = _sfnt_file(font)
@@ -233,7 +268,7 @@ def write_sample_image(font, text, png, px=SAMPLE_PX):
     pad = px // 4
     img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")
     ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill="black")
-    img.save(str(png))
+    save_png(img, png)
     return img
 
 
@@ -316,7 +351,7 @@ def _font_faces(font_path, source_font):
     from .tables import font_bytes
 
     faces = ['@font-face { font-family: "MorphResult"; src: url("%s") format("%s"); }'
-             % (html.escape(font_path.name, quote=True), _font_format(font_path))]
+             % (_escape(font_path.name), _font_format(font_path))]
     if source_font is not None:
         data = base64.b64encode(font_bytes(source_font, "woff")).decode("ascii")
         faces.append('@font-face { font-family: "MorphSource"; '
@@ -326,7 +361,7 @@ def _font_faces(font_path, source_font):
 
 def _waterfall_rows(sample, with_source):
     """Table rows of the sample at every WATERFALL size, source cell first."""
-    esc = html.escape
+    esc = _escape
     rows = []
     for px in WATERFALL:
         src_td = ('<td class="src" style="font-size:%dpx">%s</td>' % (px, esc(sample))
@@ -338,7 +373,7 @@ def _waterfall_rows(sample, with_source):
 
 def _char_cells(font, source_font, cmap=None):
     """Grid cells: each encoded character in the source (if any) and the result."""
-    esc = html.escape
+    esc = _escape
     cells = []
     for ch, name in _cells(font, source_font, cmap):
         src = ('<span class="g src">%s</span>' % esc(ch)) if source_font is not None else ""
@@ -362,7 +397,7 @@ def write_specimen(font_path, source_font=None, sample="Hamburgefonstiv", html_p
 
     from ..parse import font_display_name
 
-    esc = html.escape
+    esc = _escape
     font_path = Path(font_path)
     html_path = specimen_path(font_path) if html_path is None else Path(html_path)
     font = TTFont(str(font_path), lazy=True)
@@ -409,7 +444,7 @@ def _axis_sliders(font):
     """The sliders of a variable font's axes (HTML and script), '' for a static one."""
     if "fvar" not in font:
         return ""
-    esc = html.escape
+    esc = _escape
     rows = []
     for ax in font["fvar"].axes:
         name = font["name"].getDebugName(ax.axisNameID) or ax.axisTag

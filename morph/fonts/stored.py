@@ -12,7 +12,6 @@ from fontTools.misc.psCharStrings import T2CharString
 from fontTools.misc.roundTools import otRound
 from fontTools.pens.pointPen import PointToSegmentPen, SegmentToPointPen
 from fontTools.pens.recordingPen import RecordingPointPen
-from fontTools.pens.t2CharStringPen import T2CharStringPen
 from fontTools.pens.transformPen import TransformPointPen
 from fontTools.pens.ttGlyphPen import TTGlyphPointPen
 from fontTools.ttLib import newTable
@@ -22,7 +21,8 @@ from ufo2ft.postProcessor import PostProcessor
 
 from .stream import _NO_WIDTHS, width_prefix
 from .tables_static import (BoundedCharString, Expanded, HeaderFont, as_bounded,
-                            bound_charstrings, glyf_boxes, is_bounded, subroutinize)
+                            bound_charstrings, bounded_t2_pen, glyf_boxes, is_bounded,
+                            subroutinize)
 
 
 class Stored:
@@ -60,41 +60,6 @@ class Stored:
             self.decomposed(name, pen)
 
 
-class _BoundedT2Pen(T2CharStringPen):
-    """fontTools' charstring pen that also draws the points it writes (rounded as it
-    rounds them) into a ``BoundsPen`` (``bounds``): the calls the charstring's
-    ``calcBounds`` would make, from its decoded program, give the same bounds."""
-
-    def __init__(self, *args, **kwargs):
-        from fontTools.pens.boundsPen import BoundsPen
-
-        super().__init__(*args, **kwargs)
-        self.bounds = BoundsPen(None)
-
-    def _rounded(self, pt):
-        return self.round(pt[0]), self.round(pt[1])
-
-    def _moveTo(self, pt):
-        super()._moveTo(pt)
-        self.bounds.moveTo(self._rounded(pt))
-
-    def _lineTo(self, pt):
-        super()._lineTo(pt)
-        self.bounds.lineTo(self._rounded(pt))
-
-    def _curveToOne(self, pt1, pt2, pt3):
-        super()._curveToOne(pt1, pt2, pt3)
-        self.bounds.curveTo(self._rounded(pt1), self._rounded(pt2), self._rounded(pt3))
-
-    def _closePath(self):
-        super()._closePath()
-        self.bounds.closePath()
-
-    def _endPath(self):
-        super()._endPath()
-        self.bounds.endPath()
-
-
 class StoredCFF(Stored, OutlineOTFCompiler):
     """CFF: a stored charstring gets the advance prepended (the widths ufo2ft chose);
     a glyph with components is decomposed and drawn with ufo2ft's pen."""
@@ -117,7 +82,7 @@ class StoredCFF(Stored, OutlineOTFCompiler):
             glyph, shell = self.allGlyphs[name], self.shell(name)
             if shell is not None and shell.components:
                 width = None if glyph.width == default else otRound(glyph.width - nominal)
-                pen = _BoundedT2Pen(width, self.allGlyphs, roundTolerance=self.roundTolerance)
+                pen = bounded_t2_pen(width, self.allGlyphs, roundTolerance=self.roundTolerance)
                 self.decomposed(name, PointToSegmentPen(pen))
                 out[name] = as_bounded(
                     pen.getCharString(private, None, optimize=self.optimizeCFF),

@@ -797,7 +797,7 @@ _FLAVORS = {".otf": "cff", ".ttf": "glyf", ".ufo": None}
 #: processes are forked so that they share them
 #: (:func:`morph.fonts.jobs.preload_modules`)
 _WORKER_MODULES = ("morph.parse.glif", "morph.stroke", "morph.fonts.tables", "morph.export",
-                   "morph.fonts.stream", "numpy.polynomial.legendre", "morph.parse.light_ufo")
+                   "morph.fonts.stream", "morph.quadrature", "morph.parse.light_ufo")
 _COMPILERS = {".ttf": ("fontTools.cu2qu",)}
 
 
@@ -902,7 +902,8 @@ class _StreamedGlyphs:
             if light:
                 from .tables_static import compile_static
 
-                otf = compile_static(self.font, self.store, self.kind, features=self.features)
+                otf = compile_static(self.font, self.store, self.kind,
+                                     features=self.features, **options)
             else:
                 otf = compile_stored(self.font, self.store, self.kind,
                                      features=self.features, **options)

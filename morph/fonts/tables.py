@@ -594,26 +594,103 @@ class OutlineWriter:
         draw_contours(pen, contours, self.quadratic)
         return self.store(name, pen)
 
+    def write_many(self, glyphs):
+        """:meth:`write` of several ``(name, contours, advance)``; their lsbs."""
+        return [self.write(*g) for g in glyphs]
+
 
 class _TrueTypeOutlines(OutlineWriter):
-    """``glyf`` table (quadratic contours, TTGlyphPen)."""
+    """``glyf`` table (quadratic contours, TTGlyphPen; :meth:`write_many` builds
+    the same glyphs from point arrays)."""
 
     quadratic = True
 
     def __init__(self, font):
+        self.font = font
         self.glyf = font["glyf"]
-        self.glyph_set = font.getGlyphSet()
+        self.glyph_set = None   # the pens', made on first use
 
     def pen(self, advance):
         from fontTools.pens.ttGlyphPen import TTGlyphPen
 
+        if self.glyph_set is None:
+            self.glyph_set = self.font.getGlyphSet()
         return TTGlyphPen(self.glyph_set)
 
+    def write_many(self, glyphs):
+        """:meth:`write` of several glyphs: the glyph objects ``TTGlyphPen`` makes
+        of the drawn contours, built from the outlines' point arrays (all glyphs'
+        points and flags sorted out at once, :func:`_glyf_points`) rather than
+        drawn point by point; a glyph whose contours the pen would trim (a contour
+        of fewer than two points, or closing on a repeated point) is drawn."""
+        from fontTools.ttLib.tables._g_l_y_f import Glyph, GlyphCoordinates
+        from fontTools.ttLib.tables.ttProgram import Program
+
+        outlines = [Outline.from_contours(c) for _, c, _ in glyphs]
+        lsbs = []
+        for (name, contours, advance), arrays in zip(glyphs, _glyf_points(outlines)):
+            if arrays is None:
+                lsbs.append(self.write(name, contours, advance))
+                continue
+            points, flags, ends = arrays
+            g = Glyph()
+            g.coordinates = GlyphCoordinates(points)
+            g.endPtsOfContours = ends
+            g.flags = flags
+            g.numberOfContours = len(ends)
+            g.program = Program()
+            g.program.fromBytecode(b"")
+            lsbs.append(self._put(name, g))
+        return lsbs
+
     def store(self, name, pen):
-        g = pen.glyph()
+        return self._put(name, pen.glyph())
+
+    def _put(self, name, g):
         self.glyf[name] = g
         g.recalcBounds(self.glyf)
         return int(getattr(g, "xMin", 0)) if g.numberOfContours else 0
+
+
+def _glyf_points(outlines):
+    """Per outline ``(points, flags, end points)`` as ``TTGlyphPen`` collects them
+    from :func:`draw_contours` (each contour from its start point, on-curve flag 1,
+    off-curve 0, without its closing point), or None for an outline the pen would
+    trim (see :meth:`_TrueTypeOutlines.write_many`) or an empty one."""
+    from array import array
+
+    if not outlines:
+        return []
+    points = np.concatenate([o.points for o in outlines]).astype(np.int64)
+    sizes = np.concatenate([o.sizes for o in outlines])
+    counts = np.concatenate([o.counts for o in outlines])
+    per_glyph = np.array([len(o.counts) for o in outlines])
+    seg_contour = np.repeat(np.arange(len(counts)), counts)
+    n = np.bincount(seg_contour, sizes, minlength=len(counts)).astype(np.int64)
+    end = np.cumsum(n + 1) - 1                 # each contour's closing point
+    start = end - n
+    on = np.zeros(len(points), bool)
+    on[start] = True
+    on[np.cumsum(sizes) - sizes + seg_contour + sizes] = True
+    last_line = sizes[np.cumsum(counts) - 1] == 1
+    closes = (points[end] == points[start]).all(axis=1)
+    trimmed = ((n < 2) | (last_line & (points[end - 1] == points[start]).all(axis=1))
+               | (~last_line & ~closes))
+    keep = np.ones(len(points), bool)
+    keep[end] = False
+    glyph_of = np.repeat(np.arange(len(outlines)), per_glyph)
+    bad = np.bincount(glyph_of[trimmed], minlength=len(outlines)) > 0
+    out, at, pt = [], 0, 0
+    for k, o in enumerate(outlines):
+        c, m = per_glyph[k], len(o.points)
+        if bad[k] or not c:
+            out.append(None)
+        else:
+            sel = keep[pt:pt + m]
+            out.append((points[pt:pt + m][sel].tolist(), array("B", on[pt:pt + m][sel].tolist()),
+                        (np.cumsum(n[at:at + c]) - 1).tolist()))
+        at, pt = at + c, pt + m
+    return out
 
 
 class _CFFOutlines(OutlineWriter):

@@ -1,8 +1,12 @@
 """The tables of a static font compiled from a UFO without ufo2ft: the tables
 ufo2ft's ``compileOTF`` / ``compileTTF`` write through
-:func:`morph.fonts.stream.compile_stored`, for the fonts that need nothing else of
-ufo2ft (read by :mod:`morph.parse.light_ufo`: no kerning, groups, anchors or
-components, no lib key ufo2ft reads, a feature file feaLib compiles as it is).
+:func:`morph.fonts.stream.compile_stored`, for the fonts read by
+:mod:`morph.parse.light_ufo` that need nothing else of ufo2ft
+(:func:`left_to_ufo2ft`): a CFF font, or a TrueType font keeping no components,
+whose feature file ufo2ft's feature writers would leave as it is
+(:mod:`morph.fonts.writers_static`) or complete with a kern feature that
+:mod:`morph.fonts.kern_static` writes as they do.  The others are compiled by ufo2ft
+from the ufoLib2 font of the same shells (:func:`compile_static`).
 
 ufo2ft's import costs a fifth of a second (its ``__init__`` loads its variable-font
 compilers and fontTools.varLib; ufoLib2 comes with it), more than the strokes of a
@@ -21,15 +25,21 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
   (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
   ``tx`` set as it sets them;
 - the name table is written here where all its records are Windows Unicode ones;
-- the feature file is parsed and written out again as ufo2ft does (its feature
-  writers add nothing to a font without kerning and anchors) and built by feaLib.
+- composites are decomposed into CFF charstrings as ufo2ft's compiler of the
+  stored outlines decomposes them (:class:`_Decomposer`); glyphs the lib names in
+  ``public.skipExportGlyphs`` are drawn into the glyphs that use them and left out;
+  ``public.postscriptNames`` rename the glyphs in the CFF charset or the post table
+  as ufo2ft's post-processor does (:func:`production_names`);
+- the feature file is parsed, completed with the kern feature where ufo2ft's writer
+  would write one, written out again as ufo2ft does and built by feaLib.
 
-So neither fontTools.cffLib nor fontTools' OpenType layout table classes (which
-its name table module loads) are imported for such a font: another tenth of a
-second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
+So for such a font without composites (whose CFF programs fontTools' charstring pen
+specializes) and layout features, neither fontTools.cffLib nor fontTools'
+OpenType layout table classes (which its name table module loads) are imported:
+another tenth of a second.  Every table is byte for byte ufo2ft's but the CFF table, which equals
 ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
-``tx`` output.  tests/fonts/test_tables_static.py compiles fonts both ways and
-compares them so.
+``tx`` output.  tests/fonts/test_tables_static.py and test_tables_features.py
+compile fonts both ways and compare them so.
 """
 
 import math
@@ -682,23 +692,211 @@ class _Notdef:
 _RMOVETO, _RLINETO, _ENDCHAR = 21, 5, 14
 
 
-def compile_static(font, store, kind, features=None):
+def bounded_t2_pen(*args, **kwargs):
+    """fontTools' ``T2CharStringPen`` that also draws the points it writes (rounded
+    as it rounds them) into a ``BoundsPen`` (its ``bounds``): the calls the
+    charstring's ``calcBounds`` would make, from its decoded program, give the same
+    bounds."""
+    global _BOUNDED_PEN
+    if _BOUNDED_PEN is None:
+        from fontTools.pens.boundsPen import BoundsPen
+        from fontTools.pens.t2CharStringPen import T2CharStringPen
+
+        class BoundedT2Pen(T2CharStringPen):
+            def __init__(self, *args, **kwargs):
+                super().__init__(*args, **kwargs)
+                self.bounds = BoundsPen(None)
+
+            def _rounded(self, pt):
+                return self.round(pt[0]), self.round(pt[1])
+
+            def _moveTo(self, pt):
+                super()._moveTo(pt)
+                self.bounds.moveTo(self._rounded(pt))
+
+            def _lineTo(self, pt):
+                super()._lineTo(pt)
+                self.bounds.lineTo(self._rounded(pt))
+
+            def _curveToOne(self, pt1, pt2, pt3):
+                super()._curveToOne(pt1, pt2, pt3)
+                self.bounds.curveTo(self._rounded(pt1), self._rounded(pt2),
+                                    self._rounded(pt3))
+
+            def _closePath(self):
+                super()._closePath()
+                self.bounds.closePath()
+
+            def _endPath(self):
+                super()._endPath()
+                self.bounds.endPath()
+
+        _BOUNDED_PEN = BoundedT2Pen
+    return _BOUNDED_PEN(*args, **kwargs)
+
+
+_BOUNDED_PEN = None
+
+
+class _Decomposer:
+    """CFF programs of glyphs with components, decomposed from the stored outlines
+    as ufo2ft's outline compiler of a streamed font draws them
+    (:class:`morph.fonts.stored.StoredCFF`): the glyph's own stored contours, then
+    each component's base (its own contours, then its components, recursively)
+    through the component's transformation, into ``T2CharStringPen`` (rounding
+    0.5, specialized).  ``shells``: every glyph of the font (those not exported
+    too: their outlines are drawn into the glyphs that use them)."""
+
+    def __init__(self, shells, store):
+        self.shells, self.store, self.drawn = shells, store, {}
+
+    def __call__(self, name, width):
+        """(program, bounds) of glyph ``name`` with the advance ``width`` (the
+        charstring's, None for the default width)."""
+        from fontTools.pens.pointPen import PointToSegmentPen
+
+        pen = bounded_t2_pen(width, None, roundTolerance=0.5)
+        self._decomposed(name, PointToSegmentPen(pen))
+        cs = pen.getCharString(None, None, optimize=True)
+        cs.compile()
+        return cs.bytecode, pen.bounds.bounds
+
+    def _own(self, name, pen):
+        """``name``'s stored contours, decoded once (a base is drawn into every
+        glyph that uses it)."""
+        rec = self.drawn.get(name)
+        if rec is None:
+            from fontTools.misc.psCharStrings import T2CharString
+            from fontTools.pens.pointPen import SegmentToPointPen
+            from fontTools.pens.recordingPen import RecordingPointPen
+
+            from .stream import _NO_WIDTHS
+
+            rec = self.drawn[name] = RecordingPointPen()
+            if name in self.store:
+                T2CharString(bytecode=self.store[name][0], private=_NO_WIDTHS,
+                             globalSubrs=[]).draw(SegmentToPointPen(rec))
+        rec.replay(pen)
+
+    def _decomposed(self, name, pen):
+        from fontTools.pens.transformPen import TransformPointPen
+
+        self._own(name, pen)
+        for c in self.shells[name].components:
+            if c.baseGlyph in self.shells:
+                self._decomposed(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
+
+
+#: what ufo2ft strips from a production glyph name, and its longest one
+_INVALID_NAME_CHARS = r"[^0-9a-zA-Z_.]"
+_MAX_NAME = 63
+
+
+def production_names(font, order, glyphs):
+    """glyph name -> the name the font is saved with, as ufo2ft's post-processor
+    renames the glyphs where the lib has ``public.postscriptNames`` (its
+    ``_build_production_names``): the given name, or the glyph's own, without the
+    characters PostScript names do not take, made unique with ".N" suffixes;
+    ``.notdef`` made here kept.  Empty where the lib has no such names."""
+    import re
+
+    names = font.lib.get("public.postscriptNames")
+    if not names:
+        return {}
+    seen, out = {}, {}
+    for name in order:
+        if name not in glyphs or isinstance(glyphs[name], _Notdef):
+            continue
+        prod = names.get(name) or name
+        valid = re.sub(_INVALID_NAME_CHARS, "", prod)
+        if name != prod and len(valid) > _MAX_NAME:
+            valid = re.sub(_INVALID_NAME_CHARS, "", name)
+        if valid in seen:
+            n = seen[valid]
+            while (valid + ".%d" % n) in seen:
+                n += 1
+            seen[valid] = n + 1
+            valid += ".%d" % n
+        seen[valid] = 1
+        out[name] = valid
+    return out
+
+
+def compile_static(font, store, kind, features=None, **options):
     """The ``TTFont`` ufo2ft compiles from the light font of shells ``font``
     (:class:`morph.parse.light_ufo.LightFont`) with the stored outlines ``store``
     (glyph name -> :func:`morph.fonts.stream.compile_outline`'s ``(data, bounds)``:
     CFF charstrings without advance for ``.otf``, glyf bytes for ``.ttf``);
     ``features``: feaLib's tree of the feature file, parsed already (None: parsed
     here).  See the module docstring.  The font's boxes are final: it is to be
-    saved as it is (``recalcBBoxes`` off; the CFF table is ``tx``'s bytes)."""
-    otf = _Compiler(font, store, kind == ".otf").compile(features)
+    saved as it is (``recalcBBoxes`` off; the CFF table is ``tx``'s bytes).
+
+    A font this module does not compile (:func:`left_to_ufo2ft`) is compiled by
+    ufo2ft (:func:`morph.fonts.stream.compile_stored`, given ``options``) from the
+    ufoLib2 font of the same shells."""
+    if features is None and font.features.text:
+        features = parse_features(font)
+    compiler = _Compiler(font, store, kind == ".otf")
+    reason, kern = left_to_ufo2ft(font, kind, features, compiler.order, compiler.cmap)
+    if reason is not None:
+        from ..parse.light_ufo import as_ufolib2
+        from .stream import compile_stored
+
+        return compile_stored(as_ufolib2(font), store, kind, features=features, **options)
+    otf = compiler.compile(features, kern)
     otf.recalcBBoxes = False
     return otf
+
+
+def left_to_ufo2ft(font, kind, tree, order, cmap):
+    """``(reason, kern)``: why the light font ``font`` is compiled by ufo2ft after
+    all (None: it is not), and the writer of the kern feature ufo2ft would add to
+    the feature file ``tree`` (:class:`morph.fonts.kern_static.KernWriter`; None:
+    none to add).  ``order``: the exported glyphs in the font's order; ``cmap``:
+    code point -> glyph name.  Reasons: a TrueType font keeping components
+    (ufo2ft's component flags and metrics), kerning the kern writer here does not
+    cover, feature writers that would add to the file
+    (:func:`morph.fonts.writers_static.writers_add_nothing`)."""
+    skip = set(font.lib.get("public.skipExportGlyphs", ()))
+    glyphs = [g for g in font if g.name not in skip]
+    if kind == ".ttf" and any(g.components for g in glyphs):
+        return "components in a TrueType font", None
+    if not font.kerning and not any(g.anchors for g in glyphs):
+        return None, None
+    from .writers_static import feature_tags, writers_add_nothing
+
+    to_write = bool(font.kerning) and "kern" not in feature_tags(tree)
+    reason = writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes},
+                                 kern_written=to_write)
+    if reason is not None or not to_write:
+        return reason, None
+    from .kern_static import KernWriter
+
+    kern = KernWriter(font, tree, order, cmap)
+    return kern.reason, (kern if kern.reason is None else None)
+
+
+def parse_features(font):
+    """feaLib's tree of the font's feature file as ufo2ft parses it (the font's
+    glyph names, includes from the UFO's folder)."""
+    from io import StringIO
+
+    from fontTools.feaLib.parser import Parser
+
+    buf = StringIO(font.features.text)
+    include = None
+    if font.path is not None:
+        path = os.path.normpath(font.path)
+        buf.name = os.path.join(path, "features.fea")
+        include = os.path.normpath(os.path.dirname(path) or ".")
+    return Parser(buf, set(font.keys()), includeDir=include).parse()
 
 
 class _Compiler:
     def __init__(self, font, store, cff):
         self.ufo, self.info, self.store, self.cff = font, font.info, store, cff
-        glyphs = {g.name: g for g in font}
+        skip = set(font.lib.get("public.skipExportGlyphs", ()))
+        glyphs = {g.name: g for g in font if g.name not in skip}
         if ".notdef" not in glyphs:
             glyphs[".notdef"] = _Notdef(self.info, reverse=not cff)
         self.glyphs = glyphs
@@ -718,8 +916,9 @@ class _Compiler:
                 self.cmap[u] = name
         self.otf = _raw_font_class()(sfntVersion="OTTO" if cff else "\000\001\000\000")
         self.bounds = {}   # CFF: glyph name -> its charstring's bounds
+        self.names = production_names(font, self.order, glyphs)
 
-    def compile(self, features):
+    def compile(self, features, kern=None):
         otf = self.otf
         otf.setGlyphOrder(self.order)
         if self.cff:
@@ -740,15 +939,16 @@ class _Compiler:
         if not self.cff:
             self._glyf_table()
             self._gasp()
-        self._features(features)
+        self._features(features, kern)
         if self.cff:
             self._cff()
         else:
             from fontTools.ttLib.standardGlyphOrder import standardGlyphOrder
 
-            post = otf["post"]      # ufo2ft's post-processor: format 2 names again
-            post.extraNames = [g for g in otf.getGlyphOrder() if g not in standardGlyphOrder]
-            post.mapping = {}
+            post = otf["post"]      # ufo2ft's post-processor: format 2 names again,
+            post.mapping = self.names   # production names where the font has them
+            post.extraNames = [self.names.get(g, g) for g in otf.getGlyphOrder()
+                               if self.names.get(g, g) not in standardGlyphOrder]
         return otf
 
     # ------------------------------------------------------------------ glyphs
@@ -768,6 +968,7 @@ class _Compiler:
     def _cff_programs(self):
         """glyph name -> (Type 2 program with its advance, bounds): the stored
         charstrings (unspecialized, :func:`morph.fonts.stream.compile_outlines`),
+        a glyph with components decomposed (:class:`_Decomposer`),
         ``endchar`` for an empty glyph, the ``.notdef`` rectangles drawn as
         ``T2CharStringPen`` draws them (its segments, unspecialized: the
         subroutinizer rewrites every charstring from its path, so that the font is
@@ -775,12 +976,18 @@ class _Compiler:
         ``calcBounds``."""
         from .stream import width_prefix
 
+        def width_program(width, default, nominal):   # as ufo2ft gives T2CharStringPen
+            return None if width == default else _ot_round(width - nominal)
+
         default, nominal = self._widths()
+        decompose = _Decomposer({g.name: g for g in self.ufo}, self.store)
         out = {}
         for name in self.order:
             glyph = self.glyphs[name]
             prefix = width_prefix(glyph.width, default, nominal)
-            if name in self.store:
+            if glyph.components:
+                out[name] = decompose(name, width_program(glyph.width, default, nominal))
+            elif name in self.store:
                 data, bounds = self.store[name]
                 out[name] = (prefix + data, bounds)
             elif isinstance(glyph, _Notdef):
@@ -1123,7 +1330,7 @@ class _Compiler:
         sid, offset = w.sid, w.offset
         top = self._cff_top(w, font_box)
         private = self._private_dict(w.entry)
-        names = [sid(n) for n in self.order[1:]]
+        names = [sid(self.names.get(n, n)) for n in self.order[1:]]
         charset = b"\0" + struct.pack(">%dH" % len(names), *names)
         charstrings = _index([p for p, _ in (self.programs[n] for n in self.order)])
         name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
@@ -1306,25 +1513,17 @@ class _Compiler:
         gasp.gaspRange = {r["rangeMaxPPEM"]: _int_list_to_num(r["rangeGaspBehavior"], 0, 4)
                           for r in records}
 
-    def _features(self, tree):
-        """The feature file as ufo2ft compiles it: parsed (with the font's glyph names,
-        includes from the UFO's folder), written out, built by feaLib."""
-        text = self.ufo.features.text or ""
-        if not text:
+    def _features(self, tree, kern=None):
+        """The feature file as ufo2ft compiles it: parsed (:func:`parse_features`),
+        the kern feature ufo2ft's writer would add written in (``kern``: a
+        :class:`morph.fonts.kern_static.KernWriter`), written out, built by
+        feaLib."""
+        written = kern is not None and kern.write()
+        if not (self.ufo.features.text or "") and not written:
             return
-        if tree is None:
-            from io import StringIO
-
-            from fontTools.feaLib.parser import Parser
-
-            buf = StringIO(text)
-            include = None
-            if self.ufo.path is not None:
-                path = os.path.normpath(self.ufo.path)
-                buf.name = os.path.join(path, "features.fea")
-                include = os.path.normpath(os.path.dirname(path) or ".")
-            tree = Parser(buf, set(self.ufo.keys()), includeDir=include).parse()
-        fea = tree.asFea()
+        if written:
+            tree = kern.tree
+        fea = (tree if tree is not None else parse_features(self.ufo)).asFea()
         if fea:
             from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
 

@@ -3,18 +3,23 @@ compiles without ufo2ft.
 
 ufoLib2 and ufo2ft are a fifth of a second of imports in every process; a small
 stroke font (a hundred Hershey glyphs) spends more on them than on its strokes.
-For a font that needs nothing of ufo2ft but its table building (no kerning, no
-groups, no anchors, no components, nothing in the libs that ufo2ft reads, a feature
-file feaLib compiles by itself) this module reads the UFO without them: the plists with :mod:`plistlib`, each ``.glif``'s shell (advance, unicodes,
-guidelines, note, lib; the outline's contours only counted, their points read later
-by :mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The
-objects have the attributes of ufoLib2's that the stroke pipeline uses (duck-typed:
-:class:`LightFont`, :class:`LightGlyph`, :class:`LightInfo`).
+For a font whose tables :mod:`morph.fonts.tables_static` builds (nothing in the
+libs that ufo2ft reads but the production names and the glyphs not exported, no
+feature file with includes) this module reads the UFO without them: the plists
+(font info, lib, groups, kerning) with :mod:`plistlib`, each ``.glif``'s shell
+(advance, unicodes, anchors, components, guidelines, note, lib; the outline's
+contours only counted, their points read later by :mod:`morph.parse.glif`) with
+fontTools' XML parser (lxml where installed).  The objects have the attributes of
+ufoLib2's that the stroke pipeline uses (duck-typed: :class:`LightFont`,
+:class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
+:class:`LightAnchor`); :func:`as_ufolib2` makes the ufoLib2 font of the same data,
+for a font the static compiler leaves to ufo2ft after all.
 
 Whatever this reader does not take (another UFO version, a GLIF 1 glyph, an image,
-a component, an anchor, a lib key ufo2ft reads, a ``data`` folder, a feature file with
-``include``, a glyph the plain XML read refuses) raises :class:`NotLight`: the caller
-reads the font with ufoLib2 and compiles it with ufo2ft, which judge it as before.
+another lib key ufo2ft reads, groups or kerning ufoLib2's validation refuses, a
+``data`` folder, a feature file with ``include``, a glyph the plain XML read
+refuses) raises :class:`NotLight`: the caller reads the font with ufoLib2 and
+compiles it with ufo2ft, which judge it as before.
 """
 
 import os
@@ -22,7 +27,8 @@ import plistlib
 import re
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
-           "read_contents", "read_light_font", "glif_shell"]
+           "LightAnchor", "LightComponent", "read_contents", "read_light_font",
+           "glif_shell", "as_ufolib2"]
 
 
 class NotLight(Exception):
@@ -34,8 +40,12 @@ class NotLight(Exception):
 #: prefixes may change what ufo2ft compiles
 _UFO2FT_LIB_PREFIXES = ("public.", "com.github.googlei18n.ufo2ft", "com.github.fonttools",
                         "com.nagwa.", "com.schriftgestaltung.Don't use Production Names")
-_FONT_LIB_OK = frozenset(("public.glyphOrder",))
-_GLYPH_LIB_OK = frozenset(("public.markColor",))
+_FONT_LIB_OK = frozenset(("public.glyphOrder", "public.postscriptNames",
+                          "public.skipExportGlyphs"))
+#: (the object libs ufo2ft reads hold anchors' mark classes, for the mark writer,
+#: which a light font has not run, and TrueType component flags, for the
+#: components a light TrueType font leaves to ufo2ft: morph.fonts.tables_static)
+_GLYPH_LIB_OK = frozenset(("public.markColor", "public.objectLibs"))
 
 #: the three vertical metrics with which ufo2ft writes vhea / vmtx (not done here)
 _VERTICAL = ("openTypeVheaVertTypoAscender", "openTypeVheaVertTypoDescender",
@@ -68,21 +78,37 @@ class LightGuideline:
         self.name, self.color, self.identifier = name, color, identifier
 
 
+class LightAnchor:
+    def __init__(self, x=0, y=0, name=None, color=None, identifier=None):
+        self.x, self.y, self.name = x, y, name
+        self.color, self.identifier = color, identifier
+
+
+class LightComponent:
+    """A component: ``baseGlyph``, ``transformation`` (the six numbers, a tuple),
+    ``identifier``."""
+
+    def __init__(self, baseGlyph, transformation=(1, 0, 0, 1, 0, 0),  # noqa: N803 - ufoLib2's name
+                 identifier=None):
+        self.baseGlyph = baseGlyph
+        self.transformation = tuple(transformation)
+        self.identifier = identifier
+
+
 class LightGlyph:
     """A glyph's shell: ``name``, ``width``, ``height``, ``unicodes`` (``unicode``
-    the first), ``guidelines``, ``lib``, ``note``; no contours (their number is the
-    reader's ``contour_counts``), no anchors and no components (a glyph with either
-    is not read light)."""
+    the first), ``anchors``, ``components``, ``guidelines``, ``lib``, ``note``; no
+    contours (their number is the reader's ``contour_counts``)."""
 
     def __init__(self, name, width=0, height=0, unicodes=None, guidelines=None, lib=None,
-                 note=None):
+                 note=None, anchors=None, components=None):
         self.name, self.width, self.height = name, width, height
         self.unicodes = list(unicodes or [])
         self.guidelines = list(guidelines or [])
         self.lib = dict(lib or {})
         self.note = note
-        self.anchors = []
-        self.components = []
+        self.anchors = list(anchors or [])
+        self.components = list(components or [])
         self.contours = []
 
     @property
@@ -100,16 +126,17 @@ class LightGlyph:
 
 
 class LightFont:
-    """The font of shells (:func:`read_light_font`): ``info``, ``lib``, ``groups``,
-    ``kerning`` (empty), ``features``, ``path``; its glyphs by name in the order of
-    the default layer's contents.plist (ufoLib2's), ``glyphOrder`` from the lib.
+    """The font of shells (:func:`read_light_font`): ``info``, ``lib``, ``groups``
+    (name -> list of glyph names), ``kerning`` ((first, second) -> value, as
+    ufoLib2's), ``features``, ``path``; its glyphs by name in the order of the
+    default layer's contents.plist (ufoLib2's), ``glyphOrder`` from the lib.
     ``light`` tells the writers to build the tables without ufo2ft."""
 
     light = True
 
-    def __init__(self, path, info, lib, features, glyphs):
+    def __init__(self, path, info, lib, features, glyphs, groups=None, kerning=None):
         self.path, self.info, self.lib, self.features = path, info, lib, features
-        self.groups, self.kerning = {}, {}
+        self.groups, self.kerning = dict(groups or {}), dict(kerning or {})
         self._glyphs = glyphs
 
     @property
@@ -293,21 +320,71 @@ def read_light_font(path, glif, contour_counts):
     upm = info.get("unitsPerEm")
     if upm is not None and not 0 < upm < float("inf"):
         raise NotLight("unitsPerEm %r" % (upm,))
-    if groups or kerning:
-        raise NotLight("kerning or groups")
+    groups, kerning = _groups_checked(groups), _kerning_checked(kerning)
     for key in lib:
         if key not in _FONT_LIB_OK and key.startswith(_UFO2FT_LIB_PREFIXES):
             raise NotLight("font lib key %s" % key)
+    _lib_values_checked(lib)
     if all(info.get(k) is not None for k in _VERTICAL):
         raise NotLight("vertical metrics")
     if re.search(r"\binclude\s*\(", text):
         raise NotLight("feature file includes")
     glyphs = {}
     for name in contents:
-        glyph, count = glif_shell(name, glif(name))
+        try:
+            data = glif(name)
+        except OSError as exc:   # a missing or unreadable .glif: ufoLib2's to name
+            raise NotLight("glyph %r: %s" % (name, exc)) from exc
+        glyph, count = glif_shell(name, data)
         glyphs[name] = glyph
         contour_counts[name] = count
-    return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs)
+    return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs, groups, kerning)
+
+
+def _groups_checked(groups):
+    """The groups plist as ufoLib2 holds it, where fontTools' ``groupsValidator``
+    would pass it (names and members strings, no glyph in two kerning groups of a
+    side); else NotLight."""
+    if not isinstance(groups, dict):
+        raise NotLight("groups")
+    sides = ({}, {})
+    for name, members in groups.items():
+        if not name or not isinstance(members, list) \
+                or not all(isinstance(m, str) for m in members):
+            raise NotLight("group %r" % (name,))
+        for i, prefix in enumerate(("public.kern1.", "public.kern2.")):
+            if name.startswith(prefix):
+                if name == prefix or any(m in sides[i] for m in members):
+                    raise NotLight("kerning group %r" % name)
+                sides[i].update(dict.fromkeys(members, name))
+    return {name: list(members) for name, members in groups.items()}
+
+
+def _kerning_checked(kerning):
+    """((first, second) -> value) of the kerning plist, where fontTools'
+    ``kerningValidator`` would pass it; else NotLight."""
+    if not isinstance(kerning, dict):
+        raise NotLight("kerning")
+    out = {}
+    for first, seconds in kerning.items():
+        if not isinstance(seconds, dict):
+            raise NotLight("kerning of %r" % (first,))
+        for second, value in seconds.items():
+            if not _is_number(value):
+                raise NotLight("kerning of %r, %r" % (first, second))
+            out[first, second] = value
+    return out
+
+
+def _lib_values_checked(lib):
+    """The lib keys ufo2ft reads that this reader takes, of the types ufo2ft
+    reads: production names (glyph name -> name), glyphs not exported (names)."""
+    names = lib.get("public.postscriptNames", {})
+    skip = lib.get("public.skipExportGlyphs", [])
+    if not isinstance(names, dict) or not all(isinstance(k, str) and isinstance(v, str)
+                                              for k, v in names.items()) \
+            or not isinstance(skip, list) or not all(isinstance(n, str) for n in skip):
+        raise NotLight("production names or glyphs not exported")
 
 
 def _number(text):
@@ -323,22 +400,23 @@ _CONTOUR = re.compile(rb"<contour[\s/>]")
 
 def glif_shell(name, data):
     """``(LightGlyph, number of contours)`` of a GLIF 2 glyph's bytes, read as glifLib
-    reads them (advance, unicodes without repeats, guidelines, note, lib).
+    reads them (advance, unicodes without repeats, anchors, components, guidelines,
+    note, lib).
 
     Raises:
-        NotLight: anything else (components, anchors, an image, GLIF 1, bad XML).
+        NotLight: anything else (an image, GLIF 1, bad XML).
     """
     from fontTools.misc import etree   # lxml where installed, as glifLib and .glif read
 
     a = data.find(b"<outline")
-    contours = 0
+    contours, components = 0, []
     if a >= 0:
         if data.count(b"<outline") != 1 or b"<!--" in data or b"<![CDATA[" in data:
             raise NotLight("glyph %r: outline not plain" % name)
         b = data.find(b"</outline>", a)
         inner = data[a:b] if b >= 0 else data[a:]
         if b"<component" in inner:
-            raise NotLight("glyph %r: components" % name)
+            components = _components(name, inner)
         contours = len(_CONTOUR.findall(inner))
         if b >= 0:
             data = data[:a] + data[b + 10:]
@@ -349,7 +427,7 @@ def glif_shell(name, data):
     if root.tag != "glyph" or root.get("format", "2").split(".")[0] != "2" \
             or root.get("name") != name or (root.text or "").strip():
         raise NotLight("glyph %r: not a GLIF 2 glyph of that name" % name)
-    glyph = LightGlyph(name)
+    glyph = LightGlyph(name, components=components)
     try:
         for el in root:
             tag = el.tag
@@ -364,13 +442,15 @@ def glif_shell(name, data):
                 glyph.guidelines.append(LightGuideline(
                     **{k: (_number(v) if k in ("x", "y", "angle") else v)
                        for k, v in el.attrib.items()}))
+            elif tag == "anchor":
+                glyph.anchors.append(_anchor(el.attrib))
             elif tag == "note":
                 glyph.note = el.text
             elif tag == "lib":
                 glyph.lib = _lib(el)
             elif tag == "outline" and not len(el):
                 pass
-            else:  # anchor, image, anything unknown
+            else:  # image, anything unknown
                 raise NotLight("glyph %r: <%s>" % (name, tag))
     except (TypeError, ValueError) as exc:
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
@@ -380,6 +460,39 @@ def glif_shell(name, data):
     return glyph, contours
 
 
+def _anchor(attrib):
+    """A GLIF anchor (x and y required, as glifLib requires them)."""
+    if "x" not in attrib or "y" not in attrib \
+            or not set(attrib) <= {"x", "y", "name", "color", "identifier"}:
+        raise ValueError("anchor %r" % dict(attrib))
+    return LightAnchor(_number(attrib["x"]), _number(attrib["y"]), attrib.get("name"),
+                       attrib.get("color"), attrib.get("identifier"))
+
+
+#: a GLIF component's transformation attributes and their defaults, in order
+_TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1"),
+              ("xOffset", "0"), ("yOffset", "0"))
+_COMPONENT_KEYS = frozenset(k for k, _ in _TRANSFORM) | {"base", "identifier"}
+
+
+def _components(name, outline):
+    """The components of a glyph's outline element's bytes (``<outline>`` up to its
+    end tag), in order; NotLight for one without a base or with another attribute."""
+    from fontTools.misc import etree
+
+    try:
+        root = etree.fromstring(outline + b"</outline>")
+        out = []
+        for el in root.iterfind("component"):
+            if not el.get("base") or not set(el.attrib) <= _COMPONENT_KEYS or len(el):
+                raise ValueError("component %r" % dict(el.attrib))
+            out.append(LightComponent(el.get("base"), tuple(
+                _number(el.get(k, d)) for k, d in _TRANSFORM), el.get("identifier")))
+    except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
+        raise NotLight("glyph %r: %s" % (name, exc)) from exc
+    return out
+
+
 def _lib(element):
     from fontTools.misc import etree
 
@@ -387,3 +500,33 @@ def _lib(element):
         raise ValueError("lib is not one dict")
     text = b'<plist version="1.0">' + etree.tostring(element[0]) + b"</plist>"
     return plistlib.loads(text)
+
+
+def as_ufolib2(font):
+    """The ufoLib2 font of a :class:`LightFont`'s data as it is now (shells: no
+    contours): font info, lib, groups, kerning, feature text and every glyph's
+    advance, unicodes, anchors, components, guidelines, note and lib, in the same
+    order; for ufo2ft, where :mod:`morph.fonts.tables_static` does not compile a
+    font itself."""
+    import copy
+
+    import ufoLib2
+    from ufoLib2.objects import Anchor, Component, Glyph, Guideline
+
+    out = ufoLib2.Font(lib=copy.deepcopy(font.lib), groups=copy.deepcopy(font.groups),
+                       kerning=dict(font.kerning))
+    out.features.text = font.features.text or ""
+    for key, value in vars(font.info).items():
+        setattr(out.info, key, copy.deepcopy(value))
+    layer = out.layers.defaultLayer
+    for g in font:
+        layer.insertGlyph(Glyph(
+            g.name, width=g.width, height=g.height, unicodes=list(g.unicodes),
+            lib=copy.deepcopy(g.lib), note=g.note,
+            anchors=[Anchor(a.x, a.y, a.name, a.color, a.identifier) for a in g.anchors],
+            components=[Component(c.baseGlyph, tuple(c.transformation), c.identifier)
+                        for c in g.components],
+            guidelines=[Guideline(x=gl.x, y=gl.y, angle=gl.angle, name=gl.name,
+                                  color=gl.color, identifier=gl.identifier)
+                        for gl in g.guidelines]), copy=False)
+    return out

@@ -142,11 +142,26 @@ def component_paths(font, component, _depth=0):
     if component.baseGlyph not in font:
         raise ParseError("component base glyph %r is missing" % component.baseGlyph,
                          component.baseGlyph)
-    base = font[component.baseGlyph]
-    paths = glyph_paths(base)
-    for sub in base.components:
+    paths, subs = _base_outline(font, component.baseGlyph)
+    for sub in subs:
         paths.extend(component_paths(font, sub, _depth + 1))
     return transform_paths(paths, tuple(component.transformation))
+
+
+def _base_outline(font, name):
+    """(paths, components) of glyph ``name``: from its ``.glif`` bytes by
+    :func:`morph.parse.glif.skeleton_outlines` where ``font`` gives them (a
+    :class:`morph.fonts.stream.SkeletonSource` of a UFO on disk: no ufoLib2 glyph
+    is made), else from the font's glyph."""
+    read = getattr(font, "glif_data", None)
+    if read is not None:
+        from .glif import skeleton_outlines
+
+        outline = skeleton_outlines([read(name)])[0]
+        if outline is not None:
+            return outline
+    base = font[name]
+    return glyph_paths(base), base.components
 
 
 def decomposed_paths(font, name):

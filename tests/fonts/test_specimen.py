@@ -143,3 +143,34 @@ def test_ink_test_reads_the_data_as_a_control_box_pen_draws(suffix, tmp_path):
             kinds.add(pen.bounds is not None)
             assert has_ink(name) == (pen.bounds is not None), (path.name, name)
         assert kinds == {True, False}
+
+
+def test_sample_png_holds_the_images_pixels(brushed, tmp_path):
+    """The sample PNG (morph's own writer, save_png) reads back as the image Pillow
+    drew: grayscale for black text on white, RGB when a pixel has colour; a
+    different image does not compare equal."""
+    from morph.fonts.specimen import save_png, write_sample_image
+
+    img = write_sample_image(brushed, TEXT, tmp_path / "s.png")
+    back = Image.open(tmp_path / "s.png")
+    assert back.format == "PNG" and back.mode == "L" and back.size == img.size
+    assert np.array_equal(np.asarray(back.convert("RGB")), np.asarray(img))
+    assert np.asarray(back).min() == 0 and np.asarray(back).max() == 255  # ink and paper
+    colour = img.copy()
+    ImageDraw.Draw(colour).rectangle((2, 3, 9, 7), fill=(200, 30, 60))
+    save_png(colour, tmp_path / "c.png")
+    back = Image.open(tmp_path / "c.png")
+    assert back.mode == "RGB" and np.array_equal(np.asarray(back), np.asarray(colour))
+    assert not np.array_equal(np.asarray(back), np.asarray(img))
+    with pytest.raises(ValueError):
+        save_png(img.convert("L"), tmp_path / "l.png")
+
+
+def test_specimen_escapes_as_html_escape():
+    import html
+
+    from morph.fonts.specimen import _escape
+
+    for text in ("a&b<c>d\"e'f", "&amp;", "plain", "", "<'\">&"):
+        assert _escape(text) == html.escape(text, quote=True)
+        assert _escape(text, quote=False) == html.escape(text, quote=False)

@@ -112,3 +112,46 @@ def test_clean_contour_keeps_splines_and_splits_those_that_round_to_repeats():
     assert np.array_equal(out[0][1], mid) and np.array_equal(out[1][0], mid)
     # without splines a 4-point segment is a cubic, as before
     assert [len(s) for s in clean_contour([spline, line])] == [4, 2]
+
+
+def _glyf_cases():
+    """Contours as the brush writes them (lists of integer segments closing on their
+    start), and those ``TTGlyphPen`` trims or keeps differently."""
+    tri = [A([[0, 0], [100, 0]]), A([[100, 0], [50, 80]]), A([[50, 80], [0, 0]])]
+    spline = [A([[0, 0], [40, -30], [80, 0]]), A([[80, 0], [120, 40], [90, 90], [40, 60]]),
+              A([[40, 60], [10, 40], [0, 0]])]          # ends on a curve: start repeated
+    hole = [A([[30, 10], [30, 30]]), A([[30, 30], [60, 10]]), A([[60, 10], [30, 10]])]
+    two = [A([[5, 5], [9, 9]]), A([[9, 9], [5, 5]])]       # two points
+    back = [A([[0, 0], [50, 0]]), A([[50, 0], [0, 0]]), A([[0, 0], [0, 0]])]  # ends on start
+    open_curve = [A([[0, 0], [40, 40], [80, 0]]), A([[80, 0], [40, -9], [3, 1]])]  # no close
+    return {"lines": [tri], "splines and a hole": [spline, hole], "two points": [two],
+            "closing on the start": [tri, back], "curve not closing": [open_curve],
+            "empty": []}
+
+
+def test_truetype_write_many_builds_the_pens_glyphs():
+    """write_many (glyphs built from the point arrays) makes the glyphs, bytes and
+    lsbs that drawing each with TTGlyphPen (write) makes, the trimmed cases
+    included (those are drawn)."""
+    from morph.fonts.tables import outline_writer
+
+    cases = _glyf_cases()
+    names = ["a", "b", "c", "d", "e", "f"]
+    fonts = [TTFont(str(default_font_path())) for _ in range(2)]
+    drawn, built = (outline_writer(f) for f in fonts)
+    lsb_drawn = [drawn.write(n, c, 500) for n, c in zip(names, cases.values())]
+    lsb_built = built.write_many([(n, c, 500) for n, c in zip(names, cases.values())])
+    assert lsb_built == lsb_drawn
+    for n, what in zip(names, cases):
+        a, b = fonts[0]["glyf"][n], fonts[1]["glyf"][n]
+        assert b.compile(fonts[1]["glyf"]) == a.compile(fonts[0]["glyf"]), what
+        assert list(b.coordinates) == list(a.coordinates), what
+    assert fonts[1]["glyf"]["b"].numberOfContours == 2
+    from morph.fonts.tables import Outline, _glyf_points
+
+    arrays = _glyf_points([Outline.from_contours(c) for c in cases.values()])
+    assert [a is None for a in arrays] == [False, False, False, True, True, True]
+    # the check can fail: another outline gives other bytes
+    fonts[1]["glyf"]["a"] = fonts[1]["glyf"]["b"]
+    assert fonts[1]["glyf"]["a"].compile(fonts[1]["glyf"]) != \
+        fonts[0]["glyf"]["a"].compile(fonts[0]["glyf"])
