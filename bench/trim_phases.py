@@ -1,7 +1,7 @@
 """The trimming's phases alone, in-process, on the sums of a whole ``morph stroke`` run.
 
     python -m bench.trim_phases [--sets hanzi-300,hershey-script,relief] [--repeat 3]
-                                [--levels 32 | --levels 32,8]
+                                [--levels 32 | --levels 32,8] [--calls FILE.pickle]
 
 Each set is stroked once (``morph stroke --jobs 1``, the command's own chunks) with
 :func:`morph.trim.boundary` recorded; then every recorded call is trimmed again
@@ -49,11 +49,9 @@ def record(name):
 
     calls, orig = [], mk.boundary
 
-    def rec(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0,
-            untangle=True):
-        calls.append((loops, eps, grid, fill_rule, hole_test.a, hole_test.b, hole_test.tol,
-                      contract))
-        return orig(loops, eps, grid, fill_rule, hole_test, contract, untangle)
+    def rec(*args, **kwargs):
+        calls.append((args, kwargs))
+        return orig(*args, **kwargs)
 
     mk.boundary = rec
     out = io.StringIO()
@@ -98,33 +96,61 @@ def timed_phases():
     return spent, charge, last
 
 
+def recorded_calls(names, path=None):
+    """{set: (calls, glyphs)}, from the pickle ``path`` where it exists, else recorded
+    (and written there)."""
+    import pickle
+
+    if path and Path(path).exists():
+        with open(path, "rb") as f:
+            return pickle.load(f)
+    out = {name: record(name) for name in names}
+    if path:
+        with open(path, "wb") as f:
+            pickle.dump(out, f)
+    return out
+
+
+def fresh(args):
+    """The recorded arguments with a new hole test (a :class:`morph.minkowski._HoleTest`
+    caches its flattenings: each repeat starts without them)."""
+    import morph.minkowski as mk
+
+    args = list(args)
+    if len(args) > 4 and isinstance(args[4], mk._HoleTest):
+        h = args[4]
+        args[4] = mk._HoleTest(h.a, h.b, h.tol)
+    return args
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sets", default="hanzi-300,hershey-script,relief")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--levels", help="comma separated test levels in eps, e.g. 32 or 32,8")
+    ap.add_argument("--calls", help="a pickle of the recorded calls: read where it exists, "
+                    "else written (to time changes of the trimming on the same calls)")
     args = ap.parse_args(argv)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-    import morph.minkowski as mk
     import morph.trim as tr
     import morph.trim.flatten as fl
 
     if args.levels:
         levels = [float(v) for v in args.levels.split(",")]
         fl._levels = lambda coarse: list(levels)
-    recorded = {name: record(name) for name in args.sets.split(",")}
+    recorded = recorded_calls(args.sets.split(","), args.calls)
     spent, charge, last = timed_phases()
     for name, (calls, glyphs) in recorded.items():
         best, vertices = {}, 0
         for _ in range(args.repeat):
             spent.clear()
             last[0] = t0 = time.process_time()
-            for loops, eps, grid, rule, a, b, tol, contract in calls:
-                tr.boundary(loops, eps, grid, rule, mk._HoleTest(a, b, tol), contract)
+            for a, k in calls:
+                tr.boundary(*fresh(a), **k)
             charge()
             spent["total"] = time.process_time() - t0
             best = {k: min(v, best.get(k, v)) for k, v in spent.items()}
-        vertices = sum(len(fl.tag_loops(c[0], c[1], c[2]).q) for c in calls)
+        vertices = sum(len(fl.tag_loops(*a[:3], pieces=k.get("pieces")).q) for a, k in calls)
         print("%s (%d glyphs, %d calls, %d polyline vertices): %s ms/glyph" % (
             name, glyphs, len(calls), vertices, ", ".join(
                 "%s %.2f" % (k, 1000.0 * best.get(k, 0.0) / glyphs)

@@ -74,14 +74,16 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                                              int(np.ceil(reach / grid)) + 1), THIN_UNITS)
     if hole_test is not None:
         rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
-    out, of_ring = lift_rings([r.q for r in rings], tg, contract)
+    out, of_ring, packed = lift_rings([r.q for r in rings], tg, contract, packed=True)
     outer = [not rings[k].hole for k in of_ring]
     near = _near_pairs([tg.to_float(rings[k].q) if o else [] for k, o in zip(of_ring, outer)],
                        reach, np.array([rings[k].group for k in of_ring], np.int64))
-    out = merge_lenses(out, outer, eps, near)
+    merged = merge_lenses(out, outer, eps, near)
     if untangle:
-        out = untangle_loops(out, eps, hole_test=hole_test)
-    return out
+        # each merge makes one loop of two: as many loops, none merged, the same pieces
+        merged = untangle_loops(merged, eps, hole_test=hole_test,
+                                pieces=packed if len(merged) == len(out) else None)
+    return merged
 
 
 def _filled_holes(rings, tg, hole_test):

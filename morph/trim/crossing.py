@@ -108,9 +108,11 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
     the candidates at their items' centres and the indices of the pairs given up.
     """
-    stacked = pc.stack(pieces)
+    used = unique(pairs)
+    stacked = stack_rows(pieces, used)
+    inv = np.searchsorted(used, pairs)
     n = len(pairs)
-    it = dict(org=np.arange(n), ia=pairs[:, 0].copy(), ib=pairs[:, 1].copy(),
+    it = dict(org=np.arange(n), ia=inv[:, 0].copy(), ib=inv[:, 1].copy(),
               a0=np.zeros(n), a1=np.ones(n), b0=np.zeros(n), b1=np.ones(n),
               kind=np.asarray(kinds, int).copy())
     found, crowded = [], []
@@ -144,6 +146,21 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
     return org.astype(int), s, u, gave_up
+
+
+def stack_rows(pieces, rows):
+    """``pc.stack(pieces)[rows]`` without stacking the other pieces: the pieces
+    ``rows`` (ascending indices) elevated to the highest degree of all ``pieces``
+    (the same bits: elevation is row by row)."""
+    pieces = pc.Pieces.of(pieces)
+    deg = max((h.shape[1] for _, h in pieces.groups), default=1) - 1
+    out = np.empty((len(rows), deg + 1, 3))
+    for ks, h in pieces.groups:
+        at = np.searchsorted(ks, rows)
+        hit = np.flatnonzero(ks[np.minimum(at, len(ks) - 1)] == rows) if len(ks) else at[:0]
+        if len(hit):
+            out[hit] = bz.elevate_many(h[at[hit]], deg + 1 - h.shape[1])
+    return out
 
 
 def _crowded(counts, pair_items, max_items):
@@ -184,34 +201,37 @@ def _narrow_cone(v):
     return (hi - lo < np.pi * (1.0 - 1e-9)) & live.any(axis=1)
 
 
+#: the children of an item (:func:`_split_items`), by slot: (category of the item
+#: split: plain halving a, plain halving b, joined, self; whether a0, a1, b0, b1
+#: become the midpoint of their interval; the child's kind, -1 the item's own)
+_SLOTS = np.array([
+    (0, 0, 1, 0, 0, -1), (0, 1, 0, 0, 0, -1),              # a plain item: a halved
+    (1, 0, 0, 0, 1, -1), (1, 0, 0, 1, 0, -1),              # ... b halved
+    (2, 1, 0, 0, 1, -1), (2, 0, 1, 0, 1, PAIRS),           # joined: the halves at the
+    (2, 1, 0, 1, 0, PAIRS), (2, 0, 1, 1, 0, PAIRS),        # join, and three plain ones
+    (3, 0, 1, 0, 1, -1), (3, 1, 0, 1, 0, -1), (3, 0, 1, 1, 0, JOINED)])  # self
+#: the first slot and the number of slots of each category
+_SLOT_FIRST, _SLOT_COUNT = np.array([0, 2, 4, 8]), np.array([2, 2, 4, 3])
+
+
 def _split_items(it, keep, split_a):
-    """The next level's items (see :func:`subdivided_crossings`)."""
+    """The next level's items (see :func:`subdivided_crossings`), slot by slot
+    (:data:`_SLOTS`: a plain item gives the two halves of its larger part, a
+    joined one the halves at the join and three plain items, a self item two self
+    items and one joined), each slot's children in the order of their items: all
+    at once, one stable sort of the children by slot."""
     it = {k: v[keep] for k, v in it.items()}
-    split_a = split_a[keep]
-    am, bm = 0.5 * (it["a0"] + it["a1"]), 0.5 * (it["b0"] + it["b1"])
-    out = []
-    plain = it["kind"] == PAIRS
-    pa, pb = plain & split_a, plain & ~split_a
-    out.append(_items(it, pa, a1=am[pa]))
-    out.append(_items(it, pa, a0=am[pa]))
-    out.append(_items(it, pb, b1=bm[pb]))
-    out.append(_items(it, pb, b0=bm[pb]))
-    jn = it["kind"] == JOINED  # a ends at the join, b starts there
-    out.append(_items(it, jn, a0=am[jn], b1=bm[jn]))  # the halves at the join
-    out.append(_items(it, jn, a1=am[jn], b1=bm[jn], kind=PAIRS))
-    out.append(_items(it, jn, a0=am[jn], b0=bm[jn], kind=PAIRS))
-    out.append(_items(it, jn, a1=am[jn], b0=bm[jn], kind=PAIRS))
-    sf = it["kind"] == SELF
-    out.append(_items(it, sf, a1=am[sf], b1=bm[sf]))
-    out.append(_items(it, sf, a0=am[sf], b0=bm[sf]))
-    out.append(_items(it, sf, a1=am[sf], b0=bm[sf], kind=JOINED))
-    return {k: np.concatenate([o[k] for o in out]) for k in it}
-
-
-def _items(it, sel, kind=None, **bounds):
-    new = {k: v[sel].copy() for k, v in it.items()}
-    for k, v in bounds.items():
-        new[k] = v
-    if kind is not None:
-        new["kind"] = np.full(int(sel.sum()), kind)
-    return new
+    kind = it["kind"]
+    cat = np.where(kind == PAIRS, np.where(split_a[keep], 0, 1), np.where(kind == JOINED, 2, 3))
+    count = _SLOT_COUNT[cat]
+    item = np.repeat(np.arange(len(cat)), count)
+    slot = np.repeat(_SLOT_FIRST[cat], count) + (np.arange(len(item)) - np.repeat(
+        np.cumsum(count) - count, count))
+    order = np.argsort(slot, kind="stable")
+    item, table = item[order], _SLOTS[slot[order]]
+    out = {k: v[item] for k, v in it.items()}
+    for name, col in (("a0", 1), ("a1", 2), ("b0", 3), ("b1", 4)):
+        mid = 0.5 * (it[name[0] + "0"] + it[name[0] + "1"])[item]
+        out[name] = np.where(table[:, col] == 1, mid, out[name])
+    out["kind"] = np.where(table[:, 5] >= 0, table[:, 5], out["kind"])
+    return out

@@ -36,15 +36,18 @@ MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allo
 SETTLE = 1e-6
 
 
-def lift_rings(rings, tg, contract):
+def lift_rings(rings, tg, contract, packed=False):
     """(loops of rational pieces, one per ring (see the module docstring), the index
-    of each loop's ring): rings whose runs were all contracted are left out.
+    of each loop's ring): rings whose runs were all contracted are left out.  With
+    ``packed``, a third item: the loops' pieces one loop after another as a
+    :class:`morph.piece.Pieces` (the stacks the pieces are views of: what
+    :func:`.untangle.untangle` searches, without gathering them again).
 
     rings: list of integer vertex arrays; tg: :class:`.flatten.Tagged`; runs shorter
     than ``contract`` (control-polygon length) are contracted to their start point.
     """
     if not rings:
-        return [], []
+        return ([], [], pc.Pieces([], 0)) if packed else ([], [])
     sizes = np.array([len(r) for r in rings])
     v = np.concatenate(rings)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -66,13 +69,16 @@ def lift_rings(rings, tg, contract):
     flat = _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, tg.pieces)
     reach = 2.0 * tg.grid * MATCH_UNITS
     flagged = _spike_triples(flat, reach)
-    if flagged:  # rare: the rings' runs as lists, cut one by one
-        runs = _as_runs(flat)
-        _cut_flagged(runs, flagged, reach)
-        flat = _flat_runs(runs)
-    out = _close_all(flat, contract)
+    if flagged:  # rare: the flagged rings' runs as lists, cut one by one
+        flat = _with_spikes_cut(flat, flagged, reach)
+    out, stacks = _close_all(flat, contract)
     kept = [k for k, loop in enumerate(out) if loop]
-    return [out[k] for k in kept], kept
+    loops = [out[k] for k in kept]
+    if not packed:
+        return loops, kept
+    if stacks is None:   # some rings closed one by one: their pieces are new
+        stacks = pc.Pieces.of([p for loop in loops for p in loop])
+    return loops, kept, stacks
 
 
 def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
@@ -150,6 +156,37 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     return cut, ends, per
 
 
+def _with_spikes_cut(flat, flagged, reach):
+    """The runs held flat (pieces, junction ends, runs per ring) with the spikes
+    ``flagged`` ((ring, run) pairs, :func:`_spike_triples`) cut out: only the rings
+    flagged are taken out as lists and cut (:func:`_cut_flagged`); the others keep
+    their rows of the packed pieces, and the cut rings' pieces are put back in
+    their places (one gather)."""
+    pieces, ends, per = flat
+    pieces = pc.Pieces.of(pieces)
+    base = np.cumsum(per) - per
+    hit = np.zeros(len(per), bool)
+    hit[[r for r, _ in flagged]] = True
+    runs = {}
+    for r in np.flatnonzero(hit).tolist():
+        a, b = int(base[r]), int(base[r] + per[r])
+        runs[r] = (pieces.take(np.arange(a, b)).rows(), list(ends[a:b]))
+    _cut_flagged(runs, flagged, reach)
+    new_per = per.copy()
+    for r, (out, _) in runs.items():
+        new_per[r] = len(out)
+    kept = ~np.repeat(hit, per)
+    new = [p for r in sorted(runs) for p in runs[r][0]]
+    new_ends = np.array([e for r in sorted(runs) for e in runs[r][1]], float).reshape(-1, 2)
+    # the final order: ring by ring, the kept rows first in the stack, then the new
+    cut_row = np.repeat(hit, new_per)
+    where = np.empty(len(cut_row), np.int64)
+    where[~cut_row] = np.arange(int(kept.sum()))
+    where[cut_row] = kept.sum() + np.arange(len(new))
+    both = pieces.take(np.flatnonzero(kept)).then(new)
+    return (both.take(where), np.concatenate([ends[kept], new_ends])[where], new_per)
+
+
 def _as_runs(flat):
     """Runs held flat (pieces, junction ends (N, 2), runs per ring) as per ring
     [(pieces, ends)], lists."""
@@ -171,11 +208,12 @@ def _close_all(flat, contract):
     """:func:`_close` of every ring's runs (held flat: pieces, junction ends (N, 2),
     runs per ring): the first round (lengths, snapping to the junctions, lengths
     again) for all rings at once; the rings where snapping leaves a short run go on
-    one by one."""
+    one by one.  Returns (the loops, the :class:`morph.piece.Pieces` whose rows
+    they are, one loop after another; None where some ring went on alone)."""
     pieces, ends, per_ring = flat
     n_rings = len(per_ring)
     if not len(pieces):
-        return [[] for _ in range(n_rings)]
+        return [[] for _ in range(n_rings)], pc.Pieces([], 0)
     pieces = pc.Pieces.of(pieces)
     ring = np.repeat(np.arange(n_rings), per_ring)
     keep = pc.length_bounds(pieces) >= contract
@@ -192,11 +230,12 @@ def _close_all(flat, contract):
                         minlength=n_rings) > 0
     rows = snapped.rows()
     bounds = np.append(base, len(idx)).tolist()
-    if short.any():
-        first = np.append(np.cumsum(per_ring) - per_ring, len(ring)).tolist()
-        whole = pieces.rows()
+    if not short.any():
+        return [rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], snapped
+    first = np.append(np.cumsum(per_ring) - per_ring, len(ring)).tolist()
+    whole = pieces.rows()
     return [_close(whole[first[r]:first[r + 1]], list(ends[first[r]:first[r + 1]]), contract)
-            if short[r] else rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)]
+            if short[r] else rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], None
 
 
 def _with_endpoints_many(pieces, p0, p1, packed=False):

@@ -24,7 +24,7 @@ from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import newton_crossings
 
 
-def untangle(loops, eps, max_rounds=64, hole_test=None):
+def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     """Loops with their self-crossings resolved (see the module docstring).
 
     eps: the polylines' bound used to find crossings (absolute); hole_test: as for
@@ -32,7 +32,9 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
     (None: winding numbers decide).  Each round splits every loop that still
     crosses itself at one crossing (so a loop gets up to ``max_rounds`` splits
     however many other loops there are); loops found free of crossings are not
-    searched again."""
+    searched again.  ``pieces``: the loops' pieces one loop after another as a
+    :class:`morph.piece.Pieces` where the caller has them
+    (:func:`.lift.lift_rings`): the first round searches them as they are."""
     out = [list(loop) for loop in loops]
     active = [True] * len(out)
     for _ in range(max_rounds):
@@ -43,7 +45,8 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
         # the fold test and the crossing search; where folds were cut, the cut
         # loops' again, put after the others (the search is loop by loop)
         sizes = [len(out[k]) for k in idx]
-        pieces = pc.Pieces.of([p for k in idx for p in out[k]])
+        if pieces is None or len(idx) != len(out):
+            pieces = pc.Pieces.of([p for k in idx for p in out[k]])
         cones = pc.tangent_cones(pieces)
         may = [k for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)) if f]
         cut = []
@@ -61,7 +64,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None):
             parts = [loop] if hit is None else _split_off(loop, hit, eps, hole_test)
             new_out += parts
             new_active += [hit is not None] * len(parts)
-        out, active = new_out, new_active
+        out, active, pieces = new_out, new_active, None
     return out
 
 

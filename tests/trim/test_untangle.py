@@ -272,3 +272,89 @@ def test_hulls_apart_only_where_the_pieces_are():
         far += d > 3.0
     assert meeting > 20 and apart.sum() > 0.8 * far
     assert not apart[(pairs == len(pieces) - 1).any(axis=1)].any()
+
+
+def _split_items_one_by_one(it, keep, split_a):
+    """The subdivision's next items, written out child by child (the reference for
+    the batched :func:`morph.trim.crossing._split_items`): per slot, the children
+    of every item of that slot's kind in item order."""
+    from morph.trim.crossing import JOINED, PAIRS, SELF
+
+    rows = [{k: v[i] for k, v in it.items()} for i in np.flatnonzero(keep)]
+    halves = [bool(split_a[i]) for i in np.flatnonzero(keep)]
+    slots = [(lambda r, h: r["kind"] == PAIRS and h, [dict(a1="am"), dict(a0="am")]),
+             (lambda r, h: r["kind"] == PAIRS and not h, [dict(b1="bm"), dict(b0="bm")]),
+             (lambda r, h: r["kind"] == JOINED,
+              [dict(a0="am", b1="bm"), dict(a1="am", b1="bm", kind=PAIRS),
+               dict(a0="am", b0="bm", kind=PAIRS), dict(a1="am", b0="bm", kind=PAIRS)]),
+             (lambda r, h: r["kind"] == SELF,
+              [dict(a1="am", b1="bm"), dict(a0="am", b0="bm"), dict(a1="am", b0="bm", kind=JOINED)])]
+    out = []
+    for test, children in slots:
+        for child in children:
+            for r, h in zip(rows, halves):
+                if test(r, h):
+                    mid = {"am": 0.5 * (r["a0"] + r["a1"]), "bm": 0.5 * (r["b0"] + r["b1"])}
+                    new = dict(r)
+                    for k, v in child.items():
+                        new[k] = mid[v] if isinstance(v, str) else v
+                    out.append(new)
+    return {k: np.array([row[k] for row in out]) for k in it}
+
+
+def test_split_items_batched_matches_child_by_child():
+    """The subdivision's items split all at once (one sort of the children by slot)
+    are those written out child by child, in the same order, to the bit; a wrong
+    midpoint (a child's interval not halved) differs."""
+    from morph.trim import crossing as cr
+
+    rng = np.random.default_rng(7)
+    n = 200
+    a0, b0 = rng.random(n) * 0.5, rng.random(n) * 0.5
+    it = dict(org=np.arange(n), ia=rng.integers(0, 9, n), ib=rng.integers(0, 9, n),
+              a0=a0, a1=a0 + rng.random(n) * 0.5, b0=b0, b1=b0 + rng.random(n) * 0.5,
+              kind=rng.integers(0, 3, n))
+    keep, split_a = rng.random(n) < 0.8, rng.random(n) < 0.5
+    got, want = cr._split_items(it, keep, split_a), _split_items_one_by_one(it, keep, split_a)
+    assert set(got) == set(want)
+    assert all(np.array_equal(got[k], want[k]) for k in want)
+    assert len(got["org"]) > 2 * keep.sum()     # joined and self items give more
+    bad = dict(got, a1=np.where(got["kind"] == cr.SELF, got["a1"] + 1e-3, got["a1"]))
+    assert not np.array_equal(bad["a1"], want["a1"])
+
+
+def test_stack_rows_is_the_stack_of_all_pieces_at_those_rows():
+    """crossing.stack_rows: the rows of pc.stack of all the pieces (elevated to the
+    degree of the highest of all, not of those taken), bit for bit, for a list and
+    for packed pieces; taken from the rows' own degree it would differ."""
+    from morph.trim.crossing import stack_rows
+
+    pieces = [pc.line((0, 0), (1, 2)), pc.cubic((0, 0), (1, 3), (2, 3), (4, 0)),
+              pc.line((3, 1), (5, 5)), pc.from_points([(0, 0), (1, 1), (2, 0)], [1.0, 0.7, 1.0]),
+              pc.line((1, 1), (2, 2))]
+    rows = np.array([0, 2, 3])
+    for given in (pieces, pc.Pieces.of(pieces)):
+        got = stack_rows(given, rows)
+        assert np.array_equal(got, pc.stack(pieces)[rows])
+    lines = stack_rows(pieces, np.array([0, 2]))
+    assert lines.shape[1] == 4 and not np.array_equal(lines, pc.stack([pieces[0], pieces[2]]))
+
+
+def test_untangle_of_the_packed_pieces_is_untangle_of_the_loops():
+    """untangle(..., pieces=) (the lift's packed pieces searched as they are) gives
+    the loops untangle gives gathering them itself; a pack of other pieces (squares
+    for the twisted loops: nothing crosses) would leave the twists: the search
+    reads the pack."""
+    loops = [_bow_tie(30.0 * k, 0.0) for k in range(3)]
+    sq = [pc.line(a, b) for a, b in [((0, 40), (1, 40)), ((1, 40), (1, 41)), ((1, 41), (0, 41)),
+                                      ((0, 41), (0, 40))]]
+    loops.append(sq)
+    want = untangle(loops, 1e-3)
+    got = untangle(loops, 1e-3, pieces=pc.Pieces.of([p for loop in loops for p in loop]))
+    assert len(got) == len(want)
+    assert all(len(a) == len(b) and all(np.array_equal(p, q) for p, q in zip(a, b))
+               for a, b in zip(got, want))
+    assert not any(polylines_cross(loop, 1e-3) for loop in got)
+    squares = [pc.translate(p, (30.0 * k, 0.0)) for k in range(3) for p in sq] + sq
+    wrong = untangle(loops, 1e-3, pieces=pc.Pieces.of(squares))
+    assert any(polylines_cross(loop, 1e-3) for loop in wrong)
