@@ -490,20 +490,12 @@ def _drive(chains, tol, min_width, cubics_only=False):
             rounds.append(fits)
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
-            j = np.searchsorted(mine, own)
-            at = np.stack([np.full(len(rows), len(rounds) - 1), j], axis=1)
-            acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
-            found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
+            acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
             if len(more[0]):
                 refine.update(fits, k, len(rounds) - 1)
             if len(joins[0]):
-                # a join that does not certify: the chain's spare row searches the gap
-                # between the path's unbroken start and end, which it keeps
-                bad, kept, gap = join.update(fits, k + len(more[0]), len(rounds) - 1)
-                spare = lay.spare_of[bad]
-                found.add(lay.spare_of[kept[0]], *kept[1:])
-                greedy.activate(spare, gap[:, 0], _chain_points(chains, bad, gap[:, 0]))
-                greedy.cap(spare, gap[:, 1])
+                _search_gaps(chains, lay, greedy, found,
+                             join.update(fits, k + len(more[0]), len(rounds) - 1))
             met = lay.meet(greedy)
             ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
             seg, joined, alone = lay.ended(found, unique(np.concatenate(
@@ -517,6 +509,29 @@ def _drive(chains, tol, min_width, cubics_only=False):
         if _observer is not None:
             _observer(done, n)
     return (_cubic_arrays if cubics_only else _cubic_fits)(n, final, rounds)
+
+
+def _greedy_round(greedy, found, asked, fits, at_round):
+    """The greedy rows' fits of one round (``asked``: the rows, what they tried, the
+    requests they own and the round's greedy requests) given to the search; the
+    segments it accepts added to ``found``.  Returns what ``Greedy.update`` does."""
+    rows, tried, own, mine = asked
+    j = np.searchsorted(mine, own)
+    at = np.stack([np.full(len(rows), at_round), j], axis=1)
+    acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
+    found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
+    return acc
+
+
+def _search_gaps(chains, lay, greedy, found, failed):
+    """Joins that do not certify (``failed``: their chains, the segments kept and the
+    gaps, from ``_Join.update``): each chain keeps its path's unbroken start and end,
+    and its spare row searches the gap between them."""
+    bad, kept, gap = failed
+    spare = lay.spare_of[bad]
+    found.add(lay.spare_of[kept[0]], *kept[1:])
+    greedy.activate(spare, gap[:, 0], _chain_points(chains, bad, gap[:, 0]))
+    greedy.cap(spare, gap[:, 1])
 
 
 def _same_ranges(crow, rev, a, b, need):
