@@ -313,7 +313,7 @@ def test_progress_eta_from_work_done():
 def test_progress_on_a_terminal_redraws_at_most_every_interval():
     """On a terminal a glyph done is not a redraw: 30,000 glyphs done within the
     interval draw the line once as they start and once at the end (a redraw per
-    glyph was 30,001 lines of output)."""
+    glyph would write 30,001 lines)."""
     import io
 
     from morph.cli.options import Progress

@@ -4,8 +4,8 @@ The oracle is the glyphs' programs before subroutinizing: every charstring of th
 grouped font, run with its font's subroutines, must draw the same path (fontTools'
 ``RecordingPen``) and give the same advance (``T2WidthExtractor``) as the glyph's
 own program.  The memory bound is the groups' size: no ``tx`` run is given more than
-:data:`morph.fonts.subrs.GROUP_BYTES` of programs (a whole-font run was 475 MB of
-``tx`` for 9,574 stroked hanzi).
+:data:`morph.fonts.subrs.GROUP_BYTES` of programs (``tx`` holds about 70 bytes per
+byte of programs it is given).
 """
 
 import numpy as np
