@@ -30,7 +30,8 @@ import unicodedata
 from functools import partial
 from pathlib import Path
 
-__all__ = ["write_specimen", "write_sample_image", "save_png", "sample_locations", "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
+__all__ = ["write_specimen", "write_sample_image", "save_png", "sample_locations",
+           "specimen_path", "sample_path", "sample_text", "WATERFALL", "SAMPLE_POS",
            "SAMPLE_PX", "SAMPLE_MARGIN"]
 
 WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)

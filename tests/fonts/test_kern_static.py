@@ -49,7 +49,8 @@ def many_scripts():
               "public.kern2.period": ["period", "comma"], "public.kern1.one": ["one", "seven"],
               "public.kern1.empty": ["missing2"], "public.kern2.hidden": ["hidden"]}
     kerning = {("public.kern1.A", "V"): -60, ("public.kern1.T", "public.kern2.o"): -80.4,
-               ("T", "e"): -40, ("Tau", "omicron"): 0, ("public.kern1.T", "public.kern2.period"): -70,
+               ("T", "e"): -40, ("Tau", "omicron"): 0,
+               ("public.kern1.T", "public.kern2.period"): -70,
                ("public.kern1.one", "public.kern2.period"): -30, ("A", "hyphen"): -10,
                ("public.kern1.A", "public.kern2.A"): 0, ("V", "public.kern2.A"): -55.5,
                ("missing", "A"): -5, ("public.kern1.nothere", "A"): -5,

@@ -288,7 +288,8 @@ def _split_items_one_by_one(it, keep, split_a):
               [dict(a0="am", b1="bm"), dict(a1="am", b1="bm", kind=PAIRS),
                dict(a0="am", b0="bm", kind=PAIRS), dict(a1="am", b0="bm", kind=PAIRS)]),
              (lambda r, h: r["kind"] == SELF,
-              [dict(a1="am", b1="bm"), dict(a0="am", b0="bm"), dict(a1="am", b0="bm", kind=JOINED)])]
+              [dict(a1="am", b1="bm"), dict(a0="am", b0="bm"),
+               dict(a1="am", b0="bm", kind=JOINED)])]
     out = []
     for test, children in slots:
         for child in children:
