@@ -91,8 +91,7 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
     level), their pieces (a list; with ``stacked`` a :class:`morph.piece.Pieces` of
     the stacks of all levels, :func:`_joined`) and errors; the caller orders them.
     Raises ValueError for tol <= 0, ToleranceNotMetError (``piece``: the failing
-    sub-pair (ca, cb), ``achieved``: its error) when a node still fails after
-    ``max_depth`` halvings.
+    sub-pair (ca, cb), ``achieved``: its error) if a node fails after ``max_depth`` halvings.
     """
     if not tol > 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
