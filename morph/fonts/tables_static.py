@@ -5,7 +5,8 @@ ufo2ft's ``compileOTF`` / ``compileTTF`` write through
 (:func:`left_to_ufo2ft`): a CFF font, or a TrueType font keeping no components,
 whose feature file ufo2ft's feature writers would leave as it is
 (:mod:`morph.fonts.writers_static`) or complete with a kern feature that
-:mod:`morph.fonts.kern_static` writes as they do.  The others are compiled by ufo2ft
+:mod:`morph.fonts.kern_static` writes, and mark and mkmk features that
+:mod:`morph.fonts.mark_static` writes, as they do.  The others are compiled by ufo2ft
 from the ufoLib2 font of the same shells (:func:`compile_static`).
 
 ufo2ft's import costs a fifth of a second (its ``__init__`` loads its variable-font
@@ -30,8 +31,9 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
   ``public.skipExportGlyphs`` are drawn into the glyphs that use them and left out;
   ``public.postscriptNames`` rename the glyphs in the CFF charset or the post table
   as ufo2ft's post-processor does (:func:`production_names`);
-- the feature file is parsed, completed with the kern feature where ufo2ft's writer
-  would write one, written out again as ufo2ft does and built by feaLib.
+- the feature file is parsed, completed with the kern, mark and mkmk features
+  where ufo2ft's writers would write them, written out again as ufo2ft does and
+  built by feaLib.
 
 So for such a font without composites (whose CFF programs fontTools' charstring pen
 specializes) and layout features, neither fontTools.cffLib nor fontTools'
@@ -837,43 +839,59 @@ def compile_static(font, store, kind, features=None, **options):
     if features is None and font.features.text:
         features = parse_features(font)
     compiler = _Compiler(font, store, kind == ".otf")
-    reason, kern = left_to_ufo2ft(font, kind, features, compiler.order, compiler.cmap)
+    reason, writers = left_to_ufo2ft(font, kind, features, compiler.order, compiler.cmap)
     if reason is not None:
         from ..parse.light_ufo import as_ufolib2
         from .stream import compile_stored
 
         return compile_stored(as_ufolib2(font), store, kind, features=features, **options)
-    otf = compiler.compile(features, kern)
+    otf = compiler.compile(features, writers)
     otf.recalcBBoxes = False
     return otf
 
 
 def left_to_ufo2ft(font, kind, tree, order, cmap):
-    """``(reason, kern)``: why the light font ``font`` is compiled by ufo2ft after
-    all (None: it is not), and the writer of the kern feature ufo2ft would add to
-    the feature file ``tree`` (:class:`morph.fonts.kern_static.KernWriter`; None:
-    none to add).  ``order``: the exported glyphs in the font's order; ``cmap``:
-    code point -> glyph name.  Reasons: a TrueType font keeping components
-    (ufo2ft's component flags and metrics), kerning the kern writer here does not
-    cover, feature writers that would add to the file
-    (:func:`morph.fonts.writers_static.writers_add_nothing`)."""
+    """``(reason, writers)``: why the light font ``font`` is compiled by ufo2ft
+    after all (None: it is not), and the writers of the features ufo2ft's writers
+    would add to the feature file ``tree`` (in their order: the kern feature,
+    :class:`morph.fonts.kern_static.KernWriter`; the mark and mkmk features,
+    :class:`morph.fonts.mark_static.MarkWriter`; all on one tree).  ``order``: the
+    exported glyphs in the font's order; ``cmap``: code point -> glyph name.
+    Reasons: a TrueType font keeping components (ufo2ft's component flags and
+    metrics), kerning or anchors these writers do not cover, feature writers that
+    would add to the file (:func:`morph.fonts.writers_static.writers_add_nothing`)."""
     skip = set(font.lib.get("public.skipExportGlyphs", ()))
     glyphs = [g for g in font if g.name not in skip]
     if kind == ".ttf" and any(g.components for g in glyphs):
-        return "components in a TrueType font", None
+        return "components in a TrueType font", []
     if not font.kerning and not any(g.anchors for g in glyphs):
-        return None, None
+        return None, []
+    from fontTools.feaLib import ast
+
     from .writers_static import feature_tags, writers_add_nothing
 
-    to_write = bool(font.kerning) and "kern" not in feature_tags(tree)
-    reason = writers_add_nothing(font, tree, glyphs, {u for g in glyphs for u in g.unicodes},
-                                 kern_written=to_write)
-    if reason is not None or not to_write:
-        return reason, None
-    from .kern_static import KernWriter
+    tags = feature_tags(tree)
+    kern_todo = bool(font.kerning) and "kern" not in tags
+    mark_todo = any(g.anchors for g in glyphs) and not {"mark", "mkmk"} <= tags
+    codes = {u for g in glyphs for u in g.unicodes}
+    reason = writers_add_nothing(font, tree, glyphs, codes, kern_written=kern_todo,
+                                 mark_written=mark_todo)
+    if reason is not None or not (kern_todo or mark_todo):
+        return reason, []
+    tree = tree if tree is not None else ast.FeatureFile()
+    writers = []
+    if kern_todo:
+        from .kern_static import KernWriter
 
-    kern = KernWriter(font, tree, order, cmap)
-    return kern.reason, (kern if kern.reason is None else None)
+        writers.append(KernWriter(font, tree, order, cmap))
+    if mark_todo:
+        from .mark_static import MarkWriter
+
+        writers.append(MarkWriter(tree, order, {g.name: g for g in glyphs}, codes))
+    for w in writers:
+        if w.reason is not None:
+            return w.reason, []
+    return None, writers
 
 
 def parse_features(font):
@@ -918,7 +936,7 @@ class _Compiler:
         self.bounds = {}   # CFF: glyph name -> its charstring's bounds
         self.names = production_names(font, self.order, glyphs)
 
-    def compile(self, features, kern=None):
+    def compile(self, features, writers=()):
         otf = self.otf
         otf.setGlyphOrder(self.order)
         if self.cff:
@@ -939,7 +957,7 @@ class _Compiler:
         if not self.cff:
             self._glyf_table()
             self._gasp()
-        self._features(features, kern)
+        self._features(features, writers)
         if self.cff:
             self._cff()
         else:
@@ -1527,16 +1545,16 @@ class _Compiler:
         gasp.gaspRange = {r["rangeMaxPPEM"]: _int_list_to_num(r["rangeGaspBehavior"], 0, 4)
                           for r in records}
 
-    def _features(self, tree, kern=None):
+    def _features(self, tree, writers=()):
         """The feature file as ufo2ft compiles it: parsed (:func:`parse_features`),
-        the kern feature ufo2ft's writer would add written in (``kern``: a
-        :class:`morph.fonts.kern_static.KernWriter`), written out, built by
-        feaLib."""
-        written = kern is not None and kern.write()
-        if not (self.ufo.features.text or "") and not written:
+        the features ufo2ft's writers would add written in (``writers``, of
+        :func:`left_to_ufo2ft`, in their order, on one tree), written out, built
+        by feaLib."""
+        written = [w.write() for w in writers]   # each, in ufo2ft's order
+        if not (self.ufo.features.text or "") and not any(written):
             return
-        if written:
-            tree = kern.tree
+        if any(written):
+            tree = writers[0].tree
         fea = (tree if tree is not None else parse_features(self.ufo)).asFea()
         if fea:
             from fontTools.feaLib.builder import addOpenTypeFeaturesFromString

@@ -14,9 +14,10 @@ inputs.  :func:`writers_add_nothing` answers from the same inputs, conservativel
   file's ``languagesystem`` scripts); a font with kerning and no kern feature has
   it written by :mod:`morph.fonts.kern_static` where that covers it;
 - mark attachment (mark, mkmk, abvm, blwm): no anchors, or ``mark`` and ``mkmk``
-  features in the file and no above/below-base mark script (Indic, USE, Khmer)
-  that the writer would serve: of the file's ``languagesystem`` scripts where it
-  has some, else among the font's code points' script extensions;
+  features in the file (or written by :mod:`morph.fonts.mark_static`) and no
+  above/below-base mark script (Indic, USE, Khmer) that the writer would serve:
+  of the file's ``languagesystem`` scripts where it has some, else among the
+  font's code points' script extensions;
 - cursive attachment (curs): no anchor named ``entry``/``exit`` (or ``entry.*``,
   ``exit.*``), or a ``curs`` feature in the file;
 - GDEF (glyph classes, ligature carets): no ``caret_`` / ``vcaret_`` anchor (the
@@ -66,13 +67,15 @@ def _anchor_names(glyphs):
     return {a.name for g in glyphs for a in g.anchors if a.name}
 
 
-def writers_add_nothing(font, tree, glyphs, codes, kern_written=False):
+def writers_add_nothing(font, tree, glyphs, codes, kern_written=False, mark_written=False):
     """None where ufo2ft's feature writers would add nothing to the feature file
     ``tree`` (feaLib's parse of ``font``'s, None for no file) of the font whose
     exported glyphs are ``glyphs`` and whose cmap has the code points ``codes``;
     else the reason (see the module docstring).  ``kern_written``: the kern
     feature ufo2ft would write is written already (:mod:`morph.fonts.kern_static`),
-    so that kerning without a kern feature in the file is no reason."""
+    so that kerning without a kern feature in the file is no reason;
+    ``mark_written``: the same for the mark and mkmk features
+    (:mod:`morph.fonts.mark_static`) and anchors."""
     text = font.features.text or ""
     if _MARKER.search(text):
         return "an insertion marker in the feature file"
@@ -84,7 +87,7 @@ def writers_add_nothing(font, tree, glyphs, codes, kern_written=False):
         return "cursive anchors without a curs feature"
     if font.kerning and "kern" not in tags and not kern_written:
         return "kerning without a kern feature"
-    if names and not {"mark", "mkmk"} <= tags:
+    if names and not {"mark", "mkmk"} <= tags and not mark_written:
         return "anchors without mark and mkmk features"
     if not font.kerning and not names:
         return None

@@ -87,10 +87,11 @@ def _written(path):
     light = SkeletonSource(path, light=True).shell_font()
     tree = T.parse_features(light) if light.features.text else None
     compiler = T._Compiler(light, {}, True)
-    reason, kern = T.left_to_ufo2ft(light, ".otf", tree, compiler.order, compiler.cmap)
+    reason, writers = T.left_to_ufo2ft(light, ".otf", tree, compiler.order, compiler.cmap)
     if reason is not None:
         return reason, None
-    assert kern is not None and kern.write()
+    (kern,) = writers
+    assert kern.write()
     return None, kern.tree.asFea()
 
 
