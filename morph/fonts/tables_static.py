@@ -2,12 +2,12 @@
 ufo2ft's ``compileOTF`` / ``compileTTF`` write through
 :func:`morph.fonts.stream.compile_stored`, for the fonts read by
 :mod:`morph.parse.light_ufo` that need nothing else of ufo2ft
-(:func:`left_to_ufo2ft`): a CFF font, or a TrueType font keeping no components,
-whose feature file ufo2ft's feature writers would leave as it is
-(:mod:`morph.fonts.writers_static`) or complete with a kern feature that
-:mod:`morph.fonts.kern_static` writes, and mark and mkmk features that
-:mod:`morph.fonts.mark_static` writes, as they do.  The others are compiled by ufo2ft
-from the ufoLib2 font of the same shells (:func:`compile_static`).
+(:func:`left_to_ufo2ft`): a CFF font, or a TrueType font whose components
+:mod:`morph.fonts.glyf_static` writes as ufo2ft does, whose feature file ufo2ft's
+feature writers would leave as it is (:mod:`morph.fonts.writers_static`) or
+complete with a kern feature that :mod:`morph.fonts.kern_static` writes, and mark
+and mkmk features that :mod:`morph.fonts.mark_static` writes, as they do.  The
+others are compiled by ufo2ft from the ufoLib2 font of the same shells (:func:`compile_static`).
 
 ufo2ft's import costs a fifth of a second (its ``__init__`` loads its variable-font
 compilers and fontTools.varLib; ufoLib2 comes with it), more than the strokes of a
@@ -857,13 +857,18 @@ def left_to_ufo2ft(font, kind, tree, order, cmap):
     :class:`morph.fonts.kern_static.KernWriter`; the mark and mkmk features,
     :class:`morph.fonts.mark_static.MarkWriter`; all on one tree).  ``order``: the
     exported glyphs in the font's order; ``cmap``: code point -> glyph name.
-    Reasons: a TrueType font keeping components (ufo2ft's component flags and
-    metrics), kerning or anchors these writers do not cover, feature writers that
+    Reasons: TrueType components :mod:`morph.fonts.glyf_static` does not write
+    (:func:`~morph.fonts.glyf_static.composite_reason`), kerning or anchors these
+    writers do not cover, feature writers that
     would add to the file (:func:`morph.fonts.writers_static.writers_add_nothing`)."""
     skip = set(font.lib.get("public.skipExportGlyphs", ()))
     glyphs = [g for g in font if g.name not in skip]
     if kind == ".ttf" and any(g.components for g in glyphs):
-        return "components in a TrueType font", []
+        from .glyf_static import composite_reason
+
+        reason = composite_reason({g.name: g for g in glyphs})
+        if reason is not None:
+            return reason, []
     if not font.kerning and not any(g.anchors for g in glyphs):
         return None, []
     from fontTools.feaLib import ast
@@ -1027,9 +1032,14 @@ class _Compiler:
         from fontTools.pens.ttGlyphPen import TTGlyphPointPen
         from fontTools.ttLib.tables._g_l_y_f import Glyph
 
-        out = {}
+        from .glyf_static import composite_glyph
+
+        out, drawn = {}, {}
         for name in self.order:
             data = self.store.get(name, (b"",))[0]
+            if getattr(self.glyphs[name], "components", None):
+                out[name] = composite_glyph(name, self.glyphs, self.store, drawn)
+                continue
             if data:
                 out[name] = Glyph(data)
                 continue
@@ -1529,6 +1539,14 @@ class _Compiler:
         glyf.glyphOrder = self.order
         for name in self.order:
             glyf.glyphs[name] = self.compiled[name]
+        composites = [n for n in self.order if getattr(self.glyphs[n], "components", None)
+                      and self.compiled[n].isComposite()]
+        if composites:
+            from .glyf_static import set_component_flags
+
+            for name in composites:
+                set_component_flags(name, self.compiled[name], self.glyphs[name],
+                                    self.otf["hmtx"])
         maxp = self.otf["maxp"]
         maxp.recalc(HeaderFont(self.otf, Expanded(glyf.glyphs)))
         maxp.maxSizeOfInstructions = max(
