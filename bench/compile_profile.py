@@ -3,7 +3,7 @@ with kerning, groups, anchors and composites (Relief SingleLine): compiled by mo
 (:mod:`morph.fonts.tables_static`, the command's way for such a source when
 ufo2ft's feature writers add nothing) and by ufo2ft (the source read by ufoLib2).
 
-    python -m bench.compile_profile [--repeat 3] [--ufo SRC.ufo] [--kind .otf]
+    python -m bench.compile_profile [--repeat 3] [--ufo SRC.ufo] [--kind .otf .ttf]
                                     [--md bench/compile_profile.md | --no-write]
 
 Each run is ``morph stroke SRC -o OUT --jobs 1`` in a fresh process (the command
@@ -17,6 +17,9 @@ subroutinizer's child process (its CPU from the kernel's child accounting).
 built from the font info, the glyph order, cmap, OS/2...).  ``before the compile``
 is the rest of the process (startup, reading, strokes, sample image), shown for
 scale.  The median of ``--repeat`` runs after one untimed run (bytecode cache).
+For each output kind (``--kind``, a table each) the report says whether morph
+compiled the font itself or left it to ufo2ft, and why
+(:func:`morph.fonts.tables_static.left_to_ufo2ft`'s reason).
 """
 
 import argparse
@@ -38,7 +41,8 @@ ROOT = Path(__file__).resolve().parents[1]
 PARTS = [
     ("feature writers (ufo2ft) / their check (morph)", [
         "ufo2ft.featureWriters.baseFeatureWriter:BaseFeatureWriter.write",
-        "morph.fonts.tables_static:left_to_ufo2ft"]),
+        "morph.fonts.tables_static:left_to_ufo2ft", "morph.fonts.kern_static:KernWriter.write",
+        "morph.fonts.mark_static:MarkWriter.write"]),
     ("ufo2ft filters (preprocess)", ["ufo2ft._compilers.baseCompiler:BaseCompiler.preprocess"]),
     ("glyph programs (composites decomposed)", [
         "morph.fonts.stored:StoredCFF.compileGlyphs", "morph.fonts.stored:StoredGlyf.compileGlyphs",
@@ -99,7 +103,9 @@ def _install(clock, inside):
 #: modules each way imports, loaded (and timed) before the command so that the
 #: timers can wrap them: by import part
 PRELOAD = {"morph": [("imports: other", ["fontTools.feaLib.builder", "cffsubr",
-                                         "fontTools.ttLib.ttFont"])],
+                                         "fontTools.ttLib.ttFont", "morph.fonts.kern_static",
+                                         "morph.fonts.mark_static",
+                                         "morph.fonts.glyf_static"])],
            "ufo2ft": [("imports: other", ["fontTools.feaLib.builder", "cffsubr",
                                           "fontTools.ttLib.ttFont"]),
                       ("imports: ufoLib2", ["ufoLib2"]),
@@ -135,6 +141,22 @@ def _timed_finish(clock, state, finish):
     return timed
 
 
+def _record_reason(state):
+    """``state["way"]``: how the light font was compiled, set when
+    ``left_to_ufo2ft`` answers."""
+    from morph.fonts import tables_static
+
+    decide = tables_static.left_to_ufo2ft
+
+    def recorded(*args, **kwargs):
+        reason, writers = decide(*args, **kwargs)
+        state["way"] = ("morph (no ufo2ft)" if reason is None
+                        else "left to ufo2ft: %s" % reason)
+        return reason, writers
+
+    tables_static.left_to_ufo2ft = recorded
+
+
 def worker(args):
     """One run in this fresh process; prints its parts as JSON."""
     import importlib
@@ -154,9 +176,10 @@ def worker(args):
                 super().__init__(src, light=False)
 
         stream.SkeletonSource = Heavy
-    state = {"in": False}
+    state = {"in": False, "way": "ufo2ft (the source read by ufoLib2)"}
     fs._StreamedGlyphs.finish = _timed_finish(clock, state, fs._StreamedGlyphs.finish)
     _install(clock, lambda: state["in"])
+    _record_reason(state)
     import io
     from contextlib import redirect_stdout
 
@@ -171,7 +194,7 @@ def worker(args):
     clock._charge()
     spent = {k: v for k, v in clock.spent.items() if k != "other"}
     start = resource.getrusage(resource.RUSAGE_SELF)
-    json.dump({"spent": spent, "total": start.ru_utime + start.ru_stime,
+    json.dump({"spent": spent, "total": start.ru_utime + start.ru_stime, "way": state["way"],
                "message": out.getvalue().strip().splitlines()[-1][:300]}, sys.stdout)
 
 
@@ -193,20 +216,28 @@ def measure(way, ufo, kind, repeat):
                 print(way, "%.2f s CPU" % results[-1]["total"], flush=True)
     parts = {p: statistics.median(r["spent"].get(p, 0.0) for r in results) for p in ORDER}
     total = statistics.median(r["total"] for r in results)
-    return {"parts": parts, "total": total, "message": results[0]["message"]}
+    return {"parts": parts, "total": total, "message": results[0]["message"],
+            "way": results[0]["way"]}
 
 
-def markdown(opt, ufo, rows, elapsed):
-    ways = list(rows)
+def markdown(opt, ufo, by_kind, elapsed):
     lines = ["# Where the font compile's time goes (bench/compile_profile.py)", "",
              "Command: `python -m bench.compile_profile --repeat %d --kind %s`; measured %s "
              "UTC at %s (%.0f s).  Source: %s.  Machine: %d CPUs shared with other jobs "
              "(load average %s at the end): CPU time, the median of %d fresh processes."
-             % (opt.repeat, opt.kind, time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+             % (opt.repeat, " ".join(opt.kind), time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
                 code_version(), elapsed, Path(ufo).name, os.cpu_count() or 1,
-                ", ".join("%.1f" % v for v in os.getloadavg()), opt.repeat), "",
-             "ms of CPU of the whole command (`morph stroke SRC -o OUT%s --jobs 1`), "
-             "by part of the compile (see the script's docstring):" % opt.kind, "",
+                ", ".join("%.1f" % v for v in os.getloadavg()), opt.repeat)]
+    for kind, rows in by_kind.items():
+        lines += ["", "## %s" % kind, ""] + _table(kind, rows)
+    return "\n".join(lines) + "\n"
+
+
+def _table(kind, rows):
+    ways = list(rows)
+    lines = ["ms of CPU of the whole command (`morph stroke SRC -o OUT%s --jobs 1`), "
+             "by part of the compile (see the script's docstring); compiled by: %s."
+             % (kind, "; ".join("%s way, %s" % (w, rows[w]["way"]) for w in ways)), "",
              "| part | " + " | ".join(ways) + " |", "|---|" + "---|" * len(ways)]
     for p in ORDER:
         lines.append("| %s | " % p + " | ".join(
@@ -219,8 +250,8 @@ def markdown(opt, ufo, rows, elapsed):
         "%.0f" % (1000 * (rows[w]["total"] - comp[w])) for w in ways) + " |")
     lines.append("| **whole process (this process)** | " + " | ".join(
         "**%.0f**" % (1000 * rows[w]["total"]) for w in ways) + " |")
-    lines += ["", "The command's line (morph): `%s`" % rows[ways[0]]["message"], ""]
-    return "\n".join(lines)
+    lines += ["", "The command's line (morph): `%s`" % rows[ways[0]]["message"]]
+    return lines
 
 
 def main():
@@ -228,7 +259,7 @@ def main():
     ap.add_argument("--worker")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ufo", default=None, help="default: Relief SingleLine")
-    ap.add_argument("--kind", default=".otf", choices=(".otf", ".ttf"))
+    ap.add_argument("--kind", nargs="+", default=[".otf", ".ttf"], choices=(".otf", ".ttf"))
     ap.add_argument("--md", default=str(ROOT / "bench" / "compile_profile.md"))
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args()
@@ -237,9 +268,10 @@ def main():
         return
     ufo = Path(opt.ufo).resolve() if opt.ufo else relief_ufo()
     t0 = time.time()
-    rows = {"morph": measure("morph", ufo, opt.kind, opt.repeat),
-            "ufo2ft": measure("ufo2ft", ufo, opt.kind, opt.repeat)}
-    text = markdown(opt, ufo, rows, time.time() - t0)
+    by_kind = {kind: {"morph": measure("morph", ufo, kind, opt.repeat),
+                      "ufo2ft": measure("ufo2ft", ufo, kind, opt.repeat)}
+               for kind in opt.kind}
+    text = markdown(opt, ufo, by_kind, time.time() - t0)
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)

@@ -42,9 +42,9 @@ _UFO2FT_LIB_PREFIXES = ("public.", "com.github.googlei18n.ufo2ft", "com.github.f
                         "com.nagwa.", "com.schriftgestaltung.Don't use Production Names")
 _FONT_LIB_OK = frozenset(("public.glyphOrder", "public.postscriptNames",
                           "public.skipExportGlyphs"))
-#: (the object libs ufo2ft reads hold anchors' mark classes, for the mark writer,
-#: which a light font has not run, and TrueType component flags, for the
-#: components a light TrueType font leaves to ufo2ft: morph.fonts.tables_static)
+#: (the object libs ufo2ft reads hold the contexts of contextual anchors, which
+#: morph.fonts.mark_static leaves to ufo2ft, and TrueType component flags, which
+#: morph.fonts.glyf_static sets as ufo2ft does)
 _GLYPH_LIB_OK = frozenset(("public.markColor", "public.objectLibs"))
 
 #: the three vertical metrics with which ufo2ft writes vhea / vmtx (not done here)

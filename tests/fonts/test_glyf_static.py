@@ -121,3 +121,20 @@ def test_a_changed_component_is_seen(tmp_path):
         font.save(str(tmp_path / "changed.ttf"))
         with pytest.raises(AssertionError, match="glyf"):
             _same_tables(tmp_path / "changed.ttf", b)
+
+
+def test_what_is_not_written_here_is_named():
+    """A component matrix beyond F2Dot14 (ufo2ft decomposes the glyph) and a
+    component of a glyph not exported or missing are reasons for ufo2ft; a
+    matrix value just under +2 (clamped) is not."""
+    from morph.fonts.glyf_static import composite_reason
+    from morph.parse.light_ufo import LightComponent, LightGlyph
+
+    def font(matrix, base="O"):
+        return {"O": LightGlyph("O"),
+                "C": LightGlyph("C", components=[LightComponent(base, matrix)])}
+
+    assert composite_reason(font((1, 0, 0, 1, 5, 5))) is None
+    assert composite_reason(font((1.99995, 0, 0, -2, 5, 5))) is None
+    assert "F2Dot14" in composite_reason(font((2.5, 0, 0, 1, 0, 0)))
+    assert "not exported" in composite_reason(font((1, 0, 0, 1, 0, 0), base="X"))
