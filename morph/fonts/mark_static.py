@@ -92,9 +92,9 @@ def _marks(anchors):
 
 
 class _Pos:
-    """ufo2ft's ``MarkToBasePos`` / ``MarkToMarkPos`` (``liga`` False: ``marks``
-    a list of anchors) and ``MarkToLigaPos`` (``marks`` a list of each
-    component's anchors)."""
+    """ufo2ft's ``MarkToBasePos`` / ``MarkToMarkPos`` (``kind`` "base" / "mark":
+    ``marks`` a list of anchors) and ``MarkToLigaPos`` ("liga": ``marks`` a list
+    of each component's anchors) of the glyph ``name``."""
 
     def __init__(self, kind, name, marks):
         self.kind, self.name, self.marks = kind, name, marks
