@@ -280,3 +280,22 @@ def test_scripts_are_ufo2fts():
     from ufo2ft.constants import INDIC_SCRIPTS, USE_SCRIPTS
 
     assert DIST_OR_ABVM_SCRIPTS == set(INDIC_SCRIPTS) | set(USE_SCRIPTS) | {"Khmr", "Mymr"}
+
+
+@pytest.mark.parametrize("text,codes,reason", [
+    ("", (0x41,), None),
+    ("languagesystem latn dflt;\n", (0x300,), None),
+    ("", (0x300,), "anchors in a script of the abvm / blwm features"),
+    ("", (0x915,), "anchors in a script of the abvm / blwm features")])
+def test_anchors_with_the_mark_features_written(text, codes, reason):
+    """Anchors without mark and mkmk features in the file are no reason where
+    morph writes those features (``mark_written``); an abvm / blwm script still
+    is."""
+    from io import StringIO
+
+    from fontTools.feaLib.parser import Parser
+
+    tree = Parser(StringIO(text), {"A"}).parse() if text else None
+    font, glyphs = _font(text, None, [_Glyph(("top",), codes)])
+    got = writers_add_nothing(font, tree, glyphs, set(codes), mark_written=True)
+    assert (got is None) if reason is None else (reason in got), got
