@@ -189,11 +189,17 @@ def test_static_stroke_of_a_plain_skeleton_loads_no_ufo_compiler(tmp_path, out):
     assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")
 
 
-def test_stroke_of_a_skeleton_with_kerning_and_anchors_uses_ufo2ft(tmp_path):
-    """The other side: the Relief subset (kerning, anchors, composites) is compiled
-    by ufo2ft."""
-    argv = ["stroke", str(ROOT / "tests/data/relief/Relief-SingleLine-subset.ufo"),
-            "--glyphs", "a", "-o", "s.otf", "--jobs", "1"]
+def test_stroke_of_a_skeleton_ufo2ft_must_compile_uses_ufo2ft(tmp_path):
+    """The other side: a skeleton whose anchors ufo2ft's mark writer would put in
+    the abvm / blwm features (a combining mark of Devanagari's script extensions
+    and no languagesystem to cut them) is compiled by ufo2ft."""
+    from tests.fontfixtures import hershey_like
+
+    font = hershey_like()
+    font["A"].appendAnchor({"name": "top", "x": 378, "y": 700})
+    font["gravecomb"].appendAnchor({"name": "_top", "x": -110, "y": 600})
+    font.save(tmp_path / "m.ufo")
+    argv = ["stroke", "m.ufo", "-o", "s.otf", "--jobs", "1"]
     code, mods, _ = _modules_after(argv, tmp_path)
     assert code == 0 and _loaded(mods, "ufo2ft") and _loaded(mods, "ufoLib2")
 
