@@ -442,7 +442,8 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     grow_vertical_metrics(font, below=-extent[1], above=extent[3])
     rename_family(font, family_name, tool="morph brush")
     finish_font(font)
-    save_font(font, out_path)
+    with writer.saving():
+        save_font(font, out_path)
     return stats
 
 
