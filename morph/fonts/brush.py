@@ -447,6 +447,26 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     return stats
 
 
+def written_ink(font):
+    """``(cmap, has_ink)`` of a font :func:`brush_font` wrote (the ``TTFont`` it
+    changed), as :func:`morph.fonts.specimen.sample_text` takes them, so that the
+    sample's choice does not read the written file again: a CFF charstring has ink
+    when the bounds the save used are not empty (nothing decoded), any other glyph
+    as the specimen tells it (a glyf glyph from its stored header)."""
+    from .specimen import _ink_test
+    from .tables_static import is_bounded
+
+    cmap, has_ink = _ink_test(font)
+    if "CFF " not in font:
+        return cmap, has_ink
+    charstrings = font["CFF "].cff.topDictIndex[0].CharStrings
+
+    def ink(name):
+        cs = charstrings[name]
+        return cs.bounds is not None if is_bounded(cs) else has_ink(name)
+    return cmap, ink
+
+
 def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, progress,
                 in_flight):
     """The swept glyphs of ``order`` (:func:`sweep_glyphs` results, in order); each
