@@ -798,11 +798,27 @@ class _CFFOutlines(OutlineWriter):
 
         return T2CharStringPen(advance - self.nominal, None)
 
+    def write(self, name, contours, advance):
+        """Draw ``contours`` as glyph ``name``; its bounds are those of the same
+        points drawn into fontTools' bounds pen in the same order (what
+        ``calcBounds`` of the new charstring computes, without decoding it)."""
+        from fontTools.pens.boundsPen import BoundsPen
+
+        bounds_pen = BoundsPen(None)
+        draw_contours(bounds_pen, contours, self.quadratic)
+        pen = self.pen(advance)
+        draw_contours(pen, contours, self.quadratic)
+        return self._put(name, pen, bounds_pen.bounds)
+
     def store(self, name, pen):
+        cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
+        return self._put(name, pen, cs.calcBounds(self.char_strings), cs)
+
+    def _put(self, name, pen, bounds, cs=None):
         from .tables_static import as_bounded
 
-        cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
-        bounds = cs.calcBounds(self.char_strings)
+        if cs is None:
+            cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
         self.char_strings[name] = as_bounded(cs, bounds)
         return int(np.floor(bounds[0])) if bounds else 0
 
