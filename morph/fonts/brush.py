@@ -126,7 +126,7 @@ def composite_plan(font, swept, composites="follow"):
     if "glyf" not in font:
         return [], []
     glyf = font["glyf"]
-    comps = {n: glyf[n].components for n in font.getGlyphOrder() if glyf[n].isComposite()}
+    comps = {n: glyf[n].components for n in font.getGlyphOrder() if _is_composite(glyf, n)}
     moved = set(swept)
     follow, sweep = [], []
     changed = True
@@ -141,6 +141,16 @@ def composite_plan(font, swept, composites="follow"):
     return follow, sweep
 
 
+def _is_composite(glyf, name):
+    """Whether glyph ``name`` of a glyf table is a composite, read from its stored
+    header while it is not decoded (decoding every glyph to ask would make the save
+    compile every one again, :meth:`morph.fonts.tables.OutlineWriter.saving`)."""
+    data = getattr(glyf.glyphs[name], "data", None) if hasattr(glyf, "glyphs") else None
+    if data is not None:
+        return len(data) >= 2 and int.from_bytes(data[:2], "big", signed=True) < 0
+    return glyf[name].isComposite()
+
+
 def _base_not_chosen(font, swept, planned):
     """Base glyphs to sweep for composites untouched by the plan whose Unicode base
     letter's glyph is swept: ï = dotlessi + dieresis when i is swept but dotlessi is
@@ -152,7 +162,7 @@ def _base_not_chosen(font, swept, planned):
     swept, planned = set(swept), set(planned)
     out = {}
     for code, name in sorted(cmap.items()):
-        if name in planned or name in swept or not glyf[name].isComposite():
+        if name in planned or name in swept or not _is_composite(glyf, name):
             continue
         base = unicodedata.normalize("NFD", chr(code))[0]
         if base == chr(code) or cmap.get(ord(base)) not in swept:

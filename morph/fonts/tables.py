@@ -865,9 +865,8 @@ def outline_glyphs(font):
     CFF: glyphs whose charstring draws something.
     """
     if "glyf" in font:
-        glyf = font["glyf"]
-        return [n for n in font.getGlyphOrder()
-                if not glyf[n].isComposite() and glyf[n].numberOfContours > 0]
+        glyphs = _StoredGlyphs(font["glyf"])   # headers: no glyph decoded to ask
+        return [n for n in font.getGlyphOrder() if glyphs[n].numberOfContours > 0]
     from fontTools.pens.boundsPen import ControlBoundsPen
 
     gs = font.getGlyphSet()
