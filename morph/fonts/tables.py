@@ -4,8 +4,9 @@ metrics, names, saving.
 Every function edits an open ``fontTools.ttLib.TTFont`` in place and works for
 TrueType (``glyf``) and CFF (``CFF ``) fonts.  fontTools' own helpers are used where
 they exist (``recalcAvgCharWidth``, ``recalcBounds``, the pens, ``TTFont.save`` with
-``recalcBBoxes`` for head/hhea/maxp, the ``woff2`` flavor); what fontTools has no
-helper for (moving GPOS anchors by glyph, renaming a family coherently) is here.
+``recalcBBoxes`` or ``maxp.recalc`` / ``hhea.recalc`` for head/hhea/maxp, the
+``woff2`` flavor; :meth:`OutlineWriter.saving` keeps the glyphs not written as
+stored); what fontTools has no helper for (moving GPOS anchors by glyph, renaming a family coherently) is here.
 
 Outlines travel as *contours*: lists of polynomial segments, each an ``(k, 2)``
 float array of control points (k = 2 line, 3 quadratic, 4 cubic), first point of
@@ -1085,7 +1086,8 @@ def finish_font(font):
 
     OS/2 xAvgCharWidth recomputed (fontTools ``recalcAvgCharWidth``); tables that
     cache per-size metrics of the old outlines (hdmx, LTSH, VDMX) are dropped.  Bounds
-    in head/hhea/maxp are recomputed by :func:`save_font` (``recalcBBoxes``).
+    in head/hhea/maxp are recomputed at the save (:meth:`OutlineWriter.saving`, then
+    :func:`save_font`).
     """
     for tag in ("hdmx", "LTSH", "VDMX"):
         if tag in font:
