@@ -6,7 +6,8 @@ TrueType (``glyf``) and CFF (``CFF ``) fonts.  fontTools' own helpers are used w
 they exist (``recalcAvgCharWidth``, ``recalcBounds``, the pens, ``TTFont.save`` with
 ``recalcBBoxes`` or ``maxp.recalc`` / ``hhea.recalc`` for head/hhea/maxp, the
 ``woff2`` flavor; :meth:`OutlineWriter.saving` keeps the glyphs not written as
-stored); what fontTools has no helper for (moving GPOS anchors by glyph, renaming a family coherently) is here.
+stored); what fontTools has no helper for (moving GPOS anchors by glyph, renaming
+a family coherently) is here.
 
 Outlines travel as *contours*: lists of polynomial segments, each an ``(k, 2)``
 float array of control points (k = 2 line, 3 quadratic, 4 cubic), first point of
