@@ -68,14 +68,6 @@ MAX_TRIES = 8
 #: spans the join of a nib's arc and a glyph's curve only with its end near it), and
 #: bisecting the jump costs a round a halving.
 SNAP = 0.3
-#: From this many tries of a pass on, a trying row asks more tries a round
-#: (:meth:`Greedy._spread`): widths SPREAD times the aimed one while no failed end is
-#: known, else the ends that cut the bracket at QUARTERS; none closer than SPREAD_GAP
-#: (of the aimed width) to the aimed end or to another.
-SPREAD_FROM = 2
-SPREAD = np.array([0.9, 0.95, 1.06])
-QUARTERS = np.array([0.25, 0.5, 0.75])
-SPREAD_GAP = 0.01
 
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
 #: on, halving the shortest failed interval (no certified fit yet), done.
@@ -134,7 +126,6 @@ class Greedy:
         self.good_at, self.good_end, self.good_cubic = np.zeros((n, 2), int), np.zeros((n, 2)), \
             np.zeros((n, 4, 2))
         self.first = self.start.copy()
-        self.asked = None                # the last requests: (rows, ends)
         active = np.broadcast_to(np.asarray(active, bool), (n,))
         self.mode[~active] = DONE
         self._new_segments(np.nonzero(active)[0])
@@ -182,50 +173,21 @@ class Greedy:
         self.t1[rows] = np.where(top - t1 < REACH_END * (t1 - t0), top, t1)
 
     def requests(self):
-        """(rows, t0, t1, start, need) of the round's fits, sorted by row: one per
-        searching chain, and the spread tries of :meth:`_spread` (a row's own try
-        first); ``need``: PROVISIONAL in the first pass of the trying mode (not at the
-        chain's end), else 0 (certify)."""
+        """(rows, t0, t1, start, need) of the round's fits: one per searching chain;
+        ``need``: PROVISIONAL in the first pass of the trying mode (not at the chain's
+        end), else 0 (certify)."""
         rows = np.nonzero(self.active)[0]
         t1 = self.t1[rows]
-        more = rows[(self.mode[rows] == TRY) & (self.tries[rows] >= SPREAD_FROM)
-                    & ~self.snap[rows]]
-        if len(more):
-            extra, of = self._spread(more)
-            rows = np.concatenate([rows, of])
-            order = np.argsort(rows, kind="stable")
-            rows, t1 = rows[order], np.concatenate([t1, extra])[order]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
-        self.asked = (rows, t1)
         return rows, self.t0[rows], t1, self.start[rows], need
-
-    def _spread(self, rows):
-        """The spread tries of ``rows`` (trying, SPREAD_FROM tries made in the pass):
-        inside a bracket (a failed end known) the ends that cut it into quarters,
-        else the widths SPREAD times the aimed one; only ends strictly inside the
-        bracket, apart from the aimed end and from each other.  A segment whose error
-        jumps where the model does not see it (at a join of pieces, where the
-        curvature of a sum jumps) costs a round a try; several tries a round shrink
-        its bracket four times a round.  Returns (ends, their rows), flat."""
-        t0, aim = self.t0[rows], self.t1[rows]
-        good, bad, top = self.good[rows], self.bad[rows], self.top[rows]
-        lo = np.where(np.isnan(good), t0, good)
-        hi = np.where(np.isnan(bad), np.inf, bad)
-        quarters = lo[:, None] + (np.fmin(hi, top) - lo)[:, None] * QUARTERS[None]
-        widths = t0[:, None] + (aim - t0)[:, None] * SPREAD[None]
-        ext = np.minimum(np.where(np.isnan(bad)[:, None], widths, quarters), top[:, None])
-        keep = ((ext > lo[:, None]) & (ext < hi[:, None])
-                & (np.abs(ext - aim[:, None]) > SPREAD_GAP * (aim - t0)[:, None]))
-        keep[:, 1:] &= np.abs(np.diff(ext, axis=1)) > SPREAD_GAP * (aim - t0)[:, None]
-        return ext[keep], np.broadcast_to(rows[:, None], ext.shape)[keep]
 
     def update(self, rows, end, fits, at):
         """Take the results of :meth:`requests` (``end``: the tried ends' points;
         ``fits``: (cubic, bound, certified) arrays; ``at``: (round, request) of each)
         and advance every chain one step.  Returns the segments accepted in the
         round: (rows, t0, t1, cubic, bound, at), arrays."""
-        rows, end, (cubic, bound, cert), at = self._pick(rows, end, fits, at)
+        cubic, bound, cert = fits
         t1, mode = self.t1[rows], self.mode[rows]
         ok = bound <= self.tol
         tried = mode == TRY
@@ -252,31 +214,6 @@ class Greedy:
         self.mode[r[finished]] = DONE
         self._new_segments(r[~finished])
         return out
-
-    def _pick(self, rows, end, fits, at):
-        """One result per row of the round's results (rows sorted, a row's spread
-        tries next to its own): the longest try within tol (certified or
-        provisional), else the shortest one; the failed tries longer than it lower
-        the row's shortest failed end.  The pick becomes the row's try (``t1``)."""
-        asked, t1 = self.asked
-        if len(rows) != len(asked) or not np.array_equal(rows, asked):
-            raise ValueError("the results are not those of the last requests")
-        if len(rows) < 2 or np.all(rows[1:] != rows[:-1]):
-            self.t1[rows] = t1
-            return rows, end, fits, at
-        ok = fits[1] <= self.tol
-        order = np.lexsort((np.where(ok, t1, -t1), ok, rows))
-        last = np.ones(len(rows), bool)
-        last[:-1] = rows[order][1:] != rows[order][:-1]
-        pick = order[last]
-        head = np.concatenate([[0], np.nonzero(last)[0][:-1] + 1])
-        group = np.repeat(np.arange(len(pick)), np.diff(np.append(head, len(rows))))
-        longer = np.where(~ok[order] & (t1[order] > t1[pick][group]), t1[order], np.inf)
-        first_bad = np.minimum.reduceat(longer, head)
-        r = rows[pick]
-        self.bad[r] = np.where(np.isinf(first_bad), self.bad[r], np.fmin(self.bad[r], first_bad))
-        self.t1[r] = t1[pick]
-        return r, end[pick], tuple(x[pick] for x in fits), at[pick]
 
     def _tried(self, rows, t1, bound, accept):
         """The trying mode's step for ``rows``: move the bracket, aim the next end;
