@@ -558,6 +558,11 @@ def _join_points(chains, joins):
             np.zeros(len(chain)))
 
 
+#: Parameter values of a chain (of parameter length K) that differ by at most this
+#: many ulps of K are one point reflected twice (t -> K - t -> K - (K - t)).
+REFLECT_ULPS = 4
+
+
 class _Join:
     """The chains searched from both ends (:func:`_drive`), joined where the searches
     met.
@@ -604,10 +609,14 @@ class _Join:
         """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
         its forward search ended."""
         path, e = [], 0.0
+        # a backward segment's start is K - u, u its row's cap K - t: t itself up to
+        # the rounding of the two subtractions (2 ulps of K each); one that starts
+        # that close after e is refitted from e, as one that starts before it
+        slack = REFLECT_ULPS * math.ulp(float(self.top[c]))
         for i, (t0, t1, b, at) in enumerate(segs):
             if t1 <= e:
                 continue
-            if t0 < e:
+            if t0 < e or (t0 != e and t0 - e <= slack and path):
                 self._ask(c, len(path), 0, e, t1)
                 if i + 1 < len(segs) and segs[i + 1][0] == t1:
                     self._ask(c, len(path), 1, e, segs[i + 1][1])
