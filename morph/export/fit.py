@@ -194,8 +194,27 @@ Rays = namedtuple("Rays", "feet gap speed")
 
 
 #: Parts of fit ranges (arrays, sorted by range): range ``req``, global piece ``gid``
-#: of the bank, restricted to its parameters [a, b].
-Parts = namedtuple("Parts", "req gid a b")
+#: of the bank, restricted to its parameters [a, b]; ``subs``: None, or a dict that
+#: :func:`moment_cubics` fills with the parts it cut out of their pieces ({control
+#: points: (part indices, sub-pieces)}), for the certificate to take them
+#: (:func:`cut_pieces`) instead of cutting them again.
+Parts = namedtuple("Parts", "req gid a b subs", defaults=(None,))
+
+
+def cut_pieces(parts, idx, h):
+    """The sub-pieces (k, n, 3) of the parts ``idx`` (cut: not [0, 1]) whose pieces
+    are ``h`` (k, n, 3): those :func:`moment_cubics` cut (``parts.subs``), the
+    others cut here (the same call on the same rows: the same numbers)."""
+    out = np.empty_like(h)
+    todo = np.ones(len(idx), bool)
+    if parts.subs is not None and h.shape[1] in parts.subs:
+        have, stack = parts.subs[h.shape[1]]
+        at = np.minimum(np.searchsorted(have, idx), len(have) - 1)
+        todo = have[at] != idx
+        out[~todo] = stack[at[~todo]]
+    if todo.any():
+        out[todo] = bz.subsegment_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+    return out
 
 
 def _range_samples(bank, parts, starts, chord, safe2, tiny):
@@ -217,7 +236,10 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        p[i], d[i] = _node_jets(bz.subsegment_many(h, lo[i], parts.b[i]))
+        sub = bz.subsegment_many(h, lo[i], parts.b[i])
+        if parts.subs is not None:
+            parts.subs[h.shape[1]] = (i, sub)
+        p[i], d[i] = _node_jets(sub)
         d[i] /= width[i, None, None]
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))

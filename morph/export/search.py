@@ -52,7 +52,7 @@ from ..polyline import member, unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
-from .fit import Parts, _quadrature, make_chains, moment_cubics
+from .fit import Parts, _quadrature, cut_pieces, make_chains, moment_cubics
 from .greedy import DONE, Greedy
 from .refine import Refine, chain_points
 
@@ -71,19 +71,20 @@ def _parts(chains, chain, t0, t1):
     b = np.minimum(t1[req] - k, 1.0)
     keep = b > a
     req, k, a, b = req[keep], k[keep], a[keep], b[keep]
-    return Parts(req, chains.bank.order[off[req] + k], a, b), k
+    return Parts(req, chains.bank.order[off[req] + k], a, b, {}), k
 
 
 def _sub_groups(bank, parts, sel):
     """The sub-pieces of the parts ``sel`` (piece restricted to [a, b]) by degree,
-    [(positions in sel, stack)]: one de Casteljau call per degree."""
+    [(positions in sel, stack)]: those the fitter cut (:func:`cut_pieces`), the others
+    by one de Casteljau call per degree."""
     out = []
     for rows, h in bank.gather(parts.gid[sel]):
         a, b = parts.a[sel[rows]], parts.b[sel[rows]]
         cut = (a != 0.0) | (b != 1.0)
         if cut.any():
             h = h.copy()
-            h[cut] = bz.subsegment_many(h[cut], a[cut], b[cut])
+            h[cut] = cut_pieces(parts, sel[rows][cut], h[cut])
         out.append((rows, h))
     return out
 
