@@ -18,10 +18,10 @@ search of the same chain from its other end has come that far,
 The search of one segment: the first try spans the previous segment's width
 scaled by the error model from that segment's bound (:func:`next_width`; a chain's
 first segment: the width its caller guessed, :func:`morph.export.search.
-first_widths`; the chain's end when less than REACH_END of it would be left); a try is accepted once it
-is certified with a bound of at least ACCEPT tol (or reaches the chain's end);
-otherwise the next end follows the model bound ~ width^p (p from the last two fits,
-within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
+first_widths`; the chain's end when less than REACH_END of it would be left); a try
+is accepted once it is certified with a bound of at least ACCEPT tol (or reaches the
+chain's end); otherwise the next end follows the model bound ~ width^p (p from the
+last two fits, within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
 narrower than BRACKET_REL of the width or MAX_TRIES fits were made; a bracket
 narrower than SNAP of the failing width with a join of two pieces inside tries the
 join next, certified at once, and ends there if it fits.  Tries sampled
