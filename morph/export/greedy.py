@@ -179,8 +179,9 @@ class Greedy:
         self.bad[r[self.bad[r] > self.top[r]]] = np.nan
 
     def _new_segments(self, rows):
-        """Start the segment search of ``rows`` at their t0: the first try spans the
-        previous segment's width, to the chain's end when little would be left."""
+        """Start the segment search of ``rows`` at their t0: the first try spans
+        ``width`` (the chain's guess, or :func:`next_width` of the previous segment),
+        to the chain's end when little would be left."""
         self.mode[rows], self.passno[rows], self.tries[rows] = TRY, 0, 0
         self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
