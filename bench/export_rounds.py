@@ -12,7 +12,10 @@ again).  The saved calls are then converted again in this process ``--repeat``
 times, and the fastest is reported: the CPU time (``time.process_time``) of the
 conversion per glyph, of it the certificate's (``certify_batch``), the rounds of
 the segment search (its batched fits, ``morph.export.search._fit_batch``), the fits
-asked, the (sub-piece, cubic) pairs certified, and the cubics written.  The
+asked, the (sub-piece, cubic) pairs certified, the cubics written, the points of the
+written outlines (on-curve and off-curve, a closed contour's start counted once) and
+the largest certified bound of a fitted cubic (the worst error the certificates
+allow).  The
 conversion is what ``morph stroke`` and ``morph brush`` do, on the same inputs
 however the sums change, so that exporters can be compared on equal terms
 (``PYTHONPATH`` another checkout to time its exporter).  The machine is shared:
@@ -85,6 +88,7 @@ def _install():
     if getattr(search, "_rounds_counted", False):
         return
     fit, certify, beziers = search._fit_batch, search.certify_batch, quad_mod.loops_to_beziers
+    arrays = search._cubic_arrays
 
     def fits(chains, req, tol):
         COUNT["rounds"] = COUNT.get("rounds", 0) + 1
@@ -104,7 +108,12 @@ def _install():
         COUNT["cubics"] = COUNT.get("cubics", 0) + sum(len(b) == 4 for bs in out for b in bs)
         return out
 
-    search._fit_batch, search.certify_batch = fits, certified
+    def bounded(n, final, rounds):
+        worst = max((float(seg[3].max()) for seg in final if len(seg[3])), default=0.0)
+        COUNT["worst"] = max(COUNT.get("worst", 0.0), worst)
+        return arrays(n, final, rounds)
+
+    search._fit_batch, search.certify_batch, search._cubic_arrays = fits, certified, bounded
     quad_mod.loops_to_beziers = cubics
     search._rounds_counted = True
 
@@ -121,14 +130,17 @@ def replay(calls, repeat):
     for k in range(repeat + 1):
         COUNT.clear()
         t0 = time.process_time()
+        points = 0
         for regions, tol, quadratic, offsets, reverse, splines in calls:
             flip = quadratic if reverse is None else reverse
             lps = [reverse_loop(lp) if flip else lp for r in regions for lp in r]
             if quadratic:
-                export.loops_to_quadratics(lps, tol, wrap=True, splines=splines)
+                out = export.loops_to_quadratics(lps, tol, wrap=True, splines=splines)
             else:
-                quad_mod.loops_to_beziers(lps, tol, wrap=True)
+                out = quad_mod.loops_to_beziers(lps, tol, wrap=True)
+            points += sum(len(b) - 1 for loop in out for b in loop)
         spent = time.process_time() - t0
+        COUNT["points"] = points
         if k and (best is None or spent < best[0]):
             best = (spent, dict(COUNT))
     return best
@@ -152,10 +164,10 @@ def main():
         glyphs = sum(len(c[0]) for c in calls)
         spent, c = replay(calls, args.repeat)
         print("%-18s %4d glyphs: export %.2f ms/glyph CPU (certificate %.2f), %d rounds, "
-              "%d fits, %d pairs certified, %d cubics"
+              "%d fits, %d pairs certified, %d cubics, %.1f points/glyph, worst bound %.6g"
               % (run, glyphs, 1e3 * spent / glyphs, 1e3 * c.get("certificate s", 0.0) / glyphs,
-                 c.get("rounds", 0), c.get("fits", 0), c.get("pairs", 0), c.get("cubics", 0)),
-              flush=True)
+                 c.get("rounds", 0), c.get("fits", 0), c.get("pairs", 0), c.get("cubics", 0),
+                 c.get("points", 0) / glyphs, c.get("worst", 0.0)), flush=True)
 
 
 if __name__ == "__main__":

@@ -125,16 +125,21 @@ class Bank:
     def node_jets(self, gids, t):
         """:meth:`jet_grid` of pieces ``gids`` at parameters t, each piece evaluated once
         per bank: the fitter samples every whole piece of a range at the same nodes,
-        round after round (a piece's result does not depend on the batch, so a
-        cached one is the one a round would compute)."""
+        round after round.  On the first call every piece that is not a line is
+        evaluated (one call per degree for the whole bank, not a few per round for
+        the pieces a round meets first); a piece's result does not depend on the
+        batch, so a cached one is the one a round would compute."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
         if self._nodes is None or not np.array_equal(self._nodes[0], t):
             g = len(self.deg)
             self._nodes = (t, np.zeros(g, bool), np.empty((g, len(t), 2)),
                            np.empty((g, len(t), 2)))
+            gids_all = np.concatenate([np.nonzero(~self.line)[0], gids])
+        else:
+            gids_all = gids
         _, have, p, d = self._nodes
-        need = unique(gids[~have[gids]])
+        need = unique(gids_all[~have[gids_all]])
         if len(need):
             p[need], d[need] = self.jet_grid(need, t)
             have[need] = True

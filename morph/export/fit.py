@@ -194,8 +194,27 @@ Rays = namedtuple("Rays", "feet gap speed")
 
 
 #: Parts of fit ranges (arrays, sorted by range): range ``req``, global piece ``gid``
-#: of the bank, restricted to its parameters [a, b].
-Parts = namedtuple("Parts", "req gid a b")
+#: of the bank, restricted to its parameters [a, b]; ``subs``: None, or a dict that
+#: :func:`moment_cubics` fills with the parts it cut out of their pieces ({control
+#: points: (part indices, sub-pieces)}), for the certificate to take them
+#: (:func:`cut_pieces`) instead of cutting them again.
+Parts = namedtuple("Parts", "req gid a b subs", defaults=(None,))
+
+
+def cut_pieces(parts, idx, h):
+    """The sub-pieces (k, n, 3) of the parts ``idx`` (cut: not [0, 1]) whose pieces
+    are ``h`` (k, n, 3): those :func:`moment_cubics` cut (``parts.subs``), the
+    others cut here (the same call on the same rows: the same numbers)."""
+    out = np.empty_like(h)
+    todo = np.ones(len(idx), bool)
+    if parts.subs is not None and h.shape[1] in parts.subs:
+        have, stack = parts.subs[h.shape[1]]
+        at = np.minimum(np.searchsorted(have, idx), len(have) - 1)
+        todo = have[at] != idx
+        out[~todo] = stack[at[~todo]]
+    if todo.any():
+        out[todo] = bz.subsegment_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+    return out
 
 
 def _range_samples(bank, parts, starts, chord, safe2, tiny):
@@ -217,7 +236,10 @@ def _range_samples(bank, parts, starts, chord, safe2, tiny):
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        p[i], d[i] = _node_jets(bz.subsegment_many(h, lo[i], parts.b[i]))
+        sub = bz.subsegment_many(h, lo[i], parts.b[i])
+        if parts.subs is not None:
+            parts.subs[h.shape[1]] = (i, sub)
+        p[i], d[i] = _node_jets(sub)
         d[i] /= width[i, None, None]
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
@@ -270,44 +292,86 @@ def _cubic_integrals(t0, t1):
     -cos th1, 0), y_U = (0, sin th0, 0, 0), y_V = (0, 0, sin th1, 0).  Only the
     terms whose control points are not zero by construction are summed (in the order
     of the indices, products left to right, from 0: the very numbers of the whole
-    sums, whose other terms are zeros), a few vector operations a term."""
+    sums, whose other terms are zeros); all terms of all ranges in a few array
+    operations (:func:`_integral_terms`: each sum's terms added layer by layer)."""
     n = len(t0)
-    c0, s0, c1, s1 = t0[:, 0], t0[:, 1], t1[:, 0], -t1[:, 1]
-    xs = ({2: 1.0, 3: 1.0}, {1: c0}, {2: -c1})                      # K, U, V
-    ys = ({1: s0}, {2: s1})                                         # U, V
+    v = np.stack([np.ones(n), t0[:, 0], t0[:, 1], -t1[:, 0], -t1[:, 1]], axis=1)
+    (ya, xa, ca, sa, la), (um, ym, xm, cm, sm, lm) = _integral_terms()
+    ta = _layered((v[:, ya] * v[:, xa]) * ca, sa, la, 6).reshape(n, 2, 3)
+    tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, sm, lm, 18).reshape(n, 3, 2, 3)
+    return ta, tm
+
+
+def _layered(terms, slot, layers, size):
+    """(n, size): the terms (n, T) summed into their ``slot`` (T,), from 0, in the
+    order of the terms: ``layers`` lists the terms that are the l-th of their slot
+    (distinct slots within a layer), so a slot's sum is the left-to-right sum."""
+    out = np.zeros((len(terms), size))
+    for lay in layers:
+        out[:, slot[lay]] = out[:, slot[lay]] + terms[:, lay]
+    return out
+
+
+def _layers(slot):
+    """The terms of each layer of :func:`_layered`: term i is the k-th of its slot."""
+    seen, rank = {}, []
+    for s in slot:
+        rank.append(seen.get(s, 0))
+        seen[s] = rank[-1] + 1
+    rank = np.array(rank, int)
+    return [np.nonzero(rank == k)[0] for k in range(int(rank.max()) + 1)] if len(rank) else []
+
+
+@functools.lru_cache(maxsize=1)
+def _integral_terms():
+    """The terms of :func:`_cubic_integrals`, as indices into the values (1, cos th0,
+    sin th0, -cos th1, -sin th1) and constants: area (y, x, constant, slot, layers)
+    and moment (u, y, x, constant, slot, layers), slots b * 3 + c and (a * 2 + b) * 3
+    + c, terms in the order of the written-out sums."""
     quad = _quadrature()
-    ta, tm = np.empty((n, 2, 3)), np.empty((n, 3, 2, 3))
+    xs = ({2: 0, 3: 0}, {1: 1}, {2: 3})                 # K, U, V: control index: value
+    ys = ({1: 2}, {2: 4})                               # U, V
+    area, moment = [], []
     for b, yb in enumerate(ys):
         for c, xc in enumerate(xs):
-            acc = np.zeros(n)
             for j, y in yb.items():
                 for k, x in xc.items():
-                    acc = acc + (y * x) * quad.i2[j, k]
-            ta[:, b, c] = acc
+                    area.append((y, x, quad.i2[j, k], b * 3 + c))
             for a, xa in enumerate(xs):
-                acc = np.zeros(n)
                 for i, u in xa.items():
                     for j, y in yb.items():
                         for k, x in xc.items():
-                            acc = acc + ((u * y) * x) * quad.i3[i, j, k]
-                tm[:, a, b, c] = acc
-    return ta, tm
+                            moment.append((u, y, x, quad.i3[i, j, k], (a * 2 + b) * 3 + c))
+    ya, xa, ca, sa = (np.array(col) for col in zip(*area))
+    um, ym, xm, cm, sm = (np.array(col) for col in zip(*moment))
+    return (ya, xa, ca, sa, _layers(sa)), (um, ym, xm, cm, sm, _layers(sm))
 
 
 def _monomial_coefficients(tm):
     """(n, 9): the moment terms m_a n_b m_c tm[a, b, c] (m = (1, d0, d1), n = (d0,
     d1)) summed into the coefficients of the monomials d0^i d1^j of
-    :data:`_MONOMIAL_POWERS` (additions in a fixed order, row by row: a range's
-    coefficients do not depend on the batch, as a BLAS product's may)."""
+    :data:`_MONOMIAL_POWERS` (additions in a fixed order, term by term, by
+    :func:`_layered`: a range's coefficients do not depend on the batch, as a BLAS
+    product's may)."""
+    idx, slot, layers = _monomial_terms()
+    return _layered(tm.reshape(len(tm), 18)[:, idx], slot, layers, len(_MONOMIAL_POWERS))
+
+
+@functools.lru_cache(maxsize=1)
+def _monomial_terms():
+    """The terms of :func:`_monomial_coefficients`: flat indices into tm (n, 18), the
+    monomial of each, and the layers of :func:`_layered`."""
     em = [(0, 0), (1, 0), (0, 1)]
-    out = np.zeros((len(tm), len(_MONOMIAL_POWERS)))
+    idx, slot = [], []
     for a in range(3):
         for b in range(2):
             for c in range(3):
                 i = em[a][0] + (1 - b) + em[c][0]
                 j = em[a][1] + b + em[c][1]
-                out[:, _MONOMIAL_POWERS.index((i, j))] += tm[:, a, b, c]
-    return out
+                idx.append((a * 2 + b) * 3 + c)
+                slot.append(_MONOMIAL_POWERS.index((i, j)))
+    slot = np.array(slot, int)
+    return np.array(idx, int), slot, _layers(slot)
 
 
 #: The monomials d0^i d1^j of the frame cubic's moment (:func:`_handle_candidates`).

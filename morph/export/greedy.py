@@ -15,13 +15,13 @@ A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
 search of the same chain from its other end has come that far,
 :func:`morph.export.search._drive`).
 
-The search of one segment: the first try spans the previous segment's width (a
-chain's first segment: the width its caller guessed, :func:`morph.export.search.
-first_widths`; the
-chain's end when less than REACH_END of it would be left); a try is accepted once it
-is certified with a bound of at least ACCEPT tol (or reaches the chain's end);
-otherwise the next end follows the model bound ~ width^p (p from the last two fits,
-within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
+The search of one segment: the first try spans the previous segment's width
+scaled by the error model from that segment's bound (:func:`next_width`; a chain's
+first segment: the width its caller guessed, :func:`morph.export.search.
+first_widths`; the chain's end when less than REACH_END of it would be left); a try
+is accepted once it is certified with a bound of at least ACCEPT tol (or reaches the
+chain's end); otherwise the next end follows the model bound ~ width^p (p from the
+last two fits, within P_MIN, P_MAX), aimed at AIM tol, within the bracket, until the bracket is
 narrower than BRACKET_REL of the width or MAX_TRIES fits were made; a bracket
 narrower than SNAP of the failing width with a join of two pieces inside tries the
 join next, certified at once, and ends there if it fits.  Tries sampled
@@ -69,6 +69,14 @@ MAX_TRIES = 8
 #: bisecting the jump costs a round a halving.
 SNAP = 0.3
 
+#: The first try of a segment after one of width w and bound b spans w (AIM tol /
+#: b)^(1 / NEXT_POWER), kept within NEXT_STEP times w: the model of
+#: :func:`next_tries` with a damped exponent (the next stretch of the curve is not the
+#: last one), so a segment accepted well below tol (ended at a join, a tight bracket)
+#: does not make the next one start as short, nor one near tol the next start long.
+NEXT_POWER = 6.0
+NEXT_STEP = (0.75, 1.35)
+
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
 #: on, halving the shortest failed interval (no certified fit yet), done.
 TRY, CERTIFY, HALVE, DONE = 0, 1, 2, 3
@@ -96,6 +104,15 @@ def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
     target = np.where(has_bad & ~((lo < target) & (target < hi)), 0.5 * (lo + hi), target)
     tight = has_good & ((target <= lo) | (has_bad & (hi - lo <= BRACKET_REL * (lo - t0))))
     return np.where(tight, np.nan, target)
+
+
+def next_width(w, bound, tol):
+    """The width of the first try of the segment after segments of widths w with
+    certified ``bound`` (arrays): w (AIM tol / bound)^(1 / NEXT_POWER) within
+    NEXT_STEP times w (the largest where the bound is 0)."""
+    with np.errstate(divide="ignore"):
+        ratio = (AIM * tol / bound) ** (1.0 / NEXT_POWER)
+    return w * np.clip(np.where(bound > 0, ratio, NEXT_STEP[1]), *NEXT_STEP)
 
 
 class Greedy:
@@ -162,8 +179,9 @@ class Greedy:
         self.bad[r[self.bad[r] > self.top[r]]] = np.nan
 
     def _new_segments(self, rows):
-        """Start the segment search of ``rows`` at their t0: the first try spans the
-        previous segment's width, to the chain's end when little would be left."""
+        """Start the segment search of ``rows`` at their t0: the first try spans
+        ``width`` (the chain's guess, or :func:`next_width` of the previous segment),
+        to the chain's end when little would be left."""
         self.mode[rows], self.passno[rows], self.tries[rows] = TRY, 0, 0
         self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
@@ -209,7 +227,8 @@ class Greedy:
                     self.good_end[g]))
         r, t1a, ca, ba, ata, ea = (np.concatenate(x) for x in zip(*acc))
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
-        self.width[r], self.t0[r], self.start[r] = t1a - self.t0[r], t1a, ea
+        self.width[r] = next_width(t1a - self.t0[r], ba, self.tol)
+        self.t0[r], self.start[r] = t1a, ea
         finished = t1a >= self.top[r]
         self.mode[r[finished]] = DONE
         self._new_segments(r[~finished])

@@ -52,7 +52,7 @@ from ..polyline import member, unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
-from .fit import Parts, _quadrature, make_chains, moment_cubics
+from .fit import Parts, _quadrature, cut_pieces, make_chains, moment_cubics
 from .greedy import DONE, Greedy
 from .refine import Refine, chain_points
 
@@ -71,19 +71,20 @@ def _parts(chains, chain, t0, t1):
     b = np.minimum(t1[req] - k, 1.0)
     keep = b > a
     req, k, a, b = req[keep], k[keep], a[keep], b[keep]
-    return Parts(req, chains.bank.order[off[req] + k], a, b), k
+    return Parts(req, chains.bank.order[off[req] + k], a, b, {}), k
 
 
 def _sub_groups(bank, parts, sel):
     """The sub-pieces of the parts ``sel`` (piece restricted to [a, b]) by degree,
-    [(positions in sel, stack)]: one de Casteljau call per degree."""
+    [(positions in sel, stack)]: those the fitter cut (:func:`cut_pieces`), the others
+    by one de Casteljau call per degree."""
     out = []
     for rows, h in bank.gather(parts.gid[sel]):
         a, b = parts.a[sel[rows]], parts.b[sel[rows]]
         cut = (a != 0.0) | (b != 1.0)
         if cut.any():
             h = h.copy()
-            h[cut] = bz.subsegment_many(h[cut], a[cut], b[cut])
+            h[cut] = cut_pieces(parts, sel[rows][cut], h[cut])
         out.append((rows, h))
     return out
 
@@ -558,6 +559,11 @@ def _join_points(chains, joins):
             np.zeros(len(chain)))
 
 
+#: Parameter values of a chain (of parameter length K) that differ by at most this
+#: many ulps of K are one point reflected twice (t -> K - t -> K - (K - t)).
+REFLECT_ULPS = 4
+
+
 class _Join:
     """The chains searched from both ends (:func:`_drive`), joined where the searches
     met.
@@ -604,10 +610,14 @@ class _Join:
         """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
         its forward search ended."""
         path, e = [], 0.0
+        # a backward segment's start is K - u, u its row's cap K - t: t itself up to
+        # the rounding of the two subtractions (2 ulps of K each); one that starts
+        # that close after e is refitted from e, as one that starts before it
+        slack = REFLECT_ULPS * math.ulp(float(self.top[c]))
         for i, (t0, t1, b, at) in enumerate(segs):
             if t1 <= e:
                 continue
-            if t0 < e:
+            if t0 < e or (t0 != e and t0 - e <= slack and path):
                 self._ask(c, len(path), 0, e, t1)
                 if i + 1 < len(segs) and segs[i + 1][0] == t1:
                     self._ask(c, len(path), 1, e, segs[i + 1][1])
