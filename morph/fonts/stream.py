@@ -44,7 +44,7 @@ from .tables import draw_contours
 
 __all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
            "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
-           "worker_source"]
+           "worker_source", "OutlineStore", "save_font"]
 
 
 # =========================================================================== worker side
@@ -708,6 +708,167 @@ def compile_stored(font, store, kind, features=None, **options):
         return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, postProcessorClass=post,
                                  **options)
     return ufo2ft.compileTTF(font, outlineCompilerClass=compiler, **options)
+
+
+# =========================================================================== the store
+
+class OutlineStore:
+    """glyph name -> ``(data, bounds)`` (:func:`compile_outline`'s), kept so that the
+    command's memory does not grow with the font: the bytes are appended to an
+    unnamed temporary file (gone when the store is closed or the process ends), their
+    offsets, lengths and bounds kept in arrays (a few dozen bytes a glyph, with the
+    name's slot).  A mapping for the compilers (``in``, ``[]``, ``get``, ``len``,
+    iteration over the names in the order they came); a name given again gets its
+    new outline.  :meth:`read_into` appends a glyph's bytes to a buffer without
+    making an object of them (the CFF table is built that way)."""
+
+    def __init__(self):
+        import tempfile
+        from array import array
+
+        self._file = tempfile.TemporaryFile(prefix="morph-outlines-")
+        self._slot = {}
+        self._at, self._size = array("q"), array("q")
+        self._bounds = array("d")      # 4 a glyph; NaN for None
+        self._end = 0
+        self._reading = False
+
+    def __setitem__(self, name, value):
+        data, bounds = value
+        if self._reading:
+            self._file.seek(0, 2)
+            self._reading = False
+        self._file.write(data)
+        box = (float("nan"),) * 4 if bounds is None else bounds
+        k = self._slot.get(name)
+        if k is None:
+            self._slot[name] = len(self._at)
+            self._at.append(self._end)
+            self._size.append(len(data))
+            self._bounds.extend(box)
+        else:
+            self._at[k], self._size[k] = self._end, len(data)
+            self._bounds[4 * k:4 * k + 4] = type(self._bounds)("d", box)
+        self._end += len(data)
+
+    def bounds(self, name):
+        """The stored bounds of glyph ``name`` (None for none)."""
+        k = self._slot[name]
+        box = tuple(self._bounds[4 * k:4 * k + 4])
+        return None if box[0] != box[0] else box     # NaN: none
+
+    def size(self, name):
+        """The length of glyph ``name``'s stored bytes."""
+        return self._size[self._slot[name]]
+
+    def read_into(self, name, buffer):
+        """Append glyph ``name``'s stored bytes to the bytearray ``buffer``."""
+        k = self._slot[name]
+        if not self._reading:
+            self._file.flush()
+            self._reading = True
+        self._file.seek(self._at[k])
+        buffer += self._file.read(self._size[k])
+
+    def __getitem__(self, name):
+        out = bytearray()
+        self.read_into(name, out)
+        return bytes(out), self.bounds(name)
+
+    def get(self, name, default=None):
+        return self[name] if name in self._slot else default
+
+    def __contains__(self, name):
+        return name in self._slot
+
+    def __len__(self):
+        return len(self._slot)
+
+    def __iter__(self):
+        return iter(self._slot)
+
+    def keys(self):
+        return self._slot.keys()
+
+    def clear(self):
+        """Forget every glyph (the file truncated)."""
+        self._file.seek(0)
+        self._file.truncate()
+        self._slot.clear()
+        del self._at[:], self._size[:], self._bounds[:]
+        self._end, self._reading = 0, False
+
+    def close(self):
+        """Forget every glyph and delete the file."""
+        self.clear()
+        self._file.close()
+
+
+def _table_writer():
+    """fontTools' ``SFNTWriter`` (plain sfnt) computing a table's checksum without the
+    padded copy of the table fontTools' ``calcChecksum`` makes (the same sum)."""
+    global _WRITER
+    if _WRITER is None:
+        from fontTools.ttLib.sfnt import SFNTWriter
+
+        class Writer(SFNTWriter):
+            def __setitem__(self, tag, data):
+                if tag == "head" or self.flavor is not None or tag in self.tables:
+                    return super().__setitem__(tag, data)
+                entry = self.DirectoryEntry()      # SFNTWriter's, with the checksum below
+                entry.tag, entry.offset = tag, self.nextTableOffset
+                entry.checkSum = table_checksum(data)
+                entry.saveData(self.file, data)
+                self.nextTableOffset += (entry.length + 3) & ~3
+                self.file.write(b"\0" * (self.nextTableOffset - self.file.tell()))
+                self.setEntry(tag, entry)
+                return None
+
+        _WRITER = Writer
+    return _WRITER
+
+
+_WRITER = None
+
+
+def TableWriter(*args, **kwargs):  # noqa: N802 - a class made on first use
+    """:func:`_table_writer`'s class made with these arguments (``SFNTWriter``'s)."""
+    return _table_writer()(*args, **kwargs)
+
+
+def table_checksum(data):
+    """An sfnt table's checksum (the data read as big-endian 32-bit numbers, padded
+    with zeros), as fontTools' ``calcChecksum``, without copying the data."""
+    whole = len(data) & ~3
+    total = int(np.frombuffer(data, ">u4", whole // 4).sum(dtype=np.uint64)) if whole else 0
+    rest = bytes(data[whole:])
+    if rest:
+        total += int.from_bytes(rest.ljust(4, b"\0"), "big")
+    return total & 0xFFFFFFFF
+
+
+def save_font(otf, path):
+    """``otf.save(path)`` (tables in the recommended order), the same bytes, without
+    fontTools' two in-memory copies of the whole font: each table is compiled in the
+    order (and with the dependencies) fontTools' save compiles them, then the
+    tables are written to the file in the order its reordering pass writes them.  A
+    font fontTools would write otherwise (WOFF, WOFF2) is saved by fontTools."""
+    from fontTools.ttLib.ttFont import sortedTagList
+
+    if otf.flavor is not None:
+        otf.save(str(path))
+        return
+    if otf.recalcTimestamp and "head" in otf:
+        otf["head"]      # loaded, so that its compilation sets the time, as the save does
+    tags = otf.keys()[1:]       # not GlyphOrder
+    data, done = {}, []
+    for tag in tags:
+        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' compile order and dependencies
+    with open(str(path), "wb") as f:
+        writer = TableWriter(f, len(tags), otf.sfntVersion, otf.flavor, otf.flavorData)
+        for tag in sortedTagList(tags):
+            writer[tag] = data.pop(tag)
+        writer.close()
 
 
 # =========================================================================== UFO output
