@@ -44,7 +44,8 @@ from .tables import draw_contours
 
 __all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
            "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
-           "worker_source", "OutlineStore", "save_font"]
+           "worker_source", "OutlineStore", "save_font", "write_tables", "file_table",
+           "table_checksum"]
 
 
 # =========================================================================== worker side
@@ -806,7 +807,8 @@ class OutlineStore:
 
 def _table_writer():
     """fontTools' ``SFNTWriter`` (plain sfnt) computing a table's checksum without the
-    padded copy of the table fontTools' ``calcChecksum`` makes (the same sum)."""
+    padded copy of the table fontTools' ``calcChecksum`` makes (the same sum), and
+    writing a table from chunks of its bytes (:meth:`write_chunks`)."""
     global _WRITER
     if _WRITER is None:
         from fontTools.ttLib.sfnt import SFNTWriter
@@ -815,25 +817,29 @@ def _table_writer():
             def __setitem__(self, tag, data):
                 if tag == "head" or self.flavor is not None or tag in self.tables:
                     return super().__setitem__(tag, data)
-                entry = self.DirectoryEntry()      # SFNTWriter's, with the checksum below
+                return self.write_chunks(tag, [data])
+
+            def write_chunks(self, tag, chunks):
+                """Table ``tag`` of the bytes ``chunks`` (each but the last of a
+                multiple of 4 bytes), as ``SFNTWriter`` writes a table."""
+                entry = self.DirectoryEntry()
                 entry.tag, entry.offset = tag, self.nextTableOffset
-                entry.checkSum = table_checksum(data)
-                entry.saveData(self.file, data)
-                self.nextTableOffset += (entry.length + 3) & ~3
+                self.file.seek(entry.offset)
+                total = length = 0
+                for chunk in chunks:
+                    total += table_checksum(chunk)
+                    length += len(chunk)
+                    self.file.write(chunk)
+                entry.checkSum, entry.length = total & 0xFFFFFFFF, length
+                self.nextTableOffset += (length + 3) & ~3
                 self.file.write(b"\0" * (self.nextTableOffset - self.file.tell()))
                 self.setEntry(tag, entry)
-                return None
 
         _WRITER = Writer
     return _WRITER
 
 
 _WRITER = None
-
-
-def TableWriter(*args, **kwargs):  # noqa: N802 - a class made on first use
-    """:func:`_table_writer`'s class made with these arguments (``SFNTWriter``'s)."""
-    return _table_writer()(*args, **kwargs)
 
 
 def table_checksum(data):
@@ -847,28 +853,72 @@ def table_checksum(data):
     return total & 0xFFFFFFFF
 
 
-def save_font(otf, path):
-    """``otf.save(path)`` (tables in the recommended order), the same bytes, without
-    fontTools' two in-memory copies of the whole font: each table is compiled in the
-    order (and with the dependencies) fontTools' save compiles them, then the
-    tables are written to the file in the order its reordering pass writes them.  A
-    font fontTools would write otherwise (WOFF, WOFF2) is saved by fontTools."""
+def file_table(tag, file):
+    """A fontTools table ``tag`` whose bytes are the whole of the open binary file
+    ``file`` (a temporary file, closed with the table): :func:`write_tables` copies
+    them into the font's file a chunk at a time; anything else reading the table's
+    ``data`` (fontTools' save, a decompilation) reads them."""
+    global _FILE_TABLE
+    if _FILE_TABLE is None:
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        class FileTable(DefaultTable):
+            def __init__(self, tag, file):
+                super().__init__(tag)
+                self.file = file
+
+            @property
+            def data(self):
+                self.file.seek(0)
+                return self.file.read()
+
+            def chunks(self, size=1 << 16):
+                self.file.seek(0)
+                while True:
+                    chunk = self.file.read(size)
+                    if not chunk:
+                        return
+                    yield chunk
+
+        _FILE_TABLE = FileTable
+    return _FILE_TABLE(tag, file)
+
+
+_FILE_TABLE = None
+
+
+def write_tables(otf, file):
+    """The tables of ``otf`` (a plain sfnt) written to the open binary ``file``: each
+    compiled in the order, and with the dependencies, fontTools' save compiles them,
+    then written in the order its reordering pass writes them; a
+    :func:`file_table` copied from its file, a chunk at a time."""
     from fontTools.ttLib.ttFont import sortedTagList
 
+    tags = otf.keys()[1:]       # not GlyphOrder
+    chunked = [t for t in tags if hasattr(otf.tables.get(t), "chunks")]
+    data, done = {}, list(chunked)
+    for tag in tags:
+        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' compile order and dependencies
+    writer = _table_writer()(file, len(tags), otf.sfntVersion, otf.flavor, otf.flavorData)
+    for tag in sortedTagList(tags):
+        if tag in chunked:
+            writer.write_chunks(tag, otf.tables[tag].chunks())
+        else:
+            writer[tag] = data.pop(tag)
+    writer.close()
+
+
+def save_font(otf, path):
+    """``otf.save(path)`` (tables in the recommended order), the same bytes, without
+    fontTools' two in-memory copies of the whole font (:func:`write_tables`).  A
+    font fontTools would write otherwise (WOFF, WOFF2) is saved by fontTools."""
     if otf.flavor is not None:
         otf.save(str(path))
         return
     if otf.recalcTimestamp and "head" in otf:
         otf["head"]      # loaded, so that its compilation sets the time, as the save does
-    tags = otf.keys()[1:]       # not GlyphOrder
-    data, done = {}, []
-    for tag in tags:
-        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' compile order and dependencies
     with open(str(path), "wb") as f:
-        writer = TableWriter(f, len(tags), otf.sfntVersion, otf.flavor, otf.flavorData)
-        for tag in sortedTagList(tags):
-            writer[tag] = data.pop(tag)
-        writer.close()
+        write_tables(otf, f)
 
 
 # =========================================================================== UFO output

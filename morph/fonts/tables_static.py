@@ -42,7 +42,6 @@ ufo2ft's as decompiled (ttx): ufo2ft's is fontTools' re-encoding of the same
 compile fonts both ways and compare them so.
 """
 
-import io
 import math
 import os
 import time
@@ -437,32 +436,37 @@ def _tx_runner():
 
 def _run_tx(run, error, path):
     """``tx`` (``run``: cffsubr's runner) on the font file ``path`` with cffsubr's
-    arguments; ``error``: cffsubr's error, raised with ``tx``'s message."""
+    arguments, its output written to a file (cffsubr's way on Windows) not a pipe:
+    the subroutinized CFF table, a :func:`morph.fonts.stream.file_table` of an unnamed
+    temporary file.  ``error``: cffsubr's error, raised with ``tx``'s message."""
     import subprocess
+    import tempfile
 
+    from .stream import file_table
+
+    out = tempfile.NamedTemporaryFile(prefix="tx-", delete=False)
+    out.close()
     try:
-        return run("-cff", "+S", "+b", str(path), check=True, stdout=subprocess.PIPE,
-                   stderr=subprocess.PIPE).stdout
+        run("-cff", "+S", "+b", "-o", out.name, str(path), check=True,
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        table = file_table("CFF ", open(out.name, "rb"))
     except subprocess.CalledProcessError as exc:
         raise error(exc.stderr.decode(errors="replace")) from exc
+    finally:
+        os.remove(out.name)      # the open table's file stays readable until it closes
+    return table
 
 
 def _font_file(font):
-    """``font``'s tables written to a new temporary file as they are (table by table:
-    no copy of the font in memory; the tables in the order fontTools compiles them,
-    which ``tx``, reading the CFF table by the table directory, does not see); its
-    path (the caller removes it)."""
+    """``font``'s tables written to a new temporary file (table by table, no copy of
+    the font in memory: :func:`morph.fonts.stream.write_tables`); its path (the caller
+    removes it)."""
     import tempfile
 
-    from .stream import TableWriter
+    from .stream import write_tables
 
-    tags = font.keys()[1:]
     with tempfile.NamedTemporaryFile(prefix="tx-", delete=False) as f:
-        writer = TableWriter(f, len(tags), font.sfntVersion)
-        done = []
-        for tag in tags:
-            font._writeTable(tag, writer, done)  # noqa: SLF001 - fontTools' save, to a file
-        writer.close()
+        write_tables(font, f)
     return f.name
 
 
@@ -1408,7 +1412,7 @@ class _Compiler:
     def _cff(self):
         """The CFF table, subroutinized as ufo2ft does it (cffsubr's ``tx`` given the
         font without its layout tables).  Where cffsubr has its ``tx`` runner on bytes,
-        the table ``tx`` reads is written here (:meth:`_cff_bytes`) and its output
+        the table ``tx`` reads is written here (:meth:`_cff_file`) and its output
         kept as ``tx`` wrote it: no fontTools.cffLib (and its OpenType table
         classes) is imported.  ``tx`` writes the same table from it (it re-encodes
         every dict, string and charstring); fontTools would re-encode its output
@@ -1421,15 +1425,12 @@ class _Compiler:
             self._cff_table()
             subroutinize(self.otf, self.bounds)
             return
-        from fontTools.ttLib.tables.DefaultTable import DefaultTable
-
         from .subrs import font_subroutines
 
         box = self._as_saved()
-        table = DefaultTable("CFF ")
         grouped = font_subroutines(self.programs)
-        table.data = self._cff_bytes(box, grouped)
-        self.programs = None   # the outlines are in the table now
+        table = self._cff_file(box, grouped)
+        self.programs = None   # the outlines are in the table's file now
         if grouped is not None:   # a large font: subroutinized in groups, not by one tx
             self.otf["CFF "] = table
             return
@@ -1440,13 +1441,10 @@ class _Compiler:
                 rest[tag] = self.otf[tag]
         rest["CFF "] = table
         path = _font_file(rest)
-        del rest, table      # the outlines are in the file: tx's output is all that is kept
         try:
-            out = DefaultTable("CFF ")
-            out.data = run_tx(path)
+            self.otf["CFF "] = run_tx(path)
         finally:
             os.remove(path)
-        self.otf["CFF "] = out
 
     def _as_saved(self):
         """What fontTools' save of the font (``recalcBBoxes``) before ``tx`` sets
@@ -1469,11 +1467,17 @@ class _Compiler:
             for name, b in every.items()})
         return box
 
-    def _cff_bytes(self, font_box, subrs=None):
-        """A CFF 1 table of the font (name-keyed), with the top and private dict
+    def _cff_file(self, font_box, subrs=None):
+        """A CFF 1 table of the font (name-keyed), written to a temporary file (a
+        :func:`morph.fonts.stream.file_table`: the programs go from the store to the
+        file, not into memory), with the top and private dict
         values ufo2ft gives fontTools (those equal to the CFF defaults left out, as
         fontTools leaves them), every string a custom one; ``subrs``: no subroutines
         (None) or (global subroutines, local ones, charstrings in glyph order)."""
+        import tempfile
+
+        from .stream import file_table
+
         info = self.info
         w = _CffDictWriter()
         sid, offset = w.sid, w.offset
@@ -1501,10 +1505,7 @@ class _Compiler:
         at_charstrings = at_charset + len(charset)
         at_private = at_charstrings + size_charstrings
         end = at_private + len(private) + (len(_index(lsubrs)) if lsubrs else 0)
-        out = io.BytesIO()     # its value is its buffer: the table is not copied
-        out.seek(end - 1)      # its buffer made the table's size at once (no growth)
-        out.write(b"\0")
-        out.seek(0)
+        out = tempfile.TemporaryFile(prefix="morph-cff-")
         for part in (bytes([1, 0, 4, 4]), name_index,
                      top_index(at_charset, at_charstrings, at_private), string_index,
                      global_index, charset, charstrings):
@@ -1522,7 +1523,7 @@ class _Compiler:
         out.write(private)
         out.write(_index(lsubrs) if lsubrs else b"")
         assert out.tell() == end
-        return out.getvalue()
+        return file_table("CFF ", out)
 
     def _cff_top(self, w, font_box):
         """The top dict's entries but the offsets (``w``: a :class:`_CffDictWriter`)."""

@@ -366,12 +366,13 @@ def test_the_tail_keeps_no_copy_of_the_charstrings(tmp_path, monkeypatch):
     here), each glyph's charstring 0.7 KB: while the glyphs stream in, the memory
     held grows by less than 0.4 times the charstrings' bytes (they are kept on disk;
     the command keeps a few numbers a glyph, and its shells: 0.3 times); the compile
-    and save of the font (the tail) holds at most 2.5 times the charstrings' bytes
-    above what it held before it began (1.9 times: the CFF table, written once, and
-    the font's other tables), and nothing after it.  The charstrings kept in
-    memory as bytes, and copied by the tail into the programs, their INDEX, the
-    table, the font saved for the subroutinizer and the saved font, measured 0.8
-    and 5.2 times: both bounds fail."""
+    and save of the font (the tail) holds at most 2 times the charstrings' bytes
+    above what it held before it began (1.3 times: the font's tables but CFF, the
+    CFF strings, the modules it imports; the CFF table goes from the stored
+    outlines to a file, to ``tx``, to the font's file), and nothing after it.  The
+    charstrings kept in memory as bytes, and copied by the tail into the programs,
+    their INDEX, the table, the font saved for the subroutinizer and the saved
+    font, measured 0.8 and 5.2 times: both bounds fail."""
     import morph.fonts.stroke as stroke
     from morph.fonts.stream import SkeletonSource
 
@@ -414,7 +415,7 @@ def test_the_tail_keeps_no_copy_of_the_charstrings(tmp_path, monkeypatch):
                                          (tail["after"] - tail["before"]) / 1e6))
     assert tail["bytes"] > 2000 * 500     # ~0.6 KB a glyph: the bound is about them
     assert grown < 0.4 * tail["bytes"], grown
-    assert tail["peak"] - tail["before"] < 2.5 * tail["bytes"]
+    assert tail["peak"] - tail["before"] < 2.0 * tail["bytes"]
     assert tail["after"] - tail["before"] < 0.1 * tail["bytes"]
     font = TTFont(str(tmp_path / "r2000.otf"))
     assert len(font.getGlyphOrder()) == 2001
