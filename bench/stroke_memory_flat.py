@@ -2,7 +2,7 @@
 with the font (hanzi medians).
 
     python -m bench.stroke_memory_flat [--sets hanzi-300,hanzi-3000] [--jobs 2]
-                                       [--before DIR] [--nice 10]
+                                       [--before DIR --before-label TEXT] [--nice 10]
                                        [--md bench/stroke_memory_flat.md | --no-write]
 
 Each run is ``morph stroke SET.ufo -o OUT.otf --jobs J --force`` run in a child Python
@@ -207,7 +207,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", default="hanzi-300,hanzi-3000")
     ap.add_argument("--jobs", default="2")
-    ap.add_argument("--before", help="also run the code in this folder (labelled 'before')")
+    ap.add_argument("--before", help="also run the code in this folder first")
+    ap.add_argument("--before-label", default="before",
+                    help="its rows' label (e.g. the branch and commit it holds)")
     ap.add_argument("--nice", type=int, default=0)
     ap.add_argument("--keep", help="keep the fonts in this folder (CODE-SET-JOBS.otf)")
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke_memory_flat.md"))
@@ -216,14 +218,15 @@ def main(argv=None):
     from bench.proctree import started
 
     begun = started()
-    codes = ([("before", Path(opt.before))] if opt.before else []) + [("this", ROOT)]
+    codes = ([(opt.before_label, Path(opt.before))] if opt.before else []) + [
+        ("this (%s)" % begun[1], ROOT)]
     plan = [(c, s, int(j)) for c in codes for s in opt.sets.split(",")
             for j in opt.jobs.split(",")]
     rows = []
     for (code, root), s, j in plan:
         ufo = skeleton_ufo(s)
         glyphs = sum(1 for _ in (ufo / "glyphs").glob("*.glif"))
-        keep = opt.keep and Path(opt.keep) / ("%s-%s-%d.otf" % (code, s, j))
+        keep = opt.keep and Path(opt.keep) / ("%s-%s-%d.otf" % (code.split()[0], s, j))
         plain, traced = run(root, ufo, j, False, opt.nice, keep), run(root, ufo, j, True, opt.nice)
         rows.append(row(code, s, glyphs, j, plain, traced))
         print({k: v for k, v in rows[-1].items() if k != "top"}, flush=True)
