@@ -237,6 +237,40 @@ def test_a_glyph_a_worker_cannot_read_is_one_error_line(streamed, tmp_path, monk
     assert "'o'" in res.output and res.output.strip().count("\n") == 0, res.output
 
 
+@pytest.mark.parametrize("suffix", [".otf", ".ttf"])
+def test_save_font_writes_what_fonttools_saves(streamed, suffix, tmp_path):
+    """:func:`morph.fonts.stream.save_font` (tables compiled as fontTools' save compiles
+    them, written in its reordered order, checksums without padded copies) writes
+    the bytes ``TTFont.save`` writes, also where a table's bytes are in a file
+    (:func:`morph.fonts.stream.file_table`, copied a chunk at a time); a table's
+    changed byte shows (the comparison can fail)."""
+    import tempfile
+
+    from fontTools.ttLib.sfnt import calcChecksum
+
+    from morph.fonts.stream import file_table, save_font, table_checksum
+
+    for n in (0, 1, 2, 3, 4, 5, 4099):
+        data = bytes(range(256)) * 17
+        assert table_checksum(data[:n]) == calcChecksum(data[:n])
+    font = TTFont(str(streamed[1] / ("S" + suffix)), recalcTimestamp=False)
+    font.ensureDecompiled()
+    font.save(str(tmp_path / "theirs"))
+    save_font(font, tmp_path / "ours")
+    theirs = (tmp_path / "theirs").read_bytes()
+    assert (tmp_path / "ours").read_bytes() == theirs
+    tag = "CFF " if suffix == ".otf" else "glyf"
+    raw = TTFont(str(tmp_path / "theirs"), recalcTimestamp=False)
+    for moved in (False, True):
+        f = tempfile.TemporaryFile()
+        data = bytearray(raw.reader[tag])
+        data[-1] ^= moved
+        f.write(data)
+        raw[tag] = file_table(tag, f)
+        save_font(raw, tmp_path / "filed")
+        assert ((tmp_path / "filed").read_bytes() == theirs) is not moved
+
+
 def test_streamed_ufo_keeps_the_font(streamed, skeleton):
     src, out, stats = streamed
     ufo = ufoLib2.Font.open(out / "S.ufo")
