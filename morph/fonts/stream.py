@@ -5,8 +5,9 @@ A stroked glyph leaves its worker process as *compiled* data, not as point objec
 :func:`compile_outline` turns its integer contours (:mod:`morph.fonts.tables`) into
 the bytes the font will hold, a Type 2 charstring (CFF, without its advance) or a
 ``glyf`` glyph (TrueType direction), with its bounding box.  The main process keeps
-those bytes (a few bytes a point) and the glyph's *shell*: a ufoLib2 glyph without
-contours (advance, unicodes, anchors, kept components, lib).  At the end ufo2ft
+those bytes in a temporary file (:class:`OutlineStore`: a few numbers a glyph in
+memory) and the glyph's *shell*: a ufoLib2 glyph without contours (advance,
+unicodes, anchors, kept components, lib).  At the end ufo2ft
 compiles the shells, as it compiled the whole font before, with an outline compiler
 that takes the stored bytes (:func:`compile_stored`): the names, metrics, cmap, OS/2,
 kerning and mark features, GDEF and post tables come from ufo2ft as they did; the
@@ -30,7 +31,10 @@ for their shells, then each glyph's contours read again when its chunk is prepar
 and dropped (by the worker that strokes the chunk, :func:`worker_source`, when the
 source is a UFO on disk and there are workers).  A UFO output is written glyph by glyph (:class:`UfoGlyphWriter`): the
 shells are saved first by ufoLib2 (info, kerning, groups, features, lib, layers,
-data), then each stroked glyph's ``.glif`` is rewritten as it arrives.
+data), then each stroked glyph's ``.glif`` is rewritten as it arrives.  A compiled
+font is saved by :func:`save_font`, table by table into its file (a table whose bytes
+are in a file, :func:`file_table`, copied a chunk at a time): the bytes fontTools'
+save writes, without its copies of the whole font in memory.
 """
 
 import copy

@@ -23,7 +23,9 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
 - the CFF table is subroutinized by cffsubr's ``tx`` as ufo2ft has it done; the
   table ``tx`` reads is written here and its output kept as ``tx`` wrote it
   (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
-  ``tx`` set as it sets them;
+  ``tx`` set as it sets them; the table goes from the stored outlines to a
+  temporary file, to ``tx`` and from ``tx``'s output file to the font's file
+  (:func:`morph.fonts.stream.save_font`), never whole in memory;
 - the name table is written here where all its records are Windows Unicode ones;
 - composites are decomposed into CFF charstrings as ufo2ft's compiler of the
   stored outlines decomposes them (:class:`_Decomposer`); glyphs the lib names in
