@@ -144,9 +144,9 @@ def _grouped(sizes, bodies, prefix, run_tx, limit):
     for i, (a, _) in enumerate(spans):
         gsubrs, lsubrs, chars = parts[i]
         parts[i] = None         # each group's output dropped as it is moved
-        moved = _renumbered(gsubrs + lsubrs + list(chars),
-                            (len(gsubrs), len(out_global), n_global),
-                            (len(lsubrs), len(out_local), n_local))
+        moved = _renumbered_in_parts(gsubrs + lsubrs + list(chars),
+                                     (len(gsubrs), len(out_global), n_global),
+                                     (len(lsubrs), len(out_local), n_local))
         out_global += moved[:len(gsubrs)]
         out_local += moved[len(gsubrs):len(gsubrs) + len(lsubrs)]
         for k, c in enumerate(moved[len(gsubrs) + len(lsubrs):]):
@@ -267,6 +267,24 @@ def _encoded(values):
     out[:, 1] = np.where(two, m & 255, (v >> 8) & 255)
     out[:, 2] = v & 255
     return out[np.arange(3) < size[:, None]].astype(np.uint8), size
+
+
+#: The most program bytes :func:`_renumbered` takes at once: its arrays hold about 25
+#: bytes for every byte of programs (80 MB for 3.2 MB), so a group is renumbered in
+#: parts of this many bytes (each program moved alone, the parts give the same bytes).
+RENUMBER_BYTES = 1 << 18
+
+
+def _renumbered_in_parts(programs, glob, local):
+    """:func:`_renumbered` of ``programs`` in consecutive parts of about
+    :data:`RENUMBER_BYTES` each."""
+    out, start, size = [], 0, 0
+    for k, p in enumerate(programs):
+        size += len(p)
+        if size >= RENUMBER_BYTES or k == len(programs) - 1:
+            out += _renumbered(programs[start:k + 1], glob, local)
+            start, size = k + 1, 0
+    return out
 
 
 def _renumbered(programs, glob, local):
