@@ -166,7 +166,7 @@ def test_a_group_is_renumbered_in_parts_with_bounded_memory(monkeypatch):
     """Renumbering a group's programs in parts of at most ``RENUMBER_BYTES`` gives the
     bytes one pass over them gives (each program is moved alone), with its arrays
     bounded by the part: the peak memory is under 8 times the programs' bytes (their
-    renumbered copies and a part's arrays; one pass over 1.1 MB peaks at 25 times)."""
+    renumbered copies and a part's arrays; one pass over them peaks at 25 times)."""
     import tracemalloc
 
     bodies, _, _ = _programs(1000)
