@@ -902,7 +902,7 @@ def write_tables(otf, file):
     chunked = [t for t in tags if hasattr(otf.tables.get(t), "chunks")]
     data, done = {}, list(chunked)
     for tag in tags:
-        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' compile order and dependencies
+        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' order, dependencies first
     writer = _table_writer()(file, len(tags), otf.sfntVersion, otf.flavor, otf.flavorData)
     for tag in sortedTagList(tags):
         if tag in chunked:
