@@ -5,8 +5,9 @@ A stroked glyph leaves its worker process as *compiled* data, not as point objec
 :func:`compile_outline` turns its integer contours (:mod:`morph.fonts.tables`) into
 the bytes the font will hold, a Type 2 charstring (CFF, without its advance) or a
 ``glyf`` glyph (TrueType direction), with its bounding box.  The main process keeps
-those bytes (a few bytes a point) and the glyph's *shell*: a ufoLib2 glyph without
-contours (advance, unicodes, anchors, kept components, lib).  At the end ufo2ft
+those bytes in a temporary file (:class:`OutlineStore`: a few numbers a glyph in
+memory) and the glyph's *shell*: a ufoLib2 glyph without contours (advance,
+unicodes, anchors, kept components, lib).  At the end ufo2ft
 compiles the shells, as it compiled the whole font before, with an outline compiler
 that takes the stored bytes (:func:`compile_stored`): the names, metrics, cmap, OS/2,
 kerning and mark features, GDEF and post tables come from ufo2ft as they did; the
@@ -30,7 +31,10 @@ for their shells, then each glyph's contours read again when its chunk is prepar
 and dropped (by the worker that strokes the chunk, :func:`worker_source`, when the
 source is a UFO on disk and there are workers).  A UFO output is written glyph by glyph (:class:`UfoGlyphWriter`): the
 shells are saved first by ufoLib2 (info, kerning, groups, features, lib, layers,
-data), then each stroked glyph's ``.glif`` is rewritten as it arrives.
+data), then each stroked glyph's ``.glif`` is rewritten as it arrives.  A compiled
+font is saved by :func:`save_font`, table by table into its file (a table whose bytes
+are in a file, :func:`file_table`, copied a chunk at a time): the bytes fontTools'
+save writes, without its copies of the whole font in memory.
 """
 
 import copy
@@ -44,7 +48,8 @@ from .tables import draw_contours
 
 __all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
            "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
-           "worker_source"]
+           "worker_source", "OutlineStore", "save_font", "write_tables", "file_table",
+           "table_checksum"]
 
 
 # =========================================================================== worker side
@@ -708,6 +713,216 @@ def compile_stored(font, store, kind, features=None, **options):
         return ufo2ft.compileOTF(font, outlineCompilerClass=compiler, postProcessorClass=post,
                                  **options)
     return ufo2ft.compileTTF(font, outlineCompilerClass=compiler, **options)
+
+
+# =========================================================================== the store
+
+class OutlineStore:
+    """glyph name -> ``(data, bounds)`` (:func:`compile_outline`'s), kept so that the
+    command's memory does not grow with the font: the bytes are appended to an
+    unnamed temporary file (gone when the store is closed or the process ends), their
+    offsets, lengths and bounds kept in arrays (a few dozen bytes a glyph, with the
+    name's slot).  A mapping for the compilers (``in``, ``[]``, ``get``, ``len``,
+    iteration over the names in the order they came); a name given again gets its
+    new outline.  :meth:`read_into` appends a glyph's bytes to a buffer without
+    making an object of them (the CFF table is built that way)."""
+
+    def __init__(self):
+        import tempfile
+        from array import array
+
+        self._file = tempfile.TemporaryFile(prefix="morph-outlines-")
+        self._slot = {}
+        self._at, self._size = array("q"), array("q")
+        self._bounds = array("d")      # 4 a glyph; NaN for None
+        self._end = 0
+        self._reading = False
+
+    def __setitem__(self, name, value):
+        data, bounds = value
+        if self._reading:
+            self._file.seek(0, 2)
+            self._reading = False
+        self._file.write(data)
+        box = (float("nan"),) * 4 if bounds is None else bounds
+        k = self._slot.get(name)
+        if k is None:
+            self._slot[name] = len(self._at)
+            self._at.append(self._end)
+            self._size.append(len(data))
+            self._bounds.extend(box)
+        else:
+            self._at[k], self._size[k] = self._end, len(data)
+            self._bounds[4 * k:4 * k + 4] = type(self._bounds)("d", box)
+        self._end += len(data)
+
+    def bounds(self, name):
+        """The stored bounds of glyph ``name`` (None for none)."""
+        k = self._slot[name]
+        box = tuple(self._bounds[4 * k:4 * k + 4])
+        return None if box[0] != box[0] else box     # NaN: none
+
+    def size(self, name):
+        """The length of glyph ``name``'s stored bytes."""
+        return self._size[self._slot[name]]
+
+    def read_into(self, name, buffer):
+        """Append glyph ``name``'s stored bytes to the bytearray ``buffer``."""
+        k = self._slot[name]
+        if not self._reading:
+            self._file.flush()
+            self._reading = True
+        self._file.seek(self._at[k])
+        buffer += self._file.read(self._size[k])
+
+    def __getitem__(self, name):
+        out = bytearray()
+        self.read_into(name, out)
+        return bytes(out), self.bounds(name)
+
+    def get(self, name, default=None):
+        return self[name] if name in self._slot else default
+
+    def __contains__(self, name):
+        return name in self._slot
+
+    def __len__(self):
+        return len(self._slot)
+
+    def __iter__(self):
+        return iter(self._slot)
+
+    def keys(self):
+        return self._slot.keys()
+
+    def clear(self):
+        """Forget every glyph (the file truncated)."""
+        self._file.seek(0)
+        self._file.truncate()
+        self._slot.clear()
+        del self._at[:], self._size[:], self._bounds[:]
+        self._end, self._reading = 0, False
+
+    def close(self):
+        """Forget every glyph and delete the file."""
+        self.clear()
+        self._file.close()
+
+
+def _table_writer():
+    """fontTools' ``SFNTWriter`` (plain sfnt) computing a table's checksum without the
+    padded copy of the table fontTools' ``calcChecksum`` makes (the same sum), and
+    writing a table from chunks of its bytes (:meth:`write_chunks`)."""
+    global _WRITER
+    if _WRITER is None:
+        from fontTools.ttLib.sfnt import SFNTWriter
+
+        class Writer(SFNTWriter):
+            def __setitem__(self, tag, data):
+                if tag == "head" or self.flavor is not None or tag in self.tables:
+                    return super().__setitem__(tag, data)
+                return self.write_chunks(tag, [data])
+
+            def write_chunks(self, tag, chunks):
+                """Table ``tag`` of the bytes ``chunks`` (each but the last of a
+                multiple of 4 bytes), as ``SFNTWriter`` writes a table."""
+                entry = self.DirectoryEntry()
+                entry.tag, entry.offset = tag, self.nextTableOffset
+                self.file.seek(entry.offset)
+                total = length = 0
+                for chunk in chunks:
+                    total += table_checksum(chunk)
+                    length += len(chunk)
+                    self.file.write(chunk)
+                entry.checkSum, entry.length = total & 0xFFFFFFFF, length
+                self.nextTableOffset += (length + 3) & ~3
+                self.file.write(b"\0" * (self.nextTableOffset - self.file.tell()))
+                self.setEntry(tag, entry)
+
+        _WRITER = Writer
+    return _WRITER
+
+
+_WRITER = None
+
+
+def table_checksum(data):
+    """An sfnt table's checksum (the data read as big-endian 32-bit numbers, padded
+    with zeros), as fontTools' ``calcChecksum``, without copying the data."""
+    whole = len(data) & ~3
+    total = int(np.frombuffer(data, ">u4", whole // 4).sum(dtype=np.uint64)) if whole else 0
+    rest = bytes(data[whole:])
+    if rest:
+        total += int.from_bytes(rest.ljust(4, b"\0"), "big")
+    return total & 0xFFFFFFFF
+
+
+def file_table(tag, file):
+    """A fontTools table ``tag`` whose bytes are the whole of the open binary file
+    ``file`` (a temporary file, closed with the table): :func:`write_tables` copies
+    them into the font's file a chunk at a time; anything else reading the table's
+    ``data`` (fontTools' save, a decompilation) reads them."""
+    global _FILE_TABLE
+    if _FILE_TABLE is None:
+        from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
+        class FileTable(DefaultTable):
+            def __init__(self, tag, file):
+                super().__init__(tag)
+                self.file = file
+
+            @property
+            def data(self):
+                self.file.seek(0)
+                return self.file.read()
+
+            def chunks(self, size=1 << 16):
+                self.file.seek(0)
+                while True:
+                    chunk = self.file.read(size)
+                    if not chunk:
+                        return
+                    yield chunk
+
+        _FILE_TABLE = FileTable
+    return _FILE_TABLE(tag, file)
+
+
+_FILE_TABLE = None
+
+
+def write_tables(otf, file):
+    """The tables of ``otf`` (a plain sfnt) written to the open binary ``file``: each
+    compiled in the order, and with the dependencies, fontTools' save compiles them,
+    then written in the order its reordering pass writes them; a
+    :func:`file_table` copied from its file, a chunk at a time."""
+    from fontTools.ttLib.ttFont import sortedTagList
+
+    tags = otf.keys()[1:]       # not GlyphOrder
+    chunked = [t for t in tags if hasattr(otf.tables.get(t), "chunks")]
+    data, done = {}, list(chunked)
+    for tag in tags:
+        otf._writeTable(tag, data, done)  # noqa: SLF001 - fontTools' order, dependencies first
+    writer = _table_writer()(file, len(tags), otf.sfntVersion, otf.flavor, otf.flavorData)
+    for tag in sortedTagList(tags):
+        if tag in chunked:
+            writer.write_chunks(tag, otf.tables[tag].chunks())
+        else:
+            writer[tag] = data.pop(tag)
+    writer.close()
+
+
+def save_font(otf, path):
+    """``otf.save(path)`` (tables in the recommended order), the same bytes, without
+    fontTools' two in-memory copies of the whole font (:func:`write_tables`).  A
+    font fontTools would write otherwise (WOFF, WOFF2) is saved by fontTools."""
+    if otf.flavor is not None:
+        otf.save(str(path))
+        return
+    if otf.recalcTimestamp and "head" in otf:
+        otf["head"]      # loaded, so that its compilation sets the time, as the save does
+    with open(str(path), "wb") as f:
+        write_tables(otf, f)
 
 
 # =========================================================================== UFO output

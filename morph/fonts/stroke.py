@@ -862,12 +862,12 @@ class _StreamedGlyphs:
     the font."""
 
     def __init__(self, font, kind, tmp, progress, composites=(), features=None):
-        from .stream import UfoGlyphWriter
+        from .stream import OutlineStore, UfoGlyphWriter
 
         self.font, self.kind, self.tmp, self.progress = font, kind, tmp, progress
         self.features = features   # the font's feature file parsed (None: ufo2ft parses it)
         self.ufo = UfoGlyphWriter(font, tmp) if kind == ".ufo" else None
-        self.store = {}
+        self.store = OutlineStore() if self.ufo is None else {}   # compact, on disk
         self.extent = [None, None]
         self.composites = list(composites)
         self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
@@ -914,7 +914,7 @@ class _StreamedGlyphs:
         if self.ufo is not None:
             self.ufo.finish()
             return
-        from .stream import compile_stored
+        from .stream import compile_stored, save_font
 
         options = {}
         if self.kind == ".ttf":
@@ -934,11 +934,12 @@ class _StreamedGlyphs:
             raise MorphError("%s could not compile %s: %s"
                              % ("morph" if light else "ufo2ft", Path(out_path).name,
                                 one_line(exc))) from exc
-        self.store.clear()
+        finally:
+            self.store.close()
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
         # the stored glyphs' headers for glyf): not again from every glyph decoded
         otf.recalcBBoxes = False
-        otf.save(str(self.tmp))
+        save_font(otf, self.tmp)
 
 
 def _placed_bases(font, composites):

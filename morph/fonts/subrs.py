@@ -28,10 +28,12 @@ depend on the glyphs' programs and order alone (not on ``--jobs``).
 
 import io
 import subprocess
+from array import array
 
 import numpy as np
 
-__all__ = ["GROUP_BYTES", "MAX_SUBRS", "font_subroutines", "grouped_subroutines", "NotGrouped"]
+__all__ = ["GROUP_BYTES", "MAX_SUBRS", "font_subroutines", "grouped_subroutines", "NotGrouped",
+           "Packed"]
 
 #: The most charstring bytes (unspecialized programs) ``tx`` subroutinizes at once:
 #: 239 MB of ``tx``'s memory for 3.4 MB (two groups of the 9,574 stroked hanzi, whose
@@ -58,20 +60,47 @@ class NotGrouped(Exception):
     wrote something else than expected): subroutinize the whole font."""
 
 
-def font_subroutines(programs, prefixes, limit=None):
+class Packed:
+    """Byte strings kept end to end in one buffer with their ends (what a CFF INDEX
+    holds): a sequence of bytes without an object per string."""
+
+    def __init__(self):
+        self.data, self.ends = bytearray(), array("q")
+
+    def append(self, *parts):
+        """One string, the concatenation of ``parts``."""
+        for part in parts:
+            self.data += part
+        self.ends.append(len(self.data))
+
+    def sizes(self):
+        return np.diff(np.frombuffer(self.ends, np.int64), prepend=0)
+
+    def __len__(self):
+        return len(self.ends)
+
+    def __getitem__(self, k):
+        start = self.ends[k - 1] if k else 0
+        return bytes(memoryview(self.data)[start:self.ends[k]])
+
+    def __iter__(self):
+        return (self[k] for k in range(len(self)))
+
+
+def font_subroutines(programs, limit=None):
     """:func:`grouped_subroutines` of a font's charstrings ``programs`` (in glyph
-    order, each starting with its width prefix, ``prefixes``) when they hold more
-    than ``limit`` bytes (None: :data:`GROUP_BYTES`), else None (the caller has
-    ``tx`` subroutinize the whole font, as ufo2ft does); None too when the programs
-    cannot be grouped (:class:`NotGrouped`)."""
+    order: ``sizes``, an array of their lengths with their width prefixes;
+    ``prefix(k)``; ``bodies(a, b)``, the programs ``a`` to ``b`` without their
+    prefixes, read when asked; ``prefixed()``, whether every program starts with its
+    prefix) when they hold more than ``limit`` bytes (None: :data:`GROUP_BYTES`),
+    else None (the caller has ``tx`` subroutinize the whole font, as ufo2ft does);
+    None too when the programs cannot be grouped (:class:`NotGrouped`).  The
+    charstrings come back :class:`Packed`; the programs are read a group at a time."""
     limit = GROUP_BYTES if limit is None else limit
-    if sum(len(p) for p in programs) <= limit:
-        return None
-    if not all(p.startswith(x) for p, x in zip(programs, prefixes)):
-        return None    # a program whose advance is not written as the prefix
-    bodies = [p[len(x):] for p, x in zip(programs, prefixes)]
+    if int(np.sum(programs.sizes)) <= limit or not programs.prefixed():
+        return None     # small, or a program whose advance is not written as the prefix
     try:
-        return grouped_subroutines(bodies, prefixes, limit=limit)
+        return _grouped(programs.body_sizes(), programs.bodies, programs.prefix, None, limit)
     except NotGrouped:
         return None
 
@@ -91,24 +120,37 @@ def grouped_subroutines(bodies, prefixes, run_tx=None, limit=GROUP_BYTES):
     whose glyphs (in order, ``.notdef`` first) have the Type 2 programs ``bodies``
     without their advances and the width prefixes ``prefixes``
     (:func:`morph.fonts.stream.width_prefix` for the font's default and nominal
-    widths), subroutinized in groups (module docstring).  ``run_tx(args, path)``
-    runs ``tx`` (None: cffsubr's).  Raises :class:`NotGrouped` when the programs
-    do not allow it."""
-    spans = groups([len(b) for b in bodies], limit)
+    widths), subroutinized in groups (module docstring), as lists of bytes.
+    ``run_tx(args, path)`` runs ``tx`` (None: cffsubr's).  Raises
+    :class:`NotGrouped` when the programs do not allow it."""
+    gsubrs, lsubrs, chars = _grouped([len(b) for b in bodies], lambda a, b: bodies[a:b],
+                                     prefixes.__getitem__, run_tx, limit)
+    return gsubrs, lsubrs, list(chars)
+
+
+def _grouped(sizes, bodies, prefix, run_tx, limit):
+    """:func:`grouped_subroutines` of the programs of ``sizes`` bytes (without their
+    advances), ``bodies(a, b)`` giving those of glyphs a to b, ``prefix(k)`` glyph
+    k's width prefix; the charstrings :class:`Packed`.  Each group's programs are
+    read as it is subroutinized, its output packed."""
+    spans = groups(sizes, limit)
     budget = max(1, MAX_SUBRS // len(spans))
-    parts = [_subroutinized_group(bodies[a:b], budget, run_tx) for a, b in spans]
+    parts = [_subroutinized_group(bodies(a, b), budget, run_tx) for a, b in spans]
     n_global = sum(len(g) for g, _, _ in parts)
     n_local = sum(len(loc) for _, loc, _ in parts)
     if max(n_global, n_local) > 65535:
         raise NotGrouped("more subroutines than an INDEX holds")
-    out_global, out_local, out_chars = [], [], []
-    for (a, _), (gsubrs, lsubrs, chars) in zip(spans, parts):
-        moved = _renumbered(gsubrs + lsubrs + chars,
-                            (len(gsubrs), len(out_global), n_global),
-                            (len(lsubrs), len(out_local), n_local))
+    out_global, out_local, out_chars = [], [], Packed()
+    for i, (a, _) in enumerate(spans):
+        gsubrs, lsubrs, chars = parts[i]
+        parts[i] = None         # each group's output dropped as it is moved
+        moved = _renumbered_in_parts(gsubrs + lsubrs + list(chars),
+                                     (len(gsubrs), len(out_global), n_global),
+                                     (len(lsubrs), len(out_local), n_local))
         out_global += moved[:len(gsubrs)]
         out_local += moved[len(gsubrs):len(gsubrs) + len(lsubrs)]
-        out_chars += [prefixes[a + k] + c for k, c in enumerate(moved[len(gsubrs) + len(lsubrs):])]
+        for k, c in enumerate(moved[len(gsubrs) + len(lsubrs):]):
+            out_chars.append(prefix(a + k), c)
     return out_global, out_local, out_chars
 
 
@@ -157,7 +199,8 @@ def _tx(args, path):
 
 def _subroutinized_group(bodies, budget, run_tx=None):
     """(global subroutines, local subroutines, charstrings) ``tx`` makes of one
-    group's programs (at most ``budget`` subroutines in each INDEX), as bytes."""
+    group's programs (at most ``budget`` subroutines in each INDEX): lists of bytes,
+    the charstrings :class:`Packed`."""
     import os
     import tempfile
 
@@ -182,7 +225,10 @@ def _subroutinized_group(bodies, budget, run_tx=None):
         return [bytes(items[k].bytecode) for k in range(len(items))]
 
     lsubrs = raw(private.Subrs) if "Subrs" in private.rawDict else []
-    return raw(cff.GlobalSubrs), lsubrs, raw(index)[1:]
+    chars = Packed()
+    for k in range(1, len(index)):
+        chars.append(index[k].bytecode)
+    return raw(cff.GlobalSubrs), lsubrs, chars
 
 
 def _tokens(data, starts, ends):
@@ -221,6 +267,24 @@ def _encoded(values):
     out[:, 1] = np.where(two, m & 255, (v >> 8) & 255)
     out[:, 2] = v & 255
     return out[np.arange(3) < size[:, None]].astype(np.uint8), size
+
+
+#: The most program bytes :func:`_renumbered` takes at once: its arrays hold about 25
+#: bytes for every byte of programs (80 MB for 3.2 MB), so a group is renumbered in
+#: parts of this many bytes (each program moved alone, the parts give the same bytes).
+RENUMBER_BYTES = 1 << 18
+
+
+def _renumbered_in_parts(programs, glob, local):
+    """:func:`_renumbered` of ``programs`` in consecutive parts of about
+    :data:`RENUMBER_BYTES` each."""
+    out, start, size = [], 0, 0
+    for k, p in enumerate(programs):
+        size += len(p)
+        if size >= RENUMBER_BYTES or k == len(programs) - 1:
+            out += _renumbered(programs[start:k + 1], glob, local)
+            start, size = k + 1, 0
+    return out
 
 
 def _renumbered(programs, glob, local):

@@ -24,7 +24,9 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
 - the CFF table is subroutinized by cffsubr's ``tx`` as ufo2ft has it done; the
   table ``tx`` reads is written here and its output kept as ``tx`` wrote it
   (:meth:`_Compiler._cff`), the boxes fontTools would recompute from it before
-  ``tx`` set as it sets them;
+  ``tx`` set as it sets them; the table goes from the stored outlines to a
+  temporary file, to ``tx`` and from ``tx``'s output file to the font's file
+  (:func:`morph.fonts.stream.save_font`), never whole in memory;
 - the name table is written here where all its records are Windows Unicode ones;
 - composites are decomposed into CFF charstrings as ufo2ft's compiler of the
   stored outlines decomposes them (:class:`_Decomposer`); glyphs the lib names in
@@ -48,6 +50,7 @@ import math
 import os
 import time
 from collections import namedtuple
+from functools import partial
 import struct
 
 __all__ = ["info_value", "compile_static", "subroutinize", "BoundedCharString",
@@ -424,11 +427,51 @@ def _name_bytes(records):
 
 
 def _tx_runner():
-    """cffsubr's function running ``tx`` on a font's bytes (CFF table bytes back),
-    None where this cffsubr has none."""
+    """A function running cffsubr's ``tx`` on a font file as cffsubr's
+    ``_tx_subroutinize`` runs it on a font's bytes (path -> the CFF table's bytes),
+    None where this cffsubr has no ``tx`` runner."""
     import cffsubr
 
-    return getattr(cffsubr, "_tx_subroutinize", None)
+    run = getattr(cffsubr, "_run_embedded_tx", None)
+    if run is None or not hasattr(cffsubr, "_tx_subroutinize"):
+        return None
+    return partial(_run_tx, run, cffsubr.Error)
+
+
+def _run_tx(run, error, path):
+    """``tx`` (``run``: cffsubr's runner) on the font file ``path`` with cffsubr's
+    arguments, its output written to a file (cffsubr's way on Windows) not a pipe:
+    the subroutinized CFF table, a :func:`morph.fonts.stream.file_table` of an unnamed
+    temporary file.  ``error``: cffsubr's error, raised with ``tx``'s message."""
+    import subprocess
+    import tempfile
+
+    from .stream import file_table
+
+    out = tempfile.NamedTemporaryFile(prefix="tx-", delete=False)
+    out.close()
+    try:
+        run("-cff", "+S", "+b", "-o", out.name, str(path), check=True,
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        table = file_table("CFF ", open(out.name, "rb"))
+    except subprocess.CalledProcessError as exc:
+        raise error(exc.stderr.decode(errors="replace")) from exc
+    finally:
+        os.remove(out.name)      # the open table's file stays readable until it closes
+    return table
+
+
+def _font_file(font):
+    """``font``'s tables written to a new temporary file (table by table, no copy of
+    the font in memory: :func:`morph.fonts.stream.write_tables`); its path (the caller
+    removes it)."""
+    import tempfile
+
+    from .stream import write_tables
+
+    with tempfile.NamedTemporaryFile(prefix="tx-", delete=False) as f:
+        write_tables(font, f)
+    return f.name
 
 
 def _raw_font_class():
@@ -486,6 +529,20 @@ def _optimize_widths():
 
 
 _WIDTH_MODULE = "morph._fonttools_cff_width"
+
+
+def _index_head(sizes):
+    """The count, offset size and offsets of a CFF INDEX of items of ``sizes`` bytes
+    (what comes before the items' data)."""
+    import numpy as np
+
+    if not len(sizes):
+        return b"\0\0"
+    ends = np.concatenate([[1], 1 + np.cumsum(sizes, dtype=np.int64)])
+    last = int(ends[-1])
+    size = 1 if last < 1 << 8 else 2 if last < 1 << 16 else 3 if last < 1 << 24 else 4
+    offsets = ends.astype(">u4").view(np.uint8).reshape(-1, 4)[:, 4 - size:]
+    return struct.pack(">HB", len(sizes), size) + offsets.tobytes()
 
 
 def _index(items):
@@ -789,6 +846,89 @@ class _Decomposer:
                 self._decomposed(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
 
 
+class _Programs:
+    """The Type 2 programs of a font's glyphs in glyph order (``k``: a glyph's
+    place), each its advance's prefix then its outline, held as little as the store
+    allows: a stored glyph's outline stays in the store (an
+    :class:`morph.fonts.stream.OutlineStore` writes it to the table's buffer when the
+    table is written, a plain mapping gives its bytes); the few others (decomposed,
+    ``.notdef``, empty) are kept whole.  Their sizes and bounds are arrays."""
+
+    def __init__(self, store, n):
+        import numpy as np
+
+        self.store, self.n = store, n
+        self.sizes = np.zeros(n, np.int64)
+        self.prefix_sizes = np.zeros(n, np.int64)
+        self.boxes = np.full((n, 4), np.nan)     # the stored glyphs' bounds
+        self.names = [None] * n      # a stored glyph's name
+        self.prefixes = [None] * n   # the same prefix object for the same advance
+        self.own_programs, self.own_bounds = {}, {}
+        self._shared = {}
+
+    def _prefix(self, k, prefix):
+        prefix = self.prefixes[k] = self._shared.setdefault(prefix, prefix)
+        self.prefix_sizes[k] = len(prefix)
+
+    def stored(self, k, prefix, name):
+        """Glyph ``k``: ``prefix``, then the stored outline of glyph ``name``."""
+        self._prefix(k, prefix)
+        self.names[k] = name
+        if hasattr(self.store, "read_into"):
+            size, bounds = self.store.size(name), self.store.bounds(name)
+        else:
+            data, bounds = self.store[name]
+            size = len(data)
+        self.sizes[k] = len(prefix) + size
+        if bounds is not None:
+            self.boxes[k] = bounds
+
+    def own(self, k, prefix, program, bounds):
+        """Glyph ``k``: the whole ``program`` (its advance written by ``prefix``,
+        unless the pen wrote it otherwise) and its ``bounds``."""
+        self._prefix(k, prefix)
+        self.own_programs[k], self.own_bounds[k] = bytes(program), bounds
+        self.sizes[k] = len(program)
+
+    def bounds_list(self):
+        """Every glyph's bounds (None for none), in glyph order."""
+        rows = self.boxes.tolist()
+        return [self.own_bounds[k] if k in self.own_bounds else
+                None if rows[k][0] != rows[k][0] else tuple(rows[k]) for k in range(self.n)]
+
+    def write_to(self, k, out):
+        """Append glyph ``k``'s program to the bytearray ``out``."""
+        if k in self.own_programs:
+            out += self.own_programs[k]
+            return
+        out += self.prefixes[k]
+        if hasattr(self.store, "read_into"):
+            self.store.read_into(self.names[k], out)
+        else:
+            out += self.store[self.names[k]][0]
+
+    def __len__(self):
+        return self.n
+
+    def __getitem__(self, k):
+        out = bytearray()
+        self.write_to(k, out)
+        return bytes(out)
+
+    # what morph.fonts.subrs.font_subroutines reads
+    def prefix(self, k):
+        return self.prefixes[k]
+
+    def prefixed(self):
+        return all(self.own_programs[k].startswith(self.prefixes[k]) for k in self.own_programs)
+
+    def body_sizes(self):
+        return self.sizes - self.prefix_sizes
+
+    def bodies(self, a, b):
+        return [self[k][self.prefix_sizes[k]:] for k in range(a, b)]
+
+
 #: what ufo2ft strips from a production glyph name, and its longest one
 _INVALID_NAME_CHARS = r"[^0-9a-zA-Z_.]"
 _MAX_NAME = 63
@@ -938,7 +1078,6 @@ class _Compiler:
                                      % (name, u, self.cmap[u]))
                 self.cmap[u] = name
         self.otf = _raw_font_class()(sfntVersion="OTTO" if cff else "\000\001\000\000")
-        self.bounds = {}   # CFF: glyph name -> its charstring's bounds
         self.names = production_names(font, self.order, glyphs)
 
     def compile(self, features, writers=()):
@@ -989,14 +1128,14 @@ class _Compiler:
         return self._default_nominal
 
     def _cff_programs(self):
-        """glyph name -> (Type 2 program with its advance, bounds): the stored
-        charstrings (unspecialized, :func:`morph.fonts.stream.compile_outlines`),
-        a glyph with components decomposed (:class:`_Decomposer`),
-        ``endchar`` for an empty glyph, the ``.notdef`` rectangles drawn as
-        ``T2CharStringPen`` draws them (its segments, unspecialized: the
-        subroutinizer rewrites every charstring from its path, so that the font is
-        the one the specialized charstrings give); the bounds as a charstring's
-        ``calcBounds``."""
+        """The font's Type 2 programs, each with its advance (:class:`_Programs`,
+        read from the store as they are written): the stored charstrings
+        (unspecialized, :func:`morph.fonts.stream.compile_outlines`), a glyph with
+        components decomposed (:class:`_Decomposer`), ``endchar`` for an empty
+        glyph, the ``.notdef`` rectangles drawn as ``T2CharStringPen`` draws them
+        (its segments, unspecialized: the subroutinizer rewrites every charstring
+        from its path, so that the font is the one the specialized charstrings
+        give); the bounds as a charstring's ``calcBounds``."""
         from .stream import width_prefix
 
         def width_program(width, default, nominal):   # as ufo2ft gives T2CharStringPen
@@ -1004,26 +1143,31 @@ class _Compiler:
 
         default, nominal = self._widths()
         decompose = _Decomposer({g.name: g for g in self.ufo}, self.store)
-        out = {}
-        self.prefixes = {}      # glyph name -> its program's advance bytes
-        for name in self.order:
+        out = _Programs(self.store, len(self.order))
+        for k, name in enumerate(self.order):
             glyph = self.glyphs[name]
-            prefix = self.prefixes[name] = width_prefix(glyph.width, default, nominal)
+            prefix = width_prefix(glyph.width, default, nominal)
             if glyph.components:
-                out[name] = decompose(name, width_program(glyph.width, default, nominal))
+                out.own(k, prefix, *decompose(name, width_program(glyph.width, default,
+                                                                  nominal)))
             elif name in self.store:
-                data, bounds = self.store[name]
-                out[name] = (prefix + data, bounds)
+                out.stored(k, prefix, name)
             elif isinstance(glyph, _Notdef):
-                out[name] = glyph.charstring(prefix)
+                out.own(k, prefix, *glyph.charstring(prefix))
             else:
-                out[name] = (prefix + bytes([_ENDCHAR]), None)
-        self.bounds = {name: b for name, (_, b) in out.items()}
+                out.own(k, prefix, prefix + bytes([_ENDCHAR]), None)
         return out
+
+    @property
+    def bounds(self):
+        """CFF: glyph name -> its charstring's bounds (None for none)."""
+        if not self.cff or getattr(self, "programs", None) is None:
+            return {}
+        return dict(zip(self.order, self.programs.bounds_list()))
 
     def _cff_boxes(self):
         boxes = {}
-        for name, (_, box) in self.programs.items():
+        for name, box in zip(self.order, self.programs.bounds_list()):
             box = None if box is None else Box(*(_ot_round(v) for v in box))
             boxes[name] = None if box == (0, 0, 0, 0) else box
         return boxes
@@ -1298,7 +1442,7 @@ class _Compiler:
     def _cff(self):
         """The CFF table, subroutinized as ufo2ft does it (cffsubr's ``tx`` given the
         font without its layout tables).  Where cffsubr has its ``tx`` runner on bytes,
-        the table ``tx`` reads is written here (:meth:`_cff_bytes`) and its output
+        the table ``tx`` reads is written here (:meth:`_cff_file`) and its output
         kept as ``tx`` wrote it: no fontTools.cffLib (and its OpenType table
         classes) is imported.  ``tx`` writes the same table from it (it re-encodes
         every dict, string and charstring); fontTools would re-encode its output
@@ -1311,17 +1455,12 @@ class _Compiler:
             self._cff_table()
             subroutinize(self.otf, self.bounds)
             return
-        import io
-
-        from fontTools.ttLib.tables.DefaultTable import DefaultTable
-
         from .subrs import font_subroutines
 
         box = self._as_saved()
-        table = DefaultTable("CFF ")
-        grouped = font_subroutines([self.programs[n][0] for n in self.order],
-                                   [self.prefixes[n] for n in self.order])
-        table.data = self._cff_bytes(box, grouped)
+        grouped = font_subroutines(self.programs)
+        table = self._cff_file(box, grouped)
+        self.programs = None   # the outlines are in the table's file now
         if grouped is not None:   # a large font: subroutinized in groups, not by one tx
             self.otf["CFF "] = table
             return
@@ -1331,18 +1470,19 @@ class _Compiler:
             if tag != "GlyphOrder" and tag not in NOT_FOR_TX:
                 rest[tag] = self.otf[tag]
         rest["CFF "] = table
-        buf = io.BytesIO()
-        rest.save(buf)
-        out = DefaultTable("CFF ")
-        out.data = run_tx(buf.getvalue(), "CFF ")
-        self.otf["CFF "] = out
+        path = _font_file(rest)
+        try:
+            self.otf["CFF "] = run_tx(path)
+        finally:
+            os.remove(path)
 
     def _as_saved(self):
         """What fontTools' save of the font (``recalcBBoxes``) before ``tx`` sets
         from the CFF table: its FontBBox (the union of the charstrings' bounds,
         out to integers), head's box from it, hhea's extents from the bounds' widths
         (out to integers) and hmtx.  Returns the FontBBox."""
-        bounds = [b for b in self.bounds.values() if b is not None]
+        every = self.bounds
+        bounds = [b for b in every.values() if b is not None]
         if bounds:
             box = [math.floor(min(b[0] for b in bounds)), math.floor(min(b[1] for b in bounds)),
                    math.ceil(max(b[2] for b in bounds)), math.ceil(max(b[3] for b in bounds))]
@@ -1354,25 +1494,33 @@ class _Compiler:
         hhea.advanceWidthMax = max(adv for adv, _ in hmtx.metrics.values())
         _set_side_bearings(hhea, hmtx, self.order, {
             name: None if b is None else int(math.ceil(b[2]) - math.floor(b[0]))
-            for name, b in self.bounds.items()})
+            for name, b in every.items()})
         return box
 
-    def _cff_bytes(self, font_box, subrs=None):
-        """A CFF 1 table of the font (name-keyed), with the top and private dict
+    def _cff_file(self, font_box, subrs=None):
+        """A CFF 1 table of the font (name-keyed), written to a temporary file (a
+        :func:`morph.fonts.stream.file_table`: the programs go from the store to the
+        file, not into memory), with the top and private dict
         values ufo2ft gives fontTools (those equal to the CFF defaults left out, as
         fontTools leaves them), every string a custom one; ``subrs``: no subroutines
         (None) or (global subroutines, local ones, charstrings in glyph order)."""
+        import tempfile
+
+        from .stream import file_table
+
         info = self.info
         w = _CffDictWriter()
         sid, offset = w.sid, w.offset
         top = self._cff_top(w, font_box)
         private = self._private_dict(w.entry)
-        gsubrs, lsubrs, programs = subrs or ([], [], [self.programs[n][0] for n in self.order])
+        gsubrs, lsubrs, programs = subrs or ([], [], self.programs)
         if lsubrs:      # the local subroutines right after the private dict
             private += offset([19], len(private) + 6)
         names = [sid(self.names.get(n, n)) for n in self.order[1:]]
         charset = b"\0" + struct.pack(">%dH" % len(names), *names)
-        charstrings = _index(programs)
+        charstrings = _index_head(programs.sizes() if subrs else programs.sizes)
+        size_charstrings = len(charstrings) + (len(programs.data) if subrs
+                                               else int(programs.sizes.sum()))
         global_index = _index(gsubrs)
         name_index = _index([info_value(info, "postscriptFontName").encode("latin-1")])
 
@@ -1385,11 +1533,27 @@ class _Compiler:
         string_index = _index([t.encode("latin-1") for t in w.strings])
         at_charset = 4 + len(name_index) + size + len(string_index) + len(global_index)
         at_charstrings = at_charset + len(charset)
-        at_private = at_charstrings + len(charstrings)
-        return b"".join([bytes([1, 0, 4, 4]), name_index,
-                         top_index(at_charset, at_charstrings, at_private), string_index,
-                         global_index, charset, charstrings, private,
-                         _index(lsubrs) if lsubrs else b""])
+        at_private = at_charstrings + size_charstrings
+        end = at_private + len(private) + (len(_index(lsubrs)) if lsubrs else 0)
+        out = tempfile.TemporaryFile(prefix="morph-cff-")
+        for part in (bytes([1, 0, 4, 4]), name_index,
+                     top_index(at_charset, at_charstrings, at_private), string_index,
+                     global_index, charset, charstrings):
+            out.write(part)
+        if subrs:
+            out.write(programs.data)
+        else:
+            buf = bytearray()
+            for k in range(len(programs)):
+                programs.write_to(k, buf)
+                if len(buf) > 1 << 16:
+                    out.write(buf)
+                    del buf[:]
+            out.write(buf)
+        out.write(private)
+        out.write(_index(lsubrs) if lsubrs else b"")
+        assert out.tell() == end
+        return file_table("CFF ", out)
 
     def _cff_top(self, w, font_box):
         """The top dict's entries but the offsets (``w``: a :class:`_CffDictWriter`)."""
@@ -1519,9 +1683,9 @@ class _Compiler:
         """The glyph programs into ``top``'s CharStrings, in glyph order."""
         charstrings = top.CharStrings
         index = charstrings.charStringsIndex
-        for name in self.order:
-            data, bounds = self.programs[name]
-            cs = BoundedCharString(bytecode=data, private=private, globalSubrs=subrs)
+        for k, (name, bounds) in enumerate(zip(self.order, self.programs.bounds_list())):
+            cs = BoundedCharString(bytecode=self.programs[k], private=private,
+                                   globalSubrs=subrs)
             cs.bounds = bounds
             if name in charstrings:
                 index.items[charstrings.charStrings[name]] = cs

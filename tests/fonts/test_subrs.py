@@ -160,3 +160,28 @@ def test_a_large_font_is_subroutinized_in_bounded_groups(tmp_path, monkeypatch):
     for tag in grouped.reader.keys():
         if tag != "head":
             assert grouped.reader[tag] == two.reader[tag], tag
+
+
+def test_a_group_is_renumbered_in_parts_with_bounded_memory(monkeypatch):
+    """Renumbering a group's programs in parts of at most ``RENUMBER_BYTES`` gives the
+    bytes one pass over them gives (each program is moved alone), with its arrays
+    bounded by the part: the peak memory is under 8 times the programs' bytes (their
+    renumbered copies and a part's arrays; one pass over them peaks at 25 times)."""
+    import tracemalloc
+
+    bodies, _, _ = _programs(1000)
+    programs = [b"\x8b\x0a" + b for b in bodies] * 4    # each calls local subroutine 0
+    size = sum(map(len, programs))
+    glob, local = (10, 0, 2000), (10, 0, 2000)
+    whole = subrs._renumbered(programs, glob, local)
+    assert whole[0] != programs[0]
+    monkeypatch.setattr(subrs, "RENUMBER_BYTES", 1 << 16)
+    tracemalloc.start()
+    try:
+        start = tracemalloc.get_traced_memory()[0]
+        parts = subrs._renumbered_in_parts(programs, glob, local)
+        peak = tracemalloc.get_traced_memory()[1] - start
+    finally:
+        tracemalloc.stop()
+    assert parts == whole
+    assert peak < 8 * size, peak / size
