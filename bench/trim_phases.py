@@ -2,6 +2,7 @@
 
     python -m bench.trim_phases [--sets hanzi-300,hershey-script,relief] [--repeat 3]
                                 [--levels 32 | --levels 32,8] [--calls FILE.pickle]
+                                [--count]
 
 Each set is stroked once (``morph stroke --jobs 1``, the command's own chunks) with
 :func:`morph.trim.boundary` recorded; then every recorded call is trimmed again
@@ -12,7 +13,9 @@ flatten (``tag_loops``), Clipper (``packed_filled_rings``, ``drop_slivers``), ho
 repeats, and the polyline vertices of the flattening.  ``--levels``: the flattening's
 test levels (in eps, :func:`morph.trim.flatten._levels`) instead of the default, to
 compare two settings on the same calls in one process.  The machine is shared, so
-CPU time, and settings compared in one process, alternating.
+CPU time, and settings compared in one process, alternating.  ``--count``: also the
+function calls (Python and C, ``sys.setprofile``) of each phase per glyph, in one
+more pass: a measure of the per-call work that the machine's load does not change.
 """
 
 import argparse
@@ -93,7 +96,30 @@ def timed_phases():
     for phase, names in PHASES.items():
         for n in names:
             setattr(tr, n, wrap(phase, getattr(tr, n)))
-    return spent, charge, last
+    return spent, charge, last, stack
+
+
+def counted(calls, stack):
+    """{phase: function calls (Python and C)} of trimming ``calls`` once; ``stack``:
+    the phases' stack of :func:`timed_phases`."""
+    import sys
+
+    import morph.trim as tr
+
+    counts = {}
+
+    def hook(frame, event, arg):
+        if event in ("call", "c_call"):
+            counts[stack[-1]] = counts.get(stack[-1], 0) + 1
+
+    sys.setprofile(hook)
+    try:
+        for a, k in calls:
+            tr.boundary(*fresh(a), **k)
+    finally:
+        sys.setprofile(None)
+    counts["total"] = sum(counts.values())
+    return counts
 
 
 def recorded_calls(names, path=None):
@@ -130,6 +156,8 @@ def main(argv=None):
     ap.add_argument("--levels", help="comma separated test levels in eps, e.g. 32 or 32,8")
     ap.add_argument("--calls", help="a pickle of the recorded calls: read where it exists, "
                     "else written (to time changes of the trimming on the same calls)")
+    ap.add_argument("--count", action="store_true",
+                    help="also count each phase's function calls per glyph (one more pass)")
     args = ap.parse_args(argv)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     import morph.trim as tr
@@ -139,7 +167,7 @@ def main(argv=None):
         levels = [float(v) for v in args.levels.split(",")]
         fl._levels = lambda coarse: list(levels)
     recorded = recorded_calls(args.sets.split(","), args.calls)
-    spent, charge, last = timed_phases()
+    spent, charge, last, stack = timed_phases()
     for name, (calls, glyphs) in recorded.items():
         best, vertices = {}, 0
         for _ in range(args.repeat):
@@ -154,6 +182,11 @@ def main(argv=None):
         print("%s (%d glyphs, %d calls, %d polyline vertices): %s ms/glyph" % (
             name, glyphs, len(calls), vertices, ", ".join(
                 "%s %.2f" % (k, 1000.0 * best.get(k, 0.0) / glyphs)
+                for k in list(PHASES) + ["rest", "total"])), flush=True)
+        if args.count:
+            counts = counted(calls, stack)
+            print("%s function calls per glyph: %s" % (name, ", ".join(
+                "%s %.1f" % (k, counts.get(k, 0) / glyphs)
                 for k in list(PHASES) + ["rest", "total"])), flush=True)
 
 
