@@ -267,22 +267,74 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     ta, tb = np.concatenate([ta, near[2]]), np.concatenate([tb, near[3]])
     ia = np.concatenate([inv[:n_sub], inv[2 * n_sub:2 * n_sub + len(near[0])]])
     ib = np.concatenate([inv[n_sub:2 * n_sub], inv[2 * n_sub + len(near[0]):]])
-    s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
+    return _refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner, first,
+                         sizes)
+
+
+def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
+    """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
+    candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
+    b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
+    candidates are refined first, the others of the loops none of those settled
+    next: a loop takes its first crossing in that order, as when all are refined
+    at once (Newton works row by row), with fewer rows where a loop has many (legs
+    that nearly coincide give hundreds)."""
+    (pa, ta, ia), (pb, tb, ib) = a, b
+    loop = owner[pa]
+    rank = _ranks(loop)
     hits = {}
-    for n in np.flatnonzero(ok):
-        gi, gj, si, wj = pa[n], pb[n], s[n], w[n]
-        if gi > gj or (gi == gj and si > wj):
-            gi, gj, si, wj = gj, gi, wj, si
-        li = int(owner[gi])
-        i, j = gi - first[li], gj - first[li]
-        # ends of consecutive pieces meet by construction: not a crossing
-        if li in hits or (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
-           (i == 0 and j == sizes[li] - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
-           (i == j and abs(si - wj) <= 1e-9):
+    for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
+        c = np.flatnonzero(stage & ~np.isin(loop, list(hits)))
+        if not len(c):
             continue
-        x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
-        hits[li] = (i, si, j, wj, x)
+        s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
+                                    1e-6 * eps)
+        got = _first_valid(pa[c], pb[c], s, w, ok, owner, first, sizes)
+        if len(got):
+            x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
+            hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
+                        for n, xn in zip(got, x))
     return hits
+
+
+#: Crossing candidates of each loop that :func:`_first_crossings` refines first;
+#: the loop's others only when none of those is a crossing.
+FIRST_TRIES = 8
+
+
+def _ranks(group):
+    """Each entry's rank among the entries of its group, in order."""
+    order = np.argsort(group, kind="stable")
+    g = group[order]
+    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+    rank = np.empty(len(group), np.int64)
+    rank[order] = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
+    return rank
+
+
+def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
+    """Indices of the first refined candidate of each loop that is a crossing: ok,
+    and not the shared end of consecutive pieces nor a piece meeting itself at one
+    parameter."""
+    swap = (pa > pb) | ((pa == pb) & (s > w))
+    gi, gj = np.where(swap, pb, pa), np.where(swap, pa, pb)
+    si, wj = np.where(swap, w, s), np.where(swap, s, w)
+    li = owner[gi]
+    i, j = gi - first[li], gj - first[li]
+    end = (((j == i + 1) & (si >= 1 - 1e-9) & (wj <= 1e-9))
+           | ((i == 0) & (j == sizes[li] - 1) & (si <= 1e-9) & (wj >= 1 - 1e-9))
+           | ((i == j) & (np.abs(si - wj) <= 1e-9)))
+    valid = np.flatnonzero(ok & ~end)
+    return valid[np.unique(li[valid], return_index=True)[1]]
+
+
+def _hit(ga, gb, s, w, x, owner, first):
+    """(loop, (piece i, s, piece j, u, point)) of a crossing of pieces ga at s and gb
+    at w (indices in the stacked loops), i <= j (s <= u for i == j)."""
+    if ga > gb or (ga == gb and s > w):
+        ga, gb, s, w = gb, ga, w, s
+    li = int(owner[ga])
+    return li, (ga - first[li], s, gb - first[li], w, x)
 
 
 def _hulls_apart(pieces, pairs):
