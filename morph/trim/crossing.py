@@ -93,7 +93,7 @@ PAIR_ITEMS = 1024
 
 
 def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60,
-                         pair_items=PAIR_ITEMS):
+                         pair_items=PAIR_ITEMS, settle=None):
     """Candidate crossings of pairs of pieces, by subdivision, and the pairs it gave
     up on: the items of all pairs are one set of arrays, each level tested and split
     at once (a fixed number of numpy calls a level, whatever the number of pairs).
@@ -110,6 +110,8 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     exceed ``pair_items`` (near-coincident pieces), and the most crowded pairs while
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
     the candidates at their items' centres and the indices of the pairs given up.
+    ``settle(pair index, s, u)``, when given, is called with each level's candidates
+    and returns the pairs whose search is over (indices): their items go.
 
     Each item carries the control points of its two parts; a split halves them
     (de Casteljau at 1/2, :func:`_halves`) rather than cutting the whole pieces
@@ -136,6 +138,10 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
         t = it.t[hit]
         found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3])))
         it = _split_items(it, live & ~hit, split_a)
+        if settle is not None and hit.any():
+            done = settle(*found[-1])
+            if len(done):
+                it = it.take(~np.isin(it.org, done))
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
     return org.astype(int), s, u, gave_up

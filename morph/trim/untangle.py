@@ -252,23 +252,29 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
-    k, ta, tb, crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
-    pa, pb = pairs[k, 0], pairs[k, 1]
-    near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
-    if not len(pa) + len(near[0]):
-        return {}
-    ids = np.concatenate([pa, pb, near[0], near[1]])
-    used = unique(ids)
-    inv = np.searchsorted(used, ids)
+    used = unique(pairs)
     stacked = pc.stack(pieces.take(used))
-    n_sub = len(pa)
-    guess = np.concatenate([pc.jet_many(stacked, inv[:n_sub], ta)[0], near[4]])
-    pa, pb = np.concatenate([pa, near[0]]), np.concatenate([pb, near[1]])
-    ta, tb = np.concatenate([ta, near[2]]), np.concatenate([tb, near[3]])
-    ia = np.concatenate([inv[:n_sub], inv[2 * n_sub:2 * n_sub + len(near[0])]])
-    ib = np.concatenate([inv[n_sub:2 * n_sub], inv[2 * n_sub + len(near[0]):]])
-    return _refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner, first,
-                         sizes)
+    hits = {}
+
+    def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
+        fresh = np.flatnonzero(~np.isin(owner[pa], list(hits)))
+        pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
+        ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
+        guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
+        hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
+                                  first, sizes))
+        return np.flatnonzero(np.isin(owner[pairs[:, 0]], list(hits)))
+
+    # each level's candidates are refined as they come: a loop takes the first
+    # crossing in their order (level by level, then those of the polylines), and
+    # the search of a loop that has one stops
+    crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps,
+                                   settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
+    crowded = crowded[~np.isin(owner[pairs[crowded, 0]], list(hits))]
+    near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
+    if len(near[0]):
+        refine(near[0], near[2], near[1], near[3], near[4])
+    return hits
 
 
 def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
