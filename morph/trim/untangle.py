@@ -360,12 +360,12 @@ def _hulls_apart(pieces, pairs):
     x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
     i, j = np.triu_indices(x.shape[1], 1)
     d = x[:, j] - x[:, i]
-    normal = np.stack([-d[..., 1], d[..., 0]], axis=-1)
-    axes = np.concatenate([normal[inv[:, 0]], normal[inv[:, 1]]], axis=1)
-    pa = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 0]])
-    pb = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 1]])
-    size = np.abs(pa).max(axis=2) + np.abs(pb).max(axis=2)
-    gap = np.maximum(pb.min(axis=2) - pa.max(axis=2), pa.min(axis=2) - pb.max(axis=2))
+    axes = np.concatenate([d[inv[:, 0]], d[inv[:, 1]]], axis=1)  # normals (-dy, dx) of these
+    xt = x.transpose(1, 0, 2)    # control point first: the extremes are taken across slabs
+    pa, pb = (-axes[..., 1] * p[..., None, 0] + axes[..., 0] * p[..., None, 1]
+              for p in (xt[:, inv[:, 0]], xt[:, inv[:, 1]]))  # (n+1, pairs, axes)
+    size = np.abs(pa).max(axis=0) + np.abs(pb).max(axis=0)
+    gap = np.maximum(pb.min(axis=0) - pa.max(axis=0), pa.min(axis=0) - pb.max(axis=0))
     apart = np.any(gap > 1e-9 * size, axis=1)
     return apart & positive[inv[:, 0]] & positive[inv[:, 1]]
 
