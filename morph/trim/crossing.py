@@ -127,7 +127,9 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
                 np.stack([coords[inv[:, 0]], coords[inv[:, 1]]], axis=1))
     found, crowded = [], []
     for depth in range(max_depth):
-        over = _crowded(np.bincount(it.org, minlength=n), pair_items, max_items)
+        # (no pair can be crowded while all items together are within both bounds)
+        over = _crowded(np.bincount(it.org, minlength=n), pair_items, max_items) \
+            if len(it.org) > min(pair_items, max_items) else ()
         if len(over):
             crowded.append(over)
             it = it.take(~np.isin(it.org, over))
