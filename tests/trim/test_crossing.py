@@ -118,3 +118,66 @@ def test_batched_subdivision_finds_what_pair_by_pair_finds():
     width = 2.0 ** -np.ceil(np.log2(10.0 / res))
     moved = [(got[0][0] + width, got[0][1])] + got[1:]
     assert _same(got, want) and not _same(moved, want)
+
+
+
+def _first_crossings_all_at_once(loops, eps):
+    """untangle._first_crossings written plainly: every candidate of the whole
+    subdivision refined by Newton in one call, then each loop's first crossing in
+    candidate order (not the shared end of consecutive pieces, nor a piece meeting
+    itself at one parameter)."""
+    from morph.polyline import unique
+    from morph.trim.crossing import uncertain_pairs
+    from morph.trim.lift import newton_crossings
+    from morph.trim.untangle import _hulls_apart, _oriented
+
+    pieces = pc.Pieces.of([p for loop in loops for p in loop])
+    sizes = np.array([len(loop) for loop in loops])
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    suspects = uncertain_pairs(loops, pieces)
+    suspects = suspects[~_hulls_apart(pieces, suspects)]
+    pairs, kinds = _oriented(suspects, owner, first, sizes)
+    k, ta, tb, crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
+    assert not len(crowded)
+    used = unique(pairs)
+    stacked = pc.stack(pieces.take(used))
+    pa, pb = pairs[k, 0], pairs[k, 1]
+    ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
+    guess = pc.jet_many(stacked, ia, ta)[0]
+    s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
+    hits = {}
+    for n in np.flatnonzero(ok):
+        gi, gj, si, wj = pa[n], pb[n], s[n], w[n]
+        if gi > gj or (gi == gj and si > wj):
+            gi, gj, si, wj = gj, gi, wj, si
+        li = int(owner[gi])
+        i, j = gi - first[li], gj - first[li]
+        if li in hits or (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
+           (i == 0 and j == sizes[li] - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
+           (i == j and abs(si - wj) <= 1e-9):
+            continue
+        hits[li] = (i, si, j, wj, pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0])
+    return hits
+
+
+def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once():
+    """untangle._first_crossings refines each level's candidates as they come and stops
+    a loop's search at its first crossing: the crossing it picks for every loop is the
+    one refining all candidates at once picks, to the bit (random cubic loops with
+    curls and crossings, several in one call)."""
+    from morph.trim.untangle import _first_crossings
+
+    rng = np.random.default_rng(5)
+    loops = []
+    for _ in range(24):
+        n = int(rng.integers(2, 7))
+        pts = rng.uniform(-10, 10, (n, 2)) + 40.0 * rng.integers(0, 5, 2)
+        loops.append([pc.cubic(pts[k], *rng.uniform(-12, 12, (2, 2)) + pts[k],
+                               pts[(k + 1) % n]) for k in range(n)])
+    eps = 1e-3
+    got, want = _first_crossings(loops, eps), _first_crossings_all_at_once(loops, eps)
+    assert len(want) >= 10 and sorted(got) == sorted(want)
+    for li, (i, s, j, u, x) in want.items():
+        gi, gs, gj, gu, gx = got[li]
+        assert (gi, gs, gj, gu) == (i, s, j, u) and np.array_equal(gx, x), li
