@@ -80,11 +80,14 @@ def _cases():
     pairs.append((len(pieces) - 2, len(pieces) - 1, PAIRS))              # near-tangent
     pieces.append(pc.cubic((0, 0), (12, 6), (-2, 6), (10, 0)))
     pairs.append((len(pieces) - 1, len(pieces) - 1, SELF))               # a loop
-    pieces += [pc.cubic((0, 0), (6, 0), (8, 4), (4, 6)), pc.cubic((4, 6), (0, 4), (2, -3), (5, -4))]
+    pieces += [pc.cubic((0, 0), (6, 0), (8, 4), (4, 6)),
+               pc.cubic((4, 6), (0, 4), (2, -3), (5, -4))]
     pairs.append((len(pieces) - 2, len(pieces) - 1, JOINED))             # joined, crossing
-    pieces += [pc.cubic((0, 0), (1, 3), (3, 3), (4, 0)), pc.cubic((4, 0), (5, -3), (7, -3), (8, 0))]
+    pieces += [pc.cubic((0, 0), (1, 3), (3, 3), (4, 0)),
+               pc.cubic((4, 0), (5, -3), (7, -3), (8, 0))]
     pairs.append((len(pieces) - 2, len(pieces) - 1, JOINED))             # joined, no crossing
-    pieces += [pc.cubic((0, 0), (1, 4), (3, 4), (4, 0)), pc.cubic((0.5, 0), (1.5, 2), (2.5, 2), (3.5, 0))]
+    pieces += [pc.cubic((0, 0), (1, 4), (3, 4), (4, 0)),
+               pc.cubic((0.5, 0), (1.5, 2), (2.5, 2), (3.5, 0))]
     pairs.append((len(pieces) - 2, len(pieces) - 1, PAIRS))              # nested, apart
     return pieces, np.array([p[:2] for p in pairs]), np.array([p[2] for p in pairs])
 
