@@ -113,9 +113,8 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     ``settle(pair index, s, u)``, when given, is called with each level's candidates
     and returns the pairs whose search is over (indices): their items go.
 
-    Each item carries the control points of its two parts; a split halves them
-    (de Casteljau at 1/2, :func:`_halves`) rather than cutting the whole pieces
-    again at the item's parameters.
+    Each item carries the control points of its two parts and a split halves them
+    (de Casteljau at 1/2, :func:`_halves`): one small product per part, at any depth.
     """
     used = unique(pairs)
     stacked = stack_rows(pieces, used)

@@ -239,8 +239,11 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
-    (pieces that nearly coincide).  ``pieces`` (a :class:`morph.piece.Pieces`) and
-    ``cones`` (their tangent cones): the loops' pieces in order, when known."""
+    (pieces that nearly coincide).  Each level's candidates are refined by Newton
+    (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
+    the search of a loop ends at its first crossing in candidate order.  ``pieces``
+    (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
+    pieces in order, when known."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = np.array([len(loop) for loop in loops])
@@ -268,8 +271,9 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     # each level's candidates are refined as they come: a loop takes the first
     # crossing in their order (level by level, then those of the polylines), and
     # the search of a loop that has one stops
-    crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps,
-                                   settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
+    crowded = subdivided_crossings(
+        pieces, pairs, kinds, 1e-3 * eps,
+        settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
     crowded = crowded[~np.isin(owner[pairs[crowded, 0]], list(hits))]
     near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
     if len(near[0]):
