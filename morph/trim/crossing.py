@@ -2,6 +2,8 @@
 the pairs that cannot (tangent cones), subdivision finds the crossings of the rest.
 """
 
+from functools import lru_cache
+
 import numpy as np
 
 from .. import bernstein as bz
@@ -91,9 +93,10 @@ PAIR_ITEMS = 1024
 
 
 def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60,
-                         pair_items=PAIR_ITEMS):
-    """Candidate crossings of pairs of pieces, by subdivision (vectorised level by
-    level), and the pairs it gave up on.
+                         pair_items=PAIR_ITEMS, settle=None):
+    """Candidate crossings of pairs of pieces, by subdivision, and the pairs it gave
+    up on: the items of all pairs are one set of arrays, each level tested and split
+    at once (a fixed number of numpy calls a level, whatever the number of pairs).
 
     pairs (k, 2) index ``pieces``; kinds: ``PAIRS`` (two pieces), ``JOINED`` (the
     first piece ends where the second starts: only crossings away from that join
@@ -107,45 +110,78 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     exceed ``pair_items`` (near-coincident pieces), and the most crowded pairs while
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
     the candidates at their items' centres and the indices of the pairs given up.
+    ``settle(pair index, s, u)``, when given, is called with each level's candidates
+    and returns the pairs whose search is over (indices): their items go.
+
+    Each item carries the control points of its two parts and a split halves them
+    (de Casteljau at 1/2, :func:`_halves`): one small product per part, at any depth.
     """
     used = unique(pairs)
     stacked = stack_rows(pieces, used)
     inv = np.searchsorted(used, pairs)
     n = len(pairs)
-    it = dict(org=np.arange(n), ia=inv[:, 0].copy(), ib=inv[:, 1].copy(),
-              a0=np.zeros(n), a1=np.ones(n), b0=np.zeros(n), b1=np.ones(n),
-              kind=np.asarray(kinds, int).copy())
+    coords = stacked.transpose(0, 2, 1)          # (k, 3, n+1): a coordinate's points in a row
+    it = _Items(np.arange(n), np.asarray(kinds, int).copy(),
+                np.tile([0.0, 1.0, 0.0, 1.0], (n, 1)),
+                np.stack([coords[inv[:, 0]], coords[inv[:, 1]]], axis=1))
     found, crowded = [], []
     for depth in range(max_depth):
-        over = _crowded(np.bincount(it["org"], minlength=n), pair_items, max_items)
+        # (no pair can be crowded while all items together are within both bounds)
+        over = _crowded(np.bincount(it.org, minlength=n), pair_items, max_items) \
+            if len(it.org) > min(pair_items, max_items) else ()
         if len(over):
             crowded.append(over)
-            keep = ~np.isin(it["org"], over)
-            it = {key: v[keep] for key, v in it.items()}
-        if not len(it["org"]):
+            it = it.take(~np.isin(it.org, over))
+        if not len(it.org):
             break
-        ca = _cartesian(stacked, it["ia"], it["a0"], it["a1"])
-        cb = _cartesian(stacked, it["ib"], it["b0"], it["b1"])
-        lo_a, hi_a, lo_b, hi_b = ca.min(1), ca.max(1), cb.min(1), cb.max(1)
-        size_a = np.hypot(*(hi_a - lo_a).T)
-        size_b = np.hypot(*(hi_b - lo_b).T)
-        slack = 1e-9 * res
-        ha, hb = hi_a + slack, hi_b + slack
-        meet = ((lo_a[:, 0] <= hb[:, 0]) & (lo_a[:, 1] <= hb[:, 1])
-                & (lo_b[:, 0] <= ha[:, 0]) & (lo_b[:, 1] <= ha[:, 1]))
-        kind = it["kind"]
-        small = (size_a <= res) & (size_b <= res)
-        narrow = np.zeros(len(kind), bool)
-        j = kind != PAIRS
-        narrow[j] = _narrow_cone(np.concatenate([_diffs(ca[j]), _diffs(cb[j])], axis=1))
-        live = meet & ~narrow & ~(small & (kind != PAIRS))
-        hit = live & (kind == PAIRS) & (small | (depth == max_depth - 1))
-        found.append((it["org"][hit], 0.5 * (it["a0"][hit] + it["a1"][hit]),
-                      0.5 * (it["b0"][hit] + it["b1"][hit])))
-        it = _split_items(it, live & ~hit, size_a >= size_b)
+        live, small, split_a = _level_tests(it, res)
+        hit = live & (it.kind == PAIRS) & (small | (depth == max_depth - 1))
+        t = it.t[hit]
+        found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3])))
+        it = _split_items(it, live & ~hit, split_a)
+        if settle is not None and hit.any():
+            done = settle(*found[-1])
+            if len(done):
+                it = it.take(~np.isin(it.org, done))
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
     return org.astype(int), s, u, gave_up
+
+
+class _Items:
+    """The items of a subdivision: pair index ``org`` (m,), ``kind`` (m,), parameter
+    intervals ``t`` (m, 4: a0, a1, b0, b1) and the homogeneous control points of
+    the two parts ``h`` (m, 2, 3, n+1), by coordinate (x w, y w, w)."""
+
+    __slots__ = ("org", "kind", "t", "h")
+
+    def __init__(self, org, kind, t, h):
+        self.org, self.kind, self.t, self.h = org, kind, t, h
+
+    def take(self, rows):
+        return _Items(self.org[rows], self.kind[rows], self.t[rows], self.h[rows])
+
+
+def _level_tests(it, res):
+    """(live, small, split_a) of the items of one level: live, their parts' control
+    boxes overlap (within 1e-9 res) and, for a joined or self item, their tangents
+    are not in a cone narrower than pi, nor are both parts small; small, both parts
+    at most ``res`` across (their boxes' diagonals); split_a, part a the larger."""
+    c = it.h[:, :, :2] / it.h[:, :, 2:]
+    lo, hi = c.min(axis=3), c.max(axis=3)      # (m, 2 parts, 2 coordinates)
+    size = np.hypot(hi[..., 0] - lo[..., 0], hi[..., 1] - lo[..., 1])
+    hi = hi + 1e-9 * res
+    meet = ((lo[:, 0, 0] <= hi[:, 1, 0]) & (lo[:, 0, 1] <= hi[:, 1, 1])
+            & (lo[:, 1, 0] <= hi[:, 0, 0]) & (lo[:, 1, 1] <= hi[:, 0, 1]))
+    kind = it.kind
+    small = (size[:, 0] <= res) & (size[:, 1] <= res)
+    narrow = np.zeros(len(kind), bool)
+    j = np.flatnonzero(kind != PAIRS)
+    if len(j):
+        d = _diffs(c[j].swapaxes(2, 3).reshape(2 * len(j), -1, 2))  # a's, then b's
+        narrow[j] = _narrow_cone(d.reshape(len(j), -1, 2))
+    live = meet & ~narrow & ~(small & (kind != PAIRS))
+    return live, small, size[:, 0] >= size[:, 1]
 
 
 def stack_rows(pieces, rows):
@@ -176,17 +212,18 @@ def _crowded(counts, pair_items, max_items):
     return np.flatnonzero(over)
 
 
-def _cartesian(stacked, idx, t0, t1):
-    h = bz.subsegment_many(stacked[idx], t0, t1)
-    return h[..., :2] / h[..., 2:]
-
-
 def _diffs(c):
     """All differences c_j - c_i, j > i, of control points (m, k, 2): their cone holds
     every tangent of a positive-weight rational Bézier (for j > i, B_j / B_i
     increases, so X'W - XW' = sum_{i<j} w_i w_j (B_j' B_i - B_j B_i') (P_j - P_i))."""
-    i, j = np.triu_indices(c.shape[1], 1)
+    i, j = _upper(c.shape[1])
     return c[:, j] - c[:, i]
+
+
+@lru_cache(maxsize=None)
+def _upper(k):
+    """np.triu_indices(k, 1), made once per k."""
+    return np.triu_indices(k, 1)
 
 
 def _narrow_cone(v):
@@ -219,19 +256,42 @@ def _split_items(it, keep, split_a):
     (:data:`_SLOTS`: a plain item gives the two halves of its larger part, a
     joined one the halves at the join and three plain items, a self item two self
     items and one joined), each slot's children in the order of their items: all
-    at once, one stable sort of the children by slot."""
-    it = {k: v[keep] for k, v in it.items()}
-    kind = it["kind"]
-    cat = np.where(kind == PAIRS, np.where(split_a[keep], 0, 1), np.where(kind == JOINED, 2, 3))
+    at once, one stable sort of the children by slot.  A child's part is its
+    item's, or the left or right half of it (:func:`_halves` of the items kept)."""
+    rows = np.flatnonzero(keep)
+    kind = it.kind[rows]
+    cat = np.where(kind == PAIRS, np.where(split_a[rows], 0, 1), np.where(kind == JOINED, 2, 3))
     count = _SLOT_COUNT[cat]
     item = np.repeat(np.arange(len(cat)), count)
     slot = np.repeat(_SLOT_FIRST[cat], count) + (np.arange(len(item)) - np.repeat(
         np.cumsum(count) - count, count))
     order = np.argsort(slot, kind="stable")
     item, table = item[order], _SLOTS[slot[order]]
-    out = {k: v[item] for k, v in it.items()}
-    for name, col in (("a0", 1), ("a1", 2), ("b0", 3), ("b1", 4)):
-        mid = 0.5 * (it[name[0] + "0"] + it[name[0] + "1"])[item]
-        out[name] = np.where(table[:, col] == 1, mid, out[name])
-    out["kind"] = np.where(table[:, 5] >= 0, table[:, 5], out["kind"])
-    return out
+    t = it.t[rows]
+    mid = 0.5 * (t[:, 0::2] + t[:, 1::2])         # (k, 2): the parts' midpoints
+    out_t = t[item]
+    out_t = np.where(table[:, 1:5] == 1, mid[item][:, [0, 0, 1, 1]], out_t)
+    out_kind = np.where(table[:, 5] >= 0, table[:, 5], kind[item])
+    # which version of each part: 0 the item's, 1 its left half (end moved to the
+    # midpoint), 2 its right half (start moved)
+    version = table[:, [2, 4]] + 2 * table[:, [1, 3]]
+    h = it.h[rows]
+    options = np.concatenate([h[None], _halves(h)])  # (3, k, 2, 3, n+1)
+    at = (version * len(rows) + item[:, None]) * 2 + np.arange(2)
+    out_h = options.reshape(-1, *h.shape[2:])[at.ravel()].reshape(-1, *h.shape[1:])
+    return _Items(it.org[rows][item], out_kind, out_t, out_h)
+
+
+def _halves(h):
+    """(left, right) halves (de Casteljau at 1/2) of control points by coordinate
+    (..., n+1)."""
+    return np.matmul(h, _half_matrices(h.shape[-1] - 1))
+
+
+@lru_cache(maxsize=None)
+def _half_matrices(n):
+    """(2, 1, 1, n+1, n+1): the matrices M with (points by coordinate) @ M the
+    left and the right half of a degree-n control polygon (de Casteljau at 1/2:
+    dyadic entries, exact in binary)."""
+    left, right = bz.split_many(np.eye(n + 1)[None], 0.5)
+    return np.stack([left[0].T, right[0].T])[:, None, None]

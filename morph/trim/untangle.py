@@ -239,8 +239,11 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
     searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
     and on polylines within eps / 10 the pairs where subdivision would not end
-    (pieces that nearly coincide).  ``pieces`` (a :class:`morph.piece.Pieces`) and
-    ``cones`` (their tangent cones): the loops' pieces in order, when known."""
+    (pieces that nearly coincide).  Each level's candidates are refined by Newton
+    (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
+    the search of a loop ends at its first crossing in candidate order.  ``pieces``
+    (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
+    pieces in order, when known."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = np.array([len(loop) for loop in loops])
@@ -252,37 +255,96 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     if not len(suspects):
         return {}
     pairs, kinds = _oriented(suspects, owner, first, sizes)
-    k, ta, tb, crowded = subdivided_crossings(pieces, pairs, kinds, 1e-3 * eps)
-    pa, pb = pairs[k, 0], pairs[k, 1]
-    near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
-    if not len(pa) + len(near[0]):
-        return {}
-    ids = np.concatenate([pa, pb, near[0], near[1]])
-    used = unique(ids)
-    inv = np.searchsorted(used, ids)
+    used = unique(pairs)
     stacked = pc.stack(pieces.take(used))
-    n_sub = len(pa)
-    guess = np.concatenate([pc.jet_many(stacked, inv[:n_sub], ta)[0], near[4]])
-    pa, pb = np.concatenate([pa, near[0]]), np.concatenate([pb, near[1]])
-    ta, tb = np.concatenate([ta, near[2]]), np.concatenate([tb, near[3]])
-    ia = np.concatenate([inv[:n_sub], inv[2 * n_sub:2 * n_sub + len(near[0])]])
-    ib = np.concatenate([inv[n_sub:2 * n_sub], inv[2 * n_sub + len(near[0]):]])
-    s, w, ok = newton_crossings(stacked, ia, ta, ib, tb, guess, 2.0 * eps, 1e-6 * eps)
     hits = {}
-    for n in np.flatnonzero(ok):
-        gi, gj, si, wj = pa[n], pb[n], s[n], w[n]
-        if gi > gj or (gi == gj and si > wj):
-            gi, gj, si, wj = gj, gi, wj, si
-        li = int(owner[gi])
-        i, j = gi - first[li], gj - first[li]
-        # ends of consecutive pieces meet by construction: not a crossing
-        if li in hits or (j == i + 1 and si >= 1 - 1e-9 and wj <= 1e-9) or \
-           (i == 0 and j == sizes[li] - 1 and si <= 1e-9 and wj >= 1 - 1e-9) or \
-           (i == j and abs(si - wj) <= 1e-9):
-            continue
-        x = pc.jet_many(stacked, ia[n:n + 1], s[n:n + 1])[0][0]
-        hits[li] = (i, si, j, wj, x)
+
+    def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
+        fresh = np.flatnonzero(~np.isin(owner[pa], list(hits)))
+        pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
+        ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
+        guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
+        hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
+                                  first, sizes))
+        return np.flatnonzero(np.isin(owner[pairs[:, 0]], list(hits)))
+
+    # each level's candidates are refined as they come: a loop takes the first
+    # crossing in their order (level by level, then those of the polylines), and
+    # the search of a loop that has one stops
+    crowded = subdivided_crossings(
+        pieces, pairs, kinds, 1e-3 * eps,
+        settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
+    crowded = crowded[~np.isin(owner[pairs[crowded, 0]], list(hits))]
+    near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
+    if len(near[0]):
+        refine(near[0], near[2], near[1], near[3], near[4])
     return hits
+
+
+def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
+    """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
+    candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
+    b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
+    candidates are refined first, the others of the loops none of those settled
+    next: a loop takes its first crossing in that order, as when all are refined
+    at once (Newton works row by row), with fewer rows where a loop has many (legs
+    that nearly coincide give hundreds)."""
+    (pa, ta, ia), (pb, tb, ib) = a, b
+    loop = owner[pa]
+    rank = _ranks(loop)
+    hits = {}
+    for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
+        c = np.flatnonzero(stage & ~np.isin(loop, list(hits)))
+        if not len(c):
+            continue
+        s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
+                                    1e-6 * eps)
+        got = _first_valid(pa[c], pb[c], s, w, ok, owner, first, sizes)
+        if len(got):
+            x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
+            hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
+                        for n, xn in zip(got, x))
+    return hits
+
+
+#: Crossing candidates of each loop that :func:`_first_crossings` refines first;
+#: the loop's others only when none of those is a crossing.
+FIRST_TRIES = 8
+
+
+def _ranks(group):
+    """Each entry's rank among the entries of its group, in order."""
+    order = np.argsort(group, kind="stable")
+    g = group[order]
+    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+    rank = np.empty(len(group), np.int64)
+    rank[order] = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
+    return rank
+
+
+def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
+    """Indices of the first refined candidate of each loop that is a crossing: ok,
+    and not the shared end of consecutive pieces nor a piece meeting itself at one
+    parameter."""
+    swap = (pa > pb) | ((pa == pb) & (s > w))
+    gi, gj = np.where(swap, pb, pa), np.where(swap, pa, pb)
+    si, wj = np.where(swap, w, s), np.where(swap, s, w)
+    li = owner[gi]
+    i, j = gi - first[li], gj - first[li]
+    end = (((j == i + 1) & (si >= 1 - 1e-9) & (wj <= 1e-9))
+           | ((i == 0) & (j == sizes[li] - 1) & (si <= 1e-9) & (wj >= 1 - 1e-9))
+           | ((i == j) & (np.abs(si - wj) <= 1e-9)))
+    valid = np.flatnonzero(ok & ~end)
+    return valid[np.unique(li[valid], return_index=True)[1]]
+
+
+def _hit(ga, gb, s, w, x, owner, first):
+    """(loop, (piece i, s, piece j, u, point)) of a crossing of pieces ga at s and gb
+    at w (indices in the stacked loops), i <= j (s <= u for i == j)."""
+    if ga > gb or (ga == gb and s > w):
+        ga, gb, s, w = gb, ga, w, s
+    li = int(owner[ga])
+    return li, (ga - first[li], s, gb - first[li], w, x)
 
 
 def _hulls_apart(pieces, pairs):
@@ -302,12 +364,12 @@ def _hulls_apart(pieces, pairs):
     x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
     i, j = np.triu_indices(x.shape[1], 1)
     d = x[:, j] - x[:, i]
-    normal = np.stack([-d[..., 1], d[..., 0]], axis=-1)
-    axes = np.concatenate([normal[inv[:, 0]], normal[inv[:, 1]]], axis=1)
-    pa = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 0]])
-    pb = np.einsum("pkd,pnd->pkn", axes, x[inv[:, 1]])
-    size = np.abs(pa).max(axis=2) + np.abs(pb).max(axis=2)
-    gap = np.maximum(pb.min(axis=2) - pa.max(axis=2), pa.min(axis=2) - pb.max(axis=2))
+    axes = np.concatenate([d[inv[:, 0]], d[inv[:, 1]]], axis=1)  # normals (-dy, dx) of these
+    xt = x.transpose(1, 0, 2)    # control point first: the extremes are taken across slabs
+    pa, pb = (-axes[..., 1] * p[..., None, 0] + axes[..., 0] * p[..., None, 1]
+              for p in (xt[:, inv[:, 0]], xt[:, inv[:, 1]]))  # (n+1, pairs, axes)
+    size = np.abs(pa).max(axis=0) + np.abs(pb).max(axis=0)
+    gap = np.maximum(pb.min(axis=0) - pa.max(axis=0), pa.min(axis=0) - pb.max(axis=0))
     apart = np.any(gap > 1e-9 * size, axis=1)
     return apart & positive[inv[:, 0]] & positive[inv[:, 1]]
 

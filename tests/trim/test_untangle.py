@@ -305,23 +305,35 @@ def _split_items_one_by_one(it, keep, split_a):
 
 def test_split_items_batched_matches_child_by_child():
     """The subdivision's items split all at once (one sort of the children by slot)
-    are those written out child by child, in the same order, to the bit; a wrong
-    midpoint (a child's interval not halved) differs."""
+    are those written out child by child, in the same order, to the bit, and each
+    child's parts are its item's or their halves (de Casteljau at 1/2 one item at a
+    time); a wrong midpoint (a child's interval not halved) differs."""
+    from morph import bernstein as bz
     from morph.trim import crossing as cr
 
     rng = np.random.default_rng(7)
-    n = 200
+    n, deg = 200, 5
     a0, b0 = rng.random(n) * 0.5, rng.random(n) * 0.5
-    it = dict(org=np.arange(n), ia=rng.integers(0, 9, n), ib=rng.integers(0, 9, n),
-              a0=a0, a1=a0 + rng.random(n) * 0.5, b0=b0, b1=b0 + rng.random(n) * 0.5,
-              kind=rng.integers(0, 3, n))
+    it = dict(org=np.arange(n), a0=a0, a1=a0 + rng.random(n) * 0.5, b0=b0,
+              b1=b0 + rng.random(n) * 0.5, kind=rng.integers(0, 3, n), row=np.arange(n))
+    h = rng.random((n, 2, 3, deg + 1)) + 0.5
+    items = cr._Items(it["org"], it["kind"], np.stack([it[k] for k in ("a0", "a1", "b0", "b1")],
+                                                      axis=1), h)
     keep, split_a = rng.random(n) < 0.8, rng.random(n) < 0.5
-    got, want = cr._split_items(it, keep, split_a), _split_items_one_by_one(it, keep, split_a)
-    assert set(got) == set(want)
-    assert all(np.array_equal(got[k], want[k]) for k in want)
-    assert len(got["org"]) > 2 * keep.sum()     # joined and self items give more
-    bad = dict(got, a1=np.where(got["kind"] == cr.SELF, got["a1"] + 1e-3, got["a1"]))
-    assert not np.array_equal(bad["a1"], want["a1"])
+    got, want = cr._split_items(items, keep, split_a), _split_items_one_by_one(it, keep, split_a)
+    assert np.array_equal(got.org, want["org"]) and np.array_equal(got.kind, want["kind"])
+    for col, k in enumerate(("a0", "a1", "b0", "b1")):
+        assert np.array_equal(got.t[:, col], want[k])
+    assert len(got.org) > 2 * keep.sum()     # joined and self items give more
+    for c, row in enumerate(want["row"]):
+        for part, (lo, hi) in enumerate((("a0", "a1"), ("b0", "b1"))):
+            mid = 0.5 * (it[lo][row] + it[hi][row])
+            left, right = bz.split_many(h[row, part].T[None], 0.5)
+            ref = {(it[lo][row], it[hi][row]): h[row, part].T, (it[lo][row], mid): left[0],
+                   (mid, it[hi][row]): right[0]}[(want[lo][c], want[hi][c])]
+            assert np.allclose(got.h[c, part].T, ref, rtol=0, atol=1e-14)
+    bad = got.t[:, 1] + np.where(got.kind == cr.SELF, 1e-3, 0.0)
+    assert not np.array_equal(bad, want["a1"])
 
 
 def test_stack_rows_is_the_stack_of_all_pieces_at_those_rows():
