@@ -682,10 +682,12 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None, same=
     pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
     tight one.  Pairs out of order are moved into it first (:func:`_ordered_pairs`).
     The rows of ``same`` (a mask, None: none) are bounded with phi = identity on the
-    panels of SAME_CUTS instead, in the same :func:`_hull_rows` call of their degree.
-    Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1)); bound inf where
-    the cuts s_j are still not strictly increasing in (0, 1) and on the rows in
-    neither ``todo`` (a mask; None: all) nor ``same``; cuts NaN off ``todo``."""
+    panels of SAME_CUTS instead.  All panels of all degrees are bounded together
+    first, then only those that can raise a pair's bound are refined
+    (:func:`_worst_panels`).  Returns (bound (k,), cuts (k, m + 2), Möbius factors
+    (k, m + 1)); bound inf where the cuts s_j are still not strictly increasing in
+    (0, 1) and on the rows in neither ``todo`` (a mask; None: all) nor ``same``;
+    cuts NaN off ``todo``."""
     refine = PANEL_REFINE if refine is None else refine
     k = len(s)
     u = np.asarray(u, float)
@@ -700,8 +702,11 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None, same=
             srows = np.flatnonzero(same)
             sets.append(_PanelSet(srows, SAME_CUTS, _fixed_panels(
                 np.ascontiguousarray(cubics[srows].transpose(2, 1, 0)), SAME_CUTS), None))
-        for grp, stack in groups:
-            _group_bounds(grp, stack, sets, refine, bound, moeb)
+        sets = [p for p in sets if len(p.rows)]
+        if sets:
+            cols = _columns(groups, k, sets, moeb)
+            for p, b in zip(sets, _worst_panels(groups, sets, cols, refine)):
+                bound[p.rows] = b
     return bound, cuts, moeb
 
 
@@ -730,72 +735,113 @@ def _fixed_panels(c, cuts):
     return sub.reshape(-1, n1, d, r).transpose(2, 1, 0, 3).reshape(d, n1, -1)
 
 
-def _group_bounds(grp, stack, sets, refine, bound, moeb):
-    """The bounds of the pairs of one degree (``grp``, ``stack`` as in
-    :func:`degree_groups`) in every panel set of ``sets``: the piece cut at the
-    set's cuts, its weights scaled by c^i (R o mu), and all panels of all sets
-    bounded by one :func:`_hull_rows` call; ``bound`` (the worst panel of a pair)
-    and ``moeb`` (the ray panels' factors) written in place."""
-    at = np.full(len(bound), -1)
-    at[grp] = np.arange(len(grp))
-    subs, cubs, owners = [], [], []
-    n = stack.shape[1] - 1
-    for ps in sets:
-        sel = np.flatnonzero(at[ps.rows] >= 0)
-        if not len(sel):
-            continue
-        npan, rows = len(ps.cuts) - 1, ps.rows[sel]
-        sub = _fixed_panels(stack[at[rows]].transpose(2, 1, 0), ps.cuts)
-        cub = ps.cub.reshape(2, 4, npan, -1)[:, :, :, sel].reshape(2, 4, -1)
+#: The panel columns of :func:`_panel_bounds`, every panel set's in turn: ``sub``
+#: (3, N+1, K) the pieces R o mu on their panels, lifted to the batch's highest
+#: degree N, ``cub`` (2, 4, K) the cubics on them, ``pair`` (K,) the pair of each
+#: column, ``panel`` (K,) its panel (numbered over the sets: :func:`_native_cuts`),
+#: ``c`` (K,) its Möbius factor; per pair its degree group ``group`` and row in the
+#: group's stack ``slot``.
+_Columns = namedtuple("_Columns", "sub cub pair panel c group slot")
+
+
+def _columns(groups, k, sets, moeb):
+    """The :class:`_Columns` of the panel sets ``sets`` (their Möbius factors written
+    into ``moeb``).  Every piece is lifted to the batch's highest degree first
+    (degree elevation: the same curve), so that all degrees are cut, mapped and
+    bounded together; the lifted columns only screen (:func:`_worst_panels`)."""
+    top = max(st.shape[1] for _, st in groups)
+    lift = np.empty((top, 3, k))              # coefficient-major: a set's rows gathered
+    group, slot = np.full(k, -1), np.zeros(k, int)    # are one matrix's columns
+    for g, (rows, stack) in enumerate(groups):
+        lift[:, :, rows] = (bz.elevate_many(stack, top - stack.shape[1])
+                            if stack.shape[1] < top else stack).transpose(1, 2, 0)
+        group[rows], slot[rows] = g, np.arange(len(rows))
+    size = [(len(ps.cuts) - 1) * len(ps.rows) for ps in sets]
+    sub = np.empty((3, top, sum(size)))
+    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2),
+                    np.concatenate([np.tile(ps.rows, len(ps.cuts) - 1) for ps in sets]),
+                    np.empty(len(sub[0, 0]), int), np.ones(len(sub[0, 0])), group, slot)
+    lo = first = 0
+    for ps, n in zip(sets, size):
+        npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
+        x = lift[:, :, ps.rows].reshape(top, -1)
+        view.reshape(3, top, npan, -1)[...] = (_cut_matrices(top - 1, ps.cuts) @ x).reshape(
+            npan, top, 3, -1).transpose(2, 1, 0, 3)
+        cols.panel[lo:lo + n] = first + np.repeat(np.arange(npan), len(ps.rows))
         if ps.moebius is not None:
-            c = ps.moebius[sel].T.ravel()
+            c = cols.c[lo:lo + n]
+            c[...] = ps.moebius.T.ravel()
             bad = np.flatnonzero(np.isnan(c))
             if len(bad):
-                c[bad] = _panel_moebius(sub[:, :, bad], cub[:, :, bad])
-            power = np.ones((n + 1, len(c)))                      # c^i: R o mu
-            power[1:] = np.cumprod(np.broadcast_to(c, (n, len(c))), axis=0)
-            sub *= power
-            moeb[rows] = c.reshape(npan, -1).T
-        subs.append(sub)
-        cubs.append(cub)
-        owners.append((rows, npan))
-    if not subs:
-        return
-    worst = _worst_panels(np.concatenate(subs, axis=2), np.concatenate(cubs, axis=2),
-                          [(npan, len(rows)) for rows, npan in owners], refine)
-    for (rows, _), b in zip(owners, worst):
-        bound[rows] = b
+                c[bad] = _panel_moebius(view[:, :, bad], ps.cub[:, :, bad])
+            view[:, 1:] *= np.cumprod(np.broadcast_to(c, (top - 1, n)), axis=0)  # c^i: R o mu
+            moeb[ps.rows] = c.reshape(npan, -1).T
+        lo, first = lo + n, first + npan
+    return cols
 
 
-def _worst_panels(sub, cub, spans, refine):
-    """Per pair the largest :func:`_hull_rows` bound (``refine`` halvings) of its
-    panels: the columns of ``sub`` (3, n+1, K) and ``cub`` (2, 4, K) are, span by
-    span of ``spans`` [(P, r)], the P panels of r pairs in (panel, pair) order.  A
-    list of (r,) arrays.
+def _worst_panels(groups, sets, cols, refine):
+    """Per panel set of ``sets`` the largest :func:`_hull_rows` bound (``refine``
+    halvings, each piece at its own degree) over each pair's panels: a list of
+    (r,) arrays.
 
     Branch and bound, with the result of refining every panel: each panel is bounded
-    first without halving (a quarter of the work).  Its end coefficients are the
-    distances at the panel's ends exactly, so the largest of them over a pair's
-    panels, L, is attained and at most its refined maximum; de Casteljau
-    coefficients are convex combinations of the parent's, so no panel's refined
-    bound exceeds its unrefined one; only panels whose unrefined bound exceeds L
-    can raise the maximum, and only those are refined (a tenth to a sixth of them
-    on the bench sets: a fitted cubic's error is mostly largest at panel ends)."""
-    b, ends = _hull_rows(sub, cub, 0, ends=True)
+    first without halving, lifted (``cols``, :func:`_columns`: a quarter of the
+    work, all degrees in one call; elevation and another scaling of the weights
+    give other coefficients of the same E / W, so another certificate of the same
+    distance).  Its end coefficients are the distances at the panel's ends
+    exactly, so the largest of them over a pair's panels, L, is attained and at
+    most its refined maximum; the refined bound at the piece's own degree is at
+    most its unrefined one at that degree (de Casteljau coefficients are convex
+    combinations of the parent's), which the lifted bound screens: only panels
+    whose lifted bound exceeds L can raise the maximum, and only those are
+    refined (a tenth to a sixth of them on the bench sets: a fitted cubic's error
+    is mostly largest at panel ends)."""
+    b, ends = _hull_rows(cols.sub, cols.cub, 0, ends=True)
     low = np.empty_like(ends)
     lo = 0
-    for npan, r in spans:
-        e = ends[lo:lo + npan * r].reshape(npan, r)
-        low[lo:lo + npan * r] = np.broadcast_to(np.fmax.reduce(e, axis=0), e.shape).ravel()
-        lo += npan * r
+    for ps in sets:
+        size = (len(ps.cuts) - 1) * len(ps.rows)
+        e = ends[lo:lo + size].reshape(-1, len(ps.rows))
+        low[lo:lo + size] = np.broadcast_to(np.fmax.reduce(e, axis=0), e.shape).ravel()
+        lo += size
     redo = np.flatnonzero(~(b <= low))
     if refine > 0 and len(redo):
-        b[redo] = _hull_rows(sub[:, :, redo], cub[:, :, redo], refine)
+        b[redo] = _refined(groups, sets, cols, redo, refine)
     out, lo = [], 0
-    for npan, r in spans:
-        out.append(b[lo:lo + npan * r].reshape(npan, r).max(axis=0))
-        lo += npan * r
+    for ps in sets:
+        size = (len(ps.cuts) - 1) * len(ps.rows)
+        out.append(b[lo:lo + size].reshape(-1, len(ps.rows)).max(axis=0))
+        lo += size
     return out
+
+
+def _refined(groups, sets, cols, redo, refine):
+    """:func:`_hull_rows` at ``refine`` halvings of the columns ``redo`` of ``cols``,
+    each piece cut from its own stack at its own degree (one batched product of
+    each column's panel matrix per degree), R o mu by its weights scaled by c^i."""
+    out = np.empty(len(redo))
+    pair, panel, c = cols.pair[redo], cols.panel[redo], cols.c[redo]
+    cut_tuples = tuple(ps.cuts for ps in sets)
+    for g, (rows, stack) in enumerate(groups):
+        sel = np.flatnonzero(cols.group[pair] == g)
+        if not len(sel):
+            continue
+        n1 = stack.shape[1]
+        sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
+                        stack[cols.slot[pair[sel]]])
+        sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
+        out[sel] = _hull_rows(np.ascontiguousarray(sub.transpose(2, 1, 0)),
+                              cols.cub[:, :, redo[sel]], refine)
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _native_cuts(n, cut_tuples):
+    """The panel matrices (panels, n+1, n+1) of every tuple of cuts in turn (the
+    panels numbered as in :class:`_Columns`)."""
+    return np.concatenate([_cut_matrices(n, cuts).reshape(-1, n + 1, n + 1)
+                           for cuts in cut_tuples])
 
 
 def _inner_moebius(s_mid, u_mid, cuts, ucut):
@@ -818,7 +864,19 @@ def _ordered_pairs(s, u):
     every s after it (and 1); the others (NaN, clipped to an end by the fitter's rays,
     crossing a neighbour) get s interpolated linearly in u (m,) between the nearest
     kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
-    kept pairs keep it tight."""
+    kept pairs keep it tight.  Rows already strictly increasing in (0, 1) (nearly
+    all) are returned as they are, the others reordered (:func:`_reordered`)."""
+    with np.errstate(invalid="ignore"):
+        fine = (s[:, 0] > 0.0) & (s[:, -1] < 1.0) & np.all(s[:, 1:] > s[:, :-1], axis=1)
+    if fine.all():
+        return s
+    out = s.copy()
+    out[~fine] = _reordered(s[~fine], u)
+    return out
+
+
+def _reordered(s, u):
+    """:func:`_ordered_pairs` of rows s (k, m) that need it."""
     k, m = s.shape
     ext = np.concatenate([np.zeros((k, 1)), s, np.ones((k, 1))], axis=1)
     with np.errstate(invalid="ignore"):
@@ -853,15 +911,18 @@ def _cubic_panels(cubics, cuts):
     The control points of C on [a, b] are its blossom's values C(a, a, a), C(a, a,
     b), C(a, b, b), C(b, b, b): de Casteljau's second level at every cut, shared by
     the two panels that meet there, and one more step."""
-    t = cuts.T[:, :, None]                                           # (P + 1, k, 1)
-    q = cubics.transpose(1, 0, 2)[:, None]                           # (4, 1, k, 2)
-    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]
-    l2 = [l1[0] + t * (l1[1] - l1[0]), l1[1] + t * (l1[2] - l1[1])]
-    point = l2[0] + t * (l2[1] - l2[0])
-    a, b = t[:-1], t[1:]
-    out = np.stack([point[:-1], l2[0][:-1] + b * (l2[1][:-1] - l2[0][:-1]),
-                    l2[0][1:] + a * (l2[1][1:] - l2[0][1:]), point[1:]])
-    return np.ascontiguousarray(out.reshape(4, -1, 2).transpose(2, 0, 1))
+    npan, k = cuts.shape[1] - 1, len(cubics)
+    t = cuts.T[None]                                                 # (1, P + 1, k)
+    q = cubics.transpose(1, 2, 0)[:, :, None]                        # (4, 2, 1, k)
+    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]            # (2, P + 1, k)
+    lo = l1[0] + t * (l1[1] - l1[0])
+    d = l1[1] + t * (l1[2] - l1[1]) - lo
+    out = np.empty((2, 4, npan, k))
+    point = lo + t * d
+    out[:, 0], out[:, 3] = point[:, :-1], point[:, 1:]
+    out[:, 1] = lo[:, :-1] + t[:, 1:] * d[:, :-1]
+    out[:, 2] = lo[:, 1:] + t[:, :-1] * d[:, 1:]
+    return out.reshape(2, 4, npan * k)
 
 
 @functools.lru_cache(maxsize=None)
