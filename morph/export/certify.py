@@ -607,32 +607,37 @@ PANEL_STEP = 2
 FALLBACK_GAP = 0.95
 
 
-def _ray_certified(groups, cubics, tol, depth, pairs):
+def _ray_certified(groups, cubics, tol, depth, pairs, step=None):
     """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
-    panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
-    composed).  Pairs whose parameters already match (phi = identity within
-    PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take phi = identity
-    instead, on SAME_CUTS's four equal panels (no pairs to order, no Möbius factor:
-    the same-parameter certificate of :func:`hull_bound` at PANEL_REFINE + 2
-    halvings in all); pieces of degree below PANEL_DEGREE take the composed map.
-    Both kinds of pairs of a degree are bounded in one :func:`_hull_rows` call.
-    Where the bound exceeds tol although the rays' gaps are within FALLBACK_GAP tol
-    (a feet map no Möbius map per panel follows, rays out of order) the composed
-    map of :func:`certify_batch` is tried as well and the smaller bound kept; above
-    that, no map does much better than the gaps, and the pair fails as it is."""
+    panels cut at every ``step``-th pair (:func:`_panel_bounds`: nothing is sampled
+    again, nothing composed).  Pairs whose parameters already match (phi =
+    identity within PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take
+    phi = identity instead, on SAME_CUTS's four equal panels (no pairs to order, no
+    Möbius factor: the same-parameter certificate of :func:`hull_bound` at
+    PANEL_REFINE + 2 halvings in all); pieces of degree below PANEL_DEGREE take the
+    composed map.  Where the bound exceeds tol although the rays' gaps are within
+    FALLBACK_GAP tol (a feet map one Möbius map per panel does not follow: a
+    cubic's parameter racing ahead of the piece's near an end) the pair is
+    certified again on panels cut at every pair (``step`` 1, each panel's Möbius
+    map from its end speeds), and where that fails too, by the composed map of
+    :func:`certify_batch`; the smaller bound is kept.  Above FALLBACK_GAP tol no map
+    does much better than the gaps, and the pair fails as it is."""
+    step = PANEL_STEP if step is None else step
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
     with np.errstate(invalid="ignore"):
         same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+        same &= step == PANEL_STEP
         gap = pgap.max(axis=1)
     low = np.zeros(len(cubics), bool)
     for rows, stack in groups:
         low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low), same=same)
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low), step=step,
+                                      same=same)
     out = Certified(bound)
     out.paneled, out.same = ~(same | low), same
     out.cuts, out.moebius = cuts, moeb
-    out.nodes = np.concatenate([[0.0], pu[PANEL_STEP - 1::PANEL_STEP], [1.0]])
+    out.nodes = np.concatenate([[0.0], pu[step - 1::step], [1.0]])
     rest = np.nonzero(~(bound <= tol) & ~(gap > FALLBACK_GAP * tol))[0]
     if not len(rest):
         return out
@@ -640,8 +645,9 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     where[rest] = np.arange(len(rest))
     sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
            if (where[r] >= 0).any()]
-    again = certify_batch(sub, cubics[rest], tol, depth,
-                          pairs=(ps[rest], pu, pspeed[rest], pgap[rest]), panel=False)
+    again = (ps[rest], pu, pspeed[rest], pgap[rest])
+    again = (_ray_certified(sub, cubics[rest], tol, depth, again, step=1) if step > 1 else
+             certify_batch(sub, cubics[rest], tol, depth, pairs=again, panel=False))
     won = again.bound < bound[rest]
     out.bound[rest[won]] = again.bound[won]
     out.other[rest[won]] = where[rest[won]]
