@@ -36,7 +36,14 @@ Möbius map (:func:`_panel_bounds`): R o mu is R with its weights scaled by c^i,
 R's own degree, so nothing is composed; the bound on each panel squares nothing
 either (:func:`hull_bound`: ``|E| <= sum |e_i| B_i <= max_i (|e_i| / w_i) W``).  The
 panels' phi is continuous and increasing, so the bound is a Fréchet bound as above.
-The composed map remains for pairs the panels do not certify.
+Pairs whose rays already match at the same parameter take phi = identity on four
+equal panels instead.  The feet are the fitter's: nothing is sampled again, and no
+Newton step runs on this path.  All panels of a batch, of every degree, are bounded
+first without halving (the pieces lifted to the batch's highest degree); only the
+panels that can still raise their pair's maximum are refined, at the piece's own
+degree (:func:`_worst_panels`, a branch and bound whose result is that of refining
+every panel).  Pairs these panels do not certify are tried on panels cut at every
+ray, and only then by the composed map.
 
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
