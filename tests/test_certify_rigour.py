@@ -173,3 +173,44 @@ def test_a_loosened_certificate_is_caught():
         bound, haus, frechet = check(piece, cubic, res, scale=0.97)
         caught += frechet > bound * (1 + 1e-9) + 1e-12
     assert caught >= 1
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_panels_cut_at_every_ray_are_above_dense_frechet(seed):
+    """The retry of pairs whose first panels fail (panels cut at every ray, each
+    Möbius map from its end speeds), taken on every pair: the same measurements."""
+    for piece, cubic, rays in cases(seed):
+        pairs = (rays.feet, _quadrature().gx, rays.speed, rays.gap)
+        res = certify_mod._ray_certified([(np.array([0]), piece[None])], cubic[None], TOL,
+                                         3, pairs, step=1)
+        bound, haus, frechet = check(piece, cubic, res)
+        if res.other[0] < 0:
+            assert len(res.panels(0)) == 17
+        assert frechet <= bound * (1 + 1e-9) + 1e-12
+        assert haus <= frechet * (1 + 1e-9) + 1e-9
+
+
+def test_screened_panels_give_the_bound_of_refining_every_panel(monkeypatch):
+    """The branch and bound over panels (all degrees screened together, lifted, then
+    only panels that can raise a maximum refined) gives, pair by pair, the bound of
+    refining every panel at its own degree, whatever else is in the batch: one
+    batch of all cases (degrees 2 to 7) against each pair alone with nothing
+    screened."""
+    every = [c for seed in range(2) for c in cases(seed)]
+    groups = certify_mod.degree_groups([p for p, _, _ in every])
+    feet = np.concatenate([r.feet for _, _, r in every])
+    cubics = np.array([c for _, c, _ in every])
+    batch = certify_mod._panel_bounds(groups, cubics, feet, _quadrature().gx)[0]
+    real = certify_mod._hull_rows
+
+    def unscreened(c, q, halvings, ends=False):
+        out = real(c, q, halvings, ends)
+        if ends:                       # every panel above its ends: all refined
+            out[0][:] = np.inf
+        return out
+
+    monkeypatch.setattr(certify_mod, "_hull_rows", unscreened)
+    for i, (piece, cubic, rays) in enumerate(every):
+        alone = certify_mod._panel_bounds([(np.array([0]), piece[None])], cubic[None],
+                                          rays.feet, _quadrature().gx)[0][0]
+        assert batch[i] == pytest.approx(alone, rel=1e-12, abs=1e-15)
