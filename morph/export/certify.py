@@ -831,21 +831,25 @@ def _worst_panels(groups, sets, cols, refine):
 
 def _refined(groups, sets, cols, redo, refine):
     """:func:`_hull_rows` at ``refine`` halvings of the columns ``redo`` of ``cols``,
-    each piece cut from its own stack at its own degree (one batched product of
-    each column's panel matrix per degree), R o mu by its weights scaled by c^i."""
+    each piece at its own degree: the columns of the batch's highest degree as
+    they are, the others cut again from their stacks (one batched product of each
+    column's panel matrix per degree), R o mu by the weights scaled by c^i."""
     out = np.empty(len(redo))
     pair, panel, c = cols.pair[redo], cols.panel[redo], cols.c[redo]
     cut_tuples = tuple(ps.cuts for ps in sets)
-    for g, (rows, stack) in enumerate(groups):
-        sel = np.flatnonzero(cols.group[pair] == g)
-        if not len(sel):
-            continue
+    group = cols.group[pair]
+    for g in np.unique(group).tolist():
+        sel = np.flatnonzero(group == g)
+        stack = groups[g][1]
         n1 = stack.shape[1]
-        sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
-                        stack[cols.slot[pair[sel]]])
-        sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
-        out[sel] = _hull_rows(np.ascontiguousarray(sub.transpose(2, 1, 0)),
-                              cols.cub[:, :, redo[sel]], refine)
+        if n1 == cols.sub.shape[1]:             # not lifted: the columns themselves
+            sub = cols.sub[:, :, redo[sel]]
+        else:
+            sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
+                            stack[cols.slot[pair[sel]]])
+            sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
+            sub = np.ascontiguousarray(sub.transpose(2, 1, 0))
+        out[sel] = _hull_rows(sub, cols.cub[:, :, redo[sel]], refine)
     return out
 
 
