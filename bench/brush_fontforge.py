@@ -8,7 +8,8 @@ upm 1000), so that both tools write cubics and their points compare.  Nib: the
 default of ``morph brush`` (exact ellipse 80 x 30 units, 30 degrees).
 
 - morph: the whole command ``morph brush FONT -o OUT.otf --glyphs ... --jobs 1`` in a
-  fresh process (user + sys CPU of the process, from the kernel: reading, planning,
+  fresh process, its modules' bytecode cached as after a pip install
+  (:mod:`bench.pycache`; user + sys CPU of the process, from the kernel: reading, planning,
   the sums, export, certificate, tables, saving, the sample image and specimen),
   and ``morph.fonts.brush.brush_font`` in this process (``process_time`` of the call:
   reading the source, the sums, saving the font), both divided by the glyphs.
@@ -52,14 +53,19 @@ def _chars(spec):
 
 
 def run_command(src, chars, nib, tol, out):
-    """(CPU seconds of the whole ``morph brush`` process, its last line)."""
+    """(CPU seconds of the whole ``morph brush`` process, its last line).  The
+    process loads its modules' bytecode from a cache that an untimed first run
+    fills (:func:`bench.pycache.cached_env`), as after a pip install; FontForge's
+    Python loads its own compiled modules too."""
+    from bench.pycache import cached_env
+
+    env = cached_env("brush-fontforge-pycache-", OPENBLAS_NUM_THREADS="1")
+    cmd = [sys.executable, "-m", "morph.cli", "brush", str(src), "-o", str(out),
+           "--glyphs", ",".join(chars), "--nib", "ellipse:%g,%g,%g" % nib,
+           "--tol", repr(tol / 1000.0), "--jobs", "1", "--force"]
+    subprocess.run(cmd, env=env, capture_output=True, text=True)   # fills the cache
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1",
-               PYTHONPATH=os.environ.get("PYTHONPATH") or str(ROOT))
-    proc = subprocess.run([sys.executable, "-m", "morph.cli", "brush", str(src), "-o", str(out),
-                           "--glyphs", ",".join(chars), "--nib", "ellipse:%g,%g,%g" % nib,
-                           "--tol", repr(tol / 1000.0), "--jobs", "1", "--force"],
-                          env=env, capture_output=True, text=True)
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     lines = (proc.stdout + proc.stderr).strip().splitlines()
@@ -257,7 +263,8 @@ def main(argv=None):
           "so a mean per glyph and no median: compare it with FontForge's mean; "
           "FontForge: Expand Stroke, the outline added back and Remove Overlap, glyph by "
           "glyph); **whole command** = a whole process divided by the glyphs (morph: "
-          "`morph brush NotoSans.otf -o OUT.otf --glyphs ... --jobs 1`, startup, reading, "
+          "`morph brush NotoSans.otf -o OUT.otf --glyphs ... --jobs 1`, startup with its "
+          "modules' bytecode cached as after a pip install, reading, "
           "the sweep, tables, saving, sample image and specimen; FontForge: its worker "
           "process, Python's startup, `import fontforge`, opening the font and converting "
           "it to cubics, the brush, writing the outlines as JSON).  morph's "

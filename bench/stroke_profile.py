@@ -98,6 +98,8 @@ PHASES = [
                      "morph.fonts.stroke:_streamed_chunk", "morph.fonts.ufo_tables:widen_extent",
                      "morph.fonts.stream:UfoGlyphWriter.write"]),
     ("compile", ["morph.fonts.stroke:_save", "morph.fonts.tables:save_font",
+                 "morph.fonts.tables:_CFFOutlines.saving",
+                 "morph.fonts.tables:_TrueTypeOutlines.saving",
                  "morph.fonts.stream:compile_outline", "morph.fonts.stream:compile_outlines",
                  "morph.fonts.stroke:_StreamedGlyphs.finish"]),
     ("sample + specimen", ["morph.fonts.specimen:write_sample_image",

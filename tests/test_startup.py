@@ -212,3 +212,97 @@ def test_plain_stroke_workers_import_nothing_themselves(tmp_path, out):
     assert len(reports) == 2
     for report in reports:
         assert json.loads(report.read_text()) == [], report.name
+
+
+#: what a CFF 1 font without layout tables never needs: the HarfBuzz bindings that
+#: fontTools.cffLib loads through otBase (morph.fonts.deferred defers them)
+NOT_FOR_PLAIN_CFF_BRUSH = ("uharfbuzz._harfbuzz",)
+
+
+def test_cff_brush_defers_harfbuzz(tmp_path):
+    """``morph brush`` of the bundled CFF font (no GSUB/GPOS) reads its CFF table
+    with fontTools' layout modules deferred: HarfBuzz's bindings are not loaded."""
+    font = str(ROOT / "morph/fonts/data/NotoSans-Regular.otf")
+    code, mods, _ = _modules_after(["brush", font, "--glyphs", "A", "-o", "b.otf", "--jobs", "1"],
+                                   tmp_path)
+    assert code == 0 and (tmp_path / "b.otf").stat().st_size > 0
+    for name in NOT_FOR_PLAIN_CFF_BRUSH:
+        assert not _loaded(mods, name), name
+    assert _loaded(mods, "fontTools.cffLib")
+
+
+_MARKED_CFF = r"""
+import sys
+from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
+from fontTools.ttLib import TTFont
+
+font = TTFont(sys.argv[1])
+addOpenTypeFeaturesFromString(font, '''
+markClass acute <anchor 280 500> @TOP;
+feature mark { pos base [A a] <anchor 300 720> mark @TOP; } mark;
+''')
+font.save(sys.argv[2])
+"""
+
+_BRUSH_PROBE = r"""
+import sys
+if sys.argv[3] == "plain":   # the layout modules imported before the CFF table is read
+    import fontTools.ttLib.tables.otTables, uharfbuzz  # noqa: F401 - imported for their effect
+from morph.fonts.brush import brush_font, ellipse_nib
+brush_font(sys.argv[1], sys.argv[2], ellipse_nib(80, 30, 30), ["A", "a"], tol=0.5)
+print(sorted(m for m in sys.modules if m.startswith("uharfbuzz")))
+"""
+
+
+def test_deferred_layout_modules_load_where_used(tmp_path):
+    """A CFF font with GPOS: the deferred modules load where the anchors are moved and
+    the table compiled (HarfBuzz's packer), and the font is byte for byte the one of
+    a process that imported them first (head's dates aside)."""
+    from fontTools.ttLib import TTFont
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    src = tmp_path / "marked.otf"
+    subprocess.run([sys.executable, "-c", _MARKED_CFF, str(ROOT / "morph/fonts/data/"
+                                                               "NotoSans-Regular.otf"),
+                    str(src)], check=True, env=env, timeout=120)
+    outs = []
+    for mode in ("deferred", "plain"):
+        out = tmp_path / ("%s.otf" % mode)
+        res = subprocess.run([sys.executable, "-c", _BRUSH_PROBE, str(src), str(out), mode],
+                             env=env, capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr
+        assert "uharfbuzz._harfbuzz" in res.stdout   # GPOS compiled with HarfBuzz's packer
+        outs.append(TTFont(str(out)))
+    a, b = outs
+    assert sorted(a.reader.keys()) == sorted(b.reader.keys()) and "GPOS" in a
+    for tag in a.reader.keys():
+        if tag != "head":
+            assert a.reader[tag] == b.reader[tag], tag
+    assert a["GPOS"].table.LookupList.Lookup[0].SubTable  # the anchors are there
+
+
+def test_deferred_module_runs_at_first_use(tmp_path, monkeypatch):
+    """morph.fonts.deferred: importing a deferred module by name binds it without
+    running it; its first attribute runs it; one that raises as it runs raises there
+    and is left out of sys.modules, as a failed import is; a name not found is
+    left to a plain import."""
+    from morph.fonts.deferred import deferred_imports
+
+    (tmp_path / "morph_probe_ok.py").write_text("import sys\nsys.morph_probe_ran = True\nX = 3\n")
+    (tmp_path / "morph_probe_broken.py").write_text("raise ImportError('broken on purpose')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    names = ["morph_probe_ok", "morph_probe_broken", "morph_probe_absent"]
+    try:
+        assert deferred_imports(names) == names[:2]
+        import morph_probe_ok  # noqa: E402 - imported here, after its deferral
+        assert not hasattr(sys, "morph_probe_ran")
+        assert morph_probe_ok.X == 3 and sys.morph_probe_ran
+        import morph_probe_broken  # noqa: E402 - as above
+        with pytest.raises(ImportError, match="on purpose"):
+            morph_probe_broken.X
+        assert "morph_probe_broken" not in sys.modules
+    finally:
+        for name in names:
+            sys.modules.pop(name, None)
+        if hasattr(sys, "morph_probe_ran"):
+            del sys.morph_probe_ran

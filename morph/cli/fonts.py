@@ -127,10 +127,11 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     exit status (1 when glyphs fell back)."""
     import time
 
-    from ..fonts.brush import brush_font, open_source
+    from ..fonts.brush import brush_font, open_source, written_ink
     from ..fonts.jobs import default_jobs
     from ..fonts.specimen import write_sample_image, write_specimen
     from ..fonts.tables import outline_glyphs
+    from ..parse import font_display_name
 
     source = open_source(src, location)  # static: a variable font at --location
     source_copy = _source_copy(src, location, source)  # as it was, for the specimen
@@ -142,9 +143,11 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
                            family_name=family, progress=lambda name: bar.update(1),
                            composites=composites, jobs=jobs, in_flight=bar.partial)
     seconds = time.perf_counter() - t0
-    sample = _covered_sample(out, sample)
+    ink = written_ink(source)   # the written font, as brush_font left it
+    sample = _covered_sample(out, sample, ink=ink)
     write_sample_image(out, sample, png)
-    write_specimen(out, source_copy, sample=sample)
+    write_specimen(out, source_copy, sample=sample, cmap=ink[0],
+                   display_name=font_display_name(source, out.stem))
     click.echo("wrote %s (%s, %s, %.1f s, %s), sample %s and specimen %s"
                % (out, count(stats["glyphs"], "glyph"), count(stats["contours"], "contour"),
                   seconds, count(jobs, "job"), png, page))

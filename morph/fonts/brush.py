@@ -126,7 +126,7 @@ def composite_plan(font, swept, composites="follow"):
     if "glyf" not in font:
         return [], []
     glyf = font["glyf"]
-    comps = {n: glyf[n].components for n in font.getGlyphOrder() if glyf[n].isComposite()}
+    comps = {n: glyf[n].components for n in font.getGlyphOrder() if _is_composite(glyf, n)}
     moved = set(swept)
     follow, sweep = [], []
     changed = True
@@ -141,6 +141,16 @@ def composite_plan(font, swept, composites="follow"):
     return follow, sweep
 
 
+def _is_composite(glyf, name):
+    """Whether glyph ``name`` of a glyf table is a composite, read from its stored
+    header while it is not decoded (decoding every glyph to ask would make the save
+    compile every one again, :meth:`morph.fonts.tables.OutlineWriter.saving`)."""
+    data = getattr(glyf.glyphs[name], "data", None) if hasattr(glyf, "glyphs") else None
+    if data is not None:
+        return len(data) >= 2 and int.from_bytes(data[:2], "big", signed=True) < 0
+    return glyf[name].isComposite()
+
+
 def _base_not_chosen(font, swept, planned):
     """Base glyphs to sweep for composites untouched by the plan whose Unicode base
     letter's glyph is swept: ï = dotlessi + dieresis when i is swept but dotlessi is
@@ -152,7 +162,7 @@ def _base_not_chosen(font, swept, planned):
     swept, planned = set(swept), set(planned)
     out = {}
     for code, name in sorted(cmap.items()):
-        if name in planned or name in swept or not glyf[name].isComposite():
+        if name in planned or name in swept or not _is_composite(glyf, name):
             continue
         base = unicodedata.normalize("NFD", chr(code))[0]
         if base == chr(code) or cmap.get(ord(base)) not in swept:
@@ -442,8 +452,29 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     grow_vertical_metrics(font, below=-extent[1], above=extent[3])
     rename_family(font, family_name, tool="morph brush")
     finish_font(font)
-    save_font(font, out_path)
+    with writer.saving():
+        save_font(font, out_path)
     return stats
+
+
+def written_ink(font):
+    """``(cmap, has_ink)`` of a font :func:`brush_font` wrote (the ``TTFont`` it
+    changed), as :func:`morph.fonts.specimen.sample_text` takes them, so that the
+    sample's choice does not read the written file again: a CFF charstring has ink
+    when the bounds the save used are not empty (nothing decoded), any other glyph
+    as the specimen tells it (a glyf glyph from its stored header)."""
+    from .specimen import _ink_test
+    from .tables_static import is_bounded
+
+    cmap, has_ink = _ink_test(font)
+    if "CFF " not in font:
+        return cmap, has_ink
+    charstrings = font["CFF "].cff.topDictIndex[0].CharStrings
+
+    def ink(name):
+        cs = charstrings[name]
+        return cs.bounds is not None if is_bounded(cs) else has_ink(name)
+    return cmap, ink
 
 
 def _sweep_font(font, order, chosen, nib_region, tol, method, quadratic, jobs, progress,

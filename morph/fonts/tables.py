@@ -4,8 +4,10 @@ metrics, names, saving.
 Every function edits an open ``fontTools.ttLib.TTFont`` in place and works for
 TrueType (``glyf``) and CFF (``CFF ``) fonts.  fontTools' own helpers are used where
 they exist (``recalcAvgCharWidth``, ``recalcBounds``, the pens, ``TTFont.save`` with
-``recalcBBoxes`` for head/hhea/maxp, the ``woff2`` flavor); what fontTools has no
-helper for (moving GPOS anchors by glyph, renaming a family coherently) is here.
+``recalcBBoxes`` or ``maxp.recalc`` / ``hhea.recalc`` for head/hhea/maxp, the
+``woff2`` flavor; :meth:`OutlineWriter.saving` keeps the glyphs not written as
+stored); what fontTools has no helper for (moving GPOS anchors by glyph, renaming
+a family coherently) is here.
 
 Outlines travel as *contours*: lists of polynomial segments, each an ``(k, 2)``
 float array of control points (k = 2 line, 3 quadratic, 4 cubic), first point of
@@ -598,6 +600,14 @@ class OutlineWriter:
         """:meth:`write` of several ``(name, contours, advance)``; their lsbs."""
         return [self.write(*g) for g in glyphs]
 
+    def saving(self):
+        """A context for the font's save: the bounds of the glyphs not written found
+        without decoding them again where the writer can (a context doing nothing
+        by default)."""
+        import contextlib
+
+        return contextlib.nullcontext()
+
 
 class _TrueTypeOutlines(OutlineWriter):
     """``glyf`` table (quadratic contours, TTGlyphPen; :meth:`write_many` builds
@@ -646,10 +656,81 @@ class _TrueTypeOutlines(OutlineWriter):
     def store(self, name, pen):
         return self._put(name, pen.glyph())
 
+    def saving(self):
+        """The save with ``recalcBBoxes`` off, maxp, head's box and hhea computed
+        first as fontTools' save computes them (``maxp.recalc``, ``hhea.recalc``),
+        each glyph not written read from its stored header (:class:`_StoredGlyphs`):
+        the save would decode and compile every glyph of the font again, not always
+        to the same bytes; the glyphs written are compiled with their bounds set
+        where they were stored (``recalcBounds``), and the composites that follow
+        them where they moved (:func:`morph.fonts.brush._follow_composites`)."""
+        import contextlib
+
+        font = self.font
+        view = _HeaderView(font, _StoredGlyphs(self.glyf))
+        font["maxp"].recalc(view)
+        font["hhea"].recalc(view)
+
+        @contextlib.contextmanager
+        def bounds_known():
+            old = font.recalcBBoxes
+            font.recalcBBoxes = False
+            try:
+                yield
+            finally:
+                font.recalcBBoxes = old
+        return bounds_known()
+
     def _put(self, name, g):
         self.glyf[name] = g
         g.recalcBounds(self.glyf)
         return int(getattr(g, "xMin", 0)) if g.numberOfContours else 0
+
+
+class _StoredGlyphs:
+    """A glyf table as fontTools' ``maxp.recalc`` and ``hhea.recalc`` read it: a
+    glyph still held as its stored bytes is read from them without decoding its
+    points (a simple glyph's header and point count,
+    :class:`morph.fonts.tables_static.Header`; a composite decoded apart, its
+    components only), the others as they are."""
+
+    def __init__(self, glyf):
+        self.glyf = glyf
+
+    def __len__(self):
+        return len(self.glyf)
+
+    def __getitem__(self, name):
+        from fontTools.ttLib.tables._g_l_y_f import Glyph
+
+        from .tables_static import Header
+
+        g = self.glyf.glyphs[name]
+        data = getattr(g, "data", None)
+        if not data:
+            return g
+        if int.from_bytes(data[:2], "big", signed=True) >= 0:
+            return Header(data)
+        g = Glyph(data)
+        g.expand(self.glyf)
+        return g
+
+
+class _HeaderView:
+    """The font as ``maxp.recalc`` and ``hhea.recalc`` read it, its glyf table a
+    :class:`_StoredGlyphs`."""
+
+    def __init__(self, font, glyf):
+        self.font, self.glyf = font, glyf
+
+    def __contains__(self, tag):
+        return tag in self.font
+
+    def __getitem__(self, tag):
+        return self.glyf if tag == "glyf" else self.font[tag]
+
+    def getGlyphOrder(self):
+        return self.font.getGlyphOrder()
 
 
 def _glyf_points(outlines):
@@ -694,12 +775,21 @@ def _glyf_points(outlines):
 
 
 class _CFFOutlines(OutlineWriter):
-    """``CFF `` table (Type 2 charstrings, cubic, T2CharStringPen)."""
+    """``CFF `` table (Type 2 charstrings, cubic, T2CharStringPen).
+
+    Every charstring answers ``calcBounds`` with bounds computed once
+    (:func:`morph.fonts.tables_static.as_bounded`): the save asks each glyph for
+    them twice (the CFF font box and hhea), which drew every glyph in Python; a
+    written glyph's are its new program's, the others' (:meth:`saving`)
+    those of a copy, so that they keep their source bytes (a charstring fontTools
+    decompiles is compiled again, not always to the same bytes)."""
 
     quadratic = False
 
     def __init__(self, font):
-        self.cff = font["CFF "].cff
+        from .deferred import cff_table
+
+        self.cff = cff_table(font).cff
         top = self.cff.topDictIndex[0]
         self.char_strings = top.CharStrings
         self.private = top.Private
@@ -710,11 +800,43 @@ class _CFFOutlines(OutlineWriter):
 
         return T2CharStringPen(advance - self.nominal, None)
 
+    def write(self, name, contours, advance):
+        """Draw ``contours`` as glyph ``name``; its bounds are those of the same
+        points drawn into fontTools' bounds pen in the same order (what
+        ``calcBounds`` of the new charstring computes, without decoding it)."""
+        from fontTools.pens.boundsPen import BoundsPen
+
+        bounds_pen = BoundsPen(None)
+        draw_contours(bounds_pen, contours, self.quadratic)
+        pen = self.pen(advance)
+        draw_contours(pen, contours, self.quadratic)
+        return self._put(name, pen, bounds_pen.bounds)
+
     def store(self, name, pen):
         cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
-        self.char_strings[name] = cs
-        bounds = cs.calcBounds(self.char_strings)
+        return self._put(name, pen, cs.calcBounds(self.char_strings), cs)
+
+    def _put(self, name, pen, bounds, cs=None):
+        from .tables_static import as_bounded
+
+        if cs is None:
+            cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
+        self.char_strings[name] = as_bounded(cs, bounds)
         return int(np.floor(bounds[0])) if bounds else 0
+
+    def saving(self):
+        """The charstrings not written answer ``calcBounds`` with the bounds of a
+        copy (drawn once; the charstring keeps its bytes, compiled as they are);
+        the save recomputes the boxes from them as usual."""
+        import contextlib
+
+        from .tables_static import as_bounded, is_bounded
+
+        for name in self.char_strings.keys():
+            cs = self.char_strings[name]
+            if not is_bounded(cs):
+                as_bounded(cs, copy.copy(cs).calcBounds(self.char_strings))
+        return contextlib.nullcontext()
 
 
 def outline_writer(font):
@@ -745,9 +867,8 @@ def outline_glyphs(font):
     CFF: glyphs whose charstring draws something.
     """
     if "glyf" in font:
-        glyf = font["glyf"]
-        return [n for n in font.getGlyphOrder()
-                if not glyf[n].isComposite() and glyf[n].numberOfContours > 0]
+        glyphs = _StoredGlyphs(font["glyf"])   # headers: no glyph decoded to ask
+        return [n for n in font.getGlyphOrder() if glyphs[n].numberOfContours > 0]
     from fontTools.pens.boundsPen import ControlBoundsPen
 
     gs = font.getGlyphSet()
@@ -966,7 +1087,8 @@ def finish_font(font):
 
     OS/2 xAvgCharWidth recomputed (fontTools ``recalcAvgCharWidth``); tables that
     cache per-size metrics of the old outlines (hdmx, LTSH, VDMX) are dropped.  Bounds
-    in head/hhea/maxp are recomputed by :func:`save_font` (``recalcBBoxes``).
+    in head/hhea/maxp are recomputed at the save (:meth:`OutlineWriter.saving`, then
+    :func:`save_font`).
     """
     for tag in ("hdmx", "LTSH", "VDMX"):
         if tag in font:

@@ -593,3 +593,40 @@ def test_chunk_sums_glyph_by_glyph_where_the_packed_call_raises(monkeypatch):
         assert len(c2) == len(single)
         for a, b in zip(c2, single):                # contours: lists of segments
             assert len(a) == len(b) and all(np.array_equal(s, u) for s, u in zip(a, b))
+
+
+def _recomputed(path):
+    """The font at ``path`` saved again by fontTools with every glyph decoded (its
+    boxes and maxp recomputed from the outlines) and read back."""
+    import io
+
+    f = TTFont(str(path))
+    f.ensureDecompiled()
+    buf = io.BytesIO()
+    f.save(buf)
+    return TTFont(io.BytesIO(buf.getvalue()))
+
+
+def test_boxes_as_fonttools_recomputes_them(brushed):
+    """The save computes the boxes and maxp once, the glyphs not swept read from their
+    stored form (morph.fonts.tables, ``saving``): head's box and flags, hhea's side
+    bearings and extent, maxp and the CFF font box are what fontTools computes from
+    every glyph's outline; the glyphs not swept keep the source's bytes."""
+    src, out = brushed
+    a, b, source = TTFont(str(out)), _recomputed(out), TTFont(str(src))
+    assert [getattr(a["head"], k) for k in ("xMin", "yMin", "xMax", "yMax", "flags")] == \
+        [getattr(b["head"], k) for k in ("xMin", "yMin", "xMax", "yMax", "flags")]
+    assert a["hhea"].compile(a) == b["hhea"].compile(b)
+    assert a["maxp"].compile(a) == b["maxp"].compile(b)
+    swept = {source.getBestCmap()[ord(c)] for c in CHARS + " "}
+    kept = [n for n in source.getGlyphOrder() if n not in swept]
+    if "CFF " in a:
+        assert a["CFF "].cff.topDictIndex[0].FontBBox == b["CFF "].cff.topDictIndex[0].FontBBox
+        cs, src_cs = (f["CFF "].cff.topDictIndex[0].CharStrings for f in (a, source))
+        assert all(cs[n].bytecode == src_cs[n].bytecode for n in kept)
+    else:
+        stored = [(a["glyf"].glyphs[n], source["glyf"].glyphs[n]) for n in kept]
+        simple = [(g, s) for g, s in stored
+                  if int.from_bytes(getattr(s, "data", b"\0\0")[:2], "big", signed=True) >= 0]
+        assert len(simple) > 50 and all(getattr(g, "data", None) == getattr(s, "data", None)
+                                        for g, s in simple)

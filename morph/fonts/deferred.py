@@ -1,0 +1,81 @@
+"""fontTools' CFF table without its OpenType layout classes, unless a table needs them.
+
+``fontTools.cffLib`` imports fontTools' OpenType layout table classes
+(``fontTools.ttLib.tables.otTables``, which builds some 300 classes from its data
+tables as it loads) and, through ``otBase``, the HarfBuzz bindings (``uharfbuzz``,
+fontTools' GSUB/GPOS packer), both for CFF2's variation store only: a CFF 1 font
+without layout tables never uses them, yet every process reading one paid about a
+twelfth of a second of CPU for them (a tenth of a 62-glyph ``morph brush``).
+
+:func:`cff_table` reads a font's ``CFF `` table with those two modules deferred
+(:func:`deferred_imports`): each is registered under its name and executed at its
+first attribute access, as the standard library's ``importlib.util.LazyLoader``
+does, so whatever
+uses them (a GPOS table decompiled to move anchors, GSUB compiled with HarfBuzz's
+packer, a CFF2 variation store) gets the whole module as a plain import would, and a
+font that never needs them does not load them.
+"""
+
+import sys
+import types
+
+__all__ = ["cff_table", "deferred_imports", "LAYOUT_MODULES"]
+
+#: what fontTools.cffLib imports for CFF2 only: the OpenType layout classes and the
+#: HarfBuzz bindings that otBase imports for its packer
+LAYOUT_MODULES = ("fontTools.ttLib.tables.otTables", "uharfbuzz")
+
+
+class _Deferred(types.ModuleType):
+    """A module registered in ``sys.modules`` and executed at its first attribute
+    access other than ``__spec__`` and ``__name__`` (which the import system reads
+    when the module is imported again by name: ``import uharfbuzz as hb`` in
+    fontTools' otBase binds the deferred module without running it)."""
+
+    def __getattribute__(self, attr):
+        fields = types.ModuleType.__getattribute__(self, "__dict__")
+        if attr in ("__spec__", "__name__"):
+            return fields[attr]
+        spec = fields["__spec__"]
+        self.__class__ = types.ModuleType
+        try:
+            spec.loader.exec_module(self)
+        except BaseException:
+            sys.modules.pop(spec.name, None)  # as a failed plain import leaves it
+            raise
+        return getattr(self, attr)
+
+
+def deferred_imports(names):
+    """Register each module of ``names`` not yet imported as a :class:`_Deferred`
+    module, bound in its parent package as an import binds it; a name that cannot be
+    found is left to a plain import (which then raises as usual).  Returns the
+    names deferred."""
+    import importlib.util
+
+    done = []
+    for name in names:
+        if name in sys.modules:
+            continue
+        try:
+            spec = importlib.util.find_spec(name)
+        except (ImportError, ValueError):
+            continue
+        if spec is None or not hasattr(spec.loader, "exec_module"):
+            continue
+        module = importlib.util.module_from_spec(spec)
+        module.__class__ = _Deferred
+        sys.modules[name] = module
+        parent, _, child = name.rpartition(".")
+        if parent:
+            setattr(sys.modules[parent], child, module)
+        done.append(name)
+    return done
+
+
+def cff_table(font):
+    """``font["CFF "]``, fontTools.cffLib imported with :data:`LAYOUT_MODULES`
+    deferred (:func:`deferred_imports`) when it is not imported yet."""
+    if "fontTools.cffLib" not in sys.modules:
+        deferred_imports(LAYOUT_MODULES)
+    return font["CFF "]
