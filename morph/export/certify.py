@@ -838,7 +838,8 @@ def _refined(groups, sets, cols, redo, refine):
     pair, panel, c = cols.pair[redo], cols.panel[redo], cols.c[redo]
     cut_tuples = tuple(ps.cuts for ps in sets)
     group = cols.group[pair]
-    for g in np.unique(group).tolist():
+    for g in np.flatnonzero(np.bincount(group, minlength=len(groups))).tolist():  # not
+        # np.unique: it imports numpy.ma, which font workers must not load
         sel = np.flatnonzero(group == g)
         stack = groups[g][1]
         n1 = stack.shape[1]
