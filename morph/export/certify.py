@@ -36,7 +36,14 @@ Möbius map (:func:`_panel_bounds`): R o mu is R with its weights scaled by c^i,
 R's own degree, so nothing is composed; the bound on each panel squares nothing
 either (:func:`hull_bound`: ``|E| <= sum |e_i| B_i <= max_i (|e_i| / w_i) W``).  The
 panels' phi is continuous and increasing, so the bound is a Fréchet bound as above.
-The composed map remains for pairs the panels do not certify.
+Pairs whose rays already match at the same parameter take phi = identity on four
+equal panels instead.  The feet are the fitter's: nothing is sampled again, and no
+Newton step runs on this path.  All panels of a batch, of every degree, are bounded
+first without halving (the pieces lifted to the batch's highest degree); only the
+panels that can still raise their pair's maximum are refined, at the piece's own
+degree (:func:`_worst_panels`, a branch and bound whose result is that of refining
+every panel).  Pairs these panels do not certify are tried on panels cut at every
+ray, and only then by the composed map.
 
 **What is bounded.**  A bound b of the parametric distance under the monotone
 reparametrisation phi bounds the Fréchet distance between C and R restricted to
@@ -494,7 +501,9 @@ class Certified:
 
     A pair certified on the fitter's ray pairs (:func:`_panel_bounds`: ``paneled[i]``)
     has ``cuts[i]`` (the cubic's parameters s_j of its panels' ends, the piece's
-    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor).  A pair certified
+    ``nodes`` u_j) and ``moebius[i]`` (each panel's Möbius factor); one certified at
+    the same parameter (``same[i]``) has the identity on the panels of SAME_CUTS.
+    A pair certified
     by the composed map has ``phis[i]``, ``size[i]``, ``c[i]``; one certified as
     halves (:func:`_halved`) has ``half[i]`` >= 0: its halves are rows half[i] and
     half[i] + ``sub_n`` of ``sub`` (the Certified of all halved pairs of the batch),
@@ -503,13 +512,13 @@ class Certified:
     certify)."""
 
     __slots__ = ("bound", "phis", "size", "c", "half", "half_u", "sub", "sub_n",
-                 "paneled", "cuts", "nodes", "moebius", "other", "rest")
+                 "paneled", "same", "cuts", "nodes", "moebius", "other", "rest")
 
     def __init__(self, bound, phis=None, size=None, c=None):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
         self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
         self.sub, self.sub_n = None, 0
-        self.paneled = self.cuts = self.nodes = self.moebius = self.rest = None
+        self.paneled = self.same = self.cuts = self.nodes = self.moebius = self.rest = None
         self.other = np.full(len(bound), -1)
 
     def panels(self, i):
@@ -523,6 +532,9 @@ class Certified:
             return [(float(s[p]), float(s[p + 1]),
                      affine_reparam(np.array([[0.0, 1.0], [c[p], c[p]]]), u[p], u[p + 1] - u[p]))
                     for p in range(len(c))]
+        if self.same is not None and self.same[i]:
+            return [(a, b, affine_reparam(_IDENTITY, a, b - a))
+                    for a, b in zip(SAME_CUTS, SAME_CUTS[1:])]
         j = int(self.half[i])
         if j >= 0:
             u = float(self.half_u[i])
@@ -530,8 +542,14 @@ class Certified:
                      for a, b, f in self.sub.panels(j)]
                     + [(0.5 + 0.5 * a, 0.5 + 0.5 * b, affine_reparam(f, u, 1.0 - u))
                        for a, b, f in self.sub.panels(j + self.sub_n)])
+        if self.phis is None:
+            return [(0.0, 1.0, _IDENTITY)]
         f, c = self.phis[i, :self.size[i]], self.c[i]
         return [(0.0, 1.0, np.stack([c * f, (c - 1.0) * f + 1.0], axis=1))]
+
+
+#: phi = identity as (2, 2) homogeneous coefficients [numerator, weight].
+_IDENTITY = np.array([[0.0, 1.0], [1.0, 1.0]])
 
 
 def certify_many(subs, cubics, tol, depth=3):
@@ -596,36 +614,37 @@ PANEL_STEP = 2
 FALLBACK_GAP = 0.95
 
 
-def _ray_certified(groups, cubics, tol, depth, pairs):
+def _ray_certified(groups, cubics, tol, depth, pairs, step=None):
     """:func:`certify_batch` given the fitter's ray pairs: each pair is certified on
-    panels cut at the pairs (:func:`_panel_bounds`: nothing is sampled again, nothing
-    composed).  Pairs whose parameters already match (phi = identity within
-    PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take the same-parameter
-    certificate instead (:func:`morph.nearest.distance_bound_many`, as the composed
-    map does with that phi): one panel of the piece's own degree, cheaper than nine;
-    pieces of degree below PANEL_DEGREE take the composed map.  Where the bound
-    exceeds tol although the rays' gaps are within FALLBACK_GAP tol (a feet map no
-    Möbius map per panel follows, rays out of order) the composed map of
-    :func:`certify_batch` is tried as well and the smaller bound kept; above that,
-    no map does much better than the gaps, and the pair fails as it is."""
+    panels cut at every ``step``-th pair (:func:`_panel_bounds`: nothing is sampled
+    again, nothing composed).  Pairs whose parameters already match (phi =
+    identity within PHI_SHARE tol at the pairs, as :func:`_phi_fits` decides) take
+    phi = identity instead, on SAME_CUTS's four equal panels (no pairs to order, no
+    Möbius factor: the same-parameter certificate of :func:`hull_bound` at
+    PANEL_REFINE + 2 halvings in all); pieces of degree below PANEL_DEGREE take the
+    composed map.  Where the bound exceeds tol although the rays' gaps are within
+    FALLBACK_GAP tol (a feet map one Möbius map per panel does not follow: a
+    cubic's parameter racing ahead of the piece's near an end) the pair is
+    certified again on panels cut at every pair (``step`` 1, each panel's Möbius
+    map from its end speeds), and where that fails too, by the composed map of
+    :func:`certify_batch`; the smaller bound is kept.  Above FALLBACK_GAP tol no map
+    does much better than the gaps, and the pair fails as it is."""
+    step = PANEL_STEP if step is None else step
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
     with np.errstate(invalid="ignore"):
         same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
+        same &= step == PANEL_STEP
         gap = pgap.max(axis=1)
     low = np.zeros(len(cubics), bool)
     for rows, stack in groups:
         low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low))
-    for rows, stack in groups:          # phi = identity: the same-parameter certificate
-        sel = np.nonzero(same[rows])[0]
-        if len(sel):
-            bound[rows[sel]] = nr.distance_bound_many(stack[sel], cubics[rows[sel]], REFINE)[0]
-    out = Certified(bound, np.tile(np.eye(1, PHI_DEGREES[-1] + 1, 1), (len(bound), 1)),
-                    np.full(len(bound), 2), np.ones(len(bound)))
-    out.paneled = ~(same | low)
+    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low), step=step,
+                                      same=same)
+    out = Certified(bound)
+    out.paneled, out.same = ~(same | low), same
     out.cuts, out.moebius = cuts, moeb
-    out.nodes = np.concatenate([[0.0], pu[PANEL_STEP - 1::PANEL_STEP], [1.0]])
+    out.nodes = np.concatenate([[0.0], pu[step - 1::step], [1.0]])
     rest = np.nonzero(~(bound <= tol) & ~(gap > FALLBACK_GAP * tol))[0]
     if not len(rest):
         return out
@@ -633,8 +652,9 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     where[rest] = np.arange(len(rest))
     sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
            if (where[r] >= 0).any()]
-    again = certify_batch(sub, cubics[rest], tol, depth,
-                          pairs=(ps[rest], pu, pspeed[rest], pgap[rest]), panel=False)
+    again = (ps[rest], pu, pspeed[rest], pgap[rest])
+    again = (_ray_certified(sub, cubics[rest], tol, depth, again, step=1) if step > 1 else
+             certify_batch(sub, cubics[rest], tol, depth, pairs=again, panel=False))
     won = again.bound < bound[rest]
     out.bound[rest[won]] = again.bound[won]
     out.other[rest[won]] = where[rest[won]]
@@ -642,7 +662,22 @@ def _ray_certified(groups, cubics, tol, depth, pairs):
     return out
 
 
-def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
+#: The panels of a pair certified at the same parameter (:func:`_ray_certified`):
+#: R and C both cut at these parameters, phi = identity on each, PANEL_REFINE
+#: halvings of each (16 equal panels in all: within 0.1 % of the squared
+#: certificate of :func:`morph.nearest.distance_bound_many` at 8 panels on the
+#: pairs of the bench sets, tighter on some, at a fifth of its CPU).
+SAME_CUTS = (0.0, 0.25, 0.5, 0.75, 1.0)
+
+#: One kind of panels of :func:`_panel_bounds` for some pairs: ``rows`` (the pairs,
+#: global), ``cuts`` (the piece's parameters of the panels' ends, the same for all),
+#: ``cub`` (2, 4, P r): the cubics on their panels, coordinate-major, columns in
+#: (panel, pair) order, ``moebius`` (r, P): each panel's Möbius factor, NaN where
+#: :func:`_panel_moebius` picks it, None for the identity.
+_PanelSet = namedtuple("_PanelSet", "rows cuts cub moebius")
+
+
+def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None, same=None):
     """Certified bounds of cubics against sub-pieces on panels cut at matched pairs of
     parameters: the cubic's s_j (``s`` (k, 2 m), per pair) with the piece's u_j
     (``u`` (2 m,), increasing, the same for all pairs).  Every ``step``-th pair
@@ -659,48 +694,172 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None):
     panel against C|[s_j, s_j+2].  Any continuous increasing phi gives a bound: the
     pairs (the rays of the fitter: R(u_j) and C(s_j) on one normal of R) make it a
     tight one.  Pairs out of order are moved into it first (:func:`_ordered_pairs`).
-    Returns (bound (k,), cuts (k, m + 2), Möbius factors (k, m + 1)); bound inf where
-    the cuts s_j are still not strictly increasing in (0, 1) and on the rows not in
-    ``todo`` (a mask; None: all)."""
+    The rows of ``same`` (a mask, None: none) are bounded with phi = identity on the
+    panels of SAME_CUTS instead.  All panels of all degrees are bounded together
+    first, then only those that can raise a pair's bound are refined
+    (:func:`_worst_panels`).  Returns (bound (k,), cuts (k, m + 2), Möbius factors
+    (k, m + 1)); bound inf where the cuts s_j are still not strictly increasing in
+    (0, 1) and on the rows in neither ``todo`` (a mask; None: all) nor ``same``;
+    cuts NaN off ``todo``."""
     refine = PANEL_REFINE if refine is None else refine
     k = len(s)
     u = np.asarray(u, float)
     step = PANEL_STEP if step is None else step
-    end, mid = slice(step - 1, None, step), slice(step // 2 - 1, None, step)
-    s = _ordered_pairs(s, u)
-    cuts = np.concatenate([np.zeros((k, 1)), s[:, end], np.ones((k, 1))], axis=1)
-    ucut = np.concatenate([[0.0], u[end], [1.0]])
-    ok = np.all(np.isfinite(cuts), axis=1)
-    if todo is not None:
-        ok &= todo
-    ok[ok] = np.all(np.diff(cuts[ok], axis=1) > 0, axis=1)
-    npan = cuts.shape[1] - 1
-    inner = _inner_moebius(s[:, mid], u[mid], cuts, ucut) if step > 1 \
-        else np.full((k, npan), np.nan)
-    bound = np.full(k, np.inf)
-    moeb = np.ones((k, npan))
-    uc = tuple(ucut.tolist())
-    for rows, stack in groups:
-        r = rows[ok[rows]]
-        if not len(r):
-            continue
-        kr, n = len(r), stack.shape[1] - 1
-        # coordinate-major arrays (coordinate, coefficient, row), the rows in (panel,
-        # pair) order: one matrix product cuts every piece into its panels
-        st = stack[ok[rows]].transpose(1, 0, 2).reshape(n + 1, 3 * kr)
-        sub = (_cut_matrices(n, uc) @ st).reshape(npan, n + 1, kr, 3)
-        sub = sub.transpose(3, 1, 0, 2).reshape(3, n + 1, npan * kr)
-        cub = _cubic_panels(cubics[r], cuts[r])
-        c = inner[r].T.ravel()
-        bad = np.nonzero(np.isnan(c))[0]
-        if len(bad):
-            c[bad] = _panel_moebius(sub[:, :, bad], cub[:, :, bad])
-        power = np.ones((n + 1, len(c)))                          # c^i: R o mu
-        power[1:] = np.cumprod(np.broadcast_to(c, (n, len(c))), axis=0)
-        sub *= power
-        bound[r] = _hull_rows(sub, cub, refine).reshape(npan, kr).max(axis=0)
-        moeb[r] = c.reshape(npan, kr).T
+    ucut = np.concatenate([[0.0], u[step - 1::step], [1.0]])
+    bound, cuts = np.full(k, np.inf), np.full((k, len(ucut)), np.nan)
+    moeb = np.ones((k, len(ucut) - 1))
+    rows = np.arange(k) if todo is None else np.flatnonzero(todo)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sets = [_ray_panels(cubics, s, u, rows, step, ucut, cuts)]
+        if same is not None and same.any():
+            srows = np.flatnonzero(same)
+            sets.append(_PanelSet(srows, SAME_CUTS, _fixed_panels(
+                np.ascontiguousarray(cubics[srows].transpose(2, 1, 0)), SAME_CUTS), None))
+        sets = [p for p in sets if len(p.rows)]
+        if sets:
+            cols = _columns(groups, k, sets, moeb)
+            for p, b in zip(sets, _worst_panels(groups, sets, cols, refine)):
+                bound[p.rows] = b
     return bound, cuts, moeb
+
+
+def _ray_panels(cubics, s, u, rows, step, ucut, cuts):
+    """The :class:`_PanelSet` of the pairs ``rows`` on the fitter's rays: their cuts
+    s_j written into ``cuts`` (k, P + 1); only the rows whose cuts increase
+    strictly are kept."""
+    s = _ordered_pairs(s[rows], u)
+    c = np.concatenate([np.zeros((len(rows), 1)), s[:, step - 1::step],
+                        np.ones((len(rows), 1))], axis=1)
+    cuts[rows] = c
+    ok = np.all(np.diff(c, axis=1) > 0, axis=1)
+    rows, s, c = rows[ok], s[ok], c[ok]
+    mid = slice(step // 2 - 1, None, step)
+    inner = (_inner_moebius(s[:, mid], u[mid], c, ucut) if step > 1
+             else np.full((len(rows), len(ucut) - 1), np.nan))
+    return _PanelSet(rows, tuple(ucut.tolist()), _cubic_panels(cubics[rows], c), inner)
+
+
+def _fixed_panels(c, cuts):
+    """Coordinate-major Bernstein coefficients c (d, n+1, r) on the panels between
+    the fixed parameters ``cuts`` (a tuple): (d, n+1, P r), columns in (panel, row)
+    order (one matrix product, :func:`_cut_matrices`)."""
+    d, n1, r = c.shape
+    sub = (_cut_matrices(n1 - 1, cuts) @ c.transpose(1, 0, 2).reshape(n1, d * r))
+    return sub.reshape(-1, n1, d, r).transpose(2, 1, 0, 3).reshape(d, n1, -1)
+
+
+#: The panel columns of :func:`_panel_bounds`, every panel set's in turn: ``sub``
+#: (3, N+1, K) the pieces R o mu on their panels, lifted to the batch's highest
+#: degree N, ``cub`` (2, 4, K) the cubics on them, ``pair`` (K,) the pair of each
+#: column, ``panel`` (K,) its panel (numbered over the sets: :func:`_native_cuts`),
+#: ``c`` (K,) its Möbius factor; per pair its degree group ``group`` and row in the
+#: group's stack ``slot``.
+_Columns = namedtuple("_Columns", "sub cub pair panel c group slot")
+
+
+def _columns(groups, k, sets, moeb):
+    """The :class:`_Columns` of the panel sets ``sets`` (their Möbius factors written
+    into ``moeb``).  Every piece is lifted to the batch's highest degree first
+    (degree elevation: the same curve), so that all degrees are cut, mapped and
+    bounded together; the lifted columns only screen (:func:`_worst_panels`)."""
+    top = max(st.shape[1] for _, st in groups)
+    lift = np.empty((top, 3, k))              # coefficient-major: a set's rows gathered
+    group, slot = np.full(k, -1), np.zeros(k, int)    # are one matrix's columns
+    for g, (rows, stack) in enumerate(groups):
+        lift[:, :, rows] = (bz.elevate_many(stack, top - stack.shape[1])
+                            if stack.shape[1] < top else stack).transpose(1, 2, 0)
+        group[rows], slot[rows] = g, np.arange(len(rows))
+    size = [(len(ps.cuts) - 1) * len(ps.rows) for ps in sets]
+    sub = np.empty((3, top, sum(size)))
+    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2),
+                    np.concatenate([np.tile(ps.rows, len(ps.cuts) - 1) for ps in sets]),
+                    np.empty(len(sub[0, 0]), int), np.ones(len(sub[0, 0])), group, slot)
+    lo = first = 0
+    for ps, n in zip(sets, size):
+        npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
+        x = lift[:, :, ps.rows].reshape(top, -1)
+        view.reshape(3, top, npan, -1)[...] = (_cut_matrices(top - 1, ps.cuts) @ x).reshape(
+            npan, top, 3, -1).transpose(2, 1, 0, 3)
+        cols.panel[lo:lo + n] = first + np.repeat(np.arange(npan), len(ps.rows))
+        if ps.moebius is not None:
+            c = cols.c[lo:lo + n]
+            c[...] = ps.moebius.T.ravel()
+            bad = np.flatnonzero(np.isnan(c))
+            if len(bad):
+                c[bad] = _panel_moebius(view[:, :, bad], ps.cub[:, :, bad])
+            view[:, 1:] *= np.cumprod(np.broadcast_to(c, (top - 1, n)), axis=0)  # c^i: R o mu
+            moeb[ps.rows] = c.reshape(npan, -1).T
+        lo, first = lo + n, first + npan
+    return cols
+
+
+def _worst_panels(groups, sets, cols, refine):
+    """Per panel set of ``sets`` the largest :func:`_hull_rows` bound (``refine``
+    halvings, each piece at its own degree) over each pair's panels: a list of
+    (r,) arrays.
+
+    Branch and bound, with the result of refining every panel: each panel is bounded
+    first without halving, lifted (``cols``, :func:`_columns`: a quarter of the
+    work, all degrees in one call; elevation and another scaling of the weights
+    give other coefficients of the same E / W, so another certificate of the same
+    distance).  Its end coefficients are the distances at the panel's ends
+    exactly, so the largest of them over a pair's panels, L, is attained and at
+    most its refined maximum; the refined bound at the piece's own degree is at
+    most its unrefined one at that degree (de Casteljau coefficients are convex
+    combinations of the parent's), which the lifted bound screens: only panels
+    whose lifted bound exceeds L can raise the maximum, and only those are
+    refined (a tenth to a sixth of them on the bench sets: a fitted cubic's error
+    is mostly largest at panel ends)."""
+    b, ends = _hull_rows(cols.sub, cols.cub, 0, ends=True)
+    low = np.empty_like(ends)
+    lo = 0
+    for ps in sets:
+        size = (len(ps.cuts) - 1) * len(ps.rows)
+        e = ends[lo:lo + size].reshape(-1, len(ps.rows))
+        low[lo:lo + size] = np.broadcast_to(np.fmax.reduce(e, axis=0), e.shape).ravel()
+        lo += size
+    redo = np.flatnonzero(~(b <= low))
+    if refine > 0 and len(redo):
+        b[redo] = _refined(groups, sets, cols, redo, refine)
+    out, lo = [], 0
+    for ps in sets:
+        size = (len(ps.cuts) - 1) * len(ps.rows)
+        out.append(b[lo:lo + size].reshape(-1, len(ps.rows)).max(axis=0))
+        lo += size
+    return out
+
+
+def _refined(groups, sets, cols, redo, refine):
+    """:func:`_hull_rows` at ``refine`` halvings of the columns ``redo`` of ``cols``,
+    each piece at its own degree: the columns of the batch's highest degree as
+    they are, the others cut again from their stacks (one batched product of each
+    column's panel matrix per degree), R o mu by the weights scaled by c^i."""
+    out = np.empty(len(redo))
+    pair, panel, c = cols.pair[redo], cols.panel[redo], cols.c[redo]
+    cut_tuples = tuple(ps.cuts for ps in sets)
+    group = cols.group[pair]
+    for g in np.flatnonzero(np.bincount(group, minlength=len(groups))).tolist():  # not
+        # np.unique: it imports numpy.ma, which font workers must not load
+        sel = np.flatnonzero(group == g)
+        stack = groups[g][1]
+        n1 = stack.shape[1]
+        if n1 == cols.sub.shape[1]:             # not lifted: the columns themselves
+            sub = cols.sub[:, :, redo[sel]]
+        else:
+            sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
+                            stack[cols.slot[pair[sel]]])
+            sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
+            sub = np.ascontiguousarray(sub.transpose(2, 1, 0))
+        out[sel] = _hull_rows(sub, cols.cub[:, :, redo[sel]], refine)
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _native_cuts(n, cut_tuples):
+    """The panel matrices (panels, n+1, n+1) of every tuple of cuts in turn (the
+    panels numbered as in :class:`_Columns`)."""
+    return np.concatenate([_cut_matrices(n, cuts).reshape(-1, n + 1, n + 1)
+                           for cuts in cut_tuples])
 
 
 def _inner_moebius(s_mid, u_mid, cuts, ucut):
@@ -723,7 +882,19 @@ def _ordered_pairs(s, u):
     every s after it (and 1); the others (NaN, clipped to an end by the fitter's rays,
     crossing a neighbour) get s interpolated linearly in u (m,) between the nearest
     kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
-    kept pairs keep it tight."""
+    kept pairs keep it tight.  Rows already strictly increasing in (0, 1) (nearly
+    all) are returned as they are, the others reordered (:func:`_reordered`)."""
+    with np.errstate(invalid="ignore"):
+        fine = (s[:, 0] > 0.0) & (s[:, -1] < 1.0) & np.all(s[:, 1:] > s[:, :-1], axis=1)
+    if fine.all():
+        return s
+    out = s.copy()
+    out[~fine] = _reordered(s[~fine], u)
+    return out
+
+
+def _reordered(s, u):
+    """:func:`_ordered_pairs` of rows s (k, m) that need it."""
     k, m = s.shape
     ext = np.concatenate([np.zeros((k, 1)), s, np.ones((k, 1))], axis=1)
     with np.errstate(invalid="ignore"):
@@ -758,41 +929,63 @@ def _cubic_panels(cubics, cuts):
     The control points of C on [a, b] are its blossom's values C(a, a, a), C(a, a,
     b), C(a, b, b), C(b, b, b): de Casteljau's second level at every cut, shared by
     the two panels that meet there, and one more step."""
-    t = cuts.T[:, :, None]                                           # (P + 1, k, 1)
-    q = cubics.transpose(1, 0, 2)[:, None]                           # (4, 1, k, 2)
-    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]
-    l2 = [l1[0] + t * (l1[1] - l1[0]), l1[1] + t * (l1[2] - l1[1])]
-    point = l2[0] + t * (l2[1] - l2[0])
-    a, b = t[:-1], t[1:]
-    out = np.stack([point[:-1], l2[0][:-1] + b * (l2[1][:-1] - l2[0][:-1]),
-                    l2[0][1:] + a * (l2[1][1:] - l2[0][1:]), point[1:]])
-    return np.ascontiguousarray(out.reshape(4, -1, 2).transpose(2, 0, 1))
+    npan, k = cuts.shape[1] - 1, len(cubics)
+    t = cuts.T[None]                                                 # (1, P + 1, k)
+    q = cubics.transpose(1, 2, 0)[:, :, None]                        # (4, 2, 1, k)
+    l1 = [q[i] + t * (q[i + 1] - q[i]) for i in range(3)]            # (2, P + 1, k)
+    lo = l1[0] + t * (l1[1] - l1[0])
+    d = l1[1] + t * (l1[2] - l1[1]) - lo
+    out = np.empty((2, 4, npan, k))
+    point = lo + t * d
+    out[:, 0], out[:, 3] = point[:, :-1], point[:, 1:]
+    out[:, 1] = lo[:, :-1] + t[:, 1:] * d[:, :-1]
+    out[:, 2] = lo[:, 1:] + t[:, :-1] * d[:, 1:]
+    return out.reshape(2, 4, npan * k)
 
 
 @functools.lru_cache(maxsize=None)
 def _hull_matrices(n, m, halvings):
-    """The linear maps of :func:`hull_bound`: the elevation of degree n by m, then the
-    2^halvings panels; the Bernstein product of degrees n and m from the products
-    w_i q_j, then the panels."""
+    """The linear maps of :func:`hull_bound`: W's, the elevation of degree n by m
+    then the 2^halvings panels; E's, that map and minus the Bernstein product of
+    degrees n and m (from the products w_i q_j) side by side, then the panels."""
     panels = bz._panel_matrices(n + m, halvings)
-    return panels @ bz._elevation_matrix(n, m), panels @ bz._scatter(n, m)
+    elev = panels @ bz._elevation_matrix(n, m)
+    return elev, np.concatenate([elev, -(panels @ bz._scatter(n, m))], axis=1)
 
 
-def _hull_rows(c, q, halvings):
-    """:func:`hull_bound` of coordinate-major arrays: c (3, n+1, K), q (2, m+1, K)."""
-    n, m, k = c.shape[1] - 1, q.shape[1] - 1, c.shape[2]
-    elev, prod = _hull_matrices(n, m, halvings)
-    w = c[2]
-    h = np.empty((3, elev.shape[0], k))
-    np.matmul(elev, w, out=h[2])
-    for d in (0, 1):                    # E = X - W Q, both translated by R's start
-        o = c[d, 0] / w[0]
-        np.matmul(elev, c[d] - w * o, out=h[d])
-        h[d] -= prod @ (w[:, None] * (q[d] - o)[None]).reshape((n + 1) * (m + 1), k)
-    ok = np.all(h[2] > 0, axis=0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r2 = (h[0] * h[0] + h[1] * h[1]) / (h[2] * h[2])
-    return np.where(ok, np.sqrt(r2.max(axis=0)), np.inf)
+#: Columns of :func:`_hull_rows` per block: its (2^halvings (n + m + 1), block)
+#: temporaries then stay in the processor's cache instead of streaming through
+#: memory (the hanzi set's batches reach 150,000 columns).
+HULL_BLOCK = 2048
+
+
+def _hull_rows(c, q, halvings, ends=False):
+    """:func:`hull_bound` of coordinate-major arrays: c (3, n+1, K), q (2, m+1, K);
+    with ``ends``, also |R - Q| at the two ends of each column's [0, 1] (its first
+    and last coefficient ratios: exact values), the larger: ((K,), (K,)).
+
+    Per block of columns, both coordinates of E = X - W Q (translated by R's start)
+    are one matrix product: [x - w o; w_i (q_j - o)] by [elevation, -product]."""
+    n1, m1, k = c.shape[1], q.shape[1], c.shape[2]
+    elev, fused = _hull_matrices(n1 - 1, m1 - 1, halvings)
+    out, end = np.empty(k), np.empty(k)
+    rows = n1 + n1 * m1
+    for lo in range(0, k, HULL_BLOCK):
+        cb, qb = c[:, :, lo:lo + HULL_BLOCK], q[:, :, lo:lo + HULL_BLOCK]
+        kb = cb.shape[2]
+        w = cb[2]
+        o = (cb[:2, 0] / w[0])[:, None]                               # (2, 1, kb)
+        a = np.empty((rows, 2, kb))
+        a[:n1] = (cb[:2] - w * o).transpose(1, 0, 2)
+        a[n1:] = (w[:, None, None] * (qb - o).transpose(1, 0, 2)[None]).reshape(-1, 2, kb)
+        e = (fused @ a.reshape(rows, 2 * kb)).reshape(-1, 2, kb)
+        h = elev @ w
+        e *= e
+        r2 = (e[:, 0] + e[:, 1]) / (h * h)
+        out[lo:lo + kb] = np.where(h.min(axis=0) > 0, np.sqrt(r2.max(axis=0)), np.inf)
+        if ends:
+            end[lo:lo + kb] = np.sqrt(np.fmax(r2[0], r2[-1]))
+    return (out, end) if ends else out
 
 
 def hull_bound(c, q, halvings=PANEL_REFINE):
@@ -816,8 +1009,9 @@ def hull_bound(c, q, halvings=PANEL_REFINE):
     positive."""
     c = np.asarray(c, float)
     q = np.asarray(q, float)
-    return _hull_rows(np.ascontiguousarray(c.transpose(2, 1, 0)),
-                      np.ascontiguousarray(q.transpose(2, 1, 0)), halvings)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return _hull_rows(np.ascontiguousarray(c.transpose(2, 1, 0)),
+                          np.ascontiguousarray(q.transpose(2, 1, 0)), halvings)
 
 
 def _panel_moebius(sub, cub):
