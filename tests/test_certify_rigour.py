@@ -27,8 +27,8 @@ from scipy.spatial import cKDTree
 from morph import piece as pc
 from morph.export import certify as certify_mod
 from morph.export.fit import _quadrature
-from tests.test_certify_panels import random_piece, ray_fit
-from tests.test_export import bernstein, rational, reparam_values
+from tests.test_certify_panels import random_piece, ray_fit, sampled
+from tests.test_export import bernstein, rational
 
 TOL = 0.5
 
@@ -51,16 +51,6 @@ def hausdorff_lower(a, b):
         near = cKDTree(q).query(p)[0]
         return near.max() - 0.5 * np.hypot(*np.diff(q, axis=0).T).max()
     return max(directed(a, b), directed(b, a), 0.0)
-
-
-def frechet_sampled(piece, cubic, panels, n=801):
-    """max |R(phi(s)) - C(s)| over n samples of every panel of phi."""
-    worst = 0.0
-    for s0, s1, phi in panels:
-        s = np.linspace(s0, s1, n)
-        u = reparam_values(phi, (s - s0) / (s1 - s0))
-        worst = max(worst, np.hypot(*(rational(piece)(u) - bernstein(cubic, s)).T).max())
-    return worst
 
 
 def certified(piece, cubic, rays, tol=TOL):
@@ -99,7 +89,7 @@ def check(piece, cubic, res, scale=1.0):
     bound = scale * float(res.bound[0])
     t = np.linspace(0.0, 1.0, 4001)
     haus = hausdorff_lower(rational(piece)(t), bernstein(cubic, t))
-    return bound, haus, frechet_sampled(piece, cubic, res.panels(0))
+    return bound, haus, sampled(piece, cubic, res.panels(0))
 
 
 @pytest.mark.parametrize("seed", range(5))

@@ -19,7 +19,6 @@ leaves the font to ufo2ft, with the same result.
 import pytest
 from fontTools.ttLib import TTFont
 
-from morph.fonts import stream
 from tests.fontfixtures import hershey_like, skeleton_line
 from tests.fonts.test_tables_static import _both_ways, _same_tables
 
@@ -59,19 +58,6 @@ def composites_font(change=None):
 
 def _not_exported(font):
     font.lib["public.skipExportGlyphs"] = ["period"]
-
-
-@pytest.fixture
-def ufo2ft_calls(monkeypatch):
-    calls = []
-    real = stream.compile_stored
-
-    def spy(font, *args, **kwargs):
-        calls.append(type(font).__name__)
-        return real(font, *args, **kwargs)
-
-    monkeypatch.setattr(stream, "compile_stored", spy)
-    return calls
 
 
 @pytest.mark.parametrize("change,by_ufo2ft", [(None, False), (_not_exported, True)])

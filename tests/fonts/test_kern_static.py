@@ -15,8 +15,7 @@ a 'dist' script, a GDEF table) are shown to be left to ufo2ft.
 import pytest
 import ufoLib2
 
-from morph.fonts import tables_static as T
-from morph.fonts.stream import SkeletonSource
+from tests.fonts.feature_text import ufo2fts, written
 
 LATIN = {"A": 0x41, "V": 0x56, "T": 0x54, "o": 0x6F, "e": 0x65, "a": 0x61, "period": 0x2E,
          "comma": 0x2C, "one": 0x31, "seven": 0x37, "hyphen": 0x2D, "space": 0x20}
@@ -73,51 +72,13 @@ def common_only():
     return _font(codes, {}, {("seven", "period"): -40, ("one", "one"): 10})
 
 
-@pytest.fixture
-def saved(tmp_path):
-    def save(font, name="s"):
-        path = tmp_path / ("%s.ufo" % name)
-        font.save(path)
-        return path
-    return save
-
-
-def _written(path):
-    """(reason, the feature text morph's tree gives) of the light font at ``path``."""
-    light = SkeletonSource(path, light=True).shell_font()
-    tree = T.parse_features(light) if light.features.text else None
-    compiler = T._Compiler(light, {}, True)
-    reason, writers = T.left_to_ufo2ft(light, ".otf", tree, compiler.order, compiler.cmap)
-    if reason is not None:
-        return reason, None
-    (kern,) = writers
-    assert kern.write()
-    return None, kern.tree.asFea()
-
-
-def _ufo2fts(path):
-    """The feature text ufo2ft's feature compiler builds the layout tables from."""
-    import ufo2ft
-    from ufo2ft.featureCompiler import FeatureCompiler
-
-    got = {}
-
-    class Recorded(FeatureCompiler):
-        def setupFeatures(self):
-            super().setupFeatures()
-            got["text"] = self.features
-
-    ufo2ft.compileOTF(ufoLib2.Font.open(path), featureCompilerClass=Recorded, optimizeCFF=0)
-    return got["text"]
-
-
 @pytest.mark.parametrize("make", ["many_scripts", "separate_scripts", "latin_no_fea",
                                   "common_only"])
 def test_kern_feature_is_ufo2fts(saved, make):
     path = saved(globals()[make]())
-    reason, text = _written(path)
+    reason, text = written(path)
     assert reason is None
-    assert text == _ufo2fts(path)
+    assert text == ufo2fts(path)
     assert "feature kern" in text
 
 
@@ -148,7 +109,7 @@ def test_the_feature_has_what_it_should(saved, make, pieces):
     alternate kerned in its base's class, exceptions before their class pairs,
     values rounded as ufo2ft rounds them, a class name taken in the file renamed,
     zero class pairs and glyphs the font lacks or does not export left out."""
-    _, text = _written(saved(make()))
+    _, text = written(saved(make()))
     for piece in pieces:
         assert piece in text, piece
     kern = text[text.index("lookup kern_"):]
@@ -161,7 +122,7 @@ def test_a_changed_value_is_seen(saved):
     path = saved(font, "a")
     font.kerning[("T", "e")] = -41
     other = saved(font, "b")
-    assert _written(path)[1] != _ufo2fts(other)
+    assert written(path)[1] != ufo2fts(other)
 
 
 @pytest.mark.parametrize("codes,fea,reason", [
@@ -174,5 +135,5 @@ def test_a_changed_value_is_seen(saved):
 def test_what_the_port_does_not_cover_goes_to_ufo2ft(saved, codes, fea, reason):
     names = list(codes)
     font = _font(codes, {}, {(names[0], names[1]): -20}, fea)
-    got, _ = _written(saved(font))
+    got, _ = written(saved(font))
     assert got is not None and reason in got, got

@@ -18,8 +18,7 @@ refuses) are shown to be left to ufo2ft.
 import pytest
 import ufoLib2
 
-from morph.fonts import tables_static as T
-from morph.fonts.stream import SkeletonSource
+from tests.fonts.feature_text import ufo2fts, written
 
 BASES = {"A": 0x41, "O": 0x4F, "a": 0x61, "o": 0x6F, "i": 0x69}
 MARKS = {"gravecomb": 0x300, "acutecomb": 0x301, "dotbelowcomb": 0x323, "cedillacomb": 0x327}
@@ -108,44 +107,6 @@ def hebrew():
 
 CASES = {"latin": latin, "latin_no_fea": lambda: latin("", {}), "all_cases": all_cases,
          "defined_classes": defined_classes, "kerned": kerned, "hebrew": hebrew}
-
-
-@pytest.fixture
-def saved(tmp_path):
-    def save(font, name="s"):
-        path = tmp_path / ("%s.ufo" % name)
-        font.save(path)
-        return path
-    return save
-
-
-def written(path):
-    """(reason, the feature text morph's tree gives) of the light font at ``path``."""
-    light = SkeletonSource(path, light=True).shell_font()
-    tree = T.parse_features(light) if light.features.text else None
-    compiler = T._Compiler(light, {}, True)
-    reason, writers = T.left_to_ufo2ft(light, ".otf", tree, compiler.order, compiler.cmap)
-    if reason is not None:
-        return reason, None
-    done = [w.write() for w in writers]
-    assert writers and done[-1]
-    return None, writers[0].tree.asFea()
-
-
-def ufo2fts(path):
-    """The feature text ufo2ft's feature compiler builds the layout tables from."""
-    import ufo2ft
-    from ufo2ft.featureCompiler import FeatureCompiler
-
-    got = {}
-
-    class Recorded(FeatureCompiler):
-        def setupFeatures(self):
-            super().setupFeatures()
-            got["text"] = self.features
-
-    ufo2ft.compileOTF(ufoLib2.Font.open(path), featureCompilerClass=Recorded, optimizeCFF=0)
-    return got["text"]
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

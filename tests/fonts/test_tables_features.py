@@ -34,7 +34,6 @@ import pytest
 import ufoLib2
 from fontTools.ttLib import TTFont
 
-from morph.fonts import stream
 from morph.fonts.writers_static import DIST_OR_ABVM_SCRIPTS, writers_add_nothing
 from morph.parse.light_ufo import LightFont, LightInfo
 from tests import RELIEF_SUBSET
@@ -108,20 +107,6 @@ def saved(tmp_path_factory):
         paths[name] = folder / ("%s.ufo" % name)
         make().save(paths[name])
     return paths
-
-
-@pytest.fixture
-def ufo2ft_calls(monkeypatch):
-    """The fonts ufo2ft compiles (their types' names), as they are compiled."""
-    calls = []
-    real = stream.compile_stored
-
-    def spy(font, *args, **kwargs):
-        calls.append(type(font).__name__)
-        return real(font, *args, **kwargs)
-
-    monkeypatch.setattr(stream, "compile_stored", spy)
-    return calls
 
 
 @pytest.mark.parametrize("name,kind,by_ufo2ft", [
