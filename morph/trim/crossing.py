@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import segment_pairs, unique
+from ..polyline import member, segment_pairs, unique
 
 
 def uncertain_pairs(loops, pieces=None, cones=None):
@@ -131,7 +131,7 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
             if len(it.org) > min(pair_items, max_items) else ()
         if len(over):
             crowded.append(over)
-            it = it.take(~np.isin(it.org, over))
+            it = it.take(~member(it.org, np.sort(over)))
         if not len(it.org):
             break
         live, small, split_a = _level_tests(it, res)
@@ -142,7 +142,7 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
         if settle is not None and hit.any():
             done = settle(*found[-1])
             if len(done):
-                it = it.take(~np.isin(it.org, done))
+                it = it.take(~member(it.org, np.sort(done)))
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
     return org.astype(int), s, u, gave_up

@@ -260,13 +260,13 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     hits = {}
 
     def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
-        fresh = np.flatnonzero(~np.isin(owner[pa], list(hits)))
+        fresh = np.flatnonzero(~pl.member(owner[pa], _keys(hits)))
         pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
         ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
         guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
         hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
                                   first, sizes))
-        return np.flatnonzero(np.isin(owner[pairs[:, 0]], list(hits)))
+        return np.flatnonzero(pl.member(owner[pairs[:, 0]], _keys(hits)))
 
     # each level's candidates are refined as they come: a loop takes the first
     # crossing in their order (level by level, then those of the polylines), and
@@ -274,7 +274,7 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     crowded = subdivided_crossings(
         pieces, pairs, kinds, 1e-3 * eps,
         settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
-    crowded = crowded[~np.isin(owner[pairs[crowded, 0]], list(hits))]
+    crowded = crowded[~pl.member(owner[pairs[crowded, 0]], _keys(hits))]
     near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
     if len(near[0]):
         refine(near[0], near[2], near[1], near[3], near[4])
@@ -294,7 +294,7 @@ def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
     rank = _ranks(loop)
     hits = {}
     for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
-        c = np.flatnonzero(stage & ~np.isin(loop, list(hits)))
+        c = np.flatnonzero(stage & ~pl.member(loop, _keys(hits)))
         if not len(c):
             continue
         s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
@@ -335,7 +335,15 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
            | ((i == 0) & (j == sizes[li] - 1) & (si <= 1e-9) & (wj >= 1 - 1e-9))
            | ((i == j) & (np.abs(si - wj) <= 1e-9)))
     valid = np.flatnonzero(ok & ~end)
-    return valid[np.unique(li[valid], return_index=True)[1]]
+    order = valid[np.argsort(li[valid], kind="stable")]    # by loop, then candidate order
+    return order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
+
+
+def _keys(hits):
+    """The loops of ``hits`` as a sorted integer array, for :func:`morph.polyline.member`
+    (``np.isin`` with a list, empty or not, sorts it by ``np.unique``, which loads
+    ``numpy.ma``: font workers must not)."""
+    return np.array(sorted(hits), np.int64)
 
 
 def _hit(ga, gb, s, w, x, owner, first):
@@ -399,7 +407,7 @@ def _polyline_crossings(pieces, suspects, flat):
         pairs = segment_pairs(p0, p1, ids, True)
     if len(pairs):
         key = np.sort(ids[pairs], axis=1) @ np.array([len(pieces), 1])
-        pairs = pairs[np.isin(key, suspects @ np.array([len(pieces), 1]))]
+        pairs = pairs[pl.member(key, np.sort(suspects @ np.array([len(pieces), 1])))]
     if not len(pairs):
         empty = np.zeros(0, int)
         return empty, empty, np.zeros(0), np.zeros(0), np.zeros((0, 2))
