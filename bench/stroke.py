@@ -37,12 +37,14 @@ hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
 ``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
 bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
-(a mean: a chunk's glyphs are computed together), points per glyph, the worst error of
-the unrounded outlines and of the written font against the Clipper reference (gaps
-narrower than the engine's documented narrow-feature limit excused alike for every
-tool, :func:`excused_error`; the raw error beside it), and FontForge's Expand Stroke
-(``--ff-accuracy-sets``) beside it: in process (mean and median per glyph) and its
-whole worker process.  ``bench/stroke_exact.py`` checks a written font again with the
+(a mean: a chunk's glyphs are computed together) at the command's tolerance and at
+``--set-tols-more`` multiples of it (for the comparison at equal measured error: morph's
+fewest points whose worst error is no larger than FontForge's), points per glyph, the
+worst error of the unrounded outlines and of the written font against the Clipper
+reference (gaps narrower than the engine's documented narrow-feature limit excused
+alike for every tool, :func:`excused_error`; the raw error beside it), and
+FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it: in process (mean and
+median per glyph) and its whole worker process.  ``bench/stroke_exact.py`` checks a written font again with the
 exact membership predicate, without Clipper.
 
 The Clipper references and FontForge's results (outlines, CPU times, and their errors
@@ -532,6 +534,23 @@ def equal_error(rows):
     return out
 
 
+def equal_error_md(rows):
+    """The lines of the table of :func:`equal_error` (a heading line first)."""
+    md = ["At equal measured error (morph's fewest-points setting whose worst "
+          "error is no larger than the peer's; ms: in process, means):", "",
+          "| peer | peer error | peer points | peer ms | morph setting | morph error | "
+          "morph points | morph ms |", "|---|---|---|---|---|---|---|---|"]
+    for r, m in equal_error(rows):
+        if m is None:
+            md.append("| %s %s | %.3f | %.0f | %.1f | none reaches it | | | |"
+                      % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"]))
+        else:
+            md.append("| %s %s | %.3f | %.0f | %.1f | %s | %.3f | %.0f | %.1f |"
+                      % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"],
+                         m["setting"], m["max_err"], m["points"], m["ms"]))
+    return md
+
+
 # =========================================================================== part 3
 
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
@@ -661,7 +680,10 @@ def skeleton_set(name, opt, workdir):
     # in-process, as the command strokes chunks (a chunk's glyphs are computed
     # together: its CPU time divided by its glyphs is each glyph's)
     judge = _narrow_judge(refs, tol, keys)
-    out["rows"] += run_morph(font, names, spec, [tol], refs, judge, opt.morph_repeat)
+    tols = [tol] + [f * tol for f in _floats(opt.set_tols_more)]
+    out["rows"] += run_morph(font, names, spec, tols, refs, judge, opt.morph_repeat)
+    for r, t in zip(out["rows"], tols):
+        r["tol"] = t    # the first: the command's tolerance, as the command ran
     ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
                             refs, judge)
     out["rows"] += ff
@@ -671,6 +693,10 @@ def skeleton_set(name, opt, workdir):
               % (name, r["tool"], r["setting"], r["ms"], r["median_ms"], r["points"],
                  r["max_err"]), flush=True)
     return out
+
+
+def _floats(text):
+    return [float(v) for v in text.split(",") if v.strip()]
 
 
 def measured_set(name, opt, workdir):
@@ -756,21 +782,26 @@ def sets_markdown(opt, sets, elapsed):
           "measured in every run."]
     md += ["", "## Summary", "",
            "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
-           "mean (median); whole command: `morph stroke` against FontForge's worker "
+           "mean (median), morph at its fewest-points setting whose worst error is no "
+           "larger than FontForge's (at the command's tolerance where none is); whole "
+           "command: `morph stroke` at its default tolerance against FontForge's worker "
            "process.", "",
-           "| set | FontForge setting | in process: morph | in process: FontForge mean "
-           "(median) | whole command: morph | whole command: FontForge | points: morph / "
-           "FontForge | worst error: morph / FontForge |",
-           "|---|---|---|---|---|---|---|---|"]
+           "| set | FontForge setting | morph setting | in process: morph | in process: "
+           "FontForge mean (median) | whole command: morph | whole command: FontForge | "
+           "points: morph / FontForge | worst error: morph / FontForge |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for st in sets:
-        m = next((r for r in st["rows"] if r["tool"] == "morph"), None)
-        for r in st["rows"]:
-            if r["tool"] == "morph" or m is None:
+        first = next((r for r in st["rows"] if r["tool"] == "morph"), None)
+        for r, m in equal_error(st["rows"]):
+            m = m or first   # morph's fewest points at no larger error, else its default
+            if m is None:
                 continue
-            md.append("| %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | %.3f / %.3f |"
-                      % (st["name"], r["setting"], m["ms"], r["ms"], r["median_ms"],
-                         1000 * st["command_cpu"] / st["glyphs"], _ms(r.get("process_ms")),
-                         m["points"], r["points"], m["max_err"], r["max_err"]))
+            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | "
+                      "%.3f / %.3f |"
+                      % (st["name"], r["setting"], m["setting"], m["ms"], r["ms"],
+                         r["median_ms"], 1000 * st["command_cpu"] / st["glyphs"],
+                         _ms(r.get("process_ms")), m["points"], r["points"], m["max_err"],
+                         r["max_err"]))
     md.append("")
     for st in sets:
         md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
@@ -789,22 +820,25 @@ def sets_markdown(opt, sets, elapsed):
                "|---|---|---|---|---|---|---|---|---|---|---|"]
         limit = st["tol"] + opt.ref_tol
         for r in st["rows"]:
-            over = sum(e > limit for e in r["errs"])
+            t = r.get("tol", st["tol"])    # a morph row's own tolerance
+            over = sum(e > t + opt.ref_tol for e in r["errs"])
             if "raw_errs" in r:
                 worst = "%.3f (%s)" % (r["max_err"], r["worst_glyph"])
                 raw = "| %.3f (%s) | %d |" % (r["raw_max_err"], r["raw_worst_glyph"],
-                                              sum(e > limit for e in r["raw_errs"]))
+                                              sum(e > t + opt.ref_tol for e in r["raw_errs"]))
             else:  # measured before the narrow-gap excuse: raw
                 worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
             if r["tool"] == "morph":
-                md.append("| morph | tol %.3g | %.1f | (chunks) | %.1f | %.0f | %s | %.3f | %d %s"
-                          % (st["tol"], r["ms"], 1000 * st["command_cpu"] / st["glyphs"],
-                             r["points"], worst, r["mean_err"], over, raw))
+                whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
+                         if t == st["tol"] else "")
+                md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %.0f | %s | %.3f | %d %s"
+                          % (t, r["ms"], whole, r["points"], worst, r["mean_err"], over, raw))
             else:
                 md.append("| %s | %s | %.1f | %.1f | %s | %.0f | %s | %.3f | %d %s"
                           % (r["tool"], r["setting"], r["ms"], r["median_ms"],
                              _ms(r.get("process_ms")), r["points"], worst, r["mean_err"],
                              over, raw))
+        md += [""] + equal_error_md(st["rows"])
         for r in st["rows"]:
             if "worst_bbox" in r and r["max_err"] > 10 * limit:
                 apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
@@ -911,19 +945,7 @@ def markdown(opt, names, acc, peers, notes, elapsed):
                       % (r["tool"], r["setting"], r["ms"], median, whole, split, r["points"],
                          r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
             tracebacks += r.get("tracebacks", [])
-        md += ["", "At equal measured error (morph's fewest-points setting whose worst "
-               "error is no larger than the peer's; ms: in process, means):", "",
-               "| peer | peer error | peer points | peer ms | morph setting | morph error | "
-               "morph points | morph ms |", "|---|---|---|---|---|---|---|---|"]
-        for r, m in equal_error(rows):
-            if m is None:
-                md.append("| %s %s | %.3f | %.0f | %.1f | none reaches it | | | |"
-                          % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"]))
-            else:
-                md.append("| %s %s | %.3f | %.0f | %.1f | %s | %.3f | %.0f | %.1f |"
-                          % (r["tool"], r["setting"], r["max_err"], r["points"], r["ms"],
-                             m["setting"], m["max_err"], m["points"], m["ms"]))
-        md.append("")
+        md += [""] + equal_error_md(rows) + [""]
     if tracebacks:
         md += ["## morph failures", ""] + ["- " + t for t in tracebacks] + [""]
     if notes:
@@ -949,6 +971,9 @@ def main(argv=None):
                     help="skeleton sets of bench/skeletons.py for part 3 (default: %s with "
                          "--only-sets, none without)" % ",".join(SETS))
     ap.add_argument("--set-tol", type=float, default=0.0005, help="em, part 3")
+    ap.add_argument("--set-tols-more", default="2",
+                    help="part 3: morph also at these multiples of --set-tol (comma "
+                         "separated; empty: none), for the comparison at equal measured error")
     ap.add_argument("--ff-accuracy-sets", default="1,0.25")
     ap.add_argument("--only-sets", action="store_true", help="part 3 only")
     ap.add_argument("--sets-md", default=str(ROOT / "bench" / "stroke_sets.md"))

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .bank import RunArrays, plan_run_arrays, plan_runs
+from .corners import cut_corners
 from .search import runs_segments
 
 
@@ -87,6 +88,9 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
     bank, runs = plan_run_arrays(loops, join_angle, wrap)
+    keep = cut_corners(bank, runs, tol, wrap)    # short arcs between lines: their corner
+    runs = RunArrays(runs.order[np.repeat(keep, runs.sizes)], runs.sizes[keep],
+                     runs.exact[keep], runs.loop[keep])
     piece_exact = np.repeat(runs.exact, runs.sizes)
     fit = ~runs.exact
     fitted = runs_segments(bank, RunArrays(runs.order[~piece_exact], runs.sizes[fit],

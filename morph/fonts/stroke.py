@@ -784,7 +784,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                    in_flight=in_flight, preload=_WORKER_MODULES + _COMPILERS.get(kind, ()),
                    weights=[plan.weights[n] for n in inked])
     grow_win_metrics(plan.font, *sink.written_extent())
-    sink.finish(out_path, tol)
+    sink.finish(out_path, tol, jobs)
     plan.stats.update(sink.stats)
     # which glyphs draw something, where that is the stroked glyphs with an outline
     # (no composite), for the sample's choice without reading the font's outlines
@@ -908,9 +908,10 @@ class _StreamedGlyphs:
             self._grow(_composite_box(self.font, name, self.boxes, memo))
         return self.extent
 
-    def finish(self, out_path, tol):
+    def finish(self, out_path, tol, jobs=1):
         """The UFO's font info rewritten, or the font compiled by ufo2ft from the
-        shells and the stored outlines and saved."""
+        shells and the stored outlines and saved (a large CFF font's subroutine
+        groups ``jobs`` at a time, :func:`morph.fonts.subrs.font_subroutines`)."""
         if self.ufo is not None:
             self.ufo.finish()
             return
@@ -926,7 +927,7 @@ class _StreamedGlyphs:
                 from .tables_static import compile_static
 
                 otf = compile_static(self.font, self.store, self.kind,
-                                     features=self.features, **options)
+                                     features=self.features, jobs=jobs, **options)
             else:
                 otf = compile_stored(self.font, self.store, self.kind,
                                      features=self.features, **options)

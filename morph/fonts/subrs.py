@@ -87,7 +87,7 @@ class Packed:
         return (self[k] for k in range(len(self)))
 
 
-def font_subroutines(programs, limit=None):
+def font_subroutines(programs, limit=None, jobs=1):
     """:func:`grouped_subroutines` of a font's charstrings ``programs`` (in glyph
     order: ``sizes``, an array of their lengths with their width prefixes;
     ``prefix(k)``; ``bodies(a, b)``, the programs ``a`` to ``b`` without their
@@ -95,12 +95,15 @@ def font_subroutines(programs, limit=None):
     prefix) when they hold more than ``limit`` bytes (None: :data:`GROUP_BYTES`),
     else None (the caller has ``tx`` subroutinize the whole font, as ufo2ft does);
     None too when the programs cannot be grouped (:class:`NotGrouped`).  The
-    charstrings come back :class:`Packed`; the programs are read a group at a time."""
+    charstrings come back :class:`Packed`; the programs are read a group at a time.
+    ``jobs``: how many groups ``tx`` subroutinizes at once (each run holds about 70
+    bytes per byte it reads, :data:`GROUP_BYTES`)."""
     limit = GROUP_BYTES if limit is None else limit
     if int(np.sum(programs.sizes)) <= limit or not programs.prefixed():
         return None     # small, or a program whose advance is not written as the prefix
     try:
-        return _grouped(programs.body_sizes(), programs.bodies, programs.prefix, None, limit)
+        return _grouped(programs.body_sizes(), programs.bodies, programs.prefix, None, limit,
+                        jobs)
     except NotGrouped:
         return None
 
@@ -128,14 +131,15 @@ def grouped_subroutines(bodies, prefixes, run_tx=None, limit=GROUP_BYTES):
     return gsubrs, lsubrs, list(chars)
 
 
-def _grouped(sizes, bodies, prefix, run_tx, limit):
+def _grouped(sizes, bodies, prefix, run_tx, limit, jobs=1):
     """:func:`grouped_subroutines` of the programs of ``sizes`` bytes (without their
     advances), ``bodies(a, b)`` giving those of glyphs a to b, ``prefix(k)`` glyph
     k's width prefix; the charstrings :class:`Packed`.  Each group's programs are
-    read as it is subroutinized, its output packed."""
+    read as it is subroutinized, its output packed; ``jobs`` groups at once."""
     spans = groups(sizes, limit)
     budget = max(1, MAX_SUBRS // len(spans))
-    parts = [_subroutinized_group(bodies(a, b), budget, run_tx) for a, b in spans]
+    parts = _in_threads(lambda span: bodies(*span), spans,
+                        lambda group: _subroutinized_group(group, budget, run_tx), jobs)
     n_global = sum(len(g) for g, _, _ in parts)
     n_local = sum(len(loc) for _, loc, _ in parts)
     if max(n_global, n_local) > 65535:
@@ -152,6 +156,25 @@ def _grouped(sizes, bodies, prefix, run_tx, limit):
         for k, c in enumerate(moved[len(gsubrs) + len(lsubrs):]):
             out_chars.append(prefix(a + k), c)
     return out_global, out_local, out_chars
+
+
+def _in_threads(read, items, work, jobs):
+    """``[work(read(item)) for item in items]`` with up to ``jobs`` works running at
+    once in threads (``tx`` runs in its own process; the thread waits on it without
+    the GIL).  Each item is read in this thread, in order, when a thread is free for
+    it: at most ``jobs`` items read and not yet worked on at a time."""
+    if jobs <= 1 or len(items) <= 1:
+        return [work(read(item)) for item in items]
+    from concurrent.futures import ThreadPoolExecutor
+
+    out, running = [], []
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        for item in items:
+            if len(running) == jobs:
+                out.append(running.pop(0).result())
+            running.append(pool.submit(work, read(item)))
+        out.extend(f.result() for f in running)
+    return out
 
 
 def bias(count):

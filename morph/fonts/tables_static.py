@@ -964,21 +964,23 @@ def production_names(font, order, glyphs):
     return out
 
 
-def compile_static(font, store, kind, features=None, **options):
+def compile_static(font, store, kind, features=None, jobs=1, **options):
     """The ``TTFont`` ufo2ft compiles from the light font of shells ``font``
     (:class:`morph.parse.light_ufo.LightFont`) with the stored outlines ``store``
     (glyph name -> :func:`morph.fonts.stream.compile_outline`'s ``(data, bounds)``:
     CFF charstrings without advance for ``.otf``, glyf bytes for ``.ttf``);
     ``features``: feaLib's tree of the feature file, parsed already (None: parsed
-    here).  See the module docstring.  The font's boxes are final: it is to be
-    saved as it is (``recalcBBoxes`` off; the CFF table is ``tx``'s bytes).
+    here); ``jobs``: the subroutinizer's groups run at once
+    (:func:`morph.fonts.subrs.font_subroutines`).  See the module docstring.  The
+    font's boxes are final: it is to be saved as it is (``recalcBBoxes`` off; the
+    CFF table is ``tx``'s bytes).
 
     A font this module does not compile (:func:`left_to_ufo2ft`) is compiled by
     ufo2ft (:func:`morph.fonts.stream.compile_stored`, given ``options``) from the
     ufoLib2 font of the same shells."""
     if features is None and font.features.text:
         features = parse_features(font)
-    compiler = _Compiler(font, store, kind == ".otf")
+    compiler = _Compiler(font, store, kind == ".otf", jobs)
     reason, writers = left_to_ufo2ft(font, kind, features, compiler.order, compiler.cmap)
     if reason is not None:
         from ..parse.light_ufo import as_ufolib2
@@ -1056,8 +1058,9 @@ def parse_features(font):
 
 
 class _Compiler:
-    def __init__(self, font, store, cff):
+    def __init__(self, font, store, cff, jobs=1):
         self.ufo, self.info, self.store, self.cff = font, font.info, store, cff
+        self.jobs = jobs
         skip = set(font.lib.get("public.skipExportGlyphs", ()))
         glyphs = {g.name: g for g in font if g.name not in skip}
         if ".notdef" not in glyphs:
@@ -1458,7 +1461,7 @@ class _Compiler:
         from .subrs import font_subroutines
 
         box = self._as_saved()
-        grouped = font_subroutines(self.programs)
+        grouped = font_subroutines(self.programs, jobs=self.jobs)
         table = self._cff_file(box, grouped)
         self.programs = None   # the outlines are in the table's file now
         if grouped is not None:   # a large font: subroutinized in groups, not by one tx

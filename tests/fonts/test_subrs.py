@@ -185,3 +185,41 @@ def test_a_group_is_renumbered_in_parts_with_bounded_memory(monkeypatch):
         tracemalloc.stop()
     assert parts == whole
     assert peak < 8 * size, peak / size
+
+
+def test_groups_subroutinized_at_once_give_the_serial_groups(monkeypatch):
+    """Two ``tx`` runs at a time (``jobs=2``): the same subroutines and charstrings
+    as one at a time, the runs did overlap (a slow ``tx`` shows it), and no more
+    than two groups were read and not yet subroutinized at once."""
+    import threading
+    import time
+
+    bodies, prefixes, _ = _programs(60)
+    limit = sum(map(len, bodies)) // 4 + 1
+    serial = subrs.grouped_subroutines(bodies, prefixes, limit=limit)
+    state = {"now": 0, "most": 0, "read": 0, "most_read": 0}
+    lock = threading.Lock()
+
+    def slow_tx(args, path):
+        with lock:
+            state["now"] += 1
+            state["read"] -= 1
+            state["most"] = max(state["most"], state["now"])
+        time.sleep(0.2)
+        try:
+            return subrs._tx(args, path)
+        finally:
+            with lock:
+                state["now"] -= 1
+
+    def reading(a, b):
+        with lock:
+            state["read"] += 1
+            state["most_read"] = max(state["most_read"], state["read"])
+        return bodies[a:b]
+
+    parts = subrs._grouped([len(b) for b in bodies], reading, prefixes.__getitem__, slow_tx,
+                           limit, jobs=2)
+    assert parts[0] == serial[0] and parts[1] == serial[1]
+    assert list(parts[2]) == serial[2]
+    assert state["most"] == 2 and state["most_read"] <= 2
