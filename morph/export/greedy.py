@@ -77,15 +77,6 @@ SNAP = 0.3
 NEXT_POWER = 6.0
 NEXT_STEP = (0.75, 1.35)
 
-#: A round with few searching rows gives each row in the trying mode extra tries
-#: (:meth:`Greedy.ladder`): widths LADDER times its try's, nearest first, inside its
-#: bracket, up to LADDER_FITS fits in all.  A round's fixed cost (the array calls of
-#: the fit, the certificate and the search) is that of some hundred fits; a ladder
-#: brackets a segment's end in one round where tries one by one take several, so the
-#: few long chains that finish last need fewer rounds.
-LADDER = (1.25, 0.8, 1.6, 0.64, 2.0, 0.5)
-LADDER_FITS = 48
-
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
 #: on, halving the shortest failed interval (no certified fit yet), done.
 TRY, CERTIFY, HALVE, DONE = 0, 1, 2, 3
@@ -209,46 +200,20 @@ class Greedy:
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
         return rows, self.t0[rows], t1, self.start[rows], need
 
-    def ladder(self, rows, t1):
-        """Extra ends for the rows ``rows`` of :meth:`requests` (their tries ending at
-        ``t1``): where few rows search (at most LADDER_FITS / 2), every row in the
-        trying mode gets up to LADDER_FITS / rows - 1 more, its try's width times
-        LADDER, inside its bracket (longest fitting end or t0, shortest failing end or
-        the chain's end, which itself is tried).  Returns (position in ``rows``, end)
-        of each, and whether the round has any (its tries are then all certified:
-        need 0, so that a ladder's longest fitting end is a certified segment)."""
-        count = min(len(LADDER), LADDER_FITS // max(len(rows), 1) - 1)
-        if count < 1:
-            return np.zeros(0, int), np.zeros(0), False
-        t0, top = self.t0[rows], self.top[rows]
-        lo = np.where(np.isnan(self.good[rows]), t0, self.good[rows])
-        hi = np.where(np.isnan(self.bad[rows]), top, self.bad[rows])
-        end = np.minimum(t0[:, None] + (t1 - t0)[:, None] * np.array(LADDER[:count])[None],
-                         top[:, None])
-        keep = ((end > lo[:, None]) & (end <= hi[:, None]) & (end != t1[:, None])
-                & ((self.mode[rows] == TRY) & ~self.snap[rows])[:, None])
-        keep[:, 1:] &= end[:, 1:] != end[:, :-1]           # (clipped at the top: once)
-        at = np.nonzero(keep)
-        return at[0], end[at], True
-
-    def update(self, rows, end, fits, at, extra=None):
+    def update(self, rows, end, fits, at):
         """Take the results of :meth:`requests` (``end``: the tried ends' points;
         ``fits``: (cubic, bound, certified) arrays; ``at``: (round, request) of each)
-        and advance every chain one step; ``extra``: the results of :meth:`ladder`'s
-        tries (position in ``rows``, end, end point, cubic, bound, certified, at).
-        Returns the segments accepted in the round: (rows, t0, t1, cubic, bound, at),
-        arrays."""
+        and advance every chain one step.  Returns the segments accepted in the
+        round: (rows, t0, t1, cubic, bound, at), arrays."""
         cubic, bound, cert = fits
         t1, mode = self.t1[rows], self.mode[rows]
         ok = bound <= self.tol
         tried = mode == TRY
-        hit = np.zeros(len(rows), bool) if extra is None else self._fold(rows, *extra)
         better = tried & ok & (np.isnan(self.good[rows]) | (t1 > self.good[rows]))
         b = rows[better]
         self.good[b], self.good_b[b], self.good_cert[b] = t1[better], bound[better], cert[better]
         self.good_at[b], self.good_end[b], self.good_cubic[b] = at[better], end[better], cubic[better]
-        done_try = self._tried(rows[tried], t1[tried], bound[tried],
-                               (cert[tried] & ok[tried]) | hit[tried], hit[tried])
+        done_try = self._tried(rows[tried], t1[tried], bound[tried], cert[tried] & ok[tried])
         # a certified end (certifying a provisional one, or halving): the segment
         took = (mode != TRY) & ok
         refused = rows[(mode == CERTIFY) & ~ok]
@@ -269,28 +234,7 @@ class Greedy:
         self._new_segments(r[~finished])
         return out
 
-    def _fold(self, rows, pos, t1, end, cubic, bound, cert, at):
-        """The ladder's tries of ``rows[pos]`` (ends t1) taken into their rows'
-        brackets: the longest fitting end is ``good`` where longer, the shortest
-        failing one lowers ``bad``.  Returns per row of ``rows`` whether a try of its
-        ladder is accepted (certified within tol, at least ACCEPT tol or at the
-        chain's end)."""
-        r = rows[pos]
-        ok = bound <= self.tol
-        np.fmin.at(self.bad, r[~ok], t1[~ok])
-        hit = np.zeros(len(rows), bool)
-        hit[pos[ok & cert & ((bound >= ACCEPT * self.tol) | (t1 == self.top[r]))]] = True
-        # per row its longest fitting try (sorted by row, then end: each row's last)
-        i = np.nonzero(ok)[0]
-        i = i[np.lexsort((t1[i], r[i]))]
-        i = i[np.append(r[i][1:] != r[i][:-1], True)] if len(i) else i
-        i = i[np.isnan(self.good[r[i]]) | (t1[i] > self.good[r[i]])]
-        b = r[i]
-        self.good[b], self.good_b[b], self.good_cert[b] = t1[i], bound[i], cert[i]
-        self.good_at[b], self.good_end[b], self.good_cubic[b] = at[i], end[i], cubic[i]
-        return hit
-
-    def _tried(self, rows, t1, bound, accept, hit=False):
+    def _tried(self, rows, t1, bound, accept):
         """The trying mode's step for ``rows``: move the bracket, aim the next end;
         a pass ends on an accepted try (certified, at least ACCEPT tol or at the
         chain's end), a tight bracket, MAX_TRIES fits or the minimal width.  Returns
@@ -303,7 +247,7 @@ class Greedy:
                             self.good[rows], self.bad[rows], top, self.tol)
         self.last_w[rows], self.last_b[rows] = t1 - t0, bound
         self.tries[rows] += 1
-        accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows] | hit
+        accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows]
         stop = (accept | np.isnan(target) | (target - t0 < self.min_width)
                 | (self.tries[rows] >= MAX_TRIES))
         # a narrow bracket over a join: try the join

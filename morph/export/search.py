@@ -360,9 +360,6 @@ class _Rows:
         ends, each row's request among the rows, the rows with a request of their
         own, the count of the refinement's requests, of the joins', Requests)."""
         rows, t0, t1, start, need = greedy.requests()
-        pos, x1, ladder = greedy.ladder(rows, t1)
-        if ladder:
-            need = np.zeros(len(rows))
         crow, rev = self.rchain[rows], self.back[rows]
         a = np.where(rev, self.top[crow] - t1, t0)
         b = np.where(rev, self.top[crow] - t0, t1)
@@ -370,11 +367,7 @@ class _Rows:
         mine = np.nonzero(own == np.arange(len(rows)))[0]
         more = refine.requests() if refine.active else (np.zeros(0, int),) + (np.zeros(0),) * 2
         joins = join.requests()
-        # the ladder's tries, then the refinement's and the joins' requests
-        xc, xr = crow[pos], rev[pos]
-        xa = np.where(xr, self.top[xc] - x1, t0[pos])
-        xb = np.where(xr, b[pos], x1)
-        chain, r0, r1 = (np.concatenate(x) for x in zip((xc, xa, xb), more, joins))
+        chain, r0, r1 = (np.concatenate(x) for x in zip(more, joins))
         nr, nb, nm = len(rows), int(rev.sum()), len(chain)
         # the points at the greedy rows' ends (tried), at the backward rows' starts,
         # then at both ends of the other requests
@@ -384,14 +377,12 @@ class _Rows:
         start = start.copy()
         start[rev] = pts[nr:nr + nb]
         tried = np.where(rev[:, None], start, end)
-        p0, p1 = pts[nr + nb:nr + nb + nm], pts[nr + nb + nm:]
-        p0[:len(pos)][~xr] = start[pos][~xr]      # a forward row's ladder starts where it does
         req = Requests(np.concatenate([crow[mine], chain]), np.concatenate([a[mine], r0]),
-                       np.concatenate([b[mine], r1]), np.concatenate([start[mine], p0]),
-                       np.concatenate([end[mine], p1]),
+                       np.concatenate([b[mine], r1]),
+                       np.concatenate([start[mine], pts[nr + nb:nr + nb + nm]]),
+                       np.concatenate([end[mine], pts[nr + nb + nm:]]),
                        np.concatenate([need[mine], np.zeros(nm)]))
-        xtried = np.where(xr[:, None], p0[:len(pos)], p1[:len(pos)])
-        return (rows, tried, own, mine, (pos, x1, xtried), len(more[0]), len(joins[0]), req)
+        return rows, tried, own, mine, len(more[0]), len(joins[0]), req
 
     def fail(self, chains, tol, row, t0, width, bound):
         """Raise ToleranceNotMetError for row ``row``'s interval [t0, t0 + width]."""
@@ -502,16 +493,14 @@ def _drive(chains, tol, min_width, cubics_only=False):
         done += int((~many).sum())
 
     while greedy.active.any() or refine.active or join.active:
-        rows, tried, own, mine, ladder, more, joins, req = lay.requests(chains, greedy, refine,
-                                                                        join)
-        k = len(mine) + len(ladder[0])
+        rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
+        k = len(mine)
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
-            acc = _greedy_round(greedy, found, (rows, tried, own, mine, ladder), fits,
-                                len(rounds) - 1)
+            acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
             if more:
                 refine.update(fits, k, len(rounds) - 1)
             if joins:
@@ -543,15 +532,10 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     """The greedy rows' fits of one round (``asked``: the rows, what they tried, the
     requests they own and the round's greedy requests) given to the search; the
     segments it accepts added to ``found``.  Returns what ``Greedy.update`` does."""
-    rows, tried, own, mine, (pos, x1, xtried) = asked
+    rows, tried, own, mine = asked
     j = np.searchsorted(mine, own)
     at = np.stack([np.full(len(rows), at_round), j], axis=1)
-    extra = None
-    if len(pos):
-        x = len(mine) + np.arange(len(pos))
-        extra = (pos, x1, xtried, fits.cubic[x], fits.bound[x], fits.cert[x],
-                 np.stack([np.full(len(x), at_round), x], axis=1))
-    acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at, extra)
+    acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
 
