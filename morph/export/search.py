@@ -712,9 +712,12 @@ class _Join:
                 continue
             ended.append(c)
             out.extend((c,) + p for p in path)
+        self.touched = set()
+        if not ended:
+            return ((np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),),
+                    np.zeros(0, int))
         for c in ended:
             del self.paths[c]
-        self.touched = set()
         seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out], float),
                np.array([o[2] for o in out], float), np.array([o[3] for o in out], float),
                np.array([o[4] for o in out], int).reshape(-1, 2))
