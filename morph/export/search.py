@@ -48,7 +48,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
 from ..errors import ToleranceNotMetError
-from ..polyline import member, unique
+from ..polyline import unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
@@ -351,6 +351,16 @@ class _Rows:
         self.spare_of[two] = n + m + np.arange(m)
         self.start_t = np.where(self.back, top[self.rchain], 0.0)
 
+    def greedy(self, chains, tol, min_width):
+        """The :class:`Greedy` machine of the rows: the forward and backward rows
+        searching from their start, the spare rows inactive, first tries of
+        :func:`first_widths`."""
+        n, m, rchain = self.n, self.m, self.rchain
+        return Greedy(self.top[rchain], _chain_points(chains, rchain, self.start_t), tol,
+                      min_width, partial(self.fail, chains, tol),
+                      active=np.arange(n + 2 * m) < n + m,
+                      width=first_widths(chains, tol)[rchain])
+
     def requests(self, chains, greedy, refine, join):
         """A round's requests: the greedy rows' (in the chains' parameters: a backward
         row's range [u0, u1] is the chain's [K - u1, K - u0]; the two searches of a
@@ -410,12 +420,18 @@ class _Rows:
         greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
         return met
 
-    def ended(self, found, ended):
-        """The segments of the ended rows (``ended``: a mask of the rows) in their
-        chains' parameters, and the ended chains: (segments, joined, alone); joined:
-        those of a forward or backward row of a two-way search, alone: the others
-        (one-way, or a gap searched again); both sorted."""
+    def ended(self, found, greedy, rows, met):
+        """The segments of the rows whose search ended in the round (of ``rows``, those
+        done; both rows of the chains ``met``), in their chains' parameters, split by
+        chain: ((segments, chains) of those searched alone: one-way, or a gap searched
+        again; (segments, chains) of the two-way searches, to join); chains sorted.
+        None when no row ended."""
         rchain, back, top, n, m = self.rchain, self.back, self.top, self.n, self.m
+        ended = np.zeros(len(greedy.mode), bool)
+        ended[rows[greedy.mode[rows] == DONE]] = True
+        ended[met], ended[self.bwd_of[met]] = True, True
+        if not ended.any():
+            return None
         seg = found.take(ended)
         rc = rchain[seg[0]]
         flip = back[seg[0]]
@@ -425,7 +441,9 @@ class _Rows:
         joined, alone = np.zeros(n, bool), np.zeros(n, bool)
         joined[rchain[rows[(self.spare_of[rchain[rows]] >= 0) & (rows < n + m)]]] = True
         alone[rchain[rows]] = True
-        return seg, np.nonzero(joined)[0], np.nonzero(alone & ~joined)[0]
+        sel = joined[seg[0]]
+        return ((tuple(x[~sel] for x in seg), np.nonzero(alone & ~joined)[0]),
+                (tuple(x[sel] for x in seg), np.nonzero(joined)[0]))
 
 
 #: A chain's guessed difficulty (:func:`first_widths`) per cubic of its first try:
@@ -468,10 +486,7 @@ def _drive(chains, tol, min_width, cubics_only=False):
     chain's cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
-    greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
-                    min_width, partial(lay.fail, chains, tol),
-                    active=np.arange(n + 2 * lay.m) < n + lay.m,
-                    width=first_widths(chains, tol)[lay.rchain])
+    greedy = lay.greedy(chains, tol, min_width)
     whole_failed = np.zeros(n, bool)
     refine = Refine(chains, tol, whole_failed)
     join = _Join(tol, lay.top)
@@ -479,11 +494,9 @@ def _drive(chains, tol, min_width, cubics_only=False):
     final, rounds, done = [], [], 0
 
     def finished(seg, ended):
-        """Chains ``ended`` (sorted) and their segments (``seg``: those of these
-        chains alone): to the refinement or done."""
+        """Chains ``ended`` (sorted) and their segments (``seg``: theirs alone): to
+        the refinement or done."""
         nonlocal done
-        if not len(ended):
-            return
         many = np.bincount(seg[0], minlength=n)[ended] >= 2
         refined = np.zeros(n, bool)
         refined[ended[many]] = True
@@ -494,7 +507,6 @@ def _drive(chains, tol, min_width, cubics_only=False):
 
     while greedy.active.any() or refine.active or join.active:
         rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
-        k = len(mine)
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
@@ -502,21 +514,14 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
             if more:
-                refine.update(fits, k, len(rounds) - 1)
+                refine.update(fits, len(mine), len(rounds) - 1)
             if joins:
                 _search_gaps(chains, lay, greedy, found,
-                             join.update(fits, k + more, len(rounds) - 1))
-            met = lay.meet(greedy)
-            ended = np.zeros(len(greedy.mode), bool)
-            ended[acc[0][greedy.mode[acc[0]] == DONE]] = True
-            ended[met], ended[lay.bwd_of[met]] = True, True
-            if ended.any():
-                seg, joined, alone = lay.ended(found, ended)
-                together = np.zeros(n, bool)
-                together[joined] = True
-                sel = together[seg[0]]
-                finished(tuple(x[~sel] for x in seg), alone)
-                join.add(tuple(x[sel] for x in seg), joined, greedy.t0[joined])
+                             join.update(fits, len(mine) + more, len(rounds) - 1))
+            out = lay.ended(found, greedy, acc[0], lay.meet(greedy))
+            if out is not None:
+                finished(*out[0])
+                join.add(*out[1], greedy.t0[out[1][1]])
             if join.touched:
                 finished(*join.ready())
         if refine.active:
