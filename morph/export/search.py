@@ -494,16 +494,16 @@ def _drive(chains, tol, min_width, cubics_only=False):
     final, rounds, done = [], [], 0
 
     def finished(seg, ended):
-        """Chains ``ended`` (sorted) and their segments (``seg``: theirs alone): to
-        the refinement or done."""
+        """Chains ``ended`` (sorted), their segments ``seg``: to refine, or done."""
         nonlocal done
-        many = np.bincount(seg[0], minlength=n)[ended] >= 2
-        refined = np.zeros(n, bool)
-        refined[ended[many]] = True
-        sel = refined[seg[0]]
-        refine.add(ended[many], *(x[sel] for x in seg))
-        final.append(tuple(x[~sel] for x in seg))
-        done += int((~many).sum())
+        if len(ended):
+            many = np.bincount(seg[0], minlength=n)[ended] >= 2
+            refined = np.zeros(n, bool)
+            refined[ended[many]] = True
+            sel = refined[seg[0]]
+            refine.add(ended[many], *(x[sel] for x in seg))
+            final.append(tuple(x[~sel] for x in seg))
+            done += int((~many).sum())
 
     while greedy.active.any() or refine.active or join.active:
         rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
