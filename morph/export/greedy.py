@@ -182,6 +182,8 @@ class Greedy:
         """Start the segment search of ``rows`` at their t0: the first try spans
         ``width`` (the chain's guess, or :func:`next_width` of the previous segment),
         to the chain's end when little would be left."""
+        if not len(rows):
+            return
         self.mode[rows], self.passno[rows], self.tries[rows] = TRY, 0, 0
         self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
@@ -271,6 +273,8 @@ class Greedy:
     def _refused(self, rows, t1, bound):
         """A provisional end whose certificate fails (loose here): search the
         segment again certifying every try, that end the shortest failed one."""
+        if not len(rows):
+            return
         t0, top = self.t0[rows], self.top[rows]
         self.bad[rows], self.last_w[rows], self.last_b[rows] = t1, np.nan, np.nan
         nan = np.full(len(rows), np.nan)
@@ -284,6 +288,8 @@ class Greedy:
     def _halve(self, rows, bound):
         """No certified fit yet: try half the shortest failed interval, down to the
         minimal width (then ``fail``)."""
+        if not len(rows):
+            return
         t0 = self.t0[rows]
         t1 = t0 + 0.5 * (self.bad[rows] - t0)
         small = t1 - t0 < self.min_width

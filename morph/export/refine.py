@@ -217,7 +217,8 @@ class Refine:
 
     def requests(self):
         """Plan every row that can (:meth:`_fewer`, :meth:`_whole`) and return the
-        round's fits: arrays (chain, t0, t1, start, end)."""
+        round's fits: arrays (chain, t0, t1) (a row's fits follow each other: each
+        starts where the one before ends)."""
         start, count = self._blocks()
         fewer, cuts = self._fewer(np.nonzero(self.phase == PLAN)[0], start, count)
         whole = self._whole(np.nonzero(self.phase == CHECK)[0], start, count)
@@ -227,15 +228,8 @@ class Refine:
         t0 = np.concatenate([cuts[first], np.zeros(len(whole))])
         t1 = np.concatenate([cuts[first + 1],
                              self.chains.k[self.chain[whole]].astype(float)])
-        chain = self.chain[row]
-        end = chain_points(self.chains, chain, t1)
-        head = np.ones(len(row), bool)                              # a row's first fit
-        head[1:] = row[1:] != row[:-1]
-        begin = np.empty_like(end)
-        begin[~head] = end[np.nonzero(~head)[0] - 1]                # where the last ended
-        begin[head] = chain_points(self.chains, chain[head], np.zeros(int(head.sum())))
         self.asked = (row, t0, t1)
-        return chain, t0, t1, begin, end
+        return self.chain[row], t0, t1
 
     def _fewer(self, rows, start, count):
         """Plan one segment fewer for ``rows`` (phase PLAN; two segments or more).

@@ -48,7 +48,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import nearest as nr
 from ..errors import ToleranceNotMetError
-from ..polyline import member, unique
+from ..polyline import unique
 from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
@@ -351,37 +351,48 @@ class _Rows:
         self.spare_of[two] = n + m + np.arange(m)
         self.start_t = np.where(self.back, top[self.rchain], 0.0)
 
-    def ranges(self, chains, greedy):
-        """The greedy rows' requests in the chains' parameters: (rows, chain, reversed,
-        a, b, start point, end point, the point at the row's end, need)."""
-        rows, t0, t1, start, need = greedy.requests()
-        crow, rev = self.rchain[rows], self.back[rows]
-        # a backward row's range [u0, u1] is the chain's [K - u1, K - u0]
-        a = np.where(rev, self.top[crow] - t1, t0)
-        b = np.where(rev, self.top[crow] - t0, t1)
-        pts = _chain_points(chains, np.concatenate([crow, crow[rev]]),
-                            np.concatenate([b, a[rev]]))
-        end = pts[:len(rows)]
-        start = start.copy()
-        start[rev] = pts[len(rows):]
-        tried = np.where(rev[:, None], start, end)
-        return rows, crow, rev, a, b, start, end, tried, need
+    def greedy(self, chains, tol, min_width):
+        """The :class:`Greedy` machine of the rows: the forward and backward rows
+        searching from their start, the spare rows inactive, first tries of
+        :func:`first_widths`."""
+        n, m, rchain = self.n, self.m, self.rchain
+        return Greedy(self.top[rchain], _chain_points(chains, rchain, self.start_t), tol,
+                      min_width, partial(self.fail, chains, tol),
+                      active=np.arange(n + 2 * m) < n + m,
+                      width=first_widths(chains, tol)[rchain])
 
     def requests(self, chains, greedy, refine, join):
-        """A round's requests: the greedy rows' (:meth:`ranges`; the two searches of
-        a chain trying the same range, the gap between them, get one fit), then the
-        refinement's and the joins'.  Returns (rows, the points at the rows' ends, each
-        row's request among the rows, the rows with a request of their own, the
-        refinement's requests, the joins', Requests)."""
-        rows, crow, rev, a, b, start, end, tried, need = self.ranges(chains, greedy)
+        """A round's requests: the greedy rows' (in the chains' parameters: a backward
+        row's range [u0, u1] is the chain's [K - u1, K - u0]; the two searches of a
+        chain trying the same range, the gap between them, get one fit), then the
+        refinement's and the joins' (:meth:`Refine.requests`, :meth:`_Join.requests`),
+        all their points found in one call.  Returns (rows, the points at the rows'
+        ends, each row's request among the rows, the rows with a request of their
+        own, the count of the refinement's requests, of the joins', Requests)."""
+        rows, t0, t1, start, need = greedy.requests()
+        crow, rev = self.rchain[rows], self.back[rows]
+        a = np.where(rev, self.top[crow] - t1, t0)
+        b = np.where(rev, self.top[crow] - t0, t1)
         own = _same_ranges(crow, rev, a, b, need)
-        more = refine.requests()
-        joins = join.requests()
         mine = np.nonzero(own == np.arange(len(rows)))[0]
-        req = Requests(*(np.concatenate(x) for x in zip(
-            (crow[mine], a[mine], b[mine], start[mine], end[mine], need[mine]),
-            more + (np.zeros(len(more[0])),), _join_points(chains, joins))))
-        return rows, tried, own, mine, more, joins, req
+        more = refine.requests() if refine.active else (np.zeros(0, int),) + (np.zeros(0),) * 2
+        joins = join.requests()
+        chain, r0, r1 = (np.concatenate(x) for x in zip(more, joins))
+        nr, nb, nm = len(rows), int(rev.sum()), len(chain)
+        # the points at the greedy rows' ends (tried), at the backward rows' starts,
+        # then at both ends of the other requests
+        pts = _chain_points(chains, np.concatenate([crow, crow[rev], chain, chain]),
+                            np.concatenate([b, a[rev], r0, r1]))
+        end = pts[:nr]
+        start = start.copy()
+        start[rev] = pts[nr:nr + nb]
+        tried = np.where(rev[:, None], start, end)
+        req = Requests(np.concatenate([crow[mine], chain]), np.concatenate([a[mine], r0]),
+                       np.concatenate([b[mine], r1]),
+                       np.concatenate([start[mine], pts[nr + nb:nr + nb + nm]]),
+                       np.concatenate([end[mine], pts[nr + nb + nm:]]),
+                       np.concatenate([need[mine], np.zeros(nm)]))
+        return rows, tried, own, mine, len(more[0]), len(joins[0]), req
 
     def fail(self, chains, tol, row, t0, width, bound):
         """Raise ToleranceNotMetError for row ``row``'s interval [t0, t0 + width]."""
@@ -403,26 +414,36 @@ class _Rows:
         greedy.cap(bwd_of[both], top[both] - greedy.t0[both])
         fwd = two[greedy.mode[two] != DONE]
         met = fwd[greedy.t0[fwd] >= top[fwd] - greedy.t0[bwd_of[fwd]]]
-        # (polyline.unique, not np.union1d/np.unique/np.isin: those import
-        # numpy.ma, which font workers must not pay for)
-        met = unique(np.concatenate([met, two[(greedy.mode[two] == DONE)
-                                              != (greedy.mode[bwd_of[two]] == DONE)]]))
+        one = two[(greedy.mode[two] == DONE) != (greedy.mode[bwd_of[two]] == DONE)]
+        if len(one):                          # (met and one are sorted, and disjoint)
+            met = np.sort(np.concatenate([met, one]))
         greedy.mode[met], greedy.mode[bwd_of[met]] = DONE, DONE
         return met
 
-    def ended(self, found, ended):
-        """The segments of the ended rows in their chains' parameters, and the ended
-        chains: (segments, joined, alone); joined: those of a forward or backward row
-        of a two-way search, alone: the others (one-way, or a gap searched again)."""
+    def ended(self, found, greedy, rows, met):
+        """The segments of the rows whose search ended in the round (of ``rows``, those
+        done; both rows of the chains ``met``), in their chains' parameters, split by
+        chain: ((segments, chains) of those searched alone: one-way, or a gap searched
+        again; (segments, chains) of the two-way searches, to join); chains sorted.
+        None when no row ended."""
         rchain, back, top, n, m = self.rchain, self.back, self.top, self.n, self.m
+        ended = np.zeros(len(greedy.mode), bool)
+        ended[rows[greedy.mode[rows] == DONE]] = True
+        ended[met], ended[self.bwd_of[met]] = True, True
+        if not ended.any():
+            return None
         seg = found.take(ended)
         rc = rchain[seg[0]]
         flip = back[seg[0]]
         seg = (rc, np.where(flip, top[rc] - seg[2], seg[1]),
                np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
-        joined = unique(rchain[ended[(self.spare_of[rchain[ended]] >= 0) & (ended < n + m)]])
-        alone = np.sort(rchain[ended[~member(rchain[ended], joined)]])
-        return seg, joined, alone
+        rows = np.nonzero(ended)[0]
+        joined, alone = np.zeros(n, bool), np.zeros(n, bool)
+        joined[rchain[rows[(self.spare_of[rchain[rows]] >= 0) & (rows < n + m)]]] = True
+        alone[rchain[rows]] = True
+        sel = joined[seg[0]]
+        return ((tuple(x[~sel] for x in seg), np.nonzero(alone & ~joined)[0]),
+                (tuple(x[sel] for x in seg), np.nonzero(joined)[0]))
 
 
 #: A chain's guessed difficulty (:func:`first_widths`) per cubic of its first try:
@@ -465,10 +486,7 @@ def _drive(chains, tol, min_width, cubics_only=False):
     chain's cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
-    greedy = Greedy(lay.top[lay.rchain], _chain_points(chains, lay.rchain, lay.start_t), tol,
-                    min_width, partial(lay.fail, chains, tol),
-                    active=np.arange(n + 2 * lay.m) < n + lay.m,
-                    width=first_widths(chains, tol)[lay.rchain])
+    greedy = lay.greedy(chains, tol, min_width)
     whole_failed = np.zeros(n, bool)
     refine = Refine(chains, tol, whole_failed)
     join = _Join(tol, lay.top)
@@ -476,37 +494,40 @@ def _drive(chains, tol, min_width, cubics_only=False):
     final, rounds, done = [], [], 0
 
     def finished(seg, ended):
-        """Chains ``ended`` and their segments: to the refinement or done."""
+        """Chains ``ended`` (sorted), their segments ``seg``: to refine, or done."""
         nonlocal done
-        many = np.bincount(seg[0], minlength=n)[ended] >= 2
-        refine.add(ended[many], *_segments_of(seg, ended[many]))
-        final.append(_segments_of(seg, ended[~many]))
-        done += int((~many).sum())
+        if len(ended):
+            many = np.bincount(seg[0], minlength=n)[ended] >= 2
+            refined = np.zeros(n, bool)
+            refined[ended[many]] = True
+            sel = refined[seg[0]]
+            refine.add(ended[many], *(x[sel] for x in seg))
+            final.append(tuple(x[~sel] for x in seg))
+            done += int((~many).sum())
 
     while greedy.active.any() or refine.active or join.active:
         rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
-        k = len(mine)
         if len(req.chain):
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
-            if len(more[0]):
-                refine.update(fits, k, len(rounds) - 1)
-            if len(joins[0]):
+            if more:
+                refine.update(fits, len(mine), len(rounds) - 1)
+            if joins:
                 _search_gaps(chains, lay, greedy, found,
-                             join.update(fits, k + len(more[0]), len(rounds) - 1))
-            met = lay.meet(greedy)
-            ended = np.sort(acc[0][greedy.mode[acc[0]] == DONE])
-            seg, joined, alone = lay.ended(found, unique(np.concatenate(
-                [ended, met, lay.bwd_of[met]])))
-            finished(_segments_of(seg, alone), alone)
-            join.add(_segments_of(seg, joined), joined, greedy.t0[joined])
-            finished(*join.ready())
-        out = refine.finished()
-        final.append(out[1:])
-        done += len(out[0])
+                             join.update(fits, len(mine) + more, len(rounds) - 1))
+            out = lay.ended(found, greedy, acc[0], lay.meet(greedy))
+            if out is not None:
+                finished(*out[0])
+                join.add(*out[1], greedy.t0[out[1][1]])
+            if join.touched:
+                finished(*join.ready())
+        if refine.active:
+            out = refine.finished()
+            final.append(out[1:])
+            done += len(out[0])
         if _observer is not None:
             _observer(done, n)
     return (_cubic_arrays if cubics_only else _cubic_fits)(n, final, rounds)
@@ -551,14 +572,6 @@ def _same_ranges(crow, rev, a, b, need):
     return own
 
 
-def _join_points(chains, joins):
-    """(chain, t0, t1, start, end, need) of the refits of :class:`_Join` (chain, t0,
-    t1): certified (need 0)."""
-    chain, t0, t1 = joins
-    return (chain, t0, t1, _chain_points(chains, chain, t0), _chain_points(chains, chain, t1),
-            np.zeros(len(chain)))
-
-
 #: Parameter values of a chain (of parameter length K) that differ by at most this
 #: many ulps of K are one point reflected twice (t -> K - t -> K - (K - t)).
 REFLECT_ULPS = 4
@@ -591,6 +604,7 @@ class _Join:
         self.asked = ([], [], [])        # refits: chain, t0, t1
         self.slots = []                  # refits: (chain, (position in its path, kind))
         self.pending = set()             # chains with refits asked
+        self.touched = set()             # chains whose paths changed since ready()
 
     @property
     def active(self):
@@ -605,6 +619,7 @@ class _Join:
             by.setdefault(c, []).append((t0, t1, b, at))
         for c, f in zip(chains.tolist(), met.tolist()):
             self._path(c, sorted(by.get(c, [])), f)
+        self.touched.update(chains.tolist())
 
     def _path(self, c, segs, f):
         """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
@@ -643,6 +658,8 @@ class _Join:
 
     def requests(self):
         """(chain, t0, t1) of the refits asked."""
+        if not self.slots:
+            return (np.zeros(0, int), np.zeros(0), np.zeros(0))
         return (np.array(self.asked[0], int), np.array(self.asked[1], float),
                 np.array(self.asked[2], float))
 
@@ -676,6 +693,7 @@ class _Join:
                 continue
             if all(p is not None for p in path):
                 bad.discard(c)
+        self.touched |= self.pending
         self.asked, self.slots, self.pending = ([], [], []), [], set()
         bad = sorted(bad)
         kept, gaps = [], []
@@ -690,14 +708,19 @@ class _Join:
 
     def ready(self):
         """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
-        chains whose paths are complete, removed."""
+        chains whose paths are complete, removed (only those whose paths changed
+        since the last call can be)."""
         out, ended = [], []
-        for c in sorted(self.paths):
-            path = self.paths[c]
-            if c in self.pending or any(p is None for p in path):
+        for c in sorted(self.touched):
+            path = self.paths.get(c)
+            if path is None or c in self.pending or any(p is None for p in path):
                 continue
             ended.append(c)
             out.extend((c,) + p for p in path)
+        self.touched = set()
+        if not ended:
+            return ((np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),),
+                    np.zeros(0, int))
         for c in ended:
             del self.paths[c]
         seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out], float),
@@ -736,20 +759,14 @@ class _Segments:
     def add(self, chain, t0, t1, bound, at):
         self.parts.append((chain, t0, t1, bound, at))
 
-    def take(self, chains):
-        """The segments of ``chains`` (all their searches ended), removed: flat arrays
-        sorted by chain, then t0."""
+    def take(self, rows):
+        """The segments of the rows ``rows`` (a mask; all their searches ended),
+        removed: flat arrays sorted by row, then t0."""
         chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
-        mine = member(chain, unique(chains))
+        mine = rows[chain]
         self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
         order = np.lexsort((t0[mine], chain[mine]))       # a chain's segments in t0 order
         return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
-
-
-def _segments_of(seg, chains):
-    """The segments of ``chains`` of the arrays ``seg`` (chain, t0, t1, bound, at)."""
-    mine = member(seg[0], unique(chains))
-    return tuple(x[mine] for x in seg)
 
 
 def _cubic_fits(n, final, rounds):
