@@ -138,9 +138,10 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
 #: (morph.fonts.specimen.save_png writes the sample) and its EXIF tags (deferred:
 #: morph.fonts.deferred.pillow), the html package (the specimen escapes its text
-#: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma
+#: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
+#: locale tables (morph.fonts.tables_static reads the head table's dates itself)
 NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags", "html",
-                         "xml.etree", "morph.parse.svg", "numpy.ma")
+                         "xml.etree", "morph.parse.svg", "numpy.ma", "_strptime")
 
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
@@ -316,3 +317,28 @@ def test_deferred_module_runs_at_first_use(tmp_path, monkeypatch):
             sys.modules.pop(name, None)
         if hasattr(sys, "morph_probe_ran"):
             del sys.morph_probe_ran
+
+
+_EXIF_PROBE = r"""
+import sys
+from morph.fonts.deferred import pillow
+Image, = pillow("Image")
+ran = type(sys.modules["PIL.ExifTags"]).__name__ != "_Deferred"
+exif = Image.new("RGB", (1, 1)).getexif()
+exif[0x0131] = "morph"                      # Software
+data = exif.tobytes()
+back = Image.Exif()
+back.load(data)
+print(ran, back[0x0131], back.get_ifd(0x8825), type(sys.modules["PIL.ExifTags"]).__name__)
+"""
+
+
+def test_pillow_runs_its_exif_tags_where_used():
+    """morph.fonts.deferred.pillow: Pillow's EXIF tags stay unrun as Pillow loads and
+    run when an image's EXIF data needs them, which then reads as with a plain
+    import."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _EXIF_PROBE], env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["False", "morph", "{}", "module"]
