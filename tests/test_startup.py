@@ -342,3 +342,27 @@ def test_pillow_runs_its_exif_tags_where_used():
                          text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert res.stdout.split() == ["False", "morph", "{}", "module"]
+
+
+def test_a_command_runs_with_what_was_imported_frozen():
+    """The group freezes the collector's objects for a command's run (what was
+    imported before it is left out of the full passes) and unfreezes them after."""
+    import gc
+
+    import click
+
+    from morph.cli import main
+
+    seen = []
+
+    @click.command("freeze-probe")
+    def probe():
+        seen.append(gc.get_freeze_count())
+
+    before = gc.get_freeze_count()
+    main.add_command(probe)
+    try:
+        assert main(["freeze-probe"], standalone_mode=False) == 0
+    finally:
+        main.commands.pop("freeze-probe")
+    assert seen[0] > before and gc.get_freeze_count() == before
