@@ -136,12 +136,13 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 
 #: what the font commands never need, each a few ms of every process: numpy's
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
-#: (morph.fonts.specimen.save_png writes the sample) and its EXIF tags (deferred:
+#: (morph.fonts.specimen.save_png writes the sample) and its EXIF and TIFF tags (deferred:
 #: morph.fonts.deferred.pillow), the html package (the specimen escapes its text
 #: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
 #: locale tables (morph.fonts.tables_static reads the head table's dates itself)
-NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags", "html",
-                         "xml.etree", "morph.parse.svg", "numpy.ma", "_strptime")
+NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
+                         "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
+                         "_strptime")
 
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",

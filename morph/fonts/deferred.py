@@ -17,11 +17,11 @@ uses them (a GPOS table decompiled to move anchors, GSUB compiled with HarfBuzz'
 packer, a CFF2 variation store) gets the whole module as a plain import would, and a
 font that never needs them does not load them.
 
-Pillow without its EXIF tag enums: ``PIL.Image`` imports ``PIL.ExifTags`` (some
-hundreds of ``IntEnum`` members, built as it loads: about 30 M instructions, half of
-Pillow's import) for the metadata of the photographs it reads; the images morph
-draws and saves (a font's sample, a shape's PNG) have none.  :func:`pillow` imports
-Pillow's modules with it deferred.
+Pillow without its EXIF and TIFF tag tables: ``PIL.Image`` imports ``PIL.ExifTags``
+(some hundreds of ``IntEnum`` members, built as it loads: about 30 M instructions,
+half of Pillow's import) and ``PIL.TiffTags`` for the metadata of the photographs it
+reads; the images morph draws and saves (a font's sample, a shape's PNG) have none.
+:func:`pillow` imports Pillow's modules with them deferred.
 """
 
 import sys
@@ -33,8 +33,8 @@ __all__ = ["cff_table", "deferred_imports", "pillow", "LAYOUT_MODULES", "PILLOW_
 #: HarfBuzz bindings that otBase imports for its packer
 LAYOUT_MODULES = ("fontTools.ttLib.tables.otTables", "uharfbuzz")
 
-#: what ``PIL.Image`` imports for the EXIF data of images it reads
-PILLOW_METADATA = ("PIL.ExifTags",)
+#: what ``PIL.Image`` imports for the EXIF and TIFF metadata of images it reads
+PILLOW_METADATA = ("PIL.ExifTags", "PIL.TiffTags")
 
 
 class _Deferred(types.ModuleType):
