@@ -40,18 +40,14 @@ table shows the median of each phase; the machine is shared, so CPU time and not
 time.
 """
 
-import argparse
+# the timed worker process (--worker) imports only what it needs: the modules this
+# file imports count in its "startup", which is the command's own
 import json
 import os
 import resource
-import statistics
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
-
-from bench.pycache import cached_env
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -344,6 +340,12 @@ def glyph_count(message):
 
 
 def measure(run, repeat, explain=False):
+    import statistics
+    import subprocess
+    import tempfile
+
+    from bench.pycache import cached_env
+
     with tempfile.TemporaryDirectory() as tmp:
         args, what = run_args(run, tmp)
         results = []
@@ -368,6 +370,8 @@ def measure(run, repeat, explain=False):
 
 
 def code_version():
+    import subprocess
+
     def git(*args):
         return subprocess.run(["git", "-C", str(ROOT)] + list(args), capture_output=True,
                               text=True).stdout.strip()
@@ -476,6 +480,11 @@ def compare(rows, before, label, path):
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["--worker"]:   # a timed run: no argument parser imported
+        return worker(argv[1], "--explain-other" in argv[2:])
+    import argparse
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker")
     ap.add_argument("--explain-other", action="store_true",
@@ -494,7 +503,6 @@ def main(argv=None):
     opt = ap.parse_args(argv)
     if opt.worker:
         return worker(opt.worker, opt.explain_other)
-    argv = sys.argv[1:] if argv is None else argv
     argline = "".join(" " + a for a in shown_args(argv))
     t0 = time.perf_counter()
     if opt.from_json:   # a report of phases measured before (a --json of a run)

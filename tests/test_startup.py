@@ -30,7 +30,9 @@ if argv:
 else:
     import morph.cli
     code = 0
-print(json.dumps({"code": code, "modules": sorted(sys.modules),
+# a module deferred by morph.fonts.deferred and never used has not run: not loaded
+print(json.dumps({"code": code, "modules": sorted(m for m, v in sys.modules.items()
+                                                  if type(v).__name__ != "_Deferred"),
                   "blas": os.environ.get("OPENBLAS_NUM_THREADS")}))
 """
 
@@ -134,11 +136,13 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 
 #: what the font commands never need, each a few ms of every process: numpy's
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
-#: (morph.fonts.specimen.save_png writes the sample), the html package (the specimen
-#: escapes its text itself), the SVG reader and its XML parser (--nib-svg only),
-#: numpy.ma
-NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "html", "xml.etree",
-                         "morph.parse.svg", "numpy.ma")
+#: (morph.fonts.specimen.save_png writes the sample) and its EXIF and TIFF tags (deferred:
+#: morph.fonts.deferred.pillow), the html package (the specimen escapes its text
+#: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
+#: locale tables (morph.fonts.tables_static reads the head table's dates itself)
+NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
+                         "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
+                         "_strptime")
 
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
@@ -162,8 +166,10 @@ def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
 #: what ``morph stroke`` never needs for a static font of a skeleton without kerning,
 #: anchors or components (morph.fonts.tables_static): ufo2ft, ufoLib2 and the UFO
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
-#: classes, feaLib (no feature file)
-NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH if m != "cffsubr") + (
+#: classes, feaLib (no feature file); its .glif reader parses with fontTools.misc.etree
+#: (lxml where installed, else xml.etree)
+NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH
+                             if m not in ("cffsubr", "xml.etree")) + (
     "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib",
     "morph.fonts.brush")
 
@@ -312,3 +318,52 @@ def test_deferred_module_runs_at_first_use(tmp_path, monkeypatch):
             sys.modules.pop(name, None)
         if hasattr(sys, "morph_probe_ran"):
             del sys.morph_probe_ran
+
+
+_EXIF_PROBE = r"""
+import sys
+from morph.fonts.deferred import pillow
+Image, = pillow("Image")
+ran = type(sys.modules["PIL.ExifTags"]).__name__ != "_Deferred"
+exif = Image.new("RGB", (1, 1)).getexif()
+exif[0x0131] = "morph"                      # Software
+data = exif.tobytes()
+back = Image.Exif()
+back.load(data)
+print(ran, back[0x0131], back.get_ifd(0x8825), type(sys.modules["PIL.ExifTags"]).__name__)
+"""
+
+
+def test_pillow_runs_its_exif_tags_where_used():
+    """morph.fonts.deferred.pillow: Pillow's EXIF tags stay unrun as Pillow loads and
+    run when an image's EXIF data needs them, which then reads as with a plain
+    import."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _EXIF_PROBE], env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["False", "morph", "{}", "module"]
+
+
+def test_a_command_runs_with_what_was_imported_frozen():
+    """The group freezes the collector's objects for a command's run (what was
+    imported before it is left out of the full passes) and unfreezes them after."""
+    import gc
+
+    import click
+
+    from morph.cli import main
+
+    seen = []
+
+    @click.command("freeze-probe")
+    def probe():
+        seen.append(gc.get_freeze_count())
+
+    before = gc.get_freeze_count()
+    main.add_command(probe)
+    try:
+        assert main(["freeze-probe"], standalone_mode=False) == 0
+    finally:
+        main.commands.pop("freeze-probe")
+    assert seen[0] > before and gc.get_freeze_count() == before

@@ -5,6 +5,7 @@ Command modules (:mod:`.shapes`, :mod:`.apps`, :mod:`.fonts`) register on
 package imports its parent.
 """
 
+import gc
 import os
 import sys
 import warnings
@@ -151,6 +152,9 @@ class MorphGroup(click.Group):
         command = next((a for a in argv if not a.startswith("-")), "morph")
         del LOADED_SHAPES[:]
         restore = _limit_memory()
+        # what the process holds as the command starts (its imported modules: long
+        # lived) is left out of the collector's full passes over the command's objects
+        gc.freeze()
         filters, show = warnings.filters[:], warnings.showwarning
         if not debug:  # numpy's RuntimeWarnings would add lines before the error line
             warnings.simplefilter("ignore", RuntimeWarning)
@@ -185,6 +189,7 @@ class MorphGroup(click.Group):
         except Exception as exc:  # internal failure (MorphError or not): one line
             code = _failure_line(exc, command, argv, debug)
         finally:
+            gc.unfreeze()
             restore()
             warnings.filters[:], warnings.showwarning = filters, show
         if standalone_mode:

@@ -1,4 +1,6 @@
-"""fontTools' CFF table without its OpenType layout classes, unless a table needs them.
+"""Modules a command imports but rarely runs, registered to run at their first use.
+
+fontTools' CFF table without its OpenType layout classes, unless a table needs them:
 
 ``fontTools.cffLib`` imports fontTools' OpenType layout table classes
 (``fontTools.ttLib.tables.otTables``, which builds some 300 classes from its data
@@ -14,16 +16,25 @@ does, so whatever
 uses them (a GPOS table decompiled to move anchors, GSUB compiled with HarfBuzz's
 packer, a CFF2 variation store) gets the whole module as a plain import would, and a
 font that never needs them does not load them.
+
+Pillow without its EXIF and TIFF tag tables: ``PIL.Image`` imports ``PIL.ExifTags``
+(some hundreds of ``IntEnum`` members, built as it loads: about 30 M instructions,
+half of Pillow's import) and ``PIL.TiffTags`` for the metadata of the photographs it
+reads; the images morph draws and saves (a font's sample, a shape's PNG) have none.
+:func:`pillow` imports Pillow's modules with them deferred.
 """
 
 import sys
 import types
 
-__all__ = ["cff_table", "deferred_imports", "LAYOUT_MODULES"]
+__all__ = ["cff_table", "deferred_imports", "pillow", "LAYOUT_MODULES", "PILLOW_METADATA"]
 
 #: what fontTools.cffLib imports for CFF2 only: the OpenType layout classes and the
 #: HarfBuzz bindings that otBase imports for its packer
 LAYOUT_MODULES = ("fontTools.ttLib.tables.otTables", "uharfbuzz")
+
+#: what ``PIL.Image`` imports for the EXIF and TIFF metadata of images it reads
+PILLOW_METADATA = ("PIL.ExifTags", "PIL.TiffTags")
 
 
 class _Deferred(types.ModuleType):
@@ -79,3 +90,14 @@ def cff_table(font):
     if "fontTools.cffLib" not in sys.modules:
         deferred_imports(LAYOUT_MODULES)
     return font["CFF "]
+
+
+def pillow(*names):
+    """Pillow's modules ``names`` (``"Image"``, ``"ImageDraw"``, ...), in order, imported
+    with :data:`PILLOW_METADATA` deferred (:func:`deferred_imports`) when
+    ``PIL.Image`` is not imported yet."""
+    import importlib
+
+    if "PIL.Image" not in sys.modules:
+        deferred_imports(PILLOW_METADATA)
+    return tuple(importlib.import_module("PIL." + name) for name in names)

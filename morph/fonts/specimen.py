@@ -224,7 +224,9 @@ def _variable_sample(data, text, png, px, spots):
     (FreeType's instance at that location)."""
     import io
 
-    from PIL import Image, ImageDraw, ImageFont
+    from .deferred import pillow
+
+    Image, ImageDraw, ImageFont = pillow("Image", "ImageDraw", "ImageFont")
 
     pad = px // 4
     small = ImageFont.load_default(size=max(10, px // 6))
@@ -258,7 +260,9 @@ def write_sample_image(font, text, png, px=SAMPLE_PX):
     .woff, .woff2), a fontTools ``TTFont`` or a ufoLib2 font (compiled with ufo2ft).
     A variable font is shown at a few axis positions (:func:`sample_locations`),
     one labelled line each."""
-    from PIL import Image, ImageDraw, ImageFont
+    from .deferred import pillow
+
+    Image, ImageDraw, ImageFont = pillow("Image", "ImageDraw", "ImageFont")
 
     src = _sfnt_file(font)
     data = src.read() if hasattr(src, "read") else Path(src).read_bytes()

@@ -251,8 +251,23 @@ def _int_list_to_num(values, start, length):
 
 
 def _time_value(date):
+    """Seconds since 1970 of a UFO date (``YYYY/MM/DD HH:MM:SS``, UTC) as ufo2ft
+    reads it with ``time.strptime``, 0 where that fails.  A date of exactly that
+    form in ASCII digits (what :func:`_date_now` writes) is read field by field, with
+    strptime's ranges and calendar: its ``_strptime`` module builds the locale's
+    tables and patterns as it loads (~10 M instructions of every ``morph stroke``)."""
     import calendar
 
+    digits = date[:4] + date[5:7] + date[8:10] + date[11:13] + date[14:16] + date[17:] \
+        if isinstance(date, str) and len(date) == 19 else ""
+    if digits.isdigit() and digits.isascii() \
+            and (date[4], date[7], date[10], date[13], date[16]) == ("/", "/", " ", ":", ":"):
+        y, mo, d, h, mi, sec = (int(digits[i:j]) for i, j in
+                                ((0, 4), (4, 6), (6, 8), (8, 10), (10, 12), (12, 14)))
+        if y >= 1 and 1 <= mo <= 12 and 1 <= d <= calendar.monthrange(y, mo)[1] \
+                and h <= 23 and mi <= 59 and sec <= 61:
+            return calendar.timegm((y, mo, d, h, mi, sec))
+        return 0
     try:
         return calendar.timegm(time.strptime(date, _DATE_FORMAT))
     except ValueError:

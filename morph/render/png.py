@@ -13,11 +13,13 @@ winding rule sees the clockwise hole loops.  Strokes are drawn with
 import math
 
 import numpy as np
-from PIL import Image, ImageColor
 
 from .. import polyline as pl
+from ..fonts.deferred import pillow
 from ..region import polyline_edges
 from . import frame_bbox, normalize_shapes
+
+Image, ImageColor = pillow("Image", "ImageColor")
 
 #: coverage samples per image, at most (supersample lowered to fit): 2^28
 MAX_SAMPLES = 1 << 28

@@ -293,3 +293,31 @@ def test_font_info_ufolib2_refuses_is_refused_as_before(tmp_path, key, value):
         SkeletonSource(tmp_path / "s.ufo", light=True).shell_font()
     with pytest.raises(ParseError, match="cannot read UFO"):
         SkeletonSource(tmp_path / "s.ufo")
+
+
+def test_time_value_reads_dates_as_strptime_does():
+    """_time_value's field-by-field reading of ``YYYY/MM/DD HH:MM:SS`` gives what
+    ufo2ft's ``time.strptime`` gives (0 where it fails): out-of-range fields,
+    29 February, leap seconds, year 0, other forms and digits."""
+    import calendar
+    import random
+    import time
+
+    from morph.fonts.tables_static import _time_value
+
+    def strptime_value(date):
+        try:
+            return calendar.timegm(time.strptime(date, "%Y/%m/%d %H:%M:%S"))
+        except ValueError:
+            return 0
+
+    dates = ["2020/02/29 23:59:60", "2019/02/29 00:00:00", "1900/02/29 00:00:00",
+             "0000/01/01 00:00:00", "0001/01/01 00:00:00", "9999/12/31 23:59:61",
+             "2020/04/31 00:00:00", "2020/4/30 23:59:59", "2020/04/30  3:59:59",
+             "2020-04-30 23:59:59", "\u0662\u0660\u0662\u0660/04/30 23:59:59", ""]
+    rng = random.Random(7)
+    dates += ["%04d/%02d/%02d %02d:%02d:%02d" % tuple(rng.randint(0, m) for m in
+                                                     (9999, 14, 33, 25, 61, 63))
+              for _ in range(3000)]
+    assert [_time_value(d) for d in dates] == [strptime_value(d) for d in dates]
+    assert _time_value("2020/01/02 03:04:05") == 1577934245
