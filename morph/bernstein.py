@@ -244,24 +244,22 @@ def _sorted_merged(out_o, out_t, gap):
 def _bracketed_newton(c, iters=80):
     """The root in [0, 1] of each row of c (m, n+1) whose coefficients change sign
     once: Newton's iteration kept inside a shrinking sign bracket (bisection where a
-    step leaves it), all rows together, until a Newton step falls below 1e-15 (the
-    last one is taken) or the bracket is narrower than that."""
+    step leaves it), until a Newton step falls below 1e-15 (the last one is taken)
+    or the bracket is narrower than that.  The rows not done yet go on together; f
+    and f' come from one de Casteljau pass (:func:`_value_slope`)."""
     m, n1 = c.shape
-    n = n1 - 1
     nz = c != 0
     first = np.take_along_axis(c, np.argmax(nz, axis=1)[:, None], axis=1)[:, 0]
-    s_lo = np.sign(first)
-    d = n * np.diff(c, axis=1)
-    lo, hi = np.zeros(m), np.ones(m)
     # start from the chord of the end coefficients where both are nonzero
     den = c[:, 0] - c[:, -1]
     u = np.where((c[:, 0] != 0) & (c[:, -1] != 0) & (den != 0),
                  c[:, 0] / np.where(den != 0, den, 1.0), 0.5)
-    u = np.clip(u, 0.01, 0.99)
-    done = np.zeros(m, bool)
+    out = np.clip(u, 0.01, 0.99)
+    act = np.arange(m)                     # the rows not done, and their state
+    cc, s_lo, u = c, np.sign(first), out.copy()
+    lo, hi = np.zeros(m), np.ones(m)
     for _ in range(iters):
-        f = np.sum(basis(n, u) * c, axis=1)
-        fp = np.sum(basis(n - 1, u) * d, axis=1)
+        f, fp = _value_slope(cc, u)
         same = np.sign(f) == s_lo
         lo = np.where(same, u, lo)
         hi = np.where(~same & (f != 0), u, hi)
@@ -270,11 +268,25 @@ def _bracketed_newton(c, iters=80):
         un = u - step
         bad = ~((un >= lo) & (un <= hi))
         un = np.where(bad, 0.5 * (lo + hi), un)
-        u = np.where(done, u, un)
-        done |= (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
+        out[act] = un
+        done = (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
         if done.all():
             break
-    return u
+        go = np.flatnonzero(~done)
+        act, cc, s_lo, u, lo, hi = act[go], cc[go], s_lo[go], un[go], lo[go], hi[go]
+    return out
+
+
+def _value_slope(c, u):
+    """(p(u), p'(u)) of each row of c (m, n+1), n >= 1, at u (m,): de Casteljau down
+    to the two points of the last level, whose difference times n is the slope."""
+    n = c.shape[1] - 1
+    w = c
+    uu = u[:, None]
+    for _ in range(n - 1):
+        w = w[:, :-1] + uu * (w[:, 1:] - w[:, :-1])
+    d = w[:, 1] - w[:, 0]
+    return w[:, 0] + u * d, n * d
 
 
 def solve_bracketed(c, lo=None, hi=None):

@@ -703,7 +703,7 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a
         pieces_a.then([p for loop in region_b for p in loop])
     g = gauss.gauss_table(list(region_a) + list(region_b), pieces=pieces,
                           traced=len(region_a) if traced else 0)
-    for k, total in enumerate(g.turnings()):
+    for k, total in _off_turnings(g):
         turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:
             which, loop = (0, k) if k < len(region_a) else (1, k - len(region_a))
@@ -712,6 +712,26 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a
                 "through morph.region.orient_region (with on_crossing=morph.trim.fill_region)"
                 % (names[which], loop, turns), loop)
     return GaussPair(gauss=tuple(g.split(len(region_a))))
+
+
+def _off_turnings(g):
+    """(loop, total turning) of the loops of a Gauss table whose total may miss +-2 pi
+    by more than 2 pi 1e-6 (:meth:`morph.gauss.GaussTable.turnings`' sums, in its
+    order).  The totals of all loops come from one call, in another order: two
+    orders of n terms differ by at most 2 (n - 1) u sum |sweep| (u the unit
+    roundoff), so a loop within twice that of the threshold is summed again as
+    turnings() sums it, and the list is the same."""
+    bounds = np.searchsorted(g.loop, np.arange(g.n_loops + 1))
+    if not len(g.sweep):
+        return []
+    at = np.minimum(bounds[:-1], len(g.sweep) - 1)
+    size = np.diff(bounds)
+    total = np.where(size > 0, np.add.reduceat(g.sweep, at), 0.0)
+    slack = 4.0 * np.finfo(float).eps * size * np.add.reduceat(np.abs(g.sweep), at)
+    off = np.abs(np.abs(total) - 2.0 * np.pi) - 2.0 * np.pi * 1e-6
+    sweep = g.sweep.tolist()
+    return [(k, float(sum(sweep[bounds[k]:bounds[k + 1]])))
+            for k in np.flatnonzero(off > -slack - 1e-300).tolist()]
 
 
 def with_pair_table(pair):
@@ -797,12 +817,22 @@ def _loop_boxes(t):
     for d, h in t.stacks.items():
         edges = np.flatnonzero(t.deg == d)      # in slot order
         x = h[:, :, :2] / h[:, :, 2:]
-        np.minimum.at(lo, t.loop[edges], x.min(axis=1))
-        np.maximum.at(hi, t.loop[edges], x.max(axis=1))
+        _runs_extremes(lo, hi, t.loop[edges], x.min(axis=1), x.max(axis=1))
     v = np.flatnonzero(t.vertex)
-    np.minimum.at(lo, t.loop[v], t.point[v])
-    np.maximum.at(hi, t.loop[v], t.point[v])
+    _runs_extremes(lo, hi, t.loop[v], t.point[v], t.point[v])
     return np.concatenate([lo, hi], axis=1)
+
+
+def _runs_extremes(lo, hi, loop, low, high):
+    """lo[l] = min(lo[l], low of the rows of loop l), hi likewise with max, for
+    ``loop`` ascending (a table's edges are its loops' one after another): one
+    reduction per run of equal loops."""
+    if not len(loop):
+        return
+    at = np.flatnonzero(np.r_[True, loop[1:] != loop[:-1]])
+    ids = loop[at]
+    lo[ids] = np.minimum(lo[ids], np.minimum.reduceat(low, at, axis=0))
+    hi[ids] = np.maximum(hi[ids], np.maximum.reduceat(high, at, axis=0))
 
 
 def scale_edges(edges, factor):
@@ -862,11 +892,11 @@ def chain(pieces, tol, packed=False):
         h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
         groups.append((ks, h))
-    snapped = pc.Pieces(groups, n)
-    ordered = list(map(snapped.rows().__getitem__, order.tolist()))
+    travel = pc.Pieces(groups, n).take(order)
+    ordered = travel.rows()
     bounds = [0] + (np.flatnonzero(np.diff(first[order])) + 1).tolist() + [n]
     loops = [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
-    return (loops, snapped.take(order)) if packed else loops
+    return (loops, travel) if packed else loops
 
 
 def _nearest_first(e, s, d, n):
@@ -922,11 +952,17 @@ def _near_pairs(a, b, tol):
     keys_b = cell_b[:, 0] * 3_000_017 + cell_b[:, 1]
     order = np.argsort(keys_b, kind="stable")
     sorted_keys = keys_b[order]
+    keys_a = cell_a[:, 0] * 3_000_017 + cell_a[:, 1]
+    # the searches take the keys in ascending order (each search then starts from the
+    # previous one's place), their answers put back in the order of a
+    by_a = np.argsort(keys_a)
+    needles = keys_a[by_a]
     ii, jj, cc = [], [], []
     for dx in (-1, 0, 1):
-        k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1]
-        lo = np.searchsorted(sorted_keys, k - 1, "left")
-        hi = np.searchsorted(sorted_keys, k + 1, "right")
+        k = keys_a + dx * 3_000_017
+        lo, hi = np.empty(len(a), np.int64), np.empty(len(a), np.int64)
+        lo[by_a] = np.searchsorted(sorted_keys, needles + (dx * 3_000_017 - 1), "left")
+        hi[by_a] = np.searchsorted(sorted_keys, needles + (dx * 3_000_017 + 1), "right")
         cnt = hi - lo
         i = np.repeat(np.arange(len(a)), cnt)
         at = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)

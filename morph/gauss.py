@@ -416,8 +416,7 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     turns = _corner_turns_many(curves, counts, a0, sweep, last, traced)
     starts, ends = pc.end_points(curves)
     vertex = np.abs(turns) >= angle_tol
-    theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
-                               counts.tolist())
+    theta_c, theta_v = _lifted(a0, sweep, turns, vertex, counts)
     # edge positions: each curve, then its vertex where it has one
     nc = len(a0)
     pos_c = np.arange(nc) + np.concatenate([[0], np.cumsum(vertex)[:-1]])
@@ -443,22 +442,24 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
 
 def _lifted(a0, sweep, turns, vertex, counts):
     """(theta of each curve edge, theta of its vertex edge (0.0 where none)): the
-    lifted angles along each loop, each start angle moved by whole turns to continue
-    the previous edge's end (:func:`_wrap`, with math.ceil: the same numbers)."""
-    theta_c, theta_v = [0.0] * len(a0), [0.0] * len(a0)
-    lo = 0
-    for n in counts:
-        theta = a0[lo]
-        for i in range(lo, lo + n):
-            if i > lo:
-                d = a0[i] - theta
-                theta = theta + (d - TWO_PI * math.ceil((d - np.pi) / TWO_PI))
-            theta_c[i] = theta
-            theta = theta + sweep[i]
-            if vertex[i]:
-                theta_v[i] = theta
-                theta = theta + turns[i]
-        lo += n
+    lifted angles along each loop, each start angle a0 moved by the whole turns
+    (a0 - 2 pi k) that bring it within pi of the previous edge's end (:func:`_wrap`'s
+    rule).  The previous end is a0 of the previous curve plus its sweep and turn,
+    lifted by that curve's own whole turns, so k is a running sum along the loop of
+    each join's whole turns, read from the unlifted angles.  Those differ from a
+    whole number of turns by less than angle_tol (a turn below it is no vertex, a
+    cusp's turn is +-pi and the join's difference its twin), far from the rounding
+    point of the ceil, so k is the same whatever the order of the additions."""
+    n = len(a0)
+    first = np.cumsum(counts) - counts                    # each loop's first curve
+    end = a0 + sweep + np.where(vertex, turns, 0.0)       # each curve's end, unlifted
+    step = np.zeros(n)
+    step[1:] = np.ceil((a0[1:] - end[:-1] - np.pi) / TWO_PI)
+    step[first[counts > 0]] = 0.0
+    k = np.cumsum(step)
+    k -= np.repeat(k[first], counts)                      # per loop, from its first curve
+    theta_c = a0 - TWO_PI * k
+    theta_v = np.where(vertex, theta_c + sweep, 0.0)
     return theta_c, theta_v
 
 
