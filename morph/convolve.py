@@ -155,11 +155,12 @@ class _EdgeTable:
                 out[i] = bz.to_degree(h, deg)
         return out
 
-    def params(self, idx, angle):
+    def params(self, idx, angle, distinct=False):
         """Parameters of the curved edges idx where their tangent angle is ``angle``
         (an angle within 1e-13 of the edge's start or end angle gives that end, as
-        :func:`morph.gauss.restrict`)."""
-        t = gauss.angle_params(self.h[idx], angle) if len(idx) else np.zeros(0)
+        :func:`morph.gauss.restrict`); ``distinct``: no (edge, angle) pair repeats
+        (:func:`morph.gauss.angle_params`)."""
+        t = gauss.angle_params(self.h[idx], angle, distinct) if len(idx) else np.zeros(0)
         t = np.where(np.abs(angle - (self.theta[idx] + self.sweep[idx])) < 1e-13, 1.0, t)
         return np.where(np.abs(angle - self.theta[idx]) < 1e-13, 0.0, t)
 
@@ -180,7 +181,7 @@ class _EdgeTable:
         step[1:] = (key[order[1:]] != key[order[:-1]]).any(axis=1)
         group = np.empty(len(idx), np.int64)
         group[order] = np.cumsum(step) - 1
-        t = self.params(idx[order[step]], angle[order[step]])[group]
+        t = self.params(idx[order[step]], angle[order[step]], distinct=True)[group]
         return np.split(t, np.cumsum(sizes)[:-1])
 
     def restricted(self, idx, t_lo, t_hi):
@@ -221,41 +222,58 @@ def _pair_table(ta, tb, block=1 << 21):
     """All compatible pairs of the edges of two tables (every loop of A with every
     loop of B): arrays (i, j, lo, hi, k) in the order of :func:`compatible_pairs`
     applied loop pair by loop pair (loops of A, then of B; proper pairs, then A's
-    straight edges, then B's; row-major within each)."""
-    out = [[] for _ in range(6)]
-    a_line_all = ta.straight
-    b_line = tb.straight[None, :]
-    bmid = 0.5 * (tb.lo + tb.hi)
-    step = max(1, block // max(1, len(tb.lo)))
-    for s in range(0, len(ta.lo), step):
-        alo, ahi = ta.lo[s:s + step, None], ta.hi[s:s + step, None]
-        amid = 0.5 * (alo + ahi)
-        k = np.round((amid - bmid[None, :]) / gauss.TWO_PI)
-        sblo = tb.lo[None, :] + gauss.TWO_PI * k
-        sbhi = tb.hi[None, :] + gauss.TWO_PI * k
-        lo = np.maximum(alo, sblo)
-        hi = np.minimum(ahi, sbhi)
-        a_line = a_line_all[s:s + step, None]
-        proper = (hi - lo > ANGLE_EQ) & ~a_line & ~b_line
-        # straight edge of A at theta: B range (lo, hi]  (B perturbed by +eps)
-        a_match = a_line & ~b_line & (alo - sblo > ANGLE_EQ) & (alo - sbhi <= ANGLE_EQ)
-        # straight edge of B at theta: A range [lo, hi)
-        b_match = b_line & ~a_line & (sblo - alo >= -ANGLE_EQ) & (ahi - sblo > ANGLE_EQ)
-        for cls, (mask, plo, phi) in enumerate(((proper, lo, hi),
-                                                (a_match, np.broadcast_to(alo, lo.shape),
-                                                 np.broadcast_to(alo, lo.shape)),
-                                                (b_match, sblo, sblo))):
-            ii, jj = np.nonzero(mask)
-            out[0].append(ii + s)
-            out[1].append(jj)
-            out[2].append(plo[ii, jj])
-            out[3].append(phi[ii, jj])
-            out[4].append(k[ii, jj])
-            out[5].append(np.full(len(ii), cls))
-    i, j, lo, hi, k, cls = (np.concatenate(x) if x else np.zeros(0) for x in out)
-    i, j, cls = i.astype(int), j.astype(int), cls.astype(int)
-    order = np.lexsort((j, i, cls, tb.loop[j], ta.loop[i]))
+    straight edges, then B's; row-major within each).  Each class compares only
+    the edges it can pair (:func:`_class_pairs`)."""
+    a_line, b_line = ta.straight, tb.straight
+    a_rest, a_str = np.flatnonzero(~a_line), np.flatnonzero(a_line)
+    b_rest, b_str = np.flatnonzero(~b_line), np.flatnonzero(b_line)
+    parts = [x for cls, rows, cols in ((0, a_rest, b_rest), (1, a_str, b_rest),
+                                       (2, a_rest, b_str))
+             for x in _class_pairs(ta, tb, rows, cols, cls, block)]
+    if not parts:
+        z = np.zeros(0)
+        return z.astype(int), z.astype(int), z, z, z
+    i, j, lo, hi, k, cls = (np.concatenate(x) for x in zip(*parts))
+    la, lb = ta.loop[i], tb.loop[j]
+    na, nb = len(ta.lo), len(tb.lo)
+    if float(ta.n_loops) * tb.n_loops * 3 * na * nb < 2.0 ** 62:
+        # the five keys as one number (each pair once: distinct numbers)
+        key = (((la * tb.n_loops + lb) * 3 + cls) * na + i) * nb + j
+        order = np.argsort(key, kind="stable")
+    else:
+        order = np.lexsort((j, i, cls, lb, la))
     return i[order], j[order], lo[order], hi[order], k[order]
+
+
+def _class_pairs(ta, tb, rows, cols, cls, block):
+    """The pairs of one class of :func:`_pair_table` among edges ``rows`` of A and
+    ``cols`` of B: (i, j, lo, hi, k, class) arrays, ``block`` comparisons at a time.
+    Class 0: proper overlaps of curves and vertices; 1: a straight edge of A at
+    theta with the B range (lo, hi] round it (B perturbed by +eps); 2: a straight
+    edge of B at theta with the A range [lo, hi) round it."""
+    if not len(rows) or not len(cols):
+        return
+    blo, bhi = tb.lo[cols][None, :], tb.hi[cols][None, :]
+    bmid = 0.5 * (blo + bhi)
+    step = max(1, block // len(cols))
+    for s in range(0, len(rows), step):
+        r = rows[s:s + step]
+        alo, ahi = ta.lo[r, None], ta.hi[r, None]
+        k = np.round((0.5 * (alo + ahi) - bmid) / gauss.TWO_PI)
+        sblo = blo + gauss.TWO_PI * k
+        if cls == 0:
+            lo, hi = np.maximum(alo, sblo), np.minimum(ahi, bhi + gauss.TWO_PI * k)
+            mask = hi - lo > ANGLE_EQ
+        elif cls == 1:
+            sbhi = bhi + gauss.TWO_PI * k
+            mask = (alo - sblo > ANGLE_EQ) & (alo - sbhi <= ANGLE_EQ)
+            lo = hi = np.broadcast_to(alo, k.shape)
+        else:
+            mask = (sblo - alo >= -ANGLE_EQ) & (ahi - sblo > ANGLE_EQ)
+            lo = hi = sblo
+        ii, jj = np.nonzero(mask)
+        yield (r[ii], cols[jj], lo[ii, jj], hi[ii, jj], k[ii, jj],
+               np.full(len(ii), cls))
 
 
 def compatible_pairs(edges_a, edges_b):

@@ -690,7 +690,7 @@ def angle_param(piece, theta):
     return float(angle_params(h[None], np.array([theta], float))[0])
 
 
-def angle_params(h, theta):
+def angle_params(h, theta, distinct=False):
     """:func:`angle_param` for many pieces at once, from their tangent numerators.
 
     h: (k, m+1, 2) tangent numerators (``piece.tangent_numerator``, elevated to one
@@ -699,6 +699,8 @@ def angle_params(h, theta):
     max|f_i| is taken as is; where f changes sign over [0, 1] the root comes from a
     bracketed Newton iteration (:func:`morph.bernstein.solve_bracketed`); otherwise
     theta lies (numerically) outside the range and the closer end is returned.
+    ``distinct``: the rows are known to be distinct (each equal row would be solved
+    once, :func:`_solved_once`, which then only costs its sort).
     """
     h = np.asarray(h, float)
     theta = np.asarray(theta, float)
@@ -711,7 +713,7 @@ def angle_params(h, theta):
     t = np.where(np.abs(f0) <= 1e-14 * scale, 0.0, t)
     inner = (f0 * f1 < 0) & (np.abs(f0) > 1e-14 * scale) & (np.abs(f1) > 1e-14 * scale)
     if inner.any():
-        t[inner] = _solved_once(f[inner])
+        t[inner] = bz.solve_bracketed(f[inner]) if distinct else _solved_once(f[inner])
     return t
 
 
