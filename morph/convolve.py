@@ -175,13 +175,8 @@ class _EdgeTable:
         idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
         angle = np.concatenate([np.asarray(a, float) for _, a in requests])
         # each (edge, angle) pair (the angle to the bit) once
-        key = np.stack([idx, angle.view(np.int64)], axis=1)
-        order = np.lexsort((key[:, 1], key[:, 0]))
-        step = np.ones(len(idx), bool)
-        step[1:] = (key[order[1:]] != key[order[:-1]]).any(axis=1)
-        group = np.empty(len(idx), np.int64)
-        group[order] = np.cumsum(step) - 1
-        t = self.params(idx[order[step]], angle[order[step]], distinct=True)[group]
+        first, group = _distinct_pairs(idx, angle.view(np.int64))
+        t = self.params(idx[first], angle[first], distinct=True)[group]
         return np.split(t, np.cumsum(sizes)[:-1])
 
     def restricted(self, idx, t_lo, t_hi):
@@ -216,6 +211,28 @@ class _EdgeTable:
                 v = bz.evaluate_many(st, t[rows])
                 pts[cur[rows]] = v[:, :2] / v[:, 2:3]
         return pts
+
+
+def _distinct_pairs(a, b):
+    """(one row of each distinct pair (a_k, b_k) of int64 arrays, the group of each
+    row: its pair's place in that list).  The rows are sorted by one number mixing
+    the two (b xor a times an odd constant): equal pairs mix equal, so they come
+    together; two distinct pairs that mix equal (which the check finds) send the
+    rows to a sort by both keys instead."""
+    with np.errstate(over="ignore"):
+        mix = b ^ (a * np.int64(-7046029254386353131))
+    order = np.argsort(mix, kind="stable")
+    a_s, b_s, m_s = a[order], b[order], mix[order]
+    tie = m_s[1:] == m_s[:-1]
+    if ((a_s[1:] != a_s[:-1]) | (b_s[1:] != b_s[:-1]))[tie].any():
+        order = np.lexsort((b, a))
+        a_s, b_s = a[order], b[order]
+        tie = (a_s[1:] == a_s[:-1]) & (b_s[1:] == b_s[:-1])
+    step = np.ones(len(a), bool)
+    step[1:] = ~tie
+    group = np.empty(len(a), np.int64)
+    group[order] = np.cumsum(step) - 1
+    return order[step], group
 
 
 def _pair_table(ta, tb, block=1 << 21):
@@ -938,25 +955,37 @@ def _nearest_first(e, s, d, n):
 
 def _cycles(succ):
     """(first, rank) of the cycles of a permutation: each element's cycle named by
-    its lowest element, and its number of steps from there along ``succ``.  By
-    pointer jumping (about log2 n rounds of array calls each): the lowest of 1, 2,
-    4 ... elements ahead, then the list ranking of the cycles cut at their lowest."""
+    its lowest element, and its number of steps from there along ``succ``.  The
+    runs i, i + 1, ... that ``succ`` steps through in order (most of a chained
+    convolution) are taken as one element each, of their length: the step out of a
+    run's last element goes to another run's start.  On the runs, by pointer
+    jumping (about log2 n rounds of array calls each): the lowest of 1, 2, 4 ...
+    runs ahead, then the list ranking, weighted by the runs' lengths, of the cycles
+    cut at their lowest run."""
     n = len(succ)
     idx = np.arange(n)
-    first, jump, span = idx.copy(), succ.copy(), 1
-    while span < n:
+    start = np.ones(n, bool)
+    start[1:] = succ[:-1] != idx[1:]
+    starts = np.flatnonzero(start)
+    run = np.cumsum(start) - 1                      # each element's run
+    length = np.diff(np.append(starts, n))
+    rsucc = run[succ[starts + length - 1]]          # the run after each run
+    m = len(starts)
+    ridx = np.arange(m)
+    first, jump, span = ridx.copy(), rsucc.copy(), 1
+    while span < m:
         first = np.minimum(first, first[jump])
         jump = jump[jump]
         span *= 2
-    root = first == idx
-    pred = np.empty(n, np.int64)
-    pred[succ] = idx
-    rank = (~root).astype(np.int64)
-    ptr = np.where(root, idx, pred)
+    root = first == ridx
+    pred = np.empty(m, np.int64)
+    pred[rsucc] = ridx
+    rank = np.where(root, 0, length[pred])
+    ptr = np.where(root, ridx, pred)
     while not root[ptr].all():
         rank = rank + rank[ptr]
         ptr = ptr[ptr]
-    return first, rank
+    return starts[first][run], rank[run] + (idx - starts[run])
 
 
 def _near_pairs(a, b, tol):
