@@ -175,7 +175,7 @@ class _EdgeTable:
         idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
         angle = np.concatenate([np.asarray(a, float) for _, a in requests])
         # each (edge, angle) pair (the angle to the bit) once
-        first, group = _distinct_pairs(idx, angle.view(np.int64))
+        first, group = _distinct_rows(idx, angle.view(np.int64))
         t = self.params(idx[first], angle[first], distinct=True)[group]
         return np.split(t, np.cumsum(sizes)[:-1])
 
@@ -183,9 +183,16 @@ class _EdgeTable:
         """Sub-pieces of the curved edges idx between the parameters at their angles
         lo and hi, in each edge's direction: [(rows, stack)] by degree."""
         t0, t1 = self._directed(idx, t_lo, t_hi)
-        out = []
-        for rows, st in self.pieces(idx):
-            out.append((rows, bz.subsegment_many(st, t0[rows], t1[rows])))
+        # each (edge, t0, t1) once: a font's strokes share directions, so the ranges
+        # of the nib's edges at their corners repeat (half the rows of a hanzi chunk)
+        first, group = _distinct_rows(np.asarray(idx, np.int64), t0.view(np.int64),
+                                      t1.view(np.int64))
+        deg, where, out = self.deg[idx], np.empty(len(first), np.int64), []
+        for rows, st in self.pieces(idx[first]):
+            sub = bz.subsegment_many(st, t0[first[rows]], t1[first[rows]])
+            where[rows] = np.arange(len(rows))
+            mine = np.flatnonzero(deg == deg[first[rows[0]]])
+            out.append((mine, sub[where[group[mine]]]))
         return out
 
     def restricted_h(self, idx, t_lo, t_hi):
@@ -213,24 +220,32 @@ class _EdgeTable:
         return pts
 
 
-def _distinct_pairs(a, b):
-    """(one row of each distinct pair (a_k, b_k) of int64 arrays, the group of each
-    row: its pair's place in that list).  The rows are sorted by one number mixing
-    the two (b xor a times an odd constant): equal pairs mix equal, so they come
-    together; two distinct pairs that mix equal (which the check finds) send the
-    rows to a sort by both keys instead."""
+def _distinct_rows(*keys):
+    """(one row of each distinct tuple of the int64 arrays ``keys``, the group of each
+    row: its tuple's place in that list).  The rows are sorted by one number mixing
+    the keys (each step: times an odd constant, xor the next key): equal tuples mix
+    equal, so they come together; two distinct tuples that mix equal (which the
+    check finds) send the rows to a sort by all the keys instead."""
+    mix = keys[0]
     with np.errstate(over="ignore"):
-        mix = b ^ (a * np.int64(-7046029254386353131))
+        for k in keys[1:]:
+            mix = k ^ (mix * np.int64(-7046029254386353131))
     order = np.argsort(mix, kind="stable")
-    a_s, b_s, m_s = a[order], b[order], mix[order]
+    m_s = mix[order]
     tie = m_s[1:] == m_s[:-1]
-    if ((a_s[1:] != a_s[:-1]) | (b_s[1:] != b_s[:-1]))[tie].any():
-        order = np.lexsort((b, a))
-        a_s, b_s = a[order], b[order]
-        tie = (a_s[1:] == a_s[:-1]) & (b_s[1:] == b_s[:-1])
-    step = np.ones(len(a), bool)
+    differ = np.zeros(len(tie), bool)
+    for k in keys:
+        k_s = k[order]
+        differ |= k_s[1:] != k_s[:-1]
+    if (differ & tie).any():
+        order = np.lexsort(keys[::-1])
+        tie = np.ones(len(order) - 1, bool)
+        for k in keys:
+            k_s = k[order]
+            tie &= k_s[1:] == k_s[:-1]
+    step = np.ones(len(order), bool)
     step[1:] = ~tie
-    group = np.empty(len(a), np.int64)
+    group = np.empty(len(order), np.int64)
     group[order] = np.cumsum(step) - 1
     return order[step], group
 
