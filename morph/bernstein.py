@@ -245,9 +245,10 @@ def _bracketed_newton(c, iters=80):
     """The root in [0, 1] of each row of c (m, n+1) whose coefficients change sign
     once: Newton's iteration kept inside a shrinking sign bracket (bisection where a
     step leaves it), until a Newton step falls below 1e-15 (the last one is taken)
-    or the bracket is narrower than that.  The rows not done yet go on together; f
-    and f' come from one de Casteljau pass (:func:`_value_slope`)."""
+    or the bracket is narrower than that.  The rows not done yet go on together
+    (each row's steps are its own: the same numbers as iterating every row)."""
     m, n1 = c.shape
+    n = n1 - 1
     nz = c != 0
     first = np.take_along_axis(c, np.argmax(nz, axis=1)[:, None], axis=1)[:, 0]
     # start from the chord of the end coefficients where both are nonzero
@@ -256,10 +257,11 @@ def _bracketed_newton(c, iters=80):
                  c[:, 0] / np.where(den != 0, den, 1.0), 0.5)
     out = np.clip(u, 0.01, 0.99)
     act = np.arange(m)                     # the rows not done, and their state
-    cc, s_lo, u = c, np.sign(first), out.copy()
+    cc, dd, s_lo, u = c, n * np.diff(c, axis=1), np.sign(first), out.copy()
     lo, hi = np.zeros(m), np.ones(m)
     for _ in range(iters):
-        f, fp = _value_slope(cc, u)
+        f = np.sum(basis(n, u) * cc, axis=1)
+        fp = np.sum(basis(n - 1, u) * dd, axis=1)
         same = np.sign(f) == s_lo
         lo = np.where(same, u, lo)
         hi = np.where(~same & (f != 0), u, hi)
@@ -273,20 +275,9 @@ def _bracketed_newton(c, iters=80):
         if done.all():
             break
         go = np.flatnonzero(~done)
-        act, cc, s_lo, u, lo, hi = act[go], cc[go], s_lo[go], un[go], lo[go], hi[go]
+        act, cc, dd, s_lo = act[go], cc[go], dd[go], s_lo[go]
+        u, lo, hi = un[go], lo[go], hi[go]
     return out
-
-
-def _value_slope(c, u):
-    """(p(u), p'(u)) of each row of c (m, n+1), n >= 1, at u (m,): de Casteljau down
-    to the two points of the last level, whose difference times n is the slope."""
-    n = c.shape[1] - 1
-    w = c
-    uu = u[:, None]
-    for _ in range(n - 1):
-        w = w[:, :-1] + uu * (w[:, 1:] - w[:, :-1])
-    d = w[:, 1] - w[:, 0]
-    return w[:, 0] + u * d, n * d
 
 
 def solve_bracketed(c, lo=None, hi=None):

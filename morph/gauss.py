@@ -440,26 +440,68 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     return GaussTable(loop, index, curve, theta, sw, point, piece_of, curves, len(loops))
 
 
-def _lifted(a0, sweep, turns, vertex, counts):
+def _lifted(a0, sweep, turns, vertex, counts, rounds=8):
     """(theta of each curve edge, theta of its vertex edge (0.0 where none)): the
-    lifted angles along each loop, each start angle a0 moved by the whole turns
-    (a0 - 2 pi k) that bring it within pi of the previous edge's end (:func:`_wrap`'s
-    rule).  The previous end is a0 of the previous curve plus its sweep and turn,
-    lifted by that curve's own whole turns, so k is a running sum along the loop of
-    each join's whole turns, read from the unlifted angles.  Those differ from a
-    whole number of turns by less than angle_tol (a turn below it is no vertex, a
-    cusp's turn is +-pi and the join's difference its twin), far from the rounding
-    point of the ceil, so k is the same whatever the order of the additions."""
-    n = len(a0)
-    first = np.cumsum(counts) - counts                    # each loop's first curve
-    end = a0 + sweep + np.where(vertex, turns, 0.0)       # each curve's end, unlifted
-    step = np.zeros(n)
-    step[1:] = np.ceil((a0[1:] - end[:-1] - np.pi) / TWO_PI)
+    lifted angles along each loop, each start angle moved by whole turns to continue
+    the previous edge's end (:func:`_wrap`'s rule; the float operations of walking
+    each loop edge by edge, :func:`_lifted_walk`).
+
+    The walk's step from one edge to the next is done for all edges at once, from
+    a guess of every edge's angle (a0 less the whole turns counted along the loop,
+    :func:`_whole_turns`), until the angles stop changing: a fixed point of the step
+    is the walk's result (each loop's first angle is a0, and each next one the step
+    of the one before).  Each round makes at least the next angle after the last
+    right one right, so a loop is done within as many rounds as it has wrong
+    guesses in a row (the guess is mostly right to the bit: most angles are a0
+    moved by zero turns); loops not done within ``rounds`` rounds are walked."""
+    first = np.cumsum(counts) - counts
+    head = np.zeros(len(a0), bool)
+    head[first[counts > 0]] = True
+    theta = a0 - TWO_PI * _whole_turns(a0, sweep, turns, vertex, counts, first)
+    for _ in range(rounds):
+        ends = theta + sweep
+        ends = np.where(vertex, ends + turns, ends)
+        prev = np.roll(ends, 1)
+        d = a0 - prev
+        step = prev + (d - TWO_PI * np.ceil((d - np.pi) / TWO_PI))
+        step[head] = a0[head]
+        if np.array_equal(step.view(np.int64), theta.view(np.int64)):   # to the bit
+            return theta, np.where(vertex, theta + sweep, 0.0)
+        theta = step
+    theta_c, theta_v = _lifted_walk(a0.tolist(), sweep.tolist(), turns.tolist(),
+                                    vertex.tolist(), counts.tolist())
+    return np.array(theta_c), np.array(theta_v)
+
+
+def _whole_turns(a0, sweep, turns, vertex, counts, first):
+    """The whole turns k (floats) of :func:`_lifted`'s guess a0 - 2 pi k: each join's
+    (the ceil of _wrap's rule on the unlifted angles: a0 of the next curve less the
+    end of this one, a0 + sweep + its turn, which differ from whole turns by less
+    than angle_tol, far from the ceil's rounding point) summed along each loop."""
+    ends = a0 + sweep + np.where(vertex, turns, 0.0)
+    step = np.zeros(len(a0))
+    step[1:] = np.ceil((a0[1:] - ends[:-1] - np.pi) / TWO_PI)
     step[first[counts > 0]] = 0.0
     k = np.cumsum(step)
-    k -= np.repeat(k[first], counts)                      # per loop, from its first curve
-    theta_c = a0 - TWO_PI * k
-    theta_v = np.where(vertex, theta_c + sweep, 0.0)
+    return k - np.repeat(k[first], counts)
+
+
+def _lifted_walk(a0, sweep, turns, vertex, counts):
+    """:func:`_lifted` edge by edge along each loop (lists in, lists out)."""
+    theta_c, theta_v = [0.0] * len(a0), [0.0] * len(a0)
+    lo = 0
+    for n in counts:
+        theta = a0[lo]
+        for i in range(lo, lo + n):
+            if i > lo:
+                d = a0[i] - theta
+                theta = theta + (d - TWO_PI * math.ceil((d - np.pi) / TWO_PI))
+            theta_c[i] = theta
+            theta = theta + sweep[i]
+            if vertex[i]:
+                theta_v[i] = theta
+                theta = theta + turns[i]
+        lo += n
     return theta_c, theta_v
 
 

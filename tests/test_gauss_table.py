@@ -3,9 +3,8 @@ morph.convolve.ConvPieces) against the one-object-per-edge / per-piece path they
 replace: the same numbers, to the bit, in the same order.
 
 The reference (:func:`_reference_maps`) is the Edge-list construction: each piece
-split by ``split_monotone_many`` (a list per piece), the angles lifted loop by
-loop (each start angle moved by the whole turns that bring it within pi of the
-previous edge's end, as numpy's ``_wrap`` finds them), an :class:`morph.gauss.Edge` per edge; the edge
+split by ``split_monotone_many`` (a list per piece), the angles lifted with
+numpy's ``_wrap`` loop by loop, an :class:`morph.gauss.Edge` per edge; the edge
 tables are compared with the list constructor of ``_EdgeTable``; the convolution
 with the pieces of each compatible pair computed alone (``convolve_edges``).
 """
@@ -68,8 +67,8 @@ def _reference_maps(loops, angle_tol=1e-10):
     for n in counts.tolist():
         edges, theta = [], a0[lo]
         for i in range(lo, lo + n):
-            if i > lo:   # a0 moved by the whole turns that bring it within pi of theta
-                theta = a0[i] - gauss.TWO_PI * np.ceil((a0[i] - theta - np.pi) / gauss.TWO_PI)
+            if i > lo:
+                theta = theta + _np_wrap(a0[i] - theta)
             edges.append(gauss.Edge("curve", curves[i], starts[i], theta, sweep[i]))
             theta = theta + sweep[i]
             if abs(turns[i]) >= angle_tol:
