@@ -244,24 +244,24 @@ def _sorted_merged(out_o, out_t, gap):
 def _bracketed_newton(c, iters=80):
     """The root in [0, 1] of each row of c (m, n+1) whose coefficients change sign
     once: Newton's iteration kept inside a shrinking sign bracket (bisection where a
-    step leaves it), all rows together, until a Newton step falls below 1e-15 (the
-    last one is taken) or the bracket is narrower than that."""
+    step leaves it), until a Newton step falls below 1e-15 (the last one is taken)
+    or the bracket is narrower than that.  The rows not done yet go on together
+    (each row's steps are its own: the same numbers as iterating every row)."""
     m, n1 = c.shape
     n = n1 - 1
     nz = c != 0
     first = np.take_along_axis(c, np.argmax(nz, axis=1)[:, None], axis=1)[:, 0]
-    s_lo = np.sign(first)
-    d = n * np.diff(c, axis=1)
-    lo, hi = np.zeros(m), np.ones(m)
     # start from the chord of the end coefficients where both are nonzero
     den = c[:, 0] - c[:, -1]
     u = np.where((c[:, 0] != 0) & (c[:, -1] != 0) & (den != 0),
                  c[:, 0] / np.where(den != 0, den, 1.0), 0.5)
-    u = np.clip(u, 0.01, 0.99)
-    done = np.zeros(m, bool)
+    out = np.clip(u, 0.01, 0.99)
+    act = np.arange(m)                     # the rows not done, and their state
+    cc, dd, s_lo, u = c, n * np.diff(c, axis=1), np.sign(first), out.copy()
+    lo, hi = np.zeros(m), np.ones(m)
     for _ in range(iters):
-        f = np.sum(basis(n, u) * c, axis=1)
-        fp = np.sum(basis(n - 1, u) * d, axis=1)
+        f = np.sum(basis(n, u) * cc, axis=1)
+        fp = np.sum(basis(n - 1, u) * dd, axis=1)
         same = np.sign(f) == s_lo
         lo = np.where(same, u, lo)
         hi = np.where(~same & (f != 0), u, hi)
@@ -270,11 +270,14 @@ def _bracketed_newton(c, iters=80):
         un = u - step
         bad = ~((un >= lo) & (un <= hi))
         un = np.where(bad, 0.5 * (lo + hi), un)
-        u = np.where(done, u, un)
-        done |= (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
+        out[act] = un
+        done = (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
         if done.all():
             break
-    return u
+        go = np.flatnonzero(~done)
+        act, cc, dd, s_lo = act[go], cc[go], dd[go], s_lo[go]
+        u, lo, hi = un[go], lo[go], hi[go]
+    return out
 
 
 def solve_bracketed(c, lo=None, hi=None):

@@ -155,11 +155,12 @@ class _EdgeTable:
                 out[i] = bz.to_degree(h, deg)
         return out
 
-    def params(self, idx, angle):
+    def params(self, idx, angle, distinct=False):
         """Parameters of the curved edges idx where their tangent angle is ``angle``
         (an angle within 1e-13 of the edge's start or end angle gives that end, as
-        :func:`morph.gauss.restrict`)."""
-        t = gauss.angle_params(self.h[idx], angle) if len(idx) else np.zeros(0)
+        :func:`morph.gauss.restrict`); ``distinct``: no (edge, angle) pair repeats
+        (:func:`morph.gauss.angle_params`)."""
+        t = gauss.angle_params(self.h[idx], angle, distinct) if len(idx) else np.zeros(0)
         t = np.where(np.abs(angle - (self.theta[idx] + self.sweep[idx])) < 1e-13, 1.0, t)
         return np.where(np.abs(angle - self.theta[idx]) < 1e-13, 0.0, t)
 
@@ -174,22 +175,24 @@ class _EdgeTable:
         idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
         angle = np.concatenate([np.asarray(a, float) for _, a in requests])
         # each (edge, angle) pair (the angle to the bit) once
-        key = np.stack([idx, angle.view(np.int64)], axis=1)
-        order = np.lexsort((key[:, 1], key[:, 0]))
-        step = np.ones(len(idx), bool)
-        step[1:] = (key[order[1:]] != key[order[:-1]]).any(axis=1)
-        group = np.empty(len(idx), np.int64)
-        group[order] = np.cumsum(step) - 1
-        t = self.params(idx[order[step]], angle[order[step]])[group]
+        first, group = _distinct_rows(idx, angle.view(np.int64))
+        t = self.params(idx[first], angle[first], distinct=True)[group]
         return np.split(t, np.cumsum(sizes)[:-1])
 
     def restricted(self, idx, t_lo, t_hi):
         """Sub-pieces of the curved edges idx between the parameters at their angles
         lo and hi, in each edge's direction: [(rows, stack)] by degree."""
         t0, t1 = self._directed(idx, t_lo, t_hi)
-        out = []
-        for rows, st in self.pieces(idx):
-            out.append((rows, bz.subsegment_many(st, t0[rows], t1[rows])))
+        # each (edge, t0, t1) once: a font's strokes share directions, so the ranges
+        # of the nib's edges at their corners repeat (half the rows of a hanzi chunk)
+        first, group = _distinct_rows(np.asarray(idx, np.int64), t0.view(np.int64),
+                                      t1.view(np.int64))
+        deg, where, out = self.deg[idx], np.empty(len(first), np.int64), []
+        for rows, st in self.pieces(idx[first]):
+            sub = bz.subsegment_many(st, t0[first[rows]], t1[first[rows]])
+            where[rows] = np.arange(len(rows))
+            mine = np.flatnonzero(deg == deg[first[rows[0]]])
+            out.append((mine, sub[where[group[mine]]]))
         return out
 
     def restricted_h(self, idx, t_lo, t_hi):
@@ -217,45 +220,92 @@ class _EdgeTable:
         return pts
 
 
+def _distinct_rows(*keys):
+    """(one row of each distinct tuple of the int64 arrays ``keys``, the group of each
+    row: its tuple's place in that list).  The rows are sorted by one number mixing
+    the keys (each step: times an odd constant, xor the next key): equal tuples mix
+    equal, so they come together; two distinct tuples that mix equal (which the
+    check finds) send the rows to a sort by all the keys instead."""
+    mix = keys[0]
+    with np.errstate(over="ignore"):
+        for k in keys[1:]:
+            mix = k ^ (mix * np.int64(-7046029254386353131))
+    order = np.argsort(mix, kind="stable")
+    m_s = mix[order]
+    tie = m_s[1:] == m_s[:-1]
+    differ = np.zeros(len(tie), bool)
+    for k in keys:
+        k_s = k[order]
+        differ |= k_s[1:] != k_s[:-1]
+    if (differ & tie).any():
+        order = np.lexsort(keys[::-1])
+        tie = np.ones(len(order) - 1, bool)
+        for k in keys:
+            k_s = k[order]
+            tie &= k_s[1:] == k_s[:-1]
+    step = np.ones(len(order), bool)
+    step[1:] = ~tie
+    group = np.empty(len(order), np.int64)
+    group[order] = np.cumsum(step) - 1
+    return order[step], group
+
+
 def _pair_table(ta, tb, block=1 << 21):
     """All compatible pairs of the edges of two tables (every loop of A with every
     loop of B): arrays (i, j, lo, hi, k) in the order of :func:`compatible_pairs`
     applied loop pair by loop pair (loops of A, then of B; proper pairs, then A's
-    straight edges, then B's; row-major within each)."""
-    out = [[] for _ in range(6)]
-    a_line_all = ta.straight
-    b_line = tb.straight[None, :]
-    bmid = 0.5 * (tb.lo + tb.hi)
-    step = max(1, block // max(1, len(tb.lo)))
-    for s in range(0, len(ta.lo), step):
-        alo, ahi = ta.lo[s:s + step, None], ta.hi[s:s + step, None]
-        amid = 0.5 * (alo + ahi)
-        k = np.round((amid - bmid[None, :]) / gauss.TWO_PI)
-        sblo = tb.lo[None, :] + gauss.TWO_PI * k
-        sbhi = tb.hi[None, :] + gauss.TWO_PI * k
-        lo = np.maximum(alo, sblo)
-        hi = np.minimum(ahi, sbhi)
-        a_line = a_line_all[s:s + step, None]
-        proper = (hi - lo > ANGLE_EQ) & ~a_line & ~b_line
-        # straight edge of A at theta: B range (lo, hi]  (B perturbed by +eps)
-        a_match = a_line & ~b_line & (alo - sblo > ANGLE_EQ) & (alo - sbhi <= ANGLE_EQ)
-        # straight edge of B at theta: A range [lo, hi)
-        b_match = b_line & ~a_line & (sblo - alo >= -ANGLE_EQ) & (ahi - sblo > ANGLE_EQ)
-        for cls, (mask, plo, phi) in enumerate(((proper, lo, hi),
-                                                (a_match, np.broadcast_to(alo, lo.shape),
-                                                 np.broadcast_to(alo, lo.shape)),
-                                                (b_match, sblo, sblo))):
-            ii, jj = np.nonzero(mask)
-            out[0].append(ii + s)
-            out[1].append(jj)
-            out[2].append(plo[ii, jj])
-            out[3].append(phi[ii, jj])
-            out[4].append(k[ii, jj])
-            out[5].append(np.full(len(ii), cls))
-    i, j, lo, hi, k, cls = (np.concatenate(x) if x else np.zeros(0) for x in out)
-    i, j, cls = i.astype(int), j.astype(int), cls.astype(int)
-    order = np.lexsort((j, i, cls, tb.loop[j], ta.loop[i]))
+    straight edges, then B's; row-major within each).  Each class compares only
+    the edges it can pair (:func:`_class_pairs`)."""
+    a_line, b_line = ta.straight, tb.straight
+    a_rest, a_str = np.flatnonzero(~a_line), np.flatnonzero(a_line)
+    b_rest, b_str = np.flatnonzero(~b_line), np.flatnonzero(b_line)
+    parts = [x for cls, rows, cols in ((0, a_rest, b_rest), (1, a_str, b_rest),
+                                       (2, a_rest, b_str))
+             for x in _class_pairs(ta, tb, rows, cols, cls, block)]
+    if not parts:
+        z = np.zeros(0)
+        return z.astype(int), z.astype(int), z, z, z
+    i, j, lo, hi, k, cls = (np.concatenate(x) for x in zip(*parts))
+    la, lb = ta.loop[i], tb.loop[j]
+    na, nb = len(ta.lo), len(tb.lo)
+    if float(ta.n_loops) * tb.n_loops * 3 * na * nb < 2.0 ** 62:
+        # the five keys as one number (each pair once: distinct numbers)
+        key = (((la * tb.n_loops + lb) * 3 + cls) * na + i) * nb + j
+        order = np.argsort(key, kind="stable")
+    else:
+        order = np.lexsort((j, i, cls, lb, la))
     return i[order], j[order], lo[order], hi[order], k[order]
+
+
+def _class_pairs(ta, tb, rows, cols, cls, block):
+    """The pairs of one class of :func:`_pair_table` among edges ``rows`` of A and
+    ``cols`` of B: (i, j, lo, hi, k, class) arrays, ``block`` comparisons at a time.
+    Class 0: proper overlaps of curves and vertices; 1: a straight edge of A at
+    theta with the B range (lo, hi] round it (B perturbed by +eps); 2: a straight
+    edge of B at theta with the A range [lo, hi) round it."""
+    if not len(rows) or not len(cols):
+        return
+    blo, bhi = tb.lo[cols][None, :], tb.hi[cols][None, :]
+    bmid = 0.5 * (blo + bhi)
+    step = max(1, block // len(cols))
+    for s in range(0, len(rows), step):
+        r = rows[s:s + step]
+        alo, ahi = ta.lo[r, None], ta.hi[r, None]
+        k = np.round((0.5 * (alo + ahi) - bmid) / gauss.TWO_PI)
+        sblo = blo + gauss.TWO_PI * k
+        if cls == 0:
+            lo, hi = np.maximum(alo, sblo), np.minimum(ahi, bhi + gauss.TWO_PI * k)
+            mask = hi - lo > ANGLE_EQ
+        elif cls == 1:
+            sbhi = bhi + gauss.TWO_PI * k
+            mask = (alo - sblo > ANGLE_EQ) & (alo - sbhi <= ANGLE_EQ)
+            lo = hi = np.broadcast_to(alo, k.shape)
+        else:
+            mask = (sblo - alo >= -ANGLE_EQ) & (ahi - sblo > ANGLE_EQ)
+            lo = hi = sblo
+        ii, jj = np.nonzero(mask)
+        yield (r[ii], cols[jj], lo[ii, jj], hi[ii, jj], k[ii, jj],
+               np.full(len(ii), cls))
 
 
 def compatible_pairs(edges_a, edges_b):
@@ -703,7 +753,7 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a
         pieces_a.then([p for loop in region_b for p in loop])
     g = gauss.gauss_table(list(region_a) + list(region_b), pieces=pieces,
                           traced=len(region_a) if traced else 0)
-    for k, total in enumerate(g.turnings()):
+    for k, total in _off_turnings(g):
         turns = total / (2.0 * np.pi)
         if abs(abs(turns) - 1.0) > 1e-6:
             which, loop = (0, k) if k < len(region_a) else (1, k - len(region_a))
@@ -712,6 +762,26 @@ def gauss_pair_of(region_a, region_b, names=("operand A", "operand B"), pieces_a
                 "through morph.region.orient_region (with on_crossing=morph.trim.fill_region)"
                 % (names[which], loop, turns), loop)
     return GaussPair(gauss=tuple(g.split(len(region_a))))
+
+
+def _off_turnings(g):
+    """(loop, total turning) of the loops of a Gauss table whose total may miss +-2 pi
+    by more than 2 pi 1e-6 (:meth:`morph.gauss.GaussTable.turnings`' sums, in its
+    order).  The totals of all loops come from one call, in another order: two
+    orders of n terms differ by at most 2 (n - 1) u sum |sweep| (u the unit
+    roundoff), so a loop within twice that of the threshold is summed again as
+    turnings() sums it, and the list is the same."""
+    bounds = np.searchsorted(g.loop, np.arange(g.n_loops + 1))
+    if not len(g.sweep):
+        return []
+    at = np.minimum(bounds[:-1], len(g.sweep) - 1)
+    size = np.diff(bounds)
+    total = np.where(size > 0, np.add.reduceat(g.sweep, at), 0.0)
+    slack = 4.0 * np.finfo(float).eps * size * np.add.reduceat(np.abs(g.sweep), at)
+    off = np.abs(np.abs(total) - 2.0 * np.pi) - 2.0 * np.pi * 1e-6
+    sweep = g.sweep.tolist()
+    return [(k, float(sum(sweep[bounds[k]:bounds[k + 1]])))
+            for k in np.flatnonzero(off > -slack - 1e-300).tolist()]
 
 
 def with_pair_table(pair):
@@ -797,12 +867,22 @@ def _loop_boxes(t):
     for d, h in t.stacks.items():
         edges = np.flatnonzero(t.deg == d)      # in slot order
         x = h[:, :, :2] / h[:, :, 2:]
-        np.minimum.at(lo, t.loop[edges], x.min(axis=1))
-        np.maximum.at(hi, t.loop[edges], x.max(axis=1))
+        _runs_extremes(lo, hi, t.loop[edges], x.min(axis=1), x.max(axis=1))
     v = np.flatnonzero(t.vertex)
-    np.minimum.at(lo, t.loop[v], t.point[v])
-    np.maximum.at(hi, t.loop[v], t.point[v])
+    _runs_extremes(lo, hi, t.loop[v], t.point[v], t.point[v])
     return np.concatenate([lo, hi], axis=1)
+
+
+def _runs_extremes(lo, hi, loop, low, high):
+    """lo[l] = min(lo[l], low of the rows of loop l), hi likewise with max, for
+    ``loop`` ascending (a table's edges are its loops' one after another): one
+    reduction per run of equal loops."""
+    if not len(loop):
+        return
+    at = np.flatnonzero(np.r_[True, loop[1:] != loop[:-1]])
+    ids = loop[at]
+    lo[ids] = np.minimum(lo[ids], np.minimum.reduceat(low, at, axis=0))
+    hi[ids] = np.maximum(hi[ids], np.maximum.reduceat(high, at, axis=0))
 
 
 def scale_edges(edges, factor):
@@ -862,11 +942,11 @@ def chain(pieces, tol, packed=False):
         h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
         h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
         groups.append((ks, h))
-    snapped = pc.Pieces(groups, n)
-    ordered = list(map(snapped.rows().__getitem__, order.tolist()))
+    travel = pc.Pieces(groups, n).take(order)
+    ordered = travel.rows()
     bounds = [0] + (np.flatnonzero(np.diff(first[order])) + 1).tolist() + [n]
     loops = [ordered[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
-    return (loops, snapped.take(order)) if packed else loops
+    return (loops, travel) if packed else loops
 
 
 def _nearest_first(e, s, d, n):
@@ -890,25 +970,37 @@ def _nearest_first(e, s, d, n):
 
 def _cycles(succ):
     """(first, rank) of the cycles of a permutation: each element's cycle named by
-    its lowest element, and its number of steps from there along ``succ``.  By
-    pointer jumping (about log2 n rounds of array calls each): the lowest of 1, 2,
-    4 ... elements ahead, then the list ranking of the cycles cut at their lowest."""
+    its lowest element, and its number of steps from there along ``succ``.  The
+    runs i, i + 1, ... that ``succ`` steps through in order (most of a chained
+    convolution) are taken as one element each, of their length: the step out of a
+    run's last element goes to another run's start.  On the runs, by pointer
+    jumping (about log2 n rounds of array calls each): the lowest of 1, 2, 4 ...
+    runs ahead, then the list ranking, weighted by the runs' lengths, of the cycles
+    cut at their lowest run."""
     n = len(succ)
     idx = np.arange(n)
-    first, jump, span = idx.copy(), succ.copy(), 1
-    while span < n:
+    start = np.ones(n, bool)
+    start[1:] = succ[:-1] != idx[1:]
+    starts = np.flatnonzero(start)
+    run = np.cumsum(start) - 1                      # each element's run
+    length = np.diff(np.append(starts, n))
+    rsucc = run[succ[starts + length - 1]]          # the run after each run
+    m = len(starts)
+    ridx = np.arange(m)
+    first, jump, span = ridx.copy(), rsucc.copy(), 1
+    while span < m:
         first = np.minimum(first, first[jump])
         jump = jump[jump]
         span *= 2
-    root = first == idx
-    pred = np.empty(n, np.int64)
-    pred[succ] = idx
-    rank = (~root).astype(np.int64)
-    ptr = np.where(root, idx, pred)
+    root = first == ridx
+    pred = np.empty(m, np.int64)
+    pred[rsucc] = ridx
+    rank = np.where(root, 0, length[pred])
+    ptr = np.where(root, ridx, pred)
     while not root[ptr].all():
         rank = rank + rank[ptr]
         ptr = ptr[ptr]
-    return first, rank
+    return starts[first][run], rank[run] + (idx - starts[run])
 
 
 def _near_pairs(a, b, tol):
@@ -922,11 +1014,17 @@ def _near_pairs(a, b, tol):
     keys_b = cell_b[:, 0] * 3_000_017 + cell_b[:, 1]
     order = np.argsort(keys_b, kind="stable")
     sorted_keys = keys_b[order]
+    keys_a = cell_a[:, 0] * 3_000_017 + cell_a[:, 1]
+    # the searches take the keys in ascending order (each search then starts from the
+    # previous one's place), their answers put back in the order of a
+    by_a = np.argsort(keys_a)
+    needles = keys_a[by_a]
     ii, jj, cc = [], [], []
     for dx in (-1, 0, 1):
-        k = (cell_a[:, 0] + dx) * 3_000_017 + cell_a[:, 1]
-        lo = np.searchsorted(sorted_keys, k - 1, "left")
-        hi = np.searchsorted(sorted_keys, k + 1, "right")
+        k = keys_a + dx * 3_000_017
+        lo, hi = np.empty(len(a), np.int64), np.empty(len(a), np.int64)
+        lo[by_a] = np.searchsorted(sorted_keys, needles + (dx * 3_000_017 - 1), "left")
+        hi[by_a] = np.searchsorted(sorted_keys, needles + (dx * 3_000_017 + 1), "right")
         cnt = hi - lo
         i = np.repeat(np.arange(len(a)), cnt)
         at = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)

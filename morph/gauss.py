@@ -416,8 +416,7 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     turns = _corner_turns_many(curves, counts, a0, sweep, last, traced)
     starts, ends = pc.end_points(curves)
     vertex = np.abs(turns) >= angle_tol
-    theta_c, theta_v = _lifted(a0.tolist(), sweep.tolist(), turns.tolist(), vertex.tolist(),
-                               counts.tolist())
+    theta_c, theta_v = _lifted(a0, sweep, turns, vertex, counts)
     # edge positions: each curve, then its vertex where it has one
     nc = len(a0)
     pos_c = np.arange(nc) + np.concatenate([[0], np.cumsum(vertex)[:-1]])
@@ -441,10 +440,54 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     return GaussTable(loop, index, curve, theta, sw, point, piece_of, curves, len(loops))
 
 
-def _lifted(a0, sweep, turns, vertex, counts):
+def _lifted(a0, sweep, turns, vertex, counts, rounds=8):
     """(theta of each curve edge, theta of its vertex edge (0.0 where none)): the
     lifted angles along each loop, each start angle moved by whole turns to continue
-    the previous edge's end (:func:`_wrap`, with math.ceil: the same numbers)."""
+    the previous edge's end (:func:`_wrap`'s rule; the float operations of walking
+    each loop edge by edge, :func:`_lifted_walk`).
+
+    The walk's step from one edge to the next is done for all edges at once, from
+    a guess of every edge's angle (a0 less the whole turns counted along the loop,
+    :func:`_whole_turns`), until the angles stop changing: a fixed point of the step
+    is the walk's result (each loop's first angle is a0, and each next one the step
+    of the one before).  Each round makes at least the next angle after the last
+    right one right, so a loop is done within as many rounds as it has wrong
+    guesses in a row (the guess is mostly right to the bit: most angles are a0
+    moved by zero turns); loops not done within ``rounds`` rounds are walked."""
+    first = np.cumsum(counts) - counts
+    head = np.zeros(len(a0), bool)
+    head[first[counts > 0]] = True
+    theta = a0 - TWO_PI * _whole_turns(a0, sweep, turns, vertex, counts, first)
+    for _ in range(rounds):
+        ends = theta + sweep
+        ends = np.where(vertex, ends + turns, ends)
+        prev = np.roll(ends, 1)
+        d = a0 - prev
+        step = prev + (d - TWO_PI * np.ceil((d - np.pi) / TWO_PI))
+        step[head] = a0[head]
+        if np.array_equal(step.view(np.int64), theta.view(np.int64)):   # to the bit
+            return theta, np.where(vertex, theta + sweep, 0.0)
+        theta = step
+    theta_c, theta_v = _lifted_walk(a0.tolist(), sweep.tolist(), turns.tolist(),
+                                    vertex.tolist(), counts.tolist())
+    return np.array(theta_c), np.array(theta_v)
+
+
+def _whole_turns(a0, sweep, turns, vertex, counts, first):
+    """The whole turns k (floats) of :func:`_lifted`'s guess a0 - 2 pi k: each join's
+    (the ceil of _wrap's rule on the unlifted angles: a0 of the next curve less the
+    end of this one, a0 + sweep + its turn, which differ from whole turns by less
+    than angle_tol, far from the ceil's rounding point) summed along each loop."""
+    ends = a0 + sweep + np.where(vertex, turns, 0.0)
+    step = np.zeros(len(a0))
+    step[1:] = np.ceil((a0[1:] - ends[:-1] - np.pi) / TWO_PI)
+    step[first[counts > 0]] = 0.0
+    k = np.cumsum(step)
+    return k - np.repeat(k[first], counts)
+
+
+def _lifted_walk(a0, sweep, turns, vertex, counts):
+    """:func:`_lifted` edge by edge along each loop (lists in, lists out)."""
     theta_c, theta_v = [0.0] * len(a0), [0.0] * len(a0)
     lo = 0
     for n in counts:
@@ -689,7 +732,7 @@ def angle_param(piece, theta):
     return float(angle_params(h[None], np.array([theta], float))[0])
 
 
-def angle_params(h, theta):
+def angle_params(h, theta, distinct=False):
     """:func:`angle_param` for many pieces at once, from their tangent numerators.
 
     h: (k, m+1, 2) tangent numerators (``piece.tangent_numerator``, elevated to one
@@ -698,6 +741,8 @@ def angle_params(h, theta):
     max|f_i| is taken as is; where f changes sign over [0, 1] the root comes from a
     bracketed Newton iteration (:func:`morph.bernstein.solve_bracketed`); otherwise
     theta lies (numerically) outside the range and the closer end is returned.
+    ``distinct``: the rows are known to be distinct (each equal row would be solved
+    once, :func:`_solved_once`, which then only costs its sort).
     """
     h = np.asarray(h, float)
     theta = np.asarray(theta, float)
@@ -710,7 +755,7 @@ def angle_params(h, theta):
     t = np.where(np.abs(f0) <= 1e-14 * scale, 0.0, t)
     inner = (f0 * f1 < 0) & (np.abs(f0) > 1e-14 * scale) & (np.abs(f1) > 1e-14 * scale)
     if inner.any():
-        t[inner] = _solved_once(f[inner])
+        t[inner] = bz.solve_bracketed(f[inner]) if distinct else _solved_once(f[inner])
     return t
 
 
