@@ -310,6 +310,20 @@ class BoxGrid:
     def _cell(self, x):
         return np.floor((x - self.origin) / self.cell).astype(np.int64)
 
+    def keep_cells_with(self, mask):
+        """Drop the entries of the cells that hold no box of ``mask`` (n,) bool: the
+        pairs of boxes that share a cell are then those with a box of ``mask``
+        (:func:`_cell_pair_columns`: a pair comes from the first cell its two boxes
+        share, which holds both)."""
+        key = self.keys
+        if not len(key):
+            return
+        run = np.concatenate(([True], key[1:] != key[:-1]))
+        starts = np.flatnonzero(run)
+        live = np.maximum.reduceat(mask[self.items].view(np.int8), starts) > 0
+        keep = live[np.cumsum(run) - 1]
+        self.keys, self.items = key[keep], self.items[keep]
+
     def at_points(self, points):
         """(point index, box index) of every box whose cell holds the point: a
         superset of the boxes that contain it."""

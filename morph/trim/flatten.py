@@ -341,6 +341,8 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     seg = todo[has]
     a, b = xy[seg], xy[nxt[seg]]
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
+    if line is not None:   # two lines are never near: cells of lines alone hold no pair
+        grid.keep_cells_with(~line[seg])
     cols = pl._columns(a, b)
     for ki, kj in pl._cell_pair_columns(grid):
         i, j = seg[ki], seg[kj]
