@@ -406,3 +406,44 @@ def test_within_on_columns_is_the_crossing_and_distance_test():
         want = hit | (gap <= reach)
         assert np.array_equal(pl._within(p0, p1, pairs, reach), want)
         assert 0 < want.sum() < len(want)
+
+
+def _chebyshev_to_segments(points, a, b, samples=2001):
+    """Upper bounds of the distance in x and y (max of the two) from each point to
+    each segment a[k] b[k]: the least over ``samples`` points of the segment,
+    shape (points, segments)."""
+    t = np.linspace(0.0, 1.0, samples)
+    on = a[:, None, :] + t[None, :, None] * (b - a)[:, None, :]     # (k, s, 2)
+    d = np.abs(points[:, None, None, :] - on[None]).max(axis=3)     # (m, k, s)
+    return d.min(axis=2)
+
+
+def test_grid_around_segments_holds_every_segment_near_a_point():
+    """BoxGrid.around_segments enters each segment only in the cells its grown
+    segment meets, and at_points still gives every segment within its reach of the
+    point in x and y (long diagonal, vertical, horizontal and point segments, points
+    on and near them), with fewer entries than the segments' whole boxes.  The check
+    can fail: a grid of the segments grown by a quarter of the reach misses some."""
+    rng = np.random.default_rng(41)
+    n = 300
+    a = rng.uniform(0, 100, (n, 2))
+    b = a + rng.normal(0, 1, (n, 2)) * rng.choice([0.5, 5.0, 40.0], (n, 1))
+    b[::23, 0] = a[::23, 0]          # vertical
+    b[::29, 1] = a[::29, 1]          # horizontal
+    b[::31] = a[::31]                # points
+    reach = 2.5
+    k = rng.integers(0, n, 400)
+    pts = a[k] + rng.uniform(0, 1, (400, 1)) * (b[k] - a[k]) + rng.uniform(-3, 3, (400, 2))
+    near = _chebyshev_to_segments(pts, a, b) <= reach
+    assert near.sum() > 400
+
+    def found(r):
+        p, s = pl.BoxGrid.around_segments(a, b, r).at_points(pts)
+        got = np.zeros(near.shape, bool)
+        got[p, s] = True
+        return got
+
+    assert not np.any(near & ~found(reach))
+    assert np.any(near & ~found(0.25 * reach))
+    whole = pl.BoxGrid(np.minimum(a, b) - reach, np.maximum(a, b) + reach)
+    assert len(pl.BoxGrid.around_segments(a, b, reach).keys) < len(whole.keys)

@@ -443,7 +443,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     lift looks up the segments near a point in that grid (:data:`SEGMENT_REACH`).
     """
     a, b = x, x[nxt]
-    grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
+    grid = BoxGrid.around_segments(a, b, SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
     hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
     h, s = grid.at_points(np.stack([hx, hy], axis=1))
