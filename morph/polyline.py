@@ -331,10 +331,22 @@ class BoxGrid:
         """(segment, column, first row, rows) of the runs of cells, one per column
         of each grown box, that the segment grown by its reach r meets: in column
         [x0, x1], the rows of its part with x in [x0 - r, x1 + r], its y-range grown
-        by r, within the box's rows (a superset: the bounds widened by 1e-9 cell)."""
+        by r, within the box's rows (a superset: the bounds widened by 1e-9 cell).
+        A box one cell wide or high: all its cells (the segment crosses each)."""
+        nx, ny = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
+        simple = (nx == 1) | (ny == 1)
+        one = np.flatnonzero(simple)
+        seg = np.repeat(one, nx[one])
+        runs = [(seg, c0[seg, 0] + _ranks(nx[one]), c0[seg, 1], ny[seg])]
+        multi = np.flatnonzero(~simple)
+        if len(multi):
+            runs.append(self._column_runs(segments, multi, c0, c1, nx[multi]))
+        return tuple(np.concatenate(x) for x in zip(*runs))
+
+    def _column_runs(self, segments, multi, c0, c1, ncol):
+        """:meth:`_segment_runs` of the segments ``multi``, column by column."""
         a, b, reach = segments
-        ncol = c1[:, 0] - c0[:, 0] + 1
-        seg = np.repeat(np.arange(len(a)), ncol)
+        seg = np.repeat(multi, ncol)
         col = c0[seg, 0] + _ranks(ncol)
         ax, ay, dx, dy = a[seg, 0], a[seg, 1], b[seg, 0] - a[seg, 0], b[seg, 1] - a[seg, 1]
         r = reach + 1e-9 * self.cell
