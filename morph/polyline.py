@@ -28,14 +28,12 @@ def flatten_many(pieces, tol, max_depth=16):
     """Polylines through many pieces, each within ``tol`` of its piece, with their
     parameters: a list of (points (m, 2), params (m,)), one per piece.
 
-    Each piece is cut into parts until every part's curve lies within tol of its
-    chord (a bound from its control polygon, by the convex hull property of
-    positive-weight rational Béziers and its inner control points' share of the
-    curve, :func:`_chord_distance`), so the polyline is within tol of the curve
-    (and the curve of the polyline: it runs from one end of its chord to the other).
-    A part whose bound is d > tol is cut into ceil(sqrt(d / tol)) equal parameter
-    steps at once (the distance of a smooth curve's polygon falls with the square
-    of the step) and checked again.  Parts
+    Each piece is cut into parts until the control polygon of every part lies
+    within tol of its chord (a bound on the curve's distance, by the convex hull
+    property of positive-weight rational Béziers), so the polyline is within tol of
+    the curve.  A part whose polygon is d > tol from its chord is cut into
+    ceil(sqrt(d / tol)) equal parameter steps at once (the distance of a smooth
+    curve's polygon falls with the square of the step) and checked again.  Parts
     are never narrower than 2^-max_depth in parameter; at that width they are
     accepted as they are.  Pieces of one degree are processed together.
     """
@@ -171,20 +169,10 @@ def _equal_split_matrices(n, k):
 
 
 def _chord_distance(parts):
-    """For a stack (m, n+1, 3) of pieces with positive weights: a bound on the largest
-    distance of each piece's curve from its chord (segment), (m,).
-
-    The curve is the convex combination sum_i lam_i(t) P_i of its control points,
-    lam_i = w_i b_i / sum_k w_k b_k, and the distance to a segment is convex and 0
-    at the ends P_0 and P_n, so the distance at t is at most L(t) D: D the largest
-    distance of an inner control point to the chord, L(t) the inner points' share
-    sum_{0<i<n} lam_i(t).  With u = b_0 + b_n >= 2^(1-n) (at t = 1/2), W the
-    largest inner weight and E the smaller end weight,
-    L <= W (1 - u) / (W (1 - u) + E u) <= W (1 - u0) / (W (1 - u0) + E u0),
-    u0 = 2^(1-n): D / 2 for a polynomial quadratic, w D / (1 + w) for a conic arc
-    of middle weight w (its height at t = 1/2, so the bound is tight there).  The
-    inner control points one at a time, on (m,) columns (numpy reduces a short
-    last axis row by row)."""
+    """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
+    the chord (segment) of its part.  The inner control points one at a time, on
+    (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
+    by row)."""
     w = parts[..., 2]
     px, py = parts[..., 0] / w, parts[..., 1] / w
     ax, ay, bx, by = px[:, 0], py[:, 0], px[:, -1], py[:, -1]
@@ -193,22 +181,14 @@ def _chord_distance(parts):
     safe = np.where(length > 0, length, 1.0)
     before_a = length == 0
     out = np.zeros(len(parts))
-    inner_w = np.zeros(len(parts))
-    n = parts.shape[1] - 1
-    for j in range(1, n):
+    for j in range(1, parts.shape[1] - 1):
         rx, ry = px[:, j] - ax, py[:, j] - ay
         dist = np.abs(cx * ry - cy * rx) / safe
         along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
         dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
         dist = np.where((along > 1) & ~before_a, np.hypot(px[:, j] - bx, py[:, j] - by), dist)
         np.maximum(out, dist, out=out)
-        np.maximum(inner_w, w[:, j], out=inner_w)
-    if n < 2:
-        return out
-    inner = inner_w * (1.0 - 2.0 ** (1 - n))
-    share = inner / (inner + np.minimum(w[:, 0], w[:, -1]) * 2.0 ** (1 - n))
-    # rounding: the share's few operations cost a few ulps; 1 is the convex hull's bound
-    return out * np.minimum(share * (1.0 + 1e-12), 1.0)
+    return out
 
 
 def flatten_loop(pieces, tol):
