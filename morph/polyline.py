@@ -255,7 +255,7 @@ class BoxGrid:
     entry and its cell key, sorted by key.
     """
 
-    def __init__(self, lo, hi, segments=None):
+    def __init__(self, lo, hi):
         n = len(lo)
         self.lo, self.hi = lo, hi
         self.origin = col_min(lo)
@@ -267,22 +267,12 @@ class BoxGrid:
         self.cell = max(float(median) * 2.0, self.span.max() * 1e-9)
         while True:
             c0, c1 = self._cell(lo), self._cell(hi)
-            if segments is None:
-                nx = c1[:, 0] - c0[:, 0] + 1
-                counts = nx * (c1[:, 1] - c0[:, 1] + 1)
-            else:
-                runs = self._segment_runs(segments, c0, c1)
-                counts = runs[3]
+            nx = c1[:, 0] - c0[:, 0] + 1
+            counts = nx * (c1[:, 1] - c0[:, 1] + 1)
             if counts.sum() <= 8 * n + 64:
                 break
             self.cell *= 2.0
         self.c0 = c0
-        if segments is not None:
-            box, cx, cy, rows = runs
-            at = np.repeat(np.arange(len(box)), rows)
-            self.keys, self.items = _sorted_entries(_key(cx[at], cy[at] + _ranks(rows)),
-                                                    box[at], n)
-            return
         # each box's first cell, then the further cells of the boxes that cover more
         # (row by row): the divisions only for those
         multi = np.flatnonzero(counts > 1)
@@ -297,70 +287,8 @@ class BoxGrid:
             item = np.concatenate([item, box])
         self.keys, self.items = _sorted_entries(key, item, n)
 
-    @classmethod
-    def around_segments(cls, a, b, reach):
-        """The boxes of segments a[k] b[k] grown by ``reach`` (lo = min(a, b) - reach,
-        hi = max(a, b) + reach), each entered only in the cells that its segment
-        grown by ``reach`` in x and in y meets (a long diagonal segment crosses a
-        few of its box's cells): :meth:`at_points` gives a superset of the segments
-        within ``reach`` of the point in x and in y (not of the boxes that hold
-        it)."""
-        return cls(np.minimum(a, b) - reach, np.maximum(a, b) + reach, (a, b, reach))
-
-    def _segment_runs(self, segments, c0, c1):
-        """(segment, column, first row, rows) of the runs of cells, one per column
-        of each grown box, that the segment grown by its reach r meets: in column
-        [x0, x1], the rows of its part with x in [x0 - r, x1 + r], its y-range grown
-        by r, within the box's rows (a superset: the bounds widened by 1e-9 cell).
-        A box one cell wide or high: all its cells (the segment crosses each)."""
-        nx, ny = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
-        simple = (nx == 1) | (ny == 1)
-        one = np.flatnonzero(simple)
-        seg = np.repeat(one, nx[one])
-        runs = [(seg, c0[seg, 0] + _ranks(nx[one]), c0[seg, 1], ny[seg])]
-        multi = np.flatnonzero(~simple)
-        if len(multi):
-            runs.append(self._column_runs(segments, multi, c0, c1, nx[multi]))
-        return tuple(np.concatenate(x) for x in zip(*runs))
-
-    def _column_runs(self, segments, multi, c0, c1, ncol):
-        """:meth:`_segment_runs` of the segments ``multi``, column by column."""
-        a, b, reach = segments
-        seg = np.repeat(multi, ncol)
-        col = c0[seg, 0] + _ranks(ncol)
-        ax, ay, dx, dy = a[seg, 0], a[seg, 1], b[seg, 0] - a[seg, 0], b[seg, 1] - a[seg, 1]
-        r = reach + 1e-9 * self.cell
-        x0 = self.origin[0] + col * self.cell - r
-        # the parameters where the segment enters and leaves the grown column (all
-        # of a vertical one)
-        slope = dx != 0.0
-        inv = 1.0 / np.where(slope, dx, 1.0)
-        u0, u1 = (x0 - ax) * inv, (x0 + self.cell + 2.0 * r - ax) * inv
-        ta = np.where(slope, np.clip(np.minimum(u0, u1), 0.0, 1.0), 0.0)
-        tb = np.where(slope, np.clip(np.maximum(u0, u1), 0.0, 1.0), 1.0)
-        ya, yb = ay + ta * dy, ay + tb * dy
-        first = np.floor((np.minimum(ya, yb) - r - self.origin[1]) / self.cell).astype(np.int64)
-        last = np.floor((np.maximum(ya, yb) + r - self.origin[1]) / self.cell).astype(np.int64)
-        first = np.maximum(first, c0[seg, 1])
-        last = np.minimum(last, c1[seg, 1])
-        return seg, col, first, np.maximum(last - first + 1, 0)
-
     def _cell(self, x):
         return np.floor((x - self.origin) / self.cell).astype(np.int64)
-
-    def keep_cells_with(self, mask):
-        """Drop the entries of the cells that hold no box of ``mask`` (n,) bool: the
-        pairs of boxes that share a cell are then those with a box of ``mask``
-        (:func:`_cell_pair_columns`: a pair comes from the first cell its two boxes
-        share, which holds both)."""
-        key = self.keys
-        if not len(key):
-            return
-        run = np.concatenate(([True], key[1:] != key[:-1]))
-        starts = np.flatnonzero(run)
-        live = np.maximum.reduceat(mask[self.items].view(np.int8), starts) > 0
-        keep = live[np.cumsum(run) - 1]
-        self.keys, self.items = key[keep], self.items[keep]
 
     def at_points(self, points):
         """(point index, box index) of every box whose cell holds the point: a

@@ -341,8 +341,6 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     seg = todo[has]
     a, b = xy[seg], xy[nxt[seg]]
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
-    if line is not None:   # two lines are never near: cells of lines alone hold no pair
-        grid.keep_cells_with(~line[seg])
     cols = pl._columns(a, b)
     for ki, kj in pl._cell_pair_columns(grid):
         i, j = seg[ki], seg[kj]
@@ -443,7 +441,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     lift looks up the segments near a point in that grid (:data:`SEGMENT_REACH`).
     """
     a, b = x, x[nxt]
-    grid = BoxGrid.around_segments(a, b, SEGMENT_REACH)
+    grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
     hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
     h, s = grid.at_points(np.stack([hx, hy], axis=1))
