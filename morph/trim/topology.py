@@ -162,7 +162,7 @@ def _without_collection():
     """Python's cyclic garbage collector off inside (and back on after, where it
     was on): Clipper's input and output are one small list or tuple per point, tens
     of thousands of allocations, each 700 of which start a collection that
-    traverses the young objects (a third of the union's time on hanzi chunks);
+    traverses the young objects (a quarter of the union's time on a hanzi chunk);
     they hold no cycles."""
     was = gc.isenabled()
     gc.disable()
