@@ -323,7 +323,7 @@ def test_pruned_rays_pick_what_every_ray_picks(monkeypatch):
             assert picks[0] == picks[1]
             if picks[0] >= 0:                  # the pick's rays: all cast, as alone
                 rows = np.nonzero(cand == picks[0])[0]
-                have = np.full((len(rows), sam.speed.shape[1]), np.nan)
+                have = np.full((len(rows), sam.speed.shape[0]), np.nan)
                 for pairs, cols, s, _ in stages:
                     at = np.nonzero(np.isin(pairs, rows))[0]
                     have[np.ix_(np.searchsorted(rows, pairs[at]), cols)] = s[at]
@@ -347,7 +347,7 @@ def _every_ray(real, ctrl, cr, sam, req, width, length):
     for c in range(len(cr)):
         err, (cand, _, stages) = real(ctrl[c:c + 1], cr[c:c + 1], sam, req, width,
                                       length[c:c + 1], np.ones(1), np.full(1, np.inf))
-        s = np.full((len(cand), sam.speed.shape[1]), np.nan)
+        s = np.full((len(cand), sam.speed.shape[0]), np.nan)
         for pairs, cols, ss, _ in stages:
             s[np.ix_(pairs, cols)] = ss
         assert not np.isnan(s).any()

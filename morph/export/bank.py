@@ -108,18 +108,18 @@ class Bank:
         """Points and first derivatives of every piece ``gids`` at the same parameters
         t (q,): arrays (len(gids), q, 2) (:meth:`jet_planes`, interleaved)."""
         planes = self.jet_planes(gids, t)
-        return np.moveaxis(planes[:2], 0, -1), np.moveaxis(planes[2:], 0, -1)
+        return planes[:2].transpose(2, 1, 0), planes[2:].transpose(2, 1, 0)
 
     def jet_planes(self, gids, t):
         """Points and first derivatives of every piece ``gids`` at the same parameters
-        t (q,) as planes (4, len(gids), q): x, y, x', y' (:func:`grid_planes`, the
+        t (q,) as planes (4, q, len(gids)): x, y, x', y' (:func:`grid_planes`, the
         Bernstein bases at t made once per degree)."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
-        out = np.empty((4, len(gids), len(t)))
+        out = np.empty((4, len(t), len(gids)))
         for rows, h in self.gather(gids):
             n = h.shape[1] - 1
-            out[:, rows] = grid_planes(h, bz.basis(n, t), bz.basis(n - 1, t))
+            out[:, :, rows] = grid_planes(h, bz.basis(n, t), bz.basis(n - 1, t))
         return out
 
     def node_planes(self, gids, t):
@@ -133,35 +133,35 @@ class Bank:
         t = np.asarray(t, float)
         if self._nodes is None or not np.array_equal(self._nodes[0], t):
             g = len(self.deg)
-            self._nodes = (t, np.zeros(g, bool), np.empty((4, g, len(t))))
+            self._nodes = (t, np.zeros(g, bool), np.empty((4, len(t), g)))
             gids_all = np.concatenate([np.nonzero(~self.line)[0], gids])
         else:
             gids_all = gids
         _, have, planes = self._nodes
         need = unique(gids_all[~have[gids_all]])
         if len(need):
-            planes[:, need] = self.jet_planes(need, t)
+            planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
-        return planes[:, gids]
+        return planes[:, :, gids]
 
 
 def grid_planes(h, b, db):
     """Points and first derivatives of the rational pieces h (k, n+1, 3) at the
     parameters whose Bernstein bases of degrees n and n - 1 are ``b`` (q, n+1) and
-    ``db`` (q, n): planes (4, k, q) of x, y, x', y'.
+    ``db`` (q, n): planes (4, q, k) of x, y, x', y', a piece per column.
 
     The homogeneous value H = sum_j B_j h_j and derivative H' = n sum_j B'_j (h_{j+1}
     - h_j) are summed control point by control point (elementwise: a piece's values
     do not depend on the batch), then x = X / W and x' = (X' - x W') / W."""
     k, m, _ = h.shape
-    hc = np.ascontiguousarray(np.moveaxis(h, 0, 2))[..., None]     # (n+1, 3, k, 1)
+    hc = np.ascontiguousarray(np.moveaxis(h, 0, 2))[:, :, None]     # (n+1, 3, 1, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom, der = np.zeros((3, k, len(b))), np.zeros((3, k, len(b)))
+    hom, der = np.zeros((3, len(b), k)), np.zeros((3, len(b), k))
     tmp = np.empty_like(hom)
     for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
         for j in range(len(coef)):
-            acc += np.multiply(coef[j], basis[:, j], out=tmp)
-    out = np.empty((4, k, len(b)))
+            acc += np.multiply(coef[j], basis[:, j, None], out=tmp)
+    out = np.empty((4, len(b), k))
     np.divide(hom[:2], hom[2], out=out[:2])
     np.multiply(out[:2], der[2], out=out[2:])
     np.subtract(der[:2], out[2:], out=out[2:])

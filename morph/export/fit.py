@@ -175,11 +175,11 @@ def _picked_rays(sam, parts, length, cr, pick, rays):
     for pairs, cols, s, ray in stages:
         c = cand[pairs]
         mine = np.nonzero(pick[cr[c]] == c)[0]
-        at = (part[pairs[mine]][:, None], cols[None])
-        feet[at] = s[mine]
-        gap[at] = ray[mine] * length[cr[c[mine]]][:, None]
-    speed = sam.speed * (length[parts.req] * (parts.b - parts.a))[:, None]
-    return Rays(feet, gap, speed)
+        at = (cols[:, None], part[pairs[mine]])
+        feet[at] = s[mine].T
+        gap[at] = ray[mine].T * length[cr[c[mine]]]
+    speed = sam.speed * (length[parts.req] * (parts.b - parts.a))
+    return Rays(*(np.ascontiguousarray(x.T) for x in (feet, gap, speed)))
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -215,10 +215,11 @@ def cut_pieces(parts, idx, h):
     return out
 
 
-#: The samples of :func:`_range_samples`: ``q`` (4, P, 16) the planes x, y, x', y'
-#: of every part at the 16 Gauss-Legendre nodes of its own parameter, in its range's
-#: chord frame; ``speed`` (P, 16) = |(x', y')|; per range the unit end tangents
-#: ``t0``, ``t1`` (n, 2) and the ``area`` and ``moment`` (Gauss-Legendre sums).
+#: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
+#: of every part (a column) at the 16 Gauss-Legendre nodes of its own parameter (a
+#: row), in its range's chord frame; ``speed`` (16, P) = |(x', y')|; per range the
+#: unit end tangents ``t0``, ``t1`` (n, 2) and the ``area`` and ``moment``
+#: (Gauss-Legendre sums).
 _Samples = namedtuple("_Samples", "q speed t0 t1 area moment")
 
 
@@ -227,24 +228,26 @@ def _range_samples(bank, parts, starts, e, tiny):
     (``e`` = chord / |chord|^2): 16 Gauss-Legendre nodes on each part (whole pieces
     from the bank's cache, :meth:`morph.export.bank.Bank.node_planes`; cut ones one
     evaluation per degree), the end tangents one-sided limits where the derivative
-    vanishes."""
+    vanishes.  Sample-major planes: a part's numbers (start, frame) broadcast along
+    the rows, every operation a few long contiguous loops."""
     n = len(starts)
     req, gid, lo = parts.req, parts.gid, parts.a
     width = parts.b - parts.a
     first = np.searchsorted(req, np.arange(n))
     last = np.searchsorted(req, np.arange(n), side="right") - 1
     quad = _quadrature()
-    jets = np.empty((4, len(gid), len(quad.gx)))
+    jets = np.empty((4, len(quad.gx), len(gid)))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
-    jets[:, whole] = bank.node_planes(gid[whole], quad.gx)
+    jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
         sub = bz.subsegment_many(h, lo[i], parts.b[i])
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
-        jets[:, i] = grid_planes(sub, *_node_bases(h.shape[1] - 1))
-        jets[2:, i] /= width[i, None]
+        part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
+        part[2:] /= width[i]
+        jets[:, :, i] = part
     ends_at = np.concatenate([first, last])
     _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
@@ -253,20 +256,20 @@ def _range_samples(bank, parts, starts, e, tiny):
         de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else parts.b[i],
                                sign, tiny[r])
     q = np.empty_like(jets)
-    pe = e[req].T[..., None]                                        # (2, P, 1)
-    jets[0] -= starts[req, 0, None]
-    jets[1] -= starts[req, 1, None]
+    pe = e[req].T                                                   # (2, P)
+    jets[0] -= starts[req, 0]
+    jets[1] -= starts[req, 1]
     _to_frame(jets[0], jets[1], pe, q[0], q[1])
     _to_frame(jets[2], jets[3], pe, q[2], q[3])
     t = np.empty((2, 2 * n))
     _to_frame(de[:, 0], de[:, 1], np.concatenate([e, e]).T, t[0], t[1])
     t /= np.maximum(np.hypot(t[0], t[1]), 1e-300)
-    wu = q[2] * (quad.gw * width[:, None])
+    wu = q[2] * (quad.gw[:, None] * width)
     wu *= q[1]
-    area = np.bincount(req, wu.sum(1), n)
+    area = np.bincount(req, wu.sum(0), n)
     wu *= q[0]
     return _Samples(q, np.hypot(q[2], q[3]), t[:, :n].T, t[:, n:].T, area,
-                    np.bincount(req, wu.sum(1), n))
+                    np.bincount(req, wu.sum(0), n))
 
 
 @functools.lru_cache(maxsize=None)
@@ -383,6 +386,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     n = len(area)
 
     cf = _monomial_coefficients(tm)
+    at = _area_terms(ta)
 
     def resid(d0, d1, c):
         # the moment as the cubic polynomial of (d0, d1) with coefficients c
@@ -390,11 +394,11 @@ def _handle_candidates(area, moment, ta, tm, good):
         inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
-    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, ta, cf, good, resid)
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, np.nonzero(good)[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x, _d1_of(x, area[rr], ta[rr]), cf[rr]) - moment[rr]
+        fx = resid(x, _d1_of(x, area[rr], at[:, rr]), cf[rr]) - moment[rr]
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
@@ -414,7 +418,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], ta[cr]))
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], at[:, cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -424,34 +428,37 @@ def _handle_candidates(area, moment, ta, tm, good):
 GRID_BLOCK = 512
 
 
-def _grid_scan(area, moment, ta, cf, good, resid):
-    """The moment residual on :data:`_D0_GRID` for every range, in blocks of
-    GRID_BLOCK ranges: its sign changes (range, grid index, residual at both ends)
-    and the grid points of locally least |residual| that are not next to one
-    (range, grid index), for the ranges ``good``; where d1 is not finite and
-    positive the residual is undefined."""
+def _grid_scan(area, moment, at, cf, good, resid):
+    """The moment residual on :data:`_D0_GRID` for the ranges ``good`` (indices), in
+    blocks of GRID_BLOCK ranges: its sign changes (range, grid index, residual at
+    both ends) and the grid points of locally least |residual| that are not next to
+    one (range, grid index), each in range order; where d1 is not finite and
+    positive the residual is undefined.  A block is grid-major (80, ranges): a
+    range's coefficients broadcast along the rows."""
     out = [[] for _ in range(6)]
-    d0 = _D0_GRID[None]
-    for lo in range(0, len(area), GRID_BLOCK):
-        blk = slice(lo, lo + GRID_BLOCK)
-        d1 = _d1_of(d0, area[blk, None], ta[blk, None])
+    d0 = _D0_GRID[:, None]
+    cf_t = np.ascontiguousarray(cf.T)
+    for lo in range(0, len(good), GRID_BLOCK):
+        rows = good[lo:lo + GRID_BLOCK]
+        d1 = _d1_of(d0, area[rows], at[:, rows])
         ok = np.isfinite(d1) & (d1 > 0)
-        f = resid(d0, np.where(ok, d1, 0.0), cf[blk, None]) - moment[blk, None]
-        f[~ok] = np.nan
-        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
-        cross &= good[blk, None]
-        r, g = np.nonzero(cross)
+        bad = ~ok
+        f = resid(d0, np.where(ok, d1, 0.0), cf_t[:, rows].T) - moment[rows]
+        f[bad] = np.nan
+        sign = np.sign(f)
+        cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
+        g, r = np.nonzero(cross.T)[::-1]
         # local minima of |f| that do not cross zero (kurbo: the real part of a
         # complex root pair, a near-double root): the grid points where |f| is least
-        af = np.where(ok, np.abs(f), np.inf)
+        af = np.abs(f, out=sign)
+        af[bad] = np.inf
         dip = np.zeros_like(ok)
-        dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
-        dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
-        dip[:, :-1] &= ~cross
-        dip[:, 1:] &= ~cross
-        dip &= good[blk, None]
-        rd, gd = np.nonzero(dip)
-        for acc, x in zip(out, (r + lo, g, f[r, g], f[r, g + 1], rd + lo, gd)):
+        dip[1:-1] = (af[1:-1] <= af[:-2]) & (af[1:-1] <= af[2:]) & ok[1:-1]
+        dip[0] = ok[0] & (af[0] <= af[1])
+        dip[:-1] &= ~cross
+        dip[1:] &= ~cross
+        gd, rd = np.nonzero(dip.T)[::-1]
+        for acc, x in zip(out, (rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd)):
             acc.append(x)
     return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
 
@@ -481,12 +488,19 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     return cubic, dist, fitted, pick
 
 
-def _d1_of(d0, area, ta):
+def _area_terms(ta):
+    """The coefficients of the area equation of :func:`_d1_of` (4, n), from ``ta`` (n,
+    2, 3) of :func:`_cubic_integrals`: ta[0, 0], ta[0, 1], ta[1, 0], ta[0, 2] +
+    ta[1, 1]."""
+    return np.stack([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
+
+
+def _d1_of(d0, area, at):
     """d1 from the area equation (linear in d1) for handle lengths d0, with the
-    ranges' ``area`` and ``ta`` (:func:`_cubic_integrals`) gathered (or broadcast)
-    to d0's shape."""
-    num = area - d0 * (ta[..., 0, 0] + d0 * ta[..., 0, 1])
-    den = ta[..., 1, 0] + d0 * (ta[..., 0, 2] + ta[..., 1, 1])
+    ranges' ``area`` and area terms ``at`` (:func:`_area_terms`) gathered (or
+    broadcast) to d0's shape."""
+    num = area - d0 * (at[0] + d0 * at[1])
+    den = at[2] + d0 * at[3]
     with np.errstate(divide="ignore", invalid="ignore"):
         return num / den
 
@@ -504,9 +518,9 @@ _FINE = np.array([j for j in range(16) if j not in COARSE])
 
 class _RayCaster:
     """The rays of :func:`_ray_distance`: each candidate's (candidate, part) pairs
-    (``cand``, ``part``), :meth:`cast` casting the rays of some pairs at some sample
-    columns (recorded in ``stages``), :meth:`dist_of` the candidates' largest rays
-    so far.
+    (``cand``, ``part``), :meth:`cast` casting the rays of some pairs from some of
+    their samples (recorded in ``stages``), :meth:`dist_of` the candidates' largest
+    rays so far.
 
     What a ray needs of a sample is kept sample-major, ``data`` (6, 16, P): the
     tangent (x', y'), the point (x, y), the start of Newton's iteration (the sample's
@@ -516,17 +530,19 @@ class _RayCaster:
 
     def __init__(self, ctrl, cr, sam, req, width):
         q = sam.q
-        speed = sam.speed * (width[:, None] * _quadrature().gw)      # (P, 16)
-        cum = np.cumsum(speed).reshape(speed.shape)
-        tot = np.bincount(req, speed.sum(1))
-        base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
-        cum -= 0.5 * speed
-        cum -= base[req, None]
-        cum /= np.maximum(tot[req], 1e-300)[:, None]
+        speed = sam.speed * (_quadrature().gw[:, None] * width)        # (16, P)
+        size = speed.sum(0)
+        tot = np.bincount(req, size)
+        # each sample's share of its range's length: the lengths before it (in the
+        # range's earlier parts, in its part before it) and half its own
+        before = np.cumsum(size) - size - (np.cumsum(tot) - tot)[req]
+        frac = np.cumsum(speed, axis=0)
+        frac -= 0.5 * speed
+        frac += before
+        frac /= np.maximum(tot[req], 1e-300)
         pu = q[0] * q[2]
         pu += q[1] * q[3]
-        self.data = np.ascontiguousarray(np.stack([q[2], q[3], q[0], q[1], cum,
-                                                   np.negative(pu, out=pu)]).transpose(0, 2, 1))
+        self.data = np.stack([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
         self.nreq = nreq = len(tot)
         self.counts = counts = np.bincount(req, minlength=nreq)[cr]   # pairs of each candidate
         self.first = first = np.cumsum(counts) - counts
@@ -541,7 +557,7 @@ class _RayCaster:
         self.stages, self.ncand = [], len(cr)
 
     def cast(self, pairs, cols):
-        """The rays of ``pairs`` from the sample columns ``cols``."""
+        """The rays of ``pairs`` from their samples ``cols`` (rows of ``data``)."""
         data = self.data[:, cols]                                     # (6, c, P)
         s, ray = np.empty((len(cols), len(pairs))), np.empty((len(cols), len(pairs)))
         step = max(RAY_BLOCK // len(cols), 1)
