@@ -104,6 +104,24 @@ class Bank:
         return p, d
 
 
+    def derivative(self, gids, t):
+        """First derivatives of pieces ``gids`` at parameters ``t``: at t = 0 and t = 1
+        from the end control points (the numbers :meth:`jet` gives there: its basis
+        rows are exact ones and zeros), elsewhere by :meth:`jet`."""
+        gids, t = np.asarray(gids, int), np.asarray(t, float)
+        d = np.empty((len(t), 2))
+        inner = (t != 0.0) & (t != 1.0)
+        if inner.any():
+            d[inner] = self.jet(gids[inner], t[inner])[1]
+        ends = np.nonzero(~inner)[0]
+        for rows, h in self.gather(gids[ends]):
+            last = (t[ends[rows]] == 1.0)[:, None]
+            val = np.where(last, h[:, -1], h[:, 0])
+            dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
+            w = val[:, 2:3]
+            d[ends[rows]] = (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+        return d
+
     def jet_grid(self, gids, t):
         """Points and first derivatives of every piece ``gids`` at the same parameters
         t (q,): arrays (len(gids), q, 2) (:meth:`jet_planes`, interleaved)."""

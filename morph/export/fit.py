@@ -249,7 +249,7 @@ def _range_samples(bank, parts, starts, e, tiny):
         part[2:] /= width[i]
         jets[:, :, i] = part
     ends_at = np.concatenate([first, last])
-    _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
+    de = bank.derivative(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
         i = first[r] if sign > 0 else last[r]
@@ -268,7 +268,9 @@ def _range_samples(bank, parts, starts, e, tiny):
     wu *= q[1]
     area = np.bincount(req, wu.sum(0), n)
     wu *= q[0]
-    return _Samples(q, np.hypot(q[2], q[3]), t[:, :n].T, t[:, n:].T, area,
+    speed = q[2] * q[2]                                 # |(x', y')|, frame units
+    speed += q[3] * q[3]
+    return _Samples(q, np.sqrt(speed, out=speed), t[:, :n].T, t[:, n:].T, area,
                     np.bincount(req, wu.sum(0), n))
 
 
@@ -396,9 +398,10 @@ def _handle_candidates(area, moment, ta, tm, good):
 
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, np.nonzero(good)[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x, _d1_of(x, area[rr], at[:, rr]), cf[rr]) - moment[rr]
+        fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
@@ -441,17 +444,20 @@ def _grid_scan(area, moment, at, cf, good, resid):
     for lo in range(0, len(good), GRID_BLOCK):
         rows = good[lo:lo + GRID_BLOCK]
         d1 = _d1_of(d0, area[rows], at[:, rows])
-        ok = np.isfinite(d1) & (d1 > 0)
+        ok = d1 > 0
+        ok &= d1 < np.inf
         bad = ~ok
-        f = resid(d0, np.where(ok, d1, 0.0), cf_t[:, rows].T) - moment[rows]
-        f[bad] = np.nan
+        np.copyto(d1, 0.0, where=bad)
+        f = resid(d0, d1, cf_t[:, rows].T)
+        f -= moment[rows]
+        np.copyto(f, np.nan, where=bad)
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
         g, r = np.nonzero(cross.T)[::-1]
         # local minima of |f| that do not cross zero (kurbo: the real part of a
         # complex root pair, a near-double root): the grid points where |f| is least
         af = np.abs(f, out=sign)
-        af[bad] = np.inf
+        np.copyto(af, np.inf, where=bad)
         dip = np.zeros_like(ok)
         dip[1:-1] = (af[1:-1] <= af[:-2]) & (af[1:-1] <= af[2:]) & ok[1:-1]
         dip[0] = ok[0] & (af[0] <= af[1])
@@ -646,7 +652,8 @@ def _rays(a, d):
         np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
-        np.clip(s, 0.0, 1.0, out=s)
+        np.maximum(s, 0.0, out=s)                       # s clipped to [0, 1]
+        np.minimum(s, 1.0, out=s)
     for c3, c2, c1, p, out in ((a3x, a2x, a1x, px, gv), (a3y, a2y, a1y, py, gd)):
         np.multiply(c3, s, out=out)                     # C(s) - p: the ray
         out += c2
@@ -654,7 +661,10 @@ def _rays(a, d):
         out += c1
         out *= s
         out -= p
-    return s, np.hypot(gv, gd, out=gd)
+    gv *= gv                                            # |C(s) - p| (no overflow:
+    gd *= gd                                            # frame units, about 1)
+    gv += gd
+    return s, np.sqrt(gv, out=gv)
 
 
 def _horner3(c3, c2, c1, c0, s, out):
