@@ -362,9 +362,9 @@ def test_node_planes_are_the_jets_of_the_pieces():
     bank = Bank([p for loop in batch() for p in loop])
     t = _quadrature().gx
     gids = np.array([3, 1, 3, 7, 0])
-    planes = bank.node_planes(gids, t)
-    p1, d1 = np.moveaxis(planes[:2], 0, -1), np.moveaxis(planes[2:], 0, -1)
-    p2 = np.moveaxis(bank.node_planes(np.array([7, 2, 1]), t)[:2], 0, -1)
+    planes = bank.node_planes(gids, t)                  # (4, nodes, pieces)
+    p1, d1 = planes[:2].T, planes[2:].T
+    p2 = bank.node_planes(np.array([7, 2, 1]), t)[:2].T
     assert np.array_equal(p2[0], p1[3]) and np.array_equal(p2[2], p1[1])
     for g, p, d in zip(gids, p1, d1):
         pe, de = bank.jet(np.full(len(t), g), t)

@@ -104,22 +104,13 @@ class Bank:
         return p, d
 
 
-    def derivative(self, gids, t):
-        """First derivatives of pieces ``gids`` at parameters ``t``: at t = 0 and t = 1
-        from the end control points (the numbers :meth:`jet` gives there: its basis
-        rows are exact ones and zeros), elsewhere by :meth:`jet`."""
-        gids, t = np.asarray(gids, int), np.asarray(t, float)
-        d = np.empty((len(t), 2))
-        inner = (t != 0.0) & (t != 1.0)
-        if inner.any():
-            d[inner] = self.jet(gids[inner], t[inner])[1]
-        ends = np.nonzero(~inner)[0]
-        for rows, h in self.gather(gids[ends]):
-            last = (t[ends[rows]] == 1.0)[:, None]
-            val = np.where(last, h[:, -1], h[:, 0])
-            dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
-            w = val[:, 2:3]
-            d[ends[rows]] = (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+    def end_derivatives(self, gids, last):
+        """First derivatives (len(gids), 2) of pieces ``gids`` at t = 1 where ``last``,
+        else at t = 0 (:func:`end_derivatives`, one call per degree)."""
+        gids, last = np.asarray(gids, int), np.asarray(last, bool)
+        d = np.empty((len(gids), 2))
+        for rows, h in self.gather(gids):
+            d[rows] = end_derivatives(h, last[rows])
         return d
 
     def jet_grid(self, gids, t):
@@ -161,6 +152,18 @@ class Bank:
             planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
         return planes[:, :, gids]
+
+
+def end_derivatives(h, last):
+    """First derivatives (k, 2) of the rational pieces h (k, n+1, 3) at t = 1 where
+    ``last``, else at t = 0, from their end control points: H' = n (h_1 - h_0) (or n
+    (h_n - h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows`
+    gives there: its basis rows are exact ones and zeros)."""
+    last = np.asarray(last, bool)[:, None]
+    val = np.where(last, h[:, -1], h[:, 0])
+    dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
+    w = val[:, 2:3]
+    return (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 
 
 def grid_planes(h, b, db):

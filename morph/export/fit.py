@@ -14,7 +14,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from ..quadrature import gauss_legendre
-from .bank import RunArrays, grid_planes
+from .bank import RunArrays, end_derivatives, grid_planes
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -239,7 +239,12 @@ def _range_samples(bank, parts, starts, e, tiny):
     jets = np.empty((4, len(quad.gx), len(gid)))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
     jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
+    # the ranges' end derivatives: of the end pieces, or (cut) of their sub-pieces
+    ends_at = np.concatenate([first, last])
+    tail = np.arange(2 * n) >= n
+    de = bank.end_derivatives(gid[ends_at], tail)
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
+    sub_ends = np.empty((2, len(gid), 2))
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
         sub = bz.subsegment_many(h, lo[i], parts.b[i])
@@ -248,8 +253,10 @@ def _range_samples(bank, parts, starts, e, tiny):
         part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
         part[2:] /= width[i]
         jets[:, :, i] = part
-    ends_at = np.concatenate([first, last])
-    de = bank.derivative(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
+        for k in range(2):
+            sub_ends[k, i] = end_derivatives(sub, np.full(len(i), k == 1))
+    inner = ~whole[ends_at]
+    de[inner] = sub_ends[tail[inner].astype(int), ends_at[inner]] / width[ends_at[inner], None]
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
         i = first[r] if sign > 0 else last[r]
