@@ -454,20 +454,20 @@ def _grid_scan(area, moment, at, cf, good, resid):
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        np.copyto(d1, 0.0, where=bad)
-        f = resid(d0, d1, cf_t[:, rows].T)
-        f -= moment[rows]
-        np.copyto(f, np.nan, where=bad)
+        with np.errstate(invalid="ignore", over="ignore"):
+            f = resid(d0, d1, cf_t[:, rows].T)          # read only where ok
+            f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
         g, r = np.nonzero(cross.T)[::-1]
         # local minima of |f| that do not cross zero (kurbo: the real part of a
-        # complex root pair, a near-double root): the grid points where |f| is least
+        # complex root pair, a near-double root): the grid points where |f| is least,
+        # an undefined neighbour counting as infinite
         af = np.abs(f, out=sign)
-        np.copyto(af, np.inf, where=bad)
         dip = np.zeros_like(ok)
-        dip[1:-1] = (af[1:-1] <= af[:-2]) & (af[1:-1] <= af[2:]) & ok[1:-1]
-        dip[0] = ok[0] & (af[0] <= af[1])
+        dip[1:-1] = (((af[1:-1] <= af[:-2]) | bad[:-2]) & ((af[1:-1] <= af[2:]) | bad[2:])
+                     & ok[1:-1])
+        dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
         dip[:-1] &= ~cross
         dip[1:] &= ~cross
         gd, rd = np.nonzero(dip.T)[::-1]
@@ -648,15 +648,17 @@ def _rays(a, d):
     g2 += a2y * uy
     g3 += a3y * uy
     h2, h3 = 2.0 * g2, 3.0 * g3
-    gv, gd, tiny = np.empty_like(s), np.empty_like(s), np.empty(s.shape, bool)
+    gv, gd = np.empty_like(s), np.empty_like(s)
     for _ in range(5):
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
         gd += g1
-        np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
+        # Newton's step: a derivative within 1e-300 of 0 counts as 1e-300 of its sign
+        # (the step then leaves [0, 1] and the clip ends it at an end)
+        np.maximum(np.abs(gd, out=gv), 1e-300, out=gv)
+        np.copysign(gv, gd, out=gd)
         _horner3(g3, g2, g1, g0, s, gv)
-        np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
         np.maximum(s, 0.0, out=s)                       # s clipped to [0, 1]
