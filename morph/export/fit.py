@@ -648,17 +648,15 @@ def _rays(a, d):
     g2 += a2y * uy
     g3 += a3y * uy
     h2, h3 = 2.0 * g2, 3.0 * g3
-    gv, gd = np.empty_like(s), np.empty_like(s)
+    gv, gd, tiny = np.empty_like(s), np.empty_like(s), np.empty(s.shape, bool)
     for _ in range(5):
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
         gd += g1
-        # Newton's step: a derivative within 1e-300 of 0 counts as 1e-300 of its sign
-        # (the step then leaves [0, 1] and the clip ends it at an end)
-        np.maximum(np.abs(gd, out=gv), 1e-300, out=gv)
-        np.copysign(gv, gd, out=gd)
+        np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
         _horner3(g3, g2, g1, g0, s, gv)
+        np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
         np.maximum(s, 0.0, out=s)                       # s clipped to [0, 1]
