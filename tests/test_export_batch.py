@@ -306,10 +306,10 @@ def test_pruned_rays_pick_what_every_ray_picks(monkeypatch):
     real = fit_mod._ray_distance
     seen = {"rounds": 0, "dropped": 0, "others": 0}
 
-    def checked(ctrl, cr, q, dq, req, width, length, scale, acc):
-        err, rays = real(ctrl, cr, q, dq, req, width, length, scale, acc)
+    def checked(ctrl, cr, sam, req, width, length, scale, acc):
+        err, rays = real(ctrl, cr, sam, req, width, length, scale, acc)
         cand, _, stages = rays
-        every = _every_ray(real, ctrl, cr, q, dq, req, width, length)
+        every = _every_ray(real, ctrl, cr, sam, req, width, length)
         full = np.array([d for d, _ in every])
         measured = np.isfinite(err)
         assert np.array_equal(err[measured], full[measured])
@@ -323,7 +323,7 @@ def test_pruned_rays_pick_what_every_ray_picks(monkeypatch):
             assert picks[0] == picks[1]
             if picks[0] >= 0:                  # the pick's rays: all cast, as alone
                 rows = np.nonzero(cand == picks[0])[0]
-                have = np.full((len(rows), q.shape[1]), np.nan)
+                have = np.full((len(rows), sam.speed.shape[0]), np.nan)
                 for pairs, cols, s, _ in stages:
                     at = np.nonzero(np.isin(pairs, rows))[0]
                     have[np.ix_(np.searchsorted(rows, pairs[at]), cols)] = s[at]
@@ -340,14 +340,14 @@ def test_pruned_rays_pick_what_every_ray_picks(monkeypatch):
     assert seen["rounds"] > 3 and seen["dropped"] > 0 and seen["others"] > 0
 
 
-def _every_ray(real, ctrl, cr, q, dq, req, width, length):
+def _every_ray(real, ctrl, cr, sam, req, width, length):
     """Per candidate (distance, s (its parts, 16)) with every ray cast: the
     candidate measured alone with an infinite acceptance distance."""
     out = []
     for c in range(len(cr)):
-        err, (cand, _, stages) = real(ctrl[c:c + 1], cr[c:c + 1], q, dq, req, width,
+        err, (cand, _, stages) = real(ctrl[c:c + 1], cr[c:c + 1], sam, req, width,
                                       length[c:c + 1], np.ones(1), np.full(1, np.inf))
-        s = np.full((len(cand), q.shape[1]), np.nan)
+        s = np.full((len(cand), sam.speed.shape[0]), np.nan)
         for pairs, cols, ss, _ in stages:
             s[np.ix_(pairs, cols)] = ss
         assert not np.isnan(s).any()
@@ -355,15 +355,16 @@ def _every_ray(real, ctrl, cr, q, dq, req, width, length):
     return out
 
 
-def test_node_jets_are_the_jets_of_the_pieces():
+def test_node_planes_are_the_jets_of_the_pieces():
     """The bank's samples at the fitter's nodes, made once per piece and kept, are
     the points and derivatives of :meth:`Bank.jet` at those parameters (to
     rounding), whatever the order and repetition in which pieces are asked for."""
     bank = Bank([p for loop in batch() for p in loop])
     t = _quadrature().gx
     gids = np.array([3, 1, 3, 7, 0])
-    p1, d1 = bank.node_jets(gids, t)
-    p2, d2 = bank.node_jets(np.array([7, 2, 1]), t)
+    planes = bank.node_planes(gids, t)                  # (4, nodes, pieces)
+    p1, d1 = planes[:2].T, planes[2:].T
+    p2 = bank.node_planes(np.array([7, 2, 1]), t)[:2].T
     assert np.array_equal(p2[0], p1[3]) and np.array_equal(p2[2], p1[1])
     for g, p, d in zip(gids, p1, d1):
         pe, de = bank.jet(np.full(len(t), g), t)

@@ -59,22 +59,21 @@ class Bank:
         for n in unique(sizes).tolist():
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
-            h = flat[offsets[rows][:, None] + np.arange(n)[None]]      # (k, n, 3)
-            self.stacks[n] = h
-            w = h[..., 2]
-            self.poly[rows] = _fold(np.logical_and,
-                                    np.abs(w - w[:, :1]) <= 1e-12 * np.abs(w[:, :1]))
-            x = h[..., :2] / h[..., 2:]
-            self.first[rows], self.last[rows] = x[:, 0], x[:, -1]
-            lo, hi = _fold(np.minimum, x), _fold(np.maximum, x)
+            at = offsets[rows][None] + np.arange(n)[:, None]          # (n, k)
+            self.stacks[n] = flat[at.T]                                # (k, n, 3)
+            x, y, w = flat.T[:, at]                                    # (n, k) each
+            self.poly[rows] = np.logical_and.reduce(np.abs(w - w[0]) <= 1e-12 * np.abs(w[0]))
+            x, y = x / w, y / w
+            self.first[rows, 0], self.first[rows, 1] = x[0], y[0]
+            self.last[rows, 0], self.last[rows, 1] = x[-1], y[-1]
+            lo = np.stack([x.min(axis=0), y.min(axis=0)], axis=1)
+            hi = np.stack([x.max(axis=0), y.max(axis=0)], axis=1)
             self.lo[rows], self.hi[rows] = lo, hi
-            self.scale[rows] = np.maximum(np.maximum(np.abs(lo[:, 0]), np.abs(lo[:, 1])),
-                                          np.maximum(np.abs(hi[:, 0]), np.abs(hi[:, 1])))
-            self.t_first[rows], self.t_last[rows] = _end_tangents(x, np.maximum(
-                hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1]))
-            self.bend[rows] = _bend(x)
+            self.scale[rows] = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
+            self.t_first[rows], self.t_last[rows] = _end_tangents(x, y, (hi - lo).max(axis=1))
+            self.bend[rows] = _bend(x, y)
         self.line = (sizes == 2) & self.poly
-        self._nodes = None              # node_jets' cache
+        self._nodes = None              # node_planes' cache
 
     def cartesian(self, gids):
         """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
@@ -105,90 +104,127 @@ class Bank:
         return p, d
 
 
+    def end_derivatives(self, gids, last):
+        """First derivatives (len(gids), 2) of pieces ``gids`` at t = 1 where ``last``,
+        else at t = 0 (:func:`end_derivatives`, one call per degree)."""
+        gids, last = np.asarray(gids, int), np.asarray(last, bool)
+        d = np.empty((len(gids), 2))
+        for rows, h in self.gather(gids):
+            d[rows] = end_derivatives(h, last[rows])
+        return d
+
     def jet_grid(self, gids, t):
         """Points and first derivatives of every piece ``gids`` at the same parameters
-        t (q,): arrays (len(gids), q, 2); the Bernstein bases at t made once per
-        degree (what :meth:`jet` computes, without a basis row per evaluation)."""
+        t (q,): arrays (len(gids), q, 2) (:meth:`jet_planes`, interleaved)."""
+        planes = self.jet_planes(gids, t)
+        return planes[:2].transpose(2, 1, 0), planes[2:].transpose(2, 1, 0)
+
+    def jet_planes(self, gids, t):
+        """Points and first derivatives of every piece ``gids`` at the same parameters
+        t (q,) as planes (4, q, len(gids)): x, y, x', y' (:func:`grid_planes`, the
+        Bernstein bases at t made once per degree)."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
-        p, d = np.empty((len(gids), len(t), 2)), np.empty((len(gids), len(t), 2))
+        out = np.empty((4, len(t), len(gids)))
         for rows, h in self.gather(gids):
             n = h.shape[1] - 1
-            val = np.matmul(bz.basis(n, t), h)                      # (p, q, 3)
-            dval = np.matmul(bz.basis(n - 1, t), n * np.diff(h, axis=1))
-            w = val[..., 2:3]
-            p[rows] = val[..., :2] / w
-            d[rows] = (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
-        return p, d
+            out[:, :, rows] = grid_planes(h, bz.basis(n, t), bz.basis(n - 1, t))
+        return out
 
-
-    def node_jets(self, gids, t):
-        """:meth:`jet_grid` of pieces ``gids`` at parameters t, each piece evaluated once
-        per bank: the fitter samples every whole piece of a range at the same nodes,
-        round after round.  On the first call every piece that is not a line is
-        evaluated (one call per degree for the whole bank, not a few per round for
-        the pieces a round meets first); a piece's result does not depend on the
+    def node_planes(self, gids, t):
+        """:meth:`jet_planes` of pieces ``gids`` at parameters t, each piece evaluated
+        once per bank: the fitter samples every whole piece of a range at the same
+        nodes, round after round.  On the first call every piece that is not a line
+        is evaluated (one call per degree for the whole bank, not a few per round
+        for the pieces a round meets first); a piece's result does not depend on the
         batch, so a cached one is the one a round would compute."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
         if self._nodes is None or not np.array_equal(self._nodes[0], t):
             g = len(self.deg)
-            self._nodes = (t, np.zeros(g, bool), np.empty((g, len(t), 2)),
-                           np.empty((g, len(t), 2)))
+            self._nodes = (t, np.zeros(g, bool), np.empty((4, len(t), g)))
             gids_all = np.concatenate([np.nonzero(~self.line)[0], gids])
         else:
             gids_all = gids
-        _, have, p, d = self._nodes
+        _, have, planes = self._nodes
         need = unique(gids_all[~have[gids_all]])
         if len(need):
-            p[need], d[need] = self.jet_grid(need, t)
+            planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
-        return p[gids], d[gids]
+        return planes[:, :, gids]
 
 
-def _bend(x):
-    """L theta^5 of each piece's control polygon x (k, n, 2): its length L and its
-    turning theta (the sum of the absolute angles between consecutive edges), which
-    bound the piece's arc length and turning (variation diminishing).  A cubic
-    fitted to a circular arc of length L turning theta misses it by about c L
-    theta^5 (c a constant): :func:`morph.export.search.first_widths` sums
-    (L theta^5 / tol)^(1/6) over a chain's pieces to guess how many cubics it needs."""
-    e = np.diff(x, axis=1)
-    length = np.hypot(e[..., 0], e[..., 1]).sum(axis=1)
-    if x.shape[1] < 3:
-        return np.zeros(len(x))
-    a, b = e[:, :-1], e[:, 1:]
-    turn = np.abs(np.arctan2(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-                             (a * b).sum(axis=2))).sum(axis=1)
-    return length * turn ** 5
+def end_derivatives(h, last):
+    """First derivatives (k, 2) of the rational pieces h (k, n+1, 3) at t = 1 where
+    ``last``, else at t = 0, from their end control points: H' = n (h_1 - h_0) (or n
+    (h_n - h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows`
+    gives there: its basis rows are exact ones and zeros)."""
+    last = np.asarray(last, bool)[:, None]
+    val = np.where(last, h[:, -1], h[:, 0])
+    dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
+    w = val[:, 2:3]
+    return (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 
 
-def _fold(func, x):
-    """``func`` (a binary ufunc: minimum, maximum, logical_and) folded over axis 1 of
-    x (k, n, ...), one elementwise call per control point (numpy's reductions over a
-    short middle axis are many times slower; the same values)."""
-    out = x[:, 0].copy()
-    for j in range(1, x.shape[1]):
-        func(out, x[:, j], out=out)
+def grid_planes(h, b, db):
+    """Points and first derivatives of the rational pieces h (k, n+1, 3) at the
+    parameters whose Bernstein bases of degrees n and n - 1 are ``b`` (q, n+1) and
+    ``db`` (q, n): planes (4, q, k) of x, y, x', y', a piece per column.
+
+    The homogeneous value H = sum_j B_j h_j and derivative H' = n sum_j B'_j (h_{j+1}
+    - h_j) are summed control point by control point (elementwise: a piece's values
+    do not depend on the batch), then x = X / W and x' = (X' - x W') / W."""
+    k, m, _ = h.shape
+    hc = np.ascontiguousarray(np.moveaxis(h, 0, 2))[:, :, None]     # (n+1, 3, 1, k)
+    dh = (m - 1) * (hc[1:] - hc[:-1])
+    hom, der = np.zeros((3, len(b), k)), np.zeros((3, len(b), k))
+    tmp = np.empty_like(hom)
+    for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
+        for j in range(len(coef)):
+            acc += np.multiply(coef[j], basis[:, j, None], out=tmp)
+    out = np.empty((4, len(b), k))
+    np.divide(hom[:2], hom[2], out=out[:2])
+    np.multiply(out[:2], der[2], out=out[2:])
+    np.subtract(der[:2], out[2:], out=out[2:])
+    out[2:] /= hom[2]
     return out
 
 
-def _end_tangents(x, size, rel=1e-12):
-    """:func:`morph.piece.end_tangents_many` (not strict) of Cartesian control points
-    x (k, n, 2) of one degree (``size`` the larger side of each one's bounding box):
-    along the first and the last control-point difference longer than ``rel`` times
-    the piece's size; zero vectors where all control points coincide."""
-    d = np.diff(x, axis=1)
-    n = np.hypot(d[..., 0], d[..., 1])
-    ok = n > rel * size[:, None]
-    dead = ~ok.any(axis=1) | (size <= 1e-300)
-    i0 = np.argmax(ok, axis=1)
-    i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
-    r = np.arange(len(x))
+def _bend(x, y):
+    """L theta^5 of each piece's control polygon, its control points' coordinate
+    planes x, y (n, k): its length L and its turning theta (the sum of the absolute
+    angles between consecutive edges), which bound the piece's arc length and
+    turning (variation diminishing).  A cubic fitted to a circular arc of length L
+    turning theta misses it by about c L theta^5 (c a constant):
+    :func:`morph.export.search.first_widths` sums (L theta^5 / tol)^(1/6) over a
+    chain's pieces to guess how many cubics it needs."""
+    ex, ey = np.diff(x, axis=0), np.diff(y, axis=0)
+    length = np.hypot(ex, ey).sum(axis=0)
+    if len(x) < 3:
+        return np.zeros(x.shape[1])
+    ax, ay, bx, by = ex[:-1], ey[:-1], ex[1:], ey[1:]
+    turn = np.abs(np.arctan2(ax * by - ay * bx, ax * bx + ay * by)).sum(axis=0)
+    return length * turn ** 5
+
+
+def _end_tangents(x, y, size, rel=1e-12):
+    """:func:`morph.piece.end_tangents_many` (not strict) of Cartesian control points,
+    the coordinate planes x, y (n, k) of one degree (``size`` the larger side of
+    each one's bounding box): along the first and the last control-point difference
+    longer than ``rel`` times the piece's size; zero vectors where all control
+    points coincide."""
+    dx, dy = np.diff(x, axis=0), np.diff(y, axis=0)
+    n = np.hypot(dx, dy)
+    ok = n > rel * size
+    dead = ~ok.any(axis=0) | (size <= 1e-300)
+    i0 = np.argmax(ok, axis=0)
+    i1 = len(dx) - 1 - np.argmax(ok[::-1], axis=0)
+    r = np.arange(x.shape[1])
     out = []
     for i in (i0, i1):
-        length = np.where(dead, 1.0, n[r, i])
-        out.append(np.where(dead[:, None], 0.0, d[r, i] / length[:, None]))
+        length = np.where(dead, 1.0, n[i, r])
+        t = np.stack([dx[i, r], dy[i, r]], axis=1) / length[:, None]
+        out.append(np.where(dead[:, None], 0.0, t))
     return out
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from ..quadrature import gauss_legendre
-from .bank import RunArrays
+from .bank import RunArrays, end_derivatives, grid_planes
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -98,14 +98,15 @@ FIT_SLACK = 16.0
 MAX_CANDIDATES = 6
 
 
-def _frame(v, chord, chord2):
-    """Vectors v (..., 2) in the unit-chord frame: x along the chord, y to its left,
-    divided by the chord length (``chord`` (..., 2), ``chord2`` its squared length)."""
-    vx, vy, cx, cy = v[..., 0], v[..., 1], chord[..., 0], chord[..., 1]
-    out = np.empty(np.broadcast_shapes(v.shape, chord.shape))
-    np.divide(vx * cx + vy * cy, chord2, out=out[..., 0])
-    np.divide(cx * vy - cy * vx, chord2, out=out[..., 1])
-    return out
+def _to_frame(vx, vy, e, out_x, out_y):
+    """Vectors (vx, vy) in the unit-chord frame whose x axis is ``e`` = chord /
+    |chord|^2 (columns broadcast against vx): x along the chord, y to its left, in
+    chord lengths; written to out_x, out_y."""
+    ex, ey = e
+    np.multiply(vx, ex, out=out_x)
+    out_x += vy * ey
+    np.multiply(vy, ex, out=out_y)
+    out_y -= vx * ey
 
 
 def moment_cubics(bank, parts, starts, ends, tiny, tol):
@@ -145,10 +146,10 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     short = length <= acc
     good = ~short & (chord2 > 0)
     safe2 = np.where(good, chord2, 1.0)
-    sam = _range_samples(bank, parts, starts, chord, safe2, tiny)
-    ta, tm = _cubic_integrals(sam["t0"], sam["t1"])
-    cr, cd0, cd1 = _handle_candidates(sam["area"], sam["moment"], ta, tm, good)
-    t0, t1 = sam["t0"], sam["t1"]
+    sam = _range_samples(bank, parts, starts, chord / safe2[:, None], tiny)
+    ta, tm = _cubic_integrals(sam.t0, sam.t1)
+    cr, cd0, cd1 = _handle_candidates(sam.area, sam.moment, ta, tm, good)
+    t0, t1 = sam.t0, sam.t1
     ctrl = np.zeros((len(cr), 4, 2))
     ctrl[:, 1] = cd0[:, None] * t0[cr]
     ctrl[:, 2, 0] = 1.0 - cd1 * t1[cr, 0]
@@ -156,7 +157,7 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ctrl[:, 3, 0] = 1.0
     # sampled distance: rays along the samples' normals to the candidate cubic
     scale = (1.0 + np.maximum(np.maximum(cd0, cd1) - D_ELBOW, 0.0) * D_SLOPE) ** 2
-    err, rays = _ray_distance(ctrl, cr, sam["q"], sam["dq"], parts.req, parts.b - parts.a,
+    err, rays = _ray_distance(ctrl, cr, sam, parts.req, parts.b - parts.a,
                               length[cr], scale, acc[cr])
     err = err * length[cr]
     cubic, dist, fitted, pick = _picked_cubics(err * scale, err, cr, ctrl, acc, short, starts,
@@ -169,19 +170,16 @@ def _picked_rays(sam, parts, length, cr, pick, rays):
     the rays' lengths and the pieces' speeds there (what the certificate starts
     from); NaN where no picked cubic's ray reached a sample.  ``rays``: the
     (candidate, part, stages) of :func:`_ray_distance`."""
-    shape = sam["q"].shape[:2]
-    feet, gap = np.full(shape, np.nan), np.full(shape, np.nan)
+    feet, gap = np.full(sam.speed.shape, np.nan), np.full(sam.speed.shape, np.nan)
     cand, part, stages = rays
     for pairs, cols, s, ray in stages:
-        mine = np.nonzero(pick[cr[cand[pairs]]] == cand[pairs])[0]
-        rows = part[pairs[mine]]
-        f, g = feet[:, cols], gap[:, cols]
-        f[rows] = s[mine]
-        g[rows] = ray[mine] * length[cr[cand[pairs[mine]]]][:, None]
-        feet[:, cols], gap[:, cols] = f, g
-    speed = np.hypot(sam["dq"][..., 0], sam["dq"][..., 1]) * (length[parts.req] * (
-        parts.b - parts.a))[:, None]
-    return Rays(feet, gap, speed)
+        c = cand[pairs]
+        mine = np.nonzero(pick[cr[c]] == c)[0]
+        at = (cols[:, None], part[pairs[mine]])
+        feet[at] = s[mine].T
+        gap[at] = ray[mine].T * length[cr[c[mine]]]
+    speed = sam.speed * (length[parts.req] * (parts.b - parts.a))
+    return Rays(*(np.ascontiguousarray(x.T) for x in (feet, gap, speed)))
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -217,48 +215,70 @@ def cut_pieces(parts, idx, h):
     return out
 
 
-def _range_samples(bank, parts, starts, chord, safe2, tiny):
-    """The ranges' samples for :func:`moment_cubics`, in the chord frames: 16
-    Gauss-Legendre nodes on each part (one evaluation per degree for all), their
-    points ``q`` and derivatives ``dq`` (P, 16, 2); each range's ``area`` and
-    ``moment`` (Gauss-Legendre sums) and its unit end tangents ``t0``, ``t1``
-    (one-sided limits where the derivative vanishes)."""
+#: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
+#: of every part (a column) at the 16 Gauss-Legendre nodes of its own parameter (a
+#: row), in its range's chord frame; ``speed`` (16, P) = |(x', y')|; per range the
+#: unit end tangents ``t0``, ``t1`` (n, 2) and the ``area`` and ``moment``
+#: (Gauss-Legendre sums).
+_Samples = namedtuple("_Samples", "q speed t0 t1 area moment")
+
+
+def _range_samples(bank, parts, starts, e, tiny):
+    """The ranges' :class:`_Samples` for :func:`moment_cubics`, in the chord frames
+    (``e`` = chord / |chord|^2): 16 Gauss-Legendre nodes on each part (whole pieces
+    from the bank's cache, :meth:`morph.export.bank.Bank.node_planes`; cut ones one
+    evaluation per degree), the end tangents one-sided limits where the derivative
+    vanishes.  Sample-major planes: a part's numbers (start, frame) broadcast along
+    the rows, every operation a few long contiguous loops."""
     n = len(starts)
     req, gid, lo = parts.req, parts.gid, parts.a
     width = parts.b - parts.a
     first = np.searchsorted(req, np.arange(n))
     last = np.searchsorted(req, np.arange(n), side="right") - 1
     quad = _quadrature()
-    m = len(quad.gx)
-    p, d = np.empty((len(gid), m, 2)), np.empty((len(gid), m, 2))
+    jets = np.empty((4, len(quad.gx), len(gid)))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
-    p[whole], d[whole] = bank.node_jets(gid[whole], quad.gx)
+    jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
+    # the ranges' end derivatives: of the end pieces, or (cut) of their sub-pieces
+    ends_at = np.concatenate([first, last])
+    tail = np.arange(2 * n) >= n
+    de = bank.end_derivatives(gid[ends_at], tail)
     cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
+    sub_ends = np.empty((2, len(gid), 2))
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
         sub = bz.subsegment_many(h, lo[i], parts.b[i])
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
-        p[i], d[i] = _node_jets(sub)
-        d[i] /= width[i, None, None]
-    ends_at = np.concatenate([first, last])
-    _, de = bank.jet(gid[ends_at], np.concatenate([lo[first], lo[last] + width[last]]))
+        part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
+        part[2:] /= width[i]
+        jets[:, :, i] = part
+        for k in range(2):
+            sub_ends[k, i] = end_derivatives(sub, np.full(len(i), k == 1))
+    inner = ~whole[ends_at]
+    de[inner] = sub_ends[tail[inner].astype(int), ends_at[inner]] / width[ends_at[inner], None]
     for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
         i = first[r] if sign > 0 else last[r]
         de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else parts.b[i],
                                sign, tiny[r])
-    q = _frame(p.reshape(-1, m, 2) - starts[req][:, None], chord[req][:, None],
-               safe2[req][:, None])                                # (P, m, 2)
-    dq = _frame(d.reshape(-1, m, 2), chord[req][:, None], safe2[req][:, None])
-    wgt = quad.gw[None] * width[:, None]
-    t0 = _frame(de[:n], chord, safe2)
-    t1 = _frame(de[n:], chord, safe2)
-    t0 /= np.maximum(np.hypot(*t0.T), 1e-300)[:, None]
-    t1 /= np.maximum(np.hypot(*t1.T), 1e-300)[:, None]
-    return {"q": q, "dq": dq, "t0": t0, "t1": t1,
-            "area": np.bincount(req, (wgt * q[..., 1] * dq[..., 0]).sum(1), n),
-            "moment": np.bincount(req, (wgt * q[..., 0] * q[..., 1] * dq[..., 0]).sum(1), n)}
+    q = np.empty_like(jets)
+    pe = e[req].T                                                   # (2, P)
+    jets[0] -= starts[req, 0]
+    jets[1] -= starts[req, 1]
+    _to_frame(jets[0], jets[1], pe, q[0], q[1])
+    _to_frame(jets[2], jets[3], pe, q[2], q[3])
+    t = np.empty((2, 2 * n))
+    _to_frame(de[:, 0], de[:, 1], np.concatenate([e, e]).T, t[0], t[1])
+    t /= np.maximum(np.hypot(t[0], t[1]), 1e-300)
+    wu = q[2] * (quad.gw[:, None] * width)
+    wu *= q[1]
+    area = np.bincount(req, wu.sum(0), n)
+    wu *= q[0]
+    speed = q[2] * q[2]                                 # |(x', y')|, frame units
+    speed += q[3] * q[3]
+    return _Samples(q, np.sqrt(speed, out=speed), t[:, :n].T, t[:, n:].T, area,
+                    np.bincount(req, wu.sum(0), n))
 
 
 @functools.lru_cache(maxsize=None)
@@ -266,17 +286,6 @@ def _node_bases(n):
     """The Bernstein bases of degrees n and n - 1 at the 16-point Gauss-Legendre nodes."""
     gx = _quadrature().gx
     return bz.basis(n, gx), bz.basis(n - 1, gx)
-
-
-def _node_jets(h):
-    """Points and derivatives (k, 16, 2) of the rational pieces h (k, n+1, 3) at the
-    16-point Gauss-Legendre nodes, as :meth:`morph.export.bank.Bank.jet_grid`."""
-    n = h.shape[1] - 1
-    b, db = _node_bases(n)
-    val = np.matmul(b, h)
-    dval = np.matmul(db, n * np.diff(h, axis=1))
-    w = val[..., 2:3]
-    return val[..., :2] / w, (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
 
 
 def _cubic_integrals(t0, t1):
@@ -386,6 +395,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     n = len(area)
 
     cf = _monomial_coefficients(tm)
+    at = _area_terms(ta)
 
     def resid(d0, d1, c):
         # the moment as the cubic polynomial of (d0, d1) with coefficients c
@@ -393,11 +403,12 @@ def _handle_candidates(area, moment, ta, tm, good):
         inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
-    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, ta, cf, good, resid)
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, np.nonzero(good)[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
     for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x, _d1_of(x, area[rr], ta[rr]), cf[rr]) - moment[rr]
+        fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
@@ -417,7 +428,7 @@ def _handle_candidates(area, moment, ta, tm, good):
     rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], ta[cr]))
+    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], at[:, cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -427,34 +438,40 @@ def _handle_candidates(area, moment, ta, tm, good):
 GRID_BLOCK = 512
 
 
-def _grid_scan(area, moment, ta, cf, good, resid):
-    """The moment residual on :data:`_D0_GRID` for every range, in blocks of
-    GRID_BLOCK ranges: its sign changes (range, grid index, residual at both ends)
-    and the grid points of locally least |residual| that are not next to one
-    (range, grid index), for the ranges ``good``; where d1 is not finite and
-    positive the residual is undefined."""
+def _grid_scan(area, moment, at, cf, good, resid):
+    """The moment residual on :data:`_D0_GRID` for the ranges ``good`` (indices), in
+    blocks of GRID_BLOCK ranges: its sign changes (range, grid index, residual at
+    both ends) and the grid points of locally least |residual| that are not next to
+    one (range, grid index), each in range order; where d1 is not finite and
+    positive the residual is undefined.  A block is grid-major (80, ranges): a
+    range's coefficients broadcast along the rows."""
     out = [[] for _ in range(6)]
-    d0 = _D0_GRID[None]
-    for lo in range(0, len(area), GRID_BLOCK):
-        blk = slice(lo, lo + GRID_BLOCK)
-        d1 = _d1_of(d0, area[blk, None], ta[blk, None])
-        ok = np.isfinite(d1) & (d1 > 0)
-        f = resid(d0, np.where(ok, d1, 0.0), cf[blk, None]) - moment[blk, None]
-        f[~ok] = np.nan
-        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
-        cross &= good[blk, None]
-        r, g = np.nonzero(cross)
+    d0 = _D0_GRID[:, None]
+    cf_t = np.ascontiguousarray(cf.T)
+    for lo in range(0, len(good), GRID_BLOCK):
+        rows = good[lo:lo + GRID_BLOCK]
+        d1 = _d1_of(d0, area[rows], at[:, rows])
+        ok = d1 > 0
+        ok &= d1 < np.inf
+        bad = ~ok
+        with np.errstate(invalid="ignore", over="ignore"):
+            f = resid(d0, d1, cf_t[:, rows].T)          # read only where ok
+            f -= moment[rows]
+        sign = np.sign(f)
+        cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
+        g, r = np.nonzero(cross.T)[::-1]
         # local minima of |f| that do not cross zero (kurbo: the real part of a
-        # complex root pair, a near-double root): the grid points where |f| is least
-        af = np.where(ok, np.abs(f), np.inf)
+        # complex root pair, a near-double root): the grid points where |f| is least,
+        # an undefined neighbour counting as infinite
+        af = np.abs(f, out=sign)
         dip = np.zeros_like(ok)
-        dip[:, 1:-1] = (af[:, 1:-1] <= af[:, :-2]) & (af[:, 1:-1] <= af[:, 2:]) & ok[:, 1:-1]
-        dip[:, 0] = ok[:, 0] & (af[:, 0] <= af[:, 1])
-        dip[:, :-1] &= ~cross
-        dip[:, 1:] &= ~cross
-        dip &= good[blk, None]
-        rd, gd = np.nonzero(dip)
-        for acc, x in zip(out, (r + lo, g, f[r, g], f[r, g + 1], rd + lo, gd)):
+        dip[1:-1] = (((af[1:-1] <= af[:-2]) | bad[:-2]) & ((af[1:-1] <= af[2:]) | bad[2:])
+                     & ok[1:-1])
+        dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
+        dip[:-1] &= ~cross
+        dip[1:] &= ~cross
+        gd, rd = np.nonzero(dip.T)[::-1]
+        for acc, x in zip(out, (rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd)):
             acc.append(x)
     return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
 
@@ -484,23 +501,26 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     return cubic, dist, fitted, pick
 
 
-def _d1_of(d0, area, ta):
+def _area_terms(ta):
+    """The coefficients of the area equation of :func:`_d1_of` (4, n), from ``ta`` (n,
+    2, 3) of :func:`_cubic_integrals`: ta[0, 0], ta[0, 1], ta[1, 0], ta[0, 2] +
+    ta[1, 1]."""
+    return np.stack([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
+
+
+def _d1_of(d0, area, at):
     """d1 from the area equation (linear in d1) for handle lengths d0, with the
-    ranges' ``area`` and ``ta`` (:func:`_cubic_integrals`) gathered (or broadcast)
-    to d0's shape."""
-    num = area - d0 * (ta[..., 0, 0] + d0 * ta[..., 0, 1])
-    den = ta[..., 1, 0] + d0 * (ta[..., 0, 2] + ta[..., 1, 1])
+    ranges' ``area`` and area terms ``at`` (:func:`_area_terms`) gathered (or
+    broadcast) to d0's shape."""
+    num = area - d0 * (at[0] + d0 * at[1])
+    den = at[2] + d0 * at[3]
     with np.errstate(divide="ignore", invalid="ignore"):
         return num / den
 
 
-#: Power coefficients of a cubic from its Bernstein coefficients.
-_POWER3 = np.array([[1.0, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]])
-
-
-#: Rows of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
+#: Rays of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
 #: each) stay in a core's cache through Newton's iterations, where arrays of all the
-#: rows of a round (millions) would be read from memory at every operation.
+#: rays of a round (millions) would be read from memory at every operation.
 RAY_BLOCK = 8192
 #: The samples (of the 16 of a part) whose rays every candidate gets first: their
 #: largest distance is a lower bound of the candidate's sampled distance, which
@@ -511,47 +531,56 @@ _FINE = np.array([j for j in range(16) if j not in COARSE])
 
 class _RayCaster:
     """The rays of :func:`_ray_distance`: each candidate's (candidate, part) pairs
-    (``cand``, ``part``), the parts' samples' shares of their range's arc length,
-    :meth:`cast` casting the rays of some pairs at some sample columns (recorded in
-    ``stages``), :meth:`dist_of` the candidates' largest rays so far."""
+    (``cand``, ``part``), :meth:`cast` casting the rays of some pairs from some of
+    their samples (recorded in ``stages``), :meth:`dist_of` the candidates' largest
+    rays so far.
 
-    def __init__(self, ctrl, cr, q, dq, req, width):
-        m = q.shape[1]
-        speed = np.hypot(dq[..., 0], dq[..., 1]).ravel() * np.repeat(width, m) * np.tile(
-            _quadrature().gw, len(width))
-        sreq = np.repeat(req, m)
-        cum = np.cumsum(speed)
-        tot = np.bincount(sreq, speed)
-        base = np.concatenate([[0.0], np.cumsum(tot)])[:-1]
-        frac = ((cum - 0.5 * speed - base[sreq]) / np.maximum(tot[sreq], 1e-300)).reshape(-1, m)
+    What a ray needs of a sample is kept sample-major, ``data`` (6, 16, P): the
+    tangent (x', y'), the point (x, y), the start of Newton's iteration (the sample's
+    share of its range's arc length) and -(x, y).(x', y'); what it needs of a
+    candidate, ``coef`` (6, N) per pair: the power coefficients a_1, a_2, a_3 (x and
+    y) of C(s) = a_1 s + a_2 s^2 + a_3 s^3 (the frame cubic starts at 0)."""
+
+    def __init__(self, ctrl, cr, sam, req, width):
+        q = sam.q
+        speed = sam.speed * (_quadrature().gw[:, None] * width)        # (16, P)
+        size = speed.sum(0)
+        tot = np.bincount(req, size)
+        # each sample's share of its range's length: the lengths before it (in the
+        # range's earlier parts, in its part before it) and half its own
+        before = np.cumsum(size) - size - (np.cumsum(tot) - tot)[req]
+        frac = np.cumsum(speed, axis=0)
+        frac -= 0.5 * speed
+        frac += before
+        frac /= np.maximum(tot[req], 1e-300)
+        pu = q[0] * q[2]
+        pu += q[1] * q[3]
+        self.data = np.stack([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
         self.nreq = nreq = len(tot)
         self.counts = counts = np.bincount(req, minlength=nreq)[cr]   # pairs of each candidate
         self.first = first = np.cumsum(counts) - counts
         self.cand = np.repeat(np.arange(len(cr)), counts)
         self.part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
                      + np.arange(int(counts.sum())))
-        power = np.matmul(_POWER3, ctrl)                              # C(s) = sum a_k s^k
-        self.ax = np.ascontiguousarray(power[..., 0].T)[:, self.cand]  # (4, N) each
-        self.ay = np.ascontiguousarray(power[..., 1].T)[:, self.cand]
+        p1, p2 = ctrl[:, 1], ctrl[:, 2]                               # P0 = (0, 0)
+        a2 = 3.0 * (p2 - 2.0 * p1)
+        a3 = ctrl[:, 3] + 3.0 * (p1 - p2)
+        self.coef = np.concatenate([3.0 * p1, a2, a3], axis=1).T[:, self.cand]   # (6, N)
         self.worst = np.zeros(len(self.cand))                         # largest ray of a pair
-        self.stages, self.samples, self.ncand = [], (q, dq, frac), len(cr)
+        self.stages, self.ncand = [], len(cr)
 
     def cast(self, pairs, cols):
-        """The rays of ``pairs`` from the sample columns ``cols``."""
-        q, dq, frac = self.samples
-        # the samples' columns gathered once, then whole rows per block
-        cq = [np.ascontiguousarray(x[:, cols]) for x in (q[..., 0], q[..., 1], dq[..., 0],
-                                                          dq[..., 1], frac)]
-        s, ray = np.empty((len(pairs), len(cols))), np.empty((len(pairs), len(cols)))
+        """The rays of ``pairs`` from their samples ``cols`` (rows of ``data``)."""
+        data = self.data[:, cols]                                     # (6, c, P)
+        s, ray = np.empty((len(cols), len(pairs))), np.empty((len(cols), len(pairs)))
         step = max(RAY_BLOCK // len(cols), 1)
         for lo in range(0, len(pairs), step):
             b = pairs[lo:lo + step]
-            p = self.part[b]
-            s[lo:lo + step], ray[lo:lo + step] = _rays(
-                self.ax[:, b, None], self.ay[:, b, None], *(x[p] for x in cq))
+            s[:, lo:lo + step], ray[:, lo:lo + step] = _rays(self.coef[:, None, b],
+                                                              data[:, :, self.part[b]])
         # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
-        self.worst[pairs] = np.maximum(self.worst[pairs], ray.max(axis=1))
-        self.stages.append((pairs, cols, s, ray))
+        self.worst[pairs] = np.maximum(self.worst[pairs], ray.max(axis=0))
+        self.stages.append((pairs, cols, s.T, ray.T))
 
     def dist_of(self, cands):
         """The largest ray cast so far of each candidate ``cands`` (index or mask)."""
@@ -562,7 +591,7 @@ class _RayCaster:
         return out[cands]
 
 
-def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
+def _ray_distance(ctrl, cr, sam, req, width, length, scale, acc):
     """Largest distance (frame units) from each candidate's range samples to the
     candidate cubic along the samples' normals: Newton on (C(s) - q) . q' = 0 from
     the sample's share of the range's arc length, s clipped to [0, 1].  ``length``,
@@ -581,7 +610,7 @@ def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     one all samples of all candidates give, and its rays are all cast.  Each ray is
     computed alone (:func:`_rays`), so its result does not depend on the others.
     """
-    rc = _RayCaster(ctrl, cr, q, dq, req, width)
+    rc = _RayCaster(ctrl, cr, sam, req, width)
     cand, part, stages, dist_of, cast = rc.cand, rc.part, rc.stages, rc.dist_of, rc.cast
     nreq = rc.nreq
     if not len(cr):
@@ -606,32 +635,43 @@ def _ray_distance(ctrl, cr, q, dq, req, width, length, scale, acc):
     return err, (cand, part, stages)
 
 
-def _rays(ax, ay, px, py, ux, uy, s):
-    """Rays from the points (px, py) along the normals of the tangents (ux, uy) to
-    the cubics of power coefficients ax, ay (4, ...) each, Newton from s (updated in
-    place): (the parameters met, the rays' lengths), one block of
-    :func:`_ray_distance`, every operation elementwise."""
-    a0, a1, a2, a3 = ax
-    b0, b1, b2, b3 = ay
-    g0 = a0 * ux + b0 * uy - (px * ux + py * uy)                  # (C(s) - p) . t, power form
-    g1, g2, g3 = a1 * ux + b1 * uy, a2 * ux + b2 * uy, a3 * ux + b3 * uy
+def _rays(a, d):
+    """Rays from the points (x, y) along the normals of the tangents (x', y') of the
+    samples ``d`` (6, c, b: :class:`_RayCaster`'s ``data``) to the cubics of power
+    coefficients ``a`` (6, 1, b), Newton on g(s) = (C(s) - p) . t from the start in
+    ``d``, s clipped to [0, 1]: (the parameters met, the rays' lengths) (c, b), one
+    block of :func:`_ray_distance`, every operation elementwise."""
+    a1x, a1y, a2x, a2y, a3x, a3y = a
+    ux, uy, px, py, s, g0 = d                           # s: a gathered copy, updated
+    g1, g2, g3 = a1x * ux, a2x * ux, a3x * ux          # g(s) = g0 + g1 s + g2 s^2 + g3 s^3
+    g1 += a1y * uy
+    g2 += a2y * uy
+    g3 += a3y * uy
     h2, h3 = 2.0 * g2, 3.0 * g3
-    gv, gd = np.empty_like(s), np.empty_like(s)
+    gv, gd, tiny = np.empty_like(s), np.empty_like(s), np.empty(s.shape, bool)
     for _ in range(5):
-        _horner3(g3, g2, g1, g0, s, gv)
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
         gd += g1
-        np.copyto(gd, 1e-300, where=~(np.abs(gd) > 1e-300))
+        np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
+        _horner3(g3, g2, g1, g0, s, gv)
+        np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
-        np.clip(s, 0.0, 1.0, out=s)
-    _horner3(a3, a2, a1, a0, s, gv)
-    gv -= px
-    _horner3(b3, b2, b1, b0, s, gd)
-    gd -= py
-    return s, np.hypot(gv, gd, out=gd)
+        np.maximum(s, 0.0, out=s)                       # s clipped to [0, 1]
+        np.minimum(s, 1.0, out=s)
+    for c3, c2, c1, p, out in ((a3x, a2x, a1x, px, gv), (a3y, a2y, a1y, py, gd)):
+        np.multiply(c3, s, out=out)                     # C(s) - p: the ray
+        out += c2
+        out *= s
+        out += c1
+        out *= s
+        out -= p
+    gv *= gv                                            # |C(s) - p| (no overflow:
+    gd *= gd                                            # frame units, about 1)
+    gv += gd
+    return s, np.sqrt(gv, out=gv)
 
 
 def _horner3(c3, c2, c1, c0, s, out):
