@@ -15,6 +15,8 @@ parameter range (within eps + grid/sqrt(2) of it), not at a parameter interpolat
 along the segment.
 """
 
+from functools import lru_cache
+
 import numpy as np
 
 from .. import bernstein as bz
@@ -539,27 +541,36 @@ def _newton_step(ha, dha, s, hb, dhb, u):
 
 def _jet_rows(h, t, dh):
     """:func:`morph.piece.jet_rows` of rows h (m, n+1, 3) at t with their hodographs
-    dh: the Bernstein sums written out one control point at a time, the powers of t
-    and 1 - t by products (a third of the time of the basis by powers and einsum,
-    which a Newton iteration pays every step)."""
-    val, dval = _bernstein_sum(h, t), _bernstein_sum(dh, t)
+    dh: the Bernstein sums sum_i C(n, i) t^i (1 - t)^(n - i) h[:, i] with the powers
+    of t and 1 - t by running products (:func:`_powers`) and the terms added one
+    control point after another (a sum over the middle axis: the same bits as a
+    loop over them), a fixed number of numpy calls whatever the degree (a Newton
+    iteration pays them every step)."""
+    n = h.shape[1] - 1
+    tp, sp = _powers(t, n), _powers(1.0 - t, n)
+    val = _bernstein_sum(h, _binomials(n)[:, None] * tp * sp[::-1])
+    dval = _bernstein_sum(dh, _binomials(n - 1)[:, None] * tp[:n] * sp[n - 1::-1])
     w = val[:, 2:3]
     return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 
 
-def _bernstein_sum(c, t):
-    """sum_i C(n, i) t^i (1 - t)^(n - i) c[:, i] of rows c (m, n+1, k), (m, k)."""
-    n = c.shape[1] - 1
-    s = 1.0 - t
-    tp, sp = [np.ones_like(t)], [np.ones_like(t)]
-    for _ in range(n):
-        tp.append(tp[-1] * t)
-        sp.append(sp[-1] * s)
-    binom = bz._binomials(n)
-    out = (binom[0] * sp[n])[:, None] * c[:, 0]
-    for i in range(1, n + 1):
-        out += (binom[i] * tp[i] * sp[n - i])[:, None] * c[:, i]
-    return out
+def _powers(t, n):
+    """(n+1, m): t^0 .. t^n of each t, by running products."""
+    out = np.empty((n + 1, len(t)))
+    out[0] = 1.0
+    out[1:] = t
+    return np.cumprod(out, axis=0, out=out)
+
+
+@lru_cache(maxsize=None)
+def _binomials(n):
+    """Row n of Pascal's triangle (:func:`morph.bernstein._binomials`), made once."""
+    return bz._binomials(n)
+
+
+def _bernstein_sum(c, basis):
+    """sum_i basis[i] c[:, i] of rows c (m, n+1, k) and basis values (n+1, m): (m, k)."""
+    return (basis.T[:, :, None] * c).sum(axis=1)
 
 
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
@@ -588,17 +599,22 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating
     # every row
-    live = np.arange(len(s))
+    live, rows = np.arange(len(s)), (ha, dha, hb, dhb)   # the live rows' pieces
+    sl, ul = s.copy(), u.copy()
     for _ in range(iters):
         if not len(live):
             break
-        sl, ul = s[live], u[live]
-        s2, u2, moved = _newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
+        s2, u2, moved = _newton_step(rows[0], rows[1], sl, rows[2], rows[3], ul)
         s[live], u[live] = s2, u2
         going = (s2 != sl) | (u2 != ul)
         if settle > 0.0:
             going &= moved > settle
-        live = live[going]
+        if going.all():
+            sl, ul = s2, u2
+            continue
+        keep = np.flatnonzero(going)
+        live, sl, ul = live[keep], s2[keep], u2[keep]
+        rows = tuple(r[keep] for r in rows)
     pa, da = _jet_rows(ha, s, dha)
     pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)

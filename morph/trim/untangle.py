@@ -18,6 +18,7 @@ from .. import bernstein as bz
 from .. import piece as pc
 from .. import moments as mo
 from .. import polyline as pl
+from ..quadrature import gauss_legendre
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
@@ -58,12 +59,13 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
             pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
         hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
                                                        cones).items()}
+        split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
+                                               eps, hole_test)))
         new_out, new_active = [], []
         for k, loop in enumerate(out):
-            hit = hits.get(k)
-            parts = [loop] if hit is None else _split_off(loop, hit, eps, hole_test)
+            parts = split.get(k, [loop])
             new_out += parts
-            new_active += [hit is not None] * len(parts)
+            new_active += [k in split] * len(parts)
         out, active, pieces = new_out, new_active, None
     return out
 
@@ -218,16 +220,27 @@ def _union_arcs(la, lb, ca, cb, eps):
 
 
 def _split_off(loop, hit, eps, hole_test):
-    """The parts of ``loop`` kept after splitting it at crossing ``hit`` (i, s, j,
-    u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`
-    says so."""
-    lobe, rest = _split(loop, *hit, 1e-6 * eps)
-    if lobe and rest and abs(mo.loop_area(lobe)) > abs(mo.loop_area(rest)):
-        lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
-    keep = [rest]
-    if lobe and _keep_lobe(lobe, rest, eps, hole_test):
-        keep.append(lobe)
-    return [k for k in keep if k]
+    """:func:`_split_off_many` of one loop."""
+    return _split_off_many([loop], [hit], eps, hole_test)[0]
+
+
+def _split_off_many(loops, hits, eps, hole_test):
+    """The parts of each loop kept after splitting it at its crossing (i, s, j, u, x)
+    of ``hits``: the larger part, and the smaller (the lobe) where
+    :func:`_keep_lobes` says so.  All loops at once: the cuts, the snapping, the
+    areas and the lobes' tests of all together."""
+    lobes, rests = _split_many(loops, hits, 1e-6 * eps)
+    areas = _loop_areas(lobes + rests)
+    a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
+    # the lobe is the smaller part, wherever the cut is
+    swap = [bool(lb and r and abs(x) > abs(y))
+            for lb, r, x, y in zip(lobes, rests, a_lobe.tolist(), a_rest.tolist())]
+    lobes, rests = ([r if w else lb for lb, r, w in zip(lobes, rests, swap)],
+                    [lb if w else r for lb, r, w in zip(lobes, rests, swap)])
+    a_lobe, a_rest = np.where(swap, a_rest, a_lobe), np.where(swap, a_lobe, a_rest)
+    keep = _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test)
+    return [[part for part in ([r, lb] if k else [r]) if part]
+            for lb, r, k in zip(lobes, rests, keep)]
 
 
 def _first_crossings(loops, eps, pieces=None, cones=None):
@@ -684,68 +697,183 @@ def _newton_nearest(stacked, idx, u, points):
 
 def _split(loop, i, s, j, u, x, min_len):
     """The loop cut at a crossing of piece i (at s) and piece j (at u), i <= j: the
-    lobe i[s:] .. j[:u] and the rest .. i[:s], j[u:] .., both snapped to x."""
-    if i == j:
-        lobe = [pc.subsegment(loop[i], s, u)]
-        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[i], u, 1.0)] + loop[i + 1:]
-    else:
-        lobe = [pc.subsegment(loop[i], s, 1.0)] + loop[i + 1:j] + [pc.subsegment(loop[j], 0.0, u)]
-        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[j], u, 1.0)] + loop[j + 1:]
-    return _snap(lobe, min_len), _snap(rest, min_len)
+    lobe i[s:] .. j[:u] and the rest .. i[:s], j[u:] .., both snapped to x
+    (:func:`_split_many` of one loop)."""
+    lobes, rests = _split_many([loop], [(i, s, j, u, x)], min_len)
+    return lobes[0], rests[0]
+
+
+def _split_many(loops, hits, min_len):
+    """(lobes, rests): each loop cut at its crossing (i, s, j, u, x) of ``hits`` (i <=
+    j): the lobe i[s:] .. j[:u] (i[s:u] where i == j) and the rest .. i[:s],
+    j[u:] .., snapped (:func:`_snap_many`).  The four cut pieces of every loop
+    (i[s:1] or i[s:u], j[:u], i[:s], j[u:]) in one :func:`morph.piece.subsegments`."""
+    if not loops:
+        return [], []
+    i, s, j, u = (np.array([h[n] for h in hits]) for n in range(4))
+    same = i == j
+    src = [p for loop, a, b in zip(loops, i.tolist(), j.tolist()) for p in
+           (loop[a], loop[b], loop[a], loop[b])]
+    t0 = np.stack([s, np.zeros_like(s), np.zeros_like(s), u], axis=1).ravel()
+    t1 = np.stack([np.where(same, u, 1.0), u, s, np.ones_like(s)], axis=1).ravel()
+    cut = pc.subsegments(src, np.arange(len(src)), t0, t1)
+    lobes, rests = [], []
+    for n, (loop, a, b) in enumerate(zip(loops, i.tolist(), j.tolist())):
+        c = cut[4 * n:4 * n + 4]
+        lobes.append([c[0]] if a == b else [c[0]] + loop[a + 1:b] + [c[1]])
+        rests.append(loop[:a] + [c[2], c[3]] + loop[b + 1:])
+    snapped = _snap_many(lobes + rests, min_len)
+    return snapped[:len(loops)], snapped[len(loops):]
 
 
 def _snap(loop, min_len):
-    """Pieces no longer than ``min_len`` dropped, every join snapped to the mean of
-    its two ends (the cut point where the cut was made); again while snapping
-    leaves a piece that short."""
-    while True:
-        if not loop:
-            return []
-        loop = [p for p, n in zip(loop, pc.length_bounds(loop)) if n > min_len]
-        if not loop:
-            return []
-        starts, ends = pc.end_points(loop)
-        a = 0.5 * (starts + np.roll(ends, 1, axis=0))
-        b = 0.5 * (ends + np.roll(starts, -1, axis=0))
-        moved = np.flatnonzero(np.any(a != starts, axis=1) | np.any(b != ends, axis=1))
-        out = list(loop)
-        for k in moved:
-            out[k] = pc.with_endpoints(loop[k], a[k], b[k])
-        if not len(moved) or (pc.length_bounds([out[k] for k in moved]) > min_len).all():
-            return out
-        loop = out
+    """:func:`_snap_many` of one loop."""
+    return _snap_many([loop], min_len)[0]
+
+
+def _snap_many(loops, min_len):
+    """Each loop with its pieces no longer than ``min_len`` dropped and every join
+    snapped to the mean of its two ends (the cut point where the cut was made);
+    again while snapping leaves a piece that short.  All loops at once: each pass
+    measures and snaps the pieces of every loop still going together (a loop's
+    pass is the same arithmetic as alone; a loop whose snapped pieces are all
+    longer than ``min_len`` is done)."""
+    out = [list(loop) for loop in loops]
+    going = [k for k, loop in enumerate(out) if loop]
+    while going:
+        flat = [p for k in going for p in out[k]]
+        sizes = np.array([len(out[k]) for k in going], np.int64)
+        keep = pc.length_bounds(flat) > min_len
+        owner = np.repeat(np.arange(len(going)), sizes)[keep]
+        idx = np.flatnonzero(keep)
+        per = np.bincount(owner, minlength=len(going))
+        first = np.cumsum(per) - per
+        at = np.arange(len(idx)) - first[owner]
+        prev = first[owner] + (at - 1) % np.maximum(per[owner], 1)
+        nxt = first[owner] + (at + 1) % np.maximum(per[owner], 1)
+        kept = pc.Pieces.of([flat[i] for i in idx.tolist()])
+        starts, ends = pc.end_points(kept)
+        a = 0.5 * (starts + ends[prev])
+        b = 0.5 * (ends + starts[nxt])
+        moved = np.any(a != starts, axis=1) | np.any(b != ends, axis=1)
+        snapped = _with_ends_where(kept, a, b, moved)
+        rows = snapped.rows()
+        # a loop goes on where a snapped piece came out that short
+        short = moved & (pc.length_bounds(snapped) <= min_len)
+        again = np.bincount(owner[short], minlength=len(going)) > 0
+        bounds = np.append(first, len(idx)).tolist()
+        for g, k in enumerate(going):
+            out[k] = rows[bounds[g]:bounds[g + 1]]
+        going = [k for g, k in enumerate(going) if again[g] and out[k]]
+    return out
+
+
+def _with_ends_where(pieces, p0, p1, mask):
+    """:class:`morph.piece.Pieces` ``pieces`` with the first and last control points
+    of those in ``mask`` moved to p0 and p1 (:func:`morph.piece.with_endpoints`),
+    the others as they are (the same bits)."""
+    groups = []
+    for ks, h in pieces.groups:
+        m = mask[ks]
+        if m.any():
+            h = h.copy()
+            h[m, 0, :2] = p0[ks[m]] * h[m, 0, 2:]
+            h[m, -1, :2] = p1[ks[m]] * h[m, -1, 2:]
+        groups.append((ks, h))
+    return pc.Pieces(groups, len(pieces))
 
 
 def _ray_winding(x, loop, flat):
-    """The winding number of the loop flattened within ``flat`` at point x
+    """:func:`_ray_windings` of one point and loop."""
+    return int(_ray_windings(np.asarray(x, float)[None], [loop], flat)[0])
+
+
+def _ray_windings(xs, loops, flat):
+    """The winding number of each loop flattened within ``flat`` at its point xs[k]
     (:func:`morph.polyline.winding_number`'s rule), from the pieces whose control
-    boxes meet the ray from x to the right only: no other edge can cross it (the
-    rest of a loop after many lobes is long, the ray short)."""
-    box = pc.bboxes(loop)
-    meet = np.flatnonzero((box[:, 1] <= x[1]) & (box[:, 3] >= x[1]) & (box[:, 2] >= x[0]))
+    boxes meet the ray from the point to the right only: no other edge can cross
+    it (the rest of a loop after many lobes is long, the ray short).  All loops'
+    pieces at once."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    out = np.zeros(len(loops), np.int64)
+    if not sizes.sum():
+        return out
+    flat_pieces = [p for loop in loops for p in loop]
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    box, x = pc.bboxes(flat_pieces), xs[owner]
+    meet = np.flatnonzero((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1]) & (box[:, 2] >= x[:, 0]))
     if not len(meet):
-        return 0
-    polys = [pts for pts, _ in pl.flatten_many([loop[k] for k in meet], flat)]
-    a = np.concatenate([q[:-1] for q in polys])
-    b = np.concatenate([q[1:] for q in polys])
-    return int(ray_crossings(np.broadcast_to(x, a.shape), a, b).sum())
+        return out
+    met = pc.Pieces.of(flat_pieces).take(meet)
+    o, _, a = pl.flat_starts(met, flat)
+    # each vertex's edge runs to the next vertex of its piece, or to the piece's end
+    b = np.empty_like(a)
+    b[:-1] = a[1:]
+    last = np.append(o[1:] != o[:-1], True)
+    b[last] = pc.end_points(met)[1][o[last]]
+    hit = ray_crossings(xs[owner[meet[o]]], a, b)
+    return np.bincount(owner[meet[o]], weights=hit, minlength=len(loops)).astype(np.int64)
 
 
 def _keep_lobe(lobe, rest, eps, hole_test=None):
-    """Is a lobe cut off the rest a boundary of the filled set?  Beside the rest with
-    the same orientation, it is a part of its own; nested in the rest with the
+    """:func:`_keep_lobes` of one lobe and rest."""
+    areas = _loop_areas([lobe, rest])
+    return bool(_keep_lobes([lobe], [rest], areas[:1], areas[1:], eps, hole_test)[0])
+
+
+#: Gauss-Legendre nodes per piece of :func:`_loop_areas`
+AREA_NODES = 24
+
+
+def _loop_areas(loops):
+    """The signed area of each loop (:func:`morph.moments.loop_area`, about the loop's
+    first point), by AREA_NODES-point Gauss-Legendre on every piece at once: exact
+    for polynomial pieces up to degree 24 (the integrand x y' - y x' is a
+    polynomial of degree 2n - 1), to the rule's error on rational ones (no
+    adaptive halving: the areas only say which part of a split loop is the smaller
+    and whether a lobe's area exceeds eps^2, :func:`_keep_lobes`)."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    if not sizes.sum():
+        return np.zeros(len(loops))
+    flat = [p for loop in loops for p in loop]
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    h = pc.stack(flat)
+    origin = h[np.cumsum(sizes)[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
+    origin = origin[np.cumsum(sizes > 0) - 1][owner]
+    h[..., :2] -= origin[:, None, :2] / origin[:, None, 2:] * h[..., 2:]
+    x, w = gauss_legendre(AREA_NODES)
+    t = 0.5 * (x + 1.0)
+    n = h.shape[1] - 1
+    val = np.einsum("qi,kij->kqj", bz.basis(n, t), h)
+    dval = np.einsum("qi,kij->kqj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+    # x y' - y x' of P = (X, Y) / W: (X Y' - Y X') / W^2
+    cross = (val[..., 0] * dval[..., 1] - val[..., 1] * dval[..., 0]) / val[..., 2] ** 2
+    return np.bincount(owner, weights=0.25 * cross @ w, minlength=len(loops))
+
+
+def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
+    """Is each lobe cut off its rest a boundary of the filled set?  Beside the rest
+    with the same orientation, it is a part of its own; nested in the rest with the
     opposite one, it bounds a hole (winding 0: two parts of the rest touching within
     eps around it), which ``hole_test`` may find filled.  A lobe of the opposite
     orientation beside the rest (a twist) or nested with the same one (a curl)
-    bounds nothing; nor does one of area below eps^2."""
-    a_lobe, a_rest = mo.loop_area(lobe), mo.loop_area(rest)
-    if abs(a_lobe) <= eps * eps:
-        return False
-    probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)[0]
-    nested = _ray_winding(probe, rest, eps / 10) != 0
-    if np.sign(a_lobe) == np.sign(a_rest):
-        return not nested
-    if not nested:
-        return False
-    return hole_test is None or not hole_test(pl.flatten_loop(lobe, eps / 10), [])
-
+    bounds nothing; nor does one of area below eps^2 (or none).  ``a_lobe``,
+    ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
+    the windings and the hole tests of all lobes at once."""
+    keep = np.zeros(len(lobes), bool)
+    test = np.flatnonzero(np.array([bool(lb) for lb in lobes], bool) & (np.abs(a_lobe) > eps * eps))
+    if not len(test):
+        return keep
+    mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]
+    probes = pc.jet_many(pc.stack(mids), np.arange(len(mids)), np.full(len(mids), 0.5))[0]
+    nested = _ray_windings(probes, [rests[k] for k in test.tolist()], eps / 10) != 0
+    same = np.sign(a_lobe[test]) == np.sign(a_rest[test])
+    keep[test] = np.where(same, ~nested, nested)
+    holes = test[~same & nested]
+    if len(holes) and hole_test is not None:
+        rings = pl.flatten_loops([lobes[k] for k in holes.tolist()], eps / 10)
+        many = getattr(hole_test, "many", None)
+        filled = (many([(r, []) for r in rings]) if many is not None
+                  else [hole_test(r, []) for r in rings])
+        keep[holes] = ~np.asarray(filled, bool)
+    return keep
