@@ -523,19 +523,20 @@ def newton_step(ha, dha, s, hb, dhb, u):
 
 def _newton_step(ha, dha, s, hb, dhb, u):
     """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
-    |B'| |du|, the larger)."""
-    pa, da = _jet_rows(ha, s, dha)
-    pb, db = _jet_rows(hb, u, dhb)
-    f = pa - pb
+    |B'| |du|, the larger).  A and B evaluated in one :func:`_jet_rows`."""
+    m = len(s)
+    p, d = _jet_rows(np.concatenate([ha, hb]), np.concatenate([s, u]),
+                     np.concatenate([dha, dhb]))
+    da, db = d[:m], d[m:]
+    f = p[:m] - p[m:]
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
-    safe = np.where(np.abs(det) > 1e-300, det, 1.0)
-    ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
-    du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
-    ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
-    du = np.where(np.abs(det) > 1e-300, du, 0.0)
+    ok = np.abs(det) > 1e-300
+    safe = np.where(ok, det, 1.0)
+    ds = np.where(ok, (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe, 0.0)
+    du = np.where(ok, (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe, 0.0)
     s2, u2 = np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
-    moved = np.maximum(np.hypot(da[:, 0], da[:, 1]) * np.abs(s2 - s),
-                       np.hypot(db[:, 0], db[:, 1]) * np.abs(u2 - u))
+    speed = np.hypot(d[:, 0], d[:, 1])
+    moved = np.maximum(speed[:m] * np.abs(s2 - s), speed[m:] * np.abs(u2 - u))
     return s2, u2, moved
 
 
