@@ -534,7 +534,8 @@ def _newton_step(ha, dha, s, hb, dhb, u):
     safe = np.where(ok, det, 1.0)
     ds = np.where(ok, (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe, 0.0)
     du = np.where(ok, (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe, 0.0)
-    s2, u2 = np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
+    # kept in [0, 1] (np.clip's result, in two ufunc calls)
+    s2, u2 = np.minimum(np.maximum(s - ds, 0.0), 1.0), np.minimum(np.maximum(u - du, 0.0), 1.0)
     speed = np.hypot(d[:, 0], d[:, 1])
     moved = np.maximum(speed[:m] * np.abs(s2 - s), speed[m:] * np.abs(u2 - u))
     return s2, u2, moved
@@ -560,7 +561,7 @@ def _powers(t, n):
     out = np.empty((n + 1, len(t)))
     out[0] = 1.0
     out[1:] = t
-    return np.cumprod(out, axis=0, out=out)
+    return np.multiply.accumulate(out, axis=0, out=out)
 
 
 @lru_cache(maxsize=None)
@@ -571,7 +572,7 @@ def _binomials(n):
 
 def _bernstein_sum(c, basis):
     """sum_i basis[i] c[:, i] of rows c (m, n+1, k) and basis values (n+1, m): (m, k)."""
-    return (basis.T[:, :, None] * c).sum(axis=1)
+    return np.add.reduce(basis.T[:, :, None] * c, axis=1)
 
 
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
@@ -610,10 +611,10 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         going = (s2 != sl) | (u2 != ul)
         if settle > 0.0:
             going &= moved > settle
-        if going.all():
+        keep = going.nonzero()[0]
+        if len(keep) == len(going):
             sl, ul = s2, u2
             continue
-        keep = np.flatnonzero(going)
         live, sl, ul = live[keep], s2[keep], u2[keep]
         rows = tuple(r[keep] for r in rows)
     pa, da = _jet_rows(ha, s, dha)

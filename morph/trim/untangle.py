@@ -547,7 +547,8 @@ def _fold_cuts(jobs, width):
     found at once, :func:`_closest_many`); else where the legs part, if they are
     zipped (:func:`_zip_many`, :func:`_parting_many`, fold by fold)."""
     a_s, b_s = [a for a, _ in jobs], [b for _, b in jobs]
-    la, lb = pc.length_bounds(a_s), pc.length_bounds(b_s)
+    lengths = pc.length_bounds(a_s + b_s)
+    la, lb = lengths[:len(a_s)], lengths[len(a_s):]
     a_short = la <= lb
     shorts = [a if s else b for a, b, s in zip(a_s, b_s, a_short)]
     longs = [b if s else a for a, b, s in zip(a_s, b_s, a_short)]
@@ -718,9 +719,10 @@ def _newton_nearest(stacked, idx, u, points):
     for _ in range(8):
         x, dx = _jet_rows(h, u, dh)
         r = x - points
-        step = (r * dx).sum(axis=1) / np.maximum((dx * dx).sum(axis=1), 1e-300)
-        u2 = np.clip(u - step, 0.0, 1.0)
-        if (u2 == u).all():
+        step = np.add.reduce(r * dx, axis=1) / np.maximum(np.add.reduce(dx * dx, axis=1),
+                                                          1e-300)
+        u2 = np.minimum(np.maximum(u - step, 0.0), 1.0)   # kept in [0, 1]
+        if np.logical_and.reduce(u2 == u):
             break
         u = u2
     x, _ = _jet_rows(h, u, dh)
