@@ -17,9 +17,9 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..quadrature import gauss_legendre
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
+from ..quadrature import gauss_legendre
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
 from .lift import _jet_rows, newton_crossings
 
