@@ -168,7 +168,7 @@ def _level_tests(it, res):
     are not in a cone narrower than pi, nor are both parts small; small, both parts
     at most ``res`` across (their boxes' diagonals); split_a, part a the larger."""
     c = it.h[:, :, :2] / it.h[:, :, 2:]
-    lo, hi = c.min(axis=3), c.max(axis=3)      # (m, 2 parts, 2 coordinates)
+    lo, hi = np.minimum.reduce(c, axis=3), np.maximum.reduce(c, axis=3)  # (m, 2 parts, 2 coords)
     size = np.hypot(hi[..., 0] - lo[..., 0], hi[..., 1] - lo[..., 1])
     hi = hi + 1e-9 * res
     meet = ((lo[:, 0, 0] <= hi[:, 1, 0]) & (lo[:, 0, 1] <= hi[:, 1, 1])
@@ -176,7 +176,7 @@ def _level_tests(it, res):
     kind = it.kind
     small = (size[:, 0] <= res) & (size[:, 1] <= res)
     narrow = np.zeros(len(kind), bool)
-    j = np.flatnonzero(kind != PAIRS)
+    j = (kind != PAIRS).nonzero()[0]
     if len(j):
         d = _diffs(c[j].swapaxes(2, 3).reshape(2 * len(j), -1, 2))  # a's, then b's
         narrow[j] = _narrow_cone(d.reshape(len(j), -1, 2))
@@ -229,13 +229,13 @@ def _upper(k):
 def _narrow_cone(v):
     """Per row of vectors (m, k, 2): all nonzero ones within a cone narrower than pi."""
     norm = np.hypot(v[..., 0], v[..., 1])
-    live = norm > 1e-12 * np.maximum(norm.max(axis=1, keepdims=True), 1e-300)
+    live = norm > 1e-12 * np.maximum(np.maximum.reduce(norm, axis=1, keepdims=True), 1e-300)
     ang = np.arctan2(v[..., 1], v[..., 0])
-    ref = ang[np.arange(len(v)), np.argmax(live, axis=1)]
-    rel = np.angle(np.exp(1j * (ang - ref[:, None])))
-    lo = np.where(live, rel, 0.0).min(axis=1)
-    hi = np.where(live, rel, 0.0).max(axis=1)
-    return (hi - lo < np.pi * (1.0 - 1e-9)) & live.any(axis=1)
+    ref = ang[np.arange(len(v)), live.argmax(axis=1)]
+    z = np.exp(1j * (ang - ref[:, None]))
+    rel = np.where(live, np.arctan2(z.imag, z.real), 0.0)      # np.angle of z
+    lo, hi = np.minimum.reduce(rel, axis=1), np.maximum.reduce(rel, axis=1)
+    return (hi - lo < np.pi * (1.0 - 1e-9)) & np.logical_or.reduce(live, axis=1)
 
 
 #: the children of an item (:func:`_split_items`), by slot: (category of the item
@@ -258,14 +258,14 @@ def _split_items(it, keep, split_a):
     items and one joined), each slot's children in the order of their items: all
     at once, one stable sort of the children by slot.  A child's part is its
     item's, or the left or right half of it (:func:`_halves` of the items kept)."""
-    rows = np.flatnonzero(keep)
+    rows = keep.nonzero()[0]
     kind = it.kind[rows]
     cat = np.where(kind == PAIRS, np.where(split_a[rows], 0, 1), np.where(kind == JOINED, 2, 3))
     count = _SLOT_COUNT[cat]
-    item = np.repeat(np.arange(len(cat)), count)
-    slot = np.repeat(_SLOT_FIRST[cat], count) + (np.arange(len(item)) - np.repeat(
-        np.cumsum(count) - count, count))
-    order = np.argsort(slot, kind="stable")
+    item = np.arange(len(cat)).repeat(count)
+    slot = _SLOT_FIRST[cat].repeat(count) + (np.arange(len(item)) - (
+        count.cumsum() - count).repeat(count))
+    order = slot.argsort(kind="stable")
     item, table = item[order], _SLOTS[slot[order]]
     t = it.t[rows]
     mid = 0.5 * (t[:, 0::2] + t[:, 1::2])         # (k, 2): the parts' midpoints

@@ -15,6 +15,8 @@ parameter range (within eps + grid/sqrt(2) of it), not at a parameter interpolat
 along the segment.
 """
 
+from functools import lru_cache
+
 import numpy as np
 
 from .. import bernstein as bz
@@ -521,45 +523,56 @@ def newton_step(ha, dha, s, hb, dhb, u):
 
 def _newton_step(ha, dha, s, hb, dhb, u):
     """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
-    |B'| |du|, the larger)."""
-    pa, da = _jet_rows(ha, s, dha)
-    pb, db = _jet_rows(hb, u, dhb)
-    f = pa - pb
+    |B'| |du|, the larger).  A and B evaluated in one :func:`_jet_rows`."""
+    m = len(s)
+    p, d = _jet_rows(np.concatenate([ha, hb]), np.concatenate([s, u]),
+                     np.concatenate([dha, dhb]))
+    da, db = d[:m], d[m:]
+    f = p[:m] - p[m:]
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
-    safe = np.where(np.abs(det) > 1e-300, det, 1.0)
-    ds = (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe
-    du = (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe
-    ds = np.where(np.abs(det) > 1e-300, ds, 0.0)
-    du = np.where(np.abs(det) > 1e-300, du, 0.0)
-    s2, u2 = np.clip(s - ds, 0.0, 1.0), np.clip(u - du, 0.0, 1.0)
-    moved = np.maximum(np.hypot(da[:, 0], da[:, 1]) * np.abs(s2 - s),
-                       np.hypot(db[:, 0], db[:, 1]) * np.abs(u2 - u))
+    ok = np.abs(det) > 1e-300
+    safe = np.where(ok, det, 1.0)
+    ds = np.where(ok, (f[:, 0] * (-db[:, 1]) - f[:, 1] * (-db[:, 0])) / safe, 0.0)
+    du = np.where(ok, (da[:, 0] * f[:, 1] - da[:, 1] * f[:, 0]) / safe, 0.0)
+    # kept in [0, 1] (np.clip's result, in two ufunc calls)
+    s2, u2 = np.minimum(np.maximum(s - ds, 0.0), 1.0), np.minimum(np.maximum(u - du, 0.0), 1.0)
+    speed = np.hypot(d[:, 0], d[:, 1])
+    moved = np.maximum(speed[:m] * np.abs(s2 - s), speed[m:] * np.abs(u2 - u))
     return s2, u2, moved
 
 
 def _jet_rows(h, t, dh):
     """:func:`morph.piece.jet_rows` of rows h (m, n+1, 3) at t with their hodographs
-    dh: the Bernstein sums written out one control point at a time, the powers of t
-    and 1 - t by products (a third of the time of the basis by powers and einsum,
-    which a Newton iteration pays every step)."""
-    val, dval = _bernstein_sum(h, t), _bernstein_sum(dh, t)
+    dh: the Bernstein sums sum_i C(n, i) t^i (1 - t)^(n - i) h[:, i] with the powers
+    of t and 1 - t by running products (:func:`_powers`) and the terms added one
+    control point after another (a sum over the middle axis: the same bits as a
+    loop over them), a fixed number of numpy calls whatever the degree (a Newton
+    iteration pays them every step)."""
+    n = h.shape[1] - 1
+    tp, sp = _powers(t, n), _powers(1.0 - t, n)
+    val = _bernstein_sum(h, _binomials(n)[:, None] * tp * sp[::-1])
+    dval = _bernstein_sum(dh, _binomials(n - 1)[:, None] * tp[:n] * sp[n - 1::-1])
     w = val[:, 2:3]
     return val[:, :2] / w, (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 
 
-def _bernstein_sum(c, t):
-    """sum_i C(n, i) t^i (1 - t)^(n - i) c[:, i] of rows c (m, n+1, k), (m, k)."""
-    n = c.shape[1] - 1
-    s = 1.0 - t
-    tp, sp = [np.ones_like(t)], [np.ones_like(t)]
-    for _ in range(n):
-        tp.append(tp[-1] * t)
-        sp.append(sp[-1] * s)
-    binom = bz._binomials(n)
-    out = (binom[0] * sp[n])[:, None] * c[:, 0]
-    for i in range(1, n + 1):
-        out += (binom[i] * tp[i] * sp[n - i])[:, None] * c[:, i]
-    return out
+def _powers(t, n):
+    """(n+1, m): t^0 .. t^n of each t, by running products."""
+    out = np.empty((n + 1, len(t)))
+    out[0] = 1.0
+    out[1:] = t
+    return np.multiply.accumulate(out, axis=0, out=out)
+
+
+@lru_cache(maxsize=None)
+def _binomials(n):
+    """Row n of Pascal's triangle (:func:`morph.bernstein._binomials`), made once."""
+    return bz._binomials(n)
+
+
+def _bernstein_sum(c, basis):
+    """sum_i basis[i] c[:, i] of rows c (m, n+1, k) and basis values (n+1, m): (m, k)."""
+    return np.add.reduce(basis.T[:, :, None] * c, axis=1)
 
 
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
@@ -588,17 +601,22 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating
     # every row
-    live = np.arange(len(s))
+    live, rows = np.arange(len(s)), (ha, dha, hb, dhb)   # the live rows' pieces
+    sl, ul = s.copy(), u.copy()
     for _ in range(iters):
         if not len(live):
             break
-        sl, ul = s[live], u[live]
-        s2, u2, moved = _newton_step(ha[live], dha[live], sl, hb[live], dhb[live], ul)
+        s2, u2, moved = _newton_step(rows[0], rows[1], sl, rows[2], rows[3], ul)
         s[live], u[live] = s2, u2
         going = (s2 != sl) | (u2 != ul)
         if settle > 0.0:
             going &= moved > settle
-        live = live[going]
+        keep = going.nonzero()[0]
+        if len(keep) == len(going):
+            sl, ul = s2, u2
+            continue
+        live, sl, ul = live[keep], s2[keep], u2[keep]
+        rows = tuple(r[keep] for r in rows)
     pa, da = _jet_rows(ha, s, dha)
     pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)

@@ -16,12 +16,12 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from .. import moments as mo
 from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
+from ..quadrature import gauss_legendre
 from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
-from .lift import newton_crossings
+from .lift import _jet_rows, newton_crossings
 
 
 def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
@@ -58,12 +58,13 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
             pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
         hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
                                                        cones).items()}
+        split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
+                                               eps, hole_test)))
         new_out, new_active = [], []
         for k, loop in enumerate(out):
-            hit = hits.get(k)
-            parts = [loop] if hit is None else _split_off(loop, hit, eps, hole_test)
+            parts = split.get(k, [loop])
             new_out += parts
-            new_active += [hit is not None] * len(parts)
+            new_active += [k in split] * len(parts)
         out, active, pieces = new_out, new_active, None
     return out
 
@@ -217,17 +218,23 @@ def _union_arcs(la, lb, ca, cb, eps):
     return _snap(a_arc + b_arc, 1e-6 * eps)
 
 
-def _split_off(loop, hit, eps, hole_test):
-    """The parts of ``loop`` kept after splitting it at crossing ``hit`` (i, s, j,
-    u, x): the larger part, and the smaller (the lobe) where :func:`_keep_lobe`
-    says so."""
-    lobe, rest = _split(loop, *hit, 1e-6 * eps)
-    if lobe and rest and abs(mo.loop_area(lobe)) > abs(mo.loop_area(rest)):
-        lobe, rest = rest, lobe  # the lobe is the smaller part, wherever the cut is
-    keep = [rest]
-    if lobe and _keep_lobe(lobe, rest, eps, hole_test):
-        keep.append(lobe)
-    return [k for k in keep if k]
+def _split_off_many(loops, hits, eps, hole_test):
+    """The parts of each loop kept after splitting it at its crossing (i, s, j, u, x)
+    of ``hits``: the larger part, and the smaller (the lobe) where
+    :func:`_keep_lobes` says so.  All loops at once: the cuts, the snapping, the
+    areas and the lobes' tests of all together."""
+    lobes, rests = _split_many(loops, hits, 1e-6 * eps)
+    areas = _loop_areas(lobes + rests)
+    a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
+    # the lobe is the smaller part, wherever the cut is
+    swap = [bool(lb and r and abs(x) > abs(y))
+            for lb, r, x, y in zip(lobes, rests, a_lobe.tolist(), a_rest.tolist())]
+    lobes, rests = ([r if w else lb for lb, r, w in zip(lobes, rests, swap)],
+                    [lb if w else r for lb, r, w in zip(lobes, rests, swap)])
+    a_lobe, a_rest = np.where(swap, a_rest, a_lobe), np.where(swap, a_lobe, a_rest)
+    keep = _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test)
+    return [[part for part in ([r, lb] if k else [r]) if part]
+            for lb, r, k in zip(lobes, rests, keep)]
 
 
 def _first_crossings(loops, eps, pieces=None, cones=None):
@@ -447,7 +454,7 @@ def remove_folds(loop, width):
       longer is cut where the shorter one began (or ended);
     - else, the two legs of the spike coincide from the join (within COINCIDE
       ``width`` at equal arc lengths) for at least ``width`` of arc length (a hook
-      at a piece's end that the next piece runs along, :func:`_zip`): both are cut
+      at a piece's end that the next piece runs along, :func:`_zip_many`): both are cut
       where they part, a piece zipped whole goes.
 
     Such spikes enclose no area; the polygon engine keeps them because it preserves
@@ -487,7 +494,7 @@ def remove_folds_many(loops, width):
         if not jobs:
             break
         cuts = _fold_cuts(jobs, width)
-        todo = []
+        changed_loops = []
         for k, folds, at in plan:
             loop = out[k]
             changed, taken = False, set()
@@ -504,11 +511,14 @@ def remove_folds_many(loops, width):
                 loop = _cut_fold(loop, i, j, *cut)
                 taken.add(i)
                 changed = True
-            if changed:
-                loop = _snap(loop, 5e-7 * width)  # a cut at a piece's end leaves nothing
-                if len(loop) >= 3:
-                    todo.append(k)
             out[k] = loop
+            if changed:
+                changed_loops.append(k)
+        # a cut at a piece's end leaves nothing
+        for k, loop in zip(changed_loops, _snap_many([out[k] for k in changed_loops],
+                                                    5e-7 * width)):
+            out[k] = loop
+        todo = [k for k in changed_loops if len(out[k]) >= 3]
     return out
 
 
@@ -535,57 +545,59 @@ def _fold_cuts(jobs, width):
     shorter leg within ``width`` of the longer at nine points goes, the longer cut
     at its point closest to the shorter's far end (the closest points of all folds
     found at once, :func:`_closest_many`); else where the legs part, if they are
-    zipped (:func:`_zip`, :func:`_parting`, fold by fold)."""
+    zipped (:func:`_zip_many`, :func:`_parting_many`, fold by fold)."""
     a_s, b_s = [a for a, _ in jobs], [b for _, b in jobs]
-    la, lb = pc.length_bounds(a_s), pc.length_bounds(b_s)
+    lengths = pc.length_bounds(a_s + b_s)
+    la, lb = lengths[:len(a_s)], lengths[len(a_s):]
     a_short = la <= lb
     shorts = [a if s else b for a, b, s in zip(a_s, b_s, a_short)]
     longs = [b if s else a for a, b, s in zip(a_s, b_s, a_short)]
     pts = _evaluate_many(shorts, np.linspace(0.0, 1.0, 9))
     near, t_near = _closest_many(longs, pts)
-    out = []
-    for f, (a, b) in enumerate(jobs):
-        if near[f].max() <= width:
-            out.append((0.0, t_near[f, 0]) if a_short[f] else (t_near[f, -1], 1.0))
-            continue
-        zipped = _zip(a, b, COINCIDE * width, width)
-        out.append(None if zipped is None else _parting(a, b, *zipped))
-    return out
+    close = near.max(axis=1) <= width
+    s = np.where(a_short, 0.0, t_near[:, -1])
+    u = np.where(a_short, t_near[:, 0], 1.0)
+    cut = close.copy()
+    rest = np.flatnonzero(~close)
+    if len(rest):
+        ra, rb = [a_s[f] for f in rest.tolist()], [b_s[f] for f in rest.tolist()]
+        zs, zu, window, zipped = _zip_many(ra, rb, COINCIDE * width, width)
+        zs, zu = _parting_many(ra, rb, zs, zu, window, zipped)
+        s[rest], u[rest], cut[rest] = zs, zu, zipped
+    return [(a, b) if c else None for a, b, c in zip(s.tolist(), u.tolist(), cut.tolist())]
 
 
 def _evaluate_many(pieces, t):
     """:func:`morph.piece.evaluate` of each piece at the parameters ``t``: (k, m, 2),
-    the pieces of one degree at once (the same products, row by row)."""
-    out = np.zeros((len(pieces), len(t), 2))
-    for ks, h in pc.degree_groups(pieces):
-        v = bz.basis(h.shape[1] - 1, t) @ h
-        out[ks] = v[..., :2] / v[..., 2:3]
-    return out
+    all pieces at once (stacked at their highest degree, :func:`morph.piece.stack`)."""
+    if not len(pieces):
+        return np.zeros((0, len(t), 2))
+    h = pc.stack(pieces)
+    v = bz.basis(h.shape[1] - 1, t) @ h
+    return v[..., :2] / v[..., 2:3]
 
 
 def _closest_many(pieces, points, samples=257):
-    """:func:`_closest` of each piece and its points ((k, m, 2)): distances and
-    parameters (k, m), the pieces of one degree at once."""
+    """Distances from points (k, m, 2) to their pieces and the parameters of the
+    closest points (k, m): the nearest of ``samples`` points of each piece, then
+    Newton on the squared distance (:func:`_newton_nearest`), all pieces at once
+    (stacked at their highest degree)."""
     k, m = points.shape[:2]
-    dist, param = np.zeros((k, m)), np.zeros((k, m))
+    if not k:
+        return np.zeros((0, m)), np.zeros((0, m))
     t = np.linspace(0.0, 1.0, samples)
-    for ks, h in pc.degree_groups(pieces):
-        curve = bz.basis(h.shape[1] - 1, t) @ h
-        curve = curve[..., :2] / curve[..., 2:3]
-        pts = points[ks]
-        d2 = ((pts[:, :, None, :] - curve[:, None, :, :]) ** 2).sum(axis=3)
-        u = t[np.argmin(d2, axis=2)].ravel()
-        idx = np.repeat(np.arange(len(ks)), m)
-        flat = pts.reshape(-1, 2)
-        d, u = _newton_nearest(h, idx, u, flat)
-        dist[ks] = d.reshape(-1, m)
-        param[ks] = u.reshape(-1, m)
-    return dist, param
+    h = pc.stack(pieces)
+    curve = bz.basis(h.shape[1] - 1, t) @ h
+    curve = curve[..., :2] / curve[..., 2:3]
+    d2 = ((points[:, :, None, :] - curve[:, None, :, :]) ** 2).sum(axis=3)
+    u = t[np.argmin(d2, axis=2)].ravel()
+    d, u = _newton_nearest(h, np.repeat(np.arange(k), m), u, points.reshape(-1, 2))
+    return d.reshape(k, m), u.reshape(k, m)
 
 
-#: Legs of a fold closer than this share of remove_folds' width coincide (:func:`_zip`).
+#: Legs of a fold closer than this share of remove_folds' width coincide (:func:`_zip_many`).
 COINCIDE = 1e-3
-#: Samples per piece of :func:`_zip`'s arc-length tables.
+#: Samples per piece of :func:`_zip_many`'s arc-length tables.
 ZIP_SAMPLES = 257
 
 
@@ -607,145 +619,281 @@ def _cut_fold(loop, i, j, s, u):
     return loop
 
 
-def _parting(a, b, s, u, window):
-    """The cut of a zipped fold placed where its legs part, if that is a turning
-    point of ``a``: its point farthest along b's start direction among 4097 in
-    ``window`` (parameters of ``a``), taken when it lies inside the window (the
-    sample before it, so that ``a`` does not turn back), with ``b`` cut at its point
-    closest to it; else the zip's own cut (s, u), also where a piece goes whole."""
-    if s <= 0.0 or u >= 1.0:
+def _parting_many(a_s, b_s, s, u, window, zipped):
+    """The cut of each zipped fold (``zipped``, (s, u) and ``window`` from
+    :func:`_zip_many`) placed where its legs part, if that is a turning point of
+    ``a``: its point farthest along b's start direction among 4097 in the window
+    (parameters of ``a``), taken when it lies inside the window (the sample before
+    it, so that ``a`` does not turn back), with ``b`` cut at its point closest to
+    it; else the zip's own cut (s, u), also where a piece goes whole.  All folds at
+    once."""
+    s, u = s.copy(), u.copy()
+    rows = np.flatnonzero(zipped & (s > 0.0) & (u < 1.0))
+    if not len(rows):
         return s, u
-    d = pc.end_tangents(b)[0]
-    t = np.linspace(window[0], window[1], 4097)
-    k = int(np.argmax(pc.evaluate(a, t) @ d))
-    if not 0 < k < len(t) - 1:
+    ra, rb = [a_s[f] for f in rows.tolist()], [b_s[f] for f in rows.tolist()]
+    d = pc.end_tangents_many(rb)[0]
+    t = np.linspace(window[rows, 0], window[rows, 1], 4097, axis=1)
+    k = np.argmax(np.einsum("kqj,kj->kq", _evaluate_rows(ra, t), d), axis=1)
+    inner = np.flatnonzero((k > 0) & (k < t.shape[1] - 1))
+    if not len(inner):
         return s, u
-    s = float(t[k - 1])
-    _, t_b = _closest(b, pc.evaluate(a, np.array([s])))
-    return s, float(t_b[0])
+    s_new = t[inner, k[inner] - 1]
+    pts = _evaluate_rows([ra[i] for i in inner.tolist()], s_new[:, None])
+    _, t_b = _closest_many([rb[i] for i in inner.tolist()], pts)
+    s[rows[inner]], u[rows[inner]] = s_new, t_b[:, 0]
+    return s, u
 
 
-def _zip(a, b, close, min_length):
-    """(s, u, window): where the legs of a fold at the join of ``a`` (ending) and
-    ``b`` (starting) part: the points at arc length L back from a's end and L on
-    from b's start, for the largest L (at most the shorter piece's length) with the
-    two within ``close`` at every arc length up to L (s = 0 or u = 1 when a piece
-    is zipped whole), and the parameters of ``a`` within four comparison steps of
-    arc length of s; None when L < ``min_length``.  Arc lengths from ZIP_SAMPLES
-    points per piece, compared at 4 ZIP_SAMPLES arc lengths."""
+def _evaluate_rows(pieces, t):
+    """Each piece k evaluated at its own parameters t[k] (k, m): (k, m, 2), all pieces
+    at once (stacked at their highest degree)."""
+    out = np.zeros(t.shape + (2,))
+    if len(pieces):
+        h = pc.stack(pieces)
+        n = h.shape[1] - 1
+        v = np.einsum("kqi,kij->kqj", bz.basis(n, t.ravel()).reshape(len(h), -1, n + 1), h)
+        out[:] = v[..., :2] / v[..., 2:3]
+    return out
+
+
+def _interp_rows(x, xp, fp):
+    """np.interp(x[k], xp[k], fp[k]) of every row k at once (xp ascending in each
+    row, x (k, m) clamped to its row's range; fp (k, p) or (k, p, c), each column
+    interpolated): one search of all rows' knots, each row shifted past the one
+    before it."""
+    k, p = xp.shape
+    cols = fp.shape[2:]
+    fp = np.broadcast_to(fp, xp.shape + cols).reshape(k * p, -1)
+    x = np.clip(x, xp[:, :1], xp[:, -1:])
+    lo = xp[:, :1]
+    off = 2.0 * (float((xp[:, -1] - xp[:, 0]).max()) + 1.0) * np.arange(k)[:, None]
+    j = np.searchsorted(((xp - lo) + off).ravel(), ((x - lo) + off).ravel(), "right") - 1
+    base = np.repeat(np.arange(k) * p, x.shape[1])
+    j = np.clip(j, base, base + p - 2)
+    x0, x1 = xp.ravel()[j], xp.ravel()[j + 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        frac = np.where(x1 > x0, (x.ravel() - x0) / (x1 - x0), 1.0)[:, None]
+    return (fp[j] + frac * (fp[j + 1] - fp[j])).reshape(x.shape + cols)
+
+
+def _zip_many(a_s, b_s, close, min_length):
+    """(s, u, window, zipped) of each fold (a ending, b starting): where its legs
+    part, the points at arc length L back from a's end and L on from b's start,
+    for the largest L (at most the shorter piece's length) with the two within
+    ``close`` at every arc length up to L (s = 0 or u = 1 when a piece is zipped
+    whole), and the parameters of ``a`` within four comparison steps of arc length
+    of s; ``zipped`` False where L < ``min_length``.  Arc lengths from ZIP_SAMPLES
+    points per piece, compared at 4 ZIP_SAMPLES arc lengths; all folds at once."""
     t = np.linspace(0.0, 1.0, ZIP_SAMPLES)
-    pa, pb = pc.evaluate(a, t[::-1]), pc.evaluate(b, t)  # both from the join outwards
-    la = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pa, axis=0).T))])
-    lb = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pb, axis=0).T))])
-    top = min(la[-1], lb[-1])
-    if not top >= min_length:
-        return None
-    ell = np.linspace(0.0, top, 4 * ZIP_SAMPLES)
-    xa = np.stack([np.interp(ell, la, pa[:, k]) for k in range(2)], axis=1)
-    xb = np.stack([np.interp(ell, lb, pb[:, k]) for k in range(2)], axis=1)
-    apart = np.flatnonzero(np.hypot(*(xa - xb).T) > close)
-    if len(apart) and apart[0] == 0:
-        return None
-    L = ell[apart[0] - 1] if len(apart) else top
-    if L < min_length:
-        return None
-    s = 0.0 if not len(apart) and la[-1] <= lb[-1] else float(np.interp(L, la, t[::-1]))
-    u = 1.0 if not len(apart) and lb[-1] < la[-1] else float(np.interp(L, lb, t))
-    step = 4.0 * (ell[1] - ell[0])
-    window = (float(np.interp(L + step, la, t[::-1])),
-              float(np.interp(max(L - step, 0.0), la, t[::-1])))
-    return s, u, window
-
-
-def _closest(piece, points, samples=257):
-    """Distances from points to a piece and the parameters of the closest points
-    (dense sampling, then Newton on the squared distance)."""
-    t = np.linspace(0.0, 1.0, samples)
-    curve = pc.evaluate(piece, t)
-    d2 = ((points[:, None, :] - curve[None, :, :]) ** 2).sum(axis=2)
-    u = t[np.argmin(d2, axis=1)]
-    stacked = pc.stack([piece])
-    idx = np.zeros(len(points), int)
-    return _newton_nearest(stacked, idx, u, points)
+    pa, pb = _evaluate_many(a_s, t[::-1]), _evaluate_many(b_s, t)  # from the join outwards
+    la, lb = (np.concatenate([np.zeros((len(a_s), 1)), np.cumsum(np.hypot(
+        *np.diff(q, axis=1).transpose(2, 0, 1)), axis=1)], axis=1) for q in (pa, pb))
+    top = np.minimum(la[:, -1], lb[:, -1])
+    ok = top >= min_length
+    ell = np.linspace(0.0, np.where(ok, top, 1.0), 4 * ZIP_SAMPLES, axis=1)
+    xa, xb = _interp_rows(ell, la, pa), _interp_rows(ell, lb, pb)
+    apart = np.hypot(*(xa - xb).transpose(2, 0, 1)) > close
+    any_apart = apart.any(axis=1)
+    first = np.argmax(apart, axis=1)
+    ok &= ~(any_apart & (first == 0))
+    L = np.where(any_apart, ell[np.arange(len(a_s)), np.maximum(first - 1, 0)], top)
+    ok &= L >= min_length
+    step = 4.0 * (ell[:, 1] - ell[:, 0])
+    # a's parameters at L and at the window's ends, b's at L
+    on_a = _interp_rows(np.stack([L, L + step, np.maximum(L - step, 0.0)], axis=1), la,
+                        np.broadcast_to(t[::-1], la.shape))
+    on_b = _interp_rows(L[:, None], lb, np.broadcast_to(t, lb.shape))
+    s = np.where(~any_apart & (la[:, -1] <= lb[:, -1]), 0.0, on_a[:, 0])
+    u = np.where(~any_apart & (lb[:, -1] < la[:, -1]), 1.0, on_b[:, 0])
+    return s, u, on_a[:, 1:], ok
 
 
 def _newton_nearest(stacked, idx, u, points):
     """Distances from ``points`` to the pieces ``stacked[idx]`` and the parameters of
-    the nearest points: 8 Newton steps on the squared distance from ``u`` (a dense
-    sample's nearest), kept in [0, 1]."""
+    the nearest points: up to 8 Newton steps on the squared distance from ``u`` (a
+    dense sample's nearest), kept in [0, 1], all rows together until a step leaves
+    every row where it is."""
+    h = stacked[idx]
+    dh = (h.shape[1] - 1) * np.diff(h, axis=1)
     for _ in range(8):
-        x, dx = pc.jet_many(stacked, idx, u)
+        x, dx = _jet_rows(h, u, dh)
         r = x - points
-        step = (r * dx).sum(axis=1) / np.maximum((dx * dx).sum(axis=1), 1e-300)
-        u = np.clip(u - step, 0.0, 1.0)
-    x, _ = pc.jet_many(stacked, idx, u)
+        step = np.add.reduce(r * dx, axis=1) / np.maximum(np.add.reduce(dx * dx, axis=1),
+                                                          1e-300)
+        u2 = np.minimum(np.maximum(u - step, 0.0), 1.0)   # kept in [0, 1]
+        if np.logical_and.reduce(u2 == u):
+            break
+        u = u2
+    x, _ = _jet_rows(h, u, dh)
     return np.hypot(*(x - points).T), u
 
 
-def _split(loop, i, s, j, u, x, min_len):
-    """The loop cut at a crossing of piece i (at s) and piece j (at u), i <= j: the
-    lobe i[s:] .. j[:u] and the rest .. i[:s], j[u:] .., both snapped to x."""
-    if i == j:
-        lobe = [pc.subsegment(loop[i], s, u)]
-        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[i], u, 1.0)] + loop[i + 1:]
-    else:
-        lobe = [pc.subsegment(loop[i], s, 1.0)] + loop[i + 1:j] + [pc.subsegment(loop[j], 0.0, u)]
-        rest = loop[:i] + [pc.subsegment(loop[i], 0.0, s), pc.subsegment(loop[j], u, 1.0)] + loop[j + 1:]
-    return _snap(lobe, min_len), _snap(rest, min_len)
+def _split_many(loops, hits, min_len):
+    """(lobes, rests): each loop cut at its crossing (i, s, j, u, x) of ``hits`` (i <=
+    j): the lobe i[s:] .. j[:u] (i[s:u] where i == j) and the rest .. i[:s],
+    j[u:] .., snapped (:func:`_snap_many`).  The four cut pieces of every loop
+    (i[s:1] or i[s:u], j[:u], i[:s], j[u:]) in one :func:`morph.piece.subsegments`."""
+    if not loops:
+        return [], []
+    i, s, j, u = (np.array([h[n] for h in hits]) for n in range(4))
+    same = i == j
+    src = [p for loop, a, b in zip(loops, i.tolist(), j.tolist()) for p in
+           (loop[a], loop[b], loop[a], loop[b])]
+    t0 = np.stack([s, np.zeros_like(s), np.zeros_like(s), u], axis=1).ravel()
+    t1 = np.stack([np.where(same, u, 1.0), u, s, np.ones_like(s)], axis=1).ravel()
+    cut = pc.subsegments(src, np.arange(len(src)), t0, t1)
+    lobes, rests = [], []
+    for n, (loop, a, b) in enumerate(zip(loops, i.tolist(), j.tolist())):
+        c = cut[4 * n:4 * n + 4]
+        lobes.append([c[0]] if a == b else [c[0]] + loop[a + 1:b] + [c[1]])
+        rests.append(loop[:a] + [c[2], c[3]] + loop[b + 1:])
+    snapped = _snap_many(lobes + rests, min_len)
+    return snapped[:len(loops)], snapped[len(loops):]
 
 
 def _snap(loop, min_len):
-    """Pieces no longer than ``min_len`` dropped, every join snapped to the mean of
-    its two ends (the cut point where the cut was made); again while snapping
-    leaves a piece that short."""
-    while True:
-        if not loop:
-            return []
-        loop = [p for p, n in zip(loop, pc.length_bounds(loop)) if n > min_len]
-        if not loop:
-            return []
-        starts, ends = pc.end_points(loop)
-        a = 0.5 * (starts + np.roll(ends, 1, axis=0))
-        b = 0.5 * (ends + np.roll(starts, -1, axis=0))
-        moved = np.flatnonzero(np.any(a != starts, axis=1) | np.any(b != ends, axis=1))
-        out = list(loop)
-        for k in moved:
-            out[k] = pc.with_endpoints(loop[k], a[k], b[k])
-        if not len(moved) or (pc.length_bounds([out[k] for k in moved]) > min_len).all():
-            return out
-        loop = out
+    """:func:`_snap_many` of one loop."""
+    return _snap_many([loop], min_len)[0]
+
+
+def _snap_many(loops, min_len):
+    """Each loop with its pieces no longer than ``min_len`` dropped and every join
+    snapped to the mean of its two ends (the cut point where the cut was made);
+    again while snapping leaves a piece that short.  All loops at once: each pass
+    measures and snaps the pieces of every loop still going together (a loop's
+    pass is the same arithmetic as alone; a loop whose snapped pieces are all
+    longer than ``min_len`` is done)."""
+    out = [list(loop) for loop in loops]
+    going = [k for k, loop in enumerate(out) if loop]
+    while going:
+        flat = [p for k in going for p in out[k]]
+        sizes = np.array([len(out[k]) for k in going], np.int64)
+        keep = pc.length_bounds(flat) > min_len
+        owner = np.repeat(np.arange(len(going)), sizes)[keep]
+        idx = np.flatnonzero(keep)
+        per = np.bincount(owner, minlength=len(going))
+        first = np.cumsum(per) - per
+        at = np.arange(len(idx)) - first[owner]
+        prev = first[owner] + (at - 1) % np.maximum(per[owner], 1)
+        nxt = first[owner] + (at + 1) % np.maximum(per[owner], 1)
+        kept = pc.Pieces.of([flat[i] for i in idx.tolist()])
+        starts, ends = pc.end_points(kept)
+        a = 0.5 * (starts + ends[prev])
+        b = 0.5 * (ends + starts[nxt])
+        moved = np.any(a != starts, axis=1) | np.any(b != ends, axis=1)
+        snapped = _with_ends_where(kept, a, b, moved)
+        rows = snapped.rows()
+        # a loop goes on where a snapped piece came out that short
+        short = moved & (pc.length_bounds(snapped) <= min_len)
+        again = np.bincount(owner[short], minlength=len(going)) > 0
+        bounds = np.append(first, len(idx)).tolist()
+        for g, k in enumerate(going):
+            out[k] = rows[bounds[g]:bounds[g + 1]]
+        going = [k for g, k in enumerate(going) if again[g] and out[k]]
+    return out
+
+
+def _with_ends_where(pieces, p0, p1, mask):
+    """:class:`morph.piece.Pieces` ``pieces`` with the first and last control points
+    of those in ``mask`` moved to p0 and p1 (:func:`morph.piece.with_endpoints`),
+    the others as they are (the same bits)."""
+    groups = []
+    for ks, h in pieces.groups:
+        m = mask[ks]
+        if m.any():
+            h = h.copy()
+            h[m, 0, :2] = p0[ks[m]] * h[m, 0, 2:]
+            h[m, -1, :2] = p1[ks[m]] * h[m, -1, 2:]
+        groups.append((ks, h))
+    return pc.Pieces(groups, len(pieces))
 
 
 def _ray_winding(x, loop, flat):
-    """The winding number of the loop flattened within ``flat`` at point x
+    """:func:`_ray_windings` of one point and loop."""
+    return int(_ray_windings(np.asarray(x, float)[None], [loop], flat)[0])
+
+
+def _ray_windings(xs, loops, flat):
+    """The winding number of each loop flattened within ``flat`` at its point xs[k]
     (:func:`morph.polyline.winding_number`'s rule), from the pieces whose control
-    boxes meet the ray from x to the right only: no other edge can cross it (the
-    rest of a loop after many lobes is long, the ray short)."""
-    box = pc.bboxes(loop)
-    meet = np.flatnonzero((box[:, 1] <= x[1]) & (box[:, 3] >= x[1]) & (box[:, 2] >= x[0]))
+    boxes meet the ray from the point to the right only: no other edge can cross
+    it (the rest of a loop after many lobes is long, the ray short).  All loops'
+    pieces at once."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    out = np.zeros(len(loops), np.int64)
+    if not sizes.sum():
+        return out
+    flat_pieces = [p for loop in loops for p in loop]
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    box, x = pc.bboxes(flat_pieces), xs[owner]
+    meet = np.flatnonzero((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1]) & (box[:, 2] >= x[:, 0]))
     if not len(meet):
-        return 0
-    polys = [pts for pts, _ in pl.flatten_many([loop[k] for k in meet], flat)]
-    a = np.concatenate([q[:-1] for q in polys])
-    b = np.concatenate([q[1:] for q in polys])
-    return int(ray_crossings(np.broadcast_to(x, a.shape), a, b).sum())
+        return out
+    met = pc.Pieces.of(flat_pieces).take(meet)
+    o, _, a = pl.flat_starts(met, flat)
+    # each vertex's edge runs to the next vertex of its piece, or to the piece's end
+    b = np.empty_like(a)
+    b[:-1] = a[1:]
+    last = np.append(o[1:] != o[:-1], True)
+    b[last] = pc.end_points(met)[1][o[last]]
+    hit = ray_crossings(xs[owner[meet[o]]], a, b)
+    return np.bincount(owner[meet[o]], weights=hit, minlength=len(loops)).astype(np.int64)
 
 
-def _keep_lobe(lobe, rest, eps, hole_test=None):
-    """Is a lobe cut off the rest a boundary of the filled set?  Beside the rest with
-    the same orientation, it is a part of its own; nested in the rest with the
+#: Gauss-Legendre nodes per piece of :func:`_loop_areas`
+AREA_NODES = 24
+
+
+def _loop_areas(loops):
+    """The signed area of each loop (:func:`morph.moments.loop_area`, about the loop's
+    first point), by AREA_NODES-point Gauss-Legendre on every piece at once: exact
+    for polynomial pieces up to degree 24 (the integrand x y' - y x' is a
+    polynomial of degree 2n - 1), to the rule's error on rational ones (no
+    adaptive halving: the areas only say which part of a split loop is the smaller
+    and whether a lobe's area exceeds eps^2, :func:`_keep_lobes`)."""
+    sizes = np.array([len(loop) for loop in loops], np.int64)
+    if not sizes.sum():
+        return np.zeros(len(loops))
+    flat = [p for loop in loops for p in loop]
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    h = pc.stack(flat)
+    origin = h[np.cumsum(sizes)[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
+    origin = origin[np.cumsum(sizes > 0) - 1][owner]
+    h[..., :2] -= origin[:, None, :2] / origin[:, None, 2:] * h[..., 2:]
+    x, w = gauss_legendre(AREA_NODES)
+    t = 0.5 * (x + 1.0)
+    n = h.shape[1] - 1
+    val = np.einsum("qi,kij->kqj", bz.basis(n, t), h)
+    dval = np.einsum("qi,kij->kqj", bz.basis(n - 1, t), n * np.diff(h, axis=1))
+    # x y' - y x' of P = (X, Y) / W: (X Y' - Y X') / W^2
+    cross = (val[..., 0] * dval[..., 1] - val[..., 1] * dval[..., 0]) / val[..., 2] ** 2
+    return np.bincount(owner, weights=0.25 * cross @ w, minlength=len(loops))
+
+
+def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
+    """Is each lobe cut off its rest a boundary of the filled set?  Beside the rest
+    with the same orientation, it is a part of its own; nested in the rest with the
     opposite one, it bounds a hole (winding 0: two parts of the rest touching within
     eps around it), which ``hole_test`` may find filled.  A lobe of the opposite
     orientation beside the rest (a twist) or nested with the same one (a curl)
-    bounds nothing; nor does one of area below eps^2."""
-    a_lobe, a_rest = mo.loop_area(lobe), mo.loop_area(rest)
-    if abs(a_lobe) <= eps * eps:
-        return False
-    probe = pc.evaluate(lobe[len(lobe) // 2], 0.5)[0]
-    nested = _ray_winding(probe, rest, eps / 10) != 0
-    if np.sign(a_lobe) == np.sign(a_rest):
-        return not nested
-    if not nested:
-        return False
-    return hole_test is None or not hole_test(pl.flatten_loop(lobe, eps / 10), [])
-
+    bounds nothing; nor does one of area below eps^2 (or none).  ``a_lobe``,
+    ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
+    the windings and the hole tests of all lobes at once."""
+    keep = np.zeros(len(lobes), bool)
+    test = np.flatnonzero(np.array([bool(lb) for lb in lobes], bool) & (np.abs(a_lobe) > eps * eps))
+    if not len(test):
+        return keep
+    mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]
+    probes = pc.jet_many(pc.stack(mids), np.arange(len(mids)), np.full(len(mids), 0.5))[0]
+    nested = _ray_windings(probes, [rests[k] for k in test.tolist()], eps / 10) != 0
+    same = np.sign(a_lobe[test]) == np.sign(a_rest[test])
+    keep[test] = np.where(same, ~nested, nested)
+    holes = test[~same & nested]
+    if len(holes) and hole_test is not None:
+        rings = pl.flatten_loops([lobes[k] for k in holes.tolist()], eps / 10)
+        many = getattr(hole_test, "many", None)
+        filled = (many([(r, []) for r in rings]) if many is not None
+                  else [hole_test(r, []) for r in rings])
+        keep[holes] = ~np.asarray(filled, bool)
+    return keep
