@@ -44,8 +44,8 @@ worst error of the unrounded outlines and of the written font against the Clippe
 reference (gaps narrower than the engine's documented narrow-feature limit excused
 alike for every tool, :func:`excused_error`; the raw error beside it), and
 FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it: in process (mean and
-median per glyph) and its whole worker process.  ``bench/stroke_exact.py`` checks a written font again with the
-exact membership predicate, without Clipper.
+median per glyph) and its whole worker process.  ``bench/stroke_exact.py`` checks a
+written font again with the exact membership predicate, without Clipper.
 
 The Clipper references and FontForge's results (outlines, CPU times, and their errors
 against the references) do not depend on morph's code: they are kept in the bench
