@@ -310,15 +310,15 @@ def orient_regions(regions, fill_rule="nonzero", on_crossing=None):
         loops = b.region_loops(g)
         if len(loops) == 1:
             k = loops[0]
-            out[g] = validated([b.loop(k) if b.kept_area[k] > 0 else reverse_loop(b.loop(k))])
+            out[g] = validated([b.loop(k, b.kept_area[k] > 0)], frozen=True)
             continue
         kept = []
         for k in loops:
             positive = b.kept_area[k] > 0
             is_outer = _is_outer(int(windings[k]), 1 if positive else -1, fill_rule)
             if is_outer is not None:
-                kept.append(b.loop(k) if positive == is_outer else reverse_loop(b.loop(k)))
-        out[g] = validated(kept)
+                kept.append(b.loop(k, positive == is_outer))
+        out[g] = validated(kept, frozen=True)
     return out
 
 
@@ -394,15 +394,29 @@ class _LoopBatch:
             h = np.array(h, float)
             h[:, 0, :2] = before[ks] * h[:, 0, 2:]
             h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
+            h.flags.writeable = False   # its rows are the regions' read-only pieces
             groups.append((ks, h))
         self.groups = groups
         self.pieces = pc.Pieces(groups, len(kept)).rows()
+        self._reversed = None
         self.loop_of = loop_of
 
-    def loop(self, k):
-        """The cleaned pieces of kept loop ``k`` (an index into ``kept``), a list."""
+    def loop(self, k, forward=True):
+        """The cleaned pieces of kept loop ``k`` (an index into ``kept``), a list
+        of read-only rows; ``forward`` False: :func:`reverse_loop` of it (the
+        pieces of all loops reversed at once, on first use)."""
         j = int(self.kept[k])
-        return self.pieces[self.first[j]:self.first[j] + self.sizes[j]]
+        a, b = self.first[j], self.first[j] + self.sizes[j]
+        if forward:
+            return self.pieces[a:b]
+        if self._reversed is None:
+            flipped = []
+            for ks, h in self.groups:
+                r = h[:, ::-1].copy()
+                r.flags.writeable = False
+                flipped.append((ks, r))
+            self._reversed = pc.Pieces(flipped, len(self.pieces)).rows()
+        return self._reversed[a:b][::-1]
 
     def region_loops(self, g):
         """Indices (into ``kept``) of region g's kept loops, in order."""

@@ -291,16 +291,20 @@ def read_glyphs(font, names, location=None, sources=None):
     glyph_set = font.getGlyphSet(location=location) if location else font.getGlyphSet()
     sources = list(names) if sources is None else [n if s is None else s
                                                    for n, s in zip(names, sources)]
-    out, todo = [], []
-    for name, source in zip(names, sources):
+    direct = _direct_loops(font, names, location)
+    out, todo, drawn = [], [], []
+    for name, source, loops in zip(names, sources, direct):
         try:
-            out.append(_glyph_segments(glyph_set, name, source, label))
+            out.append(_glyph_segments(glyph_set, name, source, label) if loops is None
+                       else loops)
             todo.append(len(out) - 1)
+            if loops is None:
+                drawn.append(len(out) - 1)
         except ParseError as exc:
             out.append(exc)
-    loops = _filled_loops([out[k] for k in todo],
-                          ["glyph %r of font %s" % (names[k], label) for k in todo])
-    for k, item in zip(todo, loops):
+    loops = _filled_loops([out[k] for k in drawn],
+                          ["glyph %r of font %s" % (names[k], label) for k in drawn])
+    for k, item in zip(drawn, loops):
         out[k] = item
     todo = [k for k in todo if not isinstance(out[k], ParseError)]
     regions = orient_regions([out[k] for k in todo], "nonzero", on_crossing=fill_region)
@@ -319,6 +323,17 @@ def read_glyphs(font, names, location=None, sources=None):
             advance, lsb = otRound(glyph_set[name].width), float(region_bbox(loops)[0])
         out[k] = Shape(loops, name, source, font["head"].unitsPerEm, advance, lsb)
     return out
+
+
+def _direct_loops(font, names, location):
+    """Per name the loops of a simple glyph of a static TrueType font decoded from
+    its bytes (:func:`morph.parse.truetype.simple_glyph_loops`: the pieces drawing
+    gives, without the pen), else None (the glyph is drawn)."""
+    if location or "glyf" not in font:
+        return [None] * len(names)
+    from .truetype import simple_glyph_loops
+
+    return simple_glyph_loops(font, names)
 
 
 def _glyph_loops(glyph_set, name, source, label):

@@ -475,11 +475,13 @@ class Membership:
         """Whether the rounded x − B of each point is apart from the rounded parts
         of A paired with it (``pt``, ``part``: the pairs, by point): no edge of one
         meets (touching counts) a segment of the other, a vertex of each part lies
-        outside x − B, and a vertex of each loop of x − B outside each closed part
-        (winding numbers, the nonzero rule Clipper fills with).  The boundaries
-        meeting nowhere, each boundary loop (connected) lies on one side of the
-        other operand, the side of its vertex: so apart means an empty
-        intersection, a Clipper result with no area and no path, exactly.  All
+        outside x − B, and a vertex of each loop of x − B outside the union of the
+        closed parts (their winding numbers summed, the nonzero rule Clipper fills
+        the subject with: a nib inside a counter of O is inside O's outer loop and
+        outside O).  The boundaries meeting nowhere, each boundary loop
+        (connected) lies on one side of the other operand, the side of its vertex:
+        so apart means an empty intersection, a Clipper result with no area and no
+        path, exactly.  All
         tests are on the integers Clipper gets (products below 2^63); only
         segments within the disc around x that holds x − B (plus two units:
         float distances, exact far beyond that) are tested against its edges.
@@ -538,21 +540,28 @@ class Membership:
 
     def _inside_closed(self, pt, part, rep_b):
         """The points (indices into ``pt``'s numbering) a vertex of whose x − B loop
-        (``rep_b``) lies inside a closed part paired with them (nonzero winding)."""
+        (``rep_b``) lies inside the closed parts paired with them: the winding
+        numbers about all those parts summed (Clipper's nonzero rule on the
+        subject), nonzero.  The vertex lies on no part's edge (the contact test
+        comes first), so each winding number is exact."""
         closed_pair = np.flatnonzero(self._closed[part])
-        if not (len(closed_pair) and rep_b.shape[1]):
+        n_b = rep_b.shape[1]
+        if not (len(closed_pair) and n_b):
             return np.zeros(0, np.int64)
-        cp = np.repeat(closed_pair, rep_b.shape[1])
-        v = rep_b[pt[cp], np.tile(np.arange(rep_b.shape[1]), len(closed_pair))]
+        cp = np.repeat(closed_pair, n_b)
+        j = np.tile(np.arange(n_b), len(closed_pair))   # the loop of x − B
+        v = rep_b[pt[cp], j]
         k = part[cp]
         count = self._count[k]
         row = np.repeat(np.arange(len(cp)), count)
         e = np.repeat(self._first[k], count) + _ranks(count)
         e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
                           np.repeat(self._first[k], count), e + 1)
-        wind = np.bincount(row, weights=_crossing_signs(
-            v[row], self._q[e], self._q[e_next]), minlength=len(cp))
-        return pt[cp[wind != 0]]
+        # summed per (point, loop of x − B) over the point's closed parts
+        key = (pt[cp] * n_b + j)[row]
+        wind = np.bincount(key, weights=_crossing_signs(v[row], self._q[e], self._q[e_next]),
+                           minlength=(int(pt.max()) + 1) * n_b)
+        return unique(np.flatnonzero(wind != 0) // n_b)
 
     def _segment_table(self, parts):
         """The segments of loops ``parts`` (ascending) as Clipper gets them: a

@@ -258,6 +258,49 @@ def test_membership_without_clipper_where_apart_as_clipper(nib, monkeypatch):
     assert not np.array_equal(Membership(region, b, 1.0).many(xs), want)
 
 
+def _ring_loop(c, radius, n, cw=False):
+    """A regular n-gon round c as a loop of lines (clockwise when ``cw``)."""
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False) * (-1 if cw else 1)
+    p = np.rint(np.c_[radius * np.cos(t), radius * np.sin(t)] + c)
+    return [pc.line(p[k], p[(k + 1) % n]) for k in range(n)]
+
+
+def test_membership_decides_counters_by_the_summed_winding(monkeypatch):
+    """Points in a glyph's counters (a nib inside an O's inner loop is inside its
+    outer loop too) are decided apart without Clipper, by the winding numbers of
+    all the glyph's loops summed: an O, a figure with two counters, and two
+    loops overlapping (winding 2 where they overlap: inside, as Clipper's nonzero
+    rule fills them; an even-odd sum would call it outside).  Every answer is
+    Clipper's on all the loops, and the points outside (in counters too) need
+    almost no Clipper call (the test decides "apart" only: points inside go to
+    Clipper)."""
+    import morph.trim.holes as ho
+
+    region = [_ring_loop((0, 0), 40, 48), _ring_loop((0, 0), 25, 40, cw=True),
+              _ring_loop((120, 0), 45, 48), _ring_loop((105, 0), 12, 24, cw=True),
+              _ring_loop((135, 0), 12, 24, cw=True),
+              _ring_loop((0, 100), 30, 36), _ring_loop((30, 100), 30, 36)]
+    b = [list(pc.circle((0.0, 0.0), 4.0))]
+    m = Membership(region, b, 1.0)
+    rng = np.random.default_rng(5)
+    xs = np.rint(rng.uniform([-50, -50], [170, 140], (300, 2)) / m.grid) * m.grid
+    inner = np.array([[0, 0], [5, -3], [105, 0], [135, 2], [15, 100], [14, 96]], float)
+    xs = np.vstack([inner, xs])
+    want = np.array([m._meets(x, *m._all()) for x in xs])
+    calls = []
+    orig = ho.Membership._meets
+    monkeypatch.setattr(ho.Membership, "_meets",
+                        lambda self, *a: calls.append(a) or orig(self, *a))
+    got = Membership(region, b, 1.0).many(xs)
+    assert np.array_equal(got, want)
+    assert list(want[:len(inner)]) == [False] * 4 + [True] * 2
+    out = {tuple(x) for x, w in zip(xs, want) if not w}
+    assert len([a for a in calls if tuple(a[0]) in out]) < 0.1 * len(out)
+    calls.clear()
+    Membership(region, b, 1.0).many(inner[:4])   # the counters
+    assert not calls
+
+
 def test_points_deep_enough_are_inside_and_deep_enough_or_the_deepest():
     """points_deep_enough: each point lies inside its hole at the depth it reports
     (measured again on the polygons); it is at least ``enough`` deep where the

@@ -1,0 +1,207 @@
+"""TrueType simple glyphs decoded from their ``glyf`` bytes straight into pieces.
+
+The pieces are those :func:`morph.parse.glyphs.read_glyphs` gets by drawing the
+glyph on a pen (fontTools' ``Glyph.draw`` on a ``BasePen``, then its contours closed,
+:func:`morph.parse.glyphs._filled_loops`), value for value and in the same order:
+each contour from its first on-curve point; a line between two on-curve points; a
+quadratic per off-curve point, from the previous on-curve point or the implied one
+halfway to the previous off-curve point (``0.5 * (a + b)``, fontTools' arithmetic)
+to the next on-curve or implied point; the closing line back to the start where the
+contour ends elsewhere; pieces of zero length dropped, then contours left empty.
+The points are decoded for all glyphs at once (flags by a short loop per glyph,
+coordinates by array calls), and the pieces of all glyphs built at once.
+
+A glyph this module does not decode is left to the pen (None): a composite, a
+glyph that is not in the table, a contour without an on-curve point or with cubic
+flags, a glyph whose stored bytes do not hold its points.
+"""
+
+import numpy as np
+
+from .. import piece as pc
+from ..region import zero_length_mask
+
+__all__ = ["simple_glyph_loops"]
+
+_ON, _X_SHORT, _Y_SHORT, _REPEAT, _X_SAME, _Y_SAME, _CUBIC = 1, 2, 4, 8, 16, 32, 0x80
+
+
+def simple_glyph_loops(font, names):
+    """Per name: the closed loops (lists of pieces, weights 1) of a simple glyph of
+    the static TrueType ``font`` as :func:`morph.parse.glyphs.read_glyphs` draws
+    them, [] for a glyph without contours, or None for a glyph left to the pen
+    (see the module docstring)."""
+    glyf, hmtx = font["glyf"], font["hmtx"]
+    glyphs = getattr(glyf, "glyphs", None) or {}
+    heads = [_head(glyphs.get(name)) for name in names]
+    stored = [k for k, h in enumerate(heads) if isinstance(h, tuple) and len(h) == 5]
+    points = [h if h is None or isinstance(h, list) or len(h) != 5 else None for h in heads]
+    for k, decoded in zip(stored, _decode_many([heads[k] for k in stored])):
+        points[k] = decoded
+    out = [None] * len(names)
+    done = []
+    for k, (name, p) in enumerate(zip(names, points)):
+        if p == []:
+            out[k] = []
+            continue
+        if p is None:
+            continue
+        pts, flags, ends, x_min = p
+        if (flags & _CUBIC).any() or ends[-1] + 1 != len(pts):
+            continue
+        offset = hmtx[name][1] - x_min
+        points[k] = (pts + [offset, 0] if offset else pts, (flags & _ON).astype(bool), ends)
+        done.append(k)
+    if done:
+        for k, loops in zip(done, _loops([points[k] for k in done])):
+            out[k] = loops
+    return out
+
+
+def _head(g):
+    """What a glyph's points are read from: [] for a glyph without contours, None
+    for one left to the pen, (points, flags, ends, xMin) of an expanded simple
+    glyph, or (data, ends, xMin, first flag byte, point count) of a stored one."""
+    if g is None:
+        return None
+    data = getattr(g, "data", None)
+    if data is None:
+        n = getattr(g, "numberOfContours", -1)
+        if n <= 0:
+            return [] if n == 0 else None
+        return (np.array(g.coordinates, float).reshape(-1, 2),
+                np.frombuffer(bytes(g.flags), np.uint8),
+                np.asarray(g.endPtsOfContours, np.int64), g.xMin)
+    n = int.from_bytes(data[:2], "big", signed=True)
+    if n == 0:
+        return []
+    if n < 0 or len(data) < 12 + 2 * n:
+        return None
+    ends = np.frombuffer(data, ">u2", n, 10).astype(np.int64)
+    at = 12 + 2 * n + int.from_bytes(data[10 + 2 * n:12 + 2 * n], "big")
+    return data, ends, int.from_bytes(data[2:4], "big", signed=True), at, int(ends[-1]) + 1
+
+
+def _flags(data, at, count):
+    """The ``count`` point flags stored run-length from byte ``at`` on and the byte
+    after them; None where the bytes end first."""
+    flags = bytearray()
+    while len(flags) < count and at < len(data):
+        f = data[at]
+        at += 1
+        if f & _REPEAT and at < len(data):
+            flags += bytes((f,)) * (data[at] + 1)
+            at += 1
+        else:
+            flags.append(f)
+    return (bytes(flags[:count]), at) if len(flags) >= count else (None, at)
+
+
+def _decode_many(heads):
+    """(points, flags, contour ends, xMin) of stored simple glyphs (:func:`_head`),
+    the flags glyph by glyph, the coordinates of all at once (the ``glyf`` format:
+    x then y deltas of 0, 1 or 2 bytes each); None for a glyph whose bytes end
+    too soon."""
+    flags, x_at, ok = [], [], []
+    for data, _, _, at, count in heads:
+        f, at = _flags(data, at, count)
+        flags.append(f or b"")
+        x_at.append(at)
+        ok.append(f is not None)
+    if not heads:
+        return []
+    base = np.cumsum([0] + [len(h[0]) for h in heads])
+    buf = np.frombuffer(b"".join(h[0] for h in heads), np.uint8)
+    fl = np.frombuffer(b"".join(flags), np.uint8)
+    count = np.array([len(f) for f in flags], np.int64)
+    glyph = np.repeat(np.arange(len(heads)), count)
+    x, y_at = _deltas(buf, base[:-1] + x_at, glyph, count, fl, _X_SHORT, _X_SAME)
+    y, end = _deltas(buf, y_at, glyph, count, fl, _Y_SHORT, _Y_SAME)
+    ok = np.array(ok) & (end <= base[1:])
+    xy = np.stack([_segment_cumsum(x, count), _segment_cumsum(y, count)], axis=1).astype(float)
+    split = np.cumsum(count)[:-1]
+    return [(p, f, h[1], h[2]) if good else None for p, f, h, good in
+            zip(np.split(xy, split), np.split(fl, split), heads, ok.tolist())]
+
+
+def _segment_cumsum(d, count):
+    """Running sums of ``d`` restarted at each of the consecutive runs ``count``."""
+    c = np.cumsum(d)
+    first = np.cumsum(count) - count
+    before = np.where(count > 0, c[np.minimum(first, len(c) - 1)] - d[np.minimum(
+        first, len(c) - 1)], 0) if len(c) else np.zeros(len(count), np.int64)
+    return c - np.repeat(before, count)
+
+
+def _deltas(buf, at, glyph, count, flags, short, same):
+    """One coordinate's deltas of every glyph, glyph g's from byte ``at[g]`` of
+    ``buf`` on: a short one is an unsigned byte (positive when ``same`` is set), a
+    long one a signed 16-bit number, none 0 when ``same`` is set; (deltas, the
+    byte after each glyph's)."""
+    is_short, is_same = (flags & short) != 0, (flags & same) != 0
+    size = np.where(is_short, 1, np.where(is_same, 0, 2))
+    total = np.bincount(glyph, size, minlength=len(count)).astype(np.int64)
+    start = np.repeat(at, count) + _segment_cumsum(size, count) - size
+    last = max(len(buf) - 1, 0)
+    lo = buf[np.minimum(start, last)].astype(np.int64)
+    hi = buf[np.minimum(start + 1, last)].astype(np.int64)
+    long_ = lo << 8 | hi
+    long_ = np.where(long_ >= 32768, long_ - 65536, long_)
+    d = np.where(is_short, np.where(is_same, lo, -lo), np.where(is_same, 0, long_))
+    return d, at + total
+
+
+def _loops(glyphs):
+    """The loops of glyphs given as (points, on-curve, contour ends), every
+    glyph's pieces built at once (see the module docstring); per glyph its
+    loops, or None for a glyph with a contour without an on-curve point."""
+    sizes = [len(p) for p, _, _ in glyphs]
+    pts = np.concatenate([p for p, _, _ in glyphs])
+    on = np.concatenate([o for _, o, _ in glyphs])
+    base = np.cumsum(sizes) - sizes
+    ends = np.concatenate([e + b for (_, _, e), b in zip(glyphs, base)])
+    n_contours = np.array([len(e) for _, _, e in glyphs], np.int64)
+    length = np.diff(np.concatenate([[-1], ends]))
+    first = ends - length + 1
+    contour = np.repeat(np.arange(len(ends)), length)
+    rel = np.arange(len(pts)) - first[contour]
+    first_on = np.minimum.reduceat(np.where(on, rel, length[contour]), first)
+    bad = np.zeros(len(glyphs), bool)
+    bad[np.repeat(np.arange(len(glyphs)), n_contours)[first_on >= length]] = True
+    # position t = 1 .. length of each contour from its first on-curve point (t =
+    # length: the start again); a quadratic per off-curve point, a line per
+    # on-curve point after an on-curve point
+    c_first, c_len, c_on = first[contour], length[contour], first_on[contour] % length[contour]
+
+    def at(t):
+        return c_first + (c_on + t) % c_len
+    prev, cur, nxt = at(rel), at(rel + 1), at(rel + 2)
+    quad = ~on[cur]
+    line = on[cur] & on[prev]
+    p, q, r = pts[prev], pts[cur], pts[nxt]
+    start = np.where(on[prev][:, None], p, 0.5 * (p + q))
+    end = np.where(on[nxt][:, None], r, 0.5 * (q + r))
+    kind = np.where(quad, 1, np.where(line, 0, -1))   # -1: a point ending a quadratic
+    keep = kind >= 0
+    kind, owner = kind[keep], contour[keep]
+    h_line = np.ones((int((kind == 0).sum()), 2, 3))
+    h_line[:, 0, :2], h_line[:, 1, :2] = p[keep][kind == 0], q[keep][kind == 0]
+    h_quad = np.ones((int((kind == 1).sum()), 3, 3))
+    h_quad[:, 0, :2], h_quad[:, 1, :2], h_quad[:, 2, :2] = (start[keep][kind == 1],
+                                                            q[keep][kind == 1],
+                                                            end[keep][kind == 1])
+    groups = [(np.flatnonzero(kind == 0), h_line), (np.flatnonzero(kind == 1), h_quad)]
+    pieces = pc.Pieces([g for g in groups if len(g[0])], len(kind))
+    nonzero = ~zero_length_mask(pieces) if len(kind) else np.zeros(0, bool)
+    rows = pieces.rows()
+    owner = owner[nonzero].tolist()
+    rows = [row for row, k in zip(rows, nonzero.tolist()) if k]
+    loops = [[] for _ in range(len(ends))]
+    for row, c in zip(rows, owner):
+        loops[c].append(row)
+    out, c = [], 0
+    for g, n in enumerate(n_contours.tolist()):
+        mine = [loop for loop in loops[c:c + n] if loop]
+        out.append(None if bad[g] else mine)
+        c += n
+    return out
