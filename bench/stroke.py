@@ -313,9 +313,23 @@ def _timed_passes(chunks, nib, tols, repeat):
 def _timed_chunk(chunk, sets, nib, geometry, export, tol):
     """(regions, converted loops, stroke CPU s, export CPU s) of one pass over a chunk
     of glyphs ``chunk`` with skeleton paths ``sets``: ``stroke_many`` then
-    ``loops_to_beziers`` of all its loops; a failure: its :func:`_failure`."""
+    ``loops_to_beziers`` of all its loops; a failure: its :func:`_failure`.  What the
+    bench holds (references, peers' outlines, earlier passes) is frozen out of the
+    collector's passes while the chunk is timed, as ``morph``'s commands freeze what
+    their process holds when they start (:mod:`morph.cli.group`): the bench's own
+    objects would otherwise make morph's collections walk them."""
+    import gc
     import traceback
 
+    gc.freeze()
+    try:
+        return _timed_chunk_unfrozen(chunk, sets, nib, geometry, export, tol, traceback)
+    finally:
+        gc.unfreeze()
+
+
+def _timed_chunk_unfrozen(chunk, sets, nib, geometry, export, tol, traceback):
+    """:func:`_timed_chunk`'s work and times."""
     from morph.export import loops_to_beziers
     from morph.stroke import stroke_many
 
