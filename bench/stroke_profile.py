@@ -497,7 +497,7 @@ def main(argv=None):
     ap.add_argument("--json", help="also write the measured phases here (for comparisons)")
     ap.add_argument("--before", default=str(ROOT / "bench" / "stroke_profile_base.json"),
                     help="phases measured earlier (--json of another run), shown beside")
-    ap.add_argument("--before-label", default="the base commit 2e961c8")
+    ap.add_argument("--before-label", default="the base commit 72a07e6")
     ap.add_argument("--from-json", help="report the phases of an earlier run's --json "
                                         "instead of measuring")
     opt = ap.parse_args(argv)
