@@ -76,7 +76,11 @@ def run_command(src, chars, nib, tol, out):
 def morph_in_process(src, chars, nib, tol, out):
     """(CPU seconds of ``brush_font``, CPU seconds of its sweep alone, stats): the
     sweep (``morph.fonts.brush._sweep_font``: the sums and the certified export of
-    the glyphs by the command's chunks, ``jobs=1``) is timed inside the call."""
+    the glyphs by the command's chunks, ``jobs=1``) is timed inside the call.  What
+    the bench holds is frozen out of the collector's passes meanwhile, as ``morph``'s
+    commands freeze what their process holds when they start (:mod:`morph.cli.group`)."""
+    import gc
+
     from morph.fonts import brush
 
     swept = []
@@ -90,12 +94,14 @@ def morph_in_process(src, chars, nib, tol, out):
             swept.append(time.process_time() - t0)
 
     brush._sweep_font = timed_sweep
+    gc.freeze()
     try:
         t0 = time.process_time()
         stats = brush.brush_font(str(src), str(out), brush.ellipse_nib(*nib), chars, tol=tol,
                                  jobs=1)
         total = time.process_time() - t0
     finally:
+        gc.unfreeze()
         brush._sweep_font = sweep
     return total, sum(swept), stats
 
