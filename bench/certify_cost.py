@@ -121,18 +121,9 @@ def measure(calls, repeat):
         t0 = time.process_time()
         go()
         best = min(best, time.process_time() - t0)
-    count = [0]
+    from bench.relief_profile import python_calls
 
-    def prof(frame, event, arg):
-        if event in ("call", "c_call"):
-            count[0] += 1
-
-    sys.setprofile(prof)
-    try:
-        go()
-    finally:
-        sys.setprofile(None)
-    return paths, best, count[0]
+    return paths, best, python_calls(go)[1]
 
 
 def main():

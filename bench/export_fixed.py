@@ -69,20 +69,12 @@ def measure(loops, tol, repeat):
             spent = time.process_time() - t0
             if best is None or spent - count["cert"] < best[1]:
                 best = (spent, spent - count["cert"], count["rounds"], count["fits"])
-        calls = [0]
+        from bench.relief_profile import python_calls
 
-        def prof(frame, event, arg):
-            if event in ("call", "c_call"):
-                calls[0] += 1
-
-        sys.setprofile(prof)
-        try:
-            loops_to_beziers(loops, tol, wrap=True)
-        finally:
-            sys.setprofile(None)
+        calls = python_calls(lambda: loops_to_beziers(loops, tol, wrap=True))[1]
     finally:
         search._fit_batch, search.certify_batch = fit, certify
-    return best + (calls[0], sum(len(b) - 1 for loop in out for b in loop))
+    return best + (calls, sum(len(b) - 1 for loop in out for b in loop))
 
 
 def main(argv=None):

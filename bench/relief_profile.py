@@ -70,6 +70,24 @@ def _inputs(nib_name):
     return [decomposed_paths(font, n) for n in names], nib_region(NIBS[nib_name])
 
 
+def python_calls(fn):
+    """``(fn(), the Python-level calls it made)``: Python functions and C functions
+    such as numpy's (``sys.setprofile``), a count the machine's load does not
+    change."""
+    count = [0]
+
+    def prof(frame, event, arg):
+        if event in ("call", "c_call"):
+            count[0] += 1
+
+    sys.setprofile(prof)
+    try:
+        out = fn()
+    finally:
+        sys.setprofile(None)
+    return out, count[0]
+
+
 def _pass(sets, nib, tol):
     from morph.budget import plan
     from morph.export import loops_to_beziers
