@@ -20,7 +20,7 @@ fontTools.  Tests: tests/fonts/test_charstrings.py (against fontTools' drawing a
 
 import numpy as np
 
-__all__ = ["charstring_outlines"]
+__all__ = ["charstring_outlines", "cff_glyph_loops"]
 
 _STEMS = (1, 3, 18, 23)             # hstem, vstem, hstemhm, vstemhm
 _MASKS = (19, 20)                   # hintmask, cntrmask
@@ -302,4 +302,54 @@ def charstring_outlines(charstrings):
             continue
         points = np.array(path.points, float).reshape(-1, 2)
         out.append(Outline(points, path.sizes, path.counts))
+    return out
+
+
+def cff_glyph_loops(font, names):
+    """Per name: the closed loops (lists of pieces, weights 1) of the glyph of the
+    static CFF ``font`` as :func:`morph.parse.glyphs.read_glyphs` draws them (a line
+    per line, a cubic per curve, pieces of zero length dropped, a closing line where
+    a contour ends off its start, contours left empty dropped), [] for a glyph
+    without contours, or None for a glyph left to the pen (not in the font, or a
+    charstring :func:`charstring_outlines` does not read)."""
+    charstrings = font["CFF "].cff.topDictIndex[0].CharStrings
+    present = [k for k, n in enumerate(names) if n in charstrings]
+    outlines = charstring_outlines([charstrings[names[k]] for k in present])
+    out = [None] * len(names)
+    read = [(k, o) for k, o in zip(present, outlines) if o is not None]
+    for (k, _), loops in zip(read, _outline_loops([o for _, o in read])):
+        out[k] = loops
+    return out
+
+
+def _outline_loops(outlines):
+    """The loops of :class:`morph.fonts.tables.Outline` s of lines and cubics, the
+    pieces of all built at once; per outline its loops."""
+    from .. import piece as pc
+    from ..region import zero_length_mask
+
+    if not outlines:
+        return []
+    sizes = np.concatenate([o.sizes for o in outlines])
+    counts = np.concatenate([o.counts for o in outlines])
+    pts = np.concatenate([o.points for o in outlines])
+    contour = np.repeat(np.arange(len(counts)), counts)
+    first = np.cumsum(sizes) - sizes + contour       # each segment's first point
+    groups = []
+    for size in (1, 3):
+        ks = np.flatnonzero(sizes == size)
+        if len(ks):
+            h = np.ones((len(ks), size + 1, 3))
+            h[:, :, :2] = pts[first[ks, None] + np.arange(size + 1)]
+            groups.append((ks, h))
+    pieces = pc.Pieces(groups, len(sizes))
+    keep = ~zero_length_mask(pieces) if len(sizes) else np.zeros(0, bool)
+    loops = [[] for _ in range(len(counts))]
+    for row, c, k in zip(pieces.rows(), contour.tolist(), keep.tolist()):
+        if k:
+            loops[c].append(row)
+    out, c = [], 0
+    for n in (len(o.counts) for o in outlines):
+        out.append([loop for loop in loops[c:c + n] if loop])
+        c += n
     return out

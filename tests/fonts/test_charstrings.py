@@ -14,7 +14,7 @@ from fontTools.ttLib import TTFont
 
 from morph.fonts.stream import outline_bounds
 from morph.parse import cubic_test_font_path
-from morph.parse.charstrings import charstring_outlines
+from morph.parse.charstrings import _outline_loops, cff_glyph_loops, charstring_outlines
 
 #: a private dict without subroutines, advances counted from 0
 NO_WIDTHS = SimpleNamespace(nominalWidthX=0, defaultWidthX=0)
@@ -170,3 +170,53 @@ def test_a_brushed_cff_font_keeps_its_unwritten_glyphs_bounds(tmp_path):
                                   int(np.floor(boxes[:, 1].min())),
                                   int(np.ceil(boxes[:, 2].max())),
                                   int(np.ceil(boxes[:, 3].max()))]
+
+
+def _same_loops(a, b):
+    return len(a) == len(b) and all(
+        len(p) == len(q) and all(np.array_equal(x, y) for x, y in zip(p, q))
+        for p, q in zip(a, b))
+
+
+def test_cff_glyph_loops_are_the_pens():
+    """Every glyph of the bundled CFF font, and of it subroutinized: the loops
+    read from the bytes are those read_glyphs gets drawing on its pen, value for
+    value (pieces, order, zero-length pieces dropped, closing lines); a name not in
+    the font is left to the pen."""
+    import cffsubr
+
+    from morph.parse import glyphs as G
+
+    for subroutinized in (False, True):
+        font = TTFont(cubic_test_font_path())
+        if subroutinized:
+            cffsubr.subroutinize(font)
+        names = font.getGlyphOrder()
+        got = cff_glyph_loops(font, names + ["nosuchglyph"])
+        gs = font.getGlyphSet()
+        drawn = G._filled_loops([G._glyph_segments(gs, n, n, "test") for n in names], names)
+        assert got[-1] is None
+        assert all(_same_loops(a, b) for a, b in zip(got, drawn))
+        assert sum(1 for loops in got if loops) > 150
+
+
+def test_cff_glyph_loops_drop_zero_length_pieces_and_close():
+    """A repeated point (zero-length line and curve dropped) and a contour ending
+    off its start (closing line), against the pen."""
+    from morph.parse import glyphs as G
+
+    program = [0, 0, "rmoveto", 100, 0, "rlineto", 0, 0, "rlineto", 0, 0, 0, 0, 0, 0,
+               "rrcurveto", 0, 100, 10, 10, -10, 10, "rrcurveto", 50, 50, "rmoveto",
+               10, 0, 0, 10, "rlineto", -10, -10, "rlineto", "endchar"]
+    cs = T2CharString(program=program, private=NO_WIDTHS)
+    cs.compile()
+    loops = _outline_loops(charstring_outlines([cs]))[0]
+    drawn = G._filled_loops([G._glyph_segments({"g": _GlyphOf(cs)}, "g", "g", "t")],
+                            ["g"])[0]
+    assert [len(loop) for loop in loops] == [3, 3]   # closing line added to the first only
+    assert _same_loops(loops, drawn)
+
+
+class _GlyphOf:
+    def __init__(self, cs):
+        self.draw = cs.draw
