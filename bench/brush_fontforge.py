@@ -16,7 +16,9 @@ default of ``morph brush`` (exact ellipse 80 x 30 units, 30 degrees).
 - FontForge: ``bench/fontforge_brush.py`` in Debian's python3: Expand Stroke of the
   outline with the elliptical nib, then the original contours added and Remove
   Overlap (A ⊕ nib = A ∪ (∂A ⊕ nib)); the CPU time of those calls per glyph, at
-  each ``--ff-accuracy`` (FontForge's target error in font units).
+  each ``--ff-accuracy`` (FontForge's target error in font units); and the worker's
+  whole process, which opens the font, brushes the glyphs and saves the font
+  (``font.generate``, .otf), as ``morph brush`` does.
 
 Errors: every written glyph against an independent reference, the Clipper sum of the
 source glyph and the nib flattened within ``--ref-tol`` (``tests.oracles.reference.
@@ -137,14 +139,18 @@ def run_fontforge(src, names, nib, accuracy):
     if hit is not None:
         return hit["value"], hit["provenance"], key, False
     prov = peer_cache.provenance(version)
-    job = json.dumps({"font": str(src), "nib": list(nib), "accuracy": accuracy,
-                      "glyphs": names})
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_brush.py")],
-                          input=job, capture_output=True, text=True)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    with tempfile.TemporaryDirectory() as tmp:
+        job = json.dumps({"font": str(src), "nib": list(nib), "accuracy": accuracy,
+                          "glyphs": names, "generate": str(Path(tmp) / "ff.otf")})
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_brush.py")],
+                              input=job, capture_output=True, text=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        generated = (Path(tmp) / "ff.otf").is_file()
     if proc.returncode != 0:
         raise RuntimeError("FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:])
+    if not generated:
+        raise RuntimeError("FontForge wrote no font: %s" % proc.stderr.strip().splitlines()[-1:])
     value = {"results": json.loads(proc.stdout),
              "process_cpu": (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
              "internal_errors": proc.stderr.count("Internal Error")}
@@ -273,7 +279,8 @@ def main(argv=None):
           "modules' bytecode cached as after a pip install, reading, "
           "the sweep, tables, saving, sample image and specimen; FontForge: its worker "
           "process, Python's startup, `import fontforge`, opening the font and converting "
-          "it to cubics, the brush, writing the outlines as JSON).  morph's "
+          "it to cubics, the brush, writing the outlines as JSON, saving the font as .otf "
+          "with `font.generate`).  morph's "
           "`brush_font` in process (reading the source, the sweep, saving the font): "
           "%.1f ms / glyph." % rows[0]["brush_font"], "",
           "| tool | setting | in process: mean ms / glyph | in process: median ms / glyph | "

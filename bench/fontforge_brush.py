@@ -9,7 +9,10 @@ outline with the elliptical nib (``glyph.stroke("elliptical", W, H, angle, "nib"
 "nib", removeoverlap="layer", accuracy=A)``: the band ∂A ⊕ nib, both sides of every
 contour), then the original contours added back in the band's orientation and Remove
 Overlap (``glyph.removeOverlap()``), which fills the inside: A ⊕ nib = A ∪ (∂A ⊕ nib).  The
-CPU time (process_time) of those steps is measured.  Output JSON: ``{name:
+CPU time (process_time) of those steps is measured.  With ``"generate": PATH`` in the
+job, the font is then saved there by ``font.generate`` (as a user's script ends: the
+worker process's CPU time then covers a whole workflow, like ``morph brush``'s
+command writing its font).  Output JSON: ``{name:
 {"seconds": s, "points": n, "contours": [[segment, ...], ...]}}``, segments as in
 bench/fontforge_stroke.py (lists of 2 or 4 points).
 """
@@ -53,8 +56,9 @@ def _brush(g, original, w, h, angle, acc):
     g.removeOverlap()
 
 
-def _brush_steps(job):
+def _brush_steps(job, opened):
     font = fontforge.open(job["font"])
+    opened.append(font)
     font.is_quadratic = False
     w, h, angle = (float(v) for v in job["nib"])
     acc = float(job["accuracy"])
@@ -65,7 +69,10 @@ def _brush_steps(job):
 
 
 def main():
-    write_timed(_brush_steps(json.load(sys.stdin)))
+    job, opened = json.load(sys.stdin), []
+    write_timed(_brush_steps(job, opened))
+    if job.get("generate"):     # the font saved, as a user's script ends
+        opened[0].generate(job["generate"])
 
 
 if __name__ == "__main__":

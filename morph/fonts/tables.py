@@ -825,17 +825,27 @@ class _CFFOutlines(OutlineWriter):
         return int(np.floor(bounds[0])) if bounds else 0
 
     def saving(self):
-        """The charstrings not written answer ``calcBounds`` with the bounds of a
-        copy (drawn once; the charstring keeps its bytes, compiled as they are);
-        the save recomputes the boxes from them as usual."""
+        """The charstrings not written answer ``calcBounds`` with their bounds,
+        read from their bytes for all of them at once
+        (:func:`morph.parse.charstrings.charstring_outlines`, the boxes by
+        :func:`morph.fonts.stream.outline_bounds`, ``BoundsPen``'s arithmetic); one
+        the reader does not take, with those of a copy drawn by fontTools (the
+        charstring keeps its bytes, compiled as they are).  The save recomputes
+        the font's boxes from them as usual."""
         import contextlib
 
+        from ..parse.charstrings import charstring_outlines
+        from .stream import outline_bounds
         from .tables_static import as_bounded, is_bounded
 
-        for name in self.char_strings.keys():
-            cs = self.char_strings[name]
-            if not is_bounded(cs):
-                as_bounded(cs, copy.copy(cs).calcBounds(self.char_strings))
+        todo = [cs for cs in map(self.char_strings.__getitem__, self.char_strings.keys())
+                if not is_bounded(cs)]
+        outlines = charstring_outlines(todo)
+        read = iter(outline_bounds([o for o in outlines if o is not None]))
+        for cs, outline in zip(todo, outlines):
+            bounds = (copy.copy(cs).calcBounds(self.char_strings) if outline is None
+                      else next(read))
+            as_bounded(cs, bounds)
         return contextlib.nullcontext()
 
 

@@ -326,11 +326,17 @@ def read_glyphs(font, names, location=None, sources=None):
 
 
 def _direct_loops(font, names, location):
-    """Per name the loops of a simple glyph of a static TrueType font decoded from
-    its bytes (:func:`morph.parse.truetype.simple_glyph_loops`: the pieces drawing
-    gives, without the pen), else None (the glyph is drawn)."""
-    if location or "glyf" not in font:
+    """Per name the loops of a glyph of a static font decoded from its bytes (the
+    pieces drawing gives, without the pen): a simple TrueType glyph
+    (:func:`morph.parse.truetype.simple_glyph_loops`), a CFF charstring
+    (:func:`morph.parse.charstrings.cff_glyph_loops`); else None (the glyph is
+    drawn)."""
+    if location or not ("glyf" in font or "CFF " in font):
         return [None] * len(names)
+    if "CFF " in font:
+        from .charstrings import cff_glyph_loops
+
+        return cff_glyph_loops(font, names)
     from .truetype import simple_glyph_loops
 
     return simple_glyph_loops(font, names)
