@@ -817,23 +817,69 @@ class _Decomposer:
     as ufo2ft's outline compiler of a streamed font draws them
     (:class:`morph.fonts.stored.StoredCFF`): the glyph's own stored contours, then
     each component's base (its own contours, then its components, recursively)
-    through the component's transformation, into ``T2CharStringPen`` (rounding
-    0.5, specialized).  ``shells``: every glyph of the font (those not exported
-    too: their outlines are drawn into the glyphs that use them)."""
+    through the component's transformation (applied innermost first, each in
+    floating point as fontTools' ``TransformPointPen`` applies it), every point
+    rounded as ``T2CharStringPen`` rounds it (``otRound``).  The outlines are
+    arrays: each stored base read once from its charstring
+    (:func:`morph.parse.charstrings.charstring_outlines`), the decomposed glyphs
+    transformed and compiled together (:func:`morph.fonts.stream.compile_outlines`:
+    unspecialized, as the stored glyphs are; the subroutinizer rewrites every
+    charstring from its path); a glyph the arrays do not take is drawn with the
+    pens.  ``shells``: every glyph of the font (those not exported too: their
+    outlines are drawn into the glyphs that use them)."""
 
     def __init__(self, shells, store):
         self.shells, self.store, self.drawn = shells, store, {}
+        self.read = {}      # stored glyph name -> its Outline (None: not read)
 
-    def __call__(self, name, width):
-        """(program, bounds) of glyph ``name`` with the advance ``width`` (the
-        charstring's, None for the default width)."""
+    def many(self, names, prefixes):
+        """[(program, bounds)] of the glyphs ``names``, each program its advance's
+        ``prefix`` (:func:`morph.fonts.stream.width_prefix`) then its outline."""
+        from .stream import compile_outlines
+
+        parts = [self._parts(name, ()) for name in names]
+        self._read_stored({base for glyph in parts for base, _ in glyph})
+        outlines = _placed(parts, self.read)
+        done = compile_outlines([o for o in outlines if o is not None], "cff")[::-1]
+        out = []
+        for name, prefix, outline in zip(names, prefixes, outlines):
+            if outline is None:
+                out.append(self._drawn_program(name, prefix))
+            else:
+                data, bounds = done.pop()
+                out.append((prefix + data, bounds))
+        return out
+
+    def _parts(self, name, chain):
+        """[(stored glyph name, transformations innermost first)] that make glyph
+        ``name`` drawn through ``chain``, in drawing order."""
+        out = [(name, chain)] if name in self.store else []
+        for c in self.shells[name].components:
+            if c.baseGlyph in self.shells:
+                out += self._parts(c.baseGlyph, (tuple(c.transformation),) + chain)
+        return out
+
+    def _read_stored(self, names):
+        from fontTools.misc.psCharStrings import T2CharString
+
+        from ..parse.charstrings import charstring_outlines
+        from .stream import _NO_WIDTHS
+
+        names = sorted(n for n in names if n not in self.read)
+        charstrings = [T2CharString(bytecode=self.store[n][0], private=_NO_WIDTHS,
+                                    globalSubrs=[]) for n in names]
+        self.read.update(zip(names, charstring_outlines(charstrings)))
+
+    def _drawn_program(self, name, prefix):
+        """(program, bounds) of glyph ``name`` drawn with fontTools' pens
+        (unspecialized, its advance written by ``prefix``)."""
         from fontTools.pens.pointPen import PointToSegmentPen
 
-        pen = bounded_t2_pen(width, None, roundTolerance=0.5)
+        pen = bounded_t2_pen(None, None, roundTolerance=0.5)
         self._decomposed(name, PointToSegmentPen(pen))
-        cs = pen.getCharString(None, None, optimize=True)
+        cs = pen.getCharString(None, None, optimize=False)
         cs.compile()
-        return cs.bytecode, pen.bounds.bounds
+        return prefix + bytes(cs.bytecode), pen.bounds.bounds
 
     def _own(self, name, pen):
         """``name``'s stored contours, decoded once (a base is drawn into every
@@ -859,6 +905,42 @@ class _Decomposer:
         for c in self.shells[name].components:
             if c.baseGlyph in self.shells:
                 self._decomposed(c.baseGlyph, TransformPointPen(pen, tuple(c.transformation)))
+
+
+def _placed(parts, read):
+    """Per glyph (its :meth:`_Decomposer._parts`) its outline: the stored outlines
+    ``read`` concatenated in order, each through its transformations (all parts'
+    points at once, one level of nesting at a time), rounded; None for a glyph with
+    a part not read."""
+    import numpy as np
+
+    from .tables import Outline
+
+    ok = [all(read.get(base) is not None for base, _ in glyph) for glyph in parts]
+    flat = [(g, read[base], chain) for g, glyph in enumerate(parts) if ok[g]
+            for base, chain in glyph]
+    if not flat:
+        return [None] * len(parts)
+    n_points = np.array([len(o.points) for _, o, _ in flat], np.int64)
+    pts = np.concatenate([o.points for _, o, _ in flat])
+    depth = max(len(chain) for _, _, chain in flat)
+    for level in range(depth):
+        t = np.array([chain[level] if len(chain) > level else (1, 0, 0, 1, 0, 0)
+                      for _, _, chain in flat], float)
+        moved = np.repeat(np.array([len(chain) > level for _, _, chain in flat]), n_points)
+        tp = np.repeat(t, n_points, axis=0)[moved]
+        x, y = pts[moved, 0], pts[moved, 1]
+        pts[moved] = np.stack([tp[:, 0] * x + tp[:, 2] * y + tp[:, 4],
+                               tp[:, 1] * x + tp[:, 3] * y + tp[:, 5]], axis=1)
+    pts = np.floor(pts + 0.5)              # otRound, as T2CharStringPen rounds
+    at = np.concatenate([[0], np.cumsum(n_points)]).tolist()
+    by_glyph = [[] for _ in parts]
+    for k, (g, o, _) in enumerate(flat):
+        by_glyph[g].append((pts[at[k]:at[k + 1]], o.sizes, o.counts))
+    return [Outline(np.concatenate([p for p, _, _ in rows]),
+                    np.concatenate([s for _, s, _ in rows]),
+                    np.concatenate([c for _, _, c in rows])) if ok[g] and rows else None
+            for g, rows in enumerate(by_glyph)]
 
 
 class _Programs:
@@ -1156,19 +1238,21 @@ class _Compiler:
         give); the bounds as a charstring's ``calcBounds``."""
         from .stream import width_prefix
 
-        def width_program(width, default, nominal):   # as ufo2ft gives T2CharStringPen
-            return None if width == default else _ot_round(width - nominal)
-
         default, nominal = self._widths()
-        decompose = _Decomposer({g.name: g for g in self.ufo}, self.store)
         out = _Programs(self.store, len(self.order))
+        composite = [k for k, name in enumerate(self.order) if self.glyphs[name].components]
+        prefixes = [width_prefix(self.glyphs[self.order[k]].width, default, nominal)
+                    for k in composite]
+        decomposed = _Decomposer({g.name: g for g in self.ufo}, self.store).many(
+            [self.order[k] for k in composite], prefixes)
+        for k, prefix, (program, bounds) in zip(composite, prefixes, decomposed):
+            out.own(k, prefix, program, bounds)
         for k, name in enumerate(self.order):
             glyph = self.glyphs[name]
             prefix = width_prefix(glyph.width, default, nominal)
             if glyph.components:
-                out.own(k, prefix, *decompose(name, width_program(glyph.width, default,
-                                                                  nominal)))
-            elif name in self.store:
+                continue
+            if name in self.store:
                 out.stored(k, prefix, name)
             elif isinstance(glyph, _Notdef):
                 out.own(k, prefix, *glyph.charstring(prefix))

@@ -75,7 +75,8 @@ def relief_kerned():
 
 def composites_like():
     """hershey_like with composites (Agrave: A and gravecomb moved; lcross: l and
-    the unexported _bar), production names (A -> "A.alt"; "l" -> "l!", invalid
+    the unexported _bar; Aslant: a contour of its own and A turned and scaled;
+    Agrave.ss: Agrave moved by a fraction of a unit, components of a component), production names (A -> "A.alt"; "l" -> "l!", invalid
     characters stripped; "O" -> "A.alt", repeated: ".1" added), a kerning pair and
     the kern feature that holds it."""
     font = hershey_like()
@@ -88,6 +89,11 @@ def composites_like():
     font.newGlyph("lcross").width = 250
     font["lcross"].getPointPen().addComponent("l", (1, 0, 0, 1, 0, 0))
     font["lcross"].getPointPen().addComponent("_bar", (1, 0, 0, 1, 0, 0))
+    font.newGlyph("Aslant").width = 600   # own contours, a turned and scaled A
+    skeleton_line(font["Aslant"], (40, 20), (560, 20))
+    font["Aslant"].getPointPen().addComponent("A", (0.83, 0.11, -0.17, 0.79, 33.3, 17.5))
+    font.newGlyph("Agrave.ss").width = 580   # nested: Agrave's components moved again
+    font["Agrave.ss"].getPointPen().addComponent("Agrave", (1, 0, 0, 1, 10.5, -3.25))
     font.lib["public.skipExportGlyphs"] = ["_bar"]
     font.lib["public.postscriptNames"] = {"A": "A.alt", "l": "l!", "O": "A.alt"}
     font.kerning[("A", "O")] = -20
@@ -284,3 +290,13 @@ def test_anchors_with_the_mark_features_written(text, codes, reason):
     font, glyphs = _font(text, None, [_Glyph(("top",), codes)])
     got = writers_add_nothing(font, tree, glyphs, set(codes), mark_written=True)
     assert (got is None) if reason is None else (reason in got), got
+
+
+def test_composites_drawn_where_their_bases_are_not_read(saved, tmp_path, monkeypatch):
+    """A composite whose stored bases the charstring reader does not take is
+    decomposed with fontTools' pens: the same font as ufo2ft's."""
+    import morph.parse.charstrings as charstrings
+
+    monkeypatch.setattr(charstrings, "charstring_outlines", lambda items: [None] * len(items))
+    (_, a), (_, b) = _both_ways(saved["composites"], tmp_path, ".otf")
+    _same_tables(a, b)
