@@ -77,8 +77,9 @@ def composites_like():
     """hershey_like with composites (Agrave: A and gravecomb moved; lcross: l and
     the unexported _bar; Aslant: a contour of its own and A turned and scaled;
     Agrave.ss: Agrave moved by a fraction of a unit, components of a component),
-    production names (A -> "A.alt"; "l" -> "l!", invalid characters stripped; "O" -> "A.alt", repeated: ".1" added), a kerning pair and
-    the kern feature that holds it."""
+    production names (A -> "A.alt"; "l" -> "l!", invalid characters stripped;
+    "O" -> "A.alt", repeated: ".1" added), a kerning pair and the kern feature
+    that holds it."""
     font = hershey_like()
     font.newGlyph("Agrave").width = 567
     pen = font["Agrave"].getPointPen()
