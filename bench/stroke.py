@@ -432,6 +432,65 @@ def run_fontforge(font, names, spec, accuracies, refs, judge=None):
     return rows, ""
 
 
+def fontforge_workflow(ufo, spec, accuracy, glyphs=(), repeat=3):
+    """FontForge's whole workflow (``bench/fontforge_font.py``: open the skeleton UFO,
+    stroke every glyph, or those of ``glyphs``, generate a CFF font) as a whole process:
+    {"cpu": the median of ``repeat`` runs' CPU s (the kernel's user + sys of the child),
+    "cpus", "steps" (the script's own CPU s of its steps, in the median run), "glyphs"
+    (stroked), "font_glyphs" (the written font's glyphs with an outline, read back by
+    fontTools), "internal_errors", "measured"}, or None without FontForge.  Kept in
+    the bench cache (:mod:`bench.peer_cache`) keyed by the UFO's bytes, the nib, the
+    accuracy, the glyphs, FontForge's version and the script."""
+    from bench import peer_cache
+
+    version = peer_cache.fontforge_version()
+    if version is None:
+        return None
+    ufo = Path(ufo)
+    files = sorted(f for f in ufo.rglob("*") if f.is_file())
+    nib = ",".join("%r" % float(v) for v in spec[1:4])  # as bench/fontforge_stroke.py's
+    key = peer_cache.digest("fontforge-font", [(str(f.relative_to(ufo)), f.read_bytes())
+                                               for f in files], nib, accuracy, list(glyphs),
+                            repeat, version, peer_cache.file_digest("bench/fontforge_font.py"))
+    args = [str(ufo), "", "--nib", nib, "--accuracy", repr(float(accuracy))]
+    args += ["--glyphs", ",".join(glyphs)] if glyphs else []
+    value, prov, fresh = peer_cache.cached("fontforge-font", key,
+                                           lambda: _workflow_runs(args, repeat), version)
+    return dict(value, measured=peer_cache.measured_note([prov], int(fresh)))
+
+
+def _workflow_runs(args, repeat):
+    """:func:`fontforge_workflow`'s runs of ``bench/fontforge_font.py ARGS`` (the output
+    path, ``args[1]``, in a temporary folder) and the written font read back."""
+    import resource
+
+    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.ttLib import TTFont
+
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        args[1] = str(Path(tmp) / "out.otf")
+        for _ in range(repeat):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_font.py")]
+                                  + args, capture_output=True, text=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            if proc.returncode != 0:
+                raise RuntimeError("bench/fontforge_font.py failed: %s" % proc.stderr[-2000:])
+            runs.append(((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
+                         json.loads(proc.stdout.strip().splitlines()[-1]), proc.stderr))
+        glyph_set = TTFont(args[1]).getGlyphSet()
+        inked = 0
+        for name in glyph_set.keys():
+            pen = ControlBoundsPen(glyph_set)
+            glyph_set[name].draw(pen)
+            inked += pen.bounds is not None
+    cpu, out, err = sorted(runs, key=lambda r: r[0])[len(runs) // 2]
+    return {"cpu": cpu, "cpus": [r[0] for r in runs], "steps": out["steps"],
+            "glyphs": out["glyphs"], "font_glyphs": inked,
+            "internal_errors": err.count("Internal Error")}
+
+
 def references(font, names, spec, ref_tol):
     """({glyph: Clipper reference}, {glyph: cache key}, note): the references
     (:func:`tests.oracles.stroke_reference.stroke_polygon`) of the glyphs stroked
@@ -570,11 +629,12 @@ def equal_error_md(rows):
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
 
 
-def _time_command(ufo, out_path, first_glyph, extra=()):
+def _time_command(ufo, out_path, first_glyph, extra=(), repeat=1):
     """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1
     [extra]`` in a fresh process (its own user + sys time, from the kernel's child
-    accounting), with its bytecode cached as after a pip install (:mod:`bench.pycache`:
-    an untimed run of ``first_glyph`` alone fills the cache)."""
+    accounting; the median of ``repeat`` runs), with its bytecode cached as after a pip
+    install (:mod:`bench.pycache`: an untimed run of ``first_glyph`` alone fills the
+    cache)."""
     import resource
 
     from bench.pycache import cached_env
@@ -590,11 +650,14 @@ def _time_command(ufo, out_path, first_glyph, extra=()):
     subprocess.run(command + warm + ["--glyphs", first_glyph], capture_output=True,
                    cwd=str(Path(out_path).parent), env=env)
     command += extra
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run(command, capture_output=True, text=True,
-                          cwd=str(Path(out_path).parent), env=env)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    cpus = []
+    for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run(command, capture_output=True, text=True,
+                              cwd=str(Path(out_path).parent), env=env)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
+    cpu = float(np.median(cpus))
     # the command's own last line ("wrote ..."), not its progress line on stderr
     lines = (proc.stdout.strip() or proc.stderr.strip()).splitlines()
     return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
