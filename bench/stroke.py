@@ -741,7 +741,7 @@ def skeleton_set(name, opt, workdir):
            "rows": [], "reference_measured": ref_note}
     # the command, as users run it
     otf = Path(workdir) / (name + ".otf")
-    cpu, rss, line, rc = _time_command(ufo, otf, names[0])
+    cpu, rss, line, rc = _time_command(ufo, otf, names[0], repeat=opt.morph_repeat)
     x0 = region_extent(nib)[0]
     written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
                        if rc in (0, 1) else ({}, []))
@@ -761,14 +761,17 @@ def skeleton_set(name, opt, workdir):
     out["rows"] += run_morph(font, names, spec, tols, refs, judge, opt.morph_repeat)
     for r, t in zip(out["rows"], tols):
         r["tol"] = t    # the first: the command's tolerance, as the command ran
-    ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
-                            refs, judge)
+    accs = _floats(opt.ff_accuracy_sets)
+    ff, why = run_fontforge(font, names, spec, accs, refs, judge)
+    for r, acc in zip(ff, accs):   # FontForge opening the UFO, stroking, writing a font
+        r["workflow"] = fontforge_workflow(ufo, spec, acc, repeat=opt.morph_repeat)
+        r["workflow_ms"] = 1000 * r["workflow"]["cpu"] / len(names)
     out["rows"] += ff
     out["ff_note"] = why
     for r in out["rows"]:
-        print("%s %s %s: %.1f ms (median %.1f), %.0f points, max err %.3f"
-              % (name, r["tool"], r["setting"], r["ms"], r["median_ms"], r["points"],
-                 r["max_err"]), flush=True)
+        print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
+              "%.3f" % (name, r["tool"], r["setting"], r["ms"], r["median_ms"],
+                        _ms(r.get("workflow_ms")), r["points"], r["max_err"]), flush=True)
     return out
 
 
@@ -813,6 +816,14 @@ def _box(b):
 
 
 def sets_markdown(opt, sets, elapsed):
+    """The report of the skeleton sets (bench/stroke_sets.md)."""
+    md = _sets_intro(opt, elapsed) + _sets_summary(sets) + [""]
+    for st in sets:
+        md += _set_section(st, opt) + _set_notes(st, opt) + [""]
+    return "\n".join(md) + "\n"
+
+
+def _sets_intro(opt, elapsed):
     md = ["# Stroke speed and accuracy on skeleton sets (bench/stroke.py, part 3)", "",
           "Command: `python -m bench.stroke --only-sets%s` (report written at %s; %s UTC; "
           "%.0f s; each set below says when, at which commit and load it was measured). "
@@ -839,9 +850,15 @@ def sets_markdown(opt, sets, elapsed):
           "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
           "command** = a whole process divided by the glyphs: for morph `morph stroke "
           "SET.ufo -o SET.otf --jobs 1` (startup, parse, stroke, export, font tables, "
-          "compile, sample image and specimen), for FontForge its worker process (Python's "
-          "startup, `import fontforge`, drawing the skeletons, stroking, writing the "
-          "outlines as JSON; no font file).  Errors: "
+          "compile, sample image and specimen; the median of %d runs), for FontForge its "
+          "worker process (Python's startup, `import fontforge`, drawing the skeletons, "
+          "stroking, writing the outlines as JSON; no font file); **whole workflow** "
+          "(FontForge) = a FontForge script doing the command's job as a whole process "
+          "divided by the glyphs (`bench/fontforge_font.py`: Python's startup, `import "
+          "fontforge`, `fontforge.open(SET.ufo)`, the same `glyph.stroke` on every glyph, "
+          "`font.generate(SET.otf, flags=(\"no-hints\", \"round\"))`, as morph writes no "
+          "hints and integer coordinates; no sample image nor specimen; the median of %d "
+          "runs).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -850,99 +867,123 @@ def sets_markdown(opt, sets, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.morph_repeat, opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
+          % (opt.morph_repeat, opt.morph_repeat, opt.morph_repeat, opt.ref_tol, SPACING, GAP,
+             opt.ref_tol), "",
           "The Clipper references and FontForge's results (outlines, times, and their "
           "errors) do not depend on morph's code: they come from the bench cache "
           "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
           "tolerance and the peer's version) when measured before; each set says when, "
           "at which commit and with which FontForge they were measured.  morph is "
           "measured in every run."]
-    md += ["", "## Summary", "",
-           "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
-           "mean (median), morph at its fewest-points setting whose worst error is no "
-           "larger than FontForge's (at the command's tolerance where none is); whole "
-           "command: `morph stroke` at its default tolerance against FontForge's worker "
-           "process.", "",
-           "| set | FontForge setting | morph setting | in process: morph | in process: "
-           "FontForge mean (median) | whole command: morph | whole command: FontForge | "
-           "points: morph / FontForge | worst error: morph / FontForge |",
-           "|---|---|---|---|---|---|---|---|---|"]
+    return md
+
+
+def _sets_summary(sets):
+    """The summary table of the skeleton sets: one row per FontForge setting."""
+    md = ["", "## Summary", "",
+          "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
+          "mean (median), morph at its fewest-points setting whose worst error is no "
+          "larger than FontForge's (at the command's tolerance where none is); whole "
+          "command: `morph stroke` at its default tolerance against FontForge's worker "
+          "process; whole workflow: FontForge opening the skeleton UFO, stroking and "
+          "generating the font.", "",
+          "| set | FontForge setting | morph setting | in process: morph | in process: "
+          "FontForge mean (median) | whole command: morph | whole command: FontForge "
+          "worker | whole workflow: FontForge | points: morph / FontForge | worst error: "
+          "morph / FontForge |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for st in sets:
         first = next((r for r in st["rows"] if r["tool"] == "morph"), None)
         for r, m in equal_error(st["rows"]):
             m = m or first   # morph's fewest points at no larger error, else its default
             if m is None:
                 continue
-            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | "
+            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %s | %.0f / %.0f | "
                       "%.3f / %.3f |"
                       % (st["name"], r["setting"], m["setting"], m["ms"], r["ms"],
                          r["median_ms"], 1000 * st["command_cpu"] / st["glyphs"],
-                         _ms(r.get("process_ms")), m["points"], r["points"], m["max_err"],
-                         r["max_err"]))
-    md.append("")
-    for st in sets:
-        md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
-                                                               st["upm"], st["tol"]), "",
-               "morph: %s." % st["measured"], ""]
-        if st.get("reference_measured"):
-            md += ["Clipper reference: %s." % st["reference_measured"], ""]
-        ff = ["%s: %s, \"Internal Error\" printed %s"
-              % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
-              for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
-        if ff:
-            md += ["FontForge %s." % "; ".join(ff), ""]
-        md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
-               "glyph | whole command ms / glyph | points / glyph | worst error | "
-               "mean error | over | raw worst | raw over |",
-               "|---|---|---|---|---|---|---|---|---|---|---|"]
-        limit = st["tol"] + opt.ref_tol
-        for r in st["rows"]:
-            t = r.get("tol", st["tol"])    # a morph row's own tolerance
-            over = sum(e > t + opt.ref_tol for e in r["errs"])
-            if "raw_errs" in r:
-                worst = "%.3f (%s)" % (r["max_err"], r["worst_glyph"])
-                raw = "| %.3f (%s) | %d |" % (r["raw_max_err"], r["raw_worst_glyph"],
-                                              sum(e > t + opt.ref_tol for e in r["raw_errs"]))
-            else:  # measured before the narrow-gap excuse: raw
-                worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
-            if r["tool"] == "morph":
-                whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
-                         if t == st["tol"] else "")
-                md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %.0f | %s | %.3f | %d %s"
-                          % (t, r["ms"], whole, r["points"], worst, r["mean_err"], over, raw))
-            else:
-                md.append("| %s | %s | %.1f | %.1f | %s | %.0f | %s | %.3f | %d %s"
-                          % (r["tool"], r["setting"], r["ms"], r["median_ms"],
-                             _ms(r.get("process_ms")), r["points"], worst, r["mean_err"],
-                             over, raw))
-        md += [""] + equal_error_md(st["rows"])
-        for r in st["rows"]:
-            if "worst_bbox" in r and r["max_err"] > 10 * limit:
-                apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
-                md += ["", "%s %s's worst glyph %s: FontForge's own bounding box of its "
-                       "result (`glyph.boundingBox()`) is %s, the reference's %s: %s"
-                       % (r["tool"], r["setting"], r["worst_glyph"], _box(r["worst_bbox"]),
-                          _box(r["worst_ref_bbox"]),
-                          "the error is in FontForge's outline (a curve beyond the exact "
-                          "stroke's extent), not in the measure." if apart else
-                          "the boxes agree, so the error lies inside the stroke's extent."
-                          )]
-        if not all("raw_errs" in r for r in st["rows"]):
-            md += ["", "(raw): this set was measured before the narrow-gap excuse; its errors "
-                   "are raw."]
-        md += ["", "Written font (integer coordinates, read back): worst %.3f units (%s), "
-               "%d glyphs over tol + 0.71 + %g = %.2f; command %.1f s CPU, peak RSS %.0f MB; "
-               "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
-                         opt.ref_tol, st["written_limit"], st["command_cpu"],
-                         st["command_rss"], st["command_line"])]
-        if st.get("written_narrow"):
-            md += ["", "Gaps or holes of the exact stroke narrower than the documented "
-                   "narrow-feature limit (2 x (%g tol + 0.71)), filled in the written font and not "
-                   "measured there: %s." % (GAP, ", ".join(st["written_narrow"]))]
-        if st["ff_note"]:
-            md += ["", "FontForge not run (%s)." % st["ff_note"]]
-        md.append("")
-    return "\n".join(md) + "\n"
+                         _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), m["points"],
+                         r["points"], m["max_err"], r["max_err"]))
+    return md
+
+
+def _set_section(st, opt):
+    """A skeleton set's heading, provenance and table of rows."""
+    md = ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
+                                                          st["upm"], st["tol"]), "",
+          "morph: %s." % st["measured"], ""]
+    if st.get("reference_measured"):
+        md += ["Clipper reference: %s." % st["reference_measured"], ""]
+    ff = ["%s: %s, \"Internal Error\" printed %s"
+          % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
+          for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
+    if ff:
+        md += ["FontForge %s." % "; ".join(ff), ""]
+    wf = ["%s: %s, %d glyphs stroked, %d with an outline (.notdef included) in the font "
+          "read back by fontTools, \"Internal Error\" printed %s"
+          % (r["setting"], r["workflow"]["measured"], r["workflow"]["glyphs"],
+             r["workflow"]["font_glyphs"], _times(r["workflow"]["internal_errors"]))
+          for r in st["rows"] if r.get("workflow")]
+    if wf:
+        md += ["FontForge's whole workflow (`bench/fontforge_font.py`) %s." % "; ".join(wf),
+               ""]
+    md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
+           "glyph | whole command ms / glyph | whole workflow ms / glyph | points / glyph | "
+           "worst error | mean error | over | raw worst | raw over |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in st["rows"]:
+        t = r.get("tol", st["tol"])    # a morph row's own tolerance
+        over = sum(e > t + opt.ref_tol for e in r["errs"])
+        if "raw_errs" in r:
+            worst = "%.3f (%s)" % (r["max_err"], r["worst_glyph"])
+            raw = "| %.3f (%s) | %d |" % (r["raw_max_err"], r["raw_worst_glyph"],
+                                          sum(e > t + opt.ref_tol for e in r["raw_errs"]))
+        else:  # measured before the narrow-gap excuse: raw
+            worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
+        if r["tool"] == "morph":   # the command is morph's whole workflow
+            whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
+                     if t == st["tol"] else "")
+            md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %s | %.0f | %s | %.3f | %d %s"
+                      % (t, r["ms"], whole, whole, r["points"], worst, r["mean_err"], over,
+                         raw))
+        else:
+            md.append("| %s | %s | %.1f | %.1f | %s | %s | %.0f | %s | %.3f | %d %s"
+                      % (r["tool"], r["setting"], r["ms"], r["median_ms"],
+                         _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), r["points"],
+                         worst, r["mean_err"], over, raw))
+    return md + [""] + equal_error_md(st["rows"])
+
+
+def _set_notes(st, opt):
+    """A skeleton set's notes below its tables: FontForge's worst glyphs far off, the
+    written font, the narrow gaps."""
+    md, limit = [], st["tol"] + opt.ref_tol
+    for r in st["rows"]:
+        if "worst_bbox" in r and r["max_err"] > 10 * limit:
+            apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
+            md += ["", "%s %s's worst glyph %s: FontForge's own bounding box of its "
+                   "result (`glyph.boundingBox()`) is %s, the reference's %s: %s"
+                   % (r["tool"], r["setting"], r["worst_glyph"], _box(r["worst_bbox"]),
+                      _box(r["worst_ref_bbox"]),
+                      "the error is in FontForge's outline (a curve beyond the exact "
+                      "stroke's extent), not in the measure." if apart else
+                      "the boxes agree, so the error lies inside the stroke's extent."
+                      )]
+    if not all("raw_errs" in r for r in st["rows"]):
+        md += ["", "(raw): this set was measured before the narrow-gap excuse; its errors "
+               "are raw."]
+    md += ["", "Written font (integer coordinates, read back): worst %.3f units (%s), "
+           "%d glyphs over tol + 0.71 + %g = %.2f; command %.1f s CPU, peak RSS %.0f MB; "
+           "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
+                     opt.ref_tol, st["written_limit"], st["command_cpu"],
+                     st["command_rss"], st["command_line"])]
+    if st.get("written_narrow"):
+        md += ["", "Gaps or holes of the exact stroke narrower than the documented "
+               "narrow-feature limit (2 x (%g tol + 0.71)), filled in the written font and not "
+               "measured there: %s." % (GAP, ", ".join(st["written_narrow"]))]
+    if st["ff_note"]:
+        md += ["", "FontForge not run (%s)." % st["ff_note"]]
+    return md
 
 
 # =========================================================================== report
@@ -967,12 +1008,16 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
           "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
           "included; FontForge: its worker process, Python's startup, `import fontforge`, "
-          "drawing, stroking and writing the outlines as JSON).  The Clipper references "
+          "drawing, stroking and writing the outlines as JSON); **whole workflow** = the "
+          "job as a whole process (morph: its command; FontForge: `bench/fontforge_font.py`, "
+          "`fontforge.open` of the UFO, the same `glyph.stroke` on the same glyphs and the "
+          "bases of their components, `font.generate` of a CFF font without hints, "
+          "coordinates rounded; the median of %d runs).  The Clipper references "
           "and FontForge's results and errors come from the bench cache "
           "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
           "tolerance and peer version; the notes at the end say when and at which commit "
           "they were measured.  morph is measured in every run."
-          % (opt.morph_repeat, opt.glyphs), ""]
+          % (opt.morph_repeat, opt.glyphs, opt.morph_repeat), ""]
     if acc:
         md += ["## Accuracy of the written fonts", "",
                "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
@@ -1010,16 +1055,17 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     for title, rows in peers:
         md += ["## %s" % title, "",
                "| tool | setting | in process: mean ms / glyph | in process: median ms / "
-               "glyph | whole command ms / glyph | morph: stroke + export ms | "
-               "points / glyph | max Hausdorff | mean | failures |",
-               "|---|---|---|---|---|---|---|---|---|---|"]
+               "glyph | whole command ms / glyph | whole workflow ms / glyph | morph: "
+               "stroke + export ms | points / glyph | max Hausdorff | mean | failures |",
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rows:
             split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
                      if "stroke_ms" in r else "")
             median = "(chunks)" if r["tool"] == "morph" else "%.1f" % r["median_ms"]
             whole = _ms(r.get("command_ms", r.get("process_ms")))
-            md.append("| %s | %s | %.1f | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], median, whole, split, r["points"],
+            md.append("| %s | %s | %.1f | %s | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], median, whole,
+                         _ms(r.get("command_ms", r.get("workflow_ms"))), split, r["points"],
                          r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
             tracebacks += r.get("tracebacks", [])
         md += [""] + equal_error_md(rows) + [""]
@@ -1028,6 +1074,23 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     if notes:
         md += ["## When the cached figures were measured", ""] + ["- " + n for n in notes] + [""]
     return "\n".join(md) + "\n"
+
+
+def _fontforge_notes(title, ff, spec, accs, names, opt):
+    """The notes on FontForge's rows ``ff`` of the Relief table ``title``, whose whole
+    workflow (:func:`fontforge_workflow`: the same glyphs as ``morph stroke --glyphs``)
+    this measures and adds to the rows (``workflow_ms``)."""
+    notes = []
+    for r, acc in zip(ff, accs):
+        wf = fontforge_workflow(SUBSET, spec, acc, names, repeat=opt.morph_repeat)
+        r["workflow_ms"] = 1000 * wf["cpu"] / len(names)
+        notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s; its whole "
+                     "workflow (`bench/fontforge_font.py`): %s, %d glyphs stroked, %d with an "
+                     "outline in the font read back by fontTools."
+                     % (title.split(":")[0].lower(), r["setting"], r["measured"],
+                        _times(r["internal_errors"]), wf["measured"], wf["glyphs"],
+                        wf["font_glyphs"]))
+    return notes
 
 
 def main(argv=None):
@@ -1111,10 +1174,7 @@ def main(argv=None):
                                     _plain_judge(refs[spec], keys[spec]))
             if why:
                 notes.append("FontForge not run (%s)." % why)
-            for r in ff:
-                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s."
-                             % (title.split(":")[0].lower(), r["setting"], r["measured"],
-                                _times(r["internal_errors"])))
+            notes += _fontforge_notes(title, ff, spec, accs, names, opt)
             rows += ff
             if spec is ROUND:
                 rows += run_skia(font, names, spec[1], scales, refs[spec])
