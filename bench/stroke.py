@@ -20,7 +20,9 @@ o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
 Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs
 (each morph row also timed as the whole ``morph stroke`` command at its tol and nib,
-each FontForge row as its whole worker process):
+each FontForge row as its whole worker process and as its whole workflow,
+``bench/fontforge_font.py``: a FontForge script opening the skeleton UFO, stroking the
+same glyphs and generating a CFF font, the median of ``--morph-repeat`` runs):
 
 - broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
@@ -36,7 +38,8 @@ Part 3, skeleton sets (``--sets``, default with ``--only-sets``: hershey-sans,
 hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
 ``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
 bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
-per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
+per glyph (a fresh process, ``--jobs 1``, the median of ``--morph-repeat`` runs), the
+in-process stroke + export by chunks
 (a mean: a chunk's glyphs are computed together) at the command's tolerance and at
 ``--set-tols-more`` multiples of it (for the comparison at equal measured error: morph's
 fewest points whose worst error is no larger than FontForge's), points per glyph, the
@@ -44,7 +47,11 @@ worst error of the unrounded outlines and of the written font against the Clippe
 reference (gaps narrower than the engine's documented narrow-feature limit excused
 alike for every tool, :func:`excused_error`; the raw error beside it), and
 FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it: in process (mean and
-median per glyph) and its whole worker process.  ``bench/stroke_exact.py`` checks a
+median per glyph), its whole worker process and its whole workflow
+(``bench/fontforge_font.py``, :func:`fontforge_workflow`: ``fontforge.open`` of the
+set's UFO, the same ``glyph.stroke`` on every glyph, ``font.generate`` of a CFF font
+with no hints, as morph writes none, and integer coordinates; the median of
+``--morph-repeat`` runs, as the command's).  ``bench/stroke_exact.py`` checks a
 written font again with the exact membership predicate, without Clipper.
 
 The Clipper references and FontForge's results (outlines, CPU times, and their errors
@@ -856,9 +863,9 @@ def _sets_intro(opt, elapsed):
           "(FontForge) = a FontForge script doing the command's job as a whole process "
           "divided by the glyphs (`bench/fontforge_font.py`: Python's startup, `import "
           "fontforge`, `fontforge.open(SET.ufo)`, the same `glyph.stroke` on every glyph, "
-          "`font.generate(SET.otf, flags=(\"no-hints\", \"round\"))`, as morph writes no "
-          "hints and integer coordinates; no sample image nor specimen; the median of %d "
-          "runs).  Errors: "
+          "`font.generate(SET.otf, flags=(\"no-hints\", \"round\"))` with the autohinter "
+          "off, as morph writes no hints and integer coordinates; no sample image nor "
+          "specimen; the median of %d runs).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -1011,7 +1018,7 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "drawing, stroking and writing the outlines as JSON); **whole workflow** = the "
           "job as a whole process (morph: its command; FontForge: `bench/fontforge_font.py`, "
           "`fontforge.open` of the UFO, the same `glyph.stroke` on the same glyphs and the "
-          "bases of their components, `font.generate` of a CFF font without hints, "
+          "bases of their components, `font.generate` of a CFF font, autohinter off, no hints, "
           "coordinates rounded; the median of %d runs).  The Clipper references "
           "and FontForge's results and errors come from the bench cache "
           "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
