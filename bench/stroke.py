@@ -20,7 +20,9 @@ o, e, a, 8 ...), each hole's area within perimeter x that bound.
 
 Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same glyphs
 (each morph row also timed as the whole ``morph stroke`` command at its tol and nib,
-each FontForge row as its whole worker process):
+each FontForge row as its whole worker process and as its whole workflow,
+``bench/fontforge_font.py``: a FontForge script opening the skeleton UFO, stroking the
+same glyphs and generating a CFF font, the median of ``--morph-repeat`` runs):
 
 - broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
@@ -36,7 +38,8 @@ Part 3, skeleton sets (``--sets``, default with ``--only-sets``: hershey-sans,
 hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
 ``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
 bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
-per glyph (a fresh process, ``--jobs 1``), the in-process stroke + export by chunks
+per glyph (a fresh process, ``--jobs 1``, the median of ``--morph-repeat`` runs), the
+in-process stroke + export by chunks
 (a mean: a chunk's glyphs are computed together) at the command's tolerance and at
 ``--set-tols-more`` multiples of it (for the comparison at equal measured error: morph's
 fewest points whose worst error is no larger than FontForge's), points per glyph, the
@@ -44,7 +47,11 @@ worst error of the unrounded outlines and of the written font against the Clippe
 reference (gaps narrower than the engine's documented narrow-feature limit excused
 alike for every tool, :func:`excused_error`; the raw error beside it), and
 FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it: in process (mean and
-median per glyph) and its whole worker process.  ``bench/stroke_exact.py`` checks a
+median per glyph), its whole worker process and its whole workflow
+(``bench/fontforge_font.py``, :func:`fontforge_workflow`: ``fontforge.open`` of the
+set's UFO, the same ``glyph.stroke`` on every glyph, ``font.generate`` of a CFF font
+with no hints, as morph writes none, and integer coordinates; the median of
+``--morph-repeat`` runs, as the command's).  ``bench/stroke_exact.py`` checks a
 written font again with the exact membership predicate, without Clipper.
 
 The Clipper references and FontForge's results (outlines, CPU times, and their errors
@@ -432,6 +439,65 @@ def run_fontforge(font, names, spec, accuracies, refs, judge=None):
     return rows, ""
 
 
+def fontforge_workflow(ufo, spec, accuracy, glyphs=(), repeat=3):
+    """FontForge's whole workflow (``bench/fontforge_font.py``: open the skeleton UFO,
+    stroke every glyph, or those of ``glyphs``, generate a CFF font) as a whole process:
+    {"cpu": the median of ``repeat`` runs' CPU s (the kernel's user + sys of the child),
+    "cpus", "steps" (the script's own CPU s of its steps, in the median run), "glyphs"
+    (stroked), "font_glyphs" (the written font's glyphs with an outline, read back by
+    fontTools), "internal_errors", "measured"}, or None without FontForge.  Kept in
+    the bench cache (:mod:`bench.peer_cache`) keyed by the UFO's bytes, the nib, the
+    accuracy, the glyphs, FontForge's version and the script."""
+    from bench import peer_cache
+
+    version = peer_cache.fontforge_version()
+    if version is None:
+        return None
+    ufo = Path(ufo)
+    files = sorted(f for f in ufo.rglob("*") if f.is_file())
+    nib = ",".join("%r" % float(v) for v in spec[1:4])  # as bench/fontforge_stroke.py's
+    key = peer_cache.digest("fontforge-font", [(str(f.relative_to(ufo)), f.read_bytes())
+                                               for f in files], nib, accuracy, list(glyphs),
+                            repeat, version, peer_cache.file_digest("bench/fontforge_font.py"))
+    args = [str(ufo), "", "--nib", nib, "--accuracy", repr(float(accuracy))]
+    args += ["--glyphs", ",".join(glyphs)] if glyphs else []
+    value, prov, fresh = peer_cache.cached("fontforge-font", key,
+                                           lambda: _workflow_runs(args, repeat), version)
+    return dict(value, measured=peer_cache.measured_note([prov], int(fresh)))
+
+
+def _workflow_runs(args, repeat):
+    """:func:`fontforge_workflow`'s runs of ``bench/fontforge_font.py ARGS`` (the output
+    path, ``args[1]``, in a temporary folder) and the written font read back."""
+    import resource
+
+    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.ttLib import TTFont
+
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        args[1] = str(Path(tmp) / "out.otf")
+        for _ in range(repeat):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_font.py")]
+                                  + args, capture_output=True, text=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            if proc.returncode != 0:
+                raise RuntimeError("bench/fontforge_font.py failed: %s" % proc.stderr[-2000:])
+            runs.append(((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
+                         json.loads(proc.stdout.strip().splitlines()[-1]), proc.stderr))
+        glyph_set = TTFont(args[1]).getGlyphSet()
+        inked = 0
+        for name in glyph_set.keys():
+            pen = ControlBoundsPen(glyph_set)
+            glyph_set[name].draw(pen)
+            inked += pen.bounds is not None
+    cpu, out, err = sorted(runs, key=lambda r: r[0])[len(runs) // 2]
+    return {"cpu": cpu, "cpus": [r[0] for r in runs], "steps": out["steps"],
+            "glyphs": out["glyphs"], "font_glyphs": inked,
+            "internal_errors": err.count("Internal Error")}
+
+
 def references(font, names, spec, ref_tol):
     """({glyph: Clipper reference}, {glyph: cache key}, note): the references
     (:func:`tests.oracles.stroke_reference.stroke_polygon`) of the glyphs stroked
@@ -570,11 +636,12 @@ def equal_error_md(rows):
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
 
 
-def _time_command(ufo, out_path, first_glyph, extra=()):
+def _time_command(ufo, out_path, first_glyph, extra=(), repeat=1):
     """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1
     [extra]`` in a fresh process (its own user + sys time, from the kernel's child
-    accounting), with its bytecode cached as after a pip install (:mod:`bench.pycache`:
-    an untimed run of ``first_glyph`` alone fills the cache)."""
+    accounting; the median of ``repeat`` runs), with its bytecode cached as after a pip
+    install (:mod:`bench.pycache`: an untimed run of ``first_glyph`` alone fills the
+    cache)."""
     import resource
 
     from bench.pycache import cached_env
@@ -590,11 +657,14 @@ def _time_command(ufo, out_path, first_glyph, extra=()):
     subprocess.run(command + warm + ["--glyphs", first_glyph], capture_output=True,
                    cwd=str(Path(out_path).parent), env=env)
     command += extra
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run(command, capture_output=True, text=True,
-                          cwd=str(Path(out_path).parent), env=env)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    cpus = []
+    for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run(command, capture_output=True, text=True,
+                              cwd=str(Path(out_path).parent), env=env)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
+    cpu = float(np.median(cpus))
     # the command's own last line ("wrote ..."), not its progress line on stderr
     lines = (proc.stdout.strip() or proc.stderr.strip()).splitlines()
     return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
@@ -678,7 +748,7 @@ def skeleton_set(name, opt, workdir):
            "rows": [], "reference_measured": ref_note}
     # the command, as users run it
     otf = Path(workdir) / (name + ".otf")
-    cpu, rss, line, rc = _time_command(ufo, otf, names[0])
+    cpu, rss, line, rc = _time_command(ufo, otf, names[0], repeat=opt.morph_repeat)
     x0 = region_extent(nib)[0]
     written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
                        if rc in (0, 1) else ({}, []))
@@ -698,14 +768,17 @@ def skeleton_set(name, opt, workdir):
     out["rows"] += run_morph(font, names, spec, tols, refs, judge, opt.morph_repeat)
     for r, t in zip(out["rows"], tols):
         r["tol"] = t    # the first: the command's tolerance, as the command ran
-    ff, why = run_fontforge(font, names, spec, [float(a) for a in opt.ff_accuracy_sets.split(",")],
-                            refs, judge)
+    accs = _floats(opt.ff_accuracy_sets)
+    ff, why = run_fontforge(font, names, spec, accs, refs, judge)
+    for r, acc in zip(ff, accs):   # FontForge opening the UFO, stroking, writing a font
+        r["workflow"] = fontforge_workflow(ufo, spec, acc, repeat=opt.morph_repeat)
+        r["workflow_ms"] = 1000 * r["workflow"]["cpu"] / len(names)
     out["rows"] += ff
     out["ff_note"] = why
     for r in out["rows"]:
-        print("%s %s %s: %.1f ms (median %.1f), %.0f points, max err %.3f"
-              % (name, r["tool"], r["setting"], r["ms"], r["median_ms"], r["points"],
-                 r["max_err"]), flush=True)
+        print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
+              "%.3f" % (name, r["tool"], r["setting"], r["ms"], r["median_ms"],
+                        _ms(r.get("workflow_ms")), r["points"], r["max_err"]), flush=True)
     return out
 
 
@@ -750,6 +823,14 @@ def _box(b):
 
 
 def sets_markdown(opt, sets, elapsed):
+    """The report of the skeleton sets (bench/stroke_sets.md)."""
+    md = _sets_intro(opt, elapsed) + _sets_summary(sets) + [""]
+    for st in sets:
+        md += _set_section(st, opt) + _set_notes(st, opt) + [""]
+    return "\n".join(md) + "\n"
+
+
+def _sets_intro(opt, elapsed):
     md = ["# Stroke speed and accuracy on skeleton sets (bench/stroke.py, part 3)", "",
           "Command: `python -m bench.stroke --only-sets%s` (report written at %s; %s UTC; "
           "%.0f s; each set below says when, at which commit and load it was measured). "
@@ -776,9 +857,15 @@ def sets_markdown(opt, sets, elapsed):
           "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
           "command** = a whole process divided by the glyphs: for morph `morph stroke "
           "SET.ufo -o SET.otf --jobs 1` (startup, parse, stroke, export, font tables, "
-          "compile, sample image and specimen), for FontForge its worker process (Python's "
-          "startup, `import fontforge`, drawing the skeletons, stroking, writing the "
-          "outlines as JSON; no font file).  Errors: "
+          "compile, sample image and specimen; the median of %d runs), for FontForge its "
+          "worker process (Python's startup, `import fontforge`, drawing the skeletons, "
+          "stroking, writing the outlines as JSON; no font file); **whole workflow** "
+          "(FontForge) = a FontForge script doing the command's job as a whole process "
+          "divided by the glyphs (`bench/fontforge_font.py`: Python's startup, `import "
+          "fontforge`, `fontforge.open(SET.ufo)`, the same `glyph.stroke` on every glyph, "
+          "`font.generate(SET.otf, flags=(\"no-hints\", \"round\"))` with the autohinter "
+          "off, as morph writes no hints and integer coordinates; no sample image nor "
+          "specimen; the median of %d runs).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -787,99 +874,123 @@ def sets_markdown(opt, sets, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.morph_repeat, opt.ref_tol, SPACING, GAP, opt.ref_tol), "",
+          % (opt.morph_repeat, opt.morph_repeat, opt.morph_repeat, opt.ref_tol, SPACING, GAP,
+             opt.ref_tol), "",
           "The Clipper references and FontForge's results (outlines, times, and their "
           "errors) do not depend on morph's code: they come from the bench cache "
           "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
           "tolerance and the peer's version) when measured before; each set says when, "
           "at which commit and with which FontForge they were measured.  morph is "
           "measured in every run."]
-    md += ["", "## Summary", "",
-           "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
-           "mean (median), morph at its fewest-points setting whose worst error is no "
-           "larger than FontForge's (at the command's tolerance where none is); whole "
-           "command: `morph stroke` at its default tolerance against FontForge's worker "
-           "process.", "",
-           "| set | FontForge setting | morph setting | in process: morph | in process: "
-           "FontForge mean (median) | whole command: morph | whole command: FontForge | "
-           "points: morph / FontForge | worst error: morph / FontForge |",
-           "|---|---|---|---|---|---|---|---|---|"]
+    return md
+
+
+def _sets_summary(sets):
+    """The summary table of the skeleton sets: one row per FontForge setting."""
+    md = ["", "## Summary", "",
+          "ms of CPU per glyph; in process: morph's mean by chunks against FontForge's "
+          "mean (median), morph at its fewest-points setting whose worst error is no "
+          "larger than FontForge's (at the command's tolerance where none is); whole "
+          "command: `morph stroke` at its default tolerance against FontForge's worker "
+          "process; whole workflow: FontForge opening the skeleton UFO, stroking and "
+          "generating the font.", "",
+          "| set | FontForge setting | morph setting | in process: morph | in process: "
+          "FontForge mean (median) | whole command: morph | whole command: FontForge "
+          "worker | whole workflow: FontForge | points: morph / FontForge | worst error: "
+          "morph / FontForge |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for st in sets:
         first = next((r for r in st["rows"] if r["tool"] == "morph"), None)
         for r, m in equal_error(st["rows"]):
             m = m or first   # morph's fewest points at no larger error, else its default
             if m is None:
                 continue
-            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %.0f / %.0f | "
+            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %s | %.0f / %.0f | "
                       "%.3f / %.3f |"
                       % (st["name"], r["setting"], m["setting"], m["ms"], r["ms"],
                          r["median_ms"], 1000 * st["command_cpu"] / st["glyphs"],
-                         _ms(r.get("process_ms")), m["points"], r["points"], m["max_err"],
-                         r["max_err"]))
-    md.append("")
-    for st in sets:
-        md += ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
-                                                               st["upm"], st["tol"]), "",
-               "morph: %s." % st["measured"], ""]
-        if st.get("reference_measured"):
-            md += ["Clipper reference: %s." % st["reference_measured"], ""]
-        ff = ["%s: %s, \"Internal Error\" printed %s"
-              % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
-              for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
-        if ff:
-            md += ["FontForge %s." % "; ".join(ff), ""]
-        md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
-               "glyph | whole command ms / glyph | points / glyph | worst error | "
-               "mean error | over | raw worst | raw over |",
-               "|---|---|---|---|---|---|---|---|---|---|---|"]
-        limit = st["tol"] + opt.ref_tol
-        for r in st["rows"]:
-            t = r.get("tol", st["tol"])    # a morph row's own tolerance
-            over = sum(e > t + opt.ref_tol for e in r["errs"])
-            if "raw_errs" in r:
-                worst = "%.3f (%s)" % (r["max_err"], r["worst_glyph"])
-                raw = "| %.3f (%s) | %d |" % (r["raw_max_err"], r["raw_worst_glyph"],
-                                              sum(e > t + opt.ref_tol for e in r["raw_errs"]))
-            else:  # measured before the narrow-gap excuse: raw
-                worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
-            if r["tool"] == "morph":
-                whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
-                         if t == st["tol"] else "")
-                md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %.0f | %s | %.3f | %d %s"
-                          % (t, r["ms"], whole, r["points"], worst, r["mean_err"], over, raw))
-            else:
-                md.append("| %s | %s | %.1f | %.1f | %s | %.0f | %s | %.3f | %d %s"
-                          % (r["tool"], r["setting"], r["ms"], r["median_ms"],
-                             _ms(r.get("process_ms")), r["points"], worst, r["mean_err"],
-                             over, raw))
-        md += [""] + equal_error_md(st["rows"])
-        for r in st["rows"]:
-            if "worst_bbox" in r and r["max_err"] > 10 * limit:
-                apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
-                md += ["", "%s %s's worst glyph %s: FontForge's own bounding box of its "
-                       "result (`glyph.boundingBox()`) is %s, the reference's %s: %s"
-                       % (r["tool"], r["setting"], r["worst_glyph"], _box(r["worst_bbox"]),
-                          _box(r["worst_ref_bbox"]),
-                          "the error is in FontForge's outline (a curve beyond the exact "
-                          "stroke's extent), not in the measure." if apart else
-                          "the boxes agree, so the error lies inside the stroke's extent."
-                          )]
-        if not all("raw_errs" in r for r in st["rows"]):
-            md += ["", "(raw): this set was measured before the narrow-gap excuse; its errors "
-                   "are raw."]
-        md += ["", "Written font (integer coordinates, read back): worst %.3f units (%s), "
-               "%d glyphs over tol + 0.71 + %g = %.2f; command %.1f s CPU, peak RSS %.0f MB; "
-               "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
-                         opt.ref_tol, st["written_limit"], st["command_cpu"],
-                         st["command_rss"], st["command_line"])]
-        if st.get("written_narrow"):
-            md += ["", "Gaps or holes of the exact stroke narrower than the documented "
-                   "narrow-feature limit (2 x (%g tol + 0.71)), filled in the written font and not "
-                   "measured there: %s." % (GAP, ", ".join(st["written_narrow"]))]
-        if st["ff_note"]:
-            md += ["", "FontForge not run (%s)." % st["ff_note"]]
-        md.append("")
-    return "\n".join(md) + "\n"
+                         _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), m["points"],
+                         r["points"], m["max_err"], r["max_err"]))
+    return md
+
+
+def _set_section(st, opt):
+    """A skeleton set's heading, provenance and table of rows."""
+    md = ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
+                                                          st["upm"], st["tol"]), "",
+          "morph: %s." % st["measured"], ""]
+    if st.get("reference_measured"):
+        md += ["Clipper reference: %s." % st["reference_measured"], ""]
+    ff = ["%s: %s, \"Internal Error\" printed %s"
+          % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
+          for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
+    if ff:
+        md += ["FontForge %s." % "; ".join(ff), ""]
+    wf = ["%s: %s, %d glyphs stroked, %d with an outline (.notdef included) in the font "
+          "read back by fontTools, \"Internal Error\" printed %s"
+          % (r["setting"], r["workflow"]["measured"], r["workflow"]["glyphs"],
+             r["workflow"]["font_glyphs"], _times(r["workflow"]["internal_errors"]))
+          for r in st["rows"] if r.get("workflow")]
+    if wf:
+        md += ["FontForge's whole workflow (`bench/fontforge_font.py`) %s." % "; ".join(wf),
+               ""]
+    md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
+           "glyph | whole command ms / glyph | whole workflow ms / glyph | points / glyph | "
+           "worst error | mean error | over | raw worst | raw over |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in st["rows"]:
+        t = r.get("tol", st["tol"])    # a morph row's own tolerance
+        over = sum(e > t + opt.ref_tol for e in r["errs"])
+        if "raw_errs" in r:
+            worst = "%.3f (%s)" % (r["max_err"], r["worst_glyph"])
+            raw = "| %.3f (%s) | %d |" % (r["raw_max_err"], r["raw_worst_glyph"],
+                                          sum(e > t + opt.ref_tol for e in r["raw_errs"]))
+        else:  # measured before the narrow-gap excuse: raw
+            worst, raw = "%.3f" % r["max_err"], "| (raw) | (raw) |"
+        if r["tool"] == "morph":   # the command is morph's whole workflow
+            whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
+                     if t == st["tol"] else "")
+            md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %s | %.0f | %s | %.3f | %d %s"
+                      % (t, r["ms"], whole, whole, r["points"], worst, r["mean_err"], over,
+                         raw))
+        else:
+            md.append("| %s | %s | %.1f | %.1f | %s | %s | %.0f | %s | %.3f | %d %s"
+                      % (r["tool"], r["setting"], r["ms"], r["median_ms"],
+                         _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), r["points"],
+                         worst, r["mean_err"], over, raw))
+    return md + [""] + equal_error_md(st["rows"])
+
+
+def _set_notes(st, opt):
+    """A skeleton set's notes below its tables: FontForge's worst glyphs far off, the
+    written font, the narrow gaps."""
+    md, limit = [], st["tol"] + opt.ref_tol
+    for r in st["rows"]:
+        if "worst_bbox" in r and r["max_err"] > 10 * limit:
+            apart = np.abs(np.subtract(r["worst_bbox"], r["worst_ref_bbox"])).max() > limit
+            md += ["", "%s %s's worst glyph %s: FontForge's own bounding box of its "
+                   "result (`glyph.boundingBox()`) is %s, the reference's %s: %s"
+                   % (r["tool"], r["setting"], r["worst_glyph"], _box(r["worst_bbox"]),
+                      _box(r["worst_ref_bbox"]),
+                      "the error is in FontForge's outline (a curve beyond the exact "
+                      "stroke's extent), not in the measure." if apart else
+                      "the boxes agree, so the error lies inside the stroke's extent."
+                      )]
+    if not all("raw_errs" in r for r in st["rows"]):
+        md += ["", "(raw): this set was measured before the narrow-gap excuse; its errors "
+               "are raw."]
+    md += ["", "Written font (integer coordinates, read back): worst %.3f units (%s), "
+           "%d glyphs over tol + 0.71 + %g = %.2f; command %.1f s CPU, peak RSS %.0f MB; "
+           "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
+                     opt.ref_tol, st["written_limit"], st["command_cpu"],
+                     st["command_rss"], st["command_line"])]
+    if st.get("written_narrow"):
+        md += ["", "Gaps or holes of the exact stroke narrower than the documented "
+               "narrow-feature limit (2 x (%g tol + 0.71)), filled in the written font and not "
+               "measured there: %s." % (GAP, ", ".join(st["written_narrow"]))]
+    if st["ff_note"]:
+        md += ["", "FontForge not run (%s)." % st["ff_note"]]
+    return md
 
 
 # =========================================================================== report
@@ -904,12 +1015,16 @@ def markdown(opt, names, acc, peers, notes, elapsed):
           "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
           "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
           "included; FontForge: its worker process, Python's startup, `import fontforge`, "
-          "drawing, stroking and writing the outlines as JSON).  The Clipper references "
+          "drawing, stroking and writing the outlines as JSON); **whole workflow** = the "
+          "job as a whole process (morph: its command; FontForge: `bench/fontforge_font.py`, "
+          "`fontforge.open` of the UFO, the same `glyph.stroke` on the same glyphs and the "
+          "bases of their components, `font.generate` of a CFF font, autohinter off, no hints, "
+          "coordinates rounded; the median of %d runs).  The Clipper references "
           "and FontForge's results and errors come from the bench cache "
           "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
           "tolerance and peer version; the notes at the end say when and at which commit "
           "they were measured.  morph is measured in every run."
-          % (opt.morph_repeat, opt.glyphs), ""]
+          % (opt.morph_repeat, opt.glyphs, opt.morph_repeat), ""]
     if acc:
         md += ["## Accuracy of the written fonts", "",
                "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
@@ -947,16 +1062,17 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     for title, rows in peers:
         md += ["## %s" % title, "",
                "| tool | setting | in process: mean ms / glyph | in process: median ms / "
-               "glyph | whole command ms / glyph | morph: stroke + export ms | "
-               "points / glyph | max Hausdorff | mean | failures |",
-               "|---|---|---|---|---|---|---|---|---|---|"]
+               "glyph | whole command ms / glyph | whole workflow ms / glyph | morph: "
+               "stroke + export ms | points / glyph | max Hausdorff | mean | failures |",
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rows:
             split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
                      if "stroke_ms" in r else "")
             median = "(chunks)" if r["tool"] == "morph" else "%.1f" % r["median_ms"]
             whole = _ms(r.get("command_ms", r.get("process_ms")))
-            md.append("| %s | %s | %.1f | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], median, whole, split, r["points"],
+            md.append("| %s | %s | %.1f | %s | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
+                      % (r["tool"], r["setting"], r["ms"], median, whole,
+                         _ms(r.get("command_ms", r.get("workflow_ms"))), split, r["points"],
                          r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
             tracebacks += r.get("tracebacks", [])
         md += [""] + equal_error_md(rows) + [""]
@@ -965,6 +1081,23 @@ def markdown(opt, names, acc, peers, notes, elapsed):
     if notes:
         md += ["## When the cached figures were measured", ""] + ["- " + n for n in notes] + [""]
     return "\n".join(md) + "\n"
+
+
+def _fontforge_notes(title, ff, spec, accs, names, opt):
+    """The notes on FontForge's rows ``ff`` of the Relief table ``title``, whose whole
+    workflow (:func:`fontforge_workflow`: the same glyphs as ``morph stroke --glyphs``)
+    this measures and adds to the rows (``workflow_ms``)."""
+    notes = []
+    for r, acc in zip(ff, accs):
+        wf = fontforge_workflow(SUBSET, spec, acc, names, repeat=opt.morph_repeat)
+        r["workflow_ms"] = 1000 * wf["cpu"] / len(names)
+        notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s; its whole "
+                     "workflow (`bench/fontforge_font.py`): %s, %d glyphs stroked, %d with an "
+                     "outline in the font read back by fontTools."
+                     % (title.split(":")[0].lower(), r["setting"], r["measured"],
+                        _times(r["internal_errors"]), wf["measured"], wf["glyphs"],
+                        wf["font_glyphs"]))
+    return notes
 
 
 def main(argv=None):
@@ -1048,10 +1181,7 @@ def main(argv=None):
                                     _plain_judge(refs[spec], keys[spec]))
             if why:
                 notes.append("FontForge not run (%s)." % why)
-            for r in ff:
-                notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s."
-                             % (title.split(":")[0].lower(), r["setting"], r["measured"],
-                                _times(r["internal_errors"])))
+            notes += _fontforge_notes(title, ff, spec, accs, names, opt)
             rows += ff
             if spec is ROUND:
                 rows += run_skia(font, names, spec[1], scales, refs[spec])
