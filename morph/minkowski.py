@@ -8,7 +8,6 @@ import numpy as np
 from . import piece as pc
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
-from .corners import patched
 from .convolve import (ConvPieces, _turn_convex, chain, convolution, crossing_rows,
                        gauss_pair_of, with_pair_table)
 from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMetError,
@@ -16,7 +15,7 @@ from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMe
 from .limits import check_tolerance, fits_precision, point_budget
 from .operands import check_operand, check_operands
 from .packing import Packing, control_box
-from .polyline import member as member_of, unique
+from .polyline import unique
 from .region import validated
 from .trim import boundary
 from .trim.holes import Membership, control_boxes, points_deep_enough
@@ -202,14 +201,15 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None,
     conv, row_tol = _first_round(region_a, region_b, tol, method, gauss_pair, first)
     member = member or _HoleTest(region_a, region_b, tol)
     inside = _inside_chords(gauss_pair)
-    done, redo = {}, None  # finished loops by slot; slots to trim (None: all, set(): none)
-    part, out = conv, None
+    done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
-        if redo != set():
-            slot = slot_of(pc.end_points(conv.pieces)[0])
-            part = conv if redo is None else conv.take(member_of(slot, np.array(sorted(redo))))
-            loops, out = _trimmed(part, tol, member, inside(part))
-            _file(done, out, unique(slot) if redo is None else sorted(redo), slot_of)
+        slot = slot_of(pc.end_points(conv.pieces)[0])
+        part = conv if redo is None else conv.take(np.isin(slot, sorted(redo)))
+        loops, out = _trimmed(part, tol, member, inside(part))
+        for s in (unique(slot) if redo is None else redo):
+            done[int(s)] = []
+        for loop, s in zip(out, slot_of(pc.end_points([lp[0] for lp in out])[0])):
+            done.setdefault(int(s), []).append(loop)
         finer = _tip_tolerances(out, part, tol)
         finer = {r: t for r, t in finer.items() if t < row_tol[r]}
         if not finer or round_ == TIP_ROUNDS:
@@ -221,36 +221,11 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None,
                                 gauss_pair=gauss_pair, rows=rows)
         except ToleranceNotMetError:
             break  # a pair that cannot be refined that far: the corner keeps its error
-        refined = member_of(conv.row, rows)
+        refined = np.isin(conv.row, rows)
+        redo = set(slot[refined].tolist())
         conv = ConvPieces.concat([conv.take(~refined), again])
-        out, part, redo = _patched_round(out, part, again, rows, tol, conv, slot_of, done)
     out = [loop for s in sorted(done) for loop in done[s]]
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
-
-
-def _file(done, out, slots, slot_of):
-    """Put the loops ``out`` (those of the parts ``slots``) into ``done`` by part."""
-    for s in slots:
-        done[int(s)] = []
-    if out:
-        for loop, s in zip(out, slot_of(pc.end_points([lp[0] for lp in out])[0])):
-            done.setdefault(int(s), []).append(loop)
-
-
-def _patched_round(out, part, again, rows, tol, conv, slot_of, done):
-    """(loops, their convolution pieces, parts to trim again) after a round of the
-    corner pass: the new pieces ``again`` of ``rows`` put into the trimmed loops
-    ``out`` of ``part`` in place (:func:`morph.corners.patched`; the parts of
-    ``done`` they are in filed again), or, where that is not recognised, the parts
-    holding refined pieces of ``conv`` (the whole convolution, with ``again``) to
-    trim again."""
-    new = patched(out, part, again, tol)
-    if new is None:
-        slot = slot_of(pc.end_points(conv.pieces)[0])
-        return out, part, set(slot[member_of(conv.row, rows)].tolist())
-    slots = unique(slot_of(pc.end_points([lp[0] for lp in out])[0])) if out else []
-    _file(done, new, slots, slot_of)
-    return new, ConvPieces.concat([part.take(~member_of(part.row, rows)), again]), set()
 
 
 def _first_round(region_a, region_b, tol, method, gauss_pair, first=None):
