@@ -11,8 +11,9 @@ round's pieces and Python calls, the rounds the corner pass adds (rows
 approximated again, packed slots trimmed again with their pieces and loops), the
 Python calls and CPU of those rounds' convolution and trimming, and for every
 junction the pass refines: its turn (cos(phi / 2)), the a-priori bound
-e / cos(phi / 2) of the rule and the bound measured on the two pieces through it
-(:func:`bench.corner_tips.tip_bounds`).  Python calls are load-independent; CPU
+e / cos(phi / 2) of the rule, and its distance to the nearest convolution piece
+(about 0 at a crossing of two pieces; more where the trimming's Newton iteration
+did not converge and the junction sits on its grid point).  Python calls are load-independent; CPU
 times are of one run (with the profiler's overhead).
 """
 
@@ -91,31 +92,34 @@ def install(stats, tips):
 
 
 def _refined_junctions(out, conv, tol):
-    """[(cos(phi / 2), e / cos(phi / 2), measured bound, tol)] of the junctions of
-    ``out`` with a piece the rule of :func:`morph.minkowski._tip_tolerances` refines."""
+    """[(cos(phi / 2), e / cos(phi / 2), distance to the nearest piece, tol)] of the
+    junctions of ``out`` with a piece the rule of
+    :func:`morph.minkowski._tip_tolerances` refines; the distance is from the
+    junction to the nearest convolution piece near it (0 up to rounding where the
+    junction is a crossing that the trimming's Newton iteration found; where that
+    did not converge the junction sits on its grid point)."""
     import numpy as np
 
     import morph.minkowski as mk
-    from bench.corner_tips import tip_bounds
     from morph import piece as pc
+    from morph.nearest import nearest_params_in_range
 
     pts, cos_half = mk._corners(out)
     sharp = np.flatnonzero(cos_half < float(conv.bound.max()) / (mk.CONV_SHARE * tol))
     want = mk.CONV_SHARE * tol * mk.TIP_MARGIN * np.maximum(cos_half[sharp], mk.TIP_FLOOR)
     corner, piece = mk._corners_near(pts[sharp], pc.bboxes(conv.pieces), mk.TIP_REACH * tol)
     at = np.unique(corner[conv.bound[piece] > want[corner]])
-    sel = np.isin(corner, at)
     e = np.zeros(len(sharp))
     np.maximum.at(e, corner, conv.bound[piece])
-    flat = [p for loop in out for p in loop]
-    lens = np.array([len(loop) for loop in out])
-    nxt = np.arange(1, len(flat) + 1)
-    nxt[np.cumsum(lens) - 1] = np.cumsum(lens) - lens
-    measured = tip_bounds(flat, sharp[at], nxt, conv, np.searchsorted(at, corner[sel]),
-                          piece[sel], tol)
+    stacked = pc.stack(conv.pieces.take(piece))
+    p = pts[sharp[corner]]
+    t = nearest_params_in_range(stacked, p, np.zeros(len(p)), np.ones(len(p)), samples=257)
+    d = np.hypot(*(pc.jet_many(stacked, np.arange(len(p)), t)[0] - p).T)
+    off = np.full(len(sharp), np.inf)
+    np.minimum.at(off, corner, d)
     c = cos_half[sharp[at]]
     return list(zip(c.tolist(), (e[at] / np.maximum(c, mk.TIP_FLOOR)).tolist(),
-                    measured.tolist(), [tol] * len(at)))
+                    off[at].tolist(), [tol] * len(at)))
 
 
 def run(what, stats, tips):
@@ -147,9 +151,9 @@ def main(argv=None):
         for k in sorted(stats):
             v = stats[k]
             print("  %-34s %s" % (k, ("%.1f" % v) if isinstance(v, float) else v))
-        for c, apriori, measured, tol in tips:
-            print("  refined junction: cos(phi/2) %.3f, e/cos %.3f tol, measured %.3f tol"
-                  % (c, apriori / tol, measured / tol))
+        for c, apriori, off, tol in tips:
+            print("  refined junction: cos(phi/2) %.3f, e/cos %.3f tol, %.2g tol off the "
+                  "nearest piece" % (c, apriori / tol, off / tol))
 
 
 if __name__ == "__main__":

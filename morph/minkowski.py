@@ -15,8 +15,9 @@ from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMe
 from .limits import check_tolerance, fits_precision, point_budget
 from .operands import check_operand, check_operands
 from .packing import Packing, control_box
-from .polyline import unique
+from .polyline import member, unique
 from .region import validated
+from .tips import corner_turns
 from .trim import boundary
 from .trim.holes import Membership, control_boxes, points_deep_enough
 
@@ -346,6 +347,13 @@ def _tip_tolerances(out, conv, tol):
     want = CONV_SHARE * tol * TIP_MARGIN * np.maximum(cos_half[sharp], TIP_FLOOR)
     corner, piece = _corners_near(pts[sharp], pc.bboxes(conv.pieces), TIP_REACH * tol)
     hit = bounds[piece] > want[corner]
+    if hit.any():   # the turns of the corners those junctions stand for
+        at = unique(corner[hit])
+        sel = member(corner, at)
+        turn = corner_turns(pts[sharp[at]], cos_half[sharp[at]],
+                            np.searchsorted(at, corner[sel]), piece[sel], conv, tol)
+        want[at] = CONV_SHARE * tol * TIP_MARGIN * np.maximum(turn, TIP_FLOOR)
+        hit = bounds[piece] > want[corner]
     rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
@@ -406,10 +414,24 @@ def _achieved_bounds(out, conv, tol, method, out_part=None, conv_part=None, part
                         & (lo[mine, 1] <= y) & (y <= hi[mine, 1]))
                 has = near.any(axis=1)
                 if has.any():
-                    worst = np.where(near[has], bounds[mine], -np.inf).max(axis=1)
-                    err[p] = max(err[p], np.max(worst / np.maximum(cos_half[k[has]],
-                                                                   TIP_FLOOR)))
+                    err[p] = max(err[p], _tip_error(pts[k[has]], cos_half[k[has]],
+                                                    near[has], bounds[mine], mine, conv, tol))
     return np.minimum(float(tol), (1.0 - CONV_SHARE) * tol + err)
+
+
+def _tip_error(pts, cos_half, near, bounds, pieces, conv, tol):
+    """The largest e / cos(phi / 2) of junctions ``pts`` (turns ``cos_half``), e the
+    largest bound of the pieces ``near`` each ((j, k) bools over ``pieces``, indices
+    into ``conv``, with those ``bounds``); where that is above the corner pass's
+    budget, phi is the turn of the corner the junction stands for
+    (:func:`morph.tips.corner_turns`), as the corner pass counts it."""
+    worst = np.where(near, bounds, -np.inf).max(axis=1)
+    big = np.flatnonzero(worst / np.maximum(cos_half, TIP_FLOOR) > CONV_SHARE * tol)
+    if len(big):
+        corner, col = np.nonzero(near[big])
+        cos_half = cos_half.copy()
+        cos_half[big] = corner_turns(pts[big], cos_half[big], corner, pieces[col], conv, tol)
+    return float(np.max(worst / np.maximum(cos_half, TIP_FLOOR)))
 
 
 #: :func:`_achieved_bounds` compares junctions with pieces in blocks of about this
