@@ -47,7 +47,10 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     with its side.
     At a corner where the boundary turns by phi (the tip of a wedge: phi near
     pi), the junction of two pieces within e of their curves can lie
-    e / cos(phi / 2) from the exact corner: the pairs through such corners are
+    e / cos(phi / 2) from the exact corner (phi of the pieces' corner a junction
+    stands for, :func:`morph.tips.corner_turns`: a junction the trimming left on
+    its grid point takes the turn of the pieces' crossing next to it): the pairs
+    through such corners are
     approximated again until e / cos(phi / 2) <= 0.5 tol (up to TIP_ROUNDS
     rounds; cos(phi / 2) counted as at least TIP_FLOOR, i.e. turns up to
     179.9 degrees; a pair that cannot be subdivided that far keeps the previous
@@ -334,7 +337,11 @@ def _tip_tolerances(out, conv, tol):
     approximations; cos(phi / 2) at least TIP_FLOOR).  The pieces through the
     corner are those whose control-point box comes within TIP_REACH tol of it (a
     superset: the corner was found on polylines within (FLAT_SHARE + GRID_SHARE) tol
-    of them).  Returns {table row: tolerance} for the pairs to approximate again.
+    of them).  phi of a junction with such pieces is that of the corner of the pieces
+    it stands for (:func:`morph.tips.corner_turns`: its own where it is a crossing
+    of two of them; where the trimming left it off them, on its grid point, that of
+    their sharpest crossing within TIP_REACH tol).  Returns {table row: tolerance}
+    for the pairs to approximate again.
     """
     bounds = conv.bound
     worst = float(bounds.max(initial=0.0))

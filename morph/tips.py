@@ -22,6 +22,7 @@ turn is the junction's.  Where none is found the junction keeps its own turn.
 
 import numpy as np
 
+from . import bernstein as bz
 from . import piece as pc
 from .budget import GRID_SHARE, TIP_REACH
 from .nearest import nearest_params_in_range
@@ -96,13 +97,7 @@ def _sharpest(stacked, pts, corner, tol):
 
 def _samples(stacked, t):
     """Points (k, len(t), 2) of the stacked pieces (k, n + 1, 3) at the parameters t."""
-    from math import comb
-
-    n = stacked.shape[1] - 1
-    k = np.arange(n + 1)
-    basis = np.array([comb(n, i) for i in range(n + 1)]) * t[:, None] ** k \
-        * (1.0 - t[:, None]) ** (n - k)
-    h = np.einsum("tk,pkc->ptc", basis, stacked)
+    h = np.einsum("tk,pkc->ptc", bz.basis(stacked.shape[1] - 1, t), stacked)
     return h[..., :2] / h[..., 2:]
 
 
