@@ -15,8 +15,9 @@ from .errors import (LimitError, OperandError, SelfCrossingError, ToleranceNotMe
 from .limits import check_tolerance, fits_precision, point_budget
 from .operands import check_operand, check_operands
 from .packing import Packing, control_box
-from .polyline import unique
+from .polyline import member, unique
 from .region import validated
+from .tips import corner_turns
 from .trim import boundary
 from .trim.holes import Membership, control_boxes, points_deep_enough
 
@@ -46,7 +47,10 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     with its side.
     At a corner where the boundary turns by phi (the tip of a wedge: phi near
     pi), the junction of two pieces within e of their curves can lie
-    e / cos(phi / 2) from the exact corner: the pairs through such corners are
+    e / cos(phi / 2) from the exact corner (phi of the pieces' corner a junction
+    stands for, :func:`morph.tips.corner_turns`: a junction the trimming left on
+    its grid point takes the turn of the pieces' crossing next to it): the pairs
+    through such corners are
     approximated again until e / cos(phi / 2) <= 0.5 tol (up to TIP_ROUNDS
     rounds; cos(phi / 2) counted as at least TIP_FLOOR, i.e. turns up to
     179.9 degrees; a pair that cannot be subdivided that far keeps the previous
@@ -333,7 +337,11 @@ def _tip_tolerances(out, conv, tol):
     approximations; cos(phi / 2) at least TIP_FLOOR).  The pieces through the
     corner are those whose control-point box comes within TIP_REACH tol of it (a
     superset: the corner was found on polylines within (FLAT_SHARE + GRID_SHARE) tol
-    of them).  Returns {table row: tolerance} for the pairs to approximate again.
+    of them).  phi of a junction with such pieces is that of the corner of the pieces
+    it stands for (:func:`morph.tips.corner_turns`: its own where it is a crossing
+    of two of them; where the trimming left it off them, on its grid point, that of
+    their sharpest crossing within TIP_REACH tol).  Returns {table row: tolerance}
+    for the pairs to approximate again.
     """
     bounds = conv.bound
     worst = float(bounds.max(initial=0.0))
@@ -346,6 +354,13 @@ def _tip_tolerances(out, conv, tol):
     want = CONV_SHARE * tol * TIP_MARGIN * np.maximum(cos_half[sharp], TIP_FLOOR)
     corner, piece = _corners_near(pts[sharp], pc.bboxes(conv.pieces), TIP_REACH * tol)
     hit = bounds[piece] > want[corner]
+    if hit.any():   # the turns of the corners those junctions stand for
+        at = unique(corner[hit])
+        sel = member(corner, at)
+        turn = corner_turns(pts[sharp[at]], cos_half[sharp[at]],
+                            np.searchsorted(at, corner[sel]), piece[sel], conv, tol)
+        want[at] = CONV_SHARE * tol * TIP_MARGIN * np.maximum(turn, TIP_FLOOR)
+        hit = bounds[piece] > want[corner]
     rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
@@ -406,10 +421,24 @@ def _achieved_bounds(out, conv, tol, method, out_part=None, conv_part=None, part
                         & (lo[mine, 1] <= y) & (y <= hi[mine, 1]))
                 has = near.any(axis=1)
                 if has.any():
-                    worst = np.where(near[has], bounds[mine], -np.inf).max(axis=1)
-                    err[p] = max(err[p], np.max(worst / np.maximum(cos_half[k[has]],
-                                                                   TIP_FLOOR)))
+                    err[p] = max(err[p], _tip_error(pts[k[has]], cos_half[k[has]],
+                                                    near[has], bounds[mine], mine, conv, tol))
     return np.minimum(float(tol), (1.0 - CONV_SHARE) * tol + err)
+
+
+def _tip_error(pts, cos_half, near, bounds, pieces, conv, tol):
+    """The largest e / cos(phi / 2) of junctions ``pts`` (turns ``cos_half``), e the
+    largest bound of the pieces ``near`` each ((j, k) bools over ``pieces``, indices
+    into ``conv``, with those ``bounds``); where that is above the corner pass's
+    budget, phi is the turn of the corner the junction stands for
+    (:func:`morph.tips.corner_turns`), as the corner pass counts it."""
+    worst = np.where(near, bounds, -np.inf).max(axis=1)
+    big = np.flatnonzero(worst / np.maximum(cos_half, TIP_FLOOR) > CONV_SHARE * tol)
+    if len(big):
+        corner, col = np.nonzero(near[big])
+        cos_half = cos_half.copy()
+        cos_half[big] = corner_turns(pts[big], cos_half[big], corner, pieces[col], conv, tol)
+    return float(np.max(worst / np.maximum(cos_half, TIP_FLOOR)))
 
 
 #: :func:`_achieved_bounds` compares junctions with pieces in blocks of about this
