@@ -564,7 +564,7 @@ class Pieces:
         gi = group[idx]
         out = []
         for g, (_, h) in enumerate(self.groups):
-            sel = np.flatnonzero(gi == g)
+            sel = (gi == g).nonzero()[0]
             if len(sel):
                 out.append((sel, h[row[idx[sel]]]))
         return Pieces(out, len(idx))

@@ -469,7 +469,7 @@ def segment_crossings(p0, p1, pairs):
     v = pc.cross2(qp, r) / den_safe
     eps = 1e-9
     hit = ok & (u >= -eps) & (u <= 1 + eps) & (v >= -eps) & (v <= 1 + eps)
-    return np.flatnonzero(hit), np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
+    return hit.ravel().nonzero()[0], np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
 
 
 def polylines_cross(pieces, tol):
@@ -620,7 +620,7 @@ class GroupGrid:
         """Index pairs (i < j) of boxes of one set that share a cell and overlap
         (within 1e-12 of the set's extent, as :func:`_cell_pairs`)."""
         key, seg = self.keys, self.items
-        bounds = np.flatnonzero(np.diff(key)) + 1
+        bounds = np.diff(key).ravel().nonzero()[0] + 1
         ends = np.repeat(np.concatenate([bounds, [len(key)]]),
                          np.diff(np.concatenate([[0], bounds, [len(key)]])))
         cnt = ends - np.arange(len(key)) - 1

@@ -131,7 +131,7 @@ def _near_pairs(polylines, reach, group=None):
     sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], dtype=np.int64)
     if np.count_nonzero(sizes) < 2:
         return set()
-    has = np.flatnonzero(sizes)
+    has = sizes.ravel().nonzero()[0]
     half = 0.5 * reach
     lo, hi = _grown_boxes([polylines[k] for k in has], sizes[has], half)
     pairs = _cell_pairs(BoxGrid(lo, hi))
@@ -149,7 +149,7 @@ def _near_pairs(polylines, reach, group=None):
     blo, bhi = blo[order], bhi[order]
     cnt = np.bincount(ring, minlength=len(has))
     first = np.cumsum(cnt) - cnt
-    close = np.flatnonzero(cnt)
+    close = cnt.ravel().nonzero()[0]
     a, b = polyline_edges([polylines[k] for k in has[close]])
     owner = np.repeat(close, sizes[has[close]])               # index into has
     per = cnt[owner]
@@ -231,7 +231,7 @@ def _apart_groups(loops, margin):
         new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
         changed = bool(np.any(new != group))
         group = new
-    return [list(np.flatnonzero(group == g)) for g in unique(group)]
+    return [list((group == g).ravel().nonzero()[0]) for g in unique(group)]
 
 
 def _without_sliver_holes(loops, eps):

@@ -193,7 +193,7 @@ def stack_rows(pieces, rows):
     out = np.empty((len(rows), deg + 1, 3))
     for ks, h in pieces.groups:
         at = np.searchsorted(ks, rows)
-        hit = np.flatnonzero(ks[np.minimum(at, len(ks) - 1)] == rows) if len(ks) else at[:0]
+        hit = (ks[np.minimum(at, len(ks) - 1)] == rows).ravel().nonzero()[0] if len(ks) else at[:0]
         if len(hit):
             out[hit] = bz.elevate_many(h[at[hit]], deg + 1 - h.shape[1])
     return out
@@ -209,7 +209,7 @@ def _crowded(counts, pair_items, max_items):
         drop = np.cumsum(rest[order]) > rest.sum() - max_items
         cut = int(np.argmax(drop)) + 1           # the fewest largest whose removal fits
         over[order[:cut]] = True
-    return np.flatnonzero(over)
+    return over.ravel().nonzero()[0]
 
 
 def _diffs(c):

@@ -242,7 +242,7 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
     chord = xy[nxt] - xy
     length = np.hypot(chord[:, 0], chord[:, 1])
-    todo = np.flatnonzero(pending)
+    todo = pending.ravel().nonzero()[0]
     arc = ~pending   # decided parts are arcs in their chords' cones
     line = np.zeros(len(pid), bool)
     for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
@@ -298,7 +298,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     mt = np.concatenate([ts[keep], fts[take]])
     mx = np.concatenate([xy[keep], fxy[take]])
     loose = np.concatenate([~on_fine[keep], np.zeros(take.sum(), bool)])
-    mseg = np.concatenate([np.flatnonzero(keep), seg[take]])
+    mseg = np.concatenate([keep.ravel().nonzero()[0], seg[take]])
     order = pl.piece_order(mp, mt)
     mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
     # gaps: a chord within a refined segment with a loose end (to the next vertex of
@@ -308,7 +308,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     loose_next = np.where(last, False, np.append(loose[1:], False))
     gap = fine[mseg] & (loose | loose_next)
     if gap.any():
-        g = np.flatnonzero(gap)
+        g = gap.ravel().nonzero()[0]
         parts = pc.subsegments(pieces, mp[g], mt[g], t_next[g])
         owner, s, pts = pl.flat_starts(parts, eps)
         inner = s > 0.0
@@ -335,7 +335,7 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     lifts are where they are, whatever their distance (their rounding is the hot
     pixels' business)."""
     near = np.zeros(len(todo), bool)
-    has = np.flatnonzero(nxt[todo] != todo)
+    has = (nxt[todo] != todo).ravel().nonzero()[0]
     if len(has) < 2:
         return near
     seg = todo[has]
@@ -392,10 +392,10 @@ def _segment_parts(pieces, pid, t0, t1):
         group[of] = g
         row[of] = np.arange(len(of))
     for g, (_, stack) in sorted(enumerate(groups), key=lambda x: x[1][1].shape[1]):
-        k = np.flatnonzero(group[pid] == g)
+        k = (group[pid] == g).ravel().nonzero()[0]
         parts = stack[row[pid[k]]]
         # a segment over its whole piece (most at the coarse level) is the piece
-        cut = np.flatnonzero((t0[k] != 0.0) | (t1[k] != 1.0))
+        cut = ((t0[k] != 0.0) | (t1[k] != 1.0)).ravel().nonzero()[0]
         if len(cut):
             parts[cut] = bz.subsegment_many(parts[cut], t0[k[cut]], t1[k[cut]])
         yield k, parts
@@ -413,7 +413,7 @@ def _in_cone(parts, chord, cos_max):
 
 def _links(loop_of):
     """(nxt, prv, starts) of closed loops stored one after another (loop_of sorted)."""
-    first = np.flatnonzero(np.diff(loop_of, prepend=-1))
+    first = np.diff(loop_of, prepend=-1).ravel().nonzero()[0]
     starts = np.append(first, len(loop_of))
     idx = np.arange(len(loop_of))
     nxt = idx + 1
@@ -451,8 +451,8 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
     lo_x, lo_y = np.minimum(ax, bx) - 0.5, np.minimum(ay, by) - 0.5
     hi_x, hi_y = np.maximum(ax, bx) + 0.5, np.maximum(ay, by) + 0.5
-    keep = np.flatnonzero((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
-                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
+    keep = ((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
+                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h)).ravel().nonzero()[0]
     h, s = h[keep], s[keep]
     c = np.stack([cx[keep], cy[keep]], axis=1)
     keep = _line_crosses_square(a[s], b[s], c)
@@ -529,7 +529,7 @@ def _merge_equal(q, is_start, loop_of):
     own = count - before[loop]                       # ... of the loop, up to i
     live = total[loop] > 0
     run = np.where(own > 0, count, before[loop] + total[loop]) - 1
-    run_start = np.flatnonzero(begins)               # run r begins at run_start[r]
+    run_start = begins.ravel().nonzero()[0]               # run r begins at run_start[r]
     idx = np.arange(n)
     r0 = run_start[np.where(live, run, 0)]
     key = np.where(live, (idx - r0) % size[loop], 0)  # position along its run

@@ -86,7 +86,7 @@ def points_deep_enough(holes, enough):
         return np.zeros((0, 2)), np.zeros(0)
     x, depth = _search_many([[ring] + list(islands) for ring, islands in holes], COARSE_GRID,
                             1, enough, alone_search=False)
-    rest = np.flatnonzero(~(depth >= enough))
+    rest = (~(depth >= enough)).ravel().nonzero()[0]
     if len(rest):
         x[rest], depth[rest] = deepest_points([holes[h] for h in rest], enough=enough)
     return x, depth
@@ -132,7 +132,7 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
     active = np.ones(n, bool)
     alone = []
     for r in range(rounds):
-        act = np.flatnonzero(active)
+        act = active.ravel().nonzero()[0]
         if not len(act):
             break
         cand = (center[act, None, :] + unit[None] * half[act, None, :]).reshape(-1, 2)
@@ -191,7 +191,7 @@ def _inside_own(pts, owner, a, b, e_start, e_count, poly_of_edge, n_poly, row=1)
     key = pt * int(n_poly.max()) + poly
     order = np.argsort(key, kind="stable")
     key, sign = key[order], sign[order]
-    first = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]]))
+    first = np.concatenate([[True], key[1:] != key[:-1]]).ravel().nonzero()[0]
     odd = np.add.reduceat(sign, first) % 2 == 1 if len(key) else np.zeros(0, bool)
     kpt, kpoly = pt[order][first], poly[order][first]
     in_ring = np.zeros(len(pts), bool)
@@ -390,7 +390,7 @@ class Membership:
         unknown = np.isnan(self._areas[loops])
         if unknown.any():
             self._areas[loops[unknown]] = mo.loop_areas([region[i] for i in
-                                                         np.flatnonzero(unknown).tolist()])
+                                                         unknown.ravel().nonzero()[0].tolist()])
         sizes = self._sizes[loops]
         owner, _, pts = pl.flat_starts([p for loop in region for p in loop], self.flat)
         loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
@@ -411,7 +411,7 @@ class Membership:
 
     def _all(self):
         self._prepare(np.arange(len(self.region_a)))
-        return np.flatnonzero(self._closed), np.flatnonzero(~self._closed)
+        return self._closed.ravel().nonzero()[0], (~self._closed).ravel().nonzero()[0]
 
     @property
     def pa(self):
@@ -461,7 +461,7 @@ class Membership:
         self._prepare(unique(near))
         part, first = _meeting_many(self._box, lo, hi, self._ok & self._ready)
         pt = np.repeat(np.arange(len(x)), np.diff(first))
-        test = np.flatnonzero(np.diff(first) > 0)
+        test = (np.diff(first) > 0).ravel().nonzero()[0]
         if not len(test):
             return out
         apart = self._apart(x, pt, part)
@@ -544,7 +544,7 @@ class Membership:
         numbers about all those parts summed (Clipper's nonzero rule on the
         subject), nonzero.  The vertex lies on no part's edge (the contact test
         comes first), so each winding number is exact."""
-        closed_pair = np.flatnonzero(self._closed[part])
+        closed_pair = self._closed[part].ravel().nonzero()[0]
         n_b = rep_b.shape[1]
         if not (len(closed_pair) and n_b):
             return np.zeros(0, np.int64)
@@ -561,7 +561,7 @@ class Membership:
         key = (pt[cp] * n_b + j)[row]
         wind = np.bincount(key, weights=_crossing_signs(v[row], self._q[e], self._q[e_next]),
                            minlength=(int(pt.max()) + 1) * n_b)
-        return unique(np.flatnonzero(wind != 0) // n_b)
+        return unique((wind != 0).ravel().nonzero()[0] // n_b)
 
     def _segment_table(self, parts):
         """The segments of loops ``parts`` (ascending) as Clipper gets them: a
@@ -691,7 +691,7 @@ def _meeting_many(boxes, lo, hi, ok):
     meet it (touching counts), found through a grid of all the boxes
     (:func:`morph.polyline._cell_pairs`, a superset) and checked on the integers:
     (ids, first), box i's ascending in ids[first[i]:first[i + 1]]."""
-    cand = np.flatnonzero(ok)
+    cand = ok.ravel().nonzero()[0]
     n = len(lo)
     if not len(cand) or not n:
         return np.zeros(0, np.int64), np.zeros(n + 1, np.int64)

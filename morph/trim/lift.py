@@ -88,7 +88,7 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
     the next lie on different pieces that cross there; NaN elsewhere), by Newton on
     the exact pieces in one batch; the crossing parameters are written into ``tq``
     (of edge i) and ``tp`` (of the next edge) in place."""
-    k = np.flatnonzero(cross)
+    k = cross.ravel().nonzero()[0]
     guess = tg.to_float(v[nx[k]])
     point = np.full((len(v), 2), np.nan)  # junction point after edge i
     if len(k):
@@ -129,14 +129,14 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     (:func:`morph.piece.subsegments`)."""
     n_rings = len(rings)
     ring_of = np.repeat(np.arange(n_rings), sizes)
-    junction = np.flatnonzero(~cont)                 # sorted: grouped by ring, in order
+    junction = (~cont).ravel().nonzero()[0]                 # sorted: grouped by ring, in order
     jr = ring_of[junction]
     count = np.bincount(jr, minlength=n_rings)
     lo = np.cumsum(count) - count                    # first junction of each ring
     i = np.arange(len(junction))
     prev = np.where(i == lo[jr], lo[jr] + count[jr] - 1, i - 1)
     e_first, e_last = nx[junction[prev]], junction
-    whole = np.flatnonzero(count == 0)               # a whole single-piece loop
+    whole = (count == 0).ravel().nonzero()[0]               # a whole single-piece loop
     e = first[whole]
     ring = np.concatenate([jr, whole])
     piece_id = np.concatenate([pid[e_first], pid[e]]).astype(int)
@@ -170,7 +170,7 @@ def _with_spikes_cut(flat, flagged, reach):
     hit = np.zeros(len(per), bool)
     hit[[r for r, _ in flagged]] = True
     runs = {}
-    for r in np.flatnonzero(hit).tolist():
+    for r in hit.ravel().nonzero()[0].tolist():
         a, b = int(base[r]), int(base[r] + per[r])
         runs[r] = (pieces.take(np.arange(a, b)).rows(), list(ends[a:b]))
     _cut_flagged(runs, flagged, reach)
@@ -185,7 +185,7 @@ def _with_spikes_cut(flat, flagged, reach):
     where = np.empty(len(cut_row), np.int64)
     where[~cut_row] = np.arange(int(kept.sum()))
     where[cut_row] = kept.sum() + np.arange(len(new))
-    both = pieces.take(np.flatnonzero(kept)).then(new)
+    both = pieces.take(kept.ravel().nonzero()[0]).then(new)
     return (both.take(where), np.concatenate([ends[kept], new_ends])[where], new_per)
 
 
@@ -219,7 +219,7 @@ def _close_all(flat, contract):
     pieces = pc.Pieces.of(pieces)
     ring = np.repeat(np.arange(n_rings), per_ring)
     keep = pc.length_bounds(pieces) >= contract
-    idx = np.flatnonzero(keep)
+    idx = keep.ravel().nonzero()[0]
     kr = ring[idx]
     per = np.bincount(kr, minlength=n_rings)
     base = np.cumsum(per) - per
@@ -284,7 +284,7 @@ def _spike_triples(flat, reach):
     pieces, ends, per = flat
     ring = np.repeat(np.arange(len(per)), per)
     base = np.cumsum(per) - per
-    i = np.flatnonzero(per[ring] >= 3)
+    i = (per[ring] >= 3).ravel().nonzero()[0]
     if not len(i):
         return []
     r = ring[i]
@@ -302,7 +302,7 @@ def _spike_triples(flat, reach):
     g = np.concatenate([ends[i] - lim[:, None], ends[i] + lim[:, None]], axis=1)
     lo = np.maximum(np.maximum(box[:m, :2], box[m:, :2]) - atol, g[:, :2])
     hi = np.minimum(np.minimum(box[:m, 2:], box[m:, 2:]) + atol, g[:, 2:])
-    maybe = np.flatnonzero((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1]))
+    maybe = ((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1])).ravel().nonzero()[0]
     if not len(maybe):
         return []
     i, r, j, prev, nxt, lim = i[maybe], r[maybe], j[maybe], prev[maybe], nxt[maybe], lim[maybe]
@@ -397,7 +397,7 @@ def _edge_segments(p, q, tg, nx=None):
     against = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(iq, 0)] == ip) & ~along
     seg[along], seg[against] = ip[along], iq[against]
     direction[against] = False
-    rest = np.flatnonzero(~(along | against))
+    rest = (~(along | against)).ravel().nonzero()[0]
     if len(rest):
         seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg, (sk, order))
     return seg, direction
@@ -421,7 +421,7 @@ def _matched_segments(p, q, tg, sorted_keys):
     cand_e, cand_s = _vertex_candidates(p, q, tg, sorted_keys)
     best, seg, direction = _best_fits(len(p), cand_e, cand_s, *_fit(
         p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
-    lost = np.flatnonzero(best > MATCH_UNITS)
+    lost = (best > MATCH_UNITS).ravel().nonzero()[0]
     if len(lost):
         s, f = _nearest_segments(p[lost], q[lost], sa, sb, tg)
         seg[lost], direction[lost] = s, f
@@ -447,7 +447,7 @@ def _nearest_segments(p, q, sa, sb, tg=None):
         grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
         e, s = grid.at_points(p)
     best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
-    far = np.flatnonzero(best > MATCH_UNITS)
+    far = (best > MATCH_UNITS).ravel().nonzero()[0]
     for chunk in np.array_split(far, max(1, len(far) // 64)):
         if len(chunk):
             sc, fw = _fit(p[chunk, None], q[chunk, None], sa[None], sb[None])
@@ -466,7 +466,7 @@ def _best_fits(n, e, s, score, fwd):
     # the first, as a stable sort by (edge, score) takes them): two unbuffered
     # reductions, no sort
     np.fmin.at(best, e, score)
-    hit = np.flatnonzero(score == best[e])
+    hit = (score == best[e]).ravel().nonzero()[0]
     first = np.full(n, len(e))
     np.minimum.at(first, e[hit], hit)
     take = first[first < len(e)]

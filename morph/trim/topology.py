@@ -329,7 +329,7 @@ def _without_lone_slivers(thin, sizes, q):
     rings are kept (a mask)."""
     starts = np.cumsum(sizes) - sizes
     area, perimeter = packed_measures(sizes, q)
-    thin_ids = np.flatnonzero(2.0 * np.abs(area) <= thin * perimeter)
+    thin_ids = (2.0 * np.abs(area) <= thin * perimeter).ravel().nonzero()[0]
     if len(thin_ids) == 0:
         return np.ones(len(sizes), bool)
     qf = q.astype(float)

@@ -76,7 +76,7 @@ def _recut(pieces, cones, idx, sizes, out, cut):
     were, then the cut loops', gathered and measured alone."""
     cut_set = set(cut)
     kept = np.array([k not in cut_set for k in idx])
-    rows = np.flatnonzero(np.repeat(kept, sizes))
+    rows = np.repeat(kept, sizes).ravel().nonzero()[0]
     new = [p for k in cut for p in out[k]]
     new_cones = pc.tangent_cones(new)
     cones = tuple(np.concatenate([c[rows], n]) for c, n in zip(cones, new_cones))
@@ -267,13 +267,13 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     hits = {}
 
     def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
-        fresh = np.flatnonzero(~pl.member(owner[pa], _keys(hits)))
+        fresh = (~pl.member(owner[pa], _keys(hits))).ravel().nonzero()[0]
         pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
         ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
         guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
         hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
                                   first, sizes))
-        return np.flatnonzero(pl.member(owner[pairs[:, 0]], _keys(hits)))
+        return pl.member(owner[pairs[:, 0]], _keys(hits)).ravel().nonzero()[0]
 
     # each level's candidates are refined as they come: a loop takes the first
     # crossing in their order (level by level, then those of the polylines), and
@@ -301,7 +301,7 @@ def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
     rank = _ranks(loop)
     hits = {}
     for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
-        c = np.flatnonzero(stage & ~pl.member(loop, _keys(hits)))
+        c = (stage & ~pl.member(loop, _keys(hits))).ravel().nonzero()[0]
         if not len(c):
             continue
         s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
@@ -323,7 +323,7 @@ def _ranks(group):
     """Each entry's rank among the entries of its group, in order."""
     order = np.argsort(group, kind="stable")
     g = group[order]
-    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+    start = np.r_[True, g[1:] != g[:-1]].ravel().nonzero()[0]
     rank = np.empty(len(group), np.int64)
     rank[order] = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
     return rank
@@ -341,7 +341,7 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
     end = (((j == i + 1) & (si >= 1 - 1e-9) & (wj <= 1e-9))
            | ((i == 0) & (j == sizes[li] - 1) & (si <= 1e-9) & (wj >= 1 - 1e-9))
            | ((i == j) & (np.abs(si - wj) <= 1e-9)))
-    valid = np.flatnonzero(ok & ~end)
+    valid = (ok & ~end).ravel().nonzero()[0]
     order = valid[np.argsort(li[valid], kind="stable")]    # by loop, then candidate order
     return order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
 
@@ -532,7 +532,7 @@ def _fold_joins_many(loops):
     owner = np.repeat(np.arange(len(loops)), sizes)
     at = np.arange(len(owner)) - starts[owner]
     nxt = starts[owner] + (at + 1) % sizes[owner]
-    fold = np.flatnonzero(np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS)
+    fold = (np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS).ravel().nonzero()[0]
     per = [[] for _ in loops]
     for o, i in zip(owner[fold].tolist(), at[fold].tolist()):
         per[o].append(i)
@@ -558,7 +558,7 @@ def _fold_cuts(jobs, width):
     s = np.where(a_short, 0.0, t_near[:, -1])
     u = np.where(a_short, t_near[:, 0], 1.0)
     cut = close.copy()
-    rest = np.flatnonzero(~close)
+    rest = (~close).ravel().nonzero()[0]
     if len(rest):
         ra, rb = [a_s[f] for f in rest.tolist()], [b_s[f] for f in rest.tolist()]
         zs, zu, window, zipped = _zip_many(ra, rb, COINCIDE * width, width)
@@ -628,14 +628,14 @@ def _parting_many(a_s, b_s, s, u, window, zipped):
     it; else the zip's own cut (s, u), also where a piece goes whole.  All folds at
     once."""
     s, u = s.copy(), u.copy()
-    rows = np.flatnonzero(zipped & (s > 0.0) & (u < 1.0))
+    rows = (zipped & (s > 0.0) & (u < 1.0)).ravel().nonzero()[0]
     if not len(rows):
         return s, u
     ra, rb = [a_s[f] for f in rows.tolist()], [b_s[f] for f in rows.tolist()]
     d = pc.end_tangents_many(rb)[0]
     t = np.linspace(window[rows, 0], window[rows, 1], 4097, axis=1)
     k = np.argmax(np.einsum("kqj,kj->kq", _evaluate_rows(ra, t), d), axis=1)
-    inner = np.flatnonzero((k > 0) & (k < t.shape[1] - 1))
+    inner = ((k > 0) & (k < t.shape[1] - 1)).ravel().nonzero()[0]
     if not len(inner):
         return s, u
     s_new = t[inner, k[inner] - 1]
@@ -771,7 +771,7 @@ def _snap_many(loops, min_len):
         sizes = np.array([len(out[k]) for k in going], np.int64)
         keep = pc.length_bounds(flat) > min_len
         owner = np.repeat(np.arange(len(going)), sizes)[keep]
-        idx = np.flatnonzero(keep)
+        idx = keep.ravel().nonzero()[0]
         per = np.bincount(owner, minlength=len(going))
         first = np.cumsum(per) - per
         at = np.arange(len(idx)) - first[owner]
@@ -827,7 +827,8 @@ def _ray_windings(xs, loops, flat):
     flat_pieces = [p for loop in loops for p in loop]
     owner = np.repeat(np.arange(len(loops)), sizes)
     box, x = pc.bboxes(flat_pieces), xs[owner]
-    meet = np.flatnonzero((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1]) & (box[:, 2] >= x[:, 0]))
+    meet = ((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1])
+            & (box[:, 2] >= x[:, 0])).nonzero()[0]
     if not len(meet):
         return out
     met = pc.Pieces.of(flat_pieces).take(meet)
@@ -881,7 +882,8 @@ def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
     ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
     the windings and the hole tests of all lobes at once."""
     keep = np.zeros(len(lobes), bool)
-    test = np.flatnonzero(np.array([bool(lb) for lb in lobes], bool) & (np.abs(a_lobe) > eps * eps))
+    test = (np.array([bool(lb) for lb in lobes], bool)
+            & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
     if not len(test):
         return keep
     mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]
