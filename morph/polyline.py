@@ -77,9 +77,10 @@ def piece_order(owner, t):
     ones added to it are: a few times faster than lexsort's two), checked in one
     pass to be in (owner, t) order; lexsort where it is not (parameters of one
     piece nearer than the float's resolution there)."""
-    order = np.argsort(owner * 2.0 + t, kind="stable")
+    order = (owner * 2.0 + t).argsort(kind="stable")
     o, s = owner[order], t[order]
-    if len(o) < 2 or bool(((o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1]))).all()):
+    if len(o) < 2 or bool(np.logical_and.reduce(
+            (o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1])))):
         return order
     return np.lexsort((t, owner))
 
@@ -716,7 +717,7 @@ def _point_segment(px, py, ax, ay, abx, aby):
     """:func:`segment_distance` from points (px, py) to segments from (ax, ay) along
     (abx, aby), on columns."""
     ll = np.maximum(abx * abx + aby * aby, 1e-300)
-    t = np.clip(((px - ax) * abx + (py - ay) * aby) / ll, 0.0, 1.0)
+    t = np.minimum(np.maximum(((px - ax) * abx + (py - ay) * aby) / ll, 0.0), 1.0)
     return np.hypot(ax + t * abx - px, ay + t * aby - py)
 
 
@@ -875,7 +876,8 @@ def project(x, a, b):
     # the two products added as columns: a sum over a last axis of 2 is a slow
     # reduction in numpy (a loop per row), and the same bits
     ll = np.maximum(ab[..., 0] * ab[..., 0] + ab[..., 1] * ab[..., 1], 1e-300)
-    return np.clip((ax[..., 0] * ab[..., 0] + ax[..., 1] * ab[..., 1]) / ll, 0.0, 1.0)
+    return np.minimum(np.maximum((ax[..., 0] * ab[..., 0] + ax[..., 1] * ab[..., 1]) / ll, 0.0),
+                      1.0)
 
 
 def segment_distance(x, a, b):

@@ -303,9 +303,9 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
     # gaps: a chord within a refined segment with a loose end (to the next vertex of
     # its piece, or to the piece's end)
-    last = np.append(mp[1:] != mp[:-1], True)
-    t_next = np.where(last, 1.0, np.append(mt[1:], 1.0))
-    loose_next = np.where(last, False, np.append(loose[1:], False))
+    last = np.concatenate((mp[1:] != mp[:-1], [True]))
+    t_next = np.where(last, 1.0, np.concatenate((mt[1:], [1.0])))
+    loose_next = np.where(last, False, np.concatenate((loose[1:], [False])))
     gap = fine[mseg] & (loose | loose_next)
     if gap.any():
         g = gap.ravel().nonzero()[0]
@@ -413,8 +413,11 @@ def _in_cone(parts, chord, cos_max):
 
 def _links(loop_of):
     """(nxt, prv, starts) of closed loops stored one after another (loop_of sorted)."""
-    first = np.diff(loop_of, prepend=-1).ravel().nonzero()[0]
-    starts = np.append(first, len(loop_of))
+    change = np.empty(len(loop_of), bool)     # loop_of >= 0: the first entry starts a loop
+    change[:1] = True
+    change[1:] = loop_of[1:] != loop_of[:-1]
+    first = change.nonzero()[0]
+    starts = np.concatenate((first, [len(loop_of)]))
     idx = np.arange(len(loop_of))
     nxt = idx + 1
     nxt[starts[1:] - 1] = starts[:-1]

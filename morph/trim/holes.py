@@ -11,6 +11,8 @@ A ∩ (x − B) ≠ ∅, evaluated on A and B flattened within a tenth of the po
 predicates where the two are apart, Clipper's intersection elsewhere.
 """
 
+import functools
+
 import numpy as np
 import pyclipper
 
@@ -126,8 +128,7 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
     hi = np.maximum.reduceat(padded, bounds)[::2]
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center.copy(), np.full(n, -np.inf)
-    g = np.linspace(-1.0, 1.0, grid_n)
-    unit = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    unit = _unit_grid(grid_n)
     c = len(unit)
     active = np.ones(n, bool)
     alone = []
@@ -264,6 +265,16 @@ def _depth(x, ring, islands):
     return float(min_segment_distance(x, a, b)[0])
 
 
+@functools.lru_cache(maxsize=8)
+def _unit_grid(grid_n):
+    """The grid_n x grid_n points of [-1, 1]^2 that a search round tries, (grid_n^2, 2)
+    (x fastest), made once per size (read-only)."""
+    g = np.linspace(-1.0, 1.0, grid_n)
+    unit = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    unit.flags.writeable = False
+    return unit
+
+
 def _search(ring, islands, grid_n, rounds, enough=np.inf):
     """:func:`deepest_point`'s grid search on the given polygons."""
     polys = [ring] + list(islands)
@@ -273,8 +284,7 @@ def _search(ring, islands, grid_n, rounds, enough=np.inf):
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center, -np.inf
     for r in range(rounds):
-        g = np.linspace(-1.0, 1.0, grid_n)
-        cand = center + np.stack(np.meshgrid(g, g), -1).reshape(-1, 2) * half
+        cand = center + _unit_grid(grid_n) * half
         inside = winding_number(cand, [ring]) % 2 == 1
         for isl in islands:
             inside &= winding_number(cand, [isl]) % 2 == 0

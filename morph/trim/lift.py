@@ -622,7 +622,9 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
-    sin_half = np.sqrt(np.clip(0.5 * (1.0 - np.nan_to_num(cos, nan=1.0)), 0.0, 1.0))
+    # np.clip(0.5 (1 - nan_to_num(cos, nan=1)), 0, 1): an infinite cos clips to 0 either way
+    sin_half = np.sqrt(np.minimum(np.maximum(0.5 * (1.0 - np.where(cos != cos, 1.0, cos)), 0.0),
+                                  1.0))
     # the allowance only for crossings inside both pieces (Newton clamps to [0, 1],
     # and consecutive pieces meet at their ends) and not near-tangent: where two
     # pieces touch or continue each other, Newton stalls anywhere along the contact

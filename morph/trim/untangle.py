@@ -20,7 +20,7 @@ from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from ..quadrature import gauss_legendre
-from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
+from .crossing import JOINED, PAIRS, SELF, _upper, subdivided_crossings, uncertain_pairs
 from .lift import _jet_rows, newton_crossings
 
 
@@ -377,7 +377,7 @@ def _hulls_apart(pieces, pairs):
     h = pc.stack(pc.Pieces.of(pieces).take(used))
     positive = np.all(h[..., 2] > 0.0, axis=1)
     x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
-    i, j = np.triu_indices(x.shape[1], 1)
+    i, j = _upper(x.shape[1])
     d = x[:, j] - x[:, i]
     axes = np.concatenate([d[inv[:, 0]], d[inv[:, 1]]], axis=1)  # normals (-dy, dx) of these
     xt = x.transpose(1, 0, 2)    # control point first: the extremes are taken across slabs
