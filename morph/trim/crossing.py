@@ -25,8 +25,8 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     """
     if pieces is None:
         pieces = [p for loop in loops for p in loop]
-    sizes = np.array([len(loop) for loop in loops])
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    sizes = np.fromiter(map(len, loops), np.int64, len(loops))
+    owner = np.arange(len(loops)).repeat(sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     local = np.arange(len(pieces)) - first[owner]
     start, lo, hi, end = cones if cones is not None else pc.tangent_cones(pieces)

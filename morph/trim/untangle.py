@@ -12,6 +12,8 @@ kept as a loop of its own.  Zero-width spikes (a piece folding back onto its
 neighbour) are removed first.
 """
 
+import itertools
+
 import numpy as np
 
 from .. import bernstein as bz
@@ -35,20 +37,22 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     searched again.  ``pieces``: the loops' pieces one loop after another as a
     :class:`morph.piece.Pieces` where the caller has them
     (:func:`.lift.lift_rings`): the first round searches them as they are."""
-    out = [list(loop) for loop in loops]
-    active = [True] * len(out)
+    out = list(map(list, loops))
+    idx = list(range(len(out)))   # the loops searched in a round: all, then those split
     for _ in range(max_rounds):
-        idx = [k for k, a in enumerate(active) if a]
         if not idx:
             break
         # the active loops' pieces stacked and their tangent cones taken once for
         # the fold test and the crossing search; where folds were cut, the cut
-        # loops' again, put after the others (the search is loop by loop)
-        sizes = [len(out[k]) for k in idx]
+        # loops' again, put after the others (the search is loop by loop).  Per
+        # loop, only C-level passes (map, comprehensions without calls): a chunk's
+        # first round holds every loop of its glyphs
+        sel = [out[k] for k in idx]
+        sizes = list(map(len, sel))
         if pieces is None or len(idx) != len(out):
-            pieces = pc.Pieces.of([p for k in idx for p in out[k]])
+            pieces = pc.Pieces.of([p for loop in sel for p in loop])
         cones = pc.tangent_cones(pieces)
-        may = [k for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)) if f]
+        may = list(itertools.compress(idx, _may_fold(sel, cones, sizes).tolist()))
         cut = []
         for k, loop in zip(may, remove_folds_many([out[k] for k in may], 2.0 * eps)):
             if len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k])):
@@ -60,13 +64,28 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
                                                        cones).items()}
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
                                                eps, hole_test)))
-        new_out, new_active = [], []
-        for k, loop in enumerate(out):
-            parts = split.get(k, [loop])
-            new_out += parts
-            new_active += [k in split] * len(parts)
-        out, active, pieces = new_out, new_active, None
+        out, idx = _replaced(out, split)
+        pieces = None
     return out
+
+
+def _replaced(loops, split):
+    """(loops with each loop k of ``split`` replaced by its parts split[k], the
+    indices of those parts): the loops searched next round.  Python steps per
+    loop split only."""
+    out, parts_at, prev = [], [], 0
+    for k in sorted(split):
+        out += loops[prev:k]
+        parts_at += range(len(out), len(out) + len(split[k]))
+        out += split[k]
+        prev = k + 1
+    out += loops[prev:]
+    return out, parts_at
+
+
+def _sizes(loops):
+    """The lengths of ``loops`` as an int64 array, in one C-level pass."""
+    return np.fromiter(map(len, loops), np.int64, len(loops))
 
 
 def _recut(pieces, cones, idx, sizes, out, cut):
@@ -253,7 +272,7 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     pieces in order, when known."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
-    sizes = np.array([len(loop) for loop in loops])
+    sizes = _sizes(loops)
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
@@ -429,16 +448,17 @@ def _polyline_crossings(pieces, suspects, flat):
 FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
 
 
-def _may_fold(loops, cones=None):
+def _may_fold(loops, cones=None, sizes=None):
     """Per loop: whether some join turns by nearly pi (see :func:`remove_folds`; all
-    joins at once, with a margin over its test); ``cones``: the
-    :func:`morph.piece.tangent_cones` of the loops' pieces in order when known."""
-    n = sum(len(loop) for loop in loops)
+    joins at once, with a margin over its test), a bool array; ``cones``: the
+    :func:`morph.piece.tangent_cones` of the loops' pieces in order when known;
+    ``sizes``: their lengths when known."""
+    sizes = _sizes(loops) if sizes is None else np.asarray(sizes, np.int64)
+    n = int(np.add.reduce(sizes))
     if not n:
-        return [False] * len(loops)
+        return np.zeros(len(loops), bool)
     start, _, _, end = cones if cones is not None else pc.tangent_cones(
         [p for loop in loops for p in loop])
-    sizes = np.array([len(loop) for loop in loops])
     owner = np.repeat(np.arange(len(loops)), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     nxt = first[owner] + (np.arange(n) - first[owner] + 1) % sizes[owner]
