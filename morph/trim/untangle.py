@@ -33,8 +33,10 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     :func:`morph.trim.boundary`, decides a lobe that would be a hole of the rest
     (None: winding numbers decide).  Each round splits every loop that still
     crosses itself at one crossing (so a loop gets up to ``max_rounds`` splits
-    however many other loops there are); loops found free of crossings are not
-    searched again.  ``pieces``: the loops' pieces one loop after another as a
+    however many other loops there are), and where that crossing is a curl (a
+    piece crossing itself), at the round's other curls of the loop that go
+    whatever the order of the cuts (:func:`_cut_curls`); loops found free of
+    crossings are not searched again.  ``pieces``: the loops' pieces one loop after another as a
     :class:`morph.piece.Pieces` where the caller has them
     (:func:`.lift.lift_rings`): the first round searches them as they are."""
     out = list(map(list, loops))
@@ -60,10 +62,12 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
                 cut.append(k)
         if cut:
             pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
-        hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
-                                                       cones).items()}
+        found = {}
+        local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
+        hits = {idx[a]: h for a, h in local.items()}
+        curls = [found.get(a, ()) for a in local] if found else None
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
-                                               eps, hole_test)))
+                                               eps, hole_test, curls)))
         out, idx = _replaced(out, split)
         pieces = None
     return out
@@ -237,11 +241,14 @@ def _union_arcs(la, lb, ca, cb, eps):
     return _snap(a_arc + b_arc, 1e-6 * eps)
 
 
-def _split_off_many(loops, hits, eps, hole_test):
+def _split_off_many(loops, hits, eps, hole_test, curls=None):
     """The parts of each loop kept after splitting it at its crossing (i, s, j, u, x)
     of ``hits``: the larger part, and the smaller (the lobe) where
     :func:`_keep_lobes` says so.  All loops at once: the cuts, the snapping, the
-    areas and the lobes' tests of all together."""
+    areas and the lobes' tests of all together.  ``curls``: per loop, more curls
+    [(piece, s, u)] to cut off first (:func:`_cut_curls`), or None."""
+    if curls is not None:
+        loops, hits = _cut_curls(loops, hits, curls, eps)
     lobes, rests = _split_many(loops, hits, 1e-6 * eps)
     areas = _loop_areas(lobes + rests)
     a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
@@ -256,7 +263,40 @@ def _split_off_many(loops, hits, eps, hole_test):
             for lb, r, k in zip(lobes, rests, keep)]
 
 
-def _first_crossings(loops, eps, pieces=None, cones=None):
+def _cut_curls(loops, hits, curls, eps):
+    """(loops, hits) with the curls [(piece, s, u)] of each loop (``curls``, one list
+    per loop) cut off first where they go whatever the order of the cuts: the
+    lobe i[s:u] of area at most eps^2 (:func:`_keep_lobes` drops it) and no larger
+    than the rest of its loop (so the lobe is the part that goes).  The curl's piece
+    becomes i[:s], i[u:] (:func:`_split_many` snaps their join with its own cut's);
+    each loop's crossing of ``hits`` (on another piece) is renumbered past the
+    pieces added before it."""
+    rows = [(n, i, s, u) for n, cs in enumerate(curls) for i, s, u in cs]
+    if not rows:
+        return loops, hits
+    n, i, s, u = (np.array(c) for c in zip(*rows))
+    src = [loops[a][b] for a, b in zip(n.tolist(), i.tolist())]
+    lobe = pc.subsegments(src, np.arange(len(src)), s, u)
+    a_lobe = _loop_areas([[p] for p in lobe])
+    a_loop = _loop_areas([loops[k] for k in n.tolist()])   # per row: its loop's area
+    small = np.abs(a_lobe) <= eps * eps
+    rest = a_loop - np.bincount(n, weights=np.where(small, a_lobe, 0.0), minlength=len(loops))[n]
+    go = (small & (np.abs(a_lobe) <= np.abs(rest))).nonzero()[0]
+    if not len(go):
+        return loops, hits
+    cut = pc.subsegments([src[k] for k in go.tolist()] * 2, np.arange(2 * len(go)),
+                         np.concatenate([np.zeros(len(go)), u[go]]),
+                         np.concatenate([s[go], np.ones(len(go))]))
+    loops, hits = list(loops), list(hits)
+    for g, k in reversed(list(enumerate(go.tolist()))):   # per curl cut; last first
+        a, b = int(n[k]), int(i[k])
+        loops[a] = loops[a][:b] + [cut[g], cut[len(go) + g]] + loops[a][b + 1:]
+        hi, hs, hj, hu, hx = hits[a]
+        hits[a] = (hi + (hi > b), hs, hj + (hj > b), hu, hx)
+    return loops, hits
+
+
+def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
     """{loop: (piece i, s, piece j, u, point)}: one crossing of two pieces of each
     loop that has one, away from their shared ends (i < j, or i == j for a piece
     crossing itself), refined on the exact pieces.
@@ -269,7 +309,9 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
     the search of a loop ends at its first crossing in candidate order.  ``pieces``
     (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
-    pieces in order, when known."""
+    pieces in order, when known.  ``curls``: a dict that gets, for each loop whose
+    crossing is a curl (i == j), the other curls on other pieces that the same
+    Newton batch confirmed, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = _sizes(loops)
@@ -291,7 +333,7 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
         ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
         guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
         hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
-                                  first, sizes))
+                                  first, sizes, curls))
         return pl.member(owner[pairs[:, 0]], _keys(hits)).ravel().nonzero()[0]
 
     # each level's candidates are refined as they come: a loop takes the first
@@ -307,14 +349,14 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     return hits
 
 
-def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
+def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes, curls=None):
     """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
     candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
     b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
     candidates are refined first, the others of the loops none of those settled
     next: a loop takes its first crossing in that order, as when all are refined
     at once (Newton works row by row), with fewer rows where a loop has many (legs
-    that nearly coincide give hundreds)."""
+    that nearly coincide give hundreds).  ``curls``: see :func:`_first_crossings`."""
     (pa, ta, ia), (pb, tb, ib) = a, b
     loop = owner[pa]
     rank = _ranks(loop)
@@ -325,7 +367,10 @@ def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
             continue
         s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
                                     1e-6 * eps)
-        got = _first_valid(pa[c], pb[c], s, w, ok, owner, first, sizes)
+        got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s, w, ok, owner, first,
+                                                    sizes)
+        if curls is not None and len(got):
+            curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
         if len(got):
             x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
             hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
@@ -352,6 +397,34 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
     """Indices of the first refined candidate of each loop that is a crossing: ok,
     and not the shared end of consecutive pieces nor a piece meeting itself at one
     parameter."""
+    return _valid_rows(pa, pb, s, w, ok, owner, first, sizes)[0]
+
+
+def _batch_curls(got, valid, gi, gj, si, wj, owner, first):
+    """{loop: [(piece, s, u)]}: for each loop whose first crossing (``got``, rows of
+    the batch) is a curl (a piece crossing itself, gi == gj), the batch's other
+    crossings (``valid`` rows, in candidate order) that are curls on other pieces
+    of the loop, the first of each piece; rows ordered as :func:`_valid_rows`
+    gives them (i <= j, s <= u)."""
+    curl_loops = unique(owner[gi[got][gi[got] == gj[got]]])
+    rows = valid[(gi[valid] == gj[valid]) & pl.member(owner[gi[valid]], curl_loops)
+                 & ~pl.member(gi[valid], unique(gi[got]))]
+    if not len(rows):
+        return {}
+    order = gi[rows].argsort(kind="stable")      # the first row of each piece
+    g = gi[rows][order]
+    rows = np.sort(rows[order[np.concatenate(([True], g[1:] != g[:-1]))]])
+    out = {}
+    for r in rows.tolist():   # per curl found
+        li = int(owner[gi[r]])
+        out.setdefault(li, []).append((int(gi[r] - first[li]), float(si[r]), float(wj[r])))
+    return out
+
+
+def _valid_rows(pa, pb, s, w, ok, owner, first, sizes):
+    """(:func:`_first_valid`'s rows, every valid row in order, and the rows as
+    (gi, gj, si, wj): the two pieces and parameters ordered i <= j, s <= u on one
+    piece)."""
     swap = (pa > pb) | ((pa == pb) & (s > w))
     gi, gj = np.where(swap, pb, pa), np.where(swap, pa, pb)
     si, wj = np.where(swap, w, s), np.where(swap, s, w)
@@ -362,7 +435,8 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
            | ((i == j) & (np.abs(si - wj) <= 1e-9)))
     valid = (ok & ~end).ravel().nonzero()[0]
     order = valid[np.argsort(li[valid], kind="stable")]    # by loop, then candidate order
-    return order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
+    got = order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
+    return got, valid, (gi, gj, si, wj)
 
 
 def _keys(hits):
