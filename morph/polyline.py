@@ -176,8 +176,8 @@ def _equal_split_matrices(n, k):
     """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
     eye = np.eye(n + 1)
     t = np.arange(k + 1) / k
-    cols = bz.subsegment_many(np.repeat(eye[None], k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
-                              np.repeat(t[:-1], n + 1), np.repeat(t[1:], n + 1))
+    cols = bz.subsegment_many(eye[None].repeat(k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
+                              t[:-1].repeat(n + 1), t[1:].repeat(n + 1))
     # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
     return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
 
@@ -216,8 +216,8 @@ def flatten_loops(loops, tol):
     sizes = [len(loop) for loop in loops]
     tols = np.asarray(tol, float)
     owner, _, pts = flat_starts([p for loop in loops for p in loop],
-                                np.repeat(tols, sizes) if tols.ndim else tol)
-    loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+                                tols.repeat(sizes) if tols.ndim else tol)
+    loop_of = np.arange(len(loops)).repeat(sizes)[owner]
     bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
     return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
@@ -311,8 +311,8 @@ class BoxGrid:
         c = self._cell(np.asarray(points, float))
         lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
         cnt = hi - lo
-        pt = np.repeat(np.arange(len(c)), cnt)
-        return pt, self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+        pt = np.arange(len(c)).repeat(cnt)
+        return pt, self.items[lo.repeat(cnt) + _ranks(cnt)]
 
 
 def _key(cx, cy):
@@ -519,8 +519,8 @@ def _touching_chunks(polylines, reach):
         return
     a, b = polyline_edges(polys)
     sizes = np.array([len(p) for p in polys])
-    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
-    size = np.repeat(sizes, sizes)
+    first = (sizes.cumsum() - sizes).repeat(sizes)
+    size = sizes.repeat(sizes)
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
     for pairs in _cell_pair_chunks(grid):
         i, j = pairs[:, 0], pairs[:, 1]
@@ -592,7 +592,7 @@ class GroupGrid:
             if not over.any():
                 break
             self.cell[over] *= 2.0
-        item = np.repeat(np.arange(len(lo)), covered)
+        item = np.arange(len(lo)).repeat(covered)
         offs = _ranks(covered)
         key = self._key(group[item], c0[item, 0] + offs % nx[item], c0[item, 1] + offs // nx[item])
         self.keys, self.items = _sorted_entries(key, item, len(lo))
@@ -612,8 +612,8 @@ class GroupGrid:
         k = self._key(group, c[:, 0], c[:, 1])
         lo = np.searchsorted(self.keys, k, "left")
         cnt = np.searchsorted(self.keys, k, "right") - lo
-        pt = np.repeat(np.arange(len(k)), cnt)
-        box = self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+        pt = np.arange(len(k)).repeat(cnt)
+        box = self.items[lo.repeat(cnt) + _ranks(cnt)]
         same = self.group[box] == group[pt]
         return pt[same], box[same]
 
@@ -622,10 +622,10 @@ class GroupGrid:
         (within 1e-12 of the set's extent, as :func:`_cell_pairs`)."""
         key, seg = self.keys, self.items
         bounds = np.diff(key).ravel().nonzero()[0] + 1
-        ends = np.repeat(np.concatenate([bounds, [len(key)]]),
-                         np.diff(np.concatenate([[0], bounds, [len(key)]])))
+        ends = np.concatenate([bounds, [len(key)]]).repeat(
+            np.diff(np.concatenate([[0], bounds, [len(key)]])))
         cnt = ends - np.arange(len(key)) - 1
-        first = np.repeat(np.arange(len(key)), cnt)
+        first = np.arange(len(key)).repeat(cnt)
         a, b = seg[first], seg[first + 1 + _ranks(cnt)]
         n = len(self.lo)
         keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
@@ -730,7 +730,7 @@ def polyline_edges(polylines):
         return np.zeros((0, 2)), np.zeros((0, 2))
     a = np.concatenate(polys)
     sizes = np.array([len(p) for p in polys], np.int64)
-    last = np.cumsum(sizes) - 1
+    last = sizes.cumsum() - 1
     following = np.arange(1, len(a) + 1)
     following[last] = last - sizes + 1   # each polyline closed: its last point to its first
     return a, a[following]
@@ -846,7 +846,7 @@ def _owned_edges(polylines):
     """:func:`polyline_edges` and the index of each edge's polyline."""
     sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
     a, b = polyline_edges(polylines)
-    return a, b, np.repeat(np.arange(len(polylines)), sizes)
+    return a, b, np.arange(len(polylines)).repeat(sizes)
 
 
 def distance_to_others(points, owner, polylines, reach):

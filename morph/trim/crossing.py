@@ -27,12 +27,12 @@ def uncertain_pairs(loops, pieces=None, cones=None):
         pieces = [p for loop in loops for p in loop]
     sizes = np.fromiter(map(len, loops), np.int64, len(loops))
     owner = np.arange(len(loops)).repeat(sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     local = np.arange(len(pieces)) - first[owner]
     start, lo, hi, end = cones if cones is not None else pc.tangent_cones(pieces)
     nxt = first[owner] + (local + 1) % sizes[owner]
     turn = end + np.angle(np.exp(1j * (start[nxt] - start - end)))
-    csum = np.cumsum(turn) - turn
+    csum = turn.cumsum() - turn
     base = csum - csum[first][owner]  # unwrapped start angle of each piece in its loop
     total = np.add.reduceat(turn, first) if len(first) else turn
     # each loop twice in a row, the second copy one total turn further on
@@ -206,7 +206,7 @@ def _crowded(counts, pair_items, max_items):
     rest = np.where(over, 0, counts)
     if rest.sum() > max_items:
         order = np.argsort(-rest, kind="stable")
-        drop = np.cumsum(rest[order]) > rest.sum() - max_items
+        drop = rest[order].cumsum() > rest.sum() - max_items
         cut = int(np.argmax(drop)) + 1           # the fewest largest whose removal fits
         over[order[:cut]] = True
     return over.ravel().nonzero()[0]

@@ -134,7 +134,7 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
         pieces = pc.Pieces.of([p for loop in loops for p in loop])
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
-    piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+    piece_loop = np.arange(len(loops)).repeat([len(loop) for loop in loops])
     pid, ts, xy = adaptive_starts(pieces, piece_loop, eps, grid)
     loop_of = piece_loop[pid]
     if origin is None:
@@ -274,7 +274,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     of = unique(pid[fine])
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
-    refined = np.concatenate([[0], np.cumsum(fine)])
+    refined = np.concatenate([[0], fine.cumsum()])
 
     def overlaps(owner, t0, width):
         """Parts of the pieces' subdivision that meet a refined segment."""
@@ -473,7 +473,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     new = np.lexsort((u, s))
     s, u, h = s[new], u[new], h[new]
     added = np.bincount(s, minlength=n)
-    before = np.cumsum(added) - added               # new vertices before vertex i's
+    before = added.cumsum() - added               # new vertices before vertex i's
     at_old = np.arange(n) + before
     at_new = s + 1 + before[s] + (np.arange(len(s)) - np.searchsorted(s, s))
     out = np.empty(n + len(s), np.int64)
@@ -499,7 +499,7 @@ def _unique_rows(q):
     r = q[o]
     new = np.concatenate(([True], (r[1:, 0] != r[:-1, 0]) | (r[1:, 1] != r[:-1, 1])))
     of = np.empty(len(q), np.int64)
-    of[o] = np.cumsum(new) - 1
+    of[o] = new.cumsum() - 1
     return r[new], of
 
 
@@ -522,11 +522,11 @@ def _merge_equal(q, is_start, loop_of):
         return np.zeros(0, np.int64)
     _, prv, starts = _links(loop_of)
     size = np.diff(starts)
-    loop = np.repeat(np.arange(len(size)), size)
+    loop = np.arange(len(size)).repeat(size)
     begins = (q[:, 0] != q[prv, 0]) | (q[:, 1] != q[prv, 1])  # a run begins at this vertex
     if not begins.any():
         return np.zeros(0, np.int64)
-    count = np.cumsum(begins)                        # run starts up to and with i
+    count = begins.cumsum()                        # run starts up to and with i
     before = np.concatenate([[0], count])[starts[:-1]]  # ... before each loop
     total = count[starts[1:] - 1] - before           # run starts of each loop
     own = count - before[loop]                       # ... of the loop, up to i

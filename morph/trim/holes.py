@@ -103,13 +103,13 @@ def _packed(polys):
     flat = [p for ps in polys for p in ps]
     size = np.fromiter(map(len, flat), np.int64, len(flat))
     a = np.concatenate(flat)
-    first = np.cumsum(size) - size
+    first = size.cumsum() - size
     nxt = np.arange(len(a)) + 1
     nxt[first + size - 1] = first
-    hole_first = np.cumsum(n_poly) - n_poly
+    hole_first = n_poly.cumsum() - n_poly
     e_count = np.add.reduceat(size, hole_first) if len(size) else np.zeros(0, np.int64)
-    e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.arange(len(flat)) - np.repeat(hole_first, n_poly), size)
+    e_start = e_count.cumsum() - e_count
+    poly_of_edge = (np.arange(len(flat)) - hole_first.repeat(n_poly)).repeat(size)
     return a, a[nxt], e_start, e_count, poly_of_edge, n_poly, size
 
 
@@ -121,7 +121,7 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
     n = len(polys)
     a, b, e_start, e_count, poly_of_edge, n_poly, size = _packed(polys)
     # each ring's box (the ring comes first among its hole's polygons)
-    ring_size = size[np.cumsum(n_poly) - n_poly]
+    ring_size = size[n_poly.cumsum() - n_poly]
     bounds = np.stack([e_start, e_start + ring_size], axis=1).ravel()
     padded = np.concatenate([a, a[:1]])
     lo = np.minimum.reduceat(padded, bounds)[::2]
@@ -137,7 +137,7 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
         if not len(act):
             break
         cand = (center[act, None, :] + unit[None] * half[act, None, :]).reshape(-1, 2)
-        hole = np.repeat(act, c)                       # the hole of each candidate
+        hole = act.repeat(c)                       # the hole of each candidate
         inside = _inside_own(cand, hole, a, b, e_start, e_count, poly_of_edge, n_poly, grid_n)
         dist = _row_distance(cand, hole, inside, a, b, e_start, e_count, grid_n)
         dist = dist.reshape(len(act), c)
@@ -166,8 +166,8 @@ def _pairs(owner, e_start, e_count):
     (``owner[i]``: point i's hole; hole h's edges e_start[h] .. + e_count[h]),
     grouped by point, edges in order."""
     per = e_count[owner]
-    pt = np.repeat(np.arange(len(owner)), per)
-    off = np.arange(len(pt)) - np.repeat(np.cumsum(per) - per, per)
+    pt = np.arange(len(owner)).repeat(per)
+    off = np.arange(len(pt)) - (per.cumsum() - per).repeat(per)
     return pt, e_start[owner][pt] + off
 
 
@@ -184,7 +184,7 @@ def _inside_own(pts, owner, a, b, e_start, e_count, poly_of_edge, n_poly, row=1)
     span = (a[e, 1] <= y) != (b[e, 1] <= y)
     rp, e = rp[span], e[span]
     pt = (rows[rp][:, None] + np.arange(row)).ravel()
-    e = np.repeat(e, row)
+    e = e.repeat(row)
     sign = pl.ray_crossings(pts[pt], a[e], b[e])
     hit = sign != 0
     pt, poly, sign = pt[hit], poly_of_edge[e[hit]], sign[hit]
@@ -220,7 +220,7 @@ def _row_distance(pts, owner, inside, a, b, e_start, e_count, row):
     # bounds: distances to the spanning edges
     span = dy == 0.0
     pt = (rows[rp[span]][:, None] + np.arange(row)).ravel()
-    es = np.repeat(e[span], row)
+    es = e[span].repeat(row)
     keep = inside[pt]
     pt, es = pt[keep], es[keep]
     bound = np.full(len(pts), np.inf)
@@ -228,7 +228,7 @@ def _row_distance(pts, owner, inside, a, b, e_start, e_count, row):
     row_bound = np.where(inside, bound, -np.inf).reshape(-1, row).max(axis=1)
     near = dy <= row_bound[rp]
     pt = (rows[rp[near]][:, None] + np.arange(row)).ravel()
-    en = np.repeat(e[near], row)
+    en = e[near].repeat(row)
     keep = inside[pt]
     pt, en = pt[keep], en[keep]
     d = pl.segment_distance(pts[pt], a[en], b[en])
@@ -242,7 +242,7 @@ def _own_distance(pts, owner, a, b, e_start, e_count):
     """Distance from each point to the nearest edge of its own hole's polygons."""
     pt, e = _pairs(owner, e_start, e_count)
     d = pl.segment_distance(pts[pt], a[e], b[e])
-    return np.minimum.reduceat(d, np.cumsum(e_count[owner]) - e_count[owner])
+    return np.minimum.reduceat(d, e_count[owner].cumsum() - e_count[owner])
 
 
 def _depths(x, polys):
@@ -403,7 +403,7 @@ class Membership:
                                                          unknown.ravel().nonzero()[0].tolist()])
         sizes = self._sizes[loops]
         owner, _, pts = pl.flat_starts([p for loop in region for p in loop], self.flat)
-        loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+        loop_of = np.arange(len(loops)).repeat(sizes)[owner]
         bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
         n_pts = np.diff(bounds)
         closed = ~(np.abs(self._areas[loops]) <= self._flat_area)
@@ -470,7 +470,7 @@ class Membership:
         near, _ = _meeting_many(ctrl, lo.astype(float), hi.astype(float), self._sizes > 0)
         self._prepare(unique(near))
         part, first = _meeting_many(self._box, lo, hi, self._ok & self._ready)
-        pt = np.repeat(np.arange(len(x)), np.diff(first))
+        pt = np.arange(len(x)).repeat(np.diff(first))
         test = (np.diff(first) > 0).ravel().nonzero()[0]
         if not len(test):
             return out
@@ -511,8 +511,8 @@ class Membership:
         # segments of the paired parts near the disc: contacts with x − B's edges
         at = np.searchsorted(used, part)
         s_first, s_count = segs["first"][at], segs["count"][at]
-        sp = np.repeat(np.arange(len(part)), s_count)
-        s = np.repeat(s_first, s_count) + _ranks(s_count)
+        sp = np.arange(len(part)).repeat(s_count)
+        s = s_first.repeat(s_count) + _ranks(s_count)
         p_of = pt[sp]
         # the segments whose boxes come within reach first, then their distances
         c, r = centre[p_of], reach[p_of]
@@ -525,8 +525,8 @@ class Membership:
         s, p_of, sp = s[near], p_of[near], sp[near]
         m = e0.shape[1]
         if len(s) and m:
-            si = np.repeat(s, m)
-            pi = np.repeat(p_of, m)
+            si = s.repeat(m)
+            pi = p_of.repeat(m)
             ei = np.tile(np.arange(m), len(s))
             touch = _segments_meet(segs["a"][si], segs["b"][si], e0[pi, ei], e1[pi, ei])
             blocked[pi[touch]] = True
@@ -542,8 +542,8 @@ class Membership:
     def _edges_of_b(self, qb):
         """x − B's edges (e0, e1: (n, m, 2)) over its loops of >= 3 points (those
         Clipper gets), cyclic, and a vertex of each such loop (n, loops, 2)."""
-        b_first = np.cumsum(self._b_sizes) - self._b_sizes
-        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
+        b_first = self._b_sizes.cumsum() - self._b_sizes
+        use = (self._b_sizes >= 3).repeat(self._b_sizes)
         nxt = np.arange(len(self._pts_b)) + 1
         nxt[b_first + self._b_sizes - 1] = b_first
         return qb[:, use], qb[:, nxt[use]], qb[:, b_first[self._b_sizes >= 3]]
@@ -558,15 +558,15 @@ class Membership:
         n_b = rep_b.shape[1]
         if not (len(closed_pair) and n_b):
             return np.zeros(0, np.int64)
-        cp = np.repeat(closed_pair, n_b)
+        cp = closed_pair.repeat(n_b)
         j = np.tile(np.arange(n_b), len(closed_pair))   # the loop of x − B
         v = rep_b[pt[cp], j]
         k = part[cp]
         count = self._count[k]
-        row = np.repeat(np.arange(len(cp)), count)
-        e = np.repeat(self._first[k], count) + _ranks(count)
-        e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
-                          np.repeat(self._first[k], count), e + 1)
+        row = np.arange(len(cp)).repeat(count)
+        e = self._first[k].repeat(count) + _ranks(count)
+        e_next = np.where(_ranks(count) == count.repeat(count) - 1,
+                          self._first[k].repeat(count), e + 1)
         # summed per (point, loop of x − B) over the point's closed parts
         key = (pt[cp] * n_b + j)[row]
         wind = np.bincount(key, weights=_crossing_signs(v[row], self._q[e], self._q[e_next]),
@@ -581,16 +581,16 @@ class Membership:
         first, count, q = self._first[parts], self._count[parts], self._q
         closed = self._closed[parts]
         n_seg = np.where(closed, count, count - 1)
-        i = np.repeat(first, n_seg) + _ranks(n_seg)
-        last = np.repeat(first + count - 1, n_seg)
-        j = np.where(i == last, np.repeat(first, n_seg), i + 1)
+        i = first.repeat(n_seg) + _ranks(n_seg)
+        last = (first + count - 1).repeat(n_seg)
+        j = np.where(i == last, first.repeat(n_seg), i + 1)
         a, b = q[i], q[j]
         # a path whose points are all one grid point: a unit segment from it
         box = self._box[parts]
         dot = ~closed & np.all(box[:, :2] == box[:, 2:], axis=1)
-        b = np.where(np.repeat(dot, n_seg)[:, None], a + np.array([1, 0]), b)
+        b = np.where(dot.repeat(n_seg)[:, None], a + np.array([1, 0]), b)
         return {"a": a, "b": b, "lo": np.minimum(a, b), "hi": np.maximum(a, b),
-                "first": np.cumsum(n_seg) - n_seg, "count": n_seg}
+                "first": n_seg.cumsum() - n_seg, "count": n_seg}
 
     def _listed(self, k):
         if k not in self._lists:
@@ -628,7 +628,7 @@ def control_boxes(region):
     ``region`` (zeros for an empty loop), all at once: each holds its loop."""
     sizes = np.fromiter(map(len, region), np.int64, len(region))
     out = np.zeros((len(region), 4))
-    at = (np.cumsum(sizes) - sizes)[sizes > 0]
+    at = (sizes.cumsum() - sizes)[sizes > 0]
     if len(at):
         box = pc.bboxes([p for loop in region for p in loop])
         out[sizes > 0] = np.concatenate(
@@ -638,7 +638,7 @@ def control_boxes(region):
 
 def _ranks(counts):
     """0 .. c - 1 for each count c, concatenated."""
-    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
 
 
 def _orient(a, b, c):
@@ -670,9 +670,9 @@ def _winding(v, row, e0, e1):
     """Winding numbers of points ``v`` (k, 2) about the edges e0[row[k]] ->
     e1[row[k]] ((n, m, 2) each)."""
     m = e0.shape[1]
-    r = np.repeat(row, m)
+    r = row.repeat(m)
     e = np.tile(np.arange(m), len(v))
-    signs = _crossing_signs(np.repeat(v, m, axis=0), e0[r, e], e1[r, e])
+    signs = _crossing_signs(v.repeat(m, axis=0), e0[r, e], e1[r, e])
     return signs.reshape(len(v), m).sum(axis=1)
 
 
@@ -690,8 +690,8 @@ def _boxes_of(q, first, count):
     q[first[k]:first[k] + count[k]] (count >= 1), all at once."""
     if not len(first):
         return np.zeros((0, 4), np.int64)
-    idx = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
-    at = np.cumsum(count) - count
+    idx = (first - count.cumsum() + count).repeat(count) + np.arange(count.sum())
+    at = count.cumsum() - count
     rows = q[idx]
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
@@ -713,4 +713,4 @@ def _meeting_many(boxes, lo, hi, ok):
     meet = np.all(boxes[k, :2] <= hi[q], axis=1) & np.all(boxes[k, 2:] >= lo[q], axis=1)
     q, k = q[meet], k[meet]
     order = np.lexsort((k, q))
-    return k[order], np.concatenate([[0], np.cumsum(np.bincount(q, minlength=n))])
+    return k[order], np.concatenate([[0], np.bincount(q, minlength=n).cumsum()])

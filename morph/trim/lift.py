@@ -52,7 +52,7 @@ def lift_rings(rings, tg, contract, packed=False):
         return ([], [], pc.Pieces([], 0)) if packed else ([], [])
     sizes = np.array([len(r) for r in rings])
     v = np.concatenate(rings)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first
     seg, fwd = _edge_segments(v, v[nx], tg, nx)
@@ -128,11 +128,11 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     junction is one whole piece.  The runs are cut in one call
     (:func:`morph.piece.subsegments`)."""
     n_rings = len(rings)
-    ring_of = np.repeat(np.arange(n_rings), sizes)
+    ring_of = np.arange(n_rings).repeat(sizes)
     junction = (~cont).ravel().nonzero()[0]                 # sorted: grouped by ring, in order
     jr = ring_of[junction]
     count = np.bincount(jr, minlength=n_rings)
-    lo = np.cumsum(count) - count                    # first junction of each ring
+    lo = count.cumsum() - count                    # first junction of each ring
     i = np.arange(len(junction))
     prev = np.where(i == lo[jr], lo[jr] + count[jr] - 1, i - 1)
     e_first, e_last = nx[junction[prev]], junction
@@ -150,7 +150,7 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
     # junctions at joints (no crossing point): the mean of the two runs' ends
     per = np.bincount(ring, minlength=n_rings)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     k = np.arange(len(ring))
     after = np.where(k + 1 == base[ring] + per[ring], base[ring], k + 1)
     gap = np.isnan(ends).any(axis=1)
@@ -166,7 +166,7 @@ def _with_spikes_cut(flat, flagged, reach):
     their places (one gather)."""
     pieces, ends, per = flat
     pieces = pc.Pieces.of(pieces)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     hit = np.zeros(len(per), bool)
     hit[[r for r, _ in flagged]] = True
     runs = {}
@@ -177,11 +177,11 @@ def _with_spikes_cut(flat, flagged, reach):
     new_per = per.copy()
     for r, (out, _) in runs.items():
         new_per[r] = len(out)
-    kept = ~np.repeat(hit, per)
+    kept = ~hit.repeat(per)
     new = [p for r in sorted(runs) for p in runs[r][0]]
     new_ends = np.array([e for r in sorted(runs) for e in runs[r][1]], float).reshape(-1, 2)
     # the final order: ring by ring, the kept rows first in the stack, then the new
-    cut_row = np.repeat(hit, new_per)
+    cut_row = hit.repeat(new_per)
     where = np.empty(len(cut_row), np.int64)
     where[~cut_row] = np.arange(int(kept.sum()))
     where[cut_row] = kept.sum() + np.arange(len(new))
@@ -194,7 +194,7 @@ def _as_runs(flat):
     [(pieces, ends)], lists."""
     pieces, ends, per = flat
     rows = list(pieces)
-    bounds = np.append(np.cumsum(per) - per, len(rows)).tolist()
+    bounds = np.append(per.cumsum() - per, len(rows)).tolist()
     return [(rows[bounds[r]:bounds[r + 1]], list(ends[bounds[r]:bounds[r + 1]]))
             for r in range(len(per))]
 
@@ -217,12 +217,12 @@ def _close_all(flat, contract):
     if not len(pieces):
         return [[] for _ in range(n_rings)], pc.Pieces([], 0)
     pieces = pc.Pieces.of(pieces)
-    ring = np.repeat(np.arange(n_rings), per_ring)
+    ring = np.arange(n_rings).repeat(per_ring)
     keep = pc.length_bounds(pieces) >= contract
     idx = keep.ravel().nonzero()[0]
     kr = ring[idx]
     per = np.bincount(kr, minlength=n_rings)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     k = np.arange(len(idx))
     before = np.where(k == base[kr], base[kr] + per[kr] - 1, k - 1)
     snapped = _with_endpoints_many(pieces.take(idx), ends[idx[before]], ends[idx],
@@ -234,7 +234,7 @@ def _close_all(flat, contract):
     bounds = np.append(base, len(idx)).tolist()
     if not short.any():
         return [rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], snapped
-    first = np.append(np.cumsum(per_ring) - per_ring, len(ring)).tolist()
+    first = np.append(per_ring.cumsum() - per_ring, len(ring)).tolist()
     whole = pieces.rows()
     return [_close(whole[first[r]:first[r + 1]], list(ends[first[r]:first[r + 1]]), contract)
             if short[r] else rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], None
@@ -282,8 +282,8 @@ def _spike_triples(flat, reach):
     (pieces, junction ends, runs per ring: :func:`_ring_runs`).  A real short piece
     between neighbours that do not cross (a nib's tip) is not one."""
     pieces, ends, per = flat
-    ring = np.repeat(np.arange(len(per)), per)
-    base = np.cumsum(per) - per
+    ring = np.arange(len(per)).repeat(per)
+    base = per.cumsum() - per
     i = (per[ring] >= 3).ravel().nonzero()[0]
     if not len(i):
         return []
@@ -441,8 +441,8 @@ def _nearest_segments(p, q, sa, sb, tg=None):
     if tg is not None and tg.seg_grid is not None:
         e, old = tg.seg_grid.at_points(p)
         cnt = tg.seg_count[old]
-        e = np.repeat(e, cnt)
-        s = np.repeat(tg.seg_first[old], cnt) + _ranks(cnt)
+        e = e.repeat(cnt)
+        s = tg.seg_first[old].repeat(cnt) + _ranks(cnt)
     else:
         grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
         e, s = grid.at_points(p)
@@ -485,8 +485,8 @@ def _vertex_candidates(p, q, tg, sorted_keys):
         lo = np.searchsorted(sk, kp, "left")
         hi = np.searchsorted(sk, kp, "right")
         cnt = hi - lo
-        e = np.repeat(np.arange(len(pts)), cnt)
-        idx = order[np.repeat(lo, cnt) + (np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt))]
+        e = np.arange(len(pts)).repeat(cnt)
+        idx = order[lo.repeat(cnt) + (np.arange(cnt.sum()) - (cnt.cumsum() - cnt).repeat(cnt))]
         for f in rel:
             es.append(e)
             ss.append(f(idx))

@@ -99,7 +99,7 @@ def _recut(pieces, cones, idx, sizes, out, cut):
     were, then the cut loops', gathered and measured alone."""
     cut_set = set(cut)
     kept = np.array([k not in cut_set for k in idx])
-    rows = np.repeat(kept, sizes).ravel().nonzero()[0]
+    rows = kept.repeat(sizes).ravel().nonzero()[0]
     new = [p for k in cut for p in out[k]]
     new_cones = pc.tangent_cones(new)
     cones = tuple(np.concatenate([c[rows], n]) for c, n in zip(cones, new_cones))
@@ -152,7 +152,7 @@ def _lens_pair(loops, outer, eps, groups, near):
     if len(ks) < 2:
         return None
     pieces = [p for k in ks for p in loops[k]]
-    starts = np.cumsum([0] + [len(loops[k]) for k in ks[:-1]])
+    starts = ([0] + [len(loops[k]) for k in ks[:-1]]).cumsum()
     pb = pc.bboxes(pieces)
     lo = np.minimum.reduceat(pb[:, :2], starts)
     hi = np.maximum.reduceat(pb[:, 2:], starts)
@@ -315,8 +315,8 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = _sizes(loops)
-    owner = np.repeat(np.arange(len(loops)), sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    owner = np.arange(len(loops)).repeat(sizes)
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
     if len(suspects):
         suspects = suspects[~_hulls_apart(pieces, suspects)]
@@ -389,7 +389,7 @@ def _ranks(group):
     g = group[order]
     start = np.r_[True, g[1:] != g[:-1]].ravel().nonzero()[0]
     rank = np.empty(len(group), np.int64)
-    rank[order] = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
+    rank[order] = np.arange(len(g)) - start.repeat(np.diff(np.r_[start, len(g)]))
     return rank
 
 
@@ -533,8 +533,8 @@ def _may_fold(loops, cones=None, sizes=None):
         return np.zeros(len(loops), bool)
     start, _, _, end = cones if cones is not None else pc.tangent_cones(
         [p for loop in loops for p in loop])
-    owner = np.repeat(np.arange(len(loops)), sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    owner = np.arange(len(loops)).repeat(sizes)
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nxt = first[owner] + (np.arange(n) - first[owner] + 1) % sizes[owner]
     fold = np.cos(start[nxt] - start - end) <= FOLD_COS + 1e-6
     return np.bincount(owner, weights=fold, minlength=len(loops)) > 0
@@ -622,8 +622,8 @@ def _fold_joins_many(loops):
     of all loops at once."""
     sizes = np.array([len(loop) for loop in loops], np.int64)
     first, last = pc.end_tangents_many([p for loop in loops for p in loop])
-    starts = np.cumsum(sizes) - sizes
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    starts = sizes.cumsum() - sizes
+    owner = np.arange(len(loops)).repeat(sizes)
     at = np.arange(len(owner)) - starts[owner]
     nxt = starts[owner] + (at + 1) % sizes[owner]
     fold = (np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS).ravel().nonzero()[0]
@@ -685,7 +685,7 @@ def _closest_many(pieces, points, samples=257):
     curve = curve[..., :2] / curve[..., 2:3]
     d2 = ((points[:, :, None, :] - curve[:, None, :, :]) ** 2).sum(axis=3)
     u = t[np.argmin(d2, axis=2)].ravel()
-    d, u = _newton_nearest(h, np.repeat(np.arange(k), m), u, points.reshape(-1, 2))
+    d, u = _newton_nearest(h, np.arange(k).repeat(m), u, points.reshape(-1, 2))
     return d.reshape(k, m), u.reshape(k, m)
 
 
@@ -763,7 +763,7 @@ def _interp_rows(x, xp, fp):
     lo = xp[:, :1]
     off = 2.0 * (float((xp[:, -1] - xp[:, 0]).max()) + 1.0) * np.arange(k)[:, None]
     j = np.searchsorted(((xp - lo) + off).ravel(), ((x - lo) + off).ravel(), "right") - 1
-    base = np.repeat(np.arange(k) * p, x.shape[1])
+    base = (np.arange(k) * p).repeat(x.shape[1])
     j = np.clip(j, base, base + p - 2)
     x0, x1 = xp.ravel()[j], xp.ravel()[j + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -864,10 +864,10 @@ def _snap_many(loops, min_len):
         flat = [p for k in going for p in out[k]]
         sizes = np.array([len(out[k]) for k in going], np.int64)
         keep = pc.length_bounds(flat) > min_len
-        owner = np.repeat(np.arange(len(going)), sizes)[keep]
+        owner = np.arange(len(going)).repeat(sizes)[keep]
         idx = keep.ravel().nonzero()[0]
         per = np.bincount(owner, minlength=len(going))
-        first = np.cumsum(per) - per
+        first = per.cumsum() - per
         at = np.arange(len(idx)) - first[owner]
         prev = first[owner] + (at - 1) % np.maximum(per[owner], 1)
         nxt = first[owner] + (at + 1) % np.maximum(per[owner], 1)
@@ -919,7 +919,7 @@ def _ray_windings(xs, loops, flat):
     if not sizes.sum():
         return out
     flat_pieces = [p for loop in loops for p in loop]
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    owner = np.arange(len(loops)).repeat(sizes)
     box, x = pc.bboxes(flat_pieces), xs[owner]
     meet = ((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1])
             & (box[:, 2] >= x[:, 0])).nonzero()[0]
@@ -951,10 +951,10 @@ def _loop_areas(loops):
     if not sizes.sum():
         return np.zeros(len(loops))
     flat = [p for loop in loops for p in loop]
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    owner = np.arange(len(loops)).repeat(sizes)
     h = pc.stack(flat)
-    origin = h[np.cumsum(sizes)[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
-    origin = origin[np.cumsum(sizes > 0) - 1][owner]
+    origin = h[sizes.cumsum()[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
+    origin = origin[(sizes > 0).cumsum() - 1][owner]
     h[..., :2] -= origin[:, None, :2] / origin[:, None, 2:] * h[..., 2:]
     x, w = gauss_legendre(AREA_NODES)
     t = 0.5 * (x + 1.0)
