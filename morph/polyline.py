@@ -94,9 +94,10 @@ def _flat_params(stack, tol, min_width, keep=None):
     wrappers (np.repeat, np.clip, ...) would add calls of their own: a small
     flattening's cost is its levels' calls."""
     parts, owner = stack, np.arange(len(stack))
-    t0, width = np.zeros(len(stack)), np.ones(len(stack))
+    t0, width = np.zeros(len(stack)), np.empty(len(stack))
+    width[:] = 1.0
     done_owner, done_t, done_p = [], [], []
-    per_piece = np.ndim(tol) > 0
+    per_piece = getattr(tol, "ndim", 0) > 0
     while len(parts):
         dist = _chord_distance(parts)
         part_tol = tol[owner] if per_piece else tol
@@ -402,6 +403,15 @@ def pair_rows(i, j):
     """``np.stack([i, j], axis=1)`` of two index arrays of one dtype, in one call."""
     out = np.empty((len(i), 2), i.dtype)
     out[:, 0], out[:, 1] = i, j
+    return out
+
+
+def columns(*cols):
+    """``np.stack(cols, axis=1)`` of 1-D arrays of one length: one allocation and a
+    copy per column (np.stack makes a dozen Python calls)."""
+    out = np.empty((len(cols[0]), len(cols)), np.result_type(*cols))
+    for k, c in enumerate(cols):
+        out[:, k] = c
     return out
 
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import member, segment_pairs, unique
+from ..polyline import member, pair_rows, segment_pairs, unique
 
 
 def uncertain_pairs(loops, pieces=None, cones=None):
@@ -48,7 +48,7 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     fwd = _range_span(lo2, hi2, a, b) < narrow
     back = _range_span(lo2, hi2, b, a + sizes[owner[i]]) < narrow
     keep = ~(fwd | back)
-    return np.stack([i[keep], j[keep]], axis=1)
+    return pair_rows(i[keep], j[keep])
 
 
 def _box_pairs(pieces, owner):

@@ -405,10 +405,11 @@ def _in_cone(parts, chord, cos_max):
     """Whether each part's control-polygon legs (those of nonzero length) all lie
     within the angle acos(cos_max) of its chord: a stack of parts (k, n+1, 3) and
     their chords (k, 2), (k,) bool."""
-    legs = np.diff(parts[:, :, :2] / parts[:, :, 2:], axis=1)
+    x = parts[:, :, :2] / parts[:, :, 2:]
+    legs = x[:, 1:] - x[:, :-1]
     dot = legs[..., 0] * chord[:, None, 0] + legs[..., 1] * chord[:, None, 1]
     size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(chord[:, 0], chord[:, 1])[:, None]
-    return np.all((dot >= cos_max * size) | (size == 0), axis=1)
+    return np.logical_and.reduce((dot >= cos_max * size) | (size == 0), axis=1)
 
 
 def _links(loop_of):
@@ -447,7 +448,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
     hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
-    h, s = grid.at_points(np.stack([hx, hy], axis=1))
+    h, s = grid.at_points(pl.columns(hx, hy))
     # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
     # (on coordinate columns: gathering rows of (n, 2) arrays costs several times more)
     cx, cy = hx[h], hy[h]
@@ -457,7 +458,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     keep = ((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
                           & (hot_of[s] != h) & (hot_of[nxt[s]] != h)).ravel().nonzero()[0]
     h, s = h[keep], s[keep]
-    c = np.stack([cx[keep], cy[keep]], axis=1)
+    c = pl.columns(cx[keep], cy[keep])
     keep = _line_crosses_square(a[s], b[s], c)
     h, s, c = h[keep], s[keep], c[keep]
     n = len(q)

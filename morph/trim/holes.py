@@ -19,7 +19,8 @@ import pyclipper
 from .. import moments as mo
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import BoxGrid, _cell_pairs, min_segment_distance, unique, winding_number
+from ..polyline import (BoxGrid, _cell_pairs, columns, min_segment_distance, unique,
+                        winding_number)
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -122,7 +123,7 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
     a, b, e_start, e_count, poly_of_edge, n_poly, size = _packed(polys)
     # each ring's box (the ring comes first among its hole's polygons)
     ring_size = size[n_poly.cumsum() - n_poly]
-    bounds = np.stack([e_start, e_start + ring_size], axis=1).ravel()
+    bounds = columns(e_start, e_start + ring_size).ravel()
     padded = np.concatenate([a, a[:1]])
     lo = np.minimum.reduceat(padded, bounds)[::2]
     hi = np.maximum.reduceat(padded, bounds)[::2]
@@ -710,7 +711,8 @@ def _meeting_many(boxes, lo, hi, ok):
     i, j = pairs[:, 0], pairs[:, 1]
     cross = (i < n) & (j >= n)
     q, k = i[cross], cand[j[cross] - n]
-    meet = np.all(boxes[k, :2] <= hi[q], axis=1) & np.all(boxes[k, 2:] >= lo[q], axis=1)
+    meet = (np.logical_and.reduce(boxes[k, :2] <= hi[q], axis=1)
+            & np.logical_and.reduce(boxes[k, 2:] >= lo[q], axis=1))
     q, k = q[meet], k[meet]
     order = np.lexsort((k, q))
     return k[order], np.concatenate([[0], np.bincount(q, minlength=n).cumsum()])

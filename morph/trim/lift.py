@@ -596,7 +596,7 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     s, u = np.array(ta, float), np.array(tb, float)
     ha, hb = stacked[ia], stacked[ib]
     n = stacked.shape[1] - 1
-    dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
+    dha, dhb = n * (ha[:, 1:] - ha[:, :-1]), n * (hb[:, 1:] - hb[:, :-1])
     # a row whose step leaves (s, u) as they are is at a fixed point of the
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating

@@ -23,7 +23,7 @@ from itertools import chain
 import numpy as np
 import pyclipper
 
-from ..polyline import BoxGrid, _cell_pairs, unique
+from ..polyline import BoxGrid, _cell_pairs, columns, unique
 
 FILL_TYPES = {
     "positive": pyclipper.PFT_POSITIVE,
@@ -194,7 +194,7 @@ def _apart_groups(lo, hi, gap):
                 np.minimum.at(new, i, m)
                 np.minimum.at(new, j, m)
                 new = new[new]  # and its label's label
-                if np.array_equal(new, label):
+                if np.logical_and.reduce(new == label):   # np.array_equal: one shape
                     break
                 label = new
     return np.searchsorted(unique(label), label)
@@ -251,7 +251,7 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     # depth by following parents (a chain of nested rings is short)
     depth = np.zeros(n, np.int64)
     up_ = parent.copy()
-    while np.any(up_ >= 0):
+    while np.logical_or.reduce(up_ >= 0):
         depth += up_ >= 0
         up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
     hole = area < 0
@@ -286,8 +286,8 @@ def _containers(q, sizes, starts):
     """(a, b): the pairs of rings (``q`` their integer vertices, ``sizes``,
     ``starts``) where ring b winds around ring a's first vertex; None when that
     vertex lies on ring b (then the tree pass decides)."""
-    lo = np.stack([np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts)], 1)
-    hi = np.stack([np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts)], 1)
+    lo = columns(np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts))
+    hi = columns(np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts))
     # candidate (ring a, ring b around it): b's box holds a's
     a, b = BoxGrid(lo.astype(float), hi.astype(float)).at_points(q[starts].astype(float))
     la, lb, ha, hb = lo[a], lo[b], hi[a], hi[b]
