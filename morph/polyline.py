@@ -107,6 +107,8 @@ def _flat_params(stack, tol, min_width, keep=None):
         done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
         rest = ~flat
         parts, owner, t0, width, dist = parts[rest], owner[rest], t0[rest], width[rest], dist[rest]
+        if not len(parts):
+            break
         steps = np.ceil(np.sqrt(dist / (tol[owner] if per_piece else tol)))
         # np.clip(np.nan_to_num(steps, nan=2.0), 2, ...): an infinite step count
         # is clipped to the upper bound either way
