@@ -667,16 +667,16 @@ def end_tangents_many(pieces, rel=1e-12, strict=True):
     first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
     for ks, h in degree_groups(pieces):
         x = h[..., :2] / h[..., 2:]
-        d = np.diff(x, axis=1)
+        d = x[:, 1:] - x[:, :-1]
         n = np.hypot(d[..., 0], d[..., 1])
         lo, hi = column_extremes(x)
         size = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
         ok = n > rel * size[:, None]
-        dead = ~ok.any(axis=1) | (size <= 1e-300)
-        if strict and dead.any():
+        dead = ~np.logical_or.reduce(ok, axis=1) | (size <= 1e-300)
+        if strict and np.logical_or.reduce(dead):
             raise DegenerateCurveError("zero-length curve piece", h[np.argmax(dead)])
-        i0 = np.argmax(ok, axis=1)
-        i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
+        i0 = ok.argmax(axis=1)
+        i1 = d.shape[1] - 1 - ok[:, ::-1].argmax(axis=1)
         r = np.arange(len(ks))
         for out, i in ((first, i0), (last, i1)):
             length = np.where(dead, 1.0, n[r, i])

@@ -518,15 +518,16 @@ def newton_step(ha, dha, s, hb, dhb, u):
     """One Newton step on F(s, u) = A(s) - B(u) for rows of stacked homogeneous
     pieces ``ha``, ``hb`` (their hodographs ``dha``, ``dhb``), kept in [0, 1]^2; a
     row whose Jacobian is singular stays where it is."""
-    return _newton_step(ha, dha, s, hb, dhb, u)[:2]
+    return _newton_step(np.concatenate([ha, hb]), np.concatenate([dha, dhb]), s, u)[:2]
 
 
-def _newton_step(ha, dha, s, hb, dhb, u):
-    """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
-    |B'| |du|, the larger).  A and B evaluated in one :func:`_jet_rows`."""
+def _newton_step(hab, dhab, s, u):
+    """:func:`newton_step` of the rows A, B stacked one after the other (``hab`` the
+    m rows of A then those of B, ``dhab`` their hodographs), and how far it moved
+    each row's points (|A'| |ds| and |B'| |du|, the larger).  A and B evaluated in
+    one :func:`_jet_rows`."""
     m = len(s)
-    p, d = _jet_rows(np.concatenate([ha, hb]), np.concatenate([s, u]),
-                     np.concatenate([dha, dhb]))
+    p, d = _jet_rows(hab, np.concatenate([s, u]), dhab)
     da, db = d[:m], d[m:]
     f = p[:m] - p[m:]
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
@@ -601,12 +602,13 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating
     # every row
-    live, rows = np.arange(len(s)), (ha, dha, hb, dhb)   # the live rows' pieces
+    # the live rows' pieces, A's then B's, stacked once (and again when rows leave)
+    live, rows = np.arange(len(s)), (np.concatenate([ha, hb]), np.concatenate([dha, dhb]))
     sl, ul = s.copy(), u.copy()
     for _ in range(iters):
         if not len(live):
             break
-        s2, u2, moved = _newton_step(rows[0], rows[1], sl, rows[2], rows[3], ul)
+        s2, u2, moved = _newton_step(rows[0], rows[1], sl, ul)
         s[live], u[live] = s2, u2
         going = (s2 != sl) | (u2 != ul)
         if settle > 0.0:
@@ -615,8 +617,9 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         if len(keep) == len(going):
             sl, ul = s2, u2
             continue
+        both = np.concatenate([keep, keep + len(going)])
         live, sl, ul = live[keep], s2[keep], u2[keep]
-        rows = tuple(r[keep] for r in rows)
+        rows = (rows[0][both], rows[1][both])
     pa, da = _jet_rows(ha, s, dha)
     pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)
