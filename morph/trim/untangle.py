@@ -152,7 +152,7 @@ def _lens_pair(loops, outer, eps, groups, near):
     if len(ks) < 2:
         return None
     pieces = [p for k in ks for p in loops[k]]
-    starts = ([0] + [len(loops[k]) for k in ks[:-1]]).cumsum()
+    starts = np.cumsum([0] + [len(loops[k]) for k in ks[:-1]])
     pb = pc.bboxes(pieces)
     lo = np.minimum.reduceat(pb[:, :2], starts)
     hi = np.maximum.reduceat(pb[:, 2:], starts)
