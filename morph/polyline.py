@@ -129,9 +129,11 @@ def _flat_params(stack, tol, min_width, keep=None):
             rep, j = _step_rows(steps)
             sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
         parts = _equal_parts(parts, steps)
-        owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
+        owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
+        width = width[rep] / steps[rep]
         if keep is not None:
-            parts, owner, t0, width = parts[sub_keep], owner[sub_keep], t0[sub_keep], width[sub_keep]
+            parts, owner, t0 = parts[sub_keep], owner[sub_keep], t0[sub_keep]
+            width = width[sub_keep]
     return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
 
 
@@ -179,8 +181,8 @@ def _equal_split_matrices(n, k):
     """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
     eye = np.eye(n + 1)
     t = np.arange(k + 1) / k
-    cols = bz.subsegment_many(eye[None].repeat(k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
-                              t[:-1].repeat(n + 1), t[1:].repeat(n + 1))
+    rows = eye[None].repeat(k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1)
+    cols = bz.subsegment_many(rows, t[:-1].repeat(n + 1), t[1:].repeat(n + 1))
     # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
     return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
 

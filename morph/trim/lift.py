@@ -601,8 +601,7 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     # a row whose step leaves (s, u) as they are is at a fixed point of the
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating
-    # every row
-    # the live rows' pieces, A's then B's, stacked once (and again when rows leave)
+    # every row.  The live rows' pieces: A's then B's, stacked once (again when rows leave)
     live, rows = np.arange(len(s)), (np.concatenate([ha, hb]), np.concatenate([dha, dhb]))
     sl, ul = s.copy(), u.copy()
     for _ in range(iters):
