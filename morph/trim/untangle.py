@@ -275,6 +275,8 @@ def _cut_curls(loops, hits, curls, eps):
     if not rows:
         return loops, hits
     n, i, s, u = (np.array(c) for c in zip(*rows))
+    order = np.lexsort((i, n))    # by loop, then piece: cut from the last piece back
+    n, i, s, u = n[order], i[order], s[order], u[order]
     src = [loops[a][b] for a, b in zip(n.tolist(), i.tolist())]
     lobe = pc.subsegments(src, np.arange(len(src)), s, u)
     a_lobe = _loop_areas([[p] for p in lobe])
