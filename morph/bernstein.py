@@ -7,6 +7,7 @@ These are the building blocks of the symbolic QAC construction (Sec. 4.4): produ
 and degree elevation keep every result an exact Bernstein polynomial, no fitting.
 """
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -307,7 +308,7 @@ def _apply(mat, c):
     k = c.shape[0]
     # a stack of small products: one large one would go to the threaded BLAS, which
     # is many times slower on a loaded machine
-    rest = int(np.prod(c.shape[2:], dtype=int))
+    rest = math.prod(c.shape[2:])
     out = np.matmul(mat, c.reshape(k, c.shape[1], rest))
     return out.reshape((k, mat.shape[0]) + c.shape[2:])
 

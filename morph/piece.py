@@ -11,6 +11,7 @@ control points ``(x_i, y_i)``, which bounding boxes and hull tests rely on.
 
 import functools
 import itertools
+import operator
 
 import numpy as np
 
@@ -462,11 +463,13 @@ def by_degree(pieces):
     if n == 0:
         return {}
     lens = np.fromiter(map(len, pieces), np.int64, n)
-    if not (lens != lens[0]).any():
+    if not np.logical_or.reduce(lens != lens[0]):
         return {int(lens[0]): np.arange(n)}
-    order = np.argsort(lens, kind="stable")
-    parts = np.split(order, np.flatnonzero(np.diff(lens[order])) + 1)
-    parts.sort(key=lambda ks: ks[0])
+    order = lens.argsort(kind="stable")
+    sizes = lens[order]
+    cuts = [0] + ((sizes[1:] != sizes[:-1]).nonzero()[0] + 1).tolist() + [n]
+    parts = [order[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+    parts.sort(key=operator.itemgetter(0))
     return {int(lens[ks[0]]): ks for ks in parts}
 
 
@@ -564,7 +567,7 @@ class Pieces:
         gi = group[idx]
         out = []
         for g, (_, h) in enumerate(self.groups):
-            sel = np.flatnonzero(gi == g)
+            sel = (gi == g).nonzero()[0]
             if len(sel):
                 out.append((sel, h[row[idx[sel]]]))
         return Pieces(out, len(idx))
@@ -596,7 +599,7 @@ def bboxes(pieces):
             np.minimum(y0, y[:, j], out=y0)
             np.maximum(x1, x[:, j], out=x1)
             np.maximum(y1, y[:, j], out=y1)
-        out[ks] = np.stack([x0, y0, x1, y1], axis=1)
+        out[ks, 0], out[ks, 1], out[ks, 2], out[ks, 3] = x0, y0, x1, y1
     return out
 
 
@@ -617,8 +620,9 @@ def length_bounds(pieces):
     """:func:`length_bound` of many pieces (those of one degree at once): (k,)."""
     out = np.zeros(len(pieces))
     for ks, h in degree_groups(pieces):
-        d = np.diff(h[:, :, :2] / h[:, :, 2:], axis=1)
-        out[ks] = np.hypot(d[..., 0], d[..., 1]).sum(axis=1)
+        x = h[:, :, :2] / h[:, :, 2:]
+        d = x[:, 1:] - x[:, :-1]
+        out[ks] = np.add.reduce(np.hypot(d[..., 0], d[..., 1]), axis=1)
     return out
 
 
@@ -663,16 +667,16 @@ def end_tangents_many(pieces, rel=1e-12, strict=True):
     first, last = np.zeros((len(pieces), 2)), np.zeros((len(pieces), 2))
     for ks, h in degree_groups(pieces):
         x = h[..., :2] / h[..., 2:]
-        d = np.diff(x, axis=1)
+        d = x[:, 1:] - x[:, :-1]
         n = np.hypot(d[..., 0], d[..., 1])
         lo, hi = column_extremes(x)
         size = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
         ok = n > rel * size[:, None]
-        dead = ~ok.any(axis=1) | (size <= 1e-300)
-        if strict and dead.any():
+        dead = ~np.logical_or.reduce(ok, axis=1) | (size <= 1e-300)
+        if strict and np.logical_or.reduce(dead):
             raise DegenerateCurveError("zero-length curve piece", h[np.argmax(dead)])
-        i0 = np.argmax(ok, axis=1)
-        i1 = d.shape[1] - 1 - np.argmax(ok[:, ::-1], axis=1)
+        i0 = ok.argmax(axis=1)
+        i1 = d.shape[1] - 1 - ok[:, ::-1].argmax(axis=1)
         r = np.arange(len(ks))
         for out, i in ((first, i0), (last, i1)):
             length = np.where(dead, 1.0, n[r, i])

@@ -77,9 +77,10 @@ def piece_order(owner, t):
     ones added to it are: a few times faster than lexsort's two), checked in one
     pass to be in (owner, t) order; lexsort where it is not (parameters of one
     piece nearer than the float's resolution there)."""
-    order = np.argsort(owner * 2.0 + t, kind="stable")
+    order = (owner * 2.0 + t).argsort(kind="stable")
     o, s = owner[order], t[order]
-    if len(o) < 2 or bool(((o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1]))).all()):
+    if len(o) < 2 or bool(np.logical_and.reduce(
+            (o[1:] > o[:-1]) | ((o[1:] == o[:-1]) & (s[1:] >= s[:-1])))):
         return order
     return np.lexsort((t, owner))
 
@@ -88,11 +89,15 @@ def _flat_params(stack, tol, min_width, keep=None):
     """(owner, t0, start point) of the flat parts of a stack of pieces (see
     :func:`flatten_many`); a part's start point is its first control point.
     ``keep(owner, t0, width)``: the parts to cut further (see :func:`flat_starts`).
-    ``tol``: a number, or an array of one per piece of the stack."""
+    ``tol``: a number, or an array of one per piece of the stack.  Each level makes
+    a fixed number of numpy calls, array methods and ufuncs where numpy's Python
+    wrappers (np.repeat, np.clip, ...) would add calls of their own: a small
+    flattening's cost is its levels' calls."""
     parts, owner = stack, np.arange(len(stack))
-    t0, width = np.zeros(len(stack)), np.ones(len(stack))
+    t0, width = np.zeros(len(stack)), np.empty(len(stack))
+    width[:] = 1.0
     done_owner, done_t, done_p = [], [], []
-    per_piece = np.ndim(tol) > 0
+    per_piece = getattr(tol, "ndim", 0) > 0
     while len(parts):
         dist = _chord_distance(parts)
         part_tol = tol[owner] if per_piece else tol
@@ -100,28 +105,42 @@ def _flat_params(stack, tol, min_width, keep=None):
         done_owner.append(owner[flat])
         done_t.append(t0[flat])
         done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
-        parts, owner, t0, width, dist = (a[~flat] for a in (parts, owner, t0, width, dist))
+        rest = ~flat
+        parts, owner, t0, width, dist = parts[rest], owner[rest], t0[rest], width[rest], dist[rest]
+        if not len(parts):
+            break
         steps = np.ceil(np.sqrt(dist / (tol[owner] if per_piece else tol)))
-        steps = np.clip(np.nan_to_num(steps, nan=2.0), 2, np.maximum(width / min_width, 2))
+        # np.clip(np.nan_to_num(steps, nan=2.0), 2, ...): an infinite step count
+        # is clipped to the upper bound either way
+        steps = np.minimum(np.maximum(np.where(steps != steps, 2.0, steps), 2.0),
+                           np.maximum(width / min_width, 2.0))
         steps = steps.astype(np.int64)
-        order = np.argsort(steps, kind="stable")
-        parts, owner, t0, width, steps = (x[order] for x in (parts, owner, t0, width, steps))
-        rep = np.repeat(np.arange(len(parts)), steps)
-        j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
+        order = steps.argsort(kind="stable")
+        parts, owner, t0, width, steps = (parts[order], owner[order], t0[order], width[order],
+                                          steps[order])
+        rep, j = _step_rows(steps)
         if keep is not None:  # the sub-parts a caller needs, before they are cut
             t_sub = t0[rep] + j / steps[rep] * width[rep]
             m = keep(owner[rep], t_sub, width[rep] / steps[rep])
-            part_of = np.repeat(np.arange(len(parts)), steps)
+            part_of = rep
             needed = np.bincount(part_of[m], minlength=len(parts)) > 0
-            parts, owner, t0, width, steps = (x[needed] for x in (parts, owner, t0, width, steps))
-            rep = np.repeat(np.arange(len(parts)), steps)
-            j = np.arange(len(rep)) - np.repeat(np.cumsum(steps) - steps, steps)
-            sub_keep = m[np.repeat(needed, np.bincount(part_of, minlength=len(needed)))]
+            parts, owner, t0, width, steps = (parts[needed], owner[needed], t0[needed],
+                                              width[needed], steps[needed])
+            rep, j = _step_rows(steps)
+            sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
         parts = _equal_parts(parts, steps)
-        owner, t0, width = owner[rep], t0[rep] + j / steps[rep] * width[rep], width[rep] / steps[rep]
+        owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
+        width = width[rep] / steps[rep]
         if keep is not None:
-            parts, owner, t0, width = parts[sub_keep], owner[sub_keep], t0[sub_keep], width[sub_keep]
+            parts, owner, t0 = parts[sub_keep], owner[sub_keep], t0[sub_keep]
+            width = width[sub_keep]
     return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
+
+
+def _step_rows(steps):
+    """(part of each step, its rank in the part) of parts cut into ``steps`` each."""
+    rep = np.arange(len(steps)).repeat(steps)
+    return rep, np.arange(len(rep)) - (steps.cumsum() - steps).repeat(steps)
 
 
 def _equal_parts(parts, steps):
@@ -131,8 +150,8 @@ def _equal_parts(parts, steps):
     if not len(parts):
         return parts
     out = []
-    bounds = np.flatnonzero(np.diff(steps)) + 1
-    for lo, hi in zip(np.r_[0, bounds], np.r_[bounds, len(steps)]):
+    bounds = (steps[1:] != steps[:-1]).nonzero()[0] + 1
+    for lo, hi in zip(np.concatenate(([0], bounds)), np.concatenate((bounds, [len(steps)]))):
         mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
         out.append(_apply_rows(mats, parts[lo:hi]))
     return np.concatenate(out)
@@ -162,8 +181,8 @@ def _equal_split_matrices(n, k):
     """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
     eye = np.eye(n + 1)
     t = np.arange(k + 1) / k
-    cols = bz.subsegment_many(np.repeat(eye[None], k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1),
-                              np.repeat(t[:-1], n + 1), np.repeat(t[1:], n + 1))
+    rows = eye[None].repeat(k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1)
+    cols = bz.subsegment_many(rows, t[:-1].repeat(n + 1), t[1:].repeat(n + 1))
     # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
     return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
 
@@ -202,8 +221,8 @@ def flatten_loops(loops, tol):
     sizes = [len(loop) for loop in loops]
     tols = np.asarray(tol, float)
     owner, _, pts = flat_starts([p for loop in loops for p in loop],
-                                np.repeat(tols, sizes) if tols.ndim else tol)
-    loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+                                tols.repeat(sizes) if tols.ndim else tol)
+    loop_of = np.arange(len(loops)).repeat(sizes)[owner]
     bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
     return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
@@ -230,7 +249,8 @@ def unique(values):
     """Sorted distinct values of an array of numbers without NaN, flattened: the
     result of ``np.unique(values)``, without its cost: numpy 2.4's ``np.unique``
     imports ``numpy.ma`` on first use, ~10 ms of every process."""
-    a = np.sort(np.ravel(values))
+    a = np.array(values).ravel()   # a copy, sorted in place
+    a.sort()
     if len(a) > 1:
         a = a[np.concatenate(([True], a[1:] != a[:-1]))]
     return a
@@ -262,25 +282,25 @@ class BoxGrid:
         self.span = np.maximum(col_max(hi) - self.origin, 1e-300)
         lengths = np.maximum(np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1]), 0)
         # the median by np.partition: np.median imports numpy.ma (~10 ms of every process)
-        mid = np.partition(lengths, [(n - 1) // 2, n // 2])
-        median = 0.5 * (mid[(n - 1) // 2] + mid[n // 2])
-        self.cell = max(float(median) * 2.0, self.span.max() * 1e-9)
+        lengths.partition([(n - 1) // 2, n // 2])
+        median = 0.5 * (lengths[(n - 1) // 2] + lengths[n // 2])
+        self.cell = max(float(median) * 2.0, np.maximum.reduce(self.span) * 1e-9)
         while True:
             c0, c1 = self._cell(lo), self._cell(hi)
             nx = c1[:, 0] - c0[:, 0] + 1
             counts = nx * (c1[:, 1] - c0[:, 1] + 1)
-            if counts.sum() <= 8 * n + 64:
+            if np.add.reduce(counts) <= 8 * n + 64:
                 break
             self.cell *= 2.0
         self.c0 = c0
         # each box's first cell, then the further cells of the boxes that cover more
         # (row by row): the divisions only for those
-        multi = np.flatnonzero(counts > 1)
+        multi = (counts > 1).nonzero()[0]
         key = _key(c0[:, 0], c0[:, 1])
         item = np.arange(n)
         if len(multi):
             more = counts[multi] - 1
-            box = np.repeat(multi, more)
+            box = multi.repeat(more)
             offs = _ranks(more) + 1
             width = nx[box]
             key = np.concatenate([key, _key(c0[box, 0] + offs % width, c0[box, 1] + offs // width)])
@@ -296,8 +316,8 @@ class BoxGrid:
         c = self._cell(np.asarray(points, float))
         lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
         cnt = hi - lo
-        pt = np.repeat(np.arange(len(c)), cnt)
-        return pt, self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+        pt = np.arange(len(c)).repeat(cnt)
+        return pt, self.items[lo.repeat(cnt) + _ranks(cnt)]
 
 
 def _key(cx, cy):
@@ -308,10 +328,10 @@ def search_sorted(sorted_keys, k, side="left"):
     """np.searchsorted(sorted_keys, k, side), the queries sorted first where there
     are many (:func:`_search_both`)."""
     if len(k) < 256:
-        return np.searchsorted(sorted_keys, k, side)
-    order = np.argsort(k)
+        return sorted_keys.searchsorted(k, side)
+    order = k.argsort()
     out = np.empty(len(k), np.int64)
-    out[order] = np.searchsorted(sorted_keys, k[order], side)
+    out[order] = sorted_keys.searchsorted(k[order], side)
     return out
 
 
@@ -321,24 +341,24 @@ def _search_both(sorted_keys, k):
     array's cache lines in order: a quarter of the time of searching in any order,
     sort included)."""
     if len(k) < 256:
-        return np.searchsorted(sorted_keys, k, "left"), np.searchsorted(sorted_keys, k, "right")
-    order = np.argsort(k)
+        return sorted_keys.searchsorted(k, "left"), sorted_keys.searchsorted(k, "right")
+    order = k.argsort()
     ks = k[order]
     lo, hi = np.empty(len(k), np.int64), np.empty(len(k), np.int64)
-    lo[order] = np.searchsorted(sorted_keys, ks, "left")
-    hi[order] = np.searchsorted(sorted_keys, ks, "right")
+    lo[order] = sorted_keys.searchsorted(ks, "left")
+    hi[order] = sorted_keys.searchsorted(ks, "right")
     return lo, hi
 
 
 def col_min(x):
     """x.min(axis=0) of an (n, 2) array, column by column: numpy reduces a short
     last axis row by row, 30 times slower."""
-    return np.array([x[:, 0].min(), x[:, 1].min()])
+    return np.array([np.minimum.reduce(x[:, 0]), np.minimum.reduce(x[:, 1])])
 
 
 def col_max(x):
     """x.max(axis=0) of an (n, 2) array, column by column (see :func:`col_min`)."""
-    return np.array([x[:, 0].max(), x[:, 1].max()])
+    return np.array([np.maximum.reduce(x[:, 0]), np.maximum.reduce(x[:, 1])])
 
 
 def _sorted_entries(key, item, n):
@@ -348,9 +368,10 @@ def _sorted_entries(key, item, n):
     fits 62 bits; a lexsort where it does not."""
     if not len(key):
         return key, item
-    k0 = int(key.min())
-    if (int(key.max()) - k0 + 1) * max(n, 1) < 2 ** 62:
-        both = np.sort((key - k0) * n + item)
+    k0 = int(np.minimum.reduce(key))
+    if (int(np.maximum.reduce(key)) - k0 + 1) * max(n, 1) < 2 ** 62:
+        both = (key - k0) * n + item
+        both.sort()
         return both // n + k0, both % n
     order = np.lexsort((item, key))
     return key[order], item[order]
@@ -358,7 +379,7 @@ def _sorted_entries(key, item, n):
 
 def _ranks(counts):
     """0, 1, .., counts[0]-1, 0, 1, .., counts[1]-1, ... (one range per count)."""
-    return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(np.add.reduce(counts)) - (counts.cumsum() - counts).repeat(counts)
 
 
 def segment_pairs(p0, p1, ids, same_piece_ok):
@@ -373,13 +394,38 @@ def _cell_pairs(grid):
         return np.zeros((0, 2), np.int64)
     n = len(grid.lo)
     keys = unique(np.concatenate([c[:, 0] * n + c[:, 1] for c in chunks]))  # (i, j) order
-    return np.stack([keys // n, keys % n], axis=1)
+    return pair_rows(keys // n, keys % n)
 
 
 def _cell_pair_chunks(grid, limit=1 << 20, first=1 << 12):
     """:func:`_cell_pair_columns` as (k, 2) arrays."""
     for i, j in _cell_pair_columns(grid, limit, first):
-        yield np.stack([i, j], axis=1)
+        yield pair_rows(i, j)
+
+
+def pair_rows(i, j):
+    """``np.stack([i, j], axis=1)`` of two index arrays of one dtype, in one call."""
+    out = np.empty((len(i), 2), i.dtype)
+    out[:, 0], out[:, 1] = i, j
+    return out
+
+
+def columns(*cols):
+    """``np.stack(cols, axis=1)`` of 1-D arrays of one length: one allocation and a
+    copy per column (np.stack makes a dozen Python calls)."""
+    out = np.empty((len(cols[0]), len(cols)), np.result_type(*cols))
+    for k, c in enumerate(cols):
+        out[:, k] = c
+    return out
+
+
+@functools.lru_cache(maxsize=8)
+def _chunk_marks(first, limit):
+    """The running totals of :func:`_cell_pair_columns`' chunk sizes (``first``, 4
+    ``first``, 16 ``first``, ..., at most ``limit``), made once per setting."""
+    marks = np.minimum(first * 4.0 ** np.arange(64), limit).cumsum()
+    marks.flags.writeable = False
+    return marks
 
 
 def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
@@ -393,22 +439,20 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     lo, hi = grid.lo, grid.hi
     key, seg = grid.keys, grid.items
     # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
-    bounds = np.flatnonzero(np.diff(key)) + 1
-    ends = np.repeat(np.concatenate([bounds, [len(key)]]),
-                     np.diff(np.concatenate([[0], bounds, [len(key)]])))
-    cnt = ends - np.arange(len(key)) - 1
-    total = np.cumsum(cnt)
+    bounds = (key[1:] != key[:-1]).nonzero()[0] + 1
+    starts = np.concatenate(([0], bounds))
+    run_ends = np.concatenate((bounds, [len(key)]))
+    cnt = run_ends.repeat(run_ends - starts) - np.arange(len(key)) - 1
+    total = cnt.cumsum()
     if not len(cnt) or total[-1] == 0:
         return
     # chunk borders at run starts, every ~limit pairs (a run is never split)
-    starts = np.concatenate([[0], bounds])
-    before = np.concatenate([[0], total])[starts]  # pairs before each run
-    sizes = np.minimum(first * 4.0 ** np.arange(64), limit)
-    marks = np.cumsum(sizes)
-    marks = marks[:np.searchsorted(marks, total[-1]) + 1]
-    cut = starts[np.searchsorted(before, marks).clip(0, len(starts) - 1)]
-    borders = unique(np.concatenate([[0], cut, [len(key)]]))
-    slack = 1e-12 * grid.span.max()
+    before = np.concatenate(([0], total))[starts]  # pairs before each run
+    marks = _chunk_marks(first, limit)
+    marks = marks[:marks.searchsorted(total[-1]) + 1]
+    cut = starts[np.minimum(before.searchsorted(marks), len(starts) - 1)]
+    borders = unique(np.concatenate(([0], cut, [len(key)])))
+    slack = 1e-12 * np.maximum.reduce(grid.span)
     # the boxes' columns as contiguous arrays: gathering from them is several times
     # faster than gathering rows of (n, 2) arrays
     lo_x, lo_y = np.ascontiguousarray(lo[:, 0]), np.ascontiguousarray(lo[:, 1])
@@ -416,9 +460,9 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     cx, cy = np.ascontiguousarray(grid.c0[:, 0]), np.ascontiguousarray(grid.c0[:, 1])
     for s0, s1 in zip(borders[:-1], borders[1:]):
         c = cnt[s0:s1]
-        if c.sum() == 0:
+        if np.add.reduce(c) == 0:
             continue
-        first = s0 + np.repeat(np.arange(s1 - s0), c)
+        first = s0 + np.arange(s1 - s0).repeat(c)
         second = first + 1 + _ranks(c)
         i, j = seg[first], seg[second]   # i < j: a run's boxes are ascending
         keep = ((lo_x[i] <= hi_x[j]) & (lo_y[i] <= hi_y[j])
@@ -440,7 +484,7 @@ def segment_crossings(p0, p1, pairs):
     v = pc.cross2(qp, r) / den_safe
     eps = 1e-9
     hit = ok & (u >= -eps) & (u <= 1 + eps) & (v >= -eps) & (v <= 1 + eps)
-    return np.flatnonzero(hit), np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
+    return hit.ravel().nonzero()[0], np.clip(u[hit], 0, 1), np.clip(v[hit], 0, 1)
 
 
 def polylines_cross(pieces, tol):
@@ -489,8 +533,8 @@ def _touching_chunks(polylines, reach):
         return
     a, b = polyline_edges(polys)
     sizes = np.array([len(p) for p in polys])
-    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
-    size = np.repeat(sizes, sizes)
+    first = (sizes.cumsum() - sizes).repeat(sizes)
+    size = sizes.repeat(sizes)
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
     for pairs in _cell_pair_chunks(grid):
         i, j = pairs[:, 0], pairs[:, 1]
@@ -562,7 +606,7 @@ class GroupGrid:
             if not over.any():
                 break
             self.cell[over] *= 2.0
-        item = np.repeat(np.arange(len(lo)), covered)
+        item = np.arange(len(lo)).repeat(covered)
         offs = _ranks(covered)
         key = self._key(group[item], c0[item, 0] + offs % nx[item], c0[item, 1] + offs // nx[item])
         self.keys, self.items = _sorted_entries(key, item, len(lo))
@@ -582,8 +626,8 @@ class GroupGrid:
         k = self._key(group, c[:, 0], c[:, 1])
         lo = np.searchsorted(self.keys, k, "left")
         cnt = np.searchsorted(self.keys, k, "right") - lo
-        pt = np.repeat(np.arange(len(k)), cnt)
-        box = self.items[np.repeat(lo, cnt) + _ranks(cnt)]
+        pt = np.arange(len(k)).repeat(cnt)
+        box = self.items[lo.repeat(cnt) + _ranks(cnt)]
         same = self.group[box] == group[pt]
         return pt[same], box[same]
 
@@ -591,11 +635,11 @@ class GroupGrid:
         """Index pairs (i < j) of boxes of one set that share a cell and overlap
         (within 1e-12 of the set's extent, as :func:`_cell_pairs`)."""
         key, seg = self.keys, self.items
-        bounds = np.flatnonzero(np.diff(key)) + 1
-        ends = np.repeat(np.concatenate([bounds, [len(key)]]),
-                         np.diff(np.concatenate([[0], bounds, [len(key)]])))
+        bounds = np.diff(key).ravel().nonzero()[0] + 1
+        ends = np.concatenate([bounds, [len(key)]]).repeat(
+            np.diff(np.concatenate([[0], bounds, [len(key)]])))
         cnt = ends - np.arange(len(key)) - 1
-        first = np.repeat(np.arange(len(key)), cnt)
+        first = np.arange(len(key)).repeat(cnt)
         a, b = seg[first], seg[first + 1 + _ranks(cnt)]
         n = len(self.lo)
         keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
@@ -687,7 +731,7 @@ def _point_segment(px, py, ax, ay, abx, aby):
     """:func:`segment_distance` from points (px, py) to segments from (ax, ay) along
     (abx, aby), on columns."""
     ll = np.maximum(abx * abx + aby * aby, 1e-300)
-    t = np.clip(((px - ax) * abx + (py - ay) * aby) / ll, 0.0, 1.0)
+    t = np.minimum(np.maximum(((px - ax) * abx + (py - ay) * aby) / ll, 0.0), 1.0)
     return np.hypot(ax + t * abx - px, ay + t * aby - py)
 
 
@@ -700,7 +744,7 @@ def polyline_edges(polylines):
         return np.zeros((0, 2)), np.zeros((0, 2))
     a = np.concatenate(polys)
     sizes = np.array([len(p) for p in polys], np.int64)
-    last = np.cumsum(sizes) - 1
+    last = sizes.cumsum() - 1
     following = np.arange(1, len(a) + 1)
     following[last] = last - sizes + 1   # each polyline closed: its last point to its first
     return a, a[following]
@@ -816,7 +860,7 @@ def _owned_edges(polylines):
     """:func:`polyline_edges` and the index of each edge's polyline."""
     sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], np.int64)
     a, b = polyline_edges(polylines)
-    return a, b, np.repeat(np.arange(len(polylines)), sizes)
+    return a, b, np.arange(len(polylines)).repeat(sizes)
 
 
 def distance_to_others(points, owner, polylines, reach):
@@ -846,7 +890,8 @@ def project(x, a, b):
     # the two products added as columns: a sum over a last axis of 2 is a slow
     # reduction in numpy (a loop per row), and the same bits
     ll = np.maximum(ab[..., 0] * ab[..., 0] + ab[..., 1] * ab[..., 1], 1e-300)
-    return np.clip((ax[..., 0] * ab[..., 0] + ax[..., 1] * ab[..., 1]) / ll, 0.0, 1.0)
+    return np.minimum(np.maximum((ax[..., 0] * ab[..., 0] + ax[..., 1] * ab[..., 1]) / ll, 0.0),
+                      1.0)
 
 
 def segment_distance(x, a, b):

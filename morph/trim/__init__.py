@@ -107,7 +107,7 @@ def _grown_boxes(polylines, sizes, grow):
     """The boxes (lo, hi) of the non-empty ``polylines`` (``sizes`` their lengths),
     grown by ``grow``: all at once, (x, y) columns reduced at the polylines' starts."""
     pts = np.concatenate([np.asarray(p, float) for p in polylines])
-    at = np.cumsum(sizes) - sizes
+    at = sizes.cumsum() - sizes
     lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
                   axis=1) - grow
     hi = np.stack([np.maximum.reduceat(pts[:, 0], at), np.maximum.reduceat(pts[:, 1], at)],
@@ -131,7 +131,7 @@ def _near_pairs(polylines, reach, group=None):
     sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], dtype=np.int64)
     if np.count_nonzero(sizes) < 2:
         return set()
-    has = np.flatnonzero(sizes)
+    has = sizes.ravel().nonzero()[0]
     half = 0.5 * reach
     lo, hi = _grown_boxes([polylines[k] for k in has], sizes[has], half)
     pairs = _cell_pairs(BoxGrid(lo, hi))
@@ -148,13 +148,13 @@ def _near_pairs(polylines, reach, group=None):
     order = np.argsort(ring, kind="stable")
     blo, bhi = blo[order], bhi[order]
     cnt = np.bincount(ring, minlength=len(has))
-    first = np.cumsum(cnt) - cnt
-    close = np.flatnonzero(cnt)
+    first = cnt.cumsum() - cnt
+    close = cnt.ravel().nonzero()[0]
     a, b = polyline_edges([polylines[k] for k in has[close]])
-    owner = np.repeat(close, sizes[has[close]])               # index into has
+    owner = close.repeat(sizes[has[close]])               # index into has
     per = cnt[owner]
-    e = np.repeat(np.arange(len(a)), per)
-    box = first[owner][e] + (np.arange(len(e)) - np.repeat(np.cumsum(per) - per, per))
+    e = np.arange(len(a)).repeat(per)
+    box = first[owner][e] + (np.arange(len(e)) - (per.cumsum() - per).repeat(per))
     elo, ehi = np.minimum(a, b)[e] - half, np.maximum(a, b)[e] + half
     bh, bl = bhi[box], blo[box]
     meets = ((elo[:, 0] <= bh[:, 0]) & (elo[:, 1] <= bh[:, 1])
@@ -231,7 +231,7 @@ def _apart_groups(loops, margin):
         new = np.min(np.where(meets, group[None, :], len(loops)), axis=1)
         changed = bool(np.any(new != group))
         group = new
-    return [list(np.flatnonzero(group == g)) for g in unique(group)]
+    return [list((group == g).ravel().nonzero()[0]) for g in unique(group)]
 
 
 def _without_sliver_holes(loops, eps):

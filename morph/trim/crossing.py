@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import bernstein as bz
 from .. import piece as pc
-from ..polyline import member, segment_pairs, unique
+from ..polyline import member, pair_rows, segment_pairs, unique
 
 
 def uncertain_pairs(loops, pieces=None, cones=None):
@@ -25,14 +25,14 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     """
     if pieces is None:
         pieces = [p for loop in loops for p in loop]
-    sizes = np.array([len(loop) for loop in loops])
-    owner = np.repeat(np.arange(len(loops)), sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    sizes = np.fromiter(map(len, loops), np.int64, len(loops))
+    owner = np.arange(len(loops)).repeat(sizes)
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     local = np.arange(len(pieces)) - first[owner]
     start, lo, hi, end = cones if cones is not None else pc.tangent_cones(pieces)
     nxt = first[owner] + (local + 1) % sizes[owner]
     turn = end + np.angle(np.exp(1j * (start[nxt] - start - end)))
-    csum = np.cumsum(turn) - turn
+    csum = turn.cumsum() - turn
     base = csum - csum[first][owner]  # unwrapped start angle of each piece in its loop
     total = np.add.reduceat(turn, first) if len(first) else turn
     # each loop twice in a row, the second copy one total turn further on
@@ -48,7 +48,7 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     fwd = _range_span(lo2, hi2, a, b) < narrow
     back = _range_span(lo2, hi2, b, a + sizes[owner[i]]) < narrow
     keep = ~(fwd | back)
-    return np.stack([i[keep], j[keep]], axis=1)
+    return pair_rows(i[keep], j[keep])
 
 
 def _box_pairs(pieces, owner):
@@ -193,7 +193,7 @@ def stack_rows(pieces, rows):
     out = np.empty((len(rows), deg + 1, 3))
     for ks, h in pieces.groups:
         at = np.searchsorted(ks, rows)
-        hit = np.flatnonzero(ks[np.minimum(at, len(ks) - 1)] == rows) if len(ks) else at[:0]
+        hit = (ks[np.minimum(at, len(ks) - 1)] == rows).ravel().nonzero()[0] if len(ks) else at[:0]
         if len(hit):
             out[hit] = bz.elevate_many(h[at[hit]], deg + 1 - h.shape[1])
     return out
@@ -206,10 +206,10 @@ def _crowded(counts, pair_items, max_items):
     rest = np.where(over, 0, counts)
     if rest.sum() > max_items:
         order = np.argsort(-rest, kind="stable")
-        drop = np.cumsum(rest[order]) > rest.sum() - max_items
+        drop = rest[order].cumsum() > rest.sum() - max_items
         cut = int(np.argmax(drop)) + 1           # the fewest largest whose removal fits
         over[order[:cut]] = True
-    return np.flatnonzero(over)
+    return over.ravel().nonzero()[0]
 
 
 def _diffs(c):

@@ -134,7 +134,7 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
         pieces = pc.Pieces.of([p for loop in loops for p in loop])
     # a closed loop's polyline: its pieces' polylines without their ends (the next
     # piece's start), in order
-    piece_loop = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
+    piece_loop = np.arange(len(loops)).repeat([len(loop) for loop in loops])
     pid, ts, xy = adaptive_starts(pieces, piece_loop, eps, grid)
     loop_of = piece_loop[pid]
     if origin is None:
@@ -242,7 +242,7 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
     chord = xy[nxt] - xy
     length = np.hypot(chord[:, 0], chord[:, 1])
-    todo = np.flatnonzero(pending)
+    todo = pending.ravel().nonzero()[0]
     arc = ~pending   # decided parts are arcs in their chords' cones
     line = np.zeros(len(pid), bool)
     for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
@@ -274,7 +274,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     of = unique(pid[fine])
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
-    refined = np.concatenate([[0], np.cumsum(fine)])
+    refined = np.concatenate([[0], fine.cumsum()])
 
     def overlaps(owner, t0, width):
         """Parts of the pieces' subdivision that meet a refined segment."""
@@ -298,17 +298,17 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     mt = np.concatenate([ts[keep], fts[take]])
     mx = np.concatenate([xy[keep], fxy[take]])
     loose = np.concatenate([~on_fine[keep], np.zeros(take.sum(), bool)])
-    mseg = np.concatenate([np.flatnonzero(keep), seg[take]])
+    mseg = np.concatenate([keep.ravel().nonzero()[0], seg[take]])
     order = pl.piece_order(mp, mt)
     mp, mt, mx, loose, mseg = mp[order], mt[order], mx[order], loose[order], mseg[order]
     # gaps: a chord within a refined segment with a loose end (to the next vertex of
     # its piece, or to the piece's end)
-    last = np.append(mp[1:] != mp[:-1], True)
-    t_next = np.where(last, 1.0, np.append(mt[1:], 1.0))
-    loose_next = np.where(last, False, np.append(loose[1:], False))
+    last = np.concatenate((mp[1:] != mp[:-1], [True]))
+    t_next = np.where(last, 1.0, np.concatenate((mt[1:], [1.0])))
+    loose_next = np.where(last, False, np.concatenate((loose[1:], [False])))
     gap = fine[mseg] & (loose | loose_next)
     if gap.any():
-        g = np.flatnonzero(gap)
+        g = gap.ravel().nonzero()[0]
         parts = pc.subsegments(pieces, mp[g], mt[g], t_next[g])
         owner, s, pts = pl.flat_starts(parts, eps)
         inner = s > 0.0
@@ -335,7 +335,7 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     lifts are where they are, whatever their distance (their rounding is the hot
     pixels' business)."""
     near = np.zeros(len(todo), bool)
-    has = np.flatnonzero(nxt[todo] != todo)
+    has = (nxt[todo] != todo).ravel().nonzero()[0]
     if len(has) < 2:
         return near
     seg = todo[has]
@@ -392,10 +392,10 @@ def _segment_parts(pieces, pid, t0, t1):
         group[of] = g
         row[of] = np.arange(len(of))
     for g, (_, stack) in sorted(enumerate(groups), key=lambda x: x[1][1].shape[1]):
-        k = np.flatnonzero(group[pid] == g)
+        k = (group[pid] == g).ravel().nonzero()[0]
         parts = stack[row[pid[k]]]
         # a segment over its whole piece (most at the coarse level) is the piece
-        cut = np.flatnonzero((t0[k] != 0.0) | (t1[k] != 1.0))
+        cut = ((t0[k] != 0.0) | (t1[k] != 1.0)).ravel().nonzero()[0]
         if len(cut):
             parts[cut] = bz.subsegment_many(parts[cut], t0[k[cut]], t1[k[cut]])
         yield k, parts
@@ -405,16 +405,20 @@ def _in_cone(parts, chord, cos_max):
     """Whether each part's control-polygon legs (those of nonzero length) all lie
     within the angle acos(cos_max) of its chord: a stack of parts (k, n+1, 3) and
     their chords (k, 2), (k,) bool."""
-    legs = np.diff(parts[:, :, :2] / parts[:, :, 2:], axis=1)
+    x = parts[:, :, :2] / parts[:, :, 2:]
+    legs = x[:, 1:] - x[:, :-1]
     dot = legs[..., 0] * chord[:, None, 0] + legs[..., 1] * chord[:, None, 1]
     size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(chord[:, 0], chord[:, 1])[:, None]
-    return np.all((dot >= cos_max * size) | (size == 0), axis=1)
+    return np.logical_and.reduce((dot >= cos_max * size) | (size == 0), axis=1)
 
 
 def _links(loop_of):
     """(nxt, prv, starts) of closed loops stored one after another (loop_of sorted)."""
-    first = np.flatnonzero(np.diff(loop_of, prepend=-1))
-    starts = np.append(first, len(loop_of))
+    change = np.empty(len(loop_of), bool)     # loop_of >= 0: the first entry starts a loop
+    change[:1] = True
+    change[1:] = loop_of[1:] != loop_of[:-1]
+    first = change.nonzero()[0]
+    starts = np.concatenate((first, [len(loop_of)]))
     idx = np.arange(len(loop_of))
     nxt = idx + 1
     nxt[starts[1:] - 1] = starts[:-1]
@@ -444,17 +448,17 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     grid = BoxGrid(np.minimum(a, b) - SEGMENT_REACH, np.maximum(a, b) + SEGMENT_REACH)
     hot, hot_of = _unique_rows(q)
     hx, hy = hot[:, 0].astype(float), hot[:, 1].astype(float)
-    h, s = grid.at_points(np.stack([hx, hy], axis=1))
+    h, s = grid.at_points(pl.columns(hx, hy))
     # boxes (widened by half a pixel) that hold the pixel's centre, not at own ends
     # (on coordinate columns: gathering rows of (n, 2) arrays costs several times more)
     cx, cy = hx[h], hy[h]
     ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
     lo_x, lo_y = np.minimum(ax, bx) - 0.5, np.minimum(ay, by) - 0.5
     hi_x, hi_y = np.maximum(ax, bx) + 0.5, np.maximum(ay, by) + 0.5
-    keep = np.flatnonzero((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
-                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h))
+    keep = ((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
+                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h)).ravel().nonzero()[0]
     h, s = h[keep], s[keep]
-    c = np.stack([cx[keep], cy[keep]], axis=1)
+    c = pl.columns(cx[keep], cy[keep])
     keep = _line_crosses_square(a[s], b[s], c)
     h, s, c = h[keep], s[keep], c[keep]
     n = len(q)
@@ -470,7 +474,7 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     new = np.lexsort((u, s))
     s, u, h = s[new], u[new], h[new]
     added = np.bincount(s, minlength=n)
-    before = np.cumsum(added) - added               # new vertices before vertex i's
+    before = added.cumsum() - added               # new vertices before vertex i's
     at_old = np.arange(n) + before
     at_new = s + 1 + before[s] + (np.arange(len(s)) - np.searchsorted(s, s))
     out = np.empty(n + len(s), np.int64)
@@ -496,7 +500,7 @@ def _unique_rows(q):
     r = q[o]
     new = np.concatenate(([True], (r[1:, 0] != r[:-1, 0]) | (r[1:, 1] != r[:-1, 1])))
     of = np.empty(len(q), np.int64)
-    of[o] = np.cumsum(new) - 1
+    of[o] = new.cumsum() - 1
     return r[new], of
 
 
@@ -519,17 +523,17 @@ def _merge_equal(q, is_start, loop_of):
         return np.zeros(0, np.int64)
     _, prv, starts = _links(loop_of)
     size = np.diff(starts)
-    loop = np.repeat(np.arange(len(size)), size)
+    loop = np.arange(len(size)).repeat(size)
     begins = (q[:, 0] != q[prv, 0]) | (q[:, 1] != q[prv, 1])  # a run begins at this vertex
     if not begins.any():
         return np.zeros(0, np.int64)
-    count = np.cumsum(begins)                        # run starts up to and with i
+    count = begins.cumsum()                        # run starts up to and with i
     before = np.concatenate([[0], count])[starts[:-1]]  # ... before each loop
     total = count[starts[1:] - 1] - before           # run starts of each loop
     own = count - before[loop]                       # ... of the loop, up to i
     live = total[loop] > 0
     run = np.where(own > 0, count, before[loop] + total[loop]) - 1
-    run_start = np.flatnonzero(begins)               # run r begins at run_start[r]
+    run_start = begins.ravel().nonzero()[0]               # run r begins at run_start[r]
     idx = np.arange(n)
     r0 = run_start[np.where(live, run, 0)]
     key = np.where(live, (idx - r0) % size[loop], 0)  # position along its run

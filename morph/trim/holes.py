@@ -11,13 +11,16 @@ A ∩ (x − B) ≠ ∅, evaluated on A and B flattened within a tenth of the po
 predicates where the two are apart, Clipper's intersection elsewhere.
 """
 
+import functools
+
 import numpy as np
 import pyclipper
 
 from .. import moments as mo
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import BoxGrid, _cell_pairs, min_segment_distance, unique, winding_number
+from ..polyline import (BoxGrid, _cell_pairs, columns, min_segment_distance, unique,
+                        winding_number)
 
 
 COARSE_VERTICES = 256  # the search runs on polygons thinned to about this many
@@ -86,7 +89,7 @@ def points_deep_enough(holes, enough):
         return np.zeros((0, 2)), np.zeros(0)
     x, depth = _search_many([[ring] + list(islands) for ring, islands in holes], COARSE_GRID,
                             1, enough, alone_search=False)
-    rest = np.flatnonzero(~(depth >= enough))
+    rest = (~(depth >= enough)).ravel().nonzero()[0]
     if len(rest):
         x[rest], depth[rest] = deepest_points([holes[h] for h in rest], enough=enough)
     return x, depth
@@ -101,13 +104,13 @@ def _packed(polys):
     flat = [p for ps in polys for p in ps]
     size = np.fromiter(map(len, flat), np.int64, len(flat))
     a = np.concatenate(flat)
-    first = np.cumsum(size) - size
+    first = size.cumsum() - size
     nxt = np.arange(len(a)) + 1
     nxt[first + size - 1] = first
-    hole_first = np.cumsum(n_poly) - n_poly
+    hole_first = n_poly.cumsum() - n_poly
     e_count = np.add.reduceat(size, hole_first) if len(size) else np.zeros(0, np.int64)
-    e_start = np.cumsum(e_count) - e_count
-    poly_of_edge = np.repeat(np.arange(len(flat)) - np.repeat(hole_first, n_poly), size)
+    e_start = e_count.cumsum() - e_count
+    poly_of_edge = (np.arange(len(flat)) - hole_first.repeat(n_poly)).repeat(size)
     return a, a[nxt], e_start, e_count, poly_of_edge, n_poly, size
 
 
@@ -119,24 +122,23 @@ def _search_many(polys, grid_n, rounds, enough, alone_search=True):
     n = len(polys)
     a, b, e_start, e_count, poly_of_edge, n_poly, size = _packed(polys)
     # each ring's box (the ring comes first among its hole's polygons)
-    ring_size = size[np.cumsum(n_poly) - n_poly]
-    bounds = np.stack([e_start, e_start + ring_size], axis=1).ravel()
+    ring_size = size[n_poly.cumsum() - n_poly]
+    bounds = columns(e_start, e_start + ring_size).ravel()
     padded = np.concatenate([a, a[:1]])
     lo = np.minimum.reduceat(padded, bounds)[::2]
     hi = np.maximum.reduceat(padded, bounds)[::2]
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center.copy(), np.full(n, -np.inf)
-    g = np.linspace(-1.0, 1.0, grid_n)
-    unit = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    unit = _unit_grid(grid_n)
     c = len(unit)
     active = np.ones(n, bool)
     alone = []
     for r in range(rounds):
-        act = np.flatnonzero(active)
+        act = active.ravel().nonzero()[0]
         if not len(act):
             break
         cand = (center[act, None, :] + unit[None] * half[act, None, :]).reshape(-1, 2)
-        hole = np.repeat(act, c)                       # the hole of each candidate
+        hole = act.repeat(c)                       # the hole of each candidate
         inside = _inside_own(cand, hole, a, b, e_start, e_count, poly_of_edge, n_poly, grid_n)
         dist = _row_distance(cand, hole, inside, a, b, e_start, e_count, grid_n)
         dist = dist.reshape(len(act), c)
@@ -165,8 +167,8 @@ def _pairs(owner, e_start, e_count):
     (``owner[i]``: point i's hole; hole h's edges e_start[h] .. + e_count[h]),
     grouped by point, edges in order."""
     per = e_count[owner]
-    pt = np.repeat(np.arange(len(owner)), per)
-    off = np.arange(len(pt)) - np.repeat(np.cumsum(per) - per, per)
+    pt = np.arange(len(owner)).repeat(per)
+    off = np.arange(len(pt)) - (per.cumsum() - per).repeat(per)
     return pt, e_start[owner][pt] + off
 
 
@@ -183,7 +185,7 @@ def _inside_own(pts, owner, a, b, e_start, e_count, poly_of_edge, n_poly, row=1)
     span = (a[e, 1] <= y) != (b[e, 1] <= y)
     rp, e = rp[span], e[span]
     pt = (rows[rp][:, None] + np.arange(row)).ravel()
-    e = np.repeat(e, row)
+    e = e.repeat(row)
     sign = pl.ray_crossings(pts[pt], a[e], b[e])
     hit = sign != 0
     pt, poly, sign = pt[hit], poly_of_edge[e[hit]], sign[hit]
@@ -191,7 +193,7 @@ def _inside_own(pts, owner, a, b, e_start, e_count, poly_of_edge, n_poly, row=1)
     key = pt * int(n_poly.max()) + poly
     order = np.argsort(key, kind="stable")
     key, sign = key[order], sign[order]
-    first = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]]))
+    first = np.concatenate([[True], key[1:] != key[:-1]]).ravel().nonzero()[0]
     odd = np.add.reduceat(sign, first) % 2 == 1 if len(key) else np.zeros(0, bool)
     kpt, kpoly = pt[order][first], poly[order][first]
     in_ring = np.zeros(len(pts), bool)
@@ -219,7 +221,7 @@ def _row_distance(pts, owner, inside, a, b, e_start, e_count, row):
     # bounds: distances to the spanning edges
     span = dy == 0.0
     pt = (rows[rp[span]][:, None] + np.arange(row)).ravel()
-    es = np.repeat(e[span], row)
+    es = e[span].repeat(row)
     keep = inside[pt]
     pt, es = pt[keep], es[keep]
     bound = np.full(len(pts), np.inf)
@@ -227,7 +229,7 @@ def _row_distance(pts, owner, inside, a, b, e_start, e_count, row):
     row_bound = np.where(inside, bound, -np.inf).reshape(-1, row).max(axis=1)
     near = dy <= row_bound[rp]
     pt = (rows[rp[near]][:, None] + np.arange(row)).ravel()
-    en = np.repeat(e[near], row)
+    en = e[near].repeat(row)
     keep = inside[pt]
     pt, en = pt[keep], en[keep]
     d = pl.segment_distance(pts[pt], a[en], b[en])
@@ -241,7 +243,7 @@ def _own_distance(pts, owner, a, b, e_start, e_count):
     """Distance from each point to the nearest edge of its own hole's polygons."""
     pt, e = _pairs(owner, e_start, e_count)
     d = pl.segment_distance(pts[pt], a[e], b[e])
-    return np.minimum.reduceat(d, np.cumsum(e_count[owner]) - e_count[owner])
+    return np.minimum.reduceat(d, e_count[owner].cumsum() - e_count[owner])
 
 
 def _depths(x, polys):
@@ -264,6 +266,16 @@ def _depth(x, ring, islands):
     return float(min_segment_distance(x, a, b)[0])
 
 
+@functools.lru_cache(maxsize=8)
+def _unit_grid(grid_n):
+    """The grid_n x grid_n points of [-1, 1]^2 that a search round tries, (grid_n^2, 2)
+    (x fastest), made once per size (read-only)."""
+    g = np.linspace(-1.0, 1.0, grid_n)
+    unit = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    unit.flags.writeable = False
+    return unit
+
+
 def _search(ring, islands, grid_n, rounds, enough=np.inf):
     """:func:`deepest_point`'s grid search on the given polygons."""
     polys = [ring] + list(islands)
@@ -273,8 +285,7 @@ def _search(ring, islands, grid_n, rounds, enough=np.inf):
     center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     best, depth = center, -np.inf
     for r in range(rounds):
-        g = np.linspace(-1.0, 1.0, grid_n)
-        cand = center + np.stack(np.meshgrid(g, g), -1).reshape(-1, 2) * half
+        cand = center + _unit_grid(grid_n) * half
         inside = winding_number(cand, [ring]) % 2 == 1
         for isl in islands:
             inside &= winding_number(cand, [isl]) % 2 == 0
@@ -390,10 +401,10 @@ class Membership:
         unknown = np.isnan(self._areas[loops])
         if unknown.any():
             self._areas[loops[unknown]] = mo.loop_areas([region[i] for i in
-                                                         np.flatnonzero(unknown).tolist()])
+                                                         unknown.ravel().nonzero()[0].tolist()])
         sizes = self._sizes[loops]
         owner, _, pts = pl.flat_starts([p for loop in region for p in loop], self.flat)
-        loop_of = np.repeat(np.arange(len(loops)), sizes)[owner]
+        loop_of = np.arange(len(loops)).repeat(sizes)[owner]
         bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
         n_pts = np.diff(bounds)
         closed = ~(np.abs(self._areas[loops]) <= self._flat_area)
@@ -411,7 +422,7 @@ class Membership:
 
     def _all(self):
         self._prepare(np.arange(len(self.region_a)))
-        return np.flatnonzero(self._closed), np.flatnonzero(~self._closed)
+        return self._closed.ravel().nonzero()[0], (~self._closed).ravel().nonzero()[0]
 
     @property
     def pa(self):
@@ -460,8 +471,8 @@ class Membership:
         near, _ = _meeting_many(ctrl, lo.astype(float), hi.astype(float), self._sizes > 0)
         self._prepare(unique(near))
         part, first = _meeting_many(self._box, lo, hi, self._ok & self._ready)
-        pt = np.repeat(np.arange(len(x)), np.diff(first))
-        test = np.flatnonzero(np.diff(first) > 0)
+        pt = np.arange(len(x)).repeat(np.diff(first))
+        test = (np.diff(first) > 0).ravel().nonzero()[0]
         if not len(test):
             return out
         apart = self._apart(x, pt, part)
@@ -501,8 +512,8 @@ class Membership:
         # segments of the paired parts near the disc: contacts with x − B's edges
         at = np.searchsorted(used, part)
         s_first, s_count = segs["first"][at], segs["count"][at]
-        sp = np.repeat(np.arange(len(part)), s_count)
-        s = np.repeat(s_first, s_count) + _ranks(s_count)
+        sp = np.arange(len(part)).repeat(s_count)
+        s = s_first.repeat(s_count) + _ranks(s_count)
         p_of = pt[sp]
         # the segments whose boxes come within reach first, then their distances
         c, r = centre[p_of], reach[p_of]
@@ -515,8 +526,8 @@ class Membership:
         s, p_of, sp = s[near], p_of[near], sp[near]
         m = e0.shape[1]
         if len(s) and m:
-            si = np.repeat(s, m)
-            pi = np.repeat(p_of, m)
+            si = s.repeat(m)
+            pi = p_of.repeat(m)
             ei = np.tile(np.arange(m), len(s))
             touch = _segments_meet(segs["a"][si], segs["b"][si], e0[pi, ei], e1[pi, ei])
             blocked[pi[touch]] = True
@@ -532,8 +543,8 @@ class Membership:
     def _edges_of_b(self, qb):
         """x − B's edges (e0, e1: (n, m, 2)) over its loops of >= 3 points (those
         Clipper gets), cyclic, and a vertex of each such loop (n, loops, 2)."""
-        b_first = np.cumsum(self._b_sizes) - self._b_sizes
-        use = np.repeat(self._b_sizes >= 3, self._b_sizes)
+        b_first = self._b_sizes.cumsum() - self._b_sizes
+        use = (self._b_sizes >= 3).repeat(self._b_sizes)
         nxt = np.arange(len(self._pts_b)) + 1
         nxt[b_first + self._b_sizes - 1] = b_first
         return qb[:, use], qb[:, nxt[use]], qb[:, b_first[self._b_sizes >= 3]]
@@ -544,24 +555,24 @@ class Membership:
         numbers about all those parts summed (Clipper's nonzero rule on the
         subject), nonzero.  The vertex lies on no part's edge (the contact test
         comes first), so each winding number is exact."""
-        closed_pair = np.flatnonzero(self._closed[part])
+        closed_pair = self._closed[part].ravel().nonzero()[0]
         n_b = rep_b.shape[1]
         if not (len(closed_pair) and n_b):
             return np.zeros(0, np.int64)
-        cp = np.repeat(closed_pair, n_b)
+        cp = closed_pair.repeat(n_b)
         j = np.tile(np.arange(n_b), len(closed_pair))   # the loop of x − B
         v = rep_b[pt[cp], j]
         k = part[cp]
         count = self._count[k]
-        row = np.repeat(np.arange(len(cp)), count)
-        e = np.repeat(self._first[k], count) + _ranks(count)
-        e_next = np.where(_ranks(count) == np.repeat(count, count) - 1,
-                          np.repeat(self._first[k], count), e + 1)
+        row = np.arange(len(cp)).repeat(count)
+        e = self._first[k].repeat(count) + _ranks(count)
+        e_next = np.where(_ranks(count) == count.repeat(count) - 1,
+                          self._first[k].repeat(count), e + 1)
         # summed per (point, loop of x − B) over the point's closed parts
         key = (pt[cp] * n_b + j)[row]
         wind = np.bincount(key, weights=_crossing_signs(v[row], self._q[e], self._q[e_next]),
                            minlength=(int(pt.max()) + 1) * n_b)
-        return unique(np.flatnonzero(wind != 0) // n_b)
+        return unique((wind != 0).ravel().nonzero()[0] // n_b)
 
     def _segment_table(self, parts):
         """The segments of loops ``parts`` (ascending) as Clipper gets them: a
@@ -571,16 +582,16 @@ class Membership:
         first, count, q = self._first[parts], self._count[parts], self._q
         closed = self._closed[parts]
         n_seg = np.where(closed, count, count - 1)
-        i = np.repeat(first, n_seg) + _ranks(n_seg)
-        last = np.repeat(first + count - 1, n_seg)
-        j = np.where(i == last, np.repeat(first, n_seg), i + 1)
+        i = first.repeat(n_seg) + _ranks(n_seg)
+        last = (first + count - 1).repeat(n_seg)
+        j = np.where(i == last, first.repeat(n_seg), i + 1)
         a, b = q[i], q[j]
         # a path whose points are all one grid point: a unit segment from it
         box = self._box[parts]
         dot = ~closed & np.all(box[:, :2] == box[:, 2:], axis=1)
-        b = np.where(np.repeat(dot, n_seg)[:, None], a + np.array([1, 0]), b)
+        b = np.where(dot.repeat(n_seg)[:, None], a + np.array([1, 0]), b)
         return {"a": a, "b": b, "lo": np.minimum(a, b), "hi": np.maximum(a, b),
-                "first": np.cumsum(n_seg) - n_seg, "count": n_seg}
+                "first": n_seg.cumsum() - n_seg, "count": n_seg}
 
     def _listed(self, k):
         if k not in self._lists:
@@ -618,7 +629,7 @@ def control_boxes(region):
     ``region`` (zeros for an empty loop), all at once: each holds its loop."""
     sizes = np.fromiter(map(len, region), np.int64, len(region))
     out = np.zeros((len(region), 4))
-    at = (np.cumsum(sizes) - sizes)[sizes > 0]
+    at = (sizes.cumsum() - sizes)[sizes > 0]
     if len(at):
         box = pc.bboxes([p for loop in region for p in loop])
         out[sizes > 0] = np.concatenate(
@@ -628,7 +639,7 @@ def control_boxes(region):
 
 def _ranks(counts):
     """0 .. c - 1 for each count c, concatenated."""
-    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
 
 
 def _orient(a, b, c):
@@ -660,9 +671,9 @@ def _winding(v, row, e0, e1):
     """Winding numbers of points ``v`` (k, 2) about the edges e0[row[k]] ->
     e1[row[k]] ((n, m, 2) each)."""
     m = e0.shape[1]
-    r = np.repeat(row, m)
+    r = row.repeat(m)
     e = np.tile(np.arange(m), len(v))
-    signs = _crossing_signs(np.repeat(v, m, axis=0), e0[r, e], e1[r, e])
+    signs = _crossing_signs(v.repeat(m, axis=0), e0[r, e], e1[r, e])
     return signs.reshape(len(v), m).sum(axis=1)
 
 
@@ -680,8 +691,8 @@ def _boxes_of(q, first, count):
     q[first[k]:first[k] + count[k]] (count >= 1), all at once."""
     if not len(first):
         return np.zeros((0, 4), np.int64)
-    idx = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
-    at = np.cumsum(count) - count
+    idx = (first - count.cumsum() + count).repeat(count) + np.arange(count.sum())
+    at = count.cumsum() - count
     rows = q[idx]
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
@@ -691,7 +702,7 @@ def _meeting_many(boxes, lo, hi, ok):
     meet it (touching counts), found through a grid of all the boxes
     (:func:`morph.polyline._cell_pairs`, a superset) and checked on the integers:
     (ids, first), box i's ascending in ids[first[i]:first[i + 1]]."""
-    cand = np.flatnonzero(ok)
+    cand = ok.ravel().nonzero()[0]
     n = len(lo)
     if not len(cand) or not n:
         return np.zeros(0, np.int64), np.zeros(n + 1, np.int64)
@@ -700,7 +711,8 @@ def _meeting_many(boxes, lo, hi, ok):
     i, j = pairs[:, 0], pairs[:, 1]
     cross = (i < n) & (j >= n)
     q, k = i[cross], cand[j[cross] - n]
-    meet = np.all(boxes[k, :2] <= hi[q], axis=1) & np.all(boxes[k, 2:] >= lo[q], axis=1)
+    meet = (np.logical_and.reduce(boxes[k, :2] <= hi[q], axis=1)
+            & np.logical_and.reduce(boxes[k, 2:] >= lo[q], axis=1))
     q, k = q[meet], k[meet]
     order = np.lexsort((k, q))
-    return k[order], np.concatenate([[0], np.cumsum(np.bincount(q, minlength=n))])
+    return k[order], np.concatenate([[0], np.bincount(q, minlength=n).cumsum()])

@@ -52,7 +52,7 @@ def lift_rings(rings, tg, contract, packed=False):
         return ([], [], pc.Pieces([], 0)) if packed else ([], [])
     sizes = np.array([len(r) for r in rings])
     v = np.concatenate(rings)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first
     seg, fwd = _edge_segments(v, v[nx], tg, nx)
@@ -88,7 +88,7 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
     the next lie on different pieces that cross there; NaN elsewhere), by Newton on
     the exact pieces in one batch; the crossing parameters are written into ``tq``
     (of edge i) and ``tp`` (of the next edge) in place."""
-    k = np.flatnonzero(cross)
+    k = cross.ravel().nonzero()[0]
     guess = tg.to_float(v[nx[k]])
     point = np.full((len(v), 2), np.nan)  # junction point after edge i
     if len(k):
@@ -128,15 +128,15 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     junction is one whole piece.  The runs are cut in one call
     (:func:`morph.piece.subsegments`)."""
     n_rings = len(rings)
-    ring_of = np.repeat(np.arange(n_rings), sizes)
-    junction = np.flatnonzero(~cont)                 # sorted: grouped by ring, in order
+    ring_of = np.arange(n_rings).repeat(sizes)
+    junction = (~cont).ravel().nonzero()[0]                 # sorted: grouped by ring, in order
     jr = ring_of[junction]
     count = np.bincount(jr, minlength=n_rings)
-    lo = np.cumsum(count) - count                    # first junction of each ring
+    lo = count.cumsum() - count                    # first junction of each ring
     i = np.arange(len(junction))
     prev = np.where(i == lo[jr], lo[jr] + count[jr] - 1, i - 1)
     e_first, e_last = nx[junction[prev]], junction
-    whole = np.flatnonzero(count == 0)               # a whole single-piece loop
+    whole = (count == 0).ravel().nonzero()[0]               # a whole single-piece loop
     e = first[whole]
     ring = np.concatenate([jr, whole])
     piece_id = np.concatenate([pid[e_first], pid[e]]).astype(int)
@@ -150,7 +150,7 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
     # junctions at joints (no crossing point): the mean of the two runs' ends
     per = np.bincount(ring, minlength=n_rings)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     k = np.arange(len(ring))
     after = np.where(k + 1 == base[ring] + per[ring], base[ring], k + 1)
     gap = np.isnan(ends).any(axis=1)
@@ -166,26 +166,26 @@ def _with_spikes_cut(flat, flagged, reach):
     their places (one gather)."""
     pieces, ends, per = flat
     pieces = pc.Pieces.of(pieces)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     hit = np.zeros(len(per), bool)
     hit[[r for r, _ in flagged]] = True
     runs = {}
-    for r in np.flatnonzero(hit).tolist():
+    for r in hit.ravel().nonzero()[0].tolist():
         a, b = int(base[r]), int(base[r] + per[r])
         runs[r] = (pieces.take(np.arange(a, b)).rows(), list(ends[a:b]))
     _cut_flagged(runs, flagged, reach)
     new_per = per.copy()
     for r, (out, _) in runs.items():
         new_per[r] = len(out)
-    kept = ~np.repeat(hit, per)
+    kept = ~hit.repeat(per)
     new = [p for r in sorted(runs) for p in runs[r][0]]
     new_ends = np.array([e for r in sorted(runs) for e in runs[r][1]], float).reshape(-1, 2)
     # the final order: ring by ring, the kept rows first in the stack, then the new
-    cut_row = np.repeat(hit, new_per)
+    cut_row = hit.repeat(new_per)
     where = np.empty(len(cut_row), np.int64)
     where[~cut_row] = np.arange(int(kept.sum()))
     where[cut_row] = kept.sum() + np.arange(len(new))
-    both = pieces.take(np.flatnonzero(kept)).then(new)
+    both = pieces.take(kept.ravel().nonzero()[0]).then(new)
     return (both.take(where), np.concatenate([ends[kept], new_ends])[where], new_per)
 
 
@@ -194,7 +194,7 @@ def _as_runs(flat):
     [(pieces, ends)], lists."""
     pieces, ends, per = flat
     rows = list(pieces)
-    bounds = np.append(np.cumsum(per) - per, len(rows)).tolist()
+    bounds = np.append(per.cumsum() - per, len(rows)).tolist()
     return [(rows[bounds[r]:bounds[r + 1]], list(ends[bounds[r]:bounds[r + 1]]))
             for r in range(len(per))]
 
@@ -217,12 +217,12 @@ def _close_all(flat, contract):
     if not len(pieces):
         return [[] for _ in range(n_rings)], pc.Pieces([], 0)
     pieces = pc.Pieces.of(pieces)
-    ring = np.repeat(np.arange(n_rings), per_ring)
+    ring = np.arange(n_rings).repeat(per_ring)
     keep = pc.length_bounds(pieces) >= contract
-    idx = np.flatnonzero(keep)
+    idx = keep.ravel().nonzero()[0]
     kr = ring[idx]
     per = np.bincount(kr, minlength=n_rings)
-    base = np.cumsum(per) - per
+    base = per.cumsum() - per
     k = np.arange(len(idx))
     before = np.where(k == base[kr], base[kr] + per[kr] - 1, k - 1)
     snapped = _with_endpoints_many(pieces.take(idx), ends[idx[before]], ends[idx],
@@ -234,7 +234,7 @@ def _close_all(flat, contract):
     bounds = np.append(base, len(idx)).tolist()
     if not short.any():
         return [rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], snapped
-    first = np.append(np.cumsum(per_ring) - per_ring, len(ring)).tolist()
+    first = np.append(per_ring.cumsum() - per_ring, len(ring)).tolist()
     whole = pieces.rows()
     return [_close(whole[first[r]:first[r + 1]], list(ends[first[r]:first[r + 1]]), contract)
             if short[r] else rows[bounds[r]:bounds[r + 1]] for r in range(n_rings)], None
@@ -282,9 +282,9 @@ def _spike_triples(flat, reach):
     (pieces, junction ends, runs per ring: :func:`_ring_runs`).  A real short piece
     between neighbours that do not cross (a nib's tip) is not one."""
     pieces, ends, per = flat
-    ring = np.repeat(np.arange(len(per)), per)
-    base = np.cumsum(per) - per
-    i = np.flatnonzero(per[ring] >= 3)
+    ring = np.arange(len(per)).repeat(per)
+    base = per.cumsum() - per
+    i = (per[ring] >= 3).ravel().nonzero()[0]
     if not len(i):
         return []
     r = ring[i]
@@ -302,7 +302,7 @@ def _spike_triples(flat, reach):
     g = np.concatenate([ends[i] - lim[:, None], ends[i] + lim[:, None]], axis=1)
     lo = np.maximum(np.maximum(box[:m, :2], box[m:, :2]) - atol, g[:, :2])
     hi = np.minimum(np.minimum(box[:m, 2:], box[m:, 2:]) + atol, g[:, 2:])
-    maybe = np.flatnonzero((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1]))
+    maybe = ((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1])).ravel().nonzero()[0]
     if not len(maybe):
         return []
     i, r, j, prev, nxt, lim = i[maybe], r[maybe], j[maybe], prev[maybe], nxt[maybe], lim[maybe]
@@ -397,7 +397,7 @@ def _edge_segments(p, q, tg, nx=None):
     against = (ip >= 0) & (iq >= 0) & (tg.nxt[np.maximum(iq, 0)] == ip) & ~along
     seg[along], seg[against] = ip[along], iq[against]
     direction[against] = False
-    rest = np.flatnonzero(~(along | against))
+    rest = (~(along | against)).ravel().nonzero()[0]
     if len(rest):
         seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg, (sk, order))
     return seg, direction
@@ -421,7 +421,7 @@ def _matched_segments(p, q, tg, sorted_keys):
     cand_e, cand_s = _vertex_candidates(p, q, tg, sorted_keys)
     best, seg, direction = _best_fits(len(p), cand_e, cand_s, *_fit(
         p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
-    lost = np.flatnonzero(best > MATCH_UNITS)
+    lost = (best > MATCH_UNITS).ravel().nonzero()[0]
     if len(lost):
         s, f = _nearest_segments(p[lost], q[lost], sa, sb, tg)
         seg[lost], direction[lost] = s, f
@@ -441,13 +441,13 @@ def _nearest_segments(p, q, sa, sb, tg=None):
     if tg is not None and tg.seg_grid is not None:
         e, old = tg.seg_grid.at_points(p)
         cnt = tg.seg_count[old]
-        e = np.repeat(e, cnt)
-        s = np.repeat(tg.seg_first[old], cnt) + _ranks(cnt)
+        e = e.repeat(cnt)
+        s = tg.seg_first[old].repeat(cnt) + _ranks(cnt)
     else:
         grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
         e, s = grid.at_points(p)
     best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
-    far = np.flatnonzero(best > MATCH_UNITS)
+    far = (best > MATCH_UNITS).ravel().nonzero()[0]
     for chunk in np.array_split(far, max(1, len(far) // 64)):
         if len(chunk):
             sc, fw = _fit(p[chunk, None], q[chunk, None], sa[None], sb[None])
@@ -466,7 +466,7 @@ def _best_fits(n, e, s, score, fwd):
     # the first, as a stable sort by (edge, score) takes them): two unbuffered
     # reductions, no sort
     np.fmin.at(best, e, score)
-    hit = np.flatnonzero(score == best[e])
+    hit = (score == best[e]).ravel().nonzero()[0]
     first = np.full(n, len(e))
     np.minimum.at(first, e[hit], hit)
     take = first[first < len(e)]
@@ -485,8 +485,8 @@ def _vertex_candidates(p, q, tg, sorted_keys):
         lo = np.searchsorted(sk, kp, "left")
         hi = np.searchsorted(sk, kp, "right")
         cnt = hi - lo
-        e = np.repeat(np.arange(len(pts)), cnt)
-        idx = order[np.repeat(lo, cnt) + (np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt))]
+        e = np.arange(len(pts)).repeat(cnt)
+        idx = order[lo.repeat(cnt) + (np.arange(cnt.sum()) - (cnt.cumsum() - cnt).repeat(cnt))]
         for f in rel:
             es.append(e)
             ss.append(f(idx))
@@ -518,15 +518,16 @@ def newton_step(ha, dha, s, hb, dhb, u):
     """One Newton step on F(s, u) = A(s) - B(u) for rows of stacked homogeneous
     pieces ``ha``, ``hb`` (their hodographs ``dha``, ``dhb``), kept in [0, 1]^2; a
     row whose Jacobian is singular stays where it is."""
-    return _newton_step(ha, dha, s, hb, dhb, u)[:2]
+    return _newton_step(np.concatenate([ha, hb]), np.concatenate([dha, dhb]), s, u)[:2]
 
 
-def _newton_step(ha, dha, s, hb, dhb, u):
-    """:func:`newton_step`, and how far it moved each row's points (|A'| |ds| and
-    |B'| |du|, the larger).  A and B evaluated in one :func:`_jet_rows`."""
+def _newton_step(hab, dhab, s, u):
+    """:func:`newton_step` of the rows A, B stacked one after the other (``hab`` the
+    m rows of A then those of B, ``dhab`` their hodographs), and how far it moved
+    each row's points (|A'| |ds| and |B'| |du|, the larger).  A and B evaluated in
+    one :func:`_jet_rows`."""
     m = len(s)
-    p, d = _jet_rows(np.concatenate([ha, hb]), np.concatenate([s, u]),
-                     np.concatenate([dha, dhb]))
+    p, d = _jet_rows(hab, np.concatenate([s, u]), dhab)
     da, db = d[:m], d[m:]
     f = p[:m] - p[m:]
     det = da[:, 0] * (-db[:, 1]) - da[:, 1] * (-db[:, 0])
@@ -596,17 +597,17 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     s, u = np.array(ta, float), np.array(tb, float)
     ha, hb = stacked[ia], stacked[ib]
     n = stacked.shape[1] - 1
-    dha, dhb = n * np.diff(ha, axis=1), n * np.diff(hb, axis=1)
+    dha, dhb = n * (ha[:, 1:] - ha[:, :-1]), n * (hb[:, 1:] - hb[:, :-1])
     # a row whose step leaves (s, u) as they are is at a fixed point of the
     # iteration (a root to the last bit, or clamped at an end): it leaves the batch,
     # the others go on; without ``settle`` the result is the same bits as iterating
-    # every row
-    live, rows = np.arange(len(s)), (ha, dha, hb, dhb)   # the live rows' pieces
+    # every row.  The live rows' pieces: A's then B's, stacked once (again when rows leave)
+    live, rows = np.arange(len(s)), (np.concatenate([ha, hb]), np.concatenate([dha, dhb]))
     sl, ul = s.copy(), u.copy()
     for _ in range(iters):
         if not len(live):
             break
-        s2, u2, moved = _newton_step(rows[0], rows[1], sl, rows[2], rows[3], ul)
+        s2, u2, moved = _newton_step(rows[0], rows[1], sl, ul)
         s[live], u[live] = s2, u2
         going = (s2 != sl) | (u2 != ul)
         if settle > 0.0:
@@ -615,14 +616,17 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
         if len(keep) == len(going):
             sl, ul = s2, u2
             continue
+        both = np.concatenate([keep, keep + len(going)])
         live, sl, ul = live[keep], s2[keep], u2[keep]
-        rows = tuple(r[keep] for r in rows)
+        rows = (rows[0][both], rows[1][both])
     pa, da = _jet_rows(ha, s, dha)
     pb, db = _jet_rows(hb, u, dhb)
     err = np.hypot(*(pa - pb).T)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("ij,ij->i", da, db)) / (np.hypot(*da.T) * np.hypot(*db.T))
-    sin_half = np.sqrt(np.clip(0.5 * (1.0 - np.nan_to_num(cos, nan=1.0)), 0.0, 1.0))
+    # np.clip(0.5 (1 - nan_to_num(cos, nan=1)), 0, 1): an infinite cos clips to 0 either way
+    sin_half = np.sqrt(np.minimum(np.maximum(0.5 * (1.0 - np.where(cos != cos, 1.0, cos)), 0.0),
+                                  1.0))
     # the allowance only for crossings inside both pieces (Newton clamps to [0, 1],
     # and consecutive pieces meet at their ends) and not near-tangent: where two
     # pieces touch or continue each other, Newton stalls anywhere along the contact

@@ -23,7 +23,7 @@ from itertools import chain
 import numpy as np
 import pyclipper
 
-from ..polyline import BoxGrid, _cell_pairs, unique
+from ..polyline import BoxGrid, _cell_pairs, columns, unique
 
 FILL_TYPES = {
     "positive": pyclipper.PFT_POSITIVE,
@@ -74,7 +74,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     than that."""
     keep = sizes >= 3
     if not keep.all():
-        sizes, q = sizes[keep], q[np.repeat(keep, sizes)]
+        sizes, q = sizes[keep], q[keep.repeat(sizes)]
     if not len(sizes):
         return []
     sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
@@ -82,7 +82,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         return []
     if thin > 0.0:
         kept = _without_lone_slivers(thin, sizes, q)
-        sizes, q, group = sizes[kept], q[np.repeat(kept, sizes)], group[kept]
+        sizes, q, group = sizes[kept], q[kept.repeat(sizes)], group[kept]
     if not len(sizes):
         return []
     rings = _nested_rings(None, sizes, q, group)
@@ -121,7 +121,7 @@ def _union(sizes, q, ft, gap=APART_GAP):
     coordinates: smaller ones round them closer), and its rings moved back.  The
     order of the rings (Clipper's own depends on the layout) is that of their tops,
     a property of each ring alone."""
-    starts = np.cumsum(sizes) - sizes
+    starts = sizes.cumsum() - sizes
     lo, hi = np.minimum.reduceat(q, starts), np.maximum.reduceat(q, starts)
     group = _apart_groups(lo, hi, gap)
     g = int(group.max()) + 1
@@ -132,9 +132,9 @@ def _union(sizes, q, ft, gap=APART_GAP):
     shift = (glo + ghi) // 2
     # the paths in group order, each group's moved to the origin
     order = np.argsort(group, kind="stable")
-    rows = np.repeat(starts[order], sizes[order]) + _ranks(sizes[order])
-    moved = q[rows] - np.repeat(shift[group[order]], sizes[order], axis=0)
-    ends = np.cumsum(np.bincount(group, minlength=g)).tolist()
+    rows = starts[order].repeat(sizes[order]) + _ranks(sizes[order])
+    moved = q[rows] - shift[group[order]].repeat(sizes[order], axis=0)
+    ends = np.bincount(group, minlength=g).cumsum().tolist()
     with _without_collection():
         lists = _packed_lists(sizes[order], moved)
         flat, ring_group = [], []
@@ -146,14 +146,14 @@ def _union(sizes, q, ft, gap=APART_GAP):
         if not flat:
             return np.zeros(0, np.int64), np.zeros((0, 2), np.int64), np.zeros(0, np.int64)
         f_sizes, f_q = _flat_arrays(flat)
-    f_starts = np.cumsum(f_sizes) - f_sizes
-    f_q += np.repeat(shift[ring_group], f_sizes, axis=0)
+    f_starts = f_sizes.cumsum() - f_sizes
+    f_q += shift[ring_group].repeat(f_sizes, axis=0)
     # each ring's top: its largest y, the smallest x at that height
     top_y = np.maximum.reduceat(f_q[:, 1], f_starts)
-    at_top = f_q[:, 1] == np.repeat(top_y, f_sizes)
+    at_top = f_q[:, 1] == top_y.repeat(f_sizes)
     top_x = np.minimum.reduceat(np.where(at_top, f_q[:, 0], np.iinfo(np.int64).max), f_starts)
     order = np.lexsort((top_x, -top_y))
-    rows = np.repeat(f_starts[order], f_sizes[order]) + _ranks(f_sizes[order])
+    rows = f_starts[order].repeat(f_sizes[order]) + _ranks(f_sizes[order])
     return f_sizes[order], f_q[rows], np.asarray(ring_group, np.int64)[order]
 
 
@@ -175,7 +175,7 @@ def _without_collection():
 
 def _ranks(counts):
     """0 .. c - 1 for each count c, concatenated."""
-    return np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
 
 
 def _apart_groups(lo, hi, gap):
@@ -194,7 +194,7 @@ def _apart_groups(lo, hi, gap):
                 np.minimum.at(new, i, m)
                 np.minimum.at(new, j, m)
                 new = new[new]  # and its label's label
-                if np.array_equal(new, label):
+                if np.logical_and.reduce(new == label):   # np.array_equal: one shape
                     break
                 label = new
     return np.searchsorted(unique(label), label)
@@ -235,7 +235,7 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     keys = np.sort(((q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])))
     if np.any(keys[1:] == keys[:-1]):
         return None
-    starts = np.cumsum(sizes) - sizes
+    starts = sizes.cumsum() - sizes
     area, _ = packed_measures(sizes, q)
     found = _containers(q, sizes, starts)
     if found is None:
@@ -251,13 +251,13 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     # depth by following parents (a chain of nested rings is short)
     depth = np.zeros(n, np.int64)
     up_ = parent.copy()
-    while np.any(up_ >= 0):
+    while np.logical_or.reduce(up_ >= 0):
         depth += up_ >= 0
         up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
     hole = area < 0
     if np.any(hole != (depth % 2 == 1)):
         return None
-    ends = np.cumsum(sizes).tolist()
+    ends = sizes.cumsum().tolist()
     rows = [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
     return _tree_order(rows, parent, hole, np.full(n, -1) if group is None else group)
 
@@ -286,8 +286,8 @@ def _containers(q, sizes, starts):
     """(a, b): the pairs of rings (``q`` their integer vertices, ``sizes``,
     ``starts``) where ring b winds around ring a's first vertex; None when that
     vertex lies on ring b (then the tree pass decides)."""
-    lo = np.stack([np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts)], 1)
-    hi = np.stack([np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts)], 1)
+    lo = columns(np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts))
+    hi = columns(np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts))
     # candidate (ring a, ring b around it): b's box holds a's
     a, b = BoxGrid(lo.astype(float), hi.astype(float)).at_points(q[starts].astype(float))
     la, lb, ha, hb = lo[a], lo[b], hi[a], hi[b]
@@ -297,11 +297,11 @@ def _containers(q, sizes, starts):
     if len(a):
         # winding number of a's first vertex about ring b: every edge of b
         per = sizes[b]
-        pair = np.repeat(np.arange(len(a)), per)
-        e = np.repeat(starts[b], per) + (np.arange(per.sum())
-                                         - np.repeat(np.cumsum(per) - per, per))
-        last = np.repeat(starts[b] + per - 1, per)
-        e1 = np.where(e == last, np.repeat(starts[b], per), e + 1)
+        pair = np.arange(len(a)).repeat(per)
+        e = starts[b].repeat(per) + (np.arange(per.sum())
+                                         - (per.cumsum() - per).repeat(per))
+        last = (starts[b] + per - 1).repeat(per)
+        e1 = np.where(e == last, starts[b].repeat(per), e + 1)
         p0, p1, v = q[e], q[e1], q[starts[a]][pair]
         cross = ((p1[:, 0] - p0[:, 0]) * (v[:, 1] - p0[:, 1])
                  - (p1[:, 1] - p0[:, 1]) * (v[:, 0] - p0[:, 0]))
@@ -327,9 +327,9 @@ def _without_lone_slivers(thin, sizes, q):
     :func:`drop_slivers` leaves of the full tree.  A thin ring holding others stays
     for :func:`drop_slivers`, which drops what it holds with it.  Returns which
     rings are kept (a mask)."""
-    starts = np.cumsum(sizes) - sizes
+    starts = sizes.cumsum() - sizes
     area, perimeter = packed_measures(sizes, q)
-    thin_ids = np.flatnonzero(2.0 * np.abs(area) <= thin * perimeter)
+    thin_ids = (2.0 * np.abs(area) <= thin * perimeter).ravel().nonzero()[0]
     if len(thin_ids) == 0:
         return np.ones(len(sizes), bool)
     qf = q.astype(float)
@@ -359,7 +359,7 @@ def _packed_lists(sizes, q):
     coordinate column to a list and the two zipped (a third of the time of nested
     lists)."""
     flat = list(zip(q[:, 0].tolist(), q[:, 1].tolist()))
-    ends = np.cumsum(sizes).tolist()
+    ends = sizes.cumsum().tolist()
     return [flat[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
@@ -411,7 +411,7 @@ def ring_measures(rings):
 def packed_measures(sizes, q):
     """:func:`ring_measures` of rings packed as ``sizes`` (k,) and vertices ``q``."""
     q = q.astype(float, copy=False)
-    starts = np.cumsum(sizes) - sizes
+    starts = sizes.cumsum() - sizes
     nxt = np.arange(len(q)) + 1
     nxt[starts + sizes - 1] = starts
     d = q[nxt] - q

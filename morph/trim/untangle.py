@@ -12,6 +12,8 @@ kept as a loop of its own.  Zero-width spikes (a piece folding back onto its
 neighbour) are removed first.
 """
 
+import itertools
+
 import numpy as np
 
 from .. import bernstein as bz
@@ -20,7 +22,7 @@ from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from ..quadrature import gauss_legendre
-from .crossing import JOINED, PAIRS, SELF, subdivided_crossings, uncertain_pairs
+from .crossing import JOINED, PAIRS, SELF, _upper, subdivided_crossings, uncertain_pairs
 from .lift import _jet_rows, newton_crossings
 
 
@@ -31,24 +33,28 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     :func:`morph.trim.boundary`, decides a lobe that would be a hole of the rest
     (None: winding numbers decide).  Each round splits every loop that still
     crosses itself at one crossing (so a loop gets up to ``max_rounds`` splits
-    however many other loops there are); loops found free of crossings are not
-    searched again.  ``pieces``: the loops' pieces one loop after another as a
+    however many other loops there are), and where that crossing is a curl (a
+    piece crossing itself), at the round's other curls of the loop that go
+    whatever the order of the cuts (:func:`_cut_curls`); loops found free of
+    crossings are not searched again.  ``pieces``: the loops' pieces one loop after another as a
     :class:`morph.piece.Pieces` where the caller has them
     (:func:`.lift.lift_rings`): the first round searches them as they are."""
-    out = [list(loop) for loop in loops]
-    active = [True] * len(out)
+    out = list(map(list, loops))
+    idx = list(range(len(out)))   # the loops searched in a round: all, then those split
     for _ in range(max_rounds):
-        idx = [k for k, a in enumerate(active) if a]
         if not idx:
             break
         # the active loops' pieces stacked and their tangent cones taken once for
         # the fold test and the crossing search; where folds were cut, the cut
-        # loops' again, put after the others (the search is loop by loop)
-        sizes = [len(out[k]) for k in idx]
+        # loops' again, put after the others (the search is loop by loop).  Per
+        # loop, only C-level passes (map, comprehensions without calls): a chunk's
+        # first round holds every loop of its glyphs
+        sel = [out[k] for k in idx]
+        sizes = list(map(len, sel))
         if pieces is None or len(idx) != len(out):
-            pieces = pc.Pieces.of([p for k in idx for p in out[k]])
+            pieces = pc.Pieces.of([p for loop in sel for p in loop])
         cones = pc.tangent_cones(pieces)
-        may = [k for k, f in zip(idx, _may_fold([out[k] for k in idx], cones)) if f]
+        may = list(itertools.compress(idx, _may_fold(sel, cones, sizes).tolist()))
         cut = []
         for k, loop in zip(may, remove_folds_many([out[k] for k in may], 2.0 * eps)):
             if len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k])):
@@ -56,17 +62,34 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
                 cut.append(k)
         if cut:
             pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
-        hits = {idx[a]: h for a, h in _first_crossings([out[k] for k in idx], eps, pieces,
-                                                       cones).items()}
+        found = {}
+        local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
+        hits = {idx[a]: h for a, h in local.items()}
+        curls = [found.get(a, ()) for a in local] if found else None
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
-                                               eps, hole_test)))
-        new_out, new_active = [], []
-        for k, loop in enumerate(out):
-            parts = split.get(k, [loop])
-            new_out += parts
-            new_active += [k in split] * len(parts)
-        out, active, pieces = new_out, new_active, None
+                                               eps, hole_test, curls)))
+        out, idx = _replaced(out, split)
+        pieces = None
     return out
+
+
+def _replaced(loops, split):
+    """(loops with each loop k of ``split`` replaced by its parts split[k], the
+    indices of those parts): the loops searched next round.  Python steps per
+    loop split only."""
+    out, parts_at, prev = [], [], 0
+    for k in sorted(split):
+        out += loops[prev:k]
+        parts_at += range(len(out), len(out) + len(split[k]))
+        out += split[k]
+        prev = k + 1
+    out += loops[prev:]
+    return out, parts_at
+
+
+def _sizes(loops):
+    """The lengths of ``loops`` as an int64 array, in one C-level pass."""
+    return np.fromiter(map(len, loops), np.int64, len(loops))
 
 
 def _recut(pieces, cones, idx, sizes, out, cut):
@@ -76,7 +99,7 @@ def _recut(pieces, cones, idx, sizes, out, cut):
     were, then the cut loops', gathered and measured alone."""
     cut_set = set(cut)
     kept = np.array([k not in cut_set for k in idx])
-    rows = np.flatnonzero(np.repeat(kept, sizes))
+    rows = kept.repeat(sizes).ravel().nonzero()[0]
     new = [p for k in cut for p in out[k]]
     new_cones = pc.tangent_cones(new)
     cones = tuple(np.concatenate([c[rows], n]) for c, n in zip(cones, new_cones))
@@ -218,11 +241,14 @@ def _union_arcs(la, lb, ca, cb, eps):
     return _snap(a_arc + b_arc, 1e-6 * eps)
 
 
-def _split_off_many(loops, hits, eps, hole_test):
+def _split_off_many(loops, hits, eps, hole_test, curls=None):
     """The parts of each loop kept after splitting it at its crossing (i, s, j, u, x)
     of ``hits``: the larger part, and the smaller (the lobe) where
     :func:`_keep_lobes` says so.  All loops at once: the cuts, the snapping, the
-    areas and the lobes' tests of all together."""
+    areas and the lobes' tests of all together.  ``curls``: per loop, more curls
+    [(piece, s, u)] to cut off first (:func:`_cut_curls`), or None."""
+    if curls is not None:
+        loops, hits = _cut_curls(loops, hits, curls, eps)
     lobes, rests = _split_many(loops, hits, 1e-6 * eps)
     areas = _loop_areas(lobes + rests)
     a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
@@ -237,7 +263,42 @@ def _split_off_many(loops, hits, eps, hole_test):
             for lb, r, k in zip(lobes, rests, keep)]
 
 
-def _first_crossings(loops, eps, pieces=None, cones=None):
+def _cut_curls(loops, hits, curls, eps):
+    """(loops, hits) with the curls [(piece, s, u)] of each loop (``curls``, one list
+    per loop) cut off first where they go whatever the order of the cuts: the
+    lobe i[s:u] of area at most eps^2 (:func:`_keep_lobes` drops it) and no larger
+    than the rest of its loop (so the lobe is the part that goes).  The curl's piece
+    becomes i[:s], i[u:] (:func:`_split_many` snaps their join with its own cut's);
+    each loop's crossing of ``hits`` (on another piece) is renumbered past the
+    pieces added before it."""
+    rows = [(n, i, s, u) for n, cs in enumerate(curls) for i, s, u in cs]
+    if not rows:
+        return loops, hits
+    n, i, s, u = (np.array(c) for c in zip(*rows))
+    order = np.lexsort((i, n))    # by loop, then piece: cut from the last piece back
+    n, i, s, u = n[order], i[order], s[order], u[order]
+    src = [loops[a][b] for a, b in zip(n.tolist(), i.tolist())]
+    lobe = pc.subsegments(src, np.arange(len(src)), s, u)
+    a_lobe = _loop_areas([[p] for p in lobe])
+    a_loop = _loop_areas([loops[k] for k in n.tolist()])   # per row: its loop's area
+    small = np.abs(a_lobe) <= eps * eps
+    rest = a_loop - np.bincount(n, weights=np.where(small, a_lobe, 0.0), minlength=len(loops))[n]
+    go = (small & (np.abs(a_lobe) <= np.abs(rest))).nonzero()[0]
+    if not len(go):
+        return loops, hits
+    cut = pc.subsegments([src[k] for k in go.tolist()] * 2, np.arange(2 * len(go)),
+                         np.concatenate([np.zeros(len(go)), u[go]]),
+                         np.concatenate([s[go], np.ones(len(go))]))
+    loops, hits = list(loops), list(hits)
+    for g, k in reversed(list(enumerate(go.tolist()))):   # per curl cut; last first
+        a, b = int(n[k]), int(i[k])
+        loops[a] = loops[a][:b] + [cut[g], cut[len(go) + g]] + loops[a][b + 1:]
+        hi, hs, hj, hu, hx = hits[a]
+        hits[a] = (hi + (hi > b), hs, hj + (hj > b), hu, hx)
+    return loops, hits
+
+
+def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
     """{loop: (piece i, s, piece j, u, point)}: one crossing of two pieces of each
     loop that has one, away from their shared ends (i < j, or i == j for a piece
     crossing itself), refined on the exact pieces.
@@ -250,12 +311,14 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
     the search of a loop ends at its first crossing in candidate order.  ``pieces``
     (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
-    pieces in order, when known."""
+    pieces in order, when known.  ``curls``: a dict that gets, for each loop whose
+    crossing is a curl (i == j), the other curls on other pieces that the same
+    Newton batch confirmed, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
-    sizes = np.array([len(loop) for loop in loops])
-    owner = np.repeat(np.arange(len(loops)), sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    sizes = _sizes(loops)
+    owner = np.arange(len(loops)).repeat(sizes)
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     suspects = uncertain_pairs(loops, pieces, cones)  # the other pairs cannot cross
     if len(suspects):
         suspects = suspects[~_hulls_apart(pieces, suspects)]
@@ -267,13 +330,13 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     hits = {}
 
     def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
-        fresh = np.flatnonzero(~pl.member(owner[pa], _keys(hits)))
+        fresh = (~pl.member(owner[pa], _keys(hits))).ravel().nonzero()[0]
         pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
         ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
         guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
         hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
-                                  first, sizes))
-        return np.flatnonzero(pl.member(owner[pairs[:, 0]], _keys(hits)))
+                                  first, sizes, curls))
+        return pl.member(owner[pairs[:, 0]], _keys(hits)).ravel().nonzero()[0]
 
     # each level's candidates are refined as they come: a loop takes the first
     # crossing in their order (level by level, then those of the polylines), and
@@ -288,25 +351,28 @@ def _first_crossings(loops, eps, pieces=None, cones=None):
     return hits
 
 
-def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes):
+def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes, curls=None):
     """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
     candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
     b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
     candidates are refined first, the others of the loops none of those settled
     next: a loop takes its first crossing in that order, as when all are refined
     at once (Newton works row by row), with fewer rows where a loop has many (legs
-    that nearly coincide give hundreds)."""
+    that nearly coincide give hundreds).  ``curls``: see :func:`_first_crossings`."""
     (pa, ta, ia), (pb, tb, ib) = a, b
     loop = owner[pa]
     rank = _ranks(loop)
     hits = {}
     for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
-        c = np.flatnonzero(stage & ~pl.member(loop, _keys(hits)))
+        c = (stage & ~pl.member(loop, _keys(hits))).ravel().nonzero()[0]
         if not len(c):
             continue
         s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
                                     1e-6 * eps)
-        got = _first_valid(pa[c], pb[c], s, w, ok, owner, first, sizes)
+        got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s, w, ok, owner, first,
+                                                    sizes)
+        if curls is not None and len(got):
+            curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
         if len(got):
             x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
             hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
@@ -323,9 +389,9 @@ def _ranks(group):
     """Each entry's rank among the entries of its group, in order."""
     order = np.argsort(group, kind="stable")
     g = group[order]
-    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+    start = np.r_[True, g[1:] != g[:-1]].ravel().nonzero()[0]
     rank = np.empty(len(group), np.int64)
-    rank[order] = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
+    rank[order] = np.arange(len(g)) - start.repeat(np.diff(np.r_[start, len(g)]))
     return rank
 
 
@@ -333,6 +399,34 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
     """Indices of the first refined candidate of each loop that is a crossing: ok,
     and not the shared end of consecutive pieces nor a piece meeting itself at one
     parameter."""
+    return _valid_rows(pa, pb, s, w, ok, owner, first, sizes)[0]
+
+
+def _batch_curls(got, valid, gi, gj, si, wj, owner, first):
+    """{loop: [(piece, s, u)]}: for each loop whose first crossing (``got``, rows of
+    the batch) is a curl (a piece crossing itself, gi == gj), the batch's other
+    crossings (``valid`` rows, in candidate order) that are curls on other pieces
+    of the loop, the first of each piece; rows ordered as :func:`_valid_rows`
+    gives them (i <= j, s <= u)."""
+    curl_loops = unique(owner[gi[got][gi[got] == gj[got]]])
+    rows = valid[(gi[valid] == gj[valid]) & pl.member(owner[gi[valid]], curl_loops)
+                 & ~pl.member(gi[valid], unique(gi[got]))]
+    if not len(rows):
+        return {}
+    order = gi[rows].argsort(kind="stable")      # the first row of each piece
+    g = gi[rows][order]
+    rows = np.sort(rows[order[np.concatenate(([True], g[1:] != g[:-1]))]])
+    out = {}
+    for r in rows.tolist():   # per curl found
+        li = int(owner[gi[r]])
+        out.setdefault(li, []).append((int(gi[r] - first[li]), float(si[r]), float(wj[r])))
+    return out
+
+
+def _valid_rows(pa, pb, s, w, ok, owner, first, sizes):
+    """(:func:`_first_valid`'s rows, every valid row in order, and the rows as
+    (gi, gj, si, wj): the two pieces and parameters ordered i <= j, s <= u on one
+    piece)."""
     swap = (pa > pb) | ((pa == pb) & (s > w))
     gi, gj = np.where(swap, pb, pa), np.where(swap, pa, pb)
     si, wj = np.where(swap, w, s), np.where(swap, s, w)
@@ -341,9 +435,10 @@ def _first_valid(pa, pb, s, w, ok, owner, first, sizes):
     end = (((j == i + 1) & (si >= 1 - 1e-9) & (wj <= 1e-9))
            | ((i == 0) & (j == sizes[li] - 1) & (si <= 1e-9) & (wj >= 1 - 1e-9))
            | ((i == j) & (np.abs(si - wj) <= 1e-9)))
-    valid = np.flatnonzero(ok & ~end)
+    valid = (ok & ~end).ravel().nonzero()[0]
     order = valid[np.argsort(li[valid], kind="stable")]    # by loop, then candidate order
-    return order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
+    got = order[np.concatenate(([True], li[order][1:] != li[order][:-1]))[:len(order)]]
+    return got, valid, (gi, gj, si, wj)
 
 
 def _keys(hits):
@@ -377,7 +472,7 @@ def _hulls_apart(pieces, pairs):
     h = pc.stack(pc.Pieces.of(pieces).take(used))
     positive = np.all(h[..., 2] > 0.0, axis=1)
     x = h[..., :2] / np.where(positive[:, None, None], h[..., 2:], 1.0)
-    i, j = np.triu_indices(x.shape[1], 1)
+    i, j = _upper(x.shape[1])
     d = x[:, j] - x[:, i]
     axes = np.concatenate([d[inv[:, 0]], d[inv[:, 1]]], axis=1)  # normals (-dy, dx) of these
     xt = x.transpose(1, 0, 2)    # control point first: the extremes are taken across slabs
@@ -429,18 +524,19 @@ def _polyline_crossings(pieces, suspects, flat):
 FOLD_COS = -0.99  # consecutive pieces meeting at a turn this close to pi fold back
 
 
-def _may_fold(loops, cones=None):
+def _may_fold(loops, cones=None, sizes=None):
     """Per loop: whether some join turns by nearly pi (see :func:`remove_folds`; all
-    joins at once, with a margin over its test); ``cones``: the
-    :func:`morph.piece.tangent_cones` of the loops' pieces in order when known."""
-    n = sum(len(loop) for loop in loops)
+    joins at once, with a margin over its test), a bool array; ``cones``: the
+    :func:`morph.piece.tangent_cones` of the loops' pieces in order when known;
+    ``sizes``: their lengths when known."""
+    sizes = _sizes(loops) if sizes is None else np.asarray(sizes, np.int64)
+    n = int(np.add.reduce(sizes))
     if not n:
-        return [False] * len(loops)
+        return np.zeros(len(loops), bool)
     start, _, _, end = cones if cones is not None else pc.tangent_cones(
         [p for loop in loops for p in loop])
-    sizes = np.array([len(loop) for loop in loops])
-    owner = np.repeat(np.arange(len(loops)), sizes)
-    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    owner = np.arange(len(loops)).repeat(sizes)
+    first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nxt = first[owner] + (np.arange(n) - first[owner] + 1) % sizes[owner]
     fold = np.cos(start[nxt] - start - end) <= FOLD_COS + 1e-6
     return np.bincount(owner, weights=fold, minlength=len(loops)) > 0
@@ -528,11 +624,11 @@ def _fold_joins_many(loops):
     of all loops at once."""
     sizes = np.array([len(loop) for loop in loops], np.int64)
     first, last = pc.end_tangents_many([p for loop in loops for p in loop])
-    starts = np.cumsum(sizes) - sizes
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    starts = sizes.cumsum() - sizes
+    owner = np.arange(len(loops)).repeat(sizes)
     at = np.arange(len(owner)) - starts[owner]
     nxt = starts[owner] + (at + 1) % sizes[owner]
-    fold = np.flatnonzero(np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS)
+    fold = (np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS).ravel().nonzero()[0]
     per = [[] for _ in loops]
     for o, i in zip(owner[fold].tolist(), at[fold].tolist()):
         per[o].append(i)
@@ -558,7 +654,7 @@ def _fold_cuts(jobs, width):
     s = np.where(a_short, 0.0, t_near[:, -1])
     u = np.where(a_short, t_near[:, 0], 1.0)
     cut = close.copy()
-    rest = np.flatnonzero(~close)
+    rest = (~close).ravel().nonzero()[0]
     if len(rest):
         ra, rb = [a_s[f] for f in rest.tolist()], [b_s[f] for f in rest.tolist()]
         zs, zu, window, zipped = _zip_many(ra, rb, COINCIDE * width, width)
@@ -591,7 +687,7 @@ def _closest_many(pieces, points, samples=257):
     curve = curve[..., :2] / curve[..., 2:3]
     d2 = ((points[:, :, None, :] - curve[:, None, :, :]) ** 2).sum(axis=3)
     u = t[np.argmin(d2, axis=2)].ravel()
-    d, u = _newton_nearest(h, np.repeat(np.arange(k), m), u, points.reshape(-1, 2))
+    d, u = _newton_nearest(h, np.arange(k).repeat(m), u, points.reshape(-1, 2))
     return d.reshape(k, m), u.reshape(k, m)
 
 
@@ -628,14 +724,14 @@ def _parting_many(a_s, b_s, s, u, window, zipped):
     it; else the zip's own cut (s, u), also where a piece goes whole.  All folds at
     once."""
     s, u = s.copy(), u.copy()
-    rows = np.flatnonzero(zipped & (s > 0.0) & (u < 1.0))
+    rows = (zipped & (s > 0.0) & (u < 1.0)).ravel().nonzero()[0]
     if not len(rows):
         return s, u
     ra, rb = [a_s[f] for f in rows.tolist()], [b_s[f] for f in rows.tolist()]
     d = pc.end_tangents_many(rb)[0]
     t = np.linspace(window[rows, 0], window[rows, 1], 4097, axis=1)
     k = np.argmax(np.einsum("kqj,kj->kq", _evaluate_rows(ra, t), d), axis=1)
-    inner = np.flatnonzero((k > 0) & (k < t.shape[1] - 1))
+    inner = ((k > 0) & (k < t.shape[1] - 1)).ravel().nonzero()[0]
     if not len(inner):
         return s, u
     s_new = t[inner, k[inner] - 1]
@@ -669,7 +765,7 @@ def _interp_rows(x, xp, fp):
     lo = xp[:, :1]
     off = 2.0 * (float((xp[:, -1] - xp[:, 0]).max()) + 1.0) * np.arange(k)[:, None]
     j = np.searchsorted(((xp - lo) + off).ravel(), ((x - lo) + off).ravel(), "right") - 1
-    base = np.repeat(np.arange(k) * p, x.shape[1])
+    base = (np.arange(k) * p).repeat(x.shape[1])
     j = np.clip(j, base, base + p - 2)
     x0, x1 = xp.ravel()[j], xp.ravel()[j + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -770,10 +866,10 @@ def _snap_many(loops, min_len):
         flat = [p for k in going for p in out[k]]
         sizes = np.array([len(out[k]) for k in going], np.int64)
         keep = pc.length_bounds(flat) > min_len
-        owner = np.repeat(np.arange(len(going)), sizes)[keep]
-        idx = np.flatnonzero(keep)
+        owner = np.arange(len(going)).repeat(sizes)[keep]
+        idx = keep.ravel().nonzero()[0]
         per = np.bincount(owner, minlength=len(going))
-        first = np.cumsum(per) - per
+        first = per.cumsum() - per
         at = np.arange(len(idx)) - first[owner]
         prev = first[owner] + (at - 1) % np.maximum(per[owner], 1)
         nxt = first[owner] + (at + 1) % np.maximum(per[owner], 1)
@@ -825,9 +921,10 @@ def _ray_windings(xs, loops, flat):
     if not sizes.sum():
         return out
     flat_pieces = [p for loop in loops for p in loop]
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    owner = np.arange(len(loops)).repeat(sizes)
     box, x = pc.bboxes(flat_pieces), xs[owner]
-    meet = np.flatnonzero((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1]) & (box[:, 2] >= x[:, 0]))
+    meet = ((box[:, 1] <= x[:, 1]) & (box[:, 3] >= x[:, 1])
+            & (box[:, 2] >= x[:, 0])).nonzero()[0]
     if not len(meet):
         return out
     met = pc.Pieces.of(flat_pieces).take(meet)
@@ -856,10 +953,10 @@ def _loop_areas(loops):
     if not sizes.sum():
         return np.zeros(len(loops))
     flat = [p for loop in loops for p in loop]
-    owner = np.repeat(np.arange(len(loops)), sizes)
+    owner = np.arange(len(loops)).repeat(sizes)
     h = pc.stack(flat)
-    origin = h[np.cumsum(sizes)[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
-    origin = origin[np.cumsum(sizes > 0) - 1][owner]
+    origin = h[sizes.cumsum()[sizes > 0] - sizes[sizes > 0], 0]  # first point of each loop
+    origin = origin[(sizes > 0).cumsum() - 1][owner]
     h[..., :2] -= origin[:, None, :2] / origin[:, None, 2:] * h[..., 2:]
     x, w = gauss_legendre(AREA_NODES)
     t = 0.5 * (x + 1.0)
@@ -881,7 +978,8 @@ def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
     ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
     the windings and the hole tests of all lobes at once."""
     keep = np.zeros(len(lobes), bool)
-    test = np.flatnonzero(np.array([bool(lb) for lb in lobes], bool) & (np.abs(a_lobe) > eps * eps))
+    test = (np.array([bool(lb) for lb in lobes], bool)
+            & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
     if not len(test):
         return keep
     mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]

@@ -371,3 +371,43 @@ def test_untangle_of_the_packed_pieces_is_untangle_of_the_loops():
     squares = [pc.translate(p, (30.0 * k, 0.0)) for k in range(3) for p in sq] + sq
     wrong = untangle(loops, 1e-3, pieces=pc.Pieces.of(squares))
     assert any(polylines_cross(loop, 1e-3) for loop in wrong)
+
+
+def _curly(a, b, d):
+    """A cubic from a to b that overshoots both ends by a fifth of the chord, d off it:
+    it crosses itself once in a curl of area about d / 15 (on a chord of 10)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    v = b - a
+    n = np.array([-v[1], v[0]]) / np.hypot(*v)
+    return pc.cubic(a, a + 1.2 * v + d * n, a - 0.2 * v + d * n, b)
+
+
+def _two_curls(d, x=0.0):
+    """A 10 x 10 square whose bottom and top sides each carry a curl (:func:`_curly`)."""
+    c = np.array([(0, 0), (10, 0), (10, 10), (0, 10)], float) + (x, 0.0)
+    return [_curly(c[0], c[1], d), pc.line(c[1], c[2]), _curly(c[2], c[3], d),
+            pc.line(c[3], c[0])]
+
+
+def test_curls_of_one_loop_go_in_one_round_as_one_by_one(monkeypatch):
+    """A loop with two curls on two pieces: the round that cuts one also cuts the
+    other (both below eps^2: they go in any order), so one round leaves no crossing,
+    where cutting one curl a round leaves one; and the result is that of one curl a
+    round, to 1e-12.  Curls above eps^2 are cut one a round either way."""
+    import morph.trim.untangle as ut
+
+    eps = 0.05
+    loops = [_two_curls(1e-3), _two_curls(0.5, 20.0)]   # small curls, then large ones
+    assert all(len(ut._first_crossings([loop], eps)) == 1 for loop in loops)
+    batched = untangle(loops, eps)
+    one_round = untangle(loops, eps, max_rounds=1)
+    assert not ut._first_crossings(one_round[:1], eps)       # both small curls went
+    assert len(ut._first_crossings(one_round[1:], eps)) == 1  # a large one is left
+    monkeypatch.setattr(ut, "_batch_curls", lambda *a: {})
+    assert len(ut._first_crossings(untangle(loops, eps, max_rounds=1)[:1], eps)) == 1
+    one_by_one = untangle(loops, eps)
+    assert [len(lp) for lp in batched] == [len(lp) for lp in one_by_one]
+    for la, lb in zip(batched, one_by_one):
+        for p, q in zip(la, lb):
+            assert p.shape == q.shape and np.allclose(p, q, rtol=0.0, atol=1e-12)
+    assert not ut._first_crossings(batched, eps)
