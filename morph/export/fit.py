@@ -14,7 +14,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from ..quadrature import gauss_legendre
-from .bank import RunArrays, end_derivatives, grid_planes
+from .bank import RunArrays, end_pair, grid_planes
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -218,9 +218,10 @@ def cut_pieces(parts, idx, h):
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
 #: of every part (a column) at the 16 Gauss-Legendre nodes of its own parameter (a
 #: row), in its range's chord frame; ``speed`` (16, P) = |(x', y')|; per range the
-#: unit end tangents ``t0``, ``t1`` (n, 2) and the ``area`` and ``moment``
-#: (Gauss-Legendre sums).
-_Samples = namedtuple("_Samples", "q speed t0 t1 area moment")
+#: unit end tangents ``t0``, ``t1`` (n, 2), the ``area`` and ``moment``
+#: (Gauss-Legendre sums) and its parts ``lo:hi`` (their positions, the parts being
+#: sorted by range).
+_Samples = namedtuple("_Samples", "q speed t0 t1 area moment lo hi")
 
 
 def _range_samples(bank, parts, starts, e, tiny):
@@ -231,36 +232,33 @@ def _range_samples(bank, parts, starts, e, tiny):
     vanishes.  Sample-major planes: a part's numbers (start, frame) broadcast along
     the rows, every operation a few long contiguous loops."""
     n = len(starts)
-    req, gid, lo = parts.req, parts.gid, parts.a
-    width = parts.b - parts.a
-    first = np.searchsorted(req, np.arange(n))
-    last = np.searchsorted(req, np.arange(n), side="right") - 1
+    req, gid, lo, hi = parts.req, parts.gid, parts.a, parts.b
+    width = hi - lo
+    rng = np.arange(n)
+    first, last = req.searchsorted(rng), req.searchsorted(rng, side="right") - 1
     quad = _quadrature()
     jets = np.empty((4, len(quad.gx), len(gid)))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
     jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
-    # the ranges' end derivatives: of the end pieces, or (cut) of their sub-pieces
-    ends_at = np.concatenate([first, last])
-    tail = np.arange(2 * n) >= n
-    de = bank.end_derivatives(gid[ends_at], tail)
-    cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
-    sub_ends = np.empty((2, len(gid), 2))
+    # every part's end derivatives (2, P, 2) in its own parameter: of its piece
+    # (whole), of its sub-piece on [a, b] (cut, made here) divided by b - a
+    ends = bank.d_ends[:, gid]
+    cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        sub = bz.subsegment_many(h, lo[i], parts.b[i])
+        sub = bz.subsegment_many(h, lo[i], hi[i])
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
         part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
         part[2:] /= width[i]
         jets[:, :, i] = part
-        for k in range(2):
-            sub_ends[k, i] = end_derivatives(sub, np.full(len(i), k == 1))
-    inner = ~whole[ends_at]
-    de[inner] = sub_ends[tail[inner].astype(int), ends_at[inner]] / width[ends_at[inner], None]
-    for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
+        ends[:, i] = end_pair(sub) / width[i, None]
+    # the ranges' end derivatives: at the start of the first part, the end of the last
+    de = np.concatenate([ends[0, first], ends[1, last]])
+    for j in (np.hypot(de[:, 0], de[:, 1]) <= np.concatenate([tiny, tiny])).nonzero()[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
         i = first[r] if sign > 0 else last[r]
-        de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else parts.b[i],
+        de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else hi[i],
                                sign, tiny[r])
     q = np.empty_like(jets)
     pe = e[req].T                                                   # (2, P)
@@ -273,12 +271,12 @@ def _range_samples(bank, parts, starts, e, tiny):
     t /= np.maximum(np.hypot(t[0], t[1]), 1e-300)
     wu = q[2] * (quad.gw[:, None] * width)
     wu *= q[1]
-    area = np.bincount(req, wu.sum(0), n)
+    area = np.bincount(req, np.add.reduce(wu, 0), n)
     wu *= q[0]
     speed = q[2] * q[2]                                 # |(x', y')|, frame units
     speed += q[3] * q[3]
     return _Samples(q, np.sqrt(speed, out=speed), t[:, :n].T, t[:, n:].T, area,
-                    np.bincount(req, wu.sum(0), n))
+                    np.bincount(req, np.add.reduce(wu, 0), n), first, last + 1)
 
 
 @functools.lru_cache(maxsize=None)
