@@ -96,6 +96,8 @@ D_ELBOW, D_SLOPE = 0.65, 2.0
 FIT_SLACK = 16.0
 #: Candidate cubics kept per range (roots of the moment equation).
 MAX_CANDIDATES = 6
+#: The handle length (in chord lengths) of a range whose moment equation has no root.
+_THIRD = np.array([1.0 / 3.0])
 
 
 def _to_frame(vx, vy, e, out_x, out_y):
@@ -302,7 +304,10 @@ def _cubic_integrals(t0, t1):
     sums, whose other terms are zeros); all terms of all ranges in a few array
     operations (:func:`_integral_terms`: each sum's terms added layer by layer)."""
     n = len(t0)
-    v = np.stack([np.ones(n), t0[:, 0], t0[:, 1], -t1[:, 0], -t1[:, 1]], axis=1)
+    v = np.empty((n, 5))
+    v[:, 0] = 1.0
+    v[:, 1:3] = t0
+    v[:, 3:] = -t1
     (ya, xa, ca, sa, la), (um, ym, xm, cm, sm, lm) = _integral_terms()
     ta = _layered((v[:, ya] * v[:, xa]) * ca, sa, la, 6).reshape(n, 2, 3)
     tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, sm, lm, 18).reshape(n, 3, 2, 3)
@@ -390,10 +395,16 @@ def _handle_candidates(area, moment, ta, tm, good):
     of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
     falsi), its local minima that do not cross zero, and handles of a third where
     nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
-    n = len(area)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return _solved_handles(area, moment, _area_terms(ta), _monomial_coefficients(tm), good)
 
-    cf = _monomial_coefficients(tm)
-    at = _area_terms(ta)
+
+def _solved_handles(area, moment, at, cf, good):
+    """:func:`_handle_candidates` from the area terms ``at`` (:func:`_area_terms`) and
+    the moment's monomial coefficients ``cf`` (:func:`_monomial_coefficients`), with
+    numpy's warnings silenced (d1 is inf or NaN where the area equation has no
+    root, the residual undefined there)."""
+    n = len(area)
 
     def resid(d0, d1, c):
         # the moment as the cubic polynomial of (d0, d1) with coefficients c
@@ -401,32 +412,34 @@ def _handle_candidates(area, moment, ta, tm, good):
         inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
-    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, np.nonzero(good)[0], resid)
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
     area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
-    for _ in range(4):                                             # regula falsi
+    for _ in range(4):                                 # regula falsi, [a, b] kept in place
         x = (a * fb - b * fa) / (fb - fa)
         fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
         left = np.sign(fx) == np.sign(fa)
-        a, fa = np.where(left, x, a), np.where(left, fx, fa)
-        b, fb = np.where(left, b, x), np.where(left, fb, fx)
-    roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
+        a[left], fa[left] = x[left], fx[left]
+        left = ~left
+        b[left], fb[left] = x[left], fx[left]
+    roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
     none[rr] = True
     # nothing solves (e.g. a straight range: area and moment vanish): handles of a
     # third, the straight cubic when the tangents run along the chord
-    rt = np.nonzero(good & ~none)[0]
+    rt = (good & ~none).nonzero()[0]
     cr = np.concatenate([rr, rn, rt])
-    cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
-    thirds = np.arange(len(cr)) >= len(cr) - len(rt)
+    m = len(cr)
+    cd0 = np.concatenate([roots, _D0_GRID[gn], _THIRD.repeat(len(rt))])
+    thirds = np.arange(m) >= m - len(rt)
     # at most MAX_CANDIDATES per range, the first ones in the order above
-    by = np.argsort(cr, kind="stable")
-    rank = np.empty(len(cr), int)
-    rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
+    by = cr.argsort(kind="stable")
+    rank = np.empty(m, int)
+    rank[by] = np.arange(m) - cr[by].searchsorted(cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], at[:, cr]))
+    cd1 = np.where(thirds, _THIRD[0], _d1_of(cd0, area[cr], at[:, cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -443,7 +456,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
     one (range, grid index), each in range order; where d1 is not finite and
     positive the residual is undefined.  A block is grid-major (80, ranges): a
     range's coefficients broadcast along the rows."""
-    out = [[] for _ in range(6)]
+    out = []
     d0 = _D0_GRID[:, None]
     cf_t = np.ascontiguousarray(cf.T)
     for lo in range(0, len(good), GRID_BLOCK):
@@ -452,12 +465,11 @@ def _grid_scan(area, moment, at, cf, good, resid):
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        with np.errstate(invalid="ignore", over="ignore"):
-            f = resid(d0, d1, cf_t[:, rows].T)          # read only where ok
-            f -= moment[rows]
+        f = resid(d0, d1, cf_t[:, rows].T)              # read only where ok
+        f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
-        g, r = np.nonzero(cross.T)[::-1]
+        r, g = cross.T.nonzero()
         # local minima of |f| that do not cross zero (kurbo: the real part of a
         # complex root pair, a near-double root): the grid points where |f| is least,
         # an undefined neighbour counting as infinite
@@ -468,10 +480,13 @@ def _grid_scan(area, moment, at, cf, good, resid):
         dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
         dip[:-1] &= ~cross
         dip[1:] &= ~cross
-        gd, rd = np.nonzero(dip.T)[::-1]
-        for acc, x in zip(out, (rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd)):
-            acc.append(x)
-    return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
+        rd, gd = dip.T.nonzero()
+        out.append((rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd))
+    if len(out) == 1:
+        return out[0]
+    if not out:
+        return [np.zeros(0, int)] * 6
+    return [np.concatenate(x) for x in zip(*out)]
 
 
 def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
@@ -480,40 +495,44 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     a short chord), with its sampled distance: (cubics, err, fitted) as
     :func:`moment_cubics` returns them."""
     n = len(starts)
-    valid = np.nonzero(score < acc[cr])[0]
+    valid = (score < acc[cr]).nonzero()[0]
     valid = valid[np.lexsort((valid, score[valid], cr[valid]))]
     sorted_cr = cr[valid]      # sorted: each range's first entry is its pick
-    at = np.flatnonzero(np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)])
-    ranges = sorted_cr[at]
-    pick = np.full(n, -1)
-    pick[ranges] = valid[at]
+    at = np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)].nonzero()[0]
+    pick = np.zeros(n, int) - 1
+    pick[sorted_cr[at]] = valid[at]
     has = pick >= 0
     c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))   # (n, 4, 2)
-    normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
+    normal = chord[:, ::-1] * _LEFT                    # (-chord_y, chord_x)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
-    line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
-    cubic = np.where(has[:, None, None], cubic, line)
+    no = ~has                  # the straight cubic
+    cubic[no, 1] = starts[no] + chord[no] / 3.0
+    cubic[no, 2] = ends[no] - chord[no] / 3.0
     cubic[:, 0], cubic[:, -1] = starts, ends
-    fitted = (has | short) & np.all(np.isfinite(cubic), axis=(1, 2))
+    fitted = (has | short) & np.logical_and.reduce(np.isfinite(cubic.reshape(n, 8)), axis=1)
     dist = np.where(has, err[np.maximum(pick, 0)] if len(err) else 0.0, 0.0)
     return cubic, dist, fitted, pick
+
+
+#: (-1, 1): a vector (x, y) reversed and times this is its normal (-y, x).
+_LEFT = np.array([-1.0, 1.0])
 
 
 def _area_terms(ta):
     """The coefficients of the area equation of :func:`_d1_of` (4, n), from ``ta`` (n,
     2, 3) of :func:`_cubic_integrals`: ta[0, 0], ta[0, 1], ta[1, 0], ta[0, 2] +
     ta[1, 1]."""
-    return np.stack([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
+    return np.array([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
 
 
 def _d1_of(d0, area, at):
     """d1 from the area equation (linear in d1) for handle lengths d0, with the
     ranges' ``area`` and area terms ``at`` (:func:`_area_terms`) gathered (or
-    broadcast) to d0's shape."""
+    broadcast) to d0's shape (inf or NaN where the equation has no root: the caller
+    silences numpy's warnings, :func:`_handle_candidates`)."""
     num = area - d0 * (at[0] + d0 * at[1])
     den = at[2] + d0 * at[3]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return num / den
+    return num / den
 
 
 #: Rays of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
