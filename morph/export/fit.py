@@ -172,16 +172,16 @@ def _picked_rays(sam, parts, length, cr, pick, rays):
     the rays' lengths and the pieces' speeds there (what the certificate starts
     from); NaN where no picked cubic's ray reached a sample.  ``rays``: the
     (candidate, part, stages) of :func:`_ray_distance`."""
-    feet, gap = np.full(sam.speed.shape, np.nan), np.full(sam.speed.shape, np.nan)
+    feet, gap = np.zeros((2,) + sam.speed.shape[::-1]) + np.nan      # (P, 16) each
     cand, part, stages = rays
     for pairs, cols, s, ray in stages:
         c = cand[pairs]
-        mine = np.nonzero(pick[cr[c]] == c)[0]
-        at = (cols[:, None], part[pairs[mine]])
-        feet[at] = s[mine].T
-        gap[at] = ray[mine].T * length[cr[c[mine]]]
+        mine = (pick[cr[c]] == c).nonzero()[0]
+        at = (part[pairs[mine], None], cols)
+        feet[at] = s[mine]
+        gap[at] = ray[mine] * length[cr[c[mine]], None]
     speed = sam.speed * (length[parts.req] * (parts.b - parts.a))
-    return Rays(*(np.ascontiguousarray(x.T) for x in (feet, gap, speed)))
+    return Rays(feet, gap, np.ascontiguousarray(speed.T))
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -561,50 +561,56 @@ class _RayCaster:
     def __init__(self, ctrl, cr, sam, req, width):
         q = sam.q
         speed = sam.speed * (_quadrature().gw[:, None] * width)        # (16, P)
-        size = speed.sum(0)
+        size = np.add.reduce(speed, 0)
         tot = np.bincount(req, size)
         # each sample's share of its range's length: the lengths before it (in the
         # range's earlier parts, in its part before it) and half its own
-        before = np.cumsum(size) - size - (np.cumsum(tot) - tot)[req]
-        frac = np.cumsum(speed, axis=0)
+        before = size.cumsum() - size - (tot.cumsum() - tot)[req]
+        frac = speed.cumsum(axis=0)
         frac -= 0.5 * speed
         frac += before
         frac /= np.maximum(tot[req], 1e-300)
         pu = q[0] * q[2]
         pu += q[1] * q[3]
-        self.data = np.stack([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
-        self.nreq = nreq = len(tot)
-        self.counts = counts = np.bincount(req, minlength=nreq)[cr]   # pairs of each candidate
-        self.first = first = np.cumsum(counts) - counts
-        self.cand = np.repeat(np.arange(len(cr)), counts)
-        self.part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
-                     + np.arange(int(counts.sum())))
+        self.data = np.array([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
+        self.nreq = len(tot)
+        self.counts = counts = (sam.hi - sam.lo)[cr]                 # pairs of each candidate
+        self.first = first = counts.cumsum() - counts
+        self.ncand = ncand = len(cr)
+        self.cand = np.arange(ncand).repeat(counts)
+        npairs = len(self.cand)
+        self.part = (sam.lo[cr] - first).repeat(counts) + np.arange(npairs)
         p1, p2 = ctrl[:, 1], ctrl[:, 2]                               # P0 = (0, 0)
         a2 = 3.0 * (p2 - 2.0 * p1)
         a3 = ctrl[:, 3] + 3.0 * (p1 - p2)
         self.coef = np.concatenate([3.0 * p1, a2, a3], axis=1).T[:, self.cand]   # (6, N)
-        self.worst = np.zeros(len(self.cand))                         # largest ray of a pair
-        self.stages, self.ncand = [], len(cr)
+        self.worst = np.zeros(npairs)                                  # largest ray of a pair
+        self.stages = []
+        # the candidates with pairs, and where their pairs start (dist_of's reduction)
+        self.some = counts > 0
+        self.some_first = first[self.some]
 
     def cast(self, pairs, cols):
         """The rays of ``pairs`` from their samples ``cols`` (rows of ``data``)."""
+        npairs, ncols = len(pairs), len(cols)
+        if not npairs:
+            return
         data = self.data[:, cols]                                     # (6, c, P)
-        s, ray = np.empty((len(cols), len(pairs))), np.empty((len(cols), len(pairs)))
-        step = max(RAY_BLOCK // len(cols), 1)
-        for lo in range(0, len(pairs), step):
+        s, ray = np.empty((2, ncols, npairs))
+        step = max(RAY_BLOCK // ncols, 1)
+        for lo in range(0, npairs, step):
             b = pairs[lo:lo + step]
             s[:, lo:lo + step], ray[:, lo:lo + step] = _rays(self.coef[:, None, b],
                                                               data[:, :, self.part[b]])
         # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
-        self.worst[pairs] = np.maximum(self.worst[pairs], ray.max(axis=0))
+        self.worst[pairs] = np.maximum(self.worst[pairs], np.maximum.reduce(ray, axis=0))
         self.stages.append((pairs, cols, s.T, ray.T))
 
     def dist_of(self, cands):
         """The largest ray cast so far of each candidate ``cands`` (index or mask)."""
         out = np.zeros(self.ncand)
-        some = self.counts > 0
-        if some.any():
-            out[some] = np.maximum(np.maximum.reduceat(self.worst, self.first[some]), 0.0)
+        if len(self.some_first):
+            out[self.some] = np.maximum(np.maximum.reduceat(self.worst, self.some_first), 0.0)
         return out[cands]
 
 
