@@ -68,8 +68,8 @@ class Bank:
             x, y = x / w, y / w
             self.first[rows, 0], self.first[rows, 1] = x[0], y[0]
             self.last[rows, 0], self.last[rows, 1] = x[-1], y[-1]
-            lo = np.stack([x.min(axis=0), y.min(axis=0)], axis=1)
-            hi = np.stack([x.max(axis=0), y.max(axis=0)], axis=1)
+            lo = np.array([x.min(axis=0), y.min(axis=0)]).T
+            hi = np.array([x.max(axis=0), y.max(axis=0)]).T
             self.lo[rows], self.hi[rows] = lo, hi
             self.scale[rows] = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
             self.t_first[rows], self.t_last[rows] = _end_tangents(x, y, (hi - lo).max(axis=1))
@@ -242,7 +242,7 @@ def _end_tangents(x, y, size, rel=1e-12):
     out = []
     for i in (i0, i1):
         length = np.where(dead, 1.0, n[i, r])
-        t = np.stack([dx[i, r], dy[i, r]], axis=1) / length[:, None]
+        t = np.array([dx[i, r], dy[i, r]]).T / length[:, None]
         out.append(np.where(dead[:, None], 0.0, t))
     return out
 

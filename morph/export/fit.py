@@ -205,16 +205,25 @@ def cut_pieces(parts, idx, h):
     """The sub-pieces (k, n, 3) of the parts ``idx`` (cut: not [0, 1]) whose pieces
     are ``h`` (k, n, 3): those :func:`moment_cubics` cut (``parts.subs``), the
     others cut here (the same call on the same rows: the same numbers)."""
+    if parts.subs is None or h.shape[1] not in parts.subs:
+        return _sub_pieces(h, parts.a[idx], parts.b[idx])
     out = np.empty_like(h)
-    todo = np.ones(len(idx), bool)
-    if parts.subs is not None and h.shape[1] in parts.subs:
-        have, stack = parts.subs[h.shape[1]]
-        at = np.minimum(np.searchsorted(have, idx), len(have) - 1)
-        todo = have[at] != idx
-        out[~todo] = stack[at[~todo]]
-    if todo.any():
-        out[todo] = bz.subsegment_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+    have, stack = parts.subs[h.shape[1]]
+    at = np.minimum(have.searchsorted(idx), len(have) - 1)
+    todo = have[at] != idx
+    out[~todo] = stack[at[~todo]]
+    if np.logical_or.reduce(todo):
+        out[todo] = _sub_pieces(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
     return out
+
+
+def _sub_pieces(h, a, b):
+    """The pieces h (k, n, 3) restricted to [a, b] with 0 <= a < b <= 1 (so a < 1), as
+    :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
+    splits: the right part at a, then its left part at (b - a) / (1 - a)), without
+    its cases of reversed, whole or empty ranges."""
+    right = bz.split_many(h, a)[1]
+    return bz.split_many(right, (b - a) / (1.0 - a))[0]
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
@@ -248,7 +257,7 @@ def _range_samples(bank, parts, starts, e, tiny):
     cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        sub = bz.subsegment_many(h, lo[i], hi[i])
+        sub = _sub_pieces(h, lo[i], hi[i])
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
         part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
@@ -648,12 +657,12 @@ def _ray_distance(ctrl, cr, sam, req, width, length, scale, acc):
     done = np.zeros(len(cr), bool)
     done[best] = True
     cast(np.nonzero(done[cand])[0], _FINE)
-    full = np.full(nreq, np.nan)
+    full = np.zeros(nreq) + np.nan
     full[cr[best]] = dist_of(best) * length[best] * scale[best]
     others = alive & ~done & ~(bound > full[cr])
     cast(np.nonzero(others[cand])[0], _FINE)
     done |= others
-    err = np.full(len(cr), np.inf)
+    err = np.zeros(len(cr)) + np.inf
     err[done] = dist_of(done)
     return err, (cand, part, stages)
 
@@ -671,14 +680,20 @@ def _rays(a, d):
     g2 += a2y * uy
     g3 += a3y * uy
     h2, h3 = 2.0 * g2, 3.0 * g3
-    gv, gd, tiny = np.empty_like(s), np.empty_like(s), np.empty(s.shape, bool)
+    gv, gd = np.empty((2,) + s.shape)
+    tiny = np.empty(s.shape, bool)
     for _ in range(5):
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
         gd += g1
         np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
-        _horner3(g3, g2, g1, g0, s, gv)
+        np.multiply(g3, s, out=gv)                      # g(s) = ((g3 s + g2) s + g1) s + g0
+        gv += g2
+        gv *= s
+        gv += g1
+        gv *= s
+        gv += g0
         np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
@@ -696,14 +711,3 @@ def _rays(a, d):
     gv += gd
     return s, np.sqrt(gv, out=gv)
 
-
-def _horner3(c3, c2, c1, c0, s, out):
-    """``out`` = ((c3 s + c2) s + c1) s + c0, in place (the operations and their
-    order, so the bits, of the written-out form)."""
-    np.multiply(c3, s, out=out)
-    out += c2
-    out *= s
-    out += c1
-    out *= s
-    out += c0
-    return out
