@@ -191,22 +191,17 @@ def grid_planes(h, b, db):
     q = b.shape[0]
     hc = h.transpose(1, 2, 0).reshape(m, 3, 1, k)                  # (n+1, 3, 1, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom = _running_sum(hc * b.T.reshape(m, 1, q, 1))
-    der = _running_sum(dh * db.T.reshape(m - 1, 1, q, 1))
+    hom, der = np.zeros((2, 3, q, k))
+    tmp = np.empty_like(hom)
+    for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
+        for j in range(coef.shape[0]):
+            acc += np.multiply(coef[j], basis[:, j, None], out=tmp)
     out = np.empty((4, q, k))
     np.divide(hom[:2], hom[2], out=out[:2])
     np.multiply(out[:2], der[2], out=out[2:])
     np.subtract(der[:2], out[2:], out=out[2:])
     out[2:] /= hom[2]
     return out
-
-
-def _running_sum(terms):
-    """The sum over the first axis of ``terms``, added left to right from 0 (the bits
-    of ``acc = 0; acc += terms[j]`` for j = 0, 1, ...: an accumulation is sequential,
-    where a reduction may add pairwise); ``terms`` is overwritten."""
-    terms[0] += 0.0                     # 0 + x: -0.0 becomes 0.0, as from acc = 0
-    return np.add.accumulate(terms, axis=0, out=terms)[-1]
 
 
 def _bend(x, y):
