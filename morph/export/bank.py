@@ -92,11 +92,13 @@ class Bank:
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
+        if not len(gids):
+            return []
+        if len(self.degrees) == 1:          # one stack: every row
+            return [(np.arange(len(gids)), self.stacks[self.degrees[0]][self.idx[gids]])]
         deg = self.deg[gids]
-        if len(self.degrees) == 1:          # one stack: every row, no search
-            n = self.degrees[0]
-            return [(np.arange(len(gids)), self.stacks[n][self.idx[gids]])] if len(gids) else []
         count = np.bincount(deg, minlength=self.degrees[-1] + 1).tolist()
+        # the degrees present, ascending; ``rows`` the one array of nonzero's tuple
         return [(rows, self.stacks[n][self.idx[gids[rows]]])
                 for n in self.degrees if count[n] for rows in (deg == n).nonzero()]
 
@@ -109,11 +111,6 @@ class Bank:
             p[rows], d[rows] = pc.jet_rows(h, t[rows])
         return p, d
 
-
-    def end_derivatives(self, gids, last):
-        """First derivatives (len(gids), 2) of pieces ``gids`` at t = 1 where ``last``,
-        else at t = 0 (``d_ends``: :func:`end_pair` of every piece, made once)."""
-        return self.d_ends[np.asarray(last, int), np.asarray(gids, int)]
 
     def jet_grid(self, gids, t):
         """Points and first derivatives of every piece ``gids`` at the same parameters
@@ -158,25 +155,14 @@ class Bank:
 
 def end_pair(h):
     """First derivatives (2, k, 2) of the rational pieces h (k, n+1, 3) at t = 0 and
-    at t = 1: :func:`end_derivatives` of both ends (the same operations on the same
-    numbers)."""
+    at t = 1, from their end control points: H' = n (h_1 - h_0) (and n (h_n -
+    h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows` gives
+    there: its basis rows are exact ones and zeros)."""
     n = h.shape[1] - 1
     val = np.array([h[:, 0], h[:, -1]])
     dval = n * np.array([h[:, 1] - h[:, 0], h[:, -1] - h[:, -2]])
     w = val[..., 2:3]
     return (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
-
-
-def end_derivatives(h, last):
-    """First derivatives (k, 2) of the rational pieces h (k, n+1, 3) at t = 1 where
-    ``last``, else at t = 0, from their end control points: H' = n (h_1 - h_0) (or n
-    (h_n - h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows`
-    gives there: its basis rows are exact ones and zeros)."""
-    last = np.asarray(last, bool)[:, None]
-    val = np.where(last, h[:, -1], h[:, 0])
-    dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
-    w = val[:, 2:3]
-    return (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
 
 
 def grid_planes(h, b, db):
