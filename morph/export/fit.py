@@ -424,13 +424,12 @@ def _solved_handles(area, moment, at, cf, good):
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
     area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
-    for _ in range(4):                                 # regula falsi, [a, b] kept in place
+    for _ in range(4):                                             # regula falsi
         x = (a * fb - b * fa) / (fb - fa)
         fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
         left = np.sign(fx) == np.sign(fa)
-        a[left], fa[left] = x[left], fx[left]
-        left = ~left
-        b[left], fb[left] = x[left], fx[left]
+        a, fa = np.where(left, x, a), np.where(left, fx, fa)
+        b, fb = np.where(left, b, x), np.where(left, fb, fx)
     roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
