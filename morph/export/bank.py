@@ -24,11 +24,12 @@ class Bank:
 
     ``stacks[n]``: (k_n, n, 3) homogeneous control points of the pieces with n
     control points; ``deg[g]``, ``idx[g]``: the stack and the row of global piece g;
-    ``pieces[g]``: the piece itself (as given, checked).  Per piece (arrays over g):
-    ``poly`` (weights equal to 1e-12: polynomial), ``first`` and ``last`` (end
-    points), ``t_first`` and ``t_last`` (unit end tangents, zero for a piece
-    without a direction), ``lo`` and ``hi`` (bounding box corners) and ``scale``
-    (largest absolute Cartesian coordinate).
+    ``pieces[g]``: the piece itself (as given, checked); ``degrees`` the sorted keys
+    of ``stacks``.  Per piece (arrays over g): ``poly`` (weights equal to 1e-12:
+    polynomial), ``first`` and ``last`` (end points), ``t_first`` and ``t_last``
+    (unit end tangents, zero for a piece without a direction), ``d_ends`` (2, g, 2)
+    (first derivatives at t = 0 and t = 1, :func:`end_pair`), ``lo`` and ``hi``
+    (bounding box corners) and ``scale`` (largest absolute Cartesian coordinate).
     """
 
     def __init__(self, pieces):
@@ -56,6 +57,7 @@ class Bank:
         self.lo, self.hi = np.empty((g, 2)), np.empty((g, 2))
         self.scale = np.empty(g)
         self.bend = np.zeros(g)
+        self.d_ends = np.empty((2, g, 2))       # first derivatives at t = 0 and t = 1
         for n in unique(sizes).tolist():
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
@@ -66,13 +68,15 @@ class Bank:
             x, y = x / w, y / w
             self.first[rows, 0], self.first[rows, 1] = x[0], y[0]
             self.last[rows, 0], self.last[rows, 1] = x[-1], y[-1]
-            lo = np.stack([x.min(axis=0), y.min(axis=0)], axis=1)
-            hi = np.stack([x.max(axis=0), y.max(axis=0)], axis=1)
+            lo = np.array([x.min(axis=0), y.min(axis=0)]).T
+            hi = np.array([x.max(axis=0), y.max(axis=0)]).T
             self.lo[rows], self.hi[rows] = lo, hi
             self.scale[rows] = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
             self.t_first[rows], self.t_last[rows] = _end_tangents(x, y, (hi - lo).max(axis=1))
             self.bend[rows] = _bend(x, y)
+            self.d_ends[:, rows] = end_pair(self.stacks[n])
         self.line = (sizes == 2) & self.poly
+        self.degrees = sorted(self.stacks)   # the stacks' sizes, ascending
         self._nodes = None              # node_planes' cache
 
     def cartesian(self, gids):
@@ -88,11 +92,15 @@ class Bank:
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
-        out = []
-        for n in unique(self.deg[gids]).tolist():
-            rows = np.nonzero(self.deg[gids] == n)[0]
-            out.append((rows, self.stacks[n][self.idx[gids[rows]]]))
-        return out
+        if not len(gids):
+            return []
+        if len(self.degrees) == 1:          # one stack: every row
+            return [(np.arange(len(gids)), self.stacks[self.degrees[0]][self.idx[gids]])]
+        deg = self.deg[gids]
+        count = np.bincount(deg, minlength=self.degrees[-1] + 1).tolist()
+        # the degrees present, ascending; ``rows`` the one array of nonzero's tuple
+        return [(rows, self.stacks[n][self.idx[gids[rows]]])
+                for n in self.degrees if count[n] for rows in (deg == n).nonzero()]
 
     def jet(self, gids, t):
         """Points and first derivatives of pieces ``gids`` at parameters ``t`` (one
@@ -103,15 +111,6 @@ class Bank:
             p[rows], d[rows] = pc.jet_rows(h, t[rows])
         return p, d
 
-
-    def end_derivatives(self, gids, last):
-        """First derivatives (len(gids), 2) of pieces ``gids`` at t = 1 where ``last``,
-        else at t = 0 (:func:`end_derivatives`, one call per degree)."""
-        gids, last = np.asarray(gids, int), np.asarray(last, bool)
-        d = np.empty((len(gids), 2))
-        for rows, h in self.gather(gids):
-            d[rows] = end_derivatives(h, last[rows])
-        return d
 
     def jet_grid(self, gids, t):
         """Points and first derivatives of every piece ``gids`` at the same parameters
@@ -140,30 +139,30 @@ class Bank:
         batch, so a cached one is the one a round would compute."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
-        if self._nodes is None or not np.array_equal(self._nodes[0], t):
+        if self._nodes is None or not (t is self._nodes[0] or np.array_equal(self._nodes[0], t)):
             g = len(self.deg)
             self._nodes = (t, np.zeros(g, bool), np.empty((4, len(t), g)))
-            gids_all = np.concatenate([np.nonzero(~self.line)[0], gids])
+            gids_all = np.concatenate([(~self.line).nonzero()[0], gids])
         else:
             gids_all = gids
         _, have, planes = self._nodes
-        need = unique(gids_all[~have[gids_all]])
-        if len(need):
+        if not np.logical_and.reduce(have[gids_all]):     # some not evaluated yet
+            need = unique(gids_all[~have[gids_all]])
             planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
         return planes[:, :, gids]
 
 
-def end_derivatives(h, last):
-    """First derivatives (k, 2) of the rational pieces h (k, n+1, 3) at t = 1 where
-    ``last``, else at t = 0, from their end control points: H' = n (h_1 - h_0) (or n
-    (h_n - h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows`
-    gives there: its basis rows are exact ones and zeros)."""
-    last = np.asarray(last, bool)[:, None]
-    val = np.where(last, h[:, -1], h[:, 0])
-    dval = (h.shape[1] - 1) * np.where(last, h[:, -1] - h[:, -2], h[:, 1] - h[:, 0])
-    w = val[:, 2:3]
-    return (dval[:, :2] * w - val[:, :2] * dval[:, 2:3]) / w ** 2
+def end_pair(h):
+    """First derivatives (2, k, 2) of the rational pieces h (k, n+1, 3) at t = 0 and
+    at t = 1, from their end control points: H' = n (h_1 - h_0) (and n (h_n -
+    h_{n-1})), then the quotient rule (the numbers :func:`morph.piece.jet_rows` gives
+    there: its basis rows are exact ones and zeros)."""
+    n = h.shape[1] - 1
+    val = np.array([h[:, 0], h[:, -1]])
+    dval = n * np.array([h[:, 1] - h[:, 0], h[:, -1] - h[:, -2]])
+    w = val[..., 2:3]
+    return (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
 
 
 def grid_planes(h, b, db):
@@ -175,14 +174,15 @@ def grid_planes(h, b, db):
     - h_j) are summed control point by control point (elementwise: a piece's values
     do not depend on the batch), then x = X / W and x' = (X' - x W') / W."""
     k, m, _ = h.shape
-    hc = np.ascontiguousarray(np.moveaxis(h, 0, 2))[:, :, None]     # (n+1, 3, 1, k)
+    q = b.shape[0]
+    hc = h.transpose(1, 2, 0).reshape(m, 3, 1, k)                  # (n+1, 3, 1, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom, der = np.zeros((3, len(b), k)), np.zeros((3, len(b), k))
+    hom, der = np.zeros((2, 3, q, k))
     tmp = np.empty_like(hom)
     for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
-        for j in range(len(coef)):
+        for j in range(coef.shape[0]):
             acc += np.multiply(coef[j], basis[:, j, None], out=tmp)
-    out = np.empty((4, len(b), k))
+    out = np.empty((4, q, k))
     np.divide(hom[:2], hom[2], out=out[:2])
     np.multiply(out[:2], der[2], out=out[2:])
     np.subtract(der[:2], out[2:], out=out[2:])
@@ -223,7 +223,7 @@ def _end_tangents(x, y, size, rel=1e-12):
     out = []
     for i in (i0, i1):
         length = np.where(dead, 1.0, n[i, r])
-        t = np.stack([dx[i, r], dy[i, r]], axis=1) / length[:, None]
+        t = np.array([dx[i, r], dy[i, r]]).T / length[:, None]
         out.append(np.where(dead[:, None], 0.0, t))
     return out
 

@@ -14,7 +14,7 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from ..quadrature import gauss_legendre
-from .bank import RunArrays, end_derivatives, grid_planes
+from .bank import RunArrays, end_pair, grid_planes
 
 
 #: Intervals per piece of a chain's arc-length table (lengths by 8-point
@@ -96,6 +96,8 @@ D_ELBOW, D_SLOPE = 0.65, 2.0
 FIT_SLACK = 16.0
 #: Candidate cubics kept per range (roots of the moment equation).
 MAX_CANDIDATES = 6
+#: The handle length (in chord lengths) of a range whose moment equation has no root.
+_THIRD = np.array([1.0 / 3.0])
 
 
 def _to_frame(vx, vy, e, out_x, out_y):
@@ -170,16 +172,16 @@ def _picked_rays(sam, parts, length, cr, pick, rays):
     the rays' lengths and the pieces' speeds there (what the certificate starts
     from); NaN where no picked cubic's ray reached a sample.  ``rays``: the
     (candidate, part, stages) of :func:`_ray_distance`."""
-    feet, gap = np.full(sam.speed.shape, np.nan), np.full(sam.speed.shape, np.nan)
+    feet, gap = np.zeros((2,) + sam.speed.shape[::-1]) + np.nan      # (P, 16) each
     cand, part, stages = rays
     for pairs, cols, s, ray in stages:
         c = cand[pairs]
-        mine = np.nonzero(pick[cr[c]] == c)[0]
-        at = (cols[:, None], part[pairs[mine]])
-        feet[at] = s[mine].T
-        gap[at] = ray[mine].T * length[cr[c[mine]]]
+        mine = (pick[cr[c]] == c).nonzero()[0]
+        at = (part[pairs[mine], None], cols)
+        feet[at] = s[mine]
+        gap[at] = ray[mine] * length[cr[c[mine]], None]
     speed = sam.speed * (length[parts.req] * (parts.b - parts.a))
-    return Rays(*(np.ascontiguousarray(x.T) for x in (feet, gap, speed)))
+    return Rays(feet, gap, np.ascontiguousarray(speed.T))
 
 
 #: What the rays of :func:`moment_cubics` found at each part's samples (P, 16), the
@@ -203,24 +205,34 @@ def cut_pieces(parts, idx, h):
     """The sub-pieces (k, n, 3) of the parts ``idx`` (cut: not [0, 1]) whose pieces
     are ``h`` (k, n, 3): those :func:`moment_cubics` cut (``parts.subs``), the
     others cut here (the same call on the same rows: the same numbers)."""
+    if parts.subs is None or h.shape[1] not in parts.subs:
+        return _sub_pieces(h, parts.a[idx], parts.b[idx])
     out = np.empty_like(h)
-    todo = np.ones(len(idx), bool)
-    if parts.subs is not None and h.shape[1] in parts.subs:
-        have, stack = parts.subs[h.shape[1]]
-        at = np.minimum(np.searchsorted(have, idx), len(have) - 1)
-        todo = have[at] != idx
-        out[~todo] = stack[at[~todo]]
-    if todo.any():
-        out[todo] = bz.subsegment_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+    have, stack = parts.subs[h.shape[1]]
+    at = np.minimum(have.searchsorted(idx), len(have) - 1)
+    todo = have[at] != idx
+    out[~todo] = stack[at[~todo]]
+    if np.logical_or.reduce(todo):
+        out[todo] = _sub_pieces(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
     return out
+
+
+def _sub_pieces(h, a, b):
+    """The pieces h (k, n, 3) restricted to [a, b] with 0 <= a < b <= 1 (so a < 1), as
+    :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
+    splits: the right part at a, then its left part at (b - a) / (1 - a)), without
+    its cases of reversed, whole or empty ranges."""
+    right = bz.split_many(h, a)[1]
+    return bz.split_many(right, (b - a) / (1.0 - a))[0]
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
 #: of every part (a column) at the 16 Gauss-Legendre nodes of its own parameter (a
 #: row), in its range's chord frame; ``speed`` (16, P) = |(x', y')|; per range the
-#: unit end tangents ``t0``, ``t1`` (n, 2) and the ``area`` and ``moment``
-#: (Gauss-Legendre sums).
-_Samples = namedtuple("_Samples", "q speed t0 t1 area moment")
+#: unit end tangents ``t0``, ``t1`` (n, 2), the ``area`` and ``moment``
+#: (Gauss-Legendre sums) and its parts ``lo:hi`` (their positions, the parts being
+#: sorted by range).
+_Samples = namedtuple("_Samples", "q speed t0 t1 area moment lo hi")
 
 
 def _range_samples(bank, parts, starts, e, tiny):
@@ -231,36 +243,33 @@ def _range_samples(bank, parts, starts, e, tiny):
     vanishes.  Sample-major planes: a part's numbers (start, frame) broadcast along
     the rows, every operation a few long contiguous loops."""
     n = len(starts)
-    req, gid, lo = parts.req, parts.gid, parts.a
-    width = parts.b - parts.a
-    first = np.searchsorted(req, np.arange(n))
-    last = np.searchsorted(req, np.arange(n), side="right") - 1
+    req, gid, lo, hi = parts.req, parts.gid, parts.a, parts.b
+    width = hi - lo
+    rng = np.arange(n)
+    first, last = req.searchsorted(rng), req.searchsorted(rng, side="right") - 1
     quad = _quadrature()
     jets = np.empty((4, len(quad.gx), len(gid)))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
     jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
-    # the ranges' end derivatives: of the end pieces, or (cut) of their sub-pieces
-    ends_at = np.concatenate([first, last])
-    tail = np.arange(2 * n) >= n
-    de = bank.end_derivatives(gid[ends_at], tail)
-    cut = np.nonzero(~whole)[0]         # cut pieces: the piece on [a, b] at the nodes
-    sub_ends = np.empty((2, len(gid), 2))
+    # every part's end derivatives (2, P, 2) in its own parameter: of its piece
+    # (whole), of its sub-piece on [a, b] (cut, made here) divided by b - a
+    ends = bank.d_ends[:, gid]
+    cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        sub = bz.subsegment_many(h, lo[i], parts.b[i])
+        sub = _sub_pieces(h, lo[i], hi[i])
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
         part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
         part[2:] /= width[i]
         jets[:, :, i] = part
-        for k in range(2):
-            sub_ends[k, i] = end_derivatives(sub, np.full(len(i), k == 1))
-    inner = ~whole[ends_at]
-    de[inner] = sub_ends[tail[inner].astype(int), ends_at[inner]] / width[ends_at[inner], None]
-    for j in np.nonzero(np.hypot(*de.T) <= np.concatenate([tiny, tiny]))[0].tolist():
+        ends[:, i] = end_pair(sub) / width[i, None]
+    # the ranges' end derivatives: at the start of the first part, the end of the last
+    de = np.concatenate([ends[0, first], ends[1, last]])
+    for j in (np.hypot(de[:, 0], de[:, 1]) <= np.concatenate([tiny, tiny])).nonzero()[0].tolist():
         r, sign = j % n, (1.0 if j < n else -1.0)
         i = first[r] if sign > 0 else last[r]
-        de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else parts.b[i],
+        de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else hi[i],
                                sign, tiny[r])
     q = np.empty_like(jets)
     pe = e[req].T                                                   # (2, P)
@@ -273,12 +282,12 @@ def _range_samples(bank, parts, starts, e, tiny):
     t /= np.maximum(np.hypot(t[0], t[1]), 1e-300)
     wu = q[2] * (quad.gw[:, None] * width)
     wu *= q[1]
-    area = np.bincount(req, wu.sum(0), n)
+    area = np.bincount(req, np.add.reduce(wu, 0), n)
     wu *= q[0]
     speed = q[2] * q[2]                                 # |(x', y')|, frame units
     speed += q[3] * q[3]
     return _Samples(q, np.sqrt(speed, out=speed), t[:, :n].T, t[:, n:].T, area,
-                    np.bincount(req, wu.sum(0), n))
+                    np.bincount(req, np.add.reduce(wu, 0), n), first, last + 1)
 
 
 @functools.lru_cache(maxsize=None)
@@ -304,7 +313,10 @@ def _cubic_integrals(t0, t1):
     sums, whose other terms are zeros); all terms of all ranges in a few array
     operations (:func:`_integral_terms`: each sum's terms added layer by layer)."""
     n = len(t0)
-    v = np.stack([np.ones(n), t0[:, 0], t0[:, 1], -t1[:, 0], -t1[:, 1]], axis=1)
+    v = np.empty((n, 5))
+    v[:, 0] = 1.0
+    v[:, 1:3] = t0
+    v[:, 3:] = -t1
     (ya, xa, ca, sa, la), (um, ym, xm, cm, sm, lm) = _integral_terms()
     ta = _layered((v[:, ya] * v[:, xa]) * ca, sa, la, 6).reshape(n, 2, 3)
     tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, sm, lm, 18).reshape(n, 3, 2, 3)
@@ -392,10 +404,16 @@ def _handle_candidates(area, moment, ta, tm, good):
     of the moment residual in d0 on :data:`_D0_GRID` (sign changes refined by regula
     falsi), its local minima that do not cross zero, and handles of a third where
     nothing solves; at most MAX_CANDIDATES per range, positive and finite."""
-    n = len(area)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return _solved_handles(area, moment, _area_terms(ta), _monomial_coefficients(tm), good)
 
-    cf = _monomial_coefficients(tm)
-    at = _area_terms(ta)
+
+def _solved_handles(area, moment, at, cf, good):
+    """:func:`_handle_candidates` from the area terms ``at`` (:func:`_area_terms`) and
+    the moment's monomial coefficients ``cf`` (:func:`_monomial_coefficients`), with
+    numpy's warnings silenced (d1 is inf or NaN where the area equation has no
+    root, the residual undefined there)."""
+    n = len(area)
 
     def resid(d0, d1, c):
         # the moment as the cubic polynomial of (d0, d1) with coefficients c
@@ -403,7 +421,7 @@ def _handle_candidates(area, moment, ta, tm, good):
         inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
-    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, np.nonzero(good)[0], resid)
+    rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
     a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
     area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
     for _ in range(4):                                             # regula falsi
@@ -412,23 +430,24 @@ def _handle_candidates(area, moment, ta, tm, good):
         left = np.sign(fx) == np.sign(fa)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
-    roots = (a * fb - b * fa) / (fb - fa) if len(rr) else np.zeros(0)
+    roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
     none[rr] = True
     # nothing solves (e.g. a straight range: area and moment vanish): handles of a
     # third, the straight cubic when the tangents run along the chord
-    rt = np.nonzero(good & ~none)[0]
+    rt = (good & ~none).nonzero()[0]
     cr = np.concatenate([rr, rn, rt])
-    cd0 = np.concatenate([roots, _D0_GRID[gn], np.full(len(rt), 1.0 / 3.0)])
-    thirds = np.arange(len(cr)) >= len(cr) - len(rt)
+    m = len(cr)
+    cd0 = np.concatenate([roots, _D0_GRID[gn], _THIRD.repeat(len(rt))])
+    thirds = np.arange(m) >= m - len(rt)
     # at most MAX_CANDIDATES per range, the first ones in the order above
-    by = np.argsort(cr, kind="stable")
-    rank = np.empty(len(cr), int)
-    rank[by] = np.arange(len(cr)) - np.searchsorted(cr[by], cr[by])
+    by = cr.argsort(kind="stable")
+    rank = np.empty(m, int)
+    rank[by] = np.arange(m) - cr[by].searchsorted(cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, 1.0 / 3.0, _d1_of(cd0, area[cr], at[:, cr]))
+    cd1 = np.where(thirds, _THIRD[0], _d1_of(cd0, area[cr], at[:, cr]))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -445,7 +464,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
     one (range, grid index), each in range order; where d1 is not finite and
     positive the residual is undefined.  A block is grid-major (80, ranges): a
     range's coefficients broadcast along the rows."""
-    out = [[] for _ in range(6)]
+    out = []
     d0 = _D0_GRID[:, None]
     cf_t = np.ascontiguousarray(cf.T)
     for lo in range(0, len(good), GRID_BLOCK):
@@ -454,12 +473,11 @@ def _grid_scan(area, moment, at, cf, good, resid):
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        with np.errstate(invalid="ignore", over="ignore"):
-            f = resid(d0, d1, cf_t[:, rows].T)          # read only where ok
-            f -= moment[rows]
+        f = resid(d0, d1, cf_t[:, rows].T)              # read only where ok
+        f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
-        g, r = np.nonzero(cross.T)[::-1]
+        r, g = cross.T.nonzero()
         # local minima of |f| that do not cross zero (kurbo: the real part of a
         # complex root pair, a near-double root): the grid points where |f| is least,
         # an undefined neighbour counting as infinite
@@ -470,10 +488,13 @@ def _grid_scan(area, moment, at, cf, good, resid):
         dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
         dip[:-1] &= ~cross
         dip[1:] &= ~cross
-        gd, rd = np.nonzero(dip.T)[::-1]
-        for acc, x in zip(out, (rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd)):
-            acc.append(x)
-    return [np.concatenate(x) if x else np.zeros(0, int) for x in out]
+        rd, gd = dip.T.nonzero()
+        out.append((rows[r], g, f[g, r], f[g + 1, r], rows[rd], gd))
+    if len(out) == 1:
+        return out[0]
+    if not out:
+        return [np.zeros(0, int)] * 6
+    return [np.concatenate(x) for x in zip(*out)]
 
 
 def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
@@ -482,40 +503,44 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     a short chord), with its sampled distance: (cubics, err, fitted) as
     :func:`moment_cubics` returns them."""
     n = len(starts)
-    valid = np.nonzero(score < acc[cr])[0]
+    valid = (score < acc[cr]).nonzero()[0]
     valid = valid[np.lexsort((valid, score[valid], cr[valid]))]
     sorted_cr = cr[valid]      # sorted: each range's first entry is its pick
-    at = np.flatnonzero(np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)])
-    ranges = sorted_cr[at]
-    pick = np.full(n, -1)
-    pick[ranges] = valid[at]
+    at = np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)].nonzero()[0]
+    pick = np.zeros(n, int) - 1
+    pick[sorted_cr[at]] = valid[at]
     has = pick >= 0
     c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))   # (n, 4, 2)
-    normal = np.stack([-chord[:, 1], chord[:, 0]], axis=1)
+    normal = chord[:, ::-1] * _LEFT                    # (-chord_y, chord_x)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
-    line = np.stack([starts, starts + chord / 3.0, ends - chord / 3.0, ends], axis=1)
-    cubic = np.where(has[:, None, None], cubic, line)
+    no = ~has                  # the straight cubic
+    cubic[no, 1] = starts[no] + chord[no] / 3.0
+    cubic[no, 2] = ends[no] - chord[no] / 3.0
     cubic[:, 0], cubic[:, -1] = starts, ends
-    fitted = (has | short) & np.all(np.isfinite(cubic), axis=(1, 2))
+    fitted = (has | short) & np.logical_and.reduce(np.isfinite(cubic.reshape(n, 8)), axis=1)
     dist = np.where(has, err[np.maximum(pick, 0)] if len(err) else 0.0, 0.0)
     return cubic, dist, fitted, pick
+
+
+#: (-1, 1): a vector (x, y) reversed and times this is its normal (-y, x).
+_LEFT = np.array([-1.0, 1.0])
 
 
 def _area_terms(ta):
     """The coefficients of the area equation of :func:`_d1_of` (4, n), from ``ta`` (n,
     2, 3) of :func:`_cubic_integrals`: ta[0, 0], ta[0, 1], ta[1, 0], ta[0, 2] +
     ta[1, 1]."""
-    return np.stack([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
+    return np.array([ta[:, 0, 0], ta[:, 0, 1], ta[:, 1, 0], ta[:, 0, 2] + ta[:, 1, 1]])
 
 
 def _d1_of(d0, area, at):
     """d1 from the area equation (linear in d1) for handle lengths d0, with the
     ranges' ``area`` and area terms ``at`` (:func:`_area_terms`) gathered (or
-    broadcast) to d0's shape."""
+    broadcast) to d0's shape (inf or NaN where the equation has no root: the caller
+    silences numpy's warnings, :func:`_handle_candidates`)."""
     num = area - d0 * (at[0] + d0 * at[1])
     den = at[2] + d0 * at[3]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return num / den
+    return num / den
 
 
 #: Rays of :func:`_ray_distance` per block: a block's dozen working arrays (64 KB
@@ -544,50 +569,56 @@ class _RayCaster:
     def __init__(self, ctrl, cr, sam, req, width):
         q = sam.q
         speed = sam.speed * (_quadrature().gw[:, None] * width)        # (16, P)
-        size = speed.sum(0)
+        size = np.add.reduce(speed, 0)
         tot = np.bincount(req, size)
         # each sample's share of its range's length: the lengths before it (in the
         # range's earlier parts, in its part before it) and half its own
-        before = np.cumsum(size) - size - (np.cumsum(tot) - tot)[req]
-        frac = np.cumsum(speed, axis=0)
+        before = size.cumsum() - size - (tot.cumsum() - tot)[req]
+        frac = speed.cumsum(axis=0)
         frac -= 0.5 * speed
         frac += before
         frac /= np.maximum(tot[req], 1e-300)
         pu = q[0] * q[2]
         pu += q[1] * q[3]
-        self.data = np.stack([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
-        self.nreq = nreq = len(tot)
-        self.counts = counts = np.bincount(req, minlength=nreq)[cr]   # pairs of each candidate
-        self.first = first = np.cumsum(counts) - counts
-        self.cand = np.repeat(np.arange(len(cr)), counts)
-        self.part = (np.repeat(np.searchsorted(req, np.arange(nreq))[cr] - first, counts)
-                     + np.arange(int(counts.sum())))
+        self.data = np.array([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
+        self.nreq = len(tot)
+        self.counts = counts = (sam.hi - sam.lo)[cr]                 # pairs of each candidate
+        self.first = first = counts.cumsum() - counts
+        self.ncand = ncand = len(cr)
+        self.cand = np.arange(ncand).repeat(counts)
+        npairs = len(self.cand)
+        self.part = (sam.lo[cr] - first).repeat(counts) + np.arange(npairs)
         p1, p2 = ctrl[:, 1], ctrl[:, 2]                               # P0 = (0, 0)
         a2 = 3.0 * (p2 - 2.0 * p1)
         a3 = ctrl[:, 3] + 3.0 * (p1 - p2)
         self.coef = np.concatenate([3.0 * p1, a2, a3], axis=1).T[:, self.cand]   # (6, N)
-        self.worst = np.zeros(len(self.cand))                         # largest ray of a pair
-        self.stages, self.ncand = [], len(cr)
+        self.worst = np.zeros(npairs)                                  # largest ray of a pair
+        self.stages = []
+        # the candidates with pairs, and where their pairs start (dist_of's reduction)
+        self.some = counts > 0
+        self.some_first = first[self.some]
 
     def cast(self, pairs, cols):
         """The rays of ``pairs`` from their samples ``cols`` (rows of ``data``)."""
+        npairs, ncols = len(pairs), len(cols)
+        if not npairs:
+            return
         data = self.data[:, cols]                                     # (6, c, P)
-        s, ray = np.empty((len(cols), len(pairs))), np.empty((len(cols), len(pairs)))
-        step = max(RAY_BLOCK // len(cols), 1)
-        for lo in range(0, len(pairs), step):
+        s, ray = np.empty((2, ncols, npairs))
+        step = max(RAY_BLOCK // ncols, 1)
+        for lo in range(0, npairs, step):
             b = pairs[lo:lo + step]
             s[:, lo:lo + step], ray[:, lo:lo + step] = _rays(self.coef[:, None, b],
                                                               data[:, :, self.part[b]])
         # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
-        self.worst[pairs] = np.maximum(self.worst[pairs], ray.max(axis=0))
+        self.worst[pairs] = np.maximum(self.worst[pairs], np.maximum.reduce(ray, axis=0))
         self.stages.append((pairs, cols, s.T, ray.T))
 
     def dist_of(self, cands):
         """The largest ray cast so far of each candidate ``cands`` (index or mask)."""
         out = np.zeros(self.ncand)
-        some = self.counts > 0
-        if some.any():
-            out[some] = np.maximum(np.maximum.reduceat(self.worst, self.first[some]), 0.0)
+        if len(self.some_first):
+            out[self.some] = np.maximum(np.maximum.reduceat(self.worst, self.some_first), 0.0)
         return out[cands]
 
 
@@ -625,12 +656,12 @@ def _ray_distance(ctrl, cr, sam, req, width, length, scale, acc):
     done = np.zeros(len(cr), bool)
     done[best] = True
     cast(np.nonzero(done[cand])[0], _FINE)
-    full = np.full(nreq, np.nan)
+    full = np.zeros(nreq) + np.nan
     full[cr[best]] = dist_of(best) * length[best] * scale[best]
     others = alive & ~done & ~(bound > full[cr])
     cast(np.nonzero(others[cand])[0], _FINE)
     done |= others
-    err = np.full(len(cr), np.inf)
+    err = np.zeros(len(cr)) + np.inf
     err[done] = dist_of(done)
     return err, (cand, part, stages)
 
@@ -648,14 +679,20 @@ def _rays(a, d):
     g2 += a2y * uy
     g3 += a3y * uy
     h2, h3 = 2.0 * g2, 3.0 * g3
-    gv, gd, tiny = np.empty_like(s), np.empty_like(s), np.empty(s.shape, bool)
+    gv, gd = np.empty((2,) + s.shape)
+    tiny = np.empty(s.shape, bool)
     for _ in range(5):
         np.multiply(h3, s, out=gd)
         gd += h2
         gd *= s
         gd += g1
         np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
-        _horner3(g3, g2, g1, g0, s, gv)
+        np.multiply(g3, s, out=gv)                      # g(s) = ((g3 s + g2) s + g1) s + g0
+        gv += g2
+        gv *= s
+        gv += g1
+        gv *= s
+        gv += g0
         np.copyto(gd, 1e-300, where=tiny)
         np.divide(gv, gd, out=gv)
         np.subtract(s, gv, out=s)
@@ -673,14 +710,3 @@ def _rays(a, d):
     gv += gd
     return s, np.sqrt(gv, out=gv)
 
-
-def _horner3(c3, c2, c1, c0, s, out):
-    """``out`` = ((c3 s + c2) s + c1) s + c0, in place (the operations and their
-    order, so the bits, of the written-out form)."""
-    np.multiply(c3, s, out=out)
-    out += c2
-    out *= s
-    out += c1
-    out *= s
-    out += c0
-    return out
