@@ -227,7 +227,7 @@ class Greedy:
         g = done_try
         acc.append((g, self.good[g], self.good_cubic[g], self.good_b[g], self.good_at[g],
                     self.good_end[g]))
-        r, t1a, ca, ba, ata, ea = (np.concatenate(x) for x in zip(*acc))
+        r, t1a, ca, ba, ata, ea = [np.concatenate(x) for x in zip(*acc)]
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
         self.width[r] = next_width(t1a - self.t0[r], ba, self.tol)
         self.t0[r], self.start[r] = t1a, ea

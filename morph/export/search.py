@@ -623,13 +623,17 @@ class _Join:
     def add(self, seg, chains, met):
         """The segments (chain, t0, t1, bound, at; chain parameters) of ``chains``
         whose searches ended, ``met``: where each one's forward search ended."""
-        by = {}
-        for c, t0, t1, b, at in zip(seg[0].tolist(), seg[1].tolist(), seg[2].tolist(),
-                                    seg[3].tolist(), seg[4].tolist()):
-            by.setdefault(c, []).append((t0, t1, b, at))
-        for c, f in zip(chains.tolist(), met.tolist()):
-            self._path(c, sorted(by.get(c, [])), f)
-        self.touched.update(chains.tolist())
+        c, t0, t1, b, at = seg
+        # each chain's segments (t0, t1, bound, at) in the order of those tuples
+        order = np.lexsort((at[:, 1], at[:, 0], b, t1, t0, c))
+        c = c[order]
+        segs = list(zip(t0[order].tolist(), t1[order].tolist(), b[order].tolist(),
+                        at[order].tolist()))
+        chain = chains.tolist()
+        for ch, f, lo, hi in zip(chain, met.tolist(), c.searchsorted(chains).tolist(),
+                                 c.searchsorted(chains, side="right").tolist()):
+            self._path(ch, segs[lo:hi], f)
+        self.touched.update(chain)
 
     def _path(self, c, segs, f):
         """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
@@ -720,23 +724,25 @@ class _Join:
         """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
         chains whose paths are complete, removed (only those whose paths changed
         since the last call can be)."""
-        out, ended = [], []
+        out, ended, count = [], [], []
         for c in sorted(self.touched):
             path = self.paths.get(c)
-            if path is None or c in self.pending or any(p is None for p in path):
+            if path is None or c in self.pending or None in path:
                 continue
             ended.append(c)
-            out.extend((c,) + p for p in path)
+            count.append(len(path))
+            out += path
         self.touched = set()
         if not ended:
             return ((np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),),
                     np.zeros(0, int))
         for c in ended:
             del self.paths[c]
-        seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out], float),
-               np.array([o[2] for o in out], float), np.array([o[3] for o in out], float),
-               np.array([o[4] for o in out], int).reshape(-1, 2))
-        return seg, np.array(ended, int)
+        t0, t1, b, at = zip(*out)
+        ended = np.array(ended, int)
+        seg = (ended.repeat(count), np.array(t0, float), np.array(t1, float),
+               np.array(b, float), np.array(at, int).reshape(-1, 2))
+        return seg, ended
 
 
 def _unbroken(path, top):
