@@ -94,8 +94,8 @@ def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         slope = (~np.isnan(last_w) & (np.abs(last_w - w) > SAME_WIDTH * w) & (last_b > 0)
                  & (bound > 0) & np.isfinite(bound) & np.isfinite(last_b))
-        p = np.where(slope, np.clip(np.log(bound / last_b) / np.log(w / last_w), P_MIN, P_MAX),
-                     ERROR_POWER)
+        p = np.where(slope, np.minimum(np.maximum(np.log(bound / last_b) / np.log(w / last_w),
+                                                  P_MIN), P_MAX), ERROR_POWER)
         ratio = np.where(bound > 0, (AIM * tol / bound) ** (1.0 / p), STEP_MAX)
     ratio = np.where(np.isfinite(bound), ratio, SHRINK)
     target = np.minimum(top, t0 + w * np.minimum(STEP_MAX, np.maximum(STEP_MIN, ratio)))
@@ -112,7 +112,8 @@ def next_width(w, bound, tol):
     NEXT_STEP times w (the largest where the bound is 0)."""
     with np.errstate(divide="ignore"):
         ratio = (AIM * tol / bound) ** (1.0 / NEXT_POWER)
-    return w * np.clip(np.where(bound > 0, ratio, NEXT_STEP[1]), *NEXT_STEP)
+    return w * np.minimum(np.maximum(np.where(bound > 0, ratio, NEXT_STEP[1]), NEXT_STEP[0]),
+                          NEXT_STEP[1])
 
 
 class Greedy:

@@ -611,8 +611,7 @@ class _Join:
     def __init__(self, tol, top):
         self.tol, self.top = tol, top      # each chain's parameter length K
         self.paths = {}                  # chain: segments (t0, t1, bound, at), None at a refit
-        self.asked = ([], [], [])        # refits: chain, t0, t1
-        self.slots = []                  # refits: (chain, (position in its path, kind))
+        self.slots = []                  # refits: (chain, position in its path, kind, t0, t1)
         self.pending = set()             # chains with refits asked
         self.touched = set()             # chains whose paths changed since ready()
 
@@ -665,17 +664,14 @@ class _Join:
         """Ask the fit of [t0, t1] for path position ``pos`` of chain c: ``kind`` 0
         fills it, 1 replaces it and the next, -1 it and the one before."""
         self.pending.add(c)
-        self.asked[0].append(c)
-        self.asked[1].append(t0)
-        self.asked[2].append(t1)
-        self.slots.append((c, pos, kind))
+        self.slots.append((c, pos, kind, t0, t1))
 
     def requests(self):
         """(chain, t0, t1) of the refits asked."""
         if not self.slots:
             return (np.zeros(0, int), np.zeros(0), np.zeros(0))
-        return (np.array(self.asked[0], int), np.array(self.asked[1], float),
-                np.array(self.asked[2], float))
+        c, _, _, t0, t1 = zip(*self.slots)
+        return np.array(c, int), np.array(t0, float), np.array(t1, float)
 
     def update(self, fits, offset, round_no):
         """Take the refits (``fits`` a round's :class:`_Fits`, these requests from
@@ -687,7 +683,7 @@ class _Join:
         j = offset + np.arange(len(chain))
         good = fits.cert[j] & (fits.bound[j] <= self.tol)
         bad, gains = set(), {}
-        for i, (c, pos, kind) in enumerate(self.slots):
+        for i, (c, pos, kind, _, _) in enumerate(self.slots):
             fit = (float(t0[i]), float(t1[i]), float(fits.bound[j[i]]), [round_no, int(j[i])])
             if kind:
                 if good[i] and (c, pos) not in gains:
@@ -705,20 +701,18 @@ class _Join:
                 path[pos - 1:pos + 1] = [fit]
             else:
                 continue
-            if all(p is not None for p in path):
+            if None not in path:
                 bad.discard(c)
         self.touched |= self.pending
-        self.asked, self.slots, self.pending = ([], [], []), [], set()
+        self.slots, self.pending = [], set()
         bad = sorted(bad)
-        kept, gaps = [], []
+        chain, kept, gaps = [], [], []
         for c in bad:
             lead, trail, gap = _unbroken(self.paths.pop(c), float(self.top[c]))
-            kept += [(c,) + p for p in lead + trail]
+            chain += [c] * (len(lead) + len(trail))
+            kept += lead + trail
             gaps.append(gap)
-        seg = (np.array([k[0] for k in kept], int), np.array([k[1] for k in kept], float),
-               np.array([k[2] for k in kept], float), np.array([k[3] for k in kept], float),
-               np.array([k[4] for k in kept], int).reshape(-1, 2))
-        return np.array(bad, int), seg, np.array(gaps, float).reshape(-1, 2)
+        return np.array(bad, int), _seg_arrays(chain, kept), np.array(gaps, float).reshape(-1, 2)
 
     def ready(self):
         """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
@@ -733,16 +727,20 @@ class _Join:
             count.append(len(path))
             out += path
         self.touched = set()
-        if not ended:
-            return ((np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),),
-                    np.zeros(0, int))
         for c in ended:
             del self.paths[c]
-        t0, t1, b, at = zip(*out)
         ended = np.array(ended, int)
-        seg = (ended.repeat(count), np.array(t0, float), np.array(t1, float),
-               np.array(b, float), np.array(at, int).reshape(-1, 2))
-        return seg, ended
+        return _seg_arrays(ended.repeat(count), out), ended
+
+
+def _seg_arrays(chain, segs):
+    """The arrays (chain, t0, t1, bound, at) of the segments ``segs`` (tuples (t0, t1,
+    bound, at)) of the chains ``chain``."""
+    if not segs:
+        return (np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),)
+    t0, t1, b, at = zip(*segs)
+    return (np.array(chain, int), np.array(t0, float), np.array(t1, float), np.array(b, float),
+            np.array(at, int).reshape(-1, 2))
 
 
 def _unbroken(path, top):
