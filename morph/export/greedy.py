@@ -163,13 +163,12 @@ class Greedy:
         return self.mode != DONE
 
     def cap(self, rows, top):
-        """Lower the end of the chains ``rows`` to ``top`` (a search from the other end
-        has come that far): tries past it are moved onto it, brackets past it
-        dropped; the search ends at it."""
-        rows, top = np.asarray(rows, int), np.asarray(top, float)
+        """Lower the end of the chains ``rows`` (an int array) to ``top`` (a float
+        array; a search from the other end has come that far): tries past it are
+        moved onto it, brackets past it dropped; the search ends at it."""
         lower = top < self.top[rows]
         rows, top = rows[lower], top[lower]
-        if not len(rows):
+        if not rows.shape[0]:
             return
         self.top[rows] = top
         past = self.t1[rows] > top
@@ -197,7 +196,7 @@ class Greedy:
         """(rows, t0, t1, start, need) of the round's fits: one per searching chain;
         ``need``: PROVISIONAL in the first pass of the trying mode (not at the chain's
         end), else 0 (certify)."""
-        rows = np.nonzero(self.active)[0]
+        rows = (self.mode != DONE).nonzero()[0]
         t1 = self.t1[rows]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
@@ -294,7 +293,7 @@ class Greedy:
         t0 = self.t0[rows]
         t1 = t0 + 0.5 * (self.bad[rows] - t0)
         small = t1 - t0 < self.min_width
-        if small.any():
+        if np.logical_or.reduce(small):
             i = int(np.argmax(small))
             self.fail(int(rows[i]), float(t0[i]), float(self.bad[rows[i]] - t0[i]),
                       float(bound[i]))

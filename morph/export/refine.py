@@ -23,7 +23,6 @@ are the very numbers that chain alone gives.
 import numpy as np
 
 from .. import bernstein as bz
-from ..polyline import member, unique
 from .fit import ARC_INTERVALS, _quadrature
 from .greedy import ERROR_POWER
 
@@ -51,7 +50,7 @@ def per_row(values, start, count, func):
     arithmetic as on the row alone; ``func`` np.add.reduce, np.add.accumulate):
     [(rows, result)] over the distinct counts."""
     out = []
-    for c in unique(count).tolist():
+    for c in np.bincount(count).nonzero()[0].tolist():      # the distinct counts, sorted
         rows = (count == c).nonzero()[0]
         out.append((rows, func(values[start[rows][:, None] + np.arange(c)[None]], axis=1)))
     return out
@@ -171,7 +170,7 @@ class Refine:
 
     @property
     def active(self):
-        return bool(len(self.chain))
+        return self.chain.shape[0] > 0
 
     def add(self, chain, seg_chain, t0, t1, bound, at):
         """Hand over the chains ``chain`` (increasing) and their segments (flat, sorted
@@ -189,7 +188,9 @@ class Refine:
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
-        keep = ~member(self.seg_row, row)
+        given = np.zeros(self.chain.shape[0], bool)
+        given[row] = True
+        keep = ~given[self.seg_row]
         rows = np.concatenate([self.seg_row[keep], row])
         order = rows.argsort(kind="stable")
         self.seg_row = rows[order]
