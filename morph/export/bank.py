@@ -88,9 +88,10 @@ class Bank:
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
+        deg = self.deg[gids]
         out = []
-        for n in unique(self.deg[gids]).tolist():
-            rows = np.nonzero(self.deg[gids] == n)[0]
+        for n in np.bincount(deg).nonzero()[0].tolist():         # the degrees, sorted
+            rows = (deg == n).nonzero()[0]
             out.append((rows, self.stacks[n][self.idx[gids[rows]]]))
         return out
 
