@@ -508,9 +508,8 @@ def _drive(chains, tol, min_width, cubics_only=False):
             refined = np.zeros(n, bool)
             refined[ended[many]] = True
             sel = refined[seg[0]]
-            rest = ~sel
             refine.add(ended[many], *[x[sel] for x in seg])
-            final.append(tuple([x[rest] for x in seg]))
+            final.append(tuple([x[~sel] for x in seg]))
             done += ended.shape[0] - int(np.count_nonzero(many))
 
     while np.logical_or.reduce(greedy.active) or refine.active or join.active:
