@@ -894,7 +894,8 @@ def _inner_moebius(s_mid, u_mid, cuts, ucut):
     inner pair or c is beyond exp(+-MOEBIUS_LOG)."""
     inner = np.empty((cuts.shape[0], cuts.shape[1] - 1))
     inner[:] = np.nan
-    # (divisions by zero and NaN comparisons silenced by the caller, _panel_bounds)
+    # (divisions by zero and NaN comparisons silenced by the caller: _panel_sets runs
+    # within the errstate of _panel_bounds or _ray_certified)
     v = (s_mid - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
     w = (u_mid - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
     inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
@@ -910,7 +911,7 @@ def _ordered_pairs(s, u):
     kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
     kept pairs keep it tight.  Rows already strictly increasing in (0, 1) (nearly
     all) are returned as they are, the others reordered (:func:`_reordered`).  NaN
-    comparisons are silenced by the caller (:func:`_panel_bounds`)."""
+    comparisons are silenced by the caller (:func:`_panel_sets`)."""
     fine = ((s[:, 0] > 0.0) & (s[:, -1] < 1.0)
             & np.logical_and.reduce(s[:, 1:] > s[:, :-1], axis=1))
     if np.logical_and.reduce(fine):
@@ -1055,7 +1056,7 @@ def _panel_moebius(sub, cub):
     n = sub.shape[1] - 1
     w = sub[2]
     p = sub[:2] / w
-    # (divisions by zero silenced by the caller, :func:`_panel_bounds`)
+    # (divisions by zero silenced by the caller, :func:`_panel_sets`)
     r0 = n * w[1] / w[0] * np.hypot(*(p[:, 1] - p[:, 0]))
     r1 = n * w[-2] / w[-1] * np.hypot(*(p[:, -1] - p[:, -2]))
     c0 = np.hypot(*(cub[:, 1] - cub[:, 0]))
