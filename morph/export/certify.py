@@ -516,10 +516,12 @@ class Certified:
 
     def __init__(self, bound, phis=None, size=None, c=None):
         self.bound, self.phis, self.size, self.c = bound, phis, size, c
-        self.half, self.half_u = np.full(len(bound), -1), np.zeros(len(bound))
+        marks = np.empty((2, bound.shape[0]), int)      # half, other: -1, none
+        marks[:] = -1
+        self.half, self.other = marks
+        self.half_u = np.zeros(bound.shape[0])
         self.sub, self.sub_n = None, 0
         self.paneled = self.same = self.cuts = self.nodes = self.moebius = self.rest = None
-        self.other = np.full(len(bound), -1)
 
     def panels(self, i):
         """Pair i's reparametrisation: a list of ``(s0, s1, phi)`` (see
@@ -632,24 +634,26 @@ def _ray_certified(groups, cubics, tol, depth, pairs, step=None):
     step = PANEL_STEP if step is None else step
     ps, pu, pspeed, pgap = pairs
     pu = np.asarray(pu, float)
-    with np.errstate(invalid="ignore"):
-        same = (np.abs(ps - pu) * pspeed).max(axis=1) <= PHI_SHARE * tol
-        same &= step == PANEL_STEP
-        gap = pgap.max(axis=1)
-    low = np.zeros(len(cubics), bool)
+    low = np.zeros(cubics.shape[0], bool)
     for rows, stack in groups:
         low[rows] = stack.shape[1] - 1 < PANEL_DEGREE
-    bound, cuts, moeb = _panel_bounds(groups, cubics, ps, pu, ~(same | low), step=step,
-                                      same=same)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        same = np.maximum.reduce(np.abs(ps - pu) * pspeed, axis=1) <= PHI_SHARE * tol
+        same &= step == PANEL_STEP
+        gap = np.maximum.reduce(pgap, axis=1)
+        paneled = ~(same | low)
+        bound, cuts, moeb, out_nodes = _panel_sets(groups, cubics, ps, pu, paneled,
+                                                   PANEL_REFINE, step, same)
     out = Certified(bound)
-    out.paneled, out.same = ~(same | low), same
+    out.paneled, out.same = paneled, same
     out.cuts, out.moebius = cuts, moeb
-    out.nodes = np.concatenate([[0.0], pu[step - 1::step], [1.0]])
-    rest = np.nonzero(~(bound <= tol) & ~(gap > FALLBACK_GAP * tol))[0]
-    if not len(rest):
+    out.nodes = out_nodes
+    rest = (~(bound <= tol) & ~(gap > FALLBACK_GAP * tol)).nonzero()[0]
+    if not rest.shape[0]:
         return out
-    where = np.full(len(cubics), -1)
-    where[rest] = np.arange(len(rest))
+    where = np.empty(cubics.shape[0], int)
+    where[:] = -1
+    where[rest] = np.arange(rest.shape[0])
     sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
            if (where[r] >= 0).any()]
     again = (ps[rest], pu, pspeed[rest], pgap[rest])
@@ -701,26 +705,34 @@ def _panel_bounds(groups, cubics, s, u, todo=None, refine=None, step=None, same=
     (k, m + 1)); bound inf where the cuts s_j are still not strictly increasing in
     (0, 1) and on the rows in neither ``todo`` (a mask; None: all) nor ``same``;
     cuts NaN off ``todo``."""
-    refine = PANEL_REFINE if refine is None else refine
-    k = len(s)
-    u = np.asarray(u, float)
-    step = PANEL_STEP if step is None else step
-    ucut = np.concatenate([[0.0], u[step - 1::step], [1.0]])
-    bound, cuts = np.full(k, np.inf), np.full((k, len(ucut)), np.nan)
-    moeb = np.ones((k, len(ucut) - 1))
-    rows = np.arange(k) if todo is None else np.flatnonzero(todo)
+    todo = np.ones(len(s), bool) if todo is None else np.asarray(todo, bool)
+    same = np.zeros(len(s), bool) if same is None else np.asarray(same, bool)
     with np.errstate(divide="ignore", invalid="ignore"):
-        sets = [_ray_panels(cubics, s, u, rows, step, ucut, cuts)]
-        if same is not None and same.any():
-            srows = np.flatnonzero(same)
-            sets.append(_PanelSet(srows, SAME_CUTS, _fixed_panels(
-                np.ascontiguousarray(cubics[srows].transpose(2, 1, 0)), SAME_CUTS), None))
-        sets = [p for p in sets if len(p.rows)]
-        if sets:
-            cols = _columns(groups, k, sets, moeb)
-            for p, b in zip(sets, _worst_panels(groups, sets, cols, refine)):
-                bound[p.rows] = b
-    return bound, cuts, moeb
+        return _panel_sets(groups, cubics, s, np.asarray(u, float), todo,
+                           PANEL_REFINE if refine is None else refine,
+                           PANEL_STEP if step is None else step, same)[:3]
+
+
+def _panel_sets(groups, cubics, s, u, todo, refine, step, same):
+    """:func:`_panel_bounds` (``todo``, ``same`` masks, ``u`` an array, divisions
+    by zero and NaN comparisons already silenced by the caller), and the piece's
+    parameters of the ray panels' ends (``ucut``)."""
+    k = s.shape[0]
+    ucut = np.empty(u[step - 1::step].shape[0] + 2)
+    ucut[0], ucut[1:-1], ucut[-1] = 0.0, u[step - 1::step], 1.0
+    bound, cuts, moeb = np.empty(k), np.empty((k, ucut.shape[0])), np.empty((k, ucut.shape[0] - 1))
+    bound[:], cuts[:], moeb[:] = np.inf, np.nan, 1.0
+    sets = [_ray_panels(cubics, s, u, todo.nonzero()[0], step, ucut, cuts)]
+    srows = same.nonzero()[0]
+    if srows.shape[0]:
+        sets.append(_PanelSet(srows, SAME_CUTS, _fixed_panels(
+            np.ascontiguousarray(cubics[srows].transpose(2, 1, 0)), SAME_CUTS), None))
+    sets = [p for p in sets if p.rows.shape[0]]
+    if sets:
+        cols = _columns(groups, k, sets, moeb)
+        for p, b in zip(sets, _worst_panels(groups, sets, cols, refine)):
+            bound[p.rows] = b
+    return bound, cuts, moeb, ucut
 
 
 def _ray_panels(cubics, s, u, rows, step, ucut, cuts):
@@ -728,14 +740,17 @@ def _ray_panels(cubics, s, u, rows, step, ucut, cuts):
     s_j written into ``cuts`` (k, P + 1); only the rows whose cuts increase
     strictly are kept."""
     s = _ordered_pairs(s[rows], u)
-    c = np.concatenate([np.zeros((len(rows), 1)), s[:, step - 1::step],
-                        np.ones((len(rows), 1))], axis=1)
+    c = np.empty((rows.shape[0], ucut.shape[0]))
+    c[:, 0], c[:, 1:-1], c[:, -1] = 0.0, s[:, step - 1::step], 1.0
     cuts[rows] = c
-    ok = np.all(np.diff(c, axis=1) > 0, axis=1)
+    ok = np.logical_and.reduce((c[:, 1:] - c[:, :-1]) > 0, axis=1)
     rows, s, c = rows[ok], s[ok], c[ok]
     mid = slice(step // 2 - 1, None, step)
-    inner = (_inner_moebius(s[:, mid], u[mid], c, ucut) if step > 1
-             else np.full((len(rows), len(ucut) - 1), np.nan))
+    if step > 1:
+        inner = _inner_moebius(s[:, mid], u[mid], c, ucut)
+    else:
+        inner = np.empty((rows.shape[0], ucut.shape[0] - 1))
+        inner[:] = np.nan
     return _PanelSet(rows, tuple(ucut.tolist()), _cubic_panels(cubics[rows], c), inner)
 
 
@@ -762,35 +777,45 @@ def _columns(groups, k, sets, moeb):
     into ``moeb``).  Every piece is lifted to the batch's highest degree first
     (degree elevation: the same curve), so that all degrees are cut, mapped and
     bounded together; the lifted columns only screen (:func:`_worst_panels`)."""
-    top = max(st.shape[1] for _, st in groups)
+    top = max([st.shape[1] for _, st in groups])
     lift = np.empty((top, 3, k))              # coefficient-major: a set's rows gathered
-    group, slot = np.full(k, -1), np.zeros(k, int)    # are one matrix's columns
+    group, slot = np.empty(k, int), np.empty(k, int)  # are one matrix's columns
+    group[:], slot[:] = -1, 0
     for g, (rows, stack) in enumerate(groups):
         lift[:, :, rows] = (bz.elevate_many(stack, top - stack.shape[1])
                             if stack.shape[1] < top else stack).transpose(1, 2, 0)
-        group[rows], slot[rows] = g, np.arange(len(rows))
-    size = [(len(ps.cuts) - 1) * len(ps.rows) for ps in sets]
-    sub = np.empty((3, top, sum(size)))
-    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2),
-                    np.concatenate([np.tile(ps.rows, len(ps.cuts) - 1) for ps in sets]),
-                    np.empty(len(sub[0, 0]), int), np.ones(len(sub[0, 0])), group, slot)
+        group[rows], slot[rows] = g, np.arange(rows.shape[0])
+    size = [(len(ps.cuts) - 1) * ps.rows.shape[0] for ps in sets]
+    total = sum(size)
+    sub = np.empty((3, top, total))
+    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2), np.empty(total, int),
+                    np.empty(total, int), np.empty(total), group, slot)
     lo = first = 0
     for ps, n in zip(sets, size):
         npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
         x = lift[:, :, ps.rows].reshape(top, -1)
         view.reshape(3, top, npan, -1)[...] = (_cut_matrices(top - 1, ps.cuts) @ x).reshape(
             npan, top, 3, -1).transpose(2, 1, 0, 3)
-        cols.panel[lo:lo + n] = first + np.repeat(np.arange(npan), len(ps.rows))
-        if ps.moebius is not None:
-            c = cols.c[lo:lo + n]
+        cols.pair[lo:lo + n].reshape(npan, -1)[...] = ps.rows         # (panel, pair) order
+        cols.panel[lo:lo + n].reshape(npan, -1)[...] = first + _COUNT[:npan, None]
+        c = cols.c[lo:lo + n]
+        if ps.moebius is None:
+            c[...] = 1.0
+        else:
             c[...] = ps.moebius.T.ravel()
-            bad = np.flatnonzero(np.isnan(c))
-            if len(bad):
+            bad = np.isnan(c).nonzero()[0]
+            if bad.shape[0]:
                 c[bad] = _panel_moebius(view[:, :, bad], ps.cub[:, :, bad])
-            view[:, 1:] *= np.cumprod(np.broadcast_to(c, (top - 1, n)), axis=0)  # c^i: R o mu
+            power = np.empty((top - 1, n))            # c^i: R o mu
+            power[...] = c
+            view[:, 1:] *= np.multiply.accumulate(power, axis=0)
             moeb[ps.rows] = c.reshape(npan, -1).T
         lo, first = lo + n, first + npan
     return cols
+
+
+#: 0, 1, 2, ...: the panels of a set numbered (:func:`_columns`).
+_COUNT = np.arange(64)
 
 
 def _worst_panels(groups, sets, cols, refine):
@@ -811,20 +836,20 @@ def _worst_panels(groups, sets, cols, refine):
     refined (a tenth to a sixth of them on the bench sets: a fitted cubic's error
     is mostly largest at panel ends)."""
     b, ends = _hull_rows(cols.sub, cols.cub, 0, ends=True)
-    low = np.empty_like(ends)
+    low = np.empty(ends.shape[0])
     lo = 0
     for ps in sets:
-        size = (len(ps.cuts) - 1) * len(ps.rows)
-        e = ends[lo:lo + size].reshape(-1, len(ps.rows))
-        low[lo:lo + size] = np.broadcast_to(np.fmax.reduce(e, axis=0), e.shape).ravel()
+        size = (len(ps.cuts) - 1) * ps.rows.shape[0]
+        e = ends[lo:lo + size].reshape(-1, ps.rows.shape[0])
+        low[lo:lo + size].reshape(e.shape)[...] = np.fmax.reduce(e, axis=0)
         lo += size
-    redo = np.flatnonzero(~(b <= low))
-    if refine > 0 and len(redo):
+    redo = (~(b <= low)).nonzero()[0]
+    if refine > 0 and redo.shape[0]:
         b[redo] = _refined(groups, sets, cols, redo, refine)
     out, lo = [], 0
     for ps in sets:
-        size = (len(ps.cuts) - 1) * len(ps.rows)
-        out.append(b[lo:lo + size].reshape(-1, len(ps.rows)).max(axis=0))
+        size = (len(ps.cuts) - 1) * ps.rows.shape[0]
+        out.append(np.maximum.reduce(b[lo:lo + size].reshape(-1, ps.rows.shape[0]), axis=0))
         lo += size
     return out
 
@@ -834,13 +859,13 @@ def _refined(groups, sets, cols, redo, refine):
     each piece at its own degree: the columns of the batch's highest degree as
     they are, the others cut again from their stacks (one batched product of each
     column's panel matrix per degree), R o mu by the weights scaled by c^i."""
-    out = np.empty(len(redo))
+    out = np.empty(redo.shape[0])
     pair, panel, c = cols.pair[redo], cols.panel[redo], cols.c[redo]
-    cut_tuples = tuple(ps.cuts for ps in sets)
+    cut_tuples = tuple([ps.cuts for ps in sets])
     group = cols.group[pair]
-    for g in np.flatnonzero(np.bincount(group, minlength=len(groups))).tolist():  # not
+    for g in np.bincount(group, minlength=len(groups)).nonzero()[0].tolist():  # not
         # np.unique: it imports numpy.ma, which font workers must not load
-        sel = np.flatnonzero(group == g)
+        sel = (group == g).nonzero()[0]
         stack = groups[g][1]
         n1 = stack.shape[1]
         if n1 == cols.sub.shape[1]:             # not lifted: the columns themselves
@@ -867,11 +892,13 @@ def _inner_moebius(s_mid, u_mid, cuts, ucut):
     ``ucut`` on the piece) that take each panel's inner pair (``s_mid``, ``u_mid``) to
     each other: mu(v) = w for the pair's local parameters v, w; NaN where there is no
     inner pair or c is beyond exp(+-MOEBIUS_LOG)."""
-    inner = np.full((len(cuts), cuts.shape[1] - 1), np.nan)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = (s_mid - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
-        w = (u_mid - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
-        inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
+    inner = np.empty((cuts.shape[0], cuts.shape[1] - 1))
+    inner[:] = np.nan
+    # (divisions by zero and NaN comparisons silenced by the caller: _panel_sets runs
+    # within the errstate of _panel_bounds or _ray_certified)
+    v = (s_mid - cuts[:, :-2]) / (cuts[:, 1:-1] - cuts[:, :-2])
+    w = (u_mid - ucut[:-2]) / (ucut[1:-1] - ucut[:-2])
+    inner[:, :v.shape[1]] = w * (1.0 - v) / (v * (1.0 - w))
     lim = math.exp(MOEBIUS_LOG)
     return np.where((inner > 1.0 / lim) & (inner < lim), inner, np.nan)
 
@@ -883,10 +910,11 @@ def _ordered_pairs(s, u):
     crossing a neighbour) get s interpolated linearly in u (m,) between the nearest
     kept pairs (or (0, 0), (1, 1)).  Any increasing pairing gives a certificate: the
     kept pairs keep it tight.  Rows already strictly increasing in (0, 1) (nearly
-    all) are returned as they are, the others reordered (:func:`_reordered`)."""
-    with np.errstate(invalid="ignore"):
-        fine = (s[:, 0] > 0.0) & (s[:, -1] < 1.0) & np.all(s[:, 1:] > s[:, :-1], axis=1)
-    if fine.all():
+    all) are returned as they are, the others reordered (:func:`_reordered`).  NaN
+    comparisons are silenced by the caller (:func:`_panel_sets`)."""
+    fine = ((s[:, 0] > 0.0) & (s[:, -1] < 1.0)
+            & np.logical_and.reduce(s[:, 1:] > s[:, :-1], axis=1))
+    if np.logical_and.reduce(fine):
         return s
     out = s.copy()
     out[~fine] = _reordered(s[~fine], u)
@@ -896,19 +924,22 @@ def _ordered_pairs(s, u):
 def _reordered(s, u):
     """:func:`_ordered_pairs` of rows s (k, m) that need it."""
     k, m = s.shape
-    ext = np.concatenate([np.zeros((k, 1)), s, np.ones((k, 1))], axis=1)
-    with np.errstate(invalid="ignore"):
-        before = np.fmax.accumulate(ext, axis=1)
-        after = np.fmin.accumulate(ext[:, ::-1], axis=1)[:, ::-1]
-        keep = np.ones(ext.shape, bool)
-        keep[:, 1:-1] = (ext[:, 1:-1] > before[:, :-2]) & (ext[:, 1:-1] < after[:, 2:])
-    if keep.all():
+    ext = np.empty((k, m + 2))
+    ext[:, 0], ext[:, 1:-1], ext[:, -1] = 0.0, s, 1.0
+    before = np.fmax.accumulate(ext, axis=1)
+    after = np.fmin.accumulate(ext[:, ::-1], axis=1)[:, ::-1]
+    keep = np.empty(ext.shape, bool)
+    keep[:, 0], keep[:, -1] = True, True
+    keep[:, 1:-1] = (ext[:, 1:-1] > before[:, :-2]) & (ext[:, 1:-1] < after[:, 2:])
+    if np.logical_and.reduce(keep, axis=None):
         return s
-    ue = np.concatenate([[0.0], u, [1.0]])
+    ue = np.empty(m + 2)
+    ue[0], ue[1:-1], ue[-1] = 0.0, u, 1.0
     col = np.arange(m + 2)
     prev = np.maximum.accumulate(np.where(keep, col, 0), axis=1)
     nxt = np.minimum.accumulate(np.where(keep, col, m + 1)[:, ::-1], axis=1)[:, ::-1]
-    a, b = np.take_along_axis(ext, prev, 1), np.take_along_axis(ext, nxt, 1)
+    at = np.arange(k)[:, None]
+    a, b = ext[at, prev], ext[at, nxt]
     frac = (ue - ue[prev]) / np.where(nxt > prev, ue[nxt] - ue[prev], 1.0)
     return np.where(keep, ext, a + frac * (b - a))[:, 1:-1]
 
@@ -968,7 +999,8 @@ def _hull_rows(c, q, halvings, ends=False):
     are one matrix product: [x - w o; w_i (q_j - o)] by [elevation, -product]."""
     n1, m1, k = c.shape[1], q.shape[1], c.shape[2]
     elev, fused = _hull_matrices(n1 - 1, m1 - 1, halvings)
-    out, end = np.empty(k), np.empty(k)
+    out = np.empty(k)
+    end = np.empty(k) if ends else None
     rows = n1 + n1 * m1
     for lo in range(0, k, HULL_BLOCK):
         cb, qb = c[:, :, lo:lo + HULL_BLOCK], q[:, :, lo:lo + HULL_BLOCK]
@@ -982,7 +1014,8 @@ def _hull_rows(c, q, halvings, ends=False):
         h = elev @ w
         e *= e
         r2 = (e[:, 0] + e[:, 1]) / (h * h)
-        out[lo:lo + kb] = np.where(h.min(axis=0) > 0, np.sqrt(r2.max(axis=0)), np.inf)
+        out[lo:lo + kb] = np.where(np.minimum.reduce(h, axis=0) > 0,
+                                   np.sqrt(np.maximum.reduce(r2, axis=0)), np.inf)
         if ends:
             end[lo:lo + kb] = np.sqrt(np.fmax(r2[0], r2[-1]))
     return (out, end) if ends else out
@@ -1023,14 +1056,15 @@ def _panel_moebius(sub, cub):
     n = sub.shape[1] - 1
     w = sub[2]
     p = sub[:2] / w
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r0 = n * w[1] / w[0] * np.hypot(*(p[:, 1] - p[:, 0]))
-        r1 = n * w[-2] / w[-1] * np.hypot(*(p[:, -1] - p[:, -2]))
-        c0 = np.hypot(*(cub[:, 1] - cub[:, 0]))
-        c1 = np.hypot(*(cub[:, -1] - cub[:, -2]))
-        c = np.sqrt((c0 * r1) / (c1 * r0))
+    # (divisions by zero silenced by the caller, :func:`_panel_sets`)
+    r0 = n * w[1] / w[0] * np.hypot(*(p[:, 1] - p[:, 0]))
+    r1 = n * w[-2] / w[-1] * np.hypot(*(p[:, -1] - p[:, -2]))
+    c0 = np.hypot(*(cub[:, 1] - cub[:, 0]))
+    c1 = np.hypot(*(cub[:, -1] - cub[:, -2]))
+    c = np.sqrt((c0 * r1) / (c1 * r0))
     fine = np.isfinite(c) & (c > 0)
-    return np.where(fine, np.clip(c, math.exp(-MOEBIUS_LOG), math.exp(MOEBIUS_LOG)), 1.0)
+    clipped = np.minimum(np.maximum(c, math.exp(-MOEBIUS_LOG)), math.exp(MOEBIUS_LOG))
+    return np.where(fine, clipped, 1.0)
 
 
 def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):

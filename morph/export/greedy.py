@@ -94,8 +94,8 @@ def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         slope = (~np.isnan(last_w) & (np.abs(last_w - w) > SAME_WIDTH * w) & (last_b > 0)
                  & (bound > 0) & np.isfinite(bound) & np.isfinite(last_b))
-        p = np.where(slope, np.clip(np.log(bound / last_b) / np.log(w / last_w), P_MIN, P_MAX),
-                     ERROR_POWER)
+        p = np.where(slope, np.minimum(np.maximum(np.log(bound / last_b) / np.log(w / last_w),
+                                                  P_MIN), P_MAX), ERROR_POWER)
         ratio = np.where(bound > 0, (AIM * tol / bound) ** (1.0 / p), STEP_MAX)
     ratio = np.where(np.isfinite(bound), ratio, SHRINK)
     target = np.minimum(top, t0 + w * np.minimum(STEP_MAX, np.maximum(STEP_MIN, ratio)))
@@ -112,7 +112,8 @@ def next_width(w, bound, tol):
     NEXT_STEP times w (the largest where the bound is 0)."""
     with np.errstate(divide="ignore"):
         ratio = (AIM * tol / bound) ** (1.0 / NEXT_POWER)
-    return w * np.clip(np.where(bound > 0, ratio, NEXT_STEP[1]), *NEXT_STEP)
+    return w * np.minimum(np.maximum(np.where(bound > 0, ratio, NEXT_STEP[1]), NEXT_STEP[0]),
+                          NEXT_STEP[1])
 
 
 class Greedy:
@@ -162,13 +163,12 @@ class Greedy:
         return self.mode != DONE
 
     def cap(self, rows, top):
-        """Lower the end of the chains ``rows`` to ``top`` (a search from the other end
-        has come that far): tries past it are moved onto it, brackets past it
-        dropped; the search ends at it."""
-        rows, top = np.asarray(rows, int), np.asarray(top, float)
+        """Lower the end of the chains ``rows`` (an int array) to ``top`` (a float
+        array; a search from the other end has come that far): tries past it are
+        moved onto it, brackets past it dropped; the search ends at it."""
         lower = top < self.top[rows]
         rows, top = rows[lower], top[lower]
-        if not len(rows):
+        if not rows.shape[0]:
             return
         self.top[rows] = top
         past = self.t1[rows] > top
@@ -196,7 +196,7 @@ class Greedy:
         """(rows, t0, t1, start, need) of the round's fits: one per searching chain;
         ``need``: PROVISIONAL in the first pass of the trying mode (not at the chain's
         end), else 0 (certify)."""
-        rows = np.nonzero(self.active)[0]
+        rows = (self.mode != DONE).nonzero()[0]
         t1 = self.t1[rows]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
@@ -227,7 +227,7 @@ class Greedy:
         g = done_try
         acc.append((g, self.good[g], self.good_cubic[g], self.good_b[g], self.good_at[g],
                     self.good_end[g]))
-        r, t1a, ca, ba, ata, ea = (np.concatenate(x) for x in zip(*acc))
+        r, t1a, ca, ba, ata, ea = [np.concatenate(x) for x in zip(*acc)]
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
         self.width[r] = next_width(t1a - self.t0[r], ba, self.tol)
         self.t0[r], self.start[r] = t1a, ea
@@ -293,7 +293,7 @@ class Greedy:
         t0 = self.t0[rows]
         t1 = t0 + 0.5 * (self.bad[rows] - t0)
         small = t1 - t0 < self.min_width
-        if small.any():
+        if np.logical_or.reduce(small):
             i = int(np.argmax(small))
             self.fail(int(rows[i]), float(t0[i]), float(self.bad[rows[i]] - t0[i]),
                       float(bound[i]))

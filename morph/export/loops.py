@@ -99,12 +99,15 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     # exact already: no fitting (lines stay lines, quadratics quadratics); each run's
     # curves in one list, the runs of a loop concatenated in order
     written = bank.cartesian(runs.order[piece_exact])
-    ends = np.cumsum(runs.sizes[runs.exact]).tolist()
-    exact = iter([written[a:b] for a, b in zip([0] + ends[:-1], ends)])
-    fitted = iter(fitted)
+    ends = runs.sizes[runs.exact].cumsum().tolist()
+    curves = [None] * runs.exact.shape[0]                  # each run's curves, in order
+    for r, a, b in zip(runs.exact.nonzero()[0].tolist(), [0] + ends[:-1], ends):
+        curves[r] = written[a:b]
+    for r, c in zip((~runs.exact).nonzero()[0].tolist(), fitted):
+        curves[r] = c
     out = [[] for _ in loops]
-    for i, e in zip(runs.loop.tolist(), runs.exact.tolist()):
-        out[i] += next(exact if e else fitted)
+    for i, c in zip(runs.loop.tolist(), curves):
+        out[i] += c
     return out
 
 

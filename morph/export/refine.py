@@ -23,7 +23,6 @@ are the very numbers that chain alone gives.
 import numpy as np
 
 from .. import bernstein as bz
-from ..polyline import member, unique
 from .fit import ARC_INTERVALS, _quadrature
 from .greedy import ERROR_POWER
 
@@ -42,16 +41,17 @@ PLAN, CHECK, FEWER, WHOLE, DONE = 0, 1, 2, 3, 4
 
 def ranges(start, count):
     """The concatenated index ranges [start, start + count), as one array."""
-    return np.repeat(start - (np.cumsum(count) - count), count) + np.arange(count.sum())
+    return (start - (count.cumsum() - count)).repeat(count) + np.arange(np.add.reduce(count))
 
 
 def per_row(values, start, count, func):
     """``func(block, axis=1)`` of each row's block ``values[start:start + count]``, the
     rows of equal count stacked (a sum or a running sum along a row is then the same
-    arithmetic as on the row alone): [(rows, result)] over the distinct counts."""
+    arithmetic as on the row alone; ``func`` np.add.reduce, np.add.accumulate):
+    [(rows, result)] over the distinct counts."""
     out = []
-    for c in unique(count).tolist():
-        rows = np.nonzero(count == c)[0]
+    for c in np.bincount(count).nonzero()[0].tolist():      # the distinct counts, sorted
+        rows = (count == c).nonzero()[0]
         out.append((rows, func(values[start[rows][:, None] + np.arange(c)[None]], axis=1)))
     return out
 
@@ -59,9 +59,8 @@ def per_row(values, start, count, func):
 def spaced_rows(stop, num):
     """``np.linspace(0, stop[r], num[r])`` of every row r (num >= 2), concatenated: j
     (stop / (num - 1)), the last one stop itself (numpy's arithmetic)."""
-    j = np.arange(int(num.sum())) - np.repeat(np.cumsum(num) - num, num)
-    return np.where(j == np.repeat(num, num) - 1, np.repeat(stop, num),
-                    j * np.repeat(stop / (num - 1), num))
+    j = np.arange(int(np.add.reduce(num))) - (num.cumsum() - num).repeat(num)
+    return np.where(j == num.repeat(num) - 1, stop.repeat(num), j * (stop / (num - 1)).repeat(num))
 
 
 def interp_rows(x, row, lo, hi, xp, fp):
@@ -73,22 +72,23 @@ def interp_rows(x, row, lo, hi, xp, fp):
     the values are np.interp's, bit for bit."""
     a, b = lo[row], hi[row]
     left, right = a.copy(), b.copy()
-    while True:
+    # bisection of every row at once: a block of L knots is searched in L.bit_length()
+    # halvings (a row whose search has ended keeps left == right)
+    for _ in range(int(np.maximum.reduce(b - a, initial=0)).bit_length()):
         live = left < right
-        if not live.any():
-            break
         mid = (left + right) >> 1
-        go = live & (xp[np.where(live, mid, a)] <= x)
-        left = np.where(go, mid + 1, left)
-        right = np.where(live & ~go, mid, right)
+        go = live & (xp[np.minimum(mid, b - 1)] <= x)
+        stay = live & ~go
+        left[go] = mid[go] + 1
+        right[stay] = mid[stay]
     j = left - 1                                   # a - 1: below the first knot
-    jj = np.clip(j, a, b - 2)
+    jj = np.minimum(np.maximum(j, a), b - 2)
     x0, x1, y0, y1 = xp[jj], xp[jj + 1], fp[jj], fp[jj + 1]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         slope = (y1 - y0) / (x1 - x0)
         res = slope * (x - x0) + y0
         nan = np.isnan(res)
-        if nan.any():
+        if np.logical_or.reduce(nan):
             alt = slope * (x - x1) + y1
             res = np.where(nan, np.where(np.isnan(alt) & (y0 == y1), y0, alt), res)
     at = np.maximum(j, a)
@@ -115,7 +115,7 @@ def arc_lengths(bank, off, k):
     hi = np.cumsum(size)
     lo = hi - size
     s = np.zeros(int(hi[-1]) if len(hi) else 0)
-    for rows, cum in per_row(seg, (np.cumsum(k) - k) * m, k * m, np.cumsum):
+    for rows, cum in per_row(seg, (np.cumsum(k) - k) * m, k * m, np.add.accumulate):
         s[(lo[rows][:, None] + 1 + np.arange(cum.shape[1])).ravel()] = cum.ravel()
     t = (np.arange(len(s)) - np.repeat(lo, size)) / float(m)
     return t, s, lo, hi
@@ -133,7 +133,7 @@ def chain_points(chains, chain, t):
     end = t >= k
     gid = bank.order[off + np.minimum(kk, k - 1)]
     out = np.where(end[:, None], bank.last[gid], bank.first[gid])
-    inner = np.nonzero(~end & (t != kk))[0]
+    inner = (~end & (t != kk)).nonzero()[0]
     local = t[inner] - kk[inner]
     for rows, h in bank.gather(gid[inner]):
         v = np.matmul(bz.basis(h.shape[1] - 1, local[rows])[:, None, :], h)[:, 0]
@@ -170,25 +170,29 @@ class Refine:
 
     @property
     def active(self):
-        return bool(len(self.chain))
+        return self.chain.shape[0] > 0
 
     def add(self, chain, seg_chain, t0, t1, bound, at):
         """Hand over the chains ``chain`` (increasing) and their segments (flat, sorted
         by chain and t0)."""
         if not len(chain):
             return
-        row = len(self.chain) + np.searchsorted(chain, seg_chain)
+        row = self.chain.shape[0] + chain.searchsorted(seg_chain)
+        fresh = np.empty((3, chain.shape[0]), int)      # phase, arc_lo, arc_hi
+        fresh[0], fresh[1:] = PLAN, -1
         self.chain = np.concatenate([self.chain, chain])
-        self.phase = np.concatenate([self.phase, np.full(len(chain), PLAN)])
-        self.arc_lo = np.concatenate([self.arc_lo, np.full(len(chain), -1)])
-        self.arc_hi = np.concatenate([self.arc_hi, np.full(len(chain), -1)])
+        self.phase = np.concatenate([self.phase, fresh[0]])
+        self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
+        self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
         self._put(row, t0, t1, bound, at)
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
-        keep = ~member(self.seg_row, row)
+        given = np.zeros(self.chain.shape[0], bool)
+        given[row] = True
+        keep = ~given[self.seg_row]
         rows = np.concatenate([self.seg_row[keep], row])
-        order = np.argsort(rows, kind="stable")
+        order = rows.argsort(kind="stable")
         self.seg_row = rows[order]
         self.t0 = np.concatenate([self.t0[keep], t0])[order]
         self.t1 = np.concatenate([self.t1[keep], t1])[order]
@@ -196,8 +200,8 @@ class Refine:
         self.at = np.concatenate([self.at[keep], at])[order]
 
     def _blocks(self):
-        count = np.bincount(self.seg_row, minlength=len(self.chain))
-        return np.cumsum(count) - count, count
+        count = np.bincount(self.seg_row, minlength=self.chain.shape[0])
+        return count.cumsum() - count, count
 
     def _arcs(self, rows):
         """Make the arc-length tables of those rows that have none, in one batch
@@ -220,12 +224,12 @@ class Refine:
         round's fits: arrays (chain, t0, t1) (a row's fits follow each other: each
         starts where the one before ends)."""
         start, count = self._blocks()
-        fewer, cuts = self._fewer(np.nonzero(self.phase == PLAN)[0], start, count)
-        whole = self._whole(np.nonzero(self.phase == CHECK)[0], start, count)
+        fewer, cuts = self._fewer((self.phase == PLAN).nonzero()[0], start, count)
+        whole = self._whole((self.phase == CHECK).nonzero()[0], start, count)
         n = count[fewer] - 1                                        # segments asked
-        row = np.concatenate([np.repeat(fewer, n), whole])
-        first = ranges(np.cumsum(n + 1) - (n + 1), n)               # each one's cut
-        t0 = np.concatenate([cuts[first], np.zeros(len(whole))])
+        row = np.concatenate([fewer.repeat(n), whole])
+        first = ranges((n + 1).cumsum() - (n + 1), n)               # each one's cut
+        t0 = np.concatenate([cuts[first], np.zeros(whole.shape[0])])
         t1 = np.concatenate([cuts[first + 1],
                              self.chains.k[self.chain[whole]].astype(float)])
         self.asked = (row, t0, t1)
@@ -246,38 +250,39 @@ class Refine:
         tol, cnt = self.tol, count[rows]
         seg = ranges(start[rows], cnt)
         d = (np.maximum(self.bound[seg], 1e-3 * tol) / tol) ** (1.0 / ERROR_POWER)
-        at = np.cumsum(cnt) - cnt                                   # each row's d
-        total = np.empty(len(rows))
-        for r, s in per_row(d, at, cnt, np.sum):
+        at = cnt.cumsum() - cnt                                     # each row's d
+        total = np.empty(rows.shape[0])
+        for r, s in per_row(d, at, cnt, np.add.reduce):
             total[r] = s
         ok = (total <= cnt - FEWER_SLACK) & ~((cnt == 2) & self.whole_failed[self.chain[rows]])
         self._arcs(rows[ok])
         ok[ok] = self._length(rows[ok]) > 0
-        sel = np.nonzero(ok)[0]
+        sel = ok.nonzero()[0]
         n, rs = cnt[sel], rows[sel]
         # per row: the arc lengths at the n + 1 segment ends, the running sums of d
-        e_at = np.cumsum(n + 1) - (n + 1)
-        where = np.repeat(np.arange(len(sel)), n + 1)
-        inner = np.ones(int((n + 1).sum()), bool)
+        e_at = (n + 1).cumsum() - (n + 1)
+        where = np.arange(sel.shape[0]).repeat(n + 1)
+        inner = np.empty(int(np.add.reduce(n + 1)), bool)
+        inner[:] = True
         inner[e_at] = False
         ends_t = np.empty(len(inner))
         ends_t[e_at] = self.t0[start[rs]]
         ends_t[inner] = self.t1[ranges(start[rs], n)]
         lo, hi = self.arc_lo[rs], self.arc_hi[rs]
         edges = interp_rows(ends_t, where, lo, hi, self.arc_t, self.arc_s)
-        hard = np.zeros(len(inner))
-        for r, c in per_row(d, at[sel], n, np.cumsum):
+        hard = np.zeros(inner.shape[0])
+        for r, c in per_row(d, at[sel], n, np.add.accumulate):
             hard[(e_at[r][:, None] + 1 + np.arange(c.shape[1])).ravel()] = c.ravel()
-        row_c = np.repeat(np.arange(len(sel)), n)
+        row_c = np.arange(sel.shape[0]).repeat(n)
         share = interp_rows(spaced_rows(hard[e_at + n], n), row_c, e_at, e_at + n + 1, hard,
                             edges)
         cuts = interp_rows(share, row_c, lo, hi, self.arc_s, self.arc_t)
-        c_at = np.cumsum(n) - n
+        c_at = n.cumsum() - n
         cuts[c_at] = 0.0
         cuts[c_at + n - 1] = self.chains.k[self.chain[rs]]
-        step = np.diff(cuts)
+        step = cuts[1:] - cuts[:-1]
         same = row_c[1:] == row_c[:-1]
-        bad = np.zeros(len(sel), bool)
+        bad = np.zeros(sel.shape[0], bool)
         bad[row_c[1:][same & (step <= 0)]] = True
         self.phase[rows[~ok]] = CHECK
         self.phase[rs[bad]] = CHECK
@@ -307,13 +312,14 @@ class Refine:
         done when one segment is left); whole-chain rows are done."""
         row, t0, t1 = self.asked
         self.asked = None
-        j = offset + np.arange(len(row))
+        j = offset + np.arange(row.shape[0])
         bound = fits.bound[j]
-        won = np.zeros(len(self.chain), bool)
+        won = np.zeros(self.chain.shape[0], bool)
         won[row] = True
         won[row[~(bound <= self.tol)]] = False
         take = won[row]
-        at = np.stack([np.full(len(row), round_no), j], axis=1)
+        at = np.empty((row.shape[0], 2), int)
+        at[:, 0], at[:, 1] = round_no, j
         self._put(row[take], t0[take], t1[take], bound[take], at[take])
         _, count = self._blocks()
         fewer, whole = self.phase == FEWER, self.phase == WHOLE
@@ -328,8 +334,8 @@ class Refine:
         seg = done[self.seg_row]
         out = (self.chain[done], self.chain[self.seg_row[seg]], self.t0[seg], self.t1[seg],
                self.bound[seg], self.at[seg])
-        if done.any():
-            renum = np.cumsum(~done) - 1
+        if np.logical_or.reduce(done):
+            renum = (~done).cumsum() - 1
             self.seg_row = renum[self.seg_row[~seg]]
             self.t0, self.t1, self.bound = self.t0[~seg], self.t1[~seg], self.bound[~seg]
             self.at = self.at[~seg]

@@ -65,8 +65,8 @@ def _parts(chains, chain, t0, t1):
     k0 = np.floor(t0).astype(int)
     k1 = np.minimum(kk, np.ceil(t1).astype(int))
     cnt = np.maximum(k1 - k0, 0)
-    req = np.repeat(np.arange(len(chain)), cnt)
-    k = np.repeat(k0, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    req = np.arange(chain.shape[0]).repeat(cnt)
+    k = k0.repeat(cnt) + np.arange(np.add.reduce(cnt)) - (cnt.cumsum() - cnt).repeat(cnt)
     a = np.maximum(t0[req] - k, 0.0)
     b = np.minimum(t1[req] - k, 1.0)
     keep = b > a
@@ -82,7 +82,7 @@ def _sub_groups(bank, parts, sel):
     for rows, h in bank.gather(parts.gid[sel]):
         a, b = parts.a[sel[rows]], parts.b[sel[rows]]
         cut = (a != 0.0) | (b != 1.0)
-        if cut.any():
+        if np.logical_or.reduce(cut):
             h = h.copy()
             h[cut] = cut_pieces(parts, sel[rows][cut], h[cut])
         out.append((rows, h))
@@ -94,9 +94,9 @@ def _join_feet(parts, multi):
     every part but the first), padded to one count with each range's last join:
     (positions (r, n), count of joins (r,)); their feet on the fitted cubics are
     found in one call for all."""
-    first = np.searchsorted(parts.req, multi)
-    count = np.searchsorted(parts.req, multi, side="right") - first - 1
-    col = np.minimum(np.arange(int(count.max()))[None], count[:, None] - 1)
+    first = parts.req.searchsorted(multi)
+    count = parts.req.searchsorted(multi, side="right") - first - 1
+    col = np.minimum(np.arange(int(np.maximum.reduce(count)))[None], count[:, None] - 1)
     return first[:, None] + 1 + col, count
 
 
@@ -131,15 +131,16 @@ def _fit_batch(chains, req, tol):
     nparts = np.bincount(parts.req, minlength=n)
     short, skip = _screened(sampled, fitted, req.need, tol)
     todo = fitted & ~skip
-    s0, s1 = _part_cuts(bank, parts, cubics, rays, np.nonzero(todo & (nparts > 1))[0])
-    cut_ok = np.ones(n, bool)
+    s0, s1 = _part_cuts(bank, parts, cubics, rays, (todo & (nparts > 1)).nonzero()[0])
+    cut_ok = np.empty(n, bool)
+    cut_ok[:] = True
     np.logical_and.at(cut_ok, parts.req, s1 > s0)
     todo &= cut_ok
     bound, cert, where = _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol)
     bound = np.where(skip, sampled, bound)
-    first = np.searchsorted(parts.req, np.arange(n))
+    first = parts.req.searchsorted(np.arange(n))
     # a single piece whose fit fails tol: the same-parameter fit too (the smaller wins)
-    retry = np.nonzero((nparts == 1) & (~fitted | (bound > tol)) & ~short)[0]
+    retry = ((nparts == 1) & (~fitted | (bound > tol)) & ~short).nonzero()[0]
     alt = _same_param_fits(bank, parts, first, retry, req.start, req.end)
     return _results(cubics, bound, fitted, short, alt, (cert, where, parts, ks, s0, s1),
                     first, nparts)
@@ -164,22 +165,25 @@ def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
     again).  Returns (bound per range: the worst of its parts, inf where not
     certified; the :class:`Certified` batch or None; each part's row in it, -1
     where not certified)."""
-    n = len(todo)
-    sel = np.nonzero(todo[parts.req])[0]
-    where = np.full(len(parts.req), -1)
-    where[sel] = np.arange(len(sel))
-    bound = np.full(n, np.inf)
-    if not len(sel):
+    n = todo.shape[0]
+    sel = todo[parts.req].nonzero()[0]
+    where = np.empty(parts.req.shape[0], int)
+    where[:] = -1
+    where[sel] = np.arange(sel.shape[0])
+    bound = np.empty(n)
+    bound[:] = np.inf
+    if not sel.shape[0]:
         return bound, None, where
     one = nparts[parts.req[sel]] == 1
     pieces = cubics[parts.req[sel]]
-    if not one.all():
+    if not np.logical_and.reduce(one):
         pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
     span = (s1 - s0)[sel, None]
-    feet = np.clip((rays.feet[sel] - s0[sel, None]) / span, 0.0, 1.0)
+    feet = ((rays.feet[sel] - s0[sel, None]) / span).clip(0.0, 1.0)
     cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol,
                          pairs=(feet, _quadrature().gx, rays.speed[sel], rays.gap[sel]))
-    worst = np.full(n, -np.inf)
+    worst = np.empty(n)
+    worst[:] = -np.inf
     np.maximum.at(worst, parts.req[sel], cert.bound)
     return np.where(todo, worst, bound), cert, where
 
@@ -224,21 +228,23 @@ def _part_cuts(bank, parts, cubics, rays, multi):
     """(s0, s1): where each part of a fitted cubic starts and ends on it: 0, the
     feet of the joins (the cubic's closest points to its pieces' join points), 1.
     ``multi``: the requests of more than one piece whose cubic is certified."""
-    s0, s1 = np.zeros(len(parts.req)), np.ones(len(parts.req))
-    if not len(multi):
+    s0, s1 = np.zeros(parts.req.shape[0]), np.empty(parts.req.shape[0])
+    s1[:] = 1.0
+    if not multi.shape[0]:
         return s0, s1
     at, count = _join_feet(parts, multi)
     joins = bank.first[parts.gid[at]]
-    homog = np.concatenate([cubics[multi], np.ones(cubics[multi].shape[:2] + (1,))], axis=2)
+    homog = np.empty((multi.shape[0], 4, 3))
+    homog[:, :, :2], homog[:, :, 2] = cubics[multi], 1.0
     # Newton from between the rays of the nodes next to the join (the fitter's:
     # close, so 3 steps where a start from 65 samples took 6)
     guess = 0.5 * (rays.feet[at - 1, -1] + rays.feet[at, 0])
     feet = np.empty(at.shape)
-    known = np.all(np.isfinite(guess), axis=1)
-    if known.any():
+    known = np.logical_and.reduce(np.isfinite(guess), axis=1)
+    if np.logical_or.reduce(known):
         feet[known] = nr.closest_params_many(homog[known], joins[known], guess[known],
                                              iters=3, jet=pc.jet2_power_many)
-    if not known.all():
+    if not np.logical_and.reduce(known):
         feet[~known] = nr.nearest_params_many(homog[~known], joins[~known], iters=6)
     ok = np.arange(at.shape[1])[None] < count[:, None]
     s0[at[ok]] = feet[ok]
@@ -374,11 +380,11 @@ class _Rows:
         a = np.where(rev, self.top[crow] - t1, t0)
         b = np.where(rev, self.top[crow] - t0, t1)
         own = _same_ranges(crow, rev, a, b, need)
-        mine = np.nonzero(own == np.arange(len(rows)))[0]
+        mine = (own == np.arange(rows.shape[0])).nonzero()[0]
         more = refine.requests() if refine.active else (np.zeros(0, int),) + (np.zeros(0),) * 2
         joins = join.requests()
-        chain, r0, r1 = (np.concatenate(x) for x in zip(more, joins))
-        nr, nb, nm = len(rows), int(rev.sum()), len(chain)
+        chain, r0, r1 = [np.concatenate(x) for x in zip(more, joins)]
+        nr, nb, nm = rows.shape[0], int(np.count_nonzero(rev)), chain.shape[0]
         # the points at the greedy rows' ends (tried), at the backward rows' starts,
         # then at both ends of the other requests
         pts = _chain_points(chains, np.concatenate([crow, crow[rev], chain, chain]),
@@ -427,23 +433,24 @@ class _Rows:
         again; (segments, chains) of the two-way searches, to join); chains sorted.
         None when no row ended."""
         rchain, back, top, n, m = self.rchain, self.back, self.top, self.n, self.m
-        ended = np.zeros(len(greedy.mode), bool)
+        ended = np.zeros(greedy.mode.shape[0], bool)
         ended[rows[greedy.mode[rows] == DONE]] = True
         ended[met], ended[self.bwd_of[met]] = True, True
-        if not ended.any():
+        if not np.logical_or.reduce(ended):
             return None
         seg = found.take(ended)
         rc = rchain[seg[0]]
         flip = back[seg[0]]
         seg = (rc, np.where(flip, top[rc] - seg[2], seg[1]),
                np.where(flip, top[rc] - seg[1], seg[2])) + seg[3:]
-        rows = np.nonzero(ended)[0]
-        joined, alone = np.zeros(n, bool), np.zeros(n, bool)
+        rows = ended.nonzero()[0]
+        joined, alone = np.zeros((2, n), bool)
         joined[rchain[rows[(self.spare_of[rchain[rows]] >= 0) & (rows < n + m)]]] = True
         alone[rchain[rows]] = True
         sel = joined[seg[0]]
-        return ((tuple(x[~sel] for x in seg), np.nonzero(alone & ~joined)[0]),
-                (tuple(x[sel] for x in seg), np.nonzero(joined)[0]))
+        rest = ~sel
+        return ((tuple([x[rest] for x in seg]), (alone & ~joined).nonzero()[0]),
+                (tuple([x[sel] for x in seg]), joined.nonzero()[0]))
 
 
 #: A chain's guessed difficulty (:func:`first_widths`) per cubic of its first try:
@@ -496,18 +503,18 @@ def _drive(chains, tol, min_width, cubics_only=False):
     def finished(seg, ended):
         """Chains ``ended`` (sorted), their segments ``seg``: to refine, or done."""
         nonlocal done
-        if len(ended):
+        if ended.shape[0]:
             many = np.bincount(seg[0], minlength=n)[ended] >= 2
             refined = np.zeros(n, bool)
             refined[ended[many]] = True
             sel = refined[seg[0]]
-            refine.add(ended[many], *(x[sel] for x in seg))
-            final.append(tuple(x[~sel] for x in seg))
-            done += int((~many).sum())
+            refine.add(ended[many], *[x[sel] for x in seg])
+            final.append(tuple([x[~sel] for x in seg]))
+            done += ended.shape[0] - int(np.count_nonzero(many))
 
-    while greedy.active.any() or refine.active or join.active:
+    while np.logical_or.reduce(greedy.active) or refine.active or join.active:
         rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
-        if len(req.chain):
+        if req.chain.shape[0]:
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
@@ -538,8 +545,9 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     requests they own and the round's greedy requests) given to the search; the
     segments it accepts added to ``found``.  Returns what ``Greedy.update`` does."""
     rows, tried, own, mine = asked
-    j = np.searchsorted(mine, own)
-    at = np.stack([np.full(len(rows), at_round), j], axis=1)
+    j = mine.searchsorted(own)
+    at = np.empty((j.shape[0], 2), int)
+    at[:, 0], at[:, 1] = at_round, j
     acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
@@ -560,10 +568,11 @@ def _same_ranges(crow, rev, a, b, need):
     """For each greedy request, the request whose fit it takes: itself, or for a
     backward row the forward row of its chain asking the same range with the same
     ``need`` (the rows are sorted, forward rows first)."""
-    own = np.arange(len(crow))
-    fwd = np.full(int(crow.max()) + 1 if len(crow) else 0, -1)
-    fwd[crow[~rev]] = np.nonzero(~rev)[0]
-    r = np.nonzero(rev)[0]
+    own = np.arange(crow.shape[0])
+    fwd = np.empty(int(np.maximum.reduce(crow, initial=-1)) + 1, int)
+    fwd[:] = -1
+    fwd[crow[~rev]] = (~rev).nonzero()[0]
+    r = rev.nonzero()[0]
     f = fwd[crow[r]]
     same = (f >= 0)
     same[same] = (a[f[same]] == a[r[same]]) & (b[f[same]] == b[r[same]]) & (
@@ -601,8 +610,7 @@ class _Join:
     def __init__(self, tol, top):
         self.tol, self.top = tol, top      # each chain's parameter length K
         self.paths = {}                  # chain: segments (t0, t1, bound, at), None at a refit
-        self.asked = ([], [], [])        # refits: chain, t0, t1
-        self.slots = []                  # refits: (chain, (position in its path, kind))
+        self.slots = []                  # refits: (chain, position in its path, kind, t0, t1)
         self.pending = set()             # chains with refits asked
         self.touched = set()             # chains whose paths changed since ready()
 
@@ -613,13 +621,17 @@ class _Join:
     def add(self, seg, chains, met):
         """The segments (chain, t0, t1, bound, at; chain parameters) of ``chains``
         whose searches ended, ``met``: where each one's forward search ended."""
-        by = {}
-        for c, t0, t1, b, at in zip(seg[0].tolist(), seg[1].tolist(), seg[2].tolist(),
-                                    seg[3].tolist(), seg[4].tolist()):
-            by.setdefault(c, []).append((t0, t1, b, at))
-        for c, f in zip(chains.tolist(), met.tolist()):
-            self._path(c, sorted(by.get(c, [])), f)
-        self.touched.update(chains.tolist())
+        c, t0, t1, b, at = seg
+        # each chain's segments (t0, t1, bound, at) in the order of those tuples
+        order = np.lexsort((at[:, 1], at[:, 0], b, t1, t0, c))
+        c = c[order]
+        segs = list(zip(t0[order].tolist(), t1[order].tolist(), b[order].tolist(),
+                        at[order].tolist()))
+        chain = chains.tolist()
+        for ch, f, lo, hi in zip(chain, met.tolist(), c.searchsorted(chains).tolist(),
+                                 c.searchsorted(chains, side="right").tolist()):
+            self._path(ch, segs[lo:hi], f)
+        self.touched.update(chain)
 
     def _path(self, c, segs, f):
         """The path of chain c from its segments (sorted by t0, then t1), ``f`` where
@@ -651,17 +663,14 @@ class _Join:
         """Ask the fit of [t0, t1] for path position ``pos`` of chain c: ``kind`` 0
         fills it, 1 replaces it and the next, -1 it and the one before."""
         self.pending.add(c)
-        self.asked[0].append(c)
-        self.asked[1].append(t0)
-        self.asked[2].append(t1)
-        self.slots.append((c, pos, kind))
+        self.slots.append((c, pos, kind, t0, t1))
 
     def requests(self):
         """(chain, t0, t1) of the refits asked."""
         if not self.slots:
             return (np.zeros(0, int), np.zeros(0), np.zeros(0))
-        return (np.array(self.asked[0], int), np.array(self.asked[1], float),
-                np.array(self.asked[2], float))
+        c, _, _, t0, t1 = zip(*self.slots)
+        return np.array(c, int), np.array(t0, float), np.array(t1, float)
 
     def update(self, fits, offset, round_no):
         """Take the refits (``fits`` a round's :class:`_Fits`, these requests from
@@ -673,7 +682,7 @@ class _Join:
         j = offset + np.arange(len(chain))
         good = fits.cert[j] & (fits.bound[j] <= self.tol)
         bad, gains = set(), {}
-        for i, (c, pos, kind) in enumerate(self.slots):
+        for i, (c, pos, kind, _, _) in enumerate(self.slots):
             fit = (float(t0[i]), float(t1[i]), float(fits.bound[j[i]]), [round_no, int(j[i])])
             if kind:
                 if good[i] and (c, pos) not in gains:
@@ -691,42 +700,46 @@ class _Join:
                 path[pos - 1:pos + 1] = [fit]
             else:
                 continue
-            if all(p is not None for p in path):
+            if None not in path:
                 bad.discard(c)
         self.touched |= self.pending
-        self.asked, self.slots, self.pending = ([], [], []), [], set()
+        self.slots, self.pending = [], set()
         bad = sorted(bad)
-        kept, gaps = [], []
+        chain, kept, gaps = [], [], []
         for c in bad:
             lead, trail, gap = _unbroken(self.paths.pop(c), float(self.top[c]))
-            kept += [(c,) + p for p in lead + trail]
+            chain += [c] * (len(lead) + len(trail))
+            kept += lead + trail
             gaps.append(gap)
-        seg = (np.array([k[0] for k in kept], int), np.array([k[1] for k in kept], float),
-               np.array([k[2] for k in kept], float), np.array([k[3] for k in kept], float),
-               np.array([k[4] for k in kept], int).reshape(-1, 2))
-        return np.array(bad, int), seg, np.array(gaps, float).reshape(-1, 2)
+        return np.array(bad, int), _seg_arrays(chain, kept), np.array(gaps, float).reshape(-1, 2)
 
     def ready(self):
         """(segments (chain, t0, t1, bound, at) sorted by chain and t0, chains) of the
         chains whose paths are complete, removed (only those whose paths changed
         since the last call can be)."""
-        out, ended = [], []
+        out, ended, count = [], [], []
         for c in sorted(self.touched):
             path = self.paths.get(c)
-            if path is None or c in self.pending or any(p is None for p in path):
+            if path is None or c in self.pending or None in path:
                 continue
             ended.append(c)
-            out.extend((c,) + p for p in path)
+            count.append(len(path))
+            out += path
         self.touched = set()
-        if not ended:
-            return ((np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),),
-                    np.zeros(0, int))
         for c in ended:
             del self.paths[c]
-        seg = (np.array([o[0] for o in out], int), np.array([o[1] for o in out], float),
-               np.array([o[2] for o in out], float), np.array([o[3] for o in out], float),
-               np.array([o[4] for o in out], int).reshape(-1, 2))
-        return seg, np.array(ended, int)
+        ended = np.array(ended, int)
+        return _seg_arrays(ended.repeat(count), out), ended
+
+
+def _seg_arrays(chain, segs):
+    """The arrays (chain, t0, t1, bound, at) of the segments ``segs`` (tuples (t0, t1,
+    bound, at)) of the chains ``chain``."""
+    if not segs:
+        return (np.zeros(0, int),) + (np.zeros(0),) * 3 + (np.zeros((0, 2), int),)
+    t0, t1, b, at = zip(*segs)
+    return (np.array(chain, int), np.array(t0, float), np.array(t1, float), np.array(b, float),
+            np.array(at, int).reshape(-1, 2))
 
 
 def _unbroken(path, top):
@@ -762,11 +775,12 @@ class _Segments:
     def take(self, rows):
         """The segments of the rows ``rows`` (a mask; all their searches ended),
         removed: flat arrays sorted by row, then t0."""
-        chain, t0, t1, bound, at = (np.concatenate(x) for x in zip(*self.parts))
-        mine = rows[chain]
-        self.parts = [(chain[~mine], t0[~mine], t1[~mine], bound[~mine], at[~mine])]
-        order = np.lexsort((t0[mine], chain[mine]))       # a chain's segments in t0 order
-        return tuple(x[mine][order] for x in (chain, t0, t1, bound, at))
+        every = [np.concatenate(x) for x in zip(*self.parts)]
+        mine = rows[every[0]]
+        rest = ~mine
+        self.parts = [tuple([x[rest] for x in every])]
+        order = mine.nonzero()[0][np.lexsort((every[1][mine], every[0][mine]))]  # a chain's
+        return tuple([x[order] for x in every])                       # segments in t0 order
 
 
 def _cubic_fits(n, final, rounds):
