@@ -532,8 +532,10 @@ def _brush_plan(font, glyphs, composites):
 
 def _default_family(font):
     """"<family> Brush" from the typographic family name (ID 16) or ID 1."""
-    return "%s Brush" % (font["name"].getDebugName(16) or font["name"].getDebugName(1)
-                         or "Morph")
+    from ..parse.names import name_table
+
+    name = name_table(font, install=True)   # brush_font renames it (rename_family)
+    return "%s Brush" % (name.getDebugName(16) or name.getDebugName(1) or "Morph")
 
 
 def _chosen_progress(progress, chosen):
