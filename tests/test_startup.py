@@ -163,6 +163,19 @@ def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
     assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")
 
 
+def test_brush_of_a_font_without_anchors_loads_no_layout_classes(tmp_path):
+    """``morph brush`` of the bundled TrueType font (GPOS of kerning only, GDEF
+    without ligature carets) leaves GPOS and GDEF as stored and reads and writes its
+    name table from its records: fontTools' OpenType layout classes and HarfBuzz's
+    bindings are not loaded."""
+    code, mods, _ = _modules_after(["brush", "--glyphs", "A", "-o", "b.ttf", "--jobs", "1"],
+                                   tmp_path)
+    assert code == 0 and (tmp_path / "b.ttf").stat().st_size > 0
+    for name in ("fontTools.ttLib.tables.otTables", "fontTools.ttLib.tables._n_a_m_e",
+                 "uharfbuzz"):
+        assert not _loaded(mods, name), name
+
+
 #: what ``morph stroke`` never needs for a static font of a skeleton without kerning,
 #: anchors or components (morph.fonts.tables_static): ufo2ft, ufoLib2 and the UFO
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
