@@ -333,6 +333,42 @@ def test_deferred_module_runs_at_first_use(tmp_path, monkeypatch):
             del sys.morph_probe_ran
 
 
+_AGL_PROBE = r"""
+import sys
+from fontTools.ttLib import TTFont
+from morph.fonts.deferred import glyph_list
+from morph.parse import default_font_path
+glyph_list()
+order = TTFont(default_font_path()).getGlyphOrder()    # post format 3: names from cmap
+agl = sys.modules["fontTools.agl"]
+ran = type(agl).__name__ != "_Deferred"
+names = dict(agl.UV2AGL)
+print(repr((order, ran, names, agl.AGL2UV["A"], type(agl).__name__)))
+"""
+
+
+def test_glyph_names_without_adobes_full_list():
+    """morph.fonts.deferred.glyph_list: the bundled font's glyph names made from its
+    character map are those fontTools makes with its own Adobe Glyph List, without
+    running fontTools.agl; its list for new fonts is morph's copy; another name of
+    the module runs it."""
+    import ast
+
+    from fontTools import agl
+    from fontTools.ttLib import TTFont
+
+    from morph.parse import default_font_path
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _AGL_PROBE], env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    order, ran, names, a, kind = ast.literal_eval(res.stdout.strip().splitlines()[-1])
+    assert order == TTFont(default_font_path()).getGlyphOrder() and "A" in order
+    assert not ran and names == agl.UV2AGL
+    assert a == 0x41 and kind == "module"
+
+
 _EXIF_PROBE = r"""
 import sys
 from morph.fonts.deferred import pillow

@@ -22,38 +22,25 @@ and saves the loaded shapes to ``morph-debug-<command>.json`` in the working fol
 (``MORPH_DEBUG=FOLDER``: in that folder); debug files are written nowhere else.
 """
 
-import gc
 import os
-
-# the collector is held off while the command line's modules load: its passes then
-# find nothing to free (modules live as long as the process) and cost ~16 M
-# instructions (3 % of the start-up); it runs again once they are loaded, unless it
-# was off already
-_COLLECTING = gc.isenabled()
-gc.disable()
 
 # one BLAS thread, set before numpy loads: the commands multiply small matrices only,
 # and OpenBLAS starting its thread pool costs ~40-50 ms of CPU per process; a value
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-try:
-    from .group import BAD_INPUT_ERRORS, main  # noqa: F401 (re-exported)
-    from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: F401
-                          InputError, ShapeParam,
-                          common_options, font_option, force_option, output_option,
-                          resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
-                          size_option, tol_option, write_image)
-    from . import shapes, apps, fonts  # noqa: F401 (register the commands)
-finally:
-    gc.freeze()
-    if _COLLECTING:
-        gc.enable()
+from .group import BAD_INPUT_ERRORS, main  # noqa: E402,F401 (re-exported)
+from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E402,F401
+                      InputError, ShapeParam,
+                      common_options, font_option, force_option, output_option,
+                      resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
+                      size_option, tol_option, write_image)
 
 __all__ = ["main", "run", "ShapeParam", "shape_argument", "shape_tolerance", "common_options",
            "font_option", "tol_option", "output_option", "force_option", "size_option",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
+from . import shapes, apps, fonts  # noqa: E402,F401
 
 
 def run():

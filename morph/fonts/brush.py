@@ -384,7 +384,9 @@ def open_source(font_path, location=None):
     from fontTools.ttLib import TTFont
 
     from ..parse import default_font_path, instantiate_font
+    from .deferred import glyph_list
 
+    glyph_list()   # glyph names made from the character map without fontTools.agl's load
     if hasattr(font_path, "getGlyphSet"):
         font = font_path
     else:
