@@ -12,6 +12,8 @@ fontTools as usual.
 
 import struct
 
+from fontTools.ttLib.tables.DefaultTable import DefaultTable
+
 __all__ = ["ENCODINGS", "NameTable", "name_records", "name_table", "name_keys", "records_of",
            "set_names"]
 
@@ -60,67 +62,51 @@ def _debug_name(records, name_id):
         except UnicodeDecodeError:
             continue
         if (platform, language) in ((1, 0), (3, 0x409)):
-            return text
+            return text or None
         some = text
     return some or None
 
 
-def _table_class():
-    from fontTools.ttLib.tables.DefaultTable import DefaultTable
-
-    class _NameTable(DefaultTable):
-        __doc__ = NameTable.__doc__
-
-        def __init__(self, records):
-            super().__init__("name")
-            self.records = records
-
-        def getDebugName(self, name_id):  # noqa: N802 - fontTools' name
-            real = self.__dict__.get("_table")
-            return real.getDebugName(name_id) if real else _debug_name(self.records, name_id)
-
-        def compile(self, font):
-            from ..fonts.tables_static import _name_bytes
-
-            real = self.__dict__.get("_table")
-            return real.compile(font) if real else _name_bytes(self.records)
-
-        def toXML(self, writer, font):  # noqa: N802 - fontTools' name
-            self.fonttools().toXML(writer, font)
-
-        def fonttools(self):
-            """fontTools' table of these records (made once; then what is compiled)."""
-            real = self.__dict__.get("_table")
-            if real is None:
-                from fontTools.ttLib import newTable
-
-                real = newTable("name")
-                real.decompile(self.compile(None), None)
-                self.__dict__["_table"] = real
-            return real
-
-        def __getattr__(self, attr):
-            if attr.startswith("__") or attr in ("_table", "records"):
-                raise AttributeError(attr)
-            return getattr(self.fonttools(), attr)
-
-    return _NameTable
-
-
-_CLASS = []
-
-
-def NameTable(records):  # noqa: N802 - a class made on first use
+class NameTable(DefaultTable):
     """A ``name`` table held as its records (``records``: :func:`name_records`),
     compiled to the bytes fontTools writes for them (records sorted, equal strings
     stored once); ``getDebugName``, :func:`name_keys` and :func:`set_names` work on
     the records.  Any other attribute of fontTools' name table (``names``, ``setName``,
     ``toXML`` ...) makes fontTools' table of the records, which the font then
-    compiles: code using the fontTools API gets it.  (A ``DefaultTable`` subclass
-    made on first use, so that importing this module loads no fontTools module.)"""
-    if not _CLASS:
-        _CLASS.append(_table_class())
-    return _CLASS[0](records)
+    compiles: code using the fontTools API gets it."""
+
+    def __init__(self, records):
+        super().__init__("name")
+        self.records = records
+
+    def getDebugName(self, name_id):  # noqa: N802 - fontTools' name
+        real = self.__dict__.get("_table")
+        return real.getDebugName(name_id) if real else _debug_name(self.records, name_id)
+
+    def compile(self, font):
+        from ..fonts.tables_static import _name_bytes
+
+        real = self.__dict__.get("_table")
+        return real.compile(font) if real else _name_bytes(self.records)
+
+    def toXML(self, writer, font):  # noqa: N802 - fontTools' name
+        self.fonttools().toXML(writer, font)
+
+    def fonttools(self):
+        """fontTools' table of these records (made once; then what is compiled)."""
+        real = self.__dict__.get("_table")
+        if real is None:
+            from fontTools.ttLib import newTable
+
+            real = newTable("name")
+            real.decompile(self.compile(None), None)
+            self.__dict__["_table"] = real
+        return real
+
+    def __getattr__(self, attr):
+        if attr.startswith("__") or attr in ("_table", "records"):
+            raise AttributeError(attr)
+        return getattr(self.fonttools(), attr)
 
 
 def name_table(font, install=False):

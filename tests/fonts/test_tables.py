@@ -244,7 +244,7 @@ def test_renamed_records_are_fonttools(tmp_path, style, source):
     assert name_records(light.reader["name"]) is not None
     full["name"].names  # decompiled by fontTools first: its own table renames
     assert rename_family(light, "X Brush", tool="t") == rename_family(full, "X Brush", tool="t")
-    assert type(light["name"]).__name__ == "_NameTable"
+    assert type(light["name"]).__name__ == "NameTable"
     assert light["name"].compile(light) == full["name"].compile(full)
     for nid in range(30):
         assert light["name"].getDebugName(nid) == full["name"].getDebugName(nid), nid
