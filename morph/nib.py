@@ -30,6 +30,18 @@ def ellipse_nib(width, height, angle_deg=0.0):
     return [pc.ellipse((0.0, 0.0), width / 2.0, height / 2.0, np.radians(angle_deg))]
 
 
+#: the nibs found convex, by :func:`_nib_key` (oldest first): a command checks its nib
+#: where it reads it and each library function it calls checks it again (``morph
+#: stroke``: three Gauss maps of the same nib, ~5 ms each); the last few are kept
+_CONVEX = {}
+_CONVEX_KEPT = 8
+
+
+def _nib_key(loop):
+    """The loop's pieces as bytes with their shapes: equal keys, equal pieces."""
+    return tuple((np.shape(p), np.asarray(p, dtype=float).tobytes()) for p in loop)
+
+
 def check_convex_nib(nib):
     """Check that the nib is a single convex loop (its Gauss map turns monotonically
     through 2 pi).
@@ -41,8 +53,14 @@ def check_convex_nib(nib):
 
     if len(nib) != 1:
         raise NibError("the nib must be one closed convex shape, got %d loops" % len(nib), nib)
+    key = _nib_key(nib[0])
+    if key in _CONVEX:
+        return
     edges = gauss_map(nib[0])
     if turns_convex(edges):
+        _CONVEX[key] = None
+        while len(_CONVEX) > _CONVEX_KEPT:
+            del _CONVEX[next(iter(_CONVEX))]
         return
     bad = [e for e in edges if e.sweep < -TURN_EPS]
     if bad:

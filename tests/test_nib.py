@@ -55,3 +55,27 @@ def test_nib_symmetry_with_and_without_pieces_that_pair_up():
     moved = [(-10, -10), (10, -10), (10, 10 + 10 * 2e-6), (-10, 10)]
     assert not _pieces_map_to_pieces(_polygon(moved), 2e-6)
     assert not nib_is_symmetric(_polygon(moved))
+
+
+def test_a_nib_found_convex_is_not_checked_again(monkeypatch):
+    """check_convex_nib keeps the nibs it found convex: an equal nib (a new object
+    of the same pieces) is not mapped again; a nib that differs (a dart, an ellipse
+    with one control point moved) is, and a non-convex one is still refused."""
+    import morph.gauss as gauss
+
+    calls = []
+    real = gauss.gauss_map
+    monkeypatch.setattr(gauss, "gauss_map", lambda loop: calls.append(1) or real(loop))
+    check_convex_nib(ellipse_nib(37, 11, 17))
+    check_convex_nib(ellipse_nib(37, 11, 17))
+    assert len(calls) == 1
+    moved = ellipse_nib(37, 11, 17)
+    moved[0][0] = moved[0][0].copy()
+    moved[0][0][1, 0] += 1e-9
+    check_convex_nib(moved)
+    assert len(calls) == 2
+    dart = _polygon([(0, 0), (10, -10), (0, 10), (-10, -10)])
+    for _ in range(2):
+        with pytest.raises(NibError, match="not convex"):
+            check_convex_nib(dart)
+    assert len(calls) == 4

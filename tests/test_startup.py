@@ -163,6 +163,19 @@ def test_static_brush_loads_no_ufo_compiler(tmp_path, out):
     assert _loaded(mods, "PIL") and _loaded(mods, "fontTools.ttLib")
 
 
+def test_brush_of_a_font_without_anchors_loads_no_layout_classes(tmp_path):
+    """``morph brush`` of the bundled TrueType font (GPOS of kerning only, GDEF
+    without ligature carets) leaves GPOS and GDEF as stored and reads and writes its
+    name table from its records: fontTools' OpenType layout classes and HarfBuzz's
+    bindings are not loaded."""
+    code, mods, _ = _modules_after(["brush", "--glyphs", "A", "-o", "b.ttf", "--jobs", "1"],
+                                   tmp_path)
+    assert code == 0 and (tmp_path / "b.ttf").stat().st_size > 0
+    for name in ("fontTools.ttLib.tables.otTables", "fontTools.ttLib.tables._n_a_m_e",
+                 "uharfbuzz"):
+        assert not _loaded(mods, name), name
+
+
 #: what ``morph stroke`` never needs for a static font of a skeleton without kerning,
 #: anchors or components (morph.fonts.tables_static): ufo2ft, ufoLib2 and the UFO
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
@@ -318,6 +331,42 @@ def test_deferred_module_runs_at_first_use(tmp_path, monkeypatch):
             sys.modules.pop(name, None)
         if hasattr(sys, "morph_probe_ran"):
             del sys.morph_probe_ran
+
+
+_AGL_PROBE = r"""
+import sys
+from fontTools.ttLib import TTFont
+from morph.fonts.deferred import glyph_list
+from morph.parse import default_font_path
+glyph_list()
+order = TTFont(default_font_path()).getGlyphOrder()    # post format 3: names from cmap
+agl = sys.modules["fontTools.agl"]
+ran = type(agl).__name__ != "_Deferred"
+names = dict(agl.UV2AGL)
+print(repr((order, ran, names, agl.AGL2UV["A"], type(agl).__name__)))
+"""
+
+
+def test_glyph_names_without_adobes_full_list():
+    """morph.fonts.deferred.glyph_list: the bundled font's glyph names made from its
+    character map are those fontTools makes with its own Adobe Glyph List, without
+    running fontTools.agl; its list for new fonts is morph's copy; another name of
+    the module runs it."""
+    import ast
+
+    from fontTools import agl
+    from fontTools.ttLib import TTFont
+
+    from morph.parse import default_font_path
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-c", _AGL_PROBE], env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    order, ran, names, a, kind = ast.literal_eval(res.stdout.strip().splitlines()[-1])
+    assert order == TTFont(default_font_path()).getGlyphOrder() and "A" in order
+    assert not ran and names == agl.UV2AGL
+    assert a == 0x41 and kind == "module"
 
 
 _EXIF_PROBE = r"""

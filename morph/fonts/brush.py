@@ -384,7 +384,9 @@ def open_source(font_path, location=None):
     from fontTools.ttLib import TTFont
 
     from ..parse import default_font_path, instantiate_font
+    from .deferred import glyph_list
 
+    glyph_list()   # glyph names made from the character map without fontTools.agl's load
     if hasattr(font_path, "getGlyphSet"):
         font = font_path
     else:
@@ -532,8 +534,10 @@ def _brush_plan(font, glyphs, composites):
 
 def _default_family(font):
     """"<family> Brush" from the typographic family name (ID 16) or ID 1."""
-    return "%s Brush" % (font["name"].getDebugName(16) or font["name"].getDebugName(1)
-                         or "Morph")
+    from ..parse.names import name_table
+
+    name = name_table(font, install=True)   # brush_font renames it (rename_family)
+    return "%s Brush" % (name.getDebugName(16) or name.getDebugName(1) or "Morph")
 
 
 def _chosen_progress(progress, chosen):

@@ -17,6 +17,17 @@ uses them (a GPOS table decompiled to move anchors, GSUB compiled with HarfBuzz'
 packer, a CFF2 variation store) gets the whole module as a plain import would, and a
 font that never needs them does not load them.
 
+fontTools' Adobe Glyph List read from morph's copy of the part fontTools names glyphs
+by: a font without glyph names (a TrueType font with a format 3 ``post`` table, such
+as the bundled Noto Sans) has them made from its character map
+(``TTFont._makeGlyphName``: the AGL for New Fonts name, else ``uniXXXX``), which
+imports ``fontTools.agl``; that module parses both of Adobe's lists as it loads
+(about 57 M instructions, a fifth of a second of a 62-glyph ``morph brush``) while
+the names need only the short one (586 names).  :func:`glyph_list` registers
+``fontTools.agl`` deferred with its ``UV2AGL`` read from
+``morph/fonts/data/aglfn.txt`` (the list fontTools carries, with Adobe's notice);
+any other attribute runs the module.
+
 Pillow without its EXIF and TIFF tag tables: ``PIL.Image`` imports ``PIL.ExifTags``
 (some hundreds of ``IntEnum`` members, built as it loads: about 30 M instructions,
 half of Pillow's import) and ``PIL.TiffTags`` for the metadata of the photographs it
@@ -27,7 +38,8 @@ reads; the images morph draws and saves (a font's sample, a shape's PNG) have no
 import sys
 import types
 
-__all__ = ["cff_table", "deferred_imports", "pillow", "LAYOUT_MODULES", "PILLOW_METADATA"]
+__all__ = ["cff_table", "deferred_imports", "glyph_list", "pillow", "LAYOUT_MODULES",
+           "PILLOW_METADATA"]
 
 #: what fontTools.cffLib imports for CFF2 only: the OpenType layout classes and the
 #: HarfBuzz bindings that otBase imports for its packer
@@ -41,11 +53,12 @@ class _Deferred(types.ModuleType):
     """A module registered in ``sys.modules`` and executed at its first attribute
     access other than ``__spec__`` and ``__name__`` (which the import system reads
     when the module is imported again by name: ``import uharfbuzz as hb`` in
-    fontTools' otBase binds the deferred module without running it)."""
+    fontTools' otBase binds the deferred module without running it) and those
+    set before it runs (named in its ``_morph_preset``, see :func:`glyph_list`)."""
 
     def __getattribute__(self, attr):
         fields = types.ModuleType.__getattribute__(self, "__dict__")
-        if attr in ("__spec__", "__name__"):
+        if attr in ("__spec__", "__name__") or attr in fields.get("_morph_preset", ()):
             return fields[attr]
         spec = fields["__spec__"]
         self.__class__ = types.ModuleType
@@ -90,6 +103,24 @@ def cff_table(font):
     if "fontTools.cffLib" not in sys.modules:
         deferred_imports(LAYOUT_MODULES)
     return font["CFF "]
+
+
+def glyph_list():
+    """Register ``fontTools.agl`` deferred, its ``UV2AGL`` (code point -> AGL for New
+    Fonts name) read from ``data/aglfn.txt``, when it is not imported yet (see the
+    module docstring)."""
+    from pathlib import Path
+
+    if not deferred_imports(["fontTools.agl"]):
+        return
+    names = {}
+    text = (Path(__file__).parent / "data" / "aglfn.txt").read_text(encoding="ascii")
+    for line in text.splitlines():
+        if line and line[0] != "#":
+            code, name, _ = line.split(";", 2)
+            names[int(code, 16)] = name
+    fields = types.ModuleType.__getattribute__(sys.modules["fontTools.agl"], "__dict__")
+    fields.update(UV2AGL=names, _morph_preset=("UV2AGL",))
 
 
 def pillow(*names):

@@ -893,6 +893,58 @@ def outline_glyphs(font):
 
 # =========================================================================== anchors
 
+#: GPOS lookup types whose subtables hold anchors: cursive, mark-to-base,
+#: mark-to-ligature, mark-to-mark (:data:`_ANCHOR_MOVERS`); 9 is the extension
+_ANCHOR_LOOKUPS, _EXTENSION = frozenset((3, 4, 5, 6)), 9
+
+
+def _stored(font, tag):
+    """The table's bytes as the font file stores them, or None when the table is
+    decompiled already (or the font was not read from a file)."""
+    if font.isLoaded(tag) or font.reader is None or tag not in font.reader:
+        return None
+    return font.reader[tag]
+
+
+def _no_anchors(font):
+    """True when the font's GPOS has no lookup holding anchors, read from its stored
+    bytes (lookup types, and an extension's type): the table is then left as stored,
+    not decompiled and compiled again (about 0.1 G instructions for Noto Sans's
+    kerning, and the OpenType layout classes and HarfBuzz's packer loaded for it)."""
+    import struct
+
+    data = _stored(font, "GPOS")
+    if data is None:
+        return "GPOS" not in font
+    try:
+        lookups = struct.unpack_from(">H", data, 8)[0]
+        if not lookups:
+            return True
+        for at in struct.unpack_from(">%dH" % struct.unpack_from(">H", data, lookups)[0],
+                                     data, lookups + 2):
+            lookup = lookups + at
+            kind, _, count = struct.unpack_from(">3H", data, lookup)
+            if kind == _EXTENSION:
+                kinds = {struct.unpack_from(">H", data, lookup + sub + 2)[0] for sub in
+                         struct.unpack_from(">%dH" % count, data, lookup + 6)}
+            else:
+                kinds = {kind}
+            if kinds & _ANCHOR_LOOKUPS:
+                return False
+    except struct.error:  # a truncated table: fontTools reads (and reports) it
+        return False
+    return True
+
+
+def _no_carets(font):
+    """True when the font has no GDEF ligature caret list, read from GDEF's stored
+    bytes (its header's LigCaretList offset) where it is not decompiled."""
+    data = _stored(font, "GDEF")
+    if data is None:
+        return "GDEF" not in font
+    return len(data) >= 10 and data[8:10] == b"\0\0"
+
+
 def _lookup_subtables(font, tag="GPOS"):
     if tag not in font or font[tag].table.LookupList is None:
         return
@@ -996,13 +1048,16 @@ def move_anchors(font, offsets):
     marks) and cursive entry/exit anchors are moved; each anchor is replaced by a
     moved copy, so anchors shared between glyphs move once per glyph.  Format 2
     anchors (on a contour point) become format 1: swept outlines renumber their
-    points.  Returns the number of anchors moved.
+    points.  Returns the number of anchors moved.  A GPOS without anchor lookups and a
+    GDEF without carets are left as stored (:func:`_no_anchors`, :func:`_no_carets`).
     """
     moved = 0
-    for st in _lookup_subtables(font):
-        for mover in _ANCHOR_MOVERS.get(type(st).__name__, ()):
-            moved += mover(st, offsets)
-    _move_carets(font, offsets)
+    if not _no_anchors(font):
+        for st in _lookup_subtables(font):
+            for mover in _ANCHOR_MOVERS.get(type(st).__name__, ()):
+                moved += mover(st, offsets)
+    if not _no_carets(font):
+        _move_carets(font, offsets)
     return moved
 
 
@@ -1055,7 +1110,9 @@ def rename_family(font, family, tool="morph"):
     source had them.  CFF FontName, FamilyName and FullName follow.  Records are
     written on every platform/encoding/language the source used for ID 1.
     """
-    name = font["name"]
+    from ..parse.names import name_keys, name_table, set_names
+
+    name = name_table(font, install=True)
     style = (name.getDebugName(17) or name.getDebugName(2) or "Regular").strip()
     ps_family = _ps(family)
     ps = "%s-%s" % (ps_family, _ps(style) or "Regular")
@@ -1070,17 +1127,12 @@ def rename_family(font, family, tool="morph"):
         drop = ()
     rev = "%.3f" % font["head"].fontRevision
     ids.update({3: "%s;%s;%s" % (rev, tool, ps), 4: full, 6: ps})
+    keys = name_keys(name)
     for nid, text in ((21, family), (25, ps_family)):
-        if name.getName(nid, 3, 1, 0x409) is not None or any(r.nameID == nid for r in name.names):
+        if any(k[3] == nid for k in keys):
             ids[nid] = text
-    where = {(r.platformID, r.platEncID, r.langID) for r in name.names if r.nameID == 1}
-    where = where or {(3, 1, 0x409)}
-    for nid in drop:
-        name.removeNames(nameID=nid)
-    for nid, text in ids.items():
-        name.removeNames(nameID=nid)
-        for plat, enc, lang in sorted(where):
-            name.setName(text, nid, plat, enc, lang)
+    where = {k[:3] for k in keys if k[3] == 1} or {(3, 1, 0x409)}
+    set_names(name, ids, where, drop)
     if "CFF " in font:
         cff = font["CFF "].cff
         cff.fontNames = [ps]
@@ -1159,10 +1211,53 @@ def save_font(font, path):
     old = font.flavor
     font.flavor = flavor
     try:
-        save_atomically(path, lambda tmp: font.save(str(tmp)))
+        save_atomically(path, lambda tmp: _save(font, str(tmp)))
     finally:
         font.flavor = old
     return path
+
+
+#: tables whose fontTools class depends on no other table (its ``dependencies``) and
+#: whose module loads the OpenType layout classes and HarfBuzz's packer (about 0.19
+#: G instructions): a save writes them as stored, where they are, without it
+_LAYOUT_TAGS = frozenset(("GDEF", "GPOS", "GSUB", "STAT", "BASE", "JSTF", "MATH"))
+
+
+def _written_as_is(font, tag):
+    """The bytes the save writes for ``tag`` without importing its fontTools class, or
+    None: a layout table not decompiled (:data:`_LAYOUT_TAGS`), a name table not
+    decompiled or held as its records (:class:`morph.parse.names.NameTable`;
+    fontTools' name table depends on ``ltag`` only)."""
+    if tag in _LAYOUT_TAGS:
+        return _stored(font, tag)
+    if tag == "name" and "ltag" not in font:
+        from ..parse.names import records_of
+
+        table = font.tables.get("name")
+        if table is None:
+            return _stored(font, tag)
+        if records_of(table) is not None:
+            return table.compile(font)
+    return None
+
+
+def _save(font, file):
+    """``font.save(file)``, the tables :func:`_written_as_is` tells written as those
+    bytes, in the order fontTools writes them (``TTFont._writeTable``, which imports
+    each table's class to read the tables it depends on, is bypassed for them)."""
+    def write_table(tag, writer, done, *args, **kwargs):
+        data = None if tag in done else _written_as_is(font, tag)
+        if data is None:
+            return type(font)._writeTable(font, tag, writer, done, *args, **kwargs)
+        done.append(tag)
+        writer[tag] = data
+        return None
+
+    font._writeTable = write_table
+    try:
+        font.save(file)
+    finally:
+        del font._writeTable
 
 
 def font_bytes(font, flavor=None):
@@ -1171,7 +1266,7 @@ def font_bytes(font, flavor=None):
     old = font.flavor
     font.flavor = flavor
     try:
-        font.save(buf)
+        _save(font, buf)
     finally:
         font.flavor = old
     return buf.getvalue()

@@ -425,14 +425,16 @@ def full_name(info):
 
 def _name_bytes(records):
     """A format 0 name table of Windows Unicode ``records`` ((platform, encoding,
-    language, name ID) -> string) as fontTools compiles one: records sorted by
-    those four numbers, UTF-16BE strings, each distinct string stored once."""
+    language, name ID) -> string, or its encoded bytes) as fontTools compiles one:
+    records sorted by those four numbers, UTF-16BE strings, each distinct string
+    stored once."""
     keys = sorted(records)
     data = [struct.pack(">HHH", 0, len(keys), 6 + 12 * len(keys))]
     strings, at = [], {}
     size = 0
     for key in keys:
-        text = records[key].encode("utf_16_be")
+        text = records[key]
+        text = text if isinstance(text, bytes) else text.encode("utf_16_be")
         if text not in at:
             at[text] = size
             strings.append(text)

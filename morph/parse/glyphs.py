@@ -161,9 +161,13 @@ def font_display_name(font, default="font"):
     else its family and style (IDs 16 and 17, else 1 and 2), else its PostScript
     name (ID 6), else ``default``.  Real fonts lack some of these records; none is
     required."""
+    from .names import name_table
+
     try:
-        name = font["name"]
-    except Exception:  # no (readable) name table
+        name = name_table(font)   # its stored records, where they can be read so
+    except Exception:  # an unreadable name table
+        return default
+    if name is None:
         return default
     full = name.getDebugName(4)
     if full:

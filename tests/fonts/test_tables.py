@@ -1,5 +1,7 @@
 """morph.fonts.tables (contour clean-up, anchors, names), checked on hand-made cases."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from fontTools.ttLib import TTFont
@@ -72,6 +74,75 @@ def test_move_anchors_by_glyph(tmp_path):
     assert base["o"].BaseAnchor[0].XCoordinate == o0
     assert marks["acutecomb"].MarkAnchor.YCoordinate == m0 + 7
     font.save(str(tmp_path / "n.ttf"))  # still compiles
+
+
+def _extension_mark_font(path):
+    """The mark test font with its mark-to-base lookup behind an extension lookup."""
+    from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
+
+    font = TTFont(str(build_mark_font(path.with_name("marks.ttf"))))
+    del font["GPOS"]
+    addOpenTypeFeaturesFromString(font, """
+    markClass [acutecomb] <anchor 0 500> @TOP;
+    lookup Ext useExtension { pos base [e o] <anchor 300 700> mark @TOP; } Ext;
+    feature mark { lookup Ext; } mark;
+    """)
+    font.save(str(path))
+    return path
+
+
+@pytest.mark.parametrize("build", ["marks", "extension"])
+def test_anchors_move_in_a_stored_gpos(tmp_path, build):
+    """A GPOS read from the file (not decompiled before): its mark-to-base lookup
+    is found in the stored bytes (behind an extension lookup too) and e's anchor
+    moves; o's stays."""
+    path = (build_mark_font(tmp_path / "m.ttf") if build == "marks"
+            else _extension_mark_font(tmp_path / "x.ttf"))
+    font = TTFont(str(path))
+    assert not font.isLoaded("GPOS")
+    before = TTFont(str(path))
+    assert move_anchors(font, {"e": (40, -3)}) >= 1
+    font.save(str(tmp_path / "n.ttf"))
+    after = TTFont(str(tmp_path / "n.ttf"))
+
+    def base_anchors(f):
+        subtables = [s.ExtSubTable if hasattr(s, "ExtSubTable") else s
+                     for lk in f["GPOS"].table.LookupList.Lookup for s in lk.SubTable]
+        st = [s for s in subtables if type(s).__name__ == "MarkBasePos"][0]
+        return {g: (r.BaseAnchor[0].XCoordinate, r.BaseAnchor[0].YCoordinate)
+                for g, r in zip(st.BaseCoverage.glyphs, st.BaseArray.BaseRecord)}
+    was, now = base_anchors(before), base_anchors(after)
+    assert now["e"] == (was["e"][0] + 40, was["e"][1] - 3) and now["o"] == was["o"]
+
+
+def test_gpos_without_anchors_is_left_as_stored(tmp_path):
+    """The bundled font's GPOS (kerning only) and GDEF (no carets) are not
+    decompiled to move anchors, and the save writes their stored bytes; the mark
+    font's GPOS (anchors) is decompiled, its GDEF (no carets) is not."""
+    font = TTFont(default_font_path())
+    assert move_anchors(font, {"A": (40, 0), "V": (10, 0)}) == 0
+    assert not font.isLoaded("GPOS") and not font.isLoaded("GDEF")
+    font.save(str(tmp_path / "n.ttf"))
+    saved, source = TTFont(str(tmp_path / "n.ttf")), TTFont(default_font_path())
+    for tag in ("GPOS", "GDEF", "GSUB", "name"):
+        assert saved.reader[tag] == source.reader[tag], tag
+    marks = TTFont(str(build_mark_font(tmp_path / "m.ttf")))
+    move_anchors(marks, {"e": (40, 0)})
+    assert marks.isLoaded("GPOS") and not marks.isLoaded("GDEF")
+
+
+def test_ligature_carets_move_in_a_stored_gdef(tmp_path):
+    """A GDEF with a ligature caret list (read from the file) is decompiled and the
+    caret of a moved ligature moves in x."""
+    from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
+
+    font = TTFont(default_font_path())
+    addOpenTypeFeaturesFromString(font, "table GDEF { LigatureCaretByPos f 300; } GDEF;")
+    font.save(str(tmp_path / "c.ttf"))
+    font = TTFont(str(tmp_path / "c.ttf"))
+    move_anchors(font, {"f": (25, 0)})
+    lig = font["GDEF"].table.LigCaretList
+    assert lig.Coverage.glyphs == ["f"] and lig.LigGlyph[0].CaretValue[0].Coordinate == 325
 
 
 @pytest.mark.parametrize("style, want", [
@@ -155,3 +226,55 @@ def test_truetype_write_many_builds_the_pens_glyphs():
     fonts[1]["glyf"]["a"] = fonts[1]["glyf"]["b"]
     assert fonts[1]["glyf"]["a"].compile(fonts[1]["glyf"]) != \
         fonts[0]["glyf"]["a"].compile(fonts[0]["glyf"])
+
+
+@pytest.mark.parametrize("style", ["Regular", "SemiBold Italic"])
+@pytest.mark.parametrize("source", ["NotoSans-Regular.ttf", "NotoSans-Regular.otf"])
+def test_renamed_records_are_fonttools(tmp_path, style, source):
+    """rename_family of a name table read from its stored records (the bundled
+    fonts: Windows Unicode, and Macintosh Roman English in the .otf) writes the bytes
+    fontTools' name table writes for the same renaming, and reads the same names."""
+    from morph.parse.names import name_records
+
+    path = str(Path(default_font_path()).with_name(source))
+    font = TTFont(path)
+    font["name"].setName(style, 17, 3, 1, 0x409)
+    font.save(str(tmp_path / "s.ttf"))
+    light, full = TTFont(str(tmp_path / "s.ttf")), TTFont(str(tmp_path / "s.ttf"))
+    assert name_records(light.reader["name"]) is not None
+    full["name"].names  # decompiled by fontTools first: its own table renames
+    assert rename_family(light, "X Brush", tool="t") == rename_family(full, "X Brush", tool="t")
+    assert type(light["name"]).__name__ == "NameTable"
+    assert light["name"].compile(light) == full["name"].compile(full)
+    for nid in range(30):
+        assert light["name"].getDebugName(nid) == full["name"].getDebugName(nid), nid
+    light.recalcTimestamp = full.recalcTimestamp = False   # the same head
+    light.save(str(tmp_path / "l.ttf"))
+    full.save(str(tmp_path / "f.ttf"))
+    assert (tmp_path / "l.ttf").read_bytes() == (tmp_path / "f.ttf").read_bytes()
+
+
+def test_name_table_hands_over_to_fonttools(tmp_path):
+    """fontTools' API on a name table held as records (``names``, ``setName``) works
+    on fontTools' table of them, which the font then compiles; records in an
+    encoding not read here, a format 1 table or a key twice are left to fontTools."""
+    import struct
+
+    from morph.parse.names import name_records, name_table
+
+    font = TTFont(default_font_path())
+    table = name_table(font, install=True)
+    assert table.getDebugName(1) == "Noto Sans"
+    table.setName("Other", 1, 3, 1, 0x409)
+    assert font["name"].getDebugName(1) == "Other"
+    font.save(str(tmp_path / "o.ttf"))
+    assert TTFont(str(tmp_path / "o.ttf"))["name"].getDebugName(1) == "Other"
+
+    def table_of(*records, fmt=0):
+        head = struct.pack(">3H", fmt, len(records), 6 + 12 * len(records))
+        return head + b"".join(struct.pack(">6H", *key, 2, 0) for key in records) + b"\0A"
+    assert name_records(table_of((3, 1, 0x409, 1))) == {(3, 1, 0x409, 1): b"\0A"}
+    assert name_records(table_of((3, 1, 0x409, 1), fmt=1)) is None
+    assert name_records(table_of((3, 1, 0x409, 1), (3, 1, 0x409, 1))) is None
+    assert name_records(table_of((1, 0, 5, 1))) is None          # Macintosh, not English
+    assert name_records(table_of((3, 3, 0x409, 1))) is None      # Windows PRC
