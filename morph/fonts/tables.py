@@ -774,6 +774,11 @@ def _glyf_points(outlines):
     return out
 
 
+#: glyphs whose bounds :meth:`_CFFOutlines.saving` reads at once: a few MB of outline
+#: arrays at most, and a few array calls per batch
+BOUNDS_BATCH = 1024
+
+
 class _CFFOutlines(OutlineWriter):
     """``CFF `` table (Type 2 charstrings, cubic, T2CharStringPen).
 
@@ -826,7 +831,8 @@ class _CFFOutlines(OutlineWriter):
 
     def saving(self):
         """The charstrings not written answer ``calcBounds`` with their bounds,
-        read from their bytes for all of them at once
+        read from their bytes :data:`BOUNDS_BATCH` glyphs at a time (the outlines
+        of one batch in memory, not the font's)
         (:func:`morph.parse.charstrings.charstring_outlines`, the boxes by
         :func:`morph.fonts.stream.outline_bounds`, ``BoundsPen``'s arithmetic); one
         the reader does not take, with those of a copy drawn by fontTools (the
@@ -840,12 +846,14 @@ class _CFFOutlines(OutlineWriter):
 
         todo = [cs for cs in map(self.char_strings.__getitem__, self.char_strings.keys())
                 if not is_bounded(cs)]
-        outlines = charstring_outlines(todo)
-        read = iter(outline_bounds([o for o in outlines if o is not None]))
-        for cs, outline in zip(todo, outlines):
-            bounds = (copy.copy(cs).calcBounds(self.char_strings) if outline is None
-                      else next(read))
-            as_bounded(cs, bounds)
+        for at in range(0, len(todo), BOUNDS_BATCH):
+            batch = todo[at:at + BOUNDS_BATCH]
+            outlines = charstring_outlines(batch)
+            read = iter(outline_bounds([o for o in outlines if o is not None]))
+            for cs, outline in zip(batch, outlines):
+                bounds = (copy.copy(cs).calcBounds(self.char_strings) if outline is None
+                          else next(read))
+                as_bounded(cs, bounds)
         return contextlib.nullcontext()
 
 

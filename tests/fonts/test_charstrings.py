@@ -220,3 +220,27 @@ def test_cff_glyph_loops_drop_zero_length_pieces_and_close():
 class _GlyphOf:
     def __init__(self, cs):
         self.draw = cs.draw
+
+
+def test_unwritten_glyphs_bounds_read_by_batches(monkeypatch):
+    """The bounds of the glyphs a brush does not write, read a few glyphs at a time,
+    are those of one batch and those fontTools computes."""
+    import morph.fonts.tables as tables
+
+    ref = TTFont(cubic_test_font_path())
+    items, charstrings = _font_charstrings(ref)
+    want = [copy.copy(cs).calcBounds(charstrings) for cs in items]
+    calls = []
+    import morph.parse.charstrings as reader
+
+    def counted(batch):
+        calls.append(len(batch))
+        return charstring_outlines(batch)
+
+    monkeypatch.setattr(reader, "charstring_outlines", counted)
+    monkeypatch.setattr(tables, "BOUNDS_BATCH", 50)
+    font = TTFont(cubic_test_font_path())
+    tables.outline_writer(font).saving()
+    got = [cs.bounds for cs in _font_charstrings(font)[0]]
+    assert calls == [50, 50, 50, len(items) - 150]
+    assert got == want
