@@ -1,7 +1,8 @@
 """``morph brush`` against FontForge's Expand Stroke + Remove Overlap, on the same glyphs.
 
     python -m bench.brush_fontforge [--glyphs A-Z,a-z,0-9] [--nib 80,30,30] [--tol 0.5]
-                                    [--ff-accuracy 1,0.25] [--md bench/brush_fontforge.md]
+                                    [--ff-accuracy 1,0.25] [--repeat 3]
+                                    [--md bench/brush_fontforge.md]
 
 Source: the bundled Noto Sans in its CFF version (``morph.parse.cubic_test_font_path``,
 upm 1000), so that both tools write cubics and their points compare.  Nib: the
@@ -12,7 +13,8 @@ default of ``morph brush`` (exact ellipse 80 x 30 units, 30 degrees).
   (:mod:`bench.pycache`; user + sys CPU of the process, from the kernel: reading, planning,
   the sums, export, certificate, tables, saving, the sample image and specimen),
   and ``morph.fonts.brush.brush_font`` in this process (``process_time`` of the call:
-  reading the source, the sums, saving the font), both divided by the glyphs.
+  reading the source, the sums, saving the font), both divided by the glyphs, each
+  the median of ``--repeat`` runs (one pass varies by +-20 % on a shared machine).
 - FontForge: ``bench/fontforge_brush.py`` in Debian's python3: Expand Stroke of the
   outline with the elliptical nib, then the original contours added and Remove
   Overlap (A ⊕ nib = A ∪ (∂A ⊕ nib)); the CPU time of those calls per glyph, at
@@ -33,6 +35,7 @@ import argparse
 import json
 import os
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -199,6 +202,9 @@ def main(argv=None):
     ap.add_argument("--ref-tol", type=float, default=0.25, help="font units")
     ap.add_argument("--ff-accuracy", default="1,0.25")
     ap.add_argument("--md", default=str(ROOT / "bench" / "brush_fontforge.md"))
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="morph's command and in-process pass each run this many times: "
+                         "the median (a single pass varies by +-20 %% on a shared machine)")
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
@@ -217,9 +223,13 @@ def main(argv=None):
     rows, notes = [], []
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "brush.otf"
-        cmd_cpu, line = run_command(src, chars, nib_spec, opt.tol, Path(tmp) / "cmd.otf")
+        runs = [run_command(src, chars, nib_spec, opt.tol, Path(tmp) / "cmd.otf")
+                for _ in range(opt.repeat)]
+        cmd_cpu, line = statistics.median(r[0] for r in runs), runs[-1][1]
         line = line.replace(str(tmp) + os.sep, "")   # no machine path in the report
-        cpu, sweep_cpu, stats = morph_in_process(src, chars, nib_spec, opt.tol, out)
+        passes = [morph_in_process(src, chars, nib_spec, opt.tol, out)
+                  for _ in range(opt.repeat)]
+        cpu, sweep_cpu, stats = sorted(passes, key=lambda p: p[1])[len(passes) // 2]
         errs = []
         for c, n in zip(chars, names):
             got = region_to_shapely(translate_region(glyph_region(c, font=str(out)).region,
@@ -280,9 +290,9 @@ def main(argv=None):
           "the sweep, tables, saving, sample image and specimen; FontForge: its worker "
           "process, Python's startup, `import fontforge`, opening the font and converting "
           "it to cubics, the brush, writing the outlines as JSON, saving the font as .otf "
-          "with `font.generate`).  morph's "
-          "`brush_font` in process (reading the source, the sweep, saving the font): "
-          "%.1f ms / glyph." % rows[0]["brush_font"], "",
+          "with `font.generate`); morph's two times are each the median of %d runs.  "
+          "morph's `brush_font` in process (reading the source, the sweep, saving the "
+          "font): %.1f ms / glyph." % (opt.repeat, rows[0]["brush_font"]), "",
           "| tool | setting | in process: mean ms / glyph | in process: median ms / glyph | "
           "whole command ms / glyph | points / glyph | worst error | mean error | "
           "glyphs over 1 unit |", "|---|---|---|---|---|---|---|---|---|"]
