@@ -324,9 +324,9 @@ def cff_glyph_loops(font, names):
 
 def _outline_loops(outlines):
     """The loops of :class:`morph.fonts.tables.Outline` s of lines and cubics, the
-    pieces of all built at once; per outline its loops."""
-    from .. import piece as pc
-    from ..region import zero_length_mask
+    pieces of all built at once (:func:`morph.parse.pens.glyph_loops`); per outline
+    its loops."""
+    from .pens import glyph_loops
 
     if not outlines:
         return []
@@ -342,14 +342,4 @@ def _outline_loops(outlines):
             h = np.ones((len(ks), size + 1, 3))
             h[:, :, :2] = pts[first[ks, None] + np.arange(size + 1)]
             groups.append((ks, h))
-    pieces = pc.Pieces(groups, len(sizes))
-    keep = ~zero_length_mask(pieces) if len(sizes) else np.zeros(0, bool)
-    loops = [[] for _ in range(len(counts))]
-    for row, c, k in zip(pieces.rows(), contour.tolist(), keep.tolist()):
-        if k:
-            loops[c].append(row)
-    out, c = [], 0
-    for n in (len(o.counts) for o in outlines):
-        out.append([loop for loop in loops[c:c + n] if loop])
-        c += n
-    return out
+    return glyph_loops(groups, len(sizes), contour, [len(o.counts) for o in outlines])

@@ -79,7 +79,7 @@ class NameTable(DefaultTable):
         super().__init__("name")
         self.records = records
 
-    def getDebugName(self, name_id):  # noqa: N802 - fontTools' name
+    def getDebugName(self, name_id):  # noqa: N802 - the method fontTools calls on a table
         real = self.__dict__.get("_table")
         return real.getDebugName(name_id) if real else _debug_name(self.records, name_id)
 
@@ -89,7 +89,7 @@ class NameTable(DefaultTable):
         real = self.__dict__.get("_table")
         return real.compile(font) if real else _name_bytes(self.records)
 
-    def toXML(self, writer, font):  # noqa: N802 - fontTools' name
+    def toXML(self, writer, font):  # noqa: N802 - the method fontTools calls on a table
         self.fonttools().toXML(writer, font)
 
     def fonttools(self):

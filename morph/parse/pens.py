@@ -180,3 +180,26 @@ def draw_paths(pen, paths):
             pen.closePath()
         else:
             pen.endPath()
+
+
+def glyph_loops(groups, n_pieces, contour, n_contours, bad=None):
+    """Per glyph its loops, from the pieces of many glyphs built at once: ``groups``
+    of :class:`morph.piece.Pieces` (rows, stack) over ``n_pieces`` pieces in drawing
+    order, ``contour`` each piece's contour, ``n_contours`` each glyph's contours in
+    order.  Pieces of zero length are dropped, then contours left empty; a glyph
+    flagged in ``bad`` gives None (the pen draws it).  The decoders of glyph bytes
+    (:mod:`morph.parse.truetype`, :mod:`morph.parse.charstrings`) end here."""
+    from ..region import zero_length_mask
+
+    pieces = pc.Pieces([g for g in groups if len(g[0])], n_pieces)
+    keep = ~zero_length_mask(pieces) if n_pieces else np.zeros(0, bool)
+    loops = [[] for _ in range(int(np.sum(n_contours)))]
+    for row, c, k in zip(pieces.rows(), np.asarray(contour).tolist(), keep.tolist()):
+        if k:
+            loops[c].append(row)
+    out, c = [], 0
+    for g, n in enumerate(np.asarray(n_contours).tolist()):
+        out.append(None if bad is not None and bad[g] else
+                   [loop for loop in loops[c:c + n] if loop])
+        c += n
+    return out

@@ -18,8 +18,7 @@ flags, a glyph whose stored bytes do not hold its points.
 
 import numpy as np
 
-from .. import piece as pc
-from ..region import zero_length_mask
+from .pens import glyph_loops
 
 __all__ = ["simple_glyph_loops"]
 
@@ -191,17 +190,4 @@ def _loops(glyphs):
                                                             q[keep][kind == 1],
                                                             end[keep][kind == 1])
     groups = [(np.flatnonzero(kind == 0), h_line), (np.flatnonzero(kind == 1), h_quad)]
-    pieces = pc.Pieces([g for g in groups if len(g[0])], len(kind))
-    nonzero = ~zero_length_mask(pieces) if len(kind) else np.zeros(0, bool)
-    rows = pieces.rows()
-    owner = owner[nonzero].tolist()
-    rows = [row for row, k in zip(rows, nonzero.tolist()) if k]
-    loops = [[] for _ in range(len(ends))]
-    for row, c in zip(rows, owner):
-        loops[c].append(row)
-    out, c = [], 0
-    for g, n in enumerate(n_contours.tolist()):
-        mine = [loop for loop in loops[c:c + n] if loop]
-        out.append(None if bad[g] else mine)
-        c += n
-    return out
+    return glyph_loops(groups, len(kind), owner, n_contours, bad)
