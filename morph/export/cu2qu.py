@@ -32,19 +32,14 @@ DOT_ZERO = 1e-15
 MAX_SPLITS = 1200
 
 
-def _columns(p):
-    """The four control points of (..., 4) complex cubics."""
-    return p[..., 0], p[..., 1], p[..., 2], p[..., 3]
-
-
-def _stacked(*rows):
-    """(..., len(rows), 4) complex array of rows of four (...) arrays each (one
-    allocation, columns written in place)."""
-    first = rows[0][0]
-    out = np.empty(np.shape(first) + (len(rows), 4), complex)
-    for r, row in enumerate(rows):
-        for k, v in enumerate(row):
-            out[..., r, k] = v
+def _stacked(*parts):
+    """(4, len(parts), ...) complex array of parts of four (...) control points each
+    (one allocation; the control point axis first, each point's array contiguous:
+    numpy's complex loops are several times slower on strided arrays)."""
+    out = np.empty((4, len(parts)) + np.shape(parts[0][0]), complex)
+    for r, part in enumerate(parts):
+        for k, v in enumerate(part):
+            out[k, r] = v
     return out
 
 
@@ -57,8 +52,8 @@ def _third(z):
 
 
 def _split_two(p):
-    """cu2qu's ``split_cubic_into_two``: (..., 4) cubics as (..., 2, 4) halves."""
-    p0, p1, p2, p3 = _columns(p)
+    """cu2qu's ``split_cubic_into_two``: (4, ...) cubics as (4, 2, ...) halves."""
+    p0, p1, p2, p3 = p
     mid = (p0 + 3 * (p1 + p2) + p3) * 0.125
     deriv3 = (p3 + p2 - p1 - p0) * 0.125
     return _stacked((p0, (p0 + p1) * 0.5, mid - deriv3, mid),
@@ -66,8 +61,8 @@ def _split_two(p):
 
 
 def _split_three(p):
-    """cu2qu's ``split_cubic_into_three``: (..., 4) cubics as (..., 3, 4) thirds."""
-    p0, p1, p2, p3 = _columns(p)
+    """cu2qu's ``split_cubic_into_three``: (4, ...) cubics as (4, 3, ...) thirds."""
+    p0, p1, p2, p3 = p
     mid1 = (8 * p0 + 12 * p1 + 6 * p2 + p3) * (1 / 27)
     deriv1 = (p3 + 3 * p2 - 4 * p0) * (1 / 27)
     mid2 = (p0 + 6 * p1 + 12 * p2 + 8 * p3) * (1 / 27)
@@ -78,9 +73,9 @@ def _split_three(p):
 
 
 def _split_n(p, n):
-    """cu2qu's ``_split_cubic_into_n_gen``: (m, 4) cubics as (m, n, 4) parts from
+    """cu2qu's ``_split_cubic_into_n_gen``: (4, m) cubics as (4, n, m) parts from
     the power basis (a t^3 + b t^2 + c t + d) shifted and scaled per part."""
-    p0, p1, p2, p3 = (q[:, None] for q in _columns(p))
+    p0, p1, p2, p3 = p
     c = (p1 - p0) * 3.0
     b = (p2 - p1) * 3.0 - c
     d = p0
@@ -88,30 +83,28 @@ def _split_n(p, n):
     dt = 1 / n
     delta_2 = dt * dt
     delta_3 = dt * delta_2
-    t1 = np.arange(n) * dt
+    t1 = (np.arange(n) * dt)[:, None]
     t1_2 = t1 * t1
-    a1 = a * delta_3
     b1 = (3 * a * t1 + b) * delta_2
     c1 = (2 * b * t1 + c + 3 * a * t1_2) * dt
     d1 = a * t1 * t1_2 + b * t1_2 + c * t1 + d
     _2 = _third(c1) + d1                          # cu2qu's calc_cubic_points
-    out = np.empty((len(p), n, 4), complex)
-    out[..., 0], out[..., 1], out[..., 2] = d1, _2, _third(b1 + c1) + _2
-    out[..., 3] = a1 + d1 + c1 + b1
-    return out
+    return np.stack([d1, _2, _third(b1 + c1) + _2, a * delta_3 + d1 + c1 + b1])
 
 
 def split_cubics(p, n):
-    """(m, 4) complex cubics split into n equal parameter parts, (m, n, 4), by cu2qu's
+    """(4, m) complex cubics split into n equal parameter parts, (4, n, m), by cu2qu's
     ``split_cubic_into_n_iter`` (its formulas for n = 2, 3, 4, 6, else the power
     basis)."""
     if n == 1:
         return p[:, None]
     if n in (2, 4):
         halves = _split_two(p)
-        return halves if n == 2 else _split_two(halves).reshape(-1, 4, 4)
+        # the halves of the first half, then of the second
+        return halves if n == 2 else _split_two(halves).swapaxes(1, 2).reshape(4, 4, -1)
     if n in (3, 6):
-        return _split_three(p) if n == 3 else _split_three(_split_two(p)).reshape(-1, 6, 4)
+        return _split_three(p) if n == 3 else \
+            _split_three(_split_two(p)).swapaxes(1, 2).reshape(4, 6, -1)
     return _split_n(p, n)
 
 
@@ -122,7 +115,7 @@ def _norm(z):
 
 
 def fit_inside(owner, diff, tol, m):
-    """cu2qu's ``cubic_farthest_fit_inside`` of every (k, 4) complex difference cubic
+    """cu2qu's ``cubic_farthest_fit_inside`` of every (4, k) complex difference cubic
     ``diff`` (its end points already checked), as one worklist of arrays: a
     difference whose inner control points are within tol of the origin is inside
     (convex hull), one whose midpoint is not is outside, the others are split in
@@ -132,22 +125,22 @@ def fit_inside(owner, diff, tol, m):
     for _ in range(MAX_SPLITS):
         if not len(owner):
             return ~bad
-        split = ~((_norm(diff[:, 2]) <= tol) & (_norm(diff[:, 1]) <= tol))
-        halves = _split_two(diff[split])
+        split = ~((_norm(diff[2]) <= tol) & (_norm(diff[1]) <= tol))
+        halves = _split_two(diff[:, split])
         owner = owner[split]
-        outside = ~(_norm(halves[:, 0, 3]) <= tol)    # the midpoint; NaN: outside
+        outside = ~(_norm(halves[3, 0]) <= tol)       # the midpoint; NaN: outside
         bad[owner[outside]] = True
         go = ~bad[owner]
-        owner = np.repeat(owner[go], 2)
-        diff = halves[go].reshape(-1, 4)
+        owner = np.concatenate((owner[go], owner[go]))
+        diff = halves[:, :, go].reshape(4, -1)        # first halves, then second
     bad[owner] = True
     return ~bad
 
 
 def _intersections(c):
-    """cu2qu's ``calc_intersect`` of each (m, 4) cubic's end tangents: (m,) points,
+    """cu2qu's ``calc_intersect`` of each (4, m) cubic's end tangents: (m,) points,
     NaN where the tangents are parallel (unless 3 or 4 points coincide)."""
-    a, b, cc, d = _columns(c)
+    a, b, cc, d = c
     ab, cd, ac = b - a, d - cc, a - cc
     pr, pi = -ab.imag, ab.real                    # ab * 1j
     num = pr * ac.real + pi * ac.imag             # cu2qu's dot
@@ -161,75 +154,85 @@ def _intersections(c):
 
 
 def _try_one(c, tol):
-    """cu2qu's ``cubic_approx_quadratic`` of (m, 4) cubics: (accepted (m,),
-    splines (m, 3))."""
+    """cu2qu's ``cubic_approx_quadratic`` of (4, m) cubics: (accepted (m,),
+    splines (3, m))."""
     q1 = _intersections(c)
     found = ~np.isnan(q1.imag)
-    c0, c3 = c[:, 0], c[:, 3]
+    c0, c3 = c[0], c[3]
     diff = np.zeros(c.shape, complex)
-    diff[:, 1] = c0 + (q1 - c0) * (2 / 3) - c[:, 1]
-    diff[:, 2] = c3 + (q1 - c3) * (2 / 3) - c[:, 2]
+    diff[1] = c0 + (q1 - c0) * (2 / 3) - c[1]
+    diff[2] = c3 + (q1 - c3) * (2 / 3) - c[2]
     idx = found.nonzero()[0]
-    found[idx] = fit_inside(idx, diff[idx], tol, len(c))[idx]
-    return found, np.stack([c0, q1, c3], 1)
+    found[idx] = fit_inside(idx, diff[:, idx], tol, c.shape[1])[idx]
+    return found, np.stack([c0, q1, c3])
 
 
 def _try_n(c, n, tol):
-    """cu2qu's ``cubic_approx_spline`` of (m, 4) cubics with n >= 2 quadratics:
-    (accepted (m,), splines (m, n + 2): end points and n off-curve points)."""
-    m = len(c)
-    p0, p1, p2, p3 = _columns(split_cubics(c, n))
-    t = np.arange(n) / (n - 1)
+    """cu2qu's ``cubic_approx_spline`` of (4, m) cubics with n >= 2 quadratics:
+    (accepted (m,), splines (n + 2, m): end points and n off-curve points)."""
+    m = c.shape[1]
+    p0, p1, p2, p3 = split_cubics(c, n)           # each (n, m)
+    t = (np.arange(n) / (n - 1))[:, None]
     h1 = p0 + (p1 - p0) * 1.5                     # cubic_approx_control
     h2 = p3 + (p2 - p3) * 1.5
     q1 = h1 + (h2 - h1) * t
-    q2 = np.empty((m, n), complex)                # the implied on-curve points
-    q2[:, :-1] = (q1[:, :-1] + q1[:, 1:]) * 0.5
-    q2[:, -1] = p3[:, -1]
-    diff = np.empty((m, n, 4), complex)
-    diff[..., 3] = d1 = q2 - p3                   # their error
-    diff[:, 0, 0] = 0.0
-    diff[:, 1:, 0] = d1[:, :-1]
-    diff[:, 0, 1] = c[:, 0] + (q1[:, 0] - c[:, 0]) * (2 / 3) - p1[:, 0]
-    diff[:, 1:, 1] = q2[:, :-1] + (q1[:, 1:] - q2[:, :-1]) * (2 / 3) - p1[:, 1:]
-    diff[..., 2] = q2 + (q1 - q2) * (2 / 3) - p2
-    ends = (_norm(d1) <= tol).all(1)              # NaN: not within
+    q2 = np.empty((n, m), complex)                # the implied on-curve points
+    q2[:-1] = (q1[:-1] + q1[1:]) * 0.5
+    q2[-1] = p3[-1]
+    diff = np.empty((4, n, m), complex)
+    diff[3] = d1 = q2 - p3                        # their error
+    diff[0, 0] = 0.0
+    diff[0, 1:] = d1[:-1]
+    diff[1, 0] = c[0] + (q1[0] - c[0]) * (2 / 3) - p1[0]
+    diff[1, 1:] = q2[:-1] + (q1[1:] - q2[:-1]) * (2 / 3) - p1[1:]
+    diff[2] = q2 + (q1 - q2) * (2 / 3) - p2
+    ends = (_norm(d1) <= tol).all(0)              # NaN: not within
     idx = ends.nonzero()[0]
-    ends[idx] = fit_inside(np.repeat(idx, n), diff[idx].reshape(-1, 4), tol, m)[idx]
-    spline = np.empty((m, n + 2), complex)
-    spline[:, 0], spline[:, 1:-1], spline[:, -1] = c[:, 0], q1, c[:, 3]
-    return ends, spline
+    ends[idx] = fit_inside(np.tile(idx, n), diff[:, :, idx].reshape(4, -1), tol, m)[idx]
+    return ends, np.concatenate([c[:1], q1, c[3:]])
 
 
-def cubic_splines(cubics, tol):
+def find_splines(cubics, tol):
     """cu2qu's quadratic spline of every cubic within ``tol``
     (``curve_to_quadratic(cubic, tol, all_quadratic=True)``), one round of array
     calls per number of segments n over the cubics not yet converted.
 
-    Returns ``(counts, blocks)``: counts (m,) each cubic's n; blocks one
-    ``(index, splines)`` pair per round that converted some: the cubics' indices
-    (k,) and their splines (k, n + 2, 2), each its end points and its n off-curve
-    points (TrueType: the on-curve points between them implied, midpoints).
-
-    Raises:
-        ToleranceNotMetError: no spline of at most :data:`MAX_N` quadratics within
-            tol for some cubic (``piece``: the first such).
+    Returns ``(counts, blocks)``: counts (m,) each cubic's n, 0 where no spline of
+    at most :data:`MAX_N` quadratics is within tol; blocks one ``(index, splines)``
+    pair per round that converted some: the cubics' indices (k,) and their splines
+    (k, n + 2, 2), each its end points and its n off-curve points (TrueType: the
+    on-curve points between them implied, midpoints).
     """
     points = np.asarray(cubics, float).reshape(-1, 4, 2)
-    cubics = points[..., 0] + 1j * points[..., 1]
-    counts = np.zeros(len(cubics), np.int64)
-    blocks, todo = [], np.arange(len(cubics))
+    cubics = np.empty((4, len(points)), complex)
+    cubics.real, cubics.imag = points.T
+    counts = np.zeros(len(points), np.int64)
+    blocks, todo = [], np.arange(len(points))
     for n in range(1, MAX_N + 1):
         if not len(todo):
             break
-        ok, splines = _try_one(cubics[todo], tol) if n == 1 else _try_n(cubics[todo], n, tol)
+        c = cubics[:, todo]
+        ok, splines = _try_one(c, tol) if n == 1 else _try_n(c, n, tol)
         if ok.any():
             counts[todo[ok]] = n
-            blocks.append((todo[ok], np.stack([splines[ok].real, splines[ok].imag], -1)))
+            splines = splines[:, ok].T
+            blocks.append((todo[ok], np.stack([splines.real, splines.imag], -1)))
         todo = todo[~ok]
-    if len(todo):
+    return counts, blocks
+
+
+def cubic_splines(cubics, tol):
+    """:func:`find_splines` of every cubic, which must all convert.
+
+    Raises:
+        ToleranceNotMetError: no spline of at most :data:`MAX_N` quadratics within
+            tol for some cubic (``piece``: the first such, (4, 2)).
+    """
+    counts, blocks = find_splines(cubics, tol)
+    missing = (counts == 0).nonzero()[0]
+    if len(missing):
         raise ToleranceNotMetError("cu2qu found no quadratic spline within %.3g" % tol,
-                                   piece=points[todo[0]])
+                                   piece=np.asarray(cubics, float).reshape(-1, 4, 2)[missing[0]])
     return counts, blocks
 
 

@@ -1,5 +1,6 @@
-"""TrueType export: certified cubics converted to quadratic splines with cu2qu, the
-export tolerance split between the two (:data:`morph.budget.QUADRATIC_CUBIC_SHARE`).
+"""TrueType export: certified cubics converted to quadratic splines with cu2qu's
+algorithm (:mod:`.cu2qu`, every cubic of a batch at once), the export tolerance
+split between the two (:data:`morph.budget.QUADRATIC_CUBIC_SHARE`).
 """
 
 import math
@@ -10,7 +11,6 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from ..budget import QUADRATIC_CUBIC_SHARE
-from ..errors import ToleranceNotMetError
 from .certify import check_piece
 from .cu2qu import cubic_splines, spline_quadratics
 from .loops import JOIN_ANGLE, loops_to_beziers
@@ -58,7 +58,8 @@ def piece_to_quadratics(piece, tol, max_depth=16):
 
     The budget is split: cubics within ``QUADRATIC_CUBIC_SHARE * tol``
     (:func:`piece_to_cubics`, certified Fréchet bound), then each cubic to a
-    quadratic spline within the rest with ``fontTools.cu2qu.curve_to_quadratic``.
+    quadratic spline within the rest by cu2qu's algorithm (:mod:`.cu2qu`, the
+    splines of ``fontTools.cu2qu.curve_to_quadratic``, all cubics in one batch).
     cu2qu's check is on a common parameter and certified up to rounding: it tests
     the difference curve's control points against the tolerance disk (convex hull)
     and subdivides.  The two errors add (Fréchet distance obeys the triangle
