@@ -251,3 +251,13 @@ def _per_cubic_list(curves, tol, splines):
         s = np.array(curve_to_quadratic(np.asarray(b).tolist(), tol))
         out.extend([s] if splines else list(spline_quadratics(s[None])[0]))
     return out
+
+
+def test_non_finite_cubics_get_no_spline():
+    """A NaN or infinite control point: no spline (cu2qu's recursion would not end),
+    the finite cubics beside it converted as alone."""
+    good = np.array([[0, 0], [1, 2], [3, 2], [4, 0]], float)
+    bad = [good.copy() for _ in range(3)]
+    bad[0][1, 0], bad[1][2, 1], bad[2][3, 0] = np.nan, np.inf, -np.inf
+    counts, _ = find_splines([good] + bad, 1e-3)
+    assert counts[0] == find_splines([good], 1e-3)[0][0] > 0 and not counts[1:].any()

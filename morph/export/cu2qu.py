@@ -210,16 +210,17 @@ def find_splines(cubics, tol):
     cubics.real, cubics.imag = points.T
     counts = np.zeros(len(points), np.int64)
     blocks, todo = [], np.arange(len(points))
-    for n in range(1, MAX_N + 1):
-        if not len(todo):
-            break
-        c = cubics[:, todo]
-        ok, splines = _try_one(c, tol) if n == 1 else _try_n(c, n, tol)
-        if ok.any():
-            counts[todo[ok]] = n
-            splines = splines[:, ok].T
-            blocks.append((todo[ok], np.stack([splines.real, splines.imag], -1)))
-        todo = todo[~ok]
+    with np.errstate(invalid="ignore", over="ignore"):      # non-finite: no spline
+        for n in range(1, MAX_N + 1):
+            if not len(todo):
+                break
+            c = cubics[:, todo]
+            ok, splines = _try_one(c, tol) if n == 1 else _try_n(c, n, tol)
+            if ok.any():
+                counts[todo[ok]] = n
+                splines = splines[:, ok].T
+                blocks.append((todo[ok], np.stack([splines.real, splines.imag], -1)))
+            todo = todo[~ok]
     return counts, blocks
 
 
