@@ -93,7 +93,7 @@ PAIR_ITEMS = 1024
 
 
 def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60,
-                         pair_items=PAIR_ITEMS, settle=None):
+                         pair_items=PAIR_ITEMS, settle=None, levels=False):
     """Candidate crossings of pairs of pieces, by subdivision, and the pairs it gave
     up on: the items of all pairs are one set of arrays, each level tested and split
     at once (a fixed number of numpy calls a level, whatever the number of pairs).
@@ -110,8 +110,10 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     exceed ``pair_items`` (near-coincident pieces), and the most crowded pairs while
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
     the candidates at their items' centres and the indices of the pairs given up.
-    ``settle(pair index, s, u)``, when given, is called with each level's candidates
-    and returns the pairs whose search is over (indices): their items go.
+    ``settle(pair index, s, u, level)``, when given, is called with each level's
+    candidates and returns the pairs whose search is over (indices): their items go.
+    ``levels``: the candidates' levels (the depth at which each was found, in
+    order) are returned too, as a fifth array.
 
     Each item carries the control points of its two parts and a split halves them
     (de Casteljau at 1/2, :func:`_halves`): one small product per part, at any depth.
@@ -140,12 +142,15 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
         found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3])))
         it = _split_items(it, live & ~hit, split_a)
         if settle is not None and hit.any():
-            done = settle(*found[-1])
+            done = settle(*found[-1], depth)
             if len(done):
                 it = it.take(~member(it.org, np.sort(done)))
     org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
-    return org.astype(int), s, u, gave_up
+    if not levels:
+        return org.astype(int), s, u, gave_up
+    sizes = np.fromiter(map(len, [f[0] for f in found]), np.int64, len(found))
+    return org.astype(int), s, u, gave_up, np.arange(len(found)).repeat(sizes)
 
 
 class _Items:

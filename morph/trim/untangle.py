@@ -305,15 +305,15 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
 
     Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) and
     whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
-    searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
-    and on polylines within eps / 10 the pairs where subdivision would not end
-    (pieces that nearly coincide).  Each level's candidates are refined by Newton
-    (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
-    the search of a loop ends at its first crossing in candidate order.  ``pieces``
-    (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
+    searched, by subdivision to 1e-3 eps (:func:`_subdivision_hits`), and on
+    polylines within eps / 10 the pairs where subdivision would not end (pieces that
+    nearly coincide) of the loops it found no crossing of.  A loop takes the first of
+    its candidates in their order (level by level, then those of the polylines)
+    that Newton confirms on the exact pieces.  ``pieces`` (a
+    :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
     pieces in order, when known.  ``curls``: a dict that gets, for each loop whose
-    crossing is a curl (i == j), the other curls on other pieces that the same
-    Newton batch confirmed, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
+    crossing is a curl (i == j), the other curls on other pieces that its batch
+    of candidates holds, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = _sizes(loops)
@@ -327,57 +327,100 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
     pairs, kinds = _oriented(suspects, owner, first, sizes)
     used = unique(pairs)
     stacked = pc.stack(pieces.take(used))
-    hits = {}
-
-    def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
-        fresh = (~pl.member(owner[pa], _keys(hits))).ravel().nonzero()[0]
-        pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
-        ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
-        guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
-        hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
-                                  first, sizes, curls))
-        return pl.member(owner[pairs[:, 0]], _keys(hits)).ravel().nonzero()[0]
-
-    # each level's candidates are refined as they come: a loop takes the first
-    # crossing in their order (level by level, then those of the polylines), and
-    # the search of a loop that has one stops
-    crowded = subdivided_crossings(
-        pieces, pairs, kinds, 1e-3 * eps,
-        settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
+    loc = (owner, first, sizes)
+    hits, crowded = _subdivision_hits(pieces, (stacked, used), pairs, kinds, eps, loc, curls)
     crowded = crowded[~pl.member(owner[pairs[crowded, 0]], _keys(hits))]
     near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
-    if len(near[0]):
-        refine(near[0], near[2], near[1], near[3], near[4])
+    fresh = (~pl.member(owner[near[0]], _keys(hits))).ravel().nonzero()[0]
+    if len(fresh):
+        pa, pb, ta, tb, guess = (x[fresh] for x in near)
+        hits.update(_refined_hits((stacked, used), (pa, ta), (pb, tb), guess,
+                                  np.zeros(len(fresh), np.int64), eps, loc, curls))
     return hits
 
 
-def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes, curls=None):
+def _subdivision_hits(pieces, rows, pairs, kinds, eps, loc, curls):
+    """({loop: crossing} of :func:`_first_crossings` from the subdivision's
+    candidates, the pairs it gave up on (indices, sorted)).  A pass subdivides the
+    pairs of the loops searched and ends a loop's search at the first level that
+    gives it candidates (past ``floor``, the levels of its candidates found to hold
+    no crossing); Newton then refines the pass's candidates, all levels at once
+    (:func:`_refined_hits`); the loops left without a crossing are searched again,
+    past those levels.  A loop's candidates of a level come from its own pairs'
+    items only (in their order): each loop gets the crossing that refining every
+    level's candidates as they come gives.  ``rows``: (stacked, used), the pieces
+    ``used`` stacked; ``loc``: (owner, first, sizes) of the loops' pieces."""
+    owner = loc[0]
+    floor = np.full(len(loc[2]), -1)
+    todo = np.arange(len(pairs))
+    hits, gave_up = {}, [todo[:0]]
+    while len(todo):
+        lp = owner[pairs[todo, 0]]
+
+        def settle(k, s, u, depth, lp=lp):   # the loops with candidates past their floor
+            return pl.member(lp, unique(lp[k][depth > floor[lp[k]]])).ravel().nonzero()[0]
+
+        k, s, u, crowded, level = subdivided_crossings(pieces, pairs[todo], kinds[todo],
+                                                       1e-3 * eps, settle=settle, levels=True)
+        gave_up.append(todo[crowded])
+        if not len(k):
+            break
+        k = todo[k]
+        loop = owner[pairs[k, 0]]
+        new = (level > floor[loop]).ravel().nonzero()[0]
+        k, s, u, level, loop = k[new], s[new], u[new], level[new], loop[new]
+        got = _refined_hits(rows, (pairs[k, 0], s), (pairs[k, 1], u), None, level, eps, loc,
+                            curls)
+        hits.update(got)
+        np.maximum.at(floor, loop, level)
+        failed = unique(loop[~pl.member(loop, _keys(got))])
+        todo = todo[pl.member(owner[pairs[todo, 0]], failed)]
+    return hits, unique(np.concatenate(gave_up))
+
+
+def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
     """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
-    candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
-    b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
-    candidates are refined first, the others of the loops none of those settled
-    next: a loop takes its first crossing in that order, as when all are refined
-    at once (Newton works row by row), with fewer rows where a loop has many (legs
-    that nearly coincide give hundreds).  ``curls``: see :func:`_first_crossings`."""
-    (pa, ta, ia), (pb, tb, ib) = a, b
+    candidates in order: a = (piece, parameter) on one side, b on the other
+    (pieces: ``rows`` = (stacked, used), the pieces ``used`` stacked), refined by
+    Newton from ``guess`` (None: the point of a); ``level``: the subdivision level
+    of each (ascending); ``loc``:
+    (owner, first, sizes) of the loops' pieces.  A loop's candidates of one level
+    are a batch, its first FIRST_TRIES of the batch before its others: a loop
+    takes its first crossing in the first of those parts that holds one.  Newton
+    works row by row, so all levels' first parts are refined together, then the
+    others of the levels before a loop's first crossing: the same crossings as
+    refining part after part and stopping a loop at its first, in two Newton calls,
+    with fewer rows where a loop has many candidates (legs that nearly coincide give
+    hundreds).  ``curls``: see :func:`_first_crossings`, from the batch of each
+    loop's crossing."""
+    (stacked, used), (pa, ta), (pb, tb), (owner, first, sizes) = rows, a, b, loc
+    if not len(pa):
+        return {}
     loop = owner[pa]
-    rank = _ranks(loop)
-    hits = {}
-    for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
-        c = (stage & ~pl.member(loop, _keys(hits))).ravel().nonzero()[0]
+    ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
+    # a batch part's key: twice the level, plus one for a loop's candidates past its
+    # first FIRST_TRIES of the level
+    key = 2 * level + (_ranks(loop * (int(level.max(initial=0)) + 1) + level) >= FIRST_TRIES)
+    settled = np.full(len(sizes), 2 * int(level.max(initial=0)) + 2)   # past every key
+    s, w, ok, done = ta.copy(), tb.copy(), np.zeros(len(pa), bool), np.zeros(len(pa), bool)
+    for part in (0, 1):
+        c = ((key % 2 == part) & (key < settled[loop])).ravel().nonzero()[0]
         if not len(c):
             continue
-        s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
-                                    1e-6 * eps)
-        got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s, w, ok, owner, first,
-                                                    sizes)
-        if curls is not None and len(got):
-            curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
-        if len(got):
-            x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
-            hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
-                        for n, xn in zip(got, x))
-    return hits
+        x0 = pc.jet_many(stacked, ia[c], ta[c])[0] if guess is None else guess[c]
+        s[c], w[c], ok[c] = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], x0,
+                                             2.0 * eps, 1e-6 * eps)
+        done[c] = True
+        valid = c[_valid_rows(pa[c], pb[c], s[c], w[c], ok[c], owner, first, sizes)[1]]
+        np.minimum.at(settled, loop[valid], key[valid])
+    c = (done & (key == settled[loop])).ravel().nonzero()[0]   # each loop's batch part
+    got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s[c], w[c], ok[c], owner, first,
+                                                sizes)
+    if curls is not None and len(got):
+        curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
+    x = pc.jet_many(stacked, ia[c[got]], s[c[got]])[0]
+    return dict(_hit(pa[c[n]], pb[c[n]], s[c[n]], w[c[n]], xn, owner, first)
+                for n, xn in zip(got.tolist(), x))
 
 
 #: Crossing candidates of each loop that :func:`_first_crossings` refines first;
