@@ -41,7 +41,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     (:func:`.lift.lift_rings`): the first round searches them as they are."""
     out = list(map(list, loops))
     idx = list(range(len(out)))   # the loops searched in a round: all, then those split
-    for _ in range(max_rounds):
+    for round_ in range(max_rounds):
         if not idx:
             break
         # the active loops' pieces stacked and their tangent cones taken once for
@@ -54,14 +54,11 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         if pieces is None or len(idx) != len(out):
             pieces = pc.Pieces.of([p for loop in sel for p in loop])
         cones = pc.tangent_cones(pieces)
-        may = list(itertools.compress(idx, _may_fold(sel, cones, sizes).tolist()))
-        cut = []
-        for k, loop in zip(may, remove_folds_many([out[k] for k in may], 2.0 * eps)):
-            if len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k])):
-                out[k] = loop
-                cut.append(k)
-        if cut:
-            pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
+        if not round_:   # later rounds' loops had their folds cut as they were split off
+            cut = _cut_folds(out, list(itertools.compress(
+                idx, _may_fold(sel, cones, sizes).tolist())), eps)
+            if cut:
+                pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
         found = {}
         local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
         hits = {idx[a]: h for a, h in local.items()}
@@ -69,8 +66,22 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
                                                eps, hole_test, curls)))
         out, idx = _replaced(out, split)
+        # a curl cut off leaves a spike: the parts' folds go before the next round
+        # takes their cones, the parts with folds cut after the others (as :func:`_recut`)
+        cut = set(_cut_folds(out, idx, eps) if round_ + 1 < max_rounds else ())
+        idx = [k for k in idx if k not in cut] + [k for k in idx if k in cut]
         pieces = None
     return out
+
+
+def _cut_folds(out, ks, eps):
+    """The loops ``ks`` of ``out`` with their folds removed (:func:`remove_folds`,
+    width 2 eps), in place; returns those changed, in the order of ``ks``."""
+    loops, changed = _remove_folds([out[k] for k in ks], 2.0 * eps)
+    cut = [ks[g] for g in sorted(changed)]
+    for g in changed:
+        out[ks[g]] = loops[g]
+    return cut
 
 
 def _replaced(loops, split):
@@ -616,7 +627,14 @@ def remove_folds_many(loops, width):
     applied loop by loop as :func:`remove_folds` says (the cuts of one pass use
     the pieces as the pass found them: a fold whose second piece a later fold's
     cut changed is skipped)."""
+    return _remove_folds(loops, width)[0]
+
+
+def _remove_folds(loops, width):
+    """(:func:`remove_folds_many` of the loops, the set of the indices of those it
+    changed)."""
     out = [list(loop) for loop in loops]
+    changed_any = set()
     left = [{} for _ in out]  # per loop: (id(a), id(b)) -> (a, b) of folds left as they are
     todo = [k for k, loop in enumerate(out) if len(loop) >= 3]
     while todo:
@@ -657,8 +675,9 @@ def remove_folds_many(loops, width):
         for k, loop in zip(changed_loops, _snap_many([out[k] for k in changed_loops],
                                                     5e-7 * width)):
             out[k] = loop
+        changed_any.update(changed_loops)
         todo = [k for k in changed_loops if len(out[k]) >= 3]
-    return out
+    return out, changed_any
 
 
 def _fold_joins_many(loops):
