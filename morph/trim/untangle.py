@@ -22,7 +22,8 @@ from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from ..quadrature import gauss_legendre
-from .crossing import JOINED, PAIRS, SELF, _upper, subdivided_crossings, uncertain_pairs
+from .crossing import (JOINED, PAIRS, SELF, _upper, first_items, subdivide,
+                       uncertain_pairs)
 from .lift import _jet_rows, newton_crossings
 
 
@@ -352,41 +353,36 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
 
 def _subdivision_hits(pieces, rows, pairs, kinds, eps, loc, curls):
     """({loop: crossing} of :func:`_first_crossings` from the subdivision's
-    candidates, the pairs it gave up on (indices, sorted)).  A pass subdivides the
-    pairs of the loops searched and ends a loop's search at the first level that
-    gives it candidates (past ``floor``, the levels of its candidates found to hold
-    no crossing); Newton then refines the pass's candidates, all levels at once
-    (:func:`_refined_hits`); the loops left without a crossing are searched again,
-    past those levels.  A loop's candidates of a level come from its own pairs'
+    candidates, the pairs it gave up on (indices, sorted)).  A pass subdivides
+    (:func:`.crossing.subdivide`) and parks a loop's items at the first level that
+    gives it candidates; Newton then refines the pass's candidates, all levels at
+    once (:func:`_refined_hits`); the parked items of the loops left without a
+    crossing go on in the next pass.  A loop's candidates come from its own pairs'
     items only (in their order): each loop gets the crossing that refining every
     level's candidates as they come gives.  ``rows``: (stacked, used), the pieces
     ``used`` stacked; ``loc``: (owner, first, sizes) of the loops' pieces."""
     owner = loc[0]
-    floor = np.full(len(loc[2]), -1)
-    todo = np.arange(len(pairs))
-    hits, gave_up = {}, [todo[:0]]
-    while len(todo):
-        lp = owner[pairs[todo, 0]]
+    of_pair = owner[pairs[:, 0]]
+    it = first_items(pieces, pairs, kinds)
+    hits, gave_up, joining = {}, [], ()
 
-        def settle(k, s, u, depth, lp=lp):   # the loops with candidates past their floor
-            return pl.member(lp, unique(lp[k][depth > floor[lp[k]]])).ravel().nonzero()[0]
+    def park(k, s, u, depth):    # the pairs of the loops with candidates
+        return pl.member(of_pair, unique(of_pair[k])).ravel().nonzero()[0]
 
-        k, s, u, crowded, level = subdivided_crossings(pieces, pairs[todo], kinds[todo],
-                                                       1e-3 * eps, settle=settle, levels=True)
-        gave_up.append(todo[crowded])
-        if not len(k):
-            break
-        k = todo[k]
-        loop = owner[pairs[k, 0]]
-        new = (level > floor[loop]).ravel().nonzero()[0]
-        k, s, u, level, loop = k[new], s[new], u[new], level[new], loop[new]
+    while True:
+        k, s, u, crowded, level, parked = subdivide(it, len(pairs), 1e-3 * eps, joining, park)
+        gave_up.append(crowded)
+        loop = of_pair[k]
         got = _refined_hits(rows, (pairs[k, 0], s), (pairs[k, 1], u), None, level, eps, loc,
                             curls)
         hits.update(got)
-        np.maximum.at(floor, loop, level)
-        failed = unique(loop[~pl.member(loop, _keys(got))])
-        todo = todo[pl.member(owner[pairs[todo, 0]], failed)]
-    return hits, unique(np.concatenate(gave_up))
+        failed = unique(loop[~pl.member(loop, _keys(got))])   # candidates, no crossing
+        joining = [(d, items.take(pl.member(of_pair[items.org], failed)))
+                   for d, items in parked] if len(failed) else []
+        joining = [(d, items) for d, items in joining if len(items.org)]
+        if not joining:
+            return hits, unique(np.concatenate(gave_up))
+        it = it.take(np.zeros(0, np.int64))
 
 
 def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
