@@ -5,7 +5,8 @@ candidates a plain pair-by-pair subdivision finds."""
 import numpy as np
 
 from morph import piece as pc
-from morph.trim.crossing import JOINED, PAIRS, SELF, subdivided_crossings
+from morph.trim.crossing import (JOINED, PAIRS, SELF, first_items, subdivide,
+                                 subdivided_crossings)
 
 
 def _cartesian(h):
@@ -122,6 +123,41 @@ def test_batched_subdivision_finds_what_pair_by_pair_finds():
     moved = [(got[0][0] + width, got[0][1])] + got[1:]
     assert _same(got, want) and not _same(moved, want)
 
+
+
+def test_parked_items_resumed_give_the_candidates_of_one_run():
+    """crossing.subdivide parks a pair's items at its first level with candidates;
+    the parked items joining a second call at their levels give, pair by pair, the
+    rest of the candidates of one uninterrupted run, at the same levels and in the
+    same order, to the bit (untangle resumes a loop whose first candidates Newton
+    rejects).  The first call gives each pair candidates of one level only."""
+    from morph.polyline import unique
+
+    rng = np.random.default_rng(7)   # cubics crossing where one runs slowly: two levels
+    pieces = []
+    for _ in range(30):
+        a = pc.cubic(*rng.uniform(-10, 10, (4, 2)))
+        pts = rng.uniform(-10, 10, (4, 2))
+        pts[1] = pts[0] + 0.05 * (pts[1] - pts[0])
+        pieces += [a, pc.cubic(*pts)]
+    pairs = np.arange(60).reshape(30, 2)
+    kinds = np.full(30, PAIRS)
+    res, n = 1e-3, len(pairs)
+    whole = subdivide(first_items(pieces, pairs, kinds), n, res)
+    first = subdivide(first_items(pieces, pairs, kinds), n, res,
+                      park=lambda k, s, u, depth: unique(k))
+    empty = first_items(pieces, pairs, kinds).take(np.zeros(0, np.int64))
+    rest = subdivide(empty, n, res, joining=first[5])
+    resumed = 0
+    for k in range(n):
+        want = [(s, u, d) for o, s, u, d in zip(*(whole[i].tolist() for i in (0, 1, 2, 4)))
+                if o == k]
+        got = [[(s, u, d) for o, s, u, d in zip(*(part[i].tolist() for i in (0, 1, 2, 4)))
+                if o == k] for part in (first, rest)]
+        assert got[0] + got[1] == want, k
+        assert len({d for _, _, d in got[0]}) <= 1, k
+        resumed += bool(got[1])
+    assert resumed >= 1 and len(whole[0]) > len(first[0])
 
 
 def _first_crossings_all_at_once(loops, eps):
