@@ -3,6 +3,7 @@
 candidates a plain pair-by-pair subdivision finds."""
 
 import numpy as np
+import pytest
 
 from morph import piece as pc
 from morph.trim.crossing import (JOINED, PAIRS, SELF, first_items, subdivide,
@@ -200,22 +201,27 @@ def _first_crossings_all_at_once(loops, eps):
     return hits
 
 
-def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once():
-    """untangle._first_crossings refines each level's candidates as they come and stops
-    a loop's search at its first crossing: the crossing it picks for every loop is the
-    one refining all candidates at once picks, to the bit (random cubic loops with
-    curls and crossings, several in one call)."""
-    from morph.trim.untangle import _first_crossings
+@pytest.mark.parametrize("seed, eps, passes", [(5, 1e-3, 1), (14, 0.1, 3), (26, 0.1, 3)])
+def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once(
+        seed, eps, passes, monkeypatch):
+    """untangle._first_crossings ends a loop's subdivision at its first level with
+    candidates, refines them, and resumes the loops none of them is a crossing of:
+    the crossing it picks for every loop is the one refining all candidates at once
+    picks, to the bit (random cubic loops with curls and crossings, several in one
+    call; ``passes`` subdivision passes, the later ones resumed)."""
+    import morph.trim.untangle as ut
 
-    rng = np.random.default_rng(5)
+    rng = np.random.default_rng(seed)
     loops = []
     for _ in range(24):
         n = int(rng.integers(2, 7))
         pts = rng.uniform(-10, 10, (n, 2)) + 40.0 * rng.integers(0, 5, 2)
         loops.append([pc.cubic(pts[k], *rng.uniform(-12, 12, (2, 2)) + pts[k],
                                pts[(k + 1) % n]) for k in range(n)])
-    eps = 1e-3
-    got, want = _first_crossings(loops, eps), _first_crossings_all_at_once(loops, eps)
+    calls = []
+    monkeypatch.setattr(ut, "subdivide", lambda *a, **k: calls.append(1) or subdivide(*a, **k))
+    got, want = ut._first_crossings(loops, eps), _first_crossings_all_at_once(loops, eps)
+    assert len(calls) == passes
     assert len(want) >= 10 and sorted(got) == sorted(want)
     for li, (i, s, j, u, x) in want.items():
         gi, gs, gj, gu, gx = got[li]
