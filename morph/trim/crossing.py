@@ -302,7 +302,9 @@ def _split_items(it, keep, split_a):
     item's, or the left or right half of it (:func:`_halves` of the items kept)."""
     rows = keep.nonzero()[0]
     kind = it.kind[rows]
-    cat = np.where(kind == PAIRS, np.where(split_a[rows], 0, 1), np.where(kind == JOINED, 2, 3))
+    # category: a plain item 0 (a halved) or 1 (b halved), joined 2, self 3 (the
+    # kinds PAIRS, JOINED, SELF are 0, 1, 2)
+    cat = kind + (kind != PAIRS) + ((kind == PAIRS) & ~split_a[rows])
     count = _SLOT_COUNT[cat]
     item = np.arange(len(cat)).repeat(count)
     slot = _SLOT_FIRST[cat].repeat(count) + (np.arange(len(item)) - (
@@ -312,8 +314,11 @@ def _split_items(it, keep, split_a):
     t = it.t[rows]
     mid = 0.5 * (t[:, 0::2] + t[:, 1::2])         # (k, 2): the parts' midpoints
     out_t = t[item]
-    out_t = np.where(table[:, 1:5] == 1, mid[item][:, [0, 0, 1, 1]], out_t)
-    out_kind = np.where(table[:, 5] >= 0, table[:, 5], kind[item])
+    at_mid = table[:, 1:5] == 1
+    out_t[at_mid] = mid[item][:, [0, 0, 1, 1]][at_mid]
+    out_kind = kind[item]
+    own = table[:, 5] >= 0
+    out_kind[own] = table[own, 5]
     # which version of each part: 0 the item's, 1 its left half (end moved to the
     # midpoint), 2 its right half (start moved)
     version = table[:, [2, 4]] + 2 * table[:, [1, 3]]

@@ -69,7 +69,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         out, idx = _replaced(out, split)
         # a curl cut off leaves a spike: the parts' folds go before the next round
         # takes their cones, the parts with folds cut after the others (as :func:`_recut`)
-        cut = set(_cut_folds(out, idx, eps) if round_ + 1 < max_rounds else ())
+        cut = set(_cut_folds(out, idx, eps) if idx and round_ + 1 < max_rounds else ())
         idx = [k for k in idx if k not in cut] + [k for k in idx if k in cut]
         pieces = None
     return out
@@ -78,6 +78,8 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
 def _cut_folds(out, ks, eps):
     """The loops ``ks`` of ``out`` with their folds removed (:func:`remove_folds`,
     width 2 eps), in place; returns those changed, in the order of ``ks``."""
+    if not ks:
+        return []
     loops, changed = _remove_folds([out[k] for k in ks], 2.0 * eps)
     cut = [ks[g] for g in sorted(changed)]
     for g in changed:
@@ -372,6 +374,8 @@ def _subdivision_hits(pieces, rows, pairs, kinds, eps, loc, curls):
     while True:
         k, s, u, crowded, level, parked = subdivide(it, len(pairs), 1e-3 * eps, joining, park)
         gave_up.append(crowded)
+        if not len(k):
+            break
         loop = of_pair[k]
         got = _refined_hits(rows, (pairs[k, 0], s), (pairs[k, 1], u), None, level, eps, loc,
                             curls)
@@ -381,8 +385,9 @@ def _subdivision_hits(pieces, rows, pairs, kinds, eps, loc, curls):
                    for d, items in parked] if len(failed) else []
         joining = [(d, items) for d, items in joining if len(items.org)]
         if not joining:
-            return hits, unique(np.concatenate(gave_up))
+            break
         it = it.take(np.zeros(0, np.int64))
+    return hits, (unique(np.concatenate(gave_up)) if len(gave_up) > 1 else unique(gave_up[0]))
 
 
 def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
