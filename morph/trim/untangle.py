@@ -395,16 +395,16 @@ def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
     candidates in order: a = (piece, parameter) on one side, b on the other
     (pieces: ``rows`` = (stacked, used), the pieces ``used`` stacked), refined by
     Newton from ``guess`` (None: the point of a); ``level``: the subdivision level
-    of each (ascending); ``loc``:
-    (owner, first, sizes) of the loops' pieces.  A loop's candidates of one level
-    are a batch, its first FIRST_TRIES of the batch before its others: a loop
-    takes its first crossing in the first of those parts that holds one.  Newton
-    works row by row, so all levels' first parts are refined together, then the
-    others of the levels before a loop's first crossing: the same crossings as
-    refining part after part and stopping a loop at its first, in two Newton calls,
-    with fewer rows where a loop has many candidates (legs that nearly coincide give
-    hundreds).  ``curls``: see :func:`_first_crossings`, from the batch of each
-    loop's crossing."""
+    of each (ascending); ``loc``: (owner, first, sizes) of the loops' pieces.
+
+    A loop's candidates of one level are a batch, its first FIRST_TRIES of the
+    batch before its others: a loop takes its first crossing in the first of those
+    parts that holds one.  Newton works row by row, so all levels' first parts are
+    refined together, then the others of the levels before a loop's first
+    crossing: the same crossings as refining part after part and stopping a loop
+    at its first, in two Newton calls, with fewer rows where a loop has many
+    candidates (legs that nearly coincide give hundreds).  ``curls``: see
+    :func:`_first_crossings`, from the batch part of each loop's crossing."""
     (stacked, used), (pa, ta), (pb, tb), (owner, first, sizes) = rows, a, b, loc
     if not len(pa):
         return {}
