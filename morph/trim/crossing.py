@@ -93,7 +93,7 @@ PAIR_ITEMS = 1024
 
 
 def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth=60,
-                         pair_items=PAIR_ITEMS, settle=None):
+                         pair_items=PAIR_ITEMS):
     """Candidate crossings of pairs of pieces, by subdivision, and the pairs it gave
     up on: the items of all pairs are one set of arrays, each level tested and split
     at once (a fixed number of numpy calls a level, whatever the number of pairs).
@@ -109,23 +109,45 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
     smaller than ``res`` are the candidates.  A pair whose items at one level
     exceed ``pair_items`` (near-coincident pieces), and the most crowded pairs while
     all items exceed ``max_items``, are given up.  Returns (pair index, s, u) of
-    the candidates at their items' centres and the indices of the pairs given up.
-    ``settle(pair index, s, u)``, when given, is called with each level's candidates
-    and returns the pairs whose search is over (indices): their items go.
+    the candidates at their items' centres and the indices of the pairs given up
+    (:func:`first_items` and :func:`subdivide`).
 
     Each item carries the control points of its two parts and a split halves them
     (de Casteljau at 1/2, :func:`_halves`): one small product per part, at any depth.
     """
+    found = subdivide(first_items(pieces, pairs, kinds), len(pairs), res, max_items=max_items,
+                      max_depth=max_depth, pair_items=pair_items)
+    return found[:4]
+
+
+def first_items(pieces, pairs, kinds):
+    """The items of :func:`subdivided_crossings` at level 0: each pair (k, 2) of
+    ``pieces`` whole, of its kind."""
     used = unique(pairs)
     stacked = stack_rows(pieces, used)
     inv = np.searchsorted(used, pairs)
     n = len(pairs)
     coords = stacked.transpose(0, 2, 1)          # (k, 3, n+1): a coordinate's points in a row
-    it = _Items(np.arange(n), np.asarray(kinds, int).copy(),
-                np.tile([0.0, 1.0, 0.0, 1.0], (n, 1)),
-                np.stack([coords[inv[:, 0]], coords[inv[:, 1]]], axis=1))
-    found, crowded = [], []
-    for depth in range(max_depth):
+    return _Items(np.arange(n), np.asarray(kinds, int).copy(),
+                  np.tile([0.0, 1.0, 0.0, 1.0], (n, 1)),
+                  np.stack([coords[inv[:, 0]], coords[inv[:, 1]]], axis=1))
+
+
+def subdivide(it, n, res, joining=(), park=None, max_items=1 << 18, max_depth=60,
+              pair_items=PAIR_ITEMS):
+    """The levels of :func:`subdivided_crossings` from items ``it`` at level 0 (of
+    ``n`` pairs), and from ``joining`` [(level, items)] at their levels:
+    (pair index, s, u, pairs given up, level of each candidate, parked).  ``park(pair
+    index, s, u, level)``, when given, is called with each level's candidates and
+    returns pairs (indices) whose items leave: they are ``parked`` [(level, items)],
+    to join a later call where their search goes on.  A pair's items come from its
+    own only, in their order, whichever others are there."""
+    joining = dict(joining)
+    found, crowded, parked = [], [], []
+    depth = 0
+    while depth < max_depth:
+        if depth in joining:
+            it = it.join(joining.pop(depth))
         # (no pair can be crowded while all items together are within both bounds)
         over = _crowded(np.bincount(it.org, minlength=n), pair_items, max_items) \
             if len(it.org) > min(pair_items, max_items) else ()
@@ -133,19 +155,34 @@ def subdivided_crossings(pieces, pairs, kinds, res, max_items=1 << 18, max_depth
             crowded.append(over)
             it = it.take(~member(it.org, np.sort(over)))
         if not len(it.org):
-            break
+            if not joining:
+                break
+            depth = min(joining)
+            continue
         live, small, split_a = _level_tests(it, res)
         hit = live & (it.kind == PAIRS) & (small | (depth == max_depth - 1))
         t = it.t[hit]
-        found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3])))
+        found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3]), depth))
         it = _split_items(it, live & ~hit, split_a)
-        if settle is not None and hit.any():
-            done = settle(*found[-1])
-            if len(done):
-                it = it.take(~member(it.org, np.sort(done)))
-    org, s, u = (np.concatenate(z) for z in zip(*found)) if found else (np.zeros(0, int),) * 3
+        depth += 1
+        if park is not None and hit.any():
+            out = member(it.org, np.sort(park(*found[-1])))
+            if out.any():
+                parked.append((depth, it.take(out)))
+                it = it.take(~out)
+    return _found(found, crowded) + (parked,)
+
+
+def _found(found, crowded):
+    """(pair index, s, u, pairs given up, level) of :func:`subdivide` from its
+    levels' (pair index, s, u, level) ``found`` and its ``crowded`` lists."""
     gave_up = np.concatenate(crowded) if crowded else np.zeros(0, int)
-    return org.astype(int), s, u, gave_up
+    if not found:
+        return (np.zeros(0, int), np.zeros(0), np.zeros(0), gave_up, np.zeros(0, int))
+    org, s, u, depth = zip(*found)
+    sizes = np.fromiter(map(len, org), np.int64, len(org))
+    return (np.concatenate(org).astype(int), np.concatenate(s), np.concatenate(u), gave_up,
+            np.array(depth, np.int64).repeat(sizes))
 
 
 class _Items:
@@ -160,6 +197,11 @@ class _Items:
 
     def take(self, rows):
         return _Items(self.org[rows], self.kind[rows], self.t[rows], self.h[rows])
+
+    def join(self, other):
+        """These items, then ``other``'s."""
+        return _Items(*(np.concatenate([getattr(self, a), getattr(other, a)])
+                        for a in self.__slots__))
 
 
 def _level_tests(it, res):
@@ -260,7 +302,9 @@ def _split_items(it, keep, split_a):
     item's, or the left or right half of it (:func:`_halves` of the items kept)."""
     rows = keep.nonzero()[0]
     kind = it.kind[rows]
-    cat = np.where(kind == PAIRS, np.where(split_a[rows], 0, 1), np.where(kind == JOINED, 2, 3))
+    # category: a plain item 0 (a halved) or 1 (b halved), joined 2, self 3 (the
+    # kinds PAIRS, JOINED, SELF are 0, 1, 2)
+    cat = kind + (kind != PAIRS) + ((kind == PAIRS) & ~split_a[rows])
     count = _SLOT_COUNT[cat]
     item = np.arange(len(cat)).repeat(count)
     slot = _SLOT_FIRST[cat].repeat(count) + (np.arange(len(item)) - (
@@ -270,8 +314,11 @@ def _split_items(it, keep, split_a):
     t = it.t[rows]
     mid = 0.5 * (t[:, 0::2] + t[:, 1::2])         # (k, 2): the parts' midpoints
     out_t = t[item]
-    out_t = np.where(table[:, 1:5] == 1, mid[item][:, [0, 0, 1, 1]], out_t)
-    out_kind = np.where(table[:, 5] >= 0, table[:, 5], kind[item])
+    at_mid = table[:, 1:5] == 1
+    out_t[at_mid] = mid[item][:, [0, 0, 1, 1]][at_mid]
+    out_kind = kind[item]
+    own = table[:, 5] >= 0
+    out_kind[own] = table[own, 5]
     # which version of each part: 0 the item's, 1 its left half (end moved to the
     # midpoint), 2 its right half (start moved)
     version = table[:, [2, 4]] + 2 * table[:, [1, 3]]

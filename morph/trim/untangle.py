@@ -22,7 +22,8 @@ from .. import polyline as pl
 from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
                         unique, winding_number)
 from ..quadrature import gauss_legendre
-from .crossing import JOINED, PAIRS, SELF, _upper, subdivided_crossings, uncertain_pairs
+from .crossing import (JOINED, PAIRS, SELF, _upper, first_items, subdivide,
+                       uncertain_pairs)
 from .lift import _jet_rows, newton_crossings
 
 
@@ -41,7 +42,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
     (:func:`.lift.lift_rings`): the first round searches them as they are."""
     out = list(map(list, loops))
     idx = list(range(len(out)))   # the loops searched in a round: all, then those split
-    for _ in range(max_rounds):
+    for round_ in range(max_rounds):
         if not idx:
             break
         # the active loops' pieces stacked and their tangent cones taken once for
@@ -54,14 +55,11 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         if pieces is None or len(idx) != len(out):
             pieces = pc.Pieces.of([p for loop in sel for p in loop])
         cones = pc.tangent_cones(pieces)
-        may = list(itertools.compress(idx, _may_fold(sel, cones, sizes).tolist()))
-        cut = []
-        for k, loop in zip(may, remove_folds_many([out[k] for k in may], 2.0 * eps)):
-            if len(loop) != len(out[k]) or any(p is not q for p, q in zip(loop, out[k])):
-                out[k] = loop
-                cut.append(k)
-        if cut:
-            pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
+        if not round_:   # later rounds' loops had their folds cut as they were split off
+            cut = _cut_folds(out, list(itertools.compress(
+                idx, _may_fold(sel, cones, sizes).tolist())), eps)
+            if cut:
+                pieces, cones, idx = _recut(pieces, cones, idx, sizes, out, cut)
         found = {}
         local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
         hits = {idx[a]: h for a, h in local.items()}
@@ -69,8 +67,24 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
                                                eps, hole_test, curls)))
         out, idx = _replaced(out, split)
+        # a curl cut off leaves a spike: the parts' folds go before the next round
+        # takes their cones, the parts with folds cut after the others (as :func:`_recut`)
+        cut = set(_cut_folds(out, idx, eps) if idx and round_ + 1 < max_rounds else ())
+        idx = [k for k in idx if k not in cut] + [k for k in idx if k in cut]
         pieces = None
     return out
+
+
+def _cut_folds(out, ks, eps):
+    """The loops ``ks`` of ``out`` with their folds removed (:func:`remove_folds`,
+    width 2 eps), in place; returns those changed, in the order of ``ks``."""
+    if not ks:
+        return []
+    loops, changed = _remove_folds([out[k] for k in ks], 2.0 * eps)
+    cut = [ks[g] for g in sorted(changed)]
+    for g in changed:
+        out[ks[g]] = loops[g]
+    return cut
 
 
 def _replaced(loops, split):
@@ -305,15 +319,15 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
 
     Only pairs that no monotone chain holds (:func:`.crossing.uncertain_pairs`) and
     whose control polygons' hulls are not apart (:func:`_hulls_apart`) are
-    searched, by subdivision to 1e-3 eps (:func:`.crossing.subdivided_crossings`),
-    and on polylines within eps / 10 the pairs where subdivision would not end
-    (pieces that nearly coincide).  Each level's candidates are refined by Newton
-    (on the suspect pairs' pieces stacked once) as the subdivision finds them, and
-    the search of a loop ends at its first crossing in candidate order.  ``pieces``
-    (a :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
+    searched, by subdivision to 1e-3 eps (:func:`_subdivision_hits`), and on
+    polylines within eps / 10 the pairs where subdivision would not end (pieces that
+    nearly coincide) of the loops it found no crossing of.  A loop takes the first of
+    its candidates in their order (level by level, then those of the polylines)
+    that Newton confirms on the exact pieces.  ``pieces`` (a
+    :class:`morph.piece.Pieces`) and ``cones`` (their tangent cones): the loops'
     pieces in order, when known.  ``curls``: a dict that gets, for each loop whose
-    crossing is a curl (i == j), the other curls on other pieces that the same
-    Newton batch confirmed, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
+    crossing is a curl (i == j), the other curls on other pieces that its batch
+    of candidates holds, {loop: [(piece, s, u)]} (:func:`_batch_curls`)."""
     if pieces is None:
         pieces = pc.Pieces.of([p for loop in loops for p in loop])  # stacked once
     sizes = _sizes(loops)
@@ -327,57 +341,98 @@ def _first_crossings(loops, eps, pieces=None, cones=None, curls=None):
     pairs, kinds = _oriented(suspects, owner, first, sizes)
     used = unique(pairs)
     stacked = pc.stack(pieces.take(used))
-    hits = {}
-
-    def refine(pa, ta, pb, tb, guess=None):   # candidates of the loops not settled yet
-        fresh = (~pl.member(owner[pa], _keys(hits))).ravel().nonzero()[0]
-        pa, ta, pb, tb = pa[fresh], ta[fresh], pb[fresh], tb[fresh]
-        ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
-        guess = pc.jet_many(stacked, ia, ta)[0] if guess is None else guess[fresh]
-        hits.update(_refined_hits(stacked, (pa, ta, ia), (pb, tb, ib), guess, eps, owner,
-                                  first, sizes, curls))
-        return pl.member(owner[pairs[:, 0]], _keys(hits)).ravel().nonzero()[0]
-
-    # each level's candidates are refined as they come: a loop takes the first
-    # crossing in their order (level by level, then those of the polylines), and
-    # the search of a loop that has one stops
-    crowded = subdivided_crossings(
-        pieces, pairs, kinds, 1e-3 * eps,
-        settle=lambda k, s, u: refine(pairs[k, 0], s, pairs[k, 1], u))[3]
+    loc = (owner, first, sizes)
+    hits, crowded = _subdivision_hits(pieces, (stacked, used), pairs, kinds, eps, loc, curls)
     crowded = crowded[~pl.member(owner[pairs[crowded, 0]], _keys(hits))]
     near = _polyline_crossings(pieces, np.sort(pairs[crowded], axis=1), eps / 10.0)
-    if len(near[0]):
-        refine(near[0], near[2], near[1], near[3], near[4])
+    fresh = (~pl.member(owner[near[0]], _keys(hits))).ravel().nonzero()[0]
+    if len(fresh):
+        pa, pb, ta, tb, guess = (x[fresh] for x in near)
+        hits.update(_refined_hits((stacked, used), (pa, ta), (pb, tb), guess,
+                                  np.zeros(len(fresh), np.int64), eps, loc, curls))
     return hits
 
 
-def _refined_hits(stacked, a, b, guess, eps, owner, first, sizes, curls=None):
+def _subdivision_hits(pieces, rows, pairs, kinds, eps, loc, curls):
+    """({loop: crossing} of :func:`_first_crossings` from the subdivision's
+    candidates, the pairs it gave up on (indices, sorted)).  A pass subdivides
+    (:func:`.crossing.subdivide`) and parks a loop's items at the first level that
+    gives it candidates; Newton then refines the pass's candidates, all levels at
+    once (:func:`_refined_hits`); the parked items of the loops left without a
+    crossing go on in the next pass.  A loop's candidates come from its own pairs'
+    items only (in their order): each loop gets the crossing that refining every
+    level's candidates as they come gives.  ``rows``: (stacked, used), the pieces
+    ``used`` stacked; ``loc``: (owner, first, sizes) of the loops' pieces."""
+    owner = loc[0]
+    of_pair = owner[pairs[:, 0]]
+    it = first_items(pieces, pairs, kinds)
+    hits, gave_up, joining = {}, [], ()
+
+    def park(k, s, u, depth):    # the pairs of the loops with candidates
+        return pl.member(of_pair, unique(of_pair[k])).ravel().nonzero()[0]
+
+    while True:
+        k, s, u, crowded, level, parked = subdivide(it, len(pairs), 1e-3 * eps, joining, park)
+        gave_up.append(crowded)
+        if not len(k):
+            break
+        loop = of_pair[k]
+        got = _refined_hits(rows, (pairs[k, 0], s), (pairs[k, 1], u), None, level, eps, loc,
+                            curls)
+        hits.update(got)
+        failed = unique(loop[~pl.member(loop, _keys(got))])   # candidates, no crossing
+        joining = [(d, items.take(pl.member(of_pair[items.org], failed)))
+                   for d, items in parked] if len(failed) else []
+        joining = [(d, items) for d, items in joining if len(items.org)]
+        if not joining:
+            break
+        it = it.take(np.zeros(0, np.int64))
+    return hits, (unique(np.concatenate(gave_up)) if len(gave_up) > 1 else unique(gave_up[0]))
+
+
+def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
     """{loop: (piece i, s, piece j, u, point)} of :func:`_first_crossings` from its
-    candidates in order: a = (piece, parameter, row of ``stacked``) on one side,
-    b on the other, refined by Newton from there.  Each loop's first FIRST_TRIES
-    candidates are refined first, the others of the loops none of those settled
-    next: a loop takes its first crossing in that order, as when all are refined
-    at once (Newton works row by row), with fewer rows where a loop has many (legs
-    that nearly coincide give hundreds).  ``curls``: see :func:`_first_crossings`."""
-    (pa, ta, ia), (pb, tb, ib) = a, b
+    candidates in order: a = (piece, parameter) on one side, b on the other
+    (pieces: ``rows`` = (stacked, used), the pieces ``used`` stacked), refined by
+    Newton from ``guess`` (None: the point of a); ``level``: the subdivision level
+    of each (ascending); ``loc``: (owner, first, sizes) of the loops' pieces.
+
+    A loop's candidates of one level are a batch, its first FIRST_TRIES of the
+    batch before its others: a loop takes its first crossing in the first of those
+    parts that holds one.  Newton works row by row, so all levels' first parts are
+    refined together, then the others of the levels before a loop's first
+    crossing: the same crossings as refining part after part and stopping a loop
+    at its first, in two Newton calls, with fewer rows where a loop has many
+    candidates (legs that nearly coincide give hundreds).  ``curls``: see
+    :func:`_first_crossings`, from the batch part of each loop's crossing."""
+    (stacked, used), (pa, ta), (pb, tb), (owner, first, sizes) = rows, a, b, loc
+    if not len(pa):
+        return {}
     loop = owner[pa]
-    rank = _ranks(loop)
-    hits = {}
-    for stage in (rank < FIRST_TRIES, rank >= FIRST_TRIES):
-        c = (stage & ~pl.member(loop, _keys(hits))).ravel().nonzero()[0]
+    ia, ib = np.searchsorted(used, pa), np.searchsorted(used, pb)
+    # a batch part's key: twice the level, plus one for a loop's candidates past its
+    # first FIRST_TRIES of the level
+    key = 2 * level + (_ranks(loop * (int(level.max(initial=0)) + 1) + level) >= FIRST_TRIES)
+    settled = np.full(len(sizes), 2 * int(level.max(initial=0)) + 2)   # past every key
+    s, w, ok, done = ta.copy(), tb.copy(), np.zeros(len(pa), bool), np.zeros(len(pa), bool)
+    for part in (0, 1):
+        c = ((key % 2 == part) & (key < settled[loop])).ravel().nonzero()[0]
         if not len(c):
             continue
-        s, w, ok = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], guess[c], 2.0 * eps,
-                                    1e-6 * eps)
-        got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s, w, ok, owner, first,
-                                                    sizes)
-        if curls is not None and len(got):
-            curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
-        if len(got):
-            x = pc.jet_many(stacked, ia[c[got]], s[got])[0]
-            hits.update(_hit(pa[c[n]], pb[c[n]], s[n], w[n], xn, owner, first)
-                        for n, xn in zip(got, x))
-    return hits
+        x0 = pc.jet_many(stacked, ia[c], ta[c])[0] if guess is None else guess[c]
+        s[c], w[c], ok[c] = newton_crossings(stacked, ia[c], ta[c], ib[c], tb[c], x0,
+                                             2.0 * eps, 1e-6 * eps)
+        done[c] = True
+        valid = c[_valid_rows(pa[c], pb[c], s[c], w[c], ok[c], owner, first, sizes)[1]]
+        np.minimum.at(settled, loop[valid], key[valid])
+    c = (done & (key == settled[loop])).ravel().nonzero()[0]   # each loop's batch part
+    got, valid, (gi, gj, si, wj) = _valid_rows(pa[c], pb[c], s[c], w[c], ok[c], owner, first,
+                                                sizes)
+    if curls is not None and len(got):
+        curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
+    x = pc.jet_many(stacked, ia[c[got]], s[c[got]])[0]
+    return dict(_hit(pa[c[n]], pb[c[n]], s[c[n]], w[c[n]], xn, owner, first)
+                for n, xn in zip(got.tolist(), x))
 
 
 #: Crossing candidates of each loop that :func:`_first_crossings` refines first;
@@ -573,7 +628,14 @@ def remove_folds_many(loops, width):
     applied loop by loop as :func:`remove_folds` says (the cuts of one pass use
     the pieces as the pass found them: a fold whose second piece a later fold's
     cut changed is skipped)."""
+    return _remove_folds(loops, width)[0]
+
+
+def _remove_folds(loops, width):
+    """(:func:`remove_folds_many` of the loops, the set of the indices of those it
+    changed)."""
     out = [list(loop) for loop in loops]
+    changed_any = set()
     left = [{} for _ in out]  # per loop: (id(a), id(b)) -> (a, b) of folds left as they are
     todo = [k for k, loop in enumerate(out) if len(loop) >= 3]
     while todo:
@@ -614,8 +676,9 @@ def remove_folds_many(loops, width):
         for k, loop in zip(changed_loops, _snap_many([out[k] for k in changed_loops],
                                                     5e-7 * width)):
             out[k] = loop
+        changed_any.update(changed_loops)
         todo = [k for k in changed_loops if len(out[k]) >= 3]
-    return out
+    return out, changed_any
 
 
 def _fold_joins_many(loops):

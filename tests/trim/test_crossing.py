@@ -3,9 +3,11 @@
 candidates a plain pair-by-pair subdivision finds."""
 
 import numpy as np
+import pytest
 
 from morph import piece as pc
-from morph.trim.crossing import JOINED, PAIRS, SELF, subdivided_crossings
+from morph.trim.crossing import (JOINED, PAIRS, SELF, first_items, subdivide,
+                                 subdivided_crossings)
 
 
 def _cartesian(h):
@@ -124,6 +126,41 @@ def test_batched_subdivision_finds_what_pair_by_pair_finds():
 
 
 
+def test_parked_items_resumed_give_the_candidates_of_one_run():
+    """crossing.subdivide parks a pair's items at its first level with candidates;
+    the parked items joining a second call at their levels give, pair by pair, the
+    rest of the candidates of one uninterrupted run, at the same levels and in the
+    same order, to the bit (untangle resumes a loop whose first candidates Newton
+    rejects).  The first call gives each pair candidates of one level only."""
+    from morph.polyline import unique
+
+    rng = np.random.default_rng(7)   # cubics crossing where one runs slowly: two levels
+    pieces = []
+    for _ in range(30):
+        a = pc.cubic(*rng.uniform(-10, 10, (4, 2)))
+        pts = rng.uniform(-10, 10, (4, 2))
+        pts[1] = pts[0] + 0.05 * (pts[1] - pts[0])
+        pieces += [a, pc.cubic(*pts)]
+    pairs = np.arange(60).reshape(30, 2)
+    kinds = np.full(30, PAIRS)
+    res, n = 1e-3, len(pairs)
+    whole = subdivide(first_items(pieces, pairs, kinds), n, res)
+    first = subdivide(first_items(pieces, pairs, kinds), n, res,
+                      park=lambda k, s, u, depth: unique(k))
+    empty = first_items(pieces, pairs, kinds).take(np.zeros(0, np.int64))
+    rest = subdivide(empty, n, res, joining=first[5])
+    resumed = 0
+    for k in range(n):
+        want = [(s, u, d) for o, s, u, d in zip(*(whole[i].tolist() for i in (0, 1, 2, 4)))
+                if o == k]
+        got = [[(s, u, d) for o, s, u, d in zip(*(part[i].tolist() for i in (0, 1, 2, 4)))
+                if o == k] for part in (first, rest)]
+        assert got[0] + got[1] == want, k
+        assert len({d for _, _, d in got[0]}) <= 1, k
+        resumed += bool(got[1])
+    assert resumed >= 1 and len(whole[0]) > len(first[0])
+
+
 def _first_crossings_all_at_once(loops, eps):
     """untangle._first_crossings written plainly: every candidate of the whole
     subdivision refined by Newton in one call, then each loop's first crossing in
@@ -164,22 +201,27 @@ def _first_crossings_all_at_once(loops, eps):
     return hits
 
 
-def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once():
-    """untangle._first_crossings refines each level's candidates as they come and stops
-    a loop's search at its first crossing: the crossing it picks for every loop is the
-    one refining all candidates at once picks, to the bit (random cubic loops with
-    curls and crossings, several in one call)."""
-    from morph.trim.untangle import _first_crossings
+@pytest.mark.parametrize("seed, eps, passes", [(5, 1e-3, 1), (14, 0.1, 3), (26, 0.1, 3)])
+def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once(
+        seed, eps, passes, monkeypatch):
+    """untangle._first_crossings ends a loop's subdivision at its first level with
+    candidates, refines them, and resumes the loops none of them is a crossing of:
+    the crossing it picks for every loop is the one refining all candidates at once
+    picks, to the bit (random cubic loops with curls and crossings, several in one
+    call; ``passes`` subdivision passes, the later ones resumed)."""
+    import morph.trim.untangle as ut
 
-    rng = np.random.default_rng(5)
+    rng = np.random.default_rng(seed)
     loops = []
     for _ in range(24):
         n = int(rng.integers(2, 7))
         pts = rng.uniform(-10, 10, (n, 2)) + 40.0 * rng.integers(0, 5, 2)
         loops.append([pc.cubic(pts[k], *rng.uniform(-12, 12, (2, 2)) + pts[k],
                                pts[(k + 1) % n]) for k in range(n)])
-    eps = 1e-3
-    got, want = _first_crossings(loops, eps), _first_crossings_all_at_once(loops, eps)
+    calls = []
+    monkeypatch.setattr(ut, "subdivide", lambda *a, **k: calls.append(1) or subdivide(*a, **k))
+    got, want = ut._first_crossings(loops, eps), _first_crossings_all_at_once(loops, eps)
+    assert len(calls) == passes
     assert len(want) >= 10 and sorted(got) == sorted(want)
     for li, (i, s, j, u, x) in want.items():
         gi, gs, gj, gu, gx = got[li]
