@@ -533,6 +533,36 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
         mo.region_area(minkowski.minkowski_sum(o, g, TOL)), rel=1e-6)
 
 
+def test_the_corner_pass_costs_the_same_calls_for_more_refined_regions(monkeypatch):
+    """Each later round of the corner pass is one convolution of the refined rows
+    and one trimming of the refined regions, however many regions of the packed
+    sum it refines: S + g thrice needs as many rounds as once, each a call of
+    each, the trimming given all three S's pieces."""
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)   # so that S + g needs the pass
+    s, o, g = _region("S"), _region("O"), _region("g")
+    trims, convs = [], []
+    trimmed, convolution = minkowski._trimmed, minkowski.convolution
+
+    def spy_trim(conv, *a):
+        trims.append(len(conv))
+        return trimmed(conv, *a)
+
+    def spy_conv(*a, rows=None, **k):
+        convs.append(None if rows is None else len(rows))
+        return convolution(*a, rows=rows, **k)
+
+    monkeypatch.setattr(minkowski, "_trimmed", spy_trim)
+    monkeypatch.setattr(minkowski, "convolution", spy_conv)
+    minkowski.minkowski_sums([s, o], g, TOL)
+    once_trims, once_convs = trims[:], convs[:]
+    assert len(once_trims) >= 2 and once_convs[0] is None
+    del trims[:], convs[:]
+    minkowski.minkowski_sums([s, o, s, s], g, TOL)
+    assert len(trims) == len(once_trims) and len(convs) == len(once_convs)
+    assert trims[1:] == [3 * n for n in once_trims[1:]]       # S's pieces, thrice
+    assert convs[1:] == [3 * n for n in once_convs[1:]]       # S's rows, thrice
+
+
 def test_sums_fall_back_to_one_by_one_beyond_the_precision(glyphs, monkeypatch):
     regions = [glyphs["O"], glyphs["T"]]
     monkeypatch.setattr(minkowski, "fits_precision", lambda tol, *r: False)
