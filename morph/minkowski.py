@@ -17,7 +17,7 @@ from .operands import check_operand, check_operands
 from .packing import Packing, control_box
 from .polyline import member, unique
 from .region import validated
-from .tips import corner_turns
+from .tips import corner_turns, local_bounds
 from .trim import boundary
 from .trim.holes import Membership, control_boxes, points_deep_enough
 
@@ -361,10 +361,27 @@ def _tip_tolerances(out, conv, tol):
                             np.searchsorted(at, corner[sel]), piece[sel], conv, tol)
         want[at] = CONV_SHARE * tol * TIP_MARGIN * np.maximum(turn, TIP_FLOOR)
         hit = bounds[piece] > want[corner]
+    if hit.any():   # their error along their parts at the corner
+        k = np.flatnonzero(hit)
+        reach = _local_reach(corner, bounds[piece], want / (CONV_SHARE * tol), tol)
+        hit[k] = local_bounds(conv, pts[sharp], reach, corner[k], piece[k]) > want[corner[k]]
     rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
     return dict(zip(rows.tolist(), finer.tolist()))
+
+
+def _local_reach(corner, bounds, cos_half, tol):
+    """The reach of each corner for :func:`morph.tips.local_bounds`: the part of a
+    piece that can decide where the corner is.  With e the largest ``bounds`` of the
+    (corner, piece) pairs ``corner`` and the corner's ``cos_half`` (turns as the
+    corner pass counts them, TIP_MARGIN and TIP_FLOOR applied), the exact corner is
+    within e / cos_half of the junction and the pieces' points matched to the exact
+    curves' there within e more; at least TIP_REACH tol (the pieces through the
+    corner)."""
+    worst = np.zeros(len(cos_half))
+    np.maximum.at(worst, corner, bounds)
+    return np.maximum(TIP_REACH * tol, worst / cos_half + worst)
 
 
 def _corners_near(pts, boxes, reach):
@@ -438,6 +455,13 @@ def _tip_error(pts, cos_half, near, bounds, pieces, conv, tol):
         corner, col = np.nonzero(near[big])
         cos_half = cos_half.copy()
         cos_half[big] = corner_turns(pts[big], cos_half[big], corner, pieces[col], conv, tol)
+        # the pieces' error along their parts at the corner (tips.local_bounds)
+        floor = np.maximum(cos_half[big], TIP_FLOOR)
+        reach = _local_reach(corner, bounds[col], TIP_MARGIN * floor, tol)
+        local = np.zeros(len(big))
+        np.maximum.at(local, corner, local_bounds(conv, pts[big], reach, corner, pieces[col]))
+        worst = worst.copy()
+        worst[big] = local
     return float(np.max(worst / np.maximum(cos_half, TIP_FLOOR)))
 
 

@@ -123,14 +123,32 @@ def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
 
 
 def test_crossings_keep_their_own_turn(monkeypatch):
-    """At tol 0.5 the sharp junctions the rule refines are crossings of their pieces:
-    their turns are kept and the corner pass trims again."""
+    """At tol 0.5 the sharp junctions the rule looks at (in six and nine) are
+    crossings of their pieces: their turns are kept.  Their pieces' bounds are
+    above the corner's budget, their error along the parts there is not
+    (morph.tips.local_bounds): the glyphs are trimmed once and within tol of the
+    Clipper reference (which fails on them moved by 2 tol)."""
     tol = 0.5
-    _, _, calls, trims, _ = _stroked(monkeypatch, tol)
-    assert calls and trims == 2
+    sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
+    assert calls and trims == 1
+    junctions = []
     for own, got, pts, corner, piece, conv in calls:
         assert (_off_pieces(pts, corner, piece, conv) <= tips.ON_PIECE * tol).all()
         np.testing.assert_array_equal(got, own)
+        want = mk.CONV_SHARE * tol * mk.TIP_MARGIN * got[corner]
+        assert (conv.bound[piece] > want).any()
+        reach = np.full(len(pts), tol)
+        assert (tips.local_bounds(conv, pts, reach, corner, piece) <= want).all()
+        junctions += pts.tolist()
+    glyphs = sorted(set(layout.slot_of(np.array(junctions)).tolist()))
+    assert [NAMES[k] for k in glyphs] == ["six", "nine"]
+    flat = tol / 20
+    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
+    for k in glyphs:
+        ref = _reference(sets[k], flat)
+        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
+        moved = _drawn(out[k], flat, (2 * tol, 0.0))
+        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
 
 
 @pytest.mark.parametrize("shift", [0.0, 3.0])
