@@ -7,8 +7,8 @@ second and later trimming rounds, :func:`morph.minkowski._tip_tolerances`).
 ``bench/relief_profile.py`` strokes it (one chunk of its 62 glyphs, N times over
 when ``xN`` is given; NIB ``broad``, the default, or ``round``; the geometry share
 of ``plan(TOL)``): the glyphs whose corners are refined are named, and ``xN`` shows
-whether a later round's calls grow with the glyphs of a chunk; ``stroke:SET``: ``morph stroke`` of a set of
-``bench/stroke_profile.py`` (``--jobs 1``).  Per run: the sums, the first trimming
+whether a later round's calls grow with the glyphs of a chunk; ``stroke:SET``:
+``morph stroke`` of a set of ``bench/stroke_profile.py`` (``--jobs 1``).  Per run: the sums, the first trimming
 round's pieces and Python calls, the rounds the corner pass adds (rows
 approximated again, packed slots trimmed again with their pieces and loops), the
 Python calls and CPU of those rounds' convolution and trimming, and for every

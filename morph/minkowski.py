@@ -46,7 +46,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     feature thinner than 0.9 tol (twice the flattening and grid shares) may merge
     with its side.
     At a corner where the boundary turns by phi (the tip of a wedge: phi near
-    pi), the junction of two pieces within e of their curves can lie
+    pi), the junction of two pieces within e of their curves there (their parts
+    near the corner, :func:`morph.tips.local_bounds`) can lie
     e / cos(phi / 2) from the exact corner (phi of the pieces' corner a junction
     stands for, :func:`morph.tips.corner_turns`: a junction the trimming left on
     its grid point takes the turn of the pieces' crossing next to it): the pairs
@@ -340,8 +341,10 @@ def _tip_tolerances(out, conv, tol):
     of them).  phi of a junction with such pieces is that of the corner of the pieces
     it stands for (:func:`morph.tips.corner_turns`: its own where it is a crossing
     of two of them; where the trimming left it off them, on its grid point, that of
-    their sharpest crossing within TIP_REACH tol).  Returns {table row: tolerance}
-    for the pairs to approximate again.
+    their sharpest crossing within TIP_REACH tol).  e of a piece whose bound is above
+    that is its certified error along its part that can decide where the corner is
+    (:func:`morph.tips.local_bounds`, :func:`_local_reach`).  Returns {table row:
+    tolerance} for the pairs to approximate again.
     """
     bounds = conv.bound
     worst = float(bounds.max(initial=0.0))
@@ -405,7 +408,7 @@ def _achieved_bound(out, conv, tol, method):
     convolution's, plus the largest convolution error e where the boundary is
     smooth and e / cos(phi / 2) at a junction turning by phi (cos(phi / 2) at
     least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
-    pieces through it.  Only QAC bounds are a-priori bounds: for the other methods
+    pieces through it (along their parts there, as the corner pass counts it).  Only QAC bounds are a-priori bounds: for the other methods
     it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
     return float(_achieved_bounds(out, conv, tol, method)[0])
 
@@ -448,7 +451,8 @@ def _tip_error(pts, cos_half, near, bounds, pieces, conv, tol):
     largest bound of the pieces ``near`` each ((j, k) bools over ``pieces``, indices
     into ``conv``, with those ``bounds``); where that is above the corner pass's
     budget, phi is the turn of the corner the junction stands for
-    (:func:`morph.tips.corner_turns`), as the corner pass counts it."""
+    (:func:`morph.tips.corner_turns`) and e the pieces' error along their parts at
+    the corner (:func:`morph.tips.local_bounds`), as the corner pass counts them."""
     worst = np.where(near, bounds, -np.inf).max(axis=1)
     big = np.flatnonzero(worst / np.maximum(cos_half, TIP_FLOOR) > CONV_SHARE * tol)
     if len(big):

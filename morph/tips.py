@@ -1,5 +1,6 @@
 """The turn of the corner a junction of a trimmed sum stands for
-(:func:`corner_turns`), for the corner pass of :mod:`morph.minkowski`.
+(:func:`corner_turns`) and the error of the pieces along their parts there
+(:func:`local_bounds`), for the corner pass of :mod:`morph.minkowski`.
 
 The corner pass bounds the error at a corner of the boundary of what the
 convolution pieces fill (the trimmed approximations) by e / cos(phi / 2), phi the
@@ -18,6 +19,12 @@ are: the crossings of the near pieces within TIP_REACH tol of the junction, on
 polylines of the pieces' parts there (within FLAT_TIP tol, crossings at their
 joints not counted: a joint is an exact point of both curves); the sharpest one's
 turn is the junction's.  Where none is found the junction keeps its own turn.
+
+e there is the error of the pieces along their parts near the junction, not
+along the whole pieces: a QAC piece's error is 0 at its ends and peaks inside, and
+the corners of a sum (where two pieces cross) are often near a piece's end, so
+the part's certified bound is often a small fraction of the piece's and the pair
+needs no finer approximation (and the sum no second trimming).
 """
 
 import numpy as np
