@@ -96,6 +96,18 @@ def _drawn(loops, flat, shift=(0.0, 0.0)):
     return shapely.unary_union(outer).difference(shapely.unary_union(holes))
 
 
+def _within_reference(sets, out, glyphs, tol):
+    """The glyphs ``glyphs`` of ``out`` are within tol of the Clipper reference, and
+    the check fails on them moved by 2 tol."""
+    flat = tol / 20
+    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
+    for k in glyphs:
+        ref = _reference(sets[k], flat)
+        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
+        moved = _drawn(out[k], flat, (2 * tol, 0.0))
+        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
+
+
 def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
     tol = 1.0
     sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
@@ -112,14 +124,7 @@ def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
     assert len(spikes) == 3
     glyphs = sorted(set(layout.slot_of(np.array(spikes)).tolist()))
     assert [NAMES[k] for k in glyphs] == ["d", "q", "three"]
-    flat = tol / 20
-    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
-    for k in glyphs:
-        ref = _reference(sets[k], flat)
-        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
-        # the check fails on the glyph moved by 2 tol
-        moved = _drawn(out[k], flat, (2 * tol, 0.0))
-        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
+    _within_reference(sets, out, glyphs, tol)
 
 
 def test_crossings_keep_their_own_turn(monkeypatch):
@@ -142,13 +147,7 @@ def test_crossings_keep_their_own_turn(monkeypatch):
         junctions += pts.tolist()
     glyphs = sorted(set(layout.slot_of(np.array(junctions)).tolist()))
     assert [NAMES[k] for k in glyphs] == ["six", "nine"]
-    flat = tol / 20
-    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
-    for k in glyphs:
-        ref = _reference(sets[k], flat)
-        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
-        moved = _drawn(out[k], flat, (2 * tol, 0.0))
-        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
+    _within_reference(sets, out, glyphs, tol)
 
 
 @pytest.mark.parametrize("shift", [0.0, 3.0])
