@@ -1,12 +1,14 @@
 """What the corner pass of a sum touches and costs (:func:`morph.minkowski._sum`'s
 second and later trimming rounds, :func:`morph.minkowski._tip_tolerances`).
 
-    python -m bench.corner_pass [relief:4 relief:0.5 stroke:hershey-sans ...]
+    python -m bench.corner_pass [relief:4 relief:0.5:round relief:2:x4 stroke:hershey-sans ...]
 
-``relief:TOL``: the Relief SingleLine subset stroked as ``bench/relief_profile.py``
-strokes it (one chunk of 62 glyphs, the broad nib, the geometry share of
-``plan(TOL)``); ``stroke:SET``: ``morph stroke`` of a set of
-``bench/stroke_profile.py`` (``--jobs 1``).  Per run: the sums, the first trimming
+``relief:TOL[:NIB][:xN]``: the Relief SingleLine subset stroked as
+``bench/relief_profile.py`` strokes it (one chunk of its 62 glyphs, N times over
+when ``xN`` is given; NIB ``broad``, the default, or ``round``; the geometry share
+of ``plan(TOL)``): the glyphs whose corners are refined are named, and ``xN`` shows
+whether a later round's calls grow with the glyphs of a chunk; ``stroke:SET``:
+``morph stroke`` of a set of ``bench/stroke_profile.py`` (``--jobs 1``).  Per run: the sums, the first trimming
 round's pieces and Python calls, the rounds the corner pass adds (rows
 approximated again, packed slots trimmed again with their pieces and loops), the
 Python calls and CPU of those rounds' convolution and trimming, and for every
@@ -54,10 +56,11 @@ def install(stats, tips):
     import morph.minkowski as mk
 
     sum_, trimmed, rule, conv = mk._sum, mk._trimmed, mk._tip_tolerances, mk.convolution
-    state = {"round": 0}
+    state = {"round": 0, "slot_of": None}
 
     def w_sum(*a, **k):
         state["round"] = 0
+        state["slot_of"] = k.get("slot_of", a[5] if len(a) > 5 else None)
         stats["sums"] += 1
         return sum_(*a, **k)
 
@@ -78,6 +81,9 @@ def install(stats, tips):
         if finer:
             tips.extend(_refined_junctions(out, part, tol))
             stats["rows refined"] += len(finer)
+            if state["slot_of"] is not None:
+                stats.setdefault("refined slots", set()).update(
+                    _refined_slots(part, finer, state["slot_of"]))
         return finer
 
     def w_conv(*a, **k):
@@ -89,6 +95,17 @@ def install(stats, tips):
         return out
 
     mk._sum, mk._trimmed, mk._tip_tolerances, mk.convolution = w_sum, w_trimmed, w_rule, w_conv
+
+
+def _refined_slots(conv, finer, slot_of):
+    """The packed slots (regions of a packed sum) of the pieces of the rows ``finer``
+    refines."""
+    import numpy as np
+
+    from morph import piece as pc
+
+    k = np.flatnonzero(np.isin(conv.row, sorted(finer)))
+    return np.unique(slot_of(pc.end_points(conv.pieces.take(k))[0])).tolist()
 
 
 def _refined_junctions(out, conv, tol):
@@ -128,10 +145,19 @@ def run(what, stats, tips):
     stats.clear()
     del tips[:]
     if what.startswith("relief:"):
-        from bench.relief_profile import _inputs, _pass
+        from bench.relief_profile import SUBSET, _inputs, _pass
+        from morph.fonts.brush import parse_glyph_spec
+        from morph.parse.ufo import glyph_names_for, load_ufo
 
-        sets, nib = _inputs("broad")
-        _pass(sets, nib, float(what.split(":")[1]))
+        tol, *opts = what.split(":")[1:]
+        copies = int(next((o[1:] for o in opts if o.startswith("x")), 1))
+        sets, nib = _inputs(next((o for o in opts if not o.startswith("x")), "broad"))
+        _pass(sets * copies, nib, float(tol))
+        names = glyph_names_for(load_ufo(SUBSET, lazy=False), parse_glyph_spec("A-Z,a-z,0-9"))
+        slots = stats.pop("refined slots", ())
+        if slots:
+            stats["refined glyphs (slots)"] = " ".join(
+                "%s(%d)" % (names[k % len(sets)], k) for k in sorted(slots))
     else:
         import morph.cli as cli
         from bench.stroke_profile import run_args
@@ -150,6 +176,7 @@ def main(argv=None):
         print("%s:" % what)
         for k in sorted(stats):
             v = stats[k]
+            v = " ".join(map(str, sorted(v))) if isinstance(v, set) else v
             print("  %-34s %s" % (k, ("%.1f" % v) if isinstance(v, float) else v))
         for c, apriori, off, tol in tips:
             print("  refined junction: cos(phi/2) %.3f, e/cos %.3f tol, %.2g tol off the "

@@ -362,17 +362,22 @@ class ConvPieces:
     """Convolution pieces held as arrays, one row per piece: ``pieces`` a
     :class:`morph.piece.Pieces` (one stack per degree), ``bound`` (n,), ``kind``
     (n,) names (object array), ``type`` (n,) ints, ``row`` (n,) the pair's row in the
-    table of compatible pairs, ``source`` (n, 4) (loop in A, edge, loop in B, edge).
+    table of compatible pairs, ``source`` (n, 4) (loop in A, edge, loop in B, edge),
+    ``qac`` (c2, q2) or None: of each QAC piece C1(t) + Q2(s(t)) the sub-piece C2
+    that Q2 replaces (a :class:`morph.piece.Pieces`) and Q2 ((n, 3, 2); NaN rows for
+    the other pieces), whose distance along a part of the piece bounds the part's
+    error (:func:`morph.tips.local_bounds`).
     A chunk of a font's convolution is tens of thousands of pieces: a sum keeps them
     packed from the convolution through chaining (:func:`chain` takes ``pieces``)
     and the corner pass, and makes no object per piece.  To read them one by one it
     is a sequence of :class:`ConvPiece` (made on first use)."""
 
-    __slots__ = ("pieces", "bound", "kind", "type", "row", "source", "_objects")
+    __slots__ = ("pieces", "bound", "kind", "type", "row", "source", "qac", "_objects")
 
-    def __init__(self, pieces, bound, kind, type_, row, source):
+    def __init__(self, pieces, bound, kind, type_, row, source, qac=None):
         self.pieces, self.bound, self.kind = pieces, bound, kind
         self.type, self.row, self.source = type_, row, source
+        self.qac = qac
         self._objects = None
 
     def __len__(self):
@@ -397,8 +402,9 @@ class ConvPieces:
         taken = self.pieces.take(idx)
         # the stacks in the order of their first piece, as a list's stacks are
         taken = pc.Pieces(sorted(taken.groups, key=lambda g: g[0][0]), len(taken))
+        qac = None if self.qac is None else (self.qac[0].take(idx), self.qac[1][idx])
         return ConvPieces(taken, self.bound[idx], self.kind[idx], self.type[idx],
-                          self.row[idx], self.source[idx])
+                          self.row[idx], self.source[idx], qac)
 
     @staticmethod
     def concat(parts):
@@ -408,9 +414,13 @@ class ConvPieces:
             return ConvPieces.empty()
         if len(parts) == 1:
             return parts[0]
+        qac = None
+        if all(p.qac is not None for p in parts):
+            qac = (_concat_pieces([p.qac[0] for p in parts]),
+                   np.concatenate([p.qac[1] for p in parts]))
         return ConvPieces(_concat_pieces([p.pieces for p in parts]),
                           *(np.concatenate([getattr(p, f) for p in parts])
-                            for f in ("bound", "kind", "type", "row", "source")))
+                            for f in ("bound", "kind", "type", "row", "source")), qac)
 
     def objects(self):
         """The pieces as a list of :class:`ConvPiece` (made once)."""
@@ -449,19 +459,24 @@ class _Produced:
         self.parts = []
         self.count = 0
 
-    def add(self, pos, key, stack, bound, kind, seq=None):
+    def add(self, pos, key, stack, bound, kind, seq=None, qac=None):
         """Pieces ``stack`` (one degree); ``seq``: their ranks among the pieces
         produced since ``count`` (None: in the order given), ``count`` then moves on
-        (by ``len(stack)``; the caller sets it past a batch given in parts)."""
+        (by ``len(stack)``; the caller sets it past a batch given in parts).
+        ``qac``: (c2 stack, q2) of the pieces (:class:`ConvPieces`), None for pieces
+        that are no QAC pieces."""
         n = len(stack)
         seq = self.count + (np.arange(n) if seq is None else np.asarray(seq, np.int64))
         self.count += n
         if n:
+            if qac is None:   # a line for C2, no Q2
+                qac = (np.broadcast_to([[0.0, 0.0, 1.0]], (n, 2, 3)), np.full((n, 3, 2), np.nan))
             self.parts.append((np.asarray(pos, np.int64),
                                np.broadcast_to(np.asarray(key, float), (n,)),
                                np.asarray(stack, float),
                                np.broadcast_to(np.asarray(bound, float), (n,)),
-                               np.broadcast_to(np.asarray(kind, object), (n,)), seq))
+                               np.broadcast_to(np.asarray(kind, object), (n,)), seq,
+                               np.asarray(qac[0], float), np.asarray(qac[1], float)))
 
     def packed(self):
         """:class:`ConvPieces` in order, ``row`` the pair positions."""
@@ -475,8 +490,10 @@ class _Produced:
         pieces = _placed(self.parts, where, start)
         bound = np.concatenate([p[3] for p in self.parts])[order]
         kind = np.concatenate([p[4] for p in self.parts])[order]
+        qac = (_placed([(None, None, p[6]) for p in self.parts], where, start),
+               np.concatenate([p[7] for p in self.parts])[order])
         return ConvPieces(pieces, bound, kind, np.zeros(len(order), int), pos[order],
-                          np.zeros((len(order), 4), int))
+                          np.zeros((len(order), 4), int), qac)
 
 
 def _placed(parts, where, start):
@@ -639,12 +656,25 @@ def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         forward = done["sb"] > 0
         base = out.count
+        c2, q2 = _replaced(done)
         for ks, st in pc.degree_groups(pieces):
             st = np.where(forward[ks][:, None, None], st, st[:, ::-1])
             out.count = base
             out.add(done["pos"][ks], key[ks], st, np.asarray(bounds, float)[ks],
-                    names[done["kind"][ks]], seq=ks)
+                    names[done["kind"][ks]], seq=ks, qac=(c2[ks], q2[ks]))
         out.count = base + len(pieces)
+
+
+def _replaced(done):
+    """(C2 (k, n+1, 3), Q2 (k, 3, 2)) of accepted nodes: the sub-piece QAC replaced
+    by a quadratic and that quadratic (:func:`morph.qac.bound_nodes`' role), both
+    sides' pieces elevated to one degree; Q2 NaN for the nodes of other kinds."""
+    ca, cb = done["ca"], done["cb"]
+    n = max(ca.shape[1], cb.shape[1])
+    ca, cb = bz.elevate_many(ca, n - ca.shape[1]), bz.elevate_many(cb, n - cb.shape[1])
+    c2 = np.where(done["swap"][:, None, None], ca, cb)
+    q2 = np.where((done["kind"] == qac.QAC)[:, None, None], done["q2"], np.nan)
+    return c2, q2
 
 
 # ------------------------------------------------------------------ whole loops

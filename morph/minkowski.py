@@ -17,7 +17,7 @@ from .operands import check_operand, check_operands
 from .packing import Packing, control_box
 from .polyline import member, unique
 from .region import validated
-from .tips import corner_turns
+from .tips import corner_turns, local_bounds
 from .trim import boundary
 from .trim.holes import Membership, control_boxes, points_deep_enough
 
@@ -46,7 +46,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     feature thinner than 0.9 tol (twice the flattening and grid shares) may merge
     with its side.
     At a corner where the boundary turns by phi (the tip of a wedge: phi near
-    pi), the junction of two pieces within e of their curves can lie
+    pi), the junction of two pieces within e of their curves there (their parts
+    near the corner, :func:`morph.tips.local_bounds`) can lie
     e / cos(phi / 2) from the exact corner (phi of the pieces' corner a junction
     stands for, :func:`morph.tips.corner_turns`: a junction the trimming left on
     its grid point takes the turn of the pieces' crossing next to it): the pairs
@@ -340,8 +341,10 @@ def _tip_tolerances(out, conv, tol):
     of them).  phi of a junction with such pieces is that of the corner of the pieces
     it stands for (:func:`morph.tips.corner_turns`: its own where it is a crossing
     of two of them; where the trimming left it off them, on its grid point, that of
-    their sharpest crossing within TIP_REACH tol).  Returns {table row: tolerance}
-    for the pairs to approximate again.
+    their sharpest crossing within TIP_REACH tol).  e of a piece whose bound is above
+    that is its certified error along its part that can decide where the corner is
+    (:func:`morph.tips.local_bounds`, :func:`_local_reach`).  Returns {table row:
+    tolerance} for the pairs to approximate again.
     """
     bounds = conv.bound
     worst = float(bounds.max(initial=0.0))
@@ -361,10 +364,27 @@ def _tip_tolerances(out, conv, tol):
                             np.searchsorted(at, corner[sel]), piece[sel], conv, tol)
         want[at] = CONV_SHARE * tol * TIP_MARGIN * np.maximum(turn, TIP_FLOOR)
         hit = bounds[piece] > want[corner]
+    if hit.any():   # their error along their parts at the corner
+        k = np.flatnonzero(hit)
+        reach = _local_reach(corner, bounds[piece], want / (CONV_SHARE * tol), tol)
+        hit[k] = local_bounds(conv, pts[sharp], reach, corner[k], piece[k]) > want[corner[k]]
     rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
     return dict(zip(rows.tolist(), finer.tolist()))
+
+
+def _local_reach(corner, bounds, cos_half, tol):
+    """The reach of each corner for :func:`morph.tips.local_bounds`: the part of a
+    piece that can decide where the corner is.  With e the largest ``bounds`` of the
+    (corner, piece) pairs ``corner`` and the corner's ``cos_half`` (turns as the
+    corner pass counts them, TIP_MARGIN and TIP_FLOOR applied), the exact corner is
+    within e / cos_half of the junction and the pieces' points matched to the exact
+    curves' there within e more; at least TIP_REACH tol (the pieces through the
+    corner)."""
+    worst = np.zeros(len(cos_half))
+    np.maximum.at(worst, corner, bounds)
+    return np.maximum(TIP_REACH * tol, worst / cos_half + worst)
 
 
 def _corners_near(pts, boxes, reach):
@@ -388,7 +408,7 @@ def _achieved_bound(out, conv, tol, method):
     convolution's, plus the largest convolution error e where the boundary is
     smooth and e / cos(phi / 2) at a junction turning by phi (cos(phi / 2) at
     least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
-    pieces through it.  Only QAC bounds are a-priori bounds: for the other methods
+    pieces through it (along their parts there, as the corner pass counts it).  Only QAC bounds are a-priori bounds: for the other methods
     it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
     return float(_achieved_bounds(out, conv, tol, method)[0])
 
@@ -431,13 +451,21 @@ def _tip_error(pts, cos_half, near, bounds, pieces, conv, tol):
     largest bound of the pieces ``near`` each ((j, k) bools over ``pieces``, indices
     into ``conv``, with those ``bounds``); where that is above the corner pass's
     budget, phi is the turn of the corner the junction stands for
-    (:func:`morph.tips.corner_turns`), as the corner pass counts it."""
+    (:func:`morph.tips.corner_turns`) and e the pieces' error along their parts at
+    the corner (:func:`morph.tips.local_bounds`), as the corner pass counts them."""
     worst = np.where(near, bounds, -np.inf).max(axis=1)
     big = np.flatnonzero(worst / np.maximum(cos_half, TIP_FLOOR) > CONV_SHARE * tol)
     if len(big):
         corner, col = np.nonzero(near[big])
         cos_half = cos_half.copy()
         cos_half[big] = corner_turns(pts[big], cos_half[big], corner, pieces[col], conv, tol)
+        # the pieces' error along their parts at the corner (tips.local_bounds)
+        floor = np.maximum(cos_half[big], TIP_FLOOR)
+        reach = _local_reach(corner, bounds[col], TIP_MARGIN * floor, tol)
+        local = np.zeros(len(big))
+        np.maximum.at(local, corner, local_bounds(conv, pts[big], reach, corner, pieces[col]))
+        worst = worst.copy()
+        worst[big] = local
     return float(np.max(worst / np.maximum(cos_half, TIP_FLOOR)))
 
 

@@ -46,7 +46,11 @@ def _one_by_one(out, conv, tol):
     return finer
 
 
-def _check(out, conv, tol):
+def _check(out, conv, tol, monkeypatch):
+    # the rule on the pieces' whole bounds (their bounds along the parts at the
+    # corners, morph.tips.local_bounds, are tested in test_minkowski.py)
+    monkeypatch.setattr(mk, "local_bounds", lambda conv, pts, reach, corner, piece:
+                        conv.bound[piece])
     got = mk._tip_tolerances(out, conv, tol)
     want = _one_by_one(out, conv, tol)
     assert want                                   # a case with pairs to refine
@@ -63,7 +67,7 @@ def test_tip_tolerances_match_junction_by_junction(monkeypatch):
     monkeypatch.setattr(mk, "TIP_ROUNDS", 0)      # the first round's corners, unrefined
     monkeypatch.setattr(mk, "FIRST_SHARE", 1.0)
     out, dbg = mk.minkowski_sum_debug(ra, rb, TOL)
-    _check(out, dbg["convolution"], TOL)
+    _check(out, dbg["convolution"], TOL, monkeypatch)
 
 
 def test_tip_tolerances_of_packed_strokes(monkeypatch):
@@ -87,4 +91,4 @@ def test_tip_tolerances_of_packed_strokes(monkeypatch):
     monkeypatch.setattr(mk, "FIRST_SHARE", 1.0)
     stroke_many([decomposed_paths(font, n) for n in "aksxyzAKMWN"],
                 ellipse_nib(90.0, 20.0, 30.0), 0.2)
-    _check(*calls[0])
+    _check(*calls[0], monkeypatch)

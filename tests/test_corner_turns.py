@@ -96,6 +96,18 @@ def _drawn(loops, flat, shift=(0.0, 0.0)):
     return shapely.unary_union(outer).difference(shapely.unary_union(holes))
 
 
+def _within_reference(sets, out, glyphs, tol):
+    """The glyphs ``glyphs`` of ``out`` are within tol of the Clipper reference, and
+    the check fails on them moved by 2 tol."""
+    flat = tol / 20
+    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
+    for k in glyphs:
+        ref = _reference(sets[k], flat)
+        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
+        moved = _drawn(out[k], flat, (2 * tol, 0.0))
+        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
+
+
 def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
     tol = 1.0
     sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
@@ -112,25 +124,30 @@ def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
     assert len(spikes) == 3
     glyphs = sorted(set(layout.slot_of(np.array(spikes)).tolist()))
     assert [NAMES[k] for k in glyphs] == ["d", "q", "three"]
-    flat = tol / 20
-    bound = tol + 3 * flat          # the reference's flattening, twice, and ours
-    for k in glyphs:
-        ref = _reference(sets[k], flat)
-        assert _drawn(out[k], flat).boundary.hausdorff_distance(ref.boundary) <= bound
-        # the check fails on the glyph moved by 2 tol
-        moved = _drawn(out[k], flat, (2 * tol, 0.0))
-        assert moved.boundary.hausdorff_distance(ref.boundary) > bound
+    _within_reference(sets, out, glyphs, tol)
 
 
 def test_crossings_keep_their_own_turn(monkeypatch):
-    """At tol 0.5 the sharp junctions the rule refines are crossings of their pieces:
-    their turns are kept and the corner pass trims again."""
+    """At tol 0.5 the sharp junctions the rule looks at (in six and nine) are
+    crossings of their pieces: their turns are kept.  Their pieces' bounds are
+    above the corner's budget, their error along the parts there is not
+    (morph.tips.local_bounds): the glyphs are trimmed once and within tol of the
+    Clipper reference (which fails on them moved by 2 tol)."""
     tol = 0.5
-    _, _, calls, trims, _ = _stroked(monkeypatch, tol)
-    assert calls and trims == 2
+    sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
+    assert calls and trims == 1
+    junctions = []
     for own, got, pts, corner, piece, conv in calls:
         assert (_off_pieces(pts, corner, piece, conv) <= tips.ON_PIECE * tol).all()
         np.testing.assert_array_equal(got, own)
+        want = mk.CONV_SHARE * tol * mk.TIP_MARGIN * got[corner]
+        assert (conv.bound[piece] > want).any()
+        reach = np.full(len(pts), tol)
+        assert (tips.local_bounds(conv, pts, reach, corner, piece) <= want).all()
+        junctions += pts.tolist()
+    glyphs = sorted(set(layout.slot_of(np.array(junctions)).tolist()))
+    assert [NAMES[k] for k in glyphs] == ["six", "nine"]
+    _within_reference(sets, out, glyphs, tol)
 
 
 @pytest.mark.parametrize("shift", [0.0, 3.0])

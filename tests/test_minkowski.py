@@ -263,26 +263,80 @@ def _corners(loops):
     return np.array(pts), np.array(cos_half)
 
 
+def _whole_bounds(monkeypatch):
+    """The corner pass on the pieces' whole bounds, not along their parts at the
+    corners (morph.tips.local_bounds): S + g at FIRST_SHARE = 1 then needs a
+    refinement round, whose machinery the tests below exercise."""
+    monkeypatch.setattr(minkowski, "local_bounds", lambda conv, pts, reach, corner, piece:
+                        conv.bound[piece])
+
+
+def _own_curve(fine, boxes, row, x, reach):
+    """Segments (p, q) of pair ``row``'s convolution curve within 1e-6 TOL (``fine``,
+    QAC, ``boxes`` its pieces' boxes) near ``x``: its pieces whose boxes come within
+    ``reach``, on 20001 samples."""
+    k = np.flatnonzero((fine.row == row) & (boxes[:, 0] - reach <= x[0])
+                       & (x[0] <= boxes[:, 2] + reach) & (boxes[:, 1] - reach <= x[1])
+                       & (x[1] <= boxes[:, 3] + reach))
+    pts = [pc.evaluate(p, np.linspace(0.0, 1.0, 20001)) for p in fine.pieces.take(k).rows()]
+    return np.concatenate([p[:-1] for p in pts]), np.concatenate([p[1:] for p in pts])
+
+
+def _to_segments(x, segs):
+    """Distance of each point x (m, 2) to the nearest of the segments (p, q)."""
+    p, q = segs
+    d = q - p
+    u = np.clip(np.einsum("mkc,kc->mk", x[:, None] - p, d) / np.einsum("kc,kc->k", d, d),
+                0.0, 1.0)
+    return np.hypot(*np.moveaxis(p + u[..., None] * d - x[:, None], 2, 0)).min(axis=1)
+
+
+def _near_parts(conv, boxes, x, reach):
+    """[(row, points (m, 2), unit normals (m, 2))] of the pieces of ``conv`` (their
+    ``boxes``) within ``reach`` of ``x``, on 20001 samples each."""
+    out = []
+    t = np.linspace(0.0, 1.0, 20001)
+    k = np.flatnonzero((boxes[:, 0] - reach <= x[0]) & (x[0] <= boxes[:, 2] + reach)
+                       & (boxes[:, 1] - reach <= x[1]) & (x[1] <= boxes[:, 3] + reach))
+    for row, piece in zip(conv.row[k].tolist(), conv.pieces.take(k).rows()):
+        pts = pc.evaluate(piece, t)
+        near = np.flatnonzero(np.hypot(*(pts - x).T) <= reach)
+        if len(near):
+            d = np.gradient(pts, axis=0)[near]
+            n = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.hypot(*d.T)[:, None]
+            out.append((row, pts[near], n))
+    return out
+
+
 @pytest.mark.parametrize("first", [minkowski.FIRST_SHARE, 1.0])
 @pytest.mark.parametrize("a, b", [("S", "g"), ("e", "s"), ("B", "8")])
 def test_pieces_through_sharp_corners_fit_the_budget(a, b, first, monkeypatch):
     """With the tighter first round and with a first round at the whole budget
-    (FIRST_SHARE = 1: the corner pass alone refines the pairs)."""
+    (FIRST_SHARE = 1: the corner pass alone decides): at each corner (turning by
+    phi), every point of the pieces within 0.3 tol is within
+    budget * cos(phi / 2) of its pair's exact convolution curve (the QAC curve
+    within 1e-6 tol), so that the junction is within the budget of the exact
+    corner; the check fails on the points moved by twice that along their normal."""
     monkeypatch.setattr(minkowski, "FIRST_SHARE", first)
     ra, rb = _region(a), _region(b)
     out, dbg = minkowski.minkowski_sum_debug(ra, rb, TOL)
-    conv = dbg["convolution"]
-    samples = [pc.evaluate(c.piece, np.linspace(0.0, 1.0, 4001)) for c in conv]
+    fine = minkowski.convolution(ra, rb, 1e-6 * TOL)
+    boxes, fine_boxes = pc.bboxes(dbg["convolution"].pieces), pc.bboxes(fine.pieces)
     pts, cos_half = _corners(out)
     budget = minkowski.CONV_SHARE * TOL
     checked = 0
     for x, c in zip(pts, cos_half):
-        for piece, s in zip(conv, samples):
-            if np.hypot(*(s - x).T).min() <= 0.3 * TOL:
-                assert piece.bound <= budget * max(c, minkowski.TIP_FLOOR) * (1 + 1e-9), (
-                    "piece of bound %.3g tol through a corner of cos(phi/2) = %.3f at %s"
-                    % (piece.bound / TOL, c, x))
-                checked += c < 1 - 1e-6
+        if c > 1.0 - 1e-6:
+            continue
+        allowed = budget * max(c, minkowski.TIP_FLOOR)
+        for row, near, normal in _near_parts(dbg["convolution"], boxes, x, 0.3 * TOL):
+            exact = _own_curve(fine, fine_boxes, row, x, TOL)
+            err = _to_segments(near, exact).max()
+            assert err <= allowed, ("a piece %.3g tol off its exact curve at a corner of "
+                                    "cos(phi/2) = %.3f at %s" % (err / TOL, c, x))
+            moved = near + 2.0 * allowed * normal
+            assert _to_segments(moved, exact).max() > allowed
+            checked += 1
     assert checked > 0
 
 
@@ -292,6 +346,7 @@ def test_s_plus_g_needed_the_second_pass(monkeypatch):
     ra, rb = _region("S"), _region("g")
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
     monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
+    _whole_bounds(monkeypatch)
     out, dbg = minkowski.minkowski_sum_debug(ra, rb, TOL)
     pts, cos_half = _corners(out)
     worst = max(c.bound for c in dbg["convolution"])
@@ -428,6 +483,7 @@ def test_a_corner_pass_that_cannot_subdivide_keeps_the_first_result(monkeypatch)
 
     ra, rb = _region("S"), _region("g")
     monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)   # so that a corner pass is needed
+    _whole_bounds(monkeypatch)
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 0)
     first = minkowski.minkowski_sum(ra, rb, TOL)
     monkeypatch.setattr(minkowski, "TIP_ROUNDS", 3)
@@ -514,6 +570,7 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
     """S + g needs the corner pass (above); O + g does not.  Packed together, the
     second trim gets only S's pieces, and S's corners still meet the budget."""
     monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)
+    _whole_bounds(monkeypatch)
     s, o, g = _region("S"), _region("O"), _region("g")
     calls = []
     trimmed = minkowski._trimmed
@@ -531,6 +588,37 @@ def test_sums_trim_again_only_the_regions_the_corner_pass_refines(monkeypatch):
     assert mo.region_area(out_s) == pytest.approx(mo.region_area(alone_s), rel=1e-6)
     assert mo.region_area(out_o) == pytest.approx(
         mo.region_area(minkowski.minkowski_sum(o, g, TOL)), rel=1e-6)
+
+
+def test_the_corner_pass_costs_the_same_calls_for_more_refined_regions(monkeypatch):
+    """Each later round of the corner pass is one convolution of the refined rows
+    and one trimming of the refined regions, however many regions of the packed
+    sum it refines: S + g thrice needs as many rounds as once, each a call of
+    each, the trimming given all three S's pieces."""
+    monkeypatch.setattr(minkowski, "FIRST_SHARE", 1.0)   # so that S + g needs the pass
+    _whole_bounds(monkeypatch)
+    s, o, g = _region("S"), _region("O"), _region("g")
+    trims, convs = [], []
+    trimmed, convolution = minkowski._trimmed, minkowski.convolution
+
+    def spy_trim(conv, *a):
+        trims.append(len(conv))
+        return trimmed(conv, *a)
+
+    def spy_conv(*a, rows=None, **k):
+        convs.append(None if rows is None else len(rows))
+        return convolution(*a, rows=rows, **k)
+
+    monkeypatch.setattr(minkowski, "_trimmed", spy_trim)
+    monkeypatch.setattr(minkowski, "convolution", spy_conv)
+    minkowski.minkowski_sums([s, o], g, TOL)
+    once_trims, once_convs = trims[:], convs[:]
+    assert len(once_trims) >= 2 and once_convs[0] is None
+    del trims[:], convs[:]
+    minkowski.minkowski_sums([s, o, s, s], g, TOL)
+    assert len(trims) == len(once_trims) and len(convs) == len(once_convs)
+    assert trims[1:] == [3 * n for n in once_trims[1:]]       # S's pieces, thrice
+    assert convs[1:] == [3 * n for n in once_convs[1:]]       # S's rows, thrice
 
 
 def test_sums_fall_back_to_one_by_one_beyond_the_precision(glyphs, monkeypatch):
