@@ -35,8 +35,9 @@ FEWER_SLACK = 1.0
 SHORT_LAST = 0.5
 
 #: Phases of a row: plan one segment fewer; check for a short last segment; waiting
-#: for the fits of one segment fewer; waiting for the fit of the whole chain; done.
-PLAN, CHECK, FEWER, WHOLE, DONE = 0, 1, 2, 3, 4
+#: for the fits of one segment fewer; waiting for the fit of the whole chain; done;
+#: plan equal cuts (:meth:`Refine.split`); waiting for their fits; given back.
+PLAN, CHECK, FEWER, WHOLE, DONE, SPLIT, CUT, GONE = 0, 1, 2, 3, 4, 5, 6, 7
 
 
 def ranges(start, count):
@@ -166,6 +167,7 @@ class Refine:
         self.t0, self.t1, self.bound = np.zeros(0), np.zeros(0), np.zeros(0)
         self.at = np.zeros((0, 2), int)
         self.arc_t, self.arc_s = np.zeros(0), np.zeros(0)
+        self.want = np.zeros(0, int)        # a SPLIT row's count of cuts
         self.asked = None
 
     @property
@@ -184,7 +186,24 @@ class Refine:
         self.phase = np.concatenate([self.phase, fresh[0]])
         self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
         self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
+        self.want = np.concatenate([self.want, np.zeros(chain.shape[0], int)])
         self._put(row, t0, t1, bound, at)
+
+    def split(self, chain, count):
+        """Try the chains ``chain`` (increasing; their fit as one segment failed) as
+        ``count`` segments of equal arc length (the model of :meth:`_fewer` with the
+        one segment's difficulty spread evenly over its arc length), asked in the next
+        round; :meth:`update` gives back the chains where one does not certify."""
+        m = chain.shape[0]
+        if not m:
+            return
+        fresh = np.empty((3, m), int)      # phase, arc_lo, arc_hi
+        fresh[0], fresh[1:] = SPLIT, -1
+        self.chain = np.concatenate([self.chain, chain])
+        self.phase = np.concatenate([self.phase, fresh[0]])
+        self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
+        self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
+        self.want = np.concatenate([self.want, count])
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
@@ -225,9 +244,11 @@ class Refine:
         starts where the one before ends)."""
         start, count = self._blocks()
         fewer, cuts = self._fewer((self.phase == PLAN).nonzero()[0], start, count)
+        split, ends = self._split((self.phase == SPLIT).nonzero()[0])
         whole = self._whole((self.phase == CHECK).nonzero()[0], start, count)
-        n = count[fewer] - 1                                        # segments asked
-        row = np.concatenate([fewer.repeat(n), whole])
+        n = np.concatenate([count[fewer] - 1, self.want[split]])     # segments asked
+        cuts = np.concatenate([cuts, ends])
+        row = np.concatenate([np.concatenate([fewer, split]).repeat(n), whole])
         first = ranges((n + 1).cumsum() - (n + 1), n)               # each one's cut
         t0 = np.concatenate([cuts[first], np.zeros(whole.shape[0])])
         t1 = np.concatenate([cuts[first + 1],
@@ -289,6 +310,28 @@ class Refine:
         self.phase[rs[~bad]] = FEWER
         return rs[~bad], cuts[~bad[row_c]]
 
+    def _split(self, rows):
+        """Plan the equal cuts of ``rows`` (phase SPLIT): ``want`` segments of equal
+        arc length (of equal parameter width where those ends do not increase).
+        Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
+        if not len(rows):
+            return rows, np.zeros(0)
+        self._arcs(rows)
+        n = self.want[rows]
+        row_c = np.arange(rows.shape[0]).repeat(n + 1)
+        ends = interp_rows(spaced_rows(self._length(rows), n + 1), row_c, self.arc_lo[rows],
+                           self.arc_hi[rows], self.arc_s, self.arc_t)
+        top = self.chains.k[self.chain[rows]].astype(float)
+        at = (n + 1).cumsum() - (n + 1)
+        ends[at], ends[at + n] = 0.0, top
+        flat = np.ones(ends.shape[0], bool)
+        flat[1:] = ~(ends[1:] > ends[:-1])
+        flat[at] = False
+        even = np.logical_or.reduceat(flat, at)     # rows whose ends do not increase
+        ends = np.where(even[row_c], spaced_rows(top, n + 1), ends)
+        self.phase[rows] = CUT
+        return rows, ends
+
     def _whole(self, rows, start, count):
         """Of ``rows`` (phase CHECK), those left with two segments, the last shorter
         than SHORT_LAST of the first, whose chain has a positive arc length (is not
@@ -309,7 +352,9 @@ class Refine:
         :class:`~morph.export.search._Fits`, from request ``offset`` on, made in round
         ``round_no``): a row whose every fit certifies within tol takes them as its
         segments.  Rows of one segment fewer then plan again (to CHECK when it failed,
-        done when one segment is left); whole-chain rows are done."""
+        done when one segment is left); whole-chain rows are done; rows of equal cuts
+        plan one fewer, or are given back where a cut fails.  Returns the rows given
+        back: (chains, the end of each one's first cut, that fit's request)."""
         row, t0, t1 = self.asked
         self.asked = None
         j = offset + np.arange(row.shape[0])
@@ -322,10 +367,16 @@ class Refine:
         at[:, 0], at[:, 1] = round_no, j
         self._put(row[take], t0[take], t1[take], bound[take], at[take])
         _, count = self._blocks()
-        fewer, whole = self.phase == FEWER, self.phase == WHOLE
+        fewer, whole, cut = self.phase == FEWER, self.phase == WHOLE, self.phase == CUT
         self.phase[fewer & won] = np.where(count[fewer & won] >= 2, PLAN, DONE)
         self.phase[fewer & ~won] = CHECK
         self.phase[whole] = DONE
+        # equal cuts: one fewer may still fit where there are three or more
+        self.phase[cut & won] = np.where(count[cut & won] >= 3, PLAN, DONE)
+        lost = cut & ~won
+        self.phase[lost] = GONE
+        first = (lost[row] & (t0 == 0.0)).nonzero()[0]      # each lost row's first cut
+        return self.chain[row[first]], t1[first], j[first]
 
     def finished(self):
         """The rows done, dropped: (chains, segment chains, t0, t1, bound, at), the
@@ -334,6 +385,7 @@ class Refine:
         seg = done[self.seg_row]
         out = (self.chain[done], self.chain[self.seg_row[seg]], self.t0[seg], self.t1[seg],
                self.bound[seg], self.at[seg])
+        done |= self.phase == GONE                  # given back: no segments
         if np.logical_or.reduce(done):
             renum = (~done).cumsum() - 1
             self.seg_row = renum[self.seg_row[~seg]]
@@ -341,4 +393,5 @@ class Refine:
             self.at = self.at[~seg]
             self.chain, self.phase = self.chain[~done], self.phase[~done]
             self.arc_lo, self.arc_hi = self.arc_lo[~done], self.arc_hi[~done]
+            self.want = self.want[~done]
         return out

@@ -53,7 +53,7 @@ from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
 from .fit import Parts, _quadrature, cut_pieces, make_chains, moment_cubics
-from .greedy import DONE, Greedy
+from .greedy import DONE, ERROR_POWER, Greedy
 from .refine import Refine, chain_points
 
 
@@ -520,12 +520,16 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
+            _split_wholes(chains, lay, (greedy, refine), req, fits.bound, len(mine), tol)
+            moved = acc[0]
             if more:
-                refine.update(fits, len(mine), len(rounds) - 1)
+                lost = refine.update(fits, len(mine), len(rounds) - 1)
+                moved = np.concatenate([moved, _resume(greedy, found, lost, fits,
+                                                       len(rounds) - 1)])
             if joins:
                 _search_gaps(chains, lay, greedy, found,
                              join.update(fits, len(mine) + more, len(rounds) - 1))
-            out = lay.ended(found, greedy, acc[0], lay.meet(greedy))
+            out = lay.ended(found, greedy, moved, lay.meet(greedy))
             if out is not None:
                 finished(*out[0])
                 join.add(*out[1], greedy.t0[out[1][1]])
@@ -551,6 +555,44 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
+
+
+def _split_wholes(chains, lay, machines, req, bound, n_greedy, tol):
+    """The chains searched one way whose first try, the whole chain (one of the
+    round's first ``n_greedy`` requests), failed: their greedy rows wait and the
+    refinement tries each as n segments of equal arc length (:meth:`Refine.split`),
+    n = (bound / tol)^(1 / ERROR_POWER) rounded up (the model bound ~ width^P: the
+    count of segments that each reach tol), at least 2, and 2 where no cubic was
+    fitted.  A chain that needs two or three segments is then done in two rounds,
+    not one round for each try of its first segment."""
+    greedy, refine = machines
+    c, b = req.chain[:n_greedy], bound[:n_greedy]
+    sel = ((req.t0[:n_greedy] == 0.0) & (req.t1[:n_greedy] == chains.k[c]) & ~(b <= tol)
+           & (lay.spare_of[c] < 0) & (chains.extent[c] > 0)).nonzero()[0]
+    if not sel.shape[0]:
+        return
+    with np.errstate(invalid="ignore"):
+        count = np.ceil((b[sel] / tol) ** (1.0 / ERROR_POWER))
+    count = np.where(np.isfinite(count), np.maximum(count, 2.0), 2.0).astype(int)
+    greedy.wait(c[sel])
+    refine.split(c[sel], count)
+
+
+def _resume(greedy, found, lost, fits, at_round):
+    """The chains whose equal cuts did not all certify (``lost``: chains, the end of
+    each first cut, its request in ``fits``) searched again by their greedy rows, the
+    first cut's fit taken as their try.  Returns the rows that moved on (an accepted
+    segment)."""
+    chain, t1, j = lost
+    if not chain.shape[0]:
+        return chain
+    greedy.resume(chain, t1)
+    at = np.empty((j.shape[0], 2), int)
+    at[:, 0], at[:, 1] = at_round, j
+    acc = greedy.update(chain, fits.cubic[j, -1],
+                        (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
+    found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
+    return acc[0]
 
 
 def _search_gaps(chains, lay, greedy, found, failed):
