@@ -83,15 +83,14 @@ NEXT_STEP = (0.75, 1.35)
 TRY, CERTIFY, HALVE, DONE, WAIT = 0, 1, 2, 3, 4
 
 
-def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol, ends=None):
+def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
     """The next end to try of every row after a fit of width w with ``bound``
     (``last_w``, ``last_b``: the previous fit, NaN if none; ``good``: the longest
     certified end, NaN if none; ``bad``: the shortest failed end, NaN if none), NaN
     where the bracket is tight enough.  The model is bound ~ width^p with p from the
     last two fits (P_MIN <= p <= P_MAX, ERROR_POWER without them), aimed at AIM tol,
     the step kept within STEP_MIN to STEP_MAX times the width and inside the bracket
-    (bisecting it otherwise); with ``ends`` (the bounds at ``good`` and ``bad``) a
-    closed bracket is interpolated instead (:func:`_bracket_aim`)."""
+    (bisecting it otherwise)."""
     has_good, has_bad = ~np.isnan(good), ~np.isnan(bad)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         slope = (~np.isnan(last_w) & (np.abs(last_w - w) > SAME_WIDTH * w) & (last_b > 0)
@@ -103,26 +102,9 @@ def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol, ends=None):
     target = np.minimum(top, t0 + w * np.minimum(STEP_MAX, np.maximum(STEP_MIN, ratio)))
     lo = np.where(has_good, good, t0)
     hi = np.where(has_bad, bad, top)
-    if ends is not None:
-        target = _bracket_aim(t0, lo, hi, ends, tol, target)
     target = np.where(has_bad & ~((lo < target) & (target < hi)), 0.5 * (lo + hi), target)
     tight = has_good & ((target <= lo) | (has_bad & (hi - lo <= BRACKET_REL * (lo - t0))))
     return np.where(tight, np.nan, target)
-
-
-def _bracket_aim(t0, good, bad, ends, tol, target):
-    """Where a bracket is closed (the fitting end ``good`` and the failing end
-    ``bad``, ``ends`` their bounds, both finite and positive), the width where the
-    model bound ~ width^p through its two ends is AIM tol (p from the two ends
-    themselves: an interpolation, inside the bracket whatever p is); ``target``
-    elsewhere."""
-    good_b, bad_b = ends
-    both = (good_b > 0) & (bad_b > good_b) & np.isfinite(bad_b) & (good > t0) & (bad > good)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        wg = good - t0
-        share = np.log(AIM * tol / good_b) / np.log(bad_b / good_b)
-        aim = t0 + wg * ((bad - t0) / wg) ** share
-    return np.where(both, aim, target)
 
 
 def next_width(w, bound, tol):
@@ -158,7 +140,6 @@ class Greedy:
         self.mode, self.passno, self.tries = np.full(n, TRY), np.zeros(n, int), np.zeros(n, int)
         self.snap = np.zeros(n, bool)
         self.bad, self.last_w, self.last_b = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
-        self.bad_b = np.full(n, np.inf)
         # the longest certified (or provisional) fit: end, bound, certified, where, cubic
         self.good, self.good_b, self.good_cert = np.full(n, np.nan), np.zeros(n), np.zeros(n, bool)
         self.good_at, self.good_end, self.good_cubic = np.zeros((n, 2), int), np.zeros((n, 2)), \
@@ -197,7 +178,6 @@ class Greedy:
         self.mode[r[self.mode[r] != HALVE]] = TRY
         self.good[r[self.good[r] > self.top[r]]] = np.nan
         self.bad[r[self.bad[r] > self.top[r]]] = np.nan
-        self.bad_b[r[np.isnan(self.bad[r])]] = np.inf
 
     def wait(self, rows):
         """Stop the search of ``rows`` without ending it (their chains are tried as
@@ -221,7 +201,6 @@ class Greedy:
         self.snap[rows] = False
         self.good[rows], self.good_cert[rows] = np.nan, False
         self.bad[rows], self.last_w[rows], self.last_b[rows] = np.nan, np.nan, np.nan
-        self.bad_b[rows] = np.inf
         t0, top = self.t0[rows], self.top[rows]
         t1 = np.minimum(top, t0 + self.width[rows])
         self.t1[rows] = np.where(top - t1 < REACH_END * (t1 - t0), top, t1)
@@ -255,7 +234,7 @@ class Greedy:
         refused = rows[(mode == CERTIFY) & ~ok]
         self._refused(refused, self.t1[refused], bound[(mode == CERTIFY) & ~ok])
         halved = (mode == HALVE) & ~ok
-        self.bad[rows[halved]], self.bad_b[rows[halved]] = t1[halved], bound[halved]
+        self.bad[rows[halved]] = t1[halved]
         self._halve(rows[halved], bound[halved])
         acc = [(rows[took], t1[took], cubic[took], bound[took], at[took], end[took])]
         g = done_try
@@ -278,12 +257,9 @@ class Greedy:
         trying, certify their provisional end, or halve."""
         t0, top = self.t0[rows], self.top[rows]
         failed = bound > self.tol
-        f = rows[failed]
-        lower = ~(self.bad[f] <= t1[failed])
-        self.bad[f[lower]], self.bad_b[f[lower]] = t1[failed][lower], bound[failed][lower]
+        self.bad[rows[failed]] = np.fmin(self.bad[rows[failed]], t1[failed])
         target = next_tries(t0, t1 - t0, bound, self.last_w[rows], self.last_b[rows],
-                            self.good[rows], self.bad[rows], top, self.tol,
-                            (self.good_b[rows], self.bad_b[rows]))
+                            self.good[rows], self.bad[rows], top, self.tol)
         self.last_w[rows], self.last_b[rows] = t1 - t0, bound
         self.tries[rows] += 1
         accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows]
@@ -314,7 +290,6 @@ class Greedy:
             return
         t0, top = self.t0[rows], self.top[rows]
         self.bad[rows], self.last_w[rows], self.last_b[rows] = t1, np.nan, np.nan
-        self.bad_b[rows] = bound
         nan = np.full(len(rows), np.nan)
         target = next_tries(t0, t1 - t0, bound, nan, nan, nan, t1, top, self.tol)
         target = np.where(np.isnan(target) | (target == 0.0), 0.5 * (t0 + t1), target)
