@@ -13,7 +13,9 @@ writing it out (a :class:`~morph.export.certify.CubicFit`).
 
 A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
 search of the same chain from its other end has come that far,
-:func:`morph.export.search._drive`).
+:func:`morph.export.search._drive`).  A chain may wait (:meth:`Greedy.wait`) while
+it is tried as equal cuts, and resume (:meth:`Greedy.resume`) with a cut's fit as
+its next try.
 
 The search of one segment: the first try spans the previous segment's width
 scaled by the error model from that segment's bound (:func:`next_width`; a chain's

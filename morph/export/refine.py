@@ -8,7 +8,10 @@ every one certifies; then a chain left with two segments, the last shorter than
 SHORT_LAST of the first, gets one try of a single segment over the whole chain
 (:meth:`Refine._whole`).  Neither asks again for the fit of a whole chain that was
 made before (by the greedy search's first try) and did not certify: it is the same
-fit, and would fail the same way.
+fit, and would fail the same way.  A chain whose whole fit failed may also come
+here before any greedy segment (:meth:`Refine.split`): it is fitted as segments of
+equal arc length and kept (then refined as above) if every one certifies, else
+given back to the greedy search.
 
 :class:`Refine` holds every refining chain as a row of arrays (its phase; its
 segments in one flat array sorted by row; its arc-length table in another); a round

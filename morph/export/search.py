@@ -27,7 +27,11 @@ least squares) is tried, and the interval shrinks until one certifies.
 rows of arrays, a round asks one fit of every chain still searching, and one numpy
 step takes all their results.  A long chain is searched from both ends at once (two
 rows, each stopping where the other has come; :class:`_Join` joins them), which
-halves its rounds.  A chain the greedy search leaves with two segments or
+halves its rounds.  A chain searched one way whose first try, the whole chain,
+fails is tried next as equal arc-length cuts (two for most), its greedy row waiting:
+a chain of two segments is then done in two rounds, not a round for each try of its
+first segment; where a cut fails, the greedy row resumes with the first cut's fit as
+its try.  A chain the greedy search leaves with two segments or
 more is refined by a second one (:class:`morph.export.refine.Refine`: one segment
 fewer where the bounds say it may fit), its chains rows of arrays too.
 :func:`_drive` fits the requests of both machines of a round together
@@ -483,14 +487,14 @@ def _drive(chains, tol, min_width, cubics_only=False):
     together; their CubicFit lists in order.
 
     Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
-    from its start, and a chain of BOTH_WAYS pieces or more also from its end, until
-    the two meet (:class:`_Rows`); the halves are then joined (:class:`_Join`).  A
+    from its start, a chain of BOTH_WAYS pieces or more also from its end until the two
+    meet (:class:`_Rows`, joined by :class:`_Join`); a chain searched one way whose
+    whole fit fails is cut into equal arc lengths first (:func:`_split_wholes`); a
     chain left with two segments or more is refined (:class:`morph.export.refine.
     Refine`).  Each round fits and certifies the requests of all machines together
-    (:func:`_fit_batch`): no Python step runs per chain and round (the join runs once
-    per chain).  The accepted segments are kept as arrays (chain, t0, t1, bound, and
-    the round and request of their fit) until the end; with ``cubics_only`` each
-    chain's cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
+    (:func:`_fit_batch`).  The accepted segments stay arrays (chain, t0, t1, bound,
+    round and request of their fit) until the end; with ``cubics_only`` each chain's
+    cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
     greedy = lay.greedy(chains, tol, min_width)
@@ -520,12 +524,9 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
-            _split_wholes(chains, lay, (greedy, refine), req, fits.bound, len(mine), tol)
-            moved = acc[0]
-            if more:
-                lost = refine.update(fits, len(mine), len(rounds) - 1)
-                moved = np.concatenate([moved, _resume(greedy, found, lost, fits,
-                                                       len(rounds) - 1)])
+            moved = np.concatenate([acc[0], _refine_round(
+                chains, lay, (greedy, refine, found), req, fits,
+                (len(mine), more, len(rounds) - 1), tol)])
             if joins:
                 _search_gaps(chains, lay, greedy, found,
                              join.update(fits, len(mine) + more, len(rounds) - 1))
@@ -555,6 +556,21 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
+
+
+def _refine_round(chains, lay, machines, req, fits, counts, tol):
+    """The refinement's fits of the round (``counts``: the greedy's requests, then
+    the refinement's; the round ``counts[2]``) given to it, the chains whose equal
+    cuts did not all certify searched again (:func:`_resume`), and the chains whose
+    whole fit failed in the round cut (:func:`_split_wholes`).  Returns the greedy
+    rows that moved on."""
+    greedy, refine, found = machines
+    n_greedy, more, at_round = counts
+    moved = np.zeros(0, int)
+    if more:
+        moved = _resume(greedy, found, refine.update(fits, n_greedy, at_round), fits, at_round)
+    _split_wholes(chains, lay, (greedy, refine), req, fits.bound, n_greedy, tol)
+    return moved
 
 
 def _split_wholes(chains, lay, machines, req, bound, n_greedy, tol):
