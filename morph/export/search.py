@@ -492,9 +492,8 @@ def _drive(chains, tol, min_width, cubics_only=False):
     whole fit fails is cut into equal arc lengths first (:func:`_split_wholes`); a
     chain left with two segments or more is refined (:class:`morph.export.refine.
     Refine`).  Each round fits and certifies the requests of all machines together
-    (:func:`_fit_batch`).  The accepted segments stay arrays (chain, t0, t1, bound,
-    round and request of their fit) until the end; with ``cubics_only`` each chain's
-    cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
+    (:func:`_fit_batch`).  The accepted segments stay arrays until the end; with
+    ``cubics_only`` as lists of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
     greedy = lay.greedy(chains, tol, min_width)
