@@ -37,6 +37,11 @@ FEWER_SLACK = 1.0
 #: equal arc length rarely fit where the model said no).
 SHORT_LAST = 0.5
 
+#: An equal cut this many ulps of its chain's parameter length from a join is the
+#: join (arc-length interpolation rounds there; a part a few ulps wide gets no
+#: certificate: the feet of its ends on the cubic coincide).
+CUT_ULPS = 8
+
 #: Phases of a row: plan one segment fewer; check for a short last segment; waiting
 #: for the fits of one segment fewer; waiting for the fit of the whole chain; done;
 #: plan equal cuts (:meth:`Refine.split`); waiting for their fits; given back.
@@ -315,7 +320,8 @@ class Refine:
 
     def _split(self, rows):
         """Plan the equal cuts of ``rows`` (phase SPLIT): ``want`` segments of equal
-        arc length (of equal parameter width where those ends do not increase).
+        arc length, an end within CUT_ULPS of a join on it (of equal parameter width
+        where those ends do not increase).
         Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
         if not len(rows):
             return rows, np.zeros(0)
@@ -325,6 +331,8 @@ class Refine:
         ends = interp_rows(spaced_rows(self._length(rows), n + 1), row_c, self.arc_lo[rows],
                            self.arc_hi[rows], self.arc_s, self.arc_t)
         top = self.chains.k[self.chain[rows]].astype(float)
+        join = np.rint(ends)
+        ends = np.where(np.abs(ends - join) <= CUT_ULPS * np.spacing(top[row_c]), join, ends)
         at = (n + 1).cumsum() - (n + 1)
         ends[at], ends[at + n] = 0.0, top
         flat = np.ones(ends.shape[0], bool)
