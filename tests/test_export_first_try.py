@@ -106,7 +106,7 @@ def test_refinement_never_refits_a_failed_whole_chain(monkeypatch):
 
 def test_a_failed_whole_chain_is_cut_into_equal_arc_lengths(monkeypatch):
     """A half circle of radius 10 in 4 equal pieces at tol 0.05: its whole fit fails,
-    and the next round fits the two halves of equal arc length (cut at T = 2) and
+    and the next round fits the two halves of equal length (cut at T = 2) and
     keeps them: three fits in two rounds, both cubics within tol of the arc by exact
     closest distances; displaced by 2 tol one is not."""
     tol = 0.05

@@ -10,7 +10,7 @@ SHORT_LAST of the first, gets one try of a single segment over the whole chain
 made before (by the greedy search's first try) and did not certify: it is the same
 fit, and would fail the same way.  A chain whose whole fit failed may also come
 here before any greedy segment (:meth:`Refine.split`): it is fitted as segments of
-equal arc length and kept (then refined as above) if every one certifies, else
+equal length (along its pieces' chords) and kept (then refined as above) if every one certifies, else
 given back to the greedy search.
 
 :class:`Refine` holds every refining chain as a row of arrays (its phase; its
@@ -130,6 +130,24 @@ def arc_lengths(bank, off, k):
     return t, s, lo, hi
 
 
+def chord_lengths(bank, off, k):
+    """Tables of the chains' chord lengths, as :func:`arc_lengths` gives arc lengths
+    (chain c: the pieces ``bank.order[off[c]:off[c] + k[c]]``): chain c's block [lo[c],
+    hi[c]) holds the knots T = 0 ... k[c] (the joins) and the sums s of its pieces'
+    chords (end point to end point) from the chain's start to them (linear between
+    knots: a piece's length spread evenly over its parameter).  Returns (T, s, lo,
+    hi)."""
+    gids = bank.order[ranges(off, k)]
+    chord = np.hypot(*(bank.last[gids] - bank.first[gids]).T)
+    size = k + 1
+    hi = np.cumsum(size)
+    lo = hi - size
+    s = np.zeros(int(hi[-1]) if len(hi) else 0)
+    for rows, cum in per_row(chord, np.cumsum(k) - k, k, np.add.accumulate):
+        s[(lo[rows][:, None] + 1 + np.arange(cum.shape[1])).ravel()] = cum.ravel()
+    return (np.arange(len(s)) - np.repeat(lo, size)).astype(float), s, lo, hi
+
+
 def chain_points(chains, chain, t):
     """Points of chains ``chain`` at chain parameters t (piece k on [k, k + 1]): a
     piece's first control point at an integer t, the chain's last point at its end,
@@ -199,7 +217,7 @@ class Refine:
 
     def split(self, chain, count):
         """Try the chains ``chain`` (increasing; their fit as one segment failed) as
-        ``count`` segments of equal arc length (the model of :meth:`_fewer` with the
+        ``count`` segments of equal length (the model of :meth:`_fewer` with the
         one segment's difficulty spread evenly over its arc length), asked in the next
         round; :meth:`update` gives back the chains where one does not certify."""
         m = chain.shape[0]
@@ -320,17 +338,18 @@ class Refine:
 
     def _split(self, rows):
         """Plan the equal cuts of ``rows`` (phase SPLIT): ``want`` segments of equal
-        arc length, an end within CUT_ULPS of a join on it (of equal parameter width
-        where those ends do not increase).
+        length along the chain's pieces' chords (:func:`chord_lengths`: one sum per
+        chain, where arc-length tables take 256 points a piece), an end within
+        CUT_ULPS of a join on it (of equal parameter width where those ends do not
+        increase).
         Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
         if not len(rows):
             return rows, np.zeros(0)
-        self._arcs(rows)
-        n = self.want[rows]
+        n, c = self.want[rows], self.chain[rows]
+        t, s, lo, hi = chord_lengths(self.chains.bank, self.chains.off[c], self.chains.k[c])
         row_c = np.arange(rows.shape[0]).repeat(n + 1)
-        ends = interp_rows(spaced_rows(self._length(rows), n + 1), row_c, self.arc_lo[rows],
-                           self.arc_hi[rows], self.arc_s, self.arc_t)
-        top = self.chains.k[self.chain[rows]].astype(float)
+        ends = interp_rows(spaced_rows(s[hi - 1], n + 1), row_c, lo, hi, s, t)
+        top = self.chains.k[c].astype(float)
         join = np.rint(ends)
         ends = np.where(np.abs(ends - join) <= CUT_ULPS * np.spacing(top[row_c]), join, ends)
         at = (n + 1).cumsum() - (n + 1)

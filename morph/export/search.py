@@ -28,7 +28,7 @@ rows of arrays, a round asks one fit of every chain still searching, and one num
 step takes all their results.  A long chain is searched from both ends at once (two
 rows, each stopping where the other has come; :class:`_Join` joins them), which
 halves its rounds.  A chain searched one way whose first try, the whole chain,
-fails is tried next as equal arc-length cuts (two for most), its greedy row waiting:
+fails is tried next as equal cuts along its chords (two for most), its greedy row waiting:
 a chain of two segments is then done in two rounds, not a round for each try of its
 first segment; where a cut fails, the greedy row resumes with the first cut's fit as
 its try.  A chain the greedy search leaves with two segments or
@@ -489,7 +489,7 @@ def _drive(chains, tol, min_width, cubics_only=False):
     Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
     from its start, a chain of BOTH_WAYS pieces or more also from its end until the two
     meet (:class:`_Rows`, joined by :class:`_Join`); a chain searched one way whose
-    whole fit fails is cut into equal arc lengths first (:func:`_split_wholes`); a
+    whole fit fails is cut into equal lengths first (:func:`_split_wholes`); a
     chain left with two segments or more is refined (:class:`morph.export.refine.
     Refine`).  Each round fits and certifies the requests of all machines together
     (:func:`_fit_batch`).  The accepted segments stay arrays until the end; with
@@ -575,7 +575,7 @@ def _refine_round(chains, lay, machines, req, fits, counts, tol):
 def _split_wholes(chains, lay, machines, req, bound, n_greedy, tol):
     """The chains searched one way whose first try, the whole chain (one of the
     round's first ``n_greedy`` requests), failed: their greedy rows wait and the
-    refinement tries each as n segments of equal arc length (:meth:`Refine.split`),
+    refinement tries each as n segments of equal length (:meth:`Refine.split`),
     n = (bound / tol)^(1 / ERROR_POWER) rounded up (the model bound ~ width^P: the
     count of segments that each reach tol), at least 2, and 2 where no cubic was
     fitted.  A chain that needs two or three segments is then done in two rounds,
