@@ -217,9 +217,9 @@ class Refine:
 
     def split(self, chain, count):
         """Try the chains ``chain`` (increasing; their fit as one segment failed) as
-        ``count`` segments of equal length (the model of :meth:`_fewer` with the
-        one segment's difficulty spread evenly over its arc length), asked in the next
-        round; :meth:`update` gives back the chains where one does not certify."""
+        ``count`` segments of equal length (the model of :meth:`_fewer`, the one
+        segment's difficulty spread evenly over its length: :meth:`_split`), asked in
+        the next round; :meth:`update` gives back the chains where one does not certify."""
         m = chain.shape[0]
         if not m:
             return
