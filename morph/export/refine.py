@@ -10,8 +10,8 @@ SHORT_LAST of the first, gets one try of a single segment over the whole chain
 made before (by the greedy search's first try) and did not certify: it is the same
 fit, and would fail the same way.  A chain whose whole fit failed may also come
 here before any greedy segment (:meth:`Refine.split`): it is fitted as segments of
-equal length (along its pieces' chords) and kept (then refined as above) if every one certifies, else
-given back to the greedy search.
+equal length (along its pieces' chords) and kept (then refined as above) if every
+one certifies, else given back to the greedy search.
 
 :class:`Refine` holds every refining chain as a row of arrays (its phase; its
 segments in one flat array sorted by row; its arc-length table in another); a round
@@ -270,11 +270,14 @@ class Refine:
         starts where the one before ends)."""
         start, count = self._blocks()
         fewer, cuts = self._fewer((self.phase == PLAN).nonzero()[0], start, count)
-        split, ends = self._split((self.phase == SPLIT).nonzero()[0])
+        split = (self.phase == SPLIT).nonzero()[0]
         whole = self._whole((self.phase == CHECK).nonzero()[0], start, count)
-        n = np.concatenate([count[fewer] - 1, self.want[split]])     # segments asked
-        cuts = np.concatenate([cuts, ends])
-        row = np.concatenate([np.concatenate([fewer, split]).repeat(n), whole])
+        n = count[fewer] - 1                                        # segments asked
+        if split.shape[0]:
+            split, ends = self._split(split)
+            n = np.concatenate([n, self.want[split]])
+            cuts, fewer = np.concatenate([cuts, ends]), np.concatenate([fewer, split])
+        row = np.concatenate([fewer.repeat(n), whole])
         first = ranges((n + 1).cumsum() - (n + 1), n)               # each one's cut
         t0 = np.concatenate([cuts[first], np.zeros(whole.shape[0])])
         t1 = np.concatenate([cuts[first + 1],
@@ -337,14 +340,12 @@ class Refine:
         return rs[~bad], cuts[~bad[row_c]]
 
     def _split(self, rows):
-        """Plan the equal cuts of ``rows`` (phase SPLIT): ``want`` segments of equal
-        length along the chain's pieces' chords (:func:`chord_lengths`: one sum per
-        chain, where arc-length tables take 256 points a piece), an end within
+        """Plan the equal cuts of ``rows`` (phase SPLIT; not empty): ``want`` segments
+        of equal length along the chain's pieces' chords (:func:`chord_lengths`: one
+        sum per chain, where arc-length tables take 256 points a piece), an end within
         CUT_ULPS of a join on it (of equal parameter width where those ends do not
         increase).
         Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
-        if not len(rows):
-            return rows, np.zeros(0)
         n, c = self.want[rows], self.chain[rows]
         t, s, lo, hi = chord_lengths(self.chains.bank, self.chains.off[c], self.chains.k[c])
         row_c = np.arange(rows.shape[0]).repeat(n + 1)
@@ -401,6 +402,8 @@ class Refine:
         self.phase[fewer & won] = np.where(count[fewer & won] >= 2, PLAN, DONE)
         self.phase[fewer & ~won] = CHECK
         self.phase[whole] = DONE
+        if not np.logical_or.reduce(cut, initial=False):
+            return row[:0], t1[:0], j[:0]
         # equal cuts: one fewer may still fit where there are three or more
         self.phase[cut & won] = np.where(count[cut & won] >= 3, PLAN, DONE)
         lost = cut & ~won

@@ -524,8 +524,8 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
             moved = np.concatenate([acc[0], _refine_round(
-                chains, lay, (greedy, refine, found), req, fits,
-                (len(mine), more, len(rounds) - 1), tol)])
+                chains, lay, (greedy, refine, found), (req.chain, whole), fits,
+                (len(mine), more, len(rounds) - 1))])
             if joins:
                 _search_gaps(chains, lay, greedy, found,
                              join.update(fits, len(mine) + more, len(rounds) - 1))
@@ -557,40 +557,44 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     return acc
 
 
-def _refine_round(chains, lay, machines, req, fits, counts, tol):
+def _refine_round(chains, lay, machines, wholes, fits, counts):
     """The refinement's fits of the round (``counts``: the greedy's requests, then
     the refinement's; the round ``counts[2]``) given to it, the chains whose equal
     cuts did not all certify searched again (:func:`_resume`), and the chains whose
-    whole fit failed in the round cut (:func:`_split_wholes`).  Returns the greedy
-    rows that moved on."""
+    whole fit failed in the round cut (:func:`_split_wholes`; ``wholes``: each
+    request's chain, and whether it is a failed fit of the whole chain).  Returns the
+    greedy rows that moved on."""
     greedy, refine, found = machines
     n_greedy, more, at_round = counts
     moved = np.zeros(0, int)
     if more:
         moved = _resume(greedy, found, refine.update(fits, n_greedy, at_round), fits, at_round)
-    _split_wholes(chains, lay, (greedy, refine), req, fits.bound, n_greedy, tol)
+    _split_wholes(chains, lay, (greedy, refine), wholes, fits.bound, n_greedy)
     return moved
 
 
-def _split_wholes(chains, lay, machines, req, bound, n_greedy, tol):
+def _split_wholes(chains, lay, machines, wholes, bound, n_greedy):
     """The chains searched one way whose first try, the whole chain (one of the
-    round's first ``n_greedy`` requests), failed: their greedy rows wait and the
+    round's first ``n_greedy`` requests; ``wholes``: each request's chain, and
+    whether it is a failed fit of the whole chain), failed: their greedy rows wait and the
     refinement tries each as n segments of equal length (:meth:`Refine.split`),
     n = (bound / tol)^(1 / ERROR_POWER) rounded up (the model bound ~ width^P: the
     count of segments that each reach tol), at least 2, and 2 where no cubic was
     fitted.  A chain that needs two or three segments is then done in two rounds,
     not one round for each try of its first segment."""
     greedy, refine = machines
-    c, b = req.chain[:n_greedy], bound[:n_greedy]
-    sel = ((req.t0[:n_greedy] == 0.0) & (req.t1[:n_greedy] == chains.k[c]) & ~(b <= tol)
-           & (lay.spare_of[c] < 0) & (chains.extent[c] > 0)).nonzero()[0]
-    if not sel.shape[0]:
+    failed = wholes[1][:n_greedy]
+    if not np.logical_or.reduce(failed, initial=False):
         return
+    sel = failed.nonzero()[0]
+    c = wholes[0][sel]
+    one = (lay.spare_of[c] < 0) & (chains.extent[c] > 0)
+    sel, c = sel[one], c[one]
     with np.errstate(invalid="ignore"):
-        count = np.ceil((b[sel] / tol) ** (1.0 / ERROR_POWER))
+        count = np.ceil((bound[sel] / refine.tol) ** (1.0 / ERROR_POWER))
     count = np.where(np.isfinite(count), np.maximum(count, 2.0), 2.0).astype(int)
-    greedy.wait(c[sel])
-    refine.split(c[sel], count)
+    greedy.wait(c)
+    refine.split(c, count)
 
 
 def _resume(greedy, found, lost, fits, at_round):
