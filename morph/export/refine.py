@@ -194,6 +194,7 @@ class Refine:
         self.at = np.zeros((0, 2), int)
         self.arc_t, self.arc_s = np.zeros(0), np.zeros(0)
         self.want = np.zeros(0, int)        # a SPLIT row's count of cuts
+        self.cuts = [0, 0]                  # how many rows are in SPLIT, in CUT
         self.asked = None
 
     @property
@@ -230,6 +231,7 @@ class Refine:
         self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
         self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
         self.want = np.concatenate([self.want, count])
+        self.cuts[0] += m
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
@@ -270,11 +272,10 @@ class Refine:
         starts where the one before ends)."""
         start, count = self._blocks()
         fewer, cuts = self._fewer((self.phase == PLAN).nonzero()[0], start, count)
-        split = (self.phase == SPLIT).nonzero()[0]
         whole = self._whole((self.phase == CHECK).nonzero()[0], start, count)
         n = count[fewer] - 1                                        # segments asked
-        if split.shape[0]:
-            split, ends = self._split(split)
+        if self.cuts[0]:
+            split, ends = self._split((self.phase == SPLIT).nonzero()[0])
             n = np.concatenate([n, self.want[split]])
             cuts, fewer = np.concatenate([cuts, ends]), np.concatenate([fewer, split])
         row = np.concatenate([fewer.repeat(n), whole])
@@ -361,6 +362,7 @@ class Refine:
         even = np.logical_or.reduceat(flat, at)     # rows whose ends do not increase
         ends = np.where(even[row_c], spaced_rows(top, n + 1), ends)
         self.phase[rows] = CUT
+        self.cuts = [0, rows.shape[0]]
         return rows, ends
 
     def _whole(self, rows, start, count):
@@ -398,12 +400,14 @@ class Refine:
         at[:, 0], at[:, 1] = round_no, j
         self._put(row[take], t0[take], t1[take], bound[take], at[take])
         _, count = self._blocks()
-        fewer, whole, cut = self.phase == FEWER, self.phase == WHOLE, self.phase == CUT
+        fewer, whole = self.phase == FEWER, self.phase == WHOLE
         self.phase[fewer & won] = np.where(count[fewer & won] >= 2, PLAN, DONE)
         self.phase[fewer & ~won] = CHECK
         self.phase[whole] = DONE
-        if not np.logical_or.reduce(cut, initial=False):
+        if not self.cuts[1]:
             return row[:0], t1[:0], j[:0]
+        self.cuts[1] = 0                  # all the rows of CUT are answered here
+        cut = self.phase == CUT
         # equal cuts: one fewer may still fit where there are three or more
         self.phase[cut & won] = np.where(count[cut & won] >= 3, PLAN, DONE)
         lost = cut & ~won

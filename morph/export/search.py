@@ -523,9 +523,8 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
-            moved = np.concatenate([acc[0], _refine_round(
-                chains, lay, (greedy, refine, found), (req.chain, whole), fits,
-                (len(mine), more, len(rounds) - 1))])
+            moved = _refine_round(chains, lay, (greedy, refine, found), (req.chain, whole),
+                                  fits, (len(mine), more, len(rounds) - 1), acc[0])
             if joins:
                 _search_gaps(chains, lay, greedy, found,
                              join.update(fits, len(mine) + more, len(rounds) - 1))
@@ -557,18 +556,19 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     return acc
 
 
-def _refine_round(chains, lay, machines, wholes, fits, counts):
+def _refine_round(chains, lay, machines, wholes, fits, counts, moved):
     """The refinement's fits of the round (``counts``: the greedy's requests, then
     the refinement's; the round ``counts[2]``) given to it, the chains whose equal
     cuts did not all certify searched again (:func:`_resume`), and the chains whose
     whole fit failed in the round cut (:func:`_split_wholes`; ``wholes``: each
     request's chain, and whether it is a failed fit of the whole chain).  Returns the
-    greedy rows that moved on."""
+    greedy rows that moved on: ``moved``, and those resumed that did."""
     greedy, refine, found = machines
     n_greedy, more, at_round = counts
-    moved = np.zeros(0, int)
     if more:
-        moved = _resume(greedy, found, refine.update(fits, n_greedy, at_round), fits, at_round)
+        lost = refine.update(fits, n_greedy, at_round)
+        if lost[0].shape[0]:
+            moved = np.concatenate([moved, _resume(greedy, found, lost, fits, at_round)])
     _split_wholes(chains, lay, (greedy, refine), wholes, fits.bound, n_greedy)
     return moved
 
@@ -576,8 +576,8 @@ def _refine_round(chains, lay, machines, wholes, fits, counts):
 def _split_wholes(chains, lay, machines, wholes, bound, n_greedy):
     """The chains searched one way whose first try, the whole chain (one of the
     round's first ``n_greedy`` requests; ``wholes``: each request's chain, and
-    whether it is a failed fit of the whole chain), failed: their greedy rows wait and the
-    refinement tries each as n segments of equal length (:meth:`Refine.split`),
+    whether it is a failed fit of the whole chain), failed: their greedy rows wait and
+    the refinement tries each as n segments of equal length (:meth:`Refine.split`),
     n = (bound / tol)^(1 / ERROR_POWER) rounded up (the model bound ~ width^P: the
     count of segments that each reach tol), at least 2, and 2 where no cubic was
     fitted.  A chain that needs two or three segments is then done in two rounds,
@@ -603,8 +603,6 @@ def _resume(greedy, found, lost, fits, at_round):
     first cut's fit taken as their try.  Returns the rows that moved on (an accepted
     segment)."""
     chain, t1, j = lost
-    if not chain.shape[0]:
-        return chain
     greedy.resume(chain, t1)
     at = np.empty((j.shape[0], 2), int)
     at[:, 0], at[:, 1] = at_round, j
