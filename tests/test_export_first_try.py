@@ -96,6 +96,48 @@ def test_refinement_never_refits_a_failed_whole_chain(monkeypatch):
     def forgetful(chains, tol, whole_failed=None):
         return real(chains, tol)
 
+    # the greedy search's segments refined without the memory (no equal cuts first:
+    # a chain cut in two equal halves that fit is done without the refinement asking)
     monkeypatch.setattr(search, "Refine", forgetful)
+    monkeypatch.setattr(search, "_split_wholes", lambda *args: None)
     chains_segments(chains, tol)
     assert len(asked) > len(set(asked))
+
+
+def test_a_failed_whole_chain_is_cut_into_equal_arc_lengths(monkeypatch):
+    """A half circle of radius 10 in 4 equal pieces at tol 0.05: its whole fit fails,
+    and the next round fits the two halves of equal length (cut at T = 2) and
+    keeps them: three fits in two rounds, both cubics within tol of the arc by exact
+    closest distances; displaced by 2 tol one is not."""
+    tol = 0.05
+    pieces = arc_chain(10.0, math.pi, 4)
+    asked = counted_fits(monkeypatch)
+    (segs,) = chains_segments([pieces], tol)
+    assert len(asked) == 3 and asked[0] == (0, 0.0, 4.0)
+    (_, a0, cut), (_, b0, b1) = sorted(asked[1:])
+    assert a0 == 0.0 and b1 == 4.0 and b0 == cut and abs(cut - 2.0) < 1e-9
+    assert [(s.t0, s.t1) for s in segs] == [(0.0, cut), (cut, 4.0)]
+    assert all(s.bound <= tol for s in segs)
+    assert hausdorff([s.cubic for s in segs], pieces) <= tol * (1 + 1e-9)
+    moved = segs[0].cubic + np.array([0.0, 2.0 * tol])
+    assert hausdorff([moved, segs[1].cubic], pieces) > tol
+
+
+def test_failed_cuts_give_the_chain_back_to_the_greedy_search(monkeypatch):
+    """A full circle of radius 10 in 4 pieces at tol 1e-3, its first try the whole
+    circle: the whole fit fails, so do the two equal halves (a half circle needs
+    several cubics), and the greedy search goes on from the first half's fit as its
+    try (no range asked twice, the next try shorter than the half); the cubics come
+    out within tol of the circle."""
+    tol = 1e-3
+    pieces = arc_chain(10.0, 2.0 * math.pi, 4)
+    monkeypatch.setattr(search, "first_widths", lambda chains, tol: chains.k.astype(float))
+    asked = counted_fits(monkeypatch)
+    (segs,) = chains_segments([pieces], tol)
+    assert asked[0] == (0, 0.0, 4.0) and sorted(asked[1:3]) == [(0, 0.0, 2.0), (0, 2.0, 4.0)]
+    assert len(asked) == len(set(asked))
+    assert asked[3][1] == 0.0 and asked[3][2] < 2.0
+    assert len(segs) >= 4 and all(s.bound <= tol for s in segs)
+    assert segs[0].t0 == 0.0 and segs[-1].t1 == 4.0
+    assert all(a.t1 == b.t0 for a, b in zip(segs, segs[1:]))
+    assert hausdorff([s.cubic for s in segs], pieces) <= tol * (1 + 1e-9)

@@ -13,7 +13,9 @@ writing it out (a :class:`~morph.export.certify.CubicFit`).
 
 A chain's end ``top`` may move nearer while it searches (:meth:`Greedy.cap`: a
 search of the same chain from its other end has come that far,
-:func:`morph.export.search._drive`).
+:func:`morph.export.search._drive`).  A chain may wait (:meth:`Greedy.wait`) while
+it is tried as equal cuts, and resume (:meth:`Greedy.resume`) with a cut's fit as
+its next try.
 
 The search of one segment: the first try spans the previous segment's width
 scaled by the error model from that segment's bound (:func:`next_width`; a chain's
@@ -78,8 +80,9 @@ NEXT_POWER = 6.0
 NEXT_STEP = (0.75, 1.35)
 
 #: Modes of a chain's search: trying ends, certifying the provisional end it ended
-#: on, halving the shortest failed interval (no certified fit yet), done.
-TRY, CERTIFY, HALVE, DONE = 0, 1, 2, 3
+#: on, halving the shortest failed interval (no certified fit yet), done; waiting
+#: (its chain is tried as equal cuts elsewhere, :meth:`Greedy.wait`).
+TRY, CERTIFY, HALVE, DONE, WAIT = 0, 1, 2, 3, 4
 
 
 def next_tries(t0, w, bound, last_w, last_b, good, bad, top, tol):
@@ -160,7 +163,7 @@ class Greedy:
 
     @property
     def active(self):
-        return self.mode != DONE
+        return self.mode < DONE
 
     def cap(self, rows, top):
         """Lower the end of the chains ``rows`` (an int array) to ``top`` (a float
@@ -177,6 +180,18 @@ class Greedy:
         self.mode[r[self.mode[r] != HALVE]] = TRY
         self.good[r[self.good[r] > self.top[r]]] = np.nan
         self.bad[r[self.bad[r] > self.top[r]]] = np.nan
+
+    def wait(self, rows):
+        """Stop the search of ``rows`` without ending it (their chains are tried as
+        equal cuts, :meth:`morph.export.refine.Refine.split`): no requests until
+        :meth:`resume`."""
+        self.mode[rows] = WAIT
+
+    def resume(self, rows, t1):
+        """Search ``rows`` (waiting after their first try, the whole chain, failed)
+        again, the end ``t1`` as their next try: its fit, made elsewhere, is given to
+        :meth:`update` next."""
+        self.mode[rows], self.t1[rows] = TRY, t1
 
     def _new_segments(self, rows):
         """Start the segment search of ``rows`` at their t0: the first try spans
@@ -196,7 +211,7 @@ class Greedy:
         """(rows, t0, t1, start, need) of the round's fits: one per searching chain;
         ``need``: PROVISIONAL in the first pass of the trying mode (not at the chain's
         end), else 0 (certify)."""
-        rows = (self.mode != DONE).nonzero()[0]
+        rows = (self.mode < DONE).nonzero()[0]
         t1 = self.t1[rows]
         need = np.where((self.mode[rows] == TRY) & (self.passno[rows] == 0)
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)

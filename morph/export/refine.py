@@ -8,7 +8,10 @@ every one certifies; then a chain left with two segments, the last shorter than
 SHORT_LAST of the first, gets one try of a single segment over the whole chain
 (:meth:`Refine._whole`).  Neither asks again for the fit of a whole chain that was
 made before (by the greedy search's first try) and did not certify: it is the same
-fit, and would fail the same way.
+fit, and would fail the same way.  A chain whose whole fit failed may also come
+here before any greedy segment (:meth:`Refine.split`): it is fitted as segments of
+equal length (along its pieces' chords) and kept (then refined as above) if every
+one certifies, else given back to the greedy search.
 
 :class:`Refine` holds every refining chain as a row of arrays (its phase; its
 segments in one flat array sorted by row; its arc-length table in another); a round
@@ -34,9 +37,15 @@ FEWER_SLACK = 1.0
 #: equal arc length rarely fit where the model said no).
 SHORT_LAST = 0.5
 
+#: An equal cut this many ulps of its chain's parameter length from a join is the
+#: join (arc-length interpolation rounds there; a part a few ulps wide gets no
+#: certificate: the feet of its ends on the cubic coincide).
+CUT_ULPS = 8
+
 #: Phases of a row: plan one segment fewer; check for a short last segment; waiting
-#: for the fits of one segment fewer; waiting for the fit of the whole chain; done.
-PLAN, CHECK, FEWER, WHOLE, DONE = 0, 1, 2, 3, 4
+#: for the fits of one segment fewer; waiting for the fit of the whole chain; done;
+#: plan equal cuts (:meth:`Refine.split`); waiting for their fits; given back.
+PLAN, CHECK, FEWER, WHOLE, DONE, SPLIT, CUT, GONE = 0, 1, 2, 3, 4, 5, 6, 7
 
 
 def ranges(start, count):
@@ -121,6 +130,24 @@ def arc_lengths(bank, off, k):
     return t, s, lo, hi
 
 
+def chord_lengths(bank, off, k):
+    """Tables of the chains' chord lengths, as :func:`arc_lengths` gives arc lengths
+    (chain c: the pieces ``bank.order[off[c]:off[c] + k[c]]``): chain c's block [lo[c],
+    hi[c]) holds the knots T = 0 ... k[c] (the joins) and the sums s of its pieces'
+    chords (end point to end point) from the chain's start to them (linear between
+    knots: a piece's length spread evenly over its parameter).  Returns (T, s, lo,
+    hi)."""
+    gids = bank.order[ranges(off, k)]
+    chord = np.hypot(*(bank.last[gids] - bank.first[gids]).T)
+    size = k + 1
+    hi = np.cumsum(size)
+    lo = hi - size
+    s = np.zeros(int(hi[-1]) if len(hi) else 0)
+    for rows, cum in per_row(chord, np.cumsum(k) - k, k, np.add.accumulate):
+        s[(lo[rows][:, None] + 1 + np.arange(cum.shape[1])).ravel()] = cum.ravel()
+    return (np.arange(len(s)) - np.repeat(lo, size)).astype(float), s, lo, hi
+
+
 def chain_points(chains, chain, t):
     """Points of chains ``chain`` at chain parameters t (piece k on [k, k + 1]): a
     piece's first control point at an integer t, the chain's last point at its end,
@@ -166,6 +193,8 @@ class Refine:
         self.t0, self.t1, self.bound = np.zeros(0), np.zeros(0), np.zeros(0)
         self.at = np.zeros((0, 2), int)
         self.arc_t, self.arc_s = np.zeros(0), np.zeros(0)
+        self.want = np.zeros(0, int)        # a SPLIT row's count of cuts
+        self.cuts = [0, 0]                  # how many rows are in SPLIT, in CUT
         self.asked = None
 
     @property
@@ -184,7 +213,25 @@ class Refine:
         self.phase = np.concatenate([self.phase, fresh[0]])
         self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
         self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
+        self.want = np.concatenate([self.want, np.zeros(chain.shape[0], int)])
         self._put(row, t0, t1, bound, at)
+
+    def split(self, chain, count):
+        """Try the chains ``chain`` (increasing; their fit as one segment failed) as
+        ``count`` segments of equal length (the model of :meth:`_fewer`, the one
+        segment's difficulty spread evenly over its length: :meth:`_split`), asked in
+        the next round; :meth:`update` gives back the chains where one does not certify."""
+        m = chain.shape[0]
+        if not m:
+            return
+        fresh = np.empty((3, m), int)      # phase, arc_lo, arc_hi
+        fresh[0], fresh[1:] = SPLIT, -1
+        self.chain = np.concatenate([self.chain, chain])
+        self.phase = np.concatenate([self.phase, fresh[0]])
+        self.arc_lo = np.concatenate([self.arc_lo, fresh[1]])
+        self.arc_hi = np.concatenate([self.arc_hi, fresh[2]])
+        self.want = np.concatenate([self.want, count])
+        self.cuts[0] += m
 
     def _put(self, row, t0, t1, bound, at):
         """Segments of the rows ``row`` (sorted) replace those the rows had."""
@@ -227,6 +274,10 @@ class Refine:
         fewer, cuts = self._fewer((self.phase == PLAN).nonzero()[0], start, count)
         whole = self._whole((self.phase == CHECK).nonzero()[0], start, count)
         n = count[fewer] - 1                                        # segments asked
+        if self.cuts[0]:
+            split, ends = self._split((self.phase == SPLIT).nonzero()[0])
+            n = np.concatenate([n, self.want[split]])
+            cuts, fewer = np.concatenate([cuts, ends]), np.concatenate([fewer, split])
         row = np.concatenate([fewer.repeat(n), whole])
         first = ranges((n + 1).cumsum() - (n + 1), n)               # each one's cut
         t0 = np.concatenate([cuts[first], np.zeros(whole.shape[0])])
@@ -289,6 +340,31 @@ class Refine:
         self.phase[rs[~bad]] = FEWER
         return rs[~bad], cuts[~bad[row_c]]
 
+    def _split(self, rows):
+        """Plan the equal cuts of ``rows`` (phase SPLIT; not empty): ``want`` segments
+        of equal length along the chain's pieces' chords (:func:`chord_lengths`: one
+        sum per chain, where arc-length tables take 256 points a piece), an end within
+        CUT_ULPS of a join on it (of equal parameter width where those ends do not
+        increase).
+        Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
+        n, c = self.want[rows], self.chain[rows]
+        t, s, lo, hi = chord_lengths(self.chains.bank, self.chains.off[c], self.chains.k[c])
+        row_c = np.arange(rows.shape[0]).repeat(n + 1)
+        ends = interp_rows(spaced_rows(s[hi - 1], n + 1), row_c, lo, hi, s, t)
+        top = self.chains.k[c].astype(float)
+        join = np.rint(ends)
+        ends = np.where(np.abs(ends - join) <= CUT_ULPS * np.spacing(top[row_c]), join, ends)
+        at = (n + 1).cumsum() - (n + 1)
+        ends[at], ends[at + n] = 0.0, top
+        flat = np.ones(ends.shape[0], bool)
+        flat[1:] = ~(ends[1:] > ends[:-1])
+        flat[at] = False
+        even = np.logical_or.reduceat(flat, at)     # rows whose ends do not increase
+        ends = np.where(even[row_c], spaced_rows(top, n + 1), ends)
+        self.phase[rows] = CUT
+        self.cuts = [0, rows.shape[0]]
+        return rows, ends
+
     def _whole(self, rows, start, count):
         """Of ``rows`` (phase CHECK), those left with two segments, the last shorter
         than SHORT_LAST of the first, whose chain has a positive arc length (is not
@@ -309,7 +385,9 @@ class Refine:
         :class:`~morph.export.search._Fits`, from request ``offset`` on, made in round
         ``round_no``): a row whose every fit certifies within tol takes them as its
         segments.  Rows of one segment fewer then plan again (to CHECK when it failed,
-        done when one segment is left); whole-chain rows are done."""
+        done when one segment is left); whole-chain rows are done; rows of equal cuts
+        plan one fewer, or are given back where a cut fails.  Returns the rows given
+        back: (chains, the end of each one's first cut, that fit's request)."""
         row, t0, t1 = self.asked
         self.asked = None
         j = offset + np.arange(row.shape[0])
@@ -326,6 +404,16 @@ class Refine:
         self.phase[fewer & won] = np.where(count[fewer & won] >= 2, PLAN, DONE)
         self.phase[fewer & ~won] = CHECK
         self.phase[whole] = DONE
+        if not self.cuts[1]:
+            return row[:0], t1[:0], j[:0]
+        self.cuts[1] = 0                  # all the rows of CUT are answered here
+        cut = self.phase == CUT
+        # equal cuts: one fewer may still fit where there are three or more
+        self.phase[cut & won] = np.where(count[cut & won] >= 3, PLAN, DONE)
+        lost = cut & ~won
+        self.phase[lost] = GONE
+        first = (lost[row] & (t0 == 0.0)).nonzero()[0]      # each lost row's first cut
+        return self.chain[row[first]], t1[first], j[first]
 
     def finished(self):
         """The rows done, dropped: (chains, segment chains, t0, t1, bound, at), the
@@ -334,6 +422,7 @@ class Refine:
         seg = done[self.seg_row]
         out = (self.chain[done], self.chain[self.seg_row[seg]], self.t0[seg], self.t1[seg],
                self.bound[seg], self.at[seg])
+        done |= self.phase == GONE                  # given back: no segments
         if np.logical_or.reduce(done):
             renum = (~done).cumsum() - 1
             self.seg_row = renum[self.seg_row[~seg]]
@@ -341,4 +430,5 @@ class Refine:
             self.at = self.at[~seg]
             self.chain, self.phase = self.chain[~done], self.phase[~done]
             self.arc_lo, self.arc_hi = self.arc_lo[~done], self.arc_hi[~done]
+            self.want = self.want[~done]
         return out

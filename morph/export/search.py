@@ -27,7 +27,11 @@ least squares) is tried, and the interval shrinks until one certifies.
 rows of arrays, a round asks one fit of every chain still searching, and one numpy
 step takes all their results.  A long chain is searched from both ends at once (two
 rows, each stopping where the other has come; :class:`_Join` joins them), which
-halves its rounds.  A chain the greedy search leaves with two segments or
+halves its rounds.  A chain searched one way whose first try, the whole chain,
+fails is tried next as equal cuts along its chords (two for most), its greedy row waiting:
+a chain of two segments is then done in two rounds, not a round for each try of its
+first segment; where a cut fails, the greedy row resumes with the first cut's fit as
+its try.  A chain the greedy search leaves with two segments or
 more is refined by a second one (:class:`morph.export.refine.Refine`: one segment
 fewer where the bounds say it may fit), its chains rows of arrays too.
 :func:`_drive` fits the requests of both machines of a round together
@@ -53,7 +57,7 @@ from .bank import Bank
 from .certify import (SCREEN, CubicFit, affine_reparam, certify_batch, check_piece, fit_cubic,
                       same_param_bound)
 from .fit import Parts, _quadrature, cut_pieces, make_chains, moment_cubics
-from .greedy import DONE, Greedy
+from .greedy import DONE, ERROR_POWER, Greedy
 from .refine import Refine, chain_points
 
 
@@ -483,14 +487,13 @@ def _drive(chains, tol, min_width, cubics_only=False):
     together; their CubicFit lists in order.
 
     Every chain is searched by the greedy search (:class:`morph.export.greedy.Greedy`)
-    from its start, and a chain of BOTH_WAYS pieces or more also from its end, until
-    the two meet (:class:`_Rows`); the halves are then joined (:class:`_Join`).  A
+    from its start, a chain of BOTH_WAYS pieces or more also from its end until the two
+    meet (:class:`_Rows`, joined by :class:`_Join`); a chain searched one way whose
+    whole fit fails is cut into equal lengths first (:func:`_split_wholes`); a
     chain left with two segments or more is refined (:class:`morph.export.refine.
     Refine`).  Each round fits and certifies the requests of all machines together
-    (:func:`_fit_batch`): no Python step runs per chain and round (the join runs once
-    per chain).  The accepted segments are kept as arrays (chain, t0, t1, bound, and
-    the round and request of their fit) until the end; with ``cubics_only`` each
-    chain's cubics come back as a list of (4, 2) arrays (:func:`_cubic_arrays`)."""
+    (:func:`_fit_batch`).  The accepted segments stay arrays until the end; with
+    ``cubics_only`` as lists of (4, 2) arrays (:func:`_cubic_arrays`)."""
     n = len(chains.k)
     lay = _Rows(chains)
     greedy = lay.greedy(chains, tol, min_width)
@@ -520,12 +523,12 @@ def _drive(chains, tol, min_width, cubics_only=False):
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
             acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
-            if more:
-                refine.update(fits, len(mine), len(rounds) - 1)
+            moved = _refine_round(chains, lay, (greedy, refine, found), (req.chain, whole),
+                                  fits, (len(mine), more, len(rounds) - 1), acc[0])
             if joins:
                 _search_gaps(chains, lay, greedy, found,
                              join.update(fits, len(mine) + more, len(rounds) - 1))
-            out = lay.ended(found, greedy, acc[0], lay.meet(greedy))
+            out = lay.ended(found, greedy, moved, lay.meet(greedy))
             if out is not None:
                 finished(*out[0])
                 join.add(*out[1], greedy.t0[out[1][1]])
@@ -551,6 +554,62 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
+
+
+def _refine_round(chains, lay, machines, wholes, fits, counts, moved):
+    """The refinement's fits of the round (``counts``: the greedy's requests, then
+    the refinement's; the round ``counts[2]``) given to it, the chains whose equal
+    cuts did not all certify searched again (:func:`_resume`), and the chains whose
+    whole fit failed in the round cut (:func:`_split_wholes`; ``wholes``: each
+    request's chain, and whether it is a failed fit of the whole chain).  Returns the
+    greedy rows that moved on: ``moved``, and those resumed that did."""
+    greedy, refine, found = machines
+    n_greedy, more, at_round = counts
+    if more:
+        lost = refine.update(fits, n_greedy, at_round)
+        if lost[0].shape[0]:
+            moved = np.concatenate([moved, _resume(greedy, found, lost, fits, at_round)])
+    _split_wholes(chains, lay, (greedy, refine), wholes, fits.bound, n_greedy)
+    return moved
+
+
+def _split_wholes(chains, lay, machines, wholes, bound, n_greedy):
+    """The chains searched one way whose first try, the whole chain (one of the
+    round's first ``n_greedy`` requests; ``wholes``: each request's chain, and
+    whether it is a failed fit of the whole chain), failed: their greedy rows wait and
+    the refinement tries each as n segments of equal length (:meth:`Refine.split`),
+    n = (bound / tol)^(1 / ERROR_POWER) rounded up (the model bound ~ width^P: the
+    count of segments that each reach tol), at least 2, and 2 where no cubic was
+    fitted.  A chain that needs two or three segments is then done in two rounds,
+    not one round for each try of its first segment."""
+    greedy, refine = machines
+    failed = wholes[1][:n_greedy]
+    if not np.logical_or.reduce(failed, initial=False):
+        return
+    sel = failed.nonzero()[0]
+    c = wholes[0][sel]
+    one = (lay.spare_of[c] < 0) & (chains.extent[c] > 0)
+    sel, c = sel[one], c[one]
+    with np.errstate(invalid="ignore"):
+        count = np.ceil((bound[sel] / refine.tol) ** (1.0 / ERROR_POWER))
+    count = np.where(np.isfinite(count), np.maximum(count, 2.0), 2.0).astype(int)
+    greedy.wait(c)
+    refine.split(c, count)
+
+
+def _resume(greedy, found, lost, fits, at_round):
+    """The chains whose equal cuts did not all certify (``lost``: chains, the end of
+    each first cut, its request in ``fits``) searched again by their greedy rows, the
+    first cut's fit taken as their try.  Returns the rows that moved on (an accepted
+    segment)."""
+    chain, t1, j = lost
+    greedy.resume(chain, t1)
+    at = np.empty((j.shape[0], 2), int)
+    at[:, 0], at[:, 1] = at_round, j
+    acc = greedy.update(chain, fits.cubic[j, -1],
+                        (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
+    found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
+    return acc[0]
 
 
 def _search_gaps(chains, lay, greedy, found, failed):
