@@ -150,7 +150,7 @@ class Bank:
             need = unique(gids_all[~have[gids_all]])
             planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
-        return planes[:, :, gids]
+        return planes.take(gids, axis=2)         # contiguous rows (not [:, :, gids])
 
 
 def end_pair(h):
