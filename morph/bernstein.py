@@ -427,21 +427,26 @@ def _multiply_direct(a, b, m, n):
     return np.matmul(toep, b[:, :, None])[:, :, 0]
 
 
-def split_many(c, t):
-    """de Casteljau split of each c_k at t_k: (left, right), each like c."""
+def split_many(c, t, side=None):
+    """de Casteljau split of each c_k at t_k: (left, right), each like c; with ``side``
+    "left" or "right" only that part (the same numbers, the other not gathered)."""
     c = np.asarray(c, float)
-    t = np.asarray(t, float).reshape((-1,) + (1,) * (c.ndim - 2))
+    t = np.asarray(t, float).reshape((-1,) + (1,) * (c.ndim - 1))
+    s = 1.0 - t
     n = c.shape[1] - 1
-    left = np.empty_like(c)
-    right = np.empty_like(c)
+    left = np.empty_like(c) if side != "right" else None
+    right = np.empty_like(c) if side != "left" else None
     work = c
-    left[:, 0] = work[:, 0]
-    right[:, n] = work[:, n]
-    for r in range(1, n + 1):
-        work = (1.0 - t[:, None]) * work[:, :-1] + t[:, None] * work[:, 1:]
-        left[:, r] = work[:, 0]
-        right[:, n - r] = work[:, -1]
-    return left, right
+    for r in range(n + 1):
+        if left is not None:
+            left[:, r] = work[:, 0]
+        if right is not None:
+            right[:, n - r] = work[:, -1]
+        if r < n:
+            nxt = np.multiply(s, work[:, :-1])
+            nxt += np.multiply(t, work[:, 1:], out=work[:, 1:] if r else None)
+            work = nxt
+    return left if side == "left" else right if side == "right" else (left, right)
 
 
 def subsegment_many(c, t0, t1):
@@ -461,10 +466,10 @@ def subsegment_many(c, t0, t1):
         back = np.flatnonzero(whole & rev)
         out[back] = out[back][:, ::-1]
         return out
-    _, right = split_many(c, a)
+    right = split_many(c, a, "right")
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.where(a >= 1.0, 1.0, (b - a) / (1.0 - a))
-    left, _ = split_many(right, u)
+    left = split_many(right, u, "left")
     out = np.where((a >= 1.0).reshape((-1,) + (1,) * (c.ndim - 1)), right, left)
     if rev.any():
         out[rev] = out[rev][:, ::-1]

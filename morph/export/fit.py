@@ -222,8 +222,8 @@ def _sub_pieces(h, a, b):
     :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
     splits: the right part at a, then its left part at (b - a) / (1 - a)), without
     its cases of reversed, whole or empty ranges."""
-    right = bz.split_many(h, a)[1]
-    return bz.split_many(right, (b - a) / (1.0 - a))[0]
+    right = bz.split_many(h, a, "right")
+    return bz.split_many(right, (b - a) / (1.0 - a), "left")
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
