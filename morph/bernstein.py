@@ -429,23 +429,28 @@ def _multiply_direct(a, b, m, n):
 
 def split_many(c, t, side=None):
     """de Casteljau split of each c_k at t_k: (left, right), each like c; with ``side``
-    "left" or "right" only that part (the same numbers, the other not gathered)."""
+    "left" or "right" only that part (the same numbers, the other not gathered).
+    The levels are coefficient-major (n+1, ..., k): each product is t or 1 - t, a
+    contiguous row over the k rows, times contiguous coefficients (not a stride-0
+    factor on every row's few numbers)."""
     c = np.asarray(c, float)
-    t = np.asarray(t, float).reshape((-1,) + (1,) * (c.ndim - 1))
+    t = np.asarray(t, float).reshape(-1)
     s = 1.0 - t
     n = c.shape[1] - 1
-    left = np.empty_like(c) if side != "right" else None
-    right = np.empty_like(c) if side != "left" else None
-    work = c
+    work = np.moveaxis(c, 0, -1).copy(order="C")   # a copy: its levels are written in place
+    sides = [np.empty(work.shape) if side != "right" else None,
+             np.empty(work.shape) if side != "left" else None]
     for r in range(n + 1):
-        if left is not None:
-            left[:, r] = work[:, 0]
-        if right is not None:
-            right[:, n - r] = work[:, -1]
+        if sides[0] is not None:
+            sides[0][r] = work[0]
+        if sides[1] is not None:
+            sides[1][n - r] = work[-1]
         if r < n:
-            nxt = np.multiply(s, work[:, :-1])
-            nxt += np.multiply(t, work[:, 1:], out=work[:, 1:] if r else None)
+            nxt = np.multiply(s, work[:-1])
+            nxt += np.multiply(t, work[1:], out=work[1:])
             work = nxt
+    left, right = (None if x is None else np.ascontiguousarray(np.moveaxis(x, -1, 0))
+                   for x in sides)
     return left if side == "left" else right if side == "right" else (left, right)
 
 
