@@ -427,21 +427,31 @@ def _multiply_direct(a, b, m, n):
     return np.matmul(toep, b[:, :, None])[:, :, 0]
 
 
-def split_many(c, t):
-    """de Casteljau split of each c_k at t_k: (left, right), each like c."""
+def split_many(c, t, side=None):
+    """de Casteljau split of each c_k at t_k: (left, right), each like c; with ``side``
+    "left" or "right" only that part (the same numbers, the other not gathered).
+    The levels are coefficient-major (n+1, ..., k): each product is t or 1 - t, a
+    contiguous row over the k rows, times contiguous coefficients (not a stride-0
+    factor on every row's few numbers)."""
     c = np.asarray(c, float)
-    t = np.asarray(t, float).reshape((-1,) + (1,) * (c.ndim - 2))
+    t = np.asarray(t, float).reshape(-1)
+    s = 1.0 - t
     n = c.shape[1] - 1
-    left = np.empty_like(c)
-    right = np.empty_like(c)
-    work = c
-    left[:, 0] = work[:, 0]
-    right[:, n] = work[:, n]
-    for r in range(1, n + 1):
-        work = (1.0 - t[:, None]) * work[:, :-1] + t[:, None] * work[:, 1:]
-        left[:, r] = work[:, 0]
-        right[:, n - r] = work[:, -1]
-    return left, right
+    work = np.moveaxis(c, 0, -1).copy(order="C")   # a copy: its levels are written in place
+    sides = [np.empty(work.shape) if side != "right" else None,
+             np.empty(work.shape) if side != "left" else None]
+    for r in range(n + 1):
+        if sides[0] is not None:
+            sides[0][r] = work[0]
+        if sides[1] is not None:
+            sides[1][n - r] = work[-1]
+        if r < n:
+            nxt = np.multiply(s, work[:-1])
+            nxt += np.multiply(t, work[1:], out=work[1:])
+            work = nxt
+    left, right = (None if x is None else np.ascontiguousarray(np.moveaxis(x, -1, 0))
+                   for x in sides)
+    return left if side == "left" else right if side == "right" else (left, right)
 
 
 def subsegment_many(c, t0, t1):
@@ -461,10 +471,10 @@ def subsegment_many(c, t0, t1):
         back = np.flatnonzero(whole & rev)
         out[back] = out[back][:, ::-1]
         return out
-    _, right = split_many(c, a)
+    right = split_many(c, a, "right")
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.where(a >= 1.0, 1.0, (b - a) / (1.0 - a))
-    left, _ = split_many(right, u)
+    left = split_many(right, u, "left")
     out = np.where((a >= 1.0).reshape((-1,) + (1,) * (c.ndim - 1)), right, left)
     if rev.any():
         out[rev] = out[rev][:, ::-1]

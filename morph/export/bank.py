@@ -150,7 +150,7 @@ class Bank:
             need = unique(gids_all[~have[gids_all]])
             planes[:, :, need] = self.jet_planes(need, t)
             have[need] = True
-        return planes[:, :, gids]
+        return planes.take(gids, axis=2)         # contiguous rows (not [:, :, gids])
 
 
 def end_pair(h):
@@ -172,21 +172,25 @@ def grid_planes(h, b, db):
 
     The homogeneous value H = sum_j B_j h_j and derivative H' = n sum_j B'_j (h_{j+1}
     - h_j) are summed control point by control point (elementwise: a piece's values
-    do not depend on the batch), then x = X / W and x' = (X' - x W') / W."""
+    do not depend on the batch), then x = X / W and x' = (X' - x W') / W.  The sums
+    are node-major (q, 3, k): each term is one basis value times a contiguous row of
+    3 k coordinates, the one broadcast numpy runs without buffering."""
     k, m, _ = h.shape
     q = b.shape[0]
-    hc = h.transpose(1, 2, 0).reshape(m, 3, 1, k)                  # (n+1, 3, 1, k)
+    hc = np.ascontiguousarray(h.transpose(1, 2, 0))                # (n+1, 3, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom, der = np.zeros((2, 3, q, k))
+    hom, der = np.zeros((2, q, 3, k))
     tmp = np.empty_like(hom)
     for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
         for j in range(coef.shape[0]):
-            acc += np.multiply(coef[j], basis[:, j, None], out=tmp)
+            acc += np.multiply(coef[j], basis[:, j, None, None], out=tmp)
     out = np.empty((4, q, k))
-    np.divide(hom[:2], hom[2], out=out[:2])
-    np.multiply(out[:2], der[2], out=out[2:])
-    np.subtract(der[:2], out[2:], out=out[2:])
-    out[2:] /= hom[2]
+    node = out.transpose(1, 0, 2)                                  # (q, 4, k) view
+    w = hom[:, 2:]
+    np.divide(hom[:, :2], w, out=node[:, :2])
+    np.multiply(node[:, :2], der[:, 2:], out=node[:, 2:])
+    np.subtract(der[:, :2], node[:, 2:], out=node[:, 2:])
+    node[:, 2:] /= w
     return out
 
 

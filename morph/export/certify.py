@@ -793,7 +793,7 @@ def _columns(groups, k, sets, moeb):
     lo = first = 0
     for ps, n in zip(sets, size):
         npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
-        x = lift[:, :, ps.rows].reshape(top, -1)
+        x = lift.take(ps.rows, axis=2).reshape(top, -1)
         view.reshape(3, top, npan, -1)[...] = (_cut_matrices(top - 1, ps.cuts) @ x).reshape(
             npan, top, 3, -1).transpose(2, 1, 0, 3)
         cols.pair[lo:lo + n].reshape(npan, -1)[...] = ps.rows         # (panel, pair) order
@@ -869,13 +869,13 @@ def _refined(groups, sets, cols, redo, refine):
         stack = groups[g][1]
         n1 = stack.shape[1]
         if n1 == cols.sub.shape[1]:             # not lifted: the columns themselves
-            sub = cols.sub[:, :, redo[sel]]
+            sub = cols.sub.take(redo[sel], axis=2)
         else:
             sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
                             stack[cols.slot[pair[sel]]])
             sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
             sub = np.ascontiguousarray(sub.transpose(2, 1, 0))
-        out[sel] = _hull_rows(sub, cols.cub[:, :, redo[sel]], refine)
+        out[sel] = _hull_rows(sub, cols.cub.take(redo[sel], axis=2), refine)
     return out
 
 

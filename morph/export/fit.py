@@ -222,8 +222,8 @@ def _sub_pieces(h, a, b):
     :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
     splits: the right part at a, then its left part at (b - a) / (1 - a)), without
     its cases of reversed, whole or empty ranges."""
-    right = bz.split_many(h, a)[1]
-    return bz.split_many(right, (b - a) / (1.0 - a))[0]
+    right = bz.split_many(h, a, "right")
+    return bz.split_many(right, (b - a) / (1.0 - a), "left")
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
@@ -591,7 +591,11 @@ class _RayCaster:
         p1, p2 = ctrl[:, 1], ctrl[:, 2]                               # P0 = (0, 0)
         a2 = 3.0 * (p2 - 2.0 * p1)
         a3 = ctrl[:, 3] + 3.0 * (p1 - p2)
-        self.coef = np.concatenate([3.0 * p1, a2, a3], axis=1).T[:, self.cand]   # (6, N)
+        # (6, N) rows contiguous: np.take along the last axis keeps a row of a plane
+        # contiguous in memory (indexing ``[:, idx]`` would give the pairs the outer
+        # stride, and every Newton operation would stream through strided copies)
+        self.coef = np.concatenate([3.0 * p1, a2, a3], axis=1).T.take(self.cand, axis=1)
+        self.planes = {}                  # data's rows per tuple of columns (cast)
         self.worst = np.zeros(npairs)                                  # largest ray of a pair
         self.stages = []
         # the candidates with pairs, and where their pairs start (dist_of's reduction)
@@ -603,13 +607,16 @@ class _RayCaster:
         npairs, ncols = len(pairs), len(cols)
         if not npairs:
             return
-        data = self.data[:, cols]                                     # (6, c, P)
+        key = cols.tobytes()
+        if key not in self.planes:
+            self.planes[key] = self.data[:, cols]                     # (6, c, P)
+        data = self.planes[key]
         s, ray = np.empty((2, ncols, npairs))
         step = max(RAY_BLOCK // ncols, 1)
         for lo in range(0, npairs, step):
             b = pairs[lo:lo + step]
-            s[:, lo:lo + step], ray[:, lo:lo + step] = _rays(self.coef[:, None, b],
-                                                              data[:, :, self.part[b]])
+            s[:, lo:lo + step], ray[:, lo:lo + step] = _rays(
+                self.coef.take(b, axis=1)[:, None], data.take(self.part[b], axis=2))
         # the largest ray so far (a NaN ray makes it NaN, as in one max over all)
         self.worst[pairs] = np.maximum(self.worst[pairs], np.maximum.reduce(ray, axis=0))
         self.stages.append((pairs, cols, s.T, ray.T))
