@@ -8,15 +8,15 @@ second and later trimming rounds, :func:`morph.minkowski._tip_tolerances`).
 when ``xN`` is given; NIB ``broad``, the default, or ``round``; the geometry share
 of ``plan(TOL)``): the glyphs whose corners are refined are named, and ``xN`` shows
 whether a later round's calls grow with the glyphs of a chunk; ``stroke:SET``:
-``morph stroke`` of a set of ``bench/stroke_profile.py`` (``--jobs 1``).  Per run: the sums, the first trimming
-round's pieces and Python calls, the rounds the corner pass adds (rows
-approximated again, packed slots trimmed again with their pieces and loops), the
-Python calls and CPU of those rounds' convolution and trimming, and for every
-junction the pass refines: its turn (cos(phi / 2)), the a-priori bound
+``morph stroke`` of a set of ``bench/stroke_profile.py`` (``--jobs 1``).  Per run:
+the sums, the first trimming round's pieces and Python calls, the rounds the corner
+pass adds (rows approximated again, packed slots trimmed again with their pieces
+and loops), the Python calls and CPU of those rounds' convolution and trimming, and
+for every junction the pass refines: its turn (cos(phi / 2)), the a-priori bound
 e / cos(phi / 2) of the rule, and its distance to the nearest convolution piece
 (about 0 at a crossing of two pieces; more where the trimming's Newton iteration
-did not converge and the junction sits on its grid point).  Python calls are load-independent; CPU
-times are of one run (with the profiler's overhead).
+did not converge and the junction sits on its grid point).  Python calls are
+load-independent; CPU times are of one run (with the profiler's overhead).
 """
 
 import collections

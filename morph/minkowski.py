@@ -408,8 +408,9 @@ def _achieved_bound(out, conv, tol, method):
     convolution's, plus the largest convolution error e where the boundary is
     smooth and e / cos(phi / 2) at a junction turning by phi (cos(phi / 2) at
     least TIP_FLOOR, as the corner pass counts it) with e the largest bound of the
-    pieces through it (along their parts there, as the corner pass counts it).  Only QAC bounds are a-priori bounds: for the other methods
-    it is ``tol``.  What :func:`morph.budget.export_tolerance` takes."""
+    pieces through it (along their parts there, as the corner pass counts it).  Only
+    QAC bounds are a-priori bounds: for the other methods it is ``tol``.  What
+    :func:`morph.budget.export_tolerance` takes."""
     return float(_achieved_bounds(out, conv, tol, method)[0])
 
 
