@@ -24,8 +24,8 @@ from .. import piece as pc
 from .. import moments as mo
 from .. import nearest as nr
 from .flatten import SEGMENT_REACH
-from ..polyline import (BoxGrid, _ranks, _sorted_entries, col_max, col_min, project, segment_distance,
-                        unique)
+from ..polyline import (BoxGrid, _ranks, _sorted_entries, col_max, col_min, project,
+                        segment_distance, unique)
 
 MATCH_UNITS = 2.0  # an edge lies within this many grid units of its segment (rounding)
 # The snap-rounding grid's segment boxes reach far enough to hold every segment
