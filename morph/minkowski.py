@@ -34,9 +34,8 @@ def minkowski_sum(region_a, region_b, tol, method="qac", gauss_pair=None):
     absolute, in input units: font units for glyphs, whose command-line --tol is in
     em, converted by :func:`morph.parse.em_to_units`), split as: convolution pieces
     within 0.5 tol of the exact convolution curve (0.2 tol in the first round where
-    loops can meet at a corner,
-    FIRST_SHARE; a-priori bound of :func:`morph.qac.qac_error_bound`,
-    QAC; other methods of ``morph.subdivide.METHODS`` are sampled, not bounded),
+    loops can meet at a corner, FIRST_SHARE; a-priori bound of
+    :func:`morph.qac.qac_error_bound`, QAC; other methods of ``morph.subdivide.METHODS`` are sampled, not bounded),
     topology decided on polylines within 0.35 tol on a grid of 0.1·sqrt(2) tol
     (:func:`morph.trim.boundary`), runs shorter than 0.05 tol contracted.  Holes
     of the winding-number result are tested exactly, x ∈ A ⊕ B ⇔ A ∩ (x − B) ≠ ∅,
