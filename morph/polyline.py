@@ -191,21 +191,25 @@ def _chord_distance(parts):
     """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
     the chord (segment) of its part.  The inner control points one at a time, on
     (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
-    by row)."""
-    w = parts[..., 2]
-    px, py = parts[..., 0] / w, parts[..., 1] / w
-    ax, ay, bx, by = px[:, 0], py[:, 0], px[:, -1], py[:, -1]
+    by row); each point's coordinates divided by its weight column by column (1-D
+    strided loops; the (m, n+1) planes would go through numpy's buffered iterator)."""
+    ax, ay = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
+    bx, by = parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2]
     cx, cy = bx - ax, by - ay
     length = np.hypot(cx, cy)
     safe = np.where(length > 0, length, 1.0)
     before_a = length == 0
     out = np.zeros(len(parts))
     for j in range(1, parts.shape[1] - 1):
-        rx, ry = px[:, j] - ax, py[:, j] - ay
+        pjx, pjy = parts[:, j, 0] / parts[:, j, 2], parts[:, j, 1] / parts[:, j, 2]
+        rx, ry = pjx - ax, pjy - ay
         dist = np.abs(cx * ry - cy * rx) / safe
         along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
-        dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
-        dist = np.where((along > 1) & ~before_a, np.hypot(px[:, j] - bx, py[:, j] - by), dist)
+        # the distances to the ends only where the point projects beyond them (few)
+        at_a = ((along < 0) | before_a).nonzero()[0]
+        dist[at_a] = np.hypot(rx[at_a], ry[at_a])
+        at_b = ((along > 1) & ~before_a).nonzero()[0]
+        dist[at_b] = np.hypot(pjx[at_b] - bx[at_b], pjy[at_b] - by[at_b])
         np.maximum(out, dist, out=out)
     return out
 
@@ -292,7 +296,6 @@ class BoxGrid:
             if np.add.reduce(counts) <= 8 * n + 64:
                 break
             self.cell *= 2.0
-        self.c0 = c0
         # each box's first cell, then the further cells of the boxes that cover more
         # (row by row): the divisions only for those
         multi = (counts > 1).nonzero()[0]
@@ -303,7 +306,8 @@ class BoxGrid:
             box = multi.repeat(more)
             offs = _ranks(more) + 1
             width = nx[box]
-            key = np.concatenate([key, _key(c0[box, 0] + offs % width, c0[box, 1] + offs // width)])
+            row, col = np.divmod(offs, width)
+            key = np.concatenate([key, _key(c0[box, 0] + col, c0[box, 1] + row)])
             item = np.concatenate([item, box])
         self.keys, self.items = _sorted_entries(key, item, n)
 
@@ -363,16 +367,19 @@ def col_max(x):
 
 def _sorted_entries(key, item, n):
     """(keys, items) of a grid's (cell key, box) entries sorted by key, each key's
-    boxes in ascending order (items below ``n``).  Both as one integer (key - min)
-    * n + item sorted by value, a third of the time of a stable argsort, where that
-    fits 62 bits; a lexsort where it does not."""
+    boxes in ascending order (items below ``n``).  Both as one integer
+    ((key - min) << b) | item, 2^b >= n, sorted by value, a third of the time of a
+    stable argsort, where that fits 62 bits (split again by a shift and a mask, no
+    integer division); a lexsort where it does not."""
     if not len(key):
         return key, item
     k0 = int(np.minimum.reduce(key))
-    if (int(np.maximum.reduce(key)) - k0 + 1) * max(n, 1) < 2 ** 62:
-        both = (key - k0) * n + item
+    b = max(n - 1, 0).bit_length()
+    if (int(np.maximum.reduce(key)) - k0 + 1) << b < 2 ** 62:
+        both = (key - k0) << b
+        both |= item
         both.sort()
-        return both // n + k0, both % n
+        return (both >> b) + k0, both & ((1 << b) - 1)
     order = np.lexsort((item, key))
     return key[order], item[order]
 
@@ -457,7 +464,7 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     # faster than gathering rows of (n, 2) arrays
     lo_x, lo_y = np.ascontiguousarray(lo[:, 0]), np.ascontiguousarray(lo[:, 1])
     hi_x, hi_y = hi[:, 0] + slack, hi[:, 1] + slack
-    cx, cy = np.ascontiguousarray(grid.c0[:, 0]), np.ascontiguousarray(grid.c0[:, 1])
+    o_x, o_y = grid.origin
     for s0, s1 in zip(borders[:-1], borders[1:]):
         c = cnt[s0:s1]
         if np.add.reduce(c) == 0:
@@ -465,9 +472,13 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
         first = s0 + np.arange(s1 - s0).repeat(c)
         second = first + 1 + _ranks(c)
         i, j = seg[first], seg[second]   # i < j: a run's boxes are ascending
-        keep = ((lo_x[i] <= hi_x[j]) & (lo_y[i] <= hi_y[j])
-                & (lo_x[j] <= hi_x[i]) & (lo_y[j] <= hi_y[i])
-                & (_key(np.maximum(cx[i], cx[j]), np.maximum(cy[i], cy[j])) == key[first]))
+        lxi, lxj, lyi, lyj = lo_x[i], lo_x[j], lo_y[i], lo_y[j]
+        # the first shared cell: that of the larger lower corner (the cell of a
+        # coordinate is a floor, monotone: the larger of the two boxes' first cells)
+        fx = np.floor((np.maximum(lxi, lxj) - o_x) / grid.cell).astype(np.int64)
+        fy = np.floor((np.maximum(lyi, lyj) - o_y) / grid.cell).astype(np.int64)
+        keep = ((lxi <= hi_x[j]) & (lyi <= hi_y[j]) & (lxj <= hi_x[i]) & (lyj <= hi_y[i])
+                & (_key(fx, fy) == key[first]))
         yield i[keep], j[keep]
 
 
