@@ -290,16 +290,17 @@ class BoxGrid:
         median = 0.5 * (lengths[(n - 1) // 2] + lengths[n // 2])
         self.cell = max(float(median) * 2.0, np.maximum.reduce(self.span) * 1e-9)
         while True:
-            c0, c1 = self._cell(lo), self._cell(hi)
-            nx = c1[:, 0] - c0[:, 0] + 1
-            counts = nx * (c1[:, 1] - c0[:, 1] + 1)
+            x0, y0 = self._cells(lo[:, 0], lo[:, 1])
+            x1, y1 = self._cells(hi[:, 0], hi[:, 1])
+            nx = x1 - x0 + 1
+            counts = nx * (y1 - y0 + 1)
             if np.add.reduce(counts) <= 8 * n + 64:
                 break
             self.cell *= 2.0
         # each box's first cell, then the further cells of the boxes that cover more
         # (row by row): the divisions only for those
         multi = (counts > 1).nonzero()[0]
-        key = _key(c0[:, 0], c0[:, 1])
+        key = _key(x0, y0)
         item = np.arange(n)
         if len(multi):
             more = counts[multi] - 1
@@ -307,21 +308,27 @@ class BoxGrid:
             offs = _ranks(more) + 1
             width = nx[box]
             row, col = np.divmod(offs, width)
-            key = np.concatenate([key, _key(c0[box, 0] + col, c0[box, 1] + row)])
+            key = np.concatenate([key, _key(x0[box] + col, y0[box] + row)])
             item = np.concatenate([item, box])
         self.keys, self.items = _sorted_entries(key, item, n)
 
-    def _cell(self, x):
-        return np.floor((x - self.origin) / self.cell).astype(np.int64)
+    def _cells(self, x, y):
+        """The cells' columns and rows of points given as coordinate columns (1-D
+        loops: an (n, 2) array less the origin goes through numpy's buffered
+        iterator).  A floor: monotone in each coordinate."""
+        return (np.floor((x - self.origin[0]) / self.cell).astype(np.int64),
+                np.floor((y - self.origin[1]) / self.cell).astype(np.int64))
 
     def at_points(self, points):
         """(point index, box index) of every box whose cell holds the point: a
         superset of the boxes that contain it."""
-        c = self._cell(np.asarray(points, float))
-        lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
+        points = np.asarray(points, float)
+        lo, hi = _search_both(self.keys, _key(*self._cells(points[:, 0], points[:, 1])))
         cnt = hi - lo
-        pt = np.arange(len(c)).repeat(cnt)
-        return pt, self.items[lo.repeat(cnt) + _ranks(cnt)]
+        pt = np.arange(len(points)).repeat(cnt)
+        # entry lo[p] + rank: the point's offsets repeated once, plus the running count
+        return pt, self.items[(lo - (cnt.cumsum() - cnt)).repeat(cnt)
+                              + np.arange(np.add.reduce(cnt))]
 
 
 def _key(cx, cy):
@@ -464,21 +471,21 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     # faster than gathering rows of (n, 2) arrays
     lo_x, lo_y = np.ascontiguousarray(lo[:, 0]), np.ascontiguousarray(lo[:, 1])
     hi_x, hi_y = hi[:, 0] + slack, hi[:, 1] + slack
-    o_x, o_y = grid.origin
     for s0, s1 in zip(borders[:-1], borders[1:]):
         c = cnt[s0:s1]
         if np.add.reduce(c) == 0:
             continue
-        first = s0 + np.arange(s1 - s0).repeat(c)
-        second = first + 1 + _ranks(c)
+        at = s0 + np.arange(s1 - s0)
+        first = at.repeat(c)
+        # first + 1 + its rank in the run: one repeat of the offsets, plus the running count
+        second = (at + 1 - (c.cumsum() - c)).repeat(c) + np.arange(len(first))
         i, j = seg[first], seg[second]   # i < j: a run's boxes are ascending
         lxi, lxj, lyi, lyj = lo_x[i], lo_x[j], lo_y[i], lo_y[j]
         # the first shared cell: that of the larger lower corner (the cell of a
         # coordinate is a floor, monotone: the larger of the two boxes' first cells)
-        fx = np.floor((np.maximum(lxi, lxj) - o_x) / grid.cell).astype(np.int64)
-        fy = np.floor((np.maximum(lyi, lyj) - o_y) / grid.cell).astype(np.int64)
+        shared = _key(*grid._cells(np.maximum(lxi, lxj), np.maximum(lyi, lyj)))
         keep = ((lxi <= hi_x[j]) & (lyi <= hi_y[j]) & (lxj <= hi_x[i]) & (lyj <= hi_y[i])
-                & (_key(fx, fy) == key[first]))
+                & (shared == key[first]))
         yield i[keep], j[keep]
 
 
