@@ -191,21 +191,25 @@ def _chord_distance(parts):
     """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
     the chord (segment) of its part.  The inner control points one at a time, on
     (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
-    by row)."""
-    w = parts[..., 2]
-    px, py = parts[..., 0] / w, parts[..., 1] / w
-    ax, ay, bx, by = px[:, 0], py[:, 0], px[:, -1], py[:, -1]
+    by row); each point's coordinates divided by its weight column by column (1-D
+    strided loops; the (m, n+1) planes would go through numpy's buffered iterator)."""
+    ax, ay = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
+    bx, by = parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2]
     cx, cy = bx - ax, by - ay
     length = np.hypot(cx, cy)
     safe = np.where(length > 0, length, 1.0)
     before_a = length == 0
     out = np.zeros(len(parts))
     for j in range(1, parts.shape[1] - 1):
-        rx, ry = px[:, j] - ax, py[:, j] - ay
+        pjx, pjy = parts[:, j, 0] / parts[:, j, 2], parts[:, j, 1] / parts[:, j, 2]
+        rx, ry = pjx - ax, pjy - ay
         dist = np.abs(cx * ry - cy * rx) / safe
         along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
-        dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
-        dist = np.where((along > 1) & ~before_a, np.hypot(px[:, j] - bx, py[:, j] - by), dist)
+        # the distances to the ends only where the point projects beyond them (few)
+        at_a = ((along < 0) | before_a).nonzero()[0]
+        dist[at_a] = np.hypot(rx[at_a], ry[at_a])
+        at_b = ((along > 1) & ~before_a).nonzero()[0]
+        dist[at_b] = np.hypot(pjx[at_b] - bx[at_b], pjy[at_b] - by[at_b])
         np.maximum(out, dist, out=out)
     return out
 
@@ -286,38 +290,45 @@ class BoxGrid:
         median = 0.5 * (lengths[(n - 1) // 2] + lengths[n // 2])
         self.cell = max(float(median) * 2.0, np.maximum.reduce(self.span) * 1e-9)
         while True:
-            c0, c1 = self._cell(lo), self._cell(hi)
-            nx = c1[:, 0] - c0[:, 0] + 1
-            counts = nx * (c1[:, 1] - c0[:, 1] + 1)
+            x0, y0 = self._cells(lo[:, 0], lo[:, 1])
+            x1, y1 = self._cells(hi[:, 0], hi[:, 1])
+            nx = x1 - x0 + 1
+            counts = nx * (y1 - y0 + 1)
             if np.add.reduce(counts) <= 8 * n + 64:
                 break
             self.cell *= 2.0
-        self.c0 = c0
         # each box's first cell, then the further cells of the boxes that cover more
         # (row by row): the divisions only for those
         multi = (counts > 1).nonzero()[0]
-        key = _key(c0[:, 0], c0[:, 1])
+        key = _key(x0, y0)
         item = np.arange(n)
         if len(multi):
             more = counts[multi] - 1
             box = multi.repeat(more)
             offs = _ranks(more) + 1
             width = nx[box]
-            key = np.concatenate([key, _key(c0[box, 0] + offs % width, c0[box, 1] + offs // width)])
+            row, col = np.divmod(offs, width)
+            key = np.concatenate([key, _key(x0[box] + col, y0[box] + row)])
             item = np.concatenate([item, box])
         self.keys, self.items = _sorted_entries(key, item, n)
 
-    def _cell(self, x):
-        return np.floor((x - self.origin) / self.cell).astype(np.int64)
+    def _cells(self, x, y):
+        """The cells' columns and rows of points given as coordinate columns (1-D
+        loops: an (n, 2) array less the origin goes through numpy's buffered
+        iterator).  A floor: monotone in each coordinate."""
+        return (np.floor((x - self.origin[0]) / self.cell).astype(np.int64),
+                np.floor((y - self.origin[1]) / self.cell).astype(np.int64))
 
     def at_points(self, points):
         """(point index, box index) of every box whose cell holds the point: a
         superset of the boxes that contain it."""
-        c = self._cell(np.asarray(points, float))
-        lo, hi = _search_both(self.keys, _key(c[:, 0], c[:, 1]))
+        points = np.asarray(points, float)
+        lo, hi = _search_both(self.keys, _key(*self._cells(points[:, 0], points[:, 1])))
         cnt = hi - lo
-        pt = np.arange(len(c)).repeat(cnt)
-        return pt, self.items[lo.repeat(cnt) + _ranks(cnt)]
+        pt = np.arange(len(points)).repeat(cnt)
+        # entry lo[p] + rank: the point's offsets repeated once, plus the running count
+        return pt, self.items[(lo - (cnt.cumsum() - cnt)).repeat(cnt)
+                              + np.arange(np.add.reduce(cnt))]
 
 
 def _key(cx, cy):
@@ -363,16 +374,19 @@ def col_max(x):
 
 def _sorted_entries(key, item, n):
     """(keys, items) of a grid's (cell key, box) entries sorted by key, each key's
-    boxes in ascending order (items below ``n``).  Both as one integer (key - min)
-    * n + item sorted by value, a third of the time of a stable argsort, where that
-    fits 62 bits; a lexsort where it does not."""
+    boxes in ascending order (items below ``n``).  Both as one integer
+    ((key - min) << b) | item, 2^b >= n, sorted by value, a third of the time of a
+    stable argsort, where that fits 62 bits (split again by a shift and a mask, no
+    integer division); a lexsort where it does not."""
     if not len(key):
         return key, item
     k0 = int(np.minimum.reduce(key))
-    if (int(np.maximum.reduce(key)) - k0 + 1) * max(n, 1) < 2 ** 62:
-        both = (key - k0) * n + item
+    b = max(n - 1, 0).bit_length()
+    if (int(np.maximum.reduce(key)) - k0 + 1) << b < 2 ** 62:
+        both = (key - k0) << b
+        both |= item
         both.sort()
-        return both // n + k0, both % n
+        return (both >> b) + k0, both & ((1 << b) - 1)
     order = np.lexsort((item, key))
     return key[order], item[order]
 
@@ -457,17 +471,21 @@ def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
     # faster than gathering rows of (n, 2) arrays
     lo_x, lo_y = np.ascontiguousarray(lo[:, 0]), np.ascontiguousarray(lo[:, 1])
     hi_x, hi_y = hi[:, 0] + slack, hi[:, 1] + slack
-    cx, cy = np.ascontiguousarray(grid.c0[:, 0]), np.ascontiguousarray(grid.c0[:, 1])
     for s0, s1 in zip(borders[:-1], borders[1:]):
         c = cnt[s0:s1]
         if np.add.reduce(c) == 0:
             continue
-        first = s0 + np.arange(s1 - s0).repeat(c)
-        second = first + 1 + _ranks(c)
+        at = s0 + np.arange(s1 - s0)
+        first = at.repeat(c)
+        # first + 1 + its rank in the run: one repeat of the offsets, plus the running count
+        second = (at + 1 - (c.cumsum() - c)).repeat(c) + np.arange(len(first))
         i, j = seg[first], seg[second]   # i < j: a run's boxes are ascending
-        keep = ((lo_x[i] <= hi_x[j]) & (lo_y[i] <= hi_y[j])
-                & (lo_x[j] <= hi_x[i]) & (lo_y[j] <= hi_y[i])
-                & (_key(np.maximum(cx[i], cx[j]), np.maximum(cy[i], cy[j])) == key[first]))
+        lxi, lxj, lyi, lyj = lo_x[i], lo_x[j], lo_y[i], lo_y[j]
+        # the first shared cell: that of the larger lower corner (the cell of a
+        # coordinate is a floor, monotone: the larger of the two boxes' first cells)
+        shared = _key(*grid._cells(np.maximum(lxi, lxj), np.maximum(lyi, lyj)))
+        keep = ((lxi <= hi_x[j]) & (lyi <= hi_y[j]) & (lxj <= hi_x[i]) & (lyj <= hi_y[i])
+                & (shared == key[first]))
         yield i[keep], j[keep]
 
 

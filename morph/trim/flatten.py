@@ -140,18 +140,18 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
     if origin is None:
         origin = 0.5 * (col_min(xy) + col_max(xy))
     origin = np.asarray(origin, float)
-    q = np.rint((xy - origin) / grid).astype(np.int64)
+    x = (xy - origin) / grid   # in grid units
+    q = np.rint(x).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
-    q, pid, ts, loop_of, xy = q[keep], pid[keep], ts[keep], loop_of[keep], xy[keep]
+    q, pid, ts, loop_of, x = q[keep], pid[keep], ts[keep], loop_of[keep], x[keep]
     # loops with fewer than three vertices enclose nothing on the grid
     counts = np.bincount(loop_of, minlength=len(loops))
     ok = counts[loop_of] >= 3
-    q, pid, ts, loop_of, xy = q[ok], pid[ok], ts[ok], loop_of[ok], xy[ok]
+    q, pid, ts, loop_of, x = q[ok], pid[ok], ts[ok], loop_of[ok], x[ok]
     nxt, prv, starts = _links(loop_of)
     cuts = (None, None, None)
     if len(q):
-        q, pid, ts, loop_of, cuts = _through_hot_pixels(q, (xy - origin) / grid, pid, ts,
-                                                         loop_of, nxt)
+        q, pid, ts, loop_of, cuts = _through_hot_pixels(q, x, pid, ts, loop_of, nxt)
         nxt, prv, starts = _links(loop_of)
     # a segment ends at its next vertex's parameter on the same piece, 1 at a piece's
     # last vertex; a vertex put on a segment at its start (a hot pixel beside it)
@@ -241,7 +241,6 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     proved, for every finer polyline of those)."""
     t_end = np.where((pid[nxt] == pid) & (ts[nxt] > ts), ts[nxt], 1.0)
     chord = xy[nxt] - xy
-    length = np.hypot(chord[:, 0], chord[:, 1])
     todo = pending.ravel().nonzero()[0]
     arc = ~pending   # decided parts are arcs in their chords' cones
     line = np.zeros(len(pid), bool)
@@ -250,7 +249,7 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
             arc[todo[k]] = line[todo[k]] = True
         else:
             arc[todo[k]] = _in_cone(parts, chord[todo[k]], np.cos(CONE))
-    arc &= length > 0
+    arc &= (chord[:, 0] != 0.0) | (chord[:, 1] != 0.0)   # a chord of nonzero length
     # the turn from each segment's chord into the next one's, in [-pi, pi)
     angle = np.arctan2(chord[:, 1], chord[:, 0])
     turn = (angle[nxt] - angle + np.pi) % (2.0 * np.pi) - np.pi
@@ -404,12 +403,19 @@ def _segment_parts(pieces, pid, t0, t1):
 def _in_cone(parts, chord, cos_max):
     """Whether each part's control-polygon legs (those of nonzero length) all lie
     within the angle acos(cos_max) of its chord: a stack of parts (k, n+1, 3) and
-    their chords (k, 2), (k,) bool."""
-    x = parts[:, :, :2] / parts[:, :, 2:]
-    legs = x[:, 1:] - x[:, :-1]
-    dot = legs[..., 0] * chord[:, None, 0] + legs[..., 1] * chord[:, None, 1]
-    size = np.hypot(legs[..., 0], legs[..., 1]) * np.hypot(chord[:, 0], chord[:, 1])[:, None]
-    return np.logical_and.reduce((dot >= cos_max * size) | (size == 0), axis=1)
+    their chords (k, 2), (k,) bool.  Leg by leg on (k,) columns (the (k, n, 2)
+    planes would go through numpy's buffered iterator)."""
+    ux, uy = chord[:, 0], chord[:, 1]
+    norm = np.hypot(ux, uy)
+    out = np.ones(len(parts), bool)
+    x0, y0 = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
+    for j in range(1, parts.shape[1]):
+        x1, y1 = parts[:, j, 0] / parts[:, j, 2], parts[:, j, 1] / parts[:, j, 2]
+        lx, ly = x1 - x0, y1 - y0
+        size = np.hypot(lx, ly) * norm
+        out &= (lx * ux + ly * uy >= cos_max * size) | (size == 0)
+        x0, y0 = x1, y1
+    return out
 
 
 def _links(loop_of):
@@ -455,8 +461,9 @@ def _through_hot_pixels(q, x, pid, ts, loop_of, nxt):
     ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
     lo_x, lo_y = np.minimum(ax, bx) - 0.5, np.minimum(ay, by) - 0.5
     hi_x, hi_y = np.maximum(ax, bx) + 0.5, np.maximum(ay, by) + 0.5
+    hot_end = hot_of[nxt]   # each segment's end pixel, once per segment
     keep = ((lo_x[s] < cx) & (hi_x[s] > cx) & (lo_y[s] < cy) & (hi_y[s] > cy)
-                          & (hot_of[s] != h) & (hot_of[nxt[s]] != h)).ravel().nonzero()[0]
+            & (hot_of[s] != h) & (hot_end[s] != h)).ravel().nonzero()[0]
     h, s = h[keep], s[keep]
     c = pl.columns(cx[keep], cy[keep])
     keep = _line_crosses_square(a[s], b[s], c)
