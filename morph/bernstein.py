@@ -437,7 +437,8 @@ def split_many(c, t, side=None):
     t = np.asarray(t, float).reshape(-1)
     s = 1.0 - t
     n = c.shape[1] - 1
-    work = np.moveaxis(c, 0, -1).copy(order="C")   # a copy: its levels are written in place
+    # (n+1, ..., k) by transpose (np.moveaxis makes a dozen Python calls per use)
+    work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")   # levels in place
     sides = [np.empty(work.shape) if side != "right" else None,
              np.empty(work.shape) if side != "left" else None]
     for r in range(n + 1):
@@ -449,7 +450,8 @@ def split_many(c, t, side=None):
             nxt = np.multiply(s, work[:-1])
             nxt += np.multiply(t, work[1:], out=work[1:])
             work = nxt
-    left, right = (None if x is None else np.ascontiguousarray(np.moveaxis(x, -1, 0))
+    back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
+    left, right = (None if x is None else np.ascontiguousarray(x.transpose(back))
                    for x in sides)
     return left if side == "left" else right if side == "right" else (left, right)
 
