@@ -77,6 +77,7 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
     hi = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
     if hi is not None and tuple(map(float, lo)) == tuple(map(float, hi)):
         raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
+    _check_nibs_tol(tol, lo, hi, upm)
     items = glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):
         logging.getLogger(name).setLevel(logging.ERROR)
@@ -128,6 +129,15 @@ def is_variable_truetype(path):
         return False
 
 
+def _check_nibs_tol(tol, nib, nib_max, upm):
+    """:func:`morph.cli.fonts.check_nib_tol` of the elliptical nib (w, h, angle) and
+    of the axis' other nib (None without --vary-nib)."""
+    from ..nib import ellipse_nib
+    from .fonts import check_nib_tol
+
+    check_nib_tol(tol, [ellipse_nib(*n) for n in (nib, nib_max) if n is not None], upm)
+
+
 def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample, png, page,
                        parse_nib, vary_nib=None, location=None):
     """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept;
@@ -161,6 +171,7 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
         except MorphError as exc:
             raise InputError(str(exc)) from exc
     upm = font["head"].unitsPerEm
+    _check_nibs_tol(tol, nib, nib_max, upm)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
     try:
