@@ -134,6 +134,7 @@ def _brush_static(src, location, out, nib_region, items, tol, family, composites
     from ..parse import font_display_name
 
     source = open_source(src, location)  # static: a variable font at --location
+    check_nib_tol(tol, [nib_region], source["head"].unitsPerEm)
     source_copy = _source_copy(src, location, source)  # as it was, for the specimen
     jobs = default_jobs() if jobs is None else jobs
     total = len(items) if items is not None else len(outline_glyphs(source))
@@ -178,7 +179,7 @@ def _brush_status(stats):
     for base, users in stats["base_not_chosen"].items():
         click.echo("note: swept %s too (not chosen), the base of %s" % (base, ", ".join(users)),
                    err=True)
-    return _fallback_status(["%s (%s: %s)" % (n, _BRUSH_FALLBACKS[k], err)
+    return _fallback_status([(n, "%s: %s" % (_BRUSH_FALLBACKS[k], err))
                              for n, (k, err) in sorted(stats["fallback"].items())], "")
 
 
@@ -258,12 +259,35 @@ def _glyph_items(spec, everything=None):
 
 def _fallback_status(fallbacks, what):
     """Exit status of a font command: 0, or 1 after naming the glyphs that fell back
-    (``what``: how, e.g. " to a polygon stroke") on one line."""
+    (``fallbacks``: (glyph name, reason) pairs; ``what``: how, e.g. " to a polygon
+    stroke") on one line, each reason once with the glyphs it names."""
     if not fallbacks:
         return 0
+    names = {}
+    for name, why in fallbacks:
+        names.setdefault(str(why), []).append(name)
     click.echo("morph: error: font written, but %d glyph(s) fell back%s: %s"
-               % (len(fallbacks), what, "; ".join(fallbacks)), err=True)
+               % (len(fallbacks), what, "; ".join("%s (%s)" % (", ".join(n), why)
+                                                  for why, n in names.items())), err=True)
     return EXIT_INTERNAL
+
+
+def check_nib_tol(tol, nibs, upm):
+    """Refuse (InputError, exit 2) a --tol of ``tol`` em that is not below the size of
+    every nib region of ``nibs`` (in font units, ``upm`` per em): a stroke or brush is
+    then no thicker than the tolerance in some direction of every part the nib adds,
+    and trimming drops features thinner than about the tolerance (morph.trim), so each
+    stroked glyph comes out empty (a polygon fallback) and a brush is lost within the
+    tolerance.  The suggestion is a tenth of the smallest nib, as
+    :func:`morph.limits.check_tolerance` suggests for shapes."""
+    from ..limits import region_extent
+
+    size = min(region_extent(nib)[0] for nib in nibs)
+    if tol * upm >= size:
+        raise InputError("--tol %g em (%.3g units) is not below the nib's size (%.3g units, "
+                         "%.3g em): the nib's shape would be lost within the tolerance; use "
+                         "--tol %.2g em or less" % (tol, tol * upm, size, size / upm,
+                                                    size / upm / 10))
 
 
 # =========================================================================== stroke
@@ -426,6 +450,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     font = source.shell_font()
     upm = float(font.info.unitsPerEm or 1000)
     nib_region = _stroke_nib(nib, nib_svg, upm / 1000.0)
+    check_nib_tol(tol, [nib_region], upm)
     items = _glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):  # feature-merging notes are not errors
         logging.getLogger(name).setLevel(logging.ERROR)
@@ -467,8 +492,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
                    % (count(stats["emptied"], "glyph"),
                       "; their skeletons are in the UFO layer '%s'" % SKELETON_LAYER
                       if out.suffix.lower() == ".ufo" else ""), err=True)
-    return _fallback_status(["%s (%s)" % kv for kv in sorted(stats["fallback"].items())],
-                            " to a polygon stroke")
+    return _fallback_status(sorted(stats["fallback"].items()), " to a polygon stroke")
 
 
 def _stroke_svg(src, output, nib, nib_svg, glyphs, tol, size, force):

@@ -75,8 +75,7 @@ def stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
     lo = parse_nib(nib) if nib is not None else tuple(v * (upm / 1000.0) if k < 2 else v
                                                     for k, v in enumerate(default_nib))
     hi = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
-    if hi is not None and tuple(map(float, lo)) == tuple(map(float, hi)):
-        raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
+    _check_nibs(tol, lo, hi, vary_nib, upm)
     items = glyph_items(glyphs)
     for name in ("ufo2ft", "fontTools"):
         logging.getLogger(name).setLevel(logging.ERROR)
@@ -128,6 +127,18 @@ def is_variable_truetype(path):
         return False
 
 
+def _check_nibs(tol, nib, nib_max, vary_nib, upm):
+    """The elliptical nib (w, h, angle) and the axis' other nib (None without
+    --vary-nib) checked: two different nibs, and --tol below both
+    (:func:`morph.cli.fonts.check_nib_tol`)."""
+    from ..nib import ellipse_nib
+    from .fonts import check_nib_tol
+
+    if nib_max is not None and tuple(map(float, nib)) == tuple(map(float, nib_max)):
+        raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
+    check_nib_tol(tol, [ellipse_nib(*n) for n in (nib, nib_max) if n is not None], upm)
+
+
 def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample, png, page,
                        parse_nib, vary_nib=None, location=None):
     """``morph brush VARIABLE.ttf -o OUT.ttf`` (no --location): every axis kept;
@@ -148,8 +159,6 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
                          "--location for a static instance)")
     nib = parse_nib(nib)
     nib_max = None if vary_nib is None else parse_vary_nib(vary_nib, parse_nib)
-    if nib_max is not None and tuple(map(float, nib)) == tuple(map(float, nib_max)):
-        raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
     try:       # a variable FONT at --location: its static instance gets the nib axis
         font = open_source(src, location) if location else _read_font(src)
     except MorphError as exc:
@@ -161,6 +170,7 @@ def brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
         except MorphError as exc:
             raise InputError(str(exc)) from exc
     upm = font["head"].unitsPerEm
+    _check_nibs(tol, nib, nib_max, vary_nib, upm)
     jobs = default_jobs() if jobs is None else jobs
     t0 = time.perf_counter()
     try:

@@ -375,6 +375,44 @@ def test_tolerance_units_helper_and_where_both_are_documented(runner):
     assert "units per em" in text and "library" in text
 
 
+@pytest.mark.parametrize("command", [
+    ["stroke", "RELIEF", "-o", "s.otf"],
+    ["stroke", "RELIEF", "-o", "v.ttf", "--vary-nib", "ellipse:120,30,30"],
+    ["brush", "-o", "b.ttf"],
+    ["brush", "-o", "w.ttf", "--vary-nib", "ellipse:120,30,30"]])
+def test_a_tolerance_as_coarse_as_the_nib_is_refused_before_any_glyph(runner, tmp_path,
+                                                                     command):
+    """--tol no finer than the nib (its control box's larger side, ~88 units for the
+    stroke's default nib at 1000 units per em, ~84 for the brush's) is one error line
+    naming --tol, exit 2, nothing written, before any glyph is computed (every stroked
+    glyph would come out empty, a polygon fallback each); a --tol just below the nib
+    passes this check."""
+    from tests import RELIEF_SUBSET
+
+    args = [str(RELIEF_SUBSET) if a == "RELIEF" else
+            str(tmp_path / a) if a.endswith(("otf", "ttf")) else a for a in command]
+    res = runner.invoke(main, args + ["--glyphs", "H", "--tol", "0.09", "--jobs", "1"])
+    line = one_error_line(res)
+    assert res.exit_code == 2 and "--tol 0.09 em" in line and "nib" in line
+    assert "use --tol 0.0088 em or less" in line or "use --tol 0.0084 em or less" in line
+    assert not list(tmp_path.iterdir())
+    res = runner.invoke(main, args + ["--glyphs", "H", "--tol", "0.08", "--jobs", "1"])
+    assert res.exit_code != 2, res.stderr
+
+
+def test_glyphs_that_fell_back_for_one_reason_share_it(capsys):
+    """The fallback line names each reason once, after the glyphs it concerns."""
+    from morph.cli.fonts import _fallback_status
+
+    why = ValueError("tolerance too coarse")
+    assert _fallback_status([("C", why), ("D", ValueError(str(why))), ("E", "other")],
+                            " to a polygon stroke") == 1
+    err = capsys.readouterr().err.strip()
+    assert err == ("morph: error: font written, but 3 glyph(s) fell back to a polygon "
+                   "stroke: C, D (tolerance too coarse); E (other)")
+    assert _fallback_status([], "") == 0
+
+
 # =========================================================================== 13: sample text
 
 def test_sample_text_the_font_covers(runner, tmp_path):
