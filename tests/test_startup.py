@@ -19,7 +19,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 #: top-level packages / modules no glyph -> SVG command needs
 NOT_FOR_GLYPH_SVG = ("PIL", "svgelements", "xml.etree", "html", "kurbopy",
-                     "svgpathtools", "ufoLib2", "ufo2ft", "fontTools.varLib", "numpy.ma")
+                     "svgpathtools", "ufoLib2", "ufo2ft", "fontTools.varLib", "numpy.ma",
+                     "morph.cli.fonts", "morph.cli.apps")  # other commands' modules
 
 _PROBE = r"""
 import json, os, sys
@@ -69,6 +70,17 @@ def test_glyph_to_svg_loads_neither_pillow_nor_the_svg_reader(tmp_path, argv):
         assert not _loaded(mods, name), name
     assert _loaded(mods, "fontTools.ttLib")
     assert not _loaded(mods, "morph.paper")   # the paper's methods: only for --method
+
+
+def test_every_command_is_named_with_its_module():
+    """morph.cli.group.COMMAND_MODULES names every command with the module that
+    defines it (a command missing there would be loaded only with all of them)."""
+    from morph.cli import COMMAND_MODULES, load_commands, main
+
+    load_commands()
+    assert {name: cmd.callback.__module__ for name, cmd in main.commands.items()
+            if name != "freeze-probe"} == \
+        {name: "morph.cli." + module for name, module in COMMAND_MODULES.items()}
 
 
 def test_png_and_svg_input_load_what_they_need(tmp_path):
@@ -139,10 +151,12 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 #: (morph.fonts.specimen.save_png writes the sample) and its EXIF and TIFF tags (deferred:
 #: morph.fonts.deferred.pillow), the html package (the specimen escapes its text
 #: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
-#: locale tables (morph.fonts.tables_static reads the head table's dates itself)
+#: locale tables (morph.fonts.tables_static reads the head table's dates itself); the shape
+#: commands' modules (morph.cli.group.COMMAND_MODULES)
 NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
                          "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
-                         "_strptime")
+                         "_strptime",
+                         "morph.cli.shapes", "morph.cli.apps")
 
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
