@@ -26,6 +26,8 @@ import os
 import plistlib
 import re
 
+from .glif import xml_module
+
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
            "glif_shell", "as_ufolib2"]
@@ -406,8 +408,6 @@ def glif_shell(name, data):
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
     """
-    from .glif import xml_module
-
     etree = xml_module()   # lxml where installed, as glifLib and .glif read
 
     a = data.find(b"<outline")
@@ -480,8 +480,6 @@ _COMPONENT_KEYS = frozenset(k for k, _ in _TRANSFORM) | {"base", "identifier"}
 def _components(name, outline):
     """The components of a glyph's outline element's bytes (``<outline>`` up to its
     end tag), in order; NotLight for one without a base or with another attribute."""
-    from .glif import xml_module
-
     try:
         root = xml_module().fromstring(outline + b"</outline>")
         out = []
