@@ -32,8 +32,8 @@ import os
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from .group import (BAD_INPUT_ERRORS, COMMAND_MODULES, load_commands,  # noqa: E402,F401
-                    main)  # (re-exported)
+from .group import (BAD_INPUT_ERRORS, COMMAND_MODULES,  # noqa: E402,F401 (re-exported)
+                    load_commands, main)
 from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E402,F401
                       InputError, ShapeParam,
                       common_options, font_option, force_option, output_option,
@@ -45,10 +45,10 @@ __all__ = ["main", "run", "ShapeParam", "shape_argument", "shape_tolerance", "co
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
 
-
 def __getattr__(name):
-    """The command modules (``shapes``, ``apps``, ``fonts``), imported on first use as
-    their commands are (:data:`.group.COMMAND_MODULES`)."""
+    """The command modules (``shapes``, ``apps``, ``fonts`` and the ``variable`` part of
+    ``fonts``), imported on first use as their commands are
+    (:data:`.group.COMMAND_MODULES`)."""
     if name in set(COMMAND_MODULES.values()) | {"variable"}:
         import importlib
 
