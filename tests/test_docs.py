@@ -29,7 +29,7 @@ def test_readme_commands_parse():
     assert len(examples) >= 8, examples
     for example in examples:
         words = shlex.split(example)
-        cmd = main.commands.get(words[1])
+        cmd = main.get_command(None, words[1])
         assert cmd is not None, example
         known = {o for p in cmd.params for o in getattr(p, "opts", [])}
         for w in words[2:]:

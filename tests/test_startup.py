@@ -7,6 +7,7 @@ process pays for it again (``morph sum`` as a process against the
 polygon script).
 """
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -19,7 +20,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 #: top-level packages / modules no glyph -> SVG command needs
 NOT_FOR_GLYPH_SVG = ("PIL", "svgelements", "xml.etree", "html", "kurbopy",
-                     "svgpathtools", "ufoLib2", "ufo2ft", "fontTools.varLib", "numpy.ma")
+                     "svgpathtools", "ufoLib2", "ufo2ft", "fontTools.varLib", "numpy.ma",
+                     "morph.cli.fonts", "morph.cli.apps")  # other commands' modules
 
 _PROBE = r"""
 import json, os, sys
@@ -69,6 +71,17 @@ def test_glyph_to_svg_loads_neither_pillow_nor_the_svg_reader(tmp_path, argv):
         assert not _loaded(mods, name), name
     assert _loaded(mods, "fontTools.ttLib")
     assert not _loaded(mods, "morph.paper")   # the paper's methods: only for --method
+
+
+def test_every_command_is_named_with_its_module():
+    """morph.cli.group.COMMAND_MODULES names every command with the module that
+    defines it (a command missing there would be loaded only with all of them)."""
+    from morph.cli import COMMAND_MODULES, load_commands, main
+
+    load_commands()
+    assert {name: cmd.callback.__module__ for name, cmd in main.commands.items()
+            if name != "freeze-probe"} == \
+        {name: "morph.cli." + module for name, module in COMMAND_MODULES.items()}
 
 
 def test_png_and_svg_input_load_what_they_need(tmp_path):
@@ -136,13 +149,15 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 
 #: what the font commands never need, each a few ms of every process: numpy's
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
-#: (morph.fonts.specimen.save_png writes the sample) and its EXIF and TIFF tags (deferred:
-#: morph.fonts.deferred.pillow), the html package (the specimen escapes its text
-#: itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
-#: locale tables (morph.fonts.tables_static reads the head table's dates itself)
+#: (morph.fonts.specimen.save_png writes the sample), its EXIF and TIFF tags and its
+#: file formats' base (deferred: morph.fonts.deferred.pillow), the html package (the
+#: specimen escapes its text itself), the SVG reader and its XML parser (--nib-svg only), numpy.ma, strptime's
+#: locale tables (morph.fonts.tables_static reads the head table's dates itself); the shape
+#: commands' modules (morph.cli.group.COMMAND_MODULES)
 NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
                          "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
-                         "_strptime")
+                         "_strptime", "PIL.ImageFile",
+                         "morph.cli.shapes", "morph.cli.apps")
 
 #: what a static brush never needs: ufo2ft and its variable-font stack, ufoLib2
 NOT_FOR_STATIC_BRUSH = ("ufo2ft", "ufoLib2", "fontTools.varLib", "fontTools.designspaceLib",
@@ -184,7 +199,9 @@ def test_brush_of_a_font_without_anchors_loads_no_layout_classes(tmp_path):
 NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH
                              if m not in ("cffsubr", "xml.etree")) + (
     "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib",
-    "morph.fonts.brush")
+    "morph.fonts.brush") + (
+    # the .glif files parsed by ElementTree itself (morph.parse.glif.xml_module)
+    ("fontTools.misc.etree",) if importlib.util.find_spec("lxml") is None else ())
 
 
 def _plain_skeleton(folder):
@@ -392,6 +409,40 @@ def test_pillow_runs_its_exif_tags_where_used():
                          text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert res.stdout.split() == ["False", "morph", "{}", "module"]
+
+
+_IMAGEFILE_PROBE = r"""
+import hashlib, io, sys
+if sys.argv[1] == "deferred":
+    from morph.fonts.deferred import pillow
+    Image, ImageDraw = pillow("Image", "ImageDraw")
+else:
+    from PIL import Image, ImageDraw
+img = Image.new("RGB", (700, 90), "white")
+ImageDraw.Draw(img).ellipse((3, 4, 650, 85), fill=(10, 20, 30), outline=(200, 0, 0))
+data = img.tobytes()
+ran = type(sys.modules["PIL.ImageFile"]).__name__ != "_Deferred"
+buf = io.BytesIO()
+img.save(buf, "PNG")                      # Pillow's PNG plugin: runs ImageFile
+back = Image.open(io.BytesIO(buf.getvalue())).tobytes()
+print(ran, hashlib.sha1(data).hexdigest(), back == data,
+      type(sys.modules["PIL.ImageFile"]).__name__)
+"""
+
+
+def test_pillow_image_file_runs_only_where_used():
+    """morph.fonts.deferred.pillow: ``Image.tobytes`` reads the deferred
+    ``PIL.ImageFile``'s chunk size without running it and gives the bytes it gives
+    with a plain import of Pillow; saving and opening a PNG with Pillow runs it."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = []
+    for how in ("deferred", "plain"):
+        res = subprocess.run([sys.executable, "-c", _IMAGEFILE_PROBE, how], env=env,
+                             capture_output=True, text=True, timeout=120)
+        assert res.returncode == 0, res.stderr
+        out.append(res.stdout.split())
+    assert out[0][0] == "False" and out[1][0] == "True"
+    assert out[0][1] == out[1][1] and out[0][2:] == out[1][2:] == ["True", "module"]
 
 
 def test_a_command_runs_with_what_was_imported_frozen():

@@ -9,6 +9,9 @@ Adding a command (for other engineers)::
         out = resolve_output(output, "mycommand-%s.png" % shape.slug, force)
         write_image(out, [shape.region], size=size, tol=shape_tolerance(shape, tol))
 
+and name it, with its module, in ``morph.cli.group.COMMAND_MODULES`` (a command's
+module is imported when the command runs).
+
 ``common_options`` adds ``--font``, ``--tol``, ``-o/--output``, ``--force`` and
 ``--size``; ``shape_argument`` converts an argument with :func:`morph.parse.load_shape`
 into a :class:`morph.parse.Shape`; :func:`shape_tolerance` turns --tol (em for
@@ -29,7 +32,8 @@ import os
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from .group import BAD_INPUT_ERRORS, main  # noqa: E402,F401 (re-exported)
+from .group import (BAD_INPUT_ERRORS, COMMAND_MODULES,  # noqa: E402,F401 (re-exported)
+                    load_commands, main)
 from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E402,F401
                       InputError, ShapeParam,
                       common_options, font_option, force_option, output_option,
@@ -40,7 +44,16 @@ __all__ = ["main", "run", "ShapeParam", "shape_argument", "shape_tolerance", "co
            "font_option", "tol_option", "output_option", "force_option", "size_option",
            "resolve_output", "resolve_output_dir", "write_image", "InputError"]
 
-from . import shapes, apps, fonts  # noqa: E402,F401
+
+def __getattr__(name):
+    """The command modules (``shapes``, ``apps``, ``fonts`` and the ``variable`` part of
+    ``fonts``), imported on first use as their commands are
+    (:data:`.group.COMMAND_MODULES`)."""
+    if name in set(COMMAND_MODULES.values()) | {"variable"}:
+        import importlib
+
+        return importlib.import_module("." + name, __name__)
+    raise AttributeError("module %r has no attribute %r" % (__name__, name))
 
 
 def run():

@@ -133,6 +133,23 @@ def _failure_line(exc, command, argv, debug):
 
 # =========================================================================== group
 
+#: the module of morph.cli defining each command: a command's module is imported when
+#: the command runs (``morph stroke`` builds neither the shape commands' options nor
+#: their modules) and every one of them when the commands are listed
+COMMAND_MODULES = {"outline": "shapes", "sum": "shapes", "glyph": "shapes", "svg": "shapes",
+                   "offset": "apps", "cspace": "apps", "brush": "fonts", "stroke": "fonts"}
+
+
+def load_commands(names=None):
+    """Import the modules defining the commands ``names`` (default: all of
+    :data:`COMMAND_MODULES`), which register them on :data:`main`."""
+    import importlib
+
+    for name in COMMAND_MODULES if names is None else names:
+        if name in COMMAND_MODULES and name not in main.commands:
+            importlib.import_module("morph.cli." + COMMAND_MODULES[name])
+
+
 class MorphGroup(click.Group):
     """click Group whose ``main`` turns every failure into one stderr line (and a
     MorphWarning into one ``morph: warning:`` line).
@@ -143,6 +160,14 @@ class MorphGroup(click.Group):
     exceeded), naming the command; with MORPH_DEBUG=1 the traceback and the inputs
     saved as JSON.
     """
+
+    def get_command(self, ctx, cmd_name):
+        load_commands([cmd_name])
+        return super().get_command(ctx, cmd_name)
+
+    def list_commands(self, ctx):
+        load_commands()
+        return super().list_commands(ctx)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True,
              **extra):
@@ -215,5 +240,3 @@ def main():
       morph outline drawing.svg --size 800
     """
 
-
-# one module per command family; importing registers the commands on ``main``

@@ -32,14 +32,18 @@ Pillow without its EXIF and TIFF tag tables: ``PIL.Image`` imports ``PIL.ExifTag
 (some hundreds of ``IntEnum`` members, built as it loads: about 30 M instructions,
 half of Pillow's import) and ``PIL.TiffTags`` for the metadata of the photographs it
 reads; the images morph draws and saves (a font's sample, a shape's PNG) have none.
-:func:`pillow` imports Pillow's modules with them deferred.
+``Image.tobytes`` (the pixels a sample's PNG is written from) imports
+``PIL.ImageFile``, the base of Pillow's file formats, for one number, the size of
+the chunks its raw encoder writes: the bytes do not depend on it.  :func:`pillow`
+imports Pillow's modules with those deferred, ``PIL.ImageFile``'s ``MAXBLOCK`` set
+(:data:`PILLOW_PRESET`).
 """
 
 import sys
 import types
 
-__all__ = ["cff_table", "deferred_imports", "glyph_list", "pillow", "LAYOUT_MODULES",
-           "PILLOW_METADATA"]
+__all__ = ["cff_table", "deferred_imports", "glyph_list", "pillow", "preset", "LAYOUT_MODULES",
+           "PILLOW_METADATA", "PILLOW_PRESET"]
 
 #: what fontTools.cffLib imports for CFF2 only: the OpenType layout classes and the
 #: HarfBuzz bindings that otBase imports for its packer
@@ -47,6 +51,10 @@ LAYOUT_MODULES = ("fontTools.ttLib.tables.otTables", "uharfbuzz")
 
 #: what ``PIL.Image`` imports for the EXIF and TIFF metadata of images it reads
 PILLOW_METADATA = ("PIL.ExifTags", "PIL.TiffTags")
+
+#: what ``Image.tobytes`` reads of ``PIL.ImageFile``: its encoder's chunk size (Pillow's
+#: value; the bytes are the same for any)
+PILLOW_PRESET = {"PIL.ImageFile": {"MAXBLOCK": 65536}}
 
 
 class _Deferred(types.ModuleType):
@@ -119,8 +127,14 @@ def glyph_list():
         if line and line[0] != "#":
             code, name, _ = line.split(";", 2)
             names[int(code, 16)] = name
-    fields = types.ModuleType.__getattribute__(sys.modules["fontTools.agl"], "__dict__")
-    fields.update(UV2AGL=names, _morph_preset=("UV2AGL",))
+    preset("fontTools.agl", UV2AGL=names)
+
+
+def preset(name, **values):
+    """Set ``values`` on the deferred module ``name``: they are read without running
+    it (:class:`_Deferred`), and replaced by the module's own when it runs."""
+    fields = types.ModuleType.__getattribute__(sys.modules[name], "__dict__")
+    fields.update(values, _morph_preset=tuple(values))
 
 
 def pillow(*names):
@@ -131,4 +145,6 @@ def pillow(*names):
 
     if "PIL.Image" not in sys.modules:
         deferred_imports(PILLOW_METADATA)
+        for name in deferred_imports(PILLOW_PRESET):
+            preset(name, **PILLOW_PRESET[name])
     return tuple(importlib.import_module("PIL." + name) for name in names)

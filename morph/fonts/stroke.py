@@ -61,7 +61,6 @@ the source is lost.
 """
 
 import time
-from dataclasses import dataclass
 import functools
 from functools import partial
 from pathlib import Path
@@ -683,19 +682,21 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     return plan.stats
 
 
-@dataclass
 class _FontPlan:
-    """What :func:`stroke_ufo` writes (:func:`_font_plan`)."""
+    """What :func:`stroke_ufo` writes (:func:`_font_plan`): ``source`` the
+    :class:`morph.fonts.stream.SkeletonSource`, ``font`` the shells (ufoLib2.Font),
+    final furniture, ``stroked`` and ``followed`` glyph names, ``place`` the
+    :class:`_Placement`, ``kept`` glyph name -> for each component, whether it is
+    kept, ``stats``, ``features`` feaLib's tree of the moved feature file
+    (:func:`_move_feature_file`), ``weights`` glyph name -> its weight for the chunks
+    (:func:`_stroke_weights`).  Plain classes (this one and :class:`_Placement`):
+    processing a dataclass costs every process about half a ms."""
 
-    source: object     # morph.fonts.stream.SkeletonSource
-    font: object       # the shells (ufoLib2.Font), final furniture
-    stroked: list
-    followed: list
-    place: object      # _Placement
-    kept: dict         # glyph name -> for each component, whether it is kept
-    stats: dict
-    features: object = None   # feaLib's tree of the moved feature file (_move_feature_file)
-    weights: dict = None      # glyph name -> its weight for the chunks (_stroke_weights)
+    def __init__(self, source, font, stroked, followed, place, kept, stats, features=None,
+                 weights=None):
+        self.source, self.font, self.stroked, self.followed = source, font, stroked, followed
+        self.place, self.kept, self.stats = place, kept, stats
+        self.features, self.weights = features, weights
 
 
 def _font_plan(src, nib_region, glyphs, family_name, kind, tol):
@@ -1011,15 +1012,13 @@ def _checked_output(out_path, tol, overwrite):
     return out_path, kind
 
 
-@dataclass(frozen=True)
 class _Placement:
     """Where the stroked glyphs go, on the integer grid (see the module docstring):
     ``shifts`` glyph name -> x shift of the outline; ``grow`` the advance growth (nib
     width); ``centre`` the nib's centre (anchors move by shift + centre)."""
 
-    shifts: dict
-    grow: int
-    centre: tuple
+    def __init__(self, shifts, grow, centre):
+        self.shifts, self.grow, self.centre = shifts, grow, centre
 
     def anchor_offset(self, name):
         """(dx, dy) of a glyph's anchors; None for a glyph that is not written anew."""

@@ -519,33 +519,77 @@ def _raw_font_class():
 _RAW_FONT = None
 
 
-def _optimize_widths():
-    """fontTools' ``optimizeWidths`` (the CFF default and nominal widths ufo2ft
-    chooses), its module loaded by itself: importing it as
-    ``fontTools.cffLib.width`` runs ``fontTools.cffLib``'s ``__init__``, which loads
-    the OpenType layout table classes (a tenth of a second) this writer does not
-    otherwise need.  The module imports only ``fontTools.ttLib`` and the standard
-    library; where loading it alone fails, it is imported as usual."""
-    import sys
-
-    module = sys.modules.get("fontTools.cffLib.width") or sys.modules.get(_WIDTH_MODULE)
-    if module is None:
-        try:
-            import importlib.util
-
-            import fontTools
-
-            path = os.path.join(os.path.dirname(fontTools.__file__), "cffLib", "width.py")
-            spec = importlib.util.spec_from_file_location(_WIDTH_MODULE, path)
-            module = importlib.util.module_from_spec(spec)
-            spec.loader.exec_module(module)
-            sys.modules[_WIDTH_MODULE] = module
-        except Exception:  # noqa: BLE001 - any failure loading width.py alone (a fontTools laid out otherwise) falls back to the plain import
-            from fontTools.cffLib import width as module
-    return module.optimizeWidths
+#: a Type 2 charstring's width operand (the advance less nominalWidthX) costs 1 byte
+#: up to ONE_BYTE_WIDTH from zero, 2 up to TWO_BYTE_WIDTH, else 5
+#: (fontTools.cffLib.width's byte costs)
+ONE_BYTE_WIDTH, TWO_BYTE_WIDTH = 107, 1131
+#: the nearest widths 2 and 5 bytes away from the nominal width
+NEAR, FAR = ONE_BYTE_WIDTH + 1, TWO_BYTE_WIDTH + 1
 
 
-_WIDTH_MODULE = "morph._fonttools_cff_width"
+def optimize_widths(widths):
+    """(default, nominal): the CFF Private dict's ``defaultWidthX`` and
+    ``nominalWidthX`` of fontTools' ``optimizeWidths`` (fontTools.cffLib.width, the
+    widths ufo2ft chooses) for the glyph advances ``widths`` (ints), by its rule on
+    arrays over the range of the advances: its running sums and maxima of the advances'
+    counts (up and down) are cumulative sums and maxima, its cost of each nominal
+    width one array (the first cheapest wins, as ``min`` picks), its candidates for
+    the default (the starts of the runs of equal maxima it walks back) found by
+    searching the monotone maxima.  fontTools computes the same with a Python call per
+    advance of the range (a few ms a font, the range being about an em)."""
+    import numpy as np
+
+    w = np.asarray(widths, dtype=np.int64)
+    lo = int(w.min())
+    counts = np.bincount(w - lo)
+    n, total, top = len(counts), int(counts.sum()), int(counts.max())
+    up_sum, up_max = np.cumsum(counts), np.maximum.accumulate(counts)
+    down_sum = np.cumsum(counts[::-1])[::-1]
+    down_max = np.maximum.accumulate(counts[::-1])[::-1]
+
+    def up(arr, beyond, shift):    # arr at domain index + shift; 0 below, beyond above
+        k = np.arange(n) + shift
+        return np.where(k < 0, 0, np.where(k >= n, beyond, arr[np.clip(k, 0, n - 1)]))
+
+    def down(arr, beyond, shift):  # 0 above, beyond below
+        k = np.arange(n) + shift
+        return np.where(k >= n, 0, np.where(k < 0, beyond, arr[np.clip(k, 0, n - 1)]))
+
+    nominal_cost = (up(up_sum, total, 0) + up(up_sum, total, -NEAR)
+                    + 3 * up(up_sum, total, -FAR) + down(down_sum, total, 0)
+                    + down(down_sum, total, NEAR) + 3 * down(down_sum, total, FAR) - counts)
+    default_up = np.maximum.reduce([up(up_max, top, 0), 2 * up(up_max, top, -NEAR),
+                                    5 * up(up_max, top, -FAR)])
+    default_down = np.maximum.reduce([down(down_max, top, 0), 2 * down(down_max, top, NEAR),
+                                      5 * down(down_max, top, FAR)])
+    saving = np.maximum(default_up, default_down)
+    k = int(np.argmin(nominal_cost - saving))
+    return _best_default(counts, lo, k, up_max, down_max, saving[k] == default_up[k]), lo + k
+
+
+def _best_default(counts, lo, k, up_max, down_max, upward):
+    """:func:`optimize_widths`' default width for the nominal width ``lo + k``: of the
+    three runs of equal maxima ending at the nominal width and at NEAR and FAR from it
+    (below it where the saving came from the running maxima upward, else above), the
+    run's far end that costs the fewest bytes, the first of equal ones."""
+    import numpy as np
+
+    n, nominal = len(counts), lo + k
+    ends = []
+    for step in (0, NEAR, FAR):
+        start = nominal - step if upward else nominal + step
+        i = start - lo
+        if upward:   # the maxima upward: 0 below the range, nondecreasing in it
+            ends.append(start if i < 0 else
+                        lo + int(np.searchsorted(up_max, up_max[min(i, n - 1)])))
+        else:        # the maxima downward: 0 above the range, nonincreasing in it
+            ends.append(start if i >= n else
+                        lo + int(np.count_nonzero(down_max >= down_max[max(i, 0)])) - 1)
+    gap = np.abs(np.arange(lo, lo + n) - nominal)
+    cost = np.where(gap <= ONE_BYTE_WIDTH, 1, np.where(gap <= TWO_BYTE_WIDTH, 2, 5))
+    paid = counts * cost
+    whole = int(paid.sum())
+    return min(ends, key=lambda d: whole - (int(paid[d - lo]) if 0 <= d - lo < n else 0))
 
 
 def _index_head(sizes):
@@ -1221,7 +1265,7 @@ class _Compiler:
         if getattr(self, "_default_nominal", None) is None:
             info = self.info
             if info.postscriptDefaultWidthX is None and info.postscriptNominalWidthX is None:
-                self._default_nominal = _optimize_widths()(
+                self._default_nominal = optimize_widths(
                     [_ot_round(g.width) for g in self.glyphs.values()])
             else:
                 self._default_nominal = (

@@ -60,9 +60,29 @@ def _number(s):
         return float(s)
 
 
+def xml_module():
+    """The XML module fontTools' GLIF reader parses with: ``fontTools.misc.etree``
+    where lxml is installed (lxml's parser), else ``xml.etree.ElementTree``, whose
+    ``fromstring`` ``fontTools.misc.etree`` then exports: the same trees, without
+    importing fontTools' serializer (its classes and regular expressions, about a
+    ms of every process reading a UFO)."""
+    global _XML
+    if _XML is None:
+        try:
+            import lxml.etree  # noqa: F401 - only whether lxml is installed
+        except ImportError:
+            import xml.etree.ElementTree as _XML
+        else:
+            from fontTools.misc import etree as _XML
+    return _XML
+
+
+_XML = None
+
+
 def _parse(data):
     global _PARSER
-    from fontTools.misc import etree
+    etree = xml_module()
 
     if getattr(etree, "_have_lxml", False):
         if _PARSER is None:

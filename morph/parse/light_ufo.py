@@ -26,6 +26,8 @@ import os
 import plistlib
 import re
 
+from .glif import xml_module
+
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
            "glif_shell", "as_ufolib2"]
@@ -406,7 +408,7 @@ def glif_shell(name, data):
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
     """
-    from fontTools.misc import etree   # lxml where installed, as glifLib and .glif read
+    etree = xml_module()   # lxml where installed, as glifLib and .glif read
 
     a = data.find(b"<outline")
     contours, components = 0, []
@@ -478,10 +480,8 @@ _COMPONENT_KEYS = frozenset(k for k, _ in _TRANSFORM) | {"base", "identifier"}
 def _components(name, outline):
     """The components of a glyph's outline element's bytes (``<outline>`` up to its
     end tag), in order; NotLight for one without a base or with another attribute."""
-    from fontTools.misc import etree
-
     try:
-        root = etree.fromstring(outline + b"</outline>")
+        root = xml_module().fromstring(outline + b"</outline>")
         out = []
         for el in root.iterfind("component"):
             if not el.get("base") or not set(el.attrib) <= _COMPONENT_KEYS or len(el):

@@ -16,8 +16,6 @@ long cubic runs, and decomposes components through the glyph set it was given
 contour is pending ends that contour as open.
 """
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from .. import piece as pc
@@ -27,13 +25,15 @@ from ..limits import MAX_COORDINATE
 __all__ = ["RawContour", "record_contours", "record_segments", "closing_line", "draw_paths"]
 
 
-@dataclass
 class RawContour:
-    """A contour as drawn: polynomial pieces joined end to start, font units."""
+    """A contour as drawn: polynomial pieces joined end to start, font units (a plain
+    class: processing a dataclass costs every process about half a ms)."""
 
-    pieces: list = field(repr=False)
-    start: np.ndarray
-    closed: bool
+    def __init__(self, pieces, start, closed):
+        self.pieces, self.start, self.closed = pieces, start, closed
+
+    def __repr__(self):
+        return "RawContour(start=%r, closed=%r)" % (self.start, self.closed)
 
 
 def closing_line(contour):

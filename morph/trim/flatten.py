@@ -41,8 +41,6 @@ bounds the flattening error e of both segments tested, plus eps + grid for
 each side's lifted loop (within eps + grid of its rounded polyline).
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .. import bernstein as bz
@@ -80,7 +78,6 @@ LEVEL_STEP = 4.0
 SEGMENT_REACH = 2.5
 
 
-@dataclass
 class Tagged:
     """Closed polylines of all loops, on the integer grid.
 
@@ -90,26 +87,23 @@ class Tagged:
     starts (L+1,) offsets of the loops; origin (2,) and grid: float = origin + grid * q;
     eps: the flattening bound (each segment within eps of its piece before rounding
     where the topology is decided, within COARSE eps along simple arcs apart from
-    everything: :func:`adaptive_starts`).
+    everything: :func:`adaptive_starts`).  seg_grid, seg_first, seg_count: the snap
+    rounding's grid of the segments before hot pixels cut them (boxes of their
+    unrounded ends grown by SEGMENT_REACH grid units), the index of each one's first
+    segment after, and how many it became (None: no grid).  A plain class:
+    processing a dataclass costs every process about half a ms.
     """
 
-    q: np.ndarray
-    piece: np.ndarray
-    t0: np.ndarray
-    t1: np.ndarray
-    nxt: np.ndarray
-    prv: np.ndarray
-    starts: np.ndarray
-    origin: np.ndarray
-    grid: float
-    pieces: list
-    eps: float = 0.0
-    #: the snap rounding's grid of the segments before hot pixels cut them (boxes of
-    #: their unrounded ends grown by SEGMENT_REACH grid units), the index of each
-    #: one's first segment after, and how many it became (None: no grid)
-    seg_grid: object = None
-    seg_first: np.ndarray = None
-    seg_count: np.ndarray = None
+    def __init__(self, q, piece, t0, t1, nxt, prv, starts, origin, grid, pieces, eps=0.0,
+                 seg_grid=None, seg_first=None, seg_count=None):
+        self.q, self.piece, self.t0, self.t1, self.nxt, self.prv = q, piece, t0, t1, nxt, prv
+        self.starts, self.origin, self.grid, self.pieces, self.eps = \
+            starts, origin, grid, pieces, eps
+        self.seg_grid, self.seg_first, self.seg_count = seg_grid, seg_first, seg_count
+
+    def __repr__(self):
+        return "Tagged(%d vertices, %d loops, grid=%r, eps=%r)" % (
+            len(self.q), len(self.starts) - 1, self.grid, self.eps)
 
     def to_float(self, q):
         return self.origin + self.grid * np.asarray(q, float)

@@ -321,3 +321,26 @@ def test_time_value_reads_dates_as_strptime_does():
               for _ in range(3000)]
     assert [_time_value(d) for d in dates] == [strptime_value(d) for d in dates]
     assert _time_value("2020/01/02 03:04:05") == 1577934245
+
+
+def test_optimize_widths_picks_fontTools_widths():
+    """optimize_widths' default and nominal widths are fontTools' ``optimizeWidths``
+    (what ufo2ft writes) on advances of one em, of several ems (so that widths 108 and
+    1132 away count), with negative and repeated advances, ties between candidates
+    (few distinct advances, equal counts) and a single advance."""
+    import random
+
+    from fontTools.cffLib.width import optimizeWidths
+
+    from morph.fonts.tables_static import optimize_widths
+
+    rng = random.Random(11)
+    draws = [lambda: rng.randint(0, 1200), lambda: rng.choice([0, 500, 600, 1000, 2500]),
+             lambda: rng.randint(-300, 3000), lambda: rng.randint(400, 420),
+             lambda: rng.choice(range(0, 5000, 37)),
+             lambda: rng.randint(0, 2) * 1132 + rng.randint(0, 108)]
+    sets = [[500], [0, 0], [-40, 2300]]
+    for k in range(1800):
+        sets.append([draws[k % 6]() for _ in range(rng.randint(1, 12 if k % 2 else 300))])
+    for widths in sets:
+        assert optimize_widths(widths) == optimizeWidths(list(widths)), widths
