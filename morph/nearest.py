@@ -30,30 +30,32 @@ def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
     callers start from the nearest of dense samples or from a close guess).
     """
     s = np.array(s, float)
-    if jet is jet2_power_many and np.shape(c)[1] > 2:
-        jets = PowerJets(c)
-        ptx, pty = pts[..., 0], pts[..., 1]
+    with np.errstate(divide="ignore", invalid="ignore"):   # no step where f' <= 0
+        if jet is jet2_power_many and np.shape(c)[1] > 2:
+            jets = PowerJets(c)
+            ptx, pty = pts[..., 0], pts[..., 1]
+            for _ in range(iters):
+                (px, py), (dx, dy), (ddx, ddy) = jets(s)
+                ex, ey = px - ptx, py - pty
+                f = ex * dx + ey * dy
+                fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
+                s = _newton_step(s, f, fp)
+            return s
         for _ in range(iters):
-            (px, py), (dx, dy), (ddx, ddy) = jets(s)
-            ex, ey = px - ptx, py - pty
-            f = ex * dx + ey * dy
-            fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
+            p, d, dd = jet(c, s)
+            diff = p - pts
+            f = np.sum(diff * d, axis=2)
+            fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
             s = _newton_step(s, f, fp)
-        return s
-    for _ in range(iters):
-        p, d, dd = jet(c, s)
-        diff = p - pts
-        f = np.sum(diff * d, axis=2)
-        fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
-        s = _newton_step(s, f, fp)
     return s
 
 
 def _newton_step(s, f, fp):
-    """s - f / fp clipped to [0, 1]; no step where fp <= 0 or the step is not finite."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        step = np.where(fp > 0, f / np.where(fp > 0, fp, 1.0), 0.0)
-    return np.clip(s - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+    """s - f / fp clipped to [0, 1]; no step where fp <= 0 or the step is not finite
+    (numpy's warnings silenced by the caller, :func:`closest_params_many`)."""
+    step = f / fp
+    s = s - np.where((fp > 0) & np.isfinite(step), step, 0.0)
+    return s.clip(0.0, 1.0, out=s)
 
 
 class PowerJets:

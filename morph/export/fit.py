@@ -222,8 +222,7 @@ def _sub_pieces(h, a, b):
     :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
     splits: the right part at a, then its left part at (b - a) / (1 - a)), without
     its cases of reversed, whole or empty ranges."""
-    right = bz.split_many(h, a, "right")
-    return bz.split_many(right, (b - a) / (1.0 - a), "left")
+    return bz.cut_many(h, a, b)
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
