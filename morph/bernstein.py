@@ -491,8 +491,8 @@ def subsegment_many(c, t0, t1):
     rev = t1 < t0
     a, b = np.where(rev, t1, t0), np.where(rev, t0, t1)
     whole = (a == 0.0) & (b == 1.0)
-    if whole.any():   # rows over their whole range are themselves (the splits' bits)
-        out = c.copy()
+    if np.logical_or.reduce(whole, axis=None):   # rows over their whole range are
+        out = c.copy()                           # themselves (the splits' bits)
         part = np.flatnonzero(~whole)
         if len(part):
             out[part] = subsegment_many(c[part], t0[part], t1[part])
@@ -501,13 +501,13 @@ def subsegment_many(c, t0, t1):
         return out
     a = a.reshape(-1)
     right = _casteljau(_coefficient_major(c), a, "right")[1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.where(a >= 1.0, 1.0, (b.reshape(-1) - a) / (1.0 - a))
+    end = a >= 1.0                 # the right part at a is a point: (b - a) / (1 - a) -> 1
+    u = np.where(end, 1.0, (b.reshape(-1) - a) / np.where(end, 1.0, 1.0 - a))
     back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
     kept = np.ascontiguousarray(right.transpose(back))     # the left split overwrites it
     left = np.ascontiguousarray(_casteljau(right, u, "left")[0].transpose(back))
-    out = np.where((a >= 1.0).reshape((-1,) + (1,) * (c.ndim - 1)), kept, left)
-    if rev.any():
+    out = np.where(end.reshape((-1,) + (1,) * (c.ndim - 1)), kept, left)
+    if np.logical_or.reduce(rev, axis=None):
         out[rev] = out[rev][:, ::-1]
     return out
 

@@ -74,17 +74,22 @@ class PowerJets:
         self.a = np.matmul(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
         self.a1 = self.a[:, 1:] * self.j[1:, None]
         self.a2 = self.a1[:, 1:] * self.j[1:-1, None]
+        self.exps = {}                      # exponents 2..n per shape of s
 
     def __call__(self, s, second=True):
         n = self.n
-        v = np.empty(np.shape(s) + (n + 1,))
+        s = np.asarray(s)
+        v = np.empty(s.shape + (n + 1,))
         v[..., 0] = 1.0
         v[..., 1] = s
         # a materialised exponent array: numpy squares where it sees one exponent 2
-        # (s * s), which differs from pow(s, 2) in the last bit now and then
-        exps = np.empty(v[..., 2:].shape)
-        exps[...] = self.j[2:]
-        np.power(np.asarray(s)[..., None], exps, out=v[..., 2:])
+        # (s * s), which differs from pow(s, 2) in the last bit now and then (made
+        # once per shape of s: a Newton iteration calls with one shape again and again)
+        exps = self.exps.get(s.shape)
+        if exps is None:
+            exps = self.exps[s.shape] = np.empty(v[..., 2:].shape)
+            exps[...] = self.j[2:]
+        np.power(s[..., None], exps, out=v[..., 2:])
         h, h1 = np.matmul(v, self.a), np.matmul(v[..., :n], self.a1)
         w, w1 = h[..., 2], h1[..., 2]
         px, py = h[..., 0] / w, h[..., 1] / w

@@ -421,14 +421,17 @@ def _solved_handles(area, moment, at, cf, good):
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
-    a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    # the bracket (a, f(a)), (b, f(b)) and the new point (x, f(x)), rows of one array
+    ends = np.empty((3, 2, len(rr)))
+    ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1] = _D0_GRID[gg], fa, _D0_GRID[gg + 1], fb
+    a, fa, b, fb = ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]          # views
     area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
     for _ in range(4):                                             # regula falsi
-        x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
-        left = np.sign(fx) == np.sign(fa)
-        a, fa = np.where(left, x, a), np.where(left, fx, fa)
-        b, fb = np.where(left, b, x), np.where(left, fb, fx)
+        x = np.divide(a * fb - b * fa, fb - fa, out=ends[2, 0])
+        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=ends[2, 1])
+        left = np.sign(ends[2, 1]) == np.sign(fa)
+        np.copyto(ends[0], ends[2], where=left)                  # x replaces a or b
+        np.copyto(ends[1], ends[2], where=~left)
     roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
@@ -481,7 +484,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
         # complex root pair, a near-double root): the grid points where |f| is least,
         # an undefined neighbour counting as infinite
         af = np.abs(f, out=sign)
-        dip = np.zeros_like(ok)
+        dip = np.zeros(ok.shape, bool)
         dip[1:-1] = (((af[1:-1] <= af[:-2]) | bad[:-2]) & ((af[1:-1] <= af[2:]) | bad[2:])
                      & ok[1:-1])
         dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
@@ -656,16 +659,16 @@ def _ray_distance(ctrl, cr, sam, req, width, length, scale, acc):
     bound = dist_of(slice(None)) * length * scale
     alive = ~(bound >= acc)
     # per range the live candidate of least bound (the first of equal ones)
-    live = np.nonzero(alive)[0]
+    live = alive.nonzero()[0]
     live = live[np.lexsort((live, bound[live], cr[live]))]
     best = live[np.concatenate(([True], cr[live][1:] != cr[live][:-1]))[:len(live)]]
     done = np.zeros(len(cr), bool)
     done[best] = True
-    cast(np.nonzero(done[cand])[0], _FINE)
+    cast(done[cand].nonzero()[0], _FINE)
     full = np.zeros(nreq) + np.nan
     full[cr[best]] = dist_of(best) * length[best] * scale[best]
     others = alive & ~done & ~(bound > full[cr])
-    cast(np.nonzero(others[cand])[0], _FINE)
+    cast(others[cand].nonzero()[0], _FINE)
     done |= others
     err = np.zeros(len(cr)) + np.inf
     err[done] = dist_of(done)
