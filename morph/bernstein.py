@@ -470,15 +470,14 @@ def _casteljau(work, t, side=None):
 
 
 def cut_many(c, a, b):
-    """Each c_k (a stack (k, n+1, ...)) restricted to [a_k, b_k], 0 <= a_k < b_k <= 1
-    (so a_k < 1): the two de Casteljau splits of :func:`subsegment_many` (the right
-    part at a, then its left part at (b - a) / (1 - a): the same numbers), without
-    its cases of reversed, whole or empty ranges, the split's levels kept
-    coefficient-major from one split to the next."""
-    c = np.asarray(c, float)
-    a = np.asarray(a, float).reshape(-1)
-    right = _casteljau(_coefficient_major(c), a, "right")[1]
-    left = _casteljau(right, (np.asarray(b, float).reshape(-1) - a) / (1.0 - a), "left")[0]
+    """Each c_k of a stack c (k, n+1, ...) restricted to [a_k, b_k], a and b float
+    arrays (k,) with 0 <= a_k < b_k <= 1 (so a_k < 1): the two de Casteljau splits of
+    :func:`subsegment_many` (the right part at a, then its left part at (b - a) /
+    (1 - a): the same numbers), without its cases of reversed, whole or empty
+    ranges, the split's levels kept coefficient-major from one split to the next."""
+    work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")
+    right = _casteljau(work, a, "right")[1]
+    left = _casteljau(right, (b - a) / (1.0 - a), "left")[0]
     return np.ascontiguousarray(left.transpose((c.ndim - 1,) + tuple(range(c.ndim - 1))))
 
 

@@ -779,7 +779,7 @@ def _columns(groups, k, sets, moeb):
     bounded together; the lifted columns only screen (:func:`_worst_panels`)."""
     top = max([st.shape[1] for _, st in groups])
     lift = np.empty((top, 3, k))              # coefficient-major: a set's rows gathered
-    group, slot = np.empty(k, int), np.empty(k, int)  # are one matrix's columns
+    group, slot = np.empty((2, k), int)       # are one matrix's columns
     group[:], slot[:] = -1, 0
     for g, (rows, stack) in enumerate(groups):
         lift[:, :, rows] = (bz.elevate_many(stack, top - stack.shape[1])
@@ -788,8 +788,10 @@ def _columns(groups, k, sets, moeb):
     size = [(len(ps.cuts) - 1) * ps.rows.shape[0] for ps in sets]
     total = sum(size)
     sub = np.empty((3, top, total))
-    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2), np.empty(total, int),
-                    np.empty(total, int), np.empty(total), group, slot)
+    pair, panel = np.empty((2, total), int)
+    cols = _Columns(sub, sets[0].cub if len(sets) == 1 else
+                    np.concatenate([ps.cub for ps in sets], axis=2), pair, panel,
+                    np.empty(total), group, slot)
     lo = first = 0
     for ps, n in zip(sets, size):
         npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
