@@ -92,10 +92,10 @@ class Bank:
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
-        if not len(gids):
+        if not gids.shape[0]:
             return []
         if len(self.degrees) == 1:          # one stack: every row
-            return [(np.arange(len(gids)), self.stacks[self.degrees[0]][self.idx[gids]])]
+            return [(np.arange(gids.shape[0]), self.stacks[self.degrees[0]][self.idx[gids]])]
         deg = self.deg[gids]
         count = np.bincount(deg, minlength=self.degrees[-1] + 1).tolist()
         # the degrees present, ascending; ``rows`` the one array of nonzero's tuple
