@@ -1010,14 +1010,15 @@ def _hull_rows(c, q, halvings, ends=False):
         w = cb[2]
         o = (cb[:2, 0] / w[0])[:, None]                               # (2, 1, kb)
         a = np.empty((rows, 2, kb))
-        a[:n1] = (cb[:2] - w * o).transpose(1, 0, 2)
-        a[n1:] = (w[:, None, None] * (qb - o).transpose(1, 0, 2)[None]).reshape(-1, 2, kb)
+        np.subtract(cb[:2], w * o, out=a[:n1].transpose(1, 0, 2))
+        np.multiply(w[:, None, None], (qb - o).transpose(1, 0, 2)[None],
+                    out=a[n1:].reshape(n1, m1, 2, kb))
         e = (fused @ a.reshape(rows, 2 * kb)).reshape(-1, 2, kb)
         h = elev @ w
         e *= e
         r2 = (e[:, 0] + e[:, 1]) / (h * h)
-        out[lo:lo + kb] = np.where(np.minimum.reduce(h, axis=0) > 0,
-                                   np.sqrt(np.maximum.reduce(r2, axis=0)), np.inf)
+        bound = np.sqrt(np.maximum.reduce(r2, axis=0), out=out[lo:lo + kb])
+        bound[~(np.minimum.reduce(h, axis=0) > 0)] = np.inf
         if ends:
             end[lo:lo + kb] = np.sqrt(np.fmax(r2[0], r2[-1]))
     return (out, end) if ends else out
