@@ -83,15 +83,17 @@ def derivative(c):
 
 @lru_cache(maxsize=None)
 def _basis_coeffs(n):
-    return _binomials(n)
+    """The binomials C(n, k) and the exponents k and n - k of :func:`basis`."""
+    k = np.arange(n + 1)
+    return _binomials(n), k, n - k
 
 
 def basis(n, t):
     """Bernstein basis matrix of degree n at parameters t: shape (len(t), n + 1)."""
     t = np.asarray(t, float).reshape(-1, 1)
-    k = np.arange(n + 1)
+    binom, k, rest = _basis_coeffs(n)
     # t**0 and (1-t)**0 are 1 even at t = 0 or 1, as wanted.
-    return _basis_coeffs(n) * t ** k * (1.0 - t) ** (n - k)
+    return binom * t ** k * (1.0 - t) ** rest
 
 
 def evaluate(c, t):
