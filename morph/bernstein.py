@@ -471,16 +471,18 @@ def _casteljau(work, t, side=None):
     return left, right
 
 
-def cut_many(c, a, b):
+def cut_many(c, a, b, major=False):
     """Each c_k of a stack c (k, n+1, ...) restricted to [a_k, b_k], a and b float
     arrays (k,) with 0 <= a_k < b_k <= 1 (so a_k < 1): the two de Casteljau splits of
     :func:`subsegment_many` (the right part at a, then its left part at (b - a) /
     (1 - a): the same numbers), without its cases of reversed, whole or empty
-    ranges, the split's levels kept coefficient-major from one split to the next."""
+    ranges, the split's levels kept coefficient-major from one split to the next.
+    With ``major``, (the stack, the same coefficient-major (n+1, ..., k))."""
     work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")
     right = _casteljau(work, a, "right")[1]
     left = _casteljau(right, (b - a) / (1.0 - a), "left")[0]
-    return np.ascontiguousarray(left.transpose((c.ndim - 1,) + tuple(range(c.ndim - 1))))
+    out = np.ascontiguousarray(left.transpose((c.ndim - 1,) + tuple(range(c.ndim - 1))))
+    return (out, left) if major else out
 
 
 def subsegment_many(c, t0, t1):

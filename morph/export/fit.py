@@ -248,10 +248,10 @@ def _range_samples(bank, parts, starts, e, tiny):
     cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        sub = bz.cut_many(h, lo[i], hi[i])     # the piece on [a, b], 0 <= a < b <= 1
+        sub, major = bz.cut_many(h, lo[i], hi[i], major=True)    # on [a, b], 0 <= a < b <= 1
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
-        part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
+        part = grid_planes(sub, *_node_bases(h.shape[1] - 1), major=major)
         part[2:] /= width[i]
         jets[:, :, i] = part
         ends[:, i] = end_pair(sub) / width[i, None]
