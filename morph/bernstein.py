@@ -83,8 +83,9 @@ def derivative(c):
 
 @lru_cache(maxsize=None)
 def _basis_coeffs(n):
-    """The binomials C(n, k) and the exponents k and n - k of :func:`basis`."""
-    k = np.arange(n + 1)
+    """The binomials C(n, k) and the exponents k and n - k of :func:`basis`, as floats
+    (the power of floats by integers casts them to these very floats, in a buffer)."""
+    k = np.arange(n + 1, dtype=float)
     return _binomials(n), k, n - k
 
 

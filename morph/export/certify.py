@@ -875,7 +875,8 @@ def _refined(groups, sets, cols, redo, refine):
         else:
             sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
                             stack[cols.slot[pair[sel]]])
-            sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
+            # float exponents: integer ones would be cast to these floats in a buffer
+            sub *= (c[sel, None] ** np.arange(n1, dtype=float))[:, :, None]
             sub = np.ascontiguousarray(sub.transpose(2, 1, 0))
         out[sel] = _hull_rows(sub, cols.cub.take(redo[sel], axis=2), refine)
     return out
