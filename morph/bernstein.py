@@ -83,15 +83,18 @@ def derivative(c):
 
 @lru_cache(maxsize=None)
 def _basis_coeffs(n):
-    return _binomials(n)
+    """The binomials C(n, k) and the exponents k and n - k of :func:`basis`, as floats
+    (the power of floats by integers casts them to these very floats, in a buffer)."""
+    k = np.arange(n + 1, dtype=float)
+    return _binomials(n), k, n - k
 
 
 def basis(n, t):
     """Bernstein basis matrix of degree n at parameters t: shape (len(t), n + 1)."""
     t = np.asarray(t, float).reshape(-1, 1)
-    k = np.arange(n + 1)
+    binom, k, rest = _basis_coeffs(n)
     # t**0 and (1-t)**0 are 1 even at t = 0 or 1, as wanted.
-    return _basis_coeffs(n) * t ** k * (1.0 - t) ** (n - k)
+    return binom * t ** k * (1.0 - t) ** rest
 
 
 def evaluate(c, t):
@@ -434,26 +437,53 @@ def split_many(c, t, side=None):
     contiguous row over the k rows, times contiguous coefficients (not a stride-0
     factor on every row's few numbers)."""
     c = np.asarray(c, float)
-    t = np.asarray(t, float).reshape(-1)
+    left, right = _casteljau(_coefficient_major(c), np.asarray(t, float).reshape(-1), side)
+    back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
+    if side == "left":
+        return np.ascontiguousarray(left.transpose(back))
+    if side == "right":
+        return np.ascontiguousarray(right.transpose(back))
+    return np.ascontiguousarray(left.transpose(back)), np.ascontiguousarray(right.transpose(back))
+
+
+def _coefficient_major(c):
+    """A C-contiguous copy of the stack c (k, n+1, ...) as (n+1, ..., k) (by transpose:
+    np.moveaxis makes a dozen Python calls per use)."""
+    return c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")
+
+
+def _casteljau(work, t, side=None):
+    """(left, right): the de Casteljau split at t (k,) of the coefficient-major stack
+    ``work`` (n+1, ..., k), overwritten (its levels made in place); only the part
+    ``side`` ("left" or "right", the other None) where one is named."""
     s = 1.0 - t
-    n = c.shape[1] - 1
-    # (n+1, ..., k) by transpose (np.moveaxis makes a dozen Python calls per use)
-    work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")   # levels in place
-    sides = [np.empty(work.shape) if side != "right" else None,
-             np.empty(work.shape) if side != "left" else None]
+    n = work.shape[0] - 1
+    left = np.empty(work.shape) if side != "right" else None
+    right = np.empty(work.shape) if side != "left" else None
     for r in range(n + 1):
-        if sides[0] is not None:
-            sides[0][r] = work[0]
-        if sides[1] is not None:
-            sides[1][n - r] = work[-1]
+        if left is not None:
+            left[r] = work[0]
+        if right is not None:
+            right[n - r] = work[-1]
         if r < n:
             nxt = np.multiply(s, work[:-1])
             nxt += np.multiply(t, work[1:], out=work[1:])
             work = nxt
-    back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
-    left, right = (None if x is None else np.ascontiguousarray(x.transpose(back))
-                   for x in sides)
-    return left if side == "left" else right if side == "right" else (left, right)
+    return left, right
+
+
+def cut_many(c, a, b, major=False):
+    """Each c_k of a stack c (k, n+1, ...) restricted to [a_k, b_k], a and b float
+    arrays (k,) with 0 <= a_k < b_k <= 1 (so a_k < 1): the two de Casteljau splits of
+    :func:`subsegment_many` (the right part at a, then its left part at (b - a) /
+    (1 - a): the same numbers), without its cases of reversed, whole or empty
+    ranges, the split's levels kept coefficient-major from one split to the next.
+    With ``major``, (the stack, the same coefficient-major (n+1, ..., k))."""
+    work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")
+    right = _casteljau(work, a, "right")[1]
+    left = _casteljau(right, (b - a) / (1.0 - a), "left")[0]
+    out = np.ascontiguousarray(left.transpose((c.ndim - 1,) + tuple(range(c.ndim - 1))))
+    return (out, left) if major else out
 
 
 def subsegment_many(c, t0, t1):
@@ -465,20 +495,23 @@ def subsegment_many(c, t0, t1):
     rev = t1 < t0
     a, b = np.where(rev, t1, t0), np.where(rev, t0, t1)
     whole = (a == 0.0) & (b == 1.0)
-    if whole.any():   # rows over their whole range are themselves (the splits' bits)
-        out = c.copy()
+    if np.logical_or.reduce(whole, axis=None):   # rows over their whole range are
+        out = c.copy()                           # themselves (the splits' bits)
         part = np.flatnonzero(~whole)
         if len(part):
             out[part] = subsegment_many(c[part], t0[part], t1[part])
         back = np.flatnonzero(whole & rev)
         out[back] = out[back][:, ::-1]
         return out
-    right = split_many(c, a, "right")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.where(a >= 1.0, 1.0, (b - a) / (1.0 - a))
-    left = split_many(right, u, "left")
-    out = np.where((a >= 1.0).reshape((-1,) + (1,) * (c.ndim - 1)), right, left)
-    if rev.any():
+    a = a.reshape(-1)
+    right = _casteljau(_coefficient_major(c), a, "right")[1]
+    end = a >= 1.0                 # the right part at a is a point: (b - a) / (1 - a) -> 1
+    u = np.where(end, 1.0, (b.reshape(-1) - a) / np.where(end, 1.0, 1.0 - a))
+    back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
+    kept = np.ascontiguousarray(right.transpose(back))     # the left split overwrites it
+    left = np.ascontiguousarray(_casteljau(right, u, "left")[0].transpose(back))
+    out = np.where(end.reshape((-1,) + (1,) * (c.ndim - 1)), kept, left)
+    if np.logical_or.reduce(rev, axis=None):
         out[rev] = out[rev][:, ::-1]
     return out
 

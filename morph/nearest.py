@@ -30,30 +30,32 @@ def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
     callers start from the nearest of dense samples or from a close guess).
     """
     s = np.array(s, float)
-    if jet is jet2_power_many and np.shape(c)[1] > 2:
-        jets = PowerJets(c)
-        ptx, pty = pts[..., 0], pts[..., 1]
+    with np.errstate(divide="ignore", invalid="ignore"):   # no step where f' <= 0
+        if jet is jet2_power_many and np.shape(c)[1] > 2:
+            jets = PowerJets(c)
+            ptx, pty = pts[..., 0], pts[..., 1]
+            for _ in range(iters):
+                (px, py), (dx, dy), (ddx, ddy) = jets(s)
+                ex, ey = px - ptx, py - pty
+                f = ex * dx + ey * dy
+                fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
+                s = _newton_step(s, f, fp)
+            return s
         for _ in range(iters):
-            (px, py), (dx, dy), (ddx, ddy) = jets(s)
-            ex, ey = px - ptx, py - pty
-            f = ex * dx + ey * dy
-            fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
+            p, d, dd = jet(c, s)
+            diff = p - pts
+            f = np.sum(diff * d, axis=2)
+            fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
             s = _newton_step(s, f, fp)
-        return s
-    for _ in range(iters):
-        p, d, dd = jet(c, s)
-        diff = p - pts
-        f = np.sum(diff * d, axis=2)
-        fp = np.sum(d * d, axis=2) + np.sum(diff * dd, axis=2)
-        s = _newton_step(s, f, fp)
     return s
 
 
 def _newton_step(s, f, fp):
-    """s - f / fp clipped to [0, 1]; no step where fp <= 0 or the step is not finite."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        step = np.where(fp > 0, f / np.where(fp > 0, fp, 1.0), 0.0)
-    return np.clip(s - np.where(np.isfinite(step), step, 0.0), 0.0, 1.0)
+    """s - f / fp clipped to [0, 1]; no step where fp <= 0 or the step is not finite
+    (numpy's warnings silenced by the caller, :func:`closest_params_many`)."""
+    step = f / fp
+    s = s - np.where((fp > 0) & np.isfinite(step), step, 0.0)
+    return s.clip(0.0, 1.0, out=s)
 
 
 class PowerJets:
@@ -72,17 +74,22 @@ class PowerJets:
         self.a = np.matmul(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
         self.a1 = self.a[:, 1:] * self.j[1:, None]
         self.a2 = self.a1[:, 1:] * self.j[1:-1, None]
+        self.exps = {}                      # exponents 2..n per shape of s
 
     def __call__(self, s, second=True):
         n = self.n
-        v = np.empty(np.shape(s) + (n + 1,))
+        s = np.asarray(s)
+        v = np.empty(s.shape + (n + 1,))
         v[..., 0] = 1.0
         v[..., 1] = s
         # a materialised exponent array: numpy squares where it sees one exponent 2
-        # (s * s), which differs from pow(s, 2) in the last bit now and then
-        exps = np.empty(v[..., 2:].shape)
-        exps[...] = self.j[2:]
-        np.power(np.asarray(s)[..., None], exps, out=v[..., 2:])
+        # (s * s), which differs from pow(s, 2) in the last bit now and then (made
+        # once per shape of s: a Newton iteration calls with one shape again and again)
+        exps = self.exps.get(s.shape)
+        if exps is None:
+            exps = self.exps[s.shape] = np.empty(v[..., 2:].shape)
+            exps[...] = self.j[2:]
+        np.power(s[..., None], exps, out=v[..., 2:])
         h, h1 = np.matmul(v, self.a), np.matmul(v[..., :n], self.a1)
         w, w1 = h[..., 2], h1[..., 2]
         px, py = h[..., 0] / w, h[..., 1] / w

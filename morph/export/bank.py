@@ -92,10 +92,10 @@ class Bank:
         """The pieces ``gids`` as a list of (rows, stack): rows of ``gids`` per degree
         and their control points (k, n, 3)."""
         gids = np.asarray(gids, int)
-        if not len(gids):
+        if not gids.shape[0]:
             return []
         if len(self.degrees) == 1:          # one stack: every row
-            return [(np.arange(len(gids)), self.stacks[self.degrees[0]][self.idx[gids]])]
+            return [(np.arange(gids.shape[0]), self.stacks[self.degrees[0]][self.idx[gids]])]
         deg = self.deg[gids]
         count = np.bincount(deg, minlength=self.degrees[-1] + 1).tolist()
         # the degrees present, ascending; ``rows`` the one array of nonzero's tuple
@@ -165,10 +165,11 @@ def end_pair(h):
     return (dval[..., :2] * w - val[..., :2] * dval[..., 2:3]) / w ** 2
 
 
-def grid_planes(h, b, db):
+def grid_planes(h, b, db, major=None):
     """Points and first derivatives of the rational pieces h (k, n+1, 3) at the
     parameters whose Bernstein bases of degrees n and n - 1 are ``b`` (q, n+1) and
-    ``db`` (q, n): planes (4, q, k) of x, y, x', y', a piece per column.
+    ``db`` (q, n): planes (4, q, k) of x, y, x', y', a piece per column (``major``:
+    None, or h's C-contiguous coefficient-major copy (n+1, 3, k), not made again).
 
     The homogeneous value H = sum_j B_j h_j and derivative H' = n sum_j B'_j (h_{j+1}
     - h_j) are summed control point by control point (elementwise: a piece's values
@@ -177,7 +178,7 @@ def grid_planes(h, b, db):
     3 k coordinates, the one broadcast numpy runs without buffering."""
     k, m, _ = h.shape
     q = b.shape[0]
-    hc = np.ascontiguousarray(h.transpose(1, 2, 0))                # (n+1, 3, k)
+    hc = np.ascontiguousarray(h.transpose(1, 2, 0)) if major is None else major  # (n+1, 3, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
     hom, der = np.zeros((2, q, 3, k))
     tmp = np.empty_like(hom)

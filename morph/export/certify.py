@@ -779,7 +779,7 @@ def _columns(groups, k, sets, moeb):
     bounded together; the lifted columns only screen (:func:`_worst_panels`)."""
     top = max([st.shape[1] for _, st in groups])
     lift = np.empty((top, 3, k))              # coefficient-major: a set's rows gathered
-    group, slot = np.empty(k, int), np.empty(k, int)  # are one matrix's columns
+    group, slot = np.empty((2, k), int)       # are one matrix's columns
     group[:], slot[:] = -1, 0
     for g, (rows, stack) in enumerate(groups):
         lift[:, :, rows] = (bz.elevate_many(stack, top - stack.shape[1])
@@ -788,8 +788,10 @@ def _columns(groups, k, sets, moeb):
     size = [(len(ps.cuts) - 1) * ps.rows.shape[0] for ps in sets]
     total = sum(size)
     sub = np.empty((3, top, total))
-    cols = _Columns(sub, np.concatenate([ps.cub for ps in sets], axis=2), np.empty(total, int),
-                    np.empty(total, int), np.empty(total), group, slot)
+    pair, panel = np.empty((2, total), int)
+    cols = _Columns(sub, sets[0].cub if len(sets) == 1 else
+                    np.concatenate([ps.cub for ps in sets], axis=2), pair, panel,
+                    np.empty(total), group, slot)
     lo = first = 0
     for ps, n in zip(sets, size):
         npan, view = len(ps.cuts) - 1, sub[:, :, lo:lo + n]
@@ -873,7 +875,8 @@ def _refined(groups, sets, cols, redo, refine):
         else:
             sub = np.matmul(_native_cuts(n1 - 1, cut_tuples)[panel[sel]],
                             stack[cols.slot[pair[sel]]])
-            sub *= (c[sel, None] ** np.arange(n1))[:, :, None]
+            # float exponents: integer ones would be cast to these floats in a buffer
+            sub *= (c[sel, None] ** np.arange(n1, dtype=float))[:, :, None]
             sub = np.ascontiguousarray(sub.transpose(2, 1, 0))
         out[sel] = _hull_rows(sub, cols.cub.take(redo[sel], axis=2), refine)
     return out
@@ -1008,14 +1011,15 @@ def _hull_rows(c, q, halvings, ends=False):
         w = cb[2]
         o = (cb[:2, 0] / w[0])[:, None]                               # (2, 1, kb)
         a = np.empty((rows, 2, kb))
-        a[:n1] = (cb[:2] - w * o).transpose(1, 0, 2)
-        a[n1:] = (w[:, None, None] * (qb - o).transpose(1, 0, 2)[None]).reshape(-1, 2, kb)
+        np.subtract(cb[:2], w * o, out=a[:n1].transpose(1, 0, 2))
+        np.multiply(w[:, None, None], (qb - o).transpose(1, 0, 2)[None],
+                    out=a[n1:].reshape(n1, m1, 2, kb))
         e = (fused @ a.reshape(rows, 2 * kb)).reshape(-1, 2, kb)
         h = elev @ w
         e *= e
         r2 = (e[:, 0] + e[:, 1]) / (h * h)
-        out[lo:lo + kb] = np.where(np.minimum.reduce(h, axis=0) > 0,
-                                   np.sqrt(np.maximum.reduce(r2, axis=0)), np.inf)
+        bound = np.sqrt(np.maximum.reduce(r2, axis=0), out=out[lo:lo + kb])
+        bound[~(np.minimum.reduce(h, axis=0) > 0)] = np.inf
         if ends:
             end[lo:lo + kb] = np.sqrt(np.fmax(r2[0], r2[-1]))
     return (out, end) if ends else out

@@ -137,7 +137,7 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     The fourth result, :class:`Rays`, holds what the rays of the picked cubics found
     at every sample, for the certificate to start from.
     """
-    n = len(starts)
+    n = starts.shape[0]
     if not n:
         return np.zeros((0, 4, 2)), np.zeros(0), np.zeros(0, bool), \
             Rays(np.zeros((0, 16)), np.zeros((0, 16)), np.zeros((0, 16)))
@@ -152,7 +152,7 @@ def moment_cubics(bank, parts, starts, ends, tiny, tol):
     ta, tm = _cubic_integrals(sam.t0, sam.t1)
     cr, cd0, cd1 = _handle_candidates(sam.area, sam.moment, ta, tm, good)
     t0, t1 = sam.t0, sam.t1
-    ctrl = np.zeros((len(cr), 4, 2))
+    ctrl = np.zeros((cr.shape[0], 4, 2))
     ctrl[:, 1] = cd0[:, None] * t0[cr]
     ctrl[:, 2, 0] = 1.0 - cd1 * t1[cr, 0]
     ctrl[:, 2, 1] = -cd1 * t1[cr, 1]
@@ -206,24 +206,15 @@ def cut_pieces(parts, idx, h):
     are ``h`` (k, n, 3): those :func:`moment_cubics` cut (``parts.subs``), the
     others cut here (the same call on the same rows: the same numbers)."""
     if parts.subs is None or h.shape[1] not in parts.subs:
-        return _sub_pieces(h, parts.a[idx], parts.b[idx])
+        return bz.cut_many(h, parts.a[idx], parts.b[idx])
     out = np.empty_like(h)
     have, stack = parts.subs[h.shape[1]]
-    at = np.minimum(have.searchsorted(idx), len(have) - 1)
+    at = np.minimum(have.searchsorted(idx), have.shape[0] - 1)
     todo = have[at] != idx
     out[~todo] = stack[at[~todo]]
     if np.logical_or.reduce(todo):
-        out[todo] = _sub_pieces(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+        out[todo] = bz.cut_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
     return out
-
-
-def _sub_pieces(h, a, b):
-    """The pieces h (k, n, 3) restricted to [a, b] with 0 <= a < b <= 1 (so a < 1), as
-    :func:`morph.bernstein.subsegment_many` cuts such rows (the same two de Casteljau
-    splits: the right part at a, then its left part at (b - a) / (1 - a)), without
-    its cases of reversed, whole or empty ranges."""
-    right = bz.split_many(h, a, "right")
-    return bz.split_many(right, (b - a) / (1.0 - a), "left")
 
 
 #: The samples of :func:`_range_samples`: ``q`` (4, 16, P) the planes x, y, x', y'
@@ -242,13 +233,13 @@ def _range_samples(bank, parts, starts, e, tiny):
     evaluation per degree), the end tangents one-sided limits where the derivative
     vanishes.  Sample-major planes: a part's numbers (start, frame) broadcast along
     the rows, every operation a few long contiguous loops."""
-    n = len(starts)
+    n = starts.shape[0]
     req, gid, lo, hi = parts.req, parts.gid, parts.a, parts.b
     width = hi - lo
     rng = np.arange(n)
     first, last = req.searchsorted(rng), req.searchsorted(rng, side="right") - 1
     quad = _quadrature()
-    jets = np.empty((4, len(quad.gx), len(gid)))
+    jets = np.empty((4, quad.gx.shape[0], gid.shape[0]))
     whole = (lo == 0.0) & (width == 1.0)          # whole pieces: one basis for all
     jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
     # every part's end derivatives (2, P, 2) in its own parameter: of its piece
@@ -257,10 +248,10 @@ def _range_samples(bank, parts, starts, e, tiny):
     cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
-        sub = _sub_pieces(h, lo[i], hi[i])
+        sub, major = bz.cut_many(h, lo[i], hi[i], major=True)    # on [a, b], 0 <= a < b <= 1
         if parts.subs is not None:
             parts.subs[h.shape[1]] = (i, sub)
-        part = grid_planes(sub, *_node_bases(h.shape[1] - 1))
+        part = grid_planes(sub, *_node_bases(h.shape[1] - 1), major=major)
         part[2:] /= width[i]
         jets[:, :, i] = part
         ends[:, i] = end_pair(sub) / width[i, None]
@@ -312,7 +303,7 @@ def _cubic_integrals(t0, t1):
     of the indices, products left to right, from 0: the very numbers of the whole
     sums, whose other terms are zeros); all terms of all ranges in a few array
     operations (:func:`_integral_terms`: each sum's terms added layer by layer)."""
-    n = len(t0)
+    n = t0.shape[0]
     v = np.empty((n, 5))
     v[:, 0] = 1.0
     v[:, 1:3] = t0
@@ -327,7 +318,7 @@ def _layered(terms, slot, layers, size):
     """(n, size): the terms (n, T) summed into their ``slot`` (T,), from 0, in the
     order of the terms: ``layers`` lists the terms that are the l-th of their slot
     (distinct slots within a layer), so a slot's sum is the left-to-right sum."""
-    out = np.zeros((len(terms), size))
+    out = np.zeros((terms.shape[0], size))
     for lay in layers:
         out[:, slot[lay]] = out[:, slot[lay]] + terms[:, lay]
     return out
@@ -375,7 +366,7 @@ def _monomial_coefficients(tm):
     :func:`_layered`: a range's coefficients do not depend on the batch, as a BLAS
     product's may)."""
     idx, slot, layers = _monomial_terms()
-    return _layered(tm.reshape(len(tm), 18)[:, idx], slot, layers, len(_MONOMIAL_POWERS))
+    return _layered(tm.reshape(tm.shape[0], 18)[:, idx], slot, layers, len(_MONOMIAL_POWERS))
 
 
 @functools.lru_cache(maxsize=1)
@@ -413,7 +404,7 @@ def _solved_handles(area, moment, at, cf, good):
     the moment's monomial coefficients ``cf`` (:func:`_monomial_coefficients`), with
     numpy's warnings silenced (d1 is inf or NaN where the area equation has no
     root, the residual undefined there)."""
-    n = len(area)
+    n = area.shape[0]
 
     def resid(d0, d1, c):
         # the moment as the cubic polynomial of (d0, d1) with coefficients c
@@ -422,14 +413,17 @@ def _solved_handles(area, moment, at, cf, good):
         return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
 
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
-    a, b = _D0_GRID[gg], _D0_GRID[gg + 1]
+    # the bracket (a, f(a)), (b, f(b)) and the new point (x, f(x)), rows of one array
+    ends = np.empty((3, 2, rr.shape[0]))
+    ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1] = _D0_GRID[gg], fa, _D0_GRID[gg + 1], fb
+    a, fa, b, fb = ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]          # views
     area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
     for _ in range(4):                                             # regula falsi
-        x = (a * fb - b * fa) / (fb - fa)
-        fx = resid(x, _d1_of(x, area_r, at_r), cf_r) - moment_r
-        left = np.sign(fx) == np.sign(fa)
-        a, fa = np.where(left, x, a), np.where(left, fx, fa)
-        b, fb = np.where(left, b, x), np.where(left, fb, fx)
+        x = np.divide(a * fb - b * fa, fb - fa, out=ends[2, 0])
+        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=ends[2, 1])
+        left = np.sign(ends[2, 1]) == np.sign(fa)
+        np.copyto(ends[0], ends[2], where=left)                  # x replaces a or b
+        np.copyto(ends[1], ends[2], where=~left)
     roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
@@ -438,9 +432,9 @@ def _solved_handles(area, moment, at, cf, good):
     # third, the straight cubic when the tangents run along the chord
     rt = (good & ~none).nonzero()[0]
     cr = np.concatenate([rr, rn, rt])
-    m = len(cr)
-    cd0 = np.concatenate([roots, _D0_GRID[gn], _THIRD.repeat(len(rt))])
-    thirds = np.arange(m) >= m - len(rt)
+    m = cr.shape[0]
+    cd0 = np.concatenate([roots, _D0_GRID[gn], _THIRD.repeat(rt.shape[0])])
+    thirds = np.arange(m) >= m - rt.shape[0]
     # at most MAX_CANDIDATES per range, the first ones in the order above
     by = cr.argsort(kind="stable")
     rank = np.empty(m, int)
@@ -467,7 +461,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
     out = []
     d0 = _D0_GRID[:, None]
     cf_t = np.ascontiguousarray(cf.T)
-    for lo in range(0, len(good), GRID_BLOCK):
+    for lo in range(0, good.shape[0], GRID_BLOCK):
         rows = good[lo:lo + GRID_BLOCK]
         d1 = _d1_of(d0, area[rows], at[:, rows])
         ok = d1 > 0
@@ -482,7 +476,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
         # complex root pair, a near-double root): the grid points where |f| is least,
         # an undefined neighbour counting as infinite
         af = np.abs(f, out=sign)
-        dip = np.zeros_like(ok)
+        dip = np.zeros(ok.shape, bool)
         dip[1:-1] = (((af[1:-1] <= af[:-2]) | bad[:-2]) & ((af[1:-1] <= af[2:]) | bad[2:])
                      & ok[1:-1])
         dip[0] = ok[0] & ((af[0] <= af[1]) | bad[1])
@@ -502,15 +496,15 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     first of equal scores), mapped back from the chord frame (the straight cubic for
     a short chord), with its sampled distance: (cubics, err, fitted) as
     :func:`moment_cubics` returns them."""
-    n = len(starts)
+    n = starts.shape[0]
     valid = (score < acc[cr]).nonzero()[0]
     valid = valid[np.lexsort((valid, score[valid], cr[valid]))]
     sorted_cr = cr[valid]      # sorted: each range's first entry is its pick
-    at = np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:len(valid)].nonzero()[0]
+    at = np.concatenate(([True], sorted_cr[1:] != sorted_cr[:-1]))[:valid.shape[0]].nonzero()[0]
     pick = np.zeros(n, int) - 1
     pick[sorted_cr[at]] = valid[at]
     has = pick >= 0
-    c = ctrl[np.maximum(pick, 0)] if len(ctrl) else np.zeros((n, 4, 2))   # (n, 4, 2)
+    c = ctrl[np.maximum(pick, 0)] if ctrl.shape[0] else np.zeros((n, 4, 2))   # (n, 4, 2)
     normal = chord[:, ::-1] * _LEFT                    # (-chord_y, chord_x)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
     no = ~has                  # the straight cubic
@@ -518,7 +512,7 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     cubic[no, 2] = ends[no] - chord[no] / 3.0
     cubic[:, 0], cubic[:, -1] = starts, ends
     fitted = (has | short) & np.logical_and.reduce(np.isfinite(cubic.reshape(n, 8)), axis=1)
-    dist = np.where(has, err[np.maximum(pick, 0)] if len(err) else 0.0, 0.0)
+    dist = np.where(has, err[np.maximum(pick, 0)] if err.shape[0] else 0.0, 0.0)
     return cubic, dist, fitted, pick
 
 
@@ -581,12 +575,12 @@ class _RayCaster:
         pu = q[0] * q[2]
         pu += q[1] * q[3]
         self.data = np.array([q[2], q[3], q[0], q[1], frac, np.negative(pu, out=pu)])
-        self.nreq = len(tot)
+        self.nreq = tot.shape[0]
         self.counts = counts = (sam.hi - sam.lo)[cr]                 # pairs of each candidate
         self.first = first = counts.cumsum() - counts
-        self.ncand = ncand = len(cr)
+        self.ncand = ncand = cr.shape[0]
         self.cand = np.arange(ncand).repeat(counts)
-        npairs = len(self.cand)
+        npairs = self.cand.shape[0]
         self.part = (sam.lo[cr] - first).repeat(counts) + np.arange(npairs)
         p1, p2 = ctrl[:, 1], ctrl[:, 2]                               # P0 = (0, 0)
         a2 = 3.0 * (p2 - 2.0 * p1)
@@ -604,7 +598,7 @@ class _RayCaster:
 
     def cast(self, pairs, cols):
         """The rays of ``pairs`` from their samples ``cols`` (rows of ``data``)."""
-        npairs, ncols = len(pairs), len(cols)
+        npairs, ncols = pairs.shape[0], cols.shape[0]
         if not npairs:
             return
         key = cols.tobytes()
@@ -624,7 +618,7 @@ class _RayCaster:
     def dist_of(self, cands):
         """The largest ray cast so far of each candidate ``cands`` (index or mask)."""
         out = np.zeros(self.ncand)
-        if len(self.some_first):
+        if self.some_first.shape[0]:
             out[self.some] = np.maximum(np.maximum.reduceat(self.worst, self.some_first), 0.0)
         return out[cands]
 
@@ -651,24 +645,24 @@ def _ray_distance(ctrl, cr, sam, req, width, length, scale, acc):
     rc = _RayCaster(ctrl, cr, sam, req, width)
     cand, part, stages, dist_of, cast = rc.cand, rc.part, rc.stages, rc.dist_of, rc.cast
     nreq = rc.nreq
-    if not len(cr):
+    if not cr.shape[0]:
         return np.zeros(0), (cand, part, stages)
-    cast(np.arange(len(cand)), COARSE)
+    cast(np.arange(cand.shape[0]), COARSE)
     bound = dist_of(slice(None)) * length * scale
     alive = ~(bound >= acc)
     # per range the live candidate of least bound (the first of equal ones)
-    live = np.nonzero(alive)[0]
+    live = alive.nonzero()[0]
     live = live[np.lexsort((live, bound[live], cr[live]))]
-    best = live[np.concatenate(([True], cr[live][1:] != cr[live][:-1]))[:len(live)]]
-    done = np.zeros(len(cr), bool)
+    best = live[np.concatenate(([True], cr[live][1:] != cr[live][:-1]))[:live.shape[0]]]
+    done = np.zeros(cr.shape[0], bool)
     done[best] = True
-    cast(np.nonzero(done[cand])[0], _FINE)
+    cast(done[cand].nonzero()[0], _FINE)
     full = np.zeros(nreq) + np.nan
     full[cr[best]] = dist_of(best) * length[best] * scale[best]
     others = alive & ~done & ~(bound > full[cr])
-    cast(np.nonzero(others[cand])[0], _FINE)
+    cast(others[cand].nonzero()[0], _FINE)
     done |= others
-    err = np.zeros(len(cr)) + np.inf
+    err = np.zeros(cr.shape[0]) + np.inf
     err[done] = dist_of(done)
     return err, (cand, part, stages)
 
