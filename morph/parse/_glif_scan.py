@@ -2,22 +2,26 @@
 
 :mod:`.glif` parses each ``.glif`` into an XML tree and walks it point by point in
 Python; for a skeleton of 60 points that is most of a glyph's reading time.  Here
-the ``<outline>`` elements of all the chunk's files are matched by one grammar (a
-regular expression: the element forms glifLib writes, attributes in its order and
-double quotes), their points cut out of the bytes of all the files by one
-``findall``, and the contours split into segments by array operations on the
-points' types; the pieces are built as :func:`.glif.skeleton_outlines` builds them,
-so the paths are the same arrays, to the bit.
+the ``<outline>`` contents of all the chunk's files are joined and split once at
+their quotes: attribute values and the texts between them.  A skeleton font has a
+dozen distinct texts (``" y="``, ``"/>`` + new line + ``<point x="`` ...), each
+classified once (:func:`_texts`: which attribute comes next, whether an element
+ends, contours opened or closed); the structure of every glyph (contours of
+points, a point's attributes in glifLib's order) is checked with array operations
+on those classes, the coordinates read by ``float`` as :mod:`.glif` reads them, and
+the contours split into segments on the points' types by array operations; the
+pieces are built as :func:`.glif.skeleton_outlines` builds them, so the paths are
+the same arrays, to the bit.
 
 The rest of a file (everything but the outline element) is still parsed as XML,
 with an empty ``<outline/>`` in the outline's place: it is small, and so the file is
 read only if it is well-formed and the outline a child of a GLIF 2 ``glyph``, as
-:func:`.glif.glif_outline` reads it.  A file the grammar does not match (comments,
-CDATA, entity references, another attribute order or quote, text in the outline,
-bytes outside printable ASCII in a value, a component with a repeated attribute)
-and a glyph whose contours :func:`.glif.glif_outline` would decline or read with
-non-finite or too large coordinates are left to :func:`.glif.skeleton_outlines`'s
-XML reader, which reads or declines them exactly.
+:func:`.glif.glif_outline` reads it.  A file whose outline holds anything else
+(components, comments, CDATA, references, single quotes, another attribute order,
+text, bytes outside printable ASCII, markup in a value) and a glyph whose contours
+:func:`.glif.glif_outline` would decline or read with non-finite or too large
+coordinates are left to :func:`.glif.skeleton_outlines`'s XML reader, which reads
+or declines them exactly.
 """
 
 import re
