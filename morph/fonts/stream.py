@@ -535,7 +535,8 @@ class SkeletonSource:
                 from ..parse.light_ufo import NotLight, read_light_font
 
                 try:
-                    self._shells = read_light_font(self.path, self._glif, self.contour_counts)
+                    self._shells = read_light_font(self.path, self._glif, self.contour_counts,
+                                                   self._contents)
                 except NotLight:
                     self.light = False
                     self.contour_counts.clear()

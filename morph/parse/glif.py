@@ -174,7 +174,22 @@ def skeleton_outlines(datas):
     """Paths and components of GLIF ``datas`` (a chunk's glyphs), the pieces of all
     built together: per glyph ``(paths, components)`` as :func:`morph.parse.ufo.
     glyph_paths` and the glyph's components (:class:`Component`), or None where
-    the fast reader declines (the caller reads that glyph the ufoLib2 way)."""
+    the fast reader declines (the caller reads that glyph the ufoLib2 way).
+
+    The outlines of plain files are scanned from their bytes, all at once
+    (:mod:`._glif_scan`); a file the scan leaves is parsed as XML
+    (:func:`glif_outline`)."""
+    from ._glif_scan import scan_outlines
+
+    out, left = scan_outlines(datas)
+    if left:
+        for i, o in zip(left, _tree_outlines([datas[i] for i in left])):
+            out[i] = o
+    return out
+
+
+def _tree_outlines(datas):
+    """:func:`skeleton_outlines` of ``datas`` parsed as XML trees (:func:`glif_outline`)."""
     outlines = [glif_outline(d) if d is not None else None for d in datas]
     # every point of every read glyph; each segment as its global point indices,
     # by number of points (lines of line-only contours as index ranges)

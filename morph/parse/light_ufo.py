@@ -289,15 +289,17 @@ def read_contents(path):
     return folder, contents
 
 
-def read_light_font(path, glif, contour_counts):
+def read_light_font(path, glif, contour_counts, contents=None):
     """The :class:`LightFont` of the UFO at ``path``, every glyph's shell read from
     its ``.glif`` bytes (``glif(name)``); ``contour_counts`` (a dict) gets each
-    glyph's number of contours.
+    glyph's number of contours.  ``contents``: the default layer's contents
+    (:func:`read_contents`) where the caller has read them, else read here.
 
     Raises:
         NotLight: the font needs ufoLib2 / ufo2ft (see the module docstring).
     """
-    _folder, contents = read_contents(path)
+    if contents is None:
+        _folder, contents = read_contents(path)
     if os.path.isdir(os.path.join(path, "data")) and any(
             files for _, _, files in os.walk(os.path.join(path, "data"))):
         raise NotLight("data folder")

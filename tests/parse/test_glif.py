@@ -188,3 +188,98 @@ def test_stroke_work_falls_back_to_ufolib2(crafted):
     with pytest.raises(ParseError, match="glyph 'huge' has a coordinate"):
         _stroke_work(src, ["open_cubic", "huge"], {}, None, None, {"open_cubic": 0, "huge": 0},
                      None)
+
+
+def _scan_agrees(datas):
+    """The byte scan's outlines (:mod:`morph.parse._glif_scan`) of ``datas``: where it
+    reads a glyph, the XML reader's result to the bit; the indices it reads."""
+    from morph.parse._glif_scan import scan_outlines
+    from morph.parse.glif import _tree_outlines
+
+    fast, left = scan_outlines(datas)
+    tree = _tree_outlines(datas)
+    read = [i for i, f in enumerate(fast) if f is not None]
+    assert sorted(read + left) == [i for i, d in enumerate(datas) if d is not None]
+    for i in read:
+        assert tree[i] is not None, i
+        assert _same_paths(fast[i][0], tree[i][0]), i
+        assert _components(fast[i][1]) == _components(tree[i][1]), i
+    return read
+
+
+def _ufo_datas(path):
+    src = SkeletonSource(path)
+    return [src.glif_data(n) for n in src.keys()]
+
+
+def test_scan_reads_the_test_data_as_the_xml_reader(crafted):
+    import os
+
+    ufos = [RELIEF_SUBSET, crafted]
+    cache = os.environ.get("MORPH_BENCH_CACHE")   # the bench's skeleton UFOs, where present
+    if cache and os.path.isdir(cache):
+        ufos += sorted(os.path.join(cache, f) for f in os.listdir(cache) if f.endswith(".ufo"))
+    for ufo in ufos:
+        datas = _ufo_datas(ufo)
+        read = _scan_agrees(datas)
+        plain = [i for i, d in enumerate(datas) if b"<component" not in d]
+        assert set(read) >= set(plain) - {i for i, d in enumerate(datas)
+                                          if skeleton_outlines([d]) == [None]}, ufo
+
+
+_PLAIN = (b"<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"a\" format=\"2\">\n"
+          b"  <advance width=\"500\"/>\n  <outline>\n    <contour>\n"
+          b"      <point x=\"0\" y=\"0\" type=\"move\"/>\n"
+          b"      <point x=\"10\" y=\"40\"/>\n      <point x=\"60\" y=\"40\"/>\n"
+          b"      <point x=\"70.5\" y=\"-3e1\" type=\"curve\" smooth=\"yes\"/>\n"
+          b"    </contour>\n  </outline>\n</glyph>\n")
+
+
+@pytest.mark.parametrize("old, new, scanned", [
+    (b"", b"", True),
+    (b'<contour>', b'<contour identifier="c1">', True),
+    (b'smooth="yes"/>', b'smooth="yes" name="p" identifier="i1"/>', True),
+    (b'<advance width="500"/>', b'<anchor x="1" y="2" name="top"/><guideline y="3"/>'
+     b'<lib><dict><key>k</key><string>&lt;v&gt;</string></dict></lib>', True),
+    (b'</outline>', b'</outline><!-- a comment --><note>n &amp; m</note>', True),
+    (b'<point x="0" y="0" type="move"/>', b"<point x='0' y='0' type='move'/>", False),
+    (b'<point x="0" y="0" type="move"/>', b'<point y="0" x="0" type="move"/>', False),
+    (b'<point x="0" y="0" type="move"/>', b'<point type="move" x="0" y="0"/>', False),
+    (b'<point x="10" y="40"/>', b'<!-- c --><point x="10" y="40"/>', False),
+    (b'<point x="10" y="40"/>', b'<point x="1&#48;" y="40"/>', False),
+    (b'<point x="10" y="40"/>', b'<point x="10" y="40" name="a&lt;b"/>', False),
+    (b'<point x="10" y="40"/>', b'<point x="10" y="40" name="a<b"/>', False),
+    (b'<point x="10" y="40"/>', b'<point x="10" y="40"><![CDATA[x]]></point>', False),
+    (b'<point x="10" y="40"/>', b'<point x="10" y="40" y="41"/>', False),
+    (b'<point x="10" y="40"/>', b'<point x="10" y="40" name="\xc3\xa9"/>', False),
+    (b'<point x="10" y="40"/>', b'text<point x="10" y="40"/>', False),
+    (b'</contour>', b'</contour><contour/>', True),
+    (b'</contour>', b'</contour>\n  </outline><outline>', False),
+    (b'</contour>', b'', False),                                    # not well-formed
+    (b'<advance width="500"/>', b'<advance width="500">', False),  # not well-formed
+    (b'format="2"', b'format="1"', False),
+])
+def test_scan_reads_or_leaves_each_form(old, new, scanned):
+    """An edit of a plain file: the scan reads it (the same paths as the XML
+    reader) or leaves it to that reader, as expected."""
+    data = _PLAIN.replace(old, new, 1)
+    assert data != _PLAIN or not old
+    assert bool(_scan_agrees([data])) == scanned
+    assert skeleton_outlines([data]) == [None] or _same_paths(
+        skeleton_outlines([data])[0][0], glif_outline(data) and _tree_paths(data))
+
+
+def _tree_paths(data):
+    from morph.parse.glif import _tree_outlines
+
+    return _tree_outlines([data])[0][0]
+
+
+def test_scan_reads_several_glyphs_and_leaves_the_odd_one():
+    odd = _PLAIN.replace(b'<point x="10" y="40"/>', b"<point x='10' y='40'/>")
+    datas = [_PLAIN, odd, None, _PLAIN.replace(b"70.5", b"1e400"), _PLAIN]
+    assert _scan_agrees(datas) == [0, 4]
+    # a glyph whose first point is odd: the text it shares with the glyph before
+    # is refused, and both are left to the XML reader
+    odd = _PLAIN.replace(b'<point x="0" y="0" type="move"/>', b"<point x='0' y='0'/>")
+    assert _scan_agrees([_PLAIN, odd, _PLAIN, _PLAIN]) == [2, 3]
