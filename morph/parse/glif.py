@@ -30,6 +30,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..limits import MAX_COORDINATE
+from ._glif_scan import scan_outlines  # the workers use it: imported before they fork
 
 __all__ = ["Component", "glif_outline", "skeleton_outlines"]
 
@@ -179,8 +180,6 @@ def skeleton_outlines(datas):
     The outlines of plain files are scanned from their bytes, all at once
     (:mod:`._glif_scan`); a file the scan leaves is parsed as XML
     (:func:`glif_outline`)."""
-    from ._glif_scan import scan_outlines
-
     out, left = scan_outlines(datas)
     if left:
         for i, o in zip(left, _tree_outlines([datas[i] for i in left])):
