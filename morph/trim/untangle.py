@@ -624,88 +624,155 @@ def remove_folds(loop, width):
 def remove_folds_many(loops, width):
     """:func:`remove_folds` of every loop, each pass over all loops at once: the
     joins of all their pieces tested together (:func:`_fold_joins_many`), the
-    cuts of all the folds found computed together (:func:`_fold_cuts`), then
-    applied loop by loop as :func:`remove_folds` says (the cuts of one pass use
-    the pieces as the pass found them: a fold whose second piece a later fold's
-    cut changed is skipped)."""
+    cuts of all the folds found computed together (:func:`_fold_cuts`) and applied
+    together (:func:`_cut_fold_rows`) as :func:`remove_folds` says (the cuts of one
+    pass use the pieces as the pass found them: a fold whose second piece a later
+    fold's cut changed is skipped, :func:`_taken_folds`)."""
     return _remove_folds(loops, width)[0]
 
 
 def _remove_folds(loops, width):
     """(:func:`remove_folds_many` of the loops, the set of the indices of those it
-    changed)."""
+    changed).  A pass's folds are rows of arrays over all loops (loop, join); a fold
+    left as it is is remembered by its loop and the identities of its two pieces
+    (kept alive with it, so that no other piece takes their ids)."""
     out = [list(loop) for loop in loops]
     changed_any = set()
-    left = [{} for _ in out]  # per loop: (id(a), id(b)) -> (a, b) of folds left as they are
-    todo = [k for k, loop in enumerate(out) if len(loop) >= 3]
-    while todo:
-        plan, jobs = [], []
-        for k, folds in zip(todo, _fold_joins_many([out[k] for k in todo])):
-            loop, n = out[k], len(out[k])
-            folds = [i for i in folds if (id(loop[i]), id(loop[(i + 1) % n])) not in left[k]]
-            if not folds:
-                continue
-            if folds[-1] == n - 1:
-                folds = folds[-1:]  # its cut may delete piece 0 and move every index
-            plan.append((k, folds, len(jobs)))
-            jobs += [(loop[i], loop[(i + 1) % n]) for i in folds]
-        if not jobs:
+    left, alive = set(), []   # (loop, id(a), id(b)) of folds left as they are, their pieces
+    todo = (_sizes(out) >= 3).ravel().nonzero()[0]
+    while len(todo):
+        flat, starts, sizes, g, i = _fold_joins_many([out[k] for k in todo.tolist()])
+        ia, ib = starts[g] + i, starts[g] + (i + 1) % sizes[g]
+        ids = list(map(id, flat))
+        keys = list(zip(todo[g].tolist(), [ids[x] for x in ia.tolist()],
+                        [ids[x] for x in ib.tolist()]))
+        fresh = np.array([key not in left for key in keys], bool).reshape(-1)
+        # a fold at the wrap (piece -1 to piece 0) is cut alone in its pass: its cut
+        # may delete piece 0 and move every index
+        wrap = fresh & (i == sizes[g] - 1)
+        row = (fresh & (~pl.member(g, unique(g[wrap])) | wrap)).ravel().nonzero()[0]
+        if not len(row):
             break
-        cuts = _fold_cuts(jobs, width)
-        changed_loops = []
-        for k, folds, at in plan:
-            loop = out[k]
-            changed, taken = False, set()
-            for f in range(len(folds) - 1, -1, -1):
-                i = folds[f]
-                if i + 1 in taken:
-                    continue  # shares piece i + 1 with a fold cut in this pass
-                j = (i + 1) % len(loop)
-                cut = cuts[at + f]
-                if cut is None:
-                    a, b = jobs[at + f]
-                    left[k][(id(a), id(b))] = (a, b)
-                    continue
-                loop = _cut_fold(loop, i, j, *cut)
-                taken.add(i)
-                changed = True
-            out[k] = loop
-            if changed:
-                changed_loops.append(k)
+        g, i, ia, ib = g[row], i[row], ia[row], ib[row]
+        s, u, cut = _fold_cuts([flat[x] for x in ia.tolist()], [flat[x] for x in ib.tolist()],
+                               width)
+        taken, skipped = _taken_folds(g, i, cut)
+        for r in (~cut & ~skipped).ravel().nonzero()[0].tolist():   # per fold left
+            left.add(keys[row[r]])
+            alive.append((flat[ia[r]], flat[ib[r]]))
+        t = taken.ravel().nonzero()[0]
+        changed = todo[unique(g[t])]
+        flat, keep = _cut_fold_rows(flat, ia[t], ib[t], s[t], u[t])
+        _store_loops(out, changed, flat, keep, starts, sizes, todo)
         # a cut at a piece's end leaves nothing
-        for k, loop in zip(changed_loops, _snap_many([out[k] for k in changed_loops],
-                                                    5e-7 * width)):
+        for k, loop in zip(changed.tolist(), _snap_many([out[k] for k in changed.tolist()],
+                                                        5e-7 * width)):
             out[k] = loop
-        changed_any.update(changed_loops)
-        todo = [k for k in changed_loops if len(out[k]) >= 3]
+        changed_any.update(changed.tolist())
+        todo = changed[_sizes([out[k] for k in changed.tolist()]) >= 3]
     return out, changed_any
 
 
+def _taken_folds(g, i, cut):
+    """(taken, skipped) of a pass's folds (rows by loop ``g``, then join ``i``, with
+    ``cut`` where a cut was found): from each loop's last fold back, a fold whose
+    second piece the cut of the fold after it took is skipped, the others with a cut
+    are taken.  Runs of folds at consecutive joins settle from their ends, one run
+    position a step (runs are a few folds long)."""
+    nxt = np.append((g[1:] == g[:-1]) & (i[1:] == i[:-1] + 1), False)
+    succ = np.minimum(np.arange(1, len(g) + 1), len(g) - 1)
+    taken = cut & ~nxt
+    while True:
+        again = cut & ~(nxt & taken[succ])
+        if np.array_equal(again, taken):
+            return taken, nxt & taken[succ]
+        taken = again
+
+
+def _cut_fold_rows(flat, ia, ib, s, u):
+    """(pieces, keep) after cutting the folds (a = flat[ia], ending, b = flat[ib],
+    starting, cut at s and u, no two sharing a piece): a cut at s and b at u, both
+    joined at the mean of the two cut points; s = 0: a goes and b starts where a
+    started; else u = 1: b goes and a ends where b ended.  All folds at once (the
+    cuts in one :func:`morph.piece.subsegments`, the points in one product per
+    degree): the pieces of ``flat`` with those replaced, and ``keep`` False at the
+    pieces that go."""
+    flat, keep = list(flat), np.ones(len(flat), bool)
+    if not len(ia):
+        return flat, keep
+    a_goes, b_goes = s <= 0.0, (s > 0.0) & (u >= 1.0)
+    on_a, on_b = (~a_goes).ravel().nonzero()[0], (~b_goes).ravel().nonzero()[0]
+    src = [flat[x] for x in ia[on_a].tolist()] + [flat[x] for x in ib[on_b].tolist()]
+    parts = pc.subsegments(src, np.arange(len(src)), np.concatenate([np.zeros(len(on_a)),
+                                                                     u[on_b]]),
+                           np.concatenate([s[on_a], np.ones(len(on_b))]), packed=True)
+    starts, ends = pc.end_points(pc.Pieces.of([flat[x] for x in ia.tolist()]
+                                              + [flat[x] for x in ib.tolist()]))
+    a0, b1 = starts[:len(ia)], ends[len(ia):]
+    both = (~a_goes & ~b_goes).ravel().nonzero()[0]
+    x = b1.copy()             # where a piece goes, the other keeps the far end of both
+    x[a_goes] = a0[a_goes]
+    x[both] = 0.5 * (_points_at([flat[k] for k in ia[both].tolist()], s[both])
+                     + _points_at([flat[k] for k in ib[both].tolist()], u[both]))
+    p0 = np.concatenate([a0[on_a], x[on_b]])
+    p1 = np.concatenate([x[on_a], b1[on_b]])
+    rows = _with_ends_where(parts, p0, p1, np.ones(len(src), bool)).rows()
+    for at, piece in zip(np.concatenate([ia[on_a], ib[on_b]]).tolist(), rows):
+        flat[at] = piece
+    keep[ia[a_goes]] = False
+    keep[ib[b_goes]] = False
+    return flat, keep
+
+
+def _points_at(pieces, t):
+    """:func:`morph.piece.evaluate` of each piece k at t[k], (k, 2): one product per
+    degree (a row of the basis times the piece's control points, as there)."""
+    out = np.empty((len(pieces), 2))
+    for ks, h in pc.degree_groups(pieces):
+        v = np.matmul(bz.basis(h.shape[1] - 1, t[ks])[:, None, :], h)[:, 0]
+        out[ks] = v[:, :2] / v[:, 2:3]
+    return out
+
+
+def _store_loops(out, changed, flat, keep, starts, sizes, todo):
+    """out[k] for each loop k of ``changed`` (among ``todo``, whose pieces ``flat`` are
+    stacked from ``starts``, ``sizes`` each): its pieces that ``keep`` holds."""
+    at = np.searchsorted(todo, changed)
+    mine = np.zeros(len(flat), bool)
+    mine[(starts[at].repeat(sizes[at])
+          + np.arange(int(sizes[at].sum())) - (sizes[at].cumsum() - sizes[at]).repeat(
+              sizes[at]))] = True
+    rows = (mine & keep).ravel().nonzero()[0]
+    n = np.bincount(np.searchsorted(starts[at], rows, "right") - 1, minlength=len(at))
+    pieces = [flat[x] for x in rows.tolist()]
+    bounds = np.append(n.cumsum() - n, len(rows)).tolist()
+    for j, k in enumerate(changed.tolist()):
+        out[k] = pieces[bounds[j]:bounds[j + 1]]
+
+
 def _fold_joins_many(loops):
-    """Per loop: the indices i of the joins (piece i, piece i + 1, cyclic) that turn
-    by nearly pi (unit end tangents with dot product at most FOLD_COS), the joins
-    of all loops at once."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
-    first, last = pc.end_tangents_many([p for loop in loops for p in loop])
+    """(pieces, starts, sizes, loop, join): the loops' pieces one loop after another
+    (each loop's first at ``starts``, ``sizes`` each) and the joins (piece i, piece
+    i + 1, cyclic) that turn by nearly pi (unit end tangents with dot product at
+    most FOLD_COS), by loop then join; the joins of all loops at once."""
+    sizes = _sizes(loops)
+    flat = [p for loop in loops for p in loop]
+    first, last = pc.end_tangents_many(flat)
     starts = sizes.cumsum() - sizes
     owner = np.arange(len(loops)).repeat(sizes)
     at = np.arange(len(owner)) - starts[owner]
     nxt = starts[owner] + (at + 1) % sizes[owner]
     fold = (np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS).ravel().nonzero()[0]
-    per = [[] for _ in loops]
-    for o, i in zip(owner[fold].tolist(), at[fold].tolist()):
-        per[o].append(i)
-    return per
+    return flat, starts, sizes, owner[fold], at[fold]
 
 
-def _fold_cuts(jobs, width):
-    """Where to cut each fold (a ending, b starting) of ``jobs``, as
-    :func:`_cut_fold`'s (s, u), or None to leave it (see :func:`remove_folds`): the
-    shorter leg within ``width`` of the longer at nine points goes, the longer cut
-    at its point closest to the shorter's far end (the closest points of all folds
-    found at once, :func:`_closest_many`); else where the legs part, if they are
-    zipped (:func:`_zip_many`, :func:`_parting_many`, fold by fold)."""
-    a_s, b_s = [a for a, _ in jobs], [b for _, b in jobs]
+def _fold_cuts(a_s, b_s, width):
+    """Where to cut each fold (a of ``a_s`` ending, b of ``b_s`` starting), as
+    (s, u, cut): a cut at s, b at u where ``cut`` (see :func:`remove_folds`; else the
+    fold is left): the shorter leg within ``width`` of the longer at nine points
+    goes, the longer cut at its point closest to the shorter's far end (the closest
+    points of all folds found at once, :func:`_closest_many`); else where the legs
+    part, if they are zipped (:func:`_zip_many`, :func:`_parting_many`)."""
     lengths = pc.length_bounds(a_s + b_s)
     la, lb = lengths[:len(a_s)], lengths[len(a_s):]
     a_short = la <= lb
@@ -723,7 +790,7 @@ def _fold_cuts(jobs, width):
         zs, zu, window, zipped = _zip_many(ra, rb, COINCIDE * width, width)
         zs, zu = _parting_many(ra, rb, zs, zu, window, zipped)
         s[rest], u[rest], cut[rest] = zs, zu, zipped
-    return [(a, b) if c else None for a, b, c in zip(s.tolist(), u.tolist(), cut.tolist())]
+    return s, u, cut
 
 
 def _evaluate_many(pieces, t):
@@ -758,24 +825,6 @@ def _closest_many(pieces, points, samples=257):
 COINCIDE = 1e-3
 #: Samples per piece of :func:`_zip_many`'s arc-length tables.
 ZIP_SAMPLES = 257
-
-
-def _cut_fold(loop, i, j, s, u):
-    """The loop with piece i (ending at the fold) cut at s and piece j cut at u,
-    joined at the mean of the two cut points; s = 0 (u = 1): piece i (j) goes."""
-    a, b = loop[i], loop[j]
-    loop = list(loop)
-    if s <= 0.0:  # a goes; b starts where a started
-        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), pc.start(a), pc.end(b))
-        del loop[i]
-    elif u >= 1.0:  # b goes; a ends where b ended
-        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), pc.end(b))
-        del loop[j]
-    else:
-        x = 0.5 * (pc.evaluate(a, s) + pc.evaluate(b, u))
-        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), x)
-        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), x, pc.end(b))
-    return loop
 
 
 def _parting_many(a_s, b_s, s, u, window, zipped):
