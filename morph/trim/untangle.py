@@ -63,7 +63,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         found = {}
         local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
         hits = {idx[a]: h for a, h in local.items()}
-        curls = [found.get(a, ()) for a in local] if found else None
+        curls = [found[a] if a in found else () for a in local] if found else None
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
                                                eps, hole_test, curls)))
         out, idx = _replaced(out, split)
@@ -89,16 +89,20 @@ def _cut_folds(out, ks, eps):
 
 def _replaced(loops, split):
     """(loops with each loop k of ``split`` replaced by its parts split[k], the
-    indices of those parts): the loops searched next round.  Python steps per
-    loop split only."""
-    out, parts_at, prev = [], [], 0
-    for k in sorted(split):
+    indices of those parts): the loops searched next round.  The parts' indices
+    by arrays; per loop split, list slices only (no call)."""
+    ks = sorted(split)
+    out, prev = [], 0
+    for k in ks:
         out += loops[prev:k]
-        parts_at += range(len(out), len(out) + len(split[k]))
         out += split[k]
         prev = k + 1
     out += loops[prev:]
-    return out, parts_at
+    n = _sizes([split[k] for k in ks])
+    # the parts of the i-th loop split start past the parts before it, less the i
+    # loops they replace
+    at = np.array(ks, np.int64) + (n.cumsum() - n) - np.arange(len(ks))
+    return out, (at.repeat(n) + np.arange(int(n.sum())) - (n.cumsum() - n).repeat(n)).tolist()
 
 
 def _sizes(loops):
@@ -267,10 +271,11 @@ def _split_off_many(loops, hits, eps, hole_test, curls=None):
     areas = _loop_areas(lobes + rests)
     a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
     # the lobe is the smaller part, wherever the cut is
-    swap = [bool(lb and r and abs(x) > abs(y))
-            for lb, r, x, y in zip(lobes, rests, a_lobe.tolist(), a_rest.tolist())]
-    lobes, rests = ([r if w else lb for lb, r, w in zip(lobes, rests, swap)],
-                    [lb if w else r for lb, r, w in zip(lobes, rests, swap)])
+    swap = ((_sizes(lobes) > 0) & (_sizes(rests) > 0)
+            & (np.abs(a_lobe) > np.abs(a_rest))).reshape(-1)
+    w = swap.tolist()
+    lobes, rests = ([r if x else lb for lb, r, x in zip(lobes, rests, w)],
+                    [lb if x else r for lb, r, x in zip(lobes, rests, w)])
     a_lobe, a_rest = np.where(swap, a_rest, a_lobe), np.where(swap, a_lobe, a_rest)
     keep = _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test)
     return [[part for part in ([r, lb] if k else [r]) if part]
@@ -303,10 +308,10 @@ def _cut_curls(loops, hits, curls, eps):
     cut = pc.subsegments([src[k] for k in go.tolist()] * 2, np.arange(2 * len(go)),
                          np.concatenate([np.zeros(len(go)), u[go]]),
                          np.concatenate([s[go], np.ones(len(go))]))
-    loops, hits = list(loops), list(hits)
-    for g, k in reversed(list(enumerate(go.tolist()))):   # per curl cut; last first
-        a, b = int(n[k]), int(i[k])
-        loops[a] = loops[a][:b] + [cut[g], cut[len(go) + g]] + loops[a][b + 1:]
+    loops, hits, m = list(loops), list(hits), len(go)
+    rows = list(zip(range(m), n[go].tolist(), i[go].tolist()))
+    for g, a, b in rows[::-1]:   # per curl cut, last first: list slices only (no call)
+        loops[a] = loops[a][:b] + [cut[g], cut[m + g]] + loops[a][b + 1:]
         hi, hs, hj, hu, hx = hits[a]
         hits[a] = (hi + (hi > b), hs, hj + (hj > b), hu, hx)
     return loops, hits
@@ -431,8 +436,7 @@ def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
     if curls is not None and len(got):
         curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
     x = pc.jet_many(stacked, ia[c[got]], s[c[got]])[0]
-    return dict(_hit(pa[c[n]], pb[c[n]], s[c[n]], w[c[n]], xn, owner, first)
-                for n, xn in zip(got.tolist(), x))
+    return _hits_of(gi[got], gj[got], si[got], wj[got], x, owner, first)
 
 
 #: Crossing candidates of each loop that :func:`_first_crossings` refines first;
@@ -471,11 +475,12 @@ def _batch_curls(got, valid, gi, gj, si, wj, owner, first):
     order = gi[rows].argsort(kind="stable")      # the first row of each piece
     g = gi[rows][order]
     rows = np.sort(rows[order[np.concatenate(([True], g[1:] != g[:-1]))]])
-    out = {}
-    for r in rows.tolist():   # per curl found
-        li = int(owner[gi[r]])
-        out.setdefault(li, []).append((int(gi[r] - first[li]), float(si[r]), float(wj[r])))
-    return out
+    li = owner[gi[rows]]
+    by = li.argsort(kind="stable")    # each loop's curls together, in row order
+    rows, li = rows[by], li[by]
+    curls = list(zip((gi[rows] - first[li]).tolist(), si[rows].tolist(), wj[rows].tolist()))
+    at = np.append(np.r_[True, li[1:] != li[:-1]].ravel().nonzero()[0], len(li)).tolist()
+    return {k: curls[a:b] for k, a, b in zip(li[at[:-1]].tolist(), at[:-1], at[1:])}
 
 
 def _valid_rows(pa, pb, s, w, ok, owner, first, sizes):
@@ -503,13 +508,13 @@ def _keys(hits):
     return np.array(sorted(hits), np.int64)
 
 
-def _hit(ga, gb, s, w, x, owner, first):
-    """(loop, (piece i, s, piece j, u, point)) of a crossing of pieces ga at s and gb
-    at w (indices in the stacked loops), i <= j (s <= u for i == j)."""
-    if ga > gb or (ga == gb and s > w):
-        ga, gb, s, w = gb, ga, w, s
-    li = int(owner[ga])
-    return li, (ga - first[li], s, gb - first[li], w, x)
+def _hits_of(gi, gj, si, wj, x, owner, first):
+    """{loop: (piece i, s, piece j, u, point)} of crossings of pieces gi at si and gj
+    at wj (indices in the stacked loops, i <= j, s <= u for i == j; ``x`` their
+    points), one a loop: all at once, per crossing a tuple (no call)."""
+    li = owner[gi]
+    return dict(zip(li.tolist(), zip((gi - first[li]).tolist(), si.tolist(),
+                                     (gj - first[li]).tolist(), wj.tolist(), x)))
 
 
 def _hulls_apart(pieces, pairs):
@@ -657,9 +662,9 @@ def _remove_folds(loops, width):
         s, u, cut = _fold_cuts([flat[x] for x in ia.tolist()], [flat[x] for x in ib.tolist()],
                                width)
         taken, skipped = _taken_folds(g, i, cut)
-        for r in (~cut & ~skipped).ravel().nonzero()[0].tolist():   # per fold left
-            left.add(keys[row[r]])
-            alive.append((flat[ia[r]], flat[ib[r]]))
+        stay = (~cut & ~skipped).ravel().nonzero()[0]
+        left.update([keys[r] for r in row[stay].tolist()])
+        alive += [flat[x] for x in np.concatenate([ia[stay], ib[stay]]).tolist()]
         t = taken.ravel().nonzero()[0]
         changed = todo[unique(g[t])]
         flat, keep = _cut_fold_rows(flat, ia[t], ib[t], s[t], u[t])
@@ -951,11 +956,10 @@ def _split_many(loops, hits, min_len):
     t0 = np.stack([s, np.zeros_like(s), np.zeros_like(s), u], axis=1).ravel()
     t1 = np.stack([np.where(same, u, 1.0), u, s, np.ones_like(s)], axis=1).ravel()
     cut = pc.subsegments(src, np.arange(len(src)), t0, t1)
-    lobes, rests = [], []
-    for n, (loop, a, b) in enumerate(zip(loops, i.tolist(), j.tolist())):
-        c = cut[4 * n:4 * n + 4]
-        lobes.append([c[0]] if a == b else [c[0]] + loop[a + 1:b] + [c[1]])
-        rests.append(loop[:a] + [c[2], c[3]] + loop[b + 1:])
+    rows = list(zip(loops, i.tolist(), j.tolist(), cut[0::4], cut[1::4], cut[2::4], cut[3::4]))
+    lobes = [[c0] if a == b else [c0] + loop[a + 1:b] + [c1]
+             for loop, a, b, c0, c1, _, _ in rows]
+    rests = [loop[:a] + [c2, c3] + loop[b + 1:] for loop, a, b, _, _, c2, c3 in rows]
     snapped = _snap_many(lobes + rests, min_len)
     return snapped[:len(loops)], snapped[len(loops):]
 
@@ -976,7 +980,7 @@ def _snap_many(loops, min_len):
     going = [k for k, loop in enumerate(out) if loop]
     while going:
         flat = [p for k in going for p in out[k]]
-        sizes = np.array([len(out[k]) for k in going], np.int64)
+        sizes = _sizes([out[k] for k in going])
         keep = pc.length_bounds(flat) > min_len
         owner = np.arange(len(going)).repeat(sizes)[keep]
         idx = keep.ravel().nonzero()[0]
@@ -1028,7 +1032,7 @@ def _ray_windings(xs, loops, flat):
     boxes meet the ray from the point to the right only: no other edge can cross
     it (the rest of a loop after many lobes is long, the ray short).  All loops'
     pieces at once."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
+    sizes = _sizes(loops)
     out = np.zeros(len(loops), np.int64)
     if not sizes.sum():
         return out
@@ -1061,7 +1065,7 @@ def _loop_areas(loops):
     polynomial of degree 2n - 1), to the rule's error on rational ones (no
     adaptive halving: the areas only say which part of a split loop is the smaller
     and whether a lobe's area exceeds eps^2, :func:`_keep_lobes`)."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
+    sizes = _sizes(loops)
     if not sizes.sum():
         return np.zeros(len(loops))
     flat = [p for loop in loops for p in loop]
@@ -1090,11 +1094,11 @@ def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
     ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
     the windings and the hole tests of all lobes at once."""
     keep = np.zeros(len(lobes), bool)
-    test = (np.array([bool(lb) for lb in lobes], bool)
-            & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
+    sizes = _sizes(lobes)
+    test = ((sizes > 0) & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
     if not len(test):
         return keep
-    mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]
+    mids = [lobes[k][m] for k, m in zip(test.tolist(), (sizes[test] // 2).tolist())]
     probes = pc.jet_many(pc.stack(mids), np.arange(len(mids)), np.full(len(mids), 0.5))[0]
     nested = _ray_windings(probes, [rests[k] for k in test.tolist()], eps / 10) != 0
     same = np.sign(a_lobe[test]) == np.sign(a_rest[test])
