@@ -19,8 +19,8 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
-                        unique, winding_number)
+from ..polyline import (flatten_segments, pair_rows, ray_crossings, segment_crossings,
+                        segment_pairs, unique, winding_number)
 from ..quadrature import gauss_legendre
 from .crossing import (JOINED, PAIRS, SELF, _upper, first_items, subdivide,
                        uncertain_pairs)
@@ -137,90 +137,164 @@ def merge_lenses(loops, outer, eps, near=None, max_rounds=64):
     within eps / 10, refined by Newton on the exact pieces; the outside arc is the
     one whose middle the other loop does not wind around).  Only outer loops in a
     ``near`` pair whose control boxes overlap are searched; pairs crossing any
-    other number of times are left as they are."""
+    other number of times are left as they are.  A round merges the first such
+    pair (by their places in the list, the merged loop put last); the crossings of
+    every pair a round searches are found together (:func:`_pair_crossings`) and
+    kept for the later rounds, which search only the pairs with a merged loop."""
     out = [list(loop) for loop in loops]
-    outer = list(outer)
-    near = {(min(i, j), max(i, j)) for i, j in near} if near is not None else None
-    groups = [{k} for k in range(len(out))]  # the original loops each loop holds
+    outer = np.array(outer, bool).reshape(-1)
+    if near is not None:
+        near = np.array(sorted(near), np.int64).reshape(-1, 2)
+        if not len(near):
+            return out
+    where = np.arange(len(out))   # the place of each given loop's loop in ``out``
+    uid = np.arange(len(out))     # a loop's identity (a merged loop gets a new one)
+    known = {}                    # (uid, uid) -> (crossings, whether exactly two)
     for _ in range(max_rounds):
-        if near is not None and not near:
+        pairs = _lens_candidates(out, outer, where, near)
+        keys = list(zip(uid[pairs[:, 0]].tolist(), uid[pairs[:, 1]].tolist()))
+        new = [n for n, key in enumerate(keys) if key not in known]
+        if new:
+            known.update(zip([keys[n] for n in new], _pair_crossings(out, pairs[new], eps)))
+        twice = [n for n, key in enumerate(keys) if known[key][1]]
+        if not twice:
             break
-        hit = _lens_pair(out, outer, eps, groups, near)
-        if hit is None:
-            break
-        a, b, ca, cb = hit
+        (a, b), (ca, cb) = pairs[twice[0]].tolist(), known[keys[twice[0]]][0]
         merged = _union_arcs(out[a], out[b], ca, cb, eps)
         if merged is None:
             break
-        keep = [k for k in range(len(out)) if k not in (a, b)]
-        out = [out[k] for k in keep] + [merged]
-        outer = [outer[k] for k in keep] + [True]
-        groups = [groups[k] for k in keep] + [groups[a] | groups[b]]
+        keep = np.ones(len(out), bool)
+        keep[[a, b]] = False
+        at = np.full(len(out), int(keep.sum()))   # a and b go to the merged loop, last
+        at[keep] = np.arange(len(at) - 2)
+        out = [out[k] for k in keep.ravel().nonzero()[0].tolist()] + [merged]
+        outer, uid = np.append(outer[keep], True), np.append(uid[keep], uid.max() + 1)
+        where = at[where]
     return out
 
 
-def _lens_pair(loops, outer, eps, groups, near):
-    """(loop a, loop b, [(piece, t) on a of the two crossings], [(piece, t) on b])
-    of the first pair of outer loops, near each other (some of their original
-    loops a pair in ``near``, None: all) with overlapping control boxes, whose
-    pieces cross exactly twice; None if there is none."""
-    in_near = None if near is None else {i for pair in near for i in pair}
-    ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)
-          and (in_near is None or groups[k] & in_near)]
-    if len(ks) < 2:
-        return None
-    pieces = [p for k in ks for p in loops[k]]
-    starts = np.cumsum([0] + [len(loops[k]) for k in ks[:-1]])
-    pb = pc.bboxes(pieces)
-    lo = np.minimum.reduceat(pb[:, :2], starts)
-    hi = np.maximum.reduceat(pb[:, 2:], starts)
-    meet = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
-    for i, j in zip(*np.nonzero(np.triu(meet, 1))):
-        if near is not None and not any((min(x, y), max(x, y)) in near
-                                        for x in groups[ks[i]] for y in groups[ks[j]]):
-            continue
-        found = _loop_crossings(loops[ks[i]], loops[ks[j]], eps)
-        if found is not None and len(found[0]) == 2:
-            return (ks[i], ks[j]) + found
-    return None
+def _lens_candidates(loops, outer, where, near):
+    """The pairs (a, b), a < b, in order, of outer non-empty ``loops`` whose control
+    boxes overlap and, where ``near`` (pairs of the given loops) is not None, that
+    hold a near pair (``where``: the place of each given loop's loop)."""
+    ok = outer & (_sizes(loops) > 0)
+    if near is None:
+        k = ok.ravel().nonzero()[0]
+        i, j = np.triu_indices(len(k), 1)
+        pairs = pair_rows(k[i], k[j])
+    else:
+        pairs = np.sort(where[near], axis=1)
+        pairs = pairs[(pairs[:, 0] != pairs[:, 1]) & ok[pairs[:, 0]] & ok[pairs[:, 1]]]
+        keys = unique(pairs[:, 0] * len(loops) + pairs[:, 1])
+        pairs = pair_rows(keys // len(loops), keys % len(loops))
+    if not len(pairs):
+        return pairs
+    used = unique(pairs)
+    sel = [loops[k] for k in used.tolist()]
+    sizes = _sizes(sel)
+    pb = pc.bboxes([p for loop in sel for p in loop])
+    starts = sizes.cumsum() - sizes
+    lo, hi = np.minimum.reduceat(pb[:, :2], starts), np.maximum.reduceat(pb[:, 2:], starts)
+    i, j = np.searchsorted(used, pairs[:, 0]), np.searchsorted(used, pairs[:, 1])
+    meet = np.logical_and.reduce((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+    return pairs[meet]
 
 
-def _loop_crossings(la, lb, eps):
-    """Crossings of the pieces of loop la with those of loop lb: ([(piece, s)] on
-    la, [(piece, u)] on lb), in order along la; None if Newton does not confirm one."""
-    pieces = list(la) + list(lb)
-    p0, p1, ids, t0, t1 = flatten_segments(pieces, eps / 10.0)
-    pairs = segment_pairs(p0, p1, ids, False)
-    if not len(pairs):
-        return [], []
-    first_b = len(la)
-    pairs = np.sort(pairs, axis=1)
-    pairs = pairs[(ids[pairs[:, 0]] < first_b) & (ids[pairs[:, 1]] >= first_b)]
-    if not len(pairs):
-        return [], []
-    k, u, v = segment_crossings(p0, p1, pairs)
-    a, b = pairs[k, 0], pairs[k, 1]
+def _pair_crossings(loops, pairs, eps):
+    """[(crossings, whether exactly two)] of each pair (a, b) of ``loops``: the
+    crossings of a's pieces with b's, ([(piece, s)] on a, [(piece, u)] on b) in
+    order along a, or None where Newton does not confirm one.  Candidates: the
+    crossings of the two loops' polylines within eps / 10, one per point
+    (:func:`_first_apart`), refined by Newton on the exact pieces.  All pairs at
+    once: each loop's pieces flattened once, the segments' pairs, crossings and
+    Newton of all together (the pieces of a pair at their highest degree)."""
+    used = unique(pairs)
+    sel = [loops[k] for k in used.tolist()]
+    sizes = _sizes(sel)
+    flat = [p for loop in sel for p in loop]
+    first = sizes.cumsum() - sizes
+    owner = np.arange(len(sel)).repeat(sizes)        # each piece's loop, in ``used``
+    pa_loop, pb_loop = np.searchsorted(used, pairs[:, 0]), np.searchsorted(used, pairs[:, 1])
+    p0, p1, ids, t0, t1 = flatten_segments(flat, eps / 10.0)
+    seg = segment_pairs(p0, p1, ids, False)          # (i < j): a's before b's
+    li, lj = owner[ids[seg[:, 0]]], owner[ids[seg[:, 1]]]
+    code = pa_loop * len(sel) + pb_loop               # the pairs, ascending (a < b)
+    g = np.minimum(np.searchsorted(code, li * len(sel) + lj), len(code) - 1)
+    mine = code[g] == li * len(sel) + lj
+    seg, g = seg[mine], g[mine]
+    order = g.argsort(kind="stable")                 # by pair, each in its own order
+    seg, g = seg[order], g[order]
+    k, u, v = segment_crossings(p0, p1, seg)
+    a, b, g = seg[k, 0], seg[k, 1], g[k]
     ta, tb = t0[a] + u * (t1[a] - t0[a]), t0[b] + v * (t1[b] - t0[b])
     guess = p0[a] + u[:, None] * (p1[a] - p0[a])
-    pa, pb = ids[a], ids[b]
-    # one crossing per point (segment ends shared by two segments report it twice)
-    keep = np.ones(len(guess), bool)
-    for n in range(1, len(guess)):
-        if np.any(np.hypot(*(guess[:n][keep[:n]] - guess[n]).T) <= eps / 10.0):
-            keep[n] = False
-    pa, pb, ta, tb, guess = pa[keep], pb[keep], ta[keep], tb[keep], guess[keep]
+    keep = _first_apart(guess, g, eps / 10.0)
+    pa, pb, ta, tb, guess, g = ids[a][keep], ids[b][keep], ta[keep], tb[keep], guess[keep], g[keep]
+    s, w, ok = _newton_by_degree(flat, pa, ta, pb, tb, guess, g, owner, (pa_loop, pb_loop), eps)
+    bad = np.bincount(g[~ok], minlength=len(pairs)) > 0
+    count = np.bincount(g, minlength=len(pairs))
+    order = np.lexsort((s, pa, g))
+    g, a_side = g[order], list(zip((pa - first[owner[pa]])[order].tolist(), s[order].tolist()))
+    b_side = list(zip((pb - first[owner[pb]])[order].tolist(), w[order].tolist()))
+    at = np.searchsorted(g, np.arange(len(pairs) + 1)).tolist()
+    return [(None, False) if x else ((a_side[i:j], b_side[i:j]), n == 2)
+            for x, n, i, j in zip(bad.tolist(), count.tolist(), at[:-1], at[1:])]
+
+
+def _first_apart(points, group, d):
+    """Which points to keep, one per place: a point of a group goes where an earlier
+    point of its group that is kept lies within ``d`` (segment ends shared by two
+    segments report a crossing twice).  All groups at once: the pairs within
+    ``d``, then the kept points settled from each group's first on, a step per
+    point of the longest chain of near points."""
+    n = len(points)
+    cnt = np.bincount(group, minlength=int(group.max(initial=-1)) + 1)
+    start = cnt.cumsum() - cnt
+    # each point with every earlier point of its group (group rows are contiguous)
+    later = np.arange(n).repeat(np.arange(n) - start[group])
+    earlier = start[group].repeat(np.arange(n) - start[group]) + _ranks_of(
+        np.arange(n) - start[group])
+    close = np.hypot(*(points[earlier] - points[later]).T) <= d
+    later, earlier = later[close], earlier[close]
+    keep = np.ones(n, bool)
+    while True:
+        gone = np.zeros(n, bool)
+        np.logical_or.at(gone, later, keep[earlier])
+        if np.array_equal(~gone, keep):
+            return keep
+        keep = ~gone
+
+
+def _ranks_of(counts):
+    """0, 1, .., counts[0]-1, 0, 1, .., counts[1]-1, ... (one range per count)."""
+    return np.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
+
+
+def _newton_by_degree(flat, pa, ta, pb, tb, guess, g, owner, sides, eps):
+    """:func:`.lift.newton_crossings` of crossings of pieces pa, pb of ``flat`` (row
+    groups ``g``: the pairs of loops (sides[0][g], sides[1][g]), ``owner`` each
+    piece's loop), each pair's pieces stacked at the highest degree of the pair's
+    two loops, as :func:`_loop_crossings` stacks them: one call per degree."""
+    s, w, ok = ta.copy(), tb.copy(), np.zeros(len(pa), bool)
     if not len(pa):
-        return [], []
-    stacked = pc.stack(pieces)
-    # each polyline is within eps / 10 of its piece: a crossing at angle alpha moves
-    # by up to 2 (eps / 10) / sin(alpha / 2) (newton_crossings' shallow allowance)
-    s, w, ok = newton_crossings(stacked, pa, ta, pb, tb, guess, eps, 1e-6 * eps,
-                                shallow=2.0 * eps / 10.0)
-    if not ok.all():
-        return None
-    order = np.lexsort((s, pa))
-    return ([(int(pa[n]), float(s[n])) for n in order],
-            [(int(pb[n]) - first_b, float(w[n])) for n in order])
+        return s, w, ok
+    deg = _sizes(flat) - 1
+    top = np.zeros(int(owner.max()) + 1, np.int64)
+    np.maximum.at(top, owner, deg)
+    pair_deg = np.maximum(top[sides[0]], top[sides[1]])[g]
+    for d in unique(pair_deg).tolist():
+        r = (pair_deg == d).ravel().nonzero()[0]
+        used = unique(np.concatenate([pa[r], pb[r]]))
+        # a piece of the pair's degree among them, so that the stack is at d
+        mine = (deg == d).ravel().nonzero()[0][:1]
+        used = unique(np.concatenate([used, mine]))
+        stacked = pc.stack([flat[x] for x in used.tolist()])
+        # each polyline is within eps / 10 of its piece: a crossing at angle alpha
+        # moves by up to 2 (eps / 10) / sin(alpha / 2) (newton_crossings' allowance)
+        s[r], w[r], ok[r] = newton_crossings(stacked, np.searchsorted(used, pa[r]), ta[r],
+                                             np.searchsorted(used, pb[r]), tb[r], guess[r],
+                                             eps, 1e-6 * eps, shallow=2.0 * eps / 10.0)
+    return s, w, ok
 
 
 def _arc(loop, start, end):
