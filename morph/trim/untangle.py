@@ -252,7 +252,7 @@ def _first_apart(points, group, d):
     start = cnt.cumsum() - cnt
     # each point with every earlier point of its group (group rows are contiguous)
     later = np.arange(n).repeat(np.arange(n) - start[group])
-    earlier = start[group].repeat(np.arange(n) - start[group]) + _ranks_of(
+    earlier = start[group].repeat(np.arange(n) - start[group]) + pl._ranks(
         np.arange(n) - start[group])
     close = np.hypot(*(points[earlier] - points[later]).T) <= d
     later, earlier = later[close], earlier[close]
@@ -263,11 +263,6 @@ def _first_apart(points, group, d):
         if np.array_equal(~gone, keep):
             return keep
         keep = ~gone
-
-
-def _ranks_of(counts):
-    """0, 1, .., counts[0]-1, 0, 1, .., counts[1]-1, ... (one range per count)."""
-    return np.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
 
 
 def _newton_by_degree(flat, pa, ta, pb, tb, guess, g, owner, sides, eps):
