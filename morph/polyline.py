@@ -239,7 +239,7 @@ def flatten_segments(pieces, tol):
     polylines of :func:`flatten_many`, each vertex to the next of its piece (the
     last to the piece's end), all pieces at once (:func:`flat_starts`)."""
     owner, ts, starts = flat_starts(pieces, tol)
-    last = np.append(owner[1:] != owner[:-1], True)   # the last vertex of its piece
+    last = np.append(owner[1:] != owner[:-1], True)[:len(owner)]   # its piece's last vertex
     p1, t1 = np.empty_like(starts), np.empty_like(ts)
     p1[:-1], t1[:-1] = starts[1:], ts[1:]
     p1[last], t1[last] = pc.end_points(pieces)[1][owner[last]], 1.0
