@@ -6,6 +6,7 @@
 import numpy as np
 
 from . import piece as pc
+from . import polyline as pl
 from .budget import (CONTRACT_SHARE, CONV_SHARE, FIRST_SHARE, FLAT_SHARE, GRID_SHARE,
                      TIP_FLOOR, TIP_MARGIN, TIP_REACH)
 from .convolve import (ConvPieces, _turn_convex, chain, convolution, crossing_rows,
@@ -209,12 +210,12 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None,
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
     for round_ in range(TIP_ROUNDS + 1):
         slot = slot_of(pc.end_points(conv.pieces)[0])
-        part = conv if redo is None else conv.take(np.isin(slot, sorted(redo)))
+        part = conv if redo is None else conv.take(pl.member(slot, np.array(sorted(redo))))
         loops, out = _trimmed(part, tol, member, inside(part))
-        for s in (unique(slot) if redo is None else redo):
-            done[int(s)] = []
-        for loop, s in zip(out, slot_of(pc.end_points([lp[0] for lp in out])[0])):
-            done.setdefault(int(s), []).append(loop)
+        fresh, extra = _by_slot(out, slot_of, unique(slot) if redo is None else sorted(redo))
+        done.update(fresh)
+        for k, more in extra:   # loops outside the slots trimmed (none in a packed sum)
+            done.setdefault(k, []).extend(more)
         finer = _tip_tolerances(out, part, tol)
         finer = {r: t for r, t in finer.items() if t < row_tol[r]}
         if not finer or round_ == TIP_ROUNDS:
@@ -226,11 +227,27 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None,
                                 gauss_pair=gauss_pair, rows=rows)
         except ToleranceNotMetError:
             break  # a pair that cannot be refined that far: the corner keeps its error
-        refined = np.isin(conv.row, rows)
+        refined = pl.member(conv.row, rows)
         redo = set(slot[refined].tolist())
         conv = ConvPieces.concat([conv.take(~refined), again])
     out = [loop for s in sorted(done) for loop in done[s]]
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
+
+
+def _by_slot(out, slot_of, slots):
+    """({slot: its loops of ``out``, in order} for each of ``slots`` (ints), [(slot,
+    loops)] of the loops in no slot of ``slots``), by the slot of each loop's first
+    point: one sort and a slice per slot (no call per loop)."""
+    of = slot_of(pc.end_points([lp[0] for lp in out])[0]) if out else np.zeros(0, np.int64)
+    order = np.argsort(of, kind="stable")
+    ordered, of = [out[k] for k in order.tolist()], of[order]
+    keys = np.asarray(slots, np.int64)
+    lo, hi = np.searchsorted(of, keys), np.searchsorted(of, keys, "right")
+    fresh = {k: ordered[a:b] for k, a, b in zip(keys.tolist(), lo.tolist(), hi.tolist())}
+    rest = (~member(of, keys)).ravel().nonzero()[0]
+    extra = [(k, [ordered[j] for j in rest[of[rest] == k].tolist()])
+             for k in unique(of[rest]).tolist()]
+    return fresh, extra
 
 
 def _first_round(region_a, region_b, tol, method, gauss_pair, first=None):
@@ -368,7 +385,8 @@ def _tip_tolerances(out, conv, tol):
         k = np.flatnonzero(hit)
         reach = _local_reach(corner, bounds[piece], want / (CONV_SHARE * tol), tol)
         hit[k] = local_bounds(conv, pts[sharp], reach, corner[k], piece[k]) > want[corner[k]]
-    rows, at = np.unique(conv.row[piece[hit]], return_inverse=True)
+    rows = unique(conv.row[piece[hit]])
+    at = np.searchsorted(rows, conv.row[piece[hit]])
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
     return dict(zip(rows.tolist(), finer.tolist()))

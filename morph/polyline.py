@@ -235,18 +235,15 @@ def flatten_loops(loops, tol):
 
 
 def flatten_segments(pieces, tol):
-    """Segments of all pieces: arrays p0 (N,2), p1 (N,2), piece id, t0, t1."""
-    p0s, p1s, ids, t0s, t1s = [], [], [], [], []
-    for k, (pts, ts) in enumerate(flatten_many(pieces, tol)):
-        if len(pts) < 2:
-            continue
-        p0s.append(pts[:-1])
-        p1s.append(pts[1:])
-        ids.append(np.full(len(pts) - 1, k))
-        t0s.append(ts[:-1])
-        t1s.append(ts[1:])
-    return (np.concatenate(p0s), np.concatenate(p1s), np.concatenate(ids),
-            np.concatenate(t0s), np.concatenate(t1s))
+    """Segments of all pieces: arrays p0 (N,2), p1 (N,2), piece id, t0, t1: the
+    polylines of :func:`flatten_many`, each vertex to the next of its piece (the
+    last to the piece's end), all pieces at once (:func:`flat_starts`)."""
+    owner, ts, starts = flat_starts(pieces, tol)
+    last = np.append(owner[1:] != owner[:-1], True)[:len(owner)]   # its piece's last vertex
+    p1, t1 = np.empty_like(starts), np.empty_like(ts)
+    p1[:-1], t1[:-1] = starts[1:], ts[1:]
+    p1[last], t1[last] = pc.end_points(pieces)[1][owner[last]], 1.0
+    return starts, p1, owner, ts, t1
 
 
 def unique(values):

@@ -36,7 +36,7 @@ themselves or each other at single points.
 
 import numpy as np
 
-from ..polyline import (BoxGrid, _cell_pairs, near_segments, polyline_edges, polylines_cross,
+from ..polyline import (BoxGrid, _cell_pairs, near_segments, polylines_cross,
                         unique)
 from ..region import validated
 from .flatten import tag_loops
@@ -76,8 +76,12 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
         rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
     out, of_ring, packed = lift_rings([r.q for r in rings], tg, contract, packed=True)
     outer = [not rings[k].hole for k in of_ring]
-    near = _near_pairs([tg.to_float(rings[k].q) if o else [] for k, o in zip(of_ring, outer)],
-                       reach, np.array([rings[k].group for k in of_ring], np.int64))
+    # the outer rings' vertices in one array (a hole's ring counts as empty)
+    qs = [rings[k].q for k in of_ring]
+    sizes = np.where(outer, np.fromiter(map(len, qs), np.int64, len(qs)), 0)
+    pts = tg.to_float(np.concatenate([q for q, o in zip(qs, outer) if o] or [np.zeros((0, 2))]))
+    near = _near_ring_pairs(pts, sizes, reach,
+                            np.array([rings[k].group for k in of_ring], np.int64))
     merged = merge_lenses(out, outer, eps, near)
     if untangle:
         # each merge makes one loop of two: as many loops, none merged, the same pieces
@@ -103,10 +107,10 @@ def _filled_holes(rings, tg, hole_test):
     return [i for i, f in zip(holes, filled) if f]
 
 
-def _grown_boxes(polylines, sizes, grow):
-    """The boxes (lo, hi) of the non-empty ``polylines`` (``sizes`` their lengths),
-    grown by ``grow``: all at once, (x, y) columns reduced at the polylines' starts."""
-    pts = np.concatenate([np.asarray(p, float) for p in polylines])
+def _grown_boxes(pts, sizes, grow):
+    """The boxes (lo, hi) of the polylines whose vertices are ``pts`` one polyline
+    after another (``sizes`` their lengths, all positive), grown by ``grow``: all at
+    once, (x, y) columns reduced at the polylines' starts."""
     at = sizes.cumsum() - sizes
     lo = np.stack([np.minimum.reduceat(pts[:, 0], at), np.minimum.reduceat(pts[:, 1], at)],
                   axis=1) - grow
@@ -117,8 +121,30 @@ def _grown_boxes(polylines, sizes, grow):
 
 def _near_pairs(polylines, reach, group=None):
     """Index pairs (i < j) of closed polylines that come within ``reach`` of each
-    other (empty polylines are none's neighbours); ``group``: numbers such that
-    polylines of two groups (both >= 0) are farther apart than ``reach``.
+    other (:func:`_near_ring_pairs` of the polylines' vertices stacked)."""
+    sizes = np.fromiter(map(len, polylines), np.int64, len(polylines))
+    pts = np.concatenate([np.reshape(np.asarray(p, float), (-1, 2)) for p in polylines]
+                         or [np.zeros((0, 2))])
+    return _near_ring_pairs(pts, sizes, reach, group)
+
+
+def _edges_of(pts, sizes, sel):
+    """The edges (a, b) of the closed polylines ``sel`` (a bool per polyline) among
+    those whose vertices ``pts`` are stacked (``sizes`` each), as
+    :func:`morph.polyline.polyline_edges` gives them."""
+    a = pts[sel.repeat(sizes)]
+    n = sizes[sel]
+    last = n.cumsum() - 1
+    following = np.arange(1, len(a) + 1)
+    following[last] = last - n + 1   # each polyline closed: its last point to its first
+    return a, a[following]
+
+
+def _near_ring_pairs(pts, sizes, reach, group=None):
+    """Index pairs (i < j) of closed polylines that come within ``reach`` of each
+    other, the polylines' vertices ``pts`` one after another (``sizes`` each;
+    polylines of fewer than 2 vertices are none's neighbours); ``group``: numbers
+    such that polylines of two groups (both >= 0) are farther apart than ``reach``.
 
     Only edges that can be that near another polyline are compared: two edges
     within ``reach`` of each other have a midpoint within reach / 2 of both, in the
@@ -127,13 +153,14 @@ def _near_pairs(polylines, reach, group=None):
     overlap of their polyline's grown box with another's go to
     :func:`morph.polyline.near_segments` (a chunk of a font is mostly glyphs apart
     from each other, and the rings of one glyph meet each other's boxes only in
-    part)."""
-    sizes = np.array([len(p) if len(p) >= 2 else 0 for p in polylines], dtype=np.int64)
-    if np.count_nonzero(sizes) < 2:
+    part).  All polylines at once."""
+    use = sizes >= 2
+    if np.count_nonzero(use) < 2:
         return set()
+    pts, sizes = pts[use.repeat(sizes)], np.where(use, sizes, 0)
     has = sizes.ravel().nonzero()[0]
     half = 0.5 * reach
-    lo, hi = _grown_boxes([polylines[k] for k in has], sizes[has], half)
+    lo, hi = _grown_boxes(pts, sizes[has], half)
     pairs = _cell_pairs(BoxGrid(lo, hi))
     if group is not None and len(pairs):
         g = group[has]
@@ -150,7 +177,9 @@ def _near_pairs(polylines, reach, group=None):
     cnt = np.bincount(ring, minlength=len(has))
     first = cnt.cumsum() - cnt
     close = cnt.ravel().nonzero()[0]
-    a, b = polyline_edges([polylines[k] for k in has[close]])
+    sel = np.zeros(len(sizes), bool)
+    sel[has[close]] = True
+    a, b = _edges_of(pts, sizes, sel)
     owner = close.repeat(sizes[has[close]])               # index into has
     per = cnt[owner]
     e = np.arange(len(a)).repeat(per)
@@ -169,7 +198,7 @@ def _near_pairs(polylines, reach, group=None):
         return set()
     i, j = owner[found[:, 0]], owner[found[:, 1]]
     keep = i != j
-    return {(int(min(x, y)), int(max(x, y))) for x, y in zip(i[keep], j[keep])}
+    return set(zip(np.minimum(i, j)[keep].tolist(), np.maximum(i, j)[keep].tolist()))
 
 
 def fill_region(loops, fill_rule="nonzero", rel=1e-7):

@@ -19,8 +19,8 @@ import numpy as np
 from .. import bernstein as bz
 from .. import piece as pc
 from .. import polyline as pl
-from ..polyline import (flatten_segments, ray_crossings, segment_crossings, segment_pairs,
-                        unique, winding_number)
+from ..polyline import (flatten_segments, pair_rows, ray_crossings, segment_crossings,
+                        segment_pairs, unique, winding_number)
 from ..quadrature import gauss_legendre
 from .crossing import (JOINED, PAIRS, SELF, _upper, first_items, subdivide,
                        uncertain_pairs)
@@ -63,7 +63,7 @@ def untangle(loops, eps, max_rounds=64, hole_test=None, pieces=None):
         found = {}
         local = _first_crossings([out[k] for k in idx], eps, pieces, cones, found)
         hits = {idx[a]: h for a, h in local.items()}
-        curls = [found.get(a, ()) for a in local] if found else None
+        curls = [found[a] if a in found else () for a in local] if found else None
         split = dict(zip(hits, _split_off_many([out[k] for k in hits], list(hits.values()),
                                                eps, hole_test, curls)))
         out, idx = _replaced(out, split)
@@ -89,16 +89,20 @@ def _cut_folds(out, ks, eps):
 
 def _replaced(loops, split):
     """(loops with each loop k of ``split`` replaced by its parts split[k], the
-    indices of those parts): the loops searched next round.  Python steps per
-    loop split only."""
-    out, parts_at, prev = [], [], 0
-    for k in sorted(split):
+    indices of those parts): the loops searched next round.  The parts' indices
+    by arrays; per loop split, list slices only (no call)."""
+    ks = sorted(split)
+    out, prev = [], 0
+    for k in ks:
         out += loops[prev:k]
-        parts_at += range(len(out), len(out) + len(split[k]))
         out += split[k]
         prev = k + 1
     out += loops[prev:]
-    return out, parts_at
+    n = _sizes([split[k] for k in ks])
+    # the parts of the i-th loop split start past the parts before it, less the i
+    # loops they replace
+    at = np.array(ks, np.int64) + (n.cumsum() - n) - np.arange(len(ks))
+    return out, (at.repeat(n) + np.arange(int(n.sum())) - (n.cumsum() - n).repeat(n)).tolist()
 
 
 def _sizes(loops):
@@ -133,90 +137,159 @@ def merge_lenses(loops, outer, eps, near=None, max_rounds=64):
     within eps / 10, refined by Newton on the exact pieces; the outside arc is the
     one whose middle the other loop does not wind around).  Only outer loops in a
     ``near`` pair whose control boxes overlap are searched; pairs crossing any
-    other number of times are left as they are."""
+    other number of times are left as they are.  A round merges the first such
+    pair (by their places in the list, the merged loop put last); the crossings of
+    every pair a round searches are found together (:func:`_pair_crossings`) and
+    kept for the later rounds, which search only the pairs with a merged loop."""
     out = [list(loop) for loop in loops]
-    outer = list(outer)
-    near = {(min(i, j), max(i, j)) for i, j in near} if near is not None else None
-    groups = [{k} for k in range(len(out))]  # the original loops each loop holds
+    outer = np.array(outer, bool).reshape(-1)
+    if near is not None:
+        near = np.array(sorted(near), np.int64).reshape(-1, 2)
+        if not len(near):
+            return out
+    where = np.arange(len(out))   # the place of each given loop's loop in ``out``
+    uid = np.arange(len(out))     # a loop's identity (a merged loop gets a new one)
+    known = {}                    # (uid, uid) -> (crossings, whether exactly two)
     for _ in range(max_rounds):
-        if near is not None and not near:
+        pairs = _lens_candidates(out, outer, where, near)
+        keys = list(zip(uid[pairs[:, 0]].tolist(), uid[pairs[:, 1]].tolist()))
+        new = [n for n, key in enumerate(keys) if key not in known]
+        if new:
+            known.update(zip([keys[n] for n in new], _pair_crossings(out, pairs[new], eps)))
+        twice = [n for n, key in enumerate(keys) if known[key][1]]
+        if not twice:
             break
-        hit = _lens_pair(out, outer, eps, groups, near)
-        if hit is None:
-            break
-        a, b, ca, cb = hit
+        (a, b), (ca, cb) = pairs[twice[0]].tolist(), known[keys[twice[0]]][0]
         merged = _union_arcs(out[a], out[b], ca, cb, eps)
         if merged is None:
             break
-        keep = [k for k in range(len(out)) if k not in (a, b)]
-        out = [out[k] for k in keep] + [merged]
-        outer = [outer[k] for k in keep] + [True]
-        groups = [groups[k] for k in keep] + [groups[a] | groups[b]]
+        keep = np.ones(len(out), bool)
+        keep[[a, b]] = False
+        at = np.full(len(out), int(keep.sum()))   # a and b go to the merged loop, last
+        at[keep] = np.arange(len(at) - 2)
+        out = [out[k] for k in keep.ravel().nonzero()[0].tolist()] + [merged]
+        outer, uid = np.append(outer[keep], True), np.append(uid[keep], uid.max() + 1)
+        where = at[where]
     return out
 
 
-def _lens_pair(loops, outer, eps, groups, near):
-    """(loop a, loop b, [(piece, t) on a of the two crossings], [(piece, t) on b])
-    of the first pair of outer loops, near each other (some of their original
-    loops a pair in ``near``, None: all) with overlapping control boxes, whose
-    pieces cross exactly twice; None if there is none."""
-    in_near = None if near is None else {i for pair in near for i in pair}
-    ks = [k for k, loop in enumerate(loops) if outer[k] and len(loop)
-          and (in_near is None or groups[k] & in_near)]
-    if len(ks) < 2:
-        return None
-    pieces = [p for k in ks for p in loops[k]]
-    starts = np.cumsum([0] + [len(loops[k]) for k in ks[:-1]])
-    pb = pc.bboxes(pieces)
-    lo = np.minimum.reduceat(pb[:, :2], starts)
-    hi = np.maximum.reduceat(pb[:, 2:], starts)
-    meet = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
-    for i, j in zip(*np.nonzero(np.triu(meet, 1))):
-        if near is not None and not any((min(x, y), max(x, y)) in near
-                                        for x in groups[ks[i]] for y in groups[ks[j]]):
-            continue
-        found = _loop_crossings(loops[ks[i]], loops[ks[j]], eps)
-        if found is not None and len(found[0]) == 2:
-            return (ks[i], ks[j]) + found
-    return None
+def _lens_candidates(loops, outer, where, near):
+    """The pairs (a, b), a < b, in order, of outer non-empty ``loops`` whose control
+    boxes overlap and, where ``near`` (pairs of the given loops) is not None, that
+    hold a near pair (``where``: the place of each given loop's loop)."""
+    ok = outer & (_sizes(loops) > 0)
+    if near is None:
+        k = ok.ravel().nonzero()[0]
+        i, j = np.triu_indices(len(k), 1)
+        pairs = pair_rows(k[i], k[j])
+    else:
+        pairs = np.sort(where[near], axis=1)
+        pairs = pairs[(pairs[:, 0] != pairs[:, 1]) & ok[pairs[:, 0]] & ok[pairs[:, 1]]]
+        keys = unique(pairs[:, 0] * len(loops) + pairs[:, 1])
+        pairs = pair_rows(keys // len(loops), keys % len(loops))
+    if not len(pairs):
+        return pairs
+    used = unique(pairs)
+    sel = [loops[k] for k in used.tolist()]
+    sizes = _sizes(sel)
+    pb = pc.bboxes([p for loop in sel for p in loop])
+    starts = sizes.cumsum() - sizes
+    lo, hi = np.minimum.reduceat(pb[:, :2], starts), np.maximum.reduceat(pb[:, 2:], starts)
+    i, j = np.searchsorted(used, pairs[:, 0]), np.searchsorted(used, pairs[:, 1])
+    meet = np.logical_and.reduce((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+    return pairs[meet]
 
 
-def _loop_crossings(la, lb, eps):
-    """Crossings of the pieces of loop la with those of loop lb: ([(piece, s)] on
-    la, [(piece, u)] on lb), in order along la; None if Newton does not confirm one."""
-    pieces = list(la) + list(lb)
-    p0, p1, ids, t0, t1 = flatten_segments(pieces, eps / 10.0)
-    pairs = segment_pairs(p0, p1, ids, False)
-    if not len(pairs):
-        return [], []
-    first_b = len(la)
-    pairs = np.sort(pairs, axis=1)
-    pairs = pairs[(ids[pairs[:, 0]] < first_b) & (ids[pairs[:, 1]] >= first_b)]
-    if not len(pairs):
-        return [], []
-    k, u, v = segment_crossings(p0, p1, pairs)
-    a, b = pairs[k, 0], pairs[k, 1]
+def _pair_crossings(loops, pairs, eps):
+    """[(crossings, whether exactly two)] of each pair (a, b) of ``loops``: the
+    crossings of a's pieces with b's, ([(piece, s)] on a, [(piece, u)] on b) in
+    order along a, or None where Newton does not confirm one.  Candidates: the
+    crossings of the two loops' polylines within eps / 10, one per point
+    (:func:`_first_apart`), refined by Newton on the exact pieces.  All pairs at
+    once: each loop's pieces flattened once, the segments' pairs, crossings and
+    Newton of all together (the pieces of a pair at their highest degree)."""
+    used = unique(pairs)
+    sel = [loops[k] for k in used.tolist()]
+    sizes = _sizes(sel)
+    flat = [p for loop in sel for p in loop]
+    first = sizes.cumsum() - sizes
+    owner = np.arange(len(sel)).repeat(sizes)        # each piece's loop, in ``used``
+    pa_loop, pb_loop = np.searchsorted(used, pairs[:, 0]), np.searchsorted(used, pairs[:, 1])
+    p0, p1, ids, t0, t1 = flatten_segments(flat, eps / 10.0)
+    seg = segment_pairs(p0, p1, ids, False)          # (i < j): a's before b's
+    li, lj = owner[ids[seg[:, 0]]], owner[ids[seg[:, 1]]]
+    code = pa_loop * len(sel) + pb_loop               # the pairs, ascending (a < b)
+    g = np.minimum(np.searchsorted(code, li * len(sel) + lj), len(code) - 1)
+    mine = code[g] == li * len(sel) + lj
+    seg, g = seg[mine], g[mine]
+    order = g.argsort(kind="stable")                 # by pair, each in its own order
+    seg, g = seg[order], g[order]
+    k, u, v = segment_crossings(p0, p1, seg)
+    a, b, g = seg[k, 0], seg[k, 1], g[k]
     ta, tb = t0[a] + u * (t1[a] - t0[a]), t0[b] + v * (t1[b] - t0[b])
     guess = p0[a] + u[:, None] * (p1[a] - p0[a])
-    pa, pb = ids[a], ids[b]
-    # one crossing per point (segment ends shared by two segments report it twice)
-    keep = np.ones(len(guess), bool)
-    for n in range(1, len(guess)):
-        if np.any(np.hypot(*(guess[:n][keep[:n]] - guess[n]).T) <= eps / 10.0):
-            keep[n] = False
-    pa, pb, ta, tb, guess = pa[keep], pb[keep], ta[keep], tb[keep], guess[keep]
+    keep = _first_apart(guess, g, eps / 10.0)
+    pa, pb, ta, tb, guess, g = ids[a][keep], ids[b][keep], ta[keep], tb[keep], guess[keep], g[keep]
+    s, w, ok = _newton_by_degree(flat, pa, ta, pb, tb, guess, g, owner, (pa_loop, pb_loop), eps)
+    bad = np.bincount(g[~ok], minlength=len(pairs)) > 0
+    count = np.bincount(g, minlength=len(pairs))
+    order = np.lexsort((s, pa, g))
+    g, a_side = g[order], list(zip((pa - first[owner[pa]])[order].tolist(), s[order].tolist()))
+    b_side = list(zip((pb - first[owner[pb]])[order].tolist(), w[order].tolist()))
+    at = np.searchsorted(g, np.arange(len(pairs) + 1)).tolist()
+    return [(None, False) if x else ((a_side[i:j], b_side[i:j]), n == 2)
+            for x, n, i, j in zip(bad.tolist(), count.tolist(), at[:-1], at[1:])]
+
+
+def _first_apart(points, group, d):
+    """Which points to keep, one per place: a point of a group goes where an earlier
+    point of its group that is kept lies within ``d`` (segment ends shared by two
+    segments report a crossing twice).  All groups at once: the pairs within
+    ``d``, then the kept points settled from each group's first on, a step per
+    point of the longest chain of near points."""
+    n = len(points)
+    cnt = np.bincount(group, minlength=int(group.max(initial=-1)) + 1)
+    start = cnt.cumsum() - cnt
+    # each point with every earlier point of its group (group rows are contiguous)
+    later = np.arange(n).repeat(np.arange(n) - start[group])
+    earlier = start[group].repeat(np.arange(n) - start[group]) + pl._ranks(
+        np.arange(n) - start[group])
+    close = np.hypot(*(points[earlier] - points[later]).T) <= d
+    later, earlier = later[close], earlier[close]
+    keep = np.ones(n, bool)
+    while True:
+        gone = np.zeros(n, bool)
+        np.logical_or.at(gone, later, keep[earlier])
+        if np.array_equal(~gone, keep):
+            return keep
+        keep = ~gone
+
+
+def _newton_by_degree(flat, pa, ta, pb, tb, guess, g, owner, sides, eps):
+    """:func:`.lift.newton_crossings` of crossings of pieces pa, pb of ``flat`` (row
+    groups ``g``: the pairs of loops (sides[0][g], sides[1][g]), ``owner`` each
+    piece's loop), each pair's pieces stacked at the highest degree of the pair's
+    two loops, as :func:`_loop_crossings` stacks them: one call per degree."""
+    s, w, ok = ta.copy(), tb.copy(), np.zeros(len(pa), bool)
     if not len(pa):
-        return [], []
-    stacked = pc.stack(pieces)
-    # each polyline is within eps / 10 of its piece: a crossing at angle alpha moves
-    # by up to 2 (eps / 10) / sin(alpha / 2) (newton_crossings' shallow allowance)
-    s, w, ok = newton_crossings(stacked, pa, ta, pb, tb, guess, eps, 1e-6 * eps,
-                                shallow=2.0 * eps / 10.0)
-    if not ok.all():
-        return None
-    order = np.lexsort((s, pa))
-    return ([(int(pa[n]), float(s[n])) for n in order],
-            [(int(pb[n]) - first_b, float(w[n])) for n in order])
+        return s, w, ok
+    deg = _sizes(flat) - 1
+    top = np.zeros(int(owner.max()) + 1, np.int64)
+    np.maximum.at(top, owner, deg)
+    pair_deg = np.maximum(top[sides[0]], top[sides[1]])[g]
+    for d in unique(pair_deg).tolist():
+        r = (pair_deg == d).ravel().nonzero()[0]
+        used = unique(np.concatenate([pa[r], pb[r]]))
+        # a piece of the pair's degree among them, so that the stack is at d
+        mine = (deg == d).ravel().nonzero()[0][:1]
+        used = unique(np.concatenate([used, mine]))
+        stacked = pc.stack([flat[x] for x in used.tolist()])
+        # each polyline is within eps / 10 of its piece: a crossing at angle alpha
+        # moves by up to 2 (eps / 10) / sin(alpha / 2) (newton_crossings' allowance)
+        s[r], w[r], ok[r] = newton_crossings(stacked, np.searchsorted(used, pa[r]), ta[r],
+                                             np.searchsorted(used, pb[r]), tb[r], guess[r],
+                                             eps, 1e-6 * eps, shallow=2.0 * eps / 10.0)
+    return s, w, ok
 
 
 def _arc(loop, start, end):
@@ -267,10 +340,11 @@ def _split_off_many(loops, hits, eps, hole_test, curls=None):
     areas = _loop_areas(lobes + rests)
     a_lobe, a_rest = areas[:len(loops)], areas[len(loops):]
     # the lobe is the smaller part, wherever the cut is
-    swap = [bool(lb and r and abs(x) > abs(y))
-            for lb, r, x, y in zip(lobes, rests, a_lobe.tolist(), a_rest.tolist())]
-    lobes, rests = ([r if w else lb for lb, r, w in zip(lobes, rests, swap)],
-                    [lb if w else r for lb, r, w in zip(lobes, rests, swap)])
+    swap = ((_sizes(lobes) > 0) & (_sizes(rests) > 0)
+            & (np.abs(a_lobe) > np.abs(a_rest))).reshape(-1)
+    w = swap.tolist()
+    lobes, rests = ([r if x else lb for lb, r, x in zip(lobes, rests, w)],
+                    [lb if x else r for lb, r, x in zip(lobes, rests, w)])
     a_lobe, a_rest = np.where(swap, a_rest, a_lobe), np.where(swap, a_lobe, a_rest)
     keep = _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test)
     return [[part for part in ([r, lb] if k else [r]) if part]
@@ -303,10 +377,10 @@ def _cut_curls(loops, hits, curls, eps):
     cut = pc.subsegments([src[k] for k in go.tolist()] * 2, np.arange(2 * len(go)),
                          np.concatenate([np.zeros(len(go)), u[go]]),
                          np.concatenate([s[go], np.ones(len(go))]))
-    loops, hits = list(loops), list(hits)
-    for g, k in reversed(list(enumerate(go.tolist()))):   # per curl cut; last first
-        a, b = int(n[k]), int(i[k])
-        loops[a] = loops[a][:b] + [cut[g], cut[len(go) + g]] + loops[a][b + 1:]
+    loops, hits, m = list(loops), list(hits), len(go)
+    rows = list(zip(range(m), n[go].tolist(), i[go].tolist()))
+    for g, a, b in rows[::-1]:   # per curl cut, last first: list slices only (no call)
+        loops[a] = loops[a][:b] + [cut[g], cut[m + g]] + loops[a][b + 1:]
         hi, hs, hj, hu, hx = hits[a]
         hits[a] = (hi + (hi > b), hs, hj + (hj > b), hu, hx)
     return loops, hits
@@ -431,8 +505,7 @@ def _refined_hits(rows, a, b, guess, level, eps, loc, curls=None):
     if curls is not None and len(got):
         curls.update(_batch_curls(got, valid, gi, gj, si, wj, owner, first))
     x = pc.jet_many(stacked, ia[c[got]], s[c[got]])[0]
-    return dict(_hit(pa[c[n]], pb[c[n]], s[c[n]], w[c[n]], xn, owner, first)
-                for n, xn in zip(got.tolist(), x))
+    return _hits_of(gi[got], gj[got], si[got], wj[got], x, owner, first)
 
 
 #: Crossing candidates of each loop that :func:`_first_crossings` refines first;
@@ -471,11 +544,12 @@ def _batch_curls(got, valid, gi, gj, si, wj, owner, first):
     order = gi[rows].argsort(kind="stable")      # the first row of each piece
     g = gi[rows][order]
     rows = np.sort(rows[order[np.concatenate(([True], g[1:] != g[:-1]))]])
-    out = {}
-    for r in rows.tolist():   # per curl found
-        li = int(owner[gi[r]])
-        out.setdefault(li, []).append((int(gi[r] - first[li]), float(si[r]), float(wj[r])))
-    return out
+    li = owner[gi[rows]]
+    by = li.argsort(kind="stable")    # each loop's curls together, in row order
+    rows, li = rows[by], li[by]
+    curls = list(zip((gi[rows] - first[li]).tolist(), si[rows].tolist(), wj[rows].tolist()))
+    at = np.append(np.r_[True, li[1:] != li[:-1]].ravel().nonzero()[0], len(li)).tolist()
+    return {k: curls[a:b] for k, a, b in zip(li[at[:-1]].tolist(), at[:-1], at[1:])}
 
 
 def _valid_rows(pa, pb, s, w, ok, owner, first, sizes):
@@ -503,13 +577,13 @@ def _keys(hits):
     return np.array(sorted(hits), np.int64)
 
 
-def _hit(ga, gb, s, w, x, owner, first):
-    """(loop, (piece i, s, piece j, u, point)) of a crossing of pieces ga at s and gb
-    at w (indices in the stacked loops), i <= j (s <= u for i == j)."""
-    if ga > gb or (ga == gb and s > w):
-        ga, gb, s, w = gb, ga, w, s
-    li = int(owner[ga])
-    return li, (ga - first[li], s, gb - first[li], w, x)
+def _hits_of(gi, gj, si, wj, x, owner, first):
+    """{loop: (piece i, s, piece j, u, point)} of crossings of pieces gi at si and gj
+    at wj (indices in the stacked loops, i <= j, s <= u for i == j; ``x`` their
+    points), one a loop: all at once, per crossing a tuple (no call)."""
+    li = owner[gi]
+    return dict(zip(li.tolist(), zip((gi - first[li]).tolist(), si.tolist(),
+                                     (gj - first[li]).tolist(), wj.tolist(), x)))
 
 
 def _hulls_apart(pieces, pairs):
@@ -624,88 +698,155 @@ def remove_folds(loop, width):
 def remove_folds_many(loops, width):
     """:func:`remove_folds` of every loop, each pass over all loops at once: the
     joins of all their pieces tested together (:func:`_fold_joins_many`), the
-    cuts of all the folds found computed together (:func:`_fold_cuts`), then
-    applied loop by loop as :func:`remove_folds` says (the cuts of one pass use
-    the pieces as the pass found them: a fold whose second piece a later fold's
-    cut changed is skipped)."""
+    cuts of all the folds found computed together (:func:`_fold_cuts`) and applied
+    together (:func:`_cut_fold_rows`) as :func:`remove_folds` says (the cuts of one
+    pass use the pieces as the pass found them: a fold whose second piece a later
+    fold's cut changed is skipped, :func:`_taken_folds`)."""
     return _remove_folds(loops, width)[0]
 
 
 def _remove_folds(loops, width):
     """(:func:`remove_folds_many` of the loops, the set of the indices of those it
-    changed)."""
+    changed).  A pass's folds are rows of arrays over all loops (loop, join); a fold
+    left as it is is remembered by its loop and the identities of its two pieces
+    (kept alive with it, so that no other piece takes their ids)."""
     out = [list(loop) for loop in loops]
     changed_any = set()
-    left = [{} for _ in out]  # per loop: (id(a), id(b)) -> (a, b) of folds left as they are
-    todo = [k for k, loop in enumerate(out) if len(loop) >= 3]
-    while todo:
-        plan, jobs = [], []
-        for k, folds in zip(todo, _fold_joins_many([out[k] for k in todo])):
-            loop, n = out[k], len(out[k])
-            folds = [i for i in folds if (id(loop[i]), id(loop[(i + 1) % n])) not in left[k]]
-            if not folds:
-                continue
-            if folds[-1] == n - 1:
-                folds = folds[-1:]  # its cut may delete piece 0 and move every index
-            plan.append((k, folds, len(jobs)))
-            jobs += [(loop[i], loop[(i + 1) % n]) for i in folds]
-        if not jobs:
+    left, alive = set(), []   # (loop, id(a), id(b)) of folds left as they are, their pieces
+    todo = (_sizes(out) >= 3).ravel().nonzero()[0]
+    while len(todo):
+        flat, starts, sizes, g, i = _fold_joins_many([out[k] for k in todo.tolist()])
+        ia, ib = starts[g] + i, starts[g] + (i + 1) % sizes[g]
+        ids = list(map(id, flat))
+        keys = list(zip(todo[g].tolist(), [ids[x] for x in ia.tolist()],
+                        [ids[x] for x in ib.tolist()]))
+        fresh = np.array([key not in left for key in keys], bool).reshape(-1)
+        # a fold at the wrap (piece -1 to piece 0) is cut alone in its pass: its cut
+        # may delete piece 0 and move every index
+        wrap = fresh & (i == sizes[g] - 1)
+        row = (fresh & (~pl.member(g, unique(g[wrap])) | wrap)).ravel().nonzero()[0]
+        if not len(row):
             break
-        cuts = _fold_cuts(jobs, width)
-        changed_loops = []
-        for k, folds, at in plan:
-            loop = out[k]
-            changed, taken = False, set()
-            for f in range(len(folds) - 1, -1, -1):
-                i = folds[f]
-                if i + 1 in taken:
-                    continue  # shares piece i + 1 with a fold cut in this pass
-                j = (i + 1) % len(loop)
-                cut = cuts[at + f]
-                if cut is None:
-                    a, b = jobs[at + f]
-                    left[k][(id(a), id(b))] = (a, b)
-                    continue
-                loop = _cut_fold(loop, i, j, *cut)
-                taken.add(i)
-                changed = True
-            out[k] = loop
-            if changed:
-                changed_loops.append(k)
+        g, i, ia, ib = g[row], i[row], ia[row], ib[row]
+        s, u, cut = _fold_cuts([flat[x] for x in ia.tolist()], [flat[x] for x in ib.tolist()],
+                               width)
+        taken, skipped = _taken_folds(g, i, cut)
+        stay = (~cut & ~skipped).ravel().nonzero()[0]
+        left.update([keys[r] for r in row[stay].tolist()])
+        alive += [flat[x] for x in np.concatenate([ia[stay], ib[stay]]).tolist()]
+        t = taken.ravel().nonzero()[0]
+        changed = todo[unique(g[t])]
+        flat, keep = _cut_fold_rows(flat, ia[t], ib[t], s[t], u[t])
+        _store_loops(out, changed, flat, keep, starts, sizes, todo)
         # a cut at a piece's end leaves nothing
-        for k, loop in zip(changed_loops, _snap_many([out[k] for k in changed_loops],
-                                                    5e-7 * width)):
+        for k, loop in zip(changed.tolist(), _snap_many([out[k] for k in changed.tolist()],
+                                                        5e-7 * width)):
             out[k] = loop
-        changed_any.update(changed_loops)
-        todo = [k for k in changed_loops if len(out[k]) >= 3]
+        changed_any.update(changed.tolist())
+        todo = changed[_sizes([out[k] for k in changed.tolist()]) >= 3]
     return out, changed_any
 
 
+def _taken_folds(g, i, cut):
+    """(taken, skipped) of a pass's folds (rows by loop ``g``, then join ``i``, with
+    ``cut`` where a cut was found): from each loop's last fold back, a fold whose
+    second piece the cut of the fold after it took is skipped, the others with a cut
+    are taken.  Runs of folds at consecutive joins settle from their ends, one run
+    position a step (runs are a few folds long)."""
+    nxt = np.append((g[1:] == g[:-1]) & (i[1:] == i[:-1] + 1), False)
+    succ = np.minimum(np.arange(1, len(g) + 1), len(g) - 1)
+    taken = cut & ~nxt
+    while True:
+        again = cut & ~(nxt & taken[succ])
+        if np.array_equal(again, taken):
+            return taken, nxt & taken[succ]
+        taken = again
+
+
+def _cut_fold_rows(flat, ia, ib, s, u):
+    """(pieces, keep) after cutting the folds (a = flat[ia], ending, b = flat[ib],
+    starting, cut at s and u, no two sharing a piece): a cut at s and b at u, both
+    joined at the mean of the two cut points; s = 0: a goes and b starts where a
+    started; else u = 1: b goes and a ends where b ended.  All folds at once (the
+    cuts in one :func:`morph.piece.subsegments`, the points in one product per
+    degree): the pieces of ``flat`` with those replaced, and ``keep`` False at the
+    pieces that go."""
+    flat, keep = list(flat), np.ones(len(flat), bool)
+    if not len(ia):
+        return flat, keep
+    a_goes, b_goes = s <= 0.0, (s > 0.0) & (u >= 1.0)
+    on_a, on_b = (~a_goes).ravel().nonzero()[0], (~b_goes).ravel().nonzero()[0]
+    src = [flat[x] for x in ia[on_a].tolist()] + [flat[x] for x in ib[on_b].tolist()]
+    parts = pc.subsegments(src, np.arange(len(src)), np.concatenate([np.zeros(len(on_a)),
+                                                                     u[on_b]]),
+                           np.concatenate([s[on_a], np.ones(len(on_b))]), packed=True)
+    starts, ends = pc.end_points(pc.Pieces.of([flat[x] for x in ia.tolist()]
+                                              + [flat[x] for x in ib.tolist()]))
+    a0, b1 = starts[:len(ia)], ends[len(ia):]
+    both = (~a_goes & ~b_goes).ravel().nonzero()[0]
+    x = b1.copy()             # where a piece goes, the other keeps the far end of both
+    x[a_goes] = a0[a_goes]
+    x[both] = 0.5 * (_points_at([flat[k] for k in ia[both].tolist()], s[both])
+                     + _points_at([flat[k] for k in ib[both].tolist()], u[both]))
+    p0 = np.concatenate([a0[on_a], x[on_b]])
+    p1 = np.concatenate([x[on_a], b1[on_b]])
+    rows = _with_ends_where(parts, p0, p1, np.ones(len(src), bool)).rows()
+    for at, piece in zip(np.concatenate([ia[on_a], ib[on_b]]).tolist(), rows):
+        flat[at] = piece
+    keep[ia[a_goes]] = False
+    keep[ib[b_goes]] = False
+    return flat, keep
+
+
+def _points_at(pieces, t):
+    """:func:`morph.piece.evaluate` of each piece k at t[k], (k, 2): one product per
+    degree (a row of the basis times the piece's control points, as there)."""
+    out = np.empty((len(pieces), 2))
+    for ks, h in pc.degree_groups(pieces):
+        v = np.matmul(bz.basis(h.shape[1] - 1, t[ks])[:, None, :], h)[:, 0]
+        out[ks] = v[:, :2] / v[:, 2:3]
+    return out
+
+
+def _store_loops(out, changed, flat, keep, starts, sizes, todo):
+    """out[k] for each loop k of ``changed`` (among ``todo``, whose pieces ``flat`` are
+    stacked from ``starts``, ``sizes`` each): its pieces that ``keep`` holds."""
+    at = np.searchsorted(todo, changed)
+    mine = np.zeros(len(flat), bool)
+    mine[(starts[at].repeat(sizes[at])
+          + np.arange(int(sizes[at].sum())) - (sizes[at].cumsum() - sizes[at]).repeat(
+              sizes[at]))] = True
+    rows = (mine & keep).ravel().nonzero()[0]
+    n = np.bincount(np.searchsorted(starts[at], rows, "right") - 1, minlength=len(at))
+    pieces = [flat[x] for x in rows.tolist()]
+    bounds = np.append(n.cumsum() - n, len(rows)).tolist()
+    for j, k in enumerate(changed.tolist()):
+        out[k] = pieces[bounds[j]:bounds[j + 1]]
+
+
 def _fold_joins_many(loops):
-    """Per loop: the indices i of the joins (piece i, piece i + 1, cyclic) that turn
-    by nearly pi (unit end tangents with dot product at most FOLD_COS), the joins
-    of all loops at once."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
-    first, last = pc.end_tangents_many([p for loop in loops for p in loop])
+    """(pieces, starts, sizes, loop, join): the loops' pieces one loop after another
+    (each loop's first at ``starts``, ``sizes`` each) and the joins (piece i, piece
+    i + 1, cyclic) that turn by nearly pi (unit end tangents with dot product at
+    most FOLD_COS), by loop then join; the joins of all loops at once."""
+    sizes = _sizes(loops)
+    flat = [p for loop in loops for p in loop]
+    first, last = pc.end_tangents_many(flat)
     starts = sizes.cumsum() - sizes
     owner = np.arange(len(loops)).repeat(sizes)
     at = np.arange(len(owner)) - starts[owner]
     nxt = starts[owner] + (at + 1) % sizes[owner]
     fold = (np.einsum("ij,ij->i", last, first[nxt]) <= FOLD_COS).ravel().nonzero()[0]
-    per = [[] for _ in loops]
-    for o, i in zip(owner[fold].tolist(), at[fold].tolist()):
-        per[o].append(i)
-    return per
+    return flat, starts, sizes, owner[fold], at[fold]
 
 
-def _fold_cuts(jobs, width):
-    """Where to cut each fold (a ending, b starting) of ``jobs``, as
-    :func:`_cut_fold`'s (s, u), or None to leave it (see :func:`remove_folds`): the
-    shorter leg within ``width`` of the longer at nine points goes, the longer cut
-    at its point closest to the shorter's far end (the closest points of all folds
-    found at once, :func:`_closest_many`); else where the legs part, if they are
-    zipped (:func:`_zip_many`, :func:`_parting_many`, fold by fold)."""
-    a_s, b_s = [a for a, _ in jobs], [b for _, b in jobs]
+def _fold_cuts(a_s, b_s, width):
+    """Where to cut each fold (a of ``a_s`` ending, b of ``b_s`` starting), as
+    (s, u, cut): a cut at s, b at u where ``cut`` (see :func:`remove_folds`; else the
+    fold is left): the shorter leg within ``width`` of the longer at nine points
+    goes, the longer cut at its point closest to the shorter's far end (the closest
+    points of all folds found at once, :func:`_closest_many`); else where the legs
+    part, if they are zipped (:func:`_zip_many`, :func:`_parting_many`)."""
     lengths = pc.length_bounds(a_s + b_s)
     la, lb = lengths[:len(a_s)], lengths[len(a_s):]
     a_short = la <= lb
@@ -723,7 +864,7 @@ def _fold_cuts(jobs, width):
         zs, zu, window, zipped = _zip_many(ra, rb, COINCIDE * width, width)
         zs, zu = _parting_many(ra, rb, zs, zu, window, zipped)
         s[rest], u[rest], cut[rest] = zs, zu, zipped
-    return [(a, b) if c else None for a, b, c in zip(s.tolist(), u.tolist(), cut.tolist())]
+    return s, u, cut
 
 
 def _evaluate_many(pieces, t):
@@ -758,24 +899,6 @@ def _closest_many(pieces, points, samples=257):
 COINCIDE = 1e-3
 #: Samples per piece of :func:`_zip_many`'s arc-length tables.
 ZIP_SAMPLES = 257
-
-
-def _cut_fold(loop, i, j, s, u):
-    """The loop with piece i (ending at the fold) cut at s and piece j cut at u,
-    joined at the mean of the two cut points; s = 0 (u = 1): piece i (j) goes."""
-    a, b = loop[i], loop[j]
-    loop = list(loop)
-    if s <= 0.0:  # a goes; b starts where a started
-        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), pc.start(a), pc.end(b))
-        del loop[i]
-    elif u >= 1.0:  # b goes; a ends where b ended
-        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), pc.end(b))
-        del loop[j]
-    else:
-        x = 0.5 * (pc.evaluate(a, s) + pc.evaluate(b, u))
-        loop[i] = pc.with_endpoints(pc.subsegment(a, 0.0, s), pc.start(a), x)
-        loop[j] = pc.with_endpoints(pc.subsegment(b, u, 1.0), x, pc.end(b))
-    return loop
 
 
 def _parting_many(a_s, b_s, s, u, window, zipped):
@@ -902,11 +1025,10 @@ def _split_many(loops, hits, min_len):
     t0 = np.stack([s, np.zeros_like(s), np.zeros_like(s), u], axis=1).ravel()
     t1 = np.stack([np.where(same, u, 1.0), u, s, np.ones_like(s)], axis=1).ravel()
     cut = pc.subsegments(src, np.arange(len(src)), t0, t1)
-    lobes, rests = [], []
-    for n, (loop, a, b) in enumerate(zip(loops, i.tolist(), j.tolist())):
-        c = cut[4 * n:4 * n + 4]
-        lobes.append([c[0]] if a == b else [c[0]] + loop[a + 1:b] + [c[1]])
-        rests.append(loop[:a] + [c[2], c[3]] + loop[b + 1:])
+    rows = list(zip(loops, i.tolist(), j.tolist(), cut[0::4], cut[1::4], cut[2::4], cut[3::4]))
+    lobes = [[c0] if a == b else [c0] + loop[a + 1:b] + [c1]
+             for loop, a, b, c0, c1, _, _ in rows]
+    rests = [loop[:a] + [c2, c3] + loop[b + 1:] for loop, a, b, _, _, c2, c3 in rows]
     snapped = _snap_many(lobes + rests, min_len)
     return snapped[:len(loops)], snapped[len(loops):]
 
@@ -927,7 +1049,7 @@ def _snap_many(loops, min_len):
     going = [k for k, loop in enumerate(out) if loop]
     while going:
         flat = [p for k in going for p in out[k]]
-        sizes = np.array([len(out[k]) for k in going], np.int64)
+        sizes = _sizes([out[k] for k in going])
         keep = pc.length_bounds(flat) > min_len
         owner = np.arange(len(going)).repeat(sizes)[keep]
         idx = keep.ravel().nonzero()[0]
@@ -979,7 +1101,7 @@ def _ray_windings(xs, loops, flat):
     boxes meet the ray from the point to the right only: no other edge can cross
     it (the rest of a loop after many lobes is long, the ray short).  All loops'
     pieces at once."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
+    sizes = _sizes(loops)
     out = np.zeros(len(loops), np.int64)
     if not sizes.sum():
         return out
@@ -1012,7 +1134,7 @@ def _loop_areas(loops):
     polynomial of degree 2n - 1), to the rule's error on rational ones (no
     adaptive halving: the areas only say which part of a split loop is the smaller
     and whether a lobe's area exceeds eps^2, :func:`_keep_lobes`)."""
-    sizes = np.array([len(loop) for loop in loops], np.int64)
+    sizes = _sizes(loops)
     if not sizes.sum():
         return np.zeros(len(loops))
     flat = [p for loop in loops for p in loop]
@@ -1041,11 +1163,11 @@ def _keep_lobes(lobes, rests, a_lobe, a_rest, eps, hole_test=None):
     ``a_rest``: their signed areas.  The probes (each lobe's middle piece at 0.5),
     the windings and the hole tests of all lobes at once."""
     keep = np.zeros(len(lobes), bool)
-    test = (np.array([bool(lb) for lb in lobes], bool)
-            & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
+    sizes = _sizes(lobes)
+    test = ((sizes > 0) & (np.abs(a_lobe) > eps * eps)).nonzero()[0]
     if not len(test):
         return keep
-    mids = [lobes[k][len(lobes[k]) // 2] for k in test.tolist()]
+    mids = [lobes[k][m] for k, m in zip(test.tolist(), (sizes[test] // 2).tolist())]
     probes = pc.jet_many(pc.stack(mids), np.arange(len(mids)), np.full(len(mids), 0.5))[0]
     nested = _ray_windings(probes, [rests[k] for k in test.tolist()], eps / 10) != 0
     same = np.sign(a_lobe[test]) == np.sign(a_rest[test])

@@ -411,3 +411,53 @@ def test_curls_of_one_loop_go_in_one_round_as_one_by_one(monkeypatch):
         for p, q in zip(la, lb):
             assert p.shape == q.shape and np.allclose(p, q, rtol=0.0, atol=1e-12)
     assert not ut._first_crossings(batched, eps)
+
+
+def test_lens_merges_of_many_pairs_are_those_of_each_pair_alone():
+    """Three lenses apart from each other and a chain of three circles (the merged
+    loop of the first two crosses the third in a lens): merge_lenses searches every
+    pair of a round together, and its loops are, in order and to the bit, those of
+    each group merged alone (the group's merged loop last, one round a merge)."""
+    from morph.trim.untangle import merge_lenses
+
+    def lens(x):
+        return [pc.circle((x, 0.0), 1.0), pc.circle((x + 1.999, 0.0), 1.0)]
+
+    chain = [pc.circle((20.0 + 1.999 * k, 0.0), 1.0) for k in range(3)]
+    groups = [lens(0.0), lens(6.0), chain, lens(12.0)]
+    loops = [c for g in groups for c in g] + [pc.circle((40.0, 0.0), 1.0)]
+    out = merge_lenses(loops, [True] * len(loops), 0.01)
+    alone = [merge_lenses(g, [True] * len(g), 0.01) for g in groups]
+    assert [len(g) for g in alone] == [1, 1, 1, 1]
+    want = [loops[-1]] + [g[0] for g in alone]   # the merged loops last, in merge order
+    assert len(out) == len(want)
+    for got, exp in zip(out, want):
+        assert len(got) == len(exp)
+        assert all(p.shape == q.shape and np.array_equal(p, q) for p, q in zip(got, exp))
+
+
+def test_fold_cuts_of_a_run_skip_every_other_fold():
+    """Folds at consecutive joins share a piece: from a loop's last fold back, one
+    whose second piece the next fold's cut took waits for the next pass, and a fold
+    with no cut is left (not skipped) only where the next fold did not take its
+    piece."""
+    from morph.trim.untangle import _taken_folds
+
+    g, i = np.array([0, 0, 0, 1]), np.array([2, 3, 4, 0])
+    taken, skipped = _taken_folds(g, i, np.array([True, True, True, True]))
+    assert taken.tolist() == [True, False, True, True]
+    assert skipped.tolist() == [False, True, False, False]
+    taken, skipped = _taken_folds(g, i, np.array([True, True, False, True]))
+    assert taken.tolist() == [False, True, False, True]
+    assert skipped.tolist() == [True, False, False, False]
+
+
+def test_crossings_reported_twice_count_once():
+    """_first_apart keeps a point unless an earlier kept point of its group lies
+    within d: of three points 0.6 d apart in a row the middle one goes and the last
+    stays (the one near it went); the same point in another group stays."""
+    from morph.trim.untangle import _first_apart
+
+    d = 1e-3
+    pts = np.array([[0.0, 0.0], [0.6 * d, 0.0], [1.2 * d, 0.0], [0.0, 0.0]])
+    assert _first_apart(pts, np.array([0, 0, 0, 1]), d).tolist() == [True, False, True, True]
