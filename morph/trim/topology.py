@@ -45,6 +45,64 @@ class Ring:
     group: int = -1
 
 
+class Rings:
+    """Boundary rings packed in arrays: ``sizes`` (k,), integer vertices ``q`` (n, 2)
+    one ring after another, and per ring its ``hole`` flag, ``parent`` index (-1 for
+    none; parents come before their children) and ``group`` (as :class:`Ring`'s).
+    Trimming reads them as arrays: no object per ring."""
+
+    __slots__ = ("sizes", "q", "hole", "parent", "group")
+
+    def __init__(self, sizes, q, hole, parent, group):
+        self.sizes, self.q, self.hole = sizes, q, hole
+        self.parent, self.group = parent, group
+
+    def __len__(self):
+        return len(self.sizes)
+
+    @property
+    def starts(self):
+        return self.sizes.cumsum() - self.sizes
+
+    def rows(self, q=None):
+        """Each ring's vertices (``q``: other values of the vertices, such as their
+        float points), as a list of views."""
+        q = self.q if q is None else q
+        ends = self.sizes.cumsum().tolist()
+        return [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
+
+    def kept(self, keep, parent):
+        """The rings where mask ``keep`` holds, ``parent`` (k,) their parents before
+        the renumbering (-1 or a ring left out: -1)."""
+        index = keep.cumsum() - 1
+        parent = np.where(parent >= 0, np.where(keep[parent], index[parent], -1), -1)
+        return Rings(self.sizes[keep], self.q[keep.repeat(self.sizes)], self.hole[keep],
+                     parent[keep], self.group[keep])
+
+    def to_list(self):
+        """The rings as :class:`Ring` objects."""
+        return [Ring(q, h, p, g) for q, h, p, g in zip(
+            self.rows(), self.hole.tolist(), self.parent.tolist(), self.group.tolist())]
+
+    @classmethod
+    def of(cls, rings):
+        """The :class:`Rings` of a list of :class:`Ring` (or a :class:`Rings`)."""
+        if isinstance(rings, Rings):
+            return rings
+        if not rings:
+            return _no_rings()
+        return cls(np.array([len(r.q) for r in rings], np.int64),
+                   np.concatenate([np.asarray(r.q, np.int64).reshape(-1, 2) for r in rings]),
+                   np.array([r.hole for r in rings], bool),
+                   np.array([r.parent for r in rings], np.int64),
+                   np.array([r.group for r in rings], np.int64))
+
+
+def _no_rings():
+    z = np.zeros(0, np.int64)
+    return Rings(z, np.zeros((0, 2), np.int64), z.astype(bool), z, z)
+
+
 def filled_rings(paths, fill_rule, thin=0.0):
     """Boundary rings of the set filled by closed integer paths under ``fill_rule``
     ("positive": winding > 0, "nonzero", "evenodd"), nested by Clipper's PolyTree;
@@ -64,27 +122,27 @@ def filled_rings(paths, fill_rule, thin=0.0):
     if not paths:
         return []
     return packed_filled_rings(np.array([len(p) for p in paths], np.int64),
-                               np.concatenate(paths), fill_rule, thin)
+                               np.concatenate(paths), fill_rule, thin).to_list()
 
 
 def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     """:func:`filled_rings` of paths packed as ``sizes`` (k,) and integer vertices
-    ``q`` (n, 2); ``gap``: the grid units that part two apart groups of paths
-    (:func:`_union`; at least APART_GAP): rings of two groups are farther apart
-    than that."""
+    ``q`` (n, 2), as :class:`Rings`; ``gap``: the grid units that part two apart
+    groups of paths (:func:`_union`; at least APART_GAP): rings of two groups are
+    farther apart than that."""
     keep = sizes >= 3
     if not keep.all():
         sizes, q = sizes[keep], q[keep.repeat(sizes)]
     if not len(sizes):
-        return []
+        return _no_rings()
     sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
     if not len(sizes):
-        return []
+        return _no_rings()
     if thin > 0.0:
         kept = _without_lone_slivers(thin, sizes, q)
         sizes, q, group = sizes[kept], q[kept.repeat(sizes)], group[kept]
     if not len(sizes):
-        return []
+        return _no_rings()
     rings = _nested_rings(None, sizes, q, group)
     if rings is not None:
         return rings
@@ -97,7 +155,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         rings.append(Ring(np.asarray(node.Contour, np.int64), bool(node.IsHole), parent))
         me = len(rings) - 1
         stack.extend((child, me) for child in node.Childs)
-    return rings
+    return Rings.of(rings)
 
 
 #: Grid units between two groups of paths united apart: groups farther apart than
@@ -257,29 +315,37 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     hole = area < 0
     if np.any(hole != (depth % 2 == 1)):
         return None
-    ends = sizes.cumsum().tolist()
-    rows = [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
-    return _tree_order(rows, parent, hole, np.full(n, -1) if group is None else group)
+    group = np.full(n, -1, np.int64) if group is None else np.asarray(group, np.int64)
+    return _tree_order(Rings(sizes, q, hole, parent, group), depth)
 
 
-def _tree_order(rows, parent, hole, group):
-    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices,
-    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring
-    first (the tree walk's order on Clipper's children), each naming its parent's
-    place in the list."""
-    children = [[] for _ in rows]
-    top = []
-    for k, p in enumerate(parent.tolist()):
-        (children[p] if p >= 0 else top).append(k)
-    rings = []
-    stack = [(k, -1) for k in top]
-    hole_l, group_l = hole.tolist(), np.asarray(group).tolist()
-    while stack:
-        k, p = stack.pop()
-        rings.append(Ring(rows[k], hole_l[k], p, group_l[k]))
-        me = len(rings) - 1
-        stack.extend((c, me) for c in children[k])
-    return rings
+def _tree_order(rings, depth):
+    """:class:`Rings` ``rings`` (their ``parent`` indices, ``depth`` the number of
+    rings around each) in the order of a walk of the tree that takes the last
+    top-level ring first and a ring's children after it, the last child first (the
+    tree walk's order on Clipper's children), each naming its parent's new place.
+
+    The walk's order is that of the rings' paths from the top (the ring indices of
+    their ancestors, then their own), compared level by level with the larger index
+    first and a path before those it begins: one sort of a (rings, depth + 1)
+    table, filled by following the parents one level a round."""
+    n = len(rings)
+    levels = int(depth.max()) + 1 if n else 1
+    path = np.full((n, levels), -n, np.int64)   # -n: below every -index, past the end
+    row, at, d = np.arange(n), np.arange(n), depth.copy()
+    for _ in range(levels):
+        live = (d >= 0).nonzero()[0]
+        path[row[live], d[live]] = -at[live]
+        at = np.where(d > 0, rings.parent[np.maximum(at, 0)], -1)
+        d = d - 1
+    order = np.lexsort(path.T[::-1])
+    place = np.empty(n, np.int64)
+    place[order] = np.arange(n)
+    parent = rings.parent[order]
+    sizes = rings.sizes[order]
+    rows = (rings.starts[order].repeat(sizes) + _ranks(sizes))
+    return Rings(sizes, rings.q[rows], rings.hole[order],
+                 np.where(parent >= 0, place[np.maximum(parent, 0)], -1), rings.group[order])
 
 
 def _containers(q, sizes, starts):
@@ -390,26 +456,27 @@ def ring_perimeter(q):
 def drop_slivers(rings, width):
     """Rings whose mean width 2·area/perimeter is below ``width`` grid units removed,
     with everything nested in them: near-coincident input edges rounded apart on the
-    grid leave such slivers; a feature thinner than that merges with its side."""
-    if not rings:
-        return []
-    area, perimeter = ring_measures([r.q for r in rings])
-    thin = (2 * np.abs(area) <= width * perimeter).tolist()
-    dead = set()
-    for i, r in enumerate(rings):   # parents come before their children
-        if r.parent in dead or thin[i]:
-            dead.add(i)
-    return _reindex(rings, dead)
-
-
-def ring_measures(rings):
-    """(signed areas, perimeters) of integer rings, (k,) each, all at once (the
-    areas exact: integer products and sums below 2^53)."""
-    return packed_measures(np.array([len(q) for q in rings], np.int64), np.concatenate(rings))
+    grid leave such slivers; a feature thinner than that merges with its side.
+    ``rings``: :class:`Rings` (then so is the result), or a list of :class:`Ring`."""
+    packed = Rings.of(rings)
+    if not len(packed):
+        return rings
+    area, perimeter = packed_measures(packed.sizes, packed.q)
+    dead = 2 * np.abs(area) <= width * perimeter
+    up = packed.parent
+    while True:   # a ring inside a dropped one goes too: one level of nesting a round
+        inside = (up >= 0) & dead[np.maximum(up, 0)] & ~dead
+        if not inside.any():
+            break
+        dead = dead | inside
+    out = packed.kept(~dead, packed.parent)
+    return out if isinstance(rings, Rings) else out.to_list()
 
 
 def packed_measures(sizes, q):
-    """:func:`ring_measures` of rings packed as ``sizes`` (k,) and vertices ``q``."""
+    """(signed areas, perimeters) of rings packed as ``sizes`` (k,) and integer
+    vertices ``q``, (k,) each, all at once (the areas exact: integer products and
+    sums below 2^53)."""
     q = q.astype(float, copy=False)
     starts = sizes.cumsum() - sizes
     nxt = np.arange(len(q)) + 1
@@ -422,26 +489,17 @@ def packed_measures(sizes, q):
 
 def fill_holes(rings, filled):
     """Rings with the holes in ``filled`` (indices) closed: the hole ring goes, the
-    islands inside it merge into the enclosing region (their holes stay)."""
-    dead = set(filled)
-    for i, r in enumerate(rings):
-        if r.parent in filled and not r.hole:
-            dead.add(i)
-    new_parent = {}
-    for i, r in enumerate(rings):
-        p = r.parent
-        while p in dead:
-            p = rings[p].parent
-        new_parent[i] = p
-    out = [Ring(r.q, r.hole, new_parent[i], r.group) for i, r in enumerate(rings)]
-    return _reindex(out, dead)
-
-
-def _reindex(rings, dead):
-    index = {}
-    out = []
-    for i, r in enumerate(rings):
-        if i not in dead:
-            index[i] = len(out)
-            out.append(r)
-    return [Ring(r.q, r.hole, index.get(r.parent, -1), r.group) for r in out]
+    islands inside it merge into the enclosing region (their holes stay).
+    ``rings``: :class:`Rings` (then so is the result), or a list of :class:`Ring`."""
+    packed = Rings.of(rings)
+    closed = np.zeros(len(packed), bool)
+    closed[np.asarray(filled, np.int64)] = True
+    parent = packed.parent
+    dead = closed | ((parent >= 0) & closed[np.maximum(parent, 0)] & ~packed.hole)
+    while True:   # each ring's parent: the nearest ring around it that stays
+        up = (parent >= 0) & dead[np.maximum(parent, 0)]
+        if not up.any():
+            break
+        parent = np.where(up, packed.parent[np.maximum(parent, 0)], parent)
+    out = packed.kept(~dead, parent)
+    return out if isinstance(rings, Rings) else out.to_list()
