@@ -144,7 +144,9 @@ class _EdgeTable:
                     for r in redo:
                         hs[r] = pc.tangent_numerator(st[sel][r])   # ends divided out
                     parts.append((idx[rows[sel]], hs))
-        deg = max([len(h) - 1 for _, hs in parts for h in hs], default=0)
+        # the largest degree: an array's width, or of a list (rows redone) its longest row
+        deg = max([(hs.shape[1] if isinstance(hs, np.ndarray) else max(map(len, hs))) - 1
+                   for _, hs in parts], default=0)
         out = np.zeros((len(self.loop), deg + 1, 2))
         for ids, hs in parts:
             if isinstance(hs, np.ndarray) and hs.shape[1] in (1, deg + 1):
