@@ -23,7 +23,7 @@ from itertools import chain
 import numpy as np
 import pyclipper
 
-from ..polyline import BoxGrid, _cell_pairs, columns, unique
+from ..polyline import BoxGrid, _cell_pairs, columns, member, unique
 
 FILL_TYPES = {
     "positive": pyclipper.PFT_POSITIVE,
@@ -143,9 +143,21 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         sizes, q, group = sizes[kept], q[kept.repeat(sizes)], group[kept]
     if not len(sizes):
         return _no_rings()
-    rings = _nested_rings(None, sizes, q, group)
-    if rings is not None:
+    parts = _nested_parts(sizes, q, group)
+    if parts is None:
+        return _tree_pass(sizes, q)
+    rings, unsure = parts
+    if not unsure.any():
         return rings
+    # the groups _nested_parts cannot nest: Clipper's tree pass on their rings alone
+    # (a few strokes of a chunk, where the sweep over the whole chunk costs as much
+    # as its union), after the others
+    return _joined(rings, _tree_pass(sizes[unsure], q[unsure.repeat(sizes)]))
+
+
+def _tree_pass(sizes, q):
+    """:class:`Rings` of Clipper's PolyTree of flat rings (``sizes``, ``q``), in the
+    order of the tree walk (the last top-level ring first), groups unknown (-1)."""
     tree = _clipper(_packed_lists(sizes, q)).Execute2(
         pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     rings = []
@@ -156,6 +168,15 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         me = len(rings) - 1
         stack.extend((child, me) for child in node.Childs)
     return Rings.of(rings)
+
+
+def _joined(first, then):
+    """:class:`Rings` ``first``, then ``then`` (its parents renumbered after them)."""
+    return Rings(np.concatenate([first.sizes, then.sizes]), np.concatenate([first.q, then.q]),
+                 np.concatenate([first.hole, then.hole]),
+                 np.concatenate([first.parent, np.where(then.parent >= 0,
+                                                        then.parent + len(first), -1)]),
+                 np.concatenate([first.group, then.group]))
 
 
 #: Grid units between two groups of paths united apart: groups farther apart than
@@ -268,20 +289,35 @@ def _flat_arrays(flat):
 
 def _nested_rings(flat, sizes=None, q=None, group=None):
     """The PolyTree of Clipper's flat rings (which overlap nowhere) without the tree
-    pass, where no ring visits a grid point twice and no two rings share one (the
-    tree pass would split such rings apart); None where they do, or where the test
-    point of a ring lies on another ring (then the tree pass decides).
-
-    A ring's parent is the smallest ring (by area) around its first vertex: rings
-    neither cross nor touch, so a ring lies inside another wherever one of its
-    vertices does.  Winding numbers are exact on the integer vertices (products
-    below 2^62).  Holes are the clockwise rings, which must be those at odd depth.
-    Rings come parents first, the last top-level ring first (the tree walk's order
-    on Clipper's children).  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat`` when
-    known (then ``flat`` is not used); ``group``: each ring's group when known.
-    """
+    pass (:func:`_nested_parts`), as :class:`Rings`; None where a ring cannot be
+    nested so (then the tree pass decides).  ``sizes``, ``q``: :func:`_flat_arrays`
+    of ``flat`` when known (then ``flat`` is not used); ``group``: each ring's group
+    when known."""
     if q is None:
         sizes, q = _flat_arrays(flat)
+    parts = _nested_parts(sizes, q, np.full(len(sizes), -1, np.int64) if group is None
+                          else np.asarray(group, np.int64))
+    if parts is None or parts[1].any():
+        return None
+    return parts[0]
+
+
+def _nested_parts(sizes, q, group):
+    """(the :class:`Rings` of the groups of flat rings whose PolyTree needs no tree
+    pass, a mask of the rings of the other groups), or None where the coordinates
+    are too large for exact winding numbers.
+
+    A group needs the tree pass where one of its rings visits a grid point twice or
+    shares one with another (the tree pass would split such rings apart), where
+    the test point of a ring lies on another ring, or where a ring's orientation is
+    not its depth's.  Elsewhere a ring's parent is the smallest ring (by area)
+    around its first vertex: rings neither cross nor touch, so a ring lies inside
+    another wherever one of its vertices does.  Winding numbers are exact on the
+    integer vertices (products below 2^62).  Holes are the clockwise rings, which
+    must be those at odd depth.  Rings come parents first, the last top-level ring
+    first (the tree walk's order on Clipper's children).  Rings of two groups
+    (``group`` (k,)) are apart: neither lies inside the other.
+    """
     n = len(sizes)
     if not len(q) or int(np.abs(q).max()) >= 2 ** 30:
         return None
@@ -289,16 +325,18 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     height = int(hi_q[1] - lo_q[1]) + 1
     if (int(hi_q[0] - lo_q[0]) + 1) * height * len(q) >= 2 ** 62:
         return None
+    unsure = np.zeros(n, bool)
     # every grid point once over all rings
-    keys = np.sort(((q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])))
-    if np.any(keys[1:] == keys[:-1]):
-        return None
+    keys = (q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])
+    if np.any(np.diff(np.sort(keys)) == 0):
+        order = np.argsort(keys, kind="stable")
+        twice = (np.diff(keys[order]) == 0).nonzero()[0]
+        ring_of = np.arange(n).repeat(sizes)
+        unsure[ring_of[order[twice]]] = unsure[ring_of[order[twice + 1]]] = True
     starts = sizes.cumsum() - sizes
     area, _ = packed_measures(sizes, q)
-    found = _containers(q, sizes, starts)
-    if found is None:
-        return None
-    a, b = found
+    a, b, on = _containers(q, sizes, starts)
+    unsure[on] = True
     parent = np.full(n, -1, np.int64)
     if len(a):
         # the innermost container: the smallest by area
@@ -313,10 +351,13 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
         depth += up_ >= 0
         up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
     hole = area < 0
-    if np.any(hole != (depth % 2 == 1)):
-        return None
-    group = np.full(n, -1, np.int64) if group is None else np.asarray(group, np.int64)
-    return _tree_order(Rings(sizes, q, hole, parent, group), depth)
+    unsure |= hole != (depth % 2 == 1)
+    if unsure.any():   # every ring of an unsure ring's group
+        unsure = member(group, unique(group[unsure]))
+    rings = Rings(sizes, q, hole, parent, group)
+    if unsure.any():
+        rings, depth = rings.kept(~unsure, parent), depth[~unsure]
+    return _tree_order(rings, depth), unsure
 
 
 def _tree_order(rings, depth):
@@ -349,9 +390,10 @@ def _tree_order(rings, depth):
 
 
 def _containers(q, sizes, starts):
-    """(a, b): the pairs of rings (``q`` their integer vertices, ``sizes``,
-    ``starts``) where ring b winds around ring a's first vertex; None when that
-    vertex lies on ring b (then the tree pass decides)."""
+    """(a, b, on): the pairs of rings (``q`` their integer vertices, ``sizes``,
+    ``starts``) where ring b winds around ring a's first vertex, and the rings of
+    the pairs where that vertex lies on ring b (indices: the tree pass decides
+    their nesting; their winding numbers are not used)."""
     lo = columns(np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts))
     hi = columns(np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts))
     # candidate (ring a, ring b around it): b's box holds a's
@@ -360,6 +402,7 @@ def _containers(q, sizes, starts):
     keep = ((a != b) & (lb[:, 0] <= la[:, 0]) & (lb[:, 1] <= la[:, 1])
             & (hb[:, 0] >= ha[:, 0]) & (hb[:, 1] >= ha[:, 1]))
     a, b = a[keep], b[keep]
+    on_rings = np.zeros(0, np.int64)
     if len(a):
         # winding number of a's first vertex about ring b: every edge of b
         per = sizes[b]
@@ -375,13 +418,13 @@ def _containers(q, sizes, starts):
               & (np.maximum(p0[:, 0], p1[:, 0]) >= v[:, 0])
               & (np.minimum(p0[:, 1], p1[:, 1]) <= v[:, 1])
               & (np.maximum(p0[:, 1], p1[:, 1]) >= v[:, 1]))
-        if on.any():
-            return None
+        on_pairs = pair[on]
+        on_rings = np.concatenate([a[on_pairs], b[on_pairs]])
         up = (p0[:, 1] <= v[:, 1]) & (p1[:, 1] > v[:, 1]) & (cross > 0)
         down = (p1[:, 1] <= v[:, 1]) & (p0[:, 1] > v[:, 1]) & (cross < 0)
         wind = np.bincount(pair, weights=up.astype(float) - down, minlength=len(a))
         a, b = a[wind != 0], b[wind != 0]
-    return a, b
+    return a, b, on_rings
 
 
 def _without_lone_slivers(thin, sizes, q):
