@@ -28,7 +28,8 @@ from pathlib import Path
 GLYPHS = {}
 PHASES = {"flatten": ["tag_loops"], "Clipper": ["packed_filled_rings", "drop_slivers"],
           "holes": ["_filled_holes", "fill_holes"], "lift": ["lift_rings"],
-          "untangle": ["merge_lenses", "untangle_loops", "_near_pairs"]}
+          "untangle": ["merge_lenses", "untangle_loops", "_near_pairs",
+                       "_near_ring_pairs"]}
 
 
 def source(name):

@@ -144,7 +144,9 @@ class _EdgeTable:
                     for r in redo:
                         hs[r] = pc.tangent_numerator(st[sel][r])   # ends divided out
                     parts.append((idx[rows[sel]], hs))
-        deg = max([len(h) - 1 for _, hs in parts for h in hs], default=0)
+        # the largest degree: an array's width, or of a list (rows redone) its longest row
+        deg = max([(hs.shape[1] if isinstance(hs, np.ndarray) else max(map(len, hs))) - 1
+                   for _, hs in parts], default=0)
         out = np.zeros((len(self.loop), deg + 1, 2))
         for ids, hs in parts:
             if isinstance(hs, np.ndarray) and hs.shape[1] in (1, deg + 1):
@@ -161,6 +163,10 @@ class _EdgeTable:
         :func:`morph.gauss.restrict`); ``distinct``: no (edge, angle) pair repeats
         (:func:`morph.gauss.angle_params`)."""
         t = gauss.angle_params(self.h[idx], angle, distinct) if len(idx) else np.zeros(0)
+        return self._at_ends(idx, angle, t)
+
+    def _at_ends(self, idx, angle, t):
+        """``t`` with the angles within 1e-13 of an edge's end angle at that end."""
         t = np.where(np.abs(angle - (self.theta[idx] + self.sweep[idx])) < 1e-13, 1.0, t)
         return np.where(np.abs(angle - self.theta[idx]) < 1e-13, 0.0, t)
 
@@ -169,15 +175,7 @@ class _EdgeTable:
         angle several requests share (a stroke's straight edge and the ends of its
         two vertices' ranges meet the nib at its direction) is solved once
         (:func:`morph.gauss.angle_params`; each row's result is its own)."""
-        sizes = [len(idx) for idx, _ in requests]
-        if not sum(sizes):
-            return [np.zeros(0) for _ in requests]
-        idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
-        angle = np.concatenate([np.asarray(a, float) for _, a in requests])
-        # each (edge, angle) pair (the angle to the bit) once
-        first, group = _distinct_rows(idx, angle.view(np.int64))
-        t = self.params(idx[first], angle[first], distinct=True)[group]
-        return np.split(t, np.cumsum(sizes)[:-1])
+        return params_of_tables([(self, requests)])[0]
 
     def restricted(self, idx, t_lo, t_hi):
         """Sub-pieces of the curved edges idx between the parameters at their angles
@@ -535,6 +533,41 @@ def _stack_out(out, pos, stack, forward):
     out.add(pos, 0.0, st, 0.0, "translate")
 
 
+def params_of_tables(asks):
+    """:meth:`_EdgeTable.params_many` of the requests of several tables (``asks``:
+    [(table, requests)]), as a list per table: each table's distinct (edge, angle)
+    rows (the angle to the bit), and the angle equations of all tables whose
+    tangent numerators have one degree solved in one call of
+    :func:`morph.gauss.angle_params` (each row's root is its own: the same numbers
+    as a call per table, in one bracketed Newton iteration instead of one per
+    table)."""
+    rows = []
+    for table, requests in asks:
+        sizes = [len(idx) for idx, _ in requests]
+        idx = np.concatenate([np.asarray(i, np.int64) for i, _ in requests])
+        angle = np.concatenate([np.asarray(a, float) for _, a in requests])
+        first, group = _distinct_rows(idx, angle.view(np.int64)) if len(idx) else (idx, idx)
+        rows.append((sizes, idx[first], angle[first], group))
+    solved = [None] * len(asks)
+    width = [table.h.shape[1] for table, _ in asks]
+    for w in unique(np.array(width)).tolist():
+        which = [k for k in range(len(asks)) if width[k] == w]
+        count = np.array([len(rows[k][1]) for k in which], np.int64)
+        if not count.sum():
+            t = np.zeros(0)
+        else:
+            t = gauss.angle_params(
+                np.concatenate([asks[k][0].h[rows[k][1]] for k in which]),
+                np.concatenate([rows[k][2] for k in which]), distinct=True)
+        for k, part in zip(which, np.split(t, np.cumsum(count)[:-1])):
+            solved[k] = part
+    out = []
+    for (table, _), (sizes, idx, angle, group), t in zip(asks, rows, solved):
+        t = table._at_ends(idx, angle, t)[group]
+        out.append(np.split(t, np.cumsum(sizes)[:-1]))
+    return out
+
+
 def translated_batches(ta, tb, i, j, lo, hi, off):
     """The pairs whose convolution is one edge translated: a straight edge moved by
     the other edge's point at its angle, and a curve (restricted to the pair's angle
@@ -542,7 +575,7 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
     points, one per row, whether the moved edge is A's, whether each piece runs
     forward: the other edge's sign).  The parameters solved on each table's curves
     (the points at the straight edges' angles, the ends of the ranges at the
-    vertices) are solved in one call per table (:meth:`_EdgeTable.params_many`)."""
+    vertices) are solved together (:func:`params_of_tables`)."""
     pos_a = np.nonzero(ta.straight[i])[0]                  # B's point moves A's edge
     pos_b = np.nonzero(tb.straight[j] & ~ta.straight[i])[0]
     ang_a, ang_b = lo[pos_a] - off[pos_a], lo[pos_b]
@@ -553,10 +586,9 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
                                     (tb, ta, j, i, off)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         ranges.append((ic[pos], lo[pos] - shift[pos], hi[pos] - shift[pos]))
-    t_pa, t_lo_b, t_hi_b = tb.params_many([(j[pos_a][cur_a], ang_a[cur_a]),
-                                           ranges[1][:2], (ranges[1][0], ranges[1][2])])
-    t_pb, t_lo_a, t_hi_a = ta.params_many([(i[pos_b][cur_b], ang_b[cur_b]),
-                                           ranges[0][:2], (ranges[0][0], ranges[0][2])])
+    (t_pa, t_lo_b, t_hi_b), (t_pb, t_lo_a, t_hi_a) = params_of_tables(
+        [(tb, [(j[pos_a][cur_a], ang_a[cur_a]), ranges[1][:2], (ranges[1][0], ranges[1][2])]),
+         (ta, [(i[pos_b][cur_b], ang_b[cur_b]), ranges[0][:2], (ranges[0][0], ranges[0][2])])])
     if len(pos_a):
         pts = tb.points_at(j[pos_a], ang_a, t_pa)
         for rows, st in ta.pieces(i[pos_a]):
@@ -625,8 +657,8 @@ def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of, stacke
     ``piece_of`` results, bounds) of each batch (``stacked``: ``piece_of`` works on
     arrays, as :func:`morph.qac.piece_stacks`, and the pieces come as a
     :class:`morph.piece.Pieces`)."""
-    ta_lo, ta_hi = ta.params_many([(i, lo), (i, hi)])
-    tb_lo, tb_hi = tb.params_many([(j, lo - off), (j, hi - off)])
+    (ta_lo, ta_hi), (tb_lo, tb_hi) = params_of_tables([(ta, [(i, lo), (i, hi)]),
+                                                       (tb, [(j, lo - off), (j, hi - off)])])
     ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
     for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
         rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]

@@ -97,10 +97,12 @@ def _split_params_arrays(pieces, inflections=True, axes=True, eps=1e-9):
             owners.append(o[a * b < 0])
             ts.append(r[a * b < 0])
         if axes:
-            for j in range(2):
-                o, r = bz.roots_many(h[:, :, j])
-                owners.append(o)
-                ts.append(r)
+            # the roots of x' and y' in one call, y's rows numbered after x's (each
+            # row's roots are its own: the same numbers as a call per axis)
+            k = len(h)
+            o, r = bz.roots_many(np.concatenate([h[:, :, 0], h[:, :, 1]]))
+            owners.append(np.where(o < k, o, o - k))
+            ts.append(r)
         o, r = np.concatenate(owners), np.concatenate(ts)
         inside = (r > eps) & (r < 1.0 - eps)
         o, r = o[inside], r[inside]
@@ -395,8 +397,8 @@ def gauss_table(loops, angle_tol=1e-10, pieces=None, traced=0):
     :class:`morph.piece.Pieces`; None: stacked here).  ``traced``: the first
     ``traced`` loops are paths traced out and back (:func:`morph.stroke.path_loop`),
     whose open cusps are known (:func:`_corner_turns_many`)."""
-    sizes = [len(loop) for loop in loops]
-    if not sum(sizes):
+    sizes = np.fromiter(map(len, loops), np.int64, len(loops))
+    if not sizes.sum():
         if loops:
             raise DegenerateCurveError("loop has no curve of nonzero length", None)
         z = np.zeros(0)

@@ -74,15 +74,16 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
                                              int(np.ceil(reach / grid)) + 1), THIN_UNITS)
     if hole_test is not None:
         rings = fill_holes(rings, _filled_holes(rings, tg, hole_test))
-    out, of_ring, packed = lift_rings([r.q for r in rings], tg, contract, packed=True)
-    outer = [not rings[k].hole for k in of_ring]
-    # the outer rings' vertices in one array (a hole's ring counts as empty)
-    qs = [rings[k].q for k in of_ring]
-    sizes = np.where(outer, np.fromiter(map(len, qs), np.int64, len(qs)), 0)
-    pts = tg.to_float(np.concatenate([q for q, o in zip(qs, outer) if o] or [np.zeros((0, 2))]))
-    near = _near_ring_pairs(pts, sizes, reach,
-                            np.array([rings[k].group for k in of_ring], np.int64))
-    merged = merge_lenses(out, outer, eps, near)
+    out, of_ring, packed = lift_rings(rings, tg, contract, packed=True)
+    of_ring = np.asarray(of_ring, np.int64)
+    outer = ~rings.hole[of_ring]
+    # the outer rings' vertices in one array, in the loops' order (a hole's ring counts
+    # as empty)
+    sizes = np.where(outer, rings.sizes[of_ring], 0)
+    at = np.repeat(rings.starts[of_ring] - (sizes.cumsum() - sizes), sizes)
+    pts = tg.to_float(rings.q[at + np.arange(len(at))])
+    near = _near_ring_pairs(pts, sizes, reach, rings.group[of_ring])
+    merged = merge_lenses(out, outer.tolist(), eps, near)
     if untangle:
         # each merge makes one loop of two: as many loops, none merged, the same pieces
         merged = untangle_loops(merged, eps, hole_test=hole_test,
@@ -91,20 +92,23 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
 
 
 def _filled_holes(rings, tg, hole_test):
-    """Indices of the hole rings that ``hole_test`` finds filled: all holes in one
-    call of its ``many`` method ([(ring, islands)] -> bools) where it has one, else
-    one call per hole."""
-    holes = [i for i, r in enumerate(rings) if r.hole]
-    if not holes:
+    """Indices of the hole rings (of :class:`.topology.Rings` ``rings``) that
+    ``hole_test`` finds filled: all holes in one call of its ``many`` method
+    ([(ring, islands)] -> bools) where it has one, else one call per hole."""
+    holes = rings.hole.nonzero()[0]
+    if not len(holes):
         return []
-    children = {}
-    for k, r in enumerate(rings):
-        children.setdefault(r.parent, []).append(k)
-    args = [(tg.to_float(rings[i].q), [tg.to_float(rings[k].q) for k in children.get(i, [])])
-            for i in holes]
+    polygons = rings.rows(tg.to_float(rings.q))
+    # each hole's islands: the rings whose parent it is, in ring order
+    child = np.argsort(rings.parent, kind="stable")
+    count = np.bincount(rings.parent + 1, minlength=len(rings) + 1)[1:]
+    first = (count.cumsum() - count)[holes] + int(np.count_nonzero(rings.parent < 0))
+    islands = [polygons[k] for k in child.tolist()]
+    args = [(polygons[h], islands[a:b]) for h, a, b in zip(
+        holes.tolist(), first.tolist(), (first + count[holes]).tolist())]
     many = getattr(hole_test, "many", None)
     filled = many(args) if many is not None else [hole_test(*a) for a in args]
-    return [i for i, f in zip(holes, filled) if f]
+    return holes[np.asarray(filled, bool)].tolist()
 
 
 def _grown_boxes(pts, sizes, grow):

@@ -45,13 +45,16 @@ def lift_rings(rings, tg, contract, packed=False):
     :class:`morph.piece.Pieces` (the stacks the pieces are views of: what
     :func:`.untangle.untangle` searches, without gathering them again).
 
-    rings: list of integer vertex arrays; tg: :class:`.flatten.Tagged`; runs shorter
-    than ``contract`` (control-polygon length) are contracted to their start point.
+    rings: :class:`.topology.Rings` (or a list of integer vertex arrays); tg:
+    :class:`.flatten.Tagged`; runs shorter than ``contract`` (control-polygon length)
+    are contracted to their start point.
     """
-    if not rings:
+    if not len(rings):
         return ([], [], pc.Pieces([], 0)) if packed else ([], [])
-    sizes = np.array([len(r) for r in rings])
-    v = np.concatenate(rings)
+    if hasattr(rings, "sizes"):
+        sizes, v = rings.sizes, rings.q
+    else:
+        sizes, v = np.array([len(r) for r in rings]), np.concatenate(rings)
     first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first

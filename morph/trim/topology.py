@@ -23,7 +23,7 @@ from itertools import chain
 import numpy as np
 import pyclipper
 
-from ..polyline import BoxGrid, _cell_pairs, columns, unique
+from ..polyline import BoxGrid, _cell_pairs, columns, member, unique
 
 FILL_TYPES = {
     "positive": pyclipper.PFT_POSITIVE,
@@ -45,6 +45,64 @@ class Ring:
     group: int = -1
 
 
+class Rings:
+    """Boundary rings packed in arrays: ``sizes`` (k,), integer vertices ``q`` (n, 2)
+    one ring after another, and per ring its ``hole`` flag, ``parent`` index (-1 for
+    none; parents come before their children) and ``group`` (as :class:`Ring`'s).
+    Trimming reads them as arrays: no object per ring."""
+
+    __slots__ = ("sizes", "q", "hole", "parent", "group")
+
+    def __init__(self, sizes, q, hole, parent, group):
+        self.sizes, self.q, self.hole = sizes, q, hole
+        self.parent, self.group = parent, group
+
+    def __len__(self):
+        return len(self.sizes)
+
+    @property
+    def starts(self):
+        return self.sizes.cumsum() - self.sizes
+
+    def rows(self, q=None):
+        """Each ring's vertices (``q``: other values of the vertices, such as their
+        float points), as a list of views."""
+        q = self.q if q is None else q
+        ends = self.sizes.cumsum().tolist()
+        return [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
+
+    def kept(self, keep, parent):
+        """The rings where mask ``keep`` holds, ``parent`` (k,) their parents before
+        the renumbering (-1 or a ring left out: -1)."""
+        index = keep.cumsum() - 1
+        parent = np.where(parent >= 0, np.where(keep[parent], index[parent], -1), -1)
+        return Rings(self.sizes[keep], self.q[keep.repeat(self.sizes)], self.hole[keep],
+                     parent[keep], self.group[keep])
+
+    def to_list(self):
+        """The rings as :class:`Ring` objects."""
+        return [Ring(q, h, p, g) for q, h, p, g in zip(
+            self.rows(), self.hole.tolist(), self.parent.tolist(), self.group.tolist())]
+
+    @classmethod
+    def of(cls, rings):
+        """The :class:`Rings` of a list of :class:`Ring` (or a :class:`Rings`)."""
+        if isinstance(rings, Rings):
+            return rings
+        if not rings:
+            return _no_rings()
+        return cls(np.array([len(r.q) for r in rings], np.int64),
+                   np.concatenate([np.asarray(r.q, np.int64).reshape(-1, 2) for r in rings]),
+                   np.array([r.hole for r in rings], bool),
+                   np.array([r.parent for r in rings], np.int64),
+                   np.array([r.group for r in rings], np.int64))
+
+
+def _no_rings():
+    z = np.zeros(0, np.int64)
+    return Rings(z, np.zeros((0, 2), np.int64), z.astype(bool), z, z)
+
+
 def filled_rings(paths, fill_rule, thin=0.0):
     """Boundary rings of the set filled by closed integer paths under ``fill_rule``
     ("positive": winding > 0, "nonzero", "evenodd"), nested by Clipper's PolyTree;
@@ -64,30 +122,42 @@ def filled_rings(paths, fill_rule, thin=0.0):
     if not paths:
         return []
     return packed_filled_rings(np.array([len(p) for p in paths], np.int64),
-                               np.concatenate(paths), fill_rule, thin)
+                               np.concatenate(paths), fill_rule, thin).to_list()
 
 
 def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     """:func:`filled_rings` of paths packed as ``sizes`` (k,) and integer vertices
-    ``q`` (n, 2); ``gap``: the grid units that part two apart groups of paths
-    (:func:`_union`; at least APART_GAP): rings of two groups are farther apart
-    than that."""
+    ``q`` (n, 2), as :class:`Rings`; ``gap``: the grid units that part two apart
+    groups of paths (:func:`_union`; at least APART_GAP): rings of two groups are
+    farther apart than that."""
     keep = sizes >= 3
     if not keep.all():
         sizes, q = sizes[keep], q[keep.repeat(sizes)]
     if not len(sizes):
-        return []
+        return _no_rings()
     sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
     if not len(sizes):
-        return []
+        return _no_rings()
     if thin > 0.0:
         kept = _without_lone_slivers(thin, sizes, q)
         sizes, q, group = sizes[kept], q[kept.repeat(sizes)], group[kept]
     if not len(sizes):
-        return []
-    rings = _nested_rings(None, sizes, q, group)
-    if rings is not None:
+        return _no_rings()
+    parts = _nested_parts(sizes, q, group)
+    if parts is None:
+        return _tree_pass(sizes, q)
+    rings, unsure = parts
+    if not unsure.any():
         return rings
+    # the groups _nested_parts cannot nest: Clipper's tree pass on their rings alone
+    # (a few strokes of a chunk, where the sweep over the whole chunk costs as much
+    # as its union), after the others
+    return _joined(rings, _tree_pass(sizes[unsure], q[unsure.repeat(sizes)]))
+
+
+def _tree_pass(sizes, q):
+    """:class:`Rings` of Clipper's PolyTree of flat rings (``sizes``, ``q``), in the
+    order of the tree walk (the last top-level ring first), groups unknown (-1)."""
     tree = _clipper(_packed_lists(sizes, q)).Execute2(
         pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     rings = []
@@ -97,7 +167,16 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         rings.append(Ring(np.asarray(node.Contour, np.int64), bool(node.IsHole), parent))
         me = len(rings) - 1
         stack.extend((child, me) for child in node.Childs)
-    return rings
+    return Rings.of(rings)
+
+
+def _joined(first, then):
+    """:class:`Rings` ``first``, then ``then`` (its parents renumbered after them)."""
+    return Rings(np.concatenate([first.sizes, then.sizes]), np.concatenate([first.q, then.q]),
+                 np.concatenate([first.hole, then.hole]),
+                 np.concatenate([first.parent, np.where(then.parent >= 0,
+                                                        then.parent + len(first), -1)]),
+                 np.concatenate([first.group, then.group]))
 
 
 #: Grid units between two groups of paths united apart: groups farther apart than
@@ -210,20 +289,35 @@ def _flat_arrays(flat):
 
 def _nested_rings(flat, sizes=None, q=None, group=None):
     """The PolyTree of Clipper's flat rings (which overlap nowhere) without the tree
-    pass, where no ring visits a grid point twice and no two rings share one (the
-    tree pass would split such rings apart); None where they do, or where the test
-    point of a ring lies on another ring (then the tree pass decides).
-
-    A ring's parent is the smallest ring (by area) around its first vertex: rings
-    neither cross nor touch, so a ring lies inside another wherever one of its
-    vertices does.  Winding numbers are exact on the integer vertices (products
-    below 2^62).  Holes are the clockwise rings, which must be those at odd depth.
-    Rings come parents first, the last top-level ring first (the tree walk's order
-    on Clipper's children).  ``sizes``, ``q``: :func:`_flat_arrays` of ``flat`` when
-    known (then ``flat`` is not used); ``group``: each ring's group when known.
-    """
+    pass (:func:`_nested_parts`), as :class:`Rings`; None where a ring cannot be
+    nested so (then the tree pass decides).  ``sizes``, ``q``: :func:`_flat_arrays`
+    of ``flat`` when known (then ``flat`` is not used); ``group``: each ring's group
+    when known."""
     if q is None:
         sizes, q = _flat_arrays(flat)
+    parts = _nested_parts(sizes, q, np.full(len(sizes), -1, np.int64) if group is None
+                          else np.asarray(group, np.int64))
+    if parts is None or parts[1].any():
+        return None
+    return parts[0]
+
+
+def _nested_parts(sizes, q, group):
+    """(the :class:`Rings` of the groups of flat rings whose PolyTree needs no tree
+    pass, a mask of the rings of the other groups), or None where the coordinates
+    are too large for exact winding numbers.
+
+    A group needs the tree pass where one of its rings visits a grid point twice or
+    shares one with another (the tree pass would split such rings apart), where
+    the test point of a ring lies on another ring, or where a ring's orientation is
+    not its depth's.  Elsewhere a ring's parent is the smallest ring (by area)
+    around its first vertex: rings neither cross nor touch, so a ring lies inside
+    another wherever one of its vertices does.  Winding numbers are exact on the
+    integer vertices (products below 2^62).  Holes are the clockwise rings, which
+    must be those at odd depth.  Rings come parents first, the last top-level ring
+    first (the tree walk's order on Clipper's children).  Rings of two groups
+    (``group`` (k,)) are apart: neither lies inside the other.
+    """
     n = len(sizes)
     if not len(q) or int(np.abs(q).max()) >= 2 ** 30:
         return None
@@ -231,16 +325,18 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
     height = int(hi_q[1] - lo_q[1]) + 1
     if (int(hi_q[0] - lo_q[0]) + 1) * height * len(q) >= 2 ** 62:
         return None
+    unsure = np.zeros(n, bool)
     # every grid point once over all rings
-    keys = np.sort(((q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])))
-    if np.any(keys[1:] == keys[:-1]):
-        return None
+    keys = (q[:, 0] - lo_q[0]) * height + (q[:, 1] - lo_q[1])
+    if np.any(np.diff(np.sort(keys)) == 0):
+        order = np.argsort(keys, kind="stable")
+        twice = (np.diff(keys[order]) == 0).nonzero()[0]
+        ring_of = np.arange(n).repeat(sizes)
+        unsure[ring_of[order[twice]]] = unsure[ring_of[order[twice + 1]]] = True
     starts = sizes.cumsum() - sizes
     area, _ = packed_measures(sizes, q)
-    found = _containers(q, sizes, starts)
-    if found is None:
-        return None
-    a, b = found
+    a, b, on = _containers(q, sizes, starts)
+    unsure[on] = True
     parent = np.full(n, -1, np.int64)
     if len(a):
         # the innermost container: the smallest by area
@@ -255,37 +351,49 @@ def _nested_rings(flat, sizes=None, q=None, group=None):
         depth += up_ >= 0
         up_ = np.where(up_ >= 0, parent[np.maximum(up_, 0)], -1)
     hole = area < 0
-    if np.any(hole != (depth % 2 == 1)):
-        return None
-    ends = sizes.cumsum().tolist()
-    rows = [q[a:b] for a, b in zip([0] + ends[:-1], ends)]
-    return _tree_order(rows, parent, hole, np.full(n, -1) if group is None else group)
+    unsure |= hole != (depth % 2 == 1)
+    if unsure.any():   # every ring of an unsure ring's group
+        unsure = member(group, unique(group[unsure]))
+    rings = Rings(sizes, q, hole, parent, group)
+    if unsure.any():
+        rings, depth = rings.kept(~unsure, parent), depth[~unsure]
+    return _tree_order(rings, depth), unsure
 
 
-def _tree_order(rows, parent, hole, group):
-    """The :class:`Ring` objects of rings ``rows`` with their ``parent`` indices,
-    ``hole`` flags and ``group`` numbers, parents first, the last top-level ring
-    first (the tree walk's order on Clipper's children), each naming its parent's
-    place in the list."""
-    children = [[] for _ in rows]
-    top = []
-    for k, p in enumerate(parent.tolist()):
-        (children[p] if p >= 0 else top).append(k)
-    rings = []
-    stack = [(k, -1) for k in top]
-    hole_l, group_l = hole.tolist(), np.asarray(group).tolist()
-    while stack:
-        k, p = stack.pop()
-        rings.append(Ring(rows[k], hole_l[k], p, group_l[k]))
-        me = len(rings) - 1
-        stack.extend((c, me) for c in children[k])
-    return rings
+def _tree_order(rings, depth):
+    """:class:`Rings` ``rings`` (their ``parent`` indices, ``depth`` the number of
+    rings around each) in the order of a walk of the tree that takes the last
+    top-level ring first and a ring's children after it, the last child first (the
+    tree walk's order on Clipper's children), each naming its parent's new place.
+
+    The walk's order is that of the rings' paths from the top (the ring indices of
+    their ancestors, then their own), compared level by level with the larger index
+    first and a path before those it begins: one sort of a (rings, depth + 1)
+    table, filled by following the parents one level a round."""
+    n = len(rings)
+    levels = int(depth.max()) + 1 if n else 1
+    path = np.full((n, levels), -n, np.int64)   # -n: below every -index, past the end
+    row, at, d = np.arange(n), np.arange(n), depth.copy()
+    for _ in range(levels):
+        live = (d >= 0).nonzero()[0]
+        path[row[live], d[live]] = -at[live]
+        at = np.where(d > 0, rings.parent[np.maximum(at, 0)], -1)
+        d = d - 1
+    order = np.lexsort(path.T[::-1])
+    place = np.empty(n, np.int64)
+    place[order] = np.arange(n)
+    parent = rings.parent[order]
+    sizes = rings.sizes[order]
+    rows = (rings.starts[order].repeat(sizes) + _ranks(sizes))
+    return Rings(sizes, rings.q[rows], rings.hole[order],
+                 np.where(parent >= 0, place[np.maximum(parent, 0)], -1), rings.group[order])
 
 
 def _containers(q, sizes, starts):
-    """(a, b): the pairs of rings (``q`` their integer vertices, ``sizes``,
-    ``starts``) where ring b winds around ring a's first vertex; None when that
-    vertex lies on ring b (then the tree pass decides)."""
+    """(a, b, on): the pairs of rings (``q`` their integer vertices, ``sizes``,
+    ``starts``) where ring b winds around ring a's first vertex, and the rings of
+    the pairs where that vertex lies on ring b (indices: the tree pass decides
+    their nesting; their winding numbers are not used)."""
     lo = columns(np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts))
     hi = columns(np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts))
     # candidate (ring a, ring b around it): b's box holds a's
@@ -294,6 +402,7 @@ def _containers(q, sizes, starts):
     keep = ((a != b) & (lb[:, 0] <= la[:, 0]) & (lb[:, 1] <= la[:, 1])
             & (hb[:, 0] >= ha[:, 0]) & (hb[:, 1] >= ha[:, 1]))
     a, b = a[keep], b[keep]
+    on_rings = np.zeros(0, np.int64)
     if len(a):
         # winding number of a's first vertex about ring b: every edge of b
         per = sizes[b]
@@ -309,13 +418,13 @@ def _containers(q, sizes, starts):
               & (np.maximum(p0[:, 0], p1[:, 0]) >= v[:, 0])
               & (np.minimum(p0[:, 1], p1[:, 1]) <= v[:, 1])
               & (np.maximum(p0[:, 1], p1[:, 1]) >= v[:, 1]))
-        if on.any():
-            return None
+        on_pairs = pair[on]
+        on_rings = np.concatenate([a[on_pairs], b[on_pairs]])
         up = (p0[:, 1] <= v[:, 1]) & (p1[:, 1] > v[:, 1]) & (cross > 0)
         down = (p1[:, 1] <= v[:, 1]) & (p0[:, 1] > v[:, 1]) & (cross < 0)
         wind = np.bincount(pair, weights=up.astype(float) - down, minlength=len(a))
         a, b = a[wind != 0], b[wind != 0]
-    return a, b
+    return a, b, on_rings
 
 
 def _without_lone_slivers(thin, sizes, q):
@@ -390,26 +499,27 @@ def ring_perimeter(q):
 def drop_slivers(rings, width):
     """Rings whose mean width 2·area/perimeter is below ``width`` grid units removed,
     with everything nested in them: near-coincident input edges rounded apart on the
-    grid leave such slivers; a feature thinner than that merges with its side."""
-    if not rings:
-        return []
-    area, perimeter = ring_measures([r.q for r in rings])
-    thin = (2 * np.abs(area) <= width * perimeter).tolist()
-    dead = set()
-    for i, r in enumerate(rings):   # parents come before their children
-        if r.parent in dead or thin[i]:
-            dead.add(i)
-    return _reindex(rings, dead)
-
-
-def ring_measures(rings):
-    """(signed areas, perimeters) of integer rings, (k,) each, all at once (the
-    areas exact: integer products and sums below 2^53)."""
-    return packed_measures(np.array([len(q) for q in rings], np.int64), np.concatenate(rings))
+    grid leave such slivers; a feature thinner than that merges with its side.
+    ``rings``: :class:`Rings` (then so is the result), or a list of :class:`Ring`."""
+    packed = Rings.of(rings)
+    if not len(packed):
+        return rings
+    area, perimeter = packed_measures(packed.sizes, packed.q)
+    dead = 2 * np.abs(area) <= width * perimeter
+    up = packed.parent
+    while True:   # a ring inside a dropped one goes too: one level of nesting a round
+        inside = (up >= 0) & dead[np.maximum(up, 0)] & ~dead
+        if not inside.any():
+            break
+        dead = dead | inside
+    out = packed.kept(~dead, packed.parent)
+    return out if isinstance(rings, Rings) else out.to_list()
 
 
 def packed_measures(sizes, q):
-    """:func:`ring_measures` of rings packed as ``sizes`` (k,) and vertices ``q``."""
+    """(signed areas, perimeters) of rings packed as ``sizes`` (k,) and integer
+    vertices ``q``, (k,) each, all at once (the areas exact: integer products and
+    sums below 2^53)."""
     q = q.astype(float, copy=False)
     starts = sizes.cumsum() - sizes
     nxt = np.arange(len(q)) + 1
@@ -422,26 +532,17 @@ def packed_measures(sizes, q):
 
 def fill_holes(rings, filled):
     """Rings with the holes in ``filled`` (indices) closed: the hole ring goes, the
-    islands inside it merge into the enclosing region (their holes stay)."""
-    dead = set(filled)
-    for i, r in enumerate(rings):
-        if r.parent in filled and not r.hole:
-            dead.add(i)
-    new_parent = {}
-    for i, r in enumerate(rings):
-        p = r.parent
-        while p in dead:
-            p = rings[p].parent
-        new_parent[i] = p
-    out = [Ring(r.q, r.hole, new_parent[i], r.group) for i, r in enumerate(rings)]
-    return _reindex(out, dead)
-
-
-def _reindex(rings, dead):
-    index = {}
-    out = []
-    for i, r in enumerate(rings):
-        if i not in dead:
-            index[i] = len(out)
-            out.append(r)
-    return [Ring(r.q, r.hole, index.get(r.parent, -1), r.group) for r in out]
+    islands inside it merge into the enclosing region (their holes stay).
+    ``rings``: :class:`Rings` (then so is the result), or a list of :class:`Ring`."""
+    packed = Rings.of(rings)
+    closed = np.zeros(len(packed), bool)
+    closed[np.asarray(filled, np.int64)] = True
+    parent = packed.parent
+    dead = closed | ((parent >= 0) & closed[np.maximum(parent, 0)] & ~packed.hole)
+    while True:   # each ring's parent: the nearest ring around it that stays
+        up = (parent >= 0) & dead[np.maximum(parent, 0)]
+        if not up.any():
+            break
+        parent = np.where(up, packed.parent[np.maximum(parent, 0)], parent)
+    out = packed.kept(~dead, parent)
+    return out if isinstance(rings, Rings) else out.to_list()

@@ -165,6 +165,7 @@ def test_nested_rings_as_the_tree_pass(seed):
     flat = clip.Execute(pyclipper.CT_UNION, pyclipper.PFT_NONZERO, pyclipper.PFT_NONZERO)
     rings = _nested_rings(flat)
     assert rings is not None and len(rings) == len(flat)
+    rings = rings.to_list()
     keys = [frozenset(map(tuple, r.q.tolist())) for r in rings]
     assert all(r.parent < k for k, r in enumerate(rings))
     assert {(keys[k], r.hole, keys[r.parent] if r.parent >= 0 else None)
@@ -174,7 +175,7 @@ def test_nested_rings_as_the_tree_pass(seed):
     # a ring inside another's box, not inside it: both at the top
     ell = [[0, 0], [100, 0], [100, 10], [10, 10], [10, 100], [0, 100]]
     box = [[50, 50], [60, 50], [60, 60], [50, 60]]
-    got = _nested_rings([ell, box])
+    got = _nested_rings([ell, box]).to_list()
     assert [r.parent for r in got] == [-1, -1] and not any(r.hole for r in got)
     # a ring through one grid point twice: the tree pass decides
     bow = [[0, 0], [10, 0], [10, 10], [20, 10], [20, 20], [10, 20], [10, 10], [0, 10]]
@@ -334,3 +335,32 @@ def test_groups_apart_united_alone_fill_as_one_union(rule):
     rows = np.split(f_q, np.cumsum(f_sizes)[:-1])
     tops = [(-r[:, 1].max(), r[r[:, 1] == r[:, 1].max(), 0].min()) for r in rows]
     assert tops == sorted(tops) and len(tops) > 20
+
+
+def test_tree_pass_only_for_the_groups_that_need_it():
+    """packed_filled_rings on two groups of paths apart: one whose flat ring visits
+    a grid point twice (two squares meeting at a corner, one with a hole: Clipper's
+    tree pass decides it), one of nested squares (nested in numpy).  The rings, hole flags
+    and parents are those of Clipper's tree pass on each group's paths, the second
+    group's rings keep their group number, and parents come first."""
+    from morph.trim.topology import packed_filled_rings
+
+    def square(x, y, s, ccw=True):
+        p = np.array([[x, y], [x + s, y], [x + s, y + s], [x, y + s]], np.int64)
+        return p if ccw else p[::-1]
+
+    bow = [square(0, 0, 10), square(10, 10, 10), square(2, 2, 4, ccw=False)]
+    nest = [square(1000, 0, 60), square(1010, 10, 40, ccw=False), square(1020, 20, 20)]
+    paths = bow + nest
+    got = packed_filled_rings(np.array([len(p) for p in paths]), np.concatenate(paths),
+                              "nonzero")
+    rings = got.to_list()
+    keys = [frozenset(map(tuple, r.q.tolist())) for r in rings]
+    assert all(r.parent < k for k, r in enumerate(rings))
+    want = _tree_rings([p.tolist() for p in bow]) | _tree_rings([p.tolist() for p in nest])
+    assert {(keys[k], r.hole, keys[r.parent] if r.parent >= 0 else None)
+            for k, r in enumerate(rings)} == want
+    nested = [r for r in rings if r.q[:, 0].min() >= 1000]
+    assert len(nested) == 3 and len({r.group for r in nested}) == 1 and nested[0].group >= 0
+    assert [r.group for r in rings if r.q[:, 0].max() <= 20] == [-1] * (len(rings) - 3)
+    assert any(r.hole and r.parent >= 0 for r in rings if r.q[:, 0].max() <= 20)
