@@ -74,7 +74,7 @@ PHASES = [
                      "morph.trim:_filled_holes", "morph.trim.topology:fill_holes"]),
     ("trim: lift", ["morph.trim.lift:lift_rings"]),
     ("trim: untangle", ["morph.trim.untangle:merge_lenses", "morph.trim.untangle:untangle",
-                        "morph.trim:_near_pairs", "morph.trim:_near_ring_pairs"]),
+                        "morph.trim:_near_ring_pairs"]),
     ("trim: rest", ["morph.minkowski:_trimmed", "morph.trim:boundary"]),
     ("corner pass", ["morph.minkowski:_tip_tolerances"]),
     ("packing + rounds", ["morph.stroke:stroke_many", "morph.minkowski:minkowski_sums",

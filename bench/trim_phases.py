@@ -9,7 +9,7 @@ Each set is stroked once (``morph stroke --jobs 1``, the command's own chunks) w
 ``--repeat`` times, timing each phase exclusively (CPU time, ``time.process_time``):
 flatten (``tag_loops``), Clipper (``packed_filled_rings``, ``drop_slivers``), holes
 (``_filled_holes``, ``fill_holes``), lift (``lift_rings``), untangle (``merge_lenses``,
-``untangle``, ``_near_pairs``).  Printed: ms per glyph, each phase's minimum over the
+``untangle``, ``_near_ring_pairs``).  Printed: ms per glyph, each phase's minimum over the
 repeats, and the polyline vertices of the flattening.  ``--levels``: the flattening's
 test levels (in eps, :func:`morph.trim.flatten._levels`) instead of the default, to
 compare two settings on the same calls in one process.  The machine is shared, so
@@ -28,8 +28,7 @@ from pathlib import Path
 GLYPHS = {}
 PHASES = {"flatten": ["tag_loops"], "Clipper": ["packed_filled_rings", "drop_slivers"],
           "holes": ["_filled_holes", "fill_holes"], "lift": ["lift_rings"],
-          "untangle": ["merge_lenses", "untangle_loops", "_near_pairs",
-                       "_near_ring_pairs"]}
+          "untangle": ["merge_lenses", "untangle_loops", "_near_ring_pairs"]}
 
 
 def source(name):

@@ -94,8 +94,8 @@ def _plain(data):
         return None
     try:
         root = _parse(data[:a] + b"<outline/>" + data[b + 10:])
-    except Exception:  # noqa: BLE001 - not well-formed: the XML reader's to decline
-        return None
+    except (SyntaxError, ValueError):  # not well-formed (ElementTree's and lxml's parse
+        return None                    # errors are SyntaxErrors): the XML reader's to decline
     outlines = [el for el in root if el.tag == "outline"]
     if root.tag != "glyph" or root.get("format") != "2" or (root.text and root.text.strip()) \
             or len(outlines) != 1 or len(outlines[0]):

@@ -123,15 +123,6 @@ def _grown_boxes(pts, sizes, grow):
     return lo, hi
 
 
-def _near_pairs(polylines, reach, group=None):
-    """Index pairs (i < j) of closed polylines that come within ``reach`` of each
-    other (:func:`_near_ring_pairs` of the polylines' vertices stacked)."""
-    sizes = np.fromiter(map(len, polylines), np.int64, len(polylines))
-    pts = np.concatenate([np.reshape(np.asarray(p, float), (-1, 2)) for p in polylines]
-                         or [np.zeros((0, 2))])
-    return _near_ring_pairs(pts, sizes, reach, group)
-
-
 def _edges_of(pts, sizes, sel):
     """The edges (a, b) of the closed polylines ``sel`` (a bool per polyline) among
     those whose vertices ``pts`` are stacked (``sizes`` each), as

@@ -123,12 +123,17 @@ def test_two_outer_loops_crossing_in_a_lens_become_their_union():
 
 
 def test_near_ring_pairs_match_shapely_distances():
-    """trim._near_pairs (which rings merge_lenses searches): exactly the pairs of
-    closed polylines within reach of each other, by shapely's distances, on random
+    """trim._near_ring_pairs (which rings merge_lenses searches): exactly the pairs
+    of closed polylines within reach of each other, by shapely's distances, on random
     circles; empty polylines have no neighbours."""
     from shapely.geometry import LinearRing
 
-    from morph.trim import _near_pairs
+    from morph.trim import _near_ring_pairs
+
+    def _near_pairs(polylines, reach):  # the polylines' vertices stacked, as boundary does
+        sizes = np.array([len(p) for p in polylines], np.int64)
+        pts = np.concatenate([np.reshape(p, (-1, 2)) for p in polylines] or [np.zeros((0, 2))])
+        return _near_ring_pairs(pts, sizes, reach)
 
     for seed in range(12):  # boxes apart, boxes overlapping with rings apart, rings near
         rng = np.random.default_rng(seed)
