@@ -1033,7 +1033,7 @@ def _set_section(st, opt):
     """A skeleton set's heading, provenance and table of rows."""
     md = ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
                                                           st["upm"], st["tol"]), "",
-          "morph: %s." % st["measured"], ""]
+          "morph's outlines and the times of both tools: %s." % st["measured"], ""]
     if st.get("reference_measured"):
         md += ["Clipper reference: %s." % st["reference_measured"], ""]
     ff = _fontforge_measured(st["rows"])
