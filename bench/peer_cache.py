@@ -249,8 +249,7 @@ def check(folder):
     finally:
         bs.stroke_polygon = real
     if fontforge_version() is None:
-        out.append(("FontForge: not installed, its cache not checked", True))
-        return out
+        return out + [("FontForge: not installed, its cache not checked", True)]
     return out + _check_fontforge(bs, folder, spec, (one, refs, keys), (two, refs3, keys3))
 
 
