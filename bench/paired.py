@@ -11,13 +11,28 @@ the machine's state and stay in the bench cache (:mod:`bench.peer_cache`); its t
 are measured here, in every run.
 """
 
+import ast
 import json
 import os
 import statistics
 import subprocess
+import sys
 import tempfile
 
 SYSTEM_PYTHON = "/usr/bin/python3"
+
+
+# a small launcher between the bench and the child: Linux counts a process's resident
+# set before its exec in its peak (ru_maxrss), so a child forked from the bench itself
+# would report at least the bench's size; forked from the launcher, at least its ~10 MB
+LAUNCH = ("import os, sys\n"
+          "pid = os.fork()\n"
+          "if pid == 0:\n"
+          "    os.execvp(sys.argv[2], sys.argv[2:])\n"
+          "_, status, usage = os.wait4(pid, 0)\n"
+          "with open(sys.argv[1], 'w') as f:\n"
+          "    f.write(repr((usage.ru_utime + usage.ru_stime, usage.ru_maxrss,\n"
+          "                  os.waitstatus_to_exitcode(status))))\n")
 
 
 def child_run(cmd, input=None, **kwargs):
@@ -25,20 +40,22 @@ def child_run(cmd, input=None, **kwargs):
     ``cmd`` fed ``input`` (text): its own rusage from ``os.wait4`` (the kernel's user +
     sys time and peak resident set of the child and of the children it waited for),
     so that the other children of the bench, morph's and the peer's alike, never
-    count in it.  Its output goes through temporary files, not pipes, so that the
-    child is reaped by ``wait4`` alone."""
-    with tempfile.TemporaryFile("w+") as fin, tempfile.TemporaryFile("w+") as fout, \
-            tempfile.TemporaryFile("w+") as ferr:
-        if input is not None:
-            fin.write(input)
+    count in it.  The child is started by :data:`LAUNCH` (whose own time does not
+    count), and its output goes through temporary files."""
+    with tempfile.TemporaryDirectory() as tmp:
+        usage = os.path.join(tmp, "usage")
+        with open(os.path.join(tmp, "in"), "w+") as fin, \
+                open(os.path.join(tmp, "out"), "w+") as fout, \
+                open(os.path.join(tmp, "err"), "w+") as ferr:
+            fin.write(input or "")
             fin.seek(0)
-        proc = subprocess.Popen(cmd, stdin=fin, stdout=fout, stderr=ferr, **kwargs)
-        _, status, usage = os.wait4(proc.pid, 0)
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        fout.seek(0)
-        ferr.seek(0)
-        return (usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0, proc.returncode,
-                fout.read(), ferr.read())
+            subprocess.run([sys.executable, "-c", LAUNCH, usage] + list(cmd), stdin=fin,
+                           stdout=fout, stderr=ferr, check=True, **kwargs)
+            fout.seek(0)
+            ferr.seek(0)
+            with open(usage) as f:
+                cpu, rss, code = ast.literal_eval(f.read())
+            return cpu, rss / 1024.0, code, fout.read(), ferr.read()
 
 
 def warm_fontforge():
