@@ -4,8 +4,10 @@ The comparison reports (``bench/stroke.py``, ``bench/brush_fontforge.py``) measu
 morph against an independent Clipper reference and against FontForge.  Neither
 changes when morph changes, and they take most of a report's time (FontForge's
 outlines are also judged against the reference, glyph by glyph), so they are
-kept here and a remade report measures only morph again.  morph's own output is
-never cached.
+kept here: the references, FontForge's outlines, points, "Internal Error" counts
+and judged errors.  What depends on the machine's state is never cached: morph's
+output and times, and FontForge's times, which the reports measure in every run,
+in rounds interleaved with morph's (:mod:`bench.paired`).
 
 Entries are pickles in the bench cache (``MORPH_BENCH_CACHE``, default
 ``bench/cache/``, git-ignored; :func:`bench.skeletons.cache_dir`) under
@@ -191,9 +193,9 @@ def cached(kind, key, compute, peer):
 
 def check(folder):
     """Check that the cache misses when its input changes, in a fresh cache under
-    ``folder``: two glyphs' references and FontForge's results are made, then read
-    back from the cache; a glyph with one point moved by 1 unit, another tolerance and
-    another nib are made again.  [(what, passed)]."""
+    ``folder``: two glyphs' references and FontForge's outlines are made, then read
+    back; a glyph moved by 1 unit, another tol and another nib are made again; FontForge's
+    times are measured in rounds, never read back.  [(what, passed)]."""
     from bench import stroke as bs
     from bench.skeletons import write_ufo
     from morph.parse.ufo import load_ufo
@@ -247,21 +249,46 @@ def check(folder):
     finally:
         bs.stroke_polygon = real
     if fontforge_version() is None:
-        out.append(("FontForge: not installed, its cache not checked", True))
-        return out
-    judge = bs._plain_judge(refs, keys)
-    rows, why = bs.run_fontforge(one, ["a", "b"], spec, [1.0], refs, judge)
-    out.append(("FontForge: measured the first time", not why
+        return out + [("FontForge: not installed, its cache not checked", True)]
+    return out + _check_fontforge(bs, folder, spec, (one, refs, keys), (two, refs3, keys3))
+
+
+def _check_fontforge(bs, folder, spec, one, two):
+    """:func:`check`'s part on FontForge: its outlines and errors cached, missed for an
+    edited set, never its times, which rounds measure in the run.  ``one``, ``two``:
+    (font, references, their keys) of the set and of the set with a point moved."""
+    from bench.paired import ratio
+
+    out = [("paired ratio: the median of the per-round ratios, none for unpaired lists",
+            ratio([2.0, 4.0, 9.0], [1.0, 4.0, 3.0]) == 2.0
+            and ratio([2.0, 4.0], [1.0]) is None and ratio([], []) is None)]
+    judge = bs._plain_judge(*one[1:])
+    rows, why = bs.run_fontforge(one[0], ["a", "b"], spec, [1.0], one[1], judge)
+    out.append(("FontForge: outlines made the first time", not why
                 and rows[0]["measured"].endswith("(all now)")))
-    again, _ = bs.run_fontforge(one, ["a", "b"], spec, [1.0], refs, judge)
-    out.append(("FontForge: read back the second time, the same times and errors",
-                again[0]["measured"].endswith("(all from the cache)")
-                and again[0]["errs"] == rows[0]["errs"] and again[0]["ms"] == rows[0]["ms"]))
-    new, _ = bs.run_fontforge(two, ["a", "b"], spec, [1.0], refs3,
-                              bs._plain_judge(refs3, keys3))
+    again, _ = bs.run_fontforge(one[0], ["a", "b"], spec, [1.0], one[1], judge)
+    entry = get("fontforge-stroke", again[0]["outline_key"])["value"]
+    out.append(("FontForge: read back the second time, the same outlines and errors; no "
+                "time in the cache", again[0]["measured"].endswith("(all from the cache)")
+                and again[0]["errs"] == rows[0]["errs"]
+                and again[0]["points"] == rows[0]["points"] and "process_cpu" not in entry
+                and not any("seconds" in g for g in entry["results"].values())))
+    new, _ = bs.run_fontforge(two[0], ["a", "b"], spec, [1.0], two[1],
+                              bs._plain_judge(*two[1:]))
     out.append(("FontForge: the set with a point moved measured again, its outline "
                 "following the edit", new[0]["measured"].endswith("(all now)")
                 and new[0]["errs"][1] <= 1.25))
+    rounds = bs.FontForgeRounds(bs.fontforge_jobs(one[0], ["a", "b"], spec, [1.0]),
+                                ["a", "b"], Path(folder) / "one.ufo", spec, folder)
+    rounds()
+    rounds()
+    rounds.fill(again)
+    r = again[0]
+    out.append(("FontForge: times measured in the run, a round each: in process, worker, "
+                "whole workflow", r["rounds"] == 2 and all(
+                    len(r[k]) == 2 and min(r[k]) > 0
+                    for k in ("ms_runs", "process_runs", "workflow_runs"))
+                and r["workflow"]["glyphs"] == 2 and r["process_ms"] > r["ms"]))
     return out
 
 

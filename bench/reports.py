@@ -83,12 +83,12 @@ REPORTS = [
            cost="5-10 min", snapshot=True, needs=("pathops", "kurbopy", "mapbox_earcut")),
     Report("stroke", "bench.stroke", ["--md", "{md}"],
            quick=["--glyphs", "A-C", "--no-peers", "--md", "{md}"],
-           cost="3 min of CPU with the peer cache, 6 without",
+           cost="3.5 min of CPU with the peer cache, 6 without",
            snapshot=True, needs=("shapely", "pathops")),
     Report("stroke_sets", "bench.stroke", ["--only-sets", "--sets-md", "{md}"],
            quick=["--only-sets", "--sets", "hershey-sans", "--ff-accuracy-sets", "1",
                   "--sets-md", "{md}"],
-           cost="11 min of CPU with the peer cache, 14 without, skeleton sets fetched "
+           cost="12 min of CPU with the peer cache, 15 without, skeleton sets fetched "
                 "with npm", snapshot=True, needs=("shapely",)),
     Report("stroke_profile", "bench.stroke_profile", ["--md", "{md}"],
            quick=["--runs", "stroke:hershey-sans", "--repeat", "1", "--md", "{md}"],

@@ -22,7 +22,8 @@ Part 2, peers (``--no-peers`` skips it), at equal measured error, on the same gl
 (each morph row also timed as the whole ``morph stroke`` command at its tol and nib,
 each FontForge row as its whole worker process and as its whole workflow,
 ``bench/fontforge_font.py``: a FontForge script opening the skeleton UFO, stroking the
-same glyphs and generating a CFF font, the median of ``--morph-repeat`` runs):
+same glyphs and generating a CFF font; every time the median of ``--morph-repeat``
+rounds, morph's and FontForge's interleaved, see below):
 
 - broad nib (the ellipse above): morph (``stroke_many`` + certified cubic export
   ``loops_to_beziers``, several tolerances, run as ``morph stroke`` runs them: see
@@ -48,17 +49,25 @@ reference (gaps narrower than the engine's documented narrow-feature limit excus
 alike for every tool, :func:`excused_error`; the raw error beside it), and
 FontForge's Expand Stroke (``--ff-accuracy-sets``) beside it: in process (mean and
 median per glyph), its whole worker process and its whole workflow
-(``bench/fontforge_font.py``, :func:`fontforge_workflow`: ``fontforge.open`` of the
+(``bench/fontforge_font.py``, :class:`FontForgeRounds`: ``fontforge.open`` of the
 set's UFO, the same ``glyph.stroke`` on every glyph, ``font.generate`` of a CFF font
 with no hints, as morph writes none, and integer coordinates; the median of
 ``--morph-repeat`` runs, as the command's).  ``bench/stroke_exact.py`` checks a
 written font again with the exact membership predicate, without Clipper.
 
-The Clipper references and FontForge's results (outlines, CPU times, and their errors
-against the references) do not depend on morph's code: they are kept in the bench
-cache (:mod:`bench.peer_cache`) keyed by the skeletons' numbers, the nib, the
-tolerance and the peer's version, so that a remade report measures only morph again;
-the reports say when, at which commit and with which FontForge each was measured.
+morph and FontForge are timed in the same run, interleaved (:mod:`bench.paired`): in
+``--morph-repeat`` rounds, each morph's in-process pass over all its settings, its
+whole command (at every tolerance on Relief, at the set's tolerance on a set), then
+FontForge's worker and its whole workflow at every accuracy
+(:class:`FontForgeRounds`); each time is the median of its rounds, and the tables
+give the median of the per-round ratios morph / FontForge, which the shared
+machine's drift (20-40 % between hours) hits alike on both sides.  The Clipper
+references and FontForge's outlines, points, "Internal Error" counts and their
+errors against the references depend neither on morph's code nor on the machine's
+load: they are kept in the bench cache (:mod:`bench.peer_cache`) keyed by the
+skeletons' numbers, the nib, the tolerance and the peer's version, so that a remade
+report judges only morph's outlines again; the reports say when, at which commit and
+with which FontForge each was measured, and that the times are measured in the run.
 Distances are GEOS's point-to-segment distances through an STRtree
 (:func:`linework_distances`, the same numbers as ``shapely.distance``).
 
@@ -119,6 +128,8 @@ ROUNDING = 0.71
 BROAD = ("ellipse", 90.0, 20.0, 30.0)
 ROUND = ("disk", 60.0)
 SYSTEM_PYTHON = "/usr/bin/python3"
+WORKER = ROOT / "bench" / "fontforge_stroke.py"
+WORKFLOW = ROOT / "bench" / "fontforge_font.py"
 MEASURE_FLAT = 0.02
 SPACING = 0.25
 
@@ -242,7 +253,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 
 # =========================================================================== part 2
 
-def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
+def run_morph(font, names, spec, tols, refs, judge=None, repeat=3, between=None):
     """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
     one process): the glyphs in the command's chunks of at most ``CHUNK`` (96; two
     chunks from 96 glyphs on, one below), the glyphs of a chunk stroked together
@@ -251,7 +262,10 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
     wrap=True)`` call and split back per glyph.  Every chunk at every tolerance is
     computed ``repeat`` times, in passes over all of them (:func:`_timed_passes`): per
     glyph, the median of its chunk's stroke and of its export CPU times, divided by
-    the chunk's glyphs, and their sum (the ms compared with the peers).
+    the chunk's glyphs, and their sum (the ms compared with the peers); ``pass_ms``:
+    each pass's stroke + export ms per glyph, for the ratios to a peer timed in the
+    same rounds.  ``between(i)``, when given, runs after pass ``i`` (the peer's timing
+    runs of round ``i``, :mod:`bench.paired`).
     ``judge(contours, name, tol) -> (error, raw error)`` measures a glyph (default:
     :func:`measure` against ``refs``, both the same)."""
     from morph.fonts.brush import glyph_chunks
@@ -260,16 +274,18 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
     judge = judge or _plain_judge(refs)
     chunks = [(c, [decomposed_paths(font, n) for n in c])
               for c in glyph_chunks(list(names), CHUNK)]
-    timed = _timed_passes(chunks, nib_region(spec), tols, repeat)
+    timed = _timed_passes(chunks, nib_region(spec), tols, repeat, between)
     rows = []
     for tol in tols:
         stroke_s, export_s, points, errs, fails = [], [], [], [], []
+        passes = np.zeros(max(1, repeat))
         for chunk, _ in chunks:
             got = timed[tol, chunk[0]]
             if isinstance(got, dict):
                 fails.append(got)
                 continue
-            regions, converted, secs, share = got
+            regions, converted, secs, share, each = got
+            passes += each
             it = iter(converted)
             for n, region in zip(chunk, regions):
                 contours = [next(it) for _ in region]
@@ -283,22 +299,24 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3):
         row["export_ms"] = 1000 * float(np.mean(export_s)) if export_s else float("nan")
         row["tracebacks"] = [f["long"] for f in fails]
         row["repeat"] = repeat
+        row["pass_ms"] = (1000 * passes / len(stroke_s)).tolist() if stroke_s else []
         rows.append(row)
     return rows
 
 
-def _timed_passes(chunks, nib, tols, repeat):
+def _timed_passes(chunks, nib, tols, repeat, between=None):
     """{(tol, first glyph of the chunk): (regions, converted loops, stroke CPU s,
-    export CPU s)} of every chunk ``(names, skeleton paths)`` at every tolerance, or
-    the :func:`_failure` of its first failed pass.  ``repeat`` passes, each over every
-    tolerance and chunk in turn (:func:`_timed_chunk`), each time the median of the
-    passes: a busy spell of a loaded machine then falls on one pass of every setting,
-    not on all the passes of one (a single pass of 62 glyphs scattered by half); the
-    results of the first pass (the passes compute the same)."""
+    export CPU s, each pass's stroke + export CPU s)} of every chunk ``(names,
+    skeleton paths)`` at every tolerance, or the :func:`_failure` of its first failed
+    pass.  ``repeat`` passes, each over every tolerance and chunk in turn
+    (:func:`_timed_chunk`), each time the median of the passes: a busy spell of a
+    loaded machine then falls on one pass of every setting, not on all the passes of
+    one (a single pass of 62 glyphs scattered by half); the results of the first pass
+    (the passes compute the same).  ``between(i)`` runs after pass ``i``."""
     from morph.budget import plan
 
     times = {}
-    for _ in range(max(1, repeat)):
+    for i in range(max(1, repeat)):
         for tol in tols:
             geometry, export = plan(tol)[:2]
             for chunk, sets in chunks:
@@ -312,8 +330,11 @@ def _timed_passes(chunks, nib, tols, repeat):
                 first = times.setdefault(key, [got[:2], [], []])
                 first[1].append(got[2])
                 first[2].append(got[3])
+        if between is not None:
+            between(i)
     return {k: v if isinstance(v, dict) else v[0] + (float(np.median(v[1])),
-                                                      float(np.median(v[2])))
+                                                      float(np.median(v[2])),
+                                                      np.add(v[1], v[2]))
             for k, v in times.items()}
 
 
@@ -363,73 +384,49 @@ def _failure(stage, name, tol, exc, tb):
             "long": "%s at tol %g:\n\n```\n%s```" % (what, tol, tb)}
 
 
+def fontforge_jobs(font, names, spec, accuracies):
+    """The jobs of ``bench/fontforge_stroke.py``: the skeletons of ``names`` (their
+    segments' numbers) stroked with the nib ``spec`` at each of ``accuracies``."""
+    glyphs = {n: [[[pc.cartesian(p).tolist() for p in pieces], closed]
+                  for pieces, closed in decomposed_paths(font, n)] for n in names}
+    nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
+           else ["circular", spec[1]])
+    return [{"nib": nib, "accuracy": acc, "glyphs": glyphs} for acc in accuracies]
+
+
 def run_fontforge(font, names, spec, accuracies, refs, judge=None):
-    """FontForge's rows (``bench/fontforge_stroke.py``), a glyph measured by
-    ``judge`` as in :func:`run_morph` (its tol argument: the setting's accuracy).
+    """FontForge's rows (``bench/fontforge_stroke.py``) without their times (a
+    :class:`FontForgeRounds` timed in the same run as morph adds them), a glyph
+    measured by ``judge`` as in :func:`run_morph` (its tol argument: the setting's
+    accuracy).
 
-    FontForge's results of a whole set at one accuracy (outlines, each glyph's CPU
-    time of ``glyph.stroke``, and the worker process's own CPU time: Python's
-    startup, ``import fontforge``, drawing, stroking, writing the JSON) come from
-    the bench cache (:mod:`bench.peer_cache`) when measured before on the same
-    skeletons (their numbers, not their names), nib, accuracy, FontForge version and
-    worker script; so do the errors ``judge`` gave them, when the judge has a
-    ``key`` (its parameters, references and source).  Each row says when, at which
-    commit and with which FontForge it was measured (``row["measured"]``)."""
-    import resource
-
+    FontForge's outlines of a whole set at one accuracy, their points and its
+    "Internal Error" count come from the bench cache (:func:`_fontforge_outlines`)
+    when made before from the same skeletons (their numbers, not their names), nib,
+    accuracy, FontForge version and worker script; so do the errors ``judge`` gave
+    them, when the judge has a ``key`` (its parameters, references and source).
+    Each row says when, at which commit and with which FontForge its outlines were
+    made (``row["measured"]``)."""
     from bench import peer_cache
 
     judge = judge or _plain_judge(refs)
     version = peer_cache.fontforge_version()
     if version is None:
         return [], "no fontforge module in %s" % SYSTEM_PYTHON
-    glyphs = {}
-    for n in names:
-        glyphs[n] = [[[pc.cartesian(p).tolist() for p in pieces], closed]
-                     for pieces, closed in decomposed_paths(font, n)]
-    nib = (["elliptical", spec[1], spec[2], spec[3]] if spec[0] == "ellipse"
-           else ["circular", spec[1]])
-    worker = peer_cache.file_digest("bench/fontforge_stroke.py")
     rows = []
-    for acc in accuracies:
-        job = {"nib": nib, "accuracy": acc, "glyphs": glyphs}
-        key = peer_cache.digest("fontforge-stroke", job, version, worker)
-        hit = peer_cache.get("fontforge-stroke", key)
-        fresh = hit is None
-        if fresh:
-            prov = peer_cache.provenance(version)
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_stroke.py")],
-                                  input=json.dumps(job), capture_output=True, text=True)
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            if proc.returncode != 0:
-                return rows, "FontForge failed: %s" % proc.stderr.strip().splitlines()[-1:]
-            hit = peer_cache.put("fontforge-stroke", key, {"value": {
-                "results": json.loads(proc.stdout),
-                "process_cpu": (after.ru_utime - before.ru_utime)
-                + (after.ru_stime - before.ru_stime),
-                "internal_errors": proc.stderr.count("Internal Error")}, "provenance": prov})
+    for job in fontforge_jobs(font, names, spec, accuracies):
+        try:
+            hit, key, fresh = _fontforge_outlines(job, version)
+        except RuntimeError as exc:
+            return rows, str(exc)
         res = hit["value"]["results"]
-        judged = None
-        jkey = getattr(judge, "key", None)
-        if jkey is not None:
-            jkey = peer_cache.digest("fontforge-judged", key, jkey)
-            judged = (peer_cache.get("fontforge-judged", jkey) or {}).get("value")
-        if judged is None:
-            judged = {n: tuple(judge(res[n]["contours"], n, acc)) for n in names}
-            if jkey is not None:
-                peer_cache.put("fontforge-judged", jkey,
-                               {"value": judged, "provenance": peer_cache.provenance(version)})
-        secs, points, errs = [], [], []
-        for n in names:
-            r = res[n]
-            secs.append(r["seconds"])
-            points.append(r["points"])
-            errs.append((n,) + tuple(judged[n]))
-        row = summary("FontForge", "accuracy %g" % acc, secs, points, errs, [])
-        row["process_ms"] = 1000 * hit["value"]["process_cpu"] / len(names)
+        judged = _fontforge_judged(res, names, judge, key, job["accuracy"], version)
+        row = summary("FontForge", "accuracy %g" % job["accuracy"], [],
+                      [res[n]["points"] for n in names],
+                      [(n,) + tuple(judged[n]) for n in names], [])
         row["internal_errors"] = hit["value"]["internal_errors"]
         row["measured"] = peer_cache.measured_note([hit["provenance"]], int(fresh))
+        row["outline_key"] = key
         if row["worst_glyph"] and "bbox" in res[row["worst_glyph"]]:
             # FontForge's own box of its worst glyph beside the reference's: a stray
             # curve far outside the glyph is in FontForge's outline, not in the measure
@@ -439,63 +436,121 @@ def run_fontforge(font, names, spec, accuracies, refs, judge=None):
     return rows, ""
 
 
-def fontforge_workflow(ufo, spec, accuracy, glyphs=(), repeat=3):
-    """FontForge's whole workflow (``bench/fontforge_font.py``: open the skeleton UFO,
-    stroke every glyph, or those of ``glyphs``, generate a CFF font) as a whole process:
-    {"cpu": the median of ``repeat`` runs' CPU s (the kernel's user + sys of the child),
-    "cpus", "steps" (the script's own CPU s of its steps, in the median run), "glyphs"
-    (stroked), "font_glyphs" (the written font's glyphs with an outline, read back by
-    fontTools), "internal_errors", "measured"}, or None without FontForge.  Kept in
-    the bench cache (:mod:`bench.peer_cache`) keyed by the UFO's bytes, the nib, the
-    accuracy, the glyphs, FontForge's version and the script."""
+def _fontforge_outlines(job, version):
+    """(cache entry, key, made now) of FontForge's outlines of ``job``: the entry's
+    value holds {"results": {glyph: {"points", "contours", "bbox"}}, "internal_errors"},
+    from the bench cache (:mod:`bench.peer_cache`) or one untimed run of the worker,
+    stored without its times (FontForge's times are measured in every run, interleaved
+    with morph's: :class:`FontForgeRounds`).  Raises RuntimeError when FontForge
+    fails."""
+    from bench import peer_cache
+    from bench.paired import child_run
+
+    key = peer_cache.digest("fontforge-stroke", job, version,
+                            peer_cache.file_digest("bench/fontforge_stroke.py"))
+    hit = peer_cache.get("fontforge-stroke", key)
+    if hit is not None:
+        return hit, key, False
+    prov = peer_cache.provenance(version)
+    _, _, code, out, err = child_run([SYSTEM_PYTHON, str(WORKER)], json.dumps(job))
+    if code != 0:
+        raise RuntimeError("FontForge failed: %s" % err.strip().splitlines()[-1:])
+    results = {n: {k: v for k, v in g.items() if k != "seconds"}
+               for n, g in json.loads(out).items()}
+    return peer_cache.put("fontforge-stroke", key, {"value": {
+        "results": results, "internal_errors": err.count("Internal Error")},
+        "provenance": prov}), key, True
+
+
+def _fontforge_judged(res, names, judge, key, acc, version):
+    """{glyph: (error, raw error)} of FontForge's outlines ``res`` (of the cache entry
+    ``key``) by ``judge``, from the bench cache when the judge has a ``key``."""
     from bench import peer_cache
 
-    version = peer_cache.fontforge_version()
-    if version is None:
-        return None
-    ufo = Path(ufo)
-    files = sorted(f for f in ufo.rglob("*") if f.is_file())
-    nib = ",".join("%r" % float(v) for v in spec[1:4])  # as bench/fontforge_stroke.py's
-    key = peer_cache.digest("fontforge-font", [(str(f.relative_to(ufo)), f.read_bytes())
-                                               for f in files], nib, accuracy, list(glyphs),
-                            repeat, version, peer_cache.file_digest("bench/fontforge_font.py"))
-    args = [str(ufo), "", "--nib", nib, "--accuracy", repr(float(accuracy))]
-    args += ["--glyphs", ",".join(glyphs)] if glyphs else []
-    value, prov, fresh = peer_cache.cached("fontforge-font", key,
-                                           lambda: _workflow_runs(args, repeat), version)
-    return dict(value, measured=peer_cache.measured_note([prov], int(fresh)))
+    jkey = getattr(judge, "key", None)
+    if jkey is not None:
+        jkey = peer_cache.digest("fontforge-judged", key, jkey)
+        judged = (peer_cache.get("fontforge-judged", jkey) or {}).get("value")
+        if judged is not None:
+            return judged
+    judged = {n: tuple(judge(res[n]["contours"], n, acc)) for n in names}
+    if jkey is not None:
+        peer_cache.put("fontforge-judged", jkey,
+                       {"value": judged, "provenance": peer_cache.provenance(version)})
+    return judged
 
 
-def _workflow_runs(args, repeat):
-    """:func:`fontforge_workflow`'s runs of ``bench/fontforge_font.py ARGS`` (the output
-    path, ``args[1]``, in a temporary folder) and the written font read back."""
-    import resource
+class FontForgeRounds:
+    """FontForge's times, measured in rounds interleaved with morph's (:mod:`bench.paired`):
+    each call is one round that times, at every accuracy, the worker
+    ``bench/fontforge_stroke.py`` once (``glyph.stroke``'s CPU time per glyph, mean
+    and median, and the worker's whole process) and FontForge's whole workflow
+    ``bench/fontforge_font.py`` once (open the skeleton UFO ``ufo``, stroke every
+    glyph, or those of ``glyphs`` and their bases, generate a CFF font in
+    ``workdir``: the kernel's user + sys CPU of the process); the first round's
+    workflow also gives its glyphs stroked, the written font's glyphs with an outline
+    (read back by fontTools) and its "Internal Error" count.  :meth:`fill` puts the
+    medians (ms per glyph) and each round's figures into FontForge's rows."""
 
+    def __init__(self, jobs, names, ufo, spec, workdir, glyphs=()):
+        from bench.paired import warm_fontforge
+
+        self.jobs, self.names = jobs, list(names)
+        self.runs = [{"ms": [], "median": [], "process": [], "workflow": []} for _ in jobs]
+        self.facts = [None] * len(jobs)
+        nib = ",".join("%r" % float(v) for v in spec[1:4])  # as fontforge_stroke.py's
+        self.args = [[str(ufo), str(Path(workdir) / "fontforge.otf"), "--nib", nib,
+                      "--accuracy", repr(float(j["accuracy"]))]
+                     + (["--glyphs", ",".join(glyphs)] if glyphs else []) for j in jobs]
+        if jobs:
+            warm_fontforge()
+
+    def __call__(self, _round=None):
+        from bench.paired import child_run, worker_times
+
+        n = len(self.names)
+        for job, runs in zip(self.jobs, self.runs):
+            t = worker_times(WORKER, job, self.names)
+            runs["ms"].append(1000 * t["mean"])
+            runs["median"].append(1000 * t["median"])
+            runs["process"].append(1000 * t["process"] / n)
+        for k, (args, runs) in enumerate(zip(self.args, self.runs)):
+            cpu, _, code, out, err = child_run([SYSTEM_PYTHON, str(WORKFLOW)] + args)
+            if code != 0:
+                raise RuntimeError("bench/fontforge_font.py failed: %s" % err[-2000:])
+            runs["workflow"].append(1000 * cpu / n)
+            if self.facts[k] is None:
+                self.facts[k] = {"glyphs": json.loads(out.strip().splitlines()[-1])["glyphs"],
+                                 "font_glyphs": _inked_glyphs(args[1]),
+                                 "internal_errors": err.count("Internal Error")}
+
+    def fill(self, rows):
+        """Put the times into FontForge's ``rows`` (those of the jobs, in order):
+        ``ms``, ``median_ms``, ``process_ms``, ``workflow_ms`` (medians over the
+        rounds) and ``ms_runs``, ``process_runs``, ``workflow_runs`` (each round's, for
+        :func:`bench.paired.ratio`), ``workflow`` (the first round's facts)."""
+        from bench.paired import median
+
+        for r, runs, facts in zip(rows, self.runs, self.facts):
+            r.update(ms=median(runs["ms"]), median_ms=median(runs["median"]),
+                     process_ms=median(runs["process"]),
+                     workflow_ms=median(runs["workflow"]), ms_runs=runs["ms"],
+                     process_runs=runs["process"], workflow_runs=runs["workflow"],
+                     workflow=facts, rounds=len(runs["ms"]))
+
+
+def _inked_glyphs(path):
+    """The glyphs with an outline of the font at ``path``, read back by fontTools."""
     from fontTools.pens.boundsPen import ControlBoundsPen
     from fontTools.ttLib import TTFont
 
-    runs = []
-    with tempfile.TemporaryDirectory() as tmp:
-        args[1] = str(Path(tmp) / "out.otf")
-        for _ in range(repeat):
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            proc = subprocess.run([SYSTEM_PYTHON, str(ROOT / "bench" / "fontforge_font.py")]
-                                  + args, capture_output=True, text=True)
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            if proc.returncode != 0:
-                raise RuntimeError("bench/fontforge_font.py failed: %s" % proc.stderr[-2000:])
-            runs.append(((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
-                         json.loads(proc.stdout.strip().splitlines()[-1]), proc.stderr))
-        glyph_set = TTFont(args[1]).getGlyphSet()
-        inked = 0
-        for name in glyph_set.keys():
-            pen = ControlBoundsPen(glyph_set)
-            glyph_set[name].draw(pen)
-            inked += pen.bounds is not None
-    cpu, out, err = sorted(runs, key=lambda r: r[0])[len(runs) // 2]
-    return {"cpu": cpu, "cpus": [r[0] for r in runs], "steps": out["steps"],
-            "glyphs": out["glyphs"], "font_glyphs": inked,
-            "internal_errors": err.count("Internal Error")}
+    glyph_set = TTFont(path).getGlyphSet()
+    inked = 0
+    for name in glyph_set.keys():
+        pen = ControlBoundsPen(glyph_set)
+        glyph_set[name].draw(pen)
+        inked += pen.bounds is not None
+    return inked
 
 
 def references(font, names, spec, ref_tol):
@@ -636,38 +691,36 @@ def equal_error_md(rows):
 SETS = ("hershey-sans", "hershey-script", "hanzi-300")
 
 
-def _time_command(ufo, out_path, first_glyph, extra=(), repeat=1):
-    """(CPU seconds, peak RSS MB, last line) of ``morph stroke UFO -o OUT --jobs 1
-    [extra]`` in a fresh process (its own user + sys time, from the kernel's child
-    accounting; the median of ``repeat`` runs), with its bytecode cached as after a pip
-    install (:mod:`bench.pycache`: an untimed run of ``first_glyph`` alone fills the
-    cache)."""
-    import resource
-
+def _command_runner(ufo, out_path, first_glyph, extra=(), env=None):
+    """A function running ``morph stroke UFO -o OUT --jobs 1 [extra]`` once in a fresh
+    process: (CPU seconds, peak RSS MB, last line, exit status), its own user + sys
+    time and peak resident set (:func:`bench.paired.child_run`).  Its bytecode is
+    cached as after a pip install (:mod:`bench.pycache`): an untimed run of
+    ``first_glyph`` alone fills the cache first, unless the environment ``env`` of
+    another runner, whose cache is filled, is given."""
+    from bench.paired import child_run
     from bench.pycache import cached_env
 
-    env = cached_env("stroke-pycache-", OPENBLAS_NUM_THREADS="1")
     command = [sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o", str(out_path),
                "--jobs", "1", "--force"]
     extra = list(extra)
-    warm = []   # extra without its --glyphs choice: the warm-up strokes first_glyph
-    for k, a in enumerate(extra):
-        if a != "--glyphs" and (k == 0 or extra[k - 1] != "--glyphs"):
-            warm.append(a)
-    subprocess.run(command + warm + ["--glyphs", first_glyph], capture_output=True,
-                   cwd=str(Path(out_path).parent), env=env)
-    command += extra
-    cpus = []
-    for _ in range(repeat):
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        proc = subprocess.run(command, capture_output=True, text=True,
-                              cwd=str(Path(out_path).parent), env=env)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpus.append((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
-    cpu = float(np.median(cpus))
-    # the command's own last line ("wrote ..."), not its progress line on stderr
-    lines = (proc.stdout.strip() or proc.stderr.strip()).splitlines()
-    return cpu, after.ru_maxrss / 1024.0, lines[-1] if lines else "", proc.returncode
+    if env is None:
+        env = cached_env("stroke-pycache-", OPENBLAS_NUM_THREADS="1")
+        warm = []   # extra without its --glyphs choice: the warm-up strokes first_glyph
+        for k, a in enumerate(extra):
+            if a != "--glyphs" and (k == 0 or extra[k - 1] != "--glyphs"):
+                warm.append(a)
+        child_run(command + warm + ["--glyphs", first_glyph],
+                  cwd=str(Path(out_path).parent), env=env)
+
+    def run():
+        cpu, rss, code, out, err = child_run(command + extra, cwd=str(Path(out_path).parent),
+                                             env=env)
+        # the command's own last line ("wrote ..."), not its progress line on stderr
+        lines = (out.strip() or err.strip()).splitlines()
+        return cpu, rss, lines[-1] if lines else "", code
+    run.env = env
+    return run
 
 
 def excused_error(got, ref, tol, r):
@@ -727,7 +780,11 @@ def _written_errors(out_path, names, refs, shift, tol):
 
 
 def skeleton_set(name, opt, workdir):
-    """The rows of one skeleton set of :mod:`bench.skeletons` (see the module doc)."""
+    """The rows of one skeleton set of :mod:`bench.skeletons` (see the module doc).
+    FontForge's outlines and errors come from the bench cache when made before; the
+    times are measured now, in ``--morph-repeat`` rounds (:mod:`bench.paired`): morph's
+    in-process pass, then its whole command, then FontForge's worker and its whole
+    workflow at every accuracy."""
     from bench.skeletons import skeleton_ufo
 
     ufo = skeleton_ufo(name)
@@ -737,7 +794,6 @@ def skeleton_set(name, opt, workdir):
     upm = float(font.info.unitsPerEm or 1000)
     k = upm / 1000.0
     spec = ("ellipse", BROAD[1] * k, BROAD[2] * k, BROAD[3])
-    nib = nib_region(spec)
     tol = opt.set_tol * upm
     t0 = time.process_time()
     refs, keys, ref_note = references(font, names, spec, opt.ref_tol)
@@ -746,40 +802,57 @@ def skeleton_set(name, opt, workdir):
           flush=True)
     out = {"name": name, "glyphs": len(names), "upm": upm, "tol": tol, "nib": spec,
            "rows": [], "reference_measured": ref_note}
-    # the command, as users run it
+    judge = _narrow_judge(refs, tol, keys)
+    accs = _floats(opt.ff_accuracy_sets)
+    ff, out["ff_note"] = run_fontforge(font, names, spec, accs, refs, judge)
+    rounds = FontForgeRounds(fontforge_jobs(font, names, spec, accs[:len(ff)]), names, ufo,
+                             spec, workdir)
     otf = Path(workdir) / (name + ".otf")
-    cpu, rss, line, rc = _time_command(ufo, otf, names[0], repeat=opt.morph_repeat)
-    x0 = region_extent(nib)[0]
+    command, runs = _command_runner(ufo, otf, names[0]), []
+
+    def between(_round):   # after each in-process pass: the command, then FontForge
+        runs.append(command())
+        rounds()
+
+    # in-process, as the command strokes chunks (a chunk's glyphs are computed
+    # together: its CPU time divided by its glyphs is each glyph's)
+    tols = [tol] + [f * tol for f in _floats(opt.set_tols_more)]
+    out["rows"] += run_morph(font, names, spec, tols, refs, judge, opt.morph_repeat, between)
+    for r, t in zip(out["rows"], tols):
+        r["tol"] = t    # the first: the command's tolerance, as the command ran
+    rounds.fill(ff)
+    out["rows"] += ff
+    _command_figures(out, runs, otf, names, refs, opt, workdir)
+    for r in out["rows"]:
+        print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
+              "%.3f" % (name, r["tool"], r["setting"], r["ms"], r["median_ms"],
+                        _ms(r.get("workflow_ms")), r["points"], r["max_err"]), flush=True)
+    return out
+
+
+def _command_figures(out, runs, otf, names, refs, opt, workdir):
+    """Put the whole command's figures into the set ``out``: its ``runs`` ((CPU s, peak
+    RSS MB, last line, exit status), one a round; ``command_cpu`` their median CPU s,
+    ``command_runs`` each round's ms per glyph) and the errors of the font it wrote to
+    ``otf`` (integer coordinates, read back) against the references ``refs``."""
+    from bench.paired import median
+
+    tol, cpu = out["tol"], median([r[0] for r in runs])
+    rss, line, rc = max(r[1] for r in runs), runs[-1][2], runs[-1][3]
+    x0 = region_extent(nib_region(out["nib"]))[0]
     written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
                        if rc in (0, 1) else ({}, []))
     line = line.replace(str(workdir) + os.sep, "")   # no machine path in the report
-    out.update(command_cpu=cpu, command_rss=rss, command_line=line, command_rc=rc,
+    out.update(command_cpu=cpu, command_runs=[1000 * r[0] / len(names) for r in runs],
+               command_rss=rss, command_line=line, command_rc=rc,
                written_worst=max(written.values()) if written else float("nan"),
                written_worst_glyph=max(written, key=written.get) if written else "",
                written_limit=tol + ROUNDING + opt.ref_tol,
                written_over=sum(e > tol + ROUNDING + opt.ref_tol for e in written.values()),
                written_narrow=narrow)
     print("%s: command %.1f s CPU (%.1f ms / glyph), %.0f MB; written worst %.3f"
-          % (name, cpu, 1000 * cpu / len(names), rss, out["written_worst"]), flush=True)
-    # in-process, as the command strokes chunks (a chunk's glyphs are computed
-    # together: its CPU time divided by its glyphs is each glyph's)
-    judge = _narrow_judge(refs, tol, keys)
-    tols = [tol] + [f * tol for f in _floats(opt.set_tols_more)]
-    out["rows"] += run_morph(font, names, spec, tols, refs, judge, opt.morph_repeat)
-    for r, t in zip(out["rows"], tols):
-        r["tol"] = t    # the first: the command's tolerance, as the command ran
-    accs = _floats(opt.ff_accuracy_sets)
-    ff, why = run_fontforge(font, names, spec, accs, refs, judge)
-    for r, acc in zip(ff, accs):   # FontForge opening the UFO, stroking, writing a font
-        r["workflow"] = fontforge_workflow(ufo, spec, acc, repeat=opt.morph_repeat)
-        r["workflow_ms"] = 1000 * r["workflow"]["cpu"] / len(names)
-    out["rows"] += ff
-    out["ff_note"] = why
-    for r in out["rows"]:
-        print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
-              "%.3f" % (name, r["tool"], r["setting"], r["ms"], r["median_ms"],
-                        _ms(r.get("workflow_ms")), r["points"], r["max_err"]), flush=True)
-    return out
+          % (out["name"], cpu, 1000 * cpu / len(names), rss, out["written_worst"]),
+          flush=True)
 
 
 def _floats(text):
@@ -865,7 +938,12 @@ def _sets_intro(opt, elapsed):
           "fontforge`, `fontforge.open(SET.ufo)`, the same `glyph.stroke` on every glyph, "
           "`font.generate(SET.otf, flags=(\"no-hints\", \"round\"))` with the autohinter "
           "off, as morph writes no hints and integer coordinates; no sample image nor "
-          "specimen; the median of %d runs).  Errors: "
+          "specimen; the median of %d runs).  morph and FontForge are timed in the same "
+          "run, interleaved: %d rounds, each morph's in-process pass, its command, then "
+          "FontForge's worker and its whole workflow at every accuracy, so that the shared "
+          "machine's drift (20-40 %% between hours) hits both alike; FontForge's times are "
+          "the medians of its %d runs, and **morph / FontForge** is the median of the "
+          "per-round ratios (below 1: morph faster).  Errors: "
           "two-sided boundary Hausdorff distance (font units) of the unrounded output "
           "against the independent Clipper reference (`tests/oracles/stroke_reference.py`, "
           "flattened within %g), sampled every %g unit, except, for every tool alike, the "
@@ -874,14 +952,14 @@ def _sets_intro(opt, elapsed):
           "close); *raw* measures those too (the tips of the thin wedges where two "
           "strokes nearly touch); *over* = glyphs whose error exceeds tol + %g.  Points: "
           "on- and off-curve points per glyph."
-          % (opt.morph_repeat, opt.morph_repeat, opt.morph_repeat, opt.ref_tol, SPACING, GAP,
-             opt.ref_tol), "",
-          "The Clipper references and FontForge's results (outlines, times, and their "
-          "errors) do not depend on morph's code: they come from the bench cache "
-          "(`bench/peer_cache.py`, keyed by the skeletons' numbers, the nib, the "
-          "tolerance and the peer's version) when measured before; each set says when, "
-          "at which commit and with which FontForge they were measured.  morph is "
-          "measured in every run."]
+          % ((opt.morph_repeat,) * 5 + (opt.ref_tol, SPACING, GAP, opt.ref_tol)), "",
+          "The Clipper references and FontForge's outlines, points, \"Internal Error\" "
+          "counts and errors do not depend on morph's code nor on the machine's load: "
+          "they come from the bench cache (`bench/peer_cache.py`, keyed by the "
+          "skeletons' numbers, the nib, the tolerance and the peer's version) when "
+          "measured before; each set says when, at which commit and with which FontForge "
+          "they were measured.  Every time, morph's and FontForge's, is measured in this "
+          "run."]
     return md
 
 
@@ -893,51 +971,83 @@ def _sets_summary(sets):
           "larger than FontForge's (at the command's tolerance where none is); whole "
           "command: `morph stroke` at its default tolerance against FontForge's worker "
           "process; whole workflow: FontForge opening the skeleton UFO, stroking and "
-          "generating the font.", "",
+          "generating the font.  Both timed in this run, interleaved; morph / FontForge: "
+          "the median of the per-round ratios (below 1: morph faster).", "",
           "| set | FontForge setting | morph setting | in process: morph | in process: "
-          "FontForge mean (median) | whole command: morph | whole command: FontForge "
-          "worker | whole workflow: FontForge | points: morph / FontForge | worst error: "
-          "morph / FontForge |",
-          "|---|---|---|---|---|---|---|---|---|---|"]
+          "FontForge mean (median) | in process: morph / FontForge | whole command: morph "
+          "| whole command: FontForge worker | whole command: morph / FontForge worker | "
+          "whole workflow: FontForge | whole workflow: morph / FontForge | points: morph / "
+          "FontForge | worst error: morph / FontForge |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for st in sets:
         first = next((r for r in st["rows"] if r["tool"] == "morph"), None)
         for r, m in equal_error(st["rows"]):
             m = m or first   # morph's fewest points at no larger error, else its default
             if m is None:
                 continue
-            md.append("| %s | %s | %s | %.1f | %.1f (%.1f) | %.1f | %s | %s | %.0f / %.0f | "
-                      "%.3f / %.3f |"
-                      % (st["name"], r["setting"], m["setting"], m["ms"], r["ms"],
-                         r["median_ms"], 1000 * st["command_cpu"] / st["glyphs"],
-                         _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), m["points"],
-                         r["points"], m["max_err"], r["max_err"]))
+            inproc, worker, workflow = _paired(m, r, st.get("command_runs"))
+            md.append("| %s | %s | %s | %.1f | %s (%s) | %s | %.1f | %s | %s | %s | %s | "
+                      "%.0f / %.0f | %.3f / %.3f |"
+                      % (st["name"], r["setting"], m["setting"], m["ms"], _ms(r["ms"]),
+                         _ms(r["median_ms"]), inproc, 1000 * st["command_cpu"] / st["glyphs"],
+                         _ms(r.get("process_ms")), worker, _ms(r.get("workflow_ms")),
+                         workflow, m["points"], r["points"], m["max_err"], r["max_err"]))
     return md
+
+
+def _paired(m, r, command_runs):
+    """The cells of the ratios morph / FontForge (:func:`bench.paired.ratio`: the
+    median of the per-round ratios) of the morph row ``m`` and FontForge's row ``r``:
+    in process, morph's whole command (``command_runs``, ms per glyph a round)
+    against FontForge's worker process, and against FontForge's whole workflow."""
+    from bench.paired import ratio_cell
+
+    return (ratio_cell(m.get("pass_ms"), r.get("ms_runs")),
+            ratio_cell(command_runs, r.get("process_runs")),
+            ratio_cell(command_runs, r.get("workflow_runs")))
+
+
+def _fontforge_measured(rows):
+    """The notes saying when FontForge's outlines (from the cache or now) and its times
+    (in this run) were measured, and its whole workflow's: [(setting, note, workflow's
+    note)], one a FontForge row."""
+    return [(r["setting"],
+             "outlines, points and errors %s, \"Internal Error\" printed %s; its times "
+             "measured in this run, %s" % (r["measured"], _times(r.get("internal_errors", 0)),
+                                           _rounds(r)),
+             "%s, %d glyphs stroked, %d with an outline (.notdef included) in the font read "
+             "back by fontTools, \"Internal Error\" printed %s"
+             % (r["workflow"].get("measured", "measured in this run"), r["workflow"]["glyphs"],
+                r["workflow"]["font_glyphs"], _times(r["workflow"]["internal_errors"]))
+             if r.get("workflow") else "not measured")
+            for r in rows if r["tool"] != "morph" and r.get("measured")]
+
+
+def _rounds(r):
+    """How a FontForge row's times were taken."""
+    return ("interleaved with morph's (%d rounds)" % r["rounds"] if r.get("rounds")
+            else "(not in rounds)")
 
 
 def _set_section(st, opt):
     """A skeleton set's heading, provenance and table of rows."""
     md = ["## %s (%d glyphs, upm %g, tol %.3g units)" % (st["name"], st["glyphs"],
                                                           st["upm"], st["tol"]), "",
-          "morph: %s." % st["measured"], ""]
+          "morph's outlines and the times of both tools: %s." % st["measured"], ""]
     if st.get("reference_measured"):
         md += ["Clipper reference: %s." % st["reference_measured"], ""]
-    ff = ["%s: %s, \"Internal Error\" printed %s"
-          % (r["setting"], r["measured"], _times(r.get("internal_errors", 0)))
-          for r in st["rows"] if r["tool"] != "morph" and r.get("measured")]
+    ff = _fontforge_measured(st["rows"])
     if ff:
-        md += ["FontForge %s." % "; ".join(ff), ""]
-    wf = ["%s: %s, %d glyphs stroked, %d with an outline (.notdef included) in the font "
-          "read back by fontTools, \"Internal Error\" printed %s"
-          % (r["setting"], r["workflow"]["measured"], r["workflow"]["glyphs"],
-             r["workflow"]["font_glyphs"], _times(r["workflow"]["internal_errors"]))
-          for r in st["rows"] if r.get("workflow")]
-    if wf:
-        md += ["FontForge's whole workflow (`bench/fontforge_font.py`) %s." % "; ".join(wf),
-               ""]
+        md += ["FontForge %s." % "; ".join("%s: %s" % (s, f) for s, f, _ in ff), "",
+               "FontForge's whole workflow (`bench/fontforge_font.py`) %s."
+               % "; ".join("%s: %s" % (s, w) for s, _, w in ff), ""]
     md += ["| tool | setting | in process: mean ms / glyph | in process: median ms / "
            "glyph | whole command ms / glyph | whole workflow ms / glyph | points / glyph | "
-           "worst error | mean error | over | raw worst | raw over |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "worst error | mean error | over | raw worst | raw over | morph / FontForge: in "
+           "process; command / worker; command / workflow |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    pairs = {id(r): m for r, m in equal_error(st["rows"])}
+    first = next((r for r in st["rows"] if r["tool"] == "morph"), None)
     for r in st["rows"]:
         t = r.get("tol", st["tol"])    # a morph row's own tolerance
         over = sum(e > t + opt.ref_tol for e in r["errs"])
@@ -951,13 +1061,15 @@ def _set_section(st, opt):
             whole = ("%.1f" % (1000 * st["command_cpu"] / st["glyphs"])
                      if t == st["tol"] else "")
             md.append("| morph | tol %.3g | %.1f | (chunks) | %s | %s | %.0f | %s | %.3f | %d %s"
-                      % (t, r["ms"], whole, whole, r["points"], worst, r["mean_err"], over,
-                         raw))
+                      "  |" % (t, r["ms"], whole, whole, r["points"], worst, r["mean_err"],
+                               over, raw))
         else:
-            md.append("| %s | %s | %.1f | %.1f | %s | %s | %.0f | %s | %.3f | %d %s"
-                      % (r["tool"], r["setting"], r["ms"], r["median_ms"],
+            m = pairs.get(id(r)) or first
+            md.append("| %s | %s | %s | %s | %s | %s | %.0f | %s | %.3f | %d %s %s |"
+                      % (r["tool"], r["setting"], _ms(r["ms"]), _ms(r["median_ms"]),
                          _ms(r.get("process_ms")), _ms(r.get("workflow_ms")), r["points"],
-                         worst, r["mean_err"], over, raw))
+                         worst, r["mean_err"], over, raw, "; ".join(
+                             _paired(m, r, st.get("command_runs")) if m else ())))
     return md + [""] + equal_error_md(st["rows"])
 
 
@@ -996,111 +1108,161 @@ def _set_notes(st, opt):
 # =========================================================================== report
 
 def markdown(opt, names, acc, peers, notes, elapsed):
-    md = ["# Calligraphic fonts from skeletons (bench/stroke.py)", "",
-          "Command: `python -m bench.stroke%s`; morph measured %s UTC at %s (%.0f s)."
-          % (opt.argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
-             elapsed), "",
-          "Skeleton: Relief SingleLine subset (tests/data/relief, SIL OFL), %d glyphs (%s), "
-          "upm 1000, every contour an open cubic path.  Machine: %d CPUs shared with other "
-          "jobs, load average %s at the end: every time is CPU time (process_time, or the "
-          "kernel's user + sys of a child process)." % (
-              len(names), opt.glyphs, os.cpu_count() or 1,
-              ", ".join("%.1f" % v for v in os.getloadavg())), "",
-          "Times, two kinds, each the same for morph and FontForge: **in process** = the "
-          "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
-          "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
-          "compare it with FontForge's mean; each chunk computed %d times in passes over "
-          "all the settings, the median of its passes' CPU times; FontForge: `glyph.stroke` glyph by glyph; "
-          "Skia: stroke + conic conversion + simplify); **whole command** = a whole "
-          "process divided by the glyphs (morph: `morph stroke Relief-SingleLine-subset.ufo "
-          "-o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, every composite that follows "
-          "included; FontForge: its worker process, Python's startup, `import fontforge`, "
-          "drawing, stroking and writing the outlines as JSON); **whole workflow** = the "
-          "job as a whole process (morph: its command; FontForge: `bench/fontforge_font.py`, "
-          "`fontforge.open` of the UFO, the same `glyph.stroke` on the same glyphs and the "
-          "bases of their components, `font.generate` of a CFF font, autohinter off, no hints, "
-          "coordinates rounded; the median of %d runs).  The Clipper references "
-          "and FontForge's results and errors come from the bench cache "
-          "(`bench/peer_cache.py`) when measured before on the same skeletons, nib, "
-          "tolerance and peer version; the notes at the end say when and at which commit "
-          "they were measured.  morph is measured in every run."
-          % (opt.morph_repeat, opt.glyphs, opt.morph_repeat), ""]
-    if acc:
-        md += ["## Accuracy of the written fonts", "",
-               "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
-               "units; written glyphs (integer coordinates) against the Clipper reference "
-               "(flattened within %g): criterion Hausdorff <= tol + 0.71 + %g = %.2f units, "
-               "same number of holes, hole areas within perimeter x bound."
-               % (opt.tol, opt.ref_tol, opt.ref_tol, opt.tol + ROUNDING + opt.ref_tol), "",
-               "| font | glyphs stroked | wall s | CPU s | stroke + export CPU / glyph | "
-               "points / glyph | "
-               "worst Hausdorff | mean | holes kept | failures | file bytes |",
-               "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for suffix, r in acc.items():
-            errs = [x["err"] for x in r["rows"]]
-            worst = max(r["rows"], key=lambda x: x["err"])
-            st = r["stats"]
-            md.append("| %s | %d | %.1f | %.1f | %.1f ms | %.0f | %.3f (%s) | %.3f | %d / %d | "
-                      "%d | %d |" % (suffix, st["glyphs"], r["wall"], r["cpu"],
-                                     1000 * st["stroke_seconds"] / max(1, st["glyphs"]),
-                                     st["points"] / max(1, st["glyphs"]), worst["err"],
-                                     worst["name"], float(np.mean(errs)),
-                                     sum(x["holes"] == x["ref_holes"] for x in r["rows"]),
-                                     len(r["rows"]), sum(x["fail"] for x in r["rows"]),
-                                     r["size"]))
-        md.append("")
-        fails = [(s, x) for s, r in acc.items() for x in r["rows"] if x["fail"]]
-        if fails:
-            md += ["Failures:", ""] + ["- %s %s: Hausdorff %.3f, holes %d (reference %d) %s"
-                                       % (s, x["name"], x["err"], x["holes"], x["ref_holes"],
-                                          x["fallback"]) for s, x in fails] + [""]
-        counters = [x for x in acc[".otf"]["rows"] if x["name"] in ("o", "e", "a", "eight")]
-        md += ["Counters: " + ", ".join("%s %d (reference %d)" % (x["name"], x["holes"],
-                                                               x["ref_holes"])
-                                        for x in counters) + ".", ""]
+    md = _relief_intro(opt, names, elapsed) + (_accuracy_md(opt, acc) if acc else [])
     tracebacks = []
     for title, rows in peers:
-        md += ["## %s" % title, "",
-               "| tool | setting | in process: mean ms / glyph | in process: median ms / "
-               "glyph | whole command ms / glyph | whole workflow ms / glyph | morph: "
-               "stroke + export ms | points / glyph | max Hausdorff | mean | failures |",
-               "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for r in rows:
-            split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
-                     if "stroke_ms" in r else "")
-            median = "(chunks)" if r["tool"] == "morph" else "%.1f" % r["median_ms"]
-            whole = _ms(r.get("command_ms", r.get("process_ms")))
-            md.append("| %s | %s | %.1f | %s | %s | %s | %s | %.0f | %.3f | %.3f | %s |"
-                      % (r["tool"], r["setting"], r["ms"], median, whole,
-                         _ms(r.get("command_ms", r.get("workflow_ms"))), split, r["points"],
-                         r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0"))
-            tracebacks += r.get("tracebacks", [])
-        md += [""] + equal_error_md(rows) + [""]
+        md += _peer_table(title, rows, opt) + [""] + equal_error_md(rows) + [""]
+        tracebacks += [t for r in rows for t in r.get("tracebacks", [])]
     if tracebacks:
         md += ["## morph failures", ""] + ["- " + t for t in tracebacks] + [""]
     if notes:
-        md += ["## When the cached figures were measured", ""] + ["- " + n for n in notes] + [""]
+        md += ["## When the peers' figures were measured", ""] + ["- " + n for n in notes] + [""]
     return "\n".join(md) + "\n"
 
 
-def _fontforge_notes(title, ff, spec, accs, names, opt):
-    """The notes on FontForge's rows ``ff`` of the Relief table ``title``, whose whole
-    workflow (:func:`fontforge_workflow`: the same glyphs as ``morph stroke --glyphs``)
-    this measures and adds to the rows (``workflow_ms``)."""
-    notes = []
-    for r, acc in zip(ff, accs):
-        wf = fontforge_workflow(SUBSET, spec, acc, names, repeat=opt.morph_repeat)
-        r["workflow_ms"] = 1000 * wf["cpu"] / len(names)
-        notes.append("FontForge, %s, %s: %s, \"Internal Error\" printed %s; its whole "
-                     "workflow (`bench/fontforge_font.py`): %s, %d glyphs stroked, %d with an "
-                     "outline in the font read back by fontTools."
-                     % (title.split(":")[0].lower(), r["setting"], r["measured"],
-                        _times(r["internal_errors"]), wf["measured"], wf["glyphs"],
-                        wf["font_glyphs"]))
-    return notes
+def _relief_intro(opt, names, elapsed):
+    """The report's title and its paragraphs on the skeleton and the times."""
+    return ["# Calligraphic fonts from skeletons (bench/stroke.py)", "",
+            "Command: `python -m bench.stroke%s`; morph measured %s UTC at %s (%.0f s)."
+            % (opt.argline, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), code_version(),
+               elapsed), "",
+            "Skeleton: Relief SingleLine subset (tests/data/relief, SIL OFL), %d glyphs (%s), "
+            "upm 1000, every contour an open cubic path.  Machine: %d CPUs shared with other "
+            "jobs, load average %s at the end: every time is CPU time (process_time, or the "
+            "kernel's user + sys of a child process)." % (
+                len(names), opt.glyphs, os.cpu_count() or 1,
+                ", ".join("%.1f" % v for v in os.getloadavg())), "",
+            "Times, two kinds, each the same for morph and FontForge: **in process** = the "
+            "computation alone (morph: `stroke_many` + `loops_to_beziers` by the command's "
+            "chunks, whose glyphs are computed together, so a mean per glyph and no median: "
+            "compare it with FontForge's mean; each chunk computed %d times in passes over "
+            "all the settings, the median of its passes' CPU times; FontForge: `glyph.stroke` "
+            "glyph by glyph; Skia: stroke + conic conversion + simplify); **whole command** = "
+            "a whole process divided by the glyphs (morph: `morph stroke "
+            "Relief-SingleLine-subset.ufo -o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, "
+            "every composite that follows included; FontForge: its worker process, Python's "
+            "startup, `import fontforge`, drawing, stroking and writing the outlines as "
+            "JSON); **whole workflow** = the job as a whole process (morph: its command; "
+            "FontForge: `bench/fontforge_font.py`, `fontforge.open` of the UFO, the same "
+            "`glyph.stroke` on the same glyphs and the bases of their components, "
+            "`font.generate` of a CFF font, autohinter off, no hints, coordinates rounded).  "
+            "morph and FontForge are timed in the same run, interleaved: %d rounds, each "
+            "morph's in-process pass over all its settings, its command at every tolerance, "
+            "then FontForge's worker and its whole workflow at every accuracy, so that the "
+            "shared machine's drift hits both alike; each time is the median of its %d "
+            "rounds, and **morph / FontForge** the median of the per-round ratios (below 1: "
+            "morph faster), morph at its fewest-points setting whose worst error is no "
+            "larger than FontForge's (at --tol where none is).  The Clipper references and "
+            "FontForge's outlines, points, \"Internal Error\" counts and errors come from "
+            "the bench cache (`bench/peer_cache.py`) when measured before on the same "
+            "skeletons, nib, tolerance and peer version; the notes at the end say when and "
+            "at which commit they were measured.  Every time is measured in this run."
+            % (opt.morph_repeat, opt.glyphs, opt.morph_repeat, opt.morph_repeat), ""]
 
 
-def main(argv=None):
+def _accuracy_md(opt, acc):
+    """The section on the accuracy of the written fonts (part 1)."""
+    md = ["## Accuracy of the written fonts", "",
+          "Default nib of `morph stroke` (ellipse 90 x 20 units at 30 degrees), tol %g "
+          "units; written glyphs (integer coordinates) against the Clipper reference "
+          "(flattened within %g): criterion Hausdorff <= tol + 0.71 + %g = %.2f units, "
+          "same number of holes, hole areas within perimeter x bound."
+          % (opt.tol, opt.ref_tol, opt.ref_tol, opt.tol + ROUNDING + opt.ref_tol), "",
+          "| font | glyphs stroked | wall s | CPU s | stroke + export CPU / glyph | "
+          "points / glyph | worst Hausdorff | mean | holes kept | failures | file bytes |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for suffix, r in acc.items():
+        errs = [x["err"] for x in r["rows"]]
+        worst = max(r["rows"], key=lambda x: x["err"])
+        st = r["stats"]
+        md.append("| %s | %d | %.1f | %.1f | %.1f ms | %.0f | %.3f (%s) | %.3f | %d / %d | "
+                  "%d | %d |" % (suffix, st["glyphs"], r["wall"], r["cpu"],
+                                 1000 * st["stroke_seconds"] / max(1, st["glyphs"]),
+                                 st["points"] / max(1, st["glyphs"]), worst["err"],
+                                 worst["name"], float(np.mean(errs)),
+                                 sum(x["holes"] == x["ref_holes"] for x in r["rows"]),
+                                 len(r["rows"]), sum(x["fail"] for x in r["rows"]),
+                                 r["size"]))
+    md.append("")
+    fails = [(s, x) for s, r in acc.items() for x in r["rows"] if x["fail"]]
+    if fails:
+        md += ["Failures:", ""] + ["- %s %s: Hausdorff %.3f, holes %d (reference %d) %s"
+                                   % (s, x["name"], x["err"], x["holes"], x["ref_holes"],
+                                      x["fallback"]) for s, x in fails] + [""]
+    counters = [x for x in acc[".otf"]["rows"] if x["name"] in ("o", "e", "a", "eight")]
+    return md + ["Counters: " + ", ".join("%s %d (reference %d)" % (x["name"], x["holes"],
+                                                                 x["ref_holes"])
+                                          for x in counters) + ".", ""]
+
+
+def _peer_table(title, rows, opt):
+    """The table of a nib's rows (morph, FontForge, Skia) on Relief."""
+    md = ["## %s" % title, "",
+          "| tool | setting | in process: mean ms / glyph | in process: median ms / "
+          "glyph | whole command ms / glyph | whole workflow ms / glyph | morph: "
+          "stroke + export ms | points / glyph | max Hausdorff | mean | failures | "
+          "morph / FontForge: in process; command / worker; command / workflow |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    pairs = {id(r): m for r, m in equal_error(rows)}
+    default = next((r for r in rows if r["tool"] == "morph" and r["setting"] == "tol %g"
+                    % opt.tol), None)
+    for r in rows:
+        split = ("%.1f + %.1f" % (r["stroke_ms"], r["export_ms"])
+                 if "stroke_ms" in r else "")
+        median = "(chunks)" if r["tool"] == "morph" else _ms(r["median_ms"])
+        m = (pairs.get(id(r)) or default) if r["tool"] == "FontForge" else None
+        ratios = "; ".join(_paired(m, r, m.get("command_runs"))) if m else ""
+        md.append("| %s | %s | %s | %s | %s | %s | %s | %.0f | %.3f | %.3f | %s | %s |"
+                  % (r["tool"], r["setting"], _ms(r["ms"]), median,
+                     _ms(r.get("command_ms", r.get("process_ms"))),
+                     _ms(r.get("command_ms", r.get("workflow_ms"))), split, r["points"],
+                     r["max_err"], r["mean_err"], ", ".join(r["fails"]) or "0", ratios))
+    return md
+
+
+def _relief_peers(font, names, spec, title, refs, keys, opt):
+    """(rows, notes) of one nib on Relief: FontForge's outlines and errors (cached),
+    then ``--morph-repeat`` rounds of morph's in-process pass over ``--morph-tols``,
+    its command at each of them, FontForge's worker and its whole workflow at each
+    ``--ff-accuracy`` (:mod:`bench.paired`); Skia for the round nib."""
+    from bench.paired import median
+
+    tols, accs = _floats(opt.morph_tols), _floats(opt.ff_accuracy)
+    ff, why = run_fontforge(font, names, spec, accs, refs, _plain_judge(refs, keys))
+    runs = {tol: [] for tol in tols}
+    with tempfile.TemporaryDirectory() as tmp:
+        rounds = FontForgeRounds(fontforge_jobs(font, names, spec, accs[:len(ff)]), names,
+                                 SUBSET, spec, tmp, glyphs=names)
+        commands, shared = {}, None
+        for tol in tols:   # one warm-up fills the bytecode cache they share
+            commands[tol] = _command_runner(
+                SUBSET, Path(tmp) / "relief.otf", names[0],
+                ["--glyphs", opt.glyphs, "--tol", repr(tol / 1000.0),
+                 "--nib", "ellipse:%g,%g,%g" % nib_axes(spec)], shared)
+            shared = commands[tol].env
+
+        def between(_round):   # after each in-process pass: the commands, then FontForge
+            for tol in tols:
+                cpu, _, _, rc = commands[tol]()
+                runs[tol].append(1000 * cpu / len(names) if rc in (0, 1) else None)
+            rounds()
+
+        rows = run_morph(font, names, spec, tols, refs, repeat=opt.morph_repeat,
+                         between=between)
+        rounds.fill(ff)
+    for r, tol in zip(rows, tols):
+        ok = [v for v in runs[tol] if v is not None]
+        r["command_runs"], r["command_ms"] = runs[tol], median(ok)
+    notes = ["FontForge not run (%s)." % why] if why else []
+    notes += ["FontForge, %s, %s: %s; its whole workflow (`bench/fontforge_font.py`): %s."
+              % (title.split(":")[0].lower(), s, f, w) for s, f, w in _fontforge_measured(ff)]
+    rows += ff
+    if spec is ROUND:
+        rows += run_skia(font, names, spec[1], _floats(opt.skia_scales), refs)
+    return rows, notes
+
+
+def _parser():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--glyphs", default="A-Z,a-z,0-9")
     ap.add_argument("--tol", type=float, default=0.5, help="font units")
@@ -1113,7 +1275,8 @@ def main(argv=None):
     ap.add_argument("--md", default=str(ROOT / "bench" / "stroke.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--morph-repeat", type=int, default=3,
-                    help="passes of each chunk of morph's in-process rows (the median)")
+                    help="rounds of the timings, morph's and FontForge's interleaved (each "
+                         "time the median of its rounds)")
     ap.add_argument("--sets", default=None,
                     help="skeleton sets of bench/skeletons.py for part 3 (default: %s with "
                          "--only-sets, none without)" % ",".join(SETS))
@@ -1126,7 +1289,11 @@ def main(argv=None):
     ap.add_argument("--sets-md", default=str(ROOT / "bench" / "stroke_sets.md"))
     ap.add_argument("--sets-json", help="a folder: sets saved there are reported as "
                                         "measured then, sets measured now are saved there")
-    opt = ap.parse_args(argv)
+    return ap
+
+
+def main(argv=None):
+    opt = _parser().parse_args(argv)
     if opt.sets is None:
         opt.sets = ",".join(SETS) if opt.only_sets else ""
     argv = sys.argv[1:] if argv is None else argv
@@ -1163,38 +1330,22 @@ def main(argv=None):
         with tempfile.TemporaryDirectory() as tmp:
             acc = accuracy_sweep(font, names, opt.tol, opt.ref_tol, refs[BROAD], tmp)
     peers = []
-    if not opt.no_peers:
-        tols = [float(v) for v in opt.morph_tols.split(",")]
-        accs = [float(v) for v in opt.ff_accuracy.split(",")]
-        scales = [float(v) for v in opt.skia_scales.split(",")]
-        for spec, title in ((BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
-                            (ROUND, "Round nib: disk of diameter 60")):
-            rows = run_morph(font, names, spec, tols, refs[spec], repeat=opt.morph_repeat)
-            with tempfile.TemporaryDirectory() as tmp:
-                for r, tol in zip(rows, tols):
-                    cpu, _, line, rc = _time_command(
-                        SUBSET, Path(tmp) / "relief.otf", names[0],
-                        ["--glyphs", opt.glyphs, "--tol", repr(tol / 1000.0),
-                         "--nib", "ellipse:%g,%g,%g" % nib_axes(spec)])
-                    r["command_ms"] = 1000 * cpu / len(names) if rc in (0, 1) else None
-            ff, why = run_fontforge(font, names, spec, accs, refs[spec],
-                                    _plain_judge(refs[spec], keys[spec]))
-            if why:
-                notes.append("FontForge not run (%s)." % why)
-            notes += _fontforge_notes(title, ff, spec, accs, names, opt)
-            rows += ff
-            if spec is ROUND:
-                rows += run_skia(font, names, spec[1], scales, refs[spec])
-            for r in rows:
-                print("%s %s %s: %.1f ms, %.0f points, max err %.3f" % (
-                    title.split(":")[0], r["tool"], r["setting"], r["ms"], r["points"],
-                    r["max_err"]), flush=True)
-            peers.append((title, rows))
+    for spec, title in (() if opt.no_peers else (
+            (BROAD, "Broad nib: ellipse 90 x 20 at 30 degrees"),
+            (ROUND, "Round nib: disk of diameter 60"))):
+        rows, more = _relief_peers(font, names, spec, title, refs[spec], keys[spec], opt)
+        notes += more
+        for r in rows:
+            print("%s %s %s: %s ms, %.0f points, max err %.3f" % (
+                title.split(":")[0], r["tool"], r["setting"], _ms(r["ms"]), r["points"],
+                r["max_err"]), flush=True)
+        peers.append((title, rows))
     text = markdown(opt, names, acc, peers, notes, time.perf_counter() - t_start)
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)
     failures = sum(x["fail"] for r in acc.values() for x in r["rows"])
+
     return 1 if failures else 0
 
 
