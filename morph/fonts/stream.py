@@ -59,7 +59,7 @@ _NO_WIDTHS = SimpleNamespace(defaultWidthX=0, nominalWidthX=0)
 
 
 def compile_outline(contours, flavor):
-    """``(data, bounds)`` of integer contours (an :class:`morph.fonts.tables.Outline`,
+    """``(data, bounds)`` of integer contours (an :class:`morph.outline.Outline`,
     or the contour lists of :func:`morph.fonts.tables.clean_contour`) compiled for
     the font ufo2ft compiles from a UFO glyph holding those contours: see
     :func:`compile_outlines`, of which this is one glyph's."""
@@ -89,7 +89,7 @@ def compile_outlines(outlines, flavor):
     arrays do not take (a coordinate beyond 16 bits, a segment the flavor cannot
     draw) is drawn with the pens, which raise what they raise.
     """
-    from .tables import Outline
+    from ..outline import Outline
 
     outlines = [Outline.from_contours(c) for c in outlines]
     if not outlines:
@@ -103,7 +103,7 @@ def compile_outlines(outlines, flavor):
 def outline_bounds(outlines):
     """The tight boxes of cubic integer outlines (what :func:`compile_outlines`
     gives a CFF glyph), None for an empty one."""
-    from .tables import Outline
+    from ..outline import Outline
 
     outlines = [Outline.from_contours(c) for c in outlines]
     return _Batch(outlines)._cubic_bounds() if outlines else []

@@ -839,7 +839,7 @@ def _compiled_results(flavor, out):
     """The glyph results ``out`` of :func:`_chunk_job` (or of :func:`_blank_results`)
     as :func:`_streamed_chunk` sends them: compiled, counted, boxed."""
     from .stream import compile_outlines, outline_bounds
-    from .tables import Outline
+    from ..outline import Outline
 
     outlines = [Outline.from_contours(r["contours"]) for r in out]
     if flavor is None:

@@ -423,26 +423,6 @@ def full_name(info):
                        info_value(info, "openTypeNamePreferredSubfamilyName"))).strip()
 
 
-def _name_bytes(records):
-    """A format 0 name table of Windows Unicode ``records`` ((platform, encoding,
-    language, name ID) -> string, or its encoded bytes) as fontTools compiles one:
-    records sorted by those four numbers, UTF-16BE strings, each distinct string
-    stored once."""
-    keys = sorted(records)
-    data = [struct.pack(">HHH", 0, len(keys), 6 + 12 * len(keys))]
-    strings, at = [], {}
-    size = 0
-    for key in keys:
-        text = records[key]
-        text = text if isinstance(text, bytes) else text.encode("utf_16_be")
-        if text not in at:
-            at[text] = size
-            strings.append(text)
-            size += len(text)
-        data.append(struct.pack(">HHHHHH", *key, len(text), at[text]))
-    return b"".join(data + strings)
-
-
 def _tx_runner():
     """A function running cffsubr's ``tx`` on a font file as cffsubr's
     ``_tx_subroutinize`` runs it on a font's bytes (path -> the CFF table's bytes),
@@ -960,7 +940,7 @@ def _placed(parts, read):
     a part not read."""
     import numpy as np
 
-    from .tables import Outline
+    from ..outline import Outline
 
     ok = [all(read.get(base) is not None for base, _ in glyph) for glyph in parts]
     flat = [(g, read[base], chain) for g, glyph in enumerate(parts) if ok[g]
@@ -1461,8 +1441,10 @@ class _Compiler:
                for k, v in records.items()):
             from fontTools.ttLib.tables.DefaultTable import DefaultTable
 
+            from ..parse.names import name_bytes
+
             table = self.otf["name"] = DefaultTable("name")
-            table.data = _name_bytes(records)
+            table.data = name_bytes(records)
             return
         from fontTools.ttLib import newTable
 

@@ -4,7 +4,7 @@ fontTools draws a charstring by decompiling it into a program (a Python list of
 numbers and operator names) and running that program against a pen, one method
 call a point; a font's save asks every glyph it did not write for its bounds that
 way.  :func:`charstring_outlines` reads the bytes once, operand by operand, into the
-arrays of :class:`morph.fonts.tables.Outline` (absolute points, segment sizes,
+arrays of :class:`morph.outline.Outline` (absolute points, segment sizes,
 contour counts), so that :func:`morph.fonts.stream.outline_bounds` computes the
 boxes of all glyphs at once, with the arithmetic of fontTools' ``BoundsPen``.
 
@@ -19,6 +19,8 @@ fontTools.  Tests: tests/fonts/test_charstrings.py (against fontTools' drawing a
 """
 
 import numpy as np
+
+from ..outline import Outline
 
 __all__ = ["charstring_outlines", "cff_glyph_loops"]
 
@@ -287,12 +289,10 @@ def _program_bytes(cs):
 
 
 def charstring_outlines(charstrings):
-    """[:class:`morph.fonts.tables.Outline` or None] of fontTools ``T2CharString``
+    """[:class:`morph.outline.Outline` or None] of fontTools ``T2CharString``
     objects: each glyph's path read from its bytes (a charstring decompiled
     already is compiled first); None where the charstring uses what the module's
     docstring lists as unread."""
-    from ..fonts.tables import Outline
-
     out = []
     for cs in charstrings:
         try:
@@ -323,7 +323,7 @@ def cff_glyph_loops(font, names):
 
 
 def _outline_loops(outlines):
-    """The loops of :class:`morph.fonts.tables.Outline` s of lines and cubics, the
+    """The loops of :class:`morph.outline.Outline` s of lines and cubics, the
     pieces of all built at once (:func:`morph.parse.pens.glyph_loops`); per outline
     its loops."""
     from .pens import glyph_loops

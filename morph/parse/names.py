@@ -15,7 +15,7 @@ import struct
 from fontTools.ttLib.tables.DefaultTable import DefaultTable
 
 __all__ = ["ENCODINGS", "NameTable", "name_records", "name_table", "name_keys", "records_of",
-           "set_names"]
+           "set_names", "name_bytes"]
 
 #: (platform, encoding, language or None for any) -> the Python codec of its strings,
 #: as ``fontTools.misc.encodingTools.getEncoding`` tells them
@@ -84,10 +84,8 @@ class NameTable(DefaultTable):
         return real.getDebugName(name_id) if real else _debug_name(self.records, name_id)
 
     def compile(self, font):
-        from ..fonts.tables_static import _name_bytes
-
         real = self.__dict__.get("_table")
-        return real.compile(font) if real else _name_bytes(self.records)
+        return real.compile(font) if real else name_bytes(self.records)
 
     def toXML(self, writer, font):  # noqa: N802 - the method fontTools calls on a table
         self.fonttools().toXML(writer, font)
@@ -160,3 +158,23 @@ def set_names(table, texts, where, drop=()):
                 table.setName(text, nid, plat, enc, lang)
             else:
                 records[(plat, enc, lang, nid)] = text.encode(codec(plat, enc, lang))
+
+
+def name_bytes(records):
+    """A format 0 name table of Windows Unicode ``records`` ((platform, encoding,
+    language, name ID) -> string, or its encoded bytes) as fontTools compiles one:
+    records sorted by those four numbers, UTF-16BE strings, each distinct string
+    stored once."""
+    keys = sorted(records)
+    data = [struct.pack(">HHH", 0, len(keys), 6 + 12 * len(keys))]
+    strings, at = [], {}
+    size = 0
+    for key in keys:
+        text = records[key]
+        text = text if isinstance(text, bytes) else text.encode("utf_16_be")
+        if text not in at:
+            at[text] = size
+            strings.append(text)
+            size += len(text)
+        data.append(struct.pack(">HHHHHH", *key, len(text), at[text]))
+    return b"".join(data + strings)

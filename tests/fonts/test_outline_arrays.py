@@ -15,7 +15,8 @@ import pytest
 
 from morph import bernstein as bz
 from morph.fonts.stream import _compile_with_pens, compile_outline, compile_outlines
-from morph.fonts.tables import Outline, clean_contour, integer_outlines
+from morph.fonts.tables import clean_contour, integer_outlines
+from morph.outline import Outline
 
 
 def _chain(rng, quadratic, splines):

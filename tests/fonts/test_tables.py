@@ -218,7 +218,8 @@ def test_truetype_write_many_builds_the_pens_glyphs():
         assert b.compile(fonts[1]["glyf"]) == a.compile(fonts[0]["glyf"]), what
         assert list(b.coordinates) == list(a.coordinates), what
     assert fonts[1]["glyf"]["b"].numberOfContours == 2
-    from morph.fonts.tables import Outline, _glyf_points
+    from morph.fonts.tables import _glyf_points
+    from morph.outline import Outline
 
     arrays = _glyf_points([Outline.from_contours(c) for c in cases.values()])
     assert [a is None for a in arrays] == [False, False, False, True, True, True]
