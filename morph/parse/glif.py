@@ -82,7 +82,8 @@ _XML = None
 
 
 #: the XML declarations of a plain GLIF file (:func:`plain_tree`)
-_DECLARATIONS = (b"<?xml version='1.0' encoding='UTF-8'?>", b'<?xml version="1.0" encoding="UTF-8"?>')
+_DECLARATIONS = (b"<?xml version='1.0' encoding='UTF-8'?>",
+                 b'<?xml version="1.0" encoding="UTF-8"?>')
 _WS = b" \t\r\n"
 #: bytes a plain GLIF file holds none of: controls other than XML's white space,
 #: references, bytes outside ASCII (read in the file's encoding)
