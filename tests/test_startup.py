@@ -7,7 +7,6 @@ process pays for it again (``morph sum`` as a process against the
 polygon script).
 """
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -147,14 +146,16 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
         assert json.loads(report.read_text()) == [], report.name
 
 
-#: what the font commands never need, each a few ms of every process: numpy's
+#: what the font commands never need, each a few ms of every process: difflib (click's
+#: suggestions for an unknown option, which its parser builds and drops for every
+#: short option such as -o; morph.cli.group.MorphCommand), numpy's
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
 #: (morph.fonts.specimen.save_png writes the sample), its EXIF and TIFF tags and its
 #: file formats' base (deferred: morph.fonts.deferred.pillow), the html package (the
 #: specimen escapes its text itself), the SVG reader and its XML parser (--nib-svg
 #: only), numpy.ma, strptime's locale tables (morph.fonts.tables_static reads the head
 #: table's dates itself); the shape commands' modules (morph.cli.group.COMMAND_MODULES)
-NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
+NOT_FOR_FONT_COMMANDS = ("difflib", "numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
                          "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
                          "_strptime", "PIL.ImageFile",
                          "morph.cli.shapes", "morph.cli.apps")
@@ -194,14 +195,13 @@ def test_brush_of_a_font_without_anchors_loads_no_layout_classes(tmp_path):
 #: what ``morph stroke`` never needs for a static font of a skeleton without kerning,
 #: anchors or components (morph.fonts.tables_static): ufo2ft, ufoLib2 and the UFO
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
-#: classes, feaLib (no feature file); its .glif reader parses with fontTools.misc.etree
-#: (lxml where installed, else xml.etree)
-NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH
-                             if m not in ("cffsubr", "xml.etree")) + (
+#: classes, feaLib (no feature file), the charstring decomposer (no composite); its
+#: .glif files in ufoLib's plain markup are read without an XML parser
+#: (morph.parse.glif.plain_tree): neither xml.etree nor lxml nor fontTools.misc.etree
+#: (the plists are read by plistlib's expat parser)
+NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH if m != "cffsubr") + (
     "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib",
-    "morph.fonts.brush") + (
-    # the .glif files parsed by ElementTree itself (morph.parse.glif.xml_module)
-    ("fontTools.misc.etree",) if importlib.util.find_spec("lxml") is None else ())
+    "morph.fonts.brush", "morph.parse.charstrings", "lxml", "fontTools.misc.etree")
 
 
 def _plain_skeleton(folder):

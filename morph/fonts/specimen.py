@@ -38,6 +38,9 @@ WATERFALL = (12, 16, 20, 24, 32, 48, 64, 96)
 SAMPLE_PX = 96
 SAMPLE_POS = (24, 24)  # CSS px from the page's top-left corner
 SAMPLE_MARGIN = 72  # CSS px kept free below the sample line (descenders)
+#: the sample's ink and paper as RGB tuples: Pillow reads a colour name through its
+#: "#rrggbb" form, compiling its colour patterns as it does (the same pixels)
+_BLACK, _WHITE = (0, 0, 0), (255, 255, 255)
 
 
 def _escape(text, quote=True):
@@ -241,13 +244,13 @@ def _variable_sample(data, text, png, px, spots):
     heights = [b[3] - b[1] for _, _, b in rows]
     width = max(width, max(small.getbbox(n)[2] for n, _, _ in rows))
     img = Image.new("RGB", (width + 2 * pad, sum(lab_h + h + pad for h in heights) + pad),
-                    "white")
+                    _WHITE)
     draw = ImageDraw.Draw(img)
     y = pad
     for (name, fnt, box), h in zip(rows, heights):
         draw.text((pad, y), name, font=small, fill=(110, 110, 110))
         y += lab_h
-        draw.text((pad - left, y - box[1]), text, font=fnt, fill="black")
+        draw.text((pad - left, y - box[1]), text, font=fnt, fill=_BLACK)
         y += h + pad
     save_png(img, png)
     return img
@@ -274,8 +277,8 @@ def write_sample_image(font, text, png, px=SAMPLE_PX):
     fnt = ImageFont.truetype(io.BytesIO(data), px)
     left, top, right, bottom = fnt.getbbox(text)
     pad = px // 4
-    img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), "white")
-    ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill="black")
+    img = Image.new("RGB", (right - left + 2 * pad, bottom - top + 2 * pad), _WHITE)
+    ImageDraw.Draw(img).text((pad - left, pad - top), text, font=fnt, fill=_BLACK)
     save_png(img, png)
     return img
 

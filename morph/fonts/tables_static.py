@@ -861,6 +861,8 @@ class _Decomposer:
     def many(self, names, prefixes):
         """[(program, bounds)] of the glyphs ``names``, each program its advance's
         ``prefix`` (:func:`morph.fonts.stream.width_prefix`) then its outline."""
+        if not names:   # no composite glyph: fontTools' charstring module not loaded
+            return []
         from .stream import compile_outlines
 
         parts = [self._parts(name, ()) for name in names]

@@ -26,7 +26,7 @@ import os
 import plistlib
 import re
 
-from .glif import xml_module
+from .glif import plain_tree, xml_module
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
@@ -410,8 +410,6 @@ def glif_shell(name, data):
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
     """
-    etree = xml_module()   # lxml where installed, as glifLib and .glif read
-
     a = data.find(b"<outline")
     contours, components = 0, []
     if a >= 0:
@@ -424,8 +422,10 @@ def glif_shell(name, data):
         contours = len(_CONTOUR.findall(inner))
         if b >= 0:
             data = data[:a] + data[b + 10:]
+    root = plain_tree(data)   # ufoLib's plain markup: no XML parser
     try:
-        root = etree.fromstring(data)
+        if root is None:   # lxml where installed, as glifLib and .glif read
+            root = xml_module().fromstring(data)
     except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
     if root.tag != "glyph" or root.get("format", "2").split(".")[0] != "2" \

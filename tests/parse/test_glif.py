@@ -283,3 +283,85 @@ def test_scan_reads_several_glyphs_and_leaves_the_odd_one():
     # is refused, and both are left to the XML reader
     odd = _PLAIN.replace(b'<point x="0" y="0" type="move"/>', b"<point x='0' y='0'/>")
     assert _scan_agrees([_PLAIN, odd, _PLAIN, _PLAIN]) == [2, 3]
+
+
+def _element_rows(el):
+    """(tag, attributes, text, children) of an element, recursively: what the GLIF
+    readers read of it."""
+    return (el.tag, dict(el.attrib), el.text, [_element_rows(c) for c in el])
+
+
+_PLAIN_HEAD = b"<?xml version='1.0' encoding='UTF-8'?>\n"
+
+
+@pytest.mark.parametrize("data, plain", [
+    (_PLAIN_HEAD + b'<glyph name="A" format="2">\n  <advance width="567.0"/>\n'
+     b'  <unicode hex="0041"/>\n  <anchor x="1" y="2" name="top"/>\n  <outline/>\n</glyph>\n',
+     True),
+    (b'<?xml version="1.0" encoding="UTF-8"?><glyph name="a&gt;" format="2"/>', False),
+    (b'<glyph name="a" format="2"><advance width="1" /></glyph>', True),
+    (b' \n<glyph name="a"></glyph>', True),
+    (b"<glyph name='a'></glyph>", False),                     # single quotes
+    (b'<glyph name="a">x<advance width="1"/></glyph>', False),  # text
+    (b'<glyph name="a"><!-- c --></glyph>', False),             # a comment
+    (b'<glyph name="a b\tc"></glyph>', False),                  # a value XML normalizes
+    (b'<glyph name="a>b"></glyph>', False),
+    (b'<glyph name="\xc3\xa9"></glyph>', False),                # outside ASCII
+    (b'<glyph name="a"><lib><dict/></lib></glyph>', False),     # nested
+    (b'<glyph name = "a"></glyph>', False),
+    (b'<glyph name="a"/>', False),
+])
+def test_plain_markup_is_read_as_elementtree_reads_it(data, plain):
+    """morph.parse.glif.plain_tree reads ufoLib's plain markup (no XML parser) into
+    the tags, attributes and texts ElementTree gives, and leaves anything else to
+    the parser (None)."""
+    import xml.etree.ElementTree as ET
+
+    from morph.parse.glif import plain_tree
+
+    tree = plain_tree(data)
+    assert (tree is not None) == plain
+    if plain:
+        assert _element_rows(tree) == _element_rows(ET.fromstring(data))
+
+
+@pytest.mark.parametrize("data", [
+    b'<glyph name="a" name="b"></glyph>',                     # a repeated attribute
+    b'<glyph name="a"><advance width="1"height="2"/></glyph>',  # no space between
+    b'<glyph name="a"></glyph><glyph name="b"></glyph>',        # two roots
+    b' <?xml version="1.0" encoding="UTF-8"?><glyph name="a"></glyph>',
+    b'<glyph name="a"><advance width="1"></glyph>',             # not closed
+])
+def test_plain_markup_leaves_what_is_not_well_formed_to_the_parser(data):
+    """What ElementTree refuses is not read as plain either (the parser then names
+    the error)."""
+    import xml.etree.ElementTree as ET
+
+    from morph.parse.glif import plain_tree
+
+    with pytest.raises(ET.ParseError):
+        ET.fromstring(data)
+    assert plain_tree(data) is None
+
+
+def test_plain_markup_of_the_relief_subset_is_elementtree_s():
+    """Every .glif of the Relief subset, its outline cut out as the shell and scan
+    readers cut it: read as plain, the same elements as ElementTree's (the
+    comparison fails on a changed attribute)."""
+    import xml.etree.ElementTree as ET
+
+    from morph.parse.glif import plain_tree
+
+    read = 0
+    for path in sorted((RELIEF_SUBSET / "glyphs").glob("*.glif")):
+        data = path.read_bytes()
+        a, b = data.find(b"<outline"), data.find(b"</outline>")
+        rest = data[:a] + b"<outline/>" + data[b + 10:] if a >= 0 <= b else data
+        tree = plain_tree(rest)
+        if tree is not None:
+            read += 1
+            assert _element_rows(tree) == _element_rows(ET.fromstring(rest))
+            changed = rest.replace(b'width="', b'width="1', 1)
+            if changed != rest:
+                assert _element_rows(plain_tree(changed)) != _element_rows(ET.fromstring(rest))
+    assert read > 10
