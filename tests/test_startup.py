@@ -146,16 +146,14 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
         assert json.loads(report.read_text()) == [], report.name
 
 
-#: what the font commands never need, each a few ms of every process: difflib (click's
-#: suggestions for an unknown option, which its parser builds and drops for every
-#: short option such as -o; morph.cli.group.MorphCommand), numpy's
+#: what the font commands never need, each a few ms of every process: numpy's
 #: polynomial classes (morph.quadrature tabulates the rules), Pillow's PNG plugin
 #: (morph.fonts.specimen.save_png writes the sample), its EXIF and TIFF tags and its
 #: file formats' base (deferred: morph.fonts.deferred.pillow), the html package (the
 #: specimen escapes its text itself), the SVG reader and its XML parser (--nib-svg
 #: only), numpy.ma, strptime's locale tables (morph.fonts.tables_static reads the head
 #: table's dates itself); the shape commands' modules (morph.cli.group.COMMAND_MODULES)
-NOT_FOR_FONT_COMMANDS = ("difflib", "numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
+NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
                          "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",
                          "_strptime", "PIL.ImageFile",
                          "morph.cli.shapes", "morph.cli.apps")

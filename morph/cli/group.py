@@ -150,29 +150,6 @@ def load_commands(names=None):
             importlib.import_module("morph.cli." + COMMAND_MODULES[name])
 
 
-class MorphCommand(click.Command):
-    """A click command whose parser tells a short option (``-o``) from an unknown long
-    one without building an error: click's parser tries every option as a long one
-    first and, for ``-o``, makes a 'no such option' error with the close matches
-    among the long options (importing difflib and ranking them), which it then
-    drops to read ``-o`` as the short option.  Here that error has no suggestions;
-    an option starting ``--`` is left to click as it is."""
-
-    def make_parser(self, ctx):
-        parser = super().make_parser(ctx)
-        match, known = (getattr(parser, name, None) for name in ("_match_long_opt", "_long_opt"))
-        if match is None or not isinstance(known, dict):   # another click: as it is
-            return parser
-
-        def match_long(opt, explicit_value, state):
-            if not opt.startswith("--") and opt not in known:
-                raise click.NoSuchOption(opt, ctx=ctx)   # read as a short option next
-            return match(opt, explicit_value, state)
-
-        parser._match_long_opt = match_long
-        return parser
-
-
 class MorphGroup(click.Group):
     """click Group whose ``main`` turns every failure into one stderr line (and a
     MorphWarning into one ``morph: warning:`` line).
@@ -183,8 +160,6 @@ class MorphGroup(click.Group):
     exceeded), naming the command; with MORPH_DEBUG=1 the traceback and the inputs
     saved as JSON.
     """
-
-    command_class = MorphCommand
 
     def get_command(self, ctx, cmd_name):
         load_commands([cmd_name])

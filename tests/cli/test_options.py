@@ -39,26 +39,3 @@ def test_shared_options_for_new_commands(runner, tmp_path):
     assert result.exit_code == 0, result.output
     assert result.output.split() == ["g", "1000", "1.0", "2"]
 
-
-@pytest.mark.parametrize("args, value", [(["-o", "a.svg"], "a.svg"), (["-oa.svg"], "a.svg"),
-                                         (["-o=a.svg"], "=a.svg"), (["--output", "a.svg"], "a.svg"),
-                                         (["--output=a.svg"], "a.svg")])
-def test_short_options_read_as_click_reads_them(args, value):
-    """morph.cli.group.MorphCommand: a short option is read as click reads it (``-o=x``
-    keeps its ``=``), without the suggestion search of an unknown long option."""
-    import click
-
-    from morph.cli.group import MorphCommand
-
-    command = MorphCommand("probe", callback=lambda output: output,
-                           params=[click.Option(["-o", "--output"])])
-    assert command.main(args, standalone_mode=False) == value
-
-
-def test_unknown_options_still_named_with_suggestions(runner):
-    """An unknown long option still gets click's suggestions, an unknown short one its
-    error."""
-    result = runner.invoke(main, ["stroke", "x.ufo", "--ouptut", "a.otf"])
-    assert result.exit_code == 2 and "Did you mean '--output'" in result.output
-    result = runner.invoke(main, ["stroke", "x.ufo", "-q"])
-    assert result.exit_code == 2 and "No such option '-q'" in result.output
