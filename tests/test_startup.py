@@ -195,7 +195,7 @@ def test_brush_of_a_font_without_anchors_loads_no_layout_classes(tmp_path):
 #: library, the variable-font stack, fontTools' CFF library and its OpenType layout
 #: classes, feaLib (no feature file), the charstring decomposer (no composite); its
 #: .glif files in ufoLib's plain markup are read without an XML parser
-#: (morph.parse.glif.plain_tree): neither xml.etree nor lxml nor fontTools.misc.etree
+#: (morph.parse.glif_xml.plain_tree): neither xml.etree nor lxml nor fontTools.misc.etree
 #: (the plists are read by plistlib's expat parser)
 NOT_FOR_PLAIN_STROKE = tuple(m for m in NOT_FOR_STATIC_BRUSH if m != "cffsubr") + (
     "fontTools.cffLib", "fontTools.ttLib.tables.otTables", "fontTools.feaLib",

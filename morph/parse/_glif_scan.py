@@ -32,6 +32,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..limits import MAX_COORDINATE
+from .glif_xml import parse_glif
 
 __all__ = ["scan_outlines"]
 
@@ -83,8 +84,6 @@ def scan_outlines(datas):
 
 def _plain(data):
     """The outline content of a file the scan reads (contours only), else None."""
-    from .glif import _parse
-
     a = data.find(b"<outline")
     start = _START.match(data, a) if a >= 0 and data.find(b"<outline", a + 1) < 0 else None
     b = data.find(b"</outline>", start.end()) if start else -1
@@ -93,7 +92,7 @@ def _plain(data):
             or b"<component" in inner:
         return None
     try:
-        root = _parse(data[:a] + b"<outline/>" + data[b + 10:])
+        root = parse_glif(data[:a] + b"<outline/>" + data[b + 10:])
     except (SyntaxError, ValueError):  # not well-formed (ElementTree's and lxml's parse
         return None                    # errors are SyntaxErrors): the XML reader's to decline
     outlines = [el for el in root if el.tag == "outline"]

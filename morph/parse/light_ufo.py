@@ -26,7 +26,7 @@ import os
 import plistlib
 import re
 
-from .glif import plain_tree, xml_module
+from .glif_xml import plain_tree, xml_module
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",

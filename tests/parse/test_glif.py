@@ -312,12 +312,12 @@ _PLAIN_HEAD = b"<?xml version='1.0' encoding='UTF-8'?>\n"
     (b'<glyph name="a"/>', False),
 ])
 def test_plain_markup_is_read_as_elementtree_reads_it(data, plain):
-    """morph.parse.glif.plain_tree reads ufoLib's plain markup (no XML parser) into
+    """morph.parse.glif_xml.plain_tree reads ufoLib's plain markup (no XML parser) into
     the tags, attributes and texts ElementTree gives, and leaves anything else to
     the parser (None)."""
     import xml.etree.ElementTree as ET
 
-    from morph.parse.glif import plain_tree
+    from morph.parse.glif_xml import plain_tree
 
     tree = plain_tree(data)
     assert (tree is not None) == plain
@@ -337,7 +337,7 @@ def test_plain_markup_leaves_what_is_not_well_formed_to_the_parser(data):
     the error)."""
     import xml.etree.ElementTree as ET
 
-    from morph.parse.glif import plain_tree
+    from morph.parse.glif_xml import plain_tree
 
     with pytest.raises(ET.ParseError):
         ET.fromstring(data)
@@ -350,7 +350,7 @@ def test_plain_markup_of_the_relief_subset_is_elementtree_s():
     comparison fails on a changed attribute)."""
     import xml.etree.ElementTree as ET
 
-    from morph.parse.glif import plain_tree
+    from morph.parse.glif_xml import plain_tree
 
     read = 0
     for path in sorted((RELIEF_SUBSET / "glyphs").glob("*.glif")):
