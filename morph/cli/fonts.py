@@ -9,8 +9,9 @@ import click
 from .group import main
 from .variable import (BRUSH_VARY_NIB_HELP, VARY_NIB_HELP, brush_variable_cli,
                        is_variable_truetype, stroke_variable_cli)
-from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError, count,
-                      progress_bar, report_written, resolve_output, tol_option, write_image)
+from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError,
+                      check_nib_tol, count, progress_bar, report_written, resolve_output,
+                      tol_option, write_image)
 
 
 def _parse_nib(spec):
@@ -270,24 +271,6 @@ def _fallback_status(fallbacks, what):
                % (len(fallbacks), what, "; ".join("%s (%s)" % (", ".join(n), why)
                                                   for why, n in names.items())), err=True)
     return EXIT_INTERNAL
-
-
-def check_nib_tol(tol, nibs, upm):
-    """Refuse (InputError, exit 2) a --tol of ``tol`` em that is not below the size of
-    every nib region of ``nibs`` (in font units, ``upm`` per em): a stroke or brush is
-    then no thicker than the tolerance in some direction of every part the nib adds,
-    and trimming drops features thinner than about the tolerance (morph.trim), so each
-    stroked glyph comes out empty (a polygon fallback) and a brush is lost within the
-    tolerance.  The suggestion is a tenth of the smallest nib, as
-    :func:`morph.limits.check_tolerance` suggests for shapes."""
-    from ..limits import region_extent
-
-    size = min(region_extent(nib)[0] for nib in nibs)
-    if tol * upm >= size:
-        raise InputError("--tol %g em (%.3g units) is not below the nib's size (%.3g units, "
-                         "%.3g em): the nib's shape would be lost within the tolerance; use "
-                         "--tol %.2g em or less" % (tol, tol * upm, size, size / upm,
-                                                    size / upm / 10))
 
 
 # =========================================================================== stroke

@@ -406,3 +406,21 @@ def progress_bar(length, label, command="morph"):
     ``update(n)``): redrawn on a terminal, a status line every few seconds
     otherwise."""
     return Progress(length, label, command)
+
+
+def check_nib_tol(tol, nibs, upm):
+    """Refuse (InputError, exit 2) a --tol of ``tol`` em that is not below the size of
+    every nib region of ``nibs`` (in font units, ``upm`` per em): a stroke or brush is
+    then no thicker than the tolerance in some direction of every part the nib adds,
+    and trimming drops features thinner than about the tolerance (morph.trim), so each
+    stroked glyph comes out empty (a polygon fallback) and a brush is lost within the
+    tolerance.  The suggestion is a tenth of the smallest nib, as
+    :func:`morph.limits.check_tolerance` suggests for shapes."""
+    from ..limits import region_extent
+
+    size = min(region_extent(nib)[0] for nib in nibs)
+    if tol * upm >= size:
+        raise InputError("--tol %g em (%.3g units) is not below the nib's size (%.3g units, "
+                         "%.3g em): the nib's shape would be lost within the tolerance; use "
+                         "--tol %.2g em or less" % (tol, tol * upm, size, size / upm,
+                                                    size / upm / 10))

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import click
 
-from .options import InputError, count, progress_bar
+from .options import InputError, check_nib_tol, count, progress_bar
 
 VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its minimum, "
                  "the default) to this one (its maximum), ellipse:W,H,ANGLE. The output "
@@ -130,9 +130,8 @@ def is_variable_truetype(path):
 def _check_nibs(tol, nib, nib_max, vary_nib, upm):
     """The elliptical nib (w, h, angle) and the axis' other nib (None without
     --vary-nib) checked: two different nibs, and --tol below both
-    (:func:`morph.cli.fonts.check_nib_tol`)."""
+    (:func:`morph.cli.options.check_nib_tol`)."""
     from ..nib import ellipse_nib
-    from .fonts import check_nib_tol
 
     if nib_max is not None and tuple(map(float, nib)) == tuple(map(float, nib_max)):
         raise InputError("--vary-nib %s is the --nib nib: an axis needs two nibs" % vary_nib)
