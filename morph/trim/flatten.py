@@ -262,9 +262,13 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     stretch go, but a finer vertex at one of them stays; where a coarse vertex
     bounds a stretch, the part between it and the nearest finer vertex is flattened
     within eps on its own.  So every segment of a refined stretch is within eps of
-    its part.  Returns (piece, t, point, whether the segment from the vertex is one
-    of the refined ones)."""
-    of = unique(pid[fine])
+    its part.  A line piece's one vertex, its start, is its flattening at every
+    tolerance: only the curved pieces are flattened again.  Returns (piece, t,
+    point, whether the segment from the vertex is one of the refined ones)."""
+    straight = _straight(pieces)
+    of = unique(pid[fine & ~straight[pid]])
+    if not len(of):   # refined lines only: each stays its one segment
+        return pid, ts, xy, fine
     # keys (piece, t) as one float: t in [0, 1) and flat parameters >= 2^-16 apart
     key = pid * 2.0 + ts
     refined = np.concatenate([[0], fine.cumsum()])
@@ -285,7 +289,7 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
     # the finer vertices inside refined segments, and those at a coarse vertex that goes
     take = fine[seg] & ((fts > ts[seg]) | ~keep[seg])
     at = np.searchsorted(fkey, key)
-    on_fine = (at < len(fkey)) & (fkey[np.minimum(at, len(fkey) - 1)] == key)
+    on_fine = ((at < len(fkey)) & (fkey[np.minimum(at, len(fkey) - 1)] == key)) | straight[pid]
     # the merged polyline: (piece, t, point, a coarse vertex off the finer flattening's)
     mp = np.concatenate([pid[keep], fp[take]])
     mt = np.concatenate([ts[keep], fts[take]])
@@ -313,6 +317,14 @@ def _refined(pieces, pid, ts, xy, fine, prv, eps):
         order = pl.piece_order(mp, mt)
         mp, mt, mx, mseg = mp[order], mt[order], mx[order], mseg[order]
     return mp, mt, mx, fine[mseg]
+
+
+def _straight(pieces):
+    """Whether each piece is a line (two control points), (len(pieces),) bool."""
+    out = np.zeros(len(pieces), bool)
+    for ks, stack in pc.degree_groups(pieces):
+        out[ks] = stack.shape[1] == 2
+    return out
 
 
 def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
