@@ -276,7 +276,7 @@ class BoxGrid:
     entry and its cell key, sorted by key.
     """
 
-    def __init__(self, lo, hi):
+    def __init__(self, lo, hi, scale=2.0):
         n = len(lo)
         self.lo, self.hi = lo, hi
         self.origin = col_min(lo)
@@ -285,7 +285,7 @@ class BoxGrid:
         # the median by np.partition: np.median imports numpy.ma (~10 ms of every process)
         lengths.partition([(n - 1) // 2, n // 2])
         median = 0.5 * (lengths[(n - 1) // 2] + lengths[n // 2])
-        self.cell = max(float(median) * 2.0, np.maximum.reduce(self.span) * 1e-9)
+        self.cell = max(float(median) * scale, np.maximum.reduce(self.span) * 1e-9)
         while True:
             x0, y0 = self._cells(lo[:, 0], lo[:, 1])
             x1, y1 = self._cells(hi[:, 0], hi[:, 1])
@@ -439,21 +439,26 @@ def _chunk_marks(first, limit):
     return marks
 
 
-def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12):
+def _cell_pair_columns(grid, limit=1 << 20, first=1 << 12, solo=None):
     """The pairs of :func:`_cell_pairs` in chunks of cells holding about ``first``,
     4 ``first``, 16 ``first``, ... candidate pairs, at most ``limit``: a caller that
     needs one pair stops at the first chunk that has it, having paid for little more
     than that chunk.  Each pair comes once, from the first cell the two boxes share
     (the one at the larger of their first cells' columns and rows: a pair of boxes
     that share a cell share that one), without sorting the pairs found; only where
-    two cells' keys coincide (more than 10^6 rows) can a pair come twice."""
+    two cells' keys coincide (more than 10^6 rows) can a pair come twice.  ``solo``:
+    the boxes from this index on are not paired with each other (each still with
+    the boxes before it)."""
     lo, hi = grid.lo, grid.hi
     key, seg = grid.keys, grid.items
     # all pairs within each run of equal keys: position i pairs with i+1 .. end-1
+    # (a run's boxes ascend: a box from ``solo`` on is followed by such boxes only)
     bounds = (key[1:] != key[:-1]).nonzero()[0] + 1
     starts = np.concatenate(([0], bounds))
     run_ends = np.concatenate((bounds, [len(key)]))
     cnt = run_ends.repeat(run_ends - starts) - np.arange(len(key)) - 1
+    if solo is not None:
+        cnt[seg >= solo] = 0
     total = cnt.cumsum()
     if not len(cnt) or total[-1] == 0:
         return

@@ -137,11 +137,12 @@ def tag_loops(loops, eps, grid, origin=None, pieces=None):
     x = (xy - origin) / grid   # in grid units
     q = np.rint(x).astype(np.int64)
     keep = _merge_equal(q, ts == 0.0, loop_of)
+    # loops with fewer than three vertices enclose nothing on the grid (one gather
+    # of the vertices kept)
+    kept_loop = loop_of[keep]
+    counts = np.bincount(kept_loop, minlength=len(loops))
+    keep = keep[counts[kept_loop] >= 3]
     q, pid, ts, loop_of, x = q[keep], pid[keep], ts[keep], loop_of[keep], x[keep]
-    # loops with fewer than three vertices enclose nothing on the grid
-    counts = np.bincount(loop_of, minlength=len(loops))
-    ok = counts[loop_of] >= 3
-    q, pid, ts, loop_of, x = q[ok], pid[ok], ts[ok], loop_of[ok], x[ok]
     nxt, prv, starts = _links(loop_of)
     cuts = (None, None, None)
     if len(q):
@@ -343,15 +344,18 @@ def _near_others(xy, nxt, todo, reach, arc=None, turn=None, line=None):
     has = (nxt[todo] != todo).ravel().nonzero()[0]
     if len(has) < 2:
         return near
+    solo = None   # the boxes from this index on (the lines) are not paired with each other
+    if line is not None:
+        is_line = line[todo[has]]
+        has = np.concatenate((has[~is_line], has[is_line]))
+        solo = len(has) - int(np.add.reduce(is_line))
     seg = todo[has]
     a, b = xy[seg], xy[nxt[seg]]
     grid = BoxGrid(np.minimum(a, b) - 0.5 * reach, np.maximum(a, b) + 0.5 * reach)
     cols = pl._columns(a, b)
-    for ki, kj in pl._cell_pair_columns(grid):
+    for ki, kj in pl._cell_pair_columns(grid, solo=solo):
         i, j = seg[ki], seg[kj]
         keep = (nxt[i] != j) & (nxt[j] != i)
-        if line is not None:
-            keep &= ~(line[i] & line[j])
         ki, kj, i, j = ki[keep], kj[keep], i[keep], j[keep]
         if len(ki):
             keep = pl._within_columns(cols, ki, kj, reach)
