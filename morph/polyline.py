@@ -4,6 +4,10 @@ Pieces are flattened within a tolerance (:func:`flatten_many`), to segments, the
 bucketed on a grid (hashing their bounding boxes) and candidate pairs tested with
 orientation predicates.  A low-level module: ``region`` uses it to tell crossing
 loops, the trimming engine to search crossings on polylines.
+
+Rows of (n, 2) and (n, k, 3) arrays are gathered by ``take`` / ``compress`` along
+axis 0: an index or mask array in ``a[idx]`` walks numpy's general iterator row by
+row, 5 to 7 times the instructions of ``take`` (the same rows).
 """
 
 import functools
@@ -67,7 +71,7 @@ def flat_starts(pieces, tol, max_depth=16, keep=None):
         points.append(starts)
     owner, ts, pts = np.concatenate(owners), np.concatenate(params), np.concatenate(points)
     order = piece_order(owner, ts)
-    return owner[order], ts[order], pts[order]
+    return owner[order], ts[order], pts.take(order, axis=0)
 
 
 def piece_order(owner, t):
@@ -104,9 +108,11 @@ def _flat_params(stack, tol, min_width, keep=None):
         flat = (dist <= part_tol) | (width <= min_width * 1.5)
         done_owner.append(owner[flat])
         done_t.append(t0[flat])
-        done_p.append(parts[flat, 0, :2] / parts[flat, 0, 2:])
+        first = parts[:, 0].compress(flat, axis=0)
+        done_p.append(first[:, :2] / first[:, 2:])
         rest = ~flat
-        parts, owner, t0, width, dist = parts[rest], owner[rest], t0[rest], width[rest], dist[rest]
+        parts, owner, t0, width, dist = (parts.compress(rest, axis=0), owner[rest], t0[rest],
+                                         width[rest], dist[rest])
         if not len(parts):
             break
         steps = np.ceil(np.sqrt(dist / (tol[owner] if per_piece else tol)))
@@ -116,23 +122,23 @@ def _flat_params(stack, tol, min_width, keep=None):
                            np.maximum(width / min_width, 2.0))
         steps = steps.astype(np.int64)
         order = steps.argsort(kind="stable")
-        parts, owner, t0, width, steps = (parts[order], owner[order], t0[order], width[order],
-                                          steps[order])
+        parts, owner, t0, width, steps = (parts.take(order, axis=0), owner[order], t0[order],
+                                          width[order], steps[order])
         rep, j = _step_rows(steps)
         if keep is not None:  # the sub-parts a caller needs, before they are cut
             t_sub = t0[rep] + j / steps[rep] * width[rep]
             m = keep(owner[rep], t_sub, width[rep] / steps[rep])
             part_of = rep
             needed = np.bincount(part_of[m], minlength=len(parts)) > 0
-            parts, owner, t0, width, steps = (parts[needed], owner[needed], t0[needed],
-                                              width[needed], steps[needed])
+            parts, owner, t0, width, steps = (parts.compress(needed, axis=0), owner[needed],
+                                              t0[needed], width[needed], steps[needed])
             rep, j = _step_rows(steps)
             sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
         parts = _equal_parts(parts, steps)
         owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
         width = width[rep] / steps[rep]
         if keep is not None:
-            parts, owner, t0 = parts[sub_keep], owner[sub_keep], t0[sub_keep]
+            parts, owner, t0 = parts.compress(sub_keep, axis=0), owner[sub_keep], t0[sub_keep]
             width = width[sub_keep]
     return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
 
