@@ -276,10 +276,11 @@ def member(values, sorted_set):
 class BoxGrid:
     """Axis-aligned boxes hashed on a uniform grid, for all-at-once candidate searches.
 
-    lo, hi: (n, 2) box corners.  Cells are about twice the median box's larger side
-    (few boxes per cell), grown while long boxes would cover more than 8 cells per
-    box on average.  ``items`` and ``keys``: the box of each (box, covered cell)
-    entry and its cell key, sorted by key.
+    lo, hi: (n, 2) box corners.  Cells are about ``scale`` times the median box's
+    larger side (2: few boxes per cell), grown while long boxes would cover more
+    than 8 cells per box on average; the boxes found are the same at any cell size.
+    ``items`` and ``keys``: the box of each (box, covered cell) entry and its cell
+    key, sorted by key.
     """
 
     def __init__(self, lo, hi, scale=2.0):
