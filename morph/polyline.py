@@ -198,7 +198,10 @@ def _chord_distance(parts):
     the chord (segment) of its part.  The inner control points one at a time, on
     (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
     by row); each point's coordinates divided by its weight column by column (1-D
-    strided loops; the (m, n+1) planes would go through numpy's buffered iterator)."""
+    strided loops; the (m, n+1) planes would go through numpy's buffered iterator).
+    Lines have no inner control point: 0."""
+    if parts.shape[1] <= 2:
+        return np.zeros(len(parts))
     ax, ay = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
     bx, by = parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2]
     cx, cy = bx - ax, by - ay
