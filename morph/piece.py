@@ -569,7 +569,7 @@ class Pieces:
         for g, (_, h) in enumerate(self.groups):
             sel = (gi == g).nonzero()[0]
             if len(sel):
-                out.append((sel, h[row[idx[sel]]]))
+                out.append((sel, h.take(row[idx[sel]], axis=0)))   # rows: a fifth of h[...]'s work
         return Pieces(out, len(idx))
 
 

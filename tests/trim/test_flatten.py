@@ -412,6 +412,57 @@ def test_near_others_matches_touching_edges():
     assert np.array_equal(sub, ref) and ref.any() and not ref.all()
 
 
+
+def test_near_others_leaves_out_the_pairs_of_two_lines():
+    """With ``line`` given, :func:`_near_others` finds the pairs of
+    :func:`morph.polyline.touching_edges` (an independent search) among the pending
+    segments, but those of two lines (the lines go last in its grid and are not
+    paired with each other: a line still meets every other segment, before or after
+    it); the pairs of two lines alone make segments near on random polylines."""
+    from morph.trim.flatten import _links, _near_others
+
+    rng = np.random.default_rng(29)
+    hits = only_lines = 0
+    for _ in range(300):
+        polys = [p for p in _random_polylines(rng) if len(p) >= 2]
+        if not polys:
+            continue
+        xy = np.concatenate(polys)
+        nxt = _links(np.repeat(np.arange(len(polys)), [len(p) for p in polys]))[0]
+        reach = 10.0 ** rng.uniform(-3, 0)
+        line = rng.random(len(xy)) < 0.5
+        todo = np.flatnonzero(rng.random(len(xy)) < 0.8)
+        pending = np.zeros(len(xy), bool)
+        pending[todo] = True
+        pairs = pl.touching_edges(polys, reach)
+        pairs = pairs[pending[pairs[:, 0]] & pending[pairs[:, 1]]]
+        both = line[pairs[:, 0]] & line[pairs[:, 1]]
+        want = np.zeros(len(xy), bool)
+        want[pairs[~both].ravel()] = True
+        got = _near_others(xy, nxt, todo, reach, line=line)
+        assert np.array_equal(got, want[todo])
+        hits += int(got.sum())
+        only_lines += int((_near_others(xy, nxt, todo, reach) & ~got).sum())
+    assert hits > 500 and only_lines > 50
+
+
+def test_cell_pairs_from_solo_on_are_not_paired_with_each_other():
+    """:func:`morph.polyline._cell_pair_columns` with ``solo``: the overlapping box
+    pairs (all pairs compared) but those of two boxes from ``solo`` on, each once."""
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        n = int(rng.integers(2, 200))
+        lo = rng.uniform(0, 10, (n, 2))
+        hi = lo + rng.uniform(0, 3, (n, 2)) ** 2
+        solo = int(rng.integers(0, n + 1))
+        i, j = np.triu_indices(n, 1)
+        over = np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
+        want = {(a, b) for a, b in zip(i[over], j[over]) if a < solo or b < solo}
+        found = [(int(a), int(b)) for ci, cj in
+                 pl._cell_pair_columns(pl.BoxGrid(lo, hi), first=64, solo=solo)
+                 for a, b in zip(ci, cj)]
+        assert len(found) == len(set(found)) and set(found) == want
+
 def _sum_loops(a, b, tol):
     """The chained convolution loops of glyph a + glyph b (loops that turn and meet,
     with swallowtails and near contacts), as (pieces, loop of each piece)."""
