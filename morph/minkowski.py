@@ -512,6 +512,27 @@ def _corners(out):
 HOLE_DEPTH = 8.0
 
 
+#: :func:`_membership_depths` flattens for depths of at most this many tol: coarser
+#: flattenings of a glyph hardly have fewer points (a point or two per piece already)
+HOLE_COARSEST = 64.0
+
+
+def _membership_depths(depths, tol):
+    """The depth each hole's point is tested at (:class:`morph.trim.holes.Membership`
+    flattens A and B within a tenth of it, on a grid of a twentieth): powers of two
+    times ``tol``, so that points share flattenings.  A point ``depth`` deep in its
+    hole's ring lies at least depth - tol from the exact boundary of the sum (the
+    rings are within the sum's tol of it); the flattened, rounded operands are
+    within 0.14 of the key each, so the answer is the exact one where 0.28 key <
+    depth - tol: key at most (depth - tol) / 2, and at least tol x 2^floor(log2(
+    min(depth, tol) / tol)) (down to tol / 8) for points less than 3 tol deep,
+    whose predicate keeps its tenth of min(depth, tol); at most HOLE_COARSEST tol."""
+    d = np.maximum(depths, 1e-300) / tol
+    near = np.clip(np.floor(np.log2(d)), -3, 0)
+    far = np.floor(np.log2(np.maximum(0.5 * (d - 1.0), 1e-300)))
+    return tol * 2.0 ** np.clip(np.maximum(near, far), -3, np.log2(HOLE_COARSEST))
+
+
 class _HoleTest:
     """hole_test for :func:`morph.trim.boundary`: the exact predicate at the hole's
     deepest point, or one HOLE_DEPTH tol deep (A and B flattened within a tenth of
@@ -532,9 +553,7 @@ class _HoleTest:
         deep where there are such, found together
         (:func:`morph.trim.holes.points_deep_enough`)."""
         points, depths = points_deep_enough(holes, HOLE_DEPTH * self.tol)
-        # flattenings fine enough for the depth, never coarser than tol, reused
-        keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
-                                         -3, 0)
+        keys = _membership_depths(depths, self.tol)
         # no point inside (a hole of no area outside its islands): it stays a hole
         filled = np.zeros(len(points), bool)
         for key in unique(keys[depths > 0.0]).tolist():
