@@ -95,7 +95,7 @@ def _flags_many(heads):
     buf = np.frombuffer(b"".join(h[0] for h in heads), np.uint8)
     start = base[:-1] + np.array([h[3] for h in heads], np.int64)
     count = np.array([h[4] for h in heads], np.int64)
-    size = np.clip(np.minimum(start + 2 * count, base[1:]) - start, 0, None)
+    size = np.maximum(np.minimum(start + 2 * count, base[1:]) - start, 0)
     first = size.cumsum() - size
     glyph = np.repeat(np.arange(len(heads)), size)
     pos = np.repeat(start - first, size) + np.arange(len(glyph))   # the windows' bytes
