@@ -170,13 +170,31 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
                          traced)
-    out, _ = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
-    # each result's bound is tol, the sum's guarantee (the achieved error is not
-    # tracked per packed region)
-    out = [validated(loops, tol, frozen=True) for loops in layout.split(out)]
+    out, debug = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
+    bounds = _slot_bounds(debug["convolution"], layout, tol, method).tolist()
+    out = [validated(loops, b, frozen=True) for loops, b in zip(layout.split(out), bounds)]
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
+
+
+def _slot_bounds(conv, layout, tol, method):
+    """Each packed region's ``bound``, all slots at once: (1 - CONV_SHARE) tol, the
+    shares other than the convolution's, plus e / TIP_FLOOR for e the largest QAC
+    bound of its slot's convolution pieces, at most tol.  That bounds what
+    :func:`_achieved_bound` finds (e at smooth places, e / max(cos(phi / 2),
+    TIP_FLOOR) at a corner turning by phi) without its work per region: (1 -
+    CONV_SHARE) tol where the pieces are exact up to rounding (a TrueType glyph ⊕ an
+    ellipse: e about 1e-13 tol in packed coordinates), tol (the sum's guarantee) for
+    inexact ones (e over TIP_FLOOR CONV_SHARE tol) and other methods."""
+    n = len(layout.offsets)
+    if method != "qac":
+        return np.full(n, float(tol))
+    slot = layout.slot_of(pc.end_points(conv.pieces)[0]) if len(conv) else np.zeros(0, int)
+    err = np.zeros(n + 1)
+    np.maximum.at(err, np.where(slot < 0, n, slot), conv.bound)
+    err = np.maximum(err[:n], err[n])   # a piece in no slot (none in a packed sum): all
+    return np.minimum(float(tol), (1.0 - CONV_SHARE) * tol + err / TIP_FLOOR)
 
 
 def _not_vanished(loops, tol, which=""):

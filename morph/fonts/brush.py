@@ -314,7 +314,7 @@ def sweep_glyphs(jobs):
         try:
             with converting(len(done)):
                 contours = contours_from_regions([loops for _, loops in done],
-                                                 plan(tol).export, quadratic,
+                                                 _export_tolerance(tol, done), quadratic,
                                                  [jobs[k][5] for k, _ in done], splines=True)
         except MorphError:  # glyph by glyph below
             contours = None
@@ -329,6 +329,19 @@ def sweep_glyphs(jobs):
             except MorphError as exc:
                 out[k] = _sweep(jobs[k], 1, error_text(exc))
     return out
+
+
+def _export_tolerance(tol, done):
+    """The curve conversion's tolerance for the sums ``done`` ([(job index, loops)])
+    converted together: what the geometry left of ``tol`` once its error is bounded
+    (:meth:`morph.budget.Budget.after` of the largest ``bound`` of the sums: half the
+    geometry share where the convolution pieces are exact, as TrueType glyphs ⊕ an
+    ellipse's are), so that every outline stays within ``tol``."""
+    budget = plan(tol)
+    bounds = [loops.bound for _, loops in done]
+    if any(b is None for b in bounds):
+        return budget.export
+    return budget.after(min(max(bounds), budget.geometry))
 
 
 def _first_sums(jobs, todo, out):
