@@ -4,8 +4,9 @@ The nib is a convex region swept without rotation (a calligraphic pen held at a
 fixed angle); the default is an exact ellipse (:func:`morph.piece.ellipse`).  Each
 sum is computed with :func:`morph.minkowski.minkowski_sum` within the geometry share
 of ``tol`` and its loops of rational pieces are converted to the font's curve type
-within the export share (:func:`morph.budget.plan`, as every writer splits it)
-by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
+within the export share (:func:`morph.budget.plan`, as every writer splits it;
+the sums of a chunk computed together leave it what their ``bound`` does not
+spend, :func:`_export_tolerance`) by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
 :func:`morph.export.loop_to_quadratics`; CFF: cubics,
 :func:`morph.export.loop_to_beziers`; curves may span smooth joins), both with
 certified bounds, so each written
