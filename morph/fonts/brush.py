@@ -5,8 +5,9 @@ fixed angle); the default is an exact ellipse (:func:`morph.piece.ellipse`).  Ea
 sum is computed with :func:`morph.minkowski.minkowski_sum` within the geometry share
 of ``tol`` and its loops of rational pieces are converted to the font's curve type
 within the export share (:func:`morph.budget.plan`, as every writer splits it;
-the sums of a chunk computed together leave it what their ``bound`` does not
-spend, :func:`_export_tolerance`) by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
+plus what the sum's ``bound`` leaves of the geometry share, :func:`_export_tolerance`)
+by :func:`morph.fonts.tables.contours_from_loops`
+(TrueType: quadratics,
 :func:`morph.export.loop_to_quadratics`; CFF: cubics,
 :func:`morph.export.loop_to_beziers`; curves may span smooth joins), both with
 certified bounds, so each written
@@ -273,14 +274,16 @@ def _sweep(job, start=0, error=None):
     if not region:
         return name, [], "exact", None
 
-    def exact(pen, sum_tol):
+    def exact(pen, sum_tol, kind):
         from ..minkowski import minkowski_sum
         from .tables import contours_from_loops
 
         loops = minkowski_sum(region, pen, sum_tol, method=method)
-        return contours_from_loops(loops, plan(tol).export, quadratic, offset, splines=True)
+        # a turned nib's sum is off the exact one by the turn too: the export share
+        export = plan(tol).export if kind == "rotated" else _export_tolerance(tol, [(0, loops)])
+        return contours_from_loops(loops, export, quadratic, offset, splines=True)
 
-    rungs = [(kind, lambda p=pen, t=sum_tol: exact(p, t))
+    rungs = [(kind, lambda p=pen, t=sum_tol, k=kind: exact(p, t, k))
              for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None)]
     rungs.append(("polygon", lambda: polylines_to_contours(polygon_sum(region, nib, tol),
                                                            quadratic, offset)))
@@ -325,8 +328,8 @@ def sweep_glyphs(jobs):
                 out[k] = (name, contours[i], "exact", None)
                 continue
             try:
-                out[k] = (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
-                                                    splines=True), "exact", None)
+                out[k] = (name, contours_from_loops(loops, _export_tolerance(tol, [(k, loops)]),
+                                                    quadratic, offset, splines=True), "exact", None)
             except MorphError as exc:
                 out[k] = _sweep(jobs[k], 1, error_text(exc))
     return out
