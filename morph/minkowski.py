@@ -526,7 +526,7 @@ def _corners(out):
 
 #: The hole test's point needs to be no deeper than this many tol inside the hole's
 #: ring (which is within about tol of the exact boundary): from there on the answer
-#: and the flattening the predicate uses (a tenth of min(depth, tol)) stay the same.
+#: stays the same, the exact one (:func:`_membership_depths`).
 HOLE_DEPTH = 8.0
 
 
@@ -554,7 +554,7 @@ def _membership_depths(depths, tol):
 class _HoleTest:
     """hole_test for :func:`morph.trim.boundary`: the exact predicate at the hole's
     deepest point, or one HOLE_DEPTH tol deep (A and B flattened within a tenth of
-    min(depth, tol))."""
+    the depth :func:`_membership_depths` gives the point)."""
 
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
