@@ -170,13 +170,31 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
                          traced)
-    out, _ = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
-    # each result's bound is tol, the sum's guarantee (the achieved error is not
-    # tracked per packed region)
-    out = [validated(loops, tol, frozen=True) for loops in layout.split(out)]
+    out, debug = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
+    bounds = _slot_bounds(debug["convolution"], layout, tol, method).tolist()
+    out = [validated(loops, b, frozen=True) for loops, b in zip(layout.split(out), bounds)]
     for k, loops in enumerate(out):
         _not_vanished(loops, tol, " of region %d" % k)
     return out
+
+
+def _slot_bounds(conv, layout, tol, method):
+    """Each packed region's ``bound``, all slots at once: (1 - CONV_SHARE) tol, the
+    shares other than the convolution's, plus e / TIP_FLOOR for e the largest QAC
+    bound of its slot's convolution pieces, at most tol.  That bounds what
+    :func:`_achieved_bound` finds (e at smooth places, e / max(cos(phi / 2),
+    TIP_FLOOR) at a corner turning by phi) without its work per region: (1 -
+    CONV_SHARE) tol where the pieces are exact up to rounding (a TrueType glyph ⊕ an
+    ellipse: e about 1e-13 tol in packed coordinates), tol (the sum's guarantee) for
+    inexact ones (e over TIP_FLOOR CONV_SHARE tol) and other methods."""
+    n = len(layout.offsets)
+    if method != "qac":
+        return np.full(n, float(tol))
+    slot = layout.slot_of(pc.end_points(conv.pieces)[0]) if len(conv) else np.zeros(0, int)
+    err = np.zeros(n + 1)
+    np.maximum.at(err, np.where(slot < 0, n, slot), conv.bound)
+    err = np.maximum(err[:n], err[n])   # a piece in no slot (none in a packed sum): all
+    return np.minimum(float(tol), (1.0 - CONV_SHARE) * tol + err / TIP_FLOOR)
 
 
 def _not_vanished(loops, tol, which=""):
@@ -508,14 +526,35 @@ def _corners(out):
 
 #: The hole test's point needs to be no deeper than this many tol inside the hole's
 #: ring (which is within about tol of the exact boundary): from there on the answer
-#: and the flattening the predicate uses (a tenth of min(depth, tol)) stay the same.
+#: stays the same, the exact one (:func:`_membership_depths`).
 HOLE_DEPTH = 8.0
+
+
+#: :func:`_membership_depths` flattens for depths of at most this many tol: coarser
+#: flattenings of a glyph hardly have fewer points (a point or two per piece already)
+HOLE_COARSEST = 64.0
+
+
+def _membership_depths(depths, tol):
+    """The depth each hole's point is tested at (:class:`morph.trim.holes.Membership`
+    flattens A and B within a tenth of it, on a grid of a twentieth): powers of two
+    times ``tol``, so that points share flattenings.  A point ``depth`` deep in its
+    hole's ring lies at least depth - tol from the exact boundary of the sum (the
+    rings are within the sum's tol of it); the flattened, rounded operands are
+    within 0.14 of the key each, so the answer is the exact one where 0.28 key <
+    depth - tol: key at most (depth - tol) / 2, and at least tol x 2^floor(log2(
+    min(depth, tol) / tol)) (down to tol / 8) for points less than 3 tol deep,
+    whose predicate keeps its tenth of min(depth, tol); at most HOLE_COARSEST tol."""
+    d = np.maximum(depths, 1e-300) / tol
+    near = np.clip(np.floor(np.log2(d)), -3, 0)
+    far = np.floor(np.log2(np.maximum(0.5 * (d - 1.0), 1e-300)))
+    return tol * 2.0 ** np.clip(np.maximum(near, far), -3, np.log2(HOLE_COARSEST))
 
 
 class _HoleTest:
     """hole_test for :func:`morph.trim.boundary`: the exact predicate at the hole's
     deepest point, or one HOLE_DEPTH tol deep (A and B flattened within a tenth of
-    min(depth, tol))."""
+    the depth :func:`_membership_depths` gives the point)."""
 
     def __init__(self, region_a, region_b, tol):
         self.a, self.b, self.tol = region_a, region_b, tol
@@ -532,9 +571,7 @@ class _HoleTest:
         deep where there are such, found together
         (:func:`morph.trim.holes.points_deep_enough`)."""
         points, depths = points_deep_enough(holes, HOLE_DEPTH * self.tol)
-        # flattenings fine enough for the depth, never coarser than tol, reused
-        keys = self.tol * 2.0 ** np.clip(np.floor(np.log2(np.maximum(depths, 1e-300) / self.tol)),
-                                         -3, 0)
+        keys = _membership_depths(depths, self.tol)
         # no point inside (a hole of no area outside its islands): it stays a hole
         filled = np.zeros(len(points), bool)
         for key in unique(keys[depths > 0.0]).tolist():

@@ -4,8 +4,10 @@ The nib is a convex region swept without rotation (a calligraphic pen held at a
 fixed angle); the default is an exact ellipse (:func:`morph.piece.ellipse`).  Each
 sum is computed with :func:`morph.minkowski.minkowski_sum` within the geometry share
 of ``tol`` and its loops of rational pieces are converted to the font's curve type
-within the export share (:func:`morph.budget.plan`, as every writer splits it)
-by :func:`morph.fonts.tables.contours_from_loops` (TrueType: quadratics,
+within the export share (:func:`morph.budget.plan`, as every writer splits it;
+plus what the sum's ``bound`` leaves of the geometry share, :func:`_export_tolerance`)
+by :func:`morph.fonts.tables.contours_from_loops`
+(TrueType: quadratics,
 :func:`morph.export.loop_to_quadratics`; CFF: cubics,
 :func:`morph.export.loop_to_beziers`; curves may span smooth joins), both with
 certified bounds, so each written
@@ -272,14 +274,16 @@ def _sweep(job, start=0, error=None):
     if not region:
         return name, [], "exact", None
 
-    def exact(pen, sum_tol):
+    def exact(pen, sum_tol, kind):
         from ..minkowski import minkowski_sum
         from .tables import contours_from_loops
 
         loops = minkowski_sum(region, pen, sum_tol, method=method)
-        return contours_from_loops(loops, plan(tol).export, quadratic, offset, splines=True)
+        # a turned nib's sum is off the exact one by the turn too: the export share
+        export = plan(tol).export if kind == "rotated" else _export_tolerance(tol, [(0, loops)])
+        return contours_from_loops(loops, export, quadratic, offset, splines=True)
 
-    rungs = [(kind, lambda p=pen, t=sum_tol: exact(p, t))
+    rungs = [(kind, lambda p=pen, t=sum_tol, k=kind: exact(p, t, k))
              for kind, sum_tol, pen in islice(_attempts(nib, tol), start, None)]
     rungs.append(("polygon", lambda: polylines_to_contours(polygon_sum(region, nib, tol),
                                                            quadratic, offset)))
@@ -314,7 +318,7 @@ def sweep_glyphs(jobs):
         try:
             with converting(len(done)):
                 contours = contours_from_regions([loops for _, loops in done],
-                                                 plan(tol).export, quadratic,
+                                                 _export_tolerance(tol, done), quadratic,
                                                  [jobs[k][5] for k, _ in done], splines=True)
         except MorphError:  # glyph by glyph below
             contours = None
@@ -324,11 +328,24 @@ def sweep_glyphs(jobs):
                 out[k] = (name, contours[i], "exact", None)
                 continue
             try:
-                out[k] = (name, contours_from_loops(loops, plan(tol).export, quadratic, offset,
-                                                    splines=True), "exact", None)
+                out[k] = (name, contours_from_loops(loops, _export_tolerance(tol, [(k, loops)]),
+                                                    quadratic, offset, splines=True), "exact", None)
             except MorphError as exc:
                 out[k] = _sweep(jobs[k], 1, error_text(exc))
     return out
+
+
+def _export_tolerance(tol, done):
+    """The curve conversion's tolerance for the sums ``done`` ([(job index, loops)])
+    converted together: what the geometry left of ``tol`` once its error is bounded
+    (:meth:`morph.budget.Budget.after` of the largest ``bound`` of the sums: half the
+    geometry share where the convolution pieces are exact, as TrueType glyphs ⊕ an
+    ellipse's are), so that every outline stays within ``tol``."""
+    budget = plan(tol)
+    bounds = [loops.bound for _, loops in done]
+    if any(b is None for b in bounds):
+        return budget.export
+    return budget.after(min(max(bounds), budget.geometry))
 
 
 def _first_sums(jobs, todo, out):

@@ -16,6 +16,8 @@ long cubic runs, and decomposes components through the glyph set it was given
 contour is pending ends that contour as open.
 """
 
+from itertools import compress
+
 import numpy as np
 
 from .. import piece as pc
@@ -193,10 +195,14 @@ def glyph_loops(groups, n_pieces, contour, n_contours, bad=None):
 
     pieces = pc.Pieces([g for g in groups if len(g[0])], n_pieces)
     keep = ~zero_length_mask(pieces) if n_pieces else np.zeros(0, bool)
-    loops = [[] for _ in range(int(np.sum(n_contours)))]
-    for row, c, k in zip(pieces.rows(), np.asarray(contour).tolist(), keep.tolist()):
-        if k:
-            loops[c].append(row)
+    owner = np.asarray(contour, np.int64)[keep]
+    rows = list(compress(pieces.rows(), keep.tolist()))
+    if (np.diff(owner) < 0).any():    # pieces not in contour order (the decoders' are)
+        order = np.argsort(owner, kind="stable")
+        rows, owner = [rows[k] for k in order.tolist()], owner[order]
+    # each contour's pieces, a slice of the kept rows
+    ends = np.cumsum(np.bincount(owner, minlength=int(np.sum(n_contours)))).tolist()
+    loops = [rows[a:b] for a, b in zip([0] + ends[:-1], ends)]
     out, c = [], 0
     for g, n in enumerate(np.asarray(n_contours).tolist()):
         out.append(None if bad is not None and bad[g] else

@@ -81,19 +81,45 @@ def _head(g):
     return data, ends, int.from_bytes(data[2:4], "big", signed=True), at, int(ends[-1]) + 1
 
 
-def _flags(data, at, count):
-    """The ``count`` point flags stored run-length from byte ``at`` on and the byte
-    after them; None where the bytes end first."""
-    flags = bytearray()
-    while len(flags) < count and at < len(data):
-        f = data[at]
-        at += 1
-        if f & _REPEAT and at < len(data):
-            flags += bytes((f,)) * (data[at] + 1)
-            at += 1
-        else:
-            flags.append(f)
-    return (bytes(flags[:count]), at) if len(flags) >= count else (None, at)
+def _flags_many(heads):
+    """The point flags of stored simple glyphs (:func:`_head`), stored run-length
+    from byte ``at`` of each on: (the flags of all glyphs one after another, each
+    glyph's count of them, the byte after each glyph's flags, whether its bytes hold
+    them all; a glyph whose bytes end first gets none).  All glyphs at once: a byte
+    is a repeat count when the byte before it is a flag with the REPEAT bit, so in a
+    run of bytes with the bit set the flags are every other byte from the run's
+    start (the window's first byte or one after a byte without the bit); a glyph's
+    flags lie in its first 2 ``count`` bytes (each flag gives a point at least, and
+    a count byte follows a flag)."""
+    base = np.cumsum([0] + [len(h[0]) for h in heads])
+    buf = np.frombuffer(b"".join(h[0] for h in heads), np.uint8)
+    start = base[:-1] + np.array([h[3] for h in heads], np.int64)
+    count = np.array([h[4] for h in heads], np.int64)
+    size = np.maximum(np.minimum(start + 2 * count, base[1:]) - start, 0)
+    first = size.cumsum() - size
+    glyph = np.repeat(np.arange(len(heads)), size)
+    pos = np.repeat(start - first, size) + np.arange(len(glyph))   # the windows' bytes
+    byte = buf[pos]
+    repeat = (byte & _REPEAT) != 0
+    # the last byte without the bit before each byte (its window's start - 1 if none)
+    prev = np.concatenate([[-1], np.where(repeat, -1, pos)[:-1]])
+    prev[first[size > 0]] = start[size > 0] - 1
+    flag = (pos - 1 - np.maximum.accumulate(prev)) % 2 == 0
+    counted = flag & repeat & (pos + 1 < base[1:][glyph])
+    reps = np.where(flag, np.where(counted, buf[np.minimum(pos + 1, len(buf) - 1)]
+                                   .astype(np.int64) + 1, 1), 0)
+    done = _segment_cumsum(reps, size)      # points up to each byte, in its glyph
+    # each glyph's last flag: its first byte where the points reach its count
+    last = np.full(len(heads), len(pos), np.int64)
+    hit = np.flatnonzero(flag & (done >= count[glyph]))
+    np.minimum.at(last, glyph[hit], hit)
+    ok = last < len(pos)
+    use = flag & (np.arange(len(pos)) <= np.repeat(np.where(ok, last, -1), size))
+    last = last[ok]
+    reps[last] -= done[last] - count[ok]        # its repeats cut at the count
+    after = np.zeros(len(heads), np.int64)
+    after[ok] = pos[last] + 1 + counted[last] - base[:-1][ok]
+    return np.repeat(byte[use], reps[use]), np.where(ok, count, 0), after, ok
 
 
 def _decode_many(heads):
@@ -101,18 +127,11 @@ def _decode_many(heads):
     the flags glyph by glyph, the coordinates of all at once (the ``glyf`` format:
     x then y deltas of 0, 1 or 2 bytes each); None for a glyph whose bytes end
     too soon."""
-    flags, x_at, ok = [], [], []
-    for data, _, _, at, count in heads:
-        f, at = _flags(data, at, count)
-        flags.append(f or b"")
-        x_at.append(at)
-        ok.append(f is not None)
     if not heads:
         return []
+    fl, count, x_at, ok = _flags_many(heads)
     base = np.cumsum([0] + [len(h[0]) for h in heads])
     buf = np.frombuffer(b"".join(h[0] for h in heads), np.uint8)
-    fl = np.frombuffer(b"".join(flags), np.uint8)
-    count = np.array([len(f) for f in flags], np.int64)
     glyph = np.repeat(np.arange(len(heads)), count)
     x, y_at = _deltas(buf, base[:-1] + x_at, glyph, count, fl, _X_SHORT, _X_SAME)
     y, end = _deltas(buf, y_at, glyph, count, fl, _Y_SHORT, _Y_SAME)
