@@ -16,7 +16,7 @@ info with fallbacks, and that is done here with fontTools' tables, in ufo2ft's o
 and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
 ``instructionCompiler``, ``postProcessor``; MIT licence):
 
-- :func:`info_value` is ufo2ft's ``getAttrWithFallback`` (the same fallbacks);
+- :func:`morph.fonts.fontinfo.info_value` is ufo2ft's ``getAttrWithFallback`` (the same fallbacks);
 - head, hmtx, hhea, name, maxp, cmap, OS/2, post, then CFF or glyf / loca (and gasp
   from the info); the glyph programs are the stored bytes of
   :func:`morph.fonts.stream.compile_outlines`, the other glyphs (the ``.notdef``
@@ -48,380 +48,19 @@ compile fonts both ways and compare them so.
 
 import math
 import os
-import time
-from collections import namedtuple
 from functools import partial
 import struct
 
-__all__ = ["info_value", "compile_static", "subroutinize", "BoundedCharString",
-           "NOT_FOR_TX"]
-
-# =========================================================================== font info
-
-
-def _upm(info):
-    return info_value(info, "unitsPerEm")
-
-
-def _ot_round(value):
-    return int(math.floor(value + 0.5))
-
-
-_STYLE_MAP = ("regular", "bold", "italic", "bold italic")
-_DATE_FORMAT = "%Y/%m/%d %H:%M:%S"
-
-
-def _date_now():
-    return time.strftime(_DATE_FORMAT, time.gmtime())
-
-
-def _created(info):
-    if "SOURCE_DATE_EPOCH" in os.environ:
-        from datetime import datetime, timezone
-
-        t = datetime.fromtimestamp(int(os.environ["SOURCE_DATE_EPOCH"]), timezone.utc)
-        return t.strftime(_DATE_FORMAT)
-    return _date_now()
-
-
-def _style_map_family(info):
-    family = info_value(info, "openTypeNamePreferredFamilyName")
-    style = info.styleMapStyleName
-    if not style:
-        style = info_value(info, "openTypeNamePreferredSubfamilyName")
-    if style is None or style.lower() in _STYLE_MAP:
-        style = ""
-    return (family + " " + style).strip()
-
-
-def _style_map_style(info):
-    style = info_value(info, "openTypeNamePreferredSubfamilyName")
-    if style is None or style.strip().lower() not in _STYLE_MAP:
-        return "regular"
-    return style.strip().lower()
-
-
-def _slope_rise(info):
-    angle = info_value(info, "italicAngle")
-    if angle != 0 and getattr(info, "openTypeHheaCaretSlopeRun", None) is not None:
-        return _ot_round(info.openTypeHheaCaretSlopeRun / math.tan(math.radians(-angle)))
-    return _upm(info)
-
-
-def _slope_run(info):
-    angle = info_value(info, "italicAngle")
-    if angle != 0:
-        rise = info_value(info, "openTypeHheaCaretSlopeRise")
-        return _ot_round(math.tan(math.radians(-angle)) * rise)
-    return 0
-
-
-def _name_version(info):
-    return "Version %d.%s" % (info_value(info, "versionMajor"),
-                              str(info_value(info, "versionMinor")).zfill(3))
-
-
-def _unique_id(info):
-    version = info_value(info, "openTypeNameVersion").replace("Version ", "")
-    return "%s;%s;%s" % (version, info_value(info, "openTypeOS2VendorID"),
-                         info_value(info, "postscriptFontName"))
-
-
-def _typo_line_gap(info):
-    return max(int(_upm(info) * 1.2) - info_value(info, "ascender")
-               + info_value(info, "descender"), 0)
-
-
-_PS_EXCEPTIONS = set("[](){}<>/%")
-_PS_ALLOWED = {chr(i) for i in range(33, 127)}
-
-
-def normalize_for_postscript(s, allow_spaces=True):
-    """ufo2ft's ``normalizeStringForPostscript``."""
-    import unicodedata
-
-    out = []
-    for c in s:
-        if c == " " and not allow_spaces:
-            continue
-        if c in _PS_EXCEPTIONS:
-            continue
-        if c not in _PS_ALLOWED:
-            c = unicodedata.normalize("NFKD", c)
-            if not set(c) < _PS_ALLOWED:
-                c = c.encode("ascii", errors="replace").decode()
-        out.append(c)
-    return "".join(out)
-
-
-def _ps_font_name(info):
-    return normalize_for_postscript("%s-%s" % (
-        info_value(info, "openTypeNamePreferredFamilyName"),
-        info_value(info, "openTypeNamePreferredSubfamilyName")), allow_spaces=False)
-
-
-def _blue_scale(info):
-    zone = 0
-    for blues in (info_value(info, "postscriptBlueValues"),
-                  info_value(info, "postscriptOtherBlues")):
-        if blues:
-            for x, y in zip(blues[:-1:2], blues[1::2]):
-                zone = max(zone, abs(y - x))
-    return 3 / (4 * zone) if zone else 0.039625
-
-
-_STATIC = dict(
-    versionMajor=0, versionMinor=0, copyright=None, trademark=None, familyName="New Font",
-    styleName="Regular", unitsPerEm=1000, italicAngle=0, year=None, note=None,
-    openTypeHeadLowestRecPPEM=6, openTypeHeadFlags=[0, 1], openTypeHheaLineGap=0,
-    openTypeHheaCaretOffset=0, openTypeNameDesigner=None, openTypeNameDesignerURL=None,
-    openTypeNameManufacturer=None, openTypeNameManufacturerURL=None,
-    openTypeNameLicense=None, openTypeNameLicenseURL=None, openTypeNameDescription=None,
-    openTypeNameCompatibleFullName=None, openTypeNameSampleText=None,
-    openTypeNameRecords=[], openTypeOS2WidthClass=5, openTypeOS2WeightClass=400,
-    openTypeOS2Selection=[], openTypeOS2VendorID="NONE",
-    openTypeOS2Panose=[0, 0, 0, 0, 0, 0, 0, 0, 0, 0], openTypeOS2FamilyClass=[0, 0],
-    openTypeOS2UnicodeRanges=None, openTypeOS2CodePageRanges=None, openTypeOS2Type=[2],
-    openTypeOS2SubscriptXSize=None, openTypeOS2SubscriptYSize=None,
-    openTypeOS2SubscriptXOffset=None, openTypeOS2SubscriptYOffset=None,
-    openTypeOS2SuperscriptXSize=None, openTypeOS2SuperscriptYSize=None,
-    openTypeOS2SuperscriptXOffset=None, openTypeOS2SuperscriptYOffset=None,
-    openTypeOS2StrikeoutSize=None, openTypeOS2StrikeoutPosition=None,
-    openTypeVheaVertTypoAscender=None, openTypeVheaVertTypoDescender=None,
-    openTypeVheaVertTypoLineGap=None, openTypeVheaCaretSlopeRise=0,
-    openTypeVheaCaretSlopeRun=1, openTypeVheaCaretOffset=0, postscriptUniqueID=None,
-    postscriptWeightName=None, postscriptIsFixedPitch=False, postscriptBlueValues=[],
-    postscriptOtherBlues=[], postscriptFamilyBlues=[], postscriptFamilyOtherBlues=[],
-    postscriptStemSnapH=[], postscriptStemSnapV=[], postscriptBlueFuzz=0,
-    postscriptBlueShift=7, postscriptForceBold=0, postscriptDefaultWidthX=200,
-    postscriptNominalWidthX=0, postscriptDefaultCharacter=None,
-    postscriptWindowsCharacterSet=None, macintoshFONDFamilyID=None, macintoshFONDName=None)
-
-_SPECIAL = dict(
-    ascender=lambda i: _ot_round(_upm(i) * 0.8),
-    descender=lambda i: -_ot_round(_upm(i) * 0.2),
-    capHeight=lambda i: _ot_round(_upm(i) * 0.7),
-    xHeight=lambda i: _ot_round(_upm(i) * 0.5),
-    styleMapFamilyName=_style_map_family,
-    styleMapStyleName=_style_map_style,
-    openTypeHeadCreated=_created,
-    openTypeHheaAscender=lambda i: info_value(i, "ascender")
-    + info_value(i, "openTypeOS2TypoLineGap"),
-    openTypeHheaDescender=lambda i: info_value(i, "descender"),
-    openTypeHheaCaretSlopeRise=_slope_rise,
-    openTypeHheaCaretSlopeRun=_slope_run,
-    openTypeNameVersion=_name_version,
-    openTypeNameUniqueID=_unique_id,
-    openTypeNamePreferredFamilyName=lambda i: info_value(i, "familyName"),
-    openTypeNamePreferredSubfamilyName=lambda i: info_value(i, "styleName"),
-    openTypeNameWWSFamilyName=lambda i: None,
-    openTypeNameWWSSubfamilyName=lambda i: None,
-    openTypeOS2TypoAscender=lambda i: info_value(i, "ascender"),
-    openTypeOS2TypoDescender=lambda i: info_value(i, "descender"),
-    openTypeOS2TypoLineGap=_typo_line_gap,
-    openTypeOS2WinAscent=lambda i: info_value(i, "ascender")
-    + info_value(i, "openTypeOS2TypoLineGap"),
-    openTypeOS2WinDescent=lambda i: abs(info_value(i, "descender")),
-    postscriptFontName=_ps_font_name,
-    postscriptFullName=lambda i: "%s %s" % (
-        info_value(i, "openTypeNamePreferredFamilyName"),
-        info_value(i, "openTypeNamePreferredSubfamilyName")),
-    postscriptSlantAngle=lambda i: info_value(i, "italicAngle"),
-    postscriptUnderlineThickness=lambda i: _upm(i) * 0.05,
-    postscriptUnderlinePosition=lambda i: _upm(i) * -0.075,
-    postscriptBlueScale=_blue_scale)
-
-
-def info_value(info, attr):
-    """The font info's ``attr``, or where it is unset (None) the value ufo2ft
-    compiles in its place (its ``getAttrWithFallback``: the same static values and
-    derived ones)."""
-    value = getattr(info, attr, None)
-    if value is not None:
-        return value
-    if attr in _SPECIAL:
-        return _SPECIAL[attr](info)
-    return _STATIC[attr]
-
-
-def _int_list_to_num(values, start, length):
-    """ufo2ft's ``intListToNum``: the bits ``values`` (in [start, start + length))
-    as an integer."""
-    return sum(1 << (i - start) for i in set(values) if start <= i < start + length)
-
-
-def _time_value(date):
-    """Seconds since 1970 of a UFO date (``YYYY/MM/DD HH:MM:SS``, UTC) as ufo2ft
-    reads it with ``time.strptime``, 0 where that fails.  A date of exactly that
-    form in ASCII digits (what :func:`_date_now` writes) is read field by field, with
-    strptime's ranges and calendar: its ``_strptime`` module builds the locale's
-    tables and patterns as it loads (~10 M instructions of every ``morph stroke``)."""
-    import calendar
-
-    digits = date[:4] + date[5:7] + date[8:10] + date[11:13] + date[14:16] + date[17:] \
-        if isinstance(date, str) and len(date) == 19 else ""
-    if digits.isdigit() and digits.isascii() \
-            and (date[4], date[7], date[10], date[13], date[16]) == ("/", "/", " ", ":", ":"):
-        y, mo, d, h, mi, sec = (int(digits[i:j]) for i, j in
-                                ((0, 4), (4, 6), (6, 8), (8, 10), (10, 12), (12, 14)))
-        if y >= 1 and 1 <= mo <= 12 and 1 <= d <= calendar.monthrange(y, mo)[1] \
-                and h <= 23 and mi <= 59 and sec <= 61:
-            return calendar.timegm((y, mo, d, h, mi, sec))
-        return 0
-    try:
-        return calendar.timegm(time.strptime(date, _DATE_FORMAT))
-    except ValueError:
-        return 0
-
-
-# =========================================================================== shared with stored.py
-
-def _t2():
-    from fontTools.misc.psCharStrings import T2CharString
-
-    return T2CharString
-
-
-class _BoundedMixin:
-    bounds = None
-
-    def calcBounds(self, glyphSet):
-        return self.bounds
-
-
-def _bounded_class():
-    global _BOUNDED
-    if _BOUNDED is None:
-        _BOUNDED = type("BoundedCharString", (_BoundedMixin, _t2()), {"__doc__": (
-            "A charstring whose bounds were computed where it was compiled (the worker: "
-            "``calcBounds`` of the same program): fontTools asks a CFF font's charstrings "
-            "for their bounds for the font box, head and hhea on every save, which would "
-            "decompile each one in Python.")})
-    return _BOUNDED
-
-
-_BOUNDED = None
-
-
-def BoundedCharString(*args, **kwargs):  # noqa: N802 - a class made on first use
-    """A T2 charstring answering ``calcBounds`` with its ``bounds`` (see
-    :func:`_bounded_class`)."""
-    return _bounded_class()(*args, **kwargs)
-
-
-def as_bounded(cs, bounds):
-    """``cs`` made a bounded charstring with ``bounds``."""
-    cs.__class__ = _bounded_class()
-    cs.bounds = bounds
-    return cs
-
-
-def is_bounded(cs):
-    return _BOUNDED is not None and isinstance(cs, _BOUNDED)
-
-
-#: the tables the subroutinizer's save leaves out (:func:`subroutinize`): layout
-#: tables, which read no other table and are the most costly to compile
-NOT_FOR_TX = frozenset(("GDEF", "GPOS", "GSUB"))
-
-
-def subroutinize(otf, bounds):
-    """ufo2ft's subroutinizing of a CFF 1 font (cffsubr's ``tx``, which saves the
-    whole font), given the font without its layout tables (:data:`NOT_FOR_TX`; ``tx``
-    reads the CFF and cmap tables): they would be compiled only to be compiled
-    again when the font is saved.  The other tables are the font's own, so that the
-    save sets their boxes and metrics as ufo2ft's does.  The new charstrings then
-    answer ``calcBounds`` with ``bounds`` (glyph name -> the bounds of its
-    charstring as compiled: the same paths)."""
-    import cffsubr
-    from fontTools.ttLib import TTFont
-
-    rest = TTFont(sfntVersion=otf.sfntVersion, recalcBBoxes=otf.recalcBBoxes,
-                  recalcTimestamp=otf.recalcTimestamp)
-    rest.setGlyphOrder(otf.getGlyphOrder())
-    for tag in otf.keys():
-        if tag != "GlyphOrder" and tag not in NOT_FOR_TX:
-            rest[tag] = otf[tag]
-    cffsubr.subroutinize(rest, cff_version=1, keep_glyph_names=False)
-    otf["CFF "] = rest["CFF "]
-    bound_charstrings(otf, bounds)
-
-
-def bound_charstrings(otf, bounds):
-    """The CFF charstrings of ``otf`` (plain ones) answer ``calcBounds`` with
-    ``bounds``."""
-    if "CFF " not in otf or not bounds:
-        return
-    t2 = _t2()
-    charstrings = otf["CFF "].cff.topDictIndex[0].CharStrings
-    for name in otf.getGlyphOrder():
-        if name in bounds and name in charstrings:
-            cs = charstrings[name]
-            if type(cs) is t2:
-                as_bounded(cs, bounds[name])
-
-
-class Header:
-    """What ``maxp.recalc`` and the boxes read of a stored simple glyph, from its
-    bytes without decoding its points: the header (contours, box) and the number
-    of points (the last contour's end + 1)."""
-
-    def __init__(self, data):
-        self.numberOfContours, self.xMin, self.yMin, self.xMax, self.yMax = \
-            struct.unpack(">hhhhh", data[:10])
-        n = self.numberOfContours
-        self.points = struct.unpack(">H", data[8 + 2 * n:10 + 2 * n])[0] + 1
-
-    def getMaxpValues(self):
-        return self.points, self.numberOfContours
-
-    def isComposite(self):
-        return False
-
-
-class Expanded(dict):
-    """The compiled glyphs as a glyf table lends them to a composite's bounds and
-    maxp values: a stored glyph as a :class:`Header` (``headers``) or a decoded
-    copy (``headers=False``), the stored bytes left as they are."""
-
-    def __init__(self, glyphs, headers=True):
-        super().__init__(glyphs)
-        self.headers = headers
-
-    def __getitem__(self, name):
-        from fontTools.ttLib.tables._g_l_y_f import Glyph
-
-        g = dict.__getitem__(self, name)
-        if not hasattr(g, "data"):
-            return g
-        if self.headers:
-            return Header(g.data)
-        g = Glyph(g.data)
-        g.expand(None)
-        return g
-
-
-class HeaderFont:
-    """The font as ``maxp.recalc`` reads it, its glyf table :class:`Expanded`."""
-
-    def __init__(self, otf, glyf):
-        self.otf, self.glyf = otf, glyf
-
-    def __getitem__(self, tag):
-        return self.glyf if tag == "glyf" else self.otf[tag]
-
-    def getGlyphOrder(self):
-        return self.otf.getGlyphOrder()
-
+from .cff_encoding import (NOT_FOR_TX, BoundedCharString, _CffDictWriter, _index,
+                           _index_head, _NO_WIDTHS, bounded_t2_pen, optimize_widths,
+                           subroutinize, width_prefix)
+from .fontinfo import (_date_now, _int_list_to_num, _ot_round, _time_value, full_name,
+                       info_value, normalize_for_postscript)
+from .glyf_headers import Box, Expanded, HeaderFont, glyf_boxes
+
+__all__ = ["compile_static", "left_to_ufo2ft"]
 
 # =========================================================================== compile
-
-def full_name(info):
-    """The full name ufo2ft writes (name ID 4): the typographic family and
-    subfamily."""
-    return ("%s %s" % (info_value(info, "openTypeNamePreferredFamilyName"),
-                       info_value(info, "openTypeNamePreferredSubfamilyName"))).strip()
-
 
 def _tx_runner():
     """A function running cffsubr's ``tx`` on a font file as cffsubr's
@@ -499,125 +138,6 @@ def _raw_font_class():
 _RAW_FONT = None
 
 
-#: a Type 2 charstring's width operand (the advance less nominalWidthX) costs 1 byte
-#: up to ONE_BYTE_WIDTH from zero, 2 up to TWO_BYTE_WIDTH, else 5
-#: (fontTools.cffLib.width's byte costs)
-ONE_BYTE_WIDTH, TWO_BYTE_WIDTH = 107, 1131
-#: the nearest widths 2 and 5 bytes away from the nominal width
-NEAR, FAR = ONE_BYTE_WIDTH + 1, TWO_BYTE_WIDTH + 1
-
-
-def optimize_widths(widths):
-    """(default, nominal): the CFF Private dict's ``defaultWidthX`` and
-    ``nominalWidthX`` of fontTools' ``optimizeWidths`` (fontTools.cffLib.width, the
-    widths ufo2ft chooses) for the glyph advances ``widths`` (ints), by its rule on
-    arrays over the range of the advances: its running sums and maxima of the advances'
-    counts (up and down) are cumulative sums and maxima, its cost of each nominal
-    width one array (the first cheapest wins, as ``min`` picks), its candidates for
-    the default (the starts of the runs of equal maxima it walks back) found by
-    searching the monotone maxima.  fontTools computes the same with a Python call per
-    advance of the range (a few ms a font, the range being about an em)."""
-    import numpy as np
-
-    w = np.asarray(widths, dtype=np.int64)
-    lo = int(w.min())
-    counts = np.bincount(w - lo)
-    n, total, top = len(counts), int(counts.sum()), int(counts.max())
-    up_sum, up_max = np.cumsum(counts), np.maximum.accumulate(counts)
-    down_sum = np.cumsum(counts[::-1])[::-1]
-    down_max = np.maximum.accumulate(counts[::-1])[::-1]
-
-    def up(arr, beyond, shift):    # arr at domain index + shift; 0 below, beyond above
-        k = np.arange(n) + shift
-        return np.where(k < 0, 0, np.where(k >= n, beyond, arr[np.clip(k, 0, n - 1)]))
-
-    def down(arr, beyond, shift):  # 0 above, beyond below
-        k = np.arange(n) + shift
-        return np.where(k >= n, 0, np.where(k < 0, beyond, arr[np.clip(k, 0, n - 1)]))
-
-    nominal_cost = (up(up_sum, total, 0) + up(up_sum, total, -NEAR)
-                    + 3 * up(up_sum, total, -FAR) + down(down_sum, total, 0)
-                    + down(down_sum, total, NEAR) + 3 * down(down_sum, total, FAR) - counts)
-    default_up = np.maximum.reduce([up(up_max, top, 0), 2 * up(up_max, top, -NEAR),
-                                    5 * up(up_max, top, -FAR)])
-    default_down = np.maximum.reduce([down(down_max, top, 0), 2 * down(down_max, top, NEAR),
-                                      5 * down(down_max, top, FAR)])
-    saving = np.maximum(default_up, default_down)
-    k = int(np.argmin(nominal_cost - saving))
-    return _best_default(counts, lo, k, up_max, down_max, saving[k] == default_up[k]), lo + k
-
-
-def _best_default(counts, lo, k, up_max, down_max, upward):
-    """:func:`optimize_widths`' default width for the nominal width ``lo + k``: of the
-    three runs of equal maxima ending at the nominal width and at NEAR and FAR from it
-    (below it where the saving came from the running maxima upward, else above), the
-    run's far end that costs the fewest bytes, the first of equal ones."""
-    import numpy as np
-
-    n, nominal = len(counts), lo + k
-    ends = []
-    for step in (0, NEAR, FAR):
-        start = nominal - step if upward else nominal + step
-        i = start - lo
-        if upward:   # the maxima upward: 0 below the range, nondecreasing in it
-            ends.append(start if i < 0 else
-                        lo + int(np.searchsorted(up_max, up_max[min(i, n - 1)])))
-        else:        # the maxima downward: 0 above the range, nonincreasing in it
-            ends.append(start if i >= n else
-                        lo + int(np.count_nonzero(down_max >= down_max[max(i, 0)])) - 1)
-    gap = np.abs(np.arange(lo, lo + n) - nominal)
-    cost = np.where(gap <= ONE_BYTE_WIDTH, 1, np.where(gap <= TWO_BYTE_WIDTH, 2, 5))
-    paid = counts * cost
-    whole = int(paid.sum())
-    return min(ends, key=lambda d: whole - (int(paid[d - lo]) if 0 <= d - lo < n else 0))
-
-
-def _index_head(sizes):
-    """The count, offset size and offsets of a CFF INDEX of items of ``sizes`` bytes
-    (what comes before the items' data)."""
-    import numpy as np
-
-    if not len(sizes):
-        return b"\0\0"
-    ends = np.concatenate([[1], 1 + np.cumsum(sizes, dtype=np.int64)])
-    last = int(ends[-1])
-    size = 1 if last < 1 << 8 else 2 if last < 1 << 16 else 3 if last < 1 << 24 else 4
-    offsets = ends.astype(">u4").view(np.uint8).reshape(-1, 4)[:, 4 - size:]
-    return struct.pack(">HB", len(sizes), size) + offsets.tobytes()
-
-
-def _index(items):
-    """A CFF INDEX of the byte strings ``items``."""
-    if not items:
-        return b"\0\0"
-    ends = [1]
-    for item in items:
-        ends.append(ends[-1] + len(item))
-    size = 1 if ends[-1] < 1 << 8 else 2 if ends[-1] < 1 << 16 else 3 if ends[-1] < 1 << 24 \
-        else 4
-    return (struct.pack(">HB", len(items), size)
-            + b"".join(e.to_bytes(size, "big") for e in ends) + b"".join(items))
-
-
-Box = namedtuple("BoundingBox", ["xMin", "yMin", "xMax", "yMax"])
-
-
-def glyf_boxes(compiled, box_type):
-    """ufo2ft's glyph boxes of the compiled glyf glyphs ``compiled`` (name -> glyph),
-    as ``box_type`` (None for an empty glyph): a stored glyph's from its header, the
-    others' recomputed (a composite's from its bases, stored ones decoded apart)."""
-    boxes = {}
-    decoded = Expanded(compiled, headers=False)
-    for name, g in compiled.items():
-        if hasattr(g, "data"):
-            g = Header(g.data)
-        else:
-            g.recalcBounds(decoded)
-        box = box_type(g.xMin, g.yMin, g.xMax, g.yMax)
-        boxes[name] = None if box == (0, 0, 0, 0) else box
-    return boxes
-
-
 def _os2_script_metrics(os2, info):
     """OS/2's sub- and superscript sizes and offsets and strikeout, with ufo2ft's
     fallbacks (offsets slanted by the italic angle)."""
@@ -669,34 +189,6 @@ def _cff_top_fields(top, info):
     top.UnderlineThickness = _ot_round(info_value(info, "postscriptUnderlineThickness"))
     upm = _ot_round(info_value(info, "unitsPerEm"))
     top.FontMatrix = [1.0 / upm, 0, 0, 1.0 / upm, 0, 0]
-
-
-class _CffDictWriter:
-    """CFF dict entries as bytes, with the custom strings they name (SIDs from 391,
-    in order of first use)."""
-
-    def __init__(self):
-        self.strings = {}
-
-    def sid(self, text):
-        return 391 + self.strings.setdefault(text, len(self.strings))
-
-    @staticmethod
-    def entry(op, *values):
-        from fontTools.misc.psCharStrings import encodeFloat, encodeIntCFF
-
-        return b"".join(encodeFloat(v) if isinstance(v, float) else encodeIntCFF(int(v))
-                        for v in values) + bytes(op)
-
-    def text(self, op, value):
-        from fontTools.misc.psCharStrings import encodeIntCFF
-
-        return encodeIntCFF(self.sid(value)) + bytes(op)
-
-    @staticmethod
-    def offset(op, *values):
-        """Fixed-size numbers: the dict's length does not move with them."""
-        return b"".join(b"\x1d" + struct.pack(">l", v) for v in values) + bytes(op)
 
 
 def _set_side_bearings(hhea, hmtx, order, widths):
@@ -792,52 +284,6 @@ class _Notdef:
 _RMOVETO, _RLINETO, _ENDCHAR = 21, 5, 14
 
 
-def bounded_t2_pen(*args, **kwargs):
-    """fontTools' ``T2CharStringPen`` that also draws the points it writes (rounded
-    as it rounds them) into a ``BoundsPen`` (its ``bounds``): the calls the
-    charstring's ``calcBounds`` would make, from its decoded program, give the same
-    bounds."""
-    global _BOUNDED_PEN
-    if _BOUNDED_PEN is None:
-        from fontTools.pens.boundsPen import BoundsPen
-        from fontTools.pens.t2CharStringPen import T2CharStringPen
-
-        class BoundedT2Pen(T2CharStringPen):
-            def __init__(self, *args, **kwargs):
-                super().__init__(*args, **kwargs)
-                self.bounds = BoundsPen(None)
-
-            def _rounded(self, pt):
-                return self.round(pt[0]), self.round(pt[1])
-
-            def _moveTo(self, pt):
-                super()._moveTo(pt)
-                self.bounds.moveTo(self._rounded(pt))
-
-            def _lineTo(self, pt):
-                super()._lineTo(pt)
-                self.bounds.lineTo(self._rounded(pt))
-
-            def _curveToOne(self, pt1, pt2, pt3):
-                super()._curveToOne(pt1, pt2, pt3)
-                self.bounds.curveTo(self._rounded(pt1), self._rounded(pt2),
-                                    self._rounded(pt3))
-
-            def _closePath(self):
-                super()._closePath()
-                self.bounds.closePath()
-
-            def _endPath(self):
-                super()._endPath()
-                self.bounds.endPath()
-
-        _BOUNDED_PEN = BoundedT2Pen
-    return _BOUNDED_PEN(*args, **kwargs)
-
-
-_BOUNDED_PEN = None
-
-
 class _Decomposer:
     """CFF programs of glyphs with components, decomposed from the stored outlines
     as ufo2ft's outline compiler of a streamed font draws them
@@ -891,7 +337,6 @@ class _Decomposer:
         from fontTools.misc.psCharStrings import T2CharString
 
         from ..parse.charstrings import charstring_outlines
-        from .stream import _NO_WIDTHS
 
         names = sorted(n for n in names if n not in self.read)
         charstrings = [T2CharString(bytecode=self.store[n][0], private=_NO_WIDTHS,
@@ -917,8 +362,6 @@ class _Decomposer:
             from fontTools.misc.psCharStrings import T2CharString
             from fontTools.pens.pointPen import SegmentToPointPen
             from fontTools.pens.recordingPen import RecordingPointPen
-
-            from .stream import _NO_WIDTHS
 
             rec = self.drawn[name] = RecordingPointPen()
             if name in self.store:
@@ -1264,8 +707,6 @@ class _Compiler:
         (its segments, unspecialized: the subroutinizer rewrites every charstring
         from its path, so that the font is the one the specialized charstrings
         give); the bounds as a charstring's ``calcBounds``."""
-        from .stream import width_prefix
-
         default, nominal = self._widths()
         out = _Programs(self.store, len(self.order))
         composite = [k for k, name in enumerate(self.order) if self.glyphs[name].components]
@@ -1581,7 +1022,8 @@ class _Compiler:
         on saving, so this table equals ufo2ft's as decompiled (ttx), not byte for
         byte.  The boxes the font save would recompute from the CFF table before
         ``tx`` (:meth:`_as_saved`) are set as it sets them.  Otherwise the table
-        is built with fontTools.cffLib and :func:`subroutinize` d."""
+        is built with fontTools.cffLib and
+        :func:`morph.fonts.cff_encoding.subroutinize` d."""
         run_tx = _tx_runner()
         if run_tx is None:  # another cffsubr
             self._cff_table()
