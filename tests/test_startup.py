@@ -151,7 +151,7 @@ def test_font_workers_import_nothing_themselves(tmp_path, argv):
 #: (morph.fonts.specimen.save_png writes the sample), its EXIF and TIFF tags and its
 #: file formats' base (deferred: morph.fonts.deferred.pillow), the html package (the
 #: specimen escapes its text itself), the SVG reader and its XML parser (--nib-svg
-#: only), numpy.ma, strptime's locale tables (morph.fonts.tables_static reads the head
+#: only), numpy.ma, strptime's locale tables (morph.fonts.fontinfo reads the head
 #: table's dates itself); the shape commands' modules (morph.cli.group.COMMAND_MODULES)
 NOT_FOR_FONT_COMMANDS = ("numpy.polynomial", "PIL.PngImagePlugin", "PIL.ExifTags",
                          "PIL.TiffTags", "html", "xml.etree", "morph.parse.svg", "numpy.ma",

@@ -453,7 +453,7 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
     ink = name = None
     if page and getattr(stats["font"], "light", False) and stats["inked"] is not None:
         # the written glyphs' cmap, ink and name, known (the font's CFF table unread)
-        from ..fonts.tables_static import full_name
+        from ..fonts.fontinfo import full_name
 
         ink = ({u: g.name for g in stats["font"] for u in g.unicodes},
                stats["inked"].__contains__)

@@ -483,7 +483,7 @@ def written_ink(font):
     when the bounds the save used are not empty (nothing decoded), any other glyph
     as the specimen tells it (a glyf glyph from its stored header)."""
     from .specimen import _ink_test
-    from .tables_static import is_bounded
+    from .cff_encoding import is_bounded
 
     cmap, has_ink = _ink_test(font)
     if "CFF " not in font:

@@ -19,10 +19,9 @@ from fontTools.ttLib.tables._g_l_y_f import Glyph
 from ufo2ft.outlineCompiler import BoundingBox, OutlineOTFCompiler, OutlineTTFCompiler
 from ufo2ft.postProcessor import PostProcessor
 
-from .stream import _NO_WIDTHS, width_prefix
-from .tables_static import (BoundedCharString, Expanded, HeaderFont, as_bounded,
-                            bound_charstrings, bounded_t2_pen, glyf_boxes, is_bounded,
-                            subroutinize)
+from .cff_encoding import (_NO_WIDTHS, BoundedCharString, as_bounded, bound_charstrings,
+                           bounded_t2_pen, is_bounded, subroutinize, width_prefix)
+from .glyf_headers import Expanded, HeaderFont, glyf_boxes
 
 
 class Stored:
@@ -127,7 +126,7 @@ class StoredPostProcessor(PostProcessor):
     @classmethod
     def _subroutinize_with_cffsubr(cls, otf, cffVersion):
         """cffsubr's subroutinizer given the font without its layout tables
-        (:func:`morph.fonts.tables_static.subroutinize`)."""
+        (:func:`morph.fonts.cff_encoding.subroutinize`)."""
         if "CFF " not in otf or cffVersion != 1:
             return super()._subroutinize_with_cffsubr(otf, cffVersion)
         subroutinize(otf, cls.bounds)

@@ -16,7 +16,7 @@ they are made by the same pens in the same order:
 
 - CFF: ``T2CharStringPen``, specialized (ufo2ft's ``optimizeCFF``); the advance is
   prepended when the font's nominal and default widths are known
-  (:func:`width_prefix`, what the pen does);
+  (:func:`morph.fonts.cff_encoding.width_prefix`, what the pen does);
 - TrueType: ``TTGlyphPen`` behind a contour reversal, as ufo2ft's
   cubic-to-quadratic filter reverses them (the contours are quadratic already).
 
@@ -40,23 +40,19 @@ save writes, without its copies of the whole font in memory.
 import copy
 import re
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
-from .tables import draw_contours
+from .cff_encoding import _NO_WIDTHS
+from .contours import draw_contours
 
-__all__ = ["compile_outline", "compile_outlines", "outline_bounds", "width_prefix",
+__all__ = ["compile_outline", "compile_outlines", "outline_bounds",
            "SkeletonSource", "compile_stored", "UfoGlyphWriter", "shell_glyph", "sample_font",
            "worker_source", "OutlineStore", "save_font", "write_tables", "file_table",
            "table_checksum"]
 
 
 # =========================================================================== worker side
-
-#: the private dict a charstring without an advance is drawn with
-_NO_WIDTHS = SimpleNamespace(defaultWidthX=0, nominalWidthX=0)
-
 
 def compile_outline(contours, flavor):
     """``(data, bounds)`` of integer contours (an :class:`morph.outline.Outline`,
@@ -71,11 +67,11 @@ def compile_outlines(outlines, flavor):
     together, with array operations, not drawn point by point.
 
     ``flavor``: ``"cff"`` (cubic contours; ``data`` a Type 2 charstring without the
-    advance, see :func:`width_prefix`) or ``"glyf"`` (quadratic splines in the UFO's
-    direction; ``data`` the compiled ``glyf`` glyph, reversed).  ``bounds``: (xMin,
-    yMin, xMax, yMax), None when empty: for CFF the outline's tight box (what
-    ``BoundsPen`` and so the charstring's ``calcBounds`` compute, the same
-    arithmetic), for glyf the glyph's (integers).
+    advance, see :func:`morph.fonts.cff_encoding.width_prefix`) or ``"glyf"``
+    (quadratic splines in the UFO's direction; ``data`` the compiled ``glyf`` glyph,
+    reversed).  ``bounds``: (xMin, yMin, xMax, yMax), None when empty: for CFF the
+    outline's tight box (what ``BoundsPen`` and so the charstring's ``calcBounds``
+    compute, the same arithmetic), for glyf the glyph's (integers).
 
     - glyf: the bytes fontTools' ``TTGlyphPen`` and ``Glyph.compile`` make of the
       contours drawn through a ``ReverseContourPen`` (ufo2ft's drawing);
@@ -193,7 +189,7 @@ class _Batch:
     def cff(self):
         """[(charstring bytes without the advance, tight bounds) or None], as
         ``T2CharStringPen`` (unspecialized) and ``BoundsPen`` make them from
-        :func:`morph.fonts.tables.draw_contours`: a contour's closing line is
+        :func:`morph.fonts.contours.draw_contours`: a contour's closing line is
         left implied.  None for a glyph the arrays do not take."""
         p, sizes = self.points, self.sizes
         op = np.zeros(len(p), np.int64)
@@ -379,18 +375,6 @@ def _repeated_flags(flags, lead, glyph):
     out[:, 0] = np.where(g_len >= 3, g_flag | 0x08, g_flag)
     out[:, 1] = np.where(g_len >= 3, g_len - 1, g_flag)
     return _packed(out, size), (run_glyph[g_run], size)
-
-
-def width_prefix(width, default, nominal):
-    """The bytes a Type 2 charstring starts with for an advance ``width`` (nothing for
-    the font's ``default`` width; else ``width - nominal``), as ``T2CharStringPen``
-    writes it."""
-    from fontTools.misc.psCharStrings import encodeIntT2
-    from fontTools.misc.roundTools import otRound
-
-    if width == default:
-        return b""
-    return encodeIntT2(otRound(width - nominal))
 
 
 # =========================================================================== source

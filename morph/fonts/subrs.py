@@ -122,7 +122,7 @@ def grouped_subroutines(bodies, prefixes, run_tx=None, limit=GROUP_BYTES):
     """(global subroutines, local subroutines, charstrings) of a name-keyed CFF font
     whose glyphs (in order, ``.notdef`` first) have the Type 2 programs ``bodies``
     without their advances and the width prefixes ``prefixes``
-    (:func:`morph.fonts.stream.width_prefix` for the font's default and nominal
+    (:func:`morph.fonts.cff_encoding.width_prefix` for the font's default and nominal
     widths), subroutinized in groups (module docstring), as lists of bytes.
     ``run_tx(args, path)`` runs ``tx`` (None: cffsubr's).  Raises
     :class:`NotGrouped` when the programs do not allow it."""
@@ -185,7 +185,7 @@ def bias(count):
 def _group_cff(bodies):
     """A name-keyed CFF table of ``bodies`` (glyphs g1, g2 ... after an empty
     ``.notdef``), no advances (default and nominal width 0), nothing else."""
-    from .tables_static import _CffDictWriter, _index
+    from .cff_encoding import _CffDictWriter, _index
 
     w = _CffDictWriter()
     names = [w.sid("g%d" % k) for k in range(1, len(bodies) + 1)]

@@ -30,10 +30,13 @@ from .. import bernstein as bz
 from ..errors import MorphError, ParseError
 from ..outline import Outline
 from ..region import reverse_loop
+from .cff_encoding import as_bounded, is_bounded
+from .contours import draw_contours
+from .glyf_headers import Header
 
 __all__ = ["OutlineWriter", "outline_writer", "contours_from_loops", "contours_from_regions",
            "integer_outlines", "clean_contour",
-           "draw_contours", "outline_glyphs", "move_anchors", "grow_vertical_metrics",
+           "outline_glyphs", "move_anchors", "grow_vertical_metrics",
            "rename_family", "finish_font", "save_font", "FONT_SUFFIXES"]
 
 FONT_SUFFIXES = (".ttf", ".otf", ".woff2", ".woff")
@@ -458,30 +461,6 @@ def _merge_and_despike(work, spike):
     return out, changed
 
 
-def draw_contours(pen, contours, quadratic):
-    """Draw integer contours (see :func:`contours_from_loops`) on a fontTools pen.
-
-    Each contour starts at its first point; its last segment ends there, and a
-    closing line is left to ``closePath`` (no repeated point).
-    """
-    for segs in contours:
-        pen.moveTo(tuple(int(v) for v in segs[0][0]))
-        last = len(segs) - 1
-        for k, s in enumerate(segs):
-            pts = [tuple(int(v) for v in q) for q in s[1:]]
-            if len(s) == 2:
-                if k < last:  # the closing line is implied by closePath
-                    pen.lineTo(pts[0])
-            elif quadratic and len(s) >= 3:
-                pen.qCurveTo(*pts)      # a quadratic, or a spline (on-curves implied)
-            elif len(s) == 4:
-                pen.curveTo(*pts)
-            else:
-                raise MorphError("cannot draw a %d-point segment in a %s font"
-                                 % (len(s), "TrueType" if quadratic else "CFF"))
-        pen.closePath()
-
-
 class OutlineWriter:
     """Writes glyph outlines into a font: ``pen(advance)``, draw, ``store(name, pen)``.
 
@@ -598,7 +577,7 @@ class _StoredGlyphs:
     """A glyf table as fontTools' ``maxp.recalc`` and ``hhea.recalc`` read it: a
     glyph still held as its stored bytes is read from them without decoding its
     points (a simple glyph's header and point count,
-    :class:`morph.fonts.tables_static.Header`; a composite decoded apart, its
+    :class:`morph.fonts.glyf_headers.Header`; a composite decoded apart, its
     components only), the others as they are."""
 
     def __init__(self, glyf):
@@ -610,7 +589,6 @@ class _StoredGlyphs:
     def __getitem__(self, name):
         from fontTools.ttLib.tables._g_l_y_f import Glyph
 
-        from .tables_static import Header
 
         g = self.glyf.glyphs[name]
         data = getattr(g, "data", None)
@@ -642,9 +620,9 @@ class _HeaderView:
 
 def _glyf_points(outlines):
     """Per outline ``(points, flags, end points)`` as ``TTGlyphPen`` collects them
-    from :func:`draw_contours` (each contour from its start point, on-curve flag 1,
-    off-curve 0, without its closing point), or None for an outline the pen would
-    trim (see :meth:`_TrueTypeOutlines.write_many`) or an empty one."""
+    from :func:`morph.fonts.contours.draw_contours` (each contour from its start point,
+    on-curve flag 1, off-curve 0, without its closing point), or None for an outline
+    the pen would trim (see :meth:`_TrueTypeOutlines.write_many`) or an empty one."""
     from array import array
 
     if not outlines:
@@ -690,7 +668,7 @@ class _CFFOutlines(OutlineWriter):
     """``CFF `` table (Type 2 charstrings, cubic, T2CharStringPen).
 
     Every charstring answers ``calcBounds`` with bounds computed once
-    (:func:`morph.fonts.tables_static.as_bounded`): the save asks each glyph for
+    (:func:`morph.fonts.cff_encoding.as_bounded`): the save asks each glyph for
     them twice (the CFF font box and hhea), which drew every glyph in Python; a
     written glyph's are its new program's, the others' (:meth:`saving`)
     those of a copy, so that they keep their source bytes (a charstring fontTools
@@ -729,7 +707,6 @@ class _CFFOutlines(OutlineWriter):
         return self._put(name, pen, cs.calcBounds(self.char_strings), cs)
 
     def _put(self, name, pen, bounds, cs=None):
-        from .tables_static import as_bounded
 
         if cs is None:
             cs = pen.getCharString(private=self.private, globalSubrs=self.cff.GlobalSubrs)
@@ -749,7 +726,6 @@ class _CFFOutlines(OutlineWriter):
 
         from ..parse.charstrings import charstring_outlines
         from .stream import outline_bounds
-        from .tables_static import as_bounded, is_bounded
 
         todo = [cs for cs in map(self.char_strings.__getitem__, self.char_strings.keys())
                 if not is_bounded(cs)]

@@ -64,7 +64,7 @@ def grow_win_metrics(font, bottom, top):
     descender), and then set."""
     if top is None:
         return
-    from .tables_static import info_value  # ufo2ft's fallbacks, without importing ufo2ft
+    from .fontinfo import info_value  # ufo2ft's fallbacks, without importing ufo2ft
 
     info = font.info
     ascent = info_value(info, "openTypeOS2WinAscent")

@@ -156,7 +156,7 @@ def test_compiled_charstring_is_the_specialized_path(tmp_path):
     from fontTools.misc.psCharStrings import T2CharString
     from fontTools.pens.recordingPen import RecordingPen
 
-    from morph.fonts.stream import _NO_WIDTHS
+    from morph.fonts.cff_encoding import _NO_WIDTHS
 
     rng = np.random.default_rng(7)
     for contours in _outlines(rng, False, False):

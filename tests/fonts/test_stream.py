@@ -96,7 +96,7 @@ def test_streamed_ttf_equals_ufo2ft_of_the_whole_font(streamed):
     from morph.fonts.stream import SkeletonSource
     from morph.fonts.stroke import (_chunk_job, _placement, _stroke_weights, _stroke_work,
                                     plan_components, separate_components)
-    from morph.fonts.tables import draw_contours
+    from morph.fonts.contours import draw_contours
     from morph.fonts.ufo_tables import grow_win_metrics, outline_extent
 
     src, out, stats = streamed

@@ -16,7 +16,8 @@ from fontTools.ttLib import TTFont
 
 from morph.fonts import subrs
 from morph.fonts.brush import ellipse_nib
-from morph.fonts.stream import SkeletonSource, compile_outlines, width_prefix
+from morph.fonts.cff_encoding import width_prefix
+from morph.fonts.stream import SkeletonSource, compile_outlines
 from morph.fonts.stroke import CONTOURS_PER_GLYPH, stroke_ufo
 
 DEFAULT, NOMINAL = 600, 550

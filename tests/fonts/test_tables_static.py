@@ -223,12 +223,12 @@ def test_what_the_light_reader_leaves_goes_to_ufo2ft(tmp_path, what):
 
 
 def test_info_fallbacks_are_ufo2fts():
-    """:func:`morph.fonts.tables_static.info_value` gives what ufo2ft's
+    """:func:`morph.fonts.fontinfo.info_value` gives what ufo2ft's
     ``getAttrWithFallback`` gives, for every attribute it has a fallback for, on an
     empty font info and on a rich one (the light reader's info and ufoLib2's)."""
     from ufo2ft.fontInfoData import getAttrWithFallback, specialFallbacks, staticFallbackData
 
-    from morph.fonts.tables_static import info_value
+    from morph.fonts.fontinfo import info_value
     from morph.parse.light_ufo import LightInfo
 
     attrs = sorted(set(staticFallbackData) | set(specialFallbacks))
@@ -303,7 +303,7 @@ def test_time_value_reads_dates_as_strptime_does():
     import random
     import time
 
-    from morph.fonts.tables_static import _time_value
+    from morph.fonts.fontinfo import _time_value
 
     def strptime_value(date):
         try:
@@ -332,7 +332,7 @@ def test_optimize_widths_picks_fontTools_widths():
 
     from fontTools.cffLib.width import optimizeWidths
 
-    from morph.fonts.tables_static import optimize_widths
+    from morph.fonts.cff_encoding import optimize_widths
 
     rng = random.Random(11)
     draws = [lambda: rng.randint(0, 1200), lambda: rng.choice([0, 500, 600, 1000, 2500]),
