@@ -5,6 +5,9 @@ A polynomial of degree n on [0, 1] is ``sum_i c_i B_i^n(t)`` with
 ``(n + 1, ...)``; trailing axes are carried along (x, y, w columns, or many curves).
 These are the building blocks of the symbolic QAC construction (Sec. 4.4): products
 and degree elevation keep every result an exact Bernstein polynomial, no fitting.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import math
@@ -194,7 +197,7 @@ def roots_many(c, eps=1e-13):
         v = _variations(c)
         one = v == 1
         if one.any():
-            u = _bracketed_newton(c[one])
+            u = _bracketed_newton(c.compress(one, axis=0))
             out_o.append(owner[one])
             out_t.append(a[one] + w * u)
         many = v >= 2
@@ -202,7 +205,7 @@ def roots_many(c, eps=1e-13):
             out_o.append(owner[many])
             out_t.append(a[many] + 0.5 * w)
             break
-        c, owner, a = c[many], owner[many], a[many]
+        c, owner, a = c.compress(many, axis=0), owner[many], a[many]
         left = _apply(lmat, c)
         right = _apply(rmat, c)
         w *= 0.5
@@ -224,7 +227,7 @@ def _normalised_with_end_roots(c, eps):
     parameters of the end roots as lists of arrays)."""
     scale = np.abs(c).max(axis=1)
     live = scale > 0
-    c = c[live] / scale[live, None]
+    c = c.compress(live, axis=0) / scale[live, None]
     owner = np.nonzero(live)[0]
     c[:, 0] = np.where(np.abs(c[:, 0]) <= eps, 0.0, c[:, 0])
     c[:, -1] = np.where(np.abs(c[:, -1]) <= eps, 0.0, c[:, -1])
@@ -279,7 +282,7 @@ def _bracketed_newton(c, iters=80):
         if done.all():
             break
         go = np.flatnonzero(~done)
-        act, cc, dd, s_lo = act[go], cc[go], dd[go], s_lo[go]
+        act, cc, dd, s_lo = act[go], cc.take(go, axis=0), dd.take(go, axis=0), s_lo[go]
         u, lo, hi = un[go], lo[go], hi[go]
     return out
 
@@ -499,9 +502,9 @@ def subsegment_many(c, t0, t1):
         out = c.copy()                           # themselves (the splits' bits)
         part = np.flatnonzero(~whole)
         if len(part):
-            out[part] = subsegment_many(c[part], t0[part], t1[part])
+            out[part] = subsegment_many(c.take(part, axis=0), t0[part], t1[part])
         back = np.flatnonzero(whole & rev)
-        out[back] = out[back][:, ::-1]
+        out[back] = out.take(back, axis=0)[:, ::-1]
         return out
     a = a.reshape(-1)
     right = _casteljau(_coefficient_major(c), a, "right")[1]

@@ -27,6 +27,9 @@ is taken as if increased by an infinitesimal epsilon, so a straight edge of A at
 angle theta pairs with the edge of B whose range is (lo, hi] around theta, a straight
 edge of B with A's [lo, hi), and two parallel segments never pair directly.  This
 keeps the pieces of one loop pair chained end to end.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 
@@ -128,7 +131,7 @@ class _EdgeTable:
         deg = self.deg[idx]
         for d in unique(deg):
             rows = np.nonzero(deg == d)[0]
-            out.append((rows, self.stacks[d][self.slot[idx[rows]]]))
+            out.append((rows, self.stacks[d].take(self.slot[idx[rows]], axis=0)))
         return out
 
     def _tangent_numerators(self):
@@ -138,7 +141,7 @@ class _EdgeTable:
             poly = pc.is_polynomial_many(st)
             for sel, rational in ((poly, False), (~poly, True)):
                 if sel.any():
-                    h = pc.tangent_numerator_many(st[sel], rational)
+                    h = pc.tangent_numerator_many(st.compress(sel, axis=0), rational)
                     redo = np.nonzero(pc.end_zero_rows(h))[0]
                     hs = list(h) if len(redo) else h
                     for r in redo:
@@ -162,7 +165,8 @@ class _EdgeTable:
         (an angle within 1e-13 of the edge's start or end angle gives that end, as
         :func:`morph.gauss.restrict`); ``distinct``: no (edge, angle) pair repeats
         (:func:`morph.gauss.angle_params`)."""
-        t = gauss.angle_params(self.h[idx], angle, distinct) if len(idx) else np.zeros(0)
+        t = (gauss.angle_params(self.h.take(idx, axis=0), angle, distinct) if len(idx)
+             else np.zeros(0))
         return self._at_ends(idx, angle, t)
 
     def _at_ends(self, idx, angle, t):
@@ -190,14 +194,14 @@ class _EdgeTable:
             sub = bz.subsegment_many(st, t0[first[rows]], t1[first[rows]])
             where[rows] = np.arange(len(rows))
             mine = np.flatnonzero(deg == deg[first[rows[0]]])
-            out.append((mine, sub[where[group[mine]]]))
+            out.append((mine, sub.take(where[group[mine]], axis=0)))
         return out
 
     def restricted_h(self, idx, t_lo, t_hi):
         """Tangent numerators of the sub-pieces of :meth:`restricted` (the edges'
         numerators restricted the same way: the same directions), (k, m+1, 2)."""
         t0, t1 = self._directed(idx, t_lo, t_hi)
-        return bz.subsegment_many(self.h[idx], t0, t1)
+        return bz.subsegment_many(self.h.take(idx, axis=0), t0, t1)
 
     def _directed(self, idx, t_lo, t_hi):
         """(t0, t1): the parameters at angles lo, hi in each edge's direction."""
@@ -207,7 +211,7 @@ class _EdgeTable:
     def points_at(self, idx, angle, t=None):
         """Point of each edge idx with tangent angle ``angle`` (:func:`gauss.point_at_angle`);
         ``t``: the parameters of its curved ones (:meth:`params`), where known."""
-        pts = self.point[idx].copy()
+        pts = self.point.take(idx, axis=0)
         cur = np.nonzero(self.curved[idx])[0]
         if len(cur):
             if t is None:
@@ -443,7 +447,7 @@ def _concat_pieces(parts):
         ks = np.concatenate([k for k, _ in by[m]])
         h = np.concatenate([x for _, x in by[m]])
         order = np.argsort(ks, kind="stable")
-        groups.append((ks[order], h[order]))
+        groups.append((ks[order], h.take(order, axis=0)))
     return pc.Pieces(groups, offset)
 
 
@@ -505,7 +509,7 @@ def _placed(parts, where, start):
         ks = np.concatenate([k for k, _ in lst])
         h = np.concatenate([x for _, x in lst]) if len(lst) > 1 else lst[0][1]
         order = np.argsort(ks, kind="stable")
-        groups.append((ks[order], h[order]))
+        groups.append((ks[order], h.take(order, axis=0)))
     groups.sort(key=lambda g: g[0][0])
     return pc.Pieces(groups, len(where))
 
@@ -557,7 +561,7 @@ def params_of_tables(asks):
             t = np.zeros(0)
         else:
             t = gauss.angle_params(
-                np.concatenate([asks[k][0].h[rows[k][1]] for k in which]),
+                np.concatenate([asks[k][0].h.take(rows[k][1], axis=0) for k in which]),
                 np.concatenate([rows[k][2] for k in which]), distinct=True)
         for k, part in zip(which, np.split(t, np.cumsum(count)[:-1])):
             solved[k] = part
@@ -593,12 +597,12 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
         pts = tb.points_at(j[pos_a], ang_a, t_pa)
         for rows, st in ta.pieces(i[pos_a]):
             p = pos_a[rows]
-            yield p, st, pts[rows], True, tb.sign[j[p]] > 0
+            yield p, st, pts.take(rows, axis=0), True, tb.sign[j[p]] > 0
     if len(pos_b):
         pts = ta.points_at(i[pos_b], ang_b, t_pb)
         for rows, st in tb.pieces(j[pos_b]):
             p = pos_b[rows]
-            yield p, st, pts[rows], False, ta.sign[i[p]] > 0
+            yield p, st, pts.take(rows, axis=0), False, ta.sign[i[p]] > 0
     for t_c, t_v, ic, iv, t_lo, t_hi, of_a in ((ta, tb, i, j, t_lo_a, t_hi_a, True),
                                                (tb, ta, j, i, t_lo_b, t_hi_b, False)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
@@ -607,7 +611,7 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
         subs = t_c.restricted(ic[pos], t_lo, t_hi)
         for rows, st in subs:
             p = pos[rows]
-            yield p, st, t_v.point[iv[p]], of_a, t_v.sign[iv[p]] > 0
+            yield p, st, t_v.point.take(iv[p], axis=0), of_a, t_v.sign[iv[p]] > 0
 
 
 def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method):
@@ -931,7 +935,8 @@ def _loop_boxes(t):
         x = h[:, :, :2] / h[:, :, 2:]
         _runs_extremes(lo, hi, t.loop[edges], x.min(axis=1), x.max(axis=1))
     v = np.flatnonzero(t.vertex)
-    _runs_extremes(lo, hi, t.loop[v], t.point[v], t.point[v])
+    pv = t.point.take(v, axis=0)
+    _runs_extremes(lo, hi, t.loop[v], pv, pv)
     return np.concatenate([lo, hi], axis=1)
 
 
@@ -995,14 +1000,14 @@ def chain(pieces, tol, packed=False):
     first, rank = _cycles(succ)
     order = np.lexsort((rank, first))          # loops by their lowest piece, in travel order
     # each join snapped to the mean of the end and the start meeting there
-    joins = 0.5 * (ends + starts[succ])        # join i: end of i, start of succ[i]
+    joins = 0.5 * (ends + starts.take(succ, axis=0))    # join i: end of i, start of succ[i]
     pred = np.empty(n, np.int64)
     pred[succ] = np.arange(n)
     groups = []
     for ks, h in pc.degree_groups(pieces):
         h = h.copy()
-        h[:, 0, :2] = joins[pred[ks]] * h[:, 0, 2:]
-        h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
+        h[:, 0, :2] = joins.take(pred[ks], axis=0) * h[:, 0, 2:]
+        h[:, -1, :2] = joins.take(ks, axis=0) * h[:, -1, 2:]
         groups.append((ks, h))
     travel = pc.Pieces(groups, n).take(order)
     ordered = travel.rows()
@@ -1094,7 +1099,7 @@ def _near_pairs(a, b, tol):
         jj.append(order[at])
         cc.append(3 * (dx + 1) + 1 + (sorted_keys[at] - k[i]))   # the cell (dx, dy)
     i, j, c = np.concatenate(ii), np.concatenate(jj), np.concatenate(cc)
-    d = np.hypot(*(a[i] - b[j]).T)
+    d = np.hypot(*(a.take(i, axis=0) - b.take(j, axis=0)).T)
     near = np.flatnonzero(d <= tol)
     near = near[np.argsort(c[near], kind="stable")]
     return i[near], j[near], d[near]

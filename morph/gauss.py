@@ -17,6 +17,9 @@ Tangent angles are *lifted* (unwrapped) along the loop, so a counter-clockwise o
 loop turns through +2 pi and a clockwise hole through -2 pi.  Working with tangent
 angles is the same as working with normals: the outward normal is the tangent turned
 by -90 degrees (Eq. 20).
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import math
@@ -138,7 +141,7 @@ def _monotone_parts(pieces, check=True):
         for ks, h in pieces.groups:
             w = whole[ks]
             if w.any():
-                groups.append((first[ks[w]], h[w]))
+                groups.append((first[ks[w]], h.compress(w, axis=0)))
         # the cut pieces split at their parameters in rounds, the j-th cut of every
         # piece with one at once (:func:`morph.piece.split_at`'s steps, the same
         # float operations)
@@ -149,7 +152,8 @@ def _monotone_parts(pieces, check=True):
             for j in range(int(m.max())):
                 on = np.flatnonzero(m > j)
                 t = ts[on, j]
-                left, rest[on] = bz.split_many(rest[on], (t - prev[on]) / (1.0 - prev[on]))
+                left, rest[on] = bz.split_many(rest.take(on, axis=0),
+                                               (t - prev[on]) / (1.0 - prev[on]))
                 prev[on] = t
                 groups.append((first[cut[sel[on]]] + j, left))
             groups.append((first[cut[sel]] + m, rest))
@@ -173,7 +177,7 @@ def _merged(groups, n):
         ks = np.concatenate([k for k, _ in lst])
         h = np.concatenate([x for _, x in lst]) if len(lst) > 1 else lst[0][1]
         order = np.argsort(ks, kind="stable")
-        out.append((ks[order], h[order]))
+        out.append((ks[order], h.take(order, axis=0)))
     out.sort(key=lambda g: g[0][0])
     return pc.Pieces(out, n)
 
@@ -262,7 +266,7 @@ def _kept_many(parts, check=True):
         keep[ks] = ok
         if not check or not ok.any():
             continue
-        tn = pc.tangent_numerator_many(h[ok], rational)
+        tn = pc.tangent_numerator_many(h.compress(ok, axis=0), rational)
         scale = np.abs(tn).max(axis=(1, 2))
         if tn.shape[1] == 1:    # a constant (a line's): its value at every sample
             least = np.hypot(tn[:, 0, 0], tn[:, 0, 1])
@@ -635,7 +639,7 @@ def _loop_polylines(moved, owner, fine, n_loops, tol):
                           if len(c_idx) else np.zeros((0, 2))])
     order = np.lexsort((t, piece_of))       # the loops' pieces in order, each's vertices
     bounds = np.searchsorted(owner[piece_of[order]], np.arange(n_loops + 1))
-    pts = pts[order]
+    pts = pts.take(order, axis=0)
     polys = [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
     return polys
 

@@ -7,6 +7,9 @@ quantity the export needs (checks, polynomial and line flags, end points, end
 tangents, sizes, which joins are smooth) is then an array operation over the stacks,
 not a Python loop over the pieces.  A piece keeps its *global* index (its position
 in the concatenation); ``deg[g]`` and ``idx[g]`` say where it sits in the stacks.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import math
@@ -62,8 +65,8 @@ class Bank:
             rows = np.nonzero(sizes == n)[0]
             self.idx[rows] = np.arange(len(rows))
             at = offsets[rows][None] + np.arange(n)[:, None]          # (n, k)
-            self.stacks[n] = flat[at.T]                                # (k, n, 3)
-            x, y, w = flat.T[:, at]                                    # (n, k) each
+            self.stacks[n] = flat.take(at.T, axis=0)                   # (k, n, 3)
+            x, y, w = flat.T.take(at, axis=1)                          # (n, k) each
             self.poly[rows] = np.logical_and.reduce(np.abs(w - w[0]) <= 1e-12 * np.abs(w[0]))
             x, y = x / w, y / w
             self.first[rows, 0], self.first[rows, 1] = x[0], y[0]
@@ -95,11 +98,12 @@ class Bank:
         if not gids.shape[0]:
             return []
         if len(self.degrees) == 1:          # one stack: every row
-            return [(np.arange(gids.shape[0]), self.stacks[self.degrees[0]][self.idx[gids]])]
+            return [(np.arange(gids.shape[0]),
+                     self.stacks[self.degrees[0]].take(self.idx[gids], axis=0))]
         deg = self.deg[gids]
         count = np.bincount(deg, minlength=self.degrees[-1] + 1).tolist()
         # the degrees present, ascending; ``rows`` the one array of nonzero's tuple
-        return [(rows, self.stacks[n][self.idx[gids[rows]]])
+        return [(rows, self.stacks[n].take(self.idx[gids[rows]], axis=0))
                 for n in self.degrees if count[n] for rows in (deg == n).nonzero()]
 
     def jet(self, gids, t):

@@ -52,6 +52,9 @@ every point of R([a, b]) is within b of C.  With phi = identity on [a, b] (no
 reparametrisation: :func:`cubic_bound` without ``reparam``) it is the plain
 same-parameter distance.  Rounding aside (relative ~1e-15 of the coordinates in the
 coefficient products), the bound is rigorous.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import functools
@@ -356,9 +359,10 @@ def _reparams(groups, cubics, tol, start=None, pairs=None):
             i = np.nonzero(rest)[0]
             where = np.full(k, -1)
             where[i] = np.arange(len(i))
-            sub = [(where[r[rest[r]]], st[rest[r]]) for r, st in groups if rest[r].any()]
-            start = np.where(known[i, None], start_at_nodes(ps[i], pu[0]), np.nan)
-            ri = _newton_reparams(sub, cubics[i], tol, start)
+            sub = [(where[r[rest[r]]], st.compress(rest[r], axis=0)) for r, st in groups
+                   if rest[r].any()]
+            start = np.where(known[i, None], start_at_nodes(ps.take(i, axis=0), pu[0]), np.nan)
+            ri = _newton_reparams(sub, cubics.take(i, axis=0), tol, start)
             phis[i], size[i], c[i], normal[i], u[i] = ri
         return phis, size, c, normal, u
     return _newton_reparams(groups, cubics, tol, start)
@@ -654,11 +658,12 @@ def _ray_certified(groups, cubics, tol, depth, pairs, step=None):
     where = np.empty(cubics.shape[0], int)
     where[:] = -1
     where[rest] = np.arange(rest.shape[0])
-    sub = [(where[r[where[r] >= 0]], st[where[r] >= 0]) for r, st in groups
+    sub = [(where[r[where[r] >= 0]], st.compress(where[r] >= 0, axis=0)) for r, st in groups
            if (where[r] >= 0).any()]
-    again = (ps[rest], pu, pspeed[rest], pgap[rest])
-    again = (_ray_certified(sub, cubics[rest], tol, depth, again, step=1) if step > 1 else
-             certify_batch(sub, cubics[rest], tol, depth, pairs=again, panel=False))
+    again = (ps.take(rest, axis=0), pu, pspeed.take(rest, axis=0), pgap.take(rest, axis=0))
+    c_rest = cubics.take(rest, axis=0)
+    again = (_ray_certified(sub, c_rest, tol, depth, again, step=1) if step > 1 else
+             certify_batch(sub, c_rest, tol, depth, pairs=again, panel=False))
     won = again.bound < bound[rest]
     out.bound[rest[won]] = again.bound[won]
     out.other[rest[won]] = where[rest[won]]
@@ -726,7 +731,7 @@ def _panel_sets(groups, cubics, s, u, todo, refine, step, same):
     srows = same.nonzero()[0]
     if srows.shape[0]:
         sets.append(_PanelSet(srows, SAME_CUTS, _fixed_panels(
-            np.ascontiguousarray(cubics[srows].transpose(2, 1, 0)), SAME_CUTS), None))
+            np.ascontiguousarray(cubics.take(srows, axis=0).transpose(2, 1, 0)), SAME_CUTS), None))
     sets = [p for p in sets if p.rows.shape[0]]
     if sets:
         cols = _columns(groups, k, sets, moeb)
@@ -739,19 +744,19 @@ def _ray_panels(cubics, s, u, rows, step, ucut, cuts):
     """The :class:`_PanelSet` of the pairs ``rows`` on the fitter's rays: their cuts
     s_j written into ``cuts`` (k, P + 1); only the rows whose cuts increase
     strictly are kept."""
-    s = _ordered_pairs(s[rows], u)
+    s = _ordered_pairs(s.take(rows, axis=0), u)
     c = np.empty((rows.shape[0], ucut.shape[0]))
     c[:, 0], c[:, 1:-1], c[:, -1] = 0.0, s[:, step - 1::step], 1.0
     cuts[rows] = c
     ok = np.logical_and.reduce((c[:, 1:] - c[:, :-1]) > 0, axis=1)
-    rows, s, c = rows[ok], s[ok], c[ok]
+    rows, s, c = rows[ok], s.compress(ok, axis=0), c.compress(ok, axis=0)
     mid = slice(step // 2 - 1, None, step)
     if step > 1:
         inner = _inner_moebius(s[:, mid], u[mid], c, ucut)
     else:
         inner = np.empty((rows.shape[0], ucut.shape[0] - 1))
         inner[:] = np.nan
-    return _PanelSet(rows, tuple(ucut.tolist()), _cubic_panels(cubics[rows], c), inner)
+    return _PanelSet(rows, tuple(ucut.tolist()), _cubic_panels(cubics.take(rows, axis=0), c), inner)
 
 
 def _fixed_panels(c, cuts):
@@ -1084,10 +1089,11 @@ def _composed_bounds(groups, cubics, phis, size, cs, normal, tol):
         for m in unique(size[rows[near]]).tolist():
             sel = np.nonzero(near & (size[rows] == m))[0]
             r = rows[sel]
-            comp = stack[sel] * (cs[r, None] ** np.arange(n))[:, :, None]   # R o mu: w_i c^i
+            # R o mu: w_i c^i
+            comp = stack.take(sel, axis=0) * (cs[r, None] ** np.arange(n))[:, :, None]
             if m > 2:
                 comp = bz.compose_many(comp, phis[r, :m])
-            bound[r] = nr.distance_bound_many(comp, cubics[r], REFINE)[0]
+            bound[r] = nr.distance_bound_many(comp, cubics.take(r, axis=0), REFINE)[0]
     return bound
 
 
@@ -1101,8 +1107,8 @@ def _halved(groups, cubics, out, rows, feet, tol, depth):
     Newton search of the halves (:func:`_half_starts`): nothing is sampled again."""
     if not len(rows):
         return
-    mids = np.matmul(bz.basis(3, [0.5]), cubics[rows])             # (r, 1, 2)
-    guess = _half_starts(feet[rows])
+    mids = np.matmul(bz.basis(3, [0.5]), cubics.take(rows, axis=0))   # (r, 1, 2)
+    guess = _half_starts(feet.take(rows, axis=0))
     um = np.empty(len(rows))
     where = np.full(len(cubics), -1)
     where[rows] = np.arange(len(rows))
@@ -1112,20 +1118,21 @@ def _halved(groups, cubics, out, rows, feet, tol, depth):
         if len(sel):
             j = where[grp[sel]]
             jet = pc.jet2_power_many if stack.shape[1] <= 13 else pc.jet2_many
-            um[j] = nr.closest_params_many(stack[sel], mids[j], guess[j, 24:25],
+            part = stack.take(sel, axis=0)
+            um[j] = nr.closest_params_many(part, mids.take(j, axis=0), guess[j, 24:25],
                                            REPARAM_ITERS, jet)[:, 0]
-            halves.append((j, stack[sel]))
+            halves.append((j, part))
     keep = np.nonzero((um > 0) & (um < 1))[0]                      # positions among rows
     if not len(keep):
         return
     renum = np.full(len(rows), -1)
     renum[keep] = np.arange(len(keep))
-    left, right = bz.split_many(cubics[rows[keep]], np.full(len(keep), 0.5))
+    left, right = bz.split_many(cubics.take(rows[keep], axis=0), np.full(len(keep), 0.5))
     sub_groups = []
     for j, stack in halves:
         ok = renum[j] >= 0
         if ok.any():
-            lo, hi = bz.split_many(stack[ok], um[j[ok]])
+            lo, hi = bz.split_many(stack.compress(ok, axis=0), um[j[ok]])
             sub_groups += [(renum[j[ok]], lo), (len(keep) + renum[j[ok]], hi)]
     u, g = um[keep, None], guess[keep]
     start = np.concatenate([np.clip(g[:, :24] / u, 0.0, 1.0),

@@ -3,6 +3,9 @@ of kurbo's curve fitter (``fit.rs``: end points and end tangents of the piece, s
 area and x-moment matched; R. Levien's "fitting cubic Béziers" work), done in numpy
 for many ranges at once (:func:`moment_cubics`).  The fits are only candidates:
 :mod:`morph.export.certify` certifies them.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import functools
@@ -44,8 +47,8 @@ def make_chains(bank, runs):
     bank.order = order
     if not len(sizes):
         return ChainArrays(bank, sizes, offs, np.zeros(0), np.zeros(0))
-    lo = np.minimum.reduceat(bank.lo[order], offs)
-    hi = np.maximum.reduceat(bank.hi[order], offs)
+    lo = np.minimum.reduceat(bank.lo.take(order, axis=0), offs)
+    hi = np.maximum.reduceat(bank.hi.take(order, axis=0), offs)
     extent = np.maximum(hi - lo, 0.0).max(axis=1)
     return ChainArrays(bank, sizes, offs, extent, 1e-12 * np.maximum(extent, 1e-300))
 
@@ -211,9 +214,9 @@ def cut_pieces(parts, idx, h):
     have, stack = parts.subs[h.shape[1]]
     at = np.minimum(have.searchsorted(idx), have.shape[0] - 1)
     todo = have[at] != idx
-    out[~todo] = stack[at[~todo]]
+    out[~todo] = stack.take(at[~todo], axis=0)
     if np.logical_or.reduce(todo):
-        out[todo] = bz.cut_many(h[todo], parts.a[idx[todo]], parts.b[idx[todo]])
+        out[todo] = bz.cut_many(h.compress(todo, axis=0), parts.a[idx[todo]], parts.b[idx[todo]])
     return out
 
 
@@ -244,7 +247,7 @@ def _range_samples(bank, parts, starts, e, tiny):
     jets[:, :, whole] = bank.node_planes(gid[whole], quad.gx)
     # every part's end derivatives (2, P, 2) in its own parameter: of its piece
     # (whole), of its sub-piece on [a, b] (cut, made here) divided by b - a
-    ends = bank.d_ends[:, gid]
+    ends = bank.d_ends.take(gid, axis=1)
     cut = (~whole).nonzero()[0]         # cut pieces: the piece on [a, b] at the nodes
     for rows, h in bank.gather(gid[cut]):
         i = cut[rows]
@@ -263,7 +266,7 @@ def _range_samples(bank, parts, starts, e, tiny):
         de[j] = _limit_tangent(bank.pieces[gid[i]], lo[i] if sign > 0 else hi[i],
                                sign, tiny[r])
     q = np.empty_like(jets)
-    pe = e[req].T                                                   # (2, P)
+    pe = e.take(req, axis=0).T                                                   # (2, P)
     jets[0] -= starts[req, 0]
     jets[1] -= starts[req, 1]
     _to_frame(jets[0], jets[1], pe, q[0], q[1])
@@ -417,7 +420,8 @@ def _solved_handles(area, moment, at, cf, good):
     ends = np.empty((3, 2, rr.shape[0]))
     ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1] = _D0_GRID[gg], fa, _D0_GRID[gg + 1], fb
     a, fa, b, fb = ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]          # views
-    area_r, at_r, cf_r, moment_r = area[rr], at[:, rr], np.asfortranarray(cf[rr]), moment[rr]
+    area_r, at_r = area[rr], at.take(rr, axis=1)
+    cf_r, moment_r = np.asfortranarray(cf.take(rr, axis=0)), moment[rr]
     for _ in range(4):                                             # regula falsi
         x = np.divide(a * fb - b * fa, fb - fa, out=ends[2, 0])
         np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=ends[2, 1])
@@ -441,7 +445,7 @@ def _solved_handles(area, moment, at, cf, good):
     rank[by] = np.arange(m) - cr[by].searchsorted(cr[by])
     keep = rank < MAX_CANDIDATES
     cr, cd0, thirds = cr[keep], cd0[keep], thirds[keep]
-    cd1 = np.where(thirds, _THIRD[0], _d1_of(cd0, area[cr], at[:, cr]))
+    cd1 = np.where(thirds, _THIRD[0], _d1_of(cd0, area[cr], at.take(cr, axis=1)))
     fine = np.isfinite(cd1) & (cd1 > 0) & (cd0 > 0)
     return cr[fine], cd0[fine], cd1[fine]
 
@@ -463,11 +467,11 @@ def _grid_scan(area, moment, at, cf, good, resid):
     cf_t = np.ascontiguousarray(cf.T)
     for lo in range(0, good.shape[0], GRID_BLOCK):
         rows = good[lo:lo + GRID_BLOCK]
-        d1 = _d1_of(d0, area[rows], at[:, rows])
+        d1 = _d1_of(d0, area[rows], at.take(rows, axis=1))
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        f = resid(d0, d1, cf_t[:, rows].T)              # read only where ok
+        f = resid(d0, d1, cf_t.take(rows, axis=1).T)              # read only where ok
         f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
@@ -504,7 +508,8 @@ def _picked_cubics(score, err, cr, ctrl, acc, short, starts, ends, chord):
     pick = np.zeros(n, int) - 1
     pick[sorted_cr[at]] = valid[at]
     has = pick >= 0
-    c = ctrl[np.maximum(pick, 0)] if ctrl.shape[0] else np.zeros((n, 4, 2))   # (n, 4, 2)
+    c = (ctrl.take(np.maximum(pick, 0), axis=0) if ctrl.shape[0]
+         else np.zeros((n, 4, 2)))                                  # (n, 4, 2)
     normal = chord[:, ::-1] * _LEFT                    # (-chord_y, chord_x)
     cubic = starts[:, None] + c[..., :1] * chord[:, None] + c[..., 1:] * normal[:, None]
     no = ~has                  # the straight cubic

@@ -32,6 +32,9 @@ search ends on one, it is certified, and where that fails the segment is searche
 again certifying every try.  With no certified fit at all the shortest failed
 interval is halved until one certifies (down to the minimal width, then
 :class:`~morph.errors.ToleranceNotMetError`).
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import numpy as np
@@ -229,7 +232,8 @@ class Greedy:
         better = tried & ok & (np.isnan(self.good[rows]) | (t1 > self.good[rows]))
         b = rows[better]
         self.good[b], self.good_b[b], self.good_cert[b] = t1[better], bound[better], cert[better]
-        self.good_at[b], self.good_end[b], self.good_cubic[b] = at[better], end[better], cubic[better]
+        self.good_at[b], self.good_end[b] = at[better], end.compress(better, axis=0)
+        self.good_cubic[b] = cubic.compress(better, axis=0)
         done_try = self._tried(rows[tried], t1[tried], bound[tried], cert[tried] & ok[tried])
         # a certified end (certifying a provisional one, or halving): the segment
         took = (mode != TRY) & ok
@@ -238,10 +242,11 @@ class Greedy:
         halved = (mode == HALVE) & ~ok
         self.bad[rows[halved]] = t1[halved]
         self._halve(rows[halved], bound[halved])
-        acc = [(rows[took], t1[took], cubic[took], bound[took], at[took], end[took])]
+        acc = [(rows[took], t1[took], cubic.compress(took, axis=0), bound[took], at[took],
+                end.compress(took, axis=0))]
         g = done_try
-        acc.append((g, self.good[g], self.good_cubic[g], self.good_b[g], self.good_at[g],
-                    self.good_end[g]))
+        acc.append((g, self.good[g], self.good_cubic.take(g, axis=0), self.good_b[g],
+                    self.good_at[g], self.good_end.take(g, axis=0)))
         r, t1a, ca, ba, ata, ea = [np.concatenate(x) for x in zip(*acc)]
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
         self.width[r] = next_width(t1a - self.t0[r], ba, self.tol)

@@ -21,6 +21,9 @@ and round: per-row sums and running sums are taken on the rows of equal length
 stacked (:func:`per_row`), interpolation in each row's own table by one vectorised
 search (:func:`interp_rows`), both with numpy's own arithmetic, so a chain's cuts
 are the very numbers that chain alone gives.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import numpy as np
@@ -159,7 +162,7 @@ def chain_points(chains, chain, t):
     kk = np.floor(t).astype(int)
     end = t >= k
     gid = bank.order[off + np.minimum(kk, k - 1)]
-    out = np.where(end[:, None], bank.last[gid], bank.first[gid])
+    out = np.where(end[:, None], bank.last.take(gid, axis=0), bank.first.take(gid, axis=0))
     inner = (~end & (t != kk)).nonzero()[0]
     local = t[inner] - kk[inner]
     for rows, h in bank.gather(gid[inner]):
@@ -244,7 +247,7 @@ class Refine:
         self.t0 = np.concatenate([self.t0[keep], t0])[order]
         self.t1 = np.concatenate([self.t1[keep], t1])[order]
         self.bound = np.concatenate([self.bound[keep], bound])[order]
-        self.at = np.concatenate([self.at[keep], at])[order]
+        self.at = np.concatenate([self.at.compress(keep, axis=0), at]).take(order, axis=0)
 
     def _blocks(self):
         count = np.bincount(self.seg_row, minlength=self.chain.shape[0])

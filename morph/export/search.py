@@ -39,6 +39,9 @@ fewer where the bounds say it may fit), its chains rows of arrays too.
 the numerical work is O(rounds) array calls, and no Python step runs per chain and
 round; the accepted segments stay arrays until each chain's list of
 :class:`~morph.export.certify.CubicFit` is made at the end.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import contextlib
@@ -88,7 +91,7 @@ def _sub_groups(bank, parts, sel):
         cut = (a != 0.0) | (b != 1.0)
         if np.logical_or.reduce(cut):
             h = h.copy()
-            h[cut] = cut_pieces(parts, sel[rows][cut], h[cut])
+            h[cut] = cut_pieces(parts, sel[rows][cut], h.compress(cut, axis=0))
         out.append((rows, h))
     return out
 
@@ -179,13 +182,15 @@ def _certified_parts(bank, parts, cubics, rays, todo, nparts, s0, s1, tol):
     if not sel.shape[0]:
         return bound, None, where
     one = nparts[parts.req[sel]] == 1
-    pieces = cubics[parts.req[sel]]
+    pieces = cubics.take(parts.req[sel], axis=0)
     if not np.logical_and.reduce(one):
-        pieces[~one] = bz.subsegment_many(pieces[~one], s0[sel[~one]], s1[sel[~one]])
+        cut = ~one
+        pieces[cut] = bz.subsegment_many(pieces.compress(cut, axis=0), s0[sel[cut]], s1[sel[cut]])
     span = (s1 - s0)[sel, None]
-    feet = ((rays.feet[sel] - s0[sel, None]) / span).clip(0.0, 1.0)
+    feet = ((rays.feet.take(sel, axis=0) - s0[sel, None]) / span).clip(0.0, 1.0)
     cert = certify_batch(_sub_groups(bank, parts, sel), pieces, tol,
-                         pairs=(feet, _quadrature().gx, rays.speed[sel], rays.gap[sel]))
+                         pairs=(feet, _quadrature().gx, rays.speed.take(sel, axis=0),
+                                rays.gap.take(sel, axis=0)))
     worst = np.empty(n)
     worst[:] = -np.inf
     np.maximum.at(worst, parts.req[sel], cert.bound)
@@ -551,7 +556,7 @@ def _greedy_round(greedy, found, asked, fits, at_round):
     j = mine.searchsorted(own)
     at = np.empty((j.shape[0], 2), int)
     at[:, 0], at[:, 1] = at_round, j
-    acc = greedy.update(rows, tried, (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
+    acc = greedy.update(rows, tried, (fits.cubic.take(j, axis=0), fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc
 
@@ -607,7 +612,7 @@ def _resume(greedy, found, lost, fits, at_round):
     at = np.empty((j.shape[0], 2), int)
     at[:, 0], at[:, 1] = at_round, j
     acc = greedy.update(chain, fits.cubic[j, -1],
-                        (fits.cubic[j], fits.bound[j], fits.cert[j]), at)
+                        (fits.cubic.take(j, axis=0), fits.bound[j], fits.cert[j]), at)
     found.add(acc[0], acc[1], acc[2], acc[4], acc[5])
     return acc[0]
 
@@ -868,10 +873,10 @@ def _cubic_arrays(n, final, rounds):
     cubic = np.empty((len(chain), 4, 2))
     for r in unique(at[:, 0]).tolist():
         sel = np.nonzero(at[:, 0] == r)[0]
-        cubic[sel] = rounds[r].cubic[at[sel, 1]]
+        cubic[sel] = rounds[r].cubic.take(at[sel, 1], axis=0)
     order = np.argsort(chain, kind="stable")
     ends = np.cumsum(np.bincount(chain, minlength=n)).tolist()
-    every = list(cubic[order])             # one (4, 2) view per cubic (np.split: 30x slower)
+    every = list(cubic.take(order, axis=0))  # one (4, 2) view per cubic (np.split: 30x slower)
     return [every[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 

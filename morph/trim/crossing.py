@@ -1,5 +1,8 @@
 """Which pieces of the lifted loops may cross, and where: monotone chains certify
 the pairs that cannot (tangent cones), subdivision finds the crossings of the rest.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 from functools import lru_cache
@@ -161,7 +164,7 @@ def subdivide(it, n, res, joining=(), park=None, max_items=1 << 18, max_depth=60
             continue
         live, small, split_a = _level_tests(it, res)
         hit = live & (it.kind == PAIRS) & (small | (depth == max_depth - 1))
-        t = it.t[hit]
+        t = it.t.compress(hit, axis=0)
         found.append((it.org[hit], 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 2] + t[:, 3]), depth))
         it = _split_items(it, live & ~hit, split_a)
         depth += 1
@@ -196,7 +199,9 @@ class _Items:
         self.org, self.kind, self.t, self.h = org, kind, t, h
 
     def take(self, rows):
-        return _Items(self.org[rows], self.kind[rows], self.t[rows], self.h[rows])
+        """The items where the mask ``rows`` holds."""
+        return _Items(self.org[rows], self.kind[rows], self.t.compress(rows, axis=0),
+                      self.h.compress(rows, axis=0))
 
     def join(self, other):
         """These items, then ``other``'s."""
@@ -220,7 +225,7 @@ def _level_tests(it, res):
     narrow = np.zeros(len(kind), bool)
     j = (kind != PAIRS).nonzero()[0]
     if len(j):
-        d = _diffs(c[j].swapaxes(2, 3).reshape(2 * len(j), -1, 2))  # a's, then b's
+        d = _diffs(c.take(j, axis=0).swapaxes(2, 3).reshape(2 * len(j), -1, 2))  # a's, then b's
         narrow[j] = _narrow_cone(d.reshape(len(j), -1, 2))
     live = meet & ~narrow & ~(small & (kind != PAIRS))
     return live, small, size[:, 0] >= size[:, 1]
@@ -237,7 +242,7 @@ def stack_rows(pieces, rows):
         at = np.searchsorted(ks, rows)
         hit = (ks[np.minimum(at, len(ks) - 1)] == rows).ravel().nonzero()[0] if len(ks) else at[:0]
         if len(hit):
-            out[hit] = bz.elevate_many(h[at[hit]], deg + 1 - h.shape[1])
+            out[hit] = bz.elevate_many(h.take(at[hit], axis=0), deg + 1 - h.shape[1])
     return out
 
 
@@ -311,21 +316,21 @@ def _split_items(it, keep, split_a):
         count.cumsum() - count).repeat(count))
     order = slot.argsort(kind="stable")
     item, table = item[order], _SLOTS[slot[order]]
-    t = it.t[rows]
+    t = it.t.take(rows, axis=0)
     mid = 0.5 * (t[:, 0::2] + t[:, 1::2])         # (k, 2): the parts' midpoints
-    out_t = t[item]
+    out_t = t.take(item, axis=0)
     at_mid = table[:, 1:5] == 1
-    out_t[at_mid] = mid[item][:, [0, 0, 1, 1]][at_mid]
+    out_t[at_mid] = mid.take(item, axis=0)[:, [0, 0, 1, 1]][at_mid]
     out_kind = kind[item]
     own = table[:, 5] >= 0
     out_kind[own] = table[own, 5]
     # which version of each part: 0 the item's, 1 its left half (end moved to the
     # midpoint), 2 its right half (start moved)
     version = table[:, [2, 4]] + 2 * table[:, [1, 3]]
-    h = it.h[rows]
+    h = it.h.take(rows, axis=0)
     options = np.concatenate([h[None], _halves(h)])  # (3, k, 2, 3, n+1)
     at = (version * len(rows) + item[:, None]) * 2 + np.arange(2)
-    out_h = options.reshape(-1, *h.shape[2:])[at.ravel()].reshape(-1, *h.shape[1:])
+    out_h = options.reshape(-1, *h.shape[2:]).take(at.ravel(), axis=0).reshape(-1, *h.shape[1:])
     return _Items(it.org[rows][item], out_kind, out_t, out_h)
 
 

@@ -13,6 +13,9 @@ a joint's grid point, so that the ring pairs the wrong pieces) keeps the grid po
 and each of its runs ends at its piece's point nearest to it within the segment's
 parameter range (within eps + grid/sqrt(2) of it), not at a parameter interpolated
 along the segment.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 from functools import lru_cache
@@ -58,9 +61,10 @@ def lift_rings(rings, tg, contract, packed=False):
     first = np.concatenate([[0], sizes.cumsum()[:-1]])
     nx = np.arange(len(v)) + 1
     nx[first + sizes - 1] = first
-    seg, fwd = _edge_segments(v, v[nx], tg, nx)
-    a, b = tg.q[seg].astype(float), tg.q[tg.nxt[seg]].astype(float)
-    u_p, u_q = project(v, a, b), project(v[nx], a, b)
+    vn = v.take(nx, axis=0)
+    seg, fwd = _edge_segments(v, vn, tg, nx)
+    a, b = tg.q.take(seg, axis=0).astype(float), tg.q.take(tg.nxt[seg], axis=0).astype(float)
+    u_p, u_q = project(v, a, b), project(vn, a, b)
     t0, t1 = tg.t0[seg], tg.t1[seg]
     tp, tq = t0 + u_p * (t1 - t0), t0 + u_q * (t1 - t0)
     pid = tg.piece[seg]
@@ -92,7 +96,7 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
     the exact pieces in one batch; the crossing parameters are written into ``tq``
     (of edge i) and ``tp`` (of the next edge) in place."""
     k = cross.ravel().nonzero()[0]
-    guess = tg.to_float(v[nx[k]])
+    guess = tg.to_float(v.take(nx[k], axis=0))
     point = np.full((len(v), 2), np.nan)  # junction point after edge i
     if len(k):
         ids = np.concatenate([pid[k], pid[nx[k]]])
@@ -150,14 +154,14 @@ def _ring_runs(rings, first, sizes, nx, cont, pid, tp, tq, fwd, point, pieces):
     ring, piece_id, ta, tb, row = ring[order], piece_id[order], ta[order], tb[order], row[order]
     cut = pc.subsegments(pieces, piece_id, ta, tb, packed=True)
     starts, stops = pc.end_points(cut)
-    ends = np.where((row >= 0)[:, None], point[np.maximum(row, 0)], starts)
+    ends = np.where((row >= 0)[:, None], point.take(np.maximum(row, 0), axis=0), starts)
     # junctions at joints (no crossing point): the mean of the two runs' ends
     per = np.bincount(ring, minlength=n_rings)
     base = per.cumsum() - per
     k = np.arange(len(ring))
     after = np.where(k + 1 == base[ring] + per[ring], base[ring], k + 1)
     gap = np.isnan(ends).any(axis=1)
-    ends[gap] = 0.5 * (stops[gap] + starts[after[gap]])
+    ends[gap] = 0.5 * (stops.compress(gap, axis=0) + starts.take(after[gap], axis=0))
     return cut, ends, per
 
 
@@ -189,7 +193,8 @@ def _with_spikes_cut(flat, flagged, reach):
     where[~cut_row] = np.arange(int(kept.sum()))
     where[cut_row] = kept.sum() + np.arange(len(new))
     both = pieces.take(kept.ravel().nonzero()[0]).then(new)
-    return (both.take(where), np.concatenate([ends[kept], new_ends])[where], new_per)
+    kept_ends = np.concatenate([ends.compress(kept, axis=0), new_ends])
+    return both.take(where), kept_ends.take(where, axis=0), new_per
 
 
 def _as_runs(flat):
@@ -228,8 +233,8 @@ def _close_all(flat, contract):
     base = per.cumsum() - per
     k = np.arange(len(idx))
     before = np.where(k == base[kr], base[kr] + per[kr] - 1, k - 1)
-    snapped = _with_endpoints_many(pieces.take(idx), ends[idx[before]], ends[idx],
-                                   packed=True)
+    snapped = _with_endpoints_many(pieces.take(idx), ends.take(idx[before], axis=0),
+                                   ends.take(idx, axis=0), packed=True)
     after = pc.length_bounds(snapped) if len(idx) else np.zeros(0)
     short = np.bincount(kr, weights=((after < contract) | (after == 0.0)),
                         minlength=n_rings) > 0
@@ -250,8 +255,8 @@ def _with_endpoints_many(pieces, p0, p1, packed=False):
     out = []
     for ks, h in pc.degree_groups(pieces):
         h = h.copy()
-        h[:, 0, :2] = p0[ks] * h[:, 0, 2:]
-        h[:, -1, :2] = p1[ks] * h[:, -1, 2:]
+        h[:, 0, :2] = p0.take(ks, axis=0) * h[:, 0, 2:]
+        h[:, -1, :2] = p1.take(ks, axis=0) * h[:, -1, 2:]
         out.append((ks, h))
     out = pc.Pieces(out, len(pieces))
     return out if packed else out.rows()
@@ -302,7 +307,8 @@ def _spike_triples(flat, reach):
     # point cannot have one, and are not iterated
     box = pc.bboxes(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
-    g = np.concatenate([ends[i] - lim[:, None], ends[i] + lim[:, None]], axis=1)
+    ei = ends.take(i, axis=0)
+    g = np.concatenate([ei - lim[:, None], ei + lim[:, None]], axis=1)
     lo = np.maximum(np.maximum(box[:m, :2], box[m:, :2]) - atol, g[:, :2])
     hi = np.minimum(np.minimum(box[:m, 2:], box[m:, 2:]) + atol, g[:, 2:])
     maybe = ((lo[:, 0] <= hi[:, 0]) & (lo[:, 1] <= hi[:, 1])).ravel().nonzero()[0]
@@ -312,8 +318,8 @@ def _spike_triples(flat, reach):
     stacked = pc.stack(pieces.take(np.concatenate([prev, nxt])))
     m = len(i)
     ia, ib = np.arange(m), np.arange(m, 2 * m)
-    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends[i], lim, atol,
-                                settle=SETTLE * atol)
+    s, u, ok = newton_crossings(stacked, ia, np.ones(m), ib, np.zeros(m), ends.take(i, axis=0),
+                                lim, atol, settle=SETTLE * atol)
     ok &= (s > PARAM_EPS) & (s < 1.0 - PARAM_EPS) & (u > PARAM_EPS) & (u < 1.0 - PARAM_EPS)
     return list(zip(r[ok].tolist(), j[ok].tolist()))
 
@@ -402,7 +408,8 @@ def _edge_segments(p, q, tg, nx=None):
     direction[against] = False
     rest = (~(along | against)).ravel().nonzero()[0]
     if len(rest):
-        seg[rest], direction[rest] = _matched_segments(p[rest], q[rest], tg, (sk, order))
+        pr, qr = p.take(rest, axis=0), q.take(rest, axis=0)
+        seg[rest], direction[rest] = _matched_segments(pr, qr, tg, (sk, order))
     return seg, direction
 
 
@@ -420,13 +427,14 @@ def _unique_vertex(sorted_keys, order, kp):
 def _matched_segments(p, q, tg, sorted_keys):
     """:func:`_edge_segments` by candidates: segments at the edges' end vertices, the
     best fitting one; edges between crossings by a search over all segments."""
-    sa, sb = tg.q, tg.q[tg.nxt]
+    sa, sb = tg.q, tg.q.take(tg.nxt, axis=0)
     cand_e, cand_s = _vertex_candidates(p, q, tg, sorted_keys)
     best, seg, direction = _best_fits(len(p), cand_e, cand_s, *_fit(
-        p[cand_e], q[cand_e], sa[cand_s], sb[cand_s]))
+        p.take(cand_e, axis=0), q.take(cand_e, axis=0), sa.take(cand_s, axis=0),
+        sb.take(cand_s, axis=0)))
     lost = (best > MATCH_UNITS).ravel().nonzero()[0]
     if len(lost):
-        s, f = _nearest_segments(p[lost], q[lost], sa, sb, tg)
+        s, f = _nearest_segments(p.take(lost, axis=0), q.take(lost, axis=0), sa, sb, tg)
         seg[lost], direction[lost] = s, f
     return seg, direction
 
@@ -449,7 +457,8 @@ def _nearest_segments(p, q, sa, sb, tg=None):
     else:
         grid = BoxGrid(np.minimum(sa, sb) - MATCH_UNITS, np.maximum(sa, sb) + MATCH_UNITS)
         e, s = grid.at_points(p)
-    best, seg, direction = _best_fits(len(p), e, s, *_fit(p[e], q[e], sa[s], sb[s]))
+    best, seg, direction = _best_fits(len(p), e, s, *_fit(
+        p.take(e, axis=0), q.take(e, axis=0), sa.take(s, axis=0), sb.take(s, axis=0)))
     far = (best > MATCH_UNITS).ravel().nonzero()[0]
     for chunk in np.array_split(far, max(1, len(far) // 64)):
         if len(chunk):
@@ -598,7 +607,7 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
     s, u = np.array(ta, float), np.array(tb, float)
-    ha, hb = stacked[ia], stacked[ib]
+    ha, hb = stacked.take(ia, axis=0), stacked.take(ib, axis=0)
     n = stacked.shape[1] - 1
     dha, dhb = n * (ha[:, 1:] - ha[:, :-1]), n * (hb[:, 1:] - hb[:, :-1])
     # a row whose step leaves (s, u) as they are is at a fixed point of the

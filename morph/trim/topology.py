@@ -13,6 +13,9 @@ at 20-30 times the cost): the lifting identifies every edge on its own, so it
 does not need them apart.  Each group of paths apart from the others (a glyph of a
 chunk, a stroke apart from the rest of its glyph) is united on its own, near the
 origin (:func:`_union`).
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import gc
@@ -76,8 +79,8 @@ class Rings:
         the renumbering (-1 or a ring left out: -1)."""
         index = keep.cumsum() - 1
         parent = np.where(parent >= 0, np.where(keep[parent], index[parent], -1), -1)
-        return Rings(self.sizes[keep], self.q[keep.repeat(self.sizes)], self.hole[keep],
-                     parent[keep], self.group[keep])
+        return Rings(self.sizes[keep], self.q.compress(keep.repeat(self.sizes), axis=0),
+                     self.hole[keep], parent[keep], self.group[keep])
 
     def to_list(self):
         """The rings as :class:`Ring` objects."""
@@ -132,7 +135,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     farther apart than that."""
     keep = sizes >= 3
     if not keep.all():
-        sizes, q = sizes[keep], q[keep.repeat(sizes)]
+        sizes, q = sizes[keep], q.compress(keep.repeat(sizes), axis=0)
     if not len(sizes):
         return _no_rings()
     sizes, q, group = _union(sizes, q, FILL_TYPES[fill_rule], max(gap or 0, APART_GAP))
@@ -140,7 +143,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
         return _no_rings()
     if thin > 0.0:
         kept = _without_lone_slivers(thin, sizes, q)
-        sizes, q, group = sizes[kept], q[kept.repeat(sizes)], group[kept]
+        sizes, q, group = sizes[kept], q.compress(kept.repeat(sizes), axis=0), group[kept]
     if not len(sizes):
         return _no_rings()
     parts = _nested_parts(sizes, q, group)
@@ -152,7 +155,7 @@ def packed_filled_rings(sizes, q, fill_rule, thin=0.0, gap=None):
     # the groups _nested_parts cannot nest: Clipper's tree pass on their rings alone
     # (a few strokes of a chunk, where the sweep over the whole chunk costs as much
     # as its union), after the others
-    return _joined(rings, _tree_pass(sizes[unsure], q[unsure.repeat(sizes)]))
+    return _joined(rings, _tree_pass(sizes[unsure], q.compress(unsure.repeat(sizes), axis=0)))
 
 
 def _tree_pass(sizes, q):
@@ -212,7 +215,7 @@ def _union(sizes, q, ft, gap=APART_GAP):
     # the paths in group order, each group's moved to the origin
     order = np.argsort(group, kind="stable")
     rows = starts[order].repeat(sizes[order]) + _ranks(sizes[order])
-    moved = q[rows] - shift[group[order]].repeat(sizes[order], axis=0)
+    moved = q.take(rows, axis=0) - shift.take(group[order], axis=0).repeat(sizes[order], axis=0)
     ends = np.bincount(group, minlength=g).cumsum().tolist()
     with _without_collection():
         lists = _packed_lists(sizes[order], moved)
@@ -226,14 +229,14 @@ def _union(sizes, q, ft, gap=APART_GAP):
             return np.zeros(0, np.int64), np.zeros((0, 2), np.int64), np.zeros(0, np.int64)
         f_sizes, f_q = _flat_arrays(flat)
     f_starts = f_sizes.cumsum() - f_sizes
-    f_q += shift[ring_group].repeat(f_sizes, axis=0)
+    f_q += shift.take(ring_group, axis=0).repeat(f_sizes, axis=0)
     # each ring's top: its largest y, the smallest x at that height
     top_y = np.maximum.reduceat(f_q[:, 1], f_starts)
     at_top = f_q[:, 1] == top_y.repeat(f_sizes)
     top_x = np.minimum.reduceat(np.where(at_top, f_q[:, 0], np.iinfo(np.int64).max), f_starts)
     order = np.lexsort((top_x, -top_y))
     rows = f_starts[order].repeat(f_sizes[order]) + _ranks(f_sizes[order])
-    return f_sizes[order], f_q[rows], np.asarray(ring_group, np.int64)[order]
+    return f_sizes[order], f_q.take(rows, axis=0), np.asarray(ring_group, np.int64)[order]
 
 
 @contextmanager
@@ -385,7 +388,7 @@ def _tree_order(rings, depth):
     parent = rings.parent[order]
     sizes = rings.sizes[order]
     rows = (rings.starts[order].repeat(sizes) + _ranks(sizes))
-    return Rings(sizes, rings.q[rows], rings.hole[order],
+    return Rings(sizes, rings.q.take(rows, axis=0), rings.hole[order],
                  np.where(parent >= 0, place[np.maximum(parent, 0)], -1), rings.group[order])
 
 
@@ -397,8 +400,10 @@ def _containers(q, sizes, starts):
     lo = columns(np.minimum.reduceat(q[:, 0], starts), np.minimum.reduceat(q[:, 1], starts))
     hi = columns(np.maximum.reduceat(q[:, 0], starts), np.maximum.reduceat(q[:, 1], starts))
     # candidate (ring a, ring b around it): b's box holds a's
-    a, b = BoxGrid(lo.astype(float), hi.astype(float)).at_points(q[starts].astype(float))
-    la, lb, ha, hb = lo[a], lo[b], hi[a], hi[b]
+    first = q.take(starts, axis=0).astype(float)
+    a, b = BoxGrid(lo.astype(float), hi.astype(float)).at_points(first)
+    la, lb = lo.take(a, axis=0), lo.take(b, axis=0)
+    ha, hb = hi.take(a, axis=0), hi.take(b, axis=0)
     keep = ((a != b) & (lb[:, 0] <= la[:, 0]) & (lb[:, 1] <= la[:, 1])
             & (hb[:, 0] >= ha[:, 0]) & (hb[:, 1] >= ha[:, 1]))
     a, b = a[keep], b[keep]
@@ -411,7 +416,7 @@ def _containers(q, sizes, starts):
                                          - (per.cumsum() - per).repeat(per))
         last = (starts[b] + per - 1).repeat(per)
         e1 = np.where(e == last, starts[b].repeat(per), e + 1)
-        p0, p1, v = q[e], q[e1], q[starts[a]][pair]
+        p0, p1, v = q.take(e, axis=0), q.take(e1, axis=0), q.take(starts[a][pair], axis=0)
         cross = ((p1[:, 0] - p0[:, 0]) * (v[:, 1] - p0[:, 1])
                  - (p1[:, 1] - p0[:, 1]) * (v[:, 0] - p0[:, 0]))
         on = ((cross == 0) & (np.minimum(p0[:, 0], p1[:, 0]) <= v[:, 0])
@@ -524,8 +529,9 @@ def packed_measures(sizes, q):
     starts = sizes.cumsum() - sizes
     nxt = np.arange(len(q)) + 1
     nxt[starts + sizes - 1] = starts
-    d = q[nxt] - q
-    area = 0.5 * np.add.reduceat(q[:, 0] * q[nxt, 1] - q[:, 1] * q[nxt, 0], starts)
+    qn = q.take(nxt, axis=0)
+    d = qn - q
+    area = 0.5 * np.add.reduceat(q[:, 0] * qn[:, 1] - q[:, 1] * qn[:, 0], starts)
     perimeter = np.add.reduceat(np.hypot(d[:, 0], d[:, 1]), starts)
     return area, perimeter
 

@@ -10,6 +10,9 @@ orientation (a twist) or nested in the rest (a curl) bounds nothing and goes; a
 lobe beside the rest with the same orientation (two parts touching at a point) is
 kept as a loop of its own.  Zero-width spikes (a piece folding back onto its
 neighbour) are removed first.
+
+Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
+:mod:`morph.polyline`).
 """
 
 import itertools
@@ -956,7 +959,8 @@ def _interp_rows(x, xp, fp):
     x0, x1 = xp.ravel()[j], xp.ravel()[j + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         frac = np.where(x1 > x0, (x.ravel() - x0) / (x1 - x0), 1.0)[:, None]
-    return (fp[j] + frac * (fp[j + 1] - fp[j])).reshape(x.shape + cols)
+    f0 = fp.take(j, axis=0)
+    return (f0 + frac * (fp.take(j + 1, axis=0) - f0)).reshape(x.shape + cols)
 
 
 def _zip_many(a_s, b_s, close, min_length):
@@ -996,7 +1000,7 @@ def _newton_nearest(stacked, idx, u, points):
     the nearest points: up to 8 Newton steps on the squared distance from ``u`` (a
     dense sample's nearest), kept in [0, 1], all rows together until a step leaves
     every row where it is."""
-    h = stacked[idx]
+    h = stacked.take(idx, axis=0)
     dh = (h.shape[1] - 1) * np.diff(h, axis=1)
     for _ in range(8):
         x, dx = _jet_rows(h, u, dh)
@@ -1060,8 +1064,8 @@ def _snap_many(loops, min_len):
         nxt = first[owner] + (at + 1) % np.maximum(per[owner], 1)
         kept = pc.Pieces.of([flat[i] for i in idx.tolist()])
         starts, ends = pc.end_points(kept)
-        a = 0.5 * (starts + ends[prev])
-        b = 0.5 * (ends + starts[nxt])
+        a = 0.5 * (starts + ends.take(prev, axis=0))
+        b = 0.5 * (ends + starts.take(nxt, axis=0))
         moved = np.any(a != starts, axis=1) | np.any(b != ends, axis=1)
         snapped = _with_ends_where(kept, a, b, moved)
         rows = snapped.rows()
@@ -1084,8 +1088,8 @@ def _with_ends_where(pieces, p0, p1, mask):
         m = mask[ks]
         if m.any():
             h = h.copy()
-            h[m, 0, :2] = p0[ks[m]] * h[m, 0, 2:]
-            h[m, -1, :2] = p1[ks[m]] * h[m, -1, 2:]
+            h[m, 0, :2] = p0.take(ks[m], axis=0) * h[m, 0, 2:]
+            h[m, -1, :2] = p1.take(ks[m], axis=0) * h[m, -1, 2:]
         groups.append((ks, h))
     return pc.Pieces(groups, len(pieces))
 
