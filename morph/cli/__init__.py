@@ -32,10 +32,11 @@ import os
 # the user set is kept
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-# imported after the BLAS setting (E402) and re-exported (F401)
-from .group import (BAD_INPUT_ERRORS, COMMAND_MODULES,  # noqa: E402,F401 - see above
-                    load_commands, main)
-from .options import (EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,  # noqa: E402,F401 - see above
+# E402: imported after the BLAS setting; F401: re-exported as morph.cli's names
+from .group import (  # noqa: E402,F401 - after the BLAS setting; re-exported
+                    BAD_INPUT_ERRORS, COMMAND_MODULES, load_commands, main)
+from .options import (  # noqa: E402,F401 - after the BLAS setting; re-exported
+                      EXIT_BAD_INPUT, EXIT_INTERNAL, LOADED_SHAPES,
                       InputError, ShapeParam,
                       common_options, font_option, force_option, output_option,
                       resolve_output, resolve_output_dir, shape_argument, shape_tolerance,
