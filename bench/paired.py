@@ -65,6 +65,17 @@ def warm_fontforge():
     subprocess.run([SYSTEM_PYTHON, "-c", "import fontforge"], capture_output=True)
 
 
+def interpreter_starts(env=None):
+    """CPU seconds of a bare start of each side's interpreter, ``-c pass`` with its site
+    (the .pth files of its site-packages run): (morph's ``sys.executable`` in the
+    environment ``env`` of morph's commands, FontForge's :data:`SYSTEM_PYTHON`).  Both
+    are in every whole command of their side and are no work of either tool; a
+    machine's site-packages (an editable install's finder, other .pth files) make the
+    first larger than a wheel install's."""
+    return (child_run([sys.executable, "-c", "pass"], env=env)[0],
+            child_run([SYSTEM_PYTHON, "-c", "pass"])[0])
+
+
 def worker_times(script, job, names):
     """One timed run of a FontForge worker (``bench/fontforge_stroke.py`` or
     ``bench/fontforge_brush.py``) on the JSON ``job``: {"mean": in-process seconds per
