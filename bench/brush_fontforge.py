@@ -82,6 +82,7 @@ def command_runner(src, chars, nib, tol, out):
         cpu, _, code, stdout, stderr = child_run(cmd, env=env)
         lines = (stdout + stderr).strip().splitlines()
         return cpu, (lines[-1] if lines else "") + ("" if code == 0 else " (exit %d)" % code)
+    run.env = env
     return run
 
 
@@ -182,12 +183,12 @@ def timed_rounds(src, chars, names, nib_spec, opt, accs, tmp):
     command's "cmd" and the in-process "sweep" and "brush_font" ms per glyph of every
     round, the median pass, the command's last line; FontForge's: {accuracy: {"ms",
     "median", "process": ms per glyph of every round}})."""
-    from bench.paired import warm_fontforge, worker_times
+    from bench.paired import interpreter_starts, warm_fontforge, worker_times
 
     n = len(names)
     command = command_runner(src, chars, nib_spec, opt.tol, Path(tmp) / "cmd.otf")
     warm_fontforge()
-    morph = {"cmd": [], "sweep": [], "brush_font": [], "passes": []}
+    morph = {"cmd": [], "sweep": [], "brush_font": [], "passes": [], "starts": []}
     ff = {acc: {"ms": [], "median": [], "process": []} for acc in accs}
     for _ in range(opt.repeat):
         cpu, morph["line"] = command()
@@ -202,6 +203,7 @@ def timed_rounds(src, chars, names, nib_spec, opt, accs, tmp):
         morph["passes"].append(one)
         morph["brush_font"].append(1000 * one[0] / n)
         morph["sweep"].append(1000 * one[1] / n)
+        morph["starts"].append(interpreter_starts(command.env))
     morph["line"] = morph["line"].replace(str(tmp) + os.sep, "")  # no machine path
     return morph, ff
 
@@ -326,7 +328,9 @@ def main(argv=None):
         morph, times = timed_rounds(src, chars, names, nib_spec, opt, accs, tmp)
         rows = [_morph_row(morph, src, chars, names, refs, region_extent(nib)[0],
                            Path(tmp) / "brush.otf", opt)]
-    notes = []
+    from bench.paired import starts_note
+
+    notes = [starts_note(morph["starts"], len(names))]
     for acc in accs:
         row, note = _fontforge_row(*outlines[acc], acc, names, refs, ref_keys, times[acc])
         rows.append(row)

@@ -76,6 +76,26 @@ def interpreter_starts(env=None):
             child_run([SYSTEM_PYTHON, "-c", "pass"])[0])
 
 
+def site_pth():
+    """The .pth files of this interpreter's site-packages (run at every start)."""
+    import site
+    from pathlib import Path
+
+    return sorted(p.name for d in site.getsitepackages() for p in Path(d).glob("*.pth"))
+
+
+def starts_note(rounds, glyphs):
+    """The report's sentence on :func:`interpreter_starts` measured in ``rounds`` (a
+    list of its pairs), for a font of ``glyphs`` glyphs."""
+    ours, peer = (1000 * median([r[k] for r in rounds]) for k in (0, 1))
+    return ("Interpreter start alone (`-c pass` with its site, timed in the same rounds): "
+            "morph's Python %.0f ms (%.2f ms / glyph of the whole command), FontForge's "
+            "system Python %.0f ms (%.2f ms / glyph of its worker); part of each side's "
+            "whole command, no work of either tool. morph's runs the .pth files of its "
+            "site-packages at every start: %s."
+            % (ours, ours / glyphs, peer, peer / glyphs, ", ".join(site_pth()) or "none"))
+
+
 def worker_times(script, job, names):
     """One timed run of a FontForge worker (``bench/fontforge_stroke.py`` or
     ``bench/fontforge_brush.py``) on the JSON ``job``: {"mean": in-process seconds per

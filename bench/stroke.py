@@ -785,7 +785,7 @@ def skeleton_set(name, opt, workdir):
     times are measured now, in ``--morph-repeat`` rounds (:mod:`bench.paired`): morph's
     in-process pass, then its whole command, then FontForge's worker and its whole
     workflow at every accuracy."""
-    from bench.paired import interpreter_starts, median
+    from bench.paired import interpreter_starts, starts_note
     from bench.skeletons import skeleton_ufo
 
     ufo = skeleton_ufo(name)
@@ -825,8 +825,7 @@ def skeleton_set(name, opt, workdir):
     rounds.fill(ff)
     out["rows"] += ff
     _command_figures(out, runs, otf, names, refs, opt, workdir)
-    out["starts"] = [median([s[k] for s in starts]) for k in (0, 1)]
-    out["pth"] = site_pth()
+    out["starts_note"] = starts_note(starts, len(names))
     for r in out["rows"]:
         print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
               "%.3f" % (name, r["tool"], r["setting"], r["ms"], r["median_ms"],
@@ -857,13 +856,6 @@ def _command_figures(out, runs, otf, names, refs, opt, workdir):
     print("%s: command %.1f s CPU (%.1f ms / glyph), %.0f MB; written worst %.3f"
           % (out["name"], cpu, 1000 * cpu / len(names), rss, out["written_worst"]),
           flush=True)
-
-
-def site_pth():
-    """The .pth files of this interpreter's site-packages (run at every start)."""
-    import site
-
-    return sorted(p.name for d in site.getsitepackages() for p in Path(d).glob("*.pth"))
 
 
 def _floats(text):
@@ -1107,15 +1099,8 @@ def _set_notes(st, opt):
            "`%s`" % (st["written_worst"], st["written_worst_glyph"], st["written_over"],
                      opt.ref_tol, st["written_limit"], st["command_cpu"],
                      st["command_rss"], st["command_line"])]
-    if st.get("starts"):
-        md += ["", "Interpreter start alone (`-c pass` with its site, timed in the same "
-               "rounds): morph's Python %.0f ms (%.2f ms / glyph of the whole command), "
-               "FontForge's system Python %.0f ms (%.2f ms / glyph of its worker); part of "
-               "each side's whole command, no work of either tool. morph's runs the .pth "
-               "files of its site-packages at every start: %s."
-               % (1000 * st["starts"][0], 1000 * st["starts"][0] / st["glyphs"],
-                  1000 * st["starts"][1], 1000 * st["starts"][1] / st["glyphs"],
-                  ", ".join(st.get("pth", [])) or "none")]
+    if st.get("starts_note"):
+        md += ["", st["starts_note"]]
     if st.get("written_narrow"):
         md += ["", "Gaps or holes of the exact stroke narrower than the documented "
                "narrow-feature limit (2 x (%g tol + 0.71)), filled in the written font and not "
