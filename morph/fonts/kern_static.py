@@ -148,12 +148,13 @@ class KernWriter:
         return out
 
     def _gsub(self):
-        from fontTools.feaLib.builder import addOpenTypeFeatures
         from fontTools.ttLib import TTFont
+
+        from .deferred import feature_builder
 
         tt = TTFont()
         tt.setGlyphOrder(self.order)
-        addOpenTypeFeatures(tt, self.tree, tables={"GSUB"})
+        feature_builder().addOpenTypeFeatures(tt, self.tree, tables={"GSUB"})
         return tt.get("GSUB")
 
     def _groups(self):
@@ -307,12 +308,73 @@ class KernWriter:
 
 def _close(gsub, glyphs):
     """ufo2ft's ``closeGlyphsOverGSUB``: ``glyphs`` grown by every glyph the GSUB
-    table substitutes for them (fontTools' subsetter closure)."""
-    from fontTools import subset
+    table substitutes for them (fontTools' subsetter closure).
 
-    subsetter = subset.Subsetter()
-    subsetter.glyphs = glyphs
-    gsub.closure_glyphs(subsetter)
+    A table whose lookups the scripts' features reach are all single, multiple,
+    alternate or ligature substitutions (:func:`_substitutions`) is closed here: the
+    subsetter's closure of those is the least set holding ``glyphs`` that has every
+    glyph a substitution makes of its glyphs (a ligature's when all its components
+    are in), which it reaches applying every lookup until no glyph comes in, as this
+    does.  Contextual lookups (whose closure depends on their contexts) are left to
+    fontTools.subset, which loads some sixty modules more."""
+    rules = _substitutions(gsub.table)
+    if rules is None:
+        from fontTools import subset
+
+        subsetter = subset.Subsetter()
+        subsetter.glyphs = glyphs
+        gsub.closure_glyphs(subsetter)
+        return
+    maps, ligatures = rules
+    count = None
+    while count != len(glyphs):
+        count = len(glyphs)
+        for glyph, made in maps:
+            if glyph in glyphs:
+                glyphs.update(made)
+        glyphs.update(lig for components, lig in ligatures if glyphs.issuperset(components))
+
+
+def _substitutions(table):
+    """``(maps, ligatures)`` of the GSUB table ``table`` (fontTools' ``otTables``): the
+    lookups the features of its scripts reference (the subsetter's
+    ``collect_features`` / ``collect_lookups``), as ``(glyph, glyphs made of it)``
+    pairs and ``(components, ligature)`` pairs; None where one of them is not a
+    single, multiple, alternate or ligature substitution, or the table has feature
+    variations."""
+    if getattr(table, "FeatureVariations", None):
+        return None
+    if not table.LookupList:
+        return [], []
+    features = set()
+    for record in (table.ScriptList.ScriptRecord if table.ScriptList else ()):
+        script = record.Script
+        for lang in [script.DefaultLangSys] + [r.LangSys for r in script.LangSysRecord]:
+            if lang is not None:
+                features.update(lang.FeatureIndex)
+                if lang.ReqFeatureIndex != 0xFFFF:
+                    features.add(lang.ReqFeatureIndex)
+    records = table.FeatureList.FeatureRecord if table.FeatureList else []
+    indices = {i for f in features if f < len(records)
+               for i in records[f].Feature.LookupListIndex}
+    lookups = table.LookupList.Lookup
+    maps, ligatures = [], []
+    for i in sorted(indices):
+        if i >= len(lookups) or not lookups[i]:
+            continue
+        for st in lookups[i].SubTable:
+            st = st.ExtSubTable if lookups[i].LookupType == 7 else st
+            kind = getattr(st, "LookupType", None)
+            if kind == 1:
+                maps.extend((g, (v,)) for g, v in st.mapping.items())
+            elif kind in (2, 3):
+                maps.extend((st.mapping if kind == 2 else st.alternates).items())
+            elif kind == 4:
+                ligatures.extend(((g, *lig.Component), lig.LigGlyph)
+                                 for g, ligs in st.ligatures.items() for lig in ligs)
+            else:
+                return None
+    return maps, ligatures
 
 
 def _class_definitions(block):
