@@ -258,8 +258,7 @@ class KernWriter:
             name = _fea_class_name("kern%d.%s.%s" % (
                 side, script, self.membership[side - 1][group[0]]), taken)
             taken.add(name)
-            cdef = ast.GlyphClassDefinition(name, ast.GlyphClass(
-                [ast.GlyphName(g) for g in group]))
+            cdef = ast.GlyphClassDefinition(name, ast.GlyphClass(list(group)))
             names[side - 1][group] = defs[name] = cdef
 
         common = [(s, p) for s, p in per_script.items() if set(s) == {COMMON_SCRIPT}]

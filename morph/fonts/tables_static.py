@@ -1041,15 +1041,15 @@ class _Compiler:
             feature_builder().addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
 
     def _same_parse(self):
-        """Whether feaLib's parse of a feature file with the font's glyph order as
+        """Whether feaLib's parse of the feature file with the font's glyph order as
         its glyph names gives the tree of its parse with the UFO's glyph names
-        (:func:`parse_features`): the names differ at most by the ``.notdef``
-        this module adds.  The glyph names decide a parse in two ways only: a
+        (:func:`parse_features`).  The names decide a parse in two ways only: a
         name the parse does not know is an error, and a hyphenated name that is no
-        glyph's is split into a range at the hyphen that leaves two glyph names on
-        either side; ``.notdef`` could be one of those only next to a hyphen (in the
-        UFO's text: a file with includes is parsed again)."""
-        extra = set(self.order) ^ set(self.ufo.keys())
+        glyph's is split into a range at the hyphen that leaves glyph names on
+        either side.  Both parses are the same where no name of one but not the
+        other (the glyphs not exported, the ``.notdef`` this module adds) is in the
+        text, not even within another name (the UFO's text: a file with includes
+        is parsed again; the writers' features name exported glyphs only)."""
         text = self.ufo.features.text or ""
-        return extra <= {".notdef"} and not any(w in text for w in ("-.notdef", ".notdef-",
-                                                                   "include"))
+        extra = set(self.order) ^ set(self.ufo.keys())
+        return "include" not in text and not any(name in text for name in extra)
