@@ -426,9 +426,9 @@ def _split(pairs, glyph_scripts):
     """ufo2ft's ``splitKerning``: the pairs by the scripts of their glyphs (a class
     split where its glyphs' directions differ), buckets sharing a script merged,
     each bucket's pairs sorted."""
-    per = {}
+    per, sides = {}, {}
     for pair in pairs:
-        for scripts, part in _by_script(pair, glyph_scripts):
+        for scripts, part in _by_script(pair, glyph_scripts, sides):
             per.setdefault(tuple(sorted(scripts)), []).append(part)
     per = _merge(per)
     for bucket in per.values():
@@ -436,35 +436,47 @@ def _split(pairs, glyph_scripts):
     return per
 
 
-def _by_script(pair, glyph_scripts):
-    """ufo2ft's ``partitionByScript`` (directions: left to right or neutral)."""
-    dirs, resolved = ({}, {}), {}
-    for side in (1, 2):
-        for glyph in pair.glyphs(side):
-            scripts = glyph_scripts.get(glyph, DFLT_SCRIPTS)
-            if scripts & DFLT_SCRIPTS:
-                scripts = {COMMON_SCRIPT}
-            resolved[glyph] = scripts
-            for d in (_direction(s) for s in sorted(scripts)):
-                dirs[side - 1].setdefault(d, set()).add(glyph)
-    for d1, d2 in itertools.product(dirs[0], dirs[1]):
-        sides, script_sets = [], []
-        for k, (side, d) in enumerate(((pair.side1, d1), (pair.side2, d2))):
-            members = dirs[k][d]
-            if isinstance(side, tuple):
-                local = tuple(sorted(members))
-            else:
-                (local,) = members
-            sides.append(local)
-            script_sets.append(set().union(*(resolved[g] for g in
-                                              (local if isinstance(local, tuple)
-                                               else (local,)))))
+def _by_script(pair, glyph_scripts, sides):
+    """ufo2ft's ``partitionByScript`` (directions: left to right or neutral).
+    ``sides``: each side's :func:`_side_parts`, by side, filled as they come (a
+    group is a side of many pairs)."""
+    parts = []
+    for side in (pair.side1, pair.side2):
+        if side not in sides:
+            sides[side] = _side_parts(side, glyph_scripts)
+        parts.append(sides[side])
+    for (d1, (local1, scripts1)), (d2, (local2, scripts2)) in itertools.product(
+            parts[0].items(), parts[1].items()):
         if d1 != d2 and "Auto" not in (d1, d2):
             continue
-        scripts = script_sets[0] | script_sets[1]
-        if not all(s & {COMMON_SCRIPT} for s in script_sets):
+        scripts = scripts1 | scripts2
+        if not (COMMON_SCRIPT in scripts1 and COMMON_SCRIPT in scripts2):
             scripts -= {COMMON_SCRIPT}
-        yield scripts, _Pair(sides[0], sides[1], pair.value)
+        yield scripts, _Pair(local1, local2, pair.value)
+
+
+def _side_parts(side, glyph_scripts):
+    """One side of a pair (a glyph name, or a tuple of names for a class) by the
+    directions of its glyphs' scripts (those of the common script, or none, as the
+    common script): direction -> (its glyphs of that direction, the glyph or a
+    sorted tuple for a class; the union of their scripts)."""
+    dirs, resolved = {}, {}
+    for glyph in side if isinstance(side, tuple) else (side,):
+        scripts = glyph_scripts.get(glyph, DFLT_SCRIPTS)
+        if scripts & DFLT_SCRIPTS:
+            scripts = {COMMON_SCRIPT}
+        resolved[glyph] = scripts
+        for d in (_direction(s) for s in sorted(scripts)):
+            dirs.setdefault(d, set()).add(glyph)
+    out = {}
+    for d, members in dirs.items():
+        if isinstance(side, tuple):
+            local = tuple(sorted(members))
+        else:
+            (local,) = members
+        out[d] = (local, set().union(*(resolved[g] for g in
+                                       (local if isinstance(local, tuple) else (local,)))))
+    return out
 
 
 def _merge(per):
