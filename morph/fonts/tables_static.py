@@ -35,8 +35,10 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
   ``public.postscriptNames`` rename the glyphs in the CFF charset or the post table
   as ufo2ft's post-processor does (:func:`production_names`);
 - the feature file is parsed, completed with the kern, mark and mkmk features
-  where ufo2ft's writers would write them, written out again as ufo2ft does and
-  built by feaLib.
+  where ufo2ft's writers would write them, and built by feaLib from that tree,
+  which is the one ufo2ft builds from (it writes the tree out and parses it
+  again) where the glyph names the two parses know do not change it
+  (:meth:`_Compiler._same_parse`; else written out and parsed as ufo2ft does).
 
 So for such a font without composites (whose CFF programs fontTools' charstring pen
 specializes) and layout features, neither fontTools.cffLib nor fontTools'
