@@ -37,12 +37,24 @@ reads; the images morph draws and saves (a font's sample, a shape's PNG) have no
 the chunks its raw encoder writes: the bytes do not depend on it.  :func:`pillow`
 imports Pillow's modules with those deferred, ``PIL.ImageFile``'s ``MAXBLOCK`` set
 (:data:`PILLOW_PRESET`).
+
+fontTools.feaLib without fontTools.varLib's package: feaLib's parser and builder import
+five small modules of ``fontTools.varLib`` (``models``, ``errors``, ``varStore``,
+``builder``, ``featureVars``: variable scalars and feature variations), and importing a
+package's module runs the package's ``__init__`` first, here the variable-font builder
+(its merger, colorLib's builder, the designspace splitter ...: about 49 M instructions,
+more than parsing a 500-line feature file twice).  :func:`feature_parser` and
+:func:`feature_builder` import feaLib's modules with the package registered deferred,
+its ``__path__`` set (:func:`preset`) so that its modules import without running it;
+whatever reads anything else of the package (ufo2ft's variable compilers,
+``fontTools.subset``) runs it then and gets it whole.
 """
 
 import sys
 import types
 
-__all__ = ["cff_table", "deferred_imports", "glyph_list", "pillow", "preset", "LAYOUT_MODULES",
+__all__ = ["cff_table", "deferred_imports", "feature_builder", "feature_parser", "glyph_list",
+           "pillow", "preset", "LAYOUT_MODULES",
            "PILLOW_METADATA", "PILLOW_PRESET"]
 
 #: what fontTools.cffLib imports for CFF2 only: the OpenType layout classes and the
@@ -103,6 +115,28 @@ def deferred_imports(names):
             setattr(sys.modules[parent], child, module)
         done.append(name)
     return done
+
+
+def _without_variation_package(module):
+    """The module ``module`` of fontTools.feaLib, imported with ``fontTools.varLib``'s
+    package registered deferred when it is not imported yet (the module docstring)."""
+    import importlib
+
+    if module not in sys.modules and deferred_imports(["fontTools.varLib"]):
+        package = sys.modules["fontTools.varLib"]
+        preset("fontTools.varLib",
+               __path__=types.ModuleType.__getattribute__(package, "__dict__")["__path__"])
+    return importlib.import_module(module)
+
+
+def feature_parser():
+    """``fontTools.feaLib.parser``, without running ``fontTools.varLib``'s package."""
+    return _without_variation_package("fontTools.feaLib.parser")
+
+
+def feature_builder():
+    """``fontTools.feaLib.builder``, without running ``fontTools.varLib``'s package."""
+    return _without_variation_package("fontTools.feaLib.builder")
 
 
 def cff_table(font):

@@ -118,10 +118,10 @@ def _fea_location(v):
 def _parse(text, glyph_names):
     import io
 
-    from fontTools.feaLib.parser import Parser
+    from .deferred import feature_parser
 
     try:
-        return Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
+        return feature_parser().Parser(io.StringIO(text), glyphNames=set(glyph_names)).parse()
     except Exception as exc:  # feaLib's FeatureLibError and include errors
         raise ParseError("cannot parse the features: %s" % one_line(exc), text) from exc
 

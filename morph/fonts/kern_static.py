@@ -148,12 +148,13 @@ class KernWriter:
         return out
 
     def _gsub(self):
-        from fontTools.feaLib.builder import addOpenTypeFeatures
         from fontTools.ttLib import TTFont
+
+        from .deferred import feature_builder
 
         tt = TTFont()
         tt.setGlyphOrder(self.order)
-        addOpenTypeFeatures(tt, self.tree, tables={"GSUB"})
+        feature_builder().addOpenTypeFeatures(tt, self.tree, tables={"GSUB"})
         return tt.get("GSUB")
 
     def _groups(self):
@@ -257,8 +258,7 @@ class KernWriter:
             name = _fea_class_name("kern%d.%s.%s" % (
                 side, script, self.membership[side - 1][group[0]]), taken)
             taken.add(name)
-            cdef = ast.GlyphClassDefinition(name, ast.GlyphClass(
-                [ast.GlyphName(g) for g in group]))
+            cdef = ast.GlyphClassDefinition(name, ast.GlyphClass(list(group)))
             names[side - 1][group] = defs[name] = cdef
 
         common = [(s, p) for s, p in per_script.items() if set(s) == {COMMON_SCRIPT}]
@@ -307,12 +307,73 @@ class KernWriter:
 
 def _close(gsub, glyphs):
     """ufo2ft's ``closeGlyphsOverGSUB``: ``glyphs`` grown by every glyph the GSUB
-    table substitutes for them (fontTools' subsetter closure)."""
-    from fontTools import subset
+    table substitutes for them (fontTools' subsetter closure).
 
-    subsetter = subset.Subsetter()
-    subsetter.glyphs = glyphs
-    gsub.closure_glyphs(subsetter)
+    A table whose lookups the scripts' features reach are all single, multiple,
+    alternate or ligature substitutions (:func:`_substitutions`) is closed here: the
+    subsetter's closure of those is the least set holding ``glyphs`` that has every
+    glyph a substitution makes of its glyphs (a ligature's when all its components
+    are in), which it reaches applying every lookup until no glyph comes in, as this
+    does.  Contextual lookups (whose closure depends on their contexts) are left to
+    fontTools.subset, which loads some sixty modules more."""
+    rules = _substitutions(gsub.table)
+    if rules is None:
+        from fontTools import subset
+
+        subsetter = subset.Subsetter()
+        subsetter.glyphs = glyphs
+        gsub.closure_glyphs(subsetter)
+        return
+    maps, ligatures = rules
+    count = None
+    while count != len(glyphs):
+        count = len(glyphs)
+        for glyph, made in maps:
+            if glyph in glyphs:
+                glyphs.update(made)
+        glyphs.update(lig for components, lig in ligatures if glyphs.issuperset(components))
+
+
+def _substitutions(table):
+    """``(maps, ligatures)`` of the GSUB table ``table`` (fontTools' ``otTables``): the
+    lookups the features of its scripts reference (the subsetter's
+    ``collect_features`` / ``collect_lookups``), as ``(glyph, glyphs made of it)``
+    pairs and ``(components, ligature)`` pairs; None where one of them is not a
+    single, multiple, alternate or ligature substitution, or the table has feature
+    variations."""
+    if getattr(table, "FeatureVariations", None):
+        return None
+    if not table.LookupList:
+        return [], []
+    features = set()
+    for record in (table.ScriptList.ScriptRecord if table.ScriptList else ()):
+        script = record.Script
+        for lang in [script.DefaultLangSys] + [r.LangSys for r in script.LangSysRecord]:
+            if lang is not None:
+                features.update(lang.FeatureIndex)
+                if lang.ReqFeatureIndex != 0xFFFF:
+                    features.add(lang.ReqFeatureIndex)
+    records = table.FeatureList.FeatureRecord if table.FeatureList else []
+    indices = {i for f in features if f < len(records)
+               for i in records[f].Feature.LookupListIndex}
+    lookups = table.LookupList.Lookup
+    maps, ligatures = [], []
+    for i in sorted(indices):
+        if i >= len(lookups) or not lookups[i]:
+            continue
+        for st in lookups[i].SubTable:
+            st = st.ExtSubTable if lookups[i].LookupType == 7 else st
+            kind = getattr(st, "LookupType", None)
+            if kind == 1:
+                maps.extend((g, (v,)) for g, v in st.mapping.items())
+            elif kind in (2, 3):
+                maps.extend((st.mapping if kind == 2 else st.alternates).items())
+            elif kind == 4:
+                ligatures.extend(((g, *lig.Component), lig.LigGlyph)
+                                 for g, ligs in st.ligatures.items() for lig in ligs)
+            else:
+                return None
+    return maps, ligatures
 
 
 def _class_definitions(block):
@@ -365,9 +426,9 @@ def _split(pairs, glyph_scripts):
     """ufo2ft's ``splitKerning``: the pairs by the scripts of their glyphs (a class
     split where its glyphs' directions differ), buckets sharing a script merged,
     each bucket's pairs sorted."""
-    per = {}
+    per, sides = {}, {}
     for pair in pairs:
-        for scripts, part in _by_script(pair, glyph_scripts):
+        for scripts, part in _by_script(pair, glyph_scripts, sides):
             per.setdefault(tuple(sorted(scripts)), []).append(part)
     per = _merge(per)
     for bucket in per.values():
@@ -375,35 +436,47 @@ def _split(pairs, glyph_scripts):
     return per
 
 
-def _by_script(pair, glyph_scripts):
-    """ufo2ft's ``partitionByScript`` (directions: left to right or neutral)."""
-    dirs, resolved = ({}, {}), {}
-    for side in (1, 2):
-        for glyph in pair.glyphs(side):
-            scripts = glyph_scripts.get(glyph, DFLT_SCRIPTS)
-            if scripts & DFLT_SCRIPTS:
-                scripts = {COMMON_SCRIPT}
-            resolved[glyph] = scripts
-            for d in (_direction(s) for s in sorted(scripts)):
-                dirs[side - 1].setdefault(d, set()).add(glyph)
-    for d1, d2 in itertools.product(dirs[0], dirs[1]):
-        sides, script_sets = [], []
-        for k, (side, d) in enumerate(((pair.side1, d1), (pair.side2, d2))):
-            members = dirs[k][d]
-            if isinstance(side, tuple):
-                local = tuple(sorted(members))
-            else:
-                (local,) = members
-            sides.append(local)
-            script_sets.append(set().union(*(resolved[g] for g in
-                                              (local if isinstance(local, tuple)
-                                               else (local,)))))
+def _by_script(pair, glyph_scripts, sides):
+    """ufo2ft's ``partitionByScript`` (directions: left to right or neutral).
+    ``sides``: each side's :func:`_side_parts`, by side, filled as they come (a
+    group is a side of many pairs)."""
+    parts = []
+    for side in (pair.side1, pair.side2):
+        if side not in sides:
+            sides[side] = _side_parts(side, glyph_scripts)
+        parts.append(sides[side])
+    for (d1, (local1, scripts1)), (d2, (local2, scripts2)) in itertools.product(
+            parts[0].items(), parts[1].items()):
         if d1 != d2 and "Auto" not in (d1, d2):
             continue
-        scripts = script_sets[0] | script_sets[1]
-        if not all(s & {COMMON_SCRIPT} for s in script_sets):
+        scripts = scripts1 | scripts2
+        if not (COMMON_SCRIPT in scripts1 and COMMON_SCRIPT in scripts2):
             scripts -= {COMMON_SCRIPT}
-        yield scripts, _Pair(sides[0], sides[1], pair.value)
+        yield scripts, _Pair(local1, local2, pair.value)
+
+
+def _side_parts(side, glyph_scripts):
+    """One side of a pair (a glyph name, or a tuple of names for a class) by the
+    directions of its glyphs' scripts (those of the common script, or none, as the
+    common script): direction -> (its glyphs of that direction, the glyph or a
+    sorted tuple for a class; the union of their scripts)."""
+    dirs, resolved = {}, {}
+    for glyph in side if isinstance(side, tuple) else (side,):
+        scripts = glyph_scripts.get(glyph, DFLT_SCRIPTS)
+        if scripts & DFLT_SCRIPTS:
+            scripts = {COMMON_SCRIPT}
+        resolved[glyph] = scripts
+        for d in (_direction(s) for s in sorted(scripts)):
+            dirs.setdefault(d, set()).add(glyph)
+    out = {}
+    for d, members in dirs.items():
+        if isinstance(side, tuple):
+            local = tuple(sorted(members))
+        else:
+            (local,) = members
+        out[d] = (local, set().union(*(resolved[g] for g in
+                                       (local if isinstance(local, tuple) else (local,)))))
+    return out
 
 
 def _merge(per):

@@ -341,7 +341,7 @@ class MarkWriter:
         members = list(glyphs) + [p.name for p in attachments if p.name not in glyphs]
         taken = {c.name for c in _class_definitions(self.tree)}
         mfs = ast.GlyphClassDefinition(_fea_class_name("MFS_%s" % name, taken),
-                                       ast.GlyphClass([ast.GlyphName(g) for g in members]))
+                                       ast.GlyphClass(list(members)))
         lookup = ast.LookupBlock(name)
         lookup.statements.append(mfs)
         lookup.statements.append(ast.LookupFlagStatement(

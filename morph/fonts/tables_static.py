@@ -35,8 +35,10 @@ and with its arithmetic (ufo2ft 3's ``outlineCompiler``, ``fontInfoData``,
   ``public.postscriptNames`` rename the glyphs in the CFF charset or the post table
   as ufo2ft's post-processor does (:func:`production_names`);
 - the feature file is parsed, completed with the kern, mark and mkmk features
-  where ufo2ft's writers would write them, written out again as ufo2ft does and
-  built by feaLib.
+  where ufo2ft's writers would write them, and built by feaLib from that tree,
+  which is the one ufo2ft builds from (it writes the tree out and parses it
+  again) where the glyph names the two parses know do not change it
+  (:meth:`_Compiler._same_parse`; else written out and parsed as ufo2ft does).
 
 So for such a font without composites (whose CFF programs fontTools' charstring pen
 specializes) and layout features, neither fontTools.cffLib nor fontTools'
@@ -326,7 +328,7 @@ def parse_features(font):
     glyph names, includes from the UFO's folder)."""
     from io import StringIO
 
-    from fontTools.feaLib.parser import Parser
+    from .deferred import feature_parser
 
     buf = StringIO(font.features.text)
     include = None
@@ -334,7 +336,7 @@ def parse_features(font):
         path = os.path.normpath(font.path)
         buf.name = os.path.join(path, "features.fea")
         include = os.path.normpath(os.path.dirname(path) or ".")
-    return Parser(buf, set(font.keys()), includeDir=include).parse()
+    return feature_parser().Parser(buf, set(font.keys()), includeDir=include).parse()
 
 
 class _Compiler:
@@ -1016,15 +1018,40 @@ class _Compiler:
     def _features(self, tree, writers=()):
         """The feature file as ufo2ft compiles it: parsed (:func:`parse_features`),
         the features ufo2ft's writers would add written in (``writers``, of
-        :func:`left_to_ufo2ft`, in their order, on one tree), written out, built
-        by feaLib."""
+        :func:`left_to_ufo2ft`, in their order, on one tree), built by feaLib.
+
+        ufo2ft writes the tree out and feaLib parses that text again with the
+        font's glyph order as the glyph names; the tree is built as it is where
+        that parse gives the same tree (:meth:`_same_parse`), else written out and
+        parsed as ufo2ft does.  A 62-glyph font's kern feature is some 500 lines:
+        its parse costs more than building the tables from it."""
         written = [w.write() for w in writers]   # each, in ufo2ft's order
         if not (self.ufo.features.text or "") and not any(written):
             return
         if any(written):
             tree = writers[0].tree
-        fea = (tree if tree is not None else parse_features(self.ufo)).asFea()
-        if fea:
-            from fontTools.feaLib.builder import addOpenTypeFeaturesFromString
+        if tree is None:
+            tree = parse_features(self.ufo)
+        from .deferred import feature_builder
 
-            addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
+        if self._same_parse():
+            if tree.statements:   # the text ufo2ft writes of it is not empty
+                feature_builder().addOpenTypeFeatures(self.otf, tree)
+            return
+        fea = tree.asFea()
+        if fea:
+            feature_builder().addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
+
+    def _same_parse(self):
+        """Whether feaLib's parse of the feature file with the font's glyph order as
+        its glyph names gives the tree of its parse with the UFO's glyph names
+        (:func:`parse_features`).  The names decide a parse in two ways only: a
+        name the parse does not know is an error, and a hyphenated name that is no
+        glyph's is split into a range at the hyphen that leaves glyph names on
+        either side.  Both parses are the same where no name of one but not the
+        other (the glyphs not exported, the ``.notdef`` this module adds) is in the
+        text, not even within another name (the UFO's text: a file with includes
+        is parsed again; the writers' features name exported glyphs only)."""
+        text = self.ufo.features.text or ""
+        extra = set(self.order) ^ set(self.ufo.keys())
+        return "include" not in text and not any(name in text for name in extra)
