@@ -300,3 +300,61 @@ def test_a_round_of_chords_shorter_than_tol_is_fitted():
     assert closest_distances(bernstein(out.cubic[0], s), [sub]).max() <= tol
     moved = out.cubic[0] + np.array([0.0, 2.0 * tol])
     assert closest_distances(bernstein(moved, s), [sub]).max() > tol
+
+
+def test_extra_tries_are_the_middles_of_the_bracket():
+    """Greedy.probes, row by row against the rule written out: a row trying ends with
+    a failed end gets the middle of each side of its try ([lo, t1], [t1, bad], lo its
+    good end or t0) that is wider than 2 BRACKET_REL of the width, the try's need;
+    rows without a failed end, or certifying, or at a join (snap), get none."""
+    rng = np.random.default_rng(13)
+    n, tol = 400, 1e-3
+    g = greedy.Greedy(np.full(n, 10.0), np.zeros((n, 2)), tol, 1e-9, None)
+    g.t0[:] = rng.uniform(0, 2, n)
+    g.good[:] = np.where(rng.random(n) < 0.5, np.nan, g.t0 + rng.uniform(0.5, 3, n))
+    lo = np.fmax(g.good, g.t0)
+    g.bad[:] = np.where(rng.random(n) < 0.2, np.nan, lo + rng.uniform(1e-3, 2, n))
+    g.t1[:] = lo + rng.uniform(0, 1, n) * (np.nan_to_num(g.bad, nan=10.0) - lo)
+    g.mode[rng.random(n) < 0.1] = greedy.CERTIFY
+    g.snap[:] = rng.random(n) < 0.1
+    g.passno[:] = rng.random(n) < 0.3
+    rows, ends, need = g.probes()
+    want = []
+    for i in range(n):
+        if g.mode[i] != greedy.TRY or np.isnan(g.bad[i]) or g.snap[i]:
+            continue
+        gap = 2.0 * greedy.BRACKET_REL * (lo[i] - g.t0[i])
+        for a, b in ((lo[i], g.t1[i]), (g.t1[i], g.bad[i])):
+            if b - a > gap:
+                want.append((i, 0.5 * (a + b), greedy.PROVISIONAL if g.passno[i] == 0 else 0.0))
+    got = sorted(zip(rows.tolist(), ends.tolist(), need.tolist()))
+    assert got == sorted(want) and 0 < len(got) < 2 * n
+
+
+def test_extra_tries_take_fewer_rounds_and_no_more_segments(monkeypatch):
+    """Chains of 1 to 16 pieces searched with the bracket's extra tries take fewer
+    rounds than with the model's tries alone, with no more segments in all; every
+    segment certified within tol and the chain within tol of its cubics by exact
+    closest distances (a cubic displaced by 2 tol is not)."""
+    rng = np.random.default_rng(5)
+    tol = 1e-4
+    chains = [g1_chain(rng, int(rng.integers(1, 17))) for _ in range(16)]
+    calls = _rounds(monkeypatch)
+    extra = chains_segments(chains, tol)
+    rounds_extra, calls[0] = calls[0], 0
+    monkeypatch.setattr(greedy.Greedy, "probes",
+                        lambda self: (np.zeros(0, int), np.zeros(0), np.zeros(0)))
+    alone = chains_segments(chains, tol)
+    assert rounds_extra < calls[0]
+    assert sum(map(len, extra)) <= sum(map(len, alone))
+    for pieces, segs in zip(chains, extra):
+        assert segs[0].t0 == 0.0 and segs[-1].t1 == len(pieces)
+        for a, b in zip(segs, segs[1:]):
+            assert a.t1 == b.t0 and np.array_equal(a.cubic[-1], b.cubic[0])
+        assert all(s.bound <= tol for s in segs)
+        assert _hausdorff([s.cubic for s in segs], pieces) <= tol * (1 + 1e-9)
+    pieces, segs = max(zip(chains, extra), key=lambda ps: len(ps[1]))
+    moved = [s.cubic.copy() for s in segs]
+    d = bernstein(moved[0], [0.51])[0] - bernstein(moved[0], [0.49])[0]
+    moved[0][1:3] += 2.0 * tol * np.array([-d[1], d[0]]) / math.hypot(*d) * 4.0 / 3.0
+    assert _hausdorff(moved, pieces) > tol
