@@ -29,12 +29,7 @@ narrower than SNAP of the failing width with a join of two pieces inside tries t
 join next, certified at once, and ends there if it fits.  Tries sampled
 below PROVISIONAL tol are not certified (the search extends them anyway); when the
 search ends on one, it is certified, and where that fails the segment is searched
-again certifying every try.  A try inside a bracket comes with two extra tries in
-its round, the middles of the bracket's parts on either side of it
-(:meth:`Greedy.probes`, taken by :meth:`Greedy.probed`): where the error does not
-follow the model (it jumps at a join, or where the fitter's pick of a cubic changes),
-the bracket shrinks to a quarter or less in one round, where the model's tries
-alone take a round a halving.  With no certified fit at all the shortest failed
+again certifying every try.  With no certified fit at all the shortest failed
 interval is halved until one certifies (down to the minimal width, then
 :class:`~morph.errors.ToleranceNotMetError`).
 
@@ -225,42 +220,6 @@ class Greedy:
                         & (t1 != self.top[rows]) & ~self.snap[rows], PROVISIONAL, 0.0)
         return rows, self.t0[rows], t1, self.start[rows], need
 
-    def probes(self):
-        """(rows, t1, need) of the round's extra tries: a row trying ends inside a
-        bracket [lo, bad] (lo its longest good end, or t0; ``bad`` its shortest failed
-        one) also tries the middles of [lo, t1] and [t1, bad] around its model try t1,
-        each where that side is wider than twice BRACKET_REL of the width (halved, a
-        narrower one is a bracket tight enough to stop at): where the model misses
-        (the error of a sum jumps at a join or where the fitter's pick changes, not
-        as width^p), the bracket shrinks to at most half its wider side in one round
-        instead of one halving a round.  ``need`` as the row's try's
-        (:meth:`requests`)."""
-        rows = ((self.mode == TRY) & ~np.isnan(self.bad) & ~self.snap).nonzero()[0]
-        t0, t1, bad = self.t0[rows], self.t1[rows], self.bad[rows]
-        lo = np.fmax(self.good[rows], t0)
-        side = np.concatenate([t1 - lo, bad - t1])
-        wide = side > 2.0 * BRACKET_REL * np.concatenate([lo - t0, lo - t0])
-        row = np.concatenate([rows, rows])[wide]
-        ends = np.concatenate([0.5 * (lo + t1), 0.5 * (t1 + bad)])[wide]
-        return row, ends, np.where(self.passno[row] == 0, PROVISIONAL, 0.0)
-
-    def probed(self, rows, t1, end, fits, at):
-        """Take the results of :meth:`probes` (before :meth:`update` takes those of
-        :meth:`requests`; arguments as its): each row's bracket moves to the longest
-        extra end within tol (its ``good``, if longer) and the shortest failed one."""
-        cubic, bound, cert = fits
-        ok = bound <= self.tol
-        np.fmin.at(self.bad, rows[~ok], t1[~ok])
-        sel = ok.nonzero()[0]
-        sel = sel[np.lexsort((t1[sel], rows[sel]))]          # by row, then end
-        last = sel[np.append(rows[sel][1:] != rows[sel][:-1], True)] if sel.shape[0] else sel
-        r = rows[last]
-        better = np.isnan(self.good[r]) | (t1[last] > self.good[r])
-        b, last = r[better], last[better]
-        self.good[b], self.good_b[b], self.good_cert[b] = t1[last], bound[last], cert[last]
-        self.good_at[b], self.good_end[b] = at[last], end.take(last, axis=0)
-        self.good_cubic[b] = cubic.take(last, axis=0)
-
     def update(self, rows, end, fits, at):
         """Take the results of :meth:`requests` (``end``: the tried ends' points;
         ``fits``: (cubic, bound, certified) arrays; ``at``: (round, request) of each)
@@ -311,8 +270,6 @@ class Greedy:
         self.last_w[rows], self.last_b[rows] = t1 - t0, bound
         self.tries[rows] += 1
         accept &= (t1 == top) | (bound >= ACCEPT * self.tol) | self.snap[rows]
-        # an extra try of the round (:meth:`probed`) accepted as the try would be
-        accept |= self.good_cert[rows] & (self.good_b[rows] >= ACCEPT * self.tol)
         stop = (accept | np.isnan(target) | (target - t0 < self.min_width)
                 | (self.tries[rows] >= MAX_TRIES))
         # a narrow bracket over a join: try the join

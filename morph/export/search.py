@@ -381,43 +381,33 @@ class _Rows:
         row's range [u0, u1] is the chain's [K - u1, K - u0]; the two searches of a
         chain trying the same range, the gap between them, get one fit), then the
         refinement's and the joins' (:meth:`Refine.requests`, :meth:`_Join.requests`),
-        then the greedy rows' extra tries (:meth:`Greedy.probes`), all their points
-        found in one call.  Returns (rows, the points at the rows' ends, each row's
-        request among the rows, the rows with a request of their own, the count of
-        the refinement's requests, of the joins', Requests, the extra tries: (rows,
-        ends, points at the ends, requests))."""
+        all their points found in one call.  Returns (rows, the points at the rows'
+        ends, each row's request among the rows, the rows with a request of their
+        own, the count of the refinement's requests, of the joins', Requests)."""
         rows, t0, t1, start, need = greedy.requests()
-        prow, pt1, pneed = greedy.probes()
-        nr = rows.shape[0]
-        rows_all = np.concatenate([rows, prow])
-        t0, t1 = np.concatenate([t0, greedy.t0[prow]]), np.concatenate([t1, pt1])
-        start = np.concatenate([start, greedy.start.take(prow, axis=0)])
-        crow, rev = self.rchain[rows_all], self.back[rows_all]
+        crow, rev = self.rchain[rows], self.back[rows]
         a = np.where(rev, self.top[crow] - t1, t0)
         b = np.where(rev, self.top[crow] - t0, t1)
-        own = _same_ranges(crow[:nr], rev[:nr], a[:nr], b[:nr], need)
-        mine = (own == np.arange(nr)).nonzero()[0]
+        own = _same_ranges(crow, rev, a, b, need)
+        mine = (own == np.arange(rows.shape[0])).nonzero()[0]
         more = refine.requests() if refine.active else (np.zeros(0, int),) + (np.zeros(0),) * 2
         joins = join.requests()
         chain, r0, r1 = [np.concatenate(x) for x in zip(more, joins)]
-        na, nb, nm = rows_all.shape[0], int(np.count_nonzero(rev)), chain.shape[0]
+        nr, nb, nm = rows.shape[0], int(np.count_nonzero(rev)), chain.shape[0]
         # the points at the greedy rows' ends (tried), at the backward rows' starts,
         # then at both ends of the other requests
         pts = _chain_points(chains, np.concatenate([crow, crow[rev], chain, chain]),
                             np.concatenate([b, a[rev], r0, r1]))
-        end = pts[:na]
-        start[rev] = pts[na:na + nb]
+        end = pts[:nr]
+        start = start.copy()
+        start[rev] = pts[nr:nr + nb]
         tried = np.where(rev[:, None], start, end)
-        ask = np.concatenate([mine, np.arange(nr, na)])     # own requests, extra tries
-        n0 = mine.shape[0]
-        req = Requests(np.concatenate([crow[mine], chain, crow[nr:]]),
-                       np.concatenate([a[mine], r0, a[nr:]]),
-                       np.concatenate([b[mine], r1, b[nr:]]),
-                       _between(start.take(ask, axis=0), pts[na + nb:na + nb + nm], n0),
-                       _between(end.take(ask, axis=0), pts[na + nb + nm:], n0),
-                       np.concatenate([need[mine], np.zeros(nm), pneed]))
-        extra = (prow, pt1, tried[nr:], n0 + nm + np.arange(na - nr))
-        return rows, tried[:nr], own, mine, len(more[0]), len(joins[0]), req, extra
+        req = Requests(np.concatenate([crow[mine], chain]), np.concatenate([a[mine], r0]),
+                       np.concatenate([b[mine], r1]),
+                       np.concatenate([start[mine], pts[nr + nb:nr + nb + nm]]),
+                       np.concatenate([end[mine], pts[nr + nb + nm:]]),
+                       np.concatenate([need[mine], np.zeros(nm)]))
+        return rows, tried, own, mine, len(more[0]), len(joins[0]), req
 
     def fail(self, chains, tol, row, t0, width, bound):
         """Raise ToleranceNotMetError for row ``row``'s interval [t0, t0 + width]."""
@@ -531,13 +521,13 @@ def _drive(chains, tol, min_width, cubics_only=False):
             done += ended.shape[0] - int(np.count_nonzero(many))
 
     while np.logical_or.reduce(greedy.active) or refine.active or join.active:
-        rows, tried, own, mine, more, joins, req, xt = lay.requests(chains, greedy, refine, join)
+        rows, tried, own, mine, more, joins, req = lay.requests(chains, greedy, refine, join)
         if req.chain.shape[0]:
             fits = _fit_batch(chains, req, tol)
             rounds.append(fits)
             whole = (req.t0 == 0.0) & (req.t1 == chains.k[req.chain]) & ~(fits.bound <= tol)
             whole_failed[req.chain[whole & ~fits.provisional]] = True
-            acc = _greedy_round(greedy, found, (rows, tried, own, mine, xt), fits, len(rounds) - 1)
+            acc = _greedy_round(greedy, found, (rows, tried, own, mine), fits, len(rounds) - 1)
             moved = _refine_round(chains, lay, (greedy, refine, found), (req.chain, whole),
                                   fits, (len(mine), more, len(rounds) - 1), acc[0])
             if joins:
@@ -560,15 +550,9 @@ def _drive(chains, tol, min_width, cubics_only=False):
 
 def _greedy_round(greedy, found, asked, fits, at_round):
     """The greedy rows' fits of one round (``asked``: the rows, what they tried, the
-    requests they own, the round's greedy requests and the extra tries: rows, ends,
-    points, requests) given to the search, the extra tries first; the segments it
-    accepts added to ``found``.  Returns what ``Greedy.update`` does."""
-    rows, tried, own, mine, (prow, pt1, pend, pj) = asked
-    if prow.shape[0]:
-        at = np.empty((pj.shape[0], 2), int)
-        at[:, 0], at[:, 1] = at_round, pj
-        greedy.probed(prow, pt1, pend, (fits.cubic.take(pj, axis=0), fits.bound[pj],
-                                        fits.cert[pj]), at)
+    requests they own and the round's greedy requests) given to the search; the
+    segments it accepts added to ``found``.  Returns what ``Greedy.update`` does."""
+    rows, tried, own, mine = asked
     j = mine.searchsorted(own)
     at = np.empty((j.shape[0], 2), int)
     at[:, 0], at[:, 1] = at_round, j
@@ -642,11 +626,6 @@ def _search_gaps(chains, lay, greedy, found, failed):
     found.add(lay.spare_of[kept[0]], *kept[1:])
     greedy.activate(spare, gap[:, 0], _chain_points(chains, bad, gap[:, 0]))
     greedy.cap(spare, gap[:, 1])
-
-
-def _between(rows, other, at):
-    """The rows (k, ...) with ``other`` put in at position ``at``."""
-    return np.concatenate([rows[:at], other, rows[at:]])
 
 
 def _same_ranges(crow, rev, a, b, need):
