@@ -2,7 +2,7 @@
 array calls, fits, certificate pairs, cubics and CPU time.
 
     python -m bench.export_rounds [--runs brush:noto,stroke:hanzi-300,stroke:relief]
-                                  [--repeat 3] [--cache DIR]
+                                  [--repeat 3] [--cache DIR] [--calls]
 
 Each run (``command:set`` as in :mod:`bench.stroke_profile`) is the command itself,
 once, in a fresh process with ``morph.fonts.tables.contours_from_regions`` wrapped
@@ -15,7 +15,8 @@ the segment search (its batched fits, ``morph.export.search._fit_batch``), the f
 asked, the (sub-piece, cubic) pairs certified, the cubics written, the points of the
 written outlines (on-curve and off-curve, a closed contour's start counted once) and
 the largest certified bound of a fitted cubic (the worst error the certificates
-allow).  The
+allow); with ``--calls``, the Python-level calls (Python functions and C
+functions such as numpy's) of one more conversion.  The
 conversion is what ``morph stroke`` and ``morph brush`` do, on the same inputs
 however the sums change, so that exporters can be compared on equal terms
 (``PYTHONPATH`` another checkout to time its exporter).  The machine is shared:
@@ -118,27 +119,53 @@ def _install():
     search._rounds_counted = True
 
 
-def replay(calls, repeat):
-    """The fastest of ``repeat`` conversions of the saved calls (after one that warms
-    caches): (CPU seconds, COUNT of that conversion)."""
+def _convert(calls):
+    """Convert the saved calls once: the points of the written outlines."""
     import morph.export as export
     import morph.export.quadratic as quad_mod
     from morph.region import reverse_loop
 
+    points = 0
+    for regions, tol, quadratic, offsets, reverse, splines in calls:
+        flip = quadratic if reverse is None else reverse
+        lps = [reverse_loop(lp) if flip else lp for r in regions for lp in r]
+        if quadratic:
+            out = export.loops_to_quadratics(lps, tol, wrap=True, splines=splines)
+        else:
+            out = quad_mod.loops_to_beziers(lps, tol, wrap=True)
+        points += sum(len(b) - 1 for loop in out for b in loop)
+    return points
+
+
+def counted_calls(calls):
+    """The Python-level calls of one conversion of the saved calls: Python functions
+    and C functions such as numpy's (``sys.setprofile``; numpy's operators and
+    ufuncs called as operators are not seen), those of this script's counting
+    wrappers left out: a count the machine's load does not change."""
+    count = [0]
+    mine = __file__
+
+    def prof(frame, event, arg):
+        if event in ("call", "c_call") and frame.f_code.co_filename != mine:
+            count[0] += 1
+
+    sys.setprofile(prof)
+    try:
+        _convert(calls)
+    finally:
+        sys.setprofile(None)
+    return count[0]
+
+
+def replay(calls, repeat):
+    """The fastest of ``repeat`` conversions of the saved calls (after one that warms
+    caches): (CPU seconds, COUNT of that conversion)."""
     _install()
     best = None
     for k in range(repeat + 1):
         COUNT.clear()
         t0 = time.process_time()
-        points = 0
-        for regions, tol, quadratic, offsets, reverse, splines in calls:
-            flip = quadratic if reverse is None else reverse
-            lps = [reverse_loop(lp) if flip else lp for r in regions for lp in r]
-            if quadratic:
-                out = export.loops_to_quadratics(lps, tol, wrap=True, splines=splines)
-            else:
-                out = quad_mod.loops_to_beziers(lps, tol, wrap=True)
-            points += sum(len(b) - 1 for loop in out for b in loop)
+        points = _convert(calls)
         spent = time.process_time() - t0
         COUNT["points"] = points
         if k and (best is None or spent < best[0]):
@@ -152,6 +179,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--cache", default=os.path.join(tempfile.gettempdir(),
                                                     "morph_export_rounds"))
+    ap.add_argument("--calls", action="store_true",
+                    help="also count the Python-level calls of one conversion")
     ap.add_argument("--capture", nargs=2, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.capture:
@@ -163,11 +192,13 @@ def main():
         calls = capture(run, args.cache)
         glyphs = sum(len(c[0]) for c in calls)
         spent, c = replay(calls, args.repeat)
+        ncalls = counted_calls(calls) if args.calls else 0
         print("%-18s %4d glyphs: export %.2f ms/glyph CPU (certificate %.2f), %d rounds, "
-              "%d fits, %d pairs certified, %d cubics, %.1f points/glyph, worst bound %.6g"
+              "%d fits, %d pairs certified, %d cubics, %.1f points/glyph, worst bound %.6g%s"
               % (run, glyphs, 1e3 * spent / glyphs, 1e3 * c.get("certificate s", 0.0) / glyphs,
                  c.get("rounds", 0), c.get("fits", 0), c.get("pairs", 0), c.get("cubics", 0),
-                 c.get("points", 0) / glyphs, c.get("worst", 0.0)), flush=True)
+                 c.get("points", 0) / glyphs, c.get("worst", 0.0),
+                 ", %d calls" % ncalls if args.calls else ""), flush=True)
 
 
 if __name__ == "__main__":
