@@ -7,11 +7,47 @@ from pathlib import Path
 import click
 
 from .group import main
-from .variable import (BRUSH_VARY_NIB_HELP, VARY_NIB_HELP, brush_variable_cli,
-                       is_variable_truetype, stroke_variable_cli)
 from .options import (DEFAULT_TOL, EXIT_INTERNAL, FONT_TOL, LOCATION_HELP, InputError,
                       check_nib_tol, count, progress_bar, report_written, resolve_output,
                       tol_option, write_image)
+
+
+#: --vary-nib's help texts; the variable branches (:mod:`.variable`) are imported
+#: when they run: ``morph stroke`` of a static font does not load them
+VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its minimum, "
+                 "the default) to this one (its maximum), ellipse:W,H,ANGLE. The output "
+                 "(.ttf: glyf/gvar, .otf: CFF2) keeps the untrimmed convolution as "
+                 "overlapping contours (filled nonzero, overlap flags set); OUT.designspace "
+                 "and the master UFOs in OUT-masters/ are written next to it. The axis is "
+                 "NIBW (the nib width in font units) when the width grows, else NIBP (0 to "
+                 "100 percent of the way). Intermediate masters are added where an "
+                 "instance would miss the exact sum by more than its share of --tol (a "
+                 "nib that turns or changes aspect; a skeleton designspace whose "
+                 "interpolation turns the strokes); a nib that only grows needs none. "
+                 "Explicit feature-file anchors become variable anchors. Static outputs "
+                 "(no --vary-nib) are trimmed and free of overlaps.")
+
+
+BRUSH_VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its "
+                       "default) to this one, ellipse:W,H,ANGLE, for a static FONT too (a "
+                       "variable FONT keeps its axes and gets this one after them). Two "
+                       "disks, the second larger, make the registered grade axis GRAD "
+                       "(user value: the diameter's growth in units per 1000 em; the "
+                       "advances stay those of the --nib disk, so no text reflows); "
+                       "other nibs NIBW (the nib width) or NIBP (percent of the way). The "
+                       "output keeps overlapping contours: TrueType (.ttf, .woff2, .woff: "
+                       "glyf/gvar, overlap flags set) or CFF2 (.otf). Intermediate masters "
+                       "are added where an instance would miss the exact sum by more than "
+                       "its share of --tol (a nib that turns or changes aspect; a variable "
+                       "FONT whose interpolation turns the outlines).")
+
+
+def _variable():
+    """The variable branches of the font commands (:mod:`.variable`), imported when
+    one may run."""
+    from . import variable
+
+    return variable
 
 
 def _parse_nib(spec):
@@ -114,9 +150,10 @@ def brush(font_file, output, nib, nib_svg, glyphs, sample, family, tol, composit
     nib_region = _checked_nib(lambda: _svg_nib(nib_svg) if nib_svg
                               else ellipse_nib(*_parse_nib(nib)))
     items = _glyph_items(glyphs, everything="all")
-    if vary_nib is not None or (location is None and is_variable_truetype(src)):
-        return brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs, sample,
-                                  png, page, _parse_nib, vary_nib, location)
+    variable = _variable()
+    if vary_nib is not None or (location is None and variable.is_variable_truetype(src)):
+        return variable.brush_variable_cli(src, out, nib, nib_svg, items, tol, family, jobs,
+                                           sample, png, page, _parse_nib, vary_nib, location)
     return _brush_static(src, location, out, nib_region, items, tol, family, composites,
                          jobs, sample, png, page)
 
@@ -367,9 +404,9 @@ def stroke(skeleton, output, nib, nib_svg, glyphs, tol, sample, family, jobs, si
         if vary_nib is not None or not src.is_dir():
             if nib_svg:
                 raise InputError("a variable font needs elliptical nibs (--nib), not --nib-svg")
-            return stroke_variable_cli(src, output, nib, vary_nib, glyphs, tol, sample, family,
-                                       jobs, force, _parse_nib, _parse_nib(_STROKE_NIB),
-                                       _glyph_items)
+            return _variable().stroke_variable_cli(
+                src, output, nib, vary_nib, glyphs, tol, sample, family, jobs, force,
+                _parse_nib, _parse_nib(_STROKE_NIB), _glyph_items)
         return _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs,
                                force)
     else:

@@ -7,34 +7,6 @@ import click
 
 from .options import InputError, check_nib_tol, count, progress_bar
 
-VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its minimum, "
-                 "the default) to this one (its maximum), ellipse:W,H,ANGLE. The output "
-                 "(.ttf: glyf/gvar, .otf: CFF2) keeps the untrimmed convolution as "
-                 "overlapping contours (filled nonzero, overlap flags set); OUT.designspace "
-                 "and the master UFOs in OUT-masters/ are written next to it. The axis is "
-                 "NIBW (the nib width in font units) when the width grows, else NIBP (0 to "
-                 "100 percent of the way). Intermediate masters are added where an "
-                 "instance would miss the exact sum by more than its share of --tol (a "
-                 "nib that turns or changes aspect; a skeleton designspace whose "
-                 "interpolation turns the strokes); a nib that only grows needs none. "
-                 "Explicit feature-file anchors become variable anchors. Static outputs "
-                 "(no --vary-nib) are trimmed and free of overlaps.")
-
-
-BRUSH_VARY_NIB_HELP = ("Make a variable font with a nib axis from the --nib nib (its "
-                       "default) to this one, ellipse:W,H,ANGLE, for a static FONT too (a "
-                       "variable FONT keeps its axes and gets this one after them). Two "
-                       "disks, the second larger, make the registered grade axis GRAD "
-                       "(user value: the diameter's growth in units per 1000 em; the "
-                       "advances stay those of the --nib disk, so no text reflows); "
-                       "other nibs NIBW (the nib width) or NIBP (percent of the way). The "
-                       "output keeps overlapping contours: TrueType (.ttf, .woff2, .woff: "
-                       "glyf/gvar, overlap flags set) or CFF2 (.otf). Intermediate masters "
-                       "are added where an instance would miss the exact sum by more than "
-                       "its share of --tol (a nib that turns or changes aspect; a variable "
-                       "FONT whose interpolation turns the outlines).")
-
-
 def parse_vary_nib(spec, parse_nib):
     """(width, height, angle) of --vary-nib; InputError (exit 2) for a bad one."""
     try:

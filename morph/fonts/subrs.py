@@ -27,8 +27,10 @@ depend on the glyphs' programs and order alone (not on ``--jobs``).
 """
 
 import io
+import os
 import subprocess
 from array import array
+from functools import partial
 
 import numpy as np
 
@@ -206,11 +208,41 @@ def _group_cff(bodies):
                      charset, charstrings])
 
 
-def _tx(args, path):
-    """``tx`` (cffsubr's) on the file ``path``; its output's bytes."""
+def tx_runner():
+    """cffsubr's runner of its ``tx`` executable (``run(*args, **subprocess_kwargs)``,
+    cffsubr's ``_run_embedded_tx``), None where this cffsubr has none.
+
+    The executable is found where cffsubr keeps it, the package's folder, from the
+    package's spec: cffsubr's ``__init__`` is not run.  It imports fontTools.ttLib,
+    ``importlib.resources`` (with ``typing``, ``zipfile``, ``tempfile``) and ``enum``
+    for its own API, about 22 M instructions of a process whose site did not load them
+    (a ``morph stroke`` of a .otf uses none of them; cffsubr locates ``tx`` in the
+    same folder, through ``importlib.resources``).  Where the file is not there (a
+    zipped install) or the package has another layout, cffsubr's own runner is used."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("cffsubr")
+    folders = list(spec.submodule_search_locations or []) if spec is not None else []
+    exe = "tx.exe" if os.name == "nt" else "tx"
+    for folder in folders:
+        path = os.path.join(folder, exe)
+        if os.path.isfile(path) and os.access(path, os.X_OK) \
+                and os.path.isfile(os.path.join(folder, "__init__.py")):
+            return partial(_run_exe, path)
     import cffsubr
 
-    run = getattr(cffsubr, "_run_embedded_tx", None)
+    return getattr(cffsubr, "_run_embedded_tx", None)
+
+
+def _run_exe(path, *args, **kwargs):
+    """``subprocess.run`` of the executable ``path`` with ``args``, what cffsubr's
+    ``_run_embedded_tx`` does with its ``tx``."""
+    return subprocess.run([path] + [str(a) for a in args], **kwargs)
+
+
+def _tx(args, path):
+    """``tx`` (cffsubr's, :func:`tx_runner`) on the file ``path``; its output's bytes."""
+    run = tx_runner()
     if run is None:  # another cffsubr: the caller has it subroutinize the whole font
         raise NotGrouped("this cffsubr does not run tx with arguments")
     try:
@@ -224,7 +256,6 @@ def _subroutinized_group(bodies, budget, run_tx=None):
     """(global subroutines, local subroutines, charstrings) ``tx`` makes of one
     group's programs (at most ``budget`` subroutines in each INDEX): lists of bytes,
     the charstrings :class:`Packed`."""
-    import os
     import tempfile
 
     from fontTools.cffLib import CFFFontSet

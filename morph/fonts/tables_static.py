@@ -68,20 +68,19 @@ __all__ = ["compile_static", "left_to_ufo2ft"]
 def _tx_runner():
     """A function running cffsubr's ``tx`` on a font file as cffsubr's
     ``_tx_subroutinize`` runs it on a font's bytes (path -> the CFF table's bytes),
-    None where this cffsubr has no ``tx`` runner."""
-    import cffsubr
+    None where this cffsubr has no ``tx`` runner (:func:`morph.fonts.subrs.tx_runner`:
+    the executable found without importing cffsubr)."""
+    from .subrs import tx_runner
 
-    run = getattr(cffsubr, "_run_embedded_tx", None)
-    if run is None or not hasattr(cffsubr, "_tx_subroutinize"):
-        return None
-    return partial(_run_tx, run, cffsubr.Error)
+    run = tx_runner()
+    return None if run is None else partial(_run_tx, run)
 
 
-def _run_tx(run, error, path):
+def _run_tx(run, path):
     """``tx`` (``run``: cffsubr's runner) on the font file ``path`` with cffsubr's
     arguments, its output written to a file (cffsubr's way on Windows) not a pipe:
     the subroutinized CFF table, a :func:`morph.fonts.stream.file_table` of an unnamed
-    temporary file.  ``error``: cffsubr's error, raised with ``tx``'s message."""
+    temporary file.  A failure raises cffsubr's error with ``tx``'s message."""
     import subprocess
     import tempfile
 
@@ -94,7 +93,9 @@ def _run_tx(run, error, path):
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         table = file_table("CFF ", open(out.name, "rb"))
     except subprocess.CalledProcessError as exc:
-        raise error(exc.stderr.decode(errors="replace")) from exc
+        import cffsubr
+
+        raise cffsubr.Error(exc.stderr.decode(errors="replace")) from exc
     finally:
         os.remove(out.name)      # the open table's file stays readable until it closes
     return table

@@ -85,6 +85,35 @@ def test_grouped_subroutines_draw_the_same_glyphs():
     assert wrong > 0
 
 
+def test_tx_runs_as_cffsubrs_executable_without_its_package(monkeypatch):
+    """The ``tx`` runner is cffsubr's executable, found from the package's spec:
+    the group it subroutinizes is byte for byte what cffsubr's own runner makes of
+    it, and without the executable in the package's folder (a spec without
+    locations) the runner is cffsubr's."""
+    import importlib.util
+    import os
+    import subprocess
+    import tempfile
+
+    import cffsubr
+
+    run = subrs.tx_runner()
+    assert run.func is subrs._run_exe and os.path.dirname(run.args[0]) == os.path.dirname(
+        cffsubr.__file__)
+    bodies, _, _ = _programs(30)
+    with tempfile.NamedTemporaryFile(suffix=".cff", delete=False) as f:
+        f.write(subrs._group_cff(bodies))
+    try:
+        outputs = [r("-cff", "+S", "+b", f.name, check=True, stdout=subprocess.PIPE).stdout
+                   for r in (run, cffsubr._run_embedded_tx)]
+    finally:
+        os.remove(f.name)
+    assert outputs[0] == outputs[1] and len(outputs[0]) > 0
+    spec = importlib.util.spec_from_loader("cffsubr", loader=None)   # no folder
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: spec)
+    assert subrs.tx_runner() is cffsubr._run_embedded_tx
+
+
 def test_tokens_and_numbers_read_every_operand_form():
     """The token walk steps over one-, two-, three- and five-byte operands and
     escaped operators; the integer forms decode and encode back."""
