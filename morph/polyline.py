@@ -231,12 +231,19 @@ def flatten_loop(pieces, tol):
 def flatten_loops(loops, tol):
     """:func:`flatten_loop` of every loop, all pieces flattened at once; ``tol``: a
     number, or one per loop."""
-    sizes = [len(loop) for loop in loops]
+    return flatten_loop_pieces([p for loop in loops for p in loop],
+                               [len(loop) for loop in loops], tol)
+
+
+def flatten_loop_pieces(pieces, sizes, tol):
+    """:func:`flatten_loops` of loops given as their pieces one loop after another
+    (a list, or a :class:`morph.piece.Pieces` already stacked) and the number of
+    pieces of each."""
+    sizes = np.asarray(sizes, np.int64)
     tols = np.asarray(tol, float)
-    owner, _, pts = flat_starts([p for loop in loops for p in loop],
-                                tols.repeat(sizes) if tols.ndim else tol)
-    loop_of = np.arange(len(loops)).repeat(sizes)[owner]
-    bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+    owner, _, pts = flat_starts(pieces, tols.repeat(sizes) if tols.ndim else tol)
+    loop_of = np.arange(len(sizes)).repeat(sizes)[owner]
+    bounds = np.searchsorted(loop_of, np.arange(len(sizes) + 1))
     return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
@@ -612,9 +619,7 @@ class GroupGrid:
     def __init__(self, lo, hi, group, sets):
         self.lo, self.hi = lo, hi
         self.group = group = np.asarray(group, np.int64)
-        glo, ghi = np.full((sets, 2), np.inf), np.full((sets, 2), -np.inf)
-        np.minimum.at(glo, group, lo)
-        np.maximum.at(ghi, group, hi)
+        glo, ghi = set_extents(lo, hi, group, sets)
         self.span = np.maximum(ghi - glo, 1e-300).max(axis=1)
         self.origin = np.where(np.isfinite(glo), glo, 0.0)
         lengths = np.maximum(hi - lo, 0).max(axis=1)
@@ -679,6 +684,24 @@ class GroupGrid:
         keep = ((self.group[i] == self.group[j]) & np.all(lo[i] <= hi[j] + slack, axis=1)
                 & np.all(lo[j] <= hi[i] + slack, axis=1))
         return np.stack([i[keep], j[keep]], axis=1)
+
+
+def set_extents(lo, hi, group, sets):
+    """The lowest ``lo`` and highest ``hi`` corner of each set's boxes, (sets, 2) each
+    (inf / -inf for a set without boxes): by runs of ``group`` where it is sorted (the
+    sets of a font's glyphs come in order; ``ufunc.at`` costs ten times as much), else
+    by ``ufunc.at``.  Minima and maxima: the same numbers either way."""
+    glo, ghi = np.full((sets, 2), np.inf), np.full((sets, 2), -np.inf)
+    if not len(group):
+        return glo, ghi
+    if bool(np.logical_and.reduce(group[1:] >= group[:-1])):
+        starts = np.flatnonzero(np.concatenate([[True], group[1:] != group[:-1]]))
+        glo[group[starts]] = np.minimum.reduceat(lo, starts, axis=0)
+        ghi[group[starts]] = np.maximum.reduceat(hi, starts, axis=0)
+        return glo, ghi
+    np.minimum.at(glo, group, lo)
+    np.maximum.at(ghi, group, hi)
+    return glo, ghi
 
 
 def near_segment_pairs_grouped(p0, p1, group, reach):
