@@ -679,10 +679,13 @@ class GroupGrid:
         n = len(self.lo)
         keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
         i, j = keys // n, keys % n
-        lo, hi = self.lo, self.hi
-        slack = 1e-12 * self.span[self.group[i]][:, None]
-        keep = ((self.group[i] == self.group[j]) & np.all(lo[i] <= hi[j] + slack, axis=1)
-                & np.all(lo[j] <= hi[i] + slack, axis=1))
+        gi = self.group[i]
+        slack = 1e-12 * self.span[gi]
+        keep = gi == self.group[j]
+        # a column at a time: numpy reduces a short last axis row by row
+        for axis in (0, 1):
+            lo, hi = self.lo[:, axis], self.hi[:, axis]
+            keep &= (lo[i] <= hi[j] + slack) & (lo[j] <= hi[i] + slack)
         return np.stack([i[keep], j[keep]], axis=1)
 
 
@@ -720,12 +723,18 @@ def near_segment_pairs_grouped(p0, p1, group, reach):
     pairs = grid.pairs()
     i, j = pairs[:, 0], pairs[:, 1]
     join = 1e-12 * grid.span[group[i]]
-    chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
-               | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
-    pairs = pairs[~chained]
+    cols = _columns(p0, p1)
+    pairs = pairs[~(_chained(cols, i, j, join) | _chained(cols, j, i, join))]
     if not len(pairs):
         return pairs
-    return pairs[_within(p0, p1, pairs, reach[group[pairs[:, 0]]])]
+    return pairs[_within_columns(cols, pairs[:, 0], pairs[:, 1], reach[group[pairs[:, 0]]])]
+
+
+def _chained(cols, i, j, join):
+    """Whether segment i ends where segment j starts, within ``join`` in each
+    coordinate (segments as columns, :func:`_columns`)."""
+    x0, y0, x1, y1 = cols
+    return np.maximum(np.abs(x1[i] - x0[j]), np.abs(y1[i] - y0[j])) <= join
 
 
 def _near_segment_chunks(p0, p1, reach):
