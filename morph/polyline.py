@@ -622,16 +622,19 @@ class GroupGrid:
         glo, ghi = set_extents(lo, hi, group, sets)
         self.span = np.maximum(ghi - glo, 1e-300).max(axis=1)
         self.origin = np.where(np.isfinite(glo), glo, 0.0)
-        lengths = np.maximum(hi - lo, 0).max(axis=1)
+        d = hi - lo   # the larger side, column by column (a short last axis reduces slowly)
+        lengths = np.maximum(np.maximum(d[:, 0], d[:, 1]), 0.0)
         count = np.bincount(group, minlength=sets)
-        order = np.lexsort((lengths, group))
-        first = np.searchsorted(group[order], np.arange(sets))
-        last = max(len(order) - 1, 0)
+        # each set's lengths in order: one sort of (set, length) pairs as complex
+        # numbers, which numpy orders by real part, then imaginary (a lexsort's order)
+        ranked = np.sort(group + 1j * lengths)
+        first = np.searchsorted(ranked.real, np.arange(sets))
+        last = max(len(ranked) - 1, 0)
         median = np.zeros(sets)
-        if len(order):
-            m0 = order[np.minimum(first + (count - 1) // 2, last)]
-            m1 = order[np.minimum(first + count // 2, last)]
-            median = np.where(count > 0, 0.5 * (lengths[m0] + lengths[m1]), 0.0)
+        if len(ranked):
+            m0 = ranked.imag[np.minimum(first + (count - 1) // 2, last)]
+            m1 = ranked.imag[np.minimum(first + count // 2, last)]
+            median = np.where(count > 0, 0.5 * (m0 + m1), 0.0)
         self.cell = np.where(count > 0, np.maximum(2.0 * median, self.span * 2.0 ** -20), 1.0)
         while True:
             c0, c1 = self._cell(lo, group), self._cell(hi, group)
@@ -651,7 +654,9 @@ class GroupGrid:
 
     @staticmethod
     def _key(group, cx, cy):
-        return (group << 42) + (np.clip(cx, -1, 1 << 20) << 21) + np.clip(cy, -1, 1 << 20)
+        # np.clip's checks cost more than the two ufuncs it comes to
+        return ((group << 42) + (np.minimum(np.maximum(cx, -1), 1 << 20) << 21)
+                + np.minimum(np.maximum(cy, -1), 1 << 20))
 
     def at_points(self, points, group):
         """(point index, box index) of every box of the point's set (``group[k]``)
