@@ -514,10 +514,13 @@ class _LoopBatch:
         loops = np.concatenate([self._loops_of[g] for g in regions])
         tol = APART * self.scale
         cand, owner = self._candidates(loops)
-        dist = distance_to_others_grouped(cand, owner, self.polys, self.region_of, 2 * tol)
+        # the polylines of these loops only (a region of one loop has no other to count)
+        polys, group = [self.polys[k] for k in loops.tolist()], self.region_of[loops]
+        mine = np.searchsorted(loops, owner)
+        dist = distance_to_others_grouped(cand, mine, polys, group, 2 * tol)
         order = np.lexsort((dist, owner))  # per loop, its farthest candidate last
         best = order[np.searchsorted(owner[order], loops, side="right") - 1]
-        out[loops] = winding_of_others_grouped(cand[best], loops, self.polys, self.region_of,
+        out[loops] = winding_of_others_grouped(cand[best], np.arange(len(loops)), polys, group,
                                                self.nreg)
         region = self.region_of[loops]
         for i in np.flatnonzero(dist[best] < 2 * tol[region]).tolist():
