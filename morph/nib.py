@@ -15,7 +15,8 @@ from . import piece as pc
 from . import polyline as pl
 from .errors import NibError
 
-__all__ = ["ellipse_nib", "check_convex_nib", "nib_is_symmetric", "region_extent"]
+__all__ = ["ellipse_nib", "check_convex_nib", "convex_region", "nib_is_symmetric",
+           "region_extent"]
 
 
 def ellipse_nib(width, height, angle_deg=0.0):
@@ -70,11 +71,41 @@ def check_convex_nib(nib):
                    % sum(e.sweep for e in edges), nib)
 
 
+def convex_region(nib):
+    """:func:`check_convex_nib`, then the nib as a validated
+    :class:`morph.region.Region`: one loop whose tangent turns monotonically
+    counter-clockwise through 2 pi is simple and convex, so it bounds a region
+    (winding 1 inside, 0 outside), and the sums take it without their winding test
+    (:func:`morph.operands.check_operand`: a few ms for a nib, per chunk summed).
+
+    Raises:
+        NibError: as :func:`check_convex_nib`.
+    """
+    from .region import Region, validated
+
+    check_convex_nib(nib)
+    if isinstance(nib, Region) and nib.validated:
+        return nib
+    return validated(nib, getattr(nib, "bound", None))
+
+
+#: the extents of the last few regions :func:`region_extent` measured, by their
+#: loops' :func:`_nib_key`: a command asks for its nib's box where it plans the
+#: metrics, where it shifts the outlines and where it turns the nib (a few ms each:
+#: the extremes are roots of the tangents)
+_EXTENTS = {}
+
+
 def region_extent(loops):
     """Exact bounding box of a region (xmin, ymin, xmax, ymax)."""
     from .region import region_bbox
 
-    return tuple(float(v) for v in region_bbox(loops))
+    key = tuple(_nib_key(loop) for loop in loops)
+    if key not in _EXTENTS:
+        _EXTENTS[key] = tuple(float(v) for v in region_bbox(loops))
+        while len(_EXTENTS) > _CONVEX_KEPT:
+            del _EXTENTS[next(iter(_EXTENTS))]
+    return _EXTENTS[key]
 
 
 def nib_is_symmetric(nib_region, rel=1e-7, directions=360):

@@ -231,12 +231,19 @@ def flatten_loop(pieces, tol):
 def flatten_loops(loops, tol):
     """:func:`flatten_loop` of every loop, all pieces flattened at once; ``tol``: a
     number, or one per loop."""
-    sizes = [len(loop) for loop in loops]
+    return flatten_loop_pieces([p for loop in loops for p in loop],
+                               [len(loop) for loop in loops], tol)
+
+
+def flatten_loop_pieces(pieces, sizes, tol):
+    """:func:`flatten_loops` of loops given as their pieces one loop after another
+    (a list, or a :class:`morph.piece.Pieces` already stacked) and the number of
+    pieces of each."""
+    sizes = np.asarray(sizes, np.int64)
     tols = np.asarray(tol, float)
-    owner, _, pts = flat_starts([p for loop in loops for p in loop],
-                                tols.repeat(sizes) if tols.ndim else tol)
-    loop_of = np.arange(len(loops)).repeat(sizes)[owner]
-    bounds = np.searchsorted(loop_of, np.arange(len(loops) + 1))
+    owner, _, pts = flat_starts(pieces, tols.repeat(sizes) if tols.ndim else tol)
+    loop_of = np.arange(len(sizes)).repeat(sizes)[owner]
+    bounds = np.searchsorted(loop_of, np.arange(len(sizes) + 1))
     return [pts[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
@@ -612,21 +619,22 @@ class GroupGrid:
     def __init__(self, lo, hi, group, sets):
         self.lo, self.hi = lo, hi
         self.group = group = np.asarray(group, np.int64)
-        glo, ghi = np.full((sets, 2), np.inf), np.full((sets, 2), -np.inf)
-        np.minimum.at(glo, group, lo)
-        np.maximum.at(ghi, group, hi)
+        glo, ghi = set_extents(lo, hi, group, sets)
         self.span = np.maximum(ghi - glo, 1e-300).max(axis=1)
         self.origin = np.where(np.isfinite(glo), glo, 0.0)
-        lengths = np.maximum(hi - lo, 0).max(axis=1)
+        d = hi - lo   # the larger side, column by column (a short last axis reduces slowly)
+        lengths = np.maximum(np.maximum(d[:, 0], d[:, 1]), 0.0)
         count = np.bincount(group, minlength=sets)
-        order = np.lexsort((lengths, group))
-        first = np.searchsorted(group[order], np.arange(sets))
-        last = max(len(order) - 1, 0)
+        # each set's lengths in order: one sort of (set, length) pairs as complex
+        # numbers, which numpy orders by real part, then imaginary (a lexsort's order)
+        ranked = np.sort(group + 1j * lengths)
+        first = np.searchsorted(ranked.real, np.arange(sets))
+        last = max(len(ranked) - 1, 0)
         median = np.zeros(sets)
-        if len(order):
-            m0 = order[np.minimum(first + (count - 1) // 2, last)]
-            m1 = order[np.minimum(first + count // 2, last)]
-            median = np.where(count > 0, 0.5 * (lengths[m0] + lengths[m1]), 0.0)
+        if len(ranked):
+            m0 = ranked.imag[np.minimum(first + (count - 1) // 2, last)]
+            m1 = ranked.imag[np.minimum(first + count // 2, last)]
+            median = np.where(count > 0, 0.5 * (m0 + m1), 0.0)
         self.cell = np.where(count > 0, np.maximum(2.0 * median, self.span * 2.0 ** -20), 1.0)
         while True:
             c0, c1 = self._cell(lo, group), self._cell(hi, group)
@@ -646,7 +654,9 @@ class GroupGrid:
 
     @staticmethod
     def _key(group, cx, cy):
-        return (group << 42) + (np.clip(cx, -1, 1 << 20) << 21) + np.clip(cy, -1, 1 << 20)
+        # np.clip's checks cost more than the two ufuncs it comes to
+        return ((group << 42) + (np.minimum(np.maximum(cx, -1), 1 << 20) << 21)
+                + np.minimum(np.maximum(cy, -1), 1 << 20))
 
     def at_points(self, points, group):
         """(point index, box index) of every box of the point's set (``group[k]``)
@@ -674,11 +684,32 @@ class GroupGrid:
         n = len(self.lo)
         keys = unique(np.minimum(a, b) * n + np.maximum(a, b))
         i, j = keys // n, keys % n
-        lo, hi = self.lo, self.hi
-        slack = 1e-12 * self.span[self.group[i]][:, None]
-        keep = ((self.group[i] == self.group[j]) & np.all(lo[i] <= hi[j] + slack, axis=1)
-                & np.all(lo[j] <= hi[i] + slack, axis=1))
+        gi = self.group[i]
+        slack = 1e-12 * self.span[gi]
+        keep = gi == self.group[j]
+        # a column at a time: numpy reduces a short last axis row by row
+        for axis in (0, 1):
+            lo, hi = self.lo[:, axis], self.hi[:, axis]
+            keep &= (lo[i] <= hi[j] + slack) & (lo[j] <= hi[i] + slack)
         return np.stack([i[keep], j[keep]], axis=1)
+
+
+def set_extents(lo, hi, group, sets):
+    """The lowest ``lo`` and highest ``hi`` corner of each set's boxes, (sets, 2) each
+    (inf / -inf for a set without boxes): by runs of ``group`` where it is sorted (the
+    sets of a font's glyphs come in order; ``ufunc.at`` costs ten times as much), else
+    by ``ufunc.at``.  Minima and maxima: the same numbers either way."""
+    glo, ghi = np.full((sets, 2), np.inf), np.full((sets, 2), -np.inf)
+    if not len(group):
+        return glo, ghi
+    if bool(np.logical_and.reduce(group[1:] >= group[:-1])):
+        starts = np.flatnonzero(np.concatenate([[True], group[1:] != group[:-1]]))
+        glo[group[starts]] = np.minimum.reduceat(lo, starts, axis=0)
+        ghi[group[starts]] = np.maximum.reduceat(hi, starts, axis=0)
+        return glo, ghi
+    np.minimum.at(glo, group, lo)
+    np.maximum.at(ghi, group, hi)
+    return glo, ghi
 
 
 def near_segment_pairs_grouped(p0, p1, group, reach):
@@ -697,12 +728,18 @@ def near_segment_pairs_grouped(p0, p1, group, reach):
     pairs = grid.pairs()
     i, j = pairs[:, 0], pairs[:, 1]
     join = 1e-12 * grid.span[group[i]]
-    chained = ((np.abs(p1[i] - p0[j]).max(axis=1) <= join)
-               | (np.abs(p1[j] - p0[i]).max(axis=1) <= join))
-    pairs = pairs[~chained]
+    cols = _columns(p0, p1)
+    pairs = pairs[~(_chained(cols, i, j, join) | _chained(cols, j, i, join))]
     if not len(pairs):
         return pairs
-    return pairs[_within(p0, p1, pairs, reach[group[pairs[:, 0]]])]
+    return pairs[_within_columns(cols, pairs[:, 0], pairs[:, 1], reach[group[pairs[:, 0]]])]
+
+
+def _chained(cols, i, j, join):
+    """Whether segment i ends where segment j starts, within ``join`` in each
+    coordinate (segments as columns, :func:`_columns`)."""
+    x0, y0, x1, y1 = cols
+    return np.maximum(np.abs(x1[i] - x0[j]), np.abs(y1[i] - y0[j])) <= join
 
 
 def _near_segment_chunks(p0, p1, reach):

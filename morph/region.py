@@ -351,17 +351,16 @@ class _LoopBatch:
         self.kept_area = self.area[kept]
         count = np.bincount(self.region_of, minlength=len(regions))
         self.empty = np.flatnonzero((count == 0) & ~slow).tolist()
-        lo = np.full((len(regions), 2), np.inf)
-        hi = np.full((len(regions), 2), -np.inf)
-        np.minimum.at(lo, self.region_of, self.lo[kept])
-        np.maximum.at(hi, self.region_of, self.hi[kept])
+        lo, hi = pl.set_extents(self.lo[kept], self.hi[kept], self.region_of, len(regions))
         scale = np.ones(len(regions))
         has = count > 0
         scale[has] = np.maximum((hi[has] - lo[has]).max(axis=1), 1e-300)
         self.scale = scale
         slow |= self._coincident_candidates(count)
-        self.polys = pl.flatten_loops([self.loop(k) for k in kept.tolist()],
-                                      APART * scale[self.region_of])
+        sizes = self.sizes[kept]
+        self.polys = pl.flatten_loop_pieces(
+            self.stacked.take(np.repeat(self.first[kept], sizes) + _ranks_of(sizes)), sizes,
+            APART * scale[self.region_of])
         slow |= ~self._apart()
         self.slow = np.flatnonzero(slow).tolist()
         self.fast = np.flatnonzero(has & ~slow).tolist()
@@ -374,14 +373,15 @@ class _LoopBatch:
         """:func:`clean_loop` of every loop: ``pieces`` (the cleaned pieces, rows of
         per-degree stacks), ``sizes`` (pieces per loop) and ``first`` (index of each
         loop's first piece)."""
-        pieces = [p for loop in loops for p in loop]
+        # the pieces stacked once (one stack per degree), the kept ones taken from them
+        pieces = pc.Pieces.of([p for loop in loops for p in loop])
         loop_of = np.repeat(np.arange(len(loops)), [len(loop) for loop in loops])
-        keep = ~zero_length_mask(pieces) if pieces else np.zeros(0, bool)
+        keep = ~zero_length_mask(pieces) if len(pieces) else np.zeros(0, bool)
         idx = np.flatnonzero(keep)
         loop_of = loop_of[idx]
         self.sizes = np.bincount(loop_of, minlength=len(loops))
         self.first = np.cumsum(self.sizes) - self.sizes
-        kept = [pieces[i] for i in idx.tolist()]
+        kept = pieces.take(idx)
         starts, ends = pc.end_points(kept)
         pos = np.arange(len(kept))
         last = self.first[loop_of] + self.sizes[loop_of] - 1
@@ -390,14 +390,14 @@ class _LoopBatch:
         preceding = np.where(pos == self.first[loop_of], last, pos - 1)
         before = joins[preceding]
         groups = []
-        for ks, h in pc.degree_groups(kept):
-            h = np.array(h, float)
+        for ks, h in kept.groups:   # taken: a copy of its own
             h[:, 0, :2] = before[ks] * h[:, 0, 2:]
             h[:, -1, :2] = joins[ks] * h[:, -1, 2:]
             h.flags.writeable = False   # its rows are the regions' read-only pieces
             groups.append((ks, h))
         self.groups = groups
-        self.pieces = pc.Pieces(groups, len(kept)).rows()
+        self.stacked = pc.Pieces(groups, len(kept))
+        self.pieces = self.stacked.rows()
         self._reversed = None
         self.loop_of = loop_of
 
@@ -432,8 +432,9 @@ class _LoopBatch:
         hi = np.full((n, 2), -np.inf)
         for ks, h in self.groups:
             c = h[:, :, :2] / h[:, :, 2:3]
-            np.minimum.at(lo, self.loop_of[ks], c.min(axis=1))
-            np.maximum.at(hi, self.loop_of[ks], c.max(axis=1))
+            glo, ghi = pl.set_extents(c.min(axis=1), c.max(axis=1), self.loop_of[ks], n)
+            np.minimum(lo, glo, out=lo)
+            np.maximum(hi, ghi, out=hi)
         return lo, hi
 
     def _areas(self):
@@ -444,7 +445,7 @@ class _LoopBatch:
             return np.zeros(n)
         origin = np.zeros((n, 2))
         has = self.sizes > 0
-        origin[has] = pc.end_points([self.pieces[i] for i in self.first[has].tolist()])[0]
+        origin[has] = pc.end_points(self.stacked.take(self.first[has]))[0]
         origin = origin[self.loop_of]
         moved = []
         for ks, h in self.groups:
@@ -465,16 +466,22 @@ class _LoopBatch:
         if not many.any():
             return out
         sel = np.flatnonzero(many[self.region_of])
-        boxes = loop_bboxes([self.loop(k) for k in sel.tolist()])
         reg = self.region_of[sel]
         size = np.abs(self.kept_area[sel])
         end = np.searchsorted(reg, reg, side="right")
         cnt = end - np.arange(len(sel)) - 1
         i = np.repeat(np.arange(len(sel)), cnt)
-        j = i + 1 + (np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt))
+        j = i + 1 + _ranks_of(cnt)
+        # the areas first: the tight boxes (root finding) of the loops of such pairs only
+        same = np.abs(size[i] - size[j]) <= 1e-9 * np.maximum(size[i], size[j])
+        i, j = i[same], j[same]
+        if not len(i):
+            return out
+        both = pl.unique(np.concatenate([i, j]))
+        boxes = np.zeros((len(sel), 4))
+        boxes[both] = loop_bboxes([self.loop(k) for k in sel[both].tolist()])
         eps = 1e-9 * self.scale[reg[i]]
-        near = ((np.abs(boxes[i] - boxes[j]).max(axis=1) <= 10 * eps)
-                & (np.abs(size[i] - size[j]) <= 1e-9 * np.maximum(size[i], size[j])))
+        near = np.abs(boxes[i] - boxes[j]).max(axis=1) <= 10 * eps
         out[reg[i[near]]] = True
         return out
 
@@ -507,10 +514,13 @@ class _LoopBatch:
         loops = np.concatenate([self._loops_of[g] for g in regions])
         tol = APART * self.scale
         cand, owner = self._candidates(loops)
-        dist = distance_to_others_grouped(cand, owner, self.polys, self.region_of, 2 * tol)
+        # the polylines of these loops only (a region of one loop has no other to count)
+        polys, group = [self.polys[k] for k in loops.tolist()], self.region_of[loops]
+        mine = np.searchsorted(loops, owner)
+        dist = distance_to_others_grouped(cand, mine, polys, group, 2 * tol)
         order = np.lexsort((dist, owner))  # per loop, its farthest candidate last
         best = order[np.searchsorted(owner[order], loops, side="right") - 1]
-        out[loops] = winding_of_others_grouped(cand[best], loops, self.polys, self.region_of,
+        out[loops] = winding_of_others_grouped(cand[best], np.arange(len(loops)), polys, group,
                                                self.nreg)
         region = self.region_of[loops]
         for i in np.flatnonzero(dist[best] < 2 * tol[region]).tolist():
@@ -538,9 +548,9 @@ class _LoopBatch:
         distinct[1:] = (idx[1:] != idx[:-1]) | (owner[1:] != owner[:-1])
         owner, idx = owner[distinct], idx[distinct]
         piece = self.first[self.kept[owner]] + idx
-        chosen = [self.pieces[k] for k in piece.tolist()]
+        chosen = self.stacked.take(piece)
         pts = np.zeros((len(chosen), 2))
-        for ks, h in pc.degree_groups(chosen):
+        for ks, h in chosen.groups:
             row = bz.basis(h.shape[1] - 1, [0.5])
             v = np.matmul(row, h)[:, 0]
             pts[ks] = v[:, :2] / v[:, 2:3]

@@ -6,7 +6,8 @@ import pytest
 
 from morph import piece as pc
 from morph.errors import NibError
-from morph.nib import check_convex_nib, ellipse_nib, nib_is_symmetric, region_extent
+from morph.nib import (check_convex_nib, convex_region, ellipse_nib, nib_is_symmetric,
+                       region_extent)
 from morph.stroke import stroke_paths
 
 
@@ -79,3 +80,35 @@ def test_a_nib_found_convex_is_not_checked_again(monkeypatch):
         with pytest.raises(NibError, match="not convex"):
             check_convex_nib(dart)
     assert len(calls) == 4
+
+
+def test_convex_region_is_the_nib_validated_and_refuses_others():
+    """A convex nib comes back as a validated Region of the same pieces (the sums
+    skip its winding test, which it passes: winding_fault finds nothing); a
+    non-convex one raises as check_convex_nib does."""
+    from morph.operands import winding_fault
+    from morph.region import Region
+
+    nib = ellipse_nib(80, 30, 30)
+    got = convex_region(nib)
+    assert isinstance(got, Region) and got.validated and convex_region(got) is got
+    assert [[np.array_equal(p, q) for p, q in zip(a, b)] for a, b in zip(got, nib)] == \
+        [[True] * len(nib[0])]
+    assert winding_fault(nib) is None
+    with pytest.raises(NibError, match="not convex"):
+        convex_region(_polygon([(0, 0), (10, -10), (0, 10), (-10, -10)]))
+
+
+def test_region_extent_kept_per_region():
+    """region_extent answers from what it measured for the same pieces, and each
+    region gets its own box (a moved nib, a turned one)."""
+    from morph.region import region_bbox, translate_region
+
+    nib = ellipse_nib(80, 30, 30)
+    first = region_extent(nib)
+    assert first == tuple(float(v) for v in region_bbox(nib))
+    assert region_extent(ellipse_nib(80, 30, 30)) == first
+    moved = region_extent(translate_region(nib, (5.0, 0.0)))
+    assert np.allclose(moved, (first[0] + 5.0, first[1], first[2] + 5.0, first[3]),
+                       rtol=0, atol=1e-9) and moved != first
+    assert region_extent(ellipse_nib(80, 30, 60)) != first

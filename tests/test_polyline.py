@@ -312,6 +312,41 @@ def test_grouped_searches_equal_each_set_alone(seed):
     assert np.isfinite(dist).any() and (wind != 0).any()
 
 
+def test_set_extents_are_ufunc_at_of_sorted_and_unsorted_sets():
+    """set_extents (runs of a sorted group, else ufunc.at): the corners np.minimum.at
+    / np.maximum.at give, empty sets at inf / -inf; a moved box moves its set's."""
+    rng = np.random.default_rng(3)
+    for sort in (True, False):
+        group = rng.integers(0, 9, 200)
+        group = np.sort(group) if sort else group
+        lo = rng.normal(0, 5, (200, 2))
+        hi = lo + rng.uniform(0, 2, (200, 2))
+        want_lo, want_hi = np.full((10, 2), np.inf), np.full((10, 2), -np.inf)
+        np.minimum.at(want_lo, group, lo)
+        np.maximum.at(want_hi, group, hi)
+        got_lo, got_hi = pl.set_extents(lo, hi, group, 10)
+        assert np.array_equal(got_lo, want_lo) and np.array_equal(got_hi, want_hi)
+        assert np.isinf(got_lo[9]).all() or (group == 9).any()
+        k = int(np.argmin(lo[:, 0]))
+        lo[k, 0] -= 1.0
+        assert pl.set_extents(lo, hi, group, 10)[0][group[k], 0] == want_lo[group[k], 0] - 1.0
+
+
+def test_flatten_loop_pieces_of_stacks_is_flatten_loops():
+    """Loops given as their stacked pieces and sizes flatten as the lists do, to the
+    bit, with one tolerance per loop."""
+    loops = [list(pc.circle((0, 0), 5)), [pc.line((0, 0), (3, 0)), pc.line((3, 0), (0, 2)),
+                                          pc.line((0, 2), (0, 0))],
+             list(pc.circle((20, 1), 2))]
+    tols = np.array([0.01, 0.5, 0.001])
+    want = pl.flatten_loops(loops, tols)
+    stacked = pc.Pieces.of([p for loop in loops for p in loop])
+    got = pl.flatten_loop_pieces(stacked, [len(loop) for loop in loops], tols)
+    assert len(got) == len(want)
+    assert all(np.array_equal(a, b) for a, b in zip(got, want))
+    assert not np.array_equal(pl.flatten_loop_pieces(stacked, [4, 3, 4], 0.5)[0], want[0])
+
+
 def test_member_and_unique_match_numpy():
     """``member`` and ``unique`` (kept off numpy.ma's import) give numpy's isin and
     unique on random integers with repeats, empty sets and values past both ends."""

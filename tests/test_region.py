@@ -263,6 +263,7 @@ def _cases():
         depth = int(rng.integers(1, 4))
         out.append([square(d, d, 8 - 2 * d, bool(rng.integers(0, 2))) for d in range(depth)])
     out.append([list(pc.circle((0, 0), 5)), reverse_loop(list(pc.circle((0, 0), 2)))])
+    out.append([square(0, 0, 4), square(10, 0, 4)])   # equal areas, apart: no coincidence
     fast = len(out)
     out.append([square(0, 0, 4), square(2, 2, 4)])                 # crossing
     out.append([square(0, 0, 4), square(0, 0, 4), square(10, 0, 1)])  # coincident

@@ -82,7 +82,8 @@ import numpy as np
 
 from ..budget import plan
 from ..errors import ParseError, one_line
-from ..nib import check_convex_nib, ellipse_nib, region_extent  # noqa: F401 (re-exported)
+from ..nib import (check_convex_nib, convex_region, ellipse_nib,  # noqa: F401 (re-exported)
+                   region_extent)
 from .jobs import CHUNK, glyph_chunks  # noqa: F401 (re-exported)
 
 __all__ = ["ellipse_nib", "check_convex_nib", "parse_glyph_spec", "brush_font", "composite_plan",
@@ -231,12 +232,12 @@ def _attempts(nib, tol):
     distance of the nib from its pen point) = TURN_SHARE g, so the outline moves by at
     most g and stays within tol with the export share of the curve conversion."""
     from ..budget import RETRY_SHARE, TURN_SHARE
-    from ..region import region_bbox, transform_region
+    from ..region import transform_region
 
     g = plan(tol).geometry
     yield "exact", g, nib
     yield "retry", RETRY_SHARE * g, nib
-    x0, y0, x1, y1 = region_bbox(nib)
+    x0, y0, x1, y1 = region_extent(nib)
     radius = float(np.hypot(max(abs(x0), abs(x1)), max(abs(y0), abs(y1))))
     if radius > 0:
         for sign in (1.0, -1.0):
@@ -454,7 +455,7 @@ def brush_font(font_path, out_path, nib_region, glyphs=None, tol=0.5, family_nam
     from .tables import (finish_font, grow_vertical_metrics, move_anchors, outline_writer,
                          rename_family, save_font)
 
-    check_convex_nib(nib_region)
+    nib_region = convex_region(nib_region)   # validated: no winding test in the sums
     font = open_source(font_path, location)
     writer = outline_writer(font)
     extent = region_extent(nib_region)
