@@ -50,9 +50,11 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     narrow = np.pi * (1.0 - 1e-9)
     # a query spans at most a loop and one piece: the tables' levels up to that length
     tables = _span_tables(lo2, hi2, int(np.maximum.reduce(sizes, initial=0)) + 1)
-    fwd = _range_span(tables, a, b) < narrow
-    back = _range_span(tables, b, a + sizes[owner[i]]) < narrow
-    keep = ~(fwd | back)
+    # the way back round the loop only for the pairs the way forward does not hold (a
+    # piece with itself, with the next one: mostly held)
+    wide = (~(_range_span(tables, a, b) < narrow)).ravel().nonzero()[0]
+    i, j = i.take(wide), j.take(wide)
+    keep = ~(_range_span(tables, b.take(wide), a.take(wide) + sizes[owner[i]]) < narrow)
     return pair_rows(i[keep], j[keep])
 
 
