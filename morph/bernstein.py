@@ -266,24 +266,30 @@ def _bracketed_newton(c, iters=80):
     act = np.arange(m)                     # the rows not done, and their state
     cc, dd, s_lo, u = c, n * np.diff(c, axis=1), np.sign(first), out.copy()
     lo, hi = np.zeros(m), np.ones(m)
-    for _ in range(iters):
-        f = np.sum(basis(n, u) * cc, axis=1)
-        fp = np.sum(basis(n - 1, u) * dd, axis=1)
-        same = np.sign(f) == s_lo
-        lo = np.where(same, u, lo)
-        hi = np.where(~same & (f != 0), u, hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
+    # the basis of each degree as :func:`basis` makes it (the same operations in the
+    # same order), its binomials and exponents taken once: an iteration's numpy calls
+    # are paid once per iteration however many rows go on
+    (bn, kn, rn), (bd, kd, rd) = _basis_coeffs(n), _basis_coeffs(n - 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for _ in range(iters):
+            t = u.reshape(-1, 1)
+            f = np.add.reduce(bn * t ** kn * (1.0 - t) ** rn * cc, axis=1)
+            fp = np.add.reduce(bd * t ** kd * (1.0 - t) ** rd * dd, axis=1)
+            same = np.sign(f) == s_lo
+            lo = np.where(same, u, lo)
+            hi = np.where(~same & (f != 0), u, hi)
             step = f / fp
-        un = u - step
-        bad = ~((un >= lo) & (un <= hi))
-        un = np.where(bad, 0.5 * (lo + hi), un)
-        out[act] = un
-        done = (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
-        if done.all():
-            break
-        go = np.flatnonzero(~done)
-        act, cc, dd, s_lo = act[go], cc.take(go, axis=0), dd.take(go, axis=0), s_lo[go]
-        u, lo, hi = un[go], lo[go], hi[go]
+            un = u - step
+            bad = ~((un >= lo) & (un <= hi))
+            un = np.where(bad, 0.5 * (lo + hi), un)
+            out[act] = un
+            done = (f == 0) | (~bad & (np.abs(step) <= 1e-15)) | (hi - lo <= 1e-15)
+            go = (~done).nonzero()[0]
+            if not len(go):
+                break
+            act, s_lo = act.take(go), s_lo.take(go)
+            cc, dd = cc.take(go, axis=0), dd.take(go, axis=0)
+            u, lo, hi = un.take(go), lo.take(go), hi.take(go)
     return out
 
 

@@ -307,3 +307,48 @@ def test_subsegment_many_over_whole_ranges_is_the_rows_and_the_splits():
     whole = (a == 0.0) & (b == 1.0)
     assert np.array_equal(got[whole & ~rev], c[whole & ~rev])
     assert np.array_equal(got[whole & rev], c[whole & rev][:, ::-1])
+
+
+def _bracketed_newton_row(c, iters=80):
+    """bernstein._bracketed_newton of one row written plainly: Newton on the row's
+    polynomial (values and derivatives by bz.basis), bisection where a step leaves
+    the sign bracket, until f = 0, a step of at most 1e-15 or a bracket that narrow."""
+    n = len(c) - 1
+    first = c[np.flatnonzero(c != 0)[0]] if np.any(c != 0) else 0.0
+    den = c[0] - c[-1]
+    u = c[0] / den if (c[0] != 0 and c[-1] != 0 and den != 0) else 0.5
+    u = min(max(u, 0.01), 0.99)
+    lo, hi, dc = 0.0, 1.0, n * np.diff(c)
+    for _ in range(iters):
+        f = np.sum(bz.basis(n, [u])[0] * c)
+        fp = np.sum(bz.basis(n - 1, [u])[0] * dc)
+        if np.sign(f) == np.sign(first):
+            lo = u
+        elif f != 0:
+            hi = u
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.float64(f) / fp
+        un = u - step
+        bad = not (lo <= un <= hi)
+        u_next = 0.5 * (lo + hi) if bad else un
+        if f == 0 or (not bad and abs(step) <= 1e-15) or hi - lo <= 1e-15:
+            return u_next
+        u = u_next
+    return u
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 12])
+def test_bracketed_newton_of_a_stack_is_each_row_iterated_alone(n):
+    """All rows iterated together (the rows not done going on) give each row's
+    root as iterating it alone does, to the bit."""
+    rng = np.random.default_rng(n)
+    c = rng.normal(size=(60, n + 1))
+    c[:, 0], c[:, -1] = np.abs(c[:, 0]), -np.abs(c[:, -1])
+    c[:, 1:-1] = -np.sort(-c[:, 1:-1], axis=1)    # one sign change a row
+    c[::7, 0] = 0.0                                 # a root at 0
+    c[3::11] *= -1.0                                # falling and rising rows
+    got = bz._bracketed_newton(c)
+    want = np.array([_bracketed_newton_row(row) for row in c])
+    assert np.array_equal(got, want)
+    # the comparison can fail: a root moved by an ulp is another root
+    assert not np.array_equal(np.nextafter(got, 2.0), want)

@@ -48,9 +48,13 @@ def uncertain_pairs(loops, pieces=None, cones=None):
     i, j = _box_pairs(pieces, owner)
     a, b = pos[i], pos[j]
     narrow = np.pi * (1.0 - 1e-9)
-    fwd = _range_span(lo2, hi2, a, b) < narrow
-    back = _range_span(lo2, hi2, b, a + sizes[owner[i]]) < narrow
-    keep = ~(fwd | back)
+    # a query spans at most a loop and one piece: the tables' levels up to that length
+    tables = _span_tables(lo2, hi2, int(np.maximum.reduce(sizes, initial=0)) + 1)
+    # the way back round the loop only for the pairs the way forward does not hold (a
+    # piece with itself, with the next one: mostly held)
+    wide = (~(_range_span(tables, a, b) < narrow)).ravel().nonzero()[0]
+    i, j = i.take(wide), j.take(wide)
+    keep = ~(_range_span(tables, b.take(wide), a.take(wide) + sizes[owner[i]]) < narrow)
     return pair_rows(i[keep], j[keep])
 
 
@@ -67,23 +71,34 @@ def _box_pairs(pieces, owner):
     return i, j
 
 
-def _range_span(lo, hi, a, b):
+def _span_tables(lo, hi, longest):
+    """The sparse tables of :func:`_range_span`: (L + 1, len(lo)) arrays whose row
+    ``level`` holds the min of lo (the max of hi) over the 2^level entries from each
+    index on (the row's last 2^level - 1 entries unset), the windows up to
+    ``longest`` entries (the longest range asked) and the array's length."""
+    m = len(lo)
+    top = max(min(m, longest), 1).bit_length() - 1
+    lows, highs = np.empty((top + 1, m)), np.empty((top + 1, m))
+    lows[0], highs[0] = lo, hi
+    for level in range(1, top + 1):
+        w = 1 << (level - 1)
+        n = m - 2 * w + 1       # the windows of 2w entries: two of w, w apart
+        np.minimum(lows[level - 1, :n], lows[level - 1, w:w + n], out=lows[level, :n])
+        np.maximum(highs[level - 1, :n], highs[level - 1, w:w + n], out=highs[level, :n])
+    return lows, highs
+
+
+def _range_span(tables, a, b):
     """max(hi[a..b]) - min(lo[a..b]) for index ranges a <= b (inclusive), all at
-    once (sparse tables)."""
-    lows, highs = [lo], [hi]
-    while 2 ** len(lows) <= len(lo):
-        w = 2 ** (len(lows) - 1)
-        lows.append(np.minimum(lows[-1][:-w], lows[-1][w:]))
-        highs.append(np.maximum(highs[-1][:-w], highs[-1][w:]))
-    k = np.floor(np.log2(b - a + 1)).astype(int)
-    out = np.empty(len(a))
-    for level in unique(k):
-        s = k == level
-        w = 2 ** level
-        mn = np.minimum(lows[level][a[s]], lows[level][b[s] - w + 1])
-        mx = np.maximum(highs[level][a[s]], highs[level][b[s] - w + 1])
-        out[s] = mx - mn
-    return out
+    once, from the sparse tables of lo and hi (:func:`_span_tables`, holding
+    windows as long as the longest range): two overlapping windows a range, each
+    gathered from the flattened tables in one ``take``."""
+    lows, highs = tables
+    k = np.floor(np.log2(b - a + 1)).astype(np.int64)
+    first = k * lows.shape[1] + a             # the window from a, the one ending at b
+    last = k * lows.shape[1] + (b - np.left_shift(1, k) + 1)
+    mn = np.minimum(lows.take(first), lows.take(last))
+    return np.maximum(highs.take(first), highs.take(last)) - mn
 
 
 PAIRS, JOINED, SELF = 0, 1, 2  # kinds of subdivision items (see subdivided_crossings)

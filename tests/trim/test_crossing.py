@@ -226,3 +226,23 @@ def test_first_crossings_level_by_level_are_those_of_all_candidates_at_once(
     for li, (i, s, j, u, x) in want.items():
         gi, gs, gj, gu, gx = got[li]
         assert (gi, gs, gj, gu) == (i, s, j, u) and np.array_equal(gx, x), li
+
+
+@pytest.mark.parametrize("m, longest", [(1, 1), (2, 3), (37, 5), (37, 38), (300, 64), (300, 1000)])
+def test_range_spans_from_the_tables_are_those_of_each_range(m, longest):
+    """crossing._range_span from crossing._span_tables: max(hi[a..b]) - min(lo[a..b])
+    of every range up to ``longest`` entries, as each range's own slice gives it
+    (the same bits: min and max are exact)."""
+    from morph.trim.crossing import _range_span, _span_tables
+
+    rng = np.random.default_rng(m + longest)
+    lo = rng.normal(size=m)
+    hi = lo + rng.random(m)
+    a = rng.integers(0, m, 400)
+    b = np.minimum(a + rng.integers(0, min(longest, m), 400), m - 1)
+    got = _range_span(_span_tables(lo, hi, longest), a, b)
+    want = np.array([hi[i:j + 1].max() - lo[i:j + 1].min() for i, j in zip(a, b)])
+    assert np.array_equal(got, want)
+    # a displaced window is another range's span: the comparison can fail
+    assert not np.array_equal(_range_span(_span_tables(lo, hi, longest), a, np.maximum(b - 1, a)),
+                              want) or m <= 2
