@@ -29,7 +29,13 @@ Per tolerance, for each phase:
   31 glyphs added): (calls of the 62 - calls of the 31) / 31.  A phase whose every
   step works on arrays holding all the glyphs of a chunk adds no call per glyph (a
   few where a while loop runs one more round); one that loops over glyphs or pieces
-  in Python adds calls in proportion.
+  in Python adds calls in proportion.  The two halves are not alike, so a growth
+  may be content, not a loop: loops of the second half (g, h, m, n) cross
+  themselves at tol 4 and 2, which switches untangle's subdivision, Newton
+  refinement and a second round on, and its glyphs need more Newton iterations of
+  the convolution's slowest row; a chunk of the 62 glyphs twice makes about the
+  calls of one at tol 2 (untangle 6,371 against 6,327), each step working on the
+  whole chunk.
 
 Below the table, the innermost morph functions of the CPU time of each phase, from
 stack samples taken every millisecond of CPU over the timed passes.
