@@ -96,6 +96,14 @@ def compile_outlines(outlines, flavor):
             for d, o in zip(done, outlines)]
 
 
+def compile_glyf(outlines, reverse=True):
+    """``_Batch.glyf`` of :class:`morph.outline.Outline` objects: [(``glyf`` glyph
+    bytes, integer box) or None], each contour drawn reversed (``reverse``, the UFO's
+    direction, as ufo2ft draws it) or as it is (an outline already in TrueType's
+    direction), from its start point."""
+    return _Batch(outlines).glyf(reverse) if outlines else []
+
+
 def outline_bounds(outlines):
     """The tight boxes of cubic integer outlines (what :func:`compile_outlines`
     gives a CFF glyph), None for an empty one."""
@@ -262,22 +270,25 @@ class _Batch:
                 (float(a[0]), float(a[1]), float(b[0]), float(b[1]))
                 for a, b in zip(lo.tolist(), hi.tolist())]
 
-    def glyf(self):
+    def glyf(self, reverse=True):
         """[(``glyf`` glyph bytes, integer box) or None] of quadratic outlines in
         the UFO's direction, as ``TTGlyphPen`` behind a ``ReverseContourPen``
         draws them and ``Glyph.compile`` packs them (greedy flag repeats, short
-        or same coordinates).  None for a glyph the arrays do not take."""
+        or same coordinates); with ``reverse`` False, as ``TTGlyphPen`` alone
+        draws them.  None for a glyph the arrays do not take."""
         import struct
 
         p = self.points
         on = np.zeros(len(p), bool)
         on[self.starts] = True
         on[self.seg_first + self.sizes] = True
-        # each contour reversed, its start kept first, its closing point dropped
+        # each contour from its start (reversed: the start kept first), its
+        # closing point dropped
         n = self.ends - self.starts
         owner = np.repeat(np.arange(len(n)), n)
         k = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
-        idx = np.where(k == 0, self.starts[owner], self.ends[owner] - k)
+        idx = (np.where(k == 0, self.starts[owner], self.ends[owner] - k) if reverse
+               else self.starts[owner] + k)
         q, flags = p[idx], on[idx].astype(np.int64)
         qg = self.contour_glyph[owner]
         bad = np.zeros(self.n, bool)

@@ -514,29 +514,27 @@ class _TrueTypeOutlines(OutlineWriter):
         return TTGlyphPen(self.glyph_set)
 
     def write_many(self, glyphs):
-        """:meth:`write` of several glyphs: the glyph objects ``TTGlyphPen`` makes
-        of the drawn contours, built from the outlines' point arrays (all glyphs'
-        points and flags sorted out at once, :func:`_glyf_points`) rather than
-        drawn point by point; a glyph whose contours the pen would trim (a contour
-        of fewer than two points, or closing on a repeated point) is drawn."""
-        from fontTools.ttLib.tables._g_l_y_f import Glyph, GlyphCoordinates
-        from fontTools.ttLib.tables.ttProgram import Program
+        """:meth:`write` of several glyphs: the glyph bytes ``TTGlyphPen`` and
+        ``Glyph.compile`` make of the drawn contours, encoded from the outlines'
+        point arrays for all glyphs at once
+        (:func:`morph.fonts.stream.compile_glyf`) rather than drawn point by point
+        and compiled glyph by glyph; a glyph whose contours the pen would trim (a
+        contour of fewer than two points, or closing on a repeated point), or
+        which the arrays do not take, is drawn."""
+        from fontTools.ttLib.tables._g_l_y_f import Glyph
+
+        from .stream import compile_glyf
 
         outlines = [Outline.from_contours(c) for _, c, _ in glyphs]
+        drawn = _pen_draws(outlines)
         lsbs = []
-        for (name, contours, advance), arrays in zip(glyphs, _glyf_points(outlines)):
-            if arrays is None:
+        for (name, contours, advance), made, draw in zip(glyphs, compile_glyf(outlines, False),
+                                                         drawn):
+            if draw or made is None:
                 lsbs.append(self.write(name, contours, advance))
                 continue
-            points, flags, ends = arrays
-            g = Glyph()
-            g.coordinates = GlyphCoordinates(points)
-            g.endPtsOfContours = ends
-            g.flags = flags
-            g.numberOfContours = len(ends)
-            g.program = Program()
-            g.program.fromBytecode(b"")
-            lsbs.append(self._put(name, g))
+            self.glyf[name] = Glyph(made[0])   # its box in its header, as recalcBounds'
+            lsbs.append(made[1][0] if made[1] else 0)
         return lsbs
 
     def store(self, name, pen):
@@ -618,13 +616,10 @@ class _HeaderView:
         return self.font.getGlyphOrder()
 
 
-def _glyf_points(outlines):
-    """Per outline ``(points, flags, end points)`` as ``TTGlyphPen`` collects them
-    from :func:`morph.fonts.contours.draw_contours` (each contour from its start point,
-    on-curve flag 1, off-curve 0, without its closing point), or None for an outline
-    the pen would trim (see :meth:`_TrueTypeOutlines.write_many`) or an empty one."""
-    from array import array
-
+def _pen_draws(outlines):
+    """Per outline whether :meth:`_TrueTypeOutlines.write_many` draws it with the
+    pen: an empty outline, or one with a contour ``TTGlyphPen`` would trim (fewer
+    than two points without its closing point, or a closing point repeated)."""
     if not outlines:
         return []
     points = np.concatenate([o.points for o in outlines]).astype(np.int64)
@@ -635,28 +630,13 @@ def _glyf_points(outlines):
     n = np.bincount(seg_contour, sizes, minlength=len(counts)).astype(np.int64)
     end = np.cumsum(n + 1) - 1                 # each contour's closing point
     start = end - n
-    on = np.zeros(len(points), bool)
-    on[start] = True
-    on[np.cumsum(sizes) - sizes + seg_contour + sizes] = True
     last_line = sizes[np.cumsum(counts) - 1] == 1
     closes = (points[end] == points[start]).all(axis=1)
     trimmed = ((n < 2) | (last_line & (points[end - 1] == points[start]).all(axis=1))
                | (~last_line & ~closes))
-    keep = np.ones(len(points), bool)
-    keep[end] = False
     glyph_of = np.repeat(np.arange(len(outlines)), per_glyph)
     bad = np.bincount(glyph_of[trimmed], minlength=len(outlines)) > 0
-    out, at, pt = [], 0, 0
-    for k, o in enumerate(outlines):
-        c, m = per_glyph[k], len(o.points)
-        if bad[k] or not c:
-            out.append(None)
-        else:
-            sel = keep[pt:pt + m]
-            out.append((points[pt:pt + m][sel].tolist(), array("B", on[pt:pt + m][sel].tolist()),
-                        (np.cumsum(n[at:at + c]) - 1).tolist()))
-        at, pt = at + c, pt + m
-    return out
+    return (bad | (per_glyph == 0)).tolist()
 
 
 #: glyphs whose bounds :meth:`_CFFOutlines.saving` reads at once: a few MB of outline

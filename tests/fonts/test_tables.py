@@ -213,16 +213,19 @@ def test_truetype_write_many_builds_the_pens_glyphs():
     lsb_drawn = [drawn.write(n, c, 500) for n, c in zip(names, cases.values())]
     lsb_built = built.write_many([(n, c, 500) for n, c in zip(names, cases.values())])
     assert lsb_built == lsb_drawn
+    for n in names[:3]:   # encoded from the arrays: stored as the bytes the pen's compile
+        stored = fonts[1]["glyf"].glyphs[n].data
+        assert stored == fonts[0]["glyf"][n].compile(fonts[0]["glyf"]), n
     for n, what in zip(names, cases):
         a, b = fonts[0]["glyf"][n], fonts[1]["glyf"][n]
         assert b.compile(fonts[1]["glyf"]) == a.compile(fonts[0]["glyf"]), what
         assert list(b.coordinates) == list(a.coordinates), what
     assert fonts[1]["glyf"]["b"].numberOfContours == 2
-    from morph.fonts.tables import _glyf_points
+    from morph.fonts.tables import _pen_draws
     from morph.outline import Outline
 
-    arrays = _glyf_points([Outline.from_contours(c) for c in cases.values()])
-    assert [a is None for a in arrays] == [False, False, False, True, True, True]
+    draws = _pen_draws([Outline.from_contours(c) for c in cases.values()])
+    assert draws == [False, False, False, True, True, True]
     # the check can fail: another outline gives other bytes
     fonts[1]["glyf"]["a"] = fonts[1]["glyf"]["b"]
     assert fonts[1]["glyf"]["a"].compile(fonts[1]["glyf"]) != \
