@@ -296,10 +296,12 @@ def _parser():
     ap.add_argument("--ref-tol", type=float, default=0.25, help="font units")
     ap.add_argument("--ff-accuracy", default="1,0.25")
     ap.add_argument("--md", default=str(ROOT / "bench" / "brush_fontforge.md"))
-    ap.add_argument("--repeat", type=int, default=3,
+    ap.add_argument("--repeat", type=int, default=9,
                     help="rounds: morph's command, FontForge's worker and morph's in-process "
                          "pass each run this many times, interleaved: the medians and the "
-                         "median of the per-round ratios")
+                         "median of the per-round ratios (9: a whole brush command's CPU "
+                         "time varies by 25 %% between runs on an idle machine, and the "
+                         "verdict is near a ratio of 1)")
     ap.add_argument("--no-write", action="store_true")
     return ap
 
