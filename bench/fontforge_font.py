@@ -10,7 +10,15 @@ of their references; the others' contours are cleared, their advances and refere
 kept, as ``morph stroke --glyphs`` leaves them empty) by the call of
 ``bench/fontforge_stroke.py``, ``glyph.stroke("elliptical", W, H, ANGLE, "nib",
 "nib", accuracy=A, removeoverlap="layer")`` (``--nib D``: ``"circular", D``), then
-``font.generate(OUT.otf, flags=FLAGS)``: OpenType CFF.  morph writes no hints and
+``font.generate(OUT.otf, flags=FLAGS)``: OpenType CFF.  A reference is kept, as a
+reference to its stroked base, only where the stroke commutes with its transformation
+(the identity, or a half turn: both nibs are centrally symmetric); the others are
+unlinked first (``glyph.unlinkRef``) and their outlines stroked in their glyph, since
+the stroke of a scaled, slanted or mirrored base is not the stroke of the scaled,
+slanted or mirrored skeleton (its nib would be transformed too).  This is
+``morph stroke``'s rule (``morph.fonts.stroke.keep_component``; morph also
+decomposes a kept component whose stroke would overlap the rest of its glyph's,
+where FontForge leaves overlapping references).  morph writes no hints and
 integer coordinates, hence the defaults, the strongest fair setting: FontForge's
 autohinter off before generating (``fontforge.setPrefs("AutoHint", 0)``; FontForge's
 default autohints every changed glyph before generating, even with the ``no-hints``
@@ -42,6 +50,24 @@ def with_bases(font, names):
     return chosen
 
 
+def unlink_transformed(font, names=None):
+    """Unlink, in the glyphs ``names`` (None: all), every reference whose
+    transformation is neither the identity nor a half turn (see the module doc; by
+    base name, so a kept reference to the same base is unlinked with it); the number
+    of glyphs changed."""
+    keep = ((1.0, 0.0, 0.0, 1.0), (-1.0, 0.0, 0.0, -1.0))
+    changed = 0
+    for glyph in font.glyphs():
+        if names is not None and glyph.glyphname not in names:
+            continue
+        moved = {ref[0] for ref in glyph.references
+                 if tuple(round(float(v), 9) for v in ref[1][:4]) not in keep}
+        for base in sorted(moved):
+            glyph.unlinkRef(base)
+        changed += bool(moved)
+    return changed
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("skeleton")
@@ -59,6 +85,7 @@ def main():
     steps = {"start": time.process_time()}
     font = fontforge.open(opt.skeleton)
     steps["open"] = time.process_time()
+    unlinked = unlink_transformed(font, set(opt.glyphs.split(",")) if opt.glyphs else None)
     chosen = with_bases(font, opt.glyphs.split(",")) if opt.glyphs else None
     stroked = 0
     for glyph in font.glyphs():
@@ -73,7 +100,7 @@ def main():
     fontforge.setPrefs("AutoHint", int(opt.autohint))
     font.generate(opt.output, flags=tuple(f for f in opt.flags.split(",") if f))
     steps["generate"] = time.process_time()
-    print(json.dumps({"cpu": steps["generate"], "glyphs": stroked,
+    print(json.dumps({"cpu": steps["generate"], "glyphs": stroked, "unlinked": unlinked,
                       "steps": {k: steps[k] - steps[p] for p, k in zip(steps, list(steps)[1:])},
                       "startup": steps["start"]}))
 

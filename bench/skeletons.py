@@ -19,6 +19,10 @@ Sets (each a skeleton UFO: every contour an open polyline, y up):
   are with advance 1024.  The N characters are spread evenly over the package's
   characters sorted by code point (index ``round(k (M - 1) / (N - 1))``), so 300 and
   3000 are samples of the same mix; ``hanzi-all`` is every character (9574).
+- ``relief``: the whole Relief SingleLine UFO (SIL OFL), a real centre-line font of
+  584 glyphs, 384 of them composites, from the shared data folder
+  (``relief-singleline`` beside the repository, see its README): not fetched, and
+  :func:`available` leaves it out where the folder is absent.
 - ``hanzi-variants-N``: N distinct glyphs (up to 65,535) made of the hanzi under
   affine maps, for fonts larger than the real set (:mod:`bench.skeleton_variants`).
 
@@ -167,9 +171,28 @@ def write_ufo(path, family, glyphs, upm):
     return path
 
 
+def shared_relief():
+    """The whole Relief SingleLine UFO of the shared data folder, or None."""
+    for data in (ROOT.parent.parent / "shared" / "data", Path("/work/shared/data")):
+        path = data / "relief-singleline" / "Relief-SingleLine.ufo"
+        if (path / "metainfo.plist").exists():
+            return path
+    return None
+
+
+def available(names):
+    """The sets of ``names`` this machine can build (``relief`` only with the shared
+    data folder; the npm sets are fetched when missing)."""
+    return [n for n in names if n != "relief" or shared_relief() is not None]
+
+
 def skeleton_ufo(name, cache=None):
     """The path of the skeleton UFO of set ``name`` (see the module doc), built when
     missing."""
+    if name == "relief":
+        if shared_relief() is None:
+            raise SystemExit("bench.skeletons: no shared data folder with Relief SingleLine")
+        return shared_relief()
     cache = cache_dir(cache)
     path = cache / (name + ".ufo")
     if (path / "metainfo.plist").exists():
@@ -187,7 +210,7 @@ def skeleton_ufo(name, cache=None):
         family = "Hanzi Medians %s" % name.split("-")[1]
     else:
         raise SystemExit("bench.skeletons: unknown set %r (hershey-sans, hershey-script, "
-                         "hanzi-N, hanzi-all, hanzi-variants-N)" % name)
+                         "hanzi-N, hanzi-all, hanzi-variants-N, relief)" % name)
     return write_ufo(path, family, glyphs, upm)
 
 

@@ -36,7 +36,8 @@ rounds, morph's and FontForge's interleaved, see below):
   before stroking and the result down: Skia's own precision knob is fixed).
 
 Part 3, skeleton sets (``--sets``, default with ``--only-sets``: hershey-sans,
-hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time;
+hershey-script, hanzi-300 of :mod:`bench.skeletons`, fetched at bench time, and the
+whole Relief SingleLine where the shared data folder is;
 ``--only-sets`` runs only this part, parts 1 and 2 run without it; writes
 bench/stroke_sets.md): per set the whole ``morph stroke`` command's CPU time
 per glyph (a fresh process, ``--jobs 1``, the median of ``--morph-repeat`` runs), the
@@ -235,7 +236,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
         limit = tol + ROUNDING + ref_tol
         for n in names:
             shift = int(round(-x0)) - (grow if font[n].width == 0 else 0)
-            ref = shapely.affinity.translate(refs[n], shift, 0.0)
+            ref = shapely.affinity.translate(refs[n], shift[n], 0.0)
             got = region_to_shapely(glyph_region(n, font=str(path)).region, MEASURE_FLAT)
             d = boundary_hausdorff(got, ref, SPACING)
             h_got, h_ref = count_outer_and_holes(got, 1.0), count_outer_and_holes(ref, 1.0)
@@ -688,7 +689,9 @@ def equal_error_md(rows):
 
 # =========================================================================== part 3
 
-SETS = ("hershey-sans", "hershey-script", "hanzi-300")
+#: The skeleton sets of part 3 (``relief``: only where the shared data folder is,
+#: :func:`bench.skeletons.available`).
+SETS = ("hershey-sans", "hershey-script", "hanzi-300", "relief")
 
 
 def _command_runner(ufo, out_path, first_glyph, extra=(), env=None):
@@ -762,17 +765,20 @@ def _narrow_judge(refs, tol, keys=None):
     return judge
 
 
-def _written_errors(out_path, names, refs, shift, tol):
+def _written_errors(out_path, names, refs, shift, tol, renamed=None):
     """({glyph: error}, [glyphs with a narrow gap or hole filled]) of the glyphs read
-    back from the compiled font (integer coordinates) against the references shifted
-    as the command shifts them: :func:`excused_error` with r = GAP tol + ROUNDING (the
+    back from the compiled font (integer coordinates; ``renamed``: the source's
+    ``public.postscriptNames``, the written font's names) against the references shifted
+    as the command shifts them (``shift``: {glyph: x shift}, ``morph.fonts.stroke``'s
+    rule: the nib's left extent, a zero-width glyph's less the nib's width): :func:`excused_error` with r = GAP tol + ROUNDING (the
     gaps and holes narrower than the engine's documented narrow-feature limit, which
     it may fill, widened by the integer rounding, which moves each side of a gap by
     up to ROUNDING); such glyphs are listed."""
     errs, narrow = {}, []
     for n in names:
-        got = region_to_shapely(glyph_region(n, font=str(out_path)).region, MEASURE_FLAT)
-        ref = shapely.affinity.translate(refs[n], shift, 0.0)
+        got = glyph_region((renamed or {}).get(n, n), font=str(out_path)).region
+        got = region_to_shapely(got, MEASURE_FLAT)
+        ref = shapely.affinity.translate(refs[n], shift[n], 0.0)
         errs[n], _, filled = excused_error(got, ref, tol, GAP * tol + ROUNDING)
         if filled:
             narrow.append(n)
@@ -824,7 +830,11 @@ def skeleton_set(name, opt, workdir):
         r["tol"] = t    # the first: the command's tolerance, as the command ran
     rounds.fill(ff)
     out["rows"] += ff
-    _command_figures(out, runs, otf, names, refs, opt, workdir)
+    skipped = set(font.lib.get("public.skipExportGlyphs", ()))   # bases only, not written
+    _command_figures(out, runs, otf, ([n for n in names if n not in skipped],
+                                      font.lib.get("public.postscriptNames"),
+                                      {n for n in names if not font[n].width}), refs, opt,
+                     workdir)
     out["starts_note"] = starts_note(starts, len(names))
     for r in out["rows"]:
         print("%s %s %s: %.1f ms (median %.1f), whole workflow %s ms, %.0f points, max err "
@@ -833,17 +843,21 @@ def skeleton_set(name, opt, workdir):
     return out
 
 
-def _command_figures(out, runs, otf, names, refs, opt, workdir):
+def _command_figures(out, runs, otf, named, refs, opt, workdir):
     """Put the whole command's figures into the set ``out``: its ``runs`` ((CPU s, peak
     RSS MB, last line, exit status), one a round; ``command_cpu`` their median CPU s,
     ``command_runs`` each round's ms per glyph) and the errors of the font it wrote to
-    ``otf`` (integer coordinates, read back) against the references ``refs``."""
+    ``otf`` (integer coordinates, read back) against the references ``refs`` of the
+    glyphs ``named`` (names, the source's production names or None, the zero-width
+    glyphs)."""
     from bench.paired import median
 
+    names, renamed, marks = named
     tol, cpu = out["tol"], median([r[0] for r in runs])
     rss, line, rc = max(r[1] for r in runs), runs[-1][2], runs[-1][3]
-    x0 = region_extent(nib_region(out["nib"]))[0]
-    written, narrow = (_written_errors(otf, names, refs, int(round(-x0)), tol)
+    x0, _, x1, _ = region_extent(nib_region(out["nib"]))
+    shift = {n: int(round(-x0)) - (int(round(x1 - x0)) if n in marks else 0) for n in names}
+    written, narrow = (_written_errors(otf, names, refs, shift, tol, renamed)
                        if rc in (0, 1) else ({}, []))
     line = line.replace(str(workdir) + os.sep, "")   # no machine path in the report
     out.update(command_cpu=cpu, command_runs=[1000 * r[0] / len(names) for r in runs],
@@ -920,7 +934,12 @@ def _sets_intro(opt, elapsed):
           "Sets (`bench/skeletons.py`, fetched with `npm pack` at bench time, not "
           "committed): Hershey Sans 1-stroke and Script 1-stroke (npm `hersheytext`, ASCII "
           "33-126), and 300 characters of hanzi-writer-data's stroke medians (Make Me a "
-          "Hanzi, Arphic licence; spread evenly over the code points).  Nib: `morph "
+          "Hanzi, Arphic licence; spread evenly over the code points); and, where the "
+          "shared data folder is, the whole Relief SingleLine (SIL OFL, 584 glyphs of "
+          "which 384 composites: its in-process rows stroke the glyphs with contours, "
+          "the whole command and workflow the font; FontForge's workflow unlinks the "
+          "references whose transformation the stroke does not commute with, as morph "
+          "decomposes them, see `bench/fontforge_font.py`).  Nib: `morph "
           "stroke`'s default (ellipse 90 x 20 at 30 degrees per 1000 units per em), tol "
           "%g em (the command's default)." % opt.set_tol, "",
           "Columns, two kinds of time, each the same for both tools: **in process** = "
@@ -1300,7 +1319,9 @@ def _parser():
 def main(argv=None):
     opt = _parser().parse_args(argv)
     if opt.sets is None:
-        opt.sets = ",".join(SETS) if opt.only_sets else ""
+        from bench.skeletons import available
+
+        opt.sets = ",".join(available(SETS)) if opt.only_sets else ""
     argv = sys.argv[1:] if argv is None else argv
     opt.argline = (" " + " ".join(argv)) if argv else ""
     from bench.stroke_profile import shown_args

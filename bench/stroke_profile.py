@@ -237,13 +237,11 @@ def install(clock):
 # =========================================================================== runs
 
 def relief_ufo():
-    for p in (ROOT.parent.parent / "shared" / "data" / "relief-singleline" /
-              "Relief-SingleLine.ufo",
-              Path("/work/shared/data/relief-singleline/Relief-SingleLine.ufo"),
-              ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"):
-        if p.exists():
-            return p
-    raise SystemExit("no Relief SingleLine UFO")
+    """The whole Relief SingleLine UFO of the shared data folder, else the subset in
+    tests/data."""
+    from bench.skeletons import shared_relief
+
+    return shared_relief() or ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 
 
 def run_args(run, out_dir):
