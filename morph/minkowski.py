@@ -165,7 +165,10 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
     (``stacked``: their pieces, :func:`_stacked`, or None; ``traced``: as there)."""
     if len(regions_a) < 2:
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
-    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked)
+    # offsets whole multiples of the trimming's grid unit: it falls on every region
+    # as on the region alone (:func:`_trimmed`'s grid is anchored at the origin)
+    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked,
+                     _grid_unit(tol))
     if not fits_precision(tol, layout.pieces, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
@@ -356,9 +359,15 @@ def _trimmed(conv, tol, member, inside=None):
     # tangent angle is solved at high curvature they can be a few 1e-9 of the size
     # apart: ends within a hundredth of tol are joined (inside the contraction share)
     loops, packed = chain(pieces, 0.01 * tol, packed=True)
-    grid = GRID_SHARE * np.sqrt(2.0) * tol
-    return loops, boundary(loops, FLAT_SHARE * tol, grid, "positive", member,
-                           CONTRACT_SHARE * tol, pieces=packed)
+    return loops, boundary(loops, FLAT_SHARE * tol, _grid_unit(tol), "positive", member,
+                           CONTRACT_SHARE * tol, pieces=packed, origin=(0.0, 0.0))
+
+
+def _grid_unit(tol):
+    """The unit of the trimming's integer grid (:func:`morph.trim.boundary`),
+    anchored at the origin: a sum's grid then depends on its own coordinates and
+    ``tol`` only, not on the other regions packed with it (:func:`_packed_sums`)."""
+    return GRID_SHARE * np.sqrt(2.0) * tol
 
 
 def _tip_tolerances(out, conv, tol):
