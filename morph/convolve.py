@@ -39,7 +39,7 @@ from . import bernstein as bz
 from . import gauss
 from . import piece as pc
 from . import qac
-from .errors import SelfCrossingError
+from .errors import SelfCrossingError, ToleranceNotMetError
 from .subdivide import ConvPiece, subdivide_nodes
 from .polyline import unique
 
@@ -728,7 +728,12 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
         keep = typ != 3
         table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
         i, j = table[0], table[1]
-    out = _convolve_table(ta, tb, table, tol, method=method)
+    try:
+        out = _convolve_table(ta, tb, table, tol, method=method)
+    except ToleranceNotMetError as exc:
+        if exc.rows is not None:    # the failing pairs' rows of the table
+            exc.rows = row[np.asarray(exc.rows, np.int64)]
+        raise
     p = out.row
     out.type = np.asarray(typ, int)[p]
     out.source = np.stack([ta.loop[i][p], ta.index[i][p], tb.loop[j][p], tb.index[j][p]],

@@ -90,7 +90,9 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
     level), their pieces (a list; with ``stacked`` a :class:`morph.piece.Pieces` of
     the stacks of all levels, :func:`_joined`) and errors; the caller orders them.
     Raises ValueError for tol <= 0, ToleranceNotMetError (``piece``: the failing
-    sub-pair (ca, cb), ``achieved``: its error) if a node fails after ``max_depth`` halvings.
+    sub-pair (ca, cb), ``achieved``: its error, ``rows``: the ``pos`` column of the nodes
+    that failed at that level, where the nodes have one) if a node fails after
+    ``max_depth`` halvings.
     """
     if not tol > 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
@@ -116,7 +118,8 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
             raise ToleranceNotMetError(
                 "error %g above tolerance %g after %d splits"
                 % (err[r], np.broadcast_to(limit, err.shape)[r], max_depth),
-                piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]))
+                piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]),
+                rows=nodes["pos"][last] if "pos" in nodes else None)
         parent = _take(nodes, fail)
         left, right = split(parent, where[fail])
         nodes = _concat([{**parent, **left}, {**parent, **right}])
