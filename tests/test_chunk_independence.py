@@ -93,3 +93,46 @@ def test_a_brushed_glyph_is_the_same_alone_and_in_a_batch():
             got = sums[batch.index(c)]
             assert _shape(got) == _shape(alone[c]), batch
             assert _moved_by(alone[c], got) <= ROUNDING, batch
+
+
+def test_the_first_round_gives_the_whole_budget_only_to_the_rows_that_fail(monkeypatch):
+    """A pair that cannot be subdivided to FIRST_SHARE of the budget gets the whole
+    budget; the other rows (other glyphs of the packed sum) keep their share."""
+    from morph import minkowski as mk
+    from morph.errors import ToleranceNotMetError
+
+    tol, n = 0.5, 6
+    budget = mk.CONV_SHARE * tol
+    monkeypatch.setattr(mk, "crossing_rows", lambda pair, tol: np.ones(n, bool))
+
+    def convolution(a, b, row_tol, **kw):
+        bad = np.flatnonzero(row_tol[[1, 4]] < budget)
+        if len(bad):
+            raise ToleranceNotMetError("not met", rows=np.array([1, 4])[bad[:1]])
+        return "pieces"
+
+    monkeypatch.setattr(mk, "convolution", convolution)
+    conv, row_tol = mk._first_round(None, None, tol, "qac", None)
+    assert conv == "pieces"
+    assert row_tol.tolist() == [budget if k in (1, 4) else mk.FIRST_SHARE * budget
+                                for k in range(n)]
+
+
+def test_a_pair_that_cannot_refine_ends_the_corner_pass_of_its_slot_only():
+    """Its slot's rows keep their tolerances (its corners their error, as summed
+    alone); the other slots' rows are approximated again."""
+    from morph import minkowski as mk
+    from morph.errors import ToleranceNotMetError
+
+    row_tol = np.full(6, 0.25)
+    row_slot = np.array([0, 0, 1, 1, 2, 2])
+
+    def convolve(rows, tols):
+        if 3 in rows.tolist():
+            raise ToleranceNotMetError("not met", rows=np.array([3]))
+        return rows.tolist()
+
+    got, rows, stopped = mk._refined_rows(convolve, np.array([0, 2, 3, 5]), [0.1] * 4,
+                                          row_tol, row_slot, np.zeros(0, np.int64))
+    assert got == [0, 5] and rows.tolist() == [0, 5] and stopped.tolist() == [1]
+    assert row_tol.tolist() == [0.1, 0.25, 0.25, 0.25, 0.25, 0.1]

@@ -42,8 +42,8 @@ SETTLE = 1e-6
 #: A ring's crossing where the two pieces meet at sin(alpha / 2) below this is no
 #: crossing Newton can place: pieces that touch or run along each other there
 #: (coincident convolution pieces) stall it anywhere along the contact, at a point
-#: that rounding noise of the coordinates decides (a glyph moved in a packed sum
-#: moved such junctions by up to 0.4 tol), so the junction stays on its grid point
+#: that rounding noise of the coordinates decides (a glyph moved into a packed sum
+#: can see such a junction move by up to 0.4 tol), so it stays on its grid point
 #: (:func:`_crossing_points`).  sin(alpha / 2) of coincident pieces is the square
 #: root of the noise of their tangents' cosine, about 1e-7; a crossing this shallow
 #: lies within the polyline crossing's error of the grid point anyway
@@ -609,10 +609,9 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     up to d / sin(alpha / 2) from where they did), the allowance only for
     crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.  A row leaves
     the iteration once a step leaves (s, u) as they are, and with ``settle`` > 0
-    once a step moves both points by at most ``settle`` (what is left is rounding
-    noise: the next step of a converging iteration is far smaller still; where the
-    pieces lie far from the origin the iterates wander by ~1e-13 for ever).  Rows
-    that end where the pieces meet at sin(alpha / 2) < ``tangent`` are not ok.
+    once a step moves both points by at most ``settle`` (rounding noise: the next
+    step of a converging iteration is far smaller still; far from the origin the
+    iterates wander by ~1e-13 for ever).  Not ok: ending at sin(alpha/2) < ``tangent``.
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
