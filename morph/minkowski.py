@@ -421,18 +421,20 @@ def _tip_tolerances(out, conv, tol, slot_of=None, piece_slot=None):
     that is its certified error along its part that can decide where the corner is
     (:func:`morph.tips.local_bounds`, :func:`_local_reach`).  Returns {table row:
     tolerance} for the pairs to approximate again.  The corners looked at are those
-    that turn enough for the largest bound of their own region's pieces to matter
+    whose budget the largest bound of their own region's pieces exceeds
     (``slot_of(points)`` and ``piece_slot``: the packed region of each point and of
-    each piece of ``conv``, :class:`morph.packing.Packing`; None: one region), so
-    that which corners a region refines does not depend on the regions packed
-    with it.
+    each piece of ``conv``, :class:`morph.packing.Packing`; None: one region): the
+    corners a region refines do not depend on the regions packed with it.
     """
     bounds = conv.bound
     if float(bounds.max(initial=0.0)) <= 0 or not out:
         return {}
     pts, cos_half = _corners(out)
+    # the corners where a piece of its own region can be above its budget (no other
+    # corner can have one): those the rule below can pick, and only those
     worst = _slot_worst(bounds, piece_slot, pts, slot_of)
-    sharp = np.flatnonzero(cos_half < worst / (CONV_SHARE * tol))
+    floor = TIP_MARGIN * np.maximum(cos_half, TIP_FLOOR)
+    sharp = np.flatnonzero(floor < worst / (CONV_SHARE * tol))
     if not len(sharp):
         return {}
     want = CONV_SHARE * tol * TIP_MARGIN * np.maximum(cos_half[sharp], TIP_FLOOR)

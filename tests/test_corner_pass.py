@@ -26,19 +26,15 @@ def _junctions(loops):
     return np.array(pts), np.array(cos_half)
 
 
-def _one_by_one(out, conv, tol, slot_of=None, piece_slot=None):
-    """{row: tolerance} by the rule of _tip_tolerances, one junction at a time (the
-    junctions looked at by the largest bound of the pieces of their own slot)."""
+def _one_by_one(out, conv, tol):
+    """{row: tolerance} by the rule of _tip_tolerances, one junction at a time: every
+    piece near a junction whose bound is above the junction's budget."""
     pts, cos_half = _junctions(out)
     bounds = np.array([c.bound for c in conv])
-    if slot_of is None:
-        slot_of, piece_slot = (lambda p: np.zeros(len(p), int)), np.zeros(len(conv), int)
     boxes = np.array([[*pc.cartesian(c.piece).min(axis=0), *pc.cartesian(c.piece).max(axis=0)]
                       for c in conv])
     reach, finer = mk.TIP_REACH * tol, {}
-    for (x, y), c, s in zip(pts, cos_half, slot_of(pts)):
-        if c >= bounds[piece_slot == s].max(initial=0.0) / (mk.CONV_SHARE * tol):
-            continue
+    for (x, y), c in zip(pts, cos_half):
         want = mk.CONV_SHARE * tol * mk.TIP_MARGIN * max(c, mk.TIP_FLOOR)
         for k in range(len(conv)):
             lo_x, lo_y, hi_x, hi_y = boxes[k]
@@ -55,7 +51,7 @@ def _check(out, conv, tol, monkeypatch, slot_of=None, piece_slot=None):
     monkeypatch.setattr(mk, "local_bounds", lambda conv, pts, reach, corner, piece:
                         conv.bound[piece])
     got = mk._tip_tolerances(out, conv, tol, slot_of, piece_slot)
-    want = _one_by_one(out, conv, tol, slot_of, piece_slot)
+    want = _one_by_one(out, conv, tol)
     assert want                                   # a case with pairs to refine
     assert sorted(got) == sorted(want)
     for r in want:
