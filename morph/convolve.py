@@ -39,7 +39,7 @@ from . import bernstein as bz
 from . import gauss
 from . import piece as pc
 from . import qac
-from .errors import SelfCrossingError
+from .errors import SelfCrossingError, ToleranceNotMetError
 from .subdivide import ConvPiece, subdivide_nodes
 from .polyline import unique
 
@@ -728,7 +728,12 @@ def _convolve_all(ta, tb, table, tol, keep_type3, method, rows=None):
         keep = typ != 3
         table, typ, row, tol = tuple(x[keep] for x in table), typ[keep], row[keep], tol[keep]
         i, j = table[0], table[1]
-    out = _convolve_table(ta, tb, table, tol, method=method)
+    try:
+        out = _convolve_table(ta, tb, table, tol, method=method)
+    except ToleranceNotMetError as exc:
+        if exc.rows is not None:    # the failing pairs' rows of the table
+            exc.rows = row[np.asarray(exc.rows, np.int64)]
+        raise
     p = out.row
     out.type = np.asarray(typ, int)[p]
     out.source = np.stack([ta.loop[i][p], ta.index[i][p], tb.loop[j][p], tb.index[j][p]],
@@ -993,7 +998,7 @@ def chain(pieces, tol, packed=False):
         return ([], pc.Pieces([], 0)) if packed else []
     starts, ends = pc.end_points(pieces)
     e, s, d = _near_pairs(ends, starts, tol)
-    succ = _nearest_first(e, s, d, n)
+    succ = _nearest_first(e, s, d, n, tol / TOUCH_PARTS)
     if (succ < 0).any():
         at = ends[np.argmax(succ < 0)]
         raise TopologyError("open convolution chain at %s" % (at,), loops=pieces.rows(), point=at)
@@ -1016,19 +1021,29 @@ def chain(pieces, tol, packed=False):
     return (loops, travel) if packed else loops
 
 
-def _nearest_first(e, s, d, n):
+#: :func:`chain` takes an end and a start closer than its tol / TOUCH_PARTS as
+#: meeting at one point (loops touching there): the pairs there are taken in the
+#: order of the pieces, not of distances that are rounding noise of the
+#: coordinates (about 1e-12 of a glyph's size), which the position of the glyph in
+#: a packed sum changes
+TOUCH_PARTS = 1024.0
+
+
+def _nearest_first(e, s, d, n, touch=0.0):
     """succ (n,) of the pairs (end e[k], start s[k], distance d[k]) taken nearest
     first, each end and each start used once (-1: an end left without a start).
     A pair whose end and start occur in no other pair is taken whatever the order;
     only the others are decided one by one, in order of distance (the same
-    result as deciding all of them so)."""
+    result as deciding all of them so); distances below ``touch`` count as 0, the
+    pairs at equal distance in the order of their end, then of their start."""
     succ = np.full(n, -1)
     lone = (np.bincount(e, minlength=n)[e] == 1) & (np.bincount(s, minlength=n)[s] == 1)
     succ[e[lone]] = s[lone]
     taken = np.zeros(n, bool)
     taken[s[lone]] = True
     rest = np.flatnonzero(~lone)
-    for k in rest[np.argsort(d[rest], kind="stable")].tolist():
+    key = np.where(d[rest] < touch, 0.0, d[rest])
+    for k in rest[np.lexsort((s[rest], e[rest], key))].tolist():
         i, j = e[k], s[k]
         if succ[i] < 0 and not taken[j]:
             succ[i], taken[j] = j, True

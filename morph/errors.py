@@ -46,13 +46,16 @@ class DegenerateCurveError(MorphError):
 class ToleranceNotMetError(MorphError):
     """An approximation did not reach its tolerance within the allowed splits.
 
-    ``piece`` keeps the input that failed and ``achieved`` the best error reached.
+    ``piece`` keeps the input that failed and ``achieved`` the best error reached;
+    ``rows``: where a batch of approximations failed, the rows that did (indices
+    into the table of pairs of :func:`morph.convolve.convolution`; None: unknown).
     """
 
-    def __init__(self, message, piece=None, achieved=None):
+    def __init__(self, message, piece=None, achieved=None, rows=None):
         super().__init__(message)
         self.piece = piece
         self.achieved = achieved
+        self.rows = rows
 
 
 class TopologyError(MorphError):

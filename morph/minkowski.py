@@ -165,7 +165,10 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
     (``stacked``: their pieces, :func:`_stacked`, or None; ``traced``: as there)."""
     if len(regions_a) < 2:
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
-    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked)
+    # offsets whole multiples of the trimming's grid unit: it falls on every region
+    # as on the region alone (:func:`_trimmed`'s grid is anchored at the origin)
+    layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked,
+                     _grid_unit(tol))
     if not fits_precision(tol, layout.pieces, region_b):
         return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
     pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
@@ -226,30 +229,58 @@ def _sum(region_a, region_b, tol, method, gauss_pair, slot_of=None, member=None,
     member = member or _HoleTest(region_a, region_b, tol)
     inside = _inside_chords(gauss_pair)
     done, redo = {}, None  # finished loops by slot; slots to trim (None: all)
+    stopped = np.zeros(0, np.int64)  # slots whose corner pass ended (a pair could not refine)
     for round_ in range(TIP_ROUNDS + 1):
         slot = slot_of(pc.end_points(conv.pieces)[0])
-        part = conv if redo is None else conv.take(pl.member(slot, np.array(sorted(redo))))
+        mine = None if redo is None else pl.member(slot, np.array(sorted(redo)))
+        part = conv if mine is None else conv.take(mine)
         loops, out = _trimmed(part, tol, member, inside(part))
         fresh, extra = _by_slot(out, slot_of, unique(slot) if redo is None else sorted(redo))
         done.update(fresh)
         for k, more in extra:   # loops outside the slots trimmed (none in a packed sum)
             done.setdefault(k, []).extend(more)
-        finer = _tip_tolerances(out, part, tol)
+        finer = _tip_tolerances(out, part, tol, slot_of, slot if mine is None else slot[mine])
         finer = {r: t for r, t in finer.items() if t < row_tol[r]}
         if not finer or round_ == TIP_ROUNDS:
             break
         rows = np.array(sorted(finer))
-        row_tol[rows] = [finer[r] for r in rows]
-        try:
-            again = convolution(region_a, region_b, row_tol, keep_type3=True, method=method,
-                                gauss_pair=gauss_pair, rows=rows)
-        except ToleranceNotMetError:
-            break  # a pair that cannot be refined that far: the corner keeps its error
+        row_slot = np.full(len(row_tol), -1, np.int64)
+        row_slot[conv.row] = slot
+        rows = rows[~pl.member(row_slot[rows], stopped)]
+        again, rows, stopped = _refined_rows(
+            lambda r, t: convolution(region_a, region_b, t, keep_type3=True, method=method,
+                                     gauss_pair=gauss_pair, rows=r),
+            rows, [finer[r] for r in rows.tolist()], row_tol, row_slot, stopped)
+        if not len(rows):
+            break
         refined = pl.member(conv.row, rows)
         redo = set(slot[refined].tolist())
         conv = ConvPieces.concat([conv.take(~refined), again])
     out = [loop for s in sorted(done) for loop in done[s]]
     return out, {"convolution": conv, "loops": loops, "holes": member.log}
+
+
+def _refined_rows(convolve, rows, tols, row_tol, row_slot, stopped):
+    """(convolution pieces, rows, stopped slots) of the corner pass's pairs ``rows``
+    approximated again at ``tols`` (``convolve(rows, row_tol)``; ``row_tol`` updated
+    in place).  A pair that cannot be refined that far ends the corner pass of its
+    slot (the region packed there, ``row_slot`` of each row): the slot's rows are
+    left out and their corners keep their error, as when the region is summed
+    alone; the others are approximated again without them.  ``stopped``: the slots
+    already ended, with those added."""
+    rows, tols = np.asarray(rows, np.int64), np.asarray(tols, float)
+    while len(rows):
+        before = row_tol[rows]
+        row_tol[rows] = tols
+        try:
+            return convolve(rows, row_tol), rows, stopped
+        except ToleranceNotMetError as exc:
+            row_tol[rows] = before
+            failed = rows if exc.rows is None else np.asarray(exc.rows, np.int64)
+            stopped = unique(np.concatenate([stopped, row_slot[failed]]))
+            keep = ~pl.member(row_slot[rows], stopped)
+            rows, tols = rows[keep], tols[keep]
+    return None, rows, stopped
 
 
 def _by_slot(out, slot_of, slots):
@@ -272,22 +303,26 @@ def _first_round(region_a, region_b, tol, method, gauss_pair, first=None):
     """(convolution pieces, per-row tolerances) of the first round: rows whose pieces
     may cross a non-neighbouring row's (:func:`morph.convolve.crossing_rows`, the only
     ones that can meet at a corner) within FIRST_SHARE of the convolution budget,
-    the others within the whole budget; the whole budget everywhere where the pairs
+    the others within the whole budget; the whole budget for the pairs that
     cannot be subdivided that far (the corner pass then refines what it needs).
     ``first(row_tol)``, when given, is that convolution made another way (packed
     frames blend theirs from two fixed sets, :mod:`morph.frames`)."""
     budget = CONV_SHARE * tol
-    fine = crossing_rows(gauss_pair, tol)
-    for share in (FIRST_SHARE, 1.0):
-        row_tol = np.where(fine, share * budget, budget)
+    row_tol = np.where(crossing_rows(gauss_pair, tol), FIRST_SHARE * budget, budget)
+    while True:     # each pass gives at least one row the whole budget
         try:
             if first is not None:
                 return first(row_tol), row_tol
             return convolution(region_a, region_b, row_tol, keep_type3=True,
                                method=method, gauss_pair=gauss_pair), row_tol
-        except ToleranceNotMetError:
-            if share == 1.0:
+        except ToleranceNotMetError as exc:
+            # the rows that cannot be subdivided that far (a row's subdivision is its
+            # own: which rows fail does not depend on the regions packed with it)
+            failed = np.arange(len(row_tol)) if exc.rows is None else np.asarray(exc.rows)
+            failed = failed[row_tol[failed] < budget]
+            if not len(failed):
                 raise
+            row_tol[failed] = budget
 
 
 def _inside_chords(gauss_pair):
@@ -356,12 +391,18 @@ def _trimmed(conv, tol, member, inside=None):
     # tangent angle is solved at high curvature they can be a few 1e-9 of the size
     # apart: ends within a hundredth of tol are joined (inside the contraction share)
     loops, packed = chain(pieces, 0.01 * tol, packed=True)
-    grid = GRID_SHARE * np.sqrt(2.0) * tol
-    return loops, boundary(loops, FLAT_SHARE * tol, grid, "positive", member,
-                           CONTRACT_SHARE * tol, pieces=packed)
+    return loops, boundary(loops, FLAT_SHARE * tol, _grid_unit(tol), "positive", member,
+                           CONTRACT_SHARE * tol, pieces=packed, origin=(0.0, 0.0))
 
 
-def _tip_tolerances(out, conv, tol):
+def _grid_unit(tol):
+    """The unit of the trimming's integer grid (:func:`morph.trim.boundary`),
+    anchored at the origin: a sum's grid then depends on its own coordinates and
+    ``tol`` only, not on the other regions packed with it (:func:`_packed_sums`)."""
+    return GRID_SHARE * np.sqrt(2.0) * tol
+
+
+def _tip_tolerances(out, conv, tol, slot_of=None, piece_slot=None):
     """Finer tolerances for the pairs whose pieces meet at a sharp corner of ``out``.
 
     Where the boundary turns by phi at a junction of two pieces, each within e of
@@ -379,14 +420,21 @@ def _tip_tolerances(out, conv, tol):
     their sharpest crossing within TIP_REACH tol).  e of a piece whose bound is above
     that is its certified error along its part that can decide where the corner is
     (:func:`morph.tips.local_bounds`, :func:`_local_reach`).  Returns {table row:
-    tolerance} for the pairs to approximate again.
+    tolerance} for the pairs to approximate again.  The corners looked at are those
+    whose budget the largest bound of their own region's pieces exceeds
+    (``slot_of(points)`` and ``piece_slot``: the packed region of each point and of
+    each piece of ``conv``, :class:`morph.packing.Packing`; None: one region): the
+    corners a region refines do not depend on the regions packed with it.
     """
     bounds = conv.bound
-    worst = float(bounds.max(initial=0.0))
-    if worst <= 0 or not out:
+    if float(bounds.max(initial=0.0)) <= 0 or not out:
         return {}
     pts, cos_half = _corners(out)
-    sharp = np.flatnonzero(cos_half < worst / (CONV_SHARE * tol))
+    # the corners where a piece of its own region can be above its budget (no other
+    # corner can have one): those the rule below can pick, and only those
+    worst = _slot_worst(bounds, piece_slot, pts, slot_of)
+    floor = TIP_MARGIN * np.maximum(cos_half, TIP_FLOOR)
+    sharp = np.flatnonzero(floor < worst / (CONV_SHARE * tol))
     if not len(sharp):
         return {}
     want = CONV_SHARE * tol * TIP_MARGIN * np.maximum(cos_half[sharp], TIP_FLOOR)
@@ -408,6 +456,18 @@ def _tip_tolerances(out, conv, tol):
     finer = np.full(len(rows), np.inf)     # each row's least tolerance of its corners
     np.minimum.at(finer, at, want[corner[hit]])
     return dict(zip(rows.tolist(), finer.tolist()))
+
+
+def _slot_worst(bounds, piece_slot, pts, slot_of):
+    """The largest of ``bounds`` (one per piece) of the region (slot) of each point
+    ``pts``: of all pieces where there are no slots (``slot_of`` None)."""
+    if slot_of is None or piece_slot is None:
+        return np.full(len(pts), float(bounds.max(initial=0.0)))
+    at = slot_of(pts)
+    n = int(max(piece_slot.max(initial=-1), at.max(initial=-1))) + 2
+    worst = np.zeros(n)      # the last entry: slot -1 (points in no slot)
+    np.maximum.at(worst, np.where(piece_slot < 0, n - 1, piece_slot), bounds)
+    return worst[np.where(at < 0, n - 1, at)]
 
 
 def _local_reach(corner, bounds, cos_half, tol):

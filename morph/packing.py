@@ -39,10 +39,13 @@ class Packing:
     ``pieces``: the regions' pieces in order as a :class:`morph.piece.Pieces`, when
     the caller has them stacked (None: stacked here, once for the boxes and the
     moves); ``self.pieces`` is the moved pieces' (``packed``'s) stacks, for the
-    functions that take the packed region's pieces stacked.
+    functions that take the packed region's pieces stacked.  ``step``: every offset
+    is a whole multiple of it (rounded to the nearest, which moves a region by at
+    most ``step`` / 2 in its cell: ``margin`` must exceed 2 ``step``), so that a grid
+    of that unit anchored at the origin falls on each region as it does unmoved.
     """
 
-    def __init__(self, regions, reach, margin, pieces=None):
+    def __init__(self, regions, reach, margin, pieces=None, step=None):
         if pieces is None:
             pieces = pc.Pieces.of([p for r in regions for loop in r for p in loop])
         boxes = _control_boxes(regions, pieces)
@@ -53,6 +56,10 @@ class Packing:
         cell = np.stack([np.arange(len(regions)) % cols, np.arange(len(regions)) // cols], 1)
         corner = cell * pitch - 0.5 * pitch * [cols, -(-len(regions) // cols)]
         self.offsets = corner - boxes[:, :2]
+        start = corner[0] + reach[:2] - 0.25 * margin  # where grid cell 0 begins
+        if step is not None:
+            self.offsets = step * np.rint(self.offsets / step)
+            corner = self.offsets + boxes[:, :2]
         self.packed, self.pieces = _translated(
             [loop for r in regions for loop in r],
             np.repeat(self.offsets, [len(r) for r in regions], axis=0), pieces=pieces,
@@ -60,7 +67,7 @@ class Packing:
         lo, hi = corner + reach[:2] - 0.25 * margin, boxes[:, 2:] + self.offsets + reach[2:]
         self.slot_boxes = np.concatenate([lo, hi + 0.25 * margin], axis=1)
         self.pitch, self.cols = pitch, cols
-        self.origin = lo[0]  # grid cell 0 begins where slot box 0 does
+        self.origin = start  # slot box i begins in grid cell i (where it does, without step)
 
     def slot_of(self, points):
         """Slot of each point (m, 2) (-1 for a point in no slot's box).  Slot box i

@@ -89,8 +89,8 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
     Returns (done, pieces, errors): the accepted nodes (a dict of arrays, level by
     level), their pieces (a list; with ``stacked`` a :class:`morph.piece.Pieces` of
     the stacks of all levels, :func:`_joined`) and errors; the caller orders them.
-    Raises ValueError for tol <= 0, ToleranceNotMetError (``piece``: the failing
-    sub-pair (ca, cb), ``achieved``: its error) if a node fails after ``max_depth`` halvings.
+    Raises ValueError for tol <= 0, ToleranceNotMetError (:func:`_not_met`) if a node
+    fails after ``max_depth`` halvings.
     """
     if not tol > 0:
         raise ValueError("tol must be positive, got %r" % (tol,))
@@ -112,11 +112,7 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
             break
         last = fail[nodes["depth"][fail] <= 0]
         if len(last):
-            r = last[0]
-            raise ToleranceNotMetError(
-                "error %g above tolerance %g after %d splits"
-                % (err[r], np.broadcast_to(limit, err.shape)[r], max_depth),
-                piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]))
+            raise _not_met(nodes, err, limit, last, max_depth)
         parent = _take(nodes, fail)
         left, right = split(parent, where[fail])
         nodes = _concat([{**parent, **left}, {**parent, **right}])
@@ -124,6 +120,19 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
     if stacked:
         pieces = _joined(pieces, count)
     return _concat(done), pieces, np.concatenate(errors)
+
+
+def _not_met(nodes, err, limit, last, max_depth):
+    """The ToleranceNotMetError of the nodes ``last`` of a level (errors ``err``
+    above ``limit``) out of halvings: ``piece`` the first one's sub-pair (ca, cb),
+    ``achieved`` its error, ``rows`` the ``pos`` column of them all (None where the
+    nodes have none)."""
+    r = last[0]
+    return ToleranceNotMetError(
+        "error %g above tolerance %g after %d splits"
+        % (err[r], np.broadcast_to(limit, err.shape)[r], max_depth),
+        piece=(nodes["ca"][r], nodes["cb"][r]), achieved=float(err[r]),
+        rows=nodes["pos"][last] if "pos" in nodes else None)
 
 
 def _accepted(one_piece, nodes, stacked, count):

@@ -27,15 +27,14 @@ def _junctions(loops):
 
 
 def _one_by_one(out, conv, tol):
-    """{row: tolerance} by the rule of _tip_tolerances, one junction at a time."""
+    """{row: tolerance} by the rule of _tip_tolerances, one junction at a time: every
+    piece near a junction whose bound is above the junction's budget."""
     pts, cos_half = _junctions(out)
     bounds = np.array([c.bound for c in conv])
     boxes = np.array([[*pc.cartesian(c.piece).min(axis=0), *pc.cartesian(c.piece).max(axis=0)]
                       for c in conv])
     reach, finer = mk.TIP_REACH * tol, {}
     for (x, y), c in zip(pts, cos_half):
-        if c >= bounds.max() / (mk.CONV_SHARE * tol):
-            continue
         want = mk.CONV_SHARE * tol * mk.TIP_MARGIN * max(c, mk.TIP_FLOOR)
         for k in range(len(conv)):
             lo_x, lo_y, hi_x, hi_y = boxes[k]
@@ -46,12 +45,12 @@ def _one_by_one(out, conv, tol):
     return finer
 
 
-def _check(out, conv, tol, monkeypatch):
+def _check(out, conv, tol, monkeypatch, slot_of=None, piece_slot=None):
     # the rule on the pieces' whole bounds (their bounds along the parts at the
     # corners, morph.tips.local_bounds, are tested in test_minkowski.py)
     monkeypatch.setattr(mk, "local_bounds", lambda conv, pts, reach, corner, piece:
                         conv.bound[piece])
-    got = mk._tip_tolerances(out, conv, tol)
+    got = mk._tip_tolerances(out, conv, tol, slot_of, piece_slot)
     want = _one_by_one(out, conv, tol)
     assert want                                   # a case with pairs to refine
     assert sorted(got) == sorted(want)
@@ -83,12 +82,14 @@ def test_tip_tolerances_of_packed_strokes(monkeypatch):
     font = load_ufo(ufo, lazy=False)
     calls, real = [], mk._tip_tolerances
 
-    def spy(out, conv, tol):
+    def spy(out, conv, tol, slot_of=None, piece_slot=None):
         calls.append((list(out), conv, tol))
-        return real(out, conv, tol)
+        calls.append((slot_of, piece_slot))
+        return real(out, conv, tol, slot_of, piece_slot)
 
     monkeypatch.setattr(mk, "_tip_tolerances", spy)
     monkeypatch.setattr(mk, "FIRST_SHARE", 1.0)
     stroke_many([decomposed_paths(font, n) for n in "aksxyzAKMWN"],
                 ellipse_nib(90.0, 20.0, 30.0), 0.2)
-    _check(*calls[0], monkeypatch)
+    assert len(set(calls[1][1].tolist())) == 11     # the glyphs' slots
+    _check(*calls[0], monkeypatch, *calls[1])

@@ -1,7 +1,7 @@
 """The turn of the corner a junction stands for (morph.tips.corner_turns), as the
 corner pass (morph.minkowski._tip_tolerances) counts it: a junction the trimming
 left off its pieces at a cusp of the convolution (the Relief glyphs with the broad
-nib at tol 1: spikes turning by nearly pi) takes the turn of the pieces' crossing
+nib at tol 1.25: spikes turning by nearly pi) takes the turn of the pieces' crossing
 next to it, and the glyphs are trimmed once and still within tol of the Clipper
 reference; a junction that is a crossing of its pieces keeps its own turn."""
 
@@ -109,7 +109,7 @@ def _within_reference(sets, out, glyphs, tol):
 
 
 def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
-    tol = 1.0
+    tol = 1.25
     sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
     assert calls and trims == 1              # junctions looked at, no second trim
     spikes = []
@@ -121,19 +121,19 @@ def test_spikes_off_the_pieces_take_the_crossing_turn(monkeypatch):
         assert (off[moved] > tips.ON_PIECE * tol).all()
         assert (own[moved] < 0.15).all() and (got[moved] > 0.99).all()
         spikes += pts[moved].tolist()
-    assert len(spikes) == 3
+    assert len(spikes) == 2
     glyphs = sorted(set(layout.slot_of(np.array(spikes)).tolist()))
-    assert [NAMES[k] for k in glyphs] == ["d", "q", "three"]
+    assert [NAMES[k] for k in glyphs] == ["d", "q"]
     _within_reference(sets, out, glyphs, tol)
 
 
 def test_crossings_keep_their_own_turn(monkeypatch):
-    """At tol 0.5 the sharp junctions the rule looks at (in six and nine) are
+    """At tol 0.45 the sharp junctions the rule looks at (in six and nine) are
     crossings of their pieces: their turns are kept.  Their pieces' bounds are
     above the corner's budget, their error along the parts there is not
     (morph.tips.local_bounds): the glyphs are trimmed once and within tol of the
     Clipper reference (which fails on them moved by 2 tol)."""
-    tol = 0.5
+    tol = 0.45
     sets, out, calls, trims, layout = _stroked(monkeypatch, tol)
     assert calls and trims == 1
     junctions = []

@@ -50,7 +50,7 @@ THIN_UNITS = 1.5  # rings rounded apart by at most one grid step per vertex
 
 
 def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.0,
-             untangle=True, pieces=None):
+             untangle=True, pieces=None, origin=None):
     """The region filled by closed ``loops`` of pieces under ``fill_rule``, as loops
     of rational pieces (outer counter-clockwise, holes clockwise).  ``pieces``: the
     loops' pieces one loop after another as a :class:`morph.piece.Pieces`, where the
@@ -58,12 +58,14 @@ def boundary(loops, eps, grid, fill_rule="positive", hole_test=None, contract=0.
 
     ``hole_test(ring, islands) -> bool`` (float polygons of a hole ring and of the
     rings directly inside it) says whether a hole is in fact filled.  See the
-    module docstring for eps, grid, contract and the error budget.
+    module docstring for eps, grid, contract and the error budget.  ``origin``: a
+    point of the integer grid (None: the middle of the loops' polylines' extent, as
+    :func:`.flatten.tag_loops` takes it).
     """
     loops = [list(loop) for loop in loops if len(loop)]
     if not loops:
         return []
-    tg = tag_loops(loops, eps, grid, pieces=pieces)
+    tg = tag_loops(loops, eps, grid, origin, pieces=pieces)
     if len(tg.q) == 0:
         return []
     # each lifted loop lies within eps + grid + contract of its ring: loops whose

@@ -39,6 +39,15 @@ MIN_SIN_HALF = 1e-3  # crossings shallower than 0.11 degrees get no shallow allo
 #: Newton rows whose step moves their points by at most this share of the accepted
 #: error leave the iteration (:func:`newton_crossings`)
 SETTLE = 1e-6
+#: A ring's crossing where the two pieces meet at sin(alpha / 2) below this is no
+#: crossing Newton can place: pieces that touch or run along each other there
+#: (coincident convolution pieces) stall it anywhere along the contact, at a point
+#: that rounding noise of the coordinates decides (a glyph moved into a packed sum
+#: can see such a junction move by up to 0.4 tol), so it stays on its grid point
+#: (:func:`_crossing_points`).  sin(alpha / 2) of coincident pieces is the square
+#: root of the noise of their tangents' cosine, about 1e-7; a crossing this shallow
+#: lies within the polyline crossing's error of the grid point anyway
+TANGENT_SIN_HALF = 1e-5
 
 
 def lift_rings(rings, tg, contract, packed=False):
@@ -109,7 +118,7 @@ def _crossing_points(tg, v, nx, cross, pid, t0, t1, tp, tq):
         ta, tb, ok = newton_crossings(stacked, ia, tq[k], ib, tp[nx[k]], guess,
                                       reach=2.0 * tg.grid * MATCH_UNITS, atol=0.01 * tg.grid,
                                       shallow=2.0 * (tg.eps + tg.grid / np.sqrt(2.0)),
-                                      settle=SETTLE * 0.01 * tg.grid)
+                                      settle=SETTLE * 0.01 * tg.grid, tangent=TANGENT_SIN_HALF)
         # where Newton did not converge the junction stays on the grid point, and each
         # run ends at its piece's point nearest to it within its segment's range (not
         # at the parameter interpolated along the segment: where the piece's speed
@@ -589,7 +598,7 @@ def _bernstein_sum(c, basis):
 
 
 def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shallow=0.0,
-                     settle=0.0):
+                     settle=0.0, tangent=0.0):
     """Crossings A(s) = B(u) of pairs of rational pieces, all at once (Fig. 33).
 
     ``stacked``: pieces from :func:`morph.piece.stack`; A = stacked[ia[i]],
@@ -600,9 +609,9 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
     up to d / sin(alpha / 2) from where they did), the allowance only for
     crossings inside both pieces at sin(alpha / 2) >= MIN_SIN_HALF.  A row leaves
     the iteration once a step leaves (s, u) as they are, and with ``settle`` > 0
-    once a step moves both points by at most ``settle`` (what is left is rounding
-    noise: the next step of a converging iteration is far smaller still; where the
-    pieces lie far from the origin the iterates wander by ~1e-13 for ever).
+    once a step moves both points by at most ``settle`` (rounding noise: the next
+    step of a converging iteration is far smaller still; far from the origin the
+    iterates wander by ~1e-13 for ever).  Not ok: ending at sin(alpha/2) < ``tangent``.
     """
     if len(ia) == 0:
         return ta, tb, np.zeros(0, bool)
@@ -646,5 +655,5 @@ def newton_crossings(stacked, ia, ta, ib, tb, guess, reach, atol, iters=12, shal
             & (sin_half >= MIN_SIN_HALF))
     allow = np.where(real, shallow / np.maximum(sin_half, MIN_SIN_HALF), 0.0)
     near = np.hypot(*(pa - guess).T) <= reach + allow
-    ok = (err <= atol) & near & np.isfinite(err)
+    ok = (err <= atol) & near & np.isfinite(err) & (sin_half >= tangent)
     return s, u, ok
