@@ -184,11 +184,14 @@ def grid_planes(h, b, db, major=None):
     q = b.shape[0]
     hc = np.ascontiguousarray(h.transpose(1, 2, 0)) if major is None else major  # (n+1, 3, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom, der = np.zeros((2, q, 3, k))
-    tmp = np.empty_like(hom)
-    for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
-        for j in range(coef.shape[0]):
-            acc += np.multiply(coef[j], basis[:, j, None, None], out=tmp)
+    if m * q * 3 * k <= GRID_FUSED:
+        hom, der = _fused_sums(hc, dh, b, db)
+    else:
+        hom, der = np.zeros((2, q, 3, k))
+        tmp = np.empty_like(hom)
+        for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
+            for j in range(coef.shape[0]):
+                acc += np.multiply(coef[j], basis[:, j, None, None], out=tmp)
     out = np.empty((4, q, k))
     node = out.transpose(1, 0, 2)                                  # (q, 4, k) view
     w = hom[:, 2:]
@@ -197,6 +200,23 @@ def grid_planes(h, b, db, major=None):
     np.subtract(der[:, :2], node[:, 2:], out=node[:, 2:])
     node[:, 2:] /= w
     return out
+
+
+#: Products per sum (control points times nodes times 3 k coordinates) up to which
+#: :func:`grid_planes` makes all terms in one call and adds them in one reduction
+#: (a few hundred KB: a round's cut parts); larger batches add term by term into
+#: one (q, 3, k) accumulator that stays in cache.
+GRID_FUSED = 1 << 16
+
+
+def _fused_sums(hc, dh, b, db):
+    """The sums of :func:`grid_planes` (q, 3, k) each: every product coefficient times
+    basis value in one call per sum, added along the control points from 0 in their
+    order (a reduction over the outer axis adds term by term: the accumulator's
+    numbers)."""
+    hom = np.add.reduce(hc[:, None] * b.T[:, :, None, None], axis=0, initial=0.0)
+    der = np.add.reduce(dh[:, None] * db.T[:, :, None, None], axis=0, initial=0.0)
+    return hom, der
 
 
 def _bend(x, y):
