@@ -410,24 +410,27 @@ def _solved_handles(area, moment, at, cf, good):
     n = area.shape[0]
 
     def resid(d0, d1, c):
-        # the moment as the cubic polynomial of (d0, d1) with coefficients c
-        inner = c[..., 4] + c[..., 7] * d0 + c[..., 8] * d1
-        inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
-        return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
+        # the moment as the cubic polynomial of (d0, d1) with coefficients c (9 rows)
+        c0, c1, c2, c3, c4, c5, c6, c7, c8 = c
+        inner = c4 + c7 * d0 + c8 * d1
+        inner = (c1 + (c3 + c6 * d0) * d0) + d1 * inner
+        return (c0 + (c2 + c5 * d0) * d0) * d0 + d1 * inner
 
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
     # the bracket (a, f(a)), (b, f(b)) and the new point (x, f(x)), rows of one array
     ends = np.empty((3, 2, rr.shape[0]))
     ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1] = _D0_GRID[gg], fa, _D0_GRID[gg + 1], fb
-    a, fa, b, fb = ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]          # views
-    area_r, at_r = area[rr], at.take(rr, axis=1)
-    cf_r, moment_r = np.asfortranarray(cf.take(rr, axis=0)), moment[rr]
+    (a, fa), (b, fb), (x, fx) = ends                                       # views
+    lo, hi, new = ends
+    # the rows of the ranges' terms, split once (the same numbers every iteration)
+    area_r, at_r = area[rr], tuple(at.take(rr, axis=1))
+    cf_r, moment_r = tuple(np.ascontiguousarray(cf.take(rr, axis=0).T)), moment[rr]
     for _ in range(4):                                             # regula falsi
-        x = np.divide(a * fb - b * fa, fb - fa, out=ends[2, 0])
-        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=ends[2, 1])
-        left = np.sign(ends[2, 1]) == np.sign(fa)
-        np.copyto(ends[0], ends[2], where=left)                  # x replaces a or b
-        np.copyto(ends[1], ends[2], where=~left)
+        np.divide(a * fb - b * fa, fb - fa, out=x)
+        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=fx)
+        left = np.sign(fx) == np.sign(fa)
+        np.copyto(lo, new, where=left)                           # x replaces a or b
+        np.copyto(hi, new, where=~left)
     roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
@@ -471,7 +474,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        f = resid(d0, d1, cf_t.take(rows, axis=1).T)              # read only where ok
+        f = resid(d0, d1, cf_t.take(rows, axis=1))                # read only where ok
         f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])
