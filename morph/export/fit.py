@@ -312,29 +312,34 @@ def _cubic_integrals(t0, t1):
     v[:, 1:3] = t0
     v[:, 3:] = -t1
     (ya, xa, ca, sa, la), (um, ym, xm, cm, sm, lm) = _integral_terms()
-    ta = _layered((v[:, ya] * v[:, xa]) * ca, sa, la, 6).reshape(n, 2, 3)
-    tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, sm, lm, 18).reshape(n, 3, 2, 3)
+    ta = _layered((v[:, ya] * v[:, xa]) * ca, la, 6).reshape(n, 2, 3)
+    tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, lm, 18).reshape(n, 3, 2, 3)
     return ta, tm
 
 
-def _layered(terms, slot, layers, size):
-    """(n, size): the terms (n, T) summed into their ``slot`` (T,), from 0, in the
-    order of the terms: ``layers`` lists the terms that are the l-th of their slot
-    (distinct slots within a layer), so a slot's sum is the left-to-right sum."""
+def _layered(terms, layers, size):
+    """(n, size): the terms summed into their slots, from 0, in the order of the
+    terms: ``layers`` (:func:`_layers`) lists per layer the slots and the columns of
+    ``terms`` of the terms that are the l-th of their slot (distinct slots within a
+    layer), so a slot's sum is the left-to-right sum."""
     out = np.zeros((terms.shape[0], size))
-    for lay in layers:
-        out[:, slot[lay]] = out[:, slot[lay]] + terms[:, lay]
+    for at, cols in layers:
+        out[:, at] = out[:, at] + terms[:, cols]
     return out
 
 
-def _layers(slot):
-    """The terms of each layer of :func:`_layered`: term i is the k-th of its slot."""
+def _layers(slot, cols=None):
+    """The layers of :func:`_layered` of the terms whose slots are ``slot`` (term i is
+    the k-th of its slot): per layer (its terms' slots, their columns: the terms'
+    positions, or ``cols`` of them)."""
     seen, rank = {}, []
     for s in slot:
         rank.append(seen.get(s, 0))
         seen[s] = rank[-1] + 1
     rank = np.array(rank, int)
-    return [np.nonzero(rank == k)[0] for k in range(int(rank.max()) + 1)] if len(rank) else []
+    cols = np.arange(len(rank)) if cols is None else cols
+    return [(slot[lay], cols[lay]) for lay in
+            (np.nonzero(rank == k)[0] for k in range(int(rank.max()) + 1 if len(rank) else 0))]
 
 
 @functools.lru_cache(maxsize=1)
@@ -368,14 +373,13 @@ def _monomial_coefficients(tm):
     :data:`_MONOMIAL_POWERS` (additions in a fixed order, term by term, by
     :func:`_layered`: a range's coefficients do not depend on the batch, as a BLAS
     product's may)."""
-    idx, slot, layers = _monomial_terms()
-    return _layered(tm.reshape(tm.shape[0], 18)[:, idx], slot, layers, len(_MONOMIAL_POWERS))
+    return _layered(tm.reshape(tm.shape[0], 18), _monomial_terms(), len(_MONOMIAL_POWERS))
 
 
 @functools.lru_cache(maxsize=1)
 def _monomial_terms():
-    """The terms of :func:`_monomial_coefficients`: flat indices into tm (n, 18), the
-    monomial of each, and the layers of :func:`_layered`."""
+    """The layers of :func:`_layered` of :func:`_monomial_coefficients`: the terms'
+    monomials (slots) and flat indices into tm (n, 18) (columns)."""
     em = [(0, 0), (1, 0), (0, 1)]
     idx, slot = [], []
     for a in range(3):
@@ -385,8 +389,7 @@ def _monomial_terms():
                 j = em[a][1] + b + em[c][1]
                 idx.append((a * 2 + b) * 3 + c)
                 slot.append(_MONOMIAL_POWERS.index((i, j)))
-    slot = np.array(slot, int)
-    return np.array(idx, int), slot, _layers(slot)
+    return _layers(np.array(slot, int), np.array(idx, int))
 
 
 #: The monomials d0^i d1^j of the frame cubic's moment (:func:`_handle_candidates`).
