@@ -210,13 +210,14 @@ def cut_pieces(parts, idx, h):
     others cut here (the same call on the same rows: the same numbers)."""
     if parts.subs is None or h.shape[1] not in parts.subs:
         return bz.cut_many(h, parts.a[idx], parts.b[idx])
-    out = np.empty_like(h)
     have, stack = parts.subs[h.shape[1]]
     at = np.minimum(have.searchsorted(idx), have.shape[0] - 1)
     todo = have[at] != idx
+    if not np.logical_or.reduce(todo):                   # all cut already
+        return stack.take(at, axis=0)
+    out = np.empty_like(h)
     out[~todo] = stack.take(at[~todo], axis=0)
-    if np.logical_or.reduce(todo):
-        out[todo] = bz.cut_many(h.compress(todo, axis=0), parts.a[idx[todo]], parts.b[idx[todo]])
+    out[todo] = bz.cut_many(h.compress(todo, axis=0), parts.a[idx[todo]], parts.b[idx[todo]])
     return out
 
 

@@ -87,11 +87,10 @@ def _sub_groups(bank, parts, sel):
     by one de Casteljau call per degree."""
     out = []
     for rows, h in bank.gather(parts.gid[sel]):
-        a, b = parts.a[sel[rows]], parts.b[sel[rows]]
-        cut = (a != 0.0) | (b != 1.0)
-        if np.logical_or.reduce(cut):
-            h = h.copy()
-            h[cut] = cut_pieces(parts, sel[rows][cut], h.compress(cut, axis=0))
+        at = sel[rows]
+        cut = (parts.a[at] != 0.0) | (parts.b[at] != 1.0)
+        if np.logical_or.reduce(cut):           # (h: gathered, a copy of its own)
+            h[cut] = cut_pieces(parts, at[cut], h.compress(cut, axis=0))
         out.append((rows, h))
     return out
 
