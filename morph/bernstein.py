@@ -488,12 +488,12 @@ def _casteljau_in_place(work, t, side):
     level for the left part, the last for the right one), which then stays."""
     s = 1.0 - t
     n = work.shape[0] - 1
-    for r in range(n):
-        if side == "left":
+    if side == "left":
+        for r in range(n):
             np.add(np.multiply(s, work[r:n]), np.multiply(t, work[r + 1:]), out=work[r + 1:])
-        else:
-            np.add(np.multiply(s, work[:n - r]), np.multiply(t, work[1:n + 1 - r]),
-                   out=work[:n - r])
+        return work
+    for r in range(n):
+        np.add(np.multiply(s, work[:n - r]), np.multiply(t, work[1:n + 1 - r]), out=work[:n - r])
     return work
 
 
