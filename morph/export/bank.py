@@ -203,20 +203,24 @@ def grid_planes(h, b, db, major=None):
 
 
 #: Products per sum (control points times nodes times 3 k coordinates) up to which
-#: :func:`grid_planes` makes all terms in one call and adds them in one reduction
-#: (a few hundred KB: a round's cut parts); larger batches add term by term into
-#: one (q, 3, k) accumulator that stays in cache.
+#: :func:`grid_planes` makes all terms of a sum in one call (a few hundred KB: a
+#: round's cut parts); larger batches multiply term by term into one (q, 3, k)
+#: buffer that stays in cache.
 GRID_FUSED = 1 << 16
 
 
 def _fused_sums(hc, dh, b, db):
-    """The sums of :func:`grid_planes` (q, 3, k) each: every product coefficient times
-    basis value in one call per sum, added along the control points from 0 in their
-    order (a reduction over the outer axis adds term by term: the accumulator's
-    numbers)."""
-    hom = np.add.reduce(hc[:, None] * b.T[:, :, None, None], axis=0, initial=0.0)
-    der = np.add.reduce(dh[:, None] * db.T[:, :, None, None], axis=0, initial=0.0)
-    return hom, der
+    """The sums of :func:`grid_planes` (q, 3, k) each: every product of a coefficient
+    and a basis value in one call per sum, then added to 0 one control point after
+    the other (the accumulator's numbers)."""
+    out = []
+    for coef, basis in ((hc, b), (dh, db)):
+        terms = coef[:, None] * basis.T[:, :, None, None]          # (n + 1, q, 3, k)
+        acc = np.add(terms[0], 0.0)
+        for term in terms[1:]:
+            acc += term
+        out.append(acc)
+    return out
 
 
 def _bend(x, y):
