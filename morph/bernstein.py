@@ -481,6 +481,22 @@ def _casteljau(work, t, side=None):
     return left, right
 
 
+def _casteljau_in_place(work, t, side):
+    """The part ``side`` ("left" or "right") of :func:`_casteljau`'s split, made in
+    ``work`` itself (the same sums): each level is written over the one before, one
+    entry short, on the side that keeps the entry the part needs (the first of each
+    level for the left part, the last for the right one), which then stays."""
+    s = 1.0 - t
+    n = work.shape[0] - 1
+    if side == "left":
+        for r in range(n):
+            np.add(np.multiply(s, work[r:n]), np.multiply(t, work[r + 1:]), out=work[r + 1:])
+        return work
+    for r in range(n):
+        np.add(np.multiply(s, work[:n - r]), np.multiply(t, work[1:n + 1 - r]), out=work[:n - r])
+    return work
+
+
 def cut_many(c, a, b, major=False):
     """Each c_k of a stack c (k, n+1, ...) restricted to [a_k, b_k], a and b float
     arrays (k,) with 0 <= a_k < b_k <= 1 (so a_k < 1): the two de Casteljau splits of
@@ -489,8 +505,8 @@ def cut_many(c, a, b, major=False):
     ranges, the split's levels kept coefficient-major from one split to the next.
     With ``major``, (the stack, the same coefficient-major (n+1, ..., k))."""
     work = c.transpose(tuple(range(1, c.ndim)) + (0,)).copy(order="C")
-    right = _casteljau(work, a, "right")[1]
-    left = _casteljau(right, (b - a) / (1.0 - a), "left")[0]
+    right = _casteljau_in_place(work, a, "right")
+    left = _casteljau_in_place(right, (b - a) / (1.0 - a), "left")
     out = np.ascontiguousarray(left.transpose((c.ndim - 1,) + tuple(range(c.ndim - 1))))
     return (out, left) if major else out
 

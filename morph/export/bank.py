@@ -184,11 +184,14 @@ def grid_planes(h, b, db, major=None):
     q = b.shape[0]
     hc = np.ascontiguousarray(h.transpose(1, 2, 0)) if major is None else major  # (n+1, 3, k)
     dh = (m - 1) * (hc[1:] - hc[:-1])
-    hom, der = np.zeros((2, q, 3, k))
-    tmp = np.empty_like(hom)
-    for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
-        for j in range(coef.shape[0]):
-            acc += np.multiply(coef[j], basis[:, j, None, None], out=tmp)
+    if m * q * 3 * k <= GRID_FUSED:
+        hom, der = _fused_sums(hc, dh, b, db)
+    else:
+        hom, der = np.zeros((2, q, 3, k))
+        tmp = np.empty_like(hom)
+        for acc, coef, basis in ((hom, hc, b), (der, dh, db)):
+            for j in range(coef.shape[0]):
+                acc += np.multiply(coef[j], basis[:, j, None, None], out=tmp)
     out = np.empty((4, q, k))
     node = out.transpose(1, 0, 2)                                  # (q, 4, k) view
     w = hom[:, 2:]
@@ -196,6 +199,27 @@ def grid_planes(h, b, db, major=None):
     np.multiply(node[:, :2], der[:, 2:], out=node[:, 2:])
     np.subtract(der[:, :2], node[:, 2:], out=node[:, 2:])
     node[:, 2:] /= w
+    return out
+
+
+#: Products per sum (control points times nodes times 3 k coordinates) up to which
+#: :func:`grid_planes` makes all terms of a sum in one call (a few hundred KB: a
+#: round's cut parts); larger batches multiply term by term into one (q, 3, k)
+#: buffer that stays in cache.
+GRID_FUSED = 1 << 16
+
+
+def _fused_sums(hc, dh, b, db):
+    """The sums of :func:`grid_planes` (q, 3, k) each: every product of a coefficient
+    and a basis value in one call per sum, then added to 0 one control point after
+    the other (the accumulator's numbers)."""
+    out = []
+    for coef, basis in ((hc, b), (dh, db)):
+        terms = coef[:, None] * basis.T[:, :, None, None]          # (n + 1, q, 3, k)
+        acc = np.add(terms[0], 0.0)
+        for term in terms[1:]:
+            acc += term
+        out.append(acc)
     return out
 
 

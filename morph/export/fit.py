@@ -210,13 +210,14 @@ def cut_pieces(parts, idx, h):
     others cut here (the same call on the same rows: the same numbers)."""
     if parts.subs is None or h.shape[1] not in parts.subs:
         return bz.cut_many(h, parts.a[idx], parts.b[idx])
-    out = np.empty_like(h)
     have, stack = parts.subs[h.shape[1]]
     at = np.minimum(have.searchsorted(idx), have.shape[0] - 1)
     todo = have[at] != idx
+    if not np.logical_or.reduce(todo):                   # all cut already
+        return stack.take(at, axis=0)
+    out = np.empty_like(h)
     out[~todo] = stack.take(at[~todo], axis=0)
-    if np.logical_or.reduce(todo):
-        out[todo] = bz.cut_many(h.compress(todo, axis=0), parts.a[idx[todo]], parts.b[idx[todo]])
+    out[todo] = bz.cut_many(h.compress(todo, axis=0), parts.a[idx[todo]], parts.b[idx[todo]])
     return out
 
 
@@ -312,29 +313,34 @@ def _cubic_integrals(t0, t1):
     v[:, 1:3] = t0
     v[:, 3:] = -t1
     (ya, xa, ca, sa, la), (um, ym, xm, cm, sm, lm) = _integral_terms()
-    ta = _layered((v[:, ya] * v[:, xa]) * ca, sa, la, 6).reshape(n, 2, 3)
-    tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, sm, lm, 18).reshape(n, 3, 2, 3)
+    ta = _layered((v[:, ya] * v[:, xa]) * ca, la, 6).reshape(n, 2, 3)
+    tm = _layered(((v[:, um] * v[:, ym]) * v[:, xm]) * cm, lm, 18).reshape(n, 3, 2, 3)
     return ta, tm
 
 
-def _layered(terms, slot, layers, size):
-    """(n, size): the terms (n, T) summed into their ``slot`` (T,), from 0, in the
-    order of the terms: ``layers`` lists the terms that are the l-th of their slot
-    (distinct slots within a layer), so a slot's sum is the left-to-right sum."""
+def _layered(terms, layers, size):
+    """(n, size): the terms summed into their slots, from 0, in the order of the
+    terms: ``layers`` (:func:`_layers`) lists per layer the slots and the columns of
+    ``terms`` of the terms that are the l-th of their slot (distinct slots within a
+    layer), so a slot's sum is the left-to-right sum."""
     out = np.zeros((terms.shape[0], size))
-    for lay in layers:
-        out[:, slot[lay]] = out[:, slot[lay]] + terms[:, lay]
+    for at, cols in layers:
+        out[:, at] = out[:, at] + terms[:, cols]
     return out
 
 
-def _layers(slot):
-    """The terms of each layer of :func:`_layered`: term i is the k-th of its slot."""
+def _layers(slot, cols=None):
+    """The layers of :func:`_layered` of the terms whose slots are ``slot`` (term i is
+    the k-th of its slot): per layer (its terms' slots, their columns: the terms'
+    positions, or ``cols`` of them)."""
     seen, rank = {}, []
     for s in slot:
         rank.append(seen.get(s, 0))
         seen[s] = rank[-1] + 1
     rank = np.array(rank, int)
-    return [np.nonzero(rank == k)[0] for k in range(int(rank.max()) + 1)] if len(rank) else []
+    cols = np.arange(len(rank)) if cols is None else cols
+    return [(slot[lay], cols[lay]) for lay in
+            (np.nonzero(rank == k)[0] for k in range(int(rank.max()) + 1 if len(rank) else 0))]
 
 
 @functools.lru_cache(maxsize=1)
@@ -368,14 +374,13 @@ def _monomial_coefficients(tm):
     :data:`_MONOMIAL_POWERS` (additions in a fixed order, term by term, by
     :func:`_layered`: a range's coefficients do not depend on the batch, as a BLAS
     product's may)."""
-    idx, slot, layers = _monomial_terms()
-    return _layered(tm.reshape(tm.shape[0], 18)[:, idx], slot, layers, len(_MONOMIAL_POWERS))
+    return _layered(tm.reshape(tm.shape[0], 18), _monomial_terms(), len(_MONOMIAL_POWERS))
 
 
 @functools.lru_cache(maxsize=1)
 def _monomial_terms():
-    """The terms of :func:`_monomial_coefficients`: flat indices into tm (n, 18), the
-    monomial of each, and the layers of :func:`_layered`."""
+    """The layers of :func:`_layered` of :func:`_monomial_coefficients`: the terms'
+    monomials (slots) and flat indices into tm (n, 18) (columns)."""
     em = [(0, 0), (1, 0), (0, 1)]
     idx, slot = [], []
     for a in range(3):
@@ -385,8 +390,7 @@ def _monomial_terms():
                 j = em[a][1] + b + em[c][1]
                 idx.append((a * 2 + b) * 3 + c)
                 slot.append(_MONOMIAL_POWERS.index((i, j)))
-    slot = np.array(slot, int)
-    return np.array(idx, int), slot, _layers(slot)
+    return _layers(np.array(slot, int), np.array(idx, int))
 
 
 #: The monomials d0^i d1^j of the frame cubic's moment (:func:`_handle_candidates`).
@@ -410,24 +414,27 @@ def _solved_handles(area, moment, at, cf, good):
     n = area.shape[0]
 
     def resid(d0, d1, c):
-        # the moment as the cubic polynomial of (d0, d1) with coefficients c
-        inner = c[..., 4] + c[..., 7] * d0 + c[..., 8] * d1
-        inner = (c[..., 1] + (c[..., 3] + c[..., 6] * d0) * d0) + d1 * inner
-        return (c[..., 0] + (c[..., 2] + c[..., 5] * d0) * d0) * d0 + d1 * inner
+        # the moment as the cubic polynomial of (d0, d1) with coefficients c (9 rows)
+        c0, c1, c2, c3, c4, c5, c6, c7, c8 = c
+        inner = c4 + c7 * d0 + c8 * d1
+        inner = (c1 + (c3 + c6 * d0) * d0) + d1 * inner
+        return (c0 + (c2 + c5 * d0) * d0) * d0 + d1 * inner
 
     rr, gg, fa, fb, rn, gn = _grid_scan(area, moment, at, cf, good.nonzero()[0], resid)
     # the bracket (a, f(a)), (b, f(b)) and the new point (x, f(x)), rows of one array
     ends = np.empty((3, 2, rr.shape[0]))
     ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1] = _D0_GRID[gg], fa, _D0_GRID[gg + 1], fb
-    a, fa, b, fb = ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]          # views
-    area_r, at_r = area[rr], at.take(rr, axis=1)
-    cf_r, moment_r = np.asfortranarray(cf.take(rr, axis=0)), moment[rr]
+    (a, fa), (b, fb), (x, fx) = ends                                       # views
+    lo, hi, new = ends
+    # the rows of the ranges' terms, split once (the same numbers every iteration)
+    area_r, at_r = area[rr], tuple(at.take(rr, axis=1))
+    cf_r, moment_r = tuple(np.ascontiguousarray(cf.take(rr, axis=0).T)), moment[rr]
     for _ in range(4):                                             # regula falsi
-        x = np.divide(a * fb - b * fa, fb - fa, out=ends[2, 0])
-        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=ends[2, 1])
-        left = np.sign(ends[2, 1]) == np.sign(fa)
-        np.copyto(ends[0], ends[2], where=left)                  # x replaces a or b
-        np.copyto(ends[1], ends[2], where=~left)
+        np.divide(a * fb - b * fa, fb - fa, out=x)
+        np.subtract(resid(x, _d1_of(x, area_r, at_r), cf_r), moment_r, out=fx)
+        left = np.sign(fx) == np.sign(fa)
+        np.copyto(lo, new, where=left)                           # x replaces a or b
+        np.copyto(hi, new, where=~left)
     roots = (a * fb - b * fa) / (fb - fa)
     none = np.zeros(n, bool)
     none[rn] = True
@@ -471,7 +478,7 @@ def _grid_scan(area, moment, at, cf, good, resid):
         ok = d1 > 0
         ok &= d1 < np.inf
         bad = ~ok
-        f = resid(d0, d1, cf_t.take(rows, axis=1).T)              # read only where ok
+        f = resid(d0, d1, cf_t.take(rows, axis=1))                # read only where ok
         f -= moment[rows]
         sign = np.sign(f)
         cross = ok[:-1] & ok[1:] & (sign[:-1] != sign[1:])

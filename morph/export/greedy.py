@@ -234,20 +234,12 @@ class Greedy:
         self.good[b], self.good_b[b], self.good_cert[b] = t1[better], bound[better], cert[better]
         self.good_at[b], self.good_end[b] = at[better], end.compress(better, axis=0)
         self.good_cubic[b] = cubic.compress(better, axis=0)
-        done_try = self._tried(rows[tried], t1[tried], bound[tried], cert[tried] & ok[tried])
-        # a certified end (certifying a provisional one, or halving): the segment
-        took = (mode != TRY) & ok
-        refused = rows[(mode == CERTIFY) & ~ok]
-        self._refused(refused, self.t1[refused], bound[(mode == CERTIFY) & ~ok])
-        halved = (mode == HALVE) & ~ok
-        self.bad[rows[halved]] = t1[halved]
-        self._halve(rows[halved], bound[halved])
-        acc = [(rows[took], t1[took], cubic.compress(took, axis=0), bound[took], at[took],
-                end.compress(took, axis=0))]
-        g = done_try
-        acc.append((g, self.good[g], self.good_cubic.take(g, axis=0), self.good_b[g],
-                    self.good_at[g], self.good_end.take(g, axis=0)))
-        r, t1a, ca, ba, ata, ea = [np.concatenate(x) for x in zip(*acc)]
+        g = self._tried(rows[tried], t1[tried], bound[tried], cert[tried] & ok[tried])
+        acc = (g, self.good[g], self.good_cubic.take(g, axis=0), self.good_b[g],
+               self.good_at[g], self.good_end.take(g, axis=0))
+        if not np.logical_and.reduce(tried):        # rows certifying or halving
+            acc = self._certified(rows, (t1, mode, ok), (cubic, bound, at, end), acc)
+        r, t1a, ca, ba, ata, ea = acc
         out = (r, self.t0[r].copy(), t1a, ca, ba, ata)
         self.width[r] = next_width(t1a - self.t0[r], ba, self.tol)
         self.t0[r], self.start[r] = t1a, ea
@@ -255,6 +247,25 @@ class Greedy:
         self.mode[r[finished]] = DONE
         self._new_segments(r[~finished])
         return out
+
+    def _certified(self, rows, state, fits, acc):
+        """The step of :meth:`update` for the rows that certify a provisional end or
+        halve (``state``: the rows' t1, mode and whether their fits are within tol;
+        ``fits``: cubic, bound, at, end): a certified end is the segment (put before
+        ``acc``, the segments of the trying rows), a refused one searched again, a
+        failed halving halved again.  Returns the segments (rows, t1, cubic, bound,
+        at, end)."""
+        t1, mode, ok = state
+        cubic, bound, at, end = fits
+        took = (mode != TRY) & ok
+        refused = rows[(mode == CERTIFY) & ~ok]
+        self._refused(refused, self.t1[refused], bound[(mode == CERTIFY) & ~ok])
+        halved = (mode == HALVE) & ~ok
+        self.bad[rows[halved]] = t1[halved]
+        self._halve(rows[halved], bound[halved])
+        mine = (rows[took], t1[took], cubic.compress(took, axis=0), bound[took], at[took],
+                end.compress(took, axis=0))
+        return [np.concatenate(x) for x in zip(mine, acc)]
 
     def _tried(self, rows, t1, bound, accept):
         """The trying mode's step for ``rows``: move the bracket, aim the next end;

@@ -75,24 +75,32 @@ def spaced_rows(stop, num):
     return np.where(j == num.repeat(num) - 1, stop.repeat(num), j * (stop / (num - 1)).repeat(num))
 
 
-def interp_rows(x, row, lo, hi, xp, fp):
+def knot_keys(xp, lo, hi):
+    """The search keys of :func:`interp_rows` for the knots ``xp``, whose blocks
+    [lo[r], hi[r]) (in order) cover them: complex numbers, the block's start as the
+    real part and the knot as the imaginary part (numpy orders complex numbers by
+    real part, then imaginary part: the keys of increasing blocks increase)."""
+    keys = np.empty(xp.shape[0], complex)
+    keys.real = np.repeat(lo, hi - lo)
+    keys.imag = xp
+    return keys
+
+
+def interp_rows(x, row, lo, hi, xp, fp, keys=None):
     """``np.interp(x[i], xp[lo[r]:hi[r]], fp[lo[r]:hi[r]])`` with r = row[i], for every
     i at once (each row's xp increasing, at least two long): the last knot j with
-    xp[j] <= x by one bisection of all rows together, then numpy's formula (the end
-    values outside, fp[j] at a knot, else slope (x - xp[j]) + fp[j], the slope
-    (fp[j+1] - fp[j]) / (xp[j+1] - xp[j]); from the right knot where that is NaN), so
-    the values are np.interp's, bit for bit."""
+    xp[j] <= x by one binary search of all rows together (``keys``: the knots'
+    :func:`knot_keys`, made here when lo, hi are every block of xp), then numpy's
+    formula (the end values outside, fp[j] at a knot, else slope (x - xp[j]) +
+    fp[j], the slope (fp[j+1] - fp[j]) / (xp[j+1] - xp[j]); from the right knot where
+    that is NaN), so the values are np.interp's, bit for bit."""
     a, b = lo[row], hi[row]
-    left, right = a.copy(), b.copy()
-    # bisection of every row at once: a block of L knots is searched in L.bit_length()
-    # halvings (a row whose search has ended keeps left == right)
-    for _ in range(int(np.maximum.reduce(b - a, initial=0)).bit_length()):
-        live = left < right
-        mid = (left + right) >> 1
-        go = live & (xp[np.minimum(mid, b - 1)] <= x)
-        stay = live & ~go
-        left[go] = mid[go] + 1
-        right[stay] = mid[stay]
+    if keys is None:
+        keys = knot_keys(xp, lo, hi)
+    query = np.empty(x.shape[0], complex)
+    query.real, query.imag = a, x
+    # past the knots <= x of the query's block (a NaN query sorts after every knot)
+    left = np.minimum(keys.searchsorted(query, side="right"), b)
     j = left - 1                                   # a - 1: below the first knot
     jj = np.minimum(np.maximum(j, a), b - 2)
     x0, x1, y0, y1 = xp[jj], xp[jj + 1], fp[jj], fp[jj + 1]
@@ -196,6 +204,7 @@ class Refine:
         self.t0, self.t1, self.bound = np.zeros(0), np.zeros(0), np.zeros(0)
         self.at = np.zeros((0, 2), int)
         self.arc_t, self.arc_s = np.zeros(0), np.zeros(0)
+        self.arc_keys = [np.zeros(0, complex)] * 2     # their knot_keys (interp_rows)
         self.want = np.zeros(0, int)        # a SPLIT row's count of cuts
         self.cuts = [0, 0]                  # how many rows are in SPLIT, in CUT
         self.asked = None
@@ -264,6 +273,9 @@ class Refine:
         self.arc_lo[rows], self.arc_hi[rows] = lo + len(self.arc_t), hi + len(self.arc_t)
         self.arc_t = np.concatenate([self.arc_t, t])
         self.arc_s = np.concatenate([self.arc_s, s])
+        lo, hi = lo + len(self.arc_keys[0]), hi + len(self.arc_keys[0])
+        self.arc_keys = [np.concatenate([k, knot_keys(v, lo, hi)])
+                         for k, v in zip(self.arc_keys, (t, s))]
 
     def _length(self, rows):
         """Arc length of the rows' chains (their tables made)."""
@@ -323,14 +335,14 @@ class Refine:
         ends_t[e_at] = self.t0[start[rs]]
         ends_t[inner] = self.t1[ranges(start[rs], n)]
         lo, hi = self.arc_lo[rs], self.arc_hi[rs]
-        edges = interp_rows(ends_t, where, lo, hi, self.arc_t, self.arc_s)
+        edges = interp_rows(ends_t, where, lo, hi, self.arc_t, self.arc_s, self.arc_keys[0])
         hard = np.zeros(inner.shape[0])
         for r, c in per_row(d, at[sel], n, np.add.accumulate):
             hard[(e_at[r][:, None] + 1 + np.arange(c.shape[1])).ravel()] = c.ravel()
         row_c = np.arange(sel.shape[0]).repeat(n)
         share = interp_rows(spaced_rows(hard[e_at + n], n), row_c, e_at, e_at + n + 1, hard,
                             edges)
-        cuts = interp_rows(share, row_c, lo, hi, self.arc_s, self.arc_t)
+        cuts = interp_rows(share, row_c, lo, hi, self.arc_s, self.arc_t, self.arc_keys[1])
         c_at = n.cumsum() - n
         cuts[c_at] = 0.0
         cuts[c_at + n - 1] = self.chains.k[self.chain[rs]]

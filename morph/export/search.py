@@ -87,11 +87,10 @@ def _sub_groups(bank, parts, sel):
     by one de Casteljau call per degree."""
     out = []
     for rows, h in bank.gather(parts.gid[sel]):
-        a, b = parts.a[sel[rows]], parts.b[sel[rows]]
-        cut = (a != 0.0) | (b != 1.0)
-        if np.logical_or.reduce(cut):
-            h = h.copy()
-            h[cut] = cut_pieces(parts, sel[rows][cut], h.compress(cut, axis=0))
+        at = sel[rows]
+        cut = (parts.a[at] != 0.0) | (parts.b[at] != 1.0)
+        if np.logical_or.reduce(cut):           # (h: gathered, a copy of its own)
+            h[cut] = cut_pieces(parts, at[cut], h.compress(cut, axis=0))
         out.append((rows, h))
     return out
 
@@ -386,22 +385,29 @@ class _Rows:
         own, the count of the refinement's requests, of the joins', Requests)."""
         rows, t0, t1, start, need = greedy.requests()
         crow, rev = self.rchain[rows], self.back[rows]
-        a = np.where(rev, self.top[crow] - t1, t0)
-        b = np.where(rev, self.top[crow] - t0, t1)
-        own = _same_ranges(crow, rev, a, b, need)
-        mine = (own == np.arange(rows.shape[0])).nonzero()[0]
+        nb = int(np.count_nonzero(rev))
+        if nb:                              # backward rows: ranges reflected, shared
+            top = self.top[crow]
+            a, b = np.where(rev, top - t1, t0), np.where(rev, top - t0, t1)
+            own = _same_ranges(crow, rev, a, b, need)
+            mine = (own == np.arange(rows.shape[0])).nonzero()[0]
+        else:                               # every row asks its own fit
+            a, b, own = t0, t1, np.arange(rows.shape[0])
+            mine = own
         more = refine.requests() if refine.active else (np.zeros(0, int),) + (np.zeros(0),) * 2
         joins = join.requests()
         chain, r0, r1 = [np.concatenate(x) for x in zip(more, joins)]
-        nr, nb, nm = rows.shape[0], int(np.count_nonzero(rev)), chain.shape[0]
+        nr, nm = rows.shape[0], chain.shape[0]
         # the points at the greedy rows' ends (tried), at the backward rows' starts,
         # then at both ends of the other requests
         pts = _chain_points(chains, np.concatenate([crow, crow[rev], chain, chain]),
                             np.concatenate([b, a[rev], r0, r1]))
         end = pts[:nr]
-        start = start.copy()
-        start[rev] = pts[nr:nr + nb]
-        tried = np.where(rev[:, None], start, end)
+        tried = end
+        if nb:
+            start = start.copy()
+            start[rev] = pts[nr:nr + nb]
+            tried = np.where(rev[:, None], start, end)
         req = Requests(np.concatenate([crow[mine], chain]), np.concatenate([a[mine], r0]),
                        np.concatenate([b[mine], r1]),
                        np.concatenate([start[mine], pts[nr + nb:nr + nb + nm]]),
