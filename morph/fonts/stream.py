@@ -38,6 +38,7 @@ save writes, without its copies of the whole font in memory.
 """
 
 import copy
+import os
 import re
 from pathlib import Path
 
@@ -447,6 +448,9 @@ class SkeletonSource:
         self.open_font = src if self.path is None else None
         self.font = self._glyph_set = self._glyph_dir = self._contents = self._shells = None
         self.contour_counts = {}
+        # outlines read and held (:meth:`skeleton_outlines`), and the names of those
+        # kept for the run (component bases)
+        self._outlines, self._kept = {}, set()
         if self.path is not None and light:
             from ..parse.light_ufo import NotLight, read_contents
 
@@ -455,7 +459,7 @@ class SkeletonSource:
             except NotLight:
                 light = False
             else:
-                self._glyph_dir = Path(folder)
+                self._glyph_dir = folder
                 self._names = set(self._contents)
                 self._keys = list(self._contents)
         self.light = light and self.path is not None
@@ -503,6 +507,39 @@ class SkeletonSource:
             return self._glif(name)
         except Exception:  # noqa: BLE001 - read again (and judged) by _read
             return None
+
+    def skeleton_outlines(self, names, hold=False, keep=False):
+        """Per glyph name its skeleton ``(paths, components)`` from its ``.glif`` bytes
+        (:func:`morph.parse.glif.skeleton_outlines`: the files not read yet, all in
+        one batch), or None where that reader declines or the source is an open font
+        (the caller reads that glyph the ufoLib2 way, which names a defect).  The
+        lists are the caller's own (copies of the held ones).
+
+        A file is read once for the run where its outline is asked for again:
+        ``hold`` keeps the outlines until they are next asked for (the plan reads
+        the composites its chunks stroke again), ``keep`` for the run (component
+        bases, decomposed in many glyphs); others are dropped as they are given, so
+        that memory does not grow with the font's outlines."""
+        memo = self._outlines
+        missing = [n for n in dict.fromkeys(names) if n not in memo]
+        if missing:
+            from ..parse.glif import skeleton_outlines
+
+            memo.update(zip(missing, skeleton_outlines([self.glif_data(n) for n in missing])))
+        if keep:
+            self._kept.update(names)
+        out = [None if memo[n] is None else (list(memo[n][0]), list(memo[n][1]))
+               for n in names]
+        if not (hold or keep):
+            for n in names:
+                if n not in self._kept:
+                    memo.pop(n, None)
+        return out
+
+    def drop_outlines(self):
+        """Forget the outlines held or kept (:meth:`skeleton_outlines`)."""
+        self._outlines.clear()
+        self._kept.clear()
 
     def _read(self, name, pen_of):
         from ufoLib2.objects import Glyph
@@ -575,12 +612,13 @@ class SkeletonSource:
         read, a sixth of the time of glifLib's file system layer; from that layer
         where there is no such folder (a zipped UFO)."""
         if self._glyph_dir is None:
-            folder = Path(self.path) / "glyphs"
-            self._glyph_dir = folder if folder.is_dir() else False
+            folder = os.path.join(self.path, "glyphs")
+            self._glyph_dir = folder if os.path.isdir(folder) else False
         if self._glyph_dir is False:
             return self._reader().getGLIF(name)
         contents = self._contents if self._contents is not None else self._reader().contents
-        return (self._glyph_dir / contents[name]).read_bytes()
+        with open(os.path.join(self._glyph_dir, contents[name]), "rb") as f:  # no pathlib
+            return f.read()
 
     def _read_shell(self, name):
         """(shell, number of contours) of glyph ``name``, its points not read: the

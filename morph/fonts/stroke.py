@@ -167,6 +167,10 @@ class _Separation:
 
     #: the directions of the support polygon of N - N
     DIRECTIONS = 64
+    #: how many of the nearest pairs of points :meth:`_points_near` tries before all
+    #: of them (work only, not the answer: on Relief the first pair found inside is
+    #: among the 11 nearest)
+    NEAREST = 16
 
     def __init__(self, font, source, nib_region, tol, contour_counts=None):
         self.font, self.source, self.counts = font, source, contour_counts
@@ -236,25 +240,33 @@ class _Separation:
         with components, each component's base), read on the first question in one
         batch (:func:`morph.parse.glif.skeleton_outlines`, all pieces built
         together; a glyph it leaves, or an open font's, by ufoLib2), and their
-        points (:meth:`_dense_many`) all flattened together."""
+        points (:meth:`_dense_many`) all flattened together.  A
+        :class:`morph.fonts.stream.SkeletonSource` holds the outlines for the
+        strokes, which then read no file twice."""
         if self.dense is not None:
             return
         from ..parse.glif import skeleton_outlines
         from ..parse.ufo import glyph_paths
 
-        need = {}
+        need, bases = {}, set()
         for g in self.font:
             if g.components:
                 need[g.name] = None
                 for c in g.components:
                     if c.baseGlyph in self.font:
                         need[c.baseGlyph] = None
+                        bases.add(c.baseGlyph)
         names = [n for n in need if self._count(n)]
         for n in need:
             self.paths[n] = []
-        read = getattr(self.source, "glif_data", None)
-        outlines = (skeleton_outlines([read(n) for n in names]) if read
-                    else [None] * len(names))
+        read = getattr(self.source, "skeleton_outlines", None)
+        if read is not None:   # held for the strokes, the bases kept for decomposing
+            outlines = read(names, hold=True)
+            read([n for n in names if n in bases], keep=True)
+        else:
+            read = getattr(self.source, "glif_data", None)
+            outlines = (skeleton_outlines([read(n) for n in names]) if read
+                        else [None] * len(names))
         for n, outline in zip(names, outlines):
             self.paths[n] = outline[0] if outline is not None else glyph_paths(self.source[n])
         self.dense = dict(zip(names, self._dense_many([self.paths[n] for n in names])))
@@ -318,13 +330,21 @@ class _Separation:
         if not len(pa) or not len(pb):
             return False
         disc = (r / np.cos(np.pi / self.DIRECTIONS)) ** 2 * (1.0 + 1e-9)
+        pu, qu = _projected(pa, self.u), _projected(pb, self.u)
         rows = max(1, 2 ** 22 // len(pb))
         for k in range(0, len(pa), rows):
             d = pa[k:k + rows, None, :] - pb[None, :, :]
-            i, j = np.nonzero(d[..., 0] ** 2 + d[..., 1] ** 2 <= disc)
-            if len(i) and np.any(np.all((pa[k + i] @ self.u.T) - (pb[j] @ self.u.T)
-                                        <= self.reach, axis=1)):
-                return True
+            d2 = d[..., 0] ** 2 + d[..., 1] ** 2
+            i, j = np.nonzero(d2 <= disc)
+            if len(i) == 1:   # one pair: projected by the matrix-vector product
+                if np.all((pa[k + i] @ self.u.T) - (pb[j] @ self.u.T) <= self.reach):
+                    return True
+                continue
+            # the nearest pairs first (the likeliest inside: a pair of near parts is
+            # found among a few), then all; the same projections either way
+            for sel in (np.argsort(d2[i, j], kind="stable")[:self.NEAREST], slice(None)):
+                if np.any(np.all(pu[k + i[sel]] - qu[j[sel]] <= self.reach, axis=1)):
+                    return True
         return False
 
     def _part_points(self, name, component):
@@ -385,6 +405,16 @@ class _Separation:
         out_pts = out_pts[np.argsort(out_glyph, kind="stable")]
         cuts = np.searchsorted(np.sort(out_glyph), np.arange(1, len(glyph_paths)))
         return np.split(out_pts, cuts)
+
+
+def _projected(pts, u):
+    """``pts @ u.T`` (the points' projections on the directions ``u``), each row as
+    the matrix product of two rows or more computes it: the same bits as the rows'
+    product in any stack of two or more (one row alone is a matrix-vector product,
+    rounded otherwise)."""
+    if len(pts) == 1:
+        return (np.concatenate([pts, pts]) @ u.T)[:1]
+    return pts @ u.T
 
 
 def _stretches(m):
@@ -773,6 +803,8 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     if jobs > 1 and plan.source.path is not None:  # the workers read the skeletons
         import uuid
 
+        plan.source.drop_outlines()   # those the plan held for this process's strokes
+
         func = partial(_read_and_stroke, _FLAVORS[kind], (plan.source.path, uuid.uuid4().hex),
                        plan.kept, nib_region, tols, stroker)
         work, prepare = [(n, plan.place.shifts[n]) for n in inked], None
@@ -1041,13 +1073,16 @@ def _stroke_work(source, names, kept, nib_region, tols, shifts, stroker):
     """The jobs of :func:`_glyph_job` for the stroked glyphs ``names``: the paths of
     each, its own contours and the components that cannot be kept, read from the
     source now (:class:`morph.fonts.stream.SkeletonSource`): the chunk's ``.glif``
-    files by :func:`morph.parse.glif.skeleton_outlines` (the same paths, all pieces
-    built together), a glyph it leaves (or an open font's) by ufoLib2."""
-    from ..parse.glif import skeleton_outlines
+    files in one batch (:meth:`~morph.fonts.stream.SkeletonSource.skeleton_outlines`:
+    the same paths, all pieces built together; those the plan read are not read
+    again), then the bases of the decomposed components a nesting level at a time
+    (:func:`_read_bases`), a glyph the array reader leaves (or an open font's) by
+    ufoLib2."""
     from ..parse.ufo import component_paths, glyph_paths
 
-    read = getattr(source, "glif_data", None)
-    outlines = skeleton_outlines([read(n) for n in names]) if read else [None] * len(names)
+    outlines = source.skeleton_outlines(names)
+    _read_bases(source, [c for n, o in zip(names, outlines) if o is not None and o[1]
+                         for c, keep in zip(o[1], kept[n]) if not keep])
     work = []
     for n, outline in zip(names, outlines):
         if outline is None:  # an open font, or a glyph the array reader leaves to ufoLib2
@@ -1060,6 +1095,22 @@ def _stroke_work(source, names, kept, nib_region, tols, shifts, stroker):
         # horizontal: a stroked region's y extent holds for the moved glyph (_chunk_job)
         work.append((n, paths, nib_region, tols, (float(shifts[n]), 0.0), stroker))
     return work
+
+
+def _read_bases(source, components):
+    """The base glyphs of ``components`` read into ``source`` for the run, through
+    their nested components, each nesting level's in one batch
+    (:meth:`morph.fonts.stream.SkeletonSource.skeleton_outlines`), for
+    :func:`morph.parse.ufo.component_paths` to decompose; nothing is raised here
+    (a missing or unreadable base is named where it is decomposed)."""
+    names, seen = [c.baseGlyph for c in components], set()
+    for _ in range(33):  # component_paths refuses deeper nesting
+        names = [n for n in dict.fromkeys(names) if n not in seen and n in source]
+        if not names:
+            return
+        seen.update(names)
+        names = [c.baseGlyph for o in source.skeleton_outlines(names, keep=True)
+                 if o is not None for c in o[1]]
 
 
 def _move_furniture(font, names, place, kept):

@@ -16,8 +16,10 @@ the same arrays, to the bit.
 The rest of a file (everything but the outline element) is still parsed as XML,
 with an empty ``<outline/>`` in the outline's place: it is small, and so the file is
 read only if it is well-formed and the outline a child of a GLIF 2 ``glyph``, as
-:func:`.glif.glif_outline` reads it.  A file whose outline holds anything else
-(components, comments, CDATA, references, single quotes, another attribute order,
+:func:`.glif.glif_outline` reads it.  Components in plain markup (empty elements
+outside the contours, :func:`.glif_xml.plain_components`) are read from their
+attributes and cut out before the scan.  A file whose outline holds anything else
+(other components, comments, CDATA, references, single quotes, another attribute order,
 text, bytes outside printable ASCII, markup in a value) and a glyph whose contours
 :func:`.glif.glif_outline` would decline or read with non-finite or too large
 coordinates are left to :func:`.glif.skeleton_outlines`'s XML reader, which reads
@@ -32,7 +34,7 @@ import numpy as np
 
 from .. import piece as pc
 from ..limits import MAX_COORDINATE
-from .glif_xml import parse_glif
+from .glif_xml import parse_glif, plain_components
 
 __all__ = ["scan_outlines"]
 
@@ -75,22 +77,28 @@ def scan_outlines(datas):
         if inner is not None:
             take.append(i)
             inners.append(inner)
-    read = _read(inners) if take else []
-    for i, paths in zip(take, read):
+    read = _read([inner for inner, _ in inners]) if take else []
+    for i, paths, (_, components) in zip(take, read, inners):
         if paths is not None:
-            out[i] = (paths, [])
+            out[i] = (paths, components)
     return out, [i for i, d in enumerate(datas) if d is not None and out[i] is None]
 
 
 def _plain(data):
-    """The outline content of a file the scan reads (contours only), else None."""
+    """``(contours, components)`` of a file the scan reads: the outline content
+    without its components, and the components (:func:`_components`); else None."""
     a = data.find(b"<outline")
     start = _START.match(data, a) if a >= 0 and data.find(b"<outline", a + 1) < 0 else None
     b = data.find(b"</outline>", start.end()) if start else -1
     inner = data[start.end():b] if b >= 0 else b""
-    if b < 0 or inner.count(b'"') % 2 or len(inner.translate(None, _ODD)) != len(inner) \
-            or b"<component" in inner:
+    if b < 0 or inner.count(b'"') % 2 or len(inner.translate(None, _ODD)) != len(inner):
         return None
+    components = []
+    if b"<component" in inner:
+        components = _components(data[a:b])
+        if components is None:
+            return None
+        inner = _COMPONENT.sub(b"", inner)
     try:
         root = parse_glif(data[:a] + b"<outline/>" + data[b + 10:])
     except (SyntaxError, ValueError):  # not well-formed (ElementTree's and lxml's parse
@@ -99,7 +107,24 @@ def _plain(data):
     if root.tag != "glyph" or root.get("format") != "2" or (root.text and root.text.strip()) \
             or len(outlines) != 1 or len(outlines[0]):
         return None
-    return inner
+    return inner, components
+
+
+#: a component element in plain markup (:func:`.glif_xml.plain_components`)
+_COMPONENT = re.compile(rb"<component[^>]*>")
+
+
+def _components(outline):
+    """The components (:func:`.glif.component`) of an outline element's bytes in
+    plain markup (:func:`.glif_xml.plain_components`: contours of points, empty
+    components outside them), else None (the XML reader's to read or decline)."""
+    from .glif import component   # .glif imports this module
+
+    attributes = plain_components(outline)
+    try:
+        return None if attributes is None else [component(a.get) for a in attributes]
+    except Exception:  # noqa: BLE001 - declined, as glif_outline declines it
+        return None
 
 
 def _texts(texts):

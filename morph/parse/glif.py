@@ -88,14 +88,22 @@ def _outline(root):
             if c is not None:
                 contours.append(c)
         elif el.tag == "component":
-            base = el.get("base")
-            if base is None or len(el):
+            if len(el):
                 raise _Decline
-            components.append(Component(base, tuple(_number(el.get(a) or d)
-                                                    for a, d in _TRANSFORM)))
+            components.append(component(el.get))
         else:
             raise _Decline
     return contours, components
+
+
+def component(get):
+    """The :class:`Component` of a component element whose attributes ``get`` gives
+    (``dict.get``); raises where the fast reader declines (no base, a number
+    glifLib does not read)."""
+    base = get("base")
+    if base is None:
+        raise _Decline
+    return Component(base, tuple(_number(get(a) or d) for a, d in _TRANSFORM))
 
 
 def _contour(el):

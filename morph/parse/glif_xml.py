@@ -4,7 +4,10 @@ fontTools' GLIF reader uses (:func:`xml_module`).  The GLIF readers (:mod:`.glif
 byte scan :mod:`._glif_scan`, the glyph shells of :mod:`.light_ufo`) share it.
 """
 
-__all__ = ["PlainElement", "parse_glif", "plain_tree", "xml_module"]
+import re
+
+__all__ = ["PlainElement", "lib_markup", "parse_glif", "plain_components", "plain_lib",
+           "plain_libs", "plain_tree", "xml_module"]
 
 _PARSER = None
 
@@ -58,28 +61,24 @@ class PlainElement:
         return len(self.children)
 
 
+#: an element's markup between ``<`` and ``>`` (or ``/>``): its name, then attributes
+#: ``name="value"`` each after white space (a value without the characters XML
+#: normalizes or refuses there), then white space
+_ELEMENT = re.compile(rb'([A-Za-z]+)((?:[ \t\r\n]+[A-Za-z]+="[^"<>\t\r\n]*")*)[ \t\r\n]*')
+_ATTRIBUTE = re.compile(rb'([A-Za-z]+)="([^"]*)"')
+
+
 def _plain_element(markup):
     """(tag, attributes) of an element's markup between ``<`` and ``>`` (or ``/>``):
     a name, then attributes ``name="value"`` each after white space; None for
     anything else (another quote, white space in a value or before ``=``, a name
     of other characters, a repeated attribute)."""
-    pieces = markup.split(b'"')
-    head, tail = pieces[0], pieces[-1]
-    if len(pieces) == 1:
-        tag, head, tail = markup.rstrip(_WS), b"", b""
-    else:
-        tag = head.split(None, 1)[0]
-        head = head[len(tag):]
-    if not tag.isalpha() or tail.strip(_WS) or not tag.isascii():
+    m = _ELEMENT.fullmatch(markup)
+    if m is None:
         return None
-    attrib = {}
-    for key, value in zip([head] + pieces[2:-1:2], pieces[1::2]):
-        name = key[:-1].lstrip(_WS)
-        if key[-1:] != b"=" or len(name) == len(key) - 1 or not name.isalpha() \
-                or name.decode() in attrib or value.translate(None, b"\t\r\n<>") != value:
-            return None
-        attrib[name.decode()] = value.decode()
-    return tag.decode(), attrib
+    pairs = _ATTRIBUTE.findall(m[2])
+    attrib = {k.decode(): v.decode() for k, v in pairs}
+    return (m[1].decode(), attrib) if len(attrib) == len(pairs) else None
 
 
 def plain_tree(data):
@@ -112,6 +111,94 @@ def plain_tree(data):
         return None
     return PlainElement(tag, attrib, text.decode() or None,
                         [PlainElement(t, a) for (t, a), _ in children])
+
+
+def plain_components(outline):
+    """The attributes of the components of an outline element's bytes (``<outline>``
+    up to its end tag, not included) in ufoLib's plain markup (contours of empty
+    point elements and empty components, attributes as :func:`plain_tree` reads
+    them, nothing else), in order; None for anything else, which the XML parser
+    reads."""
+    if outline.translate(None, _NOT_PLAIN) != outline:
+        return None
+    front, *parts = outline.split(b"<")
+    if front or not parts:
+        return None
+    out, depth = [], -1          # -1: before the outline's start tag
+    for part in parts:
+        markup, close, text = part.partition(b">")
+        if not close or text.strip(_WS):
+            return None
+        if markup[:1] == b"/":   # only a contour ends inside the outline
+            if depth != 1 or markup[1:].rstrip(_WS) != b"contour":
+                return None
+            depth = 0
+            continue
+        empty = markup[-1:] == b"/"
+        element = _plain_element(markup[:-1] if empty else markup)
+        if element is None:
+            return None
+        tag = element[0]
+        if depth == -1 and tag == "outline" and not empty:
+            depth = 0
+        elif depth == 0 and tag == "contour":
+            depth = 0 if empty else 1
+        elif depth == 0 and tag == "component" and empty:
+            out.append(element[1])
+        elif not (depth == 1 and tag == "point" and empty):
+            return None
+    return out if depth == 0 else None
+
+
+#: a tag without attributes (a plain lib's markup, :func:`plain_lib`)
+_BARE_TAG = re.compile(rb"</?[A-Za-z]+/?>")
+
+
+def plain_lib(data):
+    """``(rest, lib)``: GLIF ``data`` without its ``<lib>`` element and the lib's dict
+    (:func:`plain_libs` of :func:`lib_markup`'s markup), else None, for the XML
+    parser."""
+    split = lib_markup(data)
+    lib = plain_libs([split[1]])[0] if split is not None else None
+    return None if lib is None else (split[0], lib)
+
+
+def lib_markup(data):
+    """``(rest, markup)``: GLIF ``data`` without its ``<lib>`` element, and the
+    element's content, where the file has one lib element (no attributes) holding
+    one ``dict`` in plain markup (tags without attributes: no comment, CDATA
+    section, processing instruction or namespace; no character reference, which
+    the tree's serialization can turn into another character, a carriage return
+    into a line end); else None."""
+    a = data.find(b"<lib>")
+    if a < 0 or data.count(b"<lib") != 1 or data.count(b"</lib>") != 1:
+        return None
+    b = data.find(b"</lib>", a)
+    inner = data[a + 5:b].strip(_WS)
+    # one dict child: the first and the last element are dicts, and plistlib finds one
+    if not inner.startswith(b"<dict>") or not inner.endswith(b"</dict>") or b"&#" in inner \
+            or inner.count(b"<") != len(_BARE_TAG.findall(inner)):
+        return None
+    return data[:a] + data[b + 6:], inner
+
+
+def plain_libs(markups):
+    """Per lib markup of :func:`lib_markup` its dict as :mod:`plistlib` reads it
+    (expat: the XML parser's own checks of well-formedness), all in one parse; None
+    where plistlib refuses it or finds other than one dict (the XML parser's to
+    judge).  The dict is what plistlib reads of the element as the XML parser's
+    tree serializes it (the same characters: entities resolved, line ends
+    normalized, by expat)."""
+    import plistlib
+
+    try:   # each inside a lib element, as in its file: its markup closes nothing around it
+        values = plistlib.loads(b'<plist version="1.0"><array>' + b"".join(
+            b"<array><lib>" + m + b"</lib></array>" for m in markups) + b"</array></plist>")
+    except Exception:  # noqa: BLE001 - expat's and plistlib's errors: each read alone
+        if len(markups) == 1:
+            return [None]
+        return [lib for m in markups for lib in plain_libs([m])]
+    return [v[0] if len(v) == 1 and isinstance(v[0], dict) else None for v in values]
 
 
 def parse_glif(data):

@@ -26,7 +26,8 @@ import os
 import plistlib
 import re
 
-from .glif_xml import plain_tree, xml_module
+from .glif_xml import (lib_markup, plain_components, plain_lib, plain_libs, plain_tree,
+                       xml_module)
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
@@ -333,15 +334,16 @@ def read_light_font(path, glif, contour_counts, contents=None):
         raise NotLight("vertical metrics")
     if re.search(r"\binclude\s*\(", text):
         raise NotLight("feature file includes")
-    glyphs = {}
+    glyphs, libs = {}, []
     for name in contents:
         try:
             data = glif(name)
         except OSError as exc:   # a missing or unreadable .glif: ufoLib2's to name
             raise NotLight("glyph %r: %s" % (name, exc)) from exc
-        glyph, count = glif_shell(name, data)
+        glyph, count = glif_shell(name, data, libs)
         glyphs[name] = glyph
         contour_counts[name] = count
+    _read_libs(libs)
     return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs, groups, kerning)
 
 
@@ -402,15 +404,17 @@ def _number(text):
 _CONTOUR = re.compile(rb"<contour[\s/>]")
 
 
-def glif_shell(name, data):
+def glif_shell(name, data, libs=None):
     """``(LightGlyph, number of contours)`` of a GLIF 2 glyph's bytes, read as glifLib
     reads them (advance, unicodes without repeats, anchors, components, guidelines,
-    note, lib).
+    note, lib).  ``libs``: a list that takes ``(glyph, markup, data)`` of a glyph with
+    a plain lib (:func:`.glif_xml.lib_markup`), read with the others' by
+    :func:`_read_libs`; None: read here.
 
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
     """
-    a = data.find(b"<outline")
+    a, whole = data.find(b"<outline"), data
     contours, components = 0, []
     if a >= 0:
         if data.count(b"<outline") != 1 or b"<!--" in data or b"<![CDATA[" in data:
@@ -422,12 +426,7 @@ def glif_shell(name, data):
         contours = len(_CONTOUR.findall(inner))
         if b >= 0:
             data = data[:a] + data[b + 10:]
-    root = plain_tree(data)   # ufoLib's plain markup: no XML parser
-    try:
-        if root is None:   # lxml where installed, as glifLib and .glif read
-            root = xml_module().fromstring(data)
-    except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
-        raise NotLight("glyph %r: %s" % (name, exc)) from exc
+    root, lib = _shell_tree(name, data, libs is not None)
     if root.tag != "glyph" or root.get("format", "2").split(".")[0] != "2" \
             or root.get("name") != name or (root.text or "").strip():
         raise NotLight("glyph %r: not a GLIF 2 glyph of that name" % name)
@@ -458,10 +457,51 @@ def glif_shell(name, data):
                 raise NotLight("glyph %r: <%s>" % (name, tag))
     except (TypeError, ValueError) as exc:
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
-    for key in glyph.lib:
+    if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
+        libs.append((glyph, lib, whole))
+        return glyph, contours
+    if lib is not None:
+        glyph.lib = lib
+    _lib_keys_checked(name, glyph.lib)
+    return glyph, contours
+
+
+def _shell_tree(name, data, defer):
+    """``(root, lib)`` of :func:`glif_shell`'s data (its outline cut): ufoLib's plain
+    markup without an XML parser, a plain lib (nested markup) cut out and read by
+    plistlib (``lib`` its dict, or with ``defer`` its markup, read later); else the
+    XML parser's tree (lxml where installed, as glifLib and .glif read) and None."""
+    split = None
+    if b"<lib" not in data:
+        root = plain_tree(data)
+    else:
+        split = lib_markup(data) if defer else plain_lib(data)
+        root = plain_tree(split[0]) if split is not None else None
+    if root is not None:
+        return root, split[1] if split is not None else None
+    try:
+        return xml_module().fromstring(data), None
+    except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
+        raise NotLight("glyph %r: %s" % (name, exc)) from exc
+
+
+def _lib_keys_checked(name, lib):
+    """NotLight for a glyph lib key ufo2ft reads that this reader does not take."""
+    for key in lib:
         if key not in _GLYPH_LIB_OK and key.startswith(_UFO2FT_LIB_PREFIXES):
             raise NotLight("glyph %r: lib key %s" % (name, key))
-    return glyph, contours
+
+
+def _read_libs(pending):
+    """The libs of the glyphs ``pending`` (``(glyph, markup, data)`` of
+    :func:`glif_shell`) read in one parse (:func:`.glif_xml.plain_libs`) and their
+    keys checked; a glyph whose lib plistlib does not read so is read again whole
+    (its lib from the XML parser's tree), which raises NotLight where the reader
+    does not take the file."""
+    for (glyph, _, data), lib in zip(pending, plain_libs([m for _, m, _ in pending])
+                                     if pending else ()):
+        glyph.lib = lib if lib is not None else glif_shell(glyph.name, data)[0].lib
+        _lib_keys_checked(glyph.name, glyph.lib)
 
 
 def _anchor(attrib):
@@ -481,15 +521,21 @@ _COMPONENT_KEYS = frozenset(k for k, _ in _TRANSFORM) | {"base", "identifier"}
 
 def _components(name, outline):
     """The components of a glyph's outline element's bytes (``<outline>`` up to its
-    end tag), in order; NotLight for one without a base or with another attribute."""
+    end tag), in order; NotLight for one without a base or with another attribute.
+    Plain markup is read without the XML parser (:func:`.glif_xml.plain_components`)."""
     try:
-        root = xml_module().fromstring(outline + b"</outline>")
+        plain = plain_components(outline)
+        if plain is None:   # (attributes, number of children) of each component
+            root = xml_module().fromstring(outline + b"</outline>")
+            plain = [(el.attrib, len(el)) for el in root.iterfind("component")]
+        else:
+            plain = [(attrib, 0) for attrib in plain]
         out = []
-        for el in root.iterfind("component"):
-            if not el.get("base") or not set(el.attrib) <= _COMPONENT_KEYS or len(el):
-                raise ValueError("component %r" % dict(el.attrib))
-            out.append(LightComponent(el.get("base"), tuple(
-                _number(el.get(k, d)) for k, d in _TRANSFORM), el.get("identifier")))
+        for attrib, children in plain:
+            if not attrib.get("base") or not set(attrib) <= _COMPONENT_KEYS or children:
+                raise ValueError("component %r" % dict(attrib))
+            out.append(LightComponent(attrib["base"], tuple(
+                _number(attrib.get(k, d)) for k, d in _TRANSFORM), attrib.get("identifier")))
     except Exception as exc:  # noqa: BLE001 - lxml and ElementTree raise their own types
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
     return out

@@ -149,15 +149,13 @@ def component_paths(font, component, _depth=0):
 
 
 def _base_outline(font, name):
-    """(paths, components) of glyph ``name``: from its ``.glif`` bytes by
-    :func:`morph.parse.glif.skeleton_outlines` where ``font`` gives them (a
-    :class:`morph.fonts.stream.SkeletonSource` of a UFO on disk: no ufoLib2 glyph
-    is made), else from the font's glyph."""
-    read = getattr(font, "glif_data", None)
+    """(paths, components) of glyph ``name``: from its ``.glif`` bytes where ``font``
+    reads them (:meth:`morph.fonts.stream.SkeletonSource.skeleton_outlines` of a UFO
+    on disk: no ufoLib2 glyph is made; a base is read once for the run), else from
+    the font's glyph."""
+    read = getattr(font, "skeleton_outlines", None)
     if read is not None:
-        from .glif import skeleton_outlines
-
-        outline = skeleton_outlines([read(name)])[0]
+        outline = read([name], keep=True)[0]
         if outline is not None:
             return outline
     base = font[name]

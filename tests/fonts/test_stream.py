@@ -493,3 +493,50 @@ def test_shells_read_without_points_equal_the_full_read(skeleton, tmp_path):
     assert cut == shells(lambda text: (text, None))
     assert dict((s[0], s[-1]) for s in cut)["o"] == plain[1]
     assert any(s[5] for s in cut) and any(s[-1] > 1 for s in cut)
+
+
+def test_skeleton_outlines_read_each_file_once_and_give_copies(monkeypatch):
+    """SkeletonSource.skeleton_outlines reads the files not read yet in one batch;
+    an outline held (the plan's) or kept (a component base's) is not read again,
+    others are; the lists given are the caller's own; the strokes' jobs are those
+    of a source read afresh."""
+    from morph.fonts import stroke
+    from morph.fonts.stream import SkeletonSource
+    from morph.parse import glif
+    from tests import RELIEF_SUBSET
+
+    batches = []
+    real = glif.skeleton_outlines
+
+    def counting(datas):
+        batches.append(len(datas))
+        return real(datas)
+
+    monkeypatch.setattr(glif, "skeleton_outlines", counting)
+    source = SkeletonSource(RELIEF_SUBSET)
+    first = source.skeleton_outlines(["o", "a", "i"], hold=True)
+    source.skeleton_outlines(["a"], keep=True)
+    assert batches == [3]
+    first[0][0].append("changed")
+    again = source.skeleton_outlines(["o", "a", "i", "o"])
+    assert batches == [3] and "changed" not in again[0][0]
+    assert again[3] == again[0] and again[1] == first[1] and again[2] == first[2]
+    source.skeleton_outlines(["o", "a", "i"])    # o and i dropped, a kept
+    assert batches == [3, 2]
+    # the jobs of a chunk are those of a source that held nothing
+    shells = source.shell_font()
+    nib = ellipse_nib(*NIB)
+    keep = stroke.separate_components(shells, source, nib, 0.5, source.contour_counts)
+    stroked, followed = stroke.plan_components(shells, list(shells.keys()), kept=keep,
+                                               contour_counts=source.contour_counts)
+    kept = {n: keep(n) for n in stroked + followed if shells[n].components}
+    shifts = stroke._placement(shells, stroked + followed, nib).shifts
+    jobs = stroke._stroke_work(source, stroked, kept, nib, plan(0.5), shifts, None)
+    fresh = SkeletonSource(RELIEF_SUBSET)
+    fresh.shell_font()
+    other = stroke._stroke_work(fresh, stroked, kept, nib, plan(0.5), shifts, None)
+    assert [(n, [(len(ps), c) for ps, c in paths]) for n, paths, *_ in jobs] == \
+        [(n, [(len(ps), c) for ps, c in paths]) for n, paths, *_ in other]
+    for (_, a, *_), (_, b, *_) in zip(jobs, other):
+        assert all(np.array_equal(p, q) for (ps, _), (qs, _) in zip(a, b)
+                   for p, q in zip(ps, qs))

@@ -221,10 +221,10 @@ def test_scan_reads_the_test_data_as_the_xml_reader(crafted):
         ufos += sorted(os.path.join(cache, f) for f in os.listdir(cache) if f.endswith(".ufo"))
     for ufo in ufos:
         datas = _ufo_datas(ufo)
-        read = _scan_agrees(datas)
-        plain = [i for i, d in enumerate(datas) if b"<component" not in d]
-        assert set(read) >= set(plain) - {i for i, d in enumerate(datas)
-                                          if skeleton_outlines([d]) == [None]}, ufo
+        read = _scan_agrees(datas)   # composites too
+        assert set(read) >= set(range(len(datas))) - {
+            i for i, d in enumerate(datas) if skeleton_outlines([d]) == [None]}, ufo
+        assert any(b"<component" in datas[i] for i in read) or ufo != RELIEF_SUBSET
 
 
 _PLAIN = (b"<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"a\" format=\"2\">\n"
@@ -258,6 +258,15 @@ _PLAIN = (b"<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"a\" format=\"2
     (b'</contour>', b'', False),                                    # not well-formed
     (b'<advance width="500"/>', b'<advance width="500">', False),  # not well-formed
     (b'format="2"', b'format="1"', False),
+    (b'</contour>', b'</contour><component base="b" xOffset="5" yScale="-1.5"/>', True),
+    (b'  <outline>\n', b'  <outline>\n<component base="b" identifier="c"/>\n', True),
+    (b'</contour>', b'</contour><component base="b" xScale=""/>', True),
+    (b'</contour>', b'<component base="b"/></contour>', False),     # inside a contour
+    (b'</contour>', b'</contour><component xOffset="1"/>', False),   # no base
+    (b'</contour>', b'</contour><component base="b" xOffset="a"/>', False),
+    (b'</contour>', b'</contour><component base="b"><x/></component>', False),
+    (b'</contour>', b"</contour><component base='b'/>", False),
+    (b'</contour>', b'</contour><component base="b" base="c"/>', False),
 ])
 def test_scan_reads_or_leaves_each_form(old, new, scanned):
     """An edit of a plain file: the scan reads it (the same paths as the XML
@@ -331,6 +340,8 @@ def test_plain_markup_is_read_as_elementtree_reads_it(data, plain):
     b'<glyph name="a"></glyph><glyph name="b"></glyph>',        # two roots
     b' <?xml version="1.0" encoding="UTF-8"?><glyph name="a"></glyph>',
     b'<glyph name="a"><advance width="1"></glyph>',             # not closed
+    b'<glyph name="a"><advance width="/></glyph>',              # a value not closed
+    b'<glyph name="a"><"x"/></glyph>',                          # no name
 ])
 def test_plain_markup_leaves_what_is_not_well_formed_to_the_parser(data):
     """What ElementTree refuses is not read as plain either (the parser then names
@@ -365,3 +376,137 @@ def test_plain_markup_of_the_relief_subset_is_elementtree_s():
             if changed != rest:
                 assert _element_rows(plain_tree(changed)) != _element_rows(ET.fromstring(rest))
     assert read > 10
+
+
+def _shell_rows(data, monkeypatch, xml_only):
+    """What morph.parse.light_ufo.glif_shell reads of ``data`` (its glyph's lib,
+    components and contours, or the NotLight it raises), with the plain readers of
+    libs and components or (``xml_only``) the XML parser alone."""
+    from morph.parse import light_ufo
+
+    with monkeypatch.context() as m:
+        if xml_only:
+            m.setattr(light_ufo, "plain_lib", lambda data: None)
+            m.setattr(light_ufo, "plain_components", lambda outline: None)
+        try:
+            glyph, contours = light_ufo.glif_shell("a", data)
+        except light_ufo.NotLight:
+            return "NotLight"
+    return (repr(glyph.lib), [(c.baseGlyph, c.transformation, c.identifier)
+                              for c in glyph.components], contours, glyph.width)
+
+
+_LIB_GLYPH = (b"<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"a\" format=\"2\">\n"
+              b'  <advance width="500"/>\n%s</glyph>\n')
+
+
+@pytest.mark.parametrize("lib, plain", [
+    (b"<lib><dict><key>k</key><string>v</string></dict></lib>", True),
+    (b"<lib>\n <dict>\n  <key>a.b</key>\n  <array><integer>1</integer><real>2.5</real>"
+     b"</array>\n  <key>c</key><true/></dict>\n </lib>\n", True),
+    (b"<lib><dict><key>k</key><string>x &amp; &lt;y&gt; &quot;</string></dict></lib>", True),
+    (b"<lib><dict><key>k</key><string>&#233; &#13;</string></dict></lib>", False),
+    (b"<lib><dict><key>k</key><string>\xc3\xa9t\xc3\xa9</string></dict></lib>", True),
+    (b"<lib><dict><key>public.markColor</key><string>1,0,0,1</string></dict></lib>", True),
+    (b"<lib><dict><key>k</key><string>\xe9</string></dict></lib>", False),   # not UTF-8
+    (b"<lib><dict/></lib>", False),
+    (b"<lib><dict></dict><dict></dict></lib>", False),                   # two dicts
+    (b"<lib><dict></dict><foo/><dict></dict></lib>", False),
+    (b"<lib><dict></dict><foo/></lib>", False),                          # another child
+    (b"<lib><dict></dict></array><array><dict></dict></lib>", False),    # not well-formed
+    (b"<lib><dict></dict></lib></lib><lib><dict></dict></lib>", False),
+    (b"<lib>text<dict></dict></lib>", False),
+    (b"<lib><!-- c --><dict></dict></lib>", False),                      # a comment
+    (b"<lib><dict><key>k</key><string><![CDATA[x]]></string></dict></lib>", False),
+    (b'<lib><dict xmlns="urn:x"></dict></lib>', False),                  # a namespace
+    (b"<lib><a:dict></a:dict></lib>", False),
+    (b'<lib a="1"><dict></dict></lib>', False),                          # attributes
+    (b"<lib><dict><key>k</key></dict></lib>", False),                    # no value
+    (b"<lib><dict><key>k</key><string>&foo;</string></dict></lib>", False),
+    (b"<lib><dict><key>k</key><string>a</string></dict></lib><lib><dict></dict></lib>",
+     False),                                                             # two libs
+    (b"<lib><dict><key>k</key><string>a</strin></dict></lib>", False),    # not well-formed
+    (b"<lib><dict><key>k</key><string>a</string></dict></lib><note>n</note>", True),
+    (b"<lib><dict><key>com.github.fonttools.x</key><true/></dict></lib>", True),
+])
+def test_plain_lib_is_read_as_the_xml_reader_reads_it(lib, plain, monkeypatch):
+    """A glyph's lib in plain markup is read by plistlib from its bytes
+    (morph.parse.glif_xml.plain_lib), the rest of the file without the XML parser:
+    the same lib as the XML parser's tree gives, the same refusals (NotLight);
+    anything else is left to the XML parser."""
+    from morph.parse.glif_xml import plain_lib
+
+    data = _LIB_GLYPH % lib
+    assert (plain_lib(data) is not None) == plain
+    assert _shell_rows(data, monkeypatch, False) == _shell_rows(data, monkeypatch, True)
+    if plain and _shell_rows(data, monkeypatch, True) != "NotLight":   # it sees a change
+        changed = data.replace(b"</dict>", b"<key>z</key><string>z</string></dict>", 1)
+        assert _shell_rows(changed, monkeypatch, False) != _shell_rows(data, monkeypatch, True)
+
+
+def _libs_read_together(datas):
+    """The libs of glyphs ``datas`` read as morph.parse.light_ufo.read_light_font
+    reads them (plain libs in one parse), or "NotLight"."""
+    from morph.parse import light_ufo
+
+    pending, glyphs = [], []
+    try:
+        glyphs = [light_ufo.glif_shell("a", d, pending)[0] for d in datas]
+        light_ufo._read_libs(pending)
+    except light_ufo.NotLight:
+        return "NotLight"
+    return [repr(g.lib) for g in glyphs]
+
+
+@pytest.mark.parametrize("bad", [
+    b"",
+    b"<lib><dict><key>k</key></dict></lib>",                             # plistlib refuses
+    b"<lib><dict></dict><dict></dict></lib>",                            # two dicts
+    b"<lib><dict><key>k</key><string>a</strin></dict></lib>",             # not well-formed
+    b"<lib><dict><key>com.github.fonttools.x</key><true/></dict></lib>",  # a key refused
+])
+def test_plain_libs_are_read_together_as_each_alone(bad, monkeypatch):
+    """The plain libs of a font's glyphs, read in one parse, are those each read
+    alone gives (and a glyph plistlib does not read is read whole, alone)."""
+    libs = [b"<lib><dict><key>k</key><string>v%d</string></dict></lib>" % k for k in range(3)]
+    datas = [_LIB_GLYPH % lib for lib in libs[:2] + [bad] + libs[2:]]
+    alone = [_shell_rows(d, monkeypatch, True) for d in datas]
+    together = _libs_read_together(datas)
+    assert together == ("NotLight" if "NotLight" in alone else [a[0] for a in alone])
+    assert together != _libs_read_together(datas[::-1]) or together == "NotLight"
+
+
+@pytest.mark.parametrize("outline, plain", [
+    (b'<outline><component base="b"/><component base="c" xOffset="10" yScale="-1"/>'
+     b"</outline>", True),
+    (b'<outline>\n <contour>\n  <point x="1" y="2" type="move"/>\n  <point x="3" y="4" '
+     b'type="line"/>\n </contour>\n <component base="b" identifier="i"/>\n <contour/>\n'
+     b"</outline>", True),
+    (b'<outline><component base="b" xScale="0.5e1"/></outline>', True),
+    (b'<outline><component base="b" foo="1"/></outline>', True),        # refused alike
+    (b'<outline><component xOffset="1"/></outline>', True),
+    (b'<outline><component base=""/></outline>', True),
+    (b'<outline><component base="b"><x/></component></outline>', False),  # children
+    (b'<outline><component base="b" base="c"/></outline>', False),      # not well-formed
+    (b'<outline><contour><component base="b"/></contour></outline>', False),
+    (b'<outline><contour><point x="1" y="2"></contour><component base="b"/></outline>',
+     False),
+    (b'<outline><component base="b"/></contour></outline>', False),
+    (b'<outline><component base="a&amp;b"/></outline>', False),          # a reference
+    (b"<outline><component base='b'/></outline>", False),                # single quotes
+    (b'<outline>x<component base="b"/></outline>', False),               # text
+    (b'<outline><component base="b"/><contour></outline>', False),       # not closed
+    (b'<outline><component base="b\tc"/></outline>', False),
+])
+def test_plain_components_are_read_as_the_xml_reader_reads_them(outline, plain, monkeypatch):
+    """The components of an outline in plain markup are read without the XML parser
+    (morph.parse.glif_xml.plain_components): the same components, the same
+    refusals (NotLight) as the XML parser's tree; anything else is left to it."""
+    from morph.parse.glif_xml import plain_components
+
+    data = _LIB_GLYPH % outline
+    assert (plain_components(outline[:-len(b"</outline>")]) is not None) == plain
+    assert _shell_rows(data, monkeypatch, False) == _shell_rows(data, monkeypatch, True)
+    if plain and _shell_rows(data, monkeypatch, True) != "NotLight":   # it sees a change
+        changed = data.replace(b'base="b"', b'base="d"', 1)
+        assert _shell_rows(changed, monkeypatch, False) != _shell_rows(data, monkeypatch, True)
