@@ -558,7 +558,7 @@ def split_nodes(nodes, s_peak):
     :func:`morph.gauss.angle_params`), so both children are compatible again.
     Returns (left, right): the children over [lo, angle] and [angle, hi].
     The two sides' tangent numerators (and pieces) of one shape are solved and split
-    in one call (:func:`_stacked`): each row's root and split are its own.
+    in one call (:func:`stacked_calls`): each row's root and split are its own.
     """
     lo, hi, sa, sb = nodes["lo"], nodes["hi"], nodes["sa"], nodes["sb"]
     s = s_peak.clip(0.2, 0.8)
@@ -570,9 +570,9 @@ def split_nodes(nodes, s_peak):
     th = np.arctan2(hv[:, 1], hv[:, 0])
     th = lo + gauss._wrap(th - lo)
     th = np.where((lo < th) & (th < hi), th, 0.5 * (lo + hi))
-    ua, ub = _stacked(gauss.angle_params, [(ha, th), (hb, th)])
+    ua, ub = stacked_calls(gauss.angle_params, [(ha, th), (hb, th)])
     cols = ("ca", "ha", "cb", "hb")
-    parts = _stacked(bz.split_many, [(nodes[c], u) for c, u in zip(cols, (ua, ua, ub, ub))])
+    parts = stacked_calls(bz.split_many, [(nodes[c], u) for c, u in zip(cols, (ua, ua, ub, ub))])
     left, right = {"lo": lo, "hi": th}, {"lo": th, "hi": hi}
     for col, (p0, p1), sign in zip(cols, parts, (sa, sa, sb, sb)):
         first = (sign > 0).reshape((-1, 1, 1))    # the part at u < u_split has angles < th
@@ -584,21 +584,22 @@ def split_nodes(nodes, s_peak):
     return left, right
 
 
-def _stacked(func, args):
-    """[func(stack, u) for stack, u in args], the stacks of one shape (rows of any
-    number) concatenated into one call: for row-wise functions (each row's result
-    its own, as :func:`morph.gauss.angle_params` and
-    :func:`morph.bernstein.split_many`), the same numbers in fewer calls; a tuple
-    of arrays is cut the same way."""
+def stacked_calls(func, args):
+    """[func(*a) for a in args], the calls whose first arrays have one shape past
+    their rows made as one call on the arguments concatenated row-wise (rows of any
+    number), its result (an array or a tuple of arrays) cut back: for row-wise
+    functions (each row's result its own, as :func:`morph.gauss.angle_params`,
+    :func:`morph.bernstein.split_many`, :func:`morph.bernstein.subsegment_many`),
+    the same numbers in fewer calls."""
     out = [None] * len(args)
-    shapes = [a.shape[1:] for a, _ in args]
+    shapes = [a[0].shape[1:] for a in args]
     for shape in dict.fromkeys(shapes):
         which = [k for k, sh in enumerate(shapes) if sh == shape]
         if len(which) == 1:
             out[which[0]] = func(*args[which[0]])
             continue
-        got = func(np.concatenate([args[k][0] for k in which]),
-                   np.concatenate([args[k][1] for k in which]))
+        got = func(*(np.concatenate([args[k][c] for k in which])
+                     for c in range(len(args[which[0]]))))
         ends = np.cumsum([len(args[k][0]) for k in which]).tolist()
         for k, a, b in zip(which, [0] + ends[:-1], ends):
             out[k] = tuple(g[a:b] for g in got) if isinstance(got, tuple) else got[a:b]
