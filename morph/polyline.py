@@ -134,7 +134,7 @@ def _flat_params(stack, tol, min_width, keep=None):
                                               t0[needed], width[needed], steps[needed])
             rep, j = _step_rows(steps)
             sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
-        parts = _equal_parts(parts, steps)
+        parts = _equal_parts(parts, steps, rep, j)
         owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
         width = width[rep] / steps[rep]
         if keep is not None:
@@ -149,37 +149,35 @@ def _step_rows(steps):
     return rep, np.arange(len(rep)) - (steps.cumsum() - steps).repeat(steps)
 
 
-def _equal_parts(parts, steps):
+def _equal_parts(parts, steps, rep, j):
     """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
-    parameter steps, in order: one matrix product per distinct step count."""
+    parameter steps, in order (``rep``, ``j``: the part and rank of each step,
+    :func:`_step_rows`): each step's control points through its matrix
+    (:func:`_equal_split_matrices`), the matrices of all the step counts gathered
+    once, the sum over j in order (einsum's bits) on the steps held
+    coordinate-first: one multiply and one add per control point, whatever the
+    number of steps and of distinct step counts."""
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
-    out = []
-    bounds = (steps[1:] != steps[:-1]).nonzero()[0] + 1
-    for lo, hi in zip(np.concatenate(([0], bounds)), np.concatenate((bounds, [len(steps)]))):
-        mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
-        out.append(_apply_rows(mats, parts[lo:hi]))
-    return np.concatenate(out)
+    first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
+    counts = steps[first]
+    table = (_split_columns(n, int(counts[0])) if len(counts) == 1 else
+             np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2))
+    offset = (counts.cumsum() - counts).repeat(np.diff(np.append(first, len(steps))))
+    mats = table.take(offset[rep] + j, axis=2)              # (n+1, n+1, steps)
+    pts = parts.transpose(1, 2, 0).take(rep, axis=2)        # (n+1, c, steps)
+    acc = mats[:, 0, None, :] * pts[0]
+    for k in range(1, n + 1):
+        acc += mats[:, k, None, :] * pts[k]
+    return acc.transpose(2, 0, 1).copy()
 
 
-def _apply_rows(mats, parts):
-    """einsum("kij,mjc->mkic", mats, parts) reshaped to (m k, n+1, c): each part's
-    control points through each matrix, the sum over j in order (the same bits as
-    einsum's) on the parts held coordinate-first, one long vector per (j, c)
-    (einsum's inner loops run over the 3 coordinates); a few parts by einsum."""
-    k, rows, _ = mats.shape
-    if len(parts) < 64:   # a few parts cut into many steps: one einsum call
-        return np.einsum("kij,mjc->mkic", mats, parts).reshape(-1, rows, parts.shape[2])
-    pts = parts.transpose(1, 2, 0).copy()        # (n+1, c, m)
-    out = np.empty((k, rows) + pts.shape[1:])
-    for a in range(k):
-        for i in range(rows):
-            acc = mats[a, i, 0] * pts[0]
-            for j in range(1, pts.shape[0]):
-                acc = acc + mats[a, i, j] * pts[j]
-            out[a, i] = acc
-    return out.transpose(3, 0, 1, 2).reshape(-1, rows, parts.shape[2])
+@functools.lru_cache(maxsize=256)
+def _split_columns(n, k):
+    """:func:`_equal_split_matrices` (k, n+1, n+1) as (n+1, n+1, k): entry (i, j)
+    of every step's matrix in one row."""
+    return _equal_split_matrices(n, k).transpose(1, 2, 0).copy()
 
 
 @functools.lru_cache(maxsize=256)
