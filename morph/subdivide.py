@@ -100,10 +100,12 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
         limit = nodes["tol"] if "tol" in nodes else tol
         err, where = bound(nodes, limit)
         acc = np.nonzero(err <= limit)[0]
-        has, got = _accepted(one_piece, _take(nodes, acc), stacked, count)
+        accepted = _take(nodes, acc)
+        has, got = _accepted(one_piece, accepted, stacked, count)
         ok = np.zeros(len(err), bool)
         ok[acc[has]] = True
-        done.append(_take(nodes, ok))
+        # the rows ``ok`` (acc ascending: those of ``accepted`` with a piece)
+        done.append(accepted if has.all() else _take(accepted, has))
         pieces += got
         count += len(got) if not stacked else int(has.sum())
         errors.append(err[ok])
