@@ -149,28 +149,77 @@ def _step_rows(steps):
     return rep, np.arange(len(rep)) - (steps.cumsum() - steps).repeat(steps)
 
 
+#: Steps of :func:`_equal_parts`' small groups computed together: their sums'
+#: temporaries ((n+1) x 3 x this many / (3 (n+1)) floats, 0.5 MB) stay in the cache.
+EQUAL_BLOCK = 1 << 16
+#: Parts of one step count from which :func:`_equal_parts` cuts them on their own
+#: (:func:`_loop_rows`: a scalar times a long column per matrix entry); the
+#: smaller groups of all step counts go through one pass (:func:`_gathered_rows`).
+EQUAL_GROUP = 64
+
+
 def _equal_parts(parts, steps, rep, j):
     """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
     parameter steps, in order (``rep``, ``j``: the part and rank of each step,
     :func:`_step_rows`): each step's control points through its matrix
-    (:func:`_equal_split_matrices`), the matrices of all the step counts gathered
-    once, the sum over j in order (einsum's bits) on the steps held
-    coordinate-first: one multiply and one add per control point, whatever the
-    number of steps and of distinct step counts."""
+    (:func:`_equal_split_matrices`), the sum over j in order (einsum's bits).  The
+    parts of a step count held by EQUAL_GROUP parts or more by :func:`_loop_rows`,
+    the rest all together by :func:`_gathered_rows`."""
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
     first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
-    counts = steps[first]
-    table = (_split_columns(n, int(counts[0])) if len(counts) == 1 else
-             np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2))
-    offset = (counts.cumsum() - counts).repeat(np.diff(np.append(first, len(steps))))
-    mats = table.take(offset[rep] + j, axis=2)              # (n+1, n+1, steps)
-    pts = parts.transpose(1, 2, 0).take(rep, axis=2)        # (n+1, c, steps)
-    acc = mats[:, 0, None, :] * pts[0]
-    for k in range(1, n + 1):
-        acc += mats[:, k, None, :] * pts[k]
-    return acc.transpose(2, 0, 1).copy()
+    counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
+    if len(counts) == 1 and sizes[0] >= EQUAL_GROUP:
+        return _loop_rows(_equal_split_matrices(n, int(counts[0])), parts)
+    out = np.empty((len(rep), n + 1, parts.shape[2]))
+    start = np.append(0, (counts * sizes).cumsum()).tolist()
+    big = sizes >= EQUAL_GROUP
+    for g in big.nonzero()[0].tolist():
+        out[start[g]:start[g + 1]] = _loop_rows(_equal_split_matrices(n, int(counts[g])),
+                                                parts[first[g]:first[g] + sizes[g]])
+    if not big.all():
+        table = (_split_columns(n, int(counts[0])) if len(counts) == 1 else
+                 np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2))
+        which = (counts.cumsum() - counts).repeat(sizes)[rep] + j
+        sel = (~big).repeat(counts * sizes).nonzero()[0]
+        out[sel] = _gathered_rows(table, which[sel], parts, rep[sel])
+    return out
+
+
+def _loop_rows(mats, parts):
+    """Each of ``parts`` (m, n+1, c) through each of ``mats`` (k, n+1, n+1): (m k,
+    n+1, c), the sum over j in order on the parts held coordinate-first, one long
+    column per (j, c)."""
+    k, rows, _ = mats.shape
+    pts = parts.transpose(1, 2, 0).copy()        # (n+1, c, m)
+    out = np.empty((k, rows) + pts.shape[1:])
+    for a in range(k):
+        for i in range(rows):
+            acc = mats[a, i, 0] * pts[0]
+            for j in range(1, pts.shape[0]):
+                acc = acc + mats[a, i, j] * pts[j]
+            out[a, i] = acc
+    return out.transpose(3, 0, 1, 2).reshape(-1, rows, parts.shape[2])
+
+
+def _gathered_rows(table, which, parts, rep):
+    """Steps ``rep`` of ``parts`` through the matrices ``which`` of ``table`` ((n+1,
+    n+1, K), :func:`_split_columns`): (len(rep), n+1, c), the matrices and the
+    points gathered step by step, the sum over j in order, EQUAL_BLOCK numbers a
+    control point at a time."""
+    n = table.shape[0] - 1
+    cols = parts.transpose(1, 2, 0)
+    out = np.empty((len(rep), n + 1, parts.shape[2]))
+    block = max(1, EQUAL_BLOCK // (3 * (n + 1)))
+    for a in range(0, len(rep), block):
+        mats = table.take(which[a:a + block], axis=2)        # (n+1, n+1, steps)
+        pts = cols.take(rep[a:a + block], axis=2)           # (n+1, c, steps)
+        acc = mats[:, 0, None, :] * pts[0]
+        for k in range(1, n + 1):
+            acc += mats[:, k, None, :] * pts[k]
+        out[a:a + block] = acc.transpose(2, 0, 1)
+    return out
 
 
 @functools.lru_cache(maxsize=256)
