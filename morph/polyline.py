@@ -149,13 +149,16 @@ def _step_rows(steps):
     return rep, np.arange(len(rep)) - (steps.cumsum() - steps).repeat(steps)
 
 
-#: Steps of :func:`_equal_parts`' small groups computed together: their sums'
-#: temporaries ((n+1) x 3 x this many / (3 (n+1)) floats, 0.5 MB) stay in the cache.
-EQUAL_BLOCK = 1 << 16
-#: Parts of one step count from which :func:`_equal_parts` cuts them on their own
-#: (:func:`_loop_rows`: a scalar times a long column per matrix entry); the
-#: smaller groups of all step counts go through one pass (:func:`_gathered_rows`).
-EQUAL_GROUP = 64
+#: Numbers in one block of :func:`_gathered_rows`' products ((n+1) x 3 a step):
+#: numpy's ufunc buffer size (a larger broadcast product goes through its buffered
+#: iterator, about twice the instructions a number).
+EQUAL_BLOCK = 1 << 13
+#: Parts of one step count, per (n+1)^2, from which :func:`_equal_parts` cuts them on
+#: their own (:func:`_loop_rows`: a scalar times a long column per matrix entry,
+#: (n+1)^2 k multiplies and adds) rather than in the pass that gathers every
+#: step's matrix (:func:`_gathered_rows`): the crossing point of the two in
+#: callgrind's instructions, 6-10 (n+1)^2 parts at degrees 2, 3 and 7.
+EQUAL_GROUP = 6
 
 
 def _equal_parts(parts, steps, rep, j):
@@ -163,18 +166,18 @@ def _equal_parts(parts, steps, rep, j):
     parameter steps, in order (``rep``, ``j``: the part and rank of each step,
     :func:`_step_rows`): each step's control points through its matrix
     (:func:`_equal_split_matrices`), the sum over j in order (einsum's bits).  The
-    parts of a step count held by EQUAL_GROUP parts or more by :func:`_loop_rows`,
+    step counts held by EQUAL_GROUP (n+1)^2 parts or more by :func:`_loop_rows`,
     the rest all together by :func:`_gathered_rows`."""
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
     first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
     counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
-    if len(counts) == 1 and sizes[0] >= EQUAL_GROUP:
+    big = sizes >= EQUAL_GROUP * (n + 1) ** 2
+    if len(counts) == 1 and big[0]:
         return _loop_rows(_equal_split_matrices(n, int(counts[0])), parts)
     out = np.empty((len(rep), n + 1, parts.shape[2]))
     start = np.append(0, (counts * sizes).cumsum()).tolist()
-    big = sizes >= EQUAL_GROUP
     for g in big.nonzero()[0].tolist():
         out[start[g]:start[g + 1]] = _loop_rows(_equal_split_matrices(n, int(counts[g])),
                                                 parts[first[g]:first[g] + sizes[g]])
