@@ -257,12 +257,12 @@ def _bracketed_newton(c, iters=80):
     m, n1 = c.shape
     n = n1 - 1
     nz = c != 0
-    first = np.take_along_axis(c, np.argmax(nz, axis=1)[:, None], axis=1)[:, 0]
+    first = np.take_along_axis(c, nz.argmax(axis=1)[:, None], axis=1)[:, 0]
     # start from the chord of the end coefficients where both are nonzero
     den = c[:, 0] - c[:, -1]
     u = np.where((c[:, 0] != 0) & (c[:, -1] != 0) & (den != 0),
                  c[:, 0] / np.where(den != 0, den, 1.0), 0.5)
-    out = np.clip(u, 0.01, 0.99)
+    out = u.clip(0.01, 0.99)
     act = np.arange(m)                     # the rows not done, and their state
     cc, dd, s_lo, u = c, n * np.diff(c, axis=1), np.sign(first), out.copy()
     lo, hi = np.zeros(m), np.ones(m)
@@ -384,10 +384,12 @@ def multiply_many(a, b, method=None):
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     m, n = a.shape[1] - 1, b.shape[1] - 1
-    ta, tb = a.shape[2:], b.shape[2:]
-    tail = np.broadcast_shapes(ta, tb)
-    a = a.reshape(a.shape[:2] + (1,) * (len(tail) - len(ta)) + ta)
-    b = b.reshape(b.shape[:2] + (1,) * (len(tail) - len(tb)) + tb)
+    tail = ta = a.shape[2:]
+    tb = b.shape[2:]
+    if ta != tb:   # the trailing axes broadcast: the shorter gets leading ones
+        tail = np.broadcast_shapes(ta, tb)
+        a = a.reshape(a.shape[:2] + (1,) * (len(tail) - len(ta)) + ta)
+        b = b.reshape(b.shape[:2] + (1,) * (len(tail) - len(tb)) + tb)
     if method is None:
         least = PRODUCT_DIRECT_DEGREE_TAIL if tail else PRODUCT_DIRECT_DEGREE
         method = "direct" if m + n >= least else "scatter"
@@ -655,11 +657,11 @@ def ratio_bound_many(a, b, halvings=1):
     n1 = a.shape[1]
     mat = _panel_matrices(n1 - 1, halvings)
     num, den = _apply(mat, a), _apply(mat, b)
-    good = np.all(den > 0, axis=1)
+    good = (den > 0).all(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = num / np.where(den > 0, den, 1.0)
     best = r.max(axis=1)
-    k = np.argmax(r >= (best - RATIO_TIE * np.abs(best))[:, None], axis=1)
+    k = (r >= (best - RATIO_TIE * np.abs(best))[:, None]).argmax(axis=1)
     panel, i = np.divmod(k, n1)
     s = (panel + i / max(n1 - 1, 1)) / 2 ** halvings
     return np.where(good, best, np.inf), np.where(good, s, 0.5)
@@ -688,5 +690,6 @@ def fit_fixed_ends(t, values, n, v0, v1):
     if n > 1:
         rhs = (values - np.multiply.outer(basis_t[:, 0], c[0])
                - np.multiply.outer(basis_t[:, -1], c[-1]))
-        c[1:-1] = np.tensordot(pinv, rhs, axes=(1, 0))
+        # np.tensordot's product (its reshape to 2-D, then np.dot), without its wrapping
+        c[1:-1] = np.dot(pinv, rhs.reshape(len(rhs), -1)).reshape((n - 1,) + rhs.shape[1:])
     return c

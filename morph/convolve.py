@@ -197,12 +197,6 @@ class _EdgeTable:
             out.append((mine, sub.take(where[group[mine]], axis=0)))
         return out
 
-    def restricted_h(self, idx, t_lo, t_hi):
-        """Tangent numerators of the sub-pieces of :meth:`restricted` (the edges'
-        numerators restricted the same way: the same directions), (k, m+1, 2)."""
-        t0, t1 = self._directed(idx, t_lo, t_hi)
-        return bz.subsegment_many(self.h.take(idx, axis=0), t0, t1)
-
     def _directed(self, idx, t_lo, t_hi):
         """(t0, t1): the parameters at angles lo, hi in each edge's direction."""
         conv = self.sweep[idx] > 0
@@ -523,10 +517,26 @@ def _convolve_table(ta, tb, pairs, tol, max_depth=30, method="qac"):
     tol = np.broadcast_to(np.asarray(tol, float), np.shape(i))
     off = gauss.TWO_PI * np.asarray(k, float)
     out = _Produced()
-    for p, st, points, _, forward in translated_batches(ta, tb, i, j, lo, hi, off):
+    curve = (np.nonzero(ta.curved[i] & tb.curved[j])[0] if method == "qac"
+             else np.zeros(0, np.intp))
+    moved, solved = _solved_params(ta, tb, i, j, lo, hi, off, curve)
+    for p, st, points, _, forward in translated_batches(ta, tb, i, j, lo, hi, off, moved):
         _stack_out(out, p, _translate_many(st, points), forward)
-    _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method)
+    _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method, solved)
     return out.packed()
+
+
+def _solved_params(ta, tb, i, j, lo, hi, off, curve):
+    """The parameters on the curves of both tables that :func:`translated_batches`
+    and :func:`qac_batches` (of the curve + curve pairs at positions ``curve``) solve,
+    in one :func:`params_of_tables` call (each (edge, angle) row's parameter is its
+    own: the same numbers as a call for each): (the ``moved`` argument of
+    translated_batches, the ``solved`` argument of qac_batches)."""
+    where, asks_a, asks_b = _translated_asks(ta, tb, i, j, lo, hi, off)
+    ic, jc, lc, hc, oc = i[curve], j[curve], lo[curve], hi[curve], off[curve]
+    got_a, got_b = params_of_tables([(ta, asks_a + [(ic, lc), (ic, hc)]),
+                                     (tb, asks_b + [(jc, lc - oc), (jc, hc - oc)])])
+    return (where, got_a[:3], got_b[:3]), (got_a[3:], got_b[3:])
 
 
 def _stack_out(out, pos, stack, forward):
@@ -572,14 +582,11 @@ def params_of_tables(asks):
     return out
 
 
-def translated_batches(ta, tb, i, j, lo, hi, off):
-    """The pairs whose convolution is one edge translated: a straight edge moved by
-    the other edge's point at its angle, and a curve (restricted to the pair's angle
-    range) moved by a vertex.  Yields (pair rows, the moved edge's piece stack, the
-    points, one per row, whether the moved edge is A's, whether each piece runs
-    forward: the other edge's sign).  The parameters solved on each table's curves
-    (the points at the straight edges' angles, the ends of the ranges at the
-    vertices) are solved together (:func:`params_of_tables`)."""
+def _translated_asks(ta, tb, i, j, lo, hi, off):
+    """What :func:`translated_batches` solves: ((pos_a, pos_b, ang_a, ang_b): the
+    pairs whose straight edge of A, of B moves, at those angles; the requests of
+    :func:`params_of_tables` on A's curves, on B's: the points at the other side's
+    straight edges' angles, the ends of the ranges at the other side's vertices)."""
     pos_a = np.nonzero(ta.straight[i])[0]                  # B's point moves A's edge
     pos_b = np.nonzero(tb.straight[j] & ~ta.straight[i])[0]
     ang_a, ang_b = lo[pos_a] - off[pos_a], lo[pos_b]
@@ -590,9 +597,24 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
                                     (tb, ta, j, i, off)):
         pos = np.nonzero(t_c.curved[ic] & t_v.vertex[iv])[0]
         ranges.append((ic[pos], lo[pos] - shift[pos], hi[pos] - shift[pos]))
-    (t_pa, t_lo_b, t_hi_b), (t_pb, t_lo_a, t_hi_a) = params_of_tables(
-        [(tb, [(j[pos_a][cur_a], ang_a[cur_a]), ranges[1][:2], (ranges[1][0], ranges[1][2])]),
-         (ta, [(i[pos_b][cur_b], ang_b[cur_b]), ranges[0][:2], (ranges[0][0], ranges[0][2])])])
+    return ((pos_a, pos_b, ang_a, ang_b),
+            [(i[pos_b][cur_b], ang_b[cur_b]), ranges[0][:2], (ranges[0][0], ranges[0][2])],
+            [(j[pos_a][cur_a], ang_a[cur_a]), ranges[1][:2], (ranges[1][0], ranges[1][2])])
+
+
+def translated_batches(ta, tb, i, j, lo, hi, off, moved=None):
+    """The pairs whose convolution is one edge translated: a straight edge moved by
+    the other edge's point at its angle, and a curve (restricted to the pair's angle
+    range) moved by a vertex.  Yields (pair rows, the moved edge's piece stack, the
+    points, one per row, whether the moved edge is A's, whether each piece runs
+    forward: the other edge's sign).  The parameters solved on each table's curves
+    (the points at the straight edges' angles, the ends of the ranges at the
+    vertices) are solved together (:func:`params_of_tables`), or given: ``moved``
+    (from :func:`_solved_params`)."""
+    if moved is None:
+        where, asks_a, asks_b = _translated_asks(ta, tb, i, j, lo, hi, off)
+        moved = (where,) + tuple(params_of_tables([(ta, asks_a), (tb, asks_b)]))
+    (pos_a, pos_b, ang_a, ang_b), (t_pb, t_lo_a, t_hi_a), (t_pa, t_lo_b, t_hi_b) = moved
     if len(pos_a):
         pts = tb.points_at(j[pos_a], ang_a, t_pa)
         for rows, st in ta.pieces(i[pos_a]):
@@ -614,15 +636,16 @@ def translated_batches(ta, tb, i, j, lo, hi, off):
             yield p, st, t_v.point.take(iv[p], axis=0), of_a, t_v.sign[iv[p]] > 0
 
 
-def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method):
-    """Curve + curve pairs: QAC (:func:`_qac_pairs`) or another method of Sec. 4
-    (:func:`_method_range`, pair by pair)."""
+def _curve_pairs(out, ta, tb, i, j, lo, hi, off, tol, max_depth, method, solved=None):
+    """Curve + curve pairs: QAC (:func:`_qac_pairs`; ``solved``: its parameters, from
+    :func:`_solved_params`) or another method of Sec. 4 (:func:`_method_range`, pair
+    by pair)."""
     pos = np.nonzero(ta.curved[i] & tb.curved[j])[0]
     if not len(pos):
         return
     if method == "qac":
         _qac_pairs(out, ta, tb, pos, i[pos], j[pos], lo[pos], hi[pos], off[pos], tol,
-                   max_depth)
+                   max_depth, solved)
         return
     for p in pos:
         pieces = _method_range(ta.edges[i[p]], tb.edges[j[p]], lo[p], hi[p], off[p],
@@ -653,17 +676,23 @@ def _method_range(ea, eb, lo, hi, off, tol, depth, method):
     return out if forward else out[::-1]
 
 
-def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of, stacked=False):
+def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of, stacked=False,
+                solved=None):
     """Algorithm 4.1's subdivision of curve + curve pairs (tables ``ta``, ``tb``; pair
     rows ``i``, ``j`` over the angle ranges [lo, hi], B's angles shifted by ``off``;
     ``tol`` per row), one batch per pair of piece degrees: yields the
     :func:`morph.subdivide.subdivide_nodes` result (accepted nodes, their
     ``piece_of`` results, bounds) of each batch (``stacked``: ``piece_of`` works on
     arrays, as :func:`morph.qac.piece_stacks`, and the pieces come as a
-    :class:`morph.piece.Pieces`)."""
-    (ta_lo, ta_hi), (tb_lo, tb_hi) = params_of_tables([(ta, [(i, lo), (i, hi)]),
-                                                       (tb, [(j, lo - off), (j, hi - off)])])
-    ha, hb = ta.restricted_h(i, ta_lo, ta_hi), tb.restricted_h(j, tb_lo, tb_hi)
+    :class:`morph.piece.Pieces`).  ``solved``: the parameters at the ends of the
+    ranges on A's and B's edges (:func:`_solved_params`), else solved here.  The
+    two sides' tangent numerators, where of one degree, are restricted in one call."""
+    if solved is None:
+        solved = params_of_tables([(ta, [(i, lo), (i, hi)]), (tb, [(j, lo - off), (j, hi - off)])])
+    (ta_lo, ta_hi), (tb_lo, tb_hi) = solved
+    ha, hb = qac.stacked_calls(bz.subsegment_many, [
+        (ta.h.take(i, axis=0),) + ta._directed(i, ta_lo, ta_hi),
+        (tb.h.take(j, axis=0),) + tb._directed(j, tb_lo, tb_hi)])
     for da, db in sorted(set(zip(ta.deg[i].tolist(), tb.deg[j].tolist()))):
         rows = np.nonzero((ta.deg[i] == da) & (tb.deg[j] == db))[0]
         nodes = {"ca": ta.restricted(i[rows], ta_lo[rows], ta_hi[rows])[0][1],
@@ -676,7 +705,7 @@ def qac_batches(ta, tb, pos, i, j, lo, hi, off, tol, max_depth, piece_of, stacke
                               float(tol[rows].min()), max_depth, stacked)
 
 
-def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
+def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth, solved=None):
     """Algorithm 4.1 on curve + curve pairs, all pairs and sub-ranges of one level
     together: each pair restricted to its common angle range, then the driver
     :func:`morph.subdivide.subdivide_nodes` with :mod:`morph.qac`'s callables (role
@@ -688,7 +717,8 @@ def _qac_pairs(out, ta, tb, pos, i, j, lo, hi, off, tol, max_depth):
     """
     names = np.array(qac.KIND_NAMES, object)
     for done, pieces, bounds in qac_batches(ta, tb, pos, i, j, lo, hi, off, tol[pos],
-                                            max_depth, qac.piece_stacks, stacked=True):
+                                            max_depth, qac.piece_stacks, stacked=True,
+                                            solved=solved):
         key = np.where(done["sa"] * done["sb"] > 0, done["lo"], -done["lo"])
         forward = done["sb"] > 0
         base = out.count

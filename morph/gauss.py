@@ -85,39 +85,54 @@ def _split_params_many(pieces, inflections=True, axes=True, eps=1e-9):
 
 def _split_params_arrays(pieces, inflections=True, axes=True, eps=1e-9):
     """The split parameters of :func:`_split_params_many` as two arrays (piece,
-    parameter), sorted by piece, then parameter."""
+    parameter), sorted by piece, then parameter.  The polynomials of every kind
+    group (:func:`_root_rows`) are solved in one :func:`morph.bernstein.roots_many`
+    call per number of coefficients (each row's roots are its own: the same
+    numbers as a call per group and family)."""
     own, par = [np.zeros(0, np.int64)], [np.zeros(0)]
-    for ks, stack, rational in pc.kind_groups(pieces):
-        h = pc.tangent_numerator_many(stack, rational)
-        owners, ts = [], []
-        if inflections:
-            kn = pc.curvature_numerator_many(h)
-            o, r = bz.roots_many(kn)
-            inside = (r > eps) & (r < 1.0 - eps)
-            o, r = o[inside], r[inside]
-            a = bz.evaluate_many(kn[o], np.maximum(r - 1e-6, 0.0))
-            b = bz.evaluate_many(kn[o], np.minimum(r + 1e-6, 1.0))
-            owners.append(o[a * b < 0])
-            ts.append(r[a * b < 0])
-        if axes:
-            # the roots of x' and y' in one call, y's rows numbered after x's (each
-            # row's roots are its own: the same numbers as a call per axis)
-            k = len(h)
-            o, r = bz.roots_many(np.concatenate([h[:, :, 0], h[:, :, 1]]))
-            owners.append(np.where(o < k, o, o - k))
-            ts.append(r)
-        o, r = np.concatenate(owners), np.concatenate(ts)
+    for c, piece, curving in _root_rows(pieces, inflections, axes):
+        o, r = bz.roots_many(c)
         inside = (r > eps) & (r < 1.0 - eps)
         o, r = o[inside], r[inside]
-        order = np.lexsort((r, o))
-        o, r = o[order], r[order]
-        keep = np.ones(len(r), bool)
-        keep[1:] = (o[1:] != o[:-1]) | (r[1:] != r[:-1])
-        own.append(np.asarray(ks)[o[keep]])
+        keep = ~curving[o]
+        test = (~keep).nonzero()[0]
+        if len(test):    # a root of x'y'' - x''y' splits where the sign changes
+            ot, rt = o[test], r[test]
+            a = bz.evaluate_many(c[ot], np.maximum(rt - 1e-6, 0.0))
+            b = bz.evaluate_many(c[ot], np.minimum(rt + 1e-6, 1.0))
+            keep[test] = a * b < 0
+        own.append(piece[o[keep]])
         par.append(r[keep])
     o, r = np.concatenate(own), np.concatenate(par)
     order = np.lexsort((r, o))
-    return o[order], r[order]
+    o, r = o[order], r[order]
+    keep = np.ones(len(r), bool)
+    keep[1:] = (o[1:] != o[:-1]) | (r[1:] != r[:-1])
+    return o[keep], r[keep]
+
+
+def _root_rows(pieces, inflections, axes):
+    """[(polynomials (m, w), the piece of each row, whether each row is a curvature
+    numerator)] of :func:`_split_params_arrays`, one item per number of
+    coefficients w: of each kind group (:func:`morph.piece.kind_groups`) the
+    curvature numerators (``inflections``) and both components of the tangent
+    numerators (``axes``)."""
+    rows = []
+    for ks, stack, rational in pc.kind_groups(pieces):
+        h = pc.tangent_numerator_many(stack, rational)
+        ks = np.asarray(ks, np.int64)
+        if inflections:
+            rows.append((pc.curvature_numerator_many(h), ks, True))
+        if axes:
+            rows += [(h[:, :, 0], ks, False), (h[:, :, 1], ks, False)]
+    out = []
+    widths = [c.shape[1] for c, _, _ in rows]
+    for w in dict.fromkeys(widths):
+        mine = [rows[k] for k in range(len(rows)) if widths[k] == w]
+        flags = np.concatenate([np.full(len(ks), f) for _, ks, f in mine])
+        out.append((np.concatenate([c for c, _, _ in mine]),
+                    np.concatenate([ks for _, ks, _ in mine]), flags))
+    return out
 
 
 def _monotone_parts(pieces, check=True):

@@ -134,7 +134,7 @@ def _flat_params(stack, tol, min_width, keep=None):
                                               t0[needed], width[needed], steps[needed])
             rep, j = _step_rows(steps)
             sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
-        parts = _equal_parts(parts, steps)
+        parts = _equal_parts(parts, steps, rep, j)
         owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
         width = width[rep] / steps[rep]
         if keep is not None:
@@ -149,28 +149,52 @@ def _step_rows(steps):
     return rep, np.arange(len(rep)) - (steps.cumsum() - steps).repeat(steps)
 
 
-def _equal_parts(parts, steps):
+#: Numbers in one block of :func:`_gathered_rows`' products ((n+1) x 3 a step):
+#: numpy's ufunc buffer size (a larger broadcast product goes through its buffered
+#: iterator, about twice the instructions a number).
+EQUAL_BLOCK = 1 << 13
+#: Parts of one step count, per (n+1)^2, from which :func:`_equal_parts` cuts them on
+#: their own (:func:`_loop_rows`: a scalar times a long column per matrix entry,
+#: (n+1)^2 k multiplies and adds) rather than in the pass that gathers every
+#: step's matrix (:func:`_gathered_rows`): the crossing point of the two in
+#: callgrind's instructions, 6-10 (n+1)^2 parts at degrees 2, 3 and 7.
+EQUAL_GROUP = 6
+
+
+def _equal_parts(parts, steps, rep, j):
     """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
-    parameter steps, in order: one matrix product per distinct step count."""
+    parameter steps, in order (``rep``, ``j``: the part and rank of each step,
+    :func:`_step_rows`): each step's control points through its matrix
+    (:func:`_equal_split_matrices`), the sum over j in order (einsum's bits).  The
+    step counts held by EQUAL_GROUP (n+1)^2 parts or more by :func:`_loop_rows`,
+    the rest all together by :func:`_gathered_rows`."""
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
-    out = []
-    bounds = (steps[1:] != steps[:-1]).nonzero()[0] + 1
-    for lo, hi in zip(np.concatenate(([0], bounds)), np.concatenate((bounds, [len(steps)]))):
-        mats = _equal_split_matrices(n, int(steps[lo]))  # (k, n+1, n+1)
-        out.append(_apply_rows(mats, parts[lo:hi]))
-    return np.concatenate(out)
+    first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
+    counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
+    big = sizes >= EQUAL_GROUP * (n + 1) ** 2
+    if len(counts) == 1 and big[0]:
+        return _loop_rows(_equal_split_matrices(n, int(counts[0])), parts)
+    out = np.empty((len(rep), n + 1, parts.shape[2]))
+    start = np.append(0, (counts * sizes).cumsum()).tolist()
+    for g in big.nonzero()[0].tolist():
+        out[start[g]:start[g + 1]] = _loop_rows(_equal_split_matrices(n, int(counts[g])),
+                                                parts[first[g]:first[g] + sizes[g]])
+    if not big.all():
+        table = (_split_columns(n, int(counts[0])) if len(counts) == 1 else
+                 np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2))
+        which = (counts.cumsum() - counts).repeat(sizes)[rep] + j
+        sel = (~big).repeat(counts * sizes).nonzero()[0]
+        out[sel] = _gathered_rows(table, which[sel], parts, rep[sel])
+    return out
 
 
-def _apply_rows(mats, parts):
-    """einsum("kij,mjc->mkic", mats, parts) reshaped to (m k, n+1, c): each part's
-    control points through each matrix, the sum over j in order (the same bits as
-    einsum's) on the parts held coordinate-first, one long vector per (j, c)
-    (einsum's inner loops run over the 3 coordinates); a few parts by einsum."""
+def _loop_rows(mats, parts):
+    """Each of ``parts`` (m, n+1, c) through each of ``mats`` (k, n+1, n+1): (m k,
+    n+1, c), the sum over j in order on the parts held coordinate-first, one long
+    column per (j, c)."""
     k, rows, _ = mats.shape
-    if len(parts) < 64:   # a few parts cut into many steps: one einsum call
-        return np.einsum("kij,mjc->mkic", mats, parts).reshape(-1, rows, parts.shape[2])
     pts = parts.transpose(1, 2, 0).copy()        # (n+1, c, m)
     out = np.empty((k, rows) + pts.shape[1:])
     for a in range(k):
@@ -180,6 +204,32 @@ def _apply_rows(mats, parts):
                 acc = acc + mats[a, i, j] * pts[j]
             out[a, i] = acc
     return out.transpose(3, 0, 1, 2).reshape(-1, rows, parts.shape[2])
+
+
+def _gathered_rows(table, which, parts, rep):
+    """Steps ``rep`` of ``parts`` through the matrices ``which`` of ``table`` ((n+1,
+    n+1, K), :func:`_split_columns`): (len(rep), n+1, c), the matrices and the
+    points gathered step by step, the sum over j in order, EQUAL_BLOCK numbers a
+    control point at a time."""
+    n = table.shape[0] - 1
+    cols = parts.transpose(1, 2, 0)
+    out = np.empty((len(rep), n + 1, parts.shape[2]))
+    block = max(1, EQUAL_BLOCK // (3 * (n + 1)))
+    for a in range(0, len(rep), block):
+        mats = table.take(which[a:a + block], axis=2)        # (n+1, n+1, steps)
+        pts = cols.take(rep[a:a + block], axis=2)           # (n+1, c, steps)
+        acc = mats[:, 0, None, :] * pts[0]
+        for k in range(1, n + 1):
+            acc += mats[:, k, None, :] * pts[k]
+        out[a:a + block] = acc.transpose(2, 0, 1)
+    return out
+
+
+@functools.lru_cache(maxsize=256)
+def _split_columns(n, k):
+    """:func:`_equal_split_matrices` (k, n+1, n+1) as (n+1, n+1, k): entry (i, j)
+    of every step's matrix in one row."""
+    return _equal_split_matrices(n, k).transpose(1, 2, 0).copy()
 
 
 @functools.lru_cache(maxsize=256)

@@ -24,6 +24,8 @@ This module is a leaf: it imports only :mod:`morph.bernstein`, :mod:`morph.piece
 and :mod:`morph.gauss`; :mod:`morph.convolve` and :mod:`morph.subdivide` import it.
 """
 
+import functools
+
 import numpy as np
 
 from . import bernstein as bz
@@ -40,6 +42,13 @@ QAC, CORNER, CHORD = 0, 1, 2
 KIND_NAMES = ("qac", "translate", "chord")
 
 
+def _filled(k, value):
+    """A float array of k copies of ``value`` (np.full's numbers in two C calls)."""
+    out = np.empty(k)
+    out.fill(value)
+    return out
+
+
 # ------------------------------------------------------------------ Q2 (Eq. 38)
 
 def quadratic_approximation_many(c2):
@@ -52,12 +61,12 @@ def quadratic_approximation_many(c2):
     """
     c2 = np.asarray(c2, float)
     p = c2[:, :, :2] / c2[:, :, 2:3]
-    size = np.maximum(np.ptp(p, axis=1).max(axis=1), 1e-300)
+    size = np.maximum((p.max(axis=1) - p.min(axis=1)).max(axis=1), 1e-300)   # np.ptp's
     d = np.diff(p, axis=1)
     norms = np.hypot(d[..., 0], d[..., 1])
     nz = norms > 1e-12 * size[:, None]
-    first = np.argmax(nz, axis=1)
-    last = nz.shape[1] - 1 - np.argmax(nz[:, ::-1], axis=1)
+    first = nz.argmax(axis=1)
+    last = nz.shape[1] - 1 - nz[:, ::-1].argmax(axis=1)
     rows = np.arange(len(p))
     with np.errstate(divide="ignore", invalid="ignore"):
         t0 = d[rows, first] / norms[rows, first, None]
@@ -67,7 +76,8 @@ def quadratic_approximation_many(c2):
         ok = nz.any(axis=1) & (size > 1e-300) & (np.abs(det) >= 1e-14)
         # q0 + a t0 = q2 - b t1  ->  a = cross(q2 - q0, t1) / cross(t0, t1)
         a = pc.cross2(q2 - q0, t1) / np.where(ok, det, 1.0)     # Eq. 38
-    q = np.stack([q0, q0 + a[:, None] * t0, q2], axis=1)
+    q = np.empty((len(p), 3, 2))
+    q[:, 0], q[:, 1], q[:, 2] = q0, q0 + a[:, None] * t0, q2
     return q, ok
 
 
@@ -115,12 +125,18 @@ def _reparam_maps(c, q):
     (:func:`morph.bernstein.fit_fixed_ends`, all rows at once) to the parameters of
     C2 nearest to Q2 at the Chebyshev nodes _FIT_S (Newton, jets from the power
     basis up to degree 12), coefficients clamped to [0, 1]."""
-    pts = np.matmul(bz.basis(2, _FIT_S), q)
+    pts = np.matmul(_fit_basis(), q)
     jet = pc.jet2_power_many if c.shape[1] <= 13 else pc.jet2_many
-    sig = nr.closest_params_many(c, pts, np.tile(_FIT_S, (len(c), 1)), jet=jet)
+    sig = nr.closest_params_many(c, pts, _FIT_S[None].repeat(len(c), axis=0), jet=jet)
     r = bz.fit_fixed_ends(_FIT_S, sig.T, REPARAM_DEGREE, 0.0, 1.0).T
-    fine = np.all(np.isfinite(r), axis=1)
-    return np.where(fine[:, None], np.clip(r, 0.0, 1.0), 0.0), fine
+    fine = np.isfinite(r).all(axis=1)
+    return np.where(fine[:, None], r.clip(0.0, 1.0), 0.0), fine
+
+
+@functools.lru_cache(maxsize=None)
+def _fit_basis():
+    """The quadratic Bernstein basis at the nodes _FIT_S (Q2's points there), made once."""
+    return bz.basis(2, _FIT_S)
 
 
 def _composed_ratio(cr, q):
@@ -129,8 +145,8 @@ def _composed_ratio(cr, q):
     :func:`morph.nearest.distance_bound_many`; where W is constant (polynomial C2)
     the same ratio of |X / W - Q2|^2 at the lower degree."""
     x, w = cr[:, :, :2], cr[:, :, 2]
-    flat = np.ptp(w, axis=1) <= 1e-14 * np.abs(w[:, 0])      # polynomial C2: W constant
-    ratio, s = np.full(len(cr), np.inf), np.full(len(cr), 0.5)
+    flat = w.max(axis=1) - w.min(axis=1) <= 1e-14 * np.abs(w[:, 0])   # polynomial C2: W
+    ratio, s = _filled(len(cr), np.inf), _filled(len(cr), 0.5)             # constant
     for rows, poly in ((np.nonzero(flat)[0], True), (np.nonzero(~flat)[0], False)):
         if not len(rows):
             continue
@@ -211,7 +227,7 @@ def _role(c1, c2, tol):
     it loses every tie)."""
     k = len(c2)
     q2, ok = quadratic_approximation_many(c2)
-    bound, s = np.full(k, np.inf), np.full(k, 0.5)
+    bound, s = _filled(k, np.inf), _filled(k, 0.5)
     if ok.any():
         bound[ok], s[ok] = qac_parametric_bound_many(c2[ok], q2[ok])
     d = c1.shape[1] - 1
@@ -388,7 +404,7 @@ def bound_nodes(nodes, tol):
     la, lb = pc.length_bounds(ca), pc.length_bounds(cb)
     short = (np.minimum(la, lb) <= np.minimum(0.25 * tol, 1e-7 * np.maximum(la, lb))) | (
         (nodes["depth"] == 0) & (2 * np.minimum(la, lb) <= tol))
-    bound, s_peak = np.where(short, 2.0 * np.minimum(la, lb), np.inf), np.full(k, 0.5)
+    bound, s_peak = np.where(short, 2.0 * np.minimum(la, lb), np.inf), _filled(k, 0.5)
     kind = np.where(short, CORNER, QAC)
     swap, q2 = short & (la <= lb), np.zeros((k, 3, 2))
     tiny = np.nonzero(~short & (nodes["hi"] - nodes["lo"] < TINY_SWEEP))[0]
@@ -541,24 +557,50 @@ def split_nodes(nodes, s_peak):
     sub-pieces are cut where their tangent has that angle (Eq. 27 on each piece,
     :func:`morph.gauss.angle_params`), so both children are compatible again.
     Returns (left, right): the children over [lo, angle] and [angle, hi].
+    The two sides' tangent numerators (and pieces) of one shape are solved and split
+    in one call (:func:`stacked_calls`): each row's root and split are its own.
     """
     lo, hi, sa, sb = nodes["lo"], nodes["hi"], nodes["sa"], nodes["sb"]
-    s = np.clip(s_peak, 0.2, 0.8)
-    hv = np.where(nodes["swap"][:, None], bz.evaluate_many(nodes["ha"], s),
-                  bz.evaluate_many(nodes["hb"], s))
+    s = s_peak.clip(0.2, 0.8)
+    ha, hb, swap = nodes["ha"], nodes["hb"], nodes["swap"]
+    if ha.shape == hb.shape:   # C2's numerator of each row, evaluated once
+        hv = bz.evaluate_many(np.where(swap[:, None, None], ha, hb), s)
+    else:
+        hv = np.where(swap[:, None], bz.evaluate_many(ha, s), bz.evaluate_many(hb, s))
     th = np.arctan2(hv[:, 1], hv[:, 0])
     th = lo + gauss._wrap(th - lo)
     th = np.where((lo < th) & (th < hi), th, 0.5 * (lo + hi))
-    ua = gauss.angle_params(nodes["ha"], th)
-    ub = gauss.angle_params(nodes["hb"], th)
+    ua, ub = stacked_calls(gauss.angle_params, [(ha, th), (hb, th)])
+    cols = ("ca", "ha", "cb", "hb")
+    parts = stacked_calls(bz.split_many, [(nodes[c], u) for c, u in zip(cols, (ua, ua, ub, ub))])
     left, right = {"lo": lo, "hi": th}, {"lo": th, "hi": hi}
-    for piece, h, u, sign in (("ca", "ha", ua, sa), ("cb", "hb", ub, sb)):
+    for col, (p0, p1), sign in zip(cols, parts, (sa, sa, sb, sb)):
         first = (sign > 0).reshape((-1, 1, 1))    # the part at u < u_split has angles < th
-        for col, (p0, p1) in ((piece, bz.split_many(nodes[piece], u)),
-                              (h, bz.split_many(nodes[h], u))):
-            left[col], right[col] = np.where(first, p0, p1), np.where(first, p1, p0)
+        left[col], right[col] = np.where(first, p0, p1), np.where(first, p1, p0)
     t0, t1 = nodes["t0"], nodes["t1"]
     tm = t0 + ua * (t1 - t0)
     left["t0"], left["t1"] = np.where(sa > 0, t0, tm), np.where(sa > 0, tm, t1)
     right["t0"], right["t1"] = np.where(sa > 0, tm, t0), np.where(sa > 0, t1, tm)
     return left, right
+
+
+def stacked_calls(func, args):
+    """[func(*a) for a in args], the calls whose first arrays have one shape past
+    their rows made as one call on the arguments concatenated row-wise (rows of any
+    number), its result (an array or a tuple of arrays) cut back: for row-wise
+    functions (each row's result its own, as :func:`morph.gauss.angle_params`,
+    :func:`morph.bernstein.split_many`, :func:`morph.bernstein.subsegment_many`),
+    the same numbers in fewer calls."""
+    out = [None] * len(args)
+    shapes = [a[0].shape[1:] for a in args]
+    for shape in dict.fromkeys(shapes):
+        which = [k for k, sh in enumerate(shapes) if sh == shape]
+        if len(which) == 1:
+            out[which[0]] = func(*args[which[0]])
+            continue
+        got = func(*(np.concatenate([args[k][c] for k in which])
+                     for c in range(len(args[which[0]]))))
+        ends = np.cumsum([len(args[k][0]) for k in which]).tolist()
+        for k, a, b in zip(which, [0] + ends[:-1], ends):
+            out[k] = tuple(g[a:b] for g in got) if isinstance(got, tuple) else got[a:b]
+    return out

@@ -100,10 +100,10 @@ def subdivide_nodes(nodes, one_piece, bound, split, tol, max_depth=24, stacked=F
         limit = nodes["tol"] if "tol" in nodes else tol
         err, where = bound(nodes, limit)
         acc = np.nonzero(err <= limit)[0]
-        has, got = _accepted(one_piece, _take(nodes, acc), stacked, count)
+        accepted, has, got = _accepted(one_piece, _take(nodes, acc), stacked, count)
         ok = np.zeros(len(err), bool)
         ok[acc[has]] = True
-        done.append(_take(nodes, ok))
+        done.append(accepted if has.all() else _take(accepted, has))   # the rows ok
         pieces += got
         count += len(got) if not stacked else int(has.sum())
         errors.append(err[ok])
@@ -136,18 +136,19 @@ def _not_met(nodes, err, limit, last, max_depth):
 
 
 def _accepted(one_piece, nodes, stacked, count):
-    """(has, pieces) of the nodes of a level whose error is within tol: ``has`` the
-    nodes ``one_piece`` gave a piece; ``pieces`` a list of them, or with ``stacked``
-    [(indices, stack)] with each piece's index among all accepted nodes so far
-    (``count`` before this level)."""
+    """(nodes, has, pieces) of the nodes of a level whose error is within tol:
+    ``has`` the nodes ``one_piece`` gave a piece; ``pieces`` a list of them, or with
+    ``stacked`` [(indices, stack)] with each piece's index among all accepted nodes
+    so far (``count`` before this level)."""
     if not len(nodes["depth"]):
-        return np.zeros(0, bool), []
+        return nodes, np.zeros(0, bool), []
     if not stacked:
         got = one_piece(nodes)
-        return np.array([p is not None for p in got], bool), [p for p in got if p is not None]
+        has = np.array([p is not None for p in got], bool)
+        return nodes, has, [p for p in got if p is not None]
     has, groups = one_piece(nodes)
     rank = np.cumsum(has) - 1 + count
-    return has, [(rank[rows], stack) for rows, stack in groups]
+    return nodes, has, [(rank[rows], stack) for rows, stack in groups]
 
 
 def _joined(groups, n):

@@ -441,3 +441,23 @@ def test_within_on_columns_is_the_crossing_and_distance_test():
         want = hit | (gap <= reach)
         assert np.array_equal(pl._within(p0, p1, pairs, reach), want)
         assert 0 < want.sum() < len(want)
+
+
+def test_equal_parts_match_einsum_whatever_the_grouping(monkeypatch):
+    """The parts of every step count cut column by column or in the gathered pass
+    (in one block or in many): the same bits as each part through each of its
+    steps' matrices by einsum."""
+    rng = np.random.default_rng(3)
+    for n, m in ((2, 40), (7, 120)):
+        steps = np.sort(rng.choice([2, 3, 5], m)).astype(np.int64)
+        parts = rng.normal(size=(m, n + 1, 3))
+        rep, j = pl._step_rows(steps)
+        want = np.concatenate([
+            np.einsum("kij,mjc->mkic", pl._equal_split_matrices(n, k),
+                      parts[steps == k]).reshape(-1, n + 1, 3)
+            for k in sorted(set(steps.tolist()))])
+        for group in (0, 10 ** 9):         # every step count on its own; all gathered
+            monkeypatch.setattr(pl, "EQUAL_GROUP", group)
+            for block in (1 << 13, 24):    # the gathered steps in one block; in many
+                monkeypatch.setattr(pl, "EQUAL_BLOCK", block)
+                assert np.array_equal(pl._equal_parts(parts, steps, rep, j), want)
