@@ -770,10 +770,11 @@ def _written_errors(out_path, names, refs, shift, tol, renamed=None):
     back from the compiled font (integer coordinates; ``renamed``: the source's
     ``public.postscriptNames``, the written font's names) against the references shifted
     as the command shifts them (``shift``: {glyph: x shift}, ``morph.fonts.stroke``'s
-    rule: the nib's left extent, a zero-width glyph's less the nib's width): :func:`excused_error` with r = GAP tol + ROUNDING (the
-    gaps and holes narrower than the engine's documented narrow-feature limit, which
-    it may fill, widened by the integer rounding, which moves each side of a gap by
-    up to ROUNDING); such glyphs are listed."""
+    rule: the nib's left extent, a zero-width glyph's less the nib's width):
+    :func:`excused_error` with r = GAP tol + ROUNDING (the gaps and holes narrower than
+    the engine's documented narrow-feature limit, which it may fill, widened by the
+    integer rounding, which moves each side of a gap by up to ROUNDING); such glyphs
+    are listed."""
     errs, narrow = {}, []
     for n in names:
         got = glyph_region((renamed or {}).get(n, n), font=str(out_path)).region

@@ -40,7 +40,6 @@ save writes, without its copies of the whole font in memory.
 import copy
 import os
 import re
-from pathlib import Path
 
 import numpy as np
 
