@@ -236,7 +236,7 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
         limit = tol + ROUNDING + ref_tol
         for n in names:
             shift = int(round(-x0)) - (grow if font[n].width == 0 else 0)
-            ref = shapely.affinity.translate(refs[n], shift[n], 0.0)
+            ref = shapely.affinity.translate(refs[n], shift, 0.0)
             got = region_to_shapely(glyph_region(n, font=str(path)).region, MEASURE_FLAT)
             d = boundary_hausdorff(got, ref, SPACING)
             h_got, h_ref = count_outer_and_holes(got, 1.0), count_outer_and_holes(ref, 1.0)
