@@ -1034,14 +1034,17 @@ class _Compiler:
         if tree is None:
             tree = parse_features(self.ufo)
         from .deferred import feature_builder
+        from .pair_classes import packed_class_pairs
 
-        if self._same_parse():
-            if tree.statements:   # the text ufo2ft writes of it is not empty
-                feature_builder().addOpenTypeFeatures(self.otf, tree)
-            return
-        fea = tree.asFea()
-        if fea:
-            feature_builder().addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
+        builder = feature_builder()
+        with packed_class_pairs():   # the class kerning's records held as their bytes
+            if self._same_parse():
+                if tree.statements:   # the text ufo2ft writes of it is not empty
+                    builder.addOpenTypeFeatures(self.otf, tree)
+                return
+            fea = tree.asFea()
+            if fea:
+                builder.addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
 
     def _same_parse(self):
         """Whether feaLib's parse of the feature file with the font's glyph order as
