@@ -684,9 +684,11 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font), ``inked`` (the glyphs that draw something, when
-    the font keeps no composite; else None) and ``font`` (the written font's data and
-    glyph shells: a ``ufoLib2.Font`` or, opened light, a ``light_ufo.LightFont``).
+    glyph does not stop the font), ``inked`` (the glyphs that draw something),
+    ``cmap`` (the written font's code point -> glyph name, where morph compiled it:
+    :func:`morph.fonts.tables_static.compile_static`; else None) and ``font`` (the
+    written font's data and glyph shells: a ``ufoLib2.Font`` or, opened light, a
+    ``light_ufo.LightFont``).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -819,9 +821,8 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
     grow_win_metrics(plan.font, *sink.written_extent())
     sink.finish(out_path, tol, jobs)
     plan.stats.update(sink.stats)
-    # which glyphs draw something, where that is the stroked glyphs with an outline
-    # (no composite), for the sample's choice without reading the font's outlines
-    plan.stats["inked"] = None if sink.composites else frozenset(sink.inked)
+    # which glyphs draw something, for the sample's choice without reading the font
+    plan.stats["inked"] = sink.inked_glyphs()
 
 
 def _blank_results(flavor, names):
@@ -941,6 +942,16 @@ class _StreamedGlyphs:
             self._grow(_composite_box(self.font, name, self.boxes, memo))
         return self.extent
 
+    def inked_glyphs(self):
+        """The written glyphs that draw something: the stroked glyphs with an outline
+        and the composites whose components place one (:func:`_composite_box`), as
+        the font's outlines tell (a CFF font's decomposed composites, a TrueType
+        font's components)."""
+        memo = {}
+        return frozenset(self.inked).union(
+            n for n in self.composites
+            if _composite_box(self.font, n, self.boxes, memo) is not None)
+
     def finish(self, out_path, tol, jobs=1):
         """The UFO's font info rewritten, or the font compiled by ufo2ft from the
         shells and the stored outlines and saved (a large CFF font's subroutine
@@ -973,6 +984,7 @@ class _StreamedGlyphs:
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
         # the stored glyphs' headers for glyf): not again from every glyph decoded
         otf.recalcBBoxes = False
+        self.stats["cmap"] = getattr(otf, "written_cmap", None)
         save_font(otf, self.tmp)
 
 
