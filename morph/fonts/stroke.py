@@ -703,7 +703,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    plan = _font_plan(src, nib_region, glyphs, family_name, kind, tol)
+    plan = _uncollected(_font_plan, src, nib_region, glyphs, family_name, kind, tol)
     if planned is not None:
         planned(sum(1 for n in plan.stroked if plan.weights[n] > 0))
     save_atomically(out_path, lambda tmp: _write_streamed(
@@ -712,6 +712,24 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     plan.stats.update(glyphs=len(plan.stroked), followed=len(plan.followed), font=plan.font,
                       seconds=time.perf_counter() - t_start)
     return plan.stats
+
+
+def _uncollected(call, *args):
+    """``call(*args)`` with Python's cyclic garbage collector off (on again after,
+    where it was on).  The font's plan (the glyphs' shells, feaLib's syntax tree of
+    the feature file) and its compilation (fontTools' tables) make some hundred
+    thousand objects that live until the font is written: every 700 allocations
+    start a pass over the young ones, which finds no garbage (about 45 M
+    instructions of Relief's plan and layout tables)."""
+    import gc
+
+    if not gc.isenabled():
+        return call(*args)
+    gc.disable()
+    try:
+        return call(*args)
+    finally:
+        gc.enable()
 
 
 class _FontPlan:
@@ -819,7 +837,7 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                    in_flight=in_flight, preload=_WORKER_MODULES + _COMPILERS.get(kind, ()),
                    weights=[plan.weights[n] for n in inked])
     grow_win_metrics(plan.font, *sink.written_extent())
-    sink.finish(out_path, tol, jobs)
+    _uncollected(sink.finish, out_path, tol, jobs)
     plan.stats.update(sink.stats)
     # which glyphs draw something, for the sample's choice without reading the font
     plan.stats["inked"] = sink.inked_glyphs()
