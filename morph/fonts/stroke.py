@@ -719,7 +719,7 @@ def _uncollected(call, *args):
     where it was on).  The font's plan (the glyphs' shells, feaLib's syntax tree of
     the feature file) and its compilation (fontTools' tables) make some hundred
     thousand objects that live until the font is written: every 700 allocations
-    start a pass over the young ones, which finds no garbage (about 45 M
+    would start a pass over the young objects, which live on (about 45 M
     instructions of Relief's plan and layout tables)."""
     import gc
 
@@ -923,7 +923,8 @@ class _StreamedGlyphs:
         self.extent = [None, None]
         self.composites = list(composites)
         self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
-        self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
+        self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
+                      "cmap": None}
         self.inked = set()   # the stroked glyphs with an outline
 
     def add(self, r, counted=True):
