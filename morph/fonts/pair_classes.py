@@ -156,7 +156,7 @@ def _decoded(data, count, format1, format2):
     from fontTools.ttLib.tables.otBase import ValueRecord
 
     fields = [[name for bit, name in _PLAIN_FIELDS if f & bit] for f in (format1, format2)]
-    values = np.frombuffer(data, ">i2").reshape(count, -1).tolist()
+    values = np.frombuffer(data, ">i2").reshape(count, len(fields[0]) + len(fields[1])).tolist()
     out = []
     for row in values:
         rec = ot.Class2Record()

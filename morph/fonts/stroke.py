@@ -684,11 +684,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font), ``inked`` (the glyphs that draw something),
-    ``cmap`` (the written font's code point -> glyph name, where morph compiled it:
-    :func:`morph.fonts.tables_static.compile_static`; else None) and ``font`` (the
-    written font's data and glyph shells: a ``ufoLib2.Font`` or, opened light, a
-    ``light_ufo.LightFont``).
+    glyph does not stop the font), ``inked`` (the glyphs that draw something), ``cmap``
+    (the written font's code point -> glyph name where morph compiled it, else None),
+    ``font`` (the written data and shells: ``ufoLib2.Font`` or light ``LightFont``).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad

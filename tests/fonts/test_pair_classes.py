@@ -17,7 +17,8 @@ GLYPHS = [".notdef"] + ["g%02d" % k for k in range(40)]
 
 #: class pairs in two subtables (an explicit break, then classes that overlap the
 #: first ones, a break again), a glyph pair, value records of one and of two sides
-#: (of all four fields, of the advance, of the y placement only), a zero pair
+#: (of all four fields, of the advance, of the y placement only), zero pairs (one
+#: subtable of zero pairs only: no value record)
 FEATURES = """
 languagesystem DFLT dflt;
 @L1 = [g00 g01 g02];
@@ -43,6 +44,8 @@ feature kern {
         subtable;
         pos @L1 @R3 <0 7 0 0>;
         pos @L2 @R3 <0 -9 0 0>;
+        subtable;
+        pos @L1 @R1 0;
     } kern_a;
 } kern;
 """
@@ -79,7 +82,7 @@ def _xml(font):
 def test_packed_rows_compile_to_fonttools_bytes():
     packed, plain = _font(FEATURES, True), _font(FEATURES, False)
     subtables = _class_subtables(packed)
-    assert len(subtables) == 4   # the explicit breaks, the classes that overlap
+    assert len(subtables) == 5   # the explicit breaks, the classes that overlap
     assert all(type(r).__name__ == "PackedClass1Record"
                for st in subtables for r in st.Class1Record)
     assert _compiled(packed) == _compiled(plain)
