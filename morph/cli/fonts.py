@@ -488,18 +488,18 @@ def _stroke_ufo_cli(src, output, nib, nib_svg, glyphs, tol, sample, family, jobs
 
         shown = sample_font(out, sample)
     ink = name = None
-    if page and getattr(stats["font"], "light", False) and stats["inked"] is not None:
-        # the written glyphs' cmap, ink and name, known (the font's CFF table unread)
+    if page and getattr(stats["font"], "light", False):
+        # the written glyphs' cmap, ink and name, known (the font's outlines unread)
         from ..fonts.fontinfo import full_name
 
-        ink = ({u: g.name for g in stats["font"] for u in g.unicodes},
+        skip = set(stats["font"].lib.get("public.skipExportGlyphs", ()))
+        ink = ({u: g.name for g in stats["font"] if g.name not in skip for u in g.unicodes},
                stats["inked"].__contains__)
         name = full_name(stats["font"].info)
     sample = _covered_sample(shown, sample, ink)
     write_sample_image(shown, sample, png)
-    if page:
-        write_specimen(out, None, sample=sample, cmap=None if ink is None else ink[0],
-                       display_name=name)
+    if page:   # the glyph names as written (production names): the font's own cmap
+        write_specimen(out, None, sample=sample, cmap=stats.get("cmap"), display_name=name)
     click.echo("wrote %s (%s stroked, %s kept, %s, %.1f s, %s), sample %s%s"
                % (out, count(stats["glyphs"] + stats["followed"], "glyph"),
                   count(stats["composites"], "composite"), count(stats["points"], "point"),

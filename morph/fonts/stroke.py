@@ -684,9 +684,9 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     and off-curve points written), ``stroke_seconds`` (CPU time of the strokes and
     their conversion, summed over the glyphs), ``seconds`` (wall, whole call),
     ``fallback`` (glyph -> the MorphError that sent it to the polygon stroke: such a
-    glyph does not stop the font), ``inked`` (the glyphs that draw something, when
-    the font keeps no composite; else None) and ``font`` (the written font's data and
-    glyph shells: a ``ufoLib2.Font`` or, opened light, a ``light_ufo.LightFont``).
+    glyph does not stop the font), ``inked`` (the glyphs that draw something), ``cmap``
+    (the written font's code point -> glyph name where morph compiled it, else None),
+    ``font`` (the written data and shells: ``ufoLib2.Font`` or light ``LightFont``).
 
     Raises:
         ParseError: unreadable UFO, a glyph or component base the UFO lacks, a bad
@@ -701,7 +701,7 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     t_start = time.perf_counter()
     out_path, kind = _checked_output(out_path, tol, overwrite)
     check_convex_nib(nib_region)
-    plan = _font_plan(src, nib_region, glyphs, family_name, kind, tol)
+    plan = _uncollected(_font_plan, src, nib_region, glyphs, family_name, kind, tol)
     if planned is not None:
         planned(sum(1 for n in plan.stroked if plan.weights[n] > 0))
     save_atomically(out_path, lambda tmp: _write_streamed(
@@ -710,6 +710,24 @@ def stroke_ufo(src, out_path, nib_region, glyphs=None, tol=0.5, family_name=None
     plan.stats.update(glyphs=len(plan.stroked), followed=len(plan.followed), font=plan.font,
                       seconds=time.perf_counter() - t_start)
     return plan.stats
+
+
+def _uncollected(call, *args):
+    """``call(*args)`` with Python's cyclic garbage collector off (on again after,
+    where it was on).  The font's plan (the glyphs' shells, feaLib's syntax tree of
+    the feature file) and its compilation (fontTools' tables) make some hundred
+    thousand objects that live until the font is written: every 700 allocations
+    would start a pass over the young objects, which live on (about 45 M
+    instructions of Relief's plan and layout tables)."""
+    import gc
+
+    if not gc.isenabled():
+        return call(*args)
+    gc.disable()
+    try:
+        return call(*args)
+    finally:
+        gc.enable()
 
 
 class _FontPlan:
@@ -817,11 +835,10 @@ def _write_streamed(plan, tmp, out_path, kind, nib_region, tol, progress, stroke
                    in_flight=in_flight, preload=_WORKER_MODULES + _COMPILERS.get(kind, ()),
                    weights=[plan.weights[n] for n in inked])
     grow_win_metrics(plan.font, *sink.written_extent())
-    sink.finish(out_path, tol, jobs)
+    _uncollected(sink.finish, out_path, tol, jobs)
     plan.stats.update(sink.stats)
-    # which glyphs draw something, where that is the stroked glyphs with an outline
-    # (no composite), for the sample's choice without reading the font's outlines
-    plan.stats["inked"] = None if sink.composites else frozenset(sink.inked)
+    # which glyphs draw something, for the sample's choice without reading the font
+    plan.stats["inked"] = sink.inked_glyphs()
 
 
 def _blank_results(flavor, names):
@@ -904,7 +921,8 @@ class _StreamedGlyphs:
         self.extent = [None, None]
         self.composites = list(composites)
         self.boxes = dict.fromkeys(_placed_bases(font, self.composites))
-        self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0}
+        self.stats = {"contours": 0, "points": 0, "fallback": {}, "stroke_seconds": 0.0,
+                      "cmap": None}
         self.inked = set()   # the stroked glyphs with an outline
 
     def add(self, r, counted=True):
@@ -941,6 +959,16 @@ class _StreamedGlyphs:
             self._grow(_composite_box(self.font, name, self.boxes, memo))
         return self.extent
 
+    def inked_glyphs(self):
+        """The written glyphs that draw something: the stroked glyphs with an outline
+        and the composites whose components place one (:func:`_composite_box`), as
+        the font's outlines tell (a CFF font's decomposed composites, a TrueType
+        font's components)."""
+        memo = {}
+        return frozenset(self.inked).union(
+            n for n in self.composites
+            if _composite_box(self.font, n, self.boxes, memo) is not None)
+
     def finish(self, out_path, tol, jobs=1):
         """The UFO's font info rewritten, or the font compiled by ufo2ft from the
         shells and the stored outlines and saved (a large CFF font's subroutine
@@ -973,6 +1001,7 @@ class _StreamedGlyphs:
         # the boxes (head, hhea, maxp) are set (ufo2ft's subroutinizing save for CFF,
         # the stored glyphs' headers for glyf): not again from every glyph decoded
         otf.recalcBBoxes = False
+        self.stats["cmap"] = getattr(otf, "written_cmap", None)
         save_font(otf, self.tmp)
 
 

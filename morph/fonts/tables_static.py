@@ -127,6 +127,8 @@ def _raw_font_class():
         from fontTools.ttLib.tables.DefaultTable import DefaultTable
 
         class RawTablesFont(TTFont):
+            written_cmap = None   # set by compile_static
+
             def _writeTable(self, tag, writer, done, *args, **kwargs):
                 table = self.tables.get(tag)
                 if type(table) is DefaultTable and tag not in done and not self.recalcBBoxes:
@@ -256,7 +258,8 @@ def compile_static(font, store, kind, features=None, jobs=1, **options):
     here); ``jobs``: the subroutinizer's groups run at once
     (:func:`morph.fonts.subrs.font_subroutines`).  See the module docstring.  The
     font's boxes are final: it is to be saved as it is (``recalcBBoxes`` off; the
-    CFF table is ``tx``'s bytes).
+    CFF table is ``tx``'s bytes); its ``written_cmap`` is its character map as
+    saved (code point -> glyph name, production names where the lib has them).
 
     A font this module does not compile (:func:`left_to_ufo2ft`) is compiled by
     ufo2ft (:func:`morph.fonts.stream.compile_stored`, given ``options``) from the
@@ -272,6 +275,7 @@ def compile_static(font, store, kind, features=None, jobs=1, **options):
         return compile_stored(as_ufolib2(font), store, kind, features=features, **options)
     otf = compiler.compile(features, writers)
     otf.recalcBBoxes = False
+    otf.written_cmap = {u: compiler.names.get(n, n) for u, n in compiler.cmap.items()}
     return otf
 
 
@@ -1034,14 +1038,17 @@ class _Compiler:
         if tree is None:
             tree = parse_features(self.ufo)
         from .deferred import feature_builder
+        from .pair_classes import packed_class_pairs
 
-        if self._same_parse():
-            if tree.statements:   # the text ufo2ft writes of it is not empty
-                feature_builder().addOpenTypeFeatures(self.otf, tree)
-            return
-        fea = tree.asFea()
-        if fea:
-            feature_builder().addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
+        builder = feature_builder()
+        with packed_class_pairs():   # the class kerning's records held as their bytes
+            if self._same_parse():
+                if tree.statements:   # the text ufo2ft writes of it is not empty
+                    builder.addOpenTypeFeatures(self.otf, tree)
+                return
+            fea = tree.asFea()
+            if fea:
+                builder.addOpenTypeFeaturesFromString(self.otf, fea, filename=None)
 
     def _same_parse(self):
         """Whether feaLib's parse of the feature file with the font's glyph order as

@@ -394,3 +394,34 @@ def test_chunk_strokes_glyph_by_glyph_where_the_packed_call_raises(skeleton, mon
         a1 = region_to_shapely(r1, 0.05)
         a2 = region_to_shapely(r2, 0.05)
         assert hausdorff(a1.boundary, a2.boundary) <= 2 * tols[0]
+
+
+@pytest.mark.parametrize("suffix", [".otf", ".ttf"])
+def test_written_ink_and_cmap_are_the_fonts(tmp_path, suffix):
+    """The ink and character map the writer reports (for the sample and specimen,
+    which then do not read the font) are those of the written font read back:
+    composites (kept components, one of them nested) draw what their bases draw,
+    glyphs not chosen draw nothing, the names are the production names."""
+    import plistlib
+    import shutil
+
+    from morph.fonts.specimen import _ink_test
+    from morph.fonts.stream import SkeletonSource
+
+    src = tmp_path / "src.ufo"
+    shutil.copytree(SUBSET, src)
+    lib = plistlib.loads((src / "lib.plist").read_bytes())
+    lib["public.postscriptNames"] = {"eacute": "e_acute", "A": "A.prod"}
+    (src / "lib.plist").write_bytes(plistlib.dumps(lib))
+    chosen = ["H", "eacute", "i", "nine", "ordfeminine", "A", "space"]
+    out = tmp_path / ("ink" + suffix)
+    stats = stroke_ufo(SkeletonSource(src, light=True), out, nib(), chosen, tol=0.5,
+                       stroker=polygon_stroker(0.25))   # read light, as the command reads it
+    assert stats["composites"] > 0
+    cmap, has_ink = _ink_test(TTFont(str(out)))
+    assert stats["cmap"] == cmap
+    source_names = {u: g.name for g in stats["font"] for u in g.unicodes}
+    assert cmap[ord("A")] == "A.prod" and cmap[ord("é")] == "e_acute"   # production names
+    inked = {u for u, name in cmap.items() if has_ink(name)}
+    assert {u for u in cmap if source_names[u] in stats["inked"]} == inked
+    assert {ord(c) for c in "Héi9ªA"} <= inked and ord(" ") not in inked
