@@ -21,6 +21,7 @@ as they are.
 """
 
 import contextlib
+import functools
 
 __all__ = ["packed_class_pairs", "packed_record"]
 
@@ -34,13 +35,15 @@ _PLAIN_FIELDS = ((0x0001, "XPlacement"), (0x0002, "YPlacement"), (0x0004, "XAdva
 def packed_class_pairs():
     """Within the block, otlLib's ``buildPairPosClassesSubtable`` (which feaLib's
     pair positioning builder calls for each class subtable) builds its subtable
-    with packed rows where it can (:func:`_packed_subtable`); restored after."""
+    with packed rows where it can (:func:`_packed_subtable`) and where the packing
+    agrees with the installed fontTools (:func:`_agrees`); restored after."""
     from fontTools.otlLib import builder as otl
 
     original = otl.buildPairPosClassesSubtable
 
     def build(pairs, glyphMap, valueFormat1=None, valueFormat2=None):  # noqa: N803 - otlLib's
-        st = _packed_subtable(pairs, glyphMap, valueFormat1, valueFormat2)
+        st = (_packed_subtable(pairs, glyphMap, valueFormat1, valueFormat2)
+              if _agrees(original) else None)
         return original(pairs, glyphMap, valueFormat1, valueFormat2) if st is None else st
 
     otl.buildPairPosClassesSubtable = build
@@ -48,6 +51,44 @@ def packed_class_pairs():
         yield
     finally:
         otl.buildPairPosClassesSubtable = original
+
+
+@functools.lru_cache(maxsize=None)
+def _agrees(original):
+    """Whether packed rows compile to the bytes of ``original`` (otlLib's own
+    ``buildPairPosClassesSubtable``) with the installed fontTools: a small subtable
+    (two value formats, a value record of one side only, a class of one glyph)
+    built both ways and compiled in a lookup, once per process, when the first class
+    subtable is due.  False where they differ or the packing raises (a fontTools
+    whose classes or table compiler this module does not follow): then otlLib
+    builds every subtable."""
+    from fontTools.otlLib import builder as otl
+    from fontTools.ttLib import TTFont
+    from fontTools.ttLib.tables.otBase import OTTableWriter, ValueRecord
+
+    font = TTFont()
+    font.setGlyphOrder([".notdef", "a", "b", "c", "d"])
+    glyph_map = {g: k for k, g in enumerate(font.getGlyphOrder())}
+
+    def value(**fields):
+        record = ValueRecord()
+        record.__dict__.update(fields)
+        return record
+
+    pairs = {(("a", "b"), ("c",)): (value(XAdvance=-40), None),
+             (("a", "b"), ("d",)): (value(XPlacement=3, XAdvance=5), value(YAdvance=-7)),
+             (("c",), ("c",)): (value(XAdvance=12), None)}
+
+    def compiled(subtable):
+        writer = OTTableWriter(tableTag="GPOS")
+        otl.buildLookup([subtable]).compile(writer, font)
+        return writer.getAllData()
+
+    try:
+        return compiled(_packed_subtable(pairs, glyph_map, None, None)) == compiled(
+            original(pairs, glyph_map))
+    except Exception:  # noqa: BLE001 - any failure of the packing means: do not pack
+        return False
 
 
 def _value_format(forced, values, side):

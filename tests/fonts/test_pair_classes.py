@@ -124,3 +124,28 @@ def test_builder_restored():
             assert otl.buildPairPosClassesSubtable is not original
             raise ZeroDivisionError
     assert otl.buildPairPosClassesSubtable is original
+
+
+def test_packing_checked_against_the_installed_fonttools(monkeypatch):
+    """The packing is used only where its self-check agrees with fontTools' own
+    build (true of the installed fontTools); a packing that writes other bytes
+    fails the check, and otlLib then builds every subtable: the same font."""
+    from morph.fonts import pair_classes
+
+    assert pair_classes._agrees(otl.buildPairPosClassesSubtable)
+    real = pair_classes._packed_subtable
+
+    def wrong(*args):   # the second side's value format dropped
+        st = real(*args)
+        st.ValueFormat2 = 0
+        return st
+
+    monkeypatch.setattr(pair_classes, "_packed_subtable", wrong)
+    pair_classes._agrees.cache_clear()
+    try:
+        packed, plain = _font(FEATURES, True), _font(FEATURES, False)
+        assert not any(type(r).__name__ == "PackedClass1Record"
+                       for st in _class_subtables(packed) for r in st.Class1Record)
+        assert _compiled(packed) == _compiled(plain)
+    finally:
+        pair_classes._agrees.cache_clear()
