@@ -315,14 +315,28 @@ def _half_matrices(n):
 
 
 def _apply(mat, c):
-    """mat applied along axis 1 of a stack c (k, n+1, ...)."""
+    """mat applied along axis 1 of a stack c (k, n+1, ...).
+
+    One 2-D product (k, n+1) @ mat.T per trailing column, not a stack of k small
+    products (numpy's matmul calls BLAS once per stack entry: ~1000 instructions of
+    call overhead for a few dozen multiply-adds).  mat.T is passed as a strided view
+    (every other number of a buffer), which BLAS cannot take, so numpy multiplies
+    with its own loop: each output a sum in index order, the same numbers for a row
+    whatever the stack around it, and never a large gemm on OpenBLAS's thread pool.
+    A single row (which numpy multiplies another way) is doubled to go the same way.
+    """
     c = np.asarray(c, float)
-    k = c.shape[0]
-    # a stack of small products: one large one would go to the threaded BLAS, which
-    # is many times slower on a loaded machine
+    k, n1 = c.shape[:2]
     rest = math.prod(c.shape[2:])
-    out = np.matmul(mat, c.reshape(k, c.shape[1], rest))
-    return out.reshape((k, mat.shape[0]) + c.shape[2:])
+    cols = c.reshape(k, n1, rest)
+    if k == 1:
+        cols = np.concatenate([cols, cols])
+    spread = np.empty(mat.shape[::-1] + (2,))
+    spread[..., 0] = mat.T
+    out = np.empty((len(cols), mat.shape[0], rest))
+    for j in range(rest):
+        np.matmul(cols[:, :, j], spread[..., 0], out=out[:, :, j])
+    return out[:k].reshape((k, mat.shape[0]) + c.shape[2:])
 
 
 def evaluate_many(c, t):

@@ -71,7 +71,7 @@ class PowerJets:
         n = c.shape[1] - 1
         self.n = n
         self.j = np.arange(n + 1, dtype=float)
-        self.a = np.matmul(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
+        self.a = bz._apply(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
         self.a1 = self.a[:, 1:] * self.j[1:, None]
         self.a2 = self.a1[:, 1:] * self.j[1:-1, None]
         self.exps = {}                      # exponents 2..n per shape of s

@@ -223,7 +223,7 @@ def jet2_power_many(c, s):
     n = c.shape[1] - 1
     if n < 2:
         return jet2_many(c, s)
-    a = np.matmul(bz._to_power_matrix(n), c)                   # (k, n+1, 3), ascending
+    a = bz._apply(bz._to_power_matrix(n), c)                   # (k, n+1, 3), ascending
     j = np.arange(n + 1, dtype=float)
     a1 = a[:, 1:] * j[1:, None]
     a2 = a1[:, 1:] * j[1:-1, None]
