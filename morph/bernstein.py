@@ -423,23 +423,20 @@ def _multiply_scatter(a, b, m, n):
 
 
 @lru_cache(maxsize=None)
-def _toeplitz(m, n):
-    """The product weights in Toeplitz layout: (index (m+n+1, n+1), weights (m+n+1,
-    n+1)).  Entry (q, j) pairs b_j with a_i, i = q - j: index i (m + 1, a zero
-    appended to a, where i is out of range) and weight C(m,i) C(n,j) / C(m+n,q) (the
-    entries of :func:`_product_matrix`, 0 out of range)."""
-    q, j = np.meshgrid(np.arange(m + n + 1), np.arange(n + 1), indexing="ij")
-    i = q - j
-    ok = (i >= 0) & (i <= m)
-    w = np.where(ok, _product_matrix(m, n)[np.clip(i, 0, m), j], 0.0)
-    return np.where(ok, i, m + 1), w
+def _direct_weights(m, n):
+    """The product weights C(m,i) C(n,j) / C(m+n,i+j) (:func:`_product_matrix`) laid
+    out (n+1, m+1, 1): row j multiplies the coefficients a_0..a_m landing at
+    q = j..j+m, broadcast over a stack's polynomials."""
+    return np.ascontiguousarray(_product_matrix(m, n).T)[:, :, None]
 
 
 def _multiply_direct(a, b, m, n):
-    """:func:`multiply_many` as a weighted convolution: the longer factor laid out as a
-    Toeplitz stack (one gather, :func:`_toeplitz`), times the weights, summed against
-    the shorter (one batched matrix product): ~(m+n) min(m,n) operations a row
-    instead of the scatter matrix's ~(m+n) m n.  Trailing axes join the stack axis."""
+    """:func:`multiply_many` as a weighted convolution, coefficient-major: for each
+    index j of the shorter factor, the longer one's coefficients times their weights
+    (:func:`_direct_weights`) times b_j, added into place q = i + j, in the order
+    j = 0, 1, ...: whole-stack products along rows of the k polynomials (not k small
+    matrix products), ~(m+n) min(m,n) operations a polynomial instead of the scatter
+    matrix's ~(m+n) m n.  Trailing axes join the stack axis."""
     if n > m:
         a, b, m, n = b, a, n, m
     if a.ndim > 2:
@@ -448,11 +445,12 @@ def _multiply_direct(a, b, m, n):
                 .reshape(-1, d + 1) for x, d in ((a, m), (b, n))]
         out = _multiply_direct(rows[0], rows[1], m, n)
         return np.moveaxis(out.reshape(shape + (m + n + 1,)), -1, 1)
-    idx, w = _toeplitz(m, n)
-    ext = np.concatenate([a, np.zeros((a.shape[0], 1))], axis=1)
-    toep = ext[:, idx]                                          # (k, m+n+1, n+1)
-    toep *= w
-    return np.matmul(toep, b[:, :, None])[:, :, 0]
+    weighted = _direct_weights(m, n) * np.ascontiguousarray(a.T)   # (n+1, m+1, k)
+    b_t = np.ascontiguousarray(b.T)
+    out = np.zeros((m + n + 1, max(len(a), len(b))))
+    for j in range(n + 1):
+        out[j:j + m + 1] += weighted[j] * b_t[j]
+    return np.ascontiguousarray(out.T)
 
 
 def split_many(c, t, side=None):
