@@ -314,29 +314,35 @@ def _half_matrices(n):
     return left, right
 
 
+#: The largest matrix (entries times trailing columns) :func:`_apply` applies by
+#: whole-stack multiply-adds instead of numpy's stacked matmul, whose one BLAS call
+#: per stack entry costs ~1000 instructions.  Measured by callgrind on stacks of
+#: 500-750 rows, instructions a call (stacked matmul -> multiply-adds): (2, 2) x 1
+#: column 277k -> 81k, (3, 4) x 2 572k -> 208k, (4, 3) x 3 820k -> 496k, (4, 6) x 2
+#: 868k -> 674k, but (18, 9) x 1 590k -> 781k.
+APPLY_SUMS = 48
+
+
 def _apply(mat, c):
     """mat applied along axis 1 of a stack c (k, n+1, ...).
 
-    One 2-D product (k, n+1) @ mat.T per trailing column, not a stack of k small
-    products (numpy's matmul calls BLAS once per stack entry: ~1000 instructions of
-    call overhead for a few dozen multiply-adds).  mat.T is passed as a strided view
-    (every other number of a buffer), which BLAS cannot take, so numpy multiplies
-    with its own loop: each output a sum in index order, the same numbers for a row
-    whatever the stack around it, and never a large gemm on OpenBLAS's thread pool.
-    A single row (which numpy multiplies another way) is doubled to go the same way.
-    """
+    A small matrix (:data:`APPLY_SUMS`): coefficient-major sums over j of column j of
+    mat times row j of the stack, in the order j = 0, 1, ... (whole-stack products
+    along rows of the k polynomials); a larger one: numpy's stacked matmul (one small
+    product per stack entry: one large one would go to the threaded BLAS, which is
+    many times slower on a loaded machine).  Either way a row's numbers do not depend
+    on the rows around it."""
     c = np.asarray(c, float)
     k, n1 = c.shape[:2]
     rest = math.prod(c.shape[2:])
-    cols = c.reshape(k, n1, rest)
-    if k == 1:
-        cols = np.concatenate([cols, cols])
-    spread = np.empty(mat.shape[::-1] + (2,))
-    spread[..., 0] = mat.T
-    out = np.empty((len(cols), mat.shape[0], rest))
-    for j in range(rest):
-        np.matmul(cols[:, :, j], spread[..., 0], out=out[:, :, j])
-    return out[:k].reshape((k, mat.shape[0]) + c.shape[2:])
+    if mat.size * rest > APPLY_SUMS:
+        out = np.matmul(mat, c.reshape(k, n1, rest))
+        return out.reshape((k, mat.shape[0]) + c.shape[2:])
+    rows = np.ascontiguousarray(c.reshape(k, n1, rest).transpose(1, 2, 0))  # (n+1, rest, k)
+    out = mat[:, 0, None, None] * rows[0]
+    for j in range(1, n1):
+        out += mat[:, j, None, None] * rows[j]
+    return np.ascontiguousarray(out.transpose(2, 0, 1)).reshape((k, mat.shape[0]) + c.shape[2:])
 
 
 def evaluate_many(c, t):
