@@ -314,15 +314,35 @@ def _half_matrices(n):
     return left, right
 
 
+#: The largest matrix (entries times trailing columns) :func:`_apply` applies by
+#: whole-stack multiply-adds instead of numpy's stacked matmul, whose one BLAS call
+#: per stack entry costs ~1000 instructions.  Measured by callgrind on stacks of
+#: 500-750 rows, instructions a call (stacked matmul -> multiply-adds): (2, 2) x 1
+#: column 277k -> 81k, (3, 4) x 2 572k -> 208k, (4, 3) x 3 820k -> 496k, (4, 6) x 2
+#: 868k -> 674k, but (18, 9) x 1 590k -> 781k.
+APPLY_SUMS = 48
+
+
 def _apply(mat, c):
-    """mat applied along axis 1 of a stack c (k, n+1, ...)."""
+    """mat applied along axis 1 of a stack c (k, n+1, ...).
+
+    A small matrix (:data:`APPLY_SUMS`): coefficient-major sums over j of column j of
+    mat times row j of the stack, in the order j = 0, 1, ... (whole-stack products
+    along rows of the k polynomials); a larger one: numpy's stacked matmul (one small
+    product per stack entry: one large one would go to the threaded BLAS, which is
+    many times slower on a loaded machine).  Either way a row's numbers do not depend
+    on the rows around it."""
     c = np.asarray(c, float)
-    k = c.shape[0]
-    # a stack of small products: one large one would go to the threaded BLAS, which
-    # is many times slower on a loaded machine
+    k, n1 = c.shape[:2]
     rest = math.prod(c.shape[2:])
-    out = np.matmul(mat, c.reshape(k, c.shape[1], rest))
-    return out.reshape((k, mat.shape[0]) + c.shape[2:])
+    if mat.size * rest > APPLY_SUMS:
+        out = np.matmul(mat, c.reshape(k, n1, rest))
+        return out.reshape((k, mat.shape[0]) + c.shape[2:])
+    rows = np.ascontiguousarray(c.reshape(k, n1, rest).transpose(1, 2, 0))  # (n+1, rest, k)
+    out = mat[:, 0, None, None] * rows[0]
+    for j in range(1, n1):
+        out += mat[:, j, None, None] * rows[j]
+    return np.ascontiguousarray(out.transpose(2, 0, 1)).reshape((k, mat.shape[0]) + c.shape[2:])
 
 
 def evaluate_many(c, t):
@@ -363,13 +383,16 @@ def _scatter(m, n):
 #: Product degrees m + n from which :func:`multiply_many` convolves the coefficients
 #: (:func:`_multiply_direct`, ~(m+n) min(m,n) operations a row) instead of applying
 #: the scatter matrix (:func:`_multiply_scatter`, ~(m+n) m n operations), for stacks
-#: without and with trailing axes.  Measured by ``python -m bench.bernstein_product``
-#: (CPU time per call of both, stacks of 1-64 rows, product degrees 2-114): without
-#: trailing axes the direct product was the faster at every degree and stack size
-#: (1.0-5x); with trailing axes (moved into the stack, one more copy) from degree 14
-#: (64 rows), 24 (16 rows), 42 (4 rows), 80 (1 row), so from 42 on.
+#: without and with trailing axes.  ``python -m bench.bernstein_product`` (CPU time
+#: per call of both, stacks of 1-64 rows, product degrees 2-114): without trailing
+#: axes the direct product was the faster at every degree and stack size (1.0-5x).
+#: With trailing axes (two columns), callgrind instructions a call, scatter ->
+#: direct: 743 rows of degrees 1 x 2 1.33M -> 0.87M, 272 rows 3 x 4 1.22M -> 0.58M,
+#: 436 rows 6 x 7 5.1M -> 1.1M, 50 rows 6 x 7 0.63M -> 0.45M (the scatter matrix is
+#: applied by one BLAS call a row from 49 entries on); only a stack of ~10 rows and
+#: low degrees is cheaper scattered (0.15M vs 0.25M).
 PRODUCT_DIRECT_DEGREE = 2
-PRODUCT_DIRECT_DEGREE_TAIL = 42
+PRODUCT_DIRECT_DEGREE_TAIL = 2
 
 
 def multiply_many(a, b, method=None):
@@ -378,8 +401,9 @@ def multiply_many(a, b, method=None):
 
     Both methods evaluate ``c_q = sum_{i+j=q} C(m,i) C(n,j) / C(m+n,q) a_i b_j``;
     ``method`` ("scatter" or "direct") forces one, else the product degree picks the
-    faster (:data:`PRODUCT_DIRECT_DEGREE`, :data:`PRODUCT_DIRECT_DEGREE_TAIL`).  They agree to rounding (relative ~1e-15
-    of sum |C(m,i) C(n,j) / C(m+n,q) a_i b_j|, the same bound for both).
+    faster (:data:`PRODUCT_DIRECT_DEGREE`, :data:`PRODUCT_DIRECT_DEGREE_TAIL`).  They
+    agree to rounding (relative ~1e-15 of sum |C(m,i) C(n,j) / C(m+n,q) a_i b_j|, the
+    same bound for both).
     """
     a = np.asarray(a, float)
     b = np.asarray(b, float)
@@ -409,23 +433,20 @@ def _multiply_scatter(a, b, m, n):
 
 
 @lru_cache(maxsize=None)
-def _toeplitz(m, n):
-    """The product weights in Toeplitz layout: (index (m+n+1, n+1), weights (m+n+1,
-    n+1)).  Entry (q, j) pairs b_j with a_i, i = q - j: index i (m + 1, a zero
-    appended to a, where i is out of range) and weight C(m,i) C(n,j) / C(m+n,q) (the
-    entries of :func:`_product_matrix`, 0 out of range)."""
-    q, j = np.meshgrid(np.arange(m + n + 1), np.arange(n + 1), indexing="ij")
-    i = q - j
-    ok = (i >= 0) & (i <= m)
-    w = np.where(ok, _product_matrix(m, n)[np.clip(i, 0, m), j], 0.0)
-    return np.where(ok, i, m + 1), w
+def _direct_weights(m, n):
+    """The product weights C(m,i) C(n,j) / C(m+n,i+j) (:func:`_product_matrix`) laid
+    out (n+1, m+1, 1): row j multiplies the coefficients a_0..a_m landing at
+    q = j..j+m, broadcast over a stack's polynomials."""
+    return np.ascontiguousarray(_product_matrix(m, n).T)[:, :, None]
 
 
 def _multiply_direct(a, b, m, n):
-    """:func:`multiply_many` as a weighted convolution: the longer factor laid out as a
-    Toeplitz stack (one gather, :func:`_toeplitz`), times the weights, summed against
-    the shorter (one batched matrix product): ~(m+n) min(m,n) operations a row
-    instead of the scatter matrix's ~(m+n) m n.  Trailing axes join the stack axis."""
+    """:func:`multiply_many` as a weighted convolution, coefficient-major: for each
+    index j of the shorter factor, the longer one's coefficients times their weights
+    (:func:`_direct_weights`) times b_j, added into place q = i + j, in the order
+    j = 0, 1, ...: whole-stack products along rows of the k polynomials (not k small
+    matrix products), ~(m+n) min(m,n) operations a polynomial instead of the scatter
+    matrix's ~(m+n) m n.  Trailing axes join the stack axis."""
     if n > m:
         a, b, m, n = b, a, n, m
     if a.ndim > 2:
@@ -434,11 +455,12 @@ def _multiply_direct(a, b, m, n):
                 .reshape(-1, d + 1) for x, d in ((a, m), (b, n))]
         out = _multiply_direct(rows[0], rows[1], m, n)
         return np.moveaxis(out.reshape(shape + (m + n + 1,)), -1, 1)
-    idx, w = _toeplitz(m, n)
-    ext = np.concatenate([a, np.zeros((a.shape[0], 1))], axis=1)
-    toep = ext[:, idx]                                          # (k, m+n+1, n+1)
-    toep *= w
-    return np.matmul(toep, b[:, :, None])[:, :, 0]
+    weighted = _direct_weights(m, n) * np.ascontiguousarray(a.T)   # (n+1, m+1, k)
+    b_t = np.ascontiguousarray(b.T)
+    out = np.zeros((m + n + 1, max(len(a), len(b))))
+    for j in range(n + 1):
+        out[j:j + m + 1] += weighted[j] * b_t[j]
+    return np.ascontiguousarray(out.T)
 
 
 def split_many(c, t, side=None):

@@ -12,6 +12,7 @@ import functools
 import numpy as np
 
 from . import bernstein as bz
+from . import piece as pc
 from .piece import jet2_many, jet2_power_many
 
 __all__ = ["closest_params_many", "nearest_params_many", "nearest_params_in_range",
@@ -32,15 +33,16 @@ def closest_params_many(c, pts, s, iters=6, jet=jet2_many):
     s = np.array(s, float)
     with np.errstate(divide="ignore", invalid="ignore"):   # no step where f' <= 0
         if jet is jet2_power_many and np.shape(c)[1] > 2:
-            jets = PowerJets(c)
-            ptx, pty = pts[..., 0], pts[..., 1]
+            # laid out (m, k), as PowerJets.at makes its sums
+            jets, st = PowerJets(c), np.ascontiguousarray(s.T)
+            ptx, pty = np.ascontiguousarray(pts[..., 0].T), np.ascontiguousarray(pts[..., 1].T)
             for _ in range(iters):
-                (px, py), (dx, dy), (ddx, ddy) = jets(s)
+                (px, py), (dx, dy), (ddx, ddy) = jets.at(st)
                 ex, ey = px - ptx, py - pty
                 f = ex * dx + ey * dy
                 fp = (dx * dx + dy * dy) + (ex * ddx + ey * ddy)
-                s = _newton_step(s, f, fp)
-            return s
+                st = _newton_step(st, f, fp)
+            return np.ascontiguousarray(st.T)
         for _ in range(iters):
             p, d, dd = jet(c, s)
             diff = p - pts
@@ -61,46 +63,29 @@ def _newton_step(s, f, fp):
 class PowerJets:
     """P, P' and P'' of a stack of pieces c (k, n+1, 3), n >= 2, at parameters s (k, m)
     again and again (a Newton iteration): :func:`morph.piece.jet2_power_many`'s
-    arithmetic, its power coefficients made once, x and y returned apart
-    (``((x, y), (x', y'), (x'', y''))``, each (k, m)), and s^0 = 1, s^1 = s written
-    rather than raised (the same values: a power that is exact is returned exact).
-    """
+    arithmetic (:func:`morph.piece.power_jets`), its power coefficients made once,
+    x and y returned apart (``((x, y), (x', y'), (x'', y''))``, each (k, m)).
+    :meth:`at` takes and gives the parameters and values laid out (m, k), the layout
+    the sums are made in (an iteration kept in it transposes nothing)."""
 
     def __init__(self, c):
         c = np.asarray(c, float)
-        n = c.shape[1] - 1
-        self.n = n
-        self.j = np.arange(n + 1, dtype=float)
-        self.a = np.matmul(bz._to_power_matrix(n), c)             # (k, n+1, 3), ascending
-        self.a1 = self.a[:, 1:] * self.j[1:, None]
-        self.a2 = self.a1[:, 1:] * self.j[1:-1, None]
+        self.n = c.shape[1] - 1
+        self.coef = pc.power_coefficients(c)
         self.exps = {}                      # exponents 2..n per shape of s
 
-    def __call__(self, s, second=True):
-        n = self.n
-        s = np.asarray(s)
-        v = np.empty(s.shape + (n + 1,))
-        v[..., 0] = 1.0
-        v[..., 1] = s
-        # a materialised exponent array: numpy squares where it sees one exponent 2
-        # (s * s), which differs from pow(s, 2) in the last bit now and then (made
-        # once per shape of s: a Newton iteration calls with one shape again and again)
-        exps = self.exps.get(s.shape)
+    def at(self, st, second=True):
+        """The jets at parameters st (m, k), laid out (m, k)."""
+        # the exponent array made once per shape of st: a Newton iteration calls with
+        # one shape again and again
+        exps = self.exps.get(st.shape)
         if exps is None:
-            exps = self.exps[s.shape] = np.empty(v[..., 2:].shape)
-            exps[...] = self.j[2:]
-        np.power(s[..., None], exps, out=v[..., 2:])
-        h, h1 = np.matmul(v, self.a), np.matmul(v[..., :n], self.a1)
-        w, w1 = h[..., 2], h1[..., 2]
-        px, py = h[..., 0] / w, h[..., 1] / w
-        p1x, p1y = (h1[..., 0] - w1 * px) / w, (h1[..., 1] - w1 * py) / w
-        if not second:
-            return (px, py), (p1x, p1y)
-        h2 = np.matmul(v[..., :n - 1], self.a2)
-        w2 = h2[..., 2]
-        p2x = (h2[..., 0] - 2.0 * w1 * p1x - w2 * px) / w
-        p2y = (h2[..., 1] - 2.0 * w1 * p1y - w2 * py) / w
-        return (px, py), (p1x, p1y), (p2x, p2y)
+            exps = self.exps[st.shape] = pc.power_exponents(self.n, st.shape)
+        return pc.power_jets(self.coef, pc.power_table(st, self.n, exps), second)
+
+    def __call__(self, s, second=True):
+        jets = self.at(np.asarray(s).T, second)
+        return tuple((x.T, y.T) for x, y in jets)
 
 
 @functools.lru_cache(maxsize=64)

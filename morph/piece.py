@@ -215,21 +215,72 @@ def _quotient_jet(v, v1, v2):
 
 def jet2_power_many(c, s):
     """P, P' and P'' as :func:`jet2_many`, from the power-basis coefficients of the
-    homogeneous curves (one power table s^j, three matrix products, then the quotient
-    rule): faster on small stacks; meant for moderate degrees (<= ~12, where the
-    power basis on [0, 1] keeps ~1e-12 relative accuracy)."""
+    homogeneous curves (:func:`power_coefficients`, :func:`power_jets`), then the
+    quotient rule: faster on small stacks; meant for moderate degrees (<= ~12, where
+    the power basis on [0, 1] keeps ~1e-12 relative accuracy)."""
     c = np.asarray(c, float)
     s = np.asarray(s, float)
     n = c.shape[1] - 1
     if n < 2:
         return jet2_many(c, s)
-    a = np.matmul(bz._to_power_matrix(n), c)                   # (k, n+1, 3), ascending
+    st = s.reshape(len(s), -1).T                                 # (m, k)
+    jets = power_jets(power_coefficients(c), power_table(st, n))
+    return tuple(np.stack([x.T, y.T], axis=-1).reshape(s.shape + (2,)) for x, y in jets)
+
+
+def power_coefficients(c):
+    """Power-basis coefficients of a stack c (k, n+1, 3), n >= 2, and of its first
+    two derivatives, coefficient-major: shapes (n+1, 3, k), (n, 3, k), (n-1, 3, k)."""
+    n = c.shape[1] - 1
+    a = np.ascontiguousarray(bz._apply(bz._to_power_matrix(n), c).transpose(1, 2, 0))
     j = np.arange(n + 1, dtype=float)
-    a1 = a[:, 1:] * j[1:, None]
-    a2 = a1[:, 1:] * j[1:-1, None]
-    v = s[..., None] ** j                                        # (k, m, n+1)
-    return _quotient_jet(np.matmul(v, a), np.matmul(v[..., :n], a1),
-                         np.matmul(v[..., :n - 1], a2))
+    a1 = a[1:] * j[1:, None, None]
+    return a, a1, a1[1:] * j[1:-1, None, None]
+
+
+def power_exponents(n, shape):
+    """The exponents 2..n of :func:`power_table` for parameters of a shape,
+    materialised (n-1,) + shape: numpy squares where it sees one exponent 2 (s * s),
+    which differs from pow(s, 2) in the last bit now and then."""
+    exps = np.empty((n - 1,) + shape)
+    exps[...] = np.arange(2, n + 1, dtype=float).reshape((-1,) + (1,) * len(shape))
+    return exps
+
+
+def power_table(st, n, exps=None):
+    """The powers s^0 .. s^n (n+1,) + st.shape of parameters st, s^0 = 1 and s^1 = s
+    written rather than raised (the same values: a power that is exact is exact);
+    ``exps``: :func:`power_exponents` (n, st.shape) when made already."""
+    powers = np.empty((n + 1,) + st.shape)
+    powers[0], powers[1] = 1.0, st
+    np.power(st, power_exponents(n, st.shape) if exps is None else exps, out=powers[2:])
+    return powers
+
+
+def power_jets(coef, powers, second=True):
+    """P, P' (and P'') of the pieces with power coefficients ``coef``
+    (:func:`power_coefficients`) at parameters laid out (m, k), one column a piece,
+    from their powers s^j (n+1, m, k): ((x, y), (x', y')[, (x'', y'')]), each (m, k).
+
+    The homogeneous values are sums over j of s^j times a coefficient row (k,)
+    broadcast down the m rows, in the order j = 0, 1, ...: whole-stack products with
+    long contiguous rows, not k small matrix products; then the quotient rule."""
+    def value(b, col):
+        out = powers[0] * b[0, col]
+        for j in range(1, len(b)):
+            out += powers[j] * b[j, col]
+        return out
+
+    a, a1, a2 = coef
+    w, w1 = value(a, 2), value(a1, 2)
+    px, py = value(a, 0) / w, value(a, 1) / w
+    p1x, p1y = (value(a1, 0) - w1 * px) / w, (value(a1, 1) - w1 * py) / w
+    if not second:
+        return (px, py), (p1x, p1y)
+    w2 = value(a2, 2)
+    p2x = (value(a2, 0) - 2.0 * w1 * p1x - w2 * px) / w
+    p2y = (value(a2, 1) - 2.0 * w1 * p1y - w2 * py) / w
+    return (px, py), (p1x, p1y), (p2x, p2y)
 
 
 def tangent_numerator(piece):

@@ -277,10 +277,9 @@ def test_exact_product_check_catches_an_off_by_one_weight(monkeypatch):
     a, b = rng.normal(size=(2, 31)), rng.normal(size=(2, 5))
     good = bz.multiply_many(a, b, "direct")
     assert _exact_product_error(a, b, good) < 1e-13
-    idx, w = bz._toeplitz(30, 4)
-    bad_idx = idx.copy()
-    bad_idx[17, 2] -= 1                                  # a_14 paired with b_2 at q = 17
-    monkeypatch.setattr(bz, "_toeplitz", lambda m, n: (bad_idx, w))
+    w = bz._direct_weights(30, 4).copy()
+    w[2, [14, 15]] = w[2, [15, 14]]                      # a_14, a_15 swap weights with b_2
+    monkeypatch.setattr(bz, "_direct_weights", lambda m, n: w)
     assert _exact_product_error(a, b, bz.multiply_many(a, b, "direct")) > 1e-3
     s = bz._scatter(30, 4).copy()
     s[[17, 18]] = s[[18, 17]]                            # two output rows swapped
