@@ -133,13 +133,12 @@ def _flat_params(stack, tol, min_width, keep=None):
             parts, owner, t0, width, steps = (parts.compress(needed, axis=0), owner[needed],
                                               t0[needed], width[needed], steps[needed])
             rep, j = _step_rows(steps)
+            # only the steps kept are cut (each step's points are its own)
             sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
-        parts = _equal_parts(parts, steps, rep, j)
+            rep, j = rep[sub_keep], j[sub_keep]
+        parts = _equal_parts(parts, steps, rep, j, every=keep is None)
         owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
         width = width[rep] / steps[rep]
-        if keep is not None:
-            parts, owner, t0 = parts.compress(sub_keep, axis=0), owner[sub_keep], t0[sub_keep]
-            width = width[sub_keep]
     return np.concatenate(done_owner), np.concatenate(done_t), np.concatenate(done_p)
 
 
@@ -161,18 +160,23 @@ EQUAL_BLOCK = 1 << 13
 EQUAL_GROUP = 6
 
 
-def _equal_parts(parts, steps, rep, j):
+def _equal_parts(parts, steps, rep, j, every=True):
     """Each of a stack of pieces (sorted by ``steps``) cut into ``steps`` equal
     parameter steps, in order (``rep``, ``j``: the part and rank of each step,
     :func:`_step_rows`): each step's control points through its matrix
     (:func:`_equal_split_matrices`), the sum over j in order (einsum's bits).  The
     step counts held by EQUAL_GROUP (n+1)^2 parts or more by :func:`_loop_rows`,
-    the rest all together by :func:`_gathered_rows`."""
+    the rest all together by :func:`_gathered_rows`.  ``every`` False: ``rep``, ``j``
+    are some of the steps only (in order), all cut by :func:`_gathered_rows` (the
+    same numbers: both sum over j in order)."""
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
     first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
     counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
+    offset = (counts.cumsum() - counts).repeat(sizes)   # each part's first matrix
+    if not every:
+        return _gathered_rows(_step_table(n, counts), offset[rep] + j, parts, rep)
     big = sizes >= EQUAL_GROUP * (n + 1) ** 2
     if len(counts) == 1 and big[0]:
         return _loop_rows(_equal_split_matrices(n, int(counts[0])), parts)
@@ -182,12 +186,19 @@ def _equal_parts(parts, steps, rep, j):
         out[start[g]:start[g + 1]] = _loop_rows(_equal_split_matrices(n, int(counts[g])),
                                                 parts[first[g]:first[g] + sizes[g]])
     if not big.all():
-        table = (_split_columns(n, int(counts[0])) if len(counts) == 1 else
-                 np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2))
-        which = (counts.cumsum() - counts).repeat(sizes)[rep] + j
+        table = _step_table(n, counts)
+        which = offset[rep] + j
         sel = (~big).repeat(counts * sizes).nonzero()[0]
         out[sel] = _gathered_rows(table, which[sel], parts, rep[sel])
     return out
+
+
+def _step_table(n, counts):
+    """The matrices of cutting into each of ``counts`` steps, one after another, as
+    (n+1, n+1, sum(counts)) (:func:`_split_columns`)."""
+    if len(counts) == 1:
+        return _split_columns(n, int(counts[0]))
+    return np.concatenate([_split_columns(n, k) for k in counts.tolist()], axis=2)
 
 
 def _loop_rows(mats, parts):

@@ -445,8 +445,8 @@ def test_within_on_columns_is_the_crossing_and_distance_test():
 
 def test_equal_parts_match_einsum_whatever_the_grouping(monkeypatch):
     """The parts of every step count cut column by column or in the gathered pass
-    (in one block or in many): the same bits as each part through each of its
-    steps' matrices by einsum."""
+    (in one block or in many), and some steps only (``every`` False): the same bits
+    as each part through each of its steps' matrices by einsum."""
     rng = np.random.default_rng(3)
     for n, m in ((2, 40), (7, 120)):
         steps = np.sort(rng.choice([2, 3, 5], m)).astype(np.int64)
@@ -461,3 +461,6 @@ def test_equal_parts_match_einsum_whatever_the_grouping(monkeypatch):
             for block in (1 << 13, 24):    # the gathered steps in one block; in many
                 monkeypatch.setattr(pl, "EQUAL_BLOCK", block)
                 assert np.array_equal(pl._equal_parts(parts, steps, rep, j), want)
+                some = rng.random(len(rep)) < 0.3
+                assert np.array_equal(pl._equal_parts(parts, steps, rep[some], j[some],
+                                                      every=False), want[some])
