@@ -174,6 +174,7 @@ def _equal_parts(parts, steps, rep, j, every=True):
         return parts
     first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
     counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
+    _make_splits(n, counts.tolist())   # the new counts' matrices in one call
     offset = (counts.cumsum() - counts).repeat(sizes)   # each part's first matrix
     if not every:
         return _gathered_rows(_step_table(n, counts), offset[rep] + j, parts, rep)
@@ -243,15 +244,38 @@ def _split_columns(n, k):
     return _equal_split_matrices(n, k).transpose(1, 2, 0).copy()
 
 
-@functools.lru_cache(maxsize=256)
+#: :func:`_equal_split_matrices` made so far, by (n, k); emptied past SPLITS_KEPT
+_SPLITS = {}
+SPLITS_KEPT = 256
+
+
 def _equal_split_matrices(n, k):
     """M_j (j < k) with M_j @ c the Bernstein coefficients of c on [j/k, (j+1)/k]."""
-    eye = np.eye(n + 1)
-    t = np.arange(k + 1) / k
-    rows = eye[None].repeat(k, axis=0).transpose(0, 2, 1).reshape(k * (n + 1), n + 1)
-    cols = bz.subsegment_many(rows, t[:-1].repeat(n + 1), t[1:].repeat(n + 1))
-    # row (j, i) of cols: basis vector e_i restricted to step j = column i of M_j
-    return cols.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
+    if (n, k) not in _SPLITS:
+        _make_splits(n, [k])
+    return _SPLITS[n, k]
+
+
+def _make_splits(n, counts):
+    """:func:`_equal_split_matrices` of degree n for the step counts of ``counts`` not
+    made yet, all in one :func:`morph.bernstein.subsegment_many` call (row by row:
+    the numbers of a call per count).  The rows of the basis vectors e_0 .. e_n
+    restricted to each step: row (j, i) of a count's block is e_i on step j, column
+    i of M_j."""
+    new = [k for k in dict.fromkeys(counts) if (n, k) not in _SPLITS]
+    if not new:
+        return
+    if len(_SPLITS) + len(new) > SPLITS_KEPT:
+        _SPLITS.clear()
+    ts = [np.arange(k + 1) / k for k in new]
+    t0 = np.concatenate([t[:-1] for t in ts]).repeat(n + 1)
+    t1 = np.concatenate([t[1:] for t in ts]).repeat(n + 1)
+    cols = bz.subsegment_many(np.tile(np.eye(n + 1), (len(t0) // (n + 1), 1)), t0, t1)
+    at = 0
+    for k in new:
+        block = cols[at:at + k * (n + 1)]
+        _SPLITS[n, k] = block.reshape(k, n + 1, n + 1).transpose(0, 2, 1).copy()
+        at += k * (n + 1)
 
 
 def _chord_distance(parts):
