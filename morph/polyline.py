@@ -278,15 +278,51 @@ def _make_splits(n, counts):
         at += k * (n + 1)
 
 
+#: Parts of degree 5 or more up to which :func:`_chord_distance` takes a stack's inner
+#: control points in one pass (:func:`_chord_distance_planes`): callgrind's
+#: instructions a call against the columns' at degree 7, 16 parts 0.39 x, 170 parts
+#: 0.82 x; at degree 5, 250 parts 1.17 x
+CHORD_PLANES = 128
+
+
+def _chord_distance_planes(parts):
+    """:func:`_chord_distance` of a stack of pieces of degree 2 or more, its inner
+    control points all at once: the same operations on each point, so the same
+    numbers (a maximum is exact in any order)."""
+    px, py = parts[:, :, 0] / parts[:, :, 2], parts[:, :, 1] / parts[:, :, 2]
+    ax, ay, bx, by = px[:, :1], py[:, :1], px[:, -1:], py[:, -1:]
+    cx, cy = bx - ax, by - ay
+    length = np.hypot(cx, cy)
+    safe = np.where(length > 0, length, 1.0)
+    before_a = length == 0
+    rx, ry = px[:, 1:-1] - ax, py[:, 1:-1] - ay
+    dist = np.abs(cx * ry - cy * rx) / safe
+    along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
+    dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
+    dist = np.where((along > 1) & ~before_a, np.hypot(px[:, 1:-1] - bx, py[:, 1:-1] - by), dist)
+    return np.maximum(np.maximum.reduce(dist, axis=1), 0.0)
+
+
 def _chord_distance(parts):
     """For a stack (m, n+1, 3) of pieces: the largest distance of a control point to
     the chord (segment) of its part.  The inner control points one at a time, on
     (m,) columns (the ends lie on the chord; numpy reduces a short last axis row
     by row); each point's coordinates divided by its weight column by column (1-D
     strided loops; the (m, n+1) planes would go through numpy's buffered iterator).
-    Lines have no inner control point: 0."""
+    Lines have no inner control point: 0.  A stack of at most CHORD_PLANES parts of
+    degree 5 or more in one pass over the (m, n-1) planes of its inner points
+    (:func:`_chord_distance_planes`: the same numbers in a fixed dozen calls, where
+    the columns take a dozen per point)."""
     if parts.shape[1] <= 2:
         return np.zeros(len(parts))
+    if parts.shape[1] >= 6 and len(parts) <= CHORD_PLANES:
+        return _chord_distance_planes(parts)
+    return _chord_distance_columns(parts)
+
+
+def _chord_distance_columns(parts):
+    """:func:`_chord_distance` of a stack of pieces of degree 2 or more, its inner
+    control points one at a time."""
     ax, ay = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
     bx, by = parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2]
     cx, cy = bx - ax, by - ay
