@@ -572,8 +572,9 @@ _BLOCK = 1 << 20
 
 
 def _corners(out):
-    """Junction points of the loops of ``out`` and cos(phi / 2) of the turn phi there."""
-    pieces = [p for loop in out for p in loop]
+    """Junction points of the loops of ``out`` and cos(phi / 2) of the turn phi there
+    (the pieces stacked once for their end tangents and end points)."""
+    pieces = pc.Pieces.of([p for loop in out for p in loop])
     lens = np.fromiter(map(len, out), np.int64, len(out))
     ends = np.cumsum(lens) - 1
     nxt = np.arange(1, len(pieces) + 1)      # each piece's successor in its loop

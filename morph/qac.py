@@ -125,7 +125,9 @@ def _reparam_maps(c, q):
     (:func:`morph.bernstein.fit_fixed_ends`, all rows at once) to the parameters of
     C2 nearest to Q2 at the Chebyshev nodes _FIT_S (Newton, jets from the power
     basis up to degree 12), coefficients clamped to [0, 1]."""
-    pts = np.matmul(_fit_basis(), q)
+    # Q2's points at the nodes, (k, 9, 2): one 2-D product for all rows
+    pts = (_fit_basis() @ q.transpose(1, 0, 2).reshape(3, -1)).reshape(
+        len(_FIT_S), len(q), 2).transpose(1, 0, 2)
     jet = pc.jet2_power_many if c.shape[1] <= 13 else pc.jet2_many
     sig = nr.closest_params_many(c, pts, _FIT_S[None].repeat(len(c), axis=0), jet=jet)
     r = bz.fit_fixed_ends(_FIT_S, sig.T, REPARAM_DEGREE, 0.0, 1.0).T

@@ -445,8 +445,8 @@ def test_within_on_columns_is_the_crossing_and_distance_test():
 
 def test_equal_parts_match_einsum_whatever_the_grouping(monkeypatch):
     """The parts of every step count cut column by column or in the gathered pass
-    (in one block or in many): the same bits as each part through each of its
-    steps' matrices by einsum."""
+    (in one block or in many), and some steps only (``every`` False): the same bits
+    as each part through each of its steps' matrices by einsum."""
     rng = np.random.default_rng(3)
     for n, m in ((2, 40), (7, 120)):
         steps = np.sort(rng.choice([2, 3, 5], m)).astype(np.int64)
@@ -461,3 +461,23 @@ def test_equal_parts_match_einsum_whatever_the_grouping(monkeypatch):
             for block in (1 << 13, 24):    # the gathered steps in one block; in many
                 monkeypatch.setattr(pl, "EQUAL_BLOCK", block)
                 assert np.array_equal(pl._equal_parts(parts, steps, rep, j), want)
+                some = rng.random(len(rep)) < 0.3
+                assert np.array_equal(pl._equal_parts(parts, steps, rep[some], j[some],
+                                                      every=False), want[some])
+
+
+def test_chord_distance_planes_match_the_columns():
+    """_chord_distance's one pass over a small stack's inner points gives the bits of
+    its column by column pass (random rational parts, some with zero-length chords
+    and inner points beyond either end), and small stacks of degree 5 or more take
+    it."""
+    rng = np.random.default_rng(41)
+    for n in (2, 3, 5, 7, 9):
+        for m in (1, 3, 40, 300):
+            parts = rng.normal(size=(m, n + 1, 3))
+            parts[:, :, 2] = rng.uniform(0.3, 3.0, (m, n + 1))
+            parts[: m // 3, -1] = parts[: m // 3, 0]       # zero-length chords
+            want = pl._chord_distance_columns(parts)
+            assert np.array_equal(pl._chord_distance_planes(parts), want)
+            assert np.array_equal(pl._chord_distance(parts), want)
+            assert want.max() > 0

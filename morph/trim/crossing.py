@@ -351,14 +351,17 @@ def _split_items(it, keep, split_a):
 
 def _halves(h):
     """(left, right) halves (de Casteljau at 1/2) of control points by coordinate
-    (..., n+1)."""
-    return np.matmul(h, _half_matrices(h.shape[-1] - 1))
+    (..., n+1): (2, ...), each half one 2-D product of all rows (a stacked product
+    would make one small one per row)."""
+    left, right = _half_matrices(h.shape[-1] - 1)
+    rows = h.reshape(-1, h.shape[-1])
+    return np.stack([rows @ left, rows @ right]).reshape((2,) + h.shape)
 
 
 @lru_cache(maxsize=None)
 def _half_matrices(n):
-    """(2, 1, 1, n+1, n+1): the matrices M with (points by coordinate) @ M the
-    left and the right half of a degree-n control polygon (de Casteljau at 1/2:
-    dyadic entries, exact in binary)."""
+    """(2, n+1, n+1): the matrices M with (points by coordinate) @ M the left and
+    the right half of a degree-n control polygon (de Casteljau at 1/2: dyadic
+    entries, exact in binary)."""
     left, right = bz.split_many(np.eye(n + 1)[None], 0.5)
-    return np.stack([left[0].T, right[0].T])[:, None, None]
+    return np.stack([left[0].T, right[0].T])

@@ -248,7 +248,7 @@ def _uncertain(pieces, pid, ts, xy, loop_of, nxt, prv, starts, pending, e, eps, 
     todo = pending.ravel().nonzero()[0]
     arc = ~pending   # decided parts are arcs in their chords' cones
     line = np.zeros(len(pid), bool)
-    for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo]):
+    for k, parts in _segment_parts(pieces, pid[todo], ts[todo], t_end[todo], cut_lines=False):
         if parts.shape[1] == 2:   # lines: their own chords
             arc[todo[k]] = line[todo[k]] = True
         else:
@@ -409,9 +409,11 @@ def _monotone_chains(i, j, nxt, arc, turn):
     return out
 
 
-def _segment_parts(pieces, pid, t0, t1):
+def _segment_parts(pieces, pid, t0, t1, cut_lines=True):
     """(segments, their parts) by degree: each segment's piece restricted to its
-    range [t0, t1], a stack (k, n+1, 3) of the segments k of one degree."""
+    range [t0, t1], a stack (k, n+1, 3) of the segments k of one degree; with
+    ``cut_lines`` False the line segments' whole pieces (for a caller that asks only
+    their degree)."""
     group = np.zeros(len(pieces), np.int64)
     row = np.zeros(len(pieces), np.int64)
     groups = pc.degree_groups(pieces)
@@ -423,7 +425,7 @@ def _segment_parts(pieces, pid, t0, t1):
         parts = stack.take(row[pid[k]], axis=0)
         # a segment over its whole piece (most at the coarse level) is the piece
         cut = ((t0[k] != 0.0) | (t1[k] != 1.0)).ravel().nonzero()[0]
-        if len(cut):
+        if len(cut) and (cut_lines or stack.shape[1] > 2):
             parts[cut] = bz.subsegment_many(parts.take(cut, axis=0), t0[k[cut]], t1[k[cut]])
         yield k, parts
 
