@@ -19,7 +19,7 @@ import numpy as np
 from .. import bernstein as bz
 from .bank import RunArrays, plan_run_arrays, plan_runs
 from .corners import cut_corners
-from .search import runs_segments
+from .search import runs_segments, ufunc_buffer
 
 
 #: Joins whose tangent directions differ by less than this angle (radians) are smooth:
@@ -87,6 +87,12 @@ def loops_to_beziers(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=False
     """
     if not (tol > 0 and math.isfinite(tol)):
         raise ValueError("tol must be positive and finite, got %r" % (tol,))
+    with ufunc_buffer():                  # the pieces' arrays and the corners too
+        return _loops_to_beziers(loops, tol, max_depth, join_angle, wrap)
+
+
+def _loops_to_beziers(loops, tol, max_depth, join_angle, wrap):
+    """:func:`loops_to_beziers`, its arguments checked."""
     bank, runs = plan_run_arrays(loops, join_angle, wrap)
     keep = cut_corners(bank, runs, tol, wrap)    # short arcs between lines: their corner
     runs = RunArrays(runs.order[np.repeat(keep, runs.sizes)], runs.sizes[keep],

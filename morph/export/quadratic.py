@@ -14,7 +14,7 @@ from ..budget import QUADRATIC_CUBIC_SHARE
 from .certify import check_piece
 from .cu2qu import cubic_splines, spline_quadratics
 from .loops import JOIN_ANGLE, loops_to_beziers
-from .search import piece_to_cubics
+from .search import piece_to_cubics, ufunc_buffer
 
 
 def _cubics_to_quadratics(cubics, tol, splines=False):
@@ -107,7 +107,8 @@ def loops_to_quadratics(loops, tol, max_depth=16, join_angle=JOIN_ANGLE, wrap=Fa
     cubic_tol = QUADRATIC_CUBIC_SHARE * tol
     beziers = loops_to_beziers(loops, cubic_tol, max_depth, join_angle, wrap)
     curves = list(chain.from_iterable(beziers))
-    out, per = _with_quadratics(curves, tol - cubic_tol, splines)
+    with ufunc_buffer():
+        out, per = _with_quadratics(curves, tol - cubic_tol, splines)
     loop = np.repeat(np.arange(len(beziers)), np.fromiter(map(len, beziers), np.int64,
                                                           len(beziers)))
     ends = np.bincount(loop, per, len(beziers)).astype(np.int64).cumsum().tolist()
