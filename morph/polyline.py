@@ -287,20 +287,35 @@ CHORD_PLANES = 128
 
 def _chord_distance_planes(parts):
     """:func:`_chord_distance` of a stack of pieces of degree 2 or more, its inner
-    control points all at once: the same operations on each point, so the same
-    numbers (a maximum is exact in any order)."""
+    control points all at once (:func:`_to_chords` on the (m, n-1) planes: the same
+    operations on each point as the columns', so the same numbers; a maximum is
+    exact in any order)."""
     px, py = parts[:, :, 0] / parts[:, :, 2], parts[:, :, 1] / parts[:, :, 2]
-    ax, ay, bx, by = px[:, :1], py[:, :1], px[:, -1:], py[:, -1:]
+    ends = px[:, :1], py[:, :1], px[:, -1:], py[:, -1:]
+    dist = _to_chords(px[:, 1:-1], py[:, 1:-1], ends, _chord_frame(*ends))
+    return np.maximum(np.maximum.reduce(dist, axis=1), 0.0)
+
+
+def _chord_frame(ax, ay, bx, by):
+    """(cx, cy, safe, point) of the chords from (ax, ay) to (bx, by): their vectors,
+    lengths (1 where 0) and whether the chord is a point."""
     cx, cy = bx - ax, by - ay
     length = np.hypot(cx, cy)
-    safe = np.where(length > 0, length, 1.0)
-    before_a = length == 0
-    rx, ry = px[:, 1:-1] - ax, py[:, 1:-1] - ay
+    return cx, cy, np.where(length > 0, length, 1.0), length == 0
+
+
+def _to_chords(px, py, ends, frame):
+    """The distances of points (px, py) to the chords ``ends`` (ax, ay, bx, by), whose
+    :func:`_chord_frame` is ``frame`` (broadcast against the points): to the chord's
+    line where the point projects within it, else to the nearer end (to a where the
+    chord is a point)."""
+    ax, ay, bx, by = ends
+    cx, cy, safe, point = frame
+    rx, ry = px - ax, py - ay
     dist = np.abs(cx * ry - cy * rx) / safe
     along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
-    dist = np.where((along < 0) | before_a, np.hypot(rx, ry), dist)
-    dist = np.where((along > 1) & ~before_a, np.hypot(px[:, 1:-1] - bx, py[:, 1:-1] - by), dist)
-    return np.maximum(np.maximum.reduce(dist, axis=1), 0.0)
+    dist = np.where((along < 0) | point, np.hypot(rx, ry), dist)
+    return np.where((along > 1) & ~point, np.hypot(px - bx, py - by), dist)
 
 
 def _chord_distance(parts):
@@ -322,25 +337,14 @@ def _chord_distance(parts):
 
 def _chord_distance_columns(parts):
     """:func:`_chord_distance` of a stack of pieces of degree 2 or more, its inner
-    control points one at a time."""
-    ax, ay = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
-    bx, by = parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2]
-    cx, cy = bx - ax, by - ay
-    length = np.hypot(cx, cy)
-    safe = np.where(length > 0, length, 1.0)
-    before_a = length == 0
+    control points one at a time (:func:`_to_chords` on (m,) columns)."""
+    ends = (parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2],
+            parts[:, -1, 0] / parts[:, -1, 2], parts[:, -1, 1] / parts[:, -1, 2])
+    frame = _chord_frame(*ends)
     out = np.zeros(len(parts))
     for j in range(1, parts.shape[1] - 1):
         pjx, pjy = parts[:, j, 0] / parts[:, j, 2], parts[:, j, 1] / parts[:, j, 2]
-        rx, ry = pjx - ax, pjy - ay
-        dist = np.abs(cx * ry - cy * rx) / safe
-        along = (rx * cx + ry * cy) / safe / safe  # no underflow of safe^2
-        # the distances to the ends only where the point projects beyond them (few)
-        at_a = ((along < 0) | before_a).nonzero()[0]
-        dist[at_a] = np.hypot(rx[at_a], ry[at_a])
-        at_b = ((along > 1) & ~before_a).nonzero()[0]
-        dist[at_b] = np.hypot(pjx[at_b] - bx[at_b], pjy[at_b] - by[at_b])
-        np.maximum(out, dist, out=out)
+        np.maximum(out, _to_chords(pjx, pjy, ends, frame), out=out)
     return out
 
 
