@@ -256,8 +256,8 @@ def accuracy_sweep(font, names, tol, ref_tol, refs, workdir):
 
 def run_morph(font, names, spec, tols, refs, judge=None, repeat=3, between=None):
     """morph's rows, timed as ``morph stroke`` works (:func:`morph.fonts.stroke._chunk_job`,
-    one process): the glyphs in the command's chunks of at most ``CHUNK`` (96; two
-    chunks from 96 glyphs on, one below), the glyphs of a chunk stroked together
+    one process): the glyphs in the command's chunks (:func:`command_chunks`: at most
+    96 glyphs' worth of skeleton contours each), the glyphs of a chunk stroked together
     (``stroke_many``), then
     all loops of the chunk exported in one ``loops_to_beziers(..., export_tol,
     wrap=True)`` call and split back per glyph.  Every chunk at every tolerance is
@@ -269,12 +269,8 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3, between=None)
     runs of round ``i``, :mod:`bench.paired`).
     ``judge(contours, name, tol) -> (error, raw error)`` measures a glyph (default:
     :func:`measure` against ``refs``, both the same)."""
-    from morph.fonts.brush import glyph_chunks
-    from morph.fonts.stroke import CHUNK
-
     judge = judge or _plain_judge(refs)
-    chunks = [(c, [decomposed_paths(font, n) for n in c])
-              for c in glyph_chunks(list(names), CHUNK)]
+    chunks = command_chunks(font, names)
     timed = _timed_passes(chunks, nib_region(spec), tols, repeat, between)
     rows = []
     for tol in tols:
@@ -303,6 +299,19 @@ def run_morph(font, names, spec, tols, refs, judge=None, repeat=3, between=None)
         row["pass_ms"] = (1000 * passes / len(stroke_s)).tolist() if stroke_s else []
         rows.append(row)
     return rows
+
+
+def command_chunks(font, names):
+    """[(glyph names, their skeleton paths)] of ``names`` in ``font``, in the chunks
+    ``morph stroke`` strokes together (:func:`morph.fonts.jobs.glyph_chunks`, each
+    glyph weighed by its skeleton contours as :func:`morph.fonts.stroke._stroke_weights`
+    weighs it; here every contour counts, the glyphs decomposed)."""
+    from morph.fonts.jobs import glyph_chunks
+    from morph.fonts.stroke import CHUNK, CONTOURS_PER_GLYPH
+
+    paths = {n: decomposed_paths(font, n) for n in names}
+    weights = [len(paths[n]) / CONTOURS_PER_GLYPH for n in names]
+    return [(c, [paths[n] for n in c]) for c in glyph_chunks(list(names), CHUNK, weights)]
 
 
 def _timed_passes(chunks, nib, tols, repeat, between=None):
