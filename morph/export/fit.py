@@ -20,11 +20,6 @@ from ..quadrature import gauss_legendre
 from .bank import RunArrays, end_pair, grid_planes
 
 
-#: Intervals per piece of a chain's arc-length table (lengths by 8-point
-#: Gauss-Legendre on each; :func:`morph.export.refine.arc_lengths`).
-ARC_INTERVALS = 32
-
-
 #: The chains of a search as arrays: ``k`` (pieces), ``off`` (where the chain's
 #: pieces start in ``bank.order``), ``extent`` (the larger side of the bounding box
 #: of its control points: 0 for a chain that is one point), ``tiny`` (1e-12 of its

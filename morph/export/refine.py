@@ -29,7 +29,7 @@ Rows of multi-dimensional arrays are gathered by ``take`` / ``compress`` (see
 import numpy as np
 
 from .. import bernstein as bz
-from .fit import ARC_INTERVALS, _quadrature
+from .fit import _quadrature
 from .greedy import ERROR_POWER
 
 #: One segment fewer is tried when the greedy segments' shares add up to at most this
@@ -120,25 +120,29 @@ def interp_rows(x, row, lo, hi, xp, fp, keys=None):
 
 def arc_lengths(bank, off, k):
     """Arc-length tables of chains (chain c: the pieces ``bank.order[off[c]:off[c] +
-    k[c]]``), flat: chain c's block [lo[c], hi[c]) holds the knots T = i /
-    ARC_INTERVALS, i = 0 ... k ARC_INTERVALS (ARC_INTERVALS equal parameter intervals
-    per piece) and the arc lengths s from the chain's start to them; the lengths of
-    the intervals by the 8-point Gauss-Legendre rule on each, the speeds of all
-    pieces in one evaluation per degree.  Returns (T, s, lo, hi)."""
-    m, (x, w) = ARC_INTERVALS, _quadrature().gl8
-    knots = np.linspace(0.0, 1.0, m + 1)
-    q = (knots[:-1, None] + (x[None] + 1.0) * 0.5 / m).ravel()
+    k[c]]``), flat: chain c's block [lo[c], hi[c]) holds knots T and the arc lengths s
+    from the chain's start to them.  Piece j of a chain has the knots j + c_i, c_0 =
+    0 and c_i = w_1 + ... + w_i the running sums of the weights w_i of the 16-point
+    Gauss-Legendre rule on [0, 1] (the chain's end: T = k); the length of [c_(i-1),
+    c_i] is w_i |R'(x_i)|, the piece's speed at the node x_i, which lies in it (the
+    Chebyshev-Markov-Stieltjes separation of the nodes by the weights' sums), so each
+    piece's length is the 16-point rule's.  The speeds are those the fitter samples
+    (:meth:`morph.export.bank.Bank.node_planes`, cached per bank: no piece is
+    evaluated again).  Returns (T, s, lo, hi)."""
+    quad = _quadrature()
+    m = quad.gx.shape[0]
+    knots = np.concatenate([[0.0], np.cumsum(quad.gw)[:-1]])       # c_0 ... c_15
     gids = bank.order[ranges(off, k)]
-    _, d = bank.jet_grid(gids, q)
-    seg = ((np.hypot(d[..., 0], d[..., 1]).reshape(len(gids), m, len(x)) @ w) * 0.5 / m).ravel()
+    d = bank.node_planes(gids, quad.gx)[2:]                       # (2, m, len(gids))
+    seg = (np.hypot(d[0], d[1]) * quad.gw[:, None]).T.ravel()
     size = k * m + 1
     hi = np.cumsum(size)
     lo = hi - size
     s = np.zeros(int(hi[-1]) if len(hi) else 0)
     for rows, cum in per_row(seg, (np.cumsum(k) - k) * m, k * m, np.add.accumulate):
         s[(lo[rows][:, None] + 1 + np.arange(cum.shape[1])).ravel()] = cum.ravel()
-    t = (np.arange(len(s)) - np.repeat(lo, size)) / float(m)
-    return t, s, lo, hi
+    i = np.arange(len(s)) - np.repeat(lo, size)                   # knot i of its chain
+    return i // m + knots[i % m], s, lo, hi
 
 
 def chord_lengths(bank, off, k):
@@ -358,7 +362,7 @@ class Refine:
     def _split(self, rows):
         """Plan the equal cuts of ``rows`` (phase SPLIT; not empty): ``want`` segments
         of equal length along the chain's pieces' chords (:func:`chord_lengths`: one
-        sum per chain, where arc-length tables take 256 points a piece), an end within
+        sum per chain, where arc-length tables take the speeds at 16 nodes a piece), an end within
         CUT_ULPS of a join on it (of equal parameter width where those ends do not
         increase).
         Returns (rows, their ends: want + 1 per row, flat); the rows go to CUT."""
