@@ -33,6 +33,8 @@ class Bank:
     (unit end tangents, zero for a piece without a direction), ``d_ends`` (2, g, 2)
     (first derivatives at t = 0 and t = 1, :func:`end_pair`), ``lo`` and ``hi``
     (bounding box corners) and ``scale`` (largest absolute Cartesian coordinate).
+    ``order``: the pieces of the searched chains, concatenated (set by
+    :func:`morph.export.fit.make_chains`; None before).
     """
 
     def __init__(self, pieces):
@@ -81,6 +83,7 @@ class Bank:
         self.line = (sizes == 2) & self.poly
         self.degrees = sorted(self.stacks)   # the stacks' sizes, ascending
         self._nodes = None              # node_planes' cache
+        self.order = None               # the searched chains' pieces (make_chains)
 
     def cartesian(self, gids):
         """Cartesian control points of the pieces ``gids``, a list of (n, 2) arrays
@@ -137,16 +140,19 @@ class Bank:
     def node_planes(self, gids, t):
         """:meth:`jet_planes` of pieces ``gids`` at parameters t, each piece evaluated
         once per bank: the fitter samples every whole piece of a range at the same
-        nodes, round after round.  On the first call every piece that is not a line
-        is evaluated (one call per degree for the whole bank, not a few per round
-        for the pieces a round meets first); a piece's result does not depend on the
-        batch, so a cached one is the one a round would compute."""
+        nodes, round after round.  On the first call every piece of the searched
+        chains (``order``, :func:`morph.export.fit.make_chains`; without it every
+        piece that is not a line) is evaluated (one call per degree for the whole
+        bank, not a few per round for the pieces a round meets first; pieces written
+        as they are, or cut off at corners, are not); a piece's result does not
+        depend on the batch, so a cached one is the one a round would compute."""
         gids = np.asarray(gids, int)
         t = np.asarray(t, float)
         if self._nodes is None or not (t is self._nodes[0] or np.array_equal(self._nodes[0], t)):
             g = len(self.deg)
             self._nodes = (t, np.zeros(g, bool), np.empty((4, len(t), g)))
-            gids_all = np.concatenate([(~self.line).nonzero()[0], gids])
+            pool = (~self.line).nonzero()[0] if self.order is None else self.order
+            gids_all = np.concatenate([pool, gids])
         else:
             gids_all = gids
         _, have, planes = self._nodes
