@@ -88,17 +88,27 @@ NUMPY_SO = "_multiarray_umath"
 
 # =========================================================================== inputs
 
+def set_ufo(name):
+    """The skeleton UFO of set ``name`` (:mod:`bench.skeletons`; Relief: the whole font
+    of the shared data folder, else tests/data's subset)."""
+    from bench.skeletons import shared_relief, skeleton_ufo
+
+    if name == "relief":
+        subset = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
+        return shared_relief() or subset
+    return skeleton_ufo(name)
+
+
 def set_inputs(name):
     """(chunks [(glyph names, skeleton paths)], nib region, [tolerances]) of set
     ``name`` as ``bench/stroke.py``'s set rows take it: the glyphs with a contour of
     more than one point, the default nib scaled to the em, the command's tolerance
     (and twice it for Relief, the setting of the summary)."""
-    from bench.skeletons import skeleton_ufo
     from morph.fonts.brush import ellipse_nib
     from morph.fonts.jobs import CHUNK, glyph_chunks
     from morph.parse.ufo import decomposed_paths, load_ufo
 
-    font = load_ufo(skeleton_ufo(name), lazy=False)
+    font = load_ufo(set_ufo(name), lazy=False)
     names = [g.name for g in sorted(font, key=lambda g: g.name)
              if any(len(c) > 1 for c in g.contours)]
     upm = float(font.info.unitsPerEm or 1000)
@@ -392,6 +402,18 @@ def chord_distance_loops(parts):
     return out
 
 
+def chord_ends_loops(parts):
+    """The ends (ax, ay, bx, by) of each piece of a stack, as loops: a second, small
+    kernel, whose compile and cache load are what each further kernel adds."""
+    m, k = parts.shape[0], parts.shape[1]
+    out = np.empty((m, 4))
+    for i in range(m):
+        out[i, 0], out[i, 1] = parts[i, 0, 0] / parts[i, 0, 2], parts[i, 0, 1] / parts[i, 0, 2]
+        out[i, 2] = parts[i, k - 1, 0] / parts[i, k - 1, 2]
+        out[i, 3] = parts[i, k - 1, 1] / parts[i, k - 1, 2]
+    return out
+
+
 def record_chord_stacks(chunks, nib, tol, path):
     """Run one pass with :func:`morph.polyline._chord_distance` recording its stacks
     (C-contiguous copies) into ``path`` (.npz); the number of calls."""
@@ -423,9 +445,11 @@ def _cpu(fn, repeat=5):
 
 
 def numba_worker(stacks_path, out_path, cold):
-    """In the virtualenv: import numba, compile :func:`chord_distance_loops` with and
-    without ``cache=True`` (``cold``: the cache folder empty), time both versions on
-    the recorded stacks and compare their results; JSON to ``out_path``."""
+    """In the virtualenv: import numba, compile :func:`chord_distance_loops` with
+    ``cache=True`` (``cold``: the cache folder empty; else loaded from it), then
+    :func:`chord_ends_loops` (what a further kernel adds); when ``cold``, compile the
+    first again without the cache, time it and morph's numpy version on the recorded
+    stacks and compare their results; JSON to ``out_path``."""
     t0 = time.process_time()
     import numba
 
@@ -439,6 +463,10 @@ def numba_worker(stacks_path, out_path, cold):
     t0 = time.process_time()
     cached(stacks[0])
     got["first_call_cache_s"] = time.process_time() - t0
+    second = numba.njit(cache=True)(chord_ends_loops)
+    t0 = time.process_time()
+    second(stacks[0])
+    got["second_kernel_cache_s"] = time.process_time() - t0
     if cold:
         plain = numba.njit(cache=False)(chord_distance_loops)
         t0 = time.process_time()
@@ -477,13 +505,14 @@ def ensure_venv(venv):
 
 
 def wheel_platforms(py, numba_version, llvmlite_version):
-    """{platform: (numba wheel, llvmlite wheel) or None} of :data:`PLATFORMS` for
-    Python 3.11, from pip's resolver (``--dry-run --report``, no install)."""
+    """{platform: [numba wheel, llvmlite wheel], or the last release with a wheel
+    there ("last wheel: numba X"), or None} of :data:`PLATFORMS` for Python 3.11, from
+    pip's resolver (``--dry-run --report``, no install)."""
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         for plat in PLATFORMS:
             rep = Path(tmp) / (plat + ".json")
-            subprocess.run([str(py), "-m", "pip", "install", "--dry-run", "--quiet",
+            proc = subprocess.run([str(py), "-m", "pip", "install", "--dry-run", "--quiet",
                             "--ignore-installed", "--only-binary=:all:", "--no-deps",
                             "--platform", plat, "--python-version", "3.11", "--target",
                             str(Path(tmp) / "t"), "--report", str(rep),
@@ -492,8 +521,11 @@ def wheel_platforms(py, numba_version, llvmlite_version):
             if rep.exists():
                 out[plat] = [i["download_info"]["url"].rsplit("/", 1)[-1]
                              for i in json.loads(rep.read_text())["install"]]
-            else:
-                out[plat] = None
+            else:   # the releases that have a wheel there: the last one, if any
+                found = re.search(r"numba.*?from versions: ([^)]*)\)", proc.stderr)
+                final = [x.strip() for x in (found.group(1) if found else "").split(",")
+                         if re.fullmatch(r"[\d.]+", x.strip())]
+                out[plat] = None if not final else "last wheel: numba " + final[-1]
     return out
 
 
@@ -508,6 +540,8 @@ def numba_figures(venv, stacks_path):
     versions = dict(d.name.removesuffix(".dist-info").split("-")[:2]
                     for d in site.glob("*.dist-info"))
     sizes = {p: _du(site / p) for p in ("numba", "llvmlite", "numpy")}
+    meta = (site / ("numba-%s.dist-info" % versions["numba"]) / "METADATA").read_text()
+    needs = re.findall(r"^Requires-(?:Dist: (?:numpy|llvmlite)|Python:)\s*(.*)$", meta, re.M)
     env = dict(os.environ, PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1")
     runs = []
     with tempfile.TemporaryDirectory() as cache:
@@ -524,6 +558,7 @@ def numba_figures(venv, stacks_path):
                            "import numba; print(time.process_time() - t)"], env=env,
                           capture_output=True, text=True)
     return {"versions": versions, "sizes": sizes, "install_s": install_s, "cold": runs[0],
+            "requires": needs,
             "warm": runs[1], "import_again_s": float(bare.stdout.strip() or "nan"),
             "wheels": wheel_platforms(py, versions["numba"], versions["llvmlite"])}
 
@@ -548,6 +583,10 @@ def measure(opt, tmp):
             phases, total = timed_phases(clock, chunks, nib, tol, opt.repeat)
             row["timed"].append({"tol": tol, "phases": phases, "total": total})
             print("%s tol %g: %.2f ms / glyph" % (name, tol, 1000 * total / glyphs), flush=True)
+        # the chunk that callgrind counts, timed alone: the table's times and counts
+        # are of the same glyphs
+        row["first"] = timed_phases(clock, chunks[:opt.cg_chunks], nib, tols[0], opt.repeat)[0]
+        row["repeat"] = opt.repeat
         if name == "relief" and not opt.no_numba:
             stacks = Path(tmp) / "stacks.npz"
             row["chord_calls"] = record_chord_stacks(chunks, nib, tols[0], stacks)
@@ -581,10 +620,9 @@ def _finish_callgrind(child):
 
 
 def _upm(name):
-    from bench.skeletons import skeleton_ufo
     from morph.parse.ufo import load_ufo
 
-    return float(load_ufo(skeleton_ufo(name)).info.unitsPerEm or 1000)
+    return float(load_ufo(set_ufo(name)).info.unitsPerEm or 1000)
 
 
 
@@ -592,13 +630,13 @@ def _upm(name):
 
 def phase_rows(row, per_call):
     """[(phase, ms / glyph, numpy calls / glyph, M instructions / glyph, element share,
-    floor ms / glyph, element ms / glyph)] of a set at its first tolerance, and the
-    total row."""
-    timed, n, cg, m = row["timed"][0], row["glyphs"], row["cg"], row["cg_glyphs"]
+    floor ms / glyph, element ms / glyph)] of the chunks of a set that callgrind ran, at
+    its first tolerance, and the total row."""
+    first, cg, m = row["first"], row["cg"], row["cg_glyphs"]
     out = []
     for p in SHOWN + ["total"]:
         keys = SHOWN if p == "total" else [p]
-        ms = 1000.0 * sum(timed["phases"].get(k, 0.0) for k in keys) / n
+        ms = 1000.0 * sum(first.get(k, 0.0) for k in keys) / m
         got = collections.Counter()
         for k in keys:
             got.update(cg.get(k, {}))
@@ -638,79 +676,148 @@ def calls_md(calls_us):
 
 def numba_md(nb, glyphs):
     """Section 3: numba's install, wheels, import, JIT and the kernel's speed."""
-    cold, warm, mb = nb["cold"], nb["warm"], 1024.0 * 1024.0
-    have = [p for p, w in nb["wheels"].items() if w]
-    lack = [p for p, w in nb["wheels"].items() if not w]
-    saved = 1000.0 * (cold["numpy_s"] - cold["numba_s"]) / glyphs
-    md = ["## 3. A compiled kernel: numba", "",
-          "numba %s with llvmlite %s and numpy %s, in a separate virtualenv (`pip install "
-          "--only-binary=:all: numba numpy==%s`%s).  Both need Python >= 3.10; numba %s "
-          "accepts numpy %s." % (nb["versions"]["numba"], nb["versions"]["llvmlite"],
-                                  nb["versions"]["numpy"], nb["versions"]["numpy"],
-                                  "" if nb["install_s"] is None else ", %.0f s" % nb["install_s"],
-                                  nb["versions"]["numba"], nb.get("numpy_bound", "2.x")), "",
-          "- **size on disk**: numba %.0f MB + llvmlite %.0f MB (numpy itself: %.0f MB);"
-          % (nb["sizes"]["numba"] / mb, nb["sizes"]["llvmlite"] / mb, nb["sizes"]["numpy"] / mb),
-          "- **wheels for Python 3.11** (pip's resolver, `--platform`): %s; **none** for %s "
-          "(an install there compiles LLVM's binding from source, or fails);"
-          % (", ".join(have) or "none", ", ".join(lack) or "-"),
-          "- **import** (after numpy): %.0f, %.0f and %.0f ms of CPU in three fresh processes;"
-          % (1000 * cold["import_s"], 1000 * warm["import_s"], 1000 * nb["import_again_s"]),
-          "- **JIT**: the first compile in a process (with `cache=True`, writing the cache) "
-          "%.0f ms, a second compile of the same function (`cache=False`) %.0f ms; a fresh "
-          "process loading the cached machine code on its first call %.0f ms;"
-          % (1000 * cold["first_call_cache_s"], 1000 * cold["first_call_nocache_s"],
-             1000 * warm["first_call_cache_s"]),
-          "- **the kernel**: the trim's chord distance (`morph.polyline._chord_distance`: "
-          "the largest distance of a piece's control points to its chord) on the %d "
-          "stacks (%d pieces) a Relief pass at the command's tolerance gives it: numpy "
-          "%.1f ms, numba loops %.1f ms per pass (x %.1f); results equal on %d of %d "
-          "stacks (largest difference %.1e); saved: %.3f ms per glyph of the %d."
-          % (cold["calls"], cold["pieces"], 1000 * cold["numpy_s"], 1000 * cold["numba_s"],
-             cold["numpy_s"] / max(cold["numba_s"], 1e-9), cold["calls"] - cold["differ"],
-             cold["calls"], cold["max_abs_diff"], saved, glyphs)]
-    return md, saved
+    cold, warm, mb, v = nb["cold"], nb["warm"], 1024.0 * 1024.0, nb["versions"]
+    have = [p for p, w in nb["wheels"].items() if isinstance(w, list)]
+    lack = ["%s (%s)" % (p, w or "no release has one") for p, w in nb["wheels"].items()
+            if not isinstance(w, list)]
+    return ["## 3. A compiled kernel: numba", "",
+            "numba %s with llvmlite %s and numpy %s, in a separate virtualenv (`pip install "
+            "--only-binary=:all: numba numpy==%s`%s); numba's metadata: %s."
+            % (v["numba"], v["llvmlite"], v["numpy"], v["numpy"],
+               "" if nb["install_s"] is None else ", %.0f s" % nb["install_s"],
+               "; ".join("`%s`" % r for r in nb["requires"])), "",
+            "- **size on disk**: numba %.0f MB + llvmlite %.0f MB (numpy itself: %.0f MB);"
+            % (nb["sizes"]["numba"] / mb, nb["sizes"]["llvmlite"] / mb,
+               nb["sizes"]["numpy"] / mb),
+            "- **wheels of this release for Python 3.11** (pip's resolver, `--platform`): "
+            "%s; **none** for %s: there pip installs an older release, if one has a wheel "
+            "and accepts this numpy, or builds llvmlite from source (which needs LLVM);"
+            % (", ".join(have) or "none", ", ".join(lack) or "-"),
+            "- **import** (after numpy): %.0f, %.0f and %.0f ms of CPU in three fresh "
+            "processes;" % (1000 * cold["import_s"], 1000 * warm["import_s"],
+                            1000 * nb["import_again_s"]),
+            "- **JIT, first call**: a process's first compile (`cache=True`, writing the "
+            "cache) %.0f ms, a second small kernel then %.0f ms, the first kernel again "
+            "without the cache %.0f ms; a fresh process loading the cached code: %.0f ms "
+            "for the first kernel, %.0f ms for the second;"
+            % (1000 * cold["first_call_cache_s"], 1000 * cold["second_kernel_cache_s"],
+               1000 * cold["first_call_nocache_s"], 1000 * warm["first_call_cache_s"],
+               1000 * warm["second_kernel_cache_s"]),
+            "- **the kernel**: the trim's chord distance (`morph.polyline._chord_distance`, "
+            "the largest distance of a piece's control points to its chord) on the %d "
+            "stacks (%d pieces) a Relief pass at the command's tolerance gives it: numpy "
+            "%.1f ms, numba loops %.1f ms per pass (x %.1f faster); the results equal on "
+            "%d of %d stacks (largest difference %.1e); saved %.3f ms per glyph of the %d."
+            % (cold["calls"], cold["pieces"], 1000 * cold["numpy_s"],
+               1000 * cold["numba_s"], cold["numpy_s"] / max(cold["numba_s"], 1e-9),
+               cold["calls"] - cold["differ"], cold["calls"], cold["max_abs_diff"],
+               1000.0 * (cold["numpy_s"] - cold["numba_s"]) / glyphs, glyphs)]
+
+
+def stroke_sets_relief():
+    """(morph's whole command, FontForge worker's) ms per glyph of Relief in
+    bench/stroke_sets.md's summary (the FontForge settings' range), or None."""
+    from bench.mdtable import tables
+
+    path = ROOT / "bench" / "stroke_sets.md"
+    if not path.exists():
+        return None
+    table = tables(path.read_text(encoding="utf-8"))[0]
+    head = table[0]
+    rows = [r for r in table[1:] if r[0] == "relief"]
+    if not rows or "whole command: morph" not in head:
+        return None
+    got = [(float(r[head.index("whole command: morph")]),
+            float(r[head.index("whole command: FontForge worker")])) for r in rows]
+    return max(m for m, _ in got), (min(f for _, f in got), max(f for _, f in got))
 
 
 def conclusions_md(out, per_call):
     """Section 4: the figures the issue asks for, from the sections above."""
     rel = next((r for r in out["sets"] if r["name"] == "relief"), None)
-    nb = out.get("numba")
     if rel is None:
         return []
     rows = {r[0]: r for r in phase_rows(rel, per_call)}
     total = rows.pop("total")
-    at_floor = [p for p, r in rows.items() if r[1] >= 0.05 and r[5] >= 0.6 * r[1]]
-    overhead = total[1] - total[6]
+    at_floor = ["%s %.0f %%" % (p, 100 * r[5] / r[1]) for p, r in rows.items()
+                if r[1] >= 0.02 and r[5] >= 0.5 * r[1]]
+    mostly = ["%s %.0f %%" % (p, 100 * (1 - r[4])) for p, r in rows.items()
+              if r[1] >= 0.02 and r[4] < 0.5 and r[5] < 0.5 * r[1]]
+    n, overhead = rel["glyphs"], total[1] - total[6]
     md = ["## 4. Conclusions", "",
-          "- **At the numpy floor** (calls x per-call cost at least 60 %% of the phase's "
-          "time, on Relief): %s.  Their time is the number of numpy calls, not the "
-          "elements: Relief's skeletons are a few cubics per glyph, so each call holds "
-          "few elements." % (", ".join(at_floor) or "none"),
-          "- **Relief in process**: %.2f ms per glyph, of which element work %.2f "
-          "(%.0f %% of the instructions) and call overhead (interpreter + numpy's "
-          "per-call work) %.2f; numpy calls x %.2f µs = %.2f ms.  A compiled rewrite of "
-          "*every* phase keeping the element work at numpy's speed could save at most "
-          "%.2f ms per glyph (%.2f s over the %d glyphs)."
-          % (total[1], total[6], 100 * total[4], overhead, per_call, total[5], overhead,
-             overhead * rel["glyphs"] / 1000.0, rel["glyphs"])]
-    if nb:
-        cold, warm = nb["cold"], nb["warm"]
-        fixed = cold["import_s"] + warm["first_call_cache_s"]
-        md.append("- **numba, measured**: one kernel saves %.3f ms per glyph (%.1f ms per "
-                  "Relief pass) and costs the command %.0f ms to import numba plus %.0f ms "
-                  "to load its cached code (%.0f ms to compile it on a first run or after "
-                  "an upgrade); Relief's whole command (~1.3-1.4 s against FontForge's "
-                  "~0.7 s) would get slower by about %.0f ms.  Even the upper bound above "
-                  "(%.2f s) is less than what the kernels' import and loading would cost "
-                  "once a dozen phases each load their own."
-                  % (1000 * (cold["numpy_s"] - cold["numba_s"]) / rel["glyphs"],
-                     1000 * (cold["numpy_s"] - cold["numba_s"]), 1000 * cold["import_s"],
-                     1000 * warm["first_call_cache_s"], 1000 * cold["first_call_cache_s"],
-                     1000 * (fixed - cold["numpy_s"] + cold["numba_s"]),
-                     overhead * rel["glyphs"] / 1000.0))
-    return md
+          "- **At the numpy floor on Relief** (numpy calls x %.2f µs is half the phase's "
+          "time or more: only fewer calls, not smaller work, makes them faster): %s.  "
+          "**Mostly overhead** (more than half of the instructions outside numpy's element "
+          "loops, the interpreter's share of morph's own code included): %s."
+          % (per_call, ", ".join(at_floor) or "none", ", ".join(mostly) or "none"),
+          "- **Relief in process** (first chunk): %.2f ms per glyph, %.0f numpy calls per "
+          "glyph (%.2f ms at %.2f µs each); element work %.2f ms (%.0f %% of the "
+          "instructions), overhead %.2f ms.  A compiled rewrite of *every* phase that kept "
+          "the element work at numpy's speed and removed all the rest would save at most "
+          "%.2f ms per glyph, %.2f s over Relief's %d glyphs."
+          % (total[1], total[2], total[5], per_call, total[6], 100 * total[4], overhead,
+             overhead, overhead * n / 1000.0, n)]
+    return md + _numba_conclusion(out.get("numba"), n, overhead * n / 1000.0)
 
+
+def _numba_conclusion(nb, glyphs, bound_s):
+    """The conclusions on numba: what the measured kernel saves, what it costs a
+    command, and the issue's conditions."""
+    if not nb:
+        return []
+    cold, warm = nb["cold"], nb["warm"]
+    saved = cold["numpy_s"] - cold["numba_s"]
+    fixed = cold["import_s"] + warm["first_call_cache_s"]
+    per_kernel = warm["second_kernel_cache_s"]
+    kernels = len(SHOWN) - 2    # one kernel a phase (not "other", not "trim: rest")
+    ref = stroke_sets_relief()
+    whole = ("Relief's whole command takes %.1f ms per glyph against FontForge's worker "
+             "%.1f-%.1f (bench/stroke_sets.md), %.2f s against %.2f-%.2f over the %d "
+             "glyphs; " % ((ref[0],) + ref[1] + (ref[0] * glyphs / 1000,
+                                                 ref[1][0] * glyphs / 1000,
+                                                 ref[1][1] * glyphs / 1000, glyphs))
+             if ref else "")
+    lack = [p for p, w in nb["wheels"].items() if not isinstance(w, list)]
+    return [
+        "- **numba, measured**: the kernel saves %.1f ms per Relief pass (%.3f ms per "
+        "glyph) and costs every command %.0f ms of import plus %.0f ms to load its cached "
+        "code (%.0f ms to compile it when the cache is cold: first run, upgrade, a "
+        "read-only install); net, the command gets slower by %.0f ms.  %sone kernel per "
+        "phase (%d) would load in about %.0f ms (import, first kernel, %.0f ms each "
+        "further one: the first load is numba's own setting up) before saving anything, "
+        "against the upper bound of %.2f s above (an upper bound: the kernel measured "
+        "here removes %.0f %% of its numpy time, not all of it)."
+        % (1000 * saved, 1000 * saved / glyphs, 1000 * cold["import_s"],
+           1000 * warm["first_call_cache_s"], 1000 * cold["first_call_cache_s"],
+           1000 * (fixed - saved), whole, kernels,
+           1000 * (fixed + (kernels - 1) * per_kernel), 1000 * per_kernel, bound_s,
+           100 * saved / cold["numpy_s"]),
+        "- **The issue's conditions**: numba is well kept (a release every few months, "
+        "numpy 2.x supported) and installs without compiling where it has wheels, but "
+        "this release has none for %s, and it adds %.0f MB to an install.  %s"
+        % (", ".join(lack) or "no platform asked",
+           (nb["sizes"]["numba"] + nb["sizes"]["llvmlite"]) / 1048576.0,
+           _verdict(saved, fixed, ref, glyphs,
+                    (bound_s, fixed + (kernels - 1) * per_kernel)))]
+
+
+def _verdict(saved, fixed, ref, glyphs, bound=None):
+    """Whether a compiled kernel pays for itself in a short command, and where a
+    rewrite of every phase would leave the command (``bound``: (the most it could
+    save, the loading of one kernel a phase), s), from the figures."""
+    text = ("One kernel saves %.0f ms on the whole of Relief and costs %.0f ms to import "
+            "and load: %s." % (1000 * saved, 1000 * fixed,
+                               "a loss for the command" if fixed > saved else "a gain"))
+    if ref and bound is not None:
+        best = ref[0] * glyphs / 1000.0 - bound[0] + bound[1]
+        text += ("  Even every phase rewritten as a kernel with all its overhead gone "
+                 "would leave Relief's whole command at about %.2f s (%.2f - %.2f + %.2f "
+                 "of loading), above FontForge's worker's %.2f-%.2f s: the gap is the "
+                 "per-call overhead spread over every phase, and the compiled route pays "
+                 "its own fixed cost in every short command."
+                 % (best, ref[0] * glyphs / 1000.0, bound[0], bound[1],
+                    ref[1][0] * glyphs / 1000.0, ref[1][1] * glyphs / 1000.0))
+    return text
 
 
 def markdown(out, argline, elapsed):
@@ -727,21 +834,19 @@ def markdown(out, argline, elapsed):
     for row in out["sets"]:
         md += ["### %s: %d glyphs in chunks of %s, tol %g" % (
             row["name"], row["glyphs"], ", ".join(map(str, row["chunks"])), row["tols"][0]), "",
-               "ms / glyph: all chunks, the median of %d passes; calls and instructions: "
-               "the first chunk (%d glyphs) under callgrind, per glyph.  Whole pass: %s."
-               % (row["timed"][0].get("repeat", 0) or OPT_REPEAT[0], row["cg_glyphs"],
+               "The first chunk (%d glyphs): ms / glyph, the median of %d passes; calls "
+               "and instructions under callgrind, per glyph.  All chunks: %s."
+               % (row["cg_glyphs"], row["repeat"],
                   "; ".join("%.2f ms / glyph at tol %g" % (1000 * t["total"] / row["glyphs"],
                                                            t["tol"]) for t in row["timed"])),
                ""]
         md += set_table(row, per_call) + [""]
     if out.get("numba"):
         rel = next(r for r in out["sets"] if r["name"] == "relief")
-        md += numba_md(out["numba"], rel["glyphs"])[0] + [""]
+        md += numba_md(out["numba"], rel["glyphs"]) + [""]
     md += conclusions_md(out, per_call)
     return "\n".join(md) + "\n"
 
-
-OPT_REPEAT = [5]
 
 
 def main(argv=None):
@@ -760,7 +865,6 @@ def main(argv=None):
     ap.add_argument("--md", default=str(ROOT / "bench" / "numpy_floor.md"))
     ap.add_argument("--no-write", action="store_true")
     opt = ap.parse_args(argv)
-    OPT_REPEAT[0] = opt.repeat
     t0 = time.time()
     with tempfile.TemporaryDirectory() as tmp:
         out = measure(opt, tmp)
