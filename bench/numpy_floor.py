@@ -5,6 +5,10 @@ compiled dependency".
     python -m bench.numpy_floor [--sets relief,hanzi-300] [--repeat 5] [--cg-chunks 1]
                                 [--venv /tmp/numpy_floor_venv] [--no-numba]
                                 [--md bench/numpy_floor.md | --no-write]
+                                [--json FILE] [--from-json FILE]
+
+The default run takes 4-7 minutes on 2 shared cores (one chunk of hanzi under
+callgrind is the longest part), plus a minute for the virtualenv on the first run.
 
 What is measured is the in-process work of ``bench.stroke.run_morph`` (the Relief and
 hanzi rows of ``bench/stroke_sets.md``): a set's glyphs with contours in the command's
@@ -42,7 +46,10 @@ time, the corner pass sticky).
 The *floor* of a phase is numpy calls x the median per-call cost: what the phase
 cannot go below with its present number of calls, however small its arrays.  The
 element share (element instructions / all instructions of the phase) times the phase's
-time estimates its element work the other way; the two are printed side by side.
+time estimates its element work the other way; the two are printed side by side.  The
+element loops run more instructions per cycle (SIMD, no branches) than the
+interpreter and numpy's dispatch, so by time their share is smaller still: both
+estimates lean towards element work.
 
 4. **numba** (``--no-numba`` skips): in a separate virtualenv (``--venv``, made with
    ``python -m venv`` and ``pip install numba numpy==<this numpy>`` when missing; never
@@ -139,15 +146,9 @@ def timed_phases(clock, chunks, nib, tol, repeat):
     import gc
 
     one_pass(chunks, nib, tol)
-    passes = []
     gc.freeze()    # as the command freezes what its process holds when it starts
     try:
-        for _ in range(repeat):
-            clock.spent = {}
-            clock.last = time.process_time()
-            one_pass(chunks, nib, tol)
-            clock._charge()
-            passes.append(dict(clock.spent))
+        passes = clock.passes(lambda: one_pass(chunks, nib, tol), repeat)
     finally:
         gc.unfreeze()
     phases = {p: statistics.median(s.get(p, 0.0) for s in passes) for p in ORDER}
@@ -254,14 +255,19 @@ def callgrind_phases(name, tol, nchunks, tmp):
     return per, got["glyphs"]
 
 
-#: numpy's typed inner loops, casts, copies, sorts and fancy-index loops: their
-#: instructions grow with the elements (matched on the function's name, in numpy's
-#: own shared objects)
-ELEMENT = re.compile(r"^(BOOL|U?BYTE|U?SHORT|U?INT|U?LONG|U?LONGLONG|HALF|FLOAT|DOUBLE|"
-                     r"LONGDOUBLE|C?FLOAT|C?DOUBLE|CLONGDOUBLE|OBJECT|TIMEDELTA|DATETIME)_"
-                     r"|_contig|_strided|_aligned|_cast|cast_|sort|simd|npyv|mapiter_\w*get"
-                     r"|mapiter_\w*set|_take|_put|raw_array_assign|_copyswap|fill$|partition"
-                     r"|x86_64|_X86_|AVX|_avx|npy_\w*_loop|_loop$", re.I)
+#: numpy's functions whose work is a loop over the elements (matched on the function's
+#: name): the typed inner loops of ufuncs and reductions (``DOUBLE_add``), casts and
+#: copies, fancy and boolean indexing's loops, sorts, einsum's sums of products, and
+#: the few array functions that loop inline (``PyArray_Where``, ``PyArray_TakeFrom``);
+#: some of these also have a fixed part, so the element share is an upper bound
+ELEMENT = re.compile(r"^(BOOL|U?BYTE|U?SHORT|U?INT|U?LONG|U?LONGLONG|HALF|C?FLOAT|C?DOUBLE"
+                     r"|C?LONGDOUBLE|OBJECT|TIMEDELTA|DATETIME)_|_to_contig|_to_strided"
+                     r"|_contig_to_|_contig_cast|_strided_cast|_aligned_cast"
+                     r"|^mapiter_\w*(get|set)$|sort|partition|avx2_vector|avx512"
+                     r"|sum_of_products|^PyArray_(TakeFrom|PutTo|TransferNDimToStrided"
+                     r"|TransferStridedToNDim|Where|Nonzero|Repeat)$|^array_boolean_subscript$"
+                     r"|^npyiter_copy_(to|from)_buffers$|^raw_array_\w+$|_fill$|^reduce_loop$")
+SCALAR = re.compile(r"_(setitem|getitem)$")    # one element of a Python scalar: per call
 MEMFUNCS = re.compile(r"^__(memcpy|memmove|memset)")
 
 
@@ -355,12 +361,12 @@ def dump_counts(path):
     total, self_ir, edges = _parse_dump(path)
     out = collections.Counter(ir=total)
     for (ob, fn), ir in self_ir.items():
-        if _is_numpy(ob):
-            out["numpy_ir"] += ir
-            if ELEMENT.search(fn or ""):
-                out["element"] += ir
-        elif _is_element_object(ob):
+        if _is_element_object(ob):
             out["element"] += ir
+        elif _is_numpy(ob):
+            out["numpy_ir"] += ir
+            if ELEMENT.search(fn or "") and not SCALAR.search(fn or ""):
+                out["element"] += ir
     share = _nested_share(edges)
     for (ob, fn, cob, cfn), (calls, incl) in edges.items():
         if _is_numpy(ob) and MEMFUNCS.match(cfn or ""):
@@ -567,18 +573,20 @@ def numba_figures(venv, stacks_path):
 # =========================================================================== runs
 
 def measure(opt, tmp):
-    """Everything the report shows: {"calls_us", "sets": [...], "numba"}."""
+    """Everything the report shows: {"calls_us", "sets": [...], "numba"}.  The timings
+    first, alone; then the callgrind runs (instruction counts, whatever else runs)
+    beside the numba part."""
     names = opt.sets.split(",")
-    children = {n: _start_callgrind(n, opt.cg_chunks, tmp) for n in names}
     out = {"calls_us": per_call_us(), "sets": []}
     print("per call:", {k: round(v, 2) for k, v in out["calls_us"].items()}, flush=True)
     clock = Clock()
     install(clock)
+    stacks = Path(tmp) / "stacks.npz"
     for name in names:
         chunks, nib, tols = set_inputs(name)
         glyphs = sum(len(c) for c, _ in chunks)
         row = {"name": name, "glyphs": glyphs, "chunks": [len(c) for c, _ in chunks],
-               "tols": tols, "timed": []}
+               "tols": tols, "timed": [], "repeat": opt.repeat}
         for tol in tols:
             phases, total = timed_phases(clock, chunks, nib, tol, opt.repeat)
             row["timed"].append({"tol": tol, "phases": phases, "total": total})
@@ -586,12 +594,12 @@ def measure(opt, tmp):
         # the chunk that callgrind counts, timed alone: the table's times and counts
         # are of the same glyphs
         row["first"] = timed_phases(clock, chunks[:opt.cg_chunks], nib, tols[0], opt.repeat)[0]
-        row["repeat"] = opt.repeat
         if name == "relief" and not opt.no_numba:
-            stacks = Path(tmp) / "stacks.npz"
             row["chord_calls"] = record_chord_stacks(chunks, nib, tols[0], stacks)
-            out["numba"] = numba_figures(opt.venv, stacks)
         out["sets"].append(row)
+    children = {n: _start_callgrind(n, opt.cg_chunks, tmp) for n in names}
+    if stacks.exists():
+        out["numba"] = numba_figures(opt.venv, stacks)
     for row in out["sets"]:
         row["cg"], row["cg_glyphs"] = _finish_callgrind(children[row["name"]])
     return out
@@ -599,10 +607,8 @@ def measure(opt, tmp):
 
 def _start_callgrind(name, nchunks, tmp):
     """:func:`callgrind_phases` of set ``name`` in a thread (its child process runs
-    beside this one's timings: CPU times, each process its own)."""
+    beside the numba part's timings: CPU times, each process its own)."""
     import concurrent.futures
-
-    from morph.budget import plan  # noqa: F401 - imported before the thread starts
 
     pool = concurrent.futures.ThreadPoolExecutor(1)
     folder = Path(tmp) / ("cg-" + name)
@@ -757,7 +763,24 @@ def conclusions_md(out, per_call):
           "%.2f ms per glyph, %.2f s over Relief's %d glyphs."
           % (total[1], total[2], total[5], per_call, total[6], 100 * total[4], overhead,
              overhead, overhead * n / 1000.0, n)]
-    return md + _numba_conclusion(out.get("numba"), n, overhead * n / 1000.0)
+    return md + _other_sets(out, per_call) + _numba_conclusion(out.get("numba"), n,
+                                                               overhead * n / 1000.0)
+
+
+def _other_sets(out, per_call):
+    """A line on each set other than Relief: its totals, to set Relief's apart."""
+    md = []
+    for row in out["sets"]:
+        if row["name"] == "relief":
+            continue
+        total = phase_rows(row, per_call)[-1]
+        md.append("- **%s** (first chunk): %.2f ms per glyph, %.0f numpy calls per glyph "
+                  "(%.2f ms, %.0f %% of its time), element work %.0f %% of the "
+                  "instructions (%.1f M per glyph): more pieces per glyph fill the same "
+                  "calls with more elements, so the floor weighs less."
+                  % (row["name"], total[1], total[2], total[5], 100 * total[5] / total[1],
+                     100 * total[4], total[3]))
+    return md
 
 
 def _numba_conclusion(nb, glyphs, bound_s):
@@ -864,12 +887,23 @@ def main(argv=None):
     ap.add_argument("--no-numba", action="store_true")
     ap.add_argument("--md", default=str(ROOT / "bench" / "numpy_floor.md"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--json", help="also write the measured figures here")
+    ap.add_argument("--from-json", help="write the report of an earlier run's --json "
+                                        "instead of measuring")
     opt = ap.parse_args(argv)
     t0 = time.time()
-    with tempfile.TemporaryDirectory() as tmp:
-        out = measure(opt, tmp)
-    text = markdown(out, "".join(" " + a for a in shown_args(argv, ("--md", "--venv"))),
-                    time.time() - t0)
+    if opt.from_json:
+        saved = json.loads(Path(opt.from_json).read_text())
+        out, argline, elapsed = saved["out"], saved["argline"], saved["elapsed"]
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            out = measure(opt, tmp)
+        argline = "".join(" " + a for a in shown_args(argv, ("--md", "--venv", "--json")))
+        elapsed = time.time() - t0
+    if opt.json:
+        Path(opt.json).write_text(json.dumps({"out": out, "argline": argline,
+                                              "elapsed": elapsed}))
+    text = markdown(out, argline, elapsed)
     print(text)
     if not opt.no_write:
         Path(opt.md).write_text(text)
