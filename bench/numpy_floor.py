@@ -31,7 +31,7 @@ time, the corner pass sticky).
      deallocations and attribute getters left out, and the ufunc that an operator
      slot (``array_add`` ...) forwards to counted once (the slot);
    - *element instructions*: those of numpy's typed inner loops (``DOUBLE_add``,
-     casts, copies, sorts, fancy-index loops), of libm and BLAS, and of the
+     casts, copies, sorts, fancy-index loops), of libm, BLAS and pyclipper, and of the
      ``memcpy``/``memset``/``memmove`` numpy calls: the work that grows with the
      elements;
    - the rest (the interpreter running morph, numpy's argument parsing, dispatch,
@@ -276,8 +276,9 @@ def _is_numpy(ob):
 
 
 def _is_element_object(ob):
-    """libm and BLAS: all their instructions are element work."""
-    return "libm.so" in ob or "openblas" in ob
+    """libm, BLAS and pyclipper's C++ (the polygon clipping of the trim's Clipper
+    phase): all their instructions are element work."""
+    return "libm.so" in ob or "openblas" in ob or "_pyclipper" in ob
 
 
 def _parse_dump(path):
@@ -690,7 +691,8 @@ def numba_md(nb, glyphs):
             "numba %s with llvmlite %s and numpy %s, in a separate virtualenv (`pip install "
             "--only-binary=:all: numba numpy==%s`%s); numba's metadata: %s."
             % (v["numba"], v["llvmlite"], v["numpy"], v["numpy"],
-               "" if nb["install_s"] is None else ", %.0f s" % nb["install_s"],
+               "" if nb["install_s"] is None else
+               ", %.0f s of wall time with the venv" % nb["install_s"],
                "; ".join("`%s`" % r for r in nb["requires"])), "",
             "- **size on disk**: numba %.0f MB + llvmlite %.0f MB (numpy itself: %.0f MB);"
             % (nb["sizes"]["numba"] / mb, nb["sizes"]["llvmlite"] / mb,
@@ -763,23 +765,37 @@ def conclusions_md(out, per_call):
           "%.2f ms per glyph, %.2f s over Relief's %d glyphs."
           % (total[1], total[2], total[5], per_call, total[6], 100 * total[4], overhead,
              overhead, overhead * n / 1000.0, n)]
+    md.append(_largest_floors(rel, rows))
     return md + _other_sets(out, per_call) + _numba_conclusion(out.get("numba"), n,
                                                                overhead * n / 1000.0)
 
 
+def _largest_floors(row, rows):
+    """The line naming Relief's three largest floors and their calls per chunk."""
+    top = sorted(rows.values(), key=lambda r: -r[5])[:3]
+    chunk = row["cg_glyphs"]
+    return ("- **Largest floors on Relief**: %s.  In numpy, what lowers them is fewer "
+            "calls per chunk (fewer rounds or levels, fewer steps a round), not less work "
+            "per call." % ", ".join("%s %.2f ms per glyph (%s numpy calls per chunk of %d "
+                                    "glyphs)" % (r[0], r[5], format(round(r[2] * chunk), ","),
+                                                 chunk) for r in top))
+
+
 def _other_sets(out, per_call):
     """A line on each set other than Relief: its totals, to set Relief's apart."""
-    md = []
+    md, rel = [], next(r for r in out["sets"] if r["name"] == "relief")
+    share = phase_rows(rel, per_call)[-1][4]
     for row in out["sets"]:
         if row["name"] == "relief":
             continue
         total = phase_rows(row, per_call)[-1]
         md.append("- **%s** (first chunk): %.2f ms per glyph, %.0f numpy calls per glyph "
                   "(%.2f ms, %.0f %% of its time), element work %.0f %% of the "
-                  "instructions (%.1f M per glyph): more pieces per glyph fill the same "
-                  "calls with more elements, so the floor weighs less."
-                  % (row["name"], total[1], total[2], total[5], 100 * total[5] / total[1],
-                     100 * total[4], total[3]))
+                  "instructions (Relief: %.0f %%), %.1f M instructions per glyph: its "
+                  "glyphs' many strokes put more elements in each call, so the floor "
+                  "weighs less." % (row["name"], total[1], total[2], total[5],
+                                    100 * total[5] / total[1], 100 * total[4], 100 * share,
+                                    total[3]))
     return md
 
 
