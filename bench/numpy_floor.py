@@ -20,7 +20,8 @@ twice it (the setting of ``bench/stroke_sets.md``'s summary).  The phases are th
 time, the corner pass sticky).
 
 1. **Phase times**: CPU time (``time.process_time``) per phase, the median of
-   ``--repeat`` passes over all chunks after one untimed pass.
+   ``--repeat`` passes after one untimed pass: of the first chunk alone (the glyphs
+   that callgrind counts: the table) and of all chunks (the whole pass).
 2. **Numpy calls and element work**, per phase, from one run of a chunk under
    ``valgrind --tool=callgrind`` (instruction counts, which the machine's load does not
    change): the clock calls ``os.getppid`` at every change of phase and callgrind dumps
@@ -28,8 +29,12 @@ time, the corner pass sticky).
    one phase.  In each dump:
 
    - *numpy calls*: calls from the interpreter (libpython) into numpy's C module,
-     deallocations and attribute getters left out, and the ufunc that an operator
-     slot (``array_add`` ...) forwards to counted once (the slot);
+     deallocations and attribute getters left out; a call that numpy makes through
+     libpython into itself (the ufunc an operator slot such as ``array_add`` forwards
+     to, the C body behind ``np.concatenate``'s dispatcher) is not counted again: an
+     entry counts by the share of its libpython caller's calls that numpy did not
+     make (a fixed point over the call graph).  ``a.max()`` counts two (the method,
+     and the reduction its Python part calls);
    - *element instructions*: those of numpy's typed inner loops (``DOUBLE_add``,
      casts, copies, sorts, fancy-index loops), of libm, BLAS and pyclipper, and of the
      ``memcpy``/``memset``/``memmove`` numpy calls: the work that grows with the
@@ -53,7 +58,7 @@ estimates lean towards element work.
 
 4. **numba** (``--no-numba`` skips): in a separate virtualenv (``--venv``, made with
    ``python -m venv`` and ``pip install numba numpy==<this numpy>`` when missing; never
-   this interpreter), the install (wheel files and sizes, size on disk), the wheels a
+   this interpreter), the install's size on disk, the wheels a
    release has for the users' platforms (``pip install --dry-run --platform``), the
    import time, and one representative kernel rewritten as loops, the trim's chord
    distance (:func:`morph.polyline._chord_distance`, the largest distance of a piece's
