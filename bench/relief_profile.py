@@ -121,16 +121,10 @@ def timed(clock, sets, nib, tol, repeat):
             frame = frame.f_back
         samples[(clock.stack[-1], inner or "(outside morph)")] += 1
 
-    passes = []
     signal.signal(signal.SIGPROF, handler)
     signal.setitimer(signal.ITIMER_PROF, 0.001, 0.001)
     try:
-        for _ in range(repeat):
-            clock.spent = {}
-            clock.last = time.process_time()
-            _pass(sets, nib, tol)
-            clock._charge()
-            passes.append(dict(clock.spent))
+        passes = clock.passes(lambda: _pass(sets, nib, tol), repeat)
     finally:
         signal.setitimer(signal.ITIMER_PROF, 0, 0)
     return {p: statistics.median(s.get(p, 0.0) for s in passes) for p in ORDER}, samples

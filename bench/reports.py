@@ -96,6 +96,10 @@ REPORTS = [
     Report("relief_profile", "bench.relief_profile", ["--md", "{md}"],
            quick=["--tols", "1", "--repeat", "1", "--md", "{md}"], cost="2-4 min",
            snapshot=True),
+    Report("numpy_floor", "bench.numpy_floor", ["--md", "{md}"],
+           quick=["--sets", "relief", "--repeat", "1", "--no-numba", "--md", "{md}"],
+           cost="4-7 min under valgrind's callgrind; a virtualenv with numba made on the "
+                "first run (pip)", snapshot=True),
     Report("compile_profile", "bench.compile_profile", ["--md", "{md}"],
            quick=["--repeat", "1", "--md", "{md}"], cost="2-4 min", snapshot=True),
     Report("stroke_memory", "bench.stroke_memory", ["--md", "{md}"],

@@ -133,6 +133,17 @@ class Clock:
         self._charge()
         self.stack.pop()
 
+    def passes(self, work, repeat):
+        """[{phase: CPU s}] of ``repeat`` calls of ``work()``, one dict a call."""
+        out = []
+        for _ in range(repeat):
+            self.spent = {}
+            self.last = time.process_time()
+            work()
+            self._charge()
+            out.append(dict(self.spent))
+        return out
+
 
 def _wrap(clock, phase, func):
     import functools
