@@ -12,7 +12,7 @@ callgrind is the longest part), plus a minute for the virtualenv on the first ru
 
 What is measured is the in-process work of ``bench.stroke.run_morph`` (the Relief and
 hanzi rows of ``bench/stroke_sets.md``): a set's glyphs with contours in the command's
-chunks (``morph.fonts.jobs.glyph_chunks``), each chunk ``stroke_many`` then one
+chunks (``bench.stroke.command_chunks``), each chunk ``stroke_many`` then one
 ``loops_to_beziers(..., wrap=True)``, the default nib (ellipse 90 x 20 at 30 degrees
 per 1000 units per em) at the command's tolerance (0.0005 em) and, for Relief, at
 twice it (the setting of ``bench/stroke_sets.md``'s summary).  The phases are those of
@@ -116,16 +116,16 @@ def set_inputs(name):
     ``name`` as ``bench/stroke.py``'s set rows take it: the glyphs with a contour of
     more than one point, the default nib scaled to the em, the command's tolerance
     (and twice it for Relief, the setting of the summary)."""
+    from bench.stroke import command_chunks
     from morph.fonts.brush import ellipse_nib
-    from morph.fonts.jobs import CHUNK, glyph_chunks
-    from morph.parse.ufo import decomposed_paths, load_ufo
+    from morph.parse.ufo import load_ufo
 
     font = load_ufo(set_ufo(name), lazy=False)
     names = [g.name for g in sorted(font, key=lambda g: g.name)
              if any(len(c) > 1 for c in g.contours)]
     upm = float(font.info.unitsPerEm or 1000)
     nib = ellipse_nib(BROAD[0] * upm / 1000, BROAD[1] * upm / 1000, BROAD[2])
-    chunks = [(c, [decomposed_paths(font, n) for n in c]) for c in glyph_chunks(names, CHUNK)]
+    chunks = command_chunks(font, names)
     tols = [SET_TOL * upm] + ([2 * SET_TOL * upm] if name == "relief" else [])
     return chunks, nib, tols
 
