@@ -546,19 +546,20 @@ def subsegment_many(c, t0, t1):
     whole = (a == 0.0) & (b == 1.0)
     if np.logical_or.reduce(whole, axis=None):   # rows over their whole range are
         out = c.copy()                           # themselves (the splits' bits)
-        part = np.flatnonzero(~whole)
+        part = (~whole).ravel().nonzero()[0]
         if len(part):
             out[part] = subsegment_many(c.take(part, axis=0), t0[part], t1[part])
-        back = np.flatnonzero(whole & rev)
+        back = (whole & rev).ravel().nonzero()[0]
         out[back] = out.take(back, axis=0)[:, ::-1]
         return out
     a = a.reshape(-1)
-    right = _casteljau(_coefficient_major(c), a, "right")[1]
+    # the two splits made in place (:func:`_casteljau_in_place`: the same sums)
+    right = _casteljau_in_place(_coefficient_major(c), a, "right")
     end = a >= 1.0                 # the right part at a is a point: (b - a) / (1 - a) -> 1
     u = np.where(end, 1.0, (b.reshape(-1) - a) / np.where(end, 1.0, 1.0 - a))
     back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
     kept = np.ascontiguousarray(right.transpose(back))     # the left split overwrites it
-    left = np.ascontiguousarray(_casteljau(right, u, "left")[0].transpose(back))
+    left = np.ascontiguousarray(_casteljau_in_place(right, u, "left").transpose(back))
     out = np.where(end.reshape((-1,) + (1,) * (c.ndim - 1)), kept, left)
     if np.logical_or.reduce(rev, axis=None):
         out[rev] = out[rev][:, ::-1]

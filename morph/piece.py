@@ -551,12 +551,13 @@ class Pieces:
     iterating give the rows of the stacks (views: treat them as read-only), in
     order, made once when first asked for."""
 
-    __slots__ = ("groups", "_n", "_rows")
+    __slots__ = ("groups", "_n", "_rows", "_where")
 
     def __init__(self, groups, n):
         self.groups = [(np.asarray(ks, np.int64), h) for ks, h in groups]
         self._n = int(n)
         self._rows = None
+        self._where = None
 
     @classmethod
     def of(cls, pieces):
@@ -610,11 +611,7 @@ class Pieces:
     def take(self, idx):
         """The pieces ``idx`` (an index array), as a :class:`Pieces`."""
         idx = np.asarray(idx, np.int64)
-        group = np.empty(self._n, np.int64)
-        row = np.empty(self._n, np.int64)
-        for g, (ks, _) in enumerate(self.groups):
-            group[ks] = g
-            row[ks] = np.arange(len(ks))
+        group, row = self._index()
         gi = group[idx]
         out = []
         for g, (_, h) in enumerate(self.groups):
@@ -622,6 +619,18 @@ class Pieces:
             if len(sel):
                 out.append((sel, h.take(row[idx[sel]], axis=0)))   # rows: a fifth of h[...]'s work
         return Pieces(out, len(idx))
+
+    def _index(self):
+        """(group, row) of each piece: the index of its stack in ``groups`` and its row
+        there, made once (the trimming takes parts of one Pieces several times)."""
+        if self._where is None:
+            group = np.empty(self._n, np.int64)
+            row = np.empty(self._n, np.int64)
+            for g, (ks, _) in enumerate(self.groups):
+                group[ks] = g
+                row[ks] = np.arange(len(ks))
+            self._where = group, row
+        return self._where
 
 
 def kind_groups(pieces):
