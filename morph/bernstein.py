@@ -359,7 +359,7 @@ def derivative_many(c):
     n = c.shape[1] - 1
     if n == 0:
         return np.zeros_like(c)
-    return n * np.diff(c, axis=1)
+    return n * (c[:, 1:] - c[:, :-1])   # np.diff's subtraction
 
 
 def elevate_many(c, r=1):
@@ -411,7 +411,7 @@ def multiply_many(a, b, method=None):
     tail = ta = a.shape[2:]
     tb = b.shape[2:]
     if ta != tb:   # the trailing axes broadcast: the shorter gets leading ones
-        tail = np.broadcast_shapes(ta, tb)
+        tail = _broadcast_tail(ta, tb)
         a = a.reshape(a.shape[:2] + (1,) * (len(tail) - len(ta)) + ta)
         b = b.reshape(b.shape[:2] + (1,) * (len(tail) - len(tb)) + tb)
     if method is None:
@@ -450,17 +450,33 @@ def _multiply_direct(a, b, m, n):
     if n > m:
         a, b, m, n = b, a, n, m
     if a.ndim > 2:
-        shape = (max(len(a), len(b)),) + np.broadcast_shapes(a.shape[2:], b.shape[2:])
-        rows = [np.moveaxis(np.broadcast_to(x, shape[:1] + (d + 1,) + shape[1:]), 1, -1)
+        shape = (max(len(a), len(b)),) + _broadcast_tail(a.shape[2:], b.shape[2:])
+        last = (0,) + tuple(range(2, a.ndim)) + (1,)   # the coefficient axis last
+        rows = [_broadcast(x, shape[:1] + (d + 1,) + shape[1:]).transpose(last)
                 .reshape(-1, d + 1) for x, d in ((a, m), (b, n))]
         out = _multiply_direct(rows[0], rows[1], m, n)
-        return np.moveaxis(out.reshape(shape + (m + n + 1,)), -1, 1)
+        return out.reshape(shape + (m + n + 1,)).transpose(
+            (0, a.ndim - 1) + tuple(range(1, a.ndim - 1)))
     weighted = _direct_weights(m, n) * np.ascontiguousarray(a.T)   # (n+1, m+1, k)
     b_t = np.ascontiguousarray(b.T)
     out = np.zeros((m + n + 1, max(len(a), len(b))))
     for j in range(n + 1):
         out[j:j + m + 1] += weighted[j] * b_t[j]
     return np.ascontiguousarray(out.T)
+
+
+def _broadcast_tail(ta, tb):
+    """np.broadcast_shapes of two shapes of as many axes (a Python loop over the
+    axes: np.broadcast_shapes builds arrays to find it); incompatible axes are left
+    to the broadcast that follows to refuse."""
+    if len(ta) != len(tb):
+        return np.broadcast_shapes(ta, tb)
+    return tuple(y if x == 1 else x for x, y in zip(ta, tb))
+
+
+def _broadcast(x, shape):
+    """np.broadcast_to(x, shape), x itself where it has that shape."""
+    return x if x.shape == shape else np.broadcast_to(x, shape)
 
 
 def split_many(c, t, side=None):

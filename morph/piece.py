@@ -337,7 +337,7 @@ def curvature_numerator(piece):
 def is_polynomial_many(stacked, rtol=1e-12):
     """:func:`is_polynomial` of each piece of a stack (k, n+1, 3): (k,) bools."""
     w = stacked[:, :, 2]
-    return np.all(np.abs(w - w[:, :1]) <= rtol * np.abs(w[:, :1]), axis=1)
+    return np.logical_and.reduce(np.abs(w - w[:, :1]) <= rtol * np.abs(w[:, :1]), axis=1)
 
 
 @functools.lru_cache(maxsize=None)
@@ -385,11 +385,12 @@ def _cones(h, rel):
     norm = np.hypot(h[..., 0], h[..., 1])
     live = norm > rel * np.maximum(norm.max(axis=1, keepdims=True), 1e-300)
     ang = np.arctan2(h[..., 1], h[..., 0])
-    first = np.argmax(live, axis=1)
-    last = h.shape[1] - 1 - np.argmax(live[:, ::-1], axis=1)
+    first = live.argmax(axis=1)
+    last = h.shape[1] - 1 - live[:, ::-1].argmax(axis=1)
     rows = np.arange(len(h))
     start = ang[rows, first]
-    relang = np.angle(np.exp(1j * (ang - start[:, None])))
+    turned = np.exp(1j * (ang - start[:, None]))
+    relang = np.arctan2(turned.imag, turned.real)   # np.angle's arithmetic
     lo = np.where(live, relang, 0.0).min(axis=1)
     hi = np.where(live, relang, 0.0).max(axis=1)
     wide = hi - lo >= np.pi * (1.0 - 1e-9)
