@@ -359,7 +359,7 @@ def derivative_many(c):
     n = c.shape[1] - 1
     if n == 0:
         return np.zeros_like(c)
-    return n * np.diff(c, axis=1)
+    return n * (c[:, 1:] - c[:, :-1])   # np.diff's subtraction
 
 
 def elevate_many(c, r=1):
@@ -411,7 +411,7 @@ def multiply_many(a, b, method=None):
     tail = ta = a.shape[2:]
     tb = b.shape[2:]
     if ta != tb:   # the trailing axes broadcast: the shorter gets leading ones
-        tail = np.broadcast_shapes(ta, tb)
+        tail = _broadcast_tail(ta, tb)
         a = a.reshape(a.shape[:2] + (1,) * (len(tail) - len(ta)) + ta)
         b = b.reshape(b.shape[:2] + (1,) * (len(tail) - len(tb)) + tb)
     if method is None:
@@ -450,17 +450,33 @@ def _multiply_direct(a, b, m, n):
     if n > m:
         a, b, m, n = b, a, n, m
     if a.ndim > 2:
-        shape = (max(len(a), len(b)),) + np.broadcast_shapes(a.shape[2:], b.shape[2:])
-        rows = [np.moveaxis(np.broadcast_to(x, shape[:1] + (d + 1,) + shape[1:]), 1, -1)
+        shape = (max(len(a), len(b)),) + _broadcast_tail(a.shape[2:], b.shape[2:])
+        last = (0,) + tuple(range(2, a.ndim)) + (1,)   # the coefficient axis last
+        rows = [_broadcast(x, shape[:1] + (d + 1,) + shape[1:]).transpose(last)
                 .reshape(-1, d + 1) for x, d in ((a, m), (b, n))]
         out = _multiply_direct(rows[0], rows[1], m, n)
-        return np.moveaxis(out.reshape(shape + (m + n + 1,)), -1, 1)
+        return out.reshape(shape + (m + n + 1,)).transpose(
+            (0, a.ndim - 1) + tuple(range(1, a.ndim - 1)))
     weighted = _direct_weights(m, n) * np.ascontiguousarray(a.T)   # (n+1, m+1, k)
     b_t = np.ascontiguousarray(b.T)
     out = np.zeros((m + n + 1, max(len(a), len(b))))
     for j in range(n + 1):
         out[j:j + m + 1] += weighted[j] * b_t[j]
     return np.ascontiguousarray(out.T)
+
+
+def _broadcast_tail(ta, tb):
+    """np.broadcast_shapes of two shapes of as many axes (a Python loop over the
+    axes: np.broadcast_shapes builds arrays to find it); incompatible axes are left
+    to the broadcast that follows to refuse."""
+    if len(ta) != len(tb):
+        return np.broadcast_shapes(ta, tb)
+    return tuple(y if x == 1 else x for x, y in zip(ta, tb))
+
+
+def _broadcast(x, shape):
+    """np.broadcast_to(x, shape), x itself where it has that shape."""
+    return x if x.shape == shape else np.broadcast_to(x, shape)
 
 
 def split_many(c, t, side=None):
@@ -546,19 +562,20 @@ def subsegment_many(c, t0, t1):
     whole = (a == 0.0) & (b == 1.0)
     if np.logical_or.reduce(whole, axis=None):   # rows over their whole range are
         out = c.copy()                           # themselves (the splits' bits)
-        part = np.flatnonzero(~whole)
+        part = (~whole).ravel().nonzero()[0]
         if len(part):
             out[part] = subsegment_many(c.take(part, axis=0), t0[part], t1[part])
-        back = np.flatnonzero(whole & rev)
+        back = (whole & rev).ravel().nonzero()[0]
         out[back] = out.take(back, axis=0)[:, ::-1]
         return out
     a = a.reshape(-1)
-    right = _casteljau(_coefficient_major(c), a, "right")[1]
+    # the two splits made in place (:func:`_casteljau_in_place`: the same sums)
+    right = _casteljau_in_place(_coefficient_major(c), a, "right")
     end = a >= 1.0                 # the right part at a is a point: (b - a) / (1 - a) -> 1
     u = np.where(end, 1.0, (b.reshape(-1) - a) / np.where(end, 1.0, 1.0 - a))
     back = (c.ndim - 1,) + tuple(range(c.ndim - 1))
     kept = np.ascontiguousarray(right.transpose(back))     # the left split overwrites it
-    left = np.ascontiguousarray(_casteljau(right, u, "left")[0].transpose(back))
+    left = np.ascontiguousarray(_casteljau_in_place(right, u, "left").transpose(back))
     out = np.where(end.reshape((-1,) + (1,) * (c.ndim - 1)), kept, left)
     if np.logical_or.reduce(rev, axis=None):
         out[rev] = out[rev][:, ::-1]

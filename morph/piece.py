@@ -337,7 +337,7 @@ def curvature_numerator(piece):
 def is_polynomial_many(stacked, rtol=1e-12):
     """:func:`is_polynomial` of each piece of a stack (k, n+1, 3): (k,) bools."""
     w = stacked[:, :, 2]
-    return np.all(np.abs(w - w[:, :1]) <= rtol * np.abs(w[:, :1]), axis=1)
+    return np.logical_and.reduce(np.abs(w - w[:, :1]) <= rtol * np.abs(w[:, :1]), axis=1)
 
 
 @functools.lru_cache(maxsize=None)
@@ -385,11 +385,12 @@ def _cones(h, rel):
     norm = np.hypot(h[..., 0], h[..., 1])
     live = norm > rel * np.maximum(norm.max(axis=1, keepdims=True), 1e-300)
     ang = np.arctan2(h[..., 1], h[..., 0])
-    first = np.argmax(live, axis=1)
-    last = h.shape[1] - 1 - np.argmax(live[:, ::-1], axis=1)
+    first = live.argmax(axis=1)
+    last = h.shape[1] - 1 - live[:, ::-1].argmax(axis=1)
     rows = np.arange(len(h))
     start = ang[rows, first]
-    relang = np.angle(np.exp(1j * (ang - start[:, None])))
+    turned = np.exp(1j * (ang - start[:, None]))
+    relang = np.arctan2(turned.imag, turned.real)   # np.angle's arithmetic
     lo = np.where(live, relang, 0.0).min(axis=1)
     hi = np.where(live, relang, 0.0).max(axis=1)
     wide = hi - lo >= np.pi * (1.0 - 1e-9)
@@ -551,12 +552,13 @@ class Pieces:
     iterating give the rows of the stacks (views: treat them as read-only), in
     order, made once when first asked for."""
 
-    __slots__ = ("groups", "_n", "_rows")
+    __slots__ = ("groups", "_n", "_rows", "_where")
 
     def __init__(self, groups, n):
         self.groups = [(np.asarray(ks, np.int64), h) for ks, h in groups]
         self._n = int(n)
         self._rows = None
+        self._where = None
 
     @classmethod
     def of(cls, pieces):
@@ -610,11 +612,7 @@ class Pieces:
     def take(self, idx):
         """The pieces ``idx`` (an index array), as a :class:`Pieces`."""
         idx = np.asarray(idx, np.int64)
-        group = np.empty(self._n, np.int64)
-        row = np.empty(self._n, np.int64)
-        for g, (ks, _) in enumerate(self.groups):
-            group[ks] = g
-            row[ks] = np.arange(len(ks))
+        group, row = self._index()
         gi = group[idx]
         out = []
         for g, (_, h) in enumerate(self.groups):
@@ -622,6 +620,18 @@ class Pieces:
             if len(sel):
                 out.append((sel, h.take(row[idx[sel]], axis=0)))   # rows: a fifth of h[...]'s work
         return Pieces(out, len(idx))
+
+    def _index(self):
+        """(group, row) of each piece: the index of its stack in ``groups`` and its row
+        there, made once (the trimming takes parts of one Pieces several times)."""
+        if self._where is None:
+            group = np.empty(self._n, np.int64)
+            row = np.empty(self._n, np.int64)
+            for g, (ks, _) in enumerate(self.groups):
+                group[ks] = g
+                row[ks] = np.arange(len(ks))
+            self._where = group, row
+        return self._where
 
 
 def kind_groups(pieces):

@@ -106,6 +106,12 @@ def _flat_params(stack, tol, min_width, keep=None):
         dist = _chord_distance(parts)
         part_tol = tol[owner] if per_piece else tol
         flat = (dist <= part_tol) | (width <= min_width * 1.5)
+        if np.logical_and.reduce(flat):   # the last level (a flattening's levels end with one)
+            first = parts[:, 0]
+            done_owner.append(owner)
+            done_t.append(t0)
+            done_p.append(first[:, :2] / first[:, 2:])
+            break
         done_owner.append(owner[flat])
         done_t.append(t0[flat])
         first = parts[:, 0].compress(flat, axis=0)
@@ -113,13 +119,10 @@ def _flat_params(stack, tol, min_width, keep=None):
         rest = ~flat
         parts, owner, t0, width, dist = (parts.compress(rest, axis=0), owner[rest], t0[rest],
                                          width[rest], dist[rest])
-        if not len(parts):
-            break
         steps = np.ceil(np.sqrt(dist / (tol[owner] if per_piece else tol)))
-        # np.clip(np.nan_to_num(steps, nan=2.0), 2, ...): an infinite step count
-        # is clipped to the upper bound either way
-        steps = np.minimum(np.maximum(np.where(steps != steps, 2.0, steps), 2.0),
-                           np.maximum(width / min_width, 2.0))
+        # np.clip(np.nan_to_num(steps, nan=2.0), 2, ...) (fmax takes 2 for nan): an
+        # infinite step count is clipped to the upper bound either way
+        steps = np.minimum(np.fmax(steps, 2.0), np.maximum(width / min_width, 2.0))
         steps = steps.astype(np.int64)
         order = steps.argsort(kind="stable")
         parts, owner, t0, width, steps = (parts.take(order, axis=0), owner[order], t0[order],
@@ -128,14 +131,11 @@ def _flat_params(stack, tol, min_width, keep=None):
         if keep is not None:  # the sub-parts a caller needs, before they are cut
             t_sub = t0[rep] + j / steps[rep] * width[rep]
             m = keep(owner[rep], t_sub, width[rep] / steps[rep])
-            part_of = rep
-            needed = np.bincount(part_of[m], minlength=len(parts)) > 0
+            rep, j = rep[m], j[m]   # only the steps kept are cut (each step's points are its own)
+            needed = np.bincount(rep, minlength=len(parts)) > 0
             parts, owner, t0, width, steps = (parts.compress(needed, axis=0), owner[needed],
                                               t0[needed], width[needed], steps[needed])
-            rep, j = _step_rows(steps)
-            # only the steps kept are cut (each step's points are its own)
-            sub_keep = m[needed.repeat(np.bincount(part_of, minlength=len(needed)))]
-            rep, j = rep[sub_keep], j[sub_keep]
+            rep = (needed.cumsum() - 1)[rep]   # the parts' ranks among those needed
         parts = _equal_parts(parts, steps, rep, j, every=keep is None)
         owner, t0 = owner[rep], t0[rep] + j / steps[rep] * width[rep]
         width = width[rep] / steps[rep]
@@ -172,8 +172,10 @@ def _equal_parts(parts, steps, rep, j, every=True):
     n = parts.shape[1] - 1
     if not len(parts):
         return parts
-    first = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1))
-    counts, sizes = steps[first], np.diff(np.append(first, len(steps)))
+    # the runs of one step count: their first parts and sizes
+    bounds = np.concatenate(([0], (steps[1:] != steps[:-1]).nonzero()[0] + 1, [len(steps)]))
+    first = bounds[:-1]
+    counts, sizes = steps[first], bounds[1:] - bounds[:-1]
     _make_splits(n, counts.tolist())   # the new counts' matrices in one call
     offset = (counts.cumsum() - counts).repeat(sizes)   # each part's first matrix
     if not every:
@@ -182,7 +184,7 @@ def _equal_parts(parts, steps, rep, j, every=True):
     if len(counts) == 1 and big[0]:
         return _loop_rows(_equal_split_matrices(n, int(counts[0])), parts)
     out = np.empty((len(rep), n + 1, parts.shape[2]))
-    start = np.append(0, (counts * sizes).cumsum()).tolist()
+    start = np.concatenate(([0], (counts * sizes).cumsum())).tolist()
     for g in big.nonzero()[0].tolist():
         out[start[g]:start[g + 1]] = _loop_rows(_equal_split_matrices(n, int(counts[g])),
                                                 parts[first[g]:first[g] + sizes[g]])

@@ -396,17 +396,18 @@ def _monotone_chains(i, j, nxt, arc, turn):
     vertices on the chain, in order (each chord lies in the cone of its part's
     tangents); it meets itself nowhere, nor do the parts it joins, at any level, nor
     the lifted loops (sub-pieces of it)."""
-    out = np.zeros(len(i), bool)
-    for x, y in ((i, j), (j, i)):
-        cur, ok = x, arc[x]
-        acc = lo = hi = np.zeros(len(x))
-        for _ in range(CHAIN_STEPS):
-            acc = acc + turn[cur]
-            cur = nxt[cur]
-            lo, hi = np.minimum(lo, acc), np.maximum(hi, acc)
-            ok = ok & arc[cur] & (hi - lo <= CHAIN)
-            out |= ok & (cur == y)
-    return out
+    m = len(i)
+    x, y = np.concatenate((i, j)), np.concatenate((j, i))   # both ways in one pass
+    out = np.zeros(2 * m, bool)
+    cur, ok = x, arc[x]
+    acc = lo = hi = np.zeros(2 * m)
+    for _ in range(CHAIN_STEPS):
+        acc = acc + turn[cur]
+        cur = nxt[cur]
+        lo, hi = np.minimum(lo, acc), np.maximum(hi, acc)
+        ok = ok & arc[cur] & (hi - lo <= CHAIN)
+        out |= ok & (cur == y)
+    return out[:m] | out[m:]
 
 
 def _segment_parts(pieces, pid, t0, t1, cut_lines=True):
@@ -434,9 +435,18 @@ def _in_cone(parts, chord, cos_max):
     """Whether each part's control-polygon legs (those of nonzero length) all lie
     within the angle acos(cos_max) of its chord: a stack of parts (k, n+1, 3) and
     their chords (k, 2), (k,) bool.  Leg by leg on (k,) columns (the (k, n, 2)
-    planes would go through numpy's buffered iterator)."""
+    planes would go through numpy's buffered iterator); a stack of at most
+    pl.CHORD_PLANES parts all legs at once on the (k, n) planes (the same
+    operations on each leg, in a fixed dozen calls where the columns take a dozen
+    per leg)."""
     ux, uy = chord[:, 0], chord[:, 1]
     norm = np.hypot(ux, uy)
+    if len(parts) <= pl.CHORD_PLANES:
+        x, y = parts[:, :, 0] / parts[:, :, 2], parts[:, :, 1] / parts[:, :, 2]
+        lx, ly = x[:, 1:] - x[:, :-1], y[:, 1:] - y[:, :-1]
+        size = np.hypot(lx, ly) * norm[:, None]
+        legs = (lx * ux[:, None] + ly * uy[:, None] >= cos_max * size) | (size == 0)
+        return np.logical_and.reduce(legs, axis=1)
     out = np.ones(len(parts), bool)
     x0, y0 = parts[:, 0, 0] / parts[:, 0, 2], parts[:, 0, 1] / parts[:, 0, 2]
     for j in range(1, parts.shape[1]):

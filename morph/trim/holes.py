@@ -697,6 +697,25 @@ def _boxes_of(q, first, count):
     return np.concatenate([np.minimum.reduceat(rows, at), np.maximum.reduceat(rows, at)], axis=1)
 
 
+#: Query boxes times candidate boxes up to which :func:`_meeting_many` compares each
+#: query with each candidate (four comparisons of (queries, candidates) planes)
+#: instead of hashing all of them on a grid, whose cost is that of every candidate
+#: box however few the queries: a chunk's hole test has the loops of every glyph
+#: of the chunk as candidates, and the corner pass's few holes one query each.
+MEETING_DIRECT = 1 << 15
+
+
+def _meeting_direct(boxes, lo, hi, cand):
+    """:func:`_meeting_many` of the candidates ``cand`` (ascending), every query
+    box against every candidate: the same test on the same numbers, row-major, so
+    each query's boxes come ascending."""
+    b = boxes[cand]
+    meet = ((b[:, 0] <= hi[:, 0, None]) & (b[:, 1] <= hi[:, 1, None])
+            & (b[:, 2] >= lo[:, 0, None]) & (b[:, 3] >= lo[:, 1, None]))
+    q, c = meet.nonzero()
+    return cand[c], np.concatenate([[0], np.bincount(q, minlength=len(lo)).cumsum()])
+
+
 def _meeting_many(boxes, lo, hi, ok):
     """For each box [lo[i], hi[i]], the ``ok`` boxes among ``boxes`` (k, 4) that
     meet it (touching counts), found through a grid of all the boxes
@@ -706,6 +725,8 @@ def _meeting_many(boxes, lo, hi, ok):
     n = len(lo)
     if not len(cand) or not n:
         return np.zeros(0, np.int64), np.zeros(n + 1, np.int64)
+    if n * len(cand) <= MEETING_DIRECT:
+        return _meeting_direct(boxes, lo, hi, cand)
     pairs = _cell_pairs(BoxGrid(np.concatenate([lo, boxes[cand, :2]]).astype(float),
                                 np.concatenate([hi, boxes[cand, 2:]]).astype(float)))
     i, j = pairs[:, 0], pairs[:, 1]

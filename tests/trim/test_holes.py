@@ -97,12 +97,17 @@ def test_membership_of_scattered_loops_against_shapely():
     assert np.array_equal(got[clear], d[clear] < 2.0) and got[clear].any()
 
 
-def test_meeting_boxes_found_through_a_grid_as_one_by_one():
+@pytest.mark.parametrize("direct", [0, 1 << 20])
+def test_meeting_boxes_found_through_a_grid_as_one_by_one(direct, monkeypatch):
     """:func:`morph.trim.holes._meeting_many`: the boxes meeting each query box
     (touching counts), only those marked ok, found through a grid of all the
-    boxes, as a loop over the queries finds them; a query meeting nothing has
-    none."""
+    boxes (``direct`` 0) or query by query against every box (MEETING_DIRECT
+    above the pairs' count), as a loop over the queries finds them; a query
+    meeting nothing has none."""
+    from morph.trim import holes
     from morph.trim.holes import _meeting_many
+
+    monkeypatch.setattr(holes, "MEETING_DIRECT", direct)
 
     rng = np.random.default_rng(3)
     lo = rng.integers(0, 100, (40, 2))
