@@ -184,11 +184,24 @@ def lib_markup(data):
 
 def plain_libs(markups):
     """Per lib markup of :func:`lib_markup` its dict as :mod:`plistlib` reads it
-    (expat: the XML parser's own checks of well-formedness), all in one parse; None
-    where plistlib refuses it or finds other than one dict (the XML parser's to
-    judge).  The dict is what plistlib reads of the element as the XML parser's
-    tree serializes it (the same characters: entities resolved, line ends
-    normalized, by expat)."""
+    (expat: the XML parser's own checks of well-formedness); None where plistlib
+    refuses it or finds other than one dict (the XML parser's to judge).  The dict
+    is what plistlib reads of the element as the XML parser's tree serializes it
+    (the same characters: entities resolved, line ends normalized, by expat).  A
+    lib in plain markup is read without plistlib
+    (:func:`.plain_plist.plain_markup`), the others all in one parse."""
+    from .plain_plist import plain_markup
+
+    values = [plain_markup(m) for m in markups]
+    values = [v if isinstance(v, dict) else None for v in values]
+    rest = [k for k, v in enumerate(values) if v is None]
+    for k, v in zip(rest, _plistlib_libs([markups[k] for k in rest]) if rest else ()):
+        values[k] = v
+    return values
+
+
+def _plistlib_libs(markups):
+    """:func:`plain_libs` of ``markups`` by :mod:`plistlib`, all in one parse."""
     import plistlib
 
     try:   # each inside a lib element, as in its file: its markup closes nothing around it
@@ -197,7 +210,7 @@ def plain_libs(markups):
     except Exception:  # noqa: BLE001 - expat's and plistlib's errors: each read alone
         if len(markups) == 1:
             return [None]
-        return [lib for m in markups for lib in plain_libs([m])]
+        return [lib for m in markups for lib in _plistlib_libs([m])]
     return [v[0] if len(v) == 1 and isinstance(v[0], dict) else None for v in values]
 
 

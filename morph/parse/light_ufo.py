@@ -6,10 +6,10 @@ stroke font (a hundred Hershey glyphs) spends more on them than on its strokes.
 For a font whose tables :mod:`morph.fonts.tables_static` builds (nothing in the
 libs that ufo2ft reads but the production names and the glyphs not exported, no
 feature file with includes) this module reads the UFO without them: the plists
-(font info, lib, groups, kerning) with :mod:`plistlib`, each ``.glif``'s shell
-(advance, unicodes, anchors, components, guidelines, note, lib; the outline's
-contours only counted, their points read later by :mod:`morph.parse.glif`) with
-fontTools' XML parser (lxml where installed).  The objects have the attributes of
+(font info, lib, groups, kerning) as :mod:`plistlib` reads them (:mod:`.plain_plist`),
+each ``.glif``'s shell (advance, unicodes, anchors, components, guidelines, note,
+lib; the outline's contours only counted, their points read later by
+:mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The objects have the attributes of
 ufoLib2's that the stroke pipeline uses (duck-typed: :class:`LightFont`,
 :class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
 :class:`LightAnchor`); :func:`as_ufolib2` makes the ufoLib2 font of the same data,
@@ -23,11 +23,11 @@ compiles it with ufo2ft, which judge it as before.
 """
 
 import os
-import plistlib
 import re
 
 from .glif_xml import (lib_markup, plain_components, plain_lib, plain_libs, plain_tree,
                        xml_module)
+from .plain_plist import load_plist
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
@@ -260,10 +260,11 @@ def _info_checked(info):
 
 
 def _plist(path, default):
+    """The plist at ``path`` (``default`` where there is none), read as plistlib
+    reads it (:func:`.plain_plist.load_plist`)."""
     if not os.path.exists(path):
         return default
-    with open(path, "rb") as f:
-        return plistlib.load(f)
+    return load_plist(path)
 
 
 def read_contents(path):
@@ -283,7 +284,7 @@ def read_contents(path):
             raise NotLight("no default layer folder 'glyphs'")
         folder = os.path.join(path, "glyphs")
         contents = _plist(os.path.join(folder, "contents.plist"), None)
-    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+    except (OSError, ValueError, TypeError) as exc:   # plistlib's InvalidFileException too
         raise NotLight("plists: %s" % exc) from exc
     if not isinstance(contents, dict):
         raise NotLight("no contents.plist")
@@ -314,7 +315,7 @@ def read_light_font(path, glif, contour_counts, contents=None):
         if os.path.exists(fea):
             with open(fea, "rb") as f:
                 text = f.read().decode("utf-8")
-    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+    except (OSError, ValueError, TypeError) as exc:   # plistlib's InvalidFileException too
         raise NotLight("plists: %s" % exc) from exc
     order = lib.get("public.glyphOrder", []) if isinstance(lib, dict) else None
     if not isinstance(info, dict) or not isinstance(lib, dict) \
@@ -542,6 +543,8 @@ def _components(name, outline):
 
 
 def _lib(element):
+    import plistlib
+
     from fontTools.misc import etree
 
     if len(element) != 1 or element[0].tag != "dict":
