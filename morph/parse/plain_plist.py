@@ -37,6 +37,10 @@ _NOT_PLAIN = (b"]]>", b"\xef\xbf\xbe", b"\xef\xbf\xbf")
 #: real without exponent)
 _ODD_NUMBER = re.compile(r"<integer>(?!-?(?:0|[1-9][0-9]*)</integer>)"
                          r"|<real>(?!-?(?:0|[1-9][0-9]*)(?:\.[0-9]+)?</real>)")
+#: a key or string element not closed by its own end tag right after its text (each
+#: leaf's end tag is its own: the counts of start and end tags agree too)
+_UNCLOSED = re.compile(r"<(?:key>(?![^<]*</key>)|string>(?![^<]*</string>))")
+_LEAF_TAGS = tuple(("<%s>" % t, "</%s>" % t) for t in ("key", "string", "integer", "real"))
 #: XML's five predefined entities, the only references a plain plist holds
 _ENTITY = re.compile(r"&(?:amp|lt|gt|quot|apos);")
 #: the markup of a plain plist as JSON: first the characters of the texts that JSON
@@ -100,12 +104,14 @@ def plain_value(markup):
     """:func:`plain_markup` of the markup as text (no control character but tab and
     line feed, no ``]]>``), read as JSON (see the module docstring).
 
-    Text between elements, which plistlib ignores, is refused: JSON cannot read
+    The leaves' tags pair up (checked), the containers' as JSON's brackets
+    do.  Text between elements, which plistlib ignores, is refused: JSON cannot read
     it (its syntax characters escaped, a number after a space) but where it is a
     number or a constant last in an array (``[1, 2, 3]``), which the count of the
     arrays' ends finds: each of ours follows a value's comma or its start."""
     markup = markup.strip(" \t\n")
-    if not markup.startswith("<") or _ODD_NUMBER.search(markup):
+    if not markup.startswith("<") or _ODD_NUMBER.search(markup) or _UNCLOSED.search(markup) \
+            or any(markup.count(a) != markup.count(b) for a, b in _LEAF_TAGS):
         return None
     amp = "&" in markup
     if amp and "&" in _ENTITY.sub("", markup):

@@ -70,6 +70,12 @@ def test_plain_matches_plistlib(body):
     "<string>a</string><string>b</string>",
     "<array><string a=\"1\">x</string></array>",
     "<array><string>a\rb</string></array>",
+    "<array><key>a</string></array>",           # not well-formed: expat refuses it
+    "<array><string>a</key></array>",
+    "<array><string>a</string></string></array>",
+    "<array><string>a</string></integer></array>",
+    "<dict><key>a</key><dict></array></dict>",
+    "<dict><string>a</key><key>b</string></dict>",
 ])
 def test_plain_declines(body):
     """What plistlib ignores, converts otherwise or refuses is left to it."""
