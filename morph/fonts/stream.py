@@ -450,6 +450,9 @@ class SkeletonSource:
         # outlines read and held (:meth:`skeleton_outlines`), and the names of those
         # kept for the run (component bases)
         self._outlines, self._kept = {}, set()
+        # glyph name -> hash of the .glif bytes whose markup but the outline the
+        # shells read as a plain GLIF 2 glyph (the outline scan does not parse it again)
+        self._plain = {}
         if self.path is not None and light:
             from ..parse.light_ufo import NotLight, read_contents
 
@@ -524,7 +527,10 @@ class SkeletonSource:
         if missing:
             from ..parse.glif import skeleton_outlines
 
-            memo.update(zip(missing, skeleton_outlines([self.glif_data(n) for n in missing])))
+            datas = [self.glif_data(n) for n in missing]
+            plain = [d is not None and self._plain.get(n) == hash(d)
+                     for n, d in zip(missing, datas)]
+            memo.update(zip(missing, skeleton_outlines(datas, plain)))
         if keep:
             self._kept.update(names)
         out = [None if memo[n] is None else (list(memo[n][0]), list(memo[n][1]))
@@ -567,10 +573,11 @@ class SkeletonSource:
 
                 try:
                     self._shells = read_light_font(self.path, self._glif, self.contour_counts,
-                                                   self._contents)
+                                                   self._contents, self._plain)
                 except NotLight:
                     self.light = False
                     self.contour_counts.clear()
+                    self._plain.clear()
                     self._open()
             if self._shells is None:
                 self._shells = self._shell_font()

@@ -148,16 +148,17 @@ def _contour(el):
     return points, segments, start, closed
 
 
-def skeleton_outlines(datas):
+def skeleton_outlines(datas, plain=None):
     """Paths and components of GLIF ``datas`` (a chunk's glyphs), the pieces of all
     built together: per glyph ``(paths, components)`` as :func:`morph.parse.ufo.
     glyph_paths` and the glyph's components (:class:`Component`), or None where
     the fast reader declines (the caller reads that glyph the ufoLib2 way).
 
     The outlines of plain files are scanned from their bytes, all at once
-    (:mod:`._glif_scan`); a file the scan leaves is parsed as XML
-    (:func:`glif_outline`)."""
-    out, left = scan_outlines(datas)
+    (:mod:`._glif_scan`; ``plain``: per datum whether its markup but the outline is
+    known to be a plain GLIF 2 glyph's, :func:`._glif_scan.scan_outlines`); a file
+    the scan leaves is parsed as XML (:func:`glif_outline`)."""
+    out, left = scan_outlines(datas, plain)
     if left:
         for i, o in zip(left, _tree_outlines([datas[i] for i in left])):
             out[i] = o

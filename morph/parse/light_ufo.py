@@ -25,8 +25,8 @@ compiles it with ufo2ft, which judge it as before.
 import os
 import re
 
-from .glif_xml import (lib_markup, plain_components, plain_lib, plain_libs, plain_tree,
-                       xml_module)
+from .glif_xml import (PlainElement, lib_markup, plain_components, plain_lib, plain_libs,
+                       plain_tree, xml_module)
 from .plain_plist import load_plist
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
@@ -291,11 +291,13 @@ def read_contents(path):
     return folder, contents
 
 
-def read_light_font(path, glif, contour_counts, contents=None):
+def read_light_font(path, glif, contour_counts, contents=None, plain=None):
     """The :class:`LightFont` of the UFO at ``path``, every glyph's shell read from
     its ``.glif`` bytes (``glif(name)``); ``contour_counts`` (a dict) gets each
-    glyph's number of contours.  ``contents``: the default layer's contents
-    (:func:`read_contents`) where the caller has read them, else read here.
+    glyph's number of contours, ``plain`` (a dict, or None) the glyphs whose markup
+    but the outline is a plain GLIF 2 glyph (:func:`glif_shell`).  ``contents``: the
+    default layer's contents (:func:`read_contents`) where the caller has read them,
+    else read here.
 
     Raises:
         NotLight: the font needs ufoLib2 / ufo2ft (see the module docstring).
@@ -341,10 +343,10 @@ def read_light_font(path, glif, contour_counts, contents=None):
             data = glif(name)
         except OSError as exc:   # a missing or unreadable .glif: ufoLib2's to name
             raise NotLight("glyph %r: %s" % (name, exc)) from exc
-        glyph, count = glif_shell(name, data, libs)
+        glyph, count = glif_shell(name, data, libs, plain)
         glyphs[name] = glyph
         contour_counts[name] = count
-    _read_libs(libs)
+    _read_libs(libs, plain)
     return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs, groups, kerning)
 
 
@@ -405,12 +407,15 @@ def _number(text):
 _CONTOUR = re.compile(rb"<contour[\s/>]")
 
 
-def glif_shell(name, data, libs=None):
+def glif_shell(name, data, libs=None, plain=None):
     """``(LightGlyph, number of contours)`` of a GLIF 2 glyph's bytes, read as glifLib
     reads them (advance, unicodes without repeats, anchors, components, guidelines,
     note, lib).  ``libs``: a list that takes ``(glyph, markup, data)`` of a glyph with
     a plain lib (:func:`.glif_xml.lib_markup`), read with the others' by
-    :func:`_read_libs`; None: read here.
+    :func:`_read_libs`; None: read here.  ``plain`` (a dict, or None) takes ``name``
+    -> ``hash(data)`` where the markup but the outline is in ufoLib's plain form
+    (:func:`.glif_xml.plain_tree`, a plain lib apart) of format "2": what the outline
+    scan checks by parsing it (:func:`morph.parse._glif_scan.scan_outlines`).
 
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
@@ -458,6 +463,8 @@ def glif_shell(name, data, libs=None):
                 raise NotLight("glyph %r: <%s>" % (name, tag))
     except (TypeError, ValueError) as exc:
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
+    if plain is not None and isinstance(root, PlainElement) and root.get("format") == "2":
+        plain[name] = hash(whole)
     if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
         libs.append((glyph, lib, whole))
         return glyph, contours
@@ -493,14 +500,16 @@ def _lib_keys_checked(name, lib):
             raise NotLight("glyph %r: lib key %s" % (name, key))
 
 
-def _read_libs(pending):
+def _read_libs(pending, plain=None):
     """The libs of the glyphs ``pending`` (``(glyph, markup, data)`` of
     :func:`glif_shell`) read in one parse (:func:`.glif_xml.plain_libs`) and their
     keys checked; a glyph whose lib plistlib does not read so is read again whole
-    (its lib from the XML parser's tree), which raises NotLight where the reader
-    does not take the file."""
+    (its lib from the XML parser's tree, not plain: its mark left ``plain``), which
+    raises NotLight where the reader does not take the file."""
     for (glyph, _, data), lib in zip(pending, plain_libs([m for _, m, _ in pending])
                                      if pending else ()):
+        if lib is None and plain is not None:
+            plain.pop(glyph.name, None)
         glyph.lib = lib if lib is not None else glif_shell(glyph.name, data)[0].lib
         _lib_keys_checked(glyph.name, glyph.lib)
 
