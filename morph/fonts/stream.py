@@ -636,6 +636,8 @@ class SkeletonSource:
         from fontTools.misc import etree
         from ufoLib2.objects import Glyph
 
+        from ..parse.glif_xml import glif_number
+
         glyph = Glyph(name)
         try:
             text, contours = _without_outline(self._glif(name))
@@ -653,7 +655,7 @@ class SkeletonSource:
                     contours += 1
                 elif element.tag == "component":
                     pen.addComponent(element.get("base"), tuple(
-                        _number(element.get(key, default)) for key, default in _TRANSFORM),
+                        glif_number(element.get(key, default)) for key, default in _TRANSFORM),
                         identifier=element.get("identifier"))
         except Exception:  # noqa: BLE001 - a .glif the plain read cannot take is glifLib's to judge
             shell, pen = self._read(name, _ShellPen)  # its error names the defect
@@ -719,14 +721,6 @@ def _glyph_from_tree(root, text, glyph):
 #: a GLIF component's transformation attributes and their defaults, in order
 _TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1"),
               ("xOffset", "0"), ("yOffset", "0"))
-
-
-def _number(text):
-    """A GLIF number: an int where it is one, else a float (as glifLib reads it)."""
-    try:
-        return int(text)
-    except ValueError:
-        return float(text)
 
 
 # =========================================================================== compiled font

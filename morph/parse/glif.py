@@ -31,6 +31,7 @@ import numpy as np
 from .. import piece as pc
 from ..limits import MAX_COORDINATE
 from ._glif_scan import scan_outlines  # the workers use it: imported before they fork
+from .glif_xml import glif_number as _number
 from .glif_xml import parse_glif
 
 __all__ = ["Component", "glif_outline", "skeleton_outlines"]
@@ -51,14 +52,6 @@ _TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1
 
 class _Decline(Exception):
     """The fast reader does not read this glyph (see the module docstring)."""
-
-
-def _number(s):
-    """glifLib's number: an int where the text is one, else a float."""
-    try:
-        return int(s)
-    except ValueError:
-        return float(s)
 
 
 def glif_outline(data):

@@ -6,10 +6,22 @@ byte scan :mod:`._glif_scan`, the glyph shells of :mod:`.light_ufo`) share it.
 
 import re
 
-__all__ = ["PlainElement", "lib_markup", "parse_glif", "plain_components", "plain_lib",
+__all__ = ["PlainElement", "glif_number", "lib_markup", "parse_glif", "plain_components", "plain_lib",
            "plain_libs", "plain_tree", "xml_module"]
 
 _PARSER = None
+
+
+def glif_number(text):
+    """A GLIF number: an int where the text is one, else a float (as glifLib reads
+    it).  A text with a point is no int: it goes to ``float`` at once (without the
+    ValueError ``int`` would raise, formatted and caught)."""
+    if "." not in text:
+        try:
+            return int(text)
+        except ValueError:
+            pass
+    return float(text)
 
 
 def xml_module():

@@ -25,6 +25,7 @@ compiles it with ufo2ft, which judge it as before.
 import os
 import re
 
+from .glif_xml import glif_number as _number
 from .glif_xml import (PlainElement, lib_markup, plain_components, plain_lib, plain_libs,
                        plain_tree, xml_module)
 from .plain_plist import load_plist
@@ -394,14 +395,6 @@ def _lib_values_checked(lib):
                                               for k, v in names.items()) \
             or not isinstance(skip, list) or not all(isinstance(n, str) for n in skip):
         raise NotLight("production names or glyphs not exported")
-
-
-def _number(text):
-    """A GLIF number: an int where it is one, else a float (as glifLib reads it)."""
-    try:
-        return int(text)
-    except ValueError:
-        return float(text)
 
 
 _CONTOUR = re.compile(rb"<contour[\s/>]")

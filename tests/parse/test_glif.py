@@ -552,3 +552,27 @@ def test_plain_components_are_read_as_the_xml_reader_reads_them(outline, plain, 
     if plain and _shell_rows(data, monkeypatch, True) != "NotLight":   # it sees a change
         changed = data.replace(b'base="b"', b'base="d"', 1)
         assert _shell_rows(changed, monkeypatch, False) != _shell_rows(data, monkeypatch, True)
+
+
+@pytest.mark.parametrize("text", ["1", "-0", "+4", " 3 ", "1_000", "007", "1.5", "1.", ".5",
+                                  "-2.25e3", "1e5", "nan", "inf", "\u0661\u0662", "1.2.3",
+                                  "abc", ""])
+def test_glif_number_is_int_else_float(text):
+    """glif_number reads a text as glifLib does: int where int takes it, else float
+    (the same value and type, or the same refusal)."""
+    from morph.parse.glif_xml import glif_number
+
+    def reference(t):
+        try:
+            return int(t)
+        except ValueError:
+            return float(t)
+
+    try:
+        want = reference(text)
+    except ValueError:
+        with pytest.raises(ValueError):
+            glif_number(text)
+        return
+    got = glif_number(text)
+    assert type(got) is type(want) and (got == want or (got != got and want != want))
