@@ -6,8 +6,8 @@ byte scan :mod:`._glif_scan`, the glyph shells of :mod:`.light_ufo`) share it.
 
 import re
 
-__all__ = ["PlainElement", "glif_number", "lib_markup", "parse_glif", "plain_components", "plain_lib",
-           "plain_libs", "plain_tree", "xml_module"]
+__all__ = ["PlainElement", "glif_number", "lib_markup", "parse_glif", "plain_components",
+           "plain_lib", "plain_libs", "plain_tree", "xml_module"]
 
 _PARSER = None
 

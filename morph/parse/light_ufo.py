@@ -9,9 +9,9 @@ feature file with includes) this module reads the UFO without them: the plists
 (font info, lib, groups, kerning) as :mod:`plistlib` reads them (:mod:`.plain_plist`),
 each ``.glif``'s shell (advance, unicodes, anchors, components, guidelines, note,
 lib; the outline's contours only counted, their points read later by
-:mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The objects have the attributes of
-ufoLib2's that the stroke pipeline uses (duck-typed: :class:`LightFont`,
-:class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
+:mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The
+objects have the attributes of ufoLib2's that the stroke pipeline uses (duck-typed:
+:class:`LightFont`, :class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
 :class:`LightAnchor`); :func:`as_ufolib2` makes the ufoLib2 font of the same data,
 for a font the static compiler leaves to ufo2ft after all.
 
@@ -430,6 +430,21 @@ def glif_shell(name, data, libs=None, plain=None):
             or root.get("name") != name or (root.text or "").strip():
         raise NotLight("glyph %r: not a GLIF 2 glyph of that name" % name)
     glyph = LightGlyph(name, components=components)
+    _read_children(name, root, glyph)
+    if plain is not None and isinstance(root, PlainElement) and root.get("format") == "2":
+        plain[name] = hash(whole)   # the outline scan's check of the rest, done here
+    if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
+        libs.append((glyph, lib, whole))
+        return glyph, contours
+    if lib is not None:
+        glyph.lib = lib
+    _lib_keys_checked(name, glyph.lib)
+    return glyph, contours
+
+
+def _read_children(name, root, glyph):
+    """The glyph element ``root``'s children (its outline cut) read into ``glyph``, as
+    glifLib reads them (:func:`glif_shell`); NotLight for anything else."""
     try:
         for el in root:
             tag = el.tag
@@ -456,15 +471,6 @@ def glif_shell(name, data, libs=None, plain=None):
                 raise NotLight("glyph %r: <%s>" % (name, tag))
     except (TypeError, ValueError) as exc:
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
-    if plain is not None and isinstance(root, PlainElement) and root.get("format") == "2":
-        plain[name] = hash(whole)
-    if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
-        libs.append((glyph, lib, whole))
-        return glyph, contours
-    if lib is not None:
-        glyph.lib = lib
-    _lib_keys_checked(name, glyph.lib)
-    return glyph, contours
 
 
 def _shell_tree(name, data, defer):
