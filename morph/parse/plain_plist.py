@@ -38,9 +38,8 @@ _NOT_PLAIN = (b"]]>", b"\xef\xbf\xbe", b"\xef\xbf\xbf")
 _ODD_NUMBER = re.compile(r"<integer>(?!-?(?:0|[1-9][0-9]*)</integer>)"
                          r"|<real>(?!-?(?:0|[1-9][0-9]*)(?:\.[0-9]+)?</real>)")
 #: a key or string element not closed by its own end tag right after its text (each
-#: leaf's end tag is its own: the counts of start and end tags agree too)
+#: leaf's end tag is its own: the counts of each leaf's start and end tags agree too)
 _UNCLOSED = re.compile(r"<(?:key>(?![^<]*</key>)|string>(?![^<]*</string>))")
-_LEAF_TAGS = tuple(("<%s>" % t, "</%s>" % t) for t in ("key", "string", "integer", "real"))
 #: XML's five predefined entities, the only references a plain plist holds
 _ENTITY = re.compile(r"&(?:amp|lt|gt|quot|apos);")
 #: the markup of a plain plist as JSON: first the characters of the texts that JSON
@@ -110,8 +109,10 @@ def plain_value(markup):
     number or a constant last in an array (``[1, 2, 3]``), which the count of the
     arrays' ends finds: each of ours follows a value's comma or its start."""
     markup = markup.strip(" \t\n")
+    count = markup.count
     if not markup.startswith("<") or _ODD_NUMBER.search(markup) or _UNCLOSED.search(markup) \
-            or any(markup.count(a) != markup.count(b) for a, b in _LEAF_TAGS):
+            or count("<key>") != count("</key>") or count("<string>") != count("</string>") \
+            or count("<integer>") != count("</integer>") or count("<real>") != count("</real>"):
         return None
     amp = "&" in markup
     if amp and "&" in _ENTITY.sub("", markup):
