@@ -450,6 +450,9 @@ class SkeletonSource:
         # outlines read and held (:meth:`skeleton_outlines`), and the names of those
         # kept for the run (component bases)
         self._outlines, self._kept = {}, set()
+        # glyph name -> hash of the .glif bytes whose markup but the outline the
+        # shells read as a plain GLIF 2 glyph (the outline scan does not parse it again)
+        self._plain = {}
         if self.path is not None and light:
             from ..parse.light_ufo import NotLight, read_contents
 
@@ -524,7 +527,10 @@ class SkeletonSource:
         if missing:
             from ..parse.glif import skeleton_outlines
 
-            memo.update(zip(missing, skeleton_outlines([self.glif_data(n) for n in missing])))
+            datas = [self.glif_data(n) for n in missing]
+            plain = [d is not None and self._plain.get(n) == hash(d)
+                     for n, d in zip(missing, datas)]
+            memo.update(zip(missing, skeleton_outlines(datas, plain)))
         if keep:
             self._kept.update(names)
         out = [None if memo[n] is None else (list(memo[n][0]), list(memo[n][1]))
@@ -567,10 +573,11 @@ class SkeletonSource:
 
                 try:
                     self._shells = read_light_font(self.path, self._glif, self.contour_counts,
-                                                   self._contents)
+                                                   self._contents, self._plain)
                 except NotLight:
                     self.light = False
                     self.contour_counts.clear()
+                    self._plain.clear()
                     self._open()
             if self._shells is None:
                 self._shells = self._shell_font()
@@ -629,6 +636,8 @@ class SkeletonSource:
         from fontTools.misc import etree
         from ufoLib2.objects import Glyph
 
+        from ..parse.glif_xml import glif_number
+
         glyph = Glyph(name)
         try:
             text, contours = _without_outline(self._glif(name))
@@ -646,7 +655,7 @@ class SkeletonSource:
                     contours += 1
                 elif element.tag == "component":
                     pen.addComponent(element.get("base"), tuple(
-                        _number(element.get(key, default)) for key, default in _TRANSFORM),
+                        glif_number(element.get(key, default)) for key, default in _TRANSFORM),
                         identifier=element.get("identifier"))
         except Exception:  # noqa: BLE001 - a .glif the plain read cannot take is glifLib's to judge
             shell, pen = self._read(name, _ShellPen)  # its error names the defect
@@ -712,14 +721,6 @@ def _glyph_from_tree(root, text, glyph):
 #: a GLIF component's transformation attributes and their defaults, in order
 _TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1"),
               ("xOffset", "0"), ("yOffset", "0"))
-
-
-def _number(text):
-    """A GLIF number: an int where it is one, else a float (as glifLib reads it)."""
-    try:
-        return int(text)
-    except ValueError:
-        return float(text)
 
 
 # =========================================================================== compiled font

@@ -200,36 +200,31 @@ class _Separation:
         question: the parts' boxes (each component's its base's moved, all at once),
         the box test of every pair of parts of every glyph at once, then the point
         test (:meth:`_points_near`) of the pairs whose boxes meet, but of a pair
-        whose two parts are already known near."""
+        whose two parts are already known near; each part's points computed once."""
         self._read_all()
         names = [g.name for g in self.font if g.components]
         comps = [list(self.font[n].components) for n in names]
         flat = [c for cs in comps for c in cs]
         moved = _moved_boxes([self._box(c.baseGlyph) for c in flat],
                              [tuple(c.transformation) for c in flat])
-        boxes, at, k = [], [], 0
+        boxes, at, part_of, k = [], [], [], 0
         for n, cs in zip(names, comps):
             at.append(len(boxes))
             boxes.append(self._own_box(n))
             boxes.extend(moved[k:k + len(cs)])
+            part_of += [(n, None)] + [(n, c) for c in cs]
             k += len(cs)
-        first, second, glyph = [], [], []
-        for g, (o, cs) in enumerate(zip(at, comps)):
-            i, j = _pairs(len(cs) + 1)
-            first.append(i + o)
-            second.append(j + o)
-            glyph.append(np.full(len(i), g))
-        first, second = np.concatenate(first), np.concatenate(second)
-        glyph = np.concatenate(glyph)
+        first, second = _glyph_pairs(np.array(at, np.int64),
+                                     np.array([len(cs) + 1 for cs in comps], np.int64))
         meet = self._boxes_meet(boxes, first, second)
-        near = np.zeros(len(boxes), bool)
-        for g, i, j in zip(glyph[meet].tolist(), first[meet].tolist(), second[meet].tolist()):
+        parts, near = {}, np.zeros(len(boxes), bool)
+        for i, j in zip(first[meet].tolist(), second[meet].tolist()):
             if near[i] and near[j]:
                 continue
-            o, n = at[g], names[g]
-            pi, pj = (self._part_points(n, comps[g][x - o - 1] if x > o else None)
-                      for x in (i, j))
-            if self._points_near(pi, boxes[i], pj, boxes[j]):
+            for x in (i, j):   # each part's points once (a part is in several pairs)
+                if x not in parts:
+                    parts[x] = self._part_points(*part_of[x])
+            if self._points_near(parts[i], boxes[i], parts[j], boxes[j]):
                 near[i] = near[j] = True
         for n, o, cs in zip(names, at, comps):
             self.answers[n] = tuple(keep_component(c, self.symmetric) and not near[o + 1 + x]
@@ -342,9 +337,17 @@ class _Separation:
                 continue
             # the nearest pairs first (the likeliest inside: a pair of near parts is
             # found among a few), then all; the same projections either way
-            for sel in (np.argsort(d2[i, j], kind="stable")[:self.NEAREST], slice(None)):
-                if np.any(np.all(pu[k + i[sel]] - qu[j[sel]] <= self.reach, axis=1)):
-                    return True
+            sel = np.argsort(d2[i, j], kind="stable")[:self.NEAREST]
+            if np.any(np.all(pu[k + i[sel]] - qu[j[sel]] <= self.reach, axis=1)):
+                return True
+            # first the direction nearest each difference's own (the likeliest to
+            # find it outside), then every direction of those it does not
+            e = d[i, j]
+            near = np.rint(np.arctan2(e[:, 1], e[:, 0]) * (self.DIRECTIONS / (2.0 * np.pi)))
+            near = near.astype(np.int64) % self.DIRECTIONS
+            sel = np.flatnonzero(pu[k + i, near] - qu[j, near] <= self.reach[near])
+            if np.any(np.all(pu[k + i[sel]] - qu[j[sel]] <= self.reach, axis=1)):
+                return True
         return False
 
     def _part_points(self, name, component):
@@ -415,6 +418,19 @@ def _projected(pts, u):
     if len(pts) == 1:
         return (np.concatenate([pts, pts]) @ u.T)[:1]
     return pts @ u.T
+
+
+def _glyph_pairs(at, parts):
+    """The pairs (first, second) of the parts of each glyph (its ``parts[g]`` parts
+    numbered from ``at[g]``), first < second, glyphs of the same number of parts
+    together."""
+    first, second = [np.zeros(0, np.int64)], [np.zeros(0, np.int64)]
+    for k in sorted(set(parts.tolist())):
+        i, j = _pairs(k)
+        o = at[parts == k][:, None]
+        first.append((o + i).ravel())
+        second.append((o + j).ravel())
+    return np.concatenate(first), np.concatenate(second)
 
 
 def _stretches(m):

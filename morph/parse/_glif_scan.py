@@ -66,14 +66,17 @@ _NEED = np.array([-1, -1, 0, 1, 2, -1])
 _POINT, _CONTOUR = 1, 2
 
 
-def scan_outlines(datas):
+def scan_outlines(datas, plain=None):
     """``(out, left)``: per datum of ``datas`` (``.glif`` bytes or None) its
     ``(paths, components)`` as :func:`.glif.skeleton_outlines`, or None; ``left``
-    the indices of the data the scan leaves to the XML reader (their ``out`` None)."""
+    the indices of the data the scan leaves to the XML reader (their ``out`` None).
+    ``plain``: per datum whether its markup but the outline is known to be a plain
+    GLIF 2 glyph (:func:`.light_ufo.glif_shell` read it), not parsed again (None:
+    none known)."""
     out = [None] * len(datas)
     take, inners = [], []
     for i, d in enumerate(datas):
-        inner = _plain(d) if d is not None else None
+        inner = _plain(d, plain is not None and plain[i]) if d is not None else None
         if inner is not None:
             take.append(i)
             inners.append(inner)
@@ -84,9 +87,11 @@ def scan_outlines(datas):
     return out, [i for i, d in enumerate(datas) if d is not None and out[i] is None]
 
 
-def _plain(data):
+def _plain(data, known=False):
     """``(contours, components)`` of a file the scan reads: the outline content
-    without its components, and the components (:func:`_components`); else None."""
+    without its components, and the components (:func:`_components`); else None.
+    ``known``: the markup but the outline is known to be a plain GLIF 2 glyph's (it
+    parses, as the outline element's, to the tree checked here)."""
     a = data.find(b"<outline")
     start = _START.match(data, a) if a >= 0 and data.find(b"<outline", a + 1) < 0 else None
     b = data.find(b"</outline>", start.end()) if start else -1
@@ -99,6 +104,8 @@ def _plain(data):
         if components is None:
             return None
         inner = _COMPONENT.sub(b"", inner)
+    if known:
+        return inner, components
     try:
         root = parse_glif(data[:a] + b"<outline/>" + data[b + 10:])
     except (SyntaxError, ValueError):  # not well-formed (ElementTree's and lxml's parse

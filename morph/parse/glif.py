@@ -31,6 +31,7 @@ import numpy as np
 from .. import piece as pc
 from ..limits import MAX_COORDINATE
 from ._glif_scan import scan_outlines  # the workers use it: imported before they fork
+from .glif_xml import glif_number as _number
 from .glif_xml import parse_glif
 
 __all__ = ["Component", "glif_outline", "skeleton_outlines"]
@@ -51,14 +52,6 @@ _TRANSFORM = (("xScale", "1"), ("xyScale", "0"), ("yxScale", "0"), ("yScale", "1
 
 class _Decline(Exception):
     """The fast reader does not read this glyph (see the module docstring)."""
-
-
-def _number(s):
-    """glifLib's number: an int where the text is one, else a float."""
-    try:
-        return int(s)
-    except ValueError:
-        return float(s)
 
 
 def glif_outline(data):
@@ -148,16 +141,17 @@ def _contour(el):
     return points, segments, start, closed
 
 
-def skeleton_outlines(datas):
+def skeleton_outlines(datas, plain=None):
     """Paths and components of GLIF ``datas`` (a chunk's glyphs), the pieces of all
     built together: per glyph ``(paths, components)`` as :func:`morph.parse.ufo.
     glyph_paths` and the glyph's components (:class:`Component`), or None where
     the fast reader declines (the caller reads that glyph the ufoLib2 way).
 
     The outlines of plain files are scanned from their bytes, all at once
-    (:mod:`._glif_scan`); a file the scan leaves is parsed as XML
-    (:func:`glif_outline`)."""
-    out, left = scan_outlines(datas)
+    (:mod:`._glif_scan`; ``plain``: per datum whether its markup but the outline is
+    known to be a plain GLIF 2 glyph's, :func:`._glif_scan.scan_outlines`); a file
+    the scan leaves is parsed as XML (:func:`glif_outline`)."""
+    out, left = scan_outlines(datas, plain)
     if left:
         for i, o in zip(left, _tree_outlines([datas[i] for i in left])):
             out[i] = o

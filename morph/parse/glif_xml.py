@@ -6,10 +6,22 @@ byte scan :mod:`._glif_scan`, the glyph shells of :mod:`.light_ufo`) share it.
 
 import re
 
-__all__ = ["PlainElement", "lib_markup", "parse_glif", "plain_components", "plain_lib",
-           "plain_libs", "plain_tree", "xml_module"]
+__all__ = ["PlainElement", "glif_number", "lib_markup", "parse_glif", "plain_components",
+           "plain_lib", "plain_libs", "plain_tree", "xml_module"]
 
 _PARSER = None
+
+
+def glif_number(text):
+    """A GLIF number: an int where the text is one, else a float (as glifLib reads
+    it).  A text with a point is no int: it goes to ``float`` at once (without the
+    ValueError ``int`` would raise, formatted and caught)."""
+    if "." not in text:
+        try:
+            return int(text)
+        except ValueError:
+            pass
+    return float(text)
 
 
 def xml_module():
@@ -184,11 +196,24 @@ def lib_markup(data):
 
 def plain_libs(markups):
     """Per lib markup of :func:`lib_markup` its dict as :mod:`plistlib` reads it
-    (expat: the XML parser's own checks of well-formedness), all in one parse; None
-    where plistlib refuses it or finds other than one dict (the XML parser's to
-    judge).  The dict is what plistlib reads of the element as the XML parser's
-    tree serializes it (the same characters: entities resolved, line ends
-    normalized, by expat)."""
+    (expat: the XML parser's own checks of well-formedness); None where plistlib
+    refuses it or finds other than one dict (the XML parser's to judge).  The dict
+    is what plistlib reads of the element as the XML parser's tree serializes it
+    (the same characters: entities resolved, line ends normalized, by expat).  A
+    lib in plain markup is read without plistlib
+    (:func:`.plain_plist.plain_markup`), the others all in one parse."""
+    from .plain_plist import plain_markup
+
+    values = [plain_markup(m) for m in markups]
+    values = [v if isinstance(v, dict) else None for v in values]
+    rest = [k for k, v in enumerate(values) if v is None]
+    for k, v in zip(rest, _plistlib_libs([markups[k] for k in rest]) if rest else ()):
+        values[k] = v
+    return values
+
+
+def _plistlib_libs(markups):
+    """:func:`plain_libs` of ``markups`` by :mod:`plistlib`, all in one parse."""
     import plistlib
 
     try:   # each inside a lib element, as in its file: its markup closes nothing around it
@@ -197,7 +222,7 @@ def plain_libs(markups):
     except Exception:  # noqa: BLE001 - expat's and plistlib's errors: each read alone
         if len(markups) == 1:
             return [None]
-        return [lib for m in markups for lib in plain_libs([m])]
+        return [lib for m in markups for lib in _plistlib_libs([m])]
     return [v[0] if len(v) == 1 and isinstance(v[0], dict) else None for v in values]
 
 

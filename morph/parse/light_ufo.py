@@ -6,12 +6,12 @@ stroke font (a hundred Hershey glyphs) spends more on them than on its strokes.
 For a font whose tables :mod:`morph.fonts.tables_static` builds (nothing in the
 libs that ufo2ft reads but the production names and the glyphs not exported, no
 feature file with includes) this module reads the UFO without them: the plists
-(font info, lib, groups, kerning) with :mod:`plistlib`, each ``.glif``'s shell
-(advance, unicodes, anchors, components, guidelines, note, lib; the outline's
-contours only counted, their points read later by :mod:`morph.parse.glif`) with
-fontTools' XML parser (lxml where installed).  The objects have the attributes of
-ufoLib2's that the stroke pipeline uses (duck-typed: :class:`LightFont`,
-:class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
+(font info, lib, groups, kerning) as :mod:`plistlib` reads them (:mod:`.plain_plist`),
+each ``.glif``'s shell (advance, unicodes, anchors, components, guidelines, note,
+lib; the outline's contours only counted, their points read later by
+:mod:`morph.parse.glif`) with fontTools' XML parser (lxml where installed).  The
+objects have the attributes of ufoLib2's that the stroke pipeline uses (duck-typed:
+:class:`LightFont`, :class:`LightGlyph`, :class:`LightInfo`, :class:`LightComponent`,
 :class:`LightAnchor`); :func:`as_ufolib2` makes the ufoLib2 font of the same data,
 for a font the static compiler leaves to ufo2ft after all.
 
@@ -23,11 +23,12 @@ compiles it with ufo2ft, which judge it as before.
 """
 
 import os
-import plistlib
 import re
 
-from .glif_xml import (lib_markup, plain_components, plain_lib, plain_libs, plain_tree,
-                       xml_module)
+from .glif_xml import glif_number as _number
+from .glif_xml import (PlainElement, lib_markup, plain_components, plain_lib, plain_libs,
+                       plain_tree, xml_module)
+from .plain_plist import load_plist
 
 __all__ = ["NotLight", "LightFont", "LightGlyph", "LightInfo", "LightFeatures",
            "LightAnchor", "LightComponent", "read_contents", "read_light_font",
@@ -260,10 +261,11 @@ def _info_checked(info):
 
 
 def _plist(path, default):
+    """The plist at ``path`` (``default`` where there is none), read as plistlib
+    reads it (:func:`.plain_plist.load_plist`)."""
     if not os.path.exists(path):
         return default
-    with open(path, "rb") as f:
-        return plistlib.load(f)
+    return load_plist(path)
 
 
 def read_contents(path):
@@ -283,18 +285,20 @@ def read_contents(path):
             raise NotLight("no default layer folder 'glyphs'")
         folder = os.path.join(path, "glyphs")
         contents = _plist(os.path.join(folder, "contents.plist"), None)
-    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+    except (OSError, ValueError, TypeError) as exc:   # plistlib's InvalidFileException too
         raise NotLight("plists: %s" % exc) from exc
     if not isinstance(contents, dict):
         raise NotLight("no contents.plist")
     return folder, contents
 
 
-def read_light_font(path, glif, contour_counts, contents=None):
+def read_light_font(path, glif, contour_counts, contents=None, plain=None):
     """The :class:`LightFont` of the UFO at ``path``, every glyph's shell read from
     its ``.glif`` bytes (``glif(name)``); ``contour_counts`` (a dict) gets each
-    glyph's number of contours.  ``contents``: the default layer's contents
-    (:func:`read_contents`) where the caller has read them, else read here.
+    glyph's number of contours, ``plain`` (a dict, or None) the glyphs whose markup
+    but the outline is a plain GLIF 2 glyph (:func:`glif_shell`).  ``contents``: the
+    default layer's contents (:func:`read_contents`) where the caller has read them,
+    else read here.
 
     Raises:
         NotLight: the font needs ufoLib2 / ufo2ft (see the module docstring).
@@ -314,7 +318,7 @@ def read_light_font(path, glif, contour_counts, contents=None):
         if os.path.exists(fea):
             with open(fea, "rb") as f:
                 text = f.read().decode("utf-8")
-    except (OSError, ValueError, TypeError, plistlib.InvalidFileException) as exc:
+    except (OSError, ValueError, TypeError) as exc:   # plistlib's InvalidFileException too
         raise NotLight("plists: %s" % exc) from exc
     order = lib.get("public.glyphOrder", []) if isinstance(lib, dict) else None
     if not isinstance(info, dict) or not isinstance(lib, dict) \
@@ -340,10 +344,10 @@ def read_light_font(path, glif, contour_counts, contents=None):
             data = glif(name)
         except OSError as exc:   # a missing or unreadable .glif: ufoLib2's to name
             raise NotLight("glyph %r: %s" % (name, exc)) from exc
-        glyph, count = glif_shell(name, data, libs)
+        glyph, count = glif_shell(name, data, libs, plain)
         glyphs[name] = glyph
         contour_counts[name] = count
-    _read_libs(libs)
+    _read_libs(libs, plain)
     return LightFont(path, LightInfo(info), lib, LightFeatures(text), glyphs, groups, kerning)
 
 
@@ -393,23 +397,18 @@ def _lib_values_checked(lib):
         raise NotLight("production names or glyphs not exported")
 
 
-def _number(text):
-    """A GLIF number: an int where it is one, else a float (as glifLib reads it)."""
-    try:
-        return int(text)
-    except ValueError:
-        return float(text)
-
-
 _CONTOUR = re.compile(rb"<contour[\s/>]")
 
 
-def glif_shell(name, data, libs=None):
+def glif_shell(name, data, libs=None, plain=None):
     """``(LightGlyph, number of contours)`` of a GLIF 2 glyph's bytes, read as glifLib
     reads them (advance, unicodes without repeats, anchors, components, guidelines,
     note, lib).  ``libs``: a list that takes ``(glyph, markup, data)`` of a glyph with
     a plain lib (:func:`.glif_xml.lib_markup`), read with the others' by
-    :func:`_read_libs`; None: read here.
+    :func:`_read_libs`; None: read here.  ``plain`` (a dict, or None) takes ``name``
+    -> ``hash(data)`` where the markup but the outline is in ufoLib's plain form
+    (:func:`.glif_xml.plain_tree`, a plain lib apart) of format "2": what the outline
+    scan checks by parsing it (:func:`morph.parse._glif_scan.scan_outlines`).
 
     Raises:
         NotLight: anything else (an image, GLIF 1, bad XML).
@@ -431,6 +430,21 @@ def glif_shell(name, data, libs=None):
             or root.get("name") != name or (root.text or "").strip():
         raise NotLight("glyph %r: not a GLIF 2 glyph of that name" % name)
     glyph = LightGlyph(name, components=components)
+    _read_children(name, root, glyph)
+    if plain is not None and isinstance(root, PlainElement) and root.get("format") == "2":
+        plain[name] = hash(whole)   # the outline scan's check of the rest, done here
+    if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
+        libs.append((glyph, lib, whole))
+        return glyph, contours
+    if lib is not None:
+        glyph.lib = lib
+    _lib_keys_checked(name, glyph.lib)
+    return glyph, contours
+
+
+def _read_children(name, root, glyph):
+    """The glyph element ``root``'s children (its outline cut) read into ``glyph``, as
+    glifLib reads them (:func:`glif_shell`); NotLight for anything else."""
     try:
         for el in root:
             tag = el.tag
@@ -457,13 +471,6 @@ def glif_shell(name, data, libs=None):
                 raise NotLight("glyph %r: <%s>" % (name, tag))
     except (TypeError, ValueError) as exc:
         raise NotLight("glyph %r: %s" % (name, exc)) from exc
-    if isinstance(lib, bytes):    # its markup, read with the others' (_read_libs)
-        libs.append((glyph, lib, whole))
-        return glyph, contours
-    if lib is not None:
-        glyph.lib = lib
-    _lib_keys_checked(name, glyph.lib)
-    return glyph, contours
 
 
 def _shell_tree(name, data, defer):
@@ -492,14 +499,16 @@ def _lib_keys_checked(name, lib):
             raise NotLight("glyph %r: lib key %s" % (name, key))
 
 
-def _read_libs(pending):
+def _read_libs(pending, plain=None):
     """The libs of the glyphs ``pending`` (``(glyph, markup, data)`` of
     :func:`glif_shell`) read in one parse (:func:`.glif_xml.plain_libs`) and their
     keys checked; a glyph whose lib plistlib does not read so is read again whole
-    (its lib from the XML parser's tree), which raises NotLight where the reader
-    does not take the file."""
+    (its lib from the XML parser's tree, not plain: its mark left ``plain``), which
+    raises NotLight where the reader does not take the file."""
     for (glyph, _, data), lib in zip(pending, plain_libs([m for _, m, _ in pending])
                                      if pending else ()):
+        if lib is None and plain is not None:
+            plain.pop(glyph.name, None)
         glyph.lib = lib if lib is not None else glif_shell(glyph.name, data)[0].lib
         _lib_keys_checked(glyph.name, glyph.lib)
 
@@ -542,6 +551,8 @@ def _components(name, outline):
 
 
 def _lib(element):
+    import plistlib
+
     from fontTools.misc import etree
 
     if len(element) != 1 or element[0].tag != "dict":

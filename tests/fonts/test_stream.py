@@ -508,9 +508,9 @@ def test_skeleton_outlines_read_each_file_once_and_give_copies(monkeypatch):
     batches = []
     real = glif.skeleton_outlines
 
-    def counting(datas):
+    def counting(datas, plain=None):
         batches.append(len(datas))
-        return real(datas)
+        return real(datas, plain)
 
     monkeypatch.setattr(glif, "skeleton_outlines", counting)
     source = SkeletonSource(RELIEF_SUBSET)

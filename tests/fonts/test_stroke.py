@@ -121,6 +121,38 @@ def _line_glyph(font, name, lines=(), components=()):
     return g
 
 
+def test_points_near_is_every_difference_in_every_direction():
+    """_Separation._points_near (the nearest differences first, then each
+    difference's nearest direction before all of them) answers as the plain test:
+    some difference of the points in the disc lies within the reach in all the
+    directions.  A thin nib; random point sets, the second one a bit too high
+    above the first to be near, but for one point moved along the nib's length
+    (farther than the nearest differences) to just within or just beyond the
+    reach."""
+    from morph.fonts.stroke import _projected, _Separation
+
+    sep = _Separation(ufoLib2.Font(), None, ellipse_nib(200.0, 10.0, 0.0), 0.5)
+    r = float(sep.reach.max())
+    disc = (r / np.cos(np.pi / sep.DIRECTIONS)) ** 2 * (1.0 + 1e-9)
+    up = sep.reach[sep.DIRECTIONS // 4]     # the reach upwards, along +y
+    rng = np.random.default_rng(7)
+    answers, late = [], 0
+    for k in range(200):
+        a = rng.uniform(-0.05, 0.05, (int(rng.integers(20, 60)), 2)) * [r, up]
+        b = a[rng.integers(0, len(a), int(rng.integers(20, 60)))] + [0.0, 1.5 * up]
+        b[0] = a[0] + [rng.uniform(0.8, 1.2) * sep.reach[0], 0.0]
+        d = a[:, None, :] - b[None, :, :]
+        d2 = d[..., 0] ** 2 + d[..., 1] ** 2
+        i, j = np.nonzero(d2 <= disc)
+        inside = np.all(_projected(a, sep.u)[i] - _projected(b, sep.u)[j] <= sep.reach, axis=1)
+        nearest = np.argsort(d2[i, j], kind="stable")[:sep.NEAREST]
+        late += bool(inside.any()) and not inside[nearest].any()
+        box_a, box_b = (*a.min(axis=0), *a.max(axis=0)), (*b.min(axis=0), *b.max(axis=0))
+        assert sep._points_near(a, box_a, b, box_b) == bool(inside.any()), k
+        answers.append(bool(inside.any()))
+    assert 30 < sum(answers) < 170 and late > 20
+
+
 @pytest.mark.parametrize("gap", [1.0, 3.0])
 def test_components_whose_strokes_meet_are_decomposed(tmp_path, gap):
     """A translated component is kept only where its stroke stays 2 (tol + rounding)

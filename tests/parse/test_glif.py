@@ -2,6 +2,8 @@
 paths, to the bit, as ufoLib2 and fontTools' pens (morph.parse.ufo.glyph_paths), or
 decline the glyph (None) where the pens would mean something else."""
 
+import re
+
 import numpy as np
 import pytest
 import ufoLib2
@@ -173,6 +175,46 @@ def test_relief_subset_is_read_the_same(tmp_path):
     for name, f, (paths, comps) in zip(names, fast, slow):
         assert _same_paths(f[0], paths), name
         assert _components(f[1]) == _components(comps), name
+
+
+def _outline_rows(outlines):
+    return [None if o is None else ([(len(ps), closed, [np.asarray(p).tobytes() for p in ps])
+                                     for ps, closed in o[0]], _components(o[1]))
+            for o in outlines]
+
+
+def test_scan_trusts_the_shells_plain_markup_of_the_same_bytes(tmp_path):
+    """The shells' reader marks the glyphs whose markup but the outline is plain GLIF
+    2 (light_ufo.glif_shell); the outline scan does not parse those again: the same
+    outlines as a scan that parses every file.  A glyph whose rest is not plain is
+    not marked; a file changed after the shells were read (another hash) is parsed
+    again, and a format the scan refuses is then refused."""
+    import shutil
+
+    ufo = tmp_path / "s.ufo"
+    shutil.copytree(RELIEF_SUBSET, ufo)
+    folder = ufo / "glyphs"
+    o = (folder / "o.glif").read_bytes()
+    o, n = re.subn(rb'<advance width="([0-9]+)"', rb"<advance width='\1'", o)
+    assert n == 1
+    (folder / "o.glif").write_bytes(o)                                  # not plain
+    (folder / "i.glif").write_bytes((folder / "i.glif").read_bytes().replace(
+        b'format="2"', b'format="2.0"', 1))                            # the scan refuses it
+    src = SkeletonSource(ufo, light=True)
+    src.shell_font()
+    names = src.keys()
+    assert "o" not in src._plain and "i" not in src._plain
+    assert len(src._plain) == len(names) - 2
+    parsed = skeleton_outlines([src.glif_data(n) for n in names])
+    assert sum(o is not None for o in parsed) > 10
+    assert _outline_rows(src.skeleton_outlines(names)) == _outline_rows(parsed)
+    a = folder / "a.glif"
+    a.write_bytes(a.read_bytes().replace(b'format="2"', b'format="3"', 1))
+    fresh = skeleton_outlines([a.read_bytes()])
+    assert fresh == [None]   # format 3: declined (the caller's ufoLib2 reads or refuses it)
+    assert src.skeleton_outlines(["a"]) == fresh
+    trusted = skeleton_outlines([a.read_bytes()], [True])   # the mark, were it trusted
+    assert trusted != fresh
 
 
 def test_stroke_work_falls_back_to_ufolib2(crafted):
@@ -510,3 +552,27 @@ def test_plain_components_are_read_as_the_xml_reader_reads_them(outline, plain, 
     if plain and _shell_rows(data, monkeypatch, True) != "NotLight":   # it sees a change
         changed = data.replace(b'base="b"', b'base="d"', 1)
         assert _shell_rows(changed, monkeypatch, False) != _shell_rows(data, monkeypatch, True)
+
+
+@pytest.mark.parametrize("text", ["1", "-0", "+4", " 3 ", "1_000", "007", "1.5", "1.", ".5",
+                                  "-2.25e3", "1e5", "nan", "inf", "\u0661\u0662", "1.2.3",
+                                  "abc", ""])
+def test_glif_number_is_int_else_float(text):
+    """glif_number reads a text as glifLib does: int where int takes it, else float
+    (the same value and type, or the same refusal)."""
+    from morph.parse.glif_xml import glif_number
+
+    def reference(t):
+        try:
+            return int(t)
+        except ValueError:
+            return float(t)
+
+    try:
+        want = reference(text)
+    except ValueError:
+        with pytest.raises(ValueError):
+            glif_number(text)
+        return
+    got = glif_number(text)
+    assert type(got) is type(want) and (got == want or (got != got and want != want))
