@@ -264,23 +264,26 @@ def power_jets(coef, powers, second=True):
 
     The homogeneous values are sums over j of s^j times a coefficient row (k,)
     broadcast down the m rows, in the order j = 0, 1, ...: whole-stack products with
-    long contiguous rows, not k small matrix products; then the quotient rule."""
-    def value(b, col):
-        out = powers[0] * b[0, col]
+    long contiguous rows, not k small matrix products; then the quotient rule.  The
+    three columns (x, y, w) are summed together, (3, m, k) per term, and x, y divided
+    together: each element gets the same operations in the same order as one column
+    at a time, in a third of the numpy calls (small stacks are call-bound)."""
+    def values(b):
+        out = powers[0] * b[0][:, None, :]
         for j in range(1, len(b)):
-            out += powers[j] * b[j, col]
+            out += powers[j] * b[j][:, None, :]
         return out
 
     a, a1, a2 = coef
-    w, w1 = value(a, 2), value(a1, 2)
-    px, py = value(a, 0) / w, value(a, 1) / w
-    p1x, p1y = (value(a1, 0) - w1 * px) / w, (value(a1, 1) - w1 * py) / w
+    v, v1 = values(a), values(a1)
+    w, w1 = v[2], v1[2]
+    p = v[:2] / w
+    p1 = (v1[:2] - w1 * p) / w
     if not second:
-        return (px, py), (p1x, p1y)
-    w2 = value(a2, 2)
-    p2x = (value(a2, 0) - 2.0 * w1 * p1x - w2 * px) / w
-    p2y = (value(a2, 1) - 2.0 * w1 * p1y - w2 * py) / w
-    return (px, py), (p1x, p1y), (p2x, p2y)
+        return (p[0], p[1]), (p1[0], p1[1])
+    v2 = values(a2)
+    p2 = (v2[:2] - 2.0 * w1 * p1 - v2[2] * p) / w
+    return (p[0], p[1]), (p1[0], p1[1]), (p2[0], p2[1])
 
 
 def tangent_numerator(piece):
