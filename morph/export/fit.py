@@ -686,13 +686,12 @@ def _rays(a, d):
     ux, uy, s, g0 = d[0], d[1], d[4], d[5]             # s: a gathered copy, updated
     g = a[0::2] * ux                                    # g1, g2, g3 (3, c, b)
     g += a[1::2] * uy
-    hi, mid = np.empty((2, 2) + s.shape)                # (g3, 3 g3), (g2, 2 g2)
-    hi[0], mid[0] = g[2], g[1]
+    work = np.empty((7,) + s.shape)
+    hi, mid, w, ab = work[0:2], work[2:4], work[4:6], work[6]
+    hi[0], mid[0] = g[2], g[1]                          # (g3, 3 g3), (g2, 2 g2)
     np.multiply(3.0, g[2], out=hi[1])
     np.multiply(2.0, g[1], out=mid[1])
-    w = np.empty((2,) + s.shape)
     gv, gd = w                                          # views: g(s), g'(s)
-    ab = np.empty(s.shape)
     tiny = np.empty(s.shape, bool)
     for _ in range(5):
         np.multiply(hi, s, out=w)
