@@ -678,27 +678,26 @@ def _rays(a, d):
     samples ``d`` (6, c, b: :class:`_RayCaster`'s ``data``) to the cubics of power
     coefficients ``a`` (6, 1, b), Newton on g(s) = (C(s) - p) . t from the start in
     ``d``, s clipped to [0, 1]: (the parameters met, the rays' lengths) (c, b), one
-    block of :func:`_ray_distance`, every operation elementwise.
-
-    g and g' share their Horner steps' shape (g(s) = ((g3 s + g2) s + g1) s + g0, g'(s)
-    = (3 g3 s + 2 g2) s + g1), so both run as one stacked array (2, c, b); x and y of
-    C(s) - p likewise: each element sees the same operations as alone."""
-    ux, uy, s, g0 = d[0], d[1], d[4], d[5]             # s: a gathered copy, updated
-    g = a[0::2] * ux                                    # g1, g2, g3 (3, c, b)
-    g += a[1::2] * uy
-    work = np.empty((7,) + s.shape)
-    hi, mid, w, ab = work[0:2], work[2:4], work[4:6], work[6]
-    hi[0], mid[0] = g[2], g[1]                          # (g3, 3 g3), (g2, 2 g2)
-    np.multiply(3.0, g[2], out=hi[1])
-    np.multiply(2.0, g[1], out=mid[1])
-    gv, gd = w                                          # views: g(s), g'(s)
+    block of :func:`_ray_distance`, every operation elementwise."""
+    a1x, a1y, a2x, a2y, a3x, a3y = a
+    ux, uy, px, py, s, g0 = d                           # s: a gathered copy, updated
+    g1, g2, g3 = a1x * ux, a2x * ux, a3x * ux          # g(s) = g0 + g1 s + g2 s^2 + g3 s^3
+    g1 += a1y * uy
+    g2 += a2y * uy
+    g3 += a3y * uy
+    h2, h3 = 2.0 * g2, 3.0 * g3
+    gv, gd = np.empty((2,) + s.shape)
     tiny = np.empty(s.shape, bool)
     for _ in range(5):
-        np.multiply(hi, s, out=w)
-        w += mid
-        w *= s
-        w += g[0]
-        np.less_equal(np.abs(gd, out=ab), 1e-300, out=tiny)      # Newton's step guarded
+        np.multiply(h3, s, out=gd)
+        gd += h2
+        gd *= s
+        gd += g1
+        np.less_equal(np.abs(gd, out=gv), 1e-300, out=tiny)      # Newton's step guarded
+        np.multiply(g3, s, out=gv)                      # g(s) = ((g3 s + g2) s + g1) s + g0
+        gv += g2
+        gv *= s
+        gv += g1
         gv *= s
         gv += g0
         np.copyto(gd, 1e-300, where=tiny)
@@ -706,13 +705,15 @@ def _rays(a, d):
         np.subtract(s, gv, out=s)
         np.maximum(s, 0.0, out=s)                       # s clipped to [0, 1]
         np.minimum(s, 1.0, out=s)
-    np.multiply(a[4:6], s, out=w)                       # C(s) - p: the ray (x, y)
-    w += a[2:4]
-    w *= s
-    w += a[0:2]
-    w *= s
-    w -= d[2:4]
-    w *= w                                              # |C(s) - p| (no overflow:
-    gv += gd                                            # frame units, about 1)
+    for c3, c2, c1, p, out in ((a3x, a2x, a1x, px, gv), (a3y, a2y, a1y, py, gd)):
+        np.multiply(c3, s, out=out)                     # C(s) - p: the ray
+        out += c2
+        out *= s
+        out += c1
+        out *= s
+        out -= p
+    gv *= gv                                            # |C(s) - p| (no overflow:
+    gd *= gd                                            # frame units, about 1)
+    gv += gd
     return s, np.sqrt(gv, out=gv)
 
