@@ -263,10 +263,9 @@ def _range_samples(bank, parts, starts, e, tiny):
                                sign, tiny[r])
     q = np.empty_like(jets)
     pe = e.take(req, axis=0).T                                                   # (2, P)
-    jets[0] -= starts[req, 0]
-    jets[1] -= starts[req, 1]
-    _to_frame(jets[0], jets[1], pe, q[0], q[1])
-    _to_frame(jets[2], jets[3], pe, q[2], q[3])
+    jets[:2] -= starts.take(req, axis=0).T[:, None]
+    # points and derivatives together: planes (x, x') and (y, y')
+    _to_frame(jets[0::2], jets[1::2], pe, q[0::2], q[1::2])
     t = np.empty((2, 2 * n))
     _to_frame(de[:, 0], de[:, 1], np.concatenate([e, e]).T, t[0], t[1])
     t /= np.maximum(np.hypot(t[0], t[1]), 1e-300)

@@ -111,10 +111,10 @@ def interp_rows(x, row, lo, hi, xp, fp, keys=None):
         if np.logical_or.reduce(nan):
             alt = slope * (x - x1) + y1
             res = np.where(nan, np.where(np.isnan(alt) & (y0 == y1), y0, alt), res)
+    # the end values and the knots: fp[at] (below the first knot at = a, past the
+    # last j = b - 1)
     at = np.maximum(j, a)
-    res = np.where((j >= a) & (xp[at] == x), fp[at], res)
-    res = np.where(j >= b - 1, fp[b - 1], res)
-    res = np.where(j < a, fp[a], res)
+    res = np.where((j < a) | (j >= b - 1) | (xp[at] == x), fp[at], res)
     return np.where(np.isnan(x), x, res)
 
 
