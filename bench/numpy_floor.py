@@ -89,6 +89,7 @@ sys.path.append(str(ROOT))  # after PYTHONPATH: a checkout named there is measur
 import numpy as np  # noqa: E402 - after sys.path
 
 from bench.stroke_profile import ORDER, Clock, install, shown_args  # noqa: E402 - after sys.path
+from bench.stamp import emit  # noqa: E402 - after sys.path
 
 BROAD = (90.0, 20.0, 30.0)   # the command's default nib per 1000 units per em
 SET_TOL = 0.0005             # the command's default tolerance, in em
@@ -925,10 +926,7 @@ def main(argv=None):
         Path(opt.json).write_text(json.dumps({"out": out, "argline": argline,
                                               "elapsed": elapsed}))
     text = markdown(out, argline, elapsed)
-    print(text)
-    if not opt.no_write:
-        Path(opt.md).write_text(text)
-    return 0
+    return emit(text, opt)
 
 
 if __name__ == "__main__":

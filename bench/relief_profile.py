@@ -55,7 +55,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.append(str(ROOT))  # after PYTHONPATH: a checkout named there is measured
 
 from bench.stroke_profile import ORDER, Clock, install, shown_args  # noqa: E402 - after sys.path
-from bench.stamp import commit, machine  # noqa: E402 - after sys.path
+from bench.stamp import commit, emit, machine  # noqa: E402 - after sys.path
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 NIBS = {"broad": ("ellipse", 90.0, 20.0, 30.0), "round": ("disk", 60.0)}
@@ -250,10 +250,7 @@ def main(argv=None):
     rows = measure(opt.nib, [float(t) for t in opt.tols.split(",")], opt.repeat)
     text = markdown(opt.nib, rows, "".join(" " + a for a in shown_args(argv)),
                     time.perf_counter() - t0, opt.repeat)
-    print(text)
-    if not opt.no_write:
-        Path(opt.md).write_text(text)
-    return 0
+    return emit(text, opt)
 
 
 if __name__ == "__main__":

@@ -59,6 +59,15 @@ def stamp(command=None, seconds=None, script=None):
         machine(), tail)
 
 
+def emit(text, opt):
+    """Print a report's ``text`` and write it to ``opt.md`` unless ``opt.no_write``;
+    returns 0, the script's exit status."""
+    print(text)
+    if not opt.no_write:
+        Path(opt.md).write_text(text)
+    return 0
+
+
 def _module_name(argv0):
     """``-m bench.x`` for a script of bench/ (how the reports are run), else argv0."""
     p = Path(argv0)
