@@ -9,8 +9,8 @@ upm 1000), so that both tools write cubics and their points compare.  Nib: the
 default of ``morph brush`` (exact ellipse 80 x 30 units, 30 degrees).
 
 - morph: the whole command ``morph brush FONT -o OUT.otf --glyphs ... --jobs 1`` in a
-  fresh process, its modules' bytecode cached as after a pip install
-  (:mod:`bench.pycache`; user + sys CPU of the process, from the kernel: reading, planning,
+  fresh process, started as after a pip install: a virtual environment's site, its
+  modules' bytecode cached (:mod:`bench.pycache`; user + sys CPU of the process, from the kernel: reading, planning,
   the sums, export, certificate, tables, saving, the sample image and specimen),
   and ``morph.fonts.brush.brush_font`` in this process (``process_time`` of the call:
   reading the source, the sums, saving the font), both divided by the glyphs, each
@@ -66,14 +66,14 @@ def _chars(spec):
 def command_runner(src, chars, nib, tol, out):
     """A function running the whole ``morph brush`` process once: (CPU seconds, its
     last line), its own user + sys time (:func:`bench.paired.child_run`).  The process
-    loads its modules' bytecode from a cache that an untimed first run fills
-    (:func:`bench.pycache.cached_env`), as after a pip install; FontForge's Python
-    loads its own compiled modules too."""
+    starts with a virtual environment's site and loads its modules' bytecode from a
+    cache that an untimed first run fills (:mod:`bench.pycache`), as after a pip
+    install; FontForge's Python loads its own compiled modules too."""
     from bench.paired import child_run
-    from bench.pycache import cached_env
+    from bench.pycache import cached_env, installed_python
 
     env = cached_env("brush-fontforge-pycache-", OPENBLAS_NUM_THREADS="1")
-    cmd = [sys.executable, "-m", "morph.cli", "brush", str(src), "-o", str(out),
+    cmd = [installed_python(), "-m", "morph.cli", "brush", str(src), "-o", str(out),
            "--glyphs", ",".join(chars), "--nib", "ellipse:%g,%g,%g" % nib,
            "--tol", repr(tol / 1000.0), "--jobs", "1", "--force"]
     child_run(cmd, env=env)   # fills the cache
@@ -397,7 +397,8 @@ TIMES = (
     "no median: compare it with FontForge's mean; FontForge: Expand Stroke, the outline "
     "added back and Remove Overlap, glyph by glyph); **whole command** = a whole process "
     "divided by the glyphs (morph: `morph brush NotoSans.otf -o OUT.otf --glyphs ... "
-    "--jobs 1`, startup with its modules' bytecode cached as after a pip install, "
+    "--jobs 1`, started as after a pip install (a virtual environment's site, bytecode "
+    "cached: `bench/pycache.py`), "
     "reading, the sweep, tables, saving, sample image and specimen; FontForge: its worker "
     "process, Python's startup, `import fontforge`, opening the font and converting it "
     "to cubics, the brush, writing the outlines as JSON, saving the font as .otf with "

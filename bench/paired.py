@@ -67,33 +67,29 @@ def warm_fontforge():
 
 def interpreter_starts(env=None):
     """CPU seconds of a bare start of each side's interpreter, ``-c pass`` with its site
-    (the .pth files of its site-packages run): (morph's ``sys.executable`` in the
-    environment ``env`` of morph's commands, FontForge's :data:`SYSTEM_PYTHON`).  Both
-    are in every whole command of their side and are no work of either tool; a
-    machine's site-packages (an editable install's finder, other .pth files) make the
-    first larger than a wheel install's."""
-    return (child_run([sys.executable, "-c", "pass"], env=env)[0],
+    (the .pth files of its site-packages run): (morph's
+    :func:`bench.pycache.installed_python` in the environment ``env`` of morph's
+    commands, FontForge's :data:`SYSTEM_PYTHON`).  Both are in every whole command of
+    their side and are no work of either tool."""
+    from bench.pycache import installed_python
+
+    return (child_run([installed_python(), "-c", "pass"], env=env)[0],
             child_run([SYSTEM_PYTHON, "-c", "pass"])[0])
-
-
-def site_pth():
-    """The .pth files of this interpreter's site-packages (run at every start)."""
-    import site
-    from pathlib import Path
-
-    return sorted(p.name for d in site.getsitepackages() for p in Path(d).glob("*.pth"))
 
 
 def starts_note(rounds, glyphs):
     """The report's sentence on :func:`interpreter_starts` measured in ``rounds`` (a
     list of its pairs), for a font of ``glyphs`` glyphs."""
+    from bench.pycache import installed_python, site_pth
+
     ours, peer = (1000 * median([r[k] for r in rounds]) for k in (0, 1))
     return ("Interpreter start alone (`-c pass` with its site, timed in the same rounds): "
             "morph's Python %.0f ms (%.2f ms / glyph of the whole command), FontForge's "
             "system Python %.0f ms (%.2f ms / glyph of its worker); part of each side's "
-            "whole command, no work of either tool. morph's runs the .pth files of its "
-            "site-packages at every start: %s."
-            % (ours, ours / glyphs, peer, peer / glyphs, ", ".join(site_pth()) or "none"))
+            "whole command, no work of either tool. morph's commands run in a virtual "
+            "environment's site, as installed (`bench/pycache.py`), whose .pth files are: %s."
+            % (ours, ours / glyphs, peer, peer / glyphs,
+               ", ".join(site_pth(installed_python())) or "none"))
 
 
 def worker_times(script, job, names):

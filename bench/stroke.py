@@ -706,15 +706,15 @@ SETS = ("hershey-sans", "hershey-script", "hanzi-300", "relief")
 def _command_runner(ufo, out_path, first_glyph, extra=(), env=None):
     """A function running ``morph stroke UFO -o OUT --jobs 1 [extra]`` once in a fresh
     process: (CPU seconds, peak RSS MB, last line, exit status), its own user + sys
-    time and peak resident set (:func:`bench.paired.child_run`).  Its bytecode is
-    cached as after a pip install (:mod:`bench.pycache`): an untimed run of
+    time and peak resident set (:func:`bench.paired.child_run`).  Its site and its
+    bytecode cache are as after a pip install (:mod:`bench.pycache`): an untimed run of
     ``first_glyph`` alone fills the cache first, unless the environment ``env`` of
     another runner, whose cache is filled, is given."""
     from bench.paired import child_run
-    from bench.pycache import cached_env
+    from bench.pycache import cached_env, installed_python
 
-    command = [sys.executable, "-m", "morph.cli", "stroke", str(ufo), "-o", str(out_path),
-               "--jobs", "1", "--force"]
+    command = [installed_python(), "-m", "morph.cli", "stroke", str(ufo), "-o",
+               str(out_path), "--jobs", "1", "--force"]
     extra = list(extra)
     if env is None:
         env = cached_env("stroke-pycache-", OPENBLAS_NUM_THREADS="1")
@@ -961,7 +961,8 @@ def _sets_intro(opt, elapsed):
           "`glyph.stroke(\"elliptical\", ..., \"nib\", \"nib\", removeoverlap=\"layer\")` "
           "glyph by glyph in FontForge's Python (`bench/fontforge_stroke.py`); **whole "
           "command** = a whole process divided by the glyphs: for morph `morph stroke "
-          "SET.ufo -o SET.otf --jobs 1` (startup, parse, stroke, export, font tables, "
+          "SET.ufo -o SET.otf --jobs 1` started as installed (a virtual environment's site, "
+          "bytecode cached: `bench/pycache.py`; startup, parse, stroke, export, font tables, "
           "compile, sample image and specimen; the median of %d runs), for FontForge its "
           "worker process (Python's startup, `import fontforge`, drawing the skeletons, "
           "stroking, writing the outlines as JSON; no font file); **whole workflow** "
@@ -1174,7 +1175,8 @@ def _relief_intro(opt, names, elapsed):
             "glyph by glyph; Skia: stroke + conic conversion + simplify); **whole command** = "
             "a whole process divided by the glyphs (morph: `morph stroke "
             "Relief-SingleLine-subset.ufo -o OUT.otf --glyphs %s --tol T --nib ... --jobs 1`, "
-            "every composite that follows included; FontForge: its worker process, Python's "
+            "started as installed: a virtual environment's site, bytecode cached "
+            "(`bench/pycache.py`), every composite that follows included; FontForge: its worker process, Python's "
             "startup, `import fontforge`, drawing, stroking and writing the outlines as "
             "JSON); **whole workflow** = the job as a whole process (morph: its command; "
             "FontForge: `bench/fontforge_font.py`, `fontforge.open` of the UFO, the same "

@@ -35,7 +35,8 @@ Runs (``--runs``, comma separated ``command:set``):
   Latin letters and digits, the default nib.
 
 Every run is repeated ``--repeat`` times (fresh processes, after one untimed run that
-fills a private bytecode cache, :mod:`bench.pycache`, as a pip install would) and the
+fills a private bytecode cache; a virtual environment's site: :mod:`bench.pycache`, as
+a pip install would have it) and the
 table shows the median of each phase; the machine is shared, so CPU time and not wall
 time.
 """
@@ -353,14 +354,14 @@ def measure(run, repeat, explain=False):
     import subprocess
     import tempfile
 
-    from bench.pycache import cached_env
+    from bench.pycache import cached_env, installed_python
 
     with tempfile.TemporaryDirectory() as tmp:
         args, what = run_args(run, tmp)
         results = []
         env = cached_env("stroke-profile-pycache-", OPENBLAS_NUM_THREADS="1")
         for k in range(repeat + 1):     # run 0 fills the bytecode cache and is not counted
-            proc = subprocess.run([sys.executable, "-m", "bench.stroke_profile", "--worker",
+            proc = subprocess.run([installed_python(), "-m", "bench.stroke_profile", "--worker",
                                    json.dumps(args)] + (["--explain-other"] if explain else []),
                                   capture_output=True, text=True, cwd=tmp, env=env)
             if proc.returncode != 0:
