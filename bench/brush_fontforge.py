@@ -10,7 +10,8 @@ default of ``morph brush`` (exact ellipse 80 x 30 units, 30 degrees).
 
 - morph: the whole command ``morph brush FONT -o OUT.otf --glyphs ... --jobs 1`` in a
   fresh process, started as after a pip install: a virtual environment's site, its
-  modules' bytecode cached (:mod:`bench.pycache`; user + sys CPU of the process, from the kernel: reading, planning,
+  modules' bytecode cached (:mod:`bench.pycache`; user + sys CPU of the process, from
+  the kernel: reading, planning,
   the sums, export, certificate, tables, saving, the sample image and specimen),
   and ``morph.fonts.brush.brush_font`` in this process (``process_time`` of the call:
   reading the source, the sums, saving the font), both divided by the glyphs, each
