@@ -86,10 +86,11 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # as the morph command sets 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.append(str(ROOT))  # after PYTHONPATH: a checkout named there is measured
 
-import numpy as np  # noqa: E402 - after sys.path
+import numpy as np  # noqa: E402 - needs sys.path with the repo root
 
-from bench.stroke_profile import ORDER, Clock, install, shown_args  # noqa: E402 - after sys.path
-from bench.stamp import emit  # noqa: E402 - after sys.path
+from bench.stroke_profile import (ORDER, Clock,  # noqa: E402 - needs sys.path with the repo root
+                                  install, shown_args)
+from bench.stamp import emit  # noqa: E402 - needs sys.path with the repo root
 
 BROAD = (90.0, 20.0, 30.0)   # the command's default nib per 1000 units per em
 SET_TOL = 0.0005             # the command's default tolerance, in em

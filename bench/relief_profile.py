@@ -54,8 +54,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # as the morph command sets 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.append(str(ROOT))  # after PYTHONPATH: a checkout named there is measured
 
-from bench.stroke_profile import ORDER, Clock, install, shown_args  # noqa: E402 - after sys.path
-from bench.stamp import commit, emit, machine  # noqa: E402 - after sys.path
+from bench.stroke_profile import (ORDER, Clock,  # noqa: E402 - needs sys.path with the repo root
+                                  install, shown_args)
+from bench.stamp import commit, emit, machine  # noqa: E402 - needs sys.path with the repo root
 
 SUBSET = ROOT / "tests" / "data" / "relief" / "Relief-SingleLine-subset.ufo"
 NIBS = {"broad": ("ellipse", 90.0, 20.0, 30.0), "round": ("disk", 60.0)}

@@ -41,7 +41,8 @@ def packed_class_pairs():
 
     original = otl.buildPairPosClassesSubtable
 
-    def build(pairs, glyphMap, valueFormat1=None, valueFormat2=None):  # noqa: N803 - otlLib's names
+    # noqa reason: the argument names are otlLib's, which otlLib's callers pass by keyword
+    def build(pairs, glyphMap, valueFormat1=None, valueFormat2=None):  # noqa: N803 - see above
         st = (_packed_subtable(pairs, glyphMap, valueFormat1, valueFormat2)
               if _agrees(original) else None)
         return original(pairs, glyphMap, valueFormat1, valueFormat2) if st is None else st
