@@ -194,7 +194,8 @@ def test_bare_morph_shows_the_manual(runner):
 def test_console_script_exits_fast_with_its_output_flushed(tmp_path):
     """The console entry (``run``: main, then os._exit without the interpreter's
     teardown) still writes the file, flushes stdout and stderr through a pipe and
-    exits with the command's code: 0, 2 for bad input."""
+    exits with the command's code: 0, 2 for bad input; ``python -m morph`` is the
+    same command."""
     import subprocess
     import sys
 
@@ -204,7 +205,7 @@ def test_console_script_exits_fast_with_its_output_flushed(tmp_path):
     assert ok.returncode == 0, ok.stderr
     assert ok.stdout.startswith("wrote %s" % out) and ok.stdout.endswith("\n")
     assert out.read_text().rstrip().endswith("</svg>")
-    bad = subprocess.run([sys.executable, "-m", "morph.cli", "sum", "O", "M", "-o", str(out)],
+    bad = subprocess.run([sys.executable, "-m", "morph", "sum", "O", "M", "-o", str(out)],
                          capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and "exists" in bad.stderr
