@@ -579,7 +579,8 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     loop), one cut into it is reflex (-pi).  Which it is: the loop's winding number
     at a probe just beyond the tip (1e-6 of the loop's size along the way in, the
     loop flattened within a tenth of that): 0 outside.  A loop of area 0 counts as
-    counter-clockwise.  Where the loop does not bound what it traces (a part of zero
+    counter-clockwise, and its tips stick out without a probe (it winds 0 round
+    every point off its trace).  Where the loop does not bound what it traces (a part of zero
     width crossing the rest of the loop) the turns then do not add up to one full
     turn, and :func:`morph.convolve.gauss_pair_of` refuses it.
 
@@ -625,7 +626,14 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     fine = _boxes_holding_probes(groups, owner, probes, where, len(idx), len(loops),
                                  0.1 * eps)
     polys = _loop_polylines(moved, owner, fine, len(loops), 0.1 * eps)
-    outside = np.round(winding_number(probes, polys)) == 0
+    # a loop of area 0 winds 0 round every point off its trace: its tips are all
+    # outside without a probe, which could land on the trace itself (a closed path
+    # traced out and back has both tips where the path runs on through them)
+    flat = np.abs(area) <= 1e-9
+    outside = flat[where].copy()
+    probed = np.flatnonzero(~outside)
+    if len(probed):
+        outside[probed] = np.round(winding_number(probes[probed], polys)) == 0
     return np.where(outside, np.pi, -np.pi) * sign[where]
 
 

@@ -132,7 +132,8 @@ def minkowski_sums(regions_a, region_b, tol, method="qac", stacked=None, traced=
         except SelfCrossingError:
             # name the loop's region, not its index in the packed region
             for i in group:
-                gauss_pair_of(regions_a[i], region_b, ("region %d" % i, "region_b"))
+                gauss_pair_of(regions_a[i], region_b, ("region %d" % i, "region_b"),
+                              traced=traced)
             raise
     return out
 
@@ -164,13 +165,13 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
     """:func:`minkowski_sums` of regions already checked, as one packed sum
     (``stacked``: their pieces, :func:`_stacked`, or None; ``traced``: as there)."""
     if len(regions_a) < 2:
-        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
+        return _one_by_one(regions_a, region_b, tol, method, traced)
     # offsets whole multiples of the trimming's grid unit: it falls on every region
     # as on the region alone (:func:`_trimmed`'s grid is anchored at the origin)
     layout = Packing(regions_a, control_box(region_b), PACK_GAP * tol, stacked,
                      _grid_unit(tol))
     if not fits_precision(tol, layout.pieces, region_b):
-        return [minkowski_sum(a, region_b, tol, method) for a in regions_a]
+        return _one_by_one(regions_a, region_b, tol, method, traced)
     pair = gauss_pair_of(layout.packed, region_b, ("region_a", "region_b"), layout.pieces,
                          traced)
     out, debug = _sum(layout.packed, region_b, tol, method, pair, layout.slot_of)
@@ -186,6 +187,17 @@ def _packed_sums(regions_a, region_b, tol, method, stacked=None, traced=False):
 #: arithmetic at packed coordinates and the move back (the QAC bounds of exact pieces
 #: measured at most 0.8 ulp of their coordinates: Noto's 'W' and 'o' with an ellipse)
 PACKED_ROUNDINGS = 16
+
+
+def _one_by_one(regions_a, region_b, tol, method, traced):
+    """:func:`minkowski_sum` of each region of ``regions_a`` (a region alone, or
+    regions whose packing would exceed the precision floor), the Gauss maps of
+    ``traced`` paths with their tips known as in a packed sum: a closed path traced
+    out and back has its two tips where the path runs on through them, and the
+    general test of a tip (a probe beyond it) would probe the trace itself."""
+    return [minkowski_sum(a, region_b, tol, method,
+                          gauss_pair_of(a, region_b, ("region_a", "region_b"), traced=True)
+                          if traced else None) for a in regions_a]
 
 
 def _slot_bounds(conv, layout, tol, method):

@@ -36,3 +36,20 @@ def polygon_region(p):
 def square_path_data(x0, y0, s):
     """SVG path data of the axis-aligned square with corner (x0, y0) and side s."""
     return "M%r %r L%r %r L%r %r L%r %r Z" % (x0, y0, x0 + s, y0, x0 + s, y0 + s, x0, y0 + s)
+
+
+def pencil_path(angle, scale):
+    """Feather's edit-2 pencil as one closed path (a semicircle, then three lines back
+    to its start, which it meets tangentially: the path runs on smoothly through
+    where it begins), turned by ``angle`` degrees and scaled."""
+    c, s = np.cos(np.radians(angle)), np.sin(np.radians(angle))
+
+    def at(x, y):
+        return (scale * (c * x - s * y), scale * (s * x + c * y))
+
+    # the semicircle centred (19, 5) from (17, 3) through (21, 3) to (21, 7)
+    arcs = pc.ellipse_arc(at(19, 5), scale * np.sqrt(8), scale * np.sqrt(8),
+                          np.radians(angle), -0.75 * np.pi, np.pi)
+    corners = [(21, 7), (7.5, 20.5), (2, 22), (3.5, 16.5), (17, 3)]
+    return arcs + [pc.line(at(*a), at(*b)) for a, b in zip(corners, corners[1:])]
+

@@ -357,6 +357,25 @@ def test_the_tip_of_a_part_of_zero_width_turns_as_the_traced_set_has_it(mirror):
         mirror * 2 * TWO_PI)
 
 
+
+def test_a_closed_path_traced_out_and_back_turns_once_at_any_angle():
+    """A closed path that runs on smoothly through its start, traced out and back
+    (:func:`morph.stroke.path_loop`, given as a plain loop: no ``traced`` flag) has
+    both tips at that point, where the trace goes on through them: a probe beyond
+    either lies on the trace itself.  The loop has area 0 and winds 0 round every
+    point off its trace, so both tips stick out (+pi) and it turns once, at every
+    angle and scale (the probe read one tip as -pi at about one angle in four)."""
+    from morph.stroke import path_loop
+    from tests.helpers import pencil_path
+
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        path = pencil_path(rng.uniform(0, 360), float(np.exp(rng.uniform(-3, 5))))
+        edges = gauss.gauss_map(path_loop(path))
+        assert gauss.total_turning(edges) == pytest.approx(TWO_PI)
+        tips = [e.sweep for e in edges if e.kind == "vertex" and abs(e.sweep) > 3.0]
+        assert tips == [pytest.approx(np.pi)] * 2
+
 def test_a_centre_line_running_back_over_itself_is_refused_not_summed_without_a_cap():
     """A stroke's centre line traced out and back whose path itself turns back
     ((0, 0) -> (10, 0) -> (5, 0)): its inner tip lies on its own trace, so the

@@ -396,6 +396,33 @@ def test_cli_stroke_svg(tmp_path):
     assert res.exit_code == 2
 
 
+
+PENCIL_SVG = """<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none"
+  stroke="currentColor" stroke-width="2"><path d="M17 3a2.828 2.828 0 1 1 4 4L7.5 20.5 2 22l1.5-5.5L17
+  3z"/></svg>
+"""
+
+
+@pytest.mark.parametrize("angle", [0, 45, 129.2])
+def test_cli_stroke_svg_of_one_closed_path_through_its_start(tmp_path, angle):
+    """Feather's edit-2 icon: one closed path that runs on smoothly through its start
+    (a semicircle, then lines back to it), the document's only path, so summed alone:
+    stroked with its counter at every nib angle, against the Clipper polygon (it
+    was refused, exit 2, 'loop 0 turns -8.48e-16 times', at every angle)."""
+    from morph.parse import svg_region
+    from morph.parse.svg import svg_paths
+
+    src = tmp_path / "edit-2.svg"
+    src.write_text(PENCIL_SVG)
+    out = tmp_path / "pencil.svg"
+    res = CliRunner().invoke(main, ["stroke", str(src), "-o", str(out), "--nib",
+                                    "ellipse:3,1,%s" % angle, "--tol", "0.002"])
+    assert res.exit_code == 0, res.output
+    got = region_to_shapely(svg_region(str(out)), 0.001)
+    ref = stroke_polygon(svg_paths(str(src)), ellipse_nib(3, 1, angle), 0.001)
+    assert hausdorff(got, ref, 0.01) <= 0.002 + 0.001 + 0.001  # tol + reading + reference
+    assert count_outer_and_holes(got, 0.01) == count_outer_and_holes(ref, 0.01) == (1, 1)
+
 def test_chunk_strokes_glyph_by_glyph_where_the_packed_call_raises(skeleton, monkeypatch):
     """The chunk job strokes its glyphs together; where that raises, one by one, so
     the glyphs come out as if stroked alone (and only a failing one falls back)."""
