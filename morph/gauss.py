@@ -617,25 +617,31 @@ def _open_cusp_turns_many(curves, counts, loop_of, open_cusps, ways):
     tips = (tips - origin[where]) / size[where][:, None] + shift[where]
     ways = ways / np.maximum(np.hypot(*ways.T), 1e-300)[:, None]
     probes = tips + eps * ways
-    # only the pieces whose control box holds a probe of their loop are flattened
-    # finely (within a tenth of eps); the others become their chord: the region
-    # between a piece and its chord lies in the piece's control hull, so no probe
-    # outside that hull changes its winding number when the piece is replaced by
-    # its chord (the probe's winding is the exact loop's wherever the fine
-    # flattening's is)
-    fine = _boxes_holding_probes(groups, owner, probes, where, len(idx), len(loops),
-                                 0.1 * eps)
-    polys = _loop_polylines(moved, owner, fine, len(loops), 0.1 * eps)
     # a loop of area 0 winds 0 round every point off its trace: its tips are all
     # outside without a probe, which could land on the trace itself (a closed path
     # traced out and back has both tips where the path runs on through them)
-    flat = np.abs(area) <= 1e-9
-    outside = flat[where].copy()
+    outside = (np.abs(area) <= 1e-9)[where]
     probed = np.flatnonzero(~outside)
     if len(probed):
-        outside[probed] = np.round(winding_number(probes[probed], polys)) == 0
+        outside[probed] = _probes_outside(groups, moved, owner, probes[probed],
+                                          where[probed], len(loops), eps)
     return np.where(outside, np.pi, -np.pi) * sign[where]
 
+
+
+def _probes_outside(groups, moved, owner, probes, where, n_loops, eps):
+    """Whether each probe (of loop ``where``) has winding number 0 round its loop
+    (``moved``: the loops' pieces as :func:`_open_cusp_turns_many` moves them,
+    ``groups`` by degree, ``owner`` each piece's loop).  Only the pieces whose
+    control box holds a probe of their loop are flattened finely (within a tenth of
+    eps); the others become their chord: the region between a piece and its chord
+    lies in the piece's control hull, so no probe outside that hull changes its
+    winding number when the piece is replaced by its chord (the probe's winding is
+    the exact loop's wherever the fine flattening's is)."""
+    fine = _boxes_holding_probes(groups, owner, probes, where, len(owner), n_loops,
+                                 0.1 * eps)
+    polys = _loop_polylines(moved, owner, fine, n_loops, 0.1 * eps)
+    return np.round(winding_number(probes, polys)) == 0
 
 def _loop_sizes(groups, owner, n_loops):
     """(n_loops,) the larger side of each loop's control-point box (``owner``: each
